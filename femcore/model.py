@@ -1,0 +1,407 @@
+"""Model: the fixed description of a problem (mesh, element blocks, constraints, loads).
+
+A ``Model`` is written by the user through a few builder methods, each of which validates its
+input at once. Solvers call ``model.compile()``, which binds the element blocks to the mesh and
+turns the records into the index arrays and nodal vectors a time step needs. The changing
+quantities live in ``femcore.state.State``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from femcore.dofs import DOF_NAMES, DofManager, dof_columns
+from femcore.loads import Amplitude, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
+from femcore.mesh import Mesh
+from femcore.rotation import nodal_frames
+from femcore.state import State
+from femcore.topology import nodal_normals
+
+CELL_TYPES = ("line", "triangle")
+
+
+def _vector3(value, what: str) -> np.ndarray:
+    vector = np.asarray(value, dtype=float)
+    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
+        raise ValueError(f"{what} must be 3 finite numbers, got {value!r}")
+    return vector
+
+
+@dataclass(frozen=True)
+class BlockEntry:
+    """An element type and the mesh cells (of its cell type) it covers."""
+
+    element: object
+    cells: np.ndarray
+
+
+class Model:
+    """Mesh + element blocks + constraints + loads.
+
+    The builder methods (add, fix, displace, force, moment, gravity) append to the description
+    and validate their arguments immediately, so that a wrong node id or DOF name is reported
+    where it was written.
+    """
+
+    def __init__(self, mesh: Mesh):
+        if not isinstance(mesh, Mesh):
+            raise ValueError(f"Model needs a femcore.Mesh, got {type(mesh).__name__}")
+        self.mesh = mesh
+        self.blocks: list[BlockEntry] = []
+        self.fixes: list[Fix] = []
+        self.prescribed: list[Prescribed] = []
+        self.loads: list[NodalLoad] = []
+        self.gravities: list[Gravity] = []
+        self._compiled: CompiledModel | None = None
+
+    # ----------------------------------------------------------------- description
+    def add(self, element, cells=None) -> int:
+        """Add an element block over ``cells`` (ids of the mesh cells of the element's cell type;
+        None = all of them; a string = a named element set). Returns the block index."""
+        cell_type = getattr(element, "cell_type", None)
+        if cell_type not in CELL_TYPES or not hasattr(element, "bind"):
+            raise ValueError(
+                f"{type(element).__name__} is not an element type: expected an object with "
+                f"cell_type in {CELL_TYPES} and a bind() method (see elements.base)"
+            )
+        n_cells = len(self.mesh.triangles) if cell_type == "triangle" else len(self.mesh.lines)
+        if cells is None:
+            ids = np.arange(n_cells)
+        elif isinstance(cells, str):
+            sets = self.mesh.element_sets if cell_type == "triangle" else self.mesh.line_sets
+            if cells not in sets:
+                raise ValueError(
+                    f"no {cell_type} set named {cells!r}: the mesh has {sorted(sets) or 'none'}"
+                )
+            ids = np.asarray(sets[cells], dtype=np.int64)
+        else:
+            ids = self._ids(cells, n_cells, f"{cell_type} cell")
+        if ids.size == 0:
+            raise ValueError(f"{type(element).__name__} block covers no cell: the mesh has "
+                             f"{n_cells} {cell_type} cells")
+        self.blocks.append(BlockEntry(element, ids))
+        self._compiled = None
+        return len(self.blocks) - 1
+
+    def fix(self, nodes, dofs=None) -> None:
+        """Hold DOFs at zero: ``dofs`` None = every DOF of those nodes, or names such as "uz",
+        ("ux", "uy", "uz"), "alpha" (see femcore.dofs)."""
+        columns = None if dofs is None else dof_columns(dofs)
+        self.fixes.append(Fix(self._node_ids(nodes), columns))
+        self._compiled = None
+
+    def displace(self, nodes, ux=None, uy=None, uz=None, amplitude="smooth") -> None:
+        """Prescribe translations (mesh length unit), reached at the end of the step or of the
+        load increments; components left None stay free. Each value is a number or one number
+        per selected node."""
+        ids = self._node_ids(nodes)
+        values = np.full((ids.size, 3), np.nan)
+        given = False
+        for column, (name, value) in enumerate((("ux", ux), ("uy", uy), ("uz", uz))):
+            if value is None:
+                continue
+            value = np.asarray(value, dtype=float)
+            if value.shape not in ((), (ids.size,)) or not np.all(np.isfinite(value)):
+                raise ValueError(
+                    f"{name} must be a finite number or {ids.size} finite numbers (one per node), "
+                    f"got shape {value.shape}"
+                )
+            values[:, column] = value
+            given = True
+        if not given:
+            raise ValueError("displace needs at least one of ux, uy, uz")
+        self.prescribed.append(Prescribed(ids, values, amplitude_of(amplitude)))
+        self._compiled = None
+
+    def force(self, nodes, vector, amplitude="step") -> None:
+        """The same global force vector (3,) on each selected node (dead load)."""
+        self.loads.append(NodalLoad("force", self._node_ids(nodes), _vector3(vector, "force"),
+                                    amplitude_of(amplitude)))
+        self._compiled = None
+
+    def moment(self, nodes, vector, amplitude="step") -> None:
+        """The same global moment vector (3,) on each selected node with rotational DOFs; its
+        component along the director is dropped (no drilling DOF)."""
+        self.loads.append(NodalLoad("moment", self._node_ids(nodes), _vector3(vector, "moment"),
+                                    amplitude_of(amplitude)))
+        self._compiled = None
+
+    def gravity(self, vector, amplitude="step") -> None:
+        """Acceleration of gravity (3,), e.g. (0, 0, -9810) mm/s^2, acting on the lumped mass."""
+        self.gravities.append(Gravity(_vector3(vector, "gravity"), amplitude_of(amplitude)))
+        self._compiled = None
+
+    # ----------------------------------------------------------------- helpers
+    def _node_ids(self, nodes) -> np.ndarray:
+        if isinstance(nodes, str):
+            if nodes not in self.mesh.node_sets:
+                raise ValueError(
+                    f"no node set named {nodes!r}: the mesh has {sorted(self.mesh.node_sets) or 'none'}"
+                )
+            nodes = self.mesh.node_sets[nodes]
+        return self._ids(nodes, self.mesh.n_nodes, "node")
+
+    @staticmethod
+    def _ids(ids, count: int, what: str) -> np.ndarray:
+        array = np.atleast_1d(np.asarray(ids))
+        if array.size == 0:
+            raise ValueError(f"empty {what} selection: expected at least one {what} id")
+        if array.dtype == bool:
+            raise ValueError(f"{what} selection is a boolean mask: pass ids (np.flatnonzero(mask))")
+        if not np.issubdtype(array.dtype, np.integer):
+            if not np.all(np.isfinite(array)) or np.any(array != np.round(array)):
+                raise ValueError(f"{what} ids must be integers, got {array.dtype} values")
+            array = array.astype(np.int64)
+        bad = (array < 0) | (array >= count)
+        if bad.any():
+            raise ValueError(
+                f"{what} id {int(array[bad][0])} out of range: the mesh has {count} {what}s "
+                f"(ids 0..{count - 1})"
+            )
+        return np.unique(array.astype(np.int64))
+
+    # ----------------------------------------------------------------- compile
+    def compile(self) -> CompiledModel:
+        """Bind blocks and build DOF, constraint and load arrays (cached until the model changes)."""
+        if self._compiled is None:
+            self._compiled = CompiledModel(self)
+        return self._compiled
+
+
+class CompiledModel:
+    """The model turned into arrays: bound element blocks, DOF manager, load vectors.
+
+    Attributes
+    ----------
+    mesh, n_nodes
+    blocks : list of bound element blocks (elements.base.ElementBlock protocol).
+    dofs : DofManager.
+    reference_positions : (n, 3), the mesh points.
+    reference_directors : (n, 3), initial unit directors (area-weighted normals of the shell
+        triangles around each node), zero rows at nodes without rotational DOFs.
+    has_rotation : (n,) bool.
+    translation_free / translation_constrained / translation_prescribed : (n, 3) bool.
+    rotation_fixed : (n, 2) bool for (alpha, beta).
+    mass0, inertia0 : (n,) physical lumped mass and rotary inertia in the reference state.
+    """
+
+    def __init__(self, model: Model):
+        mesh = model.mesh
+        if not model.blocks:
+            raise ValueError("the model has no elements: add an element block with model.add(...)")
+        n = mesh.n_nodes
+        self.mesh = mesh
+        self.n_nodes = n
+
+        active = np.zeros((n, len(DOF_NAMES)), dtype=bool)
+        shell_triangles = []
+        for entry in model.blocks:
+            columns = dof_columns(entry.element.dofs)
+            cells = self._cells(entry)
+            active[np.ix_(np.unique(cells), columns)] = True
+            if entry.element.cell_type == "triangle" and "alpha" in entry.element.dofs:
+                shell_triangles.append(cells)
+        self.has_rotation = active[:, 3].copy()
+
+        fixed = self._fixed_mask(model.fixes, active)
+        prescribed, self._prescribed_terms = self._prescribed(model.prescribed, active)
+        self.dofs = DofManager(n, active, fixed, prescribed)
+
+        self.reference_positions = mesh.points.copy()
+        self.reference_directors = np.zeros((n, 3))
+        if self.has_rotation.any():
+            normals = nodal_normals(mesh.points, np.concatenate(shell_triangles))
+            missing = self.has_rotation & (np.linalg.norm(normals, axis=1) == 0)
+            if missing.any():
+                raise ValueError(f"node {np.flatnonzero(missing)[0]} has rotational DOFs but no "
+                                 "shell triangle to define its director")
+            self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+
+        self.blocks = [
+            entry.element.bind(mesh, entry.cells, self.reference_directors)
+            for entry in model.blocks
+        ]
+
+        self.translation_free = self.dofs.free[:, :3]
+        self.translation_constrained = self.dofs.constrained[:, :3]
+        self.translation_prescribed = self.dofs.prescribed[:, :3]
+        self.rotation_fixed = self.dofs.fixed[:, 3:] & self.has_rotation[:, None]
+
+        state0 = self.initial_state()
+        self.mass0, self.inertia0 = self.lumped_mass(state0)
+        unmassed = active[:, 0] & ~(self.mass0 > 0)
+        if unmassed.any():
+            raise ValueError(f"node {np.flatnonzero(unmassed)[0]} has no mass: every node of an "
+                             "element needs a positive lumped mass for the dynamic solvers")
+        self._load_terms = self._loads(model.loads, active)
+        self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
+
+    # ------------------------------------------------------------- construction helpers
+    def _cells(self, entry: BlockEntry) -> np.ndarray:
+        source = self.mesh.triangles if entry.element.cell_type == "triangle" else self.mesh.lines
+        return source[entry.cells]
+
+    def _fixed_mask(self, fixes: list[Fix], active: np.ndarray) -> np.ndarray:
+        fixed = np.zeros_like(active)
+        for fix in fixes:
+            node_active = active[fix.nodes].any(axis=1)
+            if not node_active.any():
+                raise ValueError(f"fix selects nodes {fix.nodes[:5].tolist()}... that no element "
+                                 "uses: they carry no DOF")
+            nodes = fix.nodes[node_active]
+            if fix.columns is None:
+                fixed[nodes] |= active[nodes]
+                continue
+            lacking = ~active[np.ix_(nodes, fix.columns)]
+            if lacking.any():
+                row, col = np.argwhere(lacking)[0]
+                raise ValueError(
+                    f"cannot fix {DOF_NAMES[fix.columns[col]]} at node {nodes[row]}: it carries "
+                    f"only {', '.join(n for n, a in zip(DOF_NAMES, active[nodes[row]]) if a)}"
+                )
+            fixed[np.ix_(nodes, fix.columns)] = True
+        return fixed
+
+    def _prescribed(self, records: list[Prescribed], active: np.ndarray):
+        mask = np.zeros_like(active)
+        terms = []
+        for record in records:
+            inactive = ~active[record.nodes, 0]
+            if inactive.any():
+                raise ValueError(f"cannot displace node {record.nodes[inactive][0]}: no element "
+                                 "uses it")
+            given = np.isfinite(record.values)
+            already = mask[record.nodes, :3] & given
+            if already.any():
+                row, col = np.argwhere(already)[0]
+                raise ValueError(f"{DOF_NAMES[col]} of node {record.nodes[row]} is prescribed twice")
+            mask[record.nodes, :3] |= given
+            values = np.zeros((self.n_nodes, 3))
+            values[record.nodes] = np.where(given, record.values, 0.0)
+            terms.append((record.amplitude, values))
+        return mask, terms
+
+    def _loads(self, records: list[NodalLoad], active: np.ndarray):
+        terms = []
+        for record in records:
+            column = 0 if record.kind == "force" else 3
+            lacking = ~active[record.nodes, column]
+            if lacking.any():
+                need = "any DOF" if record.kind == "force" else "rotational DOFs"
+                raise ValueError(f"{record.kind} on node {record.nodes[lacking][0]}, which has "
+                                 f"no {need}")
+            values = np.zeros((self.n_nodes, 3))
+            values[record.nodes] = record.vector
+            terms.append((record.kind, record.amplitude, values))
+        return terms
+
+    # ------------------------------------------------------------- state and fields
+    def initial_state(self) -> State:
+        """The reference configuration at rest."""
+        n = self.n_nodes
+        return State(
+            positions=self.reference_positions.copy(),
+            directors=self.reference_directors.copy(),
+            velocities=np.zeros((n, 3)),
+            angular_velocities=np.zeros((n, 3)),
+        )
+
+    def lumped_mass(self, state: State, density_scale: list | None = None):
+        """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
+        (cells,) factor array per block (selective mass scaling) or None."""
+        mass = np.zeros(self.n_nodes)
+        inertia = np.zeros(self.n_nodes)
+        for i, block in enumerate(self.blocks):
+            m, j = block.lumped_mass(state, None if density_scale is None else density_scale[i])
+            mass += m
+            if j is not None:
+                inertia += j
+        return mass, inertia
+
+    def internal_force(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """Internal nodal forces F_int = dW/dx (n, 3) and moment vectors dW/dpsi (n, 3)."""
+        force = np.zeros((self.n_nodes, 3))
+        moment = np.zeros((self.n_nodes, 3))
+        for block in self.blocks:
+            f, m = block.internal_force(state)
+            force += f
+            if m is not None:
+                moment += m
+        return force, moment
+
+    def cell_stable_dt(self, state: State) -> list[np.ndarray]:
+        """Per-block arrays of per-cell critical steps (s)."""
+        return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]
+
+    def stable_dt(self, state: State) -> float:
+        """Critical time step of the whole model (s), the smallest over all cells."""
+        return float(min(dt.min() for dt in self.cell_stable_dt(state)))
+
+    def strain_energy(self, state: State) -> float:
+        """Total strain energy (N mm) over all blocks."""
+        return float(sum(block.strain_energy(state) for block in self.blocks))
+
+    def external_load(self, tau: float, quasi_static: bool = False):
+        """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""
+        force = np.zeros((self.n_nodes, 3))
+        moment = np.zeros((self.n_nodes, 3))
+        for kind, amplitude, values in self._load_terms:
+            factor = _evaluate(amplitude, tau, quasi_static)
+            if kind == "force":
+                force += factor * values
+            else:
+                moment += factor * values
+        for amplitude, vector in self._gravity_terms:
+            force += _evaluate(amplitude, tau, quasi_static) * self.mass0[:, None] * vector
+        force[~self.dofs.active[:, 0]] = 0.0
+        return force, moment
+
+    def prescribed_displacement(self, tau: float, quasi_static: bool = False) -> np.ndarray:
+        """Imposed displacements (n, 3) at progress tau (zero where not prescribed)."""
+        displacement = np.zeros((self.n_nodes, 3))
+        for amplitude, values in self._prescribed_terms:
+            displacement += _evaluate(amplitude, tau, quasi_static) * values
+        return displacement
+
+    @property
+    def has_prescribed(self) -> bool:
+        return bool(self._prescribed_terms)
+
+    def constrain_angular(self, vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:
+        """Remove from angular vectors (n, 3) the drilling part (along the director) and the
+        components of fixed alpha / beta (about V2 / V1 of the nodal frame); zero at nodes
+        without rotations."""
+        out = vectors - np.sum(vectors * directors, axis=1)[:, None] * directors
+        out[~self.has_rotation] = 0.0
+        fixed_any = self.rotation_fixed.any(axis=1)
+        if fixed_any.any():
+            v1, v2 = nodal_frames(directors[fixed_any])
+            sub = out[fixed_any]
+            alpha, beta = self.rotation_fixed[fixed_any].T
+            sub -= (alpha * np.sum(sub * v2, axis=1))[:, None] * v2
+            sub -= (beta * np.sum(sub * v1, axis=1))[:, None] * v1
+            out[fixed_any] = sub
+        return out
+
+    def fields(self, state: State) -> dict:
+        """Output fields: {"point": {name: (n, ...)}, "triangle": {...}, "line": {...}} with the
+        cell fields spread over all mesh cells of that type (NaN where a block does not cover)."""
+        out: dict[str, dict] = {"point": {}, "triangle": {}, "line": {}}
+        counts = {"triangle": len(self.mesh.triangles), "line": len(self.mesh.lines)}
+        for block in self.blocks:
+            for name, values in getattr(block, "node_fields", lambda s: {})(state).items():
+                out["point"][name] = values
+            kind = block.cell_type
+            for name, values in getattr(block, "cell_fields", lambda s: {})(state).items():
+                values = np.asarray(values, dtype=float)
+                full = out[kind].setdefault(name, np.full((counts[kind],) + values.shape[1:], np.nan))
+                full[block.cell_ids] = values
+        return out
+
+
+def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:
+    function: Callable = amplitude.quasi_static if quasi_static else amplitude.dynamic
+    return float(function(tau))

@@ -1,0 +1,63 @@
+"""Finite rotations of directors and the nodal frames of the rotational DOFs (THEORY §1.2-1.3).
+
+The core needs these to apply alpha/beta boundary conditions and to advance directors in every
+solver; the shell elements use the same functions, so there is one definition of the frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# Below this |e2 x V| the Eq. 7 frame is ill-conditioned (V within ~6 deg of +-e2): use e3.
+FRAME_FALLBACK = 0.1
+
+
+def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """Rotate unit vectors by rotation vectors (Rodrigues), both (n, 3).
+
+    The rotation vector psi has angle |psi| and axis psi/|psi|. For psi perpendicular to V
+    (the director update of THEORY §1.3) this is V+ = cos|psi| V + sin|psi|/|psi| psi x V; the
+    general form here also handles a component of psi along V. Tiny angles use the first-order
+    update renormalised, which keeps |V| = 1 to rounding.
+    """
+    angle = np.linalg.norm(rotation, axis=1)
+    small = angle < 1e-12
+    safe = np.where(small, 1.0, angle)
+    axis = rotation / safe[:, None]
+    cos = np.cos(angle)[:, None]
+    sin = np.sin(angle)[:, None]
+    along = np.sum(axis * vectors, axis=1)[:, None]
+    rotated = (
+        cos * vectors + sin * np.cross(axis, vectors) + (1.0 - cos) * along * axis
+    )
+    if small.any():
+        first_order = vectors[small] + np.cross(rotation[small], vectors[small])
+        norms = np.linalg.norm(first_order, axis=1)[:, None]
+        rotated[small] = first_order / np.where(norms > 0, norms, 1.0)
+    return rotated
+
+
+def nodal_frames(directors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Nodal frame (V1, V2) of unit directors V3 = V (Bai Eq. 7 with the fallback of THEORY §1.2).
+
+    V1 = (a x V3)/|a x V3| with a = e2, or a = e3 where |e2 x V3| < 0.1; V2 = V3 x V1.
+    For V = e3 this gives V1 = e1, V2 = e2.
+
+    directors : (n, 3) unit vectors. Returns V1, V2, each (n, 3) unit vectors.
+    """
+    e2 = np.array([0.0, 1.0, 0.0])
+    e3 = np.array([0.0, 0.0, 1.0])
+    cross = np.cross(e2, directors)
+    norm = np.linalg.norm(cross, axis=1)
+    fallback = norm < FRAME_FALLBACK
+    if fallback.any():
+        cross[fallback] = np.cross(e3, directors[fallback])
+        norm[fallback] = np.linalg.norm(cross[fallback], axis=1)
+    v1 = cross / np.where(norm > 0, norm, 1.0)[:, None]
+    v2 = np.cross(directors, v1)
+    return v1, v2
+
+
+def drop_along(vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:
+    """Remove from each vector its component along the unit director: (I - V V^T) w, (n, 3)."""
+    return vectors - np.sum(vectors * directors, axis=1)[:, None] * directors

@@ -1,0 +1,99 @@
+"""Pieces shared by the solvers: errors that keep the last good result, frames, progress."""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+from femcore.model import CompiledModel
+from femcore.results import Frame, Result
+from femcore.state import State
+
+
+class SolverError(RuntimeError):
+    """A solve that could not reach its goal. ``result`` holds every good frame up to the
+    failure (``result.converged`` is False), so the last good state can be inspected or
+    written."""
+
+    def __init__(self, message: str, result: Result):
+        super().__init__(message)
+        self.result = result
+
+
+class DivergenceError(SolverError):
+    """Non-finite values or an energy blow-up: the time step is too large for the model, a
+    material law left its range, or a load drives the structure unstable."""
+
+
+class ConvergenceError(SolverError):
+    """The iterations ran out before equilibrium was reached."""
+
+
+def make_frame(
+    model: CompiledModel,
+    state: State,
+    reactions: np.ndarray | None = None,
+    reaction_moments: np.ndarray | None = None,
+) -> Frame:
+    """Snapshot of a state (arrays copied) with reactions and the elements' output fields."""
+    n = model.n_nodes
+    return Frame(
+        time=float(state.time),
+        load_factor=float(state.load_factor),
+        positions=state.positions.copy(),
+        velocities=state.velocities.copy(),
+        directors=state.directors.copy(),
+        reactions=np.zeros((n, 3)) if reactions is None else reactions.copy(),
+        reaction_moments=np.zeros((n, 3)) if reaction_moments is None else reaction_moments.copy(),
+        fields=model.fields(state),
+    )
+
+
+def empty_result(model: CompiledModel, frames: list[Frame]) -> Result:
+    return Result(mesh=model.mesh, frames=frames, has_rotation=model.has_rotation.copy())
+
+
+def resolve_progress(progress: bool | None) -> bool:
+    """Progress lines are shown on an interactive terminal unless asked otherwise; never under
+    pytest unless asked (its captured stderr is not a terminal)."""
+    if progress is not None:
+        return bool(progress)
+    return sys.stderr.isatty()
+
+
+class ProgressLine:
+    """Prints a status line to stderr at most every ``every`` seconds (and on demand)."""
+
+    def __init__(self, enabled: bool, label: str, every: float = 2.0):
+        self.enabled = enabled
+        self.label = label
+        self.every = every
+        self._last = time.perf_counter()
+
+    def __call__(self, text: str, force: bool = False) -> None:
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if force or now - self._last >= self.every:
+            self._last = now
+            print(f"[{self.label}] {text}", file=sys.stderr, flush=True)
+
+
+def check_positive_or_none(value, name: str) -> float | None:
+    if value is None:
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a positive number or None, got {value!r}") from None
+    if not np.isfinite(number) or number <= 0:
+        raise ValueError(f"{name} must be a positive number or None, got {value!r}")
+    return number
+
+
+def check_integer(value, name: str, minimum: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)

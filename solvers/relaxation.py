@@ -1,0 +1,258 @@
+"""Dynamic relaxation: the static equilibrium as the damped limit of a pseudo-dynamic motion
+(THEORY §6.4).
+
+Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
+increment is relaxed to equilibrium before the next one and gives one frame.
+
+- Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference; when the kinetic
+  energy passes a peak, the configuration goes back to where the peak was (half a step back),
+  all velocities are zeroed and the motion restarts from rest.
+- Adaptive viscous damping (Underwood 1983; Papadrakakis 1981): mass-proportional damping with
+  c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate.
+
+Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_ref / sqrt(n),
+with F_ref = max(||F_ext||, ||F_int||) (the internal forces include the reactions, so a
+displacement-driven problem has a non-zero reference). Moments are checked the same way
+against their own reference.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from femcore.model import CompiledModel, Model
+from femcore.rotation import rotate_about
+from solvers.common import (
+    ConvergenceError,
+    DivergenceError,
+    ProgressLine,
+    check_integer,
+    empty_result,
+    make_frame,
+    resolve_progress,
+)
+
+DAMPING_KINDS = ("kinetic", "viscous")
+
+
+class DynamicRelaxation:
+    """Quasi-static solver by dynamic relaxation.
+
+    increments : number of equal load-factor steps.
+    tol : relative residual tolerance (see the module docstring).
+    max_iterations : iterations allowed per increment before a ConvergenceError.
+    damping : "kinetic" (default) or "viscous" (adaptive).
+    safety : factor on the stable step of the lumped-mass model.
+    progress : print status lines (None: only on an interactive terminal).
+    """
+
+    def __init__(
+        self,
+        increments: int = 1,
+        tol: float = 1e-4,
+        max_iterations: int = 200_000,
+        damping: str = "kinetic",
+        safety: float = 0.9,
+        progress: bool | None = None,
+    ):
+        self.increments = check_integer(increments, "increments")
+        if not np.isfinite(tol) or not (0.0 < tol < 1.0):
+            raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+        self.tol = float(tol)
+        self.max_iterations = check_integer(max_iterations, "max_iterations")
+        if damping not in DAMPING_KINDS:
+            raise ValueError(f"unknown damping {damping!r}: expected one of {DAMPING_KINDS}")
+        self.damping = damping
+        if not (0.0 < float(safety) <= 1.0):
+            raise ValueError(f"safety must be in (0, 1], got {safety!r}")
+        self.safety = float(safety)
+        self.progress = progress
+
+    def solve(self, model: Model | CompiledModel):
+        """Relax every increment to equilibrium; returns a femcore.results.Result whose frames
+        are the reference state and one frame per increment (``time`` = load factor).
+
+        Raises ConvergenceError (with the converged increments in ``error.result``) when an
+        increment does not converge in ``max_iterations``, and DivergenceError on non-finite
+        values.
+        """
+        compiled = model.compile() if isinstance(model, Model) else model
+        started = time.perf_counter()
+        state = compiled.initial_state()
+        frames = [make_frame(compiled, state)]
+        progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
+        iterations = []
+        residuals = []
+        for increment in range(1, self.increments + 1):
+            load_factor = increment / self.increments
+            state.load_factor = load_factor
+            state.time = load_factor
+            try:
+                count, ratio, reactions, reaction_moments = self._relax(
+                    compiled, state, load_factor, progress, increment
+                )
+            except (ConvergenceError, DivergenceError) as error:
+                error.result = self._result(compiled, frames, iterations, residuals, started, False)
+                raise
+            iterations.append(count)
+            residuals.append(ratio)
+            frames.append(make_frame(compiled, state, reactions, reaction_moments))
+            progress(f"increment {increment}/{self.increments} converged in {count} iterations",
+                     force=True)
+        return self._result(compiled, frames, iterations, residuals, started, True)
+
+    def _result(self, compiled, frames, iterations, residuals, started, converged):
+        result = empty_result(compiled, frames)
+        result.steps = int(sum(iterations))
+        result.wall_time = time.perf_counter() - started
+        result.converged = converged
+        result.info = {
+            "solver": "DynamicRelaxation",
+            "damping": self.damping,
+            "iterations_per_increment": list(iterations),
+            "residual_ratio_per_increment": list(residuals),
+            "tol": self.tol,
+        }
+        return result
+
+    # ------------------------------------------------------------------ one increment
+    def _relax(self, model: CompiledModel, state, load_factor, progress, increment):
+        """Relax ``state`` in place to equilibrium at ``load_factor``.
+
+        Returns (iterations, residual ratio, reactions (n,3), reaction moments (n,3)).
+        """
+        free = model.translation_free
+        constrained = model.translation_constrained
+        rot = model.has_rotation
+        any_rot = bool(rot.any())
+        f_ext, m_ext = model.external_load(load_factor, quasi_static=True)
+        if model.has_prescribed:
+            target = model.reference_positions + model.prescribed_displacement(
+                load_factor, quasi_static=True
+            )
+            state.positions = np.where(model.translation_prescribed, target, state.positions)
+
+        mass, inertia = model.lumped_mass(state)
+        inv_mass = (1.0 / np.where(mass > 0, mass, np.inf))[:, None]
+        inv_inertia = (1.0 / np.where(inertia > 0, inertia, np.inf))[:, None]
+        dt = self.safety * model.stable_dt(state)
+        n_free = int(free.sum()) + 2 * int((rot[:, None] & ~model.rotation_fixed).sum())
+        sqrt_n = math.sqrt(max(n_free, 1))
+        f_ext_norm = float(np.linalg.norm(f_ext))
+        m_ext_norm = float(np.linalg.norm(m_ext))
+
+        velocity = np.zeros_like(state.positions)
+        omega = np.zeros_like(state.positions)
+        kinetic_old = 0.0
+        restart = True  # the first step from rest is a half step
+        start_positions = state.positions.copy()
+        previous_residual = None
+        c = 0.0
+        ratio = math.inf
+
+        for iteration in range(1, self.max_iterations + 1):
+            f_int, m_int = model.internal_force(state)
+            residual = np.where(free, f_ext - f_int, 0.0)
+            moment = model.constrain_angular(m_ext - m_int, state.directors) if any_rot else None
+
+            # Convergence on the free DOFs.
+            force_ref = max(f_ext_norm, float(np.linalg.norm(f_int)))
+            r_norm = float(np.linalg.norm(residual))
+            ratio = r_norm / force_ref if force_ref > 0 else 0.0
+            ok = ratio <= self.tol and float(np.abs(residual).max(initial=0.0)) <= (
+                10.0 * self.tol * force_ref / sqrt_n
+            )
+            if any_rot:
+                moment_ref = max(m_ext_norm, float(np.linalg.norm(m_int)),
+                                 1e-12 * force_ref * float(np.ptp(model.reference_positions)))
+                m_ratio = float(np.linalg.norm(moment)) / moment_ref if moment_ref > 0 else 0.0
+                ok = ok and m_ratio <= self.tol
+                ratio = max(ratio, m_ratio)
+            if not np.isfinite(ratio):
+                raise DivergenceError(
+                    f"dynamic relaxation produced non-finite forces in increment {increment} "
+                    f"(load factor {load_factor:.4g}) at iteration {iteration}",
+                    None,
+                )
+            if ok:
+                reactions = np.where(constrained, f_int - f_ext, 0.0)
+                reaction_moments = np.zeros_like(reactions)
+                if any_rot:
+                    full = m_ext - m_int
+                    full = full - np.sum(full * state.directors, axis=1)[:, None] * state.directors
+                    reaction_moments = np.where(rot[:, None], moment - full, 0.0)
+                state.velocities = np.zeros_like(velocity)
+                state.angular_velocities = np.zeros_like(omega)
+                return iteration, ratio, reactions, reaction_moments
+
+            step = 0.5 * dt if restart else dt
+            if self.damping == "viscous":
+                c = self._viscous_c(state.positions - start_positions, residual, previous_residual,
+                                    velocity, mass, dt)
+                previous_residual = residual
+            damp = 0.5 * c * step
+            v_new = np.where(free, ((1.0 - damp) * velocity + step * inv_mass * residual)
+                             / (1.0 + damp), 0.0)
+            kinetic = 0.5 * float(np.sum(mass[:, None] * v_new * v_new))
+            if any_rot:
+                w_new = model.constrain_angular(
+                    ((1.0 - damp) * omega + step * inv_inertia * moment) / (1.0 + damp),
+                    state.directors,
+                )
+                kinetic += 0.5 * float(np.sum(inertia[:, None] * w_new * w_new))
+
+            if self.damping == "kinetic" and not restart and kinetic < kinetic_old:
+                # The kinetic energy peaked half a step ago: go back there and restart from
+                # rest (x* = x(i) - dt/2 v(i-1/2), THEORY §6.4a).
+                state.positions = state.positions - 0.5 * dt * velocity
+                if any_rot:
+                    state.directors = np.where(
+                        rot[:, None], rotate_about(state.directors, -0.5 * dt * omega),
+                        state.directors,
+                    )
+                velocity = np.zeros_like(velocity)
+                omega = np.zeros_like(omega)
+                kinetic_old = 0.0
+                restart = True
+                dt = self.safety * model.stable_dt(state)
+                progress(f"increment {increment}: iteration {iteration}, residual ratio "
+                         f"{ratio:.3g} (tol {self.tol:g})")
+                continue
+
+            state.positions = state.positions + dt * v_new
+            if any_rot:
+                state.directors = np.where(
+                    rot[:, None], rotate_about(state.directors, dt * w_new), state.directors
+                )
+                omega = w_new
+            velocity = v_new
+            kinetic_old = kinetic
+            restart = False
+
+        raise ConvergenceError(
+            f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
+            f"(load factor {load_factor:.4g}) within {self.max_iterations} iterations: residual "
+            f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, use more "
+            "increments, or try damping='viscous'.",
+            None,
+        )
+
+    @staticmethod
+    def _viscous_c(displacement, residual, previous_residual, velocity, mass, dt) -> float:
+        """Adaptive damping coefficient c = 2 sqrt(u.K u / u.M u) with the local diagonal
+        stiffness estimate K_jj = -(r_j(i) - r_j(i-1)) / (dt v_j(i-1/2)) (Underwood 1983)."""
+        if previous_residual is None:
+            return 0.0
+        moving = np.abs(velocity) > 1e-300
+        if not moving.any():
+            return 0.0
+        stiffness = np.zeros_like(velocity)
+        stiffness[moving] = -(residual[moving] - previous_residual[moving]) / (dt * velocity[moving])
+        numerator = float(np.sum(stiffness * displacement * displacement))
+        denominator = float(np.sum(mass[:, None] * displacement * displacement))
+        if numerator <= 0.0 or denominator <= 0.0:
+            return 0.0
+        return min(2.0 * math.sqrt(numerator / denominator), 1.9 / dt)

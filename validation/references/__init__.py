@@ -1,0 +1,1 @@
+"""Closed-form reference solutions the tests and the validation report compare against."""
