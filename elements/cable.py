@@ -50,8 +50,9 @@ class CableBlock(ElementBlock):
         self.rest_length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)  # (m,) mm
         short = self.rest_length <= 1e-12 * max(1.0, float(np.ptp(mesh.points)))
         if short.any():
-            raise ValueError(f"line cell {self.cell_ids[short][0]} has zero length: its two nodes "
-                             "coincide")
+            raise ValueError(
+                f"line cell {self.cell_ids[short][0]} has zero length: its two nodes coincide"
+            )
         self.wave_speed = np.sqrt(cable.axial_stiffness / cable.mass_per_length)  # mm/s
 
     def _axial(self, state: State):
@@ -80,7 +81,9 @@ class CableBlock(ElementBlock):
         # Two lumped masses mu L0/2 joined by the axial stiffness EA/L0 (+ the geometric
         # stiffness N/l for transverse motion of a taut cable): omega_max^2 = 4 k / (mu L0).
         _, length, _, force = self._axial(state)
-        stiffness = self.material.axial_stiffness / self.rest_length + np.maximum(force, 0.0) / length
+        stiffness = (
+            self.material.axial_stiffness / self.rest_length + np.maximum(force, 0.0) / length
+        )
         omega = np.sqrt(4.0 * stiffness / (self.material.mass_per_length * self.rest_length))
         return 2.0 / omega
 

@@ -42,9 +42,7 @@ def dof_columns(names: str | Iterable[str] | None) -> np.ndarray:
     columns = []
     for name in names:
         if name not in DOF_NAMES:
-            raise ValueError(
-                f"unknown DOF name {name!r}: expected one of {', '.join(DOF_NAMES)}"
-            )
+            raise ValueError(f"unknown DOF name {name!r}: expected one of {', '.join(DOF_NAMES)}")
         columns.append(DOF_NAMES.index(name))
     return np.array(columns, dtype=np.int64)
 

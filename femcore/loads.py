@@ -61,7 +61,8 @@ def amplitude_of(amplitude: str | Callable) -> Amplitude:
         return Amplitude("user", amplitude, amplitude)
     if not isinstance(amplitude, str) or amplitude not in AMPLITUDES:
         raise ValueError(
-            f"unknown amplitude {amplitude!r}: expected one of {', '.join(AMPLITUDES)} or a callable"
+            f"unknown amplitude {amplitude!r}: "
+            f"expected one of {', '.join(AMPLITUDES)} or a callable"
         )
     return Amplitude(amplitude, AMPLITUDES[amplitude], step if amplitude == "step" else linear)
 

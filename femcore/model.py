@@ -18,7 +18,7 @@ from femcore.loads import Amplitude, Fix, Gravity, NodalLoad, Prescribed, amplit
 from femcore.mesh import Mesh
 from femcore.rotation import nodal_frames
 from femcore.state import State
-from femcore.topology import nodal_normals
+from femcore.topology import check_triangles, nodal_normals
 
 CELL_TYPES = ("line", "triangle")
 
@@ -80,8 +80,10 @@ class Model:
         else:
             ids = self._ids(cells, n_cells, f"{cell_type} cell")
         if ids.size == 0:
-            raise ValueError(f"{type(element).__name__} block covers no cell: the mesh has "
-                             f"{n_cells} {cell_type} cells")
+            raise ValueError(
+                f"{type(element).__name__} block covers no cell: the mesh has "
+                f"{n_cells} {cell_type} cells"
+            )
         self.blocks.append(BlockEntry(element, ids))
         self._compiled = None
         return len(self.blocks) - 1
@@ -118,15 +120,21 @@ class Model:
 
     def force(self, nodes, vector, amplitude="step") -> None:
         """The same global force vector (3,) on each selected node (dead load)."""
-        self.loads.append(NodalLoad("force", self._node_ids(nodes), _vector3(vector, "force"),
-                                    amplitude_of(amplitude)))
+        self.loads.append(
+            NodalLoad(
+                "force", self._node_ids(nodes), _vector3(vector, "force"), amplitude_of(amplitude)
+            )
+        )
         self._compiled = None
 
     def moment(self, nodes, vector, amplitude="step") -> None:
         """The same global moment vector (3,) on each selected node with rotational DOFs; its
         component along the director is dropped (no drilling DOF)."""
-        self.loads.append(NodalLoad("moment", self._node_ids(nodes), _vector3(vector, "moment"),
-                                    amplitude_of(amplitude)))
+        self.loads.append(
+            NodalLoad(
+                "moment", self._node_ids(nodes), _vector3(vector, "moment"), amplitude_of(amplitude)
+            )
+        )
         self._compiled = None
 
     def gravity(self, vector, amplitude="step") -> None:
@@ -139,7 +147,8 @@ class Model:
         if isinstance(nodes, str):
             if nodes not in self.mesh.node_sets:
                 raise ValueError(
-                    f"no node set named {nodes!r}: the mesh has {sorted(self.mesh.node_sets) or 'none'}"
+                    f"no node set named {nodes!r}: "
+                    f"the mesh has {sorted(self.mesh.node_sets) or 'none'}"
                 )
             nodes = self.mesh.node_sets[nodes]
         return self._ids(nodes, self.mesh.n_nodes, "node")
@@ -165,7 +174,7 @@ class Model:
 
     # ----------------------------------------------------------------- compile
     def compile(self) -> CompiledModel:
-        """Bind blocks and build DOF, constraint and load arrays (cached until the model changes)."""
+        """Bind blocks, build DOF, constraint and load arrays (cached until the model changes)."""
         if self._compiled is None:
             self._compiled = CompiledModel(self)
         return self._compiled
@@ -205,6 +214,11 @@ class CompiledModel:
             if entry.element.cell_type == "triangle" and "alpha" in entry.element.dofs:
                 shell_triangles.append(cells)
         self.has_rotation = active[:, 3].copy()
+        triangle_cells = [self._cells(e) for e in model.blocks if e.element.cell_type == "triangle"]
+        if triangle_cells:
+            # Duplicate nodes, zero-area triangles, non-manifold edges and flipped triangles
+            # make every shell kinematics wrong: refuse them before anything is bound.
+            check_triangles(mesh.points, np.unique(np.concatenate(triangle_cells), axis=0))
 
         fixed = self._fixed_mask(model.fixes, active)
         prescribed, self._prescribed_terms = self._prescribed(model.prescribed, active)
@@ -216,8 +230,10 @@ class CompiledModel:
             normals = nodal_normals(mesh.points, np.concatenate(shell_triangles))
             missing = self.has_rotation & (np.linalg.norm(normals, axis=1) == 0)
             if missing.any():
-                raise ValueError(f"node {np.flatnonzero(missing)[0]} has rotational DOFs but no "
-                                 "shell triangle to define its director")
+                raise ValueError(
+                    f"node {np.flatnonzero(missing)[0]} has rotational DOFs but no "
+                    "shell triangle to define its director"
+                )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
 
         self.blocks = [
@@ -234,8 +250,10 @@ class CompiledModel:
         self.mass0, self.inertia0 = self.lumped_mass(state0)
         unmassed = active[:, 0] & ~(self.mass0 > 0)
         if unmassed.any():
-            raise ValueError(f"node {np.flatnonzero(unmassed)[0]} has no mass: every node of an "
-                             "element needs a positive lumped mass for the dynamic solvers")
+            raise ValueError(
+                f"node {np.flatnonzero(unmassed)[0]} has no mass: every node of an "
+                "element needs a positive lumped mass for the dynamic solvers"
+            )
         self._load_terms = self._loads(model.loads, active)
         self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
 
@@ -249,8 +267,10 @@ class CompiledModel:
         for fix in fixes:
             node_active = active[fix.nodes].any(axis=1)
             if not node_active.any():
-                raise ValueError(f"fix selects nodes {fix.nodes[:5].tolist()}... that no element "
-                                 "uses: they carry no DOF")
+                raise ValueError(
+                    f"fix selects nodes {fix.nodes[:5].tolist()}... that no element "
+                    "uses: they carry no DOF"
+                )
             nodes = fix.nodes[node_active]
             if fix.columns is None:
                 fixed[nodes] |= active[nodes]
@@ -271,13 +291,16 @@ class CompiledModel:
         for record in records:
             inactive = ~active[record.nodes, 0]
             if inactive.any():
-                raise ValueError(f"cannot displace node {record.nodes[inactive][0]}: no element "
-                                 "uses it")
+                raise ValueError(
+                    f"cannot displace node {record.nodes[inactive][0]}: no element uses it"
+                )
             given = np.isfinite(record.values)
             already = mask[record.nodes, :3] & given
             if already.any():
                 row, col = np.argwhere(already)[0]
-                raise ValueError(f"{DOF_NAMES[col]} of node {record.nodes[row]} is prescribed twice")
+                raise ValueError(
+                    f"{DOF_NAMES[col]} of node {record.nodes[row]} is prescribed twice"
+                )
             mask[record.nodes, :3] |= given
             values = np.zeros((self.n_nodes, 3))
             values[record.nodes] = np.where(given, record.values, 0.0)
@@ -291,8 +314,9 @@ class CompiledModel:
             lacking = ~active[record.nodes, column]
             if lacking.any():
                 need = "any DOF" if record.kind == "force" else "rotational DOFs"
-                raise ValueError(f"{record.kind} on node {record.nodes[lacking][0]}, which has "
-                                 f"no {need}")
+                raise ValueError(
+                    f"{record.kind} on node {record.nodes[lacking][0]}, which has no {need}"
+                )
             values = np.zeros((self.n_nodes, 3))
             values[record.nodes] = record.vector
             terms.append((record.kind, record.amplitude, values))
@@ -397,7 +421,9 @@ class CompiledModel:
             kind = block.cell_type
             for name, values in getattr(block, "cell_fields", lambda s: {})(state).items():
                 values = np.asarray(values, dtype=float)
-                full = out[kind].setdefault(name, np.full((counts[kind],) + values.shape[1:], np.nan))
+                full = out[kind].setdefault(
+                    name, np.full((counts[kind],) + values.shape[1:], np.nan)
+                )
                 full[block.cell_ids] = values
         return out
 

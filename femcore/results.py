@@ -133,8 +133,9 @@ class Result:
                 values = f.fields.get(kind, {}).get(name)
                 count = len(self.mesh.triangles if kind == "triangle" else self.mesh.lines)
                 if values is None:
-                    shape = next(f.fields[k][name].shape[1:] for k in kinds
-                                 if name in f.fields.get(k, {}))
+                    shape = next(
+                        f.fields[k][name].shape[1:] for k in kinds if name in f.fields.get(k, {})
+                    )
                     values = np.full((count,) + shape, np.nan)
                 per_kind.append(np.asarray(values, dtype=float))
             cell_data[name] = per_kind
@@ -160,7 +161,7 @@ class Result:
                 part = stem.parent / f"{stem.name}_{i:04d}.vtu"
                 self.to_meshio(i).write(part)
                 entries.append(
-                    f'    <DataSet timestep={quoteattr(repr(f.time))} file={quoteattr(part.name)}/>'
+                    f"    <DataSet timestep={quoteattr(repr(f.time))} file={quoteattr(part.name)}/>"
                 )
             path.write_text(
                 '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'

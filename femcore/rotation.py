@@ -27,9 +27,7 @@ def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     cos = np.cos(angle)[:, None]
     sin = np.sin(angle)[:, None]
     along = np.sum(axis * vectors, axis=1)[:, None]
-    rotated = (
-        cos * vectors + sin * np.cross(axis, vectors) + (1.0 - cos) * along * axis
-    )
+    rotated = cos * vectors + sin * np.cross(axis, vectors) + (1.0 - cos) * along * axis
     if small.any():
         first_order = vectors[small] + np.cross(rotation[small], vectors[small])
         norms = np.linalg.norm(first_order, axis=1)[:, None]

@@ -124,8 +124,11 @@ class CentralDifference:
 
         dt = dt_nominal = self._step_size(compiled, state, scale)
         if not np.isfinite(dt) or dt <= 0:
-            raise DivergenceError("the stable time step is not a positive number: check the "
-                                  "element stiffness and mass", empty_result(compiled, []))
+            raise DivergenceError(
+                "the stable time step is not a positive number: check the "
+                "element stiffness and mass",
+                empty_result(compiled, []),
+            )
         thin = max(1, int(duration / dt / ENERGY_RECORDS))
         progress = ProgressLine(resolve_progress(self.progress), "central difference")
 
@@ -146,7 +149,9 @@ class CentralDifference:
                 raise DivergenceError(
                     f"central difference stopped after {step} steps at t = {state.time:.6g} s of "
                     f"{duration:.6g} s (max_steps): the step is too small for this duration",
-                    self._result(compiled, frames, step, started, energy, dt_nominal, added_mass, False),
+                    self._result(
+                        compiled, frames, step, started, energy, dt_nominal, added_mass, False
+                    ),
                 )
             if self.dt is None and step % STABLE_DT_EVERY == 0 and step > 0:
                 dt_nominal = self._step_size(compiled, state, scale)
@@ -167,7 +172,9 @@ class CentralDifference:
                 v_new = np.where(prescribed, (target - state.positions) / dt, v_new)
             # Support force = what the constraint adds to the momentum balance of the node.
             reactions = np.where(
-                constrained, mass[:, None] * (v_new - v_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar, 0.0
+                constrained,
+                mass[:, None] * (v_new - v_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar,
+                0.0,
             )
 
             if any_rot:
@@ -176,7 +183,9 @@ class CentralDifference:
                     1.0 + 0.5 * c * dt_bar
                 )
                 w_new = compiled.constrain_angular(w_free, state.directors)
-                drilling_free = w_free - np.sum(w_free * state.directors, axis=1)[:, None] * state.directors
+                drilling_free = (
+                    w_free - np.sum(w_free * state.directors, axis=1)[:, None] * state.directors
+                )
                 reaction_moments = inertia[:, None] * (w_new - drilling_free) / dt_bar
 
             # Work over [t(i-1/2), t(i+1/2)] with the forces at t(i) (midpoint rule).
@@ -196,7 +205,10 @@ class CentralDifference:
 
             # Energy conservation bounds the kinetic energy by the work done on the model; ten
             # times that work means the integration is unstable.
-            if not np.isfinite(kinetic_new) or kinetic_new > 10.0 * (work_scale + abs(internal)) + 1e-300:
+            if (
+                not np.isfinite(kinetic_new)
+                or kinetic_new > 10.0 * (work_scale + abs(internal)) + 1e-300
+            ):
                 state.velocities = velocity
                 frames.append(make_frame(compiled, state, reactions, reaction_moments))
                 raise DivergenceError(
@@ -204,7 +216,9 @@ class CentralDifference:
                     f"(dt = {dt:.3g} s): kinetic energy {kinetic_new:.3g} against "
                     f"{work_scale:.3g} of external work; the last good state is the last frame. "
                     "Reduce dt or safety, or check the loads and material laws.",
-                    self._result(compiled, frames, step, started, energy, dt_nominal, added_mass, False),
+                    self._result(
+                        compiled, frames, step, started, energy, dt_nominal, added_mass, False
+                    ),
                 )
 
             kinetic = kinetic_new
@@ -234,8 +248,10 @@ class CentralDifference:
                 frames.append(make_frame(compiled, state, reactions, reaction_moments))
                 while next_output <= state.time * (1.0 + 1e-9):
                     next_output += output_interval
-            progress(f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
-                     f"KE = {kinetic:.4g}, IE = {internal:.4g}")
+            progress(
+                f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
+                f"KE = {kinetic:.4g}, IE = {internal:.4g}"
+            )
 
         progress(f"done: {step} steps", force=True)
         return self._result(compiled, frames, step, started, energy, dt_nominal, added_mass, True)

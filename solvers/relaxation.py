@@ -100,8 +100,10 @@ class DynamicRelaxation:
             iterations.append(count)
             residuals.append(ratio)
             frames.append(make_frame(compiled, state, reactions, reaction_moments))
-            progress(f"increment {increment}/{self.increments} converged in {count} iterations",
-                     force=True)
+            progress(
+                f"increment {increment}/{self.increments} converged in {count} iterations",
+                force=True,
+            )
         return self._result(compiled, frames, iterations, residuals, started, True)
 
     def _result(self, compiled, frames, iterations, residuals, started, converged):
@@ -166,8 +168,11 @@ class DynamicRelaxation:
                 10.0 * self.tol * force_ref / sqrt_n
             )
             if any_rot:
-                moment_ref = max(m_ext_norm, float(np.linalg.norm(m_int)),
-                                 1e-12 * force_ref * float(np.ptp(model.reference_positions)))
+                moment_ref = max(
+                    m_ext_norm,
+                    float(np.linalg.norm(m_int)),
+                    1e-12 * force_ref * float(np.ptp(model.reference_positions)),
+                )
                 m_ratio = float(np.linalg.norm(moment)) / moment_ref if moment_ref > 0 else 0.0
                 ok = ok and m_ratio <= self.tol
                 ratio = max(ratio, m_ratio)
@@ -190,12 +195,19 @@ class DynamicRelaxation:
 
             step = 0.5 * dt if restart else dt
             if self.damping == "viscous":
-                c = self._viscous_c(state.positions - start_positions, residual, previous_residual,
-                                    velocity, mass, dt)
+                c = self._viscous_c(
+                    state.positions - start_positions,
+                    residual,
+                    previous_residual,
+                    velocity,
+                    mass,
+                    dt,
+                )
                 previous_residual = residual
             damp = 0.5 * c * step
-            v_new = np.where(free, ((1.0 - damp) * velocity + step * inv_mass * residual)
-                             / (1.0 + damp), 0.0)
+            v_new = np.where(
+                free, ((1.0 - damp) * velocity + step * inv_mass * residual) / (1.0 + damp), 0.0
+            )
             kinetic = 0.5 * float(np.sum(mass[:, None] * v_new * v_new))
             if any_rot:
                 w_new = model.constrain_angular(
@@ -210,7 +222,8 @@ class DynamicRelaxation:
                 state.positions = state.positions - 0.5 * dt * velocity
                 if any_rot:
                     state.directors = np.where(
-                        rot[:, None], rotate_about(state.directors, -0.5 * dt * omega),
+                        rot[:, None],
+                        rotate_about(state.directors, -0.5 * dt * omega),
                         state.directors,
                     )
                 velocity = np.zeros_like(velocity)
@@ -218,8 +231,10 @@ class DynamicRelaxation:
                 kinetic_old = 0.0
                 restart = True
                 dt = self.safety * model.stable_dt(state)
-                progress(f"increment {increment}: iteration {iteration}, residual ratio "
-                         f"{ratio:.3g} (tol {self.tol:g})")
+                progress(
+                    f"increment {increment}: iteration {iteration}, residual ratio "
+                    f"{ratio:.3g} (tol {self.tol:g})"
+                )
                 continue
 
             state.positions = state.positions + dt * v_new
@@ -250,7 +265,9 @@ class DynamicRelaxation:
         if not moving.any():
             return 0.0
         stiffness = np.zeros_like(velocity)
-        stiffness[moving] = -(residual[moving] - previous_residual[moving]) / (dt * velocity[moving])
+        stiffness[moving] = -(residual[moving] - previous_residual[moving]) / (
+            dt * velocity[moving]
+        )
         numerator = float(np.sum(stiffness * displacement * displacement))
         denominator = float(np.sum(mass[:, None] * displacement * displacement))
         if numerator <= 0.0 or denominator <= 0.0:

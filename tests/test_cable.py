@@ -14,11 +14,13 @@ def net_mesh(nx=4, ny=3, size=10.0) -> Mesh:
     i, j = np.meshgrid(np.arange(nx + 1), np.arange(ny + 1), indexing="xy")
     points = np.column_stack([i.ravel() * size, j.ravel() * size, np.zeros(i.size)])
     ids = np.arange(points.shape[0]).reshape(ny + 1, nx + 1)
-    lines = np.vstack([
-        np.column_stack([ids[:, :-1].ravel(), ids[:, 1:].ravel()]),
-        np.column_stack([ids[:-1, :].ravel(), ids[1:, :].ravel()]),
-        np.column_stack([ids[:-1, :-1].ravel(), ids[1:, 1:].ravel()]),
-    ])
+    lines = np.vstack(
+        [
+            np.column_stack([ids[:, :-1].ravel(), ids[:, 1:].ravel()]),
+            np.column_stack([ids[:-1, :].ravel(), ids[1:, :].ravel()]),
+            np.column_stack([ids[:-1, :-1].ravel(), ids[1:, 1:].ravel()]),
+        ]
+    )
     return Mesh(points, lines=lines)
 
 

@@ -7,11 +7,11 @@ from elements import Cable
 from femcore import Mesh, Model
 from solvers import CentralDifference, DivergenceError
 
-LENGTH, N = 1000.0, 100       # mm, elements
-EA, MU = 1.0e6, 1.0e-8        # N, t/mm  -> wave speed c = 1e7 mm/s
+LENGTH, N = 1000.0, 100  # mm, elements
+EA, MU = 1.0e6, 1.0e-8  # N, t/mm  -> wave speed c = 1e7 mm/s
 C = np.sqrt(EA / MU)
-TRANSIT = LENGTH / C          # s
-LOAD = 100.0                  # N
+TRANSIT = LENGTH / C  # s
+LOAD = 100.0  # N
 
 
 def bar_model(amplitude="step"):

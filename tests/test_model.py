@@ -40,7 +40,9 @@ def test_loads_are_dead_and_follow_their_amplitude():
     model.gravity((0.0, 0.0, -10.0))
     compiled = model.compile()
     force, moment = compiled.external_load(0.5)
-    assert force[4] == pytest.approx(np.array([0.5, 1.0, 1.5]) + compiled.mass0[4] * np.array([0, 0, -10.0]))
+    assert force[4] == pytest.approx(
+        np.array([0.5, 1.0, 1.5]) + compiled.mass0[4] * np.array([0, 0, -10.0])
+    )
     assert not moment.any()
     assert compiled.mass0.sum() == pytest.approx(1e-9 * 10.0)
 
@@ -134,3 +136,30 @@ def test_solver_parameters_are_checked():
 
 def test_dof_names_are_the_documented_five():
     assert DOF_NAMES == ("ux", "uy", "uz", "alpha", "beta")
+
+
+def triangle_model(points, triangles):
+    from elements.base import ElementBlock, ElementType
+
+    class Membrane(ElementType):  # the smallest triangle element: enough to reach the checks
+        dofs = ("ux", "uy", "uz")
+        cell_type = "triangle"
+
+        def bind(self, mesh, cell_ids, directors) -> ElementBlock:
+            raise AssertionError("a bad mesh must be refused before binding")
+
+    model = Model(Mesh(points, triangles=triangles))
+    model.add(Membrane())
+    return model
+
+
+def test_duplicate_nodes_are_refused_when_the_model_is_compiled():
+    points = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0]])
+    with pytest.raises(ValueError, match="duplicate"):
+        triangle_model(points, [[0, 1, 2], [3, 4, 2]]).compile()
+
+
+def test_zero_area_triangles_are_refused_when_the_model_is_compiled():
+    points = np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0]])
+    with pytest.raises(ValueError, match="zero area|zero-area"):
+        triangle_model(points, [[0, 1, 2], [0, 3, 1]]).compile()

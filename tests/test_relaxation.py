@@ -8,8 +8,8 @@ from femcore import Model
 from solvers import ConvergenceError, DynamicRelaxation
 from validation.references.catenary import catenary_sag, elastic_catenary_shape
 
-MU = 1.0e-6          # t/mm, mass per unstretched length
-G = 9810.0           # mm/s^2
+MU = 1.0e-6  # t/mm, mass per unstretched length
+G = 9810.0  # mm/s^2
 SPAN, LENGTH = 96.0, 120.0
 
 
@@ -22,14 +22,17 @@ def hanging_cable(mesh, axial_stiffness, **cable_options):
 
 
 def mid_sag(result, mesh):
-    middle = np.argmin(np.abs(np.cumsum(np.r_[0, np.linalg.norm(np.diff(mesh.points, axis=0),
-                                                                 axis=1)]) - LENGTH / 2))
+    middle = np.argmin(
+        np.abs(
+            np.cumsum(np.r_[0, np.linalg.norm(np.diff(mesh.points, axis=0), axis=1)]) - LENGTH / 2
+        )
+    )
     return -result.positions[middle, 2]
 
 
 def test_stiff_cable_relaxes_to_the_inextensible_catenary(box_chain):
-    # Reference: inextensible catenary sag (Irvine 1981, EA -> inf). EA = 5000 N gives fibre
-    # strains ~1e-4, whose effect on the sag is ~1e-4; the 40-link chain with lumped nodal
+    # Reference: inextensible catenary sag (Irvine 1981, EA -> inf). EA = 5000 N gives
+    # strains ~1e-4, whose effect on the sag is 3e-4; the 40-link chain with lumped nodal
     # weights differs from the continuum by O(h^2). Tolerance 0.5 % as the issue asks.
     result = DynamicRelaxation(tol=1e-6).solve(hanging_cable(box_chain, 5000.0))
     reference = catenary_sag(SPAN, LENGTH, MU * G)
@@ -39,9 +42,9 @@ def test_stiff_cable_relaxes_to_the_inextensible_catenary(box_chain):
 
 @pytest.mark.parametrize("damping", ["kinetic", "viscous"])
 def test_elastic_cable_relaxes_to_the_elastic_catenary(box_chain, damping):
-    # Reference: Irvine's elastic catenary with the same EA; EA = 0.2 N stretches the cable by
-    # ~5 %, so the inextensible answer would be off by several per cent.
-    axial_stiffness = 0.2
+    # Reference: Irvine's elastic catenary with the same EA; EA = 10 N stretches the cable by
+    # 3-5 % and deepens the sag by 13 %, so the inextensible answer would be far off.
+    axial_stiffness = 10.0
     result = DynamicRelaxation(tol=1e-6, damping=damping).solve(
         hanging_cable(box_chain, axial_stiffness)
     )
@@ -49,7 +52,7 @@ def test_elastic_cable_relaxes_to_the_elastic_catenary(box_chain, damping):
     x, z = elastic_catenary_shape(s, SPAN, LENGTH, MU * G, axial_stiffness)
     inextensible = catenary_sag(SPAN, LENGTH, MU * G)
     elastic = -z.min()
-    assert elastic > 1.03 * inextensible  # the case really tests the elasticity
+    assert elastic > 1.1 * inextensible  # the case really tests the elasticity
     scale = elastic
     assert np.abs(result.positions[:, 0] - x).max() < 5e-3 * scale
     assert np.abs(result.positions[:, 2] - z).max() < 5e-3 * scale

@@ -24,16 +24,20 @@ from scipy.optimize import brentq
 def _span(horizontal: float, weight_per_length: float, length: float, axial_stiffness: float):
     w, L0 = weight_per_length, length
     vertical = 0.5 * w * L0
-    return horizontal * L0 / axial_stiffness + 2.0 * horizontal / w * np.arcsinh(vertical / horizontal)
+    return horizontal * L0 / axial_stiffness + 2.0 * horizontal / w * np.arcsinh(
+        vertical / horizontal
+    )
 
 
-def elastic_catenary_tension(span: float, length: float, weight_per_length: float,
-                             axial_stiffness: float = np.inf) -> float:
+def elastic_catenary_tension(
+    span: float, length: float, weight_per_length: float, axial_stiffness: float = np.inf
+) -> float:
     """Horizontal tension H (N) of the symmetric elastic catenary (inextensible if EA = inf).
 
     span: S (mm), length: unstretched L0 (mm) > S for an inextensible cable,
     weight_per_length: w (N/mm), axial_stiffness: EA (N).
     """
+
     def mismatch(h):
         return _span(h, weight_per_length, length, axial_stiffness) - span
 
@@ -55,9 +59,15 @@ def elastic_catenary_shape(s, span, length, weight_per_length, axial_stiffness=n
     x = horizontal * s / axial_stiffness + horizontal / w * (
         np.arcsinh(vertical / horizontal) - np.arcsinh((vertical - w * s) / horizontal)
     )
-    z = -(w * s / axial_stiffness * (vertical / w - 0.5 * s)
-          + horizontal / w * (np.sqrt(1.0 + (vertical / horizontal) ** 2)
-                              - np.sqrt(1.0 + ((vertical - w * s) / horizontal) ** 2)))
+    z = -(
+        w * s / axial_stiffness * (vertical / w - 0.5 * s)
+        + horizontal
+        / w
+        * (
+            np.sqrt(1.0 + (vertical / horizontal) ** 2)
+            - np.sqrt(1.0 + ((vertical - w * s) / horizontal) ** 2)
+        )
+    )
     return x, z
 
 

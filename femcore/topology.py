@@ -1,0 +1,361 @@
+"""Connectivity of triangle meshes: edges, neighbours, apexes, sanity checks and normals.
+
+Conventions (0-based local numbering):
+
+* side ``s`` of a triangle is the side OPPOSITE its local node ``s``: side 0 joins local nodes
+  1 -> 2, side 1 joins 2 -> 0 and side 2 joins 0 -> 1, each traversed in the triangle's own
+  (counter-clockwise) direction;
+* an edge is an undirected pair of node ids stored sorted as ``(lo, hi)``; the edge list is
+  sorted lexicographically, so edge ids are reproducible.
+
+Everything is vectorised with numpy; the only loops run over the (at most three) local sides
+or over the few offending items used to build an error message.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.spatial import cKDTree
+
+__all__ = [
+    "Topology",
+    "build_topology",
+    "check_duplicate_nodes",
+    "check_manifold",
+    "check_orientation",
+    "check_triangles",
+    "check_zero_area",
+    "nodal_normals",
+    "validate_cells",
+    "validate_points",
+]
+
+# Relative tolerances of the checks: two nodes closer than DUPLICATE_TOL * (bounding-box
+# diagonal) are duplicates; a triangle with area <= ZERO_AREA_TOL * diagonal**2 is degenerate.
+DUPLICATE_TOL = 1e-9
+ZERO_AREA_TOL = 1e-12
+
+# Local node pairs of sides 0, 1, 2 (side s is opposite local node s), in traversal order.
+_SIDE_START = np.array([1, 2, 0])
+_SIDE_END = np.array([2, 0, 1])
+
+
+# --------------------------------------------------------------------------------------------
+# Input validation (shared with femcore.mesh)
+# --------------------------------------------------------------------------------------------
+
+
+def validate_points(points: ArrayLike) -> np.ndarray:
+    """Return ``points`` as a new float64 array of shape (n, 3), n >= 1.
+
+    Accepts (n, 3) or (n, 2) coordinates (length units); 2-D points get z = 0.
+    Raises ValueError for a wrong shape or a non-finite coordinate (naming the first bad node).
+    """
+    try:
+        pts = np.array(points, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise ValueError(
+            f"points must be a numeric array of shape (n, 3) or (n, 2): {err}"
+        ) from err
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3) or pts.shape[0] == 0:
+        raise ValueError(
+            f"points must have shape (n, 3) or (n, 2) with n >= 1, got shape {pts.shape}"
+        )
+    if pts.shape[1] == 2:
+        pts = np.column_stack((pts, np.zeros(len(pts))))
+    bad = np.flatnonzero(~np.isfinite(pts).all(axis=1))
+    if bad.size:
+        node = int(bad[0])
+        raise ValueError(
+            f"node {node} has a non-finite coordinate {tuple(pts[node].tolist())}; "
+            "all coordinates must be finite"
+        )
+    return pts
+
+
+def validate_cells(
+    cells: ArrayLike | None, nodes_per_cell: int, kind: str, n_nodes: int | None = None
+) -> np.ndarray:
+    """Return cell connectivity as a new int64 array of shape (k, nodes_per_cell).
+
+    ``cells`` is (k, nodes_per_cell) integer node ids (None or empty gives (0, nodes_per_cell)).
+    ``kind`` ("triangle", "line") only names the cells in error messages. Raises ValueError for a
+    wrong shape or dtype, a node id outside [0, n_nodes) (naming the cell and the id), and a
+    degenerate cell that repeats a node.
+    """
+    if cells is None:
+        return np.zeros((0, nodes_per_cell), dtype=np.int64)
+    arr = np.asarray(cells)
+    if arr.size == 0:
+        # An empty list has dtype float64 and no shape to speak of: treat as "no cells".
+        return np.zeros((0, nodes_per_cell), dtype=np.int64)
+    if arr.dtype.kind not in "iu":
+        raise ValueError(f"{kind} cells must hold integer node ids, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != nodes_per_cell:
+        raise ValueError(
+            f"{kind} cells must have shape (k, {nodes_per_cell}), got shape {arr.shape}"
+        )
+    arr = arr.astype(np.int64)
+    upper = np.iinfo(np.int64).max if n_nodes is None else n_nodes
+    bad = (arr < 0) | (arr >= upper)
+    if bad.any():
+        cell, local = np.argwhere(bad)[0]
+        valid = "non-negative" if n_nodes is None else f"in [0, {n_nodes})"
+        raise ValueError(
+            f"{kind} {cell} refers to node {arr[cell, local]}, but node ids must be {valid}"
+        )
+    ordered = np.sort(arr, axis=1)
+    repeated = np.flatnonzero((ordered[:, 1:] == ordered[:, :-1]).any(axis=1))
+    if repeated.size:
+        cell = int(repeated[0])
+        raise ValueError(
+            f"{kind} {cell} is degenerate: it repeats a node in {tuple(arr[cell].tolist())}"
+        )
+    return arr
+
+
+def _points_and_triangles(points: ArrayLike, triangles: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    pts = validate_points(points)
+    return pts, validate_cells(triangles, 3, "triangle", len(pts))
+
+
+# --------------------------------------------------------------------------------------------
+# Topology
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Topology:
+    """Edge-based connectivity of a manifold triangle mesh (all arrays int64, read-only).
+
+    Attributes:
+        edges: (e, 2) unique undirected edges ``(lo, hi)``, sorted lexicographically.
+        triangle_edges: (m, 3) edge id of side s of each triangle (side s opposite local node s).
+        edge_triangles: (e, 2) the triangles sharing each edge; the second column is -1 for a
+            boundary edge. For an interior edge the first triangle has the smaller id.
+        neighbour: (m, 3) triangle across side s, -1 on the boundary.
+        apex: (m, 3) node of ``neighbour[t, s]`` that is not on side s, -1 on the boundary.
+        boundary_edges: (b, 2) rows of ``edges`` that belong to a single triangle, in edge order.
+    """
+
+    edges: np.ndarray
+    triangle_edges: np.ndarray
+    edge_triangles: np.ndarray
+    neighbour: np.ndarray
+    apex: np.ndarray
+    boundary_edges: np.ndarray
+
+    @property
+    def n_edges(self) -> int:
+        """Number of unique edges."""
+        return len(self.edges)
+
+
+def _directed_sides(triangles: np.ndarray) -> np.ndarray:
+    """(m, 3, 2) start and end node of side s of each triangle, in traversal order."""
+    return np.stack((triangles[:, _SIDE_START], triangles[:, _SIDE_END]), axis=2)
+
+
+def build_topology(triangles: ArrayLike) -> Topology:
+    """Build the edge/neighbour structure of triangles (m, 3) of node ids.
+
+    Raises ValueError for invalid connectivity (see :func:`validate_cells`) and for a
+    non-manifold edge shared by more than two triangles, naming its nodes and triangles.
+    Orientation consistency is NOT required here; see :func:`check_orientation`.
+    """
+    tri = validate_cells(triangles, 3, "triangle")
+    m = len(tri)
+    sides = np.sort(_directed_sides(tri), axis=2).reshape(-1, 2)  # half-edge h = 3 * t + s
+    # Encode each undirected edge as one integer so np.unique works on a 1-D array; the key
+    # order lo * base + hi is the lexicographic order of (lo, hi).
+    base = int(tri.max()) + 1 if m else 1
+    keys = sides[:, 0] * base + sides[:, 1]
+    unique_keys, edge_of_half, counts = np.unique(keys, return_inverse=True, return_counts=True)
+    edge_of_half = edge_of_half.reshape(-1)
+    _raise_if_non_manifold(unique_keys, counts, edge_of_half, base)
+
+    edges = np.column_stack((unique_keys // base, unique_keys % base))
+    # Group half-edges by edge; a stable sort keeps the smaller triangle id first.
+    order = np.argsort(edge_of_half, kind="stable")
+    first_slot = np.cumsum(counts) - counts
+    first = order[first_slot]
+    interior = counts == 2
+    second = np.full(len(edges), -1, dtype=np.int64)
+    second[interior] = order[first_slot[interior] + 1]
+
+    edge_triangles = np.column_stack((first // 3, np.where(interior, second // 3, -1)))
+    # mate[h] is the other half-edge of the same edge, -1 on the boundary.
+    mate = np.full(3 * m, -1, dtype=np.int64)
+    mate[first[interior]] = second[interior]
+    mate[second[interior]] = first[interior]
+    has_mate = mate >= 0
+    neighbour = np.where(has_mate, mate // 3, -1).reshape(m, 3)
+    # Side s' of the neighbour is opposite its local node s', which is therefore the apex.
+    apex = np.full(3 * m, -1, dtype=np.int64)
+    apex[has_mate] = tri.reshape(-1)[mate[has_mate]]
+
+    return Topology(
+        edges=_frozen(edges),
+        triangle_edges=_frozen(edge_of_half.reshape(m, 3)),
+        edge_triangles=_frozen(edge_triangles),
+        neighbour=_frozen(neighbour),
+        apex=_frozen(apex.reshape(m, 3)),
+        boundary_edges=_frozen(edges[counts == 1]),
+    )
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    out = np.ascontiguousarray(array, dtype=np.int64)
+    out.setflags(write=False)
+    return out
+
+
+def _raise_if_non_manifold(
+    unique_keys: np.ndarray, counts: np.ndarray, edge_of_half: np.ndarray, base: int
+) -> None:
+    crowded = np.flatnonzero(counts > 2)
+    if crowded.size == 0:
+        return
+    edge = int(crowded[0])
+    lo, hi = divmod(int(unique_keys[edge]), base)
+    owners = np.unique(np.flatnonzero(edge_of_half == edge) // 3).tolist()
+    raise ValueError(
+        f"non-manifold edge ({lo}, {hi}) is shared by {counts[edge]} triangles {owners}; "
+        "at most two triangles may share an edge"
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Checks
+# --------------------------------------------------------------------------------------------
+
+
+def check_manifold(triangles: ArrayLike) -> None:
+    """Raise ValueError if an edge is shared by more than two triangles (m, 3)."""
+    build_topology(triangles)
+
+
+def check_orientation(triangles: ArrayLike) -> None:
+    """Raise ValueError if two neighbouring triangles traverse their shared edge the same way.
+
+    Consistently oriented neighbours traverse a shared edge in opposite directions, so their
+    normals point to the same side of the surface. Also raises for non-manifold edges.
+    """
+    tri = validate_cells(triangles, 3, "triangle")
+    topo = build_topology(tri)
+    interior = np.flatnonzero(topo.edge_triangles[:, 1] >= 0)
+    t0, t1 = topo.edge_triangles[interior].T
+    directed = _directed_sides(tri)  # (m, 3, 2)
+    # Local side of each edge in each of its two triangles.
+    s0 = np.argmax(topo.triangle_edges[t0] == interior[:, None], axis=1)
+    s1 = np.argmax(topo.triangle_edges[t1] == interior[:, None], axis=1)
+    same = np.flatnonzero((directed[t0, s0] == directed[t1, s1]).all(axis=1))
+    if same.size:
+        k = int(same[0])
+        start, end = directed[t0[k], s0[k]].tolist()
+        raise ValueError(
+            f"triangles {t0[k]} and {t1[k]} have inconsistent orientation: both traverse "
+            f"edge {start} -> {end} in the same direction"
+        )
+
+
+def _length_scale(points: np.ndarray) -> float:
+    """Bounding-box diagonal of points (n, 3), in length units."""
+    return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+
+
+def check_duplicate_nodes(points: ArrayLike, triangles: ArrayLike | None = None) -> None:
+    """Raise ValueError if two nodes are closer than 1e-9 x the bounding-box diagonal.
+
+    points: (n, 3) or (n, 2). If triangles (m, 3) are given, only the nodes they use are
+    compared (and the bounding box is theirs), since unused or cable-only nodes may
+    legitimately coincide with shell nodes. The message names the two node ids.
+    """
+    pts = validate_points(points)
+    if triangles is None:
+        used = np.arange(len(pts))
+    else:
+        used = np.unique(validate_cells(triangles, 3, "triangle", len(pts)))
+    if used.size < 2:
+        return
+    sub = pts[used]
+    tol = DUPLICATE_TOL * _length_scale(sub)
+    pairs = cKDTree(sub).query_pairs(tol, output_type="ndarray")
+    if len(pairs) == 0:
+        return
+    # Report the lexicographically smallest pair so the message is reproducible.
+    ids = np.sort(used[pairs], axis=1)
+    a, b = ids[np.lexsort((ids[:, 1], ids[:, 0]))[0]].tolist()
+    distance = np.linalg.norm(pts[a] - pts[b])
+    raise ValueError(
+        f"duplicate nodes {a} and {b}: distance {distance:.3g} <= tolerance {tol:.3g} "
+        f"({DUPLICATE_TOL:g} x bounding-box diagonal)"
+    )
+
+
+def _triangle_cross(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(m, 3) cross product (x1 - x0) x (x2 - x0) = 2 x area x unit normal, per triangle."""
+    x0, x1, x2 = (points[triangles[:, k]] for k in range(3))
+    return np.cross(x1 - x0, x2 - x0)
+
+
+def check_zero_area(points: ArrayLike, triangles: ArrayLike) -> None:
+    """Raise ValueError naming the first triangle with area <= 1e-12 x diagonal**2.
+
+    points (n, 3) or (n, 2); triangles (m, 3). The diagonal is that of the bounding box of all
+    points, so the tolerance (area units) is scale-invariant.
+    """
+    pts, tri = _points_and_triangles(points, triangles)
+    if len(tri) == 0:
+        return
+    area = 0.5 * np.linalg.norm(_triangle_cross(pts, tri), axis=1)
+    tol = ZERO_AREA_TOL * _length_scale(pts) ** 2
+    flat = np.flatnonzero(area <= tol)
+    if flat.size:
+        t = int(flat[0])
+        raise ValueError(
+            f"triangle {t} with nodes {tuple(tri[t].tolist())} has zero area "
+            f"({area[t]:.3g} <= tolerance {tol:.3g})"
+        )
+
+
+def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
+    """Run all triangle-mesh checks; raise ValueError describing the first problem found.
+
+    Checks, in order: connectivity (shape, range, repeated nodes), non-manifold edges,
+    inconsistent orientation, duplicate nodes and zero-area triangles.
+    """
+    pts, tri = _points_and_triangles(points, triangles)
+    check_manifold(tri)
+    check_orientation(tri)
+    check_duplicate_nodes(pts, tri)
+    check_zero_area(pts, tri)
+
+
+# --------------------------------------------------------------------------------------------
+# Geometry on the topology
+# --------------------------------------------------------------------------------------------
+
+
+def nodal_normals(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
+    """Area-weighted unit normals at the nodes, shape (n, 3) (dimensionless).
+
+    Each triangle contributes its area times its unit normal (right-hand rule on its local
+    node order) to its three nodes. Nodes touched by no triangle, or where contributions
+    cancel exactly, get a zero vector.
+    """
+    pts, tri = _points_and_triangles(points, triangles)
+    n = len(pts)
+    # The cross product already carries the (doubled) area weight, so no division is needed.
+    weighted = np.repeat(_triangle_cross(pts, tri), 3, axis=0)  # one row per (triangle, node)
+    flat_nodes = tri.reshape(-1)
+    summed = np.column_stack(
+        [np.bincount(flat_nodes, weights=weighted[:, k], minlength=n) for k in range(3)]
+    )
+    norm = np.linalg.norm(summed, axis=1)
+    out = np.zeros_like(summed)
+    np.divide(summed, norm[:, None], out=out, where=norm[:, None] > 0)
+    return out

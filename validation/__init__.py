@@ -1,0 +1,1 @@
+"""Validation cases and the report of `python -m validation`."""

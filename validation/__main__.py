@@ -1,0 +1,62 @@
+"""python -m validation: run the validation cases and write the report (see --help)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from validation.cases import CASES, RESOLUTIONS
+from validation.report import run_cases
+
+
+def parse(argv: list[str]) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="python -m validation",
+        description="Run the validation cases and write an HTML report with results.json.",
+    )
+    parser.add_argument("--list", action="store_true", help="list the case names and exit")
+    parser.add_argument("--cases", default=None, help="comma-separated case names (default: all)")
+    parser.add_argument("--resolution", default="default", help="|".join(RESOLUTIONS))
+    parser.add_argument("--out", default="report", help="report folder (default: report)")
+    args = parser.parse_args(argv)
+    if args.resolution not in RESOLUTIONS:
+        parser.error(
+            f"unknown resolution {args.resolution!r}: expected one of {', '.join(RESOLUTIONS)}"
+        )
+    if args.cases is not None:
+        names = [n.strip() for n in args.cases.split(",") if n.strip()]
+        unknown = [n for n in names if n not in CASES]
+        if unknown or not names:
+            parser.error(
+                f"unknown case name(s) {', '.join(unknown) or '(none given)'}: "
+                f"expected some of {', '.join(CASES)} (see --list)"
+            )
+        args.cases = names
+    else:
+        args.cases = list(CASES)
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse(sys.argv[1:] if argv is None else argv)
+    if args.list:
+        for name, module in CASES.items():
+            print(f"{name:28s} {module.TITLE}")
+        return 0
+    started = time.perf_counter()
+    out = Path(args.out)
+    report = run_cases(args.cases, args.resolution, out)
+    cases = report["cases"].values()
+    failed = sum(not c["passed"] for case in cases for c in case["checks"])
+    errors = sum("error" in case for case in cases)
+    print(
+        f"report written to {out / 'index.html'} in {time.perf_counter() - started:.1f} s: "
+        f"{failed} failed check(s), {errors} case error(s)"
+    )
+    return 1 if failed or errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
