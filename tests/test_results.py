@@ -1,0 +1,72 @@
+"""Results: frames, shortcuts to the final state, and files ParaView reads (through meshio)."""
+
+import meshio
+import numpy as np
+import pytest
+
+from elements import Cable
+from femcore import Mesh, Model
+from solvers import DynamicRelaxation
+
+
+@pytest.fixture(scope="module")
+def sagging():
+    mesh = Mesh.line((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 20)
+    model = Model(mesh)
+    model.add(Cable(5.0e3, 1.0e-6))
+    model.fix("start")
+    model.displace("end", ux=-20.0, uy=0.0, uz=0.0)
+    model.gravity((0.0, 0.0, -9810.0))
+    return DynamicRelaxation(increments=3, tol=1e-6).solve(model)
+
+
+def test_the_result_exposes_the_final_frame(sagging):
+    assert sagging.converged and len(sagging.frames) == 4
+    assert sagging.positions is sagging.frames[-1].positions
+    assert sagging.displacements[-1] == pytest.approx([-20.0, 0.0, 0.0])
+    assert np.isnan(sagging.directors).all()  # cable nodes have no director
+    assert sagging.wall_time > 0 and sagging.steps == sum(sagging.info["iterations_per_increment"])
+
+
+def test_vtu_holds_the_deformed_mesh_and_the_fields(sagging, tmp_path):
+    path = sagging.write(tmp_path / "cable.vtu")
+    back = meshio.read(path)
+    assert np.allclose(back.points, sagging.positions)
+    assert np.allclose(back.point_data["displacement"], sagging.displacements)
+    assert np.allclose(back.point_data["reaction"], sagging.reactions)
+    force = back.cell_data["axial_force"][0]
+    assert force.shape == (20,) and (force > 0).all()
+
+
+def test_pvd_series_has_one_vtu_per_frame(sagging, tmp_path):
+    sagging.write(tmp_path / "cable.pvd")
+    parts = sorted(tmp_path.glob("cable_*.vtu"))
+    assert len(parts) == len(sagging.frames)
+    assert np.allclose(meshio.read(parts[-1]).points, sagging.positions)
+    assert (tmp_path / "cable.pvd").read_text().count("<DataSet") == len(sagging.frames)
+
+
+def test_xdmf_time_series_reads_back(sagging, tmp_path):
+    path = sagging.write(tmp_path / "cable.xdmf")
+    with meshio.xdmf.TimeSeriesReader(path) as reader:
+        points, _ = reader.read_points_cells()
+        assert reader.num_steps == len(sagging.frames)
+        t, point_data, _ = reader.read_data(reader.num_steps - 1)
+    assert np.allclose(points + point_data["displacement"], sagging.positions)
+
+
+def test_an_unknown_format_is_refused(sagging, tmp_path):
+    with pytest.raises(ValueError, match="expected a .vtu, .pvd or .xdmf"):
+        sagging.write(tmp_path / "cable.obj")
+
+
+def test_progress_lines_appear_only_when_asked(capsys):
+    mesh = Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4)
+    model = Model(mesh)
+    model.add(Cable(5.0e3, 1.0e-6))
+    model.fix("start")
+    model.force("end", (1.0, 0.0, 0.0))
+    DynamicRelaxation().solve(model)
+    assert capsys.readouterr().err == ""
+    DynamicRelaxation(progress=True).solve(model)
+    assert "increment 1/1 converged" in capsys.readouterr().err
