@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 from femcore.model import CompiledModel, Model
-from femcore.rotation import rotate_about
+from femcore.rotation import drop_along, rotate_about
 from femcore.state import State
 from solvers.common import (
     DivergenceError,
@@ -178,15 +178,16 @@ class CentralDifference:
             )
 
             if any_rot:
-                moment = compiled.constrain_angular(m_ext - m_int, state.directors)
+                # Only the drilling part is dropped here, so that the update below sees what a
+                # fixed alpha / beta has to hold: that difference is the support moment.
+                moment = drop_along(m_ext - m_int, state.directors)
                 w_free = ((1.0 - 0.5 * c * dt_bar) * omega + dt_bar * inv_inertia * moment) / (
                     1.0 + 0.5 * c * dt_bar
                 )
                 w_new = compiled.constrain_angular(w_free, state.directors)
-                drilling_free = (
-                    w_free - np.sum(w_free * state.directors, axis=1)[:, None] * state.directors
+                reaction_moments = (
+                    inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
                 )
-                reaction_moments = inertia[:, None] * (w_new - drilling_free) / dt_bar
 
             # Work over [t(i-1/2), t(i+1/2)] with the forces at t(i) (midpoint rule).
             dx = 0.5 * (dt_prev * velocity + dt * v_new)

@@ -151,7 +151,8 @@ class DynamicRelaxation:
         kinetic_old = 0.0
         restart = True  # the first step from rest is a half step
         start_positions = state.positions.copy()
-        previous_residual = None
+        previous = None  # the last iteration's (displacement, residual, rate, mass) per kind
+        rotation_since_start = np.zeros_like(state.positions)
         c = 0.0
         ratio = math.inf
 
@@ -195,15 +196,11 @@ class DynamicRelaxation:
 
             step = 0.5 * dt if restart else dt
             if self.damping == "viscous":
-                c = self._viscous_c(
-                    state.positions - start_positions,
-                    residual,
-                    previous_residual,
-                    velocity,
-                    mass,
-                    dt,
-                )
-                previous_residual = residual
+                current = [(state.positions - start_positions, residual, velocity, mass)]
+                if any_rot:
+                    current.append((rotation_since_start, moment, omega, inertia))
+                c = self._viscous_c(current, previous, dt)
+                previous = current
             damp = 0.5 * c * step
             v_new = np.where(
                 free, ((1.0 - damp) * velocity + step * inv_mass * residual) / (1.0 + damp), 0.0
@@ -242,6 +239,7 @@ class DynamicRelaxation:
                 state.directors = np.where(
                     rot[:, None], rotate_about(state.directors, dt * w_new), state.directors
                 )
+                rotation_since_start += dt * w_new
                 omega = w_new
             velocity = v_new
             kinetic_old = kinetic
@@ -251,25 +249,26 @@ class DynamicRelaxation:
             f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
             f"(load factor {load_factor:.4g}) within {self.max_iterations} iterations: residual "
             f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, use more "
-            "increments, or try damping='viscous'.",
+            "increments, or try the other damping ("
+            f"{'kinetic' if self.damping == 'viscous' else 'viscous'}).",
             None,
         )
 
     @staticmethod
-    def _viscous_c(displacement, residual, previous_residual, velocity, mass, dt) -> float:
-        """Adaptive damping coefficient c = 2 sqrt(u.K u / u.M u) with the local diagonal
-        stiffness estimate K_jj = -(r_j(i) - r_j(i-1)) / (dt v_j(i-1/2)) (Underwood 1983)."""
-        if previous_residual is None:
+    def _viscous_c(current, previous, dt) -> float:
+        """Adaptive damping coefficient c = 2 sqrt(u.K u / u.M u) (Underwood 1983), over the
+        translations and the rotations alike, with the local diagonal stiffness estimate
+        K_jj = -(r_j(i) - r_j(i-1)) / (dt v_j(i-1/2)); u is the motion since the increment
+        began. ``current`` / ``previous``: lists of (u, r, v, m) per kind of DOF."""
+        if previous is None:
             return 0.0
-        moving = np.abs(velocity) > 1e-300
-        if not moving.any():
-            return 0.0
-        stiffness = np.zeros_like(velocity)
-        stiffness[moving] = -(residual[moving] - previous_residual[moving]) / (
-            dt * velocity[moving]
-        )
-        numerator = float(np.sum(stiffness * displacement * displacement))
-        denominator = float(np.sum(mass[:, None] * displacement * displacement))
+        numerator = denominator = 0.0
+        for (u, r, v, m), (_, r_old, _, _) in zip(current, previous):
+            moving = np.abs(v) > 1e-300
+            stiffness = np.zeros_like(v)
+            stiffness[moving] = -(r[moving] - r_old[moving]) / (dt * v[moving])
+            numerator += float(np.sum(stiffness * u * u))
+            denominator += float(np.sum(m[:, None] * u * u))
         if numerator <= 0.0 or denominator <= 0.0:
             return 0.0
         return min(2.0 * math.sqrt(numerator / denominator), 1.9 / dt)
