@@ -17,6 +17,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from femcore.assembly import Scatter
+from femcore.checks import check_positive  # noqa: F401  (re-exported for element types)
 from femcore.mesh import Mesh
 from femcore.state import State
 
@@ -88,14 +89,3 @@ class ElementBlock(ABC):
     def node_fields(self, state: State) -> dict[str, np.ndarray]:
         """Nodal outputs {name: (n, ...)} for results and VTU files."""
         return {}
-
-
-def check_positive(value, name: str, unit: str) -> float:
-    """A finite positive float, or ValueError naming the parameter and its unit."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive number ({unit}), got {value!r}") from None
-    if not np.isfinite(number) or number <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number ({unit}), got {value!r}")
-    return number

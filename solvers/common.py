@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 
+from femcore.checks import check_positive
 from femcore.model import CompiledModel
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -81,16 +82,9 @@ class ProgressLine:
             print(f"[{self.label}] {text}", file=sys.stderr, flush=True)
 
 
-def check_positive_or_none(value, name: str) -> float | None:
-    if value is None:
-        return None
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive number or None, got {value!r}") from None
-    if not np.isfinite(number) or number <= 0:
-        raise ValueError(f"{name} must be a positive number or None, got {value!r}")
-    return number
+def check_positive_or_none(value, name: str, unit: str = "") -> float | None:
+    """None, or a finite positive float (ValueError naming the parameter otherwise)."""
+    return None if value is None else check_positive(value, name, unit)
 
 
 def check_integer(value, name: str, minimum: int = 1) -> int:
