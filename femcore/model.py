@@ -16,7 +16,7 @@ import numpy as np
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
 from femcore.loads import Amplitude, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
 from femcore.mesh import Mesh
-from femcore.rotation import nodal_frames
+from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
 
@@ -398,7 +398,7 @@ class CompiledModel:
         """Remove from angular vectors (n, 3) the drilling part (along the director) and the
         components of fixed alpha / beta (about V2 / V1 of the nodal frame); zero at nodes
         without rotations."""
-        out = vectors - np.sum(vectors * directors, axis=1)[:, None] * directors
+        out = drop_along(vectors, directors)
         out[~self.has_rotation] = 0.0
         fixed_any = self.rotation_fixed.any(axis=1)
         if fixed_any.any():

@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from femcore.model import CompiledModel, Model
-from femcore.rotation import rotate_about
+from femcore.rotation import drop_along, rotate_about
 from solvers.common import (
     ConvergenceError,
     DivergenceError,
@@ -187,8 +187,7 @@ class DynamicRelaxation:
                 reactions = np.where(constrained, f_int - f_ext, 0.0)
                 reaction_moments = np.zeros_like(reactions)
                 if any_rot:
-                    full = m_ext - m_int
-                    full = full - np.sum(full * state.directors, axis=1)[:, None] * state.directors
+                    full = drop_along(m_ext - m_int, state.directors)
                     reaction_moments = np.where(rot[:, None], moment - full, 0.0)
                 state.velocities = np.zeros_like(velocity)
                 state.angular_velocities = np.zeros_like(omega)
