@@ -2,5 +2,6 @@
 
 from elements.base import ElementBlock, ElementType
 from elements.cable import Cable
+from elements.fibrous import FibrousShell
 
-__all__ = ["Cable", "ElementBlock", "ElementType"]
+__all__ = ["Cable", "ElementBlock", "ElementType", "FibrousShell"]

@@ -195,6 +195,7 @@ class CompiledModel:
     translation_free / translation_constrained / translation_prescribed : (n, 3) bool.
     rotation_fixed : (n, 2) bool for (alpha, beta).
     mass0, inertia0 : (n,) physical lumped mass and rotary inertia in the reference state.
+    element_size : median element edge length (length unit).
     """
 
     def __init__(self, model: Model):
@@ -236,6 +237,7 @@ class CompiledModel:
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
 
+        self.element_size = _median_edge(mesh, model.blocks, self._cells)
         self.blocks = [
             entry.element.bind(mesh, entry.cells, self.reference_directors)
             for entry in model.blocks
@@ -426,6 +428,17 @@ class CompiledModel:
                 )
                 full[block.cell_ids] = values
         return out
+
+
+def _median_edge(mesh: Mesh, entries, cells_of) -> float:
+    """Median length of the element edges (mesh length unit): the scale that turns a force
+    into a moment in residual checks."""
+    lengths = []
+    for entry in entries:
+        cells = mesh.points[cells_of(entry)]
+        for k in range(cells.shape[1]):
+            lengths.append(np.linalg.norm(cells[:, k] - cells[:, k - 1], axis=1))
+    return float(np.median(np.concatenate(lengths)))
 
 
 def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:

@@ -12,6 +12,16 @@ import numpy as np
 FRAME_FALLBACK = 0.1
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b over the last axis (length 3), broadcasting; np.cross without its per-call
+    overhead, which dominates on the small arrays of a time step."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out
+
+
 def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """Rotate unit vectors by rotation vectors (Rodrigues), both (n, 3).
 
@@ -27,9 +37,9 @@ def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     cos = np.cos(angle)[:, None]
     sin = np.sin(angle)[:, None]
     along = np.sum(axis * vectors, axis=1)[:, None]
-    rotated = cos * vectors + sin * np.cross(axis, vectors) + (1.0 - cos) * along * axis
+    rotated = cos * vectors + sin * cross(axis, vectors) + (1.0 - cos) * along * axis
     if small.any():
-        first_order = vectors[small] + np.cross(rotation[small], vectors[small])
+        first_order = vectors[small] + cross(rotation[small], vectors[small])
         norms = np.linalg.norm(first_order, axis=1)[:, None]
         rotated[small] = first_order / np.where(norms > 0, norms, 1.0)
     return rotated
@@ -45,14 +55,14 @@ def nodal_frames(directors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     e2 = np.array([0.0, 1.0, 0.0])
     e3 = np.array([0.0, 0.0, 1.0])
-    cross = np.cross(e2, directors)
-    norm = np.linalg.norm(cross, axis=1)
+    axis = cross(e2, directors)
+    norm = np.linalg.norm(axis, axis=1)
     fallback = norm < FRAME_FALLBACK
     if fallback.any():
-        cross[fallback] = np.cross(e3, directors[fallback])
-        norm[fallback] = np.linalg.norm(cross[fallback], axis=1)
-    v1 = cross / np.where(norm > 0, norm, 1.0)[:, None]
-    v2 = np.cross(directors, v1)
+        axis[fallback] = cross(e3, directors[fallback])
+        norm[fallback] = np.linalg.norm(axis[fallback], axis=1)
+    v1 = axis / np.where(norm > 0, norm, 1.0)[:, None]
+    v2 = cross(directors, v1)
     return v1, v2
 
 

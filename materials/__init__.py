@@ -1,4 +1,8 @@
-"""Material laws, as pure functions over arrays (fabric and elastic-shell laws come with the
-shell elements)."""
+"""Material laws, as pure functions over arrays: the fabric of the fibrous shell and its 1-D
+tension, shear and bending laws; presets of the paper's materials in ``materials.presets``."""
 
-__all__: list[str] = []
+from materials import presets
+from materials.fabric import Fabric
+from materials.laws import BendingLaw, Law, ShearLaw, TensionLaw
+
+__all__ = ["BendingLaw", "Fabric", "Law", "ShearLaw", "TensionLaw", "presets"]

@@ -153,8 +153,16 @@ class CentralDifference:
                         compiled, frames, step, started, energy, dt_nominal, added_mass, False
                     ),
                 )
-            if self.dt is None and step % STABLE_DT_EVERY == 0 and step > 0:
-                dt_nominal = self._step_size(compiled, state, scale)
+            if step % STABLE_DT_EVERY == 0 and step > 0:
+                if any_rot:
+                    # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
+                    # I under a tilting director makes the director modes unstable.
+                    _, inertia = compiled.lumped_mass(state, scale)
+                    inv_inertia = np.where(
+                        inertia > 0, 1.0 / np.where(inertia > 0, inertia, 1.0), 0.0
+                    )[:, None]
+                if self.dt is None:
+                    dt_nominal = self._step_size(compiled, state, scale)
             dt = min(dt_nominal, duration - state.time)
             t_next = state.time + dt
             tau = state.time / duration

@@ -1,0 +1,590 @@
+"""FibrousShell: the 3-node continuum-based shell for fibrous reinforcements of Bai, Colmars,
+Naouar and Boisse, Composites Part A 139 (2020) 106135 (equation numbers below are Bai's;
+section numbers refer to THEORY.md).
+
+Kinematics (§1): x(xi, eta, zeta) = sum N_k x_k + zeta/2 sum N_k h_m^k V_k (Eq. 5), directors V
+free to rotate (fibre slip), thickness along the director h_m = h / (V . n) so that the
+thickness along the normal is conserved (Eq. 10, 14, 15). Warp runs along local edge 1-2 and
+weft along 1-3 (Eq. 9). The virtual work has three parts:
+
+* tension (Eq. 24-29, §2): fibres at ``levels`` positions zeta_f through the thickness, log
+  strain, T(eps) per unit width, delta W = A0 sum_f w_f sum_alpha T delta eps;
+* in-plane shear (Eq. 21, 30-33, §3): the warp-weft angle change gamma at each level,
+  delta W = A0 sum_f w_f M_s(gamma) delta gamma;
+* rotation-free bending (Eq. 34-37, §4): warp and weft curvatures of each element from the
+  fold angles with its three neighbours, delta W = A0 sum_alpha M_alpha delta chi_alpha.
+
+Everything is vectorised over the cells of a block; the reference geometry, the neighbour
+tables and the fibre orientation of each triangle are computed once, at ``bind``.
+Local nodes 1, 2, 3 of the paper are columns 0, 1, 2 here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.base import ElementBlock, ElementType
+from elements.shell_geometry import GUARD, lumped_mass, nodal_thickness
+from femcore.assembly import Scatter
+from femcore.mesh import Mesh
+from femcore.rotation import cross
+from femcore.state import State
+from femcore.topology import build_topology
+from materials.fabric import Fabric
+
+__all__ = ["FibrousShell", "FibrousShellBlock", "lobatto_levels"]
+
+# Side s of a triangle is opposite local node s and runs p -> q (counter-clockwise).
+_P = np.array([1, 2, 0])
+_Q = np.array([2, 0, 1])
+
+# Bending time-step coefficient of THEORY §6.2 (A3): dt_b = 0.35 L^2 sqrt(rho_A / B), the worst
+# case (square cells) of the exact eigenvalues of the rotation-free bending stiffness.
+_BENDING_DT_COEFFICIENT = 0.35
+
+
+def lobatto_levels(count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Lobatto fibre positions zeta_f in [-1, 1] and weights w_f (sum 1), ``count`` >= 2.
+
+    Three levels give bottom, middle, top with Simpson weights 1/6, 2/3, 1/6 (THEORY §2.1):
+    the inextensibility acts on the physical top and bottom surfaces, and sum w zeta^2 = 1/3
+    is the continuum moment of inertia of the section.
+    """
+    n = count
+    interior = np.polynomial.legendre.Legendre.basis(n - 1).deriv().roots() if n > 2 else []
+    zeta = np.concatenate(([-1.0], np.sort(np.real(interior)), [1.0]))
+    p = np.polynomial.legendre.Legendre.basis(n - 1)(zeta)
+    weights = 2.0 / (n * (n - 1) * p**2)
+    return zeta, weights / weights.sum()
+
+
+def _levels(levels) -> tuple[np.ndarray, np.ndarray]:
+    if isinstance(levels, (int, np.integer)) and not isinstance(levels, bool):
+        if levels < 2:
+            raise ValueError(
+                f"levels must be >= 2 (fibres at the bottom and top at least: with one level "
+                f"the directors have no stiffness), got {levels}"
+            )
+        return lobatto_levels(int(levels))
+    try:
+        zeta, weights = (np.array(v, dtype=float).ravel() for v in levels)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"levels must be an integer >= 2 or a pair (positions, weights), got {levels!r}"
+        ) from None
+    if zeta.size != weights.size or zeta.size < 2:
+        raise ValueError("levels: positions and weights must have the same length >= 2")
+    if not (np.all(np.abs(zeta) <= 1.0) and np.all(weights > 0)):
+        raise ValueError(
+            "levels: positions must lie in [-1, 1] (zeta along the director) and weights be > 0"
+        )
+    if np.all(zeta == 0.0):
+        raise ValueError("levels: at least one fibre level must be off the mid-surface")
+    return zeta, weights / weights.sum()
+
+
+class FibrousShell(ElementType):
+    """Bai's fibrous shell triangle for a fabric or a stack of plies.
+
+    fabric : materials.Fabric (thickness, areal density, tension, shear and bending laws).
+    levels : number of fibre levels through the thickness (Gauss-Lobatto, default 3: bottom,
+        middle, top with Simpson weights), or a pair (positions zeta in [-1, 1], weights).
+    warp : warp direction in the reference configuration, (3,); default x. The weft is the
+        in-plane perpendicular. Each triangle must have one edge along each (Eq. 9).
+    fibre_angle_tolerance : degrees; how far an edge may deviate from a fibre direction.
+    clamped : node ids (or a node-set name) of clamped edges: free sides of the block whose two
+        nodes are all in this set bend against a rigid wall in the element's reference plane
+        (THEORY §4.5). Fix the translations and rotations of those nodes with ``model.fix``.
+        Without it, a clamp is made by fixing a row of elements.
+    thickness_variation : include the variation of h_m (THEORY §2.5) in the forces, so that
+        they are the exact gradient of the strain energy (default). False follows Bai Eq. 28,
+        which leaves it out.
+    bending_geometry : "current" (the curvature coefficients c_as of §4.2 from the current
+        geometry, held fixed in the variation as Bai and S3 do) or "reference" (from the
+        reference geometry: total Lagrangian, exactly conservative).
+    """
+
+    dofs = ("ux", "uy", "uz", "alpha", "beta")
+    cell_type = "triangle"
+
+    def __init__(
+        self,
+        fabric: Fabric,
+        levels=3,
+        warp=(1.0, 0.0, 0.0),
+        fibre_angle_tolerance: float = 1.0,
+        clamped=None,
+        thickness_variation: bool = True,
+        bending_geometry: str = "current",
+    ):
+        if not isinstance(fabric, Fabric):
+            raise ValueError(f"FibrousShell needs a materials.Fabric, got {fabric!r}")
+        self.fabric = fabric
+        self.zeta, self.weights = _levels(levels)
+        warp = np.array(warp, dtype=float).ravel()
+        if warp.shape != (3,) or not np.isfinite(warp).all() or np.linalg.norm(warp) == 0:
+            raise ValueError(f"warp must be a non-zero 3-vector, got {warp!r}")
+        self.warp = warp / np.linalg.norm(warp)
+        tolerance = float(fibre_angle_tolerance)
+        if not 0.0 < tolerance < 45.0:
+            raise ValueError(
+                f"fibre_angle_tolerance must be in (0, 45) degrees, got {fibre_angle_tolerance!r}"
+            )
+        self.fibre_angle_tolerance = tolerance
+        self.clamped = clamped
+        self.thickness_variation = bool(thickness_variation)
+        if bending_geometry not in ("current", "reference"):
+            raise ValueError(
+                f"bending_geometry must be 'current' or 'reference', got {bending_geometry!r}"
+            )
+        self.bending_geometry = bending_geometry
+
+    def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> FibrousShellBlock:
+        return FibrousShellBlock(self, mesh, cell_ids, directors)
+
+
+class FibrousShellBlock(ElementBlock):
+    """FibrousShell over mesh triangles ``cell_ids``.
+
+    Attributes (fixed at bind)
+    --------------------------
+    connectivity : (m, 3) node ids, reordered so that local node 0 is the fibre corner, edge
+        0 -> 1 runs along one fibre family and 0 -> 2 along the other (Eq. 9).
+    xi_is_warp : (m,) bool, True where edge 0 -> 1 is warp (else it is weft).
+    reference_area : A0 (m,), mm^2.
+    neighbour, neighbour_side : (m, 3) block-local neighbour across side s and its side index
+        there (-1 on free edges); clamped_side : (m, 3) bool.
+    """
+
+    dofs = FibrousShell.dofs
+    cell_type = FibrousShell.cell_type
+
+    def __init__(self, shell: FibrousShell, mesh: Mesh, cell_ids, directors):
+        self.shell = shell
+        self.fabric = fabric = shell.fabric
+        self.n_nodes = mesh.n_nodes
+        self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
+        self.zeta, self.weights = shell.zeta, shell.weights
+        self.connectivity, self.xi_is_warp = _fibre_ordering(
+            mesh.points, mesh.triangles[self.cell_ids], self.cell_ids, shell.warp,
+            shell.fibre_angle_tolerance,
+        )
+        self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+
+        topology = build_topology(self.connectivity)
+        self.neighbour = np.asarray(topology.neighbour)
+        self.neighbour_side = _neighbour_sides(self.neighbour)
+        self.clamped_side = self._clamped_sides(mesh, shell.clamped)
+        self.interior_side = self.neighbour >= 0
+        # Gather indices with free sides pointing at cell 0, masked by interior_side.
+        self._across_cell = np.where(self.interior_side, self.neighbour, 0)
+        self._across_side = np.where(self.interior_side, self.neighbour_side, 0)
+
+        # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
+        x0 = np.asarray(mesh.points, dtype=float)
+        v0 = np.asarray(directors, dtype=float)
+        ref = self._geometry(x0, v0)
+        self.reference_area = 0.5 * ref["double_area"]
+        self.reference_normal = ref["normal"]
+        self.reference_length1 = np.linalg.norm(ref["g1"], axis=-1)  # (m, L)
+        self.reference_length2 = np.linalg.norm(ref["g2"], axis=-1)
+        self.reference_shear = _shear_angle(ref["g1"], ref["g2"])
+        self.reference_fold = np.zeros((len(self.cell_ids), 3))
+        bend0 = self._bending_geometry(x0)
+        self.reference_fold = bend0["fold"]
+        self.reference_coefficients = bend0["coefficients"]
+
+        # Largest tangent stiffnesses, for the stable step (THEORY §6.2).
+        self.max_tension_stiffness = max(fabric.tension.max_slope(),
+                                         fabric.tension_weft.max_slope())
+        self.max_shear_stiffness = fabric.shear.max_slope()
+        self.max_bending_stiffness = max(fabric.bending.max_slope(),
+                                         fabric.bending_weft.max_slope())
+
+    # ------------------------------------------------------------------ set-up helpers
+    def _clamped_sides(self, mesh: Mesh, clamped) -> np.ndarray:
+        sides = np.zeros(self.connectivity.shape, dtype=bool)
+        if clamped is None:
+            return sides
+        if isinstance(clamped, str):
+            nodes = mesh.nodes(clamped)
+        else:
+            nodes = np.unique(np.asarray(clamped, dtype=np.int64).ravel())
+            if nodes.size and (nodes.min() < 0 or nodes.max() >= mesh.n_nodes):
+                raise ValueError(f"clamped: node ids must be in 0..{mesh.n_nodes - 1}")
+        member = np.zeros(mesh.n_nodes, dtype=bool)
+        member[nodes] = True
+        ends = member[self.connectivity[:, _P]] & member[self.connectivity[:, _Q]]
+        sides = ends & (self.neighbour < 0)
+        if not sides.any():
+            raise ValueError(
+                "clamped: no free edge of the block has both its nodes in the given set; "
+                "a clamped edge must be a boundary edge of the shell"
+            )
+        return sides
+
+    # ------------------------------------------------------------------ kinematics
+    def _geometry(self, positions: np.ndarray, directors: np.ndarray) -> dict:
+        """Element normals, thickness along the directors, and the fibre vectors of each level.
+
+        Returns arrays over cells: corners (m,3,3), directors (m,3,3), normal (m,3),
+        double_area (m,), cosine V.n (m,3), thickness h_m (m,3), guarded (m,3) bool,
+        g1, g2 (m,L,3): covariant vectors of Eq. 8 at each fibre level (warp or weft along
+        edge 0 -> 1 and 0 -> 2).
+        """
+        x = positions[self.connectivity]
+        v = directors[self.connectivity]
+        normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+        double_area = np.linalg.norm(normal, axis=1)
+        normal /= double_area[:, None]
+        cosine = np.einsum("mkj,mj->mk", v, normal)
+        guarded = cosine < GUARD
+        h_m = self.fabric.thickness / np.maximum(cosine, GUARD)  # Eq. 10 / 14
+        # Fibre end points x_k^f = x_k + zeta_f/2 h_m^k V_k, (m, 3, L, 3).
+        offset = 0.5 * self.zeta[None, None, :, None] * (h_m[:, :, None] * v)[:, :, None, :]
+        layer = x[:, :, None, :] + offset
+        return {
+            "corners": x, "directors": v, "normal": normal, "double_area": double_area,
+            "cosine": cosine, "thickness": h_m, "guarded": guarded,
+            "g1": layer[:, 1] - layer[:, 0], "g2": layer[:, 2] - layer[:, 0],
+        }
+
+    def _strains(self, geo: dict) -> dict:
+        """Log fibre strains eps1, eps2 along edges 0-1 and 0-2 and shear angles (m, L)."""
+        len1 = np.linalg.norm(geo["g1"], axis=-1)
+        len2 = np.linalg.norm(geo["g2"], axis=-1)
+        return {
+            "length1": len1, "length2": len2,
+            "eps1": np.log(len1 / self.reference_length1),
+            "eps2": np.log(len2 / self.reference_length2),
+            "gamma": _shear_angle(geo["g1"], geo["g2"]) - self.reference_shear,
+        }
+
+    def _by_family(self, along_xi, along_eta):
+        """(warp, weft) values from (edge 0-1, edge 0-2) values, per cell (leading axis)."""
+        flag = self.xi_is_warp.reshape((-1,) + (1,) * (np.ndim(along_xi) - 1))
+        return np.where(flag, along_xi, along_eta), np.where(flag, along_eta, along_xi)
+
+    def _layer_loads(self, geo, strain, tension=True, shear=True):
+        """Derivatives P_a = dW/dg_a (m, L, 3) of the tension and/or shear energy.
+
+        Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a g_a / |g_a|^2 (d eps = g . dg / |g|^2).
+        Shear (Eq. 30-33, §3): d gamma = dg1 . t1 / |g1| + dg2 . t2 / |g2|, t1 the unit
+        vector normal to g1 towards g2 in their plane (and t2 likewise).
+        """
+        scale = self.reference_area[:, None] * self.weights[None, :]  # A0 w_f, (m, L)
+        len1, len2 = strain["length1"], strain["length2"]
+        g1, g2 = geo["g1"], geo["g2"]
+        p1 = np.zeros_like(g1)
+        p2 = np.zeros_like(g2)
+        if tension:
+            warp, weft = self._by_family(strain["eps1"], strain["eps2"])
+            t_warp = self.fabric.tension.value(warp)
+            t_weft = self.fabric.tension_weft.value(weft)
+            t1 = np.where(self.xi_is_warp[:, None], t_warp, t_weft)
+            t2 = np.where(self.xi_is_warp[:, None], t_weft, t_warp)
+            p1 += (scale * t1 / len1**2)[..., None] * g1
+            p2 += (scale * t2 / len2**2)[..., None] * g2
+        if shear:
+            u1 = g1 / len1[..., None]
+            u2 = g2 / len2[..., None]
+            c = np.sum(u1 * u2, axis=-1)
+            s = np.sqrt(np.maximum(1.0 - c**2, 1e-24))
+            moment = self.fabric.shear.value(strain["gamma"])
+            p1 += (scale * moment / (len1 * s))[..., None] * (u2 - c[..., None] * u1)
+            p2 += (scale * moment / (len2 * s))[..., None] * (u1 - c[..., None] * u2)
+        return p1, p2
+
+    def _layer_forces(self, geo, p1, p2):
+        """Nodal forces (m,3,3) and moment vectors (m,3,3) from the layer loads (Eq. 24, 28).
+
+        The force on fibre end point k of level f is F_k^f = sum_a N_k,a P_a (N_k,xi =
+        (-1, 1, 0), N_k,eta = (-1, 0, 1)); the node takes sum_f F_k^f and the director the
+        moment sum_f (zeta_f h_m^k / 2) V_k x F_k^f of the lever arm along V (Bai Fig. 3).
+        With ``thickness_variation`` the work of h_m = h / (V . n) is added (THEORY §2.5).
+        """
+        layer_force = np.stack([-(p1 + p2), p1, p2], axis=1)  # (m, 3, L, 3)
+        v, h_m = geo["directors"], geo["thickness"]
+        force = layer_force.sum(axis=2)
+        lever = np.einsum("f,mkfj->mkj", self.zeta, layer_force)  # sum_f zeta_f F_k^f
+        moment = 0.5 * h_m[..., None] * cross(v, lever)
+        if self.shell.thickness_variation:
+            # dW/dh_m^k = sum_f zeta_f / 2 F_k^f . V_k; h_m = h / c, c = V . n (unguarded only).
+            dw_dh = 0.5 * np.einsum("mkj,mkj->mk", lever, v)
+            c = geo["cosine"]
+            dw_dc = np.where(geo["guarded"], 0.0, -dw_dh * self.fabric.thickness / c**2)
+            n = geo["normal"]
+            moment += dw_dc[..., None] * cross(v, n[:, None, :])  # dc/dpsi_k = V_k x n
+            # dc_k/dx through n: with a = x1 - x0, b = x2 - x0 and V_perp = V - c n,
+            # dc/da = (b x V_perp) / |a x b| and dc/db = (V_perp x a) / |a x b|.
+            x = geo["corners"]
+            a = (x[:, 1] - x[:, 0])[:, None, :]
+            b = (x[:, 2] - x[:, 0])[:, None, :]
+            v_perp = v - c[..., None] * n[:, None, :]
+            inv = 1.0 / geo["double_area"][:, None, None]
+            dc_da = cross(b, v_perp) * inv
+            dc_db = cross(v_perp, a) * inv
+            pull_a = np.einsum("mk,mkj->mj", dw_dc, dc_da)
+            pull_b = np.einsum("mk,mkj->mj", dw_dc, dc_db)
+            force += np.stack([-(pull_a + pull_b), pull_a, pull_b], axis=1)
+        return force, moment
+
+    def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
+        """Fold angles, curvature coefficients and fold-angle gradients (THEORY §4.1-4.3).
+
+        fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides; against the
+            element's reference plane on clamped sides.
+        coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides).
+        gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
+            d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
+        """
+        if geo is None:
+            x = positions[self.connectivity]
+            normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+            double_area = np.linalg.norm(normal, axis=1)
+            n = normal / double_area[:, None]
+        else:
+            x, n, double_area = geo["corners"], geo["normal"], geo["double_area"]
+        side = x[:, _Q] - x[:, _P]  # (m, 3, 3): side s from p to q
+        side_length = np.linalg.norm(side, axis=-1)
+        outward = cross(side, n[:, None, :]) / side_length[..., None]  # n^c_s
+        grad_n = cross(n[:, None, :], side) / double_area[:, None, None]  # grad N_k
+        gradient = -np.einsum("mkj,msj->msk", grad_n, outward)
+
+        nb = self._across_cell
+        n_other = np.where(self.interior_side[..., None], n[nb], 0.0)
+        if self.clamped_side.any():
+            wall = getattr(self, "reference_normal", n)
+            n_other = np.where(self.clamped_side[..., None], wall[:, None, :], n_other)
+        has_fold = self.interior_side | self.clamped_side
+        fold = np.where(
+            has_fold,
+            np.arctan2(-np.einsum("msj,msj->ms", n_other, outward),
+                       np.einsum("mj,msj->ms", n, n_other)),
+            0.0,
+        )
+        heights = double_area[:, None] / side_length
+        other_heights = np.where(self.interior_side, double_area[nb] / side_length, 0.0)
+        fibre = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]], axis=1)
+        fibre /= np.linalg.norm(fibre, axis=-1, keepdims=True)
+        projection = np.einsum("maj,msj->mas", fibre, outward)
+        coefficients = np.where(
+            has_fold[:, None, :],
+            2.0 * projection**2 / (heights + other_heights)[:, None, :],
+            0.0,
+        )
+        return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": n}
+
+    def _curvatures(self, bend: dict) -> tuple[np.ndarray, np.ndarray]:
+        """chi (m, 2) along edges 0-1 and 0-2 (Eq. 35): chi_a = -sum_s c_as (theta_s - theta_s0),
+        and the coefficients used."""
+        coefficients = (
+            self.reference_coefficients
+            if self.shell.bending_geometry == "reference"
+            else bend["coefficients"]
+        )
+        chi = -np.einsum("mas,ms->ma", coefficients, bend["fold"] - self.reference_fold)
+        return chi, coefficients
+
+    def _bending_moments(self, chi: np.ndarray) -> np.ndarray:
+        """M (m, 2) per unit width along edges 0-1 and 0-2 from the warp and weft laws."""
+        warp, weft = self._by_family(chi[:, 0], chi[:, 1])
+        m_warp = self.fabric.bending.value(warp)
+        m_weft = self.fabric.bending_weft.value(weft)
+        return np.stack(
+            [np.where(self.xi_is_warp, m_warp, m_weft), np.where(self.xi_is_warp, m_weft, m_warp)],
+            axis=1,
+        )
+
+    def _bending_forces(self, state: State, geo: dict | None = None) -> np.ndarray:
+        """Nodal bending forces (m, 3, 3) (Eq. 37): the energy A0 sum_a Phi_a(chi_a) varies
+        through the fold angles; each side's moment mu = -sum over its two elements of
+        A0 sum_a M_a c_as multiplies d theta/dx, whose share on each element's own nodes is
+        D[s, k] n, so every element scatters to its own three nodes only."""
+        bend = self._bending_geometry(state.positions, geo)
+        chi, coefficients = self._curvatures(bend)
+        moments = self._bending_moments(chi)
+        own = -self.reference_area[:, None] * np.einsum("ma,mas->ms", moments, coefficients)
+        across = np.where(self.interior_side, own[self._across_cell, self._across_side], 0.0)
+        side_moment = own + across  # free sides: own = 0 since c = 0
+        weights = np.einsum("ms,msk->mk", side_moment, bend["gradient"])
+        return weights[..., None] * bend["normal"][:, None, :]
+
+    # ------------------------------------------------------------------ protocol
+    def internal_force(self, state: State):
+        geo = self._geometry(state.positions, state.directors)
+        strain = self._strains(geo)
+        p1, p2 = self._layer_loads(geo, strain)
+        force, moment = self._layer_forces(geo, p1, p2)
+        force = force + self._bending_forces(state, geo)
+        return self.scatter.vectors(force), self.scatter.vectors(moment)
+
+    def internal_force_parts(self, state: State) -> dict:
+        """{"tension" | "shear": (forces (n,3), moments (n,3)), "bending": (forces, zeros)}:
+        the three virtual-work terms separately (diagnostics and tests)."""
+        geo = self._geometry(state.positions, state.directors)
+        strain = self._strains(geo)
+        parts = {}
+        for name, flags in (("tension", (True, False)), ("shear", (False, True))):
+            p1, p2 = self._layer_loads(geo, strain, *flags)
+            f, m = self._layer_forces(geo, p1, p2)
+            parts[name] = (self.scatter.vectors(f), self.scatter.vectors(m))
+        parts["bending"] = (
+            self.scatter.vectors(self._bending_forces(state)),
+            np.zeros((self.n_nodes, 3)),
+        )
+        return parts
+
+    def strain_energy_parts(self, state: State) -> dict:
+        """Strain energy (N mm) of each term: {"tension", "shear", "bending"}."""
+        geo = self._geometry(state.positions, state.directors)
+        strain = self._strains(geo)
+        scale = self.reference_area[:, None] * self.weights[None, :]
+        warp, weft = self._by_family(strain["eps1"], strain["eps2"])
+        tension = np.sum(scale * (self.fabric.tension.energy(warp)
+                                  + self.fabric.tension_weft.energy(weft)))
+        shear = np.sum(scale * self.fabric.shear.energy(strain["gamma"]))
+        chi, _ = self._curvatures(self._bending_geometry(state.positions))
+        chi_warp, chi_weft = self._by_family(chi[:, 0], chi[:, 1])
+        bending = np.sum(self.reference_area * (self.fabric.bending.energy(chi_warp)
+                                                + self.fabric.bending_weft.energy(chi_weft)))
+        return {"tension": float(tension), "shear": float(shear), "bending": float(bending)}
+
+    def strain_energy(self, state: State) -> float:
+        return float(sum(self.strain_energy_parts(state).values()))
+
+    def nodal_thickness(self, state: State) -> np.ndarray:
+        """Thickness along the director at the nodes (n,), mm: area-weighted mean of the
+        per-element h_m (THEORY §1.4); 0 at nodes outside the block."""
+        geo = self._geometry(state.positions, state.directors)
+        return nodal_thickness(geo["thickness"], 0.5 * geo["double_area"], self.connectivity,
+                               self.n_nodes)
+
+    def guarded_nodes(self, state: State) -> np.ndarray:
+        """Ids of the nodes where V.n fell below the guard of h_m = h / max(V.n, 0.2) in some
+        element (the thickness along the director is capped there at 5 h)."""
+        geo = self._geometry(state.positions, state.directors)
+        return np.unique(self.connectivity[geo["guarded"]])
+
+    def lumped_mass(self, state: State, density_scale=None):
+        density = self.fabric.areal_density
+        if density_scale is not None:
+            density = density * np.asarray(density_scale, dtype=float)
+        return lumped_mass(density, self.reference_area, self.connectivity,
+                           self.nodal_thickness(state), self.n_nodes)
+
+    def cell_stable_dt(self, state: State) -> np.ndarray:
+        """Critical step per cell from THEORY §6.2, the three bounds combined as
+        omega^2 = omega_tension^2 + omega_shear^2 + omega_bending^2 (a safe upper bound):
+
+        * tension (A1): omega^2 = (2 + |cos phi|) C A0 / (L_min^2 m), m = rho_A A0 / 3, phi
+          the warp-weft angle (two fibres in line at node 0 give the 3-mass chain value);
+        * shear (A4): omega^2 = 2 K A0 (1/L1^2 + 1/L2^2) / m;
+        * bending (A3): dt = 0.35 L_min^2 sqrt(rho_A / B).
+        Director modes never govern with I = m h_m^2 / 4 (A2) as long as I follows the
+        current h_m: the solvers refresh the rotary inertia with the step.
+        """
+        x = state.positions[self.connectivity]
+        g1 = x[:, 1] - x[:, 0]
+        g2 = x[:, 2] - x[:, 0]
+        len1 = np.linalg.norm(g1, axis=1)
+        len2 = np.linalg.norm(g2, axis=1)
+        cosine = np.abs(np.sum(g1 * g2, axis=1)) / (len1 * len2)
+        shortest = np.minimum(len1, len2)
+        mass = self.fabric.areal_density * self.reference_area / 3.0
+        a0 = self.reference_area
+        omega2 = (2.0 + cosine) * self.max_tension_stiffness * a0 / (shortest**2 * mass)
+        omega2 += 2.0 * self.max_shear_stiffness * a0 * (1 / len1**2 + 1 / len2**2) / mass
+        dt_bending = (_BENDING_DT_COEFFICIENT * shortest**2
+                      * np.sqrt(self.fabric.areal_density / self.max_bending_stiffness))
+        omega2 += (2.0 / dt_bending) ** 2
+        return 2.0 / np.sqrt(omega2)
+
+    def cell_fields(self, state: State) -> dict[str, np.ndarray]:
+        geo = self._geometry(state.positions, state.directors)
+        strain = self._strains(geo)
+        warp, weft = self._by_family(strain["eps1"], strain["eps2"])
+        chi, _ = self._curvatures(self._bending_geometry(state.positions))
+        moments = self._bending_moments(chi)
+        chi_warp, chi_weft = self._by_family(chi[:, 0], chi[:, 1])
+        m_warp, m_weft = self._by_family(moments[:, 0], moments[:, 1])
+        return {
+            "warp_strain": warp,  # (m, L), log strain, levels bottom -> top
+            "weft_strain": weft,
+            "shear_angle": strain["gamma"],  # (m, L), rad
+            "warp_curvature": chi_warp,  # 1/mm
+            "weft_curvature": chi_weft,
+            "warp_moment": m_warp,  # N (N mm per mm)
+            "weft_moment": m_weft,
+        }
+
+    def node_fields(self, state: State) -> dict[str, np.ndarray]:
+        guarded = np.zeros(self.n_nodes)
+        guarded[self.guarded_nodes(state)] = 1.0
+        return {"thickness": self.nodal_thickness(state), "thickness_guarded": guarded}
+
+    def total_mass(self) -> float:
+        """Physical mass of the block (t)."""
+        return float(self.fabric.areal_density * self.reference_area.sum())
+
+
+# ---------------------------------------------------------------------- helpers
+def _shear_angle(g1: np.ndarray, g2: np.ndarray) -> np.ndarray:
+    """gamma = pi/2 - angle(g1, g2) (Eq. 21), rad; > 0 when the warp-weft angle closes."""
+    c = np.sum(g1 * g2, axis=-1) / (np.linalg.norm(g1, axis=-1) * np.linalg.norm(g2, axis=-1))
+    return np.arcsin(np.clip(c, -1.0, 1.0))
+
+
+def _neighbour_sides(neighbour: np.ndarray) -> np.ndarray:
+    """For each (cell, side) with a neighbour, the side index of the shared edge in the
+    neighbour (-1 on free sides)."""
+    m = len(neighbour)
+    nb = np.where(neighbour >= 0, neighbour, 0)
+    back = neighbour[nb] == np.arange(m)[:, None, None]  # (m, 3 sides, 3 neighbour sides)
+    side = np.argmax(back, axis=2)
+    return np.where(neighbour >= 0, side, -1)
+
+
+def _fibre_ordering(points, triangles, cell_ids, warp, tolerance_deg):
+    """Rotate each triangle's local numbering (keeping it counter-clockwise) so that local
+    node 0 is the corner where one edge runs along the warp and the other along the weft.
+
+    The weft is the in-plane perpendicular of the warp projected on each triangle's plane.
+    Returns the reordered (m, 3) connectivity and xi_is_warp (m,): True when edge 0 -> 1 is
+    the warp edge (else it is the weft edge, and 0 -> 2 the warp).
+    """
+    x = points[triangles]
+    normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    warp_t = warp - (normal @ warp)[:, None] * normal
+    size = np.linalg.norm(warp_t, axis=1)
+    if np.any(size < 1e-6):
+        bad = int(cell_ids[np.argmax(size < 1e-6)])
+        raise ValueError(f"triangle {bad} is normal to the warp direction {warp}")
+    warp_t /= size[:, None]
+    weft_t = cross(normal, warp_t)
+    cos_tol = np.cos(np.radians(tolerance_deg))
+
+    corner = np.full(len(triangles), -1)
+    xi_is_warp = np.zeros(len(triangles), dtype=bool)
+    for k in (2, 1, 0):  # the loop is over the three local corners, not over cells
+        a = x[:, (k + 1) % 3] - x[:, k]
+        b = x[:, (k + 2) % 3] - x[:, k]
+        a /= np.linalg.norm(a, axis=1)[:, None]
+        b /= np.linalg.norm(b, axis=1)[:, None]
+        along = lambda u, d: np.abs(np.sum(u * d, axis=1)) >= cos_tol  # noqa: E731
+        warp_first = along(a, warp_t) & along(b, weft_t)
+        weft_first = along(a, weft_t) & along(b, warp_t)
+        match = warp_first | weft_first
+        corner = np.where(match, k, corner)
+        xi_is_warp = np.where(match, warp_first, xi_is_warp)
+    if np.any(corner < 0):
+        bad = int(np.argmax(corner < 0))
+        raise ValueError(
+            f"triangle {int(cell_ids[bad])} (nodes {triangles[bad].tolist()}) has no corner "
+            f"with one edge along the warp {warp.round(6).tolist()} and one along the weft "
+            f"(within {tolerance_deg} deg): FibrousShell needs a fibre-aligned mesh (Bai "
+            "Eq. 9), e.g. Mesh.rectangle or Mesh.quadrilateral split into right triangles"
+        )
+    order = (corner[:, None] + np.arange(3)[None, :]) % 3
+    return np.take_along_axis(triangles, order, axis=1), xi_is_warp

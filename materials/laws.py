@@ -1,0 +1,250 @@
+"""One-dimensional constitutive laws y(x) as pure functions over arrays.
+
+A law gives the generalised stress ``value(x)``, its tangent ``slope(x)`` and the stored energy
+``energy(x)`` = integral of y from 0 to x, all elementwise over numpy arrays of any shape. Three
+families use it (THEORY §2-4, units per unit initial width or area):
+
+* ``TensionLaw``: fibre tension T(eps), N/mm, against the logarithmic fibre strain;
+* ``ShearLaw``: in-plane shear moment M_s(gamma), N/mm (per unit initial area), against the
+  shear angle in rad; odd in gamma;
+* ``BendingLaw``: bending moment M(chi), N (N mm/mm), against the curvature in 1/mm; odd in chi.
+
+A law is either an odd polynomial (linear is its first term) or a piecewise-linear curve with
+linear extrapolation beyond its last points. Laws are immutable; constructors validate inputs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["BendingLaw", "Law", "ShearLaw", "TensionLaw"]
+
+
+def _finite(value, name: str) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not np.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return number
+
+
+def _table(x, y, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Validated knots of a piecewise-linear law; with ``odd`` a table given for x >= 0 is
+    mirrored to negative x."""
+    try:
+        x = np.array(x, dtype=float).ravel()
+        y = np.array(y, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} table must be two numeric sequences") from None
+    if x.size != y.size or x.size < 2:
+        raise ValueError(
+            f"{what} table needs two sequences of equal length >= 2, got {x.size} and {y.size}"
+        )
+    if not (np.isfinite(x).all() and np.isfinite(y).all()):
+        raise ValueError(f"{what} table has a non-finite entry")
+    if np.any(np.diff(x) <= 0):
+        raise ValueError(f"{what} table: the abscissae must be strictly increasing, got {x}")
+    if np.any(np.diff(y) < 0):
+        raise ValueError(
+            f"{what} table: the values must be non-decreasing (a stable, monotonic law), got {y}"
+        )
+    if odd and x[0] >= 0.0:
+        if x[0] != 0.0:
+            x, y = np.concatenate(([0.0], x)), np.concatenate(([0.0], y))
+        x = np.concatenate((-x[:0:-1], x))
+        y = np.concatenate((-y[:0:-1], y))
+    if not x[0] <= 0.0 <= x[-1]:
+        raise ValueError(f"{what} table must span 0 (from {x[0]} to {x[-1]})")
+    at_zero = float(np.interp(0.0, x, y))
+    if abs(at_zero) > 1e-12 * max(1.0, float(np.abs(y).max())):
+        raise ValueError(f"{what} table must give 0 at 0 (no stress in the reference state)")
+    if np.all(np.diff(y) == 0):
+        raise ValueError(f"{what} table has zero stiffness everywhere")
+    return x, y
+
+
+@dataclass(frozen=True, eq=False)
+class Law:
+    """A 1-D law: odd polynomial ``sum c_k x^k`` (k = 1, 3, 5, ...) or piecewise linear.
+
+    Build laws with the family constructors (``TensionLaw.linear`` ...), not directly.
+    ``family`` : "TensionLaw", "ShearLaw" or "BendingLaw";
+    ``odd_coefficients`` : (c1, c3, c5, ...) or None; ``knots`` : (x, y) arrays or None;
+    ``compression`` : False for a tension-only law (zero for x < 0).
+    """
+
+    family: str
+    description: str
+    odd_coefficients: tuple[float, ...] | None = None
+    knots: tuple[np.ndarray, np.ndarray] | None = None
+    compression: bool = True
+
+    # ----------------------------------------------------------------- evaluation
+    def value(self, x) -> np.ndarray:
+        """y(x), elementwise."""
+        x = np.asarray(x, dtype=float)
+        if self.odd_coefficients is not None:
+            y = self._poly(x, 0)
+        else:
+            kx, ky = self.knots
+            y = np.interp(x, kx, ky)
+            left, right = self._end_slopes()
+            y = np.where(x < kx[0], ky[0] + left * (x - kx[0]), y)
+            y = np.where(x > kx[-1], ky[-1] + right * (x - kx[-1]), y)
+        return y if self.compression else np.where(x < 0.0, 0.0, y)
+
+    def slope(self, x) -> np.ndarray:
+        """dy/dx (x), elementwise (right derivative at the knots)."""
+        x = np.asarray(x, dtype=float)
+        if self.odd_coefficients is not None:
+            s = self._poly(x, 1)
+        else:
+            kx, ky = self.knots
+            segment = np.diff(ky) / np.diff(kx)
+            i = np.clip(np.searchsorted(kx, x, side="right") - 1, 0, len(segment) - 1)
+            s = segment[i]
+        return s if self.compression else np.where(x < 0.0, 0.0, s)
+
+    def energy(self, x) -> np.ndarray:
+        """Stored energy integral_0^x y dx, elementwise (>= 0 for a monotonic law)."""
+        x = np.asarray(x, dtype=float)
+        if self.odd_coefficients is not None:
+            e = self._poly(x, -1)
+        else:
+            # y is linear on each piece, so the trapezoid rule from the nearest knot is exact.
+            kx, ky = self.knots
+            cumulative = np.concatenate(([0.0], np.cumsum(np.diff(kx) * (ky[1:] + ky[:-1]) / 2)))
+            i = np.clip(np.searchsorted(kx, x, side="right") - 1, 0, len(kx) - 1)
+            e_raw = cumulative[i] + (x - kx[i]) * (ky[i] + self.value(x)) / 2.0
+            j = np.clip(np.searchsorted(kx, 0.0, side="right") - 1, 0, len(kx) - 1)
+            e_zero = cumulative[j] + (0.0 - kx[j]) * ky[j] / 2.0
+            e = e_raw - e_zero
+        return e if self.compression else np.where(x < 0.0, 0.0, e)
+
+    def max_slope(self) -> float:
+        """Largest tangent stiffness over the law's tabulated range (for stable time steps)."""
+        if self.odd_coefficients is not None:
+            # Over |x| <= 1 (strains, angles in rad, curvatures in 1/mm all stay below that).
+            probe = np.linspace(0.0, 1.0, 201)
+            return float(np.max(self._poly(probe, 1)))
+        kx, ky = self.knots
+        return float(np.max(np.diff(ky) / np.diff(kx)))
+
+    def _end_slopes(self) -> tuple[float, float]:
+        kx, ky = self.knots
+        return (ky[1] - ky[0]) / (kx[1] - kx[0]), (ky[-1] - ky[-2]) / (kx[-1] - kx[-2])
+
+    def _poly(self, x: np.ndarray, derivative: int) -> np.ndarray:
+        """sum c_k x^k (derivative 0), its slope (1), or its integral from 0 (-1)."""
+        out = np.zeros_like(x)
+        for i, c in enumerate(self.odd_coefficients):
+            k = 2 * i + 1
+            if derivative == 0:
+                out = out + c * x**k
+            elif derivative == 1:
+                out = out + k * c * x ** (k - 1)
+            else:
+                out = out + c * x ** (k + 1) / (k + 1)
+        return out
+
+    def __repr__(self) -> str:
+        return self.description
+
+
+def _odd_polynomial(family: str, coefficients, names, unit: str, allow_zero=False) -> Law:
+    values = tuple(_finite(c, n) for c, n in zip(coefficients, names))
+    if values[0] < 0 or (values[0] == 0 and not allow_zero):
+        relation = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{family}: {names[0]} must be {relation} ({unit}), got {values[0]!r}")
+    if len(values) > 1:
+        # A stable law: dy/dx > 0 on |x| <= 1 (odd terms with negative coefficients may soften).
+        probe = np.linspace(0.0, 1.0, 201)
+        slope = sum((2 * i + 1) * c * probe ** (2 * i) for i, c in enumerate(values))
+        if np.any(slope[1:] <= 0):
+            bad = probe[1:][slope[1:] <= 0][0]
+            raise ValueError(
+                f"{family}: the slope {' + '.join(names)} terms becomes <= 0 at x = {bad:.3g}; "
+                "the law must stiffen or stay monotonic"
+            )
+    description = f"{family}(" + ", ".join(f"{n}={v:g}" for n, v in zip(names, values)) + ")"
+    return Law(family.split(".")[0], description, odd_coefficients=values)
+
+
+class TensionLaw:
+    """Fibre tension per unit initial width T(eps), N/mm, of the logarithmic strain."""
+
+    @staticmethod
+    def linear(stiffness: float, tension_only: bool = False) -> Law:
+        """T = C eps; C in N/mm (Bai Table 1: 1200, Table 2: 2300). ``tension_only``: fibres
+        buckle in compression and carry nothing (T = 0 for eps < 0)."""
+        law = _odd_polynomial("TensionLaw.linear", (stiffness,), ("stiffness C",), "N/mm")
+        return Law(law.family, law.description, law.odd_coefficients, compression=not tension_only)
+
+    @staticmethod
+    def table(strain, tension, tension_only: bool = False) -> Law:
+        """Piecewise-linear T(eps) through the points (strain, tension in N/mm), extrapolated
+        linearly; the table must contain 0 -> 0 (or span it)."""
+        knots = _table(strain, tension, "TensionLaw", odd=False)
+        return Law("TensionLaw", f"TensionLaw.table({len(knots[0])} points)", knots=knots,
+                   compression=not tension_only)
+
+
+class ShearLaw:
+    """In-plane shear moment per unit initial area M_s(gamma), N/mm, odd in gamma (rad)."""
+
+    @staticmethod
+    def linear(stiffness: float) -> Law:
+        """M_s = K gamma, K in N/mm (per rad); K = 0 leaves shear free."""
+        return _odd_polynomial("ShearLaw.linear", (stiffness,), ("K",), "N/mm", allow_zero=True)
+
+    @staticmethod
+    def polynomial(k1: float, k3: float = 0.0, k5: float = 0.0) -> Law:
+        """M_s = K1 gamma + K3 gamma^3 + K5 gamma^5 (the odd polynomial of the Boisse group;
+        N/mm with gamma in rad); its slope must stay positive for |gamma| <= 1 rad."""
+        return _odd_polynomial("ShearLaw.polynomial", (k1, k3, k5), ("K1", "K3", "K5"), "N/mm")
+
+    @staticmethod
+    def table(gamma, moment) -> Law:
+        """Piecewise-linear M_s(gamma) through (gamma rad, M_s N/mm) given for gamma >= 0 and
+        mirrored to negative angles (or given over both signs)."""
+        return Law("ShearLaw", f"ShearLaw.table({np.size(gamma)} points)",
+                   knots=_table(gamma, moment, "ShearLaw", odd=True))
+
+
+class BendingLaw:
+    """Bending moment per unit initial width M(chi), N (N mm/mm), odd in chi (1/mm)."""
+
+    @staticmethod
+    def linear(stiffness: float) -> Law:
+        """M = B chi, B in N mm (Bai Table 2: 72 warp, 68 weft)."""
+        return _odd_polynomial("BendingLaw.linear", (stiffness,), ("B",), "N mm")
+
+    @staticmethod
+    def bilinear(initial: float, final: float, knee: float) -> Law:
+        """M = B1 chi for |chi| <= knee, then M = sign(chi) (B1 knee + B2 (|chi| - knee)).
+
+        The continuous reading of Bai Table 1 (THEORY §4.6): B1 = 7.5 N mm, B2 = 0.5 N mm,
+        knee = 1e-3 1/mm. The table as printed jumps by 0.0005 N at the knee; this law does not.
+        """
+        b1 = _finite(initial, "BendingLaw.bilinear: initial stiffness B1")
+        b2 = _finite(final, "BendingLaw.bilinear: final stiffness B2")
+        chi_c = _finite(knee, "BendingLaw.bilinear: knee curvature")
+        if b1 <= 0 or b2 <= 0 or chi_c <= 0:
+            raise ValueError(
+                "BendingLaw.bilinear needs B1 > 0, B2 > 0 (N mm) and knee > 0 (1/mm), got "
+                f"B1={initial!r}, B2={final!r}, knee={knee!r}"
+            )
+        x = np.array([-2.0 * chi_c, -chi_c, 0.0, chi_c, 2.0 * chi_c])
+        y = np.array([-b1 * chi_c - b2 * chi_c, -b1 * chi_c, 0.0, b1 * chi_c, b1 * chi_c + b2 * chi_c])
+        return Law("BendingLaw", f"BendingLaw.bilinear(B1={b1:g}, B2={b2:g}, knee={chi_c:g})", knots=(x, y))
+
+    @staticmethod
+    def table(curvature, moment) -> Law:
+        """Piecewise-linear M(chi) through (chi 1/mm, M N) given for chi >= 0 and mirrored to
+        negative curvature (or given over both signs); e.g. a measured cantilever curve."""
+        return Law("BendingLaw", f"BendingLaw.table({np.size(curvature)} points)",
+                   knots=_table(curvature, moment, "BendingLaw", odd=True))
