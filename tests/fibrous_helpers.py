@@ -1,0 +1,59 @@
+"""Helpers shared by the fibrous-shell tests: small models and a finite-difference stiffness."""
+
+import numpy as np
+
+from elements import FibrousShell
+from femcore import Mesh, Model
+from femcore.rotation import nodal_frames, rotate_about
+from materials import BendingLaw, Fabric, ShearLaw
+
+
+def fabric(tension=100.0, shear=5.0, bending=20.0, thickness=3.0, areal_density=1e-9, **kw):
+    return Fabric(thickness=thickness, areal_density=areal_density, tension=tension,
+                  shear=ShearLaw.linear(shear), bending=BendingLaw.linear(bending), **kw)
+
+
+def compiled(mesh: Mesh, material=None, **options):
+    model = Model(mesh)
+    model.add(FibrousShell(material or fabric(), **options))
+    return model.compile()
+
+
+def stiffness_and_mass(model, state, step=1e-7):
+    """Central-difference stiffness over (ux, uy, uz, psi1, psi2) per node (psi about V1, V2:
+    small rotations of the director, THEORY §1.3) and the lumped diagonal mass, on the free DOFs."""
+    n = state.n_nodes
+    v1, v2 = nodal_frames(state.directors)
+
+    def forces(s):
+        f, m = model.internal_force(s)
+        return np.column_stack([f, np.sum(m * v1, 1), np.sum(m * v2, 1)]).ravel()
+
+    stiffness = np.zeros((5 * n, 5 * n))
+    for node in range(n):
+        for j in range(5):
+            plus, minus = state.copy(), state.copy()
+            if j < 3:
+                plus.positions[node, j] += step
+                minus.positions[node, j] -= step
+            else:
+                psi = np.zeros((n, 3))
+                psi[node] = (v1 if j == 3 else v2)[node] * step
+                plus.directors = rotate_about(state.directors, psi)
+                minus.directors = rotate_about(state.directors, -psi)
+            stiffness[:, 5 * node + j] = (forces(plus) - forces(minus)) / (2 * step)
+    mass, inertia = model.lumped_mass(state)
+    diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()
+    free = np.column_stack([model.translation_free, ~model.rotation_fixed]).ravel()
+    return stiffness[np.ix_(free, free)], diagonal[free]
+
+
+def on_cylinder(points, radius):
+    """Map a flat x-y sheet onto a cylinder of axis y, arc length along x preserved, bending
+    towards +z (curvature chi = -1/radius with Bai's sign, Eq. 1-3); directors normal."""
+    theta = points[:, 0] / radius
+    positions = np.column_stack(
+        [radius * np.sin(theta), points[:, 1], radius * (1 - np.cos(theta))]
+    )
+    directors = np.column_stack([-np.sin(theta), np.zeros_like(theta), np.cos(theta)])
+    return positions, directors

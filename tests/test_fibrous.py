@@ -1,0 +1,290 @@
+"""FibrousShell (Bai et al. 2020; THEORY §1-4, §6.2): the conformance suite of DESIGN §5, the
+curvature of the rotation-free bending, the fibre ordering and the Table 1 law.
+
+References: rigid-body invariance and f = dW/dx are exact properties of any hyperelastic
+element; the curvature checks use the closed-form curvature of the imposed surfaces; the
+stable step is checked against the exact eigenvalues of the assembled, lumped system.
+"""
+
+import numpy as np
+import pytest
+
+from elements import FibrousShell
+from elements.fibrous import lobatto_levels
+from femcore import Mesh, Model
+from femcore.rotation import rotate_about
+from materials import BendingLaw, Fabric, ShearLaw
+from tests.fibrous_helpers import compiled, fabric, on_cylinder, stiffness_and_mass
+
+RNG = np.random.default_rng(7)
+
+
+def deformed(model, amplitude=0.6, tilt=0.3, seed=0):
+    """A state with random nodal displacements (mm) and director tilts (rad)."""
+    rng = np.random.default_rng(seed)
+    state = model.initial_state()
+    state.positions = state.positions + rng.normal(scale=amplitude, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=tilt, size=state.positions.shape))
+    state.directors = rotate_about(state.directors, turn)
+    return state
+
+
+def rotation_matrix(axis, angle):
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+
+MESH = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+
+
+# ------------------------------------------------------------------ conformance (DESIGN §5)
+def test_rigid_motions_of_the_reference_give_no_force():
+    model = compiled(MESH)
+    scale = np.abs(model.internal_force(deformed(model))[0]).max()
+    rotation = rotation_matrix([1.0, -2.0, 0.5], np.pi / 2)  # 90 deg about a tilted axis
+    state = model.initial_state()
+    state.positions = MESH.points @ rotation.T + [3.0, -7.0, 11.0]
+    state.directors = state.directors @ rotation.T
+    force, moment = model.internal_force(state)
+    assert np.abs(force).max() <= 1e-10 * scale
+    assert np.abs(moment).max() <= 1e-10 * scale * 3.0
+
+
+def test_a_rotated_deformed_state_carries_rotated_forces():
+    model = compiled(MESH)
+    state = deformed(model)
+    force, moment = model.internal_force(state)
+    rotation = rotation_matrix([0.3, 1.0, -0.7], np.pi / 2)
+    turned = state.copy()
+    turned.positions = state.positions @ rotation.T + [5.0, 1.0, -2.0]
+    turned.directors = state.directors @ rotation.T
+    force_r, moment_r = model.internal_force(turned)
+    assert np.abs(force_r - force @ rotation.T).max() <= 1e-10 * np.abs(force).max()
+    assert np.abs(moment_r - moment @ rotation.T).max() <= 1e-10 * np.abs(moment).max()
+    assert model.strain_energy(turned) == pytest.approx(model.strain_energy(state), rel=1e-12)
+
+
+def _gradient(energy, state, step=1e-6):
+    """Central-difference dW/dx (n,3) and dW/dpsi (n,3) without its drilling part."""
+    n = state.n_nodes
+    force = np.zeros((n, 3))
+    moment = np.zeros((n, 3))
+    for node in range(n):
+        for j in range(3):
+            plus, minus = state.copy(), state.copy()
+            plus.positions[node, j] += step
+            minus.positions[node, j] -= step
+            force[node, j] = (energy(plus) - energy(minus)) / (2 * step)
+            psi = np.zeros((n, 3))
+            psi[node, j] = step
+            plus, minus = state.copy(), state.copy()
+            plus.directors = rotate_about(state.directors, psi)
+            minus.directors = rotate_about(state.directors, -psi)
+            moment[node, j] = (energy(plus) - energy(minus)) / (2 * step)
+    v = state.directors
+    return force, moment - np.sum(moment * v, axis=1)[:, None] * v
+
+
+@pytest.mark.parametrize("part", ["tension", "shear", "bending"])
+def test_forces_are_the_gradient_of_the_strain_energy(part):
+    # Large random distortion and director tilts; "reference" bending coefficients make the
+    # bending energy an exact potential (THEORY §4.4 holds the current ones fixed instead).
+    model = compiled(MESH, bending_geometry="reference")
+    block = model.blocks[0]
+    state = deformed(model)
+    force, moment = block.internal_force_parts(state)[part]
+    fd_force, fd_moment = _gradient(lambda s: block.strain_energy_parts(s)[part], state)
+    assert np.abs(fd_force).max() > 0
+    assert np.abs(force - fd_force).max() <= 1e-6 * np.abs(fd_force).max()
+    assert np.abs(moment - fd_moment).max() <= 1e-6 * max(np.abs(fd_moment).max(), 1e-12)
+
+
+def test_current_bending_coefficients_give_the_gradient_to_first_order_in_the_folds():
+    # Bai and S3 hold c_as fixed in the variation: the neglected term is theta * dc, so at
+    # folds of ~1e-3 rad on an in-plane distorted patch it is ~1e-3 of the force.
+    model = compiled(MESH)
+    block = model.blocks[0]
+    state = model.initial_state()
+    state.positions = state.positions + RNG.normal(scale=[0.5, 0.5, 0.005], size=(MESH.n_nodes, 3))
+    force, _ = block.internal_force_parts(state)["bending"]
+    fd_force, _ = _gradient(lambda s: block.strain_energy_parts(s)["bending"], state)
+    assert np.abs(force - fd_force).max() <= 2e-2 * np.abs(fd_force).max()
+
+
+def test_paper_thickness_variation_switch_drops_only_the_h_m_term():
+    # Bai Eq. 28 omits delta h_m (THEORY §2.5): with top and bottom fibres loaded alike
+    # (directors normal, in-plane stretch) the term vanishes and both options agree.
+    stretch = compiled(MESH)
+    paper = compiled(MESH, thickness_variation=False)
+    state = stretch.initial_state()
+    state.positions = state.positions * [1.01, 0.995, 1.0]
+    f1, m1 = stretch.internal_force(state)
+    f2, m2 = paper.internal_force(state)
+    assert np.allclose(f1, f2, atol=1e-12 * np.abs(f1).max())
+    tilted = deformed(stretch)
+    assert not np.allclose(stretch.internal_force(tilted)[1], paper.internal_force(tilted)[1])
+
+
+def test_lumped_mass_sums_to_the_total_mass_and_inertia_is_eq_39():
+    material = fabric(areal_density=2.5e-9, thickness=4.0)
+    model = compiled(MESH, material)
+    mass, inertia = model.lumped_mass(model.initial_state())
+    assert mass.sum() == pytest.approx(2.5e-9 * 40.0 * 30.0, rel=1e-12)
+    assert inertia == pytest.approx(mass * 4.0**2 / 4.0, rel=1e-12)  # I = m h_m^2 / 4
+
+
+@pytest.mark.parametrize("radius", [np.inf, 60.0, 30.0])
+def test_stable_step_is_safe_against_the_exact_eigenvalues(radius):
+    # THEORY §6.2: the element bound must not exceed 2 / omega_max of the assembled lumped
+    # system (safe), nor be needlessly small (within a factor 2). Curved states tilt the
+    # element normals against the directors.
+    mesh = Mesh.rectangle(30.0, 20.0, nx=3, ny=2)
+    model = compiled(mesh, fabric(tension=120.0, shear=4.0, bending=7.5, thickness=6.0,
+                                  areal_density=5.7e-9))
+    state = model.initial_state()
+    if np.isfinite(radius):
+        state.positions, _ = on_cylinder(mesh.points, radius)
+    stiffness, mass = stiffness_and_mass(model, state)
+    scaled = stiffness / np.sqrt(np.outer(mass, mass))
+    omega_max = np.sqrt(np.max(np.linalg.eigvals(scaled).real))
+    exact = 2.0 / omega_max
+    assert 0.5 * exact <= model.stable_dt(state) <= exact
+
+
+def test_stable_step_shrinks_with_the_mesh():
+    coarse = compiled(Mesh.rectangle(40.0, 40.0, nx=4, ny=4))
+    fine = compiled(Mesh.rectangle(40.0, 40.0, nx=8, ny=8))
+    ratio = coarse.stable_dt(coarse.initial_state()) / fine.stable_dt(fine.initial_state())
+    assert 1.9 < ratio < 4.1  # tension: ~L; bending: ~L^2
+
+
+# ------------------------------------------------------------------ curvature (THEORY §4.2)
+def _curvatures(model, surface, epsilon=1e-6):
+    """Warp and weft curvature of every cell when nodes are lifted to z = epsilon f(x, y)."""
+    state = model.initial_state()
+    x, y = model.reference_positions[:, 0], model.reference_positions[:, 1]
+    state.positions[:, 2] = epsilon * surface(x, y)
+    fields = model.blocks[0].cell_fields(state)
+    return fields["warp_curvature"] / epsilon, fields["weft_curvature"] / epsilon
+
+
+@pytest.mark.parametrize(
+    "surface, warp, weft",
+    [
+        (lambda x, y: x**2 / 2, -1.0, 0.0),  # cylindrical bending along warp: chi = -w,xx
+        (lambda x, y: y**2 / 2, 0.0, -1.0),  # ... along weft
+        (lambda x, y: (x**2 + y**2) / 2, -1.0, -1.0),
+        (lambda x, y: (x + y) ** 2 / 2, -1.0, -1.0),
+        (lambda x, y: x * y, 0.0, 0.0),  # a pure twist bends no fibre
+    ],
+)
+def test_constant_curvature_is_exact_on_interior_elements(surface, warp, weft):
+    mesh = Mesh.rectangle(6.0, 7.8, nx=6, ny=6)  # a = 1, b = 1.3 as in THEORY §4.2
+    model = compiled(mesh)
+    interior = (model.blocks[0].neighbour >= 0).all(axis=1)
+    chi_warp, chi_weft = _curvatures(model, surface)
+    assert np.allclose(chi_warp[interior], warp, atol=1e-6)
+    assert np.allclose(chi_weft[interior], weft, atol=1e-6)
+
+
+def test_clamped_edge_option_gives_the_exact_curvature_at_the_wall():
+    # THEORY §4.5: bending against a rigid wall, w = kappa x^2 / 2 from the clamped edge x = 0.
+    mesh = Mesh.rectangle(6.0, 4.0, nx=6, ny=2)
+    model = compiled(mesh, clamped="left")
+    chi_warp, _ = _curvatures(model, lambda x, y: x**2 / 2)
+    at_wall = np.flatnonzero(model.blocks[0].clamped_side.any(axis=1))
+    assert at_wall.size == 2
+    assert np.allclose(chi_warp[at_wall], -1.0, atol=1e-6)
+    free_model = compiled(mesh)  # without the option the wall is a free edge
+    assert not np.allclose(_curvatures(free_model, lambda x, y: x**2 / 2)[0][at_wall], -1.0)
+
+
+def test_table_1_law_is_the_moment_carried_across_a_section_of_a_bent_strip():
+    # A strip bent onto a cylinder of curvature chi must carry the Table 1 moment M(chi) per
+    # unit width across any section: the moment about the section of the nodal forces on
+    # the part beyond it (statics of a free body), compared with the closed-form law.
+    law = BendingLaw.bilinear(7.5, 0.5, knee=1e-3)  # Bai Table 1, continuous reading
+    width = 10.0
+    mesh = Mesh.rectangle(100.0, width, nx=20, ny=2)
+    material = Fabric(thickness=6.0, areal_density=5.7e-9, tension=1e-9,
+                      shear=ShearLaw.linear(0.0), bending=law)
+    model = compiled(mesh, material)
+    beyond = mesh.points[:, 0] > 50.0 + 1e-9
+    for chi in [-3e-3, -1e-3, -5e-4, 2e-4, 8e-4, 1.5e-3, 5e-3, 2e-2]:
+        state = model.initial_state()
+        state.positions, state.directors = on_cylinder(mesh.points, -1.0 / chi)
+        force, _ = model.blocks[0].internal_force_parts(state)["bending"]
+        assert np.abs(force[beyond].sum(axis=0)).max() < 1e-10  # a pure couple
+        moment = np.cross(state.positions[beyond], force[beyond]).sum(axis=0)[1] / width
+        # The nodes lie on the arc, so each element is a chord, shorter than its 5 mm of
+        # fabric by e = (5 chi)^2 / 24: the element curvature (fold / chord) and the moment per
+        # unit of reference width (A0 / chord) both gain e, i.e. at most 2e overall.
+        chord_error = (5.0 * chi) ** 2 / 24
+        assert moment == pytest.approx(float(law.value(chi)), rel=2 * chord_error + 1e-6)
+
+
+# ------------------------------------------------------------------ fibre ordering (Eq. 9)
+def _stretch_strains(mesh, **options):
+    model = compiled(mesh, **options)
+    state = model.initial_state()
+    state.positions = state.positions * [1.02, 1.0, 1.0]  # stretch along x only
+    fields = model.blocks[0].cell_fields(state)
+    return fields["warp_strain"], fields["weft_strain"], model.blocks[0]
+
+
+def test_both_diagonals_are_fibre_aligned_and_warp_follows_the_given_direction():
+    rectangle = Mesh.rectangle(20.0, 10.0, nx=2, ny=2)
+    warp, weft, block = _stretch_strains(rectangle)
+    assert np.allclose(warp, np.log(1.02)) and np.allclose(weft, 0.0, atol=1e-15)
+    # The other diagonal: corner 0 is then reached weft-first, so edge 0-1 is weft.
+    p = rectangle.points
+    other = Mesh(p, [[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4],
+                     [3, 4, 7], [3, 7, 6], [4, 5, 8], [4, 8, 7]])
+    warp, weft, block = _stretch_strains(other)
+    assert (~block.xi_is_warp).any()
+    assert np.allclose(warp, np.log(1.02)) and np.allclose(weft, 0.0, atol=1e-15)
+    warp, weft, _ = _stretch_strains(rectangle, warp=(0.0, 1.0, 0.0))
+    assert np.allclose(weft, np.log(1.02)) and np.allclose(warp, 0.0, atol=1e-15)
+
+
+def test_a_triangle_without_fibre_edges_is_named():
+    mesh = Mesh([[0, 0, 0], [10, 0, 0], [5, 8, 0]], [[0, 1, 2]])
+    with pytest.raises(ValueError, match="triangle 0 .* no corner"):
+        compiled(mesh)
+
+
+def test_levels_default_to_simpson_and_bad_options_are_refused():
+    zeta, weights = lobatto_levels(3)
+    assert zeta == pytest.approx([-1.0, 0.0, 1.0]) and weights == pytest.approx([1 / 6, 2 / 3, 1 / 6])
+    zeta, weights = lobatto_levels(5)
+    assert weights.sum() == pytest.approx(1.0) and np.sum(weights * zeta**2) == pytest.approx(1 / 3)
+    material = fabric()
+    for kwargs, message in [
+        ({"levels": 1}, "levels must be >= 2"),
+        ({"levels": ([0.0, 0.0], [0.5, 0.5])}, "off the mid-surface"),
+        ({"levels": ([-2.0, 1.0], [0.5, 0.5])}, "in \\[-1, 1\\]"),
+        ({"warp": (0.0, 0.0, 0.0)}, "warp"),
+        ({"bending_geometry": "nodal"}, "bending_geometry"),
+        ({"fibre_angle_tolerance": 60}, "tolerance"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            FibrousShell(material, **kwargs)
+    with pytest.raises(ValueError, match="materials.Fabric"):
+        FibrousShell(3.0)
+    model = Model(MESH)
+    model.add(FibrousShell(material, clamped=[5, 6]))  # an interior pair: not an edge
+    with pytest.raises(ValueError, match="no free edge"):
+        model.compile()
+
+
+def test_outputs_reach_the_result_fields():
+    model = compiled(MESH)
+    state = deformed(model, amplitude=0.1, tilt=0.05)
+    fields = model.fields(state)
+    for name in ["warp_strain", "weft_strain", "shear_angle"]:
+        assert fields["triangle"][name].shape == (len(MESH.triangles), 3)
+    for name in ["warp_curvature", "weft_curvature", "warp_moment", "weft_moment"]:
+        assert fields["triangle"][name].shape == (len(MESH.triangles),)
+    thickness = fields["point"]["thickness"]
+    assert thickness.shape == (MESH.n_nodes,) and (thickness >= 3.0).all()

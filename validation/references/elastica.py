@@ -1,0 +1,50 @@
+"""Large-deflection cantilever under its own weight (the heavy elastica), by a boundary-value
+solve independent of any finite element.
+
+Inextensible strip of length L, clamped horizontally at s = 0, free at s = L, bending moment
+M(kappa) per unit width (any monotonic law), weight q per unit length and unit width acting
+downwards. With theta(s) the downward slope, the moment at s carries the weight beyond it:
+
+    M(theta'(s)) = q * integral_s^L (x(t) - x(s)) dt,
+
+and differentiating, d/ds M(theta') = -q (L - s) cos(theta), with theta(0) = 0, theta'(L) = 0.
+For a linear law M = B kappa this is B theta'' = -q (L - s) cos(theta) (Frisch-Fay, Flexible
+Bars, 1962, ch. 3; the small-deflection limit is the tip deflection q L^4 / (8 B)).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import cumulative_trapezoid, solve_bvp
+
+
+def heavy_cantilever(length: float, weight: float, bending_stiffness: float, points: int = 401):
+    """Shape of a cantilever under self-weight with M = B kappa.
+
+    length : L, mm; weight : q, N/mm^2 (weight per unit length per unit width, rho_A g);
+    bending_stiffness : B, N mm (per unit width).
+    Returns a dict with s (arc length), theta (rad, downward slope), x, z (z <= 0), mm, and
+    tip_deflection (mm, positive down) and tip_x.
+    """
+    s = np.linspace(0.0, length, points)
+    load = weight / bending_stiffness
+
+    def rhs(s, y):  # y = (theta, theta')
+        return np.vstack([y[1], -load * (length - s) * np.cos(y[0])])
+
+    def bc(ya, yb):
+        return np.array([ya[0], yb[1]])
+
+    # Start from the small-deflection solution: theta' = q (L - s)^2 / (2 B).
+    guess = np.vstack([
+        load * (length**3 - (length - s) ** 3) / 6.0,
+        load * (length - s) ** 2 / 2.0,
+    ])
+    guess[0] = np.minimum(guess[0], np.pi / 2 * 0.95)
+    solution = solve_bvp(rhs, bc, s, guess, tol=1e-10, max_nodes=100000)
+    if not solution.success:
+        raise RuntimeError(f"heavy elastica did not converge: {solution.message}")
+    theta = solution.sol(s)[0]
+    x = cumulative_trapezoid(np.cos(theta), s, initial=0.0)
+    z = -cumulative_trapezoid(np.sin(theta), s, initial=0.0)
+    return {"s": s, "theta": theta, "x": x, "z": z, "tip_deflection": -z[-1], "tip_x": x[-1]}
