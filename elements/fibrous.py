@@ -166,7 +166,10 @@ class FibrousShellBlock(ElementBlock):
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.zeta, self.weights = shell.zeta, shell.weights
         self.connectivity, self.xi_is_warp = _fibre_ordering(
-            mesh.points, mesh.triangles[self.cell_ids], self.cell_ids, shell.warp,
+            mesh.points,
+            mesh.triangles[self.cell_ids],
+            self.cell_ids,
+            shell.warp,
             shell.fibre_angle_tolerance,
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
@@ -195,11 +198,13 @@ class FibrousShellBlock(ElementBlock):
         self.reference_coefficients = bend0["coefficients"]
 
         # Largest tangent stiffnesses, for the stable step (THEORY §6.2).
-        self.max_tension_stiffness = max(fabric.tension.max_slope(),
-                                         fabric.tension_weft.max_slope())
+        self.max_tension_stiffness = max(
+            fabric.tension.max_slope(), fabric.tension_weft.max_slope()
+        )
         self.max_shear_stiffness = fabric.shear.max_slope()
-        self.max_bending_stiffness = max(fabric.bending.max_slope(),
-                                         fabric.bending_weft.max_slope())
+        self.max_bending_stiffness = max(
+            fabric.bending.max_slope(), fabric.bending_weft.max_slope()
+        )
 
     # ------------------------------------------------------------------ set-up helpers
     def _clamped_sides(self, mesh: Mesh, clamped) -> np.ndarray:
@@ -244,9 +249,15 @@ class FibrousShellBlock(ElementBlock):
         offset = 0.5 * self.zeta[None, None, :, None] * (h_m[:, :, None] * v)[:, :, None, :]
         layer = x[:, :, None, :] + offset
         return {
-            "corners": x, "directors": v, "normal": normal, "double_area": double_area,
-            "cosine": cosine, "thickness": h_m, "guarded": guarded,
-            "g1": layer[:, 1] - layer[:, 0], "g2": layer[:, 2] - layer[:, 0],
+            "corners": x,
+            "directors": v,
+            "normal": normal,
+            "double_area": double_area,
+            "cosine": cosine,
+            "thickness": h_m,
+            "guarded": guarded,
+            "g1": layer[:, 1] - layer[:, 0],
+            "g2": layer[:, 2] - layer[:, 0],
         }
 
     def _strains(self, geo: dict) -> dict:
@@ -254,7 +265,8 @@ class FibrousShellBlock(ElementBlock):
         len1 = np.linalg.norm(geo["g1"], axis=-1)
         len2 = np.linalg.norm(geo["g2"], axis=-1)
         return {
-            "length1": len1, "length2": len2,
+            "length1": len1,
+            "length2": len2,
             "eps1": np.log(len1 / self.reference_length1),
             "eps2": np.log(len2 / self.reference_length2),
             "gamma": _shear_angle(geo["g1"], geo["g2"]) - self.reference_shear,
@@ -359,8 +371,9 @@ class FibrousShellBlock(ElementBlock):
         has_fold = self.interior_side | self.clamped_side
         fold = np.where(
             has_fold,
-            np.arctan2(-np.einsum("msj,msj->ms", n_other, outward),
-                       np.einsum("mj,msj->ms", n, n_other)),
+            np.arctan2(
+                -np.einsum("msj,msj->ms", n_other, outward), np.einsum("mj,msj->ms", n, n_other)
+            ),
             0.0,
         )
         heights = double_area[:, None] / side_length
@@ -441,13 +454,16 @@ class FibrousShellBlock(ElementBlock):
         strain = self._strains(geo)
         scale = self.reference_area[:, None] * self.weights[None, :]
         warp, weft = self._by_family(strain["eps1"], strain["eps2"])
-        tension = np.sum(scale * (self.fabric.tension.energy(warp)
-                                  + self.fabric.tension_weft.energy(weft)))
+        tension = np.sum(
+            scale * (self.fabric.tension.energy(warp) + self.fabric.tension_weft.energy(weft))
+        )
         shear = np.sum(scale * self.fabric.shear.energy(strain["gamma"]))
         chi, _ = self._curvatures(self._bending_geometry(state.positions))
         chi_warp, chi_weft = self._by_family(chi[:, 0], chi[:, 1])
-        bending = np.sum(self.reference_area * (self.fabric.bending.energy(chi_warp)
-                                                + self.fabric.bending_weft.energy(chi_weft)))
+        bending = np.sum(
+            self.reference_area
+            * (self.fabric.bending.energy(chi_warp) + self.fabric.bending_weft.energy(chi_weft))
+        )
         return {"tension": float(tension), "shear": float(shear), "bending": float(bending)}
 
     def strain_energy(self, state: State) -> float:
@@ -457,8 +473,9 @@ class FibrousShellBlock(ElementBlock):
         """Thickness along the director at the nodes (n,), mm: area-weighted mean of the
         per-element h_m (THEORY §1.4); 0 at nodes outside the block."""
         geo = self._geometry(state.positions, state.directors)
-        return nodal_thickness(geo["thickness"], 0.5 * geo["double_area"], self.connectivity,
-                               self.n_nodes)
+        return nodal_thickness(
+            geo["thickness"], 0.5 * geo["double_area"], self.connectivity, self.n_nodes
+        )
 
     def guarded_nodes(self, state: State) -> np.ndarray:
         """Ids of the nodes where V.n fell below the guard of h_m = h / max(V.n, 0.2) in some
@@ -470,8 +487,13 @@ class FibrousShellBlock(ElementBlock):
         density = self.fabric.areal_density
         if density_scale is not None:
             density = density * np.asarray(density_scale, dtype=float)
-        return lumped_mass(density, self.reference_area, self.connectivity,
-                           self.nodal_thickness(state), self.n_nodes)
+        return lumped_mass(
+            density,
+            self.reference_area,
+            self.connectivity,
+            self.nodal_thickness(state),
+            self.n_nodes,
+        )
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
         """Critical step per cell from THEORY §6.2, the three bounds combined as
@@ -495,8 +517,11 @@ class FibrousShellBlock(ElementBlock):
         a0 = self.reference_area
         omega2 = (2.0 + cosine) * self.max_tension_stiffness * a0 / (shortest**2 * mass)
         omega2 += 2.0 * self.max_shear_stiffness * a0 * (1 / len1**2 + 1 / len2**2) / mass
-        dt_bending = (_BENDING_DT_COEFFICIENT * shortest**2
-                      * np.sqrt(self.fabric.areal_density / self.max_bending_stiffness))
+        dt_bending = (
+            _BENDING_DT_COEFFICIENT
+            * shortest**2
+            * np.sqrt(self.fabric.areal_density / self.max_bending_stiffness)
+        )
         omega2 += (2.0 / dt_bending) ** 2
         return 2.0 / np.sqrt(omega2)
 

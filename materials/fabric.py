@@ -20,14 +20,11 @@ def _law(value, family: type, name: str, unit: str) -> Law:
     if isinstance(value, Law):
         if value.family != family.__name__:
             raise ValueError(
-                f"{name} must be a {family.__name__} (or a number for a linear law), "
-                f"got {value!r}"
+                f"{name} must be a {family.__name__} (or a number for a linear law), got {value!r}"
             )
         return value
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(
-            f"{name} must be a {family.__name__} or a number ({unit}), got {value!r}"
-        )
+        raise ValueError(f"{name} must be a {family.__name__} or a number ({unit}), got {value!r}")
     return family.linear(value)
 
 
@@ -51,19 +48,36 @@ class Fabric:
     tension_weft: Law
     bending_weft: Law
 
-    def __init__(self, thickness, areal_density, tension, shear, bending,
-                 tension_weft=None, bending_weft=None):
+    def __init__(
+        self,
+        thickness,
+        areal_density,
+        tension,
+        shear,
+        bending,
+        tension_weft=None,
+        bending_weft=None,
+    ):
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "Fabric thickness", "mm"))
-        set_(self, "areal_density",
-             check_positive(areal_density, "Fabric areal_density", "t/mm^2"))
+        set_(self, "areal_density", check_positive(areal_density, "Fabric areal_density", "t/mm^2"))
         set_(self, "tension", _law(tension, TensionLaw, "Fabric tension", "N/mm"))
         set_(self, "shear", _law(shear, ShearLaw, "Fabric shear", "N/mm"))
         set_(self, "bending", _law(bending, BendingLaw, "Fabric bending", "N mm"))
-        set_(self, "tension_weft", self.tension if tension_weft is None
-             else _law(tension_weft, TensionLaw, "Fabric tension_weft", "N/mm"))
-        set_(self, "bending_weft", self.bending if bending_weft is None
-             else _law(bending_weft, BendingLaw, "Fabric bending_weft", "N mm"))
+        set_(
+            self,
+            "tension_weft",
+            self.tension
+            if tension_weft is None
+            else _law(tension_weft, TensionLaw, "Fabric tension_weft", "N/mm"),
+        )
+        set_(
+            self,
+            "bending_weft",
+            self.bending
+            if bending_weft is None
+            else _law(bending_weft, BendingLaw, "Fabric bending_weft", "N mm"),
+        )
 
     @property
     def density(self) -> float:

@@ -189,8 +189,12 @@ class TensionLaw:
         """Piecewise-linear T(eps) through the points (strain, tension in N/mm), extrapolated
         linearly; the table must contain 0 -> 0 (or span it)."""
         knots = _table(strain, tension, "TensionLaw", odd=False)
-        return Law("TensionLaw", f"TensionLaw.table({len(knots[0])} points)", knots=knots,
-                   compression=not tension_only)
+        return Law(
+            "TensionLaw",
+            f"TensionLaw.table({len(knots[0])} points)",
+            knots=knots,
+            compression=not tension_only,
+        )
 
 
 class ShearLaw:
@@ -211,8 +215,11 @@ class ShearLaw:
     def table(gamma, moment) -> Law:
         """Piecewise-linear M_s(gamma) through (gamma rad, M_s N/mm) given for gamma >= 0 and
         mirrored to negative angles (or given over both signs)."""
-        return Law("ShearLaw", f"ShearLaw.table({np.size(gamma)} points)",
-                   knots=_table(gamma, moment, "ShearLaw", odd=True))
+        return Law(
+            "ShearLaw",
+            f"ShearLaw.table({np.size(gamma)} points)",
+            knots=_table(gamma, moment, "ShearLaw", odd=True),
+        )
 
 
 class BendingLaw:
@@ -239,12 +246,19 @@ class BendingLaw:
                 f"B1={initial!r}, B2={final!r}, knee={knee!r}"
             )
         x = np.array([-2.0 * chi_c, -chi_c, 0.0, chi_c, 2.0 * chi_c])
-        y = np.array([-b1 * chi_c - b2 * chi_c, -b1 * chi_c, 0.0, b1 * chi_c, b1 * chi_c + b2 * chi_c])
-        return Law("BendingLaw", f"BendingLaw.bilinear(B1={b1:g}, B2={b2:g}, knee={chi_c:g})", knots=(x, y))
+        y = np.array(
+            [-b1 * chi_c - b2 * chi_c, -b1 * chi_c, 0.0, b1 * chi_c, b1 * chi_c + b2 * chi_c]
+        )
+        return Law(
+            "BendingLaw", f"BendingLaw.bilinear(B1={b1:g}, B2={b2:g}, knee={chi_c:g})", knots=(x, y)
+        )
 
     @staticmethod
     def table(curvature, moment) -> Law:
         """Piecewise-linear M(chi) through (chi 1/mm, M N) given for chi >= 0 and mirrored to
         negative curvature (or given over both signs); e.g. a measured cantilever curve."""
-        return Law("BendingLaw", f"BendingLaw.table({np.size(curvature)} points)",
-                   knots=_table(curvature, moment, "BendingLaw", odd=True))
+        return Law(
+            "BendingLaw",
+            f"BendingLaw.table({np.size(curvature)} points)",
+            knots=_table(curvature, moment, "BendingLaw", odd=True),
+        )

@@ -9,8 +9,14 @@ from materials import BendingLaw, Fabric, ShearLaw
 
 
 def fabric(tension=100.0, shear=5.0, bending=20.0, thickness=3.0, areal_density=1e-9, **kw):
-    return Fabric(thickness=thickness, areal_density=areal_density, tension=tension,
-                  shear=ShearLaw.linear(shear), bending=BendingLaw.linear(bending), **kw)
+    return Fabric(
+        thickness=thickness,
+        areal_density=areal_density,
+        tension=tension,
+        shear=ShearLaw.linear(shear),
+        bending=BendingLaw.linear(bending),
+        **kw,
+    )
 
 
 def compiled(mesh: Mesh, material=None, **options):

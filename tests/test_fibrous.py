@@ -140,8 +140,9 @@ def test_stable_step_is_safe_against_the_exact_eigenvalues(radius):
     # system (safe), nor be needlessly small (within a factor 2). Curved states tilt the
     # element normals against the directors.
     mesh = Mesh.rectangle(30.0, 20.0, nx=3, ny=2)
-    model = compiled(mesh, fabric(tension=120.0, shear=4.0, bending=7.5, thickness=6.0,
-                                  areal_density=5.7e-9))
+    model = compiled(
+        mesh, fabric(tension=120.0, shear=4.0, bending=7.5, thickness=6.0, areal_density=5.7e-9)
+    )
     state = model.initial_state()
     if np.isfinite(radius):
         state.positions, _ = on_cylinder(mesh.points, radius)
@@ -207,8 +208,9 @@ def test_table_1_law_is_the_moment_carried_across_a_section_of_a_bent_strip():
     law = BendingLaw.bilinear(7.5, 0.5, knee=1e-3)  # Bai Table 1, continuous reading
     width = 10.0
     mesh = Mesh.rectangle(100.0, width, nx=20, ny=2)
-    material = Fabric(thickness=6.0, areal_density=5.7e-9, tension=1e-9,
-                      shear=ShearLaw.linear(0.0), bending=law)
+    material = Fabric(
+        thickness=6.0, areal_density=5.7e-9, tension=1e-9, shear=ShearLaw.linear(0.0), bending=law
+    )
     model = compiled(mesh, material)
     beyond = mesh.points[:, 0] > 50.0 + 1e-9
     for chi in [-3e-3, -1e-3, -5e-4, 2e-4, 8e-4, 1.5e-3, 5e-3, 2e-2]:
@@ -239,8 +241,9 @@ def test_both_diagonals_are_fibre_aligned_and_warp_follows_the_given_direction()
     assert np.allclose(warp, np.log(1.02)) and np.allclose(weft, 0.0, atol=1e-15)
     # The other diagonal: corner 0 is then reached weft-first, so edge 0-1 is weft.
     p = rectangle.points
-    other = Mesh(p, [[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4],
-                     [3, 4, 7], [3, 7, 6], [4, 5, 8], [4, 8, 7]])
+    other = Mesh(
+        p, [[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4], [3, 4, 7], [3, 7, 6], [4, 5, 8], [4, 8, 7]]
+    )
     warp, weft, block = _stretch_strains(other)
     assert (~block.xi_is_warp).any()
     assert np.allclose(warp, np.log(1.02)) and np.allclose(weft, 0.0, atol=1e-15)
@@ -256,7 +259,9 @@ def test_a_triangle_without_fibre_edges_is_named():
 
 def test_levels_default_to_simpson_and_bad_options_are_refused():
     zeta, weights = lobatto_levels(3)
-    assert zeta == pytest.approx([-1.0, 0.0, 1.0]) and weights == pytest.approx([1 / 6, 2 / 3, 1 / 6])
+    assert zeta == pytest.approx([-1.0, 0.0, 1.0]) and weights == pytest.approx(
+        [1 / 6, 2 / 3, 1 / 6]
+    )
     zeta, weights = lobatto_levels(5)
     assert weights.sum() == pytest.approx(1.0) and np.sum(weights * zeta**2) == pytest.approx(1 / 3)
     material = fabric()

@@ -36,10 +36,12 @@ def heavy_cantilever(length: float, weight: float, bending_stiffness: float, poi
         return np.array([ya[0], yb[1]])
 
     # Start from the small-deflection solution: theta' = q (L - s)^2 / (2 B).
-    guess = np.vstack([
-        load * (length**3 - (length - s) ** 3) / 6.0,
-        load * (length - s) ** 2 / 2.0,
-    ])
+    guess = np.vstack(
+        [
+            load * (length**3 - (length - s) ** 3) / 6.0,
+            load * (length - s) ** 2 / 2.0,
+        ]
+    )
     guess[0] = np.minimum(guess[0], np.pi / 2 * 0.95)
     solution = solve_bvp(rhs, bc, s, guess, tol=1e-10, max_nodes=100000)
     if not solution.success:
