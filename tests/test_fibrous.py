@@ -293,3 +293,17 @@ def test_outputs_reach_the_result_fields():
         assert fields["triangle"][name].shape == (len(MESH.triangles),)
     thickness = fields["point"]["thickness"]
     assert thickness.shape == (MESH.n_nodes,) and (thickness >= 3.0).all()
+
+
+def test_a_director_near_the_surface_hits_the_guard_and_is_reported():
+    # THEORY §1.4: h_m = h / max(V.n, 0.2); a director tilted 85 deg would give 11.5 h.
+    model = compiled(MESH)
+    state = model.initial_state()
+    node = 6
+    state.directors[node] = [np.sin(np.radians(85)), 0.0, np.cos(np.radians(85))]
+    block = model.blocks[0]
+    assert block.guarded_nodes(state).tolist() == [node]
+    geometry = block._geometry(state.positions, state.directors)
+    corners = block.connectivity == node
+    assert np.allclose(geometry["thickness"][corners], 3.0 / 0.2)
+    assert model.fields(state)["point"]["thickness_guarded"][node] == 1.0

@@ -100,3 +100,15 @@ def test_directors_slip_instead_of_following_the_normal(paper_tension):
     assert np.all(tilt[steep] < 0.2 * slope[steep])
     # The thickness along the vertical director grows as h / cos(phi) (Bai Fig. 6f, 10c).
     assert thickness[steep] == pytest.approx(THICKNESS / np.cos(slope[steep]), rel=0.05)
+
+
+def test_fibre_fields_are_written_for_paraview(paper_tension, tmp_path):
+    import meshio
+
+    _, _, result = paper_tension
+    for name in ("strip.vtu", "strip.xdmf"):
+        result.write(tmp_path / name)
+    data = meshio.read(tmp_path / "strip.vtu")
+    assert data.cell_data["warp_strain"][0].shape == (20, 3)  # 20 triangles x 3 levels
+    assert "weft_curvature" in data.cell_data and "thickness" in data.point_data
+    assert (tmp_path / "strip.xdmf").exists()
