@@ -242,7 +242,7 @@ class FibrousShellBlock(ElementBlock):
         normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
         double_area = np.linalg.norm(normal, axis=1)
         normal /= double_area[:, None]
-        cosine = np.einsum("mkj,mj->mk", v, normal)
+        cosine = np.matmul(v, normal[:, :, None])[..., 0]
         guarded = cosine < GUARD
         h_m = self.fabric.thickness / np.maximum(cosine, GUARD)  # Eq. 10 / 14
         # Fibre end points x_k^f = x_k + zeta_f/2 h_m^k V_k, (m, 3, L, 3).
@@ -315,14 +315,16 @@ class FibrousShellBlock(ElementBlock):
         moment sum_f (zeta_f h_m^k / 2) V_k x F_k^f of the lever arm along V (Bai Fig. 3).
         With ``thickness_variation`` the work of h_m = h / (V . n) is added (THEORY §2.5).
         """
-        layer_force = np.stack([-(p1 + p2), p1, p2], axis=1)  # (m, 3, L, 3)
         v, h_m = geo["directors"], geo["thickness"]
-        force = layer_force.sum(axis=2)
-        lever = np.einsum("f,mkfj->mkj", self.zeta, layer_force)  # sum_f zeta_f F_k^f
+        # Sums over the levels first (F_k^f is linear in P_a): sum_f F_k^f and sum_f zeta_f F_k^f.
+        total1, total2 = p1.sum(axis=1), p2.sum(axis=1)
+        force = np.stack([-(total1 + total2), total1, total2], axis=1)
+        arm1, arm2 = np.matmul(self.zeta, p1), np.matmul(self.zeta, p2)
+        lever = np.stack([-(arm1 + arm2), arm1, arm2], axis=1)
         moment = 0.5 * h_m[..., None] * cross(v, lever)
         if self.shell.thickness_variation:
             # dW/dh_m^k = sum_f zeta_f / 2 F_k^f . V_k; h_m = h / c, c = V . n (unguarded only).
-            dw_dh = 0.5 * np.einsum("mkj,mkj->mk", lever, v)
+            dw_dh = 0.5 * np.sum(lever * v, axis=-1)
             c = geo["cosine"]
             dw_dc = np.where(geo["guarded"], 0.0, -dw_dh * self.fabric.thickness / c**2)
             n = geo["normal"]
@@ -336,8 +338,8 @@ class FibrousShellBlock(ElementBlock):
             inv = 1.0 / geo["double_area"][:, None, None]
             dc_da = cross(b, v_perp) * inv
             dc_db = cross(v_perp, a) * inv
-            pull_a = np.einsum("mk,mkj->mj", dw_dc, dc_da)
-            pull_b = np.einsum("mk,mkj->mj", dw_dc, dc_db)
+            pull_a = np.matmul(dw_dc[:, None, :], dc_da)[:, 0]
+            pull_b = np.matmul(dw_dc[:, None, :], dc_db)[:, 0]
             force += np.stack([-(pull_a + pull_b), pull_a, pull_b], axis=1)
         return force, moment
 
@@ -361,7 +363,7 @@ class FibrousShellBlock(ElementBlock):
         side_length = np.linalg.norm(side, axis=-1)
         outward = cross(side, n[:, None, :]) / side_length[..., None]  # n^c_s
         grad_n = cross(n[:, None, :], side) / double_area[:, None, None]  # grad N_k
-        gradient = -np.einsum("mkj,msj->msk", grad_n, outward)
+        gradient = -np.matmul(outward, grad_n.transpose(0, 2, 1))  # D[s, k]
 
         nb = self._across_cell
         n_other = np.where(self.interior_side[..., None], n[nb], 0.0)
@@ -372,7 +374,7 @@ class FibrousShellBlock(ElementBlock):
         fold = np.where(
             has_fold,
             np.arctan2(
-                -np.einsum("msj,msj->ms", n_other, outward), np.einsum("mj,msj->ms", n, n_other)
+                -np.sum(n_other * outward, axis=-1), np.matmul(n_other, n[:, :, None])[..., 0]
             ),
             0.0,
         )
@@ -380,7 +382,7 @@ class FibrousShellBlock(ElementBlock):
         other_heights = np.where(self.interior_side, double_area[nb] / side_length, 0.0)
         fibre = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]], axis=1)
         fibre /= np.linalg.norm(fibre, axis=-1, keepdims=True)
-        projection = np.einsum("maj,msj->mas", fibre, outward)
+        projection = np.matmul(fibre, outward.transpose(0, 2, 1))  # (m, a, s)
         coefficients = np.where(
             has_fold[:, None, :],
             2.0 * projection**2 / (heights + other_heights)[:, None, :],
@@ -396,7 +398,7 @@ class FibrousShellBlock(ElementBlock):
             if self.shell.bending_geometry == "reference"
             else bend["coefficients"]
         )
-        chi = -np.einsum("mas,ms->ma", coefficients, bend["fold"] - self.reference_fold)
+        chi = -np.matmul(coefficients, (bend["fold"] - self.reference_fold)[:, :, None])[..., 0]
         return chi, coefficients
 
     def _bending_moments(self, chi: np.ndarray) -> np.ndarray:
@@ -417,10 +419,10 @@ class FibrousShellBlock(ElementBlock):
         bend = self._bending_geometry(state.positions, geo)
         chi, coefficients = self._curvatures(bend)
         moments = self._bending_moments(chi)
-        own = -self.reference_area[:, None] * np.einsum("ma,mas->ms", moments, coefficients)
+        own = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
         across = np.where(self.interior_side, own[self._across_cell, self._across_side], 0.0)
         side_moment = own + across  # free sides: own = 0 since c = 0
-        weights = np.einsum("ms,msk->mk", side_moment, bend["gradient"])
+        weights = np.matmul(side_moment[:, None, :], bend["gradient"])[:, 0]
         return weights[..., None] * bend["normal"][:, None, :]
 
     # ------------------------------------------------------------------ protocol
