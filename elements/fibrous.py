@@ -95,7 +95,10 @@ class FibrousShell(ElementType):
     clamped : node ids (or a node-set name) of clamped edges: free sides of the block whose two
         nodes are all in this set bend against a rigid wall in the element's reference plane
         (THEORY §4.5). Fix the translations and rotations of those nodes with ``model.fix``.
-        Without it, a clamp is made by fixing a row of elements.
+        Without it, a clamp is made by fixing a row of elements, as Bai does; the fixed
+        elements then bend too, which moves the effective clamp half an element into them (a
+        first-order error: +10% on a small-load cantilever tip at 20 elements, against 0.2%
+        with this option).
     thickness_variation : include the variation of h_m (THEORY §2.5) in the forces, so that
         they are the exact gradient of the strain energy (default). False follows Bai Eq. 28,
         which leaves it out.

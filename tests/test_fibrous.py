@@ -307,3 +307,26 @@ def test_a_director_near_the_surface_hits_the_guard_and_is_reported():
     corners = block.connectivity == node
     assert np.allclose(geometry["thickness"][corners], 3.0 / 0.2)
     assert model.fields(state)["point"]["thickness_guarded"][node] == 1.0
+
+
+@pytest.mark.parametrize("warp, stiffness", [((1.0, 0.0, 0.0), 72.0), ((0.0, 1.0, 0.0), 68.0)])
+def test_warp_and_weft_bend_with_their_own_stiffness(warp, stiffness):
+    # Bai Table 2: B = 72 N mm (warp), 68 N mm (weft). The strip is bent along x, which is the
+    # warp or the weft depending on the given warp direction.
+    width, chi = 10.0, 2e-3
+    mesh = Mesh.rectangle(100.0, width, nx=20, ny=2)
+    material = Fabric(
+        thickness=15.0,
+        areal_density=6.93e-9,
+        tension=1e-9,
+        shear=0.0,
+        bending=72.0,
+        bending_weft=68.0,
+    )
+    model = compiled(mesh, material, warp=warp)
+    state = model.initial_state()
+    state.positions, state.directors = on_cylinder(mesh.points, 1.0 / chi)
+    force, _ = model.blocks[0].internal_force_parts(state)["bending"]
+    beyond = mesh.points[:, 0] > 50.0 + 1e-9
+    moment = np.cross(state.positions[beyond], force[beyond]).sum(axis=0)[1] / width
+    assert moment == pytest.approx(-stiffness * chi, rel=2 * (5.0 * chi) ** 2 / 24 + 1e-6)
