@@ -3,5 +3,6 @@
 from elements.base import ElementBlock, ElementType
 from elements.cable import Cable
 from elements.fibrous import FibrousShell
+from elements.mindlin import MindlinShell
 
-__all__ = ["Cable", "ElementBlock", "ElementType", "FibrousShell"]
+__all__ = ["Cable", "ElementBlock", "ElementType", "FibrousShell", "MindlinShell"]
