@@ -279,13 +279,22 @@ class MindlinShellBlock(ElementBlock):
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
-        """THEORY §6.2: membrane omega = 2 c / L_e (B1) combined with the rotation mode
-        omega^2 = kappa G / (2 rho j) (B2) as omega^2 = sum of both."""
-        altitude = self._altitude(state.positions)
-        c = self.material.wave_speed
-        omega2 = (2.0 * c / altitude) ** 2
+        """Critical step per cell, omega^2 = omega_in-plane^2 + omega_rotation^2 (THEORY §6.2):
+
+        * translations: the trace bound of M^-1 K for a linear triangle with lumped mass
+          rho h A / 3, omega^2 <= 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2
+          (h_k the altitudes; membrane and transverse-shear stiffness of each DOF);
+        * rotations (B2): omega^2 = kappa G / (2 rho j) with the (scaled) rotary factor j.
+        """
+        x = state.positions[self.connectivity]
+        sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
+        area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
+        inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
+        q = self.material.plane_stress
         shear = float(np.max(self.material.transverse))
-        omega2 = omega2 + shear / (2.0 * self.material.density * self._rotary_factor())
+        rho = self.material.density
+        omega2 = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear) * inverse_heights2
+        omega2 = omega2 + shear / (2.0 * rho * self._rotary_factor())
         return 2.0 / np.sqrt(omega2)
 
     # ------------------------------------------------------------------ outputs

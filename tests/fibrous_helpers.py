@@ -26,14 +26,15 @@ def compiled(mesh: Mesh, material=None, **options):
 
 
 def stiffness_and_mass(model, state, step=1e-7):
-    """Central-difference stiffness over (ux, uy, uz, psi1, psi2) per node (psi about V1, V2:
-    small rotations of the director, THEORY §1.3) and the lumped diagonal mass, on the free DOFs."""
+    """Central-difference stiffness over (ux, uy, uz, alpha, beta) per node (alpha: a small
+    rotation of the director about V2, beta: about V1, THEORY §1.3) and the lumped diagonal
+    mass, on the free DOFs."""
     n = state.n_nodes
     v1, v2 = nodal_frames(state.directors)
 
     def forces(s):
         f, m = model.internal_force(s)
-        return np.column_stack([f, np.sum(m * v1, 1), np.sum(m * v2, 1)]).ravel()
+        return np.column_stack([f, np.sum(m * v2, 1), np.sum(m * v1, 1)]).ravel()
 
     stiffness = np.zeros((5 * n, 5 * n))
     for node in range(n):
@@ -44,7 +45,7 @@ def stiffness_and_mass(model, state, step=1e-7):
                 minus.positions[node, j] -= step
             else:
                 psi = np.zeros((n, 3))
-                psi[node] = (v1 if j == 3 else v2)[node] * step
+                psi[node] = (v2 if j == 3 else v1)[node] * step
                 plus.directors = rotate_about(state.directors, psi)
                 minus.directors = rotate_about(state.directors, -psi)
             stiffness[:, 5 * node + j] = (forces(plus) - forces(minus)) / (2 * step)

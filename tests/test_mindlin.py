@@ -1,0 +1,168 @@
+"""MindlinShell (THEORY §5): conformance suite of DESIGN §5 and linear benchmarks with
+closed-form or series references, solved with a dense finite-difference stiffness (small meshes;
+the sparse Newton solver of the static-solver issue will take over the larger ones)."""
+
+import numpy as np
+import pytest
+
+from elements import MindlinShell
+from femcore import Mesh, Model
+from femcore.rotation import rotate_about
+from materials import ElasticShell
+from tests.fibrous_helpers import stiffness_and_mass
+
+MESH = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+
+
+def compiled(mesh=MESH, material=None, **options):
+    model = Model(mesh)
+    model.add(MindlinShell(material or ElasticShell(1000.0, 0.3, 2.0, 1e-9), **options))
+    return model.compile()
+
+
+def deformed(model, seed=0):
+    rng = np.random.default_rng(seed)
+    state = model.initial_state()
+    state.positions = state.positions + rng.normal(scale=0.5, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.2, size=state.positions.shape))
+    state.directors = rotate_about(state.directors, turn)
+    return state
+
+
+def linear_solve(model):
+    """Displacements (n, 5) of the linear problem K u = F at the reference state."""
+    state = model.initial_state()
+    stiffness, _ = stiffness_and_mass(model, state, step=1e-6)
+    force, _ = model.external_load(1.0)
+    free = np.column_stack([model.translation_free, ~model.rotation_fixed]).ravel()
+    load = np.column_stack([force, np.zeros((model.n_nodes, 2))]).ravel()[free]
+    u = np.zeros(5 * model.n_nodes)
+    u[free] = np.linalg.solve(stiffness, load)
+    return u.reshape(-1, 5)
+
+
+# ------------------------------------------------------------------ conformance
+def test_rigid_motion_gives_no_force_and_rotated_states_rotated_forces():
+    model = compiled()
+    state = deformed(model)
+    force, moment = model.internal_force(state)
+    axis = np.array([1.0, -2.0, 0.5]) / np.linalg.norm([1.0, -2.0, 0.5])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    rotation = np.eye(3) + k + k @ k  # 90 degrees about a tilted axis
+    rigid = model.initial_state()
+    rigid.positions = MESH.points @ rotation.T + [3.0, -7.0, 11.0]
+    rigid.directors = rigid.directors @ rotation.T
+    assert np.abs(model.internal_force(rigid)[0]).max() <= 1e-10 * np.abs(force).max()
+    turned = state.copy()
+    turned.positions = state.positions @ rotation.T
+    turned.directors = state.directors @ rotation.T
+    force_r, moment_r = model.internal_force(turned)
+    assert np.abs(force_r - force @ rotation.T).max() <= 1e-10 * np.abs(force).max()
+    assert np.abs(moment_r - moment @ rotation.T).max() <= 1e-10 * np.abs(moment).max()
+
+
+def test_forces_and_moments_are_the_gradient_of_the_strain_energy():
+    model = compiled()
+    block = model.blocks[0]
+    state = deformed(model)
+    force, moment = block.internal_force(state)
+    step, n = 1e-6, MESH.n_nodes
+    fd_force, fd_moment = np.zeros((n, 3)), np.zeros((n, 3))
+    for node in range(n):
+        for j in range(3):
+            plus, minus = state.copy(), state.copy()
+            plus.positions[node, j] += step
+            minus.positions[node, j] -= step
+            fd_force[node, j] = (block.strain_energy(plus) - block.strain_energy(minus)) / (
+                2 * step
+            )
+            psi = np.zeros((n, 3))
+            psi[node, j] = step
+            plus, minus = state.copy(), state.copy()
+            plus.directors = rotate_about(state.directors, psi)
+            minus.directors = rotate_about(state.directors, -psi)
+            fd_moment[node, j] = (block.strain_energy(plus) - block.strain_energy(minus)) / (
+                2 * step
+            )
+    v = state.directors
+    fd_moment -= np.sum(fd_moment * v, axis=1)[:, None] * v
+    assert np.abs(force - fd_force).max() <= 1e-6 * np.abs(fd_force).max()
+    assert np.abs(moment - fd_moment).max() <= 1e-6 * np.abs(fd_moment).max()
+
+
+def test_lumped_mass_sums_to_the_total_mass():
+    material = ElasticShell(1000.0, 0.3, 2.0, 3e-9)
+    model = compiled(material=material)
+    mass, inertia = model.lumped_mass(model.initial_state())
+    assert mass.sum() == pytest.approx(3e-9 * 2.0 * 40.0 * 30.0, rel=1e-12)
+    assert (inertia >= mass * 2.0**2 / 12 * (1 - 1e-12)).all()  # at least the physical h^2/12
+
+
+@pytest.mark.parametrize("thickness", [5.0, 0.2])
+def test_stable_step_is_safe_against_the_exact_eigenvalues(thickness):
+    # THEORY §6.2 (B1, B2): with the rotary-inertia scaling a thin shell keeps the membrane step.
+    model = compiled(
+        Mesh.rectangle(30.0, 20.0, nx=3, ny=2), ElasticShell(1000.0, 0.3, thickness, 1e-9)
+    )
+    state = model.initial_state()
+    stiffness, mass = stiffness_and_mass(model, state, step=1e-6)
+    omega = np.sqrt(np.max(np.linalg.eigvals(stiffness / np.sqrt(np.outer(mass, mass))).real))
+    assert 0.5 * (2.0 / omega) <= model.stable_dt(state) <= 2.0 / omega
+
+
+def test_bad_input_is_refused():
+    with pytest.raises(ValueError, match="nu"):
+        ElasticShell(1000.0, 0.5, 1.0, 1e-9)
+    with pytest.raises(ValueError, match="thickness"):
+        ElasticShell(1000.0, 0.3, 0.0, 1e-9)
+    with pytest.raises(ValueError, match="ElasticShell"):
+        MindlinShell(3.0)
+    with pytest.raises(ValueError, match="thickness_points"):
+        MindlinShell(ElasticShell(1000.0, 0.3, 1.0, 1e-9), thickness_points=1)
+
+
+# ------------------------------------------------------------------ linear benchmarks
+@pytest.mark.parametrize("thickness", [10.0, 1.0, 0.1])  # L/h = 10, 100, 1000
+def test_cantilever_strip_under_a_tip_load_does_not_lock(thickness):
+    # Timoshenko beam: P L^3 / (3 E I) + P L / (kappa G A), nu = 0 (no plate effect).
+    length, width, young, load = 100.0, 10.0, 1e5, 1e-3
+    mesh = Mesh.rectangle(length, width, nx=20, ny=2)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
+    model.fix("left")
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, load / len(tip)))
+    u = linear_solve(model.compile())
+    inertia = width * thickness**3 / 12
+    beam = load * length**3 / (3 * young * inertia) + load * length / (
+        5 / 6 * young / 2 * width * thickness
+    )
+    assert u[tip, 2].mean() == pytest.approx(beam, rel=0.02)
+
+
+@pytest.mark.parametrize(
+    "support, coefficient, cells",
+    # Central deflection w = c q a^4 / D of a square plate under uniform pressure, nu = 0.3:
+    # Timoshenko & Woinowsky-Krieger, Theory of Plates and Shells (1959), Table 8 (simply
+    # supported, 0.00406) and Table 35 (clamped, 0.00126). Quarter plates, a/h = 100.
+    [("simply supported", 0.00406235, 12), ("clamped", 0.00126532, 16)],
+)
+def test_square_plate_under_uniform_pressure(support, coefficient, cells):
+    a, h, young, nu, pressure, g = 100.0, 1.0, 1e4, 0.3, 1e-3, 9810.0
+    mesh = Mesh.rectangle(a / 2, a / 2, nx=cells, ny=cells)
+    model = Model(mesh)
+    # Pressure as the weight of the plate: the lumped load q A / 3 per triangle corner.
+    model.add(MindlinShell(ElasticShell(young, nu, h, pressure / (h * g))))
+    if support == "clamped":
+        model.fix("left")
+        model.fix("bottom")
+    else:
+        model.fix("left", ["uz"])
+        model.fix("bottom", ["uz"])
+    model.fix("right", ["ux", "alpha"])  # symmetry planes x = a/2 and y = a/2
+    model.fix("top", ["uy", "beta"])
+    model.gravity((0.0, 0.0, -g))
+    u = linear_solve(model.compile())
+    rigidity = young * h**3 / (12 * (1 - nu**2))
+    centre = mesh.n_nodes - 1
+    assert -u[centre, 2] == pytest.approx(coefficient * pressure * a**4 / rigidity, rel=0.02)
