@@ -1,8 +1,9 @@
-"""Solvers: explicit central difference and dynamic relaxation (static Newton comes next)."""
+"""Solvers: explicit central difference and dynamic relaxation and static Newton-Raphson."""
 
 from solvers.common import ConvergenceError, DivergenceError, SolverError
 from solvers.explicit import CentralDifference
 from solvers.relaxation import DynamicRelaxation
+from solvers.static import Static
 
 __all__ = [
     "CentralDifference",
@@ -10,4 +11,5 @@ __all__ = [
     "DivergenceError",
     "DynamicRelaxation",
     "SolverError",
+    "Static",
 ]
