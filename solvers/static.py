@@ -154,7 +154,9 @@ class Static:
     """Quasi-static solver: Newton-Raphson with a sparse finite-difference tangent.
 
     increments : number of equal load-factor steps (one frame each).
-    tol : convergence when ||r_forces|| <= tol F_ref and ||r_moments|| <= tol F_ref L_e, with
+    tol : convergence when ||r_forces|| <= tol F_ref and ||r_moments|| <= tol F_ref L_e (or,
+        at the round-off floor, when a full Newton step moves no DOF by more than 1e-9 of an
+        element or 1e-9 rad while the ratio is below 1e-3), with
         F_ref = max(||F_ext||, ||F_int||, ||M_ext|| / L_e, ||M_int|| / L_e) (the internal
         forces include the reactions) and L_e the median element edge.
     max_iterations : Newton iterations per (sub-)increment before it is cut in half.
@@ -309,6 +311,18 @@ class Static:
                 scale *= 0.5
             state.positions, state.directors = trial.positions, trial.directors
             r, ratio = r_new, ratio_new
+            # Round-off floor: the internal forces come from differences of nearly equal
+            # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
+            # load that no update removes. A full step that moves nothing (1e-9 of an element,
+            # 1e-9 rad) with the residual already small is converged.
+            moved = scale * np.abs(delta)
+            if (
+                scale == 1.0
+                and ratio <= 1e-3
+                and moved[:, :3].max() <= 1e-9 * model.element_size
+                and moved[:, 3:].max(initial=0.0) <= 1e-9
+            ):
+                return iteration, ratio
             progress(
                 f"load factor {load_factor:.4g}: iteration {iteration}, residual ratio "
                 f"{ratio:.3g} (tol {self.tol:g})"
