@@ -217,3 +217,27 @@ def test_scordelis_lo_roof():
     result = Static(increments=1).solve(model)
     node = np.flatnonzero(np.isclose(x, 0.0) & np.isclose(s, radius * angle))[0]
     assert -result.displacements[node, 2] / scale == pytest.approx(0.3024, rel=0.02)
+
+
+def test_cantilever_under_a_large_tip_load_follows_the_elastica():
+    # P L^2 / EI = 3: the tip drops by 0.603 L (Bisshopp & Drucker 1945; here from the
+    # boundary-value solve in validation/references/elastica.py, which gives their 0.3017 L
+    # at P L^2 / EI = 1). Thin strip, L/h = 100, nu = 0, 20 elements.
+    from solvers import Static
+    from validation.references.elastica import tip_loaded_cantilever
+
+    length, width, thickness, young = 100.0, 5.0, 1.0, 1e5
+    mesh = Mesh.rectangle(length, width, nx=20, ny=1)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
+    model.fix("left")
+    bending = young * width * thickness**3 / 12
+    load = 3.0 * bending / length**2
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, -load / len(tip)))
+    result = Static(increments=5).solve(model)
+    reference = tip_loaded_cantilever(length, load, bending)
+    moved = result.displacements[tip].mean(axis=0)
+    assert reference["tip_deflection"] == pytest.approx(0.603 * length, rel=1e-3)
+    assert -moved[2] == pytest.approx(reference["tip_deflection"], rel=0.01)
+    assert length + moved[0] == pytest.approx(reference["tip_x"], rel=0.01)

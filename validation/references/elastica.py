@@ -50,3 +50,30 @@ def heavy_cantilever(length: float, weight: float, bending_stiffness: float, poi
     x = cumulative_trapezoid(np.cos(theta), s, initial=0.0)
     z = -cumulative_trapezoid(np.sin(theta), s, initial=0.0)
     return {"s": s, "theta": theta, "x": x, "z": z, "tip_deflection": -z[-1], "tip_x": x[-1]}
+
+
+def tip_loaded_cantilever(length: float, load: float, bending_stiffness: float, points: int = 401):
+    """Inextensible cantilever, clamped horizontally, under a dead vertical tip load P.
+
+    EI theta'' = -P cos(theta), theta(0) = 0, theta'(L) = 0 (the elastica; Bisshopp & Drucker,
+    Q. Appl. Math. 3 (1945) 272: for P L^2 / EI = 1 the tip drops by 0.3017 L).
+    Returns s, theta, x, z (z <= 0) and tip_deflection (positive down), tip_x.
+    """
+    s = np.linspace(0.0, length, points)
+    k = load / bending_stiffness
+
+    def rhs(s, y):
+        return np.vstack([y[1], -k * np.cos(y[0])])
+
+    def bc(ya, yb):
+        return np.array([ya[0], yb[1]])
+
+    guess = np.vstack([k * (length * s - s**2 / 2), k * (length - s)])
+    guess[0] = np.minimum(guess[0], np.pi / 2 * 0.95)
+    solution = solve_bvp(rhs, bc, s, guess, tol=1e-10, max_nodes=100000)
+    if not solution.success:
+        raise RuntimeError(f"elastica did not converge: {solution.message}")
+    theta = solution.sol(s)[0]
+    x = cumulative_trapezoid(np.cos(theta), s, initial=0.0)
+    z = -cumulative_trapezoid(np.sin(theta), s, initial=0.0)
+    return {"s": s, "theta": theta, "x": x, "z": z, "tip_deflection": -z[-1], "tip_x": x[-1]}
