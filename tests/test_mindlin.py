@@ -241,3 +241,12 @@ def test_cantilever_under_a_large_tip_load_follows_the_elastica():
     assert reference["tip_deflection"] == pytest.approx(0.603 * length, rel=1e-3)
     assert -moved[2] == pytest.approx(reference["tip_deflection"], rel=0.01)
     assert length + moved[0] == pytest.approx(reference["tip_x"], rel=0.01)
+    # Thin-shell limit (Kirchhoff): with L/h = 100 the directors stay normal to the bent
+    # mid-surface (slope up to 60 deg here) - the opposite of the fibrous shell, whose
+    # directors slip. Each element's normal against the mean of its corner directors.
+    from elements.shell_geometry import element_normals
+
+    normals = element_normals(result.positions, mesh.triangles)
+    mean = result.directors[mesh.triangles].mean(axis=1)
+    mean /= np.linalg.norm(mean, axis=1)[:, None]
+    assert np.degrees(np.arccos(np.clip(np.sum(normals * mean, 1), -1, 1))).max() < 2.0
