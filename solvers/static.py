@@ -79,26 +79,37 @@ def _unknowns(model: CompiledModel) -> np.ndarray:
     return np.column_stack([model.translation_free, rotation_free])
 
 
-def _generalised(model: CompiledModel, state, force, moment) -> np.ndarray:
+def _frames(model: CompiledModel, directors: np.ndarray):
+    """Nodal frames (V1, V2), (n, 3) each, of the directors (Bai Eq. 7 with its fallback).
+
+    A Newton iteration keeps one set of frames for its residual, tangent and update: near the
+    fallback of Eq. 7 a frame may switch between two nearby states, and mixing frames would
+    make the tangent inconsistent with the residual."""
+    if not model.has_rotation.any():
+        return None
+    return nodal_frames(np.where(model.has_rotation[:, None], directors, [0, 0, 1.0]))
+
+
+def _generalised(model: CompiledModel, frames, force, moment) -> np.ndarray:
     """(n, 5): forces and the moment components conjugate to alpha (about V2) and beta (V1)."""
     out = np.zeros((model.n_nodes, 5))
     out[:, :3] = force
-    if model.has_rotation.any():
-        v1, v2 = nodal_frames(np.where(model.has_rotation[:, None], state.directors, [0, 0, 1.0]))
+    if frames is not None:
+        v1, v2 = frames
         out[:, 3] = np.sum(moment * v2, axis=1)
         out[:, 4] = np.sum(moment * v1, axis=1)
         out[~model.has_rotation, 3:] = 0.0
     return out
 
 
-def _apply(model: CompiledModel, state, increment: np.ndarray) -> None:
+def _apply(model: CompiledModel, state, increment: np.ndarray, frames) -> None:
     """Add an (n, 5) increment: translations, and rotations of the directors about V2 (alpha)
-    and V1 (beta) of the current frames."""
+    and V1 (beta) of the given frames."""
     state.positions = state.positions + increment[:, :3]
-    if model.has_rotation.any():
-        rot = model.has_rotation
-        v1, v2 = nodal_frames(np.where(rot[:, None], state.directors, [0, 0, 1.0]))
+    if frames is not None:
+        v1, v2 = frames
         psi = increment[:, 3:4] * v2 + increment[:, 4:5] * v1
+        rot = model.has_rotation
         state.directors = np.where(
             rot[:, None], rotate_about(state.directors, psi), state.directors
         )
@@ -126,10 +137,11 @@ def finite_difference_tangent(
     rows, cols, values = [], [], []
     has_rot = model.has_rotation.any()
     f_ext, m_ext = external if external is not None else (0.0, 0.0)
+    frames = _frames(model, state.directors)
 
     def generalised(s):
         f_int, m_int = model.internal_force(s)
-        return _generalised(model, s, f_int - f_ext, m_int - m_ext)
+        return _generalised(model, frames, f_int - f_ext, m_int - m_ext)
 
     for nodes, entry_rows, entry_cols in graph.groups:
         for component in range(5 if has_rot else 3):
@@ -137,8 +149,8 @@ def finite_difference_tangent(
             delta = np.zeros((n, 5))
             delta[nodes, component] = h
             plus, minus = state.copy(), state.copy()
-            _apply(model, plus, delta)
-            _apply(model, minus, -delta)
+            _apply(model, plus, delta, frames)
+            _apply(model, minus, -delta, frames)
             df = (generalised(plus) - generalised(minus)) / (2 * h)
             for a in range(5 if has_rot else 3):
                 rows.append(5 * entry_rows + a)
@@ -254,13 +266,9 @@ class Static:
             )
             state.positions = np.where(model.translation_prescribed, target, state.positions)
 
-        def residual(s):
+        def residual(s, frames):
             f_int, m_int = model.internal_force(s)
-            r = np.where(
-                free,
-                _generalised(model, s, f_ext, m_ext) - _generalised(model, s, f_int, m_int),
-                0.0,
-            )
+            r = np.where(free, _generalised(model, frames, f_ext - f_int, m_ext - m_int), 0.0)
             # One scale for both: a moment M counts as the force M / (element size), so that a
             # pure-moment load (zero forces at equilibrium) has a force reference too.
             size = model.element_size
@@ -275,9 +283,12 @@ class Static:
             ratio = max(np.linalg.norm(r[:, :3]) / force_ref, np.linalg.norm(r[:, 3:]) / moment_ref)
             return r, ratio
 
-        r, ratio = residual(state)
+        r, ratio = residual(state, _frames(model, state.directors))
         index = np.flatnonzero(free.ravel())
         for iteration in range(1, self.max_iterations + 1):
+            frames = _frames(model, state.directors)
+            if iteration > 1:  # the same residual, in this iteration's frames
+                r, ratio = residual(state, frames)
             if not np.isfinite(ratio):
                 raise _Failed("non-finite residual")
             if ratio <= self.tol:
@@ -302,8 +313,8 @@ class Static:
             scale = 1.0
             for _ in range(6 if self.line_search else 1):
                 trial = state.copy()
-                _apply(model, trial, scale * delta)
-                r_new, ratio_new = residual(trial)
+                _apply(model, trial, scale * delta, frames)
+                r_new, ratio_new = residual(trial, frames)
                 if not self.line_search or (
                     np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol)
                 ):
