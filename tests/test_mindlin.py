@@ -275,3 +275,39 @@ def test_pinched_cylinder_with_rigid_diaphragms():
     model.force(loaded, (0.0, 0.0, -0.25))  # a quarter of the unit load on the octant
     result = Static(increments=1).solve(model)
     assert -result.displacements[loaded[0], 2] == pytest.approx(1.8248e-5, rel=0.02)
+
+
+@pytest.mark.parametrize("warp, modulus", [((1.0, 0.0, 0.0), 2e5), ((0.0, 1.0, 0.0), 5e4)])
+def test_orthotropic_strip_bends_with_the_modulus_along_it(warp, modulus):
+    # E1 = 2e5 along the warp, E2 = 5e4 across it, nu12 = 0: a cantilever along x is as stiff
+    # as E1 when the warp is x and as E2 when it is y (Euler-Bernoulli, L/h = 100).
+    length, width, thickness, load = 100.0, 10.0, 1.0, 1e-3
+    material = ElasticShell.orthotropic(2e5, 5e4, 0.0, 3e4, 3e4, 3e4, thickness, 1e-9, warp=warp)
+    mesh = Mesh.rectangle(length, width, nx=20, ny=2)
+    model = Model(mesh)
+    model.add(MindlinShell(material))
+    model.fix("left")
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, load / len(tip)))
+    u = linear_solve(model.compile())
+    beam = load * length**3 / (3 * modulus * width * thickness**3 / 12)
+    assert u[tip, 2].mean() == pytest.approx(beam, rel=0.02)
+
+
+def test_section_forces_under_an_end_moment():
+    # Linear cantilever under an end moment M: a uniform bending moment M / b per unit width,
+    # no membrane force, no shear force (statics).
+    length, width, thickness, moment = 100.0, 10.0, 1.0, 1e-3
+    mesh = Mesh.rectangle(length, width, nx=10, ny=2)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(1e5, 0.0, thickness, 1e-9)))
+    model.fix("left")
+    tip = mesh.nodes("right")
+    model.moment(tip, (0.0, -moment / len(tip), 0.0))
+    from solvers import Static
+
+    fields = Static(increments=1).solve(model).frames[-1].fields["triangle"]
+    m11 = fields["bending_moment"][:, 0]
+    assert np.abs(m11).mean() == pytest.approx(moment / width, rel=0.02)
+    assert np.abs(fields["membrane_force"]).max() < 1e-3 * moment / thickness
+    assert np.abs(fields["shear_force"]).max() < 0.05 * moment / width
