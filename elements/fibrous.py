@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.base import ElementBlock, ElementType
-from elements.shell_geometry import GUARD, lumped_mass, nodal_thickness
+from elements.shell_geometry import guarded_thickness, lumped_mass, nodal_thickness
 from femcore.assembly import Scatter
 from femcore.mesh import Mesh
 from femcore.rotation import cross
@@ -232,13 +232,13 @@ class FibrousShellBlock(ElementBlock):
         return sides
 
     # ------------------------------------------------------------------ kinematics
-    def _geometry(self, positions: np.ndarray, directors: np.ndarray) -> dict:
+    def _geometry(self, positions: np.ndarray, directors: np.ndarray, layers: bool = True) -> dict:
         """Element normals, thickness along the directors, and the fibre vectors of each level.
 
         Returns arrays over cells: corners (m,3,3), directors (m,3,3), normal (m,3),
-        double_area (m,), cosine V.n (m,3), thickness h_m (m,3), guarded (m,3) bool,
-        g1, g2 (m,L,3): covariant vectors of Eq. 8 at each fibre level (warp or weft along
-        edge 0 -> 1 and 0 -> 2).
+        double_area (m,), cosine V.n (m,3), thickness h_m (m,3), guarded (m,3) bool, and with
+        ``layers`` g1, g2 (m,L,3): covariant vectors of Eq. 8 at each fibre level (warp or
+        weft along edge 0 -> 1 and 0 -> 2).
         """
         x = positions[self.connectivity]
         v = directors[self.connectivity]
@@ -246,12 +246,8 @@ class FibrousShellBlock(ElementBlock):
         double_area = np.linalg.norm(normal, axis=1)
         normal /= double_area[:, None]
         cosine = np.matmul(v, normal[:, :, None])[..., 0]
-        guarded = cosine < GUARD
-        h_m = self.fabric.thickness / np.maximum(cosine, GUARD)  # Eq. 10 / 14
-        # Fibre end points x_k^f = x_k + zeta_f/2 h_m^k V_k, (m, 3, L, 3).
-        offset = 0.5 * self.zeta[None, None, :, None] * (h_m[:, :, None] * v)[:, :, None, :]
-        layer = x[:, :, None, :] + offset
-        return {
+        h_m, guarded = guarded_thickness(self.fabric.thickness, cosine)  # Eq. 10 / 14
+        geo = {
             "corners": x,
             "directors": v,
             "normal": normal,
@@ -259,9 +255,14 @@ class FibrousShellBlock(ElementBlock):
             "cosine": cosine,
             "thickness": h_m,
             "guarded": guarded,
-            "g1": layer[:, 1] - layer[:, 0],
-            "g2": layer[:, 2] - layer[:, 0],
         }
+        if layers:
+            # Fibre end points x_k^f = x_k + zeta_f/2 h_m^k V_k, (m, 3, L, 3).
+            offset = 0.5 * self.zeta[None, None, :, None] * (h_m[:, :, None] * v)[:, :, None, :]
+            layer = x[:, :, None, :] + offset
+            geo["g1"] = layer[:, 1] - layer[:, 0]
+            geo["g2"] = layer[:, 2] - layer[:, 0]
+        return geo
 
     def _strains(self, geo: dict) -> dict:
         """Log fibre strains eps1, eps2 along edges 0-1 and 0-2 and shear angles (m, L)."""
@@ -477,7 +478,9 @@ class FibrousShellBlock(ElementBlock):
     def nodal_thickness(self, state: State) -> np.ndarray:
         """Thickness along the director at the nodes (n,), mm: area-weighted mean of the
         per-element h_m (THEORY §1.4); 0 at nodes outside the block."""
-        geo = self._geometry(state.positions, state.directors)
+        return self._nodal_thickness(self._geometry(state.positions, state.directors, layers=False))
+
+    def _nodal_thickness(self, geo: dict) -> np.ndarray:
         return nodal_thickness(
             geo["thickness"], 0.5 * geo["double_area"], self.connectivity, self.n_nodes
         )
@@ -485,7 +488,7 @@ class FibrousShellBlock(ElementBlock):
     def guarded_nodes(self, state: State) -> np.ndarray:
         """Ids of the nodes where V.n fell below the guard of h_m = h / max(V.n, 0.2) in some
         element (the thickness along the director is capped there at 5 h)."""
-        geo = self._geometry(state.positions, state.directors)
+        geo = self._geometry(state.positions, state.directors, layers=False)
         return np.unique(self.connectivity[geo["guarded"]])
 
     def lumped_mass(self, state: State, density_scale=None):
@@ -549,9 +552,10 @@ class FibrousShellBlock(ElementBlock):
         }
 
     def node_fields(self, state: State) -> dict[str, np.ndarray]:
+        geo = self._geometry(state.positions, state.directors, layers=False)
         guarded = np.zeros(self.n_nodes)
-        guarded[self.guarded_nodes(state)] = 1.0
-        return {"thickness": self.nodal_thickness(state), "thickness_guarded": guarded}
+        guarded[self.connectivity[geo["guarded"]]] = 1.0
+        return {"thickness": self._nodal_thickness(geo), "thickness_guarded": guarded}
 
     def total_mass(self) -> float:
         """Physical mass of the block (t)."""

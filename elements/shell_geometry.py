@@ -16,6 +16,7 @@ __all__ = [
     "drop_along",
     "element_areas",
     "element_normals",
+    "guarded_thickness",
     "lumped_mass",
     "nodal_frames",
     "nodal_thickness",
@@ -74,11 +75,18 @@ def thickness_along_director(
     triangles : (m, 3); normals : (m, 3) unit element normals.
     Returns h_m (m, 3), mm, and a (m, 3) bool mask of the corners that hit the guard.
     """
-    cosine = np.einsum("mkj,mj->mk", directors[triangles], normals)
-    guarded = cosine < guard
+    cosine = np.matmul(directors[triangles], normals[:, :, None])[..., 0]
+    return guarded_thickness(thickness, cosine, guard)
+
+
+def guarded_thickness(
+    thickness: float | np.ndarray, cosine: np.ndarray, guard: float = GUARD
+) -> tuple[np.ndarray, np.ndarray]:
+    """h_m = h / max(V . n, guard) from the cosines V_k . n_e (m, 3) (Bai Eq. 10, 14), and the
+    (m, 3) bool mask of the corners that hit the guard."""
     h = np.asarray(thickness, dtype=float)
     h = h[:, None] if h.ndim == 1 else h
-    return h / np.maximum(cosine, guard), guarded
+    return h / np.maximum(cosine, guard), cosine < guard
 
 
 def nodal_thickness(
