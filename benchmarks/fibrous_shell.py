@@ -16,7 +16,6 @@ Run from the project root:
 from __future__ import annotations
 
 import argparse
-import math
 import platform
 import sys
 import time
@@ -24,36 +23,12 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
+from shell_sheet import GRAVITY, print_explicit_table  # noqa: E402
+
 from elements import FibrousShell  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from materials import presets  # noqa: E402
-from solvers import CentralDifference, DynamicRelaxation  # noqa: E402
-
-GRAVITY = (0.0, 0.0, -9810.0)  # mm/s^2
-
-
-def explicit(triangles: int, steps: int) -> dict:
-    n = max(2, round(math.sqrt(triangles / 2)))
-    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
-    model = Model(mesh)
-    model.add(FibrousShell(presets.g986_stack()))
-    for edge in ("left", "right", "bottom", "top"):
-        model.fix(edge, ["ux", "uy", "uz"])
-    model.gravity(GRAVITY)
-    compiled = model.compile()
-    dt = 0.9 * compiled.stable_dt(compiled.initial_state())
-    solver = CentralDifference(duration=steps * dt, dt=dt, output_interval=steps * dt)
-    started = time.perf_counter()
-    result = solver.solve(compiled)
-    wall = time.perf_counter() - started
-    elements = len(mesh.triangles)
-    return {
-        "elements": elements,
-        "nodes": mesh.n_nodes,
-        "steps": result.steps,
-        "wall_s": wall,
-        "us_per_element_step": 1e6 * wall / (elements * result.steps),
-    }
+from solvers import DynamicRelaxation  # noqa: E402
 
 
 def relaxation() -> dict:
@@ -82,14 +57,13 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-relaxation", action="store_true")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
-    print("FibrousShell, CentralDifference:")
-    print(f"{'elements':>9} {'nodes':>8} {'steps':>6} {'wall s':>8} {'us/elem-step':>13}")
-    for size in (int(s) for s in args.sizes.split(",")):
-        row = explicit(size, args.steps)
-        print(
-            f"{row['elements']:9d} {row['nodes']:8d} {row['steps']:6d} {row['wall_s']:8.2f} "
-            f"{row['us_per_element_step']:13.3f}"
-        )
+    sizes = [int(size) for size in args.sizes.split(",")]
+    print_explicit_table(
+        "FibrousShell, CentralDifference:",
+        lambda: FibrousShell(presets.g986_stack()),
+        sizes,
+        args.steps,
+    )
     if not args.skip_relaxation:
         row = relaxation()
         print(

@@ -25,36 +25,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
+from shell_sheet import print_explicit_table  # noqa: E402
+
 from elements import MindlinShell  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from materials import ElasticShell  # noqa: E402
-from solvers import CentralDifference, Static  # noqa: E402
+from solvers import Static  # noqa: E402
 
 ALUMINIUM = dict(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)  # MPa, mm, t/mm^3
-
-
-def explicit(triangles: int, steps: int) -> dict:
-    n = max(2, round(math.sqrt(triangles / 2)))
-    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(**ALUMINIUM)))
-    for edge in ("left", "right", "bottom", "top"):
-        model.fix(edge, ["ux", "uy", "uz"])
-    model.gravity((0.0, 0.0, -9810.0))
-    compiled = model.compile()
-    dt = 0.9 * compiled.stable_dt(compiled.initial_state())
-    solver = CentralDifference(duration=steps * dt, dt=dt, output_interval=steps * dt)
-    started = time.perf_counter()
-    result = solver.solve(compiled)
-    wall = time.perf_counter() - started
-    elements = len(mesh.triangles)
-    return {
-        "elements": elements,
-        "nodes": mesh.n_nodes,
-        "steps": result.steps,
-        "wall_s": wall,
-        "us_per_element_step": 1e6 * wall / (elements * result.steps),
-    }
 
 
 def roll_up() -> dict:
@@ -112,14 +90,13 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-static", action="store_true")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
-    print("MindlinShell, CentralDifference:")
-    print(f"{'elements':>9} {'nodes':>8} {'steps':>6} {'wall s':>8} {'us/elem-step':>13}")
-    for size in (int(s) for s in args.sizes.split(",")):
-        row = explicit(size, args.steps)
-        print(
-            f"{row['elements']:9d} {row['nodes']:8d} {row['steps']:6d} {row['wall_s']:8.2f} "
-            f"{row['us_per_element_step']:13.3f}"
-        )
+    sizes = [int(size) for size in args.sizes.split(",")]
+    print_explicit_table(
+        "MindlinShell, CentralDifference:",
+        lambda: MindlinShell(ElasticShell(**ALUMINIUM)),
+        sizes,
+        args.steps,
+    )
     if not args.skip_static:
         row = roll_up()
         print(

@@ -87,6 +87,24 @@ def check_positive_or_none(value, name: str, unit: str = "") -> float | None:
     return None if value is None else check_positive(value, name, unit)
 
 
+def inverse_diagonal(values: np.ndarray) -> np.ndarray:
+    """1 / m as an (n, 1) column for a lumped diagonal (n,), 0 where m is not positive (nodes
+    without that kind of DOF), ready to scale (n, 3) residuals."""
+    positive = values > 0
+    return np.where(positive, 1.0 / np.where(positive, values, 1.0), 0.0)[:, None]
+
+
+def check_tolerance(value, name: str = "tol") -> float:
+    """A relative tolerance strictly between 0 and 1, or ValueError naming it."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be in (0, 1), got {value!r}") from None
+    if not np.isfinite(number) or not (0.0 < number < 1.0):
+        raise ValueError(f"{name} must be in (0, 1), got {value!r}")
+    return number
+
+
 def check_integer(value, name: str, minimum: int = 1) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")

@@ -25,6 +25,7 @@ from solvers.common import (
     ProgressLine,
     check_positive_or_none,
     empty_result,
+    inverse_diagonal,
     make_frame,
     resolve_progress,
 )
@@ -110,8 +111,8 @@ class CentralDifference:
         added_mass = float(mass.sum() - compiled.mass0.sum())
         rot = compiled.has_rotation
         any_rot = bool(rot.any())
-        inv_mass = np.where(mass > 0, 1.0 / np.where(mass > 0, mass, 1.0), 0.0)[:, None]
-        inv_inertia = np.where(inertia > 0, 1.0 / np.where(inertia > 0, inertia, 1.0), 0.0)[:, None]
+        inv_mass = inverse_diagonal(mass)
+        inv_inertia = inverse_diagonal(inertia)
 
         free = compiled.translation_free
         constrained = compiled.translation_constrained
@@ -158,9 +159,7 @@ class CentralDifference:
                     # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
                     # I under a tilting director makes the director modes unstable.
                     _, inertia = compiled.lumped_mass(state, scale)
-                    inv_inertia = np.where(
-                        inertia > 0, 1.0 / np.where(inertia > 0, inertia, 1.0), 0.0
-                    )[:, None]
+                    inv_inertia = inverse_diagonal(inertia)
                 if self.dt is None:
                     dt_nominal = self._step_size(compiled, state, scale)
             dt = min(dt_nominal, duration - state.time)

@@ -30,7 +30,9 @@ from solvers.common import (
     DivergenceError,
     ProgressLine,
     check_integer,
+    check_tolerance,
     empty_result,
+    inverse_diagonal,
     make_frame,
     resolve_progress,
 )
@@ -59,9 +61,7 @@ class DynamicRelaxation:
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
-        if not np.isfinite(tol) or not (0.0 < tol < 1.0):
-            raise ValueError(f"tol must be in (0, 1), got {tol!r}")
-        self.tol = float(tol)
+        self.tol = check_tolerance(tol)
         self.max_iterations = check_integer(max_iterations, "max_iterations")
         if damping not in DAMPING_KINDS:
             raise ValueError(f"unknown damping {damping!r}: expected one of {DAMPING_KINDS}")
@@ -138,8 +138,8 @@ class DynamicRelaxation:
             state.positions = np.where(model.translation_prescribed, target, state.positions)
 
         mass, inertia = model.lumped_mass(state)
-        inv_mass = (1.0 / np.where(mass > 0, mass, np.inf))[:, None]
-        inv_inertia = (1.0 / np.where(inertia > 0, inertia, np.inf))[:, None]
+        inv_mass = inverse_diagonal(mass)
+        inv_inertia = inverse_diagonal(inertia)
         dt = self.safety * model.stable_dt(state)
         n_free = int(free.sum()) + 2 * int((rot[:, None] & ~model.rotation_fixed).sum())
         sqrt_n = math.sqrt(max(n_free, 1))
@@ -228,7 +228,7 @@ class DynamicRelaxation:
                 restart = True
                 # The rotary inertia follows h_m (Eq. 39) and the step follows the geometry.
                 mass, inertia = model.lumped_mass(state)
-                inv_inertia = (1.0 / np.where(inertia > 0, inertia, np.inf))[:, None]
+                inv_inertia = inverse_diagonal(inertia)
                 dt = self.safety * model.stable_dt(state)
                 progress(
                     f"increment {increment}: iteration {iteration}, residual ratio "

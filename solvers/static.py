@@ -32,6 +32,7 @@ from solvers.common import (
     ConvergenceError,
     ProgressLine,
     check_integer,
+    check_tolerance,
     empty_result,
     make_frame,
     resolve_progress,
@@ -188,9 +189,7 @@ class Static:
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
-        if not np.isfinite(tol) or not (0.0 < tol < 1.0):
-            raise ValueError(f"tol must be in (0, 1), got {tol!r}")
-        self.tol = float(tol)
+        self.tol = check_tolerance(tol)
         self.max_iterations = check_integer(max_iterations, "max_iterations")
         self.line_search = bool(line_search)
         self.max_cuts = check_integer(max_cuts, "max_cuts", minimum=0)

@@ -1,4 +1,5 @@
-"""Helpers shared by the fibrous-shell tests: small models and a finite-difference stiffness."""
+"""Helpers shared by the shell tests: small fibrous models, a finite-difference stiffness, a
+cylinder mapping."""
 
 import numpy as np
 

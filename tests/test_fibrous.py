@@ -14,7 +14,7 @@ from elements.fibrous import lobatto_levels
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import BendingLaw, Fabric, ShearLaw
-from tests.fibrous_helpers import compiled, fabric, on_cylinder, stiffness_and_mass
+from tests.shell_helpers import compiled, fabric, on_cylinder, stiffness_and_mass
 
 RNG = np.random.default_rng(7)
 

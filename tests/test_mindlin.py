@@ -9,7 +9,7 @@ from elements import MindlinShell
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import ElasticShell
-from tests.fibrous_helpers import stiffness_and_mass
+from tests.shell_helpers import stiffness_and_mass
 
 MESH = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
 

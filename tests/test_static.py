@@ -8,7 +8,7 @@ from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw
 from solvers import ConvergenceError, DynamicRelaxation, Static
 from solvers.static import _unknowns, finite_difference_tangent
-from tests.fibrous_helpers import stiffness_and_mass
+from tests.shell_helpers import stiffness_and_mass
 
 
 def fibrous_strip(tension=1200.0, cells=10):
