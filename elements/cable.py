@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.base import ElementBlock, ElementType, check_positive
+from elements.base import CellTangent, ElementBlock, ElementType, check_positive
 from femcore.assembly import Scatter
 from femcore.mesh import Mesh
 from femcore.state import State
@@ -40,6 +40,7 @@ class CableBlock(ElementBlock):
 
     dofs = Cable.dofs
     cell_type = Cable.cell_type
+    reach = 1
 
     def __init__(self, cable: Cable, mesh: Mesh, cell_ids: np.ndarray):
         self.material = cable
@@ -76,6 +77,21 @@ class CableBlock(ElementBlock):
         chord, length, _, force = self._axial(state)
         pull = (force / length)[:, None] * chord  # on node 2 (= dW/dx2); node 1 gets the opposite
         return self.scatter.vectors(np.stack([-pull, pull], axis=1)), None
+
+    def tangent(self, state: State) -> list[CellTangent]:
+        """Exact 6 x 6 stiffness of each cable: material (EA / L0) e e^T plus geometric
+        (N / l) (I - e e^T), e the unit chord; zero for a slack tension-only cable."""
+        chord, length, _, force = self._axial(state)
+        e = chord / length[:, None]
+        along = e[:, :, None] * e[:, None, :]
+        axial = self.material.axial_stiffness / self.rest_length
+        if self.material.tension_only:
+            axial = np.where(force > 0.0, axial, 0.0)
+        k = axial[:, None, None] * along + (force / length)[:, None, None] * (np.eye(3) - along)
+        blocks = np.empty((len(k), 2, 3, 2, 3))
+        blocks[:, 0, :, 0] = blocks[:, 1, :, 1] = k
+        blocks[:, 0, :, 1] = blocks[:, 1, :, 0] = -k
+        return [CellTangent(self.connectivity, blocks)]
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
         # Two lumped masses mu L0/2 joined by the axial stiffness EA/L0 (+ the geometric

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.base import ElementBlock, ElementType
+from elements.base import CellTangent, ElementBlock, ElementType, local_tangent
 from elements.shell_geometry import guarded_thickness, lumped_mass, nodal_thickness
 from femcore.assembly import Scatter
 from femcore.mesh import Mesh
@@ -240,8 +240,12 @@ class FibrousShellBlock(ElementBlock):
         ``layers`` g1, g2 (m,L,3): covariant vectors of Eq. 8 at each fibre level (warp or
         weft along edge 0 -> 1 and 0 -> 2).
         """
-        x = positions[self.connectivity]
-        v = directors[self.connectivity]
+        return self._cell_geometry(
+            positions[self.connectivity], directors[self.connectivity], layers
+        )
+
+    def _cell_geometry(self, x: np.ndarray, v: np.ndarray, layers: bool = True) -> dict:
+        """``_geometry`` from the corner positions x and directors v (m, 3, 3) of each cell."""
         normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
         double_area = np.linalg.norm(normal, axis=1)
         normal /= double_area[:, None]
@@ -356,18 +360,10 @@ class FibrousShellBlock(ElementBlock):
         gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
             d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
         """
-        if geo is None:
-            x = positions[self.connectivity]
-            normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
-            double_area = np.linalg.norm(normal, axis=1)
-            n = normal / double_area[:, None]
-        else:
-            x, n, double_area = geo["corners"], geo["normal"], geo["double_area"]
-        side = x[:, _Q] - x[:, _P]  # (m, 3, 3): side s from p to q
-        side_length = np.linalg.norm(side, axis=-1)
-        outward = cross(side, n[:, None, :]) / side_length[..., None]  # n^c_s
-        grad_n = cross(n[:, None, :], side) / double_area[:, None, None]  # grad N_k
-        gradient = -np.matmul(outward, grad_n.transpose(0, 2, 1))  # D[s, k]
+        x = positions[self.connectivity] if geo is None else geo["corners"]
+        sides = _side_geometry(x)
+        n, double_area = sides["normal"], sides["double_area"]
+        side_length, outward, gradient = sides["length"], sides["outward"], sides["gradient"]
 
         nb = self._across_cell
         n_other = np.where(self.interior_side[..., None], n[nb], 0.0)
@@ -405,11 +401,13 @@ class FibrousShellBlock(ElementBlock):
         chi = -np.matmul(coefficients, (bend["fold"] - self.reference_fold)[:, :, None])[..., 0]
         return chi, coefficients
 
-    def _bending_moments(self, chi: np.ndarray) -> np.ndarray:
-        """M (m, 2) per unit width along edges 0-1 and 0-2 from the warp and weft laws."""
+    def _bending_moments(self, chi: np.ndarray, slope: bool = False) -> np.ndarray:
+        """M (m, 2) per unit width along edges 0-1 and 0-2 from the warp and weft laws (or,
+        with ``slope``, dM/dchi)."""
         warp, weft = self._by_family(chi[:, 0], chi[:, 1])
-        m_warp = self.fabric.bending.value(warp)
-        m_weft = self.fabric.bending_weft.value(weft)
+        law = "slope" if slope else "value"
+        m_warp = getattr(self.fabric.bending, law)(warp)
+        m_weft = getattr(self.fabric.bending_weft, law)(weft)
         return np.stack(
             [np.where(self.xi_is_warp, m_warp, m_weft), np.where(self.xi_is_warp, m_weft, m_warp)],
             axis=1,
@@ -428,6 +426,66 @@ class FibrousShellBlock(ElementBlock):
         side_moment = own + across  # free sides: own = 0 since c = 0
         weights = np.matmul(side_moment[:, None, :], bend["gradient"])[:, 0]
         return weights[..., None] * bend["normal"][:, None, :]
+
+    # ------------------------------------------------------------------ tangent
+    def _membrane_loads(self, x: np.ndarray, v: np.ndarray):
+        """Unscattered tension + shear forces and director moments (m, 3, 3) of each cell."""
+        geo = self._cell_geometry(x, v)
+        p1, p2 = self._layer_loads(geo, self._strains(geo))
+        return self._layer_forces(geo, p1, p2)
+
+    def tangent(self, state: State) -> list[CellTangent]:
+        """Stiffness of tension + shear (each cell's own 18 x 18, by central differences of its
+        loads, all cells at once) and of bending (Eq. 37 differentiated, see
+        ``_bending_tangent``)."""
+        x = state.positions[self.connectivity]
+        v = state.directors[self.connectivity]
+        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
+        membrane = local_tangent(self._membrane_loads, x, v, step)
+        return [CellTangent(self.connectivity, membrane), *self._bending_tangent(state, step)]
+
+    def _bending_tangent(self, state: State, step: float) -> list[CellTangent]:
+        """Stiffness of the bending forces F = sum_e A0 sum_a M_a(chi_a) dchi_a/dx (Eq. 37).
+
+        Material part: sum_e A0 sum_a (dM_a/dchi) g_a g_a^T with g_a = dchi_a/dx = -sum_s c_as
+        dtheta_s/dx over the element's patch: its own three nodes (the share D[s, k] n of
+        every side) and the three nodes of each neighbour (the neighbour's share).
+        Geometric part: sum_s mu_s d2theta_s/dx2, i.e. each element's own share mu_s D[s, k] n
+        differentiated (central differences over its three corners, the side moments mu_s
+        held). The coefficients c_as are held too, as in the force (exact with
+        ``bending_geometry="reference"``; with "current" the neglected dc/dx terms are of the
+        order of the fold-angle change over the increment).
+        """
+        bend = self._bending_geometry(state.positions)
+        chi, coefficients = self._curvatures(bend)
+        slopes = self._bending_moments(chi, slope=True)
+        share = bend["gradient"][..., None] * bend["normal"][:, None, None, :]  # (m, s, k, 3)
+        across_share = np.where(
+            self.interior_side[..., None, None], share[self._across_cell, self._across_side], 0.0
+        )
+        m = len(self.cell_ids)
+        own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
+        across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
+        g = np.concatenate([own, across.reshape(m, 2, 9, 3)], axis=2)  # (m, a, 12, 3)
+        nodes = np.concatenate(
+            [self.connectivity, self.connectivity[self._across_cell].reshape(m, 9)], axis=1
+        )
+        weight = self.reference_area[:, None] * slopes  # (m, a)
+        material = np.einsum("ma,maki,malj->mkilj", weight, g, g)
+
+        moments = self._bending_moments(chi)
+        own_mu = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
+        across_mu = np.where(self.interior_side, own_mu[self._across_cell, self._across_side], 0.0)
+        side_moment = own_mu + across_mu
+
+        def share_forces(x, _):
+            sides = _side_geometry(x)
+            w = np.matmul(side_moment[:, None, :], sides["gradient"])[:, 0]
+            return w[..., None] * sides["normal"][:, None, :], None
+
+        x = state.positions[self.connectivity]
+        geometric = local_tangent(share_forces, x, None, step)
+        return [CellTangent(nodes, material), CellTangent(self.connectivity, geometric)]
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State):
@@ -563,6 +621,28 @@ class FibrousShellBlock(ElementBlock):
 
 
 # ---------------------------------------------------------------------- helpers
+def _side_geometry(x: np.ndarray) -> dict:
+    """Per-cell geometry of the sides from the corners x (m, 3, 3): unit normal n (m, 3),
+    double_area (m,), side length (m, 3) and outward in-plane unit normal n^c_s (m, 3, 3), and
+    gradient D (m, 3, 3), D[s, k] = -grad N_k . n^c_s: the element's share of the fold angle's
+    gradient is d phi_s / d x_k = D[s, k] n (Eq. 36)."""
+    normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    double_area = np.linalg.norm(normal, axis=1)
+    n = normal / double_area[:, None]
+    side = x[:, _Q] - x[:, _P]  # (m, 3, 3): side s from p to q
+    length = np.linalg.norm(side, axis=-1)
+    outward = cross(side, n[:, None, :]) / length[..., None]  # n^c_s
+    grad_n = cross(n[:, None, :], side) / double_area[:, None, None]  # grad N_k
+    gradient = -np.matmul(outward, grad_n.transpose(0, 2, 1))  # D[s, k]
+    return {
+        "normal": n,
+        "double_area": double_area,
+        "length": length,
+        "outward": outward,
+        "gradient": gradient,
+    }
+
+
 def _shear_angle(g1: np.ndarray, g2: np.ndarray) -> np.ndarray:
     """gamma = pi/2 - angle(g1, g2) (Eq. 21), rad; > 0 when the warp-weft angle closes."""
     c = np.sum(g1 * g2, axis=-1) / (np.linalg.norm(g1, axis=-1) * np.linalg.norm(g2, axis=-1))

@@ -7,8 +7,8 @@ from elements import Cable, FibrousShell, MindlinShell
 from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw
 from solvers import ConvergenceError, DynamicRelaxation, Static
-from solvers.static import _unknowns, finite_difference_tangent
-from tests.shell_helpers import stiffness_and_mass
+from solvers.static import _frames, _unknowns, element_tangent, finite_difference_tangent
+from tests.shell_helpers import fabric, on_cylinder, stiffness_and_mass
 
 
 def fibrous_strip(tension=1200.0, cells=10):
@@ -37,6 +37,164 @@ def test_coloured_tangent_equals_the_dense_jacobian():
     free = _unknowns(compiled).ravel()
     dense, _ = stiffness_and_mass(compiled, state, step=1e-6 * compiled.element_size)
     assert np.abs(sparse[np.ix_(free, free)] - dense).max() <= 1e-6 * np.abs(dense).max()
+
+
+def _bent_model(element, seed=1):
+    """A 4 x 3 patch wrapped on a cylinder, jittered, with jittered directors (no symmetry
+    left for an error to hide behind); the left edge fixed."""
+    mesh = Mesh.rectangle(4.0, 3.0, nx=4, ny=3)
+    rng = np.random.default_rng(seed)
+    positions, directors = on_cylinder(mesh.points, 5.0)
+    model = Model(mesh)
+    model.add(element)
+    model.fix("left")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    state.positions = positions + rng.normal(scale=0.05, size=positions.shape)
+    tilted = directors + rng.normal(scale=0.05, size=directors.shape)
+    state.directors = tilted / np.linalg.norm(tilted, axis=1)[:, None]
+    return compiled, state
+
+
+@pytest.mark.parametrize(
+    "element",
+    [
+        MindlinShell(ElasticShell(1e3, 0.3, 0.3, 1e-9)),
+        FibrousShell(fabric(), bending_geometry="reference", clamped="left"),
+        FibrousShell(fabric(), bending_geometry="reference"),
+    ],
+    ids=["mindlin", "fibrous-clamped-edge", "fibrous"],
+)
+def test_element_tangent_equals_the_finite_difference_tangent(element):
+    # The elements' own stiffness (Mindlin: per-triangle central differences; fibrous:
+    # per-cell tension/shear plus the differentiated bending of Eq. 37) against the coloured
+    # finite differences of the assembled internal force, on the free unknowns. Both are
+    # differences of step 1e-6: agreement to 1e-6 of the largest entry is their accuracy.
+    compiled, state = _bent_model(element)
+    free = _unknowns(compiled).ravel()
+    reference = finite_difference_tangent(compiled, state).toarray()[np.ix_(free, free)]
+    own = element_tangent(compiled, state, _frames(compiled, state.directors)).toarray()
+    own = own[np.ix_(free, free)]
+    assert np.abs(own - reference).max() <= 1e-6 * np.abs(reference).max()
+
+
+def test_fibrous_tangent_with_current_bending_coefficients_is_close():
+    # With c_as from the current geometry (Bai, the default) the tangent holds them fixed, as
+    # the force does; the neglected dc/dx terms are small on a strongly distorted patch.
+    compiled, state = _bent_model(FibrousShell(fabric()))
+    free = _unknowns(compiled).ravel()
+    reference = finite_difference_tangent(compiled, state).toarray()[np.ix_(free, free)]
+    own = element_tangent(compiled, state, _frames(compiled, state.directors)).toarray()
+    own = own[np.ix_(free, free)]
+    assert np.abs(own - reference).max() <= 0.05 * np.abs(reference).max()
+
+
+def test_cable_tangent_is_exact():
+    mesh = Mesh.line((0.0, 0.0, 0.0), (10.0, 2.0, 1.0), 3)
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness=100.0, mass_per_length=1e-6))
+    compiled = model.compile()
+    state = compiled.initial_state()
+    state.positions = state.positions + np.random.default_rng(2).normal(scale=0.3, size=(4, 3))
+    reference = finite_difference_tangent(compiled, state).toarray()
+    own = element_tangent(compiled, state, None).toarray()
+    assert np.abs(own - reference).max() <= 1e-6 * np.abs(reference).max()
+
+
+def test_newton_converges_quadratically_with_the_element_tangent():
+    # Mindlin cantilever under a large tip load (P L^2 / EI = 3): with the element's own
+    # tangent the end of each increment is quadratic; the finite-difference tangent (equal to
+    # it to ~1e-10) follows the same iterations to the same state.
+    length, width, thickness, young = 100.0, 5.0, 1.0, 1e5
+    mesh = Mesh.rectangle(length, width, nx=10, ny=1)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
+    model.fix("left")
+    load = 3.0 * young * width * thickness**3 / 12 / length**2
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, -load / len(tip)))
+    own = Static(increments=3).solve(model)
+    for history in own.info["residual_history"]:
+        # Quadratic: once below 1e-3, at most 3 more iterations reach the 1e-8 tolerance
+        # (1e-3 -> 1e-6 -> 1e-12); a linearly converging iteration would need many more.
+        first = next(i for i, ratio in enumerate(history) if ratio < 1e-3)
+        assert len(history) - 1 - first <= 3, history
+    numeric = Static(increments=3, tangent="finite_difference").solve(model)
+    assert numeric.info["tangent"]["finite_difference"] == ["MindlinShellBlock"]
+    assert own.positions == pytest.approx(numeric.positions, abs=1e-6 * length)
+
+
+def _chain(shortening, lateral):
+    """Two 5 mm bars in a line along x, the far end moved by ``shortening`` along x, a
+    lateral force on the middle node; out-of-plane motion fixed."""
+    mesh = Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 2)
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness=1e3, mass_per_length=1e-6))
+    model.fix("start")
+    model.fix(np.arange(3), "uz")
+    model.fix(2, "uy")
+    model.displace("end", ux=shortening)
+    if lateral:
+        model.force(1, (0.0, lateral, 0.0))
+    return model
+
+
+def test_a_straight_compressed_chain_is_reported_unstable():
+    # Pushed in without a lateral force, the straight chain is an equilibrium with N < 0: its
+    # middle node has the lateral stiffness 2 N / l < 0 (no bending stiffness: Euler load 0).
+    # Pulled out, it is stable.
+    pushed = Static(increments=2).solve(_chain(-0.1, 0.0))
+    assert pushed.info["indefinite_at"] == [0.5, 1.0]
+    assert pushed.positions[1, 1] == 0.0
+    pulled = Static(increments=2).solve(_chain(0.1, 0.0))
+    assert pulled.info["indefinite_at"] == []
+
+
+def test_a_compressed_chain_pushed_sideways_buckles_to_its_rest_length():
+    # With a small lateral force the solver leaves the unstable straight state (its first
+    # tangent is singular, N = 0) and finds the buckled one. Closed form: the middle node at
+    # (4.95, y) with 2 N y / l = F, N = EA (l / 5 - 1), l = sqrt(4.95^2 + y^2): y = 0.70546,
+    # nearly the inextensible sqrt(5^2 - 4.95^2) = 0.70534.
+    from scipy.optimize import brentq
+
+    def unbalance(y):
+        length = np.hypot(4.95, y)
+        return 2 * 1e3 * (length / 5.0 - 1.0) * y / length - 1e-3
+
+    expected = brentq(unbalance, 0.6, 0.8, xtol=1e-14)
+    result = Static(increments=1).solve(_chain(-0.1, 1e-3))
+    assert result.positions[1, 1] == pytest.approx(expected, rel=1e-8)
+    assert result.info["indefinite_at"] == []
+
+
+def test_a_snap_through_under_a_soft_spring_stops_with_the_load_factor():
+    # Von Mises truss (half-span 10, rise 1, EA 1e4) pushed through a soft spring (1 N/mm)
+    # whose top end is lowered by 6 mm: past the truss's limit point the equilibrium path
+    # folds back, Newton cannot jump to the far branch, and the solver stops saying where.
+    # The limit point in spring-end travel, from the closed form F(w) of the truss, is
+    # w_top = w + F(w) / k at dF/dw = -k.
+    half_span, rise, stiffness, spring = 10.0, 1.0, 1e4, 1.0
+    points = np.array([[-half_span, 0, 0], [half_span, 0, 0], [0, 0, rise], [0, 0, rise + 10]])
+    mesh = Mesh(points, lines=np.array([[0, 2], [1, 2], [2, 3]]))
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness=stiffness, mass_per_length=1e-6), cells=[0, 1])
+    model.add(Cable(axial_stiffness=10.0 * spring, mass_per_length=1e-6), cells=[2])
+    model.fix([0, 1])
+    model.fix([2, 3], ("ux", "uy"))
+    model.displace(3, uz=-6.0)
+    rest = np.hypot(half_span, rise)
+    w = np.linspace(0.0, rise, 200_001)
+    length = np.hypot(half_span, rise - w)
+    force = -2 * stiffness * (length / rest - 1) * (rise - w) / length
+    top_travel = w + force / spring
+    limit = top_travel[np.argmax(np.diff(top_travel) < 0)]
+    with pytest.raises(ConvergenceError, match="load factor") as failure:
+        Static(increments=12).solve(model)
+    reached = failure.value.load_factor * 6.0
+    assert failure.value.result.frames[-1].load_factor == failure.value.load_factor
+    # Eight halvings of the 0.5 mm increment (with regrowth after each success) bring it
+    # within 1 % of the limit, never past it.
+    assert limit * 0.99 <= reached <= limit * 1.001
 
 
 def test_static_and_dynamic_relaxation_agree_on_the_fibrous_cantilever():
