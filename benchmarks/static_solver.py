@@ -73,7 +73,7 @@ def timed(solver, model):
 
 
 def describe(name, result, wall, converged, extra=""):
-    if isinstance(result.info, dict) and "iterations_per_increment" in result.info:
+    if name.startswith("Static"):
         its = f"Newton iterations per increment {result.info['iterations_per_increment']}"
     else:
         its = f"{result.steps} iterations"

@@ -24,7 +24,7 @@ import warnings
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import MatrixRankWarning, splu
+from scipy.sparse.linalg import ArpackNoConvergence, MatrixRankWarning, eigsh, splu
 
 from elements.base import ElementBlock
 from femcore.model import CompiledModel, Model
@@ -321,6 +321,12 @@ class Static:
     line_search : backtrack (halve the update, up to 5 times) while the residual ratio of the
         trial exceeds 10 x the current one.
     max_cuts : how many times an increment may be halved before a ConvergenceError.
+    seek_stable : when an update meets an indefinite tangent (det K_ff < 0), turn it downhill
+        along the negative modes (their components of the Newton step get the sign that lowers
+        the energy, a "saddle-free" step), and push a converged unstable equilibrium (a
+        compressed plate that stayed flat) along its buckling mode by half an element, up to
+        three times per increment: the solver then settles on the stable, buckled branch.
+        Each push is listed in ``info["branch_switches"]``.
     tangent : "element" (default): each block's own ``tangent`` where it has one, coloured
         finite differences of ``internal_force`` for the others; "finite_difference": coloured
         finite differences for every block.
@@ -349,6 +355,7 @@ class Static:
         line_search: bool = True,
         max_cuts: int = 8,
         tangent: str = "element",
+        seek_stable: bool = True,
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
@@ -359,6 +366,7 @@ class Static:
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
         self.tangent = tangent
+        self.seek_stable = bool(seek_stable)
         self.progress = progress
 
     def solve(self, model: Model | CompiledModel):
@@ -385,6 +393,7 @@ class Static:
             "residual_ratio_per_increment": [],
             "indefinite_at": [],
             "regularised_iterations": 0,
+            "branch_switches": [],
             "residual_history": [],
         }
 
@@ -492,6 +501,8 @@ class Static:
         moved_index = np.flatnonzero(prescribed.ravel())
         size = model.element_size
         singular = False
+        escapes = 0
+        translation = index % 5 < 3
         for iteration in range(1, self.max_iterations + 1):
             frames = _frames(model, state.directors)
             r, ratio = residual(state, frames)
@@ -500,11 +511,26 @@ class Static:
                 history = [ratio]
             if not np.isfinite(ratio):
                 raise _Failed("non-finite residual")
+            push = False
             if ratio <= self.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
                 if iteration == 1:  # no factorisation yet: one for the stability report
-                    negative = _solve(tangent(state, frames)[0], np.zeros(index.size))[1]
-                self._report_stability(negative, load_factor, info, progress)
-                return iteration - 1, ratio, history
+                    k_ff = tangent(state, frames)[0]
+                    negative = _solve(k_ff, np.zeros(index.size))[1]
+                if self.seek_stable and escapes < 3 and not negative:
+                    # det K > 0 misses an even number of negative modes: look for them.
+                    negative = _lowest_modes(k_ff)[0].min(initial=np.inf) < 0.0
+                if not (negative and self.seek_stable and escapes < 3):
+                    self._report_stability(negative, load_factor, info, progress)
+                    return iteration - 1, ratio, history
+                # An unstable equilibrium: leave it along its buckling mode.
+                escapes += 1
+                push = True
+                info["branch_switches"].append(load_factor)
+                progress(
+                    f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
+                    "the buckling mode",
+                    force=True,
+                )
             k_ff, k_fp = tangent(state, frames)
             rhs = r.ravel()[index]
             if moved_index.size:
@@ -527,6 +553,9 @@ class Static:
                         "singular tangent stiffness: a mechanism, an unconstrained rigid "
                         "motion or a bifurcation"
                     )
+            if (negative or escapes) and self.seek_stable:
+                load = _generalised(model, frames, f_ext, m_ext).ravel()[index]
+                delta_free = _downhill(k_ff, rhs, delta_free, load, translation, size, push)
             delta = left.ravel().copy()
             delta[index] = delta_free
             delta = delta.reshape(-1, 5)
@@ -536,13 +565,16 @@ class Static:
             scale = 1.0
             for _ in range(6 if self.line_search else 1):
                 trial = state.copy()
-                _apply(model, trial, scale * delta, frames)
-                _, ratio_new = residual(trial, frames)
+                with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
+                    _apply(model, trial, scale * delta, frames)
+                    _, ratio_new = residual(trial, frames)
                 if not self.line_search or (
                     np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol)
                 ):
                     break
                 scale *= 0.5
+            if not np.isfinite(ratio_new):
+                raise _Failed("non-finite residual after the line search")
             state.positions, state.directors = trial.positions, trial.directors
             ratio = ratio_new
             history.append(ratio)
@@ -605,6 +637,44 @@ class Static:
         result.converged = converged
         result.info = dict(info, tol=self.tol)
         return result
+
+
+def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
+    """The Newton step with its components along the negative modes of K_ff turned downhill.
+
+    A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
+    eigenvalue lambda < 0 (of the symmetric part), its component (phi . r) / lambda climbs
+    the energy towards the saddle; the step is given the component (phi . r) / |lambda|
+    instead, at least half an element long when ``push`` (leaving a converged saddle), in the
+    direction where the external load does positive work (gravity picks the buckling side).
+    """
+    values, vectors = _lowest_modes(k_ff)
+    delta = delta.copy()
+    for value, phi in zip(values, vectors.T):
+        if value >= 0.0:
+            continue
+        along = phi @ rhs
+        wanted = along / abs(value)
+        reach = np.abs(phi[translation]).max(initial=0.0)
+        if push and reach > 0.0 and abs(wanted) < 0.5 * size / reach:
+            side = np.sign(phi @ load) or np.sign(along) or 1.0
+            wanted = side * 0.5 * size / reach
+        delta += (wanted - phi @ delta) * phi
+    return delta
+
+
+def _lowest_modes(k_ff) -> tuple[np.ndarray, np.ndarray]:
+    """The (up to) 6 eigenvalues of the symmetric part of K_ff nearest zero, with their unit
+    eigenvectors (columns); empty when ARPACK fails or the matrix is tiny."""
+    n = k_ff.shape[0]
+    count = min(6, n - 2)
+    if count < 1:
+        return np.zeros(0), np.zeros((n, 0))
+    symmetric = (0.5 * (k_ff + k_ff.T)).tocsc()
+    try:
+        return eigsh(symmetric, k=count, sigma=0.0, which="LM")
+    except (RuntimeError, ArpackNoConvergence):
+        return np.zeros(0), np.zeros((n, 0))
 
 
 def _solve(k_ff: sp.csc_matrix, rhs: np.ndarray) -> tuple[np.ndarray | None, bool]:

@@ -91,26 +91,70 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .pass { color: #1a7f37; font-weight: 600; } .fail { color: #c62828; font-weight: 600; }
 figure { display: inline-block; margin: 0.5em; } img { max-width: 520px; border: 1px solid #eee; }
 pre { background: #f7f7f7; padding: 0.8em; white-space: pre-wrap; font-size: 0.88em; }
+td.small { font-size: 0.85em; max-width: 28em; }
+figure img { max-width: 1060px; }
 """
+
+
+def _key_numbers(case: dict, kinematics: str) -> str:
+    """Short text of the numbers an engineer looks at first, per element of a paper case."""
+    record = case["elements"][kinematics]
+    parts = []
+    if "max_fibre_strain" in record:
+        parts.append(f"max fibre strain {100 * record['max_fibre_strain']:.3f} %")
+    for side in ("side_1", "side_2"):
+        numbers = case.get("key_numbers", {}).get(f"{kinematics} {side}")
+        if numbers:
+            parts.append(
+                f"{side.replace('_', ' ')}: slope up to {numbers['max_midsurface_slope_deg']:.0f}"
+                f" deg, director {numbers['director_angle_min_deg']:.0f}-"
+                f"{numbers['director_angle_max_deg']:.0f} deg, thickness up to "
+                f"{numbers['thickness_max_over_h']:.2f} h"
+            )
+    return html.escape("; ".join(parts))
+
+
+def _summary_rows(name: str, case: dict) -> list[str]:
+    checks = case["checks"]
+    passed = sum(c["passed"] for c in checks)
+    ok = passed == len(checks) and "error" not in case and case["converged"]
+    verdict = (
+        f"<td class='{'pass' if ok else 'fail'}'>{passed}/{len(checks)}"
+        f"{' ERROR' if 'error' in case else ''}</td>"
+    )
+    link = f"<a href='#{name}'>{html.escape(name)}</a>"
+    elements = case.get("elements")
+    if not elements:
+        return [
+            f"<tr><td>{link}</td><td>{html.escape(case['title'])}</td><td>-</td>"
+            f"<td>{html.escape(case.get('solver', ''))}</td>"
+            f"<td>{_number(bool(case['converged']))}</td>"
+            f"<td class='num'>{case['wall_time_s']:.2f}</td><td class='num'>{case['steps']}</td>"
+            f"<td></td>{verdict}</tr>"
+        ]
+    rows = []
+    for i, (kinematics, record) in enumerate(elements.items()):
+        head = (
+            f"<td rowspan='{len(elements)}'>{link}</td>"
+            f"<td rowspan='{len(elements)}'>{html.escape(case['title'])}</td>"
+            if i == 0
+            else ""
+        )
+        tail = verdict.replace("<td", f"<td rowspan='{len(elements)}'", 1) if i == 0 else ""
+        rows.append(
+            f"<tr>{head}<td>{kinematics}</td><td>{html.escape(record['solver'])}</td>"
+            f"<td>{_number(bool(record['converged']))}</td>"
+            f"<td class='num'>{record['wall_time_s']:.2f}</td>"
+            f"<td class='num'>{record['steps']}</td>"
+            f"<td class='small'>{_key_numbers(case, kinematics)}</td>{tail}</tr>"
+        )
+    return rows
 
 
 def render_html(report: dict) -> str:
     """One self-contained page: summary, verification table, then each case in detail."""
     cases = report["cases"]
-    rows = []
-    for name, case in cases.items():
-        checks = case["checks"]
-        passed = sum(c["passed"] for c in checks)
-        ok = passed == len(checks) and "error" not in case and case["converged"]
-        rows.append(
-            f"<tr><td><a href='#{name}'>{html.escape(name)}</a></td>"
-            f"<td>{html.escape(case['title'])}</td>"
-            f"<td>{html.escape(case.get('solver', ''))}</td>"
-            f"<td>{_number(bool(case['converged']))}</td>"
-            f"<td class='num'>{case['wall_time_s']:.2f}</td><td class='num'>{case['steps']}</td>"
-            f"<td class='{'pass' if ok else 'fail'}'>{passed}/{len(checks)}"
-            f"{' ERROR' if 'error' in case else ''}</td></tr>"
-        )
+    rows = [row for name, case in cases.items() for row in _summary_rows(name, case)]
     check_rows = []
     for name, case in cases.items():
         for c in case["checks"]:
@@ -140,12 +184,23 @@ def render_html(report: dict) -> str:
             if "error" in case
             else ""
         )
+        files = ""
+        if case.get("elements"):
+            files = (
+                "<p>ParaView files: "
+                + ", ".join(
+                    f"<a href='{name}-{k}.{ext}'>{name}-{k}.{ext}</a>"
+                    for k in case["elements"]
+                    for ext in ("vtu", "xdmf")
+                )
+                + ".</p>"
+            )
         sections.append(
             f"<section id='{name}'><h2>{html.escape(name)}: {html.escape(case['title'])}</h2>"
             f"{error}<pre>{html.escape(case['description'])}</pre>"
             f"<p>Solver: {html.escape(case.get('solver', ''))}; {case['steps']} steps/iterations; "
             f"{case['wall_time_s']:.2f} s.</p>"
-            f"<table>{parameters}</table>{figures}</section>"
+            f"<table>{parameters}</table>{figures}{files}</section>"
         )
     n_checks = sum(len(c["checks"]) for c in cases.values())
     n_passed = sum(sum(x["passed"] for x in c["checks"]) for c in cases.values())
@@ -156,14 +211,27 @@ def render_html(report: dict) -> str:
 <p>Generated {html.escape(report["generated"])} at resolution
 <b>{html.escape(report["resolution"])}</b>
 on {html.escape(report["machine"])}. <b>{n_passed} of {n_checks}</b> checks passed.</p>
+{INTRODUCTION}
 <h2>Summary</h2>
-<table><tr><th>case</th><th>what</th><th>solver</th><th>converged</th><th>time (s)</th>
-<th>steps</th><th>checks</th></tr>{"".join(rows)}</table>
+<table><tr><th>case</th><th>what</th><th>element</th><th>solver</th><th>converged</th>
+<th>time (s)</th><th>steps</th><th>key numbers</th><th>checks</th></tr>{"".join(rows)}</table>
 <h2>Verification</h2>
-<p>Every check compares a computed value with a closed-form or published reference; a failed
-check is shown as failed.</p>
+<p>Every check compares a computed value with a closed-form or published reference, or states
+an invariant of the formulation; a failed check is shown as failed.</p>
 <table><tr><th>case</th><th>check</th><th>reference</th><th>value</th><th>error</th>
 <th>tolerance</th><th>result</th><th>source</th></tr>{"".join(check_rows)}</table>
 {"".join(sections)}
 </body></html>
 """
+
+
+INTRODUCTION = """<p>The cases named <code>bai-*</code> rerun the simulations of Bai, Colmars,
+Naouar and Boisse, <i>Composites Part A</i> 139 (2020) 106135, with two kinematics on the same
+mesh, boundary conditions and loads: the fibrous shell of the paper (<b>fibrous</b>: the
+material directors are free to leave the normal, the thickness along them follows from
+Eq. 10) and a reference Mindlin shell (<b>mindlin</b>, MITC3, the role Abaqus S3 plays in the
+paper), calibrated as the paper did: E = 12 B / h<sup>3</sup> so that both have the stack's
+measured bending stiffness, nu = 0, transverse shear modulus G13 = G23 = 0.5 E (a stated
+parameter). Gravity acts in every case. Sizes, imposed displacements and the material data the
+paper does not give are stated in each case. The other cases verify the elements against
+closed-form or published solutions.</p>"""

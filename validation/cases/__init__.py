@@ -4,9 +4,20 @@ Every module defines NAME, TITLE, SOURCE and ``run(resolution, out_dir) -> dict`
 converged, wall_time_s, steps, solver, parameters, checks, figures (file names in out_dir).
 """
 
-from validation.cases import bar_wave, catenary, elastic_catenary
+from validation.cases import (
+    bai_5_1,
+    bai_6_1_1,
+    bai_6_1_2,
+    bai_6_2_1,
+    bai_6_2_2,
+    bar_wave,
+    catenary,
+    elastic_catenary,
+)
 
 RESOLUTIONS = ("coarse", "default", "fine")
-CASES = {module.NAME: module for module in (catenary, elastic_catenary, bar_wave)}
+PAPER_CASES = (bai_5_1, bai_6_1_1, bai_6_1_2, bai_6_2_1, bai_6_2_2)
+VERIFICATION_CASES = (catenary, elastic_catenary, bar_wave)
+CASES = {module.NAME: module for module in (*PAPER_CASES, *VERIFICATION_CASES)}
 
-__all__ = ["CASES", "RESOLUTIONS"]
+__all__ = ["CASES", "PAPER_CASES", "RESOLUTIONS", "VERIFICATION_CASES"]

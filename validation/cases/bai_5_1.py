@@ -1,0 +1,45 @@
+"""Bai §5.1 (Fig. 6): 20 plies of Hexcel G986 bent by moving one end of a clamped strip.
+
+Source: Bai et al. (2020) §5.1, Fig. 6, Table 1.
+Geometry: the paper gives none. Assumed: a 150 x 30 mm strip (the proportions of Fig. 6b),
+20 plies = 6 mm thick; clamped at x = 0 (translations and directors fixed, fibrous clamped-edge
+curvature); the other end x = 150 moved 30 mm towards the clamp and 50 mm down, its directors
+free (a pin, as a hand or a gripper holding the tip of a stack does not stop its plies from
+sliding).
+Material: Table 1 (tension 1200 N/mm, bilinear bending 7.5 N mm up to |chi| = 1e-3 1/mm and
+0.5 N mm beyond), applied to the whole stack as in the paper; areal weight 5.7 kg/m^2 and
+in-plane shear 4 N/mm assumed (materials.presets.g986_stack).
+Mindlin: the same strip with E = 12 B / h^3 from the initial bending slope (as Bai calibrated
+Abaqus S3), nu = 0, G13 = G23 = 0.5 E.
+Gravity: -z, 9810 mm/s^2.
+"""
+
+from __future__ import annotations
+
+from materials.presets import g986_stack
+from validation import specimens
+from validation.paper import PaperCase, run_paper_case
+
+NAME = "bai-5.1"
+TITLE = "20-ply G986 stack: clamped strip, end moved horizontally and vertically"
+SOURCE = "Bai et al. (2020) §5.1, Fig. 6, Table 1"
+LENGTH, WIDTH = 150.0, 30.0
+CASE = PaperCase(
+    name=NAME,
+    title=TITLE,
+    source="§5.1, Fig. 6",
+    make_specimen=lambda cells: specimens.strip(LENGTH, WIDTH, cells, across=2),
+    fabric=g986_stack(20),
+    displacement=(-30.0, 0.0, -50.0),
+    cells={"coarse": 12, "default": 30, "fine": 60},
+    parameters={
+        "length_mm (assumed)": LENGTH,
+        "width_mm (assumed)": WIDTH,
+        "end displacement (assumed)": "(-30, 0, -50) mm",
+        "bending law": "Table 1, bilinear 7.5 / 0.5 N mm, knee 1e-3 1/mm",
+    },
+)
+
+
+def run(resolution: str, out_dir) -> dict:
+    return run_paper_case(CASE, resolution, out_dir)

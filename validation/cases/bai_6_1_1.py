@@ -1,0 +1,46 @@
+"""Bai §6.1.1 (Fig. 8b, 9, 10): a stack of 130 paper sheets, the part above the diagonal 1-3
+clamped, a vertical displacement imposed at the free corner.
+
+Source: Bai et al. (2020) §6.1.1, Fig. 8b, 9, 10.
+Geometry: the paper gives no size. Assumed: A5 sheets, 210 x 148 mm; 130 sheets of 0.1 mm =
+13 mm. Only the free triangle is meshed (validation.specimens.corner); the diagonal is clamped
+(translations and directors fixed; fibrous clamped-edge curvature).
+Load: gravity, and the corner lifted by 40 mm (assumed; a rigid support from below can only lift
+it), its horizontal motion free (the corner slides on the support).
+Material (all assumed, materials.presets.paper_stack): 80 g/m^2 and 0.1 mm per sheet, bending
+50 N mm, tension 2300 N/mm (an inextensibility penalty), in-plane shear 1000 N/mm (the paper:
+"the in-plane shear stiffness is large"). The sensitivity of the result to B and K is the
+subject of the case "bai-6.1.1-sensitivity".
+Mindlin: E = 12 B / h^3, nu = 0, G13 = G23 = 0.5 E.
+"""
+
+from __future__ import annotations
+
+from materials.presets import paper_stack
+from validation import specimens
+from validation.paper import PaperCase, run_paper_case
+
+NAME = "bai-6.1.1"
+TITLE = "130-sheet paper stack: corner lifted beyond a clamped diagonal"
+SOURCE = "Bai et al. (2020) §6.1.1, Fig. 8b, 9, 10"
+LENGTH, WIDTH = 210.0, 148.0
+
+
+CASE = PaperCase(
+    name=NAME,
+    title=TITLE,
+    source="§6.1.1, Fig. 8b, 9, 10",
+    make_specimen=lambda cells: specimens.corner(LENGTH, WIDTH, cells),
+    fabric=paper_stack(),
+    displacement=(None, None, 40.0),
+    cells={"coarse": 8, "default": 20, "fine": 40},
+    parameters={
+        "length_mm": LENGTH,
+        "width_mm": WIDTH,
+        "corner displacement (assumed)": "corner lifted 40 mm, x y free",
+    },
+)
+
+
+def run(resolution: str, out_dir) -> dict:
+    return run_paper_case(CASE, resolution, out_dir)

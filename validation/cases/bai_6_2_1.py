@@ -1,0 +1,42 @@
+"""Bai §6.2.1 (Fig. 13, 14): the 11-ply G1151 laminate, 200 x 150 x 15 mm, the part above the
+diagonal clamped, a vertical displacement imposed at the free corner.
+
+Source: Bai et al. (2020) §6.2, §6.2.1, Fig. 13, 14, Table 2.
+Geometry: 200 x 150 x 15 mm (paper). Only the free triangle is meshed; the diagonal is clamped.
+Load: gravity, and the corner lifted by 40 mm (assumed), its horizontal motion free.
+Material: Table 2 (tension 2300 N/mm, bending 72 N mm warp along x, 68 N mm weft along y);
+assumed 630 g/m^2 per ply and in-plane shear 2.2 N/mm (materials.presets.g1151_laminate).
+Mindlin: orthotropic E1 = 12 x 72 / h^3, E2 = 12 x 68 / h^3, nu = 0, G13 = G23 = 0.5 E1 (the
+paper's Abaqus S3 comparison, which it says did not match the experiment).
+"""
+
+from __future__ import annotations
+
+from materials.presets import g1151_laminate
+from validation import specimens
+from validation.paper import PaperCase, run_paper_case
+
+NAME = "bai-6.2.1"
+TITLE = "11-ply G1151 laminate: corner lifted beyond a clamped diagonal"
+SOURCE = "Bai et al. (2020) §6.2.1, Fig. 13, 14"
+LENGTH, WIDTH = 200.0, 150.0
+
+
+CASE = PaperCase(
+    name=NAME,
+    title=TITLE,
+    source="§6.2.1, Fig. 13, 14",
+    make_specimen=lambda cells: specimens.corner(LENGTH, WIDTH, cells),
+    fabric=g1151_laminate(),
+    displacement=(None, None, 40.0),
+    cells={"coarse": 8, "default": 20, "fine": 40},
+    parameters={
+        "length_mm": LENGTH,
+        "width_mm": WIDTH,
+        "corner displacement (assumed)": "corner lifted 40 mm, x y free",
+    },
+)
+
+
+def run(resolution: str, out_dir) -> dict:
+    return run_paper_case(CASE, resolution, out_dir)

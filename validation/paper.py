@@ -1,0 +1,307 @@
+"""Run one of Bai's specimens with both kinematics and collect what the paper's figures show.
+
+A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed displacement and
+the resolution table. ``run_paper_case`` builds the fibrous and the Mindlin model on the same
+mesh, solves each with ``Static`` (falling back to ``DynamicRelaxation`` when Newton cannot
+follow the path), and returns the report record: per element the solver, its iterations and
+time, and along side 1 and side 2 the mid-surface, the director angle to the horizontal and
+the thickness along the director; the checks of the invariants; the figures (side profiles like
+Bai Fig. 10/12/14/16, a 3D view with the director segments drawn along the sides like the lines
+on the specimens); VTU and XDMF files of both runs.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from materials import Fabric
+from solvers import ConvergenceError, DynamicRelaxation, Static
+from validation import specimens
+from validation.checks import check
+from validation.plots import plt
+
+PAPER = "Bai, Colmars, Naouar, Boisse, Composites Part A 139 (2020) 106135"
+KINEMATICS = ("fibrous", "mindlin")
+COLOURS = {"fibrous": "tab:blue", "mindlin": "tab:orange"}
+LABELS = {"fibrous": "FibrousShell (Bai)", "mindlin": "MindlinShell (S3-like)"}
+
+
+@dataclass(frozen=True)
+class PaperCase:
+    """One of the paper's tests: what to build and at which resolutions."""
+
+    name: str
+    title: str
+    source: str
+    make_specimen: object  # callable(cells) -> specimens.Specimen
+    fabric: Fabric
+    displacement: tuple  # (ux, uy, uz) imposed on the loaded nodes, None = free
+    cells: dict  # resolution -> cells argument of make_specimen
+    parameters: dict = field(default_factory=dict)  # chosen values, reported
+    increments: int = 10
+    shear_ratio: float = 0.5  # Mindlin G13 / E (stated parameter)
+
+
+def solve(model, increments: int):
+    """Static, or DynamicRelaxation when Static stops (a limit point, a bifurcation)."""
+    started = time.perf_counter()
+    try:
+        result = Static(
+            increments=increments, max_iterations=100, max_cuts=12, progress=False
+        ).solve(model)
+        note = f"Static ({increments} increments, element tangents)"
+        if result.info["indefinite_at"]:
+            note += (
+                f"; unstable equilibrium (det K < 0) at load factors {result.info['indefinite_at']}"
+            )
+        return result, note, time.perf_counter() - started
+    except ConvergenceError as error:
+        reached = getattr(error, "load_factor", 0.0)
+    result = DynamicRelaxation(increments=increments, tol=1e-5, max_iterations=400_000).solve(model)
+    note = f"DynamicRelaxation (Static stopped at load factor {reached:.3g})"
+    return result, note, time.perf_counter() - started
+
+
+def side_data(result, specimen, kinematics: str, thickness: float) -> dict:
+    """Along each filmed side: s, mid-surface, director angle to the horizontal (deg) seen by a
+    camera facing the side (the angle of the director's projection on the side's vertical
+    plane, 90 = vertical) and the thickness along the director (mm)."""
+    out = {}
+    positions, directors = result.positions, result.directors
+    nodal = result.thickness if kinematics == "fibrous" else None
+    for name, (nodes, s) in specimen.sides.items():
+        x0 = specimen.mesh.points[nodes]
+        along = x0[-1] - x0[0]
+        along = along / np.linalg.norm(along)  # horizontal direction from the clamp outwards
+        d = directors[nodes]
+        angle = np.degrees(np.arctan2(d[:, 2], d @ along))
+        h = nodal[nodes] if nodal is not None else np.full(len(nodes), thickness)
+        out[name] = {
+            "s": s,
+            "midsurface": positions[nodes],
+            "director_angle_deg": angle,
+            "thickness": h,
+        }
+    return out
+
+
+def run_paper_case(case: PaperCase, resolution: str, out_dir: Path) -> dict:
+    specimen = case.make_specimen(case.cells[resolution])
+    h = case.fabric.thickness
+    elements, results = {}, {}
+    for kinematics in KINEMATICS:
+        model = specimens.build(
+            specimen, kinematics, case.fabric, case.displacement, case.shear_ratio
+        )
+        result, note, wall = solve(model, case.increments)
+        results[kinematics] = result
+        record = {
+            "converged": bool(result.converged),
+            "wall_time_s": wall,
+            "steps": int(result.steps),
+            "solver": note,
+        }
+        if kinematics == "fibrous":
+            fields = result.frames[-1].fields["triangle"]
+            strain = np.maximum(
+                np.abs(fields["warp_strain"]).max(axis=1), np.abs(fields["weft_strain"]).max(axis=1)
+            )
+            # The support acts on one node: the triangles around it carry the point load.
+            at_support = np.isin(specimen.mesh.triangles, specimen.loaded).any(axis=1)
+            record["max_fibre_strain"] = float(strain.max())
+            record["max_fibre_strain_away_from_support"] = float(strain[~at_support].max())
+            record["max_shear_angle_deg"] = float(np.degrees(np.abs(fields["shear_angle"]).max()))
+        record.update(side_data(result, specimen, kinematics, h))
+        for suffix in ("vtu", "xdmf"):
+            result.write(out_dir / f"{case.name}-{kinematics}.{suffix}")
+        elements[kinematics] = record
+
+    checks = invariant_checks(case, elements, h)
+    figures = [side_figure(case, elements, out_dir), view_3d(case, specimen, results, out_dir)]
+    summary = key_numbers(elements, h)
+    return {
+        "converged": all(e["converged"] for e in elements.values()),
+        "wall_time_s": sum(e["wall_time_s"] for e in elements.values()),
+        "steps": sum(e["steps"] for e in elements.values()),
+        "solver": "; ".join(f"{k}: {e['solver']}" for k, e in elements.items()),
+        "parameters": {
+            "triangles": len(specimen.mesh.triangles),
+            "thickness_mm": h,
+            "imposed_displacement_mm": str(tuple(case.displacement)),
+            "Mindlin G13/E": case.shear_ratio,
+            **case.parameters,
+        },
+        "elements": elements,
+        "key_numbers": summary,
+        "checks": checks,
+        "figures": figures,
+    }
+
+
+def key_numbers(elements: dict, h: float) -> dict:
+    """Per element and side: the director angle range, the largest mid-surface slope, the
+    thickness range along the director (the numbers the report quotes)."""
+    out = {}
+    for kinematics, record in elements.items():
+        for side in ("side_1", "side_2"):
+            if side not in record:
+                continue
+            data = record[side]
+            x = np.asarray(data["midsurface"])
+            run = np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1)
+            slope = np.degrees(np.arctan2(np.abs(np.diff(x[:, 2])), run)).max()
+            angle = np.asarray(data["director_angle_deg"])
+            out[f"{kinematics} {side}"] = {
+                "max_midsurface_slope_deg": float(slope),
+                "director_angle_min_deg": float(angle.min()),
+                "director_angle_max_deg": float(angle.max()),
+                "thickness_max_over_h": float(np.max(data["thickness"]) / h),
+            }
+    return out
+
+
+def invariant_checks(case: PaperCase, elements: dict, h: float) -> list[dict]:
+    fibrous, mindlin = elements["fibrous"], elements["mindlin"]
+    source = f"{PAPER}, {case.source}"
+    checks = [
+        check("fibrous run converged", 1.0, float(fibrous["converged"]), 0.0, source=source),
+        check("Mindlin run converged", 1.0, float(mindlin["converged"]), 0.0, source=source),
+        check(
+            "fibrous: largest fibre strain away from the loaded node (quasi-inextensible, < 1 %)",
+            0.0,
+            fibrous["max_fibre_strain_away_from_support"],
+            0.01,
+            relative=False,
+            source="Bai §2: fibres quasi-inextensible",
+        ),
+    ]
+    thinnest = min(np.min(fibrous[s]["thickness"]) for s in ("side_1", "side_2") if s in fibrous)
+    checks.append(
+        check(
+            "fibrous: thinnest thickness along the director / h (>= 1: Eq. 10)",
+            1.0,
+            thinnest / h,
+            1e-9,
+            relative=False,
+            source="Bai Eq. 10: h_m = h / (V . n) >= h",
+        )
+        | {"passed": bool(thinnest / h >= 1.0 - 1e-9)}
+    )
+    # Where the mid-surface is strongly bent (slope > 20 deg) the two kinematics must differ:
+    # the Mindlin director follows the normal, the fibrous one does not (Bai §6.1.1, Fig. 10).
+    gaps = []
+    for side in ("side_1", "side_2"):
+        if side not in fibrous:
+            continue
+        x = np.asarray(mindlin[side]["midsurface"])
+        run = np.linalg.norm(np.gradient(x[:, :2], axis=0), axis=1)
+        slope = np.degrees(np.arctan2(np.abs(np.gradient(x[:, 2])), run))
+        bent = slope > 20.0
+        if bent.any():
+            gap = np.abs(
+                np.asarray(fibrous[side]["director_angle_deg"])
+                - np.asarray(mindlin[side]["director_angle_deg"])
+            )
+            gaps.append(float(gap[bent].max()))
+    if gaps:
+        checks.append(
+            check(
+                "fibrous vs Mindlin director angle where the slope > 20 deg (deg, > 10)",
+                10.0,
+                max(gaps),
+                np.inf,
+                relative=False,
+                source="Bai §6.1.1: directors stay almost parallel, unlike standard shells",
+            )
+            | {"passed": bool(max(gaps) > 10.0)}
+        )
+    return checks
+
+
+def side_figure(case: PaperCase, elements: dict, out_dir: Path) -> str:
+    """Bai Fig. 10-style panels: rows = sides, columns = mid-surface, director angle,
+    thickness along the director; both kinematics on the same axes."""
+    sides = [s for s in ("side_1", "side_2") if s in elements["fibrous"]]
+    fig, axes = plt.subplots(
+        len(sides), 3, figsize=(12, 3.4 * len(sides)), squeeze=False, constrained_layout=True
+    )
+    for row, side in enumerate(sides):
+        for kinematics in KINEMATICS:
+            data = elements[kinematics][side]
+            s = np.asarray(data["s"])
+            x = np.asarray(data["midsurface"])
+            colour, label = COLOURS[kinematics], LABELS[kinematics]
+            horizontal = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1))]
+            axes[row, 0].plot(horizontal, x[:, 2], "-o", ms=2.5, color=colour, label=label)
+            axes[row, 1].plot(s, data["director_angle_deg"], "-o", ms=2.5, color=colour)
+            axes[row, 2].plot(s, data["thickness"], "-o", ms=2.5, color=colour)
+        name = side.replace("_", " ")
+        axes[row, 0].set(
+            xlabel=f"horizontal distance from the clamp along {name} (mm)",
+            ylabel="mid-surface z (mm)",
+            title=f"({'ad'[row]}) mid-surface, {name}",
+        )
+        axes[row, 0].set_aspect("equal", adjustable="datalim")
+        axes[row, 1].set(
+            xlabel=f"s along {name} (mm)",
+            ylabel="director angle to horizontal (deg)",
+            title=f"({'be'[row]}) material director, {name}",
+        )
+        axes[row, 2].set(
+            xlabel=f"s along {name} (mm)",
+            ylabel="thickness along director (mm)",
+            title=f"({'cf'[row]}) thickness, {name}",
+        )
+        for ax in axes[row]:
+            ax.grid(True, alpha=0.3)
+    axes[0, 0].legend(fontsize="small")
+    fig.suptitle(f"{case.name}: {case.title}")
+    name = f"{case.name}-sides.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
+def view_3d(case: PaperCase, specimen, results: dict, out_dir: Path) -> str:
+    """Deformed mid-surface with the through-thickness director segments drawn along the
+    sides (the lines drawn on the specimens' sides), fibrous and Mindlin side by side."""
+    fig = plt.figure(figsize=(12, 5.2), constrained_layout=True)
+    h = case.fabric.thickness
+    for i, kinematics in enumerate(KINEMATICS):
+        ax = fig.add_subplot(1, 2, i + 1, projection="3d")
+        result = results[kinematics]
+        x = result.positions
+        ax.plot_trisurf(
+            x[:, 0],
+            x[:, 1],
+            x[:, 2],
+            triangles=specimen.mesh.triangles,
+            color=COLOURS[kinematics],
+            alpha=0.35,
+            linewidth=0.1,
+            edgecolor="0.4",
+        )
+        thickness = result.thickness if kinematics == "fibrous" else None
+        for nodes, _ in specimen.sides.values():
+            half = 0.5 * (thickness[nodes] if thickness is not None else np.full(len(nodes), h))
+            d = result.directors[nodes]
+            bottom = x[nodes] - half[:, None] * d
+            top = x[nodes] + half[:, None] * d
+            for a, b in zip(bottom, top):
+                ax.plot(*np.column_stack([a, b]), color="k", lw=1.4)
+        # True proportions (equal scales on the three axes), the free corner in front.
+        low, high = x.min(axis=0) - h, x.max(axis=0) + h
+        for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), low, high):
+            setter(a, b)
+        ax.set_box_aspect(high - low)
+        ax.view_init(elev=22, azim=-140)
+        ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
+        ax.set_title(f"{LABELS[kinematics]}: directors along the sides")
+    name = f"{case.name}-3d.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
