@@ -373,6 +373,12 @@ class Static:
         """Solve every increment; returns a femcore.results.Result with the reference state
         and one frame per increment (``time`` = load factor). Raises ConvergenceError, with
         the converged frames in ``error.result``, when an increment cannot be completed."""
+        # Trial states of a wild update may overflow; every residual is checked for
+        # finiteness and such an update is cut back, so numpy's warnings would only be noise.
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return self._solve(model)
+
+    def _solve(self, model: Model | CompiledModel):
         compiled = model.compile() if isinstance(model, Model) else model
         started = time.perf_counter()
         own = [b for b in compiled.blocks if self.tangent == "element" and _has_own_tangent(b)]

@@ -10,6 +10,7 @@ from validation.cases import (
     bai_6_1_2,
     bai_6_2_1,
     bai_6_2_2,
+    bai_sensitivity,
     bar_wave,
     catenary,
     elastic_catenary,
@@ -17,7 +18,8 @@ from validation.cases import (
 
 RESOLUTIONS = ("coarse", "default", "fine")
 PAPER_CASES = (bai_5_1, bai_6_1_1, bai_6_1_2, bai_6_2_1, bai_6_2_2)
+SENSITIVITY_CASES = (bai_sensitivity,)
 VERIFICATION_CASES = (catenary, elastic_catenary, bar_wave)
-CASES = {module.NAME: module for module in (*PAPER_CASES, *VERIFICATION_CASES)}
+CASES = {module.NAME: module for module in (*PAPER_CASES, *SENSITIVITY_CASES, *VERIFICATION_CASES)}
 
 __all__ = ["CASES", "PAPER_CASES", "RESOLUTIONS", "VERIFICATION_CASES"]
