@@ -324,7 +324,7 @@ class Static:
     seek_stable : when an update meets an indefinite tangent (det K_ff < 0), turn it downhill
         along the negative modes (their components of the Newton step get the sign that lowers
         the energy, a "saddle-free" step), and push a converged unstable equilibrium (a
-        compressed plate that stayed flat) along its buckling mode by half an element, up to
+        compressed plate that stayed flat) along its buckling mode by 5 % of an element, up to
         three times per increment: the solver then settles on the stable, buckled branch.
         Each push is listed in ``info["branch_switches"]``.
     tangent : "element" (default): each block's own ``tangent`` where it has one, coloured
@@ -342,9 +342,11 @@ class Static:
     ``info["indefinite_at"]`` (load factors) and on the progress line; an even number of
     negative eigenvalues escapes this test. A singular tangent is regularised for one update
     (see ``_newton``) and reported if the increment then fails. There is no arc-length option:
-    a path through a snap-through or a bifurcation is followed with DynamicRelaxation or
-    CentralDifference (the validation report does so for the paper's buckling tests), and a
-    Static run that cannot pass a limit point stops with the load factor it reached.
+    with ``seek_stable`` a limit point is passed by turning the steps downhill, which lands on
+    the stable branch beyond a snap-through (the jump a quasi-static test shows), not on the
+    unstable part of the path; with ``seek_stable=False`` a run that cannot pass a limit point
+    stops with the load factor it reached, and DynamicRelaxation or CentralDifference remain
+    the tools for a path that needs dynamics.
     """
 
     def __init__(
@@ -574,8 +576,10 @@ class Static:
                 with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
                     _apply(model, trial, scale * delta, frames)
                     _, ratio_new = residual(trial, frames)
-                if not self.line_search or (
-                    np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol)
+                if (
+                    not self.line_search
+                    or push
+                    or (np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol))
                 ):
                     break
                 scale *= 0.5
@@ -651,7 +655,7 @@ def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
     A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
     eigenvalue lambda < 0 (of the symmetric part), its component (phi . r) / lambda climbs
     the energy towards the saddle; the step is given the component (phi . r) / |lambda|
-    instead, at least half an element long when ``push`` (leaving a converged saddle), in the
+    instead, at least 5 % of an element long when ``push`` (leaving a converged saddle), in the
     direction where the external load does positive work (gravity picks the buckling side).
     """
     values, vectors = _lowest_modes(k_ff)
@@ -662,9 +666,9 @@ def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
         along = phi @ rhs
         wanted = along / abs(value)
         reach = np.abs(phi[translation]).max(initial=0.0)
-        if push and reach > 0.0 and abs(wanted) < 0.5 * size / reach:
+        if push and reach > 0.0 and abs(wanted) < 0.05 * size / reach:
             side = np.sign(phi @ load) or np.sign(along) or 1.0
-            wanted = side * 0.5 * size / reach
+            wanted = side * 0.05 * size / reach
         delta += (wanted - phi @ delta) * phi
     return delta
 
@@ -673,9 +677,10 @@ def _lowest_modes(k_ff) -> tuple[np.ndarray, np.ndarray]:
     """The (up to) 6 eigenvalues of the symmetric part of K_ff nearest zero, with their unit
     eigenvectors (columns); empty when ARPACK fails or the matrix is tiny."""
     n = k_ff.shape[0]
-    count = min(6, n - 2)
-    if count < 1:
-        return np.zeros(0), np.zeros((n, 0))
+    if n <= 200:  # small: all of them, densely (ARPACK needs k < n - 1)
+        values, vectors = np.linalg.eigh(0.5 * (k_ff + k_ff.T).toarray())
+        return values[:6], vectors[:, :6]
+    count = 6
     symmetric = (0.5 * (k_ff + k_ff.T)).tocsc()
     try:
         return eigsh(symmetric, k=count, sigma=0.0, which="LM")

@@ -143,11 +143,21 @@ def test_a_straight_compressed_chain_is_reported_unstable():
     # Pushed in without a lateral force, the straight chain is an equilibrium with N < 0: its
     # middle node has the lateral stiffness 2 N / l < 0 (no bending stiffness: Euler load 0).
     # Pulled out, it is stable.
-    pushed = Static(increments=2).solve(_chain(-0.1, 0.0))
+    pushed = Static(increments=2, seek_stable=False).solve(_chain(-0.1, 0.0))
     assert pushed.info["indefinite_at"] == [0.5, 1.0]
     assert pushed.positions[1, 1] == 0.0
-    pulled = Static(increments=2).solve(_chain(0.1, 0.0))
+    pulled = Static(increments=2, seek_stable=False).solve(_chain(0.1, 0.0))
     assert pulled.info["indefinite_at"] == []
+
+
+def test_seek_stable_leaves_the_unstable_straight_chain_for_the_buckled_one():
+    # The same pushed chain with the default seek_stable: the straight state is pushed off
+    # along its buckling mode and the solver settles where the bars are unstressed, the
+    # middle node sqrt(5^2 - 4.95^2) = 0.70534 mm aside (N = 0 there: exact geometry).
+    result = Static(increments=2).solve(_chain(-0.1, 0.0))
+    assert result.info["branch_switches"]
+    assert result.info["indefinite_at"] == []
+    assert abs(result.positions[1, 1]) == pytest.approx(np.sqrt(5.0**2 - 4.95**2), rel=1e-8)
 
 
 def test_a_compressed_chain_pushed_sideways_buckles_to_its_rest_length():
@@ -189,12 +199,25 @@ def test_a_snap_through_under_a_soft_spring_stops_with_the_load_factor():
     top_travel = w + force / spring
     limit = top_travel[np.argmax(np.diff(top_travel) < 0)]
     with pytest.raises(ConvergenceError, match="load factor") as failure:
-        Static(increments=12).solve(model)
+        Static(increments=12, seek_stable=False).solve(model)
     reached = failure.value.load_factor * 6.0
     assert failure.value.result.frames[-1].load_factor == failure.value.load_factor
     # Eight halvings of the 0.5 mm increment (with regrowth after each success) bring it
     # within 1 % of the limit, never past it.
     assert limit * 0.99 <= reached <= limit * 1.001
+    # With seek_stable (the default) the steps past the limit point are turned downhill and
+    # the solver lands on the far, stable branch: there the apex balances the spring,
+    # F(w) = k (6 - w) with w beyond the limit, solved from the closed form.
+    from scipy.optimize import brentq
+
+    def unbalance(x):
+        length_x = np.hypot(half_span, rise - x)
+        truss = -2 * stiffness * (length_x / rest - 1) * (rise - x) / length_x
+        return truss - spring * (6.0 - x)
+
+    far = brentq(unbalance, 1.5 * rise, 6.0, xtol=1e-12)
+    result = Static(increments=12).solve(model)
+    assert rise - result.positions[2, 2] == pytest.approx(far, rel=1e-6)
 
 
 def test_static_and_dynamic_relaxation_agree_on_the_fibrous_cantilever():

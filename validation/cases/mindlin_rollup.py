@@ -1,0 +1,106 @@
+"""Mindlin cantilever strip rolled into a quarter circle by an end moment.
+
+Source: Euler-Bernoulli bending, M = EI kappa: a uniform moment bends an inextensible strip
+into a circular arc of radius R = EI / M (closed form; a standard large-rotation test of
+shell elements, e.g. Sze, Liu & Lo, Finite Elem. Anal. Des. 40 (2004) 1551, "cantilever
+subjected to end moment").
+Geometry: strip 100 x 10 mm, h = 1 mm (L/h = 100), clamped at x = 0, an end moment M about -y
+spread over the tip nodes; nx x 1 cells.
+Parameters: E = 1e5 MPa, nu = 0 (EI = E b h^3 / 12), M = (pi / 2) EI / L: a quarter circle,
+R = 2 L / pi = 63.66 mm; the moment is ramped in 4 equal load increments, each giving an arc of
+radius EI / (lambda M).
+Assumed: the end moment is dead (its axis stays -y, which it does in this plane motion); the
+shear and membrane compliances neglected by the closed form are of order (h/L)^2.
+Same setup as tests/test_static.py::test_cantilever_rolls_up_into_a_circle_under_an_end_moment.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements import MindlinShell
+from femcore import Mesh, Model
+from materials import ElasticShell
+from solvers import Static
+from validation.checks import check
+from validation.plots import figure
+
+NAME = "mindlin-rollup"
+TITLE = "Mindlin cantilever strip rolled into a quarter circle by an end moment"
+SOURCE = "Euler-Bernoulli: R = EI / M (closed form)"
+CELLS = {"coarse": 10, "default": 20, "fine": 80}
+LENGTH, WIDTH, THICKNESS, YOUNG = 100.0, 10.0, 1.0, 1e5
+INCREMENTS = 4
+BENDING = YOUNG * WIDTH * THICKNESS**3 / 12  # EI, N mm^2
+
+
+def run(resolution: str, out_dir) -> dict:
+    cells = CELLS[resolution]
+    mesh = Mesh.rectangle(LENGTH, WIDTH, nx=cells, ny=1)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(YOUNG, 0.0, THICKNESS, 1e-9)))
+    model.fix("left")
+    moment = 0.25 * 2 * np.pi * BENDING / LENGTH  # a quarter circle
+    tip = mesh.nodes("right")
+    model.moment(tip, (0.0, -moment / len(tip), 0.0), amplitude="linear")
+    result = Static(increments=INCREMENTS).solve(model)
+
+    radius = BENDING / moment
+    x, _, z = result.positions[tip].mean(axis=0)
+    # Every node against the circle through the clamp with its centre at (0, R).
+    p = result.positions
+    off_circle = np.abs(np.hypot(p[:, 0], p[:, 2] - radius) - radius).max() / radius
+    # Tip rotation: the directors start along +z and end along -x.
+    d = result.directors[tip].mean(axis=0)
+    rotation = np.degrees(np.arctan2(-d[0], d[2]))
+
+    edge = np.flatnonzero(np.isclose(mesh.points[:, 1], 0.0))
+    edge = edge[np.argsort(mesh.points[edge, 0])]
+    s = np.linspace(0.0, LENGTH, 200)
+    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)", size=(5.6, 5.0)) as ax:
+        for k, frame in enumerate(result.frames[1:]):
+            r = BENDING / (frame.load_factor * moment)
+            label = "circle R = EI / M" if k == 0 else None
+            ax.plot(r * np.sin(s / r), r * (1 - np.cos(s / r)), "-", color="0.3", label=label)
+            ax.plot(
+                frame.positions[edge, 0],
+                frame.positions[edge, 2],
+                "o",
+                ms=3,
+                color="C0",
+                label=f"MindlinShell, {cells} cells (per increment)" if k == 0 else None,
+            )
+        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded")
+        ax.set_aspect("equal")
+
+    result.write(out_dir / f"{NAME}.vtu")
+    return {
+        "converged": result.converged,
+        "wall_time_s": result.wall_time,
+        "steps": result.steps,
+        "solver": f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
+        "parameters": {
+            "cells": cells,
+            "length_mm": LENGTH,
+            "width_mm": WIDTH,
+            "thickness_mm": THICKNESS,
+            "E_MPa": YOUNG,
+            "nu": 0.0,
+            "M_N_mm": moment,
+            "R_mm": radius,
+        },
+        "checks": [
+            check("tip x (mm)", radius, x, 1e-2, source=SOURCE),
+            check("tip z (mm)", radius, z, 1e-2, source=SOURCE),
+            check(
+                "largest distance of a node from the circle / R",
+                0.0,
+                off_circle,
+                1e-2,
+                relative=False,
+                source=SOURCE,
+            ),
+            check("tip rotation (deg)", 90.0, rotation, 1e-2, source=SOURCE),
+        ],
+        "figures": [f"{NAME}.png"],
+    }
