@@ -324,7 +324,7 @@ class Static:
     seek_stable : when an update meets an indefinite tangent (det K_ff < 0), turn it downhill
         along the negative modes (their components of the Newton step get the sign that lowers
         the energy, a "saddle-free" step), and push a converged unstable equilibrium (a
-        compressed plate that stayed flat) along its buckling mode by 5 % of an element, up to
+        compressed plate that stayed flat) along its buckling mode by half an element, up to
         three times per increment: the solver then settles on the stable, buckled branch.
         Each push is listed in ``info["branch_switches"]``.
     tangent : "element" (default): each block's own ``tangent`` where it has one, coloured
@@ -655,7 +655,7 @@ def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
     A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
     eigenvalue lambda < 0 (of the symmetric part), its component (phi . r) / lambda climbs
     the energy towards the saddle; the step is given the component (phi . r) / |lambda|
-    instead, at least 5 % of an element long when ``push`` (leaving a converged saddle), in the
+    instead, at least half an element long when ``push`` (leaving a converged saddle), in the
     direction where the external load does positive work (gravity picks the buckling side).
     """
     values, vectors = _lowest_modes(k_ff)
@@ -666,9 +666,9 @@ def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
         along = phi @ rhs
         wanted = along / abs(value)
         reach = np.abs(phi[translation]).max(initial=0.0)
-        if push and reach > 0.0 and abs(wanted) < 0.05 * size / reach:
+        if push and reach > 0.0 and abs(wanted) < 0.5 * size / reach:
             side = np.sign(phi @ load) or np.sign(along) or 1.0
-            wanted = side * 0.05 * size / reach
+            wanted = side * 0.5 * size / reach
         delta += (wanted - phi @ delta) * phi
     return delta
 

@@ -151,13 +151,13 @@ def test_a_straight_compressed_chain_is_reported_unstable():
 
 
 def test_seek_stable_leaves_the_unstable_straight_chain_for_the_buckled_one():
-    # The same pushed chain with the default seek_stable: the straight state is pushed off
-    # along its buckling mode and the solver settles where the bars are unstressed, the
-    # middle node sqrt(5^2 - 4.95^2) = 0.70534 mm aside (N = 0 there: exact geometry).
-    result = Static(increments=2).solve(_chain(-0.1, 0.0))
+    # The chain pushed in by 2 mm with the default seek_stable: the straight state is pushed
+    # off along its buckling mode and the solver settles where the bars are unstressed, the
+    # middle node sqrt(5^2 - 4^2) = 3 mm aside (N = 0 there: exact geometry).
+    result = Static(increments=1).solve(_chain(-2.0, 0.0))
     assert result.info["branch_switches"]
     assert result.info["indefinite_at"] == []
-    assert abs(result.positions[1, 1]) == pytest.approx(np.sqrt(5.0**2 - 4.95**2), rel=1e-8)
+    assert abs(result.positions[1, 1]) == pytest.approx(3.0, rel=1e-8)
 
 
 def test_a_compressed_chain_pushed_sideways_buckles_to_its_rest_length():

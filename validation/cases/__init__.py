@@ -14,12 +14,30 @@ from validation.cases import (
     bar_wave,
     catenary,
     elastic_catenary,
+    fibrous_curvature,
+    fibrous_heavy_cantilever,
+    mindlin_elastica,
+    mindlin_pinched_cylinder,
+    mindlin_plate,
+    mindlin_rollup,
+    mindlin_scordelis_lo,
 )
 
 RESOLUTIONS = ("coarse", "default", "fine")
 PAPER_CASES = (bai_5_1, bai_6_1_1, bai_6_1_2, bai_6_2_1, bai_6_2_2)
 SENSITIVITY_CASES = (bai_sensitivity,)
-VERIFICATION_CASES = (catenary, elastic_catenary, bar_wave)
+VERIFICATION_CASES = (
+    catenary,
+    elastic_catenary,
+    bar_wave,
+    fibrous_curvature,
+    fibrous_heavy_cantilever,
+    mindlin_elastica,
+    mindlin_rollup,
+    mindlin_plate,
+    mindlin_scordelis_lo,
+    mindlin_pinched_cylinder,
+)
 CASES = {module.NAME: module for module in (*PAPER_CASES, *SENSITIVITY_CASES, *VERIFICATION_CASES)}
 
 __all__ = ["CASES", "PAPER_CASES", "RESOLUTIONS", "VERIFICATION_CASES"]

@@ -57,7 +57,7 @@ def run(resolution: str, out_dir) -> dict:
     edge = np.flatnonzero(np.isclose(mesh.points[:, 1], 0.0))
     edge = edge[np.argsort(mesh.points[edge, 0])]
     s = np.linspace(0.0, LENGTH, 200)
-    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)", size=(5.6, 5.0)) as ax:
+    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)", size=(6.4, 4.4)) as ax:
         for k, frame in enumerate(result.frames[1:]):
             r = BENDING / (frame.load_factor * moment)
             label = "circle R = EI / M" if k == 0 else None
