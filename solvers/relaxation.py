@@ -71,9 +71,13 @@ class DynamicRelaxation:
         self.safety = float(safety)
         self.progress = progress
 
-    def solve(self, model: Model | CompiledModel):
+    def solve(self, model: Model | CompiledModel, start=None):
         """Relax every increment to equilibrium; returns a femcore.results.Result whose frames
         are the reference state and one frame per increment (``time`` = load factor).
+
+        start : optional (positions (n, 3), directors (n, 3), load factor) of an equilibrium
+        already found (e.g. the last state a Static run reached before a limit point): the
+        relaxation then continues from it, the increments splitting the remaining load.
 
         Raises ConvergenceError (with the converged increments in ``error.result``) when an
         increment does not converge in ``max_iterations``, and DivergenceError on non-finite
@@ -83,11 +87,28 @@ class DynamicRelaxation:
         started = time.perf_counter()
         state = compiled.initial_state()
         frames = [make_frame(compiled, state)]
+        first = 0.0
+        if start is not None:
+            positions, directors, first = start
+            first = float(first)
+            if not 0.0 <= first < 1.0:
+                raise ValueError(f"start load factor must be in [0, 1), got {first!r}")
+            state.positions = np.array(positions, dtype=float)
+            state.directors = np.array(directors, dtype=float)
+            if state.positions.shape != (compiled.n_nodes, 3) or state.directors.shape != (
+                compiled.n_nodes,
+                3,
+            ):
+                raise ValueError(
+                    f"start positions and directors must be ({compiled.n_nodes}, 3) arrays"
+                )
+            state.load_factor = state.time = first
+            frames.append(make_frame(compiled, state))
         progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
         iterations = []
         residuals = []
         for increment in range(1, self.increments + 1):
-            load_factor = increment / self.increments
+            load_factor = first + (1.0 - first) * increment / self.increments
             state.load_factor = load_factor
             state.time = load_factor
             try:

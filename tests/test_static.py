@@ -273,3 +273,26 @@ def test_bad_options_are_refused():
         Static(tol=2.0)
     with pytest.raises(ValueError, match="increments"):
         Static(increments=0)
+
+
+def test_dynamic_relaxation_continues_from_a_static_state():
+    # The fallback of the validation cases past a limit point: Static to half the load, then
+    # DynamicRelaxation from that equilibrium to the full load; it ends where a Static run to
+    # the full load ends.
+    mesh = Mesh.line((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 30)
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness=5.0e3, mass_per_length=1.0e-6))
+    model.fix("start")
+    model.displace("end", ux=-20.0, uy=0.0, uz=0.0)
+    model.gravity((0.0, 0.0, -9810.0))
+    half = Static(increments=4).solve(model)
+    middle = half.frames[2]
+    assert middle.load_factor == pytest.approx(0.5)
+    full = Static(increments=8).solve(model)
+    relaxed = DynamicRelaxation(increments=4, tol=1e-7).solve(
+        model, start=(middle.positions, middle.directors, middle.load_factor)
+    )
+    assert relaxed.frames[1].load_factor == pytest.approx(0.5)
+    assert relaxed.positions == pytest.approx(full.positions, rel=1e-3, abs=1e-3)
+    with pytest.raises(ValueError, match="start load factor"):
+        DynamicRelaxation().solve(model, start=(middle.positions, middle.directors, 1.0))

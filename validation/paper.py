@@ -61,8 +61,17 @@ def solve(model, increments: int):
         return result, note, time.perf_counter() - started
     except ConvergenceError as error:
         reached = getattr(error, "load_factor", 0.0)
-    result = DynamicRelaxation(increments=increments, tol=1e-5, max_iterations=400_000).solve(model)
-    note = f"DynamicRelaxation (Static stopped at load factor {reached:.3g})"
+        last = error.result.frames[-1]
+    # Past a limit point: relax from the last equilibrium Static found (not from scratch, which
+    # would retrace the whole path slowly and may settle on another branch).
+    steps = max(2, round(increments * (1.0 - reached)))
+    result = DynamicRelaxation(increments=steps, tol=1e-5, max_iterations=400_000).solve(
+        model, start=(last.positions, last.directors, reached)
+    )
+    note = (
+        f"Static to load factor {reached:.3g} (a limit point), then DynamicRelaxation "
+        f"from that state ({steps} increments)"
+    )
     return result, note, time.perf_counter() - started
 
 
