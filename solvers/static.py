@@ -327,6 +327,11 @@ class Static:
         compressed plate that stayed flat) along its buckling mode by half an element, up to
         three times per increment: the solver then settles on the stable, buckled branch.
         Each push is listed in ``info["branch_switches"]``.
+    step_loads_first : apply the loads whose amplitude is "step" (gravity by default) first,
+        over load factors 0 to 1 in ``increments`` increments with the prescribed displacements
+        held at zero, then the other loads and the prescribed displacements over 1 to 2 (a
+        specimen hangs under its weight before a support moves it). Frames then run over load
+        factors 0 to 2.
     tangent : "element" (default): each block's own ``tangent`` where it has one, coloured
         finite differences of ``internal_force`` for the others; "finite_difference": coloured
         finite differences for every block.
@@ -358,6 +363,7 @@ class Static:
         max_cuts: int = 8,
         tangent: str = "element",
         seek_stable: bool = True,
+        step_loads_first: bool = False,
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
@@ -369,6 +375,7 @@ class Static:
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
         self.tangent = tangent
         self.seek_stable = bool(seek_stable)
+        self.step_loads_first = bool(step_loads_first)
         self.progress = progress
 
     def solve(self, model: Model | CompiledModel):
@@ -418,9 +425,11 @@ class Static:
                 k_fp = k_fp + k[free_index][:, moved_index]
             return k_ff, k_fp
 
+        phases = 2 if self.step_loads_first else 1
+        total = phases * self.increments
         step = 1.0 / self.increments
         reached = 0.0
-        for increment in range(1, self.increments + 1):
+        for increment in range(1, total + 1):
             target = increment / self.increments
             iterations = 0
             cuts_here = 0
@@ -438,7 +447,7 @@ class Static:
                     if cuts_here > self.max_cuts:
                         error = ConvergenceError(
                             f"static solver stopped at load factor {reached:.6g}: increment "
-                            f"{increment}/{self.increments} did not converge after {cuts_here - 1}"
+                            f"{increment}/{total} did not converge after {cuts_here - 1}"
                             f" cuts ({failure}). A limit point or buckling may be near: try "
                             "DynamicRelaxation or CentralDifference for this path.",
                             None,
@@ -462,8 +471,7 @@ class Static:
             reactions, reaction_moments = self._reactions(compiled, state, reached)
             frames.append(make_frame(compiled, state, reactions, reaction_moments))
             progress(
-                f"increment {increment}/{self.increments} converged in {iterations} "
-                "Newton iterations",
+                f"increment {increment}/{total} converged in {iterations} Newton iterations",
                 force=True,
             )
         return self._result(compiled, frames, info, started, True)
@@ -473,13 +481,11 @@ class Static:
         """Newton-Raphson at one load factor: (iterations, final ratio, ratio per iteration,
         starting with the ratio before the first update)."""
         free = _unknowns(model)
-        f_ext, m_ext = (load_factor * a for a in model.external_load(1.0, quasi_static=True))
+        f_ext, m_ext, imposed = self._loads(model, load_factor)
         prescribed = _prescribed(model)
         target = None
         if model.has_prescribed:
-            target = model.reference_positions + load_factor * model.prescribed_displacement(
-                1.0, quasi_static=True
-            )
+            target = model.reference_positions + imposed
 
         def remaining(s):
             """(n, 5) prescribed motion not yet applied."""
@@ -630,9 +636,26 @@ class Static:
                 force=True,
             )
 
-    @staticmethod
-    def _reactions(model, state, load_factor):
-        f_ext, m_ext = (load_factor * a for a in model.external_load(1.0, quasi_static=True))
+    def _loads(self, model, load_factor):
+        """Dead forces, moments and imposed displacements (n, 3) each at a load factor: all
+        ramped together, or with ``step_loads_first`` the "step" loads over [0, 1] (imposed
+        displacements held at zero) and then the rest over [1, 2]."""
+        force, moment = model.external_load(1.0, quasi_static=True)
+        imposed = model.prescribed_displacement(1.0, quasi_static=True)
+        if not self.step_loads_first:
+            return load_factor * force, load_factor * moment, load_factor * imposed
+        # A "step" amplitude is 1 for any positive progress, a ramped one is proportional.
+        step_force, step_moment = model.external_load(1e-300, quasi_static=True)
+        first = min(load_factor, 1.0)
+        then = max(load_factor - 1.0, 0.0)
+        return (
+            first * step_force + then * (force - step_force),
+            first * step_moment + then * (moment - step_moment),
+            then * imposed,
+        )
+
+    def _reactions(self, model, state, load_factor):
+        f_ext, m_ext, _ = self._loads(model, load_factor)
         f_int, m_int = model.internal_force(state)
         reactions = np.where(model.translation_constrained, f_int - f_ext, 0.0)
         reaction_moments = np.where(

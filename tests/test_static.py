@@ -296,3 +296,25 @@ def test_dynamic_relaxation_continues_from_a_static_state():
     assert relaxed.positions == pytest.approx(full.positions, rel=1e-3, abs=1e-3)
     with pytest.raises(ValueError, match="start load factor"):
         DynamicRelaxation().solve(model, start=(middle.positions, middle.directors, 1.0))
+
+
+def test_step_loads_first_hangs_the_structure_before_moving_it():
+    # Gravity ("step") alone over load factors 0-1 with the end held, then the end moved over
+    # 1-2. An elastic cable has one equilibrium per load, so both paths end in the same state;
+    # at load factor 1 the end has not moved yet and the cable hangs under its full weight.
+    mesh = Mesh.line((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 30)
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness=5.0e3, mass_per_length=1.0e-6))
+    model.fix("start")
+    model.displace("end", ux=-20.0, uy=0.0, uz=0.0)
+    model.gravity((0.0, 0.0, -9810.0))
+    together = Static(increments=8).solve(model)
+    sequenced = Static(increments=4, step_loads_first=True).solve(model)
+    assert len(sequenced.frames) == 9
+    hanging = sequenced.frames[4]
+    assert hanging.load_factor == pytest.approx(1.0)
+    end = mesh.nodes("end")
+    assert hanging.positions[end] == pytest.approx(mesh.points[end], abs=1e-12)
+    weight = 1.0e-6 * 100.0 * 9810.0
+    assert hanging.reactions[:, 2].sum() == pytest.approx(weight, rel=1e-6)
+    assert sequenced.positions == pytest.approx(together.positions, abs=1e-6)

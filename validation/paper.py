@@ -51,9 +51,13 @@ def solve(model, increments: int):
     started = time.perf_counter()
     try:
         result = Static(
-            increments=increments, max_iterations=100, max_cuts=12, progress=False
+            increments=increments,
+            max_iterations=100,
+            max_cuts=12,
+            step_loads_first=True,
+            progress=False,
         ).solve(model)
-        note = f"Static ({increments} increments, element tangents)"
+        note = f"Static (gravity, then the displacement, {increments} increments each)"
         if result.info["indefinite_at"]:
             note += (
                 f"; unstable equilibrium (det K < 0) at load factors {result.info['indefinite_at']}"
@@ -63,14 +67,20 @@ def solve(model, increments: int):
         reached = getattr(error, "load_factor", 0.0)
         last = error.result.frames[-1]
     # Past a limit point: relax from the last equilibrium Static found (not from scratch, which
-    # would retrace the whole path slowly and may settle on another branch).
-    steps = max(2, round(increments * (1.0 - reached)))
+    # would retrace the whole path slowly and may settle on another branch). Static's factor
+    # 1 + f (gravity in full, a fraction f of the displacement) is DR's load factor f.
+    start = None
+    fraction = 0.0
+    if reached >= 1.0:
+        fraction = min(reached - 1.0, 0.999)
+        start = (last.positions, last.directors, fraction)
+    steps = max(2, round(increments * (1.0 - fraction)))
     result = DynamicRelaxation(increments=steps, tol=1e-5, max_iterations=400_000).solve(
-        model, start=(last.positions, last.directors, reached)
+        model, start=start
     )
     note = (
-        f"Static to load factor {reached:.3g} (a limit point), then DynamicRelaxation "
-        f"from that state ({steps} increments)"
+        f"Static to {fraction:.3g} of the displacement (a limit point), then "
+        f"DynamicRelaxation from that state ({steps} increments)"
     )
     return result, note, time.perf_counter() - started
 
