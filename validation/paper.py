@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -44,6 +45,42 @@ class PaperCase:
     parameters: dict = field(default_factory=dict)  # chosen values, reported
     increments: int = 10
     shear_ratio: float = 0.5  # Mindlin G13 / E (stated parameter)
+
+    def run(self, resolution: str, out_dir: Path) -> dict:
+        """The case module's ``run``: both kinematics, the report record."""
+        return run_paper_case(self, resolution, out_dir)
+
+
+def corner_case(
+    name: str,
+    title: str,
+    source: str,
+    fabric: Fabric,
+    size: tuple[float, float],
+    displacement: tuple,
+    described: str,
+    cells: dict,
+    increments: int = 10,
+) -> PaperCase:
+    """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
+    diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner and
+    ``described`` in words for the report."""
+    length, width = size
+    return PaperCase(
+        name=name,
+        title=title,
+        source=source,
+        make_specimen=partial(specimens.corner, length, width),
+        fabric=fabric,
+        displacement=displacement,
+        cells=cells,
+        increments=increments,
+        parameters={
+            "length_mm": length,
+            "width_mm": width,
+            "corner displacement (assumed)": described,
+        },
+    )
 
 
 def solve(model, increments: int):

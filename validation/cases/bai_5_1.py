@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from materials.presets import g986_stack
 from validation import specimens
-from validation.paper import PaperCase, run_paper_case
+from validation.paper import PaperCase
 
 NAME = "bai-5.1"
 TITLE = "20-ply G986 stack: clamped strip, end moved horizontally and vertically"
@@ -40,6 +40,4 @@ CASE = PaperCase(
     },
 )
 
-
-def run(resolution: str, out_dir) -> dict:
-    return run_paper_case(CASE, resolution, out_dir)
+run = CASE.run

@@ -17,30 +17,21 @@ Mindlin: E = 12 B / h^3, nu = 0, G13 = G23 = 0.5 E.
 from __future__ import annotations
 
 from materials.presets import paper_stack
-from validation import specimens
-from validation.paper import PaperCase, run_paper_case
+from validation.paper import corner_case
 
 NAME = "bai-6.1.1"
 TITLE = "130-sheet paper stack: corner lifted beyond a clamped diagonal"
-SOURCE = "Bai et al. (2020) §6.1.1, Fig. 8b, 9, 10"
-LENGTH, WIDTH = 210.0, 148.0
+SECTION = "§6.1.1, Fig. 8b, 9, 10"
+SOURCE = f"Bai et al. (2020) {SECTION}"
 
-
-CASE = PaperCase(
+CASE = corner_case(
     name=NAME,
     title=TITLE,
-    source="§6.1.1, Fig. 8b, 9, 10",
-    make_specimen=lambda cells: specimens.corner(LENGTH, WIDTH, cells),
+    source=SECTION,
     fabric=paper_stack(),
+    size=(210.0, 148.0),
     displacement=(None, None, 40.0),
+    described="corner lifted 40 mm, x y free",
     cells={"coarse": 8, "default": 20, "fine": 40},
-    parameters={
-        "length_mm": LENGTH,
-        "width_mm": WIDTH,
-        "corner displacement (assumed)": "corner lifted 40 mm, x y free",
-    },
 )
-
-
-def run(resolution: str, out_dir) -> dict:
-    return run_paper_case(CASE, resolution, out_dir)
+run = CASE.run

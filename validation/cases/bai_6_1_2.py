@@ -16,32 +16,23 @@ Mindlin: E = 12 B / h^3, nu = 0, G13 = G23 = 0.5 E.
 from __future__ import annotations
 
 from materials.presets import paper_stack
-from validation import specimens
-from validation.paper import PaperCase, run_paper_case
+from validation.paper import corner_case
 
 NAME = "bai-6.1.2"
 TITLE = "130-sheet paper stack: buckling under an in-plane corner displacement"
-SOURCE = "Bai et al. (2020) §6.1.2, Fig. 8c, 11, 12"
+SECTION = "§6.1.2, Fig. 8c, 11, 12"
+SOURCE = f"Bai et al. (2020) {SECTION}"
 PUSH = 20.0  # mm, assumed
-LENGTH, WIDTH = 210.0, 148.0
 
-
-CASE = PaperCase(
+CASE = corner_case(
     name=NAME,
     title=TITLE,
-    source="§6.1.2, Fig. 8c, 11, 12",
-    make_specimen=lambda cells: specimens.corner(LENGTH, WIDTH, cells),
+    source=SECTION,
     fabric=paper_stack(),
+    size=(210.0, 148.0),
     displacement=(PUSH, None, None),
-    increments=20,
+    described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
-    parameters={
-        "length_mm": LENGTH,
-        "width_mm": WIDTH,
-        "corner displacement (assumed)": f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
-    },
+    increments=20,
 )
-
-
-def run(resolution: str, out_dir) -> dict:
-    return run_paper_case(CASE, resolution, out_dir)
+run = CASE.run

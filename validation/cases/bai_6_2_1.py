@@ -13,30 +13,21 @@ paper's Abaqus S3 comparison, which it says did not match the experiment).
 from __future__ import annotations
 
 from materials.presets import g1151_laminate
-from validation import specimens
-from validation.paper import PaperCase, run_paper_case
+from validation.paper import corner_case
 
 NAME = "bai-6.2.1"
 TITLE = "11-ply G1151 laminate: corner lifted beyond a clamped diagonal"
-SOURCE = "Bai et al. (2020) §6.2.1, Fig. 13, 14"
-LENGTH, WIDTH = 200.0, 150.0
+SECTION = "§6.2.1, Fig. 13, 14"
+SOURCE = f"Bai et al. (2020) {SECTION}"
 
-
-CASE = PaperCase(
+CASE = corner_case(
     name=NAME,
     title=TITLE,
-    source="§6.2.1, Fig. 13, 14",
-    make_specimen=lambda cells: specimens.corner(LENGTH, WIDTH, cells),
+    source=SECTION,
     fabric=g1151_laminate(),
+    size=(200.0, 150.0),
     displacement=(None, None, 40.0),
+    described="corner lifted 40 mm, x y free",
     cells={"coarse": 8, "default": 20, "fine": 40},
-    parameters={
-        "length_mm": LENGTH,
-        "width_mm": WIDTH,
-        "corner displacement (assumed)": "corner lifted 40 mm, x y free",
-    },
 )
-
-
-def run(resolution: str, out_dir) -> dict:
-    return run_paper_case(CASE, resolution, out_dir)
+run = CASE.run

@@ -13,32 +13,23 @@ Mindlin: as bai-6.2.1.
 from __future__ import annotations
 
 from materials.presets import g1151_laminate
-from validation import specimens
-from validation.paper import PaperCase, run_paper_case
+from validation.paper import corner_case
 
 NAME = "bai-6.2.2"
 TITLE = "11-ply G1151 laminate: buckling under an in-plane corner displacement"
-SOURCE = "Bai et al. (2020) §6.2.2, Fig. 15, 16"
+SECTION = "§6.2.2, Fig. 15, 16"
+SOURCE = f"Bai et al. (2020) {SECTION}"
 PUSH = 20.0  # mm, assumed
-LENGTH, WIDTH = 200.0, 150.0
 
-
-CASE = PaperCase(
+CASE = corner_case(
     name=NAME,
     title=TITLE,
-    source="§6.2.2, Fig. 15, 16",
-    make_specimen=lambda cells: specimens.corner(LENGTH, WIDTH, cells),
+    source=SECTION,
     fabric=g1151_laminate(),
+    size=(200.0, 150.0),
     displacement=(PUSH, None, None),
-    increments=20,
+    described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
-    parameters={
-        "length_mm": LENGTH,
-        "width_mm": WIDTH,
-        "corner displacement (assumed)": f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
-    },
+    increments=20,
 )
-
-
-def run(resolution: str, out_dir) -> dict:
-    return run_paper_case(CASE, resolution, out_dir)
+run = CASE.run
