@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+from solvers import Static
+
 
 def check(
     name: str,
@@ -34,3 +36,21 @@ def check(
         "passed": passed,
         "source": source,
     }
+
+
+def solve_sequence(build, meshes, measure):
+    """Solve a model on each mesh of a refinement sequence with Static (one increment).
+
+    build(cells) -> (model, node); measure(result, node) -> the value checked.
+    Returns the values (one per mesh), the last result, the summed wall time and Newton
+    iterations, and whether every solve converged.
+    """
+    values, wall, steps, converged = [], 0.0, 0, True
+    for cells in meshes:
+        model, node = build(cells)
+        result = Static(increments=1).solve(model)
+        values.append(measure(result, node))
+        wall += result.wall_time
+        steps += result.steps
+        converged &= bool(result.converged)
+    return values, result, wall, steps, converged

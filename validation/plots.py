@@ -25,3 +25,15 @@ def figure(path: Path, xlabel: str, ylabel: str, size=(6.4, 3.6)):
         fig.savefig(path, dpi=110)
     finally:
         plt.close(fig)
+
+
+def mesh_convergence(path: Path, meshes, ratio, tolerance: float, *, xlabel, ylabel, label, ylim):
+    """Value / reference against cells per side (log 2 axis), with the reference line and the
+    tolerance band of a published benchmark (MacNeal & Harder 1985)."""
+    with figure(path, xlabel, ylabel) as ax:
+        ax.axhline(1.0, color="0.3", label="MacNeal & Harder (1985)")
+        ax.axhspan(1 - tolerance, 1 + tolerance, color="0.85", label=f"±{tolerance:.0%}")
+        ax.plot(meshes, ratio, "o-", label=label)
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(meshes, [str(n) for n in meshes])
+        ax.set_ylim(*ylim)

@@ -18,9 +18,8 @@ import numpy as np
 from elements import MindlinShell
 from femcore import Mesh, Model
 from materials import ElasticShell
-from solvers import Static
-from validation.checks import check
-from validation.plots import figure
+from validation.checks import check, solve_sequence
+from validation.plots import mesh_convergence
 
 NAME = "mindlin-pinched-cylinder"
 TITLE = "Pinched cylinder with rigid diaphragms (linear)"
@@ -46,8 +45,8 @@ REFERENCE = 1.8248e-5
 RADIUS, LENGTH, THICKNESS, YOUNG, NU, LOAD = 300.0, 600.0, 3.0, 3e6, 0.3, 1.0
 
 
-def octant(cells: int) -> tuple[Mesh, Model, int]:
-    """The octant, its model and the loaded node."""
+def octant(cells: int) -> tuple[Model, int]:
+    """The model of the octant and the loaded node."""
     flat = Mesh.rectangle(LENGTH / 2, RADIUS * np.pi / 2, nx=cells, ny=cells)
     x, s = flat.points[:, 0], flat.points[:, 1]
     mesh = flat.with_points(
@@ -61,28 +60,25 @@ def octant(cells: int) -> tuple[Mesh, Model, int]:
     model.fix("top", ["uz", "beta"])  # symmetry plane z = 0
     loaded = mesh.nodes(lambda X, Y, Z: np.isclose(X, LENGTH / 2) & np.isclose(Y, 0.0))
     model.force(loaded, (0.0, 0.0, -LOAD / 4))  # a quarter of the load on the octant
-    return mesh, model, int(loaded[0])
+    return model, int(loaded[0])
 
 
 def run(resolution: str, out_dir) -> dict:
     meshes = MESHES[resolution]
-    deflections, wall, steps, converged = [], 0.0, 0, True
-    for cells in meshes:
-        mesh, model, node = octant(cells)
-        result = Static(increments=1).solve(model)
-        deflections.append(-result.displacements[node, 2])
-        wall += result.wall_time
-        steps += result.steps
-        converged &= bool(result.converged)
+    deflections, result, wall, steps, converged = solve_sequence(
+        octant, meshes, lambda result, node: -result.displacements[node, 2]
+    )
     ratio = np.array(deflections) / REFERENCE
-
-    with figure(out_dir / f"{NAME}.png", "cells per side of the octant", "w / 1.8248e-5") as ax:
-        ax.axhline(1.0, color="0.3", label="MacNeal & Harder (1985)")
-        ax.axhspan(1 - TOLERANCE, 1 + TOLERANCE, color="0.85", label=f"±{TOLERANCE:.0%}")
-        ax.plot(meshes, ratio, "o-", label="MindlinShell, Static")
-        ax.set_xscale("log", base=2)
-        ax.set_xticks(meshes, [str(n) for n in meshes])
-        ax.set_ylim(min(0.4, ratio.min() - 0.05), 1.1)
+    mesh_convergence(
+        out_dir / f"{NAME}.png",
+        meshes,
+        ratio,
+        TOLERANCE,
+        xlabel="cells per side of the octant",
+        ylabel="w / 1.8248e-5",
+        label="MindlinShell, Static",
+        ylim=(min(0.4, ratio.min() - 0.05), 1.1),
+    )
 
     result.write(out_dir / f"{NAME}.vtu")
     return {

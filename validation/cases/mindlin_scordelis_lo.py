@@ -20,9 +20,8 @@ import numpy as np
 from elements import MindlinShell
 from femcore import Mesh, Model
 from materials import ElasticShell
-from solvers import Static
-from validation.checks import check
-from validation.plots import figure
+from validation.checks import check, solve_sequence
+from validation.plots import mesh_convergence
 
 NAME = "mindlin-scordelis-lo"
 TITLE = "Scordelis-Lo roof (linear, self-weight)"
@@ -42,8 +41,8 @@ ANGLE = np.radians(40.0)
 SCALE = 1e-4  # load scaling that keeps the solve linear
 
 
-def roof(cells: int) -> tuple[Mesh, Model, int]:
-    """The quarter roof, its model and the node at the middle of the free edge."""
+def roof(cells: int) -> tuple[Model, int]:
+    """The model of the quarter roof and the node at the middle of the free edge."""
     flat = Mesh.rectangle(LENGTH / 2, RADIUS * ANGLE, nx=cells, ny=cells)
     x, s = flat.points[:, 0], flat.points[:, 1]
     mesh = flat.with_points(
@@ -57,30 +56,25 @@ def roof(cells: int) -> tuple[Mesh, Model, int]:
     model.fix("right", ["uy", "uz"])  # rigid diaphragm, x = L / 2
     model.gravity((0.0, 0.0, -1.0))
     node = int(np.flatnonzero(np.isclose(x, 0.0) & np.isclose(s, RADIUS * ANGLE))[0])
-    return mesh, model, node
+    return model, node
 
 
 def run(resolution: str, out_dir) -> dict:
     meshes = MESHES[resolution]
-    deflections, wall, steps, converged = [], 0.0, 0, True
-    for cells in meshes:
-        mesh, model, node = roof(cells)
-        result = Static(increments=1).solve(model)
-        deflections.append(-result.displacements[node, 2] / SCALE)
-        wall += result.wall_time
-        steps += result.steps
-        converged &= bool(result.converged)
+    deflections, result, wall, steps, converged = solve_sequence(
+        roof, meshes, lambda result, node: -result.displacements[node, 2] / SCALE
+    )
     ratio = np.array(deflections) / REFERENCE
-
-    with figure(
-        out_dir / f"{NAME}.png", "cells per side of the quarter model", "w / 0.3024 ft"
-    ) as ax:
-        ax.axhline(1.0, color="0.3", label="MacNeal & Harder (1985)")
-        ax.axhspan(1 - TOLERANCE, 1 + TOLERANCE, color="0.85", label=f"±{TOLERANCE:.0%}")
-        ax.plot(meshes, ratio, "o-", label="MindlinShell, Static (linear load level)")
-        ax.set_xscale("log", base=2)
-        ax.set_xticks(meshes, [str(n) for n in meshes])
-        ax.set_ylim(min(0.8, ratio.min() - 0.02), 1.05)
+    mesh_convergence(
+        out_dir / f"{NAME}.png",
+        meshes,
+        ratio,
+        TOLERANCE,
+        xlabel="cells per side of the quarter model",
+        ylabel="w / 0.3024 ft",
+        label="MindlinShell, Static (linear load level)",
+        ylim=(min(0.8, ratio.min() - 0.02), 1.05),
+    )
 
     result.write(out_dir / f"{NAME}.vtu")
     return {
