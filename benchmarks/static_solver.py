@@ -24,16 +24,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from elements import MindlinShell  # noqa: E402
-from femcore import Mesh, Model  # noqa: E402
-from materials import ElasticShell  # noqa: E402
+from femcore import Model  # noqa: E402
 from materials.presets import g1151_laminate  # noqa: E402
 from solvers import ConvergenceError, DynamicRelaxation, Static  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.references.elastica import tip_loaded_cantilever  # noqa: E402
-
-# nu = 0: a strip with no anticlastic stiffening, so that the beam references apply.
-ALUMINIUM = {"E": 70e3, "nu": 0.0, "thickness": 1.0, "density": 2.7e-9}
 
 
 def corner_model(cells: int) -> tuple[Model, np.ndarray]:
@@ -43,13 +38,9 @@ def corner_model(cells: int) -> tuple[Model, np.ndarray]:
 
 
 def strip(load_kind: str) -> tuple[Model, np.ndarray, float]:
-    length, width = 200.0, 20.0
-    mesh = Mesh.rectangle(length, width, nx=80, ny=16)
-    model = Model(mesh)
-    material = ElasticShell(**ALUMINIUM)
-    model.add(MindlinShell(material))
-    model.fix("left")
-    bending = ALUMINIUM["E"] * width * ALUMINIUM["thickness"] ** 3 / 12
+    length, width, thickness, young = 200.0, 20.0, 1.0, 70e3  # aluminium, nu = 0
+    mesh, model = specimens.mindlin_strip(length, width, thickness, young, cells=80, across=16)
+    bending = young * width * thickness**3 / 12
     tip = mesh.nodes("right")
     if load_kind == "force":
         load = 3.0 * bending / length**2

@@ -225,12 +225,10 @@ def test_cantilever_under_a_large_tip_load_follows_the_elastica():
     # at P L^2 / EI = 1). Thin strip, L/h = 100, nu = 0, 20 elements.
     from solvers import Static
     from validation.references.elastica import tip_loaded_cantilever
+    from validation.specimens import mindlin_strip
 
     length, width, thickness, young = 100.0, 5.0, 1.0, 1e5
-    mesh = Mesh.rectangle(length, width, nx=20, ny=1)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
-    model.fix("left")
+    mesh, model = mindlin_strip(length, width, thickness, young, cells=20)
     bending = young * width * thickness**3 / 12
     load = 3.0 * bending / length**2
     tip = mesh.nodes("right")

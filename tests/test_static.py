@@ -9,6 +9,7 @@ from materials import BendingLaw, ElasticShell, Fabric, ShearLaw
 from solvers import ConvergenceError, DynamicRelaxation, Static
 from solvers.static import _frames, _unknowns, element_tangent, finite_difference_tangent
 from tests.shell_helpers import fabric, on_cylinder, stiffness_and_mass
+from validation.specimens import mindlin_strip
 
 
 def fibrous_strip(tension=1200.0, cells=10):
@@ -106,10 +107,7 @@ def test_newton_converges_quadratically_with_the_element_tangent():
     # tangent the end of each increment is quadratic; the finite-difference tangent (equal to
     # it to ~1e-10) follows the same iterations to the same state.
     length, width, thickness, young = 100.0, 5.0, 1.0, 1e5
-    mesh = Mesh.rectangle(length, width, nx=10, ny=1)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
-    model.fix("left")
+    mesh, model = mindlin_strip(length, width, thickness, young, cells=10)
     load = 3.0 * young * width * thickness**3 / 12 / length**2
     tip = mesh.nodes("right")
     model.force(tip, (0.0, 0.0, -load / len(tip)))
@@ -229,13 +227,19 @@ def test_static_and_dynamic_relaxation_agree_on_the_fibrous_cantilever():
     assert static.info["iterations_per_increment"][-1] < 30
 
 
-def test_static_and_dynamic_relaxation_agree_on_a_sagging_cable():
+def _sagging_cable():
+    """30 links over 100 mm, one end fixed, the other moved 20 mm in, under gravity."""
     mesh = Mesh.line((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 30)
     model = Model(mesh)
     model.add(Cable(axial_stiffness=5.0e3, mass_per_length=1.0e-6))
     model.fix("start")
     model.displace("end", ux=-20.0, uy=0.0, uz=0.0)
     model.gravity((0.0, 0.0, -9810.0))
+    return mesh, model
+
+
+def test_static_and_dynamic_relaxation_agree_on_a_sagging_cable():
+    mesh, model = _sagging_cable()
     static = Static(increments=8).solve(model)
     relaxed = DynamicRelaxation(increments=8, tol=1e-7).solve(model)
     assert static.positions == pytest.approx(relaxed.positions, rel=1e-3, abs=1e-3)
@@ -244,10 +248,7 @@ def test_static_and_dynamic_relaxation_agree_on_a_sagging_cable():
 def test_cantilever_rolls_up_into_a_circle_under_an_end_moment():
     # Closed form: an end moment M bends an inextensible strip into an arc of radius EI / M.
     length, width, thickness, young = 100.0, 10.0, 1.0, 1e5
-    mesh = Mesh.rectangle(length, width, nx=20, ny=1)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
-    model.fix("left")
+    mesh, model = mindlin_strip(length, width, thickness, young, cells=20)
     bending = young * width * thickness**3 / 12
     moment = 0.25 * 2 * np.pi * bending / length  # a quarter circle
     tip = mesh.nodes("right")
@@ -279,12 +280,7 @@ def test_dynamic_relaxation_continues_from_a_static_state():
     # The fallback of the validation cases past a limit point: Static to half the load, then
     # DynamicRelaxation from that equilibrium to the full load; it ends where a Static run to
     # the full load ends.
-    mesh = Mesh.line((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 30)
-    model = Model(mesh)
-    model.add(Cable(axial_stiffness=5.0e3, mass_per_length=1.0e-6))
-    model.fix("start")
-    model.displace("end", ux=-20.0, uy=0.0, uz=0.0)
-    model.gravity((0.0, 0.0, -9810.0))
+    mesh, model = _sagging_cable()
     half = Static(increments=4).solve(model)
     middle = half.frames[2]
     assert middle.load_factor == pytest.approx(0.5)
@@ -302,12 +298,7 @@ def test_step_loads_first_hangs_the_structure_before_moving_it():
     # Gravity ("step") alone over load factors 0-1 with the end held, then the end moved over
     # 1-2. An elastic cable has one equilibrium per load, so both paths end in the same state;
     # at load factor 1 the end has not moved yet and the cable hangs under its full weight.
-    mesh = Mesh.line((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 30)
-    model = Model(mesh)
-    model.add(Cable(axial_stiffness=5.0e3, mass_per_length=1.0e-6))
-    model.fix("start")
-    model.displace("end", ux=-20.0, uy=0.0, uz=0.0)
-    model.gravity((0.0, 0.0, -9810.0))
+    mesh, model = _sagging_cable()
     together = Static(increments=8).solve(model)
     sequenced = Static(increments=4, step_loads_first=True).solve(model)
     assert len(sequenced.frames) == 9
@@ -325,10 +316,7 @@ def test_static_and_dynamic_relaxation_agree_on_the_mindlin_cantilever():
     # needs only ~9000 iterations): the tip moves 30 mm down and 5.6 mm in; both solvers
     # agree to 1e-4 of the largest displacement (measured 1.3e-6).
     length, width, thickness, young = 100.0, 5.0, 4.0, 1e5
-    mesh = Mesh.rectangle(length, width, nx=10, ny=1)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
-    model.fix("left")
+    mesh, model = mindlin_strip(length, width, thickness, young, cells=10)
     load = young * width * thickness**3 / 12 / length**2
     tip = mesh.nodes("right")
     model.force(tip, (0.0, 0.0, -load / len(tip)))

@@ -88,6 +88,18 @@ def corner(length: float, width: float, cells: int) -> Specimen:
     )
 
 
+def mindlin_strip(
+    length: float, width: float, thickness: float, young: float, cells: int, across: int = 1
+) -> tuple[Mesh, Model]:
+    """An isotropic Mindlin strip (nu = 0, so that beam references apply) of cells x across
+    cells, clamped at x = 0 (node set "left"); loads are the caller's."""
+    mesh = Mesh.rectangle(length, width, nx=cells, ny=across)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
+    model.fix("left")
+    return mesh, model
+
+
 def mindlin_equivalent(fabric: Fabric, shear_ratio: float = 0.5) -> ElasticShell:
     """Homogeneous Mindlin section with the fabric's bending stiffness, as Bai calibrated Abaqus
     S3: E = 12 B / h^3 per direction (warp B along x, weft B along y; the initial slope of a

@@ -17,13 +17,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements import MindlinShell
-from femcore import Mesh, Model
-from materials import ElasticShell
+from femcore import Mesh
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
 from validation.references.elastica import tip_loaded_cantilever
+from validation.specimens import mindlin_strip
 
 NAME = "mindlin-elastica"
 TITLE = "Mindlin cantilever strip under a large tip load: the elastica"
@@ -46,10 +45,7 @@ def stations(mesh: Mesh, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def run(resolution: str, out_dir) -> dict:
     cells = CELLS[resolution]
     load = LOAD_PARAMETER * BENDING / LENGTH**2
-    mesh = Mesh.rectangle(LENGTH, WIDTH, nx=cells, ny=1)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(YOUNG, 0.0, THICKNESS, 1e-9)))
-    model.fix("left")
+    mesh, model = mindlin_strip(LENGTH, WIDTH, THICKNESS, YOUNG, cells)
     tip = mesh.nodes("right")
     model.force(tip, (0.0, 0.0, -load / len(tip)))
     result = Static(increments=INCREMENTS).solve(model)

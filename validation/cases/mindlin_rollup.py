@@ -18,12 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements import MindlinShell
-from femcore import Mesh, Model
-from materials import ElasticShell
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
+from validation.specimens import mindlin_strip
 
 NAME = "mindlin-rollup"
 TITLE = "Mindlin cantilever strip rolled into a quarter circle by an end moment"
@@ -36,10 +34,7 @@ BENDING = YOUNG * WIDTH * THICKNESS**3 / 12  # EI, N mm^2
 
 def run(resolution: str, out_dir) -> dict:
     cells = CELLS[resolution]
-    mesh = Mesh.rectangle(LENGTH, WIDTH, nx=cells, ny=1)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(YOUNG, 0.0, THICKNESS, 1e-9)))
-    model.fix("left")
+    mesh, model = mindlin_strip(LENGTH, WIDTH, THICKNESS, YOUNG, cells)
     moment = 0.25 * 2 * np.pi * BENDING / LENGTH  # a quarter circle
     tip = mesh.nodes("right")
     model.moment(tip, (0.0, -moment / len(tip), 0.0), amplitude="linear")
