@@ -224,8 +224,9 @@ def element_tangent(model: CompiledModel, state, frames, blocks=None) -> sp.csr_
     blocks = [b for b in model.blocks if _has_own_tangent(b)] if blocks is None else blocks
     n = model.n_nodes
     rows, cols, values = [], [], []
+    maps = _maps(n, frames)
     for part in _parts(blocks, state):
-        kq = _generalised_blocks(part, _maps(n, frames))
+        kq = _generalised_blocks(part, maps)
         r, c = _entry_indices(part.nodes, kq.shape[2])
         rows.append(r)
         cols.append(c)
@@ -494,8 +495,9 @@ class Static:
                 out[:, :3] = np.where(model.translation_prescribed, target - s.positions, 0.0)
             return out
 
-        def residual(s, frames):
-            f_int, m_int = model.internal_force(s)
+        def residual(s, frames, forces=None):
+            """(r, ratio, internal forces) at s; ``forces`` reuses an evaluation at s."""
+            f_int, m_int = forces if forces is not None else model.internal_force(s)
             r = np.where(free, _generalised(model, frames, f_ext - f_int, m_ext - m_int), 0.0)
             # One scale for both: a moment M counts as the force M / (element size), so that a
             # pure-moment load (zero forces at equilibrium) has a force reference too.
@@ -509,7 +511,7 @@ class Static:
             )
             moment_ref = force_ref * size
             ratio = max(np.linalg.norm(r[:, :3]) / force_ref, np.linalg.norm(r[:, 3:]) / moment_ref)
-            return r, ratio
+            return r, ratio, (f_int, m_int)
 
         index = np.flatnonzero(free.ravel())
         moved_index = np.flatnonzero(prescribed.ravel())
@@ -517,9 +519,10 @@ class Static:
         singular = False
         escapes = 0
         translation = index % 5 < 3
+        forces = None  # the internal forces of the accepted trial, reused next iteration
         for iteration in range(1, self.max_iterations + 1):
             frames = _frames(model, state.directors)
-            r, ratio = residual(state, frames)
+            r, ratio, _ = residual(state, frames, forces)
             left = remaining(state)
             if iteration == 1:
                 history = [ratio]
@@ -581,7 +584,7 @@ class Static:
                 trial = state.copy()
                 with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
                     _apply(model, trial, scale * delta, frames)
-                    _, ratio_new = residual(trial, frames)
+                    _, ratio_new, forces = residual(trial, frames)
                 if (
                     not self.line_search
                     or push
