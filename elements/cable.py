@@ -9,8 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.base import CellTangent, ElementBlock, ElementType, check_positive
-from femcore.assembly import Scatter
+from elements.base import CellTangent, ElementBlock, ElementType, Scatter, check_positive
 from femcore.mesh import Mesh
 from femcore.state import State
 
@@ -43,7 +42,10 @@ class CableBlock(ElementBlock):
     reach = 1
 
     def __init__(self, cable: Cable, mesh: Mesh, cell_ids: np.ndarray):
-        self.material = cable
+        # Options resolved once: the block never reads its type back at run time.
+        self.axial_stiffness = cable.axial_stiffness  # N
+        self.mass_per_length = cable.mass_per_length  # t/mm
+        self.tension_only = cable.tension_only
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.connectivity = mesh.lines[self.cell_ids]
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
@@ -54,7 +56,7 @@ class CableBlock(ElementBlock):
             raise ValueError(
                 f"line cell {self.cell_ids[short][0]} has zero length: its two nodes coincide"
             )
-        self.wave_speed = np.sqrt(cable.axial_stiffness / cable.mass_per_length)  # mm/s
+        self.wave_speed = np.sqrt(self.axial_stiffness / self.mass_per_length)  # mm/s
 
     def _axial(self, state: State):
         """Chord vectors (m, 3), current lengths (m,), engineering strains (m,), forces (m,)."""
@@ -62,30 +64,30 @@ class CableBlock(ElementBlock):
         chord = ends[:, 1] - ends[:, 0]
         length = np.linalg.norm(chord, axis=1)
         strain = length / self.rest_length - 1.0
-        force = self.material.axial_stiffness * strain
-        if self.material.tension_only:
+        force = self.axial_stiffness * strain
+        if self.tension_only:
             force = np.maximum(force, 0.0)
         return chord, length, strain, force
 
     def lumped_mass(self, state: State, density_scale=None):
-        half = 0.5 * self.material.mass_per_length * self.rest_length
+        half = 0.5 * self.mass_per_length * self.rest_length
         if density_scale is not None:
             half = half * density_scale
         return self.scatter.scalars(np.stack([half, half], axis=1)), None
 
-    def internal_force(self, state: State):
+    def internal_force(self, state: State, history=None):
         chord, length, _, force = self._axial(state)
         pull = (force / length)[:, None] * chord  # on node 2 (= dW/dx2); node 1 gets the opposite
         return self.scatter.vectors(np.stack([-pull, pull], axis=1)), None
 
-    def tangent(self, state: State) -> list[CellTangent]:
+    def tangent(self, state: State, history=None) -> list[CellTangent]:
         """Exact 6 x 6 stiffness of each cable: material (EA / L0) e e^T plus geometric
         (N / l) (I - e e^T), e the unit chord; zero for a slack tension-only cable."""
         chord, length, _, force = self._axial(state)
         e = chord / length[:, None]
         along = e[:, :, None] * e[:, None, :]
-        axial = self.material.axial_stiffness / self.rest_length
-        if self.material.tension_only:
+        axial = self.axial_stiffness / self.rest_length
+        if self.tension_only:
             axial = np.where(force > 0.0, axial, 0.0)
         k = axial[:, None, None] * along + (force / length)[:, None, None] * (np.eye(3) - along)
         blocks = np.empty((len(k), 2, 3, 2, 3))
@@ -98,16 +100,16 @@ class CableBlock(ElementBlock):
         # stiffness N/l for transverse motion of a taut cable): omega_max^2 = 4 k / (mu L0).
         _, length, _, force = self._axial(state)
         stiffness = (
-            self.material.axial_stiffness / self.rest_length + np.maximum(force, 0.0) / length
+            self.axial_stiffness / self.rest_length + np.maximum(force, 0.0) / length
         )
-        omega = np.sqrt(4.0 * stiffness / (self.material.mass_per_length * self.rest_length))
+        omega = np.sqrt(4.0 * stiffness / (self.mass_per_length * self.rest_length))
         return 2.0 / omega
 
-    def strain_energy(self, state: State) -> float:
+    def strain_energy(self, state: State, history=None) -> float:
         _, _, strain, _ = self._axial(state)
-        if self.material.tension_only:
+        if self.tension_only:
             strain = np.maximum(strain, 0.0)
-        return float(0.5 * self.material.axial_stiffness * np.sum(self.rest_length * strain**2))
+        return float(0.5 * self.axial_stiffness * np.sum(self.rest_length * strain**2))
 
     def cell_fields(self, state: State) -> dict[str, np.ndarray]:
         _, _, strain, force = self._axial(state)
@@ -115,4 +117,4 @@ class CableBlock(ElementBlock):
 
     def total_mass(self) -> float:
         """Physical mass of the block (t)."""
-        return float(self.material.mass_per_length * self.rest_length.sum())
+        return float(self.mass_per_length * self.rest_length.sum())

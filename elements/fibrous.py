@@ -109,6 +109,7 @@ class FibrousShell(ElementType):
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
     cell_type = "triangle"
+    defines_directors = True
 
     def __init__(
         self,
@@ -161,10 +162,14 @@ class FibrousShellBlock(ElementBlock):
 
     dofs = FibrousShell.dofs
     cell_type = FibrousShell.cell_type
+    # Rotation-free bending: a cell's bending force depends on its neighbours' nodes.
+    reach = 2
 
     def __init__(self, shell: FibrousShell, mesh: Mesh, cell_ids, directors):
-        self.shell = shell
         self.fabric = fabric = shell.fabric
+        # Options resolved once: the block never reads its type back at run time.
+        self.thickness_variation = shell.thickness_variation
+        self.reference_curvature_coefficients = shell.bending_geometry == "reference"
         self.n_nodes = mesh.n_nodes
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.zeta, self.weights = shell.zeta, shell.weights
@@ -330,7 +335,7 @@ class FibrousShellBlock(ElementBlock):
         arm1, arm2 = np.matmul(self.zeta, p1), np.matmul(self.zeta, p2)
         lever = np.stack([-(arm1 + arm2), arm1, arm2], axis=1)
         moment = 0.5 * h_m[..., None] * cross(v, lever)
-        if self.shell.thickness_variation:
+        if self.thickness_variation:
             # dW/dh_m^k = sum_f zeta_f / 2 F_k^f . V_k; h_m = h / c, c = V . n (unguarded only).
             dw_dh = 0.5 * np.sum(lever * v, axis=-1)
             c = geo["cosine"]
@@ -395,7 +400,7 @@ class FibrousShellBlock(ElementBlock):
         and the coefficients used."""
         coefficients = (
             self.reference_coefficients
-            if self.shell.bending_geometry == "reference"
+            if self.reference_curvature_coefficients
             else bend["coefficients"]
         )
         chi = -np.matmul(coefficients, (bend["fold"] - self.reference_fold)[:, :, None])[..., 0]
@@ -434,7 +439,7 @@ class FibrousShellBlock(ElementBlock):
         p1, p2 = self._layer_loads(geo, self._strains(geo))
         return self._layer_forces(geo, p1, p2)
 
-    def tangent(self, state: State) -> list[CellTangent]:
+    def tangent(self, state: State, history=None) -> list[CellTangent]:
         """Stiffness of tension + shear (each cell's own 18 x 18, by central differences of its
         loads, all cells at once) and of bending (Eq. 37 differentiated, see
         ``_bending_tangent``)."""
@@ -488,7 +493,7 @@ class FibrousShellBlock(ElementBlock):
         return [CellTangent(nodes, material), CellTangent(self.connectivity, geometric)]
 
     # ------------------------------------------------------------------ protocol
-    def internal_force(self, state: State):
+    def internal_force(self, state: State, history=None):
         geo = self._geometry(state.positions, state.directors)
         strain = self._strains(geo)
         p1, p2 = self._layer_loads(geo, strain)
@@ -530,7 +535,7 @@ class FibrousShellBlock(ElementBlock):
         )
         return {"tension": float(tension), "shear": float(shear), "bending": float(bending)}
 
-    def strain_energy(self, state: State) -> float:
+    def strain_energy(self, state: State, history=None) -> float:
         return float(sum(self.strain_energy_parts(state).values()))
 
     def nodal_thickness(self, state: State) -> np.ndarray:

@@ -52,6 +52,7 @@ class MindlinShell(ElementType):
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
     cell_type = "triangle"
+    defines_directors = True
 
     def __init__(
         self, material: ElasticShell, thickness_points: int = 2, rotary_scaling: bool = True
@@ -82,7 +83,6 @@ class MindlinShellBlock(ElementBlock):
     reach = 1
 
     def __init__(self, shell: MindlinShell, mesh: Mesh, cell_ids, directors):
-        self.shell = shell
         self.material = material = shell.material
         self.h = material.thickness
         self.n_nodes = mesh.n_nodes
@@ -103,6 +103,7 @@ class MindlinShellBlock(ElementBlock):
         self.reference = ref
         self.reference_metric = self._metric(ref)
         self._material_matrices(ref, v0)
+        self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
 
     # ------------------------------------------------------------------ geometry
     def _vectors(self, x: np.ndarray, v: np.ndarray) -> dict:
@@ -207,13 +208,13 @@ class MindlinShellBlock(ElementBlock):
         vec["directors"] = v
         return vec
 
-    def internal_force(self, state: State):
+    def internal_force(self, state: State, history=None):
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
         force, moment = self._cell_loads(x, v)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
-    def tangent(self, state: State) -> list[CellTangent]:
+    def tangent(self, state: State, history=None) -> list[CellTangent]:
         """Each triangle's 18 x 18 stiffness in (u, psi) of its corners, by central
         differences of its own loads (all triangles at once, 36 evaluations)."""
         x = state.positions[self.connectivity]
@@ -266,16 +267,17 @@ class MindlinShellBlock(ElementBlock):
         moment = cross(vec["directors"], d_director)
         return force, moment
 
-    def strain_energy(self, state: State) -> float:
+    def strain_energy(self, state: State, history=None) -> float:
         strain = self._covariant_strains(self._state_vectors(state))
         stress = np.matmul(self.weighted_stiffness, strain[..., None])[..., 0]
         return float(0.5 * np.sum(strain * stress))
 
     # ------------------------------------------------------------------ mass and step
-    def _rotary_factor(self) -> np.ndarray:
-        """j (m,), mm^2: I = m j; h^2/12, or the B2 scaling of THEORY §6.2."""
+    def _rotary_factor(self, scaling: bool) -> np.ndarray:
+        """j (m,), mm^2: I = m j; h^2/12, or with ``scaling`` the B2 scaling of THEORY §6.2
+        (from the reference altitudes: computed once at bind)."""
         j = np.full(len(self.cell_ids), self.h**2 / 12.0)
-        if self.shell.rotary_scaling:
+        if scaling:
             kappa, nu = self.material.shear_factor, self.material.poisson
             j = np.maximum(j, kappa * (1 - nu) * self._altitude() ** 2 / 16.0)
         return j
@@ -293,7 +295,7 @@ class MindlinShellBlock(ElementBlock):
             share = share * np.asarray(density_scale, dtype=float)
         per_node = np.repeat(share[:, None], 3, axis=1)
         mass = self.scatter.scalars(per_node)
-        inertia = self.scatter.scalars(per_node * self._rotary_factor()[:, None])
+        inertia = self.scatter.scalars(per_node * self.rotary_factor[:, None])
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
@@ -312,7 +314,7 @@ class MindlinShellBlock(ElementBlock):
         shear = float(np.max(self.material.transverse))
         rho = self.material.density
         omega2 = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear) * inverse_heights2
-        omega2 = omega2 + shear / (2.0 * rho * self._rotary_factor())
+        omega2 = omega2 + shear / (2.0 * rho * self.rotary_factor)
         return 2.0 / np.sqrt(omega2)
 
     # ------------------------------------------------------------------ outputs

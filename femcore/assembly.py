@@ -1,13 +1,53 @@
-"""Gather nodal arrays into per-cell arrays and scatter per-cell vectors back to the nodes.
+"""Assembly: nodal vectors and the sparse tangent stiffness, for every solver.
 
-The index arrays are built once (when an element block is bound to a mesh); a time step then
-costs one fancy-indexing gather and one ``np.bincount`` per scattered field, with no Python loop
-over cells or nodes.
+- ``Scatter``: gather nodal arrays into per-cell arrays and scatter per-cell vectors back to the
+  nodes. The index arrays are built once (when an element block is bound); a time step then
+  costs one fancy-indexing gather and one ``np.bincount`` per scattered field, with no Python
+  loop over cells or nodes.
+- Tangent stiffness in generalised coordinates (femcore.dofs): ``tangent_matrix`` and
+  ``FreeTangentAssembler`` from the elements' own ``CellTangent`` parts (the latter caches the
+  sparsity pattern and rebuilds it when the parts change), and ``finite_difference_tangent``
+  with its ``NodeGraph`` colouring for blocks without a tangent of their own.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import NamedTuple
+
 import numpy as np
+import scipy.sparse as sp
+
+from femcore.dofs import N_COLUMNS, DofManager, Frames
+from femcore.state import State
+
+__all__ = [
+    "CellTangent",
+    "FreeTangentAssembler",
+    "NodeGraph",
+    "Scatter",
+    "entry_slots",
+    "finite_difference_tangent",
+    "generalised_blocks",
+    "tangent_matrix",
+]
+
+
+class CellTangent(NamedTuple):
+    """Stiffness blocks of an element block, summed into the global tangent by the assembler.
+
+    Attributes
+    ----------
+    nodes : (m, p) int
+        Global node ids of each block (a node may appear twice: its entries add up).
+    blocks : (m, p, c, p, c) float
+        d(force, moment)_(node a, comp i) / d(u, psi)_(node b, comp j), with c = 3
+        (translations only) or 6 (u then psi: a small rotation vector of the director in global
+        components, V+ = V + psi x V). Units N/mm, N, N mm.
+    """
+
+    nodes: np.ndarray
+    blocks: np.ndarray
 
 
 class Scatter:
@@ -45,3 +85,241 @@ class Scatter:
     def scalars(self, per_cell: np.ndarray) -> np.ndarray:
         """Sum per-cell nodal scalars into nodes: (m, k) -> (n,)."""
         return np.bincount(self._flat1, weights=per_cell.ravel(), minlength=self.n_nodes)
+
+
+# ---------------------------------------------------------------------- tangent stiffness
+def generalised_blocks(part: CellTangent, maps: np.ndarray) -> np.ndarray:
+    """The blocks of a CellTangent in generalised coordinates.
+
+    Parameters
+    ----------
+    part : CellTangent
+        Blocks (m, p, c, p, c) in (u, psi) per node (c = 6) or translations only (c = 3).
+    maps : (n, 6, 5) float
+        Per node T with (u, psi) = T q (``DofManager.node_maps``).
+
+    Returns
+    -------
+    (m, p, c_q, p, c_q) float
+        K_q = T^T K T per block, c_q = 5 (or the blocks unchanged when c = 3).
+    """
+    nodes, k = part.nodes, part.blocks
+    if k.shape[2] == 3:
+        return k
+    t = maps[nodes]  # (m, p, 6, 5)
+    m, p = nodes.shape
+    # K T on the right, then T^T on the left, with batched matmuls (einsum is slow here).
+    right = np.matmul(k[:, :, :, :, None, :], t[:, None, None])  # (m, p, 6, p, 1, 5)
+    right = right.reshape(m, p, 6, p * N_COLUMNS)
+    left = np.matmul(np.swapaxes(t, -1, -2), right)  # (m, p, 5, 6) @ (m, p, 6, p*5)
+    return left.reshape(m, p, N_COLUMNS, p, N_COLUMNS)
+
+
+def entry_slots(nodes: np.ndarray, components: int) -> tuple[np.ndarray, np.ndarray]:
+    """Global slot row and column of every entry of (m, p, c_q, p, c_q) blocks, raveled."""
+    index = DofManager.slots(nodes[:, :, None], np.arange(components))  # (m, p, c_q)
+    shape = index.shape + index.shape[1:]
+    rows = np.broadcast_to(index[:, :, :, None, None], shape).ravel()
+    cols = np.broadcast_to(index[:, None, None, :, :], shape).ravel()
+    return rows, cols
+
+
+def _components(part: CellTangent) -> int:
+    return 3 if part.blocks.shape[2] == 3 else N_COLUMNS
+
+
+def tangent_matrix(dofs: DofManager, parts: list[CellTangent], frames: Frames) -> sp.csr_matrix:
+    """Sparse K (n_slots x n_slots) in generalised coordinates from element tangent parts,
+    with the nodal frames of the iteration (psi = alpha V2 + beta V1)."""
+    size = dofs.n_slots
+    if not parts:
+        return sp.csr_matrix((size, size))
+    maps = dofs.node_maps(frames)
+    rows, cols, values = [], [], []
+    for part in parts:
+        kq = generalised_blocks(part, maps)
+        r, c = entry_slots(part.nodes, kq.shape[2])
+        rows.append(r)
+        cols.append(c)
+        values.append(kq.ravel())
+    return sp.csr_matrix(
+        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)
+    )
+
+
+class FreeTangentAssembler:
+    """Sums element tangent parts straight into K_ff (free x free, CSC) and K_fp (free x
+    prescribed, CSR).
+
+    The map from the block entries to the sparse storage is built from the parts' node arrays
+    and reused while they stay the same, so that each assembly is one bincount; when they
+    change (a contact adds or drops pairs), the map is rebuilt at the next call.
+    """
+
+    def __init__(self, dofs: DofManager):
+        self.dofs = dofs
+        self.n_free = dofs.free_slots.size
+        self.n_moved = dofs.prescribed_slots.size
+        self._position = np.full(dofs.n_slots, -1)
+        self._position[dofs.free_slots] = np.arange(self.n_free)
+        self._moved = np.full(dofs.n_slots, -1)
+        self._moved[dofs.prescribed_slots] = np.arange(self.n_moved)
+        self._pattern: list[tuple[np.ndarray, int]] | None = None
+        #: How many times the sparsity pattern was (re)built.
+        self.builds = 0
+
+    def _build(self, parts: list[CellTangent]) -> None:
+        rows, cols = [], []
+        for part in parts:
+            r, c = entry_slots(part.nodes, _components(part))
+            rows.append(r)
+            cols.append(c)
+        rows_all = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
+        cols_all = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
+        r_f, c_f, c_p = self._position[rows_all], self._position[cols_all], self._moved[cols_all]
+        ff = (r_f >= 0) & (c_f >= 0)
+        fp = (r_f >= 0) & (c_p >= 0)
+        # CSC order of K_ff: by column, then row.
+        self.ff_select = np.flatnonzero(ff)
+        keys, self.ff_map = np.unique(c_f[ff] * self.n_free + r_f[ff], return_inverse=True)
+        self.ff_cols, self.ff_rows = np.divmod(keys, self.n_free)
+        moved = max(self.n_moved, 1)
+        self.fp_select = np.flatnonzero(fp)
+        keys, self.fp_map = np.unique(r_f[fp] * moved + c_p[fp], return_inverse=True)
+        self.fp_rows, self.fp_cols = np.divmod(keys, moved)
+        self._pattern = [(part.nodes.copy(), _components(part)) for part in parts]
+        self.builds += 1
+
+    def _same_pattern(self, parts: list[CellTangent]) -> bool:
+        return (
+            self._pattern is not None
+            and len(self._pattern) == len(parts)
+            and all(
+                c == _components(part) and np.array_equal(nodes, part.nodes)
+                for (nodes, c), part in zip(self._pattern, parts)
+            )
+        )
+
+    def __call__(
+        self, parts: list[CellTangent], frames: Frames
+    ) -> tuple[sp.csc_matrix, sp.csr_matrix]:
+        """(K_ff, K_fp) of the parts in the iteration's frames."""
+        if not self._same_pattern(parts):
+            self._build(parts)
+        maps = self.dofs.node_maps(frames)
+        values = np.concatenate(
+            [generalised_blocks(part, maps).ravel() for part in parts] or [np.zeros(0)]
+        )
+        ff = np.bincount(self.ff_map, values[self.ff_select], minlength=self.ff_rows.size)
+        k_ff = sp.csc_matrix((ff, (self.ff_rows, self.ff_cols)), shape=(self.n_free, self.n_free))
+        fp = np.bincount(self.fp_map, values[self.fp_select], minlength=self.fp_rows.size)
+        k_fp = sp.csr_matrix((fp, (self.fp_rows, self.fp_cols)), shape=(self.n_free, self.n_moved))
+        return k_ff, k_fp
+
+
+class NodeGraph:
+    """Node colouring and sparsity pattern for the finite-difference tangent of some blocks.
+
+    The force at a node depends on nodes at most ``reach`` cell-hops away (the largest reach
+    of the blocks: 1 for cell-local elements, 2 for rotation-free bending patches), so the
+    column of node j has entries within ``reach`` hops, and nodes more than 2 x reach hops
+    apart never share a row: they get the same colour and are perturbed together.
+
+    Parameters
+    ----------
+    n_nodes : int
+    connectivities : list of (m, k) int
+        The ``connectivity`` of each block.
+    reach : int
+        The largest ``reach`` of the blocks.
+    """
+
+    def __init__(self, n_nodes: int, connectivities: list[np.ndarray], reach: int):
+        n = n_nodes
+        rows, cols = [np.arange(n)], [np.arange(n)]
+        for cells in connectivities:
+            k = cells.shape[1]
+            rows.append(np.repeat(cells, k, axis=1).ravel())
+            cols.append(np.tile(cells, (1, k)).ravel())
+        row, col = np.concatenate(rows), np.concatenate(cols)
+        adjacency = sp.csr_matrix((np.ones(row.size), (row, col)), shape=(n, n))
+        adjacency = adjacency.astype(bool).astype(float)
+        pattern = adjacency
+        for _ in range(reach - 1):
+            pattern = (pattern @ adjacency).astype(bool).astype(float)
+        pattern = pattern.tocsr()
+        conflict = (pattern @ pattern).tocsr()  # within 2 x reach hops
+        colour = np.full(n, -1)
+        indptr, indices = conflict.indptr, conflict.indices
+        for node in range(n):  # greedy colouring, once per model (not per step)
+            taken = set(colour[indices[indptr[node] : indptr[node + 1]]].tolist())
+            c = 0
+            while c in taken:
+                c += 1
+            colour[node] = c
+        self.colour = colour
+        self.n_colours = int(colour.max()) + 1 if n else 0
+        coo = pattern.tocoo()
+        #: Per colour: (its nodes, the rows and columns of the pattern entries in its columns).
+        self.groups = []
+        for c in range(self.n_colours):
+            members = colour[coo.col] == c
+            self.groups.append((np.flatnonzero(colour == c), coo.row[members], coo.col[members]))
+
+
+def finite_difference_tangent(
+    dofs: DofManager,
+    internal_force: Callable[[State], tuple[np.ndarray, np.ndarray]],
+    state: State,
+    graph: NodeGraph,
+    step: float,
+    rotation_step: float = 1e-6,
+    frames: Frames = None,
+) -> sp.csr_matrix:
+    """Sparse K = dF_int/dq (n_slots x n_slots) by coloured central differences.
+
+    Parameters
+    ----------
+    dofs : DofManager
+    internal_force : callable
+        state -> (forces (n, 3), moments (n, 3)) of the blocks to differentiate.
+    state : State
+    graph : NodeGraph
+        Of those blocks.
+    step : float
+        Perturbation of the translations (length unit).
+    rotation_step : float
+        Perturbation of alpha and beta (rad).
+    frames : Frames
+        The nodal frames held during the iteration (default: those of ``state.directors``).
+
+    The loads are dead (fixed in global directions) and the frames are held, so the external
+    loads add nothing to K. Each colour costs 2 x (5 or 3) force evaluations, whatever the mesh
+    size.
+    """
+    n = dofs.n_nodes
+    frames = dofs.frames(state.directors) if frames is None else frames
+    components = N_COLUMNS if dofs.any_rotation else 3
+    rows, cols, values = [], [], []
+
+    def generalised(s: State) -> np.ndarray:
+        return dofs.generalised(frames, *internal_force(s))
+
+    for nodes, entry_rows, entry_cols in graph.groups:
+        for component in range(components):
+            h = step if component < 3 else rotation_step
+            delta = np.zeros((n, N_COLUMNS))
+            delta[nodes, component] = h
+            plus = dofs.advance(state, delta, frames)
+            minus = dofs.advance(state, -delta, frames)
+            df = (generalised(plus) - generalised(minus)) / (2 * h)
+            for a in range(components):
+                rows.append(DofManager.slots(entry_rows, a))
+                cols.append(DofManager.slots(entry_cols, component))
+                values.append(df[entry_rows, a])
+    size = dofs.n_slots
+    if not rows:
+        return sp.csr_matrix((size, size))
+    return sp.csr_matrix(
+        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)
+    )

@@ -12,19 +12,50 @@ Every node has at most five DOFs, always stored in the same columns:
 
 (THEORY §1.2-1.3.) A cable node carries the first three; a shell node all five. Keeping the
 columns fixed lets every solver work on (n, 3) translation arrays and (n, 3) angular-velocity
-vectors without indirection, while the global numbering (for sparse matrices and reactions)
-skips the inactive columns.
+vectors without indirection.
+
+Two numberings, both owned here and used by every solver:
+
+- *slots*: ``N_COLUMNS * node + column`` over all n x 5 columns, active or not: the index of
+  the generalised vectors (n, 5) flattened, and of the rows and columns of the sparse tangent
+  (``DofManager.slots``, ``free_slots``, ``prescribed_slots``);
+- *equations*: ``DofManager.number``, consecutive over the active DOFs only (node by node).
+
+Generalised coordinates q = (ux, uy, uz, alpha, beta) per node map to the (u, psi) of the
+elements through the nodal frames of the directors: psi = alpha V2 + beta V1 (Bai Eq. 7, 13).
+``DofManager.advance`` is the one configuration update of the project: translations added,
+directors turned by the finite rotation psi (Rodrigues, so |V| = 1 exactly).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 
 import numpy as np
+
+from femcore.rotation import nodal_frames, rotate_about
+from femcore.state import State
+
+__all__ = [
+    "DOF_NAMES",
+    "N_COLUMNS",
+    "ROTATIONS",
+    "TRANSLATIONS",
+    "DofManager",
+    "Frames",
+    "dof_columns",
+    "node_dof_mask",
+]
 
 DOF_NAMES: tuple[str, ...] = ("ux", "uy", "uz", "alpha", "beta")
 TRANSLATIONS: tuple[str, ...] = ("ux", "uy", "uz")
 ROTATIONS: tuple[str, ...] = ("alpha", "beta")
+#: Columns per node in the generalised (n, 5) arrays and in the slot numbering.
+N_COLUMNS: int = len(DOF_NAMES)
+
+#: Nodal frames (V1, V2), (n, 3) each, of the directors; None for a model without rotations.
+Frames = tuple[np.ndarray, np.ndarray] | None
 
 
 def dof_columns(names: str | Iterable[str] | None) -> np.ndarray:
@@ -94,6 +125,76 @@ class DofManager:
         self.has_rotation = self.active[:, 3]
         self.number = np.full(shape, -1, dtype=np.int64)
         self.number[self.active] = np.arange(int(self.active.sum()))
+        self.free_slots = np.flatnonzero(self.free.ravel())
+        self.prescribed_slots = np.flatnonzero(self.prescribed.ravel())
+        self.any_rotation = bool(self.has_rotation.any())
+
+    # ------------------------------------------------------------------ numbering
+    @staticmethod
+    def slots(nodes: np.ndarray, columns: np.ndarray | int) -> np.ndarray:
+        """Slot numbers ``N_COLUMNS * node + column`` (broadcast over both arguments)."""
+        return N_COLUMNS * np.asarray(nodes) + np.asarray(columns)
+
+    @property
+    def n_slots(self) -> int:
+        """n x 5: the size of the generalised vectors and of the sparse tangent."""
+        return N_COLUMNS * self.n_nodes
+
+    # ------------------------------------------------------------------ generalised coordinates
+    def frames(self, directors: np.ndarray) -> Frames:
+        """Nodal frames (V1, V2), (n, 3) each, of the directors (Bai Eq. 7 with its fallback).
+
+        A Newton iteration keeps one set of frames for its residual, tangent and update: near
+        the fallback of Eq. 7 a frame may switch between two nearby states, and mixing frames
+        would make the tangent inconsistent with the residual. Nodes without a director get
+        the frame of e3 (unused).
+        """
+        if not self.any_rotation:
+            return None
+        return nodal_frames(np.where(self.has_rotation[:, None], directors, [0, 0, 1.0]))
+
+    def generalised(self, frames: Frames, force: np.ndarray, moment: np.ndarray) -> np.ndarray:
+        """(n, 5): forces (n, 3) and the moment components conjugate to alpha (about V2) and
+        beta (about V1), zero at nodes without a director."""
+        out = np.zeros((self.n_nodes, N_COLUMNS))
+        out[:, :3] = force
+        if frames is not None:
+            v1, v2 = frames
+            out[:, 3] = np.sum(moment * v2, axis=1)
+            out[:, 4] = np.sum(moment * v1, axis=1)
+            out[~self.has_rotation, 3:] = 0.0
+        return out
+
+    def node_maps(self, frames: Frames) -> np.ndarray:
+        """(n, 6, 5): per node the map T with (u, psi) = T q, psi = alpha V2 + beta V1."""
+        maps = np.zeros((self.n_nodes, 6, N_COLUMNS))
+        maps[:, :3, :3] = np.eye(3)
+        if frames is not None:
+            v1, v2 = frames
+            maps[:, 3:, 3] = v2
+            maps[:, 3:, 4] = v1
+        return maps
+
+    # ------------------------------------------------------------------ configuration update
+    def move(self, state: State, displacement: np.ndarray, rotation: np.ndarray | None) -> State:
+        """A new State: positions + displacement (n, 3); directors turned by the finite rotation
+        vectors ``rotation`` (n, 3), rad, at the nodes that have one (None: not turned)."""
+        directors = state.directors
+        if rotation is not None and self.any_rotation:
+            directors = np.where(
+                self.has_rotation[:, None], rotate_about(directors, rotation), directors
+            )
+        return replace(state, positions=state.positions + displacement, directors=directors)
+
+    def advance(self, state: State, dq: np.ndarray, frames: Frames = None) -> State:
+        """A new State moved by the generalised increment dq (n, 5): translations added, the
+        directors turned about V2 by alpha and about V1 by beta of ``frames`` (default: the
+        frames of ``state.directors``)."""
+        rotation = None
+        if self.any_rotation:
+            v1, v2 = self.frames(state.directors) if frames is None else frames
+            rotation = dq[:, 3:4] * v2 + dq[:, 4:5] * v1
+        return self.move(state, dq[:, :3], rotation)
 
     @property
     def n_dofs(self) -> int:

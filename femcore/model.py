@@ -9,18 +9,33 @@ quantities live in ``femcore.state.State``.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
+import scipy.sparse as sp
 
-from femcore.dofs import DOF_NAMES, DofManager, dof_columns
+from femcore.assembly import CellTangent, NodeGraph, finite_difference_tangent, tangent_matrix
+from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns
+from femcore.element import ElementBlock, ElementType
 from femcore.loads import Amplitude, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
 from femcore.mesh import Mesh
 from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
 
+__all__ = ["BlockEntry", "CompiledModel", "Model"]
+
 CELL_TYPES = ("line", "triangle")
+
+
+def _mesh_cells(mesh: Mesh, kind: str) -> np.ndarray:
+    """(m, k) node ids of the mesh cells of a kind."""
+    return mesh.triangles if kind == "triangle" else mesh.lines
+
+
+def _mesh_cell_sets(mesh: Mesh, kind: str):
+    """Named sets of the mesh cells of a kind."""
+    return mesh.element_sets if kind == "triangle" else mesh.line_sets
 
 
 def _vector3(value, what: str) -> np.ndarray:
@@ -34,7 +49,7 @@ def _vector3(value, what: str) -> np.ndarray:
 class BlockEntry:
     """An element type and the mesh cells (of its cell type) it covers."""
 
-    element: object
+    element: ElementType
     cells: np.ndarray
 
 
@@ -58,20 +73,48 @@ class Model:
         self._compiled: CompiledModel | None = None
 
     # ----------------------------------------------------------------- description
-    def add(self, element, cells=None) -> int:
-        """Add an element block over ``cells`` (ids of the mesh cells of the element's cell type;
-        None = all of them; a string = a named element set). Returns the block index."""
-        cell_type = getattr(element, "cell_type", None)
-        if cell_type not in CELL_TYPES or not hasattr(element, "bind"):
+    def add(self, element: ElementType, cells: str | np.ndarray | list[int] | None = None) -> int:
+        """Add an element block.
+
+        Parameters
+        ----------
+        element : ElementType
+            An element type (femcore.element.ElementType): a cell element (cable, shell) or a
+            block that acts on nodes (``cell_type`` None: a contact, a tie).
+        cells : None, str or array of int
+            Ids of the mesh cells of the element's cell type; None = all of them; a string = a
+            named set of those cells. Must be None for a node block.
+
+        Returns
+        -------
+        int
+            The block index (``model.blocks[i]``, ``State.history[i]``).
+        """
+        if not isinstance(element, ElementType):
             raise ValueError(
-                f"{type(element).__name__} is not an element type: expected an object with "
-                f"cell_type in {CELL_TYPES} and a bind() method (see elements.base)"
+                f"{type(element).__name__} is not an element type: expected an instance of a "
+                "subclass of femcore.element.ElementType (elements.base)"
             )
-        n_cells = len(self.mesh.triangles) if cell_type == "triangle" else len(self.mesh.lines)
+        cell_type = element.cell_type
+        if cell_type is None:
+            if cells is not None:
+                raise ValueError(
+                    f"{type(element).__name__} acts on nodes (cell_type None): add it without "
+                    f"cells, got cells={cells!r}"
+                )
+            self.blocks.append(BlockEntry(element, np.zeros(0, dtype=np.int64)))
+            self._compiled = None
+            return len(self.blocks) - 1
+        if cell_type not in CELL_TYPES:
+            raise ValueError(
+                f"{type(element).__name__}.cell_type is {cell_type!r}: expected one of "
+                f"{CELL_TYPES} or None (a block acting on nodes)"
+            )
+        n_cells = len(_mesh_cells(self.mesh, cell_type))
         if cells is None:
             ids = np.arange(n_cells)
         elif isinstance(cells, str):
-            sets = self.mesh.element_sets if cell_type == "triangle" else self.mesh.line_sets
+            sets = _mesh_cell_sets(self.mesh, cell_type)
             if cells not in sets:
                 raise ValueError(
                     f"no {cell_type} set named {cells!r}: the mesh has {sorted(sets) or 'none'}"
@@ -208,14 +251,19 @@ class CompiledModel:
 
         active = np.zeros((n, len(DOF_NAMES)), dtype=bool)
         shell_triangles = []
-        for entry in model.blocks:
+        cell_entries = [e for e in model.blocks if e.element.cell_type is not None]
+        if not cell_entries:
+            raise ValueError(
+                "the model has only node blocks (contact, tie): add an element over mesh cells"
+            )
+        for entry in cell_entries:
             columns = dof_columns(entry.element.dofs)
             cells = self._cells(entry)
             active[np.ix_(np.unique(cells), columns)] = True
-            if entry.element.cell_type == "triangle" and "alpha" in entry.element.dofs:
+            if entry.element.defines_directors:
                 shell_triangles.append(cells)
         self.has_rotation = active[:, 3].copy()
-        triangle_cells = [self._cells(e) for e in model.blocks if e.element.cell_type == "triangle"]
+        triangle_cells = [self._cells(e) for e in cell_entries if e.element.cell_type == "triangle"]
         if triangle_cells:
             # Duplicate nodes, zero-area triangles, non-manifold edges and flipped triangles
             # make every shell kinematics wrong: refuse them before anything is bound.
@@ -237,11 +285,13 @@ class CompiledModel:
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
 
-        self.element_size = _median_edge(mesh, model.blocks, self._cells)
-        self.blocks = [
+        self.element_size = _median_edge(mesh, cell_entries, self._cells)
+        self.blocks: list[ElementBlock] = [
             entry.element.bind(mesh, entry.cells, self.reference_directors)
             for entry in model.blocks
         ]
+        for entry, block in zip(model.blocks, self.blocks):
+            _check_block(entry.element, block, active)
 
         self.translation_free = self.dofs.free[:, :3]
         self.translation_constrained = self.dofs.constrained[:, :3]
@@ -256,13 +306,14 @@ class CompiledModel:
                 f"node {np.flatnonzero(unmassed)[0]} has no mass: every node of an "
                 "element needs a positive lumped mass for the dynamic solvers"
             )
+        self._has_history = any(h is not None for h in state0.history)
+        self._no_history = (None,) * len(self.blocks)
         self._load_terms = self._loads(model.loads, active)
         self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
 
     # ------------------------------------------------------------- construction helpers
     def _cells(self, entry: BlockEntry) -> np.ndarray:
-        source = self.mesh.triangles if entry.element.cell_type == "triangle" else self.mesh.lines
-        return source[entry.cells]
+        return _mesh_cells(self.mesh, entry.element.cell_type)[entry.cells]
 
     def _fixed_mask(self, fixes: list[Fix], active: np.ndarray) -> np.ndarray:
         fixed = np.zeros_like(active)
@@ -333,7 +384,19 @@ class CompiledModel:
             directors=self.reference_directors.copy(),
             velocities=np.zeros((n, 3)),
             angular_velocities=np.zeros((n, 3)),
+            history=tuple(block.initial_history() for block in self.blocks),
         )
+
+    def commit(self, state: State) -> State:
+        """The state with every block's history updated after a step a solver accepted (a new
+        State; ``state`` is left as it was). The same state when no block has history (a
+        block with history variables returns them, not None, from ``initial_history``)."""
+        if not self._has_history:
+            return state
+        history = tuple(
+            block.update_history(state, h) for block, h in zip(self.blocks, state.history)
+        )
+        return replace(state, history=history)
 
     def lumped_mass(self, state: State, density_scale: list | None = None):
         """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
@@ -347,12 +410,19 @@ class CompiledModel:
                 inertia += j
         return mass, inertia
 
-    def internal_force(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        """Internal nodal forces F_int = dW/dx (n, 3) and moment vectors dW/dpsi (n, 3)."""
+    def _histories(self, state: State) -> tuple:
+        return state.history if len(state.history) == len(self.blocks) else self._no_history
+
+    def internal_force(
+        self, state: State, blocks: list[int] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Internal nodal forces F_int = dW/dx (n, 3) and moment vectors dW/dpsi (n, 3), summed
+        over the blocks (or over the blocks of the given indices)."""
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
-        for block in self.blocks:
-            f, m = block.internal_force(state)
+        histories = self._histories(state)
+        for i in range(len(self.blocks)) if blocks is None else blocks:
+            f, m = self.blocks[i].internal_force(state, histories[i])
             force += f
             if m is not None:
                 moment += m
@@ -368,7 +438,77 @@ class CompiledModel:
 
     def strain_energy(self, state: State) -> float:
         """Total strain energy (N mm) over all blocks."""
-        return float(sum(block.strain_energy(state) for block in self.blocks))
+        histories = self._histories(state)
+        return float(sum(b.strain_energy(state, h) for b, h in zip(self.blocks, histories)))
+
+    def tangent_parts(self, state: State, blocks: list[int]) -> list[CellTangent] | None:
+        """The element tangent parts of the blocks of the given indices, or None if one of
+        them has no tangent of its own."""
+        histories = self._histories(state)
+        parts: list[CellTangent] = []
+        for i in blocks:
+            own = self.blocks[i].tangent(state, histories[i])
+            if own is None:
+                return None
+            parts.extend(own)
+        return parts
+
+    def stiffness(
+        self,
+        state: State,
+        method: str = "element",
+        frames: Frames = None,
+        blocks: list[int] | None = None,
+    ) -> sp.csr_matrix:
+        """Tangent stiffness K = dF_int/dq (n x 5 slots square, femcore.dofs) at ``state``.
+
+        Parameters
+        ----------
+        state : State
+        method : "element" or "finite_difference"
+            The blocks' own tangents (every block must give one), or coloured central
+            differences of their internal forces (translation step 1e-6 of the median element
+            edge, rotation step 1e-6 rad).
+        frames : Frames
+            Nodal frames of the generalised rotations (default: those of ``state.directors``).
+        blocks : list of int or None
+            Indices of the blocks to include (default: all).
+
+        Raises
+        ------
+        ValueError
+            For an unknown method, or "element" with a block that has no tangent of its own.
+        """
+        indices = list(range(len(self.blocks))) if blocks is None else list(blocks)
+        frames = self.dofs.frames(state.directors) if frames is None else frames
+        if method == "element":
+            parts = self.tangent_parts(state, indices)
+            if parts is None:
+                raise ValueError(
+                    "a block has no tangent of its own: use method='finite_difference'"
+                )
+            return tangent_matrix(self.dofs, parts, frames)
+        if method == "finite_difference":
+            reach = max(self.blocks[i].reach for i in indices)
+            graph = NodeGraph(self.n_nodes, [self.blocks[i].connectivity for i in indices], reach)
+            return finite_difference_tangent(
+                self.dofs,
+                lambda s: self.internal_force(s, indices),
+                state,
+                graph,
+                step=1e-6 * self.element_size,
+                frames=frames,
+            )
+        raise ValueError(f"method must be 'element' or 'finite_difference', got {method!r}")
+
+    def own_tangent_blocks(self, state: State) -> list[int]:
+        """Indices of the blocks that give a tangent of their own at ``state``."""
+        histories = self._histories(state)
+        return [
+            i
+            for i, (b, h) in enumerate(zip(self.blocks, histories))
+            if b.tangent(state, h) is not None
+        ]
 
     def external_load(self, tau: float, quasi_static: bool = False):
         """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""
@@ -418,16 +558,55 @@ class CompiledModel:
         out: dict[str, dict] = {"point": {}, "triangle": {}, "line": {}}
         counts = {"triangle": len(self.mesh.triangles), "line": len(self.mesh.lines)}
         for block in self.blocks:
-            for name, values in getattr(block, "node_fields", lambda s: {})(state).items():
+            for name, values in block.node_fields(state).items():
                 out["point"][name] = values
             kind = block.cell_type
-            for name, values in getattr(block, "cell_fields", lambda s: {})(state).items():
+            if kind is None:  # node blocks have no mesh cells to carry a cell field
+                continue
+            for name, values in block.cell_fields(state).items():
                 values = np.asarray(values, dtype=float)
                 full = out[kind].setdefault(
                     name, np.full((counts[kind],) + values.shape[1:], np.nan)
                 )
                 full[block.cell_ids] = values
         return out
+
+
+def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) -> None:
+    """A bound block must be an ElementBlock that declares its reach, with a (m, k) node
+    connectivity whose nodes carry the DOFs it needs (node blocks act on nodes that some
+    cell element carries)."""
+    name = type(element).__name__
+    if not isinstance(block, ElementBlock):
+        raise ValueError(
+            f"{name}.bind returned {type(block).__name__}: expected an ElementBlock "
+            "(femcore.element)"
+        )
+    reach = getattr(block, "reach", None)
+    if isinstance(reach, bool) or not isinstance(reach, (int, np.integer)) or reach < 1:
+        raise ValueError(
+            f"{type(block).__name__}.reach is {reach!r}: every block declares how many cell-hops "
+            "its forces reach (1: cell-local, 2: bending patches over neighbours)"
+        )
+    connectivity = np.asarray(block.connectivity)
+    if connectivity.ndim != 2 or not np.issubdtype(connectivity.dtype, np.integer):
+        raise ValueError(
+            f"{type(block).__name__}.connectivity must be an (m, k) integer array of node ids"
+        )
+    if connectivity.size:
+        if connectivity.min() < 0 or connectivity.max() >= len(active):
+            raise ValueError(
+                f"{type(block).__name__}.connectivity refers to nodes outside 0..{len(active) - 1}"
+            )
+        needs = dof_columns(element.dofs)
+        lacking = ~active[np.ix_(np.unique(connectivity), needs)]
+        if lacking.any():
+            node = np.unique(connectivity)[np.argwhere(lacking)[0, 0]]
+            raise ValueError(
+                f"{name} acts on node {node}, which carries only "
+                f"{', '.join(n for n, a in zip(DOF_NAMES, active[node]) if a) or 'no DOF'}: a "
+                "node block needs nodes of a cell element with the DOFs it uses"
+            )
 
 
 def _median_edge(mesh: Mesh, entries, cells_of) -> float:

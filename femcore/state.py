@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
+
+__all__ = ["State"]
 
 
 @dataclass
@@ -20,8 +22,10 @@ class State:
         between steps is harmless).
     time : float, s (explicit dynamics) or the pseudo-time of a quasi-static solve.
     load_factor : float, the fraction of the loads applied (1 at the end of the step).
-    history : per-block history variables, keyed by block index; element blocks return new
-        arrays rather than mutating these.
+    history : tuple, one entry per element block of the model (``history[i]`` belongs to
+        ``model.blocks[i]``; None for a block without history variables). Entries are never
+        mutated: a block's ``update_history`` returns a new one, and the solver makes a new
+        State with it (femcore.model.CompiledModel.commit).
     """
 
     positions: np.ndarray
@@ -30,7 +34,7 @@ class State:
     angular_velocities: np.ndarray
     time: float = 0.0
     load_factor: float = 0.0
-    history: dict = field(default_factory=dict)
+    history: tuple = ()
 
     @property
     def n_nodes(self) -> int:
@@ -45,5 +49,5 @@ class State:
             self.angular_velocities.copy(),
             self.time,
             self.load_factor,
-            {k: np.copy(v) for k, v in self.history.items()},
+            self.history,  # entries are immutable by contract: shared, not copied
         )

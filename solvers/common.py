@@ -109,3 +109,16 @@ def check_integer(value, name: str, minimum: int = 1) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
+
+
+def equilibrium_reactions(
+    model: CompiledModel, state: State, f_ext: np.ndarray, m_ext: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Support forces (n, 3) and moments (n, 3) of a static equilibrium: F_int - F_ext on the
+    constrained translations, M_int - M_ext at the nodes with a fixed rotation."""
+    f_int, m_int = model.internal_force(state)
+    reactions = np.where(model.translation_constrained, f_int - f_ext, 0.0)
+    reaction_moments = np.where(
+        model.has_rotation[:, None] & model.rotation_fixed.any(1)[:, None], m_int - m_ext, 0.0
+    )
+    return reactions, reaction_moments

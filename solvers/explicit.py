@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from femcore.model import CompiledModel, Model
-from femcore.rotation import drop_along, rotate_about
+from femcore.results import Result
+from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.common import (
     DivergenceError,
@@ -29,6 +31,9 @@ from solvers.common import (
     make_frame,
     resolve_progress,
 )
+from solvers.dynamics import EnergyAccount, FrameSchedule, damped_velocity
+
+__all__ = ["CentralDifference"]
 
 # The step is re-evaluated every this many steps: geometry and tension change slowly per step.
 STABLE_DT_EVERY = 10
@@ -97,65 +102,56 @@ class CentralDifference:
         return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
 
     # ------------------------------------------------------------------ solve
-    def solve(self, model: Model | CompiledModel) -> object:
-        """Integrate from the reference state at rest; returns a femcore.results.Result.
+    def solve(self, model: Model | CompiledModel) -> Result:
+        """Integrate from the reference state at rest.
 
-        Raises DivergenceError (keeping every good frame, the last one just before the
-        failure) on non-finite values or an energy blow-up.
+        Returns
+        -------
+        femcore.results.Result
+            Frames every ``output_interval``, energies, ``info`` (step, added mass).
+
+        Raises
+        ------
+        DivergenceError
+            On non-finite values or an energy blow-up, keeping every good frame (the last one
+            just before the failure) in ``error.result``.
         """
         compiled = model.compile() if isinstance(model, Model) else model
         started = time.perf_counter()
         state = compiled.initial_state()
         scale = self._density_scale(compiled, state)
         mass, inertia = compiled.lumped_mass(state, scale)
+        inv_mass, inv_inertia = inverse_diagonal(mass), inverse_diagonal(inertia)
         added_mass = float(mass.sum() - compiled.mass0.sum())
-        rot = compiled.has_rotation
-        any_rot = bool(rot.any())
-        inv_mass = inverse_diagonal(mass)
-        inv_inertia = inverse_diagonal(inertia)
-
-        free = compiled.translation_free
-        constrained = compiled.translation_constrained
-        prescribed = compiled.translation_prescribed
-        has_prescribed = compiled.has_prescribed
-        reference = compiled.reference_positions
-        c = self.damping
         duration = self.duration
-        output_interval = self.output_interval or duration / 20.0
-
-        dt = dt_nominal = self._step_size(compiled, state, scale)
-        if not np.isfinite(dt) or dt <= 0:
+        dt_nominal = self._step_size(compiled, state, scale)
+        if not np.isfinite(dt_nominal) or dt_nominal <= 0:
             raise DivergenceError(
                 "the stable time step is not a positive number: check the "
                 "element stiffness and mass",
                 empty_result(compiled, []),
             )
-        thin = max(1, int(duration / dt / ENERGY_RECORDS))
+        energy = EnergyAccount(thin=max(1, int(duration / dt_nominal / ENERGY_RECORDS)))
+        schedule = FrameSchedule(self.output_interval or duration / 20.0, duration)
         progress = ProgressLine(resolve_progress(self.progress), "central difference")
-
-        velocity = np.zeros_like(state.positions)
-        omega = np.zeros_like(state.positions)
         frames = [make_frame(compiled, state)]
-        energy = {k: [0.0] for k in ("time", "kinetic", "internal", "external_work", "damping")}
-        kinetic = internal = external = dissipated = 0.0
-        work_scale = 0.0  # sum of |external work increments|: the yardstick for a blow-up
-        dt_prev = 0.0
-        next_output = output_interval
-        step = 0
-        reactions = np.zeros_like(state.positions)
-        reaction_moments = np.zeros_like(state.positions)
 
+        def result(steps: int, converged: bool) -> Result:
+            return self._result(
+                compiled, frames, steps, started, energy, dt_nominal, added_mass, converged
+            )
+
+        dt_prev = 0.0
+        step = 0
         while state.time < duration * (1.0 - 1e-12):
             if step >= self.max_steps:
                 raise DivergenceError(
                     f"central difference stopped after {step} steps at t = {state.time:.6g} s of "
                     f"{duration:.6g} s (max_steps): the step is too small for this duration",
-                    self._result(
-                        compiled, frames, step, started, energy, dt_nominal, added_mass, False
-                    ),
+                    result(step, False),
                 )
             if step % STABLE_DT_EVERY == 0 and step > 0:
-                if any_rot:
+                if compiled.dofs.any_rotation:
                     # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
                     # I under a tilting director makes the director modes unstable.
                     _, inertia = compiled.lumped_mass(state, scale)
@@ -163,113 +159,96 @@ class CentralDifference:
                 if self.dt is None:
                     dt_nominal = self._step_size(compiled, state, scale)
             dt = min(dt_nominal, duration - state.time)
-            t_next = state.time + dt
-            tau = state.time / duration
-            dt_bar = 0.5 * (dt_prev + dt)
-
-            f_ext, m_ext = compiled.external_load(tau)
-            f_int, m_int = compiled.internal_force(state)
-            residual = f_ext - f_int
-            v_free = ((1.0 - 0.5 * c * dt_bar) * velocity + dt_bar * inv_mass * residual) / (
-                1.0 + 0.5 * c * dt_bar
+            new, reactions, reaction_moments, work = self._step(
+                compiled, state, dt, dt_prev, (mass, inertia, inv_mass, inv_inertia)
             )
-            v_new = np.where(free, v_free, 0.0)
-            if has_prescribed:
-                target = reference + compiled.prescribed_displacement(t_next / duration)
-                v_new = np.where(prescribed, (target - state.positions) / dt, v_new)
-            # Support force = what the constraint adds to the momentum balance of the node.
-            reactions = np.where(
-                constrained,
-                mass[:, None] * (v_new - v_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar,
-                0.0,
-            )
-
-            if any_rot:
-                # Only the drilling part is dropped here, so that the update below sees what a
-                # fixed alpha / beta has to hold: that difference is the support moment.
-                moment = drop_along(m_ext - m_int, state.directors)
-                w_free = ((1.0 - 0.5 * c * dt_bar) * omega + dt_bar * inv_inertia * moment) / (
-                    1.0 + 0.5 * c * dt_bar
-                )
-                w_new = compiled.constrain_angular(w_free, state.directors)
-                reaction_moments = (
-                    inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
-                )
-
-            # Work over [t(i-1/2), t(i+1/2)] with the forces at t(i) (midpoint rule).
-            dx = 0.5 * (dt_prev * velocity + dt * v_new)
-            v_mid = 0.5 * (velocity + v_new)
-            d_ext = float(np.sum((f_ext + reactions) * dx))
-            d_int = float(np.sum(f_int * dx))
-            d_damp = float(np.sum(c * mass[:, None] * v_mid * dx))
-            kinetic_new = 0.5 * float(np.sum(mass[:, None] * v_new * v_new))
-            if any_rot:
-                dpsi = 0.5 * (dt_prev * omega + dt * w_new)
-                d_ext += float(np.sum((m_ext + reaction_moments) * dpsi))
-                d_int += float(np.sum(m_int * dpsi))
-                d_damp += float(np.sum(c * inertia[:, None] * 0.5 * (omega + w_new) * dpsi))
-                kinetic_new += 0.5 * float(np.sum(inertia[:, None] * w_new * w_new))
-            work_scale += abs(d_ext)
-
-            # Energy conservation bounds the kinetic energy by the work done on the model; ten
-            # times that work means the integration is unstable.
-            if (
-                not np.isfinite(kinetic_new)
-                or kinetic_new > 10.0 * (work_scale + abs(internal)) + 1e-300
-            ):
-                state.velocities = velocity
+            if energy.blows_up(*work):
                 frames.append(make_frame(compiled, state, reactions, reaction_moments))
                 raise DivergenceError(
                     f"central difference diverged at step {step}, t = {state.time:.6g} s "
-                    f"(dt = {dt:.3g} s): kinetic energy {kinetic_new:.3g} against "
-                    f"{work_scale:.3g} of external work; the last good state is the last frame. "
-                    "Reduce dt or safety, or check the loads and material laws.",
-                    self._result(
-                        compiled, frames, step, started, energy, dt_nominal, added_mass, False
-                    ),
+                    f"(dt = {dt:.3g} s): kinetic energy {work[3]:.3g} against "
+                    f"{energy.work_scale:.3g} of external work; the last good state is the last "
+                    "frame. Reduce dt or safety, or check the loads and material laws.",
+                    result(step, False),
                 )
-
-            kinetic = kinetic_new
-            external += d_ext
-            internal += d_int
-            dissipated += d_damp
-            state.positions = state.positions + dt * v_new
-            state.velocities = v_new
-            velocity = v_new
-            if any_rot:
-                state.directors = np.where(
-                    rot[:, None], rotate_about(state.directors, dt * w_new), state.directors
-                )
-                omega = w_new
-                state.angular_velocities = w_new
-            state.time = t_next
-            state.load_factor = t_next / duration
+            energy.accept(*work)
+            state = compiled.commit(new)
             dt_prev = dt
             step += 1
-
-            if step % thin == 0:
-                for key, value in zip(
-                    energy, (state.time, kinetic, internal, external, dissipated)
-                ):
-                    energy[key].append(value)
-            if state.time >= next_output * (1.0 - 1e-9) or state.time >= duration * (1.0 - 1e-12):
+            energy.record(step, state.time)
+            if schedule.due(state.time):
                 frames.append(make_frame(compiled, state, reactions, reaction_moments))
-                while next_output <= state.time * (1.0 + 1e-9):
-                    next_output += output_interval
             progress(
                 f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
-                f"KE = {kinetic:.4g}, IE = {internal:.4g}"
+                f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}"
             )
 
         progress(f"done: {step} steps", force=True)
-        return self._result(compiled, frames, step, started, energy, dt_nominal, added_mass, True)
+        return result(step, True)
+
+    def _step(self, model: CompiledModel, state: State, dt: float, dt_prev: float, lumped):
+        """One central-difference step from ``state`` (left unchanged); ``lumped`` = (mass,
+        inertia, 1/mass, 1/inertia) per node.
+
+        Returns the new State, the support forces (n, 3) and moments (n, 3) of the step, and
+        its energy terms (external work, internal work, damping work, kinetic energy).
+        """
+        c = self.damping
+        mass, inertia, inv_mass, inv_inertia = lumped
+        dofs = model.dofs
+        t_next = state.time + dt
+        dt_bar = 0.5 * (dt_prev + dt)
+        velocity, omega = state.velocities, state.angular_velocities
+
+        f_ext, m_ext = model.external_load(state.time / self.duration)
+        f_int, m_int = model.internal_force(state)
+        v_free = damped_velocity(velocity, f_ext - f_int, inv_mass, dt_bar, c)
+        v_new = np.where(model.translation_free, v_free, 0.0)
+        if model.has_prescribed:
+            target = model.reference_positions + model.prescribed_displacement(
+                t_next / self.duration
+            )
+            v_new = np.where(model.translation_prescribed, (target - state.positions) / dt, v_new)
+        # Support force = what the constraint adds to the momentum balance of the node.
+        reactions = np.where(
+            model.translation_constrained,
+            mass[:, None] * (v_new - v_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar,
+            0.0,
+        )
+        work = EnergyAccount.increments(
+            (f_ext + reactions, f_int, None), (velocity, v_new), mass, c, dt_prev, dt
+        )
+        w_new = None
+        reaction_moments = np.zeros_like(reactions)
+        if dofs.any_rotation:
+            # Only the drilling part is dropped here, so that the update below sees what a
+            # fixed alpha / beta has to hold: that difference is the support moment.
+            moment = drop_along(m_ext - m_int, state.directors)
+            w_free = damped_velocity(omega, moment, inv_inertia, dt_bar, c)
+            w_new = model.constrain_angular(w_free, state.directors)
+            reaction_moments = (
+                inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
+            )
+            turning = EnergyAccount.increments(
+                (m_ext + reaction_moments, m_int, None), (omega, w_new), inertia, c, dt_prev, dt
+            )
+            work = tuple(a + b for a, b in zip(work, turning))
+        moved = dofs.move(state, dt * v_new, None if w_new is None else dt * w_new)
+        new = replace(
+            moved,
+            velocities=v_new,
+            angular_velocities=omega if w_new is None else w_new,
+            time=t_next,
+            load_factor=t_next / self.duration,
+        )
+        return new, reactions, reaction_moments, work
 
     def _result(self, compiled, frames, steps, started, energy, dt, added_mass, converged):
         result = empty_result(compiled, frames)
         result.steps = steps
         result.wall_time = time.perf_counter() - started
         result.converged = converged
-        result.energies = {k: np.asarray(v) for k, v in energy.items()}
+        result.energies = energy.arrays()
         result.info = {
             "solver": "CentralDifference",
             "dt": dt,

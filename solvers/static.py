@@ -9,304 +9,39 @@ increment that does not converge is cut in half and retried from the last conver
 Unknowns per node: ux uy uz and, at shell nodes, alpha beta: small rotations of the director
 about V2 and V1 of its nodal frame (Bai Eq. 7, 13; THEORY §1.3), applied as finite rotations.
 
-Tangent: any element that has ``internal_force`` works. The stiffness K = dF_int/dq is built by
-central differences with a colouring of the node graph: nodes more than four cell-hops apart
-share no cell and no bending patch (a rotation-free bending force at a node depends on nodes at
-most two hops away), so all nodes of one colour are perturbed together, and each perturbation
-gives the columns of all of them. The cost is 10 x (number of colours) force evaluations,
-independent of the mesh size.
+Tangent: the blocks' own ``tangent`` where they give one, assembled in the generalised
+coordinates of femcore.dofs by femcore.assembly; for the other blocks, K = dF_int/dq by central
+differences with a colouring of the node graph (femcore.assembly.NodeGraph): all nodes of one
+colour are perturbed together, and each perturbation gives the columns of all of them, so the
+cost is 10 x (number of colours) force evaluations, independent of the mesh size.
 """
 
 from __future__ import annotations
 
 import time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, MatrixRankWarning, eigsh, splu
 
-from elements.base import ElementBlock
+from femcore.assembly import FreeTangentAssembler, NodeGraph, finite_difference_tangent
+from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel, Model
-from femcore.rotation import nodal_frames, rotate_about
+from femcore.state import State
 from solvers.common import (
     ConvergenceError,
     ProgressLine,
     check_integer,
     check_tolerance,
     empty_result,
+    equilibrium_reactions,
     make_frame,
     resolve_progress,
 )
 
-__all__ = ["Static", "element_tangent", "finite_difference_tangent"]
-
-
-class _Graph:
-    """Node colouring and the sparsity pattern of the finite-difference tangent of ``blocks``.
-
-    The force at a node depends on nodes at most ``reach`` cell-hops away (the largest reach
-    of the blocks: 1 for cell-local elements, 2 for rotation-free bending patches), so the
-    column of node j has entries within ``reach`` hops, and nodes more than 2 x reach hops
-    apart never share a row: they get the same colour and are perturbed together.
-    """
-
-    def __init__(self, model: CompiledModel, blocks=None):
-        blocks = model.blocks if blocks is None else blocks
-        n = model.n_nodes
-        reach = max((getattr(block, "reach", 2) for block in blocks), default=1)
-        rows, cols = [np.arange(n)], [np.arange(n)]
-        for block in blocks:
-            cells = block.connectivity
-            k = cells.shape[1]
-            rows.append(np.repeat(cells, k, axis=1).ravel())
-            cols.append(np.tile(cells, (1, k)).ravel())
-        rows, cols = np.concatenate(rows), np.concatenate(cols)
-        adjacency = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
-        adjacency = adjacency.astype(bool).astype(float)
-        pattern = adjacency
-        for _ in range(reach - 1):
-            pattern = (pattern @ adjacency).astype(bool).astype(float)
-        pattern = pattern.tocsr()
-        conflict = (pattern @ pattern).tocsr()  # within 2 x reach hops
-        colour = np.full(n, -1)
-        indptr, indices = conflict.indptr, conflict.indices
-        for node in range(n):  # greedy colouring, once per model
-            taken = set(colour[indices[indptr[node] : indptr[node + 1]]].tolist())
-            c = 0
-            while c in taken:
-                c += 1
-            colour[node] = c
-        self.colour = colour
-        self.n_colours = int(colour.max()) + 1 if n else 0
-        coo = pattern.tocoo()
-        self.groups = []
-        for c in range(self.n_colours):
-            members = colour[coo.col] == c
-            self.groups.append((np.flatnonzero(colour == c), coo.row[members], coo.col[members]))
-
-
-def _unknowns(model: CompiledModel) -> np.ndarray:
-    """(n, 5) bool: the free unknowns (ux uy uz alpha beta)."""
-    rotation_free = model.has_rotation[:, None] & ~model.rotation_fixed
-    return np.column_stack([model.translation_free, rotation_free])
-
-
-def _prescribed(model: CompiledModel) -> np.ndarray:
-    """(n, 5) bool: the unknowns with a prescribed value (translations only)."""
-    out = np.zeros((model.n_nodes, 5), dtype=bool)
-    if model.has_prescribed:
-        out[:, :3] = model.translation_prescribed
-    return out
-
-
-def _frames(model: CompiledModel, directors: np.ndarray):
-    """Nodal frames (V1, V2), (n, 3) each, of the directors (Bai Eq. 7 with its fallback).
-
-    A Newton iteration keeps one set of frames for its residual, tangent and update: near the
-    fallback of Eq. 7 a frame may switch between two nearby states, and mixing frames would
-    make the tangent inconsistent with the residual."""
-    if not model.has_rotation.any():
-        return None
-    return nodal_frames(np.where(model.has_rotation[:, None], directors, [0, 0, 1.0]))
-
-
-def _generalised(model: CompiledModel, frames, force, moment) -> np.ndarray:
-    """(n, 5): forces and the moment components conjugate to alpha (about V2) and beta (V1)."""
-    out = np.zeros((model.n_nodes, 5))
-    out[:, :3] = force
-    if frames is not None:
-        v1, v2 = frames
-        out[:, 3] = np.sum(moment * v2, axis=1)
-        out[:, 4] = np.sum(moment * v1, axis=1)
-        out[~model.has_rotation, 3:] = 0.0
-    return out
-
-
-def _apply(model: CompiledModel, state, increment: np.ndarray, frames) -> None:
-    """Add an (n, 5) increment: translations, and rotations of the directors about V2 (alpha)
-    and V1 (beta) of the given frames."""
-    state.positions = state.positions + increment[:, :3]
-    if frames is not None:
-        v1, v2 = frames
-        psi = increment[:, 3:4] * v2 + increment[:, 4:5] * v1
-        rot = model.has_rotation
-        state.directors = np.where(
-            rot[:, None], rotate_about(state.directors, psi), state.directors
-        )
-
-
-def _has_own_tangent(block) -> bool:
-    return type(block).tangent is not ElementBlock.tangent
-
-
-def _block_force(blocks, n_nodes: int, state) -> tuple[np.ndarray, np.ndarray]:
-    """Internal forces and moments (n, 3) of some of the model's blocks."""
-    force = np.zeros((n_nodes, 3))
-    moment = np.zeros((n_nodes, 3))
-    for block in blocks:
-        f, m = block.internal_force(state)
-        force += f
-        if m is not None:
-            moment += m
-    return force, moment
-
-
-def finite_difference_tangent(
-    model: CompiledModel,
-    state,
-    graph: _Graph | None = None,
-    step: float | None = None,
-    blocks=None,
-) -> sp.csr_matrix:
-    """Sparse K = dF_int/dq (5n x 5n) of ``blocks`` (default: all) at ``state`` by coloured
-    central differences, q = (ux, uy, uz, alpha, beta) per node.
-
-    The loads are dead (fixed in global directions) and the frames are those of the current
-    directors, held during the iteration, so the external loads add nothing to K.
-
-    step : perturbation of the translations (length unit; default 1e-6 x the median element
-    edge); rotations are perturbed by 1e-6 rad.
-    """
-    blocks = model.blocks if blocks is None else blocks
-    graph = graph or _Graph(model, blocks)
-    n = model.n_nodes
-    h_x = step if step is not None else 1e-6 * model.element_size
-    h_r = 1e-6
-    rows, cols, values = [], [], []
-    has_rot = model.has_rotation.any()
-    frames = _frames(model, state.directors)
-
-    def generalised(s):
-        return _generalised(model, frames, *_block_force(blocks, n, s))
-
-    for nodes, entry_rows, entry_cols in graph.groups:
-        for component in range(5 if has_rot else 3):
-            h = h_x if component < 3 else h_r
-            delta = np.zeros((n, 5))
-            delta[nodes, component] = h
-            plus, minus = state.copy(), state.copy()
-            _apply(model, plus, delta, frames)
-            _apply(model, minus, -delta, frames)
-            df = (generalised(plus) - generalised(minus)) / (2 * h)
-            for a in range(5 if has_rot else 3):
-                rows.append(5 * entry_rows + a)
-                cols.append(5 * entry_cols + component)
-                values.append(df[entry_rows, a])
-    if not rows:
-        return sp.csr_matrix((5 * n, 5 * n))
-    return sp.csr_matrix(
-        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(5 * n, 5 * n),
-    )
-
-
-def _generalised_blocks(part, maps: np.ndarray) -> np.ndarray:
-    """(m, p, c_q, p, c_q) blocks in q = (ux, uy, uz, alpha, beta) of a CellTangent."""
-    nodes, k = part.nodes, part.blocks
-    if k.shape[2] == 3:
-        return k
-    t = maps[nodes]  # (m, p, 6, 5)
-    m, p = nodes.shape
-    # K T on the right, then T^T on the left, with batched matmuls (einsum is slow here).
-    right = np.matmul(k[:, :, :, :, None, :], t[:, None, None])  # (m, p, 6, p, 1, 5)
-    right = right.reshape(m, p, 6, p * 5)
-    left = np.matmul(np.swapaxes(t, -1, -2), right)  # (m, p, 5, 6) @ (m, p, 6, p*5)
-    return left.reshape(m, p, 5, p, 5)
-
-
-def element_tangent(model: CompiledModel, state, frames, blocks=None) -> sp.csr_matrix:
-    """Sparse K (5n x 5n) of the blocks' own ``tangent`` (default: every block that has one).
-
-    The element blocks are in (u, psi) per node, psi a rotation vector of the director in
-    global components; with psi = alpha V2 + beta V1 (the frames of the iteration) each node's
-    6 x 5 map T = [[I, 0], [0, (V2 V1)]] gives K_q = T^T K T."""
-    blocks = [b for b in model.blocks if _has_own_tangent(b)] if blocks is None else blocks
-    n = model.n_nodes
-    rows, cols, values = [], [], []
-    maps = _maps(n, frames)
-    for part in _parts(blocks, state):
-        kq = _generalised_blocks(part, maps)
-        r, c = _entry_indices(part.nodes, kq.shape[2])
-        rows.append(r)
-        cols.append(c)
-        values.append(kq.ravel())
-    if not rows:
-        return sp.csr_matrix((5 * n, 5 * n))
-    return sp.csr_matrix(
-        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(5 * n, 5 * n),
-    )
-
-
-def _parts(blocks, state):
-    return [part for block in blocks for part in block.tangent(state)]
-
-
-def _maps(n: int, frames) -> np.ndarray:
-    """(n, 6, 5): per node, (u, psi) = T q with psi = alpha V2 + beta V1."""
-    maps = np.zeros((n, 6, 5))
-    maps[:, :3, :3] = np.eye(3)
-    if frames is not None:
-        v1, v2 = frames
-        maps[:, 3:, 3] = v2
-        maps[:, 3:, 4] = v1
-    return maps
-
-
-def _entry_indices(nodes: np.ndarray, cq: int) -> tuple[np.ndarray, np.ndarray]:
-    """Global row and column of every entry of (m, p, c_q, p, c_q) blocks."""
-    index = 5 * nodes[:, :, None] + np.arange(cq)  # (m, p, c_q)
-    shape = index.shape + index.shape[1:]
-    rows = np.broadcast_to(index[:, :, :, None, None], shape).ravel()
-    cols = np.broadcast_to(index[:, None, None, :, :], shape).ravel()
-    return rows, cols
-
-
-class _FreeAssembler:
-    """Sums element tangent blocks straight into K_ff (free x free, CSC) and K_fp (free x
-    prescribed, CSR): the entry pattern is the same at every iteration, so the map from the
-    block entries to the sparse storage is built once and each assembly is one bincount."""
-
-    def __init__(self, model: CompiledModel, blocks, state, free_index, moved_index):
-        self.model, self.blocks = model, blocks
-        size = 5 * model.n_nodes
-        position = np.full(size, -1)
-        position[free_index] = np.arange(free_index.size)
-        moved = np.full(size, -1)
-        moved[moved_index] = np.arange(moved_index.size)
-        self.n_free, self.n_moved = free_index.size, moved_index.size
-        rows, cols = [], []
-        for part in _parts(blocks, state):
-            cq = 3 if part.blocks.shape[2] == 3 else 5
-            r, c = _entry_indices(part.nodes, cq)
-            rows.append(r)
-            cols.append(c)
-        rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
-        cols = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
-        r_f, c_f, c_p = position[rows], position[cols], moved[cols]
-        ff = (r_f >= 0) & (c_f >= 0)
-        fp = (r_f >= 0) & (c_p >= 0)
-        # CSC order of K_ff: by column, then row.
-        self.ff_select = np.flatnonzero(ff)
-        keys, self.ff_map = np.unique(c_f[ff] * self.n_free + r_f[ff], return_inverse=True)
-        self.ff_cols, self.ff_rows = np.divmod(keys, self.n_free)
-        self.fp_select = np.flatnonzero(fp)
-        keys, self.fp_map = np.unique(r_f[fp] * max(self.n_moved, 1) + c_p[fp], return_inverse=True)
-        self.fp_rows, self.fp_cols = np.divmod(keys, max(self.n_moved, 1))
-
-    def __call__(self, state, frames):
-        """(K_ff, K_fp) of the blocks at ``state`` in the iteration's frames."""
-        maps = _maps(self.model.n_nodes, frames)
-        values = np.concatenate(
-            [_generalised_blocks(part, maps).ravel() for part in _parts(self.blocks, state)]
-            or [np.zeros(0)]
-        )
-        ff = np.bincount(self.ff_map, values[self.ff_select], minlength=self.ff_rows.size)
-        k_ff = sp.csc_matrix((ff, (self.ff_rows, self.ff_cols)), shape=(self.n_free, self.n_free))
-        fp = np.bincount(self.fp_map, values[self.fp_select], minlength=self.fp_rows.size)
-        k_fp = sp.csr_matrix((fp, (self.fp_rows, self.fp_cols)), shape=(self.n_free, self.n_moved))
-        return k_ff, k_fp
+__all__ = ["Static"]
 
 
 class Static:
@@ -391,40 +126,27 @@ class Static:
     def _solve(self, model: Model | CompiledModel):
         compiled = model.compile() if isinstance(model, Model) else model
         started = time.perf_counter()
-        own = [b for b in compiled.blocks if self.tangent == "element" and _has_own_tangent(b)]
-        others = [b for b in compiled.blocks if b not in own]
-        graph = _Graph(compiled, others) if others else None
         state = compiled.initial_state()
+        own = compiled.own_tangent_blocks(state) if self.tangent == "element" else []
+        others = [i for i in range(len(compiled.blocks)) if i not in own]
+        tangent = _Tangent(compiled, own, others)
         frames = [make_frame(compiled, state)]
         progress = ProgressLine(resolve_progress(self.progress), "static")
         info = {
             "solver": "Static",
             "tangent": {
-                "element": [type(b).__name__ for b in own],
-                "finite_difference": [type(b).__name__ for b in others],
+                "element": [type(compiled.blocks[i]).__name__ for i in own],
+                "finite_difference": [type(compiled.blocks[i]).__name__ for i in others],
             },
             "iterations_per_increment": [],
             "cuts": 0,
-            "tangent_colours": graph.n_colours if graph else 0,
+            "tangent_colours": tangent.graph.n_colours if tangent.graph else 0,
             "residual_ratio_per_increment": [],
             "indefinite_at": [],
             "regularised_iterations": 0,
             "branch_switches": [],
             "residual_history": [],
         }
-
-        free_index = np.flatnonzero(_unknowns(compiled).ravel())
-        moved_index = np.flatnonzero(_prescribed(compiled).ravel())
-        assemble = _FreeAssembler(compiled, own, state, free_index, moved_index)
-
-        def tangent(s, frames):
-            """(K_ff, K_fp) at s."""
-            k_ff, k_fp = assemble(s, frames)
-            if others:
-                k = finite_difference_tangent(compiled, s, graph, blocks=others)
-                k_ff = (k_ff + k[free_index][:, free_index]).tocsc()
-                k_fp = k_fp + k[free_index][:, moved_index]
-            return k_ff, k_fp
 
         phases = 2 if self.step_loads_first else 1
         total = phases * self.increments
@@ -436,13 +158,13 @@ class Static:
             cuts_here = 0
             while reached < target - 1e-12:
                 trial = min(target, reached + step)
-                saved = state.copy()
                 try:
-                    count, ratio, history = self._newton(
+                    converged, count, ratio, history = self._newton(
                         compiled, tangent, state, trial, progress, info
                     )
                 except _Failed as failure:
-                    state = saved
+                    # ``state`` is still the last converged one: the Newton loop works on its
+                    # own states.
                     cuts_here += 1
                     info["cuts"] += 1
                     if cuts_here > self.max_cuts:
@@ -463,13 +185,14 @@ class Static:
                     continue
                 iterations += count
                 reached = trial
-                state.load_factor = state.time = reached
+                state = compiled.commit(replace(converged, load_factor=reached, time=reached))
                 # After a cut, grow the step back towards the nominal one.
                 step = min(1.0 / self.increments, 2.0 * step)
             info["iterations_per_increment"].append(iterations)
             info["residual_ratio_per_increment"].append(ratio)
             info["residual_history"].append(history)
-            reactions, reaction_moments = self._reactions(compiled, state, reached)
+            f_ext, m_ext, _ = self._loads(compiled, reached)
+            reactions, reaction_moments = equilibrium_reactions(compiled, state, f_ext, m_ext)
             frames.append(make_frame(compiled, state, reactions, reaction_moments))
             progress(
                 f"increment {increment}/{total} converged in {iterations} Newton iterations",
@@ -478,52 +201,26 @@ class Static:
         return self._result(compiled, frames, info, started, True)
 
     # ------------------------------------------------------------------ one increment
-    def _newton(self, model, tangent, state, load_factor, progress, info):
-        """Newton-Raphson at one load factor: (iterations, final ratio, ratio per iteration,
-        starting with the ratio before the first update)."""
-        free = _unknowns(model)
-        f_ext, m_ext, imposed = self._loads(model, load_factor)
-        prescribed = _prescribed(model)
-        target = None
-        if model.has_prescribed:
-            target = model.reference_positions + imposed
+    def _newton(
+        self, model: CompiledModel, tangent: _Tangent, state: State, load_factor, progress, info
+    ):
+        """Newton-Raphson at one load factor from ``state`` (left unchanged).
 
-        def remaining(s):
-            """(n, 5) prescribed motion not yet applied."""
-            out = np.zeros((model.n_nodes, 5))
-            if target is not None:
-                out[:, :3] = np.where(model.translation_prescribed, target - s.positions, 0.0)
-            return out
-
-        def residual(s, frames, forces=None):
-            """(r, ratio, internal forces) at s; ``forces`` reuses an evaluation at s."""
-            f_int, m_int = forces if forces is not None else model.internal_force(s)
-            r = np.where(free, _generalised(model, frames, f_ext - f_int, m_ext - m_int), 0.0)
-            # One scale for both: a moment M counts as the force M / (element size), so that a
-            # pure-moment load (zero forces at equilibrium) has a force reference too.
-            size = model.element_size
-            force_ref = max(
-                np.linalg.norm(f_ext),
-                np.linalg.norm(f_int),
-                np.linalg.norm(m_ext) / size,
-                np.linalg.norm(m_int) / size,
-                1e-300,
-            )
-            moment_ref = force_ref * size
-            ratio = max(np.linalg.norm(r[:, :3]) / force_ref, np.linalg.norm(r[:, 3:]) / moment_ref)
-            return r, ratio, (f_int, m_int)
-
-        index = np.flatnonzero(free.ravel())
-        moved_index = np.flatnonzero(prescribed.ravel())
+        Returns (converged state, iterations, final ratio, ratio per iteration starting with
+        the ratio before the first update); raises _Failed when the increment has to be cut.
+        """
+        dofs = model.dofs
+        equilibrium = _Equilibrium(model, *self._loads(model, load_factor))
+        index, moved_index = dofs.free_slots, dofs.prescribed_slots
         size = model.element_size
         singular = False
         escapes = 0
-        translation = index % 5 < 3
+        translation = index % N_COLUMNS < 3
         forces = None  # the internal forces of the accepted trial, reused next iteration
         for iteration in range(1, self.max_iterations + 1):
-            frames = _frames(model, state.directors)
-            r, ratio, _ = residual(state, frames, forces)
-            left = remaining(state)
+            frames = dofs.frames(state.directors)
+            r, ratio, _ = equilibrium.residual(state, frames, forces)
+            left = equilibrium.remaining(state)
             if iteration == 1:
                 history = [ratio]
             if not np.isfinite(ratio):
@@ -538,7 +235,7 @@ class Static:
                     negative = _lowest_modes(k_ff)[0].min(initial=np.inf) < 0.0
                 if not (negative and self.seek_stable and escapes < 3):
                     self._report_stability(negative, load_factor, info, progress)
-                    return iteration - 1, ratio, history
+                    return state, iteration - 1, ratio, history
                 # An unstable equilibrium: leave it along its buckling mode.
                 escapes += 1
                 push = True
@@ -571,31 +268,14 @@ class Static:
                         "motion or a bifurcation"
                     )
             if (negative or escapes) and self.seek_stable:
-                load = _generalised(model, frames, f_ext, m_ext).ravel()[index]
+                load = equilibrium.load(frames).ravel()[index]
                 delta_free = _downhill(k_ff, rhs, delta_free, load, translation, size, push)
             delta = left.ravel().copy()
             delta[index] = delta_free
-            delta = delta.reshape(-1, 5)
-            # Backtracking: the full Newton step of a large rotation first moves along the
-            # tangent and stretches the structure, so a growing residual is normal for one
-            # iteration; only a blow-up (or a non-finite state) is cut back.
-            scale = 1.0
-            for _ in range(6 if self.line_search else 1):
-                trial = state.copy()
-                with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
-                    _apply(model, trial, scale * delta, frames)
-                    _, ratio_new, forces = residual(trial, frames)
-                if (
-                    not self.line_search
-                    or push
-                    or (np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol))
-                ):
-                    break
-                scale *= 0.5
-            if not np.isfinite(ratio_new):
-                raise _Failed("non-finite residual after the line search")
-            state.positions, state.directors = trial.positions, trial.directors
-            ratio = ratio_new
+            delta = delta.reshape(-1, N_COLUMNS)
+            scale, state, ratio, forces = self._line_search(
+                dofs, equilibrium, state, frames, delta, ratio, push
+            )
             history.append(ratio)
             # Round-off floor: the internal forces come from differences of nearly equal
             # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
@@ -609,14 +289,16 @@ class Static:
                 and moved[:, 3:].max(initial=0.0) <= 1e-9
             ):
                 self._report_stability(negative, load_factor, info, progress)
-                return iteration, ratio, history
+                return state, iteration, ratio, history
             progress(
                 f"load factor {load_factor:.4g}: iteration {iteration}, residual ratio "
                 f"{ratio:.3g} (tol {self.tol:g})"
             )
-        if ratio <= self.tol and np.abs(remaining(state)).max(initial=0.0) <= 1e-9 * size:
+        if ratio <= self.tol and np.abs(equilibrium.remaining(state)).max(initial=0.0) <= (
+            1e-9 * size
+        ):
             self._report_stability(negative, load_factor, info, progress)
-            return self.max_iterations, ratio, history
+            return state, self.max_iterations, ratio, history
         raise _Failed(
             f"residual ratio {ratio:.3g} after {self.max_iterations} iterations"
             + (
@@ -626,6 +308,29 @@ class Static:
                 else ""
             )
         )
+
+    def _line_search(self, dofs, equilibrium, state, frames, delta, ratio, push):
+        """Backtracking along the Newton step: (scale, new state, its ratio, its forces).
+
+        The full Newton step of a large rotation first moves along the tangent and stretches
+        the structure, so a growing residual is normal for one iteration; only a blow-up (or a
+        non-finite state) is cut back, halving the step up to 5 times.
+        """
+        scale = 1.0
+        for _ in range(6 if self.line_search else 1):
+            with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
+                trial = dofs.advance(state, scale * delta, frames)
+                _, ratio_new, forces = equilibrium.residual(trial, frames)
+            if (
+                not self.line_search
+                or push
+                or (np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol))
+            ):
+                break
+            scale *= 0.5
+        if not np.isfinite(ratio_new):
+            raise _Failed("non-finite residual after the line search")
+        return scale, trial, ratio_new, forces
 
     @staticmethod
     def _report_stability(negative: bool, load_factor: float, info: dict, progress) -> None:
@@ -656,15 +361,6 @@ class Static:
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
-
-    def _reactions(self, model, state, load_factor):
-        f_ext, m_ext, _ = self._loads(model, load_factor)
-        f_int, m_int = model.internal_force(state)
-        reactions = np.where(model.translation_constrained, f_int - f_ext, 0.0)
-        reaction_moments = np.where(
-            model.has_rotation[:, None] & model.rotation_fixed.any(1)[:, None], m_int - m_ext, 0.0
-        )
-        return reactions, reaction_moments
 
     def _result(self, compiled, frames, info, started, converged):
         result = empty_result(compiled, frames)
@@ -743,6 +439,88 @@ def _odd(permutation: np.ndarray) -> int:
                 seen[j] = True
                 j = permutation[j]
     return (permutation.size - cycles) % 2
+
+
+class _Equilibrium:
+    """The residual at one load factor: dead loads, the prescribed target and the ratio by
+    which convergence is judged."""
+
+    def __init__(self, model: CompiledModel, f_ext, m_ext, imposed):
+        self.model, self.f_ext, self.m_ext = model, f_ext, m_ext
+        self.target = model.reference_positions + imposed if model.has_prescribed else None
+
+    def remaining(self, state: State) -> np.ndarray:
+        """(n, 5) prescribed motion not yet applied."""
+        out = np.zeros((self.model.n_nodes, N_COLUMNS))
+        if self.target is not None:
+            out[:, :3] = np.where(
+                self.model.translation_prescribed, self.target - state.positions, 0.0
+            )
+        return out
+
+    def load(self, frames: Frames) -> np.ndarray:
+        """(n, 5) external loads in generalised components."""
+        return self.model.dofs.generalised(frames, self.f_ext, self.m_ext)
+
+    def residual(self, state: State, frames: Frames, forces=None):
+        """(r (n, 5) on the free DOFs, ratio, internal forces) at ``state``; ``forces`` reuses
+        an evaluation of the internal forces at that state."""
+        model, f_ext, m_ext = self.model, self.f_ext, self.m_ext
+        f_int, m_int = forces if forces is not None else model.internal_force(state)
+        r = np.where(
+            model.dofs.free, model.dofs.generalised(frames, f_ext - f_int, m_ext - m_int), 0.0
+        )
+        # One scale for both: a moment M counts as the force M / (element size), so that a
+        # pure-moment load (zero forces at equilibrium) has a force reference too.
+        size = model.element_size
+        force_ref = max(
+            np.linalg.norm(f_ext),
+            np.linalg.norm(f_int),
+            np.linalg.norm(m_ext) / size,
+            np.linalg.norm(m_int) / size,
+            1e-300,
+        )
+        moment_ref = force_ref * size
+        ratio = max(np.linalg.norm(r[:, :3]) / force_ref, np.linalg.norm(r[:, 3:]) / moment_ref)
+        return r, ratio, (f_int, m_int)
+
+
+class _Tangent:
+    """(K_ff, K_fp) of the model at a state in the iteration's frames: the blocks' own tangents
+    (``own``: block indices) assembled by femcore.assembly, plus coloured finite differences
+    of the other blocks' forces."""
+
+    def __init__(self, model: CompiledModel, own: list[int], others: list[int]):
+        self.model, self.own, self.others = model, own, others
+        self.assemble = FreeTangentAssembler(model.dofs)
+        self.graph = None
+        if others:
+            blocks = [model.blocks[i] for i in others]
+            reach = max(block.reach for block in blocks)
+            self.graph = NodeGraph(model.n_nodes, [b.connectivity for b in blocks], reach)
+
+    def __call__(self, state: State, frames: Frames):
+        model, dofs = self.model, self.model.dofs
+        parts = model.tangent_parts(state, self.own)
+        if parts is None:
+            raise RuntimeError(
+                "an element block gave a tangent at the start of the solve and none later: a "
+                "block's tangent() returns None always or never"
+            )
+        k_ff, k_fp = self.assemble(parts, frames)
+        if self.others:
+            k = finite_difference_tangent(
+                dofs,
+                lambda s: model.internal_force(s, self.others),
+                state,
+                self.graph,
+                step=1e-6 * model.element_size,
+                frames=frames,
+            )
+            free, moved = dofs.free_slots, dofs.prescribed_slots
+            k_ff = (k_ff + k[free][:, free]).tocsc()
+            k_fp = k_fp + k[free][:, moved]
+        return k_ff, k_fp
 
 
 class _Failed(Exception):

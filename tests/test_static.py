@@ -1,4 +1,4 @@
-"""solvers.Static: Newton-Raphson with the coloured finite-difference tangent."""
+"""solvers.Static: Newton-Raphson with the element and the coloured finite-difference tangents."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,6 @@ from elements import Cable, FibrousShell, MindlinShell
 from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw
 from solvers import ConvergenceError, DynamicRelaxation, Static
-from solvers.static import _frames, _unknowns, element_tangent, finite_difference_tangent
 from tests.shell_helpers import fabric, on_cylinder, stiffness_and_mass
 from validation.specimens import mindlin_strip
 
@@ -34,8 +33,8 @@ def test_coloured_tangent_equals_the_dense_jacobian():
     state = compiled.initial_state()
     rng = np.random.default_rng(3)
     state.positions = state.positions + rng.normal(scale=0.3, size=state.positions.shape)
-    sparse = finite_difference_tangent(compiled, state).toarray()
-    free = _unknowns(compiled).ravel()
+    sparse = compiled.stiffness(state, "finite_difference").toarray()
+    free = compiled.dofs.free.ravel()
     dense, _ = stiffness_and_mass(compiled, state, step=1e-6 * compiled.element_size)
     assert np.abs(sparse[np.ix_(free, free)] - dense).max() <= 1e-6 * np.abs(dense).max()
 
@@ -72,9 +71,9 @@ def test_element_tangent_equals_the_finite_difference_tangent(element):
     # finite differences of the assembled internal force, on the free unknowns. Both are
     # differences of step 1e-6: agreement to 1e-6 of the largest entry is their accuracy.
     compiled, state = _bent_model(element)
-    free = _unknowns(compiled).ravel()
-    reference = finite_difference_tangent(compiled, state).toarray()[np.ix_(free, free)]
-    own = element_tangent(compiled, state, _frames(compiled, state.directors)).toarray()
+    free = compiled.dofs.free.ravel()
+    reference = compiled.stiffness(state, "finite_difference").toarray()[np.ix_(free, free)]
+    own = compiled.stiffness(state).toarray()
     own = own[np.ix_(free, free)]
     assert np.abs(own - reference).max() <= 1e-6 * np.abs(reference).max()
 
@@ -83,9 +82,9 @@ def test_fibrous_tangent_with_current_bending_coefficients_is_close():
     # With c_as from the current geometry (Bai, the default) the tangent holds them fixed, as
     # the force does; the neglected dc/dx terms are small on a strongly distorted patch.
     compiled, state = _bent_model(FibrousShell(fabric()))
-    free = _unknowns(compiled).ravel()
-    reference = finite_difference_tangent(compiled, state).toarray()[np.ix_(free, free)]
-    own = element_tangent(compiled, state, _frames(compiled, state.directors)).toarray()
+    free = compiled.dofs.free.ravel()
+    reference = compiled.stiffness(state, "finite_difference").toarray()[np.ix_(free, free)]
+    own = compiled.stiffness(state).toarray()
     own = own[np.ix_(free, free)]
     assert np.abs(own - reference).max() <= 0.05 * np.abs(reference).max()
 
@@ -97,8 +96,8 @@ def test_cable_tangent_is_exact():
     compiled = model.compile()
     state = compiled.initial_state()
     state.positions = state.positions + np.random.default_rng(2).normal(scale=0.3, size=(4, 3))
-    reference = finite_difference_tangent(compiled, state).toarray()
-    own = element_tangent(compiled, state, None).toarray()
+    reference = compiled.stiffness(state, "finite_difference").toarray()
+    own = compiled.stiffness(state).toarray()
     assert np.abs(own - reference).max() <= 1e-6 * np.abs(reference).max()
 
 
