@@ -20,11 +20,13 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from femcore.model import CompiledModel, Model
-from femcore.rotation import drop_along, rotate_about
+from femcore.rotation import drop_along
+from femcore.state import State
 from solvers.common import (
     ConvergenceError,
     DivergenceError,
@@ -36,6 +38,9 @@ from solvers.common import (
     make_frame,
     resolve_progress,
 )
+from solvers.dynamics import damped_velocity
+
+__all__ = ["DAMPING_KINDS", "DynamicRelaxation"]
 
 DAMPING_KINDS = ("kinetic", "viscous")
 
@@ -93,26 +98,27 @@ class DynamicRelaxation:
             first = float(first)
             if not 0.0 <= first < 1.0:
                 raise ValueError(f"start load factor must be in [0, 1), got {first!r}")
-            state.positions = np.array(positions, dtype=float)
-            state.directors = np.array(directors, dtype=float)
-            if state.positions.shape != (compiled.n_nodes, 3) or state.directors.shape != (
+            positions = np.array(positions, dtype=float)
+            directors = np.array(directors, dtype=float)
+            if positions.shape != (compiled.n_nodes, 3) or directors.shape != (
                 compiled.n_nodes,
                 3,
             ):
                 raise ValueError(
                     f"start positions and directors must be ({compiled.n_nodes}, 3) arrays"
                 )
-            state.load_factor = state.time = first
+            state = replace(
+                state, positions=positions, directors=directors, load_factor=first, time=first
+            )
             frames.append(make_frame(compiled, state))
         progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
         iterations = []
         residuals = []
         for increment in range(1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
-            state.load_factor = load_factor
-            state.time = load_factor
+            state = replace(state, load_factor=load_factor, time=load_factor)
             try:
-                count, ratio, reactions, reaction_moments = self._relax(
+                state, count, ratio, reactions, reaction_moments = self._relax(
                     compiled, state, load_factor, progress, increment
                 )
             except (ConvergenceError, DivergenceError) as error:
@@ -142,11 +148,13 @@ class DynamicRelaxation:
         return result
 
     # ------------------------------------------------------------------ one increment
-    def _relax(self, model: CompiledModel, state, load_factor, progress, increment):
-        """Relax ``state`` in place to equilibrium at ``load_factor``.
+    def _relax(self, model: CompiledModel, state: State, load_factor, progress, increment):
+        """Relax from ``state`` (left unchanged) to equilibrium at ``load_factor``.
 
-        Returns (iterations, residual ratio, reactions (n,3), reaction moments (n,3)).
+        Returns (the state at rest in equilibrium, iterations, residual ratio, reactions (n,3),
+        reaction moments (n,3)).
         """
+        dofs = model.dofs
         free = model.translation_free
         constrained = model.translation_constrained
         rot = model.has_rotation
@@ -156,7 +164,9 @@ class DynamicRelaxation:
             target = model.reference_positions + model.prescribed_displacement(
                 load_factor, quasi_static=True
             )
-            state.positions = np.where(model.translation_prescribed, target, state.positions)
+            state = replace(
+                state, positions=np.where(model.translation_prescribed, target, state.positions)
+            )
 
         mass, inertia = model.lumped_mass(state)
         inv_mass = inverse_diagonal(mass)
@@ -210,9 +220,12 @@ class DynamicRelaxation:
                 if any_rot:
                     full = drop_along(m_ext - m_int, state.directors)
                     reaction_moments = np.where(rot[:, None], moment - full, 0.0)
-                state.velocities = np.zeros_like(velocity)
-                state.angular_velocities = np.zeros_like(omega)
-                return iteration, ratio, reactions, reaction_moments
+                at_rest = replace(
+                    state,
+                    velocities=np.zeros_like(velocity),
+                    angular_velocities=np.zeros_like(omega),
+                )
+                return model.commit(at_rest), iteration, ratio, reactions, reaction_moments
 
             step = 0.5 * dt if restart else dt
             if self.damping == "viscous":
@@ -221,28 +234,18 @@ class DynamicRelaxation:
                     current.append((rotation_since_start, moment, omega, inertia))
                 c = self._viscous_c(current, previous, dt)
                 previous = current
-            damp = 0.5 * c * step
-            v_new = np.where(
-                free, ((1.0 - damp) * velocity + step * inv_mass * residual) / (1.0 + damp), 0.0
-            )
+            v_new = np.where(free, damped_velocity(velocity, residual, inv_mass, step, c), 0.0)
             kinetic = 0.5 * float(np.sum(mass[:, None] * v_new * v_new))
             if any_rot:
                 w_new = model.constrain_angular(
-                    ((1.0 - damp) * omega + step * inv_inertia * moment) / (1.0 + damp),
-                    state.directors,
+                    damped_velocity(omega, moment, inv_inertia, step, c), state.directors
                 )
                 kinetic += 0.5 * float(np.sum(inertia[:, None] * w_new * w_new))
 
             if self.damping == "kinetic" and not restart and kinetic < kinetic_old:
                 # The kinetic energy peaked half a step ago: go back there and restart from
                 # rest (x* = x(i) - dt/2 v(i-1/2), THEORY §6.4a).
-                state.positions = state.positions - 0.5 * dt * velocity
-                if any_rot:
-                    state.directors = np.where(
-                        rot[:, None],
-                        rotate_about(state.directors, -0.5 * dt * omega),
-                        state.directors,
-                    )
+                state = dofs.move(state, -0.5 * dt * velocity, -0.5 * dt * omega)
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)
                 kinetic_old = 0.0
@@ -257,11 +260,8 @@ class DynamicRelaxation:
                 )
                 continue
 
-            state.positions = state.positions + dt * v_new
+            state = dofs.move(state, dt * v_new, dt * w_new if any_rot else None)
             if any_rot:
-                state.directors = np.where(
-                    rot[:, None], rotate_about(state.directors, dt * w_new), state.directors
-                )
                 rotation_since_start += dt * w_new
                 omega = w_new
             velocity = v_new
