@@ -111,7 +111,7 @@ class CableBlock(ElementBlock):
             strain = np.maximum(strain, 0.0)
         return float(0.5 * self.axial_stiffness * np.sum(self.rest_length * strain**2))
 
-    def cell_fields(self, state: State) -> dict[str, np.ndarray]:
+    def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         _, _, strain, force = self._axial(state)
         return {"axial_strain": strain, "axial_force": force}
 

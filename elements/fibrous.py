@@ -596,7 +596,7 @@ class FibrousShellBlock(ElementBlock):
         omega2 += (2.0 / dt_bending) ** 2
         return 2.0 / np.sqrt(omega2)
 
-    def cell_fields(self, state: State) -> dict[str, np.ndarray]:
+    def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         geo = self._geometry(state.positions, state.directors)
         strain = self._strains(geo)
         warp, weft = self._by_family(strain["eps1"], strain["eps2"])
@@ -614,7 +614,7 @@ class FibrousShellBlock(ElementBlock):
             "weft_moment": m_weft,
         }
 
-    def node_fields(self, state: State) -> dict[str, np.ndarray]:
+    def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         geo = self._geometry(state.positions, state.directors, layers=False)
         guarded = np.zeros(self.n_nodes)
         guarded[self.connectivity[geo["guarded"]]] = 1.0

@@ -318,7 +318,7 @@ class MindlinShellBlock(ElementBlock):
         return 2.0 / np.sqrt(omega2)
 
     # ------------------------------------------------------------------ outputs
-    def cell_fields(self, state: State) -> dict[str, np.ndarray]:
+    def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         """Section forces per unit length in the lamina frame, averaged over the element:
         membrane (N11, N22, N12) N/mm, bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm."""
         strain = self._covariant_strains(self._state_vectors(state))

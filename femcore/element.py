@@ -159,10 +159,10 @@ class ElementBlock(ABC):
         """Critical time step of the block, s."""
         return float(np.min(self.cell_stable_dt(state)))
 
-    def cell_fields(self, state: State) -> dict[str, np.ndarray]:
+    def cell_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """Per-cell outputs {name: (m, ...)} for results and VTU files."""
         return {}
 
-    def node_fields(self, state: State) -> dict[str, np.ndarray]:
+    def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """Nodal outputs {name: (n, ...)} for results and VTU files."""
         return {}

@@ -557,13 +557,13 @@ class CompiledModel:
         cell fields spread over all mesh cells of that type (NaN where a block does not cover)."""
         out: dict[str, dict] = {"point": {}, "triangle": {}, "line": {}}
         counts = {"triangle": len(self.mesh.triangles), "line": len(self.mesh.lines)}
-        for block in self.blocks:
-            for name, values in block.node_fields(state).items():
+        for block, history in zip(self.blocks, self._histories(state)):
+            for name, values in block.node_fields(state, history).items():
                 out["point"][name] = values
             kind = block.cell_type
             if kind is None:  # node blocks have no mesh cells to carry a cell field
                 continue
-            for name, values in block.cell_fields(state).items():
+            for name, values in block.cell_fields(state, history).items():
                 values = np.asarray(values, dtype=float)
                 full = out[kind].setdefault(
                     name, np.full((counts[kind],) + values.shape[1:], np.nan)
