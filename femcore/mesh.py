@@ -750,7 +750,10 @@ def _known_kind(kind: str) -> str:
 
 
 def _by_kind(
-    generic: Mapping[str, Any] | None, what: str, legacy: dict[str, Any], legacy_names: dict[str, str]
+    generic: Mapping[str, Any] | None,
+    what: str,
+    legacy: dict[str, Any],
+    legacy_names: dict[str, str],
 ) -> dict[str, Any]:
     """Merge a generic kind -> value mapping with the legacy per-kind arguments."""
     merged = dict(_as_mapping(generic, what))
@@ -774,7 +777,6 @@ def _neither(items: Iterator[str] | Sequence[str]) -> str:
 
 def _article(noun: str) -> str:
     return ("an " if noun[:1] in "aeiou" else "a ") + noun
-
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
@@ -1139,8 +1141,7 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
     if unsupported:
         names = ", ".join(_KIND_OF_MESHIO)
         raise ValueError(
-            f"{source} contains {unsupported} cells; only {names} and vertex cells "
-            "are supported"
+            f"{source} contains {unsupported} cells; only {names} and vertex cells are supported"
         )
     if not set(kinds) & set(CELL_KINDS):
         raise ValueError(f"{source} contains {_neither(list(CELL_KINDS))} cells")
