@@ -81,17 +81,21 @@ class CellKind:
         return self.meshio_name + "s"
 
 
-CELL_KINDS: Mapping[str, CellKind] = MappingProxyType(
-    {
-        # Adding a kind (e.g. "quad": CellKind(4, "quad", 2, "quad set", "qset:")) is one entry.
-        "triangle": CellKind(3, "triangle", 2, "element set", "elset:"),
-        "line": CellKind(2, "line", 1, "line set", "lset:"),
-    }
-)
-"""The known cell kinds, name -> :class:`CellKind`, in their canonical order."""
+# The one table of cell kinds; everything else reads it through CELL_KINDS at call time.
+_CELL_KIND_TABLE: dict[str, CellKind] = {
+    # Adding a kind (e.g. "quad": CellKind(4, "quad", 2, "quad set", "qset:")) is one entry.
+    "triangle": CellKind(3, "triangle", 2, "element set", "elset:"),
+    "line": CellKind(2, "line", 1, "line set", "lset:"),
+}
 
-# meshio cell type -> cell kind.
-_KIND_OF_MESHIO = {spec.meshio_name: kind for kind, spec in CELL_KINDS.items()}
+CELL_KINDS: Mapping[str, CellKind] = MappingProxyType(_CELL_KIND_TABLE)
+"""The known cell kinds, name -> :class:`CellKind`, in their canonical order (read-only)."""
+
+
+def _kind_of_meshio() -> dict[str, str]:
+    """meshio cell type -> cell kind."""
+    return {spec.meshio_name: kind for kind, spec in CELL_KINDS.items()}
+
 
 # The constructor arguments that predate the generic ``cells`` / ``cell_sets``.
 _LEGACY_CELLS = {"triangle": "triangles", "line": "lines"}
@@ -1135,11 +1139,12 @@ def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None
 
 def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
     # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
-    kinds = [_KIND_OF_MESHIO.get(block.type, block.type) for block in raw.cells]
+    kind_of = _kind_of_meshio()
+    kinds = [kind_of.get(block.type, block.type) for block in raw.cells]
     sizes = [len(block.data) for block in raw.cells]
-    unsupported = sorted({block.type for block in raw.cells} - set(_KIND_OF_MESHIO) - {"vertex"})
+    unsupported = sorted({block.type for block in raw.cells} - set(kind_of) - {"vertex"})
     if unsupported:
-        names = ", ".join(_KIND_OF_MESHIO)
+        names = ", ".join(kind_of)
         raise ValueError(
             f"{source} contains {unsupported} cells; only {names} and vertex cells are supported"
         )
