@@ -12,28 +12,87 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = [
+    "AMPLITUDES",
+    "Amplitude",
+    "AmplitudeFunction",
+    "Fix",
+    "Gravity",
+    "NodalLoad",
+    "Prescribed",
+    "amplitude_of",
+    "linear",
+    "smooth_step",
+    "step",
+]
+
+AmplitudeFunction = Callable[[Any], Any]
+"""An amplitude a(tau): takes tau (a float or an array, dimensionless) and returns a(tau) of the
+same shape (dimensionless, 1 = full load)."""
 
 
-def smooth_step(tau):
-    """Smooth-step amplitude 10 tau^3 - 15 tau^4 + 6 tau^5 (zero slope and curvature at both ends,
-    as Abaqus's SMOOTH STEP), clipped to [0, 1]."""
+def smooth_step(tau: ArrayLike) -> np.ndarray:
+    """Smooth-step amplitude 10 tau^3 - 15 tau^4 + 6 tau^5, clipped to [0, 1].
+
+    Zero slope and curvature at both ends, as Abaqus's SMOOTH STEP.
+
+    Parameters
+    ----------
+    tau : array_like
+        Step progress (dimensionless), any shape; values outside [0, 1] are clipped.
+
+    Returns
+    -------
+    numpy.ndarray
+        a(tau) in [0, 1], same shape as ``tau`` (a 0-d array or numpy scalar for a scalar).
+    """
     tau = np.clip(tau, 0.0, 1.0)
     return tau**3 * (10.0 - 15.0 * tau + 6.0 * tau**2)
 
 
-def linear(tau):
-    """Linear ramp from 0 at the start to 1 at the end, clipped to [0, 1]."""
+def linear(tau: ArrayLike) -> np.ndarray:
+    """Linear ramp from 0 at the start to 1 at the end, clipped to [0, 1].
+
+    Parameters
+    ----------
+    tau : array_like
+        Step progress (dimensionless), any shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        a(tau) = clip(tau, 0, 1), same shape as ``tau``.
+    """
     return np.clip(tau, 0.0, 1.0)
 
 
-def step(tau):
-    """Full value from the first instant (a suddenly applied load)."""
+def step(tau: ArrayLike) -> np.ndarray:
+    """Full value from the first instant (a suddenly applied load).
+
+    Parameters
+    ----------
+    tau : array_like
+        Step progress (dimensionless), any shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        Ones of the shape of ``tau``.
+    """
     return np.ones_like(np.asarray(tau, dtype=float))
 
 
-AMPLITUDES: dict[str, Callable] = {"smooth": smooth_step, "linear": linear, "step": step}
+AMPLITUDES: dict[str, AmplitudeFunction] = {
+    "smooth": smooth_step,
+    "linear": linear,
+    "step": step,
+}
+"""The named amplitudes, name -> a(tau)."""
 
 
 @dataclass(frozen=True)
@@ -42,15 +101,40 @@ class Amplitude:
 
     Named amplitudes ramp linearly over quasi-static increments ("step": full from the first
     increment); a user callable is used as it is in both.
+
+    Parameters
+    ----------
+    name : str
+        A key of AMPLITUDES, or "user" for a user callable.
+    dynamic : AmplitudeFunction
+        a(tau) with tau = t / duration, used by the explicit solver.
+    quasi_static : AmplitudeFunction
+        a(lambda) over the load increments lambda = i / n of the quasi-static solvers.
     """
 
     name: str
-    dynamic: Callable
-    quasi_static: Callable
+    dynamic: AmplitudeFunction
+    quasi_static: AmplitudeFunction
 
 
-def amplitude_of(amplitude: str | Callable) -> Amplitude:
-    """Amplitude for a name in AMPLITUDES ("smooth", "linear", "step") or a callable a(tau)."""
+def amplitude_of(amplitude: str | AmplitudeFunction) -> Amplitude:
+    """The Amplitude for a name or a callable.
+
+    Parameters
+    ----------
+    amplitude : str or AmplitudeFunction
+        A name in AMPLITUDES ("smooth", "linear", "step") or a callable a(tau).
+
+    Returns
+    -------
+    Amplitude
+        The named amplitude, or ``Amplitude("user", amplitude, amplitude)``.
+
+    Raises
+    ------
+    ValueError
+        Unknown name, or a callable that fails or is not finite at tau = 1.
+    """
     if callable(amplitude):
         try:
             value = float(amplitude(1.0))
@@ -69,7 +153,15 @@ def amplitude_of(amplitude: str | Callable) -> Amplitude:
 
 @dataclass(frozen=True)
 class Fix:
-    """Zero displacement / rotation of some DOF columns at some nodes (columns: femcore.dofs)."""
+    """Zero displacement / rotation of some DOF columns at some nodes.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray of int, shape (s,)
+        Node ids.
+    columns : numpy.ndarray of int, shape (d,), or None
+        DOF columns (see femcore.dofs); None: every DOF the nodes carry.
+    """
 
     nodes: np.ndarray
     columns: np.ndarray | None  # None: every DOF the nodes carry
@@ -77,8 +169,17 @@ class Fix:
 
 @dataclass(frozen=True)
 class Prescribed:
-    """Imposed translations at nodes: values (len(nodes), 3), with NaN where not prescribed,
-    reached at tau = 1 through the amplitude."""
+    """Imposed translations at nodes, reached at tau = 1 through the amplitude.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray of int, shape (s,)
+        Node ids.
+    values : numpy.ndarray, shape (s, 3)
+        Final displacements (length units), NaN where a component is not prescribed.
+    amplitude : Amplitude
+        How the displacements grow.
+    """
 
     nodes: np.ndarray
     values: np.ndarray
@@ -87,7 +188,19 @@ class Prescribed:
 
 @dataclass(frozen=True)
 class NodalLoad:
-    """The same global force (kind "force") or moment (kind "moment") vector on each node."""
+    """The same global force or moment vector on each node.
+
+    Parameters
+    ----------
+    kind : str
+        "force" (vector in N) or "moment" (vector in N mm).
+    nodes : numpy.ndarray of int, shape (s,)
+        Node ids.
+    vector : numpy.ndarray, shape (3,)
+        Global force (N) or moment (N mm) applied at each node at full load.
+    amplitude : Amplitude
+        How the load grows.
+    """
 
     kind: str
     nodes: np.ndarray
@@ -97,7 +210,15 @@ class NodalLoad:
 
 @dataclass(frozen=True)
 class Gravity:
-    """Uniform acceleration of gravity acting on the (physical, unscaled) lumped mass."""
+    """Uniform acceleration of gravity acting on the (physical, unscaled) lumped mass.
+
+    Parameters
+    ----------
+    vector : numpy.ndarray, shape (3,)
+        Acceleration (length units / s^2, e.g. (0, 0, -9810) mm/s^2).
+    amplitude : Amplitude
+        How the load grows.
+    """
 
     vector: np.ndarray
     amplitude: Amplitude

@@ -1,10 +1,17 @@
 """Meshes of 3-node triangles (shells, membranes) and 2-node lines (cables, bars).
 
-A :class:`Mesh` holds node coordinates (length units, always 3-D), triangle and line
-connectivity, and named sets of nodes, triangles and lines. Coordinates and connectivity are
-validated once at construction and stored as read-only arrays, so a mesh never changes shape
-after it was checked; :meth:`Mesh.with_points` makes a moved copy instead. The only mutating
-methods are :meth:`Mesh.add_node_set`, :meth:`Mesh.add_element_set` and
+A :class:`Mesh` holds node coordinates (length units, always 3-D), the connectivity of each
+kind of cell, and named sets of nodes and of cells of each kind. The kinds of cell a mesh can
+hold are listed once, in :data:`CELL_KINDS` (today "triangle" and "line"); everything that
+handles cells generically (:meth:`Mesh.cells`, :meth:`Mesh.cell_sets`, file I/O, result
+export) loops over that table, so adding a kind is one entry there. The historical names
+(:attr:`Mesh.triangles`, :attr:`Mesh.lines`, :attr:`Mesh.element_sets`,
+:attr:`Mesh.line_sets`) are views of the triangle and line entries.
+
+Coordinates and connectivity are validated once at construction and stored as read-only
+arrays, so a mesh never changes shape after it was checked; :meth:`Mesh.with_points` makes a
+moved copy instead. The only mutating methods are :meth:`Mesh.add_node_set`,
+:meth:`Mesh.add_cell_set` and its shorthands :meth:`Mesh.add_element_set` and
 :meth:`Mesh.add_line_set`, which only add new named sets.
 
 Fibre-aligned generators (:meth:`Mesh.rectangle`, :meth:`Mesh.quadrilateral`) split each grid
@@ -17,7 +24,8 @@ runs along the warp and edge 0 -> 2 along the weft, in the positive or negative 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from types import MappingProxyType, ModuleType
@@ -35,18 +43,72 @@ from femcore.topology import (
     validate_points,
 )
 
-__all__ = ["Mesh", "NodePredicate"]
+__all__ = ["CELL_KINDS", "CellKind", "Mesh", "NodePredicate"]
 
 NodePredicate = Callable[[np.ndarray, np.ndarray, np.ndarray], ArrayLike]
 """Called once as ``predicate(x, y, z)`` with (n,) coordinate arrays; returns an (n,) bool mask."""
+
+
+@dataclass(frozen=True)
+class CellKind:
+    """Description of one kind of cell a :class:`Mesh` can hold (an entry of CELL_KINDS).
+
+    Parameters
+    ----------
+    nodes_per_cell : int
+        Number of nodes of one cell (width of the (m, nodes_per_cell) connectivity).
+    meshio_name : str
+        meshio's name of the cell type, used for file I/O and result export.
+    dimension : int
+        Topological dimension (1 for curves, 2 for surfaces); a named gmsh physical group of
+        this dimension becomes a set of cells of this kind.
+    set_label : str
+        How error messages name a set of these cells, e.g. "element set".
+    mask_prefix : str
+        Prefix of the 0/1 cell-data arrays that store these sets in formats without native
+        sets, e.g. "elset:" (the array "elset:<name>").
+    """
+
+    nodes_per_cell: int
+    meshio_name: str
+    dimension: int
+    set_label: str
+    mask_prefix: str
+
+    @property
+    def plural(self) -> str:
+        """Plural of the meshio name, for messages ("triangles", "lines")."""
+        return self.meshio_name + "s"
+
+
+# The one table of cell kinds; everything else reads it through CELL_KINDS at call time.
+_CELL_KIND_TABLE: dict[str, CellKind] = {
+    # Adding a kind (e.g. "quad": CellKind(4, "quad", 2, "quad set", "qset:")) is one entry.
+    "triangle": CellKind(3, "triangle", 2, "element set", "elset:"),
+    "line": CellKind(2, "line", 1, "line set", "lset:"),
+}
+
+CELL_KINDS: Mapping[str, CellKind] = MappingProxyType(_CELL_KIND_TABLE)
+"""The known cell kinds, name -> :class:`CellKind`, in their canonical order (read-only)."""
+
+
+def _kind_of_meshio() -> dict[str, str]:
+    """meshio cell type -> cell kind."""
+    return {spec.meshio_name: kind for kind, spec in CELL_KINDS.items()}
+
+
+# The constructor arguments that predate the generic ``cells`` / ``cell_sets``.
+_LEGACY_CELLS = {"triangle": "triangles", "line": "lines"}
+_LEGACY_SETS = {"triangle": "element_sets", "line": "line_sets"}
 
 # Characters that would break the set syntax of .inp or .msh files.
 _FORBIDDEN_NAME_CHARS = {",", "=", '"', "\n", "\r"}
 
 # Formats whose meshio reader and writer keep named point/cell sets (Abaqus NSET/ELSET).
-# Every other format gets the sets as 0/1 mask arrays named with these prefixes.
+# Every other format gets the sets as 0/1 mask arrays named with "nset:" (nodes) or the
+# mask prefix of the cell kind.
 _NATIVE_SET_FORMATS = {"abaqus"}
-_NODE_MASK, _TRIANGLE_MASK, _LINE_MASK = "nset:", "elset:", "lset:"
+_NODE_MASK = "nset:"
 
 # Relative tolerances of the quadrilateral corner checks (times the corner diameter).
 _PLANARITY_TOL = 1e-9
@@ -54,20 +116,36 @@ _CONVEXITY_TOL = 1e-12
 
 
 class Mesh:
-    """Triangles and lines on shared nodes, with named node, triangle and line sets.
+    """Cells of the kinds in CELL_KINDS on shared nodes, with named node and cell sets.
 
-    Args:
-        points: (n, 3) or (n, 2) node coordinates (length units); 2-D points get z = 0.
-        triangles: (m, 3) node ids per triangle, counter-clockwise about the intended normal.
-        lines: (k, 2) node ids per line cell.
-        node_sets: name -> node ids (or an (n,) bool mask).
-        element_sets: name -> triangle ids (or an (m,) bool mask).
-        line_sets: name -> line ids (or a (k,) bool mask).
+    Parameters
+    ----------
+    points : array_like, shape (n, 3) or (n, 2)
+        Node coordinates (length units); 2-D points get z = 0.
+    triangles : array_like of int, shape (m, 3), optional
+        Node ids per triangle, counter-clockwise about the intended normal. Same as
+        ``cells={"triangle": ...}``.
+    lines : array_like of int, shape (k, 2), optional
+        Node ids per line cell. Same as ``cells={"line": ...}``.
+    node_sets : Mapping[str, array_like], optional
+        Name -> node ids (or an (n,) bool mask).
+    element_sets : Mapping[str, array_like], optional
+        Name -> triangle ids (or an (m,) bool mask). Same as ``cell_sets={"triangle": ...}``.
+    line_sets : Mapping[str, array_like], optional
+        Name -> line ids (or a (k,) bool mask). Same as ``cell_sets={"line": ...}``.
+    cells : Mapping[str, array_like], optional
+        Cell kind (a key of CELL_KINDS) -> (c, nodes_per_cell) node ids, keyword only.
+    cell_sets : Mapping[str, Mapping[str, array_like]], optional
+        Cell kind -> {name: cell ids or a (c,) bool mask}, keyword only.
 
-    Raises:
-        ValueError: wrong shapes, non-finite coordinates (naming the node), node ids out of
-            range (naming the cell and the id), a cell repeating a node, or invalid sets.
-            Duplicate nodes, zero areas and orientation are checked by :meth:`check`.
+    Raises
+    ------
+    ValueError
+        Wrong shapes, non-finite coordinates (naming the node), node ids out of range (naming
+        the cell and the id), a cell repeating a node, invalid sets, an unknown cell kind, or
+        the same cells or sets given both by their legacy argument and in ``cells`` /
+        ``cell_sets``. Duplicate nodes, zero areas and orientation are checked by
+        :meth:`check`.
     """
 
     def __init__(
@@ -78,21 +156,30 @@ class Mesh:
         node_sets: Mapping[str, ArrayLike] | None = None,
         element_sets: Mapping[str, ArrayLike] | None = None,
         line_sets: Mapping[str, ArrayLike] | None = None,
+        *,
+        cells: Mapping[str, ArrayLike | None] | None = None,
+        cell_sets: Mapping[str, Mapping[str, ArrayLike] | None] | None = None,
     ) -> None:
+        given_cells = _by_kind(
+            cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
+        )
+        given_sets = _by_kind(
+            cell_sets, "cell_sets", {"triangle": element_sets, "line": line_sets}, _LEGACY_SETS
+        )
         self._points = _read_only(validate_points(points))
         n = len(self._points)
-        self._triangles = _read_only(validate_cells(triangles, 3, "triangle", n))
-        self._lines = _read_only(validate_cells(lines, 2, "line", n))
+        self._cells: dict[str, np.ndarray] = {
+            kind: _read_only(validate_cells(given_cells.get(kind), spec.nodes_per_cell, kind, n))
+            for kind, spec in CELL_KINDS.items()
+        }
         self._node_sets: dict[str, np.ndarray] = {}
-        self._element_sets: dict[str, np.ndarray] = {}
-        self._line_sets: dict[str, np.ndarray] = {}
-        for given, what, add in (
-            (node_sets, "node_sets", self.add_node_set),
-            (element_sets, "element_sets", self.add_element_set),
-            (line_sets, "line_sets", self.add_line_set),
-        ):
-            for name, ids in _as_mapping(given, what).items():
-                add(name, ids)
+        self._cell_sets: dict[str, dict[str, np.ndarray]] = {kind: {} for kind in CELL_KINDS}
+        for name, ids in _as_mapping(node_sets, "node_sets").items():
+            self.add_node_set(name, ids)
+        for kind in CELL_KINDS:
+            what = _LEGACY_SETS.get(kind, f"cell_sets[{kind!r}]")
+            for name, ids in _as_mapping(given_sets.get(kind), what).items():
+                self.add_cell_set(kind, name, ids)
 
     # ----------------------------------------------------------------------------------------
     # Read-only data
@@ -104,14 +191,61 @@ class Mesh:
         return self._points
 
     @property
+    def cell_kinds(self) -> tuple[str, ...]:
+        """The cell kinds present (at least one cell), in CELL_KINDS order, e.g.
+        ("triangle", "line")."""
+        return tuple(kind for kind, cells in self._cells.items() if len(cells))
+
+    def cells(self, kind: str) -> np.ndarray:
+        """Connectivity of the cells of one kind.
+
+        Parameters
+        ----------
+        kind : str
+            A key of CELL_KINDS, e.g. "triangle" or "line".
+
+        Returns
+        -------
+        numpy.ndarray of int64, shape (c, nodes_per_cell)
+            Node ids per cell, read-only; (0, nodes_per_cell) if the mesh has none.
+
+        Raises
+        ------
+        ValueError
+            Unknown cell kind.
+        """
+        return self._cells[_known_kind(kind)]
+
+    def cell_sets(self, kind: str) -> Mapping[str, np.ndarray]:
+        """Named sets of the cells of one kind.
+
+        Parameters
+        ----------
+        kind : str
+            A key of CELL_KINDS, e.g. "triangle" or "line".
+
+        Returns
+        -------
+        Mapping[str, numpy.ndarray]
+            Read-only view name -> sorted unique int64 cell ids (indices into
+            ``cells(kind)``).
+
+        Raises
+        ------
+        ValueError
+            Unknown cell kind.
+        """
+        return MappingProxyType(self._cell_sets[_known_kind(kind)])
+
+    @property
     def triangles(self) -> np.ndarray:
         """(m, 3) int64 node ids of the triangles, read-only; (0, 3) if there are none."""
-        return self._triangles
+        return self._cells["triangle"]
 
     @property
     def lines(self) -> np.ndarray:
         """(k, 2) int64 node ids of the line cells, read-only; (0, 2) if there are none."""
-        return self._lines
+        return self._cells["line"]
 
     @property
     def node_sets(self) -> Mapping[str, np.ndarray]:
@@ -120,13 +254,13 @@ class Mesh:
 
     @property
     def element_sets(self) -> Mapping[str, np.ndarray]:
-        """Read-only view name -> sorted unique int64 triangle ids."""
-        return MappingProxyType(self._element_sets)
+        """Read-only view name -> sorted unique int64 triangle ids (``cell_sets("triangle")``)."""
+        return self.cell_sets("triangle")
 
     @property
     def line_sets(self) -> Mapping[str, np.ndarray]:
-        """Read-only view name -> sorted unique int64 line-cell ids."""
-        return MappingProxyType(self._line_sets)
+        """Read-only view name -> sorted unique int64 line-cell ids (``cell_sets("line")``)."""
+        return self.cell_sets("line")
 
     @property
     def n_nodes(self) -> int:
@@ -136,23 +270,23 @@ class Mesh:
     @property
     def n_triangles(self) -> int:
         """Number of triangles m."""
-        return len(self._triangles)
+        return len(self._cells["triangle"])
 
     @property
     def n_lines(self) -> int:
         """Number of line cells k."""
-        return len(self._lines)
+        return len(self._cells["line"])
 
     @cached_property
     def topology(self) -> Topology:
         """Edge/neighbour structure of the triangles (computed once; cells never change)."""
-        return build_topology(self._triangles)
+        return build_topology(self._cells["triangle"])
 
     def __repr__(self) -> str:
         return (
             f"Mesh(n_nodes={self.n_nodes}, n_triangles={self.n_triangles}, "
             f"n_lines={self.n_lines}, node_sets={list(self._node_sets)}, "
-            f"element_sets={list(self._element_sets)}, line_sets={list(self._line_sets)})"
+            f"element_sets={list(self.element_sets)}, line_sets={list(self.line_sets)})"
         )
 
     # ----------------------------------------------------------------------------------------
@@ -160,30 +294,103 @@ class Mesh:
     # ----------------------------------------------------------------------------------------
 
     def add_node_set(self, name: str, ids: ArrayLike) -> None:
-        """Add a new node set: node ids (any order, repeats allowed) or an (n,) bool mask."""
+        """Add a new node set.
+
+        Parameters
+        ----------
+        name : str
+            Non-empty name without surrounding blanks, commas, ``=``, quotes or line breaks.
+        ids : array_like of int, or bool array of shape (n,)
+            Node ids (any order, repeats allowed) or a bool mask over the nodes.
+
+        Raises
+        ------
+        ValueError
+            Invalid or already used name, ids out of range, or a mask of the wrong shape.
+        """
         _add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node")
 
+    def add_cell_set(self, kind: str, name: str, ids: ArrayLike) -> None:
+        """Add a new set of cells of one kind.
+
+        Parameters
+        ----------
+        kind : str
+            A key of CELL_KINDS, e.g. "triangle" or "line".
+        name : str
+            Non-empty name without surrounding blanks, commas, ``=``, quotes or line breaks;
+            unique among the sets of this kind.
+        ids : array_like of int, or bool array of shape (c,)
+            Cell ids (indices into ``cells(kind)``) or a bool mask over those cells.
+
+        Raises
+        ------
+        ValueError
+            Unknown kind, invalid or already used name, ids out of range, or a mask of the
+            wrong shape.
+        """
+        kind = _known_kind(kind)
+        label = CELL_KINDS[kind].set_label
+        _add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
+
     def add_element_set(self, name: str, ids: ArrayLike) -> None:
-        """Add a new triangle set: triangle ids or an (m,) bool mask."""
-        _add_set(self._element_sets, "element set", name, ids, self.n_triangles, "triangle")
+        """Add a new triangle set: ``add_cell_set("triangle", name, ids)``.
+
+        Parameters
+        ----------
+        name : str
+            Name of the new set (see :meth:`add_cell_set`).
+        ids : array_like of int, or bool array of shape (m,)
+            Triangle ids or a bool mask over the triangles.
+
+        Raises
+        ------
+        ValueError
+            As :meth:`add_cell_set`.
+        """
+        self.add_cell_set("triangle", name, ids)
 
     def add_line_set(self, name: str, ids: ArrayLike) -> None:
-        """Add a new line-cell set: line ids or a (k,) bool mask."""
-        _add_set(self._line_sets, "line set", name, ids, self.n_lines, "line")
+        """Add a new line-cell set: ``add_cell_set("line", name, ids)``.
+
+        Parameters
+        ----------
+        name : str
+            Name of the new set (see :meth:`add_cell_set`).
+        ids : array_like of int, or bool array of shape (k,)
+            Line ids or a bool mask over the line cells.
+
+        Raises
+        ------
+        ValueError
+            As :meth:`add_cell_set`.
+        """
+        self.add_cell_set("line", name, ids)
 
     # ----------------------------------------------------------------------------------------
     # Queries
     # ----------------------------------------------------------------------------------------
 
     def nodes(self, selection: str | NodePredicate) -> np.ndarray:
-        """Sorted int64 ids of the nodes selected by a node-set name or a predicate.
+        """Ids of the nodes selected by a node-set name or a predicate.
 
-        The predicate is called ONCE as ``predicate(x, y, z)`` with the (n,) coordinate arrays
-        and must return an (n,) bool mask, e.g. ``lambda x, y, z: np.isclose(x, 0.0)``.
+        Parameters
+        ----------
+        selection : str or NodePredicate
+            A node-set name, or a predicate called ONCE as ``predicate(x, y, z)`` with the
+            (n,) coordinate arrays (length units) that must return an (n,) bool mask, e.g.
+            ``lambda x, y, z: np.isclose(x, 0.0)``.
 
-        Raises:
-            ValueError: unknown set name, a mask of the wrong shape or dtype, or an empty
-                selection (almost always a tolerance or coordinate mistake).
+        Returns
+        -------
+        numpy.ndarray of int64, shape (s,)
+            Sorted node ids, s >= 1.
+
+        Raises
+        ------
+        ValueError
+            Unknown set name, a mask of the wrong shape or dtype, or an empty selection
+            (almost always a tolerance or coordinate mistake).
         """
         if isinstance(selection, str):
             if selection not in self._node_sets:
@@ -219,31 +426,51 @@ class Mesh:
         return np.flatnonzero(mask), label
 
     def bounding_box(self) -> tuple[np.ndarray, np.ndarray]:
-        """Lower and upper corners (3,) of the axis-aligned box around all nodes."""
+        """Corners of the axis-aligned box around all nodes.
+
+        Returns
+        -------
+        lower, upper : numpy.ndarray, shape (3,)
+            Smallest and largest coordinate along each axis (length units).
+        """
         return self._points.min(axis=0), self._points.max(axis=0)
 
     def check(self) -> None:
-        """Run the topology checks on the triangles; raise ValueError on the first problem.
+        """Run the topology checks on the triangles.
 
         See :func:`femcore.topology.check_triangles`: non-manifold edges, inconsistent
         orientation, duplicate nodes and zero-area triangles.
+
+        Raises
+        ------
+        ValueError
+            Describing the first problem found.
         """
         if self.n_triangles:
-            check_triangles(self._points, self._triangles)
+            check_triangles(self._points, self.triangles)
 
     def with_points(self, points: ArrayLike) -> Mesh:
-        """A new mesh with the same cells and sets but other coordinates (n, 3) or (n, 2)."""
+        """A new mesh with the same cells and sets but other coordinates.
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 3) or (n, 2)
+            New node coordinates (length units), one row per existing node.
+
+        Returns
+        -------
+        Mesh
+            The moved copy; this mesh is unchanged.
+
+        Raises
+        ------
+        ValueError
+            Wrong number of rows, wrong shape or non-finite coordinates.
+        """
         pts = validate_points(points)
         if len(pts) != self.n_nodes:
             raise ValueError(f"points must have {self.n_nodes} rows, got {len(pts)}")
-        return Mesh(
-            pts,
-            self._triangles,
-            self._lines,
-            node_sets=self._node_sets,
-            element_sets=self._element_sets,
-            line_sets=self._line_sets,
-        )
+        return Mesh(pts, node_sets=self._node_sets, cells=self._cells, cell_sets=self._cell_sets)
 
     # ----------------------------------------------------------------------------------------
     # Generators
@@ -258,15 +485,33 @@ class Mesh:
         ny: int,
         origin: ArrayLike = (0.0, 0.0, 0.0),
     ) -> Mesh:
-        """Fibre-aligned right-triangle mesh of an lx x ly rectangle (length units).
+        """Fibre-aligned right-triangle mesh of an lx x ly rectangle.
 
         Warp along x, weft along y, in the plane z = origin z. Node ``j * (nx + 1) + i`` sits
         at origin + (i lx / nx, j ly / ny, 0). Grid cell (i, j), in order "for j, for i", gives
         T_A = (P_ij, P_i+1,j, P_i,j+1) then T_B = (P_i+1,j+1, P_i,j+1, P_i+1,j): both
         counter-clockwise (normal +z), right-angled at local node 0, edge 0 -> 1 along +-x.
 
-        Node sets "left", "right", "bottom", "top" (x min, x max, y min, y max); element set
-        "all".
+        Parameters
+        ----------
+        lx, ly : float
+            Side lengths along x and y (length units), positive.
+        nx, ny : int
+            Positive numbers of divisions along x and y.
+        origin : array_like, shape (3,) or (2,)
+            Corner of the rectangle with the smallest coordinates (length units).
+
+        Returns
+        -------
+        Mesh
+            (nx + 1)(ny + 1) nodes and 2 nx ny triangles, with node sets "left", "right",
+            "bottom", "top" (x min, x max, y min, y max) and element set "all".
+
+        Raises
+        ------
+        ValueError
+            Non-positive or non-finite lengths, non-positive or non-integer counts, or a bad
+            origin.
         """
         lx = _positive_length(lx, "lx")
         ly = _positive_length(ly, "ly")
@@ -286,10 +531,26 @@ class Mesh:
 
     @classmethod
     def line(cls, p0: ArrayLike, p1: ArrayLike, n: int) -> Mesh:
-        """n equal 2-node line cells from p0 to p1 ((3,) or (2,), length units).
+        """n equal 2-node line cells from p0 to p1.
 
-        Node k sits at p0 + (k / n)(p1 - p0); cell k joins nodes k and k + 1. Node sets
-        "start" and "end"; line set "all".
+        Node k sits at p0 + (k / n)(p1 - p0); cell k joins nodes k and k + 1.
+
+        Parameters
+        ----------
+        p0, p1 : array_like, shape (3,) or (2,)
+            End points (length units); they must differ.
+        n : int
+            Positive number of cells.
+
+        Returns
+        -------
+        Mesh
+            n + 1 nodes and n line cells, with node sets "start" and "end" and line set "all".
+
+        Raises
+        ------
+        ValueError
+            Bad or coincident end points, or a non-positive count.
         """
         a = _point3(p0, "p0")
         b = _point3(p1, "p1")
@@ -310,24 +571,36 @@ class Mesh:
     def quadrilateral(cls, corners: ArrayLike, nx: int, ny: int) -> Mesh:
         """Fibre-aligned structured triangle mesh of a planar convex quadrilateral, via gmsh.
 
-        Args:
-            corners: (4, 3) or (4, 2) corners c0, c1, c2, c3 in cyclic order (length units).
-                The warp runs along c0 -> c1 with nx divisions, the weft along c0 -> c3 with
-                ny divisions. Triangle normals follow (c1 - c0) x (c3 - c0), i.e. +z for
-                2-D corners listed counter-clockwise.
-            nx, ny: positive numbers of divisions.
-
         gmsh builds a transfinite quad mesh (nodes at the bilinear map of the corners); each
         quad is rotated so that its first edge is the one most aligned with the local warp
         direction (1 - eta)(c1 - c0) + eta (c2 - c3) at its centroid, and split as in
         :meth:`rectangle`. Nodes and cells are numbered exactly as in :meth:`rectangle`
         (node j * (nx + 1) + i at bilinear parameters (i / nx, j / ny)), so for rectangular
-        corners both generators agree. Node sets "bottom" (c0-c1), "right" (c1-c2), "top"
-        (c2-c3), "left" (c3-c0); element set "all".
+        corners both generators agree.
 
-        Raises:
-            ValueError: bad shapes or counts, non-coplanar corners, or a non-convex,
-                self-intersecting or degenerate quadrilateral.
+        Parameters
+        ----------
+        corners : array_like, shape (4, 3) or (4, 2)
+            Corners c0, c1, c2, c3 in cyclic order (length units). The warp runs along
+            c0 -> c1 with nx divisions, the weft along c0 -> c3 with ny divisions. Triangle
+            normals follow (c1 - c0) x (c3 - c0), i.e. +z for 2-D corners listed
+            counter-clockwise.
+        nx, ny : int
+            Positive numbers of divisions.
+
+        Returns
+        -------
+        Mesh
+            (nx + 1)(ny + 1) nodes and 2 nx ny triangles, with node sets "bottom" (c0-c1),
+            "right" (c1-c2), "top" (c2-c3), "left" (c3-c0) and element set "all".
+
+        Raises
+        ------
+        ValueError
+            Bad shapes or counts, non-coplanar corners, or a non-convex, self-intersecting or
+            degenerate quadrilateral.
+        RuntimeError
+            gmsh did not return the expected structured grid.
         """
         quad, normal = _validate_quadrilateral(corners)
         nx = _positive_int(nx, "nx")
@@ -355,15 +628,30 @@ class Mesh:
     def read(cls, path: str | Path, file_format: str | None = None) -> Mesh:
         """Read a mesh file through meshio (.msh, .vtu, .inp, ...).
 
-        Keeps "triangle" and "line" cells and ignores "vertex" cells. Named sets come back
-        from Abaqus NSET/ELSET (.inp), from the "nset:/elset:/lset:" mask arrays that
-        :meth:`write` stores in other formats, and from named gmsh physical groups (dimension
-        0 -> node set, 1 -> line set, 2 -> element set).
+        Keeps the cells of the kinds in CELL_KINDS ("triangle" and "line") and ignores
+        "vertex" cells. Named sets come back from Abaqus NSET/ELSET (.inp), from the
+        "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other formats, and from
+        named gmsh physical groups (dimension 0 -> node set, 1 -> line set, 2 -> element set;
+        in general, dimension d -> a set of the cell kinds of dimension d).
 
-        Raises:
-            FileNotFoundError: the file does not exist.
-            ValueError: unknown format, unreadable file, other cell types, or neither
-                triangles nor lines.
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to read.
+        file_format : str, optional
+            meshio format name; by default it follows the suffix (.msh is read as gmsh).
+
+        Returns
+        -------
+        Mesh
+            The mesh with its cells and named sets.
+
+        Raises
+        ------
+        FileNotFoundError
+            The file does not exist.
+        ValueError
+            Unknown format, unreadable file, other cell types, or no cell of a known kind.
         """
         path = Path(path)
         if not path.is_file():
@@ -379,21 +667,32 @@ class Mesh:
         """Write the mesh through meshio; the format follows the suffix unless given.
 
         .msh is written as ASCII gmsh 2.2. Sets are kept as NSET/ELSET in .inp and as 0/1
-        mask arrays "nset:<name>" (point data), "elset:<name>" and "lset:<name>" (cell data)
-        elsewhere. Known losses: formats without point/cell data (e.g. .stl, .obj) drop all
-        sets; .msh drops element and line sets of a mesh with both triangles and lines
-        (meshio 5.3 cannot read such element data back); .inp drops empty element and line
-        sets.
+        mask arrays "nset:<name>" (point data), "elset:<name>" and "lset:<name>" (cell data;
+        in general the mask prefix of the cell kind) elsewhere. Known losses: formats without
+        point/cell data (e.g. .stl, .obj) drop all sets; .msh drops the cell sets of a mesh
+        with cells of more than one kind, e.g. both triangles and lines (meshio 5.3 cannot
+        read such element data back); .inp drops empty cell sets.
 
-        Raises:
-            ValueError: unknown format, a mesh without cells, or (for .inp) a name used by
-                both an element set and a line set.
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The file to write.
+        file_format : str, optional
+            meshio format name; by default it follows the suffix.
+
+        Raises
+        ------
+        ValueError
+            Unknown format, a mesh without cells, or (for .inp) a name used by the sets of
+            two cell kinds (e.g. both an element set and a line set).
         """
         path = Path(path)
         fmt = _resolve_format(path, file_format, writing=True)
-        blocks = [(kind, cells) for kind, cells in self._cell_blocks() if len(cells)]
+        blocks = [(kind, self._cells[kind]) for kind in self.cell_kinds]
         if not blocks:
-            raise ValueError("cannot write a mesh that has neither triangles nor lines")
+            raise ValueError(
+                f"cannot write a mesh that has {_neither(s.plural for s in CELL_KINDS.values())}"
+            )
         kinds = [kind for kind, _ in blocks]
         if fmt in _NATIVE_SET_FORMATS:
             extra = self._native_sets(kinds)
@@ -403,25 +702,28 @@ class Mesh:
         if fmt.startswith("gmsh"):
             extra = _gmsh_ascii_data(extra, blocks)
             options["binary"] = False
-        out = meshio.Mesh(self._points, blocks, **extra)
+        meshio_blocks = [(CELL_KINDS[kind].meshio_name, cells) for kind, cells in blocks]
+        out = meshio.Mesh(self._points, meshio_blocks, **extra)
         try:
             meshio.write(path, out, file_format=fmt, **options)
         except meshio.WriteError as err:
             raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
 
-    def _cell_blocks(self) -> list[tuple[str, np.ndarray]]:
-        return [("triangle", self._triangles), ("line", self._lines)]
-
     def _native_sets(self, kinds: list[str]) -> dict[str, Any]:
-        shared = sorted(set(self._element_sets) & set(self._line_sets))
-        if shared:
-            raise ValueError(
-                f"set names {shared} are used by both an element set and a line set; "
-                "an .inp file cannot keep both under one name"
-            )
+        names = list(CELL_KINDS)
+        for i, first in enumerate(names):
+            for second in names[i + 1 :]:
+                shared = sorted(set(self._cell_sets[first]) & set(self._cell_sets[second]))
+                if shared:
+                    raise ValueError(
+                        f"set names {shared} are used by both "
+                        f"{_article(CELL_KINDS[first].set_label)} and "
+                        f"{_article(CELL_KINDS[second].set_label)}; "
+                        "an .inp file cannot keep both under one name"
+                    )
         empty = np.zeros(0, dtype=np.int64)
         cell_sets = {}
-        for kind, sets in (("triangle", self._element_sets), ("line", self._line_sets)):
+        for kind, sets in self._cell_sets.items():
             for name, ids in sets.items():
                 cell_sets[name] = [ids if k == kind else empty for k in kinds]
         return {"point_sets": dict(self._node_sets), "cell_sets": cell_sets}
@@ -431,10 +733,8 @@ class Mesh:
             _NODE_MASK + name: _mask(ids, self.n_nodes) for name, ids in self._node_sets.items()
         }
         cell_data = {}
-        for kind, prefix, sets in (
-            ("triangle", _TRIANGLE_MASK, self._element_sets),
-            ("line", _LINE_MASK, self._line_sets),
-        ):
+        for kind, sets in self._cell_sets.items():
+            prefix = CELL_KINDS[kind].mask_prefix
             for name, ids in sets.items():
                 cell_data[prefix + name] = [
                     _mask(ids if k == kind else [], len(c)) for k, c in blocks
@@ -445,6 +745,42 @@ class Mesh:
 # --------------------------------------------------------------------------------------------
 # Validation helpers
 # --------------------------------------------------------------------------------------------
+
+
+def _known_kind(kind: str) -> str:
+    if kind not in CELL_KINDS:
+        raise ValueError(f"unknown cell kind {kind!r}; known kinds: {list(CELL_KINDS)}")
+    return kind
+
+
+def _by_kind(
+    generic: Mapping[str, Any] | None,
+    what: str,
+    legacy: dict[str, Any],
+    legacy_names: dict[str, str],
+) -> dict[str, Any]:
+    """Merge a generic kind -> value mapping with the legacy per-kind arguments."""
+    merged = dict(_as_mapping(generic, what))
+    for kind in merged:
+        _known_kind(kind)
+    for kind, value in legacy.items():
+        if value is None:
+            continue
+        if kind in merged:
+            raise ValueError(
+                f"{kind} data given twice: as {legacy_names[kind]} and in {what}[{kind!r}]"
+            )
+        merged[kind] = value
+    return merged
+
+
+def _neither(items: Iterator[str] | Sequence[str]) -> str:
+    """ "neither a nor b nor c" """
+    return "neither " + " nor ".join(items)
+
+
+def _article(noun: str) -> str:
+    return ("an " if noun[:1] in "aeiou" else "a ") + noun
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
@@ -746,10 +1082,10 @@ def _rotate_to_warp(points: np.ndarray, quads: np.ndarray, warp: np.ndarray) -> 
 def _gmsh_ascii_data(extra: dict[str, Any], blocks: list[tuple[str, np.ndarray]]) -> dict[str, Any]:
     """Adapt set masks for meshio's ASCII gmsh writer and add the two gmsh cell tags.
 
-    Element and line sets are dropped when the mesh has both triangles and lines: meshio
-    5.3's gmsh reader splits $ElementData of several cell blocks at the wrong places (it
-    measures the (type, data) tuples instead of the blocks), so such a file could not be
-    read back.
+    Cell sets are dropped when the mesh has cells of more than one kind (e.g. both triangles
+    and lines): meshio 5.3's gmsh reader splits $ElementData of several cell blocks at the
+    wrong places (it measures the (type, data) tuples instead of the blocks), so such a file
+    could not be read back.
     """
     # meshio 5.3 prints ASCII data values with repr(), which numpy >= 2 renders as
     # "np.uint8(1)"; object arrays of Python ints print as plain "1".
@@ -777,7 +1113,7 @@ def _resolve_format(path: Path, file_format: str | None, writing: bool) -> str:
             # meshio would pick "ansys" first for .msh; gmsh 2.2 ASCII is the portable choice.
             return "gmsh22" if writing else "gmsh"
         if ext in meshio.extension_to_filetypes:
-            return meshio.extension_to_filetypes[ext][0]
+            return str(meshio.extension_to_filetypes[ext][0])
     raise ValueError(
         f"cannot tell the mesh format of {path}: use a known suffix (.msh, .vtu, .inp, ...) "
         "or pass file_format"
@@ -785,7 +1121,7 @@ def _resolve_format(path: Path, file_format: str | None, writing: bool) -> str:
 
 
 def _kind_ids(
-    local_ids: list[np.ndarray | None], kinds: list[str], sizes: list[int], kind: str
+    local_ids: Sequence[ArrayLike | None], kinds: Sequence[str], sizes: Sequence[int], kind: str
 ) -> np.ndarray:
     """Ids in the concatenated numbering of ``kind`` cells from per-block local ids."""
     parts, offset = [], 0
@@ -802,35 +1138,40 @@ def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None
 
 
 def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
-    kinds = [block.type for block in raw.cells]
+    # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
+    kind_of = _kind_of_meshio()
+    kinds = [kind_of.get(block.type, block.type) for block in raw.cells]
     sizes = [len(block.data) for block in raw.cells]
-    unsupported = sorted(set(kinds) - {"triangle", "line", "vertex"})
+    unsupported = sorted({block.type for block in raw.cells} - set(kind_of) - {"vertex"})
     if unsupported:
+        names = ", ".join(kind_of)
         raise ValueError(
-            f"{source} contains {unsupported} cells; only triangle, line and vertex cells "
-            "are supported"
+            f"{source} contains {unsupported} cells; only {names} and vertex cells are supported"
         )
-    if "triangle" not in kinds and "line" not in kinds:
-        raise ValueError(f"{source} contains neither triangle nor line cells")
+    if not set(kinds) & set(CELL_KINDS):
+        raise ValueError(f"{source} contains {_neither(list(CELL_KINDS))} cells")
     cells = {
-        kind: _kind_ids([b.data for b in raw.cells], kinds, sizes, kind).reshape(-1, width)
-        for kind, width in (("triangle", 3), ("line", 2))
+        kind: _kind_ids([b.data for b in raw.cells], kinds, sizes, kind).reshape(
+            -1, spec.nodes_per_cell
+        )
+        for kind, spec in CELL_KINDS.items()
     }
-    sets: dict[str, dict[str, np.ndarray]] = {"node": {}, "triangle": {}, "line": {}}
+    sets: dict[str, dict[str, np.ndarray]] = {"node": {}, **{kind: {} for kind in CELL_KINDS}}
 
     for name, ids in raw.point_sets.items():
         _merge_set(sets["node"], name, np.asarray(ids, dtype=np.int64))
     for name, per_block in raw.cell_sets.items():
         if name.startswith("gmsh:"):  # meshio bookkeeping such as gmsh:bounding_entities
             continue
-        for kind in ("triangle", "line"):
+        for kind in CELL_KINDS:
             ids = _kind_ids(list(per_block), kinds, sizes, kind)
-            if ids.size:  # a set of the other cell kind has no members here
+            if ids.size:  # a set of another cell kind has no members here
                 _merge_set(sets[kind], name, ids)
     for name, data in raw.point_data.items():
         if name.startswith(_NODE_MASK):
             _merge_set(sets["node"], name[len(_NODE_MASK) :], np.flatnonzero(np.ravel(data)))
-    for prefix, kind in ((_TRIANGLE_MASK, "triangle"), (_LINE_MASK, "line")):
+    for kind, spec in CELL_KINDS.items():
+        prefix = spec.mask_prefix
         for name, per_block in raw.cell_data.items():
             if name.startswith(prefix):
                 local = [np.flatnonzero(np.ravel(mask)) for mask in per_block]
@@ -839,30 +1180,31 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
 
     return Mesh(
         raw.points,
-        cells["triangle"],
-        cells["line"],
         node_sets=sets["node"],
-        element_sets=sets["triangle"],
-        line_sets=sets["line"],
+        cells=cells,
+        cell_sets={kind: sets[kind] for kind in CELL_KINDS},
     )
 
 
 def _add_physical_groups(
     raw: meshio.Mesh, kinds: list[str], sizes: list[int], sets: dict[str, dict[str, np.ndarray]]
 ) -> None:
-    """Named gmsh physical groups -> node (dim 0), line (dim 1) and element (dim 2) sets."""
+    """Named gmsh physical groups -> node sets (dimension 0) and cell sets (dimension d: the
+    cell kinds of that dimension, e.g. 1 -> line sets, 2 -> element sets)."""
     physical = raw.cell_data.get("gmsh:physical")
     if physical is None:
         return
-    kind_of_dim = {0: "vertex", 1: "line", 2: "triangle"}
     for name, (tag, dim) in ((n, np.ravel(v)[:2]) for n, v in raw.field_data.items()):
-        kind = kind_of_dim.get(int(dim))
-        if kind is None:
-            continue
         local = [np.flatnonzero(np.ravel(tags) == tag) for tags in physical]
-        ids = _kind_ids(local, kinds, sizes, kind)
-        if kind == "vertex":
+        if int(dim) == 0:
+            ids = _kind_ids(local, kinds, sizes, "vertex")
             vertices = _kind_ids([b.data for b in raw.cells], kinds, sizes, "vertex")
             _merge_set(sets["node"], name, np.unique(vertices[ids]))
-        else:
-            _merge_set(sets[kind], name, ids)
+            continue
+        # A group goes to the kinds of its dimension that have members in it (to the first
+        # such kind if none has: an empty set, as for a group on cells of an unused kind).
+        candidates = [kind for kind, spec in CELL_KINDS.items() if spec.dimension == int(dim)]
+        found = {kind: _kind_ids(local, kinds, sizes, kind) for kind in candidates}
+        targets = [kind for kind in candidates if found[kind].size] or candidates[:1]
+        for kind in targets:
+            _merge_set(sets[kind], name, found[kind])

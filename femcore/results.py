@@ -1,25 +1,55 @@
-"""Result of a solve: frames of nodal and element fields, energies, and VTU/XDMF export."""
+"""Result of a solve: frames of nodal and element fields, energies, and VTU/XDMF export.
+
+Cell fields are stored per cell kind (the kinds of :data:`femcore.mesh.CELL_KINDS`), and every
+export loops over the kinds present in the mesh, so a new cell kind needs no change here.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from femcore.mesh import Mesh
+from femcore.mesh import CELL_KINDS, Mesh
+
+if TYPE_CHECKING:
+    import meshio
+
+__all__ = ["Frame", "Result"]
+
+# A cell block for meshio: (meshio cell type, (c, nodes_per_cell) connectivity).
+_CellBlock = tuple[str, np.ndarray]
 
 
 @dataclass
 class Frame:
     """One output instant.
 
-    time : s (explicit) or pseudo-time; load_factor : fraction of the loads applied.
-    positions, velocities, directors : (n, 3); reactions, reaction_moments : (n, 3), the
-    forces (N) and moments (N mm) the supports exert at constrained DOFs (zero elsewhere).
-    fields : {"point": {...}, "triangle": {...}, "line": {...}} element outputs.
+    Parameters
+    ----------
+    time : float
+        Time (s) in the explicit solver, pseudo-time in the quasi-static ones.
+    load_factor : float
+        Fraction of the loads applied (dimensionless).
+    positions : numpy.ndarray, shape (n, 3)
+        Nodal positions (length units).
+    velocities : numpy.ndarray, shape (n, 3)
+        Nodal velocities (length units / s).
+    directors : numpy.ndarray, shape (n, 3)
+        Unit directors (dimensionless).
+    reactions : numpy.ndarray, shape (n, 3)
+        Forces (N) the supports exert at constrained translational DOFs (zero elsewhere).
+    reaction_moments : numpy.ndarray, shape (n, 3)
+        Moments (N mm) the supports exert at constrained rotational DOFs (zero elsewhere).
+    fields : dict[str, dict[str, numpy.ndarray]]
+        Element outputs: ``{"point": {name: (n, ...)}, <cell kind>: {name: (c, ...)}}``, the
+        cell kinds being those of :data:`femcore.mesh.CELL_KINDS` ("triangle", "line"); a
+        cell field spans all cells of its kind, NaN where no element block covers a cell.
     """
 
     time: float
@@ -29,19 +59,32 @@ class Frame:
     directors: np.ndarray
     reactions: np.ndarray
     reaction_moments: np.ndarray
-    fields: dict = field(default_factory=dict)
+    fields: dict[str, dict[str, np.ndarray]] = dataclasses.field(default_factory=dict)
 
 
 @dataclass
 class Result:
     """What a solver returns.
 
-    frames : list of Frame; the last one is the final state.
-    steps : time steps (explicit) or iterations (dynamic relaxation) taken.
-    wall_time : s; converged : whether the solver reached its goal.
-    energies : {"time", "kinetic", "internal", "external_work", "damping"} arrays (N mm), one
-        entry per recorded step.
-    info : solver-specific figures (time step, added mass, iterations per increment, ...).
+    Parameters
+    ----------
+    mesh : Mesh
+        The undeformed mesh the model was built on.
+    frames : list of Frame
+        Output instants; the last one is the final state.
+    steps : int
+        Time steps (explicit) or iterations (dynamic relaxation, static) taken.
+    wall_time : float
+        Elapsed time of the solve, s.
+    converged : bool
+        Whether the solver reached its goal.
+    energies : dict[str, numpy.ndarray]
+        ``{"time", "kinetic", "internal", "external_work", "damping"}`` arrays (N mm, time in
+        s), one entry per recorded step (explicit solver; empty otherwise).
+    info : dict[str, Any]
+        Solver-specific figures (time step, added mass, iterations per increment, ...).
+    has_rotation : numpy.ndarray of bool, shape (n,), optional
+        Which nodes carry a director (rotational DOFs); None if unknown.
     """
 
     mesh: Mesh
@@ -49,23 +92,24 @@ class Result:
     steps: int = 0
     wall_time: float = 0.0
     converged: bool = False
-    energies: dict = field(default_factory=dict)
-    info: dict = field(default_factory=dict)
+    energies: dict[str, np.ndarray] = dataclasses.field(default_factory=dict)
+    info: dict[str, Any] = dataclasses.field(default_factory=dict)
     has_rotation: np.ndarray | None = None
 
     # Shortcuts to the final frame.
     @property
     def positions(self) -> np.ndarray:
-        """(n, 3) final nodal positions."""
+        """(n, 3) final nodal positions (length units)."""
         return self.frames[-1].positions
 
     @property
     def displacements(self) -> np.ndarray:
-        """(n, 3) final nodal displacements from the mesh."""
+        """(n, 3) final nodal displacements from the mesh (length units)."""
         return self.frames[-1].positions - self.mesh.points
 
     @property
     def velocities(self) -> np.ndarray:
+        """(n, 3) final nodal velocities (length units / s)."""
         return self.frames[-1].velocities
 
     @property
@@ -83,39 +127,104 @@ class Result:
 
     @property
     def reaction_moments(self) -> np.ndarray:
+        """(n, 3) final support moments at constrained rotational DOFs (N mm)."""
         return self.frames[-1].reaction_moments
 
     @property
     def thickness(self) -> np.ndarray | None:
-        """(n,) final thickness along the director, when the element provides it."""
+        """(n,) final thickness along the director (length units), or None.
+
+        This is the nodal field named "thickness" of the final frame, present when an
+        element block provides it (the fibrous shell does); None otherwise. The same as
+        ``field("thickness")`` except that it does not raise when the field is absent.
+        """
         return self.frames[-1].fields.get("point", {}).get("thickness")
 
     @property
     def times(self) -> np.ndarray:
+        """(f,) time (s) or pseudo-time of each frame."""
         return np.array([f.time for f in self.frames])
 
     @property
     def load_factors(self) -> np.ndarray:
+        """(f,) load factor of each frame (dimensionless)."""
         return np.array([f.load_factor for f in self.frames])
 
+    def field(self, name: str, frame: int = -1) -> np.ndarray:
+        """A nodal or cell output field of one frame, by name.
+
+        Looks in the element outputs of the frame (``Frame.fields``): first the nodal fields,
+        then the cell fields of each cell kind present in the mesh. Positions, displacements,
+        velocities, directors and reactions are attributes of :class:`Frame` and of this
+        result, not fields.
+
+        Parameters
+        ----------
+        name : str
+            Field name, e.g. "thickness" (nodal) or "axial_force", "warp_strain" (cell).
+        frame : int, optional
+            Frame index; the last frame by default.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n, ...) for a nodal field, (c, ...) over all cells of its kind for a cell field
+            (NaN at cells no element block covers), in the field's own units.
+
+        Raises
+        ------
+        ValueError
+            No field of that name (the message lists the available ones), or a cell field of
+            that name on more than one cell kind.
+        IndexError
+            ``frame`` out of range.
+        """
+        fields = self.frames[frame].fields
+        point = fields.get("point", {})
+        if name in point:
+            return point[name]
+        owners = [kind for kind in self.mesh.cell_kinds if name in fields.get(kind, {})]
+        if len(owners) == 1:
+            return fields[owners[0]][name]
+        if owners:
+            raise ValueError(
+                f"field {name!r} is defined on several cell kinds {owners}; read it from "
+                f"frames[{frame}].fields[kind]"
+            )
+        available = sorted(
+            {*point, *(n for kind in self.mesh.cell_kinds for n in fields.get(kind, {}))}
+        )
+        raise ValueError(
+            f"no field {name!r} in frame {frame}; available fields: {available or 'none'}"
+        )
+
     # ----------------------------------------------------------------------- export
-    def to_meshio(self, frame: int = -1):
-        """A meshio.Mesh of one frame (deformed coordinates, point and cell data)."""
+    def to_meshio(self, frame: int = -1) -> meshio.Mesh:
+        """A meshio mesh of one frame.
+
+        Parameters
+        ----------
+        frame : int, optional
+            Frame index; the last frame by default.
+
+        Returns
+        -------
+        meshio.Mesh
+            Deformed coordinates (n, 3), one cell block per cell kind present, point data
+            (displacement, velocity, reaction, director and reaction_moment if some node has
+            rotations, nodal element fields) and cell data (cell element fields).
+        """
         import meshio
 
         f = self.frames[frame]
         cells, point_data, cell_data = self._meshio_data(f)
         return meshio.Mesh(f.positions, cells, point_data=point_data, cell_data=cell_data)
 
-    def _meshio_data(self, f: Frame):
-        cells = []
-        kinds = []
-        if len(self.mesh.triangles):
-            cells.append(("triangle", self.mesh.triangles))
-            kinds.append("triangle")
-        if len(self.mesh.lines):
-            cells.append(("line", self.mesh.lines))
-            kinds.append("line")
+    def _meshio_data(
+        self, f: Frame
+    ) -> tuple[list[_CellBlock], dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
+        kinds = self.mesh.cell_kinds
+        cells = [(CELL_KINDS[kind].meshio_name, self.mesh.cells(kind)) for kind in kinds]
         point_data = {
             "displacement": f.positions - self.mesh.points,
             "velocity": f.velocities,
@@ -128,25 +237,40 @@ class Result:
         names = sorted({n for k in kinds for n in f.fields.get(k, {})})
         cell_data = {}
         for name in names:
+            # A field some kinds lack is NaN on their blocks, with the shape of the others.
+            shape = next(f.fields[k][name].shape[1:] for k in kinds if name in f.fields.get(k, {}))
             per_kind = []
             for kind in kinds:
                 values = f.fields.get(kind, {}).get(name)
-                count = len(self.mesh.triangles if kind == "triangle" else self.mesh.lines)
                 if values is None:
-                    shape = next(
-                        f.fields[k][name].shape[1:] for k in kinds if name in f.fields.get(k, {})
-                    )
-                    values = np.full((count,) + shape, np.nan)
+                    values = np.full((len(self.mesh.cells(kind)),) + shape, np.nan)
                 per_kind.append(np.asarray(values, dtype=float))
             cell_data[name] = per_kind
         return cells, point_data, cell_data
 
-    def write(self, path: str | os.PathLike, frame: int | None = None) -> Path:
+    def write(self, path: str | os.PathLike[str], frame: int | None = None) -> Path:
         """Write for ParaView.
 
         ``.vtu``: one frame (the last unless ``frame`` is given). ``.pvd``: every frame as a
         VTU series next to a ParaView collection file. ``.xdmf``: every frame in one XDMF time
-        series (XML data, no HDF5 needed). Returns the path written.
+        series (XML data, no HDF5 needed).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Output file; its suffix selects the format.
+        frame : int, optional
+            Frame to write to a ``.vtu`` file (ignored by the series formats).
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+
+        Raises
+        ------
+        ValueError
+            A suffix other than .vtu, .pvd or .xdmf.
         """
         import meshio
 

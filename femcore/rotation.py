@@ -8,13 +8,28 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = ["FRAME_FALLBACK", "cross", "drop_along", "nodal_frames", "rotate_about"]
+
 # Below this |e2 x V| the Eq. 7 frame is ill-conditioned (V within ~6 deg of +-e2): use e3.
 FRAME_FALLBACK = 0.1
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b over the last axis (length 3), broadcasting; np.cross without its per-call
-    overhead, which dominates on the small arrays of a time step."""
+    """a x b over the last axis (length 3), broadcasting.
+
+    np.cross without its per-call overhead, which dominates on the small arrays of a time
+    step.
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray, shape (..., 3)
+        Vectors; the leading shapes broadcast against each other.
+
+    Returns
+    -------
+    numpy.ndarray, shape (broadcast(...), 3)
+        The cross products, float64, in the product of the units of a and b.
+    """
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
@@ -29,6 +44,18 @@ def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     (the director update of THEORY §1.3) this is V+ = cos|psi| V + sin|psi|/|psi| psi x V; the
     general form here also handles a component of psi along V. Tiny angles use the first-order
     update renormalised, which keeps |V| = 1 to rounding.
+
+    Parameters
+    ----------
+    vectors : numpy.ndarray, shape (n, 3)
+        Unit vectors to rotate (dimensionless).
+    rotation : numpy.ndarray, shape (n, 3)
+        Rotation vectors psi (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3)
+        The rotated unit vectors.
     """
     angle = np.linalg.norm(rotation, axis=1)
     small = angle < 1e-12
@@ -51,7 +78,15 @@ def nodal_frames(directors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     V1 = (a x V3)/|a x V3| with a = e2, or a = e3 where |e2 x V3| < 0.1; V2 = V3 x V1.
     For V = e3 this gives V1 = e1, V2 = e2.
 
-    directors : (n, 3) unit vectors. Returns V1, V2, each (n, 3) unit vectors.
+    Parameters
+    ----------
+    directors : numpy.ndarray, shape (n, 3)
+        Unit directors V3 (dimensionless).
+
+    Returns
+    -------
+    v1, v2 : numpy.ndarray, shape (n, 3)
+        The unit vectors V1 and V2 of each nodal frame.
     """
     e2 = np.array([0.0, 1.0, 0.0])
     e3 = np.array([0.0, 0.0, 1.0])
@@ -67,5 +102,18 @@ def nodal_frames(directors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def drop_along(vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:
-    """Remove from each vector its component along the unit director: (I - V V^T) w, (n, 3)."""
+    """Remove from each vector its component along the unit director: (I - V V^T) w.
+
+    Parameters
+    ----------
+    vectors : numpy.ndarray, shape (n, 3)
+        Vectors w (any unit).
+    directors : numpy.ndarray, shape (n, 3)
+        Unit directors V.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3)
+        The components of w normal to V, in the unit of w.
+    """
     return vectors - np.sum(vectors * directors, axis=1)[:, None] * directors

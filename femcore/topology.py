@@ -51,8 +51,20 @@ _SIDE_END = np.array([2, 0, 1])
 def validate_points(points: ArrayLike) -> np.ndarray:
     """Return ``points`` as a new float64 array of shape (n, 3), n >= 1.
 
-    Accepts (n, 3) or (n, 2) coordinates (length units); 2-D points get z = 0.
-    Raises ValueError for a wrong shape or a non-finite coordinate (naming the first bad node).
+    Parameters
+    ----------
+    points : array_like, shape (n, 3) or (n, 2)
+        Node coordinates (length units); 2-D points get z = 0.
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape (n, 3)
+        A new array (never a view of the input).
+
+    Raises
+    ------
+    ValueError
+        A wrong shape, n = 0, or a non-finite coordinate (naming the first bad node).
     """
     try:
         pts = np.array(points, dtype=np.float64)
@@ -81,10 +93,27 @@ def validate_cells(
 ) -> np.ndarray:
     """Return cell connectivity as a new int64 array of shape (k, nodes_per_cell).
 
-    ``cells`` is (k, nodes_per_cell) integer node ids (None or empty gives (0, nodes_per_cell)).
-    ``kind`` ("triangle", "line") only names the cells in error messages. Raises ValueError for a
-    wrong shape or dtype, a node id outside [0, n_nodes) (naming the cell and the id), and a
-    degenerate cell that repeats a node.
+    Parameters
+    ----------
+    cells : array_like of int, shape (k, nodes_per_cell), or None
+        Node ids per cell; None or empty gives (0, nodes_per_cell).
+    nodes_per_cell : int
+        Expected number of nodes of each cell.
+    kind : str
+        Cell kind ("triangle", "line"), only used to name the cells in error messages.
+    n_nodes : int, optional
+        Number of nodes; ids must be in [0, n_nodes). Without it only negative ids are refused.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (k, nodes_per_cell)
+        A new array.
+
+    Raises
+    ------
+    ValueError
+        A wrong shape or dtype, a node id out of range (naming the cell and the id), or a
+        degenerate cell that repeats a node.
     """
     if cells is None:
         return np.zeros((0, nodes_per_cell), dtype=np.int64)
@@ -131,14 +160,23 @@ def _points_and_triangles(points: ArrayLike, triangles: ArrayLike) -> tuple[np.n
 class Topology:
     """Edge-based connectivity of a manifold triangle mesh (all arrays int64, read-only).
 
-    Attributes:
-        edges: (e, 2) unique undirected edges ``(lo, hi)``, sorted lexicographically.
-        triangle_edges: (m, 3) edge id of side s of each triangle (side s opposite local node s).
-        edge_triangles: (e, 2) the triangles sharing each edge; the second column is -1 for a
-            boundary edge. For an interior edge the first triangle has the smaller id.
-        neighbour: (m, 3) triangle across side s, -1 on the boundary.
-        apex: (m, 3) node of ``neighbour[t, s]`` that is not on side s, -1 on the boundary.
-        boundary_edges: (b, 2) rows of ``edges`` that belong to a single triangle, in edge order.
+    Build it with :func:`build_topology`.
+
+    Attributes
+    ----------
+    edges : numpy.ndarray, shape (e, 2)
+        Unique undirected edges ``(lo, hi)``, sorted lexicographically.
+    triangle_edges : numpy.ndarray, shape (m, 3)
+        Edge id of side s of each triangle (side s opposite local node s).
+    edge_triangles : numpy.ndarray, shape (e, 2)
+        The triangles sharing each edge; the second column is -1 for a boundary edge. For an
+        interior edge the first triangle has the smaller id.
+    neighbour : numpy.ndarray, shape (m, 3)
+        Triangle across side s, -1 on the boundary.
+    apex : numpy.ndarray, shape (m, 3)
+        Node of ``neighbour[t, s]`` that is not on side s, -1 on the boundary.
+    boundary_edges : numpy.ndarray, shape (b, 2)
+        Rows of ``edges`` that belong to a single triangle, in edge order.
     """
 
     edges: np.ndarray
@@ -150,7 +188,7 @@ class Topology:
 
     @property
     def n_edges(self) -> int:
-        """Number of unique edges."""
+        """Number of unique edges e."""
         return len(self.edges)
 
 
@@ -160,11 +198,25 @@ def _directed_sides(triangles: np.ndarray) -> np.ndarray:
 
 
 def build_topology(triangles: ArrayLike) -> Topology:
-    """Build the edge/neighbour structure of triangles (m, 3) of node ids.
+    """Build the edge/neighbour structure of triangles.
 
-    Raises ValueError for invalid connectivity (see :func:`validate_cells`) and for a
-    non-manifold edge shared by more than two triangles, naming its nodes and triangles.
     Orientation consistency is NOT required here; see :func:`check_orientation`.
+
+    Parameters
+    ----------
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Returns
+    -------
+    Topology
+        Edges, neighbours and apexes of the triangles.
+
+    Raises
+    ------
+    ValueError
+        Invalid connectivity (see :func:`validate_cells`), or a non-manifold edge shared by
+        more than two triangles (naming its nodes and triangles).
     """
     tri = validate_cells(triangles, 3, "triangle")
     m = len(tri)
@@ -234,15 +286,37 @@ def _raise_if_non_manifold(
 
 
 def check_manifold(triangles: ArrayLike) -> None:
-    """Raise ValueError if an edge is shared by more than two triangles (m, 3)."""
+    """Check that no edge is shared by more than two triangles.
+
+    Parameters
+    ----------
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Raises
+    ------
+    ValueError
+        A non-manifold edge (naming its nodes and triangles) or invalid connectivity.
+    """
     build_topology(triangles)
 
 
 def check_orientation(triangles: ArrayLike) -> None:
-    """Raise ValueError if two neighbouring triangles traverse their shared edge the same way.
+    """Check that neighbouring triangles traverse their shared edge in opposite directions.
 
     Consistently oriented neighbours traverse a shared edge in opposite directions, so their
-    normals point to the same side of the surface. Also raises for non-manifold edges.
+    normals point to the same side of the surface.
+
+    Parameters
+    ----------
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Raises
+    ------
+    ValueError
+        Two neighbours traverse their shared edge the same way (naming both and the edge), a
+        non-manifold edge, or invalid connectivity.
     """
     tri = validate_cells(triangles, 3, "triangle")
     topo = build_topology(tri)
@@ -268,11 +342,20 @@ def _length_scale(points: np.ndarray) -> float:
 
 
 def check_duplicate_nodes(points: ArrayLike, triangles: ArrayLike | None = None) -> None:
-    """Raise ValueError if two nodes are closer than 1e-9 x the bounding-box diagonal.
+    """Check that no two nodes are closer than 1e-9 x the bounding-box diagonal.
 
-    points: (n, 3) or (n, 2). If triangles (m, 3) are given, only the nodes they use are
-    compared (and the bounding box is theirs), since unused or cable-only nodes may
-    legitimately coincide with shell nodes. The message names the two node ids.
+    Parameters
+    ----------
+    points : array_like, shape (n, 3) or (n, 2)
+        Node coordinates (length units).
+    triangles : array_like of int, shape (m, 3), optional
+        If given, only the nodes they use are compared (and the bounding box is theirs),
+        since unused or cable-only nodes may legitimately coincide with shell nodes.
+
+    Raises
+    ------
+    ValueError
+        Two duplicate nodes (the message names their ids and distance), or invalid input.
     """
     pts = validate_points(points)
     if triangles is None:
@@ -303,10 +386,22 @@ def _triangle_cross(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 
 
 def check_zero_area(points: ArrayLike, triangles: ArrayLike) -> None:
-    """Raise ValueError naming the first triangle with area <= 1e-12 x diagonal**2.
+    """Check that every triangle has an area above 1e-12 x diagonal**2.
 
-    points (n, 3) or (n, 2); triangles (m, 3). The diagonal is that of the bounding box of all
-    points, so the tolerance (area units) is scale-invariant.
+    The diagonal is that of the bounding box of all points, so the tolerance (area units) is
+    scale-invariant.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3) or (n, 2)
+        Node coordinates (length units).
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Raises
+    ------
+    ValueError
+        Naming the first triangle with area <= the tolerance, or invalid input.
     """
     pts, tri = _points_and_triangles(points, triangles)
     if len(tri) == 0:
@@ -323,10 +418,22 @@ def check_zero_area(points: ArrayLike, triangles: ArrayLike) -> None:
 
 
 def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
-    """Run all triangle-mesh checks; raise ValueError describing the first problem found.
+    """Run all triangle-mesh checks.
 
     Checks, in order: connectivity (shape, range, repeated nodes), non-manifold edges,
     inconsistent orientation, duplicate nodes and zero-area triangles.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3) or (n, 2)
+        Node coordinates (length units).
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Raises
+    ------
+    ValueError
+        Describing the first problem found.
     """
     pts, tri = _points_and_triangles(points, triangles)
     check_manifold(tri)
@@ -341,11 +448,28 @@ def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
 
 
 def nodal_normals(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
-    """Area-weighted unit normals at the nodes, shape (n, 3) (dimensionless).
+    """Area-weighted unit normals at the nodes.
 
     Each triangle contributes its area times its unit normal (right-hand rule on its local
-    node order) to its three nodes. Nodes touched by no triangle, or where contributions
-    cancel exactly, get a zero vector.
+    node order) to its three nodes.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3) or (n, 2)
+        Node coordinates (length units).
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3)
+        Unit normals (dimensionless); a zero vector at nodes touched by no triangle, or where
+        the contributions cancel exactly.
+
+    Raises
+    ------
+    ValueError
+        Invalid points or connectivity.
     """
     pts, tri = _points_and_triangles(points, triangles)
     n = len(pts)

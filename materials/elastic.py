@@ -4,8 +4,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from femcore.checks import check_positive
 
@@ -14,17 +16,43 @@ __all__ = ["ElasticShell"]
 
 @dataclass(frozen=True, init=False)
 class ElasticShell:
-    """Linear elastic shell section (St Venant-Kirchhoff in the lamina frame).
+    """Linear elastic shell section (St Venant-Kirchhoff in the lamina frame), isotropic.
 
-    E, nu : Young's modulus (N/mm^2, MPa) and Poisson's ratio (isotropic form).
-    thickness : h, mm. density : rho, t/mm^3.
-    G13, G23 : transverse shear moduli, MPa (default E / (2 (1 + nu))).
-    shear_factor : kappa (5/6 for a homogeneous section, the Abaqus value).
     Orthotropic sections: ``ElasticShell.orthotropic(...)``.
 
-    Attributes used by the element: ``plane_stress`` (3, 3) Q in material axes (1 = warp),
-    ``transverse`` (2,) kappa (G13, G23), ``warp`` (3,) material axis or None,
-    ``wave_speed`` (mm/s) the fastest membrane wave, sqrt(max Q_ii / rho).
+    Parameters
+    ----------
+    E : float
+        Young's modulus, N/mm^2 (MPa), > 0.
+    nu : float
+        Poisson's ratio, in (-1, 0.5).
+    thickness : float
+        h, mm, > 0.
+    density : float
+        rho, t/mm^3, > 0.
+    G13, G23 : float, optional
+        Transverse shear moduli, MPa (default E / (2 (1 + nu))).
+    shear_factor : float, optional
+        kappa (5/6 for a homogeneous section, the Abaqus value).
+
+    Attributes
+    ----------
+    plane_stress : numpy.ndarray, shape (3, 3)
+        Q in material axes (1 = warp), MPa; used by the element.
+    transverse : numpy.ndarray, shape (2,)
+        kappa (G13, G23), MPa.
+    warp : numpy.ndarray, shape (3,), or None
+        Unit material axis 1 (orthotropic sections), None for isotropic ones.
+    poisson : float
+        nu (isotropic) or nu12 (orthotropic).
+    wave_speed : float
+        The fastest membrane wave sqrt(max Q_ii / rho), mm/s.
+
+    Raises
+    ------
+    ValueError
+        A non-positive or non-finite modulus, thickness, density or shear factor, or a
+        Poisson's ratio outside (-1, 0.5).
     """
 
     thickness: float
@@ -35,7 +63,16 @@ class ElasticShell:
     warp: np.ndarray | None
     poisson: float
 
-    def __init__(self, E, nu, thickness, density, G13=None, G23=None, shear_factor=5 / 6):
+    def __init__(
+        self,
+        E: float,
+        nu: float,
+        thickness: float,
+        density: float,
+        G13: float | None = None,
+        G23: float | None = None,
+        shear_factor: float = 5 / 6,
+    ) -> None:
         E = check_positive(E, "ElasticShell E", "MPa")
         nu = _poisson(nu, "ElasticShell nu")
         g = E / (2 * (1 + nu))
@@ -54,19 +91,49 @@ class ElasticShell:
     @classmethod
     def orthotropic(
         cls,
-        E1,
-        E2,
-        nu12,
-        G12,
-        G13,
-        G23,
-        thickness,
-        density,
-        warp=(1.0, 0.0, 0.0),
-        shear_factor=5 / 6,
+        E1: float,
+        E2: float,
+        nu12: float,
+        G12: float,
+        G13: float,
+        G23: float,
+        thickness: float,
+        density: float,
+        warp: ArrayLike = (1.0, 0.0, 0.0),
+        shear_factor: float = 5 / 6,
     ) -> ElasticShell:
-        """Orthotropic lamina: 1 = warp direction (projected on each element), 2 = in-plane
-        normal to it. Moduli in MPa; nu12 the major Poisson ratio (nu21 = nu12 E2 / E1)."""
+        """Orthotropic lamina section.
+
+        Material axis 1 is the warp direction (projected on each element), 2 the in-plane
+        normal to it.
+
+        Parameters
+        ----------
+        E1, E2 : float
+            Young's moduli along 1 and 2, MPa, > 0.
+        nu12 : float
+            Major Poisson's ratio (nu21 = nu12 E2 / E1), in (-1, 0.5), with nu12 nu21 < 1.
+        G12, G13, G23 : float
+            In-plane and transverse shear moduli, MPa, > 0.
+        thickness : float
+            h, mm, > 0.
+        density : float
+            rho, t/mm^3, > 0.
+        warp : array_like, shape (3,), optional
+            Material axis 1 in global coordinates (normalised here), default +x.
+        shear_factor : float, optional
+            kappa (5/6 for a homogeneous section).
+
+        Returns
+        -------
+        ElasticShell
+            The orthotropic section.
+
+        Raises
+        ------
+        ValueError
+            Invalid moduli, Poisson's ratio, thickness, density or warp axis.
+        """
         E1 = check_positive(E1, "ElasticShell E1", "MPa")
         E2 = check_positive(E2, "ElasticShell E2", "MPa")
         G12 = check_positive(G12, "ElasticShell G12", "MPa")
@@ -83,7 +150,17 @@ class ElasticShell:
         self._set(thickness, density, q, G13, G23, shear_factor, axis / np.linalg.norm(axis), nu12)
         return self
 
-    def _set(self, thickness, density, q, g13, g23, kappa, warp, nu):
+    def _set(
+        self,
+        thickness: Any,
+        density: Any,
+        q: np.ndarray,
+        g13: Any,
+        g23: Any,
+        kappa: Any,
+        warp: np.ndarray | None,
+        nu: float,
+    ) -> None:
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "ElasticShell thickness", "mm"))
         set_(self, "density", check_positive(density, "ElasticShell density", "t/mm^3"))
@@ -103,10 +180,11 @@ class ElasticShell:
 
     @property
     def areal_density(self) -> float:
+        """Mass per unit area rho h, t/mm^2."""
         return self.density * self.thickness
 
 
-def _poisson(value, name: str) -> float:
+def _poisson(value: Any, name: str) -> float:
     try:
         nu = float(value)
     except (TypeError, ValueError):

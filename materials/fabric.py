@@ -8,6 +8,7 @@ area (in-plane shear), so that a stack of plies is described by its measured sta
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from femcore.checks import check_positive
 from materials.laws import BendingLaw, Law, ShearLaw, TensionLaw
@@ -15,7 +16,7 @@ from materials.laws import BendingLaw, Law, ShearLaw, TensionLaw
 __all__ = ["Fabric"]
 
 
-def _law(value, family: type, name: str, unit: str) -> Law:
+def _law(value: Any, family: type[TensionLaw | ShearLaw | BendingLaw], name: str, unit: str) -> Law:
     """A law of the given family from a law or a plain number (a linear law)."""
     if isinstance(value, Law):
         if value.family != family.__name__:
@@ -32,12 +33,26 @@ def _law(value, family: type, name: str, unit: str) -> Law:
 class Fabric:
     """A fibrous reinforcement (one ply or a stack of plies modelled as one shell).
 
-    thickness : h, mm, measured along the normal to the mid-surface (conserved, Bai §3.2).
-    areal_density : rho_A, t/mm^2 (1 kg/m^2 = 1e-9 t/mm^2).
-    tension : warp tension law T(eps) (N/mm per unit width), or a number C for T = C eps.
-    shear : in-plane shear law M_s(gamma) (N/mm), or a number K for M_s = K gamma.
-    bending : warp bending law M(chi) (N per unit width), or a number B for M = B chi.
-    tension_weft, bending_weft : weft laws; None means the same as warp.
+    Parameters
+    ----------
+    thickness : float
+        h, mm, measured along the normal to the mid-surface (conserved, Bai §3.2).
+    areal_density : float
+        rho_A, t/mm^2 (1 kg/m^2 = 1e-9 t/mm^2).
+    tension : Law or float
+        Warp tension law T(eps) (N/mm per unit width), or a number C for T = C eps.
+    shear : Law or float
+        In-plane shear law M_s(gamma) (N/mm), or a number K for M_s = K gamma.
+    bending : Law or float
+        Warp bending law M(chi) (N per unit width), or a number B for M = B chi.
+    tension_weft, bending_weft : Law or float, optional
+        Weft laws; None means the same as warp.
+
+    Raises
+    ------
+    ValueError
+        A non-positive or non-finite thickness or density, a law of the wrong family, or a
+        number that is not a valid linear stiffness.
     """
 
     thickness: float
@@ -50,14 +65,14 @@ class Fabric:
 
     def __init__(
         self,
-        thickness,
-        areal_density,
-        tension,
-        shear,
-        bending,
-        tension_weft=None,
-        bending_weft=None,
-    ):
+        thickness: float,
+        areal_density: float,
+        tension: Law | float,
+        shear: Law | float,
+        bending: Law | float,
+        tension_weft: Law | float | None = None,
+        bending_weft: Law | float | None = None,
+    ) -> None:
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "Fabric thickness", "mm"))
         set_(self, "areal_density", check_positive(areal_density, "Fabric areal_density", "t/mm^2"))

@@ -15,14 +15,17 @@ linear extrapolation beyond its last points. Laws are immutable; constructors va
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["BendingLaw", "Law", "ShearLaw", "TensionLaw"]
 
 
-def _finite(value, name: str) -> float:
+def _finite(value: Any, name: str) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError):
@@ -32,7 +35,7 @@ def _finite(value, name: str) -> float:
     return number
 
 
-def _table(x, y, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
+def _table(x: ArrayLike, y: ArrayLike, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
     """Validated knots of a piecewise-linear law; with ``odd`` a table given for x >= 0 is
     mirrored to negative x."""
     try:
@@ -71,10 +74,22 @@ def _table(x, y, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
 class Law:
     """A 1-D law: odd polynomial ``sum c_k x^k`` (k = 1, 3, 5, ...) or piecewise linear.
 
-    Build laws with the family constructors (``TensionLaw.linear`` ...), not directly.
-    ``family`` : "TensionLaw", "ShearLaw" or "BendingLaw";
-    ``odd_coefficients`` : (c1, c3, c5, ...) or None; ``knots`` : (x, y) arrays or None;
-    ``compression`` : False for a tension-only law (zero for x < 0).
+    Build laws with the family constructors (``TensionLaw.linear`` ...), not directly. The
+    units of x and y are those of the family (see the module docstring).
+
+    Parameters
+    ----------
+    family : str
+        "TensionLaw", "ShearLaw" or "BendingLaw".
+    description : str
+        How the law prints, e.g. "TensionLaw.linear(stiffness C=1200)".
+    odd_coefficients : tuple of float, optional
+        (c1, c3, c5, ...) of an odd polynomial; None for a piecewise-linear law.
+    knots : tuple of two numpy.ndarray, shape (k,) each, optional
+        Abscissae (strictly increasing, spanning 0) and values of a piecewise-linear law;
+        None for a polynomial.
+    compression : bool
+        False for a tension-only law (zero for x < 0).
     """
 
     family: str
@@ -84,39 +99,73 @@ class Law:
     compression: bool = True
 
     # ----------------------------------------------------------------- evaluation
-    def value(self, x) -> np.ndarray:
-        """y(x), elementwise."""
+    def value(self, x: ArrayLike) -> np.ndarray:
+        """The generalised stress y(x), elementwise.
+
+        Parameters
+        ----------
+        x : array_like
+            Strain measure (any shape), in the family's unit.
+
+        Returns
+        -------
+        numpy.ndarray
+            y(x), same shape as ``x``, in the family's unit.
+        """
         x = np.asarray(x, dtype=float)
         if self.odd_coefficients is not None:
             y = self._poly(x, 0)
         else:
-            kx, ky = self.knots
+            kx, ky = self._knots()
             y = np.interp(x, kx, ky)
             left, right = self._end_slopes()
             y = np.where(x < kx[0], ky[0] + left * (x - kx[0]), y)
             y = np.where(x > kx[-1], ky[-1] + right * (x - kx[-1]), y)
         return y if self.compression else np.where(x < 0.0, 0.0, y)
 
-    def slope(self, x) -> np.ndarray:
-        """dy/dx (x), elementwise (right derivative at the knots)."""
+    def slope(self, x: ArrayLike) -> np.ndarray:
+        """The tangent dy/dx (x), elementwise (right derivative at the knots).
+
+        Parameters
+        ----------
+        x : array_like
+            Strain measure (any shape).
+
+        Returns
+        -------
+        numpy.ndarray
+            dy/dx, same shape as ``x`` (unit of y per unit of x).
+        """
         x = np.asarray(x, dtype=float)
         if self.odd_coefficients is not None:
             s = self._poly(x, 1)
         else:
-            kx, ky = self.knots
+            kx, ky = self._knots()
             segment = np.diff(ky) / np.diff(kx)
             i = np.clip(np.searchsorted(kx, x, side="right") - 1, 0, len(segment) - 1)
             s = segment[i]
         return s if self.compression else np.where(x < 0.0, 0.0, s)
 
-    def energy(self, x) -> np.ndarray:
-        """Stored energy integral_0^x y dx, elementwise (>= 0 for a monotonic law)."""
+    def energy(self, x: ArrayLike) -> np.ndarray:
+        """Stored energy integral_0^x y dx, elementwise (>= 0 for a monotonic law).
+
+        Parameters
+        ----------
+        x : array_like
+            Strain measure (any shape).
+
+        Returns
+        -------
+        numpy.ndarray
+            The energy, same shape as ``x`` (unit of y times unit of x, e.g. N/mm for tension
+            against a dimensionless strain: energy per unit initial area).
+        """
         x = np.asarray(x, dtype=float)
         if self.odd_coefficients is not None:
             e = self._poly(x, -1)
         else:
             # y is linear on each piece, so the trapezoid rule from the nearest knot is exact.
-            kx, ky = self.knots
+            kx, ky = self._knots()
             cumulative = np.concatenate(([0.0], np.cumsum(np.diff(kx) * (ky[1:] + ky[:-1]) / 2)))
             i = np.clip(np.searchsorted(kx, x, side="right") - 1, 0, len(kx) - 1)
             e_raw = cumulative[i] + (x - kx[i]) * (ky[i] + self.value(x)) / 2.0
@@ -126,22 +175,35 @@ class Law:
         return e if self.compression else np.where(x < 0.0, 0.0, e)
 
     def max_slope(self) -> float:
-        """Largest tangent stiffness over the law's tabulated range (for stable time steps)."""
+        """Largest tangent stiffness, for stable time steps.
+
+        Returns
+        -------
+        float
+            max dy/dx over |x| <= 1 for a polynomial (strains, angles in rad and curvatures in
+            1/mm all stay below that), over the tabulated pieces for a table; unit of y per
+            unit of x.
+        """
         if self.odd_coefficients is not None:
             # Over |x| <= 1 (strains, angles in rad, curvatures in 1/mm all stay below that).
             probe = np.linspace(0.0, 1.0, 201)
             return float(np.max(self._poly(probe, 1)))
-        kx, ky = self.knots
+        kx, ky = self._knots()
         return float(np.max(np.diff(ky) / np.diff(kx)))
 
+    def _knots(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.knots is None:
+            raise ValueError(f"{self.description} has neither coefficients nor knots")
+        return self.knots
+
     def _end_slopes(self) -> tuple[float, float]:
-        kx, ky = self.knots
+        kx, ky = self._knots()
         return (ky[1] - ky[0]) / (kx[1] - kx[0]), (ky[-1] - ky[-2]) / (kx[-1] - kx[-2])
 
     def _poly(self, x: np.ndarray, derivative: int) -> np.ndarray:
         """sum c_k x^k (derivative 0), its slope (1), or its integral from 0 (-1)."""
         out = np.zeros_like(x)
-        for i, c in enumerate(self.odd_coefficients):
+        for i, c in enumerate(self.odd_coefficients or ()):
             k = 2 * i + 1
             if derivative == 0:
                 out = out + c * x**k
@@ -155,7 +217,13 @@ class Law:
         return self.description
 
 
-def _odd_polynomial(family: str, coefficients, names, unit: str, allow_zero=False) -> Law:
+def _odd_polynomial(
+    family: str,
+    coefficients: Sequence[float],
+    names: Sequence[str],
+    unit: str,
+    allow_zero: bool = False,
+) -> Law:
     values = tuple(_finite(c, n) for c, n in zip(coefficients, names))
     if values[0] < 0 or (values[0] == 0 and not allow_zero):
         relation = ">= 0" if allow_zero else "> 0"
@@ -163,7 +231,9 @@ def _odd_polynomial(family: str, coefficients, names, unit: str, allow_zero=Fals
     if len(values) > 1:
         # A stable law: dy/dx > 0 on |x| <= 1 (odd terms with negative coefficients may soften).
         probe = np.linspace(0.0, 1.0, 201)
-        slope = sum((2 * i + 1) * c * probe ** (2 * i) for i, c in enumerate(values))
+        slope = np.zeros_like(probe)
+        for i, c in enumerate(values):
+            slope += (2 * i + 1) * c * probe ** (2 * i)
         if np.any(slope[1:] <= 0):
             bad = probe[1:][slope[1:] <= 0][0]
             raise ValueError(
@@ -179,15 +249,53 @@ class TensionLaw:
 
     @staticmethod
     def linear(stiffness: float, tension_only: bool = False) -> Law:
-        """T = C eps; C in N/mm (Bai Table 1: 1200, Table 2: 2300). ``tension_only``: fibres
-        buckle in compression and carry nothing (T = 0 for eps < 0)."""
+        """Linear tension T = C eps.
+
+        Parameters
+        ----------
+        stiffness : float
+            C, N/mm per unit width, > 0 (Bai Table 1: 1200, Table 2: 2300).
+        tension_only : bool, optional
+            Fibres buckle in compression and carry nothing (T = 0 for eps < 0).
+
+        Returns
+        -------
+        Law
+            The tension law.
+
+        Raises
+        ------
+        ValueError
+            C not a finite number > 0.
+        """
         law = _odd_polynomial("TensionLaw.linear", (stiffness,), ("stiffness C",), "N/mm")
         return Law(law.family, law.description, law.odd_coefficients, compression=not tension_only)
 
     @staticmethod
-    def table(strain, tension, tension_only: bool = False) -> Law:
-        """Piecewise-linear T(eps) through the points (strain, tension in N/mm), extrapolated
-        linearly; the table must contain 0 -> 0 (or span it)."""
+    def table(strain: ArrayLike, tension: ArrayLike, tension_only: bool = False) -> Law:
+        """Piecewise-linear T(eps) through tabulated points, extrapolated linearly.
+
+        Parameters
+        ----------
+        strain : array_like, shape (k,)
+            Logarithmic strains (dimensionless), strictly increasing, k >= 2; the table must
+            contain 0 -> 0 (or span it).
+        tension : array_like, shape (k,)
+            Tensions, N/mm per unit width, non-decreasing.
+        tension_only : bool, optional
+            T = 0 for eps < 0.
+
+        Returns
+        -------
+        Law
+            The tension law.
+
+        Raises
+        ------
+        ValueError
+            Non-numeric, non-finite, non-monotonic or too short tables, a table not through
+            0 -> 0, or one with zero stiffness everywhere.
+        """
         knots = _table(strain, tension, "TensionLaw", odd=False)
         return Law(
             "TensionLaw",
@@ -202,19 +310,69 @@ class ShearLaw:
 
     @staticmethod
     def linear(stiffness: float) -> Law:
-        """M_s = K gamma, K in N/mm (per rad); K = 0 leaves shear free."""
+        """Linear shear M_s = K gamma.
+
+        Parameters
+        ----------
+        stiffness : float
+            K, N/mm (per rad), >= 0; K = 0 leaves shear free.
+
+        Returns
+        -------
+        Law
+            The shear law.
+
+        Raises
+        ------
+        ValueError
+            K not a finite number >= 0.
+        """
         return _odd_polynomial("ShearLaw.linear", (stiffness,), ("K",), "N/mm", allow_zero=True)
 
     @staticmethod
     def polynomial(k1: float, k3: float = 0.0, k5: float = 0.0) -> Law:
-        """M_s = K1 gamma + K3 gamma^3 + K5 gamma^5 (the odd polynomial of the Boisse group;
-        N/mm with gamma in rad); its slope must stay positive for |gamma| <= 1 rad."""
+        """Odd polynomial shear M_s = K1 gamma + K3 gamma^3 + K5 gamma^5 (Boisse group).
+
+        Parameters
+        ----------
+        k1, k3, k5 : float
+            Coefficients, N/mm with gamma in rad; K1 > 0.
+
+        Returns
+        -------
+        Law
+            The shear law.
+
+        Raises
+        ------
+        ValueError
+            Non-finite coefficients, K1 <= 0, or a slope that becomes <= 0 for
+            |gamma| <= 1 rad.
+        """
         return _odd_polynomial("ShearLaw.polynomial", (k1, k3, k5), ("K1", "K3", "K5"), "N/mm")
 
     @staticmethod
-    def table(gamma, moment) -> Law:
-        """Piecewise-linear M_s(gamma) through (gamma rad, M_s N/mm) given for gamma >= 0 and
-        mirrored to negative angles (or given over both signs)."""
+    def table(gamma: ArrayLike, moment: ArrayLike) -> Law:
+        """Piecewise-linear M_s(gamma) through tabulated points, extrapolated linearly.
+
+        Parameters
+        ----------
+        gamma : array_like, shape (k,)
+            Shear angles, rad, strictly increasing; given for gamma >= 0 they are mirrored to
+            negative angles (or give them over both signs).
+        moment : array_like, shape (k,)
+            Shear moments M_s, N/mm, non-decreasing.
+
+        Returns
+        -------
+        Law
+            The shear law (odd in gamma).
+
+        Raises
+        ------
+        ValueError
+            Invalid tables, as :meth:`TensionLaw.table`.
+        """
         return Law(
             "ShearLaw",
             f"ShearLaw.table({np.size(gamma)} points)",
@@ -227,7 +385,23 @@ class BendingLaw:
 
     @staticmethod
     def linear(stiffness: float) -> Law:
-        """M = B chi, B in N mm (Bai Table 2: 72 warp, 68 weft)."""
+        """Linear bending M = B chi.
+
+        Parameters
+        ----------
+        stiffness : float
+            B, N mm per unit width, > 0 (Bai Table 2: 72 warp, 68 weft).
+
+        Returns
+        -------
+        Law
+            The bending law.
+
+        Raises
+        ------
+        ValueError
+            B not a finite number > 0.
+        """
         return _odd_polynomial("BendingLaw.linear", (stiffness,), ("B",), "N mm")
 
     @staticmethod
@@ -236,6 +410,25 @@ class BendingLaw:
 
         The continuous reading of Bai Table 1 (THEORY §4.6): B1 = 7.5 N mm, B2 = 0.5 N mm,
         knee = 1e-3 1/mm. The table as printed jumps by 0.0005 N at the knee; this law does not.
+
+        Parameters
+        ----------
+        initial : float
+            B1, N mm per unit width, > 0.
+        final : float
+            B2, N mm per unit width, > 0.
+        knee : float
+            Curvature at the change of slope, 1/mm, > 0.
+
+        Returns
+        -------
+        Law
+            The bending law (piecewise linear, odd in chi).
+
+        Raises
+        ------
+        ValueError
+            A non-finite or non-positive argument.
         """
         b1 = _finite(initial, "BendingLaw.bilinear: initial stiffness B1")
         b2 = _finite(final, "BendingLaw.bilinear: final stiffness B2")
@@ -254,9 +447,27 @@ class BendingLaw:
         )
 
     @staticmethod
-    def table(curvature, moment) -> Law:
-        """Piecewise-linear M(chi) through (chi 1/mm, M N) given for chi >= 0 and mirrored to
-        negative curvature (or given over both signs); e.g. a measured cantilever curve."""
+    def table(curvature: ArrayLike, moment: ArrayLike) -> Law:
+        """Piecewise-linear M(chi) through tabulated points, e.g. a measured cantilever curve.
+
+        Parameters
+        ----------
+        curvature : array_like, shape (k,)
+            Curvatures chi, 1/mm, strictly increasing; given for chi >= 0 they are mirrored to
+            negative curvature (or give them over both signs).
+        moment : array_like, shape (k,)
+            Bending moments M, N (N mm/mm), non-decreasing.
+
+        Returns
+        -------
+        Law
+            The bending law (odd in chi).
+
+        Raises
+        ------
+        ValueError
+            Invalid tables, as :meth:`TensionLaw.table`.
+        """
         return Law(
             "BendingLaw",
             f"BendingLaw.table({np.size(curvature)} points)",

@@ -10,8 +10,10 @@ Units: mm, N, t (1 kg/m^2 = 1e-9 t/mm^2).
 
 from __future__ import annotations
 
+from typing import Any
+
 from materials.fabric import Fabric
-from materials.laws import BendingLaw, ShearLaw
+from materials.laws import BendingLaw, Law, ShearLaw
 
 __all__ = [
     "G1151_SPECIMEN",
@@ -39,7 +41,7 @@ G1151_SPECIMEN = {"length": 200.0, "width": 150.0, "thickness": 15.0, "plies": 1
 SHEAR_PER_PLY = 0.2
 
 
-def _table1_bending():
+def _table1_bending() -> Law:
     # Bai Table 1 in the continuous reading of THEORY §4.6 (knee moment 0.0075 N).
     return BendingLaw.bilinear(7.5, 0.5, knee=1e-3)
 
@@ -52,6 +54,21 @@ def g986_stack(plies: int = 20) -> Fabric:
     modelled with one element through the thickness, and so does this preset, whatever
     ``plies`` is. Assumed: 0.3 mm and 285 g/m^2 per ply (6 mm, 5.7 kg/m^2 for 20 plies);
     linear shear 0.2 N/mm per ply.
+
+    Parameters
+    ----------
+    plies : int, optional
+        Number of plies (20 in Bai §5.1); scales thickness, areal density and shear only.
+
+    Returns
+    -------
+    Fabric
+        The stack.
+
+    Raises
+    ------
+    ValueError
+        ``plies`` is not a positive integer.
     """
     plies = _plies(plies)
     return Fabric(
@@ -70,6 +87,11 @@ def g986_ply() -> Fabric:
     preset keeps those laws with one ply's assumed thickness (0.3 mm), areal weight
     (285 g/m^2) and shear (0.2 N/mm). Use it for single-ply studies knowing that the bending
     law was measured on the stack.
+
+    Returns
+    -------
+    Fabric
+        One ply: 0.3 mm, 2.85e-10 t/mm^2.
     """
     return g986_stack(plies=1)
 
@@ -81,6 +103,11 @@ def g1151_laminate() -> Fabric:
     bending B = 72 N mm (warp) and 68 N mm (weft), linear, measured on the stack (friction
     included). Assumed: 630 g/m^2 per ply (6.93 kg/m^2 in all); linear shear 0.2 N/mm per ply
     (2.2 N/mm).
+
+    Returns
+    -------
+    Fabric
+        The laminate: 15 mm, 6.93e-9 t/mm^2, warp and weft bending laws.
     """
     plies = G1151_SPECIMEN["plies"]
     return Fabric(
@@ -94,8 +121,10 @@ def g1151_laminate() -> Fabric:
 
 
 def paper_stack(sheets: int = 130) -> Fabric:
-    """The stack of 130 paper sheets of Bai §6.1. The paper gives no material data; only that
-    the sheets slide on each other and that the in-plane shear stiffness is large.
+    """The stack of 130 paper sheets of Bai §6.1.
+
+    The paper gives no material data; only that the sheets slide on each other and that the
+    in-plane shear stiffness is large.
 
     Assumed: office paper, 80 g/m^2 and 0.1 mm per sheet (13 mm, 10.4 kg/m^2 in all);
     bending 50 N mm per unit width (130 sheets of E t^3/12 = 4000 x 0.1^3/12 = 0.33 N mm each
@@ -103,6 +132,21 @@ def paper_stack(sheets: int = 130) -> Fabric:
     inextensibility penalty as in Table 2 (the real sheets are stiffer still, about
     5e4 N/mm, which only makes them more inextensible); in-plane shear K = 1000 N/mm, the
     ratio K/C ~ 0.4 of an isotropic sheet (G h / E h), "large" as the paper says.
+
+    Parameters
+    ----------
+    sheets : int, optional
+        Number of sheets (130 in Bai §6.1); scales thickness, areal density and bending.
+
+    Returns
+    -------
+    Fabric
+        The stack.
+
+    Raises
+    ------
+    ValueError
+        ``sheets`` is not a positive integer.
     """
     sheets = _plies(sheets)
     return Fabric(
@@ -114,7 +158,7 @@ def paper_stack(sheets: int = 130) -> Fabric:
     )
 
 
-def _plies(count) -> int:
+def _plies(count: Any) -> int:
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise ValueError(f"the number of plies or sheets must be a positive integer, got {count!r}")
     return count

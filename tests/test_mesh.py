@@ -415,3 +415,96 @@ def test_gmsh_physical_groups_become_sets(tmp_path):
     np.testing.assert_array_equal(mesh.element_sets["plate"], np.arange(mesh.n_triangles))
     np.testing.assert_array_equal(mesh.line_sets["edge"], np.arange(mesh.n_lines))
     assert len(mesh.nodes("corner")) == 1
+
+
+# ---------------------------------------------------------------------------------------------
+# the open vocabulary of cell kinds
+# ---------------------------------------------------------------------------------------------
+
+
+def test_generic_cell_accessors_agree_with_the_named_views():
+    plate = Mesh.rectangle(1.0, 1.0, 2, 1)
+    mesh = Mesh(
+        plate.points,
+        plate.triangles,
+        lines=[[0, 1], [1, 2]],
+        element_sets={"a": [3]},
+        line_sets={"cable": [1]},
+    )
+    assert mesh.cell_kinds == ("triangle", "line")
+    assert mesh.cells("triangle") is mesh.triangles and mesh.cells("line") is mesh.lines
+    assert dict(mesh.cell_sets("triangle")) == dict(mesh.element_sets)
+    np.testing.assert_array_equal(mesh.cell_sets("line")["cable"], [1])
+    assert plate.cell_kinds == ("triangle",) and plate.cells("line").shape == (0, 2)
+    assert Mesh.line((0, 0), (1, 0), 2).cell_kinds == ("line",)
+    with pytest.raises(ValueError, match=r"unknown cell kind 'quad'"):
+        mesh.cells("quad")
+    with pytest.raises(ValueError, match=r"unknown cell kind"):
+        mesh.cell_sets("tetra")
+
+
+def test_add_cell_set_is_the_generic_form_of_add_element_and_line_set():
+    mesh = Mesh.line((0, 0), (3, 0), 3)
+    mesh.add_cell_set("line", "middle", [1])
+    np.testing.assert_array_equal(mesh.line_sets["middle"], [1])
+    with pytest.raises(ValueError, match=r"line set 'middle' already exists"):
+        mesh.add_line_set("middle", [0])
+    with pytest.raises(ValueError, match=r"element set 'x' refers to triangle 0"):
+        mesh.add_cell_set("triangle", "x", [0])
+
+
+def test_cells_and_cell_sets_keywords_build_the_same_mesh():
+    plate = Mesh.rectangle(1.0, 1.0, 1, 1)
+    mesh = Mesh(
+        plate.points,
+        cells={"triangle": plate.triangles, "line": [[0, 1]]},
+        cell_sets={"triangle": {"all": [0, 1]}, "line": {"edge": [0]}},
+    )
+    np.testing.assert_array_equal(mesh.triangles, plate.triangles)
+    np.testing.assert_array_equal(mesh.element_sets["all"], [0, 1])
+    np.testing.assert_array_equal(mesh.line_sets["edge"], [0])
+    with pytest.raises(ValueError, match=r"given twice"):
+        Mesh(plate.points, plate.triangles, cells={"triangle": plate.triangles})
+    with pytest.raises(ValueError, match=r"given twice"):
+        Mesh(plate.points, lines=[[0, 1]], line_sets={}, cell_sets={"line": {}})
+    with pytest.raises(ValueError, match=r"unknown cell kind 'quad'"):
+        Mesh(plate.points, cells={"quad": [[0, 1, 2, 3]]})
+
+
+def test_with_points_keeps_every_kind_of_cell_and_set():
+    plate = Mesh.rectangle(1.0, 1.0, 1, 1)
+    mesh = Mesh(plate.points, plate.triangles, lines=[[0, 3]], line_sets={"diagonal": [0]})
+    moved = mesh.with_points(mesh.points + 1.0)
+    for kind in ("triangle", "line"):
+        np.testing.assert_array_equal(moved.cells(kind), mesh.cells(kind))
+        assert dict(moved.cell_sets(kind)).keys() == dict(mesh.cell_sets(kind)).keys()
+
+
+@pytest.fixture
+def with_quads(monkeypatch):
+    """CELL_KINDS extended by one entry: a 4-node "quad" kind."""
+    from femcore import mesh as mesh_module
+
+    quad = mesh_module.CellKind(4, "quad", 2, "quad set", "qset:")
+    monkeypatch.setitem(mesh_module._CELL_KIND_TABLE, "quad", quad)
+    return quad
+
+
+def test_a_new_cell_kind_is_one_table_entry(with_quads, tmp_path):
+    points = [[0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1]]
+    mesh = Mesh(
+        points,
+        triangles=[[1, 2, 4], [2, 5, 4]],
+        cells={"quad": [[0, 1, 4, 3]]},
+        cell_sets={"quad": {"left": [0]}},
+    )
+    assert mesh.cell_kinds == ("triangle", "quad")
+    assert mesh.cells("quad").shape == (1, 4) and mesh.cells("line").shape == (0, 2)
+    with pytest.raises(ValueError, match=r"quad set 'far' refers to quad 1"):
+        mesh.add_cell_set("quad", "far", [1])
+    for suffix in (".vtu", ".inp"):
+        mesh.write(tmp_path / f"mixed{suffix}")
+        back = Mesh.read(tmp_path / f"mixed{suffix}")
+        np.testing.assert_array_equal(back.cells("quad"), mesh.cells("quad"))
+        np.testing.assert_array_equal(back.triangles, mesh.triangles)
+        np.testing.assert_array_equal(back.cell_sets("quad")["left"], [0])

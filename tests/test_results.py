@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from elements import Cable
-from femcore import Mesh, Model
+from femcore import Frame, Mesh, Model, Result
 from solvers import DynamicRelaxation
 
 
@@ -70,3 +70,41 @@ def test_progress_lines_appear_only_when_asked(capsys):
     assert capsys.readouterr().err == ""
     DynamicRelaxation(progress=True).solve(model)
     assert "increment 1/1 converged" in capsys.readouterr().err
+
+
+def test_field_returns_point_and_cell_fields_by_name(sagging):
+    force = sagging.field("axial_force")
+    assert force.shape == (20,) and force is sagging.frames[-1].fields["line"]["axial_force"]
+    first = sagging.field("axial_force", frame=0)
+    assert first.shape == (20,)
+    with pytest.raises(ValueError, match=r"no field 'stress'.*available fields: \[.*axial_force"):
+        sagging.field("stress")
+    assert sagging.thickness is None  # cables provide no nodal thickness
+
+
+def test_export_loops_over_the_cell_kinds_of_the_mesh():
+    plate = Mesh.rectangle(1.0, 1.0, 1, 1)
+    mesh = Mesh(plate.points, plate.triangles, lines=[[0, 1]])
+    zeros = np.zeros((mesh.n_nodes, 3))
+    frame = Frame(
+        time=0.0,
+        load_factor=1.0,
+        positions=mesh.points.copy(),
+        velocities=zeros,
+        directors=zeros,
+        reactions=zeros,
+        reaction_moments=zeros,
+        fields={
+            "point": {"thickness": np.ones(mesh.n_nodes)},
+            "triangle": {"strain": np.array([0.1, 0.2])},
+            "line": {"axial_force": np.array([3.0])},
+        },
+    )
+    result = Result(mesh=mesh, frames=[frame])
+    out = result.to_meshio()
+    assert [block.type for block in out.cells] == ["triangle", "line"]
+    strain, force = out.cell_data["strain"], out.cell_data["axial_force"]
+    assert strain[0].tolist() == [0.1, 0.2] and np.isnan(strain[1]).all()
+    assert np.isnan(force[0]).all() and force[1].tolist() == [3.0]
+    assert result.thickness is result.field("thickness")
+    assert result.field("strain").tolist() == [0.1, 0.2]
