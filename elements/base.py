@@ -61,6 +61,7 @@ def local_tangent(
                 difference = loads(x + shift, v) - loads(x - shift, v)
                 blocks[:, :, :, node, comp] = difference / (2.0 * step)
             else:
+                assert v is not None  # c = 6 only with directors
                 psi = np.zeros((m, 3))
                 psi[:, comp - 3] = rotation_step
                 plus, minus = v.copy(), v.copy()

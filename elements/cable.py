@@ -13,6 +13,8 @@ from elements.base import CellTangent, ElementBlock, ElementType, Scatter, check
 from femcore.mesh import Mesh
 from femcore.state import State
 
+__all__ = ["Cable", "CableBlock"]
+
 
 class Cable(ElementType):
     """Two-node cable or bar.
@@ -99,9 +101,7 @@ class CableBlock(ElementBlock):
         # Two lumped masses mu L0/2 joined by the axial stiffness EA/L0 (+ the geometric
         # stiffness N/l for transverse motion of a taut cable): omega_max^2 = 4 k / (mu L0).
         _, length, _, force = self._axial(state)
-        stiffness = (
-            self.axial_stiffness / self.rest_length + np.maximum(force, 0.0) / length
-        )
+        stiffness = self.axial_stiffness / self.rest_length + np.maximum(force, 0.0) / length
         omega = np.sqrt(4.0 * stiffness / (self.mass_per_length * self.rest_length))
         return 2.0 / omega
 

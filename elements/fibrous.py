@@ -51,7 +51,9 @@ def lobatto_levels(count: int) -> tuple[np.ndarray, np.ndarray]:
     is the continuum moment of inertia of the section.
     """
     n = count
-    interior = np.polynomial.legendre.Legendre.basis(n - 1).deriv().roots() if n > 2 else []
+    interior = (
+        np.polynomial.legendre.Legendre.basis(n - 1).deriv().roots() if n > 2 else np.zeros(0)
+    )
     zeta = np.concatenate(([-1.0], np.sort(np.real(interior)), [1.0]))
     p = np.polynomial.legendre.Legendre.basis(n - 1)(zeta)
     weights = 2.0 / (n * (n - 1) * p**2)
@@ -555,7 +557,7 @@ class FibrousShellBlock(ElementBlock):
         return np.unique(self.connectivity[geo["guarded"]])
 
     def lumped_mass(self, state: State, density_scale=None):
-        density = self.fabric.areal_density
+        density: float | np.ndarray = self.fabric.areal_density
         if density_scale is not None:
             density = density * np.asarray(density_scale, dtype=float)
         return lumped_mass(

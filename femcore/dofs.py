@@ -191,8 +191,9 @@ class DofManager:
         directors turned about V2 by alpha and about V1 by beta of ``frames`` (default: the
         frames of ``state.directors``)."""
         rotation = None
-        if self.any_rotation:
-            v1, v2 = self.frames(state.directors) if frames is None else frames
+        current = self.frames(state.directors) if frames is None else frames
+        if current is not None:
+            v1, v2 = current
             rotation = dq[:, 3:4] * v2 + dq[:, 4:5] * v1
         return self.move(state, dq[:, :3], rotation)
 

@@ -18,24 +18,12 @@ from femcore.assembly import CellTangent, NodeGraph, finite_difference_tangent, 
 from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns
 from femcore.element import ElementBlock, ElementType
 from femcore.loads import Amplitude, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
-from femcore.mesh import Mesh
+from femcore.mesh import CELL_KINDS, Mesh
 from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
 
 __all__ = ["BlockEntry", "CompiledModel", "Model"]
-
-CELL_TYPES = ("line", "triangle")
-
-
-def _mesh_cells(mesh: Mesh, kind: str) -> np.ndarray:
-    """(m, k) node ids of the mesh cells of a kind."""
-    return mesh.triangles if kind == "triangle" else mesh.lines
-
-
-def _mesh_cell_sets(mesh: Mesh, kind: str):
-    """Named sets of the mesh cells of a kind."""
-    return mesh.element_sets if kind == "triangle" else mesh.line_sets
 
 
 def _vector3(value, what: str) -> np.ndarray:
@@ -105,16 +93,16 @@ class Model:
             self.blocks.append(BlockEntry(element, np.zeros(0, dtype=np.int64)))
             self._compiled = None
             return len(self.blocks) - 1
-        if cell_type not in CELL_TYPES:
+        if cell_type not in CELL_KINDS:
             raise ValueError(
                 f"{type(element).__name__}.cell_type is {cell_type!r}: expected one of "
-                f"{CELL_TYPES} or None (a block acting on nodes)"
+                f"{tuple(CELL_KINDS)} or None (a block acting on nodes)"
             )
-        n_cells = len(_mesh_cells(self.mesh, cell_type))
+        n_cells = len(self.mesh.cells(cell_type))
         if cells is None:
             ids = np.arange(n_cells)
         elif isinstance(cells, str):
-            sets = _mesh_cell_sets(self.mesh, cell_type)
+            sets = self.mesh.cell_sets(cell_type)
             if cells not in sets:
                 raise ValueError(
                     f"no {cell_type} set named {cells!r}: the mesh has {sorted(sets) or 'none'}"
@@ -313,7 +301,9 @@ class CompiledModel:
 
     # ------------------------------------------------------------- construction helpers
     def _cells(self, entry: BlockEntry) -> np.ndarray:
-        return _mesh_cells(self.mesh, entry.element.cell_type)[entry.cells]
+        kind = entry.element.cell_type
+        assert kind is not None, "node blocks have no mesh cells"
+        return self.mesh.cells(kind)[entry.cells]
 
     def _fixed_mask(self, fixes: list[Fix], active: np.ndarray) -> np.ndarray:
         fixed = np.zeros_like(active)
@@ -553,10 +543,10 @@ class CompiledModel:
         return out
 
     def fields(self, state: State) -> dict:
-        """Output fields: {"point": {name: (n, ...)}, "triangle": {...}, "line": {...}} with the
+        """Output fields: {"point": {name: (n, ...)}, kind: {...} for each cell kind} with the
         cell fields spread over all mesh cells of that type (NaN where a block does not cover)."""
-        out: dict[str, dict] = {"point": {}, "triangle": {}, "line": {}}
-        counts = {"triangle": len(self.mesh.triangles), "line": len(self.mesh.lines)}
+        out: dict[str, dict] = {"point": {}, **{kind: {} for kind in CELL_KINDS}}
+        counts = {kind: len(self.mesh.cells(kind)) for kind in CELL_KINDS}
         for block, history in zip(self.blocks, self._histories(state)):
             for name, values in block.node_fields(state, history).items():
                 out["point"][name] = values

@@ -12,13 +12,30 @@ from femcore.model import CompiledModel
 from femcore.results import Frame, Result
 from femcore.state import State
 
+__all__ = [
+    "ConvergenceError",
+    "DivergenceError",
+    "ProgressLine",
+    "SolverError",
+    "check_integer",
+    "check_positive_or_none",
+    "check_tolerance",
+    "empty_result",
+    "equilibrium_reactions",
+    "inverse_diagonal",
+    "make_frame",
+    "resolve_progress",
+]
+
 
 class SolverError(RuntimeError):
     """A solve that could not reach its goal. ``result`` holds every good frame up to the
     failure (``result.converged`` is False), so the last good state can be inspected or
-    written."""
+    written; ``load_factor`` is the last load factor reached, where the solver has one."""
 
-    def __init__(self, message: str, result: Result):
+    load_factor: float | None = None
+
+    def __init__(self, message: str, result: Result | None):
         super().__init__(message)
         self.result = result
 

@@ -58,7 +58,7 @@ class EnergyAccount:
 
     @staticmethod
     def increments(
-        forces: tuple[np.ndarray, np.ndarray, np.ndarray],
+        forces: tuple[np.ndarray, np.ndarray],
         rates: tuple[np.ndarray, np.ndarray],
         mass: np.ndarray,
         damping: float,
@@ -66,8 +66,8 @@ class EnergyAccount:
         dt: float,
     ) -> tuple[float, float, float, float]:
         """(external, internal, damping work, new kinetic energy) of one kind of DOF over a
-        step: ``forces`` = (external + reaction, internal, unused), ``rates`` = (old, new)."""
-        external, internal, _ = forces
+        step: ``forces`` = (external + reaction, internal) at t(i), ``rates`` = (old, new)."""
+        external, internal = forces
         old, new = rates
         dx = 0.5 * (dt_prev * old + dt * new)
         d_ext = float(np.sum(external * dx))

@@ -67,9 +67,10 @@ class CentralDifference:
         progress: bool | None = None,
         max_steps: int = 50_000_000,
     ):
-        self.duration = check_positive_or_none(duration, "duration")
-        if self.duration is None:
+        checked = check_positive_or_none(duration, "duration")
+        if checked is None:
             raise ValueError("duration must be a positive number of seconds")
+        self.duration: float = checked
         self.dt = check_positive_or_none(dt, "dt")
         if not (0.0 < float(safety) <= 1.0):
             raise ValueError(f"safety must be in (0, 1], got {safety!r}")
@@ -216,7 +217,7 @@ class CentralDifference:
             0.0,
         )
         work = EnergyAccount.increments(
-            (f_ext + reactions, f_int, None), (velocity, v_new), mass, c, dt_prev, dt
+            (f_ext + reactions, f_int), (velocity, v_new), mass, c, dt_prev, dt
         )
         w_new = None
         reaction_moments = np.zeros_like(reactions)
@@ -230,9 +231,14 @@ class CentralDifference:
                 inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
             )
             turning = EnergyAccount.increments(
-                (m_ext + reaction_moments, m_int, None), (omega, w_new), inertia, c, dt_prev, dt
+                (m_ext + reaction_moments, m_int), (omega, w_new), inertia, c, dt_prev, dt
             )
-            work = tuple(a + b for a, b in zip(work, turning))
+            work = (
+                work[0] + turning[0],
+                work[1] + turning[1],
+                work[2] + turning[2],
+                work[3] + turning[3],
+            )
         moved = dofs.move(state, dt * v_new, None if w_new is None else dt * w_new)
         new = replace(
             moved,

@@ -112,8 +112,8 @@ class DynamicRelaxation:
             )
             frames.append(make_frame(compiled, state))
         progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
-        iterations = []
-        residuals = []
+        iterations: list[int] = []
+        residuals: list[float] = []
         for increment in range(1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
@@ -190,7 +190,12 @@ class DynamicRelaxation:
         for iteration in range(1, self.max_iterations + 1):
             f_int, m_int = model.internal_force(state)
             residual = np.where(free, f_ext - f_int, 0.0)
-            moment = model.constrain_angular(m_ext - m_int, state.directors) if any_rot else None
+            # (zero and unused without rotational DOFs)
+            moment = (
+                model.constrain_angular(m_ext - m_int, state.directors)
+                if any_rot
+                else np.zeros_like(f_int)
+            )
 
             # Convergence on the free DOFs.
             force_ref = max(f_ext_norm, float(np.linalg.norm(f_int)))

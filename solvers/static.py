@@ -21,6 +21,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -132,7 +133,7 @@ class Static:
         tangent = _Tangent(compiled, own, others)
         frames = [make_frame(compiled, state)]
         progress = ProgressLine(resolve_progress(self.progress), "static")
-        info = {
+        info: dict[str, Any] = {
             "solver": "Static",
             "tangent": {
                 "element": [type(compiled.blocks[i]).__name__ for i in own],
@@ -270,9 +271,9 @@ class Static:
             if (negative or escapes) and self.seek_stable:
                 load = equilibrium.load(frames).ravel()[index]
                 delta_free = _downhill(k_ff, rhs, delta_free, load, translation, size, push)
-            delta = left.ravel().copy()
-            delta[index] = delta_free
-            delta = delta.reshape(-1, N_COLUMNS)
+            flat = left.ravel().copy()
+            flat[index] = delta_free
+            delta = flat.reshape(-1, N_COLUMNS)
             scale, state, ratio, forces = self._line_search(
                 dofs, equilibrium, state, frames, delta, ratio, push
             )
@@ -474,10 +475,10 @@ class _Equilibrium:
         # pure-moment load (zero forces at equilibrium) has a force reference too.
         size = model.element_size
         force_ref = max(
-            np.linalg.norm(f_ext),
-            np.linalg.norm(f_int),
-            np.linalg.norm(m_ext) / size,
-            np.linalg.norm(m_int) / size,
+            float(np.linalg.norm(f_ext)),
+            float(np.linalg.norm(f_int)),
+            float(np.linalg.norm(m_ext)) / size,
+            float(np.linalg.norm(m_int)) / size,
             1e-300,
         )
         moment_ref = force_ref * size
@@ -508,7 +509,7 @@ class _Tangent:
                 "block's tangent() returns None always or never"
             )
         k_ff, k_fp = self.assemble(parts, frames)
-        if self.others:
+        if self.graph is not None:
             k = finite_difference_tangent(
                 dofs,
                 lambda s: model.internal_force(s, self.others),
