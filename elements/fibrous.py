@@ -239,6 +239,23 @@ class FibrousShellBlock(ElementBlock):
         return sides
 
     # ------------------------------------------------------------------ kinematics
+    def thickness_along_directors(self, positions: np.ndarray, directors: np.ndarray) -> dict:
+        """The thickness along the directors at each corner of each cell (Bai Eq. 10, 14-15).
+
+        Parameters
+        ----------
+        positions, directors : (n, 3) float
+            A configuration (mm; unit directors).
+
+        Returns
+        -------
+        dict
+            ``cosine`` (m, 3): V . n_e; ``thickness`` (m, 3), mm: h_m = h / max(V . n_e,
+            guard); ``guarded`` (m, 3) bool: the corners where the guard acted.
+        """
+        geo = self._geometry(positions, directors, layers=False)
+        return {key: geo[key] for key in ("cosine", "thickness", "guarded")}
+
     def _geometry(self, positions: np.ndarray, directors: np.ndarray, layers: bool = True) -> dict:
         """Element normals, thickness along the directors, and the fibre vectors of each level.
 

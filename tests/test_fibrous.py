@@ -303,7 +303,7 @@ def test_a_director_near_the_surface_hits_the_guard_and_is_reported():
     state.directors[node] = [np.sin(np.radians(85)), 0.0, np.cos(np.radians(85))]
     block = model.blocks[0]
     assert block.guarded_nodes(state).tolist() == [node]
-    geometry = block._geometry(state.positions, state.directors)
+    geometry = block.thickness_along_directors(state.positions, state.directors)
     corners = block.connectivity == node
     assert np.allclose(geometry["thickness"][corners], 3.0 / 0.2)
     assert model.fields(state)["point"]["thickness_guarded"][node] == 1.0

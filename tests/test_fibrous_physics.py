@@ -77,7 +77,7 @@ def test_fibres_stay_inextensible_and_thickness_along_the_normal_is_conserved(pa
     # h_m (V . n_e) = h at every node of every element (Bai Eq. 10).
     state = model.initial_state()
     state.positions, state.directors = result.positions, result.directors
-    geometry = model.blocks[0]._geometry(state.positions, state.directors)
+    geometry = model.blocks[0].thickness_along_directors(state.positions, state.directors)
     assert not geometry["guarded"].any()
     assert np.allclose(geometry["thickness"] * geometry["cosine"], THICKNESS, rtol=1e-12)
 
