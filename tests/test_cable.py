@@ -1,5 +1,7 @@
-"""The cable element: conformance checks of DESIGN §5 (rigid motions, energy gradient, mass,
-stable step)."""
+"""The cable element: what is particular to it (the tension-only option, the closed-form
+stable step, bad parameters). Its conformance to the element protocol (rigid motions,
+objectivity, energy gradient, tangent, mass, stable step) is checked by
+tests/test_conformance.py, cases "cable" and "cable-tension-only"."""
 
 import numpy as np
 import pytest
@@ -7,21 +9,7 @@ import pytest
 from elements import Cable
 from femcore import Mesh, Model
 from femcore.state import State
-
-
-def net_mesh(nx=4, ny=3, size=10.0) -> Mesh:
-    """A square cable net: every grid edge of an nx x ny grid is a cable, plus the diagonals."""
-    i, j = np.meshgrid(np.arange(nx + 1), np.arange(ny + 1), indexing="xy")
-    points = np.column_stack([i.ravel() * size, j.ravel() * size, np.zeros(i.size)])
-    ids = np.arange(points.shape[0]).reshape(ny + 1, nx + 1)
-    lines = np.vstack(
-        [
-            np.column_stack([ids[:, :-1].ravel(), ids[:, 1:].ravel()]),
-            np.column_stack([ids[:-1, :].ravel(), ids[1:, :].ravel()]),
-            np.column_stack([ids[:-1, :-1].ravel(), ids[1:, 1:].ravel()]),
-        ]
-    )
-    return Mesh(points, lines=lines)
+from tests.conformance_cases import net_mesh
 
 
 def compiled(mesh, **options):
@@ -35,47 +23,6 @@ def state_at(model, positions):
     return State(positions, np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
 
 
-def rotation_matrix(axis, angle):
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-
-
-def test_rigid_translation_and_rotation_give_no_strain_and_no_force():
-    mesh = net_mesh()
-    model = compiled(mesh)
-    rotation = rotation_matrix((1.0, 2.0, 0.5), np.pi / 2)
-    moved = mesh.points @ rotation.T + np.array([3.0, -7.0, 11.0])
-    state = state_at(model, moved)
-    force, moment = model.internal_force(state)
-    assert moment is not None and not moment.any()
-    assert np.abs(force).max() < 1e-10 * 2.0e4
-    assert model.strain_energy(state) < 1e-20
-    strain = model.fields(state)["line"]["axial_strain"]
-    assert np.abs(strain).max() < 1e-14
-
-
-@pytest.mark.parametrize("tension_only", [False, True])
-def test_internal_force_is_the_gradient_of_the_strain_energy(tension_only):
-    rng = np.random.default_rng(3)
-    mesh = net_mesh()
-    model = compiled(mesh, tension_only=tension_only)
-    positions = mesh.points + rng.normal(scale=0.5, size=mesh.points.shape)
-    force, _ = model.internal_force(state_at(model, positions))
-    step = 1e-6
-    numeric = np.zeros_like(positions)
-    for node in range(mesh.n_nodes):
-        for axis in range(3):
-            plus, minus = positions.copy(), positions.copy()
-            plus[node, axis] += step
-            minus[node, axis] -= step
-            numeric[node, axis] = (
-                model.strain_energy(state_at(model, plus))
-                - model.strain_energy(state_at(model, minus))
-            ) / (2 * step)
-    assert np.abs(force - numeric).max() < 1e-6 * np.abs(force).max()
-
-
 def test_tension_only_cable_goes_slack_in_compression():
     mesh = Mesh(np.array([[0.0, 0, 0], [10, 0, 0]]), lines=np.array([[0, 1]]))
     model = compiled(mesh, tension_only=True)
@@ -84,23 +31,13 @@ def test_tension_only_cable_goes_slack_in_compression():
     assert model.strain_energy(squeezed) == 0.0
 
 
-def test_lumped_mass_sums_to_the_total_mass():
-    mesh = net_mesh()
-    model = compiled(mesh)
-    mass, inertia = model.lumped_mass(model.initial_state())
-    lengths = np.linalg.norm(np.diff(mesh.points[mesh.lines], axis=1)[:, 0], axis=1)
-    assert mass.sum() == pytest.approx(3.0e-9 * lengths.sum(), rel=1e-13)
-    assert not inertia.any()
-
-
-def test_stable_step_halves_when_the_element_size_halves():
-    coarse = compiled(net_mesh(4, 3, size=10.0))
+def test_stable_step_is_the_two_mass_bar_value_on_the_shortest_cable():
+    # L / c, c = sqrt(EA / mu): two lumped masses mu L / 2 on a spring EA / L. (That it halves
+    # with the cable length is checked by the conformance suite.)
     fine = compiled(net_mesh(8, 6, size=5.0))
-    dt_coarse = coarse.stable_dt(coarse.initial_state())
-    dt_fine = fine.stable_dt(fine.initial_state())
-    assert dt_coarse / dt_fine == pytest.approx(2.0, rel=1e-12)
-    # and it is the two-mass bar value L/c on the shortest cable
-    assert dt_fine == pytest.approx(5.0 / np.sqrt(2.0e4 / 3.0e-9), rel=1e-12)
+    assert fine.stable_dt(fine.initial_state()) == pytest.approx(
+        5.0 / np.sqrt(2.0e4 / 3.0e-9), rel=1e-12, abs=0.0
+    )
 
 
 @pytest.mark.parametrize(

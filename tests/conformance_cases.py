@@ -1,0 +1,348 @@
+"""The element cases of the conformance suite (tests/test_conformance.py).
+
+Each ``ElementCase`` builds a small model of one element type (one material, one set of
+options), a jittered deformed state, the total mass computed from the mesh, the states at which
+the stable step is checked, and its tolerances, each with a one-line justification. A new
+element type is done when it has a case in ``CASES`` and the suite passes for it.
+
+The set-ups and tolerances are those the per-element tests used before the suite replaced
+them (tests/test_cable.py, test_fibrous.py, test_mindlin.py): same meshes, materials, jitter
+amplitudes and seeds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from elements import Cable, FibrousShell, MindlinShell
+from femcore import Mesh, Model
+from femcore.element import ElementType
+from femcore.model import CompiledModel
+from femcore.rotation import rotate_about
+from femcore.state import State
+from materials import ElasticShell
+from tests.shell_helpers import fabric, on_cylinder
+
+# An energy and the loads that must be its gradient: state -> W, state -> (force, moment).
+EnergyPart = tuple[Callable[[State], float], Callable[[State], tuple]]
+
+
+class Bound(NamedTuple):
+    """A tolerance and why it is what it is (shown when an assertion fails)."""
+
+    value: float
+    why: str
+
+
+@dataclass(frozen=True)
+class ElementCase:
+    """One element type set up for the conformance suite.
+
+    element : a fresh element type (material and options).
+    mesh : refine -> the case's patch with every cell divided by ``refine`` (1 or 2).
+    total_mass : mesh -> the physical mass (t), from the mesh geometry and the material data,
+        independently of the element's own bookkeeping.
+    deform : model -> a deformed state with jittered positions (and directors for shells),
+        away from any symmetry an error could hide behind.
+    step_states : name -> (model -> state): where the stable step is compared with the exact
+        eigenvalues (the reference and at least one deformed state).
+    energy_parts : model -> {name: (energy, loads)}: energies whose gradient the loads must be
+        (default: the whole strain energy and internal force of the model).
+    not_a_potential : why the whole internal force is not the exact gradient of the strain
+        energy, or None; with a reason, only ``energy_parts`` are checked and the tangent
+        comparison is skipped (the element tangent is then consistent with the force, not with
+        a finite difference of it, only to first order).
+    rigid_fields : cell output fields (strains, stresses) that must vanish under rigid motions.
+    """
+
+    name: str
+    element: Callable[[], ElementType]
+    mesh: Callable[[int], Mesh]
+    total_mass: Callable[[Mesh], float]
+    deform: Callable[[CompiledModel], State]
+    step_states: Mapping[str, Callable[[CompiledModel], State]]
+    rigid_fields: tuple[str, ...]
+    # tolerances
+    rigid: Bound
+    rigid_energy: Bound
+    rigid_field: Bound
+    objectivity: Bound
+    objective_energy: Bound
+    gradient: Bound
+    tangent: Bound
+    mass: Bound
+    step_floor: Bound
+    shrink: tuple[float, float, str]
+    energy_parts: Callable[[CompiledModel], Mapping[str, EnergyPart]] | None = None
+    not_a_potential: str | None = None
+
+    def model(self, refine: int = 1) -> CompiledModel:
+        """The compiled model of the case (no supports: every DOF is free)."""
+        model = Model(self.mesh(refine))
+        model.add(self.element())
+        return model.compile()
+
+    def parts(self, model: CompiledModel) -> Mapping[str, EnergyPart]:
+        if self.energy_parts is not None:
+            return self.energy_parts(model)
+        return {"whole": (model.strain_energy, model.internal_force)}
+
+    def __str__(self) -> str:
+        return self.name
+
+
+# ---------------------------------------------------------------------- shared tolerances
+ROUND_OFF = Bound(
+    1e-10, "round-off: the loads are sums of ~10 terms each ~1e-16 relative to the largest"
+)
+ROUND_OFF_SQUARED = Bound(
+    1e-25, "the energy is quadratic in strains of round-off size (~1e-15 against ~1e-1 here)"
+)
+FIELD_ROUND_OFF = Bound(
+    3e-14, "strains and stresses of one cell from round-off positions: ~1e-15 relative"
+)
+ENERGY_ROUND_OFF = Bound(1e-12, "one sum of cell energies of one sign: round-off ~1e-15")
+CENTRAL_DIFFERENCE = Bound(
+    1e-6,
+    "central differences of step 1e-6: truncation ~1e-12 relative, cancellation ~1e-16/1e-6",
+)
+TANGENT_DIFFERENCES = Bound(
+    1e-6, "both tangents are central differences of step 1e-6 (or exact): their accuracy"
+)
+MASS_SUM = Bound(1e-13, "a sum of ~20 positive shares: round-off ~1e-15 relative")
+WITHIN_TWO = Bound(0.5, "THEORY §6.2: the element bound is safe but within a factor 2")
+
+
+# ---------------------------------------------------------------------- cables
+def net_mesh(nx: int = 4, ny: int = 3, size: float = 10.0) -> Mesh:
+    """A square cable net: every grid edge of an nx x ny grid is a cable, plus the diagonals."""
+    i, j = np.meshgrid(np.arange(nx + 1), np.arange(ny + 1), indexing="xy")
+    points = np.column_stack([i.ravel() * size, j.ravel() * size, np.zeros(i.size)])
+    ids = np.arange(points.shape[0]).reshape(ny + 1, nx + 1)
+    lines = np.vstack(
+        [
+            np.column_stack([ids[:, :-1].ravel(), ids[:, 1:].ravel()]),
+            np.column_stack([ids[:-1, :].ravel(), ids[1:, :].ravel()]),
+            np.column_stack([ids[:-1, :-1].ravel(), ids[1:, 1:].ravel()]),
+        ]
+    )
+    return Mesh(points, lines=lines)
+
+
+CABLE_AXIAL_STIFFNESS = 2.0e4  # N
+CABLE_MASS_PER_LENGTH = 3.0e-9  # t/mm
+
+
+def _cable_length(mesh: Mesh) -> float:
+    return float(np.linalg.norm(np.diff(mesh.points[mesh.lines], axis=1)[:, 0], axis=1).sum())
+
+
+def _cable_jitter(model: CompiledModel) -> State:
+    state = model.initial_state()
+    rng = np.random.default_rng(3)
+    state.positions = state.positions + rng.normal(scale=0.5, size=state.positions.shape)
+    return state
+
+
+def _stretched(factor: float) -> Callable[[CompiledModel], State]:
+    def build(model: CompiledModel) -> State:
+        state = model.initial_state()
+        state.positions = state.positions * factor
+        return state
+
+    return build
+
+
+def _cable_case(name: str, tension_only: bool, reference_state: tuple) -> ElementCase:
+    return ElementCase(
+        name=name,
+        element=lambda: Cable(
+            CABLE_AXIAL_STIFFNESS, CABLE_MASS_PER_LENGTH, tension_only=tension_only
+        ),
+        mesh=lambda refine: net_mesh(4 * refine, 3 * refine, 10.0 / refine),
+        total_mass=lambda mesh: CABLE_MASS_PER_LENGTH * _cable_length(mesh),
+        deform=_cable_jitter,
+        step_states={reference_state[0]: reference_state[1], "jittered": _cable_jitter},
+        rigid_fields=("axial_strain", "axial_force"),
+        rigid=ROUND_OFF,
+        rigid_energy=ROUND_OFF_SQUARED,
+        rigid_field=FIELD_ROUND_OFF,
+        objectivity=ROUND_OFF,
+        objective_energy=ENERGY_ROUND_OFF,
+        gradient=CENTRAL_DIFFERENCE,
+        tangent=TANGENT_DIFFERENCES,
+        mass=MASS_SUM,
+        step_floor=WITHIN_TWO,
+        shrink=(2.0 * (1 - 1e-12), 2.0 * (1 + 1e-12), "the cable step is L / c: exactly ~L"),
+    )
+
+
+CABLE = _cable_case("cable", False, ("reference", lambda model: model.initial_state()))
+# At the reference a tension-only cable sits on its kink (taut stiffness on one side, none on
+# the other): the exact eigenvalues are those of the taut net, just stretched.
+TENSION_ONLY_CABLE = _cable_case("cable-tension-only", True, ("taut", _stretched(1.001)))
+
+
+# ---------------------------------------------------------------------- shells
+PATCH = (40.0, 30.0, 4, 3)  # mm, mm, cells, cells: 10 mm right triangles
+
+
+def patch(refine: int) -> Mesh:
+    lx, ly, nx, ny = PATCH
+    return Mesh.rectangle(lx, ly, nx=nx * refine, ny=ny * refine)
+
+
+def _shell_jitter(amplitude: float, tilt: float, seed: int = 0):
+    """Random nodal displacements (mm) and director tilts (rad)."""
+
+    def build(model: CompiledModel) -> State:
+        rng = np.random.default_rng(seed)
+        state = model.initial_state()
+        state.positions = state.positions + rng.normal(scale=amplitude, size=state.positions.shape)
+        turn = np.cross(state.directors, rng.normal(scale=tilt, size=state.positions.shape))
+        state.directors = rotate_about(state.directors, turn)
+        return state
+
+    return build
+
+
+def _wrapped(angle: float) -> Callable[[CompiledModel], State]:
+    """The patch wrapped on a cylinder through ``angle`` rad over its length, the directors
+    left as they were: the element normals tilt up to ``angle`` against them."""
+
+    def build(model: CompiledModel) -> State:
+        state = model.initial_state()
+        state.positions, _ = on_cylinder(model.reference_positions, PATCH[0] / angle)
+        return state
+
+    return build
+
+
+def _patch_area(mesh: Mesh) -> float:
+    x = mesh.points[mesh.triangles]
+    return float(0.5 * np.linalg.norm(np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1).sum())
+
+
+def _fibrous_parts(parts: tuple[str, ...]):
+    def build(model: CompiledModel) -> Mapping[str, EnergyPart]:
+        block = model.blocks[0]
+        return {
+            part: (
+                lambda s, part=part: block.strain_energy_parts(s)[part],
+                lambda s, part=part: block.internal_force_parts(s)[part],
+            )
+            for part in parts
+        }
+
+    return build
+
+
+CURRENT_BENDING = (
+    "bending_geometry='current' holds the current c_as fixed in the variation (Bai, THEORY "
+    "§4.4): bending is the gradient only to first order in the folds (tests/test_fibrous.py, "
+    "tests/test_static.py test_fibrous_tangent_with_current_bending_coefficients_is_close)"
+)
+
+
+def _fibrous_case(name: str, material, bending_geometry: str) -> ElementCase:
+    exact = bending_geometry == "reference"
+    return ElementCase(
+        name=name,
+        element=lambda: FibrousShell(material, bending_geometry=bending_geometry),
+        mesh=patch,
+        total_mass=lambda mesh: material.areal_density * _patch_area(mesh),
+        deform=_shell_jitter(amplitude=0.6, tilt=0.3),
+        step_states={
+            "reference": lambda model: model.initial_state(),
+            "wrapped 0.5 rad": _wrapped(0.5),
+            "wrapped 1 rad": _wrapped(1.0),
+            "jittered": _shell_jitter(amplitude=0.6, tilt=0.3),
+        },
+        rigid_fields=(
+            "warp_strain",
+            "weft_strain",
+            "shear_angle",
+            "warp_curvature",
+            "weft_curvature",
+            "warp_moment",
+            "weft_moment",
+        ),
+        rigid=ROUND_OFF,
+        rigid_energy=ROUND_OFF_SQUARED,
+        rigid_field=FIELD_ROUND_OFF,
+        objectivity=ROUND_OFF,
+        objective_energy=ENERGY_ROUND_OFF,
+        gradient=CENTRAL_DIFFERENCE,
+        tangent=TANGENT_DIFFERENCES,
+        mass=MASS_SUM,
+        step_floor=WITHIN_TWO,
+        shrink=(1.9, 4.1, "tension and shear: dt ~ L; bending: dt ~ L^2"),
+        energy_parts=_fibrous_parts(
+            ("tension", "shear", "bending") if exact else ("tension", "shear")
+        ),
+        not_a_potential=None if exact else CURRENT_BENDING,
+    )
+
+
+# Bai et al. (2020) Table 1, linearised: the balance of tension, shear and bending of a real
+# fabric (the stable-step bound combines the three).
+BAI_FABRIC = fabric(tension=120.0, shear=4.0, bending=7.5, thickness=6.0, areal_density=5.7e-9)
+
+FIBROUS = _fibrous_case("fibrous", fabric(), "current")
+FIBROUS_REFERENCE_BENDING = _fibrous_case("fibrous-reference-bending", fabric(), "reference")
+FIBROUS_BAI = _fibrous_case("fibrous-bai-fabric", BAI_FABRIC, "current")
+
+
+def _mindlin_case(name: str, thickness: float, shrink: tuple[float, float, str]) -> ElementCase:
+    material = ElasticShell(1000.0, 0.3, thickness, 1e-9)
+    return ElementCase(
+        name=name,
+        element=lambda: MindlinShell(material),
+        mesh=patch,
+        total_mass=lambda mesh: 1e-9 * thickness * _patch_area(mesh),
+        deform=_shell_jitter(amplitude=0.5, tilt=0.2),
+        step_states={
+            "reference": lambda model: model.initial_state(),
+            "wrapped 1 rad": _wrapped(1.0),
+            "jittered": _shell_jitter(amplitude=0.5, tilt=0.2),
+        },
+        rigid_fields=("membrane_force", "bending_moment", "shear_force"),
+        rigid=ROUND_OFF,
+        rigid_energy=ROUND_OFF_SQUARED,
+        rigid_field=FIELD_ROUND_OFF,
+        objectivity=ROUND_OFF,
+        objective_energy=ENERGY_ROUND_OFF,
+        gradient=CENTRAL_DIFFERENCE,
+        tangent=TANGENT_DIFFERENCES,
+        mass=MASS_SUM,
+        step_floor=WITHIN_TWO,
+        shrink=shrink,
+    )
+
+
+# On 10 mm cells h = 2 and 0.2 mm have the rotary inertia scaled (B2: j ~ altitude^2), so every
+# term of omega^2 goes as 1 / L^2; h = 5 mm keeps the physical h^2 / 12, whose rotation term
+# does not depend on L.
+SCALED_INERTIA_SHRINK = (2.0 * (1 - 1e-12), 2.0 * (1 + 1e-12), "scaled inertia: dt ~ L exactly")
+MINDLIN = _mindlin_case("mindlin", 2.0, SCALED_INERTIA_SHRINK)
+# THEORY §6.2 (B1, B2), the two thicknesses of the former per-element step test: a thick shell
+# with the physical rotary inertia, a thin one that must keep the membrane step.
+MINDLIN_THICK = _mindlin_case(
+    "mindlin-thick", 5.0, (1.7, 2.0, "membrane terms dt ~ L; the unscaled rotation term fixed")
+)
+MINDLIN_THIN = _mindlin_case("mindlin-thin", 0.2, SCALED_INERTIA_SHRINK)
+
+CASES: list[ElementCase] = [
+    CABLE,
+    TENSION_ONLY_CABLE,
+    FIBROUS,
+    FIBROUS_REFERENCE_BENDING,
+    FIBROUS_BAI,
+    MINDLIN,
+    MINDLIN_THICK,
+    MINDLIN_THIN,
+]
