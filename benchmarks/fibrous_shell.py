@@ -5,7 +5,8 @@
    rest, over a fixed number of steps at 0.9 x the stable step: microseconds per
    element-step (compilation excluded; frames only at the start and the end).
 2. ``DynamicRelaxation`` of a 40 x 10-cell cantilever strip (200 x 50 mm, G1151 laminate of
-   Bai Table 2, clamped-edge option) under its own weight: wall time and iterations.
+   Bai Table 2, clamped-edge option) under its own weight: wall time and iterations (the
+   strip builder of the validation case fibrous-heavy-cantilever, validation.specimens).
 
 Run from the project root:
 
@@ -23,20 +24,19 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
-from shell_sheet import GRAVITY, print_explicit_table  # noqa: E402
+from shell_sheet import print_explicit_table  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
-from femcore import Mesh, Model  # noqa: E402
 from materials import presets  # noqa: E402
 from solvers import DynamicRelaxation  # noqa: E402
+from validation.specimens import fibrous_strip  # noqa: E402
+
+__all__ = ["main", "relaxation"]
 
 
 def relaxation() -> dict:
-    mesh = Mesh.rectangle(200.0, 50.0, nx=40, ny=10)
-    model = Model(mesh)
-    model.add(FibrousShell(presets.g1151_laminate(), clamped="left"))
-    model.fix("left")
-    model.gravity(GRAVITY)
+    """The G1151 strip of validation.specimens.fibrous_strip relaxed under its own weight."""
+    mesh, model = fibrous_strip(200.0, 50.0, presets.g1151_laminate(), cells=40, across=10)
     compiled = model.compile()
     started = time.perf_counter()
     result = DynamicRelaxation(max_iterations=1_000_000).solve(compiled)

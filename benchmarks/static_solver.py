@@ -30,9 +30,12 @@ from solvers import ConvergenceError, DynamicRelaxation, Static  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.references.elastica import tip_loaded_cantilever  # noqa: E402
 
+__all__ = ["corner_model", "describe", "main", "strip", "timed"]
 
-def corner_model(cells: int) -> tuple[Model, np.ndarray]:
-    specimen = specimens.corner(200.0, 150.0, cells)
+
+def corner_model(cells: int) -> tuple[Model, specimens.Specimen]:
+    """The bai-6.2.1 specimen (validation.specimens), its corner lowered by 40 mm."""
+    specimen = specimens.corner(*specimens.G1151_SIZE, cells)
     model = specimens.build(specimen, "fibrous", g1151_laminate(), (None, None, -40.0))
     return model, specimen
 

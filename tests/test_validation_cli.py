@@ -42,7 +42,7 @@ def test_a_coarse_run_writes_the_report_and_passes_its_checks(coarse_report):
     assert "Verification" in page and "FAIL" not in page
 
 
-@pytest.mark.parametrize("name", [module.NAME for module in PAPER_CASES])
+@pytest.mark.parametrize("name", [case.name for case in PAPER_CASES])
 def test_paper_case_invariants_hold_with_both_kinematics(coarse_report, name):
     # Bai's claims, per case: both runs converge; the fibres do not stretch (< 1 %); the
     # thickness along the fibrous director never drops below h (Eq. 10); where the mid-surface

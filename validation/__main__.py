@@ -10,8 +10,11 @@ from pathlib import Path
 from validation.cases import CASES, RESOLUTIONS
 from validation.report import run_cases
 
+__all__ = ["main", "parse"]
+
 
 def parse(argv: list[str]) -> argparse.Namespace:
+    """The command line: --list, --cases, --resolution, --out (names checked here)."""
     parser = argparse.ArgumentParser(
         prog="python -m validation",
         description="Run the validation cases and write an HTML report with results.json.",
@@ -40,17 +43,18 @@ def parse(argv: list[str]) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the command line; 0 when every check passed and no case raised, else 1."""
     args = parse(sys.argv[1:] if argv is None else argv)
     if args.list:
-        for name, module in CASES.items():
-            print(f"{name:28s} {module.TITLE}")
+        for name, case in CASES.items():
+            print(f"{name:28s} {case.title}")
         return 0
     started = time.perf_counter()
     out = Path(args.out)
     report = run_cases(args.cases, args.resolution, out)
-    cases = report["cases"].values()
-    failed = sum(not c["passed"] for case in cases for c in case["checks"])
-    errors = sum("error" in case for case in cases)
+    results = report.cases.values()
+    failed = sum(not c.passed for r in results for c in r.outcome.checks)
+    errors = sum(r.outcome.error is not None for r in results)
     print(
         f"report written to {out / 'index.html'} in {time.perf_counter() - started:.1f} s: "
         f"{failed} failed check(s), {errors} case error(s)"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -10,9 +11,13 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+__all__ = ["figure", "mesh_convergence", "plt"]
+
 
 @contextmanager
-def figure(path: Path, xlabel: str, ylabel: str, size=(6.4, 3.6)):
+def figure(
+    path: Path, xlabel: str, ylabel: str, size: tuple[float, float] = (6.4, 3.6)
+) -> Iterator[plt.Axes]:
     """Yield one axes; on exit add labels, grid and legend, save as PNG and close."""
     fig, ax = plt.subplots(figsize=size, constrained_layout=True)
     try:
@@ -27,7 +32,17 @@ def figure(path: Path, xlabel: str, ylabel: str, size=(6.4, 3.6)):
         plt.close(fig)
 
 
-def mesh_convergence(path: Path, meshes, ratio, tolerance: float, *, xlabel, ylabel, label, ylim):
+def mesh_convergence(
+    path: Path,
+    meshes: Sequence[int],
+    ratio: Sequence[float],
+    tolerance: float,
+    *,
+    xlabel: str,
+    ylabel: str,
+    label: str,
+    ylim: tuple[float, float],
+) -> None:
     """Value / reference against cells per side (log 2 axis), with the reference line and the
     tolerance band of a published benchmark (MacNeal & Harder 1985)."""
     with figure(path, xlabel, ylabel) as ax:

@@ -6,63 +6,85 @@ import html
 import json
 import platform
 import time
+from collections.abc import Callable
+from dataclasses import replace
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from validation.cases import CASES
+from validation.records import CaseResult, Outcome, Report
+
+__all__ = ["INTRODUCTION", "STYLE", "render_html", "run_case", "run_cases"]
 
 
-def run_cases(names: list[str], resolution: str, out_dir: Path, echo=print) -> dict:
-    """Run the named cases, write the report into ``out_dir``, return the results dict.
+def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
+    """Compute the named case at ``resolution``, then draw its figures and write its files
+    into ``out_dir``.
 
-    A case that raises is recorded as failed (with its error) and the others still run.
+    A case that raises (in its computation or its figures) is recorded as failed, with its
+    error, and not raised.
+    """
+    case = CASES[name]
+    started = time.perf_counter()
+    try:
+        outcome = case.compute(resolution)
+        outcome = replace(outcome, figures=list(case.render(outcome.data, out_dir)))
+    except Exception as error:  # a broken case is reported, never hidden
+        outcome = Outcome.failed(error)
+    return CaseResult(case=case, outcome=outcome, case_time_s=time.perf_counter() - started)
+
+
+def run_cases(
+    names: list[str], resolution: str, out_dir: Path, echo: Callable[..., Any] = print
+) -> Report:
+    """Run the named cases, write the report into ``out_dir``, return it.
+
+    Parameters
+    ----------
+    names : list of str
+        Case names (keys of ``validation.cases.CASES``), in report order.
+    resolution : str
+        "coarse", "default" or "fine".
+    out_dir : Path
+        The report folder: results.json, index.html, the figures and the VTU/XDMF files.
+    echo : callable, optional
+        Progress printer (``print`` signature).
+
+    Returns
+    -------
+    Report
+        Every case's outcome; a case that raised is recorded as failed and the others run.
     """
     out_dir.mkdir(parents=True, exist_ok=True)
     results = {}
     for i, name in enumerate(names, 1):
-        module = CASES[name]
-        echo(f"[{i}/{len(names)}] {name}: {module.TITLE} ...", end=" ", flush=True)
-        started = time.perf_counter()
-        try:
-            outcome = module.run(resolution, out_dir)
-        except Exception as error:  # a broken case is reported, never hidden
-            outcome = {
-                "converged": False,
-                "error": f"{type(error).__name__}: {error}",
-                "checks": [],
-                "figures": [],
-                "parameters": {},
-                "steps": 0,
-                "solver": "",
-            }
-        outcome["case_time_s"] = time.perf_counter() - started
-        outcome.setdefault("wall_time_s", outcome["case_time_s"])
-        outcome.update(
-            title=module.TITLE, source=module.SOURCE, description=(module.__doc__ or "").strip()
-        )
-        passed = sum(c["passed"] for c in outcome["checks"])
+        echo(f"[{i}/{len(names)}] {name}: {CASES[name].title} ...", end=" ", flush=True)
+        result = run_case(name, resolution, out_dir)
+        checks = result.outcome.checks
         status = (
-            "ERROR " + outcome["error"]
-            if "error" in outcome
-            else (f"{passed}/{len(outcome['checks'])} checks passed")
+            "ERROR " + result.outcome.error
+            if result.outcome.error is not None
+            else f"{result.passed}/{len(checks)} checks passed"
         )
-        echo(f"{outcome['case_time_s']:.1f} s, {status}")
-        results[name] = outcome
-    report = {
-        "generated": datetime.now(UTC).isoformat(timespec="seconds"),
-        "resolution": resolution,
-        "machine": f"{platform.platform()}, Python {platform.python_version()}, "
+        echo(f"{result.case_time_s:.1f} s, {status}")
+        results[name] = result
+    report = Report(
+        generated=datetime.now(UTC).isoformat(timespec="seconds"),
+        resolution=resolution,
+        machine=f"{platform.platform()}, Python {platform.python_version()}, "
         f"numpy {np.__version__}",
-        "cases": results,
-    }
-    (out_dir / "results.json").write_text(json.dumps(report, indent=2, default=_jsonable))
-    (out_dir / "index.html").write_text(render_html(report))
+        cases=results,
+    )
+    content = report.to_json()
+    (out_dir / "results.json").write_text(json.dumps(content, indent=2, default=_jsonable))
+    (out_dir / "index.html").write_text(render_html(content))
     return report
 
 
-def _jsonable(value):
+def _jsonable(value: Any) -> Any:
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, (np.floating, np.integer, np.bool_)):
@@ -151,8 +173,11 @@ def _summary_rows(name: str, case: dict) -> list[str]:
     return rows
 
 
-def render_html(report: dict) -> str:
-    """One self-contained page: summary, verification table, then each case in detail."""
+def render_html(report: dict[str, Any]) -> str:
+    """One self-contained page: summary, verification table, then each case in detail.
+
+    ``report`` is the content of results.json (``Report.to_json``), so that the page can be
+    rendered again from that file alone."""
     cases = report["cases"]
     rows = [row for name, case in cases.items() for row in _summary_rows(name, case)]
     check_rows = []

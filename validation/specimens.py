@@ -17,6 +17,10 @@ clamp at x = L to the corner at x = 0), side 2 along the weft (x = 0, from y = W
 ``s`` is the distance from the clamp along the side (mm).
 
 Gravity is -z in every case. Units: mm, N, t, s.
+
+Also the set-ups that several validation cases, tests and benchmarks build alike: the Mindlin
+cantilever strip (``mindlin_strip``), the fibrous cantilever strip under its own weight
+(``fibrous_strip``) and the hanging chain of the catenary cases (``hanging_chain``).
 """
 
 from __future__ import annotations
@@ -25,11 +29,42 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from elements import FibrousShell, MindlinShell
+from elements import Cable, FibrousShell, MindlinShell
 from femcore import Mesh, Model
 from materials import ElasticShell, Fabric
 
+__all__ = [
+    "CHAIN_DROP",
+    "CHAIN_LENGTH",
+    "CHAIN_MU",
+    "CHAIN_SEGMENTS",
+    "CHAIN_SPAN",
+    "CORNER_LIFT",
+    "G1151_SIZE",
+    "GRAVITY",
+    "PAPER_STACK_SIZE",
+    "Specimen",
+    "arc_length",
+    "box_chain",
+    "build",
+    "corner",
+    "fibrous_strip",
+    "hanging_chain",
+    "mindlin_equivalent",
+    "mindlin_strip",
+    "strip",
+]
+
 GRAVITY = 9810.0  # mm/s^2
+# Sizes (L, W) in mm of the §6 corner specimens: A5 paper sheets (assumed; §6.1) and the G1151
+# laminate (§6.2); the §6.1.1 / §6.2.1 corner lift (ux, uy, uz; None = free), assumed.
+PAPER_STACK_SIZE = (210.0, 148.0)
+G1151_SIZE = (200.0, 150.0)
+CORNER_LIFT = (None, None, 40.0)
+# The chain of the catenary cases: span and unstretched length (mm), the depth of the box it
+# starts as (mm), its mass per length (t/mm) and the segments per resolution.
+CHAIN_SPAN, CHAIN_LENGTH, CHAIN_DROP, CHAIN_MU = 96.0, 120.0, 12.0, 1.0e-6
+CHAIN_SEGMENTS = {"coarse": 20, "default": 40, "fine": 160}
 
 
 @dataclass(frozen=True)
@@ -98,6 +133,51 @@ def mindlin_strip(
     model.add(MindlinShell(ElasticShell(young, 0.0, thickness, 1e-9)))
     model.fix("left")
     return mesh, model
+
+
+def fibrous_strip(
+    length: float, width: float, fabric: Fabric, cells: int, across: int = 1
+) -> tuple[Mesh, Model]:
+    """A fibrous cantilever strip of cells x across cells under its own weight: clamped at
+    x = 0 (node set "left", with the clamped-edge option of the rotation-free bending),
+    gravity -z."""
+    mesh = Mesh.rectangle(length, width, nx=cells, ny=across)
+    model = Model(mesh)
+    model.add(FibrousShell(fabric, clamped="left"))
+    model.fix("left")
+    model.gravity((0.0, 0.0, -GRAVITY))
+    return mesh, model
+
+
+def box_chain(segments: int) -> Mesh:
+    """A chain of ``segments`` equal links (multiple of 10) hung as a box between two supports
+    ``CHAIN_SPAN`` apart: down ``CHAIN_DROP``, across, up."""
+    leg, across = segments // 10, segments - 2 * (segments // 10)
+    corners = np.array(
+        [[0.0, 0, 0], [0, 0, -CHAIN_DROP], [CHAIN_SPAN, 0, -CHAIN_DROP], [CHAIN_SPAN, 0, 0]]
+    )
+    points = [corners[0]]
+    for a, b, n in zip(corners[:-1], corners[1:], (leg, across, leg)):
+        points.extend(a + (b - a) * np.arange(1, n + 1)[:, None] / n)
+    points = np.array(points)
+    lines = np.column_stack([np.arange(len(points) - 1), np.arange(1, len(points))])
+    return Mesh(points, lines=lines)
+
+
+def hanging_chain(segments: int, axial_stiffness: float) -> Model:
+    """The box chain of cables (EA = ``axial_stiffness``, mass ``CHAIN_MU`` per length) pinned
+    at its two ends (z = 0), under gravity -z."""
+    mesh = box_chain(segments)
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness, CHAIN_MU))
+    model.fix(mesh.nodes(lambda x, y, z: np.isclose(z, 0.0)))
+    model.gravity((0.0, 0.0, -GRAVITY))
+    return model
+
+
+def arc_length(mesh: Mesh) -> np.ndarray:
+    """Distance of each node of a chain from its first node along the chain."""
+    return np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(mesh.points, axis=0), axis=1))]
 
 
 def mindlin_equivalent(fabric: Fabric, shear_ratio: float = 0.5) -> ElasticShell:

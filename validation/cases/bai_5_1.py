@@ -20,11 +20,13 @@ from materials.presets import g986_stack
 from validation import specimens
 from validation.paper import PaperCase
 
+__all__ = ["CASE", "SPEC"]
+
 NAME = "bai-5.1"
 TITLE = "20-ply G986 stack: clamped strip, end moved horizontally and vertically"
 SOURCE = "Bai et al. (2020) §5.1, Fig. 6, Table 1"
 LENGTH, WIDTH = 150.0, 30.0
-CASE = PaperCase(
+SPEC = PaperCase(
     name=NAME,
     title=TITLE,
     source="§5.1, Fig. 6",
@@ -39,5 +41,4 @@ CASE = PaperCase(
         "bending law": "Table 1, bilinear 7.5 / 0.5 N mm, knee 1e-3 1/mm",
     },
 )
-
-run = CASE.run
+CASE = SPEC.case(source=SOURCE, description=__doc__, order=10)

@@ -18,20 +18,23 @@ from __future__ import annotations
 
 from materials.presets import paper_stack
 from validation.paper import corner_case
+from validation.specimens import CORNER_LIFT, PAPER_STACK_SIZE
+
+__all__ = ["CASE", "SPEC"]
 
 NAME = "bai-6.1.1"
 TITLE = "130-sheet paper stack: corner lifted beyond a clamped diagonal"
 SECTION = "§6.1.1, Fig. 8b, 9, 10"
 SOURCE = f"Bai et al. (2020) {SECTION}"
 
-CASE = corner_case(
+SPEC = corner_case(
     name=NAME,
     title=TITLE,
     source=SECTION,
     fabric=paper_stack(),
-    size=(210.0, 148.0),
-    displacement=(None, None, 40.0),
+    size=PAPER_STACK_SIZE,
+    displacement=CORNER_LIFT,
     described="corner lifted 40 mm, x y free",
     cells={"coarse": 8, "default": 20, "fine": 40},
 )
-run = CASE.run
+CASE = SPEC.case(source=SOURCE, description=__doc__, order=20)

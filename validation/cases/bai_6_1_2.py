@@ -17,6 +17,9 @@ from __future__ import annotations
 
 from materials.presets import paper_stack
 from validation.paper import corner_case
+from validation.specimens import PAPER_STACK_SIZE
+
+__all__ = ["CASE", "SPEC"]
 
 NAME = "bai-6.1.2"
 TITLE = "130-sheet paper stack: buckling under an in-plane corner displacement"
@@ -24,15 +27,15 @@ SECTION = "§6.1.2, Fig. 8c, 11, 12"
 SOURCE = f"Bai et al. (2020) {SECTION}"
 PUSH = 20.0  # mm, assumed
 
-CASE = corner_case(
+SPEC = corner_case(
     name=NAME,
     title=TITLE,
     source=SECTION,
     fabric=paper_stack(),
-    size=(210.0, 148.0),
+    size=PAPER_STACK_SIZE,
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
     increments=20,
 )
-run = CASE.run
+CASE = SPEC.case(source=SOURCE, description=__doc__, order=30)

@@ -14,20 +14,23 @@ from __future__ import annotations
 
 from materials.presets import g1151_laminate
 from validation.paper import corner_case
+from validation.specimens import CORNER_LIFT, G1151_SIZE
+
+__all__ = ["CASE", "SPEC"]
 
 NAME = "bai-6.2.1"
 TITLE = "11-ply G1151 laminate: corner lifted beyond a clamped diagonal"
 SECTION = "§6.2.1, Fig. 13, 14"
 SOURCE = f"Bai et al. (2020) {SECTION}"
 
-CASE = corner_case(
+SPEC = corner_case(
     name=NAME,
     title=TITLE,
     source=SECTION,
     fabric=g1151_laminate(),
-    size=(200.0, 150.0),
-    displacement=(None, None, 40.0),
+    size=G1151_SIZE,
+    displacement=CORNER_LIFT,
     described="corner lifted 40 mm, x y free",
     cells={"coarse": 8, "default": 20, "fine": 40},
 )
-run = CASE.run
+CASE = SPEC.case(source=SOURCE, description=__doc__, order=40)

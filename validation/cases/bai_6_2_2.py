@@ -14,6 +14,9 @@ from __future__ import annotations
 
 from materials.presets import g1151_laminate
 from validation.paper import corner_case
+from validation.specimens import G1151_SIZE
+
+__all__ = ["CASE", "SPEC"]
 
 NAME = "bai-6.2.2"
 TITLE = "11-ply G1151 laminate: buckling under an in-plane corner displacement"
@@ -21,15 +24,15 @@ SECTION = "§6.2.2, Fig. 15, 16"
 SOURCE = f"Bai et al. (2020) {SECTION}"
 PUSH = 20.0  # mm, assumed
 
-CASE = corner_case(
+SPEC = corner_case(
     name=NAME,
     title=TITLE,
     source=SECTION,
     fabric=g1151_laminate(),
-    size=(200.0, 150.0),
+    size=G1151_SIZE,
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
     increments=20,
 )
-run = CASE.run
+CASE = SPEC.case(source=SOURCE, description=__doc__, order=50)

@@ -12,23 +12,51 @@ must not depend on these choices; the check states it for every variant.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
+from pathlib import Path
+
 import numpy as np
 
 from materials import BendingLaw, Fabric, ShearLaw
 from materials.presets import paper_stack
 from validation import specimens
-from validation.cases.bai_6_1_1 import CASE
 from validation.checks import check
-from validation.paper import solve
+from validation.paper import INCREMENTS, SHEAR_RATIO, solve
 from validation.plots import plt
+from validation.records import Case, Outcome
+
+__all__ = ["CASE", "SensitivityData", "compute", "render", "variant"]
 
 NAME = "bai-6.1.1-sensitivity"
 TITLE = "Paper stack corner test: sensitivity to the assumed bending and shear stiffness"
 SOURCE = "Bai et al. (2020) §6.1.1 with the assumed data of materials.presets.paper_stack"
 CELLS = {"coarse": 6, "default": 12, "fine": 20}
+# The set-up of bai-6.1.1: its specimen (specimens.PAPER_STACK_SIZE), its corner lift, and the
+# paper cases' default increments and Mindlin G13 / E (validation.paper).
+DISPLACEMENT = specimens.CORNER_LIFT
+VARIANTS = [
+    ("fibrous", "B, K as assumed", 1.0, 1.0),
+    ("fibrous", "B / 2", 0.5, 1.0),
+    ("fibrous", "B x 2", 2.0, 1.0),
+    ("fibrous", "K / 10", 1.0, 0.1),
+    ("fibrous", "K x 10", 1.0, 10.0),
+    ("mindlin", "B, K as assumed", 1.0, 1.0),
+    ("mindlin", "B / 2", 0.5, 1.0),
+    ("mindlin", "B x 2", 2.0, 1.0),
+]
+
+
+@dataclass(frozen=True)
+class SensitivityData:
+    """Along side 1: s, and per (kinematics, label) variant its mid-surface z and director
+    angle (deg), in the order of ``VARIANTS``."""
+
+    s: np.ndarray
+    profiles: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]
 
 
 def variant(base: Fabric, bending_scale: float = 1.0, shear_scale: float = 1.0) -> Fabric:
+    """``base`` with its (linearised) bending and shear stiffness scaled."""
     b = base.bending.slope(np.array(0.0)).item() * bending_scale
     k = base.shear.slope(np.array(0.0)).item() * shear_scale
     return Fabric(
@@ -40,27 +68,17 @@ def variant(base: Fabric, bending_scale: float = 1.0, shear_scale: float = 1.0) 
     )
 
 
-def run(resolution: str, out_dir) -> dict:
+def compute(resolution: str) -> Outcome:
+    """Solve every variant of ``VARIANTS`` on the bai-6.1.1 specimen; check each."""
     base = paper_stack()
-    specimen = CASE.make_specimen(CELLS[resolution])
+    specimen = specimens.corner(*specimens.PAPER_STACK_SIZE, CELLS[resolution])
     nodes, s = specimen.sides["side_1"]
-    variants = [
-        ("fibrous", "B, K as assumed", 1.0, 1.0),
-        ("fibrous", "B / 2", 0.5, 1.0),
-        ("fibrous", "B x 2", 2.0, 1.0),
-        ("fibrous", "K / 10", 1.0, 0.1),
-        ("fibrous", "K x 10", 1.0, 10.0),
-        ("mindlin", "B, K as assumed", 1.0, 1.0),
-        ("mindlin", "B / 2", 0.5, 1.0),
-        ("mindlin", "B x 2", 2.0, 1.0),
-    ]
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4), constrained_layout=True)
     checks, wall, steps, converged = [], 0.0, 0, True
-    angles = {}
-    for kinematics, label, b_scale, k_scale in variants:
+    angles, profiles = {}, {}
+    for kinematics, label, b_scale, k_scale in VARIANTS:
         fabric = variant(base, b_scale, k_scale)
-        model = specimens.build(specimen, kinematics, fabric, CASE.displacement, CASE.shear_ratio)
-        result, note, seconds = solve(model, CASE.increments)
+        model = specimens.build(specimen, kinematics, fabric, DISPLACEMENT, SHEAR_RATIO)
+        result, note, seconds = solve(model, INCREMENTS)
         wall += seconds
         steps += result.steps
         converged &= bool(result.converged)
@@ -72,19 +90,7 @@ def run(resolution: str, out_dir) -> dict:
         run_ = np.linalg.norm(np.gradient(x[:, :2], axis=0), axis=1)
         slope = np.degrees(np.arctan2(np.abs(np.gradient(x[:, 2])), run_)).max()
         angles[(kinematics, label)] = (angle, slope)
-        style = "-" if kinematics == "fibrous" else "--"
-        name = f"{kinematics}, {label}"
-        axes[0].plot(s, x[:, 2], style, marker="o", ms=2, label=name)
-        axes[1].plot(s, angle, style, marker="o", ms=2, label=name)
-    axes[0].set(xlabel="s along side 1 (mm)", ylabel="mid-surface z (mm)")
-    axes[1].set(xlabel="s along side 1 (mm)", ylabel="director angle to horizontal (deg)")
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-    axes[1].legend(fontsize="x-small", ncol=2)
-    figure = f"{NAME}.png"
-    fig.suptitle("bai-6.1.1, side 1: fibrous (solid) and Mindlin (dashed) for varied B and K")
-    fig.savefig(out_dir / figure, dpi=100)
-    plt.close(fig)
+        profiles[(kinematics, label)] = (x[:, 2], angle)
     for (kinematics, label), (angle, slope) in angles.items():
         # Tilt of the directors from the vertical against the largest mid-surface slope:
         # ~1 for a standard shell (director = normal), ~0 for Bai's fibrous shell.
@@ -105,27 +111,62 @@ def run(resolution: str, out_dir) -> dict:
             # ones do not.
             gap = float(np.abs(angle - angles[("fibrous", label)][0]).max())
             checks.append(
-                check(
-                    f"Mindlin vs fibrous, {label}: largest director angle difference (deg, > 5)",
-                    5.0,
-                    gap,
-                    np.inf,
-                    relative=False,
-                    source="Bai §6.1.1: fibrous directors differ from standard shell normals",
+                replace(
+                    check(
+                        f"Mindlin vs fibrous, {label}: largest director angle difference "
+                        "(deg, > 5)",
+                        5.0,
+                        gap,
+                        np.inf,
+                        relative=False,
+                        source="Bai §6.1.1: fibrous directors differ from standard shell normals",
+                    ),
+                    passed=bool(gap > 5.0),
                 )
-                | {"passed": bool(gap > 5.0)}
             )
-    return {
-        "converged": converged,
-        "wall_time_s": wall,
-        "steps": steps,
-        "solver": "Static (DynamicRelaxation where Static stops), each variant",
-        "parameters": {
+    return Outcome(
+        converged=converged,
+        wall_time_s=wall,
+        steps=steps,
+        solver="Static (DynamicRelaxation where Static stops), each variant",
+        parameters={
             "triangles": len(specimen.mesh.triangles),
             "B assumed (N mm)": base.bending.slope(np.array(0.0)).item(),
             "K assumed (N/mm)": base.shear.slope(np.array(0.0)).item(),
             "variants": "B x 0.5, 2; K x 0.1, 10",
         },
-        "checks": checks,
-        "figures": [figure],
-    }
+        checks=checks,
+        data=SensitivityData(s=s, profiles=profiles),
+    )
+
+
+def render(data: SensitivityData, out_dir: Path) -> list[str]:
+    """Mid-surface and director angle along side 1, every variant."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4), constrained_layout=True)
+    for (kinematics, label), (z, angle) in data.profiles.items():
+        style = "-" if kinematics == "fibrous" else "--"
+        name = f"{kinematics}, {label}"
+        axes[0].plot(data.s, z, style, marker="o", ms=2, label=name)
+        axes[1].plot(data.s, angle, style, marker="o", ms=2, label=name)
+    axes[0].set(xlabel="s along side 1 (mm)", ylabel="mid-surface z (mm)")
+    axes[1].set(xlabel="s along side 1 (mm)", ylabel="director angle to horizontal (deg)")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    axes[1].legend(fontsize="x-small", ncol=2)
+    figure = f"{NAME}.png"
+    fig.suptitle("bai-6.1.1, side 1: fibrous (solid) and Mindlin (dashed) for varied B and K")
+    fig.savefig(out_dir / figure, dpi=100)
+    plt.close(fig)
+    return [figure]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="sensitivity",
+    order=10,
+    compute=compute,
+    render=render,
+)

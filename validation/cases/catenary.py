@@ -11,82 +11,70 @@ Nothing assumed: the reference is closed form.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
-from elements import Cable
-from femcore import Mesh, Model
 from solvers import DynamicRelaxation
 from validation.checks import check
 from validation.plots import figure
+from validation.records import Case, Outcome
 from validation.references.catenary import catenary_sag, elastic_catenary_shape
+from validation.specimens import (
+    CHAIN_LENGTH,
+    CHAIN_MU,
+    CHAIN_SEGMENTS,
+    CHAIN_SPAN,
+    GRAVITY,
+    arc_length,
+    hanging_chain,
+)
+
+__all__ = ["CASE", "CatenaryData", "compute", "render"]
 
 NAME = "cable-catenary"
 TITLE = "Stiff cable under its own weight: the catenary"
 SOURCE = "Irvine, Cable Structures (1981), §1.3 (EA -> infinity)"
-SEGMENTS = {"coarse": 20, "default": 40, "fine": 160}
-SPAN, LENGTH, DROP = 96.0, 120.0, 12.0
-MU, G = 1.0e-6, 9810.0
+AXIAL_STIFFNESS = 5000.0
 
 
-def box_chain(segments: int) -> Mesh:
-    """A chain of ``segments`` equal links (multiple of 10): down, across, up."""
-    leg, across = segments // 10, segments - 2 * (segments // 10)
-    corners = np.array([[0.0, 0, 0], [0, 0, -DROP], [SPAN, 0, -DROP], [SPAN, 0, 0]])
-    points = [corners[0]]
-    for a, b, n in zip(corners[:-1], corners[1:], (leg, across, leg)):
-        points.extend(a + (b - a) * np.arange(1, n + 1)[:, None] / n)
-    points = np.array(points)
-    lines = np.column_stack([np.arange(len(points) - 1), np.arange(1, len(points))])
-    return Mesh(points, lines=lines)
+@dataclass(frozen=True)
+class CatenaryData:
+    """The catenary (x, z) at the nodes' arc lengths, the start and the relaxed chain."""
+
+    x: np.ndarray
+    z: np.ndarray
+    start: np.ndarray
+    result: Any
 
 
-def hanging_model(segments: int, axial_stiffness: float) -> Model:
-    mesh = box_chain(segments)
-    model = Model(mesh)
-    model.add(Cable(axial_stiffness, MU))
-    model.fix(mesh.nodes(lambda x, y, z: np.isclose(z, 0.0)))
-    model.gravity((0.0, 0.0, -G))
-    return model
-
-
-def arc_length(mesh: Mesh) -> np.ndarray:
-    return np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(mesh.points, axis=0), axis=1))]
-
-
-def run(resolution: str, out_dir) -> dict:
-    segments = SEGMENTS[resolution]
-    axial_stiffness = 5000.0
-    model = hanging_model(segments, axial_stiffness)
+def compute(resolution: str) -> Outcome:
+    """Relax the chain from its box shape; check its sag and shape against the catenary."""
+    segments = CHAIN_SEGMENTS[resolution]
+    model = hanging_chain(segments, AXIAL_STIFFNESS)
     result = DynamicRelaxation(tol=1e-7).solve(model)
     s = arc_length(model.mesh)
-    middle = int(np.argmin(np.abs(s - LENGTH / 2)))
+    middle = int(np.argmin(np.abs(s - CHAIN_LENGTH / 2)))
     sag = -result.positions[middle, 2]
-    reference = catenary_sag(SPAN, LENGTH, MU * G)
-    x, z = elastic_catenary_shape(s, SPAN, LENGTH, MU * G)
-    weight = MU * LENGTH * G
-
-    with figure(out_dir / "cable-catenary.png", "x (mm)", "z (mm)") as ax:
-        ax.plot(x, z, "-", color="0.3", label="catenary (Irvine 1981)")
-        ax.plot(
-            result.positions[:, 0], result.positions[:, 2], "o", ms=3, label="dynamic relaxation"
-        )
-        ax.plot(model.mesh.points[:, 0], model.mesh.points[:, 2], ":", color="0.6", label="start")
-        ax.set_aspect("equal")
-    result.write(out_dir / "cable-catenary.vtu")
-    return {
-        "converged": result.converged,
-        "wall_time_s": result.wall_time,
-        "steps": result.steps,
-        "solver": "DynamicRelaxation (kinetic damping, tol 1e-7)",
-        "parameters": {
+    reference = catenary_sag(CHAIN_SPAN, CHAIN_LENGTH, CHAIN_MU * GRAVITY)
+    x, z = elastic_catenary_shape(s, CHAIN_SPAN, CHAIN_LENGTH, CHAIN_MU * GRAVITY)
+    weight = CHAIN_MU * CHAIN_LENGTH * GRAVITY
+    return Outcome(
+        converged=result.converged,
+        wall_time_s=result.wall_time,
+        steps=result.steps,
+        solver="DynamicRelaxation (kinetic damping, tol 1e-7)",
+        parameters={
             "segments": segments,
-            "EA_N": axial_stiffness,
-            "mu_t_per_mm": MU,
-            "g_mm_per_s2": G,
-            "span_mm": SPAN,
-            "length_mm": LENGTH,
+            "EA_N": AXIAL_STIFFNESS,
+            "mu_t_per_mm": CHAIN_MU,
+            "g_mm_per_s2": GRAVITY,
+            "span_mm": CHAIN_SPAN,
+            "length_mm": CHAIN_LENGTH,
         },
-        "checks": [
+        checks=[
             check("mid-span sag (mm)", reference, sag, 5e-3, source=SOURCE),
             check(
                 "largest distance to the catenary / sag",
@@ -104,5 +92,29 @@ def run(resolution: str, out_dir) -> dict:
                 source="static equilibrium",
             ),
         ],
-        "figures": ["cable-catenary.png"],
-    }
+        data=CatenaryData(x=x, z=z, start=model.mesh.points, result=result),
+    )
+
+
+def render(data: CatenaryData, out_dir: Path) -> list[str]:
+    """The relaxed chain on the catenary; the VTU file of the result."""
+    positions = data.result.positions
+    with figure(out_dir / "cable-catenary.png", "x (mm)", "z (mm)") as ax:
+        ax.plot(data.x, data.z, "-", color="0.3", label="catenary (Irvine 1981)")
+        ax.plot(positions[:, 0], positions[:, 2], "o", ms=3, label="dynamic relaxation")
+        ax.plot(data.start[:, 0], data.start[:, 2], ":", color="0.6", label="start")
+        ax.set_aspect("equal")
+    data.result.write(out_dir / "cable-catenary.vtu")
+    return ["cable-catenary.png"]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=10,
+    compute=compute,
+    render=render,
+)

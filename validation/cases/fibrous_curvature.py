@@ -18,6 +18,10 @@ Same checks as tests/test_fibrous.py::test_constant_curvature_is_exact_on_interi
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -26,6 +30,9 @@ from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from validation.checks import check
 from validation.plots import figure
+from validation.records import Case, Outcome
+
+__all__ = ["CASE", "CurvatureData", "compute", "curvatures", "render", "sheet", "worst"]
 
 NAME = "fibrous-curvature"
 TITLE = "Rotation-free fibrous bending: constant curvature is exact (patch test)"
@@ -43,7 +50,22 @@ SURFACES = [
 ]
 
 
-def sheet(mesh: Mesh, **options):
+@dataclass(frozen=True)
+class CurvatureData:
+    """Warp curvature under z = x^2/2 per cell: on the square sheet (centroids, interior
+    mask, values) and at the cells of the clamped wall, with and without the option."""
+
+    centroid: np.ndarray
+    interior: np.ndarray
+    chi_warp: np.ndarray
+    wall_centroid: np.ndarray
+    at_wall: np.ndarray
+    chi_clamped: np.ndarray
+    chi_free: np.ndarray
+
+
+def sheet(mesh: Mesh, **options: Any) -> Any:
+    """The compiled model of a fibrous sheet on ``mesh`` (FibrousShell ``options``)."""
     fabric = Fabric(
         thickness=3.0,
         areal_density=1e-9,
@@ -56,7 +78,9 @@ def sheet(mesh: Mesh, **options):
     return model.compile()
 
 
-def curvatures(model, surface) -> tuple[np.ndarray, np.ndarray]:
+def curvatures(
+    model: Any, surface: Callable[[np.ndarray, np.ndarray], np.ndarray]
+) -> tuple[np.ndarray, np.ndarray]:
     """Warp and weft curvature of every cell when the nodes are lifted to epsilon f(x, y)."""
     state = model.initial_state()
     x, y = model.reference_positions[:, 0], model.reference_positions[:, 1]
@@ -70,7 +94,8 @@ def worst(values: np.ndarray, expected: float) -> float:
     return float(values[np.argmax(np.abs(values - expected))])
 
 
-def run(resolution: str, out_dir) -> dict:
+def compute(resolution: str) -> Outcome:
+    """Curvatures of every imposed surface on the sheet, and at a clamped wall."""
     started = time.perf_counter()
     n = CELLS[resolution]
     mesh = Mesh.rectangle(1.0 * n, 1.3 * n, nx=n, ny=n)
@@ -106,40 +131,68 @@ def run(resolution: str, out_dir) -> dict:
         )
     )
     chi_free, _ = curvatures(sheet(wall), lambda x, y: x**2 / 2)
-
-    centroid = mesh.points[mesh.triangles].mean(axis=1)
     chi_warp, _ = curvatures(model, SURFACES[0][1])
-    wall_centroid = wall.points[wall.triangles].mean(axis=1)
+    data = CurvatureData(
+        centroid=mesh.points[mesh.triangles].mean(axis=1),
+        interior=interior,
+        chi_warp=chi_warp,
+        wall_centroid=wall.points[wall.triangles].mean(axis=1),
+        at_wall=at_wall,
+        chi_clamped=chi_clamped,
+        chi_free=chi_free,
+    )
+    return Outcome(
+        converged=True,
+        wall_time_s=time.perf_counter() - started,
+        steps=0,
+        solver="none (FibrousShell.cell_fields of imposed surfaces, lift 1e-6)",
+        parameters={
+            "cells": f"{n} x {n} (a = 1 mm, b = 1.3 mm); wall sheet {n} x {max(n // 3, 1)}",
+            "interior_cells": int(interior.sum()),
+            "lift_epsilon": EPSILON,
+            "wall_cell_warp_curvature_without_option": worst(chi_free[at_wall], -1.0),
+        },
+        checks=checks,
+        data=data,
+    )
+
+
+def render(data: CurvatureData, out_dir: Path) -> list[str]:
+    """Warp curvature of every cell under z = x^2/2 against the exact value."""
+    interior, at_wall = data.interior, data.at_wall
     with figure(out_dir / f"{NAME}.png", "cell centroid x (mm)", "warp curvature (1/mm)") as ax:
         ax.axhline(-1.0, color="0.3", label="exact, z = x^2/2")
-        ax.plot(centroid[interior, 0], chi_warp[interior], "o", label="interior cells")
-        ax.plot(centroid[~interior, 0], chi_warp[~interior], "x", label="cells on a free edge")
+        ax.plot(data.centroid[interior, 0], data.chi_warp[interior], "o", label="interior cells")
         ax.plot(
-            wall_centroid[at_wall, 0],
-            chi_clamped[at_wall],
+            data.centroid[~interior, 0],
+            data.chi_warp[~interior],
+            "x",
+            label="cells on a free edge",
+        )
+        ax.plot(
+            data.wall_centroid[at_wall, 0],
+            data.chi_clamped[at_wall],
             "s",
             mfc="none",
             ms=9,
             label="cells at a clamped wall, clamped-edge option",
         )
         ax.plot(
-            wall_centroid[at_wall, 0],
-            chi_free[at_wall],
+            data.wall_centroid[at_wall, 0],
+            data.chi_free[at_wall],
             "^",
             label="same cells without the option (free edge)",
         )
+    return [f"{NAME}.png"]
 
-    return {
-        "converged": True,
-        "wall_time_s": time.perf_counter() - started,
-        "steps": 0,
-        "solver": "none (FibrousShell.cell_fields of imposed surfaces, lift 1e-6)",
-        "parameters": {
-            "cells": f"{n} x {n} (a = 1 mm, b = 1.3 mm); wall sheet {n} x {max(n // 3, 1)}",
-            "interior_cells": int(interior.sum()),
-            "lift_epsilon": EPSILON,
-            "wall_cell_warp_curvature_without_option": worst(chi_free[at_wall], -1.0),
-        },
-        "checks": checks,
-        "figures": [f"{NAME}.png"],
-    }
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=40,
+    compute=compute,
+    render=render,
+)

@@ -17,15 +17,22 @@ both give the same state, about 1 s at 20 cells instead of ~35 s at 10).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
-from elements import FibrousShell
 from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
+from validation.records import Case, Outcome
 from validation.references.elastica import heavy_cantilever
+from validation.specimens import GRAVITY, fibrous_strip
+
+__all__ = ["CASE", "HeavyCantileverData", "compute", "render", "strip"]
 
 NAME = "fibrous-heavy-cantilever"
 TITLE = "Fibrous strip under its own weight: the heavy elastica and the slipping plies"
@@ -45,13 +52,26 @@ LENGTH, WIDTH, THICKNESS, DENSITY, BENDING, TENSION, SHEAR, G = (
     7.5,
     1200.0,
     4.0,
-    9810.0,
+    GRAVITY,
 )
 STEEP = np.radians(45.0)
 
 
+@dataclass(frozen=True)
+class HeavyCantileverData:
+    """The reference elastica, the side y = 0 (positions, directors, nodal thickness), the
+    number of cells and the solver result."""
+
+    reference: dict[str, Any]
+    positions: np.ndarray
+    directors: np.ndarray
+    thickness: np.ndarray
+    cells: int
+    result: Any
+
+
 def strip(cells: int) -> tuple[Mesh, Model]:
-    mesh = Mesh.rectangle(LENGTH, WIDTH, nx=cells, ny=1)
+    """The strip of cells x 1 cells under its own weight (validation.specimens.fibrous_strip)."""
     fabric = Fabric(
         thickness=THICKNESS,
         areal_density=DENSITY,
@@ -59,14 +79,12 @@ def strip(cells: int) -> tuple[Mesh, Model]:
         shear=ShearLaw.linear(SHEAR),
         bending=BendingLaw.linear(BENDING),
     )
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, clamped="left"))
-    model.fix("left")
-    model.gravity((0.0, 0.0, -G))
-    return mesh, model
+    return fibrous_strip(LENGTH, WIDTH, fabric, cells)
 
 
-def run(resolution: str, out_dir) -> dict:
+def compute(resolution: str) -> Outcome:
+    """Solve the strip with Static; check its tip against the heavy elastica and its
+    directors and thickness against Bai's kinematics."""
     cells = CELLS[resolution]
     mesh, model = strip(cells)
     compiled = model.compile()
@@ -95,24 +113,13 @@ def run(resolution: str, out_dir) -> dict:
     fields = result.frames[-1].fields["triangle"]
     strain = max(np.abs(fields["warp_strain"]).max(), np.abs(fields["weft_strain"]).max())
 
-    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)") as ax:
-        ax.plot(reference["x"], reference["z"], "-", color="0.3", label="heavy elastica (BVP)")
-        ax.plot(p[:, 0], p[:, 2], "o", ms=4, label=f"FibrousShell, {cells} cells, side y = 0")
-        for k, (point, director, length) in enumerate(zip(p, d, h)):
-            ends = point + np.outer([-0.5, 0.5], director) * length
-            label = "directors x nodal thickness" if k == 0 else None
-            ax.plot(ends[:, 0], ends[:, 2], "-", color="C1", lw=1, label=label)
-        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded mid-surface")
-        ax.set_aspect("equal")
-
-    result.write(out_dir / f"{NAME}.vtu")
     bai = "Bai et al. (2020) §3, Fig. 1, 6f"
-    return {
-        "converged": result.converged,
-        "wall_time_s": result.wall_time,
-        "steps": result.steps,
-        "solver": f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
-        "parameters": {
+    return Outcome(
+        converged=result.converged,
+        wall_time_s=result.wall_time,
+        steps=result.steps,
+        solver=f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
+        parameters={
             "cells": cells,
             "length_mm": LENGTH,
             "width_mm": WIDTH,
@@ -126,7 +133,7 @@ def run(resolution: str, out_dir) -> dict:
             "largest_slope_deg": float(np.degrees(slope.max())),
             "largest_director_tilt_deg": float(np.degrees(tilt.max())),
         },
-        "checks": [
+        checks=[
             check(
                 "tip deflection (mm)",
                 reference["tip_deflection"],
@@ -176,5 +183,35 @@ def run(resolution: str, out_dir) -> dict:
                 source="inextensible fibres",
             ),
         ],
-        "figures": [f"{NAME}.png"],
-    }
+        data=HeavyCantileverData(
+            reference=reference, positions=p, directors=d, thickness=h, cells=cells, result=result
+        ),
+    )
+
+
+def render(data: HeavyCantileverData, out_dir: Path) -> list[str]:
+    """The side y = 0 with its directors on the heavy elastica; the VTU file."""
+    p, d, h, reference = data.positions, data.directors, data.thickness, data.reference
+    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)") as ax:
+        ax.plot(reference["x"], reference["z"], "-", color="0.3", label="heavy elastica (BVP)")
+        ax.plot(p[:, 0], p[:, 2], "o", ms=4, label=f"FibrousShell, {data.cells} cells, side y = 0")
+        for k, (point, director, length) in enumerate(zip(p, d, h)):
+            ends = point + np.outer([-0.5, 0.5], director) * length
+            label = "directors x nodal thickness" if k == 0 else None
+            ax.plot(ends[:, 0], ends[:, 2], "-", color="C1", lw=1, label=label)
+        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded mid-surface")
+        ax.set_aspect("equal")
+    data.result.write(out_dir / f"{NAME}.vtu")
+    return [f"{NAME}.png"]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=50,
+    compute=compute,
+    render=render,
+)

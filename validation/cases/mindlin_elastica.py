@@ -15,14 +15,21 @@ Same setup as tests/test_mindlin.py::test_cantilever_under_a_large_tip_load_foll
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from femcore import Mesh
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
+from validation.records import Case, Outcome
 from validation.references.elastica import tip_loaded_cantilever
 from validation.specimens import mindlin_strip
+
+__all__ = ["CASE", "ElasticaData", "compute", "render", "stations"]
 
 NAME = "mindlin-elastica"
 TITLE = "Mindlin cantilever strip under a large tip load: the elastica"
@@ -34,6 +41,21 @@ INCREMENTS = 5
 BENDING = YOUNG * WIDTH * THICKNESS**3 / 12  # EI, N mm^2
 
 
+@dataclass(frozen=True)
+class ElasticaData:
+    """The reference elastica, the strip's centre line, the tip drop per load increment, the
+    elastica's load-deflection curve, the number of cells and the solver result."""
+
+    reference: dict[str, Any]
+    centre: np.ndarray
+    factors: np.ndarray
+    drops: np.ndarray
+    curve: np.ndarray
+    elastica: list[float]
+    cells: int
+    result: Any
+
+
 def stations(mesh: Mesh, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Reference x of each cross-section and ``values`` averaged over its nodes."""
     x = np.unique(np.round(mesh.points[:, 0], 9))
@@ -42,7 +64,8 @@ def stations(mesh: Mesh, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return x, mean
 
 
-def run(resolution: str, out_dir) -> dict:
+def compute(resolution: str) -> Outcome:
+    """Solve the strip under the tip load with Static; check its tip against the elastica."""
     cells = CELLS[resolution]
     load = LOAD_PARAMETER * BENDING / LENGTH**2
     mesh, model = mindlin_strip(LENGTH, WIDTH, THICKNESS, YOUNG, cells)
@@ -53,13 +76,7 @@ def run(resolution: str, out_dir) -> dict:
     reference = tip_loaded_cantilever(LENGTH, load, BENDING)
     unit = tip_loaded_cantilever(LENGTH, BENDING / LENGTH**2, BENDING)  # P L^2 / EI = 1
     moved = result.displacements[tip].mean(axis=0)
-
     _, centre = stations(mesh, result.positions)
-    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)") as ax:
-        ax.plot(reference["x"], reference["z"], "-", color="0.3", label="elastica (BVP)")
-        ax.plot(centre[:, 0], centre[:, 2], "o", ms=4, label=f"MindlinShell, {cells} cells")
-        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded")
-        ax.set_aspect("equal")
 
     # Tip load-deflection: one point per load increment against the elastica.
     factors = np.array([frame.load_factor for frame in result.frames])
@@ -69,29 +86,14 @@ def run(resolution: str, out_dir) -> dict:
         tip_loaded_cantilever(LENGTH, f * load, BENDING, points=201)["tip_deflection"]
         for f in curve[1:]
     ]
-    with figure(out_dir / f"{NAME}-load.png", "P L^2 / EI", "tip deflection / L") as ax:
-        ax.plot(
-            LOAD_PARAMETER * curve, np.array(elastica) / LENGTH, "-", color="0.3", label="elastica"
-        )
-        ax.plot(
-            LOAD_PARAMETER * curve,
-            LOAD_PARAMETER * curve / 3.0,
-            "--",
-            color="0.6",
-            label="linear: P L^3 / (3 EI)",
-        )
-        ax.plot(LOAD_PARAMETER * factors, drops / LENGTH, "o", label="Static, per increment")
-        ax.plot([1.0, 3.0], [0.3017, 0.603], "kx", ms=8, label="Bisshopp & Drucker (1945)")
-        ax.set_ylim(0, 0.8)
 
-    result.write(out_dir / f"{NAME}.vtu")
     bvp = "validation.references.elastica (boundary-value solve)"
-    return {
-        "converged": result.converged,
-        "wall_time_s": result.wall_time,
-        "steps": result.steps,
-        "solver": f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
-        "parameters": {
+    return Outcome(
+        converged=result.converged,
+        wall_time_s=result.wall_time,
+        steps=result.steps,
+        solver=f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
+        parameters={
             "cells": cells,
             "length_mm": LENGTH,
             "width_mm": WIDTH,
@@ -101,7 +103,7 @@ def run(resolution: str, out_dir) -> dict:
             "P_N": load,
             "PL2_over_EI": LOAD_PARAMETER,
         },
-        "checks": [
+        checks=[
             check(
                 "elastica tip drop / L at P L^2 / EI = 1, to the printed digits (self-check)",
                 0.3017,
@@ -127,5 +129,60 @@ def run(resolution: str, out_dir) -> dict:
             ),
             check("tip x (mm)", reference["tip_x"], LENGTH + moved[0], 1e-2, source=bvp),
         ],
-        "figures": [f"{NAME}.png", f"{NAME}-load.png"],
-    }
+        data=ElasticaData(
+            reference=reference,
+            centre=centre,
+            factors=factors,
+            drops=drops,
+            curve=curve,
+            elastica=elastica,
+            cells=cells,
+            result=result,
+        ),
+    )
+
+
+def render(data: ElasticaData, out_dir: Path) -> list[str]:
+    """The deformed strip on the elastica; the tip load-deflection curve; the VTU file."""
+    reference, centre, curve = data.reference, data.centre, data.curve
+    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)") as ax:
+        ax.plot(reference["x"], reference["z"], "-", color="0.3", label="elastica (BVP)")
+        ax.plot(centre[:, 0], centre[:, 2], "o", ms=4, label=f"MindlinShell, {data.cells} cells")
+        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded")
+        ax.set_aspect("equal")
+
+    with figure(out_dir / f"{NAME}-load.png", "P L^2 / EI", "tip deflection / L") as ax:
+        ax.plot(
+            LOAD_PARAMETER * curve,
+            np.array(data.elastica) / LENGTH,
+            "-",
+            color="0.3",
+            label="elastica",
+        )
+        ax.plot(
+            LOAD_PARAMETER * curve,
+            LOAD_PARAMETER * curve / 3.0,
+            "--",
+            color="0.6",
+            label="linear: P L^3 / (3 EI)",
+        )
+        ax.plot(
+            LOAD_PARAMETER * data.factors, data.drops / LENGTH, "o", label="Static, per increment"
+        )
+        ax.plot([1.0, 3.0], [0.3017, 0.603], "kx", ms=8, label="Bisshopp & Drucker (1945)")
+        ax.set_ylim(0, 0.8)
+
+    data.result.write(out_dir / f"{NAME}.vtu")
+    return [f"{NAME}.png", f"{NAME}-load.png"]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=60,
+    compute=compute,
+    render=render,
+)

@@ -13,6 +13,10 @@ Same setup as tests/test_mindlin.py::test_pinched_cylinder_with_rigid_diaphragms
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from elements import MindlinShell
@@ -20,6 +24,9 @@ from femcore import Mesh, Model
 from materials import ElasticShell
 from validation.checks import check, solve_sequence
 from validation.plots import mesh_convergence
+from validation.records import Case, Outcome
+
+__all__ = ["CASE", "ConvergenceData", "compute", "octant", "render"]
 
 NAME = "mindlin-pinched-cylinder"
 TITLE = "Pinched cylinder with rigid diaphragms (linear)"
@@ -63,30 +70,28 @@ def octant(cells: int) -> tuple[Model, int]:
     return model, int(loaded[0])
 
 
-def run(resolution: str, out_dir) -> dict:
+@dataclass(frozen=True)
+class ConvergenceData:
+    """The mesh sequence, the value / reference on each mesh, the result on the last one."""
+
+    meshes: tuple[int, ...]
+    ratio: np.ndarray
+    result: Any
+
+
+def compute(resolution: str) -> Outcome:
+    """Solve the mesh sequence of ``resolution``; check the value on its last mesh."""
     meshes = MESHES[resolution]
     deflections, result, wall, steps, converged = solve_sequence(
         octant, meshes, lambda result, node: -result.displacements[node, 2]
     )
     ratio = np.array(deflections) / REFERENCE
-    mesh_convergence(
-        out_dir / f"{NAME}.png",
-        meshes,
-        ratio,
-        TOLERANCE,
-        xlabel="cells per side of the octant",
-        ylabel="w / 1.8248e-5",
-        label="MindlinShell, Static",
-        ylim=(min(0.4, ratio.min() - 0.05), 1.1),
-    )
-
-    result.write(out_dir / f"{NAME}.vtu")
-    return {
-        "converged": converged,
-        "wall_time_s": wall,
-        "steps": steps,
-        "solver": "Static (Newton, element tangent, 1 increment, tol 1e-8), one solve per mesh",
-        "parameters": {
+    return Outcome(
+        converged=converged,
+        wall_time_s=wall,
+        steps=steps,
+        solver="Static (Newton, element tangent, 1 increment, tol 1e-8), one solve per mesh",
+        parameters={
             "cells_per_side": meshes[-1],
             "mesh_sequence": " ".join(str(n) for n in meshes),
             "radius": RADIUS,
@@ -96,7 +101,7 @@ def run(resolution: str, out_dir) -> dict:
             "nu": NU,
             "P": LOAD,
         },
-        "checks": [
+        checks=[
             check(
                 f"radial displacement under the load, {meshes[-1]} x {meshes[-1]} cells",
                 REFERENCE,
@@ -105,5 +110,34 @@ def run(resolution: str, out_dir) -> dict:
                 source=SOURCE,
             ),
         ],
-        "figures": [f"{NAME}.png"],
-    }
+        data=ConvergenceData(meshes=meshes, ratio=ratio, result=result),
+    )
+
+
+def render(data: ConvergenceData, out_dir: Path) -> list[str]:
+    """The convergence figure; the VTU file of the last mesh."""
+    mesh_convergence(
+        out_dir / f"{NAME}.png",
+        data.meshes,
+        data.ratio,
+        TOLERANCE,
+        xlabel="cells per side of the octant",
+        ylabel="w / 1.8248e-5",
+        label="MindlinShell, Static",
+        ylim=(min(0.4, data.ratio.min() - 0.05), 1.1),
+    )
+
+    data.result.write(out_dir / f"{NAME}.vtu")
+    return [f"{NAME}.png"]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=100,
+    compute=compute,
+    render=render,
+)

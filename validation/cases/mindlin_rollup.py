@@ -16,12 +16,19 @@ Same setup as tests/test_static.py::test_cantilever_rolls_up_into_a_circle_under
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
+from validation.records import Case, Outcome
 from validation.specimens import mindlin_strip
+
+__all__ = ["CASE", "RollupData", "compute", "render"]
 
 NAME = "mindlin-rollup"
 TITLE = "Mindlin cantilever strip rolled into a quarter circle by an end moment"
@@ -32,7 +39,19 @@ INCREMENTS = 4
 BENDING = YOUNG * WIDTH * THICKNESS**3 / 12  # EI, N mm^2
 
 
-def run(resolution: str, out_dir) -> dict:
+@dataclass(frozen=True)
+class RollupData:
+    """Per load increment the radius EI / M of the exact arc and the positions of the edge
+    y = 0; the number of cells and the solver result."""
+
+    radii: list[float]
+    edges: list[np.ndarray]
+    cells: int
+    result: Any
+
+
+def compute(resolution: str) -> Outcome:
+    """Roll the strip up with Static; check its tip and its nodes against the circle."""
     cells = CELLS[resolution]
     mesh, model = mindlin_strip(LENGTH, WIDTH, THICKNESS, YOUNG, cells)
     moment = 0.25 * 2 * np.pi * BENDING / LENGTH  # a quarter circle
@@ -51,30 +70,13 @@ def run(resolution: str, out_dir) -> dict:
 
     edge = np.flatnonzero(np.isclose(mesh.points[:, 1], 0.0))
     edge = edge[np.argsort(mesh.points[edge, 0])]
-    s = np.linspace(0.0, LENGTH, 200)
-    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)", size=(6.4, 4.4)) as ax:
-        for k, frame in enumerate(result.frames[1:]):
-            r = BENDING / (frame.load_factor * moment)
-            label = "circle R = EI / M" if k == 0 else None
-            ax.plot(r * np.sin(s / r), r * (1 - np.cos(s / r)), "-", color="0.3", label=label)
-            ax.plot(
-                frame.positions[edge, 0],
-                frame.positions[edge, 2],
-                "o",
-                ms=3,
-                color="C0",
-                label=f"MindlinShell, {cells} cells (per increment)" if k == 0 else None,
-            )
-        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded")
-        ax.set_aspect("equal")
-
-    result.write(out_dir / f"{NAME}.vtu")
-    return {
-        "converged": result.converged,
-        "wall_time_s": result.wall_time,
-        "steps": result.steps,
-        "solver": f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
-        "parameters": {
+    increments = result.frames[1:]
+    return Outcome(
+        converged=result.converged,
+        wall_time_s=result.wall_time,
+        steps=result.steps,
+        solver=f"Static (Newton, element tangent, {INCREMENTS} increments, tol 1e-8)",
+        parameters={
             "cells": cells,
             "length_mm": LENGTH,
             "width_mm": WIDTH,
@@ -84,7 +86,7 @@ def run(resolution: str, out_dir) -> dict:
             "M_N_mm": moment,
             "R_mm": radius,
         },
-        "checks": [
+        checks=[
             check("tip x (mm)", radius, x, 1e-2, source=SOURCE),
             check("tip z (mm)", radius, z, 1e-2, source=SOURCE),
             check(
@@ -97,5 +99,44 @@ def run(resolution: str, out_dir) -> dict:
             ),
             check("tip rotation (deg)", 90.0, rotation, 1e-2, source=SOURCE),
         ],
-        "figures": [f"{NAME}.png"],
-    }
+        data=RollupData(
+            radii=[BENDING / (frame.load_factor * moment) for frame in increments],
+            edges=[frame.positions[edge] for frame in increments],
+            cells=cells,
+            result=result,
+        ),
+    )
+
+
+def render(data: RollupData, out_dir: Path) -> list[str]:
+    """The edge y = 0 per increment on the exact arcs; the VTU file."""
+    s = np.linspace(0.0, LENGTH, 200)
+    with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)", size=(6.4, 4.4)) as ax:
+        for k, (r, edge) in enumerate(zip(data.radii, data.edges)):
+            label = "circle R = EI / M" if k == 0 else None
+            ax.plot(r * np.sin(s / r), r * (1 - np.cos(s / r)), "-", color="0.3", label=label)
+            ax.plot(
+                edge[:, 0],
+                edge[:, 2],
+                "o",
+                ms=3,
+                color="C0",
+                label=f"MindlinShell, {data.cells} cells (per increment)" if k == 0 else None,
+            )
+        ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded")
+        ax.set_aspect("equal")
+
+    data.result.write(out_dir / f"{NAME}.vtu")
+    return [f"{NAME}.png"]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=70,
+    compute=compute,
+    render=render,
+)

@@ -15,6 +15,10 @@ scaled back, as in tests/test_mindlin.py::test_scordelis_lo_roof.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from elements import MindlinShell
@@ -22,6 +26,9 @@ from femcore import Mesh, Model
 from materials import ElasticShell
 from validation.checks import check, solve_sequence
 from validation.plots import mesh_convergence
+from validation.records import Case, Outcome
+
+__all__ = ["CASE", "ConvergenceData", "compute", "roof", "render"]
 
 NAME = "mindlin-scordelis-lo"
 TITLE = "Scordelis-Lo roof (linear, self-weight)"
@@ -59,30 +66,28 @@ def roof(cells: int) -> tuple[Model, int]:
     return model, node
 
 
-def run(resolution: str, out_dir) -> dict:
+@dataclass(frozen=True)
+class ConvergenceData:
+    """The mesh sequence, the value / reference on each mesh, the result on the last one."""
+
+    meshes: tuple[int, ...]
+    ratio: np.ndarray
+    result: Any
+
+
+def compute(resolution: str) -> Outcome:
+    """Solve the mesh sequence of ``resolution``; check the value on its last mesh."""
     meshes = MESHES[resolution]
     deflections, result, wall, steps, converged = solve_sequence(
         roof, meshes, lambda result, node: -result.displacements[node, 2] / SCALE
     )
     ratio = np.array(deflections) / REFERENCE
-    mesh_convergence(
-        out_dir / f"{NAME}.png",
-        meshes,
-        ratio,
-        TOLERANCE,
-        xlabel="cells per side of the quarter model",
-        ylabel="w / 0.3024 ft",
-        label="MindlinShell, Static (linear load level)",
-        ylim=(min(0.8, ratio.min() - 0.02), 1.05),
-    )
-
-    result.write(out_dir / f"{NAME}.vtu")
-    return {
-        "converged": converged,
-        "wall_time_s": wall,
-        "steps": steps,
-        "solver": "Static (Newton, element tangent, 1 increment, tol 1e-8), one solve per mesh",
-        "parameters": {
+    return Outcome(
+        converged=converged,
+        wall_time_s=wall,
+        steps=steps,
+        solver="Static (Newton, element tangent, 1 increment, tol 1e-8), one solve per mesh",
+        parameters={
             "cells_per_side": meshes[-1],
             "mesh_sequence": " ".join(str(n) for n in meshes),
             "radius_ft": RADIUS,
@@ -93,7 +98,7 @@ def run(resolution: str, out_dir) -> dict:
             "weight_lb_per_ft2": WEIGHT,
             "load_scale": SCALE,
         },
-        "checks": [
+        checks=[
             check(
                 f"free-edge midpoint vertical displacement (ft), {meshes[-1]} x {meshes[-1]} cells",
                 REFERENCE,
@@ -102,5 +107,34 @@ def run(resolution: str, out_dir) -> dict:
                 source=SOURCE,
             ),
         ],
-        "figures": [f"{NAME}.png"],
-    }
+        data=ConvergenceData(meshes=meshes, ratio=ratio, result=result),
+    )
+
+
+def render(data: ConvergenceData, out_dir: Path) -> list[str]:
+    """The convergence figure; the VTU file of the last mesh."""
+    mesh_convergence(
+        out_dir / f"{NAME}.png",
+        data.meshes,
+        data.ratio,
+        TOLERANCE,
+        xlabel="cells per side of the quarter model",
+        ylabel="w / 0.3024 ft",
+        label="MindlinShell, Static (linear load level)",
+        ylim=(min(0.8, data.ratio.min() - 0.02), 1.05),
+    )
+
+    data.result.write(out_dir / f"{NAME}.vtu")
+    return [f"{NAME}.png"]
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=90,
+    compute=compute,
+    render=render,
+)

@@ -1,0 +1,321 @@
+"""Typed records of the validation report: a case, its checks, its outcome, the report.
+
+A case module in ``validation/cases`` declares one ``Case``: its name, title, source, description,
+group and order key, a ``compute`` function (resolution -> ``Outcome``: the numbers, the checks
+and, in ``Outcome.data``, what its figures draw and its VTU files hold) and a ``render`` function
+(``Outcome.data``, report folder -> the names of the figures it drew). The report runner calls
+``compute`` then ``render`` and serialises the records to results.json with their ``to_json``
+methods (the keys and their order are those of the report's JSON format).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "GROUPS",
+    "RESOLUTIONS",
+    "Case",
+    "CaseResult",
+    "Check",
+    "ElementRun",
+    "Outcome",
+    "Report",
+    "SideProfile",
+    "SideSummary",
+]
+
+RESOLUTIONS = ("coarse", "default", "fine")
+# Report order: the paper's tests, the sensitivity study, then the verification cases.
+GROUPS = ("paper", "sensitivity", "verification")
+
+
+@dataclass(frozen=True)
+class Check:
+    """A computed value against a reference with a stated tolerance (see validation.checks).
+
+    Attributes
+    ----------
+    name : str
+        What is checked, with its unit.
+    reference, value : float
+        The reference and the computed value.
+    error : float
+        ``|value - reference|``, divided by ``|reference|`` when ``relative``.
+    tolerance : float
+        The largest error that passes.
+    relative : bool
+        Whether ``error`` and ``tolerance`` are relative.
+    passed : bool
+        The verdict.
+    source : str
+        Where the reference comes from.
+    """
+
+    name: str
+    reference: float
+    value: float
+    error: float
+    tolerance: float
+    relative: bool
+    passed: bool
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class SideProfile:
+    """Along one filmed side of a paper specimen, node by node from the clamp.
+
+    Attributes
+    ----------
+    s : numpy.ndarray
+        Distance from the clamp along the side in the reference configuration (mm).
+    midsurface : numpy.ndarray
+        Deformed mid-surface positions, shape (n, 3) (mm).
+    director_angle_deg : numpy.ndarray
+        Angle of the director to the horizontal seen facing the side (deg, 90 = vertical).
+    thickness : numpy.ndarray
+        Thickness along the director (mm).
+    """
+
+    s: np.ndarray
+    midsurface: np.ndarray
+    director_angle_deg: np.ndarray
+    thickness: np.ndarray
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON record (arrays are written as lists by the report's encoder)."""
+        return {
+            "s": self.s,
+            "midsurface": self.midsurface,
+            "director_angle_deg": self.director_angle_deg,
+            "thickness": self.thickness,
+        }
+
+
+@dataclass(frozen=True)
+class SideSummary:
+    """The numbers the report quotes for one element and one side of a paper case."""
+
+    max_midsurface_slope_deg: float
+    director_angle_min_deg: float
+    director_angle_max_deg: float
+    thickness_max_over_h: float
+
+
+@dataclass(frozen=True)
+class ElementRun:
+    """One kinematics ("fibrous" or "mindlin") of a paper case: its solve and its sides.
+
+    Attributes
+    ----------
+    converged : bool
+        Whether the solver reached the full load.
+    wall_time_s : float
+        Solver wall time.
+    steps : int
+        Increments or iterations of the solver.
+    solver : str
+        Which solver ran, in words.
+    sides : dict of str to SideProfile
+        "side_1" (and "side_2" when the specimen has it).
+    fibre_strain : dict of str to float or None
+        For the fibrous shell: max_fibre_strain, max_fibre_strain_away_from_support,
+        max_shear_angle_deg.
+    """
+
+    converged: bool
+    wall_time_s: float
+    steps: int
+    solver: str
+    sides: dict[str, SideProfile]
+    fibre_strain: dict[str, float] | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON record: the solve, the fibre statistics, then one entry per side."""
+        record: dict[str, Any] = {
+            "converged": self.converged,
+            "wall_time_s": self.wall_time_s,
+            "steps": self.steps,
+            "solver": self.solver,
+        }
+        record.update(self.fibre_strain or {})
+        record.update({name: side.to_json() for name, side in self.sides.items()})
+        return record
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a case's ``compute`` returns: the report's numbers and the data of its figures.
+
+    Attributes
+    ----------
+    converged : bool
+        Whether every solve of the case converged.
+    wall_time_s : float
+        Wall time of the solves (or of the computation when there is no solver).
+    steps : int
+        Increments or iterations, summed over the solves.
+    solver : str
+        Which solver ran, in words.
+    parameters : dict
+        The stated parameters, name -> number or text.
+    checks : list of Check
+        The verification checks.
+    figures : list of str
+        Names of the figures in the report folder; empty until the case's ``render`` ran.
+    elements : dict of str to ElementRun or None
+        Paper cases: one record per kinematics.
+    key_numbers : dict of str to SideSummary or None
+        Paper cases: per "kinematics side", the numbers the report quotes.
+    error : str or None
+        Set by the report runner when the case raised.
+    data : object
+        What the case's ``render`` draws and writes (arrays, solver results); not in
+        results.json.
+    """
+
+    converged: bool
+    wall_time_s: float
+    steps: int
+    solver: str
+    parameters: dict[str, Any]
+    checks: list[Check]
+    figures: list[str] = field(default_factory=list)
+    elements: dict[str, ElementRun] | None = None
+    key_numbers: dict[str, SideSummary] | None = None
+    error: str | None = None
+    data: Any = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def failed(cls, error: BaseException) -> Outcome:
+        """The outcome of a case that raised ``error``."""
+        return cls(
+            converged=False,
+            wall_time_s=0.0,
+            steps=0,
+            solver="",
+            parameters={},
+            checks=[],
+            error=f"{type(error).__name__}: {error}",
+        )
+
+
+@dataclass(frozen=True)
+class Case:
+    """A validation case, declared as ``CASE`` by its module in ``validation/cases``.
+
+    Attributes
+    ----------
+    name : str
+        Unique name, used by ``--cases`` and as the report's anchor and file prefix.
+    title : str
+        One line for the report.
+    source : str
+        The reference it is validated against.
+    description : str
+        The full statement (the module docstring: source, geometry, parameters, assumptions).
+    group : str
+        "paper", "sensitivity" or "verification" (``GROUPS``, the report order).
+    order : int
+        Position within the group (ascending).
+    compute : callable
+        ``compute(resolution) -> Outcome`` with ``Outcome.figures`` empty.
+    render : callable
+        ``render(data, out_dir) -> list[str]``: draws the figures and writes the VTU files of
+        ``Outcome.data`` into ``out_dir``, returns the figure file names.
+    """
+
+    name: str
+    title: str
+    source: str
+    description: str
+    group: str
+    order: int
+    compute: Callable[[str], Outcome] = field(repr=False)
+    render: Callable[[Any, Path], list[str]] = field(repr=False)
+
+    def __post_init__(self) -> None:
+        if self.group not in GROUPS:
+            raise ValueError(
+                f"case {self.name!r}: group must be one of {', '.join(GROUPS)}, got {self.group!r}"
+            )
+
+    @property
+    def sort_key(self) -> tuple[int, int, str]:
+        """The report order: group, then order key, then name."""
+        return GROUPS.index(self.group), self.order, self.name
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    """A case and its outcome in the report, with the wall time of compute and render."""
+
+    case: Case
+    outcome: Outcome
+    case_time_s: float
+
+    @property
+    def passed(self) -> int:
+        """Number of passed checks."""
+        return sum(c.passed for c in self.outcome.checks)
+
+    def to_json(self) -> dict[str, Any]:
+        """The case's entry of results.json."""
+        o = self.outcome
+        checks = [asdict(c) for c in o.checks]
+        if o.error is not None:
+            record = {
+                "converged": o.converged,
+                "error": o.error,
+                "checks": checks,
+                "figures": list(o.figures),
+                "parameters": dict(o.parameters),
+                "steps": o.steps,
+                "solver": o.solver,
+                "case_time_s": self.case_time_s,
+                "wall_time_s": self.case_time_s,
+            }
+        else:
+            record = {
+                "converged": o.converged,
+                "wall_time_s": o.wall_time_s,
+                "steps": o.steps,
+                "solver": o.solver,
+                "parameters": dict(o.parameters),
+            }
+            if o.elements is not None:
+                record["elements"] = {k: e.to_json() for k, e in o.elements.items()}
+            if o.key_numbers is not None:
+                record["key_numbers"] = {k: asdict(v) for k, v in o.key_numbers.items()}
+            record.update(checks=checks, figures=list(o.figures), case_time_s=self.case_time_s)
+        record.update(
+            title=self.case.title,
+            source=self.case.source,
+            description=self.case.description.strip(),
+        )
+        return record
+
+
+@dataclass(frozen=True)
+class Report:
+    """The whole report: when, at which resolution, on which machine, and every case."""
+
+    generated: str
+    resolution: str
+    machine: str
+    cases: dict[str, CaseResult]
+
+    def to_json(self) -> dict[str, Any]:
+        """The content of results.json."""
+        return {
+            "generated": self.generated,
+            "resolution": self.resolution,
+            "machine": self.machine,
+            "cases": {name: r.to_json() for name, r in self.cases.items()},
+        }
