@@ -108,7 +108,7 @@ def compute(resolution: str) -> Outcome:
     # The thickness along a vertical director grows as h / cos(phi) (Bai Fig. 6f, 10c).
     thickness_error = np.abs(h[steep] * np.cos(slope[steep]) / THICKNESS - 1).max()
     # Bai Eq. 10: h_m (V . n_e) = h at every node of every element.
-    geometry = compiled.blocks[0]._geometry(result.positions, result.directors)
+    geometry = compiled.blocks[0].thickness_along_directors(result.positions, result.directors)
     eq10 = np.abs(geometry["thickness"] * geometry["cosine"] / THICKNESS - 1).max()
     fields = result.frames[-1].fields["triangle"]
     strain = max(np.abs(fields["warp_strain"]).max(), np.abs(fields["weft_strain"]).max())
