@@ -6,8 +6,11 @@ the stable step is checked, and its tolerances, each with a one-line justificati
 element type is done when it has a case in ``CASES`` and the suite passes for it.
 
 The set-ups and tolerances are those the per-element tests used before the suite replaced
-them (tests/test_cable.py, test_fibrous.py, test_mindlin.py): same meshes, materials, jitter
-amplitudes and seeds.
+them (tests/test_cable.py, test_fibrous.py, test_mindlin.py): the same meshes, materials,
+jitter amplitudes and seeds, with tolerances equal or tighter. Differences: the stable step of
+the shells is checked on the 40 x 30 mm patch of the other checks (the former tests used a
+30 x 20 one: same 10 mm cells, same wrap angles 0.5 and 1 rad) and also at the jittered state;
+the mass sums use each case's own material.
 """
 
 from __future__ import annotations
@@ -96,25 +99,26 @@ class ElementCase:
 
 
 # ---------------------------------------------------------------------- shared tolerances
+# (The values the former per-element tests used, or tighter; "seen" is the largest value the
+# eight cases give today.)
 ROUND_OFF = Bound(
-    1e-10, "round-off: the loads are sums of ~10 terms each ~1e-16 relative to the largest"
+    1e-10, "round-off of the loads relative to those of the deformed state (seen: 8e-15)"
 )
 ROUND_OFF_SQUARED = Bound(
-    1e-25, "the energy is quadratic in strains of round-off size (~1e-15 against ~1e-1 here)"
+    1e-25, "the energy is quadratic in round-off strains, relative to the deformed one (2e-29)"
 )
 FIELD_ROUND_OFF = Bound(
-    3e-14, "strains and stresses of one cell from round-off positions: ~1e-15 relative"
+    3e-14, "strains and stresses from round-off positions, relative to the deformed (6e-15)"
 )
-ENERGY_ROUND_OFF = Bound(1e-12, "one sum of cell energies of one sign: round-off ~1e-15")
+ENERGY_ROUND_OFF = Bound(1e-12, "one sum of cell energies: round-off (seen: 1.3e-15)")
 CENTRAL_DIFFERENCE = Bound(
-    1e-6,
-    "central differences of step 1e-6: truncation ~1e-12 relative, cancellation ~1e-16/1e-6",
+    1e-6, "central differences of step 1e-6: truncation and cancellation (seen: 3.5e-9)"
 )
 TANGENT_DIFFERENCES = Bound(
-    1e-6, "both tangents are central differences of step 1e-6 (or exact): their accuracy"
+    1e-6, "both tangents are central differences of step 1e-6, or exact (seen: 4e-10)"
 )
-MASS_SUM = Bound(1e-13, "a sum of ~20 positive shares: round-off ~1e-15 relative")
-WITHIN_TWO = Bound(0.5, "THEORY §6.2: the element bound is safe but within a factor 2")
+MASS_SUM = Bound(1e-13, "a sum of positive shares: round-off (seen: 3e-16)")
+WITHIN_TWO = Bound(0.5, "THEORY §6.2: the bound is safe and within a factor 2 (seen: >= 0.58)")
 
 
 # ---------------------------------------------------------------------- cables
