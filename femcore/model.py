@@ -8,6 +8,7 @@ quantities live in ``femcore.state.State``.
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 
@@ -264,12 +265,15 @@ class CompiledModel:
         self.reference_positions = mesh.points.copy()
         self.reference_directors = np.zeros((n, 3))
         if self.has_rotation.any():
-            normals = nodal_normals(mesh.points, np.concatenate(shell_triangles))
+            normals = np.zeros((n, 3))
+            if shell_triangles:
+                normals = nodal_normals(mesh.points, np.concatenate(shell_triangles))
             missing = self.has_rotation & (np.linalg.norm(normals, axis=1) == 0)
             if missing.any():
                 raise ValueError(
-                    f"node {np.flatnonzero(missing)[0]} has rotational DOFs but no "
-                    "shell triangle to define its director"
+                    f"node {np.flatnonzero(missing)[0]} has rotational DOFs but no shell "
+                    "triangle to define its director: an element type whose triangles define "
+                    "the directors declares defines_directors = True"
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
 
@@ -578,6 +582,12 @@ def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) 
             f"{type(block).__name__}.reach is {reach!r}: every block declares how many cell-hops "
             "its forces reach (1: cell-local, 2: bending patches over neighbours)"
         )
+    for method in ("internal_force", "strain_energy", "tangent", "cell_fields", "node_fields"):
+        if not _takes_history(getattr(block, method)):
+            raise ValueError(
+                f"{type(block).__name__}.{method} must take (state, history=None): the model "
+                "passes each block its history variables (femcore.element)"
+            )
     connectivity = np.asarray(block.connectivity)
     if connectivity.ndim != 2 or not np.issubdtype(connectivity.dtype, np.integer):
         raise ValueError(
@@ -597,6 +607,17 @@ def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) 
                 f"{', '.join(n for n, a in zip(DOF_NAMES, active[node]) if a) or 'no DOF'}: a "
                 "node block needs nodes of a cell element with the DOFs it uses"
             )
+
+
+def _takes_history(method: Callable) -> bool:
+    """Whether a bound method accepts two positional arguments (state, history)."""
+    try:
+        parameters = list(inspect.signature(method).parameters.values())
+    except (TypeError, ValueError):  # no signature to read (a C function): trust it
+        return True
+    positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    variadic = any(p.kind is p.VAR_POSITIONAL for p in parameters)
+    return variadic or len(positional) >= 2
 
 
 def _median_edge(mesh: Mesh, entries, cells_of) -> float:

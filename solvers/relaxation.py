@@ -156,7 +156,6 @@ class DynamicRelaxation:
         """
         dofs = model.dofs
         free = model.translation_free
-        constrained = model.translation_constrained
         rot = model.has_rotation
         any_rot = bool(rot.any())
         f_ext, m_ext = model.external_load(load_factor, quasi_static=True)
@@ -172,10 +171,7 @@ class DynamicRelaxation:
         inv_mass = inverse_diagonal(mass)
         inv_inertia = inverse_diagonal(inertia)
         dt = self.safety * model.stable_dt(state)
-        n_free = int(free.sum()) + 2 * int((rot[:, None] & ~model.rotation_fixed).sum())
-        sqrt_n = math.sqrt(max(n_free, 1))
-        f_ext_norm = float(np.linalg.norm(f_ext))
-        m_ext_norm = float(np.linalg.norm(m_ext))
+        balance = _Balance(model, f_ext, m_ext, self.tol)
 
         velocity = np.zeros_like(state.positions)
         omega = np.zeros_like(state.positions)
@@ -197,22 +193,7 @@ class DynamicRelaxation:
                 else np.zeros_like(f_int)
             )
 
-            # Convergence on the free DOFs.
-            force_ref = max(f_ext_norm, float(np.linalg.norm(f_int)))
-            r_norm = float(np.linalg.norm(residual))
-            ratio = r_norm / force_ref if force_ref > 0 else 0.0
-            ok = ratio <= self.tol and float(np.abs(residual).max(initial=0.0)) <= (
-                10.0 * self.tol * force_ref / sqrt_n
-            )
-            if any_rot:
-                # Director moments can all be tiny (e.g. fibre slip leaves them unloaded): a
-                # moment residual is then judged against the force scale times one element.
-                moment_ref = max(
-                    m_ext_norm, float(np.linalg.norm(m_int)), force_ref * model.element_size
-                )
-                m_ratio = float(np.linalg.norm(moment)) / moment_ref if moment_ref > 0 else 0.0
-                ok = ok and m_ratio <= self.tol
-                ratio = max(ratio, m_ratio)
+            ratio, ok = balance.judge(f_int, m_int, residual, moment)
             if not np.isfinite(ratio):
                 raise DivergenceError(
                     f"dynamic relaxation produced non-finite forces in increment {increment} "
@@ -220,11 +201,7 @@ class DynamicRelaxation:
                     None,
                 )
             if ok:
-                reactions = np.where(constrained, f_int - f_ext, 0.0)
-                reaction_moments = np.zeros_like(reactions)
-                if any_rot:
-                    full = drop_along(m_ext - m_int, state.directors)
-                    reaction_moments = np.where(rot[:, None], moment - full, 0.0)
+                reactions, reaction_moments = balance.reactions(state, f_int, m_int, moment)
                 at_rest = replace(
                     state,
                     velocities=np.zeros_like(velocity),
@@ -300,3 +277,52 @@ class DynamicRelaxation:
         if numerator <= 0.0 or denominator <= 0.0:
             return 0.0
         return min(2.0 * math.sqrt(numerator / denominator), 1.9 / dt)
+
+
+class _Balance:
+    """Convergence and support reactions of one relaxed increment.
+
+    Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_ref / sqrt(n)
+    with F_ref = max(||F_ext||, ||F_int||), and the constrained moments ||m|| <= tol M_ref with
+    M_ref = max(||M_ext||, ||M_int||, F_ref L_e): director moments can all be tiny (fibre slip
+    leaves them unloaded), and are then judged against the force scale times one element.
+    """
+
+    def __init__(self, model: CompiledModel, f_ext: np.ndarray, m_ext: np.ndarray, tol: float):
+        self.model, self.f_ext, self.m_ext, self.tol = model, f_ext, m_ext, tol
+        rot = model.has_rotation
+        self.any_rotation = bool(rot.any())
+        n_free = int(model.translation_free.sum()) + 2 * int(
+            (rot[:, None] & ~model.rotation_fixed).sum()
+        )
+        self.sqrt_n = math.sqrt(max(n_free, 1))
+        self.f_ext_norm = float(np.linalg.norm(f_ext))
+        self.m_ext_norm = float(np.linalg.norm(m_ext))
+
+    def judge(self, f_int, m_int, residual, moment) -> tuple[float, bool]:
+        """(residual ratio, converged) from the internal forces and the free residuals."""
+        force_ref = max(self.f_ext_norm, float(np.linalg.norm(f_int)))
+        r_norm = float(np.linalg.norm(residual))
+        ratio = r_norm / force_ref if force_ref > 0 else 0.0
+        ok = ratio <= self.tol and float(np.abs(residual).max(initial=0.0)) <= (
+            10.0 * self.tol * force_ref / self.sqrt_n
+        )
+        if self.any_rotation:
+            moment_ref = max(
+                self.m_ext_norm, float(np.linalg.norm(m_int)), force_ref * self.model.element_size
+            )
+            m_ratio = float(np.linalg.norm(moment)) / moment_ref if moment_ref > 0 else 0.0
+            ok = ok and m_ratio <= self.tol
+            ratio = max(ratio, m_ratio)
+        return ratio, ok
+
+    def reactions(self, state: State, f_int, m_int, moment) -> tuple[np.ndarray, np.ndarray]:
+        """Support forces (n, 3) on the constrained translations and support moments (n, 3):
+        what the constraints removed from the (drilling-free) out-of-balance moments."""
+        model = self.model
+        reactions = np.where(model.translation_constrained, f_int - self.f_ext, 0.0)
+        reaction_moments = np.zeros_like(reactions)
+        if self.any_rotation:
+            full = drop_along(self.m_ext - m_int, state.directors)
+            reaction_moments = np.where(model.has_rotation[:, None], moment - full, 0.0)
+        return reactions, reaction_moments

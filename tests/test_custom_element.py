@@ -184,3 +184,18 @@ def test_an_object_that_is_not_an_element_type_is_refused():
     model = Model(Mesh.line((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 2))
     with pytest.raises(ValueError, match="not an element type"):
         model.add(object())
+
+
+def test_a_block_whose_methods_do_not_take_the_history_is_named():
+    class OldBlock(PlaneContactBlock):
+        def internal_force(self, state):  # the protocol passes (state, history)
+            return super().internal_force(state)
+
+    class OldContact(PlaneContact):
+        def bind(self, mesh, cell_ids, directors):
+            return OldBlock(mesh.nodes(self.node_set), self.stiffness, mesh.n_nodes)
+
+    model = cable_on_the_floor()
+    model.add(OldContact("all", K))
+    with pytest.raises(ValueError, match=r"OldBlock.internal_force must take \(state, history"):
+        model.compile()

@@ -36,6 +36,7 @@ class DirectorSpring(ElementType):
 
     cell_type = "triangle"
     dofs = ("ux", "uy", "uz", "alpha", "beta")
+    defines_directors = True
 
     def __init__(self, stiffness: float, mass: float, inertia: float):
         if not (np.isfinite(stiffness) and stiffness >= 0):
@@ -55,6 +56,7 @@ class DirectorSpringBlock(ElementBlock):
 
     dofs = DirectorSpring.dofs
     cell_type = DirectorSpring.cell_type
+    reach = 1
 
     def __init__(self, spring: DirectorSpring, mesh: Mesh, cell_ids, directors):
         self.material = spring
@@ -84,7 +86,7 @@ class DirectorSpringBlock(ElementBlock):
         inertia[self.nodes] = self.material.inertia * scale[self.nodes]
         return mass, inertia
 
-    def internal_force(self, state: State):
+    def internal_force(self, state: State, history=None):
         # dW/dpsi: a small rotation psi changes theta by psi . (V0 x V)/|V0 x V|.
         theta, axis = self._angles(state)
         moment = np.zeros((self.n_nodes, 3))
@@ -100,7 +102,7 @@ class DirectorSpringBlock(ElementBlock):
             node_dt[self.nodes] = 2.0 / np.sqrt(k / inertia)
         return node_dt[self.connectivity].min(axis=1)
 
-    def strain_energy(self, state: State) -> float:
+    def strain_energy(self, state: State, history=None) -> float:
         theta, _ = self._angles(state)
         return float(0.5 * self.material.stiffness * np.sum(theta**2))
 
