@@ -1,6 +1,6 @@
 """FibrousShell: the 3-node continuum-based shell for fibrous reinforcements of Bai, Colmars,
 Naouar and Boisse, Composites Part A 139 (2020) 106135 (equation numbers below are Bai's;
-section numbers refer to THEORY.md).
+section numbers refer to docs/theory.md).
 
 Kinematics (§1): x(xi, eta, zeta) = sum N_k x_k + zeta/2 sum N_k h_m^k V_k (Eq. 5), directors V
 free to rotate (fibre slip), thickness along the director h_m = h / (V . n) so that the
@@ -38,7 +38,8 @@ __all__ = ["FibrousShell", "FibrousShellBlock", "lobatto_levels"]
 _P = np.array([1, 2, 0])
 _Q = np.array([2, 0, 1])
 
-# Bending time-step coefficient of THEORY §6.2 (A3): dt_b = 0.35 L^2 sqrt(rho_A / B), the worst
+# Bending time-step coefficient of docs/theory.md §6.2 (A3): dt_b = 0.35 L^2 sqrt(rho_A / B), the
+# worst
 # case (square cells) of the exact eigenvalues of the rotation-free bending stiffness.
 _BENDING_DT_COEFFICIENT = 0.35
 
@@ -46,7 +47,7 @@ _BENDING_DT_COEFFICIENT = 0.35
 def lobatto_levels(count: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Lobatto fibre positions zeta_f in [-1, 1] and weights w_f (sum 1), ``count`` >= 2.
 
-    Three levels give bottom, middle, top with Simpson weights 1/6, 2/3, 1/6 (THEORY §2.1):
+    Three levels give bottom, middle, top with Simpson weights 1/6, 2/3, 1/6 (docs/theory.md §2.1):
     the inextensibility acts on the physical top and bottom surfaces, and sum w zeta^2 = 1/3
     is the continuum moment of inertia of the section.
     """
@@ -96,12 +97,12 @@ class FibrousShell(ElementType):
     fibre_angle_tolerance : degrees; how far an edge may deviate from a fibre direction.
     clamped : node ids (or a node-set name) of clamped edges: free sides of the block whose two
         nodes are all in this set bend against a rigid wall in the element's reference plane
-        (THEORY §4.5). Fix the translations and rotations of those nodes with ``model.fix``.
+        (docs/theory.md §4.5). Fix the translations and rotations of those nodes with ``model.fix``.
         Without it, a clamp is made by fixing a row of elements, as Bai does; the fixed
         elements then bend too, which moves the effective clamp half an element into them (a
         first-order error: +10% on a small-load cantilever tip at 20 elements, against 0.2%
         with this option).
-    thickness_variation : include the variation of h_m (THEORY §2.5) in the forces, so that
+    thickness_variation : include the variation of h_m (docs/theory.md §2.5) in the forces, so that
         they are the exact gradient of the strain energy (default). False follows Bai Eq. 28,
         which leaves it out.
     bending_geometry : "current" (the curvature coefficients c_as of §4.2 from the current
@@ -207,7 +208,7 @@ class FibrousShellBlock(ElementBlock):
         self.reference_fold = bend0["fold"]
         self.reference_coefficients = bend0["coefficients"]
 
-        # Largest tangent stiffnesses, for the stable step (THEORY §6.2).
+        # Largest tangent stiffnesses, for the stable step (docs/theory.md §6.2).
         self.max_tension_stiffness = max(
             fabric.tension.max_slope(), fabric.tension_weft.max_slope()
         )
@@ -345,7 +346,7 @@ class FibrousShellBlock(ElementBlock):
         The force on fibre end point k of level f is F_k^f = sum_a N_k,a P_a (N_k,xi =
         (-1, 1, 0), N_k,eta = (-1, 0, 1)); the node takes sum_f F_k^f and the director the
         moment sum_f (zeta_f h_m^k / 2) V_k x F_k^f of the lever arm along V (Bai Fig. 3).
-        With ``thickness_variation`` the work of h_m = h / (V . n) is added (THEORY §2.5).
+        With ``thickness_variation`` the work of h_m = h / (V . n) is added (docs/theory.md §2.5).
         """
         v, h_m = geo["directors"], geo["thickness"]
         # Sums over the levels first (F_k^f is linear in P_a): sum_f F_k^f and sum_f zeta_f F_k^f.
@@ -376,7 +377,7 @@ class FibrousShellBlock(ElementBlock):
         return force, moment
 
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
-        """Fold angles, curvature coefficients and fold-angle gradients (THEORY §4.1-4.3).
+        """Fold angles, curvature coefficients and fold-angle gradients (docs/theory.md §4.1-4.3).
 
         fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides; against the
             element's reference plane on clamped sides.
@@ -559,7 +560,7 @@ class FibrousShellBlock(ElementBlock):
 
     def nodal_thickness(self, state: State) -> np.ndarray:
         """Thickness along the director at the nodes (n,), mm: area-weighted mean of the
-        per-element h_m (THEORY §1.4); 0 at nodes outside the block."""
+        per-element h_m (docs/theory.md §1.4); 0 at nodes outside the block."""
         return self._nodal_thickness(self._geometry(state.positions, state.directors, layers=False))
 
     def _nodal_thickness(self, geo: dict) -> np.ndarray:
@@ -586,7 +587,7 @@ class FibrousShellBlock(ElementBlock):
         )
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
-        """Critical step per cell from THEORY §6.2, the three bounds combined as
+        """Critical step per cell from docs/theory.md §6.2, the three bounds combined as
         omega^2 = omega_tension^2 + omega_shear^2 + omega_bending^2 (a safe upper bound):
 
         * tension (A1): omega^2 = (2 + |cos phi|) C A0 / (L_min^2 m), m = rho_A A0 / 3, phi

@@ -1,9 +1,11 @@
 """MindlinShell: a large-rotation Reissner-Mindlin triangle in the geometry of the fibrous shell
-(THEORY §5), the reference kinematics of the project (the role Abaqus S3 plays in Bai et al.).
+(docs/theory.md §5), the reference kinematics of the project (the role Abaqus S3 plays in Bai et
+al.).
 
 Same map as the fibrous shell, x = sum N_k x_k + zeta/2 h sum N_k V_k (Bai Eq. 5) with a fixed
 thickness h and unit directors that start normal to the surface; 5 DOF per node (ux uy uz alpha
-beta) with the director update of THEORY §1.3. Total Lagrangian: covariant Green-Lagrange strains
+beta) with the director update of docs/theory.md §1.3. Total Lagrangian: covariant Green-Lagrange
+strains
 E_ij = (g_i . g_j - G_i . G_j) / 2 at Gauss points through the thickness, plane stress in the
 lamina frame (St Venant-Kirchhoff), and MITC3 assumed transverse shear (Lee & Bathe, Comput.
 Struct. 82 (2004) 945) tied at the edge mid-points so that thin shells do not lock.
@@ -34,7 +36,7 @@ _TYING_N = np.array([[0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]])
 def _assumed_shear_coefficients() -> tuple[np.ndarray, np.ndarray]:
     """Rows a_p, b_p with e_rt(p) = a_p . t and e_st(p) = b_p . t, t = (e_rt^A, e_rt^C,
     e_st^B, e_st^C): e_rt = e_rt^A + c s, e_st = e_st^B - c r, c = (e_rt^C - e_rt^A) -
-    (e_st^C - e_st^B) (THEORY §5.3)."""
+    (e_st^C - e_st^B) (docs/theory.md §5.3)."""
     r, s = _IN_PLANE[:, 0], _IN_PLANE[:, 1]
     a = np.column_stack([1 - s, s, s, -s])
     b = np.column_stack([r, -r, 1 - r, r])
@@ -47,7 +49,7 @@ class MindlinShell(ElementType):
     material : materials.ElasticShell.
     thickness_points : Gauss points through the thickness (default 2; 2-5).
     rotary_scaling : scale the rotary inertia to j = max(h^2/12, kappa (1 - nu) L_e^2 / 16)
-        (THEORY §6.2 B2) so that thin elements do not force a tiny step (default True).
+        (docs/theory.md §6.2 B2) so that thin elements do not force a tiny step (default True).
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -141,7 +143,7 @@ class MindlinShellBlock(ElementBlock):
 
     def _material_matrices(self, ref: dict, v0: np.ndarray) -> None:
         """D = w det(J) T^T C T at every point, with T the covariant-to-lamina transformation
-        (THEORY §5.2) and C = diag(Q rotated to the lamina frame, kappa G13, kappa G23)."""
+        (docs/theory.md §5.2) and C = diag(Q rotated to the lamina frame, kappa G13, kappa G23)."""
         m, nz = len(self.cell_ids), len(self.zeta)
         half = 0.5 * self.h
         r, s = _IN_PLANE[:, 0], _IN_PLANE[:, 1]
@@ -274,7 +276,7 @@ class MindlinShellBlock(ElementBlock):
 
     # ------------------------------------------------------------------ mass and step
     def _rotary_factor(self, scaling: bool) -> np.ndarray:
-        """j (m,), mm^2: I = m j; h^2/12, or with ``scaling`` the B2 scaling of THEORY §6.2
+        """j (m,), mm^2: I = m j; h^2/12, or with ``scaling`` the B2 scaling of docs/theory.md §6.2
         (from the reference altitudes: computed once at bind)."""
         j = np.full(len(self.cell_ids), self.h**2 / 12.0)
         if scaling:
@@ -299,7 +301,8 @@ class MindlinShellBlock(ElementBlock):
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
-        """Critical step per cell, omega^2 = omega_in-plane^2 + omega_rotation^2 (THEORY §6.2):
+        """Critical step per cell, omega^2 = omega_in-plane^2 + omega_rotation^2 (docs/theory.md
+        §6.2):
 
         * translations: the trace bound of M^-1 K for a linear triangle with lumped mass
           rho h A / 3, omega^2 <= 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2

@@ -1,4 +1,4 @@
-"""Continuum-based shell geometry shared by the fibrous and the Mindlin shells (THEORY §1).
+"""Continuum-based shell geometry shared by the fibrous and the Mindlin shells (docs/theory.md §1).
 
 Everything is vectorised over the triangles of a block (leading axis = cell) or over nodes.
 Local nodes 1, 2, 3 of the paper are columns 0, 1, 2 here.
@@ -24,7 +24,8 @@ __all__ = [
     "thickness_along_director",
 ]
 
-# Smallest V.n used in h_m = h / (V.n) (THEORY §1.4): a director within ~78 deg of the surface
+# Smallest V.n used in h_m = h / (V.n) (docs/theory.md §1.4): a director within ~78 deg of the
+# surface
 # would give an unbounded thickness; nodes that hit the guard are counted and reported.
 GUARD = 0.2
 
@@ -34,7 +35,7 @@ def director_increment(directors: np.ndarray, d_alpha: np.ndarray, d_beta: np.nd
 
     The rotation vector psi = d_beta V1 + d_alpha V2 lies in the plane normal to V; turning V
     by it (Rodrigues) is, to first order, Bai Eq. 13: V+ = V + d_alpha V1 - d_beta V2, but keeps
-    |V| = 1 exactly (THEORY §1.3).
+    |V| = 1 exactly (docs/theory.md §1.3).
     """
     v1, v2 = nodal_frames(directors)
     psi = np.asarray(d_beta)[:, None] * v1 + np.asarray(d_alpha)[:, None] * v2
@@ -93,7 +94,7 @@ def nodal_thickness(
     per_element: np.ndarray, areas: np.ndarray, triangles: np.ndarray, n_nodes: int
 ) -> np.ndarray:
     """Area-weighted nodal mean (n,) of a per-element nodal value (m, 3), e.g. h_m for the
-    rotary inertia (THEORY §1.4); zero at nodes no triangle touches."""
+    rotary inertia (docs/theory.md §1.4); zero at nodes no triangle touches."""
     weight = np.repeat(areas, 3)
     nodes = triangles.ravel()
     total = np.bincount(nodes, weights=weight * per_element.ravel(), minlength=n_nodes)

@@ -10,7 +10,7 @@ Every node has at most five DOFs, always stored in the same columns:
     3       alpha   rotation of the director about the nodal axis V2 (tilts V towards V1)
     4       beta    rotation of the director about the nodal axis V1 (tilts V towards -V2)
 
-(THEORY §1.2-1.3.) A cable node carries the first three; a shell node all five. Keeping the
+(docs/theory.md §1.2-1.3.) A cable node carries the first three; a shell node all five. Keeping the
 columns fixed lets every solver work on (n, 3) translation arrays and (n, 3) angular-velocity
 vectors without indirection.
 

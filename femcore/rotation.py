@@ -1,4 +1,5 @@
-"""Finite rotations of directors and the nodal frames of the rotational DOFs (THEORY §1.2-1.3).
+"""Finite rotations of directors and the nodal frames of the rotational DOFs (docs/theory.md
+§1.2-1.3).
 
 The core needs these to apply alpha/beta boundary conditions and to advance directors in every
 solver; the shell elements use the same functions, so there is one definition of the frame.
@@ -41,7 +42,8 @@ def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """Rotate unit vectors by rotation vectors (Rodrigues), both (n, 3).
 
     The rotation vector psi has angle |psi| and axis psi/|psi|. For psi perpendicular to V
-    (the director update of THEORY §1.3) this is V+ = cos|psi| V + sin|psi|/|psi| psi x V; the
+    (the director update of docs/theory.md §1.3) this is V+ = cos|psi| V + sin|psi|/|psi| psi x V;
+    the
     general form here also handles a component of psi along V. Tiny angles use the first-order
     update renormalised, which keeps |V| = 1 to rounding.
 
@@ -73,7 +75,8 @@ def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
 
 
 def nodal_frames(directors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Nodal frame (V1, V2) of unit directors V3 = V (Bai Eq. 7 with the fallback of THEORY §1.2).
+    """Nodal frame (V1, V2) of unit directors V3 = V (Bai Eq. 7 with the fallback of docs/theory.md
+    §1.2).
 
     V1 = (a x V3)/|a x V3| with a = e2, or a = e3 where |e2 x V3| < 0.1; V2 = V3 x V1.
     For V = e3 this gives V1 = e1, V2 = e2.

@@ -18,7 +18,8 @@ class State:
         at nodes without a director (cable nodes).
     velocities : (n, 3) float, nodal velocities (mm/s).
     angular_velocities : (n, 3) float, nodal angular-velocity vectors, perpendicular to the
-        director (rad/s; THEORY §1.3 stores omega as a vector so that a change of nodal frame
+        director (rad/s; docs/theory.md §1.3 stores omega as a vector so that a change of nodal
+        frame
         between steps is harmless).
     time : float, s (explicit dynamics) or the pseudo-time of a quasi-static solve.
     load_factor : float, the fraction of the loads applied (1 at the end of the step).

@@ -1,5 +1,5 @@
-"""ElasticShell: plane-stress elasticity with transverse shear for the Mindlin shell (THEORY
-§5.2), isotropic or orthotropic in a material axis given by a warp direction."""
+"""ElasticShell: plane-stress elasticity with transverse shear for the Mindlin shell
+(docs/theory.md §5.2), isotropic or orthotropic in a material axis given by a warp direction."""
 
 from __future__ import annotations
 
@@ -175,7 +175,7 @@ class ElasticShell:
 
     @property
     def wave_speed(self) -> float:
-        """Fastest membrane wave speed sqrt(max Q_ii / rho), mm/s (THEORY §6.2 B1)."""
+        """Fastest membrane wave speed sqrt(max Q_ii / rho), mm/s (docs/theory.md §6.2 B1)."""
         return float(np.sqrt(np.max(np.diag(self.plane_stress)) / self.density))
 
     @property

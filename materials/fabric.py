@@ -1,4 +1,5 @@
-"""Fabric: the material of the fibrous shell (THEORY §2-4), one stack of fibres as one shell.
+"""Fabric: the material of the fibrous shell (docs/theory.md §2-4), one stack of fibres as one
+shell.
 
 All constitutive quantities are per unit initial width (tension, bending) or per unit initial
 area (in-plane shear), so that a stack of plies is described by its measured stack behaviour

@@ -2,7 +2,7 @@
 
 A law gives the generalised stress ``value(x)``, its tangent ``slope(x)`` and the stored energy
 ``energy(x)`` = integral of y from 0 to x, all elementwise over numpy arrays of any shape. Three
-families use it (THEORY §2-4, units per unit initial width or area):
+families use it (docs/theory.md §2-4, units per unit initial width or area):
 
 * ``TensionLaw``: fibre tension T(eps), N/mm, against the logarithmic fibre strain;
 * ``ShearLaw``: in-plane shear moment M_s(gamma), N/mm (per unit initial area), against the
@@ -408,7 +408,7 @@ class BendingLaw:
     def bilinear(initial: float, final: float, knee: float) -> Law:
         """M = B1 chi for |chi| <= knee, then M = sign(chi) (B1 knee + B2 (|chi| - knee)).
 
-        The continuous reading of Bai Table 1 (THEORY §4.6): B1 = 7.5 N mm, B2 = 0.5 N mm,
+        The continuous reading of Bai Table 1 (docs/theory.md §4.6): B1 = 7.5 N mm, B2 = 0.5 N mm,
         knee = 1e-3 1/mm. The table as printed jumps by 0.0005 N at the knee; this law does not.
 
         Parameters

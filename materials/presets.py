@@ -35,14 +35,14 @@ G986_PLY_THICKNESS = 0.3
 G1151_AREAL_WEIGHT = 630e-3 * KG_PER_M2
 G1151_SPECIMEN = {"length": 200.0, "width": 150.0, "thickness": 15.0, "plies": 11}
 
-# In-plane shear of a dry carbon ply: no coefficients are published for these fabrics (THEORY
-# §3). Picture-frame forces of order 10-100 N at 40 deg on a 150 mm frame give, by
+# In-plane shear of a dry carbon ply: no coefficients are published for these fabrics
+# (docs/theory.md §3). Picture-frame forces of order 10-100 N at 40 deg on a 150 mm frame give, by
 # M_s = F L sin(pi/4 - gamma/2) / L^2, about 0.2 N/mm per rad; assumed per ply, linear.
 SHEAR_PER_PLY = 0.2
 
 
 def _table1_bending() -> Law:
-    # Bai Table 1 in the continuous reading of THEORY §4.6 (knee moment 0.0075 N).
+    # Bai Table 1 in the continuous reading of docs/theory.md §4.6 (knee moment 0.0075 N).
     return BendingLaw.bilinear(7.5, 0.5, knee=1e-3)
 
 

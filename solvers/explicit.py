@@ -1,4 +1,4 @@
-"""Explicit dynamics: the central difference scheme of Bai Eq. 22-23 (THEORY §6.1-6.3).
+"""Explicit dynamics: the central difference scheme of Bai Eq. 22-23 (docs/theory.md §6.1-6.3).
 
 With a variable step, dt_bar = (dt_prev + dt)/2 and mass-proportional damping C = c M:
 
@@ -7,7 +7,7 @@ With a variable step, dt_bar = (dt_prev + dt)/2 and mass-proportional damping C 
 
 Rotations follow the same update with the rotary inertia and the moment vectors, on a nodal
 angular velocity kept perpendicular to the director; the director then turns by the finite
-rotation dt * omega (Rodrigues, THEORY §1.3).
+rotation dt * omega (Rodrigues, docs/theory.md §1.3).
 """
 
 from __future__ import annotations
@@ -98,7 +98,7 @@ class CentralDifference:
             cell_dt = [dt * np.sqrt(s) for dt, s in zip(cell_dt, scale)]
         critical = min(float(dt.min()) for dt in cell_dt)
         # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)
-        # with xi = c / (2 w) on the highest mode w = 2 / dt_crit (THEORY §6.3).
+        # with xi = c / (2 w) on the highest mode w = 2 / dt_crit (docs/theory.md §6.3).
         xi = self.damping * critical / 4.0
         return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
 

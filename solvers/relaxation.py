@@ -1,5 +1,5 @@
 """Dynamic relaxation: the static equilibrium as the damped limit of a pseudo-dynamic motion
-(THEORY §6.4).
+(docs/theory.md §6.4).
 
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
 increment is relaxed to equilibrium before the next one and gives one frame.
@@ -226,7 +226,7 @@ class DynamicRelaxation:
 
             if self.damping == "kinetic" and not restart and kinetic < kinetic_old:
                 # The kinetic energy peaked half a step ago: go back there and restart from
-                # rest (x* = x(i) - dt/2 v(i-1/2), THEORY §6.4a).
+                # rest (x* = x(i) - dt/2 v(i-1/2), docs/theory.md §6.4a).
                 state = dofs.move(state, -0.5 * dt * velocity, -0.5 * dt * omega)
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)

@@ -7,7 +7,8 @@ then always be made smaller. Each increment is solved by Newton-Raphson and give
 increment that does not converge is cut in half and retried from the last converged state.
 
 Unknowns per node: ux uy uz and, at shell nodes, alpha beta: small rotations of the director
-about V2 and V1 of its nodal frame (Bai Eq. 7, 13; THEORY §1.3), applied as finite rotations.
+about V2 and V1 of its nodal frame (Bai Eq. 7, 13; docs/theory.md §1.3), applied as finite
+rotations.
 
 Tangent: the blocks' own ``tangent`` where they give one, assembled in the generalised
 coordinates of femcore.dofs by femcore.assembly; for the other blocks, K = dF_int/dq by central

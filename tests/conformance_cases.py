@@ -118,7 +118,9 @@ TANGENT_DIFFERENCES = Bound(
     1e-6, "both tangents are central differences of step 1e-6, or exact (seen: 4e-10)"
 )
 MASS_SUM = Bound(1e-13, "a sum of positive shares: round-off (seen: 3e-16)")
-WITHIN_TWO = Bound(0.5, "THEORY §6.2: the bound is safe and within a factor 2 (seen: >= 0.58)")
+WITHIN_TWO = Bound(
+    0.5, "docs/theory.md §6.2: the bound is safe and within a factor 2 (seen: >= 0.58)"
+)
 
 
 # ---------------------------------------------------------------------- cables
@@ -246,8 +248,9 @@ def _fibrous_parts(parts: tuple[str, ...]):
 
 
 CURRENT_BENDING = (
-    "bending_geometry='current' holds the current c_as fixed in the variation (Bai, THEORY "
-    "§4.4): bending is the gradient only to first order in the folds (tests/test_fibrous.py, "
+    "bending_geometry='current' holds the current c_as fixed in the variation (Bai, "
+    "docs/theory.md §4.4): bending is the gradient only to first order in the folds "
+    "(tests/test_fibrous.py, "
     "tests/test_static.py test_fibrous_tangent_with_current_bending_coefficients_is_close)"
 )
 
@@ -333,7 +336,8 @@ def _mindlin_case(name: str, thickness: float, shrink: tuple[float, float, str])
 # does not depend on L.
 SCALED_INERTIA_SHRINK = (2.0 * (1 - 1e-12), 2.0 * (1 + 1e-12), "scaled inertia: dt ~ L exactly")
 MINDLIN = _mindlin_case("mindlin", 2.0, SCALED_INERTIA_SHRINK)
-# THEORY §6.2 (B1, B2), the two thicknesses of the former per-element step test: a thick shell
+# docs/theory.md §6.2 (B1, B2), the two thicknesses of the former per-element step test: a thick
+# shell
 # with the physical rotary inertia, a thin one that must keep the membrane step.
 MINDLIN_THICK = _mindlin_case(
     "mindlin-thick", 5.0, (1.7, 2.0, "membrane terms dt ~ L; the unscaled rotation term fixed")

@@ -28,7 +28,7 @@ def compiled(mesh: Mesh, material=None, **options):
 
 def stiffness_and_mass(model, state, step=1e-7):
     """Central-difference stiffness over (ux, uy, uz, alpha, beta) per node (alpha: a small
-    rotation of the director about V2, beta: about V1, THEORY §1.3) and the lumped diagonal
+    rotation of the director about V2, beta: about V1, docs/theory.md §1.3) and the lumped diagonal
     mass, on the free DOFs."""
     n = state.n_nodes
     v1, v2 = nodal_frames(state.directors)

@@ -1,4 +1,4 @@
-"""Fabric laws (THEORY §2-4.6) and the paper's presets (Bai Tables 1-2)."""
+"""Fabric laws (docs/theory.md §2-4.6) and the paper's presets (Bai Tables 1-2)."""
 
 import numpy as np
 import pytest
@@ -32,7 +32,8 @@ def test_energy_is_the_integral_of_the_law_and_slope_its_derivative(law):
 
 
 def test_table_1_bilinear_law_is_continuous_at_the_knee():
-    # Bai Table 1 read as in THEORY §4.6: M = 7.5 chi up to 1e-3, then 0.0075 + 0.5 (chi - 1e-3).
+    # Bai Table 1 read as in docs/theory.md §4.6: M = 7.5 chi up to 1e-3, then 0.0075 + 0.5 (chi -
+    # 1e-3).
     law = BendingLaw.bilinear(7.5, 0.5, knee=1e-3)
     assert law.value(1e-3) == pytest.approx(0.0075)
     assert law.value(1e-3 * (1 + 1e-9)) == pytest.approx(0.0075, rel=1e-8)

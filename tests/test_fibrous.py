@@ -1,4 +1,4 @@
-"""FibrousShell (Bai et al. 2020; THEORY §1-4): the gradient with the current bending
+"""FibrousShell (Bai et al. 2020; docs/theory.md §1-4): the gradient with the current bending
 coefficients, the rotary inertia, the curvature of the rotation-free bending, the fibre
 ordering and the Table 1 law.
 
@@ -70,7 +70,7 @@ def test_current_bending_coefficients_give_the_gradient_to_first_order_in_the_fo
 
 
 def test_paper_thickness_variation_switch_drops_only_the_h_m_term():
-    # Bai Eq. 28 omits delta h_m (THEORY §2.5): with top and bottom fibres loaded alike
+    # Bai Eq. 28 omits delta h_m (docs/theory.md §2.5): with top and bottom fibres loaded alike
     # (directors normal, in-plane stretch) the term vanishes and both options agree.
     stretch = compiled(MESH)
     paper = compiled(MESH, thickness_variation=False)
@@ -90,7 +90,7 @@ def test_rotary_inertia_is_eq_39():
     assert inertia == pytest.approx(mass * 4.0**2 / 4.0, rel=1e-12, abs=0.0)  # I = m h_m^2 / 4
 
 
-# ------------------------------------------------------------------ curvature (THEORY §4.2)
+# ------------------------------------------------------------------ curvature (docs/theory.md §4.2)
 def _curvatures(model, surface, epsilon=1e-6):
     """Warp and weft curvature of every cell when nodes are lifted to z = epsilon f(x, y)."""
     state = model.initial_state()
@@ -111,7 +111,7 @@ def _curvatures(model, surface, epsilon=1e-6):
     ],
 )
 def test_constant_curvature_is_exact_on_interior_elements(surface, warp, weft):
-    mesh = Mesh.rectangle(6.0, 7.8, nx=6, ny=6)  # a = 1, b = 1.3 as in THEORY §4.2
+    mesh = Mesh.rectangle(6.0, 7.8, nx=6, ny=6)  # a = 1, b = 1.3 as in docs/theory.md §4.2
     model = compiled(mesh)
     interior = (model.blocks[0].neighbour >= 0).all(axis=1)
     chi_warp, chi_weft = _curvatures(model, surface)
@@ -120,7 +120,8 @@ def test_constant_curvature_is_exact_on_interior_elements(surface, warp, weft):
 
 
 def test_clamped_edge_option_gives_the_exact_curvature_at_the_wall():
-    # THEORY §4.5: bending against a rigid wall, w = kappa x^2 / 2 from the clamped edge x = 0.
+    # docs/theory.md §4.5: bending against a rigid wall, w = kappa x^2 / 2 from the clamped edge x
+    # = 0.
     mesh = Mesh.rectangle(6.0, 4.0, nx=6, ny=2)
     model = compiled(mesh, clamped="left")
     chi_warp, _ = _curvatures(model, lambda x, y: x**2 / 2)
@@ -226,7 +227,7 @@ def test_outputs_reach_the_result_fields():
 
 
 def test_a_director_near_the_surface_hits_the_guard_and_is_reported():
-    # THEORY §1.4: h_m = h / max(V.n, 0.2); a director tilted 85 deg would give 11.5 h.
+    # docs/theory.md §1.4: h_m = h / max(V.n, 0.2); a director tilted 85 deg would give 11.5 h.
     model = compiled(MESH)
     state = model.initial_state()
     node = 6

@@ -3,7 +3,7 @@
 
 Strip: 100 x 10 mm, h = 6 mm (h/L = 0.06), rho_A = 5.7e-9 t/mm^2 (20 plies of 285 g/m^2),
 linear bending B = 7.5 N mm (Bai Table 1 before the knee), 10 x 1 cells, clamped edge option
-(THEORY §4.5). Weight q = rho_A g, q L^3 / B = 7.5: the tip slope exceeds 50 degrees.
+(docs/theory.md §4.5). Weight q = rho_A g, q L^3 / B = 7.5: the tip slope exceeds 50 degrees.
 """
 
 import numpy as np

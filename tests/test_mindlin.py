@@ -1,4 +1,5 @@
-"""MindlinShell (THEORY §5): rotary inertia, bad input, and linear and nonlinear benchmarks with
+"""MindlinShell (docs/theory.md §5): rotary inertia, bad input, and linear and nonlinear benchmarks
+with
 closed-form or series references (the linear ones solved with a dense finite-difference
 stiffness on small meshes).
 

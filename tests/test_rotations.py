@@ -1,4 +1,5 @@
-"""The core's rotational DOF machinery (THEORY §1.2-1.3, §6.1, §6.4), checked before any shell
+"""The core's rotational DOF machinery (docs/theory.md §1.2-1.3, §6.1, §6.4), checked before any
+shell
 element exists with a test-only element, ``DirectorSpring``: a rotational spring at each node
 that pulls the director back to its reference direction.
 
@@ -214,7 +215,7 @@ def test_a_step_moment_makes_the_director_oscillate_about_M_over_k():
 
 
 def test_a_drilling_moment_does_not_turn_the_director():
-    # Reference: there is no drilling DOF (THEORY §1.3): a moment along the director e3 is
+    # Reference: there is no drilling DOF (docs/theory.md §1.3): a moment along the director e3 is
     # dropped, so the director stays e3 and no reaction moment arises.
     model = spring_model(10.0)
     model.moment(np.arange(4), (0.0, 0.0, 3.0))

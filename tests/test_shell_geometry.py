@@ -1,4 +1,5 @@
-"""Shell geometry shared by both shells (THEORY §1): frames, director update, thickness along
+"""Shell geometry shared by both shells (docs/theory.md §1): frames, director update, thickness
+along
 the director, lumped mass."""
 
 import numpy as np
@@ -55,7 +56,7 @@ def test_director_update_is_eq_13_to_first_order_and_keeps_unit_length():
 
 
 def test_alpha_tilts_the_director_towards_v1():
-    # A quarter turn of alpha on V = e3 brings V onto V1 = e1 (THEORY §1.3).
+    # A quarter turn of alpha on V = e3 brings V onto V1 = e1 (docs/theory.md §1.3).
     turned = director_increment(np.array([E3]), np.array([np.pi / 2]), np.array([0.0]))
     assert turned[0] == pytest.approx(E1, abs=1e-15)
     turned = director_increment(np.array([E3]), np.array([0.0]), np.array([np.pi / 2]))
