@@ -1,12 +1,12 @@
 """Curvature patch test of the rotation-free fibrous bending: quadratic surfaces are exact.
 
-Source: closed-form curvature of imposed surfaces (THEORY §4.2; the rotation-free bending of
-Bai et al. 2020, Eqs. 29-37, with the clamped-edge option of THEORY §4.5). A flat sheet is
+Source: closed-form curvature of imposed surfaces (docs/theory.md §4.2; the rotation-free bending of
+Bai et al. 2020, Eqs. 29-37, with the clamped-edge option of docs/theory.md §4.5). A flat sheet is
 lifted to z = epsilon f(x, y) with epsilon = 1e-6 (so that the curvature is linear in the
 lift) and the warp and weft curvatures of every cell are read from FibrousShell.cell_fields;
 chi = -d^2 w / ds^2 along the fibre (Bai's sign).
-Geometry: a 6 x 7.8 mm sheet, 6 x 6 cells (a = 1 mm, b = 1.3 mm as in THEORY §4.2), warp along
-x; and a 6 x 4 mm sheet, 6 x 2 cells, clamped along x = 0 for the clamped-edge option.
+Geometry: a 6 x 7.8 mm sheet, 6 x 6 cells (a = 1 mm, b = 1.3 mm as in docs/theory.md §4.2), warp
+along x; and a 6 x 4 mm sheet, 6 x 2 cells, clamped along x = 0 for the clamped-edge option.
 Surfaces and expected (warp, weft) curvature on interior cells: x^2/2 (-1, 0), y^2/2 (0, -1),
 (x^2 + y^2)/2 (-1, -1), (x + y)^2/2 (-1, -1), x y (0, 0): a pure twist bends no fibre; and
 x^2/2 at the clamped wall (-1).
@@ -36,7 +36,7 @@ __all__ = ["CASE", "CurvatureData", "compute", "curvatures", "render", "sheet", 
 
 NAME = "fibrous-curvature"
 TITLE = "Rotation-free fibrous bending: constant curvature is exact (patch test)"
-SOURCE = "closed-form curvature of the imposed surface (THEORY §4.2)"
+SOURCE = "closed-form curvature of the imposed surface (docs/theory.md §4.2)"
 # The patch test is exact on any mesh: the resolutions only change the number of cells.
 CELLS = {"coarse": 6, "default": 6, "fine": 12}
 EPSILON = 1e-6
@@ -127,7 +127,7 @@ def compute(resolution: str) -> Outcome:
             worst(chi_clamped[at_wall], -1.0),
             TOLERANCE,
             relative=False,
-            source="THEORY §4.5 (clamped-edge option)",
+            source="docs/theory.md §4.5 (clamped-edge option)",
         )
     )
     chi_free, _ = curvatures(sheet(wall), lambda x, y: x**2 / 2)

@@ -5,7 +5,7 @@ Bars, 1962, ch. 3), solved as a boundary-value problem in
 validation.references.elastica.heavy_cantilever, independent of any finite element; the
 director and thickness kinematics of Bai et al. (2020) §3, Eq. 10, Fig. 1.
 Geometry: strip 100 x 10 mm, h = 6 mm (h/L = 0.06), clamped at x = 0 with the clamped-edge
-option of the rotation-free bending (THEORY §4.5); nx x 1 cells.
+option of the rotation-free bending (docs/theory.md §4.5); nx x 1 cells.
 Parameters: areal density rho_A = 5.7e-9 t/mm^2 (20 plies of 285 g/m^2), g = 9810 mm/s^2, linear
 bending B = 7.5 N mm (Bai Table 1 before the knee), tension 1200 N/mm (Bai Table 1), shear
 4 N/mm; q L^3 / B = 7.46, tip slope about 52 degrees. Gravity in 3 equal load increments.
