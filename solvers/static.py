@@ -407,7 +407,11 @@ def _lowest_modes(k_ff) -> tuple[np.ndarray, np.ndarray]:
     count = 6
     symmetric = (0.5 * (k_ff + k_ff.T)).tocsc()
     try:
-        return eigsh(symmetric, k=count, sigma=0.0, which="LM")
+        # A fixed start vector: ARPACK's default is a random one drawn from a generator that
+        # advances with every call in the process, so the modes (and a push decided on an
+        # eigenvalue near zero) would depend on what ran before in the same process.
+        start = np.random.default_rng(0).standard_normal(n)
+        return eigsh(symmetric, k=count, sigma=0.0, which="LM", v0=start)
     except (RuntimeError, ArpackNoConvergence):
         return np.zeros(0), np.zeros((n, 0))
 
