@@ -9,17 +9,15 @@ linear bending B = 7.5 N mm (Bai Table 1 before the knee), 10 x 1 cells, clamped
 import numpy as np
 import pytest
 
-from elements import FibrousShell
-from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import DynamicRelaxation
+from validation import specimens
 from validation.references.elastica import heavy_cantilever
 
 LENGTH, WIDTH, THICKNESS, DENSITY, BENDING, G = 100.0, 10.0, 6.0, 5.7e-9, 7.5, 9810.0
 
 
 def sag(tension: float):
-    mesh = Mesh.rectangle(LENGTH, WIDTH, nx=10, ny=1)
     fabric = Fabric(
         thickness=THICKNESS,
         areal_density=DENSITY,
@@ -27,10 +25,7 @@ def sag(tension: float):
         shear=ShearLaw.linear(4.0),
         bending=BendingLaw.linear(BENDING),
     )
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, clamped="left"))
-    model.fix("left")
-    model.gravity((0.0, 0.0, -G))
+    mesh, model = specimens.fibrous_strip(LENGTH, WIDTH, fabric, cells=10)
     result = DynamicRelaxation(increments=1, tol=1e-5, max_iterations=100_000).solve(model)
     return mesh, model.compile(), result
 

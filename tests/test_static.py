@@ -9,11 +9,11 @@ from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw
 from solvers import ConvergenceError, DynamicRelaxation, Static
 from tests.shell_helpers import fabric, on_cylinder, stiffness_and_mass
+from validation import specimens
 from validation.specimens import mindlin_strip
 
 
 def fibrous_strip(tension=1200.0, cells=10):
-    mesh = Mesh.rectangle(100.0, 10.0, nx=cells, ny=1)
     fabric = Fabric(
         thickness=6.0,
         areal_density=5.7e-9,
@@ -21,11 +21,7 @@ def fibrous_strip(tension=1200.0, cells=10):
         shear=ShearLaw.linear(4.0),
         bending=BendingLaw.linear(7.5),
     )
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, clamped="left"))
-    model.fix("left")
-    model.gravity((0.0, 0.0, -9810.0))
-    return mesh, model
+    return specimens.fibrous_strip(100.0, 10.0, fabric, cells)
 
 
 def test_coloured_tangent_equals_the_dense_jacobian():
