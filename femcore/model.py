@@ -495,14 +495,15 @@ class CompiledModel:
             )
         raise ValueError(f"method must be 'element' or 'finite_difference', got {method!r}")
 
-    def own_tangent_blocks(self, state: State) -> list[int]:
-        """Indices of the blocks that give a tangent of their own at ``state``."""
-        histories = self._histories(state)
-        return [
-            i
-            for i, (b, h) in enumerate(zip(self.blocks, histories))
-            if b.tangent(state, h) is not None
-        ]
+    def own_tangents(self, state: State) -> dict[int, list[CellTangent]]:
+        """The tangent parts at ``state`` of the blocks that give a tangent of their own,
+        by block index (the others return None: the finite-difference fallback)."""
+        own = {}
+        for i, (block, history) in enumerate(zip(self.blocks, self._histories(state))):
+            parts = block.tangent(state, history)
+            if parts is not None:
+                own[i] = parts
+        return own
 
     def external_load(self, tau: float, quasi_static: bool = False):
         """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""

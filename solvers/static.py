@@ -28,7 +28,12 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, MatrixRankWarning, eigsh, splu
 
-from femcore.assembly import FreeTangentAssembler, NodeGraph, finite_difference_tangent
+from femcore.assembly import (
+    CellTangent,
+    FreeTangentAssembler,
+    NodeGraph,
+    finite_difference_tangent,
+)
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel, Model
 from femcore.state import State
@@ -129,9 +134,10 @@ class Static:
         compiled = model.compile() if isinstance(model, Model) else model
         started = time.perf_counter()
         state = compiled.initial_state()
-        own = compiled.own_tangent_blocks(state) if self.tangent == "element" else []
+        own_parts = compiled.own_tangents(state) if self.tangent == "element" else {}
+        own = list(own_parts)
         others = [i for i in range(len(compiled.blocks)) if i not in own]
-        tangent = _Tangent(compiled, own, others)
+        tangent = _Tangent(compiled, own, others, (state, own_parts))
         frames = [make_frame(compiled, state)]
         progress = ProgressLine(resolve_progress(self.progress), "static")
         info: dict[str, Any] = {
@@ -496,8 +502,10 @@ class _Tangent:
     (``own``: block indices) assembled by femcore.assembly, plus coloured finite differences
     of the other blocks' forces."""
 
-    def __init__(self, model: CompiledModel, own: list[int], others: list[int]):
+    def __init__(self, model: CompiledModel, own: list[int], others: list[int], first=None):
+        """``first``: (state, {block index: parts}) already evaluated, reused at that state."""
         self.model, self.own, self.others = model, own, others
+        self.first = first
         self.assemble = FreeTangentAssembler(model.dofs)
         self.graph = None
         if others:
@@ -507,7 +515,11 @@ class _Tangent:
 
     def __call__(self, state: State, frames: Frames):
         model, dofs = self.model, self.model.dofs
-        parts = model.tangent_parts(state, self.own)
+        parts: list[CellTangent] | None
+        if self.first is not None and state is self.first[0]:
+            parts = [part for i in self.own for part in self.first[1][i]]
+        else:
+            parts = model.tangent_parts(state, self.own)
         if parts is None:
             raise RuntimeError(
                 "an element block gave a tangent at the start of the solve and none later: a "
