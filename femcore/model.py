@@ -9,22 +9,34 @@ quantities live in ``femcore.state.State``.
 from __future__ import annotations
 
 import inspect
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 
 from femcore.assembly import CellTangent, NodeGraph, finite_difference_tangent, tangent_matrix
 from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns
 from femcore.element import ElementBlock, ElementType
-from femcore.loads import Amplitude, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
+from femcore.loads import (
+    Amplitude,
+    AmplitudeFunction,
+    Fix,
+    Gravity,
+    NodalLoad,
+    Prescribed,
+    amplitude_of,
+)
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
 
-__all__ = ["BlockEntry", "CompiledModel", "Model"]
+__all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
+
+#: A node selection: the name of a node set of the mesh, or node ids.
+NodeSelection = str | int | Sequence[int] | np.ndarray
 
 
 def _vector3(value, what: str) -> np.ndarray:
@@ -120,17 +132,52 @@ class Model:
         self._compiled = None
         return len(self.blocks) - 1
 
-    def fix(self, nodes, dofs=None) -> None:
-        """Hold DOFs at zero: ``dofs`` None = every DOF of those nodes, or names such as "uz",
-        ("ux", "uy", "uz"), "alpha" (see femcore.dofs)."""
+    def fix(self, nodes: NodeSelection, dofs: str | Sequence[str] | None = None) -> None:
+        """Hold DOFs at zero.
+
+        Parameters
+        ----------
+        nodes : str or array of int
+            A node-set name of the mesh, or node ids.
+        dofs : None, str or sequence of str
+            None = every DOF of those nodes, or names such as "uz", ("ux", "uy", "uz"),
+            "alpha" (femcore.dofs.DOF_NAMES).
+
+        Raises
+        ------
+        ValueError
+            For an unknown set, node id or DOF name.
+        """
         columns = None if dofs is None else dof_columns(dofs)
         self.fixes.append(Fix(self._node_ids(nodes), columns))
         self._compiled = None
 
-    def displace(self, nodes, ux=None, uy=None, uz=None, amplitude="smooth") -> None:
-        """Prescribe translations (mesh length unit), reached at the end of the step or of the
-        load increments; components left None stay free. Each value is a number or one number
-        per selected node."""
+    def displace(
+        self,
+        nodes: NodeSelection,
+        ux: ArrayLike | None = None,
+        uy: ArrayLike | None = None,
+        uz: ArrayLike | None = None,
+        amplitude: str | AmplitudeFunction = "smooth",
+    ) -> None:
+        """Prescribe translations, reached at the end of the step or of the load increments.
+
+        Parameters
+        ----------
+        nodes : str or array of int
+            A node-set name of the mesh, or node ids.
+        ux, uy, uz : float, (k,) floats or None
+            Displacement (mesh length unit), one number or one per selected node; a component
+            left None stays free.
+        amplitude : str or callable
+            Time history in dynamics ("smooth", "linear", "step" or a(tau)); static solvers
+            ramp with the load factor.
+
+        Raises
+        ------
+        ValueError
+            For an unknown set or node id, a non-finite value, or no component given.
+        """
         ids = self._node_ids(nodes)
         values = np.full((ids.size, 3), np.nan)
         given = False
@@ -150,8 +197,23 @@ class Model:
         self.prescribed.append(Prescribed(ids, values, amplitude_of(amplitude)))
         self._compiled = None
 
-    def force(self, nodes, vector, amplitude="step") -> None:
-        """The same global force vector (3,) on each selected node (dead load)."""
+    def force(
+        self,
+        nodes: NodeSelection,
+        vector: ArrayLike,
+        amplitude: str | AmplitudeFunction = "step",
+    ) -> None:
+        """The same global force vector on each selected node (dead load).
+
+        Parameters
+        ----------
+        nodes : str or array of int
+            A node-set name of the mesh, or node ids.
+        vector : (3,) float
+            Force, N.
+        amplitude : str or callable
+            Time history in dynamics; static solvers ramp with the load factor.
+        """
         self.loads.append(
             NodalLoad(
                 "force", self._node_ids(nodes), _vector3(vector, "force"), amplitude_of(amplitude)
@@ -159,9 +221,23 @@ class Model:
         )
         self._compiled = None
 
-    def moment(self, nodes, vector, amplitude="step") -> None:
-        """The same global moment vector (3,) on each selected node with rotational DOFs; its
-        component along the director is dropped (no drilling DOF)."""
+    def moment(
+        self,
+        nodes: NodeSelection,
+        vector: ArrayLike,
+        amplitude: str | AmplitudeFunction = "step",
+    ) -> None:
+        """The same global moment vector on each selected node with rotational DOFs.
+
+        Parameters
+        ----------
+        nodes : str or array of int
+            A node-set name of the mesh, or node ids (of nodes with rotational DOFs).
+        vector : (3,) float
+            Moment, N mm; its component along the director is dropped (no drilling DOF).
+        amplitude : str or callable
+            Time history in dynamics; static solvers ramp with the load factor.
+        """
         self.loads.append(
             NodalLoad(
                 "moment", self._node_ids(nodes), _vector3(vector, "moment"), amplitude_of(amplitude)
@@ -169,8 +245,16 @@ class Model:
         )
         self._compiled = None
 
-    def gravity(self, vector, amplitude="step") -> None:
-        """Acceleration of gravity (3,), e.g. (0, 0, -9810) mm/s^2, acting on the lumped mass."""
+    def gravity(self, vector: ArrayLike, amplitude: str | AmplitudeFunction = "step") -> None:
+        """Acceleration of gravity acting on the lumped mass.
+
+        Parameters
+        ----------
+        vector : (3,) float
+            Acceleration, e.g. (0, 0, -9810) mm/s^2.
+        amplitude : str or callable
+            Time history in dynamics; static solvers ramp with the load factor.
+        """
         self.gravities.append(Gravity(_vector3(vector, "gravity"), amplitude_of(amplitude)))
         self._compiled = None
 

@@ -23,8 +23,10 @@ import time
 from dataclasses import replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from femcore.model import CompiledModel, Model
+from femcore.results import Result
 from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.common import (
@@ -76,17 +78,33 @@ class DynamicRelaxation:
         self.safety = float(safety)
         self.progress = progress
 
-    def solve(self, model: Model | CompiledModel, start=None):
-        """Relax every increment to equilibrium; returns a femcore.results.Result whose frames
-        are the reference state and one frame per increment (``time`` = load factor).
+    def solve(
+        self,
+        model: Model | CompiledModel,
+        start: tuple[ArrayLike, ArrayLike, float] | None = None,
+    ) -> Result:
+        """Relax every increment to equilibrium.
 
-        start : optional (positions (n, 3), directors (n, 3), load factor) of an equilibrium
-        already found (e.g. the last state a Static run reached before a limit point): the
-        relaxation then continues from it, the increments splitting the remaining load.
+        Parameters
+        ----------
+        model : Model or CompiledModel
+        start : (positions (n, 3), directors (n, 3), load factor) or None
+            An equilibrium already found (e.g. the last state a Static run reached before a
+            limit point): the relaxation then continues from it, the increments splitting
+            the remaining load.
 
-        Raises ConvergenceError (with the converged increments in ``error.result``) when an
-        increment does not converge in ``max_iterations``, and DivergenceError on non-finite
-        values.
+        Returns
+        -------
+        femcore.results.Result
+            The reference state and one frame per increment (``time`` = load factor).
+
+        Raises
+        ------
+        ConvergenceError
+            When an increment does not converge in ``max_iterations`` (the converged
+            increments in ``error.result``).
+        DivergenceError
+            On non-finite values.
         """
         compiled = model.compile() if isinstance(model, Model) else model
         started = time.perf_counter()

@@ -36,6 +36,7 @@ from femcore.assembly import (
 )
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel, Model
+from femcore.results import Result
 from femcore.state import State
 from solvers.common import (
     ConvergenceError,
@@ -121,16 +122,31 @@ class Static:
         self.step_loads_first = bool(step_loads_first)
         self.progress = progress
 
-    def solve(self, model: Model | CompiledModel):
-        """Solve every increment; returns a femcore.results.Result with the reference state
-        and one frame per increment (``time`` = load factor). Raises ConvergenceError, with
-        the converged frames in ``error.result``, when an increment cannot be completed."""
+    def solve(self, model: Model | CompiledModel) -> Result:
+        """Solve every increment.
+
+        Parameters
+        ----------
+        model : Model or CompiledModel
+
+        Returns
+        -------
+        femcore.results.Result
+            The reference state and one frame per increment (``time`` = load factor), with
+            ``info`` (iterations, cuts, stability, tangent kinds).
+
+        Raises
+        ------
+        ConvergenceError
+            When an increment cannot be completed: ``error.result`` holds the converged
+            frames and the last good state, ``error.load_factor`` the load factor reached.
+        """
         # Trial states of a wild update may overflow; every residual is checked for
         # finiteness and such an update is cut back, so numpy's warnings would only be noise.
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return self._solve(model)
 
-    def _solve(self, model: Model | CompiledModel):
+    def _solve(self, model: Model | CompiledModel) -> Result:
         compiled = model.compile() if isinstance(model, Model) else model
         started = time.perf_counter()
         state = compiled.initial_state()
