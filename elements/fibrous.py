@@ -158,6 +158,9 @@ class FibrousShellBlock(ElementBlock):
     connectivity : (m, 3) node ids, reordered so that local node 0 is the fibre corner, edge
         0 -> 1 runs along one fibre family and 0 -> 2 along the other (Eq. 9).
     xi_is_warp : (m,) bool, True where edge 0 -> 1 is warp (else it is weft).
+    shear_sign : (m,) +1 or -1, so that gamma = shear_sign (pi/2 - angle(g1, g2)) is the
+        closing of the angle between the positive warp and weft directions in every cell,
+        whichever way its edges 0 -> 1 and 0 -> 2 point along them.
     reference_area : A0 (m,), mm^2.
     neighbour, neighbour_side : (m, 3) block-local neighbour across side s and its side index
         there (-1 on free edges); clamped_side : (m, 3) bool.
@@ -184,6 +187,9 @@ class FibrousShellBlock(ElementBlock):
             shell.fibre_angle_tolerance,
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self.shear_sign = _shear_orientation(
+            mesh.points, self.connectivity, self.xi_is_warp, shell.warp
+        )
 
         topology = build_topology(self.connectivity)
         self.neighbour = np.asarray(topology.neighbour)
@@ -202,7 +208,7 @@ class FibrousShellBlock(ElementBlock):
         self.reference_normal = ref["normal"]
         self.reference_length1 = np.linalg.norm(ref["g1"], axis=-1)  # (m, L)
         self.reference_length2 = np.linalg.norm(ref["g2"], axis=-1)
-        self.reference_shear = _shear_angle(ref["g1"], ref["g2"])
+        self.reference_shear = self.shear_sign[:, None] * _shear_angle(ref["g1"], ref["g2"])
         self.reference_fold = np.zeros((len(self.cell_ids), 3))
         bend0 = self._bending_geometry(x0)
         self.reference_fold = bend0["fold"]
@@ -302,7 +308,8 @@ class FibrousShellBlock(ElementBlock):
             "length2": len2,
             "eps1": np.log(len1 / self.reference_length1),
             "eps2": np.log(len2 / self.reference_length2),
-            "gamma": _shear_angle(geo["g1"], geo["g2"]) - self.reference_shear,
+            "gamma": self.shear_sign[:, None] * _shear_angle(geo["g1"], geo["g2"])
+            - self.reference_shear,
         }
 
     def _by_family(self, along_xi, along_eta):
@@ -314,8 +321,9 @@ class FibrousShellBlock(ElementBlock):
         """Derivatives P_a = dW/dg_a (m, L, 3) of the tension and/or shear energy.
 
         Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a g_a / |g_a|^2 (d eps = g . dg / |g|^2).
-        Shear (Eq. 30-33, §3): d gamma = dg1 . t1 / |g1| + dg2 . t2 / |g2|, t1 the unit
-        vector normal to g1 towards g2 in their plane (and t2 likewise).
+        Shear (Eq. 30-33, §3): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|), t1 the
+        unit vector normal to g1 towards g2 in their plane (and t2 likewise), sign the cell's
+        ``shear_sign``.
         """
         scale = self.reference_area[:, None] * self.weights[None, :]  # A0 w_f, (m, L)
         len1, len2 = strain["length1"], strain["length2"]
@@ -335,7 +343,7 @@ class FibrousShellBlock(ElementBlock):
             u2 = g2 / len2[..., None]
             c = np.sum(u1 * u2, axis=-1)
             s = np.sqrt(np.maximum(1.0 - c**2, 1e-24))
-            moment = self.fabric.shear.value(strain["gamma"])
+            moment = self.shear_sign[:, None] * self.fabric.shear.value(strain["gamma"])
             p1 += (scale * moment / (len1 * s))[..., None] * (u2 - c[..., None] * u1)
             p2 += (scale * moment / (len2 * s))[..., None] * (u1 - c[..., None] * u2)
         return p1, p2
@@ -666,6 +674,23 @@ def _side_geometry(x: np.ndarray) -> dict:
         "outward": outward,
         "gradient": gradient,
     }
+
+
+def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:
+    """+1 where edges 0 -> 1 and 0 -> 2 of a cell point both along or both against the positive
+    directions of their fibre families (warp, and weft = n x warp), else -1 (m,).
+
+    The angle between the edges then equals the warp-weft angle or its supplement, and
+    multiplying pi/2 - angle(g1, g2) by this sign gives the shear angle with one convention in
+    every cell: positive when the warp-weft angle closes.
+    """
+    x = points[connectivity]
+    edge1, edge2 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+    normal = cross(edge1, edge2)
+    weft = cross(normal, np.broadcast_to(warp, normal.shape))  # along n x warp (unnormalised)
+    along_warp = np.where(xi_is_warp, np.sum(edge1 * warp, 1), np.sum(edge2 * warp, 1))
+    along_weft = np.where(xi_is_warp, np.sum(edge2 * weft, 1), np.sum(edge1 * weft, 1))
+    return np.sign(along_warp) * np.sign(along_weft)
 
 
 def _shear_angle(g1: np.ndarray, g2: np.ndarray) -> np.ndarray:

@@ -261,3 +261,69 @@ def test_warp_and_weft_bend_with_their_own_stiffness(warp, stiffness):
     beyond = mesh.points[:, 0] > 50.0 + 1e-9
     moment = np.cross(state.positions[beyond], force[beyond]).sum(axis=0)[1] / width
     assert moment == pytest.approx(-stiffness * chi, rel=2 * (5.0 * chi) ** 2 / 24 + 1e-6)
+
+
+def checkerboard_bias_mesh(n: int = 4, size: float = 10.0) -> Mesh:
+    """An n x n grid of squares rotated by 45 deg (fibres at +/-45 deg to x, as in a bias
+    extension specimen), the squares split along alternating diagonals, so that half of the
+    right angles point one way along the fibres and half the other."""
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="xy")
+    flat = np.column_stack([i.ravel() * size, j.ravel() * size, np.zeros(i.size)])
+    ids = np.arange(flat.shape[0]).reshape(n + 1, n + 1)
+    triangles = []
+    for row in range(n):  # builds the test mesh, not a time step
+        for col in range(n):
+            p00, p10 = ids[row, col], ids[row, col + 1]
+            p01, p11 = ids[row + 1, col], ids[row + 1, col + 1]
+            if (row + col) % 2:
+                triangles += [(p00, p10, p01), (p10, p11, p01)]
+            else:
+                triangles += [(p00, p10, p11), (p00, p11, p01)]
+    c = np.cos(np.pi / 4)
+    rotation = np.array([[c, -c, 0.0], [c, c, 0.0], [0.0, 0.0, 1.0]])
+    return Mesh(flat @ rotation.T, triangles=np.array(triangles))
+
+
+@pytest.mark.parametrize("stretch", [0.1, -0.05])
+def test_shear_angle_is_positive_when_the_warp_weft_angle_closes_in_every_cell(stretch):
+    # Warp along (1, 1), weft along (-1, 1): stretching y by (1 + e) turns them into (1, 1 + e)
+    # and (-1, 1 + e), whose angle closes by asin((e^2 + 2e) / (1 + (1 + e)^2)) (opens for
+    # e < 0). The same uniform deformation must give the same shear angle, with that sign,
+    # in every cell whichever corner its right angle is at.
+    c = np.cos(np.pi / 4)
+    model = Model(checkerboard_bias_mesh())
+    model.add(FibrousShell(fabric(), warp=(c, c, 0.0)))
+    compiled_model = model.compile()
+    assert set(compiled_model.blocks[0].shear_sign.tolist()) == {-1.0, 1.0}
+    state = compiled_model.initial_state()
+    state.positions = state.positions * np.array([1.0, 1.0 + stretch, 1.0])
+    gamma = compiled_model.fields(state)["triangle"]["shear_angle"]
+    closed_form = np.arcsin((stretch**2 + 2 * stretch) / (1 + (1 + stretch) ** 2))
+    assert np.abs(gamma - closed_form).max() <= 1e-12
+
+
+def test_forces_stay_the_energy_gradient_where_the_shear_sign_flips():
+    # Cells of both orientations (shear_sign -1 and +1) under a sheared, jittered state.
+    material = fabric()
+    c = np.cos(np.pi / 4)
+    model = Model(checkerboard_bias_mesh(3))
+    model.add(FibrousShell(material, warp=(c, c, 0.0), bending_geometry="reference"))
+    compiled_model = model.compile()
+    state = compiled_model.initial_state()
+    rng = np.random.default_rng(5)
+    state.positions = state.positions * np.array([1.0, 1.08, 1.0]) + rng.normal(
+        scale=0.2, size=state.positions.shape
+    )
+    force, _ = compiled_model.internal_force(state)
+    step = 1e-6
+    numerical = np.zeros_like(force)
+    for node in range(state.n_nodes):  # a finite-difference reference, not a time step
+        for axis in range(3):
+            plus, minus = state.copy(), state.copy()
+            plus.positions[node, axis] += step
+            minus.positions[node, axis] -= step
+            numerical[node, axis] = (
+                compiled_model.strain_energy(plus) - compiled_model.strain_energy(minus)
+            ) / (2 * step)
+    # Central differences of step 1e-6 on an energy of this size: 1e-6 of the largest force.
+    assert np.abs(force - numerical).max() <= 1e-6 * np.abs(force).max()
