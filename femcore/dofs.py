@@ -45,6 +45,7 @@ __all__ = [
     "DofManager",
     "Frames",
     "dof_columns",
+    "dof_names",
     "node_dof_mask",
 ]
 
@@ -209,7 +210,7 @@ class DofManager:
 
     def names_at(self, node: int) -> tuple[str, ...]:
         """DOF names active at one node, e.g. ('ux', 'uy', 'uz')."""
-        return tuple(n for n, a in zip(DOF_NAMES, self.active[node]) if a)
+        return dof_names(self.active[node])
 
     def describe(self) -> str:
         """One line: nodes, DOFs, free, fixed, prescribed."""
@@ -217,6 +218,11 @@ class DofManager:
             f"{self.n_nodes} nodes, {self.n_dofs} DOFs: {self.n_free} free, "
             f"{int(self.fixed.sum())} fixed, {int(self.prescribed.sum())} prescribed"
         )
+
+
+def dof_names(row: np.ndarray) -> tuple[str, ...]:
+    """The DOF names of the set entries of a (5,) bool row, e.g. ('ux', 'uy', 'uz')."""
+    return tuple(name for name, flag in zip(DOF_NAMES, row) if flag)
 
 
 def node_dof_mask(n_nodes: int, nodes: Sequence[int] | np.ndarray, names) -> np.ndarray:

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from femcore.assembly import CellTangent, NodeGraph, finite_difference_tangent, tangent_matrix
-from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns
+from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.loads import (
     Amplitude,
@@ -214,12 +214,7 @@ class Model:
         amplitude : str or callable
             Time history in dynamics; static solvers ramp with the load factor.
         """
-        self.loads.append(
-            NodalLoad(
-                "force", self._node_ids(nodes), _vector3(vector, "force"), amplitude_of(amplitude)
-            )
-        )
-        self._compiled = None
+        self._add_load("force", nodes, vector, amplitude)
 
     def moment(
         self,
@@ -238,12 +233,7 @@ class Model:
         amplitude : str or callable
             Time history in dynamics; static solvers ramp with the load factor.
         """
-        self.loads.append(
-            NodalLoad(
-                "moment", self._node_ids(nodes), _vector3(vector, "moment"), amplitude_of(amplitude)
-            )
-        )
-        self._compiled = None
+        self._add_load("moment", nodes, vector, amplitude)
 
     def gravity(self, vector: ArrayLike, amplitude: str | AmplitudeFunction = "step") -> None:
         """Acceleration of gravity acting on the lumped mass.
@@ -259,6 +249,13 @@ class Model:
         self._compiled = None
 
     # ----------------------------------------------------------------- helpers
+    def _add_load(self, kind: str, nodes, vector, amplitude) -> None:
+        """Record a dead nodal force or moment (validated here, where it was written)."""
+        self.loads.append(
+            NodalLoad(kind, self._node_ids(nodes), _vector3(vector, kind), amplitude_of(amplitude))
+        )
+        self._compiled = None
+
     def _node_ids(self, nodes) -> np.ndarray:
         if isinstance(nodes, str):
             if nodes not in self.mesh.node_sets:
@@ -411,7 +408,7 @@ class CompiledModel:
                 row, col = np.argwhere(lacking)[0]
                 raise ValueError(
                     f"cannot fix {DOF_NAMES[fix.columns[col]]} at node {nodes[row]}: it carries "
-                    f"only {', '.join(n for n, a in zip(DOF_NAMES, active[nodes[row]]) if a)}"
+                    f"only {', '.join(dof_names(active[nodes[row]]))}"
                 )
             fixed[np.ix_(nodes, fix.columns)] = True
         return fixed
@@ -567,17 +564,31 @@ class CompiledModel:
                 )
             return tangent_matrix(self.dofs, parts, frames)
         if method == "finite_difference":
-            reach = max(self.blocks[i].reach for i in indices)
-            graph = NodeGraph(self.n_nodes, [self.blocks[i].connectivity for i in indices], reach)
-            return finite_difference_tangent(
-                self.dofs,
-                lambda s: self.internal_force(s, indices),
-                state,
-                graph,
-                step=1e-6 * self.element_size,
-                frames=frames,
+            return self.finite_difference_stiffness(
+                state, indices, self.node_graph(indices), frames
             )
         raise ValueError(f"method must be 'element' or 'finite_difference', got {method!r}")
+
+    def node_graph(self, blocks: list[int]) -> NodeGraph:
+        """The colouring of the finite-difference tangent of the blocks of the given indices
+        (built once per solve: its greedy colouring loops over the nodes)."""
+        reach = max(self.blocks[i].reach for i in blocks)
+        return NodeGraph(self.n_nodes, [self.blocks[i].connectivity for i in blocks], reach)
+
+    def finite_difference_stiffness(
+        self, state: State, blocks: list[int], graph: NodeGraph, frames: Frames
+    ) -> sp.csr_matrix:
+        """K of the blocks of the given indices by coloured central differences of their
+        internal forces: translation step 1e-6 of the median element edge, rotation step
+        1e-6 rad, the nodal frames held."""
+        return finite_difference_tangent(
+            self.dofs,
+            lambda s: self.internal_force(s, blocks),
+            state,
+            graph,
+            step=1e-6 * self.element_size,
+            frames=frames,
+        )
 
     def own_tangents(self, state: State) -> dict[int, list[CellTangent]]:
         """The tangent parts at ``state`` of the blocks that give a tangent of their own,
@@ -683,13 +694,13 @@ def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) 
             raise ValueError(
                 f"{type(block).__name__}.connectivity refers to nodes outside 0..{len(active) - 1}"
             )
-        needs = dof_columns(element.dofs)
-        lacking = ~active[np.ix_(np.unique(connectivity), needs)]
+        nodes = np.unique(connectivity)
+        lacking = ~active[np.ix_(nodes, dof_columns(element.dofs))]
         if lacking.any():
-            node = np.unique(connectivity)[np.argwhere(lacking)[0, 0]]
+            node = nodes[np.argwhere(lacking)[0, 0]]
             raise ValueError(
                 f"{name} acts on node {node}, which carries only "
-                f"{', '.join(n for n, a in zip(DOF_NAMES, active[node]) if a) or 'no DOF'}: a "
+                f"{', '.join(dof_names(active[node])) or 'no DOF'}: a "
                 "node block needs nodes of a cell element with the DOFs it uses"
             )
 

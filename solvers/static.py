@@ -28,12 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, MatrixRankWarning, eigsh, splu
 
-from femcore.assembly import (
-    CellTangent,
-    FreeTangentAssembler,
-    NodeGraph,
-    finite_difference_tangent,
-)
+from femcore.assembly import CellTangent, FreeTangentAssembler
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
@@ -523,11 +518,7 @@ class _Tangent:
         self.model, self.own, self.others = model, own, others
         self.first = first
         self.assemble = FreeTangentAssembler(model.dofs)
-        self.graph = None
-        if others:
-            blocks = [model.blocks[i] for i in others]
-            reach = max(block.reach for block in blocks)
-            self.graph = NodeGraph(model.n_nodes, [b.connectivity for b in blocks], reach)
+        self.graph = model.node_graph(others) if others else None
 
     def __call__(self, state: State, frames: Frames):
         model, dofs = self.model, self.model.dofs
@@ -543,14 +534,7 @@ class _Tangent:
             )
         k_ff, k_fp = self.assemble(parts, frames)
         if self.graph is not None:
-            k = finite_difference_tangent(
-                dofs,
-                lambda s: model.internal_force(s, self.others),
-                state,
-                self.graph,
-                step=1e-6 * model.element_size,
-                frames=frames,
-            )
+            k = model.finite_difference_stiffness(state, self.others, self.graph, frames)
             free, moved = dofs.free_slots, dofs.prescribed_slots
             k_ff = (k_ff + k[free][:, free]).tocsc()
             k_fp = k_fp + k[free][:, moved]
