@@ -13,13 +13,14 @@ from collections.abc import Callable
 
 import numpy as np
 
-from femcore.assembly import CellTangent, Scatter
+from femcore.assembly import CellTangent, Scatter, SparseTangent
 from femcore.checks import check_positive
 from femcore.element import ElementBlock, ElementType
 from femcore.rotation import rotate_about
 
 __all__ = [
     "CellTangent",
+    "SparseTangent",
     "ElementBlock",
     "ElementType",
     "Scatter",

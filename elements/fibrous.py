@@ -4,8 +4,13 @@ section numbers refer to docs/theory.md).
 
 Kinematics (§1): x(xi, eta, zeta) = sum N_k x_k + zeta/2 sum N_k h_m^k V_k (Eq. 5), directors V
 free to rotate (fibre slip), thickness along the director h_m = h / (V . n) so that the
-thickness along the normal is conserved (Eq. 10, 14, 15). Warp runs along local edge 1-2 and
-weft along 1-3 (Eq. 9). The virtual work has three parts:
+thickness along the normal is conserved (Eq. 10, 14). The normal n at node k is the
+area-weighted nodal normal of the block (default, ``thickness="nodal"``, §1.4: one h_m per
+node, so a director that stays put while the surface bends stretches the fibres, and the
+directors tilt by atan(theta) as a deck of cards does) or, as Bai Eq. 15 writes, the normal of
+each element (``thickness="element"``: parallel directors are then strain-free at any
+curvature). Warp runs along local edge 1-2 and weft along 1-3 (Eq. 9). The virtual work has
+three parts:
 
 * tension (Eq. 24-29, §2): fibres at ``levels`` positions zeta_f through the thickness, log
   strain, T(eps) per unit width, delta W = A0 sum_f w_f sum_alpha T delta eps;
@@ -22,12 +27,19 @@ Local nodes 1, 2, 3 of the paper are columns 0, 1, 2 here.
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
-from elements.base import CellTangent, ElementBlock, ElementType, local_tangent
+from elements.base import (
+    CellTangent,
+    ElementBlock,
+    ElementType,
+    SparseTangent,
+    local_tangent,
+)
 from elements.shell_geometry import guarded_thickness, lumped_mass, nodal_thickness
-from femcore.assembly import Scatter
+from femcore.assembly import Scatter, TangentPart
 from femcore.mesh import Mesh
-from femcore.rotation import cross
+from femcore.rotation import cross, rotate_about
 from femcore.state import State
 from femcore.topology import build_topology
 from materials.fabric import Fabric
@@ -102,6 +114,13 @@ class FibrousShell(ElementType):
         elements then bend too, which moves the effective clamp half an element into them (a
         first-order error: +10% on a small-load cantilever tip at 20 elements, against 0.2%
         with this option).
+    thickness : "nodal" (default) or "element": the normal n of h_m = h / (V . n) (docs/theory.md
+        §1.4). "nodal" takes the area-weighted normal of the block's triangles around each node,
+        so the thickness along the director is continuous and a bent stack's directors tilt as
+        its layers slip (atan(theta) for a strip bent by theta from a clamp); the force at a
+        node then reaches three rings of cells. "element" is Bai's Eq. 15, each element's own
+        normal: every element sees three parallel directors as strain-free, so the directors
+        keep their orientation whatever the curvature.
     thickness_variation : include the variation of h_m (docs/theory.md §2.5) in the forces, so that
         they are the exact gradient of the strain energy (default). False follows Bai Eq. 28,
         which leaves it out.
@@ -123,6 +142,7 @@ class FibrousShell(ElementType):
         clamped=None,
         thickness_variation: bool = True,
         bending_geometry: str = "current",
+        thickness: str = "nodal",
     ):
         if not isinstance(fabric, Fabric):
             raise ValueError(f"FibrousShell needs a materials.Fabric, got {fabric!r}")
@@ -140,6 +160,12 @@ class FibrousShell(ElementType):
         self.fibre_angle_tolerance = tolerance
         self.clamped = clamped
         self.thickness_variation = bool(thickness_variation)
+        if thickness not in ("nodal", "element"):
+            raise ValueError(
+                f"thickness must be 'nodal' (h_m from the nodal normals) or 'element' (Bai "
+                f"Eq. 15, the element normals), got {thickness!r}"
+            )
+        self.thickness = thickness
         if bending_geometry not in ("current", "reference"):
             raise ValueError(
                 f"bending_geometry must be 'current' or 'reference', got {bending_geometry!r}"
@@ -168,13 +194,16 @@ class FibrousShellBlock(ElementBlock):
 
     dofs = FibrousShell.dofs
     cell_type = FibrousShell.cell_type
-    # Rotation-free bending: a cell's bending force depends on its neighbours' nodes.
-    reach = 2
 
     def __init__(self, shell: FibrousShell, mesh: Mesh, cell_ids, directors):
         self.fabric = fabric = shell.fabric
         # Options resolved once: the block never reads its type back at run time.
         self.thickness_variation = shell.thickness_variation
+        self.nodal_normals = shell.thickness == "nodal"
+        # Rotation-free bending: a cell's bending force depends on its neighbours' nodes (2
+        # hops). With nodal normals a node's force also depends on the h_m of the nodes of its
+        # cells, each set by the normals of the cells around that node (3 hops).
+        self.reach = 3 if self.nodal_normals else 2
         self.reference_curvature_coefficients = shell.bending_geometry == "reference"
         self.n_nodes = mesh.n_nodes
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
@@ -247,7 +276,9 @@ class FibrousShellBlock(ElementBlock):
 
     # ------------------------------------------------------------------ kinematics
     def thickness_along_directors(self, positions: np.ndarray, directors: np.ndarray) -> dict:
-        """The thickness along the directors at each corner of each cell (Bai Eq. 10, 14-15).
+        """The thickness along the directors at each corner of each cell (Bai Eq. 10, 14), from
+        the nodal normals (the same value at every corner of a node) or, with
+        ``thickness="element"``, from each element's normal (Eq. 15).
 
         Parameters
         ----------
@@ -257,7 +288,7 @@ class FibrousShellBlock(ElementBlock):
         Returns
         -------
         dict
-            ``cosine`` (m, 3): V . n_e; ``thickness`` (m, 3), mm: h_m = h / max(V . n_e,
+            ``cosine`` (m, 3): V . n; ``thickness`` (m, 3), mm: h_m = h / max(V . n,
             guard); ``guarded`` (m, 3) bool: the corners where the guard acted.
         """
         geo = self._geometry(positions, directors, layers=False)
@@ -269,18 +300,38 @@ class FibrousShellBlock(ElementBlock):
         Returns arrays over cells: corners (m,3,3), directors (m,3,3), normal (m,3),
         double_area (m,), cosine V.n (m,3), thickness h_m (m,3), guarded (m,3) bool, and with
         ``layers`` g1, g2 (m,L,3): covariant vectors of Eq. 8 at each fibre level (warp or
-        weft along edge 0 -> 1 and 0 -> 2).
+        weft along edge 0 -> 1 and 0 -> 2). With nodal normals also node_normal (m,3,3) and
+        normal_sum_length (m,3): N_k and |S_k| at the corners.
         """
+        sums = self._normal_sums(positions)[self.connectivity] if self.nodal_normals else None
         return self._cell_geometry(
-            positions[self.connectivity], directors[self.connectivity], layers
+            positions[self.connectivity], directors[self.connectivity], layers, sums
         )
 
-    def _cell_geometry(self, x: np.ndarray, v: np.ndarray, layers: bool = True) -> dict:
-        """``_geometry`` from the corner positions x and directors v (m, 3, 3) of each cell."""
+    def _normal_sums(self, positions: np.ndarray) -> np.ndarray:
+        """S_k = sum over the block's cells e around node k of (x1 - x0) x (x2 - x0), (n, 3),
+        mm^2: twice the area-weighted sum of the element normals, S_k / |S_k| the nodal normal
+        (docs/theory.md §1.4)."""
+        x = positions[self.connectivity]
+        c = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+        return self.scatter.vectors(np.broadcast_to(c[:, None, :], x.shape))
+
+    def _cell_geometry(
+        self, x: np.ndarray, v: np.ndarray, layers: bool = True, sums: np.ndarray | None = None
+    ) -> dict:
+        """``_geometry`` from the corner positions x and directors v (m, 3, 3) of each cell and,
+        with nodal normals, the normal sums S_k at its corners (m, 3, 3)."""
         normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
         double_area = np.linalg.norm(normal, axis=1)
         normal /= double_area[:, None]
-        cosine = np.matmul(v, normal[:, :, None])[..., 0]
+        extra = {}
+        if sums is None:  # Eq. 15: each element's own normal
+            cosine = np.matmul(v, normal[:, :, None])[..., 0]
+        else:  # the nodal normals N_k = S_k / |S_k|
+            length = np.linalg.norm(sums, axis=-1)
+            node_normal = sums / length[..., None]
+            cosine = np.sum(v * node_normal, axis=-1)
+            extra = {"node_normal": node_normal, "normal_sum_length": length}
         h_m, guarded = guarded_thickness(self.fabric.thickness, cosine)  # Eq. 10 / 14
         geo = {
             "corners": x,
@@ -290,6 +341,7 @@ class FibrousShellBlock(ElementBlock):
             "cosine": cosine,
             "thickness": h_m,
             "guarded": guarded,
+            **extra,
         }
         if layers:
             # Fibre end points x_k^f = x_k + zeta_f/2 h_m^k V_k, (m, 3, L, 3).
@@ -349,12 +401,16 @@ class FibrousShellBlock(ElementBlock):
         return p1, p2
 
     def _layer_forces(self, geo, p1, p2):
-        """Nodal forces (m,3,3) and moment vectors (m,3,3) from the layer loads (Eq. 24, 28).
+        """Nodal forces (m,3,3) and moment vectors (m,3,3) from the layer loads (Eq. 24, 28),
+        and dW/dS_k (m,3,3) at the corners with nodal normals (else None).
 
         The force on fibre end point k of level f is F_k^f = sum_a N_k,a P_a (N_k,xi =
         (-1, 1, 0), N_k,eta = (-1, 0, 1)); the node takes sum_f F_k^f and the director the
         moment sum_f (zeta_f h_m^k / 2) V_k x F_k^f of the lever arm along V (Bai Fig. 3).
-        With ``thickness_variation`` the work of h_m = h / (V . n) is added (docs/theory.md §2.5).
+        With ``thickness_variation`` the work of h_m = h / (V . n) is added (docs/theory.md §2.5):
+        through the director (moment), and through n: with the element normal as forces on the
+        cell's nodes; with the nodal normals as dW/dS_k, which ``_membrane_forces`` turns into
+        forces on every cell around node k.
         """
         v, h_m = geo["directors"], geo["thickness"]
         # Sums over the levels first (F_k^f is linear in P_a): sum_f F_k^f and sum_f zeta_f F_k^f.
@@ -363,11 +419,20 @@ class FibrousShellBlock(ElementBlock):
         arm1, arm2 = np.matmul(self.zeta, p1), np.matmul(self.zeta, p2)
         lever = np.stack([-(arm1 + arm2), arm1, arm2], axis=1)
         moment = 0.5 * h_m[..., None] * cross(v, lever)
+        d_sums = np.zeros_like(v) if self.nodal_normals else None
         if self.thickness_variation:
             # dW/dh_m^k = sum_f zeta_f / 2 F_k^f . V_k; h_m = h / c, c = V . n (unguarded only).
             dw_dh = 0.5 * np.sum(lever * v, axis=-1)
             c = geo["cosine"]
             dw_dc = np.where(geo["guarded"], 0.0, -dw_dh * self.fabric.thickness / c**2)
+            if d_sums is not None:
+                # c_k = V_k . S_k / |S_k|: dc/dpsi_k = V_k x N_k, dc/dS_k = (V_k - c N_k) / |S_k|.
+                node_normal = geo["node_normal"]
+                moment += dw_dc[..., None] * cross(v, node_normal)
+                d_sums = (dw_dc / geo["normal_sum_length"])[..., None] * (
+                    v - c[..., None] * node_normal
+                )
+                return force, moment, d_sums
             n = geo["normal"]
             moment += dw_dc[..., None] * cross(v, n[:, None, :])  # dc/dpsi_k = V_k x n
             # dc_k/dx through n: with a = x1 - x0, b = x2 - x0 and V_perp = V - c n,
@@ -382,6 +447,19 @@ class FibrousShellBlock(ElementBlock):
             pull_a = np.matmul(dw_dc[:, None, :], dc_da)[:, 0]
             pull_b = np.matmul(dw_dc[:, None, :], dc_db)[:, 0]
             force += np.stack([-(pull_a + pull_b), pull_a, pull_b], axis=1)
+        return force, moment, d_sums
+
+    def _membrane_forces(self, geo, strain, tension=True, shear=True):
+        """Tension and/or shear forces and director moments per cell corner (m, 3, 3), the
+        variation of the nodal normals included: dW/dS_k summed over the cells around node k
+        (T_k), then d(S_k)/dx through every cell f around k, whose c_f = a x b (a = x1 - x0,
+        b = x2 - x0) pulls with d(g . c_f)/da = b x g, d(g . c_f)/db = g x a, g = sum of T_k
+        over the corners of f."""
+        p1, p2 = self._layer_loads(geo, strain, tension, shear)
+        force, moment, d_sums = self._layer_forces(geo, p1, p2)
+        if d_sums is not None:
+            pull = self.scatter.vectors(d_sums)[self.connectivity].sum(axis=1)  # g_f (m, 3)
+            force = force + _normal_sum_gradient(geo["corners"], pull)
         return force, moment
 
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
@@ -462,20 +540,138 @@ class FibrousShellBlock(ElementBlock):
 
     # ------------------------------------------------------------------ tangent
     def _membrane_loads(self, x: np.ndarray, v: np.ndarray):
-        """Unscattered tension + shear forces and director moments (m, 3, 3) of each cell."""
+        """Unscattered tension + shear forces and director moments (m, 3, 3) of each cell
+        (element normals: cell-local)."""
         geo = self._cell_geometry(x, v)
         p1, p2 = self._layer_loads(geo, self._strains(geo))
-        return self._layer_forces(geo, p1, p2)
+        force, moment, _ = self._layer_forces(geo, p1, p2)
+        return force, moment
 
-    def tangent(self, state: State, history=None) -> list[CellTangent]:
-        """Stiffness of tension + shear (each cell's own 18 x 18, by central differences of its
-        loads, all cells at once) and of bending (Eq. 37 differentiated, see
-        ``_bending_tangent``)."""
+    def _cell_gradient(self, x: np.ndarray, v: np.ndarray, sums: np.ndarray) -> np.ndarray:
+        """The gradient of each cell's tension + shear energy W_e(x_e, V_e, S_e) with the
+        nodal normal sums S_k of its corners as independent variables: (m, 3, 9), per corner
+        (dW/dx, dW/dpsi, dW/dS)."""
+        geo = self._cell_geometry(x, v, True, sums)
+        p1, p2 = self._layer_loads(geo, self._strains(geo))
+        force, moment, d_sums = self._layer_forces(geo, p1, p2)
+        return np.concatenate([force, moment, d_sums], axis=-1)
+
+    def _nodal_membrane_tangent(self, state: State, step: float) -> SparseTangent:
+        """Exact (to the central differences of each cell's gradient) stiffness of tension +
+        shear with nodal normals, as a sparse matrix over the nodes (docs/theory.md §2.6).
+
+        W = sum_e W_e(x_e, psi_e, S_e) with S_k = sum_(f around k) c_f(x_f), so
+        K = J^T H J + sum_f d2(g_f . c_f)/dx2: H the cells' 27 x 27 Hessians in (x, psi, S)
+        per corner (central differences, all cells at once), J the map from (u, psi) to
+        (u, psi, S) (dS_k/dx_j = sum of dc_f/dx_j over the cells f around k holding j:
+        dc/dx1 = -[b]x, dc/dx2 = [a]x, dc/dx0 = [b - a]x), and g_f the sum of T_k = dW/dS_k
+        over the corners of f (the second derivative of the bilinear c_f, constant).
+        """
+        n = self.n_nodes
+        conn = self.connectivity
+        x = state.positions[conn]
+        v = state.directors[conn]
+        sums = self._normal_sums(state.positions)[conn]
+        sum_step = 1e-6 * np.linalg.norm(sums, axis=-1)  # (m, 3), relative to |S_k|
+        m = len(conn)
+        hessian = np.empty((m, 3, 9, 3, 9))
+        for node in range(3):
+            for comp in range(9):
+                plus_x, minus_x, plus_v, minus_v = x, x, v, v
+                plus_s, minus_s = sums, sums
+                if comp < 3:
+                    h: float | np.ndarray = step
+                    plus_x, minus_x = x.copy(), x.copy()
+                    plus_x[:, node, comp] += step
+                    minus_x[:, node, comp] -= step
+                elif comp < 6:
+                    h = 1e-6
+                    psi = np.zeros((m, 3))
+                    psi[:, comp - 3] = h
+                    plus_v, minus_v = v.copy(), v.copy()
+                    plus_v[:, node] = rotate_about(v[:, node], psi)
+                    minus_v[:, node] = rotate_about(v[:, node], -psi)
+                else:
+                    h = sum_step[:, node, None, None]
+                    plus_s, minus_s = sums.copy(), sums.copy()
+                    plus_s[:, node, comp - 6] += sum_step[:, node]
+                    minus_s[:, node, comp - 6] -= sum_step[:, node]
+                difference = self._cell_gradient(plus_x, plus_v, plus_s) - self._cell_gradient(
+                    minus_x, minus_v, minus_s
+                )
+                hessian[:, :, :, node, comp] = difference / (2.0 * h)
+        index = (9 * conn)[:, :, None] + np.arange(9)  # (m, 3, 9) extended variables
+        shape = (m, 3, 9, 3, 9)
+        h_ext = sp.csr_matrix(
+            (
+                hessian.ravel(),
+                (
+                    np.broadcast_to(index[:, :, :, None, None], shape).ravel(),
+                    np.broadcast_to(index[:, None, None], shape).ravel(),
+                ),
+            ),
+            shape=(9 * n, 9 * n),
+        )
+
+        # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- dc_f/dx_j for k, j corners of f.
+        a = x[:, 1] - x[:, 0]
+        b = x[:, 2] - x[:, 0]
+        d1, d2 = -_skew(b), _skew(a)
+        dc_dx = np.stack([-(d1 + d2), d1, d2], axis=1)  # (m, 3 nodes j, 3, 3)
+        ident_rows = (9 * np.arange(n))[:, None] + np.arange(6)
+        ident_cols = (6 * np.arange(n))[:, None] + np.arange(6)
+        shape_j = (m, 3, 3, 3, 3)  # (cell, corner k, S comp, node j, x comp)
+        s_rows = np.broadcast_to(
+            ((9 * conn)[:, :, None] + 6 + np.arange(3))[:, :, :, None, None], shape_j
+        )
+        s_cols = np.broadcast_to(((6 * conn)[:, :, None] + np.arange(3))[:, None, None], shape_j)
+        s_vals = np.broadcast_to(dc_dx.transpose(0, 2, 1, 3)[:, None], shape_j)
+        jac = sp.csr_matrix(
+            (
+                np.concatenate([np.ones(ident_rows.size), s_vals.ravel()]),
+                (
+                    np.concatenate([ident_rows.ravel(), s_rows.ravel()]),
+                    np.concatenate([ident_cols.ravel(), s_cols.ravel()]),
+                ),
+            ),
+            shape=(9 * n, 6 * n),
+        )
+
+        # sum_f g_f . d2 c_f / dx2: d2(g . a x b)/da db = -[g]x, /db da = [g]x.
+        gradient = self._cell_gradient(x, v, sums)
+        pull = self.scatter.vectors(gradient[..., 6:])[conn].sum(axis=1)  # g_f (m, 3)
+        g = _skew(pull)
+        e_a, e_b = np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
+        weights = np.outer(e_a, e_b)  # (node p, node q) weight of the (a, b) block
+        blocks = weights[None, :, None, :, None] * (-g)[:, None, :, None, :]
+        blocks = blocks + weights.T[None, :, None, :, None] * g[:, None, :, None, :]
+        node_index = (6 * conn)[:, :, None] + np.arange(3)  # (m, 3, 3)
+        shape_c = (m, 3, 3, 3, 3)
+        second = sp.csr_matrix(
+            (
+                blocks.ravel(),
+                (
+                    np.broadcast_to(node_index[:, :, :, None, None], shape_c).ravel(),
+                    np.broadcast_to(node_index[:, None, None], shape_c).ravel(),
+                ),
+            ),
+            shape=(6 * n, 6 * n),
+        )
+        return SparseTangent((jac.T @ h_ext @ jac + second).tocsr())
+
+    def tangent(self, state: State, history=None) -> list[TangentPart]:
+        """Stiffness of tension + shear and of bending (Eq. 37 differentiated, see
+        ``_bending_tangent``). Tension + shear: with element normals each cell's own 18 x 18,
+        by central differences of its loads, all cells at once; with nodal normals the sparse
+        matrix of ``_nodal_membrane_tangent``."""
+        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
+        bending = self._bending_tangent(state, step)
+        if self.nodal_normals:
+            return [self._nodal_membrane_tangent(state, step), *bending]
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
-        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         membrane = local_tangent(self._membrane_loads, x, v, step)
-        return [CellTangent(self.connectivity, membrane), *self._bending_tangent(state, step)]
+        return [CellTangent(self.connectivity, membrane), *bending]
 
     def _bending_tangent(self, state: State, step: float) -> list[CellTangent]:
         """Stiffness of the bending forces F = sum_e A0 sum_a M_a(chi_a) dchi_a/dx (Eq. 37).
@@ -523,9 +719,7 @@ class FibrousShellBlock(ElementBlock):
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history=None):
         geo = self._geometry(state.positions, state.directors)
-        strain = self._strains(geo)
-        p1, p2 = self._layer_loads(geo, strain)
-        force, moment = self._layer_forces(geo, p1, p2)
+        force, moment = self._membrane_forces(geo, self._strains(geo))
         force = force + self._bending_forces(state, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
@@ -536,8 +730,7 @@ class FibrousShellBlock(ElementBlock):
         strain = self._strains(geo)
         parts = {}
         for name, flags in (("tension", (True, False)), ("shear", (False, True))):
-            p1, p2 = self._layer_loads(geo, strain, *flags)
-            f, m = self._layer_forces(geo, p1, p2)
+            f, m = self._membrane_forces(geo, strain, *flags)
             parts[name] = (self.scatter.vectors(f), self.scatter.vectors(m))
         parts["bending"] = (
             self.scatter.vectors(self._bending_forces(state)),
@@ -567,11 +760,26 @@ class FibrousShellBlock(ElementBlock):
         return float(sum(self.strain_energy_parts(state).values()))
 
     def nodal_thickness(self, state: State) -> np.ndarray:
-        """Thickness along the director at the nodes (n,), mm: area-weighted mean of the
-        per-element h_m (docs/theory.md §1.4); 0 at nodes outside the block."""
+        """Thickness along the director at the nodes (n,), mm: h_m from the nodal normal, or
+        with element normals the area-weighted mean of the per-element h_m (docs/theory.md
+        §1.4); 0 at nodes outside the block."""
         return self._nodal_thickness(self._geometry(state.positions, state.directors, layers=False))
 
+    def director_tilt(self, state: State) -> np.ndarray:
+        """Angle between the director and the nodal normal of the block (n,), rad, in [0, pi];
+        0 at nodes outside the block. A stack of freely slipping layers bent by theta from a
+        clamp tilts by atan(theta) (docs/theory.md §1.5)."""
+        normals = self._normal_sums(state.positions)
+        length = np.linalg.norm(normals, axis=1)
+        inside = length > 0
+        cosine = np.sum(state.directors * normals, axis=1) / np.where(inside, length, 1.0)
+        return np.where(inside, np.arccos(np.clip(cosine, -1.0, 1.0)), 0.0)
+
     def _nodal_thickness(self, geo: dict) -> np.ndarray:
+        if self.nodal_normals:  # every corner of a node holds the same h_m
+            value = np.zeros(self.n_nodes)
+            value[self.connectivity] = geo["thickness"]
+            return value
         return nodal_thickness(
             geo["thickness"], 0.5 * geo["double_area"], self.connectivity, self.n_nodes
         )
@@ -646,7 +854,11 @@ class FibrousShellBlock(ElementBlock):
         geo = self._geometry(state.positions, state.directors, layers=False)
         guarded = np.zeros(self.n_nodes)
         guarded[self.connectivity[geo["guarded"]]] = 1.0
-        return {"thickness": self._nodal_thickness(geo), "thickness_guarded": guarded}
+        return {
+            "thickness": self._nodal_thickness(geo),
+            "thickness_guarded": guarded,
+            "director_tilt": self.director_tilt(state),  # rad, from the nodal normal
+        }
 
     def total_mass(self) -> float:
         """Physical mass of the block (t)."""
@@ -674,6 +886,28 @@ def _side_geometry(x: np.ndarray) -> dict:
         "outward": outward,
         "gradient": gradient,
     }
+
+
+def _skew(w: np.ndarray) -> np.ndarray:
+    """Cross-product matrices [w]x (..., 3, 3) with [w]x y = w x y."""
+    zero = np.zeros(w.shape[:-1])
+    return np.stack(
+        [
+            np.stack([zero, -w[..., 2], w[..., 1]], axis=-1),
+            np.stack([w[..., 2], zero, -w[..., 0]], axis=-1),
+            np.stack([-w[..., 1], w[..., 0], zero], axis=-1),
+        ],
+        axis=-2,
+    )
+
+
+def _normal_sum_gradient(x: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """d(g . c)/dx at the corners (m, 3, 3) of c = (x1 - x0) x (x2 - x0), g (m, 3) held."""
+    a = x[:, 1] - x[:, 0]
+    b = x[:, 2] - x[:, 0]
+    along_a = cross(b, g)
+    along_b = cross(g, a)
+    return np.stack([-(along_a + along_b), along_a, along_b], axis=1)
 
 
 def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:

@@ -5,9 +5,11 @@
   costs one fancy-indexing gather and one ``np.bincount`` per scattered field, with no Python
   loop over cells or nodes.
 - Tangent stiffness in generalised coordinates (femcore.dofs): ``tangent_matrix`` and
-  ``FreeTangentAssembler`` from the elements' own ``CellTangent`` parts (the latter caches the
-  sparsity pattern and rebuilds it when the parts change), and ``finite_difference_tangent``
-  with its ``NodeGraph`` colouring for blocks without a tangent of their own.
+  ``FreeTangentAssembler`` from the elements' own tangent parts, ``CellTangent`` (dense blocks
+  per cell; the assembler caches their sparsity pattern and rebuilds it when the parts change)
+  or ``SparseTangent`` (a sparse matrix over all nodes, for couplings wider than a cell), and
+  ``finite_difference_tangent`` with its ``NodeGraph`` colouring for blocks without a tangent
+  of their own.
 """
 
 from __future__ import annotations
@@ -26,9 +28,12 @@ __all__ = [
     "FreeTangentAssembler",
     "NodeGraph",
     "Scatter",
+    "SparseTangent",
+    "TangentPart",
     "entry_slots",
     "finite_difference_tangent",
     "generalised_blocks",
+    "generalised_sparse",
     "tangent_matrix",
 ]
 
@@ -48,6 +53,27 @@ class CellTangent(NamedTuple):
 
     nodes: np.ndarray
     blocks: np.ndarray
+
+
+class SparseTangent(NamedTuple):
+    """A block's stiffness as one sparse matrix over all the nodes of the model.
+
+    For couplings that dense per-cell blocks would store many times over: a force that depends
+    on nodal quantities built from a whole node star (averaged normals) reaches two rings of
+    cells, and its exact stiffness is a product of sparse Jacobians.
+
+    Attributes
+    ----------
+    matrix : (6 n, 6 n) scipy.sparse matrix
+        d(force, moment)/d(u, psi), row and column 6 node + component (u then psi, global
+        components, the same convention as ``CellTangent.blocks`` with c = 6).
+    """
+
+    matrix: sp.spmatrix
+
+
+#: A part of an element tangent: dense blocks per cell or one sparse matrix.
+TangentPart = CellTangent | SparseTangent
 
 
 class Scatter:
@@ -115,6 +141,22 @@ def generalised_blocks(part: CellTangent, maps: np.ndarray) -> np.ndarray:
     return left.reshape(m, p, N_COLUMNS, p, N_COLUMNS)
 
 
+def generalised_sparse(part: SparseTangent, maps: np.ndarray) -> sp.csr_matrix:
+    """K_q = T^T K T (n_slots x n_slots) of a SparseTangent, T the block-diagonal node maps
+    (n, 6, 5) of ``DofManager.node_maps``."""
+    n = maps.shape[0]
+    if part.matrix.shape != (6 * n, 6 * n):
+        raise ValueError(
+            f"SparseTangent.matrix must be (6 n, 6 n) = ({6 * n}, {6 * n}), got {part.matrix.shape}"
+        )
+    rows = np.broadcast_to((6 * np.arange(n))[:, None, None] + np.arange(6)[:, None], maps.shape)
+    cols = np.broadcast_to(
+        (N_COLUMNS * np.arange(n))[:, None, None] + np.arange(N_COLUMNS), maps.shape
+    )
+    t = sp.csr_matrix((maps.ravel(), (rows.ravel(), cols.ravel())), shape=(6 * n, N_COLUMNS * n))
+    return (t.T @ sp.csr_matrix(part.matrix) @ t).tocsr()
+
+
 def entry_slots(nodes: np.ndarray, components: int) -> tuple[np.ndarray, np.ndarray]:
     """Global slot row and column of every entry of (m, p, c_q, p, c_q) blocks, raveled."""
     index = DofManager.slots(nodes[:, :, None], np.arange(components))  # (m, p, c_q)
@@ -124,36 +166,46 @@ def entry_slots(nodes: np.ndarray, components: int) -> tuple[np.ndarray, np.ndar
     return rows, cols
 
 
+def _split(parts: list[TangentPart]) -> tuple[list[CellTangent], list[SparseTangent]]:
+    cells = [p for p in parts if isinstance(p, CellTangent)]
+    return cells, [p for p in parts if isinstance(p, SparseTangent)]
+
+
 def _components(part: CellTangent) -> int:
     return 3 if part.blocks.shape[2] == 3 else N_COLUMNS
 
 
-def tangent_matrix(dofs: DofManager, parts: list[CellTangent], frames: Frames) -> sp.csr_matrix:
+def tangent_matrix(dofs: DofManager, parts: list[TangentPart], frames: Frames) -> sp.csr_matrix:
     """Sparse K (n_slots x n_slots) in generalised coordinates from element tangent parts,
     with the nodal frames of the iteration (psi = alpha V2 + beta V1)."""
     size = dofs.n_slots
     if not parts:
         return sp.csr_matrix((size, size))
     maps = dofs.node_maps(frames)
-    rows, cols, values = [], [], []
-    for part in parts:
+    cell_parts, sparse_parts = _split(parts)
+    rows, cols, values = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)], [np.zeros(0)]
+    for part in cell_parts:
         kq = generalised_blocks(part, maps)
         r, c = entry_slots(part.nodes, kq.shape[2])
         rows.append(r)
         cols.append(c)
         values.append(kq.ravel())
-    return sp.csr_matrix(
+    k = sp.csr_matrix(
         (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)
     )
+    for sparse_part in sparse_parts:
+        k = k + generalised_sparse(sparse_part, maps)
+    return k.tocsr()
 
 
 class FreeTangentAssembler:
     """Sums element tangent parts straight into K_ff (free x free, CSC) and K_fp (free x
     prescribed, CSR).
 
-    The map from the block entries to the sparse storage is built from the parts' node arrays
-    and reused while they stay the same, so that each assembly is one bincount; when they
-    change (a contact adds or drops pairs), the map is rebuilt at the next call.
+    The map from the CellTangent entries to the sparse storage is built from the parts' node
+    arrays and reused while they stay the same, so that each assembly is one bincount; when
+    they change (a contact adds or drops pairs), the map is rebuilt at the next call.
+    SparseTangent parts are transformed and sliced at every call.
     """
 
     def __init__(self, dofs: DofManager):
@@ -168,7 +220,7 @@ class FreeTangentAssembler:
         #: How many times the sparsity pattern was (re)built.
         self.builds = 0
 
-    def _build(self, parts: list[CellTangent]) -> None:
+    def _build(self, parts: list[CellTangent]) -> None:  # the CellTangent parts only
         rows, cols = [], []
         for part in parts:
             r, c = entry_slots(part.nodes, _components(part))
@@ -201,9 +253,10 @@ class FreeTangentAssembler:
         )
 
     def __call__(
-        self, parts: list[CellTangent], frames: Frames
+        self, all_parts: list[TangentPart], frames: Frames
     ) -> tuple[sp.csc_matrix, sp.csr_matrix]:
         """(K_ff, K_fp) of the parts in the iteration's frames."""
+        parts, sparse_parts = _split(all_parts)
         if not self._same_pattern(parts):
             self._build(parts)
         maps = self.dofs.node_maps(frames)
@@ -214,6 +267,10 @@ class FreeTangentAssembler:
         k_ff = sp.csc_matrix((ff, (self.ff_rows, self.ff_cols)), shape=(self.n_free, self.n_free))
         fp = np.bincount(self.fp_map, values[self.fp_select], minlength=self.fp_rows.size)
         k_fp = sp.csr_matrix((fp, (self.fp_rows, self.fp_cols)), shape=(self.n_free, self.n_moved))
+        for part in sparse_parts:
+            k = generalised_sparse(part, maps)[self.dofs.free_slots]
+            k_ff = (k_ff + k[:, self.dofs.free_slots]).tocsc()
+            k_fp = (k_fp + k[:, self.dofs.prescribed_slots]).tocsr()
         return k_ff, k_fp
 
 

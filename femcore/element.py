@@ -23,15 +23,16 @@ docstrings are those of the examples (mm, N, t, s); any consistent set works.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Sequence
 from typing import Any, ClassVar
 
 import numpy as np
 
-from femcore.assembly import CellTangent, Scatter
+from femcore.assembly import CellTangent, Scatter, SparseTangent, TangentPart
 from femcore.mesh import Mesh
 from femcore.state import State
 
-__all__ = ["CellTangent", "ElementBlock", "ElementType"]
+__all__ = ["CellTangent", "ElementBlock", "ElementType", "SparseTangent", "TangentPart"]
 
 
 class ElementType(ABC):
@@ -141,8 +142,9 @@ class ElementBlock(ABC):
         """Energy stored in the block (N mm): the potential whose gradient is the force."""
 
     # ------------------------------------------------------------------ optional
-    def tangent(self, state: State, history: Any = None) -> list[CellTangent] | None:
-        """The block's own stiffness d(internal_force)/d(u, psi) as CellTangent parts, or None
+    def tangent(self, state: State, history: Any = None) -> Sequence[TangentPart] | None:
+        """The block's own stiffness d(internal_force)/d(u, psi) as tangent parts (CellTangent
+        blocks per cell, or a SparseTangent over all nodes for wider couplings), or None
         (the default): the assembler then differentiates ``internal_force`` by coloured central
         differences over the node graph of ``connectivity`` and ``reach``."""
         return None

@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from femcore.assembly import CellTangent, NodeGraph, finite_difference_tangent, tangent_matrix
+from femcore.assembly import NodeGraph, TangentPart, finite_difference_tangent, tangent_matrix
 from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.loads import (
@@ -516,11 +516,11 @@ class CompiledModel:
         histories = self._histories(state)
         return float(sum(b.strain_energy(state, h) for b, h in zip(self.blocks, histories)))
 
-    def tangent_parts(self, state: State, blocks: list[int]) -> list[CellTangent] | None:
+    def tangent_parts(self, state: State, blocks: list[int]) -> list[TangentPart] | None:
         """The element tangent parts of the blocks of the given indices, or None if one of
         them has no tangent of its own."""
         histories = self._histories(state)
-        parts: list[CellTangent] = []
+        parts: list[TangentPart] = []
         for i in blocks:
             own = self.blocks[i].tangent(state, histories[i])
             if own is None:
@@ -590,7 +590,7 @@ class CompiledModel:
             frames=frames,
         )
 
-    def own_tangents(self, state: State) -> dict[int, list[CellTangent]]:
+    def own_tangents(self, state: State) -> dict[int, Sequence[TangentPart]]:
         """The tangent parts at ``state`` of the blocks that give a tangent of their own,
         by block index (the others return None: the finite-difference fallback)."""
         own = {}

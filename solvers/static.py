@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, MatrixRankWarning, eigsh, splu
 
-from femcore.assembly import CellTangent, FreeTangentAssembler
+from femcore.assembly import FreeTangentAssembler, TangentPart
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
@@ -522,7 +522,7 @@ class _Tangent:
 
     def __call__(self, state: State, frames: Frames):
         model, dofs = self.model, self.model.dofs
-        parts: list[CellTangent] | None
+        parts: list[TangentPart] | None
         if self.first is not None and state is self.first[0]:
             parts = [part for i in self.own for part in self.first[1][i]]
         else:

@@ -255,11 +255,15 @@ CURRENT_BENDING = (
 )
 
 
-def _fibrous_case(name: str, material, bending_geometry: str) -> ElementCase:
+def _fibrous_case(
+    name: str, material, bending_geometry: str, thickness: str = "nodal"
+) -> ElementCase:
     exact = bending_geometry == "reference"
     return ElementCase(
         name=name,
-        element=lambda: FibrousShell(material, bending_geometry=bending_geometry),
+        element=lambda: FibrousShell(
+            material, bending_geometry=bending_geometry, thickness=thickness
+        ),
         mesh=patch,
         total_mass=lambda mesh: material.areal_density * _patch_area(mesh),
         deform=_shell_jitter(amplitude=0.6, tilt=0.3),
@@ -302,6 +306,10 @@ BAI_FABRIC = fabric(tension=120.0, shear=4.0, bending=7.5, thickness=6.0, areal_
 FIBROUS = _fibrous_case("fibrous", fabric(), "current")
 FIBROUS_REFERENCE_BENDING = _fibrous_case("fibrous-reference-bending", fabric(), "reference")
 FIBROUS_BAI = _fibrous_case("fibrous-bai-fabric", BAI_FABRIC, "current")
+# Bai's Eq. 15 thickness (each element's own normal), kept as an option.
+FIBROUS_ELEMENT_THICKNESS = _fibrous_case(
+    "fibrous-element-thickness", fabric(), "reference", thickness="element"
+)
 
 
 def _mindlin_case(name: str, thickness: float, shrink: tuple[float, float, str]) -> ElementCase:
@@ -350,6 +358,7 @@ CASES: list[ElementCase] = [
     FIBROUS,
     FIBROUS_REFERENCE_BENDING,
     FIBROUS_BAI,
+    FIBROUS_ELEMENT_THICKNESS,
     MINDLIN,
     MINDLIN_THICK,
     MINDLIN_THIN,
