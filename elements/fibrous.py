@@ -194,11 +194,11 @@ class FibrousShellBlock(ElementBlock):
         topology = build_topology(self.connectivity)
         self.neighbour = np.asarray(topology.neighbour)
         self.neighbour_side = _neighbour_sides(self.neighbour)
-        self.clamped_side = self._clamped_sides(mesh, shell.clamped)
-        self.interior_side = self.neighbour >= 0
-        # Gather indices with free sides pointing at cell 0, masked by interior_side.
-        self._across_cell = np.where(self.interior_side, self.neighbour, 0)
-        self._across_side = np.where(self.interior_side, self.neighbour_side, 0)
+        # Clamps (docs/theory.md §4.5): the requested ones now, with the model's supports added
+        # by apply_supports, which also recomputes the reference folds from these points.
+        self.requested_clamp = self._requested_clamp(mesh, shell.clamped)
+        self._reference_points = np.asarray(mesh.points, dtype=float)
+        self._set_sides(self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
         x0 = np.asarray(mesh.points, dtype=float)
@@ -224,26 +224,71 @@ class FibrousShellBlock(ElementBlock):
         )
 
     # ------------------------------------------------------------------ set-up helpers
-    def _clamped_sides(self, mesh: Mesh, clamped) -> np.ndarray:
-        sides = np.zeros(self.connectivity.shape, dtype=bool)
+    def _requested_clamp(self, mesh: Mesh, clamped) -> np.ndarray:
+        """The nodes (n,) bool of the ``clamped`` option (all False without it); they must
+        make at least one edge of the block."""
+        member = np.zeros(mesh.n_nodes, dtype=bool)
         if clamped is None:
-            return sides
+            return member
         if isinstance(clamped, str):
             nodes = mesh.nodes(clamped)
         else:
             nodes = np.unique(np.asarray(clamped, dtype=np.int64).ravel())
             if nodes.size and (nodes.min() < 0 or nodes.max() >= mesh.n_nodes):
                 raise ValueError(f"clamped: node ids must be in 0..{mesh.n_nodes - 1}")
-        member = np.zeros(mesh.n_nodes, dtype=bool)
         member[nodes] = True
-        ends = member[self.connectivity[:, _P]] & member[self.connectivity[:, _Q]]
-        sides = ends & (self.neighbour < 0)
-        if not sides.any():
+        if not self._clamped_sides(member)[1].any():
             raise ValueError(
-                "clamped: no free edge of the block has both its nodes in the given set; "
-                "a clamped edge must be a boundary edge of the shell"
+                "clamped: no edge of the block has both its nodes in the given set; a clamped "
+                "edge is a line of mesh edges (the shell's boundary, or an interior line)"
             )
-        return sides
+        return member
+
+    def _clamped_sides(self, clamp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """From the clamped nodes ``clamp`` (n,) bool: the clamped sides (m, 3) (both nodes
+        clamped, in a cell with a node that is not), the sides with both nodes clamped (m, 3),
+        and the held cells (m,) (all three nodes clamped)."""
+        ends = clamp[self.connectivity[:, _P]] & clamp[self.connectivity[:, _Q]]
+        held = clamp[self.connectivity].all(axis=1)
+        return ends & ~held[:, None], ends, held
+
+    def _set_sides(self, clamp: np.ndarray) -> None:
+        """Side tables from the clamped nodes ``clamp`` (n,) bool (docs/theory.md §4.5).
+
+        A side with both nodes clamped couples no two cells (``interior_side`` False in both)
+        and is a clamped side of each cell that has a node not clamped: it bends against the
+        wall of its reference plane. A held cell (three nodes clamped) has no fold at all, so
+        zero curvature coefficients: its shape is imposed and it stores no bending energy.
+        """
+        self.clamped_side, ends, self.held_cell = self._clamped_sides(clamp)
+        self.interior_side = (self.neighbour >= 0) & ~ends
+        # Gather indices with free sides pointing at cell 0, masked by interior_side.
+        self._across_cell = np.where(self.interior_side, self.neighbour, 0)
+        self._across_side = np.where(self.interior_side, self.neighbour_side, 0)
+
+    def apply_supports(self, held: np.ndarray) -> None:
+        """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
+        §4.5): every node held (translations and directors fixed or prescribed) is a clamped
+        node, as are those of the ``clamped`` option, which must be held.
+
+        Raises ValueError when a node of a requested clamped edge is not held.
+        """
+        held = np.asarray(held, dtype=bool)
+        _, requested, _ = self._clamped_sides(self.requested_clamp)
+        on_edges = np.zeros_like(held)
+        on_edges[self.connectivity[:, _P][requested]] = True
+        on_edges[self.connectivity[:, _Q][requested]] = True
+        loose = np.flatnonzero(on_edges & ~held)
+        if loose.size:
+            raise ValueError(
+                f"clamped nodes {loose[:5].tolist()}{'...' if loose.size > 5 else ''} must "
+                "have their translations and directors fixed with model.fix (a clamped edge "
+                "is held by the supports; its bending then acts against a wall)"
+            )
+        self._set_sides(held | self.requested_clamp)
+        bend0 = self._bending_geometry(self._reference_points)
+        self.reference_fold = bend0["fold"]
+        self.reference_coefficients = bend0["coefficients"]
 
     # ------------------------------------------------------------------ kinematics
     def thickness_along_directors(self, positions: np.ndarray, directors: np.ndarray) -> dict:
