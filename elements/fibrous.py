@@ -95,13 +95,14 @@ class FibrousShell(ElementType):
     warp : warp direction in the reference configuration, (3,); default x. The weft is the
         in-plane perpendicular. Each triangle must have one edge along each (Eq. 9).
     fibre_angle_tolerance : degrees; how far an edge may deviate from a fibre direction.
-    clamped : node ids (or a node-set name) of clamped edges: free sides of the block whose two
-        nodes are all in this set bend against a rigid wall in the element's reference plane
-        (docs/theory.md §4.5). Fix the translations and rotations of those nodes with ``model.fix``.
-        Without it, a clamp is made by fixing a row of elements, as Bai does; the fixed
-        elements then bend too, which moves the effective clamp half an element into them (a
-        first-order error: +10% on a small-load cantilever tip at 20 elements, against 0.2%
-        with this option).
+    clamped : node ids (or a node-set name) of clamped edges: sides of the block whose two
+        nodes are in this set bend against a rigid wall in the element's reference plane
+        (docs/theory.md §4.5); on an interior line both sides do. The nodes must be held by the
+        supports (translations and directors fixed with ``model.fix``, or the translations
+        prescribed), else compiling the model raises ValueError. The supports clamp the
+        bending by themselves (every side whose two nodes are held is clamped, every element
+        whose three nodes are held carries no bending), so fixing the nodes of a line or of a
+        region is a clamp with or without this option; it states the intent and is checked.
     thickness_variation : include the variation of h_m (docs/theory.md §2.5) in the forces, so that
         they are the exact gradient of the strain energy (default). False follows Bai Eq. 28,
         which leaves it out.
@@ -163,7 +164,14 @@ class FibrousShellBlock(ElementBlock):
         whichever way its edges 0 -> 1 and 0 -> 2 point along them.
     reference_area : A0 (m,), mm^2.
     neighbour, neighbour_side : (m, 3) block-local neighbour across side s and its side index
-        there (-1 on free edges); clamped_side : (m, 3) bool.
+        there (-1 on free edges).
+
+    Attributes (fixed at bind, completed by ``apply_supports``; docs/theory.md §4.5)
+    -------------------------------------------------------------------------------
+    clamped_side : (m, 3) bool, sides that bend against the wall of the reference plane.
+    interior_side : (m, 3) bool, sides that couple the cell with its neighbour.
+    held_cell : (m,) bool, cells whose three nodes are held: no bending.
+    requested_clamp : (n,) bool, the nodes of the ``clamped`` option.
     """
 
     dofs = FibrousShell.dofs
@@ -432,9 +440,10 @@ class FibrousShellBlock(ElementBlock):
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
         """Fold angles, curvature coefficients and fold-angle gradients (docs/theory.md §4.1-4.3).
 
-        fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides; against the
-            element's reference plane on clamped sides.
-        coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides).
+        fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides and in held
+            cells; against the element's reference plane on clamped sides.
+        coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides and
+            in held cells).
         gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
             d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
         """
