@@ -107,13 +107,14 @@ class FibrousShell(ElementType):
     warp : warp direction in the reference configuration, (3,); default x. The weft is the
         in-plane perpendicular. Each triangle must have one edge along each (Eq. 9).
     fibre_angle_tolerance : degrees; how far an edge may deviate from a fibre direction.
-    clamped : node ids (or a node-set name) of clamped edges: free sides of the block whose two
-        nodes are all in this set bend against a rigid wall in the element's reference plane
-        (docs/theory.md §4.5). Fix the translations and rotations of those nodes with ``model.fix``.
-        Without it, a clamp is made by fixing a row of elements, as Bai does; the fixed
-        elements then bend too, which moves the effective clamp half an element into them (a
-        first-order error: +10% on a small-load cantilever tip at 20 elements, against 0.2%
-        with this option).
+    clamped : node ids (or a node-set name) of clamped edges: sides of the block whose two
+        nodes are in this set bend against a rigid wall in the element's reference plane
+        (docs/theory.md §4.5); on an interior line both sides do. The nodes must be held by the
+        supports (translations and directors fixed with ``model.fix``, or the translations
+        prescribed), else compiling the model raises ValueError. The supports clamp the
+        bending by themselves (every side whose two nodes are held is clamped, every element
+        whose three nodes are held carries no bending), so fixing the nodes of a line or of a
+        region is a clamp with or without this option; it states the intent and is checked.
     thickness : "nodal" (default) or "element": the normal n of h_m = h / (V . n) (docs/theory.md
         §1.4). "nodal" takes the area-weighted normal of the block's triangles around each node,
         so the thickness along the director is continuous and a bent stack's directors tilt as
@@ -189,7 +190,14 @@ class FibrousShellBlock(ElementBlock):
         whichever way its edges 0 -> 1 and 0 -> 2 point along them.
     reference_area : A0 (m,), mm^2.
     neighbour, neighbour_side : (m, 3) block-local neighbour across side s and its side index
-        there (-1 on free edges); clamped_side : (m, 3) bool.
+        there (-1 on free edges).
+
+    Attributes (fixed at bind, completed by ``apply_supports``; docs/theory.md §4.5)
+    -------------------------------------------------------------------------------
+    clamped_side : (m, 3) bool, sides that bend against the wall of the reference plane.
+    interior_side : (m, 3) bool, sides that couple the cell with its neighbour.
+    held_cell : (m,) bool, cells whose three nodes are held: no bending.
+    requested_clamp : (n,) bool, the nodes of the ``clamped`` option.
     """
 
     dofs = FibrousShell.dofs
@@ -223,11 +231,11 @@ class FibrousShellBlock(ElementBlock):
         topology = build_topology(self.connectivity)
         self.neighbour = np.asarray(topology.neighbour)
         self.neighbour_side = _neighbour_sides(self.neighbour)
-        self.clamped_side = self._clamped_sides(mesh, shell.clamped)
-        self.interior_side = self.neighbour >= 0
-        # Gather indices with free sides pointing at cell 0, masked by interior_side.
-        self._across_cell = np.where(self.interior_side, self.neighbour, 0)
-        self._across_side = np.where(self.interior_side, self.neighbour_side, 0)
+        # Clamps (docs/theory.md §4.5): the requested ones now, with the model's supports added
+        # by apply_supports, which also recomputes the reference folds from these points.
+        self.requested_clamp = self._requested_clamp(mesh, shell.clamped)
+        self._reference_points = np.asarray(mesh.points, dtype=float)
+        self._set_sides(self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
         x0 = np.asarray(mesh.points, dtype=float)
@@ -253,26 +261,71 @@ class FibrousShellBlock(ElementBlock):
         )
 
     # ------------------------------------------------------------------ set-up helpers
-    def _clamped_sides(self, mesh: Mesh, clamped) -> np.ndarray:
-        sides = np.zeros(self.connectivity.shape, dtype=bool)
+    def _requested_clamp(self, mesh: Mesh, clamped) -> np.ndarray:
+        """The nodes (n,) bool of the ``clamped`` option (all False without it); they must
+        make at least one edge of the block."""
+        member = np.zeros(mesh.n_nodes, dtype=bool)
         if clamped is None:
-            return sides
+            return member
         if isinstance(clamped, str):
             nodes = mesh.nodes(clamped)
         else:
             nodes = np.unique(np.asarray(clamped, dtype=np.int64).ravel())
             if nodes.size and (nodes.min() < 0 or nodes.max() >= mesh.n_nodes):
                 raise ValueError(f"clamped: node ids must be in 0..{mesh.n_nodes - 1}")
-        member = np.zeros(mesh.n_nodes, dtype=bool)
         member[nodes] = True
-        ends = member[self.connectivity[:, _P]] & member[self.connectivity[:, _Q]]
-        sides = ends & (self.neighbour < 0)
-        if not sides.any():
+        if not self._clamped_sides(member)[1].any():
             raise ValueError(
-                "clamped: no free edge of the block has both its nodes in the given set; "
-                "a clamped edge must be a boundary edge of the shell"
+                "clamped: no edge of the block has both its nodes in the given set; a clamped "
+                "edge is a line of mesh edges (the shell's boundary, or an interior line)"
             )
-        return sides
+        return member
+
+    def _clamped_sides(self, clamp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """From the clamped nodes ``clamp`` (n,) bool: the clamped sides (m, 3) (both nodes
+        clamped, in a cell with a node that is not), the sides with both nodes clamped (m, 3),
+        and the held cells (m,) (all three nodes clamped)."""
+        ends = clamp[self.connectivity[:, _P]] & clamp[self.connectivity[:, _Q]]
+        held = clamp[self.connectivity].all(axis=1)
+        return ends & ~held[:, None], ends, held
+
+    def _set_sides(self, clamp: np.ndarray) -> None:
+        """Side tables from the clamped nodes ``clamp`` (n,) bool (docs/theory.md §4.5).
+
+        A side with both nodes clamped couples no two cells (``interior_side`` False in both)
+        and is a clamped side of each cell that has a node not clamped: it bends against the
+        wall of its reference plane. A held cell (three nodes clamped) has no fold at all, so
+        zero curvature coefficients: its shape is imposed and it stores no bending energy.
+        """
+        self.clamped_side, ends, self.held_cell = self._clamped_sides(clamp)
+        self.interior_side = (self.neighbour >= 0) & ~ends
+        # Gather indices with free sides pointing at cell 0, masked by interior_side.
+        self._across_cell = np.where(self.interior_side, self.neighbour, 0)
+        self._across_side = np.where(self.interior_side, self.neighbour_side, 0)
+
+    def apply_supports(self, held: np.ndarray) -> None:
+        """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
+        §4.5): every node held (translations and directors fixed or prescribed) is a clamped
+        node, as are those of the ``clamped`` option, which must be held.
+
+        Raises ValueError when a node of a requested clamped edge is not held.
+        """
+        held = np.asarray(held, dtype=bool)
+        _, requested, _ = self._clamped_sides(self.requested_clamp)
+        on_edges = np.zeros_like(held)
+        on_edges[self.connectivity[:, _P][requested]] = True
+        on_edges[self.connectivity[:, _Q][requested]] = True
+        loose = np.flatnonzero(on_edges & ~held)
+        if loose.size:
+            raise ValueError(
+                f"clamped nodes {loose[:5].tolist()}{'...' if loose.size > 5 else ''} must "
+                "have their translations and directors fixed with model.fix (a clamped edge "
+                "is held by the supports; its bending then acts against a wall)"
+            )
+        self._set_sides(held | self.requested_clamp)
+        bend0 = self._bending_geometry(self._reference_points)
+        self.reference_fold = bend0["fold"]
+        self.reference_coefficients = bend0["coefficients"]
 
     # ------------------------------------------------------------------ kinematics
     def thickness_along_directors(self, positions: np.ndarray, directors: np.ndarray) -> dict:
@@ -465,9 +518,10 @@ class FibrousShellBlock(ElementBlock):
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
         """Fold angles, curvature coefficients and fold-angle gradients (docs/theory.md §4.1-4.3).
 
-        fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides; against the
-            element's reference plane on clamped sides.
-        coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides).
+        fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides and in held
+            cells; against the element's reference plane on clamped sides.
+        coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides and
+            in held cells).
         gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
             d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
         """

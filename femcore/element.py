@@ -10,6 +10,11 @@ A block may also act on nodes rather than on mesh cells (a contact with a rigid 
 its type declares ``cell_type = None`` and its block's ``connectivity`` lists the nodes it acts
 on, one row per "cell" of its own (a node, a node pair, ...).
 
+Supports: after the DOF manager is built, ``CompiledModel`` tells each block which of its nodes
+the model holds (every DOF of the block at the node fixed or prescribed) through
+``ElementBlock.apply_supports``; a block whose mechanics depend on it (the rotation-free bending
+of ``FibrousShell`` clamps itself there) overrides it, every other block ignores it.
+
 History variables (plastic strains, stick/slip anchors of a frictional contact) live in the
 ``State``, one entry per block (``State.history[i]`` for ``model.blocks[i]``). The model passes a
 block its entry with the state; a block never mutates it: ``update_history`` returns the new one
@@ -147,6 +152,17 @@ class ElementBlock(ABC):
         blocks per cell, or a SparseTangent over all nodes for wider couplings), or None
         (the default): the assembler then differentiates ``internal_force`` by coloured central
         differences over the node graph of ``connectivity`` and ``reach``."""
+        return None
+
+    def apply_supports(self, held: np.ndarray) -> None:
+        """Learn which nodes the model's supports hold; the default ignores it.
+
+        Called once by ``CompiledModel`` after ``bind`` and before any force, mass or tangent
+        is evaluated. ``held`` (n,) bool is True at the nodes where every DOF of the block
+        (its ``dofs``) is fixed (``model.fix``) or prescribed (``model.displace``). A block
+        may update its own tables here (and raise ValueError for options the supports
+        contradict); it must not keep a reference to ``held``.
+        """
         return None
 
     def initial_history(self) -> Any:

@@ -365,6 +365,10 @@ class CompiledModel:
         ]
         for entry, block in zip(model.blocks, self.blocks):
             _check_block(entry.element, block, active)
+        for entry, block in zip(model.blocks, self.blocks):
+            # The nodes where every DOF of the block is fixed or prescribed (femcore.element).
+            held = self.dofs.constrained[:, dof_columns(entry.element.dofs)].all(axis=1)
+            block.apply_supports(held)
 
         self.translation_free = self.dofs.free[:, :3]
         self.translation_constrained = self.dofs.constrained[:, :3]

@@ -75,6 +75,8 @@ def sheet(mesh: Mesh, **options: Any) -> Any:
     )
     model = Model(mesh)
     model.add(FibrousShell(fabric, **options))
+    if options.get("clamped") is not None:
+        model.fix(options["clamped"])  # a clamped edge is held by the supports
     return model.compile()
 
 
