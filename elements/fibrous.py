@@ -243,8 +243,7 @@ class FibrousShellBlock(ElementBlock):
         ref = self._geometry(x0, v0)
         self.reference_area = 0.5 * ref["double_area"]
         self.reference_normal = ref["normal"]
-        self.reference_length1 = np.linalg.norm(ref["g1"], axis=-1)  # (m, L)
-        self.reference_length2 = np.linalg.norm(ref["g2"], axis=-1)
+        self.reference_length1, self.reference_length2 = self._fibre_lengths(ref)  # (m, L)
         self.reference_shear = self.shear_sign[:, None] * _shear_angle(ref["g1"], ref["g2"])
         self.reference_fold = np.zeros((len(self.cell_ids), 3))
         bend0 = self._bending_geometry(x0)
@@ -362,12 +361,11 @@ class FibrousShellBlock(ElementBlock):
         )
 
     def _normal_sums(self, positions: np.ndarray) -> np.ndarray:
-        """S_k = sum over the block's cells e around node k of (x1 - x0) x (x2 - x0), (n, 3),
-        mm^2: twice the area-weighted sum of the element normals, S_k / |S_k| the nodal normal
-        (docs/theory.md §1.4)."""
-        x = positions[self.connectivity]
-        c = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
-        return self.scatter.vectors(np.broadcast_to(c[:, None, :], x.shape))
+        """S_k = sum over the block's cells e around node k of alpha_k^e n_e, (n, 3): the
+        element normals weighted by the cells' angles at the node; S_k / |S_k| is the nodal
+        normal (docs/theory.md §1.4)."""
+        s, _ = _corner_normals(positions[self.connectivity])
+        return self.scatter.vectors(s)
 
     def _cell_geometry(
         self, x: np.ndarray, v: np.ndarray, layers: bool = True, sums: np.ndarray | None = None
@@ -402,17 +400,44 @@ class FibrousShellBlock(ElementBlock):
             layer = x[:, :, None, :] + offset
             geo["g1"] = layer[:, 1] - layer[:, 0]
             geo["g2"] = layer[:, 2] - layer[:, 0]
+            # g_a = e_a + zeta d_a: edge e_a and half the change d_a of h_m V along it.
+            half = 0.5 * h_m[..., None] * v
+            geo["e1"], geo["e2"] = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+            geo["d1"], geo["d2"] = half[:, 1] - half[:, 0], half[:, 2] - half[:, 0]
         return geo
 
+    def _fibre_lengths(self, geo: dict) -> tuple[np.ndarray, np.ndarray]:
+        """The lengths (m, L) whose log strain the tension law takes, along edges 0-1, 0-2.
+
+        With element normals (Bai), |g_a| at each level. With nodal normals, the length of
+        g_a = e_a + zeta d_a along the edge, l = |e_a| + zeta (e_a . d_a) / |e_a|, exact to
+        first order in zeta (docs/theory.md §2.2): the part of zeta d_a across the edge only
+        lengthens g_a at second order, (h theta kappa)^2 / 8 on the outer layers of a stack
+        bent by theta with curvature kappa, a stretch that straight directors would force on
+        layers whose true material lines curve instead; counting it locks a thick stack's
+        bending (+8% tip x on a heavy cantilever of h / L = 0.04).
+        """
+        if not self.nodal_normals:
+            return np.linalg.norm(geo["g1"], axis=-1), np.linalg.norm(geo["g2"], axis=-1)
+        lengths = []
+        for e, d in ((geo["e1"], geo["d1"]), (geo["e2"], geo["d2"])):
+            size = np.linalg.norm(e, axis=-1)[:, None]
+            along = (np.sum(e * d, axis=-1)[:, None] / size) * self.zeta
+            lengths.append(np.maximum(size + along, 1e-6 * size))
+        return lengths[0], lengths[1]
+
     def _strains(self, geo: dict) -> dict:
-        """Log fibre strains eps1, eps2 along edges 0-1 and 0-2 and shear angles (m, L)."""
-        len1 = np.linalg.norm(geo["g1"], axis=-1)
-        len2 = np.linalg.norm(geo["g2"], axis=-1)
+        """Log fibre strains eps1, eps2 along edges 0-1 and 0-2 and shear angles (m, L), with
+        the level vectors' lengths |g_a| (length1, length2) and the fibre lengths of
+        ``_fibre_lengths`` (fibre1, fibre2)."""
+        fibre1, fibre2 = self._fibre_lengths(geo)
         return {
-            "length1": len1,
-            "length2": len2,
-            "eps1": np.log(len1 / self.reference_length1),
-            "eps2": np.log(len2 / self.reference_length2),
+            "length1": np.linalg.norm(geo["g1"], axis=-1),
+            "length2": np.linalg.norm(geo["g2"], axis=-1),
+            "fibre1": fibre1,
+            "fibre2": fibre2,
+            "eps1": np.log(fibre1 / self.reference_length1),
+            "eps2": np.log(fibre2 / self.reference_length2),
             "gamma": self.shear_sign[:, None] * _shear_angle(geo["g1"], geo["g2"])
             - self.reference_shear,
         }
@@ -423,26 +448,52 @@ class FibrousShellBlock(ElementBlock):
         return np.where(flag, along_xi, along_eta), np.where(flag, along_eta, along_xi)
 
     def _layer_loads(self, geo, strain, tension=True, shear=True):
-        """Derivatives P_a = dW/dg_a (m, L, 3) of the tension and/or shear energy.
+        """Derivatives P_a = dW/dg_a (m, L, 3) of the tension and/or shear energy, and with
+        nodal normals the corrections q_a (m, 3) of the director lever (else None).
 
-        Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a g_a / |g_a|^2 (d eps = g . dg / |g|^2).
+        Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a g_a / |g_a|^2 (d eps = g . dg / |g|^2). With
+        the fibre length l = |e| + zeta e^ . d of ``_fibre_lengths`` (e^ = e / |e|, d_perp the
+        part of d across e), dW/de_a = A0 w_f T_a (e^ + zeta d_perp / |e|) / l per level and
+        dW/dd_a = sum_f A0 w_f T_a zeta_f e^ / l: the lever sum_f zeta_f P_a less
+        q_a = sum_f A0 w_f T_a zeta_f^2 / l d_perp / |e|.
         Shear (Eq. 30-33, §3): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|), t1 the
         unit vector normal to g1 towards g2 in their plane (and t2 likewise), sign the cell's
         ``shear_sign``.
         """
         scale = self.reference_area[:, None] * self.weights[None, :]  # A0 w_f, (m, L)
         len1, len2 = strain["length1"], strain["length2"]
+        fibre1, fibre2 = strain["fibre1"], strain["fibre2"]
         g1, g2 = geo["g1"], geo["g2"]
         p1 = np.zeros_like(g1)
         p2 = np.zeros_like(g2)
+        q1 = q2 = None
         if tension:
             warp, weft = self._by_family(strain["eps1"], strain["eps2"])
             t_warp = self.fabric.tension.value(warp)
             t_weft = self.fabric.tension_weft.value(weft)
             t1 = np.where(self.xi_is_warp[:, None], t_warp, t_weft)
             t2 = np.where(self.xi_is_warp[:, None], t_weft, t_warp)
-            p1 += (scale * t1 / len1**2)[..., None] * g1
-            p2 += (scale * t2 / len2**2)[..., None] * g2
+            if self.nodal_normals:
+                loads = []
+                for t, fibre, e, d in (
+                    (t1, fibre1, geo["e1"], geo["d1"]),
+                    (t2, fibre2, geo["e2"], geo["d2"]),
+                ):
+                    size = np.linalg.norm(e, axis=-1)[:, None]
+                    unit = e / size
+                    across = (d - np.sum(d * unit, axis=-1)[:, None] * unit) / size
+                    coefficient = scale * t / fibre  # (m, L)
+                    load = coefficient[..., None] * (
+                        unit[:, None, :] + self.zeta[None, :, None] * across[:, None, :]
+                    )
+                    lever = np.sum(coefficient * self.zeta**2, axis=1)[:, None] * across
+                    loads.append((load, lever))
+                (load1, q1), (load2, q2) = loads
+                p1 += load1
+                p2 += load2
+            else:
+                p1 += (scale * t1 / fibre1**2)[..., None] * g1
+                p2 += (scale * t2 / fibre2**2)[..., None] * g2
         if shear:
             u1 = g1 / len1[..., None]
             u2 = g2 / len2[..., None]
@@ -451,9 +502,9 @@ class FibrousShellBlock(ElementBlock):
             moment = self.shear_sign[:, None] * self.fabric.shear.value(strain["gamma"])
             p1 += (scale * moment / (len1 * s))[..., None] * (u2 - c[..., None] * u1)
             p2 += (scale * moment / (len2 * s))[..., None] * (u1 - c[..., None] * u2)
-        return p1, p2
+        return p1, p2, q1, q2
 
-    def _layer_forces(self, geo, p1, p2):
+    def _layer_forces(self, geo, p1, p2, q1=None, q2=None):
         """Nodal forces (m,3,3) and moment vectors (m,3,3) from the layer loads (Eq. 24, 28),
         and dW/dS_k (m,3,3) at the corners with nodal normals (else None).
 
@@ -470,6 +521,8 @@ class FibrousShellBlock(ElementBlock):
         total1, total2 = p1.sum(axis=1), p2.sum(axis=1)
         force = np.stack([-(total1 + total2), total1, total2], axis=1)
         arm1, arm2 = np.matmul(self.zeta, p1), np.matmul(self.zeta, p2)
+        if q1 is not None and q2 is not None:  # first-order fibre lengths (_layer_loads)
+            arm1, arm2 = arm1 - q1, arm2 - q2
         lever = np.stack([-(arm1 + arm2), arm1, arm2], axis=1)
         moment = 0.5 * h_m[..., None] * cross(v, lever)
         d_sums = np.zeros_like(v) if self.nodal_normals else None
@@ -505,14 +558,12 @@ class FibrousShellBlock(ElementBlock):
     def _membrane_forces(self, geo, strain, tension=True, shear=True):
         """Tension and/or shear forces and director moments per cell corner (m, 3, 3), the
         variation of the nodal normals included: dW/dS_k summed over the cells around node k
-        (T_k), then d(S_k)/dx through every cell f around k, whose c_f = a x b (a = x1 - x0,
-        b = x2 - x0) pulls with d(g . c_f)/da = b x g, d(g . c_f)/db = g x a, g = sum of T_k
-        over the corners of f."""
-        p1, p2 = self._layer_loads(geo, strain, tension, shear)
-        force, moment, d_sums = self._layer_forces(geo, p1, p2)
+        (T_k), then d(S_k)/dx through every cell f around k: T_k . d(alpha_k^f n_f)/dx."""
+        loads = self._layer_loads(geo, strain, tension, shear)
+        force, moment, d_sums = self._layer_forces(geo, *loads)
         if d_sums is not None:
-            pull = self.scatter.vectors(d_sums)[self.connectivity].sum(axis=1)  # g_f (m, 3)
-            force = force + _normal_sum_gradient(geo["corners"], pull)
+            pull = self.scatter.vectors(d_sums)[self.connectivity]  # T_k at the corners
+            force = force + _corner_normal_pull(geo["corners"], pull)
         return force, moment
 
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
@@ -597,8 +648,8 @@ class FibrousShellBlock(ElementBlock):
         """Unscattered tension + shear forces and director moments (m, 3, 3) of each cell
         (element normals: cell-local)."""
         geo = self._cell_geometry(x, v)
-        p1, p2 = self._layer_loads(geo, self._strains(geo))
-        force, moment, _ = self._layer_forces(geo, p1, p2)
+        loads = self._layer_loads(geo, self._strains(geo))
+        force, moment, _ = self._layer_forces(geo, *loads)
         return force, moment
 
     def _cell_gradient(self, x: np.ndarray, v: np.ndarray, sums: np.ndarray) -> np.ndarray:
@@ -606,20 +657,20 @@ class FibrousShellBlock(ElementBlock):
         nodal normal sums S_k of its corners as independent variables: (m, 3, 9), per corner
         (dW/dx, dW/dpsi, dW/dS)."""
         geo = self._cell_geometry(x, v, True, sums)
-        p1, p2 = self._layer_loads(geo, self._strains(geo))
-        force, moment, d_sums = self._layer_forces(geo, p1, p2)
+        loads = self._layer_loads(geo, self._strains(geo))
+        force, moment, d_sums = self._layer_forces(geo, *loads)
         return np.concatenate([force, moment, d_sums], axis=-1)
 
     def _nodal_membrane_tangent(self, state: State, step: float) -> SparseTangent:
         """Exact (to the central differences of each cell's gradient) stiffness of tension +
         shear with nodal normals, as a sparse matrix over the nodes (docs/theory.md §2.6).
 
-        W = sum_e W_e(x_e, psi_e, S_e) with S_k = sum_(f around k) c_f(x_f), so
-        K = J^T H J + sum_f d2(g_f . c_f)/dx2: H the cells' 27 x 27 Hessians in (x, psi, S)
-        per corner (central differences, all cells at once), J the map from (u, psi) to
-        (u, psi, S) (dS_k/dx_j = sum of dc_f/dx_j over the cells f around k holding j:
-        dc/dx1 = -[b]x, dc/dx2 = [a]x, dc/dx0 = [b - a]x), and g_f the sum of T_k = dW/dS_k
-        over the corners of f (the second derivative of the bilinear c_f, constant).
+        W = sum_e W_e(x_e, psi_e, S_e) with S_k = sum_(f around k) alpha_k^f n_f(x_f), so
+        K = J^T H J + sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2: H the cells' 27 x 27 Hessians in
+        (x, psi, S) per corner (central differences, all cells at once), J the map from
+        (u, psi) to (u, psi, S) (dS_k/dx_j, the sum of d(alpha_k^f n_f)/dx_j over the cells f
+        around k holding j, exact), and T_k = dW/dS_k (the second term by central differences
+        of the exact first derivatives, cell by cell).
         """
         n = self.n_nodes
         conn = self.connectivity
@@ -667,22 +718,19 @@ class FibrousShellBlock(ElementBlock):
             shape=(9 * n, 9 * n),
         )
 
-        # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- dc_f/dx_j for k, j corners of f.
-        a = x[:, 1] - x[:, 0]
-        b = x[:, 2] - x[:, 0]
-        d1, d2 = -_skew(b), _skew(a)
-        dc_dx = np.stack([-(d1 + d2), d1, d2], axis=1)  # (m, 3 nodes j, 3, 3)
+        # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
+        # corners of f.
+        _, ds_dx = _corner_normals(x, jacobian=True)  # (m, corner k, S comp, node j, x comp)
         ident_rows = (9 * np.arange(n))[:, None] + np.arange(6)
         ident_cols = (6 * np.arange(n))[:, None] + np.arange(6)
-        shape_j = (m, 3, 3, 3, 3)  # (cell, corner k, S comp, node j, x comp)
+        shape_j = (m, 3, 3, 3, 3)
         s_rows = np.broadcast_to(
             ((9 * conn)[:, :, None] + 6 + np.arange(3))[:, :, :, None, None], shape_j
         )
         s_cols = np.broadcast_to(((6 * conn)[:, :, None] + np.arange(3))[:, None, None], shape_j)
-        s_vals = np.broadcast_to(dc_dx.transpose(0, 2, 1, 3)[:, None], shape_j)
         jac = sp.csr_matrix(
             (
-                np.concatenate([np.ones(ident_rows.size), s_vals.ravel()]),
+                np.concatenate([np.ones(ident_rows.size), ds_dx.ravel()]),
                 (
                     np.concatenate([ident_rows.ravel(), s_rows.ravel()]),
                     np.concatenate([ident_cols.ravel(), s_cols.ravel()]),
@@ -691,14 +739,18 @@ class FibrousShellBlock(ElementBlock):
             shape=(9 * n, 6 * n),
         )
 
-        # sum_f g_f . d2 c_f / dx2: d2(g . a x b)/da db = -[g]x, /db da = [g]x.
+        # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held: central differences of the pull.
         gradient = self._cell_gradient(x, v, sums)
-        pull = self.scatter.vectors(gradient[..., 6:])[conn].sum(axis=1)  # g_f (m, 3)
-        g = _skew(pull)
-        e_a, e_b = np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
-        weights = np.outer(e_a, e_b)  # (node p, node q) weight of the (a, b) block
-        blocks = weights[None, :, None, :, None] * (-g)[:, None, :, None, :]
-        blocks = blocks + weights.T[None, :, None, :, None] * g[:, None, :, None, :]
+        pull = self.scatter.vectors(gradient[..., 6:])[conn]  # T_k at the corners (m, 3, 3)
+        blocks = np.empty((m, 3, 3, 3, 3))
+        for node in range(3):
+            for comp in range(3):
+                shift = np.zeros_like(x)
+                shift[:, node, comp] = step
+                difference = _corner_normal_pull(x + shift, pull) - _corner_normal_pull(
+                    x - shift, pull
+                )
+                blocks[:, :, :, node, comp] = difference / (2.0 * step)
         node_index = (6 * conn)[:, :, None] + np.arange(3)  # (m, 3, 3)
         shape_c = (m, 3, 3, 3, 3)
         second = sp.csr_matrix(
@@ -884,6 +936,11 @@ class FibrousShellBlock(ElementBlock):
             * np.sqrt(self.fabric.areal_density / self.max_bending_stiffness)
         )
         omega2 += (2.0 / dt_bending) ** 2
+        if self.nodal_normals:
+            # h_m at a node follows the normals of its whole star, which couples the director
+            # modes of neighbouring cells: on a jittered patch with tilted directors the
+            # assembled omega_max exceeded the bound above by 1.8 % (omega^2); 10 % margin.
+            omega2 *= 1.1
         return 2.0 / np.sqrt(omega2)
 
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
@@ -955,13 +1012,48 @@ def _skew(w: np.ndarray) -> np.ndarray:
     )
 
 
-def _normal_sum_gradient(x: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """d(g . c)/dx at the corners (m, 3, 3) of c = (x1 - x0) x (x2 - x0), g (m, 3) held."""
+def _corner_normals(x: np.ndarray, jacobian: bool = False):
+    """Each cell's share of the nodal normal sums: s_k = alpha_k n (m, 3, 3), the unit normal
+    weighted by the cell's angle at corner k, and with ``jacobian`` ds_k/dx_j
+    (m, 3 k, 3, 3 j, 3), exact: d alpha_k / dx_p = -t_u / |u| for the edge u = x_p - x_k (t_u
+    the in-plane unit vector normal to u towards the other edge), dn/dx_j = P dc/dx_j / |c|
+    with c = (x1 - x0) x (x2 - x0), P = I - n n^T."""
+    c = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    size = np.linalg.norm(c, axis=1)
+    n = c / size[:, None]
+    u = x[:, [1, 2, 0]] - x
+    w = x[:, [2, 0, 1]] - x
+    angle = np.arctan2(np.linalg.norm(cross(u, w), axis=-1), np.sum(u * w, axis=-1))  # (m, 3)
+    shares = angle[..., None] * n[:, None, :]
+    if not jacobian:
+        return shares, None
+    u_len = np.linalg.norm(u, axis=-1, keepdims=True)
+    w_len = np.linalg.norm(w, axis=-1, keepdims=True)
+    towards_w = cross(n[:, None, :], u / u_len)  # in-plane, normal to u, on the side of w
+    towards_u = cross(w / w_len, n[:, None, :])
+    d_angle = np.zeros((len(x), 3, 3, 3))  # (m, corner k, node j, x comp)
+    rows = np.arange(3)
+    d_next = -towards_w / u_len
+    d_prev = -towards_u / w_len
+    d_angle[:, rows, (rows + 1) % 3] = d_next
+    d_angle[:, rows, (rows + 2) % 3] = d_prev
+    d_angle[:, rows, rows] = -(d_next + d_prev)
     a = x[:, 1] - x[:, 0]
     b = x[:, 2] - x[:, 0]
-    along_a = cross(b, g)
-    along_b = cross(g, a)
-    return np.stack([-(along_a + along_b), along_a, along_b], axis=1)
+    d1, d2 = -_skew(b), _skew(a)
+    dc_dx = np.stack([-(d1 + d2), d1, d2], axis=1)  # (m, node j, 3, 3)
+    projector = np.eye(3) - n[:, :, None] * n[:, None, :]
+    dn_dx = np.matmul(projector[:, None], dc_dx) / size[:, None, None, None]  # (m, j, 3, 3)
+    ds = n[:, None, :, None, None] * d_angle[:, :, None, :, :]
+    ds = ds + angle[:, :, None, None, None] * dn_dx.transpose(0, 2, 1, 3)[:, None]
+    return shares, ds
+
+
+def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
+    """sum_k pull_k . d(alpha_k n)/dx_j at the corners (m, 3, 3) of each cell, pull (m, 3, 3)
+    held: the forces of the nodal normals' variation."""
+    _, ds = _corner_normals(x, jacobian=True)
+    return np.einsum("mkc,mkcjd->mjd", pull, ds)
 
 
 def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:

@@ -20,7 +20,8 @@ Gravity is -z in every case. Units: mm, N, t, s.
 
 Also the set-ups that several validation cases, tests and benchmarks build alike: the Mindlin
 cantilever strip (``mindlin_strip``), the fibrous cantilever strip under its own weight
-(``fibrous_strip``) and the hanging chain of the catenary cases (``hanging_chain``).
+(``fibrous_strip``), the strip bent into an arc of the deck-of-cards cases (``deck_of_cards``)
+and the hanging chain of the catenary cases (``hanging_chain``).
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ __all__ = [
     "box_chain",
     "build",
     "corner",
+    "deck_of_cards",
     "fibrous_strip",
     "hanging_chain",
     "mindlin_equivalent",
@@ -147,6 +149,55 @@ def fibrous_strip(
     model.fix("left")
     model.gravity((0.0, 0.0, -GRAVITY))
     return mesh, model
+
+
+@dataclass(frozen=True)
+class DeckOfCards:
+    """A fibrous strip whose mid-surface is carried onto a circular arc, its directors free.
+
+    mesh, model : the strip and its model (clamped at x = 0, every other node displaced).
+    rotation : (n,) rad, the rotation theta of the mid-surface at each node from the clamp.
+    normal : (n, 3) the exact unit normal of the arc at each node.
+    """
+
+    mesh: Mesh
+    model: Model
+    rotation: np.ndarray
+    normal: np.ndarray
+
+
+def deck_of_cards(
+    cells: int,
+    bend: float,
+    fabric: Fabric,
+    thickness: str = "nodal",
+    length: float = 100.0,
+    width: float = 5.0,
+) -> DeckOfCards:
+    """Pure bending of a stack into an arc: a length x width strip of cells x 1 cells, clamped
+    at x = 0 (translations and directors fixed), every other node moved onto the circular arc
+    of total angle ``bend`` (rad) that starts horizontally at the clamp and curls up towards
+    +z, its nodes one element length apart along the chords (the fibres of the mid-surface
+    keep their length). Only the directors of the free nodes are unknown: they settle where
+    the fibres of the other levels keep their length too.
+    """
+    mesh = Mesh.rectangle(length, width, nx=cells, ny=1)
+    p = mesh.points
+    radius = length / bend
+    spacing = length / cells
+    step = 2.0 * np.arcsin(spacing / (2.0 * radius))
+    rotation = np.rint(p[:, 0] / spacing) * step
+    target = np.column_stack(
+        [radius * np.sin(rotation), p[:, 1], radius * (1.0 - np.cos(rotation))]
+    )
+    model = Model(mesh)
+    model.add(FibrousShell(fabric, thickness=thickness))
+    model.fix("left")
+    moved = np.flatnonzero(rotation > 0.0)
+    shift = target[moved] - p[moved]
+    model.displace(moved, ux=shift[:, 0], uy=shift[:, 1], uz=shift[:, 2])
+    normal = np.column_stack([-np.sin(rotation), np.zeros_like(rotation), np.cos(rotation)])
+    return DeckOfCards(mesh, model, rotation, normal)
 
 
 def box_chain(segments: int) -> Mesh:
