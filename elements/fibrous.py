@@ -5,7 +5,7 @@ section numbers refer to docs/theory.md).
 Kinematics (§1): x(xi, eta, zeta) = sum N_k x_k + zeta/2 sum N_k h_m^k V_k (Eq. 5), directors V
 free to rotate (fibre slip), thickness along the director h_m = h / (V . n) so that the
 thickness along the normal is conserved (Eq. 10, 14). The normal n at node k is the
-area-weighted nodal normal of the block (default, ``thickness="nodal"``, §1.4: one h_m per
+angle-weighted nodal normal of the block (default, ``thickness="nodal"``, §1.4: one h_m per
 node, so a director that stays put while the surface bends stretches the fibres, and the
 directors tilt by atan(theta) as a deck of cards does) or, as Bai Eq. 15 writes, the normal of
 each element (``thickness="element"``: parallel directors are then strain-free at any
@@ -116,7 +116,7 @@ class FibrousShell(ElementType):
         whose three nodes are held carries no bending), so fixing the nodes of a line or of a
         region is a clamp with or without this option; it states the intent and is checked.
     thickness : "nodal" (default) or "element": the normal n of h_m = h / (V . n) (docs/theory.md
-        §1.4). "nodal" takes the area-weighted normal of the block's triangles around each node,
+        §1.4). "nodal" takes the angle-weighted normal of the block's triangles around each node,
         so the thickness along the director is continuous and a bent stack's directors tilt as
         its layers slip (atan(theta) for a strip bent by theta from a clamp); the force at a
         node then reaches three rings of cells. "element" is Bai's Eq. 15, each element's own
@@ -874,7 +874,7 @@ class FibrousShellBlock(ElementBlock):
     def director_tilt(self, state: State) -> np.ndarray:
         """Angle between the director and the nodal normal of the block (n,), rad, in [0, pi];
         0 at nodes outside the block. A stack of freely slipping layers bent by theta from a
-        clamp tilts by atan(theta) (docs/theory.md §1.5)."""
+        clamp tilts by atan(theta) (docs/theory.md §1.7)."""
         normals = self._normal_sums(state.positions)
         length = np.linalg.norm(normals, axis=1)
         inside = length > 0

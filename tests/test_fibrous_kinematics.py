@@ -1,4 +1,4 @@
-"""The fibrous directors slip as a deck of cards does (docs/theory.md §1.5).
+"""The fibrous directors slip as a deck of cards does (docs/theory.md §1.7).
 
 Closed form: a stack of inextensible layers that slip freely on each other, its material lines
 normal to the mid-surface and held normal at a clamp, keeps the thickness along the normal and

@@ -1,5 +1,5 @@
 """FibrousShell under gravity: a thick strip clamped at one end sags into a large deflection
-(dynamic relaxation). One solve per tension stiffness serves every check below.
+(Newton, Static). One solve per tension stiffness serves every check below.
 
 Strip: 100 x 10 mm, h = 6 mm (h/L = 0.06), rho_A = 5.7e-9 t/mm^2 (20 plies of 285 g/m^2),
 linear bending B = 7.5 N mm (Bai Table 1 before the knee), 10 x 1 cells, clamped edge option
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from materials import BendingLaw, Fabric, ShearLaw
-from solvers import DynamicRelaxation
+from solvers import Static
 from validation import specimens
 from validation.references.elastica import heavy_cantilever
 
@@ -26,7 +26,7 @@ def sag(tension: float):
         bending=BendingLaw.linear(BENDING),
     )
     mesh, model = specimens.fibrous_strip(LENGTH, WIDTH, fabric, cells=10)
-    result = DynamicRelaxation(increments=1, tol=1e-5, max_iterations=100_000).solve(model)
+    result = Static(increments=3, progress=False).solve(model)
     return mesh, model.compile(), result
 
 
@@ -69,7 +69,7 @@ def test_fibres_stay_inextensible_and_thickness_along_the_normal_is_conserved(pa
     fields = result.frames[-1].fields["triangle"]
     assert np.abs(fields["warp_strain"]).max() < 0.005  # every level, every element
     assert np.abs(fields["weft_strain"]).max() < 0.005
-    # h_m (V . n_e) = h at every node of every element (Bai Eq. 10).
+    # h_m (V . n) = h at every node of every element (Bai Eq. 10, n the nodal normal).
     state = model.initial_state()
     state.positions, state.directors = result.positions, result.directors
     geometry = model.blocks[0].thickness_along_directors(state.positions, state.directors)
@@ -78,23 +78,20 @@ def test_fibres_stay_inextensible_and_thickness_along_the_normal_is_conserved(pa
 
 
 def test_directors_slip_instead_of_following_the_normal(paper_tension):
-    # Bai §3 and Fig. 1: plies of constant thickness that slide on each other without
-    # stretching keep the material lines through the thickness near their initial direction.
-    # For inextensible plies offset along the normal, the arc-length mismatch d * (phi - phi0)
-    # tilts the director from the normal by arctan(phi), so from the vertical by
-    # phi - arctan(phi) (to first order in h/R; 6.8 deg at phi = 45 deg) instead of the
-    # Kirchhoff-Mindlin phi. Bai's element (per-element h_m, Eq. 15) keeps even that
-    # third-order term out: the tilt stays below phi - arctan(phi) + 1 deg.
+    # Bai §3 and Fig. 1, docs/theory.md §1.7: plies of constant thickness that slide on each
+    # other without stretching tilt their material lines from the normal by atan(phi), so from
+    # the vertical by phi - atan(phi) (6.8 deg at phi = 45 deg), where a Kirchhoff or Mindlin
+    # normal would tilt by phi; the thickness along them is h sqrt(1 + phi^2). phi: the slope
+    # of the mid-surface from the positions (central differences, one-sided at the ends).
+    # 10 elements: the tolerances (1.5 deg, 3 %) cover the first-order slope estimate at the
+    # ends (tests/test_fibrous_kinematics.py checks the same kinematics to 0.02 deg).
     mesh, _, result = paper_tension
     positions, directors, thickness = side(mesh, result)
     slope = np.arctan2(-np.gradient(positions[:, 2]), np.gradient(positions[:, 0]))
     assert np.degrees(slope.max()) > 45.0
     tilt = np.arccos(np.clip(directors[:, 2], -1, 1))
-    assert np.all(tilt <= slope - np.arctan(slope) + np.radians(1.0))
-    steep = slope > np.radians(45.0)
-    assert np.all(tilt[steep] < 0.2 * slope[steep])
-    # The thickness along the vertical director grows as h / cos(phi) (Bai Fig. 6f, 10c).
-    assert thickness[steep] == pytest.approx(THICKNESS / np.cos(slope[steep]), rel=0.05)
+    assert np.degrees(np.abs(tilt - (slope - np.arctan(slope)))).max() < 1.5
+    assert thickness == pytest.approx(THICKNESS * np.hypot(1.0, slope), rel=0.03)
 
 
 def test_fibre_fields_are_written_for_paraview(paper_tension, tmp_path):
