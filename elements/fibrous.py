@@ -1051,9 +1051,28 @@ def _corner_normals(x: np.ndarray, jacobian: bool = False):
 
 def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     """sum_k pull_k . d(alpha_k n)/dx_j at the corners (m, 3, 3) of each cell, pull (m, 3, 3)
-    held: the forces of the nodal normals' variation."""
-    _, ds = _corner_normals(x, jacobian=True)
-    return np.einsum("mkc,mkcjd->mjd", pull, ds)
+    held: the forces of the nodal normals' variation. The same derivatives as
+    ``_corner_normals(x, jacobian=True)`` contracted as they are formed: (pull_k . n) times
+    d alpha_k/dx, plus (dn/dx)^T sum_k alpha_k pull_k = (dc/dx)^T g, g = P sum_k alpha_k
+    pull_k / |c|, i.e. b x g on x1 and g x a on x2."""
+    a = x[:, 1] - x[:, 0]
+    b = x[:, 2] - x[:, 0]
+    c = cross(a, b)
+    size = np.linalg.norm(c, axis=1)
+    n = c / size[:, None]
+    u = x[:, [1, 2, 0]] - x
+    w = x[:, [2, 0, 1]] - x
+    u_len = np.linalg.norm(u, axis=-1, keepdims=True)
+    w_len = np.linalg.norm(w, axis=-1, keepdims=True)
+    angle = np.arctan2(np.linalg.norm(cross(u, w), axis=-1), np.sum(u * w, axis=-1))
+    weight = np.sum(pull * n[:, None, :], axis=-1)[..., None]  # pull_k . n, (m, 3, 1)
+    d_next = -weight * cross(n[:, None, :], u / u_len) / u_len  # on node k + 1
+    d_prev = -weight * cross(w / w_len, n[:, None, :]) / w_len  # on node k + 2
+    force = -(d_next + d_prev) + np.roll(d_next, 1, axis=1) + np.roll(d_prev, 2, axis=1)
+    g = np.sum(angle[..., None] * pull, axis=1)
+    g = (g - np.sum(g * n, axis=1)[:, None] * n) / size[:, None]
+    along_a, along_b = cross(b, g), cross(g, a)
+    return force + np.stack([-(along_a + along_b), along_a, along_b], axis=1)
 
 
 def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:
