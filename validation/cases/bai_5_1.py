@@ -26,8 +26,11 @@ NAME = "bai-5.1"
 TITLE = "20-ply G986 stack: clamped strip, end moved horizontally and vertically"
 SOURCE = "Bai et al. (2020) §5.1, Fig. 6, Table 1"
 LENGTH, WIDTH = 150.0, 30.0
-# |tilt - atan(theta)| along side 1 of the default fibrous run, measured: coarse (12 cells)
-# 3.1-5.6 deg, default (30 cells) TBD; the Eq. 15 run, tilt = theta: up to 10.4 deg (coarse).
+# |tilt - atan(theta)| along side 1 (clamped and moved nodes left out) of the default fibrous
+# run, measured: at most 5.6 deg on the coarse mesh (12 cells; 3.1-5.6 deg all along), 1.1 deg
+# on the default one (30 cells; 1.1 deg next to the clamp, <= 0.5 deg beyond). The Eq. 15 run
+# (tilt = theta) gives 10.4 and 10.8 deg. 6 deg passes the default kinematics on both meshes
+# and would fail Eq. 15 on both.
 SLIP_TOLERANCE_DEG = 6.0
 SPEC = PaperCase(
     name=NAME,
