@@ -81,12 +81,26 @@ class SideProfile:
         Angle of the director to the horizontal seen facing the side (deg, 90 = vertical).
     thickness : numpy.ndarray
         Thickness along the director (mm).
+    rotation_deg : numpy.ndarray
+        Rotation theta of the mid-surface from the clamp's (horizontal) orientation seen facing
+        the side: the slope of the side profile, positive when it rises away from the clamp
+        (deg).
+    director_tilt_deg : numpy.ndarray
+        Tilt of the director from the normal of the side profile seen facing the side, signed
+        like ``rotation_deg``: 90 + rotation - director angle (deg; 0 for a director on the
+        normal, = rotation for a director that kept its vertical orientation).
+    normal_tilt_deg : numpy.ndarray
+        Angle between the director and the area-weighted nodal normal of the deformed surface,
+        in three dimensions (deg, >= 0; the fibrous shell's node field "director_tilt").
     """
 
     s: np.ndarray
     midsurface: np.ndarray
     director_angle_deg: np.ndarray
     thickness: np.ndarray
+    rotation_deg: np.ndarray
+    director_tilt_deg: np.ndarray
+    normal_tilt_deg: np.ndarray
 
     def to_json(self) -> dict[str, Any]:
         """The JSON record (arrays are written as lists by the report's encoder)."""
@@ -95,6 +109,9 @@ class SideProfile:
             "midsurface": self.midsurface,
             "director_angle_deg": self.director_angle_deg,
             "thickness": self.thickness,
+            "rotation_deg": self.rotation_deg,
+            "director_tilt_deg": self.director_tilt_deg,
+            "normal_tilt_deg": self.normal_tilt_deg,
         }
 
 
@@ -106,14 +123,18 @@ class SideSummary:
     director_angle_min_deg: float
     director_angle_max_deg: float
     thickness_max_over_h: float
+    director_tilt_max_deg: float  # largest |tilt| of the director from the normal
 
 
 @dataclass(frozen=True)
 class ElementRun:
-    """One kinematics ("fibrous" or "mindlin") of a paper case: its solve and its sides.
+    """One kinematics of a paper case ("fibrous", "fibrous_element" or "mindlin", the keys of
+    validation.paper.KINEMATICS): its solve and its sides.
 
     Attributes
     ----------
+    label : str
+        The kinematics in words, as the figures' legends name it.
     converged : bool
         Whether the solver reached the full load.
     wall_time_s : float
@@ -129,6 +150,7 @@ class ElementRun:
         max_shear_angle_deg.
     """
 
+    label: str
     converged: bool
     wall_time_s: float
     steps: int
@@ -139,6 +161,7 @@ class ElementRun:
     def to_json(self) -> dict[str, Any]:
         """The JSON record: the solve, the fibre statistics, then one entry per side."""
         record: dict[str, Any] = {
+            "label": self.label,
             "converged": self.converged,
             "wall_time_s": self.wall_time_s,
             "steps": self.steps,
@@ -173,6 +196,9 @@ class Outcome:
         Paper cases: one record per kinematics.
     key_numbers : dict of str to SideSummary or None
         Paper cases: per "kinematics side", the numbers the report quotes.
+    discussion : str or None
+        Paper cases: what the figures show, in words with numbers of the run (paragraphs
+        separated by blank lines), rendered next to the figures.
     error : str or None
         Set by the report runner when the case raised.
     data : object
@@ -189,6 +215,7 @@ class Outcome:
     figures: list[str] = field(default_factory=list)
     elements: dict[str, ElementRun] | None = None
     key_numbers: dict[str, SideSummary] | None = None
+    discussion: str | None = None
     error: str | None = None
     data: Any = field(default=None, repr=False, compare=False)
 
@@ -293,6 +320,8 @@ class CaseResult:
                 record["elements"] = {k: e.to_json() for k, e in o.elements.items()}
             if o.key_numbers is not None:
                 record["key_numbers"] = {k: asdict(v) for k, v in o.key_numbers.items()}
+            if o.discussion is not None:
+                record["discussion"] = o.discussion
             record.update(checks=checks, figures=list(o.figures), case_time_s=self.case_time_s)
         record.update(
             title=self.case.title,

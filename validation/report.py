@@ -78,21 +78,34 @@ def run_cases(
         f"numpy {np.__version__}",
         cases=results,
     )
-    content = report.to_json()
-    (out_dir / "results.json").write_text(json.dumps(content, indent=2, default=_jsonable))
+    content = _strict(report.to_json())
+    (out_dir / "results.json").write_text(json.dumps(content, indent=2, allow_nan=False))
     (out_dir / "index.html").write_text(render_html(content))
     return report
 
 
-def _jsonable(value: Any) -> Any:
+def _strict(value: Any) -> Any:
+    """``value`` with arrays as lists, numpy scalars as Python ones and the non-finite floats
+    (the unbounded tolerance of a one-sided check) as None, so that results.json is strict
+    JSON (null, not Infinity)."""
+    if isinstance(value, dict):
+        return {key: _strict(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_strict(item) for item in value]
     if isinstance(value, np.ndarray):
-        return value.tolist()
+        return _strict(value.tolist())
     if isinstance(value, (np.floating, np.integer, np.bool_)):
-        return value.item()
+        return _strict(value.item())
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    if value is None or isinstance(value, (str, int, float, bool)):
+        return value
     raise TypeError(f"cannot write {type(value).__name__} to JSON")
 
 
 def _number(value) -> str:
+    if value is None:  # a non-finite number in results.json (an unbounded tolerance)
+        return "none"
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, (int, np.integer)):
@@ -115,6 +128,7 @@ figure { display: inline-block; margin: 0.5em; } img { max-width: 520px; border:
 pre { background: #f7f7f7; padding: 0.8em; white-space: pre-wrap; font-size: 0.88em; }
 td.small { font-size: 0.85em; max-width: 28em; }
 figure img { max-width: 1060px; }
+p.discussion { max-width: 60em; }
 """
 
 
@@ -130,7 +144,8 @@ def _key_numbers(case: dict, kinematics: str) -> str:
             parts.append(
                 f"{side.replace('_', ' ')}: slope up to {numbers['max_midsurface_slope_deg']:.0f}"
                 f" deg, director {numbers['director_angle_min_deg']:.0f}-"
-                f"{numbers['director_angle_max_deg']:.0f} deg, thickness up to "
+                f"{numbers['director_angle_max_deg']:.0f} deg, tilt from the normal up to "
+                f"{numbers['director_tilt_max_deg']:.0f} deg, thickness up to "
                 f"{numbers['thickness_max_over_h']:.2f} h"
             )
     return html.escape("; ".join(parts))
@@ -164,7 +179,8 @@ def _summary_rows(name: str, case: dict) -> list[str]:
         )
         tail = verdict.replace("<td", f"<td rowspan='{len(elements)}'", 1) if i == 0 else ""
         rows.append(
-            f"<tr>{head}<td>{kinematics}</td><td>{html.escape(record['solver'])}</td>"
+            f"<tr>{head}<td>{html.escape(record.get('label', kinematics))}</td>"
+            f"<td>{html.escape(record['solver'])}</td>"
             f"<td>{_number(bool(record['converged']))}</td>"
             f"<td class='num'>{record['wall_time_s']:.2f}</td>"
             f"<td class='num'>{record['steps']}</td>"
@@ -209,6 +225,11 @@ def render_html(report: dict[str, Any]) -> str:
             if "error" in case
             else ""
         )
+        discussion = "".join(
+            f"<p class='discussion'>{html.escape(paragraph)}</p>"
+            for paragraph in case.get("discussion", "").split("\n\n")
+            if paragraph.strip()
+        )
         files = ""
         if case.get("elements"):
             files = (
@@ -225,7 +246,7 @@ def render_html(report: dict[str, Any]) -> str:
             f"{error}<pre>{html.escape(case['description'])}</pre>"
             f"<p>Solver: {html.escape(case.get('solver', ''))}; {case['steps']} steps/iterations; "
             f"{case['wall_time_s']:.2f} s.</p>"
-            f"<table>{parameters}</table>{figures}{files}</section>"
+            f"<table>{parameters}</table>{figures}{discussion}{files}</section>"
         )
     n_checks = sum(len(c["checks"]) for c in cases.values())
     n_passed = sum(sum(x["passed"] for x in c["checks"]) for c in cases.values())
@@ -251,12 +272,15 @@ an invariant of the formulation; a failed check is shown as failed.</p>
 
 
 INTRODUCTION = """<p>The cases named <code>bai-*</code> rerun the simulations of Bai, Colmars,
-Naouar and Boisse, <i>Composites Part A</i> 139 (2020) 106135, with two kinematics on the same
-mesh, boundary conditions and loads: the fibrous shell of the paper (<b>fibrous</b>: the
-material directors are free to leave the normal, the thickness along them follows from
-Eq. 10) and a reference Mindlin shell (<b>mindlin</b>, MITC3, the role Abaqus S3 plays in the
-paper), calibrated as the paper did: E = 12 B / h<sup>3</sup> so that both have the stack's
-measured bending stiffness, nu = 0, transverse shear modulus G13 = G23 = 0.5 E (a stated
-parameter). Gravity acts in every case. Sizes, imposed displacements and the material data the
-paper does not give are stated in each case. The other cases verify the elements against
-closed-form or published solutions.</p>"""
+Naouar and Boisse, <i>Composites Part A</i> 139 (2020) 106135, with three kinematics on the same
+mesh, boundary conditions and loads: the fibrous shell of the paper, whose material directors
+are free to leave the normal and whose thickness along them follows from Eq. 10, in two variants
+(<b>fibrous</b>, the default: the thickness along the director from the area-weighted nodal
+normal, so that the directors of a bent stack tilt as its plies slip; <b>fibrous_element</b>:
+Bai's Eq. 15 as published, each element's own normal, so that parallel directors are strain-free
+and keep their orientation), and a reference Mindlin shell (<b>mindlin</b>, MITC3, the role
+Abaqus S3 plays in the paper), calibrated as the paper did: E = 12 B / h<sup>3</sup> so that it
+has the stack's measured bending stiffness, nu = 0, transverse shear modulus G13 = G23 = 0.5 E
+(a stated parameter). Gravity acts in every case. Sizes, imposed displacements and the material
+data the paper does not give are stated in each case. The other cases verify the elements
+against closed-form or published solutions.</p>"""

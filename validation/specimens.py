@@ -263,12 +263,15 @@ def build(
     displacement: tuple[float | None, float | None, float | None],
     shear_ratio: float = 0.5,
     levels: int = 3,
+    thickness: str = "nodal",
 ) -> Model:
     """Model of a specimen with "fibrous" or "mindlin" kinematics, clamp fixed, gravity, and
-    ``displacement`` (ux, uy, uz; None leaves a component free) imposed on the loaded nodes."""
+    ``displacement`` (ux, uy, uz; None leaves a component free) imposed on the loaded nodes.
+    ``thickness`` is the fibrous shell's option of the same name: "nodal" (the thickness along
+    the director from the nodal normals, the default) or "element" (Bai Eq. 15)."""
     model = Model(specimen.mesh)
     if kinematics == "fibrous":
-        model.add(FibrousShell(fabric, levels=levels, clamped=specimen.clamp))
+        model.add(FibrousShell(fabric, levels=levels, clamped=specimen.clamp, thickness=thickness))
     elif kinematics == "mindlin":
         model.add(MindlinShell(mindlin_equivalent(fabric, shear_ratio)))
     else:

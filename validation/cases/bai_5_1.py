@@ -26,6 +26,12 @@ NAME = "bai-5.1"
 TITLE = "20-ply G986 stack: clamped strip, end moved horizontally and vertically"
 SOURCE = "Bai et al. (2020) §5.1, Fig. 6, Table 1"
 LENGTH, WIDTH = 150.0, 30.0
+# |tilt - atan(theta)| along side 1 (clamped and moved nodes left out) of the default fibrous
+# run, measured: at most 5.6 deg on the coarse mesh (12 cells; 3.1-5.6 deg all along), 1.1 deg
+# on the default one (30 cells; 1.1 deg next to the clamp, <= 0.5 deg beyond). The Eq. 15 run
+# (tilt = theta) gives 10.4 and 10.8 deg. 6 deg passes the default kinematics on both meshes
+# and would fail Eq. 15 on both.
+SLIP_TOLERANCE_DEG = 6.0
 SPEC = PaperCase(
     name=NAME,
     title=TITLE,
@@ -34,6 +40,15 @@ SPEC = PaperCase(
     fabric=g986_stack(20),
     displacement=(-30.0, 0.0, -50.0),
     cells={"coarse": 12, "default": 30, "fine": 60},
+    slip_sides=("side_1",),
+    slip_note=(
+        "The clamp holds every ply at x = 0 and the pin at the other end leaves the directors "
+        "free, so the plies slip freely from the clamp along the whole strip: the default "
+        "directors are checked against atan(theta) at every node of side 1 but the clamped and "
+        "the moved ones. The strip first dips, then rises to the moved end (theta changes "
+        "sign); the relation follows the slip accumulated from the clamp through both bends."
+    ),
+    slip_tolerance_deg=SLIP_TOLERANCE_DEG,
     parameters={
         "length_mm (assumed)": LENGTH,
         "width_mm (assumed)": WIDTH,

@@ -22,6 +22,20 @@ NAME = "bai-6.2.1"
 TITLE = "11-ply G1151 laminate: corner lifted beyond a clamped diagonal"
 SECTION = "§6.2.1, Fig. 13, 14"
 SOURCE = f"Bai et al. (2020) {SECTION}"
+# Not checked: |tilt - atan(theta)| along side 1 / side 2 (clamped and lifted nodes left out),
+# measured: 1.2 / 1.5 deg on the coarse mesh (8 cells) and at most 2.0 deg on the default one
+# (20 cells) for the default fibrous run, but at most 2.1 and 2.2 deg for the Eq. 15 run (tilt
+# = theta; theta <= 27 deg here), so no tolerance could separate the two. The paragraph
+# reports both.
+SLIP_NOTE = (
+    "Both sides run from the clamped diagonal to the lifted corner, whose directors are free: "
+    "the plies along them slip from the clamp as in a cantilever, so the default directors are "
+    "compared with atan(theta) at every node of the sides but the clamped and the lifted "
+    "ones (seen facing the side; the surface is also bent across the sides near the corner, "
+    "which the tilt in three dimensions, the node field director_tilt, includes). The rotations "
+    "stay moderate here, where atan(theta) and theta differ by about the discretisation error, "
+    "so the relation is measured but not made a check: it would pass for both fibrous variants."
+)
 
 SPEC = corner_case(
     name=NAME,
@@ -32,5 +46,7 @@ SPEC = corner_case(
     displacement=CORNER_LIFT,
     described="corner lifted 40 mm, x y free",
     cells={"coarse": 8, "default": 20, "fine": 40},
+    slip_sides=("side_1", "side_2"),
+    slip_note=SLIP_NOTE,
 )
 CASE = SPEC.case(source=SOURCE, description=__doc__, order=40)

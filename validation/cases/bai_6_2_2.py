@@ -23,6 +23,19 @@ TITLE = "11-ply G1151 laminate: buckling under an in-plane corner displacement"
 SECTION = "§6.2.2, Fig. 15, 16"
 SOURCE = f"Bai et al. (2020) {SECTION}"
 PUSH = 20.0  # mm, assumed
+# Not checked: |tilt - atan(theta)| along side 1 / side 2 (clamped and pushed nodes left out),
+# measured for the default fibrous run: 4.2 / 5.3 deg on the coarse mesh (8 cells), at most 6.0 deg
+# on the default one (12 cells); the Eq. 15 run (tilt = theta) gives about as much (up to 5.3
+# and 6.1 deg), so the free-slip relation does not describe this test. The paragraph reports
+# both.
+SLIP_NOTE = (
+    "The corner is pushed towards the clamp in the plane and the free triangle buckles: the "
+    "fibres along the sides carry the push in compression and the surface bends across the "
+    "sides as well as along them, so the plies do not slip as in a cantilever and the relation "
+    "tilt = atan(theta) is not expected to hold. It is measured along both sides, away from the "
+    "clamped and the pushed nodes, but not made a check; near the clamp, where the rotation is "
+    "small, atan(theta) and theta cannot be told apart."
+)
 
 SPEC = corner_case(
     name=NAME,
@@ -34,5 +47,7 @@ SPEC = corner_case(
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
     increments=20,
+    slip_sides=("side_1", "side_2"),
+    slip_note=SLIP_NOTE,
 )
 CASE = SPEC.case(source=SOURCE, description=__doc__, order=50)
