@@ -14,7 +14,7 @@ def test_mypy_reports_no_errors(request, tmp_path_factory, monkeypatch):
     except ImportError:
         pytest.skip("mypy is not importable; install the test extra: pip install -e '.[test]'")
     # Keep mypy's cache out of the work tree: in pytest's cache (kept between runs) if enabled.
-    cache = request.config.cache
+    cache = getattr(request.config, "cache", None)  # None with -p no:cacheprovider
     cache_dir = cache.mkdir("mypy") if cache is not None else tmp_path_factory.mktemp("mypy")
     monkeypatch.chdir(ROOT)  # the packages are found relative to the project root
     stdout, stderr, status = api.run(

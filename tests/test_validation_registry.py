@@ -34,6 +34,7 @@ REPORT_ORDER = [
     "cable-elastic-catenary",
     "bar-wave",
     "fibrous-curvature",
+    "fibrous-deck-of-cards",
     "fibrous-heavy-cantilever",
     "mindlin-elastica",
     "mindlin-rollup",
