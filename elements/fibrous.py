@@ -400,31 +400,27 @@ class FibrousShellBlock(ElementBlock):
             layer = x[:, :, None, :] + offset
             geo["g1"] = layer[:, 1] - layer[:, 0]
             geo["g2"] = layer[:, 2] - layer[:, 0]
-            # g_a = e_a + zeta d_a: edge e_a and half the change d_a of h_m V along it.
-            half = 0.5 * h_m[..., None] * v
-            geo["e1"], geo["e2"] = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
-            geo["d1"], geo["d2"] = half[:, 1] - half[:, 0], half[:, 2] - half[:, 0]
         return geo
 
     def _fibre_lengths(self, geo: dict) -> tuple[np.ndarray, np.ndarray]:
         """The lengths (m, L) whose log strain the tension law takes, along edges 0-1, 0-2.
 
         With element normals (Bai), |g_a| at each level. With nodal normals, the length of
-        g_a = e_a + zeta d_a along the edge, l = |e_a| + zeta (e_a . d_a) / |e_a|, exact to
-        first order in zeta (docs/theory.md §2.2): the part of zeta d_a across the edge only
-        lengthens g_a at second order, (h theta kappa)^2 / 8 on the outer layers of a stack
-        bent by theta with curvature kappa, a stretch that straight directors would force on
-        layers whose true material lines curve instead; counting it locks a thick stack's
-        bending (+8% tip x on a heavy cantilever of h / L = 0.04).
+        g_a projected on the element's plane, l = |P g_a|, P = I - n n^T (docs/theory.md §2.2).
+        The component of g_a = e_a + zeta d_a along n is zeta d_a . n: straight directors make
+        it (h / 2) theta kappa per unit length on a stack bent by theta with curvature kappa,
+        and counting it would stretch both outer layers by (h theta kappa)^2 / 8, although the
+        true material lines curve and the layers keep their length: it locks a thick stack's
+        bending (+8% tip x on a heavy cantilever of h / L = 0.04). Components in the plane
+        (in-plane shear of the levels) still count in full.
         """
         if not self.nodal_normals:
             return np.linalg.norm(geo["g1"], axis=-1), np.linalg.norm(geo["g2"], axis=-1)
-        lengths = []
-        for e, d in ((geo["e1"], geo["d1"]), (geo["e2"], geo["d2"])):
-            size = np.linalg.norm(e, axis=-1)[:, None]
-            along = (np.sum(e * d, axis=-1)[:, None] / size) * self.zeta
-            lengths.append(np.maximum(size + along, 1e-6 * size))
-        return lengths[0], lengths[1]
+        n = geo["normal"][:, None, :]
+        return tuple(
+            np.linalg.norm(g - np.sum(g * n, axis=-1, keepdims=True) * n, axis=-1)
+            for g in (geo["g1"], geo["g2"])
+        )
 
     def _strains(self, geo: dict) -> dict:
         """Log fibre strains eps1, eps2 along edges 0-1 and 0-2 and shear angles (m, L), with
@@ -449,13 +445,11 @@ class FibrousShellBlock(ElementBlock):
 
     def _layer_loads(self, geo, strain, tension=True, shear=True):
         """Derivatives P_a = dW/dg_a (m, L, 3) of the tension and/or shear energy, and with
-        nodal normals the corrections q_a (m, 3) of the director lever (else None).
+        nodal normals the load on the element normal, dW/dn (m, 3) (else None).
 
         Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a g_a / |g_a|^2 (d eps = g . dg / |g|^2). With
-        the fibre length l = |e| + zeta e^ . d of ``_fibre_lengths`` (e^ = e / |e|, d_perp the
-        part of d across e), dW/de_a = A0 w_f T_a (e^ + zeta d_perp / |e|) / l per level and
-        dW/dd_a = sum_f A0 w_f T_a zeta_f e^ / l: the lever sum_f zeta_f P_a less
-        q_a = sum_f A0 w_f T_a zeta_f^2 / l d_perp / |e|.
+        the in-plane fibre length l = |P g| of ``_fibre_lengths``, dW/dg_a = A0 w_f T_a P g_a /
+        l^2 and, n varying, dW/dn = -sum_(f, a) A0 w_f T_a (n . g_a) P g_a / l^2.
         Shear (Eq. 30-33, §3): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|), t1 the
         unit vector normal to g1 towards g2 in their plane (and t2 likewise), sign the cell's
         ``shear_sign``.
@@ -466,7 +460,7 @@ class FibrousShellBlock(ElementBlock):
         g1, g2 = geo["g1"], geo["g2"]
         p1 = np.zeros_like(g1)
         p2 = np.zeros_like(g2)
-        q1 = q2 = None
+        normal_load = None
         if tension:
             warp, weft = self._by_family(strain["eps1"], strain["eps2"])
             t_warp = self.fabric.tension.value(warp)
@@ -474,23 +468,13 @@ class FibrousShellBlock(ElementBlock):
             t1 = np.where(self.xi_is_warp[:, None], t_warp, t_weft)
             t2 = np.where(self.xi_is_warp[:, None], t_weft, t_warp)
             if self.nodal_normals:
-                loads = []
-                for t, fibre, e, d in (
-                    (t1, fibre1, geo["e1"], geo["d1"]),
-                    (t2, fibre2, geo["e2"], geo["d2"]),
-                ):
-                    size = np.linalg.norm(e, axis=-1)[:, None]
-                    unit = e / size
-                    across = (d - np.sum(d * unit, axis=-1)[:, None] * unit) / size
-                    coefficient = scale * t / fibre  # (m, L)
-                    load = coefficient[..., None] * (
-                        unit[:, None, :] + self.zeta[None, :, None] * across[:, None, :]
-                    )
-                    lever = np.sum(coefficient * self.zeta**2, axis=1)[:, None] * across
-                    loads.append((load, lever))
-                (load1, q1), (load2, q2) = loads
-                p1 += load1
-                p2 += load2
+                n = geo["normal"][:, None, :]
+                normal_load = np.zeros_like(geo["normal"])
+                for p, g, t, fibre in ((p1, g1, t1, fibre1), (p2, g2, t2, fibre2)):
+                    along = np.sum(g * n, axis=-1, keepdims=True)
+                    coefficient = (scale * t / fibre**2)[..., None]
+                    p += coefficient * (g - along * n)
+                    normal_load -= np.sum(coefficient * along * (g - along * n), axis=1)
             else:
                 p1 += (scale * t1 / fibre1**2)[..., None] * g1
                 p2 += (scale * t2 / fibre2**2)[..., None] * g2
@@ -502,9 +486,9 @@ class FibrousShellBlock(ElementBlock):
             moment = self.shear_sign[:, None] * self.fabric.shear.value(strain["gamma"])
             p1 += (scale * moment / (len1 * s))[..., None] * (u2 - c[..., None] * u1)
             p2 += (scale * moment / (len2 * s))[..., None] * (u1 - c[..., None] * u2)
-        return p1, p2, q1, q2
+        return p1, p2, normal_load
 
-    def _layer_forces(self, geo, p1, p2, q1=None, q2=None):
+    def _layer_forces(self, geo, p1, p2, normal_load=None):
         """Nodal forces (m,3,3) and moment vectors (m,3,3) from the layer loads (Eq. 24, 28),
         and dW/dS_k (m,3,3) at the corners with nodal normals (else None).
 
@@ -520,9 +504,12 @@ class FibrousShellBlock(ElementBlock):
         # Sums over the levels first (F_k^f is linear in P_a): sum_f F_k^f and sum_f zeta_f F_k^f.
         total1, total2 = p1.sum(axis=1), p2.sum(axis=1)
         force = np.stack([-(total1 + total2), total1, total2], axis=1)
+        if normal_load is not None:
+            # n = c / |c|, c = a x b: dW/dc = P dW/dn / |c|, pulled through the bilinear c.
+            n = geo["normal"]
+            load = normal_load - np.sum(normal_load * n, axis=1)[:, None] * n
+            force += _cross_product_pull(geo["corners"], load / geo["double_area"][:, None])
         arm1, arm2 = np.matmul(self.zeta, p1), np.matmul(self.zeta, p2)
-        if q1 is not None and q2 is not None:  # first-order fibre lengths (_layer_loads)
-            arm1, arm2 = arm1 - q1, arm2 - q2
         lever = np.stack([-(arm1 + arm2), arm1, arm2], axis=1)
         moment = 0.5 * h_m[..., None] * cross(v, lever)
         d_sums = np.zeros_like(v) if self.nodal_normals else None
@@ -1049,6 +1036,15 @@ def _corner_normals(x: np.ndarray, jacobian: bool = False):
     return shares, ds
 
 
+def _cross_product_pull(x: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """d(g . c)/dx at the corners (m, 3, 3) of c = (x1 - x0) x (x2 - x0), g (m, 3) held:
+    b x g on x1, g x a on x2 (a = x1 - x0, b = x2 - x0), minus their sum on x0."""
+    a = x[:, 1] - x[:, 0]
+    b = x[:, 2] - x[:, 0]
+    along_a, along_b = cross(b, g), cross(g, a)
+    return np.stack([-(along_a + along_b), along_a, along_b], axis=1)
+
+
 def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     """sum_k pull_k . d(alpha_k n)/dx_j at the corners (m, 3, 3) of each cell, pull (m, 3, 3)
     held: the forces of the nodal normals' variation. The same derivatives as
@@ -1071,8 +1067,7 @@ def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     force = -(d_next + d_prev) + np.roll(d_next, 1, axis=1) + np.roll(d_prev, 2, axis=1)
     g = np.sum(angle[..., None] * pull, axis=1)
     g = (g - np.sum(g * n, axis=1)[:, None] * n) / size[:, None]
-    along_a, along_b = cross(b, g), cross(g, a)
-    return force + np.stack([-(along_a + along_b), along_a, along_b], axis=1)
+    return force + _cross_product_pull(x, g)
 
 
 def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:
