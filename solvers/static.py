@@ -333,9 +333,11 @@ class Static:
 
         The full Newton step of a large rotation first moves along the tangent and stretches
         the structure, so a growing residual is normal for one iteration; only a blow-up (or a
-        non-finite state) is cut back, halving the step up to 5 times.
+        non-finite state) is cut back, halving the step up to 5 times. Before that, a step
+        that would turn a director by more than MAX_ROTATION or move a node by more than the
+        model's size is scaled down to that (``_step_cap``).
         """
-        scale = 1.0
+        scale = _step_cap(equilibrium.model, delta) if self.line_search else 1.0
         for _ in range(6 if self.line_search else 1):
             with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
                 trial = dofs.advance(state, scale * delta, frames)
@@ -464,6 +466,28 @@ def _odd(permutation: np.ndarray) -> int:
     return (permutation.size - cycles) % 2
 
 
+# Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
+# layered shell can ask for director turns of several radians, which lead Newton into states
+# with collapsed cells or fibres stretched by orders of magnitude, where a log-strain
+# tension law still balances (bai-5.1, fibrous: |u| = 1e51 at "equilibrium").
+MAX_ROTATION = 0.5
+
+
+def _step_cap(model: CompiledModel, delta: np.ndarray) -> float:
+    """The factor (<= 1) that keeps an update delta (n, 5) within MAX_ROTATION of director
+    rotation at every node and within the model's size (its bounding-box diagonal) of
+    translation."""
+    extent = float(np.linalg.norm(np.ptp(model.reference_positions, axis=0)))
+    translation = float(np.linalg.norm(delta[:, :3], axis=1).max(initial=0.0))
+    rotation = float(np.linalg.norm(delta[:, 3:], axis=1).max(initial=0.0))
+    cap = 1.0
+    if rotation > MAX_ROTATION:
+        cap = MAX_ROTATION / rotation
+    if extent > 0.0 and translation > extent:
+        cap = min(cap, extent / translation)
+    return cap
+
+
 class _Equilibrium:
     """The residual at one load factor: dead loads, the prescribed target and the ratio by
     which convergence is judged."""
@@ -504,7 +528,13 @@ class _Equilibrium:
             1e-300,
         )
         moment_ref = force_ref * size
-        ratio = max(np.linalg.norm(r[:, :3]) / force_ref, np.linalg.norm(r[:, 3:]) / moment_ref)
+        ratio = float(
+            max(np.linalg.norm(r[:, :3]) / force_ref, np.linalg.norm(r[:, 3:]) / moment_ref)
+        )
+        if not (np.isfinite(force_ref) and np.isfinite(ratio)):
+            # An overflowing state would otherwise divide its own residual by an infinite
+            # reference and pass as converged.
+            ratio = np.inf
         return r, ratio, (f_int, m_int)
 
 
