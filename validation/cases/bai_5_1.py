@@ -27,11 +27,11 @@ TITLE = "20-ply G986 stack: clamped strip, end moved horizontally and vertically
 SOURCE = "Bai et al. (2020) §5.1, Fig. 6, Table 1"
 LENGTH, WIDTH = 150.0, 30.0
 # |tilt - atan(theta)| along side 1 (clamped and moved nodes left out) of the default fibrous
-# run, measured: at most 5.6 deg on the coarse mesh (12 cells; 3.1-5.6 deg all along), 1.1 deg
-# on the default one (30 cells; 1.1 deg next to the clamp, <= 0.5 deg beyond). The Eq. 15 run
-# (tilt = theta) gives 10.4 and 10.8 deg. 6 deg passes the default kinematics on both meshes
-# and would fail Eq. 15 on both.
-SLIP_TOLERANCE_DEG = 6.0
+# run, measured: 6.0 deg on the coarse mesh (12 cells: theta from central differences of
+# 12.5 mm cells through two bends of opposite sign), 0.72 deg on the default one (30 cells),
+# against 10.4 and 10.8 deg for the Eq. 15 run (tilt = theta). Tolerances: the measured values
+# with a margin, below what Eq. 15 gives.
+SLIP_TOLERANCE_DEG = {"coarse": 7.0, "default": 1.5, "fine": 1.5}
 SPEC = PaperCase(
     name=NAME,
     title=TITLE,
