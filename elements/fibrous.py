@@ -235,6 +235,8 @@ class FibrousShellBlock(ElementBlock):
         # by apply_supports, which also recomputes the reference folds from these points.
         self.requested_clamp = self._requested_clamp(mesh, shell.clamped)
         self._reference_points = np.asarray(mesh.points, dtype=float)
+        # Nodes whose normal is that of the wall they are held against (apply_supports).
+        self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
         self._set_sides(self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
@@ -322,6 +324,13 @@ class FibrousShellBlock(ElementBlock):
                 "is held by the supports; its bending then acts against a wall)"
             )
         self._set_sides(held | self.requested_clamp)
+        # A held node stays where it was: its nodal normal is the wall's, the reference one,
+        # not the mean of the cells that bend away from it (docs/theory.md §1.4).
+        wall = np.zeros_like(held)
+        wall[np.unique(self.connectivity)] = True
+        self.wall_nodes = np.zeros_like(held)
+        self._wall_sums = self._normal_sums(self._reference_points)
+        self.wall_nodes = wall & (held | self.requested_clamp)
         bend0 = self._bending_geometry(self._reference_points)
         self.reference_fold = bend0["fold"]
         self.reference_coefficients = bend0["coefficients"]
@@ -365,7 +374,14 @@ class FibrousShellBlock(ElementBlock):
         element normals weighted by the cells' angles at the node; S_k / |S_k| is the nodal
         normal (docs/theory.md §1.4)."""
         s, _ = _corner_normals(positions[self.connectivity])
-        return self.scatter.vectors(s)
+        sums = self.scatter.vectors(s)
+        if self.wall_nodes.any():
+            sums[self.wall_nodes] = self._wall_sums[self.wall_nodes]
+        return sums
+
+    def _free_sums(self, nodal: np.ndarray) -> np.ndarray:
+        """``nodal`` (n, 3) with the rows of the wall nodes zeroed: their S_k does not vary."""
+        return np.where(self.wall_nodes[:, None], 0.0, nodal) if self.wall_nodes.any() else nodal
 
     def _cell_geometry(
         self, x: np.ndarray, v: np.ndarray, layers: bool = True, sums: np.ndarray | None = None
@@ -549,7 +565,7 @@ class FibrousShellBlock(ElementBlock):
         loads = self._layer_loads(geo, strain, tension, shear)
         force, moment, d_sums = self._layer_forces(geo, *loads)
         if d_sums is not None:
-            pull = self.scatter.vectors(d_sums)[self.connectivity]  # T_k at the corners
+            pull = self._free_sums(self.scatter.vectors(d_sums))[self.connectivity]  # T_k
             force = force + _corner_normal_pull(geo["corners"], pull)
         return force, moment
 
@@ -717,7 +733,12 @@ class FibrousShellBlock(ElementBlock):
         s_cols = np.broadcast_to(((6 * conn)[:, :, None] + np.arange(3))[:, None, None], shape_j)
         jac = sp.csr_matrix(
             (
-                np.concatenate([np.ones(ident_rows.size), ds_dx.ravel()]),
+                np.concatenate(
+                    [
+                        np.ones(ident_rows.size),
+                        (ds_dx * ~self.wall_nodes[conn][:, :, None, None, None]).ravel(),
+                    ]
+                ),
                 (
                     np.concatenate([ident_rows.ravel(), s_rows.ravel()]),
                     np.concatenate([ident_cols.ravel(), s_cols.ravel()]),
@@ -728,7 +749,7 @@ class FibrousShellBlock(ElementBlock):
 
         # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held: central differences of the pull.
         gradient = self._cell_gradient(x, v, sums)
-        pull = self.scatter.vectors(gradient[..., 6:])[conn]  # T_k at the corners (m, 3, 3)
+        pull = self._free_sums(self.scatter.vectors(gradient[..., 6:]))[conn]  # T_k (m, 3, 3)
         blocks = np.empty((m, 3, 3, 3, 3))
         for node in range(3):
             for comp in range(3):
