@@ -1020,38 +1020,49 @@ def _skew(w: np.ndarray) -> np.ndarray:
     )
 
 
-def _corner_normals(x: np.ndarray, jacobian: bool = False):
-    """Each cell's share of the nodal normal sums: s_k = alpha_k n (m, 3, 3), the unit normal
-    weighted by the cell's angle at corner k, and with ``jacobian`` ds_k/dx_j
-    (m, 3 k, 3, 3 j, 3), exact: d alpha_k / dx_p = -t_u / |u| for the edge u = x_p - x_k (t_u
-    the in-plane unit vector normal to u towards the other edge), dn/dx_j = P dc/dx_j / |c|
-    with c = (x1 - x0) x (x2 - x0), P = I - n n^T."""
+def _corner_geometry(x: np.ndarray) -> dict:
+    """What the angle-weighted normal shares need of each cell (m cells, corners k): the unit
+    normal n (m, 3) and |c| (m,), c = (x1 - x0) x (x2 - x0); the angle alpha_k (m, 3); and
+    d alpha_k / dx at the next and previous corners, (m, 3, 3) each: -t_u / |u| for the edge
+    u = x_(k+1) - x_k (t_u the in-plane unit vector normal to u towards the other edge), and
+    likewise for w = x_(k+2) - x_k; at x_k itself minus their sum."""
     c = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
     size = np.linalg.norm(c, axis=1)
     n = c / size[:, None]
     u = x[:, [1, 2, 0]] - x
     w = x[:, [2, 0, 1]] - x
-    angle = np.arctan2(np.linalg.norm(cross(u, w), axis=-1), np.sum(u * w, axis=-1))  # (m, 3)
+    u_len = np.linalg.norm(u, axis=-1, keepdims=True)
+    w_len = np.linalg.norm(w, axis=-1, keepdims=True)
+    return {
+        "normal": n,
+        "size": size,
+        "angle": np.arctan2(np.linalg.norm(cross(u, w), axis=-1), np.sum(u * w, axis=-1)),
+        "d_next": -cross(n[:, None, :], u / u_len) / u_len,
+        "d_prev": -cross(w / w_len, n[:, None, :]) / w_len,
+    }
+
+
+def _corner_normals(x: np.ndarray, jacobian: bool = False):
+    """Each cell's share of the nodal normal sums: s_k = alpha_k n (m, 3, 3), the unit normal
+    weighted by the cell's angle at corner k, and with ``jacobian`` ds_k/dx_j
+    (m, 3 k, 3, 3 j, 3), exact: d alpha_k/dx from ``_corner_geometry``, dn/dx_j =
+    P dc/dx_j / |c| with P = I - n n^T."""
+    geo = _corner_geometry(x)
+    n, angle = geo["normal"], geo["angle"]
     shares = angle[..., None] * n[:, None, :]
     if not jacobian:
         return shares, None
-    u_len = np.linalg.norm(u, axis=-1, keepdims=True)
-    w_len = np.linalg.norm(w, axis=-1, keepdims=True)
-    towards_w = cross(n[:, None, :], u / u_len)  # in-plane, normal to u, on the side of w
-    towards_u = cross(w / w_len, n[:, None, :])
     d_angle = np.zeros((len(x), 3, 3, 3))  # (m, corner k, node j, x comp)
     rows = np.arange(3)
-    d_next = -towards_w / u_len
-    d_prev = -towards_u / w_len
-    d_angle[:, rows, (rows + 1) % 3] = d_next
-    d_angle[:, rows, (rows + 2) % 3] = d_prev
-    d_angle[:, rows, rows] = -(d_next + d_prev)
+    d_angle[:, rows, (rows + 1) % 3] = geo["d_next"]
+    d_angle[:, rows, (rows + 2) % 3] = geo["d_prev"]
+    d_angle[:, rows, rows] = -(geo["d_next"] + geo["d_prev"])
     a = x[:, 1] - x[:, 0]
     b = x[:, 2] - x[:, 0]
     d1, d2 = -_skew(b), _skew(a)
     dc_dx = np.stack([-(d1 + d2), d1, d2], axis=1)  # (m, node j, 3, 3)
     projector = np.eye(3) - n[:, :, None] * n[:, None, :]
-    dn_dx = np.matmul(projector[:, None], dc_dx) / size[:, None, None, None]  # (m, j, 3, 3)
+    dn_dx = np.matmul(projector[:, None], dc_dx) / geo["size"][:, None, None, None]
     ds = n[:, None, :, None, None] * d_angle[:, :, None, :, :]
     ds = ds + angle[:, :, None, None, None] * dn_dx.transpose(0, 2, 1, 3)[:, None]
     return shares, ds
@@ -1068,26 +1079,18 @@ def _cross_product_pull(x: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     """sum_k pull_k . d(alpha_k n)/dx_j at the corners (m, 3, 3) of each cell, pull (m, 3, 3)
-    held: the forces of the nodal normals' variation. The same derivatives as
+    held: the forces of the nodal normals' variation. The derivatives of
     ``_corner_normals(x, jacobian=True)`` contracted as they are formed: (pull_k . n) times
     d alpha_k/dx, plus (dn/dx)^T sum_k alpha_k pull_k = (dc/dx)^T g, g = P sum_k alpha_k
-    pull_k / |c|, i.e. b x g on x1 and g x a on x2."""
-    a = x[:, 1] - x[:, 0]
-    b = x[:, 2] - x[:, 0]
-    c = cross(a, b)
-    size = np.linalg.norm(c, axis=1)
-    n = c / size[:, None]
-    u = x[:, [1, 2, 0]] - x
-    w = x[:, [2, 0, 1]] - x
-    u_len = np.linalg.norm(u, axis=-1, keepdims=True)
-    w_len = np.linalg.norm(w, axis=-1, keepdims=True)
-    angle = np.arctan2(np.linalg.norm(cross(u, w), axis=-1), np.sum(u * w, axis=-1))
+    pull_k / |c|."""
+    geo = _corner_geometry(x)
+    n = geo["normal"]
     weight = np.sum(pull * n[:, None, :], axis=-1)[..., None]  # pull_k . n, (m, 3, 1)
-    d_next = -weight * cross(n[:, None, :], u / u_len) / u_len  # on node k + 1
-    d_prev = -weight * cross(w / w_len, n[:, None, :]) / w_len  # on node k + 2
+    d_next = weight * geo["d_next"]  # on node k + 1
+    d_prev = weight * geo["d_prev"]  # on node k + 2
     force = -(d_next + d_prev) + np.roll(d_next, 1, axis=1) + np.roll(d_prev, 2, axis=1)
-    g = np.sum(angle[..., None] * pull, axis=1)
-    g = (g - np.sum(g * n, axis=1)[:, None] * n) / size[:, None]
+    g = np.sum(geo["angle"][..., None] * pull, axis=1)
+    g = (g - np.sum(g * n, axis=1)[:, None] * n) / geo["size"][:, None]
     return force + _cross_product_pull(x, g)
 
 
