@@ -17,6 +17,7 @@ __all__ = [
     "DivergenceError",
     "ProgressLine",
     "SolverError",
+    "check_held",
     "check_integer",
     "check_positive_or_none",
     "check_tolerance",
@@ -47,6 +48,19 @@ class DivergenceError(SolverError):
 
 class ConvergenceError(SolverError):
     """The iterations ran out before equilibrium was reached."""
+
+
+def check_held(model: CompiledModel) -> None:
+    """Raise ValueError when the loads push the model along a rigid motion that no support
+    holds: no equilibrium exists, and a quasi-static solver would only report a residual that
+    never falls (CompiledModel.unheld_rigid_motions)."""
+    motions = model.unheld_rigid_motions()
+    if motions:
+        raise ValueError(
+            f"the loads push the model along rigid motions that nothing holds "
+            f"({'; '.join(motions)}): no equilibrium exists. Fix or prescribe DOFs that hold "
+            "them (model.fix, model.displace), or balance the loads"
+        )
 
 
 def make_frame(

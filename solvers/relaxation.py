@@ -33,6 +33,7 @@ from solvers.common import (
     ConvergenceError,
     DivergenceError,
     ProgressLine,
+    check_held,
     check_integer,
     check_tolerance,
     empty_result,
@@ -100,6 +101,9 @@ class DynamicRelaxation:
 
         Raises
         ------
+        ValueError
+            When the loads push the model along a rigid motion that no support holds (no
+            equilibrium exists; the message names the motion).
         ConvergenceError
             When an increment does not converge in ``max_iterations`` (the converged
             increments in ``error.result``).
@@ -107,6 +111,7 @@ class DynamicRelaxation:
             On non-finite values.
         """
         compiled = model.compile() if isinstance(model, Model) else model
+        check_held(compiled)
         started = time.perf_counter()
         state = compiled.initial_state()
         frames = [make_frame(compiled, state)]

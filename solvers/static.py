@@ -36,6 +36,7 @@ from femcore.state import State
 from solvers.common import (
     ConvergenceError,
     ProgressLine,
+    check_held,
     check_integer,
     check_tolerance,
     empty_result,
@@ -132,6 +133,9 @@ class Static:
 
         Raises
         ------
+        ValueError
+            When the loads push the model along a rigid motion that no support holds (no
+            equilibrium exists; the message names the motion).
         ConvergenceError
             When an increment cannot be completed: ``error.result`` holds the converged
             frames and the last good state, ``error.load_factor`` the load factor reached.
@@ -143,6 +147,7 @@ class Static:
 
     def _solve(self, model: Model | CompiledModel) -> Result:
         compiled = model.compile() if isinstance(model, Model) else model
+        check_held(compiled)
         started = time.perf_counter()
         state = compiled.initial_state()
         own_parts = compiled.own_tangents(state) if self.tangent == "element" else {}

@@ -1,0 +1,51 @@
+"""A model that its supports do not hold against its loads has no equilibrium: the quasi-static
+solvers say so before iterating, naming the rigid motion (CompiledModel.unheld_rigid_motions).
+
+Reference: statics. A free body is in equilibrium only if its loads do no work along any of
+its six rigid motions; supports remove the motions whose restriction to the held DOFs is not
+zero."""
+
+import pytest
+
+from elements import FibrousShell
+from femcore import Mesh, Model
+from materials import presets
+from solvers import DynamicRelaxation, Static
+
+
+def strip(supports=None) -> Model:
+    model = Model(Mesh.rectangle(100.0, 20.0, nx=4, ny=1))
+    model.add(FibrousShell(presets.g986_stack()))
+    if supports is not None:
+        model.fix("left", dofs=supports)
+    return model
+
+
+@pytest.mark.parametrize("solver", [Static(), DynamicRelaxation()], ids=["static", "relaxation"])
+def test_an_unsupported_strip_under_gravity_is_refused_with_its_free_motion(solver):
+    model = strip()
+    model.gravity((0.0, 0.0, -9810.0))
+    with pytest.raises(ValueError, match="translation along z"):
+        solver.solve(model)
+
+
+def test_the_held_motions_are_not_reported():
+    clamped = strip(supports=None)
+    clamped.fix("left")
+    clamped.gravity((0.0, 0.0, -9810.0))
+    assert clamped.compile().unheld_rigid_motions() == []
+    # In-plane pins hold x and y but not z: gravity still pushes the strip down.
+    pinned = strip(supports=("ux", "uy"))
+    pinned.gravity((0.0, 0.0, -9810.0))
+    assert pinned.compile().unheld_rigid_motions() == ["translation along z"]
+
+
+def test_self_balanced_loads_need_no_support_but_a_couple_does():
+    balanced = strip()
+    balanced.force("left", (-1.0, 0.0, 0.0))
+    balanced.force("right", (1.0, 0.0, 0.0))
+    assert balanced.compile().unheld_rigid_motions() == []
+    couple = strip()
+    couple.force("left", (0.0, 0.0, -1.0))
+    couple.force("right", (0.0, 0.0, 1.0))
+    assert couple.compile().unheld_rigid_motions() == ["rotation about y"]
