@@ -544,18 +544,11 @@ class FibrousShellBlock(ElementBlock):
                 return force, moment, d_sums
             n = geo["normal"]
             moment += dw_dc[..., None] * cross(v, n[:, None, :])  # dc/dpsi_k = V_k x n
-            # dc_k/dx through n: with a = x1 - x0, b = x2 - x0 and V_perp = V - c n,
-            # dc/da = (b x V_perp) / |a x b| and dc/db = (V_perp x a) / |a x b|.
-            x = geo["corners"]
-            a = (x[:, 1] - x[:, 0])[:, None, :]
-            b = (x[:, 2] - x[:, 0])[:, None, :]
+            # dc_k/dx through n = c / |c|: dc_k = V_perp,k . dc / |c| (V_perp = V - c n), so
+            # the corners pull as d(g . c)/dx with g = sum_k (dW/dc_k) V_perp,k / |c|.
             v_perp = v - c[..., None] * n[:, None, :]
-            inv = 1.0 / geo["double_area"][:, None, None]
-            dc_da = cross(b, v_perp) * inv
-            dc_db = cross(v_perp, a) * inv
-            pull_a = np.matmul(dw_dc[:, None, :], dc_da)[:, 0]
-            pull_b = np.matmul(dw_dc[:, None, :], dc_db)[:, 0]
-            force += np.stack([-(pull_a + pull_b), pull_a, pull_b], axis=1)
+            g = np.matmul(dw_dc[:, None, :], v_perp)[:, 0] / geo["double_area"][:, None]
+            force += _cross_product_pull(geo["corners"], g)
         return force, moment, d_sums
 
     def _membrane_forces(self, geo, strain, tension=True, shear=True):
@@ -750,15 +743,7 @@ class FibrousShellBlock(ElementBlock):
         # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held: central differences of the pull.
         gradient = self._cell_gradient(x, v, sums)
         pull = self._free_sums(self.scatter.vectors(gradient[..., 6:]))[conn]  # T_k (m, 3, 3)
-        blocks = np.empty((m, 3, 3, 3, 3))
-        for node in range(3):
-            for comp in range(3):
-                shift = np.zeros_like(x)
-                shift[:, node, comp] = step
-                difference = _corner_normal_pull(x + shift, pull) - _corner_normal_pull(
-                    x - shift, pull
-                )
-                blocks[:, :, :, node, comp] = difference / (2.0 * step)
+        blocks = local_tangent(lambda xx, _: (_corner_normal_pull(xx, pull), None), x, None, step)
         node_index = (6 * conn)[:, :, None] + np.arange(3)  # (m, 3, 3)
         shape_c = (m, 3, 3, 3, 3)
         second = sp.csr_matrix(
