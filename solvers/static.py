@@ -1,37 +1,57 @@
-"""Static: Newton-Raphson on the free DOFs with a sparse finite-difference tangent.
+"""Static: Newton-Raphson on the free DOFs, along the load or along the arc length of the
+equilibrium path.
 
-Loads and prescribed displacements are applied in ``increments`` equal load-factor steps, all of
-them (gravity and "step" loads included) ramped linearly with the load factor, as a static step
-does: amplitudes shape time histories in dynamics only, and an increment that has to be cut can
-then always be made smaller. Each increment is solved by Newton-Raphson and gives one frame; an
-increment that does not converge is cut in half and retried from the last converged state.
+Loads and prescribed displacements are scaled by one load factor lambda, all of them (gravity
+and "step" loads included) ramped linearly with it, as a static step does: amplitudes shape
+time histories in dynamics only. Each converged increment gives one frame.
+
+Two ways along the path (``path``):
+
+- "load": ``increments`` equal load-factor steps; an increment that does not converge is cut in
+  half and retried from the last converged state.
+- "arc_length": Crisfield's cylindrical arc-length method (docs/theory.md §6.6): lambda is an
+  unknown, and each increment moves a fixed distance along the path in the space of the nodal
+  motions (translations, and director rotations times the element size), so that limit points
+  (the load passes a maximum), snap-backs and post-buckling branches are followed instead of
+  jumped over. The step length adapts to the number of iterations the previous increment
+  needed; the last increment lands on lambda = 1 exactly.
 
 Unknowns per node: ux uy uz and, at shell nodes, alpha beta: small rotations of the director
 about V2 and V1 of its nodal frame (Bai Eq. 7, 13; docs/theory.md §1.3), applied as finite
 rotations.
 
-Tangent: the blocks' own ``tangent`` where they give one, assembled in the generalised
-coordinates of femcore.dofs by femcore.assembly; for the other blocks, K = dF_int/dq by central
-differences with a colouring of the node graph (femcore.assembly.NodeGraph): all nodes of one
-colour are perturbed together, and each perturbation gives the columns of all of them, so the
-cost is 10 x (number of colours) force evaluations, independent of the mesh size.
+Each Newton iteration:
+
+- predictor: from the second increment on, the previous increment extrapolated (the secant of
+  the path, translations and director rotations), which starts the iteration near the next
+  equilibrium and so saves its first iterations;
+- tangent: the blocks' own ``tangent`` where they give one, assembled in the generalised
+  coordinates of femcore.dofs by femcore.assembly; for the other blocks, K = dF_int/dq by
+  central differences with a colouring of the node graph (femcore.assembly.NodeGraph), 10 x
+  (number of colours) force evaluations whatever the mesh size;
+- linear solve: an LDL^T of K_ff whose symbolic factorisation is kept between iterations
+  (solvers.linear), its negative pivots counting the negative eigenvalues of K_ff;
+- line search (load path): the Newton step is accepted when it lowers the total potential
+  energy by the Armijo fraction of its first-order prediction, or else lowers the residual
+  norm; otherwise it is halved, down to 1/64, and when no step lowers either the line search
+  says no and the increment is cut.
 """
 
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import ArpackNoConvergence, MatrixRankWarning, eigsh, splu
+from scipy.sparse.linalg import ArpackNoConvergence, eigsh
 
 from femcore.assembly import FreeTangentAssembler, TangentPart
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
+from femcore.rotation import cross, rotate_about
 from femcore.state import State
 from solvers.common import (
     ConvergenceError,
@@ -44,34 +64,52 @@ from solvers.common import (
     make_frame,
     resolve_progress,
 )
+from solvers.linear import Factorisation, LinearSolver
 
-__all__ = ["Static"]
+__all__ = ["PATHS", "Static"]
+
+PATHS = ("load", "arc_length")
+
+# Armijo's sufficient-decrease fraction and the smallest line-search step.
+ARMIJO = 1e-4
+SMALLEST_STEP = 1.0 / 64.0
+# Iterations an arc-length increment should take: the next step length is scaled by
+# sqrt(DESIRED_ITERATIONS / iterations taken) (Crisfield), within [1/2, 2].
+DESIRED_ITERATIONS = 5
 
 
 class Static:
     """Quasi-static solver: Newton-Raphson on the free DOFs with a sparse tangent.
 
-    increments : number of equal load-factor steps (one frame each).
+    increments : load path: the number of equal load-factor steps (one frame each); arc-length
+        path: sets the first step, whose load-factor increment is 1 / increments (later steps
+        adapt).
     tol : convergence when ||r_forces|| <= tol F_ref and ||r_moments|| <= tol F_ref L_e (or,
         at the round-off floor, when a full Newton step moves no DOF by more than 1e-9 of an
         element or 1e-9 rad while the ratio is below 1e-3), with
         F_ref = max(||F_ext||, ||F_int||, ||M_ext|| / L_e, ||M_int|| / L_e) (the internal
         forces include the reactions) and L_e the median element edge.
     max_iterations : Newton iterations per (sub-)increment before it is cut in half.
-    line_search : backtrack (halve the update, up to 5 times) while the residual ratio of the
-        trial exceeds 10 x the current one.
+    line_search : the Armijo line search of the load path (module docstring); without it
+        every Newton step is taken whole (after the step cap below).
     max_cuts : how many times an increment may be halved before a ConvergenceError.
-    seek_stable : when an update meets an indefinite tangent (det K_ff < 0), turn it downhill
-        along the negative modes (their components of the Newton step get the sign that lowers
-        the energy, a "saddle-free" step), and push a converged unstable equilibrium (a
-        compressed plate that stayed flat) along its buckling mode by half an element, up to
-        three times per increment: the solver then settles on the stable, buckled branch.
-        Each push is listed in ``info["branch_switches"]``.
+    path : "load" (default) or "arc_length" (module docstring).
+    max_increments : arc-length path: the most increments per phase before a ConvergenceError
+        (default 20 x increments + 20).
+    seek_stable : when the tangent of a converged state has negative eigenvalues (an unstable
+        equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
+        settle on the stable branch. Load path: the Newton steps that meet an indefinite
+        tangent are turned downhill along its negative modes (a "saddle-free" step) and a
+        converged saddle is pushed by half an element along its mode, up to three times per
+        increment; the stable branch beyond a snap-through is then found (the jump a
+        quasi-static test shows), not the unstable part of the path. Arc-length path: where
+        the count of negative eigenvalues grows while the load keeps its direction (a
+        bifurcation, not a limit point), the next increment starts along the buckling mode
+        (up to three times per phase). Each switch is listed in ``info["branch_switches"]``.
     step_loads_first : apply the loads whose amplitude is "step" (gravity by default) first,
-        over load factors 0 to 1 in ``increments`` increments with the prescribed displacements
-        held at zero, then the other loads and the prescribed displacements over 1 to 2 (a
-        specimen hangs under its weight before a support moves it). Frames then run over load
-        factors 0 to 2.
+        over load factors 0 to 1 with the prescribed displacements held at zero, then the
+        other loads and the prescribed displacements over 1 to 2 (a specimen hangs under its
+        weight before a support moves it). Frames then run over load factors 0 to 2.
     tangent : "element" (default): each block's own ``tangent`` where it has one, coloured
         finite differences of ``internal_force`` for the others; "finite_difference": coloured
         finite differences for every block.
@@ -82,16 +120,11 @@ class Static:
     the first iteration of an increment moves the structure with the imposed nodes instead of
     dragging them alone.
 
-    Stability: a converged state whose tangent has det(K_ff) < 0 (an odd number of negative
-    eigenvalues: an unstable equilibrium, past a limit point or a bifurcation) is reported in
-    ``info["indefinite_at"]`` (load factors) and on the progress line; an even number of
-    negative eigenvalues escapes this test. A singular tangent is regularised for one update
-    (see ``_newton``) and reported if the increment then fails. There is no arc-length option:
-    with ``seek_stable`` a limit point is passed by turning the steps downhill, which lands on
-    the stable branch beyond a snap-through (the jump a quasi-static test shows), not on the
-    unstable part of the path; with ``seek_stable=False`` a run that cannot pass a limit point
-    stops with the load factor it reached, and DynamicRelaxation or CentralDifference remain
-    the tools for a path that needs dynamics.
+    Stability: every converged state gets the number of negative eigenvalues of its tangent
+    K_ff, counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``, one entry per
+    frame after the first); load factors with a non-zero count (unstable equilibria, past a
+    limit point or a bifurcation) are listed in ``info["indefinite_at"]``. A singular tangent
+    is regularised for one update (see ``_newton``) and reported if the increment then fails.
     """
 
     def __init__(
@@ -104,6 +137,8 @@ class Static:
         tangent: str = "element",
         seek_stable: bool = True,
         step_loads_first: bool = False,
+        path: str = "load",
+        max_increments: int | None = None,
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
@@ -114,6 +149,14 @@ class Static:
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
         self.tangent = tangent
+        if path not in PATHS:
+            raise ValueError(f"path must be one of {PATHS}, got {path!r}")
+        self.path = path
+        self.max_increments = (
+            20 * self.increments + 20
+            if max_increments is None
+            else check_integer(max_increments, "max_increments")
+        )
         self.seek_stable = bool(seek_stable)
         self.step_loads_first = bool(step_loads_first)
         self.progress = progress
@@ -129,7 +172,8 @@ class Static:
         -------
         femcore.results.Result
             The reference state and one frame per increment (``time`` = load factor), with
-            ``info`` (iterations, cuts, stability, tangent kinds).
+            ``info``: iterations per increment, cuts, the negative-eigenvalue count of each
+            frame, branch switches, evaluation counts and the linear-solver statistics.
 
         Raises
         ------
@@ -148,132 +192,91 @@ class Static:
     def _solve(self, model: Model | CompiledModel) -> Result:
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
-        started = time.perf_counter()
-        state = compiled.initial_state()
-        own_parts = compiled.own_tangents(state) if self.tangent == "element" else {}
-        own = list(own_parts)
-        others = [i for i in range(len(compiled.blocks)) if i not in own]
-        tangent = _Tangent(compiled, own, others, (state, own_parts))
-        frames = [make_frame(compiled, state)]
-        progress = ProgressLine(resolve_progress(self.progress), "static")
-        info: dict[str, Any] = {
-            "solver": "Static",
-            "tangent": {
-                "element": [type(compiled.blocks[i]).__name__ for i in own],
-                "finite_difference": [type(compiled.blocks[i]).__name__ for i in others],
-            },
-            "iterations_per_increment": [],
-            "cuts": 0,
-            "tangent_colours": tangent.graph.n_colours if tangent.graph else 0,
-            "residual_ratio_per_increment": [],
-            "indefinite_at": [],
-            "regularised_iterations": 0,
-            "branch_switches": [],
-            "residual_history": [],
-        }
-
+        run = _Run(self, compiled)
         phases = 2 if self.step_loads_first else 1
-        total = phases * self.increments
+        for phase in range(phases):
+            if self.path == "load":
+                self._load_path(run, phase)
+            else:
+                self._arc_length_path(run, phase)
+        return run.result(True)
+
+    # ------------------------------------------------------------------ load path
+    def _load_path(self, run: _Run, phase: int) -> None:
+        """``increments`` equal steps of the load factor over [phase, phase + 1]."""
         step = 1.0 / self.increments
-        reached = 0.0
-        for increment in range(1, total + 1):
-            target = increment / self.increments
+        for increment in range(1, self.increments + 1):
+            target = phase + increment / self.increments
             iterations = 0
             cuts_here = 0
-            while reached < target - 1e-12:
-                trial = min(target, reached + step)
+            while run.reached < target - 1e-12:
+                trial = min(target, run.reached + step)
+                start = run.predict(trial)
                 try:
-                    converged, count, ratio, history = self._newton(
-                        compiled, tangent, state, trial, progress, info
-                    )
+                    converged, count, ratio, history = self._newton(run, start, trial)
                 except _Failed as failure:
-                    # ``state`` is still the last converged one: the Newton loop works on its
-                    # own states.
                     cuts_here += 1
-                    info["cuts"] += 1
+                    run.info["cuts"] += 1
                     if cuts_here > self.max_cuts:
-                        error = ConvergenceError(
-                            f"static solver stopped at load factor {reached:.6g}: increment "
-                            f"{increment}/{total} did not converge after {cuts_here - 1}"
-                            f" cuts ({failure}). A limit point or buckling may be near: try "
-                            "DynamicRelaxation or CentralDifference for this path.",
-                            None,
-                        )
-                        # Keep the last good state, also when it is part of an increment.
-                        if reached > frames[-1].load_factor:
-                            frames.append(make_frame(compiled, state))
-                        error.result = self._result(compiled, frames, info, started, False)
-                        error.load_factor = reached
-                        raise error from None
-                    step = 0.5 * (trial - reached)
+                        raise run.failure(
+                            f"increment {increment + phase * self.increments}/"
+                            f"{self.increments * (2 if self.step_loads_first else 1)} did not "
+                            f"converge after {cuts_here - 1} cuts ({failure})"
+                        ) from None
+                    step = 0.5 * (trial - run.reached)
                     continue
                 iterations += count
-                reached = trial
-                state = compiled.commit(replace(converged, load_factor=reached, time=reached))
+                run.accept(converged, trial)
                 # After a cut, grow the step back towards the nominal one.
                 step = min(1.0 / self.increments, 2.0 * step)
-            info["iterations_per_increment"].append(iterations)
-            info["residual_ratio_per_increment"].append(ratio)
-            info["residual_history"].append(history)
-            f_ext, m_ext, _ = self._loads(compiled, reached)
-            reactions, reaction_moments = equilibrium_reactions(compiled, state, f_ext, m_ext)
-            frames.append(make_frame(compiled, state, reactions, reaction_moments))
-            progress(
-                f"increment {increment}/{total} converged in {iterations} Newton iterations",
-                force=True,
-            )
-        return self._result(compiled, frames, info, started, True)
+            run.frame(iterations, ratio, history)
 
-    # ------------------------------------------------------------------ one increment
-    def _newton(
-        self, model: CompiledModel, tangent: _Tangent, state: State, load_factor, progress, info
-    ):
-        """Newton-Raphson at one load factor from ``state`` (left unchanged).
+    def _newton(self, run: _Run, state: State, load_factor: float):
+        """Newton-Raphson at one load factor from ``state``.
 
         Returns (converged state, iterations, final ratio, ratio per iteration starting with
         the ratio before the first update); raises _Failed when the increment has to be cut.
         """
+        model = run.model
         dofs = model.dofs
-        equilibrium = _Equilibrium(model, *self._loads(model, load_factor))
+        equilibrium = run.equilibrium(load_factor)
         index, moved_index = dofs.free_slots, dofs.prescribed_slots
         size = model.element_size
         singular = False
         escapes = 0
         translation = index % N_COLUMNS < 3
+        factor: Factorisation | None = None
         forces = None  # the internal forces of the accepted trial, reused next iteration
+        history: list[float] = []
         for iteration in range(1, self.max_iterations + 1):
             frames = dofs.frames(state.directors)
-            r, ratio, _ = equilibrium.residual(state, frames, forces)
+            r, ratio, forces = equilibrium.residual(state, frames, forces)
             left = equilibrium.remaining(state)
-            if iteration == 1:
-                history = [ratio]
+            history.append(ratio)
             if not np.isfinite(ratio):
                 raise _Failed("non-finite residual")
             push = False
             if ratio <= self.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
-                if iteration == 1:  # no factorisation yet: one for the stability report
-                    k_ff = tangent(state, frames)[0]
-                    negative = _solve(k_ff, np.zeros(index.size))[1]
-                if self.seek_stable and escapes < 3 and not negative:
-                    # det K > 0 misses an even number of negative modes: look for them.
-                    negative = _lowest_modes(k_ff)[0].min(initial=np.inf) < 0.0
+                if factor is None:  # no factorisation yet: one for the stability report
+                    factor = run.factorise(run.tangent(state, frames)[0])
+                negative = factor.negative or 0
                 if not (negative and self.seek_stable and escapes < 3):
-                    self._report_stability(negative, load_factor, info, progress)
-                    return state, iteration - 1, ratio, history
+                    return run.settled(state, factor), iteration - 1, ratio, history
                 # An unstable equilibrium: leave it along its buckling mode.
                 escapes += 1
                 push = True
-                info["branch_switches"].append(load_factor)
-                progress(
+                run.info["branch_switches"].append(load_factor)
+                run.progress(
                     f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
                     "the buckling mode",
                     force=True,
                 )
-            k_ff, k_fp = tangent(state, frames)
+            k_ff, k_fp = run.tangent(state, frames)
             rhs = r.ravel()[index]
             if moved_index.size:
                 rhs = rhs - k_fp @ left.ravel()[moved_index]
-            delta_free, negative = _solve(k_ff, rhs)
+            factor = run.factorise(k_ff)
+            delta_free = factor.solve(rhs)
             if delta_free is None:
                 # Exactly singular: a straight stress-free cable or membrane has no transverse
                 # stiffness until it sags. A spring of 1e-6 x the largest diagonal on every
@@ -281,26 +284,25 @@ class Static:
                 # exact, so a converged state is still an exact equilibrium. A mechanism or a
                 # rigid motion under load keeps failing and is reported as singular.
                 shift = 1e-6 * np.abs(k_ff.diagonal()).max(initial=0.0)
-                delta_free, negative = _solve(
-                    k_ff + shift * sp.identity(index.size, format="csc"), rhs
-                )
+                factor = run.factorise(k_ff + shift * sp.identity(index.size, format="csc"))
+                delta_free = factor.solve(rhs)
                 singular = True
-                info["regularised_iterations"] += 1
+                run.info["regularised_iterations"] += 1
                 if delta_free is None:
                     raise _Failed(
                         "singular tangent stiffness: a mechanism, an unconstrained rigid "
                         "motion or a bifurcation"
                     )
-            if (negative or escapes) and self.seek_stable:
+            if (factor.negative or escapes) and self.seek_stable:
                 load = equilibrium.load(frames).ravel()[index]
                 delta_free = _downhill(k_ff, rhs, delta_free, load, translation, size, push)
             flat = left.ravel().copy()
             flat[index] = delta_free
             delta = flat.reshape(-1, N_COLUMNS)
-            scale, state, ratio, forces = self._line_search(
-                dofs, equilibrium, state, frames, delta, ratio, push
+            imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
+            scale, state, forces = self._line_search(
+                run, equilibrium, state, frames, delta, r, forces, push or imposing
             )
-            history.append(ratio)
             # Round-off floor: the internal forces come from differences of nearly equal
             # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
             # load that no update removes. A full step that moves nothing (1e-9 of an element,
@@ -312,19 +314,15 @@ class Static:
                 and moved[:, :3].max() <= 1e-9 * size
                 and moved[:, 3:].max(initial=0.0) <= 1e-9
             ):
-                self._report_stability(negative, load_factor, info, progress)
-                return state, iteration, ratio, history
-            progress(
+                _, ratio, forces = equilibrium.residual(state, dofs.frames(state.directors))
+                history.append(ratio)
+                return run.settled(state, factor), iteration, ratio, history
+            run.progress(
                 f"load factor {load_factor:.4g}: iteration {iteration}, residual ratio "
-                f"{ratio:.3g} (tol {self.tol:g})"
+                f"{history[-1]:.3g} (tol {self.tol:g})"
             )
-        if ratio <= self.tol and np.abs(equilibrium.remaining(state)).max(initial=0.0) <= (
-            1e-9 * size
-        ):
-            self._report_stability(negative, load_factor, info, progress)
-            return state, self.max_iterations, ratio, history
         raise _Failed(
-            f"residual ratio {ratio:.3g} after {self.max_iterations} iterations"
+            f"residual ratio {history[-1]:.3g} after {self.max_iterations} iterations"
             + (
                 "; the tangent was singular (a mechanism, an unconstrained rigid motion or a "
                 "bifurcation)"
@@ -333,44 +331,216 @@ class Static:
             )
         )
 
-    def _line_search(self, dofs, equilibrium, state, frames, delta, ratio, push):
-        """Backtracking along the Newton step: (scale, new state, its ratio, its forces).
+    def _line_search(self, run, equilibrium, state, frames, delta, r, forces, take_whole):
+        """Backtracking along the Newton step delta (n, 5): (scale, new state, its forces).
 
-        The full Newton step of a large rotation first moves along the tangent and stretches
-        the structure, so a growing residual is normal for one iteration; only a blow-up (or a
-        non-finite state) is cut back, halving the step up to 5 times. Before that, a step
-        that would turn a director by more than MAX_ROTATION or move a node by more than the
-        model's size is scaled down to that (``_step_cap``).
+        Before anything, a step that would turn a director by more than MAX_ROTATION or move a
+        node by more than the model's size is scaled down to that (``_step_cap``). The step
+        (times ``scale``) is then accepted when the total potential energy
+        Pi = W - F_ext . u - M_ext . psi falls by at least ARMIJO x scale x its first-order
+        change (Armijo), or when the residual norm falls by that fraction; otherwise it is
+        halved, down to SMALLEST_STEP, and if still neither falls the line search says no
+        (_Failed). ``take_whole``: a push off a saddle or a step that imposes prescribed
+        motion is taken as it is (its energy may rightly rise).
+
+        The energy test uses the potential along the straight line in (u, alpha, beta): the
+        dead loads' work on it is exact (a director turned about a fixed axis), so Pi(s) is
+        the function whose slope at s = 0 is -r . delta. Near convergence the energy change
+        drowns in round-off, and the residual norm decides.
         """
-        scale = _step_cap(equilibrium.model, delta) if self.line_search else 1.0
-        for _ in range(6 if self.line_search else 1):
-            with np.errstate(all="ignore"):  # a wild trial is judged, then cut back
-                trial = dofs.advance(state, scale * delta, frames)
-                _, ratio_new, forces = equilibrium.residual(trial, frames)
-            if (
-                not self.line_search
-                or push
-                or (np.isfinite(ratio_new) and ratio_new <= 10.0 * max(ratio, self.tol))
-            ):
-                break
+        model, dofs = run.model, run.model.dofs
+        cap = _step_cap(model, delta) if self.line_search else 1.0
+        if not self.line_search or take_whole:
+            trial = dofs.advance(state, cap * delta, frames)
+            _, ratio, forces = equilibrium.residual(trial, frames)
+            if not np.isfinite(ratio):
+                raise _Failed("non-finite residual after the update")
+            return cap, trial, forces
+        free = dofs.free.ravel()
+        residual0 = float(np.linalg.norm(r.ravel()[free]))
+        load = equilibrium.load(frames).ravel()
+        external_rate = float(load @ delta.ravel())  # d(F_ext . u + M_ext . psi)/ds
+        slope = -float(r.ravel()[free] @ delta.ravel()[free])  # dPi/ds at s = 0
+        energy0 = run.energy(state)
+        scale = cap
+        while True:
+            trial = dofs.advance(state, scale * delta, frames)
+            r_trial, ratio, trial_forces = equilibrium.residual(trial, frames)
+            if np.isfinite(ratio):
+                residual = float(np.linalg.norm(r_trial.ravel()[free]))
+                if residual <= (1.0 - ARMIJO * scale) * residual0:
+                    return scale, trial, trial_forces
+                if slope < 0.0:
+                    change = run.energy(trial) - scale * external_rate - energy0
+                    noise = 1e-10 * (abs(energy0) + abs(scale * external_rate))
+                    if change <= ARMIJO * scale * slope and abs(change) > noise:
+                        return scale, trial, trial_forces
+            if scale <= SMALLEST_STEP:
+                raise _Failed(
+                    "the line search found no step that lowers the energy or the residual"
+                )
             scale *= 0.5
-        if not np.isfinite(ratio_new):
-            raise _Failed("non-finite residual after the line search")
-        return scale, trial, ratio_new, forces
 
-    @staticmethod
-    def _report_stability(negative: bool, load_factor: float, info: dict, progress) -> None:
-        """Record a converged state whose tangent has det(K_ff) < 0: an odd number of negative
-        eigenvalues, i.e. an unstable equilibrium (past a limit point or a bifurcation)."""
-        if negative:
-            info["indefinite_at"].append(load_factor)
-            progress(
-                f"load factor {load_factor:.4g}: the tangent stiffness is indefinite "
-                "(det K < 0): an unstable equilibrium, past a limit point or a bifurcation",
-                force=True,
+    # ------------------------------------------------------------------ arc-length path
+    def _arc_length_path(self, run: _Run, phase: int) -> None:
+        """Crisfield's cylindrical arc length over the load factors [phase, phase + 1]."""
+        end = phase + 1.0
+        pattern = run.pattern(phase)
+        arc: float | None = None  # step length (the scaled norm of _Motion)
+        previous: _Motion | None = None  # the last converged increment
+        # The longest step: that of the first increment (lambda up by 1 / increments), so that
+        # ``increments`` keeps its meaning of a resolution along the path.
+        longest: float | None = None
+        switches = 0
+        negative_before = run.negative
+        for _ in range(self.max_increments):
+            if run.reached >= end - 1e-12:
+                return
+            cuts_here = 0
+            while True:
+                try:
+                    prediction = self._arc_predictor(run, pattern, arc, previous, end, switches)
+                    arc = prediction.length
+                    outcome = None
+                    if run.reached + prediction.load < end - 1e-12 or prediction.load <= 0.0:
+                        outcome = self._arc_corrector(run, pattern, prediction)
+                        if outcome[1] > end + 1e-12:  # it went past the end of the phase
+                            prediction = run.motion_between(
+                                run.state, run.reached, outcome[0], outcome[1]
+                            )
+                            outcome = None
+                    if outcome is None:
+                        # Land on the end of the phase with a load step along the secant.
+                        fraction = (end - run.reached) / prediction.load
+                        start = run.apply(prediction.scaled(fraction), end)
+                        state, count, ratio, history = self._newton(run, start, end)
+                        outcome = (state, end, count, ratio, history)
+                    motion = run.motion_between(run.state, run.reached, *outcome[:2])
+                    if (
+                        previous is not None
+                        and not prediction.mode
+                        and motion.vector @ previous.vector <= 0.0
+                    ):
+                        # At a limit point the load turns back, the motion does not: a step
+                        # that reverses the motion jumped onto another part of the path.
+                        raise _Failed("the step turned back along the path")
+                    break
+                except _Failed as failure:
+                    cuts_here += 1
+                    run.info["cuts"] += 1
+                    if cuts_here > self.max_cuts:
+                        raise run.failure(
+                            f"arc-length increment did not converge after {cuts_here - 1} "
+                            f"cuts ({failure})"
+                        ) from None
+                    arc = 0.5 * arc if arc is not None else None
+                    if prediction.mode:
+                        switches = 3  # the push did not work: stay on the path
+            state, load_factor, count, ratio, history = outcome
+            if previous is not None and previous.load * motion.load < 0.0:
+                run.info["limit_points"].append(run.reached)
+            run.accept(state, load_factor)
+            run.frame(count, ratio, history)
+            previous = motion
+            # Crisfield's step-length rule: aim at DESIRED_ITERATIONS next time.
+            arc = motion.length * float(
+                np.clip(np.sqrt(DESIRED_ITERATIONS / max(count, 1)), 0.5, 2.0)
             )
+            longest = longest or motion.length
+            arc = min(arc, longest)
+            negative = run.negative
+            if (
+                self.seek_stable
+                and switches < 3
+                and negative is not None
+                and negative_before is not None
+                and negative > negative_before
+                and motion.load > 0.0
+            ):
+                # More negative eigenvalues with the load still rising: a limit point just
+                # passed, or a bifurcation. At a bifurcation the new mode does no work with the
+                # load pattern (the load does not drive it); start the next increment along it.
+                run.mode = run.buckling_mode(pattern)
+                if run.mode is not None:
+                    switches += 1
+                    run.info["branch_switches"].append(load_factor)
+                    run.progress(
+                        f"load factor {load_factor:.4g}: bifurcation, following the buckling mode",
+                        force=True,
+                    )
+            negative_before = negative
+        raise run.failure(
+            f"the arc-length path did not reach load factor {end:g} in {self.max_increments} "
+            "increments (raise max_increments, or the path turns back: the load cannot be "
+            "carried)"
+        )
 
-    def _loads(self, model, load_factor):
+    def _arc_predictor(self, run, pattern, arc, previous, end, switches) -> _Motion:
+        """The first guess of an increment: along the buckling mode after a bifurcation, along
+        the previous increment (the secant) otherwise, or along the tangent at the start."""
+        if run.mode is not None:
+            mode, run.mode = run.mode, None
+            return mode.scaled((arc if arc is not None else mode.length) / mode.length)
+        if previous is not None and arc is not None:
+            return previous.scaled(arc / previous.length)
+        tangent = run.tangent_motion(pattern)
+        first = tangent.scaled(1.0 / self.increments)
+        return first if arc is None else tangent.scaled(arc / tangent.length)
+
+    def _arc_corrector(self, run: _Run, pattern, prediction: _Motion):
+        """Newton iterations on (free DOFs, lambda) on the cylinder ||motion|| = length around
+        the last converged state. Returns (state, lambda, iterations, ratio, history)."""
+        model = run.model
+        dofs = model.dofs
+        index, moved_index = dofs.free_slots, dofs.prescribed_slots
+        start, start_load = run.state, run.reached
+        length = prediction.length
+        load_factor = start_load + prediction.load
+        state = run.apply(prediction, load_factor)
+        history: list[float] = []
+        factor = None
+        for iteration in range(1, self.max_iterations + 1):
+            frames = dofs.frames(state.directors)
+            equilibrium = run.equilibrium(load_factor)
+            r, ratio, _ = equilibrium.residual(state, frames)
+            history.append(ratio)
+            if not np.isfinite(ratio):
+                raise _Failed("non-finite residual")
+            if ratio <= self.tol:
+                if factor is None:
+                    factor = run.factorise(run.tangent(state, frames)[0])
+                return run.settled(state, factor), load_factor, iteration - 1, ratio, history
+            k_ff, k_fp = run.tangent(state, frames)
+            factor = run.factorise(k_ff)
+            f_pattern = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[index]
+            u_pattern = np.zeros((model.n_nodes, N_COLUMNS))
+            u_pattern[:, :3] = np.where(model.translation_prescribed, pattern[2], 0.0)
+            load_rhs = f_pattern - (
+                k_fp @ u_pattern.ravel()[moved_index] if moved_index.size else 0.0
+            )
+            solved = factor.solve(np.column_stack([r.ravel()[index], load_rhs]))
+            if solved is None:
+                raise _Failed("singular tangent stiffness on the arc-length path")
+            residual_part = np.zeros(dofs.n_slots)
+            residual_part[index] = solved[:, 0]
+            load_part = u_pattern.ravel().copy()
+            load_part[index] = solved[:, 1]
+            a = run.motion_between(start, start_load, state, load_factor).vector
+            c = run.scaled_motion(residual_part.reshape(-1, N_COLUMNS), frames)
+            b = run.scaled_motion(load_part.reshape(-1, N_COLUMNS), frames)
+            d_load = _constraint_root(a, b, c, length)
+            delta = (residual_part + d_load * load_part).reshape(-1, N_COLUMNS)
+            cap = _step_cap(model, delta)
+            load_factor += cap * d_load
+            state = run.place(dofs.advance(state, cap * delta, frames), load_factor)
+            run.progress(
+                f"arc length: load factor {load_factor:.4g}, iteration {iteration}, residual "
+                f"ratio {ratio:.3g} (tol {self.tol:g})"
+            )
+        raise _Failed(f"residual ratio {history[-1]:.3g} after {self.max_iterations} iterations")
+
+    # ------------------------------------------------------------------ loads
+    def loads(self, model: CompiledModel, load_factor: float):
         """Dead forces, moments and imposed displacements (n, 3) each at a load factor: all
         ramped together, or with ``step_loads_first`` the "step" loads over [0, 1] (imposed
         displacements held at zero) and then the rest over [1, 2]."""
@@ -388,13 +558,24 @@ class Static:
             then * imposed,
         )
 
-    def _result(self, compiled, frames, info, started, converged):
-        result = empty_result(compiled, frames)
-        result.steps = int(sum(info["iterations_per_increment"]))
-        result.wall_time = time.perf_counter() - started
-        result.converged = converged
-        result.info = dict(info, tol=self.tol)
-        return result
+
+def _constraint_root(a: np.ndarray, b: np.ndarray, c: np.ndarray, length: float) -> float:
+    """The load-factor correction dl with ||a + c + dl b|| = length (Crisfield's cylinder): of
+    the two roots, the one whose new increment points most along the current one (so that the
+    path does not turn back on itself); without a real root, the dl nearest to the cylinder
+    (Lam and Morley's fallback)."""
+    ac = a + c
+    qa = float(b @ b)
+    qb = 2.0 * float(b @ ac)
+    qc = float(ac @ ac) - length * length
+    if qa <= 0.0:
+        return 0.0
+    disc = qb * qb - 4.0 * qa * qc
+    if disc < 0.0:
+        return -qb / (2.0 * qa)
+    root = np.sqrt(disc)
+    roots = ((-qb + root) / (2.0 * qa), (-qb - root) / (2.0 * qa))
+    return max(roots, key=lambda dl: float((ac + dl * b) @ a))
 
 
 def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
@@ -440,37 +621,6 @@ def _lowest_modes(k_ff) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(0), np.zeros((n, 0))
 
 
-def _solve(k_ff: sp.csc_matrix, rhs: np.ndarray) -> tuple[np.ndarray | None, bool]:
-    """Sparse LU solve, or None when the matrix is (numerically) singular; and whether
-    det(K) < 0, from the signs of U's diagonal and of the two permutations (L has a unit
-    diagonal)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", MatrixRankWarning)
-        try:
-            lu = splu(k_ff)
-            solution = lu.solve(rhs)
-        except (RuntimeError, MatrixRankWarning):
-            return None, False
-    if not np.all(np.isfinite(solution)):
-        return None, False
-    odd = np.count_nonzero(lu.U.diagonal() < 0) + _odd(lu.perm_r) + _odd(lu.perm_c)
-    return solution, bool(odd % 2)
-
-
-def _odd(permutation: np.ndarray) -> int:
-    """1 if the permutation is odd (n minus its number of cycles is odd), else 0."""
-    seen = np.zeros(permutation.size, dtype=bool)
-    cycles = 0
-    for start in range(permutation.size):
-        if not seen[start]:
-            cycles += 1
-            j = start
-            while not seen[j]:
-                seen[j] = True
-                j = permutation[j]
-    return (permutation.size - cycles) % 2
-
-
 # Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
 # layered shell can ask for director turns of several radians, which lead Newton into states
 # with collapsed cells or fibres stretched by orders of magnitude, where a log-strain
@@ -497,8 +647,9 @@ class _Equilibrium:
     """The residual at one load factor: dead loads, the prescribed target and the ratio by
     which convergence is judged."""
 
-    def __init__(self, model: CompiledModel, f_ext, m_ext, imposed):
+    def __init__(self, model: CompiledModel, f_ext, m_ext, imposed, counts=None):
         self.model, self.f_ext, self.m_ext = model, f_ext, m_ext
+        self.counts = counts if counts is not None else {"residual": 0}
         self.target = model.reference_positions + imposed if model.has_prescribed else None
 
     def remaining(self, state: State) -> np.ndarray:
@@ -518,7 +669,10 @@ class _Equilibrium:
         """(r (n, 5) on the free DOFs, ratio, internal forces) at ``state``; ``forces`` reuses
         an evaluation of the internal forces at that state."""
         model, f_ext, m_ext = self.model, self.f_ext, self.m_ext
-        f_int, m_int = forces if forces is not None else model.internal_force(state)
+        if forces is None:
+            self.counts["residual"] += 1
+            forces = model.internal_force(state)
+        f_int, m_int = forces
         r = np.where(
             model.dofs.free, model.dofs.generalised(frames, f_ext - f_int, m_ext - m_int), 0.0
         )
@@ -578,3 +732,263 @@ class _Tangent:
 
 class _Failed(Exception):
     """An increment that did not converge (caught to cut the increment)."""
+
+
+class _Motion:
+    """A change of configuration: translations (n, 3), director rotation vectors (n, 3, rad,
+    global components) and a load-factor change, with the scaled norm of the arc-length
+    constraint (rotations count as rotation x element size, so that both are lengths).
+    ``mode``: a push along a buckling mode."""
+
+    def __init__(self, translations, rotations, load: float, size: float, mode: bool = False):
+        self.translations, self.rotations, self.load = translations, rotations, float(load)
+        self.size, self.mode = size, mode
+        self.vector = np.concatenate([translations.ravel(), size * rotations.ravel()])
+        self.length = float(np.linalg.norm(self.vector))
+
+    def scaled(self, factor: float) -> _Motion:
+        return _Motion(
+            factor * self.translations,
+            factor * self.rotations,
+            factor * self.load,
+            self.size,
+            self.mode,
+        )
+
+
+class _Run:
+    """One solve in progress: the model, its tangent and linear solver, the last converged
+    state and load factor, the frames and the info written so far."""
+
+    def __init__(self, solver: Static, model: CompiledModel):
+        self.solver, self.model = solver, model
+        self.started = time.perf_counter()
+        self.state = model.initial_state()
+        self.reached = 0.0
+        own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
+        own = list(own_parts)
+        others = [i for i in range(len(model.blocks)) if i not in own]
+        self._tangent = _Tangent(model, own, others, (self.state, own_parts))
+        self.linear = LinearSolver()
+        self.frames = [make_frame(model, self.state)]
+        self.progress = ProgressLine(resolve_progress(solver.progress), "static")
+        self.negative: int | None = 0
+        self.mode: _Motion | None = None  # the next arc-length increment starts along it
+        self.last_motion: tuple[int, float, _Motion] | None = None  # (phase, lambda, motion)
+        self.phase = 0
+        self.counts = {"residual": 0, "energy": 0, "tangent": 0}
+        self.info: dict[str, Any] = {
+            "solver": "Static",
+            "path": solver.path,
+            "tangent": {
+                "element": [type(model.blocks[i]).__name__ for i in own],
+                "finite_difference": [type(model.blocks[i]).__name__ for i in others],
+            },
+            "load_factors": [],
+            "iterations_per_increment": [],
+            "cuts": 0,
+            "tangent_colours": self._tangent.graph.n_colours if self._tangent.graph else 0,
+            "residual_ratio_per_increment": [],
+            "negative_eigenvalues": [],
+            "indefinite_at": [],
+            "limit_points": [],
+            "regularised_iterations": 0,
+            "branch_switches": [],
+            "residual_history": [],
+            "evaluations": self.counts,
+        }
+
+    # ------------------------------------------------------------------ model evaluations
+    def equilibrium(self, load_factor: float) -> _Equilibrium:
+        force, moment, imposed = self.solver.loads(self.model, load_factor)
+        return _Equilibrium(self.model, force, moment, imposed, self.counts)
+
+    def pattern(self, phase: int):
+        """(forces, moments, imposed displacements) per unit load factor in a phase."""
+        upper = self.solver.loads(self.model, phase + 1.0)
+        lower = self.solver.loads(self.model, float(phase))
+        return tuple(a - b for a, b in zip(upper, lower))
+
+    def energy(self, state: State) -> float:
+        self.counts["energy"] += 1
+        return self.model.strain_energy(state)
+
+    def tangent(self, state: State, frames: Frames):
+        self.counts["tangent"] += 1
+        return self._tangent(state, frames)
+
+    def factorise(self, k_ff) -> Factorisation:
+        return self.linear.factorise(k_ff)
+
+    # ------------------------------------------------------------------ configurations
+    def place(self, state: State, load_factor: float) -> State:
+        """The state with its prescribed translations at their values for ``load_factor``."""
+        model = self.model
+        if not model.has_prescribed:
+            return state
+        target = model.reference_positions + self.solver.loads(model, load_factor)[2]
+        positions = np.where(model.translation_prescribed, target, state.positions)
+        return replace(state, positions=positions)
+
+    def apply(self, motion: _Motion, load_factor: float) -> State:
+        """The last converged state moved by ``motion``, placed at ``load_factor``."""
+        model, state = self.model, self.state
+        directors = state.directors
+        if model.dofs.any_rotation:
+            turned = rotate_about(directors, motion.rotations)
+            directors = np.where(model.has_rotation[:, None], turned, directors)
+        moved = replace(state, positions=state.positions + motion.translations, directors=directors)
+        return self.place(moved, load_factor)
+
+    def motion_between(self, old: State, old_load, new: State, new_load) -> _Motion:
+        """The motion from one state to another: translations and the rotation vectors that
+        take each old director to the new one about their common normal."""
+        axis = cross(old.directors, new.directors)
+        sine = np.linalg.norm(axis, axis=1)
+        cosine = np.sum(old.directors * new.directors, axis=1)
+        angle = np.arctan2(sine, cosine)
+        rotations = (
+            axis * np.where(sine > 0.0, angle / np.where(sine > 0.0, sine, 1.0), 0.0)[:, None]
+        )
+        rotations[~self.model.has_rotation] = 0.0
+        return _Motion(
+            new.positions - old.positions,
+            rotations,
+            new_load - old_load,
+            self.model.element_size,
+        )
+
+    def scaled_motion(self, delta: np.ndarray, frames: Frames) -> np.ndarray:
+        """The scaled-norm vector (_Motion.vector) of a generalised increment delta (n, 5)."""
+        return self.as_motion(delta, frames, 0.0).vector
+
+    def as_motion(self, delta: np.ndarray, frames: Frames, load: float, mode=False) -> _Motion:
+        rotations = np.zeros((self.model.n_nodes, 3))
+        if frames is not None:
+            v1, v2 = frames
+            rotations = delta[:, 3:4] * v2 + delta[:, 4:5] * v1
+            rotations[~self.model.has_rotation] = 0.0
+        return _Motion(delta[:, :3].copy(), rotations, load, self.model.element_size, mode)
+
+    def predict(self, load_factor: float) -> State:
+        """Load path: the start of the Newton iteration at ``load_factor``: the last
+        increment of the same phase extrapolated (the secant), else the last state."""
+        if self.last_motion is None or self.last_motion[0] != self.phase:
+            return self.state
+        _, previous_load, motion = self.last_motion
+        if motion.load <= 0.0:
+            return self.state
+        return self.apply(motion.scaled((load_factor - self.reached) / motion.load), load_factor)
+
+    def tangent_motion(self, pattern) -> _Motion:
+        """The motion per unit load factor along the tangent of the path at the last state:
+        K_ff dq = dR/dlambda, with the prescribed DOFs moving at their rate."""
+        model, dofs, state = self.model, self.model.dofs, self.state
+        frames = dofs.frames(state.directors)
+        k_ff, k_fp = self.tangent(state, frames)
+        rate = np.zeros((model.n_nodes, N_COLUMNS))
+        rate[:, :3] = np.where(model.translation_prescribed, pattern[2], 0.0)
+        rhs = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[dofs.free_slots]
+        if dofs.prescribed_slots.size:
+            rhs = rhs - k_fp @ rate.ravel()[dofs.prescribed_slots]
+        solved = self.factorise(k_ff).solve(rhs)
+        if solved is None:
+            raise _Failed("singular tangent stiffness at the start of the arc-length path")
+        flat = rate.ravel()
+        flat[dofs.free_slots] = solved
+        motion = self.as_motion(flat.reshape(-1, N_COLUMNS), frames, 1.0)
+        if motion.length == 0.0:
+            raise _Failed("the loads of this phase move nothing")
+        return motion
+
+    def buckling_mode(self, pattern) -> _Motion | None:
+        """The unit motion (no load change) along the lowest negative mode phi of the tangent
+        at the last state, to the side where the loads do positive work; None if there is
+        none, or if the mode is driven by the load pattern P (|phi . P| > 0.1 |P|: a limit
+        point, which the arc length follows by itself)."""
+        model, dofs, state = self.model, self.model.dofs, self.state
+        frames = dofs.frames(state.directors)
+        k_ff, k_fp = self.tangent(state, frames)
+        values, vectors = _lowest_modes(k_ff)
+        negative = np.flatnonzero(values < 0.0)
+        if negative.size == 0:
+            return None
+        phi = vectors[:, negative[np.argmax(values[negative])]]
+        rate = np.where(model.translation_prescribed, pattern[2], 0.0)
+        drive = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[dofs.free_slots]
+        if dofs.prescribed_slots.size:
+            flat_rate = np.zeros((model.n_nodes, N_COLUMNS))
+            flat_rate[:, :3] = rate
+            drive = drive - k_fp @ flat_rate.ravel()[dofs.prescribed_slots]
+        if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
+            return None
+        load = self.equilibrium(self.reached).load(frames).ravel()[dofs.free_slots]
+        side = np.sign(phi @ load) or 1.0
+        flat = np.zeros(dofs.n_slots)
+        flat[dofs.free_slots] = side * phi
+        motion = self.as_motion(flat.reshape(-1, N_COLUMNS), frames, 0.0, mode=True)
+        return motion if motion.length > 0.0 else None
+
+    # ------------------------------------------------------------------ bookkeeping
+    def settled(self, state: State, factor: Factorisation) -> State:
+        """A converged state: note the inertia of its tangent."""
+        self.negative = factor.negative
+        return state
+
+    def accept(self, state: State, load_factor: float) -> None:
+        motion = self.motion_between(self.state, self.reached, state, load_factor)
+        self.last_motion = (self.phase, load_factor, motion)
+        self.reached = load_factor
+        self.state = self.model.commit(replace(state, load_factor=load_factor, time=load_factor))
+
+    def frame(self, iterations: int, ratio: float, history: list[float]) -> None:
+        info, model, state = self.info, self.model, self.state
+        info["load_factors"].append(self.reached)
+        info["iterations_per_increment"].append(iterations)
+        info["residual_ratio_per_increment"].append(ratio)
+        info["residual_history"].append(history)
+        info["negative_eigenvalues"].append(self.negative)
+        if self.negative:
+            info["indefinite_at"].append(self.reached)
+            self.progress(
+                f"load factor {self.reached:.4g}: the tangent stiffness has {self.negative} "
+                "negative eigenvalue(s): an unstable equilibrium, past a limit point or a "
+                "bifurcation",
+                force=True,
+            )
+        f_ext, m_ext, _ = self.solver.loads(model, self.reached)
+        reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
+        self.frames.append(make_frame(model, state, reactions, reaction_moments))
+        self.progress(
+            f"load factor {self.reached:.4g} converged in {iterations} Newton iterations",
+            force=True,
+        )
+
+    def failure(self, reason: str) -> ConvergenceError:
+        hint = (
+            "try path='arc_length' to follow a limit point"
+            if self.solver.path == "load"
+            else "try smaller increments or DynamicRelaxation"
+        )
+        error = ConvergenceError(
+            f"static solver stopped at load factor {self.reached:.6g}: {reason}. A limit point "
+            f"or buckling may be near: {hint}.",
+            None,
+        )
+        if self.reached > self.frames[-1].load_factor:  # keep the last good state
+            self.frames.append(make_frame(self.model, self.state))
+        error.result = self.result(False)
+        error.load_factor = self.reached
+        return error
+
+    def result(self, converged: bool) -> Result:
+        result = empty_result(self.model, self.frames)
+        result.steps = int(sum(self.info["iterations_per_increment"]))
+        result.wall_time = time.perf_counter() - self.started
+        result.converged = converged
+        self.info["linear_solver"] = {
+            "symbolic_factorisations": self.linear.symbolic,
+            "numeric_factorisations": self.linear.numeric,
+        }
+        result.info = dict(self.info, tol=self.solver.tol)
+        return result

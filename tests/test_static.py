@@ -171,12 +171,11 @@ def test_a_compressed_chain_pushed_sideways_buckles_to_its_rest_length():
     assert result.info["indefinite_at"] == []
 
 
-def test_a_snap_through_under_a_soft_spring_stops_with_the_load_factor():
-    # Von Mises truss (half-span 10, rise 1, EA 1e4) pushed through a soft spring (1 N/mm)
-    # whose top end is lowered by 6 mm: past the truss's limit point the equilibrium path
-    # folds back, Newton cannot jump to the far branch, and the solver stops saying where.
-    # The limit point in spring-end travel, from the closed form F(w) of the truss, is
-    # w_top = w + F(w) / k at dF/dw = -k.
+def _von_mises_truss():
+    """Von Mises truss (half-span 10, rise 1, EA 1e4) pushed down through a soft spring
+    (1 N/mm: a 10 mm cable of EA 10) whose top end is lowered by 6 mm. Returns the model and
+    the closed form: apex drop w, the truss's force F(w) and the spring-end travel
+    t(w) = w + F(w) / k, which rises, falls (the unstable part, dt/dw < 0) and rises again."""
     half_span, rise, stiffness, spring = 10.0, 1.0, 1e4, 1.0
     points = np.array([[-half_span, 0, 0], [half_span, 0, 0], [0, 0, rise], [0, 0, rise + 10]])
     mesh = Mesh(points, lines=np.array([[0, 2], [1, 2], [2, 3]]))
@@ -187,31 +186,71 @@ def test_a_snap_through_under_a_soft_spring_stops_with_the_load_factor():
     model.fix([2, 3], ("ux", "uy"))
     model.displace(3, uz=-6.0)
     rest = np.hypot(half_span, rise)
-    w = np.linspace(0.0, rise, 200_001)
-    length = np.hypot(half_span, rise - w)
-    force = -2 * stiffness * (length / rest - 1) * (rise - w) / length
-    top_travel = w + force / spring
-    limit = top_travel[np.argmax(np.diff(top_travel) < 0)]
-    with pytest.raises(ConvergenceError, match="load factor") as failure:
-        Static(increments=12, seek_stable=False).solve(model)
-    reached = failure.value.load_factor * 6.0
-    assert failure.value.result.frames[-1].load_factor == failure.value.load_factor
-    # Eight halvings of the 0.5 mm increment (with regrowth after each success) bring it
-    # within 1 % of the limit, never past it.
-    assert limit * 0.99 <= reached <= limit * 1.001
-    # With seek_stable (the default) the steps past the limit point are turned downhill and
-    # the solver lands on the far, stable branch: there the apex balances the spring,
-    # F(w) = k (6 - w) with w beyond the limit, solved from the closed form.
+
+    def truss_force(w):
+        length = np.hypot(half_span, rise - w)
+        return -2 * stiffness * (length / rest - 1) * (rise - w) / length
+
+    def travel(w):
+        return w + truss_force(w) / spring
+
+    return model, rise, truss_force, travel
+
+
+def test_load_control_jumps_the_snap_through_onto_the_far_stable_branch():
+    # Past the limit point the path folds back; load steps cannot follow it. The energy line
+    # search leads Newton to the stable branch beyond the snap (the jump a test machine
+    # shows): there the apex balances the spring, F(w) = k (6 - w), solved from the closed
+    # form, and the tangent is positive definite.
     from scipy.optimize import brentq
 
-    def unbalance(x):
-        length_x = np.hypot(half_span, rise - x)
-        truss = -2 * stiffness * (length_x / rest - 1) * (rise - x) / length_x
-        return truss - spring * (6.0 - x)
-
-    far = brentq(unbalance, 1.5 * rise, 6.0, xtol=1e-12)
+    model, rise, truss_force, travel = _von_mises_truss()
+    far = brentq(lambda w: travel(w) - 6.0, 1.5 * rise, 6.0, xtol=1e-12)
     result = Static(increments=12).solve(model)
     assert rise - result.positions[2, 2] == pytest.approx(far, rel=1e-6)
+    assert result.info["negative_eigenvalues"][-1] == 0
+
+
+def test_arc_length_follows_the_snap_through_along_its_closed_form_path():
+    # Crisfield's arc length follows the whole path: up to the first limit point, down the
+    # unstable part (the spring end travels back, lambda falls below zero) and up the far
+    # branch to the full 6 mm. Every frame lies on the closed form t(w) = 6 lambda, the
+    # unstable frames are those with dt/dw < 0, and the two limit loads are those of the
+    # closed form (to the step resolution: lambda is flat at a limit, 1e-3).
+    model, rise, truss_force, travel = _von_mises_truss()
+    result = Static(increments=12, path="arc_length").solve(model)
+    w = np.array([rise - frame.positions[2, 2] for frame in result.frames])
+    lam = np.array([frame.load_factor for frame in result.frames])
+    assert lam[-1] == 1.0
+    assert np.abs(travel(w) - 6.0 * lam).max() <= 1e-6
+    slope = np.gradient(travel(np.linspace(0.0, 2.5, 250_001)), 1e-5)
+    dense_w = np.linspace(0.0, 2.5, 250_001)
+    expected_unstable = np.interp(w[1:], dense_w, slope) < 0.0
+    unstable = np.array(result.info["negative_eigenvalues"]) > 0
+    assert np.array_equal(unstable, expected_unstable)
+    dense_t = travel(dense_w)
+    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
+    second_limit = dense_t[dense_w > 0.5].min() / 6.0
+    limits = result.info["limit_points"]
+    assert len(limits) == 2
+    assert limits[0] == pytest.approx(first_limit, abs=1e-3 * 6)
+    assert limits[1] == pytest.approx(second_limit, abs=1e-3 * 6)
+    rising = lam[: np.argmax(np.diff(lam) < 0) + 1]
+    assert lam.min() < 0.0 and rising.max() <= first_limit + 1e-9
+
+
+def test_a_failed_increment_keeps_the_last_good_state_and_says_where():
+    # Plain Newton (no line search) with two iterations per increment cannot pass the limit
+    # point: the solver stops there with the load factor it reached and that frame kept.
+    model, rise, truss_force, travel = _von_mises_truss()
+    with pytest.raises(ConvergenceError, match="load factor") as failure:
+        Static(increments=12, line_search=False, max_iterations=3, max_cuts=2).solve(model)
+    reached = failure.value.load_factor
+    assert 0.0 < reached < 1.0
+    last = failure.value.result.frames[-1]
+    assert last.load_factor == reached
+    w = rise - last.positions[2, 2]
+    assert travel(w) == pytest.approx(6.0 * reached, abs=1e-6)
 
 
 def test_static_and_dynamic_relaxation_agree_on_the_fibrous_cantilever():

@@ -1,0 +1,160 @@
+"""The linear solve of a Newton iteration: a sparse LDL^T factorisation of K_ff whose symbolic
+part (ordering and elimination tree) is kept between iterations, and the inertia of K_ff from
+its pivots.
+
+Why LDL^T: the tangent of a conservative model in the generalised coordinates of femcore.dofs
+is symmetric (to the finite-difference noise of the tangents that come from differences; a
+dead moment with a component along the director is the one non-symmetric load, and it is
+handled by the LU fallback). A symmetric factorisation halves the work of an LU, and its
+pivots give the inertia of K_ff (Sylvester's law: D has as many negative entries as K_ff has
+negative eigenvalues), which tells a stable equilibrium from a saddle whatever the number of
+negative modes: the sign of det K only sees an odd number of them.
+
+The factorisation is QDLDL (an LDL^T without pivoting, after an AMD ordering) through the
+``qdldl`` package. Without pivoting it can fail on an indefinite matrix (a zero pivot) or lose
+accuracy; every solution is therefore checked by its residual, and a failed or inaccurate
+factorisation falls back to scipy's pivoting LU (SuperLU), as does a non-symmetric K_ff.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import qdldl
+import scipy.sparse as sp
+from scipy.sparse.linalg import MatrixRankWarning, splu
+
+__all__ = ["Factorisation", "LinearSolver"]
+
+# Relative asymmetry (max |K - K^T| / max |K|) below which K_ff is treated as symmetric: the
+# element tangents computed by central differences carry ~1e-9 of noise.
+SYMMETRY_TOLERANCE = 1e-7
+# Relative residual ||K x - b|| / ||b|| accepted from the LDL^T solve before falling back to LU.
+ACCURACY = 1e-8
+
+
+@dataclass
+class Factorisation:
+    """One factorised K_ff.
+
+    negative : the number of negative eigenvalues of the symmetric part of K_ff (from the LDL^T
+        pivots), or None when the LDL^T failed (then only the LU is available).
+    kind : "ldlt" or "lu", the factorisation that solves.
+    """
+
+    matrix: sp.csc_matrix
+    negative: int | None
+    kind: str
+    _ldl: Any = None
+    _lu: Any = None
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray | None:
+        """x with K_ff x = rhs (one or more columns), or None when K_ff is singular."""
+        if self.kind == "ldlt":
+            x = _columns(self._ldl.solve, rhs)
+            if _accurate(self.matrix, x, rhs):
+                return x
+            self._lu = self._lu or _lu(self.matrix)
+            self.kind = "lu"
+        if self._lu is None:
+            return None
+        x = _columns(self._lu.solve, rhs)
+        return x if np.all(np.isfinite(x)) else None
+
+
+class LinearSolver:
+    """Factorises successive K_ff of one model, reusing the symbolic LDL^T while the sparsity
+    pattern of K_ff stays the same (it does while the assembly pattern does).
+
+    Attributes
+    ----------
+    symbolic : how many times the symbolic factorisation was computed.
+    numeric : how many numeric factorisations followed.
+    """
+
+    def __init__(self) -> None:
+        self._ldl: qdldl.Solver | None = None
+        self._pattern: tuple[np.ndarray, np.ndarray] | None = None
+        self.symbolic = 0
+        self.numeric = 0
+
+    def factorise(self, k_ff: sp.spmatrix) -> Factorisation:
+        """The factorisation of a square sparse K_ff."""
+        k = sp.csc_matrix(k_ff)
+        scale = float(np.abs(k.data).max(initial=0.0))
+        asymmetry = float(np.abs((k - k.T).data).max(initial=0.0))
+        upper = _upper(0.5 * (k + k.T))
+        ldl, negative = self._ldlt(upper)
+        symmetric = scale > 0.0 and asymmetry <= SYMMETRY_TOLERANCE * scale
+        if ldl is not None and symmetric:
+            return Factorisation(k, negative, "ldlt", _ldl=ldl)
+        return Factorisation(k, negative, "lu", _lu=_lu(k))
+
+    def _ldlt(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
+        pattern = (upper.indptr, upper.indices)
+        try:
+            if self._ldl is not None and self._same(pattern):
+                self._ldl.update(upper, upper=True)
+            else:
+                self._ldl = qdldl.Solver(upper, upper=True)
+                self._pattern = (upper.indptr.copy(), upper.indices.copy())
+                self.symbolic += 1
+            self.numeric += 1
+            pivots = np.asarray(self._ldl.factors()[1])
+        except RuntimeError:  # a zero pivot: singular, or an unlucky indefinite ordering
+            self._ldl, self._pattern = None, None
+            return None, None
+        if not np.all(np.isfinite(pivots)):
+            return None, None
+        return self._ldl, int(np.count_nonzero(pivots < 0.0))
+
+    def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:
+        return (
+            self._pattern is not None
+            and np.array_equal(self._pattern[0], pattern[0])
+            and np.array_equal(self._pattern[1], pattern[1])
+        )
+
+
+def _upper(k: sp.spmatrix) -> sp.csc_matrix:
+    """The upper triangle in CSC with every diagonal entry stored (QDLDL needs the diagonal in
+    the pattern, also where it is zero)."""
+    n = k.shape[0]
+    coo = sp.triu(k, format="coo")
+    diagonal = np.arange(n)
+    upper = sp.csc_matrix(
+        (
+            np.concatenate([coo.data, np.zeros(n)]),
+            (np.concatenate([coo.row, diagonal]), np.concatenate([coo.col, diagonal])),
+        ),
+        shape=(n, n),
+    )
+    upper.sum_duplicates()
+    upper.sort_indices()
+    return upper
+
+
+def _lu(k: sp.csc_matrix):
+    """SuperLU of K, or None when it is exactly singular."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MatrixRankWarning)
+        try:
+            return splu(k)
+        except (RuntimeError, MatrixRankWarning):
+            return None
+
+
+def _columns(solve, rhs: np.ndarray) -> np.ndarray:
+    if rhs.ndim == 1:
+        return np.asarray(solve(rhs))
+    return np.column_stack([solve(np.ascontiguousarray(column)) for column in rhs.T])
+
+
+def _accurate(k: sp.csc_matrix, x: np.ndarray, rhs: np.ndarray) -> bool:
+    if not np.all(np.isfinite(x)):
+        return False
+    size = float(np.linalg.norm(rhs))
+    return size == 0.0 or float(np.linalg.norm(k @ x - rhs)) <= ACCURACY * size
