@@ -31,10 +31,16 @@ Each Newton iteration:
   (number of colours) force evaluations whatever the mesh size;
 - linear solve: an LDL^T of K_ff whose symbolic factorisation is kept between iterations
   (solvers.linear), its negative pivots counting the negative eigenvalues of K_ff;
-- line search (load path): the Newton step is accepted when it lowers the total potential
-  energy by the Armijo fraction of its first-order prediction, or else lowers the residual
-  norm; otherwise it is halved, down to 1/64, and when no step lowers either the line search
-  says no and the increment is cut.
+- line search (load path), a watchdog (Chamberlain, Powell, Lemarechal and Pedersen, Math.
+  Prog. Study 16 (1982) 1): full Newton steps are taken as long as, within WATCHDOG
+  iterations, one of them lowers the total potential energy (by the Armijo fraction of the
+  first-order decrease of the step that left the best iterate so far) or the residual norm
+  below that of the best iterate. Otherwise the iteration goes back to the best iterate and
+  backtracks along its Newton step (halving, down to 1/64) until one of the two falls; when
+  none does, the line search says no and the increment is cut. Full steps first because the
+  first iterations of a large rotation climb the energy on the way (the straight update
+  stretches the membrane) and still reach the equilibrium in a few steps, where a
+  monotone line search would crawl.
 """
 
 from __future__ import annotations
@@ -70,9 +76,11 @@ __all__ = ["PATHS", "Static"]
 
 PATHS = ("load", "arc_length")
 
-# Armijo's sufficient-decrease fraction and the smallest line-search step.
+# Armijo's sufficient-decrease fraction, the smallest line-search step, and how many full
+# Newton steps the watchdog lets go by without a decrease before it backtracks.
 ARMIJO = 1e-4
 SMALLEST_STEP = 1.0 / 64.0
+WATCHDOG = 4
 # Iterations an arc-length increment should take: the next step length is scaled by
 # sqrt(DESIRED_ITERATIONS / iterations taken) (Crisfield), within [1/2, 2].
 DESIRED_ITERATIONS = 5
@@ -248,6 +256,7 @@ class Static:
         factor: Factorisation | None = None
         forces = None  # the internal forces of the accepted trial, reused next iteration
         history: list[float] = []
+        watchdog = _Watchdog(run, equilibrium, self.line_search)
         for iteration in range(1, self.max_iterations + 1):
             frames = dofs.frames(state.directors)
             r, ratio, forces = equilibrium.residual(state, frames, forces)
@@ -300,9 +309,7 @@ class Static:
             flat[index] = delta_free
             delta = flat.reshape(-1, N_COLUMNS)
             imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
-            scale, state, forces = self._line_search(
-                run, equilibrium, state, frames, delta, r, forces, push or imposing
-            )
+            scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing)
             # Round-off floor: the internal forces come from differences of nearly equal
             # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
             # load that no update removes. A full step that moves nothing (1e-9 of an element,
@@ -330,56 +337,6 @@ class Static:
                 else ""
             )
         )
-
-    def _line_search(self, run, equilibrium, state, frames, delta, r, forces, take_whole):
-        """Backtracking along the Newton step delta (n, 5): (scale, new state, its forces).
-
-        Before anything, a step that would turn a director by more than MAX_ROTATION or move a
-        node by more than the model's size is scaled down to that (``_step_cap``). The step
-        (times ``scale``) is then accepted when the total potential energy
-        Pi = W - F_ext . u - M_ext . psi falls by at least ARMIJO x scale x its first-order
-        change (Armijo), or when the residual norm falls by that fraction; otherwise it is
-        halved, down to SMALLEST_STEP, and if still neither falls the line search says no
-        (_Failed). ``take_whole``: a push off a saddle or a step that imposes prescribed
-        motion is taken as it is (its energy may rightly rise).
-
-        The energy test uses the potential along the straight line in (u, alpha, beta): the
-        dead loads' work on it is exact (a director turned about a fixed axis), so Pi(s) is
-        the function whose slope at s = 0 is -r . delta. Near convergence the energy change
-        drowns in round-off, and the residual norm decides.
-        """
-        model, dofs = run.model, run.model.dofs
-        cap = _step_cap(model, delta) if self.line_search else 1.0
-        if not self.line_search or take_whole:
-            trial = dofs.advance(state, cap * delta, frames)
-            _, ratio, forces = equilibrium.residual(trial, frames)
-            if not np.isfinite(ratio):
-                raise _Failed("non-finite residual after the update")
-            return cap, trial, forces
-        free = dofs.free.ravel()
-        residual0 = float(np.linalg.norm(r.ravel()[free]))
-        load = equilibrium.load(frames).ravel()
-        external_rate = float(load @ delta.ravel())  # d(F_ext . u + M_ext . psi)/ds
-        slope = -float(r.ravel()[free] @ delta.ravel()[free])  # dPi/ds at s = 0
-        energy0 = run.energy(state)
-        scale = cap
-        while True:
-            trial = dofs.advance(state, scale * delta, frames)
-            r_trial, ratio, trial_forces = equilibrium.residual(trial, frames)
-            if np.isfinite(ratio):
-                residual = float(np.linalg.norm(r_trial.ravel()[free]))
-                if residual <= (1.0 - ARMIJO * scale) * residual0:
-                    return scale, trial, trial_forces
-                if slope < 0.0:
-                    change = run.energy(trial) - scale * external_rate - energy0
-                    noise = 1e-10 * (abs(energy0) + abs(scale * external_rate))
-                    if change <= ARMIJO * scale * slope and abs(change) > noise:
-                        return scale, trial, trial_forces
-            if scale <= SMALLEST_STEP:
-                raise _Failed(
-                    "the line search found no step that lowers the energy or the residual"
-                )
-            scale *= 0.5
 
     # ------------------------------------------------------------------ arc-length path
     def _arc_length_path(self, run: _Run, phase: int) -> None:
@@ -732,6 +689,110 @@ class _Tangent:
 
 class _Failed(Exception):
     """An increment that did not converge (caught to cut the increment)."""
+
+
+class _Watchdog:
+    """The watchdog line search of the load path (module docstring).
+
+    The merit of an iterate is its total potential Pi, accumulated along the piecewise
+    straight path of the iterations (strain energy minus the dead loads' work on each update,
+    exact for forces, and for moments on each update, a rotation about a fixed axis), and
+    its residual norm on the free DOFs.
+    """
+
+    def __init__(self, run: _Run, equilibrium: _Equilibrium, enabled: bool):
+        self.run, self.equilibrium, self.enabled = run, equilibrium, enabled
+        self.free = run.model.dofs.free.ravel()
+        self.best: dict | None = None  # the best iterate and its Newton step
+        self.potential = 0.0  # Pi of the current iterate, relative to the first one
+        self.energy: float | None = None  # strain energy of the current iterate
+        self.misses = 0
+
+    def step(self, state: State, frames: Frames, delta: np.ndarray, r: np.ndarray, whole: bool):
+        """The next iterate from ``state`` with Newton step delta (n, 5) and residual r (n, 5):
+        (scale taken, new state, its internal forces); scale 0 when it went back."""
+        run, model = self.run, self.run.model
+        cap = _step_cap(model, delta) if self.enabled else 1.0
+        if not self.enabled or whole:
+            self.best, self.energy = None, None  # the imposed motion starts a new search
+            return self._take(state, frames, delta, cap)
+        if self.energy is None:
+            self.energy = run.energy(state)
+        residual = float(np.linalg.norm(r.ravel()[self.free]))
+        slope = -float(r.ravel()[self.free] @ delta.ravel()[self.free])  # dPi/ds
+        here = {
+            "state": state,
+            "frames": frames,
+            "delta": delta,
+            "cap": cap,
+            "residual": residual,
+            "potential": self.potential,
+            "energy": self.energy,
+            "slope": slope,
+        }
+        if self.best is None or self._better(here, self.best):
+            self.best, self.misses = here, 0
+        else:
+            self.misses += 1
+            if self.misses >= WATCHDOG:
+                return self._backtrack()
+        scale, trial, forces = self._take(state, frames, delta, cap)
+        if not np.isfinite(self.equilibrium.residual(trial, frames, forces)[1]):
+            return self._backtrack()
+        return scale, trial, forces
+
+    def _take(self, state, frames, delta, scale):
+        run = self.run
+        trial = run.model.dofs.advance(state, scale * delta, frames)
+        forces = run.model.internal_force(trial)
+        run.counts["residual"] += 1
+        if self.enabled and self.energy is not None:
+            energy = run.energy(trial)
+            work = scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
+            self.potential += energy - self.energy - work
+            self.energy = energy
+        return scale, trial, forces
+
+    @staticmethod
+    def _better(here: dict, best: dict) -> bool:
+        """A real decrease from the best iterate: the energy by the Armijo fraction of the
+        best step's first-order decrease, or the residual norm by that fraction."""
+        if here["residual"] <= (1.0 - ARMIJO) * best["residual"]:
+            return True
+        drop = best["potential"] - here["potential"]
+        noise = 1e-10 * (abs(best["energy"]) + abs(here["energy"]))
+        return best["slope"] < 0.0 and drop >= -ARMIJO * best["slope"] and drop > noise
+
+    def _backtrack(self):
+        """Back to the best iterate, then halve its Newton step until the energy or the residual
+        falls (Armijo); _Failed when none does down to SMALLEST_STEP."""
+        best = self.best
+        assert best is not None
+        run, model = self.run, self.run.model
+        state, frames, delta = best["state"], best["frames"], best["delta"]
+        scale = 0.5 * best["cap"]
+        while scale >= SMALLEST_STEP * best["cap"]:
+            trial = model.dofs.advance(state, scale * delta, frames)
+            r, ratio, forces = self.equilibrium.residual(trial, frames)
+            if np.isfinite(ratio):
+                energy = run.energy(trial)
+                work = scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
+                potential = best["potential"] + energy - best["energy"] - work
+                here = {
+                    "residual": float(np.linalg.norm(r.ravel()[self.free])),
+                    "potential": potential,
+                    "energy": energy,
+                }
+                if (
+                    best["slope"] < 0.0
+                    and potential - best["potential"] <= (ARMIJO * scale * best["slope"])
+                    or here["residual"] <= (1.0 - ARMIJO * scale) * best["residual"]
+                ):
+                    self.potential, self.energy = potential, energy
+                    self.best, self.misses = None, 0
+                    return 0.0, trial, forces
+            scale *= 0.5
+        raise _Failed("the line search found no step that lowers the energy or the residual")
 
 
 class _Motion:
