@@ -104,6 +104,11 @@ class Static:
     path : "load" (default) or "arc_length" (module docstring).
     max_increments : arc-length path: the most increments per phase before a ConvergenceError
         (default 20 x increments + 20).
+    at_limit : arc-length path, at a limit point (the load factor would have to fall):
+        "follow" (default) the path down and on, as it is; "jump": go on with load steps of
+        1 / increments from there to the end of the phase, which land on the stable branch
+        beyond the snap (seek_stable, line search), as a test under growing load or
+        displacement does. Each such limit is listed in ``info["jumps"]``.
     seek_stable : when the tangent of a converged state has negative eigenvalues (an unstable
         equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
         settle on the stable branch. Load path: the Newton steps that meet an indefinite
@@ -147,6 +152,7 @@ class Static:
         step_loads_first: bool = False,
         path: str = "load",
         max_increments: int | None = None,
+        at_limit: str = "follow",
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
@@ -165,6 +171,9 @@ class Static:
             if max_increments is None
             else check_integer(max_increments, "max_increments")
         )
+        if at_limit not in ("follow", "jump"):
+            raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
+        self.at_limit = at_limit
         self.seek_stable = bool(seek_stable)
         self.step_loads_first = bool(step_loads_first)
         self.progress = progress
@@ -215,6 +224,8 @@ class Static:
         step = 1.0 / self.increments
         for increment in range(1, self.increments + 1):
             target = phase + increment / self.increments
+            if target <= run.reached + 1e-12:  # reached by an arc-length path already
+                continue
             iterations = 0
             cuts_here = 0
             while run.reached < target - 1e-12:
@@ -373,6 +384,23 @@ class Static:
                         state, count, ratio, history = self._newton(run, start, end)
                         outcome = (state, end, count, ratio, history)
                     motion = run.motion_between(run.state, run.reached, *outcome[:2])
+                    if (
+                        self.at_limit == "jump"
+                        and previous is not None
+                        and previous.load > 0.0
+                        and motion.load < 0.0
+                    ):
+                        # A limit point: the load would have to fall. Jump instead, as a
+                        # test under growing load or displacement does, with load steps.
+                        run.info["limit_points"].append(run.reached)
+                        run.info["jumps"].append(run.reached)
+                        run.progress(
+                            f"load factor {run.reached:.4g}: limit point, jumping to the "
+                            "stable branch with load steps",
+                            force=True,
+                        )
+                        self._load_path(run, phase)
+                        return
                     if (
                         previous is not None
                         and not prediction.mode
@@ -853,6 +881,7 @@ class _Run:
             "negative_eigenvalues": [],
             "indefinite_at": [],
             "limit_points": [],
+            "jumps": [],
             "regularised_iterations": 0,
             "branch_switches": [],
             "residual_history": [],

@@ -209,6 +209,13 @@ def test_load_control_jumps_the_snap_through_onto_the_far_stable_branch():
     result = Static(increments=12).solve(model)
     assert rise - result.positions[2, 2] == pytest.approx(far, rel=1e-6)
     assert result.info["negative_eigenvalues"][-1] == 0
+    # The arc length with at_limit="jump" follows the path to the limit point and then does
+    # the same: it stops there (the first limit of the closed form) and lands on the far branch.
+    jumped = Static(increments=12, path="arc_length", at_limit="jump").solve(model)
+    assert rise - jumped.positions[2, 2] == pytest.approx(far, rel=1e-6)
+    dense_w = np.linspace(0.0, 1.0, 100_001)
+    first_limit = travel(dense_w).max() / 6.0
+    assert jumped.info["jumps"] == [pytest.approx(first_limit, abs=0.02)]
 
 
 def test_arc_length_follows_the_snap_through_along_its_closed_form_path():

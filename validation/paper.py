@@ -4,7 +4,7 @@ A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed d
 the resolution table. ``compute_paper_case`` builds three models on the same mesh (``KINEMATICS``:
 the fibrous shell with the thickness along the director from the nodal normals, its default;
 the fibrous shell with Bai's Eq. 15, each element's own normal; the Mindlin shell), solves each
-with ``Static`` (falling back to ``DynamicRelaxation`` when Newton cannot follow the path), and
+with ``Static`` along the arc length of the path (load steps past a limit point), and
 returns the report's ``Outcome``: per kinematics the solver, its iterations and time, and along
 side 1 and side 2 the mid-surface, the director angle to the horizontal, the thickness along the
 director, the mid-surface rotation from the clamp and the director's tilt from the normal; the
@@ -29,7 +29,7 @@ import numpy as np
 from femcore import Model
 from femcore.topology import nodal_normals
 from materials import Fabric
-from solvers import ConvergenceError, DynamicRelaxation, Static
+from solvers import ConvergenceError, Static
 from validation import specimens
 from validation.checks import check
 from validation.plots import plt
@@ -195,44 +195,46 @@ def corner_case(
 
 
 def solve(model: Model, increments: int) -> tuple[Any, str, float]:
-    """Static, or DynamicRelaxation when Static stops (a limit point, a bifurcation).
+    """Static along the arc length of the path: gravity over load factors 0-1, then the
+    displacement over 1-2, ``increments`` arc-length steps at most each; at a limit point the
+    run goes on with load steps that land on the stable branch beyond it (the snap a test
+    machine shows). No other solver is tried: a run that stops is reported as such, with its
+    last equilibrium.
 
-    Returns the result, the solver note for the report and the wall time (s)."""
+    Returns the result, the solver note for the report (what ran, how many increments and
+    Newton iterations, limit points, unstable states) and the wall time (s)."""
     started = time.perf_counter()
+    solver = Static(
+        increments=increments,
+        path="arc_length",
+        at_limit="jump",
+        max_iterations=40,
+        max_cuts=10,
+        step_loads_first=True,
+        progress=False,
+    )
     try:
-        result = Static(
-            increments=increments,
-            max_iterations=100,
-            max_cuts=12,
-            step_loads_first=True,
-            progress=False,
-        ).solve(model)
-        note = f"Static (gravity, then the displacement, {increments} increments each)"
-        if result.info["indefinite_at"]:
-            note += (
-                f"; unstable equilibrium (det K < 0) at load factors {result.info['indefinite_at']}"
-            )
-        return result, note, time.perf_counter() - started
+        result = solver.solve(model)
+        stopped = ""
     except ConvergenceError as error:
-        reached = getattr(error, "load_factor", 0.0)
-        last = error.result.frames[-1]
-    # Past a limit point: relax from the last equilibrium Static found (not from scratch, which
-    # would retrace the whole path slowly and may settle on another branch). Static's factor
-    # 1 + f (gravity in full, a fraction f of the displacement) is DR's load factor f.
-    start = None
-    fraction = 0.0
-    if reached >= 1.0:
-        fraction = min(reached - 1.0, 0.999)
-        start = (last.positions, last.directors, fraction)
-    steps = max(2, round(increments * (1.0 - fraction)))
-    result = DynamicRelaxation(increments=steps, tol=1e-5, max_iterations=400_000).solve(
-        model, start=start
-    )
+        assert error.result is not None
+        result = error.result
+        stopped = f"; STOPPED at load factor {error.load_factor:.4g} of 2: {error}"
+    info = result.info
     note = (
-        f"Static to {fraction:.3g} of the displacement (a limit point), then "
-        f"DynamicRelaxation from that state ({steps} increments)"
+        f"Static, arc length (gravity, then the displacement): {len(result.frames) - 1} "
+        f"increments, {sum(info['iterations_per_increment'])} Newton iterations, "
+        f"{info['cuts']} cuts"
     )
-    return result, note, time.perf_counter() - started
+    if info["jumps"]:
+        listed = ", ".join(f"{value:.3g}" for value in info["jumps"])
+        note += f"; limit point at load factor {listed}, then load steps to the stable branch"
+    if info["branch_switches"]:
+        listed = ", ".join(f"{value:.3g}" for value in info["branch_switches"])
+        note += f"; bifurcation followed along the buckling mode at {listed}"
+    if info["indefinite_at"]:
+        note += f"; unstable equilibria (negative eigenvalues) at {len(info['indefinite_at'])} frames"
+    return result, note + stopped, time.perf_counter() - started
 
 
 def side_data(

@@ -8,8 +8,8 @@ clamp, free to move in y and z (assumed: the paper gives the direction only in a
 sketch). Side 1's fibres cannot shorten, so the free triangle must buckle out of its plane; a
 push along the diagonal could instead be taken up by in-plane shear of the fabric, which with
 the assumed shear law is softer than bending. Gravity is the imperfection that picks the
-buckling direction (down). Static is tried first; where Newton cannot follow the path the case
-falls back to dynamic relaxation and says so.
+buckling direction (down). Static follows the arc length of the path; past a limit point it goes
+on with load steps to the stable branch, as the test does, and the report says so.
 Mindlin: E = 12 B / h^3, nu = 0, G13 = G23 = 0.5 E.
 """
 

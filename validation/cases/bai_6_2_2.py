@@ -5,8 +5,7 @@ Source: Bai et al. (2020) §6.2.2, Fig. 15, 16, Table 2.
 Geometry and material: as bai-6.2.1.
 Load: gravity, and the corner pushed 20 mm in its plane along side 1 (the warp, x) towards the
 clamp, free to move in y and z (assumed; see bai-6.1.2); gravity picks the buckling
-direction. Static is
-tried first, dynamic relaxation where Newton cannot follow the path.
+direction. Static follows the arc length of the path (load steps past a limit point).
 Mindlin: as bai-6.2.1.
 """
 

@@ -128,7 +128,7 @@ def compute(resolution: str) -> Outcome:
         converged=converged,
         wall_time_s=wall,
         steps=steps,
-        solver="Static (DynamicRelaxation where Static stops), each variant",
+        solver="Static along the arc length (load steps past a limit point), each variant",
         parameters={
             "triangles": len(specimen.mesh.triangles),
             "B assumed (N mm)": base.bending.slope(np.array(0.0)).item(),
