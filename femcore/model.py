@@ -293,6 +293,17 @@ class Model:
         return self._compiled
 
 
+#: Names of the six elementary rigid motions (rotations about axes through the centroid).
+RIGID_MOTIONS: tuple[str, ...] = (
+    "translation along x",
+    "translation along y",
+    "translation along z",
+    "rotation about x",
+    "rotation about y",
+    "rotation about z",
+)
+
+
 class CompiledModel:
     """The model turned into arrays: bound element blocks, DOF manager, load vectors.
 
@@ -604,9 +615,11 @@ class CompiledModel:
                 own[i] = parts
         return own
 
-    def unheld_rigid_motions(self) -> list[str]:
+    def unheld_rigid_motions(self, loaded_only: bool = True) -> list[str]:
         """The rigid motions that no support holds and the full dead loads would push: an
-        equilibrium the quasi-static solvers cannot find (a mechanism).
+        equilibrium the quasi-static solvers cannot find (a mechanism). With
+        ``loaded_only=False``, every rigid motion no support holds, loaded or not (what makes a
+        tangent stiffness singular).
 
         The six rigid motions (translations along x, y, z; rotations about the axes through
         the centroid, directors turning with the body) restricted to the fixed and
@@ -655,6 +668,12 @@ class CompiledModel:
             free_motions = np.eye(6)
         if not len(free_motions):
             return []
+        if not loaded_only:
+            names = list(RIGID_MOTIONS)
+            column_free = np.abs(held).max(axis=0, initial=0.0) == 0.0
+            return [name for name, free in zip(names, column_free) if free] or [
+                f"{len(free_motions)} rigid motion(s) combining translations and rotations"
+            ]
         force, moment = self.external_load(1.0, quasi_static=True)
         load = np.concatenate([force, moment], axis=1)
         work = np.einsum("kc,cnj,nj->k", free_motions, motions, load)
@@ -662,14 +681,7 @@ class CompiledModel:
         pushed = free_motions[np.abs(work) > 1e-9 * size]
         if not len(pushed):
             return []
-        names = [
-            "translation along x",
-            "translation along y",
-            "translation along z",
-            "rotation about x",
-            "rotation about y",
-            "rotation about z",
-        ]
+        names = list(RIGID_MOTIONS)
         column_free = np.abs(held).max(axis=0, initial=0.0) == 0.0
         elementary = [
             name

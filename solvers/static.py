@@ -309,10 +309,7 @@ class Static:
                 singular = True
                 run.info["regularised_iterations"] += 1
                 if delta_free is None:
-                    raise _Failed(
-                        "singular tangent stiffness: a mechanism, an unconstrained rigid "
-                        "motion or a bifurcation"
-                    )
+                    raise _Failed(f"singular tangent stiffness: {_mechanism(model)}")
             if (factor.negative or escapes) and self.seek_stable:
                 load = equilibrium.load(frames).ravel()[index]
                 delta_free = _downhill(k_ff, rhs, delta_free, load, translation, size, push)
@@ -341,12 +338,7 @@ class Static:
             )
         raise _Failed(
             f"residual ratio {history[-1]:.3g} after {self.max_iterations} iterations"
-            + (
-                "; the tangent was singular (a mechanism, an unconstrained rigid motion or a "
-                "bifurcation)"
-                if singular
-                else ""
-            )
+            + (f"; the tangent was singular: {_mechanism(model)}" if singular else "")
         )
 
     # ------------------------------------------------------------------ arc-length path
@@ -542,6 +534,15 @@ class Static:
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
+
+
+def _mechanism(model: CompiledModel) -> str:
+    """What a singular tangent means for this model, naming the rigid motions no support
+    holds when there are any."""
+    free = model.unheld_rigid_motions(loaded_only=False)
+    if free:
+        return "a mechanism: nothing holds the " + ", ".join(free)
+    return "a mechanism (a part or a node that nothing holds) or a bifurcation"
 
 
 def _constraint_root(a: np.ndarray, b: np.ndarray, c: np.ndarray, length: float) -> float:

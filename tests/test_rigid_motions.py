@@ -49,3 +49,22 @@ def test_self_balanced_loads_need_no_support_but_a_couple_does():
     couple.force("left", (0.0, 0.0, -1.0))
     couple.force("right", (0.0, 0.0, 1.0))
     assert couple.compile().unheld_rigid_motions() == ["rotation about y"]
+
+
+def test_every_free_rigid_motion_is_listed_loaded_or_not():
+    # Without supports and without loads, all six motions are free; pins holding x and y at
+    # the left edge leave z (and the rotations that move it) free.
+    free = strip().compile().unheld_rigid_motions(loaded_only=False)
+    assert free == [
+        "translation along x",
+        "translation along y",
+        "translation along z",
+        "rotation about x",
+        "rotation about y",
+        "rotation about z",
+    ]
+    pinned = strip(supports=("ux", "uy")).compile().unheld_rigid_motions(loaded_only=False)
+    assert "translation along z" in pinned
+    clamped = strip(supports=None)
+    clamped.fix("left")
+    assert clamped.compile().unheld_rigid_motions(loaded_only=False) == []
