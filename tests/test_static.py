@@ -144,6 +144,25 @@ def test_a_straight_compressed_chain_is_reported_unstable():
     assert pulled.info["indefinite_at"] == []
 
 
+def test_two_compressed_chains_count_two_negative_eigenvalues():
+    # Two straight chains pushed in, side by side in one model: two negative eigenvalues
+    # (2 N / l < 0 at each middle node), so det K > 0; the pivots of the LDL^T still count
+    # them (Sylvester's law of inertia), and the state is reported unstable.
+    mesh = Mesh(
+        np.array([[0, 0, 0], [5, 0, 0], [10, 0, 0], [0, 20, 0], [5, 20, 0], [10, 20, 0.0]]),
+        lines=np.array([[0, 1], [1, 2], [3, 4], [4, 5]]),
+    )
+    model = Model(mesh)
+    model.add(Cable(axial_stiffness=1e3, mass_per_length=1e-6))
+    model.fix([0, 3])
+    model.fix(np.arange(6), "uz")
+    model.fix([2, 5], "uy")
+    model.displace([2, 5], ux=-0.1)
+    result = Static(increments=2, seek_stable=False).solve(model)
+    assert result.info["negative_eigenvalues"] == [2, 2]
+    assert result.info["indefinite_at"] == [0.5, 1.0]
+
+
 def test_seek_stable_leaves_the_unstable_straight_chain_for_the_buckled_one():
     # The chain pushed in by 2 mm with the default seek_stable: the straight state is pushed
     # off along its buckling mode and the solver settles where the bars are unstressed, the

@@ -233,7 +233,9 @@ def solve(model: Model, increments: int) -> tuple[Any, str, float]:
         listed = ", ".join(f"{value:.3g}" for value in info["branch_switches"])
         note += f"; bifurcation followed along the buckling mode at {listed}"
     if info["indefinite_at"]:
-        note += f"; unstable equilibria (negative eigenvalues) at {len(info['indefinite_at'])} frames"
+        note += (
+            f"; unstable equilibria (negative eigenvalues) at {len(info['indefinite_at'])} frames"
+        )
     return result, note + stopped, time.perf_counter() - started
 
 

@@ -125,6 +125,72 @@ def corner(length: float, width: float, cells: int) -> Specimen:
     )
 
 
+def bias_extension_mesh(length: float, width: float, cells: int) -> Mesh:
+    """A bias-extension specimen: an L x W rectangle meshed with fibres at +/-45 deg to x.
+
+    The nodes are the points (i a, j a), a = L / (2 cells), with i + j even: squares standing
+    on a corner ("diamonds", diagonal 2 a, ``cells`` of them along x), each split along its
+    horizontal diagonal, so that every triangle has its right angle between a +45 and a -45
+    deg edge (the fibre directions of the fibrous shell are the two edges at that corner).
+    The half-diamonds at the ends are split along the vertical diagonal. W must be a whole
+    number of a. Node sets "left" (x = 0) and "right" (x = L).
+    """
+    a = length / (2 * cells)
+    rows = round(width / a)
+    if cells < 1 or rows < 2 or abs(rows * a - width) > 1e-9 * width:
+        raise ValueError(
+            f"a bias-extension mesh needs W = k L / (2 cells) with k >= 2, got L = {length}, "
+            f"W = {width}, cells = {cells}"
+        )
+    columns = 2 * cells
+    i, j = np.meshgrid(np.arange(columns + 1), np.arange(rows + 1), indexing="ij")
+    keep = (i + j) % 2 == 0
+    number = np.full(i.shape, -1)
+    number[keep] = np.arange(int(keep.sum()))
+    points = np.column_stack([i[keep] * a, j[keep] * a, np.zeros(int(keep.sum()))])
+    ci, cj = np.meshgrid(np.arange(columns + 1), np.arange(rows + 1), indexing="ij")
+    centre = (ci + cj) % 2 == 1
+    ci, cj = ci[centre], cj[centre]
+    triangles = []
+    inner = (ci > 0) & (ci < columns)
+    up = inner & (cj < rows)
+    down = inner & (cj > 0)
+    triangles.append(
+        np.column_stack(
+            [number[ci[up] - 1, cj[up]], number[ci[up] + 1, cj[up]], number[ci[up], cj[up] + 1]]
+        )
+    )
+    triangles.append(
+        np.column_stack(
+            [
+                number[ci[down] - 1, cj[down]],
+                number[ci[down], cj[down] - 1],
+                number[ci[down] + 1, cj[down]],
+            ]
+        )
+    )
+    for end, side in ((0, 1), (columns, -1)):  # the half-diamonds at x = 0 and x = L
+        at = (ci == end) & (cj > 0) & (cj < rows)
+        corner_i = ci[at] + side
+        tri = np.column_stack(
+            [number[ci[at], cj[at] - 1], number[corner_i, cj[at]], number[ci[at], cj[at] + 1]]
+        )
+        triangles.append(tri if side > 0 else tri[:, ::-1])
+    mesh = Mesh(points, np.concatenate(triangles))
+    x = points[:, 0]
+    mesh.add_node_set("left", np.flatnonzero(x < 1e-9 * length))
+    mesh.add_node_set("right", np.flatnonzero(x > length * (1.0 - 1e-9)))
+    return mesh
+
+
+def pin_jointed_shear(length: float, width: float, elongation: float) -> float:
+    """Shear angle (rad) of the central zone of a bias-extension test by the pin-jointed net
+    (inextensible fibres, no slip): gamma = pi/2 - 2 acos((D + d) / (sqrt(2) D)), D = L - W,
+    d the elongation (Cao et al., Compos. Part A 39 (2008) 1037)."""
+    gauge = length - width
+    return float(np.pi / 2 - 2 * np.arccos((gauge + elongation) / (np.sqrt(2.0) * gauge)))
+
+
 def mindlin_strip(
     length: float, width: float, thickness: float, young: float, cells: int, across: int = 1
 ) -> tuple[Mesh, Model]:

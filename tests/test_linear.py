@@ -1,0 +1,55 @@
+"""solvers.linear: the LDL^T of K_ff, its kept symbolic factorisation and the inertia from its
+pivots.
+
+Reference: Sylvester's law of inertia (a congruence L D L^T keeps the numbers of negative,
+zero and positive eigenvalues) and the eigenvalues computed densely by numpy."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from solvers.linear import LinearSolver
+
+
+def symmetric(n=300, shift=0.0, seed=0):
+    rng = np.random.default_rng(seed)
+    a = sp.random(n, n, density=0.02, random_state=seed)
+    return (a + a.T + sp.diags(rng.uniform(1.0, 5.0, n) - shift)).tocsc()
+
+
+@pytest.mark.parametrize("shift", [0.0, 1.5, 3.0, 4.5])
+def test_the_negative_pivots_count_the_negative_eigenvalues(shift):
+    # Shifting the diagonal moves eigenvalues below zero in numbers that are odd or even;
+    # det K only sees the parity, the pivots see the count.
+    k = symmetric(shift=shift)
+    expected = int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+    factor = LinearSolver().factorise(k)
+    assert factor.negative == expected
+    rhs = np.arange(k.shape[0], dtype=float)
+    x = factor.solve(rhs)
+    assert np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def test_the_symbolic_factorisation_is_kept_while_the_pattern_is():
+    solver = LinearSolver()
+    k = symmetric()
+    for scale in (1.0, 2.0, 3.0):
+        solver.factorise(k * scale)
+    assert (solver.symbolic, solver.numeric) == (1, 3)
+    solver.factorise(symmetric(seed=1))  # another pattern
+    assert solver.symbolic == 2
+
+
+def test_a_non_symmetric_matrix_is_solved_exactly_by_lu():
+    k = symmetric().tolil()
+    k[0, 1] += 0.5  # a non-symmetric entry far above the noise
+    k = k.tocsc()
+    factor = LinearSolver().factorise(k)
+    assert factor.kind == "lu"
+    rhs = np.ones(k.shape[0])
+    assert np.linalg.norm(k @ factor.solve(rhs) - rhs) <= 1e-10 * np.linalg.norm(rhs)
+
+
+def test_a_singular_matrix_gives_no_solution():
+    k = sp.csc_matrix(np.array([[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]]))
+    assert LinearSolver().factorise(k).solve(np.ones(3)) is None
