@@ -7,6 +7,15 @@
 3. The same strip rolled up into a quarter circle by an end moment: Static with the element's
    own tangent against the coloured finite-difference tangent.
 
+4. The bias-extension test (200 x 100 mm, G986 stack, fibres at +/-45 deg, cells diamonds
+   along, pulled 30 mm): the central zone's shear angle against the pin-jointed net.
+5. A von Mises truss pushed through a soft spring, along the arc length (path with two limit
+   points).
+
+Every Static line gives the wall time, the Newton iterations, the evaluations of the internal
+forces, strain energy and tangent, and the wall time in units of one internal-force evaluation
+of the same model timed in the same run (what a solve costs, whatever the machine's load).
+
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
 """
@@ -24,13 +33,25 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from femcore import Model  # noqa: E402
+from elements import Cable, FibrousShell  # noqa: E402
+from femcore import Mesh, Model  # noqa: E402
+from materials import presets  # noqa: E402
 from materials.presets import g1151_laminate  # noqa: E402
 from solvers import ConvergenceError, DynamicRelaxation, Static  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.references.elastica import tip_loaded_cantilever  # noqa: E402
 
-__all__ = ["corner_model", "describe", "main", "strip", "timed"]
+__all__ = [
+    "bias_extension",
+    "central_shear",
+    "corner_model",
+    "describe",
+    "force_time",
+    "main",
+    "strip",
+    "timed",
+    "von_mises_truss",
+]
 
 
 def corner_model(cells: int) -> tuple[Model, specimens.Specimen]:
@@ -56,6 +77,38 @@ def strip(load_kind: str) -> tuple[Model, np.ndarray, float]:
     return model, tip, reference
 
 
+def bias_extension(cells: int):
+    """The bias-extension specimen: left end clamped, right end pulled 30 mm along x."""
+    mesh = specimens.bias_extension_mesh(200.0, 100.0, cells)
+    c = math.cos(math.pi / 4)
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_stack(), warp=(c, c, 0.0)))
+    model.fix("left")
+    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
+    model.displace("right", ux=30.0)
+    return model, mesh
+
+
+def central_shear(result, mesh) -> float:
+    """Mean |shear angle| (deg) of the cells within 10 mm of the specimen's centre."""
+    centres = mesh.points[mesh.triangles].mean(axis=1)
+    central = np.linalg.norm(centres[:, :2] - [100.0, 50.0], axis=1) < 10.0
+    gamma = result.frames[-1].fields["triangle"]["shear_angle"]
+    return float(np.degrees(np.abs(gamma[central]).mean()))
+
+
+def von_mises_truss():
+    """Half-span 10 mm, rise 1 mm, EA 1e4 N, pushed through a 1 N/mm spring lowered 6 mm."""
+    points = np.array([[-10.0, 0, 0], [10.0, 0, 0], [0, 0, 1.0], [0, 0, 11.0]])
+    model = Model(Mesh(points, lines=np.array([[0, 2], [1, 2], [2, 3]])))
+    model.add(Cable(axial_stiffness=1e4, mass_per_length=1e-6), cells=[0, 1])
+    model.add(Cable(axial_stiffness=10.0, mass_per_length=1e-6), cells=[2])
+    model.fix([0, 1])
+    model.fix([2, 3], ("ux", "uy"))
+    model.displace(3, uz=-6.0)
+    return model
+
+
 def timed(solver, model):
     started = time.perf_counter()
     try:
@@ -66,12 +119,32 @@ def timed(solver, model):
     return result, time.perf_counter() - started, converged
 
 
-def describe(name, result, wall, converged, extra=""):
+def force_time(model) -> float:
+    """Seconds of one internal-force evaluation of the model (best of 5)."""
+    compiled = model.compile()
+    state = compiled.initial_state()
+    best = np.inf
+    for _ in range(5):
+        started = time.perf_counter()
+        compiled.internal_force(state)
+        best = min(best, time.perf_counter() - started)
+    return best
+
+
+def describe(name, result, wall, converged, extra="", model=None):
     if name.startswith("Static"):
-        its = f"Newton iterations per increment {result.info['iterations_per_increment']}"
+        info = result.info
+        counts = info["evaluations"]
+        its = (
+            f"Newton iterations per increment {info['iterations_per_increment']}, "
+            f"{counts['residual']} force + {counts['energy']} energy + {counts['tangent']} "
+            f"tangent evaluations"
+        )
+        if model is not None:
+            its += f", = {wall / force_time(model):.0f} force evaluations' worth of time"
     else:
         its = f"{result.steps} iterations"
-    status = "" if converged else " (NOT converged: iteration limit)"
+    status = "" if converged else " (NOT converged)"
     print(f"  {name}: {wall:.1f} s, {its}{status}{extra}")
 
 
@@ -80,6 +153,7 @@ def main(argv=None) -> None:
     parser.add_argument("--cells", type=int, default=20, help="corner specimen: n x n cells")
     parser.add_argument("--dr-limit", type=int, default=400_000, help="DR iteration limit")
     parser.add_argument("--skip-dr", action="store_true")
+    parser.add_argument("--bias-cells", type=int, default=40, help="bias extension: diamonds along")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
 
@@ -87,7 +161,7 @@ def main(argv=None) -> None:
     n_tri = len(specimen.mesh.triangles)
     print(f"1. Bai 6.2.1 G1151 corner bending, fibrous shell, {n_tri} triangles:")
     static, wall, ok = timed(Static(increments=4), model)
-    describe("Static", static, wall, ok)
+    describe("Static", static, wall, ok, model=model)
     if not args.skip_dr:
         relaxed, wall, ok = timed(DynamicRelaxation(tol=1e-5, max_iterations=args.dr_limit), model)
         gap = np.abs(relaxed.positions - static.positions).max()
@@ -105,7 +179,14 @@ def main(argv=None) -> None:
     print(f"2. Mindlin cantilever, 2560 triangles, tip load (elastica: drop {reference:.2f} mm):")
     static, wall, ok = timed(Static(increments=5), model)
     drop = -static.displacements[tip, 2].mean()
-    describe("Static", static, wall, ok, f"; tip drop {drop:.2f} mm ({drop / reference - 1:+.2%})")
+    describe(
+        "Static",
+        static,
+        wall,
+        ok,
+        f"; tip drop {drop:.2f} mm ({drop / reference - 1:+.2%})",
+        model=model,
+    )
     if not args.skip_dr:
         relaxed, wall, ok = timed(
             DynamicRelaxation(increments=5, tol=1e-5, max_iterations=args.dr_limit), model
@@ -130,7 +211,39 @@ def main(argv=None) -> None:
             wall,
             ok,
             f"; tip at x = {x:.2f} ({x / radius - 1:+.2%}), z = {z:.2f} ({z / radius - 1:+.2%})",
+            model=model,
         )
+
+    model, mesh = bias_extension(args.bias_cells)
+    expected = np.degrees(specimens.pin_jointed_shear(200.0, 100.0, 30.0))
+    print(
+        f"4. Bias extension, {len(mesh.triangles)} triangles, 1200 N/mm fibres, pulled 30 mm "
+        f"(pin-jointed net: {expected:.2f} deg in the central zone):"
+    )
+    result, wall, ok = timed(Static(increments=10), model)
+    shear = central_shear(result, mesh)
+    describe(
+        "Static",
+        result,
+        wall,
+        ok,
+        f"; central shear {shear:.2f} deg ({shear / expected - 1:+.2%}), reached "
+        f"{30.0 * result.frames[-1].load_factor:.1f} mm",
+        model=model,
+    )
+
+    model = von_mises_truss()
+    print("5. Von Mises truss through a soft spring, arc length (two limit points):")
+    result, wall, ok = timed(Static(increments=12, path="arc_length"), model)
+    describe(
+        "Static, arc length",
+        result,
+        wall,
+        ok,
+        f"; {len(result.frames) - 1} increments, limit points at load factors "
+        + ", ".join(f"{value:.4f}" for value in result.info["limit_points"]),
+        model=model,
+    )
 
 
 if __name__ == "__main__":
