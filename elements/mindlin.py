@@ -11,7 +11,9 @@ lamina frame (St Venant-Kirchhoff), and MITC3 assumed transverse shear (Lee & Ba
 Struct. 82 (2004) 945) tied at the edge mid-points so that thin shells do not lock.
 
 Vectorised over the cells of a block; the material matrices at every integration point (reference
-geometry, lamina frame, Jacobian) are computed once at bind.
+geometry, lamina frame, Jacobian) are computed once at bind. The tangent is analytic and
+consistent (docs/theory.md §5.5): material and geometric Hessian of the strain energy in the
+corner positions and directors, carried to the rotation vectors of the directors.
 """
 
 from __future__ import annotations
@@ -327,7 +329,7 @@ class MindlinShellBlock(ElementBlock):
         With s = (x_1..x_3, V_1..V_3) and the level measures e_z(s) (quadratic in s), the
         Hessian of W is sum_z B_z^T D^_z B_z + sum_z sigma_z . d2e_z/ds2; the rotations enter
         through dV = psi x V and the moment m = V x dW/dV, which turn the director columns of
-        B_z into B_z^psi (V x each row part) and add the spin term of eq. (5.5.6)."""
+        B_z into B_z^psi (V x each row part) and add the spin term of eq. (5.5.5)."""
         m, nz = len(x), len(self.zeta)
         vec = self._vectors(x, v)
         cur = self._metric(vec)
@@ -360,16 +362,16 @@ class MindlinShellBlock(ElementBlock):
         # (t, a), (t', b) is G P_at P_bt'^T with P_a0 = I and P_a1 = [V_a]x.
         geometric = sigma.reshape(m, nz * 7) @ self._curvature_table.reshape(nz * 7, 36)
         geometric = geometric.reshape(m, 2, 3, 2, 3).transpose(0, 2, 1, 4, 3)  # (a, t, b, t')
-        frames = np.zeros((m, 3, 2, 3, 3))  # P_at (a, t, i, k)
-        frames[:, :, 0] = np.eye(3)
-        frames[:, :, 1, 0, 1], frames[:, :, 1, 0, 2] = -v[..., 2], v[..., 1]
-        frames[:, :, 1, 1, 0], frames[:, :, 1, 1, 2] = v[..., 2], -v[..., 0]
-        frames[:, :, 1, 2, 0], frames[:, :, 1, 2, 1] = -v[..., 1], v[..., 0]
-        stacked = frames.reshape(m, 18, 3)
+        arms = np.zeros((m, 3, 2, 3, 3))  # P_at (a, t, i, k)
+        arms[:, :, 0] = np.eye(3)
+        arms[:, :, 1, 0, 1], arms[:, :, 1, 0, 2] = -v[..., 2], v[..., 1]
+        arms[:, :, 1, 1, 0], arms[:, :, 1, 1, 2] = v[..., 2], -v[..., 0]
+        arms[:, :, 1, 2, 0], arms[:, :, 1, 2, 1] = -v[..., 1], v[..., 0]
+        stacked = arms.reshape(m, 18, 3)
         products = np.matmul(stacked, np.swapaxes(stacked, -1, -2)).reshape(blocks.shape)
         blocks += np.multiply(geometric[:, :, :, None, :, :, None], products, out=products)
         # Turning V_a also turns the arm of m_a = V_a x g_a: d m_a = (psi_a x V_a) x g_a
-        # = (V_a g_a^T - (g_a . V_a) I) psi_a (eq. 5.5.6).
+        # = (V_a g_a^T - (g_a . V_a) I) psi_a (eq. 5.5.5).
         g = director_gradient
         spin = v[..., :, None] * g[..., None, :]
         spin -= np.sum(g * v, -1)[..., None, None] * np.eye(3)
