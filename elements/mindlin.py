@@ -11,7 +11,9 @@ lamina frame (St Venant-Kirchhoff), and MITC3 assumed transverse shear (Lee & Ba
 Struct. 82 (2004) 945) tied at the edge mid-points so that thin shells do not lock.
 
 Vectorised over the cells of a block; the material matrices at every integration point (reference
-geometry, lamina frame, Jacobian) are computed once at bind.
+geometry, lamina frame, Jacobian) are computed once at bind. The tangent is analytic and
+consistent (docs/theory.md §5.5): material and geometric Hessian of the strain energy in the
+corner positions and directors, carried to the rotation vectors of the directors.
 """
 
 from __future__ import annotations
@@ -31,6 +33,20 @@ __all__ = ["MindlinShell", "MindlinShellBlock"]
 _IN_PLANE = np.array([[1 / 6, 1 / 6], [2 / 3, 1 / 6], [1 / 6, 2 / 3]])
 # MITC3 tying points A (1/2, 0), B (0, 1/2), C (1/2, 1/2): shape functions N_k there.
 _TYING_N = np.array([[0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]])
+# The seven strain measures of a thickness level (docs/theory.md §5.5), each a product
+# f (g_a . g_b) of two of the vectors (g1, g2, g3^A, g3^B, g3^C) = indices 0-4: E11 = g1.g1/2,
+# E22 = g2.g2/2, 2E12 = g1.g2 and the tying products g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C.
+_PRODUCTS = (
+    (0, 0, 0.5),
+    (1, 1, 0.5),
+    (0, 1, 1.0),
+    (0, 2, 1.0),
+    (0, 4, 1.0),
+    (1, 3, 1.0),
+    (1, 4, 1.0),
+)
+# Cells per slice of the analytic tangent (MindlinShellBlock.tangent).
+_TANGENT_SLICE = 256
 
 
 def _assumed_shear_coefficients() -> tuple[np.ndarray, np.ndarray]:
@@ -41,6 +57,60 @@ def _assumed_shear_coefficients() -> tuple[np.ndarray, np.ndarray]:
     a = np.column_stack([1 - s, s, s, -s])
     b = np.column_stack([r, -r, 1 - r, r])
     return a, b
+
+
+def _strain_maps(shear_a: np.ndarray, shear_b: np.ndarray) -> np.ndarray:
+    """L_p (P, 5, 7): the strain vector (E11, E22, 2E12, 2E13, 2E23) at in-plane point p from
+    the level measures e = (E11, E22, 2E12, dt_A1, dt_C1, dt_B2, dt_C2) of docs/theory.md §5.5
+    (dt: change of a tying product g_alpha . g3^T; 2E13 = a_p . dt, 2E23 = b_p . dt, §5.3)."""
+    maps = np.zeros((len(_IN_PLANE), 5, 7))
+    maps[:, :3, :3] = np.eye(3)
+    maps[:, 3, 3:] = shear_a
+    maps[:, 4, 3:] = shear_b
+    return maps
+
+
+def _product_coefficients(zeta: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Constant tables of the level measures e_r = f_r g_a . g_b (docs/theory.md §5.5) over the
+    18 cell numbers s = (x_1, x_2, x_3, V_1, V_2, V_3).
+
+    Each vector is linear in s, g_u = sum_k c_uk s_k, with scalar c (Z, 5, 6): g1 and g2 at the
+    level zeta, g3 at the tying points. Returns
+
+    * ``gradient`` (Z, 7, 6, 5): de_r/ds_k = sum_u gradient[r, k, u] g_u (a 3-vector), i.e.
+      f_r (c_ak g_b + c_bk g_a);
+    * ``curvature`` (Z, 7, 6, 6): d2e_r/ds_k ds_l = curvature[r, k, l] I3, i.e.
+      f_r (c_ak c_bl + c_bk c_al), constant (the measures are quadratic in s).
+    """
+    half = 0.5 * h
+    nz = len(zeta)
+    c = np.zeros((nz, 5, 6))
+    d_xi, d_eta = np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
+    c[:, 0, :3], c[:, 1, :3] = d_xi, d_eta
+    c[:, 0, 3:] = half * zeta[:, None] * d_xi
+    c[:, 1, 3:] = half * zeta[:, None] * d_eta
+    c[:, 2:, 3:] = half * _TYING_N  # g3^T = h/2 sum_k N_k(T) V_k
+    gradient = np.zeros((nz, 7, 6, 5))
+    curvature = np.zeros((nz, 7, 6, 6))
+    for r, (a, b, f) in enumerate(_PRODUCTS):
+        gradient[:, r, :, b] += f * c[:, a]
+        gradient[:, r, :, a] += f * c[:, b]
+        outer = c[:, a, :, None] * c[:, b, None, :]
+        curvature[:, r] = f * (outer + np.swapaxes(outer, -1, -2))
+    return gradient, curvature
+
+
+def _turned_gradient_table(gradient: np.ndarray) -> np.ndarray:
+    """(Z, 42, 20): row (r, k, t) of B^psi (docs/theory.md §5.5) from the 20 vectors
+    (g_u, V_1 x g_u, V_2 x g_u, V_3 x g_u), u = 0-4: de_r/du_k (t = 0) = sum_u c g_u and
+    de_r/dpsi_k (t = 1) = V_k x de_r/dV_k = sum_u c (V_k x g_u), with the c of ``gradient``
+    (Z, 7, 6, 5) from _product_coefficients."""
+    nz = len(gradient)
+    table = np.zeros((nz, 7, 3, 2, 4, 5))
+    for k in range(3):
+        table[:, :, k, 0, 0] = gradient[:, :, k]
+        table[:, :, k, 1, 1 + k] = gradient[:, :, 3 + k]
+    return table.reshape(nz, 42, 20)
 
 
 class MindlinShell(ElementType):
@@ -95,6 +165,10 @@ class MindlinShellBlock(ElementBlock):
         zeta, weights = np.polynomial.legendre.leggauss(shell.thickness_points)
         self.zeta, self.zeta_weights = zeta, weights
         self.shear_a, self.shear_b = _assumed_shear_coefficients()
+        gradient, self._curvature_table = _product_coefficients(zeta, self.h)
+        self._director_gradient_table = gradient[:, :, 3:].reshape(len(zeta), 7, 15)
+        self._turned_gradient_table = _turned_gradient_table(gradient)
+        self._level_stiffness_cache: np.ndarray | None = None
 
         x0 = np.asarray(mesh.points, dtype=float)[self.connectivity]
         v0 = np.asarray(directors, dtype=float)[self.connectivity]
@@ -217,12 +291,93 @@ class MindlinShellBlock(ElementBlock):
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
     def tangent(self, state: State, history=None) -> list[CellTangent]:
-        """Each triangle's 18 x 18 stiffness in (u, psi) of its corners, by central
-        differences of its own loads (all triangles at once, 36 evaluations)."""
+        """Each triangle's consistent 18 x 18 stiffness in (u, psi) of its corners, analytic
+        (docs/theory.md §5.5): blocks (m, 3, 6, 3, 6), N/mm, N, N mm."""
+        x = state.positions[self.connectivity]
+        v = state.directors[self.connectivity]
+        blocks = np.empty((len(x), 3, 6, 3, 6))
+        # Slices of cells: the temporaries (a few times the output) then stay small and are
+        # reused from one slice to the next instead of being mapped and page-faulted afresh,
+        # which costs more than the arithmetic on a large block.
+        for start in range(0, len(x), _TANGENT_SLICE):
+            cells = slice(start, start + _TANGENT_SLICE)
+            blocks[cells] = self._cell_tangent(x[cells], v[cells], cells)
+        return [CellTangent(self.connectivity, blocks)]
+
+    def _difference_tangent(self, state: State) -> list[CellTangent]:
+        """The same blocks by central differences of ``_cell_loads`` (36 evaluations of the
+        loads of all triangles): the reference the analytic tangent is checked against."""
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
         step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         return [CellTangent(self.connectivity, local_tangent(self._cell_loads, x, v, step))]
+
+    def _level_stiffness(self) -> np.ndarray:
+        """D^_z = sum_p L_p^T D_pz L_p (m, Z, 7, 7), N mm (docs/theory.md §5.5): the stiffness
+        of the seven level measures, the in-plane points summed out. Built at the first tangent
+        and kept (explicit dynamics never needs it)."""
+        if self._level_stiffness_cache is None:
+            maps = _strain_maps(self.shear_a, self.shear_b)[None, :, None]  # (1, P, 1, 5, 7)
+            per_point = np.swapaxes(maps, -1, -2) @ self.weighted_stiffness @ maps
+            self._level_stiffness_cache = per_point.sum(axis=1)
+        return self._level_stiffness_cache
+
+    def _cell_tangent(self, x: np.ndarray, v: np.ndarray, cells: slice) -> np.ndarray:
+        """Analytic d(force, moment)/d(u, psi) (m, 3, 6, 3, 6) of each triangle from its corner
+        positions x and unit directors v (m, 3, 3), docs/theory.md §5.5.
+
+        With s = (x_1..x_3, V_1..V_3) and the level measures e_z(s) (quadratic in s), the
+        Hessian of W is sum_z B_z^T D^_z B_z + sum_z sigma_z . d2e_z/ds2; the rotations enter
+        through dV = psi x V and the moment m = V x dW/dV, which turn the director columns of
+        B_z into B_z^psi (V x each row part) and add the spin term of eq. (5.5.5)."""
+        m, nz = len(x), len(self.zeta)
+        vec = self._vectors(x, v)
+        cur = self._metric(vec)
+        ref = {key: value[cells] for key, value in self.reference_metric.items()}
+        # Level measures e (m, Z, 7): the strains of _covariant_strains before the assumed
+        # shear spreads them over the in-plane points (§5.3).
+        e = np.empty((m, nz, 7))
+        e[..., 0] = 0.5 * (cur["11"] - ref["11"])
+        e[..., 1] = 0.5 * (cur["22"] - ref["22"])
+        e[..., 2] = cur["12"] - ref["12"]
+        e[..., 3:] = cur["tying"] - ref["tying"]
+        stiffness = self._level_stiffness()[cells]
+        sigma = np.matmul(stiffness, e[..., None])  # (m, Z, 7, 1): dW/de, N mm
+        # B^psi_z (m, Z, 7 * 18) in CellTangent column order (node, u then psi, component),
+        # each row part a sum of the vectors g_u or of their turned copies V_k x g_u
+        # (eq. 5.5.3, 5.5.5): dV_k = psi_k x V_k turns de/dV_k . dV_k into (V_k x de/dV_k) . psi_k.
+        vectors = np.empty((m, nz, 20, 3))
+        vectors[:, :, 0], vectors[:, :, 1] = vec["g1"], vec["g2"]
+        vectors[:, :, 2:5] = vec["g3"][:, None]
+        turned = cross(v[:, None, :, None, :], vectors[:, :, None, :5])  # (m, Z, 3, 5, 3)
+        vectors[:, :, 5:] = turned.reshape(m, nz, 15, 3)
+        b_psi = np.matmul(self._turned_gradient_table, vectors).reshape(m, nz, 7, 18)
+        stressed = np.matmul(stiffness, b_psi).reshape(m, nz * 7, 18)
+        blocks = np.matmul(np.swapaxes(b_psi.reshape(m, nz * 7, 18), -1, -2), stressed)
+        blocks = blocks.reshape(m, 3, 2, 3, 3, 2, 3)  # (a, u/psi, i, b, u/psi, j)
+        # dW/dV_a = sum_z sum_r sigma_r de_r/dV_a (m, 3, 3), N: needed for the spin term.
+        weights = np.matmul(np.swapaxes(sigma, -1, -2), self._director_gradient_table)
+        director_gradient = np.matmul(weights.reshape(m, nz, 3, 5), vectors[:, :, :5]).sum(1)
+        # Geometric part G (x) I3 in s (eq. 5.5.4) carried to (u, psi): the block of s slots
+        # (t, a), (t', b) is G P_at P_bt'^T with P_a0 = I and P_a1 = [V_a]x.
+        geometric = sigma.reshape(m, nz * 7) @ self._curvature_table.reshape(nz * 7, 36)
+        geometric = geometric.reshape(m, 2, 3, 2, 3).transpose(0, 2, 1, 4, 3)  # (a, t, b, t')
+        arms = np.zeros((m, 3, 2, 3, 3))  # P_at (a, t, i, k)
+        arms[:, :, 0] = np.eye(3)
+        arms[:, :, 1, 0, 1], arms[:, :, 1, 0, 2] = -v[..., 2], v[..., 1]
+        arms[:, :, 1, 1, 0], arms[:, :, 1, 1, 2] = v[..., 2], -v[..., 0]
+        arms[:, :, 1, 2, 0], arms[:, :, 1, 2, 1] = -v[..., 1], v[..., 0]
+        stacked = arms.reshape(m, 18, 3)
+        products = np.matmul(stacked, np.swapaxes(stacked, -1, -2)).reshape(blocks.shape)
+        blocks += np.multiply(geometric[:, :, :, None, :, :, None], products, out=products)
+        # Turning V_a also turns the arm of m_a = V_a x g_a: d m_a = (psi_a x V_a) x g_a
+        # = (V_a g_a^T - (g_a . V_a) I) psi_a (eq. 5.5.5).
+        g = director_gradient
+        spin = v[..., :, None] * g[..., None, :]
+        spin -= np.sum(g * v, -1)[..., None, None] * np.eye(3)
+        corner = np.arange(3)
+        blocks[:, corner, 1, :, corner, 1, :] += np.swapaxes(spin, 0, 1)  # (3, m, 3, 3)
+        return blocks.reshape(m, 3, 6, 3, 6)
 
     def _cell_loads(self, x: np.ndarray, v: np.ndarray):
         """Unscattered nodal forces and director moments (m, 3, 3) of each triangle from its
