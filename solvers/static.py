@@ -81,6 +81,9 @@ PATHS = ("load", "arc_length")
 ARMIJO = 1e-4
 SMALLEST_STEP = 1.0 / 64.0
 WATCHDOG = 4
+# A load step that leaves a limit point (at_limit="jump") may take this many times
+# max_iterations: the stable branch beyond a snap is far.
+JUMP_ITERATIONS = 5
 # Iterations an arc-length increment should take: the next step length is scaled by
 # sqrt(DESIRED_ITERATIONS / iterations taken) (Crisfield), within [1/2, 2].
 DESIRED_ITERATIONS = 5
@@ -219,9 +222,12 @@ class Static:
         return run.result(True)
 
     # ------------------------------------------------------------------ load path
-    def _load_path(self, run: _Run, phase: int) -> None:
-        """``increments`` equal steps of the load factor over [phase, phase + 1]."""
+    def _load_path(self, run: _Run, phase: int, jump: bool = False) -> None:
+        """``increments`` equal steps of the load factor over [phase, phase + 1]. ``jump``:
+        the first step leaves a limit point; the way to the stable branch beyond is long, and
+        that step may take JUMP_ITERATIONS x max_iterations Newton iterations."""
         step = 1.0 / self.increments
+        iterations_allowed = JUMP_ITERATIONS * self.max_iterations if jump else None
         for increment in range(1, self.increments + 1):
             target = phase + increment / self.increments
             if target <= run.reached + 1e-12:  # reached by an arc-length path already
@@ -232,7 +238,9 @@ class Static:
                 trial = min(target, run.reached + step)
                 start = run.predict(trial)
                 try:
-                    converged, count, ratio, history = self._newton(run, start, trial)
+                    converged, count, ratio, history = self._newton(
+                        run, start, trial, iterations_allowed
+                    )
                 except _Failed as failure:
                     cuts_here += 1
                     run.info["cuts"] += 1
@@ -245,12 +253,15 @@ class Static:
                     step = 0.5 * (trial - run.reached)
                     continue
                 iterations += count
+                iterations_allowed = None
                 run.accept(converged, trial)
                 # After a cut, grow the step back towards the nominal one.
                 step = min(1.0 / self.increments, 2.0 * step)
             run.frame(iterations, ratio, history)
 
-    def _newton(self, run: _Run, state: State, load_factor: float):
+    def _newton(
+        self, run: _Run, state: State, load_factor: float, max_iterations: int | None = None
+    ):
         """Newton-Raphson at one load factor from ``state``.
 
         Returns (converged state, iterations, final ratio, ratio per iteration starting with
@@ -268,7 +279,8 @@ class Static:
         forces = None  # the internal forces of the accepted trial, reused next iteration
         history: list[float] = []
         watchdog = _Watchdog(run, equilibrium, self.line_search)
-        for iteration in range(1, self.max_iterations + 1):
+        allowed = max_iterations or self.max_iterations
+        for iteration in range(1, allowed + 1):
             frames = dofs.frames(state.directors)
             r, ratio, forces = equilibrium.residual(state, frames, forces)
             left = equilibrium.remaining(state)
@@ -322,13 +334,7 @@ class Static:
             # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
             # load that no update removes. A full step that moves nothing (1e-9 of an element,
             # 1e-9 rad) with the residual already small is converged.
-            moved = scale * np.abs(delta)
-            if (
-                scale == 1.0
-                and ratio <= 1e-3
-                and moved[:, :3].max() <= 1e-9 * size
-                and moved[:, 3:].max(initial=0.0) <= 1e-9
-            ):
+            if _at_round_off_floor(scale, delta, ratio, size):
                 _, ratio, forces = equilibrium.residual(state, dofs.frames(state.directors))
                 history.append(ratio)
                 return run.settled(state, factor), iteration, ratio, history
@@ -337,7 +343,7 @@ class Static:
                 f"{history[-1]:.3g} (tol {self.tol:g})"
             )
         raise _Failed(
-            f"residual ratio {history[-1]:.3g} after {self.max_iterations} iterations"
+            f"residual ratio {history[-1]:.3g} after {allowed} iterations"
             + (f"; the tangent was singular: {_mechanism(model)}" if singular else "")
         )
 
@@ -391,7 +397,7 @@ class Static:
                             "stable branch with load steps",
                             force=True,
                         )
-                        self._load_path(run, phase)
+                        self._load_path(run, phase, jump=True)
                         return
                     if (
                         previous is not None
@@ -510,6 +516,14 @@ class Static:
             cap = _step_cap(model, delta)
             load_factor += cap * d_load
             state = run.place(dofs.advance(state, cap * delta, frames), load_factor)
+            if _at_round_off_floor(cap, delta, ratio, model.element_size) and abs(
+                d_load
+            ) <= 1e-9 * max(abs(prediction.load), 1e-300):
+                _, ratio, _ = run.equilibrium(load_factor).residual(
+                    state, dofs.frames(state.directors)
+                )
+                history.append(ratio)
+                return run.settled(state, factor), load_factor, iteration, ratio, history
             run.progress(
                 f"arc length: load factor {load_factor:.4g}, iteration {iteration}, residual "
                 f"ratio {ratio:.3g} (tol {self.tol:g})"
@@ -534,6 +548,19 @@ class Static:
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
+
+
+def _at_round_off_floor(scale: float, delta: np.ndarray, ratio: float, size: float) -> bool:
+    """A full Newton update delta (n, 5) that moves no translation by more than 1e-9 of an
+    element (size) and no rotation by more than 1e-9 rad, from a residual ratio already below
+    1e-3: converged at the round-off floor of the internal forces."""
+    moved = scale * np.abs(delta)
+    return (
+        scale == 1.0
+        and ratio <= 1e-3
+        and float(moved[:, :3].max(initial=0.0)) <= 1e-9 * size
+        and float(moved[:, 3:].max(initial=0.0)) <= 1e-9
+    )
 
 
 def _mechanism(model: CompiledModel) -> str:
