@@ -324,7 +324,9 @@ class Static:
                     raise _Failed(f"singular tangent stiffness: {_mechanism(model)}")
             if (factor.negative or escapes) and self.seek_stable:
                 load = equilibrium.load(frames).ravel()[index]
-                delta_free = _downhill(k_ff, rhs, delta_free, load, translation, size, push)
+                delta_free = _downhill(
+                    k_ff, rhs, delta_free, load, translation, size, push, factor.negative
+                )
             flat = left.ravel().copy()
             flat[index] = delta_free
             delta = flat.reshape(-1, N_COLUMNS)
@@ -591,7 +593,7 @@ def _constraint_root(a: np.ndarray, b: np.ndarray, c: np.ndarray, length: float)
     return max(roots, key=lambda dl: float((ac + dl * b) @ a))
 
 
-def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
+def _downhill(k_ff, rhs, delta, load, translation, size, push, negative=None) -> np.ndarray:
     """The Newton step with its components along the negative modes of K_ff turned downhill.
 
     A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
@@ -600,7 +602,7 @@ def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
     instead, at least half an element long when ``push`` (leaving a converged saddle), in the
     direction where the external load does positive work (gravity picks the buckling side).
     """
-    values, vectors = _lowest_modes(k_ff)
+    values, vectors = _lowest_modes(k_ff, negative)
     delta = delta.copy()
     for value, phi in zip(values, vectors.T):
         if value >= 0.0:
@@ -615,23 +617,37 @@ def _downhill(k_ff, rhs, delta, load, translation, size, push) -> np.ndarray:
     return delta
 
 
-def _lowest_modes(k_ff) -> tuple[np.ndarray, np.ndarray]:
-    """The (up to) 6 eigenvalues of the symmetric part of K_ff nearest zero, with their unit
-    eigenvectors (columns); empty when ARPACK fails or the matrix is tiny."""
+def _lowest_modes(k_ff, negative: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues of the symmetric part of K_ff with their unit eigenvectors (columns),
+    ascending: the ``negative`` ones (at most 6) when the inertia says there are some, else
+    the (up to) 6 nearest zero; empty when ARPACK fails.
+
+    Both come from shift-invert about 0, where an eigenvalue l maps to 1 / l: the negative
+    eigenvalues nearest zero are the smallest (most negative) 1 / l, and the eigenvalues
+    nearest zero those of largest |1 / l|. The largest negative eigenvalue of a buckled plate
+    may lie beyond several small positive ones, so asking for the nearest to zero alone can
+    miss it."""
     n = k_ff.shape[0]
     if n <= 200:  # small: all of them, densely (ARPACK needs k < n - 1)
         values, vectors = np.linalg.eigh(0.5 * (k_ff + k_ff.T).toarray())
-        return values[:6], vectors[:, :6]
-    count = 6
+        count = min(max(negative or 0, 1), 6) if negative else 6
+        return values[:count], vectors[:, :count]
     symmetric = (0.5 * (k_ff + k_ff.T)).tocsc()
+    # A fixed start vector: ARPACK's default is a random one drawn from a generator that
+    # advances with every call in the process, so the modes (and a push decided on an
+    # eigenvalue near zero) would depend on what ran before in the same process.
+    start = np.random.default_rng(0).standard_normal(n)
     try:
-        # A fixed start vector: ARPACK's default is a random one drawn from a generator that
-        # advances with every call in the process, so the modes (and a push decided on an
-        # eigenvalue near zero) would depend on what ran before in the same process.
-        start = np.random.default_rng(0).standard_normal(n)
-        return eigsh(symmetric, k=count, sigma=0.0, which="LM", v0=start)
+        if negative:
+            values, vectors = eigsh(
+                symmetric, k=min(negative, 6, n - 2), sigma=0.0, which="SA", v0=start
+            )
+        else:
+            values, vectors = eigsh(symmetric, k=6, sigma=0.0, which="LM", v0=start)
     except (RuntimeError, ArpackNoConvergence):
         return np.zeros(0), np.zeros((n, 0))
+    order = np.argsort(values)
+    return values[order], vectors[:, order]
 
 
 # Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
@@ -1027,7 +1043,7 @@ class _Run:
         model, dofs, state = self.model, self.model.dofs, self.state
         frames = dofs.frames(state.directors)
         k_ff, k_fp = self.tangent(state, frames)
-        values, vectors = _lowest_modes(k_ff)
+        values, vectors = _lowest_modes(k_ff, self.negative or 1)
         negative = np.flatnonzero(values < 0.0)
         if negative.size == 0:
             return None
