@@ -8,7 +8,8 @@
    own tangent against the coloured finite-difference tangent.
 
 4. The bias-extension test (200 x 100 mm, G986 stack, fibres at +/-45 deg, cells diamonds
-   along, pulled 30 mm): the central zone's shear angle against the pin-jointed net.
+   along, pulled 30 mm) along its flat branch: the central zone's shear angle against the
+   pin-jointed net.
 5. A von Mises truss pushed through a soft spring, along the arc length (path with two limit
    points).
 
@@ -220,7 +221,9 @@ def main(argv=None) -> None:
         f"4. Bias extension, {len(mesh.triangles)} triangles, 1200 N/mm fibres, pulled 30 mm "
         f"(pin-jointed net: {expected:.2f} deg in the central zone):"
     )
-    result, wall, ok = timed(Static(increments=10), model)
+    # The flat state becomes unstable (out-of-plane wrinkling modes: negative eigenvalues of
+    # the tangent) as the shear grows; the pin-jointed net describes the flat branch.
+    result, wall, ok = timed(Static(increments=10, seek_stable=False), model)
     shear = central_shear(result, mesh)
     describe(
         "Static",
@@ -228,7 +231,8 @@ def main(argv=None) -> None:
         wall,
         ok,
         f"; central shear {shear:.2f} deg ({shear / expected - 1:+.2%}), reached "
-        f"{30.0 * result.frames[-1].load_factor:.1f} mm",
+        f"{30.0 * result.frames[-1].load_factor:.1f} mm, negative eigenvalues at the end: "
+        f"{result.info['negative_eigenvalues'][-1]}",
         model=model,
     )
 
