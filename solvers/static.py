@@ -22,9 +22,9 @@ rotations.
 
 Each Newton iteration:
 
-- predictor: from the second increment on, the previous increment extrapolated (the secant of
-  the path, translations and director rotations), which starts the iteration near the next
-  equilibrium and so saves its first iterations;
+- predictor: on the arc-length path (and on the load path with ``predictor=True``), from the
+  second increment on, the previous increment extrapolated (the secant of the path,
+  translations and director rotations);
 - tangent: the blocks' own ``tangent`` where they give one, assembled in the generalised
   coordinates of femcore.dofs by femcore.assembly; for the other blocks, K = dF_int/dq by
   central differences with a colouring of the node graph (femcore.assembly.NodeGraph), 10 x
@@ -112,6 +112,10 @@ class Static:
         1 / increments from there to the end of the phase, which land on the stable branch
         beyond the snap (seek_stable, line search), as a test under growing load or
         displacement does. Each such limit is listed in ``info["jumps"]``.
+    predictor : load path: start each increment after the first of a phase from the previous
+        increment extrapolated (module docstring) instead of the last converged state. Off by
+        default: on the strips of the tests and benchmarks it saved nothing and cost the last
+        roll-up increment 9 iterations (the chord of a turning strip stretches it).
     seek_stable : when the tangent of a converged state has negative eigenvalues (an unstable
         equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
         settle on the stable branch. Load path: the Newton steps that meet an indefinite
@@ -156,6 +160,7 @@ class Static:
         path: str = "load",
         max_increments: int | None = None,
         at_limit: str = "follow",
+        predictor: bool = False,
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
@@ -177,6 +182,7 @@ class Static:
         if at_limit not in ("follow", "jump"):
             raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
         self.at_limit = at_limit
+        self.predictor = bool(predictor)
         self.seek_stable = bool(seek_stable)
         self.step_loads_first = bool(step_loads_first)
         self.progress = progress
@@ -215,6 +221,7 @@ class Static:
         run = _Run(self, compiled)
         phases = 2 if self.step_loads_first else 1
         for phase in range(phases):
+            run.phase = phase
             if self.path == "load":
                 self._load_path(run, phase)
             else:
@@ -1007,7 +1014,11 @@ class _Run:
     def predict(self, load_factor: float) -> State:
         """Load path: the start of the Newton iteration at ``load_factor``: the last
         increment of the same phase extrapolated (the secant), else the last state."""
-        if self.last_motion is None or self.last_motion[0] != self.phase:
+        if (
+            not self.solver.predictor
+            or self.last_motion is None
+            or self.last_motion[0] != self.phase
+        ):
             return self.state
         _, previous_load, motion = self.last_motion
         if motion.load <= 0.0:
