@@ -134,10 +134,15 @@ def generalised_blocks(part: CellTangent, maps: np.ndarray) -> np.ndarray:
         return k
     t = maps[nodes]  # (m, p, 6, 5)
     m, p = nodes.shape
-    # K T on the right, then T^T on the left, with batched matmuls (einsum is slow here).
-    right = np.matmul(k[:, :, :, :, None, :], t[:, None, None])  # (m, p, 6, p, 1, 5)
-    right = right.reshape(m, p, 6, p * N_COLUMNS)
-    left = np.matmul(np.swapaxes(t, -1, -2), right)  # (m, p, 5, 6) @ (m, p, 6, p*5)
+    # One block-diagonal T (6p x 5p) per cell, then T^T K T as two batched matmuls of whole
+    # cell matrices: many tiny (6 x 6) @ (6 x 5) products cost numpy more in overhead than in
+    # arithmetic.
+    block_t = np.zeros((m, p, 6, p, N_COLUMNS))
+    corners = np.arange(p)
+    block_t[:, corners, :, corners, :] = np.swapaxes(t, 0, 1)
+    block_t = block_t.reshape(m, 6 * p, N_COLUMNS * p)
+    right = np.matmul(k.reshape(m, 6 * p, 6 * p), block_t)
+    left = np.matmul(np.swapaxes(block_t, 1, 2), right)
     return left.reshape(m, p, N_COLUMNS, p, N_COLUMNS)
 
 
