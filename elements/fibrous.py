@@ -752,19 +752,21 @@ class FibrousShellBlock(ElementBlock):
                 hz[:, :, a, :, b, :] += f_slope[..., None, None] * outer(grads[a], grads[b])
                 hz[:, :, a, :, b, :] += f[..., None, None] * second[a][b]
 
-        # ---- H_y (m, 21, 21), y = (x_k, D_k, n): g_a = sum_k N_a[k] (x_k + zeta / 2 D_k).
+        # ---- H_w (m, 15, 15) over w = (e_1, e_2, d_1, d_2, n), e_a = x_a - x_0 and
+        # d_a = D_a - D_0, so that g_a = e_a + zeta_f / 2 d_a: the levels' blocks summed with
+        # weights (zeta_f / 2)^p, p the number of d among the row and the column.
         half = 0.5 * self.zeta
         moments = [np.einsum("f,mfaibj->maibj", half**p, hz) for p in range(3)]
-        h_y = np.zeros((m, 7, 3, 7, 3))  # blocks: x_0..x_2, D_0..D_2, n
-        for rows, p_row in ((slice(0, 3), 0), (slice(3, 6), 1)):
-            for cols, p_col in ((slice(0, 3), 0), (slice(3, 6), 1)):
-                block = _edges_to_corners(moments[p_row + p_col][:, :2, :, :2], 1)
-                h_y[:, rows, :, cols, :] = _edges_to_corners(block, 3)
-            h_y[:, rows, :, 6, :] = _edges_to_corners(moments[p_row][:, :2, :, 2], 1)
-            h_y[:, 6, :, rows, :] = _edges_to_corners(moments[p_row][:, 2, :, :2], 2)
-        h_y[:, 6, :, 6, :] = moments[0][:, 2, :, 2]
+        h_w = np.empty((m, 15, 15))
+        for rows, p_row in ((slice(0, 6), 0), (slice(6, 12), 1)):
+            for cols, p_col in ((slice(0, 6), 0), (slice(6, 12), 1)):
+                h_w[:, rows, cols] = moments[p_row + p_col][:, :2, :, :2].reshape(m, 6, 6)
+            h_w[:, rows, 12:] = moments[p_row][:, :2, :, 2].reshape(m, 6, 3)
+            h_w[:, 12:, rows] = moments[p_row][:, 2, :, :2].reshape(m, 3, 6)
+        h_w[:, 12:, 12:] = moments[0][:, 2, :, 2]
 
-        # ---- J = dy/dq, q = (x, psi, S) per corner: the blocks dD_k/d(psi_k, S_k), dn/dx_k
+        # ---- A = dw/dq (m, 15, 27), q = (x, psi, S) per corner: +-1 for e_a, the blocks
+        # dD_k/d(psi_k, S_k) for d_a, dn/dx_k for n.
         v_cross_n = cross(v, geo["node_normal"])  # dc_k/dpsi_k, (m, 3, 3)
         node_normal, sum_length = geo["node_normal"], geo["normal_sum_length"]
         cosine, h_m = geo["cosine"], geo["thickness"]
@@ -777,25 +779,26 @@ class FibrousShellBlock(ElementBlock):
         a_edge, b_edge = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
         dc_dx = np.stack([_skew(b_edge) - _skew(a_edge), -_skew(b_edge), _skew(a_edge)], axis=1)
         dn_dx = np.matmul(projector, dc_dx) / area2[:, None]  # (m, k, 3, 3)
-        # J^T H_y J by blocks: x is its own unknown, n depends on x only and D_k on (psi_k,
-        # S_k) only, so the 21 x 27 J is mostly zeros.
         d_director = np.concatenate([d_psi, d_sums], axis=-1)  # dD_k/d(psi_k, S_k), (m, 3, 3, 6)
         if self.thickness_variation:
             d_director_rows = d_director
         else:  # the moments are h_m V x dW/dD without the variation of h_m, and dW/dS = 0
             d_director_rows = np.concatenate([spin, np.zeros_like(spin)], axis=-1)
-        dn_dx_flat = dn_dx.transpose(0, 2, 1, 3).reshape(m, 3, 9)  # (m, n comp, x of corners)
-        h7 = h_y.reshape(m, 21, 7, 3)  # rows y, columns (block of y, component)
-        hj = np.empty((m, 21, 3, 9))  # H_y J, columns (corner, x | psi | S)
-        hj[..., 0:3] = h7[:, :, 0:3] + np.matmul(h7[:, :, 6], dn_dx_flat).reshape(m, 21, 3, 3)
-        hj[..., 3:9] = np.matmul(h7[:, :, 3:6].transpose(0, 2, 1, 3), d_director).transpose(
-            0, 2, 1, 3
-        )
-        hj = hj.reshape(m, 7, 3, 27)
-        hessian = np.empty((m, 3, 9, 27))
-        from_n = np.matmul(dn_dx_flat.transpose(0, 2, 1), hj[:, 6]).reshape(m, 3, 3, 27)
-        hessian[:, :, 0:3] = hj[:, 0:3] + from_n
-        hessian[:, :, 3:9] = np.matmul(d_director_rows.transpose(0, 1, 3, 2), hj[:, 3:6])
+
+        def dw_dq(d_director: np.ndarray) -> np.ndarray:
+            jac = np.zeros((m, 15, 3, 9))
+            for a in (1, 2):
+                edge = slice(3 * a - 3, 3 * a)
+                jac[:, edge, a, 0:3] = eye
+                jac[:, edge, 0, 0:3] = -eye
+                jac[:, 6 + edge.start : 6 + edge.stop, a, 3:] = d_director[:, a]
+                jac[:, 6 + edge.start : 6 + edge.stop, 0, 3:] = -d_director[:, 0]
+            jac[:, 12:, :, 0:3] = dn_dx.transpose(0, 2, 1, 3)
+            return jac.reshape(m, 15, 27)
+
+        jac = dw_dq(d_director)
+        jac_rows = jac if self.thickness_variation else dw_dq(d_director_rows)
+        hessian = np.matmul(np.swapaxes(jac_rows, 1, 2), np.matmul(h_w, jac))
         hessian = hessian.reshape(m, 3, 9, 3, 9)
         corners = np.arange(3)
 
@@ -1182,15 +1185,6 @@ def _side_geometry(x: np.ndarray) -> dict:
         "outward": outward,
         "gradient": gradient,
     }
-
-
-def _edges_to_corners(values: np.ndarray, axis: int) -> np.ndarray:
-    """Values along edges 0 -> 1 and 0 -> 2 (size 2 on ``axis``) as values at the corners
-    (size 3): -(e1 + e2), e1, e2, the transpose of g_a = x_a - x_0 (dW/dx_k = sum_a N_k,a
-    dW/dg_a, and likewise for each axis of a Hessian)."""
-    first = np.take(values, 0, axis=axis)
-    second = np.take(values, 1, axis=axis)
-    return np.stack([-(first + second), first, second], axis=axis)
 
 
 def _skew(w: np.ndarray) -> np.ndarray:
