@@ -857,10 +857,12 @@ class FibrousShellBlock(ElementBlock):
             self._pairs = _CornerPairs(self.connectivity, self.n_nodes)
         return self._pairs
 
-    def _nodal_membrane_tangent(self, state: State, step: float) -> list[TangentPart]:
+    def _nodal_membrane_tangent(
+        self, state: State, step: float
+    ) -> tuple[SparseTangent, np.ndarray]:
         """Exact stiffness of tension + shear with nodal normals (docs/theory.md §2.6): a sparse
         matrix over the nodes in 6 x 6 blocks and the cell-local translation blocks of the
-        second derivatives of the normal sums.
+        second derivatives of the normal sums (m, 3, 3, 3, 3), as in CellTangent.blocks.
 
         W = sum_e W_e(x_e, psi_e, S_e) with S_k = sum_(f around k) alpha_k^f n_f(x_f), so
         K = J^T H J + sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2: H the cells' 27 x 27 Hessians in
@@ -896,7 +898,7 @@ class FibrousShellBlock(ElementBlock):
         gradient = self._cell_gradient(x, v, sums)
         pull = self._free_sums(self.scatter.vectors(gradient[..., 6:]))[conn]  # T_k (m, 3, 3)
         second = _stacked_tangent(_corner_normal_pull, x, pull, step)
-        return [SparseTangent(jac.T @ (h_ext @ jac)), CellTangent(conn, second)]
+        return SparseTangent(jac.T @ (h_ext @ jac)), second
 
     def tangent(self, state: State, history=None) -> list[TangentPart]:
         """Stiffness of tension + shear and of bending (Eq. 37 differentiated, see
@@ -906,18 +908,22 @@ class FibrousShellBlock(ElementBlock):
         step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         bending = self._bending_tangent(state, step)
         if self.nodal_normals:
-            return [*self._nodal_membrane_tangent(state, step), *bending]
+            sparse, second = self._nodal_membrane_tangent(state, step)
+            # The cell-local translation blocks join the bending patch's (its first 3 nodes).
+            bending.blocks[:, :3, :, :3] += second
+            return [sparse, bending]
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
         membrane = local_tangent(self._membrane_loads, x, v, step)
-        return [CellTangent(self.connectivity, membrane), *bending]
+        return [CellTangent(self.connectivity, membrane), bending]
 
-    def _bending_tangent(self, state: State, step: float) -> list[CellTangent]:
+    def _bending_tangent(self, state: State, step: float) -> CellTangent:
         """Stiffness of the bending forces F = sum_e A0 sum_a M_a(chi_a) dchi_a/dx (Eq. 37).
 
         Material part: sum_e A0 sum_a (dM_a/dchi) g_a g_a^T with g_a = dchi_a/dx = -sum_s c_as
         dtheta_s/dx over the element's patch: its own three nodes (the share D[s, k] n of
-        every side) and the three nodes of each neighbour (the neighbour's share).
+        every side) and the three nodes of each neighbour (the neighbour's share), two of
+        which are its own: six nodes (``_patch_nodes``), blocks (m, 6, 3, 6, 3).
         Geometric part: sum_s mu_s d2theta_s/dx2, i.e. each element's own share mu_s D[s, k] n
         differentiated (central differences over its three corners, the side moments mu_s
         held). The coefficients c_as are held too, as in the force (exact with
@@ -934,12 +940,15 @@ class FibrousShellBlock(ElementBlock):
         m = len(self.cell_ids)
         own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
         across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
-        g = np.concatenate([own, across.reshape(m, 2, 9, 3)], axis=2)  # (m, a, 12, 3)
-        nodes = np.concatenate(
-            [self.connectivity, self.connectivity[self._across_cell].reshape(m, 9)], axis=1
-        )
+        # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
+        # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
+        # a quarter of the size to form and to assemble.
+        nodes, slot = self._patch_nodes()
+        fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
+        g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
+        g[:, :, :3] += own  # (m, a, 6, 3)
         weight = self.reference_area[:, None] * slopes  # (m, a)
-        material = np.einsum("ma,maki,malj->mkilj", weight, g, g)
+        blocks = np.einsum("ma,maki,malj->mkilj", weight, g, g)
 
         moments = self._bending_moments(chi)
         own_mu = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
@@ -952,8 +961,24 @@ class FibrousShellBlock(ElementBlock):
             return w[..., None] * sides["normal"][:, None, :]
 
         x = state.positions[self.connectivity]
-        geometric = _stacked_tangent(share_forces, x, side_moment, step)
-        return [CellTangent(nodes, material), CellTangent(self.connectivity, geometric)]
+        blocks[:, :3, :, :3] += _stacked_tangent(share_forces, x, side_moment, step)
+        return CellTangent(nodes, blocks)
+
+    def _patch_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The six nodes of each cell's bending patch (m, 6): its corners, then across each
+        side s the neighbour's node opposite it (the cell's corner s where the side couples
+        no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
+        neighbour's corner j across side s, at s * 3 + j."""
+        conn = self.connectivity
+        other = conn[self._across_cell]  # (m, s, j)
+        slot = np.broadcast_to(3 + np.arange(3)[None, :, None], other.shape).copy()
+        for end in (_P, _Q):
+            ends = conn[:, end]  # (m, s): the side's end node
+            slot = np.where(other == ends[..., None], end[None, :, None], slot)
+        slot = np.where(self.interior_side[..., None], slot, 3 + np.arange(3)[None, :, None])
+        opposite = np.where(slot == 3 + np.arange(3)[None, :, None], other, 0).max(axis=2)
+        opposite = np.where(self.interior_side, opposite, conn)
+        return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history=None):
