@@ -26,8 +26,6 @@ Local nodes 1, 2, 3 of the paper are columns 0, 1, 2 here.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -857,9 +855,7 @@ class FibrousShellBlock(ElementBlock):
             self._pairs = _CornerPairs(self.connectivity, self.n_nodes)
         return self._pairs
 
-    def _nodal_membrane_tangent(
-        self, state: State, step: float
-    ) -> tuple[SparseTangent, np.ndarray]:
+    def _nodal_membrane_tangent(self, state: State) -> tuple[SparseTangent, np.ndarray]:
         """Exact stiffness of tension + shear with nodal normals (docs/theory.md §2.6): a sparse
         matrix over the nodes in 6 x 6 blocks and the cell-local translation blocks of the
         second derivatives of the normal sums (m, 3, 3, 3, 3), as in CellTangent.blocks.
@@ -868,8 +864,7 @@ class FibrousShellBlock(ElementBlock):
         K = J^T H J + sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2: H the cells' 27 x 27 Hessians in
         (x, psi, S) per corner (``_membrane_hessian``), J the map from (u, psi) to (u, psi, S)
         (dS_k/dx_j, the sum of d(alpha_k^f n_f)/dx_j over the cells f around k holding j,
-        exact), and T_k = dW/dS_k (the second term by central differences of the exact first
-        derivatives, cell by cell, all perturbations in one call).
+        exact), and T_k = dW/dS_k (the second term ``_corner_normal_pull_tangent``, closed form).
 
         H and J are block sparse on the node pairs of the cells (``_CornerPairs``, built once):
         their blocks are summed into that fixed pattern by one bincount each, and the product
@@ -894,30 +889,30 @@ class FibrousShellBlock(ElementBlock):
         blocks[pairs.first_cell, pairs.first_corner, pairs.first_corner, :6] += np.eye(6)
         jac = pairs.bsr(blocks, (9, 6))
 
-        # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held: central differences of the pull.
+        # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
         gradient = self._cell_gradient(x, v, sums)
         pull = self._free_sums(self.scatter.vectors(gradient[..., 6:]))[conn]  # T_k (m, 3, 3)
-        second = _stacked_tangent(_corner_normal_pull, x, pull, step)
+        second = _corner_normal_pull_tangent(x, pull)
         return SparseTangent(jac.T @ (h_ext @ jac)), second
 
     def tangent(self, state: State, history=None) -> list[TangentPart]:
         """Stiffness of tension + shear and of bending (Eq. 37 differentiated, see
         ``_bending_tangent``). Tension + shear: with element normals each cell's own 18 x 18,
         by central differences of its loads, all cells at once; with nodal normals the sparse
-        matrix of ``_nodal_membrane_tangent``."""
-        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
-        bending = self._bending_tangent(state, step)
+        matrix of ``_nodal_membrane_tangent`` (closed form, as the bending)."""
+        bending = self._bending_tangent(state)
         if self.nodal_normals:
-            sparse, second = self._nodal_membrane_tangent(state, step)
+            sparse, second = self._nodal_membrane_tangent(state)
             # The cell-local translation blocks join the bending patch's (its first 3 nodes).
             bending.blocks[:, :3, :, :3] += second
             return [sparse, bending]
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
+        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         membrane = local_tangent(self._membrane_loads, x, v, step)
         return [CellTangent(self.connectivity, membrane), bending]
 
-    def _bending_tangent(self, state: State, step: float) -> CellTangent:
+    def _bending_tangent(self, state: State) -> CellTangent:
         """Stiffness of the bending forces F = sum_e A0 sum_a M_a(chi_a) dchi_a/dx (Eq. 37).
 
         Material part: sum_e A0 sum_a (dM_a/dchi) g_a g_a^T with g_a = dchi_a/dx = -sum_s c_as
@@ -925,10 +920,10 @@ class FibrousShellBlock(ElementBlock):
         every side) and the three nodes of each neighbour (the neighbour's share), two of
         which are its own: six nodes (``_patch_nodes``), blocks (m, 6, 3, 6, 3).
         Geometric part: sum_s mu_s d2theta_s/dx2, i.e. each element's own share mu_s D[s, k] n
-        differentiated (central differences over its three corners, the side moments mu_s
-        held). The coefficients c_as are held too, as in the force (exact with
-        ``bending_geometry="reference"``; with "current" the neglected dc/dx terms are of the
-        order of the fold-angle change over the increment).
+        differentiated (``_share_tangent``, the side moments mu_s held). The coefficients c_as
+        are held too, as in the force (exact with ``bending_geometry="reference"``; with
+        "current" the neglected dc/dx terms are of the order of the fold-angle change over the
+        increment).
         """
         bend = self._bending_geometry(state.positions)
         chi, coefficients = self._curvatures(bend)
@@ -955,13 +950,8 @@ class FibrousShellBlock(ElementBlock):
         across_mu = np.where(self.interior_side, own_mu[self._across_cell, self._across_side], 0.0)
         side_moment = own_mu + across_mu
 
-        def share_forces(x, moment):
-            sides = _side_geometry(x)
-            w = np.matmul(moment[:, None, :], sides["gradient"])[:, 0]
-            return w[..., None] * sides["normal"][:, None, :]
-
         x = state.positions[self.connectivity]
-        blocks[:, :3, :, :3] += _stacked_tangent(share_forces, x, side_moment, step)
+        blocks[:, :3, :, :3] += _share_tangent(x, side_moment)
         return CellTangent(nodes, blocks)
 
     def _patch_nodes(self) -> tuple[np.ndarray, np.ndarray]:
@@ -1135,27 +1125,6 @@ class FibrousShellBlock(ElementBlock):
 
 
 # ---------------------------------------------------------------------- helpers
-def _stacked_tangent(
-    cell_force: Callable[[np.ndarray, np.ndarray], np.ndarray],
-    x: np.ndarray,
-    held: np.ndarray,
-    step: float,
-) -> np.ndarray:
-    """Central-difference stiffness (m, k, 3, k, 3) of a cell-local force of the corners,
-    ``cell_force(x, held) -> (M, k, 3)`` from positions x (M, k, 3) and per-cell data ``held``
-    (M, ...) that does not vary, as ``elements.base.local_tangent`` gives it (the same
-    differences, step ``step`` mm), but with the 2 x 3k perturbed copies of all m cells
-    stacked along the cell axis into one call: on small meshes the per-call overhead of 6k
-    calls outweighs the arithmetic."""
-    m, k, _ = x.shape
-    shift = step * np.eye(3 * k).reshape(3 * k, 1, k, 3)
-    stacked = np.concatenate([x[None] + shift, x[None] - shift]).reshape(-1, k, 3)
-    copies = np.broadcast_to(held[None], (6 * k,) + held.shape).reshape((-1,) + held.shape[1:])
-    loads = cell_force(stacked, copies).reshape(2, 3 * k, m, k, 3)
-    difference = (loads[0] - loads[1]) / (2.0 * step)  # (node * comp, m, k, 3)
-    return difference.reshape(k, 3, m, k, 3).transpose(2, 3, 4, 0, 1)
-
-
 class _CornerPairs:
     """The node pairs (i, j) that share a cell, as the block structure of sparse matrices
     over the nodes whose blocks are sums of per-cell blocks (a BSR pattern, built once).
@@ -1297,6 +1266,91 @@ def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     g = np.sum(geo["angle"][..., None] * pull, axis=1)
     g = (g - np.sum(g * n, axis=1)[:, None] * n) / geo["size"][:, None]
     return force + _cross_product_pull(x, g)
+
+
+def _share_tangent(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
+    """d/dx of each element's own share of the bending forces, sum_s mu_s D[s, k] n (Eq. 37),
+    with the side moments mu_s (m, 3) held: (m, 3, 3, 3, 3), N/mm. The formulas of
+    ``_side_geometry`` differentiated in the 9 unit directions of the corners, all cells at
+    once (directions on axis 1)."""
+    sides = _side_geometry(x)
+    n, area2 = sides["normal"][:, None], sides["double_area"][:, None, None]
+    length, outward = sides["length"][:, None, :, None], sides["outward"][:, None]
+    directions = np.eye(9).reshape(9, 3, 3)  # (direction, corner, component)
+    a, b = x[:, None, 1] - x[:, None, 0], x[:, None, 2] - x[:, None, 0]
+    da, db = directions[:, 1] - directions[:, 0], directions[:, 2] - directions[:, 0]
+    dc = cross(da, b) + cross(a, db)  # (m, 9, 3)
+    d_area2 = np.sum(n * dc, axis=-1)[..., None]
+    dn = (dc - d_area2 * n) / area2
+    nn, dnn = n[:, :, None], dn[:, :, None]
+    side = (x[:, _Q] - x[:, _P])[:, None]  # (m, 1, s, 3)
+    d_side = directions[:, _Q] - directions[:, _P]  # (9, s, 3)
+    d_length = np.sum(side * d_side, axis=-1)[..., None] / length
+    d_outward = (cross(d_side, nn) + cross(side, dnn)) / length - outward * d_length / length
+    grad_n = cross(nn, side) / area2[..., None]  # grad N_k, (m, 1, k, 3)
+    d_grad_n = (cross(dnn, side) + cross(nn, d_side)) / area2[..., None] - grad_n * (
+        d_area2[..., None] / area2[..., None]
+    )
+    swap = (0, 1, 3, 2)
+    d_gradient = -(
+        np.matmul(d_outward, grad_n.transpose(swap)) + np.matmul(outward, d_grad_n.transpose(swap))
+    )  # dD[s, k], (m, 9, s, k)
+    w = np.matmul(side_moment[:, None, :], sides["gradient"])[:, 0][:, None, :, None]
+    dw = np.matmul(side_moment[:, None, None, :], d_gradient)[:, :, 0][..., None]
+    force = dw * nn + w * dnn  # (m, 9, k, 3)
+    return force.reshape(len(x), 3, 3, 3, 3).transpose(0, 3, 4, 1, 2)
+
+
+def _corner_normal_pull_tangent(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
+    """d(``_corner_normal_pull``(x, pull))/dx with ``pull`` (m, 3, 3) held: the stiffness
+    (m, 3, 3, 3, 3) of the normal sums' second derivatives sum_k pull_k . d2(alpha_k n)/dx2,
+    N (per unit of the sums). Its formulas differentiated in the 9 unit directions of the
+    corners, all cells at once (directions on axis 1)."""
+    geo = _corner_geometry(x)
+    n, size, angle = geo["normal"][:, None], geo["size"][:, None, None], geo["angle"][:, None]
+    directions = np.eye(9).reshape(9, 3, 3)  # (direction, corner, component)
+    a, b = x[:, None, 1] - x[:, None, 0], x[:, None, 2] - x[:, None, 0]  # (m, 1, 3)
+    da, db = directions[:, 1] - directions[:, 0], directions[:, 2] - directions[:, 0]
+    dc = cross(da, b) + cross(a, db)  # (m, 9, 3)
+    d_size = np.sum(n * dc, axis=-1)[..., None]
+    dn = (dc - d_size * n) / size
+    u = (x[:, [1, 2, 0]] - x)[:, None]  # (m, 1, corner, 3)
+    w = (x[:, [2, 0, 1]] - x)[:, None]
+    du = directions[:, [1, 2, 0]] - directions  # (9, corner, 3)
+    dw = directions[:, [2, 0, 1]] - directions
+    d_next, d_prev = geo["d_next"][:, None], geo["d_prev"][:, None]
+    d_angle = np.sum(d_next * du + d_prev * dw, axis=-1)  # (m, 9, corner)
+    nn, dnn = n[:, :, None], dn[:, :, None]
+    u2 = np.sum(u * u, axis=-1)[..., None]
+    w2 = np.sum(w * w, axis=-1)[..., None]
+    # d_next = -(n x u) / |u|^2 and d_prev = -(w x n) / |w|^2, differentiated.
+    dd_next = (
+        -(cross(dnn, u) + cross(nn, du)) / u2
+        - 2.0 * d_next * np.sum(u * du, axis=-1)[..., None] / u2
+    )
+    dd_prev = (
+        -(cross(dw, nn) + cross(w, dnn)) / w2
+        - 2.0 * d_prev * np.sum(w * dw, axis=-1)[..., None] / w2
+    )
+    held = pull[:, None]  # (m, 1, corner, 3)
+    weight = np.sum(held * nn, axis=-1)[..., None]
+    d_weight = np.sum(held * dnn, axis=-1)[..., None]
+    next_ = d_weight * d_next + weight * dd_next  # on node k + 1
+    prev = d_weight * d_prev + weight * dd_prev  # on node k + 2
+    force = -(next_ + prev) + np.roll(next_, 1, axis=2) + np.roll(prev, 2, axis=2)
+    g0 = np.sum(angle[..., None] * held, axis=2)  # (m, 1, 3)
+    dg0 = np.sum(d_angle[..., None] * held, axis=2)  # (m, 9, 3)
+    along = np.sum(g0 * n, axis=-1)[..., None]
+    g = (g0 - along * n) / size
+    dg = (
+        dg0
+        - (np.sum(dg0 * n, axis=-1)[..., None] + np.sum(g0 * dn, axis=-1)[..., None]) * n
+        - along * dn
+    ) / size - g * d_size / size
+    d_along_a = cross(db, g) + cross(b, dg)
+    d_along_b = cross(dg, a) + cross(g, da)
+    force = force + np.stack([-(d_along_a + d_along_b), d_along_a, d_along_b], axis=2)
+    return force.reshape(len(x), 3, 3, 3, 3).transpose(0, 3, 4, 1, 2)
 
 
 def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:
