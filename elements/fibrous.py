@@ -876,18 +876,13 @@ class FibrousShellBlock(ElementBlock):
         sums = self._normal_sums(state.positions)[conn]
         pairs = self._corner_pairs()
         hessian = self._membrane_hessian(x, v, sums)  # (m, 3, 9, 3, 9)
-        h_ext = pairs.bsr(hessian.transpose(0, 1, 3, 2, 4), (9, 9))
+        h_ext = pairs.hessian(hessian)
 
         # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
         # corners of f.
         _, ds_dx = _corner_normals(x, jacobian=True)  # (m, corner k, S comp, node j, x comp)
         ds_dx = ds_dx * ~self.wall_nodes[conn][:, :, None, None, None]
-        blocks = np.zeros((len(conn), 3, 3, 9, 6))
-        blocks[:, :, :, 6:, :3] = ds_dx.transpose(0, 1, 3, 2, 4)
-        # The identity of (u, psi) once per node: on the diagonal pair of the cell that
-        # ``_CornerPairs`` names for it.
-        blocks[pairs.first_cell, pairs.first_corner, pairs.first_corner, :6] += np.eye(6)
-        jac = pairs.bsr(blocks, (9, 6))
+        jac = pairs.jacobian(ds_dx)
 
         # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
         gradient = self._cell_gradient(x, v, sums)
@@ -1133,6 +1128,8 @@ class _CornerPairs:
     indptr, indices : the BSR structure, pairs sorted by row then column.
     first_cell, first_corner : (nodes of the block,) a cell holding each node and the corner
         there, so that a per-node block is added exactly once.
+    hessian_index, jacobian_index, identity_index : positions in the BSR data of the entries
+        of ``hessian`` and ``jacobian``.
     """
 
     def __init__(self, connectivity: np.ndarray, n_nodes: int):
@@ -1147,16 +1144,36 @@ class _CornerPairs:
         _, first = np.unique(connectivity.ravel(), return_index=True)
         self.first_cell, self.first_corner = np.divmod(first, 3)
 
-    def bsr(self, blocks: np.ndarray, size: tuple[int, int]) -> sp.bsr_matrix:
-        """The BSR matrix (size[0] n, size[1] n) of the per-cell blocks (m, 3, 3, r, c) summed
-        on their node pairs (the entries of a pair in several cells add up)."""
-        r, c = size
-        index = (self.slot.reshape(-1, 1) * (r * c) + np.arange(r * c)).ravel()
-        data = np.bincount(index, blocks.ravel(), minlength=self.n_pairs * r * c)
+        # Where each entry of the per-cell arrays lands in the BSR data, in the layouts the
+        # tangent forms them (so that a call is one bincount, with no transposed copy):
+        # the Hessians (m, k, 9, l, 9) and the Jacobians dS_k/dx_j (m, k, 3, j, 3), whose
+        # blocks (9 x 6) hold them in rows 6-8, columns 0-2.
+        slot = self.slot[:, :, None, :, None]
+        self.hessian_index = (slot * 81 + np.arange(9)[:, None, None] * 9 + np.arange(9)).ravel()
+        rows = 6 + np.arange(3)[:, None, None]
+        self.jacobian_index = (slot * 54 + rows * 6 + np.arange(3)).ravel()
+        # The identity of (u, psi) on the diagonal blocks of J.
+        diagonal = self.slot[self.first_cell, self.first_corner, self.first_corner]
+        self.identity_index = (diagonal[:, None] * 54 + np.arange(6) * 7).ravel()
+
+    def _matrix(self, data: np.ndarray, r: int, c: int) -> sp.bsr_matrix:
         return sp.bsr_matrix(
             (data.reshape(-1, r, c), self.indices, self.indptr),
             shape=(r * self.n_nodes, c * self.n_nodes),
         )
+
+    def hessian(self, hessian: np.ndarray) -> sp.bsr_matrix:
+        """The (9 n, 9 n) BSR matrix of per-cell Hessians (m, 3, 9, 3, 9) in (x, psi, S) per
+        corner, summed on the node pairs."""
+        data = np.bincount(self.hessian_index, hessian.ravel(), minlength=self.n_pairs * 81)
+        return self._matrix(data, 9, 9)
+
+    def jacobian(self, ds_dx: np.ndarray) -> sp.bsr_matrix:
+        """The (9 n, 6 n) BSR matrix J from (u, psi) to (u, psi, S): the identity, and the
+        per-cell dS_k/dx_j (m, k, 3, j, 3) summed on the node pairs."""
+        data = np.bincount(self.jacobian_index, ds_dx.ravel(), minlength=self.n_pairs * 54)
+        data[self.identity_index] += 1.0
+        return self._matrix(data, 9, 6)
 
 
 def _side_geometry(x: np.ndarray) -> dict:
