@@ -657,21 +657,25 @@ class FibrousShellBlock(ElementBlock):
         force, moment, d_sums = self._layer_forces(geo, *loads)
         return np.concatenate([force, moment, d_sums], axis=-1)
 
-    def _membrane_hessian(self, x: np.ndarray, v: np.ndarray, sums: np.ndarray) -> np.ndarray:
+    def _membrane_hessian(
+        self, x: np.ndarray, v: np.ndarray, sums: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """d(``_cell_gradient``)/d(x, psi, S) of every cell (m, 3, 9, 3, 9), with nodal normals:
         row (corner, dW/dx | dW/dpsi | dW/dS), column (corner, x | psi | S); N/mm, N, N mm and
-        per unit of S (the sums are angle-weighted normals, rad).
+        per unit of S (the sums are angle-weighted normals, rad). Also the gradient's dW/dS
+        (m, 3, 3), N mm, from the same loads.
 
-        The cell energy reaches the 27 unknowns through y = (x_k, D_k = h_m^k V_k, n), 21
-        numbers: g_a^f = x_a - x_0 + zeta_f / 2 (D_a - D_0) at each level f, and n the element
-        normal. So the stiffness is J^T H_y J plus the terms of the second derivatives of y:
-        H_y from the 9 x 9 derivatives of each level's loads (P_1, P_2, dW/dn) in (g_1, g_2, n),
-        summed over the levels with weights 1, zeta_f / 2, (zeta_f / 2)^2; J = dy/dq (a
-        director turns as dV = dpsi x V); the second derivatives of n(x) contracted with dW/dn
-        and of D_k(psi_k, S_k) with dW/dD_k. Every term is the derivative of the gradient's own
+        The cell energy reaches the 27 unknowns q through w = (e_a, d_a, n), 15 numbers:
+        g_a^f = e_a + zeta_f / 2 d_a at each level f, with the edges e_a = x_a - x_0, the
+        director offsets d_a = D_a - D_0 (D_k = h_m^k V_k) and n the element normal. So the
+        stiffness is A^T H_w A plus the terms of the second derivatives of w: H_w from the
+        9 x 9 derivatives of each level's loads (P_1, P_2, dW/dn) in (g_1, g_2, n), summed over
+        the levels with weights 1, zeta_f / 2, (zeta_f / 2)^2; A = dw/dq (a director turns as
+        dV = dpsi x V); the second derivatives of n(x) contracted with dW/dn and of
+        D_k(psi_k, S_k) with dW/dD_k. Every term is the derivative of the gradient's own
         formulas (with ``thickness_variation=False``, of its moments without the h_m term), so
         this is what central differences of ``_cell_gradient`` converge to, in a few batched
-        products instead of 54 evaluations.
+        products instead of 54 evaluations of it.
         """
         geo = self._cell_geometry(x, v, True, sums)
         strain = self._strains(geo)
@@ -772,12 +776,12 @@ class FibrousShellBlock(ElementBlock):
         dc_ds = (v - cosine[..., None] * node_normal) / sum_length[..., None]  # dc_k/dS_k
         spin = -h_m[..., None, None] * _skew(v)  # h dpsi x V
         d_psi = spin + dh_dc * outer(v, v_cross_n)  # dD_k/dpsi_k (m, 3, 3, 3)
-        d_sums = dh_dc * outer(v, dc_ds)  # dD_k/dS_k
+        d_by_sums = dh_dc * outer(v, dc_ds)  # dD_k/dS_k
         area2 = geo["double_area"][:, None, None]
         a_edge, b_edge = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
         dc_dx = np.stack([_skew(b_edge) - _skew(a_edge), -_skew(b_edge), _skew(a_edge)], axis=1)
         dn_dx = np.matmul(projector, dc_dx) / area2[:, None]  # (m, k, 3, 3)
-        d_director = np.concatenate([d_psi, d_sums], axis=-1)  # dD_k/d(psi_k, S_k), (m, 3, 3, 6)
+        d_director = np.concatenate([d_psi, d_by_sums], axis=-1)  # dD_k/d(psi_k, S_k), (m, 3, 3, 6)
         if self.thickness_variation:
             d_director_rows = d_director
         else:  # the moments are h_m V x dW/dD without the variation of h_m, and dW/dS = 0
@@ -847,7 +851,8 @@ class FibrousShellBlock(ElementBlock):
             ) * (dv - d_cos * nn - cos4 * d_nn)
         explicit = np.concatenate([d_moment, d_dsums], axis=-1)  # (m, 6 in, 3 corners, 6 out)
         hessian[:, corners, 3:, corners, 3:] += explicit.transpose(2, 0, 3, 1)
-        return hessian
+        _, _, d_sums_gradient = self._layer_forces(geo, p1, p2, normal_load)
+        return hessian, d_sums_gradient
 
     def _corner_pairs(self) -> _CornerPairs:
         """The node-pair pattern of the sparse membrane tangent (built at its first use)."""
@@ -875,7 +880,7 @@ class FibrousShellBlock(ElementBlock):
         v = state.directors[conn]
         sums = self._normal_sums(state.positions)[conn]
         pairs = self._corner_pairs()
-        hessian = self._membrane_hessian(x, v, sums)  # (m, 3, 9, 3, 9)
+        hessian, d_sums = self._membrane_hessian(x, v, sums)  # (m, 3, 9, 3, 9), (m, 3, 3)
         h_ext = pairs.hessian(hessian)
 
         # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
@@ -885,8 +890,7 @@ class FibrousShellBlock(ElementBlock):
         jac = pairs.jacobian(ds_dx)
 
         # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
-        gradient = self._cell_gradient(x, v, sums)
-        pull = self._free_sums(self.scatter.vectors(gradient[..., 6:]))[conn]  # T_k (m, 3, 3)
+        pull = self._free_sums(self.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
         second = _corner_normal_pull_tangent(x, pull)
         return SparseTangent(jac.T @ (h_ext @ jac)), second
 
