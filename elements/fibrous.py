@@ -942,7 +942,9 @@ class FibrousShellBlock(ElementBlock):
         g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
         g[:, :, :3] += own  # (m, a, 6, 3)
         weight = self.reference_area[:, None] * slopes  # (m, a)
-        blocks = np.einsum("ma,maki,malj->mkilj", weight, g, g)
+        flat = g.reshape(m, 2, 18)
+        blocks = np.matmul(flat.transpose(0, 2, 1) * weight[:, None, :], flat)
+        blocks = blocks.reshape(m, 6, 3, 6, 3)  # sum_a w_a g_a g_a^T
 
         moments = self._bending_moments(chi)
         own_mu = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
