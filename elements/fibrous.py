@@ -224,6 +224,7 @@ class FibrousShellBlock(ElementBlock):
             shell.fibre_angle_tolerance,
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self._pairs: _CornerPairs | None = None  # the tangent's sparse pattern, at first use
         self.shear_sign = _shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp
         )
@@ -856,7 +857,7 @@ class FibrousShellBlock(ElementBlock):
 
     def _corner_pairs(self) -> _CornerPairs:
         """The node-pair pattern of the sparse membrane tangent (built at its first use)."""
-        if getattr(self, "_pairs", None) is None:
+        if self._pairs is None:
             self._pairs = _CornerPairs(self.connectivity, self.n_nodes)
         return self._pairs
 
