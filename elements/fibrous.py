@@ -39,7 +39,7 @@ from elements.base import (
 from elements.shell_geometry import guarded_thickness, lumped_mass, nodal_thickness
 from femcore.assembly import Scatter, TangentPart
 from femcore.mesh import Mesh
-from femcore.rotation import cross, rotate_about
+from femcore.rotation import cross
 from femcore.state import State
 from femcore.topology import build_topology
 from materials.fabric import Fabric
@@ -224,6 +224,7 @@ class FibrousShellBlock(ElementBlock):
             shell.fibre_angle_tolerance,
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self._pairs: _CornerPairs | None = None  # the tangent's sparse pattern, at first use
         self.shear_sign = _shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp
         )
@@ -657,132 +658,272 @@ class FibrousShellBlock(ElementBlock):
         force, moment, d_sums = self._layer_forces(geo, *loads)
         return np.concatenate([force, moment, d_sums], axis=-1)
 
-    def _nodal_membrane_tangent(self, state: State, step: float) -> SparseTangent:
-        """Exact (to the central differences of each cell's gradient) stiffness of tension +
-        shear with nodal normals, as a sparse matrix over the nodes (docs/theory.md §2.6).
+    def _membrane_hessian(
+        self, x: np.ndarray, v: np.ndarray, sums: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """d(``_cell_gradient``)/d(x, psi, S) of every cell (m, 3, 9, 3, 9), with nodal normals:
+        row (corner, dW/dx | dW/dpsi | dW/dS), column (corner, x | psi | S); N/mm, N, N mm and
+        per unit of S (the sums are angle-weighted normals, rad). Also the gradient's dW/dS
+        (m, 3, 3), N mm, from the same loads.
+
+        The cell energy reaches the 27 unknowns q through w = (e_a, d_a, n), 15 numbers:
+        g_a^f = e_a + zeta_f / 2 d_a at each level f, with the edges e_a = x_a - x_0, the
+        director offsets d_a = D_a - D_0 (D_k = h_m^k V_k) and n the element normal. So the
+        stiffness is A^T H_w A plus the terms of the second derivatives of w: H_w from the
+        9 x 9 derivatives of each level's loads (P_1, P_2, dW/dn) in (g_1, g_2, n), summed over
+        the levels with weights 1, zeta_f / 2, (zeta_f / 2)^2; A = dw/dq (a director turns as
+        dV = dpsi x V); the second derivatives of n(x) contracted with dW/dn and of
+        D_k(psi_k, S_k) with dW/dD_k. Every term is the derivative of the gradient's own
+        formulas (with ``thickness_variation=False``, of its moments without the h_m term), so
+        this is what central differences of ``_cell_gradient`` converge to, in a few batched
+        products instead of 54 evaluations of it.
+        """
+        geo = self._cell_geometry(x, v, True, sums)
+        strain = self._strains(geo)
+        p1, p2, normal_load = self._layer_loads(geo, strain)
+        m, levels = len(x), self.zeta.size
+        eye = np.eye(3)
+        h0 = self.fabric.thickness
+        scale = self.reference_area[:, None] * self.weights[None, :]  # A0 w_f, (m, L)
+
+        # ---- each level's loads in (g1, g2, n): hz[m, f, out (P1, P2, dW/dn), i, in, j]
+        hz = np.zeros((m, levels, 3, 3, 3, 3))
+        n = geo["normal"][:, None, :]  # (m, 1, 3)
+        warp, weft = self._by_family(strain["eps1"], strain["eps2"])
+        flag = self.xi_is_warp[:, None]
+        value = self.fabric.tension.value(warp), self.fabric.tension_weft.value(weft)
+        slope = self.fabric.tension.slope(warp), self.fabric.tension_weft.slope(weft)
+        tensions = (
+            (np.where(flag, value[0], value[1]), np.where(flag, slope[0], slope[1])),
+            (np.where(flag, value[1], value[0]), np.where(flag, slope[1], slope[0])),
+        )
+        projector = eye - n[..., :, None] * n[..., None, :]  # (m, 1, 3, 3)
+        for edge, g, (t, t_slope), fibre in (
+            (0, geo["g1"], tensions[0], strain["fibre1"]),
+            (1, geo["g2"], tensions[1], strain["fibre2"]),
+        ):
+            # P = kappa r, dW/dn = -kappa s r: r = g - s n, s = g . n, kappa = A0 w T / l^2,
+            # and d kappa = beta (r . dg - s r . dn), beta = A0 w (T' - 2 T) / l^4.
+            s = np.sum(g * n, axis=-1)[..., None, None]  # (m, L, 1, 1)
+            r = g - s[..., 0] * n
+            kappa = (scale * t / fibre**2)[..., None, None]
+            beta = (scale * (t_slope - 2.0 * t) / fibre**4)[..., None, None]
+            rr = r[..., :, None] * r[..., None, :]
+            ng = n[..., :, None] * g[..., None, :]
+            hz[:, :, edge, :, edge, :] += beta * rr + kappa * projector
+            hz[:, :, edge, :, 2, :] += -s * beta * rr - kappa * (ng + s * eye)
+            hz[:, :, 2, :, edge, :] += -s * beta * rr - kappa * (
+                r[..., :, None] * n[..., None, :] + s * projector
+            )
+            hz[:, :, 2, :, 2, :] += s**2 * beta * rr - kappa * (
+                r[..., :, None] * g[..., None, :] - s * ng - s**2 * eye
+            )
+        # Shear: P_a = A0 w f(c) dc/dg_a, c = u1 . u2, f = M / s, s = sqrt(1 - c^2).
+        len1, len2 = strain["length1"][..., None], strain["length2"][..., None]
+        u1, u2 = geo["g1"] / len1, geo["g2"] / len2
+        c = np.sum(u1 * u2, axis=-1)
+        sine2 = 1.0 - c**2
+        s = np.sqrt(np.maximum(sine2, 1e-24))
+        gamma = strain["gamma"]
+        moment = self.shear_sign[:, None] * self.fabric.shear.value(gamma)
+        f = scale * moment / s
+        # d(M / s)/dc: dM/dc = M'(gamma) / s (the sign enters M and gamma); ds/dc = -c / s.
+        f_slope = scale * (
+            self.fabric.shear.slope(gamma) / s**2 + np.where(sine2 > 1e-24, moment * c / s**3, 0.0)
+        )
+        c1 = (u2 - c[..., None] * u1) / len1  # dc/dg1
+        c2 = (u1 - c[..., None] * u2) / len2
+        q1 = (eye - u1[..., :, None] * u1[..., None, :]) / len1[..., None]  # du1/dg1
+        q2 = (eye - u2[..., :, None] * u2[..., None, :]) / len2[..., None]
+        outer = lambda a, b: a[..., :, None] * b[..., None, :]  # noqa: E731
+        cc = c[..., None, None]
+        # d(dc/dg_a)/dg_b (Q_a = du_a/dg_a): -(u1 c1^T + c Q1 + c1 u1^T) / |g1| for a = b = 1,
+        # (Q2 - u1 c2^T) / |g1| for a = 1, b = 2, and likewise for a = 2.
+        second = (
+            (
+                -(outer(u1, c1) + cc * q1 + outer(c1, u1)) / len1[..., None],
+                (q2 - outer(u1, c2)) / len1[..., None],
+            ),
+            (
+                (q1 - outer(u2, c1)) / len2[..., None],
+                -(outer(u2, c2) + cc * q2 + outer(c2, u2)) / len2[..., None],
+            ),
+        )
+        grads = (c1, c2)
+        for a in range(2):
+            for b in range(2):
+                hz[:, :, a, :, b, :] += f_slope[..., None, None] * outer(grads[a], grads[b])
+                hz[:, :, a, :, b, :] += f[..., None, None] * second[a][b]
+
+        # ---- H_w (m, 15, 15) over w = (e_1, e_2, d_1, d_2, n), e_a = x_a - x_0 and
+        # d_a = D_a - D_0, so that g_a = e_a + zeta_f / 2 d_a: the levels' blocks summed with
+        # weights (zeta_f / 2)^p, p the number of d among the row and the column.
+        half = 0.5 * self.zeta
+        moments = [np.einsum("f,mfaibj->maibj", half**p, hz) for p in range(3)]
+        h_w = np.empty((m, 15, 15))
+        for rows, p_row in ((slice(0, 6), 0), (slice(6, 12), 1)):
+            for cols, p_col in ((slice(0, 6), 0), (slice(6, 12), 1)):
+                h_w[:, rows, cols] = moments[p_row + p_col][:, :2, :, :2].reshape(m, 6, 6)
+            h_w[:, rows, 12:] = moments[p_row][:, :2, :, 2].reshape(m, 6, 3)
+            h_w[:, 12:, rows] = moments[p_row][:, 2, :, :2].reshape(m, 3, 6)
+        h_w[:, 12:, 12:] = moments[0][:, 2, :, 2]
+
+        # ---- A = dw/dq (m, 15, 27), q = (x, psi, S) per corner: +-1 for e_a, the blocks
+        # dD_k/d(psi_k, S_k) for d_a, dn/dx_k for n.
+        v_cross_n = cross(v, geo["node_normal"])  # dc_k/dpsi_k, (m, 3, 3)
+        node_normal, sum_length = geo["node_normal"], geo["normal_sum_length"]
+        cosine, h_m = geo["cosine"], geo["thickness"]
+        dh_dc = np.where(geo["guarded"], 0.0, -h0 / cosine**2)[..., None, None]  # (m, 3, 1, 1)
+        dc_ds = (v - cosine[..., None] * node_normal) / sum_length[..., None]  # dc_k/dS_k
+        spin = -h_m[..., None, None] * _skew(v)  # h dpsi x V
+        d_psi = spin + dh_dc * outer(v, v_cross_n)  # dD_k/dpsi_k (m, 3, 3, 3)
+        d_by_sums = dh_dc * outer(v, dc_ds)  # dD_k/dS_k
+        area2 = geo["double_area"][:, None, None]
+        a_edge, b_edge = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+        dc_dx = np.stack([_skew(b_edge) - _skew(a_edge), -_skew(b_edge), _skew(a_edge)], axis=1)
+        dn_dx = np.matmul(projector, dc_dx) / area2[:, None]  # (m, k, 3, 3)
+        d_director = np.concatenate([d_psi, d_by_sums], axis=-1)  # dD_k/d(psi_k, S_k), (m, 3, 3, 6)
+        if self.thickness_variation:
+            d_director_rows = d_director
+        else:  # the moments are h_m V x dW/dD without the variation of h_m, and dW/dS = 0
+            d_director_rows = np.concatenate([spin, np.zeros_like(spin)], axis=-1)
+
+        def dw_dq(d_director: np.ndarray) -> np.ndarray:
+            jac = np.zeros((m, 15, 3, 9))
+            for a in (1, 2):
+                edge = slice(3 * a - 3, 3 * a)
+                jac[:, edge, a, 0:3] = eye
+                jac[:, edge, 0, 0:3] = -eye
+                jac[:, 6 + edge.start : 6 + edge.stop, a, 3:] = d_director[:, a]
+                jac[:, 6 + edge.start : 6 + edge.stop, 0, 3:] = -d_director[:, 0]
+            jac[:, 12:, :, 0:3] = dn_dx.transpose(0, 2, 1, 3)
+            return jac.reshape(m, 15, 27)
+
+        jac = dw_dq(d_director)
+        jac_rows = jac if self.thickness_variation else dw_dq(d_director_rows)
+        hessian = np.matmul(np.swapaxes(jac_rows, 1, 2), np.matmul(h_w, jac))
+        hessian = hessian.reshape(m, 3, 9, 3, 9)
+        corners = np.arange(3)
+
+        # ---- second derivatives of n(x), dW/dn held: C^T omega, omega = P dW/dn / |c|.
+        load = normal_load[:, None]
+        n_load = np.sum(load * n, axis=-1)[..., None]
+        omega = (load - n_load * n) / area2  # (m, 1, 3)
+        basis = np.eye(9).reshape(9, 3, 3)  # x_k component i, all in one cell
+        da, db = basis[:, 1] - basis[:, 0], basis[:, 2] - basis[:, 0]  # (9, 3)
+        dc = cross(da, b_edge[:, None]) + cross(a_edge[:, None], db)  # (m, 9, 3)
+        d_area2 = np.sum(n * dc, axis=-1)[..., None]
+        dn = (dc - d_area2 * n) / area2
+        d_omega = -np.sum(load * dn, axis=-1)[..., None] * n - n_load * dn - omega * d_area2
+        d_omega = d_omega / area2
+        d_along_a = cross(db, omega) + cross(b_edge[:, None], d_omega)
+        d_along_b = cross(d_omega, a_edge[:, None]) + cross(omega, da)
+        d_force = np.stack([-(d_along_a + d_along_b), d_along_a, d_along_b], axis=2)
+        hessian[:, :, 0:3, :, 0:3] += d_force.reshape(m, 3, 3, 3, 3).transpose(0, 3, 4, 1, 2)
+
+        # ---- second derivatives of D_k(psi_k, S_k), dW/dD_k = lever_k / 2 held: the same
+        # unit direction in every corner at once, each corner's terms depending on its own.
+        arm1, arm2 = np.matmul(self.zeta, p1), np.matmul(self.zeta, p2)
+        lever = np.stack([-(arm1 + arm2), arm1, arm2], axis=1)[:, None]  # (m, 1, 3, 3)
+        unit = np.eye(6)[:, None, :]  # (6, 1 (all corners), 6)
+        dv = cross(unit[..., 0:3], v[:, None])  # (m, 6, 3, 3)
+        ds_ = unit[..., 3:6]
+        vv, nn = v[:, None], node_normal[:, None]
+        length = sum_length[:, None, :, None]
+        d_length = np.sum(nn * ds_, axis=-1)[..., None]
+        d_nn = (ds_ - d_length * nn) / length
+        cos4 = cosine[:, None, :, None]
+        d_cos = np.sum(dv * nn + vv * d_nn, axis=-1)[..., None]
+        guarded = geo["guarded"][:, None, :, None]
+        dh = np.where(guarded, 0.0, -h0 * d_cos / cos4**2)
+        hm = h_m[:, None, :, None]
+        d_moment = 0.5 * (dh * cross(vv, lever) + hm * cross(dv, lever))
+        d_dsums = np.zeros(d_moment.shape)
+        if self.thickness_variation:
+            dw_dh = 0.5 * np.sum(lever * vv, axis=-1)[..., None]
+            d_dw_dh = 0.5 * np.sum(lever * dv, axis=-1)[..., None]
+            dw_dc = np.where(guarded, 0.0, -dw_dh * h0 / cos4**2)
+            d_dw_dc = np.where(
+                guarded, 0.0, -h0 * (d_dw_dh / cos4**2 - 2.0 * dw_dh * d_cos / cos4**3)
+            )
+            d_moment += d_dw_dc * cross(vv, nn) + dw_dc * (cross(dv, nn) + cross(vv, d_nn))
+            d_dsums = (d_dw_dc / length - dw_dc * d_length / length**2) * (vv - cos4 * nn) + (
+                dw_dc / length
+            ) * (dv - d_cos * nn - cos4 * d_nn)
+        explicit = np.concatenate([d_moment, d_dsums], axis=-1)  # (m, 6 in, 3 corners, 6 out)
+        hessian[:, corners, 3:, corners, 3:] += explicit.transpose(2, 0, 3, 1)
+        _, _, d_sums_gradient = self._layer_forces(geo, p1, p2, normal_load)
+        return hessian, d_sums_gradient
+
+    def _corner_pairs(self) -> _CornerPairs:
+        """The node-pair pattern of the sparse membrane tangent (built at its first use)."""
+        if self._pairs is None:
+            self._pairs = _CornerPairs(self.connectivity, self.n_nodes)
+        return self._pairs
+
+    def _nodal_membrane_tangent(self, state: State) -> tuple[SparseTangent, np.ndarray]:
+        """Exact stiffness of tension + shear with nodal normals (docs/theory.md §2.6): a sparse
+        matrix over the nodes in 6 x 6 blocks and the cell-local translation blocks of the
+        second derivatives of the normal sums (m, 3, 3, 3, 3), as in CellTangent.blocks.
 
         W = sum_e W_e(x_e, psi_e, S_e) with S_k = sum_(f around k) alpha_k^f n_f(x_f), so
         K = J^T H J + sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2: H the cells' 27 x 27 Hessians in
-        (x, psi, S) per corner (central differences, all cells at once), J the map from
-        (u, psi) to (u, psi, S) (dS_k/dx_j, the sum of d(alpha_k^f n_f)/dx_j over the cells f
-        around k holding j, exact), and T_k = dW/dS_k (the second term by central differences
-        of the exact first derivatives, cell by cell).
+        (x, psi, S) per corner (``_membrane_hessian``), J the map from (u, psi) to (u, psi, S)
+        (dS_k/dx_j, the sum of d(alpha_k^f n_f)/dx_j over the cells f around k holding j,
+        exact), and T_k = dW/dS_k (the second term ``_corner_normal_pull_tangent``, closed form).
+
+        H and J are block sparse on the node pairs of the cells (``_CornerPairs``, built once):
+        their blocks are summed into that fixed pattern by one bincount each, and the product
+        is a BSR matrix with 6 x 6 blocks.
         """
-        n = self.n_nodes
         conn = self.connectivity
         x = state.positions[conn]
         v = state.directors[conn]
         sums = self._normal_sums(state.positions)[conn]
-        sum_step = 1e-6 * np.linalg.norm(sums, axis=-1)  # (m, 3), relative to |S_k|
-        m = len(conn)
-        hessian = np.empty((m, 3, 9, 3, 9))
-        for node in range(3):
-            for comp in range(9):
-                plus_x, minus_x, plus_v, minus_v = x, x, v, v
-                plus_s, minus_s = sums, sums
-                if comp < 3:
-                    h: float | np.ndarray = step
-                    plus_x, minus_x = x.copy(), x.copy()
-                    plus_x[:, node, comp] += step
-                    minus_x[:, node, comp] -= step
-                elif comp < 6:
-                    h = 1e-6
-                    psi = np.zeros((m, 3))
-                    psi[:, comp - 3] = h
-                    plus_v, minus_v = v.copy(), v.copy()
-                    plus_v[:, node] = rotate_about(v[:, node], psi)
-                    minus_v[:, node] = rotate_about(v[:, node], -psi)
-                else:
-                    h = sum_step[:, node, None, None]
-                    plus_s, minus_s = sums.copy(), sums.copy()
-                    plus_s[:, node, comp - 6] += sum_step[:, node]
-                    minus_s[:, node, comp - 6] -= sum_step[:, node]
-                difference = self._cell_gradient(plus_x, plus_v, plus_s) - self._cell_gradient(
-                    minus_x, minus_v, minus_s
-                )
-                hessian[:, :, :, node, comp] = difference / (2.0 * h)
-        index = (9 * conn)[:, :, None] + np.arange(9)  # (m, 3, 9) extended variables
-        shape = (m, 3, 9, 3, 9)
-        h_ext = sp.csr_matrix(
-            (
-                hessian.ravel(),
-                (
-                    np.broadcast_to(index[:, :, :, None, None], shape).ravel(),
-                    np.broadcast_to(index[:, None, None], shape).ravel(),
-                ),
-            ),
-            shape=(9 * n, 9 * n),
-        )
+        pairs = self._corner_pairs()
+        hessian, d_sums = self._membrane_hessian(x, v, sums)  # (m, 3, 9, 3, 9), (m, 3, 3)
+        h_ext = pairs.hessian(hessian)
 
         # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
         # corners of f.
         _, ds_dx = _corner_normals(x, jacobian=True)  # (m, corner k, S comp, node j, x comp)
-        ident_rows = (9 * np.arange(n))[:, None] + np.arange(6)
-        ident_cols = (6 * np.arange(n))[:, None] + np.arange(6)
-        shape_j = (m, 3, 3, 3, 3)
-        s_rows = np.broadcast_to(
-            ((9 * conn)[:, :, None] + 6 + np.arange(3))[:, :, :, None, None], shape_j
-        )
-        s_cols = np.broadcast_to(((6 * conn)[:, :, None] + np.arange(3))[:, None, None], shape_j)
-        jac = sp.csr_matrix(
-            (
-                np.concatenate(
-                    [
-                        np.ones(ident_rows.size),
-                        (ds_dx * ~self.wall_nodes[conn][:, :, None, None, None]).ravel(),
-                    ]
-                ),
-                (
-                    np.concatenate([ident_rows.ravel(), s_rows.ravel()]),
-                    np.concatenate([ident_cols.ravel(), s_cols.ravel()]),
-                ),
-            ),
-            shape=(9 * n, 6 * n),
-        )
+        ds_dx = ds_dx * ~self.wall_nodes[conn][:, :, None, None, None]
+        jac = pairs.jacobian(ds_dx)
 
-        # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held: central differences of the pull.
-        gradient = self._cell_gradient(x, v, sums)
-        pull = self._free_sums(self.scatter.vectors(gradient[..., 6:]))[conn]  # T_k (m, 3, 3)
-        blocks = local_tangent(lambda xx, _: (_corner_normal_pull(xx, pull), None), x, None, step)
-        node_index = (6 * conn)[:, :, None] + np.arange(3)  # (m, 3, 3)
-        shape_c = (m, 3, 3, 3, 3)
-        second = sp.csr_matrix(
-            (
-                blocks.ravel(),
-                (
-                    np.broadcast_to(node_index[:, :, :, None, None], shape_c).ravel(),
-                    np.broadcast_to(node_index[:, None, None], shape_c).ravel(),
-                ),
-            ),
-            shape=(6 * n, 6 * n),
-        )
-        return SparseTangent((jac.T @ h_ext @ jac + second).tocsr())
+        # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
+        pull = self._free_sums(self.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
+        second = _corner_normal_pull_tangent(x, pull)
+        return SparseTangent(jac.T @ (h_ext @ jac)), second
 
     def tangent(self, state: State, history=None) -> list[TangentPart]:
         """Stiffness of tension + shear and of bending (Eq. 37 differentiated, see
         ``_bending_tangent``). Tension + shear: with element normals each cell's own 18 x 18,
         by central differences of its loads, all cells at once; with nodal normals the sparse
-        matrix of ``_nodal_membrane_tangent``."""
-        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
-        bending = self._bending_tangent(state, step)
+        matrix of ``_nodal_membrane_tangent`` (closed form, as the bending)."""
+        bending = self._bending_tangent(state)
         if self.nodal_normals:
-            return [self._nodal_membrane_tangent(state, step), *bending]
+            sparse, second = self._nodal_membrane_tangent(state)
+            # The cell-local translation blocks join the bending patch's (its first 3 nodes).
+            bending.blocks[:, :3, :, :3] += second
+            return [sparse, bending]
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
+        step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         membrane = local_tangent(self._membrane_loads, x, v, step)
-        return [CellTangent(self.connectivity, membrane), *bending]
+        return [CellTangent(self.connectivity, membrane), bending]
 
-    def _bending_tangent(self, state: State, step: float) -> list[CellTangent]:
+    def _bending_tangent(self, state: State) -> CellTangent:
         """Stiffness of the bending forces F = sum_e A0 sum_a M_a(chi_a) dchi_a/dx (Eq. 37).
 
         Material part: sum_e A0 sum_a (dM_a/dchi) g_a g_a^T with g_a = dchi_a/dx = -sum_s c_as
         dtheta_s/dx over the element's patch: its own three nodes (the share D[s, k] n of
-        every side) and the three nodes of each neighbour (the neighbour's share).
+        every side) and the three nodes of each neighbour (the neighbour's share), two of
+        which are its own: six nodes (``_patch_nodes``), blocks (m, 6, 3, 6, 3).
         Geometric part: sum_s mu_s d2theta_s/dx2, i.e. each element's own share mu_s D[s, k] n
-        differentiated (central differences over its three corners, the side moments mu_s
-        held). The coefficients c_as are held too, as in the force (exact with
-        ``bending_geometry="reference"``; with "current" the neglected dc/dx terms are of the
-        order of the fold-angle change over the increment).
+        differentiated (``_share_tangent``, the side moments mu_s held). The coefficients c_as
+        are held too, as in the force (exact with ``bending_geometry="reference"``; with
+        "current" the neglected dc/dx terms are of the order of the fold-angle change over the
+        increment).
         """
         bend = self._bending_geometry(state.positions)
         chi, coefficients = self._curvatures(bend)
@@ -794,26 +935,42 @@ class FibrousShellBlock(ElementBlock):
         m = len(self.cell_ids)
         own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
         across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
-        g = np.concatenate([own, across.reshape(m, 2, 9, 3)], axis=2)  # (m, a, 12, 3)
-        nodes = np.concatenate(
-            [self.connectivity, self.connectivity[self._across_cell].reshape(m, 9)], axis=1
-        )
+        # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
+        # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
+        # a quarter of the size to form and to assemble.
+        nodes, slot = self._patch_nodes()
+        fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
+        g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
+        g[:, :, :3] += own  # (m, a, 6, 3)
         weight = self.reference_area[:, None] * slopes  # (m, a)
-        material = np.einsum("ma,maki,malj->mkilj", weight, g, g)
+        flat = g.reshape(m, 2, 18)
+        blocks = np.matmul(flat.transpose(0, 2, 1) * weight[:, None, :], flat)
+        blocks = blocks.reshape(m, 6, 3, 6, 3)  # sum_a w_a g_a g_a^T
 
         moments = self._bending_moments(chi)
         own_mu = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
         across_mu = np.where(self.interior_side, own_mu[self._across_cell, self._across_side], 0.0)
         side_moment = own_mu + across_mu
 
-        def share_forces(x, _):
-            sides = _side_geometry(x)
-            w = np.matmul(side_moment[:, None, :], sides["gradient"])[:, 0]
-            return w[..., None] * sides["normal"][:, None, :], None
-
         x = state.positions[self.connectivity]
-        geometric = local_tangent(share_forces, x, None, step)
-        return [CellTangent(nodes, material), CellTangent(self.connectivity, geometric)]
+        blocks[:, :3, :, :3] += _share_tangent(x, side_moment)
+        return CellTangent(nodes, blocks)
+
+    def _patch_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The six nodes of each cell's bending patch (m, 6): its corners, then across each
+        side s the neighbour's node opposite it (the cell's corner s where the side couples
+        no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
+        neighbour's corner j across side s, at s * 3 + j."""
+        conn = self.connectivity
+        other = conn[self._across_cell]  # (m, s, j)
+        slot = np.broadcast_to(3 + np.arange(3)[None, :, None], other.shape).copy()
+        for end in (_P, _Q):
+            ends = conn[:, end]  # (m, s): the side's end node
+            slot = np.where(other == ends[..., None], end[None, :, None], slot)
+        slot = np.where(self.interior_side[..., None], slot, 3 + np.arange(3)[None, :, None])
+        opposite = np.where(slot == 3 + np.arange(3)[None, :, None], other, 0).max(axis=2)
+        opposite = np.where(self.interior_side, opposite, conn)
+        return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history=None):
@@ -970,6 +1127,62 @@ class FibrousShellBlock(ElementBlock):
 
 
 # ---------------------------------------------------------------------- helpers
+class _CornerPairs:
+    """The node pairs (i, j) that share a cell, as the block structure of sparse matrices
+    over the nodes whose blocks are sums of per-cell blocks (a BSR pattern, built once).
+
+    slot : (m, 3, 3) int, the pair of (corner k, corner l) of each cell.
+    indptr, indices : the BSR structure, pairs sorted by row then column.
+    first_cell, first_corner : (nodes of the block,) a cell holding each node and the corner
+        there, so that a per-node block is added exactly once.
+    hessian_index, jacobian_index, identity_index : positions in the BSR data of the entries
+        of ``hessian`` and ``jacobian``.
+    """
+
+    def __init__(self, connectivity: np.ndarray, n_nodes: int):
+        m = len(connectivity)
+        rows = np.broadcast_to(connectivity[:, :, None], (m, 3, 3)).ravel()
+        cols = np.broadcast_to(connectivity[:, None, :], (m, 3, 3)).ravel()
+        keys, slot = np.unique(rows * n_nodes + cols, return_inverse=True)
+        self.n_nodes, self.n_pairs = n_nodes, keys.size
+        self.slot = slot.reshape(m, 3, 3)
+        pair_rows, self.indices = np.divmod(keys, n_nodes)
+        self.indptr = np.searchsorted(pair_rows, np.arange(n_nodes + 1))
+        _, first = np.unique(connectivity.ravel(), return_index=True)
+        self.first_cell, self.first_corner = np.divmod(first, 3)
+
+        # Where each entry of the per-cell arrays lands in the BSR data, in the layouts the
+        # tangent forms them (so that a call is one bincount, with no transposed copy):
+        # the Hessians (m, k, 9, l, 9) and the Jacobians dS_k/dx_j (m, k, 3, j, 3), whose
+        # blocks (9 x 6) hold them in rows 6-8, columns 0-2.
+        slot = self.slot[:, :, None, :, None]
+        self.hessian_index = (slot * 81 + np.arange(9)[:, None, None] * 9 + np.arange(9)).ravel()
+        rows = 6 + np.arange(3)[:, None, None]
+        self.jacobian_index = (slot * 54 + rows * 6 + np.arange(3)).ravel()
+        # The identity of (u, psi) on the diagonal blocks of J.
+        diagonal = self.slot[self.first_cell, self.first_corner, self.first_corner]
+        self.identity_index = (diagonal[:, None] * 54 + np.arange(6) * 7).ravel()
+
+    def _matrix(self, data: np.ndarray, r: int, c: int) -> sp.bsr_matrix:
+        return sp.bsr_matrix(
+            (data.reshape(-1, r, c), self.indices, self.indptr),
+            shape=(r * self.n_nodes, c * self.n_nodes),
+        )
+
+    def hessian(self, hessian: np.ndarray) -> sp.bsr_matrix:
+        """The (9 n, 9 n) BSR matrix of per-cell Hessians (m, 3, 9, 3, 9) in (x, psi, S) per
+        corner, summed on the node pairs."""
+        data = np.bincount(self.hessian_index, hessian.ravel(), minlength=self.n_pairs * 81)
+        return self._matrix(data, 9, 9)
+
+    def jacobian(self, ds_dx: np.ndarray) -> sp.bsr_matrix:
+        """The (9 n, 6 n) BSR matrix J from (u, psi) to (u, psi, S): the identity, and the
+        per-cell dS_k/dx_j (m, k, 3, j, 3) summed on the node pairs."""
+        data = np.bincount(self.jacobian_index, ds_dx.ravel(), minlength=self.n_pairs * 54)
+        data[self.identity_index] += 1.0
+        return self._matrix(data, 9, 6)
+
+
 def _side_geometry(x: np.ndarray) -> dict:
     """Per-cell geometry of the sides from the corners x (m, 3, 3): unit normal n (m, 3),
     double_area (m,), side length (m, 3) and outward in-plane unit normal n^c_s (m, 3, 3), and
@@ -1077,6 +1290,91 @@ def _corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     g = np.sum(geo["angle"][..., None] * pull, axis=1)
     g = (g - np.sum(g * n, axis=1)[:, None] * n) / geo["size"][:, None]
     return force + _cross_product_pull(x, g)
+
+
+def _share_tangent(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
+    """d/dx of each element's own share of the bending forces, sum_s mu_s D[s, k] n (Eq. 37),
+    with the side moments mu_s (m, 3) held: (m, 3, 3, 3, 3), N/mm. The formulas of
+    ``_side_geometry`` differentiated in the 9 unit directions of the corners, all cells at
+    once (directions on axis 1)."""
+    sides = _side_geometry(x)
+    n, area2 = sides["normal"][:, None], sides["double_area"][:, None, None]
+    length, outward = sides["length"][:, None, :, None], sides["outward"][:, None]
+    directions = np.eye(9).reshape(9, 3, 3)  # (direction, corner, component)
+    a, b = x[:, None, 1] - x[:, None, 0], x[:, None, 2] - x[:, None, 0]
+    da, db = directions[:, 1] - directions[:, 0], directions[:, 2] - directions[:, 0]
+    dc = cross(da, b) + cross(a, db)  # (m, 9, 3)
+    d_area2 = np.sum(n * dc, axis=-1)[..., None]
+    dn = (dc - d_area2 * n) / area2
+    nn, dnn = n[:, :, None], dn[:, :, None]
+    side = (x[:, _Q] - x[:, _P])[:, None]  # (m, 1, s, 3)
+    d_side = directions[:, _Q] - directions[:, _P]  # (9, s, 3)
+    d_length = np.sum(side * d_side, axis=-1)[..., None] / length
+    d_outward = (cross(d_side, nn) + cross(side, dnn)) / length - outward * d_length / length
+    grad_n = cross(nn, side) / area2[..., None]  # grad N_k, (m, 1, k, 3)
+    d_grad_n = (cross(dnn, side) + cross(nn, d_side)) / area2[..., None] - grad_n * (
+        d_area2[..., None] / area2[..., None]
+    )
+    swap = (0, 1, 3, 2)
+    d_gradient = -(
+        np.matmul(d_outward, grad_n.transpose(swap)) + np.matmul(outward, d_grad_n.transpose(swap))
+    )  # dD[s, k], (m, 9, s, k)
+    w = np.matmul(side_moment[:, None, :], sides["gradient"])[:, 0][:, None, :, None]
+    dw = np.matmul(side_moment[:, None, None, :], d_gradient)[:, :, 0][..., None]
+    force = dw * nn + w * dnn  # (m, 9, k, 3)
+    return force.reshape(len(x), 3, 3, 3, 3).transpose(0, 3, 4, 1, 2)
+
+
+def _corner_normal_pull_tangent(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
+    """d(``_corner_normal_pull``(x, pull))/dx with ``pull`` (m, 3, 3) held: the stiffness
+    (m, 3, 3, 3, 3) of the normal sums' second derivatives sum_k pull_k . d2(alpha_k n)/dx2,
+    N (per unit of the sums). Its formulas differentiated in the 9 unit directions of the
+    corners, all cells at once (directions on axis 1)."""
+    geo = _corner_geometry(x)
+    n, size, angle = geo["normal"][:, None], geo["size"][:, None, None], geo["angle"][:, None]
+    directions = np.eye(9).reshape(9, 3, 3)  # (direction, corner, component)
+    a, b = x[:, None, 1] - x[:, None, 0], x[:, None, 2] - x[:, None, 0]  # (m, 1, 3)
+    da, db = directions[:, 1] - directions[:, 0], directions[:, 2] - directions[:, 0]
+    dc = cross(da, b) + cross(a, db)  # (m, 9, 3)
+    d_size = np.sum(n * dc, axis=-1)[..., None]
+    dn = (dc - d_size * n) / size
+    u = (x[:, [1, 2, 0]] - x)[:, None]  # (m, 1, corner, 3)
+    w = (x[:, [2, 0, 1]] - x)[:, None]
+    du = directions[:, [1, 2, 0]] - directions  # (9, corner, 3)
+    dw = directions[:, [2, 0, 1]] - directions
+    d_next, d_prev = geo["d_next"][:, None], geo["d_prev"][:, None]
+    d_angle = np.sum(d_next * du + d_prev * dw, axis=-1)  # (m, 9, corner)
+    nn, dnn = n[:, :, None], dn[:, :, None]
+    u2 = np.sum(u * u, axis=-1)[..., None]
+    w2 = np.sum(w * w, axis=-1)[..., None]
+    # d_next = -(n x u) / |u|^2 and d_prev = -(w x n) / |w|^2, differentiated.
+    dd_next = (
+        -(cross(dnn, u) + cross(nn, du)) / u2
+        - 2.0 * d_next * np.sum(u * du, axis=-1)[..., None] / u2
+    )
+    dd_prev = (
+        -(cross(dw, nn) + cross(w, dnn)) / w2
+        - 2.0 * d_prev * np.sum(w * dw, axis=-1)[..., None] / w2
+    )
+    held = pull[:, None]  # (m, 1, corner, 3)
+    weight = np.sum(held * nn, axis=-1)[..., None]
+    d_weight = np.sum(held * dnn, axis=-1)[..., None]
+    next_ = d_weight * d_next + weight * dd_next  # on node k + 1
+    prev = d_weight * d_prev + weight * dd_prev  # on node k + 2
+    force = -(next_ + prev) + np.roll(next_, 1, axis=2) + np.roll(prev, 2, axis=2)
+    g0 = np.sum(angle[..., None] * held, axis=2)  # (m, 1, 3)
+    dg0 = np.sum(d_angle[..., None] * held, axis=2)  # (m, 9, 3)
+    along = np.sum(g0 * n, axis=-1)[..., None]
+    g = (g0 - along * n) / size
+    dg = (
+        dg0
+        - (np.sum(dg0 * n, axis=-1)[..., None] + np.sum(g0 * dn, axis=-1)[..., None]) * n
+        - along * dn
+    ) / size - g * d_size / size
+    d_along_a = cross(db, g) + cross(b, dg)
+    d_along_b = cross(dg, a) + cross(g, da)
+    force = force + np.stack([-(d_along_a + d_along_b), d_along_a, d_along_b], axis=2)
+    return force.reshape(len(x), 3, 3, 3, 3).transpose(0, 3, 4, 1, 2)
 
 
 def _shear_orientation(points, connectivity, xi_is_warp, warp) -> np.ndarray:

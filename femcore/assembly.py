@@ -6,8 +6,9 @@
   loop over cells or nodes.
 - Tangent stiffness in generalised coordinates (femcore.dofs): ``tangent_matrix`` and
   ``FreeTangentAssembler`` from the elements' own tangent parts, ``CellTangent`` (dense blocks
-  per cell; the assembler caches their sparsity pattern and rebuilds it when the parts change)
-  or ``SparseTangent`` (a sparse matrix over all nodes, for couplings wider than a cell), and
+  per cell) or ``SparseTangent`` (a sparse matrix over all nodes, for couplings wider than a
+  cell; best as BSR with 6 x 6 node blocks); the assembler caches the sparsity pattern of both
+  and rebuilds it when the parts' structure changes; and
   ``finite_difference_tangent`` with its ``NodeGraph`` colouring for blocks without a tangent
   of their own.
 """
@@ -203,14 +204,29 @@ def tangent_matrix(dofs: DofManager, parts: list[TangentPart], frames: Frames) -
     return k.tocsr()
 
 
+def _node_blocks(part: SparseTangent, n_nodes: int) -> sp.bsr_matrix:
+    """The matrix of a SparseTangent as 6 x 6 node blocks (converted unless it is already)."""
+    matrix = part.matrix
+    if matrix.shape != (6 * n_nodes, 6 * n_nodes):
+        raise ValueError(
+            f"SparseTangent.matrix must be (6 n, 6 n) = ({6 * n_nodes}, {6 * n_nodes}), got "
+            f"{matrix.shape}"
+        )
+    if isinstance(matrix, sp.bsr_matrix) and matrix.blocksize == (6, 6):
+        return matrix
+    return sp.bsr_matrix(matrix, blocksize=(6, 6))
+
+
 class FreeTangentAssembler:
     """Sums element tangent parts straight into K_ff (free x free, CSC) and K_fp (free x
     prescribed, CSR).
 
-    The map from the CellTangent entries to the sparse storage is built from the parts' node
-    arrays and reused while they stay the same, so that each assembly is one bincount; when
-    they change (a contact adds or drops pairs), the map is rebuilt at the next call.
-    SparseTangent parts are transformed and sliced at every call.
+    The map from the parts' entries to the sparse storage is built from their structure (the
+    node arrays of the CellTangent parts, the 6 x 6 node-block pattern of the SparseTangent
+    parts) and reused while it stays the same, so that each assembly is a gather, the T^T K T
+    of each block, and one bincount; when it changes (a contact adds or drops pairs), the map
+    is rebuilt at the next call. A SparseTangent given as a BSR matrix with 6 x 6 blocks is
+    used as it is; any other sparse format is converted to one at every call.
     """
 
     def __init__(self, dofs: DofManager):
@@ -221,18 +237,36 @@ class FreeTangentAssembler:
         self._position[dofs.free_slots] = np.arange(self.n_free)
         self._moved = np.full(dofs.n_slots, -1)
         self._moved[dofs.prescribed_slots] = np.arange(self.n_moved)
-        self._pattern: list[tuple[np.ndarray, int]] | None = None
+        self._pattern: list[tuple[np.ndarray, ...]] | None = None
         #: How many times the sparsity pattern was (re)built.
         self.builds = 0
 
-    def _build(self, parts: list[CellTangent]) -> None:  # the CellTangent parts only
-        rows, cols = [], []
+    @staticmethod
+    def _structure(parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> list:
+        """What the map depends on: node arrays and components, block pointers and columns."""
+        return [(part.nodes, np.array(_components(part))) for part in parts] + [
+            (b.indptr, b.indices) for b in blocks
+        ]
+
+    def _build(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> None:
+        rows, cols = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
         for part in parts:
             r, c = entry_slots(part.nodes, _components(part))
             rows.append(r)
             cols.append(c)
-        rows_all = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
-        cols_all = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
+        for b in blocks:  # node blocks (i, j) -> entries (5 i + a, 5 j + c), (count, 5, 5)
+            block_rows = np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr))
+            shape = (block_rows.size, N_COLUMNS, N_COLUMNS)
+            slots = np.arange(N_COLUMNS)
+            rows.append(
+                np.broadcast_to(
+                    DofManager.slots(block_rows[:, None, None], slots[:, None]), shape
+                ).ravel()
+            )
+            cols.append(
+                np.broadcast_to(DofManager.slots(b.indices[:, None, None], slots), shape).ravel()
+            )
+        rows_all, cols_all = np.concatenate(rows), np.concatenate(cols)
         r_f, c_f, c_p = self._position[rows_all], self._position[cols_all], self._moved[cols_all]
         ff = (r_f >= 0) & (c_f >= 0)
         fp = (r_f >= 0) & (c_p >= 0)
@@ -244,16 +278,20 @@ class FreeTangentAssembler:
         self.fp_select = np.flatnonzero(fp)
         keys, self.fp_map = np.unique(r_f[fp] * moved + c_p[fp], return_inverse=True)
         self.fp_rows, self.fp_cols = np.divmod(keys, moved)
-        self._pattern = [(part.nodes.copy(), _components(part)) for part in parts]
+        self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
+        self._block_rows = [
+            np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr)) for b in blocks
+        ]
         self.builds += 1
 
-    def _same_pattern(self, parts: list[CellTangent]) -> bool:
+    def _same_pattern(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> bool:
+        structure = self._structure(parts, blocks)
         return (
             self._pattern is not None
-            and len(self._pattern) == len(parts)
+            and len(self._pattern) == len(structure)
             and all(
-                c == _components(part) and np.array_equal(nodes, part.nodes)
-                for (nodes, c), part in zip(self._pattern, parts)
+                len(old) == len(new) and all(np.array_equal(a, b) for a, b in zip(old, new))
+                for old, new in zip(self._pattern, structure)
             )
         )
 
@@ -262,20 +300,20 @@ class FreeTangentAssembler:
     ) -> tuple[sp.csc_matrix, sp.csr_matrix]:
         """(K_ff, K_fp) of the parts in the iteration's frames."""
         parts, sparse_parts = _split(all_parts)
-        if not self._same_pattern(parts):
-            self._build(parts)
+        blocks = [_node_blocks(part, self.dofs.n_nodes) for part in sparse_parts]
+        if not self._same_pattern(parts, blocks):
+            self._build(parts, blocks)
         maps = self.dofs.node_maps(frames)
-        values = np.concatenate(
-            [generalised_blocks(part, maps).ravel() for part in parts] or [np.zeros(0)]
-        )
-        ff = np.bincount(self.ff_map, values[self.ff_select], minlength=self.ff_rows.size)
+        values = [generalised_blocks(part, maps).ravel() for part in parts]
+        for b, block_rows in zip(blocks, self._block_rows):
+            # T_i^T K_ij T_j per node block, (count, 5, 5).
+            right = np.matmul(b.data, maps[b.indices])
+            values.append(np.matmul(np.swapaxes(maps[block_rows], 1, 2), right).ravel())
+        flat = np.concatenate(values or [np.zeros(0)])
+        ff = np.bincount(self.ff_map, flat[self.ff_select], minlength=self.ff_rows.size)
         k_ff = sp.csc_matrix((ff, (self.ff_rows, self.ff_cols)), shape=(self.n_free, self.n_free))
-        fp = np.bincount(self.fp_map, values[self.fp_select], minlength=self.fp_rows.size)
+        fp = np.bincount(self.fp_map, flat[self.fp_select], minlength=self.fp_rows.size)
         k_fp = sp.csr_matrix((fp, (self.fp_rows, self.fp_cols)), shape=(self.n_free, self.n_moved))
-        for part in sparse_parts:
-            k = generalised_sparse(part, maps)[self.dofs.free_slots]
-            k_ff = (k_ff + k[:, self.dofs.free_slots]).tocsc()
-            k_fp = (k_fp + k[:, self.dofs.prescribed_slots]).tocsr()
         return k_ff, k_fp
 
 

@@ -1,8 +1,9 @@
 """femcore.assembly: the sparse tangent of element parts, and its cached pattern."""
 
 import numpy as np
+import scipy.sparse as sp
 
-from femcore.assembly import CellTangent, FreeTangentAssembler, tangent_matrix
+from femcore.assembly import CellTangent, FreeTangentAssembler, SparseTangent, tangent_matrix
 from femcore.dofs import DofManager
 
 N = 4
@@ -39,3 +40,33 @@ def test_the_free_assembler_matches_the_full_matrix_and_follows_a_changing_patte
         assert np.array_equal(k_fp.toarray(), full[np.ix_(free, moved)])
     # Built once for the first two (same pairs), then once per change of pairs.
     assert assemble.builds == 3
+
+
+def test_sparse_parts_assemble_from_their_node_blocks_with_the_cached_pattern():
+    """A SparseTangent (6 x 6 node blocks, BSR, or any scipy format) with cell parts, in the
+    frames of tilted directors: K_ff and K_fp equal the full matrix's, the pattern is built
+    once while the structure stays and again when it changes."""
+    active = np.ones((N, 5), dtype=bool)
+    fixed = np.zeros_like(active)
+    fixed[0] = True
+    prescribed = np.zeros_like(active)
+    prescribed[3, :2] = True
+    dofs = DofManager(N, active, fixed, prescribed)
+    rng = np.random.default_rng(1)
+    directors = rng.normal(size=(N, 3))
+    frames = dofs.frames(directors / np.linalg.norm(directors, axis=1)[:, None])
+    free, moved = dofs.free_slots, dofs.prescribed_slots
+    assemble = FreeTangentAssembler(dofs)
+    mask = np.kron(rng.random((N, N)) < 0.6, np.ones((6, 6)))
+    for fmt in ("bsr", "bsr", "csr"):
+        matrix = sp.csr_matrix(rng.normal(size=(6 * N, 6 * N)) * mask)
+        matrix = sp.bsr_matrix(matrix, blocksize=(6, 6)) if fmt == "bsr" else matrix
+        cells = CellTangent(np.array([[0, 2], [1, 3]]), rng.normal(size=(2, 2, 6, 2, 6)))
+        parts = [SparseTangent(matrix), cells]
+        full = tangent_matrix(dofs, parts, frames).toarray()
+        k_ff, k_fp = assemble(parts, frames)
+        assert np.allclose(k_ff.toarray(), full[np.ix_(free, free)], rtol=0, atol=1e-12)
+        assert np.allclose(k_fp.toarray(), full[np.ix_(free, moved)], rtol=0, atol=1e-12)
+    # The second matrix has the first one's blocks (the same mask); the CSR one too, once
+    # converted to blocks.
+    assert assemble.builds == 1

@@ -330,3 +330,53 @@ def test_forces_stay_the_energy_gradient_where_the_shear_sign_flips():
             ) / (2 * step)
     # Central differences of step 1e-6 on an energy of this size: 1e-6 of the largest force.
     assert np.abs(force - numerical).max() <= 1e-6 * np.abs(force).max()
+
+
+# ------------------------------------------------------------------ tangent
+def _cell_hessian_by_differences(block, x, v, sums, step=1e-5):
+    """d(_cell_gradient)/d(x, psi, S) (m, 3, 9, 3, 9), one central difference per unknown of
+    every cell."""
+    m = len(x)
+    hessian = np.empty((m, 3, 9, 3, 9))
+    for node in range(3):
+        for comp in range(9):
+            plus = [x.copy(), v.copy(), sums.copy()]
+            minus = [x.copy(), v.copy(), sums.copy()]
+            if comp < 3 or comp >= 6:
+                which = 0 if comp < 3 else 2
+                plus[which][:, node, comp % 3] += step
+                minus[which][:, node, comp % 3] -= step
+            else:
+                psi = np.zeros((m, 3))
+                psi[:, comp - 3] = step
+                plus[1][:, node] = rotate_about(v[:, node], psi)
+                minus[1][:, node] = rotate_about(v[:, node], -psi)
+            difference = block._cell_gradient(*plus) - block._cell_gradient(*minus)
+            hessian[:, :, :, node, comp] = difference / (2 * step)
+    return hessian
+
+
+@pytest.mark.parametrize("variation", [True, False])
+def test_the_membrane_hessian_is_the_derivative_of_each_cells_gradient(variation):
+    """The closed form of the cells' tension + shear stiffness in (x, psi, S) against central
+    differences of their gradient, on a jittered state with tilted directors, a nonlinear
+    shear law and one director tilted past the guard of h_m (V.n < 0.2 there)."""
+    material = Fabric(
+        thickness=3.0,
+        areal_density=1e-9,
+        tension=300.0,
+        shear=ShearLaw.polynomial(0.2, -0.1, 2.0),
+        bending=BendingLaw.linear(20.0),
+    )
+    model = compiled(MESH, material, thickness_variation=variation)
+    state = deformed(model, amplitude=0.8, tilt=0.2)
+    state.directors[5:6] = rotate_about(state.directors[5:6], np.array([[1.45, 0.0, 0.0]]))
+    block = model.blocks[0]
+    conn = block.connectivity
+    x, v = state.positions[conn], state.directors[conn]
+    sums = block._normal_sums(state.positions)[conn]
+    assert block._cell_geometry(x, v, True, sums)["guarded"].any()
+    exact, d_sums = block._membrane_hessian(x, v, sums)
+    assert np.array_equal(d_sums, block._cell_gradient(x, v, sums)[..., 6:])
+    differences = _cell_hessian_by_differences(block, x, v, sums)
+    assert np.abs(exact - differences).max() < 1e-6 * np.abs(exact).max()
