@@ -138,10 +138,10 @@ def generalised_blocks(part: CellTangent, maps: np.ndarray) -> np.ndarray:
     # One block-diagonal T (6p x 5p) per cell, then T^T K T as two batched matmuls of whole
     # cell matrices: many tiny (6 x 6) @ (6 x 5) products cost numpy more in overhead than in
     # arithmetic.
-    block_t = np.zeros((m, p, 6, p, N_COLUMNS))
+    diagonal = np.zeros((m, p, 6, p, N_COLUMNS))
     corners = np.arange(p)
-    block_t[:, corners, :, corners, :] = np.swapaxes(t, 0, 1)
-    block_t = block_t.reshape(m, 6 * p, N_COLUMNS * p)
+    diagonal[:, corners, :, corners, :] = np.swapaxes(t, 0, 1)
+    block_t = diagonal.reshape(m, 6 * p, N_COLUMNS * p)
     right = np.matmul(k.reshape(m, 6 * p, 6 * p), block_t)
     left = np.matmul(np.swapaxes(block_t, 1, 2), right)
     return left.reshape(m, p, N_COLUMNS, p, N_COLUMNS)
