@@ -26,6 +26,7 @@ __all__ = [
     "inverse_diagonal",
     "make_frame",
     "resolve_progress",
+    "unsupported_rigid_motions",
 ]
 
 
@@ -61,6 +62,62 @@ def check_held(model: CompiledModel) -> None:
             f"({'; '.join(motions)}): no equilibrium exists. Fix or prescribe DOFs that hold "
             "them (model.fix, model.displace), or balance the loads"
         )
+
+
+_RIGID_NAMES = (
+    "translation along x",
+    "translation along y",
+    "translation along z",
+    "rotation about x",
+    "rotation about y",
+    "rotation about z",
+)
+
+
+def unsupported_rigid_motions(model: CompiledModel) -> list[str]:
+    """The rigid motions of the whole model that its fixed and prescribed DOFs leave free,
+    whatever the loads: the elementary ones (e.g. "translation along x"), or one line for a
+    free combination of them; empty when the supports hold all six.
+
+    A rigid motion (u, psi) per node (rotations about axes through the centroid, directors
+    turning with the body) is held when some constrained DOF moves with it; the six motions
+    restricted to the constrained DOFs span what the supports hold (their rank by an SVD,
+    rotations scaled by the model size to compare with translations).
+    """
+    dofs = model.dofs
+    x = model.reference_positions
+    carried = dofs.active[:, 0]
+    centre = x[carried].mean(axis=0) if carried.any() else x.mean(axis=0)
+    length = max(float(np.ptp(x, axis=0).max()), 1e-300)
+    axes = np.eye(3)
+    translation = np.zeros((6, model.n_nodes, 3))
+    translation[:3] = axes[:, None, :]
+    translation[3:] = np.cross(axes[:, None, :], (x - centre)[None]) / length
+    rotation = np.zeros((6, model.n_nodes, 3))
+    rotation[3:] = np.where(model.has_rotation[None, :, None], axes[:, None, :], 0.0)
+    frames = dofs.frames(model.reference_directors)
+    v1, v2 = frames if frames is not None else (x, x)
+    generalised = np.concatenate(
+        [
+            translation,
+            np.sum(rotation * v2, axis=-1)[..., None] / length,
+            np.sum(rotation * v1, axis=-1)[..., None] / length,
+        ],
+        axis=-1,
+    )  # (6, n, 5), every motion scaled to unit size over the model
+    held = generalised[:, dofs.constrained].T  # (constrained DOFs, 6)
+    if not held.size:
+        return list(_RIGID_NAMES)
+    _, singular, vt = np.linalg.svd(held, full_matrices=True)
+    rank = int(np.sum(singular > 1e-9 * max(float(singular.max()), 1.0)))
+    if rank == 6:
+        return []
+    untouched = np.abs(held).max(axis=0) == 0.0
+    named = [name for name, free in zip(_RIGID_NAMES, untouched) if free]
+    return named or [
+        "a rigid motion combining "
+        + ", ".join(name for name, w in zip(_RIGID_NAMES, np.abs(vt[rank])) if w > 1e-6)
+    ]
 
 
 def make_frame(
