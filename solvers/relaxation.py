@@ -23,14 +23,16 @@ import time
 from dataclasses import replace
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from femcore.assembly import tangent_matrix
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
-from femcore.rotation import drop_along
+from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
+from femcore.topology import nodal_normals
 from solvers.common import (
     ConvergenceError,
     DivergenceError,
@@ -254,7 +256,7 @@ class DynamicRelaxation:
 
         inflate = 1.0  # the factor on the fictitious masses after blow-ups in this increment
         mass, inertia, dt = masses(state, inflate)
-        inv_mass, inv_inertia = _inverse(mass), _inverse(inertia)[:, None]
+        inv_inertia = _inverse(inertia)[:, None]
         estimated_at = 0
         balance = _Balance(model, f_ext, m_ext, self.tol)
 
@@ -264,11 +266,12 @@ class DynamicRelaxation:
         restart = True  # the first step from rest is a half step
         start_positions = state.positions.copy()
         at_rest = state  # the last state the motion restarted from (blow-up recovery)
+        recovered_to = None  # the state the last recovery went back to
         previous = None  # the last iteration's (displacement, residual, rate, mass) per kind
         rotation_since_start = np.zeros_like(state.positions)
         c = 0.0
         ratio = math.inf
-        first_ratio = None
+        first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
         high_since = 1  # the first iteration of the current run of ratios above 0.9
 
         for iteration in range(1, self.max_iterations + 1):
@@ -296,14 +299,22 @@ class DynamicRelaxation:
                     angular_velocities=np.zeros_like(omega),
                 )
                 return model.commit(rest), iteration, ratio, reactions, reaction_moments
-            if first_ratio is None:
-                first_ratio = ratio
+            # The size of the out-of-balance in force units. Not the ratio: a blow-up that
+            # stretches the model grows F_int, the ratio's own reference, with it.
+            size = float(np.linalg.norm(residual)) + (
+                float(np.linalg.norm(moment)) / model.element_size if any_rot else 0.0
+            )
+            if first_size is None:
+                first_size = size
 
-            if masses.fictitious and not ratio <= _BLOW_UP * max(first_ratio, self.tol):
+            if masses.fictitious and not size <= _BLOW_UP * first_size:
                 # The stiffness grew past the estimate the masses were made for (the motion
                 # turned a stiff direction onto a DOF with a soft row): go back to the last
-                # state at rest and restart with heavier masses estimated there.
-                inflate *= 2.0
+                # state at rest and restart with masses estimated there, heavier if the last
+                # recovery already restarted from that state.
+                if recovered_to is at_rest:
+                    inflate *= 2.0
+                recovered_to = at_rest
                 masses.recoveries += 1
                 if inflate > _MAX_INFLATION:
                     raise DivergenceError(
@@ -314,7 +325,7 @@ class DynamicRelaxation:
                     )
                 state = at_rest
                 mass, inertia, dt = masses(state, inflate)
-                inv_mass, inv_inertia = _inverse(mass), _inverse(inertia)[:, None]
+                inv_inertia = _inverse(inertia)[:, None]
                 estimated_at = iteration
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)
@@ -328,13 +339,16 @@ class DynamicRelaxation:
 
             step = 0.5 * dt if restart else dt
             if self.damping == "viscous":
-                current = [(state.positions - start_positions, residual, velocity, mass)]
+                moved = state.positions - start_positions
+                local = mass.local
+                current = [(local(moved), local(residual), local(velocity), mass.values)]
                 if any_rot:
                     current.append((rotation_since_start, moment, omega, inertia[:, None]))
                 c = self._viscous_c(current, previous, dt)
                 previous = current
-            v_new = np.where(free, damped_velocity(velocity, residual, inv_mass, step, c), 0.0)
-            kinetic = 0.5 * float(np.sum(mass * v_new * v_new))
+            accelerating = mass.solve(residual)
+            v_new = np.where(free, damped_velocity(velocity, accelerating, _ONE, step, c), 0.0)
+            kinetic = mass.energy(v_new)
             if any_rot:
                 w_new = model.constrain_angular(
                     damped_velocity(omega, moment, inv_inertia, step, c), state.directors
@@ -354,7 +368,7 @@ class DynamicRelaxation:
                 # Fictitious: the stiffness follows the configuration.
                 if masses.every_restart or iteration - estimated_at >= self.refresh:
                     mass, inertia, dt = masses(state, inflate)
-                    inv_mass, inv_inertia = _inverse(mass), _inverse(inertia)[:, None]
+                    inv_inertia = _inverse(inertia)[:, None]
                     estimated_at = iteration
                 progress(
                     f"increment {increment}: iteration {iteration}, residual ratio "
@@ -369,16 +383,20 @@ class DynamicRelaxation:
             velocity = v_new
             kinetic_old = kinetic
             restart = False
-            if (
-                not kinetic_damping
-                and masses.fictitious
-                and iteration - estimated_at >= self.refresh
+            if masses.fictitious and (
+                (not kinetic_damping and iteration - estimated_at >= self.refresh)
+                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > _TURN)
             ):
-                # Viscous damping never stops the motion: re-estimate on the way.
+                # Viscous damping never stops the motion, and a surface that turned far
+                # brings its membrane stiffness onto its light normal axes: re-estimate on
+                # the way, the kinetic energy re-measured with the new masses (not a peak).
                 mass, inertia, dt = masses(state, inflate)
-                inv_mass, inv_inertia = _inverse(mass), _inverse(inertia)[:, None]
+                inv_inertia = _inverse(inertia)[:, None]
                 estimated_at = iteration
                 previous = None
+                kinetic_old = mass.energy(velocity) + 0.5 * float(
+                    np.sum(inertia[:, None] * omega * omega)
+                )
 
         raise ConvergenceError(
             f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
@@ -410,9 +428,14 @@ class DynamicRelaxation:
         return min(2.0 * math.sqrt(numerator / denominator), 1.9 / dt)
 
 
-_ISOTROPIC = True
-#: A residual ratio this many times the first one of an increment is a blow-up.
-_BLOW_UP = 10.0
+_ONE = np.ones((1, 1))
+#: An out-of-balance this many times the first one of an increment is a blow-up.
+_BLOW_UP = 1e3
+#: Largest turn (rad) of a shell normal between two estimates of the fictitious masses; the
+#: normal mass carries TURN^2 of the in-plane one for the stiffness such a turn brings along.
+_TURN = 0.03
+#: Iterations between checks of that turn.
+_TURN_CHECK = 10
 #: The fictitious masses are doubled at most until they reach this factor (2^10).
 _MAX_INFLATION = 1024.0
 #: A residual ratio above this has not fallen (the mechanism watch).
@@ -441,6 +464,31 @@ def _stall_message(model: CompiledModel, increment: int, solver, load_factor: fl
     )
 
 
+class _NodeMass:
+    """Translational masses per node as a diagonal in node axes: M_a = R_a diag(d_a) R_a^T.
+
+    axes : (n, 3, 3), columns the unit axes of each node (identity: the global axes).
+    values : (n, 3), the mass along each axis (0: a DOF that never moves).
+    """
+
+    def __init__(self, axes: np.ndarray, values: np.ndarray):
+        self.axes, self.values = axes, values
+        self.inverse = _inverse(values)
+
+    def local(self, vectors: np.ndarray) -> np.ndarray:
+        """(n, 3) global components -> components along the node axes."""
+        return np.einsum("nji,nj->ni", self.axes, vectors)
+
+    def solve(self, forces: np.ndarray) -> np.ndarray:
+        """M^-1 F, (n, 3)."""
+        return np.einsum("nij,nj->ni", self.axes, self.inverse * self.local(forces))
+
+    def energy(self, velocities: np.ndarray) -> float:
+        """1/2 v.M v."""
+        local = self.local(velocities)
+        return 0.5 * float(np.sum(self.values * local * local))
+
+
 class _Masses:
     """The masses a relaxation moves with: ``__call__(state, inflate)`` gives (translation
     masses (n, 3), rotary inertia (n,), time step)."""
@@ -448,11 +496,15 @@ class _Masses:
     fictitious = False
     every_restart = True
 
+    def turned(self, state: State) -> float:
+        """The largest turn (rad) of a surface normal since the last estimate."""
+        return 0.0
+
     def __init__(self) -> None:
         self.estimates = 0
         self.recoveries = 0
 
-    def __call__(self, state: State, inflate: float) -> tuple[np.ndarray, np.ndarray, float]:
+    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
         raise NotImplementedError
 
 
@@ -463,11 +515,12 @@ class _LumpedMasses(_Masses):
         super().__init__()
         self.model, self.safety = model, safety
 
-    def __call__(self, state: State, inflate: float) -> tuple[np.ndarray, np.ndarray, float]:
+    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
         self.estimates += 1
         mass, inertia = self.model.lumped_mass(state)
         dt = self.safety * self.model.stable_dt(state)
-        return np.repeat(mass[:, None], 3, axis=1), inertia, dt
+        axes = np.broadcast_to(np.eye(3), (self.model.n_nodes, 3, 3))
+        return _NodeMass(axes, np.repeat(mass[:, None], 3, axis=1)), inertia, dt
 
 
 class _GershgorinMasses(_Masses):
@@ -488,10 +541,14 @@ class _GershgorinMasses(_Masses):
         # The colouring loops over the nodes: once per solve.
         self.graph = model.node_graph(self.others) if self.others else None
         self.length2 = model.element_size**2
+        self.triangles = model.mesh.triangles
+        self.local = np.zeros(model.n_nodes, dtype=bool)
+        self.normals = np.zeros((0, 3))
 
-    def __call__(self, state: State, inflate: float) -> tuple[np.ndarray, np.ndarray, float]:
+    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
         self.estimates += 1
         model, dofs = self.model, self.model.dofs
+        n = dofs.n_nodes
         frames = dofs.frames(state.directors)
         parts = model.tangent_parts(state, self.own) if self.own else []
         if parts is None:
@@ -502,13 +559,30 @@ class _GershgorinMasses(_Masses):
         k = tangent_matrix(dofs, parts, frames)
         if self.graph is not None:
             k = k + model.finite_difference_stiffness(state, self.others, self.graph, frames)
+        # Node axes: a shell node whose translations are all free takes two tangent axes and
+        # the normal of the mid-surface, so that the soft direction of a shell (along the normal:
+        # bending,
+        # transverse shear) gets its own small mass while the in-plane axes carry the stiff
+        # membrane, and the axes turn with the shell at each estimate; other nodes keep x, y, z.
+        axes = np.repeat(np.eye(3)[None], n, axis=0)
+        local = dofs.has_rotation & dofs.free[:, :3].all(axis=1)
+        if local.any():
+            # The normal of the mid-surface, not the director: a fibrous director leans.
+            normals = nodal_normals(state.positions, self.triangles)[local]
+            t1, t2 = nodal_frames(normals)
+            axes[local] = np.stack([t1, t2, normals], axis=2)
+        k = _in_node_axes(k, axes)
         free = dofs.free_slots
         rows = np.zeros(dofs.n_slots)
         rows[free] = np.asarray(abs(k[free][:, free]).sum(axis=1)).ravel()
-        rows = rows.reshape(dofs.n_nodes, N_COLUMNS) * (self.scale * inflate)
+        rows = rows.reshape(n, N_COLUMNS) * (self.scale * inflate)
         mass = rows[:, :3]
-        if _ISOTROPIC:
-            mass = np.repeat(mass.max(axis=1)[:, None], 3, axis=1)
+        # Elsewhere (cables, partly held nodes) one mass for the three axes: global axes do
+        # not turn with the body, and a stiffness that the motion turns onto a light axis
+        # would blow up before the next estimate.
+        mass[~local] = mass[~local].max(axis=1, initial=0.0)[:, None]
+        mass[local, 2] += _TURN**2 * mass[local, :2].max(axis=1)
+        self.local, self.normals = local, axes[local, :, 2]
         # One inertia per node, isotropic in the tangent plane: the angular velocity is a
         # vector there, and alpha and beta follow nodal frames that turn with the director.
         inertia = rows[:, 3:].max(axis=1)
@@ -517,7 +591,28 @@ class _GershgorinMasses(_Masses):
         # A rotation whose row is empty (an unloaded director) still needs a finite inertia:
         # the translations' scale over one element.
         inertia = _floor(inertia, turning, float(np.median(mass[dofs.free[:, :3]])) * self.length2)
-        return mass, inertia, 1.0
+        return _NodeMass(axes, mass), inertia, 1.0
+
+    def turned(self, state: State) -> float:
+        if not self.local.any():
+            return 0.0
+        normals = nodal_normals(state.positions, self.triangles)[self.local]
+        cosine = float(np.min(np.sum(normals * self.normals, axis=1)))
+        return math.acos(min(max(cosine, -1.0), 1.0))
+
+
+def _in_node_axes(k: sp.csr_matrix, axes: np.ndarray) -> sp.csr_matrix:
+    """Q^T K Q with Q block-diagonal: the node axes (n, 3, 3) on the translation slots, the
+    identity on alpha and beta (already in the nodal frame)."""
+    n = axes.shape[0]
+    blocks = np.zeros((n, N_COLUMNS, N_COLUMNS))
+    blocks[:, :3, :3] = axes
+    blocks[:, 3, 3] = blocks[:, 4, 4] = 1.0
+    base = (N_COLUMNS * np.arange(n))[:, None, None]
+    rows = np.broadcast_to(base + np.arange(N_COLUMNS)[:, None], blocks.shape)
+    cols = np.broadcast_to(base + np.arange(N_COLUMNS)[None, :], blocks.shape)
+    q = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=k.shape)
+    return (q.T @ k @ q).tocsr()
 
 
 def _floor(values: np.ndarray, free: np.ndarray, fallback: float | None) -> np.ndarray:
