@@ -4,16 +4,24 @@
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
 increment is relaxed to equilibrium before the next one and gives one frame.
 
+- Masses (Underwood 1983): by default fictitious masses from a Gershgorin bound of the tangent
+  stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a nominal dt = 1, so that every DOF
+  has the same stability limit; shell nodes take them along their own tangent and normal axes,
+  and they are re-estimated as the configuration changes. ``masses="lumped"``: the physical
+  lumped masses with the stable step.
 - Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference; when the kinetic
   energy passes a peak, the configuration goes back to where the peak was (half a step back),
   all velocities are zeroed and the motion restarts from rest.
 - Adaptive viscous damping (Underwood 1983; Papadrakakis 1981): mass-proportional damping with
-  c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate.
+  c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate and
+  the masses in use.
 
 Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_ref / sqrt(n),
-with F_ref = max(||F_ext||, ||F_int||) (the internal forces include the reactions, so a
-displacement-driven problem has a non-zero reference). Moments are checked the same way
-against their own reference.
+with F_ref = max(||F_ext||, ||F_int||, max(||M_ext||, ||M_int||) / L_e) (the internal forces
+include the reactions, so a displacement-driven problem has a non-zero reference; the moments
+over one element L_e give one under end moments alone). Moments are checked the same way
+against their own reference. A residual that does not fall while the model travels farther
+than its size stops the run as a mechanism.
 """
 
 from __future__ import annotations
@@ -68,17 +76,19 @@ class DynamicRelaxation:
         Kinetic damping (reset at each kinetic-energy peak) or adaptive viscous damping
         c = 2 sqrt(u.K u / u.M u) with the masses in use.
     masses : "gershgorin" (default) or "lumped"
-        "gershgorin": fictitious masses from a Gershgorin bound of the tangent stiffness, so
-        that every DOF has the same stability limit and the nominal step is dt = 1 (Underwood
-        1983): per translation DOF m_i = sum_j |K_ij| / (4 safety^2) (N/mm x s^2), per node
-        one rotary inertia from the larger of its alpha and beta rows (N mm x s^2). K comes
-        from the blocks' own tangents, or coloured finite differences for a block without
-        one, and is re-estimated at each increment start, at a kinetic-energy reset when
-        ``refresh`` iterations have passed since the last estimate (every ``refresh``
-        iterations with viscous damping), and after a blow-up (then from the last state at
-        rest, with masses doubled). "lumped": the physical lumped masses and rotary inertia
-        with ``safety`` x the stable step of the model; iterations then grow like
-        omega_max / omega_min of the physical model.
+        "gershgorin": fictitious masses from a Gershgorin bound of the tangent stiffness K of
+        the free DOFs, so that every DOF has the same stability limit at the nominal step
+        dt = 1 (Underwood 1983): m_i = sum_j |K_ij| / (4 safety^2), N/mm x s^2 for the
+        translations (per node along two tangents and the normal of the mid-surface at shell
+        nodes, one value for x, y, z elsewhere) and N mm x s^2 for the rotations (one inertia
+        per node, the larger of its alpha and beta rows). K comes from the blocks' own
+        tangents, or coloured finite differences for a block without one. The masses are
+        re-estimated at each increment start, at a kinetic-energy reset once ``refresh``
+        iterations have passed (every ``refresh`` iterations with viscous damping), when a
+        surface normal has turned by 0.03 rad, and after a blow-up (from the last state at
+        rest, doubled if that state was already recovered once). "lumped": the physical
+        lumped masses and rotary inertia with ``safety`` x the stable step of the model; the
+        iterations then grow like omega_max / omega_min of the physical model.
     safety : float in (0, 1]
         Fraction of the stability limit: of the stable step ("lumped"), or of the Gershgorin
         frequency bound 2/dt ("gershgorin").
@@ -364,7 +374,7 @@ class DynamicRelaxation:
 
             if kinetic_damping and not restart and kinetic < kinetic_old:
                 # The kinetic energy peaked half a step ago: go back there and restart from
-                # rest (x* = x(i) - dt/2 v(i-1/2), docs/theory.md §6.4a).
+                # rest (x* = x(i) - dt/2 v(i-1/2), docs/theory.md §6.4b).
                 state = dofs.move(state, -0.5 * dt * velocity, -0.5 * dt * omega)
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)
@@ -533,7 +543,7 @@ class _LumpedMasses(_Masses):
 class _GershgorinMasses(_Masses):
     """Fictitious masses m_i = (dt^2 / 4) sum_j |K_ij| / safety^2 with dt = 1, K_ij over the
     free DOFs: by Gershgorin's theorem every eigenvalue of M^-1 K is then below
-    (2 safety / dt)^2, within the central-difference limit (docs/theory.md §6.4c)."""
+    (2 safety / dt)^2, within the central-difference limit (docs/theory.md §6.4a)."""
 
     fictitious = True
     every_restart = False
