@@ -281,6 +281,7 @@ class DynamicRelaxation:
         recovered_to = None  # the state the last recovery went back to
         previous = None  # the last iteration's (displacement, residual, rate, mass) per kind
         rotation_since_start = np.zeros_like(state.positions)
+        rest_rotation = rotation_since_start.copy()  # its value at ``at_rest``
         c = 0.0
         ratio = math.inf
         size_of_model = float(np.ptp(model.reference_positions, axis=0).max())
@@ -336,7 +337,7 @@ class DynamicRelaxation:
                         f"masses {_MAX_INFLATION:g} times their Gershgorin bound",
                         None,
                     )
-                state = at_rest
+                state, rotation_since_start = at_rest, rest_rotation.copy()
                 mass, inertia, dt = masses(state, inflate)
                 inv_inertia = _inverse(inertia)[:, None]
                 estimated_at = iteration
@@ -380,7 +381,7 @@ class DynamicRelaxation:
                 omega = np.zeros_like(omega)
                 kinetic_old = 0.0
                 restart = True
-                at_rest = state
+                at_rest, rest_rotation = state, rotation_since_start.copy()
                 # Lumped: the rotary inertia follows h_m (Eq. 39) and the step the geometry.
                 # Fictitious: the stiffness follows the configuration.
                 if masses.every_restart or iteration - estimated_at >= self.refresh:
