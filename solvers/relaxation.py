@@ -634,9 +634,9 @@ def _in_node_axes(k: sp.csr_matrix, axes: np.ndarray) -> sp.csr_matrix:
 
 
 def _floor(values: np.ndarray, free: np.ndarray, fallback: float | None) -> np.ndarray:
-    """Free DOFs whose Gershgorin row is (nearly) empty get 1e-3 of the median row of their
-    kind: a zero-stiffness DOF is stable with any mass, and a small but finite one keeps it
-    from flying off when the configuration gives it stiffness before the next estimate."""
+    """No free mass below 1e-3 of the median of its kind (``fallback`` when none is positive):
+    a zero-stiffness DOF is stable with any mass, and a small but finite one keeps it from
+    flying off when the configuration gives it stiffness before the next estimate."""
     positive = values[free & (values > 0)]
     if positive.size:
         floor = 1e-3 * float(np.median(positive))
