@@ -210,9 +210,12 @@ class DynamicRelaxation:
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
             try:
-                state, count, ratio, reactions, reaction_moments = self._relax(
-                    compiled, state, load_factor, masses, progress, increment
-                )
+                # A blow-up is detected and recovered from (or reported) by the relaxation
+                # itself; numpy's overflow warnings on the way would only be noise.
+                with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                    state, count, ratio, reactions, reaction_moments = self._relax(
+                        compiled, state, load_factor, masses, progress, increment
+                    )
             except (ConvergenceError, DivergenceError) as error:
                 error.result = self._result(
                     compiled, frames, iterations, residuals, masses, started, False
