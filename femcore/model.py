@@ -672,7 +672,12 @@ class CompiledModel:
             names = list(RIGID_MOTIONS)
             column_free = np.abs(held).max(axis=0, initial=0.0) == 0.0
             return [name for name, free in zip(names, column_free) if free] or [
-                f"{len(free_motions)} rigid motion(s) combining translations and rotations"
+                "a rigid motion combining "
+                + ", ".join(
+                    name
+                    for name, weight in zip(names, np.abs(free_motions[0] * scale))
+                    if weight > 1e-6
+                )
             ]
         force, moment = self.external_load(1.0, quasi_static=True)
         load = np.concatenate([force, moment], axis=1)

@@ -4,16 +4,24 @@
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
 increment is relaxed to equilibrium before the next one and gives one frame.
 
+- Masses (Underwood 1983): by default fictitious masses from a Gershgorin bound of the tangent
+  stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a nominal dt = 1, so that every DOF
+  has the same stability limit; shell nodes take them along their own tangent and normal axes,
+  and they are re-estimated as the configuration changes. ``masses="lumped"``: the physical
+  lumped masses with the stable step.
 - Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference; when the kinetic
   energy passes a peak, the configuration goes back to where the peak was (half a step back),
   all velocities are zeroed and the motion restarts from rest.
 - Adaptive viscous damping (Underwood 1983; Papadrakakis 1981): mass-proportional damping with
-  c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate.
+  c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate and
+  the masses in use.
 
 Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_ref / sqrt(n),
-with F_ref = max(||F_ext||, ||F_int||) (the internal forces include the reactions, so a
-displacement-driven problem has a non-zero reference). Moments are checked the same way
-against their own reference.
+with F_ref = max(||F_ext||, ||F_int||, max(||M_ext||, ||M_int||) / L_e) (the internal forces
+include the reactions, so a displacement-driven problem has a non-zero reference; the moments
+over one element L_e give one under end moments alone). Moments are checked the same way
+against their own reference. A residual that does not fall while the model travels farther
+than its size stops the run as a mechanism.
 """
 
 from __future__ import annotations
@@ -23,12 +31,16 @@ import time
 from dataclasses import replace
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
+from femcore.assembly import tangent_matrix
+from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
-from femcore.rotation import drop_along
+from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
+from femcore.topology import nodal_normals
 from solvers.common import (
     ConvergenceError,
     DivergenceError,
@@ -37,26 +49,57 @@ from solvers.common import (
     check_integer,
     check_tolerance,
     empty_result,
-    inverse_diagonal,
     make_frame,
     resolve_progress,
 )
 from solvers.dynamics import damped_velocity
 
-__all__ = ["DAMPING_KINDS", "DynamicRelaxation"]
+__all__ = ["DAMPING_KINDS", "MASS_KINDS", "DynamicRelaxation"]
 
 DAMPING_KINDS = ("kinetic", "viscous")
+MASS_KINDS = ("gershgorin", "lumped")
 
 
 class DynamicRelaxation:
     """Quasi-static solver by dynamic relaxation.
 
-    increments : number of equal load-factor steps.
-    tol : relative residual tolerance (see the module docstring).
-    max_iterations : iterations allowed per increment before a ConvergenceError.
-    damping : "kinetic" (default) or "viscous" (adaptive).
-    safety : factor on the stable step of the lumped-mass model.
-    progress : print status lines (None: only on an interactive terminal).
+    Parameters
+    ----------
+    increments : int
+        Number of equal load-factor steps.
+    tol : float
+        Relative residual tolerance in (0, 1) (see the module docstring).
+    max_iterations : int
+        Iterations allowed per increment before a ConvergenceError.
+    damping : "kinetic" (default) or "viscous"
+        Kinetic damping (reset at each kinetic-energy peak) or adaptive viscous damping
+        c = 2 sqrt(u.K u / u.M u) with the masses in use.
+    masses : "gershgorin" (default) or "lumped"
+        "gershgorin": fictitious masses from a Gershgorin bound of the tangent stiffness K of
+        the free DOFs, so that every DOF has the same stability limit at the nominal step
+        dt = 1 (Underwood 1983): m_i = sum_j |K_ij| / (4 safety^2), N/mm x s^2 for the
+        translations (per node along two tangents and the normal of the mid-surface at shell
+        nodes, one value for x, y, z elsewhere) and N mm x s^2 for the rotations (one inertia
+        per node, the larger of its alpha and beta rows). K comes from the blocks' own
+        tangents, or coloured finite differences for a block without one. The masses are
+        re-estimated at each increment start, at a kinetic-energy reset once ``refresh``
+        iterations have passed (every ``refresh`` iterations with viscous damping), when a
+        surface normal has turned by 0.03 rad, and after a blow-up (from the last state at
+        rest, doubled if that state was already recovered once). "lumped": the physical
+        lumped masses and rotary inertia with ``safety`` x the stable step of the model; the
+        iterations then grow like omega_max / omega_min of the physical model.
+    safety : float in (0, 1]
+        Fraction of the stability limit: of the stable step ("lumped"), or of the Gershgorin
+        frequency bound 2/dt ("gershgorin").
+    refresh : int
+        Iterations between re-estimates of the fictitious masses ("gershgorin" only).
+    stall_iterations : int or None
+        Iterations the residual ratio may stay above 0.5 in one increment, while the model
+        moves farther than its own size, before the run stops as a mechanism (ConvergenceError
+        naming the rigid motions the supports do not hold); None: max(10 000,
+        max_iterations // 10).
+    progress : bool or None
+        Print status lines (None: only on an interactive terminal).
     """
 
     def __init__(
@@ -65,7 +108,10 @@ class DynamicRelaxation:
         tol: float = 1e-4,
         max_iterations: int = 200_000,
         damping: str = "kinetic",
+        masses: str = "gershgorin",
         safety: float = 0.9,
+        refresh: int = 100,
+        stall_iterations: int | None = None,
         progress: bool | None = None,
     ):
         self.increments = check_integer(increments, "increments")
@@ -74,9 +120,20 @@ class DynamicRelaxation:
         if damping not in DAMPING_KINDS:
             raise ValueError(f"unknown damping {damping!r}: expected one of {DAMPING_KINDS}")
         self.damping = damping
-        if not (0.0 < float(safety) <= 1.0):
+        if masses not in MASS_KINDS:
+            raise ValueError(f"unknown masses {masses!r}: expected one of {MASS_KINDS}")
+        self.masses = masses
+        try:
+            safety = float(safety)
+        except (TypeError, ValueError):
+            raise ValueError(f"safety must be in (0, 1], got {safety!r}") from None
+        if not (0.0 < safety <= 1.0):
             raise ValueError(f"safety must be in (0, 1], got {safety!r}")
-        self.safety = float(safety)
+        self.safety = safety
+        self.refresh = check_integer(refresh, "refresh")
+        if stall_iterations is None:
+            stall_iterations = max(10_000, self.max_iterations // 10)
+        self.stall_iterations = check_integer(stall_iterations, "stall_iterations")
         self.progress = progress
 
     def solve(
@@ -97,7 +154,9 @@ class DynamicRelaxation:
         Returns
         -------
         femcore.results.Result
-            The reference state and one frame per increment (``time`` = load factor).
+            The reference state and one frame per increment (``time`` = load factor);
+            ``info`` holds the iterations and residual ratio per increment, the number of
+            mass estimates and of blow-up recoveries.
 
         Raises
         ------
@@ -105,10 +164,14 @@ class DynamicRelaxation:
             When the loads push the model along a rigid motion that no support holds (no
             equilibrium exists; the message names the motion).
         ConvergenceError
-            When an increment does not converge in ``max_iterations`` (the converged
-            increments in ``error.result``).
+            When an increment does not converge in ``max_iterations``, or its residual ratio
+            stays above 0.5 for ``stall_iterations`` while the model travels farther than its
+            size (a mechanism: the message names the rigid
+            motions the supports leave free, if any); the converged increments in
+            ``error.result``.
         DivergenceError
-            On non-finite values.
+            On non-finite values, or when doubling the fictitious masses repeatedly does not
+            stop a blow-up.
         """
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
@@ -135,17 +198,27 @@ class DynamicRelaxation:
             )
             frames.append(make_frame(compiled, state))
         progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
+        masses: _Masses = (
+            _GershgorinMasses(compiled, self.safety)
+            if self.masses == "gershgorin"
+            else _LumpedMasses(compiled, self.safety)
+        )
         iterations: list[int] = []
         residuals: list[float] = []
         for increment in range(1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
             try:
-                state, count, ratio, reactions, reaction_moments = self._relax(
-                    compiled, state, load_factor, progress, increment
-                )
+                # A blow-up is detected and recovered from (or reported) by the relaxation
+                # itself; numpy's overflow warnings on the way would only be noise.
+                with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                    state, count, ratio, reactions, reaction_moments = self._relax(
+                        compiled, state, load_factor, masses, progress, increment
+                    )
             except (ConvergenceError, DivergenceError) as error:
-                error.result = self._result(compiled, frames, iterations, residuals, started, False)
+                error.result = self._result(
+                    compiled, frames, iterations, residuals, masses, started, False
+                )
                 raise
             iterations.append(count)
             residuals.append(ratio)
@@ -154,9 +227,9 @@ class DynamicRelaxation:
                 f"increment {increment}/{self.increments} converged in {count} iterations",
                 force=True,
             )
-        return self._result(compiled, frames, iterations, residuals, started, True)
+        return self._result(compiled, frames, iterations, residuals, masses, started, True)
 
-    def _result(self, compiled, frames, iterations, residuals, started, converged):
+    def _result(self, compiled, frames, iterations, residuals, masses, started, converged):
         result = empty_result(compiled, frames)
         result.steps = int(sum(iterations))
         result.wall_time = time.perf_counter() - started
@@ -164,14 +237,19 @@ class DynamicRelaxation:
         result.info = {
             "solver": "DynamicRelaxation",
             "damping": self.damping,
+            "masses": self.masses,
             "iterations_per_increment": list(iterations),
             "residual_ratio_per_increment": list(residuals),
+            "mass_estimates": masses.estimates,
+            "recoveries": masses.recoveries,
             "tol": self.tol,
         }
         return result
 
     # ------------------------------------------------------------------ one increment
-    def _relax(self, model: CompiledModel, state: State, load_factor, progress, increment):
+    def _relax(
+        self, model: CompiledModel, state: State, load_factor, masses: _Masses, progress, increment
+    ):
         """Relax from ``state`` (left unchanged) to equilibrium at ``load_factor``.
 
         Returns (the state at rest in equilibrium, iterations, residual ratio, reactions (n,3),
@@ -179,8 +257,8 @@ class DynamicRelaxation:
         """
         dofs = model.dofs
         free = model.translation_free
-        rot = model.has_rotation
-        any_rot = bool(rot.any())
+        any_rot = bool(model.has_rotation.any())
+        kinetic_damping = self.damping == "kinetic"
         f_ext, m_ext = model.external_load(load_factor, quasi_static=True)
         if model.has_prescribed:
             target = model.reference_positions + model.prescribed_displacement(
@@ -190,10 +268,10 @@ class DynamicRelaxation:
                 state, positions=np.where(model.translation_prescribed, target, state.positions)
             )
 
-        mass, inertia = model.lumped_mass(state)
-        inv_mass = inverse_diagonal(mass)
-        inv_inertia = inverse_diagonal(inertia)
-        dt = self.safety * model.stable_dt(state)
+        inflate = 1.0  # the factor on the fictitious masses after blow-ups in this increment
+        mass, inertia, dt = masses(state, inflate)
+        inv_inertia = _inverse(inertia)[:, None]
+        estimated_at = 0
         balance = _Balance(model, f_ext, m_ext, self.tol)
 
         velocity = np.zeros_like(state.positions)
@@ -201,10 +279,16 @@ class DynamicRelaxation:
         kinetic_old = 0.0
         restart = True  # the first step from rest is a half step
         start_positions = state.positions.copy()
+        at_rest = state  # the last state the motion restarted from (blow-up recovery)
+        recovered_to = None  # the state the last recovery went back to
         previous = None  # the last iteration's (displacement, residual, rate, mass) per kind
         rotation_since_start = np.zeros_like(state.positions)
+        rest_rotation = rotation_since_start.copy()  # its value at ``at_rest``
         c = 0.0
         ratio = math.inf
+        size_of_model = float(np.ptp(model.reference_positions, axis=0).max())
+        first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
+        high_since = 1  # the first iteration of the current run of ratios above 0.5
 
         for iteration in range(1, self.max_iterations + 1):
             f_int, m_int = model.internal_force(state)
@@ -217,7 +301,7 @@ class DynamicRelaxation:
             )
 
             ratio, ok = balance.judge(f_int, m_int, residual, moment)
-            if not np.isfinite(ratio):
+            if not np.isfinite(ratio) and not masses.fictitious:
                 raise DivergenceError(
                     f"dynamic relaxation produced non-finite forces in increment {increment} "
                     f"(load factor {load_factor:.4g}) at iteration {iteration}",
@@ -225,40 +309,87 @@ class DynamicRelaxation:
                 )
             if ok:
                 reactions, reaction_moments = balance.reactions(state, f_int, m_int, moment)
-                at_rest = replace(
+                rest = replace(
                     state,
                     velocities=np.zeros_like(velocity),
                     angular_velocities=np.zeros_like(omega),
                 )
-                return model.commit(at_rest), iteration, ratio, reactions, reaction_moments
+                return model.commit(rest), iteration, ratio, reactions, reaction_moments
+            # The size of the out-of-balance in force units. Not the ratio: a blow-up that
+            # stretches the model grows F_int, the ratio's own reference, with it.
+            size = float(np.linalg.norm(residual)) + (
+                float(np.linalg.norm(moment)) / model.element_size if any_rot else 0.0
+            )
+            if first_size is None:
+                first_size = size
+
+            if masses.fictitious and not size <= _BLOW_UP * first_size:
+                # The stiffness grew past the estimate the masses were made for (the motion
+                # turned a stiff direction onto a DOF with a soft row): go back to the last
+                # state at rest and restart with masses estimated there, heavier if the last
+                # recovery already restarted from that state.
+                if recovered_to is at_rest:
+                    inflate *= 2.0
+                recovered_to = at_rest
+                masses.recoveries += 1
+                if inflate > _MAX_INFLATION:
+                    raise DivergenceError(
+                        f"dynamic relaxation blew up in increment {increment} (load factor "
+                        f"{load_factor:.4g}) at iteration {iteration} even with the fictitious "
+                        f"masses {_MAX_INFLATION:g} times their Gershgorin bound",
+                        None,
+                    )
+                state, rotation_since_start = at_rest, rest_rotation.copy()
+                mass, inertia, dt = masses(state, inflate)
+                inv_inertia = _inverse(inertia)[:, None]
+                estimated_at = iteration
+                velocity = np.zeros_like(velocity)
+                omega = np.zeros_like(omega)
+                kinetic_old, restart, previous, c = 0.0, True, None, 0.0
+                continue
+
+            if ratio <= _STALL_RATIO:
+                high_since = iteration + 1
+            elif iteration - high_since >= self.stall_iterations and (
+                float(np.abs(state.positions - start_positions).max()) > size_of_model
+            ):
+                # The out-of-balance did not fall and the model has moved farther than its own
+                # size: nothing holds the motion (a slow but supported relaxation stays put).
+                raise ConvergenceError(_stall_message(model, increment, self, load_factor), None)
 
             step = 0.5 * dt if restart else dt
             if self.damping == "viscous":
-                current = [(state.positions - start_positions, residual, velocity, mass)]
+                moved = state.positions - start_positions
+                local = mass.local
+                current = [(local(moved), local(residual), local(velocity), mass.values)]
                 if any_rot:
-                    current.append((rotation_since_start, moment, omega, inertia))
+                    current.append((rotation_since_start, moment, omega, inertia[:, None]))
                 c = self._viscous_c(current, previous, dt)
                 previous = current
-            v_new = np.where(free, damped_velocity(velocity, residual, inv_mass, step, c), 0.0)
-            kinetic = 0.5 * float(np.sum(mass[:, None] * v_new * v_new))
+            accelerating = mass.solve(residual)
+            v_new = np.where(free, damped_velocity(velocity, accelerating, _ONE, step, c), 0.0)
+            kinetic = mass.energy(v_new)
             if any_rot:
                 w_new = model.constrain_angular(
                     damped_velocity(omega, moment, inv_inertia, step, c), state.directors
                 )
                 kinetic += 0.5 * float(np.sum(inertia[:, None] * w_new * w_new))
 
-            if self.damping == "kinetic" and not restart and kinetic < kinetic_old:
+            if kinetic_damping and not restart and kinetic < kinetic_old:
                 # The kinetic energy peaked half a step ago: go back there and restart from
-                # rest (x* = x(i) - dt/2 v(i-1/2), docs/theory.md §6.4a).
+                # rest (x* = x(i) - dt/2 v(i-1/2), docs/theory.md §6.4b).
                 state = dofs.move(state, -0.5 * dt * velocity, -0.5 * dt * omega)
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)
                 kinetic_old = 0.0
                 restart = True
-                # The rotary inertia follows h_m (Eq. 39) and the step follows the geometry.
-                mass, inertia = model.lumped_mass(state)
-                inv_inertia = inverse_diagonal(inertia)
-                dt = self.safety * model.stable_dt(state)
+                at_rest, rest_rotation = state, rotation_since_start.copy()
+                # Lumped: the rotary inertia follows h_m (Eq. 39) and the step the geometry.
+                # Fictitious: the stiffness follows the configuration.
+                if masses.every_restart or iteration - estimated_at >= self.refresh:
+                    mass, inertia, dt = masses(state, inflate)
+                    inv_inertia = _inverse(inertia)[:, None]
+                    estimated_at = iteration
                 progress(
                     f"increment {increment}: iteration {iteration}, residual ratio "
                     f"{ratio:.3g} (tol {self.tol:g})"
@@ -272,6 +403,20 @@ class DynamicRelaxation:
             velocity = v_new
             kinetic_old = kinetic
             restart = False
+            if masses.fictitious and (
+                (not kinetic_damping and iteration - estimated_at >= self.refresh)
+                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > _TURN)
+            ):
+                # Viscous damping never stops the motion, and a surface that turned far
+                # brings its membrane stiffness onto its light normal axes: re-estimate on
+                # the way, the kinetic energy re-measured with the new masses (not a peak).
+                mass, inertia, dt = masses(state, inflate)
+                inv_inertia = _inverse(inertia)[:, None]
+                estimated_at = iteration
+                previous = None
+                kinetic_old = mass.energy(velocity) + 0.5 * float(
+                    np.sum(inertia[:, None] * omega * omega)
+                )
 
         raise ConvergenceError(
             f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
@@ -287,7 +432,8 @@ class DynamicRelaxation:
         """Adaptive damping coefficient c = 2 sqrt(u.K u / u.M u) (Underwood 1983), over the
         translations and the rotations alike, with the local diagonal stiffness estimate
         K_jj = -(r_j(i) - r_j(i-1)) / (dt v_j(i-1/2)); u is the motion since the increment
-        began. ``current`` / ``previous``: lists of (u, r, v, m) per kind of DOF."""
+        began. ``current`` / ``previous``: lists of (u, r, v, m) per kind of DOF, m (n, 3) or
+        (n, 1) (the masses in use, physical or fictitious)."""
         if previous is None:
             return 0.0
         numerator = denominator = 0.0
@@ -296,10 +442,211 @@ class DynamicRelaxation:
             stiffness = np.zeros_like(v)
             stiffness[moving] = -(r[moving] - r_old[moving]) / (dt * v[moving])
             numerator += float(np.sum(stiffness * u * u))
-            denominator += float(np.sum(m[:, None] * u * u))
+            denominator += float(np.sum(m * u * u))
         if numerator <= 0.0 or denominator <= 0.0:
             return 0.0
         return min(2.0 * math.sqrt(numerator / denominator), 1.9 / dt)
+
+
+_ONE = np.ones((1, 1))
+#: An out-of-balance this many times the first one of an increment is a blow-up.
+_BLOW_UP = 1e3
+#: Largest turn (rad) of a shell normal between two estimates of the fictitious masses; the
+#: normal mass carries TURN^2 of the in-plane one for the stiffness such a turn brings along.
+_TURN = 0.03
+#: Iterations between checks of that turn.
+_TURN_CHECK = 10
+#: The fictitious masses are doubled at most until they reach this factor (2^10).
+_MAX_INFLATION = 1024.0
+#: A residual ratio above this has not fallen (the mechanism watch).
+_STALL_RATIO = 0.5
+
+
+def _inverse(values: np.ndarray) -> np.ndarray:
+    """1 / m where m > 0, 0 elsewhere (DOFs without mass never move)."""
+    positive = values > 0
+    return np.where(positive, 1.0 / np.where(positive, values, 1.0), 0.0)
+
+
+def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:
+    motions = model.unheld_rigid_motions(loaded_only=False)
+    cause = (
+        f"the supports leave rigid motions free ({'; '.join(motions)})"
+        if motions
+        else "no rigid motion of the whole model is free, so a part or a mechanism moves "
+        "without resistance"
+    )
+    return (
+        f"dynamic relaxation stopped in increment {increment}/{solver.increments} (load factor "
+        f"{load_factor:.4g}): the residual did not fall (ratio above {_STALL_RATIO} for "
+        f"{solver.stall_iterations} iterations), nothing stops the motion: {cause}. Fix or "
+        "prescribe DOFs that hold it, or balance the loads."
+    )
+
+
+class _NodeMass:
+    """Translational masses per node as a diagonal in node axes: M_a = R_a diag(d_a) R_a^T.
+
+    axes : (n, 3, 3), columns the unit axes of each node (identity: the global axes).
+    values : (n, 3), the mass along each axis (0: a DOF that never moves).
+    """
+
+    def __init__(self, axes: np.ndarray, values: np.ndarray):
+        self.axes, self.values = axes, values
+        self.inverse = _inverse(values)
+
+    def local(self, vectors: np.ndarray) -> np.ndarray:
+        """(n, 3) global components -> components along the node axes."""
+        return np.einsum("nji,nj->ni", self.axes, vectors)
+
+    def solve(self, forces: np.ndarray) -> np.ndarray:
+        """M^-1 F, (n, 3)."""
+        return np.einsum("nij,nj->ni", self.axes, self.inverse * self.local(forces))
+
+    def energy(self, velocities: np.ndarray) -> float:
+        """1/2 v.M v."""
+        local = self.local(velocities)
+        return 0.5 * float(np.sum(self.values * local * local))
+
+
+class _Masses:
+    """The masses a relaxation moves with: ``__call__(state, inflate)`` gives (translation
+    masses (n, 3), rotary inertia (n,), time step)."""
+
+    fictitious = False
+    every_restart = True
+
+    def turned(self, state: State) -> float:
+        """The largest turn (rad) of a surface normal since the last estimate."""
+        return 0.0
+
+    def __init__(self) -> None:
+        self.estimates = 0
+        self.recoveries = 0
+
+    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
+        raise NotImplementedError
+
+
+class _LumpedMasses(_Masses):
+    """The physical lumped masses and rotary inertia, ``safety`` x the stable step."""
+
+    def __init__(self, model: CompiledModel, safety: float):
+        super().__init__()
+        self.model, self.safety = model, safety
+
+    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
+        self.estimates += 1
+        mass, inertia = self.model.lumped_mass(state)
+        dt = self.safety * self.model.stable_dt(state)
+        axes = np.broadcast_to(np.eye(3), (self.model.n_nodes, 3, 3))
+        return _NodeMass(axes, np.repeat(mass[:, None], 3, axis=1)), inertia, dt
+
+
+class _GershgorinMasses(_Masses):
+    """Fictitious masses m_i = (dt^2 / 4) sum_j |K_ij| / safety^2 with dt = 1, K_ij over the
+    free DOFs: by Gershgorin's theorem every eigenvalue of M^-1 K is then below
+    (2 safety / dt)^2, within the central-difference limit (docs/theory.md §6.4a)."""
+
+    fictitious = True
+    every_restart = False
+
+    def __init__(self, model: CompiledModel, safety: float):
+        super().__init__()
+        self.model = model
+        self.scale = 1.0 / (4.0 * safety**2)
+        own = model.own_tangents(model.initial_state())
+        self.own = list(own)
+        self.others = [i for i in range(len(model.blocks)) if i not in own]
+        # The colouring loops over the nodes: once per solve.
+        self.graph = model.node_graph(self.others) if self.others else None
+        self.length2 = model.element_size**2
+        self.triangles = model.mesh.triangles
+        self.local = np.zeros(model.n_nodes, dtype=bool)
+        self.normals = np.zeros((0, 3))
+
+    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
+        self.estimates += 1
+        model, dofs = self.model, self.model.dofs
+        n = dofs.n_nodes
+        frames = dofs.frames(state.directors)
+        parts = model.tangent_parts(state, self.own) if self.own else []
+        if parts is None:
+            raise RuntimeError(
+                "an element block gave a tangent at the start of the solve and none later: a "
+                "block's tangent() returns None always or never"
+            )
+        k = tangent_matrix(dofs, parts, frames)
+        if self.graph is not None:
+            k = k + model.finite_difference_stiffness(state, self.others, self.graph, frames)
+        # Node axes: a shell node whose translations are all free takes two tangent axes and
+        # the normal of the mid-surface, so that the soft direction of a shell (along the normal:
+        # bending,
+        # transverse shear) gets its own small mass while the in-plane axes carry the stiff
+        # membrane, and the axes turn with the shell at each estimate; other nodes keep x, y, z.
+        axes = np.repeat(np.eye(3)[None], n, axis=0)
+        local = dofs.has_rotation & dofs.free[:, :3].all(axis=1)
+        if local.any():
+            # The normal of the mid-surface, not the director: a fibrous director leans.
+            normals = nodal_normals(state.positions, self.triangles)[local]
+            t1, t2 = nodal_frames(normals)
+            axes[local] = np.stack([t1, t2, normals], axis=2)
+        k = _in_node_axes(k, axes)
+        free = dofs.free_slots
+        rows = np.zeros(dofs.n_slots)
+        rows[free] = np.asarray(abs(k[free][:, free]).sum(axis=1)).ravel()
+        rows = rows.reshape(n, N_COLUMNS) * (self.scale * inflate)
+        mass = rows[:, :3]
+        # Elsewhere (cables, partly held nodes) one mass for the three axes: global axes do
+        # not turn with the body, and a stiffness that the motion turns onto a light axis
+        # would blow up before the next estimate.
+        mass[~local] = mass[~local].max(axis=1, initial=0.0)[:, None]
+        mass[local, 2] += _TURN**2 * mass[local, :2].max(axis=1)
+        self.local, self.normals = local, axes[local, :, 2]
+        # One inertia per node, isotropic in the tangent plane: the angular velocity is a
+        # vector there, and alpha and beta follow nodal frames that turn with the director.
+        inertia = rows[:, 3:].max(axis=1)
+        mass = _floor(mass, dofs.free[:, :3], None)
+        turning = dofs.free[:, 3:].any(axis=1)
+        # A rotation whose row is empty (an unloaded director) still needs a finite inertia:
+        # the translations' scale over one element.
+        inertia = _floor(inertia, turning, float(np.median(mass[dofs.free[:, :3]])) * self.length2)
+        return _NodeMass(axes, mass), inertia, 1.0
+
+    def turned(self, state: State) -> float:
+        if not self.local.any():
+            return 0.0
+        normals = nodal_normals(state.positions, self.triangles)[self.local]
+        cosine = float(np.min(np.sum(normals * self.normals, axis=1)))
+        return math.acos(min(max(cosine, -1.0), 1.0))
+
+
+def _in_node_axes(k: sp.csr_matrix, axes: np.ndarray) -> sp.csr_matrix:
+    """Q^T K Q with Q block-diagonal: the node axes (n, 3, 3) on the translation slots, the
+    identity on alpha and beta (already in the nodal frame)."""
+    n = axes.shape[0]
+    blocks = np.zeros((n, N_COLUMNS, N_COLUMNS))
+    blocks[:, :3, :3] = axes
+    blocks[:, 3, 3] = blocks[:, 4, 4] = 1.0
+    base = (N_COLUMNS * np.arange(n))[:, None, None]
+    rows = np.broadcast_to(base + np.arange(N_COLUMNS)[:, None], blocks.shape)
+    cols = np.broadcast_to(base + np.arange(N_COLUMNS)[None, :], blocks.shape)
+    q = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=k.shape)
+    return (q.T @ k @ q).tocsr()
+
+
+def _floor(values: np.ndarray, free: np.ndarray, fallback: float | None) -> np.ndarray:
+    """No free mass below 1e-3 of the median of its kind (``fallback`` when none is positive):
+    a zero-stiffness DOF is stable with any mass, and a small but finite one keeps it from
+    flying off when the configuration gives it stiffness before the next estimate."""
+    positive = values[free & (values > 0)]
+    if positive.size:
+        floor = 1e-3 * float(np.median(positive))
+    elif fallback is not None and fallback > 0:
+        floor = fallback
+    else:
+        floor = 1.0
+    return np.where(free, np.maximum(values, floor), values)
 
 
 class _Balance:
@@ -325,6 +672,12 @@ class _Balance:
     def judge(self, f_int, m_int, residual, moment) -> tuple[float, bool]:
         """(residual ratio, converged) from the internal forces and the free residuals."""
         force_ref = max(self.f_ext_norm, float(np.linalg.norm(f_int)))
+        if self.any_rotation:
+            # Moments over one element as forces: under end moments alone (pure bending) the
+            # nodal forces all tend to zero, the reactions too, and ||F_int|| alone would
+            # judge round-off against round-off.
+            moment_scale = max(self.m_ext_norm, float(np.linalg.norm(m_int)))
+            force_ref = max(force_ref, moment_scale / self.model.element_size)
         r_norm = float(np.linalg.norm(residual))
         ratio = r_norm / force_ref if force_ref > 0 else 0.0
         ok = ratio <= self.tol and float(np.abs(residual).max(initial=0.0)) <= (

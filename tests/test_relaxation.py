@@ -1,4 +1,8 @@
-"""Dynamic relaxation reaches the static equilibrium of cables: the catenary (Irvine 1981)."""
+"""Dynamic relaxation reaches the static equilibrium of cables (the catenary, Irvine 1981) and of
+thin Mindlin strips (the circle of pure bending, the elastica), with its Gershgorin fictitious
+masses (the default) and with the physical lumped masses."""
+
+import math
 
 import numpy as np
 import pytest
@@ -8,6 +12,7 @@ from femcore import Model
 from solvers import ConvergenceError, DynamicRelaxation
 from validation import specimens
 from validation.references.catenary import catenary_sag, elastic_catenary_shape
+from validation.references.elastica import tip_loaded_cantilever
 
 MU = 1.0e-6  # t/mm, mass per unstretched length
 G = 9810.0  # mm/s^2
@@ -34,12 +39,14 @@ def test_stiff_cable_relaxes_to_the_inextensible_catenary(box_chain):
     assert mid_sag(result, box_chain) == pytest.approx(reference, rel=5e-3)
 
 
+@pytest.mark.parametrize("masses", ["gershgorin", "lumped"])
 @pytest.mark.parametrize("damping", ["kinetic", "viscous"])
-def test_elastic_cable_relaxes_to_the_elastic_catenary(box_chain, damping):
+def test_elastic_cable_relaxes_to_the_elastic_catenary(box_chain, damping, masses):
     # Reference: Irvine's elastic catenary with the same EA; EA = 10 N stretches the cable by
     # 3-5 % and deepens the sag by 13 %, so the inextensible answer would be far off.
     axial_stiffness = 10.0
-    result = DynamicRelaxation(tol=1e-6, damping=damping).solve(hanging_cable(axial_stiffness))
+    solver = DynamicRelaxation(tol=1e-6, damping=damping, masses=masses)
+    result = solver.solve(hanging_cable(axial_stiffness))
     s = specimens.arc_length(box_chain)
     x, z = elastic_catenary_shape(s, SPAN, LENGTH, MU * G, axial_stiffness)
     inextensible = catenary_sag(SPAN, LENGTH, MU * G)
@@ -90,3 +97,98 @@ def test_prescribed_displacement_is_reached_and_reacted():
     assert np.allclose(result.positions[:, 0], points[:, 0] * 1.02, atol=1e-6)
     assert result.reactions[-1, 0] == pytest.approx(1000.0 * 0.02, rel=1e-6)
     assert result.reactions[0, 0] == pytest.approx(-1000.0 * 0.02, rel=1e-6)
+
+
+# ---------------------------------------------------------------------- thin Mindlin strips
+def rolled_strip(thickness, cells):
+    """A 120 x 8 mm Mindlin strip (E = 70 GPa, nu = 0) with the end moment M = (pi/2) EI/L
+    that rolls it into a quarter circle of radius EI/M; (model, tip nodes, radius)."""
+    length, width, young = 120.0, 8.0, 70e3
+    mesh, model = specimens.mindlin_strip(length, width, thickness, young, cells=cells)
+    inertia = width * thickness**3 / 12
+    moment = 0.5 * math.pi * young * inertia / length
+    tip = mesh.nodes("right")
+    model.moment(tip, (0.0, -moment / len(tip), 0.0), amplitude="linear")
+    return model, tip, young * inertia / moment
+
+
+def test_end_moment_rolls_a_strip_onto_the_circle_of_pure_bending():
+    # Closed form: a constant moment M bends the strip into a circle of radius EI/M; the
+    # quarter circle puts the tip at x = z = EI/M. L/h = 30 and 8 elements: each element spans
+    # 11 deg of arc, and the 3-node shell's tip lies within 0.7 % of the circle at this mesh
+    # (the error falls as the mesh is refined), so 1.5 % of the radius.
+    model, tip, radius = rolled_strip(thickness=4.0, cells=8)
+    result = DynamicRelaxation().solve(model)
+    x, _, z = result.positions[tip].mean(axis=0)
+    assert x == pytest.approx(radius, rel=0.015)
+    assert z == pytest.approx(radius, rel=0.015)
+    # Iterations: the Gershgorin masses put the highest frequency of every DOF at the same
+    # limit, so the count is set by the stiffness ratio of the strip itself (transverse shear
+    # against bending, growing like L/h), not by the mesh nor by the physical rotary inertia
+    # rho h^3/12 that sets the lumped-mass step. A kinetically damped relaxation settles in a
+    # few quarter periods of the lowest mode: about 4e3 here at 8 or 12 cells (the lumped
+    # masses take 6e3), so 5000 leaves room for round-off and nothing for a regression to
+    # the lumped-mass count.
+    assert result.info["masses"] == "gershgorin"
+    assert max(result.info["iterations_per_increment"]) < 5000
+
+
+def test_tip_loaded_strip_follows_the_elastica():
+    # P L^2 / EI = 3: the tip drops by 0.603 L (Bisshopp & Drucker 1945, by the boundary-value
+    # solve of validation.references.elastica). 20 cells (40 triangles) of a 100 x 5 x 4 mm
+    # strip: L/h = 25 keeps the transverse shear flexibility of the Mindlin strip below
+    # 1e-3 of the bending one (h^2 / (kappa G/E L^2) / 12 ~ 4e-3 / 12), and the same strip
+    # under Static meets the elastica within 1 % (tests/test_mindlin.py): 1 %.
+    length, width, thickness, young = 100.0, 5.0, 4.0, 1e5
+    mesh, model = specimens.mindlin_strip(length, width, thickness, young, cells=20)
+    bending = young * width * thickness**3 / 12
+    load = 3.0 * bending / length**2
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, -load / len(tip)), amplitude="linear")
+    result = DynamicRelaxation().solve(model)
+    reference = tip_loaded_cantilever(length, load, bending)
+    moved = result.displacements[tip].mean(axis=0)
+    assert -moved[2] == pytest.approx(reference["tip_deflection"], rel=0.01)
+    assert length + moved[0] == pytest.approx(reference["tip_x"], rel=0.01)
+
+
+def test_a_part_that_nothing_holds_stops_the_run_with_the_reason():
+    # Two separate cables: one pinned at both ends, the other free and pulled along x. The
+    # loads do no work along the one rigid motion the pins leave free (the turn about the line
+    # through them, the x axis), so check_held lets the model pass, but the free piece flies
+    # off: the residual does not fall and the run stops with the reason, naming that free
+    # rigid motion, long before the iteration limit.
+    from femcore import Mesh
+
+    x = np.linspace(0.0, 100.0, 6)
+    points = np.vstack(
+        [
+            np.column_stack([x, np.zeros(6), np.zeros(6)]),
+            np.column_stack([x, np.ones(6), np.zeros(6)]),
+        ]
+    )
+    lines = np.vstack(
+        [
+            np.column_stack([np.arange(5), np.arange(1, 6)]),
+            np.column_stack([np.arange(6, 11), np.arange(7, 12)]),
+        ]
+    )
+    mesh = Mesh(points, lines=lines)
+    model = Model(mesh)
+    model.add(Cable(1000.0, MU))
+    model.fix([0, 5])
+    model.force([11], (1.0, 0.0, 0.0))
+    solver = DynamicRelaxation(increments=2, stall_iterations=500, max_iterations=50_000)
+    with pytest.raises(ConvergenceError, match="residual did not fall.*rotation about x") as error:
+        solver.solve(model)
+    assert error.value.result.converged is False
+    assert len(error.value.result.frames) == 1  # the reference state, the last good one
+
+
+def test_bad_options_are_refused():
+    with pytest.raises(ValueError, match="masses"):
+        DynamicRelaxation(masses="diagonal")
+    with pytest.raises(ValueError, match="refresh"):
+        DynamicRelaxation(refresh=0)
+    with pytest.raises(ValueError, match="stall_iterations"):
+        DynamicRelaxation(stall_iterations=-1)
