@@ -249,14 +249,12 @@ class Static:
                         run, start, trial, iterations_allowed
                     )
                 except _Failed as failure:
-                    cuts_here += 1
-                    run.info["cuts"] += 1
-                    if cuts_here > self.max_cuts:
-                        raise run.failure(
-                            f"increment {increment + phase * self.increments}/"
-                            f"{self.increments * (2 if self.step_loads_first else 1)} did not "
-                            f"converge after {cuts_here - 1} cuts ({failure})"
-                        ) from None
+                    total = self.increments * (2 if self.step_loads_first else 1)
+                    cuts_here = run.cut(
+                        cuts_here,
+                        f"increment {increment + phase * self.increments}/{total}",
+                        failure,
+                    )
                     step = 0.5 * (trial - run.reached)
                     continue
                 iterations += count
@@ -373,8 +371,9 @@ class Static:
                 return
             cuts_here = 0
             while True:
+                prediction: _Motion | None = None
                 try:
-                    prediction = self._arc_predictor(run, pattern, arc, previous, end, switches)
+                    prediction = self._arc_predictor(run, pattern, arc, previous)
                     arc = prediction.length
                     outcome = None
                     if run.reached + prediction.load < end - 1e-12 or prediction.load <= 0.0:
@@ -418,15 +417,9 @@ class Static:
                         raise _Failed("the step turned back along the path")
                     break
                 except _Failed as failure:
-                    cuts_here += 1
-                    run.info["cuts"] += 1
-                    if cuts_here > self.max_cuts:
-                        raise run.failure(
-                            f"arc-length increment did not converge after {cuts_here - 1} "
-                            f"cuts ({failure})"
-                        ) from None
+                    cuts_here = run.cut(cuts_here, "arc-length increment", failure)
                     arc = 0.5 * arc if arc is not None else None
-                    if prediction.mode:
+                    if prediction is not None and prediction.mode:
                         switches = 3  # the push did not work: stay on the path
             state, load_factor, count, ratio, history = outcome
             if previous is not None and previous.load * motion.load < 0.0:
@@ -467,7 +460,7 @@ class Static:
             "carried)"
         )
 
-    def _arc_predictor(self, run, pattern, arc, previous, end, switches) -> _Motion:
+    def _arc_predictor(self, run, pattern, arc, previous) -> _Motion:
         """The first guess of an increment: along the buckling mode after a bifurcation, along
         the previous increment (the secant) otherwise, or along the tangent at the start."""
         if run.mode is not None:
@@ -1020,7 +1013,7 @@ class _Run:
             or self.last_motion[0] != self.phase
         ):
             return self.state
-        _, previous_load, motion = self.last_motion
+        motion = self.last_motion[2]
         if motion.load <= 0.0:
             return self.state
         return self.apply(motion.scaled((load_factor - self.reached) / motion.load), load_factor)
@@ -1108,6 +1101,14 @@ class _Run:
             f"load factor {self.reached:.4g} converged in {iterations} Newton iterations",
             force=True,
         )
+
+    def cut(self, cuts: int, what: str, failure: Exception) -> int:
+        """Count one more cut of an increment (``cuts`` so far), or raise the ConvergenceError
+        of ``failure`` when that makes more than the solver's max_cuts."""
+        self.info["cuts"] += 1
+        if cuts + 1 > self.solver.max_cuts:
+            raise self.failure(f"{what} did not converge after {cuts} cuts ({failure})") from None
+        return cuts + 1
 
     def failure(self, reason: str) -> ConvergenceError:
         hint = (
