@@ -610,7 +610,13 @@ class _GershgorinMasses(_Masses):
         turning = dofs.free[:, 3:].any(axis=1)
         # A rotation whose row is empty (an unloaded director) still needs a finite inertia:
         # the translations' scale over one element.
-        inertia = _floor(inertia, turning, float(np.median(mass[dofs.free[:, :3]])) * self.length2)
+        free_masses = mass[dofs.free[:, :3]]
+        typical = (
+            float(np.median(free_masses)) * self.length2
+            if free_masses.size  # else every translation is held: the largest inertia row
+            else float(inertia.max(initial=0.0)) or 1.0
+        )
+        inertia = _floor(inertia, turning, typical)
         return _NodeMass(axes, mass), inertia, 1.0
 
     def turned(self, state: State) -> float:
