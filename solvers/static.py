@@ -33,9 +33,10 @@ Each Newton iteration:
   (solvers.linear), its negative pivots counting the negative eigenvalues of K_ff;
 - line search (load path), a watchdog (Chamberlain, Powell, Lemarechal and Pedersen, Math.
   Prog. Study 16 (1982) 1): full Newton steps are taken as long as, within WATCHDOG
-  iterations, one of them lowers the total potential energy (by the Armijo fraction of the
-  first-order decrease of the step that left the best iterate so far) or the residual norm
-  below that of the best iterate. Otherwise the iteration goes back to the best iterate and
+  iterations, one of them lowers the residual norm below that of the best iterate so far or
+  the total potential energy (by the Armijo fraction of the first-order decrease of the step
+  that left the best iterate; the energy is evaluated only when the residual does not show
+  the decrease). Otherwise the iteration goes back to the best iterate and
   backtracks along its Newton step (halving, down to 1/64) until one of the two falls; when
   none does, the line search says no and the increment is cut. Full steps first because the
   first iterations of a large rotation climb the energy on the way (the straight update
@@ -766,44 +767,38 @@ class _Failed(Exception):
 class _Watchdog:
     """The watchdog line search of the load path (module docstring).
 
-    The merit of an iterate is its total potential Pi, accumulated along the piecewise
-    straight path of the iterations (strain energy minus the dead loads' work on each update,
-    exact for forces, and for moments on each update, a rotation about a fixed axis), and
-    its residual norm on the free DOFs.
+    The merits of an iterate are its residual norm on the free DOFs and its total potential
+    Pi relative to the best iterate: Pi(x) - Pi(best) = W(x) - W(best) - (the dead loads' work
+    along the straight updates since the best iterate; exact for forces, and for moments on
+    each update, a rotation about a fixed axis). The strain energies W are evaluated only when
+    the residual does not already show the decrease.
     """
 
     def __init__(self, run: _Run, equilibrium: _Equilibrium, enabled: bool):
         self.run, self.equilibrium, self.enabled = run, equilibrium, enabled
         self.free = run.model.dofs.free.ravel()
         self.best: dict | None = None  # the best iterate and its Newton step
-        self.potential = 0.0  # Pi of the current iterate, relative to the first one
-        self.energy: float | None = None  # strain energy of the current iterate
+        self.work = 0.0  # dead-load work along the updates since the best iterate
         self.misses = 0
 
     def step(self, state: State, frames: Frames, delta: np.ndarray, r: np.ndarray, whole: bool):
         """The next iterate from ``state`` with Newton step delta (n, 5) and residual r (n, 5):
         (scale taken, new state, its internal forces); scale 0 when it went back."""
-        run, model = self.run, self.run.model
-        cap = _step_cap(model, delta) if self.enabled else 1.0
+        cap = _step_cap(self.run.model, delta) if self.enabled else 1.0
         if not self.enabled or whole:
-            self.best, self.energy = None, None  # the imposed motion starts a new search
+            self.best = None  # the imposed motion starts a new search
             return self._take(state, frames, delta, cap)
-        if self.energy is None:
-            self.energy = run.energy(state)
-        residual = float(np.linalg.norm(r.ravel()[self.free]))
-        slope = -float(r.ravel()[self.free] @ delta.ravel()[self.free])  # dPi/ds
         here = {
             "state": state,
             "frames": frames,
             "delta": delta,
             "cap": cap,
-            "residual": residual,
-            "potential": self.potential,
-            "energy": self.energy,
-            "slope": slope,
+            "residual": float(np.linalg.norm(r.ravel()[self.free])),
+            "slope": -float(r.ravel()[self.free] @ delta.ravel()[self.free]),  # dPi/ds
+            "energy": None,
         }
-        if self.best is None or self._better(here, self.best):
-            self.best, self.misses = here, 0
+        if self.best is None or self._better(here):
+            self.best, self.misses, self.work = here, 0, 0.0
         else:
             self.misses += 1
             if self.misses >= WATCHDOG:
@@ -818,50 +813,47 @@ class _Watchdog:
         trial = run.model.dofs.advance(state, scale * delta, frames)
         forces = run.model.internal_force(trial)
         run.counts["residual"] += 1
-        if self.enabled and self.energy is not None:
-            energy = run.energy(trial)
-            work = scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
-            self.potential += energy - self.energy - work
-            self.energy = energy
+        self.work += scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
         return scale, trial, forces
 
-    @staticmethod
-    def _better(here: dict, best: dict) -> bool:
-        """A real decrease from the best iterate: the energy by the Armijo fraction of the
-        best step's first-order decrease, or the residual norm by that fraction."""
-        if here["residual"] <= (1.0 - ARMIJO) * best["residual"]:
-            return True
-        drop = best["potential"] - here["potential"]
-        noise = 1e-10 * (abs(best["energy"]) + abs(here["energy"]))
-        return best["slope"] < 0.0 and drop >= -ARMIJO * best["slope"] and drop > noise
+    def _energy(self, entry: dict) -> float:
+        if entry["energy"] is None:
+            entry["energy"] = self.run.energy(entry["state"])
+        return entry["energy"]
 
-    def _backtrack(self):
-        """Back to the best iterate, then halve its Newton step until the energy or the residual
-        falls (Armijo); _Failed when none does down to SMALLEST_STEP."""
+    def _better(self, here: dict) -> bool:
+        """A real decrease from the best iterate: the residual norm by the Armijo fraction, or
+        the energy by that fraction of the best step's first-order decrease."""
         best = self.best
         assert best is not None
-        run, model = self.run, self.run.model
+        if here["residual"] <= (1.0 - ARMIJO) * best["residual"]:
+            return True
+        if best["slope"] >= 0.0:
+            return False
+        before, after = self._energy(best), self._energy(here)
+        drop = before - (after - self.work)
+        noise = 1e-10 * (abs(before) + abs(after))
+        return drop >= -ARMIJO * best["slope"] and drop > noise
+
+    def _backtrack(self):
+        """Back to the best iterate, then halve its Newton step until the residual or the
+        energy falls (Armijo); _Failed when none does down to SMALLEST_STEP."""
+        best = self.best
+        assert best is not None
         state, frames, delta = best["state"], best["frames"], best["delta"]
+        load_rate = float(self.equilibrium.load(frames).ravel() @ delta.ravel())
         scale = 0.5 * best["cap"]
         while scale >= SMALLEST_STEP * best["cap"]:
-            trial = model.dofs.advance(state, scale * delta, frames)
+            trial = self.run.model.dofs.advance(state, scale * delta, frames)
             r, ratio, forces = self.equilibrium.residual(trial, frames)
             if np.isfinite(ratio):
-                energy = run.energy(trial)
-                work = scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
-                potential = best["potential"] + energy - best["energy"] - work
-                here = {
-                    "residual": float(np.linalg.norm(r.ravel()[self.free])),
-                    "potential": potential,
-                    "energy": energy,
-                }
-                if (
-                    best["slope"] < 0.0
-                    and potential - best["potential"] <= (ARMIJO * scale * best["slope"])
-                    or here["residual"] <= (1.0 - ARMIJO * scale) * best["residual"]
-                ):
-                    self.potential, self.energy = potential, energy
-                    self.best, self.misses = None, 0
+                residual = float(np.linalg.norm(r.ravel()[self.free]))
+                accepted = residual <= (1.0 - ARMIJO * scale) * best["residual"]
+                if not accepted and best["slope"] < 0.0:
+                    change = self.run.energy(trial) - self._energy(best) - scale * load_rate
+                    accepted = change <= ARMIJO * scale * best["slope"]
+                if accepted:
+                    self.best, self.misses, self.work = None, 0, 0.0
                     return 0.0, trial, forces
             scale *= 0.5
         raise _Failed("the line search found no step that lowers the energy or the residual")
