@@ -435,7 +435,12 @@ class Static:
             arc = motion.length * float(
                 np.clip(np.sqrt(DESIRED_ITERATIONS / max(count, 1)), 0.5, 2.0)
             )
-            longest = longest or LONGEST_STEP * motion.length
+            if longest is None:
+                # The first step's length, stretched to the path length of a load step of
+                # 1 / increments where the first step carried less (a path that starts soft:
+                # its tangent predicts far more motion than the load gives).
+                carried = max(motion.load, 1e-300)
+                longest = LONGEST_STEP * motion.length * max(1.0, 1.0 / (self.increments * carried))
             arc = min(arc, longest)
             negative = run.negative
             if (
