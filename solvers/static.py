@@ -246,7 +246,8 @@ class Static:
             iterations = 0
             cuts_here = 0
             while run.reached < target - 1e-12:
-                trial = min(target, run.reached + step)
+                # Land on the target exactly: sums of step fractions miss it by rounding.
+                trial = target if run.reached + step >= target - 1e-12 else run.reached + step
                 start = run.predict(trial)
                 try:
                     converged, count, ratio, history = self._newton(
@@ -363,6 +364,12 @@ class Static:
         """Crisfield's cylindrical arc length over the load factors [phase, phase + 1]."""
         end = phase + 1.0
         pattern = run.pattern(phase)
+        if not any(np.any(part) for part in pattern):
+            # Nothing is applied in this phase (step_loads_first without "step" loads): the
+            # state stays where it is.
+            run.accept(run.state, end)
+            run.frame(0, 0.0, [0.0])
+            return
         arc: float | None = None  # step length (the scaled norm of _Motion)
         previous: _Motion | None = None  # the last converged increment
         # The longest step: LONGEST_STEP x that of the first increment (lambda up by

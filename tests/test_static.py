@@ -265,6 +265,20 @@ def test_arc_length_follows_the_snap_through_along_its_closed_form_path():
     assert lam.min() < 0.0 and rising.max() <= first_limit + 1e-9
 
 
+def test_an_empty_phase_of_the_arc_length_path_is_passed_over():
+    # step_loads_first with no "step" load (no gravity): the first phase applies nothing and
+    # gives one frame at load factor 1; the displacement then follows over 1-2 and ends on
+    # the same equilibrium as the single-phase run.
+    model, rise, truss_force, travel = _von_mises_truss()
+    single = Static(increments=12, path="arc_length", at_limit="jump").solve(model)
+    phased = Static(increments=12, path="arc_length", at_limit="jump", step_loads_first=True).solve(
+        model
+    )
+    assert phased.frames[1].load_factor == 1.0
+    assert phased.frames[-1].load_factor == 2.0
+    assert phased.positions == pytest.approx(single.positions, abs=1e-9)
+
+
 def test_a_failed_increment_keeps_the_last_good_state_and_says_where():
     # Plain Newton (no line search) with two iterations per increment cannot pass the limit
     # point: the solver stops there with the load factor it reached and that frame kept.
