@@ -493,7 +493,7 @@ class Static:
         the last converged state. Returns (state, lambda, iterations, ratio, history)."""
         model = run.model
         dofs = model.dofs
-        index, moved_index = dofs.free_slots, dofs.prescribed_slots
+        index = dofs.free_slots
         start, start_load = run.state, run.reached
         length = prediction.length
         load_factor = start_load + prediction.load
@@ -513,12 +513,7 @@ class Static:
                 return run.settled(state, factor), load_factor, iteration - 1, ratio, history
             k_ff, k_fp = run.tangent(state, frames)
             factor = run.factorise(k_ff)
-            f_pattern = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[index]
-            u_pattern = np.zeros((model.n_nodes, N_COLUMNS))
-            u_pattern[:, :3] = np.where(model.translation_prescribed, pattern[2], 0.0)
-            load_rhs = f_pattern - (
-                k_fp @ u_pattern.ravel()[moved_index] if moved_index.size else 0.0
-            )
+            load_rhs, u_pattern = run.load_rate(pattern, frames, k_fp)
             solved = factor.solve(np.column_stack([r.ravel()[index], load_rhs]))
             if solved is None:
                 raise _Failed("singular tangent stiffness on the arc-length path")
@@ -1025,17 +1020,24 @@ class _Run:
             return self.state
         return self.apply(motion.scaled((load_factor - self.reached) / motion.load), load_factor)
 
+    def load_rate(self, pattern, frames: Frames, k_fp) -> tuple[np.ndarray, np.ndarray]:
+        """P = dR/dlambda on the free DOFs, F_pattern - K_fp U_pattern, and the prescribed
+        motion per unit load factor U_pattern as a flat generalised vector (n_slots,)."""
+        model, dofs = self.model, self.model.dofs
+        rate = np.zeros((model.n_nodes, N_COLUMNS))
+        rate[:, :3] = np.where(model.translation_prescribed, pattern[2], 0.0)
+        drive = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[dofs.free_slots]
+        if dofs.prescribed_slots.size:
+            drive = drive - k_fp @ rate.ravel()[dofs.prescribed_slots]
+        return drive, rate.ravel()
+
     def tangent_motion(self, pattern) -> _Motion:
         """The motion per unit load factor along the tangent of the path at the last state:
         K_ff dq = dR/dlambda, with the prescribed DOFs moving at their rate."""
-        model, dofs, state = self.model, self.model.dofs, self.state
+        dofs, state = self.model.dofs, self.state
         frames = dofs.frames(state.directors)
         k_ff, k_fp = self.tangent(state, frames)
-        rate = np.zeros((model.n_nodes, N_COLUMNS))
-        rate[:, :3] = np.where(model.translation_prescribed, pattern[2], 0.0)
-        rhs = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[dofs.free_slots]
-        if dofs.prescribed_slots.size:
-            rhs = rhs - k_fp @ rate.ravel()[dofs.prescribed_slots]
+        rhs, rate = self.load_rate(pattern, frames, k_fp)
         solved = self.factorise(k_ff).solve(rhs)
         if solved is None:
             raise _Failed("singular tangent stiffness at the start of the arc-length path")
@@ -1051,7 +1053,7 @@ class _Run:
         at the last state, to the side where the loads do positive work; None if there is
         none, or if the mode is driven by the load pattern P (|phi . P| > 0.1 |P|: a limit
         point, which the arc length follows by itself)."""
-        model, dofs, state = self.model, self.model.dofs, self.state
+        dofs, state = self.model.dofs, self.state
         frames = dofs.frames(state.directors)
         k_ff, k_fp = self.tangent(state, frames)
         values, vectors = _lowest_modes(k_ff, self.negative or 1)
@@ -1059,12 +1061,7 @@ class _Run:
         if negative.size == 0:
             return None
         phi = vectors[:, negative[np.argmax(values[negative])]]
-        rate = np.where(model.translation_prescribed, pattern[2], 0.0)
-        drive = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[dofs.free_slots]
-        if dofs.prescribed_slots.size:
-            flat_rate = np.zeros((model.n_nodes, N_COLUMNS))
-            flat_rate[:, :3] = rate
-            drive = drive - k_fp @ flat_rate.ravel()[dofs.prescribed_slots]
+        drive, _ = self.load_rate(pattern, frames, k_fp)
         if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
             return None
         load = self.equilibrium(self.reached).load(frames).ravel()[dofs.free_slots]
