@@ -228,7 +228,19 @@ def solve(model: Model, increments: int) -> tuple[Any, str, float]:
     )
     if info["jumps"]:
         listed = ", ".join(f"{value:.3g}" for value in info["jumps"])
-        note += f"; limit point at load factor {listed}, then load steps to the stable branch"
+        # How far out of its plane (z) the specimen was at the limit point and is at the end:
+        # a snap may lead to a flatter state (an in-plane mode) as well as a deeper buckle.
+        start = result.frames[0].positions[:, 2]
+        at_limit = next(f for f in result.frames if f.load_factor >= info["jumps"][0] - 1e-12)
+        deflection = [
+            float(np.abs(frame.positions[:, 2] - start).max())
+            for frame in (at_limit, result.frames[-1])
+        ]
+        note += (
+            f"; limit point at load factor {listed} (largest deflection {deflection[0]:.3g} "
+            f"mm), then load steps to the stable branch (largest deflection at the end "
+            f"{deflection[1]:.3g} mm)"
+        )
     if info["branch_switches"]:
         listed = ", ".join(f"{value:.3g}" for value in info["branch_switches"])
         note += f"; bifurcation followed along the buckling mode at {listed}"
