@@ -180,6 +180,10 @@ class MindlinShellBlock(ElementBlock):
         self.reference_metric = self._metric(ref)
         self._material_matrices(ref, v0)
         self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
+        # The stable step's calibration (omega^2 of each element's eigenvalue problem over
+        # the cheap bound), computed from these at the first call of cell_stable_dt.
+        self._reference_cells = (x0, v0)
+        self._step_calibration: np.ndarray | None = None
 
     # ------------------------------------------------------------------ geometry
     def _vectors(self, x: np.ndarray, v: np.ndarray) -> dict:
@@ -456,15 +460,26 @@ class MindlinShellBlock(ElementBlock):
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
-        """Critical step per cell, omega^2 = omega_in-plane^2 + omega_rotation^2 (docs/theory.md
-        §6.2):
-
-        * translations: the trace bound of M^-1 K for a linear triangle with lumped mass
-          rho h A / 3, omega^2 <= 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2
-          (h_k the altitudes; membrane and transverse-shear stiffness of each DOF);
-        * rotations (B2): omega^2 = kappa G / (2 rho j) with the (scaled) rotary factor j.
+        """Critical step per cell, 2 / omega (docs/theory.md §6.2, B4): omega^2 the largest
+        eigenvalue of each element's K_e phi = omega^2 M_e phi (its tangent and its share of
+        the lumped masses and rotary inertias), which bounds that of the assembly (Irons:
+        the Rayleigh quotient of a sum is at most the largest of the elements'). It is
+        computed once, in the reference configuration, as a factor on the cheap bound
+        ``_cheap_omega2``, which then follows the current geometry at each call.
         """
+        if self._step_calibration is None:
+            x0, v0 = self._reference_cells
+            self._step_calibration = self.element_omega2(x0, v0) / self._cheap_omega2(x0)
         x = state.positions[self.connectivity]
+        return 2.0 / np.sqrt(self._cheap_omega2(x) * self._step_calibration)
+
+    def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
+        """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3):
+        the trace bound of M^-1 K for the translations of a linear triangle with lumped mass
+        rho h A / 3, 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2 (h_k the
+        altitudes), plus kappa G / (2 rho j) for the rotations (j the rotary factor). It
+        follows the geometry, not the element's actual modes: on cells of aspect 10 it fell
+        below the element eigenvalue (an unstable step), on regular cells it is above."""
         sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
         area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
@@ -472,8 +487,24 @@ class MindlinShellBlock(ElementBlock):
         shear = float(np.max(self.material.transverse))
         rho = self.material.density
         omega2 = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear) * inverse_heights2
-        omega2 = omega2 + shear / (2.0 * rho * self.rotary_factor)
-        return 2.0 / np.sqrt(omega2)
+        return omega2 + shear / (2.0 * rho * self.rotary_factor)
+
+    def element_omega2(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Largest eigenvalue (m,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
+        corners x and directors v (m, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
+        part), M_e its lumped share rho h A / 3 per translation and that times j per
+        rotation (the drilling rotation too: a larger space only raises the maximum)."""
+        share = self.material.areal_density * self.reference_area / 3.0
+        node = np.stack([share] * 3 + [share * self.rotary_factor] * 3, axis=1)  # (m, 6)
+        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (m, 18), M_e^-1/2
+        omega2 = np.empty(len(x))
+        for start in range(0, len(x), _TANGENT_SLICE):
+            cells = slice(start, start + _TANGENT_SLICE)
+            k = self._cell_tangent(x[cells], v[cells], cells).reshape(-1, 18, 18)
+            k = 0.5 * (k + np.swapaxes(k, 1, 2))
+            k *= scale[cells, :, None] * scale[cells, None, :]
+            omega2[cells] = np.linalg.eigvalsh(k)[:, -1]
+        return omega2
 
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:

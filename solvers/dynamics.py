@@ -54,6 +54,10 @@ class EnergyAccount:
         self.kinetic = self.internal = self.external = self.dissipated = 0.0
         #: Sum of |external work increments|: the yardstick for a blow-up.
         self.work_scale = 0.0
+        #: The largest energy of the run so far: the yardstick of the energy balance.
+        self.largest = 0.0
+        #: The kinetic energy after the first step (see ``check``).
+        self.start: float | None = None
         self.records: dict[str, list[float]] = {k: [0.0] for k in self.KEYS}
 
     @staticmethod
@@ -64,32 +68,79 @@ class EnergyAccount:
         damping: float,
         dt_prev: float,
         dt: float,
-    ) -> tuple[float, float, float, float]:
-        """(external, internal, damping work, new kinetic energy) of one kind of DOF over a
-        step: ``forces`` = (external + reaction, internal) at t(i), ``rates`` = (old, new)."""
+    ) -> tuple[float, ...]:
+        """Energy terms of one kind of DOF over a step, ``forces`` = (external + reaction,
+        internal) at t(i), ``rates`` = (old, new) at t(i -+ 1/2): the external, internal and
+        damping work over [t(i - 1/2), t(i + 1/2)], the new kinetic energy, and for the checks
+        at t(i): the kinetic energy 1/2 v(i-1/2) . M v(i+1/2) (the one the scheme conserves
+        with the strain energy, docs/theory.md §6.1), that of the mean rate, and the external
+        and damping work done before t(i)."""
         external, internal = forces
         old, new = rates
         dx = 0.5 * (dt_prev * old + dt * new)
         d_ext = float(np.sum(external * dx))
         d_int = float(np.sum(internal * dx))
-        d_damp = float(np.sum(damping * mass[:, None] * 0.5 * (old + new) * dx))
+        mean = 0.5 * (old + new)
+        d_damp = float(np.sum(damping * mass[:, None] * mean * dx))
         kinetic = 0.5 * float(np.sum(mass[:, None] * new * new))
-        return d_ext, d_int, d_damp, kinetic
+        product = 0.5 * float(np.sum(mass[:, None] * old * new))
+        kinetic_mean = 0.5 * float(np.sum(mass[:, None] * mean * mean))
+        ext_before = float(np.sum(external * 0.5 * dt_prev * old))
+        damp_before = float(np.sum(damping * mass[:, None] * old * 0.5 * dt_prev * old))
+        return d_ext, d_int, d_damp, kinetic, product, kinetic_mean, ext_before, damp_before
 
-    def blows_up(self, d_ext: float, d_int: float, d_damp: float, kinetic_new: float) -> bool:
+    def blows_up(self, d_ext: float, d_int: float, d_damp: float, kinetic_new: float, *_) -> bool:
         """Count the step's external work into ``work_scale``, then judge it: energy
         conservation bounds the kinetic energy by the work done on the model; ten times that
-        work means the integration is unstable."""
+        work means the integration is unstable. A fast blow-up shows here within the step; a
+        slow one is ``check``'s."""
         self.work_scale += abs(d_ext)
         return (not np.isfinite(kinetic_new)) or kinetic_new > 10.0 * (
             self.work_scale + abs(self.internal)
         ) + 1e-300
 
-    def accept(self, d_ext: float, d_int: float, d_damp: float, kinetic: float) -> None:
+    def accept(self, d_ext: float, d_int: float, d_damp: float, kinetic: float, *_) -> None:
+        if self.start is None:
+            self.start = kinetic
         self.kinetic = kinetic
         self.external += d_ext
         self.internal += d_int
         self.dissipated += d_damp
+
+    def check(self, work: tuple, strain_energy: float) -> tuple[float, float]:
+        """The two energy measures at t(i) of the step whose ``work`` terms were just
+        accepted, U the strain energy of the configuration at t(i) (change from the start):
+
+        * the balance |KE* + U + D - W_ext| over the largest of these energies so far in the
+          run, KE* = 1/2 v(i-1/2) . M v(i+1/2). For a linear model the central difference
+          conserves KE* + U exactly, stable or not; what it measures is the integration error
+          of a nonlinear one (a director driven through the surface, a contact, a law's
+          knee);
+        * the growth (KE + U) / (the work supplied, the sum of |dW_ext|), KE that of the mean
+          velocity at t(i): what shows an instability, whose energy grows without the work
+          that would feed it. A stable linear run keeps it below 1 / (1 - (omega dt / 2)^2)
+          (docs/theory.md §6.1), 5.3 at omega dt = 1.8, the default safety of an exact
+          step.
+
+        Both inf for non-finite energies."""
+        d_ext, _, d_damp, _, product, kinetic_mean, ext_before, damp_before = work
+        external = self.external - d_ext + ext_before
+        dissipated = self.dissipated - d_damp + damp_before
+        terms = (product, kinetic_mean, strain_energy, dissipated, external)
+        if not all(np.isfinite(terms)):
+            return float("inf"), float("inf")
+        self.largest = max(self.largest, abs(product), kinetic_mean, abs(strain_energy))
+        self.largest = max(self.largest, abs(dissipated), abs(external))
+        balance = 0.0
+        if self.largest > 0.0:
+            # From rest the first half step starts at v(-1/2) = 0 where the conserved form
+            # has -v(1/2): KE*(0) = -1/2 v(1/2) . M v(1/2), the first step's kinetic energy.
+            total = product + strain_energy + dissipated - external + (self.start or 0.0)
+            balance = abs(total) / self.largest
+        growth = 0.0
+        if self.work_scale > 0.0:
+            growth = (kinetic_mean + strain_energy) / self.work_scale
+        return balance, growth
 
     def record(self, step: int, time: float) -> None:
         if step % self.thin == 0:

@@ -39,6 +39,23 @@ __all__ = ["CentralDifference"]
 STABLE_DT_EVERY = 10
 # Energy records kept for the history (more steps are thinned to about this many records).
 ENERGY_RECORDS = 4000
+# The assembled (Gershgorin) stable step is evaluated again every this many steps (it costs a
+# tangent assembly, tens of force evaluations); in between it follows the cells' bound.
+ASSEMBLED_DT_EVERY = 500
+# The energy balance is checked every this many steps (it costs one strain-energy evaluation,
+# about a force evaluation) and on the last step.
+BALANCE_EVERY = 10
+# The checks of a run (EnergyAccount.check, docs/theory.md §6.1): the largest energy balance
+# error |KE* + U + D - W_ext| / (largest energy of the run) (a good run: 1e-7 on a sagging
+# cable, 2e-3 on the G1151 strip, 1e-2 on a bar under a step load); the largest (KE + U) /
+# (work supplied) (a stable linear run stays below 1 / (1 - (omega dt / 2)^2), 10 at omega dt =
+# 1.9: 0.95 of an exact critical step) and the largest at which a state is still kept as the
+# last good one (2: omega dt = 1.4 may reach it with all the energy in the highest mode); the
+# largest motion of a node in one step, in median element edges.
+BALANCE_TOLERANCE = 0.05
+GROWTH_LIMIT = 10.0
+GOOD_GROWTH = 2.0
+MAX_STEP_MOTION = 0.5
 
 
 class CentralDifference:
@@ -82,6 +99,8 @@ class CentralDifference:
         self.output_interval = check_positive_or_none(output_interval, "output_interval")
         self.progress = progress
         self.max_steps = int(max_steps)
+        # (assembled Gershgorin step, the cells' bound when it was evaluated), set by solve
+        self._assembled: tuple[float, float] | None = None
 
     # ------------------------------------------------------------------ time step
     def _density_scale(self, model: CompiledModel, state: State):
@@ -90,13 +109,23 @@ class CentralDifference:
         target = self.mass_scaling_dt / self.safety
         return [np.maximum(1.0, (target / dt) ** 2) for dt in model.cell_stable_dt(state)]
 
-    def _step_size(self, model: CompiledModel, state: State, scale) -> float:
+    def _step_size(self, model: CompiledModel, state: State, scale, masses=None) -> float:
+        """safety x the critical step: the larger of two safe bounds, the cells' own (cheap,
+        every STABLE_DT_EVERY steps) and the assembly's Gershgorin bound (``masses`` = (mass,
+        inertia) given: evaluated now; else the last one, carried along with the cells'
+        bound as the geometry changes)."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
         if scale is not None:
             cell_dt = [dt * np.sqrt(s) for dt, s in zip(cell_dt, scale)]
         critical = min(float(dt.min()) for dt in cell_dt)
+        if masses is not None:
+            assembled = model.assembled_stable_dt(state, *masses)
+            self._assembled = None if assembled is None else (assembled, critical)
+        if self._assembled is not None:
+            assembled, cells_then = self._assembled
+            critical = max(critical, assembled * critical / cells_then)
         # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)
         # with xi = c / (2 w) on the highest mode w = 2 / dt_crit (docs/theory.md §6.3).
         xi = self.damping * critical / 4.0
@@ -125,7 +154,8 @@ class CentralDifference:
         inv_mass, inv_inertia = inverse_diagonal(mass), inverse_diagonal(inertia)
         added_mass = float(mass.sum() - compiled.mass0.sum())
         duration = self.duration
-        dt_nominal = self._step_size(compiled, state, scale)
+        self._assembled = None
+        dt_nominal = self._step_size(compiled, state, scale, (mass, inertia))
         if not np.isfinite(dt_nominal) or dt_nominal <= 0:
             raise DivergenceError(
                 "the stable time step is not a positive number: check the "
@@ -142,7 +172,26 @@ class CentralDifference:
                 compiled, frames, steps, started, energy, dt_nominal, added_mass, converged
             )
 
+        strain_at_start = compiled.strain_energy(state)
+        good = (state, None, None)  # the last state that passed the checks, its reactions
+        worst = grown = 0.0  # the largest energy balance error and growth met
+
+        def diverged(message: str, steps: int):
+            """The run stops: the frames end with the last state that passed the checks."""
+            kept = [f for f in frames if f.time <= good[0].time * (1.0 + 1e-12)]
+            if kept[-1].time < good[0].time:
+                kept.append(make_frame(compiled, *good))
+            frames[:] = kept
+            return DivergenceError(
+                f"central difference diverged at step {steps}, t = {state.time:.6g} s (dt = "
+                f"{dt:.3g} s): {message}; the last frame is the last state that passed the "
+                f"checks (t = {good[0].time:.6g} s). Reduce dt or safety, or check the loads "
+                "and material laws.",
+                result(steps, False),
+            )
+
         dt_prev = 0.0
+        dt = dt_nominal
         step = 0
         while state.time < duration * (1.0 - 1e-12):
             if step >= self.max_steps:
@@ -158,21 +207,50 @@ class CentralDifference:
                     _, inertia = compiled.lumped_mass(state, scale)
                     inv_inertia = inverse_diagonal(inertia)
                 if self.dt is None:
-                    dt_nominal = self._step_size(compiled, state, scale)
+                    fresh = step % ASSEMBLED_DT_EVERY == 0
+                    dt_nominal = self._step_size(
+                        compiled, state, scale, (mass, inertia) if fresh else None
+                    )
             dt = min(dt_nominal, duration - state.time)
             new, reactions, reaction_moments, work = self._step(
                 compiled, state, dt, dt_prev, (mass, inertia, inv_mass, inv_inertia)
             )
             if energy.blows_up(*work):
-                frames.append(make_frame(compiled, state, reactions, reaction_moments))
-                raise DivergenceError(
-                    f"central difference diverged at step {step}, t = {state.time:.6g} s "
-                    f"(dt = {dt:.3g} s): kinetic energy {work[3]:.3g} against "
-                    f"{energy.work_scale:.3g} of external work; the last good state is the last "
-                    "frame. Reduce dt or safety, or check the loads and material laws.",
-                    result(step, False),
+                raise diverged(
+                    f"kinetic energy {work[3]:.3g} against {energy.work_scale:.3g} of external "
+                    "work",
+                    step,
                 )
             energy.accept(*work)
+            last = state.time + dt >= duration * (1.0 - 1e-12)
+            if (step > 0 and step % BALANCE_EVERY == 0) or last:
+                # The state at t(i), whose forces this step used, against the energies.
+                balance, growth = energy.check(
+                    work, compiled.strain_energy(state) - strain_at_start
+                )
+                worst = max(worst, balance)
+                grown = max(grown, growth)
+                moved = dt * float(np.abs(new.velocities).max(initial=0.0))
+                if balance > BALANCE_TOLERANCE:
+                    raise diverged(
+                        f"the energy balance |KE + U + D - W_ext| is off by {balance:.3g} of the "
+                        f"largest energy of the run (tolerance {BALANCE_TOLERANCE:g})",
+                        step,
+                    )
+                if growth > GROWTH_LIMIT:
+                    raise diverged(
+                        f"kinetic and strain energy have grown to {growth:.3g} times the work "
+                        f"done on the model (limit {GROWTH_LIMIT:g})",
+                        step,
+                    )
+                if moved > MAX_STEP_MOTION * compiled.element_size:
+                    raise diverged(
+                        f"a node moved {moved:.3g} mm in one step, more than "
+                        f"{MAX_STEP_MOTION:g} of the median element edge",
+                        step,
+                    )
+                if growth <= GOOD_GROWTH:
+                    good = (state, reactions, reaction_moments)
             state = compiled.commit(new)
             dt_prev = dt
             step += 1
@@ -185,7 +263,10 @@ class CentralDifference:
             )
 
         progress(f"done: {step} steps", force=True)
-        return result(step, True)
+        done = result(step, True)
+        done.info["energy_balance_error"] = worst
+        done.info["energy_growth"] = grown
+        return done
 
     def _step(self, model: CompiledModel, state: State, dt: float, dt_prev: float, lumped):
         """One central-difference step from ``state`` (left unchanged); ``lumped`` = (mass,
@@ -233,12 +314,7 @@ class CentralDifference:
             turning = EnergyAccount.increments(
                 (m_ext + reaction_moments, m_int), (omega, w_new), inertia, c, dt_prev, dt
             )
-            work = (
-                work[0] + turning[0],
-                work[1] + turning[1],
-                work[2] + turning[2],
-                work[3] + turning[3],
-            )
+            work = tuple(a + b for a, b in zip(work, turning))
         moved = dofs.move(state, dt * v_new, None if w_new is None else dt * w_new)
         new = replace(
             moved,
