@@ -142,11 +142,18 @@ class EnergyAccount:
             growth = (kinetic_mean + strain_energy) / self.work_scale
         return balance, growth
 
-    def record(self, step: int, time: float) -> None:
-        if step % self.thin == 0:
-            values = (time, self.kinetic, self.internal, self.external, self.dissipated)
-            for key, value in zip(self.KEYS, values):
-                self.records[key].append(value)
+    def record(self, step: int, time: float) -> bool:
+        """Keep the energies at ``time`` if the step is one of the thinned records: True."""
+        if step % self.thin:
+            return False
+        values = (time, self.kinetic, self.internal, self.external, self.dissipated)
+        for key, value in zip(self.KEYS, values):
+            self.records[key].append(value)
+        return True
+
+    def latest(self) -> tuple[float, ...]:
+        """The last record: (time, kinetic, internal, external work, damping)."""
+        return tuple(self.records[key][-1] for key in self.KEYS)
 
     def arrays(self) -> dict[str, np.ndarray]:
         return {k: np.asarray(v) for k, v in self.records.items()}

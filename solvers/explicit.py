@@ -13,13 +13,15 @@ rotation dt * omega (Rodrigues, docs/theory.md §1.3).
 from __future__ import annotations
 
 import math
+import os
 import time
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 
 from femcore.model import CompiledModel, Model
-from femcore.results import Result
+from femcore.results import Frame, Result
 from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.common import (
@@ -32,6 +34,13 @@ from solvers.common import (
     resolve_progress,
 )
 from solvers.dynamics import EnergyAccount, FrameSchedule, damped_velocity
+from solvers.output import (
+    FrameStream,
+    HistoryWriter,
+    load_checkpoint,
+    output_path,
+    save_checkpoint,
+)
 
 __all__ = ["CentralDifference"]
 
@@ -70,6 +79,13 @@ class CentralDifference:
         scaled by (target / dt_cell)^2 so that the step is the target; the added mass is
         reported in ``result.info``.
     output_interval : s between frames (default duration / 20).
+    output : a ``.pvd`` path: the frames are written there as the run goes (a VTU file each,
+        the ParaView index rewritten after each), and only the first and the last are kept in
+        memory.
+    history : a ``.csv`` path: a row per energy record (about 4000 in a run), appended as the
+        run goes: time, kinetic and internal energy, external and damping work (N mm), the
+        sum of the support reactions (N) and the displacements (mm) of ``history_nodes``.
+    history_nodes : node indices whose displacements the history records.
     progress : print status lines (None: only on an interactive terminal).
     """
 
@@ -83,6 +99,9 @@ class CentralDifference:
         output_interval: float | None = None,
         progress: bool | None = None,
         max_steps: int = 50_000_000,
+        output: str | os.PathLike[str] | None = None,
+        history: str | os.PathLike[str] | None = None,
+        history_nodes=(),
     ):
         checked = check_positive_or_none(duration, "duration")
         if checked is None:
@@ -99,6 +118,12 @@ class CentralDifference:
         self.output_interval = check_positive_or_none(output_interval, "output_interval")
         self.progress = progress
         self.max_steps = int(max_steps)
+        self.output = None if output is None else output_path(output, ".pvd", "output")
+        self.history = None if history is None else output_path(history, ".csv", "history")
+        nodes = np.asarray(history_nodes)
+        if nodes.size and (nodes.ndim != 1 or not np.issubdtype(nodes.dtype, np.integer)):
+            raise ValueError(f"history_nodes must be node indices, got {history_nodes!r}")
+        self.history_nodes = nodes.astype(np.int64).reshape(-1)
         # (assembled Gershgorin step, the cells' bound when it was evaluated), set by solve
         self._assembled: tuple[float, float] | None = None
 
@@ -132,28 +157,182 @@ class CentralDifference:
         return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
 
     # ------------------------------------------------------------------ solve
-    def solve(self, model: Model | CompiledModel) -> Result:
-        """Integrate from the reference state at rest.
+    def solve(
+        self,
+        model: Model | CompiledModel,
+        checkpoint: str | os.PathLike[str] | None = None,
+        checkpoint_interval: float = 60.0,
+    ) -> Result:
+        """Integrate from the reference state at rest, or from ``checkpoint``.
+
+        Parameters
+        ----------
+        model : Model or CompiledModel
+        checkpoint : path, optional
+            A file where the whole state of the run (positions, directors, velocities, angular
+            velocities, element histories, time, step, energies, frames) is written, atomically,
+            every ``checkpoint_interval`` seconds of wall time and at the end. If the file
+            exists, the run resumes from it: a run killed at any moment and started again with
+            the same call ends in the same state, to the last bit, as if never interrupted.
+        checkpoint_interval : float
+            Wall-clock seconds between checkpoints (0: at every chance, every 10 steps).
 
         Returns
         -------
         femcore.results.Result
-            Frames every ``output_interval``, energies, ``info`` (step, added mass).
+            Frames every ``output_interval`` (only the first and the last when they are
+            streamed to ``output``), energies, ``info`` (step, added mass, energy checks).
 
         Raises
         ------
         DivergenceError
-            On non-finite values or an energy blow-up, keeping every good frame (the last one
-            just before the failure) in ``error.result``.
+            On non-finite values, an energy blow-up or a failed energy check, keeping the
+            frames up to the last state that passed the checks in ``error.result``.
+        ValueError
+            A checkpoint written by another model or other solver settings, or a negative
+            ``checkpoint_interval``.
         """
         compiled = model.compile() if isinstance(model, Model) else model
+        if not np.isfinite(checkpoint_interval) or checkpoint_interval < 0:
+            raise ValueError(
+                f"checkpoint_interval must be a number of seconds >= 0, got {checkpoint_interval!r}"
+            )
+        saved_at = Path(checkpoint) if checkpoint is not None else None
+        if saved_at is not None and not saved_at.parent.is_dir():
+            raise ValueError(f"checkpoint: the directory {str(saved_at.parent)!r} does not exist")
         started = time.perf_counter()
+        signature = self._signature(compiled)
+        payload = load_checkpoint(saved_at) if saved_at is not None else None
+        if payload is not None:
+            if payload.get("signature") != signature:
+                raise ValueError(
+                    f"the checkpoint {str(saved_at)!r} was written by another model or other "
+                    "solver settings: delete it, or give another path"
+                )
+            run: _Run = payload["run"]
+            self._assembled = payload["assembled"]
+        else:
+            run = self._start(compiled)
+        stream, history = self._outputs(compiled, run)
+        progress = ProgressLine(resolve_progress(self.progress), "central difference")
+        last_saved = time.perf_counter()
+        duration = self.duration
+
+        def result(converged: bool) -> Result:
+            return self._result(compiled, run, started, converged)
+
+        def diverged(message: str, dt: float):
+            """The run stops: the frames end with the last state that passed the checks."""
+            good_time = run.good[0].time
+            kept = [f for f in run.frames if f.time <= good_time * (1.0 + 1e-12)]
+            if kept[-1].time < good_time:
+                kept.append(make_frame(compiled, *run.good))
+                if stream is not None:
+                    stream.drop_after(good_time)
+                    stream.write(kept[-1])
+            elif stream is not None:
+                stream.drop_after(good_time)
+            run.frames[:] = kept[:1] + kept[-1:] if stream is not None else kept
+            return DivergenceError(
+                f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
+                f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
+                f"the checks (t = {good_time:.6g} s). Reduce dt or safety, or check the loads "
+                "and material laws.",
+                result(False),
+            )
+
+        def save() -> None:
+            if saved_at is not None:
+                if stream is not None:
+                    run.written = list(stream.entries)
+                if history is not None:
+                    run.history_rows = history.rows
+                payload = {"signature": signature, "run": run, "assembled": self._assembled}
+                save_checkpoint(saved_at, payload)
+
+        while run.state.time < duration * (1.0 - 1e-12):
+            step, state = run.step, run.state
+            if step >= self.max_steps:
+                raise DivergenceError(
+                    f"central difference stopped after {step} steps at t = {state.time:.6g} s of "
+                    f"{duration:.6g} s (max_steps): the step is too small for this duration",
+                    result(False),
+                )
+            if step % STABLE_DT_EVERY == 0 and step > 0:
+                if time.perf_counter() - last_saved >= checkpoint_interval:
+                    save()  # before the refresh below, which a resumed run repeats
+                    last_saved = time.perf_counter()
+                if compiled.dofs.any_rotation:
+                    # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
+                    # I under a tilting director makes the director modes unstable.
+                    _, run.inertia = compiled.lumped_mass(state, run.scale)
+                if self.dt is None:
+                    fresh = step % ASSEMBLED_DT_EVERY == 0
+                    run.dt_nominal = self._step_size(
+                        compiled, state, run.scale, (run.mass, run.inertia) if fresh else None
+                    )
+            dt = min(run.dt_nominal, duration - state.time)
+            lumped = (
+                run.mass,
+                run.inertia,
+                inverse_diagonal(run.mass),
+                inverse_diagonal(run.inertia),
+            )
+            new, reactions, reaction_moments, work = self._step(
+                compiled, state, dt, run.dt_prev, lumped
+            )
+            energy = run.energy
+            if energy.blows_up(*work):
+                raise diverged(
+                    f"kinetic energy {work[3]:.3g} against {energy.work_scale:.3g} of external "
+                    "work",
+                    dt,
+                )
+            energy.accept(*work)
+            last = state.time + dt >= duration * (1.0 - 1e-12)
+            if (step > 0 and step % BALANCE_EVERY == 0) or last:
+                self._check(compiled, run, work, new, dt, reactions, reaction_moments, diverged)
+            run.state = state = compiled.commit(new)
+            run.dt_prev = dt
+            run.step = step = step + 1
+            if energy.record(step, state.time) and history is not None:
+                history.append(
+                    energy.latest(), reactions, state.positions - compiled.reference_positions
+                )
+            if run.schedule.due(state.time):
+                frame = make_frame(compiled, state, reactions, reaction_moments)
+                if stream is not None:
+                    stream.write(frame)
+                    run.frames[1:] = [frame]
+                else:
+                    run.frames.append(frame)
+            progress(
+                f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
+                f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}"
+            )
+
+        save()
+        progress(f"done: {run.step} steps", force=True)
+        return result(True)
+
+    def _signature(self, model: CompiledModel) -> tuple:
+        """What a checkpoint must match to be resumed: the model's size and reference
+        geometry, and the solver settings that change the run."""
+        return (
+            model.n_nodes,
+            float(np.sum(model.reference_positions)),
+            self.duration,
+            self.dt,
+            self.safety,
+            self.damping,
+            self.mass_scaling_dt,
+            self.output_interval,
+        )
+
+    def _start(self, compiled: CompiledModel) -> _Run:
         state = compiled.initial_state()
         scale = self._density_scale(compiled, state)
         mass, inertia = compiled.lumped_mass(state, scale)
-        inv_mass, inv_inertia = inverse_diagonal(mass), inverse_diagonal(inertia)
-        added_mass = float(mass.sum() - compiled.mass0.sum())
-        duration = self.duration
         self._assembled = None
         dt_nominal = self._step_size(compiled, state, scale, (mass, inertia))
         if not np.isfinite(dt_nominal) or dt_nominal <= 0:
@@ -162,111 +341,68 @@ class CentralDifference:
                 "element stiffness and mass",
                 empty_result(compiled, []),
             )
-        energy = EnergyAccount(thin=max(1, int(duration / dt_nominal / ENERGY_RECORDS)))
-        schedule = FrameSchedule(self.output_interval or duration / 20.0, duration)
-        progress = ProgressLine(resolve_progress(self.progress), "central difference")
-        frames = [make_frame(compiled, state)]
+        duration = self.duration
+        return _Run(
+            state=state,
+            scale=scale,
+            mass=mass,
+            inertia=inertia,
+            added_mass=float(mass.sum() - compiled.mass0.sum()),
+            dt_nominal=dt_nominal,
+            energy=EnergyAccount(thin=max(1, int(duration / dt_nominal / ENERGY_RECORDS))),
+            schedule=FrameSchedule(self.output_interval or duration / 20.0, duration),
+            frames=[make_frame(compiled, state)],
+            strain_at_start=compiled.strain_energy(state),
+            good=(state, None, None),
+        )
 
-        def result(steps: int, converged: bool) -> Result:
-            return self._result(
-                compiled, frames, steps, started, energy, dt_nominal, added_mass, converged
+    def _outputs(self, compiled: CompiledModel, run: _Run):
+        """The frame stream and the history writer of this run (None when not asked for),
+        carried on from the checkpoint ``run`` was restored from."""
+        stream = history = None
+        if self.output is not None:
+            stream = FrameStream(self.output, compiled.mesh, compiled.has_rotation.copy())
+            stream.entries = list(run.written)
+            if not stream.entries:
+                stream.write(run.frames[0])
+            else:
+                stream.drop_after(run.state.time)
+        if self.history is not None:
+            history = HistoryWriter(self.history, self.history_nodes)
+            history.rows = run.history_rows
+            history.start()
+        return stream, history
+
+    def _check(self, compiled, run: _Run, work, new, dt, reactions, reaction_moments, diverged):
+        """The energy checks of docs/theory.md §6.1 on the state at t(i), whose forces the
+        step used; raises ``diverged(...)``, or notes the state as the last good one."""
+        state = run.state
+        balance, growth = run.energy.check(
+            work, compiled.strain_energy(state) - run.strain_at_start
+        )
+        run.worst = max(run.worst, balance)
+        run.grown = max(run.grown, growth)
+        moved = dt * float(np.abs(new.velocities).max(initial=0.0))
+        if balance > BALANCE_TOLERANCE:
+            raise diverged(
+                f"the energy balance |KE + U + D - W_ext| is off by {balance:.3g} of the "
+                f"largest energy of the run (tolerance {BALANCE_TOLERANCE:g})",
+                dt,
             )
-
-        strain_at_start = compiled.strain_energy(state)
-        good = (state, None, None)  # the last state that passed the checks, its reactions
-        worst = grown = 0.0  # the largest energy balance error and growth met
-
-        def diverged(message: str, steps: int):
-            """The run stops: the frames end with the last state that passed the checks."""
-            kept = [f for f in frames if f.time <= good[0].time * (1.0 + 1e-12)]
-            if kept[-1].time < good[0].time:
-                kept.append(make_frame(compiled, *good))
-            frames[:] = kept
-            return DivergenceError(
-                f"central difference diverged at step {steps}, t = {state.time:.6g} s (dt = "
-                f"{dt:.3g} s): {message}; the last frame is the last state that passed the "
-                f"checks (t = {good[0].time:.6g} s). Reduce dt or safety, or check the loads "
-                "and material laws.",
-                result(steps, False),
+        if growth > GROWTH_LIMIT:
+            raise diverged(
+                f"kinetic and strain energy have grown to {growth:.3g} times the work "
+                f"done on the model (limit {GROWTH_LIMIT:g})",
+                dt,
             )
-
-        dt_prev = 0.0
-        dt = dt_nominal
-        step = 0
-        while state.time < duration * (1.0 - 1e-12):
-            if step >= self.max_steps:
-                raise DivergenceError(
-                    f"central difference stopped after {step} steps at t = {state.time:.6g} s of "
-                    f"{duration:.6g} s (max_steps): the step is too small for this duration",
-                    result(step, False),
-                )
-            if step % STABLE_DT_EVERY == 0 and step > 0:
-                if compiled.dofs.any_rotation:
-                    # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
-                    # I under a tilting director makes the director modes unstable.
-                    _, inertia = compiled.lumped_mass(state, scale)
-                    inv_inertia = inverse_diagonal(inertia)
-                if self.dt is None:
-                    fresh = step % ASSEMBLED_DT_EVERY == 0
-                    dt_nominal = self._step_size(
-                        compiled, state, scale, (mass, inertia) if fresh else None
-                    )
-            dt = min(dt_nominal, duration - state.time)
-            new, reactions, reaction_moments, work = self._step(
-                compiled, state, dt, dt_prev, (mass, inertia, inv_mass, inv_inertia)
+        if moved > MAX_STEP_MOTION * compiled.element_size:
+            raise diverged(
+                f"a node moved {moved:.3g} mm in one step, more than "
+                f"{MAX_STEP_MOTION:g} of the median element edge",
+                dt,
             )
-            if energy.blows_up(*work):
-                raise diverged(
-                    f"kinetic energy {work[3]:.3g} against {energy.work_scale:.3g} of external "
-                    "work",
-                    step,
-                )
-            energy.accept(*work)
-            last = state.time + dt >= duration * (1.0 - 1e-12)
-            if (step > 0 and step % BALANCE_EVERY == 0) or last:
-                # The state at t(i), whose forces this step used, against the energies.
-                balance, growth = energy.check(
-                    work, compiled.strain_energy(state) - strain_at_start
-                )
-                worst = max(worst, balance)
-                grown = max(grown, growth)
-                moved = dt * float(np.abs(new.velocities).max(initial=0.0))
-                if balance > BALANCE_TOLERANCE:
-                    raise diverged(
-                        f"the energy balance |KE + U + D - W_ext| is off by {balance:.3g} of the "
-                        f"largest energy of the run (tolerance {BALANCE_TOLERANCE:g})",
-                        step,
-                    )
-                if growth > GROWTH_LIMIT:
-                    raise diverged(
-                        f"kinetic and strain energy have grown to {growth:.3g} times the work "
-                        f"done on the model (limit {GROWTH_LIMIT:g})",
-                        step,
-                    )
-                if moved > MAX_STEP_MOTION * compiled.element_size:
-                    raise diverged(
-                        f"a node moved {moved:.3g} mm in one step, more than "
-                        f"{MAX_STEP_MOTION:g} of the median element edge",
-                        step,
-                    )
-                if growth <= GOOD_GROWTH:
-                    good = (state, reactions, reaction_moments)
-            state = compiled.commit(new)
-            dt_prev = dt
-            step += 1
-            energy.record(step, state.time)
-            if schedule.due(state.time):
-                frames.append(make_frame(compiled, state, reactions, reaction_moments))
-            progress(
-                f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
-                f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}"
-            )
-
-        progress(f"done: {step} steps", force=True)
-        done = result(step, True)
-        done.info["energy_balance_error"] = worst
-        done.info["energy_growth"] = grown
-        return done
+        if growth <= GOOD_GROWTH:
+            run.good = (state, reactions, reaction_moments)
 
     def _step(self, model: CompiledModel, state: State, dt: float, dt_prev: float, lumped):
         """One central-difference step from ``state`` (left unchanged); ``lumped`` = (mass,
@@ -325,17 +461,44 @@ class CentralDifference:
         )
         return new, reactions, reaction_moments, work
 
-    def _result(self, compiled, frames, steps, started, energy, dt, added_mass, converged):
-        result = empty_result(compiled, frames)
-        result.steps = steps
+    def _result(self, compiled, run: _Run, started: float, converged: bool) -> Result:
+        result = empty_result(compiled, list(run.frames))
+        result.steps = run.step
         result.wall_time = time.perf_counter() - started
         result.converged = converged
-        result.energies = energy.arrays()
+        result.energies = run.energy.arrays()
         result.info = {
             "solver": "CentralDifference",
-            "dt": dt,
-            "added_mass": added_mass,
-            "added_mass_ratio": added_mass / float(compiled.mass0.sum()),
+            "dt": run.dt_nominal,
+            "added_mass": run.added_mass,
+            "added_mass_ratio": run.added_mass / float(compiled.mass0.sum()),
             "damping": self.damping,
+            "energy_balance_error": run.worst,
+            "energy_growth": run.grown,
         }
+        if self.output is not None:
+            result.info["output"] = str(self.output)
         return result
+
+
+@dataclass
+class _Run:
+    """Everything that changes during a run: what a checkpoint holds."""
+
+    state: State
+    scale: list | None
+    mass: np.ndarray
+    inertia: np.ndarray
+    added_mass: float
+    dt_nominal: float
+    energy: EnergyAccount
+    schedule: FrameSchedule
+    frames: list[Frame]
+    strain_at_start: float
+    good: tuple  # the last state that passed the checks, with its reactions and moments
+    step: int = 0
+    dt_prev: float = 0.0
+    worst: float = 0.0  # the largest energy balance error met
+    grown: float = 0.0  # the largest energy growth met
+    written: list = field(default_factory=list)  # the frame files of the stream
+    history_rows: int = 0

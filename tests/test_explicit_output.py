@@ -1,0 +1,178 @@
+"""Explicit runs that write as they go and survive a kill: the frames as a VTU series with its
+ParaView index, the histories as CSV rows, and checkpoints that a killed run resumes from to the
+same final state, bit for bit, as a run never interrupted."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+from xml.etree import ElementTree
+
+import meshio
+import numpy as np
+import pytest
+
+from solvers import CentralDifference
+from solvers.output import load_checkpoint
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# A slack cable between two fixed ends dropping under gravity (tests/test_explicit.py): 20
+# elements, about 4,400 steps over 0.02 s at 0.9 of the stable step.
+CABLE = textwrap.dedent(
+    """
+    import numpy as np
+    from elements import Cable
+    from femcore import Mesh, Model
+
+    def hanging_cable():
+        n = 20
+        points = np.column_stack([np.linspace(0, 100.0, n + 1), np.zeros(n + 1), np.zeros(n + 1)])
+        model = Model(Mesh(points, lines=np.column_stack([np.arange(n), np.arange(1, n + 1)])))
+        model.add(Cable(axial_stiffness=1e3, mass_per_length=1e-9))
+        model.fix([0, n])
+        model.gravity((0.0, 0.0, -9810.0))
+        return model
+    """
+)
+namespace: dict = {}
+exec(CABLE, namespace)
+hanging_cable = namespace["hanging_cable"]
+
+
+def solver(tmp: Path, duration=0.02, **options) -> CentralDifference:
+    return CentralDifference(
+        duration=duration,
+        output_interval=duration / 50,
+        output=tmp / "run.pvd",
+        history=tmp / "run.csv",
+        history_nodes=[10],
+        progress=False,
+        **options,
+    )
+
+
+@pytest.fixture(scope="module")
+def streamed(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("streamed")
+    return tmp, solver(tmp).solve(hanging_cable())
+
+
+@pytest.fixture(scope="module")
+def in_memory():
+    return CentralDifference(duration=0.02, output_interval=0.02 / 50, progress=False).solve(
+        hanging_cable()
+    )
+
+
+def listed(pvd: Path) -> list[tuple[float, str]]:
+    entries = ElementTree.parse(pvd).getroot().iter("DataSet")
+    return [(float(e.get("timestep")), e.get("file")) for e in entries]
+
+
+def test_every_frame_is_on_disk_and_only_the_first_and_last_in_memory(streamed, in_memory):
+    tmp, result = streamed
+    entries = listed(tmp / "run.pvd")
+    assert len(entries) == len(in_memory.frames) == 51
+    assert len(result.frames) == 2
+    assert [t for t, _ in entries] == [f.time for f in in_memory.frames]
+    np.testing.assert_array_equal(result.positions, in_memory.positions)
+
+
+def test_a_frame_read_back_from_the_series_is_the_one_computed(streamed, in_memory):
+    tmp, _ = streamed
+    _, name = listed(tmp / "run.pvd")[25]
+    written = meshio.read(tmp / name)
+    frame = in_memory.frames[25]
+    np.testing.assert_allclose(
+        written.point_data["displacement"],
+        frame.positions - in_memory.frames[0].positions,
+        rtol=1e-12,
+        atol=1e-15,
+    )
+
+
+def test_the_history_has_a_row_per_energy_record(streamed):
+    tmp, result = streamed
+    rows = np.loadtxt(tmp / "run.csv", delimiter=",", skiprows=1)
+    header = (tmp / "run.csv").read_text().splitlines()[0].split(",")
+    assert header[:5] == ["time", "kinetic", "internal", "external_work", "damping"]
+    assert header[-3:] == ["ux_10", "uy_10", "uz_10"]
+    np.testing.assert_array_equal(rows[:, 0], result.energies["time"][1:])
+    np.testing.assert_array_equal(rows[:, 1], result.energies["kinetic"][1:])
+    assert rows[-1, -1] < 0.0  # the middle node has dropped
+    assert rows[-1, 7] > 0.0  # and the supports hold the cable up
+
+
+def test_bad_output_paths_are_refused(tmp_path):
+    with pytest.raises(ValueError, match="must be a .pvd path"):
+        CentralDifference(duration=1.0, output=tmp_path / "run.vtu")
+    with pytest.raises(ValueError, match="does not exist"):
+        CentralDifference(duration=1.0, history=tmp_path / "missing" / "run.csv")
+    with pytest.raises(ValueError, match="node indices"):
+        CentralDifference(duration=1.0, history_nodes=[1.5])
+
+
+def test_a_run_killed_halfway_resumes_to_the_same_state_bit_for_bit(tmp_path):
+    """The child process writes a checkpoint at every chance (every 10 steps) and is killed
+    with SIGKILL once one past half the run is on disk; the same call then resumes."""
+    duration = 0.1  # about 22,000 steps
+    killed = tmp_path / "killed"
+    killed.mkdir()
+    script = killed / "run.py"
+    script.write_text(
+        CABLE
+        + textwrap.dedent(
+            f"""
+            from pathlib import Path
+            from solvers import CentralDifference
+            here = Path({str(killed)!r})
+            CentralDifference(
+                duration={duration}, output_interval={duration / 50}, output=here / "run.pvd",
+                history=here / "run.csv", history_nodes=[10], progress=False,
+            ).solve(hanging_cable(), checkpoint=here / "run.ckpt", checkpoint_interval=0.0)
+            """
+        )
+    )
+    environment = dict(os.environ, PYTHONPATH=str(ROOT))
+    child = subprocess.Popen([sys.executable, str(script)], env=environment)
+    checkpoint = killed / "run.ckpt"
+    deadline = time.monotonic() + 120.0
+    try:
+        while time.monotonic() < deadline:
+            payload = load_checkpoint(checkpoint) if checkpoint.exists() else None
+            if payload is not None and payload["run"].state.time > 0.5 * duration:
+                break
+            assert child.poll() is None, "the run ended before it could be killed"
+            time.sleep(0.02)
+        else:
+            pytest.fail("no checkpoint past half the run within 120 s")
+    finally:
+        child.send_signal(signal.SIGKILL)
+        child.wait()
+
+    resumed = solver(killed, duration).solve(
+        hanging_cable(), checkpoint=checkpoint, checkpoint_interval=0.0
+    )
+    whole = tmp_path / "whole"
+    whole.mkdir()
+    reference = solver(whole, duration).solve(hanging_cable())
+    assert resumed.converged and resumed.steps == reference.steps
+    np.testing.assert_array_equal(resumed.positions, reference.positions)
+    np.testing.assert_array_equal(resumed.velocities, reference.velocities)
+    for key in reference.energies:
+        np.testing.assert_array_equal(resumed.energies[key], reference.energies[key])
+    assert listed(killed / "run.pvd") == listed(whole / "run.pvd")
+    assert (killed / "run.csv").read_text() == (whole / "run.csv").read_text()
+
+
+def test_a_checkpoint_of_another_model_is_refused(tmp_path):
+    checkpoint = tmp_path / "run.ckpt"
+    CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=checkpoint)
+    with pytest.raises(ValueError, match="another model or other solver settings"):
+        CentralDifference(duration=2e-4, progress=False).solve(
+            hanging_cable(), checkpoint=checkpoint
+        )
