@@ -27,8 +27,10 @@ than its size stops the run as a mechanism.
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
@@ -53,6 +55,7 @@ from solvers.common import (
     resolve_progress,
 )
 from solvers.dynamics import damped_velocity
+from solvers.output import load_checkpoint, save_checkpoint
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "DynamicRelaxation"]
 
@@ -140,6 +143,7 @@ class DynamicRelaxation:
         self,
         model: Model | CompiledModel,
         start: tuple[ArrayLike, ArrayLike, float] | None = None,
+        checkpoint: str | os.PathLike[str] | None = None,
     ) -> Result:
         """Relax every increment to equilibrium.
 
@@ -150,6 +154,11 @@ class DynamicRelaxation:
             An equilibrium already found (e.g. the last state a Static run reached before a
             limit point): the relaxation then continues from it, the increments splitting
             the remaining load.
+        checkpoint : path, optional
+            A file where the run is saved, atomically, after each converged increment (the
+            state, its frames, iterations and residuals). If it exists, the run resumes after
+            the last saved increment and ends in the same state, to the last bit, as a run
+            never interrupted; the increment a kill interrupted is relaxed again.
 
         Returns
         -------
@@ -175,6 +184,9 @@ class DynamicRelaxation:
         """
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
+        saved_at = Path(checkpoint) if checkpoint is not None else None
+        if saved_at is not None and not saved_at.parent.is_dir():
+            raise ValueError(f"checkpoint: the directory {str(saved_at.parent)!r} does not exist")
         started = time.perf_counter()
         state = compiled.initial_state()
         frames = [make_frame(compiled, state)]
@@ -205,7 +217,28 @@ class DynamicRelaxation:
         )
         iterations: list[int] = []
         residuals: list[float] = []
-        for increment in range(1, self.increments + 1):
+        done = 0
+        signature = (
+            compiled.n_nodes,
+            float(np.sum(compiled.reference_positions)),
+            self.increments,
+            self.tol,
+            self.masses,
+            self.damping,
+            self.safety,
+            first,
+        )
+        payload = load_checkpoint(saved_at) if saved_at is not None else None
+        if payload is not None:
+            if payload["signature"] != signature:
+                raise ValueError(
+                    f"the checkpoint {str(saved_at)!r} was written by another model or other "
+                    "solver settings: delete it, or give another path"
+                )
+            state, frames, done = payload["state"], payload["frames"], payload["increment"]
+            iterations, residuals = payload["iterations"], payload["residuals"]
+            masses.estimates, masses.recoveries = payload["estimates"], payload["recoveries"]
+        for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
             try:
@@ -223,6 +256,20 @@ class DynamicRelaxation:
             iterations.append(count)
             residuals.append(ratio)
             frames.append(make_frame(compiled, state, reactions, reaction_moments))
+            if saved_at is not None:
+                save_checkpoint(
+                    saved_at,
+                    {
+                        "signature": signature,
+                        "state": state,
+                        "frames": frames,
+                        "increment": increment,
+                        "iterations": iterations,
+                        "residuals": residuals,
+                        "estimates": masses.estimates,
+                        "recoveries": masses.recoveries,
+                    },
+                )
             progress(
                 f"increment {increment}/{self.increments} converged in {count} iterations",
                 force=True,

@@ -1,0 +1,89 @@
+"""A dynamic relaxation killed between increments resumes from its checkpoint to the same final
+state, bit for bit, as a run never interrupted."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solvers import DynamicRelaxation
+from solvers.output import load_checkpoint
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# The thick Mindlin strip of tests/test_relaxation.py rolled into a quarter circle by an end
+# moment, in four increments of 2,500-5,000 iterations each (a few seconds).
+STRIP = textwrap.dedent(
+    """
+    import math
+    from validation import specimens
+
+    def rolled_strip():
+        mesh, model = specimens.mindlin_strip(120.0, 8.0, 4.0, 70e3, cells=4)
+        moment = 0.5 * math.pi * 70e3 * (8.0 * 4.0**3 / 12) / 120.0
+        tip = mesh.nodes("right")
+        model.moment(tip, (0.0, -moment / len(tip), 0.0), amplitude="linear")
+        return model
+    """
+)
+namespace: dict = {}
+exec(STRIP, namespace)
+rolled_strip = namespace["rolled_strip"]
+
+
+def test_a_relaxation_killed_halfway_resumes_to_the_same_state_bit_for_bit(tmp_path):
+    checkpoint = tmp_path / "relax.ckpt"
+    script = tmp_path / "run.py"
+    script.write_text(
+        STRIP
+        + textwrap.dedent(
+            f"""
+            from solvers import DynamicRelaxation
+            DynamicRelaxation(increments=4, progress=False).solve(
+                rolled_strip(), checkpoint={str(checkpoint)!r}
+            )
+            """
+        )
+    )
+    child = subprocess.Popen(
+        [sys.executable, str(script)], env=dict(os.environ, PYTHONPATH=str(ROOT))
+    )
+    deadline = time.monotonic() + 300.0
+    try:
+        while time.monotonic() < deadline:
+            payload = load_checkpoint(checkpoint) if checkpoint.exists() else None
+            if payload is not None and payload["increment"] >= 2:
+                break
+            assert child.poll() is None, "the run ended before it could be killed"
+            time.sleep(0.01)
+        else:
+            pytest.fail("no checkpoint of the second increment within 300 s")
+    finally:
+        child.send_signal(signal.SIGKILL)
+        child.wait()
+    assert load_checkpoint(checkpoint)["increment"] < 4, "killed too late to resume anything"
+
+    resumed = DynamicRelaxation(increments=4, progress=False).solve(
+        rolled_strip(), checkpoint=checkpoint
+    )
+    reference = DynamicRelaxation(increments=4, progress=False).solve(rolled_strip())
+    assert resumed.converged
+    np.testing.assert_array_equal(resumed.positions, reference.positions)
+    np.testing.assert_array_equal(resumed.directors, reference.directors)
+    assert resumed.info["iterations_per_increment"] == reference.info["iterations_per_increment"]
+    assert len(resumed.frames) == len(reference.frames) == 5
+
+
+def test_a_relaxation_checkpoint_of_other_settings_is_refused(tmp_path):
+    from solvers.output import save_checkpoint
+
+    checkpoint = tmp_path / "relax.ckpt"
+    save_checkpoint(checkpoint, {"signature": ("something else",)})
+    with pytest.raises(ValueError, match="another model or other solver settings"):
+        DynamicRelaxation(increments=4, progress=False).solve(rolled_strip(), checkpoint=checkpoint)
