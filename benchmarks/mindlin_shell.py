@@ -110,8 +110,12 @@ def main(argv=None) -> None:
     if args.part in ("all", "explicit"):
         sizes = [int(size) for size in args.sizes.split(",")]
         print_explicit_table(
-            "MindlinShell, CentralDifference:",
-            lambda: MindlinShell(ElasticShell(**ALUMINIUM)),
+            "MindlinShell, CentralDifference (the numpy path and the compiled kernel; set "
+            "NUMBA_NUM_THREADS=1 for one core):",
+            {
+                "numpy": lambda: MindlinShell(ElasticShell(**ALUMINIUM), kernel="numpy"),
+                "compiled": lambda: MindlinShell(ElasticShell(**ALUMINIUM), kernel="compiled"),
+            },
             sizes,
             args.steps,
         )

@@ -7,7 +7,10 @@ anywhere: the scripts put the project on ``sys.path`` first).
 from __future__ import annotations
 
 import math
+import resource
 import time
+
+import numpy as np
 
 from femcore import Mesh, Model
 from solvers import CentralDifference
@@ -43,13 +46,49 @@ def explicit_sheet(element, triangles: int, steps: int) -> dict:
     }
 
 
+def reference_pass(triangles: int, repeats: int = 20) -> float:
+    """Microseconds per element of a minimal numpy gather-compute-scatter pass over the same
+    sheet: gather the corners, one cross product per triangle, scatter it to the nodes (the
+    yardstick the explicit step is measured against, in the same run)."""
+    n = max(2, round(math.sqrt(triangles / 2)))
+    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
+    points, cells = mesh.points, mesh.triangles
+    best = math.inf
+    for _ in range(repeats):
+        started = time.perf_counter()
+        x = points[cells]
+        normal = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+        out = np.zeros((mesh.n_nodes, 3))
+        for axis in range(3):
+            out[:, axis] = np.bincount(
+                cells.ravel(), np.repeat(normal[:, axis], 3), minlength=mesh.n_nodes
+            )
+        best = min(best, time.perf_counter() - started)
+    return 1e6 * best / len(cells)
+
+
+def peak_memory_mb() -> float:
+    """Peak resident memory of this process so far (MB; Linux reports kB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
 def print_explicit_table(title: str, element_factory, sizes, steps: int) -> None:
-    """Print the explicit-step table for each size (a fresh element per size)."""
+    """Print the explicit-step table for each size (a fresh element per size) and each of the
+    factories ``element_factory`` names (a callable, or a dict label -> callable), with the
+    reference pass of the same size and the peak memory so far."""
+    factories = element_factory if isinstance(element_factory, dict) else {"": element_factory}
     print(title)
-    print(f"{'elements':>9} {'nodes':>8} {'steps':>6} {'wall s':>8} {'us/elem-step':>13}")
+    print(
+        f"{'elements':>9} {'nodes':>8} {'kernel':>9} {'steps':>6} {'wall s':>8} "
+        f"{'us/elem-step':>13} {'ref us/elem':>12} {'x ref':>6} {'peak MB':>8}"
+    )
     for size in sizes:
-        row = explicit_sheet(element_factory(), size, steps)
-        print(
-            f"{row['elements']:9d} {row['nodes']:8d} {row['steps']:6d} {row['wall_s']:8.2f} "
-            f"{row['us_per_element_step']:13.3f}"
-        )
+        reference = reference_pass(size)
+        for label, factory in factories.items():
+            row = explicit_sheet(factory(), size, steps)
+            print(
+                f"{row['elements']:9d} {row['nodes']:8d} {label:>9} {row['steps']:6d} "
+                f"{row['wall_s']:8.2f} {row['us_per_element_step']:13.3f} {reference:12.3f} "
+                f"{row['us_per_element_step'] / reference:6.1f} {peak_memory_mb():8.0f}",
+                flush=True,
+            )

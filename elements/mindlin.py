@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, local_tangent
 from femcore.assembly import Scatter
 from femcore.mesh import Mesh
@@ -120,6 +121,8 @@ class MindlinShell(ElementType):
     thickness_points : Gauss points through the thickness (default 2; 2-5).
     rotary_scaling : scale the rotary inertia to j = max(h^2/12, kappa (1 - nu) L_e^2 / 16)
         (docs/theory.md §6.2 B2) so that thin elements do not force a tiny step (default True).
+    kernel : "compiled" (default when numba is installed: the internal forces by the fused,
+        parallel loop of elements/kernels.py) or "numpy" (the vectorised reference).
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -127,15 +130,26 @@ class MindlinShell(ElementType):
     defines_directors = True
 
     def __init__(
-        self, material: ElasticShell, thickness_points: int = 2, rotary_scaling: bool = True
+        self,
+        material: ElasticShell,
+        thickness_points: int = 2,
+        rotary_scaling: bool = True,
+        kernel: str | None = None,
     ):
         if not isinstance(material, ElasticShell):
             raise ValueError(f"MindlinShell needs a materials.ElasticShell, got {material!r}")
         if isinstance(thickness_points, bool) or thickness_points not in (2, 3, 4, 5):
             raise ValueError(f"thickness_points must be 2, 3, 4 or 5, got {thickness_points!r}")
+        if kernel is None:
+            kernel = "compiled" if kernels.AVAILABLE else "numpy"
+        if kernel not in ("compiled", "numpy"):
+            raise ValueError(f"kernel must be 'compiled' or 'numpy', got {kernel!r}")
+        if kernel == "compiled" and not kernels.AVAILABLE:
+            raise ValueError("kernel='compiled' needs numba: pip install numba, or use 'numpy'")
         self.material = material
         self.thickness_points = int(thickness_points)
         self.rotary_scaling = bool(rotary_scaling)
+        self.kernel = kernel
 
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> MindlinShellBlock:
         return MindlinShellBlock(self, mesh, cell_ids, directors)
@@ -156,6 +170,8 @@ class MindlinShellBlock(ElementBlock):
 
     def __init__(self, shell: MindlinShell, mesh: Mesh, cell_ids, directors):
         self.material = material = shell.material
+        self.kernel = shell.kernel
+        self.tying_n = _TYING_N
         self.h = material.thickness
         self.n_nodes = mesh.n_nodes
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
@@ -289,6 +305,8 @@ class MindlinShellBlock(ElementBlock):
         return vec
 
     def internal_force(self, state: State, history=None):
+        if self.kernel == "compiled":
+            return kernels.mindlin_loads(self, state.positions, state.directors)
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
         force, moment = self._cell_loads(x, v)
@@ -429,6 +447,8 @@ class MindlinShellBlock(ElementBlock):
         return force, moment
 
     def strain_energy(self, state: State, history=None) -> float:
+        if self.kernel == "compiled":
+            return kernels.mindlin_energy(self, state.positions, state.directors)
         strain = self._covariant_strains(self._state_vectors(state))
         stress = np.matmul(self.weighted_stiffness, strain[..., None])[..., 0]
         return float(0.5 * np.sum(strain * stress))

@@ -7,6 +7,8 @@ solver; the shell elements use the same functions, so there is one definition of
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 __all__ = ["FRAME_FALLBACK", "cross", "drop_along", "nodal_frames", "rotate_about"]
@@ -59,6 +61,14 @@ def rotate_about(vectors: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     numpy.ndarray, shape (n, 3)
         The rotated unit vectors.
     """
+    if _compiled_rotate is not None and len(vectors) >= 256:
+        out = np.empty((len(vectors), 3))
+        _compiled_rotate(
+            np.ascontiguousarray(vectors, dtype=np.float64),
+            np.ascontiguousarray(rotation, dtype=np.float64),
+            out,
+        )
+        return out
     angle = np.linalg.norm(rotation, axis=1)
     small = angle < 1e-12
     safe = np.where(small, 1.0, angle)
@@ -120,3 +130,38 @@ def drop_along(vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:
         The components of w normal to V, in the unit of w.
     """
     return vectors - np.sum(vectors * directors, axis=1)[:, None] * directors
+
+
+def _rotate_loop(vectors, rotation, out):  # pragma: no cover - compiled below
+    """rotate_about as one loop over the vectors (compiled by numba when it is installed):
+    the same formulas, node by node, with no temporary arrays."""
+    for i in range(vectors.shape[0]):
+        vx, vy, vz = vectors[i, 0], vectors[i, 1], vectors[i, 2]
+        px, py, pz = rotation[i, 0], rotation[i, 1], rotation[i, 2]
+        angle = np.sqrt(px * px + py * py + pz * pz)
+        if angle < 1e-12:
+            fx, fy, fz = (
+                vx + (py * vz - pz * vy),
+                vy + (pz * vx - px * vz),
+                vz + (px * vy - py * vx),
+            )
+            norm = np.sqrt(fx * fx + fy * fy + fz * fz)
+            if norm <= 0.0:
+                norm = 1.0
+            out[i, 0], out[i, 1], out[i, 2] = fx / norm, fy / norm, fz / norm
+            continue
+        ax, ay, az = px / angle, py / angle, pz / angle
+        cos, sin = np.cos(angle), np.sin(angle)
+        along = ax * vx + ay * vy + az * vz
+        out[i, 0] = cos * vx + sin * (ay * vz - az * vy) + (1.0 - cos) * along * ax
+        out[i, 1] = cos * vy + sin * (az * vx - ax * vz) + (1.0 - cos) * along * ay
+        out[i, 2] = cos * vz + sin * (ax * vy - ay * vx) + (1.0 - cos) * along * az
+
+
+_compiled_rotate: Any = None
+try:
+    import numba
+
+    _compiled_rotate = numba.njit(cache=True)(_rotate_loop)
+except ImportError:  # pragma: no cover - numba is a dependency
+    pass
