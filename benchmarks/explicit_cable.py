@@ -57,10 +57,10 @@ def cells_for(elements: int) -> int:
     return max(1, round((-1.0 + math.sqrt(1.0 + 2.0 * elements)) / 2.0))
 
 
-def run(target_elements: int, steps: int) -> dict:
+def run(target_elements: int, steps: int, kernel: str = "compiled") -> dict:
     mesh = cable_net(cells_for(target_elements))
     model = Model(mesh)
-    model.add(Cable(EA, MU))
+    model.add(Cable(EA, MU, kernel=kernel))
     edge = SPACING * cells_for(target_elements)
     model.fix(mesh.nodes(lambda x, y, z: (x <= 0) | (y <= 0) | (x >= edge) | (y >= edge)))
     model.gravity(GRAVITY)
@@ -118,15 +118,15 @@ def main(argv: list[str] | None = None) -> int:
     print(f"machine: {platform.platform()}; {cpu_name()}, {os.cpu_count()} logical CPUs")
     print(f"python {platform.python_version()}, numpy {np.__version__}")
     header = (
-        f"{'elements':>9} {'nodes':>8} {'steps':>6} {'compile s':>10} {'wall s':>8} "
-        f"{'us/elem-step':>13}"
+        f"{'elements':>9} {'nodes':>8} {'kernel':>9} {'steps':>6} {'compile s':>10} "
+        f"{'wall s':>8} {'us/elem-step':>13}"
     )
     print(header)
     print("-" * len(header))
-    for size in sizes:
-        row = run(size, args.steps)
+    for size, kernel in [(size, kernel) for size in sizes for kernel in ("numpy", "compiled")]:
+        row = run(size, args.steps, kernel)
         print(
-            f"{row['elements']:>9d} {row['nodes']:>8d} {row['steps']:>6d} "
+            f"{row['elements']:>9d} {row['nodes']:>8d} {kernel:>9} {row['steps']:>6d} "
             f"{row['compile_s']:>10.3f} {row['wall_s']:>8.3f} {row['us_per_element_step']:>13.3f}",
             flush=True,
         )

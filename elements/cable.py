@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, Scatter, check_positive
 from femcore.mesh import Mesh
 from femcore.state import State
@@ -22,15 +23,23 @@ class Cable(ElementType):
     axial_stiffness : EA, N (force per unit engineering strain).
     mass_per_length : t/mm, per unit unstretched length.
     tension_only : if True the cable goes slack (no force) when shorter than its rest length.
+    kernel : "compiled" (default when numba is installed: elements/kernels.py) or "numpy".
     """
 
     dofs = ("ux", "uy", "uz")
     cell_type = "line"
 
-    def __init__(self, axial_stiffness: float, mass_per_length: float, tension_only: bool = False):
+    def __init__(
+        self,
+        axial_stiffness: float,
+        mass_per_length: float,
+        tension_only: bool = False,
+        kernel: str | None = None,
+    ):
         self.axial_stiffness = check_positive(axial_stiffness, "axial_stiffness EA", "N")
         self.mass_per_length = check_positive(mass_per_length, "mass_per_length", "t/mm")
         self.tension_only = bool(tension_only)
+        self.kernel = kernels.choose(kernel)
 
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> CableBlock:
         return CableBlock(self, mesh, cell_ids)
@@ -48,6 +57,7 @@ class CableBlock(ElementBlock):
         self.axial_stiffness = cable.axial_stiffness  # N
         self.mass_per_length = cable.mass_per_length  # t/mm
         self.tension_only = cable.tension_only
+        self.kernel = cable.kernel
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.connectivity = mesh.lines[self.cell_ids]
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
@@ -78,6 +88,8 @@ class CableBlock(ElementBlock):
         return self.scatter.scalars(np.stack([half, half], axis=1)), None
 
     def internal_force(self, state: State, history=None):
+        if self.kernel == "compiled":
+            return kernels.cable_forces(self, state.positions), None
         chord, length, _, force = self._axial(state)
         pull = (force / length)[:, None] * chord  # on node 2 (= dW/dx2); node 1 gets the opposite
         return self.scatter.vectors(np.stack([-pull, pull], axis=1)), None

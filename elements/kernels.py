@@ -20,7 +20,19 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
     numba = None  # type: ignore[assignment]
     AVAILABLE = False
 
-__all__ = ["AVAILABLE", "mindlin_energy", "mindlin_loads"]
+__all__ = ["AVAILABLE", "cable_forces", "mindlin_energy", "mindlin_loads"]
+
+
+def choose(kernel: str | None) -> str:
+    """An element's ``kernel`` option checked: "compiled" (the default when numba is
+    installed) or "numpy"."""
+    if kernel is None:
+        return "compiled" if AVAILABLE else "numpy"
+    if kernel not in ("compiled", "numpy"):
+        raise ValueError(f"kernel must be 'compiled' or 'numpy', got {kernel!r}")
+    if kernel == "compiled" and not AVAILABLE:
+        raise ValueError("kernel='compiled' needs numba: pip install numba, or use 'numpy'")
+    return kernel
 
 
 def _jit(function):
@@ -296,3 +308,40 @@ def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float
         energy,
     )
     return float(energy.sum())
+
+
+@_serial
+def _cable_forces(positions, connectivity, rest_length, axial_stiffness, tension_only, out):
+    """Nodal forces (n, 3) of 2-node cables, N = EA (l / L0 - 1) along the chord (elements/
+    cable.py), gathered, computed and scattered in one serial loop (a cell's work is too small
+    to share between threads)."""
+    for c in range(connectivity.shape[0]):
+        a, b = connectivity[c, 0], connectivity[c, 1]
+        dx = positions[b, 0] - positions[a, 0]
+        dy = positions[b, 1] - positions[a, 1]
+        dz = positions[b, 2] - positions[a, 2]
+        length = np.sqrt(dx * dx + dy * dy + dz * dz)
+        force = axial_stiffness * (length / rest_length[c] - 1.0)
+        if tension_only and force < 0.0:
+            force = 0.0
+        scale = force / length
+        out[a, 0] -= scale * dx
+        out[a, 1] -= scale * dy
+        out[a, 2] -= scale * dz
+        out[b, 0] += scale * dx
+        out[b, 1] += scale * dy
+        out[b, 2] += scale * dz
+
+
+def cable_forces(block, positions: np.ndarray) -> np.ndarray:
+    """Nodal internal forces (n, 3) of a CableBlock by the compiled kernel."""
+    out = np.zeros((block.scatter.n_nodes, 3))
+    _cable_forces(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        block.connectivity,
+        block.rest_length,
+        float(block.axial_stiffness),
+        bool(block.tension_only),
+        out,
+    )
+    return out

@@ -140,12 +140,7 @@ class MindlinShell(ElementType):
             raise ValueError(f"MindlinShell needs a materials.ElasticShell, got {material!r}")
         if isinstance(thickness_points, bool) or thickness_points not in (2, 3, 4, 5):
             raise ValueError(f"thickness_points must be 2, 3, 4 or 5, got {thickness_points!r}")
-        if kernel is None:
-            kernel = "compiled" if kernels.AVAILABLE else "numpy"
-        if kernel not in ("compiled", "numpy"):
-            raise ValueError(f"kernel must be 'compiled' or 'numpy', got {kernel!r}")
-        if kernel == "compiled" and not kernels.AVAILABLE:
-            raise ValueError("kernel='compiled' needs numba: pip install numba, or use 'numpy'")
+        kernel = kernels.choose(kernel)
         self.material = material
         self.thickness_points = int(thickness_points)
         self.rotary_scaling = bool(rotary_scaling)
