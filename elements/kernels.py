@@ -55,14 +55,16 @@ prange = numba.prange if AVAILABLE else _prange
 
 
 @_jit
-def _mindlin_cell_loads(
+def _mindlin_cells(
     positions, directors, connectivity, zeta, half, ref11, ref22, ref12, ref_tying,
-    shear_a, shear_b, stiffness, tying_n, force, moment,
+    shear_a, shear_b, stiffness, tying_n, with_forces, force, moment, energy,
 ):  # fmt: skip
-    """Per-cell forces and director moments (m, 3, 3) of the MITC3 Mindlin triangle
-    (elements/mindlin.py ``_cell_loads``, docs/theory.md §5.2-5.4), written into ``force`` and
-    ``moment``. stiffness: (m, P, Z, 5, 5) weighted lamina stiffness per point. Three-vectors
-    are kept in scalars (x, y, z components): no array is allocated inside the loop."""
+    """The strain energy (m,) of each MITC3 Mindlin triangle (elements/mindlin.py
+    ``strain_energy``: 1/2 sum E . D E over its points) into ``energy`` and, ``with_forces``,
+    its nodal forces and director moments (m, 3, 3) (``_cell_loads``, docs/theory.md
+    §5.2-5.4) into ``force`` and ``moment``. stiffness: (m, P, Z, 5, 5) weighted lamina
+    stiffness per point. Three-vectors are kept in scalars (x, y, z components): no array is
+    allocated inside the loop."""
     m = connectivity.shape[0]
     nz = zeta.shape[0]
     npts = shear_a.shape[0]
@@ -92,6 +94,7 @@ def _mindlin_cell_loads(
         t1x = t1y = t1z = t2x = t2y = t2z = 0.0  # sums over z of p1, p2
         a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sums over z of zeta p1, zeta p2
         qax = qay = qaz = qbx = qby = qbz = qcx = qcy = qcz = 0.0  # dW/dg3 at A, B, C
+        stored = 0.0  # 2 W
         for z in range(nz):
             zz = zeta[z]
             g1x, g1y, g1z = d1x + zz * w1x, d1y + zz * w1y, d1z + zz * w1z
@@ -120,6 +123,7 @@ def _mindlin_cell_loads(
                 r2 = k[2, 0] * e11 + k[2, 1] * e22 + k[2, 2] * e12 + k[2, 3] * e13 + k[2, 4] * e23
                 r3 = k[3, 0] * e11 + k[3, 1] * e22 + k[3, 2] * e12 + k[3, 3] * e13 + k[3, 4] * e23
                 r4 = k[4, 0] * e11 + k[4, 1] * e22 + k[4, 2] * e12 + k[4, 3] * e13 + k[4, 4] * e23
+                stored += e11 * r0 + e22 * r1 + e12 * r2 + e13 * r3 + e23 * r4
                 s11 += r0
                 s22 += r1
                 s12 += r2
@@ -127,6 +131,8 @@ def _mindlin_cell_loads(
                 y1 += r3 * shear_a[p, 1] + r4 * shear_b[p, 1]
                 y2 += r3 * shear_a[p, 2] + r4 * shear_b[p, 2]
                 y3 += r3 * shear_a[p, 3] + r4 * shear_b[p, 3]
+            if not with_forces:
+                continue
             p1x = s11 * g1x + s12 * g2x + y0 * ax + y1 * cx
             p1y = s11 * g1y + s12 * g2y + y0 * ay + y1 * cy
             p1z = s11 * g1z + s12 * g2z + y0 * az + y1 * cz
@@ -154,6 +160,9 @@ def _mindlin_cell_loads(
             qcx += y1 * g1x + y3 * g2x
             qcy += y1 * g1y + y3 * g2y
             qcz += y1 * g1z + y3 * g2z
+        energy[c] = 0.5 * stored
+        if not with_forces:
+            continue
         force[c, 0, 0] = -(t1x + t2x)
         force[c, 0, 1] = -(t1y + t2y)
         force[c, 0, 2] = -(t1z + t2z)
@@ -183,69 +192,6 @@ def _mindlin_cell_loads(
             moment[c, node_k, 2] = vx * uy - vy * ux
 
 
-@_jit
-def _mindlin_cell_energy(
-    positions, directors, connectivity, zeta, half, ref11, ref22, ref12, ref_tying,
-    shear_a, shear_b, stiffness, tying_n, energy,
-):  # fmt: skip
-    """Strain energy (m,) of each MITC3 Mindlin triangle, 1/2 sum E . D E over its points
-    (elements/mindlin.py ``strain_energy``), written into ``energy``."""
-    m = connectivity.shape[0]
-    nz = zeta.shape[0]
-    npts = shear_a.shape[0]
-    for c in prange(m):
-        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        d1x = positions[n1, 0] - positions[n0, 0]
-        d1y = positions[n1, 1] - positions[n0, 1]
-        d1z = positions[n1, 2] - positions[n0, 2]
-        d2x = positions[n2, 0] - positions[n0, 0]
-        d2y = positions[n2, 1] - positions[n0, 1]
-        d2z = positions[n2, 2] - positions[n0, 2]
-        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
-        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
-        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
-        w1x, w1y, w1z = half * (v1x - v0x), half * (v1y - v0y), half * (v1z - v0z)
-        w2x, w2y, w2z = half * (v2x - v0x), half * (v2y - v0y), half * (v2z - v0z)
-        ax = half * (tying_n[0, 0] * v0x + tying_n[0, 1] * v1x + tying_n[0, 2] * v2x)
-        ay = half * (tying_n[0, 0] * v0y + tying_n[0, 1] * v1y + tying_n[0, 2] * v2y)
-        az = half * (tying_n[0, 0] * v0z + tying_n[0, 1] * v1z + tying_n[0, 2] * v2z)
-        bx = half * (tying_n[1, 0] * v0x + tying_n[1, 1] * v1x + tying_n[1, 2] * v2x)
-        by = half * (tying_n[1, 0] * v0y + tying_n[1, 1] * v1y + tying_n[1, 2] * v2y)
-        bz = half * (tying_n[1, 0] * v0z + tying_n[1, 1] * v1z + tying_n[1, 2] * v2z)
-        cx = half * (tying_n[2, 0] * v0x + tying_n[2, 1] * v1x + tying_n[2, 2] * v2x)
-        cy = half * (tying_n[2, 0] * v0y + tying_n[2, 1] * v1y + tying_n[2, 2] * v2y)
-        cz = half * (tying_n[2, 0] * v0z + tying_n[2, 1] * v1z + tying_n[2, 2] * v2z)
-        total = 0.0
-        for z in range(nz):
-            zz = zeta[z]
-            g1x, g1y, g1z = d1x + zz * w1x, d1y + zz * w1y, d1z + zz * w1z
-            g2x, g2y, g2z = d2x + zz * w2x, d2y + zz * w2y, d2z + zz * w2z
-            e11 = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - ref11[c, z])
-            e22 = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - ref22[c, z])
-            e12 = g1x * g2x + g1y * g2y + g1z * g2z - ref12[c, z]
-            ta = 0.5 * (g1x * ax + g1y * ay + g1z * az - ref_tying[c, z, 0])
-            tc1 = 0.5 * (g1x * cx + g1y * cy + g1z * cz - ref_tying[c, z, 1])
-            tb = 0.5 * (g2x * bx + g2y * by + g2z * bz - ref_tying[c, z, 2])
-            tc2 = 0.5 * (g2x * cx + g2y * cy + g2z * cz - ref_tying[c, z, 3])
-            for p in range(npts):
-                e13 = 2.0 * (
-                    ta * shear_a[p, 0] + tc1 * shear_a[p, 1] + tb * shear_a[p, 2]
-                    + tc2 * shear_a[p, 3]
-                )  # fmt: skip
-                e23 = 2.0 * (
-                    ta * shear_b[p, 0] + tc1 * shear_b[p, 1] + tb * shear_b[p, 2]
-                    + tc2 * shear_b[p, 3]
-                )  # fmt: skip
-                k = stiffness[c, p, z]
-                r0 = k[0, 0] * e11 + k[0, 1] * e22 + k[0, 2] * e12 + k[0, 3] * e13 + k[0, 4] * e23
-                r1 = k[1, 0] * e11 + k[1, 1] * e22 + k[1, 2] * e12 + k[1, 3] * e13 + k[1, 4] * e23
-                r2 = k[2, 0] * e11 + k[2, 1] * e22 + k[2, 2] * e12 + k[2, 3] * e13 + k[2, 4] * e23
-                r3 = k[3, 0] * e11 + k[3, 1] * e22 + k[3, 2] * e12 + k[3, 3] * e13 + k[3, 4] * e23
-                r4 = k[4, 0] * e11 + k[4, 1] * e22 + k[4, 2] * e12 + k[4, 3] * e13 + k[4, 4] * e23
-                total += e11 * r0 + e22 * r1 + e12 * r2 + e13 * r3 + e23 * r4
-        energy[c] = 0.5 * total
-
-
 @_serial
 def _scatter(connectivity, per_cell, out):
     """out[node] += per_cell[c, k] for node = connectivity[c, k] (serial: no races)."""
@@ -256,14 +202,12 @@ def _scatter(connectivity, per_cell, out):
                 out[node, i] += per_cell[c, k, i]
 
 
-def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
-    """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
-    compiled kernel."""
+def _run_mindlin(block, positions, directors, with_forces: bool):
     m = len(block.connectivity)
-    force = np.empty((m, 3, 3))
-    moment = np.empty((m, 3, 3))
+    shape = (m, 3, 3) if with_forces else (0, 3, 3)
+    force, moment, energy = np.empty(shape), np.empty(shape), np.empty(m)
     ref = block.reference_metric
-    _mindlin_cell_loads(
+    _mindlin_cells(
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
         block.connectivity,
@@ -277,9 +221,18 @@ def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
         block.shear_b,
         block.weighted_stiffness,
         block.tying_n,
+        with_forces,
         force,
         moment,
+        energy,
     )
+    return force, moment, energy
+
+
+def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
+    """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
+    compiled kernel."""
+    force, moment, _ = _run_mindlin(block, positions, directors, True)
     nodal_force = np.zeros((block.n_nodes, 3))
     nodal_moment = np.zeros((block.n_nodes, 3))
     _scatter(block.connectivity, force, nodal_force)
@@ -289,25 +242,7 @@ def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
 
 def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float:
     """Strain energy (N mm) of a MindlinShellBlock by the compiled kernel."""
-    energy = np.empty(len(block.connectivity))
-    ref = block.reference_metric
-    _mindlin_cell_energy(
-        np.ascontiguousarray(positions, dtype=np.float64),
-        np.ascontiguousarray(directors, dtype=np.float64),
-        block.connectivity,
-        block.zeta,
-        0.5 * block.h,
-        ref["11"],
-        ref["22"],
-        ref["12"],
-        ref["tying"],
-        block.shear_a,
-        block.shear_b,
-        block.weighted_stiffness,
-        block.tying_n,
-        energy,
-    )
-    return float(energy.sum())
+    return float(_run_mindlin(block, positions, directors, False)[2].sum())
 
 
 @_serial

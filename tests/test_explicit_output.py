@@ -2,23 +2,16 @@
 ParaView index, the histories as CSV rows, and checkpoints that a killed run resumes from to the
 same final state, bit for bit, as a run never interrupted."""
 
-import os
-import signal
-import subprocess
-import sys
 import textwrap
-import time
 from pathlib import Path
 from xml.etree import ElementTree
 
 import meshio
 import numpy as np
 import pytest
+from kill_helpers import kill_when
 
 from solvers import CentralDifference
-from solvers.output import load_checkpoint
-
-ROOT = Path(__file__).resolve().parents[1]
 
 # A slack cable between two fixed ends dropping under gravity (tests/test_explicit.py): 20
 # elements, about 4,400 steps over 0.02 s at 0.9 of the stable step.
@@ -137,22 +130,8 @@ def test_a_run_killed_halfway_resumes_to_the_same_state_bit_for_bit(tmp_path):
             """
         )
     )
-    environment = dict(os.environ, PYTHONPATH=str(ROOT))
-    child = subprocess.Popen([sys.executable, str(script)], env=environment)
     checkpoint = killed / "run.ckpt"
-    deadline = time.monotonic() + 120.0
-    try:
-        while time.monotonic() < deadline:
-            payload = load_checkpoint(checkpoint) if checkpoint.exists() else None
-            if payload is not None and payload["run"].state.time > 0.5 * duration:
-                break
-            assert child.poll() is None, "the run ended before it could be killed"
-            time.sleep(0.02)
-        else:
-            pytest.fail("no checkpoint past half the run within 120 s")
-    finally:
-        child.send_signal(signal.SIGKILL)
-        child.wait()
+    kill_when(script, checkpoint, lambda p: p["run"].state.time > 0.5 * duration, 120.0)
 
     resumed = solver(killed, duration).solve(
         hanging_cable(), checkpoint=checkpoint, checkpoint_interval=0.0

@@ -1,21 +1,14 @@
 """A dynamic relaxation killed between increments resumes from its checkpoint to the same final
 state, bit for bit, as a run never interrupted."""
 
-import os
-import signal
-import subprocess
-import sys
 import textwrap
-import time
-from pathlib import Path
 
 import numpy as np
 import pytest
+from kill_helpers import kill_when
 
 from solvers import DynamicRelaxation
 from solvers.output import load_checkpoint
-
-ROOT = Path(__file__).resolve().parents[1]
 
 # The thick Mindlin strip of tests/test_relaxation.py rolled into a quarter circle by an end
 # moment, in four increments of 2,500-5,000 iterations each (a few seconds).
@@ -51,22 +44,7 @@ def test_a_relaxation_killed_halfway_resumes_to_the_same_state_bit_for_bit(tmp_p
             """
         )
     )
-    child = subprocess.Popen(
-        [sys.executable, str(script)], env=dict(os.environ, PYTHONPATH=str(ROOT))
-    )
-    deadline = time.monotonic() + 300.0
-    try:
-        while time.monotonic() < deadline:
-            payload = load_checkpoint(checkpoint) if checkpoint.exists() else None
-            if payload is not None and payload["increment"] >= 2:
-                break
-            assert child.poll() is None, "the run ended before it could be killed"
-            time.sleep(0.01)
-        else:
-            pytest.fail("no checkpoint of the second increment within 300 s")
-    finally:
-        child.send_signal(signal.SIGKILL)
-        child.wait()
+    kill_when(script, checkpoint, lambda payload: payload["increment"] >= 2, 300.0)
     assert load_checkpoint(checkpoint)["increment"] < 4, "killed too late to resume anything"
 
     resumed = DynamicRelaxation(increments=4, progress=False).solve(
