@@ -155,3 +155,22 @@ def test_a_checkpoint_of_another_model_is_refused(tmp_path):
         CentralDifference(duration=2e-4, progress=False).solve(
             hanging_cable(), checkpoint=checkpoint
         )
+
+
+def test_a_diverged_run_leaves_on_disk_only_the_frames_that_passed_the_checks(tmp_path):
+    """Above the critical step (tests/test_explicit.py) the series ends, on disk as in the
+    result, with the last state that passed the energy checks."""
+    from solvers import DivergenceError
+
+    compiled = hanging_cable().compile()
+    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=0.02, dt=dt, output_interval=50 * dt, output=tmp_path / "run.pvd", progress=False
+    )
+    with pytest.raises(DivergenceError) as error:
+        solver.solve(hanging_cable())
+    result = error.value.result
+    entries = listed(tmp_path / "run.pvd")
+    assert entries[-1][0] == result.frames[-1].time
+    assert all(t <= result.frames[-1].time for t, _ in entries)
+    assert sorted(p.name for p in tmp_path.glob("run_*.vtu")) == sorted(n for _, n in entries)
