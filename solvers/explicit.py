@@ -33,7 +33,7 @@ from solvers.common import (
     make_frame,
     resolve_progress,
 )
-from solvers.dynamics import EnergyAccount, FrameSchedule, damped_velocity
+from solvers.dynamics import EnergyAccount, FrameSchedule, damped_velocity, update_rates
 from solvers.output import (
     FrameStream,
     HistoryWriter,
@@ -430,21 +430,21 @@ class CentralDifference:
 
         f_ext, m_ext = model.external_load(state.time / self.duration)
         f_int, m_int = model.internal_force(state)
-        v_free = damped_velocity(velocity, f_ext - f_int, inv_mass, dt_bar, c)
-        v_new = np.where(model.translation_free, v_free, 0.0)
+        target = None
         if model.has_prescribed:
-            target = model.reference_positions + model.prescribed_displacement(
-                t_next / self.duration
-            )
-            v_new = np.where(model.translation_prescribed, (target - state.positions) / dt, v_new)
-        # Support force = what the constraint adds to the momentum balance of the node.
-        reactions = np.where(
+            goal = model.reference_positions + model.prescribed_displacement(t_next / self.duration)
+            target = np.where(model.translation_prescribed, (goal - state.positions) / dt, np.nan)
+        v_new, reactions, work = update_rates(
+            velocity,
+            f_ext,
+            f_int,
+            mass,
+            model.translation_free,
             model.translation_constrained,
-            mass[:, None] * (v_new - v_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar,
-            0.0,
-        )
-        work = EnergyAccount.increments(
-            (f_ext + reactions, f_int), (velocity, v_new), mass, c, dt_prev, dt, checking
+            target,
+            (dt_bar, dt, dt_prev),
+            c,
+            checking,
         )
         w_new = None
         reaction_moments = np.zeros_like(reactions)
