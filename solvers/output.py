@@ -123,5 +123,14 @@ def load_checkpoint(path: Path) -> dict[str, Any] | None:
     program wrote: unpickling runs code."""
     if not path.exists():
         return None
-    with open(path, "rb") as handle:
-        return pickle.load(handle)
+    try:
+        with open(path, "rb") as handle:
+            payload = pickle.load(handle)
+    except Exception as error:  # any unpickling failure means the same thing to the user
+        raise ValueError(
+            f"{str(path)!r} is not a checkpoint this program wrote ({type(error).__name__}): "
+            "delete it, or give another path"
+        ) from None
+    if not isinstance(payload, dict) or "signature" not in payload:
+        raise ValueError(f"{str(path)!r} is not a checkpoint this program wrote")
+    return payload

@@ -230,7 +230,7 @@ class DynamicRelaxation:
         )
         payload = load_checkpoint(saved_at) if saved_at is not None else None
         if payload is not None:
-            if payload["signature"] != signature:
+            if payload.get("signature") != signature:
                 raise ValueError(
                     f"the checkpoint {str(saved_at)!r} was written by another model or other "
                     "solver settings: delete it, or give another path"

@@ -174,3 +174,10 @@ def test_a_diverged_run_leaves_on_disk_only_the_frames_that_passed_the_checks(tm
     assert entries[-1][0] == result.frames[-1].time
     assert all(t <= result.frames[-1].time for t, _ in entries)
     assert sorted(p.name for p in tmp_path.glob("run_*.vtu")) == sorted(n for _, n in entries)
+
+
+def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
+    path = tmp_path / "run.ckpt"
+    path.write_text("not a checkpoint")
+    with pytest.raises(ValueError, match="not a checkpoint this program wrote"):
+        CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
