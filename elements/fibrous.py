@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from elements import kernels
 from elements.base import (
     CellTangent,
     ElementBlock,
@@ -128,6 +129,8 @@ class FibrousShell(ElementType):
     bending_geometry : "current" (the curvature coefficients c_as of §4.2 from the current
         geometry, held fixed in the variation as Bai and S3 do) or "reference" (from the
         reference geometry: total Lagrangian, exactly conservative).
+    kernel : "compiled" (default when numba is installed: the nodal normal sums and their
+        forces by the loops of elements/kernels.py) or "numpy" (the vectorised reference).
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -144,7 +147,9 @@ class FibrousShell(ElementType):
         thickness_variation: bool = True,
         bending_geometry: str = "current",
         thickness: str = "nodal",
+        kernel: str | None = None,
     ):
+        self.kernel = kernels.choose(kernel)
         if not isinstance(fabric, Fabric):
             raise ValueError(f"FibrousShell needs a materials.Fabric, got {fabric!r}")
         self.fabric = fabric
@@ -205,6 +210,7 @@ class FibrousShellBlock(ElementBlock):
 
     def __init__(self, shell: FibrousShell, mesh: Mesh, cell_ids, directors):
         self.fabric = fabric = shell.fabric
+        self.compiled = shell.kernel == "compiled"
         # Options resolved once: the block never reads its type back at run time.
         self.thickness_variation = shell.thickness_variation
         self.nodal_normals = shell.thickness == "nodal"
@@ -374,7 +380,10 @@ class FibrousShellBlock(ElementBlock):
         """S_k = sum over the block's cells e around node k of alpha_k^e n_e, (n, 3): the
         element normals weighted by the cells' angles at the node; S_k / |S_k| is the nodal
         normal (docs/theory.md §1.4)."""
-        s, _ = _corner_normals(positions[self.connectivity])
+        if self.compiled:
+            s = kernels.corner_shares(positions, self.connectivity)
+        else:
+            s, _ = _corner_normals(positions[self.connectivity])
         sums = self.scatter.vectors(s)
         if self.wall_nodes.any():
             sums[self.wall_nodes] = self._wall_sums[self.wall_nodes]
@@ -560,7 +569,8 @@ class FibrousShellBlock(ElementBlock):
         force, moment, d_sums = self._layer_forces(geo, *loads)
         if d_sums is not None:
             pull = self._free_sums(self.scatter.vectors(d_sums))[self.connectivity]  # T_k
-            force = force + _corner_normal_pull(geo["corners"], pull)
+            normal_pull = kernels.corner_normal_pull if self.compiled else _corner_normal_pull
+            force = force + normal_pull(geo["corners"], pull)
         return force, moment
 
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:

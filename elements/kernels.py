@@ -280,3 +280,122 @@ def cable_forces(block, positions: np.ndarray) -> np.ndarray:
         out,
     )
     return out
+
+
+# ---------------------------------------------------------------------- fibrous shell pieces
+@_jit
+def _corner_shares(positions, connectivity, shares):
+    """Each cell's share of the nodal normal sums, alpha_k n (m, 3, 3): its unit normal
+    weighted by its angle at corner k (elements/fibrous.py ``_corner_normals``)."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        ax = positions[n1, 0] - positions[n0, 0]
+        ay = positions[n1, 1] - positions[n0, 1]
+        az = positions[n1, 2] - positions[n0, 2]
+        bx = positions[n2, 0] - positions[n0, 0]
+        by = positions[n2, 1] - positions[n0, 1]
+        bz = positions[n2, 2] - positions[n0, 2]
+        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        size = np.sqrt(cx * cx + cy * cy + cz * cz)
+        nx, ny, nz = cx / size, cy / size, cz / size
+        for k in range(3):
+            p = connectivity[c, k]
+            q = connectivity[c, (k + 1) % 3]
+            r = connectivity[c, (k + 2) % 3]
+            ux = positions[q, 0] - positions[p, 0]
+            uy = positions[q, 1] - positions[p, 1]
+            uz = positions[q, 2] - positions[p, 2]
+            wx = positions[r, 0] - positions[p, 0]
+            wy = positions[r, 1] - positions[p, 1]
+            wz = positions[r, 2] - positions[p, 2]
+            sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+            angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
+            shares[c, k, 0] = angle * nx
+            shares[c, k, 1] = angle * ny
+            shares[c, k, 2] = angle * nz
+
+
+def corner_shares(positions: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
+    """alpha_k n (m, 3, 3) of each cell by the compiled loop."""
+    shares = np.empty((len(connectivity), 3, 3))
+    _corner_shares(np.ascontiguousarray(positions, dtype=np.float64), connectivity, shares)
+    return shares
+
+
+@_jit
+def _corner_normal_pull(x, pull, force):
+    """sum_k pull_k . d(alpha_k n)/dx_j at the corners of each cell (elements/fibrous.py
+    ``_corner_normal_pull``): x, pull (m, 3, 3) -> force (m, 3, 3)."""
+    for c in prange(x.shape[0]):
+        ax = x[c, 1, 0] - x[c, 0, 0]
+        ay = x[c, 1, 1] - x[c, 0, 1]
+        az = x[c, 1, 2] - x[c, 0, 2]
+        bx = x[c, 2, 0] - x[c, 0, 0]
+        by = x[c, 2, 1] - x[c, 0, 1]
+        bz = x[c, 2, 2] - x[c, 0, 2]
+        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        size = np.sqrt(cx * cx + cy * cy + cz * cz)
+        nx, ny, nz = cx / size, cy / size, cz / size
+        for j in range(3):
+            force[c, j, 0] = 0.0
+            force[c, j, 1] = 0.0
+            force[c, j, 2] = 0.0
+        gx = gy = gz = 0.0
+        for k in range(3):
+            q, r = (k + 1) % 3, (k + 2) % 3
+            ux = x[c, q, 0] - x[c, k, 0]
+            uy = x[c, q, 1] - x[c, k, 1]
+            uz = x[c, q, 2] - x[c, k, 2]
+            wx = x[c, r, 0] - x[c, k, 0]
+            wy = x[c, r, 1] - x[c, k, 1]
+            wz = x[c, r, 2] - x[c, k, 2]
+            sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+            angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
+            u_len = np.sqrt(ux * ux + uy * uy + uz * uz)
+            w_len = np.sqrt(wx * wx + wy * wy + wz * wz)
+            # d alpha_k / dx at the next corner: -(n x u / |u|) / |u|; at the previous one:
+            # -((w / |w|) x n) / |w|; at x_k minus their sum.
+            tx = -(ny * uz - nz * uy) / (u_len * u_len)
+            ty = -(nz * ux - nx * uz) / (u_len * u_len)
+            tz = -(nx * uy - ny * ux) / (u_len * u_len)
+            vx = -(wy * nz - wz * ny) / (w_len * w_len)
+            vy = -(wz * nx - wx * nz) / (w_len * w_len)
+            vz = -(wx * ny - wy * nx) / (w_len * w_len)
+            weight = pull[c, k, 0] * nx + pull[c, k, 1] * ny + pull[c, k, 2] * nz
+            force[c, q, 0] += weight * tx
+            force[c, q, 1] += weight * ty
+            force[c, q, 2] += weight * tz
+            force[c, r, 0] += weight * vx
+            force[c, r, 1] += weight * vy
+            force[c, r, 2] += weight * vz
+            force[c, k, 0] -= weight * (tx + vx)
+            force[c, k, 1] -= weight * (ty + vy)
+            force[c, k, 2] -= weight * (tz + vz)
+            gx += angle * pull[c, k, 0]
+            gy += angle * pull[c, k, 1]
+            gz += angle * pull[c, k, 2]
+        along = gx * nx + gy * ny + gz * nz
+        gx, gy, gz = (gx - along * nx) / size, (gy - along * ny) / size, (gz - along * nz) / size
+        # d(g . c)/dx: b x g on x1, g x a on x2, minus their sum on x0
+        p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
+        p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
+        force[c, 0, 0] -= p1x + p2x
+        force[c, 0, 1] -= p1y + p2y
+        force[c, 0, 2] -= p1z + p2z
+        force[c, 1, 0] += p1x
+        force[c, 1, 1] += p1y
+        force[c, 1, 2] += p1z
+        force[c, 2, 0] += p2x
+        force[c, 2, 1] += p2y
+        force[c, 2, 2] += p2z
+
+
+def corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
+    """The compiled ``_corner_normal_pull`` of elements/fibrous.py: (m, 3, 3)."""
+    force = np.empty_like(x)
+    _corner_normal_pull(
+        np.ascontiguousarray(x, dtype=np.float64),
+        np.ascontiguousarray(pull, dtype=np.float64),
+        force,
+    )
+    return force
