@@ -983,9 +983,19 @@ class FibrousShellBlock(ElementBlock):
         return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
 
     # ------------------------------------------------------------------ protocol
+    def _geometry_and_strains(self, state: State) -> tuple[dict, dict]:
+        """``_geometry`` with the level vectors and ``_strains`` of a state: one compiled loop
+        (elements/kernels.py) or the vectorised reference."""
+        if not self.compiled:
+            geo = self._geometry(state.positions, state.directors)
+            return geo, self._strains(geo)
+        conn = self.connectivity
+        sums = self._normal_sums(state.positions)[conn] if self.nodal_normals else None
+        return kernels.fibrous_geometry(self, state.positions[conn], state.directors[conn], sums)
+
     def internal_force(self, state: State, history=None):
-        geo = self._geometry(state.positions, state.directors)
-        force, moment = self._membrane_forces(geo, self._strains(geo))
+        geo, strain = self._geometry_and_strains(state)
+        force, moment = self._membrane_forces(geo, strain)
         force = force + self._bending_forces(state, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
@@ -1006,8 +1016,7 @@ class FibrousShellBlock(ElementBlock):
 
     def strain_energy_parts(self, state: State) -> dict:
         """Strain energy (N mm) of each term: {"tension", "shear", "bending"}."""
-        geo = self._geometry(state.positions, state.directors)
-        strain = self._strains(geo)
+        _, strain = self._geometry_and_strains(state)
         scale = self.reference_area[:, None] * self.weights[None, :]
         warp, weft = self._by_family(strain["eps1"], strain["eps2"])
         tension = np.sum(

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements.shell_geometry import GUARD
+
 try:  # numba is a dependency; the numpy paths keep the package usable without it
     import numba
 
@@ -399,3 +401,104 @@ def corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
         force,
     )
     return force
+
+
+@_jit
+def _fibrous_geometry(
+    x, v, sums, nodal, thickness, guard, zeta, reference_length1, reference_length2,
+    shear_sign, reference_shear, normal, double_area, node_normal, normal_sum_length, cosine,
+    h_m, guarded, g1, g2, length1, length2, fibre1, fibre2, eps1, eps2, gamma,
+):  # fmt: skip
+    """elements/fibrous.py ``_cell_geometry`` and ``_strains`` in one loop per cell: the
+    element normal and area, the cosine of each director with its normal (the nodal normal
+    S_k / |S_k| when ``nodal``, else the element's), h_m = h / max(cos, guard), the level
+    vectors g1, g2 (m, L, 3) and the log strains and shear angles (m, L). Every output array
+    is written."""
+    levels = zeta.shape[0]
+    for c in prange(x.shape[0]):
+        ax = x[c, 1, 0] - x[c, 0, 0]
+        ay = x[c, 1, 1] - x[c, 0, 1]
+        az = x[c, 1, 2] - x[c, 0, 2]
+        bx = x[c, 2, 0] - x[c, 0, 0]
+        by = x[c, 2, 1] - x[c, 0, 1]
+        bz = x[c, 2, 2] - x[c, 0, 2]
+        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        size = np.sqrt(cx * cx + cy * cy + cz * cz)
+        nx, ny, nz = cx / size, cy / size, cz / size
+        normal[c, 0], normal[c, 1], normal[c, 2] = nx, ny, nz
+        double_area[c] = size
+        for k in range(3):
+            if nodal:
+                sx, sy, sz = sums[c, k, 0], sums[c, k, 1], sums[c, k, 2]
+                length = np.sqrt(sx * sx + sy * sy + sz * sz)
+                node_normal[c, k, 0] = sx / length
+                node_normal[c, k, 1] = sy / length
+                node_normal[c, k, 2] = sz / length
+                normal_sum_length[c, k] = length
+                cos = (v[c, k, 0] * sx + v[c, k, 1] * sy + v[c, k, 2] * sz) / length
+            else:
+                cos = v[c, k, 0] * nx + v[c, k, 1] * ny + v[c, k, 2] * nz
+            cosine[c, k] = cos
+            h_m[c, k] = thickness / max(cos, guard)
+            guarded[c, k] = cos < guard
+        for f in range(levels):
+            half = 0.5 * zeta[f]
+            for i in range(3):
+                base = x[c, 0, i] + half * h_m[c, 0] * v[c, 0, i]
+                g1[c, f, i] = x[c, 1, i] + half * h_m[c, 1] * v[c, 1, i] - base
+                g2[c, f, i] = x[c, 2, i] + half * h_m[c, 2] * v[c, 2, i] - base
+            p1 = g1[c, f, 0] * g1[c, f, 0] + g1[c, f, 1] * g1[c, f, 1] + g1[c, f, 2] * g1[c, f, 2]
+            p2 = g2[c, f, 0] * g2[c, f, 0] + g2[c, f, 1] * g2[c, f, 1] + g2[c, f, 2] * g2[c, f, 2]
+            l1, l2 = np.sqrt(p1), np.sqrt(p2)
+            length1[c, f], length2[c, f] = l1, l2
+            if nodal:
+                # the length of g_a projected on the element's plane (docs/theory.md §2.2)
+                q1 = g1[c, f, 0] * nx + g1[c, f, 1] * ny + g1[c, f, 2] * nz
+                q2 = g2[c, f, 0] * nx + g2[c, f, 1] * ny + g2[c, f, 2] * nz
+                e1x, e1y, e1z = g1[c, f, 0] - q1 * nx, g1[c, f, 1] - q1 * ny, g1[c, f, 2] - q1 * nz
+                e2x, e2y, e2z = g2[c, f, 0] - q2 * nx, g2[c, f, 1] - q2 * ny, g2[c, f, 2] - q2 * nz
+                f1 = np.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+                f2 = np.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+            else:
+                f1, f2 = l1, l2
+            fibre1[c, f], fibre2[c, f] = f1, f2
+            eps1[c, f] = np.log(f1 / reference_length1[c, f])
+            eps2[c, f] = np.log(f2 / reference_length2[c, f])
+            dot = g1[c, f, 0] * g2[c, f, 0] + g1[c, f, 1] * g2[c, f, 1] + g1[c, f, 2] * g2[c, f, 2]
+            ratio = min(max(dot / (l1 * l2), -1.0), 1.0)
+            gamma[c, f] = shear_sign[c] * np.arcsin(ratio) - reference_shear[c, f]
+
+
+def fibrous_geometry(block, x: np.ndarray, v: np.ndarray, sums) -> tuple[dict, dict]:
+    """(geometry, strains) of elements/fibrous.py ``_cell_geometry`` (with the level vectors)
+    and ``_strains`` by the compiled loop; ``sums`` (m, 3, 3) the nodal normal sums at the
+    corners, or None for the element normals."""
+    m, levels = len(x), len(block.zeta)
+    nodal = sums is not None
+    out = {
+        "normal": np.empty((m, 3)),
+        "double_area": np.empty(m),
+        "node_normal": np.empty((m, 3, 3) if nodal else (0, 3, 3)),
+        "normal_sum_length": np.empty((m, 3) if nodal else (0, 3)),
+        "cosine": np.empty((m, 3)),
+        "thickness": np.empty((m, 3)),
+        "guarded": np.empty((m, 3), dtype=np.bool_),
+        "g1": np.empty((m, levels, 3)),
+        "g2": np.empty((m, levels, 3)),
+    }
+    strain = {key: np.empty((m, levels)) for key in _STRAIN_KEYS}
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    _fibrous_geometry(
+        x, v, np.ascontiguousarray(sums) if nodal else np.zeros((0, 3, 3)), nodal,
+        float(block.fabric.thickness), GUARD, block.zeta, block.reference_length1,
+        block.reference_length2, block.shear_sign, block.reference_shear, *out.values(),
+        *strain.values(),
+    )  # fmt: skip
+    geo = {"corners": x, "directors": v, **out}
+    if not nodal:
+        del geo["node_normal"], geo["normal_sum_length"]
+    return geo, strain
+
+
+_STRAIN_KEYS = ("length1", "length2", "fibre1", "fibre2", "eps1", "eps2", "gamma")

@@ -385,10 +385,10 @@ def test_the_membrane_hessian_is_the_derivative_of_each_cells_gradient(variation
 # ---------------------------------------------------------------------- compiled kernel
 @pytest.mark.parametrize("thickness", ["nodal", "element"])
 def test_the_compiled_pieces_give_the_numpy_forces(thickness):
-    """FibrousShell(kernel="compiled") (the nodal normal sums and their forces by the loops
-    of elements/kernels.py) against the vectorised reference on a jittered, tilted sheet: the
-    same sums in another order, so 1e-12 of the largest force and moment (with element
-    normals the two paths are the same code: a check that the option changes nothing)."""
+    """FibrousShell(kernel="compiled") (the geometry, strains, nodal normal sums and their
+    forces by the loops of elements/kernels.py) against the vectorised reference on a jittered,
+    tilted sheet: the same sums in another order, so 1e-12 of the largest force and moment,
+    and of the energy."""
     mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
     rng = np.random.default_rng(7)
     jitter = rng.normal(scale=0.8, size=(mesh.n_nodes, 3))
@@ -401,6 +401,7 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness):
         state = built.initial_state()
         state.positions = state.positions + jitter
         state.directors = rotate_about(state.directors, np.cross(state.directors, turn))
-        loads[kernel] = built.internal_force(state)
-    for reference, value in zip(loads["numpy"], loads["compiled"]):
+        loads[kernel] = (*built.internal_force(state), built.strain_energy(state))
+    for reference, value in zip(loads["numpy"][:2], loads["compiled"][:2]):
         assert np.abs(value - reference).max() <= 1e-12 * np.abs(reference).max()
+    assert loads["compiled"][2] == pytest.approx(loads["numpy"][2], rel=1e-12)
