@@ -565,8 +565,19 @@ class FibrousShellBlock(ElementBlock):
         """Tension and/or shear forces and director moments per cell corner (m, 3, 3), the
         variation of the nodal normals included: dW/dS_k summed over the cells around node k
         (T_k), then d(S_k)/dx through every cell f around k: T_k . d(alpha_k^f n_f)/dx."""
-        loads = self._layer_loads(geo, strain, tension, shear)
-        force, moment, d_sums = self._layer_forces(geo, *loads)
+        if self.compiled and tension and shear:
+            warp, weft = self._by_family(strain["eps1"], strain["eps2"])
+            t_warp = self.fabric.tension.value(warp)
+            t_weft = self.fabric.tension_weft.value(weft)
+            along_xi = self.xi_is_warp[:, None]
+            tensions = (np.where(along_xi, t_warp, t_weft), np.where(along_xi, t_weft, t_warp))
+            shear_moment = self.shear_sign[:, None] * self.fabric.shear.value(strain["gamma"])
+            force, moment, d_sums = kernels.fibrous_layer_forces(
+                self, geo, strain, tensions, shear_moment
+            )
+        else:
+            loads = self._layer_loads(geo, strain, tension, shear)
+            force, moment, d_sums = self._layer_forces(geo, *loads)
         if d_sums is not None:
             pull = self._free_sums(self.scatter.vectors(d_sums))[self.connectivity]  # T_k
             normal_pull = kernels.corner_normal_pull if self.compiled else _corner_normal_pull

@@ -502,3 +502,148 @@ def fibrous_geometry(block, x: np.ndarray, v: np.ndarray, sums) -> tuple[dict, d
 
 
 _STRAIN_KEYS = ("length1", "length2", "fibre1", "fibre2", "eps1", "eps2", "gamma")
+
+
+@_jit
+def _fibrous_layer_forces(
+    x, v, normal, double_area, node_normal, normal_sum_length, cosine, h_m, guarded, g1, g2,
+    length1, length2, fibre1, fibre2, scale, t1, t2, shear_moment, zeta, nodal,
+    thickness_variation, thickness, force, moment, d_sums,
+):  # fmt: skip
+    """elements/fibrous.py ``_layer_loads`` (tension and shear) and ``_layer_forces`` in one
+    loop per cell, the law values given: t1, t2 (m, L) the tensions along edges 0-1 and 0-2,
+    shear_moment (m, L) the shear moment times the cell's shear sign, scale (m, L) = A0 w_f.
+    Writes force, moment and d_sums (dW/dS_k, zero without nodal normals), (m, 3, 3)."""
+    levels = zeta.shape[0]
+    for c in prange(x.shape[0]):
+        nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
+        s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f P_a
+        a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f P_a
+        lx = ly = lz = 0.0  # dW/dn
+        for f in range(levels):
+            g1x, g1y, g1z = g1[c, f, 0], g1[c, f, 1], g1[c, f, 2]
+            g2x, g2y, g2z = g2[c, f, 0], g2[c, f, 1], g2[c, f, 2]
+            w = scale[c, f]
+            if nodal:
+                q1 = g1x * nx + g1y * ny + g1z * nz
+                q2 = g2x * nx + g2y * ny + g2z * nz
+                k1 = w * t1[c, f] / (fibre1[c, f] * fibre1[c, f])
+                k2 = w * t2[c, f] / (fibre2[c, f] * fibre2[c, f])
+                e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
+                e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
+                p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
+                p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
+                lx -= k1 * q1 * e1x + k2 * q2 * e2x
+                ly -= k1 * q1 * e1y + k2 * q2 * e2y
+                lz -= k1 * q1 * e1z + k2 * q2 * e2z
+            else:
+                k1 = w * t1[c, f] / (fibre1[c, f] * fibre1[c, f])
+                k2 = w * t2[c, f] / (fibre2[c, f] * fibre2[c, f])
+                p1x, p1y, p1z = k1 * g1x, k1 * g1y, k1 * g1z
+                p2x, p2y, p2z = k2 * g2x, k2 * g2y, k2 * g2z
+            l1, l2 = length1[c, f], length2[c, f]
+            u1x, u1y, u1z = g1x / l1, g1y / l1, g1z / l1
+            u2x, u2y, u2z = g2x / l2, g2y / l2, g2z / l2
+            cos = u1x * u2x + u1y * u2y + u1z * u2z
+            sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
+            m1 = w * shear_moment[c, f] / (l1 * sin)
+            m2 = w * shear_moment[c, f] / (l2 * sin)
+            p1x += m1 * (u2x - cos * u1x)
+            p1y += m1 * (u2y - cos * u1y)
+            p1z += m1 * (u2z - cos * u1z)
+            p2x += m2 * (u1x - cos * u2x)
+            p2y += m2 * (u1y - cos * u2y)
+            p2z += m2 * (u1z - cos * u2z)
+            s1x += p1x
+            s1y += p1y
+            s1z += p1z
+            s2x += p2x
+            s2y += p2y
+            s2z += p2z
+            a1x += zeta[f] * p1x
+            a1y += zeta[f] * p1y
+            a1z += zeta[f] * p1z
+            a2x += zeta[f] * p2x
+            a2y += zeta[f] * p2y
+            a2z += zeta[f] * p2z
+        force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = -(s1x + s2x), -(s1y + s2y), -(s1z + s2z)
+        force[c, 1, 0], force[c, 1, 1], force[c, 1, 2] = s1x, s1y, s1z
+        force[c, 2, 0], force[c, 2, 1], force[c, 2, 2] = s2x, s2y, s2z
+        # the corners pull on c = a x b with g: b x g on x1, g x a on x2, minus both on x0
+        gx = gy = gz = 0.0
+        if nodal:
+            along = lx * nx + ly * ny + lz * nz
+            gx = (lx - along * nx) / double_area[c]
+            gy = (ly - along * ny) / double_area[c]
+            gz = (lz - along * nz) / double_area[c]
+        for k in range(3):
+            if k == 0:
+                rx, ry, rz = -(a1x + a2x), -(a1y + a2y), -(a1z + a2z)
+            elif k == 1:
+                rx, ry, rz = a1x, a1y, a1z
+            else:
+                rx, ry, rz = a2x, a2y, a2z
+            vx, vy, vz = v[c, k, 0], v[c, k, 1], v[c, k, 2]
+            half_h = 0.5 * h_m[c, k]
+            mx = half_h * (vy * rz - vz * ry)
+            my = half_h * (vz * rx - vx * rz)
+            mz = half_h * (vx * ry - vy * rx)
+            dsx = dsy = dsz = 0.0
+            if thickness_variation:
+                dw_dh = 0.5 * (rx * vx + ry * vy + rz * vz)
+                ck = cosine[c, k]
+                dw_dc = 0.0 if guarded[c, k] else -dw_dh * thickness / (ck * ck)
+                if nodal:
+                    wx, wy, wz = node_normal[c, k, 0], node_normal[c, k, 1], node_normal[c, k, 2]
+                    factor = dw_dc / normal_sum_length[c, k]
+                    dsx = factor * (vx - ck * wx)
+                    dsy = factor * (vy - ck * wy)
+                    dsz = factor * (vz - ck * wz)
+                else:
+                    wx, wy, wz = nx, ny, nz
+                    gx += dw_dc * (vx - ck * nx) / double_area[c]
+                    gy += dw_dc * (vy - ck * ny) / double_area[c]
+                    gz += dw_dc * (vz - ck * nz) / double_area[c]
+                mx += dw_dc * (vy * wz - vz * wy)
+                my += dw_dc * (vz * wx - vx * wz)
+                mz += dw_dc * (vx * wy - vy * wx)
+            moment[c, k, 0], moment[c, k, 1], moment[c, k, 2] = mx, my, mz
+            d_sums[c, k, 0], d_sums[c, k, 1], d_sums[c, k, 2] = dsx, dsy, dsz
+        ax = x[c, 1, 0] - x[c, 0, 0]
+        ay = x[c, 1, 1] - x[c, 0, 1]
+        az = x[c, 1, 2] - x[c, 0, 2]
+        bx = x[c, 2, 0] - x[c, 0, 0]
+        by = x[c, 2, 1] - x[c, 0, 1]
+        bz = x[c, 2, 2] - x[c, 0, 2]
+        p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
+        p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
+        force[c, 0, 0] -= p1x + p2x
+        force[c, 0, 1] -= p1y + p2y
+        force[c, 0, 2] -= p1z + p2z
+        force[c, 1, 0] += p1x
+        force[c, 1, 1] += p1y
+        force[c, 1, 2] += p1z
+        force[c, 2, 0] += p2x
+        force[c, 2, 1] += p2y
+        force[c, 2, 2] += p2z
+
+
+def fibrous_layer_forces(block, geo: dict, strain: dict, tensions, shear_moment):
+    """(force, moment, d_sums) (m, 3, 3) of ``_layer_forces(geo, *_layer_loads(geo,
+    strain))`` by the compiled loop, with the laws' values ``tensions`` = (t1, t2) and the
+    signed ``shear_moment`` (m, L) computed by the caller."""
+    m = len(geo["corners"])
+    nodal = "node_normal" in geo
+    force, moment, d_sums = np.empty((m, 3, 3)), np.empty((m, 3, 3)), np.empty((m, 3, 3))
+    empty = np.zeros((0, 3, 3))
+    _fibrous_layer_forces(
+        geo["corners"], geo["directors"], geo["normal"], geo["double_area"],
+        geo["node_normal"] if nodal else empty,
+        geo["normal_sum_length"] if nodal else np.zeros((0, 3)),
+        geo["cosine"], geo["thickness"], geo["guarded"], geo["g1"], geo["g2"],
+        strain["length1"], strain["length2"], strain["fibre1"], strain["fibre2"],
+        block.reference_area[:, None] * block.weights[None, :], tensions[0], tensions[1],
+        shear_moment, block.zeta, nodal, block.thickness_variation,
+        float(block.fabric.thickness), force, moment, d_sums,
+    )  # fmt: skip
+    return force, moment, d_sums if nodal else None

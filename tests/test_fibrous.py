@@ -383,8 +383,11 @@ def test_the_membrane_hessian_is_the_derivative_of_each_cells_gradient(variation
 
 
 # ---------------------------------------------------------------------- compiled kernel
-@pytest.mark.parametrize("thickness", ["nodal", "element"])
-def test_the_compiled_pieces_give_the_numpy_forces(thickness):
+@pytest.mark.parametrize(
+    "thickness, variation, tilt",
+    [("nodal", True, 0.3), ("element", True, 0.3), ("nodal", False, 0.3), ("nodal", True, 1.6)],
+)
+def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt):
     """FibrousShell(kernel="compiled") (the geometry, strains, nodal normal sums and their
     forces by the loops of elements/kernels.py) against the vectorised reference on a jittered,
     tilted sheet: the same sums in another order, so 1e-12 of the largest force and moment,
@@ -392,11 +395,15 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness):
     mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
     rng = np.random.default_rng(7)
     jitter = rng.normal(scale=0.8, size=(mesh.n_nodes, 3))
-    turn = rng.normal(scale=0.3, size=(mesh.n_nodes, 3))
+    turn = rng.normal(scale=tilt, size=(mesh.n_nodes, 3))  # 1.6: some corners at the guard
     loads = {}
     for kernel in ("numpy", "compiled"):
         model = Model(mesh)
-        model.add(FibrousShell(fabric(), thickness=thickness, kernel=kernel))
+        model.add(
+            FibrousShell(
+                fabric(), thickness=thickness, thickness_variation=variation, kernel=kernel
+            )
+        )
         built = model.compile()
         state = built.initial_state()
         state.positions = state.positions + jitter
