@@ -594,6 +594,8 @@ class FibrousShellBlock(ElementBlock):
         gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
             d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
         """
+        if self.compiled:
+            return kernels.bending_geometry(self, positions)
         x = positions[self.connectivity] if geo is None else geo["corners"]
         sides = _side_geometry(x)
         n, double_area = sides["normal"], sides["double_area"]
@@ -655,6 +657,8 @@ class FibrousShellBlock(ElementBlock):
         bend = self._bending_geometry(state.positions, geo)
         chi, coefficients = self._curvatures(bend)
         moments = self._bending_moments(chi)
+        if self.compiled:
+            return kernels.bending_forces(self, moments, coefficients, bend)
         own = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
         across = np.where(self.interior_side, own[self._across_cell, self._across_side], 0.0)
         side_moment = own + across  # free sides: own = 0 since c = 0

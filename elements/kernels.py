@@ -647,3 +647,132 @@ def fibrous_layer_forces(block, geo: dict, strain: dict, tensions, shear_moment)
         float(block.fabric.thickness), force, moment, d_sums,
     )  # fmt: skip
     return force, moment, d_sums if nodal else None
+
+
+@_jit
+def _cell_normals(x, normal, double_area):
+    """Unit normals (m, 3) and double areas (m,) of the cells with corners x (m, 3, 3)."""
+    for c in prange(x.shape[0]):
+        ax = x[c, 1, 0] - x[c, 0, 0]
+        ay = x[c, 1, 1] - x[c, 0, 1]
+        az = x[c, 1, 2] - x[c, 0, 2]
+        bx = x[c, 2, 0] - x[c, 0, 0]
+        by = x[c, 2, 1] - x[c, 0, 1]
+        bz = x[c, 2, 2] - x[c, 0, 2]
+        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        size = np.sqrt(cx * cx + cy * cy + cz * cz)
+        normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
+        double_area[c] = size
+
+
+@_jit
+def _bending_sides(
+    x, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients, gradient
+):  # fmt: skip
+    """elements/fibrous.py ``_bending_geometry`` per cell: the fold angle theta_s of each side
+    against the neighbour across it (or the wall of the reference plane on a clamped side),
+    the curvature coefficients c_as (m, 2, 3) and the gradient D[s, k] (m, 3, 3)."""
+    for c in prange(x.shape[0]):
+        nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
+        area2 = double_area[c]
+        f1x = x[c, 1, 0] - x[c, 0, 0]
+        f1y = x[c, 1, 1] - x[c, 0, 1]
+        f1z = x[c, 1, 2] - x[c, 0, 2]
+        f2x = x[c, 2, 0] - x[c, 0, 0]
+        f2y = x[c, 2, 1] - x[c, 0, 1]
+        f2z = x[c, 2, 2] - x[c, 0, 2]
+        l1 = np.sqrt(f1x * f1x + f1y * f1y + f1z * f1z)
+        l2 = np.sqrt(f2x * f2x + f2y * f2y + f2z * f2z)
+        f1x, f1y, f1z = f1x / l1, f1y / l1, f1z / l1
+        f2x, f2y, f2z = f2x / l2, f2y / l2, f2z / l2
+        for s in range(3):
+            p, q = (s + 1) % 3, (s + 2) % 3  # side s runs from corner p to corner q
+            sx = x[c, q, 0] - x[c, p, 0]
+            sy = x[c, q, 1] - x[c, p, 1]
+            sz = x[c, q, 2] - x[c, p, 2]
+            length = np.sqrt(sx * sx + sy * sy + sz * sz)
+            ox = (sy * nz - sz * ny) / length  # outward in-plane normal n^c_s
+            oy = (sz * nx - sx * nz) / length
+            oz = (sx * ny - sy * nx) / length
+            for k in range(3):
+                pk, qk = (k + 1) % 3, (k + 2) % 3
+                tx = x[c, qk, 0] - x[c, pk, 0]
+                ty = x[c, qk, 1] - x[c, pk, 1]
+                tz = x[c, qk, 2] - x[c, pk, 2]
+                gx = (ny * tz - nz * ty) / area2  # grad N_k
+                gy = (nz * tx - nx * tz) / area2
+                gz = (nx * ty - ny * tx) / area2
+                gradient[c, s, k] = -(ox * gx + oy * gy + oz * gz)
+            has_fold = interior[c, s] or clamped[c, s]
+            if not has_fold:
+                fold[c, s] = 0.0
+                coefficients[c, 0, s] = 0.0
+                coefficients[c, 1, s] = 0.0
+                continue
+            if clamped[c, s]:
+                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
+                other_height = 0.0
+            else:
+                other = across_cell[c, s]
+                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
+                other_height = double_area[other] / length
+            if clamped[c, s] and interior[c, s]:
+                other_height = double_area[across_cell[c, s]] / length
+            fold[c, s] = np.arctan2(-(mx * ox + my * oy + mz * oz), mx * nx + my * ny + mz * nz)
+            total = area2 / length + other_height
+            p1 = f1x * ox + f1y * oy + f1z * oz
+            p2 = f2x * ox + f2y * oy + f2z * oz
+            coefficients[c, 0, s] = 2.0 * p1 * p1 / total
+            coefficients[c, 1, s] = 2.0 * p2 * p2 / total
+
+
+def bending_geometry(block, positions: np.ndarray) -> dict:
+    """elements/fibrous.py ``_bending_geometry`` by the compiled loops."""
+    x = np.ascontiguousarray(positions[block.connectivity], dtype=np.float64)
+    m = len(x)
+    normal, double_area = np.empty((m, 3)), np.empty(m)
+    _cell_normals(x, normal, double_area)
+    fold, coefficients, gradient = np.empty((m, 3)), np.empty((m, 2, 3)), np.empty((m, 3, 3))
+    _bending_sides(
+        x, normal, double_area, block._across_cell, block.interior_side, block.clamped_side,
+        block.reference_normal, fold, coefficients, gradient,
+    )  # fmt: skip
+    return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}
+
+
+@_jit
+def _bending_pull(moments, coefficients, area, across_cell, across_side, interior, gradient,
+                  normal, own, force):  # fmt: skip
+    """elements/fibrous.py ``_bending_forces`` from the moments M (m, 2): each side's moment
+    (this cell's -A0 sum_a M_a c_as plus the neighbour's across it) times D[s, k] n."""
+    m = moments.shape[0]
+    for c in prange(m):
+        for s in range(3):
+            own[c, s] = -area[c] * (
+                moments[c, 0] * coefficients[c, 0, s] + moments[c, 1] * coefficients[c, 1, s]
+            )
+    for c in prange(m):
+        w0 = w1 = w2 = 0.0
+        for s in range(3):
+            side = own[c, s]
+            if interior[c, s]:
+                side += own[across_cell[c, s], across_side[c, s]]
+            w0 += side * gradient[c, s, 0]
+            w1 += side * gradient[c, s, 1]
+            w2 += side * gradient[c, s, 2]
+        for i in range(3):
+            force[c, 0, i] = w0 * normal[c, i]
+            force[c, 1, i] = w1 * normal[c, i]
+            force[c, 2, i] = w2 * normal[c, i]
+
+
+def bending_forces(block, moments, coefficients, bend: dict) -> np.ndarray:
+    """The compiled tail of elements/fibrous.py ``_bending_forces``: (m, 3, 3)."""
+    m = len(moments)
+    own, force = np.empty((m, 3)), np.empty((m, 3, 3))
+    _bending_pull(
+        np.ascontiguousarray(moments), np.ascontiguousarray(coefficients), block.reference_area,
+        block._across_cell, block._across_side, block.interior_side, bend["gradient"],
+        bend["normal"], own, force,
+    )  # fmt: skip
+    return force

@@ -384,10 +384,16 @@ def test_the_membrane_hessian_is_the_derivative_of_each_cells_gradient(variation
 
 # ---------------------------------------------------------------------- compiled kernel
 @pytest.mark.parametrize(
-    "thickness, variation, tilt",
-    [("nodal", True, 0.3), ("element", True, 0.3), ("nodal", False, 0.3), ("nodal", True, 1.6)],
+    "thickness, variation, tilt, clamped",
+    [
+        ("nodal", True, 0.3, False),
+        ("element", True, 0.3, False),
+        ("nodal", False, 0.3, False),
+        ("nodal", True, 1.6, False),
+        ("nodal", True, 0.3, True),
+    ],
 )
-def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt):
+def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, clamped):
     """FibrousShell(kernel="compiled") (the geometry, strains, nodal normal sums and their
     forces by the loops of elements/kernels.py) against the vectorised reference on a jittered,
     tilted sheet: the same sums in another order, so 1e-12 of the largest force and moment,
@@ -401,9 +407,15 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt):
         model = Model(mesh)
         model.add(
             FibrousShell(
-                fabric(), thickness=thickness, thickness_variation=variation, kernel=kernel
+                fabric(),
+                thickness=thickness,
+                thickness_variation=variation,
+                clamped="left" if clamped else None,
+                kernel=kernel,
             )
         )
+        if clamped:  # the left edge bends against the wall of its reference plane
+            model.fix("left")
         built = model.compile()
         state = built.initial_state()
         state.positions = state.positions + jitter
