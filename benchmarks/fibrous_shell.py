@@ -93,8 +93,12 @@ def main(argv=None) -> None:
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
     sizes = [int(size) for size in args.sizes.split(",")]
     print_explicit_table(
-        "FibrousShell, CentralDifference:",
-        lambda: FibrousShell(presets.g986_stack()),
+        "FibrousShell, CentralDifference (the numpy path and the compiled loops; set "
+        "NUMBA_NUM_THREADS=1 for one core):",
+        {
+            "numpy": lambda: FibrousShell(presets.g986_stack(), kernel="numpy"),
+            "compiled": lambda: FibrousShell(presets.g986_stack(), kernel="compiled"),
+        },
         sizes,
         args.steps,
     )
