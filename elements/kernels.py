@@ -285,6 +285,43 @@ def cable_forces(block, positions: np.ndarray) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- fibrous shell pieces
+@_serial
+def _unit_normal(x, c):
+    """(n_x, n_y, n_z, |c|) of cell c with corners x (m, 3, 3): c = (x1 - x0) x (x2 - x0)."""
+    ax = x[c, 1, 0] - x[c, 0, 0]
+    ay = x[c, 1, 1] - x[c, 0, 1]
+    az = x[c, 1, 2] - x[c, 0, 2]
+    bx = x[c, 2, 0] - x[c, 0, 0]
+    by = x[c, 2, 1] - x[c, 0, 1]
+    bz = x[c, 2, 2] - x[c, 0, 2]
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    size = np.sqrt(cx * cx + cy * cy + cz * cz)
+    return cx / size, cy / size, cz / size, size
+
+
+@_serial
+def _add_cross_pull(x, c, gx, gy, gz, force):
+    """force[c] += d(g . c)/dx at the corners of cell c, g held: b x g on x1, g x a on x2
+    (a = x1 - x0, b = x2 - x0), minus their sum on x0 (fibrous.py ``_cross_product_pull``)."""
+    ax = x[c, 1, 0] - x[c, 0, 0]
+    ay = x[c, 1, 1] - x[c, 0, 1]
+    az = x[c, 1, 2] - x[c, 0, 2]
+    bx = x[c, 2, 0] - x[c, 0, 0]
+    by = x[c, 2, 1] - x[c, 0, 1]
+    bz = x[c, 2, 2] - x[c, 0, 2]
+    p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
+    p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
+    force[c, 0, 0] -= p1x + p2x
+    force[c, 0, 1] -= p1y + p2y
+    force[c, 0, 2] -= p1z + p2z
+    force[c, 1, 0] += p1x
+    force[c, 1, 1] += p1y
+    force[c, 1, 2] += p1z
+    force[c, 2, 0] += p2x
+    force[c, 2, 1] += p2y
+    force[c, 2, 2] += p2z
+
+
 @_jit
 def _corner_shares(positions, connectivity, shares):
     """Each cell's share of the nodal normal sums, alpha_k n (m, 3, 3): its unit normal
@@ -329,15 +366,7 @@ def _corner_normal_pull(x, pull, force):
     """sum_k pull_k . d(alpha_k n)/dx_j at the corners of each cell (elements/fibrous.py
     ``_corner_normal_pull``): x, pull (m, 3, 3) -> force (m, 3, 3)."""
     for c in prange(x.shape[0]):
-        ax = x[c, 1, 0] - x[c, 0, 0]
-        ay = x[c, 1, 1] - x[c, 0, 1]
-        az = x[c, 1, 2] - x[c, 0, 2]
-        bx = x[c, 2, 0] - x[c, 0, 0]
-        by = x[c, 2, 1] - x[c, 0, 1]
-        bz = x[c, 2, 2] - x[c, 0, 2]
-        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-        size = np.sqrt(cx * cx + cy * cy + cz * cz)
-        nx, ny, nz = cx / size, cy / size, cz / size
+        nx, ny, nz, size = _unit_normal(x, c)
         for j in range(3):
             force[c, j, 0] = 0.0
             force[c, j, 1] = 0.0
@@ -378,18 +407,7 @@ def _corner_normal_pull(x, pull, force):
             gz += angle * pull[c, k, 2]
         along = gx * nx + gy * ny + gz * nz
         gx, gy, gz = (gx - along * nx) / size, (gy - along * ny) / size, (gz - along * nz) / size
-        # d(g . c)/dx: b x g on x1, g x a on x2, minus their sum on x0
-        p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
-        p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
-        force[c, 0, 0] -= p1x + p2x
-        force[c, 0, 1] -= p1y + p2y
-        force[c, 0, 2] -= p1z + p2z
-        force[c, 1, 0] += p1x
-        force[c, 1, 1] += p1y
-        force[c, 1, 2] += p1z
-        force[c, 2, 0] += p2x
-        force[c, 2, 1] += p2y
-        force[c, 2, 2] += p2z
+        _add_cross_pull(x, c, gx, gy, gz, force)
 
 
 def corner_normal_pull(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
@@ -416,15 +434,7 @@ def _fibrous_geometry(
     is written."""
     levels = zeta.shape[0]
     for c in prange(x.shape[0]):
-        ax = x[c, 1, 0] - x[c, 0, 0]
-        ay = x[c, 1, 1] - x[c, 0, 1]
-        az = x[c, 1, 2] - x[c, 0, 2]
-        bx = x[c, 2, 0] - x[c, 0, 0]
-        by = x[c, 2, 1] - x[c, 0, 1]
-        bz = x[c, 2, 2] - x[c, 0, 2]
-        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-        size = np.sqrt(cx * cx + cy * cy + cz * cz)
-        nx, ny, nz = cx / size, cy / size, cz / size
+        nx, ny, nz, size = _unit_normal(x, c)
         normal[c, 0], normal[c, 1], normal[c, 2] = nx, ny, nz
         double_area[c] = size
         for k in range(3):
@@ -609,23 +619,7 @@ def _fibrous_layer_forces(
                 mz += dw_dc * (vx * wy - vy * wx)
             moment[c, k, 0], moment[c, k, 1], moment[c, k, 2] = mx, my, mz
             d_sums[c, k, 0], d_sums[c, k, 1], d_sums[c, k, 2] = dsx, dsy, dsz
-        ax = x[c, 1, 0] - x[c, 0, 0]
-        ay = x[c, 1, 1] - x[c, 0, 1]
-        az = x[c, 1, 2] - x[c, 0, 2]
-        bx = x[c, 2, 0] - x[c, 0, 0]
-        by = x[c, 2, 1] - x[c, 0, 1]
-        bz = x[c, 2, 2] - x[c, 0, 2]
-        p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
-        p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
-        force[c, 0, 0] -= p1x + p2x
-        force[c, 0, 1] -= p1y + p2y
-        force[c, 0, 2] -= p1z + p2z
-        force[c, 1, 0] += p1x
-        force[c, 1, 1] += p1y
-        force[c, 1, 2] += p1z
-        force[c, 2, 0] += p2x
-        force[c, 2, 1] += p2y
-        force[c, 2, 2] += p2z
+        _add_cross_pull(x, c, gx, gy, gz, force)
 
 
 def fibrous_layer_forces(block, geo: dict, strain: dict, tensions, shear_moment):
@@ -653,16 +647,7 @@ def fibrous_layer_forces(block, geo: dict, strain: dict, tensions, shear_moment)
 def _cell_normals(x, normal, double_area):
     """Unit normals (m, 3) and double areas (m,) of the cells with corners x (m, 3, 3)."""
     for c in prange(x.shape[0]):
-        ax = x[c, 1, 0] - x[c, 0, 0]
-        ay = x[c, 1, 1] - x[c, 0, 1]
-        az = x[c, 1, 2] - x[c, 0, 2]
-        bx = x[c, 2, 0] - x[c, 0, 0]
-        by = x[c, 2, 1] - x[c, 0, 1]
-        bz = x[c, 2, 2] - x[c, 0, 2]
-        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-        size = np.sqrt(cx * cx + cy * cy + cz * cz)
-        normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
-        double_area[c] = size
+        normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = _unit_normal(x, c)
 
 
 @_jit

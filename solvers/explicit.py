@@ -16,7 +16,6 @@ import math
 import os
 import time
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 import numpy as np
 
@@ -37,8 +36,9 @@ from solvers.dynamics import EnergyAccount, FrameSchedule, damped_velocity, upda
 from solvers.output import (
     FrameStream,
     HistoryWriter,
-    load_checkpoint,
+    checkpoint_path,
     output_path,
+    resume,
     save_checkpoint,
 )
 
@@ -197,18 +197,11 @@ class CentralDifference:
             raise ValueError(
                 f"checkpoint_interval must be a number of seconds >= 0, got {checkpoint_interval!r}"
             )
-        saved_at = Path(checkpoint) if checkpoint is not None else None
-        if saved_at is not None and not saved_at.parent.is_dir():
-            raise ValueError(f"checkpoint: the directory {str(saved_at.parent)!r} does not exist")
+        saved_at = checkpoint_path(checkpoint)
         started = time.perf_counter()
         signature = self._signature(compiled)
-        payload = load_checkpoint(saved_at) if saved_at is not None else None
+        payload = resume(saved_at, signature)
         if payload is not None:
-            if payload.get("signature") != signature:
-                raise ValueError(
-                    f"the checkpoint {str(saved_at)!r} was written by another model or other "
-                    "solver settings: delete it, or give another path"
-                )
             run: _Run = payload["run"]
             self._assembled = payload["assembled"]
         else:

@@ -16,7 +16,14 @@ import numpy as np
 from femcore.mesh import Mesh
 from femcore.results import Frame, Result
 
-__all__ = ["FrameStream", "HistoryWriter", "load_checkpoint", "save_checkpoint"]
+__all__ = [
+    "FrameStream",
+    "HistoryWriter",
+    "checkpoint_path",
+    "load_checkpoint",
+    "resume",
+    "save_checkpoint",
+]
 
 
 def _atomic_write(path: Path, data: bytes) -> None:
@@ -133,4 +140,26 @@ def load_checkpoint(path: Path) -> dict[str, Any] | None:
         ) from None
     if not isinstance(payload, dict) or "signature" not in payload:
         raise ValueError(f"{str(path)!r} is not a checkpoint this program wrote")
+    return payload
+
+
+def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
+    """The ``checkpoint`` argument of a solve as a Path in an existing directory, or None."""
+    if checkpoint is None:
+        return None
+    path = Path(checkpoint)
+    if not path.parent.is_dir():
+        raise ValueError(f"checkpoint: the directory {str(path.parent)!r} does not exist")
+    return path
+
+
+def resume(path: Path | None, signature: tuple) -> dict[str, Any] | None:
+    """The checkpoint at ``path`` to resume from, None if there is none; ValueError when it
+    was written by another model or other solver settings (another ``signature``)."""
+    payload = load_checkpoint(path) if path is not None else None
+    if payload is not None and payload.get("signature") != signature:
+        raise ValueError(
+            f"the checkpoint {str(path)!r} was written by another model or other solver "
+            "settings: delete it, or give another path"
+        )
     return payload

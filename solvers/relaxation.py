@@ -30,7 +30,6 @@ import math
 import os
 import time
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
@@ -55,7 +54,7 @@ from solvers.common import (
     resolve_progress,
 )
 from solvers.dynamics import damped_velocity
-from solvers.output import load_checkpoint, save_checkpoint
+from solvers.output import checkpoint_path, resume, save_checkpoint
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "DynamicRelaxation"]
 
@@ -184,9 +183,7 @@ class DynamicRelaxation:
         """
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
-        saved_at = Path(checkpoint) if checkpoint is not None else None
-        if saved_at is not None and not saved_at.parent.is_dir():
-            raise ValueError(f"checkpoint: the directory {str(saved_at.parent)!r} does not exist")
+        saved_at = checkpoint_path(checkpoint)
         started = time.perf_counter()
         state = compiled.initial_state()
         frames = [make_frame(compiled, state)]
@@ -228,13 +225,8 @@ class DynamicRelaxation:
             self.safety,
             first,
         )
-        payload = load_checkpoint(saved_at) if saved_at is not None else None
+        payload = resume(saved_at, signature)
         if payload is not None:
-            if payload.get("signature") != signature:
-                raise ValueError(
-                    f"the checkpoint {str(saved_at)!r} was written by another model or other "
-                    "solver settings: delete it, or give another path"
-                )
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
             iterations, residuals = payload["iterations"], payload["residuals"]
             masses.estimates, masses.recoveries = payload["estimates"], payload["recoveries"]
