@@ -286,14 +286,22 @@ def cable_forces(block, positions: np.ndarray) -> np.ndarray:
 
 # ---------------------------------------------------------------------- fibrous shell pieces
 @_serial
+def _edges(x, c):
+    """The edges a = x1 - x0 and b = x2 - x0 of cell c with corners x (m, 3, 3)."""
+    return (
+        x[c, 1, 0] - x[c, 0, 0],
+        x[c, 1, 1] - x[c, 0, 1],
+        x[c, 1, 2] - x[c, 0, 2],
+        x[c, 2, 0] - x[c, 0, 0],
+        x[c, 2, 1] - x[c, 0, 1],
+        x[c, 2, 2] - x[c, 0, 2],
+    )
+
+
+@_serial
 def _unit_normal(x, c):
     """(n_x, n_y, n_z, |c|) of cell c with corners x (m, 3, 3): c = (x1 - x0) x (x2 - x0)."""
-    ax = x[c, 1, 0] - x[c, 0, 0]
-    ay = x[c, 1, 1] - x[c, 0, 1]
-    az = x[c, 1, 2] - x[c, 0, 2]
-    bx = x[c, 2, 0] - x[c, 0, 0]
-    by = x[c, 2, 1] - x[c, 0, 1]
-    bz = x[c, 2, 2] - x[c, 0, 2]
+    ax, ay, az, bx, by, bz = _edges(x, c)
     cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
     size = np.sqrt(cx * cx + cy * cy + cz * cz)
     return cx / size, cy / size, cz / size, size
@@ -303,12 +311,7 @@ def _unit_normal(x, c):
 def _add_cross_pull(x, c, gx, gy, gz, force):
     """force[c] += d(g . c)/dx at the corners of cell c, g held: b x g on x1, g x a on x2
     (a = x1 - x0, b = x2 - x0), minus their sum on x0 (fibrous.py ``_cross_product_pull``)."""
-    ax = x[c, 1, 0] - x[c, 0, 0]
-    ay = x[c, 1, 1] - x[c, 0, 1]
-    az = x[c, 1, 2] - x[c, 0, 2]
-    bx = x[c, 2, 0] - x[c, 0, 0]
-    by = x[c, 2, 1] - x[c, 0, 1]
-    bz = x[c, 2, 2] - x[c, 0, 2]
+    ax, ay, az, bx, by, bz = _edges(x, c)
     p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
     p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
     force[c, 0, 0] -= p1x + p2x
@@ -322,33 +325,30 @@ def _add_cross_pull(x, c, gx, gy, gz, force):
     force[c, 2, 2] += p2z
 
 
+@_serial
+def _corner(x, c, k):
+    """The angle alpha_k of cell c at corner k and its two edges u = x_(k+1) - x_k and
+    w = x_(k+2) - x_k: (alpha, ux, uy, uz, wx, wy, wz)."""
+    q, r = (k + 1) % 3, (k + 2) % 3
+    ux = x[c, q, 0] - x[c, k, 0]
+    uy = x[c, q, 1] - x[c, k, 1]
+    uz = x[c, q, 2] - x[c, k, 2]
+    wx = x[c, r, 0] - x[c, k, 0]
+    wy = x[c, r, 1] - x[c, k, 1]
+    wz = x[c, r, 2] - x[c, k, 2]
+    sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+    angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
+    return angle, ux, uy, uz, wx, wy, wz
+
+
 @_jit
-def _corner_shares(positions, connectivity, shares):
+def _corner_shares(x, shares):
     """Each cell's share of the nodal normal sums, alpha_k n (m, 3, 3): its unit normal
     weighted by its angle at corner k (elements/fibrous.py ``_corner_normals``)."""
-    for c in prange(connectivity.shape[0]):
-        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        ax = positions[n1, 0] - positions[n0, 0]
-        ay = positions[n1, 1] - positions[n0, 1]
-        az = positions[n1, 2] - positions[n0, 2]
-        bx = positions[n2, 0] - positions[n0, 0]
-        by = positions[n2, 1] - positions[n0, 1]
-        bz = positions[n2, 2] - positions[n0, 2]
-        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-        size = np.sqrt(cx * cx + cy * cy + cz * cz)
-        nx, ny, nz = cx / size, cy / size, cz / size
+    for c in prange(x.shape[0]):
+        nx, ny, nz, _ = _unit_normal(x, c)
         for k in range(3):
-            p = connectivity[c, k]
-            q = connectivity[c, (k + 1) % 3]
-            r = connectivity[c, (k + 2) % 3]
-            ux = positions[q, 0] - positions[p, 0]
-            uy = positions[q, 1] - positions[p, 1]
-            uz = positions[q, 2] - positions[p, 2]
-            wx = positions[r, 0] - positions[p, 0]
-            wy = positions[r, 1] - positions[p, 1]
-            wz = positions[r, 2] - positions[p, 2]
-            sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
-            angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
+            angle = _corner(x, c, k)[0]
             shares[c, k, 0] = angle * nx
             shares[c, k, 1] = angle * ny
             shares[c, k, 2] = angle * nz
@@ -357,7 +357,7 @@ def _corner_shares(positions, connectivity, shares):
 def corner_shares(positions: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
     """alpha_k n (m, 3, 3) of each cell by the compiled loop."""
     shares = np.empty((len(connectivity), 3, 3))
-    _corner_shares(np.ascontiguousarray(positions, dtype=np.float64), connectivity, shares)
+    _corner_shares(np.ascontiguousarray(positions[connectivity], dtype=np.float64), shares)
     return shares
 
 
@@ -374,14 +374,7 @@ def _corner_normal_pull(x, pull, force):
         gx = gy = gz = 0.0
         for k in range(3):
             q, r = (k + 1) % 3, (k + 2) % 3
-            ux = x[c, q, 0] - x[c, k, 0]
-            uy = x[c, q, 1] - x[c, k, 1]
-            uz = x[c, q, 2] - x[c, k, 2]
-            wx = x[c, r, 0] - x[c, k, 0]
-            wy = x[c, r, 1] - x[c, k, 1]
-            wz = x[c, r, 2] - x[c, k, 2]
-            sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
-            angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
+            angle, ux, uy, uz, wx, wy, wz = _corner(x, c, k)
             u_len = np.sqrt(ux * ux + uy * uy + uz * uz)
             w_len = np.sqrt(wx * wx + wy * wy + wz * wz)
             # d alpha_k / dx at the next corner: -(n x u / |u|) / |u|; at the previous one:
@@ -660,12 +653,7 @@ def _bending_sides(
     for c in prange(x.shape[0]):
         nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
         area2 = double_area[c]
-        f1x = x[c, 1, 0] - x[c, 0, 0]
-        f1y = x[c, 1, 1] - x[c, 0, 1]
-        f1z = x[c, 1, 2] - x[c, 0, 2]
-        f2x = x[c, 2, 0] - x[c, 0, 0]
-        f2y = x[c, 2, 1] - x[c, 0, 1]
-        f2z = x[c, 2, 2] - x[c, 0, 2]
+        f1x, f1y, f1z, f2x, f2y, f2z = _edges(x, c)
         l1 = np.sqrt(f1x * f1x + f1y * f1y + f1z * f1z)
         l2 = np.sqrt(f2x * f2x + f2y * f2y + f2z * f2z)
         f1x, f1y, f1z = f1x / l1, f1y / l1, f1z / l1
