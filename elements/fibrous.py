@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from elements import kernels
+from elements import fibrous_kernels, kernels
 from elements.base import (
     CellTangent,
     ElementBlock,
@@ -230,6 +230,7 @@ class FibrousShellBlock(ElementBlock):
             shell.fibre_angle_tolerance,
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self._pairs: _CornerPairs | None = None  # the tangent's sparse pattern, at first use
         self.shear_sign = _shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp
@@ -244,6 +245,8 @@ class FibrousShellBlock(ElementBlock):
         self._reference_points = np.asarray(mesh.points, dtype=float)
         # Nodes whose normal is that of the wall they are held against (apply_supports).
         self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
+        self.wall_node_ids = np.zeros(0, dtype=np.int64)
+        self.wall_sums = np.zeros((0, 3))
         self._set_sides(self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
@@ -259,6 +262,11 @@ class FibrousShellBlock(ElementBlock):
         self.reference_fold = bend0["fold"]
         self.reference_coefficients = bend0["coefficients"]
 
+        # The laws as the compiled loops read them: warp and weft tension, shear, warp and
+        # weft bending (elements/fibrous_kernels.py pack_laws).
+        self.packed_laws = fibrous_kernels.pack_laws(
+            (fabric.tension, fabric.tension_weft, fabric.shear, fabric.bending, fabric.bending_weft)
+        )
         # Largest tangent stiffnesses, for the stable step (docs/theory.md §6.2).
         self.max_tension_stiffness = max(
             fabric.tension.max_slope(), fabric.tension_weft.max_slope()
@@ -338,6 +346,8 @@ class FibrousShellBlock(ElementBlock):
         self.wall_nodes = np.zeros_like(held)
         self._wall_sums = self._normal_sums(self._reference_points)
         self.wall_nodes = wall & (held | self.requested_clamp)
+        self.wall_node_ids = np.flatnonzero(self.wall_nodes)
+        self.wall_sums = self._wall_sums[self.wall_node_ids]
         bend0 = self._bending_geometry(self._reference_points)
         self.reference_fold = bend0["fold"]
         self.reference_coefficients = bend0["coefficients"]
@@ -381,7 +391,7 @@ class FibrousShellBlock(ElementBlock):
         element normals weighted by the cells' angles at the node; S_k / |S_k| is the nodal
         normal (docs/theory.md §1.4)."""
         if self.compiled:
-            s = kernels.corner_shares(positions, self.connectivity)
+            s = fibrous_kernels.corner_shares(positions, self.connectivity)
         else:
             s, _ = _corner_normals(positions[self.connectivity])
         sums = self.scatter.vectors(s)
@@ -565,23 +575,11 @@ class FibrousShellBlock(ElementBlock):
         """Tension and/or shear forces and director moments per cell corner (m, 3, 3), the
         variation of the nodal normals included: dW/dS_k summed over the cells around node k
         (T_k), then d(S_k)/dx through every cell f around k: T_k . d(alpha_k^f n_f)/dx."""
-        if self.compiled and tension and shear:
-            warp, weft = self._by_family(strain["eps1"], strain["eps2"])
-            t_warp = self.fabric.tension.value(warp)
-            t_weft = self.fabric.tension_weft.value(weft)
-            along_xi = self.xi_is_warp[:, None]
-            tensions = (np.where(along_xi, t_warp, t_weft), np.where(along_xi, t_weft, t_warp))
-            shear_moment = self.shear_sign[:, None] * self.fabric.shear.value(strain["gamma"])
-            force, moment, d_sums = kernels.fibrous_layer_forces(
-                self, geo, strain, tensions, shear_moment
-            )
-        else:
-            loads = self._layer_loads(geo, strain, tension, shear)
-            force, moment, d_sums = self._layer_forces(geo, *loads)
+        loads = self._layer_loads(geo, strain, tension, shear)
+        force, moment, d_sums = self._layer_forces(geo, *loads)
         if d_sums is not None:
             pull = self._free_sums(self.scatter.vectors(d_sums))[self.connectivity]  # T_k
-            normal_pull = kernels.corner_normal_pull if self.compiled else _corner_normal_pull
-            force = force + normal_pull(geo["corners"], pull)
+            force = force + _corner_normal_pull(geo["corners"], pull)
         return force, moment
 
     def _bending_geometry(self, positions: np.ndarray, geo: dict | None = None) -> dict:
@@ -595,7 +593,7 @@ class FibrousShellBlock(ElementBlock):
             d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
         """
         if self.compiled:
-            return kernels.bending_geometry(self, positions)
+            return fibrous_kernels.bending_geometry(self, positions)
         x = positions[self.connectivity] if geo is None else geo["corners"]
         sides = _side_geometry(x)
         n, double_area = sides["normal"], sides["double_area"]
@@ -657,8 +655,6 @@ class FibrousShellBlock(ElementBlock):
         bend = self._bending_geometry(state.positions, geo)
         chi, coefficients = self._curvatures(bend)
         moments = self._bending_moments(chi)
-        if self.compiled:
-            return kernels.bending_forces(self, moments, coefficients, bend)
         own = -self.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
         across = np.where(self.interior_side, own[self._across_cell, self._across_side], 0.0)
         side_moment = own + across  # free sides: own = 0 since c = 0
@@ -998,19 +994,11 @@ class FibrousShellBlock(ElementBlock):
         return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
 
     # ------------------------------------------------------------------ protocol
-    def _geometry_and_strains(self, state: State) -> tuple[dict, dict]:
-        """``_geometry`` with the level vectors and ``_strains`` of a state: one compiled loop
-        (elements/kernels.py) or the vectorised reference."""
-        if not self.compiled:
-            geo = self._geometry(state.positions, state.directors)
-            return geo, self._strains(geo)
-        conn = self.connectivity
-        sums = self._normal_sums(state.positions)[conn] if self.nodal_normals else None
-        return kernels.fibrous_geometry(self, state.positions[conn], state.directors[conn], sums)
-
     def internal_force(self, state: State, history=None):
-        geo, strain = self._geometry_and_strains(state)
-        force, moment = self._membrane_forces(geo, strain)
+        if self.compiled:  # the four passes of elements/fibrous_kernels.py
+            return fibrous_kernels.internal_force(self, state.positions, state.directors)
+        geo = self._geometry(state.positions, state.directors)
+        force, moment = self._membrane_forces(geo, self._strains(geo))
         force = force + self._bending_forces(state, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
@@ -1031,7 +1019,10 @@ class FibrousShellBlock(ElementBlock):
 
     def strain_energy_parts(self, state: State) -> dict:
         """Strain energy (N mm) of each term: {"tension", "shear", "bending"}."""
-        _, strain = self._geometry_and_strains(state)
+        if self.compiled:
+            return fibrous_kernels.strain_energy_parts(self, state.positions, state.directors)
+        geo = self._geometry(state.positions, state.directors)
+        strain = self._strains(geo)
         scale = self.reference_area[:, None] * self.weights[None, :]
         warp, weft = self._by_family(strain["eps1"], strain["eps2"])
         tension = np.sum(
@@ -1053,6 +1044,16 @@ class FibrousShellBlock(ElementBlock):
         """Thickness along the director at the nodes (n,), mm: h_m from the nodal normal, or
         with element normals the area-weighted mean of the per-element h_m (docs/theory.md
         §1.4); 0 at nodes outside the block."""
+        if self.compiled and self.nodal_normals:
+            # h / max(V . N, guard) at each node of the block from the compiled normal sums
+            # (the explicit solver refreshes the rotary inertia with it)
+            sums = self._normal_sums(state.positions)
+            length = np.linalg.norm(sums, axis=1)
+            inside = np.zeros(self.n_nodes, dtype=bool)
+            inside[self.connectivity] = True
+            cosine = np.sum(state.directors * sums, axis=1) / np.where(inside, length, 1.0)
+            h_m, _ = guarded_thickness(self.fabric.thickness, cosine)
+            return np.where(inside, h_m, 0.0)
         return self._nodal_thickness(self._geometry(state.positions, state.directors, layers=False))
 
     def director_tilt(self, state: State) -> np.ndarray:

@@ -172,6 +172,8 @@ class MindlinShellBlock(ElementBlock):
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.connectivity = mesh.triangles[self.cell_ids]
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        # the compiled path's sums from cells to nodes (parallel over nodes)
+        self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.reference_positions = np.asarray(mesh.points, dtype=float)
         zeta, weights = np.polynomial.legendre.leggauss(shell.thickness_points)
         self.zeta, self.zeta_weights = zeta, weights

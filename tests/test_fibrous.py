@@ -16,7 +16,7 @@ from elements import FibrousShell
 from elements.fibrous import lobatto_levels
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
-from materials import BendingLaw, Fabric, ShearLaw
+from materials import BendingLaw, Fabric, ShearLaw, TensionLaw
 from tests.shell_helpers import compiled, fabric, on_cylinder
 
 RNG = np.random.default_rng(7)
@@ -383,21 +383,40 @@ def test_the_membrane_hessian_is_the_derivative_of_each_cells_gradient(variation
 
 
 # ---------------------------------------------------------------------- compiled kernel
+def nonlinear_fabric():
+    """Every kind of law the compiled loops evaluate: tension tables (tension-only warp, with
+    strains beyond the last knot on the jittered sheet), a cubic-quintic shear polynomial and
+    bilinear and tabulated bending."""
+    return Fabric(
+        thickness=3.0,
+        areal_density=1e-9,
+        tension=TensionLaw.table([0.0, 0.01, 0.05], [0.0, 20.0, 400.0], tension_only=True),
+        tension_weft=TensionLaw.table([-0.02, 0.0, 0.03], [-2.0, 0.0, 90.0]),
+        shear=ShearLaw.polynomial(5.0, 40.0, 300.0),
+        bending=BendingLaw.bilinear(20.0, 2.0, knee=0.01),
+        bending_weft=BendingLaw.table([0.0, 0.005, 0.05], [0.0, 0.2, 0.5]),
+    )
+
+
 @pytest.mark.parametrize(
-    "thickness, variation, tilt, clamped",
+    "thickness, variation, tilt, clamped, options",
     [
-        ("nodal", True, 0.3, False),
-        ("element", True, 0.3, False),
-        ("nodal", False, 0.3, False),
-        ("nodal", True, 1.6, False),
-        ("nodal", True, 0.3, True),
+        ("nodal", True, 0.3, False, {}),
+        ("element", True, 0.3, False, {}),
+        ("nodal", False, 0.3, False, {}),
+        ("nodal", True, 1.6, False, {}),
+        ("nodal", True, 0.3, True, {}),
+        ("nodal", True, 0.3, False, {"bending_geometry": "reference", "nonlinear": True}),
+        ("element", True, 0.3, True, {"nonlinear": True}),
     ],
 )
-def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, clamped):
-    """FibrousShell(kernel="compiled") (the geometry, strains, nodal normal sums and their
-    forces by the loops of elements/kernels.py) against the vectorised reference on a jittered,
-    tilted sheet: the same sums in another order, so 1e-12 of the largest force and moment,
-    and of the energy."""
+def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, clamped, options):
+    """FibrousShell(kernel="compiled") (the geometry, strains, laws, nodal normal sums and
+    their forces by the loops of elements/fibrous_kernels.py) against the vectorised reference
+    on a jittered, tilted sheet: the same sums in another order, so 1e-12 of the largest force,
+    moment and nodal thickness (the rotary inertia's), and of the energy."""
+    options = dict(options)
+    material = nonlinear_fabric() if options.pop("nonlinear", False) else fabric()
     mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
     rng = np.random.default_rng(7)
     jitter = rng.normal(scale=0.8, size=(mesh.n_nodes, 3))
@@ -407,11 +426,12 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, c
         model = Model(mesh)
         model.add(
             FibrousShell(
-                fabric(),
+                material,
                 thickness=thickness,
                 thickness_variation=variation,
                 clamped="left" if clamped else None,
                 kernel=kernel,
+                **options,
             )
         )
         if clamped:  # the left edge bends against the wall of its reference plane
@@ -420,7 +440,11 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, c
         state = built.initial_state()
         state.positions = state.positions + jitter
         state.directors = rotate_about(state.directors, np.cross(state.directors, turn))
-        loads[kernel] = (*built.internal_force(state), built.strain_energy(state))
-    for reference, value in zip(loads["numpy"][:2], loads["compiled"][:2]):
+        loads[kernel] = (
+            *built.internal_force(state),
+            built.blocks[0].nodal_thickness(state),
+            built.strain_energy(state),
+        )
+    for reference, value in zip(loads["numpy"][:3], loads["compiled"][:3]):
         assert np.abs(value - reference).max() <= 1e-12 * np.abs(reference).max()
-    assert loads["compiled"][2] == pytest.approx(loads["numpy"][2], rel=1e-12)
+    assert loads["compiled"][3] == pytest.approx(loads["numpy"][3], rel=1e-12)

@@ -1,0 +1,685 @@
+"""Compiled loops of the fibrous shell (numba), with elements/fibrous.py as their vectorised
+reference (``kernel="numpy"``); the tests hold the two to 1e-12.
+
+``internal_force`` and ``strain_energy_parts`` evaluate the whole element, laws included
+(``law_value`` and ``law_energy`` on the tables of ``pack_laws``), in four parallel passes,
+because two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4):
+
+1. each cell's share of the nodal normal sums S_k, summed at the nodes;
+2. each cell's tension and shear in one loop over its fibre levels (``_membrane_cell``: forces,
+   director moments, dW/dS_k, energies), then its fold angles, which read the neighbours'
+   normals, its bending energy and its share of each side's moment;
+3. T_k, the sums of dW/dS_k over the cells around each node;
+4. the pulls of T_k and of the side moments on each cell's nodes, summed at the nodes.
+
+Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
+in cell order (elements/kernels.py ``NodeCorners``): parallel without races, and the same sums
+in the same order as ``numpy.bincount``. The per-cell pieces of the bending geometry also serve
+``bending_geometry``, the compiled form of fibrous.py ``_bending_geometry`` (tangent, fields).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.kernels import _jit, _serial, prange
+from elements.shell_geometry import GUARD
+
+__all__ = [
+    "bending_geometry",
+    "corner_shares",
+    "internal_force",
+    "law_energy",
+    "law_value",
+    "pack_laws",
+    "strain_energy_parts",
+]
+
+
+# ---------------------------------------------------------------------- laws
+_POLYNOMIAL, _TABLE = 0, 1
+
+
+def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
+    """The 1-D laws of materials.laws as two arrays a compiled loop can read.
+
+    Parameters
+    ----------
+    laws : sequence of materials.Law (k of them).
+
+    Returns
+    -------
+    integers : (k, 4) int64
+        kind (0 odd polynomial, 1 piecewise-linear table), number of coefficients, number of
+        knots, 1 if the law acts in compression (0 for a tension-only law).
+    reals : (k, 3, w) float
+        [i, 0, :] the coefficients c1, c3, c5 ...; [i, 1, :] and [i, 2, :] the knots x and y.
+    """
+    width = 1
+    for law in laws:
+        if law.odd_coefficients is not None:
+            width = max(width, len(law.odd_coefficients))
+        else:
+            width = max(width, len(law.knots[0]))
+    integers = np.zeros((len(laws), 4), dtype=np.int64)
+    reals = np.zeros((len(laws), 3, width))
+    for i, law in enumerate(laws):
+        integers[i, 3] = 1 if law.compression else 0
+        if law.odd_coefficients is not None:
+            integers[i, 0], integers[i, 1] = _POLYNOMIAL, len(law.odd_coefficients)
+            reals[i, 0, : len(law.odd_coefficients)] = law.odd_coefficients
+        else:
+            kx, ky = law.knots
+            integers[i, 0], integers[i, 2] = _TABLE, len(kx)
+            reals[i, 1, : len(kx)] = kx
+            reals[i, 2, : len(ky)] = ky
+    return integers, reals
+
+
+@_serial
+def law_value(integers, reals, i, x):
+    """y(x) of packed law i (materials.Law.value): the odd polynomial sum c_j x^(2j+1), or
+    the table interpolated linearly and extended by its end slopes; 0 for x < 0 when the law
+    is tension-only."""
+    if integers[i, 3] == 0 and x < 0.0:
+        return 0.0
+    if integers[i, 0] == _POLYNOMIAL:
+        y = 0.0
+        power = x
+        square = x * x
+        for j in range(integers[i, 1]):
+            y += reals[i, 0, j] * power
+            power *= square
+        return y
+    # reals[i, 1] and reals[i, 2] are the knots x and y (indexed in place: a slice would be
+    # a reference-counted view in the hot loop)
+    count = integers[i, 2]
+    if x < reals[i, 1, 0]:
+        j = 0
+    elif x >= reals[i, 1, count - 1]:
+        j = count - 2
+        if x == reals[i, 1, count - 1]:
+            return reals[i, 2, count - 1]
+    else:  # x_j <= x < x_(j+1)
+        low, high = 0, count - 1
+        while high - low > 1:
+            middle = (low + high) // 2
+            if reals[i, 1, middle] <= x:
+                low = middle
+            else:
+                high = middle
+        j = low
+    x0, x1, y0, y1 = reals[i, 1, j], reals[i, 1, j + 1], reals[i, 2, j], reals[i, 2, j + 1]
+    return (y1 - y0) / (x1 - x0) * (x - x0) + y0
+
+
+@_serial
+def law_energy(integers, reals, i, x):
+    """integral_0^x y of packed law i (materials.Law.energy): sum c_j x^(2j+2) / (2j+2) for a
+    polynomial; for a table, F(x) - F(0) with F(t) the integral from the first knot, exact
+    trapezoids since y is linear on each piece and on the extensions; 0 for x < 0 when the law
+    is tension-only."""
+    if integers[i, 3] == 0 and x < 0.0:
+        return 0.0
+    if integers[i, 0] == _POLYNOMIAL:
+        e = 0.0
+        square = x * x
+        power = square
+        for j in range(integers[i, 1]):
+            e += reals[i, 0, j] * power / (2 * j + 2)
+            power *= square
+        return e
+    return _table_integral(integers, reals, i, x) - _table_integral(integers, reals, i, 0.0)
+
+
+@_serial
+def _table_integral(integers, reals, i, t):
+    """integral of table i's y from its first knot to t (negative below it)."""
+    count = integers[i, 2]
+    total = 0.0
+    j = 0
+    while j < count - 2 and reals[i, 1, j + 1] <= t:
+        total += 0.5 * (reals[i, 1, j + 1] - reals[i, 1, j]) * (reals[i, 2, j + 1] + reals[i, 2, j])
+        j += 1
+    return total + 0.5 * (t - reals[i, 1, j]) * (reals[i, 2, j] + law_value(integers, reals, i, t))
+
+
+# ---------------------------------------------------------------------- one cell's geometry
+@_serial
+def _edges(x, c):
+    """The edges a = x1 - x0 and b = x2 - x0 of cell c with corners x (m, 3, 3)."""
+    return (
+        x[c, 1, 0] - x[c, 0, 0],
+        x[c, 1, 1] - x[c, 0, 1],
+        x[c, 1, 2] - x[c, 0, 2],
+        x[c, 2, 0] - x[c, 0, 0],
+        x[c, 2, 1] - x[c, 0, 1],
+        x[c, 2, 2] - x[c, 0, 2],
+    )
+
+
+@_serial
+def _unit_normal(x, c):
+    """(n_x, n_y, n_z, |c|) of cell c with corners x (m, 3, 3): c = (x1 - x0) x (x2 - x0)."""
+    ax, ay, az, bx, by, bz = _edges(x, c)
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    size = np.sqrt(cx * cx + cy * cy + cz * cz)
+    return cx / size, cy / size, cz / size, size
+
+
+@_serial
+def _add_cross_pull(x, c, gx, gy, gz, force):
+    """force[c] += d(g . c)/dx at the corners of cell c, g held: b x g on x1, g x a on x2
+    (a = x1 - x0, b = x2 - x0), minus their sum on x0 (fibrous.py ``_cross_product_pull``)."""
+    ax, ay, az, bx, by, bz = _edges(x, c)
+    p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
+    p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
+    force[c, 0, 0] -= p1x + p2x
+    force[c, 0, 1] -= p1y + p2y
+    force[c, 0, 2] -= p1z + p2z
+    force[c, 1, 0] += p1x
+    force[c, 1, 1] += p1y
+    force[c, 1, 2] += p1z
+    force[c, 2, 0] += p2x
+    force[c, 2, 1] += p2y
+    force[c, 2, 2] += p2z
+
+
+@_serial
+def _corner(x, c, k):
+    """The angle alpha_k of cell c at corner k and its two edges u = x_(k+1) - x_k and
+    w = x_(k+2) - x_k: (alpha, ux, uy, uz, wx, wy, wz)."""
+    q, r = (k + 1) % 3, (k + 2) % 3
+    ux = x[c, q, 0] - x[c, k, 0]
+    uy = x[c, q, 1] - x[c, k, 1]
+    uz = x[c, q, 2] - x[c, k, 2]
+    wx = x[c, r, 0] - x[c, k, 0]
+    wy = x[c, r, 1] - x[c, k, 1]
+    wz = x[c, r, 2] - x[c, k, 2]
+    sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+    angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
+    return angle, ux, uy, uz, wx, wy, wz
+
+
+@_serial
+def _shares_cell(x, c, shares, normal, double_area, angles):
+    """Cell c's unit normal and double area, its angles alpha_k and its share of the nodal
+    normal sums, alpha_k n at each corner k (elements/fibrous.py ``_corner_normals``)."""
+    nx, ny, nz, size = _unit_normal(x, c)
+    normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = nx, ny, nz, size
+    for k in range(3):
+        angle = _corner(x, c, k)[0]
+        angles[c, k] = angle
+        shares[c, k, 0] = angle * nx
+        shares[c, k, 1] = angle * ny
+        shares[c, k, 2] = angle * nz
+
+
+@_jit
+def _corner_shares(x, shares, normal, double_area, angles):
+    for c in prange(x.shape[0]):
+        _shares_cell(x, c, shares, normal, double_area, angles)
+
+
+def corner_shares(positions: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
+    """alpha_k n (m, 3, 3) of each cell by the compiled loop."""
+    m = len(connectivity)
+    shares = np.empty((m, 3, 3))
+    x = np.ascontiguousarray(positions[connectivity], dtype=np.float64)
+    _corner_shares(x, shares, np.empty((m, 3)), np.empty(m), np.empty((m, 3)))
+    return shares
+
+
+# ---------------------------------------------------------------------- one cell's membrane
+@_serial
+def _membrane_cell(
+    c, x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
+    reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
+    law_integers, law_reals, thickness_variation, with_forces, normal, double_area, cosine,
+    h_m, node_normal, energy, force, moment, d_sums,
+):  # fmt: skip
+    """Tension and shear of cell c in one pass over its fibre levels (elements/fibrous.py
+    ``_cell_geometry``, ``_strains``, ``_layer_loads`` and ``_layer_forces``; Eq. 8-10, 14,
+    24-33): the element normal and area, h_m = h / max(V . N, guard) at the corners (N the
+    nodal normal S_k / |S_k|, S (n, 3) read at the cell's nodes, when ``nodal``; else the
+    element's), then at each level the vectors g1, g2, the log strains and the shear angle,
+    and the laws (packed laws 0, 1, 2: warp tension, weft tension, shear). ``with_forces``:
+    the cell's forces, director moments and dW/dS_k (zero without nodal normals), (m, 3, 3)
+    rows; else its energies (energy[c, 0] tension, energy[c, 1] shear, N mm).
+    cosine, h_m (m, 3) and node_normal (m, 3, 3) are scratch rows of the cell."""
+    nx, ny, nz, size = _unit_normal(x, c)
+    normal[c, 0], normal[c, 1], normal[c, 2] = nx, ny, nz
+    double_area[c] = size
+    for k in range(3):
+        if nodal:
+            node = connectivity[c, k]
+            sx, sy, sz = sums[node, 0], sums[node, 1], sums[node, 2]
+            length = np.sqrt(sx * sx + sy * sy + sz * sz)
+            node_normal[c, k, 0] = sx / length
+            node_normal[c, k, 1] = sy / length
+            node_normal[c, k, 2] = sz / length
+            cos = (v[c, k, 0] * sx + v[c, k, 1] * sy + v[c, k, 2] * sz) / length
+        else:
+            cos = v[c, k, 0] * nx + v[c, k, 1] * ny + v[c, k, 2] * nz
+        cosine[c, k] = cos
+        h_m[c, k] = thickness / max(cos, guard)
+    law1, law2 = (0, 1) if xi_is_warp[c] else (1, 0)  # the tension laws along 0-1 and 0-2
+    tension_energy = shear_energy = 0.0
+    s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f P_a
+    a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f P_a
+    lx = ly = lz = 0.0  # dW/dn
+    for f in range(zeta.shape[0]):
+        # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9)
+        half = 0.5 * zeta[f]
+        o0, o1, o2 = half * h_m[c, 0], half * h_m[c, 1], half * h_m[c, 2]
+        b = x[c, 0, 0] + o0 * v[c, 0, 0]
+        g1x, g2x = x[c, 1, 0] + o1 * v[c, 1, 0] - b, x[c, 2, 0] + o2 * v[c, 2, 0] - b
+        b = x[c, 0, 1] + o0 * v[c, 0, 1]
+        g1y, g2y = x[c, 1, 1] + o1 * v[c, 1, 1] - b, x[c, 2, 1] + o2 * v[c, 2, 1] - b
+        b = x[c, 0, 2] + o0 * v[c, 0, 2]
+        g1z, g2z = x[c, 1, 2] + o1 * v[c, 1, 2] - b, x[c, 2, 2] + o2 * v[c, 2, 2] - b
+        l1 = np.sqrt(g1x * g1x + g1y * g1y + g1z * g1z)
+        l2 = np.sqrt(g2x * g2x + g2y * g2y + g2z * g2z)
+        if nodal:  # the lengths of g_a projected on the element's plane (docs/theory.md §2.2)
+            q1 = g1x * nx + g1y * ny + g1z * nz
+            q2 = g2x * nx + g2y * ny + g2z * nz
+            e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
+            e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
+            fibre1 = np.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+            fibre2 = np.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+        else:
+            q1 = q2 = 0.0
+            e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
+            fibre1, fibre2 = l1, l2
+        eps1 = np.log(fibre1 / reference_length1[c, f])
+        eps2 = np.log(fibre2 / reference_length2[c, f])
+        u1x, u1y, u1z = g1x / l1, g1y / l1, g1z / l1
+        u2x, u2y, u2z = g2x / l2, g2y / l2, g2z / l2
+        cos = u1x * u2x + u1y * u2y + u1z * u2z
+        gamma = shear_sign[c] * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
+        w = area[c] * weights[f]  # A0 w_f
+        if not with_forces:
+            tension_energy += w * (
+                law_energy(law_integers, law_reals, law1, eps1)
+                + law_energy(law_integers, law_reals, law2, eps2)
+            )
+            shear_energy += w * law_energy(law_integers, law_reals, 2, gamma)
+            continue
+        # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal normals)
+        k1 = w * law_value(law_integers, law_reals, law1, eps1) / (fibre1 * fibre1)
+        k2 = w * law_value(law_integers, law_reals, law2, eps2) / (fibre2 * fibre2)
+        p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
+        p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
+        lx -= k1 * q1 * e1x + k2 * q2 * e2x
+        ly -= k1 * q1 * e1y + k2 * q2 * e2y
+        lz -= k1 * q1 * e1z + k2 * q2 * e2z
+        # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|)
+        sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
+        shear_moment = w * shear_sign[c] * law_value(law_integers, law_reals, 2, gamma)
+        m1 = shear_moment / (l1 * sin)
+        m2 = shear_moment / (l2 * sin)
+        p1x += m1 * (u2x - cos * u1x)
+        p1y += m1 * (u2y - cos * u1y)
+        p1z += m1 * (u2z - cos * u1z)
+        p2x += m2 * (u1x - cos * u2x)
+        p2y += m2 * (u1y - cos * u2y)
+        p2z += m2 * (u1z - cos * u2z)
+        s1x += p1x
+        s1y += p1y
+        s1z += p1z
+        s2x += p2x
+        s2y += p2y
+        s2z += p2z
+        a1x += zeta[f] * p1x
+        a1y += zeta[f] * p1y
+        a1z += zeta[f] * p1z
+        a2x += zeta[f] * p2x
+        a2y += zeta[f] * p2y
+        a2z += zeta[f] * p2z
+    if not with_forces:
+        energy[c, 0], energy[c, 1] = tension_energy, shear_energy
+        return
+    # F_k = sum_a N_k,a P_a on the nodes (Eq. 24); the director takes the moment of the
+    # lever arm zeta_f h_m / 2 along V (Eq. 28, Bai Fig. 3)
+    force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = -(s1x + s2x), -(s1y + s2y), -(s1z + s2z)
+    force[c, 1, 0], force[c, 1, 1], force[c, 1, 2] = s1x, s1y, s1z
+    force[c, 2, 0], force[c, 2, 1], force[c, 2, 2] = s2x, s2y, s2z
+    # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|
+    gx = gy = gz = 0.0
+    if nodal:
+        along = lx * nx + ly * ny + lz * nz
+        gx, gy, gz = (lx - along * nx) / size, (ly - along * ny) / size, (lz - along * nz) / size
+    for k in range(3):
+        if k == 0:
+            rx, ry, rz = -(a1x + a2x), -(a1y + a2y), -(a1z + a2z)
+        elif k == 1:
+            rx, ry, rz = a1x, a1y, a1z
+        else:
+            rx, ry, rz = a2x, a2y, a2z
+        vx, vy, vz = v[c, k, 0], v[c, k, 1], v[c, k, 2]
+        half_h = 0.5 * h_m[c, k]
+        mx = half_h * (vy * rz - vz * ry)
+        my = half_h * (vz * rx - vx * rz)
+        mz = half_h * (vx * ry - vy * rx)
+        dsx = dsy = dsz = 0.0
+        if thickness_variation:  # the work of h_m = h / c, c = V . N (docs/theory.md §2.5)
+            dw_dh = 0.5 * (rx * vx + ry * vy + rz * vz)
+            ck = cosine[c, k]
+            dw_dc = 0.0 if ck < guard else -dw_dh * thickness / (ck * ck)
+            if nodal:  # dc/dS_k = (V_k - c N_k) / |S_k|, dc/dpsi_k = V_k x N_k
+                wx, wy, wz = node_normal[c, k, 0], node_normal[c, k, 1], node_normal[c, k, 2]
+                node = connectivity[c, k]
+                length = np.sqrt(
+                    sums[node, 0] * sums[node, 0]
+                    + sums[node, 1] * sums[node, 1]
+                    + sums[node, 2] * sums[node, 2]
+                )
+                factor = dw_dc / length
+                dsx = factor * (vx - ck * wx)
+                dsy = factor * (vy - ck * wy)
+                dsz = factor * (vz - ck * wz)
+            else:  # through n = c / |c|: dc_k = (V_k - c_k n) . dc / |c|
+                wx, wy, wz = nx, ny, nz
+                gx += dw_dc * (vx - ck * nx) / size
+                gy += dw_dc * (vy - ck * ny) / size
+                gz += dw_dc * (vz - ck * nz) / size
+            mx += dw_dc * (vy * wz - vz * wy)
+            my += dw_dc * (vz * wx - vx * wz)
+            mz += dw_dc * (vx * wy - vy * wx)
+        moment[c, k, 0], moment[c, k, 1], moment[c, k, 2] = mx, my, mz
+        d_sums[c, k, 0], d_sums[c, k, 1], d_sums[c, k, 2] = dsx, dsy, dsz
+    _add_cross_pull(x, c, gx, gy, gz, force)
+
+
+@_serial
+def _normal_pull_cell(x, c, pull, connectivity, angles, force):
+    """force[c] += sum_k T_k . d(alpha_k n)/dx_j at the corners of cell c, T (n, 3) read at
+    its nodes (elements/fibrous.py ``_corner_normal_pull``); angles (m, 3) the alpha_k of
+    pass 1."""
+    nx, ny, nz, size = _unit_normal(x, c)
+    gx = gy = gz = 0.0
+    for k in range(3):
+        q, r = (k + 1) % 3, (k + 2) % 3
+        node = connectivity[c, k]
+        px, py, pz = pull[node, 0], pull[node, 1], pull[node, 2]
+        angle = angles[c, k]
+        ux = x[c, q, 0] - x[c, k, 0]
+        uy = x[c, q, 1] - x[c, k, 1]
+        uz = x[c, q, 2] - x[c, k, 2]
+        wx = x[c, r, 0] - x[c, k, 0]
+        wy = x[c, r, 1] - x[c, k, 1]
+        wz = x[c, r, 2] - x[c, k, 2]
+        u_len = np.sqrt(ux * ux + uy * uy + uz * uz)
+        w_len = np.sqrt(wx * wx + wy * wy + wz * wz)
+        # d alpha_k / dx at the next corner: -(n x u / |u|) / |u|; at the previous one:
+        # -((w / |w|) x n) / |w|; at x_k minus their sum.
+        tx = -(ny * uz - nz * uy) / (u_len * u_len)
+        ty = -(nz * ux - nx * uz) / (u_len * u_len)
+        tz = -(nx * uy - ny * ux) / (u_len * u_len)
+        vx = -(wy * nz - wz * ny) / (w_len * w_len)
+        vy = -(wz * nx - wx * nz) / (w_len * w_len)
+        vz = -(wx * ny - wy * nx) / (w_len * w_len)
+        weight = px * nx + py * ny + pz * nz
+        force[c, q, 0] += weight * tx
+        force[c, q, 1] += weight * ty
+        force[c, q, 2] += weight * tz
+        force[c, r, 0] += weight * vx
+        force[c, r, 1] += weight * vy
+        force[c, r, 2] += weight * vz
+        force[c, k, 0] -= weight * (tx + vx)
+        force[c, k, 1] -= weight * (ty + vy)
+        force[c, k, 2] -= weight * (tz + vz)
+        gx += angle * px
+        gy += angle * py
+        gz += angle * pz
+    along = gx * nx + gy * ny + gz * nz
+    gx, gy, gz = (gx - along * nx) / size, (gy - along * ny) / size, (gz - along * nz) / size
+    _add_cross_pull(x, c, gx, gy, gz, force)
+
+
+# ---------------------------------------------------------------------- one cell's bending
+@_serial
+def _bending_sides_cell(
+    x, c, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients,
+    gradient,
+):  # fmt: skip
+    """elements/fibrous.py ``_bending_geometry`` of cell c: the fold angle theta_s of each
+    side against the neighbour across it (or the wall of the reference plane on a clamped
+    side), the curvature coefficients c_as (m, 2, 3) and the gradient D[s, k] (m, 3, 3).
+    ``normal`` and ``double_area`` hold every cell's (the neighbours' are read)."""
+    nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
+    area2 = double_area[c]
+    f1x, f1y, f1z, f2x, f2y, f2z = _edges(x, c)
+    l1 = np.sqrt(f1x * f1x + f1y * f1y + f1z * f1z)
+    l2 = np.sqrt(f2x * f2x + f2y * f2y + f2z * f2z)
+    f1x, f1y, f1z = f1x / l1, f1y / l1, f1z / l1
+    f2x, f2y, f2z = f2x / l2, f2y / l2, f2z / l2
+    for s in range(3):
+        p, q = (s + 1) % 3, (s + 2) % 3  # side s runs from corner p to corner q
+        sx = x[c, q, 0] - x[c, p, 0]
+        sy = x[c, q, 1] - x[c, p, 1]
+        sz = x[c, q, 2] - x[c, p, 2]
+        length = np.sqrt(sx * sx + sy * sy + sz * sz)
+        ox = (sy * nz - sz * ny) / length  # outward in-plane normal n^c_s
+        oy = (sz * nx - sx * nz) / length
+        oz = (sx * ny - sy * nx) / length
+        for k in range(3):
+            pk, qk = (k + 1) % 3, (k + 2) % 3
+            tx = x[c, qk, 0] - x[c, pk, 0]
+            ty = x[c, qk, 1] - x[c, pk, 1]
+            tz = x[c, qk, 2] - x[c, pk, 2]
+            gx = (ny * tz - nz * ty) / area2  # grad N_k
+            gy = (nz * tx - nx * tz) / area2
+            gz = (nx * ty - ny * tx) / area2
+            gradient[c, s, k] = -(ox * gx + oy * gy + oz * gz)
+        if not (interior[c, s] or clamped[c, s]):
+            fold[c, s] = 0.0
+            coefficients[c, 0, s] = 0.0
+            coefficients[c, 1, s] = 0.0
+            continue
+        if clamped[c, s]:
+            mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
+            other_height = 0.0
+        else:
+            other = across_cell[c, s]
+            mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
+            other_height = double_area[other] / length
+        if clamped[c, s] and interior[c, s]:
+            other_height = double_area[across_cell[c, s]] / length
+        fold[c, s] = np.arctan2(-(mx * ox + my * oy + mz * oz), mx * nx + my * ny + mz * nz)
+        total = area2 / length + other_height
+        p1 = f1x * ox + f1y * oy + f1z * oz
+        p2 = f2x * ox + f2y * oy + f2z * oz
+        coefficients[c, 0, s] = 2.0 * p1 * p1 / total
+        coefficients[c, 1, s] = 2.0 * p2 * p2 / total
+
+
+@_jit
+def _cell_normals(x, normal, double_area):
+    """Unit normals (m, 3) and double areas (m,) of the cells with corners x (m, 3, 3)."""
+    for c in prange(x.shape[0]):
+        normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = _unit_normal(x, c)
+
+
+@_jit
+def _bending_sides(
+    x, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients, gradient
+):  # fmt: skip
+    for c in prange(x.shape[0]):
+        _bending_sides_cell(
+            x, c, normal, double_area, across_cell, interior, clamped, wall, fold,
+            coefficients, gradient,
+        )  # fmt: skip
+
+
+def bending_geometry(block, positions: np.ndarray) -> dict:
+    """elements/fibrous.py ``_bending_geometry`` by the compiled loops."""
+    x = np.ascontiguousarray(positions[block.connectivity], dtype=np.float64)
+    m = len(x)
+    normal, double_area = np.empty((m, 3)), np.empty(m)
+    _cell_normals(x, normal, double_area)
+    fold, coefficients, gradient = np.empty((m, 3)), np.empty((m, 2, 3)), np.empty((m, 3, 3))
+    _bending_sides(
+        x, normal, double_area, block._across_cell, block.interior_side, block.clamped_side,
+        block.reference_normal, fold, coefficients, gradient,
+    )  # fmt: skip
+    return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}
+
+
+@_serial
+def _side_moments_cell(
+    c, fold, reference_fold, coefficients, area, xi_is_warp, law_integers, law_reals,
+    with_forces, energy, own,
+):  # fmt: skip
+    """Cell c's share of its side moments (elements/fibrous.py ``_bending_forces``): chi_a =
+    -sum_s c_as (theta_s - theta_s0) (Eq. 35), M_a from the bending laws (packed laws 3, 4:
+    warp, weft) and own_s = -A0 sum_a M_a c_as; without ``with_forces`` its bending energy
+    energy[c, 2] = A0 sum_a Phi_a(chi_a) instead."""
+    chi1 = chi2 = 0.0
+    for s in range(3):
+        turn = fold[c, s] - reference_fold[c, s]
+        chi1 -= coefficients[c, 0, s] * turn
+        chi2 -= coefficients[c, 1, s] * turn
+    law1, law2 = (3, 4) if xi_is_warp[c] else (4, 3)
+    if not with_forces:
+        energy[c, 2] = area[c] * (
+            law_energy(law_integers, law_reals, law1, chi1)
+            + law_energy(law_integers, law_reals, law2, chi2)
+        )
+        return
+    m1 = law_value(law_integers, law_reals, law1, chi1)
+    m2 = law_value(law_integers, law_reals, law2, chi2)
+    for s in range(3):
+        own[c, s] = -area[c] * (m1 * coefficients[c, 0, s] + m2 * coefficients[c, 1, s])
+
+
+@_serial
+def _bending_pull_cell(c, own, across_cell, across_side, interior, gradient, normal, force):
+    """force[c] += each side's moment (own plus the neighbour's across it) times D[s, k] n
+    (Eq. 37): every cell pulls on its own three nodes only."""
+    w0 = w1 = w2 = 0.0
+    for s in range(3):
+        side = own[c, s]
+        if interior[c, s]:
+            side += own[across_cell[c, s], across_side[c, s]]
+        w0 += side * gradient[c, s, 0]
+        w1 += side * gradient[c, s, 1]
+        w2 += side * gradient[c, s, 2]
+    for i in range(3):
+        force[c, 0, i] += w0 * normal[c, i]
+        force[c, 1, i] += w1 * normal[c, i]
+        force[c, 2, i] += w2 * normal[c, i]
+
+
+# ---------------------------------------------------------------------- the internal force
+@_jit
+def _gather_corners(positions, directors, connectivity, x, v):
+    """x, v (m, 3, 3): the positions and directors at each cell's corners."""
+    for c in prange(connectivity.shape[0]):
+        for k in range(3):
+            node = connectivity[c, k]
+            for i in range(3):
+                x[c, k, i] = positions[node, i]
+                v[c, k, i] = directors[node, i]
+
+
+@_jit
+def _cells_pass(
+    x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
+    reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
+    law_integers, law_reals, thickness_variation, with_forces, across_cell, interior, clamped,
+    wall, reference_fold, reference_coefficients, use_reference_coefficients, normal,
+    double_area, cosine, h_m, node_normal, fold, coefficients, gradient, own, energy, force,
+    moment, d_sums,
+):  # fmt: skip
+    """Pass 2: each cell's membrane forces, director moments and dW/dS_k (or energies)
+    (``_membrane_cell``), then its side moments (or bending energy)."""
+    for c in prange(x.shape[0]):
+        _membrane_cell(
+            c, x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
+            reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
+            law_integers, law_reals, thickness_variation, with_forces, normal, double_area,
+            cosine, h_m, node_normal, energy, force, moment, d_sums,
+        )  # fmt: skip
+    # The fold angles read the neighbours' normals: written by every cell above.
+    used = reference_coefficients if use_reference_coefficients else coefficients
+    for c in prange(x.shape[0]):
+        _bending_sides_cell(
+            x, c, normal, double_area, across_cell, interior, clamped, wall, fold,
+            coefficients, gradient,
+        )  # fmt: skip
+        _side_moments_cell(
+            c, fold, reference_fold, used, area, xi_is_warp, law_integers, law_reals,
+            with_forces, energy, own,
+        )  # fmt: skip
+
+
+@_jit
+def _pulls_pass(x, pull, connectivity, angles, nodal, own, across_cell, across_side, interior,
+                gradient, normal, force):  # fmt: skip
+    """Pass 4 of ``internal_force``: the pull of the nodal sums of dW/dS_k on each cell's
+    nodes (nodal normals only) and the bending forces."""
+    for c in prange(x.shape[0]):
+        if nodal:
+            _normal_pull_cell(x, c, pull, connectivity, angles, force)
+        _bending_pull_cell(c, own, across_cell, across_side, interior, gradient, normal, force)
+
+
+def _passes(block, positions: np.ndarray, directors: np.ndarray, with_forces: bool):
+    """Passes 1 to 4 (see the module docstring): energies (m, 3) per cell (tension, shear,
+    bending; N mm) and, ``with_forces``, the nodal forces and director moments (n, 3)."""
+    conn, m = block.connectivity, len(block.connectivity)
+    nodal, corners = block.nodal_normals, block.node_corners
+    x, v = np.empty((m, 3, 3)), np.empty((m, 3, 3))
+    _gather_corners(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        np.ascontiguousarray(directors, dtype=np.float64),
+        conn, x, v,
+    )  # fmt: skip
+    normal, double_area, angles = np.empty((m, 3)), np.empty(m), np.empty((m, 3))
+    sums = np.zeros((0, 3))
+    if nodal:  # pass 1: the nodal normal sums
+        shares = np.empty((m, 3, 3))
+        _corner_shares(x, shares, normal, double_area, angles)
+        sums = corners.sum(shares)
+        sums[block.wall_node_ids] = block.wall_sums
+    cosine, h_m, node_normal = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3, 3))
+    fold, coefficients = np.empty((m, 3)), np.empty((m, 2, 3))
+    gradient, own, energy = np.empty((m, 3, 3)), np.empty((m, 3)), np.empty((m, 3))
+    shape = (m, 3, 3) if with_forces else (0, 3, 3)
+    force, moment, d_sums = np.empty(shape), np.empty(shape), np.empty(shape)
+    _cells_pass(
+        x, v, sums, conn, nodal, float(block.fabric.thickness), GUARD, block.zeta,
+        block.weights, block.reference_area, block.reference_length1, block.reference_length2,
+        block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,
+        block.thickness_variation, with_forces, block._across_cell, block.interior_side,
+        block.clamped_side, block.reference_normal, block.reference_fold,
+        block.reference_coefficients, block.reference_curvature_coefficients, normal,
+        double_area, cosine, h_m, node_normal, fold, coefficients, gradient, own, energy,
+        force, moment, d_sums,
+    )  # fmt: skip
+    if not with_forces:
+        return energy, None, None
+    pull = np.zeros((0, 3))
+    if nodal:  # pass 3: T_k, the sums of dW/dS_k; a wall node's S_k does not vary
+        pull = corners.sum(d_sums)
+        pull[block.wall_node_ids] = 0.0
+    _pulls_pass(
+        x, pull, conn, angles, nodal, own, block._across_cell, block._across_side,
+        block.interior_side, gradient, normal, force,
+    )  # fmt: skip
+    return energy, corners.sum(force), corners.sum(moment)
+
+
+def internal_force(block, positions: np.ndarray, directors: np.ndarray):
+    """Nodal internal forces and director moments (n, 3) of a FibrousShellBlock: tension,
+    shear and bending (elements/fibrous.py ``internal_force``)."""
+    _, force, moment = _passes(block, positions, directors, True)
+    return force, moment
+
+
+def strain_energy_parts(block, positions: np.ndarray, directors: np.ndarray) -> dict:
+    """Strain energy (N mm) of a FibrousShellBlock by term: {"tension", "shear", "bending"}
+    (elements/fibrous.py ``strain_energy_parts``)."""
+    energy = _passes(block, positions, directors, False)[0].sum(axis=0)
+    return {"tension": float(energy[0]), "shear": float(energy[1]), "bending": float(energy[2])}
