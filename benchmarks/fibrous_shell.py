@@ -28,7 +28,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 import numpy as np  # noqa: E402
-from shell_sheet import print_explicit_table  # noqa: E402
+from shell_sheet import kernel_rows, print_explicit_table  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
@@ -93,12 +93,9 @@ def main(argv=None) -> None:
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
     sizes = [int(size) for size in args.sizes.split(",")]
     print_explicit_table(
-        "FibrousShell, CentralDifference (the numpy path and the compiled loops; set "
-        "NUMBA_NUM_THREADS=1 for one core):",
-        {
-            "numpy": lambda: FibrousShell(presets.g986_stack(), kernel="numpy"),
-            "compiled": lambda: FibrousShell(presets.g986_stack(), kernel="compiled"),
-        },
+        "FibrousShell, CentralDifference (the numpy path, and the compiled loops on 1 and on "
+        "all threads):",
+        kernel_rows(lambda kernel: FibrousShell(presets.g986_stack(), kernel=kernel)),
         sizes,
         args.steps,
     )

@@ -32,7 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
-from shell_sheet import print_explicit_table  # noqa: E402
+from shell_sheet import kernel_rows, print_explicit_table  # noqa: E402
 
 from elements import MindlinShell  # noqa: E402
 from materials import ElasticShell  # noqa: E402
@@ -110,12 +110,9 @@ def main(argv=None) -> None:
     if args.part in ("all", "explicit"):
         sizes = [int(size) for size in args.sizes.split(",")]
         print_explicit_table(
-            "MindlinShell, CentralDifference (the numpy path and the compiled kernel; set "
-            "NUMBA_NUM_THREADS=1 for one core):",
-            {
-                "numpy": lambda: MindlinShell(ElasticShell(**ALUMINIUM), kernel="numpy"),
-                "compiled": lambda: MindlinShell(ElasticShell(**ALUMINIUM), kernel="compiled"),
-            },
+            "MindlinShell, CentralDifference (the numpy path, and the compiled kernel on 1 and "
+            "on all threads):",
+            kernel_rows(lambda kernel: MindlinShell(ElasticShell(**ALUMINIUM), kernel=kernel)),
             sizes,
             args.steps,
         )

@@ -67,6 +67,22 @@ def reference_pass(triangles: int, repeats: int = 20) -> float:
     return 1e6 * best / len(cells)
 
 
+def kernel_rows(make) -> dict:
+    """The table rows of one element: ``make(kernel)`` with the numpy path, and the compiled
+    loops on one thread and on every core numba may use (label "compiled/<threads>")."""
+    import numba
+
+    rows = {"numpy": lambda: make("numpy")}
+    for threads in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+
+        def compiled(threads=threads):
+            numba.set_num_threads(threads)  # holds for the run that follows
+            return make("compiled")
+
+        rows[f"compiled/{threads}"] = compiled
+    return rows
+
+
 def peak_memory_mb() -> float:
     """Peak resident memory of this process so far (MB; Linux reports kB)."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -82,6 +98,8 @@ def print_explicit_table(title: str, element_factory, sizes, steps: int) -> None
         f"{'elements':>9} {'nodes':>8} {'kernel':>9} {'steps':>6} {'wall s':>8} "
         f"{'us/elem-step':>13} {'ref us/elem':>12} {'x ref':>6} {'peak MB':>8}"
     )
+    for factory in factories.values():  # compile (or load the compiled loops) first
+        explicit_sheet(factory(), 200, 2)
     for size in sizes:
         reference = reference_pass(size)
         for label, factory in factories.items():

@@ -278,24 +278,26 @@ def _membrane_cell(
         g1y, g2y = x[c, 1, 1] + o1 * v[c, 1, 1] - b, x[c, 2, 1] + o2 * v[c, 2, 1] - b
         b = x[c, 0, 2] + o0 * v[c, 0, 2]
         g1z, g2z = x[c, 1, 2] + o1 * v[c, 1, 2] - b, x[c, 2, 2] + o2 * v[c, 2, 2] - b
-        l1 = np.sqrt(g1x * g1x + g1y * g1y + g1z * g1z)
-        l2 = np.sqrt(g2x * g2x + g2y * g2y + g2z * g2z)
+        # squared lengths: the log strain is half the log of their ratio, and the shear needs
+        # 1 / (|g1| |g2|) only (one root instead of four)
+        square1 = g1x * g1x + g1y * g1y + g1z * g1z
+        square2 = g2x * g2x + g2y * g2y + g2z * g2z
         if nodal:  # the lengths of g_a projected on the element's plane (docs/theory.md §2.2)
             q1 = g1x * nx + g1y * ny + g1z * nz
             q2 = g2x * nx + g2y * ny + g2z * nz
             e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
             e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
-            fibre1 = np.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
-            fibre2 = np.sqrt(e2x * e2x + e2y * e2y + e2z * e2z)
+            fibre1 = e1x * e1x + e1y * e1y + e1z * e1z
+            fibre2 = e2x * e2x + e2y * e2y + e2z * e2z
         else:
             q1 = q2 = 0.0
             e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
-            fibre1, fibre2 = l1, l2
-        eps1 = np.log(fibre1 / reference_length1[c, f])
-        eps2 = np.log(fibre2 / reference_length2[c, f])
-        u1x, u1y, u1z = g1x / l1, g1y / l1, g1z / l1
-        u2x, u2y, u2z = g2x / l2, g2y / l2, g2z / l2
-        cos = u1x * u2x + u1y * u2y + u1z * u2z
+            fibre1, fibre2 = square1, square2
+        reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
+        eps1 = 0.5 * np.log(fibre1 / (reference1 * reference1))
+        eps2 = 0.5 * np.log(fibre2 / (reference2 * reference2))
+        inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
+        cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
         gamma = shear_sign[c] * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
         w = area[c] * weights[f]  # A0 w_f
         if not with_forces:
@@ -306,24 +308,24 @@ def _membrane_cell(
             shear_energy += w * law_energy(law_integers, law_reals, 2, gamma)
             continue
         # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal normals)
-        k1 = w * law_value(law_integers, law_reals, law1, eps1) / (fibre1 * fibre1)
-        k2 = w * law_value(law_integers, law_reals, law2, eps2) / (fibre2 * fibre2)
+        k1 = w * law_value(law_integers, law_reals, law1, eps1) / fibre1
+        k2 = w * law_value(law_integers, law_reals, law2, eps2) / fibre2
         p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
         p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
         lx -= k1 * q1 * e1x + k2 * q2 * e2x
         ly -= k1 * q1 * e1y + k2 * q2 * e2y
         lz -= k1 * q1 * e1z + k2 * q2 * e2z
-        # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|)
+        # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|), t1 / |g1| =
+        # (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise
         sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
-        shear_moment = w * shear_sign[c] * law_value(law_integers, law_reals, 2, gamma)
-        m1 = shear_moment / (l1 * sin)
-        m2 = shear_moment / (l2 * sin)
-        p1x += m1 * (u2x - cos * u1x)
-        p1y += m1 * (u2y - cos * u1y)
-        p1z += m1 * (u2z - cos * u1z)
-        p2x += m2 * (u1x - cos * u2x)
-        p2y += m2 * (u1y - cos * u2y)
-        p2z += m2 * (u1z - cos * u2z)
+        shear_moment = w * shear_sign[c] * law_value(law_integers, law_reals, 2, gamma) / sin
+        c1, c2 = cos / square1, cos / square2
+        p1x += shear_moment * (g2x * inverse - c1 * g1x)
+        p1y += shear_moment * (g2y * inverse - c1 * g1y)
+        p1z += shear_moment * (g2z * inverse - c1 * g1z)
+        p2x += shear_moment * (g1x * inverse - c2 * g2x)
+        p2y += shear_moment * (g1y * inverse - c2 * g2y)
+        p2z += shear_moment * (g1z * inverse - c2 * g2z)
         s1x += p1x
         s1y += p1y
         s1z += p1z
