@@ -4,12 +4,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from femcore.checks import check_positive
+
+if TYPE_CHECKING:  # a type only: materials.fabric needs nothing from here
+    from materials.fabric import Fabric
 
 __all__ = ["ElasticShell"]
 
@@ -149,6 +152,80 @@ class ElasticShell:
         self = cls.__new__(cls)
         self._set(thickness, density, q, G13, G23, shear_factor, axis / np.linalg.norm(axis), nu12)
         return self
+
+    @classmethod
+    def equivalent(
+        cls, fabric: Fabric, shear_ratio: float = 0.5, warp: ArrayLike = (1.0, 0.0, 0.0)
+    ) -> ElasticShell:
+        """The Mindlin section that bends like a fabric: Bai's calibration of Abaqus S3.
+
+        A homogeneous section of the fabric's thickness h whose plate bending stiffness
+        E h^3 / 12 is the fabric's bending stiffness B per unit width, in each direction:
+        E1 = 12 B_warp / h^3 along the warp and E2 = 12
+        B_weft / h^3 (the initial slope of a non-linear bending law); nu12 = 0 (fibres do
+        not contract each other); G12 = K / h from the initial in-plane shear slope K (so that
+        G12 h gamma is the fabric's shear moment); transverse shear G13 = G23 = ``shear_ratio``
+        x max(E1, E2), a stated parameter (0.5 is the isotropic value at nu = 0); density
+        rho = rho_A / h, so that the mass per area is the fabric's.
+
+        What it cannot match: its membrane stiffness E h = 12 B / h^2 is that of the bending
+        calibration, orders of magnitude below the fibres' tension stiffness, and its normals
+        stay normal up to the transverse shear. That is the comparison the two kinematics are
+        built for (docs/theory.md §5.1).
+
+        Parameters
+        ----------
+        fabric : materials.Fabric
+            Units mm, N, t: B in N mm / mm (N), K in N/mm, h in mm, rho_A in t/mm^2.
+        shear_ratio : float, optional
+            G13 / E, > 0.
+        warp : array_like, shape (3,), optional
+            The warp direction, as given to the FibrousShell (default +x).
+
+        Returns
+        -------
+        ElasticShell
+            Orthotropic, E in MPa, rho in t/mm^3.
+
+        Raises
+        ------
+        ValueError
+            Not a Fabric, a non-positive shear ratio, or a law with no stiffness at zero.
+        """
+        from materials.fabric import Fabric
+
+        if not isinstance(fabric, Fabric):
+            raise ValueError(f"ElasticShell.equivalent needs a materials.Fabric, got {fabric!r}")
+        ratio = check_positive(shear_ratio, "ElasticShell.equivalent shear_ratio", "-")
+        h = fabric.thickness
+        slopes = {
+            name: float(np.asarray(law.slope(np.array(0.0))))
+            for name, law in (
+                ("bending", fabric.bending),
+                ("bending_weft", fabric.bending_weft),
+                ("shear", fabric.shear),
+            )
+        }
+        for name, slope in slopes.items():
+            if not slope > 0.0:
+                raise ValueError(
+                    f"ElasticShell.equivalent: the fabric's {name} law has no stiffness at zero "
+                    f"(slope {slope!r}); the calibration takes the initial slope"
+                )
+        e1 = 12.0 * slopes["bending"] / h**3
+        e2 = 12.0 * slopes["bending_weft"] / h**3
+        transverse = ratio * max(e1, e2)
+        return cls.orthotropic(
+            E1=e1,
+            E2=e2,
+            nu12=0.0,
+            G12=slopes["shear"] / h,
+            G13=transverse,
+            G23=transverse,
+            thickness=h,
+            density=fabric.areal_density / h,
+            warp=warp,
+        )
 
     def _set(
         self,

@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ["femcore", "elements", "materials", "solvers"]
+PACKAGES = ["femcore", "elements", "materials", "solvers", "fibreshell"]
 
 
 def test_mypy_reports_no_errors(request, tmp_path_factory, monkeypatch):

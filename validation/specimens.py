@@ -298,28 +298,8 @@ def arc_length(mesh: Mesh) -> np.ndarray:
 
 
 def mindlin_equivalent(fabric: Fabric, shear_ratio: float = 0.5) -> ElasticShell:
-    """Homogeneous Mindlin section with the fabric's bending stiffness, as Bai calibrated Abaqus
-    S3: E = 12 B / h^3 per direction (warp B along x, weft B along y; the initial slope of a
-    non-linear law), nu = 0, G12 from the initial in-plane shear slope K / h, transverse shear
-    G13 = G23 = ``shear_ratio`` x E (a stated parameter; 0.5 is the isotropic nu = 0 value).
-    The membrane stiffness E h is then that of the bending calibration (orders below the
-    fibres' tension stiffness): a Mindlin shell cannot have both."""
-    h = fabric.thickness
-    e1 = 12.0 * fabric.bending.slope(np.array(0.0)).item() / h**3
-    e2 = 12.0 * fabric.bending_weft.slope(np.array(0.0)).item() / h**3
-    g12 = fabric.shear.slope(np.array(0.0)).item() / h
-    g13 = shear_ratio * max(e1, e2)
-    return ElasticShell.orthotropic(
-        E1=e1,
-        E2=e2,
-        nu12=0.0,
-        G12=g12,
-        G13=g13,
-        G23=g13,
-        thickness=h,
-        density=fabric.areal_density / h,
-        warp=(1.0, 0.0, 0.0),
-    )
+    """The Mindlin calibration of a fabric (``materials.ElasticShell.equivalent``)."""
+    return ElasticShell.equivalent(fabric, shear_ratio)
 
 
 def build(

@@ -1,0 +1,9 @@
+"""fibreshell: case files and the ``fibreshell`` command on top of the framework (femcore,
+elements, materials, solvers). ``load_case`` reads a case file, ``run_case`` and
+``compare_case`` run it; ``python -m fibreshell --help`` lists the commands."""
+
+from fibreshell.case import Case, CaseError, load_case
+from fibreshell.compare import compare_case
+from fibreshell.run import Run, run_case, strict_json
+
+__all__ = ["Case", "CaseError", "Run", "compare_case", "load_case", "run_case", "strict_json"]

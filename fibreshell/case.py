@@ -1,0 +1,505 @@
+"""Case files: a model, its loads, its solver and its outputs in one TOML file.
+
+A case file is read with the standard library (``tomllib``) and checked key by key: every
+error is a ``CaseError`` (a ValueError) that names the file, the table and the key, and a key
+the format does not know is an error, not ignored. The format (README "Case files"):
+
+```toml
+title = "G1151 strip under its own weight"     # optional
+[mesh]
+rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh" (meshio)
+[sets]                                   # optional named node sets, by bounds (mesh units)
+tip = { x_min = 199.9 }
+[[part]]
+element = "fibrous"                      # "fibrous" | "mindlin" | "cable"
+material = "g1151_laminate"              # a materials.presets name, or an inline table
+options = { clamped = "left" }           # keyword options of the element class
+[[fix]]
+nodes = "left"                           # a node-set name, or { x_max = 0.0 } style bounds
+dofs = ["ux", "uy", "uz", "alpha", "beta"]   # optional: every DOF by default
+[[displace]]                             # also [[force]] and [[moment]] with vector = [...]
+nodes = "right"
+uz = -10.0
+[gravity]
+acceleration = [0.0, 0.0, -9810.0]
+[solver]
+kind = "static"                          # "static" | "relaxation" | "explicit"
+increments = 3                           # any keyword option of that solver
+[output]
+history = { reactions = ["left"], displacements = ["tip"] }
+paths = { centre = { y_min = 29.9, y_max = 30.1 } }   # profiles along node paths
+```
+
+Inline materials: for "fibrous" the fields of ``materials.Fabric`` (thickness, areal_density,
+tension, shear, bending, tension_weft, bending_weft), each law a number (linear) or a table
+``{ table = { x = [...], y = [...] } }``, ``{ bilinear = { initial, final, knee } }``,
+``{ polynomial = { k1, k3, k5 } }``, with ``tension_only = true`` for a tension law; for
+"mindlin" the arguments of ``materials.ElasticShell`` (E, nu, thickness, density, G13, G23,
+shear_factor) or of ``ElasticShell.orthotropic`` (E1, E2, nu12, G12, G13, G23, thickness,
+density, warp); for "cable" the arguments of ``elements.Cable`` (axial_stiffness,
+mass_per_length, tension_only). Units: mm, N, t, s.
+"""
+
+from __future__ import annotations
+
+import inspect
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from elements import Cable, FibrousShell, MindlinShell
+from femcore import Mesh, Model
+from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw, presets
+from solvers import CentralDifference, DynamicRelaxation, Static
+
+__all__ = ["Case", "CaseError", "load_case"]
+
+ELEMENTS = {"fibrous": FibrousShell, "mindlin": MindlinShell, "cable": Cable}
+SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": CentralDifference}
+# Solver options the case file does not take: the outputs are the command's.
+_SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
+_BOUNDS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
+_TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
+        "solver", "output")  # fmt: skip
+
+
+class CaseError(ValueError):
+    """A case file that cannot be read as written: the message names the file, the table
+    and the key."""
+
+
+@dataclass
+class _Where:
+    """Where a value sits in the case file, for messages: file, then table.key."""
+
+    path: Path
+    table: str
+
+    def error(self, key: str | None, message: str) -> CaseError:
+        at = self.table if key is None else f"{self.table}.{key}" if self.table else key
+        return CaseError(f"{self.path}: [{at}]: {message}")
+
+    def child(self, name: str) -> _Where:
+        return _Where(self.path, f"{self.table}.{name}" if self.table else name)
+
+
+def _table(where: _Where, value: Any, key: str, allowed: tuple[str, ...], required=()) -> dict:
+    """``value`` checked to be a table with only ``allowed`` keys and every ``required``."""
+    if not isinstance(value, dict):
+        raise where.error(key, f"expected a table, got {type(value).__name__} {value!r}")
+    inner = where.child(key) if key else where
+    unknown = [k for k in value if k not in allowed]
+    if unknown:
+        raise inner.error(
+            unknown[0], f"unknown key {unknown[0]!r}; expected one of {', '.join(allowed)}"
+        )
+    missing = [k for k in required if k not in value]
+    if missing:
+        raise inner.error(None, f"missing key {missing[0]!r}")
+    return value
+
+
+def _number(where: _Where, value: Any, key: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
+        raise where.error(key, f"expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _vector(where: _Where, value: Any, key: str) -> np.ndarray:
+    if not isinstance(value, list) or len(value) != 3:
+        raise where.error(key, f"expected a list of 3 numbers, got {value!r}")
+    return np.array([_number(where, v, key) for v in value])
+
+
+def _keywords(where: _Where, callable_: Any, options: dict, reserved=frozenset({"self"})):
+    """``options`` checked against the keyword parameters of ``callable_``."""
+    names = [p for p in inspect.signature(callable_).parameters if p not in reserved]
+    for key in options:
+        if key not in names:
+            raise where.error(key, f"unknown option {key!r}; expected one of {', '.join(names)}")
+    return options
+
+
+@dataclass
+class Case:
+    """A case file read and checked: everything to build the model and run it.
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        The case file.
+    title : str
+        Its title (the file name without suffix by default).
+    mesh : femcore.Mesh
+        With the ``[sets]`` node sets added.
+    parts, fixes, displacements, forces, moments : list of dict
+        The ``[[part]]`` ... tables, checked (node selections resolved to node ids).
+    gravity : dict or None
+        {"acceleration": (3,), "amplitude": str}.
+    solver : dict
+        {"kind": str, "options": dict}.
+    history : dict
+        {"reactions": [set names], "displacements": [set names]}.
+    paths : dict
+        name -> node ids along the path, ordered along its longest extent.
+    """
+
+    path: Path
+    title: str
+    mesh: Mesh
+    parts: list[dict] = field(default_factory=list)
+    fixes: list[dict] = field(default_factory=list)
+    displacements: list[dict] = field(default_factory=list)
+    forces: list[dict] = field(default_factory=list)
+    moments: list[dict] = field(default_factory=list)
+    gravity: dict | None = None
+    solver: dict = field(default_factory=dict)
+    history: dict = field(default_factory=dict)
+    paths: dict = field(default_factory=dict)
+    node_sets: dict = field(default_factory=dict)
+
+    # ------------------------------------------------------------------ building
+    def model(self, kinematics: str | None = None, shear_ratio: float = 0.5) -> Model:
+        """The model of the case. ``kinematics="mindlin"`` replaces every fibrous part by a
+        Mindlin shell of its fabric's calibration (``ElasticShell.equivalent``, with
+        ``shear_ratio``) on the same cells; None or "fibrous" builds the case as written."""
+        if kinematics not in (None, "fibrous", "mindlin"):
+            raise ValueError(f"kinematics must be 'fibrous' or 'mindlin', got {kinematics!r}")
+        model = Model(self.mesh)
+        for part in self.parts:
+            element = part["element"]
+            if kinematics == "mindlin" and isinstance(element, FibrousShell):
+                element = MindlinShell(
+                    ElasticShell.equivalent(element.fabric, shear_ratio, warp=element.warp)
+                )
+            model.add(element, part["cells"])
+        for fix in self.fixes:
+            model.fix(fix["nodes"], fix["dofs"])
+        for item in self.displacements:
+            model.displace(item["nodes"], **item["components"], amplitude=item["amplitude"])
+        for item in self.forces:
+            model.force(item["nodes"], item["vector"], amplitude=item["amplitude"])
+        for item in self.moments:
+            model.moment(item["nodes"], item["vector"], amplitude=item["amplitude"])
+        if self.gravity is not None:
+            model.gravity(self.gravity["acceleration"], amplitude=self.gravity["amplitude"])
+        return model
+
+    def make_solver(self, **outputs):
+        """The solver of ``[solver]`` with its options and ``outputs`` (progress, ...)."""
+        return SOLVERS[self.solver["kind"]](**self.solver["options"], **outputs)
+
+    @property
+    def has_fibrous(self) -> bool:
+        return any(isinstance(part["element"], FibrousShell) for part in self.parts)
+
+
+# ---------------------------------------------------------------------- reading
+def load_case(path: str | Path) -> Case:
+    """Read and check a case file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A .toml case file; relative mesh paths are relative to its folder.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError (a ValueError)
+        A missing or unreadable file, a TOML syntax error, an unknown table or key, a value of
+        the wrong kind, an unknown preset, node set, element, solver or option: the message
+        names the file, the table and the key.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise CaseError(f"{path}: no such case file")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as error:
+        raise CaseError(f"{path}: not a text file ({error.reason})") from None
+    except tomllib.TOMLDecodeError as error:
+        raise CaseError(f"{path}: not valid TOML: {error}") from None
+    top = _Where(path, "")
+    _table(top, data, "", _TOP, required=("mesh", "part", "solver"))
+    title = data.get("title", path.stem)
+    if not isinstance(title, str):
+        raise top.error("title", f"expected a string, got {title!r}")
+    mesh = _mesh(top, data["mesh"], path.parent)
+    case = Case(path=path, title=title, mesh=mesh)
+    for name, bounds in _table(
+        top, data.get("sets", {}), "sets", tuple(data.get("sets", {}))
+    ).items():
+        ids = _select(top.child("sets"), mesh, bounds, name, named_only=False)
+        case.node_sets[name] = ids
+        mesh.add_node_set(name, ids)
+    case.parts = [_part(top.child(f"part[{i}]"), p) for i, p in enumerate(_list(top, data, "part"))]
+    case.fixes = [
+        _fix(top.child(f"fix[{i}]"), mesh, f) for i, f in enumerate(_list(top, data, "fix"))
+    ]
+    case.displacements = [
+        _displace(top.child(f"displace[{i}]"), mesh, d)
+        for i, d in enumerate(_list(top, data, "displace"))
+    ]
+    for kind, target in (("force", case.forces), ("moment", case.moments)):
+        for i, item in enumerate(_list(top, data, kind)):
+            where = top.child(f"{kind}[{i}]")
+            _table(where, item, "", ("nodes", "vector", "amplitude"), ("nodes", "vector"))
+            target.append(
+                {
+                    "nodes": _select(where, mesh, item["nodes"], "nodes"),
+                    "vector": _vector(where, item["vector"], "vector"),
+                    "amplitude": _amplitude(where, item.get("amplitude", "step")),
+                }
+            )
+    if "gravity" in data:
+        where = top.child("gravity")
+        _table(top, data["gravity"], "gravity", ("acceleration", "amplitude"), ("acceleration",))
+        case.gravity = {
+            "acceleration": _vector(where, data["gravity"]["acceleration"], "acceleration"),
+            "amplitude": _amplitude(where, data["gravity"].get("amplitude", "step")),
+        }
+    case.solver = _solver(top, data["solver"])
+    _output(top, data.get("output", {}), case)
+    return case
+
+
+def _list(where: _Where, data: dict, key: str) -> list:
+    value = data.get(key, [])
+    if isinstance(value, dict):  # [part] written once instead of [[part]]
+        value = [value]
+    if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+        raise where.error(key, f"expected [[{key}]] tables, got {value!r}")
+    return value
+
+
+def _amplitude(where: _Where, value: Any) -> str:
+    if value not in ("step", "linear", "smooth"):
+        raise where.error("amplitude", f"expected 'step', 'linear' or 'smooth', got {value!r}")
+    return value
+
+
+def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
+    table = _table(top, value, "mesh", ("rectangle", "file"))
+    where = top.child("mesh")
+    if ("rectangle" in table) == ("file" in table):
+        raise where.error(None, 'give exactly one of rectangle = {...} or file = "..."')
+    if "file" in table:
+        if not isinstance(table["file"], str):
+            raise where.error("file", f"expected a path string, got {table['file']!r}")
+        mesh_path = folder / table["file"]
+        if not mesh_path.is_file():
+            raise where.error("file", f"no such mesh file {str(mesh_path)!r}")
+        try:
+            return Mesh.read(mesh_path)
+        except ValueError as error:
+            raise where.error("file", str(error)) from None
+    rect = _table(where, table["rectangle"], "rectangle", ("lx", "ly", "nx", "ny"),
+                  ("lx", "ly", "nx", "ny"))  # fmt: skip
+    inner = where.child("rectangle")
+    for key in ("nx", "ny"):
+        if isinstance(rect[key], bool) or not isinstance(rect[key], int) or rect[key] < 1:
+            raise inner.error(key, f"expected a whole number of cells >= 1, got {rect[key]!r}")
+    try:
+        return Mesh.rectangle(
+            _number(inner, rect["lx"], "lx"), _number(inner, rect["ly"], "ly"),
+            nx=rect["nx"], ny=rect["ny"],
+        )  # fmt: skip
+    except ValueError as error:
+        raise inner.error(None, str(error)) from None
+
+
+def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -> np.ndarray:
+    """Node ids of a node-set name or a bounds table {x_min, x_max, ..., tolerance}."""
+    if isinstance(value, str):
+        try:
+            return mesh.nodes(value)
+        except ValueError as error:
+            raise where.error(key, str(error)) from None
+    if named_only or not isinstance(value, dict):
+        raise where.error(key, f"expected a node-set name or a bounds table, got {value!r}")
+    bounds = _table(where, value, key, _BOUNDS)
+    inner = where.child(key)
+    size = float(np.ptp(mesh.points, axis=0).max()) or 1.0
+    tolerance = _number(inner, bounds.get("tolerance", 1e-6 * size), "tolerance")
+    mask = np.ones(mesh.n_nodes, dtype=bool)
+    for axis, name in enumerate("xyz"):
+        if f"{name}_min" in bounds:
+            low = _number(inner, bounds[f"{name}_min"], f"{name}_min")
+            mask &= mesh.points[:, axis] >= low - tolerance
+        if f"{name}_max" in bounds:
+            high = _number(inner, bounds[f"{name}_max"], f"{name}_max")
+            mask &= mesh.points[:, axis] <= high + tolerance
+    if not mask.any():
+        raise where.error(key, f"no node within the bounds {bounds} (tolerance {tolerance:g})")
+    return np.flatnonzero(mask)
+
+
+def _part(where: _Where, value: dict) -> dict:
+    _table(where, value, "", ("element", "material", "options", "cells"), ("element",))
+    kind = value["element"]
+    if kind not in ELEMENTS:
+        raise where.error(
+            "element", f"unknown element {kind!r}; expected one of {', '.join(ELEMENTS)}"
+        )
+    options = value.get("options", {})
+    _table(where, options, "options", tuple(options))
+    cls = ELEMENTS[kind]
+    material = value.get("material")
+    try:
+        if kind == "cable":
+            if not isinstance(material, dict):
+                raise where.error("material", "a cable takes an inline table: axial_stiffness, "
+                                              "mass_per_length, tension_only")  # fmt: skip
+            arguments = {**_keywords(where.child("material"), cls, material), **options}
+            _keywords(where.child("options"), cls, options)
+            element = cls(**arguments)
+        else:
+            _keywords(
+                where.child("options"), cls, options, frozenset({"self", "material", "fabric"})
+            )
+            element = cls(_material(where, kind, material), **options)
+    except CaseError:
+        raise
+    except (ValueError, TypeError) as error:
+        raise where.error(None, str(error)) from None
+    cells = value.get("cells")
+    if cells is not None and not isinstance(cells, str):
+        raise where.error("cells", f"expected a cell-set name, got {cells!r}")
+    return {"kind": kind, "element": element, "cells": cells}
+
+
+_LAWS = {
+    "tension": TensionLaw, "tension_weft": TensionLaw, "shear": ShearLaw,
+    "bending": BendingLaw, "bending_weft": BendingLaw,
+}  # fmt: skip
+
+
+def _material(where: _Where, kind: str, value: Any):
+    if value is None:
+        raise where.error(None, "missing key 'material'")
+    if isinstance(value, str):
+        names = [n for n in presets.__all__ if callable(getattr(presets, n))]
+        if value not in names:
+            raise where.error(
+                "material", f"unknown preset {value!r}; expected one of {', '.join(names)}"
+            )
+        material = getattr(presets, value)()
+        if kind == "mindlin" and isinstance(material, Fabric):
+            return ElasticShell.equivalent(material)
+        return material
+    inner = where.child("material")
+    if not isinstance(value, dict):
+        raise where.error("material", f"expected a preset name or a table, got {value!r}")
+    if kind == "mindlin":
+        make = ElasticShell.orthotropic if "E1" in value else ElasticShell
+        arguments = _keywords(inner, make, value)
+        for key, item in arguments.items():
+            if key == "warp":
+                _vector(inner, item, key)
+            else:
+                _number(inner, item, key)
+        return make(**arguments)
+    _keywords(inner, Fabric, value)
+    fields = dict(value)
+    for key, item in fields.items():
+        if key in _LAWS and isinstance(item, dict):
+            fields[key] = _law(inner.child(key), _LAWS[key], item)
+        elif key in _LAWS and not isinstance(item, int | float) or isinstance(item, bool):
+            raise inner.error(key, f"expected a number (linear law) or a law table, got {item!r}")
+        else:
+            _number(inner, item, key)
+    return Fabric(**fields)
+
+
+def _law(where: _Where, family, value: dict):
+    """A law from {linear = C} | {table = {x, y}} | {bilinear = {initial, final, knee}} |
+    {polynomial = {k1, k3, k5}}, with tension_only for tension laws."""
+    forms = [k for k in value if k != "tension_only"]
+    known = ("linear", "table", "bilinear", "polynomial")
+    if len(forms) != 1 or forms[0] not in known:
+        raise where.error(
+            None,
+            "expected one of linear = C, table = { x = [...], y = [...] }, bilinear = "
+            "{ initial, final, knee }, polynomial = { k1, k3, k5 }",
+        )
+    form = forms[0]
+    extra = {"tension_only": value["tension_only"]} if "tension_only" in value else {}
+    if extra and family is not TensionLaw:
+        raise where.error("tension_only", "only tension laws can be tension-only")
+    if not hasattr(family, form):
+        raise where.error(form, f"{family.__name__} has no {form} form")
+    if form == "linear":
+        return family.linear(_number(where, value["linear"], "linear"), **extra)
+    if form == "table":
+        table = _table(where, value["table"], "table", ("x", "y"), ("x", "y"))
+        return family.table(table["x"], table["y"], **extra)
+    names = tuple(inspect.signature(getattr(family, form)).parameters)
+    return getattr(family, form)(**_table(where, value[form], form, names), **extra)
+
+
+def _fix(where: _Where, mesh: Mesh, value: dict) -> dict:
+    _table(where, value, "", ("nodes", "dofs"), ("nodes",))
+    dofs = value.get("dofs")
+    if dofs is not None and (
+        not isinstance(dofs, list) or not all(isinstance(d, str) for d in dofs)
+    ):
+        raise where.error("dofs", f"expected a list of DOF names, got {dofs!r}")
+    return {"nodes": _select(where, mesh, value["nodes"], "nodes"), "dofs": dofs}
+
+
+def _displace(where: _Where, mesh: Mesh, value: dict) -> dict:
+    _table(where, value, "", ("nodes", "ux", "uy", "uz", "amplitude"), ("nodes",))
+    components = {k: _number(where, value[k], k) for k in ("ux", "uy", "uz") if k in value}
+    if not components:
+        raise where.error(None, "give at least one of ux, uy, uz")
+    return {
+        "nodes": _select(where, mesh, value["nodes"], "nodes"),
+        "components": components,
+        "amplitude": _amplitude(where, value.get("amplitude", "smooth")),
+    }
+
+
+def _solver(top: _Where, value: Any) -> dict:
+    if not isinstance(value, dict):
+        raise top.error("solver", f"expected a table, got {value!r}")
+    where = top.child("solver")
+    kind = value.get("kind")
+    if kind not in SOLVERS:
+        raise where.error("kind", f"expected one of {', '.join(SOLVERS)}, got {kind!r}")
+    options = {k: v for k, v in value.items() if k != "kind"}
+    _keywords(where, SOLVERS[kind], options, frozenset(_SOLVER_RESERVED))
+    try:
+        SOLVERS[kind](**options)  # the solver's own checks, now, with the file named
+    except (ValueError, TypeError) as error:
+        raise where.error(None, str(error)) from None
+    return {"kind": kind, "options": options}
+
+
+def _output(top: _Where, value: Any, case: Case) -> None:
+    table = _table(top, value, "output", ("history", "paths"))
+    where = top.child("output")
+    history = _table(where, table.get("history", {}), "history", ("reactions", "displacements"))
+    inner = where.child("history")
+    for key in ("reactions", "displacements"):
+        names = history.get(key, [])
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            raise inner.error(key, f"expected a list of node-set names, got {names!r}")
+        for name in names:
+            _select(inner, case.mesh, name, key, named_only=True)
+        case.history[key] = list(names)
+    paths = table.get("paths", {})
+    _table(where, paths, "paths", tuple(paths))
+    for name, selection in paths.items():
+        ids = _select(where.child("paths"), case.mesh, selection, name)
+        if ids.size < 2:
+            raise where.child("paths").error(name, "a path needs at least 2 nodes")
+        points = case.mesh.points[ids]
+        axis = int(np.argmax(np.ptp(points, axis=0)))
+        case.paths[name] = ids[np.argsort(points[:, axis], kind="stable")]

@@ -1,0 +1,210 @@
+"""Running a case and writing what a user opens: the ParaView series, history.csv and
+summary.json (strict JSON: no NaN or Infinity, a non-finite number is null and named in
+"notes")."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from femcore.results import Result
+from fibreshell.case import Case
+from solvers import SolverError
+
+__all__ = [
+    "Run", "history_rows", "profile", "run_case", "section_thickness", "strict_json", "summarise"
+]  # fmt: skip
+
+
+@dataclass
+class Run:
+    """One solve of a case: the result (every good frame, also after a failure), the solver's
+    error message ("" when it reached its goal), the wall time (s) and the summary."""
+
+    kinematics: str
+    result: Result
+    error: str
+    wall_time: float
+    summary: dict
+
+
+def run_case(
+    case: Case,
+    out: Path,
+    kinematics: str | None = None,
+    progress: bool | None = None,
+    shear_ratio: float = 0.5,
+) -> Run:
+    """Build the case (``Case.model``), solve it and write into ``out``: ``result.pvd`` with
+    its VTU series (deformed coordinates, displacement field in every frame), history.csv and
+    summary.json. A solver that stops keeps its last good frames: they are written and the
+    summary says why it stopped.
+
+    Parameters
+    ----------
+    case : Case
+    out : pathlib.Path
+        Output folder (created).
+    kinematics : None, "fibrous" or "mindlin"
+        See ``Case.model``.
+    progress : bool or None
+        The solver's progress line (None: when stderr is a terminal).
+    shear_ratio : float
+        G13 / E of the Mindlin calibration.
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    model = case.model(kinematics, shear_ratio)
+    solver = case.make_solver(progress=progress)
+    started = time.perf_counter()
+    error = ""
+    try:
+        result = solver.solve(model)
+    except SolverError as failure:
+        if failure.result is None:
+            raise
+        result, error = failure.result, str(failure)
+    wall = time.perf_counter() - started
+    label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])
+    result.write(out / "result.pvd")
+    rows = history_rows(case, result)
+    with open(out / "history.csv", "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    summary = summarise(case, result, label, error, wall)
+    (out / "summary.json").write_text(strict_json(summary))
+    return Run(label, result, error, wall, summary)
+
+
+def history_rows(case: Case, result: Result) -> list[dict]:
+    """One row per frame: frame, time (s), load_factor, the reaction sums over each
+    ``history.reactions`` set (N) and the mean displacement of each ``history.displacements``
+    set (mm), then the energies (N mm) where the solver records them (explicit runs),
+    interpolated at the frame times."""
+    energies = result.energies if result.energies else {}
+    rows = []
+    for index, frame in enumerate(result.frames):
+        row: dict[str, Any] = {"frame": index, "time": frame.time, "load_factor": frame.load_factor}
+        for name in case.history.get("reactions", []):
+            total = frame.reactions[case.mesh.nodes(name)].sum(axis=0)
+            row.update({f"reaction_{name}_{axis}": total[i] for i, axis in enumerate("xyz")})
+        for name in case.history.get("displacements", []):
+            nodes = case.mesh.nodes(name)
+            mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
+            row.update({f"displacement_{name}_{axis}": mean[i] for i, axis in enumerate("xyz")})
+        if energies and len(energies.get("time", ())) > 0:
+            for key in ("kinetic", "internal", "external_work", "damping"):
+                if key in energies:
+                    row[f"energy_{key}"] = float(
+                        np.interp(frame.time, energies["time"], energies[key])
+                    )
+        rows.append(row)
+    return rows
+
+
+def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
+    """Along path ``name`` at the final frame: s (reference arc length, mm), the mid-surface
+    x, y, z, the director's angle to the horizontal in the vertical plane of the path (deg, 90
+    = vertical) and the thickness along the director (mm; the fibrous shell's h_m, the section
+    thickness ``thickness`` for a shell without that field)."""
+    nodes = case.paths[name]
+    x0 = case.mesh.points[nodes]
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x0, axis=0), axis=1))]
+    along = x0[-1] - x0[0]
+    along[2] = 0.0
+    along /= np.linalg.norm(along) or 1.0
+    x = result.positions[nodes]
+    d = result.directors[nodes]
+    angle = np.degrees(np.arctan2(d[:, 2], d @ along))
+    h = result.thickness[nodes] if result.thickness is not None else np.full(len(nodes), thickness)
+    return {
+        "s": s, "x": x[:, 0], "y": x[:, 1], "z": x[:, 2], "director_angle_deg": angle,
+        "thickness": h, "directors": d,
+    }  # fmt: skip
+
+
+def summarise(case: Case, result: Result, kinematics: str, error: str, wall: float) -> dict:
+    """The numbers of a run for summary.json: how it ended, the history sets at the final
+    frame, the largest fibre strain and director tilt where the element reports them, and the
+    profiles along the paths."""
+    final = result.frames[-1]
+    out: dict[str, Any] = {
+        "case": case.title,
+        "file": str(case.path),
+        "kinematics": kinematics,
+        "solver": case.solver["kind"],
+        "converged": bool(result.converged),
+        "stopped": error or None,
+        "steps": int(result.steps),
+        "frames": len(result.frames),
+        "wall_time_s": wall,
+        "final_time": final.time,
+        "final_load_factor": final.load_factor,
+        "reactions": {
+            name: final.reactions[case.mesh.nodes(name)].sum(axis=0)
+            for name in case.history.get("reactions", [])
+        },
+        "mean_displacements": {
+            name: (final.positions[n] - case.mesh.points[n]).mean(axis=0)
+            for name in case.history.get("displacements", [])
+            for n in [case.mesh.nodes(name)]
+        },
+    }
+    triangle = final.fields.get("triangle", {})
+    if "warp_strain" in triangle:
+        out["max_fibre_strain"] = float(
+            np.nanmax(
+                np.abs(np.r_[triangle["warp_strain"].ravel(), triangle["weft_strain"].ravel()])
+            )
+        )
+    if "director_tilt" in final.fields.get("point", {}):
+        tilt = np.degrees(final.fields["point"]["director_tilt"])
+        out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
+    thickness = section_thickness(case)
+    out["paths"] = {
+        name: {k: v for k, v in profile(case, result, name, thickness).items() if k != "directors"}
+        for name in case.paths
+    }
+    return out
+
+
+def section_thickness(case: Case) -> float:
+    """The thickness (mm) of the case's first shell part: its fabric's or its section's."""
+    for part in case.parts:
+        element = part["element"]
+        for owner in (getattr(element, "fabric", None), getattr(element, "material", None)):
+            if owner is not None and hasattr(owner, "thickness"):
+                return float(owner.thickness)
+    return 0.0
+
+
+def strict_json(data: Any) -> str:
+    """JSON text of ``data`` (numpy arrays and numbers included) that strict parsers accept:
+    every non-finite number becomes null and its place is listed under "notes" (top level)."""
+    notes: list[str] = []
+
+    def clean(value: Any, where: str) -> Any:
+        if isinstance(value, dict):
+            return {str(k): clean(v, f"{where}.{k}" if where else str(k)) for k, v in value.items()}
+        if isinstance(value, list | tuple):
+            return [clean(v, f"{where}[{i}]") for i, v in enumerate(value)]
+        if isinstance(value, np.ndarray):
+            return clean(value.tolist(), where)
+        if isinstance(value, np.generic):
+            return clean(value.item(), where)
+        if isinstance(value, float) and not math.isfinite(value):
+            notes.append(f"{where}: {value!r} written as null")
+            return None
+        return value
+
+    cleaned = clean(data, "")
+    if notes and isinstance(cleaned, dict):
+        cleaned["notes"] = cleaned.get("notes", []) + notes
+    return json.dumps(cleaned, indent=1, allow_nan=False) + "\n"

@@ -1,0 +1,231 @@
+"""Case files and the ``fibreshell`` command (fibreshell/): a case file builds the model its
+Python twin builds, ``compare`` runs both kinematics with the Mindlin calibration of
+``ElasticShell.equivalent`` (checked against the Euler-Bernoulli cantilever), every mistake in
+a file is a ValueError naming the file, the table and the key, and the JSON outputs are strict.
+"""
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from elements import FibrousShell
+from femcore import Mesh, Model
+from fibreshell import CaseError, compare_case, load_case, run_case, strict_json
+from fibreshell.cli import main
+from materials import BendingLaw, ElasticShell, ShearLaw, TensionLaw, presets
+from solvers import Static
+
+ROOT = Path(__file__).resolve().parents[1]
+STRIP = ROOT / "cases" / "g1151_strip.toml"
+
+# Euler-Bernoulli cantilever of length L = 100 mm under its weight q = rho_A g per unit area,
+# bending stiffness B = 10 N mm/mm: tip deflection q L^4 / (8 B) = 0.1 mm (0.1 % of L: linear).
+MATERIAL = """[part.material]
+thickness = 0.2
+areal_density = 8.154943934760449e-12
+tension = 1000.0
+shear = 1.0
+bending = 10.0
+"""
+CANTILEVER = f"""
+title = "cantilever under uniform load"
+[mesh]
+rectangle = {{ lx = 100.0, ly = 10.0, nx = 20, ny = 2 }}
+[sets]
+tip = {{ x_min = 100.0 }}
+[[part]]
+element = "fibrous"
+options = {{ clamped = "left" }}
+{MATERIAL}
+[[fix]]
+nodes = "left"
+[gravity]
+acceleration = [0.0, 0.0, -9810.0]
+[solver]
+kind = "static"
+increments = 1
+[output]
+history = {{ reactions = ["left"], displacements = ["tip"] }}
+paths = {{ edge = {{ y_max = 0.0 }} }}
+"""
+
+
+def write(tmp_path: Path, text: str, name: str = "case.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def strict_load(text: str):
+    """json.loads that refuses NaN and Infinity, as strict parsers and JavaScript do."""
+
+    def refuse(constant):
+        raise AssertionError(f"non-standard JSON constant {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+# ---------------------------------------------------------------------- what a case does
+def test_the_shipped_strip_case_builds_the_model_of_its_python_twin(tmp_path):
+    """cases/g1151_strip.toml is the README's Python example: the same mesh, element, clamp,
+    gravity and solver give the same tip deflection (the same arithmetic: 1e-12)."""
+    run = run_case(load_case(STRIP), tmp_path, progress=False)
+    mesh = Mesh.rectangle(200.0, 60.0, nx=8, ny=2)
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g1151_laminate(), clamped="left"))
+    model.fix("left")
+    model.gravity((0.0, 0.0, -9810.0))
+    twin = Static(increments=3, progress=False).solve(model)
+    tip = mesh.nodes("right")
+    expected = twin.displacements[tip].mean(axis=0)
+    assert np.allclose(run.summary["mean_displacements"]["tip"], expected, rtol=0, atol=1e-12)
+    # the clamp carries the weight: rho_A g times the area (Bai Table 2 laminate, 6.93 kg/m^2)
+    weight = presets.g1151_laminate().areal_density * 9810.0 * 200.0 * 60.0
+    assert run.summary["reactions"]["left"][2] == pytest.approx(weight, rel=1e-9)
+    with open(tmp_path / "history.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == len(run.result.frames) == 4
+    assert float(rows[-1]["displacement_tip_z"]) == pytest.approx(expected[2], abs=1e-12)
+    assert (tmp_path / "result.pvd").is_file()
+    strict_load((tmp_path / "summary.json").read_text())
+
+
+def test_compare_runs_both_kinematics_against_the_beam_closed_form(tmp_path):
+    """A cantilever strip under its weight, small deflection: q L^4 / (8 B) = 0.1 mm. The
+    fibrous shell (rotation-free bending, 20 cells along: +0.25 % measured) and the Mindlin
+    shell of ElasticShell.equivalent (E h^3 / 12 = B with nu = 0; its transverse shear adds
+    q L^2 / (2 kappa G13 h), 3e-6 of it here) both within 1 %; the reactions are the weight."""
+    case = load_case(write(tmp_path, CANTILEVER))
+    runs = compare_case(case, tmp_path / "out", progress=False)
+    q = 8.154943934760449e-12 * 9810.0
+    exact = q * 100.0**4 / (8 * 10.0)
+    for kinematics in ("fibrous", "mindlin"):
+        summary = runs[kinematics].summary
+        assert summary["converged"]
+        assert -summary["mean_displacements"]["tip"][2] == pytest.approx(exact, rel=0.01)
+        assert summary["reactions"]["left"][2] == pytest.approx(q * 1000.0, rel=1e-9)
+    comparison = strict_load((tmp_path / "out" / "comparison.json").read_text())
+    assert comparison["figures"] == ["path-edge.png"]
+    assert (tmp_path / "out" / "path-edge.png").stat().st_size > 10_000
+    assert set(comparison["runs"]) == {"fibrous", "mindlin"}
+
+
+def test_the_mindlin_calibration_bends_like_the_fabric():
+    """ElasticShell.equivalent: plate bending stiffness E h^3 / 12 (nu = 0) = B per direction,
+    G12 h = K, mass per area = rho_A (the rule stated in its docstring, Bai §6)."""
+    fabric = presets.g1151_laminate()
+    section = ElasticShell.equivalent(fabric, shear_ratio=0.5)
+    h = fabric.thickness
+    q = section.plane_stress
+    assert q[0, 0] * h**3 / 12 == pytest.approx(float(fabric.bending.slope(np.array(0.0))))
+    assert q[1, 1] * h**3 / 12 == pytest.approx(float(fabric.bending_weft.slope(np.array(0.0))))
+    assert q[0, 1] == 0.0
+    assert q[2, 2] * h == pytest.approx(float(fabric.shear.slope(np.array(0.0))))
+    assert section.areal_density == pytest.approx(fabric.areal_density)
+    with pytest.raises(ValueError, match="Fabric"):
+        ElasticShell.equivalent("g1151", 0.5)
+    with pytest.raises(ValueError, match="shear_ratio"):
+        ElasticShell.equivalent(fabric, -1.0)
+
+
+# ---------------------------------------------------------------------- mistakes
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        ("increments = 1", "incremnts = 1", r"\[solver.incremnts\]: unknown option"),
+        ('kind = "static"', 'kind = "statics"', r"\[solver.kind\]: expected one of"),
+        ("[gravity]", "[gravty]", r"\[gravty\]: unknown key"),
+        ('nodes = "left"', 'nodes = "lefft"', r"\[fix\[0\].nodes\]: unknown node set 'lefft'"),
+        ('element = "fibrous"', 'element = "fibrus"', r"\[part\[0\].element\]: unknown element"),
+        ("bending = 10.0\n", "bending = 10.0\nbendng = 1.0\n", r"\[part\[0\].material.bendng\]"),
+        ('clamped = "left"', 'clampd = "left"', r"\[part\[0\].options.clampd\]: unknown option"),
+        ("tip = { x_min = 100.0 }", "tip = { x_min = 1000.0 }", r"\[sets.tip\]: no node"),
+        ("tip = { x_min = 100.0 }", "tip = { x_mn = 100.0 }", r"\[sets.tip.x_mn\]: unknown key"),
+        ("nx = 20", "nx = 2.5", r"\[mesh.rectangle.nx\]: expected a whole number"),
+        ('displacements = ["tip"]', 'displacements = ["tp"]', r"\[output.history.displacements\]"),
+        (
+            "acceleration = [0.0, 0.0, -9810.0]",
+            'acceleration = "down"',
+            r"\[gravity.acceleration\]",
+        ),
+        ("increments = 1", "increments = -1", r"\[solver\]: .*increments"),
+        ("tension = 1000.0", 'tension = "x"', r"\[part\[0\].material.tension\]: expected"),
+        ("bending = 10.0", "bending = { cubic = 1.0 }", r"\[part\[0\].material.bending\]"),
+    ],
+)
+def test_a_mistake_in_a_case_file_names_the_file_the_table_and_the_key(tmp_path, old, new, where):
+    assert old in CANTILEVER
+    path = write(tmp_path, CANTILEVER.replace(old, new, 1))
+    with pytest.raises(CaseError, match=where) as error:
+        load_case(path)
+    assert str(path) in str(error.value)
+    assert isinstance(error.value, ValueError)
+
+
+def test_unreadable_case_files_are_refused_clearly(tmp_path):
+    with pytest.raises(CaseError, match="no such case file"):
+        load_case(tmp_path / "missing.toml")
+    with pytest.raises(CaseError, match="not valid TOML"):
+        load_case(write(tmp_path, "[mesh\nrectangle = 1"))
+    binary = tmp_path / "random.toml"
+    binary.write_bytes(bytes(range(256)))
+    with pytest.raises(CaseError, match="not"):
+        load_case(binary)
+    preset = CANTILEVER.replace(MATERIAL, "").replace('element = "fibrous"', 'element = "fibrous"'
+                                                      '\nmaterial = "g11515"')  # fmt: skip
+    with pytest.raises(CaseError, match=r"\[part\[0\].material\]: unknown preset 'g11515'"):
+        load_case(write(tmp_path, preset))
+
+
+def test_inline_laws_are_the_laws_of_materials(tmp_path):
+    """A bilinear bending law, a tension-only table and a polynomial shear written inline are
+    the laws the Python constructors build (same values along their range)."""
+    text = CANTILEVER.replace(
+        "tension = 1000.0\nshear = 1.0\nbending = 10.0",
+        "tension = { table = { x = [0.0, 0.01, 0.05], y = [0.0, 20.0, 400.0] }, tension_only = "
+        "true }\nshear = { polynomial = { k1 = 1.0, k3 = 5.0 } }\nbending = { bilinear = { "
+        "initial = 10.0, final = 1.0, knee = 0.01 } }",
+    )
+    fabric = load_case(write(tmp_path, text)).parts[0]["element"].fabric
+    x = np.linspace(-0.1, 0.1, 41)
+    assert np.array_equal(fabric.tension.value(x), TensionLaw.table(
+        [0.0, 0.01, 0.05], [0.0, 20.0, 400.0], tension_only=True).value(x))  # fmt: skip
+    assert np.array_equal(fabric.shear.value(x), ShearLaw.polynomial(1.0, 5.0).value(x))
+    assert np.array_equal(fabric.bending.value(x), BendingLaw.bilinear(10.0, 1.0, 0.01).value(x))
+
+
+def test_compare_needs_a_fibrous_part(tmp_path):
+    section = "[part.material]\nE = 15000.0\nnu = 0.0\nthickness = 0.2\ndensity = 4e-11\n"
+    text = (
+        CANTILEVER.replace(MATERIAL, section)
+        .replace('element = "fibrous"', 'element = "mindlin"')
+        .replace('options = { clamped = "left" }', "")
+    )
+    case = load_case(write(tmp_path, text))
+    with pytest.raises(ValueError, match="compare needs a fibrous part"):
+        compare_case(case, tmp_path / "out", progress=False)
+
+
+# ---------------------------------------------------------------------- the command
+def test_the_command_runs_a_case_and_reports_bad_input_with_status_2(tmp_path, capsys):
+    path = write(tmp_path, CANTILEVER)
+    assert main(["run", str(path), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    assert (tmp_path / "run" / "summary.json").is_file()
+    assert "done in" in capsys.readouterr().out
+    a_file = write(tmp_path, "x", "not-a-folder")
+    assert main(["run", str(path), "--out", str(a_file), "--quiet"]) == 2
+    assert "is a file" in capsys.readouterr().err
+    broken = write(tmp_path, CANTILEVER.replace("increments", "incremnts"), "broken.toml")
+    assert main(["run", str(broken), "--quiet"]) == 2
+    assert "broken.toml: [solver.incremnts]" in capsys.readouterr().err
+
+
+def test_json_outputs_are_strict():
+    """Non-finite numbers become null and are listed, so strict parsers read the file."""
+    text = strict_json({"a": float("inf"), "b": np.array([1.0, np.nan]), "c": np.float64(2.0)})
+    data = strict_load(text)
+    assert data["a"] is None and data["b"] == [1.0, None] and data["c"] == 2.0
+    assert len(data["notes"]) == 2 and "a: inf" in data["notes"][0]
