@@ -659,8 +659,14 @@ class Mesh:
         fmt = _resolve_format(path, file_format, writing=False)
         try:
             raw = meshio.read(path, file_format=fmt)
-        except meshio.ReadError as err:
-            raise ValueError(f"cannot read {path} as {fmt!r}: {err}") from err
+        except SystemExit as err:  # meshio's VTU reader ends the process on a corrupt file
+            raise ValueError(f"cannot read {path} as {fmt!r}: not a valid {fmt} file") from err
+        except UnicodeDecodeError as err:
+            raise ValueError(
+                f"cannot read {path} as {fmt!r}: not a text file ({err.reason} at byte {err.start})"
+            ) from err
+        except Exception as err:  # meshio's readers raise anything on a corrupt file
+            raise ValueError(f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}") from err
         return _mesh_from_meshio(raw, str(path))
 
     def write(self, path: str | Path, file_format: str | None = None) -> None:

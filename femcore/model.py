@@ -28,15 +28,16 @@ from femcore.loads import (
     Prescribed,
     amplitude_of,
 )
-from femcore.mesh import CELL_KINDS, Mesh
+from femcore.mesh import CELL_KINDS, Mesh, NodePredicate
 from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
 
 __all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
 
-#: A node selection: the name of a node set of the mesh, or node ids.
-NodeSelection = str | int | Sequence[int] | np.ndarray
+#: A node selection: the name of a node set of the mesh, node ids, or a predicate
+#: ``(x, y, z) -> mask`` over the node coordinates (as ``Mesh.nodes`` takes).
+NodeSelection = str | int | Sequence[int] | np.ndarray | NodePredicate
 
 
 def _vector3(value, what: str) -> np.ndarray:
@@ -128,6 +129,19 @@ class Model:
                 f"{type(element).__name__} block covers no cell: the mesh has "
                 f"{n_cells} {cell_type} cells"
             )
+        # Two blocks on one cell would add its mass and stiffness twice, silently.
+        for index, entry in enumerate(self.blocks):
+            if entry.element.cell_type != cell_type:
+                continue
+            shared = np.intersect1d(entry.cells, ids)
+            if shared.size:
+                again = " (the same element object added again)" if entry.element is element else ""
+                raise ValueError(
+                    f"{type(element).__name__} on {cell_type} cells {shared[:5].tolist()}"
+                    f"{'...' if shared.size > 5 else ''} that block {index} "
+                    f"({type(entry.element).__name__}) already covers{again}: one element per "
+                    "cell; give each block its own cells (a cell set or ids)"
+                )
         self.blocks.append(BlockEntry(element, ids))
         self._compiled = None
         return len(self.blocks) - 1
@@ -137,8 +151,8 @@ class Model:
 
         Parameters
         ----------
-        nodes : str or array of int
-            A node-set name of the mesh, or node ids.
+        nodes : str, array of int or callable
+            A node-set name of the mesh, node ids, or a predicate ``(x, y, z) -> mask``.
         dofs : None, str or sequence of str
             None = every DOF of those nodes, or names such as "uz", ("ux", "uy", "uz"),
             "alpha" (femcore.dofs.DOF_NAMES).
@@ -164,8 +178,8 @@ class Model:
 
         Parameters
         ----------
-        nodes : str or array of int
-            A node-set name of the mesh, or node ids.
+        nodes : str, array of int or callable
+            A node-set name of the mesh, node ids, or a predicate ``(x, y, z) -> mask``.
         ux, uy, uz : float, (k,) floats or None
             Displacement (mesh length unit), one number or one per selected node; a component
             left None stays free.
@@ -207,8 +221,8 @@ class Model:
 
         Parameters
         ----------
-        nodes : str or array of int
-            A node-set name of the mesh, or node ids.
+        nodes : str, array of int or callable
+            A node-set name of the mesh, node ids, or a predicate ``(x, y, z) -> mask``.
         vector : (3,) float
             Force, N.
         amplitude : str or callable
@@ -264,6 +278,8 @@ class Model:
                     f"the mesh has {sorted(self.mesh.node_sets) or 'none'}"
                 )
             nodes = self.mesh.node_sets[nodes]
+        elif callable(nodes):  # a predicate(x, y, z) -> mask, as Mesh.nodes takes
+            nodes = self.mesh.nodes(nodes)
         return self._ids(nodes, self.mesh.n_nodes, "node")
 
     @staticmethod

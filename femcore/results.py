@@ -174,12 +174,10 @@ class Result:
         Raises
         ------
         ValueError
-            No field of that name (the message lists the available ones), or a cell field of
-            that name on more than one cell kind.
-        IndexError
-            ``frame`` out of range.
+            No field of that name (the message lists the available ones), a cell field of
+            that name on more than one cell kind, or ``frame`` out of range.
         """
-        fields = self.frames[frame].fields
+        fields = self.frames[self._frame_index(frame)].fields
         point = fields.get("point", {})
         if name in point:
             return point[name]
@@ -198,6 +196,18 @@ class Result:
             f"no field {name!r} in frame {frame}; available fields: {available or 'none'}"
         )
 
+    def _frame_index(self, frame: int) -> int:
+        """``frame`` checked: an integer in -len(frames) .. len(frames) - 1."""
+        count = len(self.frames)
+        if isinstance(frame, bool) or not isinstance(frame, int | np.integer):
+            raise ValueError(f"frame must be an integer index, got {frame!r}")
+        if not -count <= frame < count:
+            raise ValueError(
+                f"frame {frame} out of range: the result has {count} frame(s) (0..{count - 1}, "
+                "or negative from the end)"
+            )
+        return int(frame)
+
     # ----------------------------------------------------------------------- export
     def to_meshio(self, frame: int = -1) -> meshio.Mesh:
         """A meshio mesh of one frame.
@@ -210,15 +220,17 @@ class Result:
         Returns
         -------
         meshio.Mesh
-            Deformed coordinates (n, 3), one cell block per cell kind present, point data
-            (displacement, velocity, reaction, director and reaction_moment if some node has
-            rotations, nodal element fields) and cell data (cell element fields).
+            The reference coordinates (n, 3), as in every format written (ParaView: Warp By
+            Vector with "displacement" shows the deformed shape), one cell block per cell kind
+            present, point data (displacement, velocity, reaction, director and
+            reaction_moment if some node has rotations, nodal element fields) and cell data
+            (cell element fields).
         """
         import meshio
 
-        f = self.frames[frame]
+        f = self.frames[self._frame_index(frame)]
         cells, point_data, cell_data = self._meshio_data(f)
-        return meshio.Mesh(f.positions, cells, point_data=point_data, cell_data=cell_data)
+        return meshio.Mesh(self.mesh.points, cells, point_data=point_data, cell_data=cell_data)
 
     def _meshio_data(
         self, f: Frame
@@ -253,7 +265,10 @@ class Result:
 
         ``.vtu``: one frame (the last unless ``frame`` is given). ``.pvd``: every frame as a
         VTU series next to a ParaView collection file. ``.xdmf``: every frame in one XDMF time
-        series (XML data, no HDF5 needed).
+        series (XML data, no HDF5 needed). Every format holds the same thing: the reference
+        coordinates and, per frame, the "displacement" field with the other nodal and cell
+        fields, so one ParaView pipeline (Warp By Vector on "displacement") shows the
+        deformed shape of any of them.
 
         Parameters
         ----------

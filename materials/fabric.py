@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from femcore.checks import check_positive
+from femcore.checks import check_positive, warn_implausible
 from materials.laws import BendingLaw, Law, ShearLaw, TensionLaw
 
 __all__ = ["Fabric"]
@@ -49,6 +49,12 @@ class Fabric:
     tension_weft, bending_weft : Law or float, optional
         Weft laws; None means the same as warp.
 
+    To change some laws of a fabric use ``fabric.replace(...)``, not ``dataclasses.replace``:
+    the latter keeps the old weft laws when the warp laws change.
+
+    Units mm, N, t, s: a thickness or an areal density far outside the range of real fabrics
+    (usually one given in m or kg/m^2) draws a UserWarning.
+
     Raises
     ------
     ValueError
@@ -77,6 +83,11 @@ class Fabric:
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "Fabric thickness", "mm"))
         set_(self, "areal_density", check_positive(areal_density, "Fabric areal_density", "t/mm^2"))
+        # 1 g/m^2 (lighter than any veil) to 1000 kg/m^2 (a 100 mm steel plate)
+        warn_implausible(self.areal_density, "Fabric areal_density", "t/mm^2", 1e-12, 1e-6,
+                         "a mass per area in kg/m^2 is 1e-9 of it in t/mm^2")  # fmt: skip
+        warn_implausible(self.thickness, "Fabric thickness", "mm", 1e-3, 1e3,
+                         "a thickness in m is 1e3 of it in mm")  # fmt: skip
         set_(self, "tension", _law(tension, TensionLaw, "Fabric tension", "N/mm"))
         set_(self, "shear", _law(shear, ShearLaw, "Fabric shear", "N/mm"))
         set_(self, "bending", _law(bending, BendingLaw, "Fabric bending", "N mm"))
@@ -94,6 +105,36 @@ class Fabric:
             if bending_weft is None
             else _law(bending_weft, BendingLaw, "Fabric bending_weft", "N mm"),
         )
+
+    def replace(self, **changes: Any) -> Fabric:
+        """A copy with some fields changed, the weft laws following the warp laws they were.
+
+        Parameters
+        ----------
+        **changes
+            Any of the constructor's arguments. A weft law (tension_weft, bending_weft) that
+            was the warp law and is not given becomes the new warp law.
+
+        Returns
+        -------
+        Fabric
+        """
+        unknown = sorted(set(changes) - set(self.__dataclass_fields__))
+        if unknown:
+            raise ValueError(
+                f"Fabric.replace: unknown field(s) {unknown}; fields are "
+                f"{', '.join(self.__dataclass_fields__)}"
+            )
+        fields = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        for warp, weft in (("tension", "tension_weft"), ("bending", "bending_weft")):
+            if (
+                warp in changes
+                and weft not in changes
+                and self.__dict__[weft] is self.__dict__[warp]
+            ):
+                fields[weft] = None  # follows the new warp law
+        fields.update(changes)
+        return Fabric(**fields)
 
     @property
     def density(self) -> float:

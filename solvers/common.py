@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 
@@ -88,29 +89,45 @@ def empty_result(model: CompiledModel, frames: list[Frame]) -> Result:
 
 
 def resolve_progress(progress: bool | None) -> bool:
-    """Progress lines are shown on an interactive terminal unless asked otherwise; never under
-    pytest unless asked (its captured stderr is not a terminal)."""
+    """Progress lines are shown unless asked otherwise (``progress=False``): on a terminal, in
+    a notebook and in a log alike; never under pytest unless asked (a test's output is noise)."""
     if progress is not None:
         return bool(progress)
-    return sys.stderr.isatty()
+    return "PYTEST_CURRENT_TEST" not in os.environ
 
 
 class ProgressLine:
-    """Prints a status line to stderr at most every ``every`` seconds (and on demand)."""
+    """Prints a status line to stderr at most every ``every`` seconds (and on demand), with
+    the share done and the estimated time left when the caller gives ``fraction``."""
 
     def __init__(self, enabled: bool, label: str, every: float = 2.0):
         self.enabled = enabled
         self.label = label
         self.every = every
-        self._last = time.perf_counter()
+        self._started = self._last = time.perf_counter()
 
-    def __call__(self, text: str, force: bool = False) -> None:
+    def __call__(self, text: str, force: bool = False, fraction: float | None = None) -> None:
         if not self.enabled:
             return
         now = time.perf_counter()
         if force or now - self._last >= self.every:
             self._last = now
+            elapsed = now - self._started
+            if fraction is not None and 0.0 < fraction < 1.0:
+                left = elapsed * (1.0 - fraction) / fraction
+                text += f" [{100 * fraction:.0f} %, {elapsed:.0f} s, ETA {_duration(left)}]"
+            elif fraction is not None:
+                text += f" [{elapsed:.1f} s]"
             print(f"[{self.label}] {text}", file=sys.stderr, flush=True)
+
+
+def _duration(seconds: float) -> str:
+    """ "42 s", "3 min 20 s", "2 h 05 min"."""
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    if seconds < 3600:
+        return f"{int(seconds // 60)} min {int(seconds % 60):02d} s"
+    return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60):02d} min"
 
 
 def check_positive_or_none(value, name: str, unit: str = "") -> float | None:

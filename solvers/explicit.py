@@ -302,11 +302,12 @@ class CentralDifference:
                     run.frames.append(frame)
             progress(
                 f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
-                f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}"
+                f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}",
+                fraction=state.time / duration,
             )
 
         save()
-        progress(f"done: {run.step} steps", force=True)
+        progress(f"done: {run.step} steps", force=True, fraction=1.0)
         return result(True)
 
     def _signature(self, model: CompiledModel) -> tuple:

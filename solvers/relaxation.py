@@ -265,6 +265,7 @@ class DynamicRelaxation:
             progress(
                 f"increment {increment}/{self.increments} converged in {count} iterations",
                 force=True,
+                fraction=increment / self.increments,
             )
         return self._result(compiled, frames, iterations, residuals, masses, started, True)
 

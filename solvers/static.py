@@ -1225,6 +1225,7 @@ class _Run:
         self.progress(
             f"load factor {self.reached:.4g} converged in {iterations} Newton iterations",
             force=True,
+            fraction=self.reached / (2.0 if self.solver.step_loads_first else 1.0),
         )
 
     def cut(self, cuts: int, what: str, failure: Exception) -> int:

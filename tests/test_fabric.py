@@ -79,6 +79,20 @@ def test_fabric_accepts_numbers_as_linear_laws_and_defaults_weft_to_warp():
     assert fabric.density == pytest.approx(5e-10)
 
 
+def test_replace_keeps_weft_laws_that_followed_the_warp_following_it():
+    """fabric.replace(tension=...) changes both directions of a fabric whose weft law was the
+    warp law; an explicit weft law stays (dataclasses.replace would keep the old weft)."""
+    balanced = Fabric(thickness=2.0, areal_density=1e-9, tension=100.0, shear=0.1, bending=5.0)
+    stiffer = balanced.replace(tension=1000.0)
+    assert stiffer.tension_weft is stiffer.tension
+    assert stiffer.tension_weft.value(0.01) == pytest.approx(10.0)
+    assert stiffer.bending_weft is stiffer.bending is balanced.bending
+    unbalanced = balanced.replace(tension_weft=50.0).replace(tension=1000.0)
+    assert unbalanced.tension_weft.value(0.01) == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="unknown field"):
+        balanced.replace(stiffness=1.0)
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [
