@@ -1136,6 +1136,11 @@ class FibrousShellBlock(ElementBlock):
         moments = self._bending_moments(chi)
         chi_warp, chi_weft = self._by_family(chi[:, 0], chi[:, 1])
         m_warp, m_weft = self._by_family(moments[:, 0], moments[:, 1])
+        # The fields both shells write (README "Output fields"): section forces per unit
+        # width in the fibre frame (1 = warp), averaged over the levels with their weights.
+        t_warp = self.fabric.tension.value(warp) @ self.weights
+        t_weft = self.fabric.tension_weft.value(weft) @ self.weights
+        shear = self.fabric.shear.value(strain["gamma"]) @ self.weights
         return {
             "warp_strain": warp,  # (m, L), log strain, levels bottom -> top
             "weft_strain": weft,
@@ -1144,6 +1149,9 @@ class FibrousShellBlock(ElementBlock):
             "weft_curvature": chi_weft,
             "warp_moment": m_warp,  # N (N mm per mm)
             "weft_moment": m_weft,
+            "membrane_force": np.column_stack([t_warp, t_weft, shear]),  # N/mm
+            # no twisting moment in the fibrous shell: M12 = 0
+            "bending_moment": np.column_stack([m_warp, m_weft, np.zeros_like(m_warp)]),
         }
 
     def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:

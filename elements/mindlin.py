@@ -26,6 +26,7 @@ from femcore.assembly import Scatter
 from femcore.mesh import Mesh
 from femcore.rotation import cross
 from femcore.state import State
+from femcore.topology import nodal_normals
 from materials.elastic import ElasticShell
 
 __all__ = ["MindlinShell", "MindlinShellBlock"]
@@ -539,6 +540,20 @@ class MindlinShellBlock(ElementBlock):
             "membrane_force": resultant[:, :3],
             "bending_moment": moment[:, :3],
             "shear_force": resultant[:, 3:],
+        }
+
+    def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
+        """The nodal fields both shells write (README "Output fields"): ``thickness`` along
+        the director, h (mm: the director is an inextensible material fibre of the section),
+        and ``director_tilt``, the angle between the director and the area-weighted nodal
+        normal of the block (rad; the transverse shear rotation); 0 at nodes outside it."""
+        inside = np.zeros(self.n_nodes, dtype=bool)
+        inside[self.connectivity] = True
+        normals = nodal_normals(state.positions, self.connectivity)
+        cosine = np.sum(state.directors * np.where(inside[:, None], normals, 0.0), axis=1)
+        return {
+            "thickness": np.where(inside, self.h, 0.0),
+            "director_tilt": np.where(inside, np.arccos(np.clip(cosine, -1.0, 1.0)), 0.0),
         }
 
     def total_mass(self) -> float:

@@ -113,6 +113,31 @@ def test_compare_runs_both_kinematics_against_the_beam_closed_form(tmp_path):
     assert set(comparison["runs"]) == {"fibrous", "mindlin"}
 
 
+def test_both_shells_write_the_common_fields_and_the_beam_moment(tmp_path):
+    """The fields of README "Output fields" under the same names and shapes for both shells;
+    the warp bending moment per unit width against the cantilever's q (L - x)^2 / 2 on the
+    half by the clamp (measured: 3.5 % of the root moment for the fibrous shell, whose
+    curvature is constant per cell from the folds of its sides, 1.7 % for the Mindlin shell;
+    tolerance 5 %)."""
+    case = load_case(write(tmp_path, CANTILEVER))
+    runs = compare_case(case, tmp_path / "out", progress=False)
+    q = 8.154943934760449e-12 * 9810.0
+    centre = case.mesh.points[case.mesh.triangles].mean(axis=1)[:, 0]
+    exact = q * (100.0 - centre) ** 2 / 2
+    near = centre < 50.0
+    for kinematics, run in runs.items():
+        result = run.result
+        assert result.field("thickness").shape == (case.mesh.n_nodes,)
+        assert result.field("director_tilt").shape == (case.mesh.n_nodes,)
+        assert result.field("membrane_force").shape == (len(case.mesh.triangles), 3)
+        moment = np.abs(result.field("bending_moment")[:, 0])
+        error = np.abs(moment - exact)[near].max() / exact.max()
+        assert error < 0.05, (kinematics, error)
+    # the thickness along the director: h for the Mindlin section, h_m >= h for the fabric
+    assert np.allclose(runs["mindlin"].result.field("thickness"), 0.2)
+    assert (runs["fibrous"].result.field("thickness") >= 0.2 - 1e-12).all()
+
+
 def test_the_mindlin_calibration_bends_like_the_fabric():
     """ElasticShell.equivalent: plate bending stiffness E h^3 / 12 (nu = 0) = B per direction,
     G12 h = K, mass per area = rho_A (the rule stated in its docstring, Bai §6)."""
