@@ -625,14 +625,63 @@ class Mesh:
     # ----------------------------------------------------------------------------------------
 
     @classmethod
+    def from_quads(
+        cls,
+        points: ArrayLike,
+        quads: ArrayLike,
+        node_sets: Mapping[str, ArrayLike] | None = None,
+        quad_sets: Mapping[str, ArrayLike] | None = None,
+    ) -> Mesh:
+        """A triangle mesh from a quadrilateral one, each quad (a, b, c, d) split into
+        (a, b, d) and (c, d, b): every triangle keeps two sides of its quad meeting at a
+        corner, so a quad mesh whose sides follow the warp and the weft gives the
+        fibre-aligned triangles the fibrous shell needs (one side along each family).
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 3) or (n, 2)
+        quads : array_like of int, shape (q, 4)
+            Node ids of each quad in cyclic order.
+        node_sets : mapping name -> node ids, optional
+        quad_sets : mapping name -> quad ids, optional
+            Become triangle sets: quad i is triangles 2 i and 2 i + 1.
+
+        Returns
+        -------
+        Mesh
+
+        Raises
+        ------
+        ValueError
+            Quads not of shape (q, 4), node ids out of range, or a quad set out of range.
+        """
+        quads = np.asarray(quads)
+        if quads.ndim != 2 or quads.shape[1] != 4 or len(quads) == 0:
+            raise ValueError(f"quads must have shape (q, 4) with q >= 1, got {quads.shape}")
+        sets = {}
+        for name, ids in (quad_sets or {}).items():
+            ids = np.asarray(ids, dtype=np.int64).ravel()
+            if ids.size and (ids.min() < 0 or ids.max() >= len(quads)):
+                raise ValueError(f"quad set {name!r} refers to quads outside 0..{len(quads) - 1}")
+            sets[name] = np.column_stack([2 * ids, 2 * ids + 1]).ravel()
+        return cls(
+            points,
+            triangles=_split_quads(quads.astype(np.int64)),
+            node_sets=node_sets,
+            element_sets=sets,
+        )
+
+    @classmethod
     def read(cls, path: str | Path, file_format: str | None = None) -> Mesh:
         """Read a mesh file through meshio (.msh, .vtu, .inp, ...).
 
         Keeps the cells of the kinds in CELL_KINDS ("triangle" and "line") and ignores
-        "vertex" cells. Named sets come back from Abaqus NSET/ELSET (.inp), from the
-        "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other formats, and from
-        named gmsh physical groups (dimension 0 -> node set, 1 -> line set, 2 -> element set;
-        in general, dimension d -> a set of the cell kinds of dimension d).
+        "vertex" cells; quadrilaterals (gmsh quads, Abaqus S4/S4R) are split in two triangles
+        each as :meth:`from_quads` does (fibre-aligned when their sides follow the fibres),
+        their sets and cell data following them. Named sets come back from Abaqus NSET/ELSET
+        (.inp), from the "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other
+        formats, and from named gmsh physical groups (dimension 0 -> node set, 1 -> line set,
+        2 -> element set; in general, dimension d -> a set of the cell kinds of dimension d).
 
         Parameters
         ----------
@@ -1143,7 +1192,40 @@ def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None
     store[name] = np.union1d(store[name], ids) if name in store else ids
 
 
+def _split_quad_blocks(raw: meshio.Mesh) -> meshio.Mesh:
+    """``raw`` with each "quad" block replaced by its triangles (``_split_quads``): quad i of
+    a block is triangles 2 i and 2 i + 1 of it, in its cell sets and cell data too."""
+    if "quad" in CELL_KINDS or not any(block.type == "quad" for block in raw.cells):
+        return raw  # no quads, or a registered quad kind that keeps them
+    quad = [block.type == "quad" for block in raw.cells]
+    cells = [
+        meshio.CellBlock("triangle", _split_quads(np.asarray(block.data))) if is_quad else block
+        for block, is_quad in zip(raw.cells, quad)
+    ]
+
+    def doubled(per_block, index_list: bool):
+        out = []
+        for data, is_quad in zip(per_block, quad):
+            data = np.asarray(data)
+            if is_quad and index_list:
+                data = np.column_stack([2 * data, 2 * data + 1]).ravel()
+            elif is_quad:
+                data = np.repeat(data, 2, axis=0)
+            out.append(data)
+        return out
+
+    return meshio.Mesh(
+        raw.points,
+        cells,
+        point_data=raw.point_data,
+        cell_data={name: doubled(v, False) for name, v in raw.cell_data.items()},
+        point_sets=raw.point_sets,
+        cell_sets={name: doubled(v, True) for name, v in raw.cell_sets.items()},
+    )
+
+
 def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
+    raw = _split_quad_blocks(raw)
     # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
     kind_of = _kind_of_meshio()
     kinds = [kind_of.get(block.type, block.type) for block in raw.cells]

@@ -79,8 +79,10 @@ class Result:
     converged : bool
         Whether the solver reached its goal.
     energies : dict[str, numpy.ndarray]
-        ``{"time", "kinetic", "internal", "external_work", "damping"}`` arrays (N mm, time in
-        s), one entry per recorded step (explicit solver; empty otherwise).
+        The explicit solver: ``{"time", "kinetic", "internal", "external_work", "damping"}``
+        arrays (N mm, time in s), one entry per recorded step. Static: ``{"time",
+        "internal"}``, the strain energy of each frame (time = load factor). Dynamic
+        relaxation: empty.
     info : dict[str, Any]
         Solver-specific figures (time step, added mass, iterations per increment, ...).
     has_rotation : numpy.ndarray of bool, shape (n,), optional

@@ -86,9 +86,10 @@ def run_case(
 def history_rows(case: Case, result: Result) -> list[dict]:
     """One row per frame: frame, time (s), load_factor, the reaction sums over each
     ``history.reactions`` set (N) and the mean displacement of each ``history.displacements``
-    set (mm), then the energies (N mm) where the solver records them (explicit runs),
-    interpolated at the frame times."""
+    set (mm), then the energies (N mm) the solver records: per frame (Static: the strain
+    energy "energy_internal"), or interpolated at the frame times (explicit runs)."""
     energies = result.energies if result.energies else {}
+    frame_times = np.array([frame.time for frame in result.frames])
     rows = []
     for index, frame in enumerate(result.frames):
         row: dict[str, Any] = {"frame": index, "time": frame.time, "load_factor": frame.load_factor}
@@ -99,7 +100,11 @@ def history_rows(case: Case, result: Result) -> list[dict]:
             nodes = case.mesh.nodes(name)
             mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
             row.update({f"displacement_{name}_{axis}": mean[i] for i, axis in enumerate("xyz")})
-        if energies and len(energies.get("time", ())) > 0:
+        times = np.asarray(energies.get("time", ()))
+        if len(times) == len(result.frames) and np.array_equal(times, frame_times):  # per frame
+            row.update({f"energy_{key}": values[index] for key, values in energies.items()
+                        if key != "time"})  # fmt: skip
+        elif len(times) > 0:
             for key in ("kinetic", "internal", "external_work", "damping"):
                 if key in energies:
                     row[f"energy_{key}"] = float(

@@ -1015,6 +1015,7 @@ class _Run:
         self._tangent = _Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
         self.frames = [make_frame(model, self.state)]
+        self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
         self.mode: _Motion | None = None  # the next arc-length increment starts along it
@@ -1222,6 +1223,7 @@ class _Run:
         f_ext, m_ext, _ = self.solver.loads(model, self.reached)
         reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
         self.frames.append(make_frame(model, state, reactions, reaction_moments))
+        self.strain_energies.append(model.strain_energy(state))
         self.progress(
             f"load factor {self.reached:.4g} converged in {iterations} Newton iterations",
             force=True,
@@ -1249,6 +1251,7 @@ class _Run:
         )
         if self.reached > self.frames[-1].load_factor:  # keep the last good state
             self.frames.append(make_frame(self.model, self.state))
+            self.strain_energies.append(self.model.strain_energy(self.state))
         error.result = self.result(False)
         error.load_factor = self.reached
         return error
@@ -1258,6 +1261,10 @@ class _Run:
         result.steps = int(sum(self.info["iterations_per_increment"]))
         result.wall_time = time.perf_counter() - self.started
         result.converged = converged
+        result.energies = {
+            "time": np.array([frame.time for frame in self.frames]),
+            "internal": np.array(self.strain_energies),
+        }
         self.info["linear_solver"] = {
             "symbolic_factorisations": self.linear.symbolic,
             "numeric_factorisations": self.linear.numeric,

@@ -379,11 +379,15 @@ def test_read_rejects_files_without_triangles_or_lines(tmp_path):
 
 
 def test_read_rejects_unsupported_cell_types(tmp_path):
-    path = tmp_path / "quad.vtu"
-    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
-    meshio.write(path, meshio.Mesh(points, [("quad", np.array([[0, 1, 2, 3]]))]))
-    with pytest.raises(ValueError, match=r"\['quad'\] cells"):
+    path = tmp_path / "tetra.vtu"
+    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    meshio.write(path, meshio.Mesh(points, [("tetra", np.array([[0, 1, 2, 3]]))]))
+    with pytest.raises(ValueError, match=r"\['tetra'\] cells"):
         Mesh.read(path)
+    quad = tmp_path / "quad.vtu"  # quads are read as two triangles each (from_quads)
+    square = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
+    meshio.write(quad, meshio.Mesh(square, [("quad", np.array([[0, 1, 2, 3]]))]))
+    assert Mesh.read(quad).triangles.tolist() == [[0, 1, 3], [2, 3, 1]]
 
 
 def test_unknown_suffix_missing_file_and_empty_mesh_are_errors(tmp_path):
@@ -508,3 +512,39 @@ def test_a_new_cell_kind_is_one_table_entry(with_quads, tmp_path):
         np.testing.assert_array_equal(back.cells("quad"), mesh.cells("quad"))
         np.testing.assert_array_equal(back.triangles, mesh.triangles)
         np.testing.assert_array_equal(back.cell_sets("quad")["left"], [0])
+
+
+def test_a_quad_mesh_is_split_into_fibre_aligned_triangles_on_read(tmp_path):
+    """An Abaqus S4R mesh (what a forming engineer's blank often is) is read as triangles: each
+    quad (a, b, c, d) gives (a, b, d) and (c, d, b), the split Mesh.rectangle makes, so a grid
+    along the fibres gives the same triangles, element sets and a model the fibrous shell
+    accepts (one side of each triangle along the warp, one along the weft)."""
+    from elements import FibrousShell
+    from femcore import Model
+    from femcore.mesh import _grid_quads
+    from materials import presets
+
+    grid = Mesh.rectangle(40.0, 20.0, nx=4, ny=2)
+    quads = _grid_quads(4, 2)
+    path = tmp_path / "blank.inp"  # as Abaqus/CAE writes it: 1-based ids, S4R shells
+    nodes = "\n".join(
+        f"{i + 1}, {x:.6f}, {y:.6f}, {z:.6f}" for i, (x, y, z) in enumerate(grid.points)
+    )
+    elements = "\n".join(
+        f"{q + 1}, " + ", ".join(str(n + 1) for n in quad) for q, quad in enumerate(quads)
+    )
+    path.write_text(
+        f"*NODE\n{nodes}\n*ELEMENT, TYPE=S4R, ELSET=BLANK\n{elements}\n"
+        "*ELSET, ELSET=half\n1, 2, 5, 6\n"
+    )
+    mesh = Mesh.read(path)
+    assert np.array_equal(mesh.triangles, grid.triangles)
+    assert np.array_equal(np.sort(mesh.element_sets["half"]), [0, 1, 2, 3, 8, 9, 10, 11])
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_ply()))
+    model.compile()
+    same = Mesh.from_quads(grid.points, quads, quad_sets={"half": [0, 1, 4, 5]})
+    assert np.array_equal(same.triangles, grid.triangles)
+    assert np.array_equal(same.element_sets["half"], mesh.element_sets["half"])
+    with pytest.raises(ValueError, match=r"shape \(q, 4\)"):
+        Mesh.from_quads(grid.points, quads[:, :3])

@@ -25,9 +25,10 @@ def test_list_names_every_case(capsys):
 
 @pytest.fixture(scope="module")
 def coarse_report(tmp_path_factory):
-    """One coarse run of every case (the paper cases included), shared by the tests below."""
+    """One coarse run of every case (the paper cases included), shared by the tests below; two
+    cases at a time, in two worker processes (--jobs 2)."""
     out = tmp_path_factory.mktemp("report")
-    assert main(["--resolution", "coarse", "--out", str(out)]) == 0
+    assert main(["--resolution", "coarse", "--out", str(out), "--jobs", "2"]) == 0
     return out, json.loads((out / "results.json").read_text())
 
 
@@ -110,6 +111,8 @@ def test_the_paper_cases_check_the_slip_kinematics_and_the_eq15_directors(coarse
     [
         (["--cases", "no-such-case"], "unknown case name"),
         (["--resolution", "huge"], "unknown resolution"),
+        (["--jobs", "0"], "--jobs must be a whole number >= 1"),
+        (["--out", str(ROOT / "README.md")], "is a file: give a folder"),
     ],
 )
 def test_bad_arguments_give_a_clear_error(argv, message, capsys):

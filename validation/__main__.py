@@ -23,7 +23,14 @@ def parse(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--cases", default=None, help="comma-separated case names (default: all)")
     parser.add_argument("--resolution", default="default", help="|".join(RESOLUTIONS))
     parser.add_argument("--out", default="report", help="report folder (default: report)")
+    parser.add_argument(
+        "--jobs", type=int, default=1, help="cases run at once in parallel processes (default 1)"
+    )
     args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error(f"--jobs must be a whole number >= 1, got {args.jobs}")
+    if Path(args.out).exists() and not Path(args.out).is_dir():
+        parser.error(f"--out {args.out!r} is a file: give a folder for the report")
     if args.resolution not in RESOLUTIONS:
         parser.error(
             f"unknown resolution {args.resolution!r}: expected one of {', '.join(RESOLUTIONS)}"
@@ -51,7 +58,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     started = time.perf_counter()
     out = Path(args.out)
-    report = run_cases(args.cases, args.resolution, out)
+    report = run_cases(args.cases, args.resolution, out, jobs=args.jobs)
     results = report.cases.values()
     failed = sum(not c.passed for r in results for c in r.outcome.checks)
     errors = sum(r.outcome.error is not None for r in results)

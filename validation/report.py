@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import html
 import json
+import multiprocessing
+import os
 import platform
 import time
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from datetime import UTC, datetime
 from pathlib import Path
@@ -37,8 +40,22 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
     return CaseResult(case=case, outcome=outcome, case_time_s=time.perf_counter() - started)
 
 
+def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):
+    """``run_case`` in a worker process: (outcome without its figure data, which stays with
+    the worker that drew it, and the case time)."""
+    import numba
+
+    numba.set_num_threads(threads)  # the cores are shared between the workers
+    result = run_case(name, resolution, out_dir)
+    return replace(result.outcome, data=None), result.case_time_s
+
+
 def run_cases(
-    names: list[str], resolution: str, out_dir: Path, echo: Callable[..., Any] = print
+    names: list[str],
+    resolution: str,
+    out_dir: Path,
+    echo: Callable[..., Any] = print,
+    jobs: int = 1,
 ) -> Report:
     """Run the named cases, write the report into ``out_dir``, return it.
 
@@ -52,6 +69,8 @@ def run_cases(
         The report folder: results.json, index.html, the figures and the VTU/XDMF files.
     echo : callable, optional
         Progress printer (``print`` signature).
+    jobs : int, optional
+        Cases run at once, each in its own process (1: one after another, here).
 
     Returns
     -------
@@ -60,17 +79,36 @@ def run_cases(
     """
     out_dir.mkdir(parents=True, exist_ok=True)
     results = {}
-    for i, name in enumerate(names, 1):
-        echo(f"[{i}/{len(names)}] {name}: {CASES[name].title} ...", end=" ", flush=True)
-        result = run_case(name, resolution, out_dir)
+
+    def done(i: int, result: CaseResult, before: str = "") -> None:
         checks = result.outcome.checks
         status = (
             "ERROR " + result.outcome.error
             if result.outcome.error is not None
             else f"{result.passed}/{len(checks)} checks passed"
         )
-        echo(f"{result.case_time_s:.1f} s, {status}")
-        results[name] = result
+        echo(f"{before}{result.case_time_s:.1f} s, {status}")
+
+    if jobs <= 1:
+        for i, name in enumerate(names, 1):
+            echo(f"[{i}/{len(names)}] {name}: {CASES[name].title} ...", end=" ", flush=True)
+            results[name] = run_case(name, resolution, out_dir)
+            done(i, results[name])
+    else:
+        # Spawned workers: numba's thread pool must not be forked.
+        context = multiprocessing.get_context("spawn")
+        threads = max(1, (os.cpu_count() or 1) // jobs)
+        with ProcessPoolExecutor(jobs, mp_context=context) as pool:
+            futures = {
+                pool.submit(_run_in_worker, name, resolution, out_dir, threads): name
+                for name in names
+            }
+            for count, future in enumerate(as_completed(futures), 1):
+                name = futures[future]
+                outcome, seconds = future.result()
+                results[name] = CaseResult(case=CASES[name], outcome=outcome, case_time_s=seconds)
+                done(count, results[name], f"[{count}/{len(names)}] {name}: {CASES[name].title}: ")
+        results = {name: results[name] for name in names}  # report order
     report = Report(
         generated=datetime.now(UTC).isoformat(timespec="seconds"),
         resolution=resolution,
