@@ -89,10 +89,14 @@ def empty_result(model: CompiledModel, frames: list[Frame]) -> Result:
 
 
 def resolve_progress(progress: bool | None) -> bool:
-    """Progress lines are shown unless asked otherwise (``progress=False``): on a terminal, in
-    a notebook and in a log alike; never under pytest unless asked (a test's output is noise)."""
+    """Progress lines are shown unless asked otherwise: on a terminal, in a notebook and in a
+    log alike. Off with ``progress=False``, with the environment variable
+    FIBRESHELL_PROGRESS=0 (the validation report, which prints a line per case, sets it), and
+    under pytest unless asked (a test's output is noise)."""
     if progress is not None:
         return bool(progress)
+    if os.environ.get("FIBRESHELL_PROGRESS", "1") == "0":
+        return False
     return "PYTEST_CURRENT_TEST" not in os.environ
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -24,7 +25,10 @@ def parse(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--resolution", default="default", help="|".join(RESOLUTIONS))
     parser.add_argument("--out", default="report", help="report folder (default: report)")
     parser.add_argument(
-        "--jobs", type=int, default=1, help="cases run at once in parallel processes (default 1)"
+        "--jobs",
+        type=int,
+        default=os.cpu_count() or 1,
+        help="cases run at once in parallel processes (default: one per core)",
     )
     args = parser.parse_args(argv)
     if args.jobs < 1:

@@ -78,9 +78,36 @@ def run_cases(
         Every case's outcome; a case that raised is recorded as failed and the others run.
     """
     out_dir.mkdir(parents=True, exist_ok=True)
-    results = {}
+    # One line per case here: the solvers' own progress lines stay off (workers inherit it).
+    before = os.environ.get("FIBRESHELL_PROGRESS")
+    os.environ["FIBRESHELL_PROGRESS"] = "0"
+    try:
+        results = _run_all(names, resolution, out_dir, echo, jobs)
+    finally:
+        if before is None:
+            del os.environ["FIBRESHELL_PROGRESS"]
+        else:
+            os.environ["FIBRESHELL_PROGRESS"] = before
+    report = Report(
+        generated=datetime.now(UTC).isoformat(timespec="seconds"),
+        resolution=resolution,
+        machine=f"{platform.platform()}, Python {platform.python_version()}, "
+        f"numpy {np.__version__}",
+        cases=results,
+    )
+    content = _strict(report.to_json())
+    (out_dir / "results.json").write_text(json.dumps(content, indent=2, allow_nan=False))
+    (out_dir / "index.html").write_text(render_html(content))
+    return report
 
-    def done(i: int, result: CaseResult, before: str = "") -> None:
+
+def _run_all(
+    names: list[str], resolution: str, out_dir: Path, echo: Callable[..., Any], jobs: int
+) -> dict[str, CaseResult]:
+    """The cases of ``run_cases``, one after another or in ``jobs`` worker processes."""
+    results: dict[str, CaseResult] = {}
+
+    def done(result: CaseResult, before: str = "") -> None:
         checks = result.outcome.checks
         status = (
             "ERROR " + result.outcome.error
@@ -93,7 +120,7 @@ def run_cases(
         for i, name in enumerate(names, 1):
             echo(f"[{i}/{len(names)}] {name}: {CASES[name].title} ...", end=" ", flush=True)
             results[name] = run_case(name, resolution, out_dir)
-            done(i, results[name])
+            done(results[name])
     else:
         # Spawned workers: numba's thread pool must not be forked.
         context = multiprocessing.get_context("spawn")
@@ -107,19 +134,9 @@ def run_cases(
                 name = futures[future]
                 outcome, seconds = future.result()
                 results[name] = CaseResult(case=CASES[name], outcome=outcome, case_time_s=seconds)
-                done(count, results[name], f"[{count}/{len(names)}] {name}: {CASES[name].title}: ")
+                done(results[name], f"[{count}/{len(names)}] {name}: {CASES[name].title}: ")
         results = {name: results[name] for name in names}  # report order
-    report = Report(
-        generated=datetime.now(UTC).isoformat(timespec="seconds"),
-        resolution=resolution,
-        machine=f"{platform.platform()}, Python {platform.python_version()}, "
-        f"numpy {np.__version__}",
-        cases=results,
-    )
-    content = _strict(report.to_json())
-    (out_dir / "results.json").write_text(json.dumps(content, indent=2, allow_nan=False))
-    (out_dir / "index.html").write_text(render_html(content))
-    return report
+    return results
 
 
 def _strict(value: Any) -> Any:
