@@ -186,16 +186,25 @@ def _add_cross_pull(x, c, gx, gy, gz, force):
 
 
 @_serial
-def _corner(x, c, k):
-    """The angle alpha_k of cell c at corner k and its two edges u = x_(k+1) - x_k and
-    w = x_(k+2) - x_k: (alpha, ux, uy, uz, wx, wy, wz)."""
+def _corner_edges(x, c, k):
+    """The two edges of cell c at corner k, u = x_(k+1) - x_k and w = x_(k+2) - x_k:
+    (ux, uy, uz, wx, wy, wz)."""
     q, r = (k + 1) % 3, (k + 2) % 3
-    ux = x[c, q, 0] - x[c, k, 0]
-    uy = x[c, q, 1] - x[c, k, 1]
-    uz = x[c, q, 2] - x[c, k, 2]
-    wx = x[c, r, 0] - x[c, k, 0]
-    wy = x[c, r, 1] - x[c, k, 1]
-    wz = x[c, r, 2] - x[c, k, 2]
+    return (
+        x[c, q, 0] - x[c, k, 0],
+        x[c, q, 1] - x[c, k, 1],
+        x[c, q, 2] - x[c, k, 2],
+        x[c, r, 0] - x[c, k, 0],
+        x[c, r, 1] - x[c, k, 1],
+        x[c, r, 2] - x[c, k, 2],
+    )
+
+
+@_serial
+def _corner(x, c, k):
+    """The angle alpha_k of cell c at corner k and its two edges (``_corner_edges``):
+    (alpha, ux, uy, uz, wx, wy, wz)."""
+    ux, uy, uz, wx, wy, wz = _corner_edges(x, c, k)
     sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
     angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
     return angle, ux, uy, uz, wx, wy, wz
@@ -405,12 +414,7 @@ def _normal_pull_cell(x, c, pull, connectivity, angles, force):
         node = connectivity[c, k]
         px, py, pz = pull[node, 0], pull[node, 1], pull[node, 2]
         angle = angles[c, k]
-        ux = x[c, q, 0] - x[c, k, 0]
-        uy = x[c, q, 1] - x[c, k, 1]
-        uz = x[c, q, 2] - x[c, k, 2]
-        wx = x[c, r, 0] - x[c, k, 0]
-        wy = x[c, r, 1] - x[c, k, 1]
-        wz = x[c, r, 2] - x[c, k, 2]
+        ux, uy, uz, wx, wy, wz = _corner_edges(x, c, k)
         u_len = np.sqrt(ux * ux + uy * uy + uz * uz)
         w_len = np.sqrt(wx * wx + wy * wy + wz * wz)
         # d alpha_k / dx at the next corner: -(n x u / |u|) / |u|; at the previous one:

@@ -7,7 +7,8 @@ the format does not know is an error, not ignored. The format (README "Case file
 ```toml
 title = "G1151 strip under its own weight"     # optional
 [mesh]
-rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh" (meshio)
+rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh" (meshio),
+# or: corner = { lx = 200.0, ly = 150.0, n = 20 } (the corner specimen of Bai §6)
 [sets]                                   # optional named node sets, by bounds (mesh units)
 tip = { x_min = 199.9 }
 [[part]]
@@ -286,10 +287,14 @@ def _amplitude(where: _Where, value: Any) -> str:
 
 
 def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
-    table = _table(top, value, "mesh", ("rectangle", "file"))
+    table = _table(top, value, "mesh", ("rectangle", "corner", "file"))
     where = top.child("mesh")
-    if ("rectangle" in table) == ("file" in table):
-        raise where.error(None, 'give exactly one of rectangle = {...} or file = "..."')
+    if len(table) != 1:
+        raise where.error(
+            None, 'give exactly one of rectangle = {...}, corner = {...} or file = "..."'
+        )
+    if "corner" in table:
+        return _corner(where, table["corner"])
     if "file" in table:
         if not isinstance(table["file"], str):
             raise where.error("file", f"expected a path string, got {table['file']!r}")
@@ -313,6 +318,20 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
         )  # fmt: skip
     except ValueError as error:
         raise inner.error(None, str(error)) from None
+
+
+def _corner(where: _Where, value: Any) -> Mesh:
+    """The corner specimen of Bai §6: the free triangle of an lx x ly rectangle beyond its
+    diagonal, n x n cells before the cut, with node sets "clamp" (the diagonal) and "corner"
+    (the free corner at the origin); validation.specimens.corner."""
+    from validation.specimens import corner
+
+    table = _table(where, value, "corner", ("lx", "ly", "n"), ("lx", "ly", "n"))
+    inner = where.child("corner")
+    if isinstance(table["n"], bool) or not isinstance(table["n"], int) or table["n"] < 2:
+        raise inner.error("n", f"expected a whole number of cells >= 2, got {table['n']!r}")
+    lx, ly = _number(inner, table["lx"], "lx"), _number(inner, table["ly"], "ly")
+    return corner(lx, ly, table["n"]).mesh
 
 
 def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -> np.ndarray:

@@ -10,7 +10,7 @@ import numpy as np
 from fibreshell.case import Case
 from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
 
-__all__ = ["COLOURS", "compare_case", "path_figure"]
+__all__ = ["COLOURS", "compare_case", "path_figure", "view_3d"]
 
 KINEMATICS = ("fibrous", "mindlin")
 COLOURS = {"fibrous": "tab:blue", "mindlin": "tab:orange"}  # the same in every figure
@@ -21,8 +21,10 @@ def compare_case(
 ) -> dict[str, Run]:
     """Run ``case`` with both kinematics into ``out/fibrous`` and ``out/mindlin`` and write
     ``out/comparison.json`` (both summaries and, per history set and path, the differences)
-    and one figure per path (``out/path-<name>.png``: the side elevation with the drawn
-    through-thickness lines, the director angle and the thickness along the director).
+    ``out/view-3d.png`` (both deformed shells at true scale, the directors drawn across the
+    thickness along the paths) and one figure per path (``out/path-<name>.png``: the side
+    elevation with the drawn through-thickness lines, the director angle and the thickness
+    along the director).
 
     Raises
     ------
@@ -61,6 +63,7 @@ def compare_case(
         },
         "figures": [],
     }
+    comparison["figures"].append(view_3d(case, runs, out).name)
     for name in case.paths:
         comparison["figures"].append(path_figure(case, runs, name, out).name)
     (out / "comparison.json").write_text(strict_json(comparison))
@@ -109,5 +112,47 @@ def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path) -> Path:
     figure.suptitle(f"{case.title}: fibrous shell and calibrated Mindlin shell")
     path = out / f"path-{name}.png"
     figure.savefig(path, dpi=110)
+    plt.close(figure)
+    return path
+
+
+def view_3d(case: Case, runs: dict[str, Run], out: Path) -> Path:
+    """Both deformed shells side by side at true scale (equal axes), the directors drawn
+    across the thickness at the nodes of the paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
+
+    h = section_thickness(case)
+    triangles = case.mesh.triangles
+    figure = plt.figure(figsize=(14, 5.5), constrained_layout=True)
+    everything = np.vstack([run.result.positions for run in runs.values()])
+    low, high = everything.min(axis=0) - h, everything.max(axis=0) + h
+    for i, (kinematics, run) in enumerate(runs.items()):
+        axis = figure.add_subplot(1, len(runs), i + 1, projection="3d")
+        x = run.result.positions
+        if len(triangles):
+            axis.plot_trisurf(
+                x[:, 0], x[:, 1], x[:, 2], triangles=triangles, alpha=0.35,
+                color=COLOURS[kinematics], linewidth=0.1, edgecolor="0.4",
+            )  # fmt: skip
+        thickness = run.result.thickness
+        for nodes in case.paths.values():
+            t = thickness[nodes] if thickness is not None else np.full(len(nodes), h)
+            d = run.result.directors[nodes]
+            for a, b in zip(x[nodes] - 0.5 * t[:, None] * d, x[nodes] + 0.5 * t[:, None] * d):
+                axis.plot(*np.column_stack([a, b]), color="k", linewidth=1.2)
+        for setter, a, b in zip((axis.set_xlim, axis.set_ylim, axis.set_zlim), low, high):
+            setter(a, b)
+        axis.set_box_aspect(np.maximum(high - low, 1e-9))
+        axis.view_init(elev=22, azim=-130)
+        for ticks in (axis.xaxis, axis.yaxis, axis.zaxis):  # readable ticks at true scale
+            ticks.set_major_locator(MaxNLocator(nbins=4))
+        axis.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
+        axis.set_title(f"{kinematics}: deformed, true scale; directors along the paths")
+    path = out / "view-3d.png"
+    figure.savefig(path, dpi=100)
     plt.close(figure)
     return path

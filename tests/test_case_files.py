@@ -108,8 +108,9 @@ def test_compare_runs_both_kinematics_against_the_beam_closed_form(tmp_path):
         assert -summary["mean_displacements"]["tip"][2] == pytest.approx(exact, rel=0.01)
         assert summary["reactions"]["left"][2] == pytest.approx(q * 1000.0, rel=1e-9)
     comparison = strict_load((tmp_path / "out" / "comparison.json").read_text())
-    assert comparison["figures"] == ["path-edge.png"]
-    assert (tmp_path / "out" / "path-edge.png").stat().st_size > 10_000
+    assert comparison["figures"] == ["view-3d.png", "path-edge.png"]
+    for figure in comparison["figures"]:
+        assert (tmp_path / "out" / figure).stat().st_size > 10_000
     assert set(comparison["runs"]) == {"fibrous", "mindlin"}
 
 
@@ -260,3 +261,19 @@ def test_json_outputs_are_strict():
     data = strict_load(text)
     assert data["a"] is None and data["b"] == [1.0, None] and data["c"] == 2.0
     assert len(data["notes"]) == 2 and "a: inf" in data["notes"][0]
+
+
+@pytest.mark.parametrize("kinematics", ["fibrous", "mindlin"])
+def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
+    """cases/bai-6.2.1.toml (coarse: n = 8) builds the model the validation report builds for
+    bai-6.2.1 (validation.specimens.build: corner specimen, clamp, lift, gravity, the Mindlin
+    calibration) and runs its solver: the same final state (same arithmetic: 1e-12 mm)."""
+    from validation import paper, specimens
+
+    text = (ROOT / "cases" / "bai-6.2.1.toml").read_text().replace("n = 20", "n = 8")
+    run = run_case(load_case(write(tmp_path, text)), tmp_path / "out", kinematics, False)
+    specimen = specimens.corner(200.0, 150.0, 8)
+    model = specimens.build(specimen, kinematics, presets.g1151_laminate(), (None, None, 40.0))
+    expected, _, _ = paper.solve(model, 10)
+    assert run.result.converged and expected.converged
+    np.testing.assert_allclose(run.result.positions, expected.positions, rtol=0, atol=1e-12)

@@ -41,7 +41,12 @@ def test_a_coarse_run_writes_the_report_and_passes_its_checks(coarse_report):
         for figure in case["figures"]:
             assert (out / figure).stat().st_size > 1000
     page = (out / "index.html").read_text()
-    assert "Verification" in page and "FAIL" not in page
+    assert "FAIL" not in page
+    # a reader's page: contents, captions, each case's checks collapsed with their rule
+    assert "<nav><h2>Contents</h2>" in page and "<figcaption>Figure 1." in page
+    assert page.count("<details>") == len(report["cases"])
+    assert "pass if |value - reference| / |reference| &lt;= tolerance" in page
+    assert "(None" not in page and "None," not in page  # no Python reprs in cells
     # Strict JSON: no NaN or Infinity (an unbounded tolerance is written as null).
     json.loads((out / "results.json").read_text(), parse_constant=pytest.fail)
 

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 from femcore import Model
 from femcore.topology import nodal_normals
@@ -341,7 +342,11 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
         parameters={
             "triangles": len(specimen.mesh.triangles),
             "thickness_mm": h,
-            "imposed_displacement_mm": str(tuple(case.displacement)),
+            # (ux, uy, uz) as the reader reads it: "ux free, uy free, uz 40 mm"
+            "imposed_displacement": ", ".join(
+                f"{axis} free" if value is None else f"{axis} {value:g} mm"
+                for axis, value in zip(("ux", "uy", "uz"), case.displacement)
+            ),
             "Mindlin G13/E": case.shear_ratio,
             **case.parameters,
         },
@@ -365,7 +370,9 @@ def render_paper_case(case: PaperCase, runs: PaperRuns, out_dir: Path) -> list[s
             result.write(out_dir / f"{case.name}-{kinematics}.{suffix}")
     return [
         side_figure(case, runs.sides, out_dir),
+        side_elevation(case, runs.sides, out_dir),
         view_3d(case, runs.specimen, runs.results, out_dir),
+        laws_figure(case, runs, out_dir),
     ]
 
 
@@ -665,6 +672,91 @@ def side_figure(case: PaperCase, profiles: dict[str, dict[str, SideProfile]], ou
     return name
 
 
+def side_elevation(
+    case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
+) -> str:
+    """The specimen seen from the side, as the paper photographs it (Bai Figs. 9, 11, 13, 15):
+    per kinematics (rows) and filmed side (columns), the band between the bottom and top
+    surfaces (mid-surface -/+ half the thickness along the director) and the lines drawn
+    through the thickness at every node, along the directors; true scale. Returns the file
+    name."""
+    sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
+    fig, axes = plt.subplots(
+        len(KINEMATICS), len(sides), figsize=(6.5 * len(sides), 2.6 * len(KINEMATICS)),
+        squeeze=False, constrained_layout=True,
+    )  # fmt: skip
+    for row, kinematics in enumerate(KINEMATICS):
+        for column, side in enumerate(sides):
+            data = profiles[kinematics][side]
+            x = np.asarray(data.midsurface)
+            u = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1))]
+            angle = np.radians(np.asarray(data.director_angle_deg))
+            half = 0.5 * np.asarray(data.thickness)
+            du, dz = half * np.cos(angle), half * np.sin(angle)
+            bottom, top = (u - du, x[:, 2] - dz), (u + du, x[:, 2] + dz)
+            band = np.column_stack([np.r_[bottom[0], top[0][::-1]], np.r_[bottom[1], top[1][::-1]]])
+            axis = axes[row, column]
+            axis.fill(band[:, 0], band[:, 1], color=COLOURS[kinematics], alpha=0.25, lw=0)
+            axis.plot(*bottom, color=COLOURS[kinematics], lw=0.8)
+            axis.plot(*top, color=COLOURS[kinematics], lw=0.8)
+            for k in range(len(u)):
+                axis.plot([bottom[0][k], top[0][k]], [bottom[1][k], top[1][k]], color="k", lw=0.9)
+            axis.set_aspect("equal", adjustable="datalim")
+            axis.grid(True, alpha=0.3)
+            axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize="medium")
+            axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
+    fig.suptitle(
+        f"{case.name}: the sides seen from the side, true scale (cf. the paper's photographs)"
+    )
+    name = f"{case.name}-side-elevation.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
+def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
+    """The fabric's laws (cf. Bai Fig. 7 for bending) from 0 over the range the fibrous run
+    reached (they are odd, or zero in compression), warp and weft, with the Mindlin
+    calibration's linear bending (E h^3 / 12 = the initial slope) dashed. Returns the file
+    name."""
+    fabric = case.fabric
+    fields = runs.results["fibrous"].frames[-1].fields.get("triangle", {})
+
+    def reach(names: tuple[str, ...], floor: float) -> float:
+        values = [np.abs(np.asarray(fields[n])) for n in names if n in fields]
+        largest = max((float(np.nanmax(v)) for v in values), default=0.0)
+        return max(1.2 * largest, floor)
+
+    panels = (
+        ("tension", fabric.tension, fabric.tension_weft, ("warp_strain", "weft_strain"), 1e-3,
+         "log strain", "T (N/mm)"),
+        ("in-plane shear", fabric.shear, None, ("shear_angle",), 0.05, "shear angle (rad)",
+         "M_s (N/mm)"),
+        ("bending (cf. Bai Fig. 7)", fabric.bending, fabric.bending_weft,
+         ("warp_curvature", "weft_curvature"), 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
+    )  # fmt: skip
+    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), constrained_layout=True)
+    for axis, (title, warp, weft, names, floor, xlabel, ylabel) in zip(axes, panels):
+        x = np.linspace(0.0, reach(names, floor), 401)  # the laws are odd (or tension-only)
+        axis.plot(x, warp.value(x), color="k", label="warp")
+        if weft is not None and weft is not warp:
+            axis.plot(x, weft.value(x), color="0.5", label="weft")
+        if title.startswith("bending"):
+            initial = float(warp.slope(np.array(0.0)))
+            axis.plot(x, initial * x, ls="--", color=COLOURS["mindlin"],
+                      label="Mindlin calibration E h^3/12")  # fmt: skip
+        axis.set(title=title, xlabel=xlabel, ylabel=ylabel)
+        axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))
+        axis.locator_params(axis="x", nbins=5)
+        axis.grid(True, alpha=0.3)
+        axis.legend(fontsize="small")
+    fig.suptitle(f"{case.name}: the fabric's laws over the range the fibrous run reached")
+    name = f"{case.name}-laws.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
 def view_3d(
     case: PaperCase, specimen: specimens.Specimen, results: dict[str, Any], out_dir: Path
 ) -> str:
@@ -700,6 +792,8 @@ def view_3d(
         for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), low, high):
             setter(a, b)
         ax.set_box_aspect(high - low)
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # true scale: few ticks on a short axis
+            axis.set_major_locator(MaxNLocator(nbins=4))
         ax.view_init(elev=22, azim=-140)
         ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
         ax.set_title(f"{LABELS[kinematics]}: directors along the sides", fontsize="medium")

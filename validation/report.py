@@ -161,6 +161,8 @@ def _strict(value: Any) -> Any:
 def _number(value) -> str:
     if value is None:  # a non-finite number in results.json (an unbounded tolerance)
         return "none"
+    if isinstance(value, (list, tuple)):  # e.g. an imposed (ux, uy, uz), None = free
+        return ", ".join("free" if v is None else _number(v) for v in value)
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, (int, np.integer)):
@@ -179,10 +181,14 @@ th, td { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; vertica
 th { background: #f2f2f2; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .pass { color: #1a7f37; font-weight: 600; } .fail { color: #c62828; font-weight: 600; }
-figure { display: inline-block; margin: 0.5em; } img { max-width: 520px; border: 1px solid #eee; }
+figure { display: inline-block; margin: 0.5em; max-width: 100%; }
+img { max-width: 100%; height: auto; border: 1px solid #eee; }
+figcaption { font-size: 0.88em; color: #555; max-width: 60em; }
+table { display: block; overflow-x: auto; max-width: 100%; }
+details { margin: 1em 0; } summary { cursor: pointer; font-weight: 600; }
+nav ol { columns: 2; font-size: 0.95em; } @media (max-width: 900px) { nav ol { columns: 1; } }
 pre { background: #f7f7f7; padding: 0.8em; white-space: pre-wrap; font-size: 0.88em; }
 td.small { font-size: 0.85em; max-width: 28em; }
-figure img { max-width: 1060px; }
 p.discussion { max-width: 60em; }
 """
 
@@ -244,27 +250,55 @@ def _summary_rows(name: str, case: dict) -> list[str]:
     return rows
 
 
+def _caption(case: str, figure: str) -> str:
+    """A figure's caption from its file name: "<case>-side-profiles.png" -> "side profiles"."""
+    stem = Path(figure).stem
+    if stem.startswith(case):
+        stem = stem[len(case) :]
+    words = stem.strip("-_ ").replace("_", " ").replace("-", " ")
+    return f"{case}: {words}" if words else case
+
+
+def _checks_table(case: dict) -> str:
+    """The case's checks with the rule of each, in a <details> block, open if one failed."""
+    rows = []
+    for c in case["checks"]:
+        if c["relative"]:
+            rule = "pass if |value - reference| / |reference| <= tolerance"
+        else:
+            rule = "pass if |value - reference| <= tolerance"
+        if c["tolerance"] is None:
+            rule = "reported, no bound (not a pass/fail check)"
+        rows.append(
+            f"<tr><td>{html.escape(c['name'])}</td>"
+            f"<td class='num'>{_number(c['reference'])}</td>"
+            f"<td class='num'>{_number(c['value'])}</td>"
+            f"<td class='num'>{_number(c['error'])}</td>"
+            f"<td class='num'>{_number(c['tolerance'])}</td>"
+            f"<td class='small'>{html.escape(rule)}</td>"
+            f"<td class='{'pass' if c['passed'] else 'fail'}'>"
+            f"{'pass' if c['passed'] else 'FAIL'}</td>"
+            f"<td class='small'>{html.escape(c.get('source', ''))}</td></tr>"
+        )
+    passed = sum(c["passed"] for c in case["checks"])
+    failed = passed < len(case["checks"])
+    return (
+        f"<details{' open' if failed else ''}><summary>Checks: {passed} of "
+        f"{len(case['checks'])} passed</summary><table><tr><th>check</th><th>reference</th>"
+        "<th>value</th><th>error</th><th>tolerance</th><th>rule</th><th>result</th>"
+        f"<th>source</th></tr>{''.join(rows)}</table></details>"
+    )
+
+
 def render_html(report: dict[str, Any]) -> str:
-    """One self-contained page: summary, verification table, then each case in detail.
+    """One self-contained page: contents, summary, then each case in detail: its description,
+    parameters, figures with captions, discussion, files and (collapsed) checks with their
+    rules.
 
     ``report`` is the content of results.json (``Report.to_json``), so that the page can be
     rendered again from that file alone."""
     cases = report["cases"]
     rows = [row for name, case in cases.items() for row in _summary_rows(name, case)]
-    check_rows = []
-    for name, case in cases.items():
-        for c in case["checks"]:
-            kind = "relative" if c["relative"] else "absolute"
-            check_rows.append(
-                f"<tr><td>{html.escape(name)}</td><td>{html.escape(c['name'])}</td>"
-                f"<td class='num'>{_number(c['reference'])}</td>"
-                f"<td class='num'>{_number(c['value'])}</td>"
-                f"<td class='num'>{_number(c['error'])}</td>"
-                f"<td class='num'>{_number(c['tolerance'])} ({kind})</td>"
-                f"<td class='{'pass' if c['passed'] else 'fail'}'>"
-                f"{'pass' if c['passed'] else 'FAIL'}</td>"
-                f"<td>{html.escape(c.get('source', ''))}</td></tr>"
-            )
     sections = []
     for name, case in cases.items():
         parameters = "".join(
@@ -272,8 +306,9 @@ def render_html(report: dict[str, Any]) -> str:
             for k, v in case["parameters"].items()
         )
         figures = "".join(
-            f"<figure><img src='{html.escape(f)}' alt='{html.escape(f)}'></figure>"
-            for f in case["figures"]
+            f"<figure><img src='{html.escape(f)}' alt='{html.escape(_caption(name, f))}'>"
+            f"<figcaption>Figure {i}. {html.escape(_caption(name, f))}</figcaption></figure>"
+            for i, f in enumerate(case["figures"], 1)
         )
         error = (
             f"<p class='fail'>The case failed: {html.escape(case['error'])}</p>"
@@ -301,8 +336,14 @@ def render_html(report: dict[str, Any]) -> str:
             f"{error}<pre>{html.escape(case['description'])}</pre>"
             f"<p>Solver: {html.escape(case.get('solver', ''))}; {case['steps']} steps/iterations; "
             f"{case['wall_time_s']:.2f} s.</p>"
-            f"<table>{parameters}</table>{figures}{discussion}{files}</section>"
+            f"<table>{parameters}</table>{figures}{discussion}{files}"
+            f"{_checks_table(case)}</section>"
         )
+    contents = "".join(
+        f"<li><a href='#{html.escape(name)}'>{html.escape(name)}</a>: "
+        f"{html.escape(case['title'])}</li>"
+        for name, case in cases.items()
+    )
     n_checks = sum(len(c["checks"]) for c in cases.values())
     n_passed = sum(sum(x["passed"] for x in c["checks"]) for c in cases.values())
     return f"""<!DOCTYPE html>
@@ -313,14 +354,13 @@ def render_html(report: dict[str, Any]) -> str:
 <b>{html.escape(report["resolution"])}</b>
 on {html.escape(report["machine"])}. <b>{n_passed} of {n_checks}</b> checks passed.</p>
 {INTRODUCTION}
+<nav><h2>Contents</h2><ol>{contents}</ol></nav>
 <h2>Summary</h2>
 <table><tr><th>case</th><th>what</th><th>element</th><th>solver</th><th>converged</th>
 <th>time (s)</th><th>steps</th><th>key numbers</th><th>checks</th></tr>{"".join(rows)}</table>
-<h2>Verification</h2>
 <p>Every check compares a computed value with a closed-form or published reference, or states
-an invariant of the formulation; a failed check is shown as failed.</p>
-<table><tr><th>case</th><th>check</th><th>reference</th><th>value</th><th>error</th>
-<th>tolerance</th><th>result</th><th>source</th></tr>{"".join(check_rows)}</table>
+an invariant of the formulation; each case lists its checks, with the rule that decides them,
+below its figures (collapsed unless one failed).</p>
 {"".join(sections)}
 </body></html>
 """

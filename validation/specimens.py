@@ -273,10 +273,10 @@ def box_chain(segments: int) -> Mesh:
     corners = np.array(
         [[0.0, 0, 0], [0, 0, -CHAIN_DROP], [CHAIN_SPAN, 0, -CHAIN_DROP], [CHAIN_SPAN, 0, 0]]
     )
-    points = [corners[0]]
+    pieces = [corners[0]]
     for a, b, n in zip(corners[:-1], corners[1:], (leg, across, leg)):
-        points.extend(a + (b - a) * np.arange(1, n + 1)[:, None] / n)
-    points = np.array(points)
+        pieces.extend(a + (b - a) * np.arange(1, n + 1)[:, None] / n)
+    points = np.array(pieces)
     lines = np.column_stack([np.arange(len(points) - 1), np.arange(1, len(points))])
     return Mesh(points, lines=lines)
 

@@ -141,20 +141,30 @@ def compute(resolution: str) -> Outcome:
 
 
 def render(data: SensitivityData, out_dir: Path) -> list[str]:
-    """Mid-surface and director angle along side 1, every variant."""
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4), constrained_layout=True)
+    """Mid-surface and director angle along side 1, every variant: one row per kinematics, one
+    colour per variant (the same in both rows), each row with its own legend."""
+    labels = list(dict.fromkeys(label for _, label in data.profiles))
+    colour = {label: f"C{i}" for i, label in enumerate(labels)}
+    rows = list(dict.fromkeys(kinematics for kinematics, _ in data.profiles))
+    fig, axes = plt.subplots(
+        len(rows), 2, figsize=(12, 3.6 * len(rows)), squeeze=False, constrained_layout=True
+    )
     for (kinematics, label), (z, angle) in data.profiles.items():
-        style = "-" if kinematics == "fibrous" else "--"
-        name = f"{kinematics}, {label}"
-        axes[0].plot(data.s, z, style, marker="o", ms=2, label=name)
-        axes[1].plot(data.s, angle, style, marker="o", ms=2, label=name)
-    axes[0].set(xlabel="s along side 1 (mm)", ylabel="mid-surface z (mm)")
-    axes[1].set(xlabel="s along side 1 (mm)", ylabel="director angle to horizontal (deg)")
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-    axes[1].legend(fontsize="x-small", ncol=2)
+        row = axes[rows.index(kinematics)]
+        row[0].plot(data.s, z, marker="o", ms=2, color=colour[label], label=label)
+        row[1].plot(data.s, angle, marker="o", ms=2, color=colour[label], label=label)
+    for kinematics, row in zip(rows, axes):
+        row[0].set(xlabel="s along side 1 (mm)", ylabel="mid-surface z (mm)",
+                   title=f"{kinematics}: mid-surface")  # fmt: skip
+        row[1].set(xlabel="s along side 1 (mm)", ylabel="director angle to horizontal (deg)",
+                   title=f"{kinematics}: director")  # fmt: skip
+        for ax in row:
+            ax.grid(True, alpha=0.3)
+        row[1].legend(fontsize="small", title="variant")
     figure = f"{NAME}.png"
-    fig.suptitle("bai-6.1.1, side 1: fibrous (solid) and Mindlin (dashed) for varied B and K")
+    fig.suptitle(
+        "bai-6.1.1, side 1: each kinematics for the varied B and K (same colour, same variant)"
+    )
     fig.savefig(out_dir / figure, dpi=100)
     plt.close(fig)
     return [figure]
