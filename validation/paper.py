@@ -787,16 +787,22 @@ def view_3d(
             top = x[nodes] + half[:, None] * d
             for a, b in zip(bottom, top):
                 ax.plot(*np.column_stack([a, b]), color="k", lw=1.4)
-        # True proportions (equal scales on the three axes), the free corner in front.
+        # Equal scales on the three axes, the free corner in front; a shape whose height is
+        # under a third of its plan size is drawn with z exaggerated to that, and says so.
         low, high = x.min(axis=0) - h, x.max(axis=0) + h
         for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), low, high):
             setter(a, b)
-        ax.set_box_aspect(high - low)
-        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # true scale: few ticks on a short axis
+        extent = high - low
+        exaggeration = max(1.0, (extent[:2].max() / 3.0) / extent[2])
+        ax.set_box_aspect((extent[0], extent[1], extent[2] * exaggeration))
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks on a short axis
             axis.set_major_locator(MaxNLocator(nbins=4))
         ax.view_init(elev=22, azim=-140)
         ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
-        ax.set_title(f"{LABELS[kinematics]}: directors along the sides", fontsize="medium")
+        scale = "true scale" if exaggeration == 1.0 else f"z exaggerated x {exaggeration:.1f}"
+        ax.set_title(
+            f"{LABELS[kinematics]}: directors along the sides ({scale})", fontsize="medium"
+        )
     name = f"{case.name}-3d.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
