@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from femcore.mesh import CELL_KINDS, Mesh
 
@@ -141,6 +142,35 @@ class Result:
         ``field("thickness")`` except that it does not raise when the field is absent.
         """
         return self.frames[-1].fields.get("point", {}).get("thickness")
+
+    def director_angle(self, normal: ArrayLike = (0.0, 0.0, 1.0), frame: int = -1) -> np.ndarray:
+        """The angle (deg) between each director and a chosen plane, given by its normal:
+        90 for a director along the normal, 0 for one lying in the plane (the default plane
+        is the horizontal one: 90 = vertical). NaN at nodes without a director.
+
+        Parameters
+        ----------
+        normal : array_like, shape (3,)
+            Normal of the plane (normalised here).
+        frame : int, optional
+            Frame index; the last frame by default.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+            Degrees in [0, 90].
+
+        Raises
+        ------
+        ValueError
+            A normal that is not a non-zero finite 3-vector, or ``frame`` out of range.
+        """
+        axis = np.asarray(normal, dtype=float).ravel()
+        if axis.shape != (3,) or not np.isfinite(axis).all() or not np.linalg.norm(axis) > 0:
+            raise ValueError(f"normal must be a non-zero 3-vector, got {normal!r}")
+        directors = self.frames[self._frame_index(frame)].directors
+        sine = np.abs(directors @ (axis / np.linalg.norm(axis)))
+        return np.degrees(np.arcsin(np.clip(sine, 0.0, 1.0)))
 
     @property
     def times(self) -> np.ndarray:

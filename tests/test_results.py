@@ -112,3 +112,28 @@ def test_export_loops_over_the_cell_kinds_of_the_mesh():
     assert np.isnan(force[0]).all() and force[1].tolist() == [3.0]
     assert result.thickness is result.field("thickness")
     assert result.field("strain").tolist() == [0.1, 0.2]
+
+
+def test_the_director_angle_to_a_plane_of_an_inclined_sheet():
+    """A sheet inclined by 30 deg about x: its directors (the normals of the compiled model)
+    make 60 deg with the horizontal plane and lie in the plane whose normal is x (0 deg)."""
+    from elements import FibrousShell
+    from femcore import Frame, Mesh, Model, Result
+    from materials import presets
+
+    flat = Mesh.rectangle(20.0, 10.0, nx=2, ny=1)
+    turn = np.radians(30.0)
+    y, z = flat.points[:, 1], flat.points[:, 2]
+    mesh = flat.with_points(
+        np.column_stack([flat.points[:, 0], y * np.cos(turn) - z * np.sin(turn),
+                         y * np.sin(turn) + z * np.cos(turn)])
+    )  # fmt: skip
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_ply()))
+    state = model.compile().initial_state()
+    zero = np.zeros_like(state.positions)
+    result = Result(mesh, [Frame(0.0, 0.0, state.positions, zero, state.directors, zero, zero)])
+    assert np.allclose(result.director_angle(), 60.0)
+    assert np.allclose(result.director_angle((1.0, 0.0, 0.0)), 0.0, atol=1e-9)
+    with pytest.raises(ValueError, match="non-zero 3-vector"):
+        result.director_angle((0.0, 0.0, 0.0))
