@@ -231,6 +231,8 @@ class FibrousShellBlock(ElementBlock):
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
         self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
+        self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
+        self.node_in_block[self.connectivity] = True
         self._pairs: _CornerPairs | None = None  # the tangent's sparse pattern, at first use
         self.shear_sign = _shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp
@@ -1049,8 +1051,7 @@ class FibrousShellBlock(ElementBlock):
             # (the explicit solver refreshes the rotary inertia with it)
             sums = self._normal_sums(state.positions)
             length = np.linalg.norm(sums, axis=1)
-            inside = np.zeros(self.n_nodes, dtype=bool)
-            inside[self.connectivity] = True
+            inside = self.node_in_block
             cosine = np.sum(state.directors * sums, axis=1) / np.where(inside, length, 1.0)
             h_m, _ = guarded_thickness(self.fabric.thickness, cosine)
             return np.where(inside, h_m, 0.0)

@@ -103,7 +103,10 @@ def history_rows(case: Case, result: Result) -> list[dict]:
     set (mm), then the energies (N mm) the solver records: per frame (Static: the strain
     energy "energy_internal"), or interpolated at the frame times (explicit runs)."""
     energies = result.energies if result.energies else {}
-    frame_times = np.array([frame.time for frame in result.frames])
+    times = np.asarray(energies.get("time", ()))
+    per_frame = len(times) == len(result.frames) and np.array_equal(
+        times, [frame.time for frame in result.frames]
+    )
     rows = []
     for index, frame in enumerate(result.frames):
         row: dict[str, Any] = {"frame": index, "time": frame.time, "load_factor": frame.load_factor}
@@ -114,8 +117,7 @@ def history_rows(case: Case, result: Result) -> list[dict]:
             nodes = case.mesh.nodes(name)
             mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
             row.update({f"displacement_{name}_{axis}": mean[i] for i, axis in enumerate("xyz")})
-        times = np.asarray(energies.get("time", ()))
-        if len(times) == len(result.frames) and np.array_equal(times, frame_times):  # per frame
+        if per_frame:
             row.update({f"energy_{key}": values[index] for key, values in energies.items()
                         if key != "time"})  # fmt: skip
         elif len(times) > 0:
