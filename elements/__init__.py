@@ -2,7 +2,12 @@
 
 from elements.base import ElementBlock, ElementType
 from elements.cable import Cable
+from elements.contact import Contact
 from elements.fibrous import FibrousShell
 from elements.mindlin import MindlinShell
+from elements.tools import RigidCylinder, RigidPlane, RigidSphere
 
-__all__ = ["Cable", "ElementBlock", "ElementType", "FibrousShell", "MindlinShell"]
+__all__ = [
+    "Cable", "Contact", "ElementBlock", "ElementType", "FibrousShell", "MindlinShell",
+    "RigidCylinder", "RigidPlane", "RigidSphere",
+]  # fmt: skip

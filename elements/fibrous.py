@@ -178,6 +178,11 @@ class FibrousShell(ElementType):
             )
         self.bending_geometry = bending_geometry
 
+    @property
+    def half_thickness(self) -> float:
+        """h / 2, mm: the contact surface's offset from the mid-surface along the normal."""
+        return 0.5 * self.fabric.thickness
+
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> FibrousShellBlock:
         return FibrousShellBlock(self, mesh, cell_ids, directors)
 

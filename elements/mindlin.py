@@ -147,6 +147,11 @@ class MindlinShell(ElementType):
         self.rotary_scaling = bool(rotary_scaling)
         self.kernel = kernel
 
+    @property
+    def half_thickness(self) -> float:
+        """h / 2, mm: the contact surface's offset from the mid-surface along the normal."""
+        return 0.5 * self.material.thickness
+
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> MindlinShellBlock:
         return MindlinShellBlock(self, mesh, cell_ids, directors)
 

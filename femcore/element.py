@@ -165,6 +165,16 @@ class ElementBlock(ABC):
         """
         return None
 
+    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+        """Size the block from the assembled model; the default ignores it.
+
+        Called once by ``CompiledModel`` after the supports, with the lumped nodal masses of
+        the whole model (n,), t, and its critical step, s (the smallest of every block's
+        cells'): what a block without mass of its own needs to choose a stiffness that keeps
+        the explicit step stable (a contact penalty, elements/contact.py).
+        """
+        return None
+
     def initial_history(self) -> Any:
         """History variables of the block in the reference state (None: it has none)."""
         return None

@@ -249,6 +249,48 @@ class Model:
         """
         self._add_load("moment", nodes, vector, amplitude)
 
+    def contact(self, tool, nodes: NodeSelection | None = None, penalty: float | None = None):
+        """Frictionless penalty contact of ``nodes`` with a rigid ``tool`` (elements.tools),
+        as a node block (elements/contact.py). The contact surface is the mid-surface offset
+        by half the thickness of the shell at each node (the element type's
+        ``half_thickness``; 0 for cables), so a stack of thickness h rests h / 2 above the
+        tool.
+
+        Parameters
+        ----------
+        tool : elements.tools.RigidTool
+        nodes : node selection, optional
+            The nodes that may touch (default: every node of the model's cells).
+        penalty : float, optional
+            N/mm per node; None: 0.1 m (2 / dt)^2 per node, chosen when the model is compiled
+            (m the node's lumped mass, dt the critical step; elements/contact.py).
+
+        Returns
+        -------
+        int
+            The block index (its ``tool_force(state)`` gives the force on the tool).
+        """
+        from elements.contact import Contact  # femcore builds on no element; this one is asked
+
+        offset = np.zeros(self.mesh.n_nodes)
+        covered = np.zeros(self.mesh.n_nodes, dtype=bool)
+        for entry in self.blocks:
+            kind = entry.element.cell_type
+            if kind is None:
+                continue
+            cells = np.unique(self.mesh.cells(kind)[entry.cells])
+            covered[cells] = True
+            offset[cells] = np.maximum(
+                offset[cells], float(getattr(entry.element, "half_thickness", 0.0))
+            )
+        if nodes is None:
+            ids = np.flatnonzero(covered)
+            if ids.size == 0:
+                raise ValueError("contact: add the elements first (no node is covered yet)")
+        else:
+            ids = self._node_ids(nodes)
+        return self.add(Contact(tool, ids, offset[ids], penalty))
+
     def gravity(self, vector: ArrayLike, amplitude: str | AmplitudeFunction = "step") -> None:
         """Acceleration of gravity acting on the lumped mass.
 
@@ -410,6 +452,11 @@ class CompiledModel:
                 f"node {np.flatnonzero(unmassed)[0]} has no mass: every node of an "
                 "element needs a positive lumped mass for the dynamic solvers"
             )
+        # Blocks without mass of their own (contact) size themselves from the others.
+        if any(type(b).calibrate is not ElementBlock.calibrate for b in self.blocks):
+            dt = self.stable_dt(state0)
+            for block in self.blocks:
+                block.calibrate(self.mass0, dt)
         self._has_history = any(h is not None for h in state0.history)
         self._no_history = (None,) * len(self.blocks)
         self._load_terms = self._loads(model.loads, active)
