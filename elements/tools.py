@@ -71,7 +71,31 @@ class RigidPlane(RigidTool):
         return np.zeros(len(x))
 
 
-class RigidSphere(RigidTool):
+class _RoundTool(RigidTool):
+    """A sphere or a cylinder: the distance from its centre (point or axis) less its radius,
+    the normal along the radius (both with the tool's side)."""
+
+    radius: float
+
+    def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
+        """(k, 3) the points' position from the centre, across the axis for a cylinder."""
+        raise NotImplementedError
+
+    def _radial(self, x: np.ndarray, load_factor: float):
+        r = self._relative(x, load_factor)
+        length = np.linalg.norm(r, axis=1)
+        return r / np.where(length > 0, length, 1.0)[:, None], length
+
+    def distance(self, x: np.ndarray, load_factor: float = 0.0):
+        n, length = self._radial(x, load_factor)
+        return self.sign * (length - self.radius), self.sign * n
+
+    def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
+        _, length = self._radial(x, load_factor)
+        return self.sign / np.maximum(length, 1e-300)
+
+
+class RigidSphere(_RoundTool):
     """A sphere of ``radius`` (mm) about ``centre``; the body outside it (a punch head) or,
     with ``side="inside"``, inside it (a bowl)."""
 
@@ -86,21 +110,11 @@ class RigidSphere(RigidTool):
         self.centre = _vector(centre, "RigidSphere centre")
         self.radius = check_positive(radius, "RigidSphere radius", "mm")
 
-    def _radial(self, x: np.ndarray, load_factor: float):
-        r = x - (self.centre + load_factor * self.motion)
-        length = np.linalg.norm(r, axis=1)
-        return r / np.where(length > 0, length, 1.0)[:, None], length
-
-    def distance(self, x: np.ndarray, load_factor: float = 0.0):
-        n, length = self._radial(x, load_factor)
-        return self.sign * (length - self.radius), self.sign * n
-
-    def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
-        _, length = self._radial(x, load_factor)
-        return self.sign / np.maximum(length, 1e-300)
+    def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
+        return x - (self.centre + load_factor * self.motion)
 
 
-class RigidCylinder(RigidTool):
+class RigidCylinder(_RoundTool):
     """An infinite cylinder of ``radius`` (mm) about the line through ``point`` along
     ``axis``; the body outside it or, with ``side="inside"``, inside it."""
 
@@ -118,16 +132,6 @@ class RigidCylinder(RigidTool):
         self.axis = self.direction
         self.radius = check_positive(radius, "RigidCylinder radius", "mm")
 
-    def _radial(self, x: np.ndarray, load_factor: float):
+    def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
         r = x - (self.point + load_factor * self.motion)
-        r = r - (r @ self.direction)[:, None] * self.direction
-        length = np.linalg.norm(r, axis=1)
-        return r / np.where(length > 0, length, 1.0)[:, None], length
-
-    def distance(self, x: np.ndarray, load_factor: float = 0.0):
-        n, length = self._radial(x, load_factor)
-        return self.sign * (length - self.radius), self.sign * n
-
-    def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
-        _, length = self._radial(x, load_factor)
-        return self.sign / np.maximum(length, 1e-300)
+        return r - (r @ self.direction)[:, None] * self.direction
