@@ -60,6 +60,12 @@ class ElementType(ABC):
     cell_type: ClassVar[str | None] = None
     defines_directors: ClassVar[bool] = False
 
+    @property
+    def half_thickness(self) -> float:
+        """Distance (mm) from the mid-surface to the contact surface along the normal, for
+        ``Model.contact``: half the thickness for a shell; 0 by default (a cable)."""
+        return 0.0
+
     @abstractmethod
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> ElementBlock:
         """Block over the given cells of the mesh, with every option resolved once.

@@ -252,8 +252,8 @@ class Model:
     def contact(self, tool, nodes: NodeSelection | None = None, penalty: float | None = None):
         """Frictionless penalty contact of ``nodes`` with a rigid ``tool`` (elements.tools),
         as a node block (elements/contact.py). The contact surface is the mid-surface offset
-        by half the thickness of the shell at each node (the element type's
-        ``half_thickness``; 0 for cables), so a stack of thickness h rests h / 2 above the
+        by half the thickness of the shell at each node (``ElementType.half_thickness``; 0
+        for cables), so a stack of thickness h rests h / 2 above the
         tool.
 
         Parameters
@@ -278,11 +278,9 @@ class Model:
             kind = entry.element.cell_type
             if kind is None:
                 continue
-            cells = np.unique(self.mesh.cells(kind)[entry.cells])
-            covered[cells] = True
-            offset[cells] = np.maximum(
-                offset[cells], float(getattr(entry.element, "half_thickness", 0.0))
-            )
+            used = np.unique(self.mesh.cells(kind)[entry.cells])  # the block's nodes
+            covered[used] = True
+            offset[used] = np.maximum(offset[used], float(entry.element.half_thickness))
         if nodes is None:
             ids = np.flatnonzero(covered)
             if ids.size == 0:

@@ -84,15 +84,11 @@ def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path) -> Path:
     for kinematics, run in runs.items():
         line = profile(case, run.result, name, h)
         colour = COLOURS[kinematics]
-        x0 = case.mesh.points[case.paths[name]]
-        along = x0[-1] - x0[0]
-        along[2] = 0.0
-        along /= np.linalg.norm(along) or 1.0
-        horizontal = np.column_stack([line["x"], line["y"]]) @ along[:2]
+        horizontal, d = line["horizontal"], line["directors"]
         axes[0].plot(horizontal, line["z"], color=colour, label=kinematics)
-        d = line["directors"]
-        d_horizontal = d @ along
-        for u, z, dh, dz, t in zip(horizontal, line["z"], d_horizontal, d[:, 2], line["thickness"]):
+        for u, z, dh, dz, t in zip(
+            horizontal, line["z"], line["director_horizontal"], d[:, 2], line["thickness"]
+        ):
             axes[0].plot(
                 [u - 0.5 * t * dh, u + 0.5 * t * dh], [z - 0.5 * t * dz, z + 0.5 * t * dz],
                 color=colour, linewidth=0.8,

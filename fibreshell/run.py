@@ -132,9 +132,11 @@ def history_rows(case: Case, result: Result) -> list[dict]:
 
 def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     """Along path ``name`` at the final frame: s (reference arc length, mm), the mid-surface
-    x, y, z, the director's angle to the horizontal in the vertical plane of the path (deg, 90
-    = vertical) and the thickness along the director (mm; the fibrous shell's h_m, the section
-    thickness ``thickness`` for a shell without that field)."""
+    x, y, z and its ``horizontal`` coordinate along the path's horizontal direction (mm), the
+    director's angle to the horizontal in the vertical plane of the path (deg, 90 =
+    vertical) and the thickness along the director (mm; the fibrous shell's h_m, the section
+    thickness ``thickness`` for a shell without that field); ``directors`` (k, 3) and their
+    ``director_horizontal`` components, for drawing."""
     nodes = case.paths[name]
     x0 = case.mesh.points[nodes]
     s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x0, axis=0), axis=1))]
@@ -146,8 +148,9 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     angle = np.degrees(np.arctan2(d[:, 2], d @ along))
     h = result.thickness[nodes] if result.thickness is not None else np.full(len(nodes), thickness)
     return {
-        "s": s, "x": x[:, 0], "y": x[:, 1], "z": x[:, 2], "director_angle_deg": angle,
-        "thickness": h, "directors": d,
+        "s": s, "x": x[:, 0], "y": x[:, 1], "z": x[:, 2], "horizontal": x @ along,
+        "director_angle_deg": angle, "thickness": h, "directors": d,
+        "director_horizontal": d @ along,
     }  # fmt: skip
 
 
@@ -190,7 +193,11 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
         out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
     thickness = section_thickness(case)
     out["paths"] = {
-        name: {k: v for k, v in profile(case, result, name, thickness).items() if k != "directors"}
+        name: {
+            k: v
+            for k, v in profile(case, result, name, thickness).items()
+            if k not in ("directors", "director_horizontal")  # drawing aids
+        }
         for name in case.paths
     }
     return out
