@@ -1,12 +1,26 @@
-"""Node-to-tool penalty contact, frictionless: a node block (no mesh cells) on a node set,
-against a rigid tool of elements/tools.py, added by ``Model.contact``.
+"""Node-to-tool penalty contact with Coulomb friction: a node block (no mesh cells) on a node
+set, against a rigid tool of elements/tools.py, added by ``Model.contact`` (docs/theory.md §8).
 
-The shell's contact surface is its mid-surface offset by half its thickness along the normal
-(the thickness measured along the normal is conserved by both shells), so a node touches when
-its distance d to the tool falls below ``offset`` = h / 2: the penetration is p = max(0,
-offset - d) and the energy W = 1/2 k p^2 per node, the force on the node -k p n (n the tool's
-normal towards the body) and its tangent k n n^T - k p c (I - n n^T - a a^T) (c the curvature
-term of the tool, ``RigidTool.projector_scale``).
+Normal. The shell's contact surface is its mid-surface offset by half its thickness along the
+normal (the thickness measured along the normal is conserved by both shells), so a node touches
+when its distance d to the tool falls below ``offset`` = h / 2: the penetration is p = max(0,
+offset - d), the normal force on the node f_N = k p n (n the tool's normal towards the body)
+and the energy 1/2 k p^2.
+
+Friction (Coulomb, penalty-regularised, return mapping). Each touching node keeps an anchor: the
+point of the tool it stuck to, carried with the tool. Its tangential offset from the anchor s =
+(I - n n^T)(x - a) loads a tangential spring of stiffness k_t = k (the trial force -k_t s):
+
+* stick, |k_t s| <= mu k p: the force is -k_t s (energy 1/2 k_t |s|^2);
+* slip, |k_t s| > mu k p: the force is -mu k p s / |s|, and when the step is accepted the anchor
+  follows the node to where the spring holds exactly mu k p; the energy that spring lost is the
+  friction dissipation mu k p x (slip length), summed in the history.
+
+A node that was not touching when the last step was accepted has no anchor yet (it slides
+freely for that step); it is anchored where it lands. The anchors, each node's accumulated
+slip and the dissipation are the block's history (femcore.element), so a quasi-static
+increment returns to them at every iteration and the tangent is that of the return mapping
+(non-symmetric in slip: the solvers' LU takes it).
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
@@ -17,6 +31,7 @@ resting under its own weight sinks m g / k = g dt^2 / 0.4, far below the thickne
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -25,13 +40,13 @@ from elements.base import CellTangent, ElementBlock, ElementType, Scatter
 from elements.tools import RigidTool
 from femcore.state import State
 
-__all__ = ["PENALTY_SHARE", "Contact", "ContactBlock"]
+__all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty
 
 
 class Contact(ElementType):
-    """Frictionless penalty contact of ``nodes`` with a rigid ``tool``.
+    """Penalty contact of ``nodes`` with a rigid ``tool``, with Coulomb friction ``friction``.
 
     Parameters
     ----------
@@ -43,12 +58,21 @@ class Contact(ElementType):
         mid-surface); 0 for a cable.
     penalty : float, optional
         k, N/mm per node; None: chosen when the model is compiled (module docstring).
+    friction : float
+        The Coulomb coefficient mu >= 0 (0: frictionless, no history kept).
     """
 
     dofs = ("ux", "uy", "uz")
     cell_type = None
 
-    def __init__(self, tool: RigidTool, nodes, offset=0.0, penalty: float | None = None):
+    def __init__(
+        self,
+        tool: RigidTool,
+        nodes,
+        offset=0.0,
+        penalty: float | None = None,
+        friction: float = 0.0,
+    ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
         self.tool = tool
@@ -58,10 +82,43 @@ class Contact(ElementType):
             raise ValueError(f"offset must be finite and >= 0 (mm), got {offset!r}")
         if penalty is not None and not (np.isfinite(penalty) and penalty > 0):
             raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
+        if not (isinstance(friction, (int, float)) and np.isfinite(friction) and friction >= 0):
+            raise ValueError(f"friction must be a Coulomb coefficient >= 0, got {friction!r}")
         self.penalty = penalty
+        self.friction = float(friction)
 
     def bind(self, mesh, cell_ids, directors) -> ContactBlock:
-        return ContactBlock(self, mesh.n_nodes)
+        area = np.zeros(mesh.n_nodes)
+        triangles = mesh.triangles
+        if len(triangles):  # each node's share of the area, for the contact pressure
+            corners = mesh.points[triangles]
+            cell_area = 0.5 * np.linalg.norm(
+                np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+            )
+            np.add.at(area, triangles.ravel(), np.repeat(cell_area / 3.0, 3))
+        return ContactBlock(self, mesh.n_nodes, mesh.points, area)
+
+
+@dataclass(frozen=True)
+class FrictionHistory:
+    """The friction state of a contact block after an accepted step.
+
+    anchor : (s, 3) float
+        Each node's anchor in the tool's own frame (its position less the tool's translation),
+        mm; NaN for a node without one (not touching).
+    slip : (s,) float
+        Slip length accumulated by each node, mm.
+    penetration : (s,) float
+        Each node's penetration p when the step was accepted, mm (the dissipation of the next
+        step takes the friction limit at the mean of the two).
+    dissipated : float
+        Energy dissipated by friction so far, N mm.
+    """
+
+    anchor: np.ndarray
+    slip: np.ndarray
+    penetration: np.ndarray
+    dissipated: float
 
 
 class ContactBlock(ElementBlock):
@@ -71,13 +128,19 @@ class ContactBlock(ElementBlock):
     cell_type = None
     reach = 1
 
-    def __init__(self, contact: Contact, n_nodes: int):
+    def __init__(self, contact: Contact, n_nodes: int, points: np.ndarray, area: np.ndarray):
         self.tool = contact.tool
+        self.friction = contact.friction
         self.cell_ids = np.zeros(0, dtype=np.int64)
         self.connectivity = contact.nodes[:, None]
         self.scatter = Scatter(self.connectivity, n_nodes)
         self.n_nodes = n_nodes
         self.offset = contact.offset
+        self.area = area[contact.nodes]
+        self._reference = points[contact.nodes]
+        # A node laid on the tool touches it: its distance, computed from rotated or shifted
+        # coordinates, may exceed h / 2 by a rounding error.
+        self.tolerance = 1e-9 * float(np.ptp(points, axis=0).max(initial=0.0) or 1.0)
         given = contact.penalty
         self.stiffness = np.full(len(contact.nodes), np.nan if given is None else given)
 
@@ -85,47 +148,142 @@ class ContactBlock(ElementBlock):
         if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
             self.stiffness = PENALTY_SHARE * mass[self.connectivity[:, 0]] * (2.0 / stable_dt) ** 2
 
+    # ------------------------------------------------------------------ kinematics
+    def _positions(self, state: State) -> np.ndarray:
+        return state.positions[self.connectivity[:, 0]]
+
     def _touch(self, state: State):
         """Penetration p (s,), mm, the tool's normal (s, 3) at the nodes and whether each
         node touches (s,) bool: a node exactly on the surface counts, so that a body laid
         on a tool has a stiffness against it from the first Newton iteration."""
-        x = state.positions[self.connectivity[:, 0]]
-        d, n = self.tool.distance(x, state.load_factor)
-        return np.maximum(self.offset - d, 0.0), n, d <= self.offset
+        d, n = self.tool.distance(self._positions(state), state.load_factor)
+        return np.maximum(self.offset - d, 0.0), n, d <= self.offset + self.tolerance
 
-    def contact_forces(self, state: State) -> np.ndarray:
-        """(s, 3) the forces the tool exerts on the nodes, N (k p n)."""
-        p, n, _ = self._touch(state)
-        return (self.stiffness * p)[:, None] * n
+    def _tangential(self, state: State, history: FrictionHistory | None, p, n, touching):
+        """The friction of the return mapping at ``state`` from the accepted ``history``:
+        (force (s, 3) on the nodes, N; s (s, 3) the tangential offset from the anchors, mm;
+        stuck (s,) bool; sliding (s,) bool). Zero force where there is no anchor."""
+        s_count = len(p)
+        zero = np.zeros((s_count, 3))
+        none = np.zeros(s_count, dtype=bool)
+        if history is None or self.friction == 0.0:
+            return zero, zero, none, none
+        anchored = touching & np.isfinite(history.anchor[:, 0])
+        anchor = np.where(anchored[:, None], history.anchor, 0.0)
+        r = self._positions(state) - (anchor + self.tool.offset(state.load_factor))
+        s = np.where(anchored[:, None], r - np.sum(r * n, axis=1)[:, None] * n, 0.0)
+        k = self.stiffness
+        trial = k * np.linalg.norm(s, axis=1)
+        limit = self.friction * k * p
+        stuck = anchored & (trial <= limit)
+        sliding = anchored & ~stuck
+        scale = np.where(
+            stuck, k, np.where(sliding, limit / np.where(trial > 0, trial, 1.0) * k, 0)
+        )
+        return -scale[:, None] * s, s, stuck, sliding
 
-    def tool_force(self, state: State) -> np.ndarray:
+    def contact_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
+        """(s, 3) the forces the tool exerts on the nodes, N: k p n and the friction."""
+        p, n, touching = self._touch(state)
+        friction, *_ = self._tangential(state, history, p, n, touching)
+        return (self.stiffness * p)[:, None] * n + friction
+
+    def tool_force(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(3,) the total force the body exerts on the tool, N."""
-        return -self.contact_forces(state).sum(axis=0)
+        return -self.contact_forces(state, history).sum(axis=0)
 
+    # ------------------------------------------------------------------ protocol
     def lumped_mass(self, state: State, density_scale=None):
         return np.zeros(self.n_nodes), None  # a rigid tool adds no mass
 
     def internal_force(self, state: State, history: Any = None):
-        return self.scatter.vectors(-self.contact_forces(state)[:, None, :]), None
+        return self.scatter.vectors(-self.contact_forces(state, history)[:, None, :]), None
 
     def strain_energy(self, state: State, history: Any = None) -> float:
-        p, _, _ = self._touch(state)
-        return float(0.5 * np.sum(self.stiffness * p**2))
+        """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm."""
+        p, n, touching = self._touch(state)
+        friction, *_ = self._tangential(state, history, p, n, touching)
+        stored = self.stiffness * p**2 + np.sum(friction**2, axis=1) / self.stiffness
+        return float(0.5 * np.sum(stored))
+
+    def initial_history(self) -> FrictionHistory | None:
+        """Frictionless: None. Otherwise the nodes that touch the tool where it starts are
+        anchored where they are (a fabric laid on a tool sticks from the first step)."""
+        if self.friction == 0.0:
+            return None
+        d, _ = self.tool.distance(self._reference, 0.0)
+        touching = d <= self.offset + self.tolerance
+        anchor = np.where(touching[:, None], self._reference - self.tool.offset(0.0), np.nan)
+        return FrictionHistory(anchor, np.zeros(len(d)), np.maximum(self.offset - d, 0.0), 0.0)
+
+    def update_history(self, state: State, history: Any) -> Any:
+        """The return mapping accepted: sliding anchors follow their nodes to the friction
+        limit, new contacts are anchored where they are, lost ones forget their anchor."""
+        if history is None:
+            return None
+        p, n, touching = self._touch(state)
+        _, s, stuck, sliding = self._tangential(state, history, p, n, touching)
+        x = self._positions(state)
+        length = np.linalg.norm(s, axis=1)
+        limit = self.friction * p  # the spring's length at the limit, mu k p / k_t
+        slid = np.where(sliding, length - limit, 0.0)
+        unit = s / np.where(length > 0, length, 1.0)[:, None]
+        origin = self.tool.offset(state.load_factor)
+        anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
+        anchor = np.where(stuck[:, None], history.anchor, anchor)
+        moved = history.anchor + slid[:, None] * unit
+        anchor = np.where(sliding[:, None], moved, anchor)
+        # The slip happened while p went from its last value to this one: the limit force
+        # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
+        force = self.friction * self.stiffness * 0.5 * (p + history.penetration)
+        dissipated = history.dissipated + float(np.sum(force * slid))
+        return FrictionHistory(anchor, history.slip + slid, p, dissipated)
+
+    def dissipated_energy(self, history: Any = None) -> float:
+        """Energy dissipated by friction since the start, N mm."""
+        return 0.0 if history is None else history.dissipated
+
+    def tool_work(self, state: State, history: Any, start: float, end: float) -> float:
+        """Work (N mm) the tool does on the nodes while it moves from its place at load
+        factor ``start`` to that at ``end``, with the contact forces at ``state``."""
+        if not self.tool.moves:
+            return 0.0
+        shift = self.tool.offset(end) - self.tool.offset(start)
+        return float(self.contact_forces(state, history).sum(axis=0) @ shift)
 
     def tangent(self, state: State, history: Any = None):
+        """d(internal force)/dx per node: normal k n n^T - k p N with N = dn/dx = c (I - n n^T
+        - a a^T) (``RigidTool.projector_scale``), and the return mapping's friction: k_t ds/dx
+        in stick, -mu k s^ n^T + mu k p / |s| (I - s^ s^T) ds/dx in slip, where ds/dx = I -
+        n n^T - (n . r) N - n (N r)^T, r = x - a."""
         p, n, touching = self._touch(state)
-        x = state.positions[self.connectivity[:, 0]]
-        active = touching[:, None, None]
+        x = self._positions(state)
         k = self.stiffness[:, None, None]
-        projector = np.eye(3) - n[:, :, None] * n[:, None, :]
+        eye = np.eye(3)
+        nn = n[:, :, None] * n[:, None, :]
+        across = eye - nn
         if self.tool.axis is not None:
-            projector -= np.outer(self.tool.axis, self.tool.axis)
-        scale = self.tool.projector_scale(x, state.load_factor)[:, None, None]
-        blocks = np.where(
-            active,
-            k * (n[:, :, None] * n[:, None, :]) - k * p[:, None, None] * scale * projector,
-            0.0,
-        )
+            across = across - np.outer(self.tool.axis, self.tool.axis)
+        curvature = self.tool.projector_scale(x, state.load_factor)[:, None, None] * across
+        blocks = k * nn - k * p[:, None, None] * curvature
+        _, s, stuck, sliding = self._tangential(state, history, p, n, touching)
+        if stuck.any() or sliding.any():
+            assert history is not None
+            anchor = np.where(np.isfinite(history.anchor), history.anchor, 0.0)
+            r = x - (anchor + self.tool.offset(state.load_factor))
+            normal_part = np.sum(n * r, axis=1)[:, None, None]
+            curved_r = np.einsum("sij,sj->si", curvature, r)
+            ds_dx = eye - nn - normal_part * curvature - n[:, :, None] * curved_r[:, None, :]
+            length = np.linalg.norm(s, axis=1)
+            unit = s / np.where(length > 0, length, 1.0)[:, None]
+            mu = self.friction
+            slip_part = -mu * k * unit[:, :, None] * n[:, None, :] + (
+                mu * k * (p / np.where(length > 0, length, 1.0))[:, None, None]
+            ) * np.einsum("sij,sjk->sik", eye - unit[:, :, None] * unit[:, None, :], ds_dx)
+            blocks = blocks + np.where(
+                stuck[:, None, None], k * ds_dx, np.where(sliding[:, None, None], slip_part, 0.0)
+            )
+        blocks = np.where(touching[:, None, None], blocks, 0.0)
         return [CellTangent(self.connectivity, blocks[:, None, :, None, :])]
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
@@ -134,11 +292,26 @@ class ContactBlock(ElementBlock):
         return np.full(len(self.connectivity), np.inf)
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
-        p, _, _ = self._touch(state)
-        gap = np.full(self.n_nodes, np.nan)
-        force = np.zeros(self.n_nodes)
-        x = state.positions[self.connectivity[:, 0]]
-        d, _ = self.tool.distance(x, state.load_factor)
-        gap[self.connectivity[:, 0]] = d - self.offset  # < 0: penetration
-        force[self.connectivity[:, 0]] = self.stiffness * p
-        return {"contact_gap": gap, "contact_force": force}
+        """contact_gap (mm, < 0 a penetration, NaN off the node set), contact_force (the normal
+        force, N), contact_pressure (that force over the node's share of the area, N/mm^2;
+        NaN without area), friction_force (|tangential force|, N), contact_slip (accumulated
+        slip, mm)."""
+        p, n, touching = self._touch(state)
+        friction, *_ = self._tangential(state, history, p, n, touching)
+        d, _ = self.tool.distance(self._positions(state), state.load_factor)
+        nodes = self.connectivity[:, 0]
+        out = {}
+        normal = self.stiffness * p
+        area = np.where(self.area > 0, self.area, np.nan)
+        values = {
+            "contact_gap": d - self.offset,
+            "contact_force": normal,
+            "contact_pressure": normal / area,
+            "friction_force": np.linalg.norm(friction, axis=1),
+            "contact_slip": np.zeros(len(p)) if history is None else history.slip,
+        }
+        for name, value in values.items():
+            full = np.full(self.n_nodes, np.nan if name == "contact_gap" else 0.0)
+            full[nodes] = value
+            out[name] = full
+        return out

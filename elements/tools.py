@@ -2,9 +2,10 @@
 the signed distance to the surface and its unit normal there, pointing to the side the body
 stays on.
 
-Each tool may move rigidly: ``motion`` (3,) is a translation reached at load factor 1 (the
-quasi-static solvers ramp it with the load factor, the explicit solver with the load factor
-of its amplitude), the tool at ``load_factor * motion`` from where it was given. Units: mm.
+Each tool may move rigidly: ``motion`` (3,) is a translation reached at the end of the run,
+through an ``amplitude`` a(tau) (femcore.loads: "linear" by default, "smooth", "step" or a
+callable), tau the load factor of the quasi-static solvers or t / duration of the explicit one:
+the tool is at ``a(tau) * motion`` from where it was given. Units: mm.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from femcore.checks import check_positive
+from femcore.loads import AmplitudeFunction, amplitude_of
 
 __all__ = ["RigidCylinder", "RigidPlane", "RigidSphere", "RigidTool"]
 
@@ -36,11 +38,28 @@ class RigidTool:
     (0 for a plane), for the contact tangent. ``side="inside"`` keeps the body inside a
     sphere or a cylinder (a die) instead of outside (a punch)."""
 
-    def __init__(self, motion: ArrayLike = (0.0, 0.0, 0.0), side: str = "outside"):
+    def __init__(
+        self,
+        motion: ArrayLike = (0.0, 0.0, 0.0),
+        side: str = "outside",
+        amplitude: str | AmplitudeFunction = "linear",
+    ):
         self.motion = _vector(motion, "motion")
         if side not in ("outside", "inside"):
             raise ValueError(f"side must be 'outside' or 'inside', got {side!r}")
         self.sign = 1.0 if side == "outside" else -1.0
+        self.amplitude = amplitude_of(amplitude).dynamic
+
+    @property
+    def moves(self) -> bool:
+        """Whether the tool has a motion."""
+        return bool(np.any(self.motion != 0.0))
+
+    def offset(self, load_factor: float) -> np.ndarray:
+        """(3,) the tool's translation at ``load_factor`` (tau), mm."""
+        if not self.moves:
+            return np.zeros(3)
+        return float(self.amplitude(load_factor)) * self.motion
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError
@@ -57,13 +76,19 @@ class RigidTool:
 class RigidPlane(RigidTool):
     """The plane through ``point`` with unit ``normal`` (towards the body)."""
 
-    def __init__(self, point: ArrayLike, normal: ArrayLike, motion: ArrayLike = (0.0, 0.0, 0.0)):
-        super().__init__(motion)
+    def __init__(
+        self,
+        point: ArrayLike,
+        normal: ArrayLike,
+        motion: ArrayLike = (0.0, 0.0, 0.0),
+        amplitude: str | AmplitudeFunction = "linear",
+    ):
+        super().__init__(motion, amplitude=amplitude)
         self.point = _vector(point, "RigidPlane point")
         self.normal = _vector(normal, "RigidPlane normal", unit=True)
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
-        origin = self.point + load_factor * self.motion
+        origin = self.point + self.offset(load_factor)
         d = (x - origin) @ self.normal
         return d, np.broadcast_to(self.normal, x.shape)
 
@@ -105,13 +130,14 @@ class RigidSphere(_RoundTool):
         radius: float,
         motion: ArrayLike = (0.0, 0.0, 0.0),
         side: str = "outside",
+        amplitude: str | AmplitudeFunction = "linear",
     ):
-        super().__init__(motion, side)
+        super().__init__(motion, side, amplitude)
         self.centre = _vector(centre, "RigidSphere centre")
         self.radius = check_positive(radius, "RigidSphere radius", "mm")
 
     def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
-        return x - (self.centre + load_factor * self.motion)
+        return x - (self.centre + self.offset(load_factor))
 
 
 class RigidCylinder(_RoundTool):
@@ -125,13 +151,14 @@ class RigidCylinder(_RoundTool):
         radius: float,
         motion: ArrayLike = (0.0, 0.0, 0.0),
         side: str = "outside",
+        amplitude: str | AmplitudeFunction = "linear",
     ):
-        super().__init__(motion, side)
+        super().__init__(motion, side, amplitude)
         self.point = _vector(point, "RigidCylinder point")
         self.direction = _vector(axis, "RigidCylinder axis", unit=True)
         self.axis = self.direction
         self.radius = check_positive(radius, "RigidCylinder radius", "mm")
 
     def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
-        r = x - (self.point + load_factor * self.motion)
+        r = x - (self.point + self.offset(load_factor))
         return r - (r @ self.direction)[:, None] * self.direction

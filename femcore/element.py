@@ -189,6 +189,22 @@ class ElementBlock(ABC):
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history
 
+    def dissipated_energy(self, history: Any = None) -> float:
+        """Energy the block has dissipated since the start (N mm), kept in its history (the
+        friction of a contact); 0 by default. The explicit solver's energy balance counts it."""
+        return 0.0
+
+    def tool_force(self, state: State, history: Any = None) -> np.ndarray | None:
+        """(3,) the force (N) the model exerts on the block's rigid tool, for blocks that act
+        against one (contact); None by default."""
+        return None
+
+    def tool_work(self, state: State, history: Any, start: float, end: float) -> float:
+        """Work (N mm) a block's moving tool does on the model while the load factor goes from
+        ``start`` to ``end``, with the forces at ``state``; 0 by default (no tool, or one that
+        stays put). The explicit solver's energy balance counts it as external work."""
+        return 0.0
+
     def stable_dt(self, state: State) -> float:
         """Critical time step of the block, s."""
         return float(np.min(self.cell_stable_dt(state)))

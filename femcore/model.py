@@ -249,26 +249,36 @@ class Model:
         """
         self._add_load("moment", nodes, vector, amplitude)
 
-    def contact(self, tool, nodes: NodeSelection | None = None, penalty: float | None = None):
-        """Frictionless penalty contact of ``nodes`` with a rigid ``tool`` (elements.tools),
-        as a node block (elements/contact.py). The contact surface is the mid-surface offset
-        by half the thickness of the shell at each node (``ElementType.half_thickness``; 0
-        for cables), so a stack of thickness h rests h / 2 above the
-        tool.
+    def contact(
+        self,
+        tool,
+        nodes: NodeSelection | None = None,
+        friction: float = 0.0,
+        penalty: float | None = None,
+    ):
+        """Penalty contact of ``nodes`` with a rigid ``tool`` (elements.tools), with Coulomb
+        friction, as a node block (elements/contact.py). The contact surface is the
+        mid-surface offset by half the thickness of the shell at each node
+        (``ElementType.half_thickness``; 0 for cables), so a stack of thickness h rests h / 2
+        above the tool. Which side of a sphere or cylinder the body stays on is the tool's
+        ``side``.
 
         Parameters
         ----------
         tool : elements.tools.RigidTool
         nodes : node selection, optional
             The nodes that may touch (default: every node of the model's cells).
+        friction : float
+            Coulomb coefficient mu >= 0 (stick below mu times the normal force, slip at it).
         penalty : float, optional
-            N/mm per node; None: 0.1 m (2 / dt)^2 per node, chosen when the model is compiled
-            (m the node's lumped mass, dt the critical step; elements/contact.py).
+            N/mm per node, normal and tangential; None: 0.1 m (2 / dt)^2 per node, chosen
+            when the model is compiled (m the node's lumped mass, dt the critical step of the
+            model without contact: the explicit step stays stable; elements/contact.py).
 
         Returns
         -------
         int
-            The block index (its ``tool_force(state)`` gives the force on the tool).
+            The block index; ``CompiledModel.tool_forces(state)`` gives the force on each tool.
         """
         from elements.contact import Contact  # femcore builds on no element; this one is asked
 
@@ -287,7 +297,7 @@ class Model:
                 raise ValueError("contact: add the elements first (no node is covered yet)")
         else:
             ids = self._node_ids(nodes)
-        return self.add(Contact(tool, ids, offset[ids], penalty))
+        return self.add(Contact(tool, ids, offset[ids], penalty, friction))
 
     def gravity(self, vector: ArrayLike, amplitude: str | AmplitudeFunction = "step") -> None:
         """Acceleration of gravity acting on the lumped mass.
@@ -456,6 +466,12 @@ class CompiledModel:
             for block in self.blocks:
                 block.calibrate(self.mass0, dt)
         self._has_history = any(h is not None for h in state0.history)
+        #: The blocks that act against a rigid tool (ElementBlock.tool_force is not None).
+        self.tool_blocks = [
+            i
+            for i, b in enumerate(self.blocks)
+            if b.tool_force(state0, state0.history[i]) is not None
+        ]
         self._no_history = (None,) * len(self.blocks)
         self._load_terms = self._loads(model.loads, active)
         self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
@@ -617,6 +633,26 @@ class CompiledModel:
         """Total strain energy (N mm) over all blocks."""
         histories = self._histories(state)
         return float(sum(b.strain_energy(state, h) for b, h in zip(self.blocks, histories)))
+
+    def dissipated_energy(self, state: State) -> float:
+        """Energy dissipated inside the blocks since the start (friction), N mm."""
+        histories = self._histories(state)
+        return float(sum(b.dissipated_energy(h) for b, h in zip(self.blocks, histories)))
+
+    def tool_forces(self, state: State) -> np.ndarray:
+        """(t, 3) the force (N) the model exerts on each rigid tool, in the order of the
+        contact blocks (``Model.contact``)."""
+        histories = self._histories(state)
+        forces = [self.blocks[i].tool_force(state, histories[i]) for i in self.tool_blocks]
+        return np.array(forces, dtype=float).reshape(len(forces), 3)
+
+    def tool_work(self, state: State, start: float, end: float) -> float:
+        """Work (N mm) the moving tools do on the model while the load factor goes from
+        ``start`` to ``end``, with the contact forces at ``state``."""
+        histories = self._histories(state)
+        return float(
+            sum(self.blocks[i].tool_work(state, histories[i], start, end) for i in self.tool_blocks)
+        )
 
     def tangent_parts(self, state: State, blocks: list[int]) -> list[TangentPart] | None:
         """The element tangent parts of the blocks of the given indices, or None if one of
@@ -836,7 +872,13 @@ class CompiledModel:
         counts = {kind: len(self.mesh.cells(kind)) for kind in CELL_KINDS}
         for block, history in zip(self.blocks, self._histories(state)):
             for name, values in block.node_fields(state, history).items():
-                out["point"][name] = values
+                # Two blocks with the same field (two tools' contact_gap): the second is
+                # named contact_gap_2, and so on, in the order of the blocks.
+                key, count = name, 1
+                while key in out["point"]:
+                    count += 1
+                    key = f"{name}_{count}"
+                out["point"][key] = values
             kind = block.cell_type
             if kind is None:  # node blocks have no mesh cells to carry a cell field
                 continue

@@ -51,6 +51,9 @@ class Frame:
         Element outputs: ``{"point": {name: (n, ...)}, <cell kind>: {name: (c, ...)}}``, the
         cell kinds being those of :data:`femcore.mesh.CELL_KINDS` ("triangle", "line"); a
         cell field spans all cells of its kind, NaN where no element block covers a cell.
+    tool_forces : numpy.ndarray, shape (t, 3)
+        The force (N) the model exerts on each rigid tool, in the order of the contacts
+        (``Model.contact``); (0, 3) without tools.
     """
 
     time: float
@@ -61,6 +64,7 @@ class Frame:
     reactions: np.ndarray
     reaction_moments: np.ndarray
     fields: dict[str, dict[str, np.ndarray]] = dataclasses.field(default_factory=dict)
+    tool_forces: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 3)))
 
 
 @dataclass
@@ -80,10 +84,11 @@ class Result:
     converged : bool
         Whether the solver reached its goal.
     energies : dict[str, numpy.ndarray]
-        The explicit solver: ``{"time", "kinetic", "internal", "external_work", "damping"}``
-        arrays (N mm, time in s), one entry per recorded step. Static: ``{"time",
-        "internal"}``, the strain energy of each frame (time = load factor). Dynamic
-        relaxation: empty.
+        The explicit solver: ``{"time", "kinetic", "internal", "external_work", "damping",
+        "friction"}`` arrays (N mm, time in s), one entry per recorded step (external work
+        includes that of moving tools; friction is the energy contact friction dissipated).
+        Static: ``{"time", "internal"}``, the strain energy of each frame (time = load
+        factor). Dynamic relaxation: empty.
     info : dict[str, Any]
         Solver-specific figures (time step, added mass, iterations per increment, ...).
     has_rotation : numpy.ndarray of bool, shape (n,), optional
@@ -122,6 +127,14 @@ class Result:
         if self.has_rotation is not None:
             directors[~self.has_rotation] = np.nan
         return directors
+
+    @property
+    def tool_forces(self) -> np.ndarray:
+        """(frames, t, 3) the force (N) on each rigid tool at each frame (the tool's reaction
+        is its opposite), t the number of contacts in the order of ``Model.contact``."""
+        return np.array([frame.tool_forces for frame in self.frames]).reshape(
+            len(self.frames), -1, 3
+        )
 
     @property
     def reactions(self) -> np.ndarray:

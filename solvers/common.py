@@ -81,6 +81,7 @@ def make_frame(
         reactions=np.zeros((n, 3)) if reactions is None else reactions.copy(),
         reaction_moments=np.zeros((n, 3)) if reaction_moments is None else reaction_moments.copy(),
         fields=model.fields(state),
+        tool_forces=model.tool_forces(state),
     )
 
 

@@ -148,11 +148,13 @@ class EnergyAccount:
     Work over [t(i-1/2), t(i+1/2)] is taken with the forces at t(i) (midpoint rule).
     """
 
-    KEYS = ("time", "kinetic", "internal", "external_work", "damping")
+    KEYS = ("time", "kinetic", "internal", "external_work", "damping", "friction")
 
     def __init__(self, thin: int):
         self.thin = thin
         self.kinetic = self.internal = self.external = self.dissipated = 0.0
+        #: Energy dissipated by friction inside the blocks (contact), set by the solver.
+        self.friction = 0.0
         #: Sum of |external work increments|: the yardstick for a blow-up.
         self.work_scale = 0.0
         #: The largest energy of the run so far: the yardstick of the energy balance.
@@ -212,11 +214,14 @@ class EnergyAccount:
         self.internal += d_int
         self.dissipated += d_damp
 
-    def check(self, work: tuple, strain_energy: float) -> tuple[float, float]:
+    def check(
+        self, work: tuple, strain_energy: float, friction: float = 0.0
+    ) -> tuple[float, float]:
         """The two energy measures at t(i) of the step whose ``work`` terms were just
-        accepted, U the strain energy of the configuration at t(i) (change from the start):
+        accepted, U the strain energy of the configuration at t(i) (change from the start),
+        D_f the energy friction dissipated up to t(i):
 
-        * the balance |KE* + U + D - W_ext| over the largest of these energies so far in the
+        * the balance |KE* + U + D + D_f - W_ext| over the largest of these energies so far in the
           run, KE* = 1/2 v(i-1/2) . M v(i+1/2). For a linear model the central difference
           conserves KE* + U exactly, stable or not; what it measures is the integration error
           of a nonlinear one (a director driven through the surface, a contact, a law's
@@ -231,6 +236,7 @@ class EnergyAccount:
         d_ext, _, d_damp, _, product, kinetic_mean, ext_before, damp_before = work
         external = self.external - d_ext + ext_before
         dissipated = self.dissipated - d_damp + damp_before
+        dissipated += friction
         terms = (product, kinetic_mean, strain_energy, dissipated, external)
         if not all(np.isfinite(terms)):
             return float("inf"), float("inf")
@@ -251,13 +257,13 @@ class EnergyAccount:
         """Keep the energies at ``time`` if the step is one of the thinned records: True."""
         if step % self.thin:
             return False
-        values = (time, self.kinetic, self.internal, self.external, self.dissipated)
+        values = (time, self.kinetic, self.internal, self.external, self.dissipated, self.friction)
         for key, value in zip(self.KEYS, values):
             self.records[key].append(value)
         return True
 
     def latest(self) -> tuple[float, ...]:
-        """The last record: (time, kinetic, internal, external work, damping)."""
+        """The last record: (time, kinetic, internal, external work, damping, friction)."""
         return tuple(self.records[key][-1] for key in self.KEYS)
 
     def arrays(self) -> dict[str, np.ndarray]:

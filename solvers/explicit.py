@@ -287,11 +287,16 @@ class CentralDifference:
             if checking:
                 self._check(compiled, run, work, new, dt, reactions, reaction_moments, diverged)
             run.state = state = compiled.commit(new)
+            if compiled.tool_blocks:
+                energy.friction = compiled.dissipated_energy(state)
             run.dt_prev = dt
             run.step = step = step + 1
             if energy.record(step, state.time) and history is not None:
                 history.append(
-                    energy.latest(), reactions, state.positions - compiled.reference_positions
+                    energy.latest(),
+                    reactions,
+                    state.positions - compiled.reference_positions,
+                    compiled.tool_forces(state),
                 )
             if run.schedule.due(state.time):
                 frame = make_frame(compiled, state, reactions, reaction_moments)
@@ -363,7 +368,7 @@ class CentralDifference:
             else:
                 stream.drop_after(run.state.time)
         if self.history is not None:
-            history = HistoryWriter(self.history, self.history_nodes)
+            history = HistoryWriter(self.history, self.history_nodes, len(compiled.tool_blocks))
             history.rows = run.history_rows
             history.start()
         return stream, history
@@ -373,7 +378,9 @@ class CentralDifference:
         step used; raises ``diverged(...)``, or notes the state as the last good one."""
         state = run.state
         balance, growth = run.energy.check(
-            work, compiled.strain_energy(state) - run.strain_at_start
+            work,
+            compiled.strain_energy(state) - run.strain_at_start,
+            compiled.dissipated_energy(state),
         )
         run.worst = max(run.worst, balance)
         run.grown = max(run.grown, growth)
@@ -440,6 +447,8 @@ class CentralDifference:
             c,
             checking,
         )
+        if model.tool_blocks:
+            work = self._tool_work(model, state, dt, dt_prev, work, checking)
         w_new = None
         reaction_moments = np.zeros_like(reactions)
         if dofs.any_rotation:
@@ -464,6 +473,21 @@ class CentralDifference:
             load_factor=t_next / self.duration,
         )
         return new, reactions, reaction_moments, work
+
+    def _tool_work(
+        self, model: CompiledModel, state: State, dt, dt_prev, work, checking: bool
+    ) -> tuple:
+        """The step's energy terms with the work of moving tools added to the external work:
+        their motion over [t(i - 1/2), t(i + 1/2)] (and [t(i - 1/2), t(i)] for the checks)
+        against the contact forces at t(i), the midpoint rule of the other terms."""
+        tau = state.time / self.duration
+        before = tau - 0.5 * dt_prev / self.duration
+        d_tool = model.tool_work(state, before, tau + 0.5 * dt / self.duration)
+        terms = list(work)
+        terms[0] += d_tool
+        if checking:  # the checks need the work done before t(i) too
+            terms[6] += model.tool_work(state, before, tau)
+        return tuple(terms)
 
     def _result(self, compiled, run: _Run, started: float, converged: bool) -> Result:
         result = empty_result(compiled, list(run.frames))

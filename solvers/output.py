@@ -87,15 +87,18 @@ class FrameStream:
 
 class HistoryWriter:
     """CSV rows appended (and flushed) as the run goes: time, the energies (N mm), the sum of
-    the support reactions (N) and the displacements (mm) of chosen nodes."""
+    the support reactions (N), the force on each rigid tool (N) and the displacements (mm) of
+    chosen nodes."""
 
-    def __init__(self, path: Path, nodes: np.ndarray):
-        self.path, self.nodes = path, nodes
+    def __init__(self, path: Path, nodes: np.ndarray, tools: int = 0):
+        self.path, self.nodes, self.tools = path, nodes, tools
         self.rows = 0  # data rows written; a resumed run cuts the file back to them
 
     def header(self) -> list[str]:
-        columns = ["time", "kinetic", "internal", "external_work", "damping"]
+        columns = ["time", "kinetic", "internal", "external_work", "damping", "friction"]
         columns += ["reaction_x", "reaction_y", "reaction_z"]
+        for tool in range(1, self.tools + 1):
+            columns += [f"tool{tool}_f{axis}" for axis in "xyz"]
         for node in self.nodes:
             columns += [f"u{axis}_{node}" for axis in "xyz"]
         return columns
@@ -112,8 +115,16 @@ class HistoryWriter:
         with open(self.path, "w", newline="") as handle:
             csv.writer(handle).writerows(kept)
 
-    def append(self, energies: tuple, reactions: np.ndarray, displacements: np.ndarray) -> None:
-        row = [*energies, *reactions.sum(axis=0), *displacements[self.nodes].ravel()]
+    def append(
+        self,
+        energies: tuple,
+        reactions: np.ndarray,
+        displacements: np.ndarray,
+        tool_forces: np.ndarray | None = None,
+    ) -> None:
+        tools = np.zeros((0, 3)) if tool_forces is None else tool_forces
+        row = [*energies, *reactions.sum(axis=0), *tools.ravel()]
+        row += [*displacements[self.nodes].ravel()]
         with open(self.path, "a", newline="") as handle:
             csv.writer(handle).writerow([repr(float(v)) for v in row])
             handle.flush()
