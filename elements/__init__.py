@@ -5,9 +5,9 @@ from elements.cable import Cable
 from elements.contact import Contact
 from elements.fibrous import FibrousShell
 from elements.mindlin import MindlinShell
-from elements.tools import RigidCylinder, RigidPlane, RigidSphere
+from elements.tools import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
 
 __all__ = [
     "Cable", "Contact", "ElementBlock", "ElementType", "FibrousShell", "MindlinShell",
-    "RigidCylinder", "RigidPlane", "RigidSphere",
+    "RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface",
 ]  # fmt: skip

@@ -305,3 +305,75 @@ def cable_forces(block, positions: np.ndarray) -> np.ndarray:
         out,
     )
     return out
+
+
+# ---------------------------------------------------------------------- contact search
+def _closest_on_triangle(p, a, b, c, out):
+    """The closest point to p on the triangle (a, b, c), into out (3,): Ericson's Voronoi
+    regions (the scalar form of elements.tools.closest_on_triangles)."""
+    ab0, ab1, ab2 = b[0] - a[0], b[1] - a[1], b[2] - a[2]
+    ac0, ac1, ac2 = c[0] - a[0], c[1] - a[1], c[2] - a[2]
+    ap0, ap1, ap2 = p[0] - a[0], p[1] - a[1], p[2] - a[2]
+    d1 = ab0 * ap0 + ab1 * ap1 + ab2 * ap2
+    d2 = ac0 * ap0 + ac1 * ap1 + ac2 * ap2
+    if d1 <= 0.0 and d2 <= 0.0:
+        out[0], out[1], out[2] = a[0], a[1], a[2]
+        return
+    bp0, bp1, bp2 = p[0] - b[0], p[1] - b[1], p[2] - b[2]
+    d3 = ab0 * bp0 + ab1 * bp1 + ab2 * bp2
+    d4 = ac0 * bp0 + ac1 * bp1 + ac2 * bp2
+    if d3 >= 0.0 and d4 <= d3:
+        out[0], out[1], out[2] = b[0], b[1], b[2]
+        return
+    vc = d1 * d4 - d3 * d2
+    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
+        t = d1 / (d1 - d3)
+        out[0], out[1], out[2] = a[0] + t * ab0, a[1] + t * ab1, a[2] + t * ab2
+        return
+    cp0, cp1, cp2 = p[0] - c[0], p[1] - c[1], p[2] - c[2]
+    d5 = ab0 * cp0 + ab1 * cp1 + ab2 * cp2
+    d6 = ac0 * cp0 + ac1 * cp1 + ac2 * cp2
+    if d6 >= 0.0 and d5 <= d6:
+        out[0], out[1], out[2] = c[0], c[1], c[2]
+        return
+    vb = d5 * d2 - d1 * d6
+    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
+        t = d2 / (d2 - d6)
+        out[0], out[1], out[2] = a[0] + t * ac0, a[1] + t * ac1, a[2] + t * ac2
+        return
+    va = d3 * d6 - d5 * d4
+    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        out[0] = b[0] + t * (c[0] - b[0])
+        out[1] = b[1] + t * (c[1] - b[1])
+        out[2] = b[2] + t * (c[2] - b[2])
+        return
+    denominator = va + vb + vc
+    v, w = vb / denominator, vc / denominator
+    out[0] = a[0] + v * ab0 + w * ac0
+    out[1] = a[1] + v * ab1 + w * ac1
+    out[2] = a[2] + v * ab2 + w * ac2
+
+
+_closest_on_triangle = _serial(_closest_on_triangle)
+
+
+def _closest_facets(x, corners, start, facets, point, facet, gap):
+    """For each point x[i] (k, 3), the closest point on its candidate facets
+    facets[start[i]:start[i + 1]] of corners (f, 3, 3): into point (k, 3), facet (k,) and
+    gap (k,) (the distance)."""
+    for i in prange(x.shape[0]):
+        trial = np.empty(3)
+        best = np.inf
+        for j in range(start[i], start[i + 1]):
+            f = facets[j]
+            _closest_on_triangle(x[i], corners[f, 0], corners[f, 1], corners[f, 2], trial)
+            d = (trial[0] - x[i, 0]) ** 2 + (trial[1] - x[i, 1]) ** 2 + (trial[2] - x[i, 2]) ** 2
+            if d < best:
+                best = d
+                facet[i] = f
+                point[i, 0], point[i, 1], point[i, 2] = trial[0], trial[1], trial[2]
+        gap[i] = np.sqrt(best)
+
+
+closest_facets = _jit(_closest_facets)

@@ -10,13 +10,17 @@ the tool is at ``a(tau) * motion`` from where it was given. Units: mm.
 
 from __future__ import annotations
 
+import itertools
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike
 
+from elements.kernels import closest_facets
 from femcore.checks import check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
 
-__all__ = ["RigidCylinder", "RigidPlane", "RigidSphere", "RigidTool"]
+__all__ = ["RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface", "RigidTool"]
 
 
 def _vector(value: ArrayLike, name: str, unit: bool = False) -> np.ndarray:
@@ -162,3 +166,220 @@ class RigidCylinder(_RoundTool):
     def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
         r = x - (self.point + self.offset(load_factor))
         return r - (r @ self.direction)[:, None] * self.direction
+
+
+# Nearest facet centroids examined per point; more are examined where these cannot be
+# shown to contain the closest facet (RigidSurface.distance).
+CANDIDATES = 8
+
+
+def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+    """The closest point to each x (..., 3) on the triangle (a, b, c) (..., 3) of the same
+    index (Ericson, Real-Time Collision Detection, 2005, §5.1.5: the Voronoi regions of the
+    vertices, the edges and the face, tested in barycentric terms)."""
+
+    def dot(u, v):
+        return np.einsum("...i,...i->...", u, v)
+
+    ab, ac, ap = b - a, c - a, x - a
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    bp, cp = x - b, x - c
+    d3, d4 = dot(ab, bp), dot(ac, bp)
+    d5, d6 = dot(ab, cp), dot(ac, cp)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        face_v = vb / (va + vb + vc)
+        face_w = vc / (va + vb + vc)
+        on_ab = d1 / (d1 - d3)
+        on_ac = d2 / (d2 - d6)
+        on_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+    point = a + face_v[..., None] * ab + face_w[..., None] * ac
+    # The regions, from the last to the first test of Ericson's order (each overwrites).
+    bc_edge = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
+    point = np.where(bc_edge[..., None], b + on_bc[..., None] * (c - b), point)
+    ac_edge = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+    point = np.where(ac_edge[..., None], a + on_ac[..., None] * ac, point)
+    point = np.where(((d6 >= 0) & (d5 <= d6))[..., None], c, point)
+    ab_edge = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+    point = np.where(ab_edge[..., None], a + on_ab[..., None] * ab, point)
+    point = np.where(((d3 >= 0) & (d4 <= d3))[..., None], b, point)
+    point = np.where(((d1 <= 0) & (d2 <= 0))[..., None], a, point)
+    return point
+
+
+@dataclass(frozen=True)
+class _Candidates:
+    """What RigidSurface keeps of its last search: the points (k, 3), in the tool's frame;
+    each point's candidate facets facets[start[i]:start[i + 1]] (none for the points beyond
+    the search distance, ``far`` (k,) bool); the distances (k,) and normals (k, 3) found."""
+
+    points: np.ndarray
+    start: np.ndarray
+    facets: np.ndarray
+    far: np.ndarray
+    distance: np.ndarray
+    normal: np.ndarray
+
+
+class RigidSurface(RigidTool):
+    """A rigid tool meshed with triangles: a Mesh (its triangles), or any file meshio or
+    Mesh.read reads (gmsh .msh, .inp, .vtu, .stl, ...). The body stays on the side the
+    facets' normals point to (right-hand rule on each triangle's nodes); ``flip=True`` takes
+    the other side.
+
+    The signed distance of a point is that to the closest point of the surface, positive on
+    the normals' side; its normal is along the line to that point (the facet's normal inside
+    a facet; around an edge or a vertex, the direction from it). The closest facet is found
+    among the nearest facet centroids of a k-d tree (scipy.spatial.cKDTree, built once):
+    CANDIDATES of them, more where those cannot be shown to include it (a centroid further
+    than the closest point found plus the largest facet's circumradius cannot belong to a
+    closer facet). That proof is asked only below ``search_distance`` (mm; default ten
+    facet circumradii, and it must exceed the contact offset h / 2): further away the
+    distance returned is that to the closest facet examined, never less than the true one.
+    The contact tangent treats each facet as flat (no curvature term).
+
+    Speed: that search costs tens of microseconds per point. The tool keeps, for the last
+    points it was asked about, every facet that can become their closest while they move
+    less than one circumradius (the facets within the proof's radius plus twice that
+    margin; none for the points beyond the search distance, which are told their distance
+    less how far they moved), and answers from those alone (a compiled loop) until a point
+    has moved further: microseconds per point and step in an explicit run
+    (benchmarks/contact_search.py).
+    """
+
+    def __init__(
+        self,
+        mesh,
+        motion: ArrayLike = (0.0, 0.0, 0.0),
+        flip: bool = False,
+        amplitude: str | AmplitudeFunction = "linear",
+        search_distance: float | None = None,
+    ):
+        from scipy.spatial import cKDTree
+
+        from femcore.mesh import Mesh
+
+        super().__init__(motion, amplitude=amplitude)
+        if not isinstance(mesh, Mesh):
+            try:
+                mesh = Mesh.read(mesh)
+            except (OSError, TypeError) as error:
+                raise ValueError(f"RigidSurface: cannot read {mesh!r}: {error}") from None
+        triangles = mesh.triangles
+        if len(triangles) == 0:
+            raise ValueError("RigidSurface needs a mesh with triangles (its facets), got none")
+        self.corners = mesh.points[triangles]  # (f, 3, 3)
+        a, b, c = self.corners[:, 0], self.corners[:, 1], self.corners[:, 2]
+        normal = np.cross(b - a, c - a)
+        length = np.linalg.norm(normal, axis=1)
+        if (length == 0).any():
+            raise ValueError(
+                f"RigidSurface: facet {int(np.argmin(length))} has no area (collinear nodes)"
+            )
+        self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
+        centroids = self.corners.mean(axis=1)
+        self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())
+        self.tree = cKDTree(centroids)
+        self.search_distance = (
+            10.0 * self.reach
+            if search_distance is None
+            else check_positive(search_distance, "RigidSurface search_distance", "mm")
+        )
+        self.n_facets = len(triangles)
+        self._cache: _Candidates | None = None
+
+    def _closest(self, x: np.ndarray, count: int):
+        """The closest points on the count nearest facets (by centroid): (point (k, 3),
+        facet (k,), distance to the furthest centroid examined (k,))."""
+        spread, facets = self.tree.query(x, k=count)
+        spread, facets = spread.reshape(len(x), -1), facets.reshape(len(x), -1)
+        corners = self.corners[facets]  # (k, count, 3, 3)
+        points = closest_on_triangles(
+            x[:, None, :], corners[..., 0, :], corners[..., 1, :], corners[..., 2, :]
+        )
+        gaps = np.linalg.norm(points - x[:, None, :], axis=2)
+        best = np.argmin(gaps, axis=1)
+        rows = np.arange(len(x))
+        return points[rows, best], facets[rows, best], gaps[rows, best], spread[:, -1]
+
+    def _candidates(self, local: np.ndarray, gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every facet whose centroid lies within the proof's radius of each point plus twice
+        the cache's margin (one circumradius), as (start (k + 1,), facets): point i's are
+        facets[start[i]:start[i + 1]]."""
+        radius = np.minimum(gap, self.search_distance) + 3.0 * self.reach
+        found = self.tree.query_ball_point(local, np.maximum(radius, 0.0), return_sorted=False)
+        counts = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
+        start = np.concatenate([[0], np.cumsum(counts)])
+        facets = np.fromiter(itertools.chain.from_iterable(found), np.int64, count=start[-1])
+        return start, facets
+
+    def _from_candidates(self, local: np.ndarray, candidates):
+        """(point, facet, gap) of each point among its kept candidate facets."""
+        # A point without candidates (beyond the search distance) keeps these; distance()
+        # replaces what they give.
+        point = local.copy()
+        facet = np.zeros(len(local), dtype=np.int64)
+        gap = np.zeros(len(local))
+        closest_facets(local, self.corners, candidates[0], candidates[1], point, facet, gap)
+        return point, facet, gap
+
+    def distance(self, x: np.ndarray, load_factor: float = 0.0):
+        local = np.asarray(x, dtype=float) - self.offset(load_factor)
+        cache = self._cache
+        if cache is not None and cache.points.shape == local.shape:
+            shift = np.abs(local - cache.points)
+            if shift.max(initial=0.0) < 0.5 * self.reach:  # |move| < 0.87 reach: margin holds
+                point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
+                d, n = self._signed(local, point, facet, gap)
+                # Points beyond the search distance have no candidates: what they are told
+                # is a distance less than their true one and more than the search distance.
+                moved = np.linalg.norm(shift[cache.far], axis=1)
+                d[cache.far] = (
+                    cache.distance[cache.far] - np.sign(cache.distance[cache.far]) * moved
+                )
+                n[cache.far] = cache.normal[cache.far]
+                return d, n
+        point, facet, gap = self._search(local)
+        d, n = self._signed(local, point, facet, gap)
+        far = gap > self.search_distance
+        start, facets = self._candidates(local, np.where(far, -np.inf, gap))
+        self._cache = _Candidates(local.copy(), start, facets, far, d, n)
+        return d, n
+
+    def _search(self, local: np.ndarray):
+        """The closest facet of each point by the k-d tree (class docstring)."""
+        count = min(CANDIDATES, self.n_facets)
+        point, facet, gap, spread = self._closest(local, count)
+        band = self.search_distance
+
+        def doubtful(spread, gap):  # a facet closer than min(gap, band) may be unexamined
+            return spread < np.minimum(gap, band) + self.reach
+
+        unsure = doubtful(spread, gap)
+        while unsure.any() and count < self.n_facets:
+            count = min(4 * count, self.n_facets)
+            p, f, g, s = self._closest(local[unsure], count)
+            point[unsure], facet[unsure], gap[unsure] = p, f, g
+            spread[unsure] = s
+            unsure[unsure] = doubtful(s, g)
+        return point, facet, gap
+
+    def _signed(self, local, point, facet, gap):
+        """Signed distance and normal from the closest points (class docstring)."""
+        facet_normal = self.normals[facet]
+        towards = local - point
+        side = np.where(np.sum(towards * facet_normal, axis=1) < 0.0, -1.0, 1.0)
+        # Off the surface the normal is the direction from the closest point; on it (or
+        # within rounding of it) that of the facet.
+        along = gap > 1e-12 * max(self.reach, 1.0)
+        normal = np.where(
+            along[:, None],
+            side[:, None] * towards / np.where(along, gap, 1.0)[:, None],
+            facet_normal,
+        )
+        return side * gap, normal
+
+    def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
+        return np.zeros(len(x))

@@ -16,15 +16,15 @@ from solvers import DynamicRelaxation, Static
 G = 9810.0  # mm/s^2
 
 
-def resting_plate(element, thickness: float) -> tuple[Model, Mesh]:
+def resting_plate(element, thickness: float, floor=None) -> tuple[Model, Mesh]:
     """A 100 x 100 mm plate laid on the plane z = 0 (its mid-surface h / 2 above it), its
-    in-plane motion held, under gravity."""
+    in-plane motion held, under gravity; the floor a RigidPlane unless given."""
     flat = Mesh.rectangle(100.0, 100.0, nx=4, ny=4)
     mesh = flat.with_points(flat.points + [0.0, 0.0, 0.5 * thickness])
     model = Model(mesh)
     model.add(element)
     model.fix(lambda x, y, z: np.ones_like(x, dtype=bool), ["ux", "uy"])
-    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)))
+    model.contact(floor or RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)))
     model.gravity((0.0, 0.0, -G))
     return model, mesh
 
@@ -396,3 +396,84 @@ def test_a_heavy_strip_draped_over_a_cylinder_wraps_it_then_hangs_as_a_heavy_ela
     pressed = run.field("contact_force") > 0.0
     assert pressed[(s > 0) & (s < lift_off + cell)].any()
     assert not pressed[s > lift_off + cell].any()
+
+
+# ---------------------------------------------------------------------- meshed tools
+def meshed_sphere(radius: float, points: int) -> Mesh:
+    """The convex hull of a Fibonacci lattice on a sphere: a closed triangulated sphere
+    whose facet normals point outwards."""
+    from scipy.spatial import ConvexHull
+
+    k = np.arange(points) + 0.5
+    polar = np.arccos(1.0 - 2.0 * k / points)
+    azimuth = np.pi * (1.0 + 5.0**0.5) * k
+    x = radius * np.column_stack(
+        [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)]
+    )
+    triangles = ConvexHull(x).simplices
+    a, b, c = (x[triangles[:, i]] for i in range(3))
+    inward = np.sum(np.cross(b - a, c - a) * (a + b + c), axis=1) < 0
+    triangles[inward] = triangles[inward][:, ::-1]
+    return Mesh(x, triangles=triangles)
+
+
+def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_finds():
+    """RigidSurface's k-d tree search against brute force over every facet (the exact
+    point-triangle distances of elements.tools.closest_on_triangles): the same distance
+    to rounding (1e-12 mm) for points inside and outside a 600-facet sphere, near it and
+    within the search distance; and the distance to the facets differs from that to the
+    sphere they approximate by less than the facets' sagitta."""
+    from elements import RigidSurface
+    from elements.tools import closest_on_triangles
+
+    radius = 10.0
+    mesh = meshed_sphere(radius, 302)
+    tool = RigidSurface(mesh, motion=(1.0, 2.0, 3.0))
+    rng = np.random.default_rng(11)
+    direction = rng.normal(size=(300, 3))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    shift = 0.5 * np.array([1.0, 2.0, 3.0])  # the tool at load factor 0.5
+    x = direction * rng.uniform(radius - 1.5, radius + 1.5, size=(300, 1)) + shift
+    d, n = tool.distance(x, 0.5)
+
+    corners = mesh.points[mesh.triangles]
+
+    def brute_force(x):
+        local = (x - shift)[:, None, :]
+        a, b, c = (corners[None, :, i] for i in range(3))
+        nearest = closest_on_triangles(local, a, b, c)
+        return np.linalg.norm(nearest - local, axis=2).min(axis=1)
+
+    np.testing.assert_allclose(np.abs(d), brute_force(x), atol=1e-12)
+    # Moved by less than the cache's margin: answered from the kept candidates, as exactly.
+    moved = x + rng.uniform(-0.45, 0.45, size=x.shape) * tool.reach
+    np.testing.assert_allclose(np.abs(tool.distance(moved, 0.5)[0]), brute_force(moved), atol=1e-12)
+    # Beyond the search distance a point is told less than its distance, more than that one.
+    far = direction * (radius + 3.0 * tool.search_distance) + shift
+    tool.distance(far, 0.5)
+    told = tool.distance(far + 0.3 * tool.reach, 0.5)[0]
+    assert np.all(told <= brute_force(far + 0.3 * tool.reach) + 1e-12)
+    assert np.all(told > tool.search_distance)
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-12)
+    exact, _ = RigidSphere(shift, radius).distance(x)
+    edge = np.linalg.norm(corners[:, 1] - corners[:, 0], axis=1).max()
+    sagitta = radius - np.sqrt(radius**2 - (edge / np.sqrt(3)) ** 2)
+    assert np.all(np.abs(d - exact) <= sagitta)
+    outside = exact > sagitta
+    assert np.all(d[outside] > 0) and np.all(d[exact < -sagitta] < 0)
+
+
+def test_a_plate_resting_on_a_meshed_floor_is_the_plate_on_an_analytic_plane():
+    """The resting plate of the first test on a floor meshed with 2 x 8 x 8 triangles instead
+    of RigidPlane: the same nodal contact forces, to rounding (1e-9 relative)."""
+    from elements import RigidSurface
+
+    element = MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9))
+    floor = Mesh.rectangle(140.0, 140.0, nx=8, ny=8)
+    floor = floor.with_points(floor.points - [20.0, 20.0, 0.0])
+    forces = []
+    for tool in (RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), RigidSurface(floor)):
+        model, _ = resting_plate(element, 1.0, tool)
+        run = Static(increments=1, progress=False).solve(model)
+        forces.append(run.field("contact_force"))
+    np.testing.assert_allclose(forces[1], forces[0], rtol=1e-9)
