@@ -23,6 +23,14 @@ nodes = "right"
 uz = -10.0
 [gravity]
 acceleration = [0.0, 0.0, -9810.0]
+[[contact]]                              # a rigid tool the shell may touch (elements.tools)
+tool = "sphere"                          # "plane" | "sphere" | "cylinder" | "surface"
+centre = [0.0, 0.0, -50.0]               # plane: point, normal; sphere: centre, radius;
+radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip
+side = "outside"                         # sphere and cylinder: "outside" | "inside"
+motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
+friction = 0.2                           # optional: Coulomb coefficient (0)
+# nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic)
 [solver]
 kind = "static"                          # "static" | "relaxation" | "explicit"
 increments = 3                           # any keyword option of that solver
@@ -51,7 +59,15 @@ from typing import Any
 
 import numpy as np
 
-from elements import Cable, FibrousShell, MindlinShell
+from elements import (
+    Cable,
+    FibrousShell,
+    MindlinShell,
+    RigidCylinder,
+    RigidPlane,
+    RigidSphere,
+    RigidSurface,
+)
 from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw, presets
 from solvers import CentralDifference, DynamicRelaxation, Static
@@ -64,7 +80,17 @@ SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": Centra
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
 _BOUNDS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
 _TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
-        "solver", "output")  # fmt: skip
+        "contact", "solver", "output")  # fmt: skip
+TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
+         "surface": RigidSurface}  # fmt: skip
+# The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
+_TOOL_KEYS = {
+    "plane": ("point", "normal"),
+    "sphere": ("centre", "radius", "side"),
+    "cylinder": ("point", "axis", "radius", "side"),
+    "surface": ("file", "flip", "search_distance"),
+}
+_CONTACT_KEYS = ("tool", "nodes", "friction", "penalty", "motion", "amplitude")
 
 
 class CaseError(ValueError):
@@ -140,6 +166,9 @@ class Case:
         The ``[[part]]`` ... tables, checked (node selections resolved to node ids).
     gravity : dict or None
         {"acceleration": (3,), "amplitude": str}.
+    contacts : list of dict
+        {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
+        None} per ``[[contact]]``.
     solver : dict
         {"kind": str, "options": dict}.
     history : dict
@@ -157,6 +186,7 @@ class Case:
     forces: list[dict] = field(default_factory=list)
     moments: list[dict] = field(default_factory=list)
     gravity: dict | None = None
+    contacts: list[dict] = field(default_factory=list)
     solver: dict = field(default_factory=dict)
     history: dict = field(default_factory=dict)
     paths: dict = field(default_factory=dict)
@@ -187,6 +217,10 @@ class Case:
             model.moment(item["nodes"], item["vector"], amplitude=item["amplitude"])
         if self.gravity is not None:
             model.gravity(self.gravity["acceleration"], amplitude=self.gravity["amplitude"])
+        for contact in self.contacts:
+            model.contact(
+                contact["tool"], contact["nodes"], contact["friction"], contact["penalty"]
+            )
         return model
 
     def make_solver(self, **outputs):
@@ -266,6 +300,10 @@ def load_case(path: str | Path) -> Case:
             "acceleration": _vector(where, data["gravity"]["acceleration"], "acceleration"),
             "amplitude": _amplitude(where, data["gravity"].get("amplitude", "step")),
         }
+    case.contacts = [
+        _contact(top.child(f"contact[{i}]"), mesh, c, path.parent)
+        for i, c in enumerate(_list(top, data, "contact"))
+    ]
     case.solver = _solver(top, data["solver"])
     _output(top, data.get("output", {}), case)
     return case
@@ -305,7 +343,7 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
             return Mesh.read(mesh_path)
         except ValueError as error:
             raise where.error("file", str(error)) from None
-    rect = _table(where, table["rectangle"], "rectangle", ("lx", "ly", "nx", "ny"),
+    rect = _table(where, table["rectangle"], "rectangle", ("lx", "ly", "nx", "ny", "origin"),
                   ("lx", "ly", "nx", "ny"))  # fmt: skip
     inner = where.child("rectangle")
     for key in ("nx", "ny"):
@@ -315,6 +353,7 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
         return Mesh.rectangle(
             _number(inner, rect["lx"], "lx"), _number(inner, rect["ly"], "ly"),
             nx=rect["nx"], ny=rect["ny"],
+            origin=_vector(inner, rect.get("origin", [0.0, 0.0, 0.0]), "origin"),
         )  # fmt: skip
     except ValueError as error:
         raise inner.error(None, str(error)) from None
@@ -483,6 +522,47 @@ def _displace(where: _Where, mesh: Mesh, value: dict) -> dict:
         "components": components,
         "amplitude": _amplitude(where, value.get("amplitude", "smooth")),
     }
+
+
+def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
+    """A ``[[contact]]`` table: its tool built, its nodes selected."""
+    kind = value.get("tool") if isinstance(value, dict) else None
+    if kind not in TOOLS:
+        raise where.error("tool", f"expected one of {', '.join(TOOLS)}, got {kind!r}")
+    _table(where, value, "", _CONTACT_KEYS + _TOOL_KEYS[kind], ("tool",))
+    options: dict[str, Any] = {}
+    for key in _TOOL_KEYS[kind] + ("motion",):
+        if key not in value:
+            continue
+        item = value[key]
+        if key in ("point", "normal", "centre", "axis", "motion"):
+            options[key] = _vector(where, item, key)
+        elif key in ("radius", "search_distance"):
+            options[key] = _number(where, item, key)
+        elif key == "file":
+            if not isinstance(item, str):
+                raise where.error(key, f"expected a path string, got {item!r}")
+            options["mesh"] = str(folder / item)
+        elif key == "flip":
+            if not isinstance(item, bool):
+                raise where.error(key, f"expected true or false, got {item!r}")
+            options[key] = item
+        else:  # side
+            options[key] = item
+    if "amplitude" in value:
+        options["amplitude"] = _amplitude(where, value["amplitude"])
+    try:
+        tool = TOOLS[kind](**options)
+    except (TypeError, ValueError) as error:
+        raise where.error("tool", str(error)) from None
+    friction = _number(where, value.get("friction", 0.0), "friction")
+    if friction < 0:
+        raise where.error("friction", f"expected a Coulomb coefficient >= 0, got {friction!r}")
+    penalty = value.get("penalty")
+    if penalty is not None and not _number(where, penalty, "penalty") > 0:
+        raise where.error("penalty", f"expected a positive number (N/mm), got {penalty!r}")
+    nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
+    return {"tool": tool, "nodes": nodes, "friction": friction, "penalty": penalty}
 
 
 def _solver(top: _Where, value: Any) -> dict:

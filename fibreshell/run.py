@@ -100,8 +100,9 @@ def run_case(
 def history_rows(case: Case, result: Result) -> list[dict]:
     """One row per frame: frame, time (s), load_factor, the reaction sums over each
     ``history.reactions`` set (N) and the mean displacement of each ``history.displacements``
-    set (mm), then the energies (N mm) the solver records: per frame (Static: the strain
-    energy "energy_internal"), or interpolated at the frame times (explicit runs)."""
+    set (mm), the force on each rigid tool (N), then the energies (N mm) the solver records:
+    per frame (Static: the strain energy "energy_internal"), or interpolated at the frame
+    times (explicit runs)."""
     energies = result.energies if result.energies else {}
     times = np.asarray(energies.get("time", ()))
     per_frame = len(times) == len(result.frames) and np.array_equal(
@@ -121,11 +122,13 @@ def history_rows(case: Case, result: Result) -> list[dict]:
             row.update({f"energy_{key}": values[index] for key, values in energies.items()
                         if key != "time"})  # fmt: skip
         elif len(times) > 0:
-            for key in ("kinetic", "internal", "external_work", "damping"):
+            for key in ("kinetic", "internal", "external_work", "damping", "friction"):
                 if key in energies:
                     row[f"energy_{key}"] = float(
                         np.interp(frame.time, energies["time"], energies[key])
                     )
+        for tool, force in enumerate(frame.tool_forces, start=1):
+            row.update({f"tool{tool}_force_{axis}": force[i] for i, axis in enumerate("xyz")})
         rows.append(row)
     return rows
 
@@ -156,8 +159,8 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
 
 def summarise(case: Case, result: Result, kinematics: str, error: str, wall: float) -> dict:
     """The numbers of a run for summary.json: how it ended, the history sets at the final
-    frame, the largest fibre strain and director tilt where the element reports them, and the
-    profiles along the paths."""
+    frame, the force on each rigid tool, the largest fibre strain and director tilt where the
+    element reports them, and the profiles along the paths."""
     final = result.frames[-1]
     out: dict[str, Any] = {
         "case": case.title,
@@ -181,6 +184,8 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
             for n in [case.mesh.nodes(name)]
         },
     }
+    if len(final.tool_forces):  # the force on each tool ([[contact]] order), N
+        out["tool_forces"] = {f"tool{i}": f for i, f in enumerate(final.tool_forces, start=1)}
     triangle = final.fields.get("triangle", {})
     if "warp_strain" in triangle:
         out["max_fibre_strain"] = float(

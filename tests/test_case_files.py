@@ -298,3 +298,67 @@ def test_an_explicit_case_streams_its_frames_and_energies(tmp_path):
     summary = strict_load((tmp_path / "out" / "summary.json").read_text())
     assert summary["final_time"] == pytest.approx(0.004)
     assert summary["mean_displacements"]["tip"][2] < 0.0  # it falls
+
+
+def test_the_shipped_strip_over_a_cylinder_drapes_as_the_heavy_elastica(tmp_path):
+    """cases/strip_over_cylinder.toml run by ``fibreshell run``: the strip's free end where
+    the boundary-value reference puts it (0.3 mm, as tests/test_contact.py: 50 cells), and
+    the force on the cylinder in the summary and the history, the strip's weight less what
+    the held top carries (the vertical reactions and the tool force balance the weight,
+    1e-6)."""
+    from validation.references.elastica import heavy_strip_over_cylinder
+
+    case = load_case(ROOT / "cases" / "strip_over_cylinder.toml")
+    run = run_case(case, tmp_path, progress=False)
+    assert run.result.converged
+    reference = heavy_strip_over_cylinder(100.0, 1.66e-9 * 9810.0, 0.833, 20.5)
+    tip = run.result.positions[case.mesh.nodes("tip")]
+    np.testing.assert_allclose(tip[:, 0], reference["tip_x"], atol=0.3)
+    np.testing.assert_allclose(tip[:, 2], reference["tip_z"], atol=0.3)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    weight = 1.66e-9 * 9810.0 * 100.0 * 10.0
+    on_tool = summary["tool_forces"]["tool1"][2]
+    held = summary["reactions"]["left"][2]
+    assert -on_tool + held == pytest.approx(weight, rel=1e-6)
+    assert -on_tool > 0.0
+    with open(tmp_path / "history.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert float(rows[-1]["tool1_force_z"]) == pytest.approx(on_tool, rel=1e-12)
+
+
+CONTACT = """
+[[contact]]
+tool = "sphere"
+centre = [50.0, 5.0, -30.0]
+radius = 30.0
+friction = 0.2
+"""
+
+
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        ('tool = "sphere"', 'tool = "ball"', r"\[contact\[0\].tool\]: expected one of"),
+        ("radius = 30.0", "radius = -30.0", r"\[contact\[0\].tool\]: .*radius"),
+        ("radius = 30.0", "radius = 30.0\nnormal = [0.0, 0.0, 1.0]", r"unknown key 'normal'"),
+        ("friction = 0.2", "friction = -0.2", r"\[contact\[0\].friction\]"),
+        ("friction = 0.2", 'friction = 0.2\nnodes = "nowhere"', r"\[contact\[0\].nodes\]"),
+        ("centre = [50.0, 5.0, -30.0]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
+    ],
+)
+def test_a_mistake_in_a_contact_table_names_the_file_the_table_and_the_key(
+    tmp_path, old, new, where
+):
+    text = (CANTILEVER + CONTACT).replace(old, new, 1)
+    with pytest.raises(CaseError, match=where):
+        load_case(write(tmp_path, text))
+
+
+def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
+    case = load_case(write(tmp_path, CANTILEVER + CONTACT))
+    (contact,) = case.contacts
+    assert contact["friction"] == 0.2 and contact["nodes"] is None
+    tool = contact["tool"]
+    assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
+    model = case.model()
+    assert model.blocks[-1].element.friction == 0.2
