@@ -1,0 +1,116 @@
+"""Kinematic draping of a woven fabric on a sphere: the pin-jointed net of Mack and Taylor
+(Journal of the Textile Institute 47 (1956) T477-T488), independent of any finite element.
+
+The fabric is a net of inextensible fibre segments of length a, free to rotate at the
+crossings (no shear stiffness). Draped from the pole of a sphere of radius R with its two
+generators (the warp and weft lines through the pole) along great circles, the net is
+determined cell by cell: each new crossing P(i, j) lies at distance a from its two
+neighbours P(i - 1, j) and P(i, j - 1) (towards the pole) and on the sphere; of the two such
+points, the one away from P(i - 1, j - 1). On the sphere of centre O, |P - A| = a with
+|A| = |P| = R makes A . P = R^2 - a^2 / 2, so P = alpha (A + B) + gamma A x B with alpha =
+(R^2 - a^2 / 2) / (R^2 + A . B) and gamma from |P| = R.
+
+The continuum limit is a Chebyshev net: with gamma(u, v) the shear angle (90 degrees less the
+angle between the fibres) at fibre arc lengths (u, v) from the pole, the Gaussian curvature
+K = 1 / R^2 gives d^2 gamma / du dv = K cos(gamma), gamma = 0 on the generators (Chebyshev
+1878; Pipkin, 1984): ``chebyshev_shear`` integrates it as an independent check.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["chebyshev_shear", "fishnet_on_sphere"]
+
+
+def fishnet_on_sphere(radius: float, cell: float, count: int) -> dict:
+    """The pin-jointed net of segment ``cell`` (mm) on the upper hemisphere of ``radius``
+    (mm, centre at the origin, pole at (0, 0, radius)), ``count`` cells from the pole along
+    each generator each way, warp along x and weft along y at the pole.
+
+    Returns a dict: u, v (2 count + 1,) the fibre arc lengths of the crossings from the pole
+    (mm, i cell and j cell); points (2 count + 1, 2 count + 1, 3), NaN where the net would
+    pass below the equator (it leaves the hemisphere there); shear (same grid, rad) the
+    shear angle at each crossing, 90 degrees less the angle between its warp and weft
+    directions (``_shear``; positive where the fibres close up, NaN where undefined).
+    """
+    if not (cell > 0 and radius > 0 and cell < radius):
+        raise ValueError(f"need 0 < cell < radius, got cell {cell!r}, radius {radius!r}")
+    n = int(count)
+    size = 2 * n + 1
+    points = np.full((size, size, 3), np.nan)
+    step = 2.0 * np.arcsin(0.5 * cell / radius)  # the angle of a chord of length cell
+    k = np.arange(-n, n + 1)
+    angle = k * step
+    on = np.abs(angle) <= 0.5 * np.pi
+    points[:, n][on] = (
+        radius * np.column_stack([np.sin(angle), np.zeros_like(angle), np.cos(angle)])[on]
+    )
+    points[n, :][on] = (
+        radius * np.column_stack([np.zeros_like(angle), np.sin(angle), np.cos(angle)])[on]
+    )
+    reach = radius**2 - 0.5 * cell**2
+    for si in (-1, 1):
+        for sj in (-1, 1):
+            for i in range(1, n + 1):
+                for j in range(1, n + 1):
+                    a = points[n + si * i - si, n + sj * j]  # towards the pole along warp
+                    b = points[n + si * i, n + sj * j - sj]
+                    d = points[n + si * i - si, n + sj * j - sj]
+                    p = _third_crossing(a, b, d, radius, reach)
+                    if p is not None and p[2] >= 0.0:
+                        points[n + si * i, n + sj * j] = p
+    return {"u": k * cell, "v": k * cell, "points": points, "shear": _shear(points)}
+
+
+def _third_crossing(a, b, d, radius, reach):
+    """The point at distance cell from a and b on the sphere, away from d; None when there
+    is none (the net cannot close on the sphere) or a neighbour is missing."""
+    if not (np.isfinite(a).all() and np.isfinite(b).all() and np.isfinite(d).all()):
+        return None
+    alpha = reach / (radius**2 + a @ b)
+    base = alpha * (a + b)
+    normal = np.cross(a, b)
+    rest = radius**2 - base @ base
+    if rest < 0 or normal @ normal == 0:
+        return None
+    gamma = np.sqrt(rest / (normal @ normal))
+    first, second = base + gamma * normal, base - gamma * normal
+    return first if np.linalg.norm(first - d) > np.linalg.norm(second - d) else second
+
+
+def _shear(points: np.ndarray) -> np.ndarray:
+    """90 degrees less the angle at each crossing between its warp and weft directions, each
+    the chord between its two neighbours along the fibre (rad; second order in the cell,
+    zero on the generators by symmetry; NaN where a neighbour is missing)."""
+    shear = np.full(points.shape[:2], np.nan)
+    e1 = points[2:, 1:-1] - points[:-2, 1:-1]
+    e2 = points[1:-1, 2:] - points[1:-1, :-2]
+    cosine = np.sum(e1 * e2, axis=2) / (np.linalg.norm(e1, axis=2) * np.linalg.norm(e2, axis=2))
+    shear[1:-1, 1:-1] = 0.5 * np.pi - np.arccos(np.clip(cosine, -1.0, 1.0))
+    return shear
+
+
+def chebyshev_shear(radius: float, extent: float, cells: int) -> dict:
+    """The continuum Chebyshev net on a sphere: d^2 gamma / du dv = cos(gamma) / R^2 with
+    gamma = 0 on u = 0 and v = 0, marched over [0, extent]^2 on a (cells + 1)^2 grid (the
+    second-order scheme of a Goursat problem, the cosine at the cell centre from the three
+    known corners). Returns u (cells + 1,) and shear (cells + 1, cells + 1), rad, gamma(u_i,
+    v_j) in the quadrant u, v >= 0 (the others follow by symmetry: gamma(-u, v) =
+    -gamma(u, v))."""
+    h = extent / cells
+    gamma = np.zeros((cells + 1, cells + 1))
+    for i in range(cells):
+        for j in range(cells):
+            known = gamma[i, j] + gamma[i + 1, j] + gamma[i, j + 1]
+            guess = gamma[i + 1, j] + gamma[i, j + 1] - gamma[i, j]
+            for _ in range(4):  # implicit midpoint: the centre value from all four corners
+                centre = 0.25 * (known + guess)
+                guess = (
+                    gamma[i + 1, j]
+                    + gamma[i, j + 1]
+                    - gamma[i, j]
+                    + h**2 * np.cos(centre) / radius**2
+                )
+            gamma[i + 1, j + 1] = guess
+    return {"u": np.linspace(0.0, extent, cells + 1), "shear": gamma}
