@@ -4,7 +4,7 @@ A closed sphere of radius 100 mm meshed with about 1k, 10k and 100k triangles (t
 of a Fibonacci lattice); 10k points scattered within +-2 mm of it (a blank lying on a tool).
 Printed per size: the time to build the k-d tree, the microseconds per node for a full search
 (the first query, or after a node moved more than the cache's margin), for a step answered from
-the kept candidates (the points moved by a tenth of a facet: what a contact block pays per node
+the kept candidates (the points moved by a twentieth of a facet: what a contact block pays per node
 and step in an explicit run), the same query against the analytic RigidSphere, and a reference
 pass over the same points (one norm per point), side by side in one run, best of
 ``--repeats``.
@@ -65,7 +65,7 @@ def time_surface(tool: RigidSurface, x: np.ndarray, repeats: int) -> tuple[float
 
     full = best(search, repeats)
     tool.distance(x)
-    nudged = x + 0.1 * tool.reach
+    nudged = x + 0.05 * tool.reach
     return full, best(lambda: tool.distance(nudged), repeats)
 
 

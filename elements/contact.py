@@ -80,6 +80,7 @@ class Contact(ElementType):
         self.offset = np.broadcast_to(np.asarray(offset, dtype=float), self.nodes.shape).copy()
         if not np.all(np.isfinite(self.offset)) or (self.offset < 0).any():
             raise ValueError(f"offset must be finite and >= 0 (mm), got {offset!r}")
+        tool.exact_within(2.0 * float(self.offset.max(initial=0.0)))
         if penalty is not None and not (np.isfinite(penalty) and penalty > 0):
             raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
         if not (isinstance(friction, (int, float)) and np.isfinite(friction) and friction >= 0):

@@ -68,6 +68,11 @@ class RigidTool:
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError
 
+    def exact_within(self, distance: float) -> None:
+        """A contact asks for exact distances up to ``distance`` (mm, twice its largest offset
+        h / 2); analytic tools always give them."""
+        return None
+
     def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
         """(k,) the factor c of dn/dx = c (I - n n^T - a a^T), a the cylinder's axis (none
         for a sphere): the tool's sign over the distance to its centre or axis; 0 for a
@@ -168,6 +173,8 @@ class RigidCylinder(_RoundTool):
         return r - (r @ self.direction)[:, None] * self.direction
 
 
+# How far (in facet circumradii) a point may move before RigidSurface searches it again.
+MARGIN = 0.25
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
@@ -235,14 +242,14 @@ class RigidSurface(RigidTool):
     among the nearest facet centroids of a k-d tree (scipy.spatial.cKDTree, built once):
     CANDIDATES of them, more where those cannot be shown to include it (a centroid further
     than the closest point found plus the largest facet's circumradius cannot belong to a
-    closer facet). That proof is asked only below ``search_distance`` (mm; default ten
-    facet circumradii, and it must exceed the contact offset h / 2): further away the
-    distance returned is that to the closest facet examined, never less than the true one.
+    closer facet). That proof is asked only below ``search_distance`` (mm; by default two
+    facet circumradii, or twice the largest contact offset h / 2 of the contacts that use the
+    tool if more): further away the distance returned is never less than the true one.
     The contact tangent treats each facet as flat (no curvature term).
 
     Speed: that search costs tens of microseconds per point. The tool keeps, for the last
     points it was asked about, every facet that can become their closest while they move
-    less than one circumradius (the facets within the proof's radius plus twice that
+    less than ``MARGIN`` circumradius (the facets within the proof's radius plus twice that
     margin; none for the points beyond the search distance, which are told their distance
     less how far they moved), and answers from those alone (a compiled loop) until a point
     has moved further: microseconds per point and step in an explicit run
@@ -282,8 +289,9 @@ class RigidSurface(RigidTool):
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())
         self.tree = cKDTree(centroids)
+        self._given_search = search_distance is not None
         self.search_distance = (
-            10.0 * self.reach
+            2.0 * self.reach
             if search_distance is None
             else check_positive(search_distance, "RigidSurface search_distance", "mm")
         )
@@ -304,11 +312,16 @@ class RigidSurface(RigidTool):
         rows = np.arange(len(x))
         return points[rows, best], facets[rows, best], gaps[rows, best], spread[:, -1]
 
+    def exact_within(self, distance: float) -> None:
+        if not self._given_search and distance > self.search_distance:
+            self.search_distance = float(distance)
+            self._cache = None
+
     def _candidates(self, local: np.ndarray, gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every facet whose centroid lies within the proof's radius of each point plus twice
-        the cache's margin (one circumradius), as (start (k + 1,), facets): point i's are
+        the cache's margin (MARGIN circumradius), as (start (k + 1,), facets): point i's are
         facets[start[i]:start[i + 1]]."""
-        radius = np.minimum(gap, self.search_distance) + 3.0 * self.reach
+        radius = np.minimum(gap, self.search_distance) + (1.0 + 2.0 * MARGIN) * self.reach
         found = self.tree.query_ball_point(local, np.maximum(radius, 0.0), return_sorted=False)
         counts = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
         start = np.concatenate([[0], np.cumsum(counts)])
@@ -330,7 +343,8 @@ class RigidSurface(RigidTool):
         cache = self._cache
         if cache is not None and cache.points.shape == local.shape:
             shift = np.abs(local - cache.points)
-            if shift.max(initial=0.0) < 0.5 * self.reach:  # |move| < 0.87 reach: margin holds
+            # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it was.
+            if shift.max(initial=0.0) < MARGIN / np.sqrt(3.0) * self.reach:
                 point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
                 d, n = self._signed(local, point, facet, gap)
                 # Points beyond the search distance have no candidates: what they are told

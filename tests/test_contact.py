@@ -446,13 +446,13 @@ def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_fin
 
     np.testing.assert_allclose(np.abs(d), brute_force(x), atol=1e-12)
     # Moved by less than the cache's margin: answered from the kept candidates, as exactly.
-    moved = x + rng.uniform(-0.45, 0.45, size=x.shape) * tool.reach
+    moved = x + rng.uniform(-0.14, 0.14, size=x.shape) * tool.reach
     np.testing.assert_allclose(np.abs(tool.distance(moved, 0.5)[0]), brute_force(moved), atol=1e-12)
     # Beyond the search distance a point is told less than its distance, more than that one.
     far = direction * (radius + 3.0 * tool.search_distance) + shift
     tool.distance(far, 0.5)
-    told = tool.distance(far + 0.3 * tool.reach, 0.5)[0]
-    assert np.all(told <= brute_force(far + 0.3 * tool.reach) + 1e-12)
+    told = tool.distance(far + 0.1 * tool.reach, 0.5)[0]
+    assert np.all(told <= brute_force(far + 0.1 * tool.reach) + 1e-12)
     assert np.all(told > tool.search_distance)
     np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-12)
     exact, _ = RigidSphere(shift, radius).distance(x)
