@@ -43,7 +43,7 @@ def test_a_plate_resting_on_a_plane_carries_its_weight_as_a_uniform_pressure(
     """Statics of a flat plate on a flat floor: the floor's force at each node is the node's
     weight m_i g (so the pressure is rho_A g over each node's share of the area) and the
     total on the tool is the plate's weight (1e-6); the contact surface sits on the plane:
-    mid-surface z - h / 2 within 1 % of h / 2 (the automatic penalty's sinking, g dt^2 / 0.4,
+    mid-surface z - h / 2 within 1 % of h / 2 (the automatic penalty's sinking, g dt^2 / 0.2,
     is orders below)."""
     model, mesh = resting_plate(element, thickness)
     compiled = model.compile()

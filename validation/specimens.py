@@ -327,3 +327,31 @@ def build(
     model.displace(specimen.loaded, ux=ux, uy=uy, uz=uz)
     model.gravity((0.0, 0.0, -GRAVITY))
     return model
+
+
+def hemisphere_die(radius: float, flange: float, rings: int, sectors: int) -> Mesh:
+    """A forming die meshed with triangles: a hemispherical bowl of ``radius`` (mm, centre
+    at the origin, rim at z = 0) and a flat flange out to radius ``flange``, for
+    ``elements.RigidSurface``. The bowl has ``rings`` rings of facets from its bottom pole to
+    the rim (equal angles), the flange rings of about the same width, each ring ``sectors``
+    facets around; the facets' normals point up and into the bowl (the side the blank is
+    on)."""
+    polar = np.linspace(0.0, 0.5 * np.pi, rings + 1)[1:]
+    width = radius * 0.5 * np.pi / rings
+    outer = np.linspace(radius, flange, max(1, round((flange - radius) / width)) + 1)[1:]
+    ring_radius = np.r_[radius * np.sin(polar), outer]
+    ring_z = np.r_[-radius * np.cos(polar), np.zeros(len(outer))]
+    angle = np.linspace(0.0, 2.0 * np.pi, sectors, endpoint=False)
+    points = np.vstack(
+        [[0.0, 0.0, -radius]]
+        + [np.column_stack([r * np.cos(angle), r * np.sin(angle), np.full(sectors, z)])
+           for r, z in zip(ring_radius, ring_z)]
+    )  # fmt: skip
+    k = np.arange(sectors)
+    after = (k + 1) % sectors
+    triangles = [np.column_stack([np.zeros(sectors, dtype=int), 1 + after, 1 + k])]
+    for ring in range(len(ring_radius) - 1):
+        inner, outer_ring = 1 + ring * sectors, 1 + (ring + 1) * sectors
+        triangles.append(np.column_stack([inner + k, inner + after, outer_ring + after]))
+        triangles.append(np.column_stack([inner + k, outer_ring + after, outer_ring + k]))
+    return Mesh(points, triangles=np.vstack(triangles)[:, ::-1])  # normals up and inwards
