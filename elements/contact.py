@@ -1,5 +1,5 @@
 """Node-to-tool penalty contact with Coulomb friction: a node block (no mesh cells) on a node
-set, against a rigid tool of elements/tools.py, added by ``Model.contact`` (docs/theory.md §8).
+set, against a rigid tool of elements/tools.py, added by ``Model.contact`` (docs/theory.md §9).
 
 Normal. The shell's contact surface is its mid-surface offset by half its thickness along the
 normal (the thickness measured along the normal is conserved by both shells), so a node touches

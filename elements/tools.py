@@ -245,7 +245,7 @@ class RigidSurface(RigidTool):
     closer facet). That proof is asked only below ``search_distance`` (mm; by default two
     facet circumradii, or twice the largest contact offset h / 2 of the contacts that use the
     tool if more): further away the distance returned is never less than the true one.
-    The contact tangent treats each facet as flat (no curvature term).
+    The contact tangent treats each facet as flat (no curvature term) (docs/theory.md §9.3).
 
     Speed: that search costs tens of microseconds per point. The tool keeps, for the last
     points it was asked about, every facet that can become their closest while they move

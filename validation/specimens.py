@@ -329,29 +329,50 @@ def build(
     return model
 
 
-def hemisphere_die(radius: float, flange: float, rings: int, sectors: int) -> Mesh:
+def hemisphere_die(radius: float, flange: float, rings: int) -> Mesh:
     """A forming die meshed with triangles: a hemispherical bowl of ``radius`` (mm, centre
     at the origin, rim at z = 0) and a flat flange out to radius ``flange``, for
-    ``elements.RigidSurface``. The bowl has ``rings`` rings of facets from its bottom pole to
-    the rim (equal angles), the flange rings of about the same width, each ring ``sectors``
-    facets around; the facets' normals point up and into the bowl (the side the blank is
-    on)."""
-    polar = np.linspace(0.0, 0.5 * np.pi, rings + 1)[1:]
+    ``elements.RigidSurface``. ``rings`` rings of points from the bowl's bottom pole to its
+    rim at equal angles, the flange's rings as wide; each ring has as many points as make its
+    spacing that width, so the facets are all of about one size (no slivers at the pole),
+    and neighbouring rings are zipped into triangles in order of angle. The facets' normals
+    point up and into the bowl (the side the blank is on)."""
     width = radius * 0.5 * np.pi / rings
+    polar = np.linspace(0.0, 0.5 * np.pi, rings + 1)[1:]
     outer = np.linspace(radius, flange, max(1, round((flange - radius) / width)) + 1)[1:]
     ring_radius = np.r_[radius * np.sin(polar), outer]
     ring_z = np.r_[-radius * np.cos(polar), np.zeros(len(outer))]
-    angle = np.linspace(0.0, 2.0 * np.pi, sectors, endpoint=False)
-    points = np.vstack(
-        [[0.0, 0.0, -radius]]
-        + [np.column_stack([r * np.cos(angle), r * np.sin(angle), np.full(sectors, z)])
-           for r, z in zip(ring_radius, ring_z)]
-    )  # fmt: skip
-    k = np.arange(sectors)
-    after = (k + 1) % sectors
-    triangles = [np.column_stack([np.zeros(sectors, dtype=int), 1 + after, 1 + k])]
-    for ring in range(len(ring_radius) - 1):
-        inner, outer_ring = 1 + ring * sectors, 1 + (ring + 1) * sectors
-        triangles.append(np.column_stack([inner + k, inner + after, outer_ring + after]))
-        triangles.append(np.column_stack([inner + k, outer_ring + after, outer_ring + k]))
-    return Mesh(points, triangles=np.vstack(triangles)[:, ::-1])  # normals up and inwards
+    points = [np.array([[0.0, 0.0, -radius]])]
+    angles = [np.zeros(1)]
+    for r, z in zip(ring_radius, ring_z):
+        count = max(6, round(2.0 * np.pi * r / width))
+        angle = np.linspace(0.0, 2.0 * np.pi, count, endpoint=False)
+        points.append(np.column_stack([r * np.cos(angle), r * np.sin(angle), np.full(count, z)]))
+        angles.append(angle)
+    starts = np.cumsum([0] + [len(a) for a in angles])
+    triangles = []
+    for ring in range(len(angles) - 1):
+        triangles += _zip_rings(angles[ring], angles[ring + 1], starts[ring], starts[ring + 1])
+    return Mesh(np.vstack(points), triangles=np.array(triangles))
+
+
+def _zip_rings(inner: np.ndarray, outer: np.ndarray, first_inner: int, first_outer: int):
+    """Triangles between two closed rings of points at the given angles (ascending from 0),
+    walking both rings by angle; the inner ring may be the single pole point. Counter-
+    clockwise seen from +z."""
+    triangles = []
+    i = j = 0
+    n_in, n_out = len(inner), len(outer)
+    while i < n_in or j < n_out:
+        a, b = first_inner + i % n_in, first_outer + j % n_out
+        next_in = inner[i + 1] if i + 1 < n_in else 2.0 * np.pi
+        next_out = outer[j + 1] if j + 1 < n_out else 2.0 * np.pi
+        if n_in > 1 and i < n_in and (j >= n_out or next_in <= next_out):
+            triangles.append([a, b, first_inner + (i + 1) % n_in])
+            i += 1
+        else:
+            triangles.append([a, b, first_outer + (j + 1) % n_out])
+            j += 1
+        if n_in == 1 and j >= n_out:
+            break
+    return triangles

@@ -58,8 +58,9 @@ SAFETY = 0.5
 DAMPING = 20.0  # 1/s, mass-proportional: calms the flapping flange (a drag of 2 g at 1 m/s)
 NET_CELL = 1.0  # mm: the net's segment, well below the blank's cells
 # Compared: cells whose three nodes lie on the die's bowl (within 0.5 mm of the sphere of the
-# mid-surface) below z = -5 mm. Measured rms error: see CHECKS in the closing record.
-RMS_TOLERANCE_DEG = {"coarse": 4.0, "default": 3.0, "fine": 3.0}
+# mid-surface) below z = -5 mm. Measured rms error of the fibrous shell: 3.05, 2.25, 1.96 deg at
+# 12, 16, 20 cells; tolerances 1.3 x measured (the finest mesh keeps the default one).
+RMS_TOLERANCE_DEG = {"coarse": 4.0, "default": 2.6, "fine": 2.6}
 
 
 @dataclass(frozen=True)
@@ -103,7 +104,7 @@ def model(cells: int, kinematics: str) -> tuple[Mesh, Model]:
         built.add(MindlinShell(ElasticShell.equivalent(FABRIC)))
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
-    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48, sectors=192))
+    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48))
     built.contact(die)
     travel = PUNCH + THICKNESS
     punch = RigidSphere((0.0, 0.0, travel), PUNCH, motion=(0.0, 0.0, -travel), amplitude="smooth")
