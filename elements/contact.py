@@ -24,10 +24,10 @@ increment returns to them at every iteration and the tangent is that of the retu
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
-without the contact. A contact spring then adds at most 5 % to omega^2 of a node, 10 % for a
+without the contact. A contact spring then adds at most 10 % to omega^2 of a node, 20 % for a
 node pinched between two tools (a punch and a die), so the explicit step at the default safety
-0.9 stays stable (0.9 x sqrt(1.1) < 1), and a node resting under its own weight sinks m g / k =
-g dt^2 / 0.2, far below the thickness.
+0.9 stays stable (0.9 x sqrt(1.2) < 1), and a node resting under its own weight sinks m g / k =
+g dt^2 / 0.4, far below the thickness.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ from femcore.state import State
 
 __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 
-PENALTY_SHARE = 0.05  # k m^-1 / omega_max^2 of the automatic penalty
+PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty
 
 
 class Contact(ElementType):

@@ -271,7 +271,7 @@ class Model:
         friction : float
             Coulomb coefficient mu >= 0 (stick below mu times the normal force, slip at it).
         penalty : float, optional
-            N/mm per node, normal and tangential; None: 0.05 m (2 / dt)^2 per node, chosen
+            N/mm per node, normal and tangential; None: 0.1 m (2 / dt)^2 per node, chosen
             when the model is compiled (m the node's lumped mass, dt the critical step of the
             model without contact: the explicit step stays stable; elements/contact.py).
 

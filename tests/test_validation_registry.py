@@ -41,6 +41,7 @@ REPORT_ORDER = [
     "mindlin-plate",
     "mindlin-scordelis-lo",
     "mindlin-pinched-cylinder",
+    "hemisphere-forming",
 ]
 
 

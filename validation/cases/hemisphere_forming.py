@@ -279,7 +279,7 @@ CASE = Case(
     source=SOURCE,
     description=__doc__,
     group="verification",
-    order=90,
+    order=110,
     compute=compute,
     render=render,
 )
