@@ -329,7 +329,8 @@ def test_the_work_of_a_moving_tool_enters_the_explicit_energy_balance():
     motion against the contact forces) is the kinetic and strain energy within 1e-3 of m g
     lift (measured 1.3e-4; without the tool's work it would be off by m g lift itself), the
     solver's own checks all passed (within 1e-2 of the largest energy: the first check, at
-    step 10, sees 1e-11 N mm), and the plate ends lifted with the floor (1e-3; the penalty's sinking is 1e-10 mm)."""
+    step 10, sees 1e-11 N mm), and the plate ends lifted with the floor (1e-3; the penalty's
+    sinking is 1e-10 mm)."""
     from solvers import CentralDifference
 
     lift = 0.01
