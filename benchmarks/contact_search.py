@@ -27,24 +27,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 from elements import RigidSphere, RigidSurface  # noqa: E402
-from femcore import Mesh  # noqa: E402
-
-
-def meshed_sphere(radius: float, facets: int) -> Mesh:
-    from scipy.spatial import ConvexHull
-
-    points = facets // 2 + 2  # a closed triangulation has 2 (V - 2) facets
-    k = np.arange(points) + 0.5
-    polar = np.arccos(1.0 - 2.0 * k / points)
-    azimuth = np.pi * (1.0 + 5.0**0.5) * k
-    x = radius * np.column_stack(
-        [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)]
-    )
-    triangles = ConvexHull(x).simplices
-    a, b, c = (x[triangles[:, i]] for i in range(3))
-    inward = np.sum(np.cross(b - a, c - a) * (a + b + c), axis=1) < 0
-    triangles[inward] = triangles[inward][:, ::-1]
-    return Mesh(x, triangles=triangles)
+from validation.specimens import fibonacci_sphere  # noqa: E402
 
 
 def best(function, repeats: int) -> float:
@@ -87,7 +70,7 @@ def main() -> None:
         f"{'sphere us/node':>15} {'ref us/node':>12}"
     )
     for size in (int(s) for s in args.sizes.split(",")):
-        mesh = meshed_sphere(radius, size)
+        mesh = fibonacci_sphere(radius, size // 2 + 2)  # a closed hull: 2 (V - 2) facets
         start = time.perf_counter()
         tool = RigidSurface(mesh)
         build = time.perf_counter() - start

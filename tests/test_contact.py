@@ -1,7 +1,9 @@
-"""Rigid tools and frictionless penalty contact (elements/tools.py, elements/contact.py,
+"""Rigid tools, penalty contact and Coulomb friction (elements/tools.py, elements/contact.py,
 Model.contact): a plate resting on a plane carries its weight as a pressure rho_A g with its
-contact surface h / 2 below its mid-surface, and the contact tangent is the derivative of the
-contact force on a sphere and a cylinder, outside and inside."""
+contact surface h / 2 below its mid-surface; plates slide and stick on slopes as Coulomb's law
+says, with the friction dissipation and the work of moving tools in the energy balance; a strip
+drapes over a cylinder as a heavy elastica; the tangents are the derivatives of the forces; a
+meshed tool finds the closest facet that a search over all facets finds."""
 
 import numpy as np
 import pytest
@@ -12,6 +14,7 @@ from femcore import Mesh, Model
 from femcore.state import State
 from materials import ElasticShell, presets
 from solvers import DynamicRelaxation, Static
+from validation.specimens import fibonacci_sphere
 
 G = 9810.0  # mm/s^2
 
@@ -63,6 +66,26 @@ def test_a_plate_resting_on_a_plane_carries_its_weight_as_a_uniform_pressure(
     assert np.allclose(run.field("contact_gap"), gap)
 
 
+def assert_tangent_is_the_force_derivative(block, state, history, tolerance, step=1e-6):
+    """Each node's 3 x 3 block of the contact tangent against central differences of its
+    internal force (the contact couples no two nodes), within ``tolerance`` (N/mm)."""
+    x = state.positions.copy()
+    part = block.tangent(state, history)[0]
+    for node in range(len(x)):
+        for j in range(3):
+            plus, minus = x.copy(), x.copy()
+            plus[node, j] += step
+            minus[node, j] -= step
+            state.positions = plus
+            f_plus = block.internal_force(state, history)[0][node]
+            state.positions = minus
+            f_minus = block.internal_force(state, history)[0][node]
+            numeric = (f_plus - f_minus) / (2 * step)
+            exact = part.blocks[node, 0, :, 0, j]
+            assert np.abs(numeric - exact).max() < tolerance, (node, j, numeric, exact)
+    state.positions = x
+
+
 @pytest.mark.parametrize(
     "tool",
     [
@@ -86,21 +109,8 @@ def test_the_contact_tangent_is_the_derivative_of_its_force(tool):
     state.load_factor = 0.5
     p, _, _ = block._touch(state)
     assert (p > 0).sum() >= 3  # some nodes penetrate
-    part = block.tangent(state)[0]
-    step = 1e-6
-    for node in range(mesh.n_nodes):
-        for j in range(3):
-            plus, minus = x.copy(), x.copy()
-            plus[node, j] += step
-            minus[node, j] -= step
-            state.positions = plus
-            f_plus = block.internal_force(state)[0][node]
-            state.positions = minus
-            f_minus = block.internal_force(state)[0][node]
-            numeric = (f_plus - f_minus) / (2 * step)
-            exact = part.blocks[node, 0, :, 0, j]
-            # truncation O(step^2 k / R^2) and rounding O(k p eps / step): both far below
-            assert np.abs(numeric - exact).max() < 1e-6 * 100.0
+    # truncation O(step^2 k / R^2) and rounding O(k p eps / step): both far below
+    assert_tangent_is_the_force_derivative(block, state, None, tolerance=1e-6 * 100.0)
 
 
 def test_tools_and_contact_refuse_bad_input():
@@ -274,20 +284,7 @@ def test_the_friction_tangent_is_the_derivative_of_the_return_mapping(tool):
     p, n, touching = block._touch(state)
     _, _, stuck, sliding = block._tangential(state, history, p, n, touching)
     assert stuck.sum() >= 2 and sliding.sum() >= 2
-    part = block.tangent(state, history)[0]
-    step = 1e-6
-    for node in range(mesh.n_nodes):
-        for j in range(3):
-            plus, minus = x.copy(), x.copy()
-            plus[node, j] += step
-            minus[node, j] -= step
-            state.positions = plus
-            f_plus = block.internal_force(state, history)[0][node]
-            state.positions = minus
-            f_minus = block.internal_force(state, history)[0][node]
-            numeric = (f_plus - f_minus) / (2 * step)
-            exact = part.blocks[node, 0, :, 0, j]
-            assert np.abs(numeric - exact).max() < 1e-6 * 100.0, (node, j, numeric, exact)
+    assert_tangent_is_the_force_derivative(block, state, history, tolerance=1e-6 * 100.0)
 
 
 def test_contact_and_friction_forces_turn_with_a_rigid_rotation_of_model_and_tool():
@@ -401,24 +398,6 @@ def test_a_heavy_strip_draped_over_a_cylinder_wraps_it_then_hangs_as_a_heavy_ela
 
 
 # ---------------------------------------------------------------------- meshed tools
-def meshed_sphere(radius: float, points: int) -> Mesh:
-    """The convex hull of a Fibonacci lattice on a sphere: a closed triangulated sphere
-    whose facet normals point outwards."""
-    from scipy.spatial import ConvexHull
-
-    k = np.arange(points) + 0.5
-    polar = np.arccos(1.0 - 2.0 * k / points)
-    azimuth = np.pi * (1.0 + 5.0**0.5) * k
-    x = radius * np.column_stack(
-        [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)]
-    )
-    triangles = ConvexHull(x).simplices
-    a, b, c = (x[triangles[:, i]] for i in range(3))
-    inward = np.sum(np.cross(b - a, c - a) * (a + b + c), axis=1) < 0
-    triangles[inward] = triangles[inward][:, ::-1]
-    return Mesh(x, triangles=triangles)
-
-
 def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_finds():
     """RigidSurface's k-d tree search against brute force over every facet (the exact
     point-triangle distances of elements.tools.closest_on_triangles): the same distance
@@ -429,7 +408,7 @@ def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_fin
     from elements.tools import closest_on_triangles
 
     radius = 10.0
-    mesh = meshed_sphere(radius, 302)
+    mesh = fibonacci_sphere(radius, 302)
     tool = RigidSurface(mesh, motion=(1.0, 2.0, 3.0))
     rng = np.random.default_rng(11)
     direction = rng.normal(size=(300, 3))

@@ -376,3 +376,22 @@ def _zip_rings(inner: np.ndarray, outer: np.ndarray, first_inner: int, first_out
         if n_in == 1 and j >= n_out:
             break
     return triangles
+
+
+def fibonacci_sphere(radius: float, points: int) -> Mesh:
+    """A closed triangulated sphere of ``radius`` (mm) about the origin: the convex hull of a
+    Fibonacci lattice of ``points`` points (2 points - 4 facets), normals outwards; a meshed
+    tool whose exact analytic twin is elements.RigidSphere."""
+    from scipy.spatial import ConvexHull
+
+    k = np.arange(points) + 0.5
+    polar = np.arccos(1.0 - 2.0 * k / points)
+    azimuth = np.pi * (1.0 + 5.0**0.5) * k
+    x = radius * np.column_stack(
+        [np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)]
+    )
+    triangles = ConvexHull(x).simplices
+    a, b, c = (x[triangles[:, i]] for i in range(3))
+    inward = np.sum(np.cross(b - a, c - a) * (a + b + c), axis=1) < 0
+    triangles[inward] = triangles[inward][:, ::-1]
+    return Mesh(x, triangles=triangles)
