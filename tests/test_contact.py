@@ -169,10 +169,10 @@ def test_a_plate_slides_down_a_frictionless_slope_with_g_sin_phi():
 
 
 # ---------------------------------------------------------------------- Coulomb friction
-def plate_on_slope(phi_degrees: float, friction: float, thickness: float = 1.0):
-    """A 20 x 20 mm aluminium plate laid on a plane inclined at phi about y (its mid-surface
-    h / 2 above it), under gravity, with Coulomb friction mu; returns the model, the plane's
-    normal and the direction down the slope."""
+def plate_on_slope(phi_degrees: float, friction: float, thickness: float = 1.0, element=None):
+    """A 20 x 20 mm plate (aluminium Mindlin unless ``element`` is given) laid on a plane
+    inclined at phi about y (its mid-surface h / 2 above it), under gravity, with Coulomb
+    friction mu; returns the model, the plane's normal and the direction down the slope."""
     phi = np.radians(phi_degrees)
     flat = Mesh.rectangle(20.0, 20.0, nx=2, ny=2)
     c, s = np.cos(phi), np.sin(phi)
@@ -180,13 +180,18 @@ def plate_on_slope(phi_degrees: float, friction: float, thickness: float = 1.0):
     x = flat.points
     tilted = np.column_stack([x[:, 0] * c, x[:, 1], -x[:, 0] * s]) + 0.5 * thickness * normal
     model = Model(flat.with_points(tilted))
-    model.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=thickness, density=2.7e-9)))
+    if element is None:
+        element = MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=thickness, density=2.7e-9))
+    model.add(element)
     model.contact(RigidPlane((0.0, 0.0, 0.0), normal), friction=friction)
     model.gravity((0.0, 0.0, -G))
     return model, normal, np.array([c, 0.0, -s])
 
 
-def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_minus_mu_cos():
+@pytest.mark.parametrize("kinematics", ["mindlin", "fibrous"])
+def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_minus_mu_cos(
+    kinematics,
+):
     """Explicit, mu = 0.2 on 20 deg (tan phi = 0.36 > mu): the centre of mass slides by
     1/2 g (sin phi - mu cos phi) t^2 (Coulomb's law with constant normal force). Tolerance
     1 %: the plate starts on the plane without a normal force, so in the first steps it sinks
@@ -195,7 +200,10 @@ def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_mi
     from solvers import CentralDifference
 
     phi, mu, duration = np.radians(20.0), 0.2, 0.004
-    model, _, down = plate_on_slope(20.0, mu)
+    if kinematics == "fibrous":  # a 6 mm G986 stack: the contact surface h / 2 = 3 mm below
+        model, _, down = plate_on_slope(20.0, mu, 6.0, FibrousShell(presets.g986_stack()))
+    else:
+        model, _, down = plate_on_slope(20.0, mu)
     run = CentralDifference(duration=duration, progress=False).solve(model)
     assert run.converged
     expected = 0.5 * G * (np.sin(phi) - mu * np.cos(phi)) * duration**2
