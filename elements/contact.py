@@ -159,6 +159,10 @@ class ContactBlock(ElementBlock):
         node touches (s,) bool: a node exactly on the surface counts, so that a body laid
         on a tool has a stiffness against it from the first Newton iteration."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
+        return self._touching(d, n)
+
+    def _touching(self, d: np.ndarray, n: np.ndarray):
+        """``_touch`` from the distances d (s,) and normals n (s, 3) of the tool."""
         return np.maximum(self.offset - d, 0.0), n, d <= self.offset + self.tolerance
 
     def _tangential(self, state: State, history: FrictionHistory | None, p, n, touching):
@@ -298,9 +302,9 @@ class ContactBlock(ElementBlock):
         force, N), contact_pressure (that force over the node's share of the area, N/mm^2;
         NaN without area), friction_force (|tangential force|, N), contact_slip (accumulated
         slip, mm)."""
-        p, n, touching = self._touch(state)
+        d, n = self.tool.distance(self._positions(state), state.load_factor)
+        p, n, touching = self._touching(d, n)
         friction, *_ = self._tangential(state, history, p, n, touching)
-        d, _ = self.tool.distance(self._positions(state), state.load_factor)
         nodes = self.connectivity[:, 0]
         out = {}
         normal = self.stiffness * p

@@ -144,31 +144,6 @@ def test_the_automatic_penalty_keeps_the_explicit_step_stable():
     assert compiled.blocks[1].tool_force(state)[2] == pytest.approx(-weight, rel=1e-6)
 
 
-def test_a_plate_slides_down_a_frictionless_slope_with_g_sin_phi():
-    """Explicit: a plate laid on a plane inclined at 20 deg slides down it by 1/2 g sin(phi)
-    t^2 (its centre of mass; frictionless, the plane carries g cos(phi)) and stays on it
-    (normal motion below 1e-6 mm, the automatic penalty's sinking); measured 1e-12."""
-    from solvers import CentralDifference
-
-    phi, thickness, duration = np.radians(20.0), 1.0, 0.002
-    flat = Mesh.rectangle(20.0, 20.0, nx=2, ny=2)
-    c, s = np.cos(phi), np.sin(phi)
-    normal = np.array([s, 0.0, c])
-    x = flat.points
-    tilted = np.column_stack([x[:, 0] * c, x[:, 1], -x[:, 0] * s]) + 0.5 * thickness * normal
-    model = Model(flat.with_points(tilted))
-    model.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=thickness, density=2.7e-9)))
-    model.contact(RigidPlane((0.0, 0.0, 0.0), normal))
-    model.gravity((0.0, 0.0, -G))
-    run = CentralDifference(duration=duration, progress=False).solve(model)
-    assert run.converged
-    mean = run.displacements.mean(axis=0)
-    down_the_slope = np.array([c, 0.0, -s])
-    assert mean @ down_the_slope == pytest.approx(0.5 * G * s * duration**2, rel=1e-6)
-    assert abs(mean @ normal) < 1e-6
-
-
-# ---------------------------------------------------------------------- Coulomb friction
 def plate_on_slope(phi_degrees: float, friction: float, thickness: float = 1.0, element=None):
     """A 20 x 20 mm plate (aluminium Mindlin unless ``element`` is given) laid on a plane
     inclined at phi about y (its mid-surface h / 2 above it), under gravity, with Coulomb
@@ -188,6 +163,22 @@ def plate_on_slope(phi_degrees: float, friction: float, thickness: float = 1.0, 
     return model, normal, np.array([c, 0.0, -s])
 
 
+def test_a_plate_slides_down_a_frictionless_slope_with_g_sin_phi():
+    """Explicit: a plate laid on a plane inclined at 20 deg slides down it by 1/2 g sin(phi)
+    t^2 (its centre of mass; frictionless, the plane carries g cos(phi)) and stays on it
+    (normal motion below 1e-6 mm, the automatic penalty's sinking); measured 1e-12."""
+    from solvers import CentralDifference
+
+    phi, duration = np.radians(20.0), 0.002
+    model, normal, down_the_slope = plate_on_slope(20.0, 0.0)
+    run = CentralDifference(duration=duration, progress=False).solve(model)
+    assert run.converged
+    mean = run.displacements.mean(axis=0)
+    assert mean @ down_the_slope == pytest.approx(0.5 * G * np.sin(phi) * duration**2, rel=1e-6)
+    assert abs(mean @ normal) < 1e-6
+
+
+# ---------------------------------------------------------------------- Coulomb friction
 @pytest.mark.parametrize("kinematics", ["mindlin", "fibrous"])
 def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_minus_mu_cos(
     kinematics,

@@ -33,6 +33,7 @@ from scipy.interpolate import RegularGridInterpolator
 
 from elements import FibrousShell, MindlinShell, RigidSphere, RigidSurface
 from femcore import Mesh, Model
+from femcore.loads import smooth_step  # the punch's amplitude
 from materials import ElasticShell, Fabric
 from solvers import CentralDifference
 from validation.checks import check
@@ -260,18 +261,15 @@ def render(data: HemisphereData, out_dir: Path) -> list[str]:
 
     with figure(out_dir / f"{NAME}-force.png", "punch travel (mm)", "punch force (N)") as ax:
         for kinematics, result in data.runs.items():
-            travel = [(PUNCH + THICKNESS) * _smooth(f.time / DURATION) for f in result.frames]
+            travel = [
+                (PUNCH + THICKNESS) * float(smooth_step(f.time / DURATION)) for f in result.frames
+            ]
             force = [f.tool_forces[1, 2] if len(f.tool_forces) > 1 else 0.0 for f in result.frames]
             ax.plot(travel, force, "o-", ms=3, label=kinematics)
     names.append(f"{NAME}-force.png")
     for kinematics, result in data.runs.items():
         result.write(out_dir / f"{NAME}-{kinematics}.pvd")
     return names
-
-
-def _smooth(tau: float) -> float:
-    tau = min(max(tau, 0.0), 1.0)
-    return tau**3 * (10 - 15 * tau + 6 * tau**2)
 
 
 CASE = Case(
