@@ -46,7 +46,9 @@ tension, shear, bending, tension_weft, bending_weft), each law a number (linear)
 "mindlin" the arguments of ``materials.ElasticShell`` (E, nu, thickness, density, G13, G23,
 shear_factor) or of ``ElasticShell.orthotropic`` (E1, E2, nu12, G12, G13, G23, thickness,
 density, warp); for "cable" the arguments of ``elements.Cable`` (axial_stiffness,
-mass_per_length, tension_only). Units: mm, N, t, s.
+mass_per_length, tension_only). A preset with some values changed:
+``material = { preset = "paper_stack", sheets = 65, bending = 30.0 }`` (the preset's own
+arguments, then fields of ``Fabric``). Units: mm, N, t, s.
 """
 
 from __future__ import annotations
@@ -72,7 +74,7 @@ from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw, presets
 from solvers import CentralDifference, DynamicRelaxation, Static
 
-__all__ = ["Case", "CaseError", "load_case"]
+__all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
 
 ELEMENTS = {"fibrous": FibrousShell, "mindlin": MindlinShell, "cable": Cable}
 SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": CentralDifference}
@@ -253,14 +255,28 @@ def load_case(path: str | Path) -> Case:
         names the file, the table and the key.
     """
     path = Path(path)
+    return case_from_data(read_case_data(path), path)
+
+
+def read_case_data(path: str | Path) -> dict:
+    """The tables of a case file as read by ``tomllib``, unchecked (``case_from_data`` checks
+    them). Raises CaseError for a missing, unreadable or non-TOML file."""
+    path = Path(path)
     if not path.is_file():
         raise CaseError(f"{path}: no such case file")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        return tomllib.loads(path.read_text(encoding="utf-8"))
     except UnicodeDecodeError as error:
         raise CaseError(f"{path}: not a text file ({error.reason})") from None
     except tomllib.TOMLDecodeError as error:
         raise CaseError(f"{path}: not valid TOML: {error}") from None
+
+
+def case_from_data(data: dict, path: str | Path) -> Case:
+    """A case from the tables of a case file (``read_case_data``, or built in Python), checked
+    as ``load_case`` checks a file. ``path`` names the case in messages and its folder is where
+    relative mesh files are looked for (it need not exist as a file)."""
+    path = Path(path)
     top = _Where(path, "")
     _table(top, data, "", _TOP, required=("mesh", "part", "solver"))
     title = data.get("title", path.stem)
@@ -443,18 +459,15 @@ def _material(where: _Where, kind: str, value: Any):
     if value is None:
         raise where.error(None, "missing key 'material'")
     if isinstance(value, str):
-        names = [n for n in presets.__all__ if callable(getattr(presets, n))]
-        if value not in names:
-            raise where.error(
-                "material", f"unknown preset {value!r}; expected one of {', '.join(names)}"
-            )
-        material = getattr(presets, value)()
-        if kind == "mindlin" and isinstance(material, Fabric):
-            return ElasticShell.equivalent(material)
-        return material
+        value = {"preset": value}
     inner = where.child("material")
     if not isinstance(value, dict):
         raise where.error("material", f"expected a preset name or a table, got {value!r}")
+    if "preset" in value:
+        material = _preset(where, inner, value)
+        if kind == "mindlin" and isinstance(material, Fabric):
+            return ElasticShell.equivalent(material)
+        return material
     if kind == "mindlin":
         make = ElasticShell.orthotropic if "E1" in value else ElasticShell
         arguments = _keywords(inner, make, value)
@@ -465,6 +478,11 @@ def _material(where: _Where, kind: str, value: Any):
                 _number(inner, item, key)
         return make(**arguments)
     _keywords(inner, Fabric, value)
+    return Fabric(**_fabric_fields(inner, value))
+
+
+def _fabric_fields(inner: _Where, value: dict) -> dict:
+    """Fabric arguments from a material table: numbers checked, law tables made laws."""
     fields = dict(value)
     for key, item in fields.items():
         if key in _LAWS and isinstance(item, dict):
@@ -473,7 +491,34 @@ def _material(where: _Where, kind: str, value: Any):
             raise inner.error(key, f"expected a number (linear law) or a law table, got {item!r}")
         else:
             _number(inner, item, key)
-    return Fabric(**fields)
+    return fields
+
+
+def _preset(where: _Where, inner: _Where, value: dict):
+    """``{ preset = "name", ... }``: the materials.presets entry, built with the keys that are
+    its own arguments (``plies``, ``sheets``), then with the others, fields of ``Fabric``,
+    replaced (``Fabric.replace``): a preset with some of its values changed, for a sweep."""
+    name = value["preset"]
+    names = [n for n in presets.__all__ if callable(getattr(presets, n))]
+    if name not in names:
+        raise where.error(
+            "material", f"unknown preset {name!r}; expected one of {', '.join(names)}"
+        )
+    make = getattr(presets, name)
+    own = set(inspect.signature(make).parameters)
+    arguments = {k: v for k, v in value.items() if k in own}
+    changes = {k: v for k, v in value.items() if k != "preset" and k not in own}
+    try:
+        material = make(**arguments)
+    except (ValueError, TypeError) as error:
+        raise inner.error(None, str(error)) from None
+    if changes:
+        if not isinstance(material, Fabric):
+            raise inner.error(next(iter(changes)), f"preset {name!r} takes no other keys")
+        allowed = tuple(material.__dataclass_fields__) + tuple(own)
+        _table(inner, changes, "", allowed)
+        material = material.replace(**_fabric_fields(inner, changes))
+    return material
 
 
 def _law(where: _Where, family, value: dict):

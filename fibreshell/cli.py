@@ -3,10 +3,15 @@ validation report.
 
     fibreshell run CASE.toml [--out DIR] [--quiet]
     fibreshell compare CASE.toml [--out DIR] [--shear-ratio R] [--quiet]
+    fibreshell sweep CASE.toml --vary KEY=V1,V2 [--vary ...] [--zip] [--scheduler ADDRESS]
+                     [--workers N] [--out DIR] [--quiet]
+    fibreshell identify CASE.toml --data MEASURED.csv --fit KEY[=START][,KEY...] [--path NAME]
+                     [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
     fibreshell report [--cases ...] [--resolution ...] [--out DIR]
 
-Exit status: 0 done, 1 the solver stopped (its last good state is written), 2 a bad case
-file or command line (the message names the file, the table and the key).
+Exit status: 0 done, 1 the solver stopped (its last good state is written; for a sweep: a
+variant failed, its row says why; for identify: a run failed or the fit did not converge),
+2 a bad case file or command line (the message names the file, the table and the key).
 """
 
 from __future__ import annotations
@@ -38,9 +43,95 @@ def _parser() -> argparse.ArgumentParser:
         if name == "compare":
             command.add_argument("--shear-ratio", type=float, default=0.5,
                                  help="Mindlin G13 / E (default 0.5)")  # fmt: skip
+    text = "run a case over values of its keys, every variant a Dask task: sweep.csv in --out"
+    command = commands.add_parser("sweep", help=text, description=text)
+    command.add_argument("case", help="the case file (.toml)")
+    command.add_argument("--vary", action="append", required=True, metavar="KEY=V1,V2,...",
+                         help="a dotted key of the case file (part.0.material.bending, "
+                         "mesh.rectangle.lx, solver.increments) or kinematics / shear_ratio, "
+                         "and its values (TOML values, or linspace(a, b, n), geomspace(a, b, "
+                         "n)); several --vary make the full product")  # fmt: skip
+    command.add_argument("--zip", action="store_true",
+                         help="pair the i-th values of every --vary instead")  # fmt: skip
+    _cluster_options(command)
+    text = "fit values of a case's keys to measured data (least squares on Dask)"
+    command = commands.add_parser("identify", help=text, description=text)
+    command.add_argument("case", help="the case file (.toml)")
+    command.add_argument("--data", required=True, help="measured data (.csv): columns x, z "
+                         "(a profile along --path) or summary columns (displacement_tip_z, "
+                         "...), and dotted case keys for the conditions of each row")  # fmt: skip
+    command.add_argument("--fit", required=True, metavar="KEY[=START],...",
+                         help="the keys to fit, each with its starting value (default: the "
+                         "case file's)")  # fmt: skip
+    command.add_argument("--path", default=None, help="the case's path a profile is along")
+    command.add_argument("--max-evaluations", type=int, default=30,
+                         help="model evaluations the fit may make (default 30)")  # fmt: skip
+    _cluster_options(command)
     commands.add_parser("report", help="the validation report (python -m validation --help)",
                         add_help=False)  # fmt: skip
     return parser
+
+
+def _cluster_options(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--scheduler", default=None, metavar="ADDRESS",
+        help="a Dask scheduler (tcp://host:8786); default: a local cluster",
+    )  # fmt: skip
+    command.add_argument(
+        "--workers", type=int, default=None,
+        help="worker processes of the local cluster (default: one per core)",
+    )  # fmt: skip
+    command.add_argument("--out", default=None, help="output folder (default: named after "
+                         "the case)")  # fmt: skip
+    command.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _fit_keys(text: str) -> dict[str, float | None]:
+    """``KEY[=START],...`` as {key: start or None}."""
+    from fibreshell.sweep import _split, _toml_value
+
+    fit: dict[str, float | None] = {}
+    for item in _split(text):
+        key, sep, start = item.partition("=")
+        if not key.strip():
+            raise ValueError(f"--fit {text!r}: expected KEY[=START],KEY[=START],...")
+        value = _toml_value(start.strip()) if sep else None
+        if sep and (isinstance(value, bool) or not isinstance(value, int | float)):
+            raise ValueError(f"--fit {item!r}: the start must be a number, got {start!r}")
+        fit[key.strip()] = value
+    return fit
+
+
+def _sweep(args: argparse.Namespace, progress: bool) -> int:
+    from fibreshell.sweep import parse_vary, sweep
+
+    vary = dict(parse_vary(item) for item in args.vary)
+    if len(vary) != len(args.vary):
+        raise ValueError("a key is given to --vary twice: give all its values in one --vary")
+    out = _out_folder(args.out, args.case, "-sweep")
+    table = sweep(args.case, vary, paired=args.zip, out=out, scheduler=args.scheduler,
+                  workers=args.workers, progress=progress)  # fmt: skip
+    failed = table.failed
+    which = f" (variants {', '.join(map(str, failed))}: see the error column)" if failed else ""
+    print(f"{len(table.rows)} variants, {len(failed)} failed{which}")
+    print(f"results in {out / 'sweep.csv'}")
+    return 1 if failed else 0
+
+
+def _identify(args: argparse.Namespace, progress: bool) -> int:
+    from fibreshell.identify import FitFailed, format_result, identify
+
+    out = _out_folder(args.out, args.case, "-identify")
+    try:
+        result = identify(args.case, args.data, _fit_keys(args.fit), path=args.path, out=out,
+                          scheduler=args.scheduler, workers=args.workers, progress=progress,
+                          max_evaluations=args.max_evaluations)  # fmt: skip
+    except FitFailed as error:
+        print(f"fibreshell identify: STOPPED: {error}")
+        return 1
+    print(format_result(result))
+    print(f"results in {out}/ (identify.json, fit.png)")
+    return 0 if result.success else 1
 
 
 def _out_folder(argument: str | None, case_path: str, suffix: str) -> Path:
@@ -64,6 +155,12 @@ def main(argv: list[str] | None = None) -> int:
 
     started = time.perf_counter()
     progress = False if args.quiet else True
+    if args.command in ("sweep", "identify"):
+        try:
+            return (_sweep if args.command == "sweep" else _identify)(args, progress)
+        except ValueError as error:
+            print(f"fibreshell: error: {error}", file=sys.stderr)
+            return 2
     try:
         case = load_case(args.case)
         if args.command == "run":

@@ -1,0 +1,141 @@
+"""Independent runs as Dask distributed tasks: a client (a LocalCluster of worker processes on
+this machine, or a remote scheduler) and a map over tasks with a progress bar that keeps every
+task's failure as its own result instead of losing the others.
+
+A task is a plain module-level function of picklable arguments; the workers import the
+package (on a remote cluster it must be installed there, README "Sweeps on a cluster")."""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+from solvers.common import ProgressLine, resolve_progress
+
+__all__ = ["Failure", "dask_client", "map_tasks", "set_threads"]
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A task that raised (or whose worker died): the exception's type and message."""
+
+    error: str
+
+
+@contextmanager
+def dask_client(
+    scheduler: str | None = None, workers: int | None = None
+) -> Iterator[tuple[Any, int | None]]:
+    """A Dask ``Client`` and the numba threads each task may use.
+
+    Parameters
+    ----------
+    scheduler : str or None
+        Address of a running scheduler (``tcp://host:8786``); None starts a LocalCluster here.
+    workers : int or None
+        Worker processes of the LocalCluster, one thread each (default: one per core); the
+        cores are shared out, so each task's numba kernels get cores // workers threads. With
+        a scheduler the workers are the cluster's and their threads its own (None).
+
+    Raises
+    ------
+    ValueError
+        ``workers`` not a whole number >= 1, both arguments given, or no scheduler answering
+        at ``scheduler``.
+    """
+    from distributed import Client, LocalCluster
+
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):  # fmt: skip
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    if scheduler is not None:
+        if workers is not None:
+            raise ValueError("give workers (a LocalCluster here) or a scheduler address, not both")
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as error:
+            raise ValueError(f"no Dask scheduler answers at {scheduler!r}: {error}") from None
+        try:
+            yield client, None
+        finally:
+            client.close()
+        return
+    cores = os.cpu_count() or 1
+    count = workers or cores
+    # Worker processes (not threads): the solvers hold the GIL between numba kernels, and
+    # numba's thread pool must not be entered by two threads of one process at once.
+    with (
+        LocalCluster(
+            n_workers=count,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        yield client, max(1, cores // count)
+
+
+def set_threads(threads: int | None) -> None:
+    """In a task: at most ``threads`` numba threads (None: leave the worker's setting)."""
+    if threads:
+        import numba
+
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
+
+
+def map_tasks(
+    client: Any,
+    function: Callable[..., Any],
+    arguments: Sequence[tuple],
+    label: str,
+    progress: bool | None = None,
+    done: Callable[[int, Any], None] | None = None,
+) -> list[Any]:
+    """``function(*arguments[i])`` for every i as Dask tasks; their results in order, a task
+    that raised (or whose worker died) as a ``Failure``.
+
+    Parameters
+    ----------
+    client : distributed.Client
+    function : callable
+        Module-level (the workers import it).
+    arguments : sequence of tuple
+    label : str
+        Progress line label.
+    progress : bool or None
+        The progress bar on stderr (None: ``solvers.common.resolve_progress``).
+    done : callable(index, result) or None
+        Called here as each task finishes (a result or a Failure), e.g. to write it at once.
+    """
+    from distributed import as_completed
+
+    if not arguments:
+        return []
+    line = ProgressLine(resolve_progress(progress), label, every=1.0)
+    futures = [client.submit(function, *args, pure=False) for args in arguments]
+    index = {future.key: i for i, future in enumerate(futures)}
+    results: list[Any] = [None] * len(futures)
+    failed = 0
+    for count, future in enumerate(as_completed(futures), 1):
+        i = index[future.key]
+        try:
+            results[i] = future.result()
+        except Exception as error:  # the task's own error, or the worker's death
+            results[i] = Failure(f"{type(error).__name__}: {error}")
+        failed += isinstance(results[i], Failure)
+        if done is not None:
+            done(i, results[i])
+        share = count / len(futures)
+        bar = "#" * round(20 * share) + "." * (20 - round(20 * share))
+        line(
+            f"|{bar}| {count}/{len(futures)} tasks, {failed} failed",
+            force=count == len(futures),
+            fraction=share,
+        )
+    return results

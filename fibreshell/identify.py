@@ -1,0 +1,472 @@
+"""Identification: the values of some keys of a case file that make its runs match measured
+data, by nonlinear least squares (``scipy.optimize.least_squares``) with a forward-difference
+Jacobian whose columns are run as parallel Dask tasks.
+
+The measured data is a CSV file (or a dict of columns). Its columns are of two kinds:
+
+- conditions: dotted keys of the case (``mesh.rectangle.lx``) or run options (``kinematics``,
+  ``shear_ratio``); the rows with the same conditions are one run. A file without conditions
+  is one run.
+- responses, names without a dot: either ``x`` and ``z``, a side profile measured along the
+  case's path (``--path``; the model's height z at the horizontal position x along the path,
+  mm, in the final frame), or columns of ``sweep.csv``'s summary rows
+  (``displacement_tip_z``, ``reaction_left_z``, ...) compared with the final frame's.
+
+The residual of a row is model minus measured. The parameters are fitted as ratios to their
+starting values (p = theta / theta_0 >= 1e-3: a stiffness stays positive), so keys of any
+magnitude are scaled alike. With m residuals and n parameters, the covariance of the fit is
+s^2 (J^T J)^-1 with s^2 = |r|^2 / (m - n), and the 95 % confidence interval of each value is
+theta +- t(0.975, m - n) sigma (Gauss-Newton's linearisation at the solution).
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fibreshell.case import case_from_data, read_case_data
+from fibreshell.cluster import Failure, dask_client, map_tasks
+from fibreshell.run import strict_json
+from fibreshell.sweep import RUN_KEYS, _toml_value, apply_overrides, run_variant, summary_row
+
+__all__ = [
+    "FitFailed", "Identification", "figure", "format_result", "identify", "read_measurements",
+    "start_values",
+]  # fmt: skip
+
+LOWEST_RATIO = 1e-3  # p = theta / theta_0 stays above this: the sign of theta is kept
+CONFIDENCE = 0.95
+
+
+class FitFailed(RuntimeError):
+    """A run of the fit failed (the solver stopped, or its worker died): the message names
+    the values it was run with and its error."""
+
+
+@dataclass
+class Identification:
+    """The fitted values of ``keys`` (``values``), their standard errors and 95 % confidence
+    intervals (``intervals``: (n, 2), NaN where the data cannot tell: as many residuals as
+    parameters, or a singular Jacobian), the starting values, the RMS residual (data units),
+    how the optimiser ended, the number of model evaluations and of runs (Dask tasks), the
+    wall time (s); ``conditions``/``measured``/``fitted``/``initial`` per data row for figures,
+    and ``profiles`` (fitted, initial): per condition group the model's path (horizontal, z)
+    for a profile fit."""
+
+    keys: list[str]
+    start: np.ndarray
+    values: np.ndarray
+    standard_errors: np.ndarray
+    intervals: np.ndarray
+    residual_rms: float
+    success: bool
+    message: str
+    evaluations: int
+    runs: int
+    wall_time_s: float
+    responses: list[str]
+    conditions: list[dict] = field(default_factory=list)
+    measured: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    fitted: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    initial: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    profiles: dict[str, list] = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        return {
+            "parameters": {
+                key: {
+                    "start": self.start[i],
+                    "value": self.values[i],
+                    "standard_error": self.standard_errors[i],
+                    f"confidence_{int(100 * CONFIDENCE)}": self.intervals[i],
+                }
+                for i, key in enumerate(self.keys)
+            },
+            "residual_rms": self.residual_rms,
+            "success": self.success,
+            "message": self.message,
+            "evaluations": self.evaluations,
+            "runs": self.runs,
+            "wall_time_s": self.wall_time_s,
+            "responses": self.responses,
+        }
+
+
+def read_measurements(data: str | Path | dict) -> dict[str, list]:
+    """The columns of a measured-data CSV (header row, then values: numbers, or TOML values
+    such as ``mindlin``), or a dict of equal-length columns given in Python.
+
+    Raises
+    ------
+    ValueError
+        A missing or empty file, rows of unequal length, an empty cell, or a response column
+        that is not numbers.
+    """
+    if isinstance(data, dict):
+        columns = {str(k): list(v) for k, v in data.items()}
+        where = "the data"
+    else:
+        where = str(data)
+        if not Path(data).is_file():
+            raise ValueError(f"{where}: no such data file")
+        with open(data, newline="") as handle:
+            lines = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)]
+        if len(lines) < 2:
+            raise ValueError(f"{where}: expected a header row and at least one row of data")
+        header = [name.strip() for name in lines[0]]
+        for number, row in enumerate(lines[1:], start=2):
+            if len(row) != len(header) or any(not cell.strip() for cell in row):
+                raise ValueError(
+                    f"{where}: row {number} has {len(row)} cells (some empty?); the header has "
+                    f"{len(header)}: {', '.join(header)}"
+                )
+        columns = {name: [_toml_value(row[i].strip()) for row in lines[1:]]
+                   for i, name in enumerate(header)}  # fmt: skip
+    lengths = {len(v) for v in columns.values()}
+    if len(lengths) != 1 or 0 in lengths:
+        raise ValueError(f"{where}: expected columns of one length >= 1, got {lengths}")
+    for name, values in columns.items():
+        if _is_response(name) and not all(
+            isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v)
+            for v in values
+        ):
+            raise ValueError(f"{where}: column {name!r} (a response) must hold numbers only")
+    return columns
+
+
+def _is_response(name: str) -> bool:
+    return "." not in name and name not in RUN_KEYS
+
+
+def start_values(data: dict, fit: dict[str, float | None]) -> np.ndarray:
+    """The starting value of every fitted key: the one given, else the case's own number at
+    that key (a value set in the file; a preset's law has no single number to start from).
+
+    Raises
+    ------
+    ValueError
+        A key not in the case, a value that is not a number, or zero (the fit scales by it).
+    """
+    start = []
+    for key, given in fit.items():
+        if given is None:
+            node: Any = data
+            for part in key.split("."):
+                if isinstance(node, list) and part.isdigit() and int(part) < len(node):
+                    node = node[int(part)]
+                elif isinstance(node, dict) and part in node:
+                    node = node[part]
+                else:
+                    raise ValueError(
+                        f"{key}: the case has no number there to start from; give one "
+                        f"(--fit {key}=VALUE)"
+                    )
+            given = node
+        if isinstance(given, bool) or not isinstance(given, int | float) or not np.isfinite(given):
+            raise ValueError(f"{key}: expected a number to start from, got {given!r}")
+        if given == 0:
+            raise ValueError(f"{key}: the start must not be 0 (the fit scales by it)")
+        start.append(float(given))
+    return np.array(start)
+
+
+def identify(
+    case: str | Path | dict,
+    data: str | Path | dict,
+    fit: dict[str, float | None],
+    *,
+    path: str | None = None,
+    out: str | Path | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool | None = None,
+    step: float = 1e-3,
+    max_evaluations: int = 30,
+    name: str | None = None,
+) -> Identification:
+    """Fit the values of ``fit``'s keys so that the case's runs match ``data``.
+
+    Parameters
+    ----------
+    case : str, pathlib.Path or dict
+        The case file, or its tables built in Python.
+    data : str, pathlib.Path or dict
+        The measured data (``read_measurements``; module docstring for its columns).
+    fit : dict
+        Dotted key -> starting value, or None for the case's own value.
+    path : str or None
+        For a profile (columns x, z): the case's path it was measured along (default: the
+        case's only path).
+    out : str, pathlib.Path or None
+        Folder for ``identify.json`` and ``fit.png`` (data vs fit); None writes nothing.
+    scheduler, workers, progress
+        As ``fibreshell.sweep.sweep``.
+    step : float
+        Forward-difference step of the Jacobian, relative to the starting values.
+    max_evaluations : int
+        Model evaluations the optimiser may make (each one run per condition group).
+    name : str or None
+        The case's name in messages when ``case`` is a dict.
+
+    Returns
+    -------
+    Identification
+
+    Raises
+    ------
+    ValueError
+        Bad data, keys or options.
+    FitFailed
+        A run that fails during the fit (its values and error are given).
+    """
+    from scipy import optimize, stats
+
+    started = time.perf_counter()
+    if isinstance(case, dict):
+        tables, case_path = case, Path(name or str(case.get("title", "case")))
+    else:
+        case_path = Path(case).resolve()
+        tables = read_case_data(case_path)
+    if not fit:
+        raise ValueError("nothing to fit: give at least one key")
+    if not (0.0 < step < 0.1):
+        raise ValueError(f"step must be in (0, 0.1) (relative), got {step!r}")
+    if (
+        isinstance(max_evaluations, bool)
+        or not isinstance(max_evaluations, int)
+        or max_evaluations < 2
+    ):
+        raise ValueError(f"max_evaluations must be a whole number >= 2, got {max_evaluations!r}")
+    columns = read_measurements(data)
+    keys = list(fit)
+    theta0 = start_values(tables, fit)
+    conditions = [n for n in columns if not _is_response(n)]
+    responses = [n for n in columns if _is_response(n)]
+    clash = set(keys) & set(conditions)
+    if clash:
+        raise ValueError(f"{sorted(clash)}: fitted keys cannot also be data columns")
+    profile = set(responses) >= {"x", "z"}
+    if profile and set(responses) != {"x", "z"}:
+        raise ValueError(
+            f"a profile is columns x and z; got also {sorted(set(responses) - {'x', 'z'})}"
+        )
+    if not responses:
+        raise ValueError(
+            "the data has no response column (a name without a dot: x and z, or a summary "
+            "column such as displacement_tip_z)"
+        )
+    rows = len(next(iter(columns.values())))
+    groups: dict[tuple, list[int]] = {}
+    for r in range(rows):
+        groups.setdefault(tuple(columns[c][r] for c in conditions), []).append(r)
+    settings = [dict(zip(conditions, values)) for values in groups]
+    for setting in settings:  # every key resolves, every condition builds, before any run
+        trial, _ = apply_overrides(tables, {**setting, **dict(zip(keys, theta0))})
+        built = case_from_data(trial, case_path)
+    if profile:
+        if path is None:
+            if len(built.paths) != 1:
+                raise ValueError(
+                    f"a profile needs the path it was measured along: give path (one of "
+                    f"{', '.join(built.paths) or 'none: the case has no [output] paths'})"
+                )
+            path = next(iter(built.paths))
+        elif path not in built.paths:
+            raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(built.paths)}")
+    measured = np.concatenate(
+        [
+            [columns[n][r] for n in (["z"] if profile else responses)]
+            for g in groups.values()
+            for r in g
+        ]  # fmt: skip
+    ).astype(float)
+    cache: dict[tuple, tuple[np.ndarray, list[dict]]] = {}
+    counts = {"evaluations": 0, "runs": 0}
+
+    def model_values(summaries: list[dict]) -> np.ndarray:
+        values = []
+        for rows_of_group, summary in zip(groups.values(), summaries):
+            if profile:
+                track = summary["paths"][path]
+                order = np.argsort(track["horizontal"])
+                horizontal = np.asarray(track["horizontal"])[order]
+                z = np.asarray(track["z"])[order]
+                x = np.array([columns["x"][r] for r in rows_of_group], dtype=float)
+                values.append(np.interp(x, horizontal, z))  # the end height beyond the ends
+            else:
+                row = summary_row(summary)
+                missing = [n for n in responses if n not in row]
+                if missing:
+                    raise ValueError(
+                        f"the runs have no {missing[0]!r}; their columns: {', '.join(row)}"
+                    )
+                values.append(np.array([[row[n] for n in responses] for _ in rows_of_group]))
+        return np.concatenate([np.ravel(v) for v in values])
+
+    with dask_client(scheduler, workers) as (client, threads):
+
+        def evaluate(points: list[np.ndarray]) -> None:
+            """Run every condition group at every new point p (ratios), in one batch."""
+            new = [p for p in dict.fromkeys(tuple(p) for p in points) if p not in cache]
+            if not new:
+                return
+            tasks = [
+                (tables, str(case_path), {**setting, **dict(zip(keys, np.array(p) * theta0))},
+                 None, threads)
+                for p in new for setting in settings
+            ]  # fmt: skip
+            results = map_tasks(client, run_variant, tasks, f"identify {case_path.stem}",
+                                progress)  # fmt: skip
+            counts["evaluations"] += len(new)
+            counts["runs"] += len(tasks)
+            for k, p in enumerate(new):
+                batch = results[k * len(settings) : (k + 1) * len(settings)]
+                for task, result in zip(tasks[k * len(settings) :], batch):
+                    error = result.error if isinstance(result, Failure) else result[0]["error"]
+                    if error or result[1] is None or not result[0]["converged"]:
+                        values = ", ".join(f"{key} = {_show(v)}" for key, v in task[2].items())
+                        raise FitFailed(f"the run with {values} failed: {error or 'not converged'}")
+                summaries = [result[1] for result in batch]
+                cache[p] = (model_values(summaries) - measured, summaries)
+
+        def residuals(p: np.ndarray) -> np.ndarray:
+            evaluate([p])
+            return cache[tuple(p)][0]
+
+        def jacobian(p: np.ndarray) -> np.ndarray:
+            # Forward differences, every column's runs at once (and the base point if new).
+            steps = step * np.maximum(1.0, np.abs(p))
+            shifted = [p + steps[j] * np.eye(len(p))[j] for j in range(len(p))]
+            evaluate([p, *shifted])
+            base = cache[tuple(p)][0]
+            return np.column_stack(
+                [(cache[tuple(q)][0] - base) / steps[j] for j, q in enumerate(shifted)]
+            )
+
+        ones = np.ones(len(keys))
+        solution = optimize.least_squares(
+            residuals, ones, jac=jacobian, bounds=(LOWEST_RATIO, np.inf), method="trf",
+            x_scale=1.0, max_nfev=max_evaluations, ftol=1e-10, xtol=1e-8, gtol=1e-10,
+        )  # fmt: skip
+        jac = jacobian(solution.x)
+    m, n = len(measured), len(keys)
+    values = solution.x * theta0
+    final = cache[tuple(solution.x)][0]
+    sigma = np.full(n, np.nan)
+    intervals = np.full((n, 2), np.nan)
+    if m > n:
+        scaled = jac / theta0  # d r / d theta
+        variance = float(final @ final) / (m - n)
+        normal = scaled.T @ scaled
+        if np.linalg.cond(normal) < 1e12:
+            sigma = np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
+            half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * sigma
+            intervals = np.column_stack([values - half, values + half])
+    result = Identification(
+        keys=keys,
+        start=theta0,
+        values=values,
+        standard_errors=sigma,
+        intervals=intervals,
+        residual_rms=float(np.sqrt(np.mean(final**2))),
+        success=bool(solution.success),
+        message=str(solution.message),
+        evaluations=counts["evaluations"],
+        runs=counts["runs"],
+        wall_time_s=time.perf_counter() - started,
+        responses=["z"] if profile else responses,
+        conditions=[dict(s) for s, g in zip(settings, groups.values()) for _ in g],
+        measured=measured,
+        fitted=final + measured,
+        initial=cache[tuple(ones)][0] + measured,
+    )
+    if profile:
+        assert path is not None
+        for label, p in (("fitted", solution.x), ("initial", ones)):
+            result.profiles[label] = [
+                (np.asarray(s["paths"][path]["horizontal"]), np.asarray(s["paths"][path]["z"]))
+                for s in cache[tuple(p)][1]
+            ]
+        result.profiles["measured_x"] = [
+            np.array([columns["x"][r] for r in g], dtype=float) for g in groups.values()
+        ]
+    if out is not None:
+        folder = Path(out)
+        if folder.exists() and not folder.is_dir():
+            raise ValueError(f"out {str(folder)!r} is a file: give a folder")
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "identify.json").write_text(strict_json(result.as_dict()))
+        figure(result, settings, folder / "fit.png")
+    return result
+
+
+def _show(value: Any) -> str:
+    numeric = isinstance(value, int | float) and not isinstance(value, bool)
+    return f"{value:.6g}" if numeric else str(value)
+
+
+def figure(result: Identification, settings: list[dict], target: Path) -> Path:
+    """Data vs fit: for a profile, the measured points and the model's path at the start and
+    at the fit, per condition group; for summary responses, each response against the first
+    numeric condition (or the row number)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fitted = ", ".join(f"{k} = {v:.4g}" for k, v in zip(result.keys, result.values))
+    fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+    if result.profiles:
+        start = 0
+        for g, (x, setting) in enumerate(zip(result.profiles["measured_x"], settings)):
+            label = ", ".join(f"{k} = {v}" for k, v in setting.items()) or "measured"
+            z = result.measured[start : start + len(x)]
+            start += len(x)
+            ax.plot(x, z, "o", color=f"C{g}", label=label)
+            ax.plot(*result.profiles["fitted"][g], "-", color=f"C{g}")
+            ax.plot(*result.profiles["initial"][g], ":", color=f"C{g}")
+        ax.set(xlabel="x along the path (mm)", ylabel="z (mm)")
+        ax.set_aspect("equal", adjustable="datalim")
+    else:
+        numeric = [
+            k for k in (result.conditions[0] if result.conditions else {})
+            if all(isinstance(c[k], int | float) for c in result.conditions)
+        ]  # fmt: skip
+        count = len(result.responses)
+        rows = np.arange(len(result.measured) // count)
+        x = (np.array([c[numeric[0]] for c in result.conditions], dtype=float)
+             if numeric else rows)  # fmt: skip
+        for j, response in enumerate(result.responses):
+            ax.plot(x, result.measured[j::count], "o", color=f"C{j}", label=f"{response}: data")
+            ax.plot(x, result.fitted[j::count], "-", color=f"C{j}", label="fit")
+            ax.plot(x, result.initial[j::count], ":", color=f"C{j}", label="start")
+        ax.set(xlabel=numeric[0] if numeric else "data row", ylabel="response")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title(f"data (o) vs fit (-) and start (:): {fitted}", fontsize="small")
+    fig.savefig(target, dpi=100)
+    plt.close(fig)
+    return target
+
+
+def format_result(result: Identification) -> str:
+    """The fitted values with their 95 % intervals, for the terminal."""
+    lines = []
+    for i, key in enumerate(result.keys):
+        low, high = result.intervals[i]
+        interval = (
+            f"95 % interval [{low:.6g}, {high:.6g}]"
+            if np.isfinite(low)
+            else "no interval (as many data as parameters, or they cannot be told apart)"
+        )
+        lines.append(f"{key} = {result.values[i]:.6g} (start {result.start[i]:.6g}), {interval}")
+    lines.append(
+        f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
+        f"{result.runs} runs, {result.wall_time_s:.1f} s; {result.message}"
+    )
+    return "\n".join(lines)

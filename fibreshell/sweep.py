@@ -1,0 +1,413 @@
+"""Parameter sweeps: one case file run over a product (or a pairing) of values of some of its
+keys, every variant a Dask task, one row per variant in ``sweep.csv``.
+
+A key is a dotted path into the case file's tables: ``mesh.rectangle.lx``,
+``part.0.material.bending`` (``[[part]]`` tables by index from 0), ``solver.increments``.
+A material given as a preset name is opened into ``{ preset = name }`` so that one of its
+values can be set (``part.0.material.bending`` on ``material = "paper_stack"``). Two keys are
+not in the file but choose how the case runs, as ``fibreshell compare`` does: ``kinematics``
+("fibrous" or "mindlin": every fibrous part as the calibrated Mindlin shell) and
+``shear_ratio`` (that calibration's G13 / E).
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import itertools
+import json
+import math
+import re
+import tempfile
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fibreshell.case import CaseError, case_from_data, read_case_data
+from fibreshell.cluster import Failure, dask_client, map_tasks, set_threads
+
+__all__ = [
+    "RUN_KEYS", "SweepTable", "apply_overrides", "parse_vary", "run_variant", "summary_row",
+    "sweep", "variants",
+]  # fmt: skip
+
+# Keys that are options of the run, not of the case file (fibreshell compare's).
+RUN_KEYS = {"kinematics": ("fibrous", "mindlin"), "shear_ratio": None}
+_SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
+
+
+# ------------------------------------------------------------------ the variants
+def parse_vary(text: str) -> tuple[str, list]:
+    """``KEY=V1,V2,...`` as (key, values). Each value is read as a TOML value (``2``, ``2.5``,
+    ``true``, ``"text"``, ``[0.0, 0.0, 1.0]``), a bare word as a string; ``linspace(a, b, n)``
+    and ``geomspace(a, b, n)`` give n values from a to b, evenly or geometrically spaced.
+
+    Raises
+    ------
+    ValueError
+        No ``=``, an empty key or no value.
+    """
+    key, sep, rest = text.partition("=")
+    key = key.strip()
+    if not sep or not key or not rest.strip():
+        raise ValueError(f"--vary {text!r}: expected KEY=V1,V2,... (e.g. solver.increments=2,4)")
+    spaced = re.fullmatch(r"\s*(linspace|geomspace)\((.*)\)\s*", rest)
+    if spaced:
+        numbers = [_toml_value(v) for v in _split(spaced.group(2))]
+        if (
+            len(numbers) != 3
+            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in numbers)
+            or not isinstance(numbers[2], int)
+            or numbers[2] < 1
+        ):
+            raise ValueError(
+                f"--vary {text!r}: expected {spaced.group(1)}(start, stop, count) with numbers "
+                "and a whole count >= 1"
+            )
+        if spaced.group(1) == "geomspace" and numbers[0] * numbers[1] <= 0:
+            raise ValueError(f"--vary {text!r}: geomspace needs start and stop of one sign")
+        return key, [float(v) for v in _SPACES[spaced.group(1)](*numbers)]
+    values = [_toml_value(v) for v in _split(rest)]
+    if any(v == "" for v in values):
+        raise ValueError(f"--vary {text!r}: an empty value (two commas in a row?)")
+    return key, values
+
+
+def _split(text: str) -> list[str]:
+    """``text`` split at the commas outside brackets, braces and quotes."""
+    parts, depth, quote, start = [], 0, "", 0
+    for i, char in enumerate(text):
+        if quote:
+            quote = "" if char == quote else quote
+        elif char in "\"'":
+            quote = char
+        elif char in "[{(":
+            depth += 1
+        elif char in "]})":
+            depth -= 1
+        elif char == "," and depth == 0:
+            parts.append(text[start:i])
+            start = i + 1
+    parts.append(text[start:])
+    return [p.strip() for p in parts]
+
+
+def _toml_value(text: str) -> Any:
+    try:
+        return tomllib.loads(f"value = {text}")["value"]
+    except tomllib.TOMLDecodeError:
+        return text  # a bare word: fibrous, g986_ply
+
+
+def variants(vary: dict[str, list], paired: bool = False) -> list[dict[str, Any]]:
+    """The overrides of every variant: the full product of the values of ``vary`` (the first
+    key's values outermost), or with ``paired`` the i-th value of every key together.
+
+    Raises
+    ------
+    ValueError
+        A key without values, or paired lists of different lengths.
+    """
+    if not vary:
+        raise ValueError("nothing to vary: give at least one KEY=V1,V2,...")
+    for key, values in vary.items():
+        if not isinstance(values, list | tuple) or len(values) == 0:
+            raise ValueError(f"{key}: expected a list of values, got {values!r}")
+    keys = list(vary)
+    if paired:
+        lengths = {key: len(values) for key, values in vary.items()}
+        if len(set(lengths.values())) != 1:
+            raise ValueError(f"paired (--zip) keys need as many values each, got {lengths}")
+        combos = list(zip(*vary.values()))
+    else:
+        combos = list(itertools.product(*vary.values()))
+    return [dict(zip(keys, combo)) for combo in combos]
+
+
+def apply_overrides(data: dict, overrides: dict[str, Any]) -> tuple[dict, dict]:
+    """A copy of the case tables ``data`` with ``overrides`` (dotted key -> value) set, and
+    the run options among them (``RUN_KEYS``).
+
+    Raises
+    ------
+    ValueError
+        A key whose path is not in the tables (the last part may be a new key of a table),
+        a list index out of range, or a run option with a value it does not take.
+    """
+    data = copy.deepcopy(data)
+    options: dict[str, Any] = {}
+    for key, value in overrides.items():
+        if key in RUN_KEYS:
+            allowed = RUN_KEYS[key]
+            if allowed is not None and value not in allowed:
+                raise ValueError(f"{key}: expected one of {', '.join(allowed)}, got {value!r}")
+            if allowed is None and (
+                isinstance(value, bool) or not isinstance(value, int | float) or value <= 0
+            ):
+                raise ValueError(f"{key}: expected a positive number, got {value!r}")
+            options[key] = value
+            continue
+        _set(data, key, value)
+    return data, options
+
+
+def _set(data: dict, key: str, value: Any) -> None:
+    parts = key.split(".")
+    if not all(parts):
+        raise ValueError(f"{key!r}: expected a dotted path such as part.0.material.bending")
+    node: Any = data
+    for depth, part in enumerate(parts):
+        last = depth == len(parts) - 1
+        here = ".".join(parts[: depth + 1])
+        if isinstance(node, list):
+            if not part.isdigit() or int(part) >= len(node):
+                raise ValueError(
+                    f"{key!r}: {'.'.join(parts[:depth]) or 'the case'} is a list of "
+                    f"{len(node)} tables; expected an index 0 to {len(node) - 1}, got {part!r}"
+                )
+            index: Any = int(part)
+        elif isinstance(node, dict):
+            if part.isdigit() and part not in node and not last:
+                raise ValueError(f"{key!r}: {here[: -len(part) - 1]} is a single table, not a list")
+            if part not in node and not last:
+                raise ValueError(
+                    f"{key!r}: the case has no {here!r}"
+                    + (f" (its keys: {', '.join(map(str, node))})" if node else "")
+                )
+            index = part
+        else:
+            raise ValueError(f"{key!r}: {'.'.join(parts[:depth])} is a value, not a table")
+        if last:
+            node[index] = value
+        else:
+            child = node[index]
+            if isinstance(child, str) and part == "material":  # a preset, opened to change it
+                child = node[index] = {"preset": child}
+            elif (
+                isinstance(child, dict)
+                and parts[0] in ("part", "fix", "displace", "force", "moment", "contact")
+                and depth == 0
+            ):
+                child = node[index] = [child]  # [part] written once: index 0  # fmt: skip
+            node = child
+
+
+# ------------------------------------------------------------------ one variant (a Dask task)
+def summary_row(summary: dict) -> dict[str, Any]:
+    """The numbers of a run's summary (``fibreshell.run.summarise``) as one flat row: how it
+    ended, then per history set the reaction sum (N) and mean displacement (mm), the force
+    on each tool (N), the largest fibre strain, the director tilt range (deg) and the
+    director-angle range along each path (deg); names as in history.csv."""
+    row: dict[str, Any] = {
+        "converged": summary["converged"],
+        "error": summary.get("stopped") or "",
+        "wall_time_s": summary["wall_time_s"],
+        "steps": summary["steps"],
+        "final_load_factor": summary["final_load_factor"],
+    }
+    for group, prefix in (("reactions", "reaction"), ("mean_displacements", "displacement")):
+        for name, vector in summary.get(group, {}).items():
+            row.update({f"{prefix}_{name}_{a}": float(v) for a, v in zip("xyz", vector)})
+    for name, vector in summary.get("tool_forces", {}).items():
+        row.update({f"{name}_force_{a}": float(v) for a, v in zip("xyz", vector)})
+    if "max_fibre_strain" in summary:
+        row["max_fibre_strain"] = summary["max_fibre_strain"]
+    if "director_tilt_deg" in summary:
+        row["director_tilt_min_deg"] = summary["director_tilt_deg"]["min"]
+        row["director_tilt_max_deg"] = summary["director_tilt_deg"]["max"]
+    for name, profile in summary.get("paths", {}).items():
+        angle = np.asarray(profile["director_angle_deg"], dtype=float)
+        row[f"path_{name}_director_angle_min_deg"] = float(np.nanmin(angle))
+        row[f"path_{name}_director_angle_max_deg"] = float(np.nanmax(angle))
+    return row
+
+
+def run_variant(
+    data: dict, path: str, overrides: dict, folder: str | None, threads: int | None = None
+) -> tuple[dict, dict | None]:
+    """Build and run one variant (a Dask task): the case tables ``data`` of the case file
+    ``path`` with ``overrides`` set, its outputs written into ``folder`` (None: a temporary
+    folder, removed). Returns its row (``summary_row``, or the error that stopped it before
+    the solver ran) and its summary (None when it did not run)."""
+    from fibreshell.run import run_case
+
+    set_threads(threads)
+    started = time.perf_counter()
+    try:
+        tables, options = apply_overrides(data, overrides)
+        case = case_from_data(tables, path)
+        kinematics = options.get("kinematics")
+        shear = options.get("shear_ratio", 0.5)
+        if folder is None:
+            with tempfile.TemporaryDirectory() as scratch:
+                run = run_case(case, Path(scratch), kinematics, False, shear)
+        else:
+            Path(folder).mkdir(parents=True, exist_ok=True)
+            (Path(folder) / "variant.json").write_text(
+                json.dumps({"case": path, "overrides": overrides}, indent=1) + "\n"
+            )
+            run = run_case(case, Path(folder), kinematics, False, shear)
+    except Exception as error:  # this variant's failure, not the sweep's
+        row = {"converged": False, "error": f"{type(error).__name__}: {error}",
+               "wall_time_s": time.perf_counter() - started}  # fmt: skip
+        return row, None
+    return summary_row(run.summary), run.summary
+
+
+# ------------------------------------------------------------------ the sweep
+@dataclass
+class SweepTable:
+    """A sweep's results: one row per variant (in variant order) with ``variant``,
+    ``folder``, the varied keys, then ``summary_row``'s columns; ``summaries`` the full
+    summary of each variant (None for one that did not run).
+
+    ``column(name)`` is one column as a numpy array (NaN where a row has no value)."""
+
+    keys: list[str]
+    rows: list[dict[str, Any]]
+    summaries: list[dict | None] = field(default_factory=list)
+
+    @property
+    def columns(self) -> list[str]:
+        names = ["variant", "folder", *self.keys, "converged", "error", "wall_time_s"]
+        for row in self.rows:
+            names += [name for name in row if name not in names]
+        return names
+
+    def column(self, name: str) -> np.ndarray:
+        if name not in self.columns:
+            raise ValueError(f"no column {name!r}; columns: {', '.join(self.columns)}")
+        values = [row.get(name, math.nan) for row in self.rows]
+        try:
+            return np.array(values, dtype=float)
+        except (TypeError, ValueError):
+            return np.array(values, dtype=object)
+
+    @property
+    def failed(self) -> list[int]:
+        """Variants that did not converge or did not run."""
+        return [row["variant"] for row in self.rows if not row.get("converged")]
+
+    def write_csv(self, path: Path) -> None:
+        columns = self.columns
+        with open(path, "w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=columns, restval="")
+            writer.writeheader()
+            for row in self.rows:
+                writer.writerow({k: _cell(v) for k, v in row.items()})
+
+
+def _cell(value: Any) -> Any:
+    if isinstance(value, list | tuple | dict):
+        return json.dumps(value)
+    return value
+
+
+def sweep(
+    case: str | Path | dict,
+    vary: dict[str, list],
+    *,
+    paired: bool = False,
+    out: str | Path | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool | None = None,
+    name: str | None = None,
+) -> SweepTable:
+    """Run a case over the values of some of its keys, every variant a Dask task.
+
+    Parameters
+    ----------
+    case : str, pathlib.Path or dict
+        A case file, or its tables (as ``tomllib`` reads them) built in Python.
+    vary : dict
+        Dotted key -> list of values (module docstring; ``parse_vary`` reads the command
+        line's form).
+    paired : bool
+        Pair the i-th values of every key (``--zip``) instead of the full product.
+    out : str, pathlib.Path or None
+        Folder of ``sweep.csv``, ``sweep.json`` (the sweep's definition) and one folder per
+        variant (``variant-000``, ... with the run's files and ``variant.json``); None writes
+        nothing (the table is returned). On a remote cluster the workers write the variant
+        folders: give a folder they share with this machine.
+    scheduler : str or None
+        Address of a Dask scheduler; None: a LocalCluster of ``workers`` processes here.
+    workers : int or None
+        LocalCluster workers (default: one per core).
+    progress : bool or None
+        Progress bar over the tasks (None: on unless FIBRESHELL_PROGRESS=0 or under pytest).
+    name : str or None
+        The case's name in messages when ``case`` is a dict (default: its title).
+
+    Returns
+    -------
+    SweepTable
+        Rows in variant order; a variant that failed is a row with ``converged`` false and
+        its ``error``, the others run on. ``sweep.csv`` is rewritten as each variant ends.
+
+    Raises
+    ------
+    ValueError
+        A case file that cannot be read, a key that is not in it, no values, paired lists of
+        different lengths, a bad ``workers`` or a scheduler that does not answer; or every
+        variant failing to build (then the sweep itself is wrong: the first error is given).
+    """
+    if isinstance(case, dict):
+        data, path = case, Path(name or str(case.get("title", "case")))
+    else:
+        path = Path(case).resolve()
+        data = read_case_data(path)
+    combos = variants(vary, paired)
+    rows: list[dict[str, Any]] = []
+    tasks, where = [], []
+    folder = Path(out).resolve() if out is not None else None
+    if folder is not None:
+        if folder.exists() and not folder.is_dir():
+            raise ValueError(f"out {str(folder)!r} is a file: give a folder")
+        folder.mkdir(parents=True, exist_ok=True)
+        definition = {"case": str(path), "vary": vary, "paired": paired, "scheduler": scheduler}
+        (folder / "sweep.json").write_text(json.dumps(definition, indent=1) + "\n")
+    errors = []
+    for i, overrides in enumerate(combos):
+        label = f"variant-{i:03d}"
+        row: dict[str, Any] = {"variant": i, "folder": label if folder else "", **overrides}
+        rows.append(row)
+        tables, _ = apply_overrides(data, overrides)  # a wrong key: the sweep's ValueError
+        try:
+            case_from_data(tables, path)  # a value the case refuses: this variant's row
+        except (CaseError, ValueError) as error:
+            row.update(converged=False, error=f"{type(error).__name__}: {error}")
+            errors.append(str(error))
+            continue
+        tasks.append((data, str(path), overrides, str(folder / label) if folder else None))
+        where.append(i)
+    if not tasks:
+        raise ValueError(f"no variant of the sweep could be built: {errors[0]}")
+    table = SweepTable(keys=list(vary), rows=rows, summaries=[None] * len(rows))
+
+    def done(task: int, result: Any) -> None:
+        i = where[task]
+        if isinstance(result, Failure):
+            rows[i].update(converged=False, error=result.error)
+        else:
+            rows[i].update(result[0])
+            table.summaries[i] = result[1]
+        if folder is not None:
+            table.write_csv(folder / "sweep.csv")
+
+    with dask_client(scheduler, workers) as (client, threads):
+        map_tasks(
+            client,
+            run_variant,
+            [(*task, threads) for task in tasks],
+            f"sweep {path.stem}",
+            progress,
+            done,
+        )
+    if folder is not None:
+        table.write_csv(folder / "sweep.csv")
+    return table
