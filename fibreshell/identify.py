@@ -12,9 +12,11 @@ The measured data is a CSV file (or a dict of columns). Its columns are of two k
   mm, in the final frame), or columns of ``sweep.csv``'s summary rows
   (``displacement_tip_z``, ``reaction_left_z``, ...) compared with the final frame's.
 
-The residual of a row is model minus measured. The parameters are fitted as ratios to their
-starting values (p = theta / theta_0 >= 1e-3: a stiffness stays positive), so keys of any
-magnitude are scaled alike. With m residuals and n parameters, the covariance of the fit is
+The residual of a row is model minus measured. The parameters are fitted as the logarithms
+of their ratios to the starting values, p = ln(theta / theta_0): keys of any magnitude are
+scaled alike, a value keeps its sign (a stiffness stays positive), and a response that goes
+as a power of a stiffness (a deflection as 1 / B) is nearly linear in p.
+With m residuals and n parameters, the covariance of the fit is
 s^2 (J^T J)^-1 with s^2 = |r|^2 / (m - n), and the 95 % confidence interval of each value is
 theta +- t(0.975, m - n) sigma (Gauss-Newton's linearisation at the solution).
 """
@@ -39,7 +41,6 @@ __all__ = [
     "start_values",
 ]  # fmt: skip
 
-LOWEST_RATIO = 1e-3  # p = theta / theta_0 stays above this: the sign of theta is kept
 CONFIDENCE = 0.95
 
 
@@ -207,7 +208,7 @@ def identify(
     scheduler, workers, progress
         As ``fibreshell.sweep.sweep``.
     step : float
-        Forward-difference step of the Jacobian, relative to the starting values.
+        Forward-difference step of the Jacobian, relative to the values.
     max_evaluations : int
         Model evaluations the optimiser may make (each one run per condition group).
     name : str or None
@@ -311,12 +312,12 @@ def identify(
     with dask_client(scheduler, workers) as (client, threads):
 
         def evaluate(points: list[np.ndarray]) -> None:
-            """Run every condition group at every new point p (ratios), in one batch."""
+            """Run every condition group at every new point p (log ratios), in one batch."""
             new = [p for p in dict.fromkeys(tuple(p) for p in points) if p not in cache]
             if not new:
                 return
             tasks = [
-                (tables, str(case_path), {**setting, **dict(zip(keys, np.array(p) * theta0))},
+                (tables, str(case_path), {**setting, **dict(zip(keys, np.exp(p) * theta0))},
                  None, threads)
                 for p in new for setting in settings
             ]  # fmt: skip
@@ -340,7 +341,7 @@ def identify(
 
         def jacobian(p: np.ndarray) -> np.ndarray:
             # Forward differences, every column's runs at once (and the base point if new).
-            steps = step * np.maximum(1.0, np.abs(p))
+            steps = np.full(len(p), step)  # relative steps of theta
             shifted = [p + steps[j] * np.eye(len(p))[j] for j in range(len(p))]
             evaluate([p, *shifted])
             base = cache[tuple(p)][0]
@@ -348,19 +349,19 @@ def identify(
                 [(cache[tuple(q)][0] - base) / steps[j] for j, q in enumerate(shifted)]
             )
 
-        ones = np.ones(len(keys))
+        origin = np.zeros(len(keys))
         solution = optimize.least_squares(
-            residuals, ones, jac=jacobian, bounds=(LOWEST_RATIO, np.inf), method="trf",
-            x_scale=1.0, max_nfev=max_evaluations, ftol=1e-10, xtol=1e-8, gtol=1e-10,
+            residuals, origin, jac=jacobian, method="trf",
+            x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
         )  # fmt: skip
         jac = jacobian(solution.x)
     m, n = len(measured), len(keys)
-    values = solution.x * theta0
+    values = np.exp(solution.x) * theta0
     final = cache[tuple(solution.x)][0]
     sigma = np.full(n, np.nan)
     intervals = np.full((n, 2), np.nan)
     if m > n:
-        scaled = jac / theta0  # d r / d theta
+        scaled = jac / values  # d r / d theta = (d r / d p) / theta
         variance = float(final @ final) / (m - n)
         normal = scaled.T @ scaled
         if np.linalg.cond(normal) < 1e12:
@@ -383,11 +384,11 @@ def identify(
         conditions=[dict(s) for s, g in zip(settings, groups.values()) for _ in g],
         measured=measured,
         fitted=final + measured,
-        initial=cache[tuple(ones)][0] + measured,
+        initial=cache[tuple(origin)][0] + measured,
     )
     if profile:
         assert path is not None
-        for label, p in (("fitted", solution.x), ("initial", ones)):
+        for label, p in (("fitted", solution.x), ("initial", origin)):
             result.profiles[label] = [
                 (np.asarray(s["paths"][path]["horizontal"]), np.asarray(s["paths"][path]["z"]))
                 for s in cache[tuple(p)][1]
@@ -445,7 +446,8 @@ def figure(result: Identification, settings: list[dict], target: Path) -> Path:
             ax.plot(x, result.measured[j::count], "o", color=f"C{j}", label=f"{response}: data")
             ax.plot(x, result.fitted[j::count], "-", color=f"C{j}", label="fit")
             ax.plot(x, result.initial[j::count], ":", color=f"C{j}", label="start")
-        ax.set(xlabel=numeric[0] if numeric else "data row", ylabel="response")
+        ylabel = result.responses[0] if count == 1 else "responses"
+        ax.set(xlabel=numeric[0] if numeric else "data row", ylabel=ylabel)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize="small")
     ax.set_title(f"data (o) vs fit (-) and start (:): {fitted}", fontsize="small")

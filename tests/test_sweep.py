@@ -1,0 +1,272 @@
+"""Parameter sweeps (fibreshell.sweep, ``fibreshell sweep``): dotted keys set into the case
+file's tables, the product or the pairing of their values, every variant a Dask task whose
+row holds the numbers of its run (checked against Euler-Bernoulli and against the same run in
+this process), and a failed variant a row with its error, never a lost sweep."""
+
+import copy
+import csv
+import os
+import re
+
+import numpy as np
+import pytest
+
+from fibreshell.case import case_from_data
+from fibreshell.cli import main
+from fibreshell.cluster import Failure, dask_client, map_tasks
+from fibreshell.run import run_case
+from fibreshell.sweep import apply_overrides, parse_vary, sweep, variants
+from materials import presets
+
+GRAVITY = 9810.0
+LENGTH = 100.0
+DENSITY = 8.154943934760449e-12  # t/mm^2: q = rho_A g = 8e-8 N/mm^2
+
+
+def cantilever(bending: float = 10.0) -> dict:
+    """A strip clamped at its left edge under its weight, as the tables of a case file: tip
+    deflection q L^4 / (8 B) = 0.1 mm for B = 10 N mm (0.1 % of L: linear)."""
+    return {
+        "title": "cantilever",
+        "mesh": {"rectangle": {"lx": LENGTH, "ly": 10.0, "nx": 20, "ny": 1}},
+        "part": [
+            {
+                "element": "fibrous",
+                "material": {
+                    "thickness": 0.2,
+                    "areal_density": DENSITY,
+                    "tension": 1000.0,
+                    "shear": 1.0,
+                    "bending": bending,
+                },  # fmt: skip
+                "options": {"clamped": "left"},
+            }
+        ],
+        "fix": [{"nodes": "left"}],
+        "gravity": {"acceleration": [0.0, 0.0, -GRAVITY]},
+        "solver": {"kind": "static", "increments": 1},
+        "output": {"history": {"reactions": ["left"], "displacements": ["right"]}},
+    }
+
+
+def euler_bernoulli_tip(bending: float) -> float:
+    return DENSITY * GRAVITY * LENGTH**4 / (8.0 * bending)
+
+
+# ------------------------------------------------------------------ keys and values
+def test_values_are_read_as_toml_values_bare_words_as_strings():
+    assert parse_vary("part.0.material.bending=10,2.5e1, 40") == (
+        "part.0.material.bending", [10, 25.0, 40]
+    )  # fmt: skip
+    assert parse_vary("kinematics=fibrous,mindlin") == ("kinematics", ["fibrous", "mindlin"])
+    key, values = parse_vary("contact.0.motion=[0.0, 0.0, -5.0],[0, 0, -10]")
+    assert values == [[0.0, 0.0, -5.0], [0, 0, -10]]  # commas inside brackets stay
+    assert parse_vary("a.b=linspace(1, 3, 3)")[1] == [1.0, 2.0, 3.0]
+    assert parse_vary("a.b=geomspace(1, 100, 3)")[1] == pytest.approx([1.0, 10.0, 100.0])
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("part.0.material.bending", "expected KEY=V1,V2"),
+        ("=1,2", "expected KEY=V1,V2"),
+        ("a.b=1,,2", "empty value"),
+        ("a.b=linspace(1, 2)", "linspace(start, stop, count)"),
+        ("a.b=geomspace(-1, 2, 3)", "one sign"),
+    ],
+)
+def test_a_malformed_vary_is_a_value_error(text, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        parse_vary(text)
+
+
+def test_the_product_varies_the_first_key_slowest_and_zip_pairs():
+    product = variants({"a": [1, 2], "b": ["x", "y", "z"]})
+    assert product == [{"a": a, "b": b} for a in (1, 2) for b in "xyz"]
+    assert variants({"a": [1, 2], "b": ["x", "y"]}, paired=True) == [
+        {"a": 1, "b": "x"}, {"a": 2, "b": "y"}
+    ]  # fmt: skip
+    with pytest.raises(ValueError, match="as many values"):
+        variants({"a": [1, 2], "b": [1]}, paired=True)
+    with pytest.raises(ValueError, match="nothing to vary"):
+        variants({})
+
+
+def test_overrides_set_nested_keys_and_open_a_preset_to_change_one_value():
+    data = cantilever()
+    data["part"][0]["material"] = "paper_stack"
+    original = copy.deepcopy(data)
+    tables, options = apply_overrides(
+        data, {"part.0.material.bending": 25.0, "mesh.rectangle.nx": 4, "kinematics": "mindlin"}
+    )
+    assert data == original  # the base tables are not touched
+    assert tables["part"][0]["material"] == {"preset": "paper_stack", "bending": 25.0}
+    assert tables["mesh"]["rectangle"]["nx"] == 4
+    assert options == {"kinematics": "mindlin"}
+    fabric = case_from_data(tables, "sweep.toml").parts[0]["element"].fabric
+    stack = presets.paper_stack()
+    assert fabric.bending.slope(np.array(0.0)).item() == 25.0
+    assert fabric.thickness == stack.thickness
+    assert fabric.tension.slope(np.array(0.0)) == stack.tension.slope(np.array(0.0))
+
+
+def test_a_preset_takes_its_own_arguments_and_refuses_unknown_keys():
+    data = cantilever()
+    data["part"][0]["material"] = {"preset": "paper_stack", "sheets": 65}
+    fabric = case_from_data(data, "c.toml").parts[0]["element"].fabric
+    assert fabric.thickness == pytest.approx(presets.paper_stack(65).thickness)
+    data["part"][0]["material"] = {"preset": "paper_stack", "bendng": 1.0}
+    with pytest.raises(ValueError, match=r"c.toml: \[part\[0\].material.bendng\]: unknown key"):
+        case_from_data(data, "c.toml")
+
+
+@pytest.mark.parametrize(
+    "key, message",
+    [
+        ("part.1.material.bending", "list of 1 tables; expected an index 0 to 0"),
+        ("mesh.square.lx", "the case has no 'mesh.square'"),
+        ("solver.kind.x", "is a value, not a table"),
+        ("part..bending", "dotted path"),
+    ],
+)
+def test_a_key_not_in_the_case_is_a_value_error(key, message):
+    with pytest.raises(ValueError, match=message):
+        apply_overrides(cantilever(), {key: 1.0})
+
+
+def test_run_options_are_checked():
+    with pytest.raises(ValueError, match="kinematics: expected one of fibrous, mindlin"):
+        apply_overrides(cantilever(), {"kinematics": "kirchhoff"})
+    with pytest.raises(ValueError, match="shear_ratio: expected a positive number"):
+        apply_overrides(cantilever(), {"shear_ratio": -1})
+
+
+# ------------------------------------------------------------------ a sweep on Dask
+@pytest.fixture(scope="module")
+def paired_sweep(tmp_path_factory):
+    """Five paired variants on a LocalCluster of 2 workers: B = 10 and 20 fibrous, B = 10
+    Mindlin, B = -1 (refused by the case) and one whose solver may not iterate (it stops)."""
+    out = tmp_path_factory.mktemp("sweep")
+    vary = {
+        "part.0.material.bending": [10.0, 20.0, 10.0, -1.0, 10.0],
+        "kinematics": ["fibrous", "fibrous", "mindlin", "fibrous", "fibrous"],
+        "solver.max_iterations": [25, 25, 25, 25, 1],
+    }
+    return out, sweep(cantilever(), vary, paired=True, out=out, workers=2, progress=False)
+
+
+def test_every_variant_matches_euler_bernoulli(paired_sweep):
+    # Closed form q L^4 / (8 B) (0.1 mm): 20 cells of the clamped-edge shell converge at
+    # second order to 0.15 %; 1 % tolerance.
+    _, table = paired_sweep
+    for row in table.rows[:3]:
+        assert row["converged"] and row["error"] == ""
+        expected = euler_bernoulli_tip(row["part.0.material.bending"])
+        assert -row["displacement_right_z"] == pytest.approx(expected, rel=0.01)
+        # The clamp carries the weight: q L W.
+        assert row["reaction_left_z"] == pytest.approx(DENSITY * GRAVITY * LENGTH * 10.0)
+
+
+def test_a_variant_runs_on_a_worker_as_it_runs_here(paired_sweep):
+    out, table = paired_sweep
+    tables, _ = apply_overrides(cantilever(), {"part.0.material.bending": 20.0})
+    here = run_case(case_from_data(tables, "cantilever"), out / "here", progress=False)
+    assert table.rows[1]["displacement_right_z"] == pytest.approx(
+        here.summary["mean_displacements"]["right"][2], rel=1e-10
+    )
+
+
+def test_a_failed_variant_is_a_row_with_its_error_and_the_others_run(paired_sweep):
+    out, table = paired_sweep
+    refused, stopped = table.rows[3], table.rows[4]
+    assert not refused["converged"] and "B must be > 0" in refused["error"]
+    assert not stopped["converged"] and "iteration" in stopped["error"]
+    assert table.failed == [3, 4]
+    assert table.summaries[3] is None and table.summaries[4] is not None
+    # The stopped variant kept its last good state on disk.
+    assert (out / "variant-004" / "summary.json").is_file()
+    assert not (out / "variant-003").exists()
+
+
+def test_sweep_csv_has_a_row_per_variant_with_the_varied_values(paired_sweep):
+    out, table = paired_sweep
+    with open(out / "sweep.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 5
+    assert rows[0]["part.0.material.bending"] == "10.0" and rows[2]["kinematics"] == "mindlin"
+    assert float(rows[1]["displacement_right_z"]) == table.rows[1]["displacement_right_z"]
+    assert rows[3]["converged"] == "False" and "B must be > 0" in rows[3]["error"]
+    assert {"wall_time_s", "reaction_left_z", "max_fibre_strain"} <= set(rows[0])
+    assert (out / "variant-000" / "variant.json").is_file()
+    assert np.isnan(table.column("displacement_right_z")[3])
+
+
+def test_a_dead_worker_is_a_failed_task_not_a_lost_map():
+    import dask
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with dask_client(workers=1) as (client, _):
+            results = map_tasks(client, os._exit, [(3,)], "crash", progress=False)
+            again = map_tasks(client, abs, [(-2,)], "after", progress=False)
+    assert isinstance(results[0], Failure) and "KilledWorker" in results[0].error
+    assert again == [2]
+
+
+def test_a_sweep_where_no_variant_builds_is_a_value_error():
+    with pytest.raises(ValueError, match="no variant of the sweep could be built: .*B must be"):
+        sweep(cantilever(), {"part.0.material.bending": [-1.0, -2.0]}, progress=False)
+
+
+def test_workers_and_scheduler_are_checked():
+    for bad in (0, 1.5, True):
+        with pytest.raises(ValueError, match="workers must be a whole number >= 1"):
+            with dask_client(workers=bad):
+                pass
+    with pytest.raises(ValueError, match="not both"):
+        with dask_client("tcp://127.0.0.1:1", workers=2):
+            pass
+
+
+# ------------------------------------------------------------------ the command
+@pytest.fixture
+def case_file(tmp_path):
+    text = (
+        "[mesh]\nrectangle = { lx = 100.0, ly = 10.0, nx = 10, ny = 1 }\n"
+        "[[part]]\nelement = \"fibrous\"\nmaterial = \"g986_ply\"\n"
+        "options = { clamped = \"left\" }\n[[fix]]\nnodes = \"left\"\n"
+        "[gravity]\nacceleration = [0.0, 0.0, -9810.0]\n"
+        "[solver]\nkind = \"static\"\nincrements = 2\n"
+        "[output]\nhistory = { displacements = [\"right\"] }\n"
+    )  # fmt: skip
+    path = tmp_path / "strip.toml"
+    path.write_text(text)
+    return path
+
+
+def test_the_command_writes_sweep_csv(case_file, tmp_path, capsys):
+    out = tmp_path / "out"
+    status = main(["sweep", str(case_file), "--vary", "part.0.material.bending=1.0,2.0",
+                   "--workers", "2", "--out", str(out), "--quiet"])  # fmt: skip
+    assert status == 0, capsys.readouterr()
+    with open(out / "sweep.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [r["part.0.material.bending"] for r in rows] == ["1.0", "2.0"]
+    # Stiffer, less sag (the heavy elastica's deflection falls with B).
+    assert float(rows[1]["displacement_right_z"]) > float(rows[0]["displacement_right_z"])
+    assert "2 variants, 0 failed" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (["--vary", "part.3.material.bending=1"], "part is a list of 1 tables"),
+        (["--vary", "solver.increments=1", "--vary", "solver.increments=2"], "twice"),
+        (["--vary", "solver.increments"], "expected KEY=V1,V2"),
+        (["--vary", "a.b=1", "--zip", "--vary", "c.d=1,2"], "as many values"),
+    ],
+)
+def test_the_command_refuses_a_bad_sweep_with_status_2(case_file, tmp_path, capsys, arguments,
+                                                       message):  # fmt: skip
+    status = main(["sweep", str(case_file), *arguments, "--out", str(tmp_path / "o"), "--quiet"])
+    assert status == 2
+    assert message in capsys.readouterr().err
