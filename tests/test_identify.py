@@ -1,0 +1,201 @@
+"""Identification (fibreshell.identify, ``fibreshell identify``): least squares over case
+keys with the Jacobian's runs as Dask tasks. It recovers the bending stiffness that generated
+a profile, Peirce's bending length from the heavy elastica's tip deflections of an overhang
+series, and on a response linear in the parameter its value and 95 % interval are those of
+ordinary least squares in closed form."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from fibreshell.cli import main
+from fibreshell.identify import identify, read_measurements, start_values
+from fibreshell.sweep import sweep
+from validation.references.elastica import heavy_cantilever
+
+GRAVITY = 9810.0
+
+
+def strip(length: float, cells: int, bending: float, density: float, paths=None) -> dict:
+    """A strip clamped at its left edge, sagging under its weight, as case tables."""
+    return {
+        "title": "strip",
+        "mesh": {"rectangle": {"lx": length, "ly": 10.0, "nx": cells, "ny": 1}},
+        "part": [
+            {
+                "element": "fibrous",
+                "material": {
+                    "thickness": 0.5,
+                    "areal_density": density,
+                    "tension": 1000.0,
+                    "shear": 0.5,
+                    "bending": bending,
+                },  # fmt: skip
+                "options": {"clamped": "left"},
+            }
+        ],
+        "fix": [{"nodes": "left"}],
+        "gravity": {"acceleration": [0.0, 0.0, -GRAVITY]},
+        "solver": {"kind": "static", "increments": 4},
+        "output": {
+            "history": {"reactions": ["left"], "displacements": ["right"]},
+            "paths": paths or {"side": {"y_max": 0.0}},
+        },
+    }
+
+
+def test_the_bending_stiffness_behind_a_profile_is_recovered():
+    # Synthetic data: the side profile z(x) of an 80 mm strip (B = 0.3 N mm, q L^3 / B = 5:
+    # a large deflection) from this very model; the fit starts from B = 0.6 and must land
+    # within 1 % of 0.3 (the issue's tolerance; the data are exact, so the fit stops on the
+    # optimiser's tolerance, far closer).
+    true, density = 0.3, 3e-10
+    case = strip(80.0, 8, true, density)
+    data = sweep(case, {"solver.increments": [4]}, progress=False).summaries[0]["paths"]["side"]
+    measured = {"x": list(data["horizontal"][1:]), "z": list(data["z"][1:])}
+    result = identify(case, measured, {"part.0.material.bending": 2 * true}, progress=False)
+    assert result.success
+    assert result.values[0] == pytest.approx(true, rel=0.01)
+    assert result.residual_rms < 1e-3 * np.ptp(measured["z"])
+
+
+@pytest.fixture(scope="module")
+def overhangs(tmp_path_factory):
+    """Peirce's cantilever test: the tip deflections of overhangs of 40, 60 and 80 mm of a
+    fabric of rho_A = 0.3 kg/m^2 and B = 0.1 N mm (c = (B / w)^(1/3) = 32.4 mm), from the
+    inextensible heavy elastica (validation/references/elastica.py), fitted from B = 0.2."""
+    density, bending = 3e-10, 0.1
+    lengths = [40.0, 60.0, 80.0]
+    tips = [-heavy_cantilever(length, density * GRAVITY, bending)["tip_deflection"]
+            for length in lengths]  # fmt: skip
+    out = tmp_path_factory.mktemp("peirce")
+    result = identify(
+        strip(60.0, 16, 0.2, density),
+        {"mesh.rectangle.lx": lengths, "displacement_right_z": tips},
+        {"part.0.material.bending": None},
+        out=out,
+        progress=False,
+    )
+    return result, density * GRAVITY, bending, out
+
+
+def test_peirce_bending_length_from_an_overhang_series(overhangs):
+    # 16 cells per overhang: the clamped-edge shell's tip deflection is within ~0.3 % of the
+    # elastica (second order: 0.8 % at 10 cells), so B within 1 %, c = (B / w)^(1/3) within
+    # 1/3 of that; the issue asks for 1 % on c.
+    result, weight, bending, _ = overhangs
+    c_true = (bending / weight) ** (1 / 3)
+    c_fit = (result.values[0] / weight) ** (1 / 3)
+    assert c_fit == pytest.approx(c_true, rel=0.01)
+    assert result.values[0] == pytest.approx(bending, rel=0.01)
+    low, high = result.intervals[0]
+    assert low < bending < high  # the discretisation error is within the interval's scatter
+    assert result.runs == 3 * result.evaluations  # one run per overhang per evaluation
+
+
+def test_the_fit_writes_its_values_and_a_figure(overhangs):
+    result, *_, out = overhangs
+    written = json.loads((out / "identify.json").read_text())
+    fitted = written["parameters"]["part.0.material.bending"]
+    assert fitted["value"] == pytest.approx(result.values[0])
+    assert fitted["start"] == 0.2
+    assert fitted["confidence_95"] == pytest.approx(list(result.intervals[0]))
+    assert (out / "fit.png").stat().st_size > 10_000
+
+
+def test_a_linear_response_gives_the_closed_form_least_squares_interval():
+    # The clamp's vertical reaction is the strip's weight, rho_A g L W, whatever its shape:
+    # linear in rho_A through the origin. With noisy "measured" reactions y_i at lengths L_i
+    # the least-squares rho_A is sum(a_i y_i) / sum(a_i^2), a_i = g L_i W, with standard
+    # error s / sqrt(sum a_i^2), s^2 = sum r_i^2 / (m - 1), and the 95 % interval
+    # +- t(0.975, m - 1) se (any regression text).
+    lengths = np.array([40.0, 60.0, 80.0, 100.0])
+    noise = np.array([0.02, -0.03, 0.01, 0.015])
+    a = GRAVITY * lengths * 10.0
+    measured = 3e-10 * a * (1.0 + noise)
+    rho = float(a @ measured / (a @ a))
+    s = np.sqrt(np.sum((measured - rho * a) ** 2) / 3)
+    half = stats.t.ppf(0.975, 3) * s / np.sqrt(a @ a)
+    result = identify(
+        strip(60.0, 4, 10.0, 1e-10),  # stiff: small deflections, quick runs
+        {"mesh.rectangle.lx": lengths.tolist(), "reaction_left_z": measured.tolist()},
+        {"part.0.material.areal_density": None},
+        progress=False,
+    )
+    assert result.values[0] == pytest.approx(rho, rel=1e-6)
+    assert result.intervals[0] == pytest.approx([rho - half, rho + half], rel=1e-4)
+
+
+def test_measured_data_files_are_checked(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,z\n1.0,2.0\n3.0\n")
+    with pytest.raises(ValueError, match="row 3 has 1 cells"):
+        read_measurements(bad)
+    with pytest.raises(ValueError, match="no such data file"):
+        read_measurements(tmp_path / "none.csv")
+    bad.write_text("x,z\n1.0,high\n")
+    with pytest.raises(ValueError, match="'z' .* numbers only"):
+        read_measurements(bad)
+
+
+@pytest.mark.parametrize(
+    "data, fit, message",
+    [
+        ({"mesh.rectangle.lx": [50.0]}, {"part.0.material.bending": None}, "no response column"),
+        ({"x": [1.0], "z": [0.0], "y": [0.0]}, {"part.0.material.bending": None}, "profile is"),
+        ({"x": [1.0], "z": [0.0]}, {"part.0.material.shear.linear": None}, "no number there"),
+        ({"x": [1.0], "z": [0.0]}, {"part.0.material.bending": 0.0}, "must not be 0"),
+        ({"x": [1.0], "z": [0.0]}, {}, "nothing to fit"),
+        (
+            {"part.0.material.bending": [1.0], "displacement_right_z": [-1.0]},
+            {"part.0.material.bending": None},
+            "cannot also be data columns",
+        ),  # fmt: skip
+    ],
+)
+def test_bad_identification_input_is_a_value_error(data, fit, message):
+    with pytest.raises(ValueError, match=message):
+        identify(strip(60.0, 4, 0.1, 1e-10), data, fit, progress=False)
+
+
+def test_a_profile_needs_its_path_named_when_the_case_has_several():
+    case = strip(60.0, 4, 0.1, 1e-10, paths={"a": {"y_max": 0.0}, "b": {"y_min": 10.0}})
+    with pytest.raises(ValueError, match="give path"):
+        identify(case, {"x": [1.0], "z": [0.0]}, {"part.0.material.bending": None})
+
+
+def test_start_values_come_from_the_case():
+    case = strip(60.0, 4, 0.1, 1e-10)
+    assert start_values(case, {"part.0.material.bending": None, "mesh.rectangle.lx": 5}) == (
+        pytest.approx([0.1, 5.0])
+    )
+
+
+def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
+    case = tmp_path / "strip.toml"
+    case.write_text(
+        "[mesh]\nrectangle = { lx = 60.0, ly = 10.0, nx = 4, ny = 1 }\n"
+        "[[part]]\nelement = \"fibrous\"\n"
+        "material = { preset = \"g986_ply\", areal_density = 1e-10 }\n"
+        "options = { clamped = \"left\" }\n[[fix]]\nnodes = \"left\"\n"
+        "[gravity]\nacceleration = [0.0, 0.0, -9810.0]\n"
+        "[solver]\nkind = \"static\"\n"
+        "[output]\nhistory = { reactions = [\"left\"] }\n"
+    )  # fmt: skip
+    data = tmp_path / "measured.csv"
+    with open(data, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["mesh.rectangle.lx", "reaction_left_z"])
+        for length, factor in ((40.0, 1.01), (80.0, 0.99)):
+            writer.writerow([length, 2e-10 * GRAVITY * length * 10.0 * factor])
+    out = tmp_path / "fit"
+    status = main(["identify", str(case), "--data", str(data), "--fit",
+                   "part.0.material.areal_density", "--out", str(out), "--quiet"])  # fmt: skip
+    printed = capsys.readouterr().out
+    assert status == 0, printed
+    assert "part.0.material.areal_density = 1.9" in printed and "95 % interval" in printed
+    assert (out / "fit.png").is_file()
+    assert main(["identify", str(case), "--data", str(data), "--fit", "a.b=x"]) == 2
