@@ -270,3 +270,18 @@ def test_the_command_refuses_a_bad_sweep_with_status_2(case_file, tmp_path, caps
     status = main(["sweep", str(case_file), *arguments, "--out", str(tmp_path / "o"), "--quiet"])
     assert status == 2
     assert message in capsys.readouterr().err
+
+
+def test_the_report_s_sensitivity_study_sweeps_the_case_file_of_bai_6_1_1():
+    # The sensitivity case builds its base from validation's constants; it must stay the case
+    # file users run (cases/bai-6.1.1.toml), at the report's cell count.
+    from pathlib import Path
+
+    from fibreshell.case import read_case_data
+    from validation.cases.bai_sensitivity import base_case
+
+    shipped = read_case_data(Path(__file__).resolve().parents[1] / "cases" / "bai-6.1.1.toml")
+    base = base_case(20)
+    for table in ("mesh", "part", "fix", "displace", "gravity", "solver"):
+        assert base[table] == shipped[table], table
+    assert base["output"]["paths"]["side_1"] == shipped["output"]["paths"]["side_1"]
