@@ -47,6 +47,7 @@ def dask_client(
         ``workers`` not a whole number >= 1, both arguments given, or no scheduler answering
         at ``scheduler``.
     """
+    import dask
     from distributed import Client, LocalCluster
 
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
@@ -68,7 +69,11 @@ def dask_client(
     count = workers or cores
     # Worker processes (not threads): the solvers hold the GIL between numba kernels, and
     # numba's thread pool must not be entered by two threads of one process at once.
+    # Dask's nannies start their workers with MALLOC_TRIM_THRESHOLD_=65536, which also fixes
+    # glibc's mmap threshold: every large numpy temporary is then mapped and unmapped, and
+    # a solver runs 25-40 % slower than in this process (measured, benchmarks/sweep.py).
     with (
+        dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}),
         LocalCluster(
             n_workers=count,
             threads_per_worker=1,
