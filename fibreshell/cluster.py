@@ -72,17 +72,22 @@ def dask_client(
     # Dask's nannies start their workers with MALLOC_TRIM_THRESHOLD_=65536, which also fixes
     # glibc's mmap threshold: every large numpy temporary is then mapped and unmapped, and
     # a solver runs 25-40 % slower than in this process (measured, benchmarks/sweep.py).
-    with (
-        dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}),
-        LocalCluster(
-            n_workers=count,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+        try:
+            cluster = LocalCluster(
+                n_workers=count,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.ERROR,
+            )
+        except RuntimeError as error:
+            raise RuntimeError(
+                f"the local Dask workers did not start ({error}). In a script, run the sweep "
+                'under if __name__ == "__main__": (each worker is a new process that imports '
+                "the script)"
+            ) from error
+    with cluster, Client(cluster) as client:
         yield client, max(1, cores // count)
 
 
