@@ -1,6 +1,8 @@
 """fibreshell: case files and the ``fibreshell`` command on top of the framework (femcore,
 elements, materials, solvers). ``load_case`` reads a case file, ``run_case`` and
-``compare_case`` run it; ``python -m fibreshell --help`` lists the commands."""
+``compare_case`` run it, ``fibreshell.sweep.sweep`` runs it over values of its keys and
+``fibreshell.identify.identify`` fits them to measurements (both on Dask distributed);
+``python -m fibreshell --help`` lists the commands."""
 
 from fibreshell.case import Case, CaseError, load_case
 from fibreshell.compare import compare_case

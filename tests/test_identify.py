@@ -199,3 +199,13 @@ def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
     assert "part.0.material.areal_density = 1.9" in printed and "95 % interval" in printed
     assert (out / "fit.png").is_file()
     assert main(["identify", str(case), "--data", str(data), "--fit", "a.b=x"]) == 2
+
+
+def test_a_run_that_fails_during_the_fit_stops_it_with_its_values():
+    from fibreshell.identify import FitFailed
+
+    case = strip(60.0, 4, 0.1, 3e-10)
+    case["solver"]["max_iterations"] = 1  # Newton may not converge: every run stops
+    with pytest.raises(FitFailed, match=r"the run with .*part.0.material.bending = 0.1.* failed"):
+        identify(case, {"x": [30.0], "z": [-5.0]}, {"part.0.material.bending": None},
+                 progress=False)  # fmt: skip
