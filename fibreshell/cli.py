@@ -64,6 +64,9 @@ def _parser() -> argparse.ArgumentParser:
                          help="the keys to fit, each with its starting value (default: the "
                          "case file's)")  # fmt: skip
     command.add_argument("--path", default=None, help="the case's path a profile is along")
+    command.add_argument("--sigma", default=None, metavar="COLUMN=VALUE,...",
+                         help="the measurement uncertainty of response columns (data units): "
+                         "each residual is divided by it (default 1)")  # fmt: skip
     command.add_argument("--max-evaluations", type=int, default=30,
                          help="model evaluations the fit may make (default 30)")  # fmt: skip
     _cluster_options(command)
@@ -86,20 +89,20 @@ def _cluster_options(command: argparse.ArgumentParser) -> None:
     command.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def _fit_keys(text: str) -> dict[str, float | None]:
-    """``KEY[=START],...`` as {key: start or None}."""
+def _key_numbers(text: str, option: str) -> dict[str, float | None]:
+    """``KEY[=NUMBER],...`` (the text of ``option``) as {key: number or None}."""
     from fibreshell.sweep import _split, _toml_value
 
-    fit: dict[str, float | None] = {}
+    numbers: dict[str, float | None] = {}
     for item in _split(text):
-        key, sep, start = item.partition("=")
+        key, sep, number = item.partition("=")
         if not key.strip():
-            raise ValueError(f"--fit {text!r}: expected KEY[=START],KEY[=START],...")
-        value = _toml_value(start.strip()) if sep else None
+            raise ValueError(f"{option} {text!r}: expected KEY[=NUMBER],KEY[=NUMBER],...")
+        value = _toml_value(number.strip()) if sep else None
         if sep and (isinstance(value, bool) or not isinstance(value, int | float)):
-            raise ValueError(f"--fit {item!r}: the start must be a number, got {start!r}")
-        fit[key.strip()] = value
-    return fit
+            raise ValueError(f"{option} {item!r}: expected a number after =, got {number!r}")
+        numbers[key.strip()] = value
+    return numbers
 
 
 def _sweep(args: argparse.Namespace, progress: bool) -> int:
@@ -123,9 +126,14 @@ def _identify(args: argparse.Namespace, progress: bool) -> int:
 
     out = _out_folder(args.out, args.case, "-identify")
     try:
-        result = identify(args.case, args.data, _fit_keys(args.fit), path=args.path, out=out,
+        given = _key_numbers(args.sigma, "--sigma") if args.sigma is not None else {}
+        sigma = {column: value for column, value in given.items() if value is not None}
+        if len(sigma) != len(given):
+            raise ValueError(f"--sigma {args.sigma!r}: expected COLUMN=VALUE,...")
+        fit = _key_numbers(args.fit, "--fit")
+        result = identify(args.case, args.data, fit, path=args.path, out=out,
                           scheduler=args.scheduler, workers=args.workers, progress=progress,
-                          max_evaluations=args.max_evaluations)  # fmt: skip
+                          max_evaluations=args.max_evaluations, sigma=sigma)  # fmt: skip
     except FitFailed as error:
         print(f"fibreshell identify: STOPPED: {error}")
         return 1

@@ -53,11 +53,11 @@ class FitFailed(RuntimeError):
 class Identification:
     """The fitted values of ``keys`` (``values``), their standard errors and 95 % confidence
     intervals (``intervals``: (n, 2), NaN where the data cannot tell: as many residuals as
-    parameters, or a singular Jacobian), the starting values, the RMS residual (data units),
-    how the optimiser ended, the number of model evaluations and of runs (Dask tasks), the
-    wall time (s); ``conditions``/``measured``/``fitted``/``initial`` per data row for figures,
-    and ``profiles`` (fitted, initial): per condition group the model's path (horizontal, z)
-    for a profile fit."""
+    parameters, or a singular Jacobian), the starting values, the RMS residual (data units;
+    in sigmas when ``sigma`` is given), how the optimiser ended, the number of model
+    evaluations and of runs (Dask tasks), the wall time (s); ``conditions``, ``measured``,
+    ``fitted`` and ``initial`` per data row for figures, and ``profiles`` (fitted, initial):
+    per condition group the model's path (horizontal, z) for a profile fit."""
 
     keys: list[str]
     start: np.ndarray
@@ -76,6 +76,7 @@ class Identification:
     fitted: np.ndarray = field(default_factory=lambda: np.zeros(0))
     initial: np.ndarray = field(default_factory=lambda: np.zeros(0))
     profiles: dict[str, list] = field(default_factory=dict)
+    sigma: dict[str, float] = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         return {
@@ -95,6 +96,7 @@ class Identification:
             "runs": self.runs,
             "wall_time_s": self.wall_time_s,
             "responses": self.responses,
+            "sigma": self.sigma,
         }
 
 
@@ -188,6 +190,7 @@ def identify(
     progress: bool | None = None,
     step: float = 1e-3,
     max_evaluations: int = 30,
+    sigma: dict[str, float] | None = None,
     name: str | None = None,
 ) -> Identification:
     """Fit the values of ``fit``'s keys so that the case's runs match ``data``.
@@ -211,6 +214,10 @@ def identify(
         Forward-difference step of the Jacobian, relative to the values.
     max_evaluations : int
         Model evaluations the optimiser may make (each one run per condition group).
+    sigma : dict or None
+        Response column -> its measurement uncertainty (data units; "z" for a profile): each
+        residual is divided by it, so responses in different units (a deflection in mm, a
+        reaction in N) weigh by their precision. None: 1 for every column.
     name : str or None
         The case's name in messages when ``case`` is a dict.
 
@@ -286,6 +293,15 @@ def identify(
             for r in g
         ]  # fmt: skip
     ).astype(float)
+    weights = dict(sigma or {})
+    named = ["z"] if profile else responses
+    for column, value in weights.items():
+        if column not in named:
+            raise ValueError(f"sigma: {column!r} is not a response column ({', '.join(named)})")
+        if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
+            raise ValueError(f"sigma: {column} must be a positive number, got {value!r}")
+    # Each residual over its column's sigma: rows are laid out row by row, columns inside.
+    scale = np.tile([float(weights.get(c, 1.0)) for c in named], len(measured) // len(named))
     cache: dict[tuple, tuple[np.ndarray, list[dict]]] = {}
     counts = {"evaluations": 0, "runs": 0}
 
@@ -333,7 +349,7 @@ def identify(
                         values = ", ".join(f"{key} = {_show(v)}" for key, v in task[2].items())
                         raise FitFailed(f"the run with {values} failed: {error or 'not converged'}")
                 summaries = [result[1] for result in batch]
-                cache[p] = (model_values(summaries) - measured, summaries)
+                cache[p] = ((model_values(summaries) - measured) / scale, summaries)
 
         def residuals(p: np.ndarray) -> np.ndarray:
             evaluate([p])
@@ -358,33 +374,36 @@ def identify(
     m, n = len(measured), len(keys)
     values = np.exp(solution.x) * theta0
     final = cache[tuple(solution.x)][0]
-    sigma = np.full(n, np.nan)
+    errors = np.full(n, np.nan)
     intervals = np.full((n, 2), np.nan)
     if m > n:
-        scaled = jac / values  # d r / d theta = (d r / d p) / theta
+        # In p = ln(theta / theta_0), where the parameters are alike in scale (the condition
+        # number then says whether the data tell them apart, not how their units compare);
+        # d theta = theta d p carries the covariance over.
         variance = float(final @ final) / (m - n)
-        normal = scaled.T @ scaled
+        normal = jac.T @ jac
         if np.linalg.cond(normal) < 1e12:
-            sigma = np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
-            half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * sigma
+            errors = np.abs(values) * np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
+            half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * errors
             intervals = np.column_stack([values - half, values + half])
     result = Identification(
         keys=keys,
         start=theta0,
         values=values,
-        standard_errors=sigma,
+        standard_errors=errors,
         intervals=intervals,
-        residual_rms=float(np.sqrt(np.mean(final**2))),
+        residual_rms=float(np.sqrt(np.mean(final**2))),  # in units of sigma when given
         success=bool(solution.success),
         message=str(solution.message),
         evaluations=counts["evaluations"],
         runs=counts["runs"],
         wall_time_s=time.perf_counter() - started,
         responses=["z"] if profile else responses,
+        sigma=weights,
         conditions=[dict(s) for s, g in zip(settings, groups.values()) for _ in g],
         measured=measured,
-        fitted=final + measured,
-        initial=cache[tuple(origin)][0] + measured,
+        fitted=final * scale + measured,
+        initial=cache[tuple(origin)][0] * scale + measured,
     )
     if profile:
         assert path is not None
