@@ -1,5 +1,5 @@
 """Helpers shared by the shell tests: small fibrous models, a finite-difference stiffness, a
-cylinder mapping."""
+cylinder mapping, the tables of a clamped-strip case file."""
 
 import numpy as np
 
@@ -65,3 +65,24 @@ def on_cylinder(points, radius):
     )
     directors = np.column_stack([-np.sin(theta), np.zeros_like(theta), np.cos(theta)])
     return positions, directors
+
+
+def clamped_strip_tables(length, cells, bending, density, thickness, shear, increments,
+                         paths=None) -> dict:  # fmt: skip
+    """The tables of a case file (as tomllib reads them): a fibrous strip, ``length`` x 10 mm
+    in ``cells`` x 1 cells, clamped at its left edge and sagging under its weight (Static in
+    ``increments``); history: the clamp's reaction, the right edge's displacement."""
+    output: dict = {"history": {"reactions": ["left"], "displacements": ["right"]}}
+    if paths:
+        output["paths"] = paths
+    material = {"thickness": thickness, "areal_density": density, "tension": 1000.0,
+                "shear": shear, "bending": bending}  # fmt: skip
+    return {
+        "title": "clamped strip",
+        "mesh": {"rectangle": {"lx": length, "ly": 10.0, "nx": cells, "ny": 1}},
+        "part": [{"element": "fibrous", "material": material, "options": {"clamped": "left"}}],
+        "fix": [{"nodes": "left"}],
+        "gravity": {"acceleration": [0.0, 0.0, -9810.0]},
+        "solver": {"kind": "static", "increments": increments},
+        "output": output,
+    }

@@ -10,6 +10,7 @@ import json
 import numpy as np
 import pytest
 from scipy import stats
+from shell_helpers import clamped_strip_tables
 
 from fibreshell.cli import main
 from fibreshell.identify import identify, read_measurements, start_values
@@ -21,30 +22,8 @@ GRAVITY = 9810.0
 
 def strip(length: float, cells: int, bending: float, density: float, paths=None) -> dict:
     """A strip clamped at its left edge, sagging under its weight, as case tables."""
-    return {
-        "title": "strip",
-        "mesh": {"rectangle": {"lx": length, "ly": 10.0, "nx": cells, "ny": 1}},
-        "part": [
-            {
-                "element": "fibrous",
-                "material": {
-                    "thickness": 0.5,
-                    "areal_density": density,
-                    "tension": 1000.0,
-                    "shear": 0.5,
-                    "bending": bending,
-                },  # fmt: skip
-                "options": {"clamped": "left"},
-            }
-        ],
-        "fix": [{"nodes": "left"}],
-        "gravity": {"acceleration": [0.0, 0.0, -GRAVITY]},
-        "solver": {"kind": "static", "increments": 4},
-        "output": {
-            "history": {"reactions": ["left"], "displacements": ["right"]},
-            "paths": paths or {"side": {"y_max": 0.0}},
-        },
-    }
+    return clamped_strip_tables(length, cells, bending, density, thickness=0.5, shear=0.5,
+                                increments=4, paths=paths or {"side": {"y_max": 0.0}})  # fmt: skip
 
 
 def test_the_bending_stiffness_behind_a_profile_is_recovered():

@@ -10,6 +10,7 @@ import re
 
 import numpy as np
 import pytest
+from shell_helpers import clamped_strip_tables
 
 from fibreshell.case import case_from_data
 from fibreshell.cli import main
@@ -26,27 +27,8 @@ DENSITY = 8.154943934760449e-12  # t/mm^2: q = rho_A g = 8e-8 N/mm^2
 def cantilever(bending: float = 10.0) -> dict:
     """A strip clamped at its left edge under its weight, as the tables of a case file: tip
     deflection q L^4 / (8 B) = 0.1 mm for B = 10 N mm (0.1 % of L: linear)."""
-    return {
-        "title": "cantilever",
-        "mesh": {"rectangle": {"lx": LENGTH, "ly": 10.0, "nx": 20, "ny": 1}},
-        "part": [
-            {
-                "element": "fibrous",
-                "material": {
-                    "thickness": 0.2,
-                    "areal_density": DENSITY,
-                    "tension": 1000.0,
-                    "shear": 1.0,
-                    "bending": bending,
-                },  # fmt: skip
-                "options": {"clamped": "left"},
-            }
-        ],
-        "fix": [{"nodes": "left"}],
-        "gravity": {"acceleration": [0.0, 0.0, -GRAVITY]},
-        "solver": {"kind": "static", "increments": 1},
-        "output": {"history": {"reactions": ["left"], "displacements": ["right"]}},
-    }
+    return clamped_strip_tables(LENGTH, 20, bending, DENSITY, thickness=0.2, shear=1.0,
+                                increments=1)  # fmt: skip
 
 
 def euler_bernoulli_tip(bending: float) -> float:
