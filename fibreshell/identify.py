@@ -286,15 +286,10 @@ def identify(
             path = next(iter(built.paths))
         elif path not in built.paths:
             raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(built.paths)}")
-    measured = np.concatenate(
-        [
-            [columns[n][r] for n in (["z"] if profile else responses)]
-            for g in groups.values()
-            for r in g
-        ]  # fmt: skip
-    ).astype(float)
+    named = ["z"] if profile else responses  # the compared columns, in residual order
+    measured = np.array([columns[n][r] for g in groups.values() for r in g for n in named],
+                        dtype=float)  # fmt: skip
     weights = dict(sigma or {})
-    named = ["z"] if profile else responses
     for column, value in weights.items():
         if column not in named:
             raise ValueError(f"sigma: {column!r} is not a response column ({', '.join(named)})")
@@ -398,7 +393,7 @@ def identify(
         evaluations=counts["evaluations"],
         runs=counts["runs"],
         wall_time_s=time.perf_counter() - started,
-        responses=["z"] if profile else responses,
+        responses=named,
         sigma=weights,
         conditions=[dict(s) for s, g in zip(settings, groups.values()) for _ in g],
         measured=measured,

@@ -35,7 +35,8 @@ __all__ = [
     "sweep", "variants",
 ]  # fmt: skip
 
-# Keys that are options of the run, not of the case file (fibreshell compare's).
+# Keys that are options of the run, not of the case file: run_case's keywords (those of
+# fibreshell compare), with the values they take (None: a positive number).
 RUN_KEYS = {"kinematics": ("fibrous", "mindlin"), "shear_ratio": None}
 _SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
 
@@ -156,6 +157,8 @@ def apply_overrides(data: dict, overrides: dict[str, Any]) -> tuple[dict, dict]:
 
 
 def _set(data: dict, key: str, value: Any) -> None:
+    """``data`` at the dotted ``key`` set to ``value`` (in place); ValueError naming the part
+    of the key that is not there."""
     parts = key.split(".")
     if not all(parts):
         raise ValueError(f"{key!r}: expected a dotted path such as part.0.material.bending")
@@ -192,7 +195,7 @@ def _set(data: dict, key: str, value: Any) -> None:
                 and parts[0] in ("part", "fix", "displace", "force", "moment", "contact")
                 and depth == 0
             ):
-                child = node[index] = [child]  # [part] written once: index 0  # fmt: skip
+                child = node[index] = [child]  # [part] written once: its index is 0
             node = child
 
 
@@ -238,19 +241,17 @@ def run_variant(
     set_threads(threads)
     started = time.perf_counter()
     try:
-        tables, options = apply_overrides(data, overrides)
+        tables, options = apply_overrides(data, overrides)  # options: run_case's keywords
         case = case_from_data(tables, path)
-        kinematics = options.get("kinematics")
-        shear = options.get("shear_ratio", 0.5)
         if folder is None:
             with tempfile.TemporaryDirectory() as scratch:
-                run = run_case(case, Path(scratch), kinematics, False, shear)
+                run = run_case(case, Path(scratch), progress=False, **options)
         else:
             Path(folder).mkdir(parents=True, exist_ok=True)
             (Path(folder) / "variant.json").write_text(
                 json.dumps({"case": path, "overrides": overrides}, indent=1) + "\n"
             )
-            run = run_case(case, Path(folder), kinematics, False, shear)
+            run = run_case(case, Path(folder), progress=False, **options)
     except Exception as error:  # this variant's failure, not the sweep's
         row = {"converged": False, "error": f"{type(error).__name__}: {error}",
                "wall_time_s": time.perf_counter() - started}  # fmt: skip
