@@ -28,7 +28,7 @@ class Failure:
 
 @contextmanager
 def dask_client(
-    scheduler: str | None = None, workers: int | None = None
+    scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0
 ) -> Iterator[tuple[Any, int | None]]:
     """A Dask ``Client`` and the numba threads each task may use.
 
@@ -40,6 +40,8 @@ def dask_client(
         Worker processes of the LocalCluster, one thread each (default: one per core); the
         cores are shared out, so each task's numba kernels get cores // workers threads. With
         a scheduler the workers are the cluster's and their threads its own (None).
+    timeout : float
+        Seconds to wait for the scheduler to answer.
 
     Raises
     ------
@@ -57,7 +59,7 @@ def dask_client(
         if workers is not None:
             raise ValueError("give workers (a LocalCluster here) or a scheduler address, not both")
         try:
-            client = Client(scheduler, timeout="10s")
+            client = Client(scheduler, timeout=f"{timeout}s")
         except (OSError, TimeoutError, ValueError) as error:
             raise ValueError(f"no Dask scheduler answers at {scheduler!r}: {error}") from None
         try:

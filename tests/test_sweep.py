@@ -267,3 +267,22 @@ def test_the_report_s_sensitivity_study_sweeps_the_case_file_of_bai_6_1_1():
     for table in ("mesh", "part", "fix", "displace", "gravity", "solver"):
         assert base[table] == shipped[table], table
     assert base["output"]["paths"]["side_1"] == shipped["output"]["paths"]["side_1"]
+
+
+def test_a_sweep_runs_against_a_scheduler_address():
+    # A scheduler started apart (here in this process; on a cluster by `dask scheduler`):
+    # the sweep connects to its address and its workers run the variants.
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster:
+        table = sweep(cantilever(), {"part.0.material.bending": [10.0, 20.0]},
+                      scheduler=cluster.scheduler_address, progress=False)  # fmt: skip
+    for row in table.rows:
+        expected = euler_bernoulli_tip(row["part.0.material.bending"])
+        assert -row["displacement_right_z"] == pytest.approx(expected, rel=0.01)
+
+
+def test_a_scheduler_that_does_not_answer_is_a_value_error():
+    with pytest.raises(ValueError, match="no Dask scheduler answers at 'tcp://127.0.0.1:1'"):
+        with dask_client("tcp://127.0.0.1:1", timeout=1.0):
+            pass
