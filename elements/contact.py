@@ -24,10 +24,10 @@ increment returns to them at every iteration and the tangent is that of the retu
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
-without the contact. A contact spring then adds at most 10 % to omega^2 of a node, 20 % for a
-node pinched between two tools (a punch and a die), so the explicit step at the default safety
-0.9 stays stable (0.9 x sqrt(1.2) < 1), and a node resting under its own weight sinks m g / k =
-g dt^2 / 0.4, far below the thickness.
+without the contact. A contact spring then adds 10 % to omega^2 of a node, 20 % for a node
+pinched between two tools (a punch and a die), and a node resting under its own weight sinks
+m g / k = g dt^2 / 0.4, far below the thickness. The explicit step takes every penalty in,
+given or automatic (``penalty_springs``; docs/theory.md §9.1).
 """
 
 from __future__ import annotations
@@ -293,9 +293,12 @@ class ContactBlock(ElementBlock):
         return [CellTangent(self.connectivity, blocks[:, None, :, None, :])]
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
-        # The penalty is sized from the other blocks' step (calibrate): it cannot lower it by
-        # more than the solvers' safety covers.
+        # A penalty has no cells: its springs (penalty_springs) add to the frequency of the
+        # nodes they hold, which the explicit step takes in with the masses.
         return np.full(len(self.connectivity), np.inf)
+
+    def penalty_springs(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.connectivity[:, 0], self.stiffness
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """contact_gap (mm, < 0 a penetration, NaN off the node set), contact_force (the normal

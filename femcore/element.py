@@ -181,6 +181,13 @@ class ElementBlock(ABC):
         """
         return None
 
+    def penalty_springs(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Springs the block puts between single nodes and the ground: (nodes (s,), stiffness
+        (s,) N/mm), each acting along any direction (a contact penalty, its friction's stick
+        stiffness the same); None by default. They have no cells of their own, so the explicit
+        step takes their frequency sqrt(k / m) in with the nodes' masses."""
+        return None
+
     def initial_history(self) -> Any:
         """History variables of the block in the reference state (None: it has none)."""
         return None

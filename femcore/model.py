@@ -599,6 +599,19 @@ class CompiledModel:
         """Per-block arrays of per-cell critical steps (s)."""
         return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]
 
+    def penalty_frequency_squared(self, mass: np.ndarray) -> float:
+        """The largest omega^2 = k / m (1/s^2) the blocks' penalty springs (``penalty_springs``)
+        can add to one node, summed over the blocks: a node may be pinched between two tools,
+        and a node not touching now may touch before the step is next evaluated. ``mass``
+        (n,) the lumped masses the solver uses, t. 0 without springs."""
+        total = 0.0
+        for block in self.blocks:
+            springs = block.penalty_springs()
+            if springs is not None and len(springs[0]):
+                nodes, stiffness = springs
+                total += float(np.max(np.asarray(stiffness) / mass[nodes]))
+        return total
+
     def stable_dt(self, state: State) -> float:
         """Critical time step of the whole model (s), the smallest over all cells."""
         return float(min(dt.min() for dt in self.cell_stable_dt(state)))

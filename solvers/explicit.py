@@ -134,23 +134,30 @@ class CentralDifference:
         target = self.mass_scaling_dt / self.safety
         return [np.maximum(1.0, (target / dt) ** 2) for dt in model.cell_stable_dt(state)]
 
-    def _step_size(self, model: CompiledModel, state: State, scale, masses=None) -> float:
+    def _step_size(
+        self, model: CompiledModel, state: State, scale, mass: np.ndarray, inertia=None
+    ) -> float:
         """safety x the critical step: the larger of two safe bounds, the cells' own (cheap,
-        every STABLE_DT_EVERY steps) and the assembly's Gershgorin bound (``masses`` = (mass,
-        inertia) given: evaluated now; else the last one, carried along with the cells'
-        bound as the geometry changes)."""
+        every STABLE_DT_EVERY steps) and the assembly's Gershgorin bound (``inertia`` given:
+        evaluated now with ``mass``; else the last one, carried along with the cells' bound
+        as the geometry changes), lowered for the penalty springs of contacts."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
         if scale is not None:
             cell_dt = [dt * np.sqrt(s) for dt, s in zip(cell_dt, scale)]
         critical = min(float(dt.min()) for dt in cell_dt)
-        if masses is not None:
-            assembled = model.assembled_stable_dt(state, *masses)
+        if inertia is not None:
+            assembled = model.assembled_stable_dt(state, mass, inertia)
             self._assembled = None if assembled is None else (assembled, critical)
         if self._assembled is not None:
             assembled, cells_then = self._assembled
             critical = max(critical, assembled * critical / cells_then)
+        # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
+        # bound: the two add exactly when they act along the same direction of one node).
+        springs = model.penalty_frequency_squared(mass)
+        if springs > 0.0:
+            critical = 2.0 / math.sqrt((2.0 / critical) ** 2 + springs)
         # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)
         # with xi = c / (2 w) on the highest mode w = 2 / dt_crit (docs/theory.md §6.3).
         xi = self.damping * critical / 4.0
@@ -262,7 +269,7 @@ class CentralDifference:
                 if self.dt is None:
                     fresh = step % ASSEMBLED_DT_EVERY == 0
                     run.dt_nominal = self._step_size(
-                        compiled, state, run.scale, (run.mass, run.inertia) if fresh else None
+                        compiled, state, run.scale, run.mass, run.inertia if fresh else None
                     )
             dt = min(run.dt_nominal, duration - state.time)
             lumped = (
@@ -334,7 +341,7 @@ class CentralDifference:
         scale = self._density_scale(compiled, state)
         mass, inertia = compiled.lumped_mass(state, scale)
         self._assembled = None
-        dt_nominal = self._step_size(compiled, state, scale, (mass, inertia))
+        dt_nominal = self._step_size(compiled, state, scale, mass, inertia)
         if not np.isfinite(dt_nominal) or dt_nominal <= 0:
             raise DivergenceError(
                 "the stable time step is not a positive number: check the "

@@ -19,15 +19,16 @@ from validation.specimens import fibonacci_sphere
 G = 9810.0  # mm/s^2
 
 
-def resting_plate(element, thickness: float, floor=None) -> tuple[Model, Mesh]:
+def resting_plate(element, thickness: float, floor=None, penalty=None) -> tuple[Model, Mesh]:
     """A 100 x 100 mm plate laid on the plane z = 0 (its mid-surface h / 2 above it), its
-    in-plane motion held, under gravity; the floor a RigidPlane unless given."""
+    in-plane motion held, under gravity; the floor a RigidPlane unless given, its penalty
+    the automatic one unless given."""
     flat = Mesh.rectangle(100.0, 100.0, nx=4, ny=4)
     mesh = flat.with_points(flat.points + [0.0, 0.0, 0.5 * thickness])
     model = Model(mesh)
     model.add(element)
     model.fix(lambda x, y, z: np.ones_like(x, dtype=bool), ["ux", "uy"])
-    model.contact(floor or RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)))
+    model.contact(floor or RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), penalty=penalty)
     model.gravity((0.0, 0.0, -G))
     return model, mesh
 
@@ -138,6 +139,29 @@ def test_the_automatic_penalty_keeps_the_explicit_step_stable():
     compiled = model.compile()
     run = CentralDifference(duration=0.005, damping=2e4, progress=False).solve(compiled)
     assert run.converged
+    state = compiled.initial_state()
+    state.positions = run.positions.copy()
+    weight = compiled.mass0.sum() * G
+    assert compiled.blocks[1].tool_force(state)[2] == pytest.approx(-weight, rel=1e-6)
+
+
+def test_a_stiff_given_penalty_shortens_the_explicit_step_and_stays_stable():
+    """A penalty given stiffer than the automatic one (1e6 N/mm, ~40 times): the step is
+    taken below the critical step of the lightest node on that spring alone, 2 sqrt(m / k)
+    (a mass on a spring), so the run stays stable and, damped, settles on the floor carrying
+    the plate's weight (1e-6). Before the springs entered the step, this run diverged."""
+    from solvers import CentralDifference
+
+    stiffness = 1e6
+    model, _ = resting_plate(
+        MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)),
+        1.0,
+        penalty=stiffness,
+    )
+    compiled = model.compile()
+    run = CentralDifference(duration=0.005, damping=2e4, progress=False).solve(compiled)
+    assert run.converged
+    assert run.info["dt"] < 2.0 * np.sqrt(compiled.mass0.min() / stiffness)
     state = compiled.initial_state()
     state.positions = run.positions.copy()
     weight = compiled.mass0.sum() * G

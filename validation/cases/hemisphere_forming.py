@@ -52,9 +52,11 @@ DIE = PUNCH + 2.0 * THICKNESS  # the punch, the ply and a clearance of one ply
 FABRIC = Fabric(thickness=THICKNESS, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
 CELLS = {"coarse": 12, "default": 20, "fine": 32}
 DURATION = 0.1  # s: the punch travel at 0.5 m/s on average
-# The automatic step at the default safety 0.9 let the fibrous blank go unstable late in the
-# stroke (caught by the energy checks at 75-99 % of the travel: the step bound is not safe for
-# a fibrous blank folded into wrinkles and pinched); 0.5 runs through (balance within 1 %).
+# The automatic step at the default safety 0.9 lets the fibrous blank go unstable late in the
+# stroke (caught by the energy checks at 75-99 % of the travel): where it is pinched between
+# punch and die its directors tilt 70 deg and its exact critical step falls to 0.87 of the
+# cells' bound (docs/theory.md §6.2). Stable up to 0.8 at 12 cells; 0.5 keeps a margin
+# (energy balance within 1 %).
 SAFETY = 0.5
 DAMPING = 20.0  # 1/s, mass-proportional: calms the flapping flange (a drag of 2 g at 1 m/s)
 NET_CELL = 1.0  # mm: the net's segment, well below the blank's cells
