@@ -91,14 +91,14 @@ def _cluster_options(command: argparse.ArgumentParser) -> None:
 
 def _key_numbers(text: str, option: str) -> dict[str, float | None]:
     """``KEY[=NUMBER],...`` (the text of ``option``) as {key: number or None}."""
-    from fibreshell.sweep import _split, _toml_value
+    from fibreshell.sweep import read_value, split_values
 
     numbers: dict[str, float | None] = {}
-    for item in _split(text):
+    for item in split_values(text):
         key, sep, number = item.partition("=")
         if not key.strip():
             raise ValueError(f"{option} {text!r}: expected KEY[=NUMBER],KEY[=NUMBER],...")
-        value = _toml_value(number.strip()) if sep else None
+        value = read_value(number.strip()) if sep else None
         if sep and (isinstance(value, bool) or not isinstance(value, int | float)):
             raise ValueError(f"{option} {item!r}: expected a number after =, got {number!r}")
         numbers[key.strip()] = value

@@ -34,7 +34,7 @@ import numpy as np
 from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.run import strict_json
-from fibreshell.sweep import RUN_KEYS, _toml_value, apply_overrides, run_variant, summary_row
+from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
 
 __all__ = [
     "FitFailed", "Identification", "figure", "format_result", "identify", "read_measurements",
@@ -128,7 +128,7 @@ def read_measurements(data: str | Path | dict) -> dict[str, list]:
                     f"{where}: row {number} has {len(row)} cells (some empty?); the header has "
                     f"{len(header)}: {', '.join(header)}"
                 )
-        columns = {name: [_toml_value(row[i].strip()) for row in lines[1:]]
+        columns = {name: [read_value(row[i].strip()) for row in lines[1:]]
                    for i, name in enumerate(header)}  # fmt: skip
     lengths = {len(v) for v in columns.values()}
     if len(lengths) != 1 or 0 in lengths:

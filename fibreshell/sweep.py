@@ -31,8 +31,8 @@ from fibreshell.case import CaseError, case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks, set_threads
 
 __all__ = [
-    "RUN_KEYS", "SweepTable", "apply_overrides", "parse_vary", "run_variant", "summary_row",
-    "sweep", "variants",
+    "RUN_KEYS", "SweepTable", "apply_overrides", "parse_vary", "read_value", "run_variant",
+    "split_values", "summary_row", "sweep", "variants",
 ]  # fmt: skip
 
 # Keys that are options of the run, not of the case file: run_case's keywords (those of
@@ -58,7 +58,7 @@ def parse_vary(text: str) -> tuple[str, list]:
         raise ValueError(f"--vary {text!r}: expected KEY=V1,V2,... (e.g. solver.increments=2,4)")
     spaced = re.fullmatch(r"\s*(linspace|geomspace)\((.*)\)\s*", rest)
     if spaced:
-        numbers = [_toml_value(v) for v in _split(spaced.group(2))]
+        numbers = [read_value(v) for v in split_values(spaced.group(2))]
         if (
             len(numbers) != 3
             or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in numbers)
@@ -72,13 +72,13 @@ def parse_vary(text: str) -> tuple[str, list]:
         if spaced.group(1) == "geomspace" and numbers[0] * numbers[1] <= 0:
             raise ValueError(f"--vary {text!r}: geomspace needs start and stop of one sign")
         return key, [float(v) for v in _SPACES[spaced.group(1)](*numbers)]
-    values = [_toml_value(v) for v in _split(rest)]
+    values = [read_value(v) for v in split_values(rest)]
     if any(v == "" for v in values):
         raise ValueError(f"--vary {text!r}: an empty value (two commas in a row?)")
     return key, values
 
 
-def _split(text: str) -> list[str]:
+def split_values(text: str) -> list[str]:
     """``text`` split at the commas outside brackets, braces and quotes."""
     parts, depth, quote, start = [], 0, "", 0
     for i, char in enumerate(text):
@@ -97,7 +97,8 @@ def _split(text: str) -> list[str]:
     return [p.strip() for p in parts]
 
 
-def _toml_value(text: str) -> Any:
+def read_value(text: str) -> Any:
+    """A value as the command line gives it: a TOML value, else the bare word as a string."""
     try:
         return tomllib.loads(f"value = {text}")["value"]
     except tomllib.TOMLDecodeError:
