@@ -115,6 +115,7 @@ def _sweep(args: argparse.Namespace, progress: bool) -> int:
     table = sweep(args.case, vary, paired=args.zip, out=out, scheduler=args.scheduler,
                   workers=args.workers, progress=progress)  # fmt: skip
     failed = table.failed
+    print(table.text())
     which = f" (variants {', '.join(map(str, failed))}: see the error column)" if failed else ""
     print(f"{len(table.rows)} variants, {len(failed)} failed{which}")
     print(f"results in {out / 'sweep.csv'}")

@@ -294,6 +294,34 @@ class SweepTable:
         """Variants that did not converge or did not run."""
         return [row["variant"] for row in self.rows if not row.get("converged")]
 
+    def text(self, most: int = 6) -> str:
+        """The table for a terminal: variant, the varied values, converged, wall time, then
+        up to ``most`` numbers of the runs (the z components of the history sets' reactions
+        and displacements and of the tool forces, the largest fibre strain), a line each; a
+        failed variant shows its error instead."""
+        wanted = [
+            name for name in self.columns
+            if name.endswith("_z") and name.startswith(("reaction_", "displacement_", "tool"))
+        ] + (["max_fibre_strain"] if "max_fibre_strain" in self.columns else [])  # fmt: skip
+        columns = ["variant", *self.keys, "converged", "wall_time_s", *wanted[:most]]
+
+        def cell(row: dict, name: str) -> str:
+            value = row.get(name, "")
+            if isinstance(value, float) and not isinstance(value, bool):
+                return f"{value:.4g}"
+            return str(_cell(value))
+
+        cells = [[cell(row, name) for name in columns] for row in self.rows]
+        widths = [max([len(name)] + [len(r[i]) for r in cells]) for i, name in enumerate(columns)]
+        lines = ["  ".join(name.rjust(w) for name, w in zip(columns, widths))]
+        for row, texts in zip(self.rows, cells):
+            line = "  ".join(t.rjust(w) for t, w in zip(texts, widths))
+            if row.get("error"):
+                line = "  ".join(t.rjust(w) for t, w in zip(texts[: len(self.keys) + 2], widths))
+                line += f"  {row['error'][:120]}"
+            lines.append(line)
+        return "\n".join(lines)
+
     def write_csv(self, path: Path) -> None:
         columns = self.columns
         with open(path, "w", newline="") as handle:

@@ -235,7 +235,14 @@ def test_the_command_writes_sweep_csv(case_file, tmp_path, capsys):
     assert [r["part.0.material.bending"] for r in rows] == ["1.0", "2.0"]
     # Stiffer, less sag (the heavy elastica's deflection falls with B).
     assert float(rows[1]["displacement_right_z"]) > float(rows[0]["displacement_right_z"])
-    assert "2 variants, 0 failed" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "2 variants, 0 failed" in printed
+    header, first, second = printed.splitlines()[:3]  # the table, a line per variant
+    assert header.split()[:4] == ["variant", "part.0.material.bending", "converged",
+                                  "wall_time_s"]  # fmt: skip
+    assert header.split()[-2:] == ["displacement_right_z", "max_fibre_strain"]
+    assert float(second.split()[-2]) == pytest.approx(float(rows[1]["displacement_right_z"]),
+                                                      rel=1e-3)  # fmt: skip
 
 
 @pytest.mark.parametrize(
