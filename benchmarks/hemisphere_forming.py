@@ -49,8 +49,8 @@ def main() -> None:
     # The pieces of one step, timed on the reference state: the element, the contacts, a
     # reference pass.
     state = compiled.initial_state()
-    contact_blocks = compiled.tool_blocks
-    shell = [i for i in range(len(compiled.blocks)) if i not in contact_blocks]
+    shell = list(range(len(compiled.blocks)))  # compiled.parts: the blocks, then the contacts
+    contact_blocks = list(range(len(compiled.blocks), len(compiled.parts)))
 
     compiled.internal_force(state)  # compiles the kernels and fills the tools' caches
     element = best(lambda: compiled.internal_force(state, shell), 20)

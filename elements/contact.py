@@ -1,5 +1,5 @@
-"""Node-to-tool penalty contact with Coulomb friction: a node block (no mesh cells) on a node
-set, against a rigid tool of elements/tools.py, added by ``Model.contact`` (docs/theory.md §9).
+"""Node-to-tool penalty contact with Coulomb friction: an interaction (femcore.interaction) of
+a node set with a rigid tool of elements/tools.py, added by ``Model.contact`` (docs/theory.md §9).
 
 Normal. The shell's contact surface is its mid-surface offset by half its thickness along the
 normal (the thickness measured along the normal is conserved by both shells), so a node touches
@@ -27,7 +27,7 @@ Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrat
 without the contact. A contact spring then adds 10 % to omega^2 of a node, 20 % for a node
 pinched between two tools (a punch and a die), and a node resting under its own weight sinks
 m g / k = g dt^2 / 0.4, far below the thickness. The explicit step takes every penalty in,
-given or automatic (``penalty_springs``; docs/theory.md §9.1).
+given or automatic (``springs``; docs/theory.md §9.1).
 """
 
 from __future__ import annotations
@@ -37,8 +37,9 @@ from typing import Any
 
 import numpy as np
 
-from elements.base import CellTangent, ElementBlock, ElementType, Scatter
 from elements.tools import RigidTool
+from femcore.assembly import CellTangent, Scatter
+from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.state import State
 
 __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
@@ -46,17 +47,17 @@ __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty
 
 
-class Contact(ElementType):
+class Contact(Interaction):
     """Penalty contact of ``nodes`` with a rigid ``tool``, with Coulomb friction ``friction``.
 
     Parameters
     ----------
     tool : elements.tools.RigidTool
-    nodes : (s,) int
-        The node ids that may touch.
-    offset : float or (s,) float
-        Half the thickness at each node, mm (the contact surface's distance from the
-        mid-surface); 0 for a cable.
+    nodes : (s,) int, optional
+        The node ids that may touch; None: every node of the body's elements.
+    offset : float or (s,) float, optional
+        The contact surface's distance from the mid-surface at each node, mm; None: half the
+        thickness of the elements there (``Body.half_thickness``; 0 for a cable).
     penalty : float, optional
         k, N/mm per node; None: chosen when the model is compiled (module docstring).
     friction : float
@@ -64,24 +65,24 @@ class Contact(ElementType):
     """
 
     dofs = ("ux", "uy", "uz")
-    cell_type = None
 
     def __init__(
         self,
         tool: RigidTool,
-        nodes,
-        offset=0.0,
+        nodes=None,
+        offset=None,
         penalty: float | None = None,
         friction: float = 0.0,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
         self.tool = tool
-        self.nodes = np.asarray(nodes, dtype=np.int64).ravel()
-        self.offset = np.broadcast_to(np.asarray(offset, dtype=float), self.nodes.shape).copy()
-        if not np.all(np.isfinite(self.offset)) or (self.offset < 0).any():
-            raise ValueError(f"offset must be finite and >= 0 (mm), got {offset!r}")
-        tool.exact_within(2.0 * float(self.offset.max(initial=0.0)))
+        self.nodes = None if nodes is None else np.asarray(nodes, dtype=np.int64).ravel()
+        if offset is not None:
+            given = np.asarray(offset, dtype=float)
+            if not np.all(np.isfinite(given)) or (given < 0).any():
+                raise ValueError(f"offset must be finite and >= 0 (mm), got {offset!r}")
+        self.offset = offset
         if penalty is not None and not (np.isfinite(penalty) and penalty > 0):
             raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
         if not (isinstance(friction, (int, float)) and np.isfinite(friction) and friction >= 0):
@@ -89,7 +90,20 @@ class Contact(ElementType):
         self.penalty = penalty
         self.friction = float(friction)
 
-    def bind(self, mesh, cell_ids, directors) -> ContactBlock:
+    def bind(self, body: Body) -> ContactBlock:
+        mesh = body.mesh
+        nodes = np.flatnonzero(body.covered()) if self.nodes is None else self.nodes
+        if self.offset is None:
+            offset = body.half_thickness()[nodes]
+        else:
+            given = np.asarray(self.offset, dtype=float)
+            if given.shape not in ((), nodes.shape):
+                raise ValueError(
+                    f"offset must be one number or one per contact node ({nodes.size}), got "
+                    f"shape {given.shape}"
+                )
+            offset = np.broadcast_to(given, nodes.shape).copy()
+        self.tool.exact_within(2.0 * float(offset.max(initial=0.0)))
         area = np.zeros(mesh.n_nodes)
         triangles = mesh.triangles
         if len(triangles):  # each node's share of the area, for the contact pressure
@@ -98,7 +112,7 @@ class Contact(ElementType):
                 np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
             )
             np.add.at(area, triangles.ravel(), np.repeat(cell_area / 3.0, 3))
-        return ContactBlock(self, mesh.n_nodes, mesh.points, area)
+        return ContactBlock(self, nodes, offset, mesh.n_nodes, mesh.points, area)
 
 
 @dataclass(frozen=True)
@@ -123,28 +137,35 @@ class FrictionHistory:
     dissipated: float
 
 
-class ContactBlock(ElementBlock):
-    """The bound contact: one "cell" per node."""
+class ContactBlock(InteractionBlock):
+    """The bound contact: one row of ``connectivity`` per node, one tool."""
 
     dofs = Contact.dofs
-    cell_type = None
     reach = 1
+    n_tools = 1
 
-    def __init__(self, contact: Contact, n_nodes: int, points: np.ndarray, area: np.ndarray):
+    def __init__(
+        self,
+        contact: Contact,
+        nodes: np.ndarray,
+        offset: np.ndarray,
+        n_nodes: int,
+        points: np.ndarray,
+        area: np.ndarray,
+    ):
         self.tool = contact.tool
         self.friction = contact.friction
-        self.cell_ids = np.zeros(0, dtype=np.int64)
-        self.connectivity = contact.nodes[:, None]
+        self.connectivity = nodes[:, None]
         self.scatter = Scatter(self.connectivity, n_nodes)
         self.n_nodes = n_nodes
-        self.offset = contact.offset
-        self.area = area[contact.nodes]
-        self._reference = points[contact.nodes]
+        self.offset = offset
+        self.area = area[nodes]
+        self._reference = points[nodes]
         # A node laid on the tool touches it: its distance, computed from rotated or shifted
         # coordinates, may exceed h / 2 by a rounding error.
         self.tolerance = 1e-9 * float(np.ptp(points, axis=0).max(initial=0.0) or 1.0)
         given = contact.penalty
-        self.stiffness = np.full(len(contact.nodes), np.nan if given is None else given)
+        self.stiffness = np.full(len(nodes), np.nan if given is None else given)
 
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
         if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
@@ -154,7 +175,7 @@ class ContactBlock(ElementBlock):
     def _positions(self, state: State) -> np.ndarray:
         return state.positions[self.connectivity[:, 0]]
 
-    def _touch(self, state: State):
+    def touch(self, state: State):
         """Penetration p (s,), mm, the tool's normal (s, 3) at the nodes and whether each
         node touches (s,) bool: a node exactly on the surface counts, so that a body laid
         on a tool has a stiffness against it from the first Newton iteration."""
@@ -162,10 +183,10 @@ class ContactBlock(ElementBlock):
         return self._touching(d, n)
 
     def _touching(self, d: np.ndarray, n: np.ndarray):
-        """``_touch`` from the distances d (s,) and normals n (s, 3) of the tool."""
+        """``touch`` from the distances d (s,) and normals n (s, 3) of the tool."""
         return np.maximum(self.offset - d, 0.0), n, d <= self.offset + self.tolerance
 
-    def _tangential(self, state: State, history: FrictionHistory | None, p, n, touching):
+    def tangential(self, state: State, history: FrictionHistory | None, p, n, touching):
         """The friction of the return mapping at ``state`` from the accepted ``history``:
         (force (s, 3) on the nodes, N; s (s, 3) the tangential offset from the anchors, mm;
         stuck (s,) bool; sliding (s,) bool). Zero force where there is no anchor."""
@@ -190,25 +211,22 @@ class ContactBlock(ElementBlock):
 
     def contact_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(s, 3) the forces the tool exerts on the nodes, N: k p n and the friction."""
-        p, n, touching = self._touch(state)
-        friction, *_ = self._tangential(state, history, p, n, touching)
+        p, n, touching = self.touch(state)
+        friction, *_ = self.tangential(state, history, p, n, touching)
         return (self.stiffness * p)[:, None] * n + friction
 
-    def tool_force(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
-        """(3,) the total force the body exerts on the tool, N."""
-        return -self.contact_forces(state, history).sum(axis=0)
+    def tool_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
+        """(1, 3) the total force the body exerts on the tool, N."""
+        return -self.contact_forces(state, history).sum(axis=0)[None, :]
 
     # ------------------------------------------------------------------ protocol
-    def lumped_mass(self, state: State, density_scale=None):
-        return np.zeros(self.n_nodes), None  # a rigid tool adds no mass
-
     def internal_force(self, state: State, history: Any = None):
         return self.scatter.vectors(-self.contact_forces(state, history)[:, None, :]), None
 
     def strain_energy(self, state: State, history: Any = None) -> float:
         """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm."""
-        p, n, touching = self._touch(state)
-        friction, *_ = self._tangential(state, history, p, n, touching)
+        p, n, touching = self.touch(state)
+        friction, *_ = self.tangential(state, history, p, n, touching)
         stored = self.stiffness * p**2 + np.sum(friction**2, axis=1) / self.stiffness
         return float(0.5 * np.sum(stored))
 
@@ -227,8 +245,8 @@ class ContactBlock(ElementBlock):
         limit, new contacts are anchored where they are, lost ones forget their anchor."""
         if history is None:
             return None
-        p, n, touching = self._touch(state)
-        _, s, stuck, sliding = self._tangential(state, history, p, n, touching)
+        p, n, touching = self.touch(state)
+        _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
         x = self._positions(state)
         length = np.linalg.norm(s, axis=1)
         limit = self.friction * p  # the spring's length at the limit, mu k p / k_t
@@ -262,7 +280,7 @@ class ContactBlock(ElementBlock):
         - a a^T) (``RigidTool.projector_scale``), and the return mapping's friction: k_t ds/dx
         in stick, -mu k s^ n^T + mu k p / |s| (I - s^ s^T) ds/dx in slip, where ds/dx = I -
         n n^T - (n . r) N - n (N r)^T, r = x - a."""
-        p, n, touching = self._touch(state)
+        p, n, touching = self.touch(state)
         x = self._positions(state)
         k = self.stiffness[:, None, None]
         eye = np.eye(3)
@@ -272,7 +290,7 @@ class ContactBlock(ElementBlock):
             across = across - np.outer(self.tool.axis, self.tool.axis)
         curvature = self.tool.projector_scale(x, state.load_factor)[:, None, None] * across
         blocks = k * nn - k * p[:, None, None] * curvature
-        _, s, stuck, sliding = self._tangential(state, history, p, n, touching)
+        _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
         if stuck.any() or sliding.any():
             assert history is not None
             anchor = np.where(np.isfinite(history.anchor), history.anchor, 0.0)
@@ -292,12 +310,8 @@ class ContactBlock(ElementBlock):
         blocks = np.where(touching[:, None, None], blocks, 0.0)
         return [CellTangent(self.connectivity, blocks[:, None, :, None, :])]
 
-    def cell_stable_dt(self, state: State) -> np.ndarray:
-        # A penalty has no cells: its springs (penalty_springs) add to the frequency of the
-        # nodes they hold, which the explicit step takes in with the masses.
-        return np.full(len(self.connectivity), np.inf)
-
-    def penalty_springs(self) -> tuple[np.ndarray, np.ndarray]:
+    def springs(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each node's penalty, N/mm (the friction's stick spring has the same stiffness)."""
         return self.connectivity[:, 0], self.stiffness
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
@@ -307,7 +321,7 @@ class ContactBlock(ElementBlock):
         slip, mm)."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
         p, n, touching = self._touching(d, n)
-        friction, *_ = self._tangential(state, history, p, n, touching)
+        friction, *_ = self.tangential(state, history, p, n, touching)
         nodes = self.connectivity[:, 0]
         out = {}
         normal = self.stiffness * p

@@ -65,6 +65,13 @@ class RigidTool:
             return np.zeros(3)
         return float(self.amplitude(load_factor)) * self.motion
 
+    def contact(self, nodes=None, friction: float = 0.0, penalty: float | None = None):
+        """The penalty contact of ``nodes`` (None: every node of the body's elements) with
+        this tool (elements.contact.Contact), what ``Model.contact`` adds."""
+        from elements.contact import Contact  # contact.py builds on this module
+
+        return Contact(self, nodes, penalty=penalty, friction=friction)
+
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError
 

@@ -6,17 +6,17 @@ one element type over many cells, holding the reference geometry, the index arra
 option it needs, all computed once. Every block method is vectorised over the cells of the block
 (leading axis = cell); none loops in Python over cells or nodes.
 
-A block may also act on nodes rather than on mesh cells (a contact with a rigid tool, a tie):
-its type declares ``cell_type = None`` and its block's ``connectivity`` lists the nodes it acts
-on, one row per "cell" of its own (a node, a node pair, ...).
+What acts on nodes without cells of its own (a contact with a rigid tool, a tie, the contact
+of two bodies) is not an element: it is an interaction (femcore.interaction), with its own
+small protocol.
 
 Supports: after the DOF manager is built, ``CompiledModel`` tells each block which of its nodes
 the model holds (every DOF of the block at the node fixed or prescribed) through
 ``ElementBlock.apply_supports``; a block whose mechanics depend on it (the rotation-free bending
 of ``FibrousShell`` clamps itself there) overrides it, every other block ignores it.
 
-History variables (plastic strains, stick/slip anchors of a frictional contact) live in the
-``State``, one entry per block (``State.history[i]`` for ``model.blocks[i]``). The model passes a
+History variables (plastic strains, damage) live in the ``State``, one entry per block
+(``State.history[i]`` for ``model.blocks[i]``). The model passes a
 block its entry with the state; a block never mutates it: ``update_history`` returns the new one
 when a solver accepts a step (state in, new state out).
 
@@ -47,23 +47,23 @@ class ElementType(ABC):
     ----------------
     dofs : tuple of str
         DOF names each node of the element needs, e.g. ``("ux", "uy", "uz")`` (femcore.dofs).
-    cell_type : str or None
-        The mesh cells the element covers: ``"line"`` (2-node, ``mesh.lines``), ``"triangle"``
-        (``mesh.triangles``), or None for a block that acts on nodes (contact, tie): it is added
-        with ``model.add(element)`` and finds its nodes itself at bind.
+    cell_type : str
+        The mesh cells the element covers: ``"line"`` (2-node, ``mesh.lines``) or
+        ``"triangle"`` (``mesh.triangles``).
     defines_directors : bool
         True for shells: the area-weighted normals of the element's triangles define the
         reference directors of their nodes (the rotational DOFs turn them).
     """
 
     dofs: ClassVar[tuple[str, ...]] = ()
-    cell_type: ClassVar[str | None] = None
+    cell_type: ClassVar[str]
     defines_directors: ClassVar[bool] = False
 
     @property
     def half_thickness(self) -> float:
-        """Distance (mm) from the mid-surface to the contact surface along the normal, for
-        ``Model.contact``: half the thickness for a shell; 0 by default (a cable)."""
+        """Distance (mm) from the mid-surface to the element's surface along the normal: half
+        the thickness for a shell, 0 by default (a cable). Interactions read it (a contact
+        surface lies there: femcore.interaction.Body.half_thickness)."""
         return 0.0
 
     @abstractmethod
@@ -75,7 +75,7 @@ class ElementType(ABC):
         mesh : Mesh
             The model's mesh.
         cell_ids : (m,) int
-            Ids into the mesh cells of ``cell_type`` (empty for node blocks).
+            Ids into the mesh cells of ``cell_type``.
         directors : (n, 3) float
             Reference unit directors (zero rows at nodes without rotations).
         """
@@ -88,10 +88,10 @@ class ElementBlock(ABC):
     ----------
     dofs : tuple of str
         The DOF names of its nodes (those of its type).
-    cell_type : str or None
+    cell_type : str
         As its type.
     cell_ids : (m,) int
-        Mesh cells covered (empty for node blocks).
+        Mesh cells covered.
     connectivity : (m, k) int
         Global node ids of each cell; the node graph of the finite-difference tangent and the
         sparsity of the element tangent are built from it.
@@ -105,7 +105,7 @@ class ElementBlock(ABC):
     """
 
     dofs: tuple[str, ...]
-    cell_type: str | None
+    cell_type: str
     cell_ids: np.ndarray
     connectivity: np.ndarray
     scatter: Scatter
@@ -171,23 +171,6 @@ class ElementBlock(ABC):
         """
         return None
 
-    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
-        """Size the block from the assembled model; the default ignores it.
-
-        Called once by ``CompiledModel`` after the supports, with the lumped nodal masses of
-        the whole model (n,), t, and its critical step, s (the smallest of every block's
-        cells'): what a block without mass of its own needs to choose a stiffness that keeps
-        the explicit step stable (a contact penalty, elements/contact.py).
-        """
-        return None
-
-    def penalty_springs(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Springs the block puts between single nodes and the ground: (nodes (s,), stiffness
-        (s,) N/mm), each acting along any direction (a contact penalty, its friction's stick
-        stiffness the same); None by default. They have no cells of their own, so the explicit
-        step takes their frequency sqrt(k / m) in with the nodes' masses."""
-        return None
-
     def initial_history(self) -> Any:
         """History variables of the block in the reference state (None: it has none)."""
         return None
@@ -195,22 +178,6 @@ class ElementBlock(ABC):
     def update_history(self, state: State, history: Any) -> Any:
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history
-
-    def dissipated_energy(self, history: Any = None) -> float:
-        """Energy the block has dissipated since the start (N mm), kept in its history (the
-        friction of a contact); 0 by default. The explicit solver's energy balance counts it."""
-        return 0.0
-
-    def tool_force(self, state: State, history: Any = None) -> np.ndarray | None:
-        """(3,) the force (N) the model exerts on the block's rigid tool, for blocks that act
-        against one (contact); None by default."""
-        return None
-
-    def tool_work(self, state: State, history: Any, start: float, end: float) -> float:
-        """Work (N mm) a block's moving tool does on the model while the load factor goes from
-        ``start`` to ``end``, with the forces at ``state``; 0 by default (no tool, or one that
-        stays put). The explicit solver's energy balance counts it as external work."""
-        return 0.0
 
     def stable_dt(self, state: State) -> float:
         """Critical time step of the block, s."""

@@ -23,10 +23,11 @@ class State:
         between steps is harmless).
     time : float, s (explicit dynamics) or the pseudo-time of a quasi-static solve.
     load_factor : float, the fraction of the loads applied (1 at the end of the step).
-    history : tuple, one entry per element block of the model (``history[i]`` belongs to
-        ``model.blocks[i]``; None for a block without history variables). Entries are never
-        mutated: a block's ``update_history`` returns a new one, and the solver makes a new
-        State with it (femcore.model.CompiledModel.commit).
+    history : tuple, one entry per part of the compiled model, the element blocks then the
+        interactions (``history[i]`` belongs to ``CompiledModel.parts[i]``; None for a part
+        without history variables). Entries are never mutated: a part's ``update_history``
+        returns a new one, and the solver makes a new State with it
+        (femcore.compiled.CompiledModel.commit).
     """
 
     positions: np.ndarray

@@ -294,7 +294,7 @@ class CentralDifference:
             if checking:
                 self._check(compiled, run, work, new, dt, reactions, reaction_moments, diverged)
             run.state = state = compiled.commit(new)
-            if compiled.tool_blocks:
+            if compiled.n_tools:
                 energy.friction = compiled.dissipated_energy(state)
             run.dt_prev = dt
             run.step = step = step + 1
@@ -375,7 +375,7 @@ class CentralDifference:
             else:
                 stream.drop_after(run.state.time)
         if self.history is not None:
-            history = HistoryWriter(self.history, self.history_nodes, len(compiled.tool_blocks))
+            history = HistoryWriter(self.history, self.history_nodes, compiled.n_tools)
             history.rows = run.history_rows
             history.start()
         return stream, history
@@ -454,7 +454,7 @@ class CentralDifference:
             c,
             checking,
         )
-        if model.tool_blocks:
+        if model.n_tools:
             work = self._tool_work(model, state, dt, dt_prev, work, checking)
         w_new = None
         reaction_moments = np.zeros_like(reactions)

@@ -597,7 +597,7 @@ class _GershgorinMasses(_Masses):
         self.scale = 1.0 / (4.0 * safety**2)
         own = model.own_tangents(model.initial_state())
         self.own = list(own)
-        self.others = [i for i in range(len(model.blocks)) if i not in own]
+        self.others = [i for i in range(len(model.parts)) if i not in own]
         # The colouring loops over the nodes: once per solve.
         self.graph = model.node_graph(self.others) if self.others else None
         self.length2 = model.element_size**2

@@ -1011,7 +1011,7 @@ class _Run:
         self.reached = 0.0
         own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
         own = list(own_parts)
-        others = [i for i in range(len(model.blocks)) if i not in own]
+        others = [i for i in range(len(model.parts)) if i not in own]
         self._tangent = _Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
         self.frames = [make_frame(model, self.state)]
@@ -1026,8 +1026,8 @@ class _Run:
             "solver": "Static",
             "path": solver.path,
             "tangent": {
-                "element": [type(model.blocks[i]).__name__ for i in own],
-                "finite_difference": [type(model.blocks[i]).__name__ for i in others],
+                "element": [type(model.parts[i]).__name__ for i in own],
+                "finite_difference": [type(model.parts[i]).__name__ for i in others],
             },
             "load_factors": [],
             "iterations_per_increment": [],

@@ -10,7 +10,7 @@ import pytest
 
 from elements import FibrousShell, MindlinShell, RigidCylinder, RigidPlane, RigidSphere
 from elements.contact import Contact
-from femcore import Mesh, Model
+from femcore import Body, Mesh, Model
 from femcore.state import State
 from materials import ElasticShell, presets
 from solvers import DynamicRelaxation, Static
@@ -55,11 +55,11 @@ def test_a_plate_resting_on_a_plane_carries_its_weight_as_a_uniform_pressure(
         compiled
     )
     assert run.converged
-    contact = compiled.blocks[1]
+    contact = compiled.interactions[0]
     state = compiled.initial_state()
     state.positions = run.positions.copy()
     weight = compiled.mass0.sum() * G
-    assert contact.tool_force(state)[2] == pytest.approx(-weight, rel=1e-6)
+    assert contact.tool_forces(state)[0, 2] == pytest.approx(-weight, rel=1e-6)
     forces = run.field("contact_force")
     np.testing.assert_allclose(forces, compiled.mass0 * G, rtol=1e-6)
     gap = run.positions[:, 2] - 0.5 * thickness
@@ -104,11 +104,11 @@ def test_the_contact_tangent_is_the_derivative_of_its_force(tool):
     mesh = Mesh.rectangle(4.0, 4.0, nx=2, ny=2)
     x = mesh.points + rng.normal(scale=0.3, size=mesh.points.shape) - [2.0, 2.0, 0.4]
     contact = Contact(tool, np.arange(mesh.n_nodes), offset=0.5, penalty=100.0)
-    block = contact.bind(mesh, None, None)
+    block = contact.bind(Body.bare(mesh))
     zero = np.zeros_like(x)
     state = State(positions=x, directors=zero, velocities=zero, angular_velocities=zero)
     state.load_factor = 0.5
-    p, _, _ = block._touch(state)
+    p, _, _ = block.touch(state)
     assert (p > 0).sum() >= 3  # some nodes penetrate
     # truncation O(step^2 k / R^2) and rounding O(k p eps / step): both far below
     assert_tangent_is_the_force_derivative(block, state, None, tolerance=1e-6 * 100.0)
@@ -142,7 +142,7 @@ def test_the_automatic_penalty_keeps_the_explicit_step_stable():
     state = compiled.initial_state()
     state.positions = run.positions.copy()
     weight = compiled.mass0.sum() * G
-    assert compiled.blocks[1].tool_force(state)[2] == pytest.approx(-weight, rel=1e-6)
+    assert compiled.interactions[0].tool_forces(state)[0, 2] == pytest.approx(-weight, rel=1e-6)
 
 
 def test_a_stiff_given_penalty_shortens_the_explicit_step_and_stays_stable():
@@ -165,7 +165,7 @@ def test_a_stiff_given_penalty_shortens_the_explicit_step_and_stays_stable():
     state = compiled.initial_state()
     state.positions = run.positions.copy()
     weight = compiled.mass0.sum() * G
-    assert compiled.blocks[1].tool_force(state)[2] == pytest.approx(-weight, rel=1e-6)
+    assert compiled.interactions[0].tool_forces(state)[0, 2] == pytest.approx(-weight, rel=1e-6)
 
 
 def plate_on_slope(phi_degrees: float, friction: float, thickness: float = 1.0, element=None):
@@ -298,14 +298,14 @@ def test_the_friction_tangent_is_the_derivative_of_the_return_mapping(tool):
     mesh = Mesh.rectangle(4.0, 4.0, nx=3, ny=3)
     x = mesh.points + rng.normal(scale=0.2, size=mesh.points.shape) - [2.0, 2.0, 0.4]
     contact = Contact(tool, np.arange(mesh.n_nodes), offset=0.5, penalty=100.0, friction=0.4)
-    block = contact.bind(mesh, None, None)
+    block = contact.bind(Body.bare(mesh))
     zero = np.zeros_like(x)
     state = State(positions=x, directors=zero, velocities=zero, angular_velocities=zero)
     state.load_factor = 0.5
     anchor = x - tool.offset(0.5) + rng.normal(scale=0.4, size=x.shape)
     history = FrictionHistory(anchor, np.zeros(len(x)), np.zeros(len(x)), 0.0)
-    p, n, touching = block._touch(state)
-    _, _, stuck, sliding = block._tangential(state, history, p, n, touching)
+    p, n, touching = block.touch(state)
+    _, _, stuck, sliding = block.tangential(state, history, p, n, touching)
     assert stuck.sum() >= 2 and sliding.sum() >= 2
     assert_tangent_is_the_force_derivative(block, state, history, tolerance=1e-6 * 100.0)
 

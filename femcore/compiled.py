@@ -1,0 +1,614 @@
+"""The compiled model: a Model turned into the arrays a solver steps with.
+
+``Model.compile()`` builds it once: the element blocks bound to their cells, the interactions
+bound to the body (femcore.interaction), the DOF manager, the constraint and load vectors. Its
+methods sum what the parts give (forces, energies, tangents, fields) over ``parts``: the element
+blocks first, then the interactions, in the order they were added. ``State.history[i]`` belongs
+to ``parts[i]``.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+
+from femcore.assembly import NodeGraph, TangentPart, finite_difference_tangent, tangent_matrix
+from femcore.diagnostics import unheld_rigid_motions
+from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
+from femcore.element import ElementBlock, ElementType
+from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
+from femcore.loads import Amplitude, Fix, NodalLoad, Prescribed
+from femcore.mesh import CELL_KINDS, Mesh
+from femcore.rotation import drop_along, nodal_frames
+from femcore.state import State
+from femcore.topology import check_triangles, nodal_normals
+
+if TYPE_CHECKING:
+    from femcore.model import BlockEntry, Model
+
+__all__ = ["CompiledModel"]
+
+#: A part of the compiled model: what contributes forces, energies and tangents.
+Part = ElementBlock | InteractionBlock
+
+
+class CompiledModel:
+    """The model turned into arrays: bound element blocks and interactions, DOF manager, load
+    vectors.
+
+    Attributes
+    ----------
+    mesh, n_nodes
+    blocks : list of bound element blocks (femcore.element.ElementBlock protocol).
+    interactions : list of bound interactions (femcore.interaction.InteractionBlock protocol).
+    parts : the blocks, then the interactions: what the sums run over (``State.history[i]``
+        belongs to ``parts[i]``).
+    n_tools : the number of rigid tools the interactions act against (rows of
+        ``tool_forces``).
+    dofs : DofManager.
+    reference_positions : (n, 3), the mesh points.
+    reference_directors : (n, 3), initial unit directors (area-weighted normals of the shell
+        triangles around each node), zero rows at nodes without rotational DOFs.
+    has_rotation : (n,) bool.
+    translation_free / translation_constrained / translation_prescribed : (n, 3) bool.
+    rotation_fixed : (n, 2) bool for (alpha, beta).
+    mass0, inertia0 : (n,) physical lumped mass and rotary inertia in the reference state.
+    element_size : median element edge length (length unit).
+    """
+
+    def __init__(self, model: Model):
+        mesh = model.mesh
+        if not model.blocks:
+            raise ValueError("the model has no elements: add an element block with model.add(...)")
+        n = mesh.n_nodes
+        self.mesh = mesh
+        self.n_nodes = n
+
+        active = np.zeros((n, len(DOF_NAMES)), dtype=bool)
+        shell_triangles = []
+        cell_entries = list(model.blocks)
+        for entry in cell_entries:
+            columns = dof_columns(entry.element.dofs)
+            cells = self._cells(entry)
+            active[np.ix_(np.unique(cells), columns)] = True
+            if entry.element.defines_directors:
+                shell_triangles.append(cells)
+        self.has_rotation = active[:, 3].copy()
+        triangle_cells = [self._cells(e) for e in cell_entries if e.element.cell_type == "triangle"]
+        if triangle_cells:
+            # Duplicate nodes, zero-area triangles, non-manifold edges and flipped triangles
+            # make every shell kinematics wrong: refuse them before anything is bound.
+            check_triangles(mesh.points, np.unique(np.concatenate(triangle_cells), axis=0))
+
+        fixed = self._fixed_mask(model.fixes, active)
+        prescribed, self._prescribed_terms = self._prescribed(model.prescribed, active)
+        self.dofs = DofManager(n, active, fixed, prescribed)
+
+        self.reference_positions = mesh.points.copy()
+        self.reference_directors = np.zeros((n, 3))
+        if self.has_rotation.any():
+            normals = np.zeros((n, 3))
+            if shell_triangles:
+                normals = nodal_normals(mesh.points, np.concatenate(shell_triangles))
+            missing = self.has_rotation & (np.linalg.norm(normals, axis=1) == 0)
+            if missing.any():
+                raise ValueError(
+                    f"node {np.flatnonzero(missing)[0]} has rotational DOFs but no shell "
+                    "triangle to define its director: an element type whose triangles define "
+                    "the directors declares defines_directors = True"
+                )
+            self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+
+        self.element_size = _median_edge(mesh, cell_entries, self._cells)
+        self.blocks: list[ElementBlock] = [
+            entry.element.bind(mesh, entry.cells, self.reference_directors)
+            for entry in model.blocks
+        ]
+        for entry, block in zip(model.blocks, self.blocks):
+            _check_block(entry.element, block, active)
+        for entry, block in zip(model.blocks, self.blocks):
+            # The nodes where every DOF of the block is fixed or prescribed (femcore.element).
+            held = self.dofs.constrained[:, dof_columns(entry.element.dofs)].all(axis=1)
+            block.apply_supports(held)
+
+        body = Body(
+            mesh,
+            tuple(BodyPart(e.element, self._cells(e)) for e in model.blocks),
+            self.reference_directors,
+            active,
+        )
+        self.interactions: list[InteractionBlock] = [
+            _bound_interaction(interaction, body) for interaction in model.interactions
+        ]
+        self.parts: list[Part] = [*self.blocks, *self.interactions]
+        self.n_tools = sum(int(i.n_tools) for i in self.interactions)
+
+        self.translation_free = self.dofs.free[:, :3]
+        self.translation_constrained = self.dofs.constrained[:, :3]
+        self.translation_prescribed = self.dofs.prescribed[:, :3]
+        self.rotation_fixed = self.dofs.fixed[:, 3:] & self.has_rotation[:, None]
+
+        state0 = self.initial_state()
+        self.mass0, self.inertia0 = self.lumped_mass(state0)
+        unmassed = active[:, 0] & ~(self.mass0 > 0)
+        if unmassed.any():
+            raise ValueError(
+                f"node {np.flatnonzero(unmassed)[0]} has no mass: every node of an "
+                "element needs a positive lumped mass for the dynamic solvers"
+            )
+        # Interactions have no mass of their own: they size themselves from the elements.
+        if self.interactions:
+            dt = self.stable_dt(state0)
+            for interaction in self.interactions:
+                interaction.calibrate(self.mass0, dt)
+        self._has_history = any(h is not None for h in state0.history)
+        self._no_history = (None,) * len(self.parts)
+        self._load_terms = self._loads(model.loads, active)
+        self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
+
+    # ------------------------------------------------------------- construction helpers
+    def _cells(self, entry: BlockEntry) -> np.ndarray:
+        kind = entry.element.cell_type
+        assert kind is not None, "elements cover mesh cells"
+        return self.mesh.cells(kind)[entry.cells]
+
+    def _fixed_mask(self, fixes: list[Fix], active: np.ndarray) -> np.ndarray:
+        fixed = np.zeros_like(active)
+        for fix in fixes:
+            node_active = active[fix.nodes].any(axis=1)
+            if not node_active.any():
+                raise ValueError(
+                    f"fix selects nodes {fix.nodes[:5].tolist()}... that no element "
+                    "uses: they carry no DOF"
+                )
+            nodes = fix.nodes[node_active]
+            if fix.columns is None:
+                fixed[nodes] |= active[nodes]
+                continue
+            lacking = ~active[np.ix_(nodes, fix.columns)]
+            if lacking.any():
+                row, col = np.argwhere(lacking)[0]
+                raise ValueError(
+                    f"cannot fix {DOF_NAMES[fix.columns[col]]} at node {nodes[row]}: it carries "
+                    f"only {', '.join(dof_names(active[nodes[row]]))}"
+                )
+            fixed[np.ix_(nodes, fix.columns)] = True
+        return fixed
+
+    def _prescribed(self, records: list[Prescribed], active: np.ndarray):
+        mask = np.zeros_like(active)
+        terms = []
+        for record in records:
+            inactive = ~active[record.nodes, 0]
+            if inactive.any():
+                raise ValueError(
+                    f"cannot displace node {record.nodes[inactive][0]}: no element uses it"
+                )
+            given = np.isfinite(record.values)
+            already = mask[record.nodes, :3] & given
+            if already.any():
+                row, col = np.argwhere(already)[0]
+                raise ValueError(
+                    f"{DOF_NAMES[col]} of node {record.nodes[row]} is prescribed twice"
+                )
+            mask[record.nodes, :3] |= given
+            values = np.zeros((self.n_nodes, 3))
+            values[record.nodes] = np.where(given, record.values, 0.0)
+            terms.append((record.amplitude, values))
+        return mask, terms
+
+    def _loads(self, records: list[NodalLoad], active: np.ndarray):
+        terms = []
+        for record in records:
+            column = 0 if record.kind == "force" else 3
+            lacking = ~active[record.nodes, column]
+            if lacking.any():
+                need = "any DOF" if record.kind == "force" else "rotational DOFs"
+                raise ValueError(
+                    f"{record.kind} on node {record.nodes[lacking][0]}, which has no {need}"
+                )
+            values = np.zeros((self.n_nodes, 3))
+            values[record.nodes] = record.vector
+            terms.append((record.kind, record.amplitude, values))
+        return terms
+
+    # ------------------------------------------------------------- state and fields
+    def initial_state(self) -> State:
+        """The reference configuration at rest."""
+        n = self.n_nodes
+        return State(
+            positions=self.reference_positions.copy(),
+            directors=self.reference_directors.copy(),
+            velocities=np.zeros((n, 3)),
+            angular_velocities=np.zeros((n, 3)),
+            history=tuple(part.initial_history() for part in self.parts),
+        )
+
+    def commit(self, state: State) -> State:
+        """The state with every block's history updated after a step a solver accepted (a new
+        State; ``state`` is left as it was). The same state when no block has history (a
+        block with history variables returns them, not None, from ``initial_history``)."""
+        if not self._has_history:
+            return state
+        history = tuple(
+            part.update_history(state, h) for part, h in zip(self.parts, state.history)
+        )
+        return replace(state, history=history)
+
+    def lumped_mass(self, state: State, density_scale: list | None = None):
+        """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
+        (cells,) factor array per block (selective mass scaling) or None."""
+        mass = np.zeros(self.n_nodes)
+        inertia = np.zeros(self.n_nodes)
+        for i, block in enumerate(self.blocks):
+            m, j = block.lumped_mass(state, None if density_scale is None else density_scale[i])
+            mass += m
+            if j is not None:
+                inertia += j
+        return mass, inertia
+
+    def _histories(self, state: State) -> tuple:
+        return state.history if len(state.history) == len(self.parts) else self._no_history
+
+    def internal_force(
+        self, state: State, parts: list[int] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Internal nodal forces F_int = dW/dx (n, 3) and moment vectors dW/dpsi (n, 3), summed
+        over the parts (or over the parts of the given indices into ``parts``)."""
+        force = np.zeros((self.n_nodes, 3))
+        moment = np.zeros((self.n_nodes, 3))
+        histories = self._histories(state)
+        for i in range(len(self.parts)) if parts is None else parts:
+            f, m = self.parts[i].internal_force(state, histories[i])
+            force += f
+            if m is not None:
+                moment += m
+        return force, moment
+
+    def cell_stable_dt(self, state: State) -> list[np.ndarray]:
+        """Per-block arrays of per-cell critical steps (s)."""
+        return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]
+
+    def penalty_frequency_squared(self, mass: np.ndarray) -> float:
+        """The largest omega^2 = k / m (1/s^2) the interactions' penalty springs (``springs``)
+        can add to one node, summed over the interactions: a node may be pinched between two
+        tools, and a node not touching now may touch before the step is next evaluated.
+        ``mass`` (n,) the lumped masses the solver uses, t. 0 without springs."""
+        total = 0.0
+        for interaction in self.interactions:
+            springs = interaction.springs()
+            if springs is not None and len(springs[0]):
+                nodes, stiffness = springs
+                total += float(np.max(np.asarray(stiffness) / mass[nodes]))
+        return total
+
+    def stable_dt(self, state: State) -> float:
+        """Critical time step of the elements (s), the smallest over all cells (the
+        interactions' springs come in through ``penalty_frequency_squared``)."""
+        return float(min(dt.min() for dt in self.cell_stable_dt(state)))
+
+    def assembled_stable_dt(
+        self, state: State, mass: np.ndarray, inertia: np.ndarray
+    ) -> float | None:
+        """A critical time step (s) of the assembled free system from Gershgorin's theorem:
+        omega_max^2 <= max_i sum_j |K_ij| / sqrt(M_i M_j) over the free DOFs, K the blocks'
+        own tangent at ``state`` and M the lumped ``mass`` and rotary ``inertia`` (n,) the
+        solver uses (mass scaling included). A bound like the cells' own, but with the masses
+        of the assembly: a sliver triangle's share of its nodes' mass is tiny while the nodes
+        carry the mass of their other cells. Measured against the exact 2 / omega_max: 0.82 to
+        0.95 on regular, stretched (aspect 20) and sliver cells of both shells, where the
+        cells' bound fell to 0.03 on slivers (docs/theory.md §6.2). None when a block has no
+        tangent of its own (finite differences would cost tens of force evaluations) or a
+        free DOF has no mass."""
+        parts = self.tangent_parts(state, list(range(len(self.parts))))
+        if parts is None:
+            return None
+        free = self.dofs.free_slots
+        diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()[free]
+        if free.size == 0 or not np.all(diagonal > 0.0):
+            return None
+        stiffness = abs(self.stiffness(state, "element").tocsr()[free][:, free])
+        scale = 1.0 / np.sqrt(diagonal)
+        rows = np.asarray(stiffness @ scale).ravel() * scale
+        largest = float(rows.max(initial=0.0))
+        return 2.0 / np.sqrt(largest) if largest > 0.0 else None
+
+    def strain_energy(self, state: State) -> float:
+        """Total strain energy (N mm) over all parts (the interactions' penalty springs
+        included)."""
+        histories = self._histories(state)
+        return float(sum(p.strain_energy(state, h) for p, h in zip(self.parts, histories)))
+
+    def _interaction_histories(self, state: State) -> tuple:
+        return self._histories(state)[len(self.blocks) :]
+
+    def dissipated_energy(self, state: State) -> float:
+        """Energy the interactions dissipated since the start (friction), N mm."""
+        histories = self._interaction_histories(state)
+        return float(sum(i.dissipated_energy(h) for i, h in zip(self.interactions, histories)))
+
+    def tool_forces(self, state: State) -> np.ndarray:
+        """(n_tools, 3) the force (N) the model exerts on each rigid tool, in the order of
+        the interactions (``Model.contact``)."""
+        histories = self._interaction_histories(state)
+        forces = [i.tool_forces(state, h) for i, h in zip(self.interactions, histories)]
+        if not forces:
+            return np.zeros((0, 3))
+        return np.concatenate([np.asarray(f, dtype=float).reshape(-1, 3) for f in forces])
+
+    def tool_work(self, state: State, start: float, end: float) -> float:
+        """Work (N mm) the moving tools do on the model while the load factor goes from
+        ``start`` to ``end``, with the contact forces at ``state``."""
+        histories = self._interaction_histories(state)
+        return float(
+            sum(
+                i.tool_work(state, h, start, end)
+                for i, h in zip(self.interactions, histories)
+                if i.n_tools
+            )
+        )
+
+    def tangent_parts(self, state: State, parts: list[int]) -> list[TangentPart] | None:
+        """The tangent parts of the parts of the given indices (into ``parts``), or None if
+        one of them has no tangent of its own."""
+        histories = self._histories(state)
+        tangent: list[TangentPart] = []
+        for i in parts:
+            own = self.parts[i].tangent(state, histories[i])
+            if own is None:
+                return None
+            tangent.extend(own)
+        return tangent
+
+    def stiffness(
+        self,
+        state: State,
+        method: str = "element",
+        frames: Frames = None,
+        parts: list[int] | None = None,
+    ) -> sp.csr_matrix:
+        """Tangent stiffness K = dF_int/dq (n x 5 slots square, femcore.dofs) at ``state``.
+
+        Parameters
+        ----------
+        state : State
+        method : "element" or "finite_difference"
+            The parts' own tangents (every part must give one), or coloured central
+            differences of their internal forces (translation step 1e-6 of the median element
+            edge, rotation step 1e-6 rad).
+        frames : Frames
+            Nodal frames of the generalised rotations (default: those of ``state.directors``).
+        parts : list of int or None
+            Indices into ``parts`` of those to include (default: all).
+
+        Raises
+        ------
+        ValueError
+            For an unknown method, or "element" with a block that has no tangent of its own.
+        """
+        indices = list(range(len(self.parts))) if parts is None else list(parts)
+        frames = self.dofs.frames(state.directors) if frames is None else frames
+        if method == "element":
+            parts = self.tangent_parts(state, indices)
+            if parts is None:
+                raise ValueError(
+                    "a block has no tangent of its own: use method='finite_difference'"
+                )
+            return tangent_matrix(self.dofs, parts, frames)
+        if method == "finite_difference":
+            return self.finite_difference_stiffness(
+                state, indices, self.node_graph(indices), frames
+            )
+        raise ValueError(f"method must be 'element' or 'finite_difference', got {method!r}")
+
+    def node_graph(self, parts: list[int]) -> NodeGraph:
+        """The colouring of the finite-difference tangent of the parts of the given indices
+        (built once per solve: its greedy colouring loops over the nodes)."""
+        reach = max(self.parts[i].reach for i in parts)
+        return NodeGraph(self.n_nodes, [self.parts[i].connectivity for i in parts], reach)
+
+    def finite_difference_stiffness(
+        self, state: State, parts: list[int], graph: NodeGraph, frames: Frames
+    ) -> sp.csr_matrix:
+        """K of the parts of the given indices by coloured central differences of their
+        internal forces: translation step 1e-6 of the median element edge, rotation step
+        1e-6 rad, the nodal frames held."""
+        return finite_difference_tangent(
+            self.dofs,
+            lambda s: self.internal_force(s, parts),
+            state,
+            graph,
+            step=1e-6 * self.element_size,
+            frames=frames,
+        )
+
+    def own_tangents(self, state: State) -> dict[int, Sequence[TangentPart]]:
+        """The tangent parts at ``state`` of the parts that give a tangent of their own, by
+        index into ``parts`` (the others return None: the finite-difference fallback)."""
+        own = {}
+        for i, (part, history) in enumerate(zip(self.parts, self._histories(state))):
+            parts = part.tangent(state, history)
+            if parts is not None:
+                own[i] = parts
+        return own
+
+    def unheld_rigid_motions(self, loaded_only: bool = True) -> list[str]:
+        """The rigid motions no support holds (femcore.diagnostics.unheld_rigid_motions)."""
+        return unheld_rigid_motions(self, loaded_only)
+
+    def external_load(self, tau: float, quasi_static: bool = False):
+        """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""
+        force = np.zeros((self.n_nodes, 3))
+        moment = np.zeros((self.n_nodes, 3))
+        for kind, amplitude, values in self._load_terms:
+            factor = _evaluate(amplitude, tau, quasi_static)
+            if kind == "force":
+                force += factor * values
+            else:
+                moment += factor * values
+        for amplitude, vector in self._gravity_terms:
+            force += _evaluate(amplitude, tau, quasi_static) * self.mass0[:, None] * vector
+        force[~self.dofs.active[:, 0]] = 0.0
+        return force, moment
+
+    def prescribed_displacement(self, tau: float, quasi_static: bool = False) -> np.ndarray:
+        """Imposed displacements (n, 3) at progress tau (zero where not prescribed)."""
+        displacement = np.zeros((self.n_nodes, 3))
+        for amplitude, values in self._prescribed_terms:
+            displacement += _evaluate(amplitude, tau, quasi_static) * values
+        return displacement
+
+    @property
+    def has_prescribed(self) -> bool:
+        return bool(self._prescribed_terms)
+
+    def constrain_angular(self, vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:
+        """Remove from angular vectors (n, 3) the drilling part (along the director) and the
+        components of fixed alpha / beta (about V2 / V1 of the nodal frame); zero at nodes
+        without rotations."""
+        out = drop_along(vectors, directors)
+        out[~self.has_rotation] = 0.0
+        fixed_any = self.rotation_fixed.any(axis=1)
+        if fixed_any.any():
+            v1, v2 = nodal_frames(directors[fixed_any])
+            sub = out[fixed_any]
+            alpha, beta = self.rotation_fixed[fixed_any].T
+            sub -= (alpha * np.sum(sub * v2, axis=1))[:, None] * v2
+            sub -= (beta * np.sum(sub * v1, axis=1))[:, None] * v1
+            out[fixed_any] = sub
+        return out
+
+    def fields(self, state: State) -> dict:
+        """Output fields: {"point": {name: (n, ...)}, kind: {...} for each cell kind} with the
+        cell fields spread over all mesh cells of that type (NaN where a block does not cover);
+        the interactions' node fields after the blocks'."""
+        out: dict[str, dict] = {"point": {}, **{kind: {} for kind in CELL_KINDS}}
+        counts = {kind: len(self.mesh.cells(kind)) for kind in CELL_KINDS}
+        for part, history in zip(self.parts, self._histories(state)):
+            for name, values in part.node_fields(state, history).items():
+                # Two parts with the same field (two tools' contact_gap): the second is
+                # named contact_gap_2, and so on, in the order of the parts.
+                key, count = name, 1
+                while key in out["point"]:
+                    count += 1
+                    key = f"{name}_{count}"
+                out["point"][key] = values
+            if not isinstance(part, ElementBlock):  # interactions have no cells
+                continue
+            kind = part.cell_type
+            for name, values in part.cell_fields(state, history).items():
+                values = np.asarray(values, dtype=float)
+                full = out[kind].setdefault(
+                    name, np.full((counts[kind],) + values.shape[1:], np.nan)
+                )
+                full[part.cell_ids] = values
+        return out
+
+
+def _bound_interaction(interaction: Interaction, body: Body) -> InteractionBlock:
+    """``interaction.bind(body)``, checked as ``_check_block`` checks an element block."""
+    block = interaction.bind(body)
+    name = type(interaction).__name__
+    if not isinstance(block, InteractionBlock):
+        raise ValueError(
+            f"{name}.bind returned {type(block).__name__}: expected an InteractionBlock "
+            "(femcore.interaction)"
+        )
+    _check_reach(block)
+    _check_history_arguments(
+        block, ("internal_force", "strain_energy", "tangent", "node_fields"), "interaction"
+    )
+    n_tools = getattr(block, "n_tools", None)
+    if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
+        raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
+    _check_connectivity(name, block, interaction.dofs, body.active)
+    return block
+
+
+def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) -> None:
+    """A bound block must be an ElementBlock that declares its reach, with a (m, k) node
+    connectivity whose nodes carry the DOFs it needs."""
+    name = type(element).__name__
+    if not isinstance(block, ElementBlock):
+        raise ValueError(
+            f"{name}.bind returned {type(block).__name__}: expected an ElementBlock "
+            "(femcore.element)"
+        )
+    _check_reach(block)
+    _check_history_arguments(
+        block, ("internal_force", "strain_energy", "tangent", "cell_fields", "node_fields"), "block"
+    )
+    _check_connectivity(name, block, element.dofs, active)
+
+
+def _check_reach(block) -> None:
+    reach = getattr(block, "reach", None)
+    if isinstance(reach, bool) or not isinstance(reach, (int, np.integer)) or reach < 1:
+        raise ValueError(
+            f"{type(block).__name__}.reach is {reach!r}: every block declares how many cell-hops "
+            "its forces reach (1: cell-local, 2: bending patches over neighbours)"
+        )
+
+
+def _check_history_arguments(block, methods: tuple[str, ...], what: str) -> None:
+    for method in methods:
+        if not _takes_history(getattr(block, method)):
+            raise ValueError(
+                f"{type(block).__name__}.{method} must take (state, history=None): the model "
+                f"passes each {what} its history variables"
+            )
+
+
+def _check_connectivity(name: str, block, dofs: tuple[str, ...], active: np.ndarray) -> None:
+    """(m, k) integer node ids inside the mesh, at nodes that carry ``dofs``."""
+    connectivity = np.asarray(block.connectivity)
+    if connectivity.ndim != 2 or not np.issubdtype(connectivity.dtype, np.integer):
+        raise ValueError(
+            f"{type(block).__name__}.connectivity must be an (m, k) integer array of node ids"
+        )
+    if connectivity.size:
+        if connectivity.min() < 0 or connectivity.max() >= len(active):
+            raise ValueError(
+                f"{type(block).__name__}.connectivity refers to nodes outside 0..{len(active) - 1}"
+            )
+        nodes = np.unique(connectivity)
+        lacking = ~active[np.ix_(nodes, dof_columns(dofs))]
+        if lacking.any():
+            node = nodes[np.argwhere(lacking)[0, 0]]
+            raise ValueError(
+                f"{name} acts on node {node}, which carries only "
+                f"{', '.join(dof_names(active[node])) or 'no DOF'}: it needs nodes of an "
+                "element with the DOFs it uses"
+            )
+
+
+def _takes_history(method: Callable) -> bool:
+    """Whether a bound method accepts two positional arguments (state, history)."""
+    try:
+        parameters = list(inspect.signature(method).parameters.values())
+    except (TypeError, ValueError):  # no signature to read (a C function): trust it
+        return True
+    positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    variadic = any(p.kind is p.VAR_POSITIONAL for p in parameters)
+    return variadic or len(positional) >= 2
+
+
+def _median_edge(mesh: Mesh, entries, cells_of) -> float:
+    """Median length of the element edges (mesh length unit): the scale that turns a force
+    into a moment in residual checks."""
+    lengths = []
+    for entry in entries:
+        cells = mesh.points[cells_of(entry)]
+        for k in range(cells.shape[1]):
+            lengths.append(np.linalg.norm(cells[:, k] - cells[:, k - 1], axis=1))
+    return float(np.median(np.concatenate(lengths)))
+
+
+def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:
+    function: Callable = amplitude.quasi_static if quasi_static else amplitude.dynamic
+    return float(function(tau))

@@ -1,0 +1,223 @@
+"""The interaction protocol: what acts between a body and something that is not an element of
+it: a rigid tool (contact, friction), another body's surface (ply on ply, a blank holder on a
+blank), a tie between two node sets.
+
+An element owns mesh cells and their material; an interaction owns neither. It acts on nodes
+that elements carry, and it brings what elements do not have: a penalty sized from the masses
+and the stable step of the elements around it, friction anchors, dissipated energy, the force on
+a tool and the work a moving tool does. The solvers see elements and interactions through two
+small protocols (femcore.element and this one) and sum their forces, energies and tangents
+alike; they never ask an object what it is.
+
+An interaction *description* (``Interaction``: options only) is added with ``model.interact``
+(``model.contact`` builds one from a tool). ``CompiledModel`` binds it after the element blocks,
+handing it a ``Body``: the mesh, the element types with the cells they cover, the reference
+directors and the DOF mask. ``Interaction.bind`` returns an ``InteractionBlock``, every method
+vectorised over the nodes (or node pairs, facets) it acts on; no Python loop over them runs in a
+step.
+
+Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt)`` with the
+elements' lumped masses and critical step, then, as a solver goes, ``internal_force``,
+``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
+bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_work``, ``node_fields``).
+
+History: ``State.history`` holds one entry per part of the compiled model, the element blocks
+first, then the interactions (``CompiledModel.parts``); an interaction receives its entry and
+never mutates it.
+
+Sign convention as elements: ``internal_force`` returns F_int = dW/dx (the force the nodes
+exert on whatever the interaction stands for), so that the residual is F_ext - F_int.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from femcore.assembly import TangentPart
+from femcore.element import ElementType
+from femcore.mesh import Mesh
+from femcore.state import State
+
+__all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock"]
+
+
+@dataclass(frozen=True)
+class BodyPart:
+    """One element block of the body as an interaction sees it: its element type (its
+    options: a shell's ``half_thickness``) and the mesh cells it covers.
+
+    element : ElementType
+    cells : (m, k) int
+        Node ids of each covered cell (rows of ``mesh.cells(element.cell_type)``).
+    """
+
+    element: ElementType
+    cells: np.ndarray
+
+
+@dataclass(frozen=True)
+class Body:
+    """What an interaction is bound to: the model's mesh and element blocks.
+
+    mesh : Mesh
+    parts : tuple of BodyPart
+        The element blocks in the order they were added.
+    directors : (n, 3) float
+        Reference unit directors (zero rows at nodes without rotations).
+    active : (n, 6) bool
+        The DOFs the elements give each node (ux, uy, uz, ux', alpha, beta: femcore.dofs).
+    """
+
+    mesh: Mesh
+    parts: tuple[BodyPart, ...]
+    directors: np.ndarray
+    active: np.ndarray
+
+    @classmethod
+    def bare(cls, mesh: Mesh) -> Body:
+        """A body of the mesh's nodes with translations only and no element (an interaction
+        bound on its own, as its tests do): ``covered`` is every node, ``half_thickness`` 0."""
+        active = np.zeros((mesh.n_nodes, 6), dtype=bool)
+        active[:, :3] = True
+        every = np.arange(mesh.n_nodes, dtype=np.int64)[:, None]
+        return cls(mesh, (BodyPart(_NoElement(), every),), np.zeros((mesh.n_nodes, 3)), active)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.mesh.n_nodes
+
+    def covered(self) -> np.ndarray:
+        """(n,) bool: the nodes some element's cells use."""
+        covered = np.zeros(self.mesh.n_nodes, dtype=bool)
+        for part in self.parts:
+            covered[part.cells.ravel()] = True
+        return covered
+
+    def half_thickness(self) -> np.ndarray:
+        """(n,) float, mm: at each node, the largest ``half_thickness`` of the elements around
+        it (the contact surface's offset from the mid-surface; 0 for cables and free nodes)."""
+        offset = np.zeros(self.mesh.n_nodes)
+        for part in self.parts:
+            used = np.unique(part.cells)
+            offset[used] = np.maximum(offset[used], float(part.element.half_thickness))
+        return offset
+
+    def triangles(self) -> np.ndarray:
+        """(t, 3) int: the triangles of every element block over triangles (the body's
+        surface cells, for the nodes' share of the area or a surface search)."""
+        cells = [p.cells for p in self.parts if p.element.cell_type == "triangle"]
+        return np.concatenate(cells) if cells else np.zeros((0, 3), dtype=np.int64)
+
+
+class _NoElement(ElementType):
+    """The stand-in element of ``Body.bare``: translations, no thickness, never bound."""
+
+    dofs = ("ux", "uy", "uz")
+    cell_type = "line"
+
+    def bind(self, mesh, cell_ids, directors):
+        raise NotImplementedError("Body.bare has no element to bind")
+
+
+class Interaction(ABC):
+    """Options of one interaction; ``bind`` makes a block acting on the body's nodes.
+
+    Class attributes
+    ----------------
+    dofs : tuple of str
+        The DOF names the interaction acts on at its nodes, e.g. ``("ux", "uy", "uz")``; every
+        node it acts on must carry them (an element gives them).
+    """
+
+    dofs: ClassVar[tuple[str, ...]] = ("ux", "uy", "uz")
+
+    @abstractmethod
+    def bind(self, body: Body) -> InteractionBlock:
+        """The block acting on ``body``, every option resolved once (node ids, offsets,
+        search structures)."""
+
+
+class InteractionBlock(ABC):
+    """An interaction bound to a body.
+
+    Attributes
+    ----------
+    dofs : tuple of str
+        As its description.
+    connectivity : (m, k) int
+        The node groups the interaction couples, one row each (a node against a tool: k = 1;
+        a tie between node pairs: k = 2); the sparsity of its tangent and the node graph of
+        the finite-difference tangent are built from it. A contact between moving surfaces
+        lists the nodes whose forces may couple.
+    reach : int
+        How many hops of ``connectivity`` a force at a node depends on (1 for node-local
+        interactions).
+    n_tools : int
+        How many rigid tools the block acts against (the rows of ``tool_forces``): 0 for an
+        interaction between nodes of the body.
+    """
+
+    dofs: tuple[str, ...]
+    connectivity: np.ndarray
+    reach: int = 1
+    n_tools: int = 0
+
+    # ------------------------------------------------------------------ required
+    @abstractmethod
+    def internal_force(
+        self, state: State, history: Any = None
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """Nodal forces F_int = dW/dx (n, 3), N, and moments (n, 3), N mm, or None."""
+
+    @abstractmethod
+    def strain_energy(self, state: State, history: Any = None) -> float:
+        """The energy the interaction stores (N mm): the potential of ``internal_force``
+        (penalty springs, stuck friction springs)."""
+
+    # ------------------------------------------------------------------ optional
+    def tangent(self, state: State, history: Any = None) -> Sequence[TangentPart] | None:
+        """d(internal_force)/d(u, psi) as tangent parts, or None (the default): the assembler
+        then differentiates ``internal_force`` over ``connectivity`` and ``reach``."""
+        return None
+
+    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+        """Size the interaction from the elements, once, before any force is asked: the
+        lumped nodal masses (n,), t, and the elements' critical step, s (a penalty that keeps
+        the explicit step stable). The default ignores them."""
+        return None
+
+    def springs(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Springs the interaction may put between single nodes and the ground: (nodes (s,),
+        stiffness (s,) N/mm), each acting along any direction. The explicit step takes
+        their frequencies sqrt(k / m) in with the nodes' masses. None: no such spring."""
+        return None
+
+    def initial_history(self) -> Any:
+        """History variables in the reference state (None: none)."""
+        return None
+
+    def update_history(self, state: State, history: Any) -> Any:
+        """The history after a step a solver accepted at ``state``; never mutates ``history``."""
+        return history
+
+    def dissipated_energy(self, history: Any = None) -> float:
+        """Energy dissipated since the start (N mm; friction), kept in the history."""
+        return 0.0
+
+    def tool_forces(self, state: State, history: Any = None) -> np.ndarray:
+        """(n_tools, 3) the force (N) the body exerts on each of the block's rigid tools."""
+        return np.zeros((self.n_tools, 3))
+
+    def tool_work(self, state: State, history: Any, start: float, end: float) -> float:
+        """Work (N mm) the block's moving tools do on the body while the load factor goes from
+        ``start`` to ``end``, with the forces at ``state``; 0 by default."""
+        return 0.0
+
+    def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
+        """Nodal outputs {name: (n, ...)} for results and VTU files."""
+        return {}
