@@ -14,24 +14,22 @@ moved copy instead. The only mutating methods are :meth:`Mesh.add_node_set`,
 :meth:`Mesh.add_cell_set` and its shorthands :meth:`Mesh.add_element_set` and
 :meth:`Mesh.add_line_set`, which only add new named sets.
 
-Fibre-aligned generators (:meth:`Mesh.rectangle`, :meth:`Mesh.quadrilateral`) split each grid
-cell into two triangles whose first local node is the corner where the warp (first grid
-direction) and weft (second grid direction) meet: with 0-based local numbering, edge 0 -> 1
-runs along the warp and edge 0 -> 2 along the weft, in the positive or negative sense
-("node 1 at the right angle, 1 -> 2 along warp, 1 -> 3 along weft" in 1-based terms).
+The generators (:meth:`Mesh.rectangle`, :meth:`Mesh.line`, :meth:`Mesh.quadrilateral`,
+:meth:`Mesh.from_quads`, :meth:`Mesh.corner`) are implemented in
+:mod:`femcore.mesh_generators`, which describes the fibre-aligned split of the grid cells;
+reading and writing files (:meth:`Mesh.read`, :meth:`Mesh.write`) in :mod:`femcore.mesh_io`.
+Both modules import this one, so the methods import them when called.
 """
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from types import MappingProxyType, ModuleType
+from types import MappingProxyType
 from typing import Any
 
-import meshio
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -92,27 +90,12 @@ CELL_KINDS: Mapping[str, CellKind] = MappingProxyType(_CELL_KIND_TABLE)
 """The known cell kinds, name -> :class:`CellKind`, in their canonical order (read-only)."""
 
 
-def _kind_of_meshio() -> dict[str, str]:
-    """meshio cell type -> cell kind."""
-    return {spec.meshio_name: kind for kind, spec in CELL_KINDS.items()}
-
-
 # The constructor arguments that predate the generic ``cells`` / ``cell_sets``.
 _LEGACY_CELLS = {"triangle": "triangles", "line": "lines"}
 _LEGACY_SETS = {"triangle": "element_sets", "line": "line_sets"}
 
 # Characters that would break the set syntax of .inp or .msh files.
 _FORBIDDEN_NAME_CHARS = {",", "=", '"', "\n", "\r"}
-
-# Formats whose meshio reader and writer keep named point/cell sets (Abaqus NSET/ELSET).
-# Every other format gets the sets as 0/1 mask arrays named with "nset:" (nodes) or the
-# mask prefix of the cell kind.
-_NATIVE_SET_FORMATS = {"abaqus"}
-_NODE_MASK = "nset:"
-
-# Relative tolerances of the quadrilateral corner checks (times the corner diameter).
-_PLANARITY_TOL = 1e-9
-_CONVEXITY_TOL = 1e-12
 
 
 class Mesh:
@@ -513,21 +496,9 @@ class Mesh:
             Non-positive or non-finite lengths, non-positive or non-integer counts, or a bad
             origin.
         """
-        lx = _positive_length(lx, "lx")
-        ly = _positive_length(ly, "ly")
-        nx = _positive_int(nx, "nx")
-        ny = _positive_int(ny, "ny")
-        base = _point3(origin, "origin")
-        # linspace hits the far edge exactly, unlike i * (lx / nx).
-        x, y = np.meshgrid(np.linspace(0.0, lx, nx + 1), np.linspace(0.0, ly, ny + 1))
-        points = base + np.column_stack((x.ravel(), y.ravel(), np.zeros(x.size)))
-        triangles = _split_quads(_grid_quads(nx, ny))
-        return cls(
-            points,
-            triangles,
-            node_sets=_grid_node_sets(nx, ny),
-            element_sets={"all": np.arange(len(triangles))},
-        )
+        from femcore.mesh_generators import rectangle
+
+        return rectangle(lx, ly, nx, ny, origin)
 
     @classmethod
     def line(cls, p0: ArrayLike, p1: ArrayLike, n: int) -> Mesh:
@@ -552,20 +523,9 @@ class Mesh:
         ValueError
             Bad or coincident end points, or a non-positive count.
         """
-        a = _point3(p0, "p0")
-        b = _point3(p1, "p1")
-        n = _positive_int(n, "n")
-        if np.array_equal(a, b):
-            raise ValueError(f"p0 and p1 must differ, both are {a.tolist()}")
-        t = np.linspace(0.0, 1.0, n + 1)[:, None]
-        points = (1.0 - t) * a + t * b  # exact at both ends, unlike a + t * (b - a)
-        lines = np.column_stack((np.arange(n), np.arange(1, n + 1)))
-        return cls(
-            points,
-            lines=lines,
-            node_sets={"start": [0], "end": [n]},
-            line_sets={"all": np.arange(n)},
-        )
+        from femcore.mesh_generators import line
+
+        return line(p0, p1, n)
 
     @classmethod
     def quadrilateral(cls, corners: ArrayLike, nx: int, ny: int) -> Mesh:
@@ -602,27 +562,9 @@ class Mesh:
         RuntimeError
             gmsh did not return the expected structured grid.
         """
-        quad, normal = _validate_quadrilateral(corners)
-        nx = _positive_int(nx, "nx")
-        ny = _positive_int(ny, "ny")
-        coords, quads = _gmsh_structured_quads(quad, nx, ny)
-        if len(quads) != nx * ny:
-            raise RuntimeError(f"gmsh returned {len(quads)} quadrangles, expected {nx * ny}")
-        points, quads = _structured_numbering(quad, coords, quads, nx, ny)
-        quads = _orient_quads(points, quads, normal)
-        eta = (quads // (nx + 1)).min(axis=1) / ny + 0.5 / ny  # weft parameter of centroid
-        warp = (1.0 - eta)[:, None] * (quad[1] - quad[0]) + eta[:, None] * (quad[2] - quad[3])
-        triangles = _split_quads(_rotate_to_warp(points, quads, warp))
-        return cls(
-            points,
-            triangles,
-            node_sets=_grid_node_sets(nx, ny),
-            element_sets={"all": np.arange(len(triangles))},
-        )
+        from femcore.mesh_generators import quadrilateral
 
-    # ----------------------------------------------------------------------------------------
-    # File I/O
-    # ----------------------------------------------------------------------------------------
+        return quadrilateral(corners, nx, ny)
 
     @classmethod
     def from_quads(
@@ -655,21 +597,48 @@ class Mesh:
         ValueError
             Quads not of shape (q, 4), node ids out of range, or a quad set out of range.
         """
-        quads = np.asarray(quads)
-        if quads.ndim != 2 or quads.shape[1] != 4 or len(quads) == 0:
-            raise ValueError(f"quads must have shape (q, 4) with q >= 1, got {quads.shape}")
-        sets = {}
-        for name, ids in (quad_sets or {}).items():
-            ids = np.asarray(ids, dtype=np.int64).ravel()
-            if ids.size and (ids.min() < 0 or ids.max() >= len(quads)):
-                raise ValueError(f"quad set {name!r} refers to quads outside 0..{len(quads) - 1}")
-            sets[name] = np.column_stack([2 * ids, 2 * ids + 1]).ravel()
-        return cls(
-            points,
-            triangles=_split_quads(quads.astype(np.int64)),
-            node_sets=node_sets,
-            element_sets=sets,
-        )
+        from femcore.mesh_generators import from_quads
+
+        return from_quads(points, quads, node_sets, quad_sets)
+
+    @classmethod
+    def corner(cls, lx: float, ly: float, n: int) -> Mesh:
+        """The corner specimen of Bai et al. (2020) §6 (Fig. 8): the free triangle of an
+        lx x ly rectangle beyond its diagonal.
+
+        Of the rectangle, the triangle beyond the diagonal from (lx, 0) to (0, ly) is clamped
+        (Bai §6.1-6.2), so only the free triangle with corners (0, 0) (the loaded corner),
+        (lx, 0) and (0, ly) is meshed: the triangles of :meth:`rectangle` with n x n cells
+        whose centroid lies before the diagonal, its nodes renumbered keeping their order.
+        With n x n cells the cell diagonals run parallel to the clamp, so the clamp is
+        a straight line of mesh edges (the fibrous shell can use its exact clamped-edge
+        curvature, ``FibrousShell(clamped="clamp")``).
+
+        Parameters
+        ----------
+        lx, ly : float
+            Side lengths of the rectangle along x (warp) and y (weft) (length units), positive.
+        n : int
+            Positive number of cells of the rectangle along each side before the cut.
+
+        Returns
+        -------
+        Mesh
+            (n + 1)(n + 2) / 2 nodes and n^2 triangles, with node sets "clamp" (the n + 1
+            nodes on the diagonal) and "corner" (the node at the origin); no cell set.
+
+        Raises
+        ------
+        ValueError
+            As :meth:`rectangle`.
+        """
+        from femcore.mesh_generators import corner
+
+        return corner(lx, ly, n)
+
+    # ----------------------------------------------------------------------------------------
+    # File I/O
+    # ----------------------------------------------------------------------------------------
 
     @classmethod
     def read(cls, path: str | Path, file_format: str | None = None) -> Mesh:
@@ -702,21 +671,9 @@ class Mesh:
         ValueError
             Unknown format, unreadable file, other cell types, or no cell of a known kind.
         """
-        path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(f"mesh file {path} does not exist")
-        fmt = _resolve_format(path, file_format, writing=False)
-        try:
-            raw = meshio.read(path, file_format=fmt)
-        except SystemExit as err:  # meshio's VTU reader ends the process on a corrupt file
-            raise ValueError(f"cannot read {path} as {fmt!r}: not a valid {fmt} file") from err
-        except UnicodeDecodeError as err:
-            raise ValueError(
-                f"cannot read {path} as {fmt!r}: not a text file ({err.reason} at byte {err.start})"
-            ) from err
-        except Exception as err:  # meshio's readers raise anything on a corrupt file
-            raise ValueError(f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}") from err
-        return _mesh_from_meshio(raw, str(path))
+        from femcore.mesh_io import read_mesh
+
+        return read_mesh(path, file_format)
 
     def write(self, path: str | Path, file_format: str | None = None) -> None:
         """Write the mesh through meshio; the format follows the suffix unless given.
@@ -741,60 +698,9 @@ class Mesh:
             Unknown format, a mesh without cells, or (for .inp) a name used by the sets of
             two cell kinds (e.g. both an element set and a line set).
         """
-        path = Path(path)
-        fmt = _resolve_format(path, file_format, writing=True)
-        blocks = [(kind, self._cells[kind]) for kind in self.cell_kinds]
-        if not blocks:
-            raise ValueError(
-                f"cannot write a mesh that has {_neither(s.plural for s in CELL_KINDS.values())}"
-            )
-        kinds = [kind for kind, _ in blocks]
-        if fmt in _NATIVE_SET_FORMATS:
-            extra = self._native_sets(kinds)
-        else:
-            extra = self._set_masks(blocks)
-        options: dict[str, Any] = {}
-        if fmt.startswith("gmsh"):
-            extra = _gmsh_ascii_data(extra, blocks)
-            options["binary"] = False
-        meshio_blocks = [(CELL_KINDS[kind].meshio_name, cells) for kind, cells in blocks]
-        out = meshio.Mesh(self._points, meshio_blocks, **extra)
-        try:
-            meshio.write(path, out, file_format=fmt, **options)
-        except meshio.WriteError as err:
-            raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
+        from femcore.mesh_io import write_mesh
 
-    def _native_sets(self, kinds: list[str]) -> dict[str, Any]:
-        names = list(CELL_KINDS)
-        for i, first in enumerate(names):
-            for second in names[i + 1 :]:
-                shared = sorted(set(self._cell_sets[first]) & set(self._cell_sets[second]))
-                if shared:
-                    raise ValueError(
-                        f"set names {shared} are used by both "
-                        f"{_article(CELL_KINDS[first].set_label)} and "
-                        f"{_article(CELL_KINDS[second].set_label)}; "
-                        "an .inp file cannot keep both under one name"
-                    )
-        empty = np.zeros(0, dtype=np.int64)
-        cell_sets = {}
-        for kind, sets in self._cell_sets.items():
-            for name, ids in sets.items():
-                cell_sets[name] = [ids if k == kind else empty for k in kinds]
-        return {"point_sets": dict(self._node_sets), "cell_sets": cell_sets}
-
-    def _set_masks(self, blocks: list[tuple[str, np.ndarray]]) -> dict[str, Any]:
-        point_data = {
-            _NODE_MASK + name: _mask(ids, self.n_nodes) for name, ids in self._node_sets.items()
-        }
-        cell_data = {}
-        for kind, sets in self._cell_sets.items():
-            prefix = CELL_KINDS[kind].mask_prefix
-            for name, ids in sets.items():
-                cell_data[prefix + name] = [
-                    _mask(ids if k == kind else [], len(c)) for k, c in blocks
-                ]
-        return {"point_data": point_data, "cell_data": cell_data}
+        write_mesh(self, path, file_format)
 
 
 # --------------------------------------------------------------------------------------------
@@ -829,15 +735,6 @@ def _by_kind(
     return merged
 
 
-def _neither(items: Iterator[str] | Sequence[str]) -> str:
-    """ "neither a nor b nor c" """
-    return "neither " + " nor ".join(items)
-
-
-def _article(noun: str) -> str:
-    return ("an " if noun[:1] in "aeiou" else "a ") + noun
-
-
 def _read_only(array: np.ndarray) -> np.ndarray:
     array.setflags(write=False)
     return array
@@ -852,33 +749,6 @@ def _as_mapping(given: Mapping[str, ArrayLike] | None, what: str) -> Mapping[str
             f"{what} must be a mapping name -> ids, got {type(given).__name__}"
         )
     return given
-
-
-def _positive_int(value: Any, name: str) -> int:
-    # bool is an int subclass, but Mesh.rectangle(1, 1, True, 2) is certainly a mistake.
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
-def _positive_length(value: Any, name: str) -> float:
-    try:
-        length = float(value)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from err
-    if not np.isfinite(length) or length <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-    return length
-
-
-def _point3(value: ArrayLike, name: str) -> np.ndarray:
-    try:
-        point = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be a point (x, y[, z]), got {value!r}") from err
-    if point.shape not in ((2,), (3,)) or not np.isfinite(point).all():
-        raise ValueError(f"{name} must be a finite point (x, y[, z]), got {value!r}")
-    return np.append(point, 0.0) if point.size == 2 else point
 
 
 def _check_set_name(name: Any, what: str, existing: Mapping[str, np.ndarray]) -> str:
@@ -922,377 +792,3 @@ def _add_set(
 ) -> None:
     name = _check_set_name(name, what, store)
     store[name] = _set_ids(ids, size, item, f"{what} {name!r}")
-
-
-def _mask(ids: ArrayLike, size: int) -> np.ndarray:
-    out = np.zeros(size, dtype=np.uint8)
-    out[np.asarray(ids, dtype=np.int64)] = 1
-    return out
-
-
-# --------------------------------------------------------------------------------------------
-# Structured grids
-# --------------------------------------------------------------------------------------------
-
-
-def _grid_quads(nx: int, ny: int) -> np.ndarray:
-    """(nx * ny, 4) counter-clockwise grid cells (a, b, c, d), a at (i, j), "for j, for i"."""
-    j, i = np.divmod(np.arange(nx * ny), nx)
-    a = j * (nx + 1) + i
-    return np.column_stack((a, a + 1, a + nx + 2, a + nx + 1))
-
-
-def _split_quads(quads: np.ndarray) -> np.ndarray:
-    """(2q, 3) triangles T_A = (a, b, d), T_B = (c, d, b) of quads (q, 4), interleaved."""
-    return np.stack((quads[:, [0, 1, 3]], quads[:, [2, 3, 1]]), axis=1).reshape(-1, 3)
-
-
-def _grid_node_sets(nx: int, ny: int) -> dict[str, np.ndarray]:
-    """Side node sets of a structured grid numbered j * (nx + 1) + i."""
-    column = np.arange(ny + 1) * (nx + 1)
-    row = np.arange(nx + 1)
-    return {"left": column, "right": column + nx, "bottom": row, "top": row + ny * (nx + 1)}
-
-
-# --------------------------------------------------------------------------------------------
-# Quadrilateral generator (gmsh)
-# --------------------------------------------------------------------------------------------
-
-
-def _validate_quadrilateral(corners: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Corners (4, 3) of a planar convex quadrilateral and its unit normal (3,)."""
-    try:
-        quad = np.array(corners, dtype=np.float64)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"corners must be a (4, 3) or (4, 2) array: {err}") from err
-    if quad.shape not in ((4, 2), (4, 3)):
-        raise ValueError(f"corners must have shape (4, 3) or (4, 2), got {quad.shape}")
-    if not np.isfinite(quad).all():
-        raise ValueError("corners must have finite coordinates")
-    if quad.shape[1] == 2:
-        quad = np.column_stack((quad, np.zeros(4)))
-    size = np.linalg.norm(quad[:, None] - quad[None], axis=2).max()
-    # Newell's normal: twice the vector area; robust for slightly non-planar input.
-    newell = np.cross(quad, np.roll(quad, -1, axis=0)).sum(axis=0)
-    if size == 0.0 or np.linalg.norm(newell) <= _CONVEXITY_TOL * size**2:
-        raise ValueError(
-            "corners enclose no area: they coincide, are collinear, or form a "
-            "self-intersecting quadrilateral"
-        )
-    normal = newell / np.linalg.norm(newell)
-    offset = np.abs((quad - quad.mean(axis=0)) @ normal)
-    if offset.max() > _PLANARITY_TOL * size:
-        raise ValueError(
-            f"corners must be coplanar: corner {int(offset.argmax())} is "
-            f"{offset.max():.3g} off their mean plane"
-        )
-    # At a convex corner of a counter-clockwise polygon the boundary turns left.
-    turns = np.cross(quad - np.roll(quad, 1, axis=0), np.roll(quad, -1, axis=0) - quad) @ normal
-    bad = np.flatnonzero(turns <= _CONVEXITY_TOL * size**2)
-    if bad.size:
-        raise ValueError(
-            "corners must form a convex, non-self-intersecting quadrilateral in cyclic "
-            f"order; the boundary does not turn consistently at corner {int(bad[0])}"
-        )
-    return quad, normal
-
-
-# Options forced while meshing (and restored afterwards if gmsh was already running).
-_GMSH_OPTIONS = {"General.Terminal": 0.0, "Mesh.ElementOrder": 1.0}
-
-
-@contextlib.contextmanager
-def _gmsh_model(name: str) -> Iterator[ModuleType]:
-    """A fresh, silent gmsh model that is removed afterwards.
-
-    If gmsh is not running it is initialised and finalised here; if the caller already runs
-    gmsh, its current model and the options we touch are restored instead.
-    """
-    # Imported here: gmsh loads a large native library that only this generator needs.
-    import gmsh
-
-    owner = not gmsh.isInitialized()
-    if owner:
-        try:
-            # interruptible=False: do not install a SIGINT handler (breaks Ctrl-C / threads).
-            gmsh.initialize(readConfigFiles=False, interruptible=False)
-        except TypeError:  # gmsh < 4.11 has no `interruptible` keyword
-            gmsh.initialize(readConfigFiles=False)
-        previous_model, saved = "", {}
-    else:
-        previous_model = gmsh.model.getCurrent()
-        saved = {key: gmsh.option.getNumber(key) for key in _GMSH_OPTIONS}
-    try:
-        for key, value in _GMSH_OPTIONS.items():
-            gmsh.option.setNumber(key, value)
-        gmsh.model.add(name)
-        try:
-            yield gmsh
-        finally:
-            gmsh.model.remove()
-    finally:
-        if owner:
-            gmsh.finalize()
-        else:
-            for key, value in saved.items():
-                gmsh.option.setNumber(key, value)
-            gmsh.model.setCurrent(previous_model)
-
-
-def _gmsh_structured_quads(quad: np.ndarray, nx: int, ny: int) -> tuple[np.ndarray, np.ndarray]:
-    """Transfinite quad mesh of corners (4, 3): coordinates (p, 3) and quads (q, 4) in 0..p-1."""
-    with _gmsh_model("femcore-quadrilateral") as gmsh:
-        geo = gmsh.model.geo
-        corner_tags = [geo.addPoint(*c) for c in quad.tolist()]
-        curves = [geo.addLine(corner_tags[k], corner_tags[(k + 1) % 4]) for k in range(4)]
-        surface = geo.addPlaneSurface([geo.addCurveLoop(curves)])
-        for curve, divisions in zip(curves, (nx, ny, nx, ny), strict=True):
-            geo.mesh.setTransfiniteCurve(curve, divisions + 1)
-        geo.mesh.setTransfiniteSurface(surface, cornerTags=corner_tags)
-        geo.mesh.setRecombine(2, surface)
-        geo.synchronize()
-        gmsh.model.mesh.generate(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, quad_tags = gmsh.model.mesh.getElementsByType(3)  # 3 = 4-node quadrangle
-    tags = np.asarray(tags, dtype=np.int64)
-    lookup = np.full(tags.max() + 1, -1, dtype=np.int64)
-    lookup[tags] = np.arange(len(tags))
-    quads = lookup[np.asarray(quad_tags, dtype=np.int64).reshape(-1, 4)]
-    # Compact numbering: keep only nodes that some quad uses.
-    used, compact = np.unique(quads, return_inverse=True)
-    return np.asarray(coords).reshape(-1, 3)[used], compact.reshape(-1, 4)
-
-
-def _bilinear_inverse(quad: np.ndarray, x: np.ndarray, tol: float = 1e-13) -> np.ndarray:
-    """Parameters (k, 2) = (xi, eta) in [0, 1]^2 of points x (k, 3) under the bilinear map.
-
-    x(xi, eta) = (1-xi)(1-eta) c0 + xi (1-eta) c1 + xi eta c2 + (1-xi) eta c3. Gauss-Newton
-    on all points at once (the loop is over iterations only); it converges quadratically
-    from the centre for convex quadrilaterals.
-    """
-    c0, c1, c2, c3 = quad
-    uv = np.full((len(x), 2), 0.5)
-    for _ in range(50):
-        xi, eta = uv[:, :1], uv[:, 1:]
-        residual = (
-            (1 - xi) * (1 - eta) * c0 + xi * (1 - eta) * c1 + xi * eta * c2 + (1 - xi) * eta * c3
-        ) - x
-        d_xi = (1 - eta) * (c1 - c0) + eta * (c2 - c3)
-        d_eta = (1 - xi) * (c3 - c0) + xi * (c2 - c1)
-        jac = np.stack((d_xi, d_eta), axis=2)  # (k, 3, 2)
-        jtj = np.einsum("kdi,kdj->kij", jac, jac)
-        jtr = np.einsum("kdi,kd->ki", jac, residual)
-        step = np.linalg.solve(jtj, jtr[..., None])[..., 0]
-        uv -= step
-        if np.abs(step).max() < tol:
-            break
-    return uv
-
-
-def _structured_numbering(
-    quad: np.ndarray, coords: np.ndarray, quads: np.ndarray, nx: int, ny: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """Renumber gmsh nodes as j * (nx + 1) + i and sort quads "for j, for i".
-
-    (i, j) come from the bilinear parameters of each node, which a transfinite mesh of a
-    straight-sided quadrilateral places exactly at (i / nx, j / ny).
-    """
-    scaled = _bilinear_inverse(quad, coords) * (nx, ny)
-    grid = np.rint(scaled).astype(np.int64)
-    ids = grid[:, 1] * (nx + 1) + grid[:, 0]
-    n_grid = (nx + 1) * (ny + 1)
-    on_grid = np.abs(scaled - grid).max() < 1e-6 and len(ids) == n_grid
-    if not on_grid or not np.array_equal(np.sort(ids), np.arange(n_grid)):
-        raise RuntimeError("gmsh did not return the expected structured grid of nodes")
-    points = np.empty_like(coords)
-    points[ids] = coords
-    quads = ids[quads]
-    cell = (quads // (nx + 1)).min(axis=1) * nx + (quads % (nx + 1)).min(axis=1)
-    return points, quads[np.argsort(cell)]
-
-
-def _orient_quads(points: np.ndarray, quads: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """Reverse the node order of quads (q, 4) whose normal opposes ``normal`` (3,)."""
-    x = points[quads]
-    flip = np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]) @ normal < 0.0
-    out = quads.copy()
-    out[flip] = out[flip, ::-1]
-    return out
-
-
-def _rotate_to_warp(points: np.ndarray, quads: np.ndarray, warp: np.ndarray) -> np.ndarray:
-    """Cyclically rotate quads (q, 4) so edge 0 -> 1 is the one most aligned with warp (q, 3)."""
-    x = points[quads]
-    edges = np.roll(x, -1, axis=1) - x  # edge k runs from node k to node k + 1
-    edges /= np.linalg.norm(edges, axis=2, keepdims=True)
-    shift = np.argmax(np.einsum("qkd,qd->qk", edges, warp), axis=1)
-    return np.take_along_axis(quads, (shift[:, None] + np.arange(4)) % 4, axis=1)
-
-
-# --------------------------------------------------------------------------------------------
-# meshio conversion
-# --------------------------------------------------------------------------------------------
-
-
-def _gmsh_ascii_data(extra: dict[str, Any], blocks: list[tuple[str, np.ndarray]]) -> dict[str, Any]:
-    """Adapt set masks for meshio's ASCII gmsh writer and add the two gmsh cell tags.
-
-    Cell sets are dropped when the mesh has cells of more than one kind (e.g. both triangles
-    and lines): meshio 5.3's gmsh reader splits $ElementData of several cell blocks at the
-    wrong places (it measures the (type, data) tuples instead of the blocks), so such a file
-    could not be read back.
-    """
-    # meshio 5.3 prints ASCII data values with repr(), which numpy >= 2 renders as
-    # "np.uint8(1)"; object arrays of Python ints print as plain "1".
-    point_data = {name: mask.astype(object) for name, mask in extra["point_data"].items()}
-    cell_data = {}
-    if len(blocks) == 1:
-        cell_data = {
-            name: [mask.astype(object) for mask in per_block]
-            for name, per_block in extra["cell_data"].items()
-        }
-    # Supplying the physical and elementary tags stops meshio warning that it invents them.
-    cell_data["gmsh:physical"] = [np.zeros(len(cells), np.int32) for _, cells in blocks]
-    cell_data["gmsh:geometrical"] = [np.ones(len(cells), np.int32) for _, cells in blocks]
-    return {"point_data": point_data, "cell_data": cell_data}
-
-
-def _resolve_format(path: Path, file_format: str | None, writing: bool) -> str:
-    """meshio format name for path: explicit, else from the (possibly compound) suffix."""
-    if file_format is not None:
-        return file_format
-    suffixes = [s.lower() for s in path.suffixes]
-    for k in range(len(suffixes)):
-        ext = "".join(suffixes[k:])
-        if ext == ".msh":
-            # meshio would pick "ansys" first for .msh; gmsh 2.2 ASCII is the portable choice.
-            return "gmsh22" if writing else "gmsh"
-        if ext in meshio.extension_to_filetypes:
-            return str(meshio.extension_to_filetypes[ext][0])
-    raise ValueError(
-        f"cannot tell the mesh format of {path}: use a known suffix (.msh, .vtu, .inp, ...) "
-        "or pass file_format"
-    )
-
-
-def _kind_ids(
-    local_ids: Sequence[ArrayLike | None], kinds: Sequence[str], sizes: Sequence[int], kind: str
-) -> np.ndarray:
-    """Ids in the concatenated numbering of ``kind`` cells from per-block local ids."""
-    parts, offset = [], 0
-    for block_kind, size, ids in zip(kinds, sizes, local_ids, strict=True):  # over blocks
-        if block_kind == kind:
-            if ids is not None:
-                parts.append(np.asarray(ids, dtype=np.int64).reshape(-1) + offset)
-            offset += size
-    return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
-
-
-def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None:
-    store[name] = np.union1d(store[name], ids) if name in store else ids
-
-
-def _split_quad_blocks(raw: meshio.Mesh) -> meshio.Mesh:
-    """``raw`` with each "quad" block replaced by its triangles (``_split_quads``): quad i of
-    a block is triangles 2 i and 2 i + 1 of it, in its cell sets and cell data too."""
-    if "quad" in CELL_KINDS or not any(block.type == "quad" for block in raw.cells):
-        return raw  # no quads, or a registered quad kind that keeps them
-    quad = [block.type == "quad" for block in raw.cells]
-    cells = [
-        meshio.CellBlock("triangle", _split_quads(np.asarray(block.data))) if is_quad else block
-        for block, is_quad in zip(raw.cells, quad)
-    ]
-
-    def doubled(per_block, index_list: bool):
-        out = []
-        for data, is_quad in zip(per_block, quad):
-            data = np.asarray(data)
-            if is_quad and index_list:
-                data = np.column_stack([2 * data, 2 * data + 1]).ravel()
-            elif is_quad:
-                data = np.repeat(data, 2, axis=0)
-            out.append(data)
-        return out
-
-    return meshio.Mesh(
-        raw.points,
-        cells,
-        point_data=raw.point_data,
-        cell_data={name: doubled(v, False) for name, v in raw.cell_data.items()},
-        point_sets=raw.point_sets,
-        cell_sets={name: doubled(v, True) for name, v in raw.cell_sets.items()},
-    )
-
-
-def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
-    raw = _split_quad_blocks(raw)
-    # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
-    kind_of = _kind_of_meshio()
-    kinds = [kind_of.get(block.type, block.type) for block in raw.cells]
-    sizes = [len(block.data) for block in raw.cells]
-    unsupported = sorted({block.type for block in raw.cells} - set(kind_of) - {"vertex"})
-    if unsupported:
-        names = ", ".join(kind_of)
-        raise ValueError(
-            f"{source} contains {unsupported} cells; only {names} and vertex cells are supported"
-        )
-    if not set(kinds) & set(CELL_KINDS):
-        raise ValueError(f"{source} contains {_neither(list(CELL_KINDS))} cells")
-    cells = {
-        kind: _kind_ids([b.data for b in raw.cells], kinds, sizes, kind).reshape(
-            -1, spec.nodes_per_cell
-        )
-        for kind, spec in CELL_KINDS.items()
-    }
-    sets: dict[str, dict[str, np.ndarray]] = {"node": {}, **{kind: {} for kind in CELL_KINDS}}
-
-    for name, ids in raw.point_sets.items():
-        _merge_set(sets["node"], name, np.asarray(ids, dtype=np.int64))
-    for name, per_block in raw.cell_sets.items():
-        if name.startswith("gmsh:"):  # meshio bookkeeping such as gmsh:bounding_entities
-            continue
-        for kind in CELL_KINDS:
-            ids = _kind_ids(list(per_block), kinds, sizes, kind)
-            if ids.size:  # a set of another cell kind has no members here
-                _merge_set(sets[kind], name, ids)
-    for name, data in raw.point_data.items():
-        if name.startswith(_NODE_MASK):
-            _merge_set(sets["node"], name[len(_NODE_MASK) :], np.flatnonzero(np.ravel(data)))
-    for kind, spec in CELL_KINDS.items():
-        prefix = spec.mask_prefix
-        for name, per_block in raw.cell_data.items():
-            if name.startswith(prefix):
-                local = [np.flatnonzero(np.ravel(mask)) for mask in per_block]
-                _merge_set(sets[kind], name[len(prefix) :], _kind_ids(local, kinds, sizes, kind))
-    _add_physical_groups(raw, kinds, sizes, sets)
-
-    return Mesh(
-        raw.points,
-        node_sets=sets["node"],
-        cells=cells,
-        cell_sets={kind: sets[kind] for kind in CELL_KINDS},
-    )
-
-
-def _add_physical_groups(
-    raw: meshio.Mesh, kinds: list[str], sizes: list[int], sets: dict[str, dict[str, np.ndarray]]
-) -> None:
-    """Named gmsh physical groups -> node sets (dimension 0) and cell sets (dimension d: the
-    cell kinds of that dimension, e.g. 1 -> line sets, 2 -> element sets)."""
-    physical = raw.cell_data.get("gmsh:physical")
-    if physical is None:
-        return
-    for name, (tag, dim) in ((n, np.ravel(v)[:2]) for n, v in raw.field_data.items()):
-        local = [np.flatnonzero(np.ravel(tags) == tag) for tags in physical]
-        if int(dim) == 0:
-            ids = _kind_ids(local, kinds, sizes, "vertex")
-            vertices = _kind_ids([b.data for b in raw.cells], kinds, sizes, "vertex")
-            _merge_set(sets["node"], name, np.unique(vertices[ids]))
-            continue
-        # A group goes to the kinds of its dimension that have members in it (to the first
-        # such kind if none has: an empty set, as for a group on cells of an unused kind).
-        candidates = [kind for kind, spec in CELL_KINDS.items() if spec.dimension == int(dim)]
-        found = {kind: _kind_ids(local, kinds, sizes, kind) for kind in candidates}
-        targets = [kind for kind in candidates if found[kind].size] or candidates[:1]
-        for kind in targets:
-            _merge_set(sets[kind], name, found[kind])

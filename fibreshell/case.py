@@ -378,15 +378,13 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
 def _corner(where: _Where, value: Any) -> Mesh:
     """The corner specimen of Bai §6: the free triangle of an lx x ly rectangle beyond its
     diagonal, n x n cells before the cut, with node sets "clamp" (the diagonal) and "corner"
-    (the free corner at the origin); validation.specimens.corner."""
-    from validation.specimens import corner
-
+    (the free corner at the origin); femcore.Mesh.corner."""
     table = _table(where, value, "corner", ("lx", "ly", "n"), ("lx", "ly", "n"))
     inner = where.child("corner")
     if isinstance(table["n"], bool) or not isinstance(table["n"], int) or table["n"] < 2:
         raise inner.error("n", f"expected a whole number of cells >= 2, got {table['n']!r}")
     lx, ly = _number(inner, table["lx"], "lx"), _number(inner, table["ly"], "ly")
-    return corner(lx, ly, table["n"]).mesh
+    return Mesh.corner(lx, ly, table["n"])
 
 
 def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -> np.ndarray:

@@ -191,6 +191,45 @@ def test_line_mesh():
 # ---------------------------------------------------------------------------------------------
 
 
+def test_corner_is_the_free_triangle_beyond_the_diagonal():
+    """Mesh.corner (Bai §6): the triangles of Mesh.rectangle(n x n) before the diagonal from
+    (lx, 0) to (0, ly), renumbered in order; for n = 2 the numbers the corner specimen of
+    the validation report was built from."""
+    mesh = Mesh.corner(2.0, 1.0, 2)
+    np.testing.assert_array_equal(
+        mesh.points, [[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 0.5, 0], [1, 0.5, 0], [0, 1, 0]]
+    )
+    np.testing.assert_array_equal(mesh.triangles, [[0, 1, 3], [4, 3, 1], [1, 2, 4], [3, 4, 5]])
+    assert {name: ids.tolist() for name, ids in mesh.node_sets.items()} == {
+        "clamp": [2, 4, 5],
+        "corner": [0],
+    }
+    assert not mesh.element_sets and mesh.n_lines == 0
+
+
+def test_corner_of_the_paper_size_clamps_the_diagonal_and_covers_half_the_rectangle():
+    lx, ly, n = 210.0, 148.0, 20
+    mesh = Mesh.corner(lx, ly, n)
+    mesh.check()
+    assert (mesh.n_nodes, mesh.n_triangles) == ((n + 1) * (n + 2) // 2, n * n)
+    x = mesh.points[mesh.triangles]
+    area = 0.5 * np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])[:, 2]
+    assert area.min() > 0.0
+    np.testing.assert_allclose(area.sum(), 0.5 * lx * ly, rtol=1e-12)
+    clamp = mesh.points[mesh.nodes("clamp")]
+    assert len(clamp) == n + 1
+    np.testing.assert_allclose(clamp[:, 0] / lx + clamp[:, 1] / ly, 1.0, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(mesh.points[mesh.nodes("corner")], [[0.0, 0.0, 0.0]])
+    # The validation report's specimen is this mesh, its clamp and its loaded corner.
+    from validation import specimens
+
+    specimen = specimens.corner(lx, ly, n)
+    np.testing.assert_array_equal(specimen.mesh.points, mesh.points)
+    np.testing.assert_array_equal(specimen.mesh.triangles, mesh.triangles)
+    np.testing.assert_array_equal(specimen.clamp, mesh.nodes("clamp"))
+    np.testing.assert_array_equal(specimen.loaded, mesh.nodes("corner"))
+
+
 def test_nodes_calls_the_predicate_once_with_coordinate_arrays():
     mesh = Mesh.rectangle(3.0, 2.0, 3, 2)
     calls = []
@@ -521,11 +560,11 @@ def test_a_quad_mesh_is_split_into_fibre_aligned_triangles_on_read(tmp_path):
     accepts (one side of each triangle along the warp, one along the weft)."""
     from elements import FibrousShell
     from femcore import Model
-    from femcore.mesh import _grid_quads
+    from femcore.mesh_generators import grid_quads
     from materials import presets
 
     grid = Mesh.rectangle(40.0, 20.0, nx=4, ny=2)
-    quads = _grid_quads(4, 2)
+    quads = grid_quads(4, 2)
     path = tmp_path / "blank.inp"  # as Abaqus/CAE writes it: 1-based ids, S4R shells
     nodes = "\n".join(
         f"{i + 1}, {x:.6f}, {y:.6f}, {z:.6f}" for i, (x, y, z) in enumerate(grid.points)

@@ -7,10 +7,11 @@ Two geometries:
 * ``corner``: the specimens of §6.1-6.2 (Fig. 8). Of an L x W rectangle, the triangle beyond the
   diagonal is clamped (§6.1.1, 6.2.1: "the part above the diagonal 1-3 is clamped"; §6.1.2,
   6.2.2: "the diagonal is clamped", the same boundary condition for the free part). Only the
-  free triangle is meshed: corners (0, 0) (the loaded corner), (L, 0) and (0, W); the clamp is
-  the diagonal from (L, 0) to (0, W). With n x n cells the cell diagonals of
-  ``Mesh.rectangle`` run parallel to it, so the clamp is a straight line of mesh edges and the
-  fibrous shell can use its exact clamped-edge curvature (``FibrousShell(clamped=...)``).
+  free triangle is meshed (``femcore.Mesh.corner``): corners (0, 0) (the loaded corner), (L, 0)
+  and (0, W); the clamp is the diagonal from (L, 0) to (0, W). With n x n cells the cell
+  diagonals of ``Mesh.rectangle`` run parallel to it, so the clamp is a straight line of mesh
+  edges and the fibrous shell can use its exact clamped-edge curvature
+  (``FibrousShell(clamped=...)``).
 
 Sides (the specimen edges filmed in the experiments): side 1 along the warp (y = 0, from the
 clamp at x = L to the corner at x = 0), side 2 along the weft (x = 0, from y = W to y = 0).
@@ -95,29 +96,18 @@ def strip(length: float, width: float, cells: int, across: int = 1) -> Specimen:
 
 
 def corner(length: float, width: float, cells: int) -> Specimen:
-    """§6 corner specimen: the free triangle of an L x W rectangle with n x n cells."""
-    full = Mesh.rectangle(length, width, nx=cells, ny=cells)
-    p = full.points
-    centroids = p[full.triangles].mean(axis=1)
-    keep = centroids[:, 0] / length + centroids[:, 1] / width < 1.0
-    used = np.unique(full.triangles[keep])
-    renumber = np.full(len(p), -1)
-    renumber[used] = np.arange(used.size)
-    points = p[used]
-    mesh = Mesh(points, renumber[full.triangles[keep]])
-    on_diagonal = np.abs(points[:, 0] / length + points[:, 1] / width - 1.0) < 1e-9
-    clamp = np.flatnonzero(on_diagonal)
-    loaded = np.flatnonzero(np.linalg.norm(points[:, :2], axis=1) < 1e-9 * length)
+    """§6 corner specimen: the free triangle of an L x W rectangle with n x n cells
+    (``Mesh.corner``: node sets "clamp" and "corner"), with its two filmed sides."""
+    mesh = Mesh.corner(length, width, cells)
+    points = mesh.points
     side_1 = np.flatnonzero(np.abs(points[:, 1]) < 1e-9 * width)
     side_1 = side_1[np.argsort(-points[side_1, 0])]
     side_2 = np.flatnonzero(np.abs(points[:, 0]) < 1e-9 * length)
     side_2 = side_2[np.argsort(-points[side_2, 1])]
-    mesh.add_node_set("clamp", clamp)
-    mesh.add_node_set("corner", loaded)
     return Specimen(
         mesh=mesh,
-        clamp=clamp,
-        loaded=loaded,
+        clamp=mesh.nodes("clamp"),
+        loaded=mesh.nodes("corner"),
         sides={
             "side_1": (side_1, length - points[side_1, 0]),
             "side_2": (side_2, width - points[side_2, 1]),

@@ -1,0 +1,379 @@
+"""Generators of :class:`femcore.mesh.Mesh`: structured grids and the corner specimen.
+
+Users call them as the classmethods :meth:`Mesh.rectangle`, :meth:`Mesh.line`,
+:meth:`Mesh.quadrilateral`, :meth:`Mesh.from_quads` and :meth:`Mesh.corner`, which document
+their parameters and delegate here.
+
+Fibre-aligned generators (:func:`rectangle`, :func:`quadrilateral`) split each grid cell into
+two triangles whose first local node is the corner where the warp (first grid direction) and
+weft (second grid direction) meet: with 0-based local numbering, edge 0 -> 1 runs along the
+warp and edge 0 -> 2 along the weft, in the positive or negative sense ("node 1 at the right
+angle, 1 -> 2 along warp, 1 -> 3 along weft" in 1-based terms).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator, Mapping
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from femcore.mesh import Mesh
+
+__all__ = [
+    "corner",
+    "from_quads",
+    "grid_quads",
+    "line",
+    "quadrilateral",
+    "rectangle",
+    "split_quads",
+]
+
+# Relative tolerances of the quadrilateral corner checks (times the corner diameter).
+_PLANARITY_TOL = 1e-9
+_CONVEXITY_TOL = 1e-12
+
+
+def rectangle(
+    lx: float,
+    ly: float,
+    nx: int,
+    ny: int,
+    origin: ArrayLike = (0.0, 0.0, 0.0),
+) -> Mesh:
+    """Fibre-aligned right-triangle mesh of an lx x ly rectangle (length units), nx x ny
+    grid cells: the implementation of :meth:`Mesh.rectangle`, which documents the numbering,
+    the sets and the errors."""
+    lx = _positive_length(lx, "lx")
+    ly = _positive_length(ly, "ly")
+    nx = _positive_int(nx, "nx")
+    ny = _positive_int(ny, "ny")
+    base = _point3(origin, "origin")
+    # linspace hits the far edge exactly, unlike i * (lx / nx).
+    x, y = np.meshgrid(np.linspace(0.0, lx, nx + 1), np.linspace(0.0, ly, ny + 1))
+    points = base + np.column_stack((x.ravel(), y.ravel(), np.zeros(x.size)))
+    triangles = split_quads(grid_quads(nx, ny))
+    return Mesh(
+        points,
+        triangles,
+        node_sets=_grid_node_sets(nx, ny),
+        element_sets={"all": np.arange(len(triangles))},
+    )
+
+
+def line(p0: ArrayLike, p1: ArrayLike, n: int) -> Mesh:
+    """n equal 2-node line cells from p0 to p1 (points (3,) or (2,), length units): the
+    implementation of :meth:`Mesh.line`, which documents the numbering, the sets and the
+    errors."""
+    a = _point3(p0, "p0")
+    b = _point3(p1, "p1")
+    n = _positive_int(n, "n")
+    if np.array_equal(a, b):
+        raise ValueError(f"p0 and p1 must differ, both are {a.tolist()}")
+    t = np.linspace(0.0, 1.0, n + 1)[:, None]
+    points = (1.0 - t) * a + t * b  # exact at both ends, unlike a + t * (b - a)
+    lines = np.column_stack((np.arange(n), np.arange(1, n + 1)))
+    return Mesh(
+        points,
+        lines=lines,
+        node_sets={"start": [0], "end": [n]},
+        line_sets={"all": np.arange(n)},
+    )
+
+
+def quadrilateral(corners: ArrayLike, nx: int, ny: int) -> Mesh:
+    """Fibre-aligned structured triangle mesh of a planar convex quadrilateral (corners
+    (4, 3) or (4, 2), length units) via gmsh: the implementation of
+    :meth:`Mesh.quadrilateral`, which documents the numbering, the sets and the errors."""
+    quad, normal = _validate_quadrilateral(corners)
+    nx = _positive_int(nx, "nx")
+    ny = _positive_int(ny, "ny")
+    coords, quads = _gmsh_structured_quads(quad, nx, ny)
+    if len(quads) != nx * ny:
+        raise RuntimeError(f"gmsh returned {len(quads)} quadrangles, expected {nx * ny}")
+    points, quads = _structured_numbering(quad, coords, quads, nx, ny)
+    quads = _orient_quads(points, quads, normal)
+    eta = (quads // (nx + 1)).min(axis=1) / ny + 0.5 / ny  # weft parameter of centroid
+    warp = (1.0 - eta)[:, None] * (quad[1] - quad[0]) + eta[:, None] * (quad[2] - quad[3])
+    triangles = split_quads(_rotate_to_warp(points, quads, warp))
+    return Mesh(
+        points,
+        triangles,
+        node_sets=_grid_node_sets(nx, ny),
+        element_sets={"all": np.arange(len(triangles))},
+    )
+
+
+def from_quads(
+    points: ArrayLike,
+    quads: ArrayLike,
+    node_sets: Mapping[str, ArrayLike] | None = None,
+    quad_sets: Mapping[str, ArrayLike] | None = None,
+) -> Mesh:
+    """A triangle mesh from quads (q, 4), each quad (a, b, c, d) split into (a, b, d) and
+    (c, d, b): the implementation of :meth:`Mesh.from_quads`, which documents the
+    parameters, the sets and the errors."""
+    quads = np.asarray(quads)
+    if quads.ndim != 2 or quads.shape[1] != 4 or len(quads) == 0:
+        raise ValueError(f"quads must have shape (q, 4) with q >= 1, got {quads.shape}")
+    sets = {}
+    for name, ids in (quad_sets or {}).items():
+        ids = np.asarray(ids, dtype=np.int64).ravel()
+        if ids.size and (ids.min() < 0 or ids.max() >= len(quads)):
+            raise ValueError(f"quad set {name!r} refers to quads outside 0..{len(quads) - 1}")
+        sets[name] = np.column_stack([2 * ids, 2 * ids + 1]).ravel()
+    return Mesh(
+        points,
+        triangles=split_quads(quads.astype(np.int64)),
+        node_sets=node_sets,
+        element_sets=sets,
+    )
+
+
+def corner(lx: float, ly: float, n: int) -> Mesh:
+    """The corner specimen of Bai et al. (2020) §6 (Fig. 8): the free triangle of an lx x ly
+    rectangle beyond its diagonal, cut from :func:`rectangle` with n x n cells: the
+    implementation of :meth:`Mesh.corner`, which documents the result."""
+    full = rectangle(lx, ly, nx=n, ny=n)
+    p = full.points
+    centroids = p[full.triangles].mean(axis=1)
+    keep = centroids[:, 0] / lx + centroids[:, 1] / ly < 1.0
+    used = np.unique(full.triangles[keep])
+    renumber = np.full(len(p), -1)
+    renumber[used] = np.arange(used.size)
+    points = p[used]
+    mesh = Mesh(points, renumber[full.triangles[keep]])
+    on_diagonal = np.abs(points[:, 0] / lx + points[:, 1] / ly - 1.0) < 1e-9
+    mesh.add_node_set("clamp", np.flatnonzero(on_diagonal))
+    mesh.add_node_set("corner", np.flatnonzero(np.linalg.norm(points[:, :2], axis=1) < 1e-9 * lx))
+    return mesh
+
+
+# --------------------------------------------------------------------------------------------
+# Argument checks and structured grids
+# --------------------------------------------------------------------------------------------
+
+
+def _positive_int(value: Any, name: str) -> int:
+    # bool is an int subclass, but Mesh.rectangle(1, 1, True, 2) is certainly a mistake.
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    return int(value)
+
+
+def _positive_length(value: Any, name: str) -> float:
+    try:
+        length = float(value)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from err
+    if not np.isfinite(length) or length <= 0.0:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return length
+
+
+def _point3(value: ArrayLike, name: str) -> np.ndarray:
+    try:
+        point = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{name} must be a point (x, y[, z]), got {value!r}") from err
+    if point.shape not in ((2,), (3,)) or not np.isfinite(point).all():
+        raise ValueError(f"{name} must be a finite point (x, y[, z]), got {value!r}")
+    return np.append(point, 0.0) if point.size == 2 else point
+
+
+def grid_quads(nx: int, ny: int) -> np.ndarray:
+    """(nx * ny, 4) counter-clockwise grid cells (a, b, c, d), a at (i, j), "for j, for i"."""
+    j, i = np.divmod(np.arange(nx * ny), nx)
+    a = j * (nx + 1) + i
+    return np.column_stack((a, a + 1, a + nx + 2, a + nx + 1))
+
+
+def split_quads(quads: np.ndarray) -> np.ndarray:
+    """(2q, 3) triangles T_A = (a, b, d), T_B = (c, d, b) of quads (q, 4), interleaved."""
+    return np.stack((quads[:, [0, 1, 3]], quads[:, [2, 3, 1]]), axis=1).reshape(-1, 3)
+
+
+def _grid_node_sets(nx: int, ny: int) -> dict[str, np.ndarray]:
+    """Side node sets of a structured grid numbered j * (nx + 1) + i."""
+    column = np.arange(ny + 1) * (nx + 1)
+    row = np.arange(nx + 1)
+    return {"left": column, "right": column + nx, "bottom": row, "top": row + ny * (nx + 1)}
+
+
+# --------------------------------------------------------------------------------------------
+# Quadrilateral generator (gmsh)
+# --------------------------------------------------------------------------------------------
+
+
+def _validate_quadrilateral(corners: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Corners (4, 3) of a planar convex quadrilateral and its unit normal (3,)."""
+    try:
+        quad = np.array(corners, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"corners must be a (4, 3) or (4, 2) array: {err}") from err
+    if quad.shape not in ((4, 2), (4, 3)):
+        raise ValueError(f"corners must have shape (4, 3) or (4, 2), got {quad.shape}")
+    if not np.isfinite(quad).all():
+        raise ValueError("corners must have finite coordinates")
+    if quad.shape[1] == 2:
+        quad = np.column_stack((quad, np.zeros(4)))
+    size = np.linalg.norm(quad[:, None] - quad[None], axis=2).max()
+    # Newell's normal: twice the vector area; robust for slightly non-planar input.
+    newell = np.cross(quad, np.roll(quad, -1, axis=0)).sum(axis=0)
+    if size == 0.0 or np.linalg.norm(newell) <= _CONVEXITY_TOL * size**2:
+        raise ValueError(
+            "corners enclose no area: they coincide, are collinear, or form a "
+            "self-intersecting quadrilateral"
+        )
+    normal = newell / np.linalg.norm(newell)
+    offset = np.abs((quad - quad.mean(axis=0)) @ normal)
+    if offset.max() > _PLANARITY_TOL * size:
+        raise ValueError(
+            f"corners must be coplanar: corner {int(offset.argmax())} is "
+            f"{offset.max():.3g} off their mean plane"
+        )
+    # At a convex corner of a counter-clockwise polygon the boundary turns left.
+    turns = np.cross(quad - np.roll(quad, 1, axis=0), np.roll(quad, -1, axis=0) - quad) @ normal
+    bad = np.flatnonzero(turns <= _CONVEXITY_TOL * size**2)
+    if bad.size:
+        raise ValueError(
+            "corners must form a convex, non-self-intersecting quadrilateral in cyclic "
+            f"order; the boundary does not turn consistently at corner {int(bad[0])}"
+        )
+    return quad, normal
+
+
+# Options forced while meshing (and restored afterwards if gmsh was already running).
+_GMSH_OPTIONS = {"General.Terminal": 0.0, "Mesh.ElementOrder": 1.0}
+
+
+@contextlib.contextmanager
+def _gmsh_model(name: str) -> Iterator[ModuleType]:
+    """A fresh, silent gmsh model that is removed afterwards.
+
+    If gmsh is not running it is initialised and finalised here; if the caller already runs
+    gmsh, its current model and the options we touch are restored instead.
+    """
+    # Imported here: gmsh loads a large native library that only this generator needs.
+    import gmsh
+
+    owner = not gmsh.isInitialized()
+    if owner:
+        try:
+            # interruptible=False: do not install a SIGINT handler (breaks Ctrl-C / threads).
+            gmsh.initialize(readConfigFiles=False, interruptible=False)
+        except TypeError:  # gmsh < 4.11 has no `interruptible` keyword
+            gmsh.initialize(readConfigFiles=False)
+        previous_model, saved = "", {}
+    else:
+        previous_model = gmsh.model.getCurrent()
+        saved = {key: gmsh.option.getNumber(key) for key in _GMSH_OPTIONS}
+    try:
+        for key, value in _GMSH_OPTIONS.items():
+            gmsh.option.setNumber(key, value)
+        gmsh.model.add(name)
+        try:
+            yield gmsh
+        finally:
+            gmsh.model.remove()
+    finally:
+        if owner:
+            gmsh.finalize()
+        else:
+            for key, value in saved.items():
+                gmsh.option.setNumber(key, value)
+            gmsh.model.setCurrent(previous_model)
+
+
+def _gmsh_structured_quads(quad: np.ndarray, nx: int, ny: int) -> tuple[np.ndarray, np.ndarray]:
+    """Transfinite quad mesh of corners (4, 3): coordinates (p, 3) and quads (q, 4) in 0..p-1."""
+    with _gmsh_model("femcore-quadrilateral") as gmsh:
+        geo = gmsh.model.geo
+        corner_tags = [geo.addPoint(*c) for c in quad.tolist()]
+        curves = [geo.addLine(corner_tags[k], corner_tags[(k + 1) % 4]) for k in range(4)]
+        surface = geo.addPlaneSurface([geo.addCurveLoop(curves)])
+        for curve, divisions in zip(curves, (nx, ny, nx, ny), strict=True):
+            geo.mesh.setTransfiniteCurve(curve, divisions + 1)
+        geo.mesh.setTransfiniteSurface(surface, cornerTags=corner_tags)
+        geo.mesh.setRecombine(2, surface)
+        geo.synchronize()
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _, quad_tags = gmsh.model.mesh.getElementsByType(3)  # 3 = 4-node quadrangle
+    tags = np.asarray(tags, dtype=np.int64)
+    lookup = np.full(tags.max() + 1, -1, dtype=np.int64)
+    lookup[tags] = np.arange(len(tags))
+    quads = lookup[np.asarray(quad_tags, dtype=np.int64).reshape(-1, 4)]
+    # Compact numbering: keep only nodes that some quad uses.
+    used, compact = np.unique(quads, return_inverse=True)
+    return np.asarray(coords).reshape(-1, 3)[used], compact.reshape(-1, 4)
+
+
+def _bilinear_inverse(quad: np.ndarray, x: np.ndarray, tol: float = 1e-13) -> np.ndarray:
+    """Parameters (k, 2) = (xi, eta) in [0, 1]^2 of points x (k, 3) under the bilinear map.
+
+    x(xi, eta) = (1-xi)(1-eta) c0 + xi (1-eta) c1 + xi eta c2 + (1-xi) eta c3. Gauss-Newton
+    on all points at once (the loop is over iterations only); it converges quadratically
+    from the centre for convex quadrilaterals.
+    """
+    c0, c1, c2, c3 = quad
+    uv = np.full((len(x), 2), 0.5)
+    for _ in range(50):
+        xi, eta = uv[:, :1], uv[:, 1:]
+        residual = (
+            (1 - xi) * (1 - eta) * c0 + xi * (1 - eta) * c1 + xi * eta * c2 + (1 - xi) * eta * c3
+        ) - x
+        d_xi = (1 - eta) * (c1 - c0) + eta * (c2 - c3)
+        d_eta = (1 - xi) * (c3 - c0) + xi * (c2 - c1)
+        jac = np.stack((d_xi, d_eta), axis=2)  # (k, 3, 2)
+        jtj = np.einsum("kdi,kdj->kij", jac, jac)
+        jtr = np.einsum("kdi,kd->ki", jac, residual)
+        step = np.linalg.solve(jtj, jtr[..., None])[..., 0]
+        uv -= step
+        if np.abs(step).max() < tol:
+            break
+    return uv
+
+
+def _structured_numbering(
+    quad: np.ndarray, coords: np.ndarray, quads: np.ndarray, nx: int, ny: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Renumber gmsh nodes as j * (nx + 1) + i and sort quads "for j, for i".
+
+    (i, j) come from the bilinear parameters of each node, which a transfinite mesh of a
+    straight-sided quadrilateral places exactly at (i / nx, j / ny).
+    """
+    scaled = _bilinear_inverse(quad, coords) * (nx, ny)
+    grid = np.rint(scaled).astype(np.int64)
+    ids = grid[:, 1] * (nx + 1) + grid[:, 0]
+    n_grid = (nx + 1) * (ny + 1)
+    on_grid = np.abs(scaled - grid).max() < 1e-6 and len(ids) == n_grid
+    if not on_grid or not np.array_equal(np.sort(ids), np.arange(n_grid)):
+        raise RuntimeError("gmsh did not return the expected structured grid of nodes")
+    points = np.empty_like(coords)
+    points[ids] = coords
+    quads = ids[quads]
+    cell = (quads // (nx + 1)).min(axis=1) * nx + (quads % (nx + 1)).min(axis=1)
+    return points, quads[np.argsort(cell)]
+
+
+def _orient_quads(points: np.ndarray, quads: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Reverse the node order of quads (q, 4) whose normal opposes ``normal`` (3,)."""
+    x = points[quads]
+    flip = np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]) @ normal < 0.0
+    out = quads.copy()
+    out[flip] = out[flip, ::-1]
+    return out
+
+
+def _rotate_to_warp(points: np.ndarray, quads: np.ndarray, warp: np.ndarray) -> np.ndarray:
+    """Cyclically rotate quads (q, 4) so edge 0 -> 1 is the one most aligned with warp (q, 3)."""
+    x = points[quads]
+    edges = np.roll(x, -1, axis=1) - x  # edge k runs from node k to node k + 1
+    edges /= np.linalg.norm(edges, axis=2, keepdims=True)
+    shift = np.argmax(np.einsum("qkd,qd->qk", edges, warp), axis=1)
+    return np.take_along_axis(quads, (shift[:, None] + np.arange(4)) % 4, axis=1)

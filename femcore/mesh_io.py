@@ -1,0 +1,296 @@
+"""Reading and writing :class:`femcore.mesh.Mesh` files through meshio (and gmsh's format).
+
+Users call :meth:`Mesh.read` and :meth:`Mesh.write`, which document the formats, the sets kept
+and the known losses, and delegate to :func:`read_mesh` and :func:`write_mesh` here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+import meshio
+import numpy as np
+from numpy.typing import ArrayLike
+
+from femcore.mesh import CELL_KINDS, Mesh
+from femcore.mesh_generators import split_quads
+
+__all__ = ["read_mesh", "write_mesh"]
+
+# Formats whose meshio reader and writer keep named point/cell sets (Abaqus NSET/ELSET).
+# Every other format gets the sets as 0/1 mask arrays named with "nset:" (nodes) or the
+# mask prefix of the cell kind.
+_NATIVE_SET_FORMATS = {"abaqus"}
+_NODE_MASK = "nset:"
+
+
+def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
+    """Read a mesh file through meshio: the implementation of :meth:`Mesh.read`, which
+    documents the formats, the sets read back and the errors."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"mesh file {path} does not exist")
+    fmt = _resolve_format(path, file_format, writing=False)
+    try:
+        raw = meshio.read(path, file_format=fmt)
+    except SystemExit as err:  # meshio's VTU reader ends the process on a corrupt file
+        raise ValueError(f"cannot read {path} as {fmt!r}: not a valid {fmt} file") from err
+    except UnicodeDecodeError as err:
+        raise ValueError(
+            f"cannot read {path} as {fmt!r}: not a text file ({err.reason} at byte {err.start})"
+        ) from err
+    except Exception as err:  # meshio's readers raise anything on a corrupt file
+        raise ValueError(f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}") from err
+    return _mesh_from_meshio(raw, str(path))
+
+
+def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> None:
+    """Write a mesh through meshio: the implementation of :meth:`Mesh.write`, which documents
+    the formats, how the sets are kept, the known losses and the errors."""
+    path = Path(path)
+    fmt = _resolve_format(path, file_format, writing=True)
+    blocks = [(kind, mesh.cells(kind)) for kind in mesh.cell_kinds]
+    if not blocks:
+        raise ValueError(
+            f"cannot write a mesh that has {_neither(s.plural for s in CELL_KINDS.values())}"
+        )
+    kinds = [kind for kind, _ in blocks]
+    if fmt in _NATIVE_SET_FORMATS:
+        extra = _native_sets(mesh, kinds)
+    else:
+        extra = _set_masks(mesh, blocks)
+    options: dict[str, Any] = {}
+    if fmt.startswith("gmsh"):
+        extra = _gmsh_ascii_data(extra, blocks)
+        options["binary"] = False
+    meshio_blocks = [(CELL_KINDS[kind].meshio_name, cells) for kind, cells in blocks]
+    out = meshio.Mesh(mesh.points, meshio_blocks, **extra)
+    try:
+        meshio.write(path, out, file_format=fmt, **options)
+    except meshio.WriteError as err:
+        raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
+
+
+def _native_sets(mesh: Mesh, kinds: list[str]) -> dict[str, Any]:
+    """Node and cell sets as meshio point_sets / cell_sets (per block ids), for .inp."""
+    names = list(CELL_KINDS)
+    for i, first in enumerate(names):
+        for second in names[i + 1 :]:
+            shared = sorted(set(mesh.cell_sets(first)) & set(mesh.cell_sets(second)))
+            if shared:
+                raise ValueError(
+                    f"set names {shared} are used by both "
+                    f"{_article(CELL_KINDS[first].set_label)} and "
+                    f"{_article(CELL_KINDS[second].set_label)}; "
+                    "an .inp file cannot keep both under one name"
+                )
+    empty = np.zeros(0, dtype=np.int64)
+    cell_sets = {}
+    for kind in CELL_KINDS:
+        for name, ids in mesh.cell_sets(kind).items():
+            cell_sets[name] = [ids if k == kind else empty for k in kinds]
+    return {"point_sets": dict(mesh.node_sets), "cell_sets": cell_sets}
+
+
+def _set_masks(mesh: Mesh, blocks: list[tuple[str, np.ndarray]]) -> dict[str, Any]:
+    """Node and cell sets as 0/1 point_data / cell_data mask arrays, for the other formats."""
+    point_data = {
+        _NODE_MASK + name: _mask(ids, mesh.n_nodes) for name, ids in mesh.node_sets.items()
+    }
+    cell_data = {}
+    for kind in CELL_KINDS:
+        prefix = CELL_KINDS[kind].mask_prefix
+        for name, ids in mesh.cell_sets(kind).items():
+            cell_data[prefix + name] = [_mask(ids if k == kind else [], len(c)) for k, c in blocks]
+    return {"point_data": point_data, "cell_data": cell_data}
+
+
+def _kind_of_meshio() -> dict[str, str]:
+    """meshio cell type -> cell kind."""
+    return {spec.meshio_name: kind for kind, spec in CELL_KINDS.items()}
+
+
+def _neither(items: Iterator[str] | Sequence[str]) -> str:
+    """ "neither a nor b nor c" """
+    return "neither " + " nor ".join(items)
+
+
+def _article(noun: str) -> str:
+    return ("an " if noun[:1] in "aeiou" else "a ") + noun
+
+
+def _mask(ids: ArrayLike, size: int) -> np.ndarray:
+    out = np.zeros(size, dtype=np.uint8)
+    out[np.asarray(ids, dtype=np.int64)] = 1
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# meshio conversion
+# --------------------------------------------------------------------------------------------
+
+
+def _gmsh_ascii_data(extra: dict[str, Any], blocks: list[tuple[str, np.ndarray]]) -> dict[str, Any]:
+    """Adapt set masks for meshio's ASCII gmsh writer and add the two gmsh cell tags.
+
+    Cell sets are dropped when the mesh has cells of more than one kind (e.g. both triangles
+    and lines): meshio 5.3's gmsh reader splits $ElementData of several cell blocks at the
+    wrong places (it measures the (type, data) tuples instead of the blocks), so such a file
+    could not be read back.
+    """
+    # meshio 5.3 prints ASCII data values with repr(), which numpy >= 2 renders as
+    # "np.uint8(1)"; object arrays of Python ints print as plain "1".
+    point_data = {name: mask.astype(object) for name, mask in extra["point_data"].items()}
+    cell_data = {}
+    if len(blocks) == 1:
+        cell_data = {
+            name: [mask.astype(object) for mask in per_block]
+            for name, per_block in extra["cell_data"].items()
+        }
+    # Supplying the physical and elementary tags stops meshio warning that it invents them.
+    cell_data["gmsh:physical"] = [np.zeros(len(cells), np.int32) for _, cells in blocks]
+    cell_data["gmsh:geometrical"] = [np.ones(len(cells), np.int32) for _, cells in blocks]
+    return {"point_data": point_data, "cell_data": cell_data}
+
+
+def _resolve_format(path: Path, file_format: str | None, writing: bool) -> str:
+    """meshio format name for path: explicit, else from the (possibly compound) suffix."""
+    if file_format is not None:
+        return file_format
+    suffixes = [s.lower() for s in path.suffixes]
+    for k in range(len(suffixes)):
+        ext = "".join(suffixes[k:])
+        if ext == ".msh":
+            # meshio would pick "ansys" first for .msh; gmsh 2.2 ASCII is the portable choice.
+            return "gmsh22" if writing else "gmsh"
+        if ext in meshio.extension_to_filetypes:
+            return str(meshio.extension_to_filetypes[ext][0])
+    raise ValueError(
+        f"cannot tell the mesh format of {path}: use a known suffix (.msh, .vtu, .inp, ...) "
+        "or pass file_format"
+    )
+
+
+def _kind_ids(
+    local_ids: Sequence[ArrayLike | None], kinds: Sequence[str], sizes: Sequence[int], kind: str
+) -> np.ndarray:
+    """Ids in the concatenated numbering of ``kind`` cells from per-block local ids."""
+    parts, offset = [], 0
+    for block_kind, size, ids in zip(kinds, sizes, local_ids, strict=True):  # over blocks
+        if block_kind == kind:
+            if ids is not None:
+                parts.append(np.asarray(ids, dtype=np.int64).reshape(-1) + offset)
+            offset += size
+    return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+
+
+def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None:
+    store[name] = np.union1d(store[name], ids) if name in store else ids
+
+
+def _split_quad_blocks(raw: meshio.Mesh) -> meshio.Mesh:
+    """``raw`` with each "quad" block replaced by its triangles (``split_quads``): quad i of
+    a block is triangles 2 i and 2 i + 1 of it, in its cell sets and cell data too."""
+    if "quad" in CELL_KINDS or not any(block.type == "quad" for block in raw.cells):
+        return raw  # no quads, or a registered quad kind that keeps them
+    quad = [block.type == "quad" for block in raw.cells]
+    cells = [
+        meshio.CellBlock("triangle", split_quads(np.asarray(block.data))) if is_quad else block
+        for block, is_quad in zip(raw.cells, quad)
+    ]
+
+    def doubled(per_block, index_list: bool):
+        out = []
+        for data, is_quad in zip(per_block, quad):
+            data = np.asarray(data)
+            if is_quad and index_list:
+                data = np.column_stack([2 * data, 2 * data + 1]).ravel()
+            elif is_quad:
+                data = np.repeat(data, 2, axis=0)
+            out.append(data)
+        return out
+
+    return meshio.Mesh(
+        raw.points,
+        cells,
+        point_data=raw.point_data,
+        cell_data={name: doubled(v, False) for name, v in raw.cell_data.items()},
+        point_sets=raw.point_sets,
+        cell_sets={name: doubled(v, True) for name, v in raw.cell_sets.items()},
+    )
+
+
+def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
+    raw = _split_quad_blocks(raw)
+    # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
+    kind_of = _kind_of_meshio()
+    kinds = [kind_of.get(block.type, block.type) for block in raw.cells]
+    sizes = [len(block.data) for block in raw.cells]
+    unsupported = sorted({block.type for block in raw.cells} - set(kind_of) - {"vertex"})
+    if unsupported:
+        names = ", ".join(kind_of)
+        raise ValueError(
+            f"{source} contains {unsupported} cells; only {names} and vertex cells are supported"
+        )
+    if not set(kinds) & set(CELL_KINDS):
+        raise ValueError(f"{source} contains {_neither(list(CELL_KINDS))} cells")
+    cells = {
+        kind: _kind_ids([b.data for b in raw.cells], kinds, sizes, kind).reshape(
+            -1, spec.nodes_per_cell
+        )
+        for kind, spec in CELL_KINDS.items()
+    }
+    sets: dict[str, dict[str, np.ndarray]] = {"node": {}, **{kind: {} for kind in CELL_KINDS}}
+
+    for name, ids in raw.point_sets.items():
+        _merge_set(sets["node"], name, np.asarray(ids, dtype=np.int64))
+    for name, per_block in raw.cell_sets.items():
+        if name.startswith("gmsh:"):  # meshio bookkeeping such as gmsh:bounding_entities
+            continue
+        for kind in CELL_KINDS:
+            ids = _kind_ids(list(per_block), kinds, sizes, kind)
+            if ids.size:  # a set of another cell kind has no members here
+                _merge_set(sets[kind], name, ids)
+    for name, data in raw.point_data.items():
+        if name.startswith(_NODE_MASK):
+            _merge_set(sets["node"], name[len(_NODE_MASK) :], np.flatnonzero(np.ravel(data)))
+    for kind, spec in CELL_KINDS.items():
+        prefix = spec.mask_prefix
+        for name, per_block in raw.cell_data.items():
+            if name.startswith(prefix):
+                local = [np.flatnonzero(np.ravel(mask)) for mask in per_block]
+                _merge_set(sets[kind], name[len(prefix) :], _kind_ids(local, kinds, sizes, kind))
+    _add_physical_groups(raw, kinds, sizes, sets)
+
+    return Mesh(
+        raw.points,
+        node_sets=sets["node"],
+        cells=cells,
+        cell_sets={kind: sets[kind] for kind in CELL_KINDS},
+    )
+
+
+def _add_physical_groups(
+    raw: meshio.Mesh, kinds: list[str], sizes: list[int], sets: dict[str, dict[str, np.ndarray]]
+) -> None:
+    """Named gmsh physical groups -> node sets (dimension 0) and cell sets (dimension d: the
+    cell kinds of that dimension, e.g. 1 -> line sets, 2 -> element sets)."""
+    physical = raw.cell_data.get("gmsh:physical")
+    if physical is None:
+        return
+    for name, (tag, dim) in ((n, np.ravel(v)[:2]) for n, v in raw.field_data.items()):
+        local = [np.flatnonzero(np.ravel(tags) == tag) for tags in physical]
+        if int(dim) == 0:
+            ids = _kind_ids(local, kinds, sizes, "vertex")
+            vertices = _kind_ids([b.data for b in raw.cells], kinds, sizes, "vertex")
+            _merge_set(sets["node"], name, np.unique(vertices[ids]))
+            continue
+        # A group goes to the kinds of its dimension that have members in it (to the first
+        # such kind if none has: an empty set, as for a group on cells of an unused kind).
+        candidates = [kind for kind, spec in CELL_KINDS.items() if spec.dimension == int(dim)]
+        found = {kind: _kind_ids(local, kinds, sizes, kind) for kind in candidates}
+        targets = [kind for kind in candidates if found[kind].size] or candidates[:1]
+        for kind in targets:
+            _merge_set(sets[kind], name, found[kind])
