@@ -423,14 +423,15 @@ def _part(where: _Where, value: dict) -> dict:
     _table(where, value, "", ("element", "material", "options", "cells"), ("element",))
     kind = value["element"]
     try:
-        cls = registry.element_type(kind)
+        cls: Any = registry.element_type(kind)  # a built-in type, or a user's (any signature)
     except ValueError as error:
         raise where.error("element", str(error)) from None
     options = value.get("options", {})
     _table(where, options, "options", tuple(options))
     material = value.get("material")
     try:
-        if registry.BUILTIN_ELEMENTS.get(kind) is not cls:
+        builtin = registry.BUILTIN_ELEMENTS.get(kind) is cls  # not replaced by a user's
+        if not builtin:
             element = _user_element(where, kind, cls, material, options)
         elif kind == "cable":
             if not isinstance(material, dict):

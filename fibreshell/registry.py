@@ -147,9 +147,7 @@ class Registry:
                         f"{self.group!r} cannot be used: {error}"
                     ) from error
                 return value
-        raise ValueError(
-            f"unknown {self.kind} {name!r}; expected one of {', '.join(self.names())}"
-        )
+        raise ValueError(f"unknown {self.kind} {name!r}; expected one of {', '.join(self.names())}")
 
     def names(self) -> list[str]:
         """Every name a case may use: the registered ones, then the entry points not loaded."""
