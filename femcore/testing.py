@@ -225,9 +225,10 @@ class CheckResult:
     message: str = ""
 
 
-@dataclass
+@dataclass(repr=False)
 class ConformanceReport:
-    """The checks run on one case, in order (``str`` of it: one line per check)."""
+    """The checks run on one case, in order (``str`` and ``repr`` of it: one line per check,
+    so that ``assert report.passed, report`` shows them all)."""
 
     case: str
     results: list[CheckResult] = field(default_factory=list)
@@ -247,6 +248,8 @@ class ConformanceReport:
             lines.append(f"  {result.status:>14}  {result.name}" + (
                 f": {result.message}" if result.message else ""))  # fmt: skip
         return "\n".join(lines)
+
+    __repr__ = __str__
 
 
 def run_checks(case: str, checks: Iterator[tuple[str, Callable[[], None]]]) -> ConformanceReport:
