@@ -267,6 +267,24 @@ def test_a_registered_fabric_preset_serves_the_built_in_shells_with_changed_fiel
     assert load_case(case).parts[0]["element"].material.thickness == 0.7  # its calibration
 
 
+def test_a_type_with_from_case_takes_the_part_its_own_way(plugin, tmp_path):
+    module, _ = plugin
+
+    class StiffMembrane(module.Membrane):
+        @classmethod
+        def from_case(cls, material, stiffening=1.0):
+            """material: the inline table; the option scales its modulus."""
+            return cls(module.film(**{**material, "E": stiffening * material["E"]}))
+
+    registry.register_element("stiff_cst", StiffMembrane)
+    case = tmp_path / "strip.toml"
+    case.write_text(strip_case("stiff_cst", "{ E = 1000.0 }", "options = { stiffening = 3.0 }"))
+    assert load_case(case).parts[0]["element"].material == module.film(E=3000.0)
+    case.write_text(strip_case("stiff_cst", "{ E = 1000.0 }", "options = { plane_strain = 1 }"))
+    with pytest.raises(CaseError, match=r"unknown option 'plane_strain'; expected one of stiff"):
+        load_case(case)
+
+
 def test_a_name_is_registered_once_unless_replaced(plugin):
     module, _ = plugin
     registry.register_element("cst", module.Membrane)
