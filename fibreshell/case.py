@@ -12,8 +12,8 @@ rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh"
 [sets]                                   # optional named node sets, by bounds (mesh units)
 tip = { x_min = 199.9 }
 [[part]]
-element = "fibrous"                      # "fibrous" | "mindlin" | "cable"
-material = "g1151_laminate"              # a materials.presets name, or an inline table
+element = "fibrous"                      # "fibrous" | "mindlin" | "cable" | a registered name
+material = "g1151_laminate"              # a preset name (registered), or an inline table
 options = { clamped = "left" }           # keyword options of the element class
 [[fix]]
 nodes = "left"                           # a node-set name, or { x_max = 0.0 } style bounds
@@ -49,6 +49,11 @@ density, warp); for "cable" the arguments of ``elements.Cable`` (axial_stiffness
 mass_per_length, tension_only). A preset with some values changed:
 ``material = { preset = "paper_stack", sheets = 65, bending = 30.0 }`` (the preset's own
 arguments, then fields of ``Fabric``). Units: mm, N, t, s.
+
+Element and preset names: those of ``fibreshell.registry``, which holds the built-in elements,
+the ``materials.presets`` and a user's own element types and materials, registered by a call or
+found through Python entry points; the registry's docstring says how a part's ``material`` and
+``options`` reach a user's element type.
 """
 
 from __future__ import annotations
@@ -62,7 +67,6 @@ from typing import Any
 import numpy as np
 
 from elements import (
-    Cable,
     FibrousShell,
     MindlinShell,
     RigidCylinder,
@@ -71,12 +75,12 @@ from elements import (
     RigidSurface,
 )
 from femcore import Mesh, Model
-from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw, presets
+from fibreshell import registry
+from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DynamicRelaxation, Static
 
 __all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
 
-ELEMENTS = {"fibrous": FibrousShell, "mindlin": MindlinShell, "cable": Cable}
 SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": CentralDifference}
 # Solver options the case file does not take: the outputs are the command's.
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
@@ -416,16 +420,18 @@ def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -
 def _part(where: _Where, value: dict) -> dict:
     _table(where, value, "", ("element", "material", "options", "cells"), ("element",))
     kind = value["element"]
-    if kind not in ELEMENTS:
-        raise where.error(
-            "element", f"unknown element {kind!r}; expected one of {', '.join(ELEMENTS)}"
-        )
+    try:
+        cls: Any = registry.element_type(kind)  # a built-in type, or a user's (any signature)
+    except ValueError as error:
+        raise where.error("element", str(error)) from None
     options = value.get("options", {})
     _table(where, options, "options", tuple(options))
-    cls = ELEMENTS[kind]
     material = value.get("material")
     try:
-        if kind == "cable":
+        builtin = registry.BUILTIN_ELEMENTS.get(kind) is cls  # not replaced by a user's
+        if not builtin:
+            element = _user_element(where, kind, cls, material, options)
+        elif kind == "cable":
             if not isinstance(material, dict):
                 raise where.error("material", "a cable takes an inline table: axial_stiffness, "
                                               "mass_per_length, tension_only")  # fmt: skip
@@ -445,6 +451,31 @@ def _part(where: _Where, value: dict) -> dict:
     if cells is not None and not isinstance(cells, str):
         raise where.error("cells", f"expected a cell-set name, got {cells!r}")
     return {"kind": kind, "element": element, "cells": cells}
+
+
+def _user_element(where: _Where, kind: str, cls: type, material: Any, options: dict):
+    """A registered element type from its part (fibreshell.registry): its ``from_case``
+    classmethod or its constructor, called with the options as keywords and ``material=`` the
+    part's material (a preset built, an inline table as a dict)."""
+    make = getattr(cls, "from_case", cls)
+    parameters = inspect.signature(make).parameters
+    if not any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
+        _keywords(where.child("options"), make, options, frozenset({"self", "material"}))
+    arguments = dict(options)
+    if material is not None:
+        if "material" not in parameters:
+            raise where.error("material", f"element {kind!r} ({cls.__name__}) takes no material")
+        if isinstance(material, str):
+            material = {"preset": material}
+        if not isinstance(material, dict):
+            raise where.error("material", f"expected a preset name or a table, got {material!r}")
+        if "preset" in material:
+            arguments["material"] = _preset(where, where.child("material"), material)
+        else:
+            arguments["material"] = dict(material)
+    elif "material" in parameters and parameters["material"].default is inspect.Parameter.empty:
+        raise where.error(None, "missing key 'material'")
+    return make(**arguments)
 
 
 _LAWS = {
@@ -493,17 +524,20 @@ def _fabric_fields(inner: _Where, value: dict) -> dict:
 
 
 def _preset(where: _Where, inner: _Where, value: dict):
-    """``{ preset = "name", ... }``: the materials.presets entry, built with the keys that are
-    its own arguments (``plies``, ``sheets``), then with the others, fields of ``Fabric``,
-    replaced (``Fabric.replace``): a preset with some of its values changed, for a sweep."""
+    """``{ preset = "name", ... }``: the preset of that name (fibreshell.registry: the
+    materials.presets and the registered materials), built with the keys that are its own
+    arguments (``plies``, ``sheets``), then with the others, fields of ``Fabric``, replaced
+    (``Fabric.replace``): a preset with some of its values changed, for a sweep."""
     name = value["preset"]
-    names = [n for n in presets.__all__ if callable(getattr(presets, n))]
-    if name not in names:
-        raise where.error(
-            "material", f"unknown preset {name!r}; expected one of {', '.join(names)}"
-        )
-    make = getattr(presets, name)
-    own = set(inspect.signature(make).parameters)
+    try:
+        make = registry.material_factory(name)
+    except ValueError as error:
+        raise where.error("material", str(error)) from None
+    parameters = inspect.signature(make).parameters
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
+        own = set(value) - {"preset"}  # a factory taking **keywords takes every key
+    else:
+        own = set(parameters)
     arguments = {k: v for k, v in value.items() if k in own}
     changes = {k: v for k, v in value.items() if k != "preset" and k not in own}
     try:
