@@ -35,12 +35,9 @@ import scipy.sparse as sp  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
 from elements.base import local_tangent  # noqa: E402
-from elements.fibrous import (  # noqa: E402
-    FibrousShellBlock,
-    _corner_normal_pull,
-    _corner_normals,
-    _side_geometry,
-)
+from elements.fibrous import FibrousShellBlock, bending, geometry, tangent  # noqa: E402
+from elements.fibrous.bending import side_geometry  # noqa: E402
+from elements.fibrous.geometry import corner_normal_pull, corner_normals  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from femcore.assembly import (  # noqa: E402
     CellTangent,
@@ -58,10 +55,10 @@ __all__ = ["main", "reference_tangent"]
 # ---------------------------------------------------------------------- reference
 def _reference_membrane(block: FibrousShellBlock, state, step: float, scale: float = 1.0):
     """Tension + shear stiffness with nodal normals from central differences of
-    ``_cell_gradient``, one unknown at a time (steps times ``scale``), as a scipy matrix."""
+    ``tangent.cell_gradient``, one unknown at a time (steps times ``scale``), as a scipy matrix."""
     n, conn = block.n_nodes, block.connectivity
     x, v = state.positions[conn], state.directors[conn]
-    sums = block._normal_sums(state.positions)[conn]
+    sums = geometry.normal_sums(block, state.positions)[conn]
     sum_step = scale * 1e-6 * np.linalg.norm(sums, axis=-1)
     m = len(conn)
     hessian = np.empty((m, 3, 9, 3, 9))
@@ -85,9 +82,9 @@ def _reference_membrane(block: FibrousShellBlock, state, step: float, scale: flo
                 plus_s, minus_s = sums.copy(), sums.copy()
                 plus_s[:, node, comp - 6] += sum_step[:, node]
                 minus_s[:, node, comp - 6] -= sum_step[:, node]
-            difference = block._cell_gradient(plus_x, plus_v, plus_s) - block._cell_gradient(
-                minus_x, minus_v, minus_s
-            )
+            difference = tangent.cell_gradient(
+                block, plus_x, plus_v, plus_s
+            ) - tangent.cell_gradient(block, minus_x, minus_v, minus_s)
             hessian[:, :, :, node, comp] = difference / (2.0 * h)
     index = (9 * conn)[:, :, None] + np.arange(9)
     shape = (m, 3, 9, 3, 9)
@@ -101,7 +98,7 @@ def _reference_membrane(block: FibrousShellBlock, state, step: float, scale: flo
         ),
         shape=(9 * n, 9 * n),
     )
-    _, ds_dx = _corner_normals(x, jacobian=True)
+    _, ds_dx = corner_normals(x, jacobian=True)
     ident_rows = (9 * np.arange(n))[:, None] + np.arange(6)
     ident_cols = (6 * np.arange(n))[:, None] + np.arange(6)
     shape_j = (m, 3, 3, 3, 3)
@@ -120,10 +117,10 @@ def _reference_membrane(block: FibrousShellBlock, state, step: float, scale: flo
         ),
         shape=(9 * n, 6 * n),
     )
-    gradient = block._cell_gradient(x, v, sums)
-    pull = block._free_sums(block.scatter.vectors(gradient[..., 6:]))[conn]
+    gradient = tangent.cell_gradient(block, x, v, sums)
+    pull = geometry.free_sums(block, block.scatter.vectors(gradient[..., 6:]))[conn]
     blocks = local_tangent(
-        lambda xx, _: (_corner_normal_pull(xx, pull), None), x, None, scale * step
+        lambda xx, _: (corner_normal_pull(xx, pull), None), x, None, scale * step
     )
     node_index = (6 * conn)[:, :, None] + np.arange(3)
     second = sp.csr_matrix(
@@ -143,26 +140,26 @@ def reference_tangent(block: FibrousShellBlock, state, scale: float = 1.0) -> li
     """The tangent parts of a FibrousShell block with nodal normals by the reference
     implementation: central differences one unknown at a time (steps times ``scale``)."""
     step = 1e-6 * float(np.sqrt(np.median(block.reference_area)))
-    bend = block._bending_geometry(state.positions)
-    chi, coefficients = block._curvatures(bend)
-    slopes = block._bending_moments(chi, slope=True)
+    bend = bending.geometry(block, state.positions)
+    chi, coefficients = bending.curvatures(block, bend)
+    slopes = bending.moments(block, chi, slope=True)
     share = bend["gradient"][..., None] * bend["normal"][:, None, None, :]
     across_share = np.where(
-        block.interior_side[..., None, None], share[block._across_cell, block._across_side], 0.0
+        block.interior_side[..., None, None], share[block.across_cell, block.across_side], 0.0
     )
     m = len(block.cell_ids)
     own = -np.einsum("mas,mskj->makj", coefficients, share)
     across = -coefficients[..., None, None] * across_share[:, None]
     g = np.concatenate([own, across.reshape(m, 2, 9, 3)], axis=2)
     nodes = np.concatenate(
-        [block.connectivity, block.connectivity[block._across_cell].reshape(m, 9)], axis=1
+        [block.connectivity, block.connectivity[block.across_cell].reshape(m, 9)], axis=1
     )
     weight = block.reference_area[:, None] * slopes
     material = np.einsum("ma,maki,malj->mkilj", weight, g, g)
     side_moment = _side_moments(block, state)
 
     def share_forces(x, _):
-        sides = _side_geometry(x)
+        sides = side_geometry(x)
         w = np.matmul(side_moment[:, None, :], sides["gradient"])[:, 0]
         return w[..., None] * sides["normal"][:, None, :], None
 
@@ -176,12 +173,12 @@ def reference_tangent(block: FibrousShellBlock, state, scale: float = 1.0) -> li
 
 
 def _side_moments(block: FibrousShellBlock, state) -> np.ndarray:
-    """mu_s (m, 3) of the bending forces, as ``_bending_tangent`` holds them."""
-    bend = block._bending_geometry(state.positions)
-    chi, coefficients = block._curvatures(bend)
-    moments = block._bending_moments(chi)
+    """mu_s (m, 3) of the bending forces, as bending.py ``tangent`` holds them."""
+    bend = bending.geometry(block, state.positions)
+    chi, coefficients = bending.curvatures(block, bend)
+    moments = bending.moments(block, chi)
     own = -block.reference_area[:, None] * np.matmul(moments[:, None, :], coefficients)[:, 0]
-    across = np.where(block.interior_side, own[block._across_cell, block._across_side], 0.0)
+    across = np.where(block.interior_side, own[block.across_cell, block.across_side], 0.0)
     return own + across
 
 

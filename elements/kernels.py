@@ -7,20 +7,15 @@ The loops over cells run in parallel (numba's ``prange``, as many threads as
 ``numba.set_num_threads`` allows) into per-cell buffers; the sums to the nodes are a parallel
 loop over nodes after them (``NodeCorners``), each node adding the corners of its cells in cell
 order, so that no two threads add to the same node and the sums are those of numpy.bincount.
-The fibrous shell's loops are in elements/fibrous_kernels.py.
+The fibrous shell's loops are in elements/fibrous/kernels.py; the compilation helpers
+(``jit``, ``serial``, ``prange``) in elements/jit.py.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-try:  # numba is a dependency; the numpy paths keep the package usable without it
-    import numba
-
-    AVAILABLE = True
-except ImportError:  # pragma: no cover - exercised only where numba is missing
-    numba = None  # type: ignore[assignment]
-    AVAILABLE = False
+from elements.jit import AVAILABLE, jit, prange, serial
 
 __all__ = ["AVAILABLE", "NodeCorners", "cable_forces", "mindlin_energy", "mindlin_loads"]
 
@@ -35,25 +30,6 @@ def choose(kernel: str | None) -> str:
     if kernel == "compiled" and not AVAILABLE:
         raise ValueError("kernel='compiled' needs numba: pip install numba, or use 'numpy'")
     return kernel
-
-
-def _jit(function):
-    if not AVAILABLE:
-        return function
-    return numba.njit(cache=True, parallel=True, fastmath=False)(function)
-
-
-def _serial(function):
-    if not AVAILABLE:
-        return function
-    return numba.njit(cache=True)(function)
-
-
-def _prange(n):  # pragma: no cover - replaced by numba.prange inside compiled code
-    return range(n)
-
-
-prange = numba.prange if AVAILABLE else _prange
 
 
 # ---------------------------------------------------------------------- nodes from corners
@@ -80,7 +56,7 @@ class NodeCorners:
         return out
 
 
-@_jit
+@jit
 def _node_sums(offsets, corners, per_corner, out):
     """out[node] = sum of per_corner[j] (m * 3, 3) over the node's corners j."""
     for node in prange(out.shape[0]):
@@ -93,7 +69,7 @@ def _node_sums(offsets, corners, per_corner, out):
         out[node, 0], out[node, 1], out[node, 2] = sx, sy, sz
 
 
-@_jit
+@jit
 def _mindlin_cells(
     positions, directors, connectivity, zeta, half, ref11, ref22, ref12, ref_tying,
     shear_a, shear_b, stiffness, tying_n, with_forces, force, moment, energy,
@@ -270,7 +246,7 @@ def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float
     return float(_run_mindlin(block, positions, directors, False)[2].sum())
 
 
-@_serial
+@serial
 def _cable_forces(positions, connectivity, rest_length, axial_stiffness, tension_only, out):
     """Nodal forces (n, 3) of 2-node cables, N = EA (l / L0 - 1) along the chord (elements/
     cable.py), gathered, computed and scattered in one serial loop (a cell's work is too small
@@ -355,7 +331,7 @@ def _closest_on_triangle(p, a, b, c, out):
     out[2] = a[2] + v * ab2 + w * ac2
 
 
-_closest_on_triangle = _serial(_closest_on_triangle)
+_closest_on_triangle = serial(_closest_on_triangle)
 
 
 def _closest_facets(x, corners, start, facets, point, facet, gap):
@@ -376,4 +352,4 @@ def _closest_facets(x, corners, start, facets, point, facet, gap):
         gap[i] = np.sqrt(best)
 
 
-closest_facets = _jit(_closest_facets)
+closest_facets = jit(_closest_facets)

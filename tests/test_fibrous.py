@@ -12,11 +12,17 @@ imposed surfaces; the moments, statics of a free body.
 import numpy as np
 import pytest
 
-from elements import FibrousShell
-from elements.fibrous import lobatto_levels
+from elements import FibrousShell, MindlinShell
+from elements.fibrous import (
+    geometry,
+    lobatto_levels,
+    side_tables,
+    tangent,
+    thickness_along_directors,
+)
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
-from materials import BendingLaw, Fabric, ShearLaw, TensionLaw
+from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
 from tests.shell_helpers import compiled, fabric, on_cylinder
 
 RNG = np.random.default_rng(7)
@@ -135,6 +141,41 @@ def test_clamped_edge_option_gives_the_exact_curvature_at_the_wall():
     assert not np.allclose(_curvatures(free_model, lambda x, y: x**2 / 2)[0][at_wall], -1.0)
 
 
+def test_the_model_level_tables_are_the_blocks_tables_over_the_mesh_triangles():
+    """elements.fibrous.side_tables and thickness_along_directors: each block's rows at its
+    triangles (neighbours as mesh triangle ids), two blocks side by side, the left one
+    clamped; a model without a FibrousShell raises."""
+    mesh = Mesh.rectangle(6.0, 4.0, nx=6, ny=2)
+    left = np.flatnonzero(mesh.points[mesh.triangles].mean(axis=1)[:, 0] < 3.0)
+    right = np.setdiff1d(np.arange(len(mesh.triangles)), left)
+    model = Model(mesh)
+    model.add(FibrousShell(fabric(), clamped="left"), cells=left)
+    model.add(FibrousShell(fabric(), thickness="element"), cells=right)
+    model.fix("left")
+    built = model.compile()
+    state = deformed(built)
+    sides = side_tables(built)
+    thickness = thickness_along_directors(built, state.positions, state.directors)
+    for block in built.blocks:
+        cells = block.cell_ids
+        expected = np.where(block.neighbour >= 0, cells[block.neighbour], -1)
+        assert np.array_equal(sides["neighbour"][cells], expected)
+        assert np.array_equal(sides["connectivity"][cells], block.connectivity)
+        for name in ("clamped_side", "interior_side", "held_cell"):
+            assert np.array_equal(sides[name][cells], getattr(block, name))
+        own = block.thickness_along_directors(state.positions, state.directors)
+        assert np.array_equal(thickness["connectivity"][cells], block.connectivity)
+        for name in ("cosine", "thickness", "guarded"):
+            assert np.array_equal(thickness[name][cells], own[name])
+    assert sides["clamped_side"][left].any() and not sides["clamped_side"][right].any()
+    # The blocks do not couple: no neighbour across the line x = 3.
+    assert np.isin(sides["neighbour"][left], np.append(left, -1)).all()
+    mindlin = Model(mesh)
+    mindlin.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)))
+    with pytest.raises(ValueError, match="no FibrousShell"):
+        side_tables(mindlin.compile())
+
+
 def test_table_1_law_is_the_moment_carried_across_a_section_of_a_bent_strip():
     # A strip bent onto a cylinder of curvature chi must carry the Table 1 moment M(chi) per
     # unit width across any section: the moment about the section of the nodal forces on
@@ -237,9 +278,9 @@ def test_a_director_near_the_surface_hits_the_guard_and_is_reported():
     state.directors[node] = [np.sin(np.radians(85)), 0.0, np.cos(np.radians(85))]
     block = model.blocks[0]
     assert block.guarded_nodes(state).tolist() == [node]
-    geometry = block.thickness_along_directors(state.positions, state.directors)
+    thickness = block.thickness_along_directors(state.positions, state.directors)
     corners = block.connectivity == node
-    assert np.allclose(geometry["thickness"][corners], 3.0 / 0.2)
+    assert np.allclose(thickness["thickness"][corners], 3.0 / 0.2)
     assert model.fields(state)["point"]["thickness_guarded"][node] == 1.0
 
 
@@ -334,8 +375,8 @@ def test_forces_stay_the_energy_gradient_where_the_shear_sign_flips():
 
 # ------------------------------------------------------------------ tangent
 def _cell_hessian_by_differences(block, x, v, sums, step=1e-5):
-    """d(_cell_gradient)/d(x, psi, S) (m, 3, 9, 3, 9), one central difference per unknown of
-    every cell."""
+    """d(tangent.cell_gradient)/d(x, psi, S) (m, 3, 9, 3, 9), one central difference per
+    unknown of every cell."""
     m = len(x)
     hessian = np.empty((m, 3, 9, 3, 9))
     for node in range(3):
@@ -351,7 +392,7 @@ def _cell_hessian_by_differences(block, x, v, sums, step=1e-5):
                 psi[:, comp - 3] = step
                 plus[1][:, node] = rotate_about(v[:, node], psi)
                 minus[1][:, node] = rotate_about(v[:, node], -psi)
-            difference = block._cell_gradient(*plus) - block._cell_gradient(*minus)
+            difference = tangent.cell_gradient(block, *plus) - tangent.cell_gradient(block, *minus)
             hessian[:, :, :, node, comp] = difference / (2 * step)
     return hessian
 
@@ -374,10 +415,10 @@ def test_the_membrane_hessian_is_the_derivative_of_each_cells_gradient(variation
     block = model.blocks[0]
     conn = block.connectivity
     x, v = state.positions[conn], state.directors[conn]
-    sums = block._normal_sums(state.positions)[conn]
-    assert block._cell_geometry(x, v, True, sums)["guarded"].any()
-    exact, d_sums = block._membrane_hessian(x, v, sums)
-    assert np.array_equal(d_sums, block._cell_gradient(x, v, sums)[..., 6:])
+    sums = geometry.normal_sums(block, state.positions)[conn]
+    assert geometry.cell_geometry(block, x, v, True, sums)["guarded"].any()
+    exact, d_sums = tangent.membrane_hessian(block, x, v, sums)
+    assert np.array_equal(d_sums, tangent.cell_gradient(block, x, v, sums)[..., 6:])
     differences = _cell_hessian_by_differences(block, x, v, sums)
     assert np.abs(exact - differences).max() < 1e-6 * np.abs(exact).max()
 
@@ -412,7 +453,7 @@ def nonlinear_fabric():
 )
 def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, clamped, options):
     """FibrousShell(kernel="compiled") (the geometry, strains, laws, nodal normal sums and
-    their forces by the loops of elements/fibrous_kernels.py) against the vectorised reference
+    their forces by the loops of elements/fibrous/kernels.py) against the vectorised reference
     on a jittered, tilted sheet: the same sums in another order, so 1e-12 of the largest force,
     moment and nodal thickness (the rotary inertia's), and of the energy."""
     options = dict(options)

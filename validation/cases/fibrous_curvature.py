@@ -3,7 +3,9 @@
 Source: closed-form curvature of imposed surfaces (docs/theory.md §4.2; the rotation-free bending of
 Bai et al. 2020, Eqs. 29-37, with the clamped-edge option of docs/theory.md §4.5). A flat sheet is
 lifted to z = epsilon f(x, y) with epsilon = 1e-6 (so that the curvature is linear in the
-lift) and the warp and weft curvatures of every cell are read from FibrousShell.cell_fields;
+lift) and the warp and weft curvatures of every cell are read from its cell fields
+(CompiledModel.fields, from FibrousShell's cell_fields); the interior cells and those at the
+clamped wall from elements.fibrous.side_tables;
 chi = -d^2 w / ds^2 along the fibre (Bai's sign).
 Geometry: a 6 x 7.8 mm sheet, 6 x 6 cells (a = 1 mm, b = 1.3 mm as in docs/theory.md §4.2), warp
 along x; and a 6 x 4 mm sheet, 6 x 2 cells, clamped along x = 0 for the clamped-edge option.
@@ -26,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from elements import FibrousShell
+from elements.fibrous import side_tables
 from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from validation.checks import check
@@ -87,7 +90,7 @@ def curvatures(
     state = model.initial_state()
     x, y = model.reference_positions[:, 0], model.reference_positions[:, 1]
     state.positions[:, 2] = EPSILON * surface(x, y)
-    fields = model.blocks[0].cell_fields(state)
+    fields = model.fields(state)["triangle"]
     return fields["warp_curvature"] / EPSILON, fields["weft_curvature"] / EPSILON
 
 
@@ -102,7 +105,7 @@ def compute(resolution: str) -> Outcome:
     n = CELLS[resolution]
     mesh = Mesh.rectangle(1.0 * n, 1.3 * n, nx=n, ny=n)
     model = sheet(mesh)
-    interior = (model.blocks[0].neighbour >= 0).all(axis=1)
+    interior = (side_tables(model)["neighbour"] >= 0).all(axis=1)
     checks = []
     for name, surface, warp, weft in SURFACES:
         chi_warp, chi_weft = curvatures(model, surface)
@@ -120,7 +123,7 @@ def compute(resolution: str) -> Outcome:
 
     wall = Mesh.rectangle(1.0 * n, 4.0 * n / 6, nx=n, ny=max(n // 3, 1))
     clamped = sheet(wall, clamped="left")
-    at_wall = np.flatnonzero(clamped.blocks[0].clamped_side.any(axis=1))
+    at_wall = np.flatnonzero(side_tables(clamped)["clamped_side"].any(axis=1))
     chi_clamped, _ = curvatures(clamped, lambda x, y: x**2 / 2)
     checks.append(
         check(

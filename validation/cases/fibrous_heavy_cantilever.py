@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from elements.fibrous import thickness_along_directors
 from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
@@ -108,7 +109,7 @@ def compute(resolution: str) -> Outcome:
     tilt_error = np.degrees(np.abs(tilt - np.arctan(theta))).max()
     thickness_error = np.abs(h / (THICKNESS * np.hypot(1.0, theta)) - 1.0).max()
     # Bai Eq. 10: h_m (V . n) = h at every node of every element (n the nodal normal).
-    geometry = compiled.blocks[0].thickness_along_directors(result.positions, result.directors)
+    geometry = thickness_along_directors(compiled, result.positions, result.directors)
     eq10 = np.abs(geometry["thickness"] * geometry["cosine"] / THICKNESS - 1).max()
     fields = result.frames[-1].fields["triangle"]
     strain = max(np.abs(fields["warp_strain"]).max(), np.abs(fields["weft_strain"]).max())

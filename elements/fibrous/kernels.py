@@ -1,8 +1,10 @@
-"""Compiled loops of the fibrous shell (numba), with elements/fibrous.py as their vectorised
-reference (``kernel="numpy"``); the tests hold the two to 1e-12.
+"""Compiled loops of the fibrous shell (numba), with the numpy functions of the package
+(geometry.py, membrane.py, bending.py) as their vectorised reference (``kernel="numpy"``); the
+tests hold the two to 1e-12.
 
 ``internal_force`` and ``strain_energy_parts`` evaluate the whole element, laws included
-(``law_value`` and ``law_energy`` on the tables of ``pack_laws``), in four parallel passes,
+(``law_value`` and ``law_energy`` of packed_laws.py on the tables of ``pack_laws``), in four
+parallel passes,
 because two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4):
 
 1. each cell's share of the nodal normal sums S_k, summed at the nodes;
@@ -15,137 +17,22 @@ because two quantities couple a cell to its neighbours (docs/theory.md §1.4, §
 Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
 in cell order (elements/kernels.py ``NodeCorners``): parallel without races, and the same sums
 in the same order as ``numpy.bincount``. The per-cell pieces of the bending geometry also serve
-``bending_geometry``, the compiled form of fibrous.py ``_bending_geometry`` (tangent, fields).
+``bending_geometry``, the compiled form of bending.py ``geometry`` (tangent, fields).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements.kernels import _jit, _serial, prange
+from elements.fibrous.packed_laws import law_energy, law_value
+from elements.jit import jit, prange, serial
 from elements.shell_geometry import GUARD
 
-__all__ = [
-    "bending_geometry",
-    "corner_shares",
-    "internal_force",
-    "law_energy",
-    "law_value",
-    "pack_laws",
-    "strain_energy_parts",
-]
-
-
-# ---------------------------------------------------------------------- laws
-_POLYNOMIAL, _TABLE = 0, 1
-
-
-def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
-    """The 1-D laws of materials.laws as two arrays a compiled loop can read.
-
-    Parameters
-    ----------
-    laws : sequence of materials.Law (k of them).
-
-    Returns
-    -------
-    integers : (k, 4) int64
-        kind (0 odd polynomial, 1 piecewise-linear table), number of coefficients, number of
-        knots, 1 if the law acts in compression (0 for a tension-only law).
-    reals : (k, 3, w) float
-        [i, 0, :] the coefficients c1, c3, c5 ...; [i, 1, :] and [i, 2, :] the knots x and y.
-    """
-    width = 1
-    for law in laws:
-        if law.odd_coefficients is not None:
-            width = max(width, len(law.odd_coefficients))
-        else:
-            width = max(width, len(law.knots[0]))
-    integers = np.zeros((len(laws), 4), dtype=np.int64)
-    reals = np.zeros((len(laws), 3, width))
-    for i, law in enumerate(laws):
-        integers[i, 3] = 1 if law.compression else 0
-        if law.odd_coefficients is not None:
-            integers[i, 0], integers[i, 1] = _POLYNOMIAL, len(law.odd_coefficients)
-            reals[i, 0, : len(law.odd_coefficients)] = law.odd_coefficients
-        else:
-            kx, ky = law.knots
-            integers[i, 0], integers[i, 2] = _TABLE, len(kx)
-            reals[i, 1, : len(kx)] = kx
-            reals[i, 2, : len(ky)] = ky
-    return integers, reals
-
-
-@_serial
-def law_value(integers, reals, i, x):
-    """y(x) of packed law i (materials.Law.value): the odd polynomial sum c_j x^(2j+1), or
-    the table interpolated linearly and extended by its end slopes; 0 for x < 0 when the law
-    is tension-only."""
-    if integers[i, 3] == 0 and x < 0.0:
-        return 0.0
-    if integers[i, 0] == _POLYNOMIAL:
-        y = 0.0
-        power = x
-        square = x * x
-        for j in range(integers[i, 1]):
-            y += reals[i, 0, j] * power
-            power *= square
-        return y
-    # reals[i, 1] and reals[i, 2] are the knots x and y (indexed in place: a slice would be
-    # a reference-counted view in the hot loop)
-    count = integers[i, 2]
-    if x < reals[i, 1, 0]:
-        j = 0
-    elif x >= reals[i, 1, count - 1]:
-        j = count - 2
-        if x == reals[i, 1, count - 1]:
-            return reals[i, 2, count - 1]
-    else:  # x_j <= x < x_(j+1)
-        low, high = 0, count - 1
-        while high - low > 1:
-            middle = (low + high) // 2
-            if reals[i, 1, middle] <= x:
-                low = middle
-            else:
-                high = middle
-        j = low
-    x0, x1, y0, y1 = reals[i, 1, j], reals[i, 1, j + 1], reals[i, 2, j], reals[i, 2, j + 1]
-    return (y1 - y0) / (x1 - x0) * (x - x0) + y0
-
-
-@_serial
-def law_energy(integers, reals, i, x):
-    """integral_0^x y of packed law i (materials.Law.energy): sum c_j x^(2j+2) / (2j+2) for a
-    polynomial; for a table, F(x) - F(0) with F(t) the integral from the first knot, exact
-    trapezoids since y is linear on each piece and on the extensions; 0 for x < 0 when the law
-    is tension-only."""
-    if integers[i, 3] == 0 and x < 0.0:
-        return 0.0
-    if integers[i, 0] == _POLYNOMIAL:
-        e = 0.0
-        square = x * x
-        power = square
-        for j in range(integers[i, 1]):
-            e += reals[i, 0, j] * power / (2 * j + 2)
-            power *= square
-        return e
-    return _table_integral(integers, reals, i, x) - _table_integral(integers, reals, i, 0.0)
-
-
-@_serial
-def _table_integral(integers, reals, i, t):
-    """integral of table i's y from its first knot to t (negative below it)."""
-    count = integers[i, 2]
-    total = 0.0
-    j = 0
-    while j < count - 2 and reals[i, 1, j + 1] <= t:
-        total += 0.5 * (reals[i, 1, j + 1] - reals[i, 1, j]) * (reals[i, 2, j + 1] + reals[i, 2, j])
-        j += 1
-    return total + 0.5 * (t - reals[i, 1, j]) * (reals[i, 2, j] + law_value(integers, reals, i, t))
+__all__ = ["bending_geometry", "corner_shares", "internal_force", "strain_energy_parts"]
 
 
 # ---------------------------------------------------------------------- one cell's geometry
-@_serial
+@serial
 def _edges(x, c):
     """The edges a = x1 - x0 and b = x2 - x0 of cell c with corners x (m, 3, 3)."""
     return (
@@ -158,7 +45,7 @@ def _edges(x, c):
     )
 
 
-@_serial
+@serial
 def _unit_normal(x, c):
     """(n_x, n_y, n_z, |c|) of cell c with corners x (m, 3, 3): c = (x1 - x0) x (x2 - x0)."""
     ax, ay, az, bx, by, bz = _edges(x, c)
@@ -167,10 +54,10 @@ def _unit_normal(x, c):
     return cx / size, cy / size, cz / size, size
 
 
-@_serial
+@serial
 def _add_cross_pull(x, c, gx, gy, gz, force):
     """force[c] += d(g . c)/dx at the corners of cell c, g held: b x g on x1, g x a on x2
-    (a = x1 - x0, b = x2 - x0), minus their sum on x0 (fibrous.py ``_cross_product_pull``)."""
+    (a = x1 - x0, b = x2 - x0), minus their sum on x0 (geometry.py ``cross_product_pull``)."""
     ax, ay, az, bx, by, bz = _edges(x, c)
     p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
     p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
@@ -185,7 +72,7 @@ def _add_cross_pull(x, c, gx, gy, gz, force):
     force[c, 2, 2] += p2z
 
 
-@_serial
+@serial
 def _corner_edges(x, c, k):
     """The two edges of cell c at corner k, u = x_(k+1) - x_k and w = x_(k+2) - x_k:
     (ux, uy, uz, wx, wy, wz)."""
@@ -200,7 +87,7 @@ def _corner_edges(x, c, k):
     )
 
 
-@_serial
+@serial
 def _corner(x, c, k):
     """The angle alpha_k of cell c at corner k and its two edges (``_corner_edges``):
     (alpha, ux, uy, uz, wx, wy, wz)."""
@@ -210,10 +97,10 @@ def _corner(x, c, k):
     return angle, ux, uy, uz, wx, wy, wz
 
 
-@_serial
+@serial
 def _shares_cell(x, c, shares, normal, double_area, angles):
     """Cell c's unit normal and double area, its angles alpha_k and its share of the nodal
-    normal sums, alpha_k n at each corner k (elements/fibrous.py ``_corner_normals``)."""
+    normal sums, alpha_k n at each corner k (geometry.py ``corner_normals``)."""
     nx, ny, nz, size = _unit_normal(x, c)
     normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = nx, ny, nz, size
     for k in range(3):
@@ -224,7 +111,7 @@ def _shares_cell(x, c, shares, normal, double_area, angles):
         shares[c, k, 2] = angle * nz
 
 
-@_jit
+@jit
 def _corner_shares(x, shares, normal, double_area, angles):
     for c in prange(x.shape[0]):
         _shares_cell(x, c, shares, normal, double_area, angles)
@@ -240,15 +127,15 @@ def corner_shares(positions: np.ndarray, connectivity: np.ndarray) -> np.ndarray
 
 
 # ---------------------------------------------------------------------- one cell's membrane
-@_serial
+@serial
 def _membrane_cell(
     c, x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
     reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
     law_integers, law_reals, thickness_variation, with_forces, normal, double_area, cosine,
     h_m, node_normal, energy, force, moment, d_sums,
 ):  # fmt: skip
-    """Tension and shear of cell c in one pass over its fibre levels (elements/fibrous.py
-    ``_cell_geometry``, ``_strains``, ``_layer_loads`` and ``_layer_forces``; Eq. 8-10, 14,
+    """Tension and shear of cell c in one pass over its fibre levels (geometry.py
+    ``cell_geometry``, membrane.py ``strains``, ``layer_loads`` and ``layer_forces``; Eq. 8-10, 14,
     24-33): the element normal and area, h_m = h / max(V . N, guard) at the corners (N the
     nodal normal S_k / |S_k|, S (n, 3) read at the cell's nodes, when ``nodal``; else the
     element's), then at each level the vectors g1, g2, the log strains and the shear angle,
@@ -402,10 +289,10 @@ def _membrane_cell(
     _add_cross_pull(x, c, gx, gy, gz, force)
 
 
-@_serial
+@serial
 def _normal_pull_cell(x, c, pull, connectivity, angles, force):
     """force[c] += sum_k T_k . d(alpha_k n)/dx_j at the corners of cell c, T (n, 3) read at
-    its nodes (elements/fibrous.py ``_corner_normal_pull``); angles (m, 3) the alpha_k of
+    its nodes (geometry.py ``corner_normal_pull``); angles (m, 3) the alpha_k of
     pass 1."""
     nx, ny, nz, size = _unit_normal(x, c)
     gx = gy = gz = 0.0
@@ -444,12 +331,12 @@ def _normal_pull_cell(x, c, pull, connectivity, angles, force):
 
 
 # ---------------------------------------------------------------------- one cell's bending
-@_serial
+@serial
 def _bending_sides_cell(
     x, c, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients,
     gradient,
 ):  # fmt: skip
-    """elements/fibrous.py ``_bending_geometry`` of cell c: the fold angle theta_s of each
+    """bending.py ``geometry`` of cell c: the fold angle theta_s of each
     side against the neighbour across it (or the wall of the reference plane on a clamped
     side), the curvature coefficients c_as (m, 2, 3) and the gradient D[s, k] (m, 3, 3).
     ``normal`` and ``double_area`` hold every cell's (the neighbours' are read)."""
@@ -500,14 +387,14 @@ def _bending_sides_cell(
         coefficients[c, 1, s] = 2.0 * p2 * p2 / total
 
 
-@_jit
+@jit
 def _cell_normals(x, normal, double_area):
     """Unit normals (m, 3) and double areas (m,) of the cells with corners x (m, 3, 3)."""
     for c in prange(x.shape[0]):
         normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = _unit_normal(x, c)
 
 
-@_jit
+@jit
 def _bending_sides(
     x, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients, gradient
 ):  # fmt: skip
@@ -519,25 +406,25 @@ def _bending_sides(
 
 
 def bending_geometry(block, positions: np.ndarray) -> dict:
-    """elements/fibrous.py ``_bending_geometry`` by the compiled loops."""
+    """bending.py ``geometry`` by the compiled loops."""
     x = np.ascontiguousarray(positions[block.connectivity], dtype=np.float64)
     m = len(x)
     normal, double_area = np.empty((m, 3)), np.empty(m)
     _cell_normals(x, normal, double_area)
     fold, coefficients, gradient = np.empty((m, 3)), np.empty((m, 2, 3)), np.empty((m, 3, 3))
     _bending_sides(
-        x, normal, double_area, block._across_cell, block.interior_side, block.clamped_side,
+        x, normal, double_area, block.across_cell, block.interior_side, block.clamped_side,
         block.reference_normal, fold, coefficients, gradient,
     )  # fmt: skip
     return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}
 
 
-@_serial
+@serial
 def _side_moments_cell(
     c, fold, reference_fold, coefficients, area, xi_is_warp, law_integers, law_reals,
     with_forces, energy, own,
 ):  # fmt: skip
-    """Cell c's share of its side moments (elements/fibrous.py ``_bending_forces``): chi_a =
+    """Cell c's share of its side moments (bending.py ``forces``): chi_a =
     -sum_s c_as (theta_s - theta_s0) (Eq. 35), M_a from the bending laws (packed laws 3, 4:
     warp, weft) and own_s = -A0 sum_a M_a c_as; without ``with_forces`` its bending energy
     energy[c, 2] = A0 sum_a Phi_a(chi_a) instead."""
@@ -559,7 +446,7 @@ def _side_moments_cell(
         own[c, s] = -area[c] * (m1 * coefficients[c, 0, s] + m2 * coefficients[c, 1, s])
 
 
-@_serial
+@serial
 def _bending_pull_cell(c, own, across_cell, across_side, interior, gradient, normal, force):
     """force[c] += each side's moment (own plus the neighbour's across it) times D[s, k] n
     (Eq. 37): every cell pulls on its own three nodes only."""
@@ -578,7 +465,7 @@ def _bending_pull_cell(c, own, across_cell, across_side, interior, gradient, nor
 
 
 # ---------------------------------------------------------------------- the internal force
-@_jit
+@jit
 def _gather_corners(positions, directors, connectivity, x, v):
     """x, v (m, 3, 3): the positions and directors at each cell's corners."""
     for c in prange(connectivity.shape[0]):
@@ -589,7 +476,7 @@ def _gather_corners(positions, directors, connectivity, x, v):
                 v[c, k, i] = directors[node, i]
 
 
-@_jit
+@jit
 def _cells_pass(
     x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
     reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
@@ -620,7 +507,7 @@ def _cells_pass(
         )  # fmt: skip
 
 
-@_jit
+@jit
 def _pulls_pass(x, pull, connectivity, angles, nodal, own, across_cell, across_side, interior,
                 gradient, normal, force):  # fmt: skip
     """Pass 4 of ``internal_force``: the pull of the nodal sums of dW/dS_k on each cell's
@@ -658,7 +545,7 @@ def _passes(block, positions: np.ndarray, directors: np.ndarray, with_forces: bo
         x, v, sums, conn, nodal, float(block.fabric.thickness), GUARD, block.zeta,
         block.weights, block.reference_area, block.reference_length1, block.reference_length2,
         block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,
-        block.thickness_variation, with_forces, block._across_cell, block.interior_side,
+        block.thickness_variation, with_forces, block.across_cell, block.interior_side,
         block.clamped_side, block.reference_normal, block.reference_fold,
         block.reference_coefficients, block.reference_curvature_coefficients, normal,
         double_area, cosine, h_m, node_normal, fold, coefficients, gradient, own, energy,
@@ -671,7 +558,7 @@ def _passes(block, positions: np.ndarray, directors: np.ndarray, with_forces: bo
         pull = corners.sum(d_sums)
         pull[block.wall_node_ids] = 0.0
     _pulls_pass(
-        x, pull, conn, angles, nodal, own, block._across_cell, block._across_side,
+        x, pull, conn, angles, nodal, own, block.across_cell, block.across_side,
         block.interior_side, gradient, normal, force,
     )  # fmt: skip
     return energy, corners.sum(force), corners.sum(moment)
@@ -679,13 +566,13 @@ def _passes(block, positions: np.ndarray, directors: np.ndarray, with_forces: bo
 
 def internal_force(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a FibrousShellBlock: tension,
-    shear and bending (elements/fibrous.py ``internal_force``)."""
+    shear and bending (block.py ``internal_force``)."""
     _, force, moment = _passes(block, positions, directors, True)
     return force, moment
 
 
 def strain_energy_parts(block, positions: np.ndarray, directors: np.ndarray) -> dict:
     """Strain energy (N mm) of a FibrousShellBlock by term: {"tension", "shear", "bending"}
-    (elements/fibrous.py ``strain_energy_parts``)."""
+    (block.py ``strain_energy_parts``)."""
     energy = _passes(block, positions, directors, False)[0].sum(axis=0)
     return {"tension": float(energy[0]), "shear": float(energy[1]), "bending": float(energy[2])}

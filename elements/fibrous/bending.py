@@ -1,0 +1,254 @@
+"""Rotation-free bending from the neighbouring elements (Bai Eq. 34-37; docs/theory.md §4), the
+numpy reference of the compiled loops of kernels.py, and its stiffness.
+
+The warp and weft curvatures of each element come from the fold angles theta_s with its three
+neighbours (Eq. 35): chi_a = -sum_s c_as (theta_s - theta_s0), c_as = 2 (g_a . n^c_s)^2 /
+(h_s + h_s'), the heights of the two cells over their common side; on a clamped side the
+neighbour is the wall of the reference plane (§4.5). The virtual work (Eq. 34, 37) is
+
+    delta W_B = A0 sum_alpha M_alpha(chi_alpha) delta chi_alpha,
+
+and since d theta_s/dx has the share D[s, k] n on each element's own nodes (Eq. 36), every
+element scatters to its own three nodes only, with each side's moment summed over its two
+elements.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements.base import CellTangent
+from elements.fibrous import kernels
+from elements.fibrous.fibres import by_family
+from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
+from femcore.rotation import cross
+
+if TYPE_CHECKING:
+    from elements.fibrous.block import FibrousShellBlock
+
+__all__ = [
+    "curvatures",
+    "energy",
+    "forces",
+    "geometry",
+    "moments",
+    "patch_nodes",
+    "share_tangent",
+    "side_geometry",
+    "side_moments",
+    "tangent",
+]
+
+
+def side_geometry(x: np.ndarray) -> dict:
+    """Per-cell geometry of the sides from the corners x (m, 3, 3): unit normal n (m, 3),
+    double_area (m,), side length (m, 3) and outward in-plane unit normal n^c_s (m, 3, 3), and
+    gradient D (m, 3, 3), D[s, k] = -grad N_k . n^c_s: the element's share of the fold angle's
+    gradient is d phi_s / d x_k = D[s, k] n (Eq. 36)."""
+    normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    double_area = np.linalg.norm(normal, axis=1)
+    n = normal / double_area[:, None]
+    side = x[:, SIDE_TO] - x[:, SIDE_FROM]  # (m, 3, 3): side s from p to q
+    length = np.linalg.norm(side, axis=-1)
+    outward = cross(side, n[:, None, :]) / length[..., None]  # n^c_s
+    grad_n = cross(n[:, None, :], side) / double_area[:, None, None]  # grad N_k
+    gradient = -np.matmul(outward, grad_n.transpose(0, 2, 1))  # D[s, k]
+    return {
+        "normal": n,
+        "double_area": double_area,
+        "length": length,
+        "outward": outward,
+        "gradient": gradient,
+    }
+
+
+def geometry(block: FibrousShellBlock, positions: np.ndarray, geo: dict | None = None) -> dict:
+    """Fold angles, curvature coefficients and fold-angle gradients (docs/theory.md §4.1-4.3).
+
+    fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides and in held
+        cells; against the element's reference plane on clamped sides.
+    coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides and
+        in held cells).
+    gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
+        d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
+    """
+    if block.compiled:
+        return kernels.bending_geometry(block, positions)
+    x = positions[block.connectivity] if geo is None else geo["corners"]
+    sides = side_geometry(x)
+    n, double_area = sides["normal"], sides["double_area"]
+    side_length, outward, gradient = sides["length"], sides["outward"], sides["gradient"]
+
+    nb = block.across_cell
+    n_other = np.where(block.interior_side[..., None], n[nb], 0.0)
+    if block.clamped_side.any():
+        wall = block.reference_normal
+        n_other = np.where(block.clamped_side[..., None], wall[:, None, :], n_other)
+    has_fold = block.interior_side | block.clamped_side
+    fold = np.where(
+        has_fold,
+        np.arctan2(-np.sum(n_other * outward, axis=-1), np.matmul(n_other, n[:, :, None])[..., 0]),
+        0.0,
+    )
+    heights = double_area[:, None] / side_length
+    other_heights = np.where(block.interior_side, double_area[nb] / side_length, 0.0)
+    fibre = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]], axis=1)
+    fibre /= np.linalg.norm(fibre, axis=-1, keepdims=True)
+    projection = np.matmul(fibre, outward.transpose(0, 2, 1))  # (m, a, s)
+    coefficients = np.where(
+        has_fold[:, None, :],
+        2.0 * projection**2 / (heights + other_heights)[:, None, :],
+        0.0,
+    )
+    return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": n}
+
+
+def curvatures(block: FibrousShellBlock, bend: dict) -> tuple[np.ndarray, np.ndarray]:
+    """chi (m, 2) along edges 0-1 and 0-2 (Eq. 35): chi_a = -sum_s c_as (theta_s - theta_s0),
+    and the coefficients used."""
+    coefficients = (
+        block.reference_coefficients
+        if block.reference_curvature_coefficients
+        else bend["coefficients"]
+    )
+    chi = -np.matmul(coefficients, (bend["fold"] - block.reference_fold)[:, :, None])[..., 0]
+    return chi, coefficients
+
+
+def moments(block: FibrousShellBlock, chi: np.ndarray, slope: bool = False) -> np.ndarray:
+    """M (m, 2) per unit width along edges 0-1 and 0-2 from the warp and weft laws (or,
+    with ``slope``, dM/dchi)."""
+    warp, weft = by_family(block.xi_is_warp, chi[:, 0], chi[:, 1])
+    law = "slope" if slope else "value"
+    m_warp = getattr(block.fabric.bending, law)(warp)
+    m_weft = getattr(block.fabric.bending_weft, law)(weft)
+    return np.stack(
+        [np.where(block.xi_is_warp, m_warp, m_weft), np.where(block.xi_is_warp, m_weft, m_warp)],
+        axis=1,
+    )
+
+
+def side_moments(block: FibrousShellBlock, moment: np.ndarray, coefficients: np.ndarray):
+    """Each side's moment mu_s (m, 3), N mm: minus the sum over its two elements of
+    A0 sum_a M_a c_as, from the moments M (m, 2) along edges 0-1 and 0-2 of every cell and the
+    curvature coefficients c_as (m, 2, 3) used; 0 on free sides (c = 0 there)."""
+    own = -block.reference_area[:, None] * np.matmul(moment[:, None, :], coefficients)[:, 0]
+    across = np.where(block.interior_side, own[block.across_cell, block.across_side], 0.0)
+    return own + across  # free sides: own = 0 since c = 0
+
+
+def forces(block: FibrousShellBlock, positions: np.ndarray, geo: dict | None = None):
+    """Nodal bending forces (m, 3, 3) (Eq. 37): the energy A0 sum_a Phi_a(chi_a) varies
+    through the fold angles; each side's moment mu = -sum over its two elements of
+    A0 sum_a M_a c_as multiplies d theta/dx, whose share on each element's own nodes is
+    D[s, k] n, so every element scatters to its own three nodes only."""
+    bend = geometry(block, positions, geo)
+    chi, coefficients = curvatures(block, bend)
+    side_moment = side_moments(block, moments(block, chi), coefficients)
+    weights = np.matmul(side_moment[:, None, :], bend["gradient"])[:, 0]
+    return weights[..., None] * bend["normal"][:, None, :]
+
+
+def energy(block: FibrousShellBlock, positions: np.ndarray):
+    """The bending energy of the block (N mm): A0 sum_a Phi_a(chi_a), Phi the laws'
+    energies."""
+    chi, _ = curvatures(block, geometry(block, positions))
+    chi_warp, chi_weft = by_family(block.xi_is_warp, chi[:, 0], chi[:, 1])
+    return np.sum(
+        block.reference_area
+        * (block.fabric.bending.energy(chi_warp) + block.fabric.bending_weft.energy(chi_weft))
+    )
+
+
+def tangent(block: FibrousShellBlock, positions: np.ndarray) -> CellTangent:
+    """Stiffness of the bending forces F = sum_e A0 sum_a M_a(chi_a) dchi_a/dx (Eq. 37).
+
+    Material part: sum_e A0 sum_a (dM_a/dchi) g_a g_a^T with g_a = dchi_a/dx = -sum_s c_as
+    dtheta_s/dx over the element's patch: its own three nodes (the share D[s, k] n of
+    every side) and the three nodes of each neighbour (the neighbour's share), two of
+    which are its own: six nodes (``patch_nodes``), blocks (m, 6, 3, 6, 3).
+    Geometric part: sum_s mu_s d2theta_s/dx2, i.e. each element's own share mu_s D[s, k] n
+    differentiated (``share_tangent``, the side moments mu_s held). The coefficients c_as
+    are held too, as in the force (exact with ``bending_geometry="reference"``; with
+    "current" the neglected dc/dx terms are of the order of the fold-angle change over the
+    increment).
+    """
+    bend = geometry(block, positions)
+    chi, coefficients = curvatures(block, bend)
+    slopes = moments(block, chi, slope=True)
+    share = bend["gradient"][..., None] * bend["normal"][:, None, None, :]  # (m, s, k, 3)
+    across_share = np.where(
+        block.interior_side[..., None, None], share[block.across_cell, block.across_side], 0.0
+    )
+    m = len(block.cell_ids)
+    own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
+    across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
+    # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
+    # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
+    # a quarter of the size to form and to assemble.
+    nodes, slot = patch_nodes(block)
+    fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
+    g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
+    g[:, :, :3] += own  # (m, a, 6, 3)
+    weight = block.reference_area[:, None] * slopes  # (m, a)
+    flat = g.reshape(m, 2, 18)
+    blocks = np.matmul(flat.transpose(0, 2, 1) * weight[:, None, :], flat)
+    blocks = blocks.reshape(m, 6, 3, 6, 3)  # sum_a w_a g_a g_a^T
+
+    side_moment = side_moments(block, moments(block, chi), coefficients)
+
+    x = positions[block.connectivity]
+    blocks[:, :3, :, :3] += share_tangent(x, side_moment)
+    return CellTangent(nodes, blocks)
+
+
+def patch_nodes(block: FibrousShellBlock) -> tuple[np.ndarray, np.ndarray]:
+    """The six nodes of each cell's bending patch (m, 6): its corners, then across each
+    side s the neighbour's node opposite it (the cell's corner s where the side couples
+    no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
+    neighbour's corner j across side s, at s * 3 + j."""
+    conn = block.connectivity
+    other = conn[block.across_cell]  # (m, s, j)
+    slot = np.broadcast_to(3 + np.arange(3)[None, :, None], other.shape).copy()
+    for end in (SIDE_FROM, SIDE_TO):
+        ends = conn[:, end]  # (m, s): the side's end node
+        slot = np.where(other == ends[..., None], end[None, :, None], slot)
+    slot = np.where(block.interior_side[..., None], slot, 3 + np.arange(3)[None, :, None])
+    opposite = np.where(slot == 3 + np.arange(3)[None, :, None], other, 0).max(axis=2)
+    opposite = np.where(block.interior_side, opposite, conn)
+    return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
+
+
+def share_tangent(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
+    """d/dx of each element's own share of the bending forces, sum_s mu_s D[s, k] n (Eq. 37),
+    with the side moments mu_s (m, 3) held: (m, 3, 3, 3, 3), N/mm. The formulas of
+    ``side_geometry`` differentiated in the 9 unit directions of the corners, all cells at
+    once (directions on axis 1)."""
+    sides = side_geometry(x)
+    n, area2 = sides["normal"][:, None], sides["double_area"][:, None, None]
+    length, outward = sides["length"][:, None, :, None], sides["outward"][:, None]
+    directions = np.eye(9).reshape(9, 3, 3)  # (direction, corner, component)
+    a, b = x[:, None, 1] - x[:, None, 0], x[:, None, 2] - x[:, None, 0]
+    da, db = directions[:, 1] - directions[:, 0], directions[:, 2] - directions[:, 0]
+    dc = cross(da, b) + cross(a, db)  # (m, 9, 3)
+    d_area2 = np.sum(n * dc, axis=-1)[..., None]
+    dn = (dc - d_area2 * n) / area2
+    nn, dnn = n[:, :, None], dn[:, :, None]
+    side = (x[:, SIDE_TO] - x[:, SIDE_FROM])[:, None]  # (m, 1, s, 3)
+    d_side = directions[:, SIDE_TO] - directions[:, SIDE_FROM]  # (9, s, 3)
+    d_length = np.sum(side * d_side, axis=-1)[..., None] / length
+    d_outward = (cross(d_side, nn) + cross(side, dnn)) / length - outward * d_length / length
+    grad_n = cross(nn, side) / area2[..., None]  # grad N_k, (m, 1, k, 3)
+    d_grad_n = (cross(dnn, side) + cross(nn, d_side)) / area2[..., None] - grad_n * (
+        d_area2[..., None] / area2[..., None]
+    )
+    swap = (0, 1, 3, 2)
+    d_gradient = -(
+        np.matmul(d_outward, grad_n.transpose(swap)) + np.matmul(outward, d_grad_n.transpose(swap))
+    )  # dD[s, k], (m, 9, s, k)
+    w = np.matmul(side_moment[:, None, :], sides["gradient"])[:, 0][:, None, :, None]
+    dw = np.matmul(side_moment[:, None, None, :], d_gradient)[:, :, 0][..., None]
+    force = dw * nn + w * dnn  # (m, 9, k, 3)
+    return force.reshape(len(x), 3, 3, 3, 3).transpose(0, 3, 4, 1, 2)

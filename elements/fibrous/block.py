@@ -1,0 +1,347 @@
+"""FibrousShellBlock: the FibrousShell bound to the triangles of a mesh. It holds the tables
+fixed at bind (fibre frame, neighbours, reference geometry, side tables and wall normals of
+the supports) and answers the element protocol by the functions of the package: geometry.py
+(normals, thickness along the directors), membrane.py (tension and shear, Eq. 21-33),
+bending.py (rotation-free bending, Eq. 34-37), tangent.py (the stiffness), supports.py (the
+clamps), and kernels.py (the same forces and energy by compiled loops).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements import kernels as node_kernels
+from elements.base import ElementBlock
+from elements.fibrous import bending, geometry, kernels, membrane, supports
+from elements.fibrous import tangent as stiffness
+from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
+from elements.fibrous.packed_laws import pack_laws
+from elements.fibrous.tangent import CornerPairs
+from elements.shell_geometry import guarded_thickness, lumped_mass
+from femcore.assembly import Scatter, TangentPart
+from femcore.mesh import Mesh
+from femcore.state import State
+from femcore.topology import build_topology
+
+if TYPE_CHECKING:
+    from elements.fibrous.element import FibrousShell
+
+__all__ = ["FibrousShellBlock"]
+
+# Bending time-step coefficient of docs/theory.md §6.2 (A3): dt_b = 0.35 L^2 sqrt(rho_A / B), the
+# worst case (square cells) of the exact eigenvalues of the rotation-free bending stiffness.
+_BENDING_DT_COEFFICIENT = 0.35
+
+
+class FibrousShellBlock(ElementBlock):
+    """FibrousShell over mesh triangles ``cell_ids``.
+
+    Attributes (fixed at bind)
+    --------------------------
+    connectivity : (m, 3) node ids, reordered so that local node 0 is the fibre corner, edge
+        0 -> 1 runs along one fibre family and 0 -> 2 along the other (Eq. 9).
+    xi_is_warp : (m,) bool, True where edge 0 -> 1 is warp (else it is weft).
+    shear_sign : (m,) +1 or -1, so that gamma = shear_sign (pi/2 - angle(g1, g2)) is the
+        closing of the angle between the positive warp and weft directions in every cell,
+        whichever way its edges 0 -> 1 and 0 -> 2 point along them.
+    reference_area : A0 (m,), mm^2.
+    neighbour, neighbour_side : (m, 3) block-local neighbour across side s and its side index
+        there (-1 on free edges).
+    reference_points : (n, 3) mm, the mesh's points at bind (the reference configuration).
+
+    Attributes (fixed at bind, completed by ``apply_supports``; docs/theory.md §4.5)
+    -------------------------------------------------------------------------------
+    clamped_side : (m, 3) bool, sides that bend against the wall of the reference plane.
+    interior_side : (m, 3) bool, sides that couple the cell with its neighbour.
+    held_cell : (m,) bool, cells whose three nodes are held: no bending.
+    across_cell, across_side : (m, 3) int, the neighbour and its side where ``interior_side``,
+        0 elsewhere (gather indices, masked by ``interior_side``).
+    requested_clamp : (n,) bool, the nodes of the ``clamped`` option.
+    wall_nodes : (n,) bool, the held nodes whose nodal normal is the wall's (the reference
+        one); wall_node_ids their ids and wall_sums (len(wall_node_ids), 3) their normal sums.
+    reference_sums : (n, 3), the normal sums of the reference configuration (set by
+        ``apply_supports``).
+    reference_fold, reference_coefficients : (m, 3) and (m, 2, 3), the fold angles and
+        curvature coefficients of the reference configuration (bending.py ``geometry``).
+    """
+
+    dofs = ("ux", "uy", "uz", "alpha", "beta")
+    cell_type = "triangle"
+
+    # Set by supports.set_sides and supports.apply_supports.
+    clamped_side: np.ndarray
+    interior_side: np.ndarray
+    held_cell: np.ndarray
+    across_cell: np.ndarray
+    across_side: np.ndarray
+    reference_sums: np.ndarray
+
+    def __init__(self, shell: FibrousShell, mesh: Mesh, cell_ids, directors):
+        self.fabric = fabric = shell.fabric
+        self.compiled = shell.kernel == "compiled"
+        # Options resolved once: the block never reads its type back at run time.
+        self.thickness_variation = shell.thickness_variation
+        self.nodal_normals = shell.thickness == "nodal"
+        # Rotation-free bending: a cell's bending force depends on its neighbours' nodes (2
+        # hops). With nodal normals a node's force also depends on the h_m of the nodes of its
+        # cells, each set by the normals of the cells around that node (3 hops).
+        self.reach = 3 if self.nodal_normals else 2
+        self.reference_curvature_coefficients = shell.bending_geometry == "reference"
+        self.n_nodes = mesh.n_nodes
+        self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
+        self.zeta, self.weights = shell.zeta, shell.weights
+        self.connectivity, self.xi_is_warp = fibre_ordering(
+            mesh.points,
+            mesh.triangles[self.cell_ids],
+            self.cell_ids,
+            shell.warp,
+            shell.fibre_angle_tolerance,
+        )
+        self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self.node_corners = node_kernels.NodeCorners(self.connectivity, mesh.n_nodes)
+        self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
+        self.node_in_block[self.connectivity] = True
+        self._pairs: CornerPairs | None = None  # the tangent's sparse pattern
+        self.shear_sign = shear_orientation(
+            mesh.points, self.connectivity, self.xi_is_warp, shell.warp
+        )
+
+        topology = build_topology(self.connectivity)
+        self.neighbour = np.asarray(topology.neighbour)
+        self.neighbour_side = supports.neighbour_sides(self.neighbour)
+        # Clamps (docs/theory.md §4.5): the requested ones now, with the model's supports added
+        # by apply_supports, which also recomputes the reference folds from these points.
+        self.requested_clamp = supports.requested_clamp(mesh, self.connectivity, shell.clamped)
+        self.reference_points = np.asarray(mesh.points, dtype=float)
+        # Nodes whose normal is that of the wall they are held against (apply_supports).
+        self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
+        self.wall_node_ids = np.zeros(0, dtype=np.int64)
+        self.wall_sums = np.zeros((0, 3))
+        supports.set_sides(self, self.requested_clamp)
+
+        # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
+        x0 = np.asarray(mesh.points, dtype=float)
+        v0 = np.asarray(directors, dtype=float)
+        ref = geometry.geometry(self, x0, v0)
+        self.reference_area = 0.5 * ref["double_area"]
+        self.reference_normal = ref["normal"]
+        self.reference_length1, self.reference_length2 = membrane.fibre_lengths(self, ref)
+        self.reference_shear = self.shear_sign[:, None] * membrane.shear_angle(ref["g1"], ref["g2"])
+        self.reference_fold = np.zeros((len(self.cell_ids), 3))
+        bend0 = bending.geometry(self, x0)
+        self.reference_fold = bend0["fold"]
+        self.reference_coefficients = bend0["coefficients"]
+
+        # The laws as the compiled loops read them: warp and weft tension, shear, warp and
+        # weft bending (elements/fibrous/packed_laws.py).
+        self.packed_laws = pack_laws(
+            (fabric.tension, fabric.tension_weft, fabric.shear, fabric.bending, fabric.bending_weft)
+        )
+        # Largest tangent stiffnesses, for the stable step (docs/theory.md §6.2).
+        self.max_tension_stiffness = max(
+            fabric.tension.max_slope(), fabric.tension_weft.max_slope()
+        )
+        self.max_shear_stiffness = fabric.shear.max_slope()
+        self.max_bending_stiffness = max(
+            fabric.bending.max_slope(), fabric.bending_weft.max_slope()
+        )
+
+    def apply_supports(self, held: np.ndarray) -> None:
+        """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
+        §4.5): every node held (translations and directors fixed or prescribed) is a clamped
+        node, as are those of the ``clamped`` option, which must be held (supports.py).
+
+        Raises ValueError when a node of a requested clamped edge is not held.
+        """
+        supports.apply_supports(self, held)
+
+    def corner_pairs(self) -> CornerPairs:
+        """The node-pair pattern of the sparse membrane tangent (built at its first use)."""
+        if self._pairs is None:
+            self._pairs = CornerPairs(self.connectivity, self.n_nodes)
+        return self._pairs
+
+    # ------------------------------------------------------------------ kinematics
+    def thickness_along_directors(self, positions: np.ndarray, directors: np.ndarray) -> dict:
+        """The thickness along the directors at each corner of each cell (Bai Eq. 10, 14), from
+        the nodal normals (the same value at every corner of a node) or, with
+        ``thickness="element"``, from each element's normal (Eq. 15).
+
+        Parameters
+        ----------
+        positions, directors : (n, 3) float
+            A configuration (mm; unit directors).
+
+        Returns
+        -------
+        dict
+            ``cosine`` (m, 3): V . n; ``thickness`` (m, 3), mm: h_m = h / max(V . n,
+            guard); ``guarded`` (m, 3) bool: the corners where the guard acted.
+        """
+        geo = geometry.geometry(self, positions, directors, layers=False)
+        return {key: geo[key] for key in ("cosine", "thickness", "guarded")}
+
+    def nodal_thickness(self, state: State) -> np.ndarray:
+        """Thickness along the director at the nodes (n,), mm: h_m from the nodal normal, or
+        with element normals the area-weighted mean of the per-element h_m (docs/theory.md
+        §1.4); 0 at nodes outside the block."""
+        if self.compiled and self.nodal_normals:
+            # h / max(V . N, guard) at each node of the block from the compiled normal sums
+            # (the explicit solver refreshes the rotary inertia with it)
+            sums = geometry.normal_sums(self, state.positions)
+            length = np.linalg.norm(sums, axis=1)
+            inside = self.node_in_block
+            cosine = np.sum(state.directors * sums, axis=1) / np.where(inside, length, 1.0)
+            h_m, _ = guarded_thickness(self.fabric.thickness, cosine)
+            return np.where(inside, h_m, 0.0)
+        geo = geometry.geometry(self, state.positions, state.directors, layers=False)
+        return geometry.node_thickness(self, geo)
+
+    def director_tilt(self, state: State) -> np.ndarray:
+        """Angle between the director and the nodal normal of the block (n,), rad, in [0, pi];
+        0 at nodes outside the block. A stack of freely slipping layers bent by theta from a
+        clamp tilts by atan(theta) (docs/theory.md §1.7)."""
+        normals = geometry.normal_sums(self, state.positions)
+        length = np.linalg.norm(normals, axis=1)
+        inside = length > 0
+        cosine = np.sum(state.directors * normals, axis=1) / np.where(inside, length, 1.0)
+        return np.where(inside, np.arccos(np.clip(cosine, -1.0, 1.0)), 0.0)
+
+    def guarded_nodes(self, state: State) -> np.ndarray:
+        """Ids of the nodes where V.n fell below the guard of h_m = h / max(V.n, 0.2) in some
+        element (the thickness along the director is capped there at 5 h)."""
+        geo = geometry.geometry(self, state.positions, state.directors, layers=False)
+        return np.unique(self.connectivity[geo["guarded"]])
+
+    # ------------------------------------------------------------------ protocol
+    def internal_force(self, state: State, history=None):
+        if self.compiled:  # the four passes of elements/fibrous/kernels.py
+            return kernels.internal_force(self, state.positions, state.directors)
+        geo = geometry.geometry(self, state.positions, state.directors)
+        force, moment = membrane.forces(self, geo, membrane.strains(self, geo))
+        force = force + bending.forces(self, state.positions, geo)
+        return self.scatter.vectors(force), self.scatter.vectors(moment)
+
+    def internal_force_parts(self, state: State) -> dict:
+        """{"tension" | "shear": (forces (n,3), moments (n,3)), "bending": (forces, zeros)}:
+        the three virtual-work terms separately (diagnostics and tests)."""
+        geo = geometry.geometry(self, state.positions, state.directors)
+        strain = membrane.strains(self, geo)
+        parts = {}
+        for name, flags in (("tension", (True, False)), ("shear", (False, True))):
+            f, m = membrane.forces(self, geo, strain, *flags)
+            parts[name] = (self.scatter.vectors(f), self.scatter.vectors(m))
+        parts["bending"] = (
+            self.scatter.vectors(bending.forces(self, state.positions)),
+            np.zeros((self.n_nodes, 3)),
+        )
+        return parts
+
+    def strain_energy_parts(self, state: State) -> dict:
+        """Strain energy (N mm) of each term: {"tension", "shear", "bending"}."""
+        if self.compiled:
+            return kernels.strain_energy_parts(self, state.positions, state.directors)
+        geo = geometry.geometry(self, state.positions, state.directors)
+        tension, shear = membrane.energies(self, membrane.strains(self, geo))
+        bend = bending.energy(self, state.positions)
+        return {"tension": float(tension), "shear": float(shear), "bending": float(bend)}
+
+    def strain_energy(self, state: State, history=None) -> float:
+        return float(sum(self.strain_energy_parts(state).values()))
+
+    def tangent(self, state: State, history=None) -> list[TangentPart]:
+        """Stiffness of tension + shear and of bending (tangent.py ``tangent``): with nodal
+        normals a sparse matrix and the bending patches, closed form; with element normals
+        each cell's tension + shear by central differences of its loads."""
+        return stiffness.tangent(self, state)
+
+    def lumped_mass(self, state: State, density_scale=None):
+        density: float | np.ndarray = self.fabric.areal_density
+        if density_scale is not None:
+            density = density * np.asarray(density_scale, dtype=float)
+        return lumped_mass(
+            density,
+            self.reference_area,
+            self.connectivity,
+            self.nodal_thickness(state),
+            self.n_nodes,
+        )
+
+    def cell_stable_dt(self, state: State) -> np.ndarray:
+        """Critical step per cell from docs/theory.md §6.2, the three bounds combined as
+        omega^2 = omega_tension^2 + omega_shear^2 + omega_bending^2 (a safe upper bound):
+
+        * tension (A1): omega^2 = (2 + |cos phi|) C A0 / (L_min^2 m), m = rho_A A0 / 3, phi
+          the warp-weft angle (two fibres in line at node 0 give the 3-mass chain value);
+        * shear (A4): omega^2 = 2 K A0 (1/L1^2 + 1/L2^2) / m;
+        * bending (A3): dt = 0.35 L_min^2 sqrt(rho_A / B).
+        Director modes do not govern with I = m h_m^2 / 4 (A2) as long as I follows the
+        current h_m (the solvers refresh the rotary inertia with the step) and the directors
+        stay near the normal: at a tilt of 70 deg the exact step was 0.87 of this bound
+        (docs/theory.md §6.2, measured on a pinched blank).
+        """
+        x = state.positions[self.connectivity]
+        g1 = x[:, 1] - x[:, 0]
+        g2 = x[:, 2] - x[:, 0]
+        len1 = np.linalg.norm(g1, axis=1)
+        len2 = np.linalg.norm(g2, axis=1)
+        cosine = np.abs(np.sum(g1 * g2, axis=1)) / (len1 * len2)
+        shortest = np.minimum(len1, len2)
+        mass = self.fabric.areal_density * self.reference_area / 3.0
+        a0 = self.reference_area
+        omega2 = (2.0 + cosine) * self.max_tension_stiffness * a0 / (shortest**2 * mass)
+        omega2 += 2.0 * self.max_shear_stiffness * a0 * (1 / len1**2 + 1 / len2**2) / mass
+        dt_bending = (
+            _BENDING_DT_COEFFICIENT
+            * shortest**2
+            * np.sqrt(self.fabric.areal_density / self.max_bending_stiffness)
+        )
+        omega2 += (2.0 / dt_bending) ** 2
+        if self.nodal_normals:
+            # h_m at a node follows the normals of its whole star, which couples the director
+            # modes of neighbouring cells: on a jittered patch with tilted directors the
+            # assembled omega_max exceeded the bound above by 1.8 % (omega^2); 10 % margin.
+            omega2 *= 1.1
+        return 2.0 / np.sqrt(omega2)
+
+    def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
+        geo = geometry.geometry(self, state.positions, state.directors)
+        strain = membrane.strains(self, geo)
+        warp, weft = by_family(self.xi_is_warp, strain["eps1"], strain["eps2"])
+        chi, _ = bending.curvatures(self, bending.geometry(self, state.positions))
+        moments = bending.moments(self, chi)
+        chi_warp, chi_weft = by_family(self.xi_is_warp, chi[:, 0], chi[:, 1])
+        m_warp, m_weft = by_family(self.xi_is_warp, moments[:, 0], moments[:, 1])
+        # The fields both shells write (README "Output fields"): section forces per unit
+        # width in the fibre frame (1 = warp), averaged over the levels with their weights.
+        t_warp = self.fabric.tension.value(warp) @ self.weights
+        t_weft = self.fabric.tension_weft.value(weft) @ self.weights
+        shear = self.fabric.shear.value(strain["gamma"]) @ self.weights
+        return {
+            "warp_strain": warp,  # (m, L), log strain, levels bottom -> top
+            "weft_strain": weft,
+            "shear_angle": strain["gamma"],  # (m, L), rad
+            "warp_curvature": chi_warp,  # 1/mm
+            "weft_curvature": chi_weft,
+            "warp_moment": m_warp,  # N (N mm per mm)
+            "weft_moment": m_weft,
+            "membrane_force": np.column_stack([t_warp, t_weft, shear]),  # N/mm
+            # no twisting moment in the fibrous shell: M12 = 0
+            "bending_moment": np.column_stack([m_warp, m_weft, np.zeros_like(m_warp)]),
+        }
+
+    def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
+        geo = geometry.geometry(self, state.positions, state.directors, layers=False)
+        guarded = np.zeros(self.n_nodes)
+        guarded[self.connectivity[geo["guarded"]]] = 1.0
+        return {
+            "thickness": geometry.node_thickness(self, geo),
+            "thickness_guarded": guarded,
+            "director_tilt": self.director_tilt(state),  # rad, from the nodal normal
+        }
+
+    def total_mass(self) -> float:
+        """Physical mass of the block (t)."""
+        return float(self.fabric.areal_density * self.reference_area.sum())

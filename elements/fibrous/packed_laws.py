@@ -1,0 +1,120 @@
+"""The 1-D material laws of materials.laws as arrays a compiled loop can read (``pack_laws``),
+and their value and energy evaluated inside the loops (``law_value``, ``law_energy``): the
+fibrous shell's compiled kernels (elements/fibrous/kernels.py) evaluate the tension, shear and
+bending laws per fibre level and per cell without calling back into Python.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.jit import serial
+
+__all__ = ["law_energy", "law_value", "pack_laws"]
+
+# The kinds of packed law (column 0 of the integer table).
+_POLYNOMIAL, _TABLE = 0, 1
+
+
+def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
+    """The 1-D laws of materials.laws as two arrays a compiled loop can read.
+
+    Parameters
+    ----------
+    laws : sequence of materials.Law (k of them).
+
+    Returns
+    -------
+    integers : (k, 4) int64
+        kind (0 odd polynomial, 1 piecewise-linear table), number of coefficients, number of
+        knots, 1 if the law acts in compression (0 for a tension-only law).
+    reals : (k, 3, w) float
+        [i, 0, :] the coefficients c1, c3, c5 ...; [i, 1, :] and [i, 2, :] the knots x and y.
+    """
+    width = 1
+    for law in laws:
+        if law.odd_coefficients is not None:
+            width = max(width, len(law.odd_coefficients))
+        else:
+            width = max(width, len(law.knots[0]))
+    integers = np.zeros((len(laws), 4), dtype=np.int64)
+    reals = np.zeros((len(laws), 3, width))
+    for i, law in enumerate(laws):
+        integers[i, 3] = 1 if law.compression else 0
+        if law.odd_coefficients is not None:
+            integers[i, 0], integers[i, 1] = _POLYNOMIAL, len(law.odd_coefficients)
+            reals[i, 0, : len(law.odd_coefficients)] = law.odd_coefficients
+        else:
+            kx, ky = law.knots
+            integers[i, 0], integers[i, 2] = _TABLE, len(kx)
+            reals[i, 1, : len(kx)] = kx
+            reals[i, 2, : len(ky)] = ky
+    return integers, reals
+
+
+@serial
+def law_value(integers, reals, i, x):
+    """y(x) of packed law i (materials.Law.value): the odd polynomial sum c_j x^(2j+1), or
+    the table interpolated linearly and extended by its end slopes; 0 for x < 0 when the law
+    is tension-only."""
+    if integers[i, 3] == 0 and x < 0.0:
+        return 0.0
+    if integers[i, 0] == _POLYNOMIAL:
+        y = 0.0
+        power = x
+        square = x * x
+        for j in range(integers[i, 1]):
+            y += reals[i, 0, j] * power
+            power *= square
+        return y
+    # reals[i, 1] and reals[i, 2] are the knots x and y (indexed in place: a slice would be
+    # a reference-counted view in the hot loop)
+    count = integers[i, 2]
+    if x < reals[i, 1, 0]:
+        j = 0
+    elif x >= reals[i, 1, count - 1]:
+        j = count - 2
+        if x == reals[i, 1, count - 1]:
+            return reals[i, 2, count - 1]
+    else:  # x_j <= x < x_(j+1)
+        low, high = 0, count - 1
+        while high - low > 1:
+            middle = (low + high) // 2
+            if reals[i, 1, middle] <= x:
+                low = middle
+            else:
+                high = middle
+        j = low
+    x0, x1, y0, y1 = reals[i, 1, j], reals[i, 1, j + 1], reals[i, 2, j], reals[i, 2, j + 1]
+    return (y1 - y0) / (x1 - x0) * (x - x0) + y0
+
+
+@serial
+def law_energy(integers, reals, i, x):
+    """integral_0^x y of packed law i (materials.Law.energy): sum c_j x^(2j+2) / (2j+2) for a
+    polynomial; for a table, F(x) - F(0) with F(t) the integral from the first knot, exact
+    trapezoids since y is linear on each piece and on the extensions; 0 for x < 0 when the law
+    is tension-only."""
+    if integers[i, 3] == 0 and x < 0.0:
+        return 0.0
+    if integers[i, 0] == _POLYNOMIAL:
+        e = 0.0
+        square = x * x
+        power = square
+        for j in range(integers[i, 1]):
+            e += reals[i, 0, j] * power / (2 * j + 2)
+            power *= square
+        return e
+    return _table_integral(integers, reals, i, x) - _table_integral(integers, reals, i, 0.0)
+
+
+@serial
+def _table_integral(integers, reals, i, t):
+    """integral of table i's y from its first knot to t (negative below it)."""
+    count = integers[i, 2]
+    total = 0.0
+    j = 0
+    while j < count - 2 and reals[i, 1, j + 1] <= t:
+        total += 0.5 * (reals[i, 1, j + 1] - reals[i, 1, j]) * (reals[i, 2, j + 1] + reals[i, 2, j])
+        j += 1
+    return total + 0.5 * (t - reals[i, 1, j]) * (reals[i, 2, j] + law_value(integers, reals, i, t))

@@ -1,0 +1,123 @@
+"""Where the rotation-free bending meets the supports (docs/theory.md §4.5): the side tables
+of a block (which sides couple two cells, which bend against a clamped wall, which cells are
+held), the ``clamped`` option checked against the supports, and the wall normals of the held
+nodes.
+
+A side with both nodes clamped couples no two cells and is a clamped side of each cell that
+has a node not clamped: it bends against the wall of its reference plane. A held cell (three
+nodes clamped) has no fold at all. A held node's nodal normal is the wall's (the reference
+one), not the mean of the cells that bend away from it (docs/theory.md §1.4).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements.fibrous import bending, geometry
+from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
+from femcore.mesh import Mesh
+
+if TYPE_CHECKING:
+    from elements.fibrous.block import FibrousShellBlock
+
+__all__ = ["apply_supports", "clamped_sides", "neighbour_sides", "requested_clamp", "set_sides"]
+
+
+def neighbour_sides(neighbour: np.ndarray) -> np.ndarray:
+    """For each (cell, side) with a neighbour, the side index of the shared edge in the
+    neighbour (-1 on free sides); ``neighbour`` (m, 3) the cell across each side (-1 on free
+    sides)."""
+    m = len(neighbour)
+    nb = np.where(neighbour >= 0, neighbour, 0)
+    back = neighbour[nb] == np.arange(m)[:, None, None]  # (m, 3 sides, 3 neighbour sides)
+    side = np.argmax(back, axis=2)
+    return np.where(neighbour >= 0, side, -1)
+
+
+def clamped_sides(
+    connectivity: np.ndarray, clamp: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """From the clamped nodes ``clamp`` (n,) bool and the cells' nodes ``connectivity``
+    (m, 3): the clamped sides (m, 3) (both nodes clamped, in a cell with a node that is not),
+    the sides with both nodes clamped (m, 3), and the held cells (m,) (all three nodes
+    clamped)."""
+    ends = clamp[connectivity[:, SIDE_FROM]] & clamp[connectivity[:, SIDE_TO]]
+    held = clamp[connectivity].all(axis=1)
+    return ends & ~held[:, None], ends, held
+
+
+def requested_clamp(mesh: Mesh, connectivity: np.ndarray, clamped) -> np.ndarray:
+    """The nodes (n,) bool of the ``clamped`` option (all False without it): node ids or a
+    node-set name of ``mesh``; they must make at least one edge of the cells
+    ``connectivity`` (m, 3)."""
+    member = np.zeros(mesh.n_nodes, dtype=bool)
+    if clamped is None:
+        return member
+    if isinstance(clamped, str):
+        nodes = mesh.nodes(clamped)
+    else:
+        nodes = np.unique(np.asarray(clamped, dtype=np.int64).ravel())
+        if nodes.size and (nodes.min() < 0 or nodes.max() >= mesh.n_nodes):
+            raise ValueError(f"clamped: node ids must be in 0..{mesh.n_nodes - 1}")
+    member[nodes] = True
+    if not clamped_sides(connectivity, member)[1].any():
+        raise ValueError(
+            "clamped: no edge of the block has both its nodes in the given set; a clamped "
+            "edge is a line of mesh edges (the shell's boundary, or an interior line)"
+        )
+    return member
+
+
+def set_sides(block: FibrousShellBlock, clamp: np.ndarray) -> None:
+    """The block's side tables from the clamped nodes ``clamp`` (n,) bool: ``clamped_side``,
+    ``held_cell``, ``interior_side`` and the gather indices ``across_cell``, ``across_side``.
+
+    A side with both nodes clamped couples no two cells (``interior_side`` False in both)
+    and is a clamped side of each cell that has a node not clamped: it bends against the
+    wall of its reference plane. A held cell (three nodes clamped) has no fold at all, so
+    zero curvature coefficients: its shape is imposed and it stores no bending energy.
+    """
+    block.clamped_side, ends, block.held_cell = clamped_sides(block.connectivity, clamp)
+    block.interior_side = (block.neighbour >= 0) & ~ends
+    # Gather indices with free sides pointing at cell 0, masked by interior_side.
+    block.across_cell = np.where(block.interior_side, block.neighbour, 0)
+    block.across_side = np.where(block.interior_side, block.neighbour_side, 0)
+
+
+def apply_supports(block: FibrousShellBlock, held: np.ndarray) -> None:
+    """Clamp the block's rotation-free bending where the model holds the nodes: every node
+    ``held`` (n,) bool (translations and directors fixed or prescribed) is a clamped node, as
+    are those of the ``clamped`` option, which must be held. Sets the side tables, the wall
+    nodes and their normal sums, and the reference folds and curvature coefficients
+    recomputed with the clamps.
+
+    Raises ValueError when a node of a requested clamped edge is not held.
+    """
+    held = np.asarray(held, dtype=bool)
+    connectivity = block.connectivity
+    _, requested, _ = clamped_sides(connectivity, block.requested_clamp)
+    on_edges = np.zeros_like(held)
+    on_edges[connectivity[:, SIDE_FROM][requested]] = True
+    on_edges[connectivity[:, SIDE_TO][requested]] = True
+    loose = np.flatnonzero(on_edges & ~held)
+    if loose.size:
+        raise ValueError(
+            f"clamped nodes {loose[:5].tolist()}{'...' if loose.size > 5 else ''} must "
+            "have their translations and directors fixed with model.fix (a clamped edge "
+            "is held by the supports; its bending then acts against a wall)"
+        )
+    set_sides(block, held | block.requested_clamp)
+    # A held node stays where it was: its nodal normal is the wall's, the reference one,
+    # not the mean of the cells that bend away from it (docs/theory.md §1.4).
+    wall = np.zeros_like(held)
+    wall[np.unique(connectivity)] = True
+    block.wall_nodes = np.zeros_like(held)  # the reference sums with no wall yet
+    block.reference_sums = geometry.normal_sums(block, block.reference_points)
+    block.wall_nodes = wall & (held | block.requested_clamp)
+    block.wall_node_ids = np.flatnonzero(block.wall_nodes)
+    block.wall_sums = block.reference_sums[block.wall_node_ids]
+    reference = bending.geometry(block, block.reference_points)
+    block.reference_fold = reference["fold"]
+    block.reference_coefficients = reference["coefficients"]
