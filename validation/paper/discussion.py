@@ -77,9 +77,9 @@ def discussion(
             kinematics: _largest(list(slip_errors(case, specimen, elements[kinematics]).values()))
             for kinematics in ("fibrous", "fibrous_element")
         }
-        sides = " and ".join(side.replace("_", " ") for side in case.slip_sides)
+        named = " and ".join(side.replace("_", " ") for side in case.slip_sides)
         note += (
-            f" Measured along {sides}, away from the clamped and the loaded nodes: the default "
+            f" Measured along {named}, away from the clamped and the loaded nodes: the default "
             f"directors' tilt differs from atan(theta) by at most {measured['fibrous']:.1f} deg "
             f"({'checked' if case.slip_tolerance_deg is not None else 'not checked'}); the "
             f"Eq. 15 directors, whose tilt is theta itself, by up to "
