@@ -18,6 +18,7 @@ Run from the project root:
 from __future__ import annotations
 
 import argparse
+import copy
 import sys
 import time
 from pathlib import Path
@@ -40,11 +41,12 @@ def best(function, repeats: int) -> float:
 
 
 def time_surface(tool: RigidSurface, x: np.ndarray, repeats: int) -> tuple[float, float]:
-    """(full search, step from the kept candidates), s."""
+    """(full search, step from the kept candidates), s; ``tool`` has not searched yet."""
 
     def search():
-        tool._cache = None  # the full search, as after a long move
-        tool.distance(x)
+        # The full search, as after a long move: each run on a shallow copy of the tool as
+        # built, which has kept no candidates (the copy shares the tree and the facets).
+        copy.copy(tool).distance(x)
 
     full = best(search, repeats)
     tool.distance(x)

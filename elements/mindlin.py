@@ -329,9 +329,21 @@ class MindlinShellBlock(ElementBlock):
             blocks[cells] = self._cell_tangent(x[cells], v[cells], cells)
         return [CellTangent(self.connectivity, blocks)]
 
-    def _difference_tangent(self, state: State) -> list[CellTangent]:
-        """The same blocks by central differences of ``_cell_loads`` (36 evaluations of the
-        loads of all triangles): the reference the analytic tangent is checked against."""
+    def difference_tangent(self, state: State) -> list[CellTangent]:
+        """The blocks of ``tangent`` by central differences of the element loads (36
+        evaluations of the loads of all triangles, step 1e-6 of the median element size): the
+        reference the analytic tangent is checked against, and its cost.
+
+        Parameters
+        ----------
+        state : State
+            Positions (n, 3) and directors (n, 3) to differentiate at.
+
+        Returns
+        -------
+        list of CellTangent
+            One entry: blocks (m, 3, 6, 3, 6) in (u, psi) of the corners, N/mm, N, N mm.
+        """
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
         step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))

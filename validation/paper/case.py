@@ -1,0 +1,280 @@
+"""A paper case: its specification, its three solves and what it writes.
+
+A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed displacement and
+the resolution table. ``compute_paper_case`` builds three models on the same mesh
+(``validation.paper.kinematics.KINEMATICS``), solves each with ``solve`` (``Static`` along the
+arc length of the path, load steps past a limit point), measures the sides
+(validation.paper.profiles), checks Bai's claims (validation.paper.invariants) and writes the
+paragraph on what the numbers mean (validation.paper.discussion); ``render_paper_case`` writes
+the VTU and XDMF files of the three runs and draws the figures (validation.paper.figures).
+``PaperCase.case`` binds the two into the ``Case`` record of the module.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from femcore import Model
+from materials import Fabric
+from solvers import ConvergenceError, Static
+from validation import specimens
+from validation.paper.discussion import discussion
+from validation.paper.figures import laws_figure, side_elevation, side_figure, view_3d
+from validation.paper.invariants import invariant_checks
+from validation.paper.kinematics import (
+    ELEMENT,
+    FIBROUS_THICKNESS,
+    INCREMENTS,
+    KINEMATICS,
+    LABELS,
+    SHEAR_RATIO,
+)
+from validation.paper.profiles import fibre_statistics, key_numbers, side_data
+from validation.records import Case, ElementRun, Outcome, SideProfile
+
+__all__ = [
+    "PaperCase",
+    "PaperRuns",
+    "compute_paper_case",
+    "corner_case",
+    "render_paper_case",
+    "solve",
+]
+
+
+@dataclass(frozen=True)
+class PaperCase:
+    """One of the paper's tests: what to build and at which resolutions."""
+
+    name: str
+    title: str
+    source: str  # the paper's section and figures, quoted in the checks
+    make_specimen: Callable[[int], specimens.Specimen]
+    fabric: Fabric
+    displacement: tuple  # (ux, uy, uz) imposed on the loaded nodes, None = free
+    cells: dict  # resolution -> cells argument of make_specimen
+    parameters: dict = field(default_factory=dict)  # chosen values, reported
+    increments: int = INCREMENTS
+    shear_ratio: float = SHEAR_RATIO  # Mindlin G13 / E (stated parameter)
+    # The sides along which the plies slip freely from the clamp, where the default fibrous
+    # directors' tilt from the normal is compared with atan(theta) (``slip_errors``), and in
+    # words why (or why not) for the report's paragraph; the largest |tilt - atan(theta)| that
+    # passes per resolution (deg, chosen by measuring), or None: measured and reported, not
+    # checked.
+    slip_sides: tuple[str, ...] = ()
+    slip_note: str = ""
+    slip_tolerance_deg: dict[str, float] | None = None
+
+    def case(self, *, source: str, description: str, order: int) -> Case:
+        """The ``Case`` record of the module (group "paper"): the three kinematics.
+
+        Parameters
+        ----------
+        source : str
+            The reference as the report states it.
+        description : str
+            The module docstring.
+        order : int
+            Position among the paper cases.
+
+        Returns
+        -------
+        Case
+            compute = ``compute_paper_case``, render = ``render_paper_case`` on this spec.
+        """
+        return Case(
+            name=self.name,
+            title=self.title,
+            source=source,
+            description=description,
+            group="paper",
+            order=order,
+            compute=partial(compute_paper_case, self),
+            render=partial(render_paper_case, self),
+        )
+
+
+@dataclass(frozen=True)
+class PaperRuns:
+    """What the figures and files of a paper case are made of: the specimen and, per
+    kinematics, the solver result and the profiles along the sides."""
+
+    specimen: specimens.Specimen
+    results: dict[str, Any]
+    sides: dict[str, dict[str, SideProfile]]
+
+
+def corner_case(
+    name: str,
+    title: str,
+    source: str,
+    fabric: Fabric,
+    size: tuple[float, float],
+    displacement: tuple,
+    described: str,
+    cells: dict,
+    increments: int = INCREMENTS,
+    slip_sides: tuple[str, ...] = (),
+    slip_note: str = "",
+    slip_tolerance_deg: dict[str, float] | None = None,
+) -> PaperCase:
+    """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
+    diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner and
+    ``described`` in words for the report; ``slip_sides``, ``slip_note`` and
+    ``slip_tolerance_deg`` as in ``PaperCase``."""
+    length, width = size
+    return PaperCase(
+        name=name,
+        title=title,
+        source=source,
+        make_specimen=partial(specimens.corner, length, width),
+        fabric=fabric,
+        displacement=displacement,
+        cells=cells,
+        increments=increments,
+        slip_sides=slip_sides,
+        slip_note=slip_note,
+        slip_tolerance_deg=slip_tolerance_deg,
+        parameters={
+            "length_mm": length,
+            "width_mm": width,
+            "corner displacement (assumed)": described,
+        },
+    )
+
+
+def solve(model: Model, increments: int) -> tuple[Any, str, float]:
+    """Static along the arc length of the path: gravity over load factors 0-1, then the
+    displacement over 1-2, ``increments`` arc-length steps at most each; at a limit point the
+    run goes on with load steps that land on the stable branch beyond it (the snap a test
+    machine shows). No other solver is tried: a run that stops is reported as such, with its
+    last equilibrium.
+
+    Returns the result, the solver note for the report (what ran, how many increments and
+    Newton iterations, limit points, unstable states) and the wall time (s)."""
+    started = time.perf_counter()
+    solver = Static(
+        increments=increments,
+        path="arc_length",
+        at_limit="jump",
+        max_iterations=40,
+        max_cuts=10,
+        step_loads_first=True,
+        progress=False,
+    )
+    try:
+        result = solver.solve(model)
+        stopped = ""
+    except ConvergenceError as error:
+        assert error.result is not None
+        result = error.result
+        stopped = f"; STOPPED at load factor {error.load_factor:.4g} of 2: {error}"
+    info = result.info
+    note = (
+        f"Static, arc length (gravity, then the displacement): {len(result.frames) - 1} "
+        f"increments, {sum(info['iterations_per_increment'])} Newton iterations, "
+        f"{info['cuts']} cuts"
+    )
+    if info["jumps"]:
+        listed = ", ".join(f"{value:.3g}" for value in info["jumps"])
+        # How far out of its plane (z) the specimen was at the limit point and is at the end:
+        # a snap may lead to a flatter state (an in-plane mode) as well as a deeper buckle.
+        start = result.frames[0].positions[:, 2]
+        at_limit = next(f for f in result.frames if f.load_factor >= info["jumps"][0] - 1e-12)
+        deflection = [
+            float(np.abs(frame.positions[:, 2] - start).max())
+            for frame in (at_limit, result.frames[-1])
+        ]
+        note += (
+            f"; limit point at load factor {listed} (largest deflection {deflection[0]:.3g} "
+            f"mm), then load steps to the stable branch (largest deflection at the end "
+            f"{deflection[1]:.3g} mm)"
+        )
+    if info["branch_switches"]:
+        listed = ", ".join(f"{value:.3g}" for value in info["branch_switches"])
+        note += f"; bifurcation followed along the buckling mode at {listed}"
+    if info["indefinite_at"]:
+        note += (
+            f"; unstable equilibria (negative eigenvalues) at {len(info['indefinite_at'])} frames"
+        )
+    return result, note + stopped, time.perf_counter() - started
+
+
+def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
+    """Solve the three kinematics on the case's specimen at ``resolution``; the outcome's data
+    (``PaperRuns``) holds the results that ``render_paper_case`` draws and writes."""
+    specimen = case.make_specimen(case.cells[resolution])
+    h = case.fabric.thickness
+    elements: dict[str, ElementRun] = {}
+    results: dict[str, Any] = {}
+    for kinematics in KINEMATICS:
+        model = specimens.build(
+            specimen,
+            ELEMENT[kinematics],
+            case.fabric,
+            case.displacement,
+            case.shear_ratio,
+            thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
+        )
+        result, note, wall = solve(model, case.increments)
+        results[kinematics] = result
+        elements[kinematics] = ElementRun(
+            label=LABELS[kinematics],
+            converged=bool(result.converged),
+            wall_time_s=wall,
+            steps=int(result.steps),
+            solver=note,
+            sides=side_data(result, specimen, kinematics, h),
+            fibre_strain=fibre_statistics(result, specimen)
+            if ELEMENT[kinematics] == "fibrous"
+            else None,
+        )
+
+    checks = invariant_checks(case, specimen, elements, h, resolution)
+    return Outcome(
+        converged=all(e.converged for e in elements.values()),
+        wall_time_s=sum(e.wall_time_s for e in elements.values()),
+        steps=sum(e.steps for e in elements.values()),
+        solver="; ".join(f"{k}: {e.solver}" for k, e in elements.items()),
+        parameters={
+            "triangles": len(specimen.mesh.triangles),
+            "thickness_mm": h,
+            # (ux, uy, uz) as the reader reads it: "ux free, uy free, uz 40 mm"
+            "imposed_displacement": ", ".join(
+                f"{axis} free" if value is None else f"{axis} {value:g} mm"
+                for axis, value in zip(("ux", "uy", "uz"), case.displacement)
+            ),
+            "Mindlin G13/E": case.shear_ratio,
+            **case.parameters,
+        },
+        elements=elements,
+        key_numbers=key_numbers(elements, h),
+        discussion=discussion(case, specimen, elements, h),
+        checks=checks,
+        data=PaperRuns(
+            specimen=specimen,
+            results=results,
+            sides={kinematics: e.sides for kinematics, e in elements.items()},
+        ),
+    )
+
+
+def render_paper_case(case: PaperCase, runs: PaperRuns, out_dir: Path) -> list[str]:
+    """Write the VTU and XDMF files of the three runs and draw the side profiles and the 3D
+    view; returns the figure names."""
+    for kinematics, result in runs.results.items():
+        for suffix in ("vtu", "xdmf"):
+            result.write(out_dir / f"{case.name}-{kinematics}.{suffix}")
+    return [
+        side_figure(case, runs.sides, out_dir),
+        side_elevation(case, runs.sides, out_dir),
+        view_3d(case, runs.specimen, runs.results, out_dir),
+        laws_figure(case, runs, out_dir),
+    ]

@@ -1,0 +1,215 @@
+"""The figures of a paper case.
+
+``side_figure``: side profiles like Bai Figs. 10/12/14/16 (mid-surface, director angle,
+thickness along the director); ``side_elevation``: the sides seen from the side at true scale,
+as the paper photographs them; ``laws_figure``: the fabric's laws over the range the fibrous
+run reached; ``view_3d``: the deformed mid-surface with the director segments drawn along the
+sides like the lines on the specimens. Each writes a PNG into the output folder and returns
+its name.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from matplotlib.ticker import MaxNLocator
+
+from validation import specimens
+from validation.paper.kinematics import COLOURS, ELEMENT, KINEMATICS, LABELS, MARKERS
+from validation.plots import plt
+from validation.records import SideProfile
+
+if TYPE_CHECKING:
+    from validation.paper.case import PaperCase, PaperRuns
+
+__all__ = ["laws_figure", "side_elevation", "side_figure", "view_3d"]
+
+
+def side_figure(case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path) -> str:
+    """Bai Fig. 10-style panels: rows = sides, columns = mid-surface, director angle,
+    thickness along the director; the three kinematics on the same axes. ``profiles`` is
+    kinematics -> side -> profile; returns the file name."""
+    sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
+    fig, axes = plt.subplots(
+        len(sides), 3, figsize=(13, 3.6 * len(sides)), squeeze=False, constrained_layout=True
+    )
+    for row, side in enumerate(sides):
+        for kinematics in KINEMATICS:
+            data = profiles[kinematics][side]
+            s = np.asarray(data.s)
+            x = np.asarray(data.midsurface)
+            style = {
+                "color": COLOURS[kinematics],
+                "marker": MARKERS[kinematics],
+                "ms": 3,
+                "lw": 1.2,
+                "mfc": "none",
+            }
+            horizontal = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1))]
+            axes[row, 0].plot(horizontal, x[:, 2], label=LABELS[kinematics], **style)
+            axes[row, 1].plot(s, data.director_angle_deg, **style)
+            axes[row, 2].plot(s, data.thickness, **style)
+        name = side.replace("_", " ")
+        axes[row, 0].set(
+            xlabel=f"horizontal distance from the clamp along {name} (mm)",
+            ylabel="mid-surface z (mm)",
+            title=f"({'ad'[row]}) mid-surface, {name}",
+        )
+        axes[row, 0].set_aspect("equal", adjustable="datalim")
+        axes[row, 1].set(
+            xlabel=f"s along {name} (mm)",
+            ylabel="director angle to horizontal (deg)",
+            title=f"({'be'[row]}) material director, {name}",
+        )
+        axes[row, 2].set(
+            xlabel=f"s along {name} (mm)",
+            ylabel="thickness along director (mm)",
+            title=f"({'cf'[row]}) thickness, {name}",
+        )
+        for ax in axes[row]:
+            ax.grid(True, alpha=0.3)
+    axes[0, 0].legend(fontsize="small")
+    fig.suptitle(f"{case.name}: {case.title}")
+    name = f"{case.name}-sides.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
+def side_elevation(
+    case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
+) -> str:
+    """The specimen seen from the side, as the paper photographs it (Bai Figs. 9, 11, 13, 15):
+    per kinematics (rows) and filmed side (columns), the band between the bottom and top
+    surfaces (mid-surface -/+ half the thickness along the director) and the lines drawn
+    through the thickness at every node, along the directors; true scale. Returns the file
+    name."""
+    sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
+    fig, axes = plt.subplots(
+        len(KINEMATICS), len(sides), figsize=(6.5 * len(sides), 2.6 * len(KINEMATICS)),
+        squeeze=False, constrained_layout=True,
+    )  # fmt: skip
+    for row, kinematics in enumerate(KINEMATICS):
+        for column, side in enumerate(sides):
+            data = profiles[kinematics][side]
+            x = np.asarray(data.midsurface)
+            u = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1))]
+            angle = np.radians(np.asarray(data.director_angle_deg))
+            half = 0.5 * np.asarray(data.thickness)
+            du, dz = half * np.cos(angle), half * np.sin(angle)
+            bottom, top = (u - du, x[:, 2] - dz), (u + du, x[:, 2] + dz)
+            band = np.column_stack([np.r_[bottom[0], top[0][::-1]], np.r_[bottom[1], top[1][::-1]]])
+            axis = axes[row, column]
+            axis.fill(band[:, 0], band[:, 1], color=COLOURS[kinematics], alpha=0.25, lw=0)
+            axis.plot(*bottom, color=COLOURS[kinematics], lw=0.8)
+            axis.plot(*top, color=COLOURS[kinematics], lw=0.8)
+            for k in range(len(u)):
+                axis.plot([bottom[0][k], top[0][k]], [bottom[1][k], top[1][k]], color="k", lw=0.9)
+            axis.set_aspect("equal", adjustable="datalim")
+            axis.grid(True, alpha=0.3)
+            axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize="medium")
+            axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
+    fig.suptitle(
+        f"{case.name}: the sides seen from the side, true scale (cf. the paper's photographs)"
+    )
+    name = f"{case.name}-side-elevation.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
+def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
+    """The fabric's laws (cf. Bai Fig. 7 for bending) from 0 over the range the fibrous run
+    reached (they are odd, or zero in compression), warp and weft, with the Mindlin
+    calibration's linear bending (E h^3 / 12 = the initial slope) dashed. Returns the file
+    name."""
+    fabric = case.fabric
+    fields = runs.results["fibrous"].frames[-1].fields.get("triangle", {})
+
+    def reach(names: tuple[str, ...], floor: float) -> float:
+        values = [np.abs(np.asarray(fields[n])) for n in names if n in fields]
+        largest = max((float(np.nanmax(v)) for v in values), default=0.0)
+        return max(1.2 * largest, floor)
+
+    panels = (
+        ("tension", fabric.tension, fabric.tension_weft, ("warp_strain", "weft_strain"), 1e-3,
+         "log strain", "T (N/mm)"),
+        ("in-plane shear", fabric.shear, None, ("shear_angle",), 0.05, "shear angle (rad)",
+         "M_s (N/mm)"),
+        ("bending (cf. Bai Fig. 7)", fabric.bending, fabric.bending_weft,
+         ("warp_curvature", "weft_curvature"), 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
+    )  # fmt: skip
+    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), constrained_layout=True)
+    for axis, (title, warp, weft, names, floor, xlabel, ylabel) in zip(axes, panels):
+        x = np.linspace(0.0, reach(names, floor), 401)  # the laws are odd (or tension-only)
+        axis.plot(x, warp.value(x), color="k", label="warp")
+        if weft is not None and weft is not warp:
+            axis.plot(x, weft.value(x), color="0.5", label="weft")
+        if title.startswith("bending"):
+            initial = float(warp.slope(np.array(0.0)))
+            axis.plot(x, initial * x, ls="--", color=COLOURS["mindlin"],
+                      label="Mindlin calibration E h^3/12")  # fmt: skip
+        axis.set(title=title, xlabel=xlabel, ylabel=ylabel)
+        axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))
+        axis.locator_params(axis="x", nbins=5)
+        axis.grid(True, alpha=0.3)
+        axis.legend(fontsize="small")
+    fig.suptitle(f"{case.name}: the fabric's laws over the range the fibrous run reached")
+    name = f"{case.name}-laws.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
+def view_3d(
+    case: PaperCase, specimen: specimens.Specimen, results: dict[str, Any], out_dir: Path
+) -> str:
+    """Deformed mid-surface with the through-thickness director segments drawn along the
+    sides (the lines drawn on the specimens' sides), the three kinematics side by side;
+    returns the file name."""
+    fig = plt.figure(figsize=(16, 5.0), constrained_layout=True)
+    h = case.fabric.thickness
+    for i, kinematics in enumerate(KINEMATICS):
+        ax = fig.add_subplot(1, len(KINEMATICS), i + 1, projection="3d")
+        result = results[kinematics]
+        x = result.positions
+        ax.plot_trisurf(
+            x[:, 0],
+            x[:, 1],
+            x[:, 2],
+            triangles=specimen.mesh.triangles,
+            color=COLOURS[kinematics],
+            alpha=0.35,
+            linewidth=0.1,
+            edgecolor="0.4",
+        )
+        thickness = result.thickness if ELEMENT[kinematics] == "fibrous" else None
+        for nodes, _ in specimen.sides.values():
+            half = 0.5 * (thickness[nodes] if thickness is not None else np.full(len(nodes), h))
+            d = result.directors[nodes]
+            bottom = x[nodes] - half[:, None] * d
+            top = x[nodes] + half[:, None] * d
+            for a, b in zip(bottom, top):
+                ax.plot(*np.column_stack([a, b]), color="k", lw=1.4)
+        # Equal scales on the three axes, the free corner in front; a shape whose height is
+        # under a third of its plan size is drawn with z exaggerated to that, and says so.
+        low, high = x.min(axis=0) - h, x.max(axis=0) + h
+        for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), low, high):
+            setter(a, b)
+        extent = high - low
+        exaggeration = max(1.0, (extent[:2].max() / 3.0) / extent[2])
+        ax.set_box_aspect((extent[0], extent[1], extent[2] * exaggeration))
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks on a short axis
+            axis.set_major_locator(MaxNLocator(nbins=4))
+        ax.view_init(elev=22, azim=-140)
+        ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
+        scale = "true scale" if exaggeration == 1.0 else f"z exaggerated x {exaggeration:.1f}"
+        ax.set_title(
+            f"{LABELS[kinematics]}: directors along the sides ({scale})", fontsize="medium"
+        )
+    name = f"{case.name}-3d.png"
+    fig.savefig(out_dir / name, dpi=100)
+    plt.close(fig)
+    return name

@@ -1,0 +1,156 @@
+"""Bai's claims on a paper case, as the report's checks.
+
+The three runs converge; for both fibrous variants the fibres do not stretch, the thickness
+along the director is at least h, and where the surface is strongly bent their directors differ
+from the Mindlin ones; the default fibrous directors tilt by atan(theta) from the normal where
+the plies slip freely (``slip_checks``); the Eq. 15 directors keep the clamp's orientation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from validation import specimens
+from validation.checks import check
+from validation.paper.kinematics import CHECK_NAMES, KINEMATICS, PAPER
+from validation.paper.profiles import slip_errors
+from validation.records import Check, ElementRun
+
+if TYPE_CHECKING:
+    from validation.paper.case import PaperCase
+
+__all__ = ["EQ15_TOLERANCE_DEG", "invariant_checks", "slip_checks"]
+
+# Largest tilt of the Eq. 15 directors from the vertical (deg): they keep the clamp's
+# orientation, measured 0.0 in every corner case and in the strip.
+EQ15_TOLERANCE_DEG = 1.0
+
+
+def invariant_checks(
+    case: PaperCase,
+    specimen: specimens.Specimen,
+    elements: dict[str, ElementRun],
+    h: float,
+    resolution: str,
+) -> list[Check]:
+    """Bai's claims as checks: the three runs converge; for both fibrous variants the fibres do
+    not stretch, the thickness along the director is at least h, and where the surface is
+    strongly bent their directors differ from the Mindlin ones; the default fibrous directors
+    tilt by atan(theta) from the normal where the plies slip freely; the Eq. 15 directors keep
+    the clamp's (vertical) orientation."""
+    source = f"{PAPER}, {case.source}"
+    checks = [
+        check(
+            f"{CHECK_NAMES[k]} run converged", 1.0, float(elements[k].converged), 0.0, source=source
+        )
+        for k in KINEMATICS
+    ]
+    mindlin = elements["mindlin"]
+    for kinematics in ("fibrous", "fibrous_element"):
+        record, name = elements[kinematics], CHECK_NAMES[kinematics]
+        assert record.fibre_strain is not None
+        checks.append(
+            check(
+                f"{name}: largest fibre strain away from the loaded node (quasi-inextensible, "
+                "< 1 %)",
+                0.0,
+                record.fibre_strain["max_fibre_strain_away_from_support"],
+                0.01,
+                relative=False,
+                source="Bai §2: fibres quasi-inextensible",
+            )
+        )
+        thinnest = min(np.min(side.thickness) for side in record.sides.values())
+        checks.append(
+            replace(
+                check(
+                    f"{name}: thinnest thickness along the director / h (>= 1: Eq. 10)",
+                    1.0,
+                    thinnest / h,
+                    1e-9,
+                    relative=False,
+                    source="Bai Eq. 10: h_m = h / (V . n) >= h",
+                ),
+                passed=bool(thinnest / h >= 1.0 - 1e-9),
+            )
+        )
+        # Where the mid-surface is strongly bent (slope > 20 deg) the fibrous and the Mindlin
+        # directors must differ: the Mindlin director follows the normal, the fibrous one does
+        # not (Bai §6.1.1, Fig. 10).
+        gaps = []
+        for side, data in record.sides.items():
+            x = np.asarray(mindlin.sides[side].midsurface)
+            run = np.linalg.norm(np.gradient(x[:, :2], axis=0), axis=1)
+            slope = np.degrees(np.arctan2(np.abs(np.gradient(x[:, 2])), run))
+            bent = slope > 20.0
+            if bent.any():
+                gap = np.abs(
+                    np.asarray(data.director_angle_deg)
+                    - np.asarray(mindlin.sides[side].director_angle_deg)
+                )
+                gaps.append(float(gap[bent].max()))
+        if gaps:
+            checks.append(
+                replace(
+                    check(
+                        f"{name} vs Mindlin director angle where the slope > 20 deg (deg, > 10)",
+                        10.0,
+                        max(gaps),
+                        np.inf,
+                        relative=False,
+                        source="Bai §6.1.1: directors stay almost parallel, unlike standard shells",
+                    ),
+                    passed=bool(max(gaps) > 10.0),
+                )
+            )
+    checks.extend(slip_checks(case, specimen, elements, resolution))
+    eq15 = elements["fibrous_element"]
+    turned = max(
+        float(np.abs(np.asarray(d.director_angle_deg) - 90.0).max()) for d in eq15.sides.values()
+    )
+    checks.append(
+        check(
+            f"fibrous Eq. 15: largest director tilt from the vertical along the sides (deg, "
+            f"< {EQ15_TOLERANCE_DEG:g}: the clamp's orientation kept)",
+            0.0,
+            turned,
+            EQ15_TOLERANCE_DEG,
+            relative=False,
+            source="Bai Eq. 15: parallel directors are strain-free at any curvature",
+        )
+    )
+    return checks
+
+
+def slip_checks(
+    case: PaperCase,
+    specimen: specimens.Specimen,
+    elements: dict[str, ElementRun],
+    resolution: str,
+) -> list[Check]:
+    """Along each side of ``case.slip_sides``: the default fibrous directors' tilt from the
+    normal against atan(theta), theta the mid-surface rotation from the clamp (both seen facing
+    the side), away from the clamped and the loaded nodes; none without a tolerance."""
+    checks: list[Check] = []
+    if case.slip_tolerance_deg is None:
+        return checks
+    tolerance = case.slip_tolerance_deg[resolution]
+    for side, error in slip_errors(case, specimen, elements["fibrous"]).items():
+        largest = float(error.max())
+        checks.append(
+            check(
+                f"fibrous: director tilt from the normal vs atan(theta) along "
+                f"{side.replace('_', ' ')}, largest difference (deg, "
+                f"< {tolerance:g})",
+                0.0,
+                largest,
+                tolerance,
+                relative=False,
+                source="plies slipping freely from the clamp: tilt = atan(theta) "
+                "(FibrousShell, thickness='nodal')",
+            )
+        )
+    return checks
