@@ -4,14 +4,15 @@
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
 increment is relaxed to equilibrium before the next one and gives one frame.
 
-- Masses (Underwood 1983): by default fictitious masses from a Gershgorin bound of the tangent
-  stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a nominal dt = 1, so that every DOF
-  has the same stability limit; shell nodes take them along their own tangent and normal axes,
-  and they are re-estimated as the configuration changes. ``masses="lumped"``: the physical
-  lumped masses with the stable step.
-- Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference; when the kinetic
-  energy passes a peak, the configuration goes back to where the peak was (half a step back),
-  all velocities are zeroed and the motion restarts from rest.
+- Masses (Underwood 1983; solvers.fictitious_masses): by default fictitious masses from a
+  Gershgorin bound of the tangent stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a
+  nominal dt = 1, so that every DOF has the same stability limit; shell nodes take them along
+  their own tangent and normal axes, and they are re-estimated as the configuration changes.
+  ``masses="lumped"``: the physical lumped masses with the stable step.
+- Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference (its angular and
+  configuration updates are those of solvers.step); when the kinetic energy passes a peak, the
+  configuration goes back to where the peak was (half a step back), all velocities are zeroed
+  and the motion restarts from rest.
 - Adaptive viscous damping (Underwood 1983; Papadrakakis 1981): mass-proportional damping with
   c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate and
   the masses in use.
@@ -20,8 +21,9 @@ Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_re
 with F_ref = max(||F_ext||, ||F_int||, max(||M_ext||, ||M_int||) / L_e) (the internal forces
 include the reactions, so a displacement-driven problem has a non-zero reference; the moments
 over one element L_e give one under end moments alone). Moments are checked the same way
-against their own reference. A residual that does not fall while the model travels farther
-than its size stops the run as a mechanism.
+against their own reference (solvers.convergence.Equilibrium, the test Static uses too). A
+residual that does not fall while the model travels farther than its size stops the run as a
+mechanism.
 """
 
 from __future__ import annotations
