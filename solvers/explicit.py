@@ -7,7 +7,9 @@ With a variable step, dt_bar = (dt_prev + dt)/2 and mass-proportional damping C 
 
 Rotations follow the same update with the rotary inertia and the moment vectors, on a nodal
 angular velocity kept perpendicular to the director; the director then turns by the finite
-rotation dt * omega (Rodrigues, docs/theory.md §1.3).
+rotation dt * omega (Rodrigues, docs/theory.md §1.3). The step itself is
+solvers.step.explicit_step; CentralDifference chooses the steps, checks the energy balance and
+writes the output.
 """
 
 from __future__ import annotations
@@ -15,24 +17,22 @@ from __future__ import annotations
 import math
 import os
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
-from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.common import (
     DivergenceError,
     ProgressLine,
     check_positive_or_none,
     empty_result,
-    inverse_diagonal,
     make_frame,
     resolve_progress,
 )
-from solvers.dynamics import EnergyAccount, FrameSchedule, damped_velocity, update_rates
+from solvers.dynamics import EnergyAccount, FrameSchedule
 from solvers.output import (
     FrameStream,
     HistoryWriter,
@@ -41,6 +41,7 @@ from solvers.output import (
     resume,
     save_checkpoint,
 )
+from solvers.step import LumpedMasses, explicit_step
 
 __all__ = ["CentralDifference"]
 
@@ -272,17 +273,20 @@ class CentralDifference:
                         compiled, state, run.scale, run.mass, run.inertia if fresh else None
                     )
             dt = min(run.dt_nominal, duration - state.time)
-            lumped = (
-                run.mass,
-                run.inertia,
-                inverse_diagonal(run.mass),
-                inverse_diagonal(run.inertia),
-            )
             last = state.time + dt >= duration * (1.0 - 1e-12)
             checking = (step > 0 and step % BALANCE_EVERY == 0) or last
-            new, reactions, reaction_moments, work = self._step(
-                compiled, state, dt, run.dt_prev, lumped, checking
+            outcome = explicit_step(
+                compiled,
+                state,
+                dt,
+                LumpedMasses(run.mass, run.inertia),
+                dt_prev=run.dt_prev,
+                damping=self.damping,
+                duration=duration,
+                checking=checking,
             )
+            new, work = outcome.state, outcome.energy
+            reactions, reaction_moments = outcome.reactions, outcome.reaction_moments
             energy = run.energy
             if energy.blows_up(*work):
                 raise diverged(
@@ -412,89 +416,6 @@ class CentralDifference:
             )
         if growth <= GOOD_GROWTH:
             run.good = (state, reactions, reaction_moments)
-
-    def _step(
-        self,
-        model: CompiledModel,
-        state: State,
-        dt: float,
-        dt_prev: float,
-        lumped,
-        checking: bool = True,
-    ):
-        """One central-difference step from ``state`` (left unchanged); ``lumped`` = (mass,
-        inertia, 1/mass, 1/inertia) per node; ``checking``: the energy checks will look at
-        this step (the energy terms they need are computed).
-
-        Returns the new State, the support forces (n, 3) and moments (n, 3) of the step, and
-        its energy terms (external work, internal work, damping work, kinetic energy).
-        """
-        c = self.damping
-        mass, inertia, inv_mass, inv_inertia = lumped
-        dofs = model.dofs
-        t_next = state.time + dt
-        dt_bar = 0.5 * (dt_prev + dt)
-        velocity, omega = state.velocities, state.angular_velocities
-
-        f_ext, m_ext = model.external_load(state.time / self.duration)
-        f_int, m_int = model.internal_force(state)
-        target = None
-        if model.has_prescribed:
-            goal = model.reference_positions + model.prescribed_displacement(t_next / self.duration)
-            target = np.where(model.translation_prescribed, (goal - state.positions) / dt, np.nan)
-        v_new, reactions, work = update_rates(
-            velocity,
-            f_ext,
-            f_int,
-            mass,
-            model.translation_free,
-            model.translation_constrained,
-            target,
-            (dt_bar, dt, dt_prev),
-            c,
-            checking,
-        )
-        if model.n_tools:
-            work = self._tool_work(model, state, dt, dt_prev, work, checking)
-        w_new = None
-        reaction_moments = np.zeros_like(reactions)
-        if dofs.any_rotation:
-            # Only the drilling part is dropped here, so that the update below sees what a
-            # fixed alpha / beta has to hold: that difference is the support moment.
-            moment = drop_along(m_ext - m_int, state.directors)
-            w_free = damped_velocity(omega, moment, inv_inertia, dt_bar, c)
-            w_new = model.constrain_angular(w_free, state.directors)
-            reaction_moments = (
-                inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
-            )
-            turning = EnergyAccount.increments(
-                (m_ext + reaction_moments, m_int), (omega, w_new), inertia, c, dt_prev, dt, checking
-            )
-            work = tuple(a + b for a, b in zip(work, turning))
-        moved = dofs.move(state, dt * v_new, None if w_new is None else dt * w_new)
-        new = replace(
-            moved,
-            velocities=v_new,
-            angular_velocities=omega if w_new is None else w_new,
-            time=t_next,
-            load_factor=t_next / self.duration,
-        )
-        return new, reactions, reaction_moments, work
-
-    def _tool_work(
-        self, model: CompiledModel, state: State, dt, dt_prev, work, checking: bool
-    ) -> tuple:
-        """The step's energy terms with the work of moving tools added to the external work:
-        their motion over [t(i - 1/2), t(i + 1/2)] (and [t(i - 1/2), t(i)] for the checks)
-        against the contact forces at t(i), the midpoint rule of the other terms."""
-        tau = state.time / self.duration
-        before = tau - 0.5 * dt_prev / self.duration
-        d_tool = model.tool_work(state, before, tau + 0.5 * dt / self.duration)
-        terms = list(work)
-        terms[0] += d_tool
-        if checking:  # the checks need the work done before t(i) too
-            terms[6] += model.tool_work(state, before, tau)
-        return tuple(terms)
 
     def _result(self, compiled, run: _Run, started: float, converged: bool) -> Result:
         result = empty_result(compiled, list(run.frames))

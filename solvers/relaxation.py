@@ -4,14 +4,15 @@
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
 increment is relaxed to equilibrium before the next one and gives one frame.
 
-- Masses (Underwood 1983): by default fictitious masses from a Gershgorin bound of the tangent
-  stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a nominal dt = 1, so that every DOF
-  has the same stability limit; shell nodes take them along their own tangent and normal axes,
-  and they are re-estimated as the configuration changes. ``masses="lumped"``: the physical
-  lumped masses with the stable step.
-- Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference; when the kinetic
-  energy passes a peak, the configuration goes back to where the peak was (half a step back),
-  all velocities are zeroed and the motion restarts from rest.
+- Masses (Underwood 1983; solvers.fictitious_masses): by default fictitious masses from a
+  Gershgorin bound of the tangent stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a
+  nominal dt = 1, so that every DOF has the same stability limit; shell nodes take them along
+  their own tangent and normal axes, and they are re-estimated as the configuration changes.
+  ``masses="lumped"``: the physical lumped masses with the stable step.
+- Kinetic damping (Cundall 1976; Barnes 1999): undamped central difference (its angular and
+  configuration updates are those of solvers.step); when the kinetic energy passes a peak, the
+  configuration goes back to where the peak was (half a step back), all velocities are zeroed
+  and the motion restarts from rest.
 - Adaptive viscous damping (Underwood 1983; Papadrakakis 1981): mass-proportional damping with
   c = 2 sqrt(u.K u / u.M u), the lowest-mode estimate from a diagonal stiffness estimate and
   the masses in use.
@@ -20,8 +21,9 @@ Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_re
 with F_ref = max(||F_ext||, ||F_int||, max(||M_ext||, ||M_int||) / L_e) (the internal forces
 include the reactions, so a displacement-driven problem has a non-zero reference; the moments
 over one element L_e give one under end moments alone). Moments are checked the same way
-against their own reference. A residual that does not fall while the model travels farther
-than its size stops the run as a mechanism.
+against their own reference (solvers.convergence.Equilibrium, the test Static uses too). A
+residual that does not fall while the model travels farther than its size stops the run as a
+mechanism.
 """
 
 from __future__ import annotations
@@ -32,16 +34,12 @@ import time
 from dataclasses import replace
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from femcore.assembly import tangent_matrix
-from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
-from femcore.rotation import drop_along, nodal_frames
+from femcore.rotation import drop_along
 from femcore.state import State
-from femcore.topology import nodal_normals
 from solvers.common import (
     ConvergenceError,
     DivergenceError,
@@ -50,11 +48,15 @@ from solvers.common import (
     check_integer,
     check_tolerance,
     empty_result,
+    inverse_diagonal,
     make_frame,
     resolve_progress,
 )
+from solvers.convergence import Equilibrium
 from solvers.dynamics import damped_velocity
+from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
 from solvers.output import checkpoint_path, resume, save_checkpoint
+from solvers.step import advance, angular_rates
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "DynamicRelaxation"]
 
@@ -207,10 +209,10 @@ class DynamicRelaxation:
             )
             frames.append(make_frame(compiled, state))
         progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
-        masses: _Masses = (
-            _GershgorinMasses(compiled, self.safety)
+        masses: RelaxationMasses = (
+            GershgorinMasses(compiled, self.safety)
             if self.masses == "gershgorin"
-            else _LumpedMasses(compiled, self.safety)
+            else PhysicalMasses(compiled, self.safety)
         )
         iterations: list[int] = []
         residuals: list[float] = []
@@ -288,14 +290,19 @@ class DynamicRelaxation:
 
     # ------------------------------------------------------------------ one increment
     def _relax(
-        self, model: CompiledModel, state: State, load_factor, masses: _Masses, progress, increment
+        self,
+        model: CompiledModel,
+        state: State,
+        load_factor,
+        masses: RelaxationMasses,
+        progress,
+        increment,
     ):
         """Relax from ``state`` (left unchanged) to equilibrium at ``load_factor``.
 
         Returns (the state at rest in equilibrium, iterations, residual ratio, reactions (n,3),
         reaction moments (n,3)).
         """
-        dofs = model.dofs
         free = model.translation_free
         any_rot = bool(model.has_rotation.any())
         kinetic_damping = self.damping == "kinetic"
@@ -310,7 +317,7 @@ class DynamicRelaxation:
 
         inflate = 1.0  # the factor on the fictitious masses after blow-ups in this increment
         mass, inertia, dt = masses(state, inflate)
-        inv_inertia = _inverse(inertia)[:, None]
+        inv_inertia = inverse_diagonal(inertia)
         estimated_at = 0
         balance = _Balance(model, f_ext, m_ext, self.tol)
 
@@ -381,7 +388,7 @@ class DynamicRelaxation:
                     )
                 state, rotation_since_start = at_rest, rest_rotation.copy()
                 mass, inertia, dt = masses(state, inflate)
-                inv_inertia = _inverse(inertia)[:, None]
+                inv_inertia = inverse_diagonal(inertia)
                 estimated_at = iteration
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)
@@ -410,15 +417,15 @@ class DynamicRelaxation:
             v_new = np.where(free, damped_velocity(velocity, accelerating, _ONE, step, c), 0.0)
             kinetic = mass.energy(v_new)
             if any_rot:
-                w_new = model.constrain_angular(
-                    damped_velocity(omega, moment, inv_inertia, step, c), state.directors
+                _, w_new = angular_rates(
+                    model, omega, moment, inv_inertia, step, c, state.directors
                 )
                 kinetic += 0.5 * float(np.sum(inertia[:, None] * w_new * w_new))
 
             if kinetic_damping and not restart and kinetic < kinetic_old:
                 # The kinetic energy peaked half a step ago: go back there and restart from
                 # rest (x* = x(i) - dt/2 v(i-1/2), docs/theory.md §6.4b).
-                state = dofs.move(state, -0.5 * dt * velocity, -0.5 * dt * omega)
+                state = advance(model, state, -0.5 * dt, velocity, omega)
                 velocity = np.zeros_like(velocity)
                 omega = np.zeros_like(omega)
                 kinetic_old = 0.0
@@ -428,7 +435,7 @@ class DynamicRelaxation:
                 # Fictitious: the stiffness follows the configuration.
                 if masses.every_restart or iteration - estimated_at >= self.refresh:
                     mass, inertia, dt = masses(state, inflate)
-                    inv_inertia = _inverse(inertia)[:, None]
+                    inv_inertia = inverse_diagonal(inertia)
                     estimated_at = iteration
                 progress(
                     f"increment {increment}: iteration {iteration}, residual ratio "
@@ -436,7 +443,7 @@ class DynamicRelaxation:
                 )
                 continue
 
-            state = dofs.move(state, dt * v_new, dt * w_new if any_rot else None)
+            state = advance(model, state, dt, v_new, w_new if any_rot else None)
             if any_rot:
                 rotation_since_start += dt * w_new
                 omega = w_new
@@ -445,13 +452,13 @@ class DynamicRelaxation:
             restart = False
             if masses.fictitious and (
                 (not kinetic_damping and iteration - estimated_at >= self.refresh)
-                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > _TURN)
+                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > TURN)
             ):
                 # Viscous damping never stops the motion, and a surface that turned far
                 # brings its membrane stiffness onto its light normal axes: re-estimate on
                 # the way, the kinetic energy re-measured with the new masses (not a peak).
                 mass, inertia, dt = masses(state, inflate)
-                inv_inertia = _inverse(inertia)[:, None]
+                inv_inertia = inverse_diagonal(inertia)
                 estimated_at = iteration
                 previous = None
                 kinetic_old = mass.energy(velocity) + 0.5 * float(
@@ -491,21 +498,12 @@ class DynamicRelaxation:
 _ONE = np.ones((1, 1))
 #: An out-of-balance this many times the first one of an increment is a blow-up.
 _BLOW_UP = 1e3
-#: Largest turn (rad) of a shell normal between two estimates of the fictitious masses; the
-#: normal mass carries TURN^2 of the in-plane one for the stiffness such a turn brings along.
-_TURN = 0.03
-#: Iterations between checks of that turn.
+#: Iterations between checks of the turn of the shell normals (fictitious_masses.TURN).
 _TURN_CHECK = 10
 #: The fictitious masses are doubled at most until they reach this factor (2^10).
 _MAX_INFLATION = 1024.0
 #: A residual ratio above this has not fallen (the mechanism watch).
 _STALL_RATIO = 0.5
-
-
-def _inverse(values: np.ndarray) -> np.ndarray:
-    """1 / m where m > 0, 0 elsewhere (DOFs without mass never move)."""
-    positive = values > 0
-    return np.where(positive, 1.0 / np.where(positive, values, 1.0), 0.0)
 
 
 def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:
@@ -524,184 +522,15 @@ def _stall_message(model: CompiledModel, increment: int, solver, load_factor: fl
     )
 
 
-class _NodeMass:
-    """Translational masses per node as a diagonal in node axes: M_a = R_a diag(d_a) R_a^T.
-
-    axes : (n, 3, 3), columns the unit axes of each node (identity: the global axes).
-    values : (n, 3), the mass along each axis (0: a DOF that never moves).
-    """
-
-    def __init__(self, axes: np.ndarray, values: np.ndarray):
-        self.axes, self.values = axes, values
-        self.inverse = _inverse(values)
-
-    def local(self, vectors: np.ndarray) -> np.ndarray:
-        """(n, 3) global components -> components along the node axes."""
-        return np.einsum("nji,nj->ni", self.axes, vectors)
-
-    def solve(self, forces: np.ndarray) -> np.ndarray:
-        """M^-1 F, (n, 3)."""
-        return np.einsum("nij,nj->ni", self.axes, self.inverse * self.local(forces))
-
-    def energy(self, velocities: np.ndarray) -> float:
-        """1/2 v.M v."""
-        local = self.local(velocities)
-        return 0.5 * float(np.sum(self.values * local * local))
-
-
-class _Masses:
-    """The masses a relaxation moves with: ``__call__(state, inflate)`` gives (translation
-    masses (n, 3), rotary inertia (n,), time step)."""
-
-    fictitious = False
-    every_restart = True
-
-    def turned(self, state: State) -> float:
-        """The largest turn (rad) of a surface normal since the last estimate."""
-        return 0.0
-
-    def __init__(self) -> None:
-        self.estimates = 0
-        self.recoveries = 0
-
-    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
-        raise NotImplementedError
-
-
-class _LumpedMasses(_Masses):
-    """The physical lumped masses and rotary inertia, ``safety`` x the stable step."""
-
-    def __init__(self, model: CompiledModel, safety: float):
-        super().__init__()
-        self.model, self.safety = model, safety
-
-    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
-        self.estimates += 1
-        mass, inertia = self.model.lumped_mass(state)
-        dt = self.safety * self.model.stable_dt(state)
-        axes = np.broadcast_to(np.eye(3), (self.model.n_nodes, 3, 3))
-        return _NodeMass(axes, np.repeat(mass[:, None], 3, axis=1)), inertia, dt
-
-
-class _GershgorinMasses(_Masses):
-    """Fictitious masses m_i = (dt^2 / 4) sum_j |K_ij| / safety^2 with dt = 1, K_ij over the
-    free DOFs: by Gershgorin's theorem every eigenvalue of M^-1 K is then below
-    (2 safety / dt)^2, within the central-difference limit (docs/theory.md §6.4a)."""
-
-    fictitious = True
-    every_restart = False
-
-    def __init__(self, model: CompiledModel, safety: float):
-        super().__init__()
-        self.model = model
-        self.scale = 1.0 / (4.0 * safety**2)
-        own = model.own_tangents(model.initial_state())
-        self.own = list(own)
-        self.others = [i for i in range(len(model.parts)) if i not in own]
-        # The colouring loops over the nodes: once per solve.
-        self.graph = model.node_graph(self.others) if self.others else None
-        self.length2 = model.element_size**2
-        self.triangles = model.mesh.triangles
-        self.local = np.zeros(model.n_nodes, dtype=bool)
-        self.normals = np.zeros((0, 3))
-
-    def __call__(self, state: State, inflate: float) -> tuple[_NodeMass, np.ndarray, float]:
-        self.estimates += 1
-        model, dofs = self.model, self.model.dofs
-        n = dofs.n_nodes
-        frames = dofs.frames(state.directors)
-        parts = model.tangent_parts(state, self.own) if self.own else []
-        if parts is None:
-            raise RuntimeError(
-                "an element block gave a tangent at the start of the solve and none later: a "
-                "block's tangent() returns None always or never"
-            )
-        k = tangent_matrix(dofs, parts, frames)
-        if self.graph is not None:
-            k = k + model.finite_difference_stiffness(state, self.others, self.graph, frames)
-        # Node axes: a shell node whose translations are all free takes two tangent axes and
-        # the normal of the mid-surface, so that the soft direction of a shell (along the normal:
-        # bending,
-        # transverse shear) gets its own small mass while the in-plane axes carry the stiff
-        # membrane, and the axes turn with the shell at each estimate; other nodes keep x, y, z.
-        axes = np.repeat(np.eye(3)[None], n, axis=0)
-        local = dofs.has_rotation & dofs.free[:, :3].all(axis=1)
-        if local.any():
-            # The normal of the mid-surface, not the director: a fibrous director leans.
-            normals = nodal_normals(state.positions, self.triangles)[local]
-            t1, t2 = nodal_frames(normals)
-            axes[local] = np.stack([t1, t2, normals], axis=2)
-        k = _in_node_axes(k, axes)
-        free = dofs.free_slots
-        rows = np.zeros(dofs.n_slots)
-        rows[free] = np.asarray(abs(k[free][:, free]).sum(axis=1)).ravel()
-        rows = rows.reshape(n, N_COLUMNS) * (self.scale * inflate)
-        mass = rows[:, :3]
-        # Elsewhere (cables, partly held nodes) one mass for the three axes: global axes do
-        # not turn with the body, and a stiffness that the motion turns onto a light axis
-        # would blow up before the next estimate.
-        mass[~local] = mass[~local].max(axis=1, initial=0.0)[:, None]
-        mass[local, 2] += _TURN**2 * mass[local, :2].max(axis=1)
-        self.local, self.normals = local, axes[local, :, 2]
-        # One inertia per node, isotropic in the tangent plane: the angular velocity is a
-        # vector there, and alpha and beta follow nodal frames that turn with the director.
-        inertia = rows[:, 3:].max(axis=1)
-        mass = _floor(mass, dofs.free[:, :3], None)
-        turning = dofs.free[:, 3:].any(axis=1)
-        # A rotation whose row is empty (an unloaded director) still needs a finite inertia:
-        # the translations' scale over one element.
-        free_masses = mass[dofs.free[:, :3]]
-        typical = (
-            float(np.median(free_masses)) * self.length2
-            if free_masses.size  # else every translation is held: the largest inertia row
-            else float(inertia.max(initial=0.0)) or 1.0
-        )
-        inertia = _floor(inertia, turning, typical)
-        return _NodeMass(axes, mass), inertia, 1.0
-
-    def turned(self, state: State) -> float:
-        if not self.local.any():
-            return 0.0
-        normals = nodal_normals(state.positions, self.triangles)[self.local]
-        cosine = float(np.min(np.sum(normals * self.normals, axis=1)))
-        return math.acos(min(max(cosine, -1.0), 1.0))
-
-
-def _in_node_axes(k: sp.csr_matrix, axes: np.ndarray) -> sp.csr_matrix:
-    """Q^T K Q with Q block-diagonal: the node axes (n, 3, 3) on the translation slots, the
-    identity on alpha and beta (already in the nodal frame)."""
-    n = axes.shape[0]
-    blocks = np.zeros((n, N_COLUMNS, N_COLUMNS))
-    blocks[:, :3, :3] = axes
-    blocks[:, 3, 3] = blocks[:, 4, 4] = 1.0
-    base = (N_COLUMNS * np.arange(n))[:, None, None]
-    rows = np.broadcast_to(base + np.arange(N_COLUMNS)[:, None], blocks.shape)
-    cols = np.broadcast_to(base + np.arange(N_COLUMNS)[None, :], blocks.shape)
-    q = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=k.shape)
-    return (q.T @ k @ q).tocsr()
-
-
-def _floor(values: np.ndarray, free: np.ndarray, fallback: float | None) -> np.ndarray:
-    """No free mass below 1e-3 of the median of its kind (``fallback`` when none is positive):
-    a zero-stiffness DOF is stable with any mass, and a small but finite one keeps it from
-    flying off when the configuration gives it stiffness before the next estimate."""
-    positive = values[free & (values > 0)]
-    if positive.size:
-        floor = 1e-3 * float(np.median(positive))
-    elif fallback is not None and fallback > 0:
-        floor = fallback
-    else:
-        floor = 1.0
-    return np.where(free, np.maximum(values, floor), values)
-
-
 class _Balance:
     """Convergence and support reactions of one relaxed increment.
 
     Converged when, on the free DOFs, ||r|| <= tol F_ref and max|r_j| <= 10 tol F_ref / sqrt(n)
     with F_ref = max(||F_ext||, ||F_int||), and the constrained moments ||m|| <= tol M_ref with
     M_ref = max(||M_ext||, ||M_int||, F_ref L_e): director moments can all be tiny (fibre slip
-    leaves them unloaded), and are then judged against the force scale times one element.
+    leaves them unloaded), and are then judged against the force scale times one element. The
+    ratios are those of solvers.convergence.Equilibrium (moments over one element in F_ref
+    only with rotational DOFs, M_ref the largest of the three, no floor on F_ref).
     """
 
     def __init__(self, model: CompiledModel, f_ext: np.ndarray, m_ext: np.ndarray, tol: float):
@@ -712,31 +541,26 @@ class _Balance:
             (rot[:, None] & ~model.rotation_fixed).sum()
         )
         self.sqrt_n = math.sqrt(max(n_free, 1))
-        self.f_ext_norm = float(np.linalg.norm(f_ext))
-        self.m_ext_norm = float(np.linalg.norm(m_ext))
+        # Moments over one element as forces: under end moments alone (pure bending) the
+        # nodal forces all tend to zero, the reactions too, and ||F_int|| alone would judge
+        # round-off against round-off.
+        self.test = Equilibrium(
+            f_ext,
+            m_ext,
+            model.element_size,
+            moments=self.any_rotation,
+            moment_reference="largest",
+        )
 
     def judge(self, f_int, m_int, residual, moment) -> tuple[float, bool]:
         """(residual ratio, converged) from the internal forces and the free residuals."""
-        force_ref = max(self.f_ext_norm, float(np.linalg.norm(f_int)))
-        if self.any_rotation:
-            # Moments over one element as forces: under end moments alone (pure bending) the
-            # nodal forces all tend to zero, the reactions too, and ||F_int|| alone would
-            # judge round-off against round-off.
-            moment_scale = max(self.m_ext_norm, float(np.linalg.norm(m_int)))
-            force_ref = max(force_ref, moment_scale / self.model.element_size)
-        r_norm = float(np.linalg.norm(residual))
-        ratio = r_norm / force_ref if force_ref > 0 else 0.0
-        ok = ratio <= self.tol and float(np.abs(residual).max(initial=0.0)) <= (
-            10.0 * self.tol * force_ref / self.sqrt_n
+        ratios = self.test.ratios(residual, moment, f_int, m_int)
+        ok = ratios.force <= self.tol and float(np.abs(residual).max(initial=0.0)) <= (
+            10.0 * self.tol * ratios.force_reference / self.sqrt_n
         )
         if self.any_rotation:
-            moment_ref = max(
-                self.m_ext_norm, float(np.linalg.norm(m_int)), force_ref * self.model.element_size
-            )
-            m_ratio = float(np.linalg.norm(moment)) / moment_ref if moment_ref > 0 else 0.0
-            ok = ok and m_ratio <= self.tol
-            ratio = max(ratio, m_ratio)
-        return ratio, ok
+            ok = ok and ratios.moment <= self.tol
+        return ratios.largest, ok
 
     def reactions(self, state: State, f_int, m_int, moment) -> tuple[np.ndarray, np.ndarray]:
         """Support forces (n, 3) on the constrained translations and support moments (n, 3):

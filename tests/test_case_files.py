@@ -361,4 +361,4 @@ def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
     tool = contact["tool"]
     assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
     model = case.model()
-    assert model.blocks[-1].element.friction == 0.2
+    assert model.interactions[-1].friction == 0.2

@@ -29,16 +29,14 @@ def run(check, *arguments) -> None:
 
 # ---------------------------------------------------------------------- 0. coverage
 def test_every_element_type_of_the_elements_package_has_a_conformance_case():
-    # Only element types over mesh cells: a block that acts on nodes against something outside
-    # the model (a rigid tool that does not move with the body) breaks the rigid-motion
-    # invariants by design and has its own checks (tests/test_contact.py).
+    # Interactions (elements.Contact) are not element types: their own kit runs on them
+    # (tests/test_interaction_conformance.py).
     types = {
         value
         for value in vars(elements).values()
         if isinstance(value, type)
         and issubclass(value, elements.ElementType)
         and value is not elements.ElementType
-        and value.cell_type is not None
     }
     covered = {type(case.element()) for case in CASES}
     assert types <= covered, f"no case in tests/conformance_cases.py for {types - covered}"

@@ -1,0 +1,381 @@
+"""Newton-Raphson at one load factor for the static solver (solvers.static.Static), with the
+watchdog line search on the total potential energy and the residual (docs/theory.md §6.5).
+
+Unknowns per node: ux uy uz and, at shell nodes, alpha beta: small rotations of the director
+about V2 and V1 of its nodal frame (Bai Eq. 7, 13; docs/theory.md §1.3), applied as finite
+rotations.
+
+Each Newton iteration:
+
+- tangent: the blocks' own ``tangent`` where they give one, assembled in the generalised
+  coordinates of femcore.dofs by femcore.assembly; for the other blocks, K = dF_int/dq by
+  central differences with a colouring of the node graph (femcore.assembly.NodeGraph), 10 x
+  (number of colours) force evaluations whatever the mesh size (``Tangent``);
+- linear solve: an LDL^T of K_ff whose symbolic factorisation is kept between iterations
+  (solvers.linear), its negative pivots counting the negative eigenvalues of K_ff
+  (solvers.stability turns the steps on an indefinite tangent downhill);
+- line search (load path), a watchdog (Chamberlain, Powell, Lemarechal and Pedersen, Math.
+  Prog. Study 16 (1982) 1; ``Watchdog``): full Newton steps are taken as long as, within
+  WATCHDOG iterations, one of them lowers the residual norm below that of the best iterate so
+  far or the total potential energy (by the Armijo fraction of the first-order decrease of the
+  step that left the best iterate; the energy is evaluated only when the residual does not show
+  the decrease). Otherwise the iteration goes back to the best iterate and backtracks along its
+  Newton step (halving, down to 1/64) until one of the two falls; when none does, the line
+  search says no and the increment is cut. Full steps first because the first iterations of a
+  large rotation climb the energy on the way (the straight update stretches the membrane) and
+  still reach the equilibrium in a few steps, where a monotone line search would crawl.
+
+Convergence is the force-reference test of solvers.convergence (``Residual``).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+
+from femcore.assembly import FreeTangentAssembler, TangentPart
+from femcore.dofs import N_COLUMNS, Frames
+from femcore.model import CompiledModel
+from femcore.state import State
+from solvers.convergence import Equilibrium
+from solvers.linear import Factorisation
+from solvers.stability import downhill
+
+if TYPE_CHECKING:
+    from solvers.static import StaticRun
+
+__all__ = [
+    "ARMIJO",
+    "MAX_ROTATION",
+    "SMALLEST_STEP",
+    "WATCHDOG",
+    "IncrementFailed",
+    "Residual",
+    "Tangent",
+    "Watchdog",
+    "at_round_off_floor",
+    "mechanism",
+    "newton",
+    "step_cap",
+]
+
+# Armijo's sufficient-decrease fraction, the smallest line-search step, and how many full
+# Newton steps the watchdog lets go by without a decrease before it backtracks.
+ARMIJO = 1e-4
+SMALLEST_STEP = 1.0 / 64.0
+WATCHDOG = 4
+# Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
+# layered shell can ask for director turns of several radians, which lead Newton into states
+# with collapsed cells or fibres stretched by orders of magnitude, where a log-strain
+# tension law still balances (bai-5.1, fibrous: |u| = 1e51 at "equilibrium").
+MAX_ROTATION = 0.5
+
+
+class IncrementFailed(Exception):
+    """An increment that did not converge (caught to cut the increment)."""
+
+
+def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int | None = None):
+    """Newton-Raphson at one load factor from ``state``.
+
+    Returns (converged state, iterations, final ratio, ratio per iteration starting with
+    the ratio before the first update); raises IncrementFailed when the increment has to be
+    cut.
+    """
+    solver = run.solver
+    model = run.model
+    dofs = model.dofs
+    equilibrium = run.equilibrium(load_factor)
+    index, moved_index = dofs.free_slots, dofs.prescribed_slots
+    size = model.element_size
+    singular = False
+    escapes = 0
+    translation = index % N_COLUMNS < 3
+    factor: Factorisation | None = None
+    forces = None  # the internal forces of the accepted trial, reused next iteration
+    history: list[float] = []
+    watchdog = Watchdog(run, equilibrium, solver.line_search)
+    allowed = max_iterations or solver.max_iterations
+    for iteration in range(1, allowed + 1):
+        frames = dofs.frames(state.directors)
+        r, ratio, forces = equilibrium.residual(state, frames, forces)
+        left = equilibrium.remaining(state)
+        history.append(ratio)
+        if not np.isfinite(ratio):
+            raise IncrementFailed("non-finite residual")
+        push = False
+        if ratio <= solver.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
+            if factor is None:  # no factorisation yet: one for the stability report
+                factor = run.factorise(run.tangent(state, frames)[0])
+            negative = factor.negative or 0
+            if not (negative and solver.seek_stable and escapes < 3):
+                return run.settled(state, factor), iteration - 1, ratio, history
+            # An unstable equilibrium: leave it along its buckling mode.
+            escapes += 1
+            push = True
+            run.info["branch_switches"].append(load_factor)
+            run.progress(
+                f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
+                "the buckling mode",
+                force=True,
+            )
+        k_ff, k_fp = run.tangent(state, frames)
+        rhs = r.ravel()[index]
+        if moved_index.size:
+            rhs = rhs - k_fp @ left.ravel()[moved_index]
+        factor = run.factorise(k_ff)
+        delta_free = factor.solve(rhs)
+        if delta_free is None:
+            # Exactly singular: a straight stress-free cable or membrane has no transverse
+            # stiffness until it sags. A spring of 1e-6 x the largest diagonal on every
+            # free unknown, for this update only, gives a finite step; the residual stays
+            # exact, so a converged state is still an exact equilibrium. A mechanism or a
+            # rigid motion under load keeps failing and is reported as singular.
+            shift = 1e-6 * np.abs(k_ff.diagonal()).max(initial=0.0)
+            factor = run.factorise(k_ff + shift * sp.identity(index.size, format="csc"))
+            delta_free = factor.solve(rhs)
+            singular = True
+            run.info["regularised_iterations"] += 1
+            if delta_free is None:
+                raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
+        if (factor.negative or escapes) and solver.seek_stable:
+            load = equilibrium.load(frames).ravel()[index]
+            delta_free = downhill(
+                k_ff, rhs, delta_free, load, translation, size, push, factor.negative
+            )
+        flat = left.ravel().copy()
+        flat[index] = delta_free
+        delta = flat.reshape(-1, N_COLUMNS)
+        imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
+        scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing)
+        # Round-off floor: the internal forces come from differences of nearly equal
+        # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
+        # load that no update removes. A full step that moves nothing (1e-9 of an element,
+        # 1e-9 rad) with the residual already small is converged.
+        if at_round_off_floor(scale, delta, ratio, size):
+            _, ratio, forces = equilibrium.residual(state, dofs.frames(state.directors))
+            history.append(ratio)
+            return run.settled(state, factor), iteration, ratio, history
+        run.progress(
+            f"load factor {load_factor:.4g}: iteration {iteration}, residual ratio "
+            f"{history[-1]:.3g} (tol {solver.tol:g})"
+        )
+    raise IncrementFailed(
+        f"residual ratio {history[-1]:.3g} after {allowed} iterations"
+        + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
+    )
+
+
+def at_round_off_floor(scale: float, delta: np.ndarray, ratio: float, size: float) -> bool:
+    """A full Newton update delta (n, 5) that moves no translation by more than 1e-9 of an
+    element (size) and no rotation by more than 1e-9 rad, from a residual ratio already below
+    1e-3: converged at the round-off floor of the internal forces."""
+    moved = scale * np.abs(delta)
+    return (
+        scale == 1.0
+        and ratio <= 1e-3
+        and float(moved[:, :3].max(initial=0.0)) <= 1e-9 * size
+        and float(moved[:, 3:].max(initial=0.0)) <= 1e-9
+    )
+
+
+def mechanism(model: CompiledModel) -> str:
+    """What a singular tangent means for this model, naming the rigid motions no support
+    holds when there are any."""
+    free = model.unheld_rigid_motions(loaded_only=False)
+    if free:
+        return "a mechanism: nothing holds the " + ", ".join(free)
+    return "a mechanism (a part or a node that nothing holds) or a bifurcation"
+
+
+def step_cap(model: CompiledModel, delta: np.ndarray) -> float:
+    """The factor (<= 1) that keeps an update delta (n, 5) within MAX_ROTATION of director
+    rotation at every node and within the model's size (its bounding-box diagonal) of
+    translation."""
+    extent = float(np.linalg.norm(np.ptp(model.reference_positions, axis=0)))
+    translation = float(np.linalg.norm(delta[:, :3], axis=1).max(initial=0.0))
+    rotation = float(np.linalg.norm(delta[:, 3:], axis=1).max(initial=0.0))
+    cap = 1.0
+    if rotation > MAX_ROTATION:
+        cap = MAX_ROTATION / rotation
+    if extent > 0.0 and translation > extent:
+        cap = min(cap, extent / translation)
+    return cap
+
+
+class Residual:
+    """The residual at one load factor: dead loads, the prescribed target and the ratio by
+    which convergence is judged (solvers.convergence.Equilibrium: moments over one element,
+    M_ref = F_ref L_e, F_ref at least 1e-300, and a non-finite state never converged).
+
+    model : the compiled model. f_ext, m_ext : (n, 3) dead forces N and moments N mm.
+    imposed : (n, 3) prescribed displacements, mm. counts : the evaluation counts of the run
+    (its "residual" entry counts the internal-force evaluations).
+    """
+
+    def __init__(self, model: CompiledModel, f_ext, m_ext, imposed, counts=None):
+        self.model, self.f_ext, self.m_ext = model, f_ext, m_ext
+        self.counts = counts if counts is not None else {"residual": 0}
+        self.target = model.reference_positions + imposed if model.has_prescribed else None
+        # One scale for both: a moment M counts as the force M / (element size), so that a
+        # pure-moment load (zero forces at equilibrium) has a force reference too.
+        self.test = Equilibrium(f_ext, m_ext, model.element_size, floor=1e-300)
+
+    def remaining(self, state: State) -> np.ndarray:
+        """(n, 5) prescribed motion not yet applied."""
+        out = np.zeros((self.model.n_nodes, N_COLUMNS))
+        if self.target is not None:
+            out[:, :3] = np.where(
+                self.model.translation_prescribed, self.target - state.positions, 0.0
+            )
+        return out
+
+    def load(self, frames: Frames) -> np.ndarray:
+        """(n, 5) external loads in generalised components."""
+        return self.model.dofs.generalised(frames, self.f_ext, self.m_ext)
+
+    def residual(self, state: State, frames: Frames, forces=None):
+        """(r (n, 5) on the free DOFs, ratio, internal forces) at ``state``; ``forces`` reuses
+        an evaluation of the internal forces at that state."""
+        model, f_ext, m_ext = self.model, self.f_ext, self.m_ext
+        if forces is None:
+            self.counts["residual"] += 1
+            forces = model.internal_force(state)
+        f_int, m_int = forces
+        r = np.where(
+            model.dofs.free, model.dofs.generalised(frames, f_ext - f_int, m_ext - m_int), 0.0
+        )
+        ratio = self.test.ratios(r[:, :3], r[:, 3:], f_int, m_int).checked()
+        return r, ratio, (f_int, m_int)
+
+
+class Tangent:
+    """(K_ff, K_fp) of the model at a state in the iteration's frames: the blocks' own tangents
+    (``own``: block indices) assembled by femcore.assembly, plus coloured finite differences
+    of the other blocks' forces."""
+
+    def __init__(self, model: CompiledModel, own: list[int], others: list[int], first=None):
+        """``first``: (state, {block index: parts}) already evaluated, reused at that state."""
+        self.model, self.own, self.others = model, own, others
+        self.first = first
+        self.assemble = FreeTangentAssembler(model.dofs)
+        self.graph = model.node_graph(others) if others else None
+
+    def __call__(self, state: State, frames: Frames):
+        model, dofs = self.model, self.model.dofs
+        parts: list[TangentPart] | None
+        if self.first is not None and state is self.first[0]:
+            parts = [part for i in self.own for part in self.first[1][i]]
+        else:
+            parts = model.tangent_parts(state, self.own)
+        if parts is None:
+            raise RuntimeError(
+                "an element block gave a tangent at the start of the solve and none later: a "
+                "block's tangent() returns None always or never"
+            )
+        k_ff, k_fp = self.assemble(parts, frames)
+        if self.graph is not None:
+            k = model.finite_difference_stiffness(state, self.others, self.graph, frames)
+            free, moved = dofs.free_slots, dofs.prescribed_slots
+            k_ff = (k_ff + k[free][:, free]).tocsc()
+            k_fp = k_fp + k[free][:, moved]
+        return k_ff, k_fp
+
+
+class Watchdog:
+    """The watchdog line search of the load path (module docstring).
+
+    The merits of an iterate are its residual norm on the free DOFs and its total potential
+    Pi relative to the best iterate: Pi(x) - Pi(best) = W(x) - W(best) - (the dead loads' work
+    along the straight updates since the best iterate; exact for forces, and for moments on
+    each update, a rotation about a fixed axis). The strain energies W are evaluated only when
+    the residual does not already show the decrease.
+    """
+
+    def __init__(self, run: StaticRun, equilibrium: Residual, enabled: bool):
+        self.run, self.equilibrium, self.enabled = run, equilibrium, enabled
+        self.free = run.model.dofs.free.ravel()
+        self.best: dict | None = None  # the best iterate and its Newton step
+        self.work = 0.0  # dead-load work along the updates since the best iterate
+        self.misses = 0
+
+    def step(self, state: State, frames: Frames, delta: np.ndarray, r: np.ndarray, whole: bool):
+        """The next iterate from ``state`` with Newton step delta (n, 5) and residual r (n, 5):
+        (scale taken, new state, its internal forces); scale 0 when it went back."""
+        cap = step_cap(self.run.model, delta) if self.enabled else 1.0
+        if not self.enabled or whole:
+            self.best = None  # the imposed motion starts a new search
+            return self._take(state, frames, delta, cap)
+        here = {
+            "state": state,
+            "frames": frames,
+            "delta": delta,
+            "cap": cap,
+            "residual": float(np.linalg.norm(r.ravel()[self.free])),
+            "slope": -float(r.ravel()[self.free] @ delta.ravel()[self.free]),  # dPi/ds
+            "energy": None,
+        }
+        if self.best is None or self._better(here):
+            self.best, self.misses, self.work = here, 0, 0.0
+        else:
+            self.misses += 1
+            if self.misses >= WATCHDOG:
+                return self._backtrack()
+        scale, trial, forces = self._take(state, frames, delta, cap)
+        if not np.isfinite(self.equilibrium.residual(trial, frames, forces)[1]):
+            return self._backtrack()
+        return scale, trial, forces
+
+    def _take(self, state, frames, delta, scale):
+        run = self.run
+        trial = run.model.dofs.advance(state, scale * delta, frames)
+        forces = run.model.internal_force(trial)
+        run.counts["residual"] += 1
+        self.work += scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
+        return scale, trial, forces
+
+    def _energy(self, entry: dict) -> float:
+        if entry["energy"] is None:
+            entry["energy"] = self.run.energy(entry["state"])
+        return entry["energy"]
+
+    def _better(self, here: dict) -> bool:
+        """A real decrease from the best iterate: the residual norm by the Armijo fraction, or
+        the energy by that fraction of the best step's first-order decrease."""
+        best = self.best
+        assert best is not None
+        if here["residual"] <= (1.0 - ARMIJO) * best["residual"]:
+            return True
+        if best["slope"] >= 0.0:
+            return False
+        before, after = self._energy(best), self._energy(here)
+        drop = before - (after - self.work)
+        noise = 1e-10 * (abs(before) + abs(after))
+        return drop >= -ARMIJO * best["slope"] and drop > noise
+
+    def _backtrack(self):
+        """Back to the best iterate, then halve its Newton step until the residual or the
+        energy falls (Armijo); IncrementFailed when none does down to SMALLEST_STEP."""
+        best = self.best
+        assert best is not None
+        state, frames, delta = best["state"], best["frames"], best["delta"]
+        load_rate = float(self.equilibrium.load(frames).ravel() @ delta.ravel())
+        scale = 0.5 * best["cap"]
+        while scale >= SMALLEST_STEP * best["cap"]:
+            trial = self.run.model.dofs.advance(state, scale * delta, frames)
+            r, ratio, forces = self.equilibrium.residual(trial, frames)
+            if np.isfinite(ratio):
+                residual = float(np.linalg.norm(r.ravel()[self.free]))
+                accepted = residual <= (1.0 - ARMIJO * scale) * best["residual"]
+                if not accepted and best["slope"] < 0.0:
+                    change = self.run.energy(trial) - self._energy(best) - scale * load_rate
+                    accepted = change <= ARMIJO * scale * best["slope"]
+                if accepted:
+                    self.best, self.misses, self.work = None, 0, 0.0
+                    return 0.0, trial, forces
+            scale *= 0.5
+        raise IncrementFailed(
+            "the line search found no step that lowers the energy or the residual"
+        )

@@ -1,0 +1,131 @@
+"""Stability of the static solver's equilibria (solvers.static.Static, ``seek_stable``;
+docs/theory.md §6.5, §6.6).
+
+The number of negative eigenvalues of the tangent K_ff of a converged state is the number of
+negative pivots of its LDL^T (Sylvester's law of inertia; solvers.linear counts them, the run
+keeps the count of each frame). A non-zero count is an unstable equilibrium: a compressed
+plate that stayed flat, the part of a path beyond a limit point. Two ways off it:
+
+- ``downhill``: a Newton step on an indefinite tangent heads for the nearest equilibrium,
+  stable or not; its components along the negative modes are turned downhill, and a converged
+  saddle is pushed by half an element along its mode (the load path);
+- ``buckling_mode``: where the count grows while the load still rises, the lowest negative
+  mode, if it is a bifurcation mode (not driven by the load, not along the path), is where the
+  next arc-length increment starts.
+
+Both use the lowest modes of the symmetric part of K_ff (``lowest_modes``).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.sparse.linalg import ArpackNoConvergence, eigsh
+
+from femcore.dofs import N_COLUMNS
+
+if TYPE_CHECKING:
+    from solvers.arc_length import Motion
+    from solvers.static import StaticRun
+
+__all__ = ["buckling_mode", "downhill", "lowest_modes"]
+
+
+def downhill(k_ff, rhs, delta, load, translation, size, push, negative=None) -> np.ndarray:
+    """The Newton step with its components along the negative modes of K_ff turned downhill.
+
+    A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
+    eigenvalue lambda < 0 (of the symmetric part), its component (phi . r) / lambda climbs
+    the energy towards the saddle; the step is given the component (phi . r) / |lambda|
+    instead, at least half an element long when ``push`` (leaving a converged saddle), in the
+    direction where the external load does positive work (gravity picks the buckling side).
+
+    k_ff : the tangent of the free DOFs; rhs, delta, load : (n_free,) the right-hand side, the
+    Newton step and the external load on the free DOFs; translation : (n_free,) bool, the
+    translation slots; size : the element size, mm; negative : the negative pivots of K_ff.
+    """
+    values, vectors = lowest_modes(k_ff, negative)
+    delta = delta.copy()
+    for value, phi in zip(values, vectors.T):
+        if value >= 0.0:
+            continue
+        along = phi @ rhs
+        wanted = along / abs(value)
+        reach = np.abs(phi[translation]).max(initial=0.0)
+        if push and reach > 0.0 and abs(wanted) < 0.5 * size / reach:
+            side = np.sign(phi @ load) or np.sign(along) or 1.0
+            wanted = side * 0.5 * size / reach
+        delta += (wanted - phi @ delta) * phi
+    return delta
+
+
+def lowest_modes(k_ff, negative: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues of the symmetric part of K_ff with their unit eigenvectors (columns),
+    ascending: the ``negative`` ones (at most 6) when the inertia says there are some, else
+    the (up to) 6 nearest zero; empty when ARPACK fails.
+
+    Both come from shift-invert about 0, where an eigenvalue l maps to 1 / l: the negative
+    eigenvalues nearest zero are the smallest (most negative) 1 / l, and the eigenvalues
+    nearest zero those of largest |1 / l|. The largest negative eigenvalue of a buckled plate
+    may lie beyond several small positive ones, so asking for the nearest to zero alone can
+    miss it."""
+    n = k_ff.shape[0]
+    if n <= 200:  # small: all of them, densely (ARPACK needs k < n - 1)
+        values, vectors = np.linalg.eigh(0.5 * (k_ff + k_ff.T).toarray())
+        count = min(max(negative or 0, 1), 6) if negative else 6
+        return values[:count], vectors[:, :count]
+    symmetric = (0.5 * (k_ff + k_ff.T)).tocsc()
+    # A fixed start vector: ARPACK's default is a random one drawn from a generator that
+    # advances with every call in the process, so the modes (and a push decided on an
+    # eigenvalue near zero) would depend on what ran before in the same process.
+    start = np.random.default_rng(0).standard_normal(n)
+    try:
+        if negative:
+            values, vectors = eigsh(
+                symmetric, k=min(negative, 6, n - 2), sigma=0.0, which="SA", v0=start
+            )
+        else:
+            values, vectors = eigsh(symmetric, k=6, sigma=0.0, which="LM", v0=start)
+    except (RuntimeError, ArpackNoConvergence):
+        return np.zeros(0), np.zeros((n, 0))
+    order = np.argsort(values)
+    return values[order], vectors[:, order]
+
+
+def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Motion | None:
+    """The unit motion (no load change) along the lowest negative mode phi of the tangent
+    at the last state of ``run``, to the side where the loads do positive work; None if there
+    is none, or if phi is the path's own direction: a limit point, which the arc length
+    follows by itself. A limit point shows either way: the load pattern P drives the mode
+    (|phi . P| > 0.1 |P|), or the mode is the last increment ``previous`` (the cosine of
+    their scaled motions above 0.5; at a limit point the path's tangent is the null
+    vector of K, while a bifurcation mode is transverse to the path). Under an imposed
+    displacement P is spread over the whole model and phi may be local, so the first test
+    alone took the limit point of bai-6.1.2 (Mindlin) for a bifurcation and sent the path
+    back along itself.
+
+    ``pattern``: (forces, moments, imposed displacements) per unit load factor of the phase."""
+    dofs, state = run.model.dofs, run.state
+    frames = dofs.frames(state.directors)
+    k_ff, k_fp = run.tangent(state, frames)
+    values, vectors = lowest_modes(k_ff, run.negative or 1)
+    negative = np.flatnonzero(values < 0.0)
+    if negative.size == 0:
+        return None
+    phi = vectors[:, negative[np.argmax(values[negative])]]
+    drive, _ = run.load_rate(pattern, frames, k_fp)
+    if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
+        return None
+    load = run.equilibrium(run.reached).load(frames).ravel()[dofs.free_slots]
+    side = np.sign(phi @ load) or 1.0
+    flat = np.zeros(dofs.n_slots)
+    flat[dofs.free_slots] = side * phi
+    motion = run.as_motion(flat.reshape(-1, N_COLUMNS), frames, 0.0, mode=True)
+    if motion.length <= 0.0:
+        return None
+    if previous is not None and previous.length > 0.0:
+        along = motion.vector @ previous.vector / (motion.length * previous.length)
+        if abs(along) > 0.5:
+            return None
+    return motion
