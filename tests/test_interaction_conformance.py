@@ -1,0 +1,236 @@
+"""The interaction conformance kit (femcore.interaction_checks) over the project's contact with
+each rigid tool (a tilted moving plane, spheres and cylinders from outside and from inside, a
+meshed tool) and over the two interactions a user wrote (tests/test_custom_interaction.py): the
+force is the gradient of the energy, the tangent the derivative of the force, the normal force
+k p, Coulomb's law, objectivity, energy and history; and the kit catches a block that breaks
+each of them.
+
+The body is a 3 x 3 grid of nodes over 4 x 4 mm, jittered by 0.3 mm about z = -0.4 so that some
+nodes penetrate the tools (contact offset 0.5 mm, penalty 100 N/mm) and some do not; the tools
+are at load factor 0.5. Tolerances: those of the kit (its module docstring): central
+differences with a step of 1e-6 of the body's size, truncation O(step^2) = 1e-12 relative and
+rounding O(eps |W| / step) = 1e-9 N, held to 1e-6 of the largest force or tangent entry; the
+closed forms and the turned copies to 1e-9 of the largest force (rounding of the geometry).
+"""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from elements import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
+from elements.contact import Contact, FrictionHistory
+from femcore import Body, Mesh
+from femcore.interaction_checks import (
+    check_energy,
+    check_force_is_energy_gradient,
+    check_friction,
+    check_interaction,
+    check_normal_force,
+    check_objectivity,
+    check_tangent,
+    placed_at_penetration,
+)
+from femcore.state import State
+from tests.test_custom_interaction import PlaneContact, PlaneContactBlock, SpringTie
+
+PENALTY, OFFSET, MU, LOAD_FACTOR = 100.0, 0.5, 0.4, 0.5
+UNTURNED = np.eye(3)
+TURN = Rotation.from_rotvec([0.3, -0.7, 0.5]).as_matrix()
+
+
+def meshed_floor(turn: np.ndarray) -> Mesh:
+    """A 12 x 12 mm plane z = 0.2 x + 0.1 y - 0.05 meshed with 32 triangles (normals up),
+    turned by ``turn``."""
+    floor = Mesh.rectangle(12.0, 12.0, nx=4, ny=4)
+    x = floor.points - [6.0, 6.0, 0.0]
+    x[:, 2] = 0.2 * x[:, 0] + 0.1 * x[:, 1] - 0.05
+    return floor.with_points(x @ turn.T)
+
+
+#: Each rigid tool, built turned by R (its points, axes and motion turned).
+TOOLS = {
+    "plane": lambda R: RigidPlane(
+        R @ [0.0, 0.0, 0.0], R @ [0.2, 0.1, 1.0], motion=R @ [0.1, 0, 0.3]
+    ),
+    "sphere": lambda R: RigidSphere(R @ [0.0, 0.0, -20.0], 20.0, motion=R @ [0.0, 0.0, 0.1]),
+    "sphere inside": lambda R: RigidSphere(R @ [0.0, 0.0, 5.7], 6.0, side="inside"),
+    "cylinder": lambda R: RigidCylinder(R @ [0.0, 0.0, -20.0], R @ [1.0, 0.2, 0.0], 20.0),
+    "cylinder inside": lambda R: RigidCylinder(
+        R @ [0.0, 0.0, 6.0], R @ [0.0, 1.0, 0.0], 6.0, side="inside"
+    ),
+    "meshed": lambda R: RigidSurface(meshed_floor(R), motion=R @ [0.0, 0.0, 0.1]),
+}
+
+
+def body(turn: np.ndarray = UNTURNED) -> tuple[Mesh, State]:
+    """The jittered grid (module docstring), turned: its mesh and its state."""
+    rng = np.random.default_rng(3)
+    mesh = Mesh.rectangle(4.0, 4.0, nx=2, ny=2)
+    x = mesh.points + rng.normal(scale=0.3, size=mesh.points.shape) - [2.0, 2.0, -0.5]
+    mesh = mesh.with_points(x @ turn.T)
+    zero = np.zeros_like(x)
+    state = State(mesh.points.copy(), zero, zero.copy(), zero.copy(), load_factor=LOAD_FACTOR)
+    return mesh, state
+
+
+def contact(name: str, turn: np.ndarray = UNTURNED, friction: float = 0.0):
+    """(block, state, history) of the body against tool ``name``, all turned by ``turn``;
+    with friction, anchors 0.01 mm (even nodes: they stick) or 0.3 mm (odd: they slip) off."""
+    mesh, state = body(turn)
+    tool = TOOLS[name](turn)
+    nodes = np.arange(mesh.n_nodes)
+    block = Contact(tool, nodes, OFFSET, PENALTY, friction).bind(Body.bare(mesh))
+    history = None
+    if friction:
+        rng = np.random.default_rng(5)
+        unturned = state.positions @ turn  # the anchors of the unturned body, then turned
+        anchor = unturned - TOOLS[name](np.eye(3)).offset(LOAD_FACTOR)
+        spread = np.where(np.arange(len(anchor)) % 2, 0.3, 0.01)[:, None]  # mm: slide, stick
+        anchor = (anchor + spread * rng.normal(size=anchor.shape)) @ turn.T
+        n = mesh.n_nodes
+        history = FrictionHistory(anchor, np.zeros(n), np.full(n, 0.1), 1.0)
+    return block, state, history
+
+
+@pytest.mark.parametrize("name", TOOLS)
+def test_contact_forces_are_the_energy_gradient(name):
+    """Frictionless (a slip's friction force has no potential: its energy is the stick
+    spring's, and the kit checks the force against the tangent instead)."""
+    block, state, _ = contact(name)
+    p, _, touching = block.touch(state)
+    assert (p > 0).sum() >= 3 and (~touching).sum() >= 1  # touching and apart nodes
+    check_force_is_energy_gradient(block, state)
+
+
+@pytest.mark.parametrize("friction", [0.0, MU], ids=["frictionless", "friction"])
+@pytest.mark.parametrize("name", TOOLS)
+def test_the_contact_tangent_is_the_force_derivative_and_its_energies_are_sound(name, friction):
+    block, state, history = contact(name, friction=friction)
+    assert check_tangent(block, state, history)
+    check_energy(block, state, history)
+
+
+@pytest.mark.parametrize("name", TOOLS)
+def test_contact_pushes_a_node_at_penetration_p_by_k_p_along_the_normal(name):
+    block, state, _ = contact(name)
+    check_normal_force(block, placed_at_penetration(block, state))
+
+
+@pytest.mark.parametrize("name", TOOLS)
+def test_contact_friction_obeys_coulomb(name):
+    block, state, history = contact(name, friction=MU)
+    p, n, touching = block.touch(state)
+    _, _, stuck, sliding = block.tangential(state, history, p, n, touching)
+    assert stuck.sum() >= 1 and sliding.sum() >= 1
+    check_friction(block, state, history)
+
+
+@pytest.mark.parametrize("friction", [0.0, MU], ids=["frictionless", "friction"])
+@pytest.mark.parametrize("name", TOOLS)
+def test_contact_is_objective(name, friction):
+    check_objectivity(lambda turn: contact(name, turn, friction), TURN)
+
+
+# ---------------------------------------------------------------------- a user's own
+NORMAL = np.array([0.2, 0.1, 1.0]) / np.linalg.norm([0.2, 0.1, 1.0])
+
+
+def floor(turn: np.ndarray = UNTURNED, block_type=None):
+    """The user's PlaneContact (normal NORMAL through the origin) under the body, turned."""
+    mesh, state = body(turn)
+    state.positions = state.positions - 0.5 * turn[:, 2]  # the grid about z = 0 (no offset)
+    block = PlaneContact(np.arange(mesh.n_nodes), 100.0, turn @ NORMAL).bind(Body.bare(mesh))
+    if block_type is not None:
+        block.__class__ = block_type
+    history = np.linspace(0.0, 0.2, mesh.n_nodes)  # deepest penetrations so far
+    return block, state, history
+
+
+def tie(turn: np.ndarray = UNTURNED):
+    """The user's SpringTie (20 N/mm) between nodes 0..3 and 5..8 of the jittered body."""
+    mesh, state = body(turn)
+    block = SpringTie([0, 1, 2, 3], [5, 6, 7, 8], 20.0).bind(Body.bare(mesh))
+    reference = mesh.points.copy()
+    state.positions = reference + (np.linspace(-0.3, 0.4, 27).reshape(9, 3) @ turn.T)
+    return block, state, None
+
+
+def test_a_user_floor_conforms():
+    block, state, history = floor()
+    assert (state.positions @ NORMAL < 0).sum() >= 3  # some nodes penetrate, some not
+    check_interaction(block, state, history)
+
+    def place(p):  # every node at penetration p below the plane, along its normal
+        x = state.positions
+        return State(x - (x @ NORMAL + p)[:, None] * NORMAL, *(np.zeros_like(x),) * 3)
+
+    check_normal_force(block, place, normal=lambda s: np.broadcast_to(NORMAL, (9, 3)))
+    check_objectivity(floor, TURN)
+
+
+def test_a_user_tie_conforms():
+    block, state, history = tie()
+    check_interaction(block, state, history)
+    check_objectivity(tie, TURN)
+
+
+# ---------------------------------------------------------------------- the kit catches
+def test_the_kit_names_a_force_that_is_not_the_energy_gradient():
+    class HalfEnergy(PlaneContactBlock):
+        def strain_energy(self, state, history=None):
+            return 0.5 * super().strain_energy(state, history)
+
+    block, state, history = floor(block_type=HalfEnergy)
+    with pytest.raises(AssertionError, match="HalfEnergy: at node .* the force is"):
+        check_force_is_energy_gradient(block, state, history)
+
+
+def test_the_kit_names_a_tangent_that_is_not_the_force_derivative():
+    class DoubleTangent(PlaneContactBlock):
+        def tangent(self, state, history=None):
+            (part,) = super().tangent(state, history)
+            return [part._replace(blocks=2.0 * part.blocks)]
+
+    block, state, history = floor(block_type=DoubleTangent)
+    with pytest.raises(AssertionError, match="DoubleTangent: d\\(load at node"):
+        check_tangent(block, state, history)
+
+    class NoTangent(PlaneContactBlock):
+        def tangent(self, state, history=None):
+            return None  # the solvers difference the forces: nothing to check
+
+    assert not check_tangent(*floor(block_type=NoTangent))
+
+
+def test_the_kit_names_a_normal_force_off_k_p_and_a_broken_coulomb_law():
+    block, state, _ = contact("plane")
+    block.stiffness = 1.01 * block.stiffness  # the force uses k; the check is told k / 1.01
+    with pytest.raises(AssertionError, match="at penetration .* expected k p"):
+        check_normal_force(
+            block, placed_at_penetration(block, state), stiffness=block.stiffness / 1.01
+        )
+    block, state, history = contact("plane", friction=MU)
+    p, n, touching = block.touch(state)
+    _, _, stuck, _ = block.tangential(state, history, p, n, touching)
+    with pytest.raises(AssertionError, match="sliding off the friction limit"):
+        check_friction(block, state, history, stuck=stuck, sliding=stuck)
+
+
+def test_the_kit_names_an_interaction_that_is_not_objective():
+    class WorldFloor(PlaneContactBlock):
+        def _gap(self, state):  # the world's z, whatever the normal it was given
+            return np.minimum(state.positions[self.connectivity[:, 0], 2], 0.0)
+
+    with pytest.raises(AssertionError, match="WorldFloor: the forces of the turned"):
+        check_objectivity(lambda turn: floor(turn, WorldFloor), TURN)
+
+
+def test_the_kit_names_a_history_mutated_in_place():
+    class Forgetful(PlaneContactBlock):
+        def update_history(self, state, history):
+            np.maximum(history, -self._gap(state), out=history)
+            return history
+
+    block, state, history = floor(block_type=Forgetful)
+    with pytest.raises(AssertionError, match="Forgetful.update_history changed the history"):
+        check_energy(block, state, history)
