@@ -235,9 +235,7 @@ class CompiledModel:
         block with history variables returns them, not None, from ``initial_history``)."""
         if not self._has_history:
             return state
-        history = tuple(
-            part.update_history(state, h) for part, h in zip(self.parts, state.history)
-        )
+        history = tuple(part.update_history(state, h) for part, h in zip(self.parts, state.history))
         return replace(state, history=history)
 
     def lumped_mass(self, state: State, density_scale: list | None = None):
@@ -394,12 +392,10 @@ class CompiledModel:
         indices = list(range(len(self.parts))) if parts is None else list(parts)
         frames = self.dofs.frames(state.directors) if frames is None else frames
         if method == "element":
-            parts = self.tangent_parts(state, indices)
-            if parts is None:
-                raise ValueError(
-                    "a block has no tangent of its own: use method='finite_difference'"
-                )
-            return tangent_matrix(self.dofs, parts, frames)
+            tangent = self.tangent_parts(state, indices)
+            if tangent is None:
+                raise ValueError("a part has no tangent of its own: use method='finite_difference'")
+            return tangent_matrix(self.dofs, tangent, frames)
         if method == "finite_difference":
             return self.finite_difference_stiffness(
                 state, indices, self.node_graph(indices), frames

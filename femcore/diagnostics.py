@@ -103,8 +103,5 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
     ]
     return elementary or [
         "a rigid motion combining "
-        + ", ".join(
-            name for name, weight in zip(names, np.abs(pushed[0] * scale)) if weight > 1e-6
-        )
+        + ", ".join(name for name, weight in zip(names, np.abs(pushed[0] * scale)) if weight > 1e-6)
     ]
-

@@ -361,4 +361,3 @@ class Model:
         if self._compiled is None:
             self._compiled = CompiledModel(self)
         return self._compiled
-

@@ -1,4 +1,5 @@
-"""Conformance kit: the checks every element type must pass, for any test suite.
+"""Conformance kits: the checks every element type (here) and every interaction
+(femcore.interaction_checks, re-exported here) must pass, for any test suite.
 
 An element type (a subclass of ``femcore.element.ElementType``, the project's or a user's)
 conforms to the element protocol when, on a small free-floating model of it:
@@ -664,3 +665,29 @@ def _mesh_maker(mesh: Mesh | Callable[[int], Mesh]) -> Callable[[int], Mesh]:
         return mesh
 
     return fixed
+
+
+# ---------------------------------------------------------------------- interactions
+# The interaction kit lives in its own module (one idea per file); its checks are importable
+# from here too, so that a user's suite finds both kits in one place.
+from femcore.interaction_checks import (  # noqa: E402
+    check_energy,
+    check_force_is_energy_gradient,
+    check_friction,
+    check_interaction,
+    check_normal_force,
+    check_objectivity,
+    check_tangent,
+    placed_at_penetration,
+)
+
+__all__ += [
+    "check_energy",
+    "check_force_is_energy_gradient",
+    "check_friction",
+    "check_interaction",
+    "check_normal_force",
+    "check_objectivity",
+    "check_tangent",
+    "placed_at_penetration",
+]
