@@ -141,11 +141,18 @@ def test_the_readme_starts_with_the_two_setup_commands_and_ci_runs_the_second():
 
 @pytest.mark.parametrize(
     "index, output",
-    [(0, "cable.pvd"), (1, "laminate.vtu"), (2, "N mm dissipated"), (3, "400.0 mindlin -")],
+    [
+        (0, "cable.pvd"),
+        (1, "laminate.vtu"),
+        (2, "N mm dissipated"),
+        (3, "400.0 mindlin -"),
+        (4, "closed form 1.5"),
+        (5, "tip displacement"),
+    ],
 )
 def test_the_readme_examples_run(tmp_path, index, output):
     blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.DOTALL)
-    assert len(blocks) == 4
+    assert len(blocks) == 6
     env = {**os.environ, "PYTHONPATH": str(ROOT)}  # also when the project is not installed
     completed = subprocess.run(
         [sys.executable, "-c", blocks[index]],
