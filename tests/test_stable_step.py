@@ -12,7 +12,7 @@ way a user meets it: at the default safety 0.9 the energy balance holds.
 import numpy as np
 import pytest
 from shell_helpers import fabric
-from test_conformance import exact_stable_step
+from femcore.testing import exact_stable_step
 
 from elements import FibrousShell, MindlinShell
 from femcore import Mesh, Model
