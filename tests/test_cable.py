@@ -56,6 +56,7 @@ def test_bad_cable_parameters_are_named(arguments, message):
         Cable(*arguments)
 
 
+@pytest.mark.parallel
 def test_the_compiled_kernel_gives_the_numpy_forces():
     """elements/kernels.py against the vectorised reference on a jittered chain with stretched
     and slack links (tension only): 1e-12 of the largest force."""

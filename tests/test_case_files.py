@@ -69,6 +69,7 @@ def strict_load(text: str):
 
 
 # ---------------------------------------------------------------------- what a case does
+@pytest.mark.slow
 def test_the_shipped_strip_case_builds_the_model_of_its_python_twin(tmp_path):
     """cases/g1151_strip.toml is the README's Python example: the same mesh, element, clamp,
     gravity and solver give the same tip deflection (the same arithmetic: 1e-12)."""
@@ -263,7 +264,7 @@ def test_json_outputs_are_strict():
     assert len(data["notes"]) == 2 and "a: inf" in data["notes"][0]
 
 
-@pytest.mark.parametrize("kinematics", ["fibrous", "mindlin"])
+@pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
 def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
     """cases/bai-6.2.1.toml (coarse: n = 8) builds the model the validation report builds for
     bai-6.2.1 (validation.specimens.build: corner specimen, clamp, lift, gravity, the Mindlin
@@ -300,6 +301,7 @@ def test_an_explicit_case_streams_its_frames_and_energies(tmp_path):
     assert summary["mean_displacements"]["tip"][2] < 0.0  # it falls
 
 
+@pytest.mark.slow
 def test_the_shipped_strip_over_a_cylinder_drapes_as_the_heavy_elastica(tmp_path):
     """cases/strip_over_cylinder.toml run by ``fibreshell run``: the strip's free end where
     the boundary-value reference puts it (0.3 mm, as tests/test_contact.py: 50 cells), and

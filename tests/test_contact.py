@@ -203,7 +203,7 @@ def test_a_plate_slides_down_a_frictionless_slope_with_g_sin_phi():
 
 
 # ---------------------------------------------------------------------- Coulomb friction
-@pytest.mark.parametrize("kinematics", ["mindlin", "fibrous"])
+@pytest.mark.parametrize("kinematics", [pytest.param("mindlin", marks=pytest.mark.slow), "fibrous"])
 def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_minus_mu_cos(
     kinematics,
 ):
@@ -226,6 +226,7 @@ def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_mi
     assert run.field("contact_slip").max() > 0.0
 
 
+@pytest.mark.slow
 def test_a_plate_on_a_slope_below_its_friction_angle_sticks():
     """Explicit, mu = 0.3 on 10 deg (tan phi = 0.18 < mu): the plate stays where it was laid;
     it creeps only by the stretch of the tangential penalty under its weight, m g sin phi /
@@ -257,6 +258,7 @@ def test_a_plate_sticking_on_a_slope_is_in_static_equilibrium(solver):
     np.testing.assert_allclose(run.tool_forces[-1, 0], [0.0, 0.0, -weight], atol=1e-6 * weight)
 
 
+@pytest.mark.slow
 def test_friction_dissipation_closes_the_energy_balance_of_a_sliding_plate():
     """Explicit slide (mu = 0.2, 20 deg): the work of gravity equals the kinetic and stored
     energy plus the friction dissipation (1 %), and the dissipation is mu m g cos(phi) times
@@ -310,6 +312,7 @@ def test_the_friction_tangent_is_the_derivative_of_the_return_mapping(tool):
     assert_tangent_is_the_force_derivative(block, state, history, tolerance=1e-6 * 100.0)
 
 
+@pytest.mark.slow
 def test_contact_and_friction_forces_turn_with_a_rigid_rotation_of_model_and_tool():
     """Objectivity: the sliding plate (mu = 0.2, 20 deg) and its plane turned by a rigid
     rotation R, gravity with them: the force on the tool and the displacements are R times
@@ -374,7 +377,7 @@ def test_the_work_of_a_moving_tool_enters_the_explicit_energy_balance():
     assert run.displacements[:, 2].mean() == pytest.approx(lift, rel=1e-3)
 
 
-@pytest.mark.parametrize("kinematics", ["fibrous", "mindlin"])
+@pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
 def test_a_heavy_strip_draped_over_a_cylinder_wraps_it_then_hangs_as_a_heavy_elastica(kinematics):
     """A 100 x 10 mm half-strip (1 mm, B = 0.833 N mm, 1.66 kg/m^2) held at the top of a
     20 mm frictionless cylinder (the symmetry plane of the whole strip: its slope there is

@@ -439,6 +439,7 @@ def nonlinear_fabric():
     )
 
 
+@pytest.mark.parallel
 @pytest.mark.parametrize(
     "thickness, variation, tilt, clamped, options",
     [

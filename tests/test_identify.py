@@ -26,6 +26,7 @@ def strip(length: float, cells: int, bending: float, density: float, paths=None)
                                 increments=4, paths=paths or {"side": {"y_max": 0.0}})  # fmt: skip
 
 
+@pytest.mark.slow
 def test_the_bending_stiffness_behind_a_profile_is_recovered():
     # Synthetic data: the side profile z(x) of an 80 mm strip (B = 0.3 N mm, q L^3 / B = 5:
     # a large deflection) from this very model; the fit starts from B = 0.6 and must land
@@ -65,6 +66,7 @@ def overhangs(tmp_path_factory):
     return result, density, bending, out
 
 
+@pytest.mark.slow
 def test_peirce_bending_length_from_an_overhang_series(overhangs):
     # 16 cells per overhang: the clamped-edge shell's tip deflection is within ~0.3 % of the
     # elastica (second order: 0.8 % at 10 cells), so B within 1 %, c = (B / w)^(1/3) within
@@ -83,6 +85,7 @@ def test_peirce_bending_length_from_an_overhang_series(overhangs):
     assert result.runs == 3 * result.evaluations
 
 
+@pytest.mark.slow
 def test_the_fit_writes_its_values_and_a_figure(overhangs):
     result, *_, out = overhangs
     written = json.loads((out / "identify.json").read_text())
@@ -94,6 +97,7 @@ def test_the_fit_writes_its_values_and_a_figure(overhangs):
     assert (out / "fit.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_a_linear_response_gives_the_closed_form_least_squares_interval():
     # The clamp's vertical reaction is the strip's weight, rho_A g L W, whatever its shape:
     # linear in rho_A through the origin. With noisy "measured" reactions y_i at lengths L_i
@@ -166,6 +170,7 @@ def test_start_values_come_from_the_case():
     )
 
 
+@pytest.mark.slow
 def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
     case = tmp_path / "strip.toml"
     case.write_text(
@@ -197,6 +202,7 @@ def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
     assert "--sigma 'reaction_left_z': expected COLUMN=VALUE" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_a_run_that_fails_during_the_fit_stops_it_with_its_values():
     from fibreshell.identify import FitFailed
 

@@ -346,6 +346,7 @@ def test_section_forces_under_an_end_moment():
 
 
 # ---------------------------------------------------------------------- compiled kernel
+@pytest.mark.parallel
 @pytest.mark.parametrize("points", [2, 3])
 def test_the_compiled_kernel_gives_the_numpy_forces_and_energy(points):
     """elements/kernels.py against the vectorised reference on a jittered, tilted patch:

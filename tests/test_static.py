@@ -293,6 +293,7 @@ def test_a_failed_increment_keeps_the_last_good_state_and_says_where():
     assert travel(w) == pytest.approx(6.0 * reached, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_static_and_dynamic_relaxation_agree_on_the_fibrous_cantilever():
     mesh, model = fibrous_strip(tension=120.0)
     static = Static(increments=2).solve(model)
@@ -313,6 +314,7 @@ def _sagging_cable():
     return mesh, model
 
 
+@pytest.mark.slow
 def test_static_and_dynamic_relaxation_agree_on_a_sagging_cable():
     mesh, model = _sagging_cable()
     static = Static(increments=8).solve(model)

@@ -225,6 +225,7 @@ def case_file(tmp_path):
     return path
 
 
+@pytest.mark.slow
 def test_the_command_writes_sweep_csv(case_file, tmp_path, capsys):
     out = tmp_path / "out"
     status = main(["sweep", str(case_file), "--vary", "part.0.material.bending=1.0,2.0",

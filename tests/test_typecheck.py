@@ -5,6 +5,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+pytestmark = pytest.mark.slow  # mypy over the packages: seconds to a minute
+
 PACKAGES = ["femcore", "elements", "materials", "solvers", "fibreshell"]
 
 

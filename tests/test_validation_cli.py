@@ -32,6 +32,7 @@ def coarse_report(tmp_path_factory):
     return out, json.loads((out / "results.json").read_text())
 
 
+@pytest.mark.slow
 def test_a_coarse_run_writes_the_report_and_passes_its_checks(coarse_report):
     out, report = coarse_report
     assert set(report["cases"]) == set(CASES)
@@ -51,6 +52,7 @@ def test_a_coarse_run_writes_the_report_and_passes_its_checks(coarse_report):
     json.loads((out / "results.json").read_text(), parse_constant=pytest.fail)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", [case.name for case in PAPER_CASES])
 def test_paper_case_invariants_hold_with_the_three_kinematics(coarse_report, name):
     # Bai's claims, per case: the three runs converge; the fibres of both fibrous variants do
@@ -97,6 +99,7 @@ def test_paper_case_invariants_hold_with_the_three_kinematics(coarse_report, nam
     assert "atan(theta)" in case["discussion"]
 
 
+@pytest.mark.slow
 def test_the_paper_cases_check_the_slip_kinematics_and_the_eq15_directors(coarse_report):
     _, report = coarse_report
     for case in PAPER_CASES:
@@ -139,6 +142,7 @@ def test_the_readme_starts_with_the_two_setup_commands_and_ci_runs_the_second():
     assert commands[1] in (ROOT / ".ci" / "run").read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "index, output",
     [
