@@ -344,11 +344,7 @@ class CompiledModel:
         ``start`` to ``end``, with the contact forces at ``state``."""
         histories = self._interaction_histories(state)
         return float(
-            sum(
-                i.tool_work(state, h, start, end)
-                for i, h in zip(self.interactions, histories)
-                if i.n_tools
-            )
+            sum(i.tool_work(state, h, start, end) for i, h in zip(self.interactions, histories))
         )
 
     def tangent_parts(self, state: State, parts: list[int]) -> list[TangentPart] | None:
@@ -509,59 +505,61 @@ class CompiledModel:
 def _bound_interaction(interaction: Interaction, body: Body) -> InteractionBlock:
     """``interaction.bind(body)``, checked as ``_check_block`` checks an element block."""
     block = interaction.bind(body)
-    name = type(interaction).__name__
-    if not isinstance(block, InteractionBlock):
-        raise ValueError(
-            f"{name}.bind returned {type(block).__name__}: expected an InteractionBlock "
-            "(femcore.interaction)"
-        )
-    _check_reach(block)
-    _check_history_arguments(
-        block, ("internal_force", "strain_energy", "tangent", "node_fields"), "interaction"
+    _check_bound(
+        type(interaction).__name__,
+        block,
+        InteractionBlock,
+        ("internal_force", "strain_energy", "tangent", "node_fields"),
+        interaction.dofs,
+        body.active,
     )
     n_tools = getattr(block, "n_tools", None)
     if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
         raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
-    _check_connectivity(name, block, interaction.dofs, body.active)
     return block
 
 
 def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) -> None:
     """A bound block must be an ElementBlock that declares its reach, with a (m, k) node
     connectivity whose nodes carry the DOFs it needs."""
-    name = type(element).__name__
-    if not isinstance(block, ElementBlock):
-        raise ValueError(
-            f"{name}.bind returned {type(block).__name__}: expected an ElementBlock "
-            "(femcore.element)"
-        )
-    _check_reach(block)
-    _check_history_arguments(
-        block, ("internal_force", "strain_energy", "tangent", "cell_fields", "node_fields"), "block"
+    _check_bound(
+        type(element).__name__,
+        block,
+        ElementBlock,
+        ("internal_force", "strain_energy", "tangent", "cell_fields", "node_fields"),
+        element.dofs,
+        active,
     )
-    _check_connectivity(name, block, element.dofs, active)
 
 
-def _check_reach(block) -> None:
+def _check_bound(
+    name: str,
+    block: Part,
+    protocol: type,
+    methods: tuple[str, ...],
+    dofs: tuple[str, ...],
+    active: np.ndarray,
+) -> None:
+    """What ``name.bind`` returned is a ``protocol`` block (ElementBlock, InteractionBlock)
+    that declares its reach, whose ``methods`` take (state, history), and whose
+    connectivity's nodes carry ``dofs``."""
+    if not isinstance(block, protocol):
+        raise ValueError(
+            f"{name}.bind returned {type(block).__name__}: expected an {protocol.__name__} "
+            f"({protocol.__module__})"
+        )
     reach = getattr(block, "reach", None)
     if isinstance(reach, bool) or not isinstance(reach, (int, np.integer)) or reach < 1:
         raise ValueError(
             f"{type(block).__name__}.reach is {reach!r}: every block declares how many cell-hops "
             "its forces reach (1: cell-local, 2: bending patches over neighbours)"
         )
-
-
-def _check_history_arguments(block, methods: tuple[str, ...], what: str) -> None:
     for method in methods:
         if not _takes_history(getattr(block, method)):
             raise ValueError(
                 f"{type(block).__name__}.{method} must take (state, history=None): the model "
-                f"passes each {what} its history variables"
+                "passes each part its history variables"
             )
-
-
-def _check_connectivity(name: str, block, dofs: tuple[str, ...], active: np.ndarray) -> None:
-    """(m, k) integer node ids inside the mesh, at nodes that carry ``dofs``."""
     connectivity = np.asarray(block.connectivity)
     if connectivity.ndim != 2 or not np.issubdtype(connectivity.dtype, np.integer):
         raise ValueError(

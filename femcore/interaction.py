@@ -84,19 +84,15 @@ class Body:
         bound on its own, as its tests do): ``covered`` is every node, ``half_thickness`` 0."""
         active = np.zeros((mesh.n_nodes, 6), dtype=bool)
         active[:, :3] = True
-        every = np.arange(mesh.n_nodes, dtype=np.int64)[:, None]
-        return cls(mesh, (BodyPart(_NoElement(), every),), np.zeros((mesh.n_nodes, 3)), active)
+        return cls(mesh, (), np.zeros((mesh.n_nodes, 3)), active)
 
     @property
     def n_nodes(self) -> int:
         return self.mesh.n_nodes
 
     def covered(self) -> np.ndarray:
-        """(n,) bool: the nodes some element's cells use."""
-        covered = np.zeros(self.mesh.n_nodes, dtype=bool)
-        for part in self.parts:
-            covered[part.cells.ravel()] = True
-        return covered
+        """(n,) bool: the nodes that carry DOFs (those some element's cells use)."""
+        return np.asarray(self.active.any(axis=1))
 
     def half_thickness(self) -> np.ndarray:
         """(n,) float, mm: at each node, the largest ``half_thickness`` of the elements around
@@ -106,22 +102,6 @@ class Body:
             used = np.unique(part.cells)
             offset[used] = np.maximum(offset[used], float(part.element.half_thickness))
         return offset
-
-    def triangles(self) -> np.ndarray:
-        """(t, 3) int: the triangles of every element block over triangles (the body's
-        surface cells, for the nodes' share of the area or a surface search)."""
-        cells = [p.cells for p in self.parts if p.element.cell_type == "triangle"]
-        return np.concatenate(cells) if cells else np.zeros((0, 3), dtype=np.int64)
-
-
-class _NoElement(ElementType):
-    """The stand-in element of ``Body.bare``: translations, no thickness, never bound."""
-
-    dofs = ("ux", "uy", "uz")
-    cell_type = "line"
-
-    def bind(self, mesh, cell_ids, directors):
-        raise NotImplementedError("Body.bare has no element to bind")
 
 
 class Interaction(ABC):
