@@ -59,7 +59,7 @@ __all__ = [
     "FIELD_ROUND_OFF",
     "HALVED_CELLS",
     "MASS_SUM",
-    "RIGID_MOTIONS",
+    "RIGID_TEST_MOTIONS",
     "ROUND_OFF",
     "ROUND_OFF_SQUARED",
     "TANGENT_DIFFERENCES",
@@ -115,7 +115,7 @@ def rotation_matrix(axis, angle: float) -> np.ndarray:
 _SHIFT = [3.0, -7.0, 11.0]
 _TURN_A = rotation_matrix([1.0, -2.0, 0.5], np.pi / 2)
 _TURN_B = rotation_matrix([0.3, 1.0, -0.7], np.pi / 2)
-RIGID_MOTIONS: dict[str, tuple[np.ndarray, list[float]]] = {
+RIGID_TEST_MOTIONS: dict[str, tuple[np.ndarray, list[float]]] = {
     "translation": (np.eye(3), _SHIFT),
     "rotation-a": (_TURN_A, [0.0, 0.0, 0.0]),
     "rotation-a-translation": (_TURN_A, _SHIFT),
@@ -124,9 +124,9 @@ RIGID_MOTIONS: dict[str, tuple[np.ndarray, list[float]]] = {
 
 
 def moved_rigidly(state: State, motion: str) -> State:
-    """A copy of ``state`` moved by the rigid motion ``motion`` (a name of ``RIGID_MOTIONS``):
-    positions x -> R x + c, directors v -> R v."""
-    rotation, shift = RIGID_MOTIONS[motion]
+    """A copy of ``state`` moved by the rigid motion ``motion`` (a name of
+    ``RIGID_TEST_MOTIONS``): positions x -> R x + c, directors v -> R v."""
+    rotation, shift = RIGID_TEST_MOTIONS[motion]
     moved = state.copy()
     moved.positions = state.positions @ rotation.T + shift
     moved.directors = state.directors @ rotation.T
@@ -404,7 +404,7 @@ def _cell_size(model: CompiledModel) -> float:
 
 # ---------------------------------------------------------------------- 1. rigid motions
 def assert_rigid_motion_gives_no_load(case: ElementCase, motion: str) -> None:
-    """Check 1: the reference moved by ``motion`` (a name of ``RIGID_MOTIONS``) carries no
+    """Check 1: the reference moved by ``motion`` (a name of ``RIGID_TEST_MOTIONS``) carries no
     force, no moment and no energy (relative to the deformed state's), and a block without
     rotations returns None for its moments. Raises AssertionError."""
     model = case.model()
@@ -458,7 +458,7 @@ def assert_objective(case: ElementCase, motion: str) -> None:
     model = case.model()
     state = case.deformed(model)
     force, moment = model.internal_force(state)
-    rotation, _ = RIGID_MOTIONS[motion]
+    rotation, _ = RIGID_TEST_MOTIONS[motion]
     turned = moved_rigidly(state, motion)
     force_t, moment_t = model.internal_force(turned)
     bound = case.objectivity
@@ -598,7 +598,7 @@ def assert_stable_step_shrinks_with_the_mesh(case: ElementCase) -> None:
 # ---------------------------------------------------------------------- all of them
 def element_checks(case: ElementCase) -> Iterator[tuple[str, Callable[[], None]]]:
     """Every check of the element kit on ``case``, as (name, check) pairs in order."""
-    for motion in RIGID_MOTIONS:
+    for motion in RIGID_TEST_MOTIONS:
         yield f"rigid {motion}: no load", partial(assert_rigid_motion_gives_no_load, case, motion)
         if case.rigid_fields:
             yield (
@@ -670,24 +670,7 @@ def _mesh_maker(mesh: Mesh | Callable[[int], Mesh]) -> Callable[[int], Mesh]:
 # ---------------------------------------------------------------------- interactions
 # The interaction kit lives in its own module (one idea per file); its checks are importable
 # from here too, so that a user's suite finds both kits in one place.
-from femcore.interaction_checks import (  # noqa: E402
-    check_energy,
-    check_force_is_energy_gradient,
-    check_friction,
-    check_interaction,
-    check_normal_force,
-    check_objectivity,
-    check_tangent,
-    placed_at_penetration,
-)
+from femcore import interaction_checks  # noqa: E402
+from femcore.interaction_checks import *  # noqa: E402, F403
 
-__all__ += [
-    "check_energy",
-    "check_force_is_energy_gradient",
-    "check_friction",
-    "check_interaction",
-    "check_normal_force",
-    "check_objectivity",
-    "check_tangent",
-    "placed_at_penetration",
-]
+__all__ += interaction_checks.__all__

@@ -16,7 +16,7 @@ from femcore import testing
 from tests.conformance_cases import CASES, ElementCase
 
 case_parameter = pytest.mark.parametrize("case", CASES, ids=str)
-motion_parameter = pytest.mark.parametrize("motion", list(testing.RIGID_MOTIONS))
+motion_parameter = pytest.mark.parametrize("motion", list(testing.RIGID_TEST_MOTIONS))
 
 
 def run(check, *arguments) -> None:
