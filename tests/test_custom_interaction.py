@@ -27,7 +27,7 @@ from elements import Cable
 from elements.base import CellTangent
 from femcore import Body, Interaction, InteractionBlock, Mesh, Model
 from solvers import CentralDifference, DynamicRelaxation, Static
-from tests.test_custom_element import HELD, ramp_then_hold, slowest_frequency
+from tests.test_custom_element import ramp_then_hold, settling_explicit
 
 K = 10.0  # N/mm, penalty stiffness per node
 EA = 1.0e3  # N
@@ -258,14 +258,8 @@ def tied_cables(amplitude="linear") -> Model:
 
 
 def tie_explicit(compiled):
-    """Damping c = omega_min of the chain (every mode underdamped, decaying as exp(-c t /
-    2)), held for 30 / c after the ramp: the oscillation the ramp left (smaller than the
-    static displacement) falls by exp(-15) = 3e-7; 1e-5 of the elongation and of P."""
-    static = Static(increments=1, progress=False).solve(compiled)
-    pulled = compiled.initial_state()
-    pulled.positions = static.positions.copy()
-    c = slowest_frequency(compiled, pulled)
-    return CentralDifference(30.0 / c / (1.0 - HELD), damping=c, progress=False), 1e-5
+    """``settling_explicit`` on the pulled chain: 1e-5 of the elongation and of P."""
+    return settling_explicit(compiled, increments=1), 1e-5
 
 
 TIE_SOLVERS = {

@@ -12,11 +12,11 @@ way a user meets it: at the default safety 0.9 the energy balance holds.
 import numpy as np
 import pytest
 from shell_helpers import fabric
-from femcore.testing import exact_stable_step
 
 from elements import FibrousShell, MindlinShell
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
+from femcore.testing import exact_stable_step
 from materials import ElasticShell, presets
 from solvers import CentralDifference
 
