@@ -251,6 +251,7 @@ class CentralDifference:
                 payload = {"signature": signature, "run": run, "assembled": self._assembled}
                 save_checkpoint(saved_at, payload)
 
+        masses = LumpedMasses(run.mass, run.inertia)  # rebuilt when the inertia follows h_m
         while run.state.time < duration * (1.0 - 1e-12):
             step, state = run.step, run.state
             if step >= self.max_steps:
@@ -267,6 +268,7 @@ class CentralDifference:
                     # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
                     # I under a tilting director makes the director modes unstable.
                     _, run.inertia = compiled.lumped_mass(state, run.scale)
+                    masses = LumpedMasses(run.mass, run.inertia)
                 if self.dt is None:
                     fresh = step % ASSEMBLED_DT_EVERY == 0
                     run.dt_nominal = self._step_size(
@@ -279,7 +281,7 @@ class CentralDifference:
                 compiled,
                 state,
                 dt,
-                LumpedMasses(run.mass, run.inertia),
+                masses,
                 dt_prev=run.dt_prev,
                 damping=self.damping,
                 duration=duration,
