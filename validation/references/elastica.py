@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.integrate import cumulative_trapezoid, solve_bvp
+from scipy.optimize import brentq
 
 
 def _clamped_free(length: float, curvature_rate, guess, points: int, what: str) -> dict:
@@ -143,4 +144,379 @@ def heavy_strip_over_cylinder(
         "z": z,
         "tip_x": float(x[-1]),
         "tip_z": float(z[-1]),
+    }
+
+
+# ---------------------------------------------------------------------------------------------
+# Non-linear bending laws: the heavy cantilever with M(kappa), and Peirce's cantilever test.
+# ---------------------------------------------------------------------------------------------
+
+#: Peirce's chord angle (deg): the overhang at which the chord from the clamp to the tip makes
+#: this angle below the horizontal (Peirce 1930; ASTM D1388, the 41.5 deg incline).
+PEIRCE_ANGLE_DEG = 41.5
+
+
+class MomentCurvature:
+    """A monotonic bending law M(kappa) per unit width with its inverse kappa(M).
+
+    Build it with :meth:`of` from a ``materials`` Law (a ``BendingLaw``), a number B (the
+    linear law M = B kappa), or a pair of callables (moment, stiffness) of the curvature.
+
+    Parameters
+    ----------
+    moment : callable
+        M(kappa): curvature array (any shape, 1/mm) -> moment per unit width (N mm/mm = N),
+        strictly increasing.
+    stiffness : callable
+        dM/dkappa (kappa), same shapes, N mm, > 0.
+    knots : tuple of two numpy.ndarray, optional
+        (kappa_k, M_k), shape (k,) each, of a piecewise-linear law extrapolated linearly
+        beyond its ends: it is then inverted exactly, segment by segment. None: the inverse
+        is found by a vectorised Newton iteration safeguarded by bisection.
+    description : str
+        How the law prints.
+    """
+
+    def __init__(self, moment, stiffness, knots=None, description: str = "M(kappa)") -> None:
+        self.moment, self.stiffness = moment, stiffness
+        self.description = description
+        self._knots = None
+        if knots is not None:
+            kx, ky = (np.asarray(k, dtype=float) for k in knots)
+            if np.any(np.diff(ky) <= 0.0):
+                raise ValueError(
+                    f"{description}: a piecewise-linear bending law needs strictly increasing "
+                    f"moments to be inverted (a flat segment has no curvature for its moment), "
+                    f"got {ky}"
+                )
+            left = (kx[1] - kx[0]) / (ky[1] - ky[0])
+            right = (kx[-1] - kx[-2]) / (ky[-1] - ky[-2])
+            self._knots = (kx, ky, left, right)
+
+    @classmethod
+    def of(cls, law) -> MomentCurvature:
+        """The law as a MomentCurvature.
+
+        Parameters
+        ----------
+        law : materials Law, float, (callable, callable) or MomentCurvature
+            A ``BendingLaw`` (polynomial or piecewise linear), a linear stiffness B (N mm,
+            > 0), or a pair (M(kappa), dM/dkappa(kappa)) of vectorised callables.
+
+        Returns
+        -------
+        MomentCurvature
+
+        Raises
+        ------
+        ValueError
+            A non-positive stiffness, a law that is zero on one side (tension-only), or
+            something that is none of the above.
+        """
+        if isinstance(law, MomentCurvature):
+            return law
+        if isinstance(law, (int, float)) and not isinstance(law, bool):
+            stiffness = float(law)
+            if not (np.isfinite(stiffness) and stiffness > 0.0):
+                raise ValueError(f"a linear bending stiffness must be > 0 (N mm), got {law!r}")
+            return cls(
+                lambda k: stiffness * np.asarray(k, dtype=float),
+                lambda k: np.full(np.shape(k), stiffness),
+                description=f"M = {stiffness:g} kappa",
+            )
+        if hasattr(law, "value") and hasattr(law, "slope"):
+            if not getattr(law, "compression", True):
+                raise ValueError(f"{law!r} is zero for negative arguments: not a bending law")
+            knots = getattr(law, "knots", None)
+            return cls(law.value, law.slope, knots=knots, description=repr(law))
+        if isinstance(law, tuple) and len(law) == 2 and all(callable(f) for f in law):
+            return cls(law[0], law[1], description="M(kappa) from callables")
+        raise ValueError(
+            "the bending law must be a materials Law, a stiffness (N mm) or a pair of callables "
+            f"(moment, stiffness) of the curvature, got {law!r}"
+        )
+
+    def curvature(self, moment: np.ndarray) -> np.ndarray:
+        """The inverse of the law: kappa with M(kappa) = moment, elementwise.
+
+        Parameters
+        ----------
+        moment : array_like
+            Moments per unit width, N (any shape).
+
+        Returns
+        -------
+        numpy.ndarray
+            Curvatures, 1/mm, same shape.
+        """
+        m = np.asarray(moment, dtype=float)
+        if self._knots is not None:
+            kx, ky, left, right = self._knots
+            # Each piece is linear, so interpolating kappa over M is its exact inverse.
+            kappa = np.interp(m, ky, kx)
+            kappa = np.where(m < ky[0], kx[0] + left * (m - ky[0]), kappa)
+            return np.where(m > ky[-1], kx[-1] + right * (m - ky[-1]), kappa)
+        return self._newton_inverse(m)
+
+    def _newton_inverse(self, m: np.ndarray) -> np.ndarray:
+        """Safeguarded Newton: a bracket [lo, hi] with M(lo) <= m <= M(hi) grown from the
+        initial slope, Newton steps that stay inside it, bisection otherwise."""
+        flat = m.ravel()
+        slope0 = float(np.asarray(self.stiffness(np.zeros(1)))[0])
+        if not slope0 > 0.0:
+            raise ValueError(f"{self.description}: the stiffness at zero must be > 0")
+        width = np.maximum(np.abs(flat) / slope0, 1e-300)
+        lo, hi = -width, width.copy()
+        for _ in range(200):  # doubling: a softening law needs a wider bracket than m / B0
+            low_short = self.moment(lo) > flat
+            high_short = self.moment(hi) < flat
+            if not (low_short.any() or high_short.any()):
+                break
+            lo = np.where(low_short, 2.0 * lo, lo)
+            hi = np.where(high_short, 2.0 * hi, hi)
+        else:
+            raise ValueError(f"{self.description}: no curvature reaches the moments {flat}")
+        kappa = np.clip(flat / slope0, lo, hi)
+        scale = np.maximum(np.abs(hi - lo), 1e-300)
+        for _ in range(200):
+            residual = self.moment(kappa) - flat
+            lo = np.where(residual <= 0.0, kappa, lo)
+            hi = np.where(residual >= 0.0, kappa, hi)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = kappa - residual / self.stiffness(kappa)
+            inside = np.isfinite(step) & (step > lo) & (step < hi)
+            new = np.where(inside, step, 0.5 * (lo + hi))
+            done = np.abs(new - kappa) <= 1e-15 * scale + 4e-16 * np.abs(new)
+            kappa = new
+            if done.all():
+                break
+        return kappa.reshape(m.shape)
+
+    def __repr__(self) -> str:
+        return f"MomentCurvature({self.description})"
+
+
+def _small_deflection(law: MomentCurvature, length: float, weight: float, t: np.ndarray):
+    """(theta, m, xi, zeta) on t = s / L in [0, 1] of the small-deflection solution with the
+    law: M = q (L - s)^2 / 2, theta = integral of kappa(M), x = s, z = -integral of theta."""
+    m = 0.5 * (1.0 - t) ** 2
+    theta = length * cumulative_trapezoid(law.curvature(weight * length**2 * m), t, initial=0.0)
+    theta = np.minimum(theta, 0.45 * np.pi)
+    return np.vstack([theta, m, t, -cumulative_trapezoid(np.sin(theta), t, initial=0.0)])
+
+
+def _heavy_bvp(law: MomentCurvature, length: float, weight: float, guess, tol: float):
+    """solve_bvp on t = s / L of y = (theta, m = M / (q L^2), xi = x / L, zeta = z / L):
+
+        theta' = L kappa(q L^2 m),  m' = -(1 - t) cos(theta),  xi' = cos(theta),
+        zeta' = -sin(theta);   theta(0) = 0, m(1) = 0, xi(0) = 0, zeta(0) = 0.
+
+    ``guess``: (4, n) on linspace(0, 1, n). Returns the scipy solution."""
+    load = weight * length**2
+
+    def rhs(t, y):
+        theta, m = y[0], y[1]
+        return np.vstack(
+            [length * law.curvature(load * m), -(1.0 - t) * np.cos(theta), np.cos(theta),
+             -np.sin(theta)]
+        )  # fmt: skip
+
+    def jac(t, y):
+        theta, m = y[0], y[1]
+        d = np.zeros((4, 4, t.size))
+        # d kappa / d M = 1 / (dM / d kappa) at the curvature the moment gives.
+        d[0, 1] = length * load / law.stiffness(law.curvature(load * m))
+        d[1, 0] = (1.0 - t) * np.sin(theta)
+        d[2, 0] = -np.sin(theta)
+        d[3, 0] = -np.cos(theta)
+        return d
+
+    def bc(ya, yb):
+        return np.array([ya[0], yb[1], ya[2], ya[3]])
+
+    def bc_jac(ya, yb):
+        a, b = np.zeros((4, 4)), np.zeros((4, 4))
+        a[0, 0] = b[1, 1] = a[2, 2] = a[3, 3] = 1.0
+        return a, b
+
+    t = np.linspace(0.0, 1.0, guess.shape[1])
+    return solve_bvp(rhs, bc, t, guess, fun_jac=jac, bc_jac=bc_jac, tol=tol, max_nodes=200000)
+
+
+def heavy_cantilever_law(
+    length: float,
+    weight: float,
+    law,
+    points: int = 401,
+    tol: float = 1e-8,
+) -> dict:
+    """Shape of a heavy inextensible cantilever with a non-linear bending law M(kappa).
+
+    The strip is clamped horizontally at s = 0 and free at s = L; with theta(s) the downward
+    slope and M(s) the bending moment per unit width,
+
+        dM/ds = -q (L - s) cos(theta),   dtheta/ds = kappa(M),   theta(0) = 0,  M(L) = 0,
+
+    kappa the inverse of the law (``MomentCurvature.curvature``: exact per segment for a
+    piecewise-linear law, safeguarded Newton otherwise), and x' = cos(theta),
+    z' = -sin(theta) from x(0) = z(0) = 0, all solved together by scipy's ``solve_bvp`` on
+    s / L (so the shape is as accurate as the slope, not limited by a quadrature). The first
+    guess is the small-deflection solution with the law (M = q (L - s)^2 / 2); when that does
+    not converge, the load is raised in steps from the solution of a small fraction of it,
+    each solution the guess of the next (continuation).
+
+    Parameters
+    ----------
+    length : float
+        L, mm.
+    weight : float
+        q, N/mm^2: weight per unit length per unit width (rho_A g).
+    law : materials Law, float, (callable, callable) or MomentCurvature
+        The bending law M(kappa), N (N mm/mm) against 1/mm, strictly increasing (see
+        ``MomentCurvature.of``).
+    points : int, optional
+        Stations of the returned arrays, equally spaced in s.
+    tol : float, optional
+        ``solve_bvp``'s tolerance on the relative collocation residuals. A knee of a
+        piecewise-linear law is a jump of theta'' that the collocation resolves within its
+        node budget down to about 1e-8, not 1e-10; at 1e-8 the tip agrees with a shooting
+        solution that stops at the knee to about 1e-10 (tests/test_nonlinear_bending.py).
+
+    Returns
+    -------
+    dict
+        s, theta (rad, downward slope), moment (N per unit width), curvature (1/mm), x, z
+        (mm, z <= 0): arrays of shape (points,); tip_deflection (mm, positive down), tip_x
+        (mm), tip_slope (rad), root_moment (N), chord_angle (rad: atan(tip_deflection /
+        tip_x), the angle of the chord from the clamp to the tip below the horizontal).
+
+    Raises
+    ------
+    ValueError
+        A non-positive length or weight, or an invalid law.
+    RuntimeError
+        When the solve does not converge even with continuation.
+    """
+    if not (np.isfinite(length) and length > 0.0):
+        raise ValueError(f"length must be > 0 (mm), got {length!r}")
+    if not (np.isfinite(weight) and weight > 0.0):
+        raise ValueError(f"weight must be > 0 (N/mm^2), got {weight!r}")
+    response = MomentCurvature.of(law)
+    t = np.linspace(0.0, 1.0, 201)
+    solution = _heavy_bvp(response, length, weight, _small_deflection(response, length, weight, t), tol)
+    steps = 4
+    while not solution.success and steps <= 64:
+        # Continuation in the load from the linear solution of the initial slope at 1/steps
+        # of it, where the strip barely bends.
+        linear = MomentCurvature.of(float(response.stiffness(np.zeros(1))[0]))
+        solution = _heavy_bvp(
+            linear, length, weight / steps, _small_deflection(linear, length, weight / steps, t), tol
+        )
+        for k in range(1, steps + 1):
+            if not solution.success:
+                break
+            guess = solution.sol(t)
+            solution = _heavy_bvp(response, length, weight * k / steps, guess, tol)
+        steps *= 4
+    if not solution.success:
+        raise RuntimeError(f"heavy cantilever with {response!r} did not converge: {solution.message}")
+    s = np.linspace(0.0, length, points)
+    theta, m, xi, zeta = solution.sol(s / length)
+    moment = weight * length**2 * m
+    tip_deflection, tip_x = -length * zeta[-1], length * xi[-1]
+    return {
+        "s": s,
+        "theta": theta,
+        "moment": moment,
+        "curvature": response.curvature(moment),
+        "x": length * xi,
+        "z": length * zeta,
+        "tip_deflection": float(tip_deflection),
+        "tip_x": float(tip_x),
+        "tip_slope": float(theta[-1]),
+        "root_moment": float(moment[0]),
+        "chord_angle": float(np.arctan2(tip_deflection, tip_x)),
+    }
+
+
+def peirce_bending_length_ratio(angle_deg: float = PEIRCE_ANGLE_DEG) -> float:
+    """Peirce's approximate relation c / l = (cos(theta / 2) / (8 tan theta))^(1/3).
+
+    Peirce, J. Textile Inst. 21 (1930) T377: a linear strip of bending length
+    c = (B / q)^(1/3) and overhang l has its chord at theta below the horizontal; at
+    theta = 41.5 deg, c / l = 0.509, which ASTM D1388 rounds to c = l / 2.
+
+    Parameters
+    ----------
+    angle_deg : float, optional
+        The chord angle theta, deg.
+
+    Returns
+    -------
+    float
+        c / l (dimensionless).
+    """
+    theta = np.radians(angle_deg)
+    return float((np.cos(theta / 2.0) / (8.0 * np.tan(theta))) ** (1.0 / 3.0))
+
+
+def peirce_overhang(
+    weight: float,
+    law,
+    angle_deg: float = PEIRCE_ANGLE_DEG,
+    xtol: float = 1e-9,
+) -> dict:
+    """Peirce's cantilever test on the heavy elastica: the overhang whose chord makes
+    ``angle_deg`` below the horizontal, and the stiffness the test would report.
+
+    The chord angle atan(tip_deflection / tip_x) of ``heavy_cantilever_law`` grows with the
+    overhang l; brentq finds the l at which it is ``angle_deg`` (41.5 deg: Peirce 1930, ASTM
+    D1388). The test reports the bending length c = l / 2 and the flexural rigidity
+    B_app = q c^3, exact for a linear law only to the accuracy of c = l / 2 (see
+    ``peirce_bending_length_ratio``); for a softening law B_app lies between its final and
+    initial slopes.
+
+    Parameters
+    ----------
+    weight : float
+        q, N/mm^2 (rho_A g).
+    law : materials Law, float, (callable, callable) or MomentCurvature
+        The bending law (see ``MomentCurvature.of``).
+    angle_deg : float, optional
+        The chord angle, deg, in (0, 90).
+    xtol : float, optional
+        Absolute tolerance of brentq on l, mm.
+
+    Returns
+    -------
+    dict
+        overhang (l, mm), bending_length (c = l / 2, mm), apparent_stiffness (B_app = q c^3,
+        N mm per unit width), chord_angle (rad, at l), and solution (the
+        ``heavy_cantilever_law`` dict at l).
+    """
+    if not 0.0 < angle_deg < 90.0:
+        raise ValueError(f"angle_deg must be in (0, 90), got {angle_deg!r}")
+    response = MomentCurvature.of(law)
+    target = np.radians(angle_deg)
+
+    def miss(overhang: float) -> float:
+        return heavy_cantilever_law(overhang, weight, response, points=3)["chord_angle"] - target
+
+    # A first bracket from the linear law of the initial slope (q l^3 / B = 8 at 41.5 deg),
+    # then widened: a softening law bends more, so its overhang is shorter.
+    b0 = float(response.stiffness(np.zeros(1))[0])
+    lo = hi = 2.0 * (b0 / weight) ** (1.0 / 3.0)
+    while miss(lo) > 0.0:
+        lo *= 0.7
+    while miss(hi) < 0.0:
+        hi *= 1.3
+    overhang = brentq(miss, lo, hi, xtol=xtol, rtol=1e-12)
+    solution = heavy_cantilever_law(overhang, weight, response)
+    c = overhang / 2.0
+    return {
+        "overhang": overhang,
+        "bending_length": c,
+        "apparent_stiffness": weight * c**3,
+        "chord_angle": solution["chord_angle"],
+        "solution": solution,
     }
