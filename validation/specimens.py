@@ -54,6 +54,7 @@ __all__ = [
     "fibrous_strip",
     "hanging_chain",
     "mindlin_equivalent",
+    "mindlin_fabric_strip",
     "mindlin_strip",
     "strip",
 ]
@@ -202,6 +203,20 @@ def fibrous_strip(
     mesh = Mesh.rectangle(length, width, nx=cells, ny=across)
     model = Model(mesh)
     model.add(FibrousShell(fabric, clamped="left"))
+    model.fix("left")
+    model.gravity((0.0, 0.0, -GRAVITY))
+    return mesh, model
+
+
+def mindlin_fabric_strip(
+    length: float, width: float, fabric: Fabric, cells: int, across: int = 1
+) -> tuple[Mesh, Model]:
+    """The Mindlin twin of ``fibrous_strip``: ``MindlinShell(fabric)`` (the section by stress
+    resultants from the fabric's own laws) on the same mesh, clamped at x = 0 (node set
+    "left": translations and rotations fixed), gravity -z."""
+    mesh = Mesh.rectangle(length, width, nx=cells, ny=across)
+    model = Model(mesh)
+    model.add(MindlinShell(fabric))
     model.fix("left")
     model.gravity((0.0, 0.0, -GRAVITY))
     return mesh, model
