@@ -1,5 +1,5 @@
 """The section of a fabric as a Mindlin shell sees it: the fabric's own laws as stress resultants
-(docs/theory.md §5.6), pure functions of the section strains of each cell.
+(docs/theory.md §5.7), pure functions of the section strains of each cell.
 
 A Mindlin triangle's kinematics give, per cell, ten section measures ``y`` (m, 10):
 
@@ -119,7 +119,9 @@ def fibre_rows(
     inverse = np.linalg.inv(metric)
 
     def components(u):
-        return np.einsum("mij,mj->mi", inverse, np.stack([np.sum(g1 * u, 1), np.sum(g2 * u, 1)], -1))
+        return np.einsum(
+            "mij,mj->mi", inverse, np.stack([np.sum(g1 * u, 1), np.sum(g2 * u, 1)], -1)
+        )
 
     alpha, beta = components(a), components(b)
     warp_rows = np.stack([alpha[:, 0] ** 2, alpha[:, 1] ** 2, alpha[:, 0] * alpha[:, 1]], -1)
@@ -163,9 +165,10 @@ def response(section: FabricSection, y: np.ndarray, hessian: bool = True) -> Sec
 
     # Fibre tension: eps = log(lambda) = log(1 + 2 E) / 2, d eps/dE = 1/p, d2 = -2/p^2.
     stretch = [1.0 + 2.0 * np.sum(r * membrane, 1) for r in rows]  # p = lambda^2
-    if min(float(p.min()) for p in stretch) <= 0.0:
-        raise ValueError("a fibre of the Mindlin fabric section is compressed to zero length")
-    strains = np.stack([0.5 * np.log(p) for p in stretch], -1)
+    # A fibre crushed to zero length or fibres locked flat (|gamma| = 90 deg) give NaN, which
+    # the solvers stop on with their last good state (no exception from inside a step).
+    with np.errstate(invalid="ignore", divide="ignore"):
+        strains = np.stack([0.5 * np.log(p) for p in stretch], -1)
     tension = np.stack(
         [fabric.tension.value(strains[:, 0]), fabric.tension_weft.value(strains[:, 1])], -1
     )
@@ -182,7 +185,9 @@ def response(section: FabricSection, y: np.ndarray, hessian: bool = True) -> Sec
     root = np.sqrt(pa * pb)
     c = 2.0 * e_ab / root
     if np.any(np.abs(c) >= 1.0):
-        raise ValueError("the fibres of a Mindlin fabric section have locked flat (|gamma| = 90 deg)")
+        raise ValueError(
+            "the fibres of a Mindlin fabric section have locked flat (|gamma| = 90 deg)"
+        )
     gamma = np.arcsin(c)
     d_gamma = 1.0 / np.sqrt(1.0 - c**2)
     moment_s = fabric.shear.value(gamma)

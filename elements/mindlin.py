@@ -122,7 +122,7 @@ class MindlinShell(ElementType):
     material : materials.ElasticShell (a homogeneous elastic section, integrated through the
         thickness), or materials.Fabric: the section is the fabric itself, by stress resultants
         from its own laws (fibre tension, in-plane shear, the bending laws as given, non-linear
-        ones included; docs/theory.md §5.6, elements/mindlin_fabric.py), so that a comparison
+        ones included; docs/theory.md §5.7, elements/mindlin_fabric.py), so that a comparison
         with the FibrousShell on the same Fabric changes the kinematics alone.
     thickness_points : Gauss points through the thickness of an elastic section (default 2; 2-5).
     rotary_scaling : scale the rotary inertia to j = max(h^2/12, kappa (1 - nu) L_e^2 / 16)

@@ -1,4 +1,4 @@
-"""The Mindlin triangle with a fabric section (docs/theory.md §5.6): ``MindlinShell(fabric)``.
+"""The Mindlin triangle with a fabric section (docs/theory.md §5.7): ``MindlinShell(fabric)``.
 
 Same kinematics as the elastic MindlinShellBlock (positions and directors, MITC3 transverse
 shear), but the section is the fabric itself, by stress resultants from its own laws

@@ -269,7 +269,7 @@ SCALED_INERTIA = "scaled rotary inertia: dt ~ L"
 
 
 def _mindlin_fabric_case(name: str, material, note: str) -> ElementCase:
-    """MindlinShell(fabric): the section of the fabric's own laws (docs/theory.md §5.6); the
+    """MindlinShell(fabric): the section of the fabric's own laws (docs/theory.md §5.7); the
     same checks and tolerances as the elastic section."""
     return ElementCase(
         name=name,
@@ -307,9 +307,7 @@ def _mindlin_fabric_case(name: str, material, note: str) -> ElementCase:
 # The fabric of the fibrous cases, and a non-linear one: Bai's bilinear bending law with the
 # knee below every curvature of the jittered patch (so both slopes and the offset of the law
 # act, away from its kink), a cubic shear law and warp and weft laws that differ.
-MINDLIN_FABRIC = _mindlin_fabric_case(
-    "mindlin-fabric", fabric(), SCALED_INERTIA
-)
+MINDLIN_FABRIC = _mindlin_fabric_case("mindlin-fabric", fabric(), SCALED_INERTIA)
 MINDLIN_FABRIC_NONLINEAR = _mindlin_fabric_case(
     "mindlin-fabric-nonlinear",
     Fabric(

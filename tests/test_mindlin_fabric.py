@@ -1,5 +1,5 @@
 """MindlinShell(fabric): a Mindlin shell whose section is the fabric's own laws (docs/theory.md
-§5.6). Closed forms of the section's three laws (tension, in-plane shear, non-linear bending);
+§5.7). Closed forms of the section's three laws (tension, in-plane shear, non-linear bending);
 the same fabric in both kinematics gives the same answer where the kinematics agree (a flat
 pull); its forces and tangent are checked by the conformance suite (tests/conformance_cases.py,
 cases mindlin-fabric and mindlin-fabric-nonlinear)."""
@@ -96,7 +96,7 @@ def test_a_shear_takes_the_shear_law_and_its_angle():
     shear = np.eye(3)
     shear[0, 1] = np.tan(phi)
     state = dataclasses.replace(state, positions=state.positions @ shear.T)
-    fields = compiled.fields(state)
+    fields = compiled.fields(state)["triangle"]
     assert fields["shear_angle"] == pytest.approx(np.full(8, phi), abs=1e-12)
     assert fields["membrane_force"][:, 2] == pytest.approx(np.full(8, law.value(phi)), rel=1e-12)
 
