@@ -21,13 +21,14 @@ from __future__ import annotations
 import numpy as np
 
 from elements import kernels
-from elements.base import CellTangent, ElementBlock, ElementType, local_tangent
+from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
 from femcore.assembly import Scatter
 from femcore.mesh import Mesh
 from femcore.rotation import cross
 from femcore.state import State
 from femcore.topology import nodal_normals
 from materials.elastic import ElasticShell
+from materials.fabric import Fabric
 
 __all__ = ["MindlinShell", "MindlinShellBlock"]
 
@@ -118,12 +119,25 @@ def _turned_gradient_table(gradient: np.ndarray) -> np.ndarray:
 class MindlinShell(ElementType):
     """Reissner-Mindlin shell triangle with MITC3 transverse shear.
 
-    material : materials.ElasticShell.
-    thickness_points : Gauss points through the thickness (default 2; 2-5).
+    material : materials.ElasticShell (a homogeneous elastic section, integrated through the
+        thickness), or materials.Fabric: the section is the fabric itself, by stress resultants
+        from its own laws (fibre tension, in-plane shear, the bending laws as given, non-linear
+        ones included; docs/theory.md §5.7, elements/mindlin_fabric.py), so that a comparison
+        with the FibrousShell on the same Fabric changes the kinematics alone.
+    thickness_points : Gauss points through the thickness of an elastic section (default 2; 2-5).
     rotary_scaling : scale the rotary inertia to j = max(h^2/12, kappa (1 - nu) L_e^2 / 16)
         (docs/theory.md §6.2 B2) so that thin elements do not force a tiny step (default True).
     kernel : "compiled" (default when numba is installed: the internal forces by the fused,
-        parallel loop of elements/kernels.py) or "numpy" (the vectorised reference).
+        parallel loop of elements/kernels.py) or "numpy" (the vectorised reference). A fabric
+        section runs numpy.
+    warp : a Fabric's warp direction in the reference configuration, (3,); default x. The weft
+        is the in-plane perpendicular, n x warp. (An ElasticShell carries its own.)
+    transverse_shear : a Fabric section's transverse shear stiffness S = kappa G h, N/mm;
+        default 5 B0 / h^2 (``elements.mindlin_fabric.default_transverse_shear``: the
+        homogeneous isotropic plate with the fabric's initial bending stiffness B0).
+    twisting : a Fabric section's twisting stiffness D_t, N mm (moment per width per unit
+        engineering twist 2 chi_12); default K0 h^2 / 12 (``default_twisting``: the shear law
+        through the thickness).
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -132,13 +146,19 @@ class MindlinShell(ElementType):
 
     def __init__(
         self,
-        material: ElasticShell,
+        material: ElasticShell | Fabric,
         thickness_points: int = 2,
         rotary_scaling: bool = True,
         kernel: str | None = None,
+        warp=None,
+        transverse_shear: float | None = None,
+        twisting: float | None = None,
     ):
-        if not isinstance(material, ElasticShell):
-            raise ValueError(f"MindlinShell needs a materials.ElasticShell, got {material!r}")
+        if not isinstance(material, (ElasticShell, Fabric)):
+            raise ValueError(
+                f"MindlinShell needs a materials.ElasticShell or a materials.Fabric, got "
+                f"{material!r}"
+            )
         if isinstance(thickness_points, bool) or thickness_points not in (2, 3, 4, 5):
             raise ValueError(f"thickness_points must be 2, 3, 4 or 5, got {thickness_points!r}")
         kernel = kernels.choose(kernel)
@@ -146,6 +166,38 @@ class MindlinShell(ElementType):
         self.thickness_points = int(thickness_points)
         self.rotary_scaling = bool(rotary_scaling)
         self.kernel = kernel
+        if isinstance(material, ElasticShell):
+            given = [
+                name
+                for name, value in (
+                    ("warp", warp),
+                    ("transverse_shear", transverse_shear),
+                    ("twisting", twisting),
+                )
+                if value is not None
+            ]
+            if given:
+                raise ValueError(
+                    f"MindlinShell: {', '.join(given)} belong to a Fabric section; an "
+                    "ElasticShell carries its own warp and moduli"
+                )
+            return
+        from elements.mindlin_fabric import default_transverse_shear, default_twisting
+
+        axis = np.array((1.0, 0.0, 0.0) if warp is None else warp, dtype=float).ravel()
+        if axis.shape != (3,) or not np.isfinite(axis).all() or np.linalg.norm(axis) == 0:
+            raise ValueError(f"MindlinShell warp must be a non-zero 3-vector, got {warp!r}")
+        self.warp = axis / np.linalg.norm(axis)
+        self.transverse_shear = (
+            default_transverse_shear(material)
+            if transverse_shear is None
+            else check_positive(transverse_shear, "MindlinShell transverse_shear", "N/mm")
+        )
+        self.twisting = (
+            default_twisting(material)
+            if twisting is None
+            else check_positive(twisting, "MindlinShell twisting", "N mm")
+        )
 
     @property
     def half_thickness(self) -> float:
@@ -153,6 +205,10 @@ class MindlinShell(ElementType):
         return 0.5 * self.material.thickness
 
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> MindlinShellBlock:
+        if isinstance(self.material, Fabric):
+            from elements.mindlin_fabric import MindlinFabricBlock
+
+            return MindlinFabricBlock(self, mesh, cell_ids, directors)
         return MindlinShellBlock(self, mesh, cell_ids, directors)
 
 
@@ -181,7 +237,7 @@ class MindlinShellBlock(ElementBlock):
         # the compiled path's sums from cells to nodes (parallel over nodes)
         self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.reference_positions = np.asarray(mesh.points, dtype=float)
-        zeta, weights = np.polynomial.legendre.leggauss(shell.thickness_points)
+        zeta, weights = self._thickness_levels(shell)
         self.zeta, self.zeta_weights = zeta, weights
         self.shear_a, self.shear_b = _assumed_shear_coefficients()
         gradient, self._curvature_table = _product_coefficients(zeta, self.h)
@@ -203,6 +259,11 @@ class MindlinShellBlock(ElementBlock):
         # the cheap bound), computed from these at the first call of cell_stable_dt.
         self._reference_cells = (x0, v0)
         self._step_calibration: np.ndarray | None = None
+
+    def _thickness_levels(self, shell: MindlinShell) -> tuple[np.ndarray, np.ndarray]:
+        """The levels zeta (Z,) through the thickness where the strains are measured, and
+        their integration weights: Gauss points for the elastic section."""
+        return np.polynomial.legendre.leggauss(shell.thickness_points)
 
     # ------------------------------------------------------------------ geometry
     def _vectors(self, x: np.ndarray, v: np.ndarray) -> dict:
@@ -359,6 +420,46 @@ class MindlinShellBlock(ElementBlock):
             self._level_stiffness_cache = per_point.sum(axis=1)
         return self._level_stiffness_cache
 
+    def _level_measures(self, vec: dict, cells: slice = slice(None)) -> np.ndarray:
+        """Level measures e (m, Z, 7) of docs/theory.md §5.5 (E11, E22, 2E12 and the changes of
+        the four tying products at each level): the strains of _covariant_strains before the
+        assumed shear spreads them over the in-plane points (§5.3)."""
+        cur = self._metric(vec)
+        ref = {key: value[cells] for key, value in self.reference_metric.items()}
+        m, nz = cur["11"].shape
+        e = np.empty((m, nz, 7))
+        e[..., 0] = 0.5 * (cur["11"] - ref["11"])
+        e[..., 1] = 0.5 * (cur["22"] - ref["22"])
+        e[..., 2] = cur["12"] - ref["12"]
+        e[..., 3:] = cur["tying"] - ref["tying"]
+        return e
+
+    def _turned_gradients(self, vec: dict, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """B^psi_z (m, Z, 7, 18): the derivatives of the level measures in CellTangent column
+        order (node, u then psi, component), and the 20 vectors (m, Z, 20, 3) they are sums of:
+        g_u and their turned copies V_k x g_u (eq. 5.5.3, 5.5.5). dV_k = psi_k x V_k turns
+        de/dV_k . dV_k into (V_k x de/dV_k) . psi_k."""
+        m, nz = vec["g1"].shape[:2]
+        vectors = np.empty((m, nz, 20, 3))
+        vectors[:, :, 0], vectors[:, :, 1] = vec["g1"], vec["g2"]
+        vectors[:, :, 2:5] = vec["g3"][:, None]
+        turned = cross(v[:, None, :, None, :], vectors[:, :, None, :5])  # (m, Z, 3, 5, 3)
+        vectors[:, :, 5:] = turned.reshape(m, nz, 15, 3)
+        b_psi = np.matmul(self._turned_gradient_table, vectors).reshape(m, nz, 7, 18)
+        return b_psi, vectors
+
+    def _level_response(
+        self, e: np.ndarray, b_psi: np.ndarray, cells: slice
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The section's answer to the level measures e (m, Z, 7): sigma = dW/de (m, Z, 7, 1),
+        N mm, and d2W/de2 B^psi (m, Z * 7, 18). The elastic section is linear and its levels
+        apart: sigma_z = D^_z e_z."""
+        m, nz = e.shape[:2]
+        stiffness = self._level_stiffness()[cells]
+        sigma = np.matmul(stiffness, e[..., None])  # (m, Z, 7, 1): dW/de, N mm
+        stressed = np.matmul(stiffness, b_psi).reshape(m, nz * 7, 18)
+        return sigma, stressed
+
     def _cell_tangent(self, x: np.ndarray, v: np.ndarray, cells: slice) -> np.ndarray:
         """Analytic d(force, moment)/d(u, psi) (m, 3, 6, 3, 6) of each triangle from its corner
         positions x and unit directors v (m, 3, 3), docs/theory.md §5.5.
@@ -369,27 +470,9 @@ class MindlinShellBlock(ElementBlock):
         B_z into B_z^psi (V x each row part) and add the spin term of eq. (5.5.5)."""
         m, nz = len(x), len(self.zeta)
         vec = self._vectors(x, v)
-        cur = self._metric(vec)
-        ref = {key: value[cells] for key, value in self.reference_metric.items()}
-        # Level measures e (m, Z, 7): the strains of _covariant_strains before the assumed
-        # shear spreads them over the in-plane points (§5.3).
-        e = np.empty((m, nz, 7))
-        e[..., 0] = 0.5 * (cur["11"] - ref["11"])
-        e[..., 1] = 0.5 * (cur["22"] - ref["22"])
-        e[..., 2] = cur["12"] - ref["12"]
-        e[..., 3:] = cur["tying"] - ref["tying"]
-        stiffness = self._level_stiffness()[cells]
-        sigma = np.matmul(stiffness, e[..., None])  # (m, Z, 7, 1): dW/de, N mm
-        # B^psi_z (m, Z, 7 * 18) in CellTangent column order (node, u then psi, component),
-        # each row part a sum of the vectors g_u or of their turned copies V_k x g_u
-        # (eq. 5.5.3, 5.5.5): dV_k = psi_k x V_k turns de/dV_k . dV_k into (V_k x de/dV_k) . psi_k.
-        vectors = np.empty((m, nz, 20, 3))
-        vectors[:, :, 0], vectors[:, :, 1] = vec["g1"], vec["g2"]
-        vectors[:, :, 2:5] = vec["g3"][:, None]
-        turned = cross(v[:, None, :, None, :], vectors[:, :, None, :5])  # (m, Z, 3, 5, 3)
-        vectors[:, :, 5:] = turned.reshape(m, nz, 15, 3)
-        b_psi = np.matmul(self._turned_gradient_table, vectors).reshape(m, nz, 7, 18)
-        stressed = np.matmul(stiffness, b_psi).reshape(m, nz * 7, 18)
+        e = self._level_measures(vec, cells)
+        b_psi, vectors = self._turned_gradients(vec, v)
+        sigma, stressed = self._level_response(e, b_psi, cells)
         blocks = np.matmul(np.swapaxes(b_psi.reshape(m, nz * 7, 18), -1, -2), stressed)
         blocks = blocks.reshape(m, 3, 2, 3, 3, 2, 3)  # (a, u/psi, i, b, u/psi, j)
         # dW/dV_a = sum_z sum_r sigma_r de_r/dV_a (m, 3, 3), N: needed for the spin term.

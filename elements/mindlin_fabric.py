@@ -1,0 +1,226 @@
+"""The Mindlin triangle with a fabric section (docs/theory.md §5.7): ``MindlinShell(fabric)``.
+
+Same kinematics as the elastic MindlinShellBlock (positions and directors, MITC3 transverse
+shear), but the section is the fabric itself, by stress resultants from its own laws
+(elements/fabric_section.py): fibre tension along warp and weft, the in-plane shear law, the
+bending laws M(chi) per direction as given (tables, bilinear, polynomials), a stated twisting
+and transverse shear stiffness, the mass of the areal density. So a comparison with the
+fibrous shell on the same Fabric changes the kinematics alone: normals that stay normal (up to
+transverse shear) against directors that slip.
+
+The strains are measured at three levels zeta = -1, 0, 1 through the thickness (not
+integration points): the mid-surface level gives the membrane and tying measures, half the
+difference of the outer ones the bending strains (exact: the level measures are quadratic in
+zeta). The forces are sigma . B^psi and the tangent B^T H B plus the geometric and spin terms
+of the elastic block (docs/theory.md §5.5), with sigma and H the exact gradient and Hessian of
+the section energy: numpy only (no compiled kernel yet).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements.fabric_section import FabricSection, fibre_rows, response
+from elements.mindlin import _IN_PLANE, MindlinShellBlock
+from femcore.rotation import cross
+from femcore.state import State
+
+if TYPE_CHECKING:
+    from elements.mindlin import MindlinShell
+
+__all__ = ["MindlinFabricBlock", "default_transverse_shear", "default_twisting"]
+
+# The shear correction of a homogeneous section, as ElasticShell uses it.
+_SHEAR_FACTOR = 5.0 / 6.0
+# Section measures y (10) from the level measures e (Z = 3 levels: zeta -1, 0, 1; 7 each).
+_PROJECTION = np.zeros((10, 3, 7))
+_PROJECTION[0:3, 1, 0:3] = np.eye(3)  # membrane: the mid-surface level
+_PROJECTION[3:6, 2, 0:3] = 0.5 * np.eye(3)  # bending: (e(+1) - e(-1)) / 2
+_PROJECTION[3:6, 0, 0:3] = -0.5 * np.eye(3)
+_PROJECTION[6:10, 1, 3:7] = np.eye(4)  # transverse shear: tying changes at the mid-surface
+_PROJECTION = _PROJECTION.reshape(10, 21)
+
+
+def _initial_slope(law) -> float:
+    return float(np.asarray(law.slope(np.array(0.0))))
+
+
+def default_transverse_shear(fabric) -> float:
+    """S = 5 B0 / h^2, N/mm: kappa G h of the homogeneous isotropic plate (nu = 0, G = E / 2,
+    kappa = 5/6) whose plate stiffness E h^3 / 12 is the fabric's largest initial bending
+    slope B0. A solid-section Mindlin shell (Abaqus S3 on a homogeneous section) has that ratio
+    of shear to bending stiffness, so the normals tilt by transverse shear as little as its do,
+    of order (h / L)^2; it is also ElasticShell.equivalent's default (G13 = E / 2)."""
+    b0 = max(_initial_slope(fabric.bending), _initial_slope(fabric.bending_weft))
+    return 5.0 * b0 / fabric.thickness**2
+
+
+def default_twisting(fabric) -> float:
+    """D_t = K0 h^2 / 12, N mm: the twist stiffness that the in-plane shear law (initial slope
+    K0, N/mm) gives a section whose shear angle varies linearly through the thickness, as the
+    fibrous shell's Simpson levels (sum w zeta^2 = 1/3) give it when the directors follow the
+    normal: a twist 2 chi_ab shears the level zeta h/2 by 2 chi_ab zeta h/2."""
+    return _initial_slope(fabric.shear) * fabric.thickness**2 / 12.0
+
+
+class MindlinFabricBlock(MindlinShellBlock):
+    """MindlinShell over mesh triangles ``cell_ids`` with the fabric section of the shell's
+    Fabric (the shell's ``transverse_shear`` S, N/mm, and ``twisting`` D_t, N mm)."""
+
+    def __init__(self, shell: MindlinShell, mesh, cell_ids, directors):
+        self.fabric = shell.material
+        self.warp = shell.warp
+        self.transverse_shear = shell.transverse_shear
+        self.twisting = shell.twisting
+        super().__init__(shell, mesh, cell_ids, directors)
+        self.kernel = "numpy"
+
+    def _thickness_levels(self, shell: MindlinShell) -> tuple[np.ndarray, np.ndarray]:
+        """Three measuring levels, zeta = -1, 0, 1; the weights are unused (the section is
+        integrated by its laws)."""
+        return np.array([-1.0, 0.0, 1.0]), np.zeros(3)
+
+    def _material_matrices(self, ref: dict, v0: np.ndarray) -> None:
+        """The fabric section's tables (elements/fabric_section.py): the fibre rows from the
+        reference mid-surface, and the transverse shear form Q = sum_p (A0 / 3) M_p^T S M_p,
+        M_p the lamina shear strains (gamma_13, gamma_23) at in-plane point p from the tying
+        changes (the MITC3 interpolation of docs/theory.md §5.3, then the covariant-to-lamina
+        transformation of §5.2 at the mid-surface)."""
+        d1, d2 = ref["g1"][:, 1], ref["g2"][:, 1]  # mid-surface level
+        warp_rows, weft_rows, shear_rows = fibre_rows(d1, d2, self.warp)
+        half = 0.5 * self.h
+        r, s = _IN_PLANE[:, 0], _IN_PLANE[:, 1]
+        shape = np.column_stack([1 - r - s, r, s])
+        g3 = half * np.einsum("pk,mkj->mpj", shape, v0)  # (m, P, 3)
+        m = len(d1)
+        jacobian = np.stack(
+            [np.broadcast_to(d1[:, None], g3.shape), np.broadcast_to(d2[:, None], g3.shape), g3],
+            axis=-1,
+        )
+        if np.any(np.linalg.det(jacobian) <= 0):
+            bad = int(self.cell_ids[np.argmax((np.linalg.det(jacobian) <= 0).any(axis=1))])
+            raise ValueError(f"triangle {bad}: the director field inverts the shell volume")
+        contravariant = np.linalg.inv(jacobian)  # rows G^i
+        e3 = cross(d1, d2)
+        e3 /= np.linalg.norm(e3, axis=-1, keepdims=True)
+        e1 = self.warp - (e3 @ self.warp)[:, None] * e3
+        e1 /= np.linalg.norm(e1, axis=-1, keepdims=True)
+        e2 = cross(e3, e1)
+        frame = np.stack([e1, e2, e3], axis=-2)[:, None]  # (m, 1, 3, 3)
+        t = np.matmul(frame, np.swapaxes(contravariant, -1, -2))  # (m, P, 3, 3): e_a . G^i
+        # gamma_a3 = t_a1 t_33 (2E13) + t_a2 t_33 (2E23) (+ terms in t_31, t_32, zero where the
+        # director is normal to the cell: left out, which defines the section's shear strain).
+        to_lamina = t[..., :2, :2] * t[..., 2:3, 2:3]  # (m, P, 2, 2)
+        tying = np.stack([self.shear_a, self.shear_b], axis=1)  # (P, 2, 4): 2E13, 2E23
+        strains = np.matmul(to_lamina, tying[None])  # (m, P, 2, 4)
+        weight = (self.reference_area / 3.0)[:, None, None, None] * self.transverse_shear
+        transverse = np.sum(weight * np.matmul(np.swapaxes(strains, -1, -2), strains), axis=1)
+        self.section = FabricSection(
+            fabric=self.fabric,
+            area=self.reference_area.copy(),
+            warp_rows=warp_rows,
+            weft_rows=weft_rows,
+            shear_rows=shear_rows,
+            half_thickness=half,
+            twisting=self.twisting,
+            transverse=transverse,
+        )
+        assert transverse.shape == (m, 4, 4)
+
+    def _section(self, cells: slice) -> FabricSection:
+        s = self.section
+        return dataclasses.replace(
+            s,
+            area=s.area[cells],
+            warp_rows=s.warp_rows[cells],
+            weft_rows=s.weft_rows[cells],
+            shear_rows=s.shear_rows[cells],
+            transverse=s.transverse[cells],
+        )
+
+    def section_measures(self, vec: dict, cells: slice = slice(None)) -> np.ndarray:
+        """The ten section measures y (m, 10) of elements/fabric_section.py."""
+        e = self._level_measures(vec, cells)
+        return e.reshape(len(e), 21) @ _PROJECTION.T
+
+    def _level_response(
+        self, e: np.ndarray, b_psi: np.ndarray, cells: slice
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """sigma = P^T dW/dy (m, 3, 7, 1) and P^T (d2W/dy2) P B^psi (m, 21, 18): the levels are
+        coupled through the section measures."""
+        m = len(e)
+        y = e.reshape(m, 21) @ _PROJECTION.T
+        answer = response(self._section(cells), y, hessian=True)
+        assert answer.hessian is not None
+        sigma = (answer.gradient @ _PROJECTION).reshape(m, 3, 7, 1)
+        hessian = _PROJECTION.T @ answer.hessian @ _PROJECTION  # (m, 21, 21)
+        return sigma, np.matmul(hessian, b_psi.reshape(m, 21, 18))
+
+    # ------------------------------------------------------------------ forces and energy
+    def _cell_loads(self, x: np.ndarray, v: np.ndarray):
+        """Unscattered nodal forces and director moments (m, 3, 3): dW/du and V x dW/dV of each
+        triangle, sigma . B^psi."""
+        m = len(x)
+        vec = self._vectors(x, v)
+        y = self.section_measures(vec)
+        gradient = response(self.section, y, hessian=False).gradient @ _PROJECTION  # (m, 21)
+        b_psi, _ = self._turned_gradients(vec, v)
+        loads = np.matmul(gradient[:, None, :], b_psi.reshape(m, 21, 18))[:, 0]
+        loads = loads.reshape(m, 3, 2, 3)
+        return loads[:, :, 0], loads[:, :, 1]
+
+    def internal_force(self, state: State, history=None):
+        x = state.positions[self.connectivity]
+        v = state.directors[self.connectivity]
+        force, moment = self._cell_loads(x, v)
+        return self.scatter.vectors(force), self.scatter.vectors(moment)
+
+    def strain_energy(self, state: State, history=None) -> float:
+        y = self.section_measures(self._state_vectors(state))
+        return float(response(self.section, y, hessian=False).energy.sum())
+
+    # ------------------------------------------------------------------ mass and step
+    def _rotary_factor(self, scaling: bool) -> np.ndarray:
+        """j (m,), mm^2: h^2/12, or with ``scaling`` max(h^2/12, kappa L_e^2 / 16) (the B2
+        scaling of docs/theory.md §6.2 at nu = 0, kappa = 5/6)."""
+        j = np.full(len(self.cell_ids), self.h**2 / 12.0)
+        if scaling:
+            j = np.maximum(j, _SHEAR_FACTOR * self._altitude() ** 2 / 16.0)
+        return j
+
+    def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
+        """The trace bound of the elastic block (docs/theory.md §6.2 B1-B2) with the section's
+        largest stiffnesses per unit width: 3 / rho_A (C + K + S) sum_k 1 / h_k^2 + S / (2
+        rho_A j), C the stiffest tension slope, K the shear law's, S the transverse shear."""
+        sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)
+        area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
+        inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
+        f = self.fabric
+        tension = max(f.tension.max_slope(), f.tension_weft.max_slope())
+        rho_a = f.areal_density
+        stiff = tension + f.shear.max_slope() + self.transverse_shear
+        omega2 = 3.0 / rho_a * stiff * inverse_heights2
+        return omega2 + self.transverse_shear / (2.0 * rho_a * self.rotary_factor)
+
+    # ------------------------------------------------------------------ outputs
+    def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
+        """The fields both shells write (README "Output fields"), in the fibre frame: membrane
+        (warp tension, weft tension, shear moment) N/mm, bending (warp, weft, twisting
+        moments) N mm/mm, and the strains the laws take: log fibre strains, shear angle
+        (rad), curvatures (1/mm)."""
+        y = self.section_measures(self._state_vectors(state))
+        answer = response(self.section, y, hessian=False)
+        return {
+            "membrane_force": np.column_stack([answer.tension, answer.shear_moment]),
+            "bending_moment": answer.moments,
+            "warp_strain": answer.strains[:, 0],
+            "weft_strain": answer.strains[:, 1],
+            "shear_angle": answer.shear_angle,
+            "warp_curvature": answer.curvatures[:, 0],
+            "weft_curvature": answer.curvatures[:, 1],
+            "warp_moment": answer.moments[:, 0],
+            "weft_moment": answer.moments[:, 1],
+        }
