@@ -305,30 +305,33 @@ def _small_deflection(law: MomentCurvature, length: float, weight: float, t: np.
     return np.vstack([theta, m, t, -cumulative_trapezoid(np.sin(theta), t, initial=0.0)])
 
 
-def _heavy_bvp(law: MomentCurvature, length: float, weight: float, guess, tol: float):
+def _heavy_bvp(law: MomentCurvature, length: float, weight: float, shear: float, guess, tol):
     """solve_bvp on t = s / L of y = (theta, m = M / (q L^2), xi = x / L, zeta = z / L):
 
-        theta' = L kappa(q L^2 m),  m' = -(1 - t) cos(theta),  xi' = cos(theta),
-        zeta' = -sin(theta);   theta(0) = 0, m(1) = 0, xi(0) = 0, zeta(0) = 0.
+        theta' = L kappa(q L^2 m),  xi' = cos(theta) - gamma sin(theta),
+        zeta' = -sin(theta) - gamma cos(theta),  m' = -(1 - t) xi',
+        theta(0) = 0, m(1) = 0, xi(0) = 0, zeta(0) = 0,
 
+    gamma = g (1 - t) cos(theta) the transverse shear strain, g = q L / S (0: shear rigid).
     ``guess``: (4, n) on linspace(0, 1, n). Returns the scipy solution."""
     load = weight * length**2
+    g = weight * length / shear if shear else 0.0
 
     def rhs(t, y):
         theta, m = y[0], y[1]
-        return np.vstack(
-            [length * law.curvature(load * m), -(1.0 - t) * np.cos(theta), np.cos(theta),
-             -np.sin(theta)]
-        )  # fmt: skip
+        c, s = np.cos(theta), np.sin(theta)
+        gamma = g * (1.0 - t) * c
+        dx = c - gamma * s
+        return np.vstack([length * law.curvature(load * m), -(1.0 - t) * dx, dx, -s - gamma * c])
 
     def jac(t, y):
         theta, m = y[0], y[1]
         d = np.zeros((4, 4, t.size))
         # d kappa / d M = 1 / (dM / d kappa) at the curvature the moment gives.
         d[0, 1] = length * load / law.stiffness(law.curvature(load * m))
-        d[1, 0] = (1.0 - t) * np.sin(theta)
-        d[2, 0] = -np.sin(theta)
-        d[3, 0] = -np.cos(theta)
+        d[2, 0] = -np.sin(theta) - g * (1.0 - t) * np.cos(2.0 * theta)
+        d[1, 0] = -(1.0 - t) * d[2, 0]
+        d[3, 0] = -np.cos(theta) + g * (1.0 - t) * np.sin(2.0 * theta)
         return d
 
     def bc(ya, yb):
@@ -349,6 +352,7 @@ def heavy_cantilever_law(
     law,
     points: int = 401,
     tol: float = 1e-8,
+    shear_stiffness: float | None = None,
 ) -> dict:
     """Shape of a heavy inextensible cantilever with a non-linear bending law M(kappa).
 
@@ -381,6 +385,12 @@ def heavy_cantilever_law(
         piecewise-linear law is a jump of theta'' that the collocation resolves within its
         node budget down to about 1e-8, not 1e-10; at 1e-8 the tip agrees with a shooting
         solution that stops at the knee to about 1e-10 (tests/test_nonlinear_bending.py).
+    shear_stiffness : float, optional
+        S, N/mm per unit width: a shear-flexible strip (Reissner's beam, the reference of a
+        Mindlin section with that transverse shear stiffness). The sections turn by theta,
+        the centre line leans from them by gamma = Q / S, Q = q (L - s) cos(theta) the
+        shear force, so x' = cos(theta) - gamma sin(theta), z' = -sin(theta) -
+        gamma cos(theta) and dM/ds = -q (L - s) x'. None: shear rigid (gamma = 0).
 
     Returns
     -------
@@ -401,25 +411,30 @@ def heavy_cantilever_law(
         raise ValueError(f"length must be > 0 (mm), got {length!r}")
     if not (np.isfinite(weight) and weight > 0.0):
         raise ValueError(f"weight must be > 0 (N/mm^2), got {weight!r}")
+    if shear_stiffness is not None and not (np.isfinite(shear_stiffness) and shear_stiffness > 0):
+        raise ValueError(f"shear_stiffness must be > 0 (N/mm) or None, got {shear_stiffness!r}")
     response = MomentCurvature.of(law)
+    shear = shear_stiffness or 0.0
     t = np.linspace(0.0, 1.0, 201)
-    solution = _heavy_bvp(response, length, weight, _small_deflection(response, length, weight, t), tol)
+    start = _small_deflection(response, length, weight, t)
+    solution = _heavy_bvp(response, length, weight, shear, start, tol)
     steps = 4
     while not solution.success and steps <= 64:
         # Continuation in the load from the linear solution of the initial slope at 1/steps
         # of it, where the strip barely bends.
         linear = MomentCurvature.of(float(response.stiffness(np.zeros(1))[0]))
-        solution = _heavy_bvp(
-            linear, length, weight / steps, _small_deflection(linear, length, weight / steps, t), tol
-        )
+        start = _small_deflection(linear, length, weight / steps, t)
+        solution = _heavy_bvp(linear, length, weight / steps, shear, start, tol)
         for k in range(1, steps + 1):
             if not solution.success:
                 break
             guess = solution.sol(t)
-            solution = _heavy_bvp(response, length, weight * k / steps, guess, tol)
+            solution = _heavy_bvp(response, length, weight * k / steps, shear, guess, tol)
         steps *= 4
     if not solution.success:
-        raise RuntimeError(f"heavy cantilever with {response!r} did not converge: {solution.message}")
+        raise RuntimeError(
+            f"heavy cantilever with {response!r} did not converge: {solution.message}"
+        )
     s = np.linspace(0.0, length, points)
     theta, m, xi, zeta = solution.sol(s / length)
     moment = weight * length**2 * m
