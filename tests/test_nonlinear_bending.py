@@ -22,7 +22,7 @@ The fibrous shell's reference is the shear-rigid strip (its directors are free, 
 inextensible); MindlinShell's is the same strip with the shear stiffness S (Reissner's beam).
 """
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -185,7 +185,7 @@ def test_peirce_test_of_the_bilinear_law_reports_a_tenth_of_its_initial_slope():
 
 
 # ------------------------------------------------------------------------ both kinematics
-@lru_cache(maxsize=None)
+@cache
 def _tip(kinematics: str, length: float, cells: int) -> np.ndarray:
     """Tip (mean of the nodes at x = L), (3,) mm, of the G986 strip under its own weight."""
     return _solve(kinematics, length, cells, FABRIC)
