@@ -10,6 +10,11 @@ downwards. With theta(s) the downward slope, the moment at s carries the weight 
 and differentiating, d/ds M(theta') = -q (L - s) cos(theta), with theta(0) = 0, theta'(L) = 0.
 For a linear law M = B kappa this is B theta'' = -q (L - s) cos(theta) (Frisch-Fay, Flexible
 Bars, 1962, ch. 3; the small-deflection limit is the tip deflection q L^4 / (8 B)).
+
+For any monotonic law, ``heavy_cantilever_law`` solves the first-order form with the moment as
+unknown, dM/ds = -q (L - s) cos(theta), theta' = kappa(M) (``MomentCurvature`` inverts the law),
+optionally shear-flexible; ``peirce_overhang`` is Peirce's cantilever test (J. Textile Inst. 21
+(1930) T377; ASTM D1388) on it.
 """
 
 from __future__ import annotations
