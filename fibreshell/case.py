@@ -43,9 +43,10 @@ Inline materials: for "fibrous" the fields of ``materials.Fabric`` (thickness, a
 tension, shear, bending, tension_weft, bending_weft), each law a number (linear) or a table
 ``{ table = { x = [...], y = [...] } }``, ``{ bilinear = { initial, final, knee } }``,
 ``{ polynomial = { k1, k3, k5 } }``, with ``tension_only = true`` for a tension law; for
-"mindlin" the arguments of ``materials.ElasticShell`` (E, nu, thickness, density, G13, G23,
-shear_factor) or of ``ElasticShell.orthotropic`` (E1, E2, nu12, G12, G13, G23, thickness,
-density, warp); for "cable" the arguments of ``elements.Cable`` (axial_stiffness,
+"mindlin" the same fabric fields (the Mindlin shell whose section is the fabric's laws,
+docs/theory.md §5.7), or the arguments of ``materials.ElasticShell`` (E, nu, thickness,
+density, G13, G23, shear_factor) or of ``ElasticShell.orthotropic`` (E1, E2, nu12, G12, G13,
+G23, thickness, density, warp); for "cable" the arguments of ``elements.Cable`` (axial_stiffness,
 mass_per_length, tension_only). A preset with some values changed:
 ``material = { preset = "paper_stack", sheets = 65, bending = 30.0 }`` (the preset's own
 arguments, then fields of ``Fabric``). Units: mm, N, t, s.
@@ -68,7 +69,6 @@ import numpy as np
 
 from elements import (
     FibrousShell,
-    MindlinShell,
     RigidCylinder,
     RigidPlane,
     RigidSphere,
@@ -199,19 +199,21 @@ class Case:
     node_sets: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------------ building
-    def model(self, kinematics: str | None = None, shear_ratio: float = 0.5) -> Model:
-        """The model of the case. ``kinematics="mindlin"`` replaces every fibrous part by a
-        Mindlin shell of its fabric's calibration (``ElasticShell.equivalent``, with
-        ``shear_ratio``) on the same cells; None or "fibrous" builds the case as written."""
+    def model(self, kinematics: str | None = None, calibration=None) -> Model:
+        """The model of the case. ``kinematics="mindlin"`` replaces every fibrous part by the
+        Mindlin shell of ``calibration`` (a ``fibreshell.calibration.Calibration`` or its name;
+        None: "laws", the fabric's own laws) on the same cells; None or "fibrous" builds the
+        case as written."""
+        from fibreshell.calibration import Calibration
+
         if kinematics not in (None, "fibrous", "mindlin"):
             raise ValueError(f"kinematics must be 'fibrous' or 'mindlin', got {kinematics!r}")
+        rule = Calibration.from_options(calibration)
         model = Model(self.mesh)
         for part in self.parts:
             element = part["element"]
             if kinematics == "mindlin" and isinstance(element, FibrousShell):
-                element = MindlinShell(
-                    ElasticShell.equivalent(element.fabric, shear_ratio, warp=element.warp)
-                )
+                element = rule.mindlin(element)
             model.add(element, part["cells"])
         for fix in self.fixes:
             model.fix(fix["nodes"], fix["dofs"])
@@ -493,11 +495,10 @@ def _material(where: _Where, kind: str, value: Any):
     if not isinstance(value, dict):
         raise where.error("material", f"expected a preset name or a table, got {value!r}")
     if "preset" in value:
-        material = _preset(where, inner, value)
-        if kind == "mindlin" and isinstance(material, Fabric):
-            return ElasticShell.equivalent(material)
-        return material
-    if kind == "mindlin":
+        # A Mindlin part of a fabric preset has the fabric section (its own laws, MindlinShell
+        # accepts a Fabric): the same material the fibrous shell would have.
+        return _preset(where, inner, value)
+    if kind == "mindlin" and not ({"tension", "bending"} & set(value)):
         make = ElasticShell.orthotropic if "E1" in value else ElasticShell
         arguments = _keywords(inner, make, value)
         for key, item in arguments.items():

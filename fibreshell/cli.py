@@ -2,7 +2,9 @@
 validation report.
 
     fibreshell run CASE.toml [--out DIR] [--quiet]
-    fibreshell compare CASE.toml [--out DIR] [--shear-ratio R] [--quiet]
+    fibreshell compare CASE.toml [--out DIR] [--calibration laws|fit|initial-slope]
+                     [--kinematics fibrous,mindlin,plies] [--plies N] [--shear-ratio R]
+                     [--fit-path NAME] [--quiet]
     fibreshell sweep CASE.toml --vary KEY=V1,V2 [--vary ...] [--zip] [--scheduler ADDRESS]
                      [--workers N] [--out DIR] [--quiet]
     fibreshell identify CASE.toml --data MEASURED.csv --fit KEY[=START][,KEY...] [--path NAME]
@@ -17,6 +19,7 @@ variant failed, its row says why; for identify: a run failed or the fit did not 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from pathlib import Path
@@ -33,7 +36,11 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True)
     for name, text in (
         ("run", "run one case: result.pvd, history.csv, summary.json in --out"),
-        ("compare", "run a case with the fibrous shell and with the calibrated Mindlin shell"),
+        (
+            "compare",
+            "run a case in several kinematics: the fibrous shell, the Mindlin shell of a "
+            "stated calibration, the stack as plies",
+        ),
     ):
         command = commands.add_parser(name, help=text, description=text)
         command.add_argument("case", help="the case file (.toml)")
@@ -41,8 +48,30 @@ def _parser() -> argparse.ArgumentParser:
                              "the working folder, named after the case)")  # fmt: skip
         command.add_argument("--quiet", action="store_true", help="no progress line")
         if name == "compare":
-            command.add_argument("--shear-ratio", type=float, default=0.5,
-                                 help="Mindlin G13 / E (default 0.5)")  # fmt: skip
+            command.add_argument(
+                "--calibration", default="laws", choices=("laws", "fit", "initial-slope"),
+                help="how the Mindlin shell is made of the fabric: laws (default: its own "
+                "tension, shear and bending laws), fit (Bai's: bending and transverse shear "
+                "fitted to the fibrous mid-surface along a path), initial-slope (E = 12 B0 / "
+                "h^3, a homogeneous elastic section)",
+            )  # fmt: skip
+            command.add_argument(
+                "--kinematics", default="fibrous,mindlin",
+                help="comma-separated subset of fibrous, mindlin, plies (default "
+                "fibrous,mindlin)",
+            )  # fmt: skip
+            command.add_argument(
+                "--plies", type=int, default=None,
+                help="plies of the plies kinematics (default: the fabric's ply count)",
+            )  # fmt: skip
+            command.add_argument(
+                "--shear-ratio", type=float, default=None,
+                help="G13 / E of --calibration initial-slope (default 0.5)",
+            )  # fmt: skip
+            command.add_argument(
+                "--fit-path", default=None,
+                help="the path --calibration fit matches (default: the first)",
+            )  # fmt: skip
     text = "run a case over values of its keys, every variant a Dask task: sweep.csv in --out"
     command = commands.add_parser("sweep", help=text, description=text)
     command.add_argument("case", help="the case file (.toml)")
@@ -159,7 +188,7 @@ def main(argv: list[str] | None = None) -> int:
         return report(argv[1:])
     args = _parser().parse_args(argv)
     from fibreshell.case import load_case
-    from fibreshell.compare import compare_case
+    from fibreshell.compare import compare_case, summary_lines
     from fibreshell.run import run_case
 
     started = time.perf_counter()
@@ -177,7 +206,13 @@ def main(argv: list[str] | None = None) -> int:
             runs = {"": run_case(case, out, progress=progress)}
         else:
             out = _out_folder(args.out, args.case, "-compare")
-            runs = compare_case(case, out, progress, args.shear_ratio)
+            runs = compare_case(
+                case, out, progress, calibration=args.calibration, kinematics=args.kinematics,
+                plies=args.plies, shear_ratio=args.shear_ratio, fit_path=args.fit_path,
+            )  # fmt: skip
+            comparison = json.loads((out / "comparison.json").read_text())
+            for line in summary_lines(comparison):
+                print(line)
     except ValueError as error:
         print(f"fibreshell: error: {error}", file=sys.stderr)
         return 2

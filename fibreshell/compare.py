@@ -1,119 +1,379 @@
-"""``fibreshell compare``: one case with the fibrous shell and with the calibrated Mindlin shell
-(``ElasticShell.equivalent``) on the same mesh, supports, loads and solver, side by side."""
+"""``fibreshell compare``: one case in several kinematics on the same mesh, supports, loads and
+solver, side by side: the fibrous shell, the Mindlin shell of a stated calibration
+(fibreshell/calibration.py: the fabric's own laws by default) and the stack as plies.
+
+``comparison.json`` has one schema (README "comparison.json"):
+
+    {"case": title, "calibration": {"name", "rule", "numbers"},
+     "kinematics": {NAME: {"converged", "stopped", "wall_time_s",
+                           "paths": {PATH: {"s", "x", "y", "z", "horizontal",
+                                            "director_angle_deg", "director_tilt_deg",
+                                            "thickness"}},
+                           "sets": {SET: {"displacement": [x, y, z]}},
+                           "reactions": {SET: [x, y, z]}}},
+     "differences": {NAME: {"paths": {PATH: {"z_max_mm", "director_angle_max_deg",
+                                             "thickness_max_mm"}}}},  (NAME against fibrous)
+     "figures": [...]}
+"""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from fibreshell.calibration import CALIBRATIONS, Calibration
 from fibreshell.case import Case
 from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
 
-__all__ = ["COLOURS", "compare_case", "path_figure", "view_3d"]
+__all__ = [
+    "COLOURS", "DEFAULT_KINEMATICS", "KINEMATICS", "compare_case", "fit_calibration",
+    "kinematics_record", "path_figure", "summary_lines", "view_3d",
+]  # fmt: skip
 
-KINEMATICS = ("fibrous", "mindlin")
-COLOURS = {"fibrous": "tab:blue", "mindlin": "tab:orange"}  # the same in every figure
+KINEMATICS = ("fibrous", "mindlin", "plies")
+DEFAULT_KINEMATICS = ("fibrous", "mindlin")
+COLOURS = {"fibrous": "tab:blue", "mindlin": "tab:orange", "plies": "tab:green"}
+
+
+def _fabric(case: Case):
+    for part in case.parts:
+        fabric = getattr(part["element"], "fabric", None)
+        if fabric is not None:
+            return fabric
+    return None
+
+
+def _kinematics(names: Sequence[str] | str) -> tuple[str, ...]:
+    if isinstance(names, str):
+        names = [n.strip() for n in names.split(",") if n.strip()]
+    chosen = tuple(dict.fromkeys(names))
+    unknown = [n for n in chosen if n not in KINEMATICS]
+    if unknown or not chosen:
+        raise ValueError(
+            f"kinematics: expected a subset of {', '.join(KINEMATICS)}, got {list(names)!r}"
+        )
+    return chosen
 
 
 def compare_case(
-    case: Case, out: Path, progress: bool | None = None, shear_ratio: float = 0.5
+    case: Case,
+    out: Path,
+    progress: bool | None = None,
+    calibration: Calibration | str = "laws",
+    kinematics: Sequence[str] | str = DEFAULT_KINEMATICS,
+    plies: int | None = None,
+    shear_ratio: float | None = None,
+    fit_path: str | None = None,
+    fit_evaluations: int = 12,
 ) -> dict[str, Run]:
-    """Run ``case`` with both kinematics into ``out/fibrous`` and ``out/mindlin`` and write
-    ``out/comparison.json`` (both summaries and, per history set and path, the differences)
-    ``out/view-3d.png`` (both deformed shells at true scale, the directors drawn across the
-    thickness along the paths) and one figure per path (``out/path-<name>.png``: the side
-    elevation with the drawn through-thickness lines, the director angle and the thickness
-    along the director).
+    """Run ``case`` in each of ``kinematics`` into ``out/<name>`` and write
+    ``out/comparison.json`` (module docstring), ``out/view-3d.png`` (the deformed shells at
+    true scale, the directors drawn across the thickness along the paths) and one figure per
+    path (``out/path-<name>.png``: side elevation with the through-thickness lines, director
+    angle, director tilt from the normal, thickness along the director). Every figure and the
+    JSON state the Mindlin calibration and the numbers it chose.
+
+    Parameters
+    ----------
+    case : Case
+    out : pathlib.Path
+    progress : bool or None
+        The solvers' progress lines.
+    calibration : Calibration or str
+        "laws" (default), "fit" or "initial-slope" (fibreshell/calibration.py).
+    kinematics : sequence of str or a comma-separated str
+        Any of "fibrous", "mindlin", "plies" (default fibrous and mindlin).
+    plies : int or None
+        Plies of the "plies" kinematics (default: the fabric's ply count where it has one).
+    shear_ratio : float or None
+        G13 / E of the "initial-slope" calibration (default 0.5).
+    fit_path : str or None
+        The path whose mid-surface the "fit" calibration matches (default: the first).
+    fit_evaluations : int
+        Model evaluations the "fit" may make.
 
     Raises
     ------
     ValueError
-        A case without a fibrous part: there is nothing to calibrate the Mindlin shell on.
+        A case without a fibrous part (nothing to calibrate on or to split into plies), an
+        unknown kinematics or calibration.
     """
-    if not case.has_fibrous:
+    chosen = _kinematics(kinematics)
+    if isinstance(calibration, str) and calibration not in CALIBRATIONS:
+        raise ValueError(
+            f"calibration must be one of {', '.join(CALIBRATIONS)}, got {calibration!r}"
+        )
+    fabric = _fabric(case)
+    if not case.has_fibrous or fabric is None:
         raise ValueError(
             f'{case.path}: compare needs a fibrous part (element = "fibrous"): the Mindlin '
-            "shell is calibrated on its fabric"
+            "shell is calibrated on its fabric and the plies split it"
         )
     out.mkdir(parents=True, exist_ok=True)
-    runs = {
-        kinematics: run_case(case, out / kinematics, kinematics, progress, shear_ratio)
-        for kinematics in KINEMATICS
-    }
-    comparison: dict = {
+    fitting = calibration == "fit" or (
+        isinstance(calibration, Calibration)
+        and calibration.name == "fit"
+        and not calibration.fitted
+    )
+    runs: dict[str, Run] = {}
+    if "fibrous" in chosen or (fitting and "mindlin" in chosen):
+        runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
+    if fitting and "mindlin" in chosen:
+        rule = fit_calibration(case, runs["fibrous"], out / "fit", fit_path, fit_evaluations)
+    elif isinstance(calibration, Calibration):
+        rule = calibration
+    else:
+        rule = Calibration.from_options(calibration, shear_ratio)
+    if "mindlin" in chosen:
+        runs["mindlin"] = run_case(case, out / "mindlin", "mindlin", progress, calibration=rule)
+    if "plies" in chosen:
+        from fibreshell.plies import run_plies
+
+        runs["plies"] = run_plies(case, out / "plies", plies, progress)
+    comparison: dict[str, Any] = {
         "case": case.title,
-        "mindlin_calibration": {
-            "rule": "E = 12 B / h^3 per direction, nu12 = 0, G12 = K / h, G13 = G23 = "
-            "shear_ratio x E (materials.ElasticShell.equivalent)",
-            "shear_ratio": shear_ratio,
-        },
-        "runs": {kinematics: run.summary for kinematics, run in runs.items()},
-        "difference_mindlin_minus_fibrous": {
-            "mean_displacements": {
-                name: np.asarray(runs["mindlin"].summary["mean_displacements"][name])
-                - np.asarray(runs["fibrous"].summary["mean_displacements"][name])
-                for name in case.history.get("displacements", [])
-            },
-            "reactions": {
-                name: np.asarray(runs["mindlin"].summary["reactions"][name])
-                - np.asarray(runs["fibrous"].summary["reactions"][name])
-                for name in case.history.get("reactions", [])
-            },
-        },
+        "calibration": {"kinematics": "mindlin", **rule.describe(fabric)},
+        "kinematics": {name: kinematics_record(case, run) for name, run in runs.items()},
+        "differences": _differences(runs, case),
         "figures": [],
     }
-    comparison["figures"].append(view_3d(case, runs, out).name)
+    if "plies" in runs:
+        comparison["plies"] = runs["plies"].summary.get("plies", {})
+    label = rule.label(fabric) if "mindlin" in runs else ""
+    comparison["figures"].append(view_3d(case, runs, out, label).name)
     for name in case.paths:
-        comparison["figures"].append(path_figure(case, runs, name, out).name)
+        comparison["figures"].append(path_figure(case, runs, name, out, label).name)
     (out / "comparison.json").write_text(strict_json(comparison))
     return runs
 
 
-def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path) -> Path:
+def fit_calibration(
+    case: Case,
+    fibrous: Run,
+    out: Path | None = None,
+    path: str | None = None,
+    max_evaluations: int = 12,
+    start: Calibration | None = None,
+) -> Calibration:
+    """Bai's calibration: the "laws" section's bending scale and transverse shear stiffness
+    fitted by least squares (``fibreshell.identify``, each run a Dask task) so that the
+    Mindlin mid-surface height matches the fibrous one's along ``path`` at the fibrous
+    nodes' horizontal positions, from ``start``'s numbers (default: the laws as given, the
+    default transverse shear).
+
+    Returns
+    -------
+    Calibration
+        name "fit", the fitted numbers, and in ``fitted`` the values with their 95 %
+        confidence intervals, the RMS height residual (mm), the path, the evaluations.
+
+    Raises
+    ------
+    ValueError
+        No path to fit along, or a case not read from a file.
+    """
+    from elements.mindlin_fabric import default_transverse_shear
+    from fibreshell.identify import identify
+
+    if not case.paths:
+        raise ValueError(
+            f"{case.path}: the fit calibration matches the mid-surface along a path; the case "
+            "has no [output] paths"
+        )
+    path = path or next(iter(case.paths))
+    if path not in case.paths:
+        raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(case.paths)}")
+    if not Path(case.path).is_file():
+        raise ValueError(f"the fit calibration reruns the case file; {case.path} is not a file")
+    line = fibrous.summary["paths"][path]
+    n = len(line["horizontal"])
+    data = {
+        "x": [float(v) for v in line["horizontal"]],
+        "z": [float(v) for v in line["z"]],
+        "kinematics": ["mindlin"] * n,
+        "calibration": ["laws"] * n,
+    }
+    fabric = _fabric(case)
+    first = start or Calibration(name="fit")
+    values0 = {
+        "bending_scale": first.bending_scale,
+        "transverse_shear": first.transverse_shear or default_transverse_shear(fabric),
+    }
+    found = identify(
+        case.path, data, values0, path=path, out=out, max_evaluations=max_evaluations,
+        progress=False,
+    )  # fmt: skip
+    values = dict(zip(found.keys, (float(v) for v in found.values)))
+    fitted = {
+        "path": path,
+        "target": "the fibrous shell's mid-surface height z at its nodes' horizontal positions",
+        "values": values,
+        "confidence_95": {
+            k: [float(a), float(b)] for k, (a, b) in zip(found.keys, found.intervals)
+        },
+        "start": dict(zip(found.keys, (float(v) for v in found.start))),
+        "residual_rms_mm": float(found.residual_rms),
+        "success": bool(found.success),
+        "message": found.message,
+        "evaluations": int(found.evaluations),
+        "runs": int(found.runs),
+        "wall_time_s": float(found.wall_time_s),
+    }
+    return Calibration(
+        name="fit",
+        bending_scale=values["bending_scale"],
+        transverse_shear=values["transverse_shear"],
+        fitted=fitted,
+    )
+
+
+def kinematics_record(case: Case, run: Run) -> dict[str, Any]:
+    """One kinematics' entry of comparison.json: how it ended, the profiles along the case's
+    paths (with the director's tilt from the surface normal, deg), the mean displacement of
+    each history set and the reaction sums."""
+    summary = run.summary
+    h = section_thickness(case)
+    paths = run.profiles if run.profiles is not None else {
+        name: _path_record(case, run, name, h) for name in case.paths
+    }  # fmt: skip
+    return {
+        "converged": summary.get("converged"),
+        "stopped": summary.get("stopped"),
+        "wall_time_s": run.wall_time,
+        "paths": paths,
+        "sets": {
+            name: {"displacement": value}
+            for name, value in summary.get("mean_displacements", {}).items()
+        },
+        "reactions": summary.get("reactions", {}),
+    }
+
+
+def _path_record(case: Case, run: Run, name: str, h: float) -> dict[str, Any]:
+    line = profile(case, run.result, name, h)
+    record = {k: v for k, v in line.items() if k not in ("directors", "director_horizontal")}
+    nodes = case.paths[name]
+    try:
+        tilt = np.degrees(run.result.field("director_tilt")[nodes])
+    except (KeyError, ValueError):
+        tilt = np.full(len(nodes), np.nan)
+    record["director_tilt_deg"] = tilt
+    return record
+
+
+def _differences(runs: dict[str, Run], case: Case) -> dict[str, Any]:
+    """Per kinematics other than fibrous, per path: the largest |difference| from the fibrous
+    shell of the mid-surface height (mm, at the fibrous nodes' horizontal positions), of the
+    director angle (deg) and of the thickness along the director (mm), node by node."""
+    if "fibrous" not in runs:
+        return {}
+    records = {name: kinematics_record(case, run)["paths"] for name, run in runs.items()}
+    out: dict[str, Any] = {}
+    for name in records:
+        if name == "fibrous":
+            continue
+        out[name] = {"paths": {}}
+        for path, line in records[name].items():
+            base = records["fibrous"][path]
+            order = np.argsort(line["horizontal"])
+            z = np.interp(
+                base["horizontal"],
+                np.asarray(line["horizontal"])[order],
+                np.asarray(line["z"])[order],
+            )
+            out[name]["paths"][path] = {
+                "z_max_mm": float(np.max(np.abs(z - base["z"]))),
+                "director_angle_max_deg": float(
+                    np.max(
+                        np.abs(np.asarray(line["director_angle_deg"]) - base["director_angle_deg"])
+                    )
+                ),
+                "thickness_max_mm": float(
+                    np.max(np.abs(np.asarray(line["thickness"]) - base["thickness"]))
+                ),
+            }
+    return out
+
+
+def summary_lines(comparison: dict[str, Any]) -> list[str]:
+    """What ``fibreshell compare`` prints: the calibration and its numbers, then per path the
+    largest differences from the fibrous shell."""
+    calibration = comparison["calibration"]
+    lines = [f"calibration: {calibration['name']}: {calibration['rule']}"]
+    for key, value in calibration["numbers"].items():
+        if key == "fit":
+            lines.append(
+                f"  fitted along path {value['path']!r}: RMS height residual "
+                f"{value['residual_rms_mm']:.3g} mm in {value['evaluations']} evaluations"
+            )
+            for name, (low, high) in value["confidence_95"].items():
+                lines.append(
+                    f"    {name} = {value['values'][name]:.4g} (95 %: {low:.3g} to {high:.3g})"
+                )
+        else:
+            lines.append(f"  {key} = {value if isinstance(value, str) else f'{value:.4g}'}")
+    for name, record in comparison["differences"].items():
+        for path, d in record["paths"].items():
+            lines.append(
+                f"{name} - fibrous along {path}: height {d['z_max_mm']:.3g} mm, director angle "
+                f"{d['director_angle_max_deg']:.3g} deg, thickness {d['thickness_max_mm']:.3g} mm"
+                " (largest)"
+            )
+    return lines
+
+
+def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path, label: str = "") -> Path:
     """The figure of path ``name``: (a) side elevation, the mid-surface of each kinematics
     and its through-thickness lines (the directors drawn across the thickness along them, at
-    true scale); (b) director angle to the horizontal; (c) thickness along the director."""
+    true scale); (b) director angle to the horizontal; (c) director tilt from the surface
+    normal; (d) thickness along the director. ``label``: the calibration, in the title."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    h = section_thickness(case)
-    figure, axes = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True)
+    figure, axes = plt.subplots(1, 4, figsize=(19, 4.4), constrained_layout=True)
     for kinematics, run in runs.items():
-        line = profile(case, run.result, name, h)
+        line = kinematics_record(case, run)["paths"][name]
         colour = COLOURS[kinematics]
-        horizontal, d = line["horizontal"], line["directors"]
-        axes[0].plot(horizontal, line["z"], color=colour, label=kinematics)
-        for u, z, dh, dz, t in zip(
-            horizontal, line["z"], line["director_horizontal"], d[:, 2], line["thickness"]
-        ):
-            axes[0].plot(
-                [u - 0.5 * t * dh, u + 0.5 * t * dh], [z - 0.5 * t * dz, z + 0.5 * t * dz],
-                color=colour, linewidth=0.8,
-            )  # fmt: skip
+        horizontal = np.asarray(line["horizontal"])
+        z = np.asarray(line["z"])
+        angle = np.radians(np.asarray(line["director_angle_deg"]))
+        thickness = np.asarray(line["thickness"])
+        axes[0].plot(horizontal, z, color=colour, label=kinematics)
+        for u, zz, a, t in zip(horizontal, z, angle, thickness):
+            dh, dz = np.cos(a), np.sin(a)
+            ends_u = [u - 0.5 * t * dh, u + 0.5 * t * dh]
+            ends_z = [zz - 0.5 * t * dz, zz + 0.5 * t * dz]
+            axes[0].plot(ends_u, ends_z, color=colour, linewidth=0.8)
         axes[1].plot(line["s"], line["director_angle_deg"], color=colour, label=kinematics)
-        axes[2].plot(line["s"], line["thickness"], color=colour, label=kinematics)
+        axes[2].plot(line["s"], line["director_tilt_deg"], color=colour, label=kinematics)
+        axes[3].plot(line["s"], thickness, color=colour, label=kinematics)
     axes[0].set_aspect("equal", adjustable="datalim")
     axes[0].set(xlabel="horizontal distance along the path (mm)", ylabel="z (mm)",
                 title=f"(a) side elevation of path '{name}', true scale")  # fmt: skip
     axes[1].set(xlabel="s, reference arc length (mm)", ylabel="degrees",
                 title="(b) director angle to the horizontal")  # fmt: skip
-    axes[2].set(xlabel="s, reference arc length (mm)", ylabel="mm",
-                title="(c) thickness along the director")  # fmt: skip
+    axes[2].set(xlabel="s, reference arc length (mm)", ylabel="degrees",
+                title="(c) director tilt from the surface normal")  # fmt: skip
+    axes[3].set(xlabel="s, reference arc length (mm)", ylabel="mm",
+                title="(d) thickness along the director")  # fmt: skip
     for axis in axes:
         axis.grid(True, alpha=0.3)
         axis.legend()
-    figure.suptitle(f"{case.title}: fibrous shell and calibrated Mindlin shell")
+    title = f"{case.title}: {', '.join(runs)}"
+    figure.suptitle(f"{title}\n{label}" if label else title)
     path = out / f"path-{name}.png"
     figure.savefig(path, dpi=110)
     plt.close(figure)
     return path
 
 
-def view_3d(case: Case, runs: dict[str, Run], out: Path) -> Path:
-    """Both deformed shells side by side at true scale (equal axes), the directors drawn
+def view_3d(case: Case, runs: dict[str, Run], out: Path, label: str = "") -> Path:
+    """The deformed shells side by side at true scale (equal axes), the directors drawn
     across the thickness at the nodes of the paths."""
     import matplotlib
 
@@ -122,24 +382,25 @@ def view_3d(case: Case, runs: dict[str, Run], out: Path) -> Path:
     from matplotlib.ticker import MaxNLocator
 
     h = section_thickness(case)
-    triangles = case.mesh.triangles
-    figure = plt.figure(figsize=(14, 5.5), constrained_layout=True)
+    figure = plt.figure(figsize=(7 * len(runs), 5.5), constrained_layout=True)
     everything = np.vstack([run.result.positions for run in runs.values()])
     low, high = everything.min(axis=0) - h, everything.max(axis=0) + h
     for i, (kinematics, run) in enumerate(runs.items()):
         axis = figure.add_subplot(1, len(runs), i + 1, projection="3d")
         x = run.result.positions
+        triangles = run.result.mesh.triangles  # the plies' own mesh for the plies
         if len(triangles):
             axis.plot_trisurf(
                 x[:, 0], x[:, 1], x[:, 2], triangles=triangles, alpha=0.35,
                 color=COLOURS[kinematics], linewidth=0.1, edgecolor="0.4",
             )  # fmt: skip
-        thickness = run.result.thickness
-        for nodes in case.paths.values():
-            t = thickness[nodes] if thickness is not None else np.full(len(nodes), h)
-            d = run.result.directors[nodes]
-            for a, b in zip(x[nodes] - 0.5 * t[:, None] * d, x[nodes] + 0.5 * t[:, None] * d):
-                axis.plot(*np.column_stack([a, b]), color="k", linewidth=1.2)
+        if run.profiles is None:
+            thickness = run.result.thickness
+            for nodes in case.paths.values():
+                t = thickness[nodes] if thickness is not None else np.full(len(nodes), h)
+                d = run.result.directors[nodes]
+                for a, b in zip(x[nodes] - 0.5 * t[:, None] * d, x[nodes] + 0.5 * t[:, None] * d):
+                    axis.plot(*np.column_stack([a, b]), color="k", linewidth=1.2)
         for setter, a, b in zip((axis.set_xlim, axis.set_ylim, axis.set_zlim), low, high):
             setter(a, b)
         axis.set_box_aspect(np.maximum(high - low, 1e-9))
@@ -147,7 +408,9 @@ def view_3d(case: Case, runs: dict[str, Run], out: Path) -> Path:
         for ticks in (axis.xaxis, axis.yaxis, axis.zaxis):  # readable ticks at true scale
             ticks.set_major_locator(MaxNLocator(nbins=4))
         axis.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
-        axis.set_title(f"{kinematics}: deformed, true scale; directors along the paths")
+        axis.set_title(f"{kinematics}: deformed, true scale")
+    if label:
+        figure.suptitle(label)
     path = out / "view-3d.png"
     figure.savefig(path, dpi=100)
     plt.close(figure)

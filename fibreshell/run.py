@@ -26,13 +26,16 @@ __all__ = [
 @dataclass
 class Run:
     """One solve of a case: the result (every good frame, also after a failure), the solver's
-    error message ("" when it reached its goal), the wall time (s) and the summary."""
+    error message ("" when it reached its goal), the wall time (s) and the summary; a run on a
+    mesh other than the case's (the plies) brings its own ``profiles`` along the case's paths
+    (``fibreshell.compare.kinematics_record``'s form), else None."""
 
     kinematics: str
     result: Result
     error: str
     wall_time: float
     summary: dict
+    profiles: dict | None = None
 
 
 def run_case(
@@ -40,7 +43,10 @@ def run_case(
     out: Path,
     kinematics: str | None = None,
     progress: bool | None = None,
-    shear_ratio: float = 0.5,
+    calibration=None,
+    shear_ratio: float | None = None,
+    bending_scale: float | None = None,
+    transverse_shear: float | None = None,
 ) -> Run:
     """Build the case (``Case.model``), solve it and write into ``out``: ``result.pvd`` with
     its VTU series (reference coordinates and the displacement field in every frame),
@@ -59,11 +65,16 @@ def run_case(
         See ``Case.model``.
     progress : bool or None
         The solver's progress line (None: when stderr is a terminal).
-    shear_ratio : float
-        G13 / E of the Mindlin calibration.
+    calibration : fibreshell.calibration.Calibration, str or None
+        How the Mindlin shell is made of the fabric ("laws" by default, "fit" values or
+        "initial-slope"); shear_ratio, bending_scale, transverse_shear set its numbers
+        (``Calibration.from_options``: a sweep or a fit varies them).
     """
+    from fibreshell.calibration import Calibration
+
     out.mkdir(parents=True, exist_ok=True)
-    model = case.model(kinematics, shear_ratio)
+    rule = Calibration.from_options(calibration, shear_ratio, bending_scale, transverse_shear)
+    model = case.model(kinematics, rule)
     streamed = case.solver["kind"] == "explicit"
     if streamed:  # frames to disk as the run goes: the memory of a long run stays flat
         watched = [case.mesh.nodes(name) for name in case.history.get("displacements", [])]

@@ -6,8 +6,10 @@ A key is a dotted path into the case file's tables: ``mesh.rectangle.lx``,
 A material given as a preset name is opened into ``{ preset = name }`` so that one of its
 values can be set (``part.0.material.bending`` on ``material = "paper_stack"``). Two keys are
 not in the file but choose how the case runs, as ``fibreshell compare`` does: ``kinematics``
-("fibrous" or "mindlin": every fibrous part as the calibrated Mindlin shell) and
-``shear_ratio`` (that calibration's G13 / E).
+("fibrous" or "mindlin": every fibrous part as the calibrated Mindlin shell), ``calibration``
+("laws" or "initial-slope", fibreshell/calibration.py) and that calibration's numbers:
+``bending_scale`` and ``transverse_shear`` (N/mm) of "laws", ``shear_ratio`` (G13 / E) of
+"initial-slope" (alone, it implies that rule).
 """
 
 from __future__ import annotations
@@ -37,7 +39,13 @@ __all__ = [
 
 # Keys that are options of the run, not of the case file: run_case's keywords (those of
 # fibreshell compare), with the values they take (None: a positive number).
-RUN_KEYS = {"kinematics": ("fibrous", "mindlin"), "shear_ratio": None}
+RUN_KEYS = {
+    "kinematics": ("fibrous", "mindlin"),
+    "calibration": ("laws", "initial-slope"),
+    "shear_ratio": None,
+    "bending_scale": None,
+    "transverse_shear": None,
+}
 _SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
 
 

@@ -1,6 +1,6 @@
 """Case files and the ``fibreshell`` command (fibreshell/): a case file builds the model its
-Python twin builds, ``compare`` runs both kinematics with the Mindlin calibration of
-``ElasticShell.equivalent`` (checked against the Euler-Bernoulli cantilever), every mistake in
+Python twin builds, ``compare`` runs both kinematics with each Mindlin calibration (checked
+against the Euler-Bernoulli cantilever; tests/test_compare.py has the rest), every mistake in
 a file is a ValueError naming the file, the table and the key, and the JSON outputs are strict.
 """
 
@@ -94,13 +94,15 @@ def test_the_shipped_strip_case_builds_the_model_of_its_python_twin(tmp_path):
     strict_load((tmp_path / "summary.json").read_text())
 
 
-def test_compare_runs_both_kinematics_against_the_beam_closed_form(tmp_path):
+@pytest.mark.parametrize("calibration", ["laws", "initial-slope"])
+def test_compare_runs_both_kinematics_against_the_beam_closed_form(tmp_path, calibration):
     """A cantilever strip under its weight, small deflection: q L^4 / (8 B) = 0.1 mm. The
     fibrous shell (rotation-free bending, 20 cells along: +0.25 % measured) and the Mindlin
-    shell of ElasticShell.equivalent (E h^3 / 12 = B with nu = 0; its transverse shear adds
-    q L^2 / (2 kappa G13 h), 3e-6 of it here) both within 1 %; the reactions are the weight."""
+    shell of either calibration (the fabric's laws, or ElasticShell.equivalent's E h^3 / 12 =
+    B with nu = 0; transverse shear adds q L^2 / (2 S), 3e-6 of it here) both within 1 %: a
+    linear law has one slope, so the calibrations agree; the reactions are the weight."""
     case = load_case(write(tmp_path, CANTILEVER))
-    runs = compare_case(case, tmp_path / "out", progress=False)
+    runs = compare_case(case, tmp_path / "out", progress=False, calibration=calibration)
     q = 8.154943934760449e-12 * 9810.0
     exact = q * 100.0**4 / (8 * 10.0)
     for kinematics in ("fibrous", "mindlin"):
@@ -112,7 +114,8 @@ def test_compare_runs_both_kinematics_against_the_beam_closed_form(tmp_path):
     assert comparison["figures"] == ["view-3d.png", "path-edge.png"]
     for figure in comparison["figures"]:
         assert (tmp_path / "out" / figure).stat().st_size > 10_000
-    assert set(comparison["runs"]) == {"fibrous", "mindlin"}
+    assert set(comparison["kinematics"]) == {"fibrous", "mindlin"}
+    assert comparison["calibration"]["name"] == calibration
 
 
 def test_both_shells_write_the_common_fields_and_the_beam_moment(tmp_path):
@@ -272,7 +275,10 @@ def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
     from validation import paper, specimens
 
     text = (ROOT / "cases" / "bai-6.2.1.toml").read_text().replace("n = 20", "n = 8")
-    run = run_case(load_case(write(tmp_path, text)), tmp_path / "out", kinematics, False)
+    run = run_case(
+        load_case(write(tmp_path, text)), tmp_path / "out", kinematics, False,
+        calibration="initial-slope",
+    )  # fmt: skip
     specimen = specimens.corner(200.0, 150.0, 8)
     model = specimens.build(specimen, kinematics, presets.g1151_laminate(), (None, None, 40.0))
     expected, _, _ = paper.solve(model, 10)

@@ -1,0 +1,205 @@
+"""How a fibrous part becomes a Mindlin shell for a comparison: the calibration, stated.
+
+Three rules (``fibreshell compare --calibration``):
+
+* ``laws`` (default): the Mindlin shell's section is the fabric itself
+  (``MindlinShell(fabric)``, docs/theory.md §5.7): the same tension, shear and bending laws,
+  non-linear ones as given, a stated transverse shear S (default 5 B0 / h^2) and twisting
+  stiffness. Only the kinematics differ.
+* ``fit``: Bai's method (§6 of the paper: the Abaqus S3 properties "optimized so that the
+  middle surface is in agreement"): the ``laws`` section with its bending laws scaled by a
+  factor and its transverse shear stiffness fitted (``fibreshell.identify``, least squares)
+  so that the Mindlin mid-surface matches the fibrous one along a path of the case; the
+  directors and the thickness are then compared.
+* ``initial-slope``: the homogeneous elastic section of ``ElasticShell.equivalent``
+  (E = 12 B0 / h^3 from the initial bending slope, G12 = K0 / h, G13 = shear_ratio E): its
+  membrane is 12 B0 / h^2, far softer than the fibres, and past the knee of a non-linear law it
+  is too stiff in bending. Kept to show what that calibration does.
+
+Every comparison states its calibration and the numbers it chose (``Calibration.describe``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from elements import FibrousShell, MindlinShell
+from elements.mindlin_fabric import default_transverse_shear, default_twisting
+from femcore.checks import check_positive
+from materials import ElasticShell, Fabric
+
+__all__ = ["CALIBRATIONS", "Calibration"]
+
+CALIBRATIONS = ("laws", "fit", "initial-slope")
+RULES = {
+    "laws": "MindlinShell(fabric): the section is the fabric's own tension, shear and bending "
+    "laws (non-linear as given), transverse shear S and twisting D_t stated (docs/theory.md "
+    "§5.7)",
+    "fit": "the laws section with its bending laws scaled and its transverse shear S fitted "
+    "by least squares so that the Mindlin mid-surface matches the fibrous one along a path "
+    "(Bai's calibration of Abaqus S3); then directors and thickness are compared",
+    "initial-slope": "ElasticShell.equivalent: E = 12 B0 / h^3 per direction from the initial "
+    "bending slope, nu12 = 0, G12 = K0 / h, G13 = G23 = shear_ratio x E (membrane 12 B0 / h^2)",
+}
+
+
+def _slope(law) -> float:
+    return float(np.asarray(law.slope(np.array(0.0))))
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """A rule that turns a FibrousShell into a MindlinShell on the same cells.
+
+    Parameters
+    ----------
+    name : str
+        "laws", "fit" or "initial-slope" (module docstring).
+    shear_ratio : float
+        G13 / E of "initial-slope" (> 0).
+    bending_scale : float
+        Factor on both bending laws of "laws" and "fit" (> 0; 1 for "laws" as given).
+    transverse_shear : float or None
+        S, N/mm, of "laws" and "fit"; None: the default 5 B0 / h^2.
+    fitted : dict
+        What a "fit" found (values, confidence intervals, residual, path): stated in the
+        comparison.
+    """
+
+    name: str = "laws"
+    shear_ratio: float = 0.5
+    bending_scale: float = 1.0
+    transverse_shear: float | None = None
+    fitted: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.name not in CALIBRATIONS:
+            raise ValueError(
+                f"calibration must be one of {', '.join(CALIBRATIONS)}, got {self.name!r}"
+            )
+        check_positive(self.shear_ratio, "calibration shear_ratio", "-")
+        check_positive(self.bending_scale, "calibration bending_scale", "-")
+        if self.transverse_shear is not None:
+            check_positive(self.transverse_shear, "calibration transverse_shear", "N/mm")
+
+    @classmethod
+    def from_options(
+        cls,
+        calibration: Calibration | str | None = None,
+        shear_ratio: float | None = None,
+        bending_scale: float | None = None,
+        transverse_shear: float | None = None,
+    ) -> Calibration:
+        """A calibration from a name and the run options of a sweep or a fit (None: the
+        rule's default; an option the rule does not use is refused)."""
+        if isinstance(calibration, Calibration):
+            base = calibration
+        elif calibration is None:  # a shear ratio alone names the rule it belongs to
+            base = cls(name="initial-slope" if shear_ratio is not None else "laws")
+        else:
+            base = cls(name=str(calibration))
+        changes: dict[str, Any] = {}
+        if shear_ratio is not None:
+            if base.name != "initial-slope":
+                raise ValueError(
+                    f"shear_ratio belongs to the initial-slope calibration, not {base.name!r}"
+                )
+            changes["shear_ratio"] = shear_ratio
+        numbers = (("bending_scale", bending_scale), ("transverse_shear", transverse_shear))
+        for key, value in numbers:
+            if value is not None:
+                if base.name == "initial-slope":
+                    raise ValueError(
+                        f"{key} belongs to the laws and fit calibrations, not initial-slope"
+                    )
+                changes[key] = value
+        return cls(**{**base.__dict__, **changes})
+
+    # ------------------------------------------------------------------ the Mindlin shell
+    def section_fabric(self, fabric: Fabric) -> Fabric:
+        """The fabric of the "laws" / "fit" section: bending laws scaled by bending_scale."""
+        if self.bending_scale == 1.0:
+            return fabric
+        return fabric.replace(
+            bending=fabric.bending.scaled(self.bending_scale),
+            bending_weft=fabric.bending_weft.scaled(self.bending_scale),
+        )
+
+    def mindlin(self, element: FibrousShell) -> MindlinShell:
+        """The Mindlin shell that replaces ``element`` (same fabric, warp and cells)."""
+        fabric = element.fabric
+        if self.name == "initial-slope":
+            return MindlinShell(
+                ElasticShell.equivalent(fabric, self.shear_ratio, warp=element.warp)
+            )
+        return MindlinShell(
+            self.section_fabric(fabric),
+            warp=element.warp,
+            transverse_shear=self.transverse_shear,
+        )
+
+    def numbers(self, fabric: Fabric) -> dict[str, Any]:
+        """The numbers this calibration gives the Mindlin shell of ``fabric`` (units in the
+        names)."""
+        h = fabric.thickness
+        if self.name == "initial-slope":
+            section = ElasticShell.equivalent(fabric, self.shear_ratio)
+            q = section.plane_stress
+            return {
+                "E1_MPa": float(q[0, 0]),
+                "E2_MPa": float(q[1, 1]),
+                "G12_MPa": float(q[2, 2]),
+                "G13_MPa": float(section.transverse[0] / section.shear_factor),
+                "shear_ratio": self.shear_ratio,
+                "bending_stiffness_warp_N_mm": float(q[0, 0]) * h**3 / 12.0,
+                "bending_stiffness_weft_N_mm": float(q[1, 1]) * h**3 / 12.0,
+                "membrane_stiffness_warp_N_per_mm": float(q[0, 0]) * h,
+                "fibre_tension_stiffness_N_per_mm": _slope(fabric.tension),
+                "bending_law_warp": repr(fabric.bending),
+            }
+        section = self.section_fabric(fabric)
+        transverse = (
+            default_transverse_shear(fabric)
+            if self.transverse_shear is None
+            else self.transverse_shear
+        )
+        out = {
+            "bending_law_warp": repr(section.bending),
+            "bending_law_weft": repr(section.bending_weft),
+            "bending_scale": self.bending_scale,
+            "tension_law_warp": repr(section.tension),
+            "shear_law": repr(section.shear),
+            "transverse_shear_N_per_mm": transverse,
+            "twisting_N_mm": default_twisting(section),
+        }
+        if self.fitted:
+            out["fit"] = self.fitted
+        return out
+
+    def describe(self, fabric: Fabric | None) -> dict[str, Any]:
+        """{"name", "rule" (a sentence), "numbers"} for comparison.json and the figures."""
+        return {
+            "name": self.name,
+            "rule": RULES[self.name],
+            "numbers": {} if fabric is None else self.numbers(fabric),
+        }
+
+    def label(self, fabric: Fabric | None = None) -> str:
+        """A short line for figure titles: the rule and its key numbers."""
+        if self.name == "initial-slope":
+            text = (
+                f"Mindlin calibration 'initial-slope' (E = 12 B0/h^3, G13/E = {self.shear_ratio:g})"
+            )
+            if fabric is not None:
+                b0 = _slope(fabric.bending)
+                text += f", B = {b0:.3g} N mm at every curvature"
+            return text
+        s = self.transverse_shear
+        if s is None and fabric is not None:
+            s = default_transverse_shear(fabric)
+        shear = f", S = {s:.3g} N/mm" if s is not None else ""
+        scale = f", bending x {self.bending_scale:.3g}" if self.bending_scale != 1.0 else ""
+        return f"Mindlin calibration '{self.name}' (the fabric's laws{scale}{shear})"
