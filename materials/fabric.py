@@ -50,6 +50,10 @@ class Fabric:
         Warp bending law M(chi) (N per unit width), or a number B for M = B chi.
     tension_weft, bending_weft : Law or float, optional
         Weft laws; None means the same as warp.
+    ply_count : int, optional
+        The number of plies (or sheets) of the stack this fabric describes, where it has one
+        (the presets say): the default of ``fibreshell compare --kinematics plies``. None: not
+        stated.
 
     To change some laws of a fabric use ``fabric.replace(...)``, not ``dataclasses.replace``:
     the latter keeps the old weft laws when the warp laws change.
@@ -71,6 +75,7 @@ class Fabric:
     bending: Law
     tension_weft: Law
     bending_weft: Law
+    ply_count: int | None
 
     def __init__(
         self,
@@ -81,6 +86,7 @@ class Fabric:
         bending: Law | float,
         tension_weft: Law | float | None = None,
         bending_weft: Law | float | None = None,
+        ply_count: int | None = None,
     ) -> None:
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "Fabric thickness", "mm"))
@@ -100,6 +106,13 @@ class Fabric:
             if tension_weft is None
             else _law(tension_weft, TensionLaw, "Fabric tension_weft", "N/mm"),
         )
+        if ply_count is not None and (
+            isinstance(ply_count, bool)
+            or not isinstance(ply_count, (int, np.integer))
+            or ply_count < 1
+        ):
+            raise ValueError(f"Fabric ply_count must be an integer >= 1 or None, got {ply_count!r}")
+        set_(self, "ply_count", None if ply_count is None else int(ply_count))
         set_(
             self,
             "bending_weft",
@@ -182,6 +195,12 @@ class Fabric:
             bending=self.bending.scaled(factor),
             tension_weft=weft_tension,
             bending_weft=weft_bending,
+            # each of the count plies holds ply_count / count of the stack's plies
+            ply_count=(
+                self.ply_count // count
+                if self.ply_count is not None and self.ply_count % count == 0
+                else None
+            ),
         )
 
     @property

@@ -77,6 +77,7 @@ def g986_stack(plies: int = 20) -> Fabric:
         tension=1200.0,
         shear=ShearLaw.linear(plies * SHEAR_PER_PLY),
         bending=_table1_bending(),
+        ply_count=plies,
     )
 
 
@@ -117,6 +118,7 @@ def g1151_laminate() -> Fabric:
         shear=ShearLaw.linear(plies * SHEAR_PER_PLY),
         bending=BendingLaw.linear(72.0),
         bending_weft=BendingLaw.linear(68.0),
+        ply_count=plies,
     )
 
 
@@ -155,6 +157,7 @@ def paper_stack(sheets: int = 130) -> Fabric:
         tension=2300.0,
         shear=ShearLaw.linear(1000.0),
         bending=BendingLaw.linear(50.0 * sheets / 130),
+        ply_count=sheets,
     )
 
 
