@@ -121,6 +121,26 @@ def test_run_options_are_checked():
         apply_overrides(cantilever(), {"kinematics": "kirchhoff"})
     with pytest.raises(ValueError, match="shear_ratio: expected a positive number"):
         apply_overrides(cantilever(), {"shear_ratio": -1})
+    with pytest.raises(ValueError, match="calibration: expected one of laws, initial-slope"):
+        apply_overrides(cantilever(), {"calibration": "abaqus"})
+    _, options = apply_overrides(
+        cantilever(), {"calibration": "laws", "bending_scale": 2.0, "transverse_shear": 5.0}
+    )
+    assert options == {"calibration": "laws", "bending_scale": 2.0, "transverse_shear": 5.0}
+
+
+def test_a_swept_bending_scale_scales_the_mindlin_section(tmp_path):
+    # The run options of the laws calibration reach the Mindlin shell: twice the bending law
+    # halves a small-deflection cantilever's sag (q L^4 / (8 B), to the transverse shear's
+    # q L^2 / (2 S) share, 3e-6 of it here).
+    from fibreshell.sweep import run_variant
+
+    rows = [
+        run_variant(cantilever(), "c.toml", {"kinematics": "mindlin", "bending_scale": f}, None)[0]
+        for f in (1.0, 2.0)
+    ]
+    ratio = rows[0]["displacement_right_z"] / rows[1]["displacement_right_z"]
+    assert ratio == pytest.approx(2.0, rel=1e-4)
 
 
 # ------------------------------------------------------------------ a sweep on Dask
