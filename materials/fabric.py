@@ -11,6 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from femcore.checks import check_positive, warn_implausible
 from materials.laws import BendingLaw, Law, ShearLaw, TensionLaw
 
@@ -135,6 +137,52 @@ class Fabric:
                 fields[weft] = None  # follows the new warp law
         fields.update(changes)
         return Fabric(**fields)
+
+    def plies(self, count: int) -> Fabric:
+        """The fabric of ONE ply when this stack is split into ``count`` equal plies.
+
+        Thickness h / count, areal density rho_A / count, and every law (tension,
+        tension_weft, shear, bending, bending_weft) scaled by 1 / count (``Law.scaled``): the
+        plies of one stack share its stiffnesses and its mass equally, so that ``count``
+        plies that bend together (stuck) carry the stack's tension and in-plane shear, and
+        frictionless plies each carry 1/count of the bending (docs/theory.md, "The stack as
+        plies"). A weft law that was the warp law stays the (scaled) warp law.
+
+        Parameters
+        ----------
+        count : int
+            N >= 1, the number of plies (``count = 1``: this fabric, equal in every field).
+
+        Returns
+        -------
+        Fabric
+            The ply's fabric: mm, t/mm^2, N/mm, N mm as this one.
+
+        Raises
+        ------
+        ValueError
+            ``count`` not an integer >= 1 (a bool, a float, 0 or negative).
+        """
+        if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+            raise ValueError(f"Fabric.plies: count must be an integer >= 1, got {count!r}")
+        factor = 1.0 / int(count)
+        if count == 1:
+            return self
+        weft_tension = (
+            None if self.tension_weft is self.tension else self.tension_weft.scaled(factor)
+        )
+        weft_bending = (
+            None if self.bending_weft is self.bending else self.bending_weft.scaled(factor)
+        )
+        return Fabric(
+            thickness=self.thickness * factor,
+            areal_density=self.areal_density * factor,
+            tension=self.tension.scaled(factor),
+            shear=self.shear.scaled(factor),
+            bending=self.bending.scaled(factor),
+            tension_weft=weft_tension,
+            bending_weft=weft_bending,
+        )
 
     @property
     def density(self) -> float:

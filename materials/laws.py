@@ -191,6 +191,42 @@ class Law:
         kx, ky = self._knots()
         return float(np.max(np.diff(ky) / np.diff(kx)))
 
+    def scaled(self, factor: float) -> Law:
+        """The law whose values, slopes and energies are ``factor`` times this one's.
+
+        One ply of a stack of N equal plies carries 1/N of the stack's tension, shear and
+        bending (``Fabric.plies``): its laws are the stack's scaled by 1/N.
+
+        Parameters
+        ----------
+        factor : float
+            The scale, > 0 (dimensionless).
+
+        Returns
+        -------
+        Law
+            Same family, same abscissae and same tension-only flag; the polynomial
+            coefficients or the tabulated values times ``factor``.
+
+        Raises
+        ------
+        ValueError
+            A factor that is not a finite number > 0.
+        """
+        if isinstance(factor, bool):
+            raise ValueError(f"Law.scaled: factor must be a number > 0, got {factor!r}")
+        scale = _finite(factor, "Law.scaled: factor")
+        if scale <= 0.0:
+            raise ValueError(f"Law.scaled: factor must be > 0, got {factor!r}")
+        description = f"{scale:g} x {self.description}"
+        if self.odd_coefficients is not None:
+            coefficients = tuple(scale * c for c in self.odd_coefficients)
+            return Law(self.family, description, coefficients, compression=self.compression)
+        kx, ky = self._knots()
+        return Law(
+            self.family, description, knots=(kx.copy(), scale * ky), compression=self.compression
+        )
+
     def _knots(self) -> tuple[np.ndarray, np.ndarray]:
         if self.knots is None:
             raise ValueError(f"{self.description} has neither coefficients nor knots")
