@@ -213,7 +213,7 @@ class Law:
         ValueError
             A factor that is not a finite number > 0.
         """
-        if isinstance(factor, bool):
+        if isinstance(factor, bool) or not isinstance(factor, (int, float, np.number)):
             raise ValueError(f"Law.scaled: factor must be a number > 0, got {factor!r}")
         scale = _finite(factor, "Law.scaled: factor")
         if scale <= 0.0:
