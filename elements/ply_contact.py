@@ -27,7 +27,9 @@ Search, refreshed at every call. A cKDTree over the current centroids of the off
 triangles gives each node ``candidates`` triangles; over them (vectorised, no loop over nodes)
 the barycentric projection of p and the approximate distance to the triangle sqrt(g^2 +
 (o sqrt(2 A))^2), o = max(0, -min lambda) the projection's overshoot past the triangle's edges;
-the nearest triangle is the facing one. A node touches when g < 0 and its overshoot is at most
+the facing triangle is, among those that hold the projection, the one p penetrates most
+(over a concave fold two do), and when none holds it (over a convex fold, or past the
+ply's edge) the nearest. A node touches when g < 0 and its overshoot is at most
 ``MARGIN`` (the plane of the last triangle carries a node that overhangs the lower ply's
 free edge by up to half a cell; further out it is off the ply). Rebuilding the tree costs
 O(m log m) per call, small against the shells' forces at the sizes of a ply stack (measured
@@ -64,6 +66,9 @@ __all__ = ["MARGIN", "PENALTY_SHARE", "Facing", "PlyContact", "PlyContactBlock"]
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
 #: How far past a triangle's edges (in barycentric units) its plane still carries a node.
 MARGIN = 0.5
+#: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
+#: a node right above a vertex or an edge).
+INSIDE = 1e-9
 #: Triangles examined per node (the nearest centroids).
 CANDIDATES = 6
 
@@ -216,7 +221,8 @@ class Facing:
     gradients : (s, 3, 3) float
         In-plane gradients of the triangle's barycentric functions, 1/mm (row k: grad phi_k).
     touching : (s,) bool
-        g < 0 and the projection within ``MARGIN`` of the triangle.
+        g <= 0 (up to 1e-9 of the mesh's size: plies laid on each other touch) and the
+        projection within ``MARGIN`` of the triangle.
     face : (s, 3) float
         The face points p = x - a d, mm.
     """
@@ -278,6 +284,11 @@ class PlyContactBlock(InteractionBlock):
         near = self._candidates(reference)[1][:, : min(3, self.candidates)]
         self.connectivity = np.column_stack([upper, cells[near].reshape(len(upper), -1)])
         self.lower_nodes = np.unique(cells)
+        # Plies laid on each other touch (g = 0 up to the rounding of the offsets): they
+        # count as touching, so that Newton has the contact's stiffness from its first
+        # iteration (the force, k min(g, 0), is still zero there).
+        size = float(np.ptp(body.mesh.points, axis=0).max(initial=0.0)) or 1.0
+        self.tolerance = 1e-9 * size
 
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
         if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
@@ -310,10 +321,18 @@ class PlyContactBlock(InteractionBlock):
         weights[..., 2] = 1.0 - weights[..., 0] - weights[..., 1]
         overshoot = np.maximum(0.0, -weights.min(axis=-1))
         distance = np.hypot(gap, overshoot * np.sqrt(area2))
-        best = np.argmin(distance, axis=1)
+        # Over a concave fold two triangles hold the projection: the deeper penetration
+        # counts (W = k/2 max(p_A, p_B)^2 is convex in the pair, a kink Newton crosses);
+        # over a convex one none holds it: the nearest triangle.
+        inside = overshoot <= INSIDE
+        best = np.where(
+            inside.any(axis=1),
+            np.argmin(np.where(inside, gap, np.inf), axis=1),
+            np.argmin(distance, axis=1),
+        )
         rows = np.arange(len(p))
         chosen_gap = gap[rows, best]
-        touching = (chosen_gap < 0.0) & (overshoot[rows, best] <= MARGIN)
+        touching = (chosen_gap <= self.tolerance) & (overshoot[rows, best] <= MARGIN)
         return Facing(
             triangle=near[rows, best],
             gap=chosen_gap,
@@ -330,7 +349,7 @@ class PlyContactBlock(InteractionBlock):
         (t, 4, 3) N and moments (t, 4, 3) N mm, dW/dx and dW/dpsi."""
         on = np.flatnonzero(facing.touching)
         k = self.stiffness[on]
-        g, n, lam = facing.gap[on], facing.normal[on], facing.weights[on]
+        g, n, lam = np.minimum(facing.gap[on], 0.0), facing.normal[on], facing.weights[on]
         tri = facing.triangle[on]
         nodes = np.column_stack([self.upper[on], self.cells[tri]])
         on_face = (k * g)[:, None] * n  # dW/dp
@@ -355,7 +374,7 @@ class PlyContactBlock(InteractionBlock):
     def strain_energy(self, state: State, history: Any = None) -> float:
         """sum k g^2 / 2 over the touching nodes, N mm."""
         facing = self.facing(state)
-        g = np.where(facing.touching, facing.gap, 0.0)
+        g = np.where(facing.touching, np.minimum(facing.gap, 0.0), 0.0)
         return float(0.5 * np.sum(self.stiffness * g**2))
 
     def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
@@ -373,7 +392,7 @@ class PlyContactBlock(InteractionBlock):
         nodes, forces, _, on, offset = self._pair_loads(state, facing)
         t = len(on)
         k = self.stiffness[on][:, None, None, None, None]
-        g = facing.gap[on]
+        g = np.minimum(facing.gap[on], 0.0)
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
         hessian = np.zeros((t, 4, 3, 4, 3))
@@ -428,5 +447,5 @@ class PlyContactBlock(InteractionBlock):
         gap = np.full(self.n_nodes, np.nan)
         gap[self.upper] = np.where(overshoot <= MARGIN, facing.gap, np.nan)
         force = np.zeros(self.n_nodes)
-        force[self.upper] = np.where(facing.touching, -self.stiffness * facing.gap, 0.0)
+        force[self.upper] = -self.stiffness * np.where(facing.touching, np.minimum(facing.gap, 0.0), 0.0)
         return {"ply_gap": gap, "ply_contact_force": force}
