@@ -178,7 +178,9 @@ class PlyStack:
             raise ValueError(f"PlyStack needs a materials.Fabric, got {fabric!r}")
         self.ply_fabric = fabric.plies(count)  # validates count
         if element is not None and not callable(element):
-            raise ValueError(f"element must be a callable ply_fabric -> ElementType, got {element!r}")
+            raise ValueError(
+                f"element must be a callable ply_fabric -> ElementType, got {element!r}"
+            )
         if penalty is not None and not (
             isinstance(penalty, (int, float)) and np.isfinite(penalty) and penalty > 0
         ):
@@ -198,8 +200,7 @@ class PlyStack:
         triangles = (mesh.triangles[None] + (np.arange(count) * n)[:, None, None]).reshape(-1, 3)
         node_sets = {name: self.ply_nodes[:, ids].ravel() for name, ids in mesh.node_sets.items()}
         cell_sets = {
-            name: self.ply_cells[:, ids].ravel()
-            for name, ids in mesh.cell_sets("triangle").items()
+            name: self.ply_cells[:, ids].ravel() for name, ids in mesh.cell_sets("triangle").items()
         }
         for k in range(count):
             node_sets[f"ply_{k + 1}"] = self.ply_nodes[k]
@@ -248,9 +249,7 @@ class PlyStack:
             model.add(self.element(self.ply_fabric), cells=f"ply_{k + 1}")
         half = 0.5 * self.ply_thickness
         for k in range(1, self.count):
-            model.interact(
-                PlyContact(f"ply_{k + 1}", f"ply_{k}", half, half, penalty=self.penalty)
-            )
+            model.interact(PlyContact(f"ply_{k + 1}", f"ply_{k}", half, half, penalty=self.penalty))
         return model
 
     def material_lines(self, positions: np.ndarray, directors: np.ndarray) -> MaterialLines:

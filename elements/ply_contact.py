@@ -447,5 +447,7 @@ class PlyContactBlock(InteractionBlock):
         gap = np.full(self.n_nodes, np.nan)
         gap[self.upper] = np.where(overshoot <= MARGIN, facing.gap, np.nan)
         force = np.zeros(self.n_nodes)
-        force[self.upper] = -self.stiffness * np.where(facing.touching, np.minimum(facing.gap, 0.0), 0.0)
+        force[self.upper] = -self.stiffness * np.where(
+            facing.touching, np.minimum(facing.gap, 0.0), 0.0
+        )
         return {"ply_gap": gap, "ply_contact_force": force}
