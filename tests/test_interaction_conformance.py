@@ -234,3 +234,67 @@ def test_the_kit_names_a_history_mutated_in_place():
     block, state, history = floor(block_type=Forgetful)
     with pytest.raises(AssertionError, match="Forgetful.update_history changed the history"):
         check_energy(block, state, history)
+
+
+# ---------------------------------------------------------------------- ply on ply
+# elements/ply_contact.py: a 3 x 3-cell upper ply (3 x 3 mm) over a 2 x 2-cell lower ply
+# (4 x 4 mm), both jittered by 0.1 mm, 0.5 mm apart, half thicknesses 0.25 mm (the faces
+# touch in the mean), directors tilted by ~0.15 rad: about half the upper nodes penetrate.
+# The contact acts on the directors too (offset faces): the kit checks the moments.
+def plies(turn: np.ndarray = UNTURNED, seed: int = 1):
+    """(block, state, None) of PlyContact between the two jittered plies, turned."""
+    from elements.ply_contact import PlyContact
+
+    rng = np.random.default_rng(seed)
+    lower, upper = Mesh.rectangle(4.0, 4.0, nx=2, ny=2), Mesh.rectangle(3.0, 3.0, nx=3, ny=3)
+    low = lower.points - [2.0, 2.0, 0.0] + rng.normal(scale=0.1, size=lower.points.shape)
+    up = upper.points - [1.5, 1.5, -0.5] + rng.normal(scale=0.1, size=upper.points.shape)
+    points = np.vstack([low, up])
+    n = len(points)
+    mesh = Mesh(
+        points @ turn.T,
+        triangles=np.vstack([lower.triangles, upper.triangles + len(low)]),
+        node_sets={"upper": np.arange(len(low), n)},
+        element_sets={"lower": np.arange(len(lower.triangles))},
+    )
+    directors = [0.0, 0.0, 1.0] + rng.normal(scale=0.15, size=(n, 3))
+    directors = (directors / np.linalg.norm(directors, axis=1)[:, None]) @ turn.T
+    active = np.zeros((n, 6), dtype=bool)
+    active[:, :5] = True
+    block = PlyContact("upper", "lower", 0.25, 0.25, penalty=PENALTY).bind(
+        Body(mesh, (), directors, active)
+    )
+    zero = np.zeros((n, 3))
+    return block, State(mesh.points.copy(), directors.copy(), zero, zero.copy()), None
+
+
+def test_ply_contact_conforms():
+    block, state, history = plies()
+    facing = block.facing(state)
+    assert facing.touching.sum() >= 4 and (~facing.touching).sum() >= 4
+    check_interaction(block, state, history)  # gradient (forces and moments), tangent, energy
+    check_objectivity(plies, TURN)
+
+
+def test_ply_contact_pushes_a_node_at_penetration_p_by_k_p_along_the_face_normal():
+    """The kit's node-to-tool check on the upper nodes: each face point moved along the
+    facing triangle's normal to penetration p gets k p along that normal, nothing across
+    (the lower ply takes the opposite, by lambda: the sums balance)."""
+    block, state, _ = plies()
+    facing = block.facing(state)
+    upper = block.upper
+
+    class UpperNodes:  # the upper nodes seen as a node-to-tool block
+        connectivity = upper[:, None]
+        n_tools = 0
+        stiffness = block.stiffness
+        internal_force = staticmethod(block.internal_force)
+
+    def place(p: float) -> State:
+        positions = state.positions.copy()
+        positions[upper] += (-p - facing.gap)[:, None] * facing.normal
+        return State(positions, state.directors, state.velocities, state.angular_velocities)
+
+    check_normal_force(UpperNodes(), place, normal=lambda s: block.facing(s).normal)
+    force, _ = block.internal_force(place(0.01))
+    assert np.abs(force.sum(axis=0)).max() <= 1e-12 * PENALTY
