@@ -9,12 +9,13 @@ facing faces (elements/ply_contact.py). Nothing ties the plies but that contact,
 on each other freely: the material line through the points of the plies that started on one
 normal tilts as the stack bends, which is what the fibrous shell's directors stand for.
 
-The ply element is a factory argument. The default is a Reissner-Mindlin shell
-(elements/mindlin.py) with the ply's laws' initial slopes (``ply_section``): until the
-Mindlin shell takes a Fabric (a section made of its laws), a homogeneous elastic section
-cannot carry both the fibres' tension T and the ply's bending B at the ply's thickness, so
-the section's own thickness is h_s = sqrt(12 B / T), E = T / h_s (then E h_s = T and
-E h_s^3 / 12 = B); the ply's geometric thickness h/N places the plies and their contact faces.
+The ply element is a factory argument. The default is ``MindlinShell(ply_fabric)``, a
+Reissner-Mindlin shell whose section is the ply's own laws (docs/theory.md §5.7): each ply is
+a card whose normals stay normal. ``ply_section`` is the homogeneous elastic alternative from
+the laws' initial slopes: a homogeneous section cannot carry both the fibres' tension T and the
+ply's bending B at the ply's thickness, so its own thickness is h_s = sqrt(12 B / T), E = T /
+h_s (then E h_s = T and E h_s^3 / 12 = B); the ply's geometric thickness h/N places the plies
+and their contact faces.
 
 Units mm, N, t, s.
 """
@@ -86,8 +87,10 @@ def ply_section(ply: Fabric, shear_ratio: float = 0.5) -> ElasticShell:
 
 
 def mindlin_ply(ply: Fabric) -> ElementType:
-    """The default ply element: ``MindlinShell(ply_section(ply))``."""
-    return MindlinShell(ply_section(ply))
+    """The default ply element: ``MindlinShell(ply)``, the Mindlin shell whose section is the
+    ply's own laws (docs/theory.md §5.7): fibre tension, shear and bending as the stack's
+    shared out, non-linear laws as given."""
+    return MindlinShell(ply)
 
 
 @dataclass(frozen=True)
@@ -136,7 +139,7 @@ class PlyStack:
         N >= 1, the number of plies.
     element : callable, optional
         ``element(ply_fabric) -> ElementType`` building one ply's shell (called once per
-        ply); default ``MindlinShell(ply_section(ply_fabric))``.
+        ply); default ``MindlinShell(ply_fabric)``.
     penalty : float, optional
         The ply contact's penalty, N/mm per node (None: the automatic one of
         elements/ply_contact.py).
