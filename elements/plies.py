@@ -143,6 +143,11 @@ class PlyStack:
     penalty : float, optional
         The ply contact's penalty, N/mm per node (None: the automatic one of
         elements/ply_contact.py).
+    rule : str
+        The contact points of each upper triangle (``elements.ply_contact.RULES``).
+    smoothing : float, optional
+        The penetration over which the contact penalty stiffens, mm (None: the default, 1e-3
+        of the ply thickness; 0: the one-sided penalty).
 
     Attributes
     ----------
@@ -164,7 +169,7 @@ class PlyStack:
     ------
     ValueError
         Not a Mesh with triangles, not a Fabric, a bad count, an element factory that is
-        not callable, a bad penalty.
+        not callable, a bad penalty, rule or smoothing.
     """
 
     def __init__(
@@ -174,6 +179,8 @@ class PlyStack:
         count: int,
         element: Callable[[Fabric], ElementType] | None = None,
         penalty: float | None = None,
+        rule: str = "centroid",
+        smoothing: float | None = None,
     ):
         if not isinstance(mesh, Mesh) or len(mesh.triangles) == 0:
             raise ValueError(f"PlyStack needs a triangle Mesh (the mid-surface), got {mesh!r}")
@@ -193,6 +200,9 @@ class PlyStack:
         self.count = int(count)
         self.element = mindlin_ply if element is None else element
         self.penalty = penalty
+        # validated here, at the API boundary, rather than when the model is built
+        PlyContact("ply_2", "ply_1", penalty=penalty, rule=rule, smoothing=smoothing)
+        self.rule, self.smoothing = rule, smoothing
         h = fabric.thickness
         self.offsets = -h / 2.0 + (np.arange(1, count + 1) - 0.5) * h / count
         n, m = mesh.n_nodes, len(mesh.triangles)
@@ -244,15 +254,25 @@ class PlyStack:
     def model(self) -> Model:
         """A Model of the stack: one element block per ply (``element(ply_fabric)`` on the
         triangle set "ply_k", block k - 1) and a PlyContact between each pair of
-        neighbouring plies (ply k + 1's nodes on ply k's triangles, the faces h / (2N)
-        from the mid-surfaces), interactions 0..N-2. Supports, loads and gravity are the
+        neighbouring plies (points of ply k + 1's triangles on ply k's triangles, the faces
+        h / (2N) from the mid-surfaces), interactions 0..N-2. Supports, loads and gravity are the
         caller's (``stack.nodes`` maps mid-surface selections to every ply)."""
         model = Model(self.mesh)
         for k in range(self.count):
             model.add(self.element(self.ply_fabric), cells=f"ply_{k + 1}")
         half = 0.5 * self.ply_thickness
         for k in range(1, self.count):
-            model.interact(PlyContact(f"ply_{k + 1}", f"ply_{k}", half, half, penalty=self.penalty))
+            model.interact(
+                PlyContact(
+                    f"ply_{k + 1}",
+                    f"ply_{k}",
+                    half,
+                    half,
+                    penalty=self.penalty,
+                    rule=self.rule,
+                    smoothing=self.smoothing,
+                )
+            )
         return model
 
     def material_lines(self, positions: np.ndarray, directors: np.ndarray) -> MaterialLines:

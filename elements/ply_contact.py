@@ -1,52 +1,81 @@
 """Frictionless penalty contact between two deformable shells: the lower face of an upper ply
-against the upper face of a lower ply (the stack as plies, docs/theory.md "The stack as
-plies"); an interaction (femcore.interaction) of a node set with a set of triangles.
+against the upper face of a lower ply (the stack as plies, docs/theory.md §9.3a); an
+interaction (femcore.interaction) of points inside the upper ply's triangles with the lower
+ply's triangles.
 
-Surfaces. The upper ply's lower face at a node is p = x - a d (x the node, d its unit director,
-a the upper ply's half thickness, mm). The lower ply's upper face over a triangle is the flat
-triangle through its corners' offset points y_k = x_k + b d_k (b the lower ply's half
-thickness). Offsetting the lower face along the nodes' directors (not along the triangle's
-normal) is the shell's own map: a Reissner-Mindlin or fibrous triangle places its top face at
-x = sum N_k (x_k + h/2 V_k) (Bai Eq. 5), which is exactly that flat triangle, so the contact
-face is the element's face, continuous from one triangle to the next (a facet-normal offset
-would open and close cracks of h/2 times the angle between facets at every edge), and the
-two faces are built the same way. The price is that the contact acts on the directors of both
-plies (moments a F x d), which the tangent below carries.
+Surfaces. The upper ply's lower face is the flat triangle through its corners' offset points
+x_j - a_j d_j (x the node, d its unit director, a the upper ply's half thickness, mm); the
+lower ply's upper face over a triangle the flat triangle through y_k = x_k + b_k d_k (b the
+lower ply's half thickness). Offsetting along the nodes' directors (not along a triangle's
+normal) is the shell's own map: a Reissner-Mindlin or fibrous triangle places its faces at
+x = sum N_k (x_k +- h/2 V_k) (Bai Eq. 5), so the contact faces are the elements' faces,
+continuous from one triangle to the next (a facet-normal offset would open and close cracks of
+h/2 times the angle between facets at every edge). The price is that the contact acts on the
+directors of both plies (moments c d x F), which the tangent below carries.
 
-Gap and energy. Each upper node faces the triangle of the lower face nearest to it (below);
-its gap is the signed distance of p to that triangle's plane, g = (p - y_1) . n, n the unit
-normal of the offset triangle (towards the upper ply: the lower ply's triangles must be
-counter-clockwise about the direction from the lower ply to the upper). The energy is
-W = k/2 g^2 for g < 0 (penetration), 0 otherwise, so the force is its exact gradient: on p,
-dW/dp = k g n; on the corners, dW/dy_k = -k g lambda_k n, lambda the barycentric coordinates
-of the projection of p (the surface point held by them: the derivative of the distance to the
-plane brings no other term, see ``PlyContactBlock.tangent``); through the offsets the moments
-dW/dpsi = a (dW/dp) x d at the upper node and b d_k x (dW/dy_k) at the corners.
+Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
+triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's
+barycentric coordinates (``RULES``: the centroid, three interior Gauss points, or the three
+corners, which is node-to-surface contact), and its force on p goes back to the upper
+triangle's corners by N_j. Why not at the nodes: plies are meshed alike, so every upper node
+sits right above a vertex of the lower ply, where the facing triangle (and with it the normal)
+switches between the facets around the vertex: a kink of the energy at the equilibrium itself,
+on which Newton stalled (the 4-ply sag of tests/test_plies.py: no convergence in 8 cuts of 50
+iterations). A centroid sits above the middle of the facing triangle, a third of a cell from
+its edges, and stays there until the plies slide by that much.
+
+Gap and energy. Each point faces the triangle of the lower face found below; its gap is the
+signed distance of p to that triangle's plane, g = (p - y_1) . n, n the unit normal of the
+offset triangle (towards the upper ply: the lower ply's triangles must be counter-clockwise
+about the direction from the lower ply to the upper). The energy of a point is a one-sided
+penalty whose stiffness ramps up over a penetration of ``smoothing`` delta (mm):
+
+    W'' = k for g <= -delta,   k (-g / delta) for -delta < g < 0,   0 for g >= 0,
+
+so W' = k (g + delta/2) and W = k/2 (g + delta/2)^2 + k delta^2 / 24 in penetration past
+delta, W' = -k g^2 / (2 delta) and W = -k g^3 / (6 delta) on the ramp, nothing apart: W is
+C2, the contact force and its stiffness are continuous at contact. Why: frictionless plies
+that sag together carry almost no contact force, so the equilibrium sits at g ~ 0, where the
+second derivative of the plain k/2 min(g, 0)^2 jumps from k to 0 and Newton's tangent switches
+the contact on and off from one iteration to the next. Why not a softplus s(g) in k/2 s^2
+(smooth on both sides): it pushes plies that merely touch apart by k delta log(2) / 2, and the
+automatic penalty of a ply stack is so stiff against its weight (the 2-ply sag of
+tests/test_plies.py: 0.96 N at delta = 1e-3 h/N against 2.5e-3 N of gravity per ply) that the
+plies came apart by 170 delta. The price of the ramp: a pressed contact penetrates delta / 2
+further than the plain penalty at the same force (F = k (|g| - delta / 2)). ``smoothing=0``
+is the plain k/2 min(g, 0)^2. A point counts as touching when g < 0 (g <= 1e-9 of the mesh
+size without smoothing: plies laid on each other then have the contact's stiffness from the
+first iteration) and its projection is within ``MARGIN`` of the triangle.
+
+The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;
+on the lower corners, dW/dy_k = -W' lambda_k n, lambda the barycentric coordinates of the
+projection of p (the surface point held by them: the derivative of the distance to the plane
+brings no other term, see ``PlyContactBlock.tangent``); through the offsets the moments
+-a_j d_j x (N_j W' n) at the upper corners and b_k d_k x (dW/dy_k) at the lower ones.
 
 Search, refreshed at every call. A cKDTree over the current centroids of the offset
-triangles gives each node ``candidates`` triangles; over them (vectorised, no loop over nodes)
-the barycentric projection of p and the approximate distance to the triangle sqrt(g^2 +
-(o sqrt(2 A))^2), o = max(0, -min lambda) the projection's overshoot past the triangle's edges;
-the facing triangle is, among those that hold the projection, the one p penetrates most
-(over a concave fold two do), and when none holds it (over a convex fold, or past the
-ply's edge) the nearest. A node touches when g < 0 and its overshoot is at most
-``MARGIN`` (the plane of the last triangle carries a node that overhangs the lower ply's
-free edge by up to half a cell; further out it is off the ply). Rebuilding the tree costs
-O(m log m) per call, small against the shells' forces at the sizes of a ply stack (measured
-in benchmarks/plies.py), and no cache needs a proof that it is still valid. Within a region
-where the facing triangle does not change the energy is smooth (quadratic in g); where a
-node passes from one triangle to the next the plane changes, and the energy jumps by
-k g^2 (1 - cos phi) / 2 at most, phi the angle between the two facets (second order in
-the small penetration).
+triangles gives each point ``candidates`` triangles; over them (vectorised, no loop over
+points) the barycentric projection of p and the approximate distance to the triangle
+sqrt(g^2 + (o sqrt(2 A))^2), o = max(0, -min lambda) the projection's overshoot past the
+triangle's edges; the facing triangle is, among those that hold the projection, the one p
+penetrates most (over a concave fold two do), and when none holds it (over a convex fold, or
+past the ply's edge) the nearest. Rebuilding the tree costs O(m log m) per call, small against
+the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and no cache
+needs a proof that it is still valid. Within a region where the facing triangle does not
+change the energy is smooth; where a point passes from one triangle to the next the plane
+changes and the energy jumps by O(k g^2 phi^2), phi the angle between the two facets.
 
 Penalty: given (N/mm per upper node), or chosen when the model is compiled (``calibrate``):
-k_i = ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the upper node's lumped mass and dt the model's
-critical step without the contact, as elements/contact.py. ``springs`` reports 2 k at the upper
-nodes and at the lower ones (a spring between a node and a triangle adds at most k (1 / m_u +
-sum lambda_k^2 / m_k) to omega^2, which springs of 2 k to the ground at both bound when the
-plies are meshed alike), so the explicit step takes the penalty in. Frictionless only: a
-Coulomb friction between plies (anchors on the lower face carried by barycentric coordinates)
-is not implemented.
+k_j = ``PENALTY_SHARE`` m_j (2 / dt)^2, m_j the upper node's lumped mass and dt the model's
+critical step without the contact, as elements/contact.py. A point gets the nodes' penalties in
+proportion to the area it stands for: k_p = w_p A_T sum_j N_j(p) k_j / A_j (w_p the rule's
+weight, A_T the reference area of its triangle, A_j the lumped area of node j, sum A_T / 3 over
+its triangles), so that the corner rule gives each node its k_j back and a uniform penalty on a
+uniform mesh adds up to the same total whatever the rule. ``springs`` reports at each upper
+node 2 sum_p N_j k_p and at the lower ones 2 max(that) (times the ratio of upper to lower nodes
+when above 1), so the explicit step takes the penalty in. Frictionless only: a Coulomb
+friction between plies (anchors on the lower face carried by barycentric coordinates) is not
+implemented.
 """
 
 from __future__ import annotations
@@ -61,16 +90,37 @@ from femcore.assembly import CellTangent
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.state import State
 
-__all__ = ["MARGIN", "PENALTY_SHARE", "Facing", "PlyContact", "PlyContactBlock"]
+__all__ = [
+    "MARGIN",
+    "PENALTY_SHARE",
+    "RULES",
+    "SMOOTHING",
+    "Facing",
+    "PlyContact",
+    "PlyContactBlock",
+]
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
-#: How far past a triangle's edges (in barycentric units) its plane still carries a node.
+#: How far past a triangle's edges (in barycentric units) its plane still carries a point.
 MARGIN = 0.5
 #: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
-#: a node right above a vertex or an edge).
+#: a point right above a vertex or an edge).
 INSIDE = 1e-9
-#: Triangles examined per node (the nearest centroids).
+#: Triangles examined per point (the nearest centroids).
 CANDIDATES = 6
+#: The default smoothing width delta as a share of the two faces' half thicknesses a + b
+#: (the ply thickness for plies alike): see docs/theory.md §9.3a for the measurements.
+SMOOTHING = 1e-3
+#: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
+#: (Q,) summing to 1).
+RULES = {
+    "centroid": (np.full((1, 3), 1.0 / 3.0), np.ones(1)),
+    "gauss": (
+        np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]),
+        np.full(3, 1.0 / 3.0),
+    ),
+    "vertices": (np.eye(3), np.full(3, 1.0 / 3.0)),
+}
 
 
 def _cross_matrix(v: np.ndarray) -> np.ndarray:
@@ -82,14 +132,46 @@ def _cross_matrix(v: np.ndarray) -> np.ndarray:
     return out
 
 
-class PlyContact(Interaction):
-    """Frictionless penalty contact of the upper ply's lower face with the lower ply's upper
-    face (module docstring).
+def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
+    """The energy W of one contact point and its first two derivatives in the gap.
 
     Parameters
     ----------
-    upper : str or (s,) int
-        The upper ply's nodes: a node-set name of the mesh or node ids.
+    gap : (t,) float
+        g, mm (< 0: penetration).
+    stiffness : (t,) float
+        k, N/mm.
+    smoothing : float
+        delta, mm: the penetration over which the stiffness ramps from 0 to k (module
+        docstring); 0: W = k/2 min(g, 0)^2.
+
+    Returns
+    -------
+    energy (t,) N mm, force (t,) N (dW/dg, <= 0), stiffness (t,) N/mm (d2W/dg2, >= 0).
+    """
+    g = np.minimum(gap, 0.0)
+    if smoothing == 0.0:
+        return 0.5 * stiffness * g**2, stiffness * g, np.where(gap <= 0.0, stiffness, 0.0)
+    delta = smoothing
+    deep = g <= -delta
+    energy = np.where(
+        deep, 0.5 * stiffness * (g + 0.5 * delta) ** 2 + stiffness * delta**2 / 24.0, 0.0
+    )
+    energy = np.where(deep, energy, -stiffness * g**3 / (6.0 * delta))
+    force = np.where(deep, stiffness * (g + 0.5 * delta), -stiffness * g**2 / (2.0 * delta))
+    curvature = np.where(deep, stiffness, -stiffness * g / delta)
+    return energy, force, curvature
+
+
+class PlyContact(Interaction):
+    """Frictionless penalty contact of the upper ply's lower face with the lower ply's upper
+    face at points inside the upper ply's triangles (module docstring).
+
+    Parameters
+    ----------
+    upper : str or (u,) int
+        The upper ply's triangles: a triangle cell-set name of the mesh, a node-set name (the
+        triangles with all three corners in it), or triangle ids.
     lower : str or (m,) int
         The lower ply's triangles: a triangle cell-set name of the mesh or triangle ids
         (counter-clockwise about the direction towards the upper ply).
@@ -98,17 +180,24 @@ class PlyContact(Interaction):
         from the mid-surfaces along the directors); None: half the thickness of the elements
         at the nodes (``Body.half_thickness``).
     penalty : float, optional
-        k, N/mm per upper node; None: chosen when the model is compiled (module docstring).
+        k, N/mm per upper node (shared out to the points by area, module docstring); None:
+        chosen when the model is compiled.
     candidates : int
-        Triangles examined per node by the search (the nearest centroids), >= 1.
+        Triangles examined per point by the search (the nearest centroids), >= 1.
+    rule : str
+        The contact points of each upper triangle, a key of ``RULES``: "centroid" (default),
+        "gauss" (three interior points) or "vertices" (node-to-surface).
+    smoothing : float, optional
+        delta, mm, the penetration over which the penalty's stiffness ramps up (0: the plain
+        k/2 min(g, 0)^2); None: ``SMOOTHING`` (a + b).
 
     Raises
     ------
     ValueError
-        Empty or non-integer selections, a negative or non-finite offset, a penalty that is
-        not a positive number, fewer than one candidate; at bind, unknown set names, ids out
-        of range, nodes of the upper set that are corners of the lower triangles, nodes
-        without directors.
+        Empty or non-integer selections, a negative or non-finite offset or smoothing, a
+        penalty that is not a positive number, fewer than one candidate, an unknown rule; at
+        bind, unknown set names, ids out of range, nodes of the upper triangles that are
+        corners of the lower triangles, nodes without directors.
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -121,15 +210,25 @@ class PlyContact(Interaction):
         lower_offset: float | None = None,
         penalty: float | None = None,
         candidates: int = CANDIDATES,
+        rule: str = "centroid",
+        smoothing: float | None = None,
     ):
-        self.upper = upper if isinstance(upper, str) else _ids(upper, "upper node")
+        self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
-        for name, value in (("upper_offset", upper_offset), ("lower_offset", lower_offset)):
+        for name, value in (
+            ("upper_offset", upper_offset),
+            ("lower_offset", lower_offset),
+            ("smoothing", smoothing),
+        ):
             if value is not None and not (
-                isinstance(value, (int, float)) and np.isfinite(value) and value >= 0
+                isinstance(value, (int, float))
+                and not isinstance(value, bool)
+                and np.isfinite(value)
+                and value >= 0
             ):
                 raise ValueError(f"{name} must be a finite number >= 0 (mm) or None, got {value!r}")
         self.upper_offset, self.lower_offset = upper_offset, lower_offset
+        self.smoothing = None if smoothing is None else float(smoothing)
         if penalty is not None and not (
             isinstance(penalty, (int, float)) and np.isfinite(penalty) and penalty > 0
         ):
@@ -140,21 +239,28 @@ class PlyContact(Interaction):
         if candidates < 1:
             raise ValueError(f"candidates must be an integer >= 1, got {candidates!r}")
         self.candidates = int(candidates)
+        if rule not in RULES:
+            raise ValueError(f"rule must be one of {sorted(RULES)}, got {rule!r}")
+        self.rule = rule
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
+        triangles = mesh.triangles
+        sets = mesh.cell_sets("triangle")
         if isinstance(self.upper, str):
-            if self.upper not in mesh.node_sets:
+            if self.upper in sets:
+                upper = np.asarray(sets[self.upper], dtype=np.int64)
+            elif self.upper in mesh.node_sets:
+                inside = np.isin(triangles, mesh.node_sets[self.upper]).all(axis=1)
+                upper = np.flatnonzero(inside)
+            else:
                 raise ValueError(
-                    f"PlyContact: no node set named {self.upper!r}: the mesh has "
-                    f"{sorted(mesh.node_sets) or 'none'}"
+                    f"PlyContact: no triangle or node set named {self.upper!r}: the mesh has "
+                    f"{sorted(set(sets) | set(mesh.node_sets)) or 'none'}"
                 )
-            upper = np.asarray(mesh.node_sets[self.upper], dtype=np.int64)
         else:
             upper = self.upper
-        triangles = mesh.triangles
         if isinstance(self.lower, str):
-            sets = mesh.cell_sets("triangle")
             if self.lower not in sets:
                 raise ValueError(
                     f"PlyContact: no triangle set named {self.lower!r}: the mesh has "
@@ -164,34 +270,33 @@ class PlyContact(Interaction):
         else:
             lower = self.lower
         if upper.size == 0 or lower.size == 0:
-            raise ValueError("PlyContact: the upper node set and the lower triangles must be given")
-        if upper.max() >= mesh.n_nodes:
-            raise ValueError(
-                f"PlyContact: upper node {int(upper.max())} out of range (mesh has "
-                f"{mesh.n_nodes} nodes)"
-            )
-        if lower.max() >= len(triangles):
-            raise ValueError(
-                f"PlyContact: lower triangle {int(lower.max())} out of range (mesh has "
-                f"{len(triangles)} triangles)"
-            )
-        cells = triangles[lower]
-        shared = np.intersect1d(upper, cells)
+            raise ValueError("PlyContact: the upper and the lower triangles must be given")
+        for name, ids in (("upper", upper), ("lower", lower)):
+            if ids.max() >= len(triangles):
+                raise ValueError(
+                    f"PlyContact: {name} triangle {int(ids.max())} out of range (mesh has "
+                    f"{len(triangles)} triangles)"
+                )
+        above, cells = triangles[upper], triangles[lower]
+        shared = np.intersect1d(above, cells)
         if shared.size:
             raise ValueError(
-                f"PlyContact: node {int(shared[0])} is both an upper node and a corner of a "
-                "lower triangle: the plies must be separate meshes"
+                f"PlyContact: node {int(shared[0])} is both a corner of an upper triangle and "
+                "of a lower triangle: the plies must be separate meshes"
             )
-        without = np.linalg.norm(body.directors[np.union1d(upper, cells)], axis=1) == 0.0
+        without = np.linalg.norm(body.directors[np.union1d(above, cells)], axis=1) == 0.0
         if without.any():
             raise ValueError(
                 "PlyContact acts on shells with directors: a node of the contact has none "
                 "(add the plies' shell elements before compiling)"
             )
         half = body.half_thickness()
-        a = half[upper] if self.upper_offset is None else np.full(upper.size, self.upper_offset)
+        a = half if self.upper_offset is None else np.full(mesh.n_nodes, self.upper_offset)
         b = half if self.lower_offset is None else np.full(mesh.n_nodes, self.lower_offset)
-        return PlyContactBlock(self, upper, cells, a, b, body)
+        smoothing = self.smoothing
+        if smoothing is None:
+            smoothing = SMOOTHING * float(np.mean(a[above]) + np.mean(b[cells]))
+        return PlyContactBlock(self, above, cells, a, b, smoothing, body)
 
 
 def _ids(given: Any, what: str) -> np.ndarray:
@@ -207,24 +312,24 @@ def _ids(given: Any, what: str) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Facing:
-    """Each upper node's facing triangle at a state (``PlyContactBlock.facing``).
+    """Each contact point's facing triangle at a state (``PlyContactBlock.facing``).
 
-    triangle : (s,) int
-        Row of the block's lower triangles facing each node.
-    gap : (s,) float
-        g, mm: signed distance of the node's face point from the facing offset triangle's
-        plane (< 0: penetration).
-    normal : (s, 3) float
+    triangle : (P,) int
+        Row of the block's lower triangles facing each point.
+    gap : (P,) float
+        g, mm: signed distance of the point from the facing offset triangle's plane (< 0:
+        penetration).
+    normal : (P, 3) float
         Unit normal n of the facing offset triangle (towards the upper ply).
-    weights : (s, 3) float
-        Barycentric coordinates lambda of the projection of the face point.
-    gradients : (s, 3, 3) float
+    weights : (P, 3) float
+        Barycentric coordinates lambda of the projection of the point.
+    gradients : (P, 3, 3) float
         In-plane gradients of the triangle's barycentric functions, 1/mm (row k: grad phi_k).
-    touching : (s,) bool
-        g <= 0 (up to 1e-9 of the mesh's size: plies laid on each other touch) and the
-        projection within ``MARGIN`` of the triangle.
-    face : (s, 3) float
-        The face points p = x - a d, mm.
+    touching : (P,) bool
+        g < 0 (g <= 1e-9 of the mesh's size with no smoothing) and the projection within
+        ``MARGIN`` of the triangle.
+    face : (P, 3) float
+        The contact points p = sum_j N_j (x_j - a_j d_j), mm.
     """
 
     triangle: np.ndarray
@@ -249,10 +354,24 @@ def _triangle_frames(corners: np.ndarray):
 
 
 class PlyContactBlock(InteractionBlock):
-    """The bound ply contact: one row of ``connectivity`` per upper node, the node then the
-    corners of the triangles it faces in the reference state and their neighbours (the node
-    graph of a finite-difference tangent while the plies have slid less than a cell; the
-    block's own ``tangent`` follows the sliding)."""
+    """The bound ply contact: one row of ``connectivity`` per contact point, the corners of
+    its upper triangle then the corners of the lower triangles it faces in the reference
+    state (the node graph of a finite-difference tangent while the plies have slid less than
+    a cell; the block's own ``tangent`` follows the sliding).
+
+    Attributes
+    ----------
+    above : (P, 3) int
+        Each point's upper triangle's corners.
+    shape : (P, 3) float
+        N_j of each point at those corners.
+    stiffness : (P,) float
+        k_p, N/mm (NaN until ``calibrate`` when the penalty is automatic).
+    node_stiffness : (s,) float
+        k_j of the upper nodes ``upper``, N/mm.
+    smoothing : float
+        delta, mm.
+    """
 
     dofs = PlyContact.dofs
     reach = 1
@@ -261,20 +380,35 @@ class PlyContactBlock(InteractionBlock):
     def __init__(
         self,
         contact: PlyContact,
-        upper: np.ndarray,
+        above: np.ndarray,
         cells: np.ndarray,
         upper_offset: np.ndarray,
         lower_offset: np.ndarray,
+        smoothing: float,
         body: Body,
     ):
-        self.upper = upper
+        coordinates, weights = RULES[contact.rule]
+        count = len(weights)
+        self.above = np.repeat(above, count, axis=0)  # (P, 3)
+        self.shape = np.tile(coordinates, (len(above), 1))  # (P, 3)
+        self.upper = np.unique(above)
         self.cells = cells
         self.n_nodes = body.n_nodes
-        self.upper_offset = np.asarray(upper_offset, dtype=float)
+        self.smoothing = float(smoothing)
+        self.upper_offset = np.asarray(upper_offset, dtype=float)[self.above]  # (P, 3)
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
         self.candidates = min(contact.candidates, len(cells))
+        # The points' shares of their corners' penalties (module docstring): (P, s).
+        x = body.mesh.points
+        sides = np.cross(x[above[:, 1]] - x[above[:, 0]], x[above[:, 2]] - x[above[:, 0]])
+        area = 0.5 * np.linalg.norm(sides, axis=1)
+        lumped = np.bincount(above.ravel(), np.repeat(area / 3.0, 3), self.n_nodes)
+        share = np.repeat(area, count) * np.tile(weights, len(above))
+        self._share = share[:, None] * self.shape / lumped[self.above]  # (P, 3)
+        self._corner_rows = np.searchsorted(self.upper, self.above)  # (P, 3) rows of upper
         given = contact.penalty
-        self.stiffness = np.full(len(upper), np.nan if given is None else float(given))
+        self.node_stiffness = np.full(len(self.upper), np.nan if given is None else float(given))
+        self.stiffness = self._point_stiffness()
         reference = State(
             body.mesh.points.copy(),
             body.directors.copy(),
@@ -282,23 +416,30 @@ class PlyContactBlock(InteractionBlock):
             np.zeros((self.n_nodes, 3)),
         )
         near = self._candidates(reference)[1][:, : min(3, self.candidates)]
-        self.connectivity = np.column_stack([upper, cells[near].reshape(len(upper), -1)])
+        self.connectivity = np.column_stack([self.above, cells[near].reshape(len(self.above), -1)])
         self.lower_nodes = np.unique(cells)
-        # Plies laid on each other touch (g = 0 up to the rounding of the offsets): they
-        # count as touching, so that Newton has the contact's stiffness from its first
-        # iteration (the force, k min(g, 0), is still zero there).
+        # Without smoothing, plies laid on each other (g = 0 up to the rounding of the
+        # offsets) count as touching, so that Newton has the contact's stiffness from its
+        # first iteration (the force, k min(g, 0), is still zero there); with it, W'' = 0 at
+        # g = 0 anyway.
         size = float(np.ptp(body.mesh.points, axis=0).max(initial=0.0)) or 1.0
-        self.tolerance = 1e-9 * size
+        self.tolerance = 0.0 if self.smoothing > 0 else 1e-9 * size
+
+    def _point_stiffness(self) -> np.ndarray:
+        return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)
 
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
-        if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
-            self.stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2
+        if np.isnan(self.node_stiffness).any():  # the automatic penalty (module docstring)
+            self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2
+            self.stiffness = self._point_stiffness()
 
     # ------------------------------------------------------------------ search
     def _faces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        """Face points p (s, 3) of the upper nodes and offset corners y (m, 3, 3), mm."""
+        """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm."""
         x, d = state.positions, state.directors
-        p = x[self.upper] - self.upper_offset[:, None] * d[self.upper]
+        p = np.einsum(
+            "pj,pji->pi", self.shape, x[self.above] - self.upper_offset[..., None] * d[self.above]
+        )
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
         return p, y
 
@@ -309,13 +450,13 @@ class PlyContactBlock(InteractionBlock):
         return p, np.asarray(near).reshape(len(p), self.candidates), y
 
     def facing(self, state: State) -> Facing:
-        """Each upper node's facing triangle, gap, normal and projection at ``state``
+        """Each contact point's facing triangle, gap, normal and projection at ``state``
         (module docstring: the nearest of the candidates)."""
         p, near, y = self._candidates(state)
-        corners = y[near]  # (s, K, 3, 3)
+        corners = y[near]  # (P, K, 3, 3)
         n, area2, gradients = _triangle_frames(corners)
         relative = p[:, None, :] - corners[..., 0, :]
-        gap = np.sum(relative * n, axis=-1)  # (s, K)
+        gap = np.sum(relative * n, axis=-1)  # (P, K)
         weights = np.einsum("skij,skj->ski", gradients, p[:, None, :] - corners[..., 1, :])
         weights[..., 1] = np.einsum("ski,ski->sk", gradients[..., 1, :], relative)
         weights[..., 2] = 1.0 - weights[..., 0] - weights[..., 1]
@@ -345,20 +486,28 @@ class PlyContactBlock(InteractionBlock):
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
-        """Per touching node: node rows (t, 4) (the node, the triangle's corners), forces
-        (t, 4, 3) N and moments (t, 4, 3) N mm, dW/dx and dW/dpsi."""
+        """Per touching point: node rows (t, 6) (the upper triangle's corners, the facing
+        triangle's corners), forces (t, 6, 3) N, moments (t, 6, 3) N mm (dW/dx and dW/dpsi),
+        the points' rows (t,), the signed offsets c (t, 6) (z = x + c d) and the law's
+        (energy, dW/dg, d2W/dg2), each (t,)."""
         on = np.flatnonzero(facing.touching)
-        k = self.stiffness[on]
-        g, n, lam = np.minimum(facing.gap[on], 0.0), facing.normal[on], facing.weights[on]
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        n, lam = facing.normal[on], facing.weights[on]
         tri = facing.triangle[on]
-        nodes = np.column_stack([self.upper[on], self.cells[tri]])
-        on_face = (k * g)[:, None] * n  # dW/dp
-        forces = np.concatenate([on_face[:, None, :], -lam[:, :, None] * on_face[:, None, :]], 1)
-        d = state.directors[nodes]  # (t, 4, 3)
+        nodes = np.column_stack([self.above[on], self.cells[tri]])
+        on_face = law[1][:, None] * n  # dW/dp
+        forces = np.concatenate(
+            [
+                self.shape[on][:, :, None] * on_face[:, None, :],
+                -lam[:, :, None] * on_face[:, None, :],
+            ],
+            axis=1,
+        )
+        d = state.directors[nodes]  # (t, 6, 3)
         offset = np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
-        # p = x - a d, y_k = x_k + b d_k: dW/dpsi = (signed offset) d x dW/dpoint.
+        # p = sum N_j (x_j - a_j d_j), y_k = x_k + b_k d_k: dW/dpsi = c d x dW/dx.
         moments = offset[:, :, None] * np.cross(d, forces)
-        return nodes, forces, moments, on, offset
+        return nodes, forces, moments, on, offset, law
 
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
@@ -372,27 +521,28 @@ class PlyContactBlock(InteractionBlock):
         return force, moment
 
     def strain_energy(self, state: State, history: Any = None) -> float:
-        """sum k g^2 / 2 over the touching nodes, N mm."""
+        """sum W(g) over the touching points, N mm."""
         facing = self.facing(state)
-        g = np.where(facing.touching, np.minimum(facing.gap, 0.0), 0.0)
-        return float(0.5 * np.sum(self.stiffness * g**2))
+        on = facing.touching
+        energy = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[0]
+        return float(np.sum(energy))
 
     def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
-        """Exact d(force, moment)/d(u, psi) of the touching pairs, (t, 4, 6, 4, 6).
+        """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6).
 
-        Over the face points z = (p, y_1, y_2, y_3): Hess W = k (G G^T + g H) with G =
-        (n, -lambda_k n) the gradient of g and H its Hessian, from dn/dy_m = -grad phi_m n^T
-        and dlambda_k = grad phi_k . (dp - g dn - sum_m lambda_m dy_m): H_pp = 0, H_p,m =
-        -grad phi_m n^T, H_k,m = -g (grad phi_k . grad phi_m) n n^T + lambda_m n grad phi_k^T
-        + lambda_k grad phi_m n^T. Carried to the nodes by dz = du + c [d]x psi (c = a for p,
-        -b for y_k, psi the director's rotation), with the geometric term of the turned
-        offset, d(c d x F)/dpsi = -c (d F^T - (F . d) I), on each node's psi-psi block.
+        Over z = (p, y_1, y_2, y_3): Hess W = W'' G G^T + W' H with G = (n, -lambda_k n) the
+        gradient of g and H its Hessian, from dn/dy_m = -grad phi_m n^T and dlambda_k =
+        grad phi_k . (dp - g dn - sum_m lambda_m dy_m): H_pp = 0, H_p,m = -grad phi_m n^T,
+        H_k,m = -g (grad phi_k . grad phi_m) n n^T + lambda_m n grad phi_k^T + lambda_k
+        grad phi_m n^T. Carried to the nodes by dp = sum_j N_j (du_j - c_j [d_j]x psi_j) and
+        dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
+        psi the director's rotation), with the geometric term of the turned offset,
+        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block.
         """
         facing = self.facing(state)
-        nodes, forces, _, on, offset = self._pair_loads(state, facing)
+        nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         t = len(on)
-        k = self.stiffness[on][:, None, None, None, None]
-        g = np.minimum(facing.gap[on], 0.0)
+        g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
         hessian = np.zeros((t, 4, 3, 4, 3))
@@ -409,45 +559,62 @@ class PlyContactBlock(InteractionBlock):
                     + lam[:, a_, None, None] * grad[:, m, :, None] * n[:, None, :]
                 )
         outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
-        points = k * (outer + g[:, None, None, None, None] * hessian)  # (t, 4, 3, 4, 3)
-        d = state.directors[nodes]
-        # z = x + c d (c = -a for the face point, b for the corners): dz = du + c psi x d
-        # = du - c [d]x psi.
-        maps = np.zeros((t, 4, 3, 6))
-        maps[:, :, :, :3] = np.eye(3)
-        maps[:, :, :, 3:] = -offset[:, :, None, None] * _cross_matrix(d)
-        blocks = np.einsum("tria,trisj,tsjb->trasb", maps, points, maps)
-        # The moment c' d x F turns with the director (F held): d(c' d x F)/dpsi =
-        # c' (psi x d) x F = c' (d F^T - (F . d) I) psi.
+        points = (
+            law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
+        )  # (t, 4, 3, 4, 3)
+        d = state.directors[nodes]  # (t, 6, 3)
+        # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
+        # corners' maps times N_j, each lower corner its own.
+        own = np.zeros((t, 6, 3, 6))
+        own[:, :, :, :3] = np.eye(3)
+        own[:, :, :, 3:] = -offset[:, :, None, None] * _cross_matrix(d)
+        maps = np.zeros((t, 4, 3, 6, 6))  # (t, z, coordinate, node, dof)
+        for j in range(3):
+            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
+            maps[:, 1 + j, :, 3 + j, :] = own[:, 3 + j]
+        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
+        # c (psi x d) x F = c (d F^T - (F . d) I) psi.
         geometric = offset[:, :, None, None] * (
             d[:, :, :, None] * forces[:, :, None, :]
             - np.sum(forces * d, axis=-1)[:, :, None, None] * np.eye(3)
         )
-        for row in range(4):
+        for row in range(6):
             blocks[:, row, 3:, row, 3:] += geometric[:, row]
         return [CellTangent(nodes, blocks)]
 
     # ------------------------------------------------------------------ protocol extras
+    def _lumped(self, values: np.ndarray) -> np.ndarray:
+        """(n,) sum over the points of N_j values_p at their upper corners."""
+        return np.bincount(self.above.ravel(), (self.shape * values[:, None]).ravel(), self.n_nodes)
+
     def springs(self) -> tuple[np.ndarray, np.ndarray]:
-        """2 k at the upper nodes and 2 max(k) (times the ratio of upper to lower nodes
-        when above 1) at the lower ones, N/mm (module docstring)."""
+        """2 sum_p N_j k_p at the upper nodes and 2 max of that (times the ratio of upper to
+        lower nodes when above 1) at the lower ones, N/mm (module docstring)."""
+        upper = 2.0 * self._lumped(self.stiffness)[self.upper]
         ratio = max(1.0, len(self.upper) / len(self.lower_nodes))
-        lower = np.full(len(self.lower_nodes), 2.0 * ratio * float(np.max(self.stiffness)))
-        return (
-            np.concatenate([self.upper, self.lower_nodes]),
-            np.concatenate([2.0 * self.stiffness, lower]),
-        )
+        lower = np.full(len(self.lower_nodes), ratio * float(np.max(upper)))
+        return np.concatenate([self.upper, self.lower_nodes]), np.concatenate([upper, lower])
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
-        """ply_gap (mm, the signed gap g of each upper node to the face below, < 0 a
-        penetration; NaN off the upper nodes and where the node faces no triangle) and
-        ply_contact_force (k max(-g, 0), N; 0 off the upper nodes)."""
+        """ply_gap (mm, the mean signed gap of the contact points around each upper node,
+        weighted by N_j, < 0 a penetration; NaN off the upper nodes and where no point faces
+        a triangle) and ply_contact_force (sum_p N_j (-dW/dg), the pressing force lumped to
+        the upper nodes, N; 0 off them)."""
         facing = self.facing(state)
         overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
+        facing_any = overshoot <= MARGIN
+        weight = self._lumped(facing_any.astype(float))
+        total = self._lumped(np.where(facing_any, facing.gap, 0.0))
         gap = np.full(self.n_nodes, np.nan)
-        gap[self.upper] = np.where(overshoot <= MARGIN, facing.gap, np.nan)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            gap[self.upper] = np.where(
+                weight[self.upper] > 0, total[self.upper] / weight[self.upper], np.nan
+            )
+        pressing = np.zeros(len(facing.gap))
+        on = facing.touching
+        pressing[on] = -penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[1]
         force = np.zeros(self.n_nodes)
-        force[self.upper] = -self.stiffness * np.where(
-            facing.touching, np.minimum(facing.gap, 0.0), 0.0
-        )
+        force[self.upper] = self._lumped(pressing)[self.upper]
         return {"ply_gap": gap, "ply_contact_force": force}

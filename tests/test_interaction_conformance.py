@@ -239,9 +239,11 @@ def test_the_kit_names_a_history_mutated_in_place():
 # ---------------------------------------------------------------------- ply on ply
 # elements/ply_contact.py: a 3 x 3-cell upper ply (3 x 3 mm) over a 2 x 2-cell lower ply
 # (4 x 4 mm), both jittered by 0.1 mm, 0.5 mm apart, half thicknesses 0.25 mm (the faces
-# touch in the mean), directors tilted by ~0.15 rad: about half the upper nodes penetrate.
-# The contact acts on the directors too (offset faces): the kit checks the moments.
-def plies(turn: np.ndarray = UNTURNED, seed: int = 1):
+# touch in the mean), directors tilted by ~0.15 rad: about half the contact points penetrate.
+# The contact acts on the directors too (offset faces): the kit checks the moments. Each rule
+# of contact points, with the default smoothing, none, and a ramp of 0.05 mm that a good share
+# of the penetrations (~0.1 mm) falls on.
+def plies(turn: np.ndarray = UNTURNED, seed: int = 1, rule: str = "centroid", smoothing=None):
     """(block, state, None) of PlyContact between the two jittered plies, turned."""
     from elements.ply_contact import PlyContact
 
@@ -261,40 +263,66 @@ def plies(turn: np.ndarray = UNTURNED, seed: int = 1):
     directors = (directors / np.linalg.norm(directors, axis=1)[:, None]) @ turn.T
     active = np.zeros((n, 6), dtype=bool)
     active[:, :5] = True
-    block = PlyContact("upper", "lower", 0.25, 0.25, penalty=PENALTY).bind(
-        Body(mesh, (), directors, active)
+    contact = PlyContact(
+        "upper", "lower", 0.25, 0.25, penalty=PENALTY, rule=rule, smoothing=smoothing
     )
+    block = contact.bind(Body(mesh, (), directors, active))
     zero = np.zeros((n, 3))
     return block, State(mesh.points.copy(), directors.copy(), zero, zero.copy()), None
 
 
-def test_ply_contact_conforms():
-    block, state, history = plies()
+@pytest.mark.parametrize(
+    "rule, smoothing",
+    [("centroid", None), ("gauss", None), ("vertices", None), ("gauss", 0.0), ("gauss", 0.05)],
+)
+def test_ply_contact_conforms(rule, smoothing):
+    def build(turn=UNTURNED):
+        return plies(turn, rule=rule, smoothing=smoothing)
+
+    block, state, history = build()
     facing = block.facing(state)
     assert facing.touching.sum() >= 4 and (~facing.touching).sum() >= 4
+    if smoothing:  # the ramp is exercised
+        assert np.sum(facing.touching & (facing.gap > -smoothing)) >= 2
     check_interaction(block, state, history)  # gradient (forces and moments), tangent, energy
-    check_objectivity(plies, TURN)
+    check_objectivity(build, TURN)
 
 
-def test_ply_contact_pushes_a_node_at_penetration_p_by_k_p_along_the_face_normal():
-    """The kit's node-to-tool check on the upper nodes: each face point moved along the
-    facing triangle's normal to penetration p gets k p along that normal, nothing across
-    (the lower ply takes the opposite, by lambda: the sums balance)."""
-    block, state, _ = plies()
-    facing = block.facing(state)
-    upper = block.upper
+@pytest.mark.parametrize("rule", ["centroid", "gauss", "vertices"])
+@pytest.mark.parametrize("smoothing", [0.0, 0.002])
+def test_flat_plies_pressed_by_p_carry_the_penalty_law_along_the_normal(rule, smoothing):
+    """A flat upper ply pressed into a flat lower one by p (directors along the normal): every
+    contact point carries dW/dg at g = -p along the normal (elements.ply_contact.penalty_law:
+    k (p - delta / 2) past the ramp, k p^2 / (2 delta) on it, nothing apart), the points'
+    penalties add up to the nodes' whatever the rule (the total is that law times the number
+    of upper nodes), nothing acts across the normal or on the directors, and the lower ply
+    takes the opposite."""
+    from elements.ply_contact import PlyContact, penalty_law
 
-    class UpperNodes:  # the upper nodes seen as a node-to-tool block
-        connectivity = upper[:, None]
-        n_tools = 0
-        stiffness = block.stiffness
-        internal_force = staticmethod(block.internal_force)
-
-    def place(p: float) -> State:
-        positions = state.positions.copy()
-        positions[upper] += (-p - facing.gap)[:, None] * facing.normal
-        return State(positions, state.directors, state.velocities, state.angular_velocities)
-
-    check_normal_force(UpperNodes(), place, normal=lambda s: block.facing(s).normal)
-    force, _ = block.internal_force(place(0.01))
-    assert np.abs(force.sum(axis=0)).max() <= 1e-12 * PENALTY
+    lower, upper = Mesh.rectangle(4.0, 4.0, nx=2, ny=2), Mesh.rectangle(3.0, 3.0, nx=3, ny=3)
+    low, up = lower.points - [2.0, 2.0, 0.0], upper.points - [1.5, 1.5, -0.5]
+    mesh = Mesh(
+        np.vstack([low, up]),
+        triangles=np.vstack([lower.triangles, upper.triangles + len(low)]),
+        node_sets={"upper": np.arange(len(low), len(low) + len(up))},
+        element_sets={"lower": np.arange(len(lower.triangles))},
+    )
+    n = mesh.n_nodes
+    directors = np.tile([0.0, 0.0, 1.0], (n, 1))
+    active = np.zeros((n, 6), dtype=bool)
+    active[:, :5] = True
+    contact = PlyContact(
+        "upper", "lower", 0.25, 0.25, penalty=PENALTY, rule=rule, smoothing=smoothing
+    )
+    block = contact.bind(Body(mesh, (), directors, active))
+    upper_nodes = np.arange(len(low), n)
+    zero = np.zeros((n, 3))
+    for p in (-0.01, 0.0, 0.001, 0.01, 0.1):
+        positions = mesh.points.copy()
+        positions[upper_nodes, 2] -= p
+        force, moment = block.internal_force(State(positions, directors, zero, zero))
+        law = penalty_law(np.array([-p]), np.array([PENALTY]), smoothing)[1][0]
+        assert force[upper_nodes, 2].sum() == pytest.approx(len(up) * law, rel=1e-12, abs=1e-12)
+        assert np.abs(force[:, :2]).max() <= 1e-12 * PENALTY
+        assert np.abs(moment).max() <= 1e-12 * PENALTY
+        assert np.abs(force.sum(axis=0)).max() <= 1e-12 * PENALTY
