@@ -149,10 +149,11 @@ def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
     -------
     energy (t,) N mm, force (t,) N (dW/dg, <= 0), stiffness (t,) N/mm (d2W/dg2, >= 0).
     """
-    g = np.minimum(gap, 0.0)
     if smoothing == 0.0:
+        g = np.minimum(gap, 0.0)
         return 0.5 * stiffness * g**2, stiffness * g, np.where(gap <= 0.0, stiffness, 0.0)
     delta = smoothing
+    g = np.minimum(gap, 0.0)
     deep = g <= -delta
     energy = np.where(
         deep, 0.5 * stiffness * (g + 0.5 * delta) ** 2 + stiffness * delta**2 / 24.0, 0.0
