@@ -177,3 +177,45 @@ def test_frictionless_plies_each_sag_as_the_stack(count):
     assert np.abs(deflection / reference["tip_deflection"] - 1.0).max() <= 5e-4
     lines = stack.material_lines(result.positions, result.directors)
     assert np.abs(lines.gap).max() <= 1e-3 * stack.ply_thickness
+
+
+# ---------------------------------------------------------------------- the contact's penalty
+def test_the_ramped_penalty_is_c2_and_nothing_apart():
+    """elements.ply_contact.penalty_law: W, W' and W'' continuous at g = -delta and g = 0
+    (the ramp's ends), W' = k (g + delta / 2) past the ramp, nothing for g >= 0, and W' and
+    W'' the derivatives of W and W' (central differences)."""
+    from elements.ply_contact import penalty_law
+
+    k, delta = 3.0, 0.01
+    for g0 in (-delta, 0.0):
+        sides = penalty_law(np.array([g0 - 1e-12, g0 + 1e-12]), np.full(2, k), delta)
+        for values in sides:
+            assert abs(values[0] - values[1]) <= 1e-9 * k
+    g = np.linspace(-3 * delta, 2 * delta, 101)
+    energy, force, stiffness = penalty_law(g, np.full(g.size, k), delta)
+    assert np.all(energy[g >= 0] == 0) and np.all(force[g >= 0] == 0)
+    deep = g <= -delta
+    assert np.allclose(force[deep], k * (g[deep] + delta / 2), rtol=1e-14)
+    h = 1e-7
+    up, down = (penalty_law(g + s, np.full(g.size, k), delta) for s in (h, -h))
+    assert np.allclose((up[0] - down[0]) / (2 * h), force, atol=1e-7 * k * delta)
+    # the third derivative jumps by k / delta at the ramp's ends (C2, not C3): a difference
+    # across them is off by up to k h / (2 delta)
+    assert np.allclose((up[1] - down[1]) / (2 * h), stiffness, atol=k * h / delta)
+
+
+@pytest.mark.parametrize(
+    "changes, message",
+    [
+        ({"rule": "nodes"}, "rule must be one of"),
+        ({"smoothing": -1.0}, "smoothing must be"),
+        ({"smoothing": True}, "smoothing must be"),
+    ],
+)
+def test_the_ply_contact_refuses_a_bad_rule_or_smoothing(changes, message):
+    from elements.ply_contact import PlyContact
+
+    with pytest.raises(ValueError, match=message):
+        PlyContact("upper", "lower", **changes)
+    with pytest.raises(ValueError, match=message):
+        PlyStack(Mesh.rectangle(10.0, 5.0, nx=2, ny=1), DECK, 2, **changes)
