@@ -36,6 +36,7 @@ REPORT_ORDER = [
     "fibrous-curvature",
     "fibrous-deck-of-cards",
     "fibrous-heavy-cantilever",
+    "plies-deck-of-cards",
     "heavy-cantilever-nonlinear",
     "mindlin-elastica",
     "mindlin-rollup",
