@@ -68,6 +68,10 @@ DECK = Fabric(
     bending=BendingLaw.linear(1.0),
 )
 DECK_INCREMENTS = 8
+# The last increment lands where the plies need no contact force: contact points near g = 0
+# step in and out of the ramp, and Newton converges linearly there (86 iterations at N = 4,
+# 102 at N = 8 on 20 cells; the default 50 stalled at load factor 0.998).
+DECK_ITERATIONS = 150
 # (counts at the middle mesh, the meshes of the study at N = 2); coarse: the smaller set.
 COUNTS = {"coarse": (2, 4), "default": (2, 4, 8), "fine": (2, 4, 8)}
 MESHES = {"coarse": (10, 20), "default": (10, 20, 40), "fine": (10, 20, 40)}
@@ -80,7 +84,7 @@ SAG = Fabric(
     shear=ShearLaw.linear(40.0),
     bending=BendingLaw.linear(SAG_BENDING),
 )
-SAG_COUNTS = {"coarse": (4,), "default": (4, 8), "fine": (4, 8)}
+SAG_COUNTS = {"coarse": (4,), "default": (4,), "fine": (4,)}
 SAG_CELLS = 20
 SAG_INCREMENTS = 3
 
@@ -91,10 +95,11 @@ SAG_INCREMENTS = 3
 # tolerances below. The error is the mesh's, not N's: the plies open by a few microns at the
 # contact of their faceted faces (the largest ply-to-ply gap along the lines 0.024, 0.011,
 # 0.005 mm at N = 2), a gap per interface about the same at every N, so that the thickness
-# error grows with the number of interfaces while the tilt error hardly moves. Tolerances:
-# the measured values with 25 % margin.
-TILT_TOLERANCE = 0.25  # deg, 20 cells, every N measured (largest 0.20)
-THICKNESS_TOLERANCE = {2: 0.0032, 4: 0.008, 8: 0.016}  # 20 cells
+# error grows with the number of interfaces while the tilt error hardly moves. At 20 cells,
+# N = 2, 4, 8: tilt 0.125, 0.161, 0.197 deg, thickness 0.26, 0.64, 0.92 % (N = 8 on 10 cells:
+# 0.393 deg, 1.79 %). Tolerances: the measured values with 25 % margin.
+TILT_TOLERANCE = 0.25  # deg, 20 cells, every N (largest measured 0.197, N = 8)
+THICKNESS_TOLERANCE = {2: 0.0032, 4: 0.008, 8: 0.0115}  # 20 cells
 ORDER_RANGE = (0.8, 1.3)  # observed order in the cell size, N = 2
 
 
@@ -155,7 +160,12 @@ def bend(count: int, cells: int) -> DeckRun:
     for k, z in enumerate(stack.offsets):
         moment = float(stack.ply_fabric.bending.value(np.array(1.0 / (radius - z)))) * WIDTH
         model.moment(stack.ply_nodes[k, ends], (0.0, -moment / len(ends), 0.0), amplitude="linear")
-    result = Static(increments=DECK_INCREMENTS, seek_stable=False, progress=False).solve(model)
+    result = Static(
+        increments=DECK_INCREMENTS,
+        seek_stable=False,
+        max_iterations=DECK_ITERATIONS,
+        progress=False,
+    ).solve(model)
     lines = stack.material_lines(result.positions, result.directors)
     nodes = side(mid)
     theta = bend_angles(lines.midpoint[nodes])
@@ -189,7 +199,9 @@ class SagRun:
 
 def sag(count: int, cells: int = SAG_CELLS) -> SagRun:
     """The heavy stack of ``count`` plies, or the fibrous shell when ``count`` is 0."""
-    solver = Static(increments=SAG_INCREMENTS, seek_stable=False, progress=False)
+    solver = Static(
+        increments=SAG_INCREMENTS, seek_stable=False, max_iterations=DECK_ITERATIONS, progress=False
+    )
     if count == 0:
         mesh, model = fibrous_strip(SAG_LENGTH, SAG_WIDTH, SAG, cells)
         result = solver.solve(model)
