@@ -33,7 +33,8 @@ rho_A = 5.7e-9 t/mm^2, tension 1200 N/mm) with shear 40 N/mm (as above: 4 N/mm m
 8-ply Mindlin plies stall), cells x 1 cells, gravity in 3 increments; N plies against the
 FibrousShell (clamped-edge option). Compared along the side y = 0: the angle of the fibrous
 director from the vertical against that of the plies' material line (PlyStack.material_lines),
-and the mid-surfaces.
+and the mid-surfaces. The free end's difference (the plies open there) is reported, not
+checked (see the tolerances).
 """
 
 from __future__ import annotations
@@ -84,7 +85,7 @@ SAG = Fabric(
     shear=ShearLaw.linear(40.0),
     bending=BendingLaw.linear(SAG_BENDING),
 )
-SAG_COUNTS = {"coarse": (4,), "default": (4,), "fine": (4,)}
+SAG_COUNTS = {"coarse": (4,), "default": (4, 8), "fine": (4, 8)}
 SAG_CELLS = 20
 SAG_INCREMENTS = 3
 
@@ -350,10 +351,17 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-# Heavy stack against the fibrous shell, 20 cells: see the module docstring and the report's
-# numbers; tolerances from the measured values (placeholders replaced below).
+# Heavy stack against the fibrous shell (measured, 20 cells, N = 4 and 8): the largest
+# mid-surface offset 0.20 and 0.23 mm (0.71 mm at N = 4 on 10 cells), the largest angle
+# difference from the clamp to mid-span 0.54 and 0.50 deg (1.18 at N = 4 on 10 cells): set by
+# the mesh, hardly by N. Beyond mid-span the plies open (largest gap along the lines 0.66 and
+# 0.33 mm, about a quarter of h / N): frictionless plies hanging steeply have nothing that
+# presses them together, while the fibrous shell keeps its thickness along the normal (Bai
+# Eq. 10), so the material line tilts further (30.4 and 30.5 deg from the vertical at the free
+# end against the director's 23.8): a difference of 6.6-6.7 deg that does not shrink with N,
+# reported and not checked. Tolerances: the measured values with about 25 % margin.
 SAG_OFFSET_TOLERANCE = 0.3  # mm
-SAG_ANGLE_TOLERANCE = 1.0  # deg
+SAG_ANGLE_TOLERANCE = 0.7  # deg
 
 
 def render(data: PliesData, out_dir: Path) -> list[str]:
