@@ -102,6 +102,17 @@ SAG_INCREMENTS = 3
 TILT_TOLERANCE = 0.25  # deg, 20 cells, every N (largest measured 0.197, N = 8)
 THICKNESS_TOLERANCE = {2: 0.0032, 4: 0.008, 8: 0.0115}  # 20 cells
 ORDER_RANGE = (0.8, 1.3)  # observed order in the cell size, N = 2
+# Heavy stack against the fibrous shell (measured, 20 cells, N = 4 and 8): the largest
+# mid-surface offset 0.22 and 0.23 mm (0.71 mm at N = 4 on 10 cells), the largest angle
+# difference from the clamp to mid-span 0.47 and 0.50 deg (1.18 at N = 4 on 10 cells): set by
+# the mesh, hardly by N. Beyond mid-span the plies open (largest gap along the lines 0.66 and
+# 0.33 mm, about a quarter of h / N): frictionless plies hanging steeply have nothing that
+# presses them together, while the fibrous shell keeps its thickness along the normal (Bai
+# Eq. 10), so the material line tilts further (30.4 and 30.5 deg from the vertical at the free
+# end against the director's 23.8): a difference of 6.6-6.7 deg that does not shrink with N,
+# reported and not checked. Tolerances: the measured values with about 25 % margin.
+SAG_OFFSET_TOLERANCE = 0.3  # mm
+SAG_ANGLE_TOLERANCE = 0.65  # deg
 
 
 def side(mesh: Mesh) -> np.ndarray:
@@ -351,19 +362,6 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-# Heavy stack against the fibrous shell (measured, 20 cells, N = 4 and 8): the largest
-# mid-surface offset 0.20 and 0.23 mm (0.71 mm at N = 4 on 10 cells), the largest angle
-# difference from the clamp to mid-span 0.54 and 0.50 deg (1.18 at N = 4 on 10 cells): set by
-# the mesh, hardly by N. Beyond mid-span the plies open (largest gap along the lines 0.66 and
-# 0.33 mm, about a quarter of h / N): frictionless plies hanging steeply have nothing that
-# presses them together, while the fibrous shell keeps its thickness along the normal (Bai
-# Eq. 10), so the material line tilts further (30.4 and 30.5 deg from the vertical at the free
-# end against the director's 23.8): a difference of 6.6-6.7 deg that does not shrink with N,
-# reported and not checked. Tolerances: the measured values with about 25 % margin.
-SAG_OFFSET_TOLERANCE = 0.3  # mm
-SAG_ANGLE_TOLERANCE = 0.7  # deg
-
-
 def render(data: PliesData, out_dir: Path) -> list[str]:
     """The decks' material lines against atan(theta); the mesh study; the heavy stacks."""
     names = [f"{NAME}-tilt.png", f"{NAME}-convergence.png", f"{NAME}-heavy-stack.png"]
@@ -392,20 +390,19 @@ def render(data: PliesData, out_dir: Path) -> list[str]:
         ):
             ax.loglog(cells, [e[key] for e in errors], "o-", label=label)
         ax.set_xticks(cells, [str(c) for c in cells])
-    with figure(out_dir / names[2], "x (mm)", "z (mm)") as ax:
+    with figure(
+        out_dir / names[2],
+        "x of the unloaded strip (mm)",
+        "angle from the vertical (deg)",
+    ) as ax:
+        # Along the strip rather than in space: the mid-surfaces agree to 0.2 mm, the angles
+        # part near the free end, where the plies open.
+        x = np.linspace(0.0, SAG_LENGTH, len(data.sags[0].angle))
         for run in data.sags:
-            label = "FibrousShell" if run.count == 0 else f"{run.count} plies"
-            (line,) = ax.plot(run.midpoint[:, 0], run.midpoint[:, 2], "-", lw=1, label=label)
-            ends = (
-                run.midpoint[:, None, [0, 2]]
-                + np.multiply.outer(
-                    [-0.5, 0.5], np.column_stack([np.sin(run.angle), np.cos(run.angle)])
-                ).transpose(1, 0, 2)
-                * SAG_THICKNESS
+            label = (
+                "FibrousShell director" if run.count == 0 else f"{run.count} plies, material line"
             )
-            for segment in ends:
-                ax.plot(segment[:, 0], segment[:, 1], "-", color=line.get_color(), lw=0.8)
-        ax.set_aspect("equal")
+            ax.plot(x, np.degrees(run.angle), "o-" if run.count else "-", ms=3, label=label)
     return names
 
 
