@@ -47,6 +47,13 @@ is the plain k/2 min(g, 0)^2. A point counts as touching when g < 0 (g <= 1e-9 o
 size without smoothing: plies laid on each other then have the contact's stiffness from the
 first iteration) and its projection is within ``MARGIN`` of the triangle.
 
+Measured with solvers.Static (docs/theory.md §9.3a): the 4-ply sag of tests/test_plies.py
+took no convergence (nodes, plain penalty), 30 iterations and a cut (centroids, plain), 24
+(centroids and the ramp; 26 at 8 plies); the 4-ply bai-5.1 strip fails with the plain
+penalty at nodes or centroids and with the ramp at nodes, and converges with centroids and
+the ramp. The ramp has its own cost: where plies need no contact force, points near g = 0
+step in and out of it and Newton converges linearly (up to ~100 iterations in an increment).
+
 The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;
 on the lower corners, dW/dy_k = -W' lambda_k n, lambda the barycentric coordinates of the
 projection of p (the surface point held by them: the derivative of the distance to the plane
@@ -98,6 +105,7 @@ __all__ = [
     "Facing",
     "PlyContact",
     "PlyContactBlock",
+    "penalty_law",
 ]
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
