@@ -18,6 +18,8 @@ corner positions and directors, carried to the rotation vectors of the directors
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from elements import kernels
@@ -226,7 +228,9 @@ class MindlinShellBlock(ElementBlock):
     reach = 1
 
     def __init__(self, shell: MindlinShell, mesh: Mesh, cell_ids, directors):
-        self.material = material = shell.material
+        # An elastic section here; the fabric block (elements/mindlin_fabric.py) overrides
+        # every use of it.
+        self.material = material = cast(ElasticShell, shell.material)
         self.kernel = shell.kernel
         self.tying_n = _TYING_N
         self.h = material.thickness

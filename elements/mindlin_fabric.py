@@ -19,7 +19,7 @@ the section energy: numpy only (no compiled kernel yet).
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -27,6 +27,7 @@ from elements.fabric_section import FabricSection, fibre_rows, response
 from elements.mindlin import _IN_PLANE, MindlinShellBlock
 from femcore.rotation import cross
 from femcore.state import State
+from materials.fabric import Fabric
 
 if TYPE_CHECKING:
     from elements.mindlin import MindlinShell
@@ -36,12 +37,12 @@ __all__ = ["MindlinFabricBlock", "default_transverse_shear", "default_twisting"]
 # The shear correction of a homogeneous section, as ElasticShell uses it.
 _SHEAR_FACTOR = 5.0 / 6.0
 # Section measures y (10) from the level measures e (Z = 3 levels: zeta -1, 0, 1; 7 each).
-_PROJECTION = np.zeros((10, 3, 7))
-_PROJECTION[0:3, 1, 0:3] = np.eye(3)  # membrane: the mid-surface level
-_PROJECTION[3:6, 2, 0:3] = 0.5 * np.eye(3)  # bending: (e(+1) - e(-1)) / 2
-_PROJECTION[3:6, 0, 0:3] = -0.5 * np.eye(3)
-_PROJECTION[6:10, 1, 3:7] = np.eye(4)  # transverse shear: tying changes at the mid-surface
-_PROJECTION = _PROJECTION.reshape(10, 21)
+_LEVELS = np.zeros((10, 3, 7))
+_LEVELS[0:3, 1, 0:3] = np.eye(3)  # membrane: the mid-surface level
+_LEVELS[3:6, 2, 0:3] = 0.5 * np.eye(3)  # bending: (e(+1) - e(-1)) / 2
+_LEVELS[3:6, 0, 0:3] = -0.5 * np.eye(3)
+_LEVELS[6:10, 1, 3:7] = np.eye(4)  # transverse shear: tying changes at the mid-surface
+_PROJECTION = _LEVELS.reshape(10, 21)
 
 
 def _initial_slope(law) -> float:
@@ -71,7 +72,7 @@ class MindlinFabricBlock(MindlinShellBlock):
     Fabric (the shell's ``transverse_shear`` S, N/mm, and ``twisting`` D_t, N mm)."""
 
     def __init__(self, shell: MindlinShell, mesh, cell_ids, directors):
-        self.fabric = shell.material
+        self.fabric = cast(Fabric, shell.material)
         self.warp = shell.warp
         self.transverse_shear = shell.transverse_shear
         self.twisting = shell.twisting
