@@ -22,6 +22,8 @@ Modules, one concern each:
 - ``profiles``: the measurements along the sides (``side_data``, ``key_numbers``,
   ``slip_errors``, ``fibre_statistics``);
 - ``invariants``: Bai's claims as checks (``invariant_checks``, ``slip_checks``);
+- ``orders``: the observed orders of the reported quantities on three meshes
+  (``order_quantities``, ``mesh_size``, ``observed_orders``, ``order_checks``);
 - ``discussion``: the report's paragraph on the run;
 - ``figures``: the side profiles, the side elevation, the fabric's laws and the 3D view.
 """
@@ -50,6 +52,13 @@ from validation.paper.kinematics import (
     SHEAR_RATIO,
     Kinematics,
 )
+from validation.paper.orders import (
+    ORDER_KINEMATICS,
+    mesh_size,
+    observed_orders,
+    order_checks,
+    order_quantities,
+)
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data, slip_errors
 
 __all__ = [
@@ -62,6 +71,7 @@ __all__ = [
     "KINEMATICS",
     "LABELS",
     "MARKERS",
+    "ORDER_KINEMATICS",
     "PAPER",
     "PaperCase",
     "PaperRuns",
@@ -74,6 +84,10 @@ __all__ = [
     "invariant_checks",
     "key_numbers",
     "laws_figure",
+    "mesh_size",
+    "observed_orders",
+    "order_checks",
+    "order_quantities",
     "render_paper_case",
     "side_data",
     "side_elevation",

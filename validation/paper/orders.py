@@ -1,0 +1,147 @@
+"""The observed order of convergence of what a paper case reports, on three meshes.
+
+Each paper case reports, per kinematics, where its sides end up and how thick the fibrous
+stack becomes along its directors. ``order_quantities`` takes from a run's side profiles the
+numbers whose convergence the report shows: the deflection (z) at the middle of each filmed
+side, and for the fibrous shell the largest thickness along the director over the sides (/ h;
+the Mindlin section keeps h). ``mesh_size`` is the mesh's h, ``observed_orders`` turns the
+values on three meshes into ``ObservedOrder`` records (Richardson:
+validation.checks.observed_order) and ``order_checks`` checks them where the case states a
+tolerance: the order is positive and the extrapolated value within that fraction of the
+finest mesh's (or the three values already agree to that fraction). The runs themselves
+are made by validation.paper.case.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from validation import specimens
+from validation.checks import check, observed_order
+from validation.paper.kinematics import CHECK_NAMES, ELEMENT, PAPER, Kinematics
+from validation.records import Check, ObservedOrder, SideProfile
+
+if TYPE_CHECKING:
+    from validation.paper.case import PaperCase
+
+__all__ = [
+    "ORDER_KINEMATICS",
+    "THICKNESS",
+    "mesh_size",
+    "observed_orders",
+    "order_checks",
+    "order_quantities",
+]
+
+# The kinematics whose orders the report shows: the default fibrous shell and the Mindlin
+# shell (the Eq. 15 variant would cost a third set of runs and adds no new question).
+ORDER_KINEMATICS: tuple[Kinematics, ...] = ("fibrous", "mindlin")
+THICKNESS = "largest thickness along the director / h"
+
+
+def deflection_name(side: str) -> str:
+    """The name of the mid-side deflection of ``side`` ("side_1") in the report."""
+    return f"deflection z at the middle of {side.replace('_', ' ')} (mm)"
+
+
+def order_quantities(
+    sides: dict[str, SideProfile], kinematics: Kinematics, h: float
+) -> dict[str, float]:
+    """From a run's side profiles: the mid-surface z at the middle of each side (s = half the
+    side's length, interpolated linearly between its nodes, so that the same material point
+    is measured on every mesh, with or without a node there), and for the fibrous shell the
+    largest thickness along the director over the sides divided by h."""
+    out = {}
+    for side, data in sides.items():
+        s = np.asarray(data.s)
+        z = np.asarray(data.midsurface)[:, 2]
+        out[deflection_name(side)] = float(np.interp(0.5 * s.max(), s, z))
+    if ELEMENT[kinematics] == "fibrous":
+        out[THICKNESS] = max(float(np.max(data.thickness)) for data in sides.values()) / h
+    return out
+
+
+def mesh_size(specimen: specimens.Specimen) -> float:
+    """The mesh size h (mm): the largest node spacing along side 1, the direction every paper
+    specimen is refined in (the strip keeps its cells across; a gripped corner specimen's
+    graded grid has its largest cells between the patch and the clamp)."""
+    _, s = specimen.sides["side_1"]
+    return float(np.diff(np.sort(s)).max())
+
+
+def observed_orders(
+    measured: dict[str, Sequence[tuple[int, float, dict[str, float], bool]]],
+) -> list[ObservedOrder]:
+    """One record per kinematics and quantity from ``measured``: kinematics -> the three runs,
+    coarsest first, each (cells, mesh size h, ``order_quantities``, converged)."""
+    out = []
+    for kinematics, runs in measured.items():
+        cells = tuple(run[0] for run in runs)
+        sizes = tuple(run[1] for run in runs)
+        for quantity in runs[0][2]:
+            values = tuple(run[2][quantity] for run in runs)
+            order, extrapolated = observed_order(sizes, values)
+            out.append(
+                ObservedOrder(
+                    kinematics=kinematics,
+                    quantity=quantity,
+                    cells=cells,
+                    sizes=sizes,
+                    values=values,
+                    order=order,
+                    extrapolated=extrapolated,
+                    converged=all(run[3] for run in runs),
+                )
+            )
+    return out
+
+
+def order_checks(case: PaperCase, orders: list[ObservedOrder], resolution: str) -> list[Check]:
+    """Where the case states a tolerance ``tol`` at ``resolution`` (``PaperCase.order_tolerance``),
+    one check per record, none otherwise (the orders are then reported only).
+
+    A record whose three values all lie within ``tol`` of the finest mesh's (relative) has
+    converged to that tolerance on the coarsest of its meshes: the order of differences that
+    small is noise, and the check passes on the spread. Otherwise it passes when the observed
+    order is positive (the differences shrink), the Richardson value lies within ``tol`` of
+    the finest mesh's and the three runs converged.
+    """
+    tolerance = (case.order_tolerance or {}).get(resolution)
+    if tolerance is None:
+        return []
+    checks = []
+    source = f"{PAPER}, {case.source}: Richardson extrapolation on three meshes"
+    for record in orders:
+        finest = record.values[-1]
+        cells = ", ".join(str(n) for n in record.cells)
+        name = f"{CHECK_NAMES[record.kinematics]}: {record.quantity}, n = {cells}"
+        spread = max(abs(value - finest) for value in record.values)
+        if spread <= tolerance * abs(finest):
+            farthest = max(record.values, key=lambda value: abs(value - finest))
+            verdict = check(
+                f"{name}: converged, the values within {tolerance:g} of the finest (relative; "
+                f"the order of such differences is not measured)",
+                finest,
+                farthest,
+                tolerance,
+                source=source,
+            )
+            checks.append(replace(verdict, passed=verdict.passed and record.converged))
+            continue
+        extrapolated = record.extrapolated if math.isfinite(record.extrapolated) else math.inf
+        verdict = check(
+            f"{name}: extrapolated (observed order {record.order:.2f}, > 0) vs the finest mesh "
+            f"(relative, < {tolerance:g})",
+            finest,
+            extrapolated,
+            tolerance,
+            source=source,
+        )
+        positive = math.isfinite(record.order) and record.order > 0.0
+        checks.append(replace(verdict, passed=verdict.passed and positive and record.converged))
+    return checks
