@@ -32,6 +32,9 @@ side = "outside"                         # sphere and cylinder: "outside" | "ins
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic)
+[[grip]]                                 # nodes that translate together (a gripper's jaws,
+nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
+stiffness = 23000.0                      # the first node to each other one
 [solver]
 kind = "static"                          # "static" | "relaxation" | "explicit"
 increments = 3                           # any keyword option of that solver
@@ -69,6 +72,7 @@ import numpy as np
 
 from elements import (
     FibrousShell,
+    Grip,
     MindlinShell,
     RigidCylinder,
     RigidPlane,
@@ -87,7 +91,7 @@ SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": Centra
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
 _BOUNDS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
 _TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
-        "contact", "solver", "output")  # fmt: skip
+        "contact", "grip", "solver", "output")  # fmt: skip
 TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
          "surface": RigidSurface}  # fmt: skip
 # The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
@@ -176,6 +180,8 @@ class Case:
     contacts : list of dict
         {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
         None} per ``[[contact]]``.
+    grips : list of dict
+        {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
         {"kind": str, "options": dict}.
     history : dict
@@ -194,6 +200,7 @@ class Case:
     moments: list[dict] = field(default_factory=list)
     gravity: dict | None = None
     contacts: list[dict] = field(default_factory=list)
+    grips: list[dict] = field(default_factory=list)
     solver: dict = field(default_factory=dict)
     history: dict = field(default_factory=dict)
     paths: dict = field(default_factory=dict)
@@ -228,6 +235,8 @@ class Case:
             model.contact(
                 contact["tool"], contact["nodes"], contact["friction"], contact["penalty"]
             )
+        for grip in self.grips:
+            model.interact(Grip(grip["nodes"], grip["stiffness"]))
         return model
 
     def make_solver(self, **outputs):
@@ -325,6 +334,15 @@ def case_from_data(data: dict, path: str | Path) -> Case:
         _contact(top.child(f"contact[{i}]"), mesh, c, path.parent)
         for i, c in enumerate(_list(top, data, "contact"))
     ]
+    for i, item in enumerate(_list(top, data, "grip")):
+        where = top.child(f"grip[{i}]")
+        _table(where, item, "", ("nodes", "stiffness"), ("nodes", "stiffness"))
+        stiffness = _number(where, item["stiffness"], "stiffness")
+        if stiffness <= 0.0:
+            raise where.error("stiffness", f"expected a positive stiffness, got {stiffness!r}")
+        case.grips.append(
+            {"nodes": _select(where, mesh, item["nodes"], "nodes"), "stiffness": stiffness}
+        )
     case.solver = _solver(top, data["solver"])
     _output(top, data.get("output", {}), case)
     return case

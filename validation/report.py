@@ -310,7 +310,7 @@ def _orders_table(case: dict) -> str:
             f"<td>{html.escape(record['quantity'])}</td>"
             + "".join(f"<td class='num'>{value:.5g}</td>" for value in record["values"])
             + f"<td class='num'>{'-' if order is None else f'{order:.2f}'}</td>"
-            f"<td class='num'>{_number(record['extrapolated'])}</td>"
+            f"<td class='num'>{'-' if gap is None else _number(record['extrapolated'])}</td>"
             f"<td class='num'>{'-' if gap is None else f'{100 * gap:.2f} %'}</td>"
             f"<td>{'' if record['converged'] else 'NOT converged'}</td></tr>"
         )

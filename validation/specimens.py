@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from elements import Cable, FibrousShell, MindlinShell
+from elements import Cable, FibrousShell, Grip, MindlinShell
 from femcore import Mesh, Model
 from materials import ElasticShell, Fabric
 
@@ -52,6 +52,7 @@ __all__ = [
     "corner",
     "deck_of_cards",
     "fibrous_strip",
+    "grip_stiffness",
     "hanging_chain",
     "mindlin_equivalent",
     "mindlin_strip",
@@ -78,8 +79,9 @@ class Specimen:
     clamp: np.ndarray  # node ids, fully fixed (translations and directors)
     loaded: np.ndarray  # node ids of the imposed displacement
     sides: dict  # {"side_1": (node ids ordered from the clamp, s (mm)), "side_2": ...}
-    # The loaded nodes are a patch a gripper holds: their directors (Mindlin: rotations) are
-    # held as well, as the jaws of a clamp hold the plies (``build``).
+    # The loaded nodes are a patch a gripper holds: they translate together (elements.Grip) and
+    # their directors (Mindlin: rotations) are held, as the jaws of a clamp hold the plies
+    # (``build``).
     gripped: bool = False
 
 
@@ -315,6 +317,14 @@ def mindlin_equivalent(fabric: Fabric, shear_ratio: float = 0.5) -> ElasticShell
     return ElasticShell.equivalent(fabric, shear_ratio)
 
 
+def grip_stiffness(fabric: Fabric) -> float:
+    """The stiffness (N/mm) of the springs that make a gripped patch translate as one
+    (elements.Grip): 10 times the fibres' tension stiffness per unit width, so that the
+    nodes of a patch part by a tenth of the strain the load would give the fabric over 1 mm
+    (measured on bai-6.2.1: 1e-3 mm at most, for either kinematics)."""
+    return 10.0 * float(fabric.tension.slope(np.array(0.0)))
+
+
 def build(
     specimen: Specimen,
     kinematics: str,
@@ -326,7 +336,8 @@ def build(
 ) -> Model:
     """Model of a specimen with "fibrous" or "mindlin" kinematics, clamp fixed, gravity, and
     ``displacement`` (ux, uy, uz; None leaves a component free) imposed on the loaded nodes,
-    whose directors (Mindlin: rotations) are held too when the specimen is ``gripped``.
+    which translate together (elements.Grip, ``grip_stiffness``) and whose directors (Mindlin:
+    rotations) are held when the specimen is ``gripped``.
     ``thickness`` is the fibrous shell's option of the same name: "nodal" (the thickness along
     the director from the nodal normals, the default) or "element" (Bai Eq. 15)."""
     model = Model(specimen.mesh)
@@ -341,6 +352,7 @@ def build(
     model.displace(specimen.loaded, ux=ux, uy=uy, uz=uz)
     if specimen.gripped:
         model.fix(specimen.loaded, ("alpha", "beta"))
+        model.interact(Grip(specimen.loaded, grip_stiffness(fabric)))
     model.gravity((0.0, 0.0, -GRAVITY))
     return model
 

@@ -54,9 +54,12 @@ from validation.paper.kinematics import (
 )
 from validation.paper.orders import (
     ORDER_KINEMATICS,
+    THICKNESS,
+    deflection_name,
     mesh_size,
     observed_orders,
     order_checks,
+    order_kind,
     order_quantities,
 )
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data, slip_errors
@@ -76,9 +79,11 @@ __all__ = [
     "PaperCase",
     "PaperRuns",
     "SHEAR_RATIO",
+    "THICKNESS",
     "Kinematics",
     "compute_paper_case",
     "corner_case",
+    "deflection_name",
     "discussion",
     "fibre_statistics",
     "invariant_checks",
@@ -87,6 +92,7 @@ __all__ = [
     "mesh_size",
     "observed_orders",
     "order_checks",
+    "order_kind",
     "order_quantities",
     "render_paper_case",
     "side_data",

@@ -86,10 +86,11 @@ class PaperCase:
     # them (its runs are reused), the two others are solved with the fibrous and the Mindlin
     # kinematics only. A resolution left out shows no orders.
     order_cells: dict[str, tuple[int, int, int]] = field(default_factory=dict)
-    # Per resolution, the largest |Richardson value - finest value| / |finest value| that
-    # passes (with a positive order), chosen by measuring; a resolution left out (or None):
-    # the orders are reported, not checked.
-    order_tolerance: dict[str, float] | None = None
+    # Per resolution and quantity ("mindlin deflection", "fibrous thickness": orders.order_kind),
+    # the largest |Richardson value - finest value| / |finest value| that passes (with a
+    # positive order), chosen by measuring where the order is meaningful; a resolution or a
+    # quantity left out: its orders are reported, not checked.
+    order_tolerance: dict[str, dict[str, float]] | None = None
 
     def __post_init__(self) -> None:
         for resolution, sequence in self.order_cells.items():
@@ -151,18 +152,18 @@ def corner_case(
     slip_sides: tuple[str, ...] = (),
     slip_note: str = "",
     slip_tolerance_deg: dict[str, float] | None = None,
-    grip: float | None = None,
+    grip: tuple[float, float] | None = None,
     order_cells: dict[str, tuple[int, int, int]] | None = None,
-    order_tolerance: dict[str, float] | None = None,
+    order_tolerance: dict[str, dict[str, float]] | None = None,
 ) -> PaperCase:
     """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
     diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner (the
-    corner node; with ``grip`` = a (mm), the a x a patch at the corner a gripper holds, its
-    directors held too) and ``described`` in words for the report; ``slip_sides``,
+    corner node; with ``grip`` = (a, b) (mm), the a x b patch at the corner a gripper holds,
+    its directors held too) and ``described`` in words for the report; ``slip_sides``,
     ``slip_note``, ``slip_tolerance_deg``, ``order_cells`` and ``order_tolerance`` as in
     ``PaperCase``."""
     length, width = size
-    gripped = {} if grip is None else {"gripped patch (assumed)": f"{grip:g} x {grip:g} mm"}
+    gripped = {} if grip is None else {"gripped patch (assumed)": "{:g} x {:g} mm".format(*grip)}
     return PaperCase(
         name=name,
         title=title,

@@ -32,7 +32,9 @@ if TYPE_CHECKING:
 __all__ = [
     "ORDER_KINEMATICS",
     "THICKNESS",
+    "deflection_name",
     "mesh_size",
+    "order_kind",
     "observed_orders",
     "order_checks",
     "order_quantities",
@@ -47,6 +49,13 @@ THICKNESS = "largest thickness along the director / h"
 def deflection_name(side: str) -> str:
     """The name of the mid-side deflection of ``side`` ("side_1") in the report."""
     return f"deflection z at the middle of {side.replace('_', ' ')} (mm)"
+
+
+def order_kind(record: ObservedOrder) -> str:
+    """The key of ``record`` in a case's ``order_tolerance``: "<kinematics> deflection" or
+    "<kinematics> thickness" (e.g. "mindlin deflection": both sides' mid-side deflections)."""
+    kind = "thickness" if record.quantity == THICKNESS else "deflection"
+    return f"{record.kinematics} {kind}"
 
 
 def order_quantities(
@@ -102,8 +111,9 @@ def observed_orders(
 
 
 def order_checks(case: PaperCase, orders: list[ObservedOrder], resolution: str) -> list[Check]:
-    """Where the case states a tolerance ``tol`` at ``resolution`` (``PaperCase.order_tolerance``),
-    one check per record, none otherwise (the orders are then reported only).
+    """One check per record for which the case states a tolerance ``tol`` at ``resolution``
+    (``PaperCase.order_tolerance[resolution][order_kind(record)]``); the others are reported
+    only.
 
     A record whose three values all lie within ``tol`` of the finest mesh's (relative) has
     converged to that tolerance on the coarsest of its meshes: the order of differences that
@@ -111,12 +121,13 @@ def order_checks(case: PaperCase, orders: list[ObservedOrder], resolution: str) 
     order is positive (the differences shrink), the Richardson value lies within ``tol`` of
     the finest mesh's and the three runs converged.
     """
-    tolerance = (case.order_tolerance or {}).get(resolution)
-    if tolerance is None:
-        return []
+    tolerances = (case.order_tolerance or {}).get(resolution, {})
     checks = []
     source = f"{PAPER}, {case.source}: Richardson extrapolation on three meshes"
     for record in orders:
+        tolerance = tolerances.get(order_kind(record))
+        if tolerance is None:
+            continue
         finest = record.values[-1]
         cells = ", ".join(str(n) for n in record.cells)
         name = f"{CHECK_NAMES[record.kinematics]}: {record.quantity}, n = {cells}"
