@@ -8,8 +8,8 @@ the format does not know is an error, not ignored. The format (README "Case file
 title = "G1151 strip under its own weight"     # optional
 [mesh]
 rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh" (meshio),
-# or: corner = { lx = 200.0, ly = 150.0, n = 20 } (the corner specimen of Bai §6; grip = 10.0
-# adds the node set "grip", the 10 x 10 mm patch at its corner)
+# or: corner = { lx = 200.0, ly = 150.0, n = 20 } (the corner specimen of Bai §6; grip =
+# [20.0, 15.0] adds the node set "grip", the 20 x 15 mm patch at its corner)
 [sets]                                   # optional named node sets, by bounds (mesh units)
 tip = { x_min = 199.9 }
 [[part]]
@@ -401,14 +401,18 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
 def _corner(where: _Where, value: Any) -> Mesh:
     """The corner specimen of Bai §6: the free triangle of an lx x ly rectangle beyond its
     diagonal, n x n cells before the cut, with node sets "clamp" (the diagonal) and "corner"
-    (the free corner at the origin), and with ``grip = a`` (mm) the node set "grip" of the
-    a x a patch at the corner a gripper holds, on grid lines at every n; femcore.Mesh.corner."""
+    (the free corner at the origin), and with ``grip = a`` or ``[a, b]`` (mm) the node set
+    "grip" of the a x a (a x b) patch at the corner a gripper holds, on grid lines at every n;
+    femcore.Mesh.corner."""
     table = _table(where, value, "corner", ("lx", "ly", "n", "grip"), ("lx", "ly", "n"))
     inner = where.child("corner")
     if isinstance(table["n"], bool) or not isinstance(table["n"], int) or table["n"] < 2:
         raise inner.error("n", f"expected a whole number of cells >= 2, got {table['n']!r}")
     lx, ly = _number(inner, table["lx"], "lx"), _number(inner, table["ly"], "ly")
-    grip = _number(inner, table["grip"], "grip") if "grip" in table else None
+    grip = table.get("grip")
+    if grip is not None:
+        sizes = grip if isinstance(grip, list) and len(grip) == 2 else [grip]
+        grip = tuple(_number(inner, size, "grip") for size in sizes)
     try:
         return Mesh.corner(lx, ly, table["n"], grip)
     except ValueError as error:

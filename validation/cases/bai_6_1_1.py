@@ -41,6 +41,12 @@ SLIP_NOTE = (
     "so the relation is measured but not made a check: it would pass for both fibrous variants."
 )
 
+# Observed orders (validation.paper.orders), measured on 10 / 20 / 40 cells with the corner
+# lifted by one node (a point load; bai-6.2.1 grips a patch instead): the mid-side deflections
+# z (mm), Mindlin side 1 10.372 / 9.823 / 9.424 (order 0.5), side 2 8.007 / 8.375 / 8.351
+# (none: the differences change sign); fibrous side 1 4.242 / 4.273 / 4.102 (none), side 2
+# 9.975 / 9.815 / 9.618 (none: they grow), thickness / h 1.259 / 1.277 / 1.292 (order 0.1).
+# Not checked: no clear order; reported in the table.
 SPEC = corner_case(
     name=NAME,
     title=TITLE,
@@ -50,6 +56,7 @@ SPEC = corner_case(
     displacement=CORNER_LIFT,
     described="corner lifted 40 mm, x y free",
     cells={"coarse": 8, "default": 20, "fine": 40},
+    order_cells={"coarse": (4, 6, 8), "default": (10, 20, 40), "fine": (10, 20, 40)},
     slip_sides=("side_1", "side_2"),
     slip_note=SLIP_NOTE,
 )

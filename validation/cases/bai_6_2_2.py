@@ -36,6 +36,13 @@ SLIP_NOTE = (
     "small, atan(theta) and theta cannot be told apart."
 )
 
+# Observed orders (validation.paper.orders), measured on 6 / 12 / 24 cells: the mid-side
+# deflections z (mm), Mindlin side 1 -7.766 / -7.123 / -6.740 (order 0.7), side 2 -18.504 /
+# -17.789 / -16.958 (none: the differences grow), fibrous side 1 -12.108 / -12.325 / -12.227
+# (none; a limit point at 24 cells), side 2 -21.580 / -20.816 / -20.365 (order 0.8),
+# thickness / h 1.485 / 1.546 / 1.588 (order 0.5). Not checked: a buckling test past a limit
+# point has no clear order here; reported. The corner is pushed by one node (an in-plane point
+# load), not lifted: it is left so (the brief of the gripped lift concerned the lifted corner).
 SPEC = corner_case(
     name=NAME,
     title=TITLE,
@@ -45,6 +52,7 @@ SPEC = corner_case(
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
+    order_cells={"coarse": (4, 6, 8), "default": (6, 12, 24), "fine": (6, 12, 24)},
     increments=20,
     slip_sides=("side_1", "side_2"),
     slip_note=SLIP_NOTE,

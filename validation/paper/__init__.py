@@ -54,13 +54,13 @@ from validation.paper.kinematics import (
 )
 from validation.paper.orders import (
     ORDER_KINEMATICS,
-    THICKNESS,
     deflection_name,
     mesh_size,
     observed_orders,
     order_checks,
     order_kind,
     order_quantities,
+    thickness_name,
 )
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data, slip_errors
 
@@ -79,7 +79,6 @@ __all__ = [
     "PaperCase",
     "PaperRuns",
     "SHEAR_RATIO",
-    "THICKNESS",
     "Kinematics",
     "compute_paper_case",
     "corner_case",
@@ -101,5 +100,6 @@ __all__ = [
     "slip_checks",
     "slip_errors",
     "solve",
+    "thickness_name",
     "view_3d",
 ]
