@@ -30,29 +30,31 @@ TITLE = "11-ply G1151 laminate: corner lifted by a gripper beyond a clamped diag
 SECTION = "§6.2.1, Fig. 13, 14"
 SOURCE = f"Bai et al. (2020) {SECTION}"
 GRIP = (20.0, 15.0)  # mm along x and y: the gripped patch at the corner (assumed)
-# Measured, the mid-side deflections (z at the middle of side 1 / side 2, mm) and the fibrous
-# largest thickness along the director (/ h) on 10 / 20 / 40 / 60 cells (h = 20 / 10 / 5 /
-# 3.3 mm), the gripped patch:
-#   Mindlin side 1: 13.896 / 13.508 / 13.353 / 13.299; side 2: 18.466 / 18.185 / 18.072 /
-#     18.022; observed order on 10-20-40 1.32 and 1.31, on 20-40-60 1.05 and 0.80.
-#   fibrous side 1: 16.386 / 16.680 / 17.009 / FIB60_S1; side 2: 21.972 / 22.087 / 22.353 /
-#     FIB60_S2: the deflections grow as the mesh is refined, by as much from 20 to 40 cells as
-#     from 10 to 20 (no positive order on 10-20-40); thickness 1.1619 / 1.1717 / 1.1758 /
-#     FIB60_T, order 1.23 on 10-20-40.
-# With the corner lifted by one node (8 / 20 / 40 / 60 cells; the corner's thickness is then
-# the largest): Mindlin side 1 6.572 / 6.268 / 6.146 / 6.106, side 2 9.869 / 9.603 / 9.474 /
-# 9.428 (order 1 to 1.1); fibrous side 1 6.189 / 6.045 / 5.873 / 5.792, side 2 10.282 / 9.897
-# / 9.688 / 9.598, corner thickness 1.214 / 1.244 / 1.265 / 1.276 (order 0.2 to 0.5). With the
-# patch's nodes free to slide apart (directors held, no Grip), the Mindlin deflection lost its
-# order between 40 and 60 cells (side 1 13.313 / 13.223 after 13.474 at 20: order 0.4): the
-# soft membrane of the calibration (E h = 3.8 N/mm) let the patch deform, which jaws do not.
-# The fibrous deflections are not made checks: they converge slowly with the point load
-# (order 0.5 on 20-40-60, none on 8-20-40), with the patch's nodes free to slide apart (side
-# 1 16.045 / 16.608 / 17.011 on 10 / 20 / 40 cells, order 0.5) and with the grip, so that
-# slowness is the fibrous shell's on this test, not the load's. Tolerances of the order checks
-# (default and fine, 10-20-40 cells): the Mindlin Richardson values lie 0.8 % and 0.4 % from
-# the 40-cell ones, the fibrous thickness's 0.27 %: 2 % and 1 %.
-ORDER_TOLERANCE = {"mindlin deflection": 0.02, "fibrous thickness": 0.01}
+# Measured (validation.paper.orders): the deflection z at the middle of side 1 / side 2 (mm)
+# and the fibrous thickness along the director there (/ h) on 5 / 10 / 20 / 40 / 60 cells (h =
+# 53 / 20 / 10 / 5 / 3.3 mm), the gripped patch:
+#   Mindlin side 1: 17.866 / 13.896 / 13.508 / 13.353 / 13.299; side 2: 20.657 / 18.466 /
+#     18.185 / 18.072 / 18.022. Observed order on 10-20-40 1.32 and 1.32 (Richardson values
+#     0.77 % and 0.42 % from the 40-cell ones), on 20-40-60 0.93 and 0.52.
+#   fibrous side 1: 16.575 / 16.386 / 16.680 / 17.009 / 17.151; side 2: 21.790 / 21.972 /
+#     22.087 / 22.353 / 22.501: the deflections grow as the mesh is refined, by as much from
+#     20 to 40 cells as from 10 to 20 (no positive order on 10-20-40, 0.5 and 0.1 on
+#     20-40-60). Thickness side 1: 1.0473 / 1.1138 / 1.1207 / 1.1269 / 1.1296, side 2: 1.0838 /
+#     1.1619 / 1.1686 / 1.1735 / 1.1759 (order 0.2 and 0.5 on 10-20-40, 0.6 and 0.3 on 20-40-60).
+# With the corner lifted by one node, as before (8 / 20 / 40 / 60 cells; at the corner node,
+# where the thickness was largest): Mindlin side 1 6.572 / 6.268 / 6.146 / 6.106, side 2 9.869
+# / 9.603 / 9.474 / 9.428 (order 1 on 20-40-60); fibrous side 1 6.189 / 6.045 / 5.873 / 5.792,
+# side 2 10.282 / 9.897 / 9.688 / 9.598, corner thickness 1.214 / 1.244 / 1.265 / 1.276 (order
+# 0.5 and 0.2 on 20-40-60, none on 8-20-40 for side 1). With the patch's nodes free to slide
+# apart (directors held, no Grip), the Mindlin deflection lost its order between 40 and 60
+# cells (side 1 13.474 / 13.313 / 13.223 on 20 / 40 / 60: order 0.4): the soft membrane of the
+# calibration (E h = 3.8 N/mm) let the patch deform, which jaws do not; the fibrous side 1
+# went 16.045 / 16.608 / 17.011 on 10 / 20 / 40 (order 0.5). The grip took the point load
+# away, but the fibrous deflections and mid-side thickness converge slowly with and without
+# it: that slowness is the fibrous shell's on this test, not the load's, and they are
+# reported, not checked. Order check (default and fine, 10-20-40 cells): the Mindlin
+# deflections, tolerance 2 % (measured 0.77 % and 0.42 %).
+ORDER_TOLERANCE = {"mindlin deflection": 0.02}
 # Not checked: |tilt - atan(theta)| along side 1 / side 2 (clamped and gripped nodes left
 # out), measured for the default fibrous run: 0.86 / 0.91 deg on the coarse mesh (10 cells),
 # 0.97 / 0.92 deg on the default one (20 cells), but for the Eq. 15 run (tilt = theta) 1.2 /
