@@ -284,6 +284,27 @@ def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
     np.testing.assert_allclose(run.result.positions, expected.positions, rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        (
+            "stiffness = 23000.0",
+            "stiffness = -1.0",
+            r"\[grip\[0\].stiffness\]: expected a positive",
+        ),
+        ("stiffness = 23000.0", "stifness = 23000.0", r"\[grip\[0\].stifness\]: unknown key"),
+        ("grip = [20.0, 15.0]", "grip = [150.0, 150.0]", r"\[mesh.corner\]: grip must be"),
+        ("grip = [20.0, 15.0]", 'grip = "jaws"', r"\[mesh.corner.grip\]: expected a finite"),
+    ],
+)
+def test_a_mistake_in_a_grip_names_the_table_and_the_key(tmp_path, old, new, where):
+    """The gripped patch of cases/bai-6.2.1.toml: [mesh] corner's grip and the [[grip]] table."""
+    text = (ROOT / "cases" / "bai-6.2.1.toml").read_text()
+    assert old in text
+    with pytest.raises(CaseError, match=where):
+        load_case(write(tmp_path, text.replace(old, new, 1)))
+
+
 def test_an_explicit_case_streams_its_frames_and_energies(tmp_path):
     """kind = "explicit": the frames go to result.pvd as the run goes (one per output
     interval), the energy records to energies.csv, and the summary is that of the last frame;
