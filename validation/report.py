@@ -321,7 +321,8 @@ def _orders_table(case: dict) -> str:
     return (
         "<p>Observed order of convergence on three meshes (Richardson, for any refinement "
         "ratio: f(h) = f0 + C h^p through the three values; h the largest node spacing "
-        "along side 1). A dash: the differences change sign, no order.</p>"
+        "along side 1). A dash: the differences change sign, no order. Checked where the case "
+        "states a tolerance (see its checks).</p>"
         f"<table><tr><th>kinematics</th><th>quantity</th>{meshes}<th>order p</th>"
         "<th>extrapolated f0</th><th>|f0 - finest| / |finest|</th><th></th></tr>"
         f"{''.join(rows)}</table>"

@@ -54,6 +54,7 @@ __all__ = [
     "PaperRuns",
     "compute_paper_case",
     "corner_case",
+    "refinement_orders",
     "render_paper_case",
     "solve",
 ]
