@@ -4,8 +4,9 @@ diagonal clamped, a vertical displacement imposed at the free corner by a grippe
 Source: Bai et al. (2020) §6.2, §6.2.1, Fig. 13, 14, Table 2.
 Geometry: 200 x 150 x 15 mm (paper). Only the free triangle is meshed; the diagonal is clamped.
 Load: gravity, then the corner lifted by 40 mm (assumed) by a gripper: the 20 x 15 mm patch at
-the corner (assumed: the paper's text gives no size and its Fig. 8 only sketches "a rigid
-support"; jaws about as wide as the laminate is thick, one tenth of each side, so that the
+the corner (assumed: the paper's text gives no size, only "a rigid support imposes a vertical
+displacement at the corner" (§6.1.1), and its Fig. 8 is not legible in the text this project
+holds; jaws about as wide as the laminate is thick, one tenth of each side, so that the
 patch's edges are grid lines of the uniform meshes of 10, 20, 40, 60 cells) rises 40 mm as one
 rigid patch (elements.Grip), free to slide horizontally (a carriage), its directors (Mindlin:
 rotations) held as the jaws hold the plies. Earlier versions of this case lifted the corner
