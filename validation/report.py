@@ -290,6 +290,45 @@ def _checks_table(case: dict) -> str:
     )
 
 
+def _orders_table(case: dict) -> str:
+    """The paper case's observed orders on three meshes (Richardson): per kinematics and
+    quantity, the values, the order and the extrapolated value; empty for other cases."""
+    orders = case.get("observed_orders")
+    if not orders:
+        return ""
+    labels = {k: e.get("label", k) for k, e in case.get("elements", {}).items()}
+    rows = []
+    for record in orders:
+        order = record["order"]  # None in results.json: no order (oscillating, or none found)
+        gap = (
+            abs(record["extrapolated"] - record["values"][-1]) / abs(record["values"][-1])
+            if order is not None and record["extrapolated"] is not None and record["values"][-1]
+            else None
+        )
+        rows.append(
+            f"<tr><td>{html.escape(labels.get(record['kinematics'], record['kinematics']))}</td>"
+            f"<td>{html.escape(record['quantity'])}</td>"
+            + "".join(f"<td class='num'>{value:.5g}</td>" for value in record["values"])
+            + f"<td class='num'>{'-' if order is None else f'{order:.2f}'}</td>"
+            f"<td class='num'>{'-' if gap is None else _number(record['extrapolated'])}</td>"
+            f"<td class='num'>{'-' if gap is None else f'{100 * gap:.2f} %'}</td>"
+            f"<td>{'' if record['converged'] else 'NOT converged'}</td></tr>"
+        )
+    first = orders[0]
+    meshes = "".join(
+        f"<th>n = {n}<br>h = {size:.3g} mm</th>" for n, size in zip(first["cells"], first["sizes"])
+    )
+    return (
+        "<p>Observed order of convergence on three meshes (Richardson, for any refinement "
+        "ratio: f(h) = f0 + C h^p through the three values; h the largest node spacing "
+        "along side 1). A dash: the differences change sign, no order. Checked where the case "
+        "states a tolerance (see its checks).</p>"
+        f"<table><tr><th>kinematics</th><th>quantity</th>{meshes}<th>order p</th>"
+        "<th>extrapolated f0</th><th>|f0 - finest| / |finest|</th><th></th></tr>"
+        f"{''.join(rows)}</table>"
+    )
+
+
 def render_html(report: dict[str, Any]) -> str:
     """One self-contained page: contents, summary, then each case in detail: its description,
     parameters, figures with captions, discussion, files and (collapsed) checks with their
@@ -336,7 +375,7 @@ def render_html(report: dict[str, Any]) -> str:
             f"{error}<pre>{html.escape(case['description'])}</pre>"
             f"<p>Solver: {html.escape(case.get('solver', ''))}; {case['steps']} steps/iterations; "
             f"{case['wall_time_s']:.2f} s.</p>"
-            f"<table>{parameters}</table>{figures}{discussion}{files}"
+            f"<table>{parameters}</table>{figures}{discussion}{_orders_table(case)}{files}"
             f"{_checks_table(case)}</section>"
         )
     contents = "".join(

@@ -36,6 +36,18 @@ SLIP_NOTE = (
     "small, atan(theta) and theta cannot be told apart."
 )
 
+# Observed orders (validation.paper.orders), measured on 4 / 6 / 8 / 12 / 24 cells: the
+# deflection z at the middle of the sides (mm), Mindlin side 1 -8.466 / -7.766 / -7.454 /
+# -7.123 / -6.740 (order 0.7 on 6-12-24, Richardson value 8.5 % from the 24-cell one), side 2
+# -18.830 / -18.504 / -18.242 / -17.789 / -16.958 (none: the differences grow); fibrous side 1
+# -11.618 / -12.108 / -12.261 / -12.325 / -12.227 (none; a limit point at 24 cells), side 2
+# -22.501 / -21.580 / -21.194 / -20.816 / -20.365 (order 0.8, 3.2 %); the fibrous thickness
+# along the director there / h, side 1 1.0734 / 1.0803 / 1.0834 / 1.0853 / 1.0848, side 2
+# 1.1755 / 1.1846 / 1.1881 / 1.1899 / 1.1877 (no order on 6-12-24, but within 0.41 % and
+# 0.26 %). Checked (default and fine): the fibrous thickness, 1 % (it passes as converged);
+# the rest is reported. The corner is pushed by one node (an in-plane point load), not lifted,
+# and is left so: the gripped patch replaced the lifted node of bai-6.2.1.
+ORDER_TOLERANCE = {"fibrous thickness": 0.01}
 SPEC = corner_case(
     name=NAME,
     title=TITLE,
@@ -45,6 +57,8 @@ SPEC = corner_case(
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
+    order_cells={"coarse": (4, 6, 8), "default": (6, 12, 24), "fine": (6, 12, 24)},
+    order_tolerance={"default": ORDER_TOLERANCE, "fine": ORDER_TOLERANCE},
     increments=20,
     slip_sides=("side_1", "side_2"),
     slip_note=SLIP_NOTE,

@@ -22,6 +22,8 @@ Modules, one concern each:
 - ``profiles``: the measurements along the sides (``side_data``, ``key_numbers``,
   ``slip_errors``, ``fibre_statistics``);
 - ``invariants``: Bai's claims as checks (``invariant_checks``, ``slip_checks``);
+- ``orders``: the observed orders of the reported quantities on three meshes
+  (``order_quantities``, ``mesh_size``, ``observed_orders``, ``order_checks``);
 - ``discussion``: the report's paragraph on the run;
 - ``figures``: the side profiles, the side elevation, the fabric's laws and the 3D view.
 """
@@ -50,6 +52,16 @@ from validation.paper.kinematics import (
     SHEAR_RATIO,
     Kinematics,
 )
+from validation.paper.orders import (
+    ORDER_KINEMATICS,
+    deflection_name,
+    mesh_size,
+    observed_orders,
+    order_checks,
+    order_kind,
+    order_quantities,
+    thickness_name,
+)
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data, slip_errors
 
 __all__ = [
@@ -62,6 +74,7 @@ __all__ = [
     "KINEMATICS",
     "LABELS",
     "MARKERS",
+    "ORDER_KINEMATICS",
     "PAPER",
     "PaperCase",
     "PaperRuns",
@@ -69,11 +82,17 @@ __all__ = [
     "Kinematics",
     "compute_paper_case",
     "corner_case",
+    "deflection_name",
     "discussion",
     "fibre_statistics",
     "invariant_checks",
     "key_numbers",
     "laws_figure",
+    "mesh_size",
+    "observed_orders",
+    "order_checks",
+    "order_kind",
+    "order_quantities",
     "render_paper_case",
     "side_data",
     "side_elevation",
@@ -81,5 +100,6 @@ __all__ = [
     "slip_checks",
     "slip_errors",
     "solve",
+    "thickness_name",
     "view_3d",
 ]

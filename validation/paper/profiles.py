@@ -61,13 +61,14 @@ def side_data(
 
 
 def fibre_statistics(result: Any, specimen: specimens.Specimen) -> dict[str, float]:
-    """The fibrous run's largest fibre strain, also away from the loaded node, and its largest
+    """The fibrous run's largest fibre strain, also away from the loaded nodes, and its largest
     in-plane shear angle (deg)."""
     strain = np.maximum(
         np.abs(result.field("warp_strain")).max(axis=1),
         np.abs(result.field("weft_strain")).max(axis=1),
     )
-    # The support acts on one node: the triangles around it carry the point load.
+    # The support acts on the loaded nodes (one node, or a gripped patch): the triangles
+    # touching them carry its load.
     at_support = np.isin(specimen.mesh.triangles, specimen.loaded).any(axis=1)
     return {
         "max_fibre_strain": float(strain.max()),
