@@ -25,7 +25,7 @@ from fibreshell.case import Case
 from fibreshell.run import Run, strict_json
 from solvers import SolverError
 
-__all__ = ["ply_stack", "plies_profiles", "run_plies", "stack_model"]
+__all__ = ["ply_stack", "plies_profiles", "run_plies", "stack_model", "write_material_lines"]
 
 
 def _fibrous_part(case: Case) -> FibrousShell:
@@ -121,7 +121,8 @@ def plies_profiles(case: Case, stack: PlyStack, positions, directors) -> dict[st
 
 def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | None = None) -> Run:
     """Run the case as its stack of plies into ``out`` (result.pvd on the plies' mesh,
-    summary.json) with the case's solver.
+    material-lines.vtu on the case's mesh: ``write_material_lines``, summary.json) with the
+    case's solver.
 
     Returns
     -------
@@ -176,4 +177,33 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
         "paths": profiles,
     }
     (out / "summary.json").write_text(strict_json(summary))
+    write_material_lines(case, stack, lines, out / "material-lines.vtu")
     return Run("plies", result, error, wall, summary, profiles=profiles)
+
+
+def write_material_lines(case: Case, stack: PlyStack, lines, path: Path) -> Path:
+    """The stack's mid-surface (the middle of each material line) as a VTU on the case's
+    mesh, with the fields the fibrous shell writes under the same names: ``director`` (unit,
+    from ply 1 to ply N), ``director_tilt`` (rad, from the stack's normal), ``thickness``
+    (along the director, mm), and ``displacement`` (mm, from the reference mid-surface) for
+    ParaView's Warp By Vector, plus ``ply_gap`` (the largest gap between plies, mm) and
+    ``straightness`` (the largest distance of a ply from the line, mm)."""
+    import meshio
+
+    mesh = case.mesh
+    meshio.write(
+        path,
+        meshio.Mesh(
+            mesh.points,
+            [("triangle", mesh.triangles)],
+            point_data={
+                "displacement": lines.midpoint - mesh.points,
+                "director": lines.direction,
+                "director_tilt": lines.angle,
+                "thickness": lines.thickness,
+                "ply_gap": lines.gap,
+                "straightness": lines.straightness,
+            },
+        ),
+    )
+    return path

@@ -165,6 +165,13 @@ def test_the_plies_tilt_as_the_deck_of_cards_and_as_the_fibrous_directors(tmp_pa
     assert comparison["plies"]["count"] == 2
     assert comparison["plies"]["largest_overlap_mm"] < 1e-3 * 0.1  # of h / N
     assert comparison["differences"]["plies"]["paths"]["edge"]["director_angle_max_deg"] < 1e-3
+    # the material lines on the case's mesh, with the fibrous shell's field names
+    import meshio
+
+    lines = meshio.read(tmp_path / "out" / "plies" / "material-lines.vtu")
+    assert len(lines.points) == case.mesh.n_nodes
+    assert np.degrees(lines.point_data["director_tilt"].max()) == pytest.approx(tilt, rel=0.01)
+    assert set(lines.point_data) >= {"displacement", "director", "thickness", "ply_gap"}
 
 
 def test_the_plies_default_to_the_fabric_s_ply_count(tmp_path):
