@@ -11,7 +11,10 @@ Material (all assumed, materials.presets.paper_stack): 80 g/m^2 and 0.1 mm per s
 50 N mm, tension 2300 N/mm (an inextensibility penalty), in-plane shear 1000 N/mm (the paper:
 "the in-plane shear stiffness is large"). The sensitivity of the result to B and K is the
 subject of the case "bai-6.1.1-sensitivity".
-Mindlin: E = 12 B / h^3, nu = 0, G13 = G23 = 0.5 E.
+Mindlin: MindlinShell(fabric), calibration "laws" (fibreshell.calibration): the fabric's own
+laws, S = 5 B0 / h^2 = 1.48 N/mm, D_t = K0 h^2 / 12 = 1.41e4 N mm (the in-plane shear of
+1000 N/mm makes the section stiff in twist). Earlier versions: E = 12 B / h^3, nu = 0, G13 =
+G23 = 0.5 E (the old numbers are in the comments below).
 """
 
 from __future__ import annotations

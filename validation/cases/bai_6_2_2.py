@@ -6,7 +6,7 @@ Geometry and material: as bai-6.2.1.
 Load: gravity, and the corner pushed 20 mm in its plane along side 1 (the warp, x) towards the
 clamp, free to move in y and z (assumed; see bai-6.1.2); gravity picks the buckling
 direction. Static follows the arc length of the path (load steps past a limit point).
-Mindlin: as bai-6.2.1.
+Mindlin: as bai-6.2.1 (MindlinShell(fabric), calibration "laws").
 """
 
 from __future__ import annotations
