@@ -79,9 +79,7 @@ def side_figure(case: PaperCase, profiles: dict[str, dict[str, SideProfile]], ou
         for ax in axes[row]:
             ax.grid(True, alpha=0.3)
     axes[0, 0].legend(fontsize="small")
-    fig.suptitle(
-        f"{case.name}: {case.title}\n{calibration_title(case.calibration, case.fabric)}"
-    )
+    fig.suptitle(f"{case.name}: {case.title}\n{calibration_title(case.calibration, case.fabric)}")
     name = f"{case.name}-sides.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
