@@ -82,6 +82,10 @@ class PaperCase:
     # What the comparison of the fibrous and the Mindlin run shows on this case, in words
     # (measured; validation.paper.discussion.comparison adds it after the run's numbers).
     comparison_note: str = ""
+    # The largest distance between the fibrous and the Mindlin mid-surface along the sides, as
+    # a fraction of the largest displacement, that passes (chosen by measuring; every
+    # resolution), or None: measured and reported, not checked (validation.paper.invariants).
+    midsurface_tolerance: float | None = None
     # The sides along which the plies slip freely from the clamp, where the default fibrous
     # directors' tilt from the normal is compared with atan(theta) (``slip_errors``), and in
     # words why (or why not) for the report's paragraph; the largest |tilt - atan(theta)| that
@@ -164,13 +168,15 @@ def corner_case(
     grip: tuple[float, float] | None = None,
     order_cells: dict[str, tuple[int, int, int]] | None = None,
     order_tolerance: dict[str, dict[str, float]] | None = None,
+    comparison_note: str = "",
+    midsurface_tolerance: float | None = None,
 ) -> PaperCase:
     """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
     diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner (the
     corner node; with ``grip`` = (a, b) (mm), the a x b patch at the corner a gripper holds,
     its directors held too) and ``described`` in words for the report; ``slip_sides``,
-    ``slip_note``, ``slip_tolerance_deg``, ``order_cells`` and ``order_tolerance`` as in
-    ``PaperCase``."""
+    ``slip_note``, ``slip_tolerance_deg``, ``order_cells``, ``order_tolerance``,
+    ``comparison_note`` and ``midsurface_tolerance`` as in ``PaperCase``."""
     length, width = size
     gripped = {} if grip is None else {"gripped patch (assumed)": "{:g} x {:g} mm".format(*grip)}
     return PaperCase(
@@ -187,6 +193,8 @@ def corner_case(
         slip_tolerance_deg=slip_tolerance_deg,
         order_cells=order_cells or {},
         order_tolerance=order_tolerance,
+        comparison_note=comparison_note,
+        midsurface_tolerance=midsurface_tolerance,
         parameters={
             "length_mm": length,
             "width_mm": width,

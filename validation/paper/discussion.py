@@ -16,49 +16,17 @@ import numpy as np
 
 from validation import specimens
 from validation.paper.kinematics import LABELS, calibration_title
-from validation.paper.profiles import slip_errors
+from validation.paper.profiles import midsurface_gap, slip_errors
 from validation.records import ElementRun
 
 if TYPE_CHECKING:
     from validation.paper.case import PaperCase
 
-__all__ = ["comparison", "discussion", "midsurface_gap"]
+__all__ = ["comparison", "discussion"]
 
 
 def _largest(values: list[np.ndarray]) -> float:
     return float(max(np.abs(v).max() for v in values))
-
-
-def midsurface_gap(
-    specimen: specimens.Specimen, fibrous: ElementRun, mindlin: ElementRun
-) -> dict[str, float]:
-    """How far apart the two runs' mid-surfaces are along the filmed sides: the largest
-    distance between the same node in both (mm, "distance"), the largest displacement of the
-    fibrous run's side nodes (mm, "displacement") and the largest difference of the director
-    angles, fibrous - Mindlin (deg, signed, "director"), with the side and the s (mm) where
-    it is ("director_side", "director_s")."""
-    distance = displacement = 0.0
-    director, where = 0.0, ("", 0.0)
-    for side, data in fibrous.sides.items():
-        nodes, s = specimen.sides[side]
-        x_f = np.asarray(data.midsurface)
-        x_m = np.asarray(mindlin.sides[side].midsurface)
-        distance = max(distance, float(np.linalg.norm(x_f - x_m, axis=1).max()))
-        moved = np.linalg.norm(x_f - specimen.mesh.points[nodes], axis=1)
-        displacement = max(displacement, float(moved.max()))
-        gap = np.asarray(data.director_angle_deg) - np.asarray(
-            mindlin.sides[side].director_angle_deg
-        )
-        k = int(np.argmax(np.abs(gap)))
-        if abs(gap[k]) > abs(director):
-            director, where = float(gap[k]), (side, float(np.asarray(s)[k]))
-    return {
-        "distance": distance,
-        "displacement": displacement,
-        "director": director,
-        "director_side": where[0],
-        "director_s": where[1],
-    }
 
 
 def comparison(
