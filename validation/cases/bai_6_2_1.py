@@ -60,8 +60,7 @@ GRIP = (20.0, 15.0)  # mm along x and y: the gripped patch at the corner (assume
 # the initial-slope calibration (E h = 3.8 N/mm) let the patch deform, which jaws do not; the
 # fibrous side 1 went 16.045 / 16.608 / 17.011 on 10 / 20 / 40 (order 0.5). The grip took the
 # point load away, but the fibrous deflections and mid-side thickness converge slowly with and
-# without
-# it: that slowness is the fibrous shell's on this test, not the load's, and they are
+# without it: that slowness is the fibrous shell's on this test, not the load's, and they are
 # reported, not checked. Order check (default and fine, 10-20-40 cells): the Mindlin
 # deflections, tolerance 1 % (measured 0.53 % and 0.32 % with the laws section; it was 2 %
 # for the initial-slope section's 0.77 % and 0.42 %: tightened, as the margin stays 2 x).
