@@ -271,8 +271,9 @@ def test_json_outputs_are_strict():
 def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
     """cases/bai-6.2.1.toml (coarse: n = 10) builds the model the validation report builds for
     bai-6.2.1 (validation.specimens.build: corner specimen, clamp, the gripped patch lifted as
-    one with its directors held, gravity, the Mindlin calibration) and runs its solver: the
-    same final state (same arithmetic: 1e-12 mm)."""
+    one with its directors held, gravity, and for "mindlin" the Mindlin shell of the
+    calibration both default to, "laws": MindlinShell(fabric)) and runs its solver: the same
+    final state (same arithmetic: 1e-12 mm)."""
     from validation import paper, specimens
     from validation.cases.bai_6_2_1 import GRIP
 
@@ -392,3 +393,27 @@ def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
     assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
     model = case.model()
     assert model.interactions[-1].friction == 0.2
+
+
+@pytest.mark.parametrize(
+    "calibration, section",
+    [(None, "fabric"), ("laws", "fabric"), ("initial-slope", "elastic")],
+)
+def test_the_report_s_mindlin_shell_is_made_of_the_fabric_by_default(calibration, section):
+    """validation.specimens.build gives the Mindlin shell the calibration it is told,
+    "laws" by default: MindlinShell(fabric), the same Fabric as the fibrous shell's, so that a
+    paper case compares kinematics, not materials; "initial-slope" is still there to show
+    what the old comparison did."""
+    from elements import MindlinShell
+    from validation import specimens
+
+    fabric = presets.g1151_laminate()
+    specimen = specimens.corner(200.0, 150.0, 4)
+    options = {} if calibration is None else {"calibration": calibration}
+    model = specimens.build(specimen, "mindlin", fabric, (None, None, 40.0), **options)
+    (entry,) = model.blocks
+    assert isinstance(entry.element, MindlinShell)
+    if section == "fabric":
+        assert entry.element.material is fabric
+    else:
+        assert isinstance(entry.element.material, ElasticShell)

@@ -33,6 +33,7 @@ import numpy as np
 
 from elements import Cable, FibrousShell, Grip, MindlinShell
 from femcore import Mesh, Model
+from fibreshell.calibration import Calibration
 from materials import ElasticShell, Fabric
 
 __all__ = [
@@ -328,7 +329,8 @@ def arc_length(mesh: Mesh) -> np.ndarray:
 
 
 def mindlin_equivalent(fabric: Fabric, shear_ratio: float = 0.5) -> ElasticShell:
-    """The Mindlin calibration of a fabric (``materials.ElasticShell.equivalent``)."""
+    """The "initial-slope" section of a fabric (``materials.ElasticShell.equivalent``; the
+    paper cases use the fabric's own laws, ``build``)."""
     return ElasticShell.equivalent(fabric, shear_ratio)
 
 
@@ -345,7 +347,7 @@ def build(
     kinematics: str,
     fabric: Fabric,
     displacement: tuple[float | None, float | None, float | None],
-    shear_ratio: float = 0.5,
+    calibration: Calibration | str = "laws",
     levels: int = 3,
     thickness: str = "nodal",
 ) -> Model:
@@ -353,13 +355,37 @@ def build(
     ``displacement`` (ux, uy, uz; None leaves a component free) imposed on the loaded nodes,
     which translate together (elements.Grip, ``grip_stiffness``) and whose directors (Mindlin:
     rotations) are held when the specimen is ``gripped``.
-    ``thickness`` is the fibrous shell's option of the same name: "nodal" (the thickness along
-    the director from the nodal normals, the default) or "element" (Bai Eq. 15)."""
+
+    Parameters
+    ----------
+    specimen : Specimen
+    kinematics : str
+        "fibrous" or "mindlin".
+    fabric : materials.Fabric
+    displacement : (ux, uy, uz)
+        mm; None leaves a component free.
+    calibration : fibreshell.calibration.Calibration or str
+        How the Mindlin shell is made of the fibrous one (``Calibration.mindlin``): "laws"
+        (default: ``MindlinShell(fabric)``, the fabric's own laws, so that the comparison
+        changes the kinematics alone), "fit" values or "initial-slope". The case files build
+        their Mindlin shell by the same rule (``fibreshell.case.Case.model``), so a case file
+        and this function give the same model.
+    levels : int
+        Fibre levels of the fibrous shell.
+    thickness : str
+        The fibrous shell's option of the same name: "nodal" (the thickness along the
+        director from the nodal normals, the default) or "element" (Bai Eq. 15).
+
+    Returns
+    -------
+    femcore.Model
+    """
     model = Model(specimen.mesh)
+    fibrous = FibrousShell(fabric, levels=levels, clamped=specimen.clamp, thickness=thickness)
     if kinematics == "fibrous":
-        model.add(FibrousShell(fabric, levels=levels, clamped=specimen.clamp, thickness=thickness))
+        model.add(fibrous)
     elif kinematics == "mindlin":
-        model.add(MindlinShell(mindlin_equivalent(fabric, shear_ratio)))
+        model.add(Calibration.from_options(calibration).mindlin(fibrous))
     else:
         raise ValueError(f"kinematics must be 'fibrous' or 'mindlin', got {kinematics!r}")
     model.fix(specimen.clamp)

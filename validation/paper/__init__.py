@@ -16,7 +16,8 @@ lines on the specimens) and writes the VTU and XDMF files of the three runs.
 
 Modules, one concern each:
 
-- ``kinematics``: the three models' keys, elements, labels, colours and check names;
+- ``kinematics``: the three models' keys, elements, labels, colours and check names, and how
+  the Mindlin shell's calibration is stated;
 - ``case``: ``PaperCase``, ``corner_case``, ``solve``, ``compute_paper_case``,
   ``render_paper_case``;
 - ``profiles``: the measurements along the sides (``side_data``, ``key_numbers``,
@@ -49,8 +50,9 @@ from validation.paper.kinematics import (
     LABELS,
     MARKERS,
     PAPER,
-    SHEAR_RATIO,
     Kinematics,
+    calibration_parameters,
+    calibration_title,
 )
 from validation.paper.orders import (
     ORDER_KINEMATICS,
@@ -78,8 +80,9 @@ __all__ = [
     "PAPER",
     "PaperCase",
     "PaperRuns",
-    "SHEAR_RATIO",
     "Kinematics",
+    "calibration_parameters",
+    "calibration_title",
     "compute_paper_case",
     "corner_case",
     "deflection_name",

@@ -1,7 +1,8 @@
 """A paper case: its specification, its three solves and what it writes.
 
-A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed displacement and
-the resolution table. ``compute_paper_case`` builds three models on the same mesh
+A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed displacement,
+the resolution table and the Mindlin shell's calibration (fibreshell.calibration; "laws", the
+fabric's own laws, by default). ``compute_paper_case`` builds three models on the same mesh
 (``validation.paper.kinematics.KINEMATICS``), solves each with ``solve`` (``Static`` along the
 arc length of the path, load steps past a limit point), measures the sides
 (validation.paper.profiles), checks Bai's claims (validation.paper.invariants) and writes the
@@ -25,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from femcore import Model
+from fibreshell.calibration import Calibration
 from materials import Fabric
 from solvers import ConvergenceError, Static
 from validation import specimens
@@ -37,7 +39,7 @@ from validation.paper.kinematics import (
     INCREMENTS,
     KINEMATICS,
     LABELS,
-    SHEAR_RATIO,
+    calibration_parameters,
 )
 from validation.paper.orders import (
     ORDER_KINEMATICS,
@@ -73,7 +75,17 @@ class PaperCase:
     cells: dict  # resolution -> cells argument of make_specimen
     parameters: dict = field(default_factory=dict)  # chosen values, reported
     increments: int = INCREMENTS
-    shear_ratio: float = SHEAR_RATIO  # Mindlin G13 / E (stated parameter)
+    # How the Mindlin shell is made of the fabric (fibreshell.calibration): by default "laws",
+    # MindlinShell(fabric) with the fabric's own laws, so that the comparison changes the
+    # kinematics alone; stated in the parameters, the figures and the paragraph.
+    calibration: Calibration = field(default_factory=Calibration)
+    # What the comparison of the fibrous and the Mindlin run shows on this case, in words
+    # (measured; validation.paper.discussion.comparison adds it after the run's numbers).
+    comparison_note: str = ""
+    # The largest distance between the fibrous and the Mindlin mid-surface along the sides, as
+    # a fraction of the largest displacement, that passes (chosen by measuring; every
+    # resolution), or None: measured and reported, not checked (validation.paper.invariants).
+    midsurface_tolerance: float | None = None
     # The sides along which the plies slip freely from the clamp, where the default fibrous
     # directors' tilt from the normal is compared with atan(theta) (``slip_errors``), and in
     # words why (or why not) for the report's paragraph; the largest |tilt - atan(theta)| that
@@ -156,13 +168,15 @@ def corner_case(
     grip: tuple[float, float] | None = None,
     order_cells: dict[str, tuple[int, int, int]] | None = None,
     order_tolerance: dict[str, dict[str, float]] | None = None,
+    comparison_note: str = "",
+    midsurface_tolerance: float | None = None,
 ) -> PaperCase:
     """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
     diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner (the
     corner node; with ``grip`` = (a, b) (mm), the a x b patch at the corner a gripper holds,
     its directors held too) and ``described`` in words for the report; ``slip_sides``,
-    ``slip_note``, ``slip_tolerance_deg``, ``order_cells`` and ``order_tolerance`` as in
-    ``PaperCase``."""
+    ``slip_note``, ``slip_tolerance_deg``, ``order_cells``, ``order_tolerance``,
+    ``comparison_note`` and ``midsurface_tolerance`` as in ``PaperCase``."""
     length, width = size
     gripped = {} if grip is None else {"gripped patch (assumed)": "{:g} x {:g} mm".format(*grip)}
     return PaperCase(
@@ -179,6 +193,8 @@ def corner_case(
         slip_tolerance_deg=slip_tolerance_deg,
         order_cells=order_cells or {},
         order_tolerance=order_tolerance,
+        comparison_note=comparison_note,
+        midsurface_tolerance=midsurface_tolerance,
         parameters={
             "length_mm": length,
             "width_mm": width,
@@ -258,7 +274,7 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
             ELEMENT[kinematics],
             case.fabric,
             case.displacement,
-            case.shear_ratio,
+            case.calibration,
             thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
         )
         result, note, wall = solve(model, case.increments)
@@ -297,7 +313,7 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
                 f"{axis} free" if value is None else f"{axis} {value:g} mm"
                 for axis, value in zip(("ux", "uy", "uz"), case.displacement)
             ),
-            "Mindlin G13/E": case.shear_ratio,
+            **calibration_parameters(case.calibration, case.fabric),
             **case.parameters,
         },
         elements=elements,
@@ -346,7 +362,7 @@ def refinement_orders(
                 ELEMENT[kinematics],
                 case.fabric,
                 case.displacement,
-                case.shear_ratio,
+                case.calibration,
                 thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
             )
             result, _, wall = solve(model, case.increments)
