@@ -138,8 +138,8 @@ class MindlinShell(ElementType):
         default 5 B0 / h^2 (``elements.mindlin_fabric.default_transverse_shear``: the
         homogeneous isotropic plate with the fabric's initial bending stiffness B0).
     twisting : a Fabric section's twisting stiffness D_t, N mm (moment per width per unit
-        engineering twist 2 chi_12); default K0 h^2 / 12 (``default_twisting``: the shear law
-        through the thickness).
+        engineering twist 2 chi_12); default B0 / 2 (``default_twisting``: the isotropic plate
+        of the transverse shear default, nu = 0).
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")

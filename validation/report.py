@@ -415,8 +415,8 @@ Bai's Eq. 15 as published, each element's own normal, so that parallel directors
 and keep their orientation), and a reference Mindlin shell (<b>mindlin</b>, MITC3, the role
 Abaqus S3 plays in the paper) made of the same fabric: <code>MindlinShell(fabric)</code>, whose
 section is the fabric's own tension, in-plane shear and bending laws (non-linear ones as given),
-with a stated transverse shear S = 5 B0 / h<sup>2</sup> and twisting stiffness D_t = K0
-h<sup>2</sup> / 12 (calibration "laws", fibreshell.calibration), so that a difference between
+with a stated transverse shear S = 5 B0 / h<sup>2</sup> and twisting stiffness D_t = B0 / 2
+(calibration "laws", fibreshell.calibration), so that a difference between
 the runs is one of kinematics, not of material. (Earlier versions used the paper's
 calibration, E = 12 B / h<sup>3</sup>: a membrane hundreds of times softer than the fibres and,
 past the knee of a non-linear law, a bending far too stiff.) Each case states the calibration
