@@ -4,10 +4,11 @@ from elements.base import ElementBlock, ElementType
 from elements.cable import Cable
 from elements.contact import Contact
 from elements.fibrous import FibrousShell
+from elements.grip import Grip
 from elements.mindlin import MindlinShell
 from elements.tools import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
 
 __all__ = [
-    "Cable", "Contact", "ElementBlock", "ElementType", "FibrousShell", "MindlinShell",
+    "Cable", "Contact", "ElementBlock", "ElementType", "FibrousShell", "Grip", "MindlinShell",
     "RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface",
 ]  # fmt: skip

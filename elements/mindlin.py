@@ -18,6 +18,8 @@ corner positions and directors, carried to the rotation vectors of the directors
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from elements import kernels
@@ -136,8 +138,8 @@ class MindlinShell(ElementType):
         default 5 B0 / h^2 (``elements.mindlin_fabric.default_transverse_shear``: the
         homogeneous isotropic plate with the fabric's initial bending stiffness B0).
     twisting : a Fabric section's twisting stiffness D_t, N mm (moment per width per unit
-        engineering twist 2 chi_12); default K0 h^2 / 12 (``default_twisting``: the shear law
-        through the thickness).
+        engineering twist 2 chi_12); default B0 / 2 (``default_twisting``: the isotropic plate
+        of the transverse shear default, nu = 0).
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -226,7 +228,9 @@ class MindlinShellBlock(ElementBlock):
     reach = 1
 
     def __init__(self, shell: MindlinShell, mesh: Mesh, cell_ids, directors):
-        self.material = material = shell.material
+        # An elastic section here; the fabric block (elements/mindlin_fabric.py) overrides
+        # every use of it.
+        self.material = material = cast(ElasticShell, shell.material)
         self.kernel = shell.kernel
         self.tying_n = _TYING_N
         self.h = material.thickness

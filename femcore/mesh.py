@@ -602,7 +602,9 @@ class Mesh:
         return from_quads(points, quads, node_sets, quad_sets)
 
     @classmethod
-    def corner(cls, lx: float, ly: float, n: int) -> Mesh:
+    def corner(
+        cls, lx: float, ly: float, n: int, grip: float | tuple[float, float] | None = None
+    ) -> Mesh:
         """The corner specimen of Bai et al. (2020) §6 (Fig. 8): the free triangle of an
         lx x ly rectangle beyond its diagonal.
 
@@ -620,21 +622,31 @@ class Mesh:
             Side lengths of the rectangle along x (warp) and y (weft) (length units), positive.
         n : int
             Positive number of cells of the rectangle along each side before the cut.
+        grip : float, (a, b) or None
+            The a x b patch at the free corner (length units; one number: a square) that a
+            gripper holds, or None. Its edges x = a and y = b are then grid lines whatever
+            n, so that the patch is the same physical size at every resolution: the grid is
+            graded (uniform in each piece between the patch's two edge lines and the ends,
+            the patch's cells no longer than those of the uniform grid, the clamp still a line
+            of cell diagonals), and node set "grip" holds the patch's nodes.
 
         Returns
         -------
         Mesh
             (n + 1)(n + 2) / 2 nodes and n^2 triangles, with node sets "clamp" (the n + 1
-            nodes on the diagonal) and "corner" (the node at the origin); no cell set.
+            nodes on the diagonal), "corner" (the node at the origin) and, with ``grip``,
+            "grip"; no cell set. Without ``grip`` the grid is that of :meth:`rectangle`.
 
         Raises
         ------
         ValueError
-            As :meth:`rectangle`.
+            As :meth:`rectangle`; for a grip that is not positive or reaches the diagonal
+            (a / lx + b / ly >= 1), or an n that leaves no cell between the patch and the
+            clamp.
         """
         from femcore.mesh_generators import corner
 
-        return corner(lx, ly, n)
+        return corner(lx, ly, n, grip)
 
     # ----------------------------------------------------------------------------------------
     # File I/O

@@ -134,11 +134,24 @@ def from_quads(
     )
 
 
-def corner(lx: float, ly: float, n: int) -> Mesh:
+def corner(lx: float, ly: float, n: int, grip: ArrayLike | None = None) -> Mesh:
     """The corner specimen of Bai et al. (2020) §6 (Fig. 8): the free triangle of an lx x ly
-    rectangle beyond its diagonal, cut from :func:`rectangle` with n x n cells: the
-    implementation of :meth:`Mesh.corner`, which documents the result."""
-    full = rectangle(lx, ly, nx=n, ny=n)
+    rectangle beyond its diagonal, cut from :func:`rectangle` with n x n cells (or, with
+    ``grip``, from the graded grid of :func:`_corner_grid`): the implementation of
+    :meth:`Mesh.corner`, which documents the result."""
+    lx = _positive_length(lx, "lx")
+    ly = _positive_length(ly, "ly")
+    n = _positive_int(n, "n")
+    if grip is None:
+        full = rectangle(lx, ly, nx=n, ny=n)
+    else:
+        grip_x, grip_y = _grip_size(grip, lx, ly)
+        x, y = _corner_grid(lx, ly, n, grip_x, grip_y)
+        gx, gy = np.meshgrid(x, y)
+        full = Mesh(
+            np.column_stack((gx.ravel(), gy.ravel(), np.zeros(gx.size))),
+            split_quads(grid_quads(n, n)),
+        )
     p = full.points
     centroids = p[full.triangles].mean(axis=1)
     keep = centroids[:, 0] / lx + centroids[:, 1] / ly < 1.0
@@ -150,7 +163,58 @@ def corner(lx: float, ly: float, n: int) -> Mesh:
     on_diagonal = np.abs(points[:, 0] / lx + points[:, 1] / ly - 1.0) < 1e-9
     mesh.add_node_set("clamp", np.flatnonzero(on_diagonal))
     mesh.add_node_set("corner", np.flatnonzero(np.linalg.norm(points[:, :2], axis=1) < 1e-9 * lx))
+    if grip is not None:
+        inside = (points[:, 0] <= grip_x * (1.0 + 1e-9)) & (points[:, 1] <= grip_y * (1.0 + 1e-9))
+        mesh.add_node_set("grip", np.flatnonzero(inside))
     return mesh
+
+
+def _grip_size(grip: ArrayLike, lx: float, ly: float) -> tuple[float, float]:
+    """The gripped patch (a, b) along x and y (mm) of ``grip``, one size (a square) or two;
+    the patch must leave at least one cell of the grid free before the clamp."""
+    try:
+        size = np.broadcast_to(np.asarray(grip, dtype=np.float64), (2,))
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"grip must be a size or a pair of sizes, got {grip!r}") from err
+    a, b = (float(v) for v in size)
+    if not (np.isfinite(a) and np.isfinite(b) and a > 0.0 and b > 0.0 and a / lx + b / ly < 1.0):
+        raise ValueError(
+            f"grip must be positive sizes (a, b) with a / lx + b / ly < 1 (the patch before "
+            f"the clamped diagonal), got {grip!r} for lx = {lx}, ly = {ly}"
+        )
+    return a, b
+
+
+def _corner_grid(lx: float, ly: float, n: int, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
+    """Grid lines x (n + 1,) and y (n + 1,) of the corner specimen with a gripped a x b patch
+    at the origin whose edges x = a and y = b are grid lines at every n.
+
+    The clamp must stay a line of cell diagonals: node (i, n - i) on x / lx + y / ly = 1, so
+    the grid is one parameter t (0 .. 1) with x_i = lx t_i and y_j = ly (1 - t_(n - j)); t has
+    nodes at a / lx (the patch's edge in x) and 1 - b / ly (its edge in y). Between them and
+    the ends it is uniform, at least one cell per piece; the patch's pieces take as many cells
+    as keep them no longer than 1 / n in t (the patch is never coarser than the uniform grid),
+    the piece between takes the rest (its cells longer than 1 / n by the at most two cells the
+    rounding up gave the patch).
+    """
+    low, high = a / lx, 1.0 - b / ly
+    # ceil less a hair, so that a patch of exactly k / n keeps k cells
+    first = max(1, int(np.ceil(low * n - 1e-9)))
+    last = max(1, int(np.ceil((1.0 - high) * n - 1e-9)))
+    middle = n - first - last
+    if middle < 1:
+        raise ValueError(
+            f"n = {n} cells leave none between the gripped patch and the clamp; give n >= "
+            f"{first + last + 1}"
+        )
+    t = np.concatenate(
+        (
+            np.linspace(0.0, low, first + 1),
+            np.linspace(low, high, middle + 1)[1:],
+            np.linspace(high, 1.0, last + 1)[1:],
+        )
+    )
+    return lx * t, ly * (1.0 - t[::-1])
 
 
 # --------------------------------------------------------------------------------------------

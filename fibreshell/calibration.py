@@ -160,20 +160,20 @@ class Calibration:
                 "fibre_tension_stiffness_N_per_mm": _slope(fabric.tension),
                 "bending_law_warp": repr(fabric.bending),
             }
-        section = self.section_fabric(fabric)
+        laws = self.section_fabric(fabric)
         transverse = (
             default_transverse_shear(fabric)
             if self.transverse_shear is None
             else self.transverse_shear
         )
         out = {
-            "bending_law_warp": repr(section.bending),
-            "bending_law_weft": repr(section.bending_weft),
+            "bending_law_warp": repr(laws.bending),
+            "bending_law_weft": repr(laws.bending_weft),
             "bending_scale": self.bending_scale,
-            "tension_law_warp": repr(section.tension),
-            "shear_law": repr(section.shear),
+            "tension_law_warp": repr(laws.tension),
+            "shear_law": repr(laws.shear),
             "transverse_shear_N_per_mm": transverse,
-            "twisting_N_mm": default_twisting(section),
+            "twisting_N_mm": default_twisting(laws),
         }
         if self.fitted:
             out["fit"] = self.fitted

@@ -8,7 +8,8 @@ the format does not know is an error, not ignored. The format (README "Case file
 title = "G1151 strip under its own weight"     # optional
 [mesh]
 rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh" (meshio),
-# or: corner = { lx = 200.0, ly = 150.0, n = 20 } (the corner specimen of Bai §6)
+# or: corner = { lx = 200.0, ly = 150.0, n = 20 } (the corner specimen of Bai §6; grip =
+# [20.0, 15.0] adds the node set "grip", the 20 x 15 mm patch at its corner)
 [sets]                                   # optional named node sets, by bounds (mesh units)
 tip = { x_min = 199.9 }
 [[part]]
@@ -31,6 +32,9 @@ side = "outside"                         # sphere and cylinder: "outside" | "ins
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic)
+[[grip]]                                 # nodes that translate together (a gripper's jaws,
+nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
+stiffness = 23000.0                      # the first node to each other one
 [solver]
 kind = "static"                          # "static" | "relaxation" | "explicit"
 increments = 3                           # any keyword option of that solver
@@ -69,6 +73,7 @@ import numpy as np
 
 from elements import (
     FibrousShell,
+    Grip,
     RigidCylinder,
     RigidPlane,
     RigidSphere,
@@ -86,7 +91,7 @@ SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": Centra
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
 _BOUNDS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
 _TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
-        "contact", "solver", "output")  # fmt: skip
+        "contact", "grip", "solver", "output")  # fmt: skip
 TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
          "surface": RigidSurface}  # fmt: skip
 # The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
@@ -175,6 +180,8 @@ class Case:
     contacts : list of dict
         {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
         None} per ``[[contact]]``.
+    grips : list of dict
+        {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
         {"kind": str, "options": dict}.
     history : dict
@@ -193,6 +200,7 @@ class Case:
     moments: list[dict] = field(default_factory=list)
     gravity: dict | None = None
     contacts: list[dict] = field(default_factory=list)
+    grips: list[dict] = field(default_factory=list)
     solver: dict = field(default_factory=dict)
     history: dict = field(default_factory=dict)
     paths: dict = field(default_factory=dict)
@@ -229,6 +237,8 @@ class Case:
             model.contact(
                 contact["tool"], contact["nodes"], contact["friction"], contact["penalty"]
             )
+        for grip in self.grips:
+            model.interact(Grip(grip["nodes"], grip["stiffness"]))
         return model
 
     def make_solver(self, **outputs):
@@ -326,6 +336,15 @@ def case_from_data(data: dict, path: str | Path) -> Case:
         _contact(top.child(f"contact[{i}]"), mesh, c, path.parent)
         for i, c in enumerate(_list(top, data, "contact"))
     ]
+    for i, item in enumerate(_list(top, data, "grip")):
+        where = top.child(f"grip[{i}]")
+        _table(where, item, "", ("nodes", "stiffness"), ("nodes", "stiffness"))
+        stiffness = _number(where, item["stiffness"], "stiffness")
+        if stiffness <= 0.0:
+            raise where.error("stiffness", f"expected a positive stiffness, got {stiffness!r}")
+        case.grips.append(
+            {"nodes": _select(where, mesh, item["nodes"], "nodes"), "stiffness": stiffness}
+        )
     case.solver = _solver(top, data["solver"])
     _output(top, data.get("output", {}), case)
     return case
@@ -384,13 +403,22 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
 def _corner(where: _Where, value: Any) -> Mesh:
     """The corner specimen of Bai §6: the free triangle of an lx x ly rectangle beyond its
     diagonal, n x n cells before the cut, with node sets "clamp" (the diagonal) and "corner"
-    (the free corner at the origin); femcore.Mesh.corner."""
-    table = _table(where, value, "corner", ("lx", "ly", "n"), ("lx", "ly", "n"))
+    (the free corner at the origin), and with ``grip = a`` or ``[a, b]`` (mm) the node set
+    "grip" of the a x a (a x b) patch at the corner a gripper holds, on grid lines at every n;
+    femcore.Mesh.corner."""
+    table = _table(where, value, "corner", ("lx", "ly", "n", "grip"), ("lx", "ly", "n"))
     inner = where.child("corner")
     if isinstance(table["n"], bool) or not isinstance(table["n"], int) or table["n"] < 2:
         raise inner.error("n", f"expected a whole number of cells >= 2, got {table['n']!r}")
     lx, ly = _number(inner, table["lx"], "lx"), _number(inner, table["ly"], "ly")
-    return Mesh.corner(lx, ly, table["n"])
+    grip = table.get("grip")
+    if grip is not None:
+        sizes = grip if isinstance(grip, list) and len(grip) == 2 else [grip]
+        grip = tuple(_number(inner, size, "grip") for size in sizes)
+    try:
+        return Mesh.corner(lx, ly, table["n"], grip)
+    except ValueError as error:
+        raise inner.error(None, str(error)) from None
 
 
 def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -> np.ndarray:

@@ -198,7 +198,7 @@ def fit_calibration(
     }
     fabric = _fabric(case)
     first = start or Calibration(name="fit")
-    values0 = {
+    values0: dict[str, float | None] = {
         "bending_scale": first.bending_scale,
         "transverse_shear": first.transverse_shear or default_transverse_shear(fabric),
     }

@@ -118,7 +118,7 @@ def g1151_laminate() -> Fabric:
         shear=ShearLaw.linear(plies * SHEAR_PER_PLY),
         bending=BendingLaw.linear(72.0),
         bending_weft=BendingLaw.linear(68.0),
-        ply_count=plies,
+        ply_count=int(plies),
     )
 
 

@@ -269,21 +269,44 @@ def test_json_outputs_are_strict():
 
 @pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
 def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
-    """cases/bai-6.2.1.toml (coarse: n = 8) builds the model the validation report builds for
-    bai-6.2.1 (validation.specimens.build: corner specimen, clamp, lift, gravity, the Mindlin
-    calibration) and runs its solver: the same final state (same arithmetic: 1e-12 mm)."""
+    """cases/bai-6.2.1.toml (coarse: n = 10) builds the model the validation report builds for
+    bai-6.2.1 (validation.specimens.build: corner specimen, clamp, the gripped patch lifted as
+    one with its directors held, gravity, and for "mindlin" the Mindlin shell of the
+    calibration both default to, "laws": MindlinShell(fabric)) and runs its solver: the same
+    final state (same arithmetic: 1e-12 mm)."""
     from validation import paper, specimens
+    from validation.cases.bai_6_2_1 import GRIP
 
-    text = (ROOT / "cases" / "bai-6.2.1.toml").read_text().replace("n = 20", "n = 8")
-    run = run_case(
-        load_case(write(tmp_path, text)), tmp_path / "out", kinematics, False,
-        calibration="initial-slope",
-    )  # fmt: skip
-    specimen = specimens.corner(200.0, 150.0, 8)
-    model = specimens.build(specimen, kinematics, presets.g1151_laminate(), (None, None, 40.0))
+    text = (ROOT / "cases" / "bai-6.2.1.toml").read_text().replace("n = 20", "n = 10")
+    run = run_case(load_case(write(tmp_path, text)), tmp_path / "out", kinematics, False)
+    specimen = specimens.corner(200.0, 150.0, 10, grip=GRIP)
+    fabric = presets.g1151_laminate()
+    assert "stiffness = 23000.0" in text and specimens.grip_stiffness(fabric) == 23000.0
+    model = specimens.build(specimen, kinematics, fabric, (None, None, 40.0))
     expected, _, _ = paper.solve(model, 10)
     assert run.result.converged and expected.converged
     np.testing.assert_allclose(run.result.positions, expected.positions, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        (
+            "stiffness = 23000.0",
+            "stiffness = -1.0",
+            r"\[grip\[0\].stiffness\]: expected a positive",
+        ),
+        ("stiffness = 23000.0", "stifness = 23000.0", r"\[grip\[0\].stifness\]: unknown key"),
+        ("grip = [20.0, 15.0]", "grip = [150.0, 150.0]", r"\[mesh.corner\]: grip must be"),
+        ("grip = [20.0, 15.0]", 'grip = "jaws"', r"\[mesh.corner.grip\]: expected a finite"),
+    ],
+)
+def test_a_mistake_in_a_grip_names_the_table_and_the_key(tmp_path, old, new, where):
+    """The gripped patch of cases/bai-6.2.1.toml: [mesh] corner's grip and the [[grip]] table."""
+    text = (ROOT / "cases" / "bai-6.2.1.toml").read_text()
+    assert old in text
+    with pytest.raises(CaseError, match=where):
+        load_case(write(tmp_path, text.replace(old, new, 1)))
 
 
 def test_an_explicit_case_streams_its_frames_and_energies(tmp_path):
@@ -370,3 +393,27 @@ def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
     assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
     model = case.model()
     assert model.interactions[-1].friction == 0.2
+
+
+@pytest.mark.parametrize(
+    "calibration, section",
+    [(None, "fabric"), ("laws", "fabric"), ("initial-slope", "elastic")],
+)
+def test_the_report_s_mindlin_shell_is_made_of_the_fabric_by_default(calibration, section):
+    """validation.specimens.build gives the Mindlin shell the calibration it is told,
+    "laws" by default: MindlinShell(fabric), the same Fabric as the fibrous shell's, so that a
+    paper case compares kinematics, not materials; "initial-slope" is still there to show
+    what the old comparison did."""
+    from elements import MindlinShell
+    from validation import specimens
+
+    fabric = presets.g1151_laminate()
+    specimen = specimens.corner(200.0, 150.0, 4)
+    options = {} if calibration is None else {"calibration": calibration}
+    model = specimens.build(specimen, "mindlin", fabric, (None, None, 40.0), **options)
+    (entry,) = model.blocks
+    assert isinstance(entry.element, MindlinShell)
+    if section == "fabric":
+        assert entry.element.material is fabric
+    else:
+        assert isinstance(entry.element.material, ElasticShell)

@@ -142,3 +142,49 @@ def test_bad_options_are_refused(tmp_path):
         Calibration.from_options("initial-slope", bending_scale=2.0)
     with pytest.raises(ValueError, match="bending_scale"):
         Calibration(bending_scale=-1.0)
+
+
+def test_the_plies_tilt_as_the_deck_of_cards_and_as_the_fibrous_directors(tmp_path):
+    # The small-deflection cantilever of tests/test_case_files.py (q L^4 / (8 B) = 0.1 mm) as
+    # 2 frictionless plies: every ply carries its share, so the stack sags as the beam, and
+    # the material line through the plies tilts from the normal by atan(theta), theta the
+    # slope (docs/theory.md §1.7): q L^3 / (6 B) = 1.33e-3 rad at the free end. The fibrous
+    # directors tilt the same (measured: the two agree to 2e-9 deg, both 0.0765 deg against
+    # 0.0764 deg: the cells' slope at 20 cells, +0.1 %); tolerance 1 % on the closed form.
+    from tests.test_case_files import CANTILEVER
+
+    case = _case(tmp_path, CANTILEVER)
+    compare_case(case, tmp_path / "out", progress=False, kinematics="fibrous,plies", plies=2)
+    comparison = _read(tmp_path / "out")
+    q = 8.154943934760449e-12 * 9810.0
+    tilt = np.degrees(np.arctan(q * 100.0**3 / (6 * 10.0)))
+    for name in ("fibrous", "plies"):
+        entry = comparison["kinematics"][name]
+        assert entry["paths"]["edge"]["director_tilt_deg"][-1] == pytest.approx(tilt, rel=0.01)
+        assert -entry["sets"]["tip"]["displacement"][2] == pytest.approx(q * 1e8 / 80, rel=0.01)
+    assert comparison["plies"]["count"] == 2
+    assert comparison["plies"]["largest_overlap_mm"] < 1e-3 * 0.1  # of h / N
+    assert comparison["differences"]["plies"]["paths"]["edge"]["director_angle_max_deg"] < 1e-3
+    # the material lines on the case's mesh, with the fibrous shell's field names
+    import meshio
+
+    lines = meshio.read(tmp_path / "out" / "plies" / "material-lines.vtu")
+    assert len(lines.points) == case.mesh.n_nodes
+    assert np.degrees(lines.point_data["director_tilt"].max()) == pytest.approx(tilt, rel=0.01)
+    assert set(lines.point_data) >= {"displacement", "director", "thickness", "ply_gap"}
+
+
+def test_the_plies_default_to_the_fabric_s_ply_count(tmp_path):
+    from fibreshell.plies import ply_stack
+
+    stack_case = _case(
+        tmp_path, PLY_STRIP.replace('"g986_ply"', '{ preset = "g986_stack", plies = 4 }')
+    )
+    stack = ply_stack(stack_case)
+    assert stack.count == 4 and stack.ply_thickness == pytest.approx(0.3)
+    assert ply_stack(stack_case, 2).count == 2
+    from tests.test_case_files import CANTILEVER
+
+    inline = _case(tmp_path, CANTILEVER)  # an inline fabric states no ply count
+    with pytest.raises(ValueError, match="states no ply count; give the number of plies"):
+        ply_stack(inline)

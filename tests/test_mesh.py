@@ -230,6 +230,46 @@ def test_corner_of_the_paper_size_clamps_the_diagonal_and_covers_half_the_rectan
     np.testing.assert_array_equal(specimen.loaded, mesh.nodes("corner"))
 
 
+@pytest.mark.parametrize("n", [4, 8, 20, 33])
+def test_a_gripped_corner_has_the_same_patch_at_every_resolution(n):
+    """Mesh.corner(grip=a): the a x b patch at the corner is bounded by grid lines whatever n
+    (node set "grip": the nodes with x <= a and y <= b, the lines x = a and y = b among
+    them), the clamp is still the diagonal, a line of cell diagonals, the triangles cover the
+    free triangle, and the grid is nearly uniform: the patch's cells no longer than lx / n,
+    ly / n, the others no longer than the uniform grid's of two cells fewer."""
+    lx, ly, a, b = 200.0, 150.0, 10.0, 12.0
+    mesh = Mesh.corner(lx, ly, n, grip=(a, b))
+    mesh.check()
+    assert (mesh.n_nodes, mesh.n_triangles) == ((n + 1) * (n + 2) // 2, n * n)
+    p = mesh.points
+    grip = p[mesh.nodes("grip")]
+    assert grip[:, 0].max() == pytest.approx(a, abs=1e-12)
+    assert grip[:, 1].max() == pytest.approx(b, abs=1e-12)
+    inside = (p[:, 0] <= a + 1e-9) & (p[:, 1] <= b + 1e-9)
+    np.testing.assert_array_equal(mesh.nodes("grip"), np.flatnonzero(inside))
+    clamp = p[mesh.nodes("clamp")]
+    assert len(clamp) == n + 1
+    np.testing.assert_allclose(clamp[:, 0] / lx + clamp[:, 1] / ly, 1.0, rtol=0, atol=1e-12)
+    x = p[mesh.triangles]
+    area = 0.5 * np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])[:, 2]
+    assert area.min() > 0.0
+    np.testing.assert_allclose(area.sum(), 0.5 * lx * ly, rtol=1e-12)
+    for axis, length, size in ((0, lx, a), (1, ly, b)):
+        spacing = np.diff(np.unique(np.round(p[:, axis], 9)))
+        lines = np.unique(np.round(p[:, axis], 9))
+        assert spacing[lines[1:] <= size + 1e-9].max() <= length / n * (1 + 1e-9)
+        assert spacing.max() <= length / (n - 2) * (1 + 1e-9)
+
+
+def test_a_grip_that_does_not_fit_is_refused():
+    with pytest.raises(ValueError, match="a / lx [+] b / ly < 1"):
+        Mesh.corner(200.0, 150.0, 8, grip=120.0)
+    with pytest.raises(ValueError, match="positive"):
+        Mesh.corner(200.0, 150.0, 8, grip=(10.0, -1.0))
+    with pytest.raises(ValueError, match="give n >= 3"):
+        Mesh.corner(200.0, 150.0, 2, grip=10.0)
+
+
 def test_nodes_calls_the_predicate_once_with_coordinate_arrays():
     mesh = Mesh.rectangle(3.0, 2.0, 3, 2)
     calls = []

@@ -104,10 +104,10 @@ def test_a_shear_takes_the_shear_law_and_its_angle():
 def test_the_defaults_are_stated_and_the_options_checked():
     fabric = _fabric(bending=7.5, shear=4.0, thickness=6.0)
     shell = MindlinShell(fabric)
-    # 5 B0 / h^2 and K0 h^2 / 12 (elements/mindlin_fabric.py).
+    # 5 B0 / h^2 and B0 / 2 (elements/mindlin_fabric.py: the isotropic plate, nu = 0).
     assert shell.transverse_shear == pytest.approx(5.0 * 7.5 / 36.0)
     assert default_transverse_shear(fabric) == shell.transverse_shear
-    assert shell.twisting == pytest.approx(4.0 * 36.0 / 12.0)
+    assert shell.twisting == pytest.approx(7.5 / 2.0)
     assert default_twisting(fabric) == shell.twisting
     assert shell.half_thickness == 3.0
     with pytest.raises(ValueError, match="transverse_shear"):

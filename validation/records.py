@@ -24,6 +24,7 @@ __all__ = [
     "CaseResult",
     "Check",
     "ElementRun",
+    "ObservedOrder",
     "Outcome",
     "Report",
     "SideProfile",
@@ -173,6 +174,41 @@ class ElementRun:
 
 
 @dataclass(frozen=True)
+class ObservedOrder:
+    """The observed order of convergence of one quantity of one kinematics on three meshes
+    (``validation.checks.observed_order``).
+
+    Attributes
+    ----------
+    kinematics : str
+        The kinematics' key ("fibrous", "mindlin", ...).
+    quantity : str
+        What was measured, with its unit.
+    cells : tuple of int
+        The cells argument of the three meshes, coarsest first.
+    sizes : tuple of float
+        Their mesh sizes h (mm), decreasing.
+    values : tuple of float
+        The quantity on each mesh.
+    order : float
+        The observed order p (NaN: none, the differences change sign or vanish).
+    extrapolated : float
+        The Richardson value at h = 0 (NaN with p).
+    converged : bool
+        Whether the three runs reached the full load.
+    """
+
+    kinematics: str
+    quantity: str
+    cells: tuple[int, ...]
+    sizes: tuple[float, ...]
+    values: tuple[float, ...]
+    order: float
+    extrapolated: float
+    converged: bool
+
+
+@dataclass(frozen=True)
 class Outcome:
     """What a case's ``compute`` returns: the report's numbers and the data of its figures.
 
@@ -199,6 +235,8 @@ class Outcome:
     discussion : str or None
         Paper cases: what the figures show, in words with numbers of the run (paragraphs
         separated by blank lines), rendered next to the figures.
+    orders : list of ObservedOrder or None
+        Paper cases: the observed orders of the quantities they report, on three meshes.
     error : str or None
         Set by the report runner when the case raised.
     data : object
@@ -216,6 +254,7 @@ class Outcome:
     elements: dict[str, ElementRun] | None = None
     key_numbers: dict[str, SideSummary] | None = None
     discussion: str | None = None
+    orders: list[ObservedOrder] | None = None
     error: str | None = None
     data: Any = field(default=None, repr=False, compare=False)
 
@@ -322,6 +361,8 @@ class CaseResult:
                 record["key_numbers"] = {k: asdict(v) for k, v in o.key_numbers.items()}
             if o.discussion is not None:
                 record["discussion"] = o.discussion
+            if o.orders is not None:
+                record["observed_orders"] = [asdict(order) for order in o.orders]
             record.update(checks=checks, figures=list(o.figures), case_time_s=self.case_time_s)
         record.update(
             title=self.case.title,

@@ -31,8 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from elements import Cable, FibrousShell, MindlinShell
+from elements import Cable, FibrousShell, Grip, MindlinShell
 from femcore import Mesh, Model
+from fibreshell.calibration import Calibration
 from materials import ElasticShell, Fabric
 
 __all__ = [
@@ -52,6 +53,7 @@ __all__ = [
     "corner",
     "deck_of_cards",
     "fibrous_strip",
+    "grip_stiffness",
     "hanging_chain",
     "mindlin_equivalent",
     "mindlin_fabric_strip",
@@ -79,6 +81,10 @@ class Specimen:
     clamp: np.ndarray  # node ids, fully fixed (translations and directors)
     loaded: np.ndarray  # node ids of the imposed displacement
     sides: dict  # {"side_1": (node ids ordered from the clamp, s (mm)), "side_2": ...}
+    # The loaded nodes are a patch a gripper holds: they translate together (elements.Grip) and
+    # their directors (Mindlin: rotations) are held, as the jaws of a clamp hold the plies
+    # (``build``).
+    gripped: bool = False
 
 
 def strip(length: float, width: float, cells: int, across: int = 1) -> Specimen:
@@ -96,10 +102,29 @@ def strip(length: float, width: float, cells: int, across: int = 1) -> Specimen:
     )
 
 
-def corner(length: float, width: float, cells: int) -> Specimen:
+def corner(
+    length: float, width: float, cells: int, grip: float | tuple[float, float] | None = None
+) -> Specimen:
     """§6 corner specimen: the free triangle of an L x W rectangle with n x n cells
-    (``Mesh.corner``: node sets "clamp" and "corner"), with its two filmed sides."""
-    mesh = Mesh.corner(length, width, cells)
+    (``Mesh.corner``: node sets "clamp" and "corner"), with its two filmed sides.
+
+    Parameters
+    ----------
+    length, width : float
+        L along x (warp) and W along y (weft), mm.
+    cells : int
+        n, cells along each side of the rectangle before the cut.
+    grip : float, (a, b) or None
+        None: the loaded nodes are the corner node alone (a point load). A size (mm): the
+        a x b patch at the corner that a gripper holds is the loaded set (``Mesh.corner``'s
+        node set "grip", on grid lines at every n, so the same physical patch at every
+        resolution), its directors held too (``Specimen.gripped``).
+
+    Returns
+    -------
+    Specimen
+    """
+    mesh = Mesh.corner(length, width, cells, grip)
     points = mesh.points
     side_1 = np.flatnonzero(np.abs(points[:, 1]) < 1e-9 * width)
     side_1 = side_1[np.argsort(-points[side_1, 0])]
@@ -108,11 +133,12 @@ def corner(length: float, width: float, cells: int) -> Specimen:
     return Specimen(
         mesh=mesh,
         clamp=mesh.nodes("clamp"),
-        loaded=mesh.nodes("corner"),
+        loaded=mesh.nodes("corner" if grip is None else "grip"),
         sides={
             "side_1": (side_1, length - points[side_1, 0]),
             "side_2": (side_2, width - points[side_2, 1]),
         },
+        gripped=grip is not None,
     )
 
 
@@ -303,8 +329,17 @@ def arc_length(mesh: Mesh) -> np.ndarray:
 
 
 def mindlin_equivalent(fabric: Fabric, shear_ratio: float = 0.5) -> ElasticShell:
-    """The Mindlin calibration of a fabric (``materials.ElasticShell.equivalent``)."""
+    """The "initial-slope" section of a fabric (``materials.ElasticShell.equivalent``; the
+    paper cases use the fabric's own laws, ``build``)."""
     return ElasticShell.equivalent(fabric, shear_ratio)
+
+
+def grip_stiffness(fabric: Fabric) -> float:
+    """The stiffness (N/mm) of the springs that make a gripped patch translate as one
+    (elements.Grip): 10 times the fibres' tension stiffness per unit width, so that the
+    nodes of a patch part by a tenth of the strain the load would give the fabric over 1 mm
+    (measured on bai-6.2.1: 1e-3 mm at most, for either kinematics)."""
+    return 10.0 * float(fabric.tension.slope(np.array(0.0)))
 
 
 def build(
@@ -312,24 +347,53 @@ def build(
     kinematics: str,
     fabric: Fabric,
     displacement: tuple[float | None, float | None, float | None],
-    shear_ratio: float = 0.5,
+    calibration: Calibration | str = "laws",
     levels: int = 3,
     thickness: str = "nodal",
 ) -> Model:
     """Model of a specimen with "fibrous" or "mindlin" kinematics, clamp fixed, gravity, and
-    ``displacement`` (ux, uy, uz; None leaves a component free) imposed on the loaded nodes.
-    ``thickness`` is the fibrous shell's option of the same name: "nodal" (the thickness along
-    the director from the nodal normals, the default) or "element" (Bai Eq. 15)."""
+    ``displacement`` (ux, uy, uz; None leaves a component free) imposed on the loaded nodes,
+    which translate together (elements.Grip, ``grip_stiffness``) and whose directors (Mindlin:
+    rotations) are held when the specimen is ``gripped``.
+
+    Parameters
+    ----------
+    specimen : Specimen
+    kinematics : str
+        "fibrous" or "mindlin".
+    fabric : materials.Fabric
+    displacement : (ux, uy, uz)
+        mm; None leaves a component free.
+    calibration : fibreshell.calibration.Calibration or str
+        How the Mindlin shell is made of the fibrous one (``Calibration.mindlin``): "laws"
+        (default: ``MindlinShell(fabric)``, the fabric's own laws, so that the comparison
+        changes the kinematics alone), "fit" values or "initial-slope". The case files build
+        their Mindlin shell by the same rule (``fibreshell.case.Case.model``), so a case file
+        and this function give the same model.
+    levels : int
+        Fibre levels of the fibrous shell.
+    thickness : str
+        The fibrous shell's option of the same name: "nodal" (the thickness along the
+        director from the nodal normals, the default) or "element" (Bai Eq. 15).
+
+    Returns
+    -------
+    femcore.Model
+    """
     model = Model(specimen.mesh)
+    fibrous = FibrousShell(fabric, levels=levels, clamped=specimen.clamp, thickness=thickness)
     if kinematics == "fibrous":
-        model.add(FibrousShell(fabric, levels=levels, clamped=specimen.clamp, thickness=thickness))
+        model.add(fibrous)
     elif kinematics == "mindlin":
-        model.add(MindlinShell(mindlin_equivalent(fabric, shear_ratio)))
+        model.add(Calibration.from_options(calibration).mindlin(fibrous))
     else:
         raise ValueError(f"kinematics must be 'fibrous' or 'mindlin', got {kinematics!r}")
     model.fix(specimen.clamp)
     ux, uy, uz = displacement
     model.displace(specimen.loaded, ux=ux, uy=uy, uz=uz)
+    if specimen.gripped:
+        model.fix(specimen.loaded, ("alpha", "beta"))
+        model.interact(Grip(specimen.loaded, grip_stiffness(fabric)))
     model.gravity((0.0, 0.0, -GRAVITY))
     return model
 

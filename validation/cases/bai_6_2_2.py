@@ -6,7 +6,7 @@ Geometry and material: as bai-6.2.1.
 Load: gravity, and the corner pushed 20 mm in its plane along side 1 (the warp, x) towards the
 clamp, free to move in y and z (assumed; see bai-6.1.2); gravity picks the buckling
 direction. Static follows the arc length of the path (load steps past a limit point).
-Mindlin: as bai-6.2.1.
+Mindlin: as bai-6.2.1 (MindlinShell(fabric), calibration "laws").
 """
 
 from __future__ import annotations
@@ -36,6 +36,36 @@ SLIP_NOTE = (
     "small, atan(theta) and theta cannot be told apart."
 )
 
+# Observed orders (validation.paper.orders), measured on 4 / 6 / 8 / 12 / 24 cells: the
+# deflection z at the middle of the sides (mm), Mindlin (calibration "laws") side 1 -9.862 /
+# -9.616 / -9.478 / -9.294 / -8.990 (order 0.08 on 6-12-24: the differences barely shrink),
+# side 2 -19.757 / -19.553 / -19.426 / -19.228 / -18.847 (none: they grow); with the old
+# "initial-slope" section side 1 -8.466 / -7.766 / -7.454 / -7.123 / -6.740 (order 0.7,
+# Richardson value 8.5 % from the 24-cell one), side 2 -18.830 / -18.504 / -18.242 / -17.789 /
+# -16.958 (none); fibrous side 1
+# -11.618 / -12.108 / -12.261 / -12.325 / -12.227 (none; a limit point at 24 cells), side 2
+# -22.501 / -21.580 / -21.194 / -20.816 / -20.365 (order 0.8, 3.2 %); the fibrous thickness
+# along the director there / h, side 1 1.0734 / 1.0803 / 1.0834 / 1.0853 / 1.0848, side 2
+# 1.1755 / 1.1846 / 1.1881 / 1.1899 / 1.1877 (no order on 6-12-24, but within 0.41 % and
+# 0.26 %). Checked (default and fine): the fibrous thickness, 1 % (it passes as converged);
+# the rest is reported. The corner is pushed by one node (an in-plane point load), not lifted,
+# and is left so: the gripped patch replaced the lifted node of bai-6.2.1.
+ORDER_TOLERANCE = {"fibrous thickness": 0.01}
+# Mid-surfaces (validation.paper.profiles.midsurface_gap): the largest distance between the
+# same node of the fibrous and the Mindlin run along the sides, 5.03 mm on 8 cells and 5.62
+# mm on 12 (7.1 % and 8.0 % of the largest displacement, 71 mm; initial-slope: 9.01 and
+# 10.54 mm). Tolerance 12 % (every resolution; 24 cells not measured: the mid-side gaps
+# there, 3.2 and 1.5 mm from the values above, are those of 12 cells).
+# Directors where the Mindlin slope > 20 deg: fibrous - Mindlin up to 52.0 deg (8 cells),
+# 51.4 deg (12 cells) (initial-slope: 43.5, 41.6): the check (> 10 deg) is unchanged.
+MIDSURFACE_TOLERANCE = 0.12
+COMPARISON_NOTE = (
+    "With the same fabric both sheets buckle down the same way and their mid-surfaces lie "
+    "within 7 to 8 % of the 71 mm corner displacement of each other (the old initial-slope "
+    "section: 13 to 15 %); the Mindlin sides stay 1 to 3 mm higher at their middle. The "
+    "directors differ by about 50 deg where the sides are steepest: the Mindlin directors "
+    "follow the normal (within 4 deg), the fibrous ones do not."
+)
 SPEC = corner_case(
     name=NAME,
     title=TITLE,
@@ -45,8 +75,12 @@ SPEC = corner_case(
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",
     cells={"coarse": 8, "default": 12, "fine": 24},
+    order_cells={"coarse": (4, 6, 8), "default": (6, 12, 24), "fine": (6, 12, 24)},
+    order_tolerance={"default": ORDER_TOLERANCE, "fine": ORDER_TOLERANCE},
     increments=20,
     slip_sides=("side_1", "side_2"),
     slip_note=SLIP_NOTE,
+    comparison_note=COMPARISON_NOTE,
+    midsurface_tolerance=MIDSURFACE_TOLERANCE,
 )
 CASE = SPEC.case(source=SOURCE, description=__doc__, order=50)

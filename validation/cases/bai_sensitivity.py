@@ -4,9 +4,11 @@ Source: Bai et al. (2020) §6.1 gives no material data for the 130-sheet paper s
 bai-6.1.1 assumes bending B = 50 N mm and in-plane shear K = 1000 N/mm
 (materials.presets.paper_stack). Here the fibrous run is repeated with B halved and doubled and
 K divided and multiplied by 10 (the other values as in bai-6.1.1), and the Mindlin run with B
-halved and doubled (its E = 12 B / h^3 follows B). The eight runs are one parameter sweep of
-the case file of bai-6.1.1 (fibreshell.sweep, keys kinematics, part.0.material.bending and
-part.0.material.shear paired), each a Dask task on a local cluster: they run in parallel.
+halved and doubled (MindlinShell(fabric), the fabric's own laws, the sweep's default
+calibration "laws": its bending law and its transverse shear S = 5 B0 / h^2 follow B). The
+eight runs are one parameter sweep of the case file of bai-6.1.1 (fibreshell.sweep, keys
+kinematics, part.0.material.bending and part.0.material.shear paired), each a Dask task on a
+local cluster: they run in parallel.
 What is compared: along side 1, the mid-surface and the director angle. The conclusion the
 paper draws (fibrous directors stay nearly vertical while the Mindlin ones follow the normal)
 must not depend on these choices; the check states it for every variant.

@@ -16,12 +16,15 @@ lines on the specimens) and writes the VTU and XDMF files of the three runs.
 
 Modules, one concern each:
 
-- ``kinematics``: the three models' keys, elements, labels, colours and check names;
+- ``kinematics``: the three models' keys, elements, labels, colours and check names, and how
+  the Mindlin shell's calibration is stated;
 - ``case``: ``PaperCase``, ``corner_case``, ``solve``, ``compute_paper_case``,
   ``render_paper_case``;
 - ``profiles``: the measurements along the sides (``side_data``, ``key_numbers``,
   ``slip_errors``, ``fibre_statistics``);
 - ``invariants``: Bai's claims as checks (``invariant_checks``, ``slip_checks``);
+- ``orders``: the observed orders of the reported quantities on three meshes
+  (``order_quantities``, ``mesh_size``, ``observed_orders``, ``order_checks``);
 - ``discussion``: the report's paragraph on the run;
 - ``figures``: the side profiles, the side elevation, the fabric's laws and the 3D view.
 """
@@ -47,8 +50,19 @@ from validation.paper.kinematics import (
     LABELS,
     MARKERS,
     PAPER,
-    SHEAR_RATIO,
     Kinematics,
+    calibration_parameters,
+    calibration_title,
+)
+from validation.paper.orders import (
+    ORDER_KINEMATICS,
+    deflection_name,
+    mesh_size,
+    observed_orders,
+    order_checks,
+    order_kind,
+    order_quantities,
+    thickness_name,
 )
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data, slip_errors
 
@@ -62,18 +76,26 @@ __all__ = [
     "KINEMATICS",
     "LABELS",
     "MARKERS",
+    "ORDER_KINEMATICS",
     "PAPER",
     "PaperCase",
     "PaperRuns",
-    "SHEAR_RATIO",
     "Kinematics",
+    "calibration_parameters",
+    "calibration_title",
     "compute_paper_case",
     "corner_case",
+    "deflection_name",
     "discussion",
     "fibre_statistics",
     "invariant_checks",
     "key_numbers",
     "laws_figure",
+    "mesh_size",
+    "observed_orders",
+    "order_checks",
+    "order_kind",
+    "order_quantities",
     "render_paper_case",
     "side_data",
     "side_elevation",
@@ -81,5 +103,6 @@ __all__ = [
     "slip_checks",
     "slip_errors",
     "solve",
+    "thickness_name",
     "view_3d",
 ]

@@ -1,11 +1,15 @@
 """A paper case: its specification, its three solves and what it writes.
 
-A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed displacement and
-the resolution table. ``compute_paper_case`` builds three models on the same mesh
+A ``PaperCase`` names a specimen (validation.specimens), a fabric, the imposed displacement,
+the resolution table and the Mindlin shell's calibration (fibreshell.calibration; "laws", the
+fabric's own laws, by default). ``compute_paper_case`` builds three models on the same mesh
 (``validation.paper.kinematics.KINEMATICS``), solves each with ``solve`` (``Static`` along the
 arc length of the path, load steps past a limit point), measures the sides
 (validation.paper.profiles), checks Bai's claims (validation.paper.invariants) and writes the
-paragraph on what the numbers mean (validation.paper.discussion); ``render_paper_case`` writes
+paragraph on what the numbers mean (validation.paper.discussion); it also solves the fibrous and
+the Mindlin model on the two other meshes of the case's refinement sequence at that resolution
+and gives the observed orders of the quantities the case reports (validation.paper.orders,
+checked where the case states a tolerance); ``render_paper_case`` writes
 the VTU and XDMF files of the three runs and draws the figures (validation.paper.figures).
 ``PaperCase.case`` binds the two into the ``Case`` record of the module.
 """
@@ -22,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from femcore import Model
+from fibreshell.calibration import Calibration
 from materials import Fabric
 from solvers import ConvergenceError, Static
 from validation import specimens
@@ -34,16 +39,24 @@ from validation.paper.kinematics import (
     INCREMENTS,
     KINEMATICS,
     LABELS,
-    SHEAR_RATIO,
+    calibration_parameters,
+)
+from validation.paper.orders import (
+    ORDER_KINEMATICS,
+    mesh_size,
+    observed_orders,
+    order_checks,
+    order_quantities,
 )
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data
-from validation.records import Case, ElementRun, Outcome, SideProfile
+from validation.records import Case, ElementRun, ObservedOrder, Outcome, SideProfile
 
 __all__ = [
     "PaperCase",
     "PaperRuns",
     "compute_paper_case",
     "corner_case",
+    "refinement_orders",
     "render_paper_case",
     "solve",
 ]
@@ -62,7 +75,17 @@ class PaperCase:
     cells: dict  # resolution -> cells argument of make_specimen
     parameters: dict = field(default_factory=dict)  # chosen values, reported
     increments: int = INCREMENTS
-    shear_ratio: float = SHEAR_RATIO  # Mindlin G13 / E (stated parameter)
+    # How the Mindlin shell is made of the fabric (fibreshell.calibration): by default "laws",
+    # MindlinShell(fabric) with the fabric's own laws, so that the comparison changes the
+    # kinematics alone; stated in the parameters, the figures and the paragraph.
+    calibration: Calibration = field(default_factory=Calibration)
+    # What the comparison of the fibrous and the Mindlin run shows on this case, in words
+    # (measured; validation.paper.discussion.comparison adds it after the run's numbers).
+    comparison_note: str = ""
+    # The largest distance between the fibrous and the Mindlin mid-surface along the sides, as
+    # a fraction of the largest displacement, that passes (chosen by measuring; every
+    # resolution), or None: measured and reported, not checked (validation.paper.invariants).
+    midsurface_tolerance: float | None = None
     # The sides along which the plies slip freely from the clamp, where the default fibrous
     # directors' tilt from the normal is compared with atan(theta) (``slip_errors``), and in
     # words why (or why not) for the report's paragraph; the largest |tilt - atan(theta)| that
@@ -71,6 +94,24 @@ class PaperCase:
     slip_sides: tuple[str, ...] = ()
     slip_note: str = ""
     slip_tolerance_deg: dict[str, float] | None = None
+    # The three meshes (cells arguments, coarsest first) on which the observed orders of the
+    # reported quantities are measured at each resolution; the resolution's own mesh is one of
+    # them (its runs are reused), the two others are solved with the fibrous and the Mindlin
+    # kinematics only. A resolution left out shows no orders.
+    order_cells: dict[str, tuple[int, int, int]] = field(default_factory=dict)
+    # Per resolution and quantity ("mindlin deflection", "fibrous thickness": orders.order_kind),
+    # the largest |Richardson value - finest value| / |finest value| that passes (with a
+    # positive order), chosen by measuring where the order is meaningful; a resolution or a
+    # quantity left out: its orders are reported, not checked.
+    order_tolerance: dict[str, dict[str, float]] | None = None
+
+    def __post_init__(self) -> None:
+        for resolution, sequence in self.order_cells.items():
+            if len(sequence) != 3 or self.cells[resolution] not in sequence:
+                raise ValueError(
+                    f"{self.name}: order_cells[{resolution!r}] must be three meshes, the "
+                    f"resolution's own ({self.cells[resolution]}) among them, got {sequence}"
+                )
 
     def case(self, *, source: str, description: str, order: int) -> Case:
         """The ``Case`` record of the module (group "paper"): the three kinematics.
@@ -124,17 +165,25 @@ def corner_case(
     slip_sides: tuple[str, ...] = (),
     slip_note: str = "",
     slip_tolerance_deg: dict[str, float] | None = None,
+    grip: tuple[float, float] | None = None,
+    order_cells: dict[str, tuple[int, int, int]] | None = None,
+    order_tolerance: dict[str, dict[str, float]] | None = None,
+    comparison_note: str = "",
+    midsurface_tolerance: float | None = None,
 ) -> PaperCase:
     """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
-    diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner and
-    ``described`` in words for the report; ``slip_sides``, ``slip_note`` and
-    ``slip_tolerance_deg`` as in ``PaperCase``."""
+    diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner (the
+    corner node; with ``grip`` = (a, b) (mm), the a x b patch at the corner a gripper holds,
+    its directors held too) and ``described`` in words for the report; ``slip_sides``,
+    ``slip_note``, ``slip_tolerance_deg``, ``order_cells``, ``order_tolerance``,
+    ``comparison_note`` and ``midsurface_tolerance`` as in ``PaperCase``."""
     length, width = size
+    gripped = {} if grip is None else {"gripped patch (assumed)": "{:g} x {:g} mm".format(*grip)}
     return PaperCase(
         name=name,
         title=title,
         source=source,
-        make_specimen=partial(specimens.corner, length, width),
+        make_specimen=partial(specimens.corner, length, width, grip=grip),
         fabric=fabric,
         displacement=displacement,
         cells=cells,
@@ -142,10 +191,15 @@ def corner_case(
         slip_sides=slip_sides,
         slip_note=slip_note,
         slip_tolerance_deg=slip_tolerance_deg,
+        order_cells=order_cells or {},
+        order_tolerance=order_tolerance,
+        comparison_note=comparison_note,
+        midsurface_tolerance=midsurface_tolerance,
         parameters={
             "length_mm": length,
             "width_mm": width,
             "corner displacement (assumed)": described,
+            **gripped,
         },
     )
 
@@ -220,7 +274,7 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
             ELEMENT[kinematics],
             case.fabric,
             case.displacement,
-            case.shear_ratio,
+            case.calibration,
             thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
         )
         result, note, wall = solve(model, case.increments)
@@ -238,11 +292,19 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
         )
 
     checks = invariant_checks(case, specimen, elements, h, resolution)
+    orders, refinement = refinement_orders(case, resolution, specimen, elements)
+    checks.extend(order_checks(case, orders or [], resolution))
+    solver = "; ".join(f"{k}: {e.solver}" for k, e in elements.items())
+    if orders is not None:
+        solver += (
+            f"; observed orders: {len(refinement['runs'])} more runs ("
+            f"{', '.join(refinement['runs'])}), {refinement['wall']:.1f} s"
+        )
     return Outcome(
         converged=all(e.converged for e in elements.values()),
-        wall_time_s=sum(e.wall_time_s for e in elements.values()),
-        steps=sum(e.steps for e in elements.values()),
-        solver="; ".join(f"{k}: {e.solver}" for k, e in elements.items()),
+        wall_time_s=sum(e.wall_time_s for e in elements.values()) + refinement["wall"],
+        steps=sum(e.steps for e in elements.values()) + refinement["steps"],
+        solver=solver,
         parameters={
             "triangles": len(specimen.mesh.triangles),
             "thickness_mm": h,
@@ -251,12 +313,13 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
                 f"{axis} free" if value is None else f"{axis} {value:g} mm"
                 for axis, value in zip(("ux", "uy", "uz"), case.displacement)
             ),
-            "Mindlin G13/E": case.shear_ratio,
+            **calibration_parameters(case.calibration, case.fabric),
             **case.parameters,
         },
         elements=elements,
         key_numbers=key_numbers(elements, h),
         discussion=discussion(case, specimen, elements, h),
+        orders=orders,
         checks=checks,
         data=PaperRuns(
             specimen=specimen,
@@ -264,6 +327,54 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
             sides={kinematics: e.sides for kinematics, e in elements.items()},
         ),
     )
+
+
+def refinement_orders(
+    case: PaperCase,
+    resolution: str,
+    specimen: specimens.Specimen,
+    elements: dict[str, ElementRun],
+) -> tuple[list[ObservedOrder] | None, dict[str, Any]]:
+    """The observed orders at ``resolution`` on the meshes of ``case.order_cells``: the runs
+    of ``elements`` (on ``specimen``) for the resolution's own mesh, the fibrous and the Mindlin
+    models solved here on the two others. Returns the records (None when the case gives no
+    sequence at this resolution) and what the extra runs cost: their names ("fibrous n = 10"),
+    wall time (s) and steps."""
+    cost: dict[str, Any] = {"runs": [], "wall": 0.0, "steps": 0}
+    sequence = case.order_cells.get(resolution)
+    if sequence is None:
+        return None, cost
+    h = case.fabric.thickness
+    measured: dict[str, list] = {kinematics: [] for kinematics in ORDER_KINEMATICS}
+    for cells in sequence:
+        if cells == case.cells[resolution]:
+            for kinematics in ORDER_KINEMATICS:
+                record = elements[kinematics]
+                quantities = order_quantities(record.sides, kinematics, h)
+                measured[kinematics].append(
+                    (cells, mesh_size(specimen), quantities, record.converged)
+                )
+            continue
+        other = case.make_specimen(cells)
+        for kinematics in ORDER_KINEMATICS:
+            model = specimens.build(
+                other,
+                ELEMENT[kinematics],
+                case.fabric,
+                case.displacement,
+                case.calibration,
+                thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
+            )
+            result, _, wall = solve(model, case.increments)
+            sides = side_data(result, other, kinematics, h)
+            quantities = order_quantities(sides, kinematics, h)
+            measured[kinematics].append(
+                (cells, mesh_size(other), quantities, bool(result.converged))
+            )
+            cost["runs"].append(f"{kinematics} n = {cells}")
+            cost["wall"] += wall
+            cost["steps"] += int(result.steps)
+    return observed_orders(measured), cost
 
 
 def render_paper_case(case: PaperCase, runs: PaperRuns, out_dir: Path) -> list[str]:

@@ -3,9 +3,10 @@
 ``side_figure``: side profiles like Bai Figs. 10/12/14/16 (mid-surface, director angle,
 thickness along the director); ``side_elevation``: the sides seen from the side at true scale,
 as the paper photographs them; ``laws_figure``: the fabric's laws over the range the fibrous
-run reached; ``view_3d``: the deformed mid-surface with the director segments drawn along the
-sides like the lines on the specimens. Each writes a PNG into the output folder and returns
-its name.
+run reached, which are the Mindlin shell's too with the "laws" calibration; ``view_3d``: the
+deformed mid-surface with the director segments drawn along the sides like the lines on the
+specimens. Each states the Mindlin shell's calibration in its title, writes a PNG into the
+output folder and returns its name.
 """
 
 from __future__ import annotations
@@ -17,7 +18,14 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from validation import specimens
-from validation.paper.kinematics import COLOURS, ELEMENT, KINEMATICS, LABELS, MARKERS
+from validation.paper.kinematics import (
+    COLOURS,
+    ELEMENT,
+    KINEMATICS,
+    LABELS,
+    MARKERS,
+    calibration_title,
+)
 from validation.plots import plt
 from validation.records import SideProfile
 
@@ -71,7 +79,7 @@ def side_figure(case: PaperCase, profiles: dict[str, dict[str, SideProfile]], ou
         for ax in axes[row]:
             ax.grid(True, alpha=0.3)
     axes[0, 0].legend(fontsize="small")
-    fig.suptitle(f"{case.name}: {case.title}")
+    fig.suptitle(f"{case.name}: {case.title}\n{calibration_title(case.calibration, case.fabric)}")
     name = f"{case.name}-sides.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
@@ -113,6 +121,7 @@ def side_elevation(
             axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
     fig.suptitle(
         f"{case.name}: the sides seen from the side, true scale (cf. the paper's photographs)"
+        f"\n{calibration_title(case.calibration, case.fabric)}"
     )
     name = f"{case.name}-side-elevation.png"
     fig.savefig(out_dir / name, dpi=100)
@@ -122,10 +131,13 @@ def side_elevation(
 
 def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
     """The fabric's laws (cf. Bai Fig. 7 for bending) from 0 over the range the fibrous run
-    reached (they are odd, or zero in compression), warp and weft, with the Mindlin
-    calibration's linear bending (E h^3 / 12 = the initial slope) dashed. Returns the file
-    name."""
+    reached (they are odd, or zero in compression), warp and weft. With the "laws"
+    calibration they are the Mindlin section's laws as well (MindlinShell(fabric)), and the
+    title says so; a calibration that changes the bending law draws the Mindlin one dashed
+    (the "fit" scale, or the "initial-slope" line E h^3 / 12 = B0 at every curvature).
+    Returns the file name."""
     fabric = case.fabric
+    rule = case.calibration
     fields = runs.results["fibrous"].frames[-1].fields.get("triangle", {})
 
     def reach(names: tuple[str, ...], floor: float) -> float:
@@ -141,22 +153,35 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
         ("bending (cf. Bai Fig. 7)", fabric.bending, fabric.bending_weft,
          ("warp_curvature", "weft_curvature"), 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
     )  # fmt: skip
+    both = "" if rule.name == "initial-slope" else " (both shells)"
     fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), constrained_layout=True)
     for axis, (title, warp, weft, names, floor, xlabel, ylabel) in zip(axes, panels):
         x = np.linspace(0.0, reach(names, floor), 401)  # the laws are odd (or tension-only)
-        axis.plot(x, warp.value(x), color="k", label="warp")
+        axis.plot(x, warp.value(x), color="k", label=f"warp{both}")
         if weft is not None and weft is not warp:
-            axis.plot(x, weft.value(x), color="0.5", label="weft")
-        if title.startswith("bending"):
+            axis.plot(x, weft.value(x), color="0.5", label=f"weft{both}")
+        if title.startswith("bending") and rule.name == "initial-slope":
             initial = float(warp.slope(np.array(0.0)))
             axis.plot(x, initial * x, ls="--", color=COLOURS["mindlin"],
-                      label="Mindlin calibration E h^3/12")  # fmt: skip
+                      label="Mindlin, warp: E h^3/12 = B0")  # fmt: skip
+        elif title.startswith("bending") and rule.bending_scale != 1.0:
+            scaled = rule.section_fabric(fabric).bending
+            axis.plot(x, scaled.value(x), ls="--", color=COLOURS["mindlin"],
+                      label=f"Mindlin, warp x {rule.bending_scale:.3g}")  # fmt: skip
         axis.set(title=title, xlabel=xlabel, ylabel=ylabel)
         axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))
         axis.locator_params(axis="x", nbins=5)
         axis.grid(True, alpha=0.3)
         axis.legend(fontsize="small")
-    fig.suptitle(f"{case.name}: the fabric's laws over the range the fibrous run reached")
+    shared = (
+        "the Mindlin section's own laws too"
+        if rule.name != "initial-slope"
+        else "the Mindlin section is elastic"
+    )
+    fig.suptitle(
+        f"{case.name}: the fabric's laws over the range the fibrous run reached ({shared})\n"
+        f"{calibration_title(rule, fabric)}"
+    )
     name = f"{case.name}-laws.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
@@ -209,6 +234,7 @@ def view_3d(
         ax.set_title(
             f"{LABELS[kinematics]}: directors along the sides ({scale})", fontsize="medium"
         )
+    fig.suptitle(f"{case.name}: {calibration_title(case.calibration, case.fabric)}")
     name = f"{case.name}-3d.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)

@@ -4,8 +4,9 @@
 Figs. 9-16): the mid-surface, the director angle to the horizontal, the thickness along the
 director, the mid-surface rotation from the clamp and the director's tilt from the normal.
 ``key_numbers`` condenses them into the figures the report quotes, ``slip_errors`` compares the
-tilt with atan(theta) where the plies slip freely, and ``fibre_statistics`` gives the fibrous
-runs' largest fibre strain and shear angle.
+tilt with atan(theta) where the plies slip freely, ``midsurface_gap`` how far apart two runs'
+mid-surfaces and directors are, and ``fibre_statistics`` gives the fibrous runs' largest fibre
+strain and shear angle.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from validation.records import ElementRun, SideProfile, SideSummary
 if TYPE_CHECKING:
     from validation.paper.case import PaperCase
 
-__all__ = ["fibre_statistics", "key_numbers", "side_data", "slip_errors"]
+__all__ = ["fibre_statistics", "key_numbers", "midsurface_gap", "side_data", "slip_errors"]
 
 
 def side_data(
@@ -61,13 +62,14 @@ def side_data(
 
 
 def fibre_statistics(result: Any, specimen: specimens.Specimen) -> dict[str, float]:
-    """The fibrous run's largest fibre strain, also away from the loaded node, and its largest
+    """The fibrous run's largest fibre strain, also away from the loaded nodes, and its largest
     in-plane shear angle (deg)."""
     strain = np.maximum(
         np.abs(result.field("warp_strain")).max(axis=1),
         np.abs(result.field("weft_strain")).max(axis=1),
     )
-    # The support acts on one node: the triangles around it carry the point load.
+    # The support acts on the loaded nodes (one node, or a gripped patch): the triangles
+    # touching them carry its load.
     at_support = np.isin(specimen.mesh.triangles, specimen.loaded).any(axis=1)
     return {
         "max_fibre_strain": float(strain.max()),
@@ -113,3 +115,35 @@ def slip_errors(
         expected = np.degrees(np.arctan(np.radians(np.asarray(data.rotation_deg))))
         out[side] = np.abs(np.asarray(data.director_tilt_deg) - expected)[free]
     return out
+
+
+def midsurface_gap(
+    specimen: specimens.Specimen, fibrous: ElementRun, mindlin: ElementRun
+) -> dict[str, float]:
+    """How far apart the two runs' mid-surfaces are along the filmed sides: the largest
+    distance between the same node in both (mm, "distance"), the largest displacement of the
+    fibrous run's side nodes (mm, "displacement") and the largest difference of the director
+    angles, fibrous - Mindlin (deg, signed, "director"), with the side and the s (mm) where
+    it is ("director_side", "director_s")."""
+    distance = displacement = 0.0
+    director, where = 0.0, ("", 0.0)
+    for side, data in fibrous.sides.items():
+        nodes, s = specimen.sides[side]
+        x_f = np.asarray(data.midsurface)
+        x_m = np.asarray(mindlin.sides[side].midsurface)
+        distance = max(distance, float(np.linalg.norm(x_f - x_m, axis=1).max()))
+        moved = np.linalg.norm(x_f - specimen.mesh.points[nodes], axis=1)
+        displacement = max(displacement, float(moved.max()))
+        gap = np.asarray(data.director_angle_deg) - np.asarray(
+            mindlin.sides[side].director_angle_deg
+        )
+        k = int(np.argmax(np.abs(gap)))
+        if abs(gap[k]) > abs(director):
+            director, where = float(gap[k]), (side, float(np.asarray(s)[k]))
+    return {
+        "distance": distance,
+        "displacement": displacement,
+        "director": director,
+        "director_side": where[0],
+        "director_s": where[1],
+    }

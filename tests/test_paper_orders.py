@@ -1,0 +1,183 @@
+"""The observed orders of the paper cases (validation.checks.observed_order,
+validation.paper.orders, the report's table) on synthetic sequences of known order, and the
+gripper that replaced the lifted node of bai-6.2.1 (elements.Grip, a gripped corner specimen).
+"""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from elements import Grip
+from femcore import Body, Mesh
+from femcore.interaction_checks import check_interaction, check_objectivity
+from femcore.state import State
+from materials.presets import g1151_laminate
+from validation import specimens
+from validation.checks import observed_order
+from validation.paper import (
+    deflection_name,
+    observed_orders,
+    order_checks,
+    order_quantities,
+    solve,
+    thickness_name,
+)
+from validation.records import ObservedOrder, SideProfile
+from validation.report import _orders_table
+
+
+# ---------------------------------------------------------------------- Richardson
+@pytest.mark.parametrize("p", [0.5, 1.0, 2.0, 3.2])
+@pytest.mark.parametrize("sizes", [(4.0, 2.0, 1.0), (20.0, 8.0, 5.0), (25.0, 10.0, 5.0 / 3.0)])
+def test_the_observed_order_of_a_known_sequence(p, sizes):
+    """f(h) = f0 + C h^p on three meshes of any ratios gives back p and f0 (to round-off)."""
+    h = np.asarray(sizes)
+    values = 7.0 - 0.3 * h**p
+    order, extrapolated = observed_order(h, values)
+    assert order == pytest.approx(p, abs=1e-9)
+    assert extrapolated == pytest.approx(7.0, abs=1e-9)
+    # the constant-ratio formula of the issue, log((f1 - f2) / (f2 - f3)) / log(r)
+    if np.isclose(h[0] / h[1], h[1] / h[2]):
+        f1, f2, f3 = values
+        assert order == pytest.approx(math.log((f1 - f2) / (f2 - f3)) / math.log(h[0] / h[1]))
+
+
+def test_an_oscillating_or_diverging_sequence_has_no_order():
+    assert all(math.isnan(v) for v in observed_order([4.0, 2.0, 1.0], [1.0, 2.0, 1.5]))
+    order, _ = observed_order([4.0, 2.0, 1.0], [1.0, 1.1, 1.3])  # growing differences
+    assert order == pytest.approx(-1.0)
+    assert observed_order([4.0, 2.0, 1.0], [1.0, 2.0, 2.0]) == (math.inf, 2.0)
+
+
+@pytest.mark.parametrize(
+    "sizes, values, message",
+    [
+        ([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], "decreasing"),
+        ([4.0, 2.0], [1.0, 2.0], "three"),
+        ([4.0, 2.0, 1.0], [1.0, np.nan, 2.0], "finite"),
+    ],
+)
+def test_bad_sequences_are_refused(sizes, values, message):
+    with pytest.raises(ValueError, match=message):
+        observed_order(sizes, values)
+
+
+# ---------------------------------------------------------------------- records and checks
+def runs(p: float, kinematics: str = "mindlin") -> list:
+    """Three runs (cells, h, quantities, converged) of a deflection converging at order p to
+    10 mm and, for the fibrous shell, a thickness at order 2 to 1.2 h."""
+    out = []
+    for cells in (10, 20, 40):
+        h = 200.0 / cells
+        quantities = {deflection_name("side_1"): 10.0 + 0.5 * (h / 20.0) ** p}
+        if kinematics == "fibrous":
+            quantities[thickness_name("side_1")] = 1.2 - 0.02 * (h / 20.0) ** 2
+        out.append((cells, h, quantities, True))
+    return out
+
+
+def test_the_records_give_the_orders_and_the_checks_decide_on_them():
+    orders = observed_orders({"fibrous": runs(0.5, "fibrous"), "mindlin": runs(1.0)})
+    found = {(o.kinematics, o.quantity): o for o in orders}
+    assert found["mindlin", deflection_name("side_1")].order == pytest.approx(1.0)
+    assert found["fibrous", deflection_name("side_1")].order == pytest.approx(0.5)
+    assert found["fibrous", thickness_name("side_1")].order == pytest.approx(2.0)
+    assert found["fibrous", thickness_name("side_1")].extrapolated == pytest.approx(1.2)
+    assert found["mindlin", deflection_name("side_1")].cells == (10, 20, 40)
+    # Only the quantities with a tolerance are checked: at order 1 the Richardson value is
+    # exact (its gap to the finest mesh, 1.2 %, is the error left there); the fibrous
+    # deflection has no tolerance here.
+    case = SimpleNamespace(
+        source="§x",
+        order_tolerance={"default": {"mindlin deflection": 0.02, "fibrous thickness": 0.002}},
+    )
+    checks = order_checks(case, orders, "default")
+    assert len(checks) == 2 and all(c.passed for c in checks)
+    assert order_checks(case, orders, "coarse") == []
+    # an oscillating sequence fails its check; one converged within the tolerance passes
+    wobbly = observed_orders({"mindlin": [(10, 20.0, {"d": 10.0}, True),
+                                          (20, 10.0, {"d": 10.5}, True),
+                                          (40, 5.0, {"d": 10.2}, True)]})  # fmt: skip
+    strict = SimpleNamespace(source="§x", order_tolerance={"default": {"mindlin deflection": 0.01}})
+    assert not order_checks(strict, wobbly, "default")[0].passed
+    loose = SimpleNamespace(source="§x", order_tolerance={"default": {"mindlin deflection": 0.1}})
+    (converged,) = order_checks(loose, wobbly, "default")
+    assert converged.passed and "no positive order" in converged.name
+
+
+def test_the_quantities_are_read_at_the_middle_of_each_side():
+    """The deflection and the fibrous shell's thickness along the director (/ h) at half the
+    side's length, interpolated between its nodes."""
+    s = np.array([0.0, 30.0, 70.0, 100.0])
+    side = SideProfile(
+        s=s,
+        midsurface=np.column_stack([s, 0 * s, 0.01 * s**2]),
+        director_angle_deg=np.full(4, 90.0),
+        thickness=np.array([2.0, 2.1, 2.4, 2.2]),
+        rotation_deg=np.zeros(4),
+        director_tilt_deg=np.zeros(4),
+        normal_tilt_deg=np.zeros(4),
+    )
+    fibrous = order_quantities({"side_1": side}, "fibrous", 2.0)
+    assert fibrous[deflection_name("side_1")] == pytest.approx(9.0 + 20.0 / 40.0 * (49.0 - 9.0))
+    assert fibrous[thickness_name("side_1")] == pytest.approx((2.1 + 0.5 * 0.3) / 2.0)
+    assert list(order_quantities({"side_1": side}, "mindlin", 2.0)) == [deflection_name("side_1")]
+
+
+def test_the_report_shows_the_orders_in_a_table():
+    record = ObservedOrder("mindlin", "deflection (mm)", (10, 20, 40), (20.0, 10.0, 5.0),
+                           (11.0, 10.5, 10.25), 1.0, 10.0, True)  # fmt: skip
+    # no order: None, as results.json writes NaN
+    none = ObservedOrder("fibrous", "thickness (/ h)", (10, 20, 40), (20.0, 10.0, 5.0),
+                         (1.0, 1.2, 1.1), None, None, True)  # fmt: skip
+    case = {"observed_orders": [vars(record), vars(none)],
+            "elements": {"mindlin": {"label": "Mindlin"}}}  # fmt: skip
+    table = _orders_table(case)
+    assert "<th>n = 10<br>h = 20 mm</th>" in table and "<td>Mindlin</td>" in table
+    assert "<td class='num'>1.00</td>" in table and "2.44 %" in table
+    assert "<td class='num'>-</td>" in table  # no order
+    assert _orders_table({"checks": []}) == ""
+
+
+# ---------------------------------------------------------------------- the gripper
+def jittered(turn: np.ndarray | None = None):
+    """A Grip of 20 N/mm on 5 nodes of a jittered 3 x 3 grid, the nodes moved apart."""
+    turn = np.eye(3) if turn is None else turn
+    rng = np.random.default_rng(5)
+    mesh = Mesh.rectangle(4.0, 4.0, nx=2, ny=2)
+    mesh = mesh.with_points((mesh.points + rng.normal(scale=0.3, size=(9, 3))) @ turn.T)
+    block = Grip([4, 0, 2, 6, 8], 20.0).bind(Body.bare(mesh))
+    moved = mesh.points + rng.normal(scale=0.2, size=(9, 3)) @ turn.T
+    zero = np.zeros((9, 3))
+    return block, State(moved, zero, zero.copy(), zero.copy()), None
+
+
+def test_the_grip_conforms_to_the_interaction_protocol():
+    block, state, history = jittered()
+    check_interaction(block, state, history)
+    check_objectivity(jittered, Rotation.from_rotvec([0.3, -0.7, 0.5]).as_matrix())
+    np.testing.assert_array_equal(block.connectivity[:, 0], 4)  # tied to the first node
+    with pytest.raises(ValueError, match="two or more"):
+        Grip([3], 1.0).bind(block and Body.bare(Mesh.rectangle(1.0, 1.0, 1, 1)))
+    with pytest.raises(ValueError, match="positive"):
+        Grip([0, 1], 0.0)
+
+
+def test_a_gripped_corner_is_lifted_as_one_patch():
+    """bai-6.2.1's set-up at 10 cells with the Mindlin shell: the 20 x 15 mm patch (node set
+    "grip") rises 40 mm, slides sideways as one (its nodes part by < 1e-3 mm) and stays flat
+    and level (rotations held); gravity first, then the lift."""
+    fabric = g1151_laminate()
+    specimen = specimens.corner(200.0, 150.0, 10, grip=(20.0, 15.0))
+    assert specimen.gripped and len(specimen.loaded) == 4  # one cell at 10 cells
+    model = specimens.build(specimen, "mindlin", fabric, (None, None, 40.0))
+    result, _, _ = solve(model, 10)
+    assert result.converged
+    moved = result.positions[specimen.loaded] - specimen.mesh.points[specimen.loaded]
+    np.testing.assert_allclose(moved[:, 2], 40.0, atol=1e-9)
+    assert np.abs(moved - moved.mean(axis=0)).max() < 1e-3
+    assert np.linalg.norm(moved[0, :2]) > 1.0  # it slid towards the clamp
+    np.testing.assert_allclose(result.directors[specimen.loaded], [[0.0, 0.0, 1.0]] * 4, atol=1e-9)
