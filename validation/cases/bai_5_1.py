@@ -39,18 +39,18 @@ LENGTH, WIDTH = 150.0, 30.0
 # with a margin, well below what Eq. 15 gives.
 SLIP_TOLERANCE_DEG = {"coarse": 3.5, "default": 1.0, "fine": 1.0}
 # Observed orders (validation.paper.orders), measured on 6 / 8 / 12 / 15 / 30 / 60 cells: the
-# deflection z at the middle of side 1 (mm), fibrous -55.915 / -55.610 / -55.025 / -54.567 / -54.126
-# / -53.937 (order 1.2 on 15-30-60, its Richardson value 0.26 % from the 60-cell one), Mindlin
-# (calibration "laws", D_t = B0 / 2) -54.413 / -54.088 / -54.247 / -53.966 / -53.967 / -53.913
-# (converged: 15, 30 and 60 cells within 0.10 %, the differences change sign: no order; 6-8-12
-# within 0.31 %; with D_t = K0 h^2 / 12 it was -54.409 / -54.082 / -54.240 / -53.959 / -53.963 /
-# -53.910, the same to 0.02 %); the fibrous thickness along the director there / h 1.0997 / 1.1208 /
-# 1.1497 / 1.1617 / 1.1796 / 1.1838 (order 2.1 on 15-30-60, 0.11 %). Tolerance 1 % on each (default
-# and fine, 15-30-60: the Mindlin deflection passes as converged, 10 times its spread); the coarse
-# sequence 6-8-12 is pre-asymptotic (the fibrous deflection's differences grow): reported only. With
-# the old "initial-slope" Mindlin shell the deflection was -50.693 / -50.260 / -49.942 / -49.706 /
-# -49.733 / -49.705: 8 % short of the fibrous one, where the fabric's own laws bring it within 0.3 %
-# (30 cells).
+# deflection z at the middle of side 1 (mm), fibrous -55.915 / -55.610 / -55.025 / -54.567 /
+# -54.126 / -53.937 (order 1.2 on 15-30-60, its Richardson value 0.26 % from the 60-cell one),
+# Mindlin (calibration "laws", D_t = B0 / 2) -54.413 / -54.088 / -54.247 / -53.966 / -53.967 /
+# -53.913 (converged: 15, 30 and 60 cells within 0.10 %, the differences change sign: no order;
+# 6-8-12 within 0.31 %; with D_t = K0 h^2 / 12 it was -54.409 / -54.082 / -54.240 / -53.959 /
+# -53.963 / -53.910, the same to 0.02 %); the fibrous thickness along the director there / h
+# 1.0997 / 1.1208 / 1.1497 / 1.1617 / 1.1796 / 1.1838 (order 2.1 on 15-30-60, 0.11 %). Tolerance
+# 1 % on each (default and fine, 15-30-60: the Mindlin deflection passes as converged, 10 times
+# its spread); the coarse sequence 6-8-12 is pre-asymptotic (the fibrous deflection's
+# differences grow): reported only. With the old "initial-slope" Mindlin shell the deflection
+# was -50.693 / -50.260 / -49.942 / -49.706 / -49.733 / -49.705: 8 % short of the fibrous one,
+# where the fabric's own laws bring it within 0.3 % (30 cells).
 # Mid-surfaces (validation.paper.profiles.midsurface_gap): the largest distance between the
 # same node of the fibrous and the Mindlin run along side 1, 1.96 mm on 12 cells and 0.27 mm
 # on 30 (2.8 % and 0.4 % of the largest displacement, 70 mm; D_t = K0 h^2 / 12: 1.96 and
