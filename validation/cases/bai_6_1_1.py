@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from materials.presets import paper_stack
 from validation.paper import corner_case
-from validation.specimens import CORNER_LIFT, PAPER_STACK_SIZE
+from validation.specimens import CORNER_LIFT, PAPER_STACK_GRIP, PAPER_STACK_SIZE
 
 __all__ = ["CASE", "SPEC"]
 
@@ -35,7 +35,7 @@ NAME = "bai-6.1.1"
 TITLE = "130-sheet paper stack: corner lifted by a gripper beyond a clamped diagonal"
 SECTION = "§6.1.1, Fig. 8b, 9, 10"
 SOURCE = f"Bai et al. (2020) {SECTION}"
-GRIP = (21.0, 14.8)  # mm along x and y: the gripped patch at the corner (assumed)
+GRIP = PAPER_STACK_GRIP  # 21 x 14.8 mm along x and y: the gripped patch at the corner (assumed)
 # Not checked: |tilt - atan(theta)| along side 1 / side 2 (clamped and gripped nodes left
 # out), measured for the default fibrous run: 1.20 / 1.15 deg on the coarse mesh (10 cells),
 # 1.27 / 1.25 deg on the default one (20 cells), but for the Eq. 15 run (tilt = theta; theta

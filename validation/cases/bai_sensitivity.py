@@ -26,7 +26,6 @@ import numpy as np
 from fibreshell.sweep import sweep
 from materials.presets import paper_stack
 from validation import specimens
-from validation.cases.bai_6_1_1 import GRIP
 from validation.checks import check
 from validation.paper import INCREMENTS
 from validation.plots import plt
@@ -63,12 +62,14 @@ class SensitivityData:
 def base_case(cells: int) -> dict:
     """The tables of the case file of bai-6.1.1 (cases/bai-6.1.1.toml) with ``cells`` cells
     along the specimen: its corner specimen (specimens.PAPER_STACK_SIZE), clamp, the gripped
-    patch (bai_6_1_1.GRIP) lifted (specimens.CORNER_LIFT) as one with its directors held,
-    gravity and the paper cases' Static solver (validation.paper)."""
+    patch (specimens.PAPER_STACK_GRIP) lifted (specimens.CORNER_LIFT) as one with its
+    directors held, gravity and the paper cases' Static solver (validation.paper)."""
     lx, ly = specimens.PAPER_STACK_SIZE
     return {
         "title": NAME,
-        "mesh": {"corner": {"lx": lx, "ly": ly, "n": cells, "grip": list(GRIP)}},
+        "mesh": {
+            "corner": {"lx": lx, "ly": ly, "n": cells, "grip": list(specimens.PAPER_STACK_GRIP)}
+        },
         "part": [
             {"element": "fibrous", "material": "paper_stack", "options": {"clamped": "clamp"}}
         ],  # fmt: skip
@@ -163,7 +164,7 @@ def compute(resolution: str) -> Outcome:
         parameters={
             "triangles": len(
                 specimens.corner(
-                    *specimens.PAPER_STACK_SIZE, CELLS[resolution], grip=GRIP
+                    *specimens.PAPER_STACK_SIZE, CELLS[resolution], grip=specimens.PAPER_STACK_GRIP
                 ).mesh.triangles
             ),
             "B assumed (N mm)": b,
