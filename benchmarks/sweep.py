@@ -1,9 +1,9 @@
 """A 16-variant sweep on Dask: 1 worker process against 2, and the cost of a task.
 
 The case is the report's sensitivity base, the paper-stack corner test of bai-6.1.1 (paper
-stack, clamp, corner lift 40 mm, gravity, Static along the arc length) at --cells cells, its
-bending stiffness swept over 16 values from 25 to 100 N mm. Measured in one run, side by
-side:
+stack, clamp, its gripped corner patch lifted 40 mm, gravity, Static along the arc length) at
+--cells cells, its bending stiffness swept over 16 values from 25 to 100 N mm. Measured in one
+run, side by side:
 
 1. the reference pass: the 16 variants one after another in this process (the same task
    function, ``fibreshell.sweep.run_variant``, called directly: no Dask);

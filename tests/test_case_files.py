@@ -268,22 +268,25 @@ def test_json_outputs_are_strict():
 
 
 @pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
-def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics):
-    """cases/bai-6.2.1.toml (coarse: n = 10) builds the model the validation report builds for
-    bai-6.2.1 (validation.specimens.build: corner specimen, clamp, the gripped patch lifted as
-    one with its directors held, gravity, and for "mindlin" the Mindlin shell of the
-    calibration both default to, "laws": MindlinShell(fabric)) and runs its solver: the same
-    final state (same arithmetic: 1e-12 mm)."""
+@pytest.mark.parametrize("name", ["bai-6.1.1", "bai-6.2.1"])
+def test_a_paper_case_file_runs_the_report_s_paper_case(tmp_path, kinematics, name):
+    """cases/bai-6.1.1.toml and cases/bai-6.2.1.toml (coarse: n = 10) build the model the
+    validation report builds for their case (validation.specimens.build: corner specimen,
+    clamp, the gripped patch lifted as one with its directors held, gravity, and for "mindlin"
+    the Mindlin shell of the calibration both default to, "laws": MindlinShell(fabric)) and run
+    its solver: the same final state (same arithmetic: 1e-12 mm)."""
     from validation import paper, specimens
-    from validation.cases.bai_6_2_1 import GRIP
+    from validation.cases import bai_6_1_1, bai_6_2_1
 
-    text = (ROOT / "cases" / "bai-6.2.1.toml").read_text().replace("n = 20", "n = 10")
+    spec = {"bai-6.1.1": bai_6_1_1, "bai-6.2.1": bai_6_2_1}[name].SPEC
+    text = (ROOT / "cases" / f"{name}.toml").read_text().replace("n = 20", "n = 10")
     run = run_case(load_case(write(tmp_path, text)), tmp_path / "out", kinematics, False)
-    specimen = specimens.corner(200.0, 150.0, 10, grip=GRIP)
-    fabric = presets.g1151_laminate()
-    assert "stiffness = 23000.0" in text and specimens.grip_stiffness(fabric) == 23000.0
-    model = specimens.build(specimen, kinematics, fabric, (None, None, 40.0))
-    expected, _, _ = paper.solve(model, 10)
+    specimen = spec.make_specimen(10)
+    assert specimen.gripped
+    stiffness = specimens.grip_stiffness(spec.fabric)
+    assert f"stiffness = {stiffness}" in text and stiffness == 23000.0
+    model = specimens.build(specimen, kinematics, spec.fabric, spec.displacement)
+    expected, _, _ = paper.solve(model, spec.increments)
     assert run.result.converged and expected.converged
     np.testing.assert_allclose(run.result.positions, expected.positions, rtol=0, atol=1e-12)
 

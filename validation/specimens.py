@@ -45,6 +45,7 @@ __all__ = [
     "CORNER_LIFT",
     "G1151_SIZE",
     "GRAVITY",
+    "PAPER_STACK_GRIP",
     "PAPER_STACK_SIZE",
     "Specimen",
     "arc_length",
@@ -65,6 +66,9 @@ GRAVITY = 9810.0  # mm/s^2
 # Sizes (L, W) in mm of the §6 corner specimens: A5 paper sheets (assumed; §6.1) and the G1151
 # laminate (§6.2); the §6.1.1 / §6.2.1 corner lift (ux, uy, uz; None = free), assumed.
 PAPER_STACK_SIZE = (210.0, 148.0)
+# The patch (a, b) in mm at the paper stack's corner that a gripper holds in §6.1.1 (assumed:
+# one tenth of each side, as bai-6.2.1's; shared by bai-6.1.1 and its sensitivity study).
+PAPER_STACK_GRIP = (21.0, 14.8)
 G1151_SIZE = (200.0, 150.0)
 CORNER_LIFT = (None, None, 40.0)
 # The chain of the catenary cases: span and unstretched length (mm), the depth of the box it

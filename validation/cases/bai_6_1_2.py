@@ -11,15 +11,14 @@ the assumed shear law is softer than bending. Gravity is the imperfection that p
 buckling direction (down). Static follows the arc length of the path; past a limit point it goes
 on with load steps to the stable branch, as the test does, and the report says so.
 Mindlin: MindlinShell(fabric), calibration "laws" (fibreshell.calibration): the fabric's own
-laws, S = 5 B0 / h^2 = 1.48 N/mm, D_t = K0 h^2 / 12 = 1.4e4 N mm. Its membrane is now the
-fibres' (2300 N/mm; the old initial-slope section's was 12 B / h^2 = 3.6 N/mm, 650 times
-softer, and it snapped to a nearly flat state), yet the Mindlin sheet still does not buckle as
-the fibrous one does: past a limit point on every mesh it ends with the corner swung sideways
-and mid-sides within about 3 mm of the plane (the solver note gives the largest deflection at the
-limit point and at the end). Measured: with D_t = B0 = 50 N mm instead (8 cells) it buckles
-down like the fibrous sheet (mid-sides -11.0 / -21.2 mm against -16.1 / -25.5 mm), so the
-twisting stiffness the paper stack's shear law gives the section, 280 times its bending, is
-what keeps it in its plane.
+laws, S = 5 B0 / h^2 = 1.48 N/mm, D_t = B0 / 2 = 25 N mm (the isotropic plate's D (1 - nu) /
+2 at nu = 0). It buckles down as the fibrous sheet does, without a limit point, its mid-sides
+3 to 4 mm above the fibrous ones. With the earlier default D_t = K0 h^2 / 12 = 1.4e4 N mm (the
+paper stack's in-plane shear, 1000 N/mm, through a solid section: 280 times its bending) it
+did not: past a limit point on every mesh it ended with the corner swung sideways and its
+mid-sides within about 3 mm of the plane, 60 to 80 mm from the fibrous sheet; so did the old
+"initial-slope" section (a membrane of 12 B / h^2 = 3.6 N/mm, 650 times softer than the
+fibres', snapped to a nearly flat state). The old numbers are in the comments below.
 """
 
 from __future__ import annotations
@@ -50,36 +49,47 @@ SLIP_NOTE = (
 )
 
 # Observed orders (validation.paper.orders), measured on 4 / 6 / 8 / 12 / 24 cells: the
-# deflection z at the middle of the sides (mm), Mindlin (calibration "laws") side 1 0.308 /
-# 0.333 / -1.049 / 1.000 / 0.348, side 2 3.168 / 2.115 / -3.006 / 2.681 / 1.131 (past a limit
-# point on every mesh, a state near the plane whose sign changes from mesh to mesh: no order);
-# with the old "initial-slope" section side 1 -3.945 / 0.132 / -0.806 / -0.344 / -0.340, side
-# 2 -3.085 / 2.765 / 2.164 / -0.269 / -2.008 (also no order); fibrous side 1 -17.851 /
-# -16.472 / -16.061 / -16.029 / -16.156 (none), side 2 -25.251 / -25.618 / -25.549 / -25.304 /
-# -25.045 (order 0.3 on 6-12-24); the fibrous thickness along the director there / h, side 1
-# 1.1156 / 1.1208 / 1.1238 / 1.1285 / 1.1314, side 2 1.2051 / 1.2287 / 1.2387 / 1.2477 /
-# 1.2521 (order 1.4 and 2.1 on 6-12-24, Richardson values 0.16 % and 0.11 % from the 24-cell
-# ones). Checked (default and fine): the fibrous thickness, 1 %; the rest is reported.
+# deflection z at the middle of the sides (mm), Mindlin (calibration "laws", D_t = B0 / 2)
+# side 1 -14.381 / -13.136 / -12.749 / -12.556 / -12.377 (order 1.7 on 6-12-24, its Richardson
+# value 0.64 % from the 24-cell one), side 2 -21.825 / -22.054 / -22.065 / -21.969 / -21.750
+# (none on 6-12-24: the differences, 0.09 and 0.22 mm, grow; the three values within 1.4 %);
+# with D_t = K0 h^2 / 12 side 1 0.308 / 0.333 / -1.049 / 1.000 / 0.348, side 2 3.168 / 2.115 /
+# -3.006 / 2.681 / 1.131 (past a limit point on every mesh, a state near the plane whose sign
+# changed from mesh to mesh: no order); with the old "initial-slope" section side 1 -3.945 /
+# 0.132 / -0.806 / -0.344 / -0.340, side 2 -3.085 / 2.765 / 2.164 / -0.269 / -2.008 (also no
+# order); fibrous side 1 -17.851 / -16.472 / -16.061 / -16.029 / -16.156 (none), side 2
+# -25.251 / -25.618 / -25.549 / -25.304 / -25.045 (order 0.3 on 6-12-24); the fibrous
+# thickness along the director there / h, side 1 1.1156 / 1.1208 / 1.1238 / 1.1285 / 1.1314,
+# side 2 1.2051 / 1.2287 / 1.2387 / 1.2477 / 1.2521 (order 1.4 and 2.1 on 6-12-24, Richardson
+# values 0.16 % and 0.11 % from the 24-cell ones). Checked (default and fine): the fibrous
+# thickness, 1 %; the rest is reported (the Mindlin side 2 has no order, and a tolerance
+# wide enough to pass its 1.4 % spread as converged would say little about side 1).
 ORDER_TOLERANCE = {"fibrous thickness": 0.01}
 # Mid-surfaces (validation.paper.profiles.midsurface_gap): the largest distance between the
-# same node of the fibrous and the Mindlin run along the sides, 60.3 mm on 8 cells and 80.5
-# mm on 12 (79 % and 106 % of the largest displacement, 76 mm; initial-slope: 84.0 and 70.2
-# mm): not the same shape, so not checked, and the node-by-node director comparison
-# (validation.paper.invariants.SAME_SHAPE) is left out: the Mindlin directors belong to
-# another shape. (The Mindlin sheet's largest slope along the sides is 16 deg on 8 cells, 23
-# deg on 12.) It is not restored: the initial-slope section dropped it by snapping flat, the
-# laws section by staying near the plane.
+# same node of the fibrous and the Mindlin run along the sides, 5.96 mm on 8 cells, 6.39 mm
+# on 12 and 7.20 mm on 24 (7.8 %, 8.4 % and 9.5 % of the largest displacement, 76 mm: it
+# grows slowly with the mesh); at the middle of the sides the Mindlin deflections are -12.75
+# / -22.07 mm (8 cells), -12.56 / -21.97 (12) and -12.38 / -21.75 (24) against the fibrous
+# -16.06 / -25.55, -16.03 / -25.30 and -16.16 / -25.04 mm. Tolerance 15 % (every
+# resolution), 1.6 times the 24-cell 9.5 %. With D_t = K0 h^2 / 12 the distance was 60.3 and
+# 80.5 mm (79 % and 106 %; initial-slope: 84.0 and 70.2 mm), another shape: the check and
+# the node-by-node director comparison (validation.paper.invariants.SAME_SHAPE) were left
+# out, and are restored now that both sheets buckle down.
+# Directors where the Mindlin slope > 20 deg (its largest slope along the sides 42 deg on 8
+# and 12 cells): fibrous - Mindlin up to 54.4 deg (8 cells), 54.3 deg (12 cells), 54.5 deg
+# (24 cells): the check (> 10 deg) holds. The Mindlin directors leave the normal by at most
+# 2.5 deg (8 cells) and 2.6 deg (12).
+MIDSURFACE_TOLERANCE = 0.15
 COMPARISON_NOTE = (
-    "Here the same fabric does not make the same shape, so the directors are not compared "
-    "node by node: the fibrous sheet buckles down (its mid-sides 16 and 25 mm below the "
-    "plane) while the Mindlin sheet passes a limit point and ends near its plane with the "
-    "corner swung sideways (mid-surfaces up to 60 to 80 mm apart). Its membrane is the "
-    "fibres' now, so this is not the soft membrane of the old initial-slope section: the "
-    "paper stack's in-plane shear (K0 = 1000 N/mm) gives the Mindlin section a twisting "
-    "stiffness D_t = K0 h^2 / 12 = 1.4e4 N mm, 280 times its bending, and measured with D_t "
-    "= B0 instead (8 cells) the Mindlin sheet buckles down as the fibrous one does (mid-sides "
-    "-11.0 and -21.2 mm against -16.1 and -25.5 mm). The fibrous stack, whose plies slip, "
-    "carries no such twist."
+    "With the same fabric both sheets buckle down the same way: their mid-surfaces lie within "
+    "8 to 10 % of the 76 mm corner displacement of each other (8 to 24 cells), the middle of "
+    "the Mindlin sides 3 to 4 mm above the fibrous ones. This needs the plate's twisting "
+    "stiffness, D_t = B0 / 2 = 25 N mm: with the earlier default, the paper stack's in-plane "
+    "shear through a solid section (K0 h^2 / 12 = 1.4e4 N mm, 280 times the bending), the "
+    "Mindlin sheet passed a limit point and ended near its plane with the corner swung "
+    "sideways (mid-surfaces 60 to 80 mm apart). The directors differ by about 54 deg where the "
+    "sides are steepest: the Mindlin directors follow the normal (within 3 deg), the fibrous "
+    "ones do not."
 )
 SPEC = corner_case(
     name=NAME,
@@ -96,5 +106,6 @@ SPEC = corner_case(
     slip_sides=("side_1", "side_2"),
     slip_note=SLIP_NOTE,
     comparison_note=COMPARISON_NOTE,
+    midsurface_tolerance=MIDSURFACE_TOLERANCE,
 )
 CASE = SPEC.case(source=SOURCE, description=__doc__, order=30)

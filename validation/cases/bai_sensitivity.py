@@ -61,18 +61,22 @@ class SensitivityData:
 
 def base_case(cells: int) -> dict:
     """The tables of the case file of bai-6.1.1 (cases/bai-6.1.1.toml) with ``cells`` cells
-    along the specimen: its corner specimen (specimens.PAPER_STACK_SIZE), clamp, corner lift
-    (specimens.CORNER_LIFT), gravity and the paper cases' Static solver (validation.paper)."""
+    along the specimen: its corner specimen (specimens.PAPER_STACK_SIZE), clamp, the gripped
+    patch (specimens.PAPER_STACK_GRIP) lifted (specimens.CORNER_LIFT) as one with its
+    directors held, gravity and the paper cases' Static solver (validation.paper)."""
     lx, ly = specimens.PAPER_STACK_SIZE
     return {
         "title": NAME,
-        "mesh": {"corner": {"lx": lx, "ly": ly, "n": cells}},
+        "mesh": {
+            "corner": {"lx": lx, "ly": ly, "n": cells, "grip": list(specimens.PAPER_STACK_GRIP)}
+        },
         "part": [
             {"element": "fibrous", "material": "paper_stack", "options": {"clamped": "clamp"}}
         ],  # fmt: skip
-        "fix": [{"nodes": "clamp"}],
-        "displace": [{"nodes": "corner", "uz": specimens.CORNER_LIFT[2]}],
+        "fix": [{"nodes": "clamp"}, {"nodes": "grip", "dofs": ["alpha", "beta"]}],
+        "displace": [{"nodes": "grip", "uz": specimens.CORNER_LIFT[2]}],
         "gravity": {"acceleration": [0.0, 0.0, -specimens.GRAVITY]},
+        "grip": [{"nodes": "grip", "stiffness": specimens.grip_stiffness(paper_stack())}],
         "solver": {
             "kind": "static",
             "path": "arc_length",
@@ -159,7 +163,9 @@ def compute(resolution: str) -> Outcome:
         solver="Static along the arc length (load steps past a limit point), each variant",
         parameters={
             "triangles": len(
-                specimens.corner(*specimens.PAPER_STACK_SIZE, CELLS[resolution]).mesh.triangles
+                specimens.corner(
+                    *specimens.PAPER_STACK_SIZE, CELLS[resolution], grip=specimens.PAPER_STACK_GRIP
+                ).mesh.triangles
             ),
             "B assumed (N mm)": b,
             "K assumed (N/mm)": k,

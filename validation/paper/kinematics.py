@@ -107,7 +107,7 @@ def calibration_parameters(calibration: Calibration, fabric: Fabric) -> dict[str
             "Mindlin bending law (warp)": numbers["bending_law_warp"],
             "Mindlin bending law (weft)": numbers["bending_law_weft"],
             "Mindlin transverse shear S (N/mm)": numbers["transverse_shear_N_per_mm"],
-            "Mindlin twisting D_t = K0 h^2 / 12 (N mm)": numbers["twisting_N_mm"],
+            "Mindlin twisting D_t = B0 / 2 (N mm)": numbers["twisting_N_mm"],
         }
     )
     if calibration.bending_scale != 1.0:
@@ -118,7 +118,7 @@ def calibration_parameters(calibration: Calibration, fabric: Fabric) -> dict[str
 def calibration_title(calibration: Calibration, fabric: Fabric) -> str:
     """One line for a figure's title or a paragraph: which Mindlin section the case compares
     with and its numbers, e.g. "MindlinShell(fabric): the fabric's own laws, S = 1.48 N/mm,
-    D_t = 1.41e+04 N mm"."""
+    D_t = 25 N mm"."""
     numbers = calibration.numbers(fabric)
     if calibration.name == "initial-slope":
         return (
