@@ -11,6 +11,11 @@ path converges on this strip too), so the two times differ by the model alone. P
 Newton iterations, cuts and wall time of each solve, and the machine's load (os.getloadavg)
 before and after, as other jobs share the cores.
 
+Measured (2 cores shared, load 3.9 before, 8.1 after): one thread, fibrous shell 21.2 s (222
+Newton iterations, 4 cuts), 4 plies 166.6 s (394 iterations, 7 cuts); two threads 51.7 s and
+222.6 s (the same iterations: the load, not the threads, set those times). 20 plies were run
+apart (one thread): no convergence at the first displacement increment after 35 min.
+
 Run: python benchmarks/plies.py [N ...]   (default N = 4 20; the default threads are
 NUMBA_NUM_THREADS or the core count, and each model also runs on one thread)
 """
