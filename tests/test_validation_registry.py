@@ -38,6 +38,8 @@ REPORT_ORDER = [
     "fibrous-heavy-cantilever",
     "plies-deck-of-cards",
     "heavy-cantilever-nonlinear",
+    "plies-heavy-cantilever",
+    "plies-bai-5.1",
     "mindlin-elastica",
     "mindlin-rollup",
     "mindlin-plate",

@@ -1,0 +1,76 @@
+"""Bai §5.1 as a stack of plies: the 20-ply G986 strip bent by moving one end, the fibrous shell
+and the Mindlin shell of the same laws against the stack as N sliding plies.
+
+Source: the stack as N frictionless plies (elements.plies: N MindlinShell plies of h / N with
+1/N of every law, in penalty contact), the discrete physics the fibrous kinematics models; the
+material line through the plies' points that started on one normal is the stack's director
+(Bai Figs. 10 and 12 measure the directors of the real stack by its drawn lines).
+Geometry and loads: cases/bai-5.1.toml (the report's bai-5.1: 150 x 30 mm, 20-ply G986 stack,
+clamped at x = 0, the far end moved (-30, 0, -50) mm with its directors free, gravity); the
+cells along the strip and N by resolution.
+Measured and tolerances: see the constants below.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from validation import ground_truth
+from validation.records import Case, Outcome
+
+__all__ = ["CASE", "compute", "render"]
+
+NAME = "plies-bai-5.1"
+TITLE = "Bai §5.1 as a stack of plies: fibrous and Mindlin shells against the plies"
+SOURCE = "The stack as N frictionless plies (elements.plies), their material lines"
+FILE = "bai-5.1.toml"
+CELLS = {"coarse": 12, "default": 30, "fine": 60}
+PLIES = {"coarse": 4, "default": 8, "fine": 20}
+# Measured (fibrous - plies; path without its last 20 % for the largest angle and thickness):
+# coarse (12 cells, 4 plies) angle 5.29 deg, mean 3.24 deg, mid-surface 3.39 mm, thickness
+# 0.215 h; default (30 cells, 8 plies) 3.53 deg, 2.23 deg, 1.62 mm, 0.129 h. Near the moved
+# end (pinned, directors free) the plies fan out: 5.3-6.4 deg and 20-21 % of h there, reported
+# in the paragraph, not checked. Mindlin - plies mean angle 27.0 and 27.5 deg. Tolerances: the
+# measured values with about 30 % margin ("fine" is not measured: the default's; 20 plies,
+# the real stack, does not converge with Static: docs/theory.md §9.3a); the Mindlin band (10,
+# 90) deg says only that its normals do not follow the slip.
+TOLERANCES = {
+    "coarse": {"angle_deg": 7.0, "angle_mean_deg": 4.2, "height_mm": 4.4, "thickness": 0.28,
+               "mindlin_angle_mean_deg": (10.0, 90.0)},
+    "default": {"angle_deg": 4.6, "angle_mean_deg": 2.9, "height_mm": 2.1, "thickness": 0.17,
+                "mindlin_angle_mean_deg": (10.0, 90.0)},
+}  # fmt: skip
+TOLERANCES["fine"] = TOLERANCES["default"]
+# Newton without seek_stable (its search of negative modes stalls on the plies, whose
+# tangent goes indefinite on the way: docs/theory.md §9.3a), more iterations per increment.
+PLIES_SOLVER: dict[str, Any] | None = {
+    "kind": "static",
+    "increments": 10,
+    "step_loads_first": True,
+    "seek_stable": False,
+    "max_iterations": 150,
+    "max_cuts": 10,
+}
+
+
+def compute(resolution: str) -> Outcome:
+    return ground_truth.compute(
+        FILE, CELLS[resolution], PLIES[resolution], TOLERANCES[resolution], PLIES_SOLVER
+    )
+
+
+def render(data: ground_truth.GroundTruth, out_dir: Path) -> list[str]:
+    return ground_truth.render(data, out_dir, NAME)
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=57,
+    compute=compute,
+    render=render,
+)
