@@ -287,13 +287,15 @@ def discussion(records, differences, h: float, plies: int, summary: dict) -> str
 def render(data: GroundTruth, out_dir: Path, name: str) -> list[str]:
     """The comparison figure (fibreshell.compare.path_figure: side elevation with the
     through-thickness lines, director angle, tilt and thickness along the director), named
-    after the case."""
+    after the case, and each run's final frame as ``<name>-<kinematics>.vtu``."""
     figure = path_figure(
         data.case, data.runs, data.path, out_dir, Calibration().label(
             data.case.parts[0]["element"].fabric
         ) + f"; plies: {data.plies} frictionless plies, their material lines",
     )  # fmt: skip
-    target = out_dir / f"{name}.png"
+    target = out_dir / f"{name}-mid-surface-directors-and-thickness-along-{data.path}.png"
     figure.replace(target)
     assert set(data.runs) <= set(COLOURS)
+    for kinematics, run in data.runs.items():  # the plies' on their own N-ply mesh
+        run.result.write(out_dir / f"{name}-{kinematics}.vtu")
     return [target.name]
