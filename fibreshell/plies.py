@@ -13,7 +13,6 @@ of that extent.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Any
 
@@ -22,8 +21,7 @@ import numpy as np
 from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
 from fibreshell.case import Case
-from fibreshell.run import Run, strict_json
-from solvers import SolverError
+from fibreshell.run import Run, solve_keeping, strict_json
 
 __all__ = ["ply_stack", "plies_profiles", "run_plies", "stack_model", "write_material_lines"]
 
@@ -135,16 +133,7 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
     out.mkdir(parents=True, exist_ok=True)
     stack = ply_stack(case, count)
     model = stack_model(case, stack)
-    solver = case.make_solver(progress=progress)
-    started = time.perf_counter()
-    error = ""
-    try:
-        result = solver.solve(model)
-    except SolverError as failure:
-        if failure.result is None:
-            raise
-        result, error = failure.result, str(failure)
-    wall = time.perf_counter() - started
+    result, error, wall = solve_keeping(case.make_solver(progress=progress), model)
     result.write(out / "result.pvd")
     final = result.frames[-1]
     lines = stack.material_lines(final.positions, final.directors)

@@ -19,7 +19,8 @@ from fibreshell.case import Case
 from solvers import SolverError
 
 __all__ = [
-    "Run", "history_rows", "profile", "run_case", "section_thickness", "strict_json", "summarise"
+    "Run", "history_rows", "profile", "run_case", "section_thickness", "solve_keeping",
+    "strict_json", "summarise",
 ]  # fmt: skip
 
 
@@ -86,15 +87,7 @@ def run_case(
         )
     else:
         solver = case.make_solver(progress=progress)
-    started = time.perf_counter()
-    error = ""
-    try:
-        result = solver.solve(model)
-    except SolverError as failure:
-        if failure.result is None:
-            raise
-        result, error = failure.result, str(failure)
-    wall = time.perf_counter() - started
+    result, error, wall = solve_keeping(solver, model)
     label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])
     if not streamed:
         result.write(out / "result.pvd")
@@ -106,6 +99,26 @@ def run_case(
     summary = summarise(case, result, label, error, wall)
     (out / "summary.json").write_text(strict_json(summary))
     return Run(label, result, error, wall, summary)
+
+
+def solve_keeping(solver, model) -> tuple[Result, str, float]:
+    """``solver.solve(model)``, keeping the last good frames of a solver that stops: the
+    result, the solver's message ("" when it reached its goal) and the wall time (s).
+
+    Raises
+    ------
+    SolverError
+        A solver that stopped before its first frame (nothing to keep).
+    """
+    started = time.perf_counter()
+    error = ""
+    try:
+        result = solver.solve(model)
+    except SolverError as failure:
+        if failure.result is None:
+            raise
+        result, error = failure.result, str(failure)
+    return result, error, time.perf_counter() - started
 
 
 def history_rows(case: Case, result: Result) -> list[dict]:

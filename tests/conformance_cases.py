@@ -216,20 +216,26 @@ FIBROUS_ELEMENT_THICKNESS = _fibrous_case(
 )
 
 
-def _mindlin_case(name: str, thickness: float, shrink: tuple[float, float, str]) -> ElementCase:
-    material = ElasticShell(1000.0, 0.3, thickness, 1e-9)
+def _mindlin_case(
+    name: str,
+    material,
+    shrink: tuple[float, float, str],
+    rigid_fields: tuple[str, ...] = ("membrane_force", "bending_moment", "shear_force"),
+) -> ElementCase:
+    """MindlinShell of ``material`` (an ElasticShell, or a Fabric: the section of its own laws,
+    docs/theory.md §5.7), the same checks and tolerances for both sections."""
     return ElementCase(
         name=name,
         element=lambda: MindlinShell(material),
         mesh=patch,
-        total_mass=lambda mesh: 1e-9 * thickness * _patch_area(mesh),
+        total_mass=lambda mesh: material.areal_density * _patch_area(mesh),
         deform=jitter(amplitude=0.5, tilt=0.2),
         step_states={
             "reference": lambda model: model.initial_state(),
             "wrapped 1 rad": _wrapped(1.0),
             "jittered": jitter(amplitude=0.5, tilt=0.2),
         },
-        rigid_fields=("membrane_force", "bending_moment", "shear_force"),
+        rigid_fields=rigid_fields,
         rigid=ROUND_OFF,
         rigid_energy=ROUND_OFF_SQUARED,
         rigid_field=FIELD_ROUND_OFF,
@@ -243,6 +249,10 @@ def _mindlin_case(name: str, thickness: float, shrink: tuple[float, float, str])
     )
 
 
+def _elastic(thickness: float) -> ElasticShell:
+    return ElasticShell(1000.0, 0.3, thickness, 1e-9)
+
+
 # The stable step is each element's own eigenvalue bound (docs/theory.md §6.2 B4), so how it
 # shrinks with the cells follows the element's modes: the ratios of the assembled system's
 # exact 2 / omega_max between 10 mm and 5 mm cells are 2.08 (h = 2), 1.41 (h = 5) and 2.00
@@ -250,16 +260,20 @@ def _mindlin_case(name: str, thickness: float, shrink: tuple[float, float, str])
 # On 10 mm cells h = 2 and 0.2 mm have the rotary inertia scaled (B2: j ~ altitude^2): the
 # membrane and shear terms of omega^2 go as 1 / L^2, bending through the rotations faster.
 MINDLIN = _mindlin_case(
-    "mindlin", 2.0, (2.0, 2.1, "scaled inertia: dt ~ L, a little more where bending counts")
+    "mindlin",
+    _elastic(2.0),
+    (2.0, 2.1, "scaled inertia: dt ~ L, a little more where bending counts"),
 )
 # docs/theory.md §6.2 (B1, B2), the two thicknesses of the former per-element step test: a thick
 # shell with the physical rotary inertia, whose shear-rotation term does not depend on L, and a
 # thin one that must keep the membrane step.
 MINDLIN_THICK = _mindlin_case(
-    "mindlin-thick", 5.0, (1.2, 2.0, "membrane terms dt ~ L; the unscaled rotation term fixed")
+    "mindlin-thick",
+    _elastic(5.0),
+    (1.2, 2.0, "membrane terms dt ~ L; the unscaled rotation term fixed"),
 )
 MINDLIN_THIN = _mindlin_case(
-    "mindlin-thin", 0.2, (1.99, 2.01, "scaled inertia, membrane-dominated: dt ~ L")
+    "mindlin-thin", _elastic(0.2), (1.99, 2.01, "scaled inertia, membrane-dominated: dt ~ L")
 )
 
 
@@ -269,19 +283,10 @@ SCALED_INERTIA = "scaled rotary inertia: dt ~ L"
 
 
 def _mindlin_fabric_case(name: str, material, note: str) -> ElementCase:
-    """MindlinShell(fabric): the section of the fabric's own laws (docs/theory.md §5.7); the
-    same checks and tolerances as the elastic section."""
-    return ElementCase(
-        name=name,
-        element=lambda: MindlinShell(material),
-        mesh=patch,
-        total_mass=lambda mesh: material.areal_density * _patch_area(mesh),
-        deform=jitter(amplitude=0.5, tilt=0.2),
-        step_states={
-            "reference": lambda model: model.initial_state(),
-            "wrapped 1 rad": _wrapped(1.0),
-            "jittered": jitter(amplitude=0.5, tilt=0.2),
-        },
+    return _mindlin_case(
+        name,
+        material,
+        (1.85, 2.1, note),
         rigid_fields=(
             "membrane_force",
             "bending_moment",
@@ -291,16 +296,6 @@ def _mindlin_fabric_case(name: str, material, note: str) -> ElementCase:
             "warp_curvature",
             "weft_curvature",
         ),
-        rigid=ROUND_OFF,
-        rigid_energy=ROUND_OFF_SQUARED,
-        rigid_field=FIELD_ROUND_OFF,
-        objectivity=ROUND_OFF,
-        objective_energy=ENERGY_ROUND_OFF,
-        gradient=CENTRAL_DIFFERENCE,
-        tangent=TANGENT_DIFFERENCES,
-        mass=MASS_SUM,
-        step_floor=WITHIN_TWO,
-        shrink=(1.85, 2.1, note),
     )
 
 
