@@ -20,10 +20,13 @@ import numpy as np
 
 from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
-from fibreshell.case import Case
+from fibreshell.case import SOLVERS, Case
 from fibreshell.run import Run, solve_keeping, strict_json
 
-__all__ = ["ply_stack", "plies_profiles", "run_plies", "stack_model", "write_material_lines"]
+__all__ = [
+    "plies_profiles", "plies_solver", "ply_stack", "run_plies", "stack_model",
+    "write_material_lines",
+]  # fmt: skip
 
 
 def _fibrous_part(case: Case) -> FibrousShell:
@@ -87,6 +90,19 @@ def stack_model(case: Case, stack: PlyStack):
     return model
 
 
+def plies_solver(case: Case, progress: bool | None = None):
+    """The case's solver for its plies. A static solver runs without ``seek_stable`` unless
+    the case sets it: the plies' tangent goes indefinite on the way (points step in and out of
+    contact), and the search of its negative modes then takes most of the time and stalls
+    (docs/theory.md §9.3a); it allows at least 150 Newton iterations per increment, as the
+    last increments of sliding plies converge linearly."""
+    options = dict(case.solver["options"])
+    if case.solver["kind"] == "static":
+        options.setdefault("seek_stable", False)
+        options["max_iterations"] = max(int(options.get("max_iterations", 50)), 150)
+    return SOLVERS[case.solver["kind"]](**options, progress=progress)
+
+
 def plies_profiles(case: Case, stack: PlyStack, positions, directors) -> dict[str, Any]:
     """Per path of the case, the material lines' profile in the form of
     ``fibreshell.compare.kinematics_record``: s (reference arc length, mm), the stack's
@@ -133,7 +149,7 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
     out.mkdir(parents=True, exist_ok=True)
     stack = ply_stack(case, count)
     model = stack_model(case, stack)
-    result, error, wall = solve_keeping(case.make_solver(progress=progress), model)
+    result, error, wall = solve_keeping(plies_solver(case, progress), model)
     result.write(out / "result.pvd")
     final = result.frames[-1]
     lines = stack.material_lines(final.positions, final.directors)
