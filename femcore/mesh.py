@@ -611,10 +611,8 @@ class Mesh:
         Of the rectangle, the triangle beyond the diagonal from (lx, 0) to (0, ly) is clamped
         (Bai §6.1-6.2), so only the free triangle with corners (0, 0) (the loaded corner),
         (lx, 0) and (0, ly) is meshed: the triangles of :meth:`rectangle` with n x n cells
-        whose centroid lies before the diagonal, its nodes renumbered keeping their order.
-        With n x n cells the cell diagonals run parallel to the clamp, so the clamp is
-        a straight line of mesh edges (the fibrous shell can use its exact clamped-edge
-        curvature, ``FibrousShell(clamped="clamp")``).
+        whose centroid lies before the diagonal, its nodes renumbered keeping their order; the
+        clamp is a straight line of cell diagonals (``FibrousShell(clamped="clamp")``).
 
         Parameters
         ----------
@@ -623,26 +621,21 @@ class Mesh:
         n : int
             Positive number of cells of the rectangle along each side before the cut.
         grip : float, (a, b) or None
-            The a x b patch at the free corner (length units; one number: a square) that a
-            gripper holds, or None. Its edges x = a and y = b are then grid lines whatever
-            n, so that the patch is the same physical size at every resolution: the grid is
-            graded (uniform in each piece between the patch's two edge lines and the ends,
-            the patch's cells no longer than those of the uniform grid, the clamp still a line
-            of cell diagonals), and node set "grip" holds the patch's nodes.
+            The a x b patch at the free corner (one number: a square) that a gripper holds:
+            its edges are grid lines at every n (a graded grid,
+            femcore.mesh_generators.corner), its nodes the set "grip"; None: no patch.
 
         Returns
         -------
         Mesh
-            (n + 1)(n + 2) / 2 nodes and n^2 triangles, with node sets "clamp" (the n + 1
-            nodes on the diagonal), "corner" (the node at the origin) and, with ``grip``,
-            "grip"; no cell set. Without ``grip`` the grid is that of :meth:`rectangle`.
+            (n + 1)(n + 2) / 2 nodes, n^2 triangles, node sets "clamp" (the diagonal),
+            "corner" (the origin) and "grip"; without a grip, the grid of :meth:`rectangle`.
 
         Raises
         ------
         ValueError
-            As :meth:`rectangle`; for a grip that is not positive or reaches the diagonal
-            (a / lx + b / ly >= 1), or an n that leaves no cell between the patch and the
-            clamp.
+            As :meth:`rectangle`; a grip not positive or reaching the diagonal, or an n that
+            leaves no cell between the patch and the clamp.
         """
         from femcore.mesh_generators import corner
 
