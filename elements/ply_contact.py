@@ -1,7 +1,7 @@
-"""Frictionless penalty contact between two deformable shells: the lower face of an upper ply
-against the upper face of a lower ply (the stack as plies, docs/theory.md §9.3a); an
-interaction (femcore.interaction) of points inside the upper ply's triangles with the lower
-ply's triangles.
+"""Penalty contact between two deformable shells, frictionless or with Coulomb friction: the
+lower face of an upper ply against the upper face of a lower ply (the stack as plies,
+docs/theory.md §9.3a); an interaction (femcore.interaction) of points inside the upper ply's
+triangles with the lower ply's triangles.
 
 Surfaces. The upper ply's lower face is the flat triangle through its corners' offset points
 x_j - a_j d_j (x the node, d its unit director, a the upper ply's half thickness, mm); the
@@ -80,9 +80,27 @@ weight, A_T the reference area of its triangle, A_j the lumped area of node j, s
 its triangles), so that the corner rule gives each node its k_j back and a uniform penalty on a
 uniform mesh adds up to the same total whatever the rule. ``springs`` reports at each upper
 node 2 sum_p N_j k_p and at the lower ones 2 max(that) (times the ratio of upper to lower nodes
-when above 1), so the explicit step takes the penalty in. Frictionless only: a Coulomb
-friction between plies (anchors on the lower face carried by barycentric coordinates) is not
-implemented.
+when above 1), so the explicit step takes the penalty in (the friction's stick spring has
+the point's penalty k_p across the normal, so the bound holds).
+
+Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
+elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower
+triangle and barycentric coordinates Lambda, the anchor a = sum Lambda_k y_k sliding with the
+lower ply. Its tangential offset s = (I - n n^T)(p - a), n the facing triangle's normal, loads
+a spring of stiffness k_t = k_p: stuck, k_p |s| <= mu N (N = -W'(g) the point's normal force),
+the force on p is -k_p s (energy |F|^2 / (2 k_p)); sliding, -mu N s / |s|. The force on p goes
+to the upper corners by N_j (moments through the offsets as the normal force) and, opposite,
+to the anchor triangle's corners by Lambda_k. An accepted step (``update_history``, a new
+``PlyFrictionHistory``; the one given is left as it was) keeps stuck anchors, moves sliding
+ones along s until the spring holds mu N and re-expresses them on the facing triangle,
+anchors new contacts at their projections and forgets lost ones; the dissipation adds mu N_mid
+times the slip, N_mid the mean of the last accepted and the current normal force. A point not
+touching when the last step was accepted has no anchor (it slides freely for that step). The
+pair F on p, -F at a is not moment-free: p and a are apart by n . (p - a) ~ g along the normal,
+a couple F g, small against the moments F h/2 of the offsets. The tangent is exact (stick and
+slip, through the facing triangle's normal, the normal force and the anchor's triangle;
+non-symmetric in slip: ``PlyContactBlock._friction_tangent``). mu = 0: no history
+(``initial_history`` is None) and the frictionless code path alone, the same numbers.
 """
 
 from __future__ import annotations
@@ -174,8 +192,9 @@ def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
 
 
 class PlyContact(Interaction):
-    """Frictionless penalty contact of the upper ply's lower face with the lower ply's upper
-    face at points inside the upper ply's triangles (module docstring).
+    """Penalty contact of the upper ply's lower face with the lower ply's upper face at points
+    inside the upper ply's triangles, frictionless or with Coulomb friction (module
+    docstring).
 
     Parameters
     ----------
