@@ -4,10 +4,11 @@
 A stack of thickness h described by one Fabric is split into N equal plies (``Fabric.plies``:
 thickness h/N, 1/N of the mass and of every law), each a shell of its own on a copy of the
 stack's mid-surface mesh offset along the reference normal by z_k = -h/2 + (k - 1/2) h/N,
-k = 1..N, and neighbouring plies touch through a frictionless penalty contact between their
-facing faces (elements/ply_contact.py). Nothing ties the plies but that contact, so they slide
-on each other freely: the material line through the points of the plies that started on one
-normal tilts as the stack bends, which is what the fibrous shell's directors stand for.
+k = 1..N, and neighbouring plies touch through a penalty contact between their facing faces
+(elements/ply_contact.py), frictionless unless ``friction`` gives a Coulomb coefficient.
+Nothing else ties the plies, so frictionless they slide on each other freely: the material
+line through the points of the plies that started on one normal tilts as the stack bends,
+which is what the fibrous shell's directors stand for.
 
 The ply element is a factory argument. The default is ``MindlinShell(ply_fabric)``, a
 Reissner-Mindlin shell whose section is the ply's own laws (docs/theory.md §5.7): each ply is
@@ -148,6 +149,9 @@ class PlyStack:
     smoothing : float, optional
         The penetration over which the contact penalty stiffens, mm (None: the default, 1e-3
         of the ply thickness; 0: the one-sided penalty).
+    friction : float
+        The Coulomb coefficient mu >= 0 between neighbouring plies, given to every PlyContact
+        (0, default: frictionless).
 
     Attributes
     ----------
@@ -169,7 +173,7 @@ class PlyStack:
     ------
     ValueError
         Not a Mesh with triangles, not a Fabric, a bad count, an element factory that is
-        not callable, a bad penalty, rule or smoothing.
+        not callable, a bad penalty, rule, smoothing or friction.
     """
 
     def __init__(
@@ -181,6 +185,7 @@ class PlyStack:
         penalty: float | None = None,
         rule: str = "centroid",
         smoothing: float | None = None,
+        friction: float = 0.0,
     ):
         if not isinstance(mesh, Mesh) or len(mesh.triangles) == 0:
             raise ValueError(f"PlyStack needs a triangle Mesh (the mid-surface), got {mesh!r}")
@@ -201,8 +206,10 @@ class PlyStack:
         self.element = mindlin_ply if element is None else element
         self.penalty = penalty
         # validated here, at the API boundary, rather than when the model is built
-        PlyContact("ply_2", "ply_1", penalty=penalty, rule=rule, smoothing=smoothing)
-        self.rule, self.smoothing = rule, smoothing
+        PlyContact(
+            "ply_2", "ply_1", penalty=penalty, rule=rule, smoothing=smoothing, friction=friction
+        )
+        self.rule, self.smoothing, self.friction = rule, smoothing, float(friction)
         h = fabric.thickness
         self.offsets = -h / 2.0 + (np.arange(1, count + 1) - 0.5) * h / count
         n, m = mesh.n_nodes, len(mesh.triangles)
@@ -271,6 +278,7 @@ class PlyStack:
                     penalty=self.penalty,
                     rule=self.rule,
                     smoothing=self.smoothing,
+                    friction=self.friction,
                 )
             )
         return model

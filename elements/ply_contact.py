@@ -1,7 +1,7 @@
-"""Frictionless penalty contact between two deformable shells: the lower face of an upper ply
-against the upper face of a lower ply (the stack as plies, docs/theory.md §9.3a); an
-interaction (femcore.interaction) of points inside the upper ply's triangles with the lower
-ply's triangles.
+"""Penalty contact between two deformable shells, frictionless or with Coulomb friction: the
+lower face of an upper ply against the upper face of a lower ply (the stack as plies,
+docs/theory.md §9.3a); an interaction (femcore.interaction) of points inside the upper ply's
+triangles with the lower ply's triangles.
 
 Surfaces. The upper ply's lower face is the flat triangle through its corners' offset points
 x_j - a_j d_j (x the node, d its unit director, a the upper ply's half thickness, mm); the
@@ -80,9 +80,27 @@ weight, A_T the reference area of its triangle, A_j the lumped area of node j, s
 its triangles), so that the corner rule gives each node its k_j back and a uniform penalty on a
 uniform mesh adds up to the same total whatever the rule. ``springs`` reports at each upper
 node 2 sum_p N_j k_p and at the lower ones 2 max(that) (times the ratio of upper to lower nodes
-when above 1), so the explicit step takes the penalty in. Frictionless only: a Coulomb
-friction between plies (anchors on the lower face carried by barycentric coordinates) is not
-implemented.
+when above 1), so the explicit step takes the penalty in (the friction's stick spring has
+the point's penalty k_p across the normal, so the bound holds).
+
+Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
+elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower
+triangle and barycentric coordinates Lambda, the anchor a = sum Lambda_k y_k sliding with the
+lower ply. Its tangential offset s = (I - n n^T)(p - a), n the facing triangle's normal, loads
+a spring of stiffness k_t = k_p: stuck, k_p |s| <= mu N (N = -W'(g) the point's normal force),
+the force on p is -k_p s (energy |F|^2 / (2 k_p)); sliding, -mu N s / |s|. The force on p goes
+to the upper corners by N_j (moments through the offsets as the normal force) and, opposite,
+to the anchor triangle's corners by Lambda_k. An accepted step (``update_history``, a new
+``PlyFrictionHistory``; the one given is left as it was) keeps stuck anchors, moves sliding
+ones along s until the spring holds mu N and re-expresses them on the facing triangle,
+anchors new contacts at their projections and forgets lost ones; the dissipation adds mu N_mid
+times the slip, N_mid the mean of the last accepted and the current normal force. A point not
+touching when the last step was accepted has no anchor (it slides freely for that step). The
+pair F on p, -F at a is not moment-free: p and a are apart by n . (p - a) ~ g along the normal,
+a couple F g, small against the moments F h/2 of the offsets. The tangent is exact (stick and
+slip, through the facing triangle's normal, the normal force and the anchor's triangle;
+non-symmetric in slip: ``PlyContactBlock._friction_tangent``). mu = 0: no history
+(``initial_history`` is None) and the frictionless code path alone, the same numbers.
 """
 
 from __future__ import annotations
@@ -104,6 +122,7 @@ __all__ = [
     "SMOOTHING",
     "Facing",
     "PlyContact",
+    "PlyFrictionHistory",
     "PlyContactBlock",
     "penalty_law",
 ]
@@ -173,8 +192,9 @@ def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
 
 
 class PlyContact(Interaction):
-    """Frictionless penalty contact of the upper ply's lower face with the lower ply's upper
-    face at points inside the upper ply's triangles (module docstring).
+    """Penalty contact of the upper ply's lower face with the lower ply's upper face at points
+    inside the upper ply's triangles, frictionless or with Coulomb friction (module
+    docstring).
 
     Parameters
     ----------
@@ -199,6 +219,9 @@ class PlyContact(Interaction):
     smoothing : float, optional
         delta, mm, the penetration over which the penalty's stiffness ramps up (0: the plain
         k/2 min(g, 0)^2); None: ``SMOOTHING`` (a + b).
+    friction : float
+        The Coulomb coefficient mu >= 0 between the plies (module docstring, "Friction"); 0
+        (default): frictionless, no history kept, the frictionless code path alone.
 
     Raises
     ------
@@ -221,6 +244,7 @@ class PlyContact(Interaction):
         candidates: int = CANDIDATES,
         rule: str = "centroid",
         smoothing: float | None = None,
+        friction: float = 0.0,
     ):
         self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
@@ -251,6 +275,14 @@ class PlyContact(Interaction):
         if rule not in RULES:
             raise ValueError(f"rule must be one of {sorted(RULES)}, got {rule!r}")
         self.rule = rule
+        if not (
+            isinstance(friction, (int, float))
+            and not isinstance(friction, bool)
+            and np.isfinite(friction)
+            and friction >= 0
+        ):
+            raise ValueError(f"friction must be a Coulomb coefficient >= 0, got {friction!r}")
+        self.friction = float(friction)
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
@@ -350,6 +382,61 @@ class Facing:
     face: np.ndarray
 
 
+@dataclass(frozen=True)
+class PlyFrictionHistory:
+    """The friction state of a ply contact after an accepted step (module docstring,
+    "Friction"), one row per contact point.
+
+    triangle : (P,) int
+        Row of the block's lower triangles holding each point's stick anchor; -1 for a point
+        without one (not touching).
+    anchor : (P, 3) float
+        The anchor's barycentric coordinates Lambda on that triangle (its point of the lower
+        face, sum Lambda_k y_k, slides with the lower ply); NaN without an anchor.
+    slip : (P,) float
+        Slip length accumulated by each point, mm.
+    pressing : (P,) float
+        Each point's normal force N = -dW/dg when the step was accepted, N (the dissipation of
+        the next step takes the friction limit at the mean of the two).
+    dissipated : float
+        Energy dissipated by friction so far, N mm.
+    """
+
+    triangle: np.ndarray
+    anchor: np.ndarray
+    slip: np.ndarray
+    pressing: np.ndarray
+    dissipated: float
+
+
+@dataclass(frozen=True)
+class Sliding:
+    """The return mapping at a state (``PlyContactBlock.friction_state``), one row per point.
+
+    force : (P, 3) float
+        The tangential part of dW/dp, N: k s in stick, mu N s / |s| in slip, 0 elsewhere (the
+        lower ply pulls the upper point by -force).
+    slip : (P, 3) float
+        s = (I - n n^T)(p - a), the tangential offset of the point from its anchor, mm.
+    stuck, sliding : (P,) bool
+        Anchored touching points within (k |s| <= mu N) and beyond the friction limit.
+    pressing : (P,) float
+        N = -dW/dg, the normal force of each touching point, N (0 elsewhere).
+    offset : (P, 3) float
+        r = p - a, mm (0 without an anchor).
+    triangle : (P,) int
+        The anchors' triangles (0 without an anchor).
+    """
+
+    force: np.ndarray
+    slip: np.ndarray
+    stuck: np.ndarray
+    sliding: np.ndarray
+    pressing: np.ndarray
+    offset: np.ndarray
+    triangle: np.ndarray
+
+
 def _triangle_frames(corners: np.ndarray):
     """Unit normals (..., 3), twice the areas (...,) and the barycentric gradients
     (..., 3, 3) of triangles with corners (..., 3, 3)."""
@@ -418,12 +505,14 @@ class PlyContactBlock(InteractionBlock):
         given = contact.penalty
         self.node_stiffness = np.full(len(self.upper), np.nan if given is None else float(given))
         self.stiffness = self._point_stiffness()
+        self.friction = contact.friction
         reference = State(
             body.mesh.points.copy(),
             body.directors.copy(),
             np.zeros((self.n_nodes, 3)),
             np.zeros((self.n_nodes, 3)),
         )
+        self._reference = reference
         near = self._candidates(reference)[1][:, : min(3, self.candidates)]
         self.connectivity = np.column_stack([self.above, cells[near].reshape(len(self.above), -1)])
         self.lower_nodes = np.unique(cells)
@@ -518,9 +607,69 @@ class PlyContactBlock(InteractionBlock):
         moments = offset[:, :, None] * np.cross(d, forces)
         return nodes, forces, moments, on, offset, law
 
+    def _frictional(self, history: Any) -> bool:
+        return history is not None and self.friction > 0.0
+
+    def friction_state(
+        self, state: State, history: PlyFrictionHistory | None, facing: Facing | None = None
+    ) -> Sliding:
+        """The return mapping at ``state`` from the accepted ``history`` (module docstring,
+        "Friction"): zero force, nothing stuck or sliding, without friction or anchors."""
+        facing = self.facing(state) if facing is None else facing
+        count = len(self.above)
+        on = facing.touching
+        pressing = np.zeros(count)
+        pressing[on] = -penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[1]
+        zero = np.zeros((count, 3))
+        if not self._frictional(history):
+            none = np.zeros(count, dtype=bool)
+            return Sliding(zero, zero, none, none, pressing, zero, np.zeros(count, dtype=np.int64))
+        anchored = on & (history.triangle >= 0)
+        triangle = np.where(anchored, history.triangle, 0)
+        _, y = self._faces(state)
+        weights = np.where(anchored[:, None], history.anchor, 0.0)
+        anchor = np.einsum("pk,pki->pi", weights, y[triangle])
+        r = np.where(anchored[:, None], facing.face - anchor, 0.0)
+        n = facing.normal
+        s = r - np.sum(r * n, axis=1)[:, None] * n
+        k = self.stiffness
+        length = np.linalg.norm(s, axis=1)
+        limit = self.friction * pressing
+        stuck = anchored & (k * length <= limit)
+        sliding = anchored & ~stuck
+        scale = np.where(
+            stuck, k, np.where(sliding, limit / np.where(length > 0, length, 1.0), 0.0)
+        )
+        return Sliding(scale[:, None] * s, s, stuck, sliding, pressing, r, triangle)
+
+    def _friction_loads(self, state: State, sliding: Sliding, history: PlyFrictionHistory):
+        """Per stuck or sliding point: node rows (t, 6) (the upper triangle's corners, the
+        anchor triangle's corners), forces (t, 6, 3) N (N_j F on the upper corners, -Lambda_k F
+        on the anchor's) and moments (t, 6, 3) N mm (c d x force) of the tangential force F."""
+        on = np.flatnonzero(sliding.stuck | sliding.sliding)
+        tri = sliding.triangle[on]
+        nodes = np.column_stack([self.above[on], self.cells[tri]])
+        force = sliding.force[on]
+        forces = np.concatenate(
+            [
+                self.shape[on][:, :, None] * force[:, None, :],
+                -history.anchor[on][:, :, None] * force[:, None, :],
+            ],
+            axis=1,
+        )
+        offset = np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
+        moments = offset[:, :, None] * np.cross(state.directors[nodes], forces)
+        return nodes, forces, moments
+
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
         nodes, forces, moments, *_ = self._pair_loads(state, facing)
+        if self._frictional(history):
+            sliding = self.friction_state(state, history, facing)
+            extra = self._friction_loads(state, sliding, history)
+            nodes = np.concatenate([nodes, extra[0]])
+            forces = np.concatenate([forces, extra[1]])
+            moments = np.concatenate([moments, extra[2]])
         flat = nodes.ravel()
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
@@ -530,11 +679,15 @@ class PlyContactBlock(InteractionBlock):
         return force, moment
 
     def strain_energy(self, state: State, history: Any = None) -> float:
-        """sum W(g) over the touching points, N mm."""
+        """sum W(g) over the touching points and, with friction, the stick springs' 1/2
+        |F_t|^2 / k, N mm."""
         facing = self.facing(state)
         on = facing.touching
-        energy = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[0]
-        return float(np.sum(energy))
+        energy = float(np.sum(penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[0]))
+        if self._frictional(history):  # the tangential springs' |F_t|^2 / (2 k_t)
+            force = self.friction_state(state, history, facing).force
+            energy += 0.5 * float(np.sum(np.sum(force**2, axis=1) / self.stiffness))
+        return energy
 
     def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
         """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6).
@@ -591,7 +744,148 @@ class PlyContactBlock(InteractionBlock):
         )
         for row in range(6):
             blocks[:, row, 3:, row, 3:] += geometric[:, row]
-        return [CellTangent(nodes, blocks)]
+        parts = [CellTangent(nodes, blocks)]
+        if self._frictional(history):
+            parts.append(self._friction_tangent(state, history, facing))
+        return parts
+
+    def _friction_tangent(
+        self, state: State, history: PlyFrictionHistory, facing: Facing
+    ) -> CellTangent:
+        """The return mapping's exact d(force, moment)/d(u, psi), (t, 9, 6, 9, 6) over the
+        upper triangle's, the facing triangle's and the anchor triangle's corners.
+
+        Over z = (p, y_f1..3, y_a1..3) (f the facing triangle, a the anchor's): the force F on
+        p (``Sliding.force``) and -Lambda_k F on y_ak, with ds/dp = P = I - n n^T, ds/dy_ak =
+        -Lambda_k P, ds/dy_fm = ((n . r) grad phi_m + (r . grad phi_m) n) n^T (from dn/dy_fm =
+        -grad phi_m n^T); dF = k ds in stick, mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip,
+        with dN = -W'' dg, dg/dz = (n, -lambda_k n, 0). Carried to the nodes and turned with
+        the directors as the normal part (``tangent``)."""
+        sliding = self.friction_state(state, history, facing)
+        on = np.flatnonzero(sliding.stuck | sliding.sliding)
+        t = len(on)
+        n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
+        r, s, force = sliding.offset[on], sliding.slip[on], sliding.force[on]
+        big = history.anchor[on]
+        k = self.stiffness[on]
+        eye = np.eye(3)
+        across = eye - n[:, :, None] * n[:, None, :]
+        ds = np.zeros((t, 3, 7, 3))
+        ds[:, :, 0, :] = across
+        normal_r = np.sum(n * r, axis=1)
+        for m in range(3):
+            along = np.sum(r * grad[:, m], axis=1)
+            ds[:, :, 1 + m, :] = (normal_r[:, None] * grad[:, m] + along[:, None] * n)[
+                :, :, None
+            ] * n[:, None, :]
+            ds[:, :, 4 + m, :] = -big[:, m, None, None] * across
+        length = np.linalg.norm(s, axis=1)
+        unit = s / np.where(length > 0, length, 1.0)[:, None]
+        gap_gradient = np.zeros((t, 7, 3))
+        gap_gradient[:, 0] = n
+        gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
+        curvature = penalty_law(facing.gap[on], k, self.smoothing)[2]
+        d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 7, 3)
+        stuck = sliding.stuck[on]
+        mu, pressing = self.friction, sliding.pressing[on]
+        ratio = mu * pressing / np.where(length > 0, length, 1.0)
+        slip_part = mu * unit[:, :, None, None] * d_pressing[:, None] + ratio[
+            :, None, None, None
+        ] * np.einsum("tij,tjzb->tizb", eye - unit[:, :, None] * unit[:, None, :], ds)
+        d_force = np.where(stuck[:, None, None, None], k[:, None, None, None] * ds, slip_part)
+        points = np.zeros((t, 7, 3, 7, 3))
+        points[:, 0] = d_force
+        for m in range(3):
+            points[:, 4 + m] = -big[:, m, None, None, None] * d_force
+        nodes = np.column_stack(
+            [self.above[on], self.cells[facing.triangle[on]], self.cells[sliding.triangle[on]]]
+        )
+        offset = np.column_stack(
+            [
+                -self.upper_offset[on],
+                self.corner_offset[facing.triangle[on]],
+                self.corner_offset[sliding.triangle[on]],
+            ]
+        )
+        d = state.directors[nodes]  # (t, 9, 3)
+        own = np.zeros((t, 9, 3, 6))
+        own[:, :, :, :3] = eye
+        own[:, :, :, 3:] = -offset[:, :, None, None] * _cross_matrix(d)
+        maps = np.zeros((t, 7, 3, 9, 6))
+        for j in range(3):
+            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
+        for z in range(1, 7):
+            maps[:, z, :, 2 + z, :] = own[:, 2 + z]
+        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        forces = np.concatenate(
+            [
+                self.shape[on][:, :, None] * force[:, None, :],
+                np.zeros((t, 3, 3)),
+                -big[:, :, None] * force[:, None, :],
+            ],
+            axis=1,
+        )
+        geometric = offset[:, :, None, None] * (
+            d[:, :, :, None] * forces[:, :, None, :]
+            - np.sum(forces * d, axis=-1)[:, :, None, None] * eye
+        )
+        for row in range(9):
+            blocks[:, row, 3:, row, 3:] += geometric[:, row]
+        return CellTangent(nodes, blocks)
+
+    # ------------------------------------------------------------------ history
+    def initial_history(self) -> PlyFrictionHistory | None:
+        """Frictionless: None. Otherwise the points that touch the lower ply in the reference
+        state are anchored at their projections (plies laid on each other stick from the
+        first step)."""
+        if self.friction == 0.0:
+            return None
+        facing = self.facing(self._reference)
+        sliding = self.friction_state(self._reference, None, facing)
+        on = facing.touching
+        count = len(self.above)
+        return PlyFrictionHistory(
+            np.where(on, facing.triangle, -1),
+            np.where(on[:, None], facing.weights, np.nan),
+            np.zeros(count),
+            sliding.pressing,
+            0.0,
+        )
+
+    def update_history(self, state: State, history: Any) -> Any:
+        """The return mapping accepted (a new history; ``history`` is left as it was): stuck
+        anchors stay, sliding ones move along s towards their points until the spring holds
+        mu N and are re-expressed on the facing triangle, new contacts are anchored at their
+        projections, lost ones forget their anchor; the dissipation adds mu N_mid times the
+        slip, N_mid the mean of the last accepted and this normal force."""
+        if history is None:
+            return None
+        facing = self.facing(state)
+        sliding = self.friction_state(state, history, facing)
+        on = facing.touching
+        length = np.linalg.norm(sliding.slip, axis=1)
+        unit = sliding.slip / np.where(length > 0, length, 1.0)[:, None]
+        held = self.friction * sliding.pressing / self.stiffness  # |s| at the limit, mm
+        slid = np.where(sliding.sliding, length - held, 0.0)
+        # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
+        # (its in-plane gradients drop the normal part of q - p).
+        target = -sliding.offset + slid[:, None] * unit  # q - p
+        moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, target)
+        triangle = np.where(on, facing.triangle, -1)
+        anchor = np.where(on[:, None], facing.weights, np.nan)  # new contacts
+        anchor = np.where(sliding.sliding[:, None], moved, anchor)
+        triangle = np.where(sliding.stuck, history.triangle, triangle)
+        anchor = np.where(sliding.stuck[:, None], history.anchor, anchor)
+        force = self.friction * 0.5 * (sliding.pressing + history.pressing)
+        dissipated = history.dissipated + float(np.sum(force * slid))
+        return PlyFrictionHistory(
+            triangle, anchor, history.slip + slid, sliding.pressing, dissipated
+        )
+
+    def dissipated_energy(self, history: Any = None) -> float:
+        """Energy dissipated by friction since the start, N mm."""
+        return 0.0 if history is None else history.dissipated
 
     # ------------------------------------------------------------------ protocol extras
     def _lumped(self, values: np.ndarray) -> np.ndarray:

@@ -417,10 +417,12 @@ def check_friction(
     sliding: np.ndarray | None = None,
     normal: Callable[[State], np.ndarray] | None = None,
     rtol: float = 1e-9,
+    nodes: np.ndarray | None = None,
 ) -> None:
     """Coulomb's law at the nodes of a node-to-tool block: no node pulled towards the tool
     (N >= 0), the tangential force T of a stuck node at most mu N, that of a sliding node
-    mu N.
+    mu N; or at given ``nodes`` of any block whose force at each of them comes from one
+    contact (a surface-to-surface block whose contact points do not share nodes).
 
     Parameters
     ----------
@@ -436,6 +438,9 @@ def check_friction(
         As ``check_normal_force``.
     rtol : float
         Allowance relative to the largest mu N (module docstring).
+    nodes : (s,) int, optional
+        The nodes the law is checked at (default: the node-to-tool block's, one per row of
+        its connectivity); then give stuck, sliding and normal, one per node.
 
     Raises
     ------
@@ -443,7 +448,11 @@ def check_friction(
         Naming the node that breaks the law; ValueError when no node sticks or slides (the
         check would check nothing).
     """
-    nodes = _tool_nodes(block)
+    if nodes is None:
+        nodes = _tool_nodes(block)
+    elif stuck is None or sliding is None or normal is None:
+        raise ValueError("check_friction at given nodes needs stuck, sliding and normal")
+    nodes = np.asarray(nodes, dtype=np.int64)
     mu = float(getattr(block, "friction", 0.0) if friction is None else friction)
     if stuck is None or sliding is None:
         touch, tangential = getattr(block, "touch", None), getattr(block, "tangential", None)

@@ -243,19 +243,31 @@ def test_the_kit_names_a_history_mutated_in_place():
 # The contact acts on the directors too (offset faces): the kit checks the moments. Each rule
 # of contact points, with the default smoothing, none, and a ramp of 0.05 mm that a good share
 # of the penetrations (~0.1 mm) falls on.
-def plies(turn: np.ndarray = UNTURNED, seed: int = 1, rule: str = "centroid", smoothing=None):
-    """(block, state, None) of PlyContact between the two jittered plies, turned."""
+def plies(
+    turn: np.ndarray = UNTURNED,
+    seed: int = 1,
+    rule: str = "centroid",
+    smoothing=None,
+    friction: float = 0.0,
+    separate: bool = False,
+):
+    """(block, state, None) of PlyContact between the two jittered plies, turned; with
+    ``separate``, the upper ply's 18 triangles each with their own corners (every upper node
+    then takes the force of one contact point of the centroid rule)."""
     from elements.ply_contact import PlyContact
 
     rng = np.random.default_rng(seed)
     lower, upper = Mesh.rectangle(4.0, 4.0, nx=2, ny=2), Mesh.rectangle(3.0, 3.0, nx=3, ny=3)
     low = lower.points - [2.0, 2.0, 0.0] + rng.normal(scale=0.1, size=lower.points.shape)
     up = upper.points - [1.5, 1.5, -0.5] + rng.normal(scale=0.1, size=upper.points.shape)
+    above = upper.triangles
+    if separate:
+        up, above = up[above].reshape(-1, 3), np.arange(above.size).reshape(-1, 3)
     points = np.vstack([low, up])
     n = len(points)
     mesh = Mesh(
         points @ turn.T,
-        triangles=np.vstack([lower.triangles, upper.triangles + len(low)]),
+        triangles=np.vstack([lower.triangles, above + len(low)]),
         node_sets={"upper": np.arange(len(low), n)},
         element_sets={"lower": np.arange(len(lower.triangles))},
     )
@@ -264,7 +276,14 @@ def plies(turn: np.ndarray = UNTURNED, seed: int = 1, rule: str = "centroid", sm
     active = np.zeros((n, 6), dtype=bool)
     active[:, :5] = True
     contact = PlyContact(
-        "upper", "lower", 0.25, 0.25, penalty=PENALTY, rule=rule, smoothing=smoothing
+        "upper",
+        "lower",
+        0.25,
+        0.25,
+        penalty=PENALTY,
+        rule=rule,
+        smoothing=smoothing,
+        friction=friction,
     )
     block = contact.bind(Body(mesh, (), directors, active))
     zero = np.zeros((n, 3))
@@ -326,3 +345,84 @@ def test_flat_plies_pressed_by_p_carry_the_penalty_law_along_the_normal(rule, sm
         assert np.abs(force[:, :2]).max() <= 1e-12 * PENALTY
         assert np.abs(moment).max() <= 1e-12 * PENALTY
         assert np.abs(force.sum(axis=0)).max() <= 1e-12 * PENALTY
+
+
+def plies_with_friction(turn: np.ndarray = UNTURNED, rule="gauss", smoothing=None, separate=False):
+    """(block, state, history) of ``plies`` with friction MU: each touching point anchored on
+    its facing triangle at its projection's barycentric coordinates moved by 0.002 (even
+    points: ~4e-3 mm, they stick) or 0.2 (odd: ~0.4 mm, they slide); barycentric, so the
+    history is the same whatever the turn."""
+    from elements.ply_contact import PlyFrictionHistory
+
+    block, state, _ = plies(turn, rule=rule, smoothing=smoothing, friction=MU, separate=separate)
+    facing = block.facing(state)
+    count = len(facing.gap)
+    shift = np.random.default_rng(7).normal(size=(count, 3))
+    shift -= shift.mean(axis=1)[:, None]  # the coordinates still sum to 1
+    size = np.where(np.arange(count) % 2, 0.2, 0.002) / np.abs(shift).max(axis=1)
+    on = facing.touching
+    history = PlyFrictionHistory(
+        np.where(on, facing.triangle, -1),
+        np.where(on[:, None], facing.weights + size[:, None] * shift, np.nan),
+        np.zeros(count),
+        np.full(count, 0.5),
+        1.0,
+    )
+    return block, state, history
+
+
+@pytest.mark.parametrize(
+    "rule, smoothing",
+    [("centroid", None), ("gauss", None), ("vertices", None), ("gauss", 0.0), ("gauss", 0.05)],
+)
+def test_ply_contact_with_friction_conforms(rule, smoothing):
+    """The return mapping's own tangent (exact: stick and slip, through the facing
+    triangle's normal and the anchor's triangle), energies and history, objectivity; and an
+    accepted step leaves every point at or within the limit with dissipation added."""
+
+    def build(turn=UNTURNED):
+        return plies_with_friction(turn, rule=rule, smoothing=smoothing)
+
+    block, state, history = build()
+    sliding = block.friction_state(state, history)
+    assert sliding.stuck.sum() >= 2 and sliding.sliding.sum() >= 2
+    assert check_tangent(block, state, history)
+    check_energy(block, state, history)
+    check_objectivity(build, TURN)
+    after = block.update_history(state, history)
+    assert block.dissipated_energy(after) > block.dissipated_energy(history) == 1.0
+    again = block.friction_state(state, after)
+    limit = MU * again.pressing
+    assert np.all(np.linalg.norm(again.force, axis=1) <= limit * (1 + 1e-9) + 1e-12)
+    assert np.allclose(np.linalg.norm(again.force, axis=1)[sliding.sliding], limit[sliding.sliding])
+
+
+def test_ply_contact_friction_obeys_coulomb():
+    """check_friction at the upper nodes of a ply whose triangles have their own corners
+    (centroid rule: each node carries N_j = 1/3 of one point's force), the facing normals;
+    and the kit names a sliding point taken for stuck off the limit."""
+    block, state, history = plies_with_friction(rule="centroid", separate=True)
+    sliding = block.friction_state(state, history)
+    assert sliding.stuck.sum() >= 2 and sliding.sliding.sum() >= 2
+    nodes = block.above.ravel()  # one point per triangle, three nodes each
+    normals = np.repeat(block.facing(state).normal, 3, axis=0)
+    stuck, slides = np.repeat(sliding.stuck, 3), np.repeat(sliding.sliding, 3)
+    check_friction(
+        block, state, history, stuck=stuck, sliding=slides, normal=lambda s: normals, nodes=nodes
+    )
+    with pytest.raises(AssertionError, match="sliding off the friction limit"):
+        check_friction(
+            block, state, history, stuck=stuck, sliding=stuck, normal=lambda s: normals, nodes=nodes
+        )
+
+
+def test_frictionless_ply_contact_keeps_no_history_and_its_numbers():
+    """friction=0 (default): no history, and a history handed in changes nothing."""
+    block, state, _ = plies()
+    assert block.initial_history() is None and block.update_history(state, None) is None
+    _, _, history = plies_with_friction(rule="centroid")
+    force, moment = block.internal_force(state)
+    again = block.internal_force(state, history)
+    assert np.array_equal(force, again[0]) and np.array_equal(moment, again[1])
+    assert block.strain_energy(state) == block.strain_energy(state, history)
+    assert len(block.tangent(state, history)) == 1

@@ -258,3 +258,45 @@ def test_a_heavy_stack_of_four_plies_sags_near_the_fibrous_shell():
     difference = np.degrees(np.abs(plies.angle - fibrous.angle))
     assert offset.max() <= 0.9
     assert difference[: len(difference) // 2 + 1].max() <= 1.5
+
+
+# ---------------------------------------------------------------------- friction between plies
+def test_a_ply_pressed_by_its_weight_slides_when_pulled_by_mu_times_its_weight():
+    """Coulomb between two flat plies (PlyStack(friction=mu), elements/ply_contact.py): the
+    lower ply held, the upper one pressed on it by its weight W and pulled along x by a
+    prescribed displacement u (Static, gravity first, then u in 4 increments). While stuck the
+    pull is the stick springs' k n u (k per node, n upper nodes); it cannot exceed mu W, at
+    which the ply slides: the pull at u = 0.625, 1.25, 1.875, 2.5 mu W / (k n) is 0.625, 1, 1,
+    1 mu W. The reaction's weight is exact (z equilibrium of the upper ply), the sliding pull
+    is mu times the sum of the points' normal forces by the return mapping, and the stuck pull
+    k n u has the anchors' offsets exactly u (a rigid slide of a flat ply), so all are held
+    to the Newton residual, Static's tol = 1e-8 of the reference force (the weights and the
+    reactions): tolerance 1e-8 of mu W; measured 1e-14. The directors are held (alpha, beta
+    fixed): the plies' shells carry no load here, and the frictionless stack with free
+    directors does not converge in this setup either (gravity phase, increment 1).
+    """
+    mu, k, g = 0.3, 1.0, 9810.0
+    fabric = Fabric(thickness=1.0, areal_density=1e-6, tension=1e4, shear=1.0, bending=1.0)
+    mid = Mesh.rectangle(10.0, 10.0, nx=2, ny=2)
+    stack = PlyStack(mid, fabric, 2, penalty=k, friction=mu)
+    model = stack.model()
+    lower, upper = stack.ply_nodes
+    model.fix(lower)
+    model.fix(upper, ("alpha", "beta"))
+    weight = stack.ply_fabric.areal_density * 100.0 * g  # the upper ply's, N
+    slip = mu * weight / (k * len(upper))  # the stick springs reach mu W there, mm
+    model.displace(upper, ux=2.5 * slip, uy=0.0)
+    model.gravity((0.0, 0.0, -g))
+    result = Static(increments=4, step_loads_first=True, progress=False).solve(model)
+    assert result.converged
+    pulled = [f for f in result.frames if f.load_factor > 1.0]
+    pull = np.array([f.reactions[upper, 0].sum() for f in pulled]) / (mu * weight)
+    assert np.allclose(pull, [0.625, 1.0, 1.0, 1.0], rtol=0, atol=1e-8)
+    for frame in pulled:  # the lower ply takes the weight of both
+        assert frame.reactions[lower, 2].sum() == pytest.approx(2.0 * weight, rel=1e-8)
+
+
+@pytest.mark.parametrize("friction", [-0.1, np.inf, "0.3", True, None])
+def test_plies_refuse_a_bad_friction(friction):
+    with pytest.raises(ValueError, match="friction must be a Coulomb coefficient"):
+        PlyStack(Mesh.rectangle(10.0, 5.0, nx=2, ny=1), DECK, 2, friction=friction)
