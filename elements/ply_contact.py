@@ -99,7 +99,7 @@ touching when the last step was accepted has no anchor (it slides freely for tha
 pair F on p, -F at a is not moment-free: p and a are apart by n . (p - a) ~ g along the normal,
 a couple F g, small against the moments F h/2 of the offsets. The tangent is exact (stick and
 slip, through the facing triangle's normal, the normal force and the anchor's triangle;
-non-symmetric in slip: ``PlyContactBlock._friction_tangent``). mu = 0: no history
+non-symmetric in slip: ``elements.ply_friction.friction_tangent``). mu = 0: no history
 (``initial_history`` is None) and the frictionless code path alone, the same numbers.
 """
 
@@ -111,8 +111,11 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from elements import ply_friction
+from elements.ply_friction import PlyFrictionHistory, Sliding
 from femcore.assembly import CellTangent
 from femcore.interaction import Body, Interaction, InteractionBlock
+from femcore.rotation import cross_matrix
 from femcore.state import State
 
 __all__ = [
@@ -122,7 +125,6 @@ __all__ = [
     "SMOOTHING",
     "Facing",
     "PlyContact",
-    "PlyFrictionHistory",
     "PlyContactBlock",
     "penalty_law",
 ]
@@ -148,15 +150,6 @@ RULES = {
     ),
     "vertices": (np.eye(3), np.full(3, 1.0 / 3.0)),
 }
-
-
-def _cross_matrix(v: np.ndarray) -> np.ndarray:
-    """(..., 3, 3) the matrices [v]x with [v]x w = v x w."""
-    out = np.zeros(v.shape[:-1] + (3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
 
 
 def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
@@ -382,61 +375,6 @@ class Facing:
     face: np.ndarray
 
 
-@dataclass(frozen=True)
-class PlyFrictionHistory:
-    """The friction state of a ply contact after an accepted step (module docstring,
-    "Friction"), one row per contact point.
-
-    triangle : (P,) int
-        Row of the block's lower triangles holding each point's stick anchor; -1 for a point
-        without one (not touching).
-    anchor : (P, 3) float
-        The anchor's barycentric coordinates Lambda on that triangle (its point of the lower
-        face, sum Lambda_k y_k, slides with the lower ply); NaN without an anchor.
-    slip : (P,) float
-        Slip length accumulated by each point, mm.
-    pressing : (P,) float
-        Each point's normal force N = -dW/dg when the step was accepted, N (the dissipation of
-        the next step takes the friction limit at the mean of the two).
-    dissipated : float
-        Energy dissipated by friction so far, N mm.
-    """
-
-    triangle: np.ndarray
-    anchor: np.ndarray
-    slip: np.ndarray
-    pressing: np.ndarray
-    dissipated: float
-
-
-@dataclass(frozen=True)
-class Sliding:
-    """The return mapping at a state (``PlyContactBlock.friction_state``), one row per point.
-
-    force : (P, 3) float
-        The tangential part of dW/dp, N: k s in stick, mu N s / |s| in slip, 0 elsewhere (the
-        lower ply pulls the upper point by -force).
-    slip : (P, 3) float
-        s = (I - n n^T)(p - a), the tangential offset of the point from its anchor, mm.
-    stuck, sliding : (P,) bool
-        Anchored touching points within (k |s| <= mu N) and beyond the friction limit.
-    pressing : (P,) float
-        N = -dW/dg, the normal force of each touching point, N (0 elsewhere).
-    offset : (P, 3) float
-        r = p - a, mm (0 without an anchor).
-    triangle : (P,) int
-        The anchors' triangles (0 without an anchor).
-    """
-
-    force: np.ndarray
-    slip: np.ndarray
-    stuck: np.ndarray
-    sliding: np.ndarray
-    pressing: np.ndarray
-    offset: np.ndarray
-    triangle: np.ndarray
-
-
 def _triangle_frames(corners: np.ndarray):
     """Unit normals (..., 3), twice the areas (...,) and the barycentric gradients
     (..., 3, 3) of triangles with corners (..., 3, 3)."""
@@ -610,63 +548,23 @@ class PlyContactBlock(InteractionBlock):
     def _frictional(self, history: Any) -> bool:
         return history is not None and self.friction > 0.0
 
+    def normal_law(self, gap: np.ndarray, stiffness: np.ndarray):
+        """``penalty_law`` of the points with gaps ``gap`` and stiffnesses ``stiffness`` at this
+        block's smoothing: (energy, dW/dg, d2W/dg2)."""
+        return penalty_law(gap, stiffness, self.smoothing)
+
     def friction_state(
         self, state: State, history: PlyFrictionHistory | None, facing: Facing | None = None
     ) -> Sliding:
-        """The return mapping at ``state`` from the accepted ``history`` (module docstring,
-        "Friction"): zero force, nothing stuck or sliding, without friction or anchors."""
-        facing = self.facing(state) if facing is None else facing
-        count = len(self.above)
-        on = facing.touching
-        pressing = np.zeros(count)
-        pressing[on] = -penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[1]
-        zero = np.zeros((count, 3))
-        if not self._frictional(history):
-            none = np.zeros(count, dtype=bool)
-            return Sliding(zero, zero, none, none, pressing, zero, np.zeros(count, dtype=np.int64))
-        anchored = on & (history.triangle >= 0)
-        triangle = np.where(anchored, history.triangle, 0)
-        _, y = self._faces(state)
-        weights = np.where(anchored[:, None], history.anchor, 0.0)
-        anchor = np.einsum("pk,pki->pi", weights, y[triangle])
-        r = np.where(anchored[:, None], facing.face - anchor, 0.0)
-        n = facing.normal
-        s = r - np.sum(r * n, axis=1)[:, None] * n
-        k = self.stiffness
-        length = np.linalg.norm(s, axis=1)
-        limit = self.friction * pressing
-        stuck = anchored & (k * length <= limit)
-        sliding = anchored & ~stuck
-        scale = np.where(
-            stuck, k, np.where(sliding, limit / np.where(length > 0, length, 1.0), 0.0)
-        )
-        return Sliding(scale[:, None] * s, s, stuck, sliding, pressing, r, triangle)
-
-    def _friction_loads(self, state: State, sliding: Sliding, history: PlyFrictionHistory):
-        """Per stuck or sliding point: node rows (t, 6) (the upper triangle's corners, the
-        anchor triangle's corners), forces (t, 6, 3) N (N_j F on the upper corners, -Lambda_k F
-        on the anchor's) and moments (t, 6, 3) N mm (c d x force) of the tangential force F."""
-        on = np.flatnonzero(sliding.stuck | sliding.sliding)
-        tri = sliding.triangle[on]
-        nodes = np.column_stack([self.above[on], self.cells[tri]])
-        force = sliding.force[on]
-        forces = np.concatenate(
-            [
-                self.shape[on][:, :, None] * force[:, None, :],
-                -history.anchor[on][:, :, None] * force[:, None, :],
-            ],
-            axis=1,
-        )
-        offset = np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
-        moments = offset[:, :, None] * np.cross(state.directors[nodes], forces)
-        return nodes, forces, moments
+        """The return mapping at ``state`` (elements/ply_friction.py)."""
+        return ply_friction.friction_state(self, state, history, facing)
 
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
         nodes, forces, moments, *_ = self._pair_loads(state, facing)
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
-            extra = self._friction_loads(state, sliding, history)
+            extra = ply_friction.friction_loads(self, state, sliding, history)
             nodes = np.concatenate([nodes, extra[0]])
             forces = np.concatenate([forces, extra[1]])
             moments = np.concatenate([moments, extra[2]])
@@ -729,7 +627,7 @@ class PlyContactBlock(InteractionBlock):
         # corners' maps times N_j, each lower corner its own.
         own = np.zeros((t, 6, 3, 6))
         own[:, :, :, :3] = np.eye(3)
-        own[:, :, :, 3:] = -offset[:, :, None, None] * _cross_matrix(d)
+        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
         maps = np.zeros((t, 4, 3, 6, 6))  # (t, z, coordinate, node, dof)
         for j in range(3):
             maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
@@ -746,142 +644,18 @@ class PlyContactBlock(InteractionBlock):
             blocks[:, row, 3:, row, 3:] += geometric[:, row]
         parts = [CellTangent(nodes, blocks)]
         if self._frictional(history):
-            parts.append(self._friction_tangent(state, history, facing))
+            parts.append(ply_friction.friction_tangent(self, state, history, facing))
         return parts
-
-    def _friction_tangent(
-        self, state: State, history: PlyFrictionHistory, facing: Facing
-    ) -> CellTangent:
-        """The return mapping's exact d(force, moment)/d(u, psi), (t, 9, 6, 9, 6) over the
-        upper triangle's, the facing triangle's and the anchor triangle's corners.
-
-        Over z = (p, y_f1..3, y_a1..3) (f the facing triangle, a the anchor's): the force F on
-        p (``Sliding.force``) and -Lambda_k F on y_ak, with ds/dp = P = I - n n^T, ds/dy_ak =
-        -Lambda_k P, ds/dy_fm = ((n . r) grad phi_m + (r . grad phi_m) n) n^T (from dn/dy_fm =
-        -grad phi_m n^T); dF = k ds in stick, mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip,
-        with dN = -W'' dg, dg/dz = (n, -lambda_k n, 0). Carried to the nodes and turned with
-        the directors as the normal part (``tangent``)."""
-        sliding = self.friction_state(state, history, facing)
-        on = np.flatnonzero(sliding.stuck | sliding.sliding)
-        t = len(on)
-        n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
-        r, s, force = sliding.offset[on], sliding.slip[on], sliding.force[on]
-        big = history.anchor[on]
-        k = self.stiffness[on]
-        eye = np.eye(3)
-        across = eye - n[:, :, None] * n[:, None, :]
-        ds = np.zeros((t, 3, 7, 3))
-        ds[:, :, 0, :] = across
-        normal_r = np.sum(n * r, axis=1)
-        for m in range(3):
-            along = np.sum(r * grad[:, m], axis=1)
-            ds[:, :, 1 + m, :] = (normal_r[:, None] * grad[:, m] + along[:, None] * n)[
-                :, :, None
-            ] * n[:, None, :]
-            ds[:, :, 4 + m, :] = -big[:, m, None, None] * across
-        length = np.linalg.norm(s, axis=1)
-        unit = s / np.where(length > 0, length, 1.0)[:, None]
-        gap_gradient = np.zeros((t, 7, 3))
-        gap_gradient[:, 0] = n
-        gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
-        curvature = penalty_law(facing.gap[on], k, self.smoothing)[2]
-        d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 7, 3)
-        stuck = sliding.stuck[on]
-        mu, pressing = self.friction, sliding.pressing[on]
-        ratio = mu * pressing / np.where(length > 0, length, 1.0)
-        slip_part = mu * unit[:, :, None, None] * d_pressing[:, None] + ratio[
-            :, None, None, None
-        ] * np.einsum("tij,tjzb->tizb", eye - unit[:, :, None] * unit[:, None, :], ds)
-        d_force = np.where(stuck[:, None, None, None], k[:, None, None, None] * ds, slip_part)
-        points = np.zeros((t, 7, 3, 7, 3))
-        points[:, 0] = d_force
-        for m in range(3):
-            points[:, 4 + m] = -big[:, m, None, None, None] * d_force
-        nodes = np.column_stack(
-            [self.above[on], self.cells[facing.triangle[on]], self.cells[sliding.triangle[on]]]
-        )
-        offset = np.column_stack(
-            [
-                -self.upper_offset[on],
-                self.corner_offset[facing.triangle[on]],
-                self.corner_offset[sliding.triangle[on]],
-            ]
-        )
-        d = state.directors[nodes]  # (t, 9, 3)
-        own = np.zeros((t, 9, 3, 6))
-        own[:, :, :, :3] = eye
-        own[:, :, :, 3:] = -offset[:, :, None, None] * _cross_matrix(d)
-        maps = np.zeros((t, 7, 3, 9, 6))
-        for j in range(3):
-            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
-        for z in range(1, 7):
-            maps[:, z, :, 2 + z, :] = own[:, 2 + z]
-        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
-        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
-        forces = np.concatenate(
-            [
-                self.shape[on][:, :, None] * force[:, None, :],
-                np.zeros((t, 3, 3)),
-                -big[:, :, None] * force[:, None, :],
-            ],
-            axis=1,
-        )
-        geometric = offset[:, :, None, None] * (
-            d[:, :, :, None] * forces[:, :, None, :]
-            - np.sum(forces * d, axis=-1)[:, :, None, None] * eye
-        )
-        for row in range(9):
-            blocks[:, row, 3:, row, 3:] += geometric[:, row]
-        return CellTangent(nodes, blocks)
 
     # ------------------------------------------------------------------ history
     def initial_history(self) -> PlyFrictionHistory | None:
-        """Frictionless: None. Otherwise the points that touch the lower ply in the reference
-        state are anchored at their projections (plies laid on each other stick from the
-        first step)."""
-        if self.friction == 0.0:
-            return None
-        facing = self.facing(self._reference)
-        sliding = self.friction_state(self._reference, None, facing)
-        on = facing.touching
-        count = len(self.above)
-        return PlyFrictionHistory(
-            np.where(on, facing.triangle, -1),
-            np.where(on[:, None], facing.weights, np.nan),
-            np.zeros(count),
-            sliding.pressing,
-            0.0,
-        )
+        """None without friction, else the reference contacts anchored
+        (elements/ply_friction.py)."""
+        return ply_friction.initial_history(self)
 
     def update_history(self, state: State, history: Any) -> Any:
-        """The return mapping accepted (a new history; ``history`` is left as it was): stuck
-        anchors stay, sliding ones move along s towards their points until the spring holds
-        mu N and are re-expressed on the facing triangle, new contacts are anchored at their
-        projections, lost ones forget their anchor; the dissipation adds mu N_mid times the
-        slip, N_mid the mean of the last accepted and this normal force."""
-        if history is None:
-            return None
-        facing = self.facing(state)
-        sliding = self.friction_state(state, history, facing)
-        on = facing.touching
-        length = np.linalg.norm(sliding.slip, axis=1)
-        unit = sliding.slip / np.where(length > 0, length, 1.0)[:, None]
-        held = self.friction * sliding.pressing / self.stiffness  # |s| at the limit, mm
-        slid = np.where(sliding.sliding, length - held, 0.0)
-        # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
-        # (its in-plane gradients drop the normal part of q - p).
-        target = -sliding.offset + slid[:, None] * unit  # q - p
-        moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, target)
-        triangle = np.where(on, facing.triangle, -1)
-        anchor = np.where(on[:, None], facing.weights, np.nan)  # new contacts
-        anchor = np.where(sliding.sliding[:, None], moved, anchor)
-        triangle = np.where(sliding.stuck, history.triangle, triangle)
-        anchor = np.where(sliding.stuck[:, None], history.anchor, anchor)
-        force = self.friction * 0.5 * (sliding.pressing + history.pressing)
-        dissipated = history.dissipated + float(np.sum(force * slid))
-        return PlyFrictionHistory(
-            triangle, anchor, history.slip + slid, sliding.pressing, dissipated
-        )
+        """The return mapping accepted, a new history (elements/ply_friction.py)."""
+        return ply_friction.updated_history(self, state, history)
 
     def dissipated_energy(self, history: Any = None) -> float:
         """Energy dissipated by friction since the start, N mm."""

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FRAME_FALLBACK", "cross", "drop_along", "nodal_frames", "rotate_about"]
+__all__ = ["FRAME_FALLBACK", "cross", "cross_matrix", "drop_along", "nodal_frames", "rotate_about"]
 
 # Below this |e2 x V| the Eq. 7 frame is ill-conditioned (V within ~6 deg of +-e2): use e3.
 FRAME_FALLBACK = 0.1
@@ -112,6 +112,15 @@ def nodal_frames(directors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     v1 = axis / np.where(norm > 0, norm, 1.0)[:, None]
     v2 = cross(directors, v1)
     return v1, v2
+
+
+def cross_matrix(v: np.ndarray) -> np.ndarray:
+    """(..., 3, 3) the matrices [v]x with [v]x w = v x w, from vectors v (..., 3)."""
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
 
 
 def drop_along(vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:

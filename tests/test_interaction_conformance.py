@@ -352,7 +352,7 @@ def plies_with_friction(turn: np.ndarray = UNTURNED, rule="gauss", smoothing=Non
     its facing triangle at its projection's barycentric coordinates moved by 0.002 (even
     points: ~4e-3 mm, they stick) or 0.2 (odd: ~0.4 mm, they slide); barycentric, so the
     history is the same whatever the turn."""
-    from elements.ply_contact import PlyFrictionHistory
+    from elements.ply_friction import PlyFrictionHistory
 
     block, state, _ = plies(turn, rule=rule, smoothing=smoothing, friction=MU, separate=separate)
     facing = block.facing(state)

@@ -1,0 +1,280 @@
+"""Coulomb friction between two plies (elements/ply_contact.py's PlyContact with
+``friction`` > 0; docs/theory.md §9.3a): the stick anchors on the lower ply's face, the return
+mapping, its loads and exact tangent, and the history after an accepted step.
+
+Each touching contact point keeps an anchor on the lower face (a triangle and barycentric
+coordinates, so it slides with the lower ply); the tangential offset of the point from it loads
+a spring of the point's penalty stiffness, capped at mu times the point's normal force. Used by
+``PlyContactBlock``; the functions take the block as their first argument.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from femcore.assembly import CellTangent
+from femcore.rotation import cross_matrix
+from femcore.state import State
+
+if TYPE_CHECKING:
+    from elements.ply_contact import Facing, PlyContactBlock
+
+__all__ = [
+    "PlyFrictionHistory",
+    "Sliding",
+    "friction_loads",
+    "friction_state",
+    "friction_tangent",
+    "initial_history",
+    "updated_history",
+]
+
+
+@dataclass(frozen=True)
+class PlyFrictionHistory:
+    """The friction state of a ply contact after an accepted step (module docstring,
+    "Friction"), one row per contact point.
+
+    triangle : (P,) int
+        Row of the block's lower triangles holding each point's stick anchor; -1 for a point
+        without one (not touching).
+    anchor : (P, 3) float
+        The anchor's barycentric coordinates Lambda on that triangle (its point of the lower
+        face, sum Lambda_k y_k, slides with the lower ply); NaN without an anchor.
+    slip : (P,) float
+        Slip length accumulated by each point, mm.
+    pressing : (P,) float
+        Each point's normal force N = -dW/dg when the step was accepted, N (the dissipation of
+        the next step takes the friction limit at the mean of the two).
+    dissipated : float
+        Energy dissipated by friction so far, N mm.
+    """
+
+    triangle: np.ndarray
+    anchor: np.ndarray
+    slip: np.ndarray
+    pressing: np.ndarray
+    dissipated: float
+
+
+@dataclass(frozen=True)
+class Sliding:
+    """The return mapping at a state (``PlyContactBlock.friction_state``), one row per point.
+
+    force : (P, 3) float
+        The tangential part of dW/dp, N: k s in stick, mu N s / |s| in slip, 0 elsewhere (the
+        lower ply pulls the upper point by -force).
+    slip : (P, 3) float
+        s = (I - n n^T)(p - a), the tangential offset of the point from its anchor, mm.
+    stuck, sliding : (P,) bool
+        Anchored touching points within (k |s| <= mu N) and beyond the friction limit.
+    pressing : (P,) float
+        N = -dW/dg, the normal force of each touching point, N (0 elsewhere).
+    offset : (P, 3) float
+        r = p - a, mm (0 without an anchor).
+    triangle : (P,) int
+        The anchors' triangles (0 without an anchor).
+    """
+
+    force: np.ndarray
+    slip: np.ndarray
+    stuck: np.ndarray
+    sliding: np.ndarray
+    pressing: np.ndarray
+    offset: np.ndarray
+    triangle: np.ndarray
+
+
+def friction_state(
+    block: PlyContactBlock,
+    state: State,
+    history: PlyFrictionHistory | None,
+    facing: Facing | None = None,
+) -> Sliding:
+    """The return mapping at ``state`` from the accepted ``history`` (module docstring,
+    "Friction"): zero force, nothing stuck or sliding, without friction or anchors."""
+    facing = block.facing(state) if facing is None else facing
+    count = len(block.above)
+    on = facing.touching
+    pressing = np.zeros(count)
+    pressing[on] = -block.normal_law(facing.gap[on], block.stiffness[on])[1]
+    zero = np.zeros((count, 3))
+    if history is None or block.friction <= 0.0:
+        none = np.zeros(count, dtype=bool)
+        return Sliding(zero, zero, none, none, pressing, zero, np.zeros(count, dtype=np.int64))
+    anchored = on & (history.triangle >= 0)
+    triangle = np.where(anchored, history.triangle, 0)
+    _, y = block._faces(state)
+    weights = np.where(anchored[:, None], history.anchor, 0.0)
+    anchor = np.einsum("pk,pki->pi", weights, y[triangle])
+    r = np.where(anchored[:, None], facing.face - anchor, 0.0)
+    n = facing.normal
+    s = r - np.sum(r * n, axis=1)[:, None] * n
+    k = block.stiffness
+    length = np.linalg.norm(s, axis=1)
+    limit = block.friction * pressing
+    stuck = anchored & (k * length <= limit)
+    sliding = anchored & ~stuck
+    scale = np.where(stuck, k, np.where(sliding, limit / np.where(length > 0, length, 1.0), 0.0))
+    return Sliding(scale[:, None] * s, s, stuck, sliding, pressing, r, triangle)
+
+
+def friction_loads(
+    block: PlyContactBlock, state: State, sliding: Sliding, history: PlyFrictionHistory
+):
+    """Per stuck or sliding point: node rows (t, 6) (the upper triangle's corners, the
+    anchor triangle's corners), forces (t, 6, 3) N (N_j F on the upper corners, -Lambda_k F
+    on the anchor's) and moments (t, 6, 3) N mm (c d x force) of the tangential force F."""
+    on = np.flatnonzero(sliding.stuck | sliding.sliding)
+    tri = sliding.triangle[on]
+    nodes = np.column_stack([block.above[on], block.cells[tri]])
+    force = sliding.force[on]
+    forces = np.concatenate(
+        [
+            block.shape[on][:, :, None] * force[:, None, :],
+            -history.anchor[on][:, :, None] * force[:, None, :],
+        ],
+        axis=1,
+    )
+    offset = np.column_stack([-block.upper_offset[on], block.corner_offset[tri]])
+    moments = offset[:, :, None] * np.cross(state.directors[nodes], forces)
+    return nodes, forces, moments
+
+
+def friction_tangent(
+    block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
+) -> CellTangent:
+    """The return mapping's exact d(force, moment)/d(u, psi), (t, 9, 6, 9, 6) over the
+    upper triangle's, the facing triangle's and the anchor triangle's corners.
+
+    Over z = (p, y_f1..3, y_a1..3) (f the facing triangle, a the anchor's): the force F on
+    p (``Sliding.force``) and -Lambda_k F on y_ak, with ds/dp = P = I - n n^T, ds/dy_ak =
+    -Lambda_k P, ds/dy_fm = ((n . r) grad phi_m + (r . grad phi_m) n) n^T (from dn/dy_fm =
+    -grad phi_m n^T); dF = k ds in stick, mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip,
+    with dN = -W'' dg, dg/dz = (n, -lambda_k n, 0). Carried to the nodes and turned with
+    the directors as the normal part (``tangent``)."""
+    sliding = friction_state(block, state, history, facing)
+    on = np.flatnonzero(sliding.stuck | sliding.sliding)
+    t = len(on)
+    n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
+    r, s, force = sliding.offset[on], sliding.slip[on], sliding.force[on]
+    big = history.anchor[on]
+    k = block.stiffness[on]
+    eye = np.eye(3)
+    across = eye - n[:, :, None] * n[:, None, :]
+    ds = np.zeros((t, 3, 7, 3))
+    ds[:, :, 0, :] = across
+    normal_r = np.sum(n * r, axis=1)
+    for m in range(3):
+        along = np.sum(r * grad[:, m], axis=1)
+        ds[:, :, 1 + m, :] = (normal_r[:, None] * grad[:, m] + along[:, None] * n)[:, :, None] * n[
+            :, None, :
+        ]
+        ds[:, :, 4 + m, :] = -big[:, m, None, None] * across
+    length = np.linalg.norm(s, axis=1)
+    unit = s / np.where(length > 0, length, 1.0)[:, None]
+    gap_gradient = np.zeros((t, 7, 3))
+    gap_gradient[:, 0] = n
+    gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
+    curvature = block.normal_law(facing.gap[on], k)[2]
+    d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 7, 3)
+    stuck = sliding.stuck[on]
+    mu, pressing = block.friction, sliding.pressing[on]
+    ratio = mu * pressing / np.where(length > 0, length, 1.0)
+    slip_part = mu * unit[:, :, None, None] * d_pressing[:, None] + ratio[
+        :, None, None, None
+    ] * np.einsum("tij,tjzb->tizb", eye - unit[:, :, None] * unit[:, None, :], ds)
+    d_force = np.where(stuck[:, None, None, None], k[:, None, None, None] * ds, slip_part)
+    points = np.zeros((t, 7, 3, 7, 3))
+    points[:, 0] = d_force
+    for m in range(3):
+        points[:, 4 + m] = -big[:, m, None, None, None] * d_force
+    nodes = np.column_stack(
+        [block.above[on], block.cells[facing.triangle[on]], block.cells[sliding.triangle[on]]]
+    )
+    offset = np.column_stack(
+        [
+            -block.upper_offset[on],
+            block.corner_offset[facing.triangle[on]],
+            block.corner_offset[sliding.triangle[on]],
+        ]
+    )
+    d = state.directors[nodes]  # (t, 9, 3)
+    own = np.zeros((t, 9, 3, 6))
+    own[:, :, :, :3] = eye
+    own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
+    maps = np.zeros((t, 7, 3, 9, 6))
+    for j in range(3):
+        maps[:, 0, :, j, :] = block.shape[on][:, j, None, None] * own[:, j]
+    for z in range(1, 7):
+        maps[:, z, :, 2 + z, :] = own[:, 2 + z]
+    carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+    blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+    forces = np.concatenate(
+        [
+            block.shape[on][:, :, None] * force[:, None, :],
+            np.zeros((t, 3, 3)),
+            -big[:, :, None] * force[:, None, :],
+        ],
+        axis=1,
+    )
+    geometric = offset[:, :, None, None] * (
+        d[:, :, :, None] * forces[:, :, None, :]
+        - np.sum(forces * d, axis=-1)[:, :, None, None] * eye
+    )
+    for row in range(9):
+        blocks[:, row, 3:, row, 3:] += geometric[:, row]
+    return CellTangent(nodes, blocks)
+
+
+def initial_history(block: PlyContactBlock) -> PlyFrictionHistory | None:
+    """Frictionless: None. Otherwise the points that touch the lower ply in the reference
+    state are anchored at their projections (plies laid on each other stick from the
+    first step)."""
+    if block.friction == 0.0:
+        return None
+    facing = block.facing(block._reference)
+    sliding = friction_state(block, block._reference, None, facing)
+    on = facing.touching
+    count = len(block.above)
+    return PlyFrictionHistory(
+        np.where(on, facing.triangle, -1),
+        np.where(on[:, None], facing.weights, np.nan),
+        np.zeros(count),
+        sliding.pressing,
+        0.0,
+    )
+
+
+def updated_history(
+    block: PlyContactBlock, state: State, history: PlyFrictionHistory | None
+) -> PlyFrictionHistory | None:
+    """The return mapping accepted (a new history; ``history`` is left as it was): stuck
+    anchors stay, sliding ones move along s towards their points until the spring holds
+    mu N and are re-expressed on the facing triangle, new contacts are anchored at their
+    projections, lost ones forget their anchor; the dissipation adds mu N_mid times the
+    slip, N_mid the mean of the last accepted and this normal force."""
+    if history is None:
+        return None
+    facing = block.facing(state)
+    sliding = friction_state(block, state, history, facing)
+    on = facing.touching
+    length = np.linalg.norm(sliding.slip, axis=1)
+    unit = sliding.slip / np.where(length > 0, length, 1.0)[:, None]
+    held = block.friction * sliding.pressing / block.stiffness  # |s| at the limit, mm
+    slid = np.where(sliding.sliding, length - held, 0.0)
+    # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
+    # (its in-plane gradients drop the normal part of q - p).
+    target = -sliding.offset + slid[:, None] * unit  # q - p
+    moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, target)
+    triangle = np.where(on, facing.triangle, -1)
+    anchor = np.where(on[:, None], facing.weights, np.nan)  # new contacts
+    anchor = np.where(sliding.sliding[:, None], moved, anchor)
+    triangle = np.where(sliding.stuck, history.triangle, triangle)
+    anchor = np.where(sliding.stuck[:, None], history.anchor, anchor)
+    force = block.friction * 0.5 * (sliding.pressing + history.pressing)
+    dissipated = history.dissipated + float(np.sum(force * slid))
+    return PlyFrictionHistory(triangle, anchor, history.slip + slid, sliding.pressing, dissipated)
