@@ -135,7 +135,11 @@ def compare_case(
         runs["plies"] = run_plies(case, out / "plies", plies, progress)
     comparison: dict[str, Any] = {
         "case": case.title,
-        "calibration": {"kinematics": "mindlin", **rule.describe(fabric)},
+        "calibration": (
+            {"kinematics": "mindlin", **rule.describe(fabric)}
+            if "mindlin" in runs
+            else {"kinematics": "mindlin", "name": None, "rule": "no Mindlin run", "numbers": {}}
+        ),
         "kinematics": {name: kinematics_record(case, run) for name, run in runs.items()},
         "differences": _differences(runs, case),
         "figures": [],
@@ -302,7 +306,10 @@ def summary_lines(comparison: dict[str, Any]) -> list[str]:
     """What ``fibreshell compare`` prints: the calibration and its numbers, then per path the
     largest differences from the fibrous shell."""
     calibration = comparison["calibration"]
-    lines = [f"calibration: {calibration['name']}: {calibration['rule']}"]
+    if calibration["name"] is None:
+        lines = ["calibration: none (no Mindlin run)"]
+    else:
+        lines = [f"calibration: {calibration['name']}: {calibration['rule']}"]
     for key, value in calibration["numbers"].items():
         if key == "fit":
             lines.append(

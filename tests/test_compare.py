@@ -163,6 +163,7 @@ def test_the_plies_tilt_as_the_deck_of_cards_and_as_the_fibrous_directors(tmp_pa
         assert entry["paths"]["edge"]["director_tilt_deg"][-1] == pytest.approx(tilt, rel=0.01)
         assert -entry["sets"]["tip"]["displacement"][2] == pytest.approx(q * 1e8 / 80, rel=0.01)
     assert comparison["plies"]["count"] == 2
+    assert comparison["calibration"]["name"] is None  # no Mindlin run, no calibration
     assert comparison["plies"]["largest_overlap_mm"] < 1e-3 * 0.1  # of h / N
     assert comparison["differences"]["plies"]["paths"]["edge"]["director_angle_max_deg"] < 1e-3
     # the material lines on the case's mesh, with the fibrous shell's field names
