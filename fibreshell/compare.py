@@ -133,6 +133,7 @@ def compare_case(
         from fibreshell.plies import run_plies
 
         runs["plies"] = run_plies(case, out / "plies", plies, progress)
+    records = {name: kinematics_record(case, run) for name, run in runs.items()}
     comparison: dict[str, Any] = {
         "case": case.title,
         "calibration": (
@@ -140,8 +141,8 @@ def compare_case(
             if "mindlin" in runs
             else {"kinematics": "mindlin", "name": None, "rule": "no Mindlin run", "numbers": {}}
         ),
-        "kinematics": {name: kinematics_record(case, run) for name, run in runs.items()},
-        "differences": _differences(runs, case),
+        "kinematics": records,
+        "differences": _differences({name: r["paths"] for name, r in records.items()}),
         "figures": [],
     }
     if "plies" in runs:
@@ -268,13 +269,13 @@ def _path_record(case: Case, run: Run, name: str, h: float) -> dict[str, Any]:
     return record
 
 
-def _differences(runs: dict[str, Run], case: Case) -> dict[str, Any]:
-    """Per kinematics other than fibrous, per path: the largest |difference| from the fibrous
-    shell of the mid-surface height (mm, at the fibrous nodes' horizontal positions), of the
-    director angle (deg) and of the thickness along the director (mm), node by node."""
-    if "fibrous" not in runs:
+def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
+    """Per kinematics other than fibrous, per path (``records``: kinematics -> its paths'
+    profiles): the largest |difference| from the fibrous shell of the mid-surface height (mm,
+    at the fibrous nodes' horizontal positions), of the director angle (deg) and of the
+    thickness along the director (mm), node by node."""
+    if "fibrous" not in records:
         return {}
-    records = {name: kinematics_record(case, run)["paths"] for name, run in runs.items()}
     out: dict[str, Any] = {}
     for name in records:
         if name == "fibrous":

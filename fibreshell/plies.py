@@ -21,7 +21,7 @@ import numpy as np
 from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
 from fibreshell.case import SOLVERS, Case
-from fibreshell.run import Run, solve_keeping, strict_json
+from fibreshell.run import Run, path_axis, solve_keeping, strict_json
 
 __all__ = [
     "plies_profiles", "plies_solver", "ply_stack", "run_plies", "stack_model",
@@ -111,12 +111,8 @@ def plies_profiles(case: Case, stack: PlyStack, positions, directors) -> dict[st
     along it (mm), and the largest ply-to-ply gap (mm)."""
     lines = stack.material_lines(positions, directors)
     out = {}
-    for name, nodes in case.paths.items():
-        x0 = case.mesh.points[nodes]
-        s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x0, axis=0), axis=1))]
-        along = x0[-1] - x0[0]
-        along[2] = 0.0
-        along /= np.linalg.norm(along) or 1.0
+    for name in case.paths:
+        nodes, s, along = path_axis(case, name)
         mid = lines.midpoint[nodes]
         d = lines.direction[nodes]
         out[name] = {

@@ -19,7 +19,7 @@ from fibreshell.case import Case
 from solvers import SolverError
 
 __all__ = [
-    "Run", "history_rows", "profile", "run_case", "section_thickness", "solve_keeping",
+    "Run", "history_rows", "path_axis", "profile", "run_case", "section_thickness", "solve_keeping",
     "strict_json", "summarise",
 ]  # fmt: skip
 
@@ -157,6 +157,18 @@ def history_rows(case: Case, result: Result) -> list[dict]:
     return rows
 
 
+def path_axis(case: Case, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Path ``name``'s nodes, their reference arc length s (mm) and the path's horizontal
+    unit direction (3,) from its first to its last node (profiles are drawn along it)."""
+    nodes = case.paths[name]
+    x0 = case.mesh.points[nodes]
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x0, axis=0), axis=1))]
+    along = x0[-1] - x0[0]
+    along[2] = 0.0
+    along /= np.linalg.norm(along) or 1.0
+    return nodes, s, along
+
+
 def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     """Along path ``name`` at the final frame: s (reference arc length, mm), the mid-surface
     x, y, z and its ``horizontal`` coordinate along the path's horizontal direction (mm), the
@@ -164,12 +176,7 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     vertical) and the thickness along the director (mm; the fibrous shell's h_m, the section
     thickness ``thickness`` for a shell without that field); ``directors`` (k, 3) and their
     ``director_horizontal`` components, for drawing."""
-    nodes = case.paths[name]
-    x0 = case.mesh.points[nodes]
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x0, axis=0), axis=1))]
-    along = x0[-1] - x0[0]
-    along[2] = 0.0
-    along /= np.linalg.norm(along) or 1.0
+    nodes, s, along = path_axis(case, name)
     x = result.positions[nodes]
     d = result.directors[nodes]
     angle = np.degrees(np.arctan2(d[:, 2], d @ along))
