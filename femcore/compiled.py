@@ -51,6 +51,8 @@ class CompiledModel:
     n_tools : the number of rigid tools the interactions act against (rows of
         ``tool_forces``).
     dofs : DofManager.
+    block_entries, given_interactions : the element blocks (element type, cells) and the
+        interactions the model was compiled from, as given.
     reference_positions : (n, 3), the mesh points.
     reference_directors : (n, 3), initial unit directors (area-weighted normals of the shell
         triangles around each node), zero rows at nodes without rotational DOFs.
@@ -126,6 +128,10 @@ class CompiledModel:
             _bound_interaction(interaction, body) for interaction in model.interactions
         ]
         self.parts: list[Part] = [*self.blocks, *self.interactions]
+        # What the model was compiled from, as given: its fingerprint reads them
+        # (femcore.fingerprint).
+        self.block_entries: tuple[BlockEntry, ...] = tuple(model.blocks)
+        self.given_interactions: tuple[Interaction, ...] = tuple(model.interactions)
         self.n_tools = sum(int(i.n_tools) for i in self.interactions)
 
         self.translation_free = self.dofs.free[:, :3]

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from femcore.fingerprint import Fingerprint, fingerprint
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -328,19 +329,22 @@ class CentralDifference:
         progress(f"done: {run.step} steps", force=True, fraction=1.0)
         return result(True)
 
-    def _signature(self, model: CompiledModel) -> tuple:
-        """What a checkpoint must match to be resumed: the model's size and reference
-        geometry, and the solver settings that change the run."""
-        return (
-            model.n_nodes,
-            float(np.sum(model.reference_positions)),
-            self.duration,
-            self.dt,
-            self.safety,
-            self.damping,
-            self.mass_scaling_dt,
-            self.output_interval,
-        )
+    def _signature(self, model: CompiledModel) -> Fingerprint:
+        """What a checkpoint must match to be resumed: the model's fingerprint and the solver
+        settings that change the run or its files (not ``max_steps`` nor ``progress``)."""
+        settings = {
+            "solver": "CentralDifference",
+            "duration": self.duration,
+            "dt": self.dt,
+            "safety": self.safety,
+            "damping": self.damping,
+            "mass_scaling_dt": self.mass_scaling_dt,
+            "output_interval": self.output_interval,
+            "output": self.output is not None,
+            "history": self.history is not None,
+            "history_nodes": self.history_nodes,
+        }
+        return fingerprint(model, settings)
 
     def _start(self, compiled: CompiledModel) -> _Run:
         state = compiled.initial_state()
@@ -379,6 +383,7 @@ class CentralDifference:
             if not stream.entries:
                 stream.write(run.frames[0])
             else:
+                stream.check_written()
                 stream.drop_after(run.state.time)
         if self.history is not None:
             history = HistoryWriter(self.history, self.history_nodes, compiled.n_tools)

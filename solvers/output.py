@@ -5,18 +5,23 @@ is killed leaves a readable series, history and checkpoint."""
 from __future__ import annotations
 
 import csv
+import hashlib
 import os
 import pickle
 from pathlib import Path
 from typing import Any
+from xml.etree import ElementTree
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from femcore.fingerprint import Fingerprint
 from femcore.mesh import Mesh
 from femcore.results import Frame, Result
 
 __all__ = [
+    "CHECKPOINT_MAGIC",
+    "ENERGY_KEYS",
     "FrameStream",
     "HistoryWriter",
     "checkpoint_path",
@@ -64,6 +69,34 @@ class FrameStream:
         self.entries.append((frame.time, part.name))
         self._write_index()
 
+    def check_written(self) -> None:
+        """Check, before a resumed run goes on, that the index on disk lists the frames the
+        checkpoint counted (``entries``) and that their files are there.
+
+        Raises
+        ------
+        ValueError
+            Naming the index and the counts when a frame is missing: the series would have a
+            hole.
+        """
+        try:
+            listed = [e.get("file") for e in ElementTree.parse(self.path).getroot().iter("DataSet")]
+        except (OSError, ElementTree.ParseError) as error:
+            raise ValueError(
+                f"cannot resume: the series index {str(self.path)!r} cannot be read "
+                f"({type(error).__name__}), and the checkpoint counted {len(self.entries)} "
+                "frames in it; delete the checkpoint to start again"
+            ) from None
+        names = [name for _, name in self.entries]
+        missing = [name for name in names if not (self.path.parent / name).is_file()]
+        if listed[: len(names)] != names or missing:
+            what = f"the file {missing[0]!r} is missing" if missing else "its frames differ"
+            raise ValueError(
+                f"cannot resume: the series index {str(self.path)!r} lists {len(listed)} frames "
+                f"where the checkpoint counted {len(names)} ({what}); delete the checkpoint to "
+                "start again"
+            )
+
     def drop_after(self, time: float) -> None:
         """Unlist (and delete) the frames written after ``time``: a diverged run's series ends
         with its last good state."""
@@ -85,33 +118,64 @@ class FrameStream:
         _atomic_write(self.path, text.encode())
 
 
+#: The energies a history records, N mm (the keys of ``Result.energies`` after "time"); the
+#: columns are ``energy_<key>``, as in fibreshell's history.csv.
+ENERGY_KEYS = ("kinetic", "internal", "external_work", "damping", "friction")
+
+
 class HistoryWriter:
-    """CSV rows appended (and flushed) as the run goes: time, the energies (N mm), the sum of
-    the support reactions (N), the force on each rigid tool (N) and the displacements (mm) of
-    chosen nodes."""
+    """CSV rows appended (and flushed) as the run goes: ``time`` (s), ``energy_kinetic``,
+    ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
+    (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
+    ``tool<k>_force_x/y/z`` the force on each rigid tool (N) and ``displacement_node<i>_x/y/z``
+    the displacements (mm) of chosen nodes: the names fibreshell's history.csv gives the same
+    quantities."""
 
     def __init__(self, path: Path, nodes: np.ndarray, tools: int = 0):
         self.path, self.nodes, self.tools = path, nodes, tools
         self.rows = 0  # data rows written; a resumed run cuts the file back to them
 
     def header(self) -> list[str]:
-        columns = ["time", "kinetic", "internal", "external_work", "damping", "friction"]
-        columns += ["reaction_x", "reaction_y", "reaction_z"]
+        columns = ["time"] + [f"energy_{key}" for key in ENERGY_KEYS]
+        columns += [f"reaction_all_{axis}" for axis in "xyz"]
         for tool in range(1, self.tools + 1):
-            columns += [f"tool{tool}_f{axis}" for axis in "xyz"]
+            columns += [f"tool{tool}_force_{axis}" for axis in "xyz"]
         for node in self.nodes:
-            columns += [f"u{axis}_{node}" for axis in "xyz"]
+            columns += [f"displacement_node{node}_{axis}" for axis in "xyz"]
         return columns
 
     def start(self) -> None:
-        """Write the header, or keep the rows a checkpoint counted and drop any after them."""
-        if self.rows == 0 or not self.path.exists():
+        """Write the header, or keep the rows a checkpoint counted and drop any after them.
+
+        Raises
+        ------
+        ValueError
+            When the file holds fewer rows than the checkpoint counted, or another header (it
+            was cut short, or written by another run): carrying on would leave a history with
+            a hole.
+        """
+        if self.rows == 0:
             with open(self.path, "w", newline="") as handle:
                 csv.writer(handle).writerow(self.header())
-            self.rows = 0
             return
+        if not self.path.exists():
+            raise ValueError(
+                f"cannot resume: the history {str(self.path)!r} is missing, and the checkpoint "
+                f"counted {self.rows} rows in it; delete the checkpoint to start again"
+            )
         with open(self.path, newline="") as handle:
             kept = list(csv.reader(handle))[: self.rows + 1]
+        if not kept or kept[0] != self.header() or len(kept) - 1 < self.rows:
+            found = (
+                "another header"
+                if kept and kept[0] != self.header()
+                else (f"{max(len(kept) - 1, 0)} rows")
+            )
+            raise ValueError(
+                f"cannot resume: the history {str(self.path)!r} has {found} where the "
+                f"checkpoint counted {self.rows} rows (a file cut short or replaced); delete "
+                "the checkpoint to start again"
+            )
         with open(self.path, "w", newline="") as handle:
             csv.writer(handle).writerows(kept)
 
@@ -131,20 +195,50 @@ class HistoryWriter:
         self.rows += 1
 
 
+#: The first bytes of a checkpoint file; then the sha256 of the payload (32 bytes), its length
+#: (8 bytes, little-endian) and the pickled payload.
+CHECKPOINT_MAGIC = b"fibreshell checkpoint 2\n"
+
+
 def save_checkpoint(path: Path, payload: dict[str, Any]) -> None:
-    """Pickle ``payload`` to ``path`` atomically."""
-    _atomic_write(path, pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL))
+    """Pickle ``payload`` to ``path`` atomically, framed with its checksum (CHECKPOINT_MAGIC)."""
+    data = pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+    header = CHECKPOINT_MAGIC + hashlib.sha256(data).digest() + len(data).to_bytes(8, "little")
+    _atomic_write(path, header + data)
 
 
 def load_checkpoint(path: Path) -> dict[str, Any] | None:
-    """The payload of ``path``, or None if there is no such file. Only load checkpoints this
-    program wrote: unpickling runs code."""
+    """The payload of ``path``, or None if there is no such file.
+
+    Raises
+    ------
+    ValueError
+        Naming ``path``, when it is not a checkpoint this program wrote, or a damaged one
+        (its checksum does not match: a flipped bit, a file cut short). Only a payload whose
+        checksum matches is unpickled (unpickling runs code).
+    """
     if not path.exists():
         return None
     try:
-        with open(path, "rb") as handle:
-            payload = pickle.load(handle)
-    except Exception as error:  # any unpickling failure means the same thing to the user
+        data = path.read_bytes()
+    except OSError as error:
+        raise ValueError(f"cannot read the checkpoint {str(path)!r}: {error.strerror}") from None
+    start = len(CHECKPOINT_MAGIC)
+    if not data.startswith(CHECKPOINT_MAGIC):
+        raise ValueError(
+            f"{str(path)!r} is not a checkpoint this program wrote (or its header is damaged): "
+            "delete it, or give another path"
+        )
+    checksum, size = data[start : start + 32], data[start + 32 : start + 40]
+    body = data[start + 40 :]
+    if hashlib.sha256(body).digest() != checksum or int.from_bytes(size, "little") != len(body):
+        raise ValueError(
+            f"the checkpoint {str(path)!r} is damaged: its checksum does not match its contents "
+            "(a corrupted or truncated file); delete it, or give another path"
+        )
+    try:
+        payload = pickle.loads(body)
+    except Exception as error:  # a checksum that matches a payload it cannot read
         raise ValueError(
             f"{str(path)!r} is not a checkpoint this program wrote ({type(error).__name__}): "
             "delete it, or give another path"
@@ -164,13 +258,37 @@ def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
     return path
 
 
-def resume(path: Path | None, signature: tuple) -> dict[str, Any] | None:
-    """The checkpoint at ``path`` to resume from, None if there is none; ValueError when it
-    was written by another model or other solver settings (another ``signature``)."""
+def resume(path: Path | None, signature: Fingerprint) -> dict[str, Any] | None:
+    """The checkpoint at ``path`` to resume from, None if there is none.
+
+    Parameters
+    ----------
+    path : Path or None
+    signature : femcore.fingerprint.Fingerprint
+        The fingerprint of the model and the solver settings of this run.
+
+    Raises
+    ------
+    ValueError
+        When the checkpoint was written for another model or with other solver settings,
+        naming the parts that differ (and the items within them), or is damaged.
+    """
     payload = load_checkpoint(path) if path is not None else None
-    if payload is not None and payload.get("signature") != signature:
+    if payload is None:
+        return None
+    saved = payload.get("signature")
+    if not isinstance(saved, Fingerprint):
         raise ValueError(
-            f"the checkpoint {str(path)!r} was written by another model or other solver "
-            "settings: delete it, or give another path"
+            f"the checkpoint {str(path)!r} was written by another version of this program "
+            "(it does not carry the fingerprint of its model); delete it or point checkpoint= "
+            "elsewhere"
+        )
+    differences = signature.differences(saved)
+    if differences:
+        only_solver = all(d.startswith("its solver settings") for d in differences)
+        written = "with other solver settings" if only_solver else "for another model"
+        raise ValueError(
+            f"the checkpoint {str(path)!r} was written {written}: "
+            f"{'; '.join(differences)}; delete it or point checkpoint= elsewhere"
         )
     return payload

@@ -36,6 +36,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.fingerprint import fingerprint
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import drop_along
@@ -217,16 +218,17 @@ class DynamicRelaxation:
         iterations: list[int] = []
         residuals: list[float] = []
         done = 0
-        signature = (
-            compiled.n_nodes,
-            float(np.sum(compiled.reference_positions)),
-            self.increments,
-            self.tol,
-            self.masses,
-            self.damping,
-            self.safety,
-            first,
-        )
+        settings = {
+            "solver": "DynamicRelaxation",
+            "increments": self.increments,
+            "tol": self.tol,
+            "masses": self.masses,
+            "damping": self.damping,
+            "safety": self.safety,
+            "refresh": self.refresh,
+            "start": None if start is None else (state.positions, state.directors, first),
+        }
+        signature = fingerprint(compiled, settings)
         payload = resume(saved_at, signature)
         if payload is not None:
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
