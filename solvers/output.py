@@ -163,14 +163,19 @@ class HistoryWriter:
                 f"cannot resume: the history {str(self.path)!r} is missing, and the checkpoint "
                 f"counted {self.rows} rows in it; delete the checkpoint to start again"
             )
-        with open(self.path, newline="") as handle:
-            kept = list(csv.reader(handle))[: self.rows + 1]
-        if not kept or kept[0] != self.header() or len(kept) - 1 < self.rows:
-            found = (
-                "another header"
-                if kept and kept[0] != self.header()
-                else (f"{max(len(kept) - 1, 0)} rows")
-            )
+        header = self.header()
+        try:
+            with open(self.path, newline="") as handle:
+                kept = list(csv.reader(handle))[: self.rows + 1]
+        except (UnicodeDecodeError, csv.Error):
+            kept = [[]]  # not the CSV this writer wrote: refused below as another header
+        if not kept or kept[0] != header:
+            found = "another header"
+        elif len(kept) - 1 < self.rows or any(len(row) != len(header) for row in kept):
+            found = f"{sum(len(row) == len(header) for row in kept[1:])} whole rows"
+        else:
+            found = ""
+        if found:
             raise ValueError(
                 f"cannot resume: the history {str(self.path)!r} has {found} where the "
                 f"checkpoint counted {self.rows} rows (a file cut short or replaced); delete "

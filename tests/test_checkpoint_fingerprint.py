@@ -1,0 +1,264 @@
+"""A checkpoint knows the model it was written for: another model's (other loads, stiffness,
+amplitude, tool, solver settings) is refused naming what differs, a damaged file is refused
+naming the file, the streamed series and history must hold what the checkpoint counted, and
+the same model resumed ends where a run never interrupted ends, to the last bit."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from elements import Cable, RigidPlane
+from femcore import Mesh, Model
+from femcore.fingerprint import digest, fingerprint
+from solvers import CentralDifference, DivergenceError, DynamicRelaxation
+
+N = 12  # cable elements
+
+
+def ramp(rate: float):
+    """An amplitude whose code is the same for every rate: only its captured value differs."""
+    return lambda tau: min(1.0, rate * tau)
+
+
+def cable(
+    gravity=-9810.0, stiffness=1e3, amplitude=None, plane=-500.0, motion=(0.0, 0.0, 0.0)
+) -> Model:
+    """A cable fixed at both ends sagging under gravity, over a plane far below it."""
+    points = np.column_stack([np.linspace(0, 100.0, N + 1), np.zeros(N + 1), np.zeros(N + 1)])
+    model = Model(Mesh(points, lines=np.column_stack([np.arange(N), np.arange(1, N + 1)])))
+    model.add(Cable(axial_stiffness=stiffness, mass_per_length=1e-9))
+    model.fix([0, N])
+    model.gravity((0.0, 0.0, gravity), amplitude=ramp(1.0) if amplitude is None else amplitude)
+    model.contact(RigidPlane((0.0, 0.0, plane), (0.0, 0.0, 1.0), motion=motion))
+    return model
+
+
+def explicit(**options) -> CentralDifference:
+    return CentralDifference(**{"duration": 2e-4, "progress": False, **options})
+
+
+def relaxation(**options) -> DynamicRelaxation:
+    return DynamicRelaxation(**{"increments": 2, "progress": False, **options})
+
+
+# What changes, and the part (and item) the refusal must name.
+OTHER_MODELS = {
+    "twice the gravity": (dict(gravity=-2 * 9810.0), {}, r"its loads differ \(gravity 0\)"),
+    "ten times EA": (dict(stiffness=1e4), {}, r"its elements differ \(.*axial_stiffness\)"),
+    "another amplitude": (dict(amplitude=ramp(2.0)), {}, r"its loads differ \(gravity 0\)"),
+    "the tool elsewhere": (dict(plane=-400.0), {}, r"its tools differ \(interaction 0 .*tool\)"),
+    "a moving tool": (dict(motion=(0, 0, 1.0)), {}, r"its tools differ"),
+}
+
+
+@pytest.fixture(scope="module")
+def explicit_checkpoint(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("explicit") / "run.ckpt"
+    explicit().solve(cable(), checkpoint=path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def relaxation_checkpoint(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("relaxation") / "run.ckpt"
+    relaxation().solve(cable(), checkpoint=path)
+    return path
+
+
+@pytest.mark.parametrize("change", OTHER_MODELS)
+def test_an_explicit_checkpoint_of_another_model_is_refused_naming_what_differs(
+    explicit_checkpoint, change
+):
+    model, _, names = OTHER_MODELS[change]
+    with pytest.raises(ValueError, match=f"written for another model: {names}.*delete it"):
+        explicit().solve(cable(**model), checkpoint=explicit_checkpoint)
+
+
+@pytest.mark.parametrize("change", OTHER_MODELS)
+def test_a_relaxation_checkpoint_of_another_model_is_refused_naming_what_differs(
+    relaxation_checkpoint, change
+):
+    model, _, names = OTHER_MODELS[change]
+    with pytest.raises(ValueError, match=f"written for another model: {names}"):
+        relaxation().solve(cable(**model), checkpoint=relaxation_checkpoint)
+
+
+@pytest.mark.parametrize(
+    "settings", [dict(damping=10.0), dict(duration=3e-4), dict(safety=0.5), dict(dt=1e-6)]
+)
+def test_an_explicit_checkpoint_of_other_solver_settings_is_refused(explicit_checkpoint, settings):
+    (name,) = settings
+    expected = rf"other solver settings: its solver settings differ \({name}"
+    with pytest.raises(ValueError, match=expected):
+        explicit(**settings).solve(cable(), checkpoint=explicit_checkpoint)
+
+
+@pytest.mark.parametrize("settings", [dict(increments=3), dict(tol=1e-3), dict(damping="viscous")])
+def test_a_relaxation_checkpoint_of_other_solver_settings_is_refused(
+    relaxation_checkpoint, settings
+):
+    (name,) = settings
+    with pytest.raises(ValueError, match=rf"solver settings differ \({name}"):
+        relaxation(**settings).solve(cable(), checkpoint=relaxation_checkpoint)
+
+
+def test_the_same_model_built_again_has_the_same_fingerprint():
+    assert fingerprint(cable().compile()) == fingerprint(cable().compile())
+
+
+def test_every_part_of_a_model_counts_in_its_fingerprint():
+    base = fingerprint(cable().compile())
+    given = cable().mesh
+    shifted = Model(Mesh(given.points + np.array([0.0, 0.0, 1e-9]), lines=given.lines))
+    shifted.add(Cable(axial_stiffness=1e3, mass_per_length=1e-9))
+    shifted.fix([0, N])
+    shifted.gravity((0.0, 0.0, -9810.0), amplitude=ramp(1.0))
+    shifted.contact(RigidPlane((0.0, 0.0, -500.0), (0.0, 0.0, 1.0)))
+    assert base.differences(fingerprint(shifted.compile())) == [
+        "its mesh differ (node coordinates)"
+    ]
+    held = cable()
+    held.fix([1], "uy")
+    assert base.differences(fingerprint(held.compile())) == ["its supports differ (fixed DOFs)"]
+    pushed = cable()
+    pushed.force([3], (0.0, 0.0, 1.0))
+    assert base.differences(fingerprint(pushed.compile())) == ["its loads differ (force 0)"]
+    assert base.differences(fingerprint(cable().compile(), {"tol": 1e-4})) == [
+        "its solver settings differ (tol)"
+    ]
+
+
+def test_an_amplitude_is_known_by_its_captured_values_and_the_globals_it_reads():
+    assert digest(ramp(1.0)) == digest(ramp(1.0))
+    assert digest(ramp(1.0)) != digest(ramp(1.0 + 1e-15))
+    namespace = {"np": np, "RATE": 1.0}
+    exec("def amplitude(tau):\n    return np.minimum(1.0, RATE * tau)", namespace)
+    before = digest(namespace["amplitude"])
+    namespace["RATE"] = 2.0
+    assert digest(namespace["amplitude"]) != before
+
+
+def test_a_section_counts_among_the_materials():
+    from elements import MindlinShell
+    from materials import ElasticShell
+
+    def plate(modulus: float) -> Model:
+        model = Model(Mesh.rectangle(20.0, 10.0, nx=2, ny=1))
+        model.add(MindlinShell(ElasticShell(E=modulus, nu=0.3, thickness=1.0, density=2.7e-9)))
+        model.fix("left")
+        return model
+
+    stiffer = fingerprint(plate(7e4 + 1).compile())
+    differences = fingerprint(plate(70e3).compile()).differences(stiffer)
+    assert differences == ["its materials differ (block 0 (MindlinShell) material)"]
+
+
+def test_every_flipped_bit_of_a_checkpoint_is_refused_naming_the_file(tmp_path):
+    """60 single-bit flips spread through a real checkpoint (its header, checksum, length and
+    payload): each is refused with a ValueError naming the file, none resumes."""
+    path = tmp_path / "run.ckpt"
+    explicit(output=tmp_path / "run.pvd", history=tmp_path / "run.csv").solve(
+        cable(), checkpoint=path
+    )
+    original = path.read_bytes()
+    positions = np.unique(np.linspace(0, 8 * len(original) - 1, 60).astype(int))
+    positions = np.unique(np.r_[positions, np.arange(0, 8 * 72, 37)])  # the header too
+    assert len(positions) >= 60
+    for bit in positions:
+        damaged = bytearray(original)
+        damaged[bit // 8] ^= 1 << (bit % 8)
+        path.write_bytes(bytes(damaged))
+        with pytest.raises(ValueError, match=str(path)):
+            explicit(output=tmp_path / "run.pvd", history=tmp_path / "run.csv").solve(
+                cable(), checkpoint=path
+            )
+
+
+def test_a_checkpoint_cut_short_is_refused(explicit_checkpoint, tmp_path):
+    path = tmp_path / "short.ckpt"
+    path.write_bytes(explicit_checkpoint.read_bytes()[:-100])
+    with pytest.raises(ValueError, match="is damaged: its checksum does not match"):
+        explicit().solve(cable(), checkpoint=path)
+
+
+def streamed(tmp: Path, **options) -> CentralDifference:
+    return explicit(
+        output=tmp / "run.pvd",
+        history=tmp / "run.csv",
+        history_nodes=[N // 2],
+        output_interval=2e-5,
+        **options,
+    )
+
+
+def test_a_history_cut_short_is_refused_on_resume(tmp_path):
+    checkpoint = tmp_path / "run.ckpt"
+    streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
+    lines = (tmp_path / "run.csv").read_text().splitlines()
+    assert len(lines) > 3
+    (tmp_path / "run.csv").write_text("\n".join(lines[:2]) + "\n")
+    with pytest.raises(ValueError, match=rf"run.csv' has 1 whole rows where the checkpoint "
+                       rf"counted {len(lines) - 1} rows"):  # fmt: skip
+        streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
+    (tmp_path / "run.csv").unlink()
+    with pytest.raises(ValueError, match="run.csv' is missing"):
+        streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
+
+
+def test_a_series_that_lacks_frames_the_checkpoint_counted_is_refused_on_resume(tmp_path):
+    checkpoint = tmp_path / "run.ckpt"
+    streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
+    frames = sorted(tmp_path.glob("run_*.vtu"))
+    assert len(frames) == 11
+    frames[5].unlink()
+    with pytest.raises(ValueError, match=r"run.pvd' lists 11 frames where the checkpoint "
+                       r"counted 11 \(the file 'run_00005.vtu' is missing\)"):  # fmt: skip
+        streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
+    index = tmp_path / "run.pvd"
+    lines = index.read_text().splitlines()
+    index.write_text("\n".join(line for line in lines if "run_00007" not in line))
+    with pytest.raises(ValueError, match="run.pvd' lists 10 frames where the checkpoint counted"):
+        streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
+
+
+def test_an_explicit_run_stopped_and_resumed_ends_as_one_never_stopped(tmp_path):
+    """Stopped by max_steps (which the fingerprint leaves out: it does not change the answer)
+    after checkpoints every 10 steps, then resumed with the same model and settings."""
+    stopped, whole = tmp_path / "stopped", tmp_path / "whole"
+    stopped.mkdir(), whole.mkdir()
+    checkpoint = stopped / "run.ckpt"
+    with pytest.raises(DivergenceError, match="max_steps"):
+        streamed(stopped, max_steps=25).solve(
+            cable(), checkpoint=checkpoint, checkpoint_interval=0.0
+        )
+    resumed = streamed(stopped).solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
+    reference = streamed(whole).solve(cable())
+    assert resumed.steps == reference.steps > 25
+    np.testing.assert_array_equal(resumed.positions, reference.positions)
+    np.testing.assert_array_equal(resumed.velocities, reference.velocities)
+    for key in reference.energies:
+        np.testing.assert_array_equal(resumed.energies[key], reference.energies[key])
+    assert (stopped / "run.csv").read_text() == (whole / "run.csv").read_text()
+    assert (stopped / "run.pvd").read_text() == (whole / "run.pvd").read_text()
+
+
+def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, monkeypatch):
+    """Stopped in its third increment (as a kill would stop it), then resumed."""
+    checkpoint = tmp_path / "run.ckpt"
+    reference = relaxation(increments=3).solve(cable())
+    relax = DynamicRelaxation._relax
+
+    def killed_in_the_third(self, model, state, load_factor, masses, progress, increment):
+        if increment == 3:
+            raise KeyboardInterrupt
+        return relax(self, model, state, load_factor, masses, progress, increment)
+
+    monkeypatch.setattr(DynamicRelaxation, "_relax", killed_in_the_third)
+    with pytest.raises(KeyboardInterrupt):
+        relaxation(increments=3).solve(cable(), checkpoint=checkpoint)
+    monkeypatch.setattr(DynamicRelaxation, "_relax", relax)
+    resumed = relaxation(increments=3).solve(cable(), checkpoint=checkpoint)
+    assert resumed.info["iterations_per_increment"] == reference.info["iterations_per_increment"]
+    np.testing.assert_array_equal(resumed.positions, reference.positions)
+    assert len(resumed.frames) == len(reference.frames) == 4
