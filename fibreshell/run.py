@@ -5,6 +5,7 @@ summary.json (strict JSON: no NaN or Infinity, a non-finite number is null and n
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import math
 import time
@@ -14,13 +15,14 @@ from typing import Any
 
 import numpy as np
 
-from femcore.results import Result
+from femcore.results import Frame, Result
 from fibreshell.case import Case
 from solvers import SolverError
+from solvers.output import ENERGY_KEYS
 
 __all__ = [
-    "Run", "history_rows", "path_axis", "profile", "run_case", "section_thickness", "solve_keeping",
-    "strict_json", "summarise",
+    "Run", "frame_row", "history_rows", "path_axis", "profile", "run_case", "section_thickness",
+    "solve_keeping", "strict_json", "summarise",
 ]  # fmt: skip
 
 
@@ -54,7 +56,8 @@ def run_case(
     history.csv and summary.json. An explicit run streams its frames to ``result.pvd`` as it
     goes and appends every energy record (energies, support reactions, the displacements of the
     history sets' nodes) to ``energies.csv``; it keeps only its first and last frames in
-    memory, which are then the rows of history.csv. A solver that stops keeps its last good
+    memory, and the rows of history.csv are summarised from each frame as it is streamed
+    (one row per frame in every solver, ``history_rows``). A solver that stops keeps its last good
     frames: they are written and the summary says why it stopped.
 
     Parameters
@@ -84,6 +87,7 @@ def run_case(
             output=out / "result.pvd",
             history=out / "energies.csv",
             history_nodes=np.unique(np.concatenate(watched)) if watched else (),
+            frame_summary=functools.partial(frame_row, case),
         )
     else:
         solver = case.make_solver(progress=progress)
@@ -121,38 +125,49 @@ def solve_keeping(solver, model) -> tuple[Result, str, float]:
     return result, error, time.perf_counter() - started
 
 
+def frame_row(case: Case, frame: Frame) -> dict[str, float]:
+    """The history columns of one frame: ``time`` (s), ``load_factor``,
+    ``reaction_<set>_x/y/z`` the reaction sums over each ``history.reactions`` set (N),
+    ``displacement_<set>_x/y/z`` the mean displacement of each ``history.displacements`` set
+    (mm) and ``tool<k>_force_x/y/z`` the force on each rigid tool (N)."""
+    row: dict[str, float] = {"time": frame.time, "load_factor": frame.load_factor}
+    for name in case.history.get("reactions", []):
+        total = frame.reactions[case.mesh.nodes(name)].sum(axis=0)
+        row.update({f"reaction_{name}_{axis}": float(total[i]) for i, axis in enumerate("xyz")})
+    for name in case.history.get("displacements", []):
+        nodes = case.mesh.nodes(name)
+        mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
+        row.update({f"displacement_{name}_{axis}": float(mean[i]) for i, axis in enumerate("xyz")})
+    for tool, force in enumerate(frame.tool_forces, start=1):
+        row.update({f"tool{tool}_force_{axis}": float(force[i]) for i, axis in enumerate("xyz")})
+    return row
+
+
 def history_rows(case: Case, result: Result) -> list[dict]:
-    """One row per frame: frame, time (s), load_factor, the reaction sums over each
-    ``history.reactions`` set (N) and the mean displacement of each ``history.displacements``
-    set (mm), the force on each rigid tool (N), then the energies (N mm) the solver records:
-    per frame (Static: the strain energy "energy_internal"), or interpolated at the frame
-    times (explicit runs)."""
+    """One row per output frame: ``frame`` (its index), the columns of ``frame_row``, then
+    ``energy_<key>`` (N mm) for the energies the solver records: per frame (Static: the strain
+    energy ``energy_internal``), or interpolated at the frame times (explicit runs). A streamed
+    explicit run keeps two frames in memory; its rows come from every frame of its series
+    (``result.info["frame_summaries"]``, the solver's ``frame_summary``)."""
+    summaries = result.info.get("frame_summaries")
+    if summaries is None:
+        summaries = [frame_row(case, frame) for frame in result.frames]
     energies = result.energies if result.energies else {}
     times = np.asarray(energies.get("time", ()))
-    per_frame = len(times) == len(result.frames) and np.array_equal(
-        times, [frame.time for frame in result.frames]
-    )
+    frame_times = [row["time"] for row in summaries]
+    per_frame = len(times) == len(summaries) and np.array_equal(times, frame_times)
     rows = []
-    for index, frame in enumerate(result.frames):
-        row: dict[str, Any] = {"frame": index, "time": frame.time, "load_factor": frame.load_factor}
-        for name in case.history.get("reactions", []):
-            total = frame.reactions[case.mesh.nodes(name)].sum(axis=0)
-            row.update({f"reaction_{name}_{axis}": total[i] for i, axis in enumerate("xyz")})
-        for name in case.history.get("displacements", []):
-            nodes = case.mesh.nodes(name)
-            mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
-            row.update({f"displacement_{name}_{axis}": mean[i] for i, axis in enumerate("xyz")})
+    for index, summary in enumerate(summaries):
+        row: dict[str, Any] = {"frame": index, **summary}
         if per_frame:
             row.update({f"energy_{key}": values[index] for key, values in energies.items()
                         if key != "time"})  # fmt: skip
         elif len(times) > 0:
-            for key in ("kinetic", "internal", "external_work", "damping", "friction"):
+            for key in ENERGY_KEYS:
                 if key in energies:
                     row[f"energy_{key}"] = float(
-                        np.interp(frame.time, energies["time"], energies[key])
+                        np.interp(summary["time"], energies["time"], energies[key])
                     )
-        for tool, force in enumerate(frame.tool_forces, start=1):
-            row.update({f"tool{tool}_force_{axis}": force[i] for i, axis in enumerate("xyz")})
         rows.append(row)
     return rows
 

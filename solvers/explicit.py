@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -88,6 +89,11 @@ class CentralDifference:
         run goes: time, kinetic and internal energy, external and damping work (N mm), the
         sum of the support reactions (N) and the displacements (mm) of ``history_nodes``.
     history_nodes : node indices whose displacements the history records.
+    frame_summary : callable Frame -> dict, optional
+        Called on every output frame (the first included, streamed or not); the dicts are
+        ``result.info["frame_summaries"]``, one per frame of the series, also after a resume
+        (they are part of the checkpoint): how a streamed run, which keeps only two frames in
+        memory, gives a history row per frame.
     progress : print status lines (None: only on an interactive terminal).
     """
 
@@ -104,6 +110,7 @@ class CentralDifference:
         output: str | os.PathLike[str] | None = None,
         history: str | os.PathLike[str] | None = None,
         history_nodes=(),
+        frame_summary: Callable[[Frame], dict] | None = None,
     ):
         checked = check_positive_or_none(duration, "duration")
         if checked is None:
@@ -126,6 +133,11 @@ class CentralDifference:
         if nodes.size and (nodes.ndim != 1 or not np.issubdtype(nodes.dtype, np.integer)):
             raise ValueError(f"history_nodes must be node indices, got {history_nodes!r}")
         self.history_nodes = nodes.astype(np.int64).reshape(-1)
+        if frame_summary is not None and not callable(frame_summary):
+            raise ValueError(
+                f"frame_summary must be a function of a Frame, got {type(frame_summary).__name__}"
+            )
+        self.frame_summary = frame_summary
         # (assembled Gershgorin step, the cells' bound when it was evaluated), set by solve
         self._assembled: tuple[float, float] | None = None
 
@@ -235,6 +247,9 @@ class CentralDifference:
             elif stream is not None:
                 stream.drop_after(good_time)
             run.frames[:] = kept[:1] + kept[-1:] if stream is not None else kept
+            run.summaries[:] = [s for s in run.summaries if s[0] <= good_time * (1.0 + 1e-12)]
+            if run.summaries and kept[-1].time > run.summaries[-1][0]:
+                self._summarise(run, kept[-1])
             return DivergenceError(
                 f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
                 f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
@@ -319,6 +334,7 @@ class CentralDifference:
                     run.frames[1:] = [frame]
                 else:
                     run.frames.append(frame)
+                self._summarise(run, frame)
             progress(
                 f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
                 f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}",
@@ -359,7 +375,7 @@ class CentralDifference:
                 empty_result(compiled, []),
             )
         duration = self.duration
-        return _Run(
+        run = _Run(
             state=state,
             scale=scale,
             mass=mass,
@@ -372,6 +388,13 @@ class CentralDifference:
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
         )
+        self._summarise(run, run.frames[0])
+        return run
+
+    def _summarise(self, run: _Run, frame: Frame) -> None:
+        """Keep ``frame_summary(frame)`` with the frame's time (when there is one)."""
+        if self.frame_summary is not None:
+            run.summaries.append((frame.time, self.frame_summary(frame)))
 
     def _outputs(self, compiled: CompiledModel, run: _Run):
         """The frame stream and the history writer of this run (None when not asked for),
@@ -441,6 +464,8 @@ class CentralDifference:
         }
         if self.output is not None:
             result.info["output"] = str(self.output)
+        if self.frame_summary is not None:
+            result.info["frame_summaries"] = [summary for _, summary in run.summaries]
         return result
 
 
@@ -465,3 +490,4 @@ class _Run:
     grown: float = 0.0  # the largest energy growth met
     written: list = field(default_factory=list)  # the frame files of the stream
     history_rows: int = 0
+    summaries: list = field(default_factory=list)  # (time, frame_summary(frame)) per frame

@@ -6,6 +6,7 @@ a file is a ValueError naming the file, the table and the key, and the JSON outp
 
 import csv
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -331,6 +332,34 @@ def test_an_explicit_case_streams_its_frames_and_energies(tmp_path):
     summary = strict_load((tmp_path / "out" / "summary.json").read_text())
     assert summary["final_time"] == pytest.approx(0.004)
     assert summary["mean_displacements"]["tip"][2] < 0.0  # it falls
+
+
+def test_an_explicit_case_has_a_history_row_per_frame_named_as_its_energies(tmp_path):
+    """An explicit run streams its 11 frames and keeps two in memory: history.csv still has
+    a row per frame of the series (at its times), and the quantities history.csv and
+    energies.csv share (time, energies, the force on a tool) have the same column names."""
+    text = CANTILEVER.replace(
+        'kind = "static"\nincrements = 1',
+        'kind = "explicit"\nduration = 0.004\noutput_interval = 0.0004\ndamping = 100.0',
+    ).replace("areal_density = 8.154943934760449e-12", "areal_density = 8e-9")
+    text += '[[contact]]\ntool = "plane"\npoint = [0.0, 0.0, -50.0]\nnormal = [0.0, 0.0, 1.0]\n'
+    run = run_case(load_case(write(tmp_path, text)), tmp_path / "out", progress=False)
+    assert run.result.converged and len(run.result.frames) == 2
+    pvd = (tmp_path / "out" / "result.pvd").read_text()
+    with open(tmp_path / "out" / "history.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == pvd.count("<DataSet") == 11
+    times = [float(t) for t in re.findall(r'timestep="([^"]+)"', pvd)]
+    assert [float(row["time"]) for row in rows] == times
+    assert [int(row["frame"]) for row in rows] == list(range(11))
+    tips = [float(row["displacement_tip_z"]) for row in rows]
+    assert tips[0] == 0.0 and tips[-1] < tips[5] < 0.0  # it falls, frame by frame
+    assert tips[-1] == pytest.approx(run.summary["mean_displacements"]["tip"][2], rel=1e-12)
+    with open(tmp_path / "out" / "energies.csv") as handle:
+        energy_columns = next(csv.reader(handle))
+    shared = {"time", "tool1_force_x", "tool1_force_y", "tool1_force_z"}
+    shared |= {f"energy_{key}" for key in ("kinetic", "internal", "external_work", "damping")}
+    assert shared <= set(energy_columns) and shared <= set(rows[0])
 
 
 @pytest.mark.slow
