@@ -279,10 +279,10 @@ def _leaf(value: Any) -> bytes | None:
 
 
 def _function_pieces(function: types.FunctionType) -> list[Any]:
-    """A function's name, code, defaults, closure values and the globals its code reads, and
-    its values at SAMPLES when it takes one argument (an amplitude)."""
-    pieces: list[Any] = [f"{function.__module__}.{function.__qualname__}".encode()]
-    pieces += [function.__code__, function.__defaults__, function.__kwdefaults__]
+    """A function's code, defaults, closure values and the globals its code reads, and its
+    values at SAMPLES when it takes one argument (an amplitude). Not its name nor its module:
+    the same lambda defined in a script (``__main__``) and in a module is the same amplitude."""
+    pieces: list[Any] = [function.__code__, function.__defaults__, function.__kwdefaults__]
     for cell in function.__closure__ or ():
         try:
             pieces.append(cell.cell_contents)

@@ -188,6 +188,7 @@ def streamed(tmp: Path, **options) -> CentralDifference:
         history=tmp / "run.csv",
         history_nodes=[N // 2],
         output_interval=2e-5,
+        frame_summary=lambda frame: {"time": frame.time, "sag": frame.positions[N // 2, 2]},
         **options,
     )
 
@@ -241,6 +242,8 @@ def test_an_explicit_run_stopped_and_resumed_ends_as_one_never_stopped(tmp_path)
         np.testing.assert_array_equal(resumed.energies[key], reference.energies[key])
     assert (stopped / "run.csv").read_text() == (whole / "run.csv").read_text()
     assert (stopped / "run.pvd").read_text() == (whole / "run.pvd").read_text()
+    summaries = resumed.info["frame_summaries"]
+    assert summaries == reference.info["frame_summaries"] and len(summaries) == 11
 
 
 def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, monkeypatch):

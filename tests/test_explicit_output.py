@@ -179,6 +179,29 @@ def test_a_diverged_run_leaves_on_disk_only_the_frames_that_passed_the_checks(tm
     assert sorted(p.name for p in tmp_path.glob("run_*.vtu")) == sorted(n for _, n in entries)
 
 
+def test_a_summary_per_frame_of_the_series_also_when_the_run_diverges(tmp_path):
+    """frame_summary is called on every frame the series keeps: after a divergence, the
+    summaries end with the last state that passed the checks, as the series on disk does."""
+    from solvers import DivergenceError
+
+    compiled = hanging_cable().compile()
+    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=0.02,
+        dt=dt,
+        output_interval=50 * dt,
+        output=tmp_path / "run.pvd",
+        progress=False,
+        frame_summary=lambda frame: {"time": frame.time},
+    )
+    with pytest.raises(DivergenceError) as error:
+        solver.solve(hanging_cable())
+    summaries = error.value.result.info["frame_summaries"]
+    assert [s["time"] for s in summaries] == [t for t, _ in listed(tmp_path / "run.pvd")]
+    with pytest.raises(ValueError, match="frame_summary must be a function"):
+        CentralDifference(duration=1.0, frame_summary="rows")
+
+
 def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
     path = tmp_path / "run.ckpt"
     path.write_text("not a checkpoint")
