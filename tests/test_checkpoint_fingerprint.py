@@ -3,6 +3,10 @@ amplitude, tool, solver settings) is refused naming what differs, a damaged file
 naming the file, the streamed series and history must hold what the checkpoint counted, and
 the same model resumed ends where a run never interrupted ends, to the last bit."""
 
+import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -105,6 +109,24 @@ def test_a_relaxation_checkpoint_of_other_solver_settings_is_refused(
 
 def test_the_same_model_built_again_has_the_same_fingerprint():
     assert fingerprint(cable().compile()) == fingerprint(cable().compile())
+
+
+def test_another_process_gives_the_same_fingerprint():
+    """What a resume relies on: the digests depend on the model alone, not on the process
+    (hash seeds, object addresses, the module a lambda was defined in)."""
+    here = Path(__file__).resolve().parent
+    child = (
+        "import json, sys\n"
+        f"sys.path.insert(0, {str(here)!r})\n"
+        "from test_checkpoint_fingerprint import cable\n"
+        "from femcore.fingerprint import fingerprint\n"
+        "print(json.dumps(fingerprint(cable().compile()).parts))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(here.parent), PYTHONHASHSEED="12345")
+    output = subprocess.run(
+        [sys.executable, "-c", child], env=env, capture_output=True, text=True, check=True
+    ).stdout
+    assert json.loads(output) == fingerprint(cable().compile()).parts
 
 
 def test_every_part_of_a_model_counts_in_its_fingerprint():
