@@ -86,8 +86,11 @@ class CentralDifference:
         the ParaView index rewritten after each), and only the first and the last are kept in
         memory.
     history : a ``.csv`` path: a row per energy record (about 4000 in a run), appended as the
-        run goes: time, kinetic and internal energy, external and damping work (N mm), the
-        sum of the support reactions (N) and the displacements (mm) of ``history_nodes``.
+        run goes (solvers.output.HistoryWriter): ``time``, ``energy_kinetic``,
+        ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
+        (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
+        ``tool<k>_force_x/y/z`` (N) and ``displacement_node<i>_x/y/z`` (mm) of
+        ``history_nodes``.
     history_nodes : node indices whose displacements the history records.
     frame_summary : callable Frame -> dict, optional
         Called on every output frame (the first included, streamed or not); the dicts are
@@ -359,6 +362,7 @@ class CentralDifference:
             "output": self.output is not None,
             "history": self.history is not None,
             "history_nodes": self.history_nodes,
+            "frame_summary": self.frame_summary is not None,
         }
         return fingerprint(model, settings)
 
