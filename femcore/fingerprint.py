@@ -214,7 +214,11 @@ class _Digest:
         self.reading.add(key)
         try:
             hasher = hashlib.sha256(tag)
-            for piece in self._pieces(value):
+            try:
+                pieces = self._pieces(value)
+            except Exception:  # an object that cannot be read (a property that raises): its class
+                pieces = [b"unreadable"]
+            for piece in pieces:
                 if isinstance(piece, bytes):
                     hasher.update(b"b" + len(piece).to_bytes(8, "little") + piece)
                 else:
