@@ -194,17 +194,17 @@ def _interrupted_line(case, run, args: argparse.Namespace, out: Path) -> str:
     """The one line of a run stopped by a signal: what it kept, how to go on."""
     from fibreshell.run import kept
 
-    frames = run.result.frames[-1]
-    where = (f"t = {frames.time:.6g} s" if run.summary["solver"] == "explicit"
-             else f"load factor {frames.load_factor:.6g}")  # fmt: skip
+    last = run.result.frames[-1]
+    where = (f"t = {last.time:.6g} s" if run.summary["solver"] == "explicit"
+             else f"load factor {last.load_factor:.6g}")  # fmt: skip
     if run.checkpoint is not None and run.checkpoint.exists():
         then = f"resume with: fibreshell run {args.case} --out {out} --resume"
     elif run.checkpoint is not None:
         then = "nothing converged to resume from: run it again"
     else:
         then = "no checkpoint (static run): run it again to go on"
-    return (f"{case.title}: INTERRUPTED by {run.signal} at {where}, {run.result.steps} steps; "
-            f"kept {kept(out, run.checkpoint)}; {then}")  # fmt: skip
+    return (f"{case.title}: INTERRUPTED by {run.signal} after {run.result.steps} steps (last "
+            f"frame at {where}); kept {kept(out, run.checkpoint)}; {then}")  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
