@@ -16,7 +16,7 @@ import numpy as np
 
 from femcore.results import Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
-from fibreshell.case import Case
+from fibreshell.case import DEFAULT_CHECKPOINT, Case
 from solvers import Interrupted, SolverError
 
 __all__ = [
@@ -121,6 +121,8 @@ def run_case(
         raise ValueError(f"nothing to resume in {str(out)!r}: {why}; run without --resume")
     if not resume:
         clean_outputs(out, checkpoint)
+    if checkpoint is not None:  # "[solver] checkpoint" may name a file in a subfolder
+        check_folder(checkpoint.parent, "the checkpoint's folder")
     rule = Calibration.from_options(calibration, shear_ratio, bending_scale, transverse_shear)
     model = case.model(kinematics, rule)
     outputs: dict[str, Any] = {"progress": progress}
@@ -158,8 +160,10 @@ def run_case(
 
 
 def clean_outputs(out: Path, checkpoint: Path | None) -> None:
-    """Remove from ``out`` the files a run writes there (OUTPUT_FILES) and ``checkpoint``."""
+    """Remove from ``out`` the files a run writes there (OUTPUT_FILES), ``checkpoint`` and
+    the default checkpoint (an earlier run of another kind may have left it)."""
     stale = [path for pattern in OUTPUT_FILES for path in out.glob(pattern)]
+    stale.append(out / DEFAULT_CHECKPOINT)
     for path in stale + ([checkpoint] if checkpoint is not None else []):
         path.unlink(missing_ok=True)
 
