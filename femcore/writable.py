@@ -97,7 +97,7 @@ def check_folder(
     """
     path = Path(folder)
     if path.exists() and not path.is_dir():
-        raise ValueError(f"{what} {str(path)!r} is a file, not a folder: give a folder")
+        raise ValueError(f"{what} {str(path)!r} is a file: give a folder")
     existing = next((p for p in (path, *path.parents) if p.exists()), None)
     if existing is not None and not existing.is_dir():
         raise ValueError(f"{what} {str(path)!r}: {str(existing)!r} is a file, not a folder")
