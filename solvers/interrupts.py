@@ -38,7 +38,13 @@ class Interrupted(SolverError):
     solver has none or none was asked for): the same solve with that checkpoint continues the
     run to the same bits as a run never interrupted."""
 
-    def __init__(self, message: str, result, signal_name: str, checkpoint: Path | None = None):
+    def __init__(
+        self,
+        message: str,
+        result=None,
+        signal_name: str = "SIGINT",
+        checkpoint: Path | None = None,
+    ):
         super().__init__(message, result)
         self.signal = signal_name
         self.checkpoint = checkpoint
@@ -85,8 +91,8 @@ def interruptible(
     try:
         yield STOP
     finally:
-        for number, old in previous.items():
-            signal.signal(number, old)
+        for number, old in previous.items():  # None: a handler not set from Python
+            signal.signal(number, signal.SIG_DFL if old is None else old)
         STOP.signal = before
 
 

@@ -179,3 +179,19 @@ def test_resume_without_a_checkpoint_is_refused(tmp_path, capsys):
 
 def hanging_result():
     return DynamicRelaxation(increments=2, progress=False).solve(hanging_cable())
+
+
+def test_python_m_validation_on_a_full_disk_gives_one_line_and_status_3(
+    tmp_path, monkeypatch, capsys
+):
+    import validation.__main__ as report
+
+    def full(names, resolution, out, jobs):
+        (out / "bai-5.1.png").write_text("")
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(out / "results.json"))
+
+    monkeypatch.setattr(report, "run_cases", full)
+    assert report.main(["--cases", "bai-5.1", "--out", str(tmp_path / "report")]) == 3
+    said = capsys.readouterr().err
+    assert said.count("\n") == 1 and "results.json" in said and "No space left" in said
+    assert "kept: 1 file(s) in" in said
