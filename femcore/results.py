@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from femcore.mesh import CELL_KINDS, Mesh
+from femcore.writable import OutputError, check_folder, frame_bytes
 
 if TYPE_CHECKING:
     import meshio
@@ -330,12 +331,34 @@ class Result:
         Raises
         ------
         ValueError
-            A suffix other than .vtu, .pvd or .xdmf.
+            A suffix other than .vtu, .pvd or .xdmf, or a folder that does not exist or is a
+            file.
+        femcore.writable.OutputError
+            The folder is not writable or its disk too full for the frames (checked before
+            writing), or a write failed: the message names the file and what was written.
         """
-        import meshio
-
         path = Path(path)
         suffix = path.suffix.lower()
+        if suffix not in (".vtu", ".pvd", ".xdmf"):
+            raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")
+        frames = 1 if suffix == ".vtu" else len(self.frames)
+        size = frame_bytes(
+            len(self.mesh.points), sum(len(self.mesh.cells(k)) for k in self.mesh.cell_kinds)
+        )
+        check_folder(path.parent, "write", needed=frames * size, create=False)
+        written: list[str] = []
+        try:
+            self._write(path, suffix, frame, written)
+        except OSError as error:
+            kept = f"the frame files {', '.join(written)}" if written else "no complete file"
+            raise OutputError.from_error(error, kept) from None
+        return path
+
+    def _write(self, path: Path, suffix: str, frame: int | None, written: list[str]) -> None:
+        """Write ``path`` in the format of ``suffix``, listing in ``written`` each frame file
+        of a .pvd series once it is complete."""
+        import meshio
+
         if suffix == ".vtu":
             self.to_meshio(-1 if frame is None else frame).write(path)
         elif suffix == ".pvd":
@@ -344,6 +367,7 @@ class Result:
             for i, f in enumerate(self.frames):
                 part = stem.parent / f"{stem.name}_{i:04d}.vtu"
                 self.to_meshio(i).write(part)
+                written.append(part.name)
                 entries.append(
                     f"    <DataSet timestep={quoteattr(repr(f.time))} file={quoteattr(part.name)}/>"
                 )
@@ -359,6 +383,3 @@ class Result:
                 for f in self.frames:
                     _, point_data, cell_data = self._meshio_data(f)
                     writer.write_data(f.time, point_data=point_data, cell_data=cell_data)
-        else:
-            raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")
-        return path

@@ -38,6 +38,8 @@ stiffness = 23000.0                      # the first node to each other one
 [solver]
 kind = "static"                          # "static" | "relaxation" | "explicit"
 increments = 3                           # any keyword option of that solver
+# checkpoint = "checkpoint.pkl"          # explicit, relaxation: relative to the output folder
+# checkpoint_interval = 60.0             # explicit: wall-clock s between saves
 [output]
 history = { reactions = ["left"], displacements = ["tip"] }
 paths = { centre = { y_min = 29.9, y_max = 30.1 } }   # profiles along node paths
@@ -183,7 +185,9 @@ class Case:
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
-        {"kind": str, "options": dict}.
+        {"kind": str, "options": dict, "checkpoint": str or None, "checkpoint_interval":
+        float}: the checkpoint file (relative to the output folder; None: none) and the
+        wall-clock seconds between saves of an explicit run.
     history : dict
         {"reactions": [set names], "displacements": [set names]}.
     paths : dict
@@ -678,13 +682,50 @@ def _solver(top: _Where, value: Any) -> dict:
     kind = value.get("kind")
     if kind not in SOLVERS:
         raise where.error("kind", f"expected one of {', '.join(SOLVERS)}, got {kind!r}")
-    options = {k: v for k, v in value.items() if k != "kind"}
+    options = {k: v for k, v in value.items() if k not in ("kind", *_CHECKPOINT_KEYS)}
     _keywords(where, SOLVERS[kind], options, frozenset(_SOLVER_RESERVED))
     try:
         SOLVERS[kind](**options)  # the solver's own checks, now, with the file named
     except (ValueError, TypeError) as error:
         raise where.error(None, str(error)) from None
-    return {"kind": kind, "options": options}
+    return {"kind": kind, "options": options, **_checkpoint(where, kind, value)}
+
+
+# The checkpoint options of [solver]: arguments of solve(), not of the solver's constructor.
+_CHECKPOINT_KEYS = ("checkpoint", "checkpoint_interval")
+DEFAULT_CHECKPOINT = "checkpoint.pkl"
+
+
+def _checkpoint(where: _Where, kind: str, value: dict) -> dict:
+    """``checkpoint`` (a file name relative to the output folder, or false for none; default
+    DEFAULT_CHECKPOINT for explicit and relaxation runs) and ``checkpoint_interval``
+    (explicit runs: wall-clock seconds between saves, default 60)."""
+    checkpoint = value.get("checkpoint", DEFAULT_CHECKPOINT if kind != "static" else False)
+    if kind == "static" and "checkpoint" in value:
+        raise where.error(
+            "checkpoint", "a static run has no checkpoint (its converged increments are "
+            "written as they converge); checkpoints are for explicit and relaxation runs",
+        )  # fmt: skip
+    if checkpoint is True or not isinstance(checkpoint, str | bool) or checkpoint == "":
+        raise where.error(
+            "checkpoint", f"expected a file name (relative to the output folder) or false, "
+            f"got {checkpoint!r}",
+        )  # fmt: skip
+    interval = value.get("checkpoint_interval", 60.0)
+    if "checkpoint_interval" in value and kind != "explicit":
+        raise where.error(
+            "checkpoint_interval", "an option of explicit runs (a relaxation saves after each "
+            "converged increment)",
+        )  # fmt: skip
+    if (
+        isinstance(interval, bool)
+        or not isinstance(interval, int | float)
+        or not (np.isfinite(interval) and interval >= 0)
+    ):
+        raise where.error(
+            "checkpoint_interval", f"expected wall-clock seconds >= 0, got {interval!r}"
+        )
+    return {"checkpoint": checkpoint or None, "checkpoint_interval": float(interval)}
 
 
 def _output(top: _Where, value: Any, case: Case) -> None:

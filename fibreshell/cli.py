@@ -1,7 +1,7 @@
 """The ``fibreshell`` command: run a case file, compare the two kinematics on it, or write the
 validation report.
 
-    fibreshell run CASE.toml [--out DIR] [--quiet]
+    fibreshell run CASE.toml [--out DIR] [--resume] [--quiet]
     fibreshell compare CASE.toml [--out DIR] [--calibration laws|fit|initial-slope]
                      [--kinematics fibrous,mindlin,plies] [--plies N] [--shear-ratio R]
                      [--fit-path NAME] [--quiet]
@@ -13,7 +13,10 @@ validation report.
 
 Exit status: 0 done, 1 the solver stopped (its last good state is written; for a sweep: a
 variant failed, its row says why; for identify: a run failed or the fit did not converge),
-2 a bad case file or command line (the message names the file, the table and the key).
+2 a bad case file or command line (the message names the file, the table and the key), 3 an
+output folder or file could not be written (one line on stderr names the path and what was
+kept), 130 interrupted (SIGINT or SIGTERM: ``run`` finishes the step in progress, writes its
+outputs, checkpoint and summary.json with status "interrupted" and says how to resume).
 """
 
 from __future__ import annotations
@@ -47,6 +50,13 @@ def _parser() -> argparse.ArgumentParser:
         command.add_argument("--out", default=None, help="output folder (default: next to "
                              "the working folder, named after the case)")  # fmt: skip
         command.add_argument("--quiet", action="store_true", help="no progress line")
+        if name == "run":
+            command.add_argument(
+                "--resume", action="store_true",
+                help="continue from the checkpoint in --out (an explicit or relaxation run "
+                "stopped by Ctrl-C, SIGTERM or a kill) to the same result as a run never "
+                "stopped",
+            )  # fmt: skip
         if name == "compare":
             command.add_argument(
                 "--calibration", default="laws", choices=("laws", "fit", "initial-slope"),
@@ -173,15 +183,43 @@ def _identify(args: argparse.Namespace, progress: bool) -> int:
 
 
 def _out_folder(argument: str | None, case_path: str, suffix: str) -> Path:
+    """The output folder, created and checked for writing (femcore.writable.check_folder)."""
+    from femcore.writable import check_folder
+
     out = Path(argument) if argument else Path(Path(case_path).stem + suffix)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out {str(out)!r} is a file: give a folder")
-    return out
+    return check_folder(out, "--out")
+
+
+def _interrupted_line(case, run, args: argparse.Namespace, out: Path) -> str:
+    """The one line of a run stopped by a signal: what it kept, how to go on."""
+    from fibreshell.run import kept
+
+    last = run.result.frames[-1]
+    where = (f"t = {last.time:.6g} s" if run.summary["solver"] == "explicit"
+             else f"load factor {last.load_factor:.6g}")  # fmt: skip
+    if run.checkpoint is not None and run.checkpoint.exists():
+        then = f"resume with: fibreshell run {args.case} --out {out} --resume"
+    elif run.checkpoint is not None:
+        then = "nothing converged to resume from: run it again"
+    else:
+        then = "no checkpoint (static run): run it again to go on"
+    return (f"{case.title}: INTERRUPTED by {run.signal} after {run.result.steps} steps (last "
+            f"frame at {where}); kept {kept(out, run.checkpoint)}; {then}")  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
-    argv = sys.argv[1:] if argv is None else argv
+    try:
+        return _main(sys.argv[1:] if argv is None else argv)
+    except OSError as error:  # femcore.writable.OutputError: one line naming path and kept
+        print(f"fibreshell: error: {error}", file=sys.stderr)
+        return 3
+    except KeyboardInterrupt:  # a second Ctrl-C, or one outside `fibreshell run`
+        print("fibreshell: interrupted (outputs may be incomplete)", file=sys.stderr)
+        return 130
+
+
+def _main(argv: list[str]) -> int:
     if argv[:1] == ["report"]:
         from validation.__main__ import main as report
 
@@ -202,8 +240,15 @@ def main(argv: list[str] | None = None) -> int:
     try:
         case = load_case(args.case)
         if args.command == "run":
+            from solvers import interruptible
+
             out = _out_folder(args.out, args.case, "")
-            runs = {"": run_case(case, out, progress=progress)}
+            with interruptible():
+                run = run_case(case, out, progress=progress, resume=args.resume)
+            if run.status == "interrupted":
+                print(_interrupted_line(case, run, args, out))
+                return 130
+            runs = {"": run}
         else:
             out = _out_folder(args.out, args.case, "-compare")
             runs = compare_case(

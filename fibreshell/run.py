@@ -16,14 +16,21 @@ from typing import Any
 import numpy as np
 
 from femcore.results import Frame, Result
-from fibreshell.case import Case
-from solvers import SolverError
+from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
+from fibreshell.case import DEFAULT_CHECKPOINT, Case
+from solvers import Interrupted, SolverError
 from solvers.output import ENERGY_KEYS
 
 __all__ = [
-    "Run", "frame_row", "history_rows", "path_axis", "profile", "run_case", "section_thickness",
-    "solve_keeping", "strict_json", "summarise",
+    "OUTPUT_FILES", "Run", "clean_outputs", "frame_row", "history_rows", "kept", "path_axis",
+    "profile", "run_case", "section_thickness", "solve_keeping", "strict_json", "summarise",
 ]  # fmt: skip
+
+
+# The files a run writes in its output folder (globs), removed before a new run writes there
+# (not when it resumes): a series of fewer frames would otherwise sit beside the old frames.
+OUTPUT_FILES = ("result*.vtu", "result.pvd", "history.csv", "energies.csv", "summary.json",
+                "*.part")  # fmt: skip
 
 
 @dataclass
@@ -31,7 +38,10 @@ class Run:
     """One solve of a case: the result (every good frame, also after a failure), the solver's
     error message ("" when it reached its goal), the wall time (s) and the summary; a run on a
     mesh other than the case's (the plies) brings its own ``profiles`` along the case's paths
-    (``fibreshell.compare.kinematics_record``'s form), else None."""
+    (``fibreshell.compare.kinematics_record``'s form), else None. ``status`` is "done",
+    "stopped" (the solver could not go on) or "interrupted" (SIGINT or SIGTERM inside
+    ``solvers.interruptible()``; ``signal`` names it); ``checkpoint`` the file the run can be
+    resumed from (None: none)."""
 
     kinematics: str
     result: Result
@@ -39,6 +49,9 @@ class Run:
     wall_time: float
     summary: dict
     profiles: dict | None = None
+    status: str = "done"
+    signal: str | None = None
+    checkpoint: Path | None = None
 
 
 def run_case(
@@ -50,6 +63,7 @@ def run_case(
     shear_ratio: float | None = None,
     bending_scale: float | None = None,
     transverse_shear: float | None = None,
+    resume: bool = False,
 ) -> Run:
     """Build the case (``Case.model``), solve it and write into ``out``: ``result.pvd`` with
     its VTU series (reference coordinates and the displacement field in every frame),
@@ -73,36 +87,120 @@ def run_case(
         How the Mindlin shell is made of the fabric ("laws" by default, "fit" values or
         "initial-slope"); shear_ratio, bending_scale, transverse_shear set its numbers
         (``Calibration.from_options``: a sweep or a fit varies them).
+    resume : bool
+        Continue from the checkpoint in ``out`` (``[solver] checkpoint``, by default
+        ``checkpoint.pkl`` for explicit and relaxation runs) to the same bits as a run never
+        stopped. Without it the files a run writes (OUTPUT_FILES and the checkpoint) are
+        removed from ``out`` first.
+
+    The folder is checked first (femcore.writable.check_folder: a folder, writable, room for
+    the first frames). Static runs write each frame as its increment converges, explicit runs
+    as they go: a killed run leaves those frames (and the checkpoint).
+
+    Raises
+    ------
+    ValueError
+        ``out`` is a file or under one; ``resume`` without a checkpoint to resume from.
+    femcore.writable.OutputError
+        ``out`` cannot be written or is too full for the first frames, or a write failed
+        during the run (the message names the file and what was kept).
     """
     from fibreshell.calibration import Calibration
 
-    out.mkdir(parents=True, exist_ok=True)
+    mesh = case.mesh
+    frame = frame_bytes(len(mesh.points), sum(len(mesh.cells(k)) for k in mesh.cell_kinds))
+    check_folder(out, "output folder", needed=FIRST_FRAMES * frame)
+    kind = case.solver["kind"]
+    named = case.solver.get("checkpoint")
+    checkpoint = None if named is None else out / named
+    if resume and (checkpoint is None or not checkpoint.exists()):
+        why = (
+            "a static run has no checkpoint"
+            if kind == "static"
+            else "[solver] checkpoint = false"
+            if checkpoint is None
+            else f"no checkpoint {str(checkpoint)!r}"
+        )
+        raise ValueError(f"nothing to resume in {str(out)!r}: {why}; run without --resume")
+    if not resume:
+        clean_outputs(out, checkpoint)
+    if checkpoint is not None:  # "[solver] checkpoint" may name a file in a subfolder
+        check_folder(checkpoint.parent, "the checkpoint's folder")
     rule = Calibration.from_options(calibration, shear_ratio, bending_scale, transverse_shear)
     model = case.model(kinematics, rule)
-    streamed = case.solver["kind"] == "explicit"
-    if streamed:  # frames to disk as the run goes: the memory of a long run stays flat
-        watched = [case.mesh.nodes(name) for name in case.history.get("displacements", [])]
-        solver = case.make_solver(
-            progress=progress,
-            output=out / "result.pvd",
-            history=out / "energies.csv",
-            history_nodes=np.unique(np.concatenate(watched)) if watched else (),
-            frame_summary=functools.partial(frame_row, case),
-        )
-    else:
-        solver = case.make_solver(progress=progress)
-    result, error, wall = solve_keeping(solver, model)
+    outputs: dict[str, Any] = {"progress": progress}
+    options: dict[str, Any] = {}
+    if kind in ("explicit", "static"):  # frames to disk as the run goes: a kill leaves them
+        outputs["output"] = out / "result.pvd"
+    if kind == "explicit":  # and the energy records: the memory of a long run stays flat
+        watched = [mesh.nodes(name) for name in case.history.get("displacements", [])]
+        outputs["history"] = out / "energies.csv"
+        outputs["history_nodes"] = np.unique(np.concatenate(watched)) if watched else ()
+        outputs["frame_summary"] = functools.partial(frame_row, case)
+        options["checkpoint_interval"] = case.solver.get("checkpoint_interval", 60.0)
+    if checkpoint is not None:
+        options["checkpoint"] = checkpoint
+    solver = case.make_solver(**outputs)
+    result, failure, wall = _solve(solver, model, **options)
+    error = "" if failure is None else str(failure)
+    status = "interrupted" if isinstance(failure, Interrupted) else "stopped" if error else "done"
     label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])
-    if not streamed:
-        result.write(out / "result.pvd")
-    rows = history_rows(case, result)
-    with open(out / "history.csv", "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
     summary = summarise(case, result, label, error, wall)
-    (out / "summary.json").write_text(strict_json(summary))
-    return Run(label, result, error, wall, summary)
+    summary["status"] = status
+    summary["checkpoint"] = str(checkpoint) if checkpoint is not None else None
+    try:
+        if kind == "relaxation":
+            result.write(out / "result.pvd")
+        rows = history_rows(case, result)
+        with open(out / "history.csv", "w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+        (out / "summary.json").write_text(strict_json(summary))
+    except OSError as failed:
+        raise OutputError.from_error(failed, kept(out, checkpoint)) from None
+    return Run(label, result, error, wall, summary, status=status,
+               signal=getattr(failure, "signal", None), checkpoint=checkpoint)  # fmt: skip
+
+
+def clean_outputs(out: Path, checkpoint: Path | None) -> None:
+    """Remove from ``out`` the files a run writes there (OUTPUT_FILES), ``checkpoint`` and
+    the default checkpoint (an earlier run of another kind may have left it)."""
+    stale = [path for pattern in OUTPUT_FILES for path in out.glob(pattern)]
+    stale.append(out / DEFAULT_CHECKPOINT)
+    for path in stale + ([checkpoint] if checkpoint is not None else []):
+        path.unlink(missing_ok=True)
+
+
+def kept(out: Path, checkpoint: Path | None) -> str:
+    """What a run's folder holds, in words: the frames of result.pvd, the other outputs and
+    the checkpoint."""
+    files = [f"{name} ({series_frames(out / name)} frames)" if name == "result.pvd" else name
+             for name in ("result.pvd", "history.csv", "energies.csv", "summary.json")
+             if (out / name).exists()]  # fmt: skip
+    if checkpoint is not None and checkpoint.exists():
+        files.append(f"the checkpoint {checkpoint.name}")
+    return f"in {str(out)!r}: {', '.join(files)}" if files else f"nothing in {str(out)!r}"
+
+
+def _solve(solver, model, **options) -> tuple[Result, SolverError | None, float]:
+    """``solver.solve(model, **options)``: the result (the last good frames of a solver that
+    stopped), the error that stopped it (None when it reached its goal), the wall time (s).
+
+    Raises
+    ------
+    SolverError
+        A solver that stopped before its first frame (nothing to keep).
+    """
+    started = time.perf_counter()
+    failure = None
+    try:
+        result = solver.solve(model, **options)
+    except SolverError as error:
+        if error.result is None:
+            raise
+        result, failure = error.result, error
+    return result, failure, time.perf_counter() - started
 
 
 def solve_keeping(solver, model) -> tuple[Result, str, float]:
@@ -114,15 +212,8 @@ def solve_keeping(solver, model) -> tuple[Result, str, float]:
     SolverError
         A solver that stopped before its first frame (nothing to keep).
     """
-    started = time.perf_counter()
-    error = ""
-    try:
-        result = solver.solve(model)
-    except SolverError as failure:
-        if failure.result is None:
-            raise
-        result, error = failure.result, str(failure)
-    return result, error, time.perf_counter() - started
+    result, failure, wall = _solve(solver, model)
+    return result, "" if failure is None else str(failure), wall
 
 
 def frame_row(case: Case, frame: Frame) -> dict[str, float]:
@@ -213,6 +304,7 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
         "file": str(case.path),
         "kinematics": kinematics,
         "solver": case.solver["kind"],
+        "status": "done" if not error else "stopped",  # run_case: or "interrupted"
         "converged": bool(result.converged),
         "stopped": error or None,
         "steps": int(result.steps),

@@ -3,6 +3,7 @@ the explicit step they are built on (for a solver loop of one's own)."""
 
 from solvers.common import ConvergenceError, DivergenceError, SolverError
 from solvers.explicit import CentralDifference
+from solvers.interrupts import Interrupted, interruptible
 from solvers.relaxation import DynamicRelaxation
 from solvers.static import Static
 from solvers.step import LumpedMasses, Step, explicit_step
@@ -12,9 +13,11 @@ __all__ = [
     "ConvergenceError",
     "DivergenceError",
     "DynamicRelaxation",
+    "Interrupted",
     "LumpedMasses",
     "SolverError",
     "Static",
     "Step",
     "explicit_step",
+    "interruptible",
 ]

@@ -35,6 +35,7 @@ from solvers.common import (
     resolve_progress,
 )
 from solvers.dynamics import EnergyAccount, FrameSchedule
+from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import (
     FrameStream,
     HistoryWriter,
@@ -181,6 +182,7 @@ class CentralDifference:
         return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
 
     # ------------------------------------------------------------------ solve
+    @keeps_writes
     def solve(
         self,
         model: Model | CompiledModel,
@@ -212,6 +214,14 @@ class CentralDifference:
         DivergenceError
             On non-finite values, an energy blow-up or a failed energy check, keeping the
             frames up to the last state that passed the checks in ``error.result``.
+        solvers.interrupts.Interrupted
+            On SIGINT or SIGTERM inside ``solvers.interruptible()``: the run stops before its
+            next step, saves its checkpoint and keeps its frames in ``error.result``; the same
+            call resumes it.
+        femcore.writable.OutputError
+            An output or checkpoint folder that cannot be written or is too full for the first
+            frames (before the run), or a write that failed during it (the message names the
+            file and what was kept).
         ValueError
             A checkpoint written by another model or other solver settings, or a negative
             ``checkpoint_interval``.
@@ -222,6 +232,7 @@ class CentralDifference:
                 f"checkpoint_interval must be a number of seconds >= 0, got {checkpoint_interval!r}"
             )
         saved_at = checkpoint_path(checkpoint)
+        check_outputs(compiled.mesh, self.output, self.history, saved_at)
         started = time.perf_counter()
         signature = self._signature(compiled)
         payload = resume(saved_at, signature)
@@ -273,6 +284,14 @@ class CentralDifference:
         masses = LumpedMasses(run.mass, run.inertia)  # rebuilt when the inertia follows h_m
         while run.state.time < duration * (1.0 - 1e-12):
             step, state = run.step, run.state
+            if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
+                save()
+                raise Interrupted(
+                    _stopped_by(STOP.signal, step, state.time, duration, saved_at),
+                    result(False),
+                    STOP.signal,
+                    saved_at,
+                )
             if step >= self.max_steps:
                 raise DivergenceError(
                     f"central difference stopped after {step} steps at t = {state.time:.6g} s of "
@@ -471,6 +490,18 @@ class CentralDifference:
         if self.frame_summary is not None:
             result.info["frame_summaries"] = [summary for _, summary in run.summaries]
         return result
+
+
+def _stopped_by(signal_name: str, step: int, time: float, duration: float, saved_at) -> str:
+    kept = (
+        f"the checkpoint {str(saved_at)!r} holds it: the same solve resumes it"
+        if saved_at is not None
+        else "no checkpoint was asked for"
+    )
+    return (
+        f"central difference interrupted by {signal_name} after step {step}, t = {time:.6g} s of "
+        f"{duration:.6g} s; {kept}"
+    )
 
 
 @dataclass

@@ -56,6 +56,7 @@ from solvers.common import (
 from solvers.convergence import Equilibrium
 from solvers.dynamics import damped_velocity
 from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
+from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.step import advance, angular_rates
 
@@ -141,6 +142,7 @@ class DynamicRelaxation:
         self.stall_iterations = check_integer(stall_iterations, "stall_iterations")
         self.progress = progress
 
+    @keeps_writes
     def solve(
         self,
         model: Model | CompiledModel,
@@ -183,10 +185,19 @@ class DynamicRelaxation:
         DivergenceError
             On non-finite values, or when doubling the fictitious masses repeatedly does not
             stop a blow-up.
+        solvers.interrupts.Interrupted
+            On SIGINT or SIGTERM inside ``solvers.interruptible()``: the iteration in progress
+            ends the run, the converged increments in ``error.result``; the checkpoint (saved
+            after each converged increment) resumes it, the interrupted increment relaxed
+            again.
+        femcore.writable.OutputError
+            A checkpoint folder that cannot be written, or a checkpoint write that failed (the
+            message names the file and what was kept).
         """
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
         saved_at = checkpoint_path(checkpoint)
+        check_outputs(compiled.mesh, None, saved_at)
         started = time.perf_counter()
         state = compiled.initial_state()
         frames = [make_frame(compiled, state)]
@@ -244,7 +255,10 @@ class DynamicRelaxation:
                     state, count, ratio, reactions, reaction_moments = self._relax(
                         compiled, state, load_factor, masses, progress, increment
                     )
-            except (ConvergenceError, DivergenceError) as error:
+            except (ConvergenceError, DivergenceError, Interrupted) as error:
+                if isinstance(error, Interrupted):
+                    error.checkpoint = saved_at if increment > 1 else None  # saved after each
+                    error.args = (_interrupted(error, increment, self.increments, saved_at),)
                 error.result = self._result(
                     compiled, frames, iterations, residuals, masses, started, False
                 )
@@ -340,6 +354,8 @@ class DynamicRelaxation:
         high_since = 1  # the first iteration of the current run of ratios above 0.5
 
         for iteration in range(1, self.max_iterations + 1):
+            if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
+                raise Interrupted(f"iteration {iteration}", None, STOP.signal)
             f_int, m_int = model.internal_force(state)
             residual = np.where(free, f_ext - f_int, 0.0)
             # (zero and unused without rotational DOFs)
@@ -506,6 +522,21 @@ _TURN_CHECK = 10
 _MAX_INFLATION = 1024.0
 #: A residual ratio above this has not fallen (the mechanism watch).
 _STALL_RATIO = 0.5
+
+
+def _interrupted(error: Interrupted, increment: int, increments: int, saved_at) -> str:
+    kept = (
+        f"the checkpoint {str(saved_at)!r} holds the converged increments: the same solve "
+        "resumes from it"
+        if error.checkpoint is not None
+        else "no increment converged yet"
+        if saved_at is not None
+        else "no checkpoint was asked for"
+    )
+    return (
+        f"dynamic relaxation interrupted by {error.signal} in increment {increment}/"
+        f"{increments} ({error.args[0]}); {kept}"
+    )
 
 
 def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:

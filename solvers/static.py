@@ -26,6 +26,7 @@ eigenvalues, and with ``seek_stable`` an unstable equilibrium is left along its 
 
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import replace
 from typing import Any
@@ -49,8 +50,10 @@ from solvers.common import (
     make_frame,
     resolve_progress,
 )
+from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.linear import Factorisation, LinearSolver
 from solvers.newton import IncrementFailed, Residual, Tangent, newton
+from solvers.output import FrameStream, output_path
 
 __all__ = ["PATHS", "Static", "StaticRun"]
 
@@ -102,6 +105,9 @@ class Static:
         finite differences of ``internal_force`` for the others; "finite_difference": coloured
         finite differences for every block.
     progress : print status lines (None: only on an interactive terminal).
+    output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
+        rewritten after each) as its increment converges, so that a killed run leaves the
+        increments it converged. All frames are also kept in memory.
 
     Prescribed displacements enter each iteration consistently: the update solves
     K_ff dq_f = r_f - K_fp dq_p for the part dq_p of the prescribed motion not yet applied, so
@@ -131,6 +137,7 @@ class Static:
         at_limit: str = "follow",
         predictor: bool = False,
         progress: bool | None = None,
+        output: str | os.PathLike[str] | None = None,
     ):
         self.increments = check_integer(increments, "increments")
         self.tol = check_tolerance(tol)
@@ -155,7 +162,9 @@ class Static:
         self.seek_stable = bool(seek_stable)
         self.step_loads_first = bool(step_loads_first)
         self.progress = progress
+        self.output = None if output is None else output_path(output, ".pvd", "output")
 
+    @keeps_writes
     def solve(self, model: Model | CompiledModel) -> Result:
         """Solve every increment.
 
@@ -178,6 +187,12 @@ class Static:
         ConvergenceError
             When an increment cannot be completed: ``error.result`` holds the converged
             frames and the last good state, ``error.load_factor`` the load factor reached.
+        solvers.interrupts.Interrupted
+            On SIGINT or SIGTERM inside ``solvers.interruptible()``: the increment in progress
+            is finished, and the converged frames are in ``error.result``.
+        femcore.writable.OutputError
+            An ``output`` folder that cannot be written or is too full for the first frames
+            (before the run), or a write that failed during it.
         """
         # Trial states of a wild update may overflow; every residual is checked for
         # finiteness and such an update is cut back, so numpy's warnings would only be noise.
@@ -187,6 +202,7 @@ class Static:
     def _solve(self, model: Model | CompiledModel) -> Result:
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
+        check_outputs(compiled.mesh, self.output)
         run = StaticRun(self, compiled)
         phases = 2 if self.step_loads_first else 1
         for phase in range(phases):
@@ -274,6 +290,10 @@ class StaticRun:
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
         self.frames = [make_frame(model, self.state)]
+        self.stream = None
+        if solver.output is not None:
+            self.stream = FrameStream(solver.output, model.mesh, model.has_rotation.copy())
+            self.stream.write(self.frames[0])
         self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
@@ -429,13 +449,27 @@ class StaticRun:
             )
         f_ext, m_ext, _ = self.solver.loads(model, self.reached)
         reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
-        self.frames.append(make_frame(model, state, reactions, reaction_moments))
-        self.strain_energies.append(model.strain_energy(state))
+        self.keep(make_frame(model, state, reactions, reaction_moments))
         self.progress(
             f"load factor {self.reached:.4g} converged in {iterations} Newton iterations",
             force=True,
             fraction=self.reached / (2.0 if self.solver.step_loads_first else 1.0),
         )
+        if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
+            raise Interrupted(
+                f"static solver interrupted by {STOP.signal} at load factor "
+                f"{self.reached:.6g}: the {len(self.frames) - 1} converged increment(s) are "
+                "kept (a static run has no checkpoint: run it again to go on)",
+                self.result(False),
+                STOP.signal,
+            )
+
+    def keep(self, frame) -> None:
+        """Keep a frame of the last converged state (and write it, with ``output``)."""
+        self.frames.append(frame)
+        self.strain_energies.append(self.model.strain_energy(self.state))
+        if self.stream is not None:
+            self.stream.write(frame)
 
     def cut(self, cuts: int, what: str, failure: Exception) -> int:
         """Count one more cut of an increment (``cuts`` so far), or raise the ConvergenceError
@@ -457,8 +491,7 @@ class StaticRun:
             None,
         )
         if self.reached > self.frames[-1].load_factor:  # keep the last good state
-            self.frames.append(make_frame(self.model, self.state))
-            self.strain_energies.append(self.model.strain_energy(self.state))
+            self.keep(make_frame(self.model, self.state))
         error.result = self.result(False)
         error.load_factor = self.reached
         return error

@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from femcore.writable import check_folder
 from validation.cases import CASES, RESOLUTIONS
 from validation.report import run_cases
 
@@ -33,8 +34,11 @@ def parse(argv: list[str]) -> argparse.Namespace:
     args = parser.parse_args(argv)
     if args.jobs < 1:
         parser.error(f"--jobs must be a whole number >= 1, got {args.jobs}")
-    if Path(args.out).exists() and not Path(args.out).is_dir():
-        parser.error(f"--out {args.out!r} is a file: give a folder for the report")
+    try:  # a folder, writable, before any case runs
+        if not args.list:
+            check_folder(Path(args.out), "--out")
+    except (ValueError, OSError) as error:
+        parser.error(str(error))
     if args.resolution not in RESOLUTIONS:
         parser.error(
             f"unknown resolution {args.resolution!r}: expected one of {', '.join(RESOLUTIONS)}"
@@ -54,7 +58,8 @@ def parse(argv: list[str]) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; 0 when every check passed and no case raised, else 1."""
+    """Run the command line; 0 when every check passed and no case raised, 1 when not, 3 when
+    the report could not be written (one line on stderr names the file and what was kept)."""
     args = parse(sys.argv[1:] if argv is None else argv)
     if args.list:
         for name, case in CASES.items():
@@ -62,7 +67,14 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     started = time.perf_counter()
     out = Path(args.out)
-    report = run_cases(args.cases, args.resolution, out, jobs=args.jobs)
+    try:
+        report = run_cases(args.cases, args.resolution, out, jobs=args.jobs)
+    except OSError as error:  # a full or read-only disk under the report
+        written = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
+        kept = f"{len(written)} file(s) in {str(out)!r}" if written else "nothing"
+        print(f"python -m validation: error: {_describe(error)}; stopped, kept: {kept}",
+              file=sys.stderr)  # fmt: skip
+        return 3
     results = report.cases.values()
     failed = sum(not c.passed for r in results for c in r.outcome.checks)
     errors = sum(r.outcome.error is not None for r in results)
@@ -71,6 +83,13 @@ def main(argv: list[str] | None = None) -> int:
         f"{failed} failed check(s), {errors} case error(s)"
     )
     return 1 if failed or errors else 0
+
+
+def _describe(error: OSError) -> str:
+    """One line for a failed write: the file and the reason."""
+    if error.filename is None:
+        return str(error)
+    return f"cannot write {str(error.filename)!r}: {error.strerror or error}"
 
 
 if __name__ == "__main__":
