@@ -10,6 +10,7 @@ to ``parts[i]``.
 from __future__ import annotations
 
 import inspect
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
@@ -604,5 +605,20 @@ def _median_edge(mesh: Mesh, entries, cells_of) -> float:
 
 
 def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:
+    """a(tau), or ValueError naming the amplitude and where it failed: a user amplitude that
+    returns NaN or raises would otherwise surface as a diverged step, far from its cause."""
     function: Callable = amplitude.quasi_static if quasi_static else amplitude.dynamic
-    return float(function(tau))
+    where = f"load factor {tau:.6g}" if quasi_static else f"tau = t / duration = {tau:.6g}"
+    what = f"amplitude {amplitude.name!r}"
+    if amplitude.name == "user":
+        what += f" ({getattr(function, '__name__', repr(function))})"
+    try:
+        value = float(function(tau))
+    except Exception as exc:  # the user's function: report what it did and where
+        raise ValueError(f"the {what} failed at {where}: {exc}") from exc
+    if not math.isfinite(value):
+        raise ValueError(
+            f"the {what} returned {value!r} at {where}: an amplitude must return a finite "
+            "number at every time and load factor"
+        )
+    return value

@@ -27,7 +27,11 @@ from femcore.state import State
 from solvers.common import (
     DivergenceError,
     ProgressLine,
+    check_fraction,
+    check_integer,
+    check_non_negative,
     check_positive_or_none,
+    compiled_model,
     empty_result,
     make_frame,
     resolve_progress,
@@ -63,6 +67,9 @@ BALANCE_EVERY = 10
 # last good one (2: omega dt = 1.4 may reach it with all the energy in the highest mode); the
 # largest motion of a node in one step, in median element edges.
 BALANCE_TOLERANCE = 0.05
+# The most mass that mass scaling may add, in times the model's own mass (the option
+# max_added_mass): beyond it the inertia, not the model, decides the answer.
+MAX_ADDED_MASS = 10.0
 GROWTH_LIMIT = 10.0
 GOOD_GROWTH = 2.0
 MAX_STEP_MOTION = 0.5
@@ -79,6 +86,10 @@ class CentralDifference:
     mass_scaling_dt : s, a target step: cells whose stable step is smaller get their density
         scaled by (target / dt_cell)^2 so that the step is the target; the added mass is
         reported in ``result.info``.
+    max_added_mass : the most mass scaling may add, in times the model's mass (default
+        MAX_ADDED_MASS = 10); more is refused before the run starts (ValueError naming it).
+    max_steps : the most steps of the run; a duration / dt above it at the first step is
+        refused before the run starts, and a run whose step shrinks past it stops there.
     output_interval : s between frames (default duration / 20).
     output : a ``.pvd`` path: the frames are written there as the run goes (a VTU file each,
         the ParaView index rewritten after each), and only the first and the last are kept in
@@ -103,22 +114,20 @@ class CentralDifference:
         output: str | os.PathLike[str] | None = None,
         history: str | os.PathLike[str] | None = None,
         history_nodes=(),
+        max_added_mass: float = MAX_ADDED_MASS,
     ):
         checked = check_positive_or_none(duration, "duration")
         if checked is None:
             raise ValueError("duration must be a positive number of seconds")
         self.duration: float = checked
         self.dt = check_positive_or_none(dt, "dt")
-        if not (0.0 < float(safety) <= 1.0):
-            raise ValueError(f"safety must be in (0, 1], got {safety!r}")
-        self.safety = float(safety)
-        if not np.isfinite(damping) or damping < 0:
-            raise ValueError(f"damping must be a non-negative number (1/s), got {damping!r}")
-        self.damping = float(damping)
+        self.safety = check_fraction(safety, "safety")
+        self.damping = check_non_negative(damping, "damping", "1/s, of C = c M")
         self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt")
+        self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
         self.output_interval = check_positive_or_none(output_interval, "output_interval")
         self.progress = progress
-        self.max_steps = int(max_steps)
+        self.max_steps = check_integer(max_steps, "max_steps")
         self.output = None if output is None else output_path(output, ".pvd", "output")
         self.history = None if history is None else output_path(history, ".csv", "history")
         nodes = np.asarray(history_nodes)
@@ -200,7 +209,7 @@ class CentralDifference:
             A checkpoint written by another model or other solver settings, or a negative
             ``checkpoint_interval``.
         """
-        compiled = model.compile() if isinstance(model, Model) else model
+        compiled = compiled_model(model, "CentralDifference")
         if not np.isfinite(checkpoint_interval) or checkpoint_interval < 0:
             raise ValueError(
                 f"checkpoint_interval must be a number of seconds >= 0, got {checkpoint_interval!r}"
@@ -225,6 +234,12 @@ class CentralDifference:
         def diverged(message: str, dt: float):
             """The run stops: the frames end with the last state that passed the checks."""
             good_time = run.good[0].time
+            scaled = (
+                f" Mass scaling added {run.added_mass / float(compiled.mass0.sum()):.3g} times "
+                "the model's mass."
+                if run.added_mass > 0.0
+                else ""
+            )
             kept = [f for f in run.frames if f.time <= good_time * (1.0 + 1e-12)]
             if kept[-1].time < good_time:
                 kept.append(make_frame(compiled, *run.good))
@@ -238,7 +253,7 @@ class CentralDifference:
                 f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
                 f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
                 f"the checks (t = {good_time:.6g} s). Reduce dt or safety, or check the loads "
-                "and material laws.",
+                f"and material laws.{scaled}",
                 result(False),
             )
 
@@ -355,6 +370,7 @@ class CentralDifference:
                 empty_result(compiled, []),
             )
         duration = self.duration
+        self._check_up_front(compiled, float(mass.sum() - compiled.mass0.sum()), dt_nominal)
         return _Run(
             state=state,
             scale=scale,
@@ -368,6 +384,27 @@ class CentralDifference:
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
         )
+
+    def _check_up_front(self, compiled: CompiledModel, added_mass: float, dt: float) -> None:
+        """Refuse, before the first step, a run that mass scaling would turn into another
+        model (more than ``max_added_mass`` times its mass added) or whose steps would exceed
+        ``max_steps`` at the starting step (a step far too small would otherwise hang)."""
+        total = float(compiled.mass0.sum())
+        if total > 0.0 and added_mass > self.max_added_mass * total:
+            raise ValueError(
+                f"mass_scaling_dt = {self.mass_scaling_dt:g} s would add {added_mass / total:.3g} "
+                f"times the model's mass ({added_mass:.3g} on {total:.3g}), more than "
+                f"max_added_mass = {self.max_added_mass:g}: the run would describe a much "
+                "heavier body. Choose a target step nearer the stable step, or raise "
+                "max_added_mass"
+            )
+        steps = self.duration / dt
+        if steps > self.max_steps:
+            raise ValueError(
+                f"duration / dt = {self.duration:g} s / {dt:.3g} s = {steps:.4g} steps, more "
+                f"than max_steps = {self.max_steps}: raise dt (or mass_scaling_dt), shorten "
+                "the duration, or raise max_steps"
+            )
 
     def _outputs(self, compiled: CompiledModel, run: _Run):
         """The frame stream and the history writer of this run (None when not asked for),

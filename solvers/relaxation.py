@@ -44,9 +44,11 @@ from solvers.common import (
     ConvergenceError,
     DivergenceError,
     ProgressLine,
+    check_fraction,
     check_held,
     check_integer,
     check_tolerance,
+    compiled_model,
     empty_result,
     inverse_diagonal,
     make_frame,
@@ -127,13 +129,7 @@ class DynamicRelaxation:
         if masses not in MASS_KINDS:
             raise ValueError(f"unknown masses {masses!r}: expected one of {MASS_KINDS}")
         self.masses = masses
-        try:
-            safety = float(safety)
-        except (TypeError, ValueError):
-            raise ValueError(f"safety must be in (0, 1], got {safety!r}") from None
-        if not (0.0 < safety <= 1.0):
-            raise ValueError(f"safety must be in (0, 1], got {safety!r}")
-        self.safety = safety
+        self.safety = check_fraction(safety, "safety")
         self.refresh = check_integer(refresh, "refresh")
         if stall_iterations is None:
             stall_iterations = max(10_000, self.max_iterations // 10)
@@ -183,7 +179,7 @@ class DynamicRelaxation:
             On non-finite values, or when doubling the fictitious masses repeatedly does not
             stop a blow-up.
         """
-        compiled = model.compile() if isinstance(model, Model) else model
+        compiled = compiled_model(model, "DynamicRelaxation")
         check_held(compiled)
         saved_at = checkpoint_path(checkpoint)
         started = time.perf_counter()
