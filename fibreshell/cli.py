@@ -82,6 +82,9 @@ def _parser() -> argparse.ArgumentParser:
                          "n)); several --vary make the full product")  # fmt: skip
     command.add_argument("--zip", action="store_true",
                          help="pair the i-th values of every --vary instead")  # fmt: skip
+    command.add_argument("--max-variants", type=int, default=None, metavar="N",
+                         help="the most variants the sweep may have (default 10000): more "
+                         "is refused before anything runs")  # fmt: skip
     _cluster_options(command)
     text = "fit values of a case's keys to measured data (least squares on Dask)"
     command = commands.add_parser("identify", help=text, description=text)
@@ -135,14 +138,15 @@ def _key_numbers(text: str, option: str) -> dict[str, float | None]:
 
 
 def _sweep(args: argparse.Namespace, progress: bool) -> int:
-    from fibreshell.sweep import parse_vary, sweep
+    from fibreshell.sweep import MAX_VARIANTS, parse_vary, sweep
 
-    vary = dict(parse_vary(item) for item in args.vary)
+    cap = MAX_VARIANTS if args.max_variants is None else args.max_variants
+    vary = dict(parse_vary(item, cap) for item in args.vary)
     if len(vary) != len(args.vary):
         raise ValueError("a key is given to --vary twice: give all its values in one --vary")
     out = _out_folder(args.out, args.case, "-sweep")
     table = sweep(args.case, vary, paired=args.zip, out=out, scheduler=args.scheduler,
-                  workers=args.workers, progress=progress)  # fmt: skip
+                  workers=args.workers, progress=progress, max_variants=cap)  # fmt: skip
     failed = table.failed
     print(table.text())
     which = f" (variants {', '.join(map(str, failed))}: see the error column)" if failed else ""
