@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from femcore.assembly import NodeGraph, TangentPart, finite_difference_tangent, tangent_matrix
-from femcore.diagnostics import unheld_rigid_motions
+from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
@@ -123,9 +123,10 @@ class CompiledModel:
             self.reference_directors,
             active,
         )
-        self.interactions: list[InteractionBlock] = [
-            _bound_interaction(interaction, body) for interaction in model.interactions
-        ]
+        self.interactions: list[InteractionBlock] = []
+        for index, interaction in enumerate(model.interactions):
+            tool = sum(int(i.n_tools) for i in self.interactions) + 1
+            self.interactions.append(_bound_interaction(interaction, body, index, tool))
         self.parts: list[Part] = [*self.blocks, *self.interactions]
         self.n_tools = sum(int(i.n_tools) for i in self.interactions)
 
@@ -434,6 +435,11 @@ class CompiledModel:
         """The rigid motions no support holds (femcore.diagnostics.unheld_rigid_motions)."""
         return unheld_rigid_motions(self, loaded_only)
 
+    def interaction_notes(self) -> list[str]:
+        """The interactions that hold their nodes along some directions only (frictionless
+        contact), as phrases (femcore.diagnostics.interaction_notes)."""
+        return interaction_notes(self)
+
     def external_load(self, tau: float, quasi_static: bool = False):
         """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""
         force = np.zeros((self.n_nodes, 3))
@@ -503,9 +509,19 @@ class CompiledModel:
         return out
 
 
-def _bound_interaction(interaction: Interaction, body: Body) -> InteractionBlock:
-    """``interaction.bind(body)``, checked as ``_check_block`` checks an element block."""
-    block = interaction.bind(body)
+def _bound_interaction(
+    interaction: Interaction, body: Body, index: int, tool: int
+) -> InteractionBlock:
+    """``interaction.bind(body)``, checked as ``_check_block`` checks an element block, and
+    its ``check_start``; their ValueErrors (a body that starts inside a tool) name the
+    interaction (``model.interactions[index]``) and the tool number ``tool`` it has (the
+    ``tool1`` ... of the histories) when it acts against a tool."""
+    against = f", tool {tool}" if getattr(interaction, "tool", None) is not None else ""
+    where = f"interaction {index} ({type(interaction).__name__}{against})"
+    try:
+        block = interaction.bind(body)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
     _check_bound(
         type(interaction).__name__,
         block,
@@ -517,6 +533,10 @@ def _bound_interaction(interaction: Interaction, body: Body) -> InteractionBlock
     n_tools = getattr(block, "n_tools", None)
     if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
         raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
+    try:
+        block.check_start()
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
     return block
 
 

@@ -58,7 +58,10 @@ class ConvergenceError(SolverError):
 def check_held(model: CompiledModel) -> None:
     """Raise ValueError when the loads push the model along a rigid motion that no support
     holds: no equilibrium exists, and a quasi-static solver would only report a residual that
-    never falls (CompiledModel.unheld_rigid_motions)."""
+    never falls (CompiledModel.unheld_rigid_motions). A model held by contact is refused for
+    any rigid motion left free, loaded or not: a body on a frictionless tool slides along it
+    at the first sideways force (the tools' curvature, the round-off of the contact forces),
+    and its tangent is singular along the slide."""
     motions = model.unheld_rigid_motions()
     if motions:
         raise ValueError(
@@ -66,6 +69,20 @@ def check_held(model: CompiledModel) -> None:
             f"({'; '.join(motions)}): no equilibrium exists. Fix or prescribe DOFs that hold "
             "them (model.fix, model.displace), or balance the loads"
         )
+    notes = model.interaction_notes()
+    if notes:
+        motions = model.unheld_rigid_motions(loaded_only=False)
+        if motions:
+            raise ValueError(
+                f"nothing holds the model against {_listed(motions)}: {'; '.join(notes)}. "
+                "Fix or prescribe a node's DOFs along them (model.fix, model.displace), or "
+                "add friction to the contact"
+            )
+
+
+def _listed(names: list[str]) -> str:
+    """ "a", "a and b", "a, b and c"."""
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def make_frame(
