@@ -60,7 +60,7 @@ from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, Re
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.step import advance, angular_rates
 
-__all__ = ["DAMPING_KINDS", "MASS_KINDS", "DynamicRelaxation"]
+__all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
 
 DAMPING_KINDS = ("kinetic", "viscous")
 MASS_KINDS = ("gershgorin", "lumped")
@@ -104,6 +104,12 @@ class DynamicRelaxation:
         moves farther than its own size, before the run stops as a mechanism (ConvergenceError
         naming the rigid motions the supports do not hold); None: max(10 000,
         max_iterations // 10).
+    plateau_iterations : int or None
+        Iterations in which the smallest residual ratio of an increment must fall by
+        PLATEAU_FACTOR (to 0.9 of what it was) before the run stops as stalled
+        (ConvergenceError: the iterations make no progress; the converged increments kept);
+        None: no such watch. Default 5000; kinetic damping gains far more than that on a
+        converging relaxation (a ratio of 1e-4 in 100 000 iterations is a factor 1.6 per 5000).
     progress : bool or None
         Print status lines (None: only on an interactive terminal).
     """
@@ -119,6 +125,7 @@ class DynamicRelaxation:
         refresh: int = 100,
         stall_iterations: int | None = None,
         progress: bool | None = None,
+        plateau_iterations: int | None = 5000,
     ):
         self.increments = check_integer(increments, "increments")
         self.tol = check_tolerance(tol)
@@ -134,6 +141,11 @@ class DynamicRelaxation:
         if stall_iterations is None:
             stall_iterations = max(10_000, self.max_iterations // 10)
         self.stall_iterations = check_integer(stall_iterations, "stall_iterations")
+        self.plateau_iterations = (
+            None
+            if plateau_iterations is None
+            else check_integer(plateau_iterations, "plateau_iterations")
+        )
         self.progress = progress
 
     def solve(
@@ -170,7 +182,9 @@ class DynamicRelaxation:
             When the loads push the model along a rigid motion that no support holds (no
             equilibrium exists; the message names the motion).
         ConvergenceError
-            When an increment does not converge in ``max_iterations``, or its residual ratio
+            When an increment does not converge in ``max_iterations``, stalls (its smallest
+            residual ratio not falling by PLATEAU_FACTOR in ``plateau_iterations``), or its
+            residual ratio
             stays above 0.5 for ``stall_iterations`` while the model travels farther than its
             size (a mechanism: the message names the rigid
             motions the supports leave free, if any); the converged increments in
@@ -332,6 +346,7 @@ class DynamicRelaxation:
         size_of_model = float(np.ptp(model.reference_positions, axis=0).max())
         first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
         high_since = 1  # the first iteration of the current run of ratios above 0.5
+        plateau = _Plateau(self.plateau_iterations)
 
         for iteration in range(1, self.max_iterations + 1):
             f_int, m_int = model.internal_force(state)
@@ -391,6 +406,8 @@ class DynamicRelaxation:
                 kinetic_old, restart, previous, c = 0.0, True, None, 0.0
                 continue
 
+            if plateau.stalled(iteration, ratio):
+                raise ConvergenceError(plateau.message(self, increment, load_factor, ratio), None)
             if ratio <= _STALL_RATIO:
                 high_since = iteration + 1
             elif iteration - high_since >= self.stall_iterations and (
@@ -500,6 +517,39 @@ _TURN_CHECK = 10
 _MAX_INFLATION = 1024.0
 #: A residual ratio above this has not fallen (the mechanism watch).
 _STALL_RATIO = 0.5
+
+
+#: The factor by which the smallest residual ratio must fall in plateau_iterations.
+PLATEAU_FACTOR = 0.9
+
+
+class _Plateau:
+    """The progress watch of one increment: stalled when the smallest residual ratio met has
+    not fallen to PLATEAU_FACTOR of what it was ``window`` iterations before (None: never)."""
+
+    def __init__(self, window: int | None):
+        self.window = window
+        self.best = math.inf  # the smallest ratio met
+        self.then = math.inf  # the smallest ratio met at the last check
+
+    def stalled(self, iteration: int, ratio: float) -> bool:
+        if ratio < self.best:
+            self.best = ratio
+        if self.window is None or iteration % self.window:
+            return False
+        stalled = iteration > self.window and not self.best <= PLATEAU_FACTOR * self.then
+        self.then = self.best
+        return stalled
+
+    def message(self, solver, increment: int, load_factor: float, ratio: float) -> str:
+        return (
+            f"dynamic relaxation stalled in increment {increment}/{solver.increments} (load "
+            f"factor {load_factor:.4g}): the smallest residual ratio ({self.best:.3g}, now "
+            f"{ratio:.3g}, tolerance {solver.tol:g}) did not fall below {PLATEAU_FACTOR:g} of "
+            f"what it was in the last {self.window} iterations (plateau_iterations). Check "
+            "what holds the model (supports, contact), use more increments, a looser tol, or "
+            f"the other damping ({'kinetic' if solver.damping == 'viscous' else 'viscous'})"
+        )
 
 
 def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:
