@@ -124,9 +124,9 @@ class CompiledModel:
             active,
         )
         self.interactions: list[InteractionBlock] = []
-        for index, interaction in enumerate(model.interactions):
+        for index, description in enumerate(model.interactions):
             tool = sum(int(i.n_tools) for i in self.interactions) + 1
-            self.interactions.append(_bound_interaction(interaction, body, index, tool))
+            self.interactions.append(_bound_interaction(description, body, index, tool))
         self.parts: list[Part] = [*self.blocks, *self.interactions]
         self.n_tools = sum(int(i.n_tools) for i in self.interactions)
 

@@ -91,8 +91,8 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         # does not pass through the centroid): the free space less the elementary axes.
         scaled = free_motions * scale
         scaled = scaled - scaled[:, column_free] @ np.eye(6)[column_free]
-        rest, size, _ = np.linalg.svd(scaled.T, full_matrices=False)
-        others = rest[:, size > 1e-6].T / scale  # (the rows of free_motions are unit)
+        rest, weights, _ = np.linalg.svd(scaled.T, full_matrices=False)
+        others = rest[:, weights > 1e-6].T / scale  # (the rows of free_motions are unit)
         return named + [_described(q, centre) for q in others]
     force, moment = model.external_load(1.0, quasi_static=True)
     load = np.concatenate([force, moment], axis=1)

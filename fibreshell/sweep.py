@@ -142,10 +142,10 @@ def variants(
         if not isinstance(values, list | tuple) or len(values) == 0:
             raise ValueError(f"{key}: expected a list of values, got {values!r}")
     keys = list(vary)
-    lengths = [len(values) for values in vary.values()]
-    count = lengths[0] if paired else math.prod(lengths)
+    counts = [len(values) for values in vary.values()]
+    count = counts[0] if paired else math.prod(counts)
     if count > max_variants:
-        sizes = " x ".join(map(str, lengths))
+        sizes = " x ".join(map(str, counts))
         raise ValueError(
             f"the sweep has {count} variants ({sizes} values), more than max_variants = "
             f"{max_variants} (--max-variants): vary fewer values, or raise the cap"
