@@ -206,14 +206,13 @@ class CentralDifference:
             On non-finite values, an energy blow-up or a failed energy check, keeping the
             frames up to the last state that passed the checks in ``error.result``.
         ValueError
-            A checkpoint written by another model or other solver settings, or a negative
-            ``checkpoint_interval``.
+            ``model`` not a Model; a checkpoint written by another model or other solver
+            settings; a ``checkpoint_interval`` that is not a number >= 0; a run that would
+            take more than ``max_steps`` steps or add more than ``max_added_mass`` times the
+            model's mass (both before the first step).
         """
         compiled = compiled_model(model, "CentralDifference")
-        if not np.isfinite(checkpoint_interval) or checkpoint_interval < 0:
-            raise ValueError(
-                f"checkpoint_interval must be a number of seconds >= 0, got {checkpoint_interval!r}"
-            )
+        checkpoint_interval = check_non_negative(checkpoint_interval, "checkpoint_interval", "s")
         saved_at = checkpoint_path(checkpoint)
         started = time.perf_counter()
         signature = self._signature(compiled)

@@ -179,8 +179,10 @@ class DynamicRelaxation:
         Raises
         ------
         ValueError
-            When the loads push the model along a rigid motion that no support holds (no
-            equilibrium exists; the message names the motion).
+            When ``model`` is not a Model, or the loads push the model along a rigid motion
+            that no support holds (no equilibrium exists; the message names the motion), or
+            a model held by frictionless contact leaves a rigid motion free (a slide along
+            the tool; the message names it).
         ConvergenceError
             When an increment does not converge in ``max_iterations``, stalls (its smallest
             residual ratio not falling by PLATEAU_FACTOR in ``plateau_iterations``), or its

@@ -175,8 +175,10 @@ class Static:
         Raises
         ------
         ValueError
-            When the loads push the model along a rigid motion that no support holds (no
-            equilibrium exists; the message names the motion).
+            When ``model`` is not a Model, or the loads push the model along a rigid motion
+            that no support holds (no equilibrium exists; the message names the motion), or
+            a model held by frictionless contact leaves a rigid motion free (a slide along
+            the tool; the message names it).
         ConvergenceError
             When an increment cannot be completed: ``error.result`` holds the converged
             frames and the last good state, ``error.load_factor`` the load factor reached.
