@@ -253,3 +253,25 @@ def test_a_binary_data_file_is_a_value_error_naming_it(tmp_path):
     path.write_bytes(bytes(range(256)) * 4)
     with pytest.raises(ValueError, match=r"measured\.csv: not a text CSV file"):
         read_measurements(path)
+
+
+def test_the_command_line_refuses_these_before_anything_runs(tmp_path, capsys):
+    from fibreshell.cli import main
+
+    case = str(CASES / "g1151_strip.toml")
+    out = tmp_path / "out"
+    vary = ["--vary", "mesh.rectangle.nx=1,2,3", "--vary", "mesh.rectangle.ny=1,2"]
+    assert main(["sweep", case, *vary, "--max-variants", "5", "--out", str(out)]) == 2
+    assert "the sweep has 6 variants (3 x 2 values), more than" in capsys.readouterr().err
+    huge = ["--vary", "mesh.rectangle.lx=linspace(100, 200, 20000)"]
+    assert main(["sweep", case, *huge, "--out", str(out)]) == 2
+    assert "20000 values, more than the 10000 variants" in capsys.readouterr().err
+    compare = ["compare", case, "--calibration", "initial-slope", "--shear-ratio", "-1"]
+    assert main([*compare, "--out", str(out), "--quiet"]) == 2
+    assert "shear_ratio must be a positive" in capsys.readouterr().err
+    assert not out.exists()
+    data = tmp_path / "measured.csv"
+    data.write_bytes(bytes(range(256)) * 4)
+    fit = ["--fit", "part.0.material.areal_density", "--out", str(out), "--quiet"]
+    assert main(["identify", case, "--data", str(data), *fit]) == 2
+    assert "measured.csv: not a text CSV file" in capsys.readouterr().err
