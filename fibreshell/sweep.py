@@ -89,7 +89,13 @@ def parse_vary(text: str, max_variants: int = MAX_VARIANTS) -> tuple[str, list]:
         if spaced.group(1) == "geomspace" and numbers[0] * numbers[1] <= 0:
             raise ValueError(f"--vary {text!r}: geomspace needs start and stop of one sign")
         return key, [float(v) for v in _SPACES[spaced.group(1)](*numbers)]
-    values = [read_value(v) for v in split_values(rest)]
+    texts = split_values(rest)
+    if len(texts) > max_variants:
+        raise ValueError(
+            f"--vary {key}=...: {len(texts)} values, more than the {max_variants} variants a "
+            "sweep may run (--max-variants)"
+        )
+    values = [read_value(v) for v in texts]
     if any(v == "" for v in values):
         raise ValueError(f"--vary {text!r}: an empty value (two commas in a row?)")
     return key, values

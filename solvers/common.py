@@ -63,13 +63,14 @@ def check_held(model: CompiledModel) -> None:
     at the first sideways force (the tools' curvature, the round-off of the contact forces),
     and its tangent is singular along the slide."""
     motions = model.unheld_rigid_motions()
+    notes = model.interaction_notes()
     if motions:
         raise ValueError(
             f"the loads push the model along rigid motions that nothing holds "
-            f"({'; '.join(motions)}): no equilibrium exists. Fix or prescribe DOFs that hold "
-            "them (model.fix, model.displace), or balance the loads"
+            f"({'; '.join(motions)}){''.join(f'; {note}' for note in notes)}: no equilibrium "
+            "exists. Fix or prescribe DOFs that hold them (model.fix, model.displace), or "
+            "balance the loads"
         )
-    notes = model.interaction_notes()
     if notes:
         motions = model.unheld_rigid_motions(loaded_only=False)
         if motions:

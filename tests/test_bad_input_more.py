@@ -192,6 +192,13 @@ def test_a_strip_on_a_frictionless_plane_is_refused_naming_its_free_motions(solv
         solver.solve(model)
 
 
+def test_a_sideways_load_on_a_body_on_a_frictionless_plane_names_the_contact_too():
+    model = strip(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), lift=3.0)
+    model.force("right", (1.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match=r"push .*\(translation along x\); interaction 0"):
+        check_held(model.compile())
+
+
 def test_friction_or_a_support_holds_what_a_frictionless_contact_leaves_free():
     plane = RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
     check_held(strip(plane, lift=3.0, friction=0.3).compile())
@@ -229,6 +236,9 @@ def test_a_sweep_of_too_many_variants_is_refused_with_its_count(tmp_path):
         parse_vary("mesh.rectangle.lx=linspace(100, 200, 1e9)")
     with pytest.raises(ValueError, match=f"1000000000 values, more than the {MAX_VARIANTS}"):
         parse_vary("mesh.rectangle.lx=linspace(100, 200, 1000000000)")
+    listed = "solver.increments=" + ",".join(map(str, range(1, 10_002)))
+    with pytest.raises(ValueError, match=f"10001 values, more than the {MAX_VARIANTS}"):
+        parse_vary(listed)
     many = {"a": list(range(200)), "b": list(range(200))}
     with pytest.raises(ValueError, match=r"40000 variants \(200 x 200 values\), more than"):
         variants(many)
