@@ -167,6 +167,36 @@ class ContactBlock(InteractionBlock):
         given = contact.penalty
         self.stiffness = np.full(len(nodes), np.nan if given is None else given)
 
+    def check_start(self) -> None:
+        """ValueError when nodes start past the tool's surface (their mid-surface beyond it,
+        deeper than the contact offset): the penalty would fling them out, or hold them on
+        the wrong side, and the failure would surface far from its cause (a diverged step, a
+        limit point, a run that converges through the tool)."""
+        d, _ = self.tool.distance(self._reference, 0.0)
+        inside = np.flatnonzero(d < -self.tolerance)
+        if inside.size == 0:
+            return
+        nodes = self.connectivity[inside, 0]
+        first = ", ".join(str(int(n)) for n in nodes[:5]) + (", ..." if nodes.size > 5 else "")
+        raise ValueError(
+            f"the body starts inside the {type(self.tool).__name__}: {nodes.size} of "
+            f"{len(d)} contact nodes (nodes {first}) have their mid-surface up to "
+            f"{float(-d[inside].min()):.3g} mm past its surface, a penetration deeper than "
+            f"the contact offset ({float(self.offset[inside].max()):.3g} mm); "
+            f"{self.tool.side_hint()}"
+        )
+
+    def held_directions(self) -> tuple[np.ndarray, np.ndarray]:
+        """Frictionless: each contact node held along the tool's normal where it starts (a
+        plane leaves the translations in it and the turn about its normal free, a cylinder
+        the slide along and the turn about its axis, a sphere the turns about its centre).
+        With friction: each contact node held along x, y and z."""
+        nodes = self.connectivity[:, 0]
+        if self.friction > 0.0:
+            return np.repeat(nodes, 3), np.tile(np.eye(3), (len(nodes), 1))
+        _, normal = self.tool.distance(self._reference, 0.0)
+        return nodes, np.array(normal, dtype=float)
+
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
         if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
             self.stiffness = PENALTY_SHARE * mass[self.connectivity[:, 0]] * (2.0 / stable_dt) ** 2

@@ -75,6 +75,11 @@ class RigidTool:
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError
 
+    def side_hint(self) -> str:
+        """What sets the side the body stays on, for a message about a body on the wrong
+        side."""
+        return f"side = {'outside' if self.sign > 0 else 'inside'}: is that the body's side?"
+
     def exact_within(self, distance: float) -> None:
         """A contact asks for exact distances up to ``distance`` (mm, twice its largest offset
         h / 2); analytic tools always give them."""
@@ -110,6 +115,9 @@ class RigidPlane(RigidTool):
 
     def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
         return np.zeros(len(x))
+
+    def side_hint(self) -> str:
+        return f"normal = {tuple(float(v) for v in self.normal)} must point towards the body"
 
 
 class _RoundTool(RigidTool):
@@ -292,6 +300,7 @@ class RigidSurface(RigidTool):
             raise ValueError(
                 f"RigidSurface: facet {int(np.argmin(length))} has no area (collinear nodes)"
             )
+        self.flipped = bool(flip)
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())
@@ -404,3 +413,7 @@ class RigidSurface(RigidTool):
 
     def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
         return np.zeros(len(x))
+
+    def side_hint(self) -> str:
+        flipped = "flip = true" if self.flipped else "flip = false"
+        return f"the facets' normals (with {flipped}) must point towards the body"

@@ -10,6 +10,7 @@ to ``parts[i]``.
 from __future__ import annotations
 
 import inspect
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
@@ -18,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from femcore.assembly import NodeGraph, TangentPart, finite_difference_tangent, tangent_matrix
-from femcore.diagnostics import unheld_rigid_motions
+from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
@@ -124,9 +125,10 @@ class CompiledModel:
             self.reference_directors,
             active,
         )
-        self.interactions: list[InteractionBlock] = [
-            _bound_interaction(interaction, body) for interaction in model.interactions
-        ]
+        self.interactions: list[InteractionBlock] = []
+        for index, description in enumerate(model.interactions):
+            tool = sum(int(i.n_tools) for i in self.interactions) + 1
+            self.interactions.append(_bound_interaction(description, body, index, tool))
         self.parts: list[Part] = [*self.blocks, *self.interactions]
         # What the model was compiled from, as given: its fingerprint reads them
         # (femcore.fingerprint).
@@ -439,6 +441,11 @@ class CompiledModel:
         """The rigid motions no support holds (femcore.diagnostics.unheld_rigid_motions)."""
         return unheld_rigid_motions(self, loaded_only)
 
+    def interaction_notes(self) -> list[str]:
+        """The interactions that hold their nodes along some directions only (frictionless
+        contact), as phrases (femcore.diagnostics.interaction_notes)."""
+        return interaction_notes(self)
+
     def external_load(self, tau: float, quasi_static: bool = False):
         """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""
         force = np.zeros((self.n_nodes, 3))
@@ -508,9 +515,19 @@ class CompiledModel:
         return out
 
 
-def _bound_interaction(interaction: Interaction, body: Body) -> InteractionBlock:
-    """``interaction.bind(body)``, checked as ``_check_block`` checks an element block."""
-    block = interaction.bind(body)
+def _bound_interaction(
+    interaction: Interaction, body: Body, index: int, tool: int
+) -> InteractionBlock:
+    """``interaction.bind(body)``, checked as ``_check_block`` checks an element block, and
+    its ``check_start``; their ValueErrors (a body that starts inside a tool) name the
+    interaction (``model.interactions[index]``) and the tool number ``tool`` it has (the
+    ``tool1`` ... of the histories) when it acts against a tool."""
+    against = f", tool {tool}" if getattr(interaction, "tool", None) is not None else ""
+    where = f"interaction {index} ({type(interaction).__name__}{against})"
+    try:
+        block = interaction.bind(body)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
     _check_bound(
         type(interaction).__name__,
         block,
@@ -522,6 +539,10 @@ def _bound_interaction(interaction: Interaction, body: Body) -> InteractionBlock
     n_tools = getattr(block, "n_tools", None)
     if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
         raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
+    try:
+        block.check_start()
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
     return block
 
 
@@ -610,5 +631,20 @@ def _median_edge(mesh: Mesh, entries, cells_of) -> float:
 
 
 def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:
+    """a(tau), or ValueError naming the amplitude and where it failed: a user amplitude that
+    returns NaN or raises would otherwise surface as a diverged step, far from its cause."""
     function: Callable = amplitude.quasi_static if quasi_static else amplitude.dynamic
-    return float(function(tau))
+    where = f"load factor {tau:.6g}" if quasi_static else f"tau = t / duration = {tau:.6g}"
+    what = f"amplitude {amplitude.name!r}"
+    if amplitude.name == "user":
+        what += f" ({getattr(function, '__name__', repr(function))})"
+    try:
+        value = float(function(tau))
+    except Exception as exc:  # the user's function: report what it did and where
+        raise ValueError(f"the {what} failed at {where}: {exc}") from exc
+    if not math.isfinite(value):
+        raise ValueError(
+            f"the {what} returned {value!r} at {where}: an amplitude must return a finite "
+            "number at every time and load factor"
+        )
+    return value

@@ -10,7 +10,7 @@ import numpy as np
 if TYPE_CHECKING:
     from femcore.compiled import CompiledModel
 
-__all__ = ["RIGID_MOTIONS", "unheld_rigid_motions"]
+__all__ = ["RIGID_MOTIONS", "interaction_notes", "unheld_rigid_motions"]
 
 #: Names of the six elementary rigid motions (rotations about axes through the centroid).
 RIGID_MOTIONS: tuple[str, ...] = (
@@ -33,7 +33,10 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
     the centroid, directors turning with the body) restricted to the fixed and
     prescribed DOFs span what the supports hold; a motion in the rest does work with
     the loads (forces and moments at load factor 1) unless they are self-balanced along
-    it. Models with interactions (contact, ties) are not checked: those may hold the body.
+    it. An interaction holds what its ``held_directions`` state (a frictionless tool: the
+    motion along its normal at the contact nodes, so that a translation along a plane or a
+    turn about a cylinder's axis stays free); a model with an interaction that does not say
+    is not checked.
 
     Returns
     -------
@@ -42,7 +45,8 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         with nothing holding the model, or a description of the combined motion; empty
         when every loaded rigid motion is held.
     """
-    if model.interactions:
+    contact_rows = _interaction_rows(model)
+    if contact_rows is None:
         return []
     dofs = model.dofs
     x = model.reference_positions
@@ -65,6 +69,10 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         axis=-1,
     )
     held = generalised[:, dofs.constrained].T  # (constrained DOFs, 6)
+    nodes, directions = contact_rows
+    if len(nodes):  # n . u of each rigid motion at the held nodes
+        along = np.einsum("knj,nj->nk", motions[:, nodes, :3], directions)
+        held = np.concatenate([held, along])
     length = max(float(np.ptp(x, axis=0).max()), 1e-300)
     scale = np.array([1.0, 1.0, 1.0, length, length, length])  # rotations as translations
     held = held / scale
@@ -74,19 +82,26 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         free_motions = vt[rank:] / scale  # (k, 6): q = z / scale for held z = 0
     else:
         free_motions = np.eye(6)
+    if not loaded_only:
+        # Only the motions that move some free DOF count: a cable turning about its own
+        # line, or any body about an axis through all its nodes, moves nothing.
+        moving = generalised[:, dofs.active].T  # (active DOFs, 6)
+        if len(free_motions) and moving.size:
+            _, moved, turns = np.linalg.svd(moving @ free_motions.T, full_matrices=False)
+            free_motions = turns[moved > 1e-9 * max(float(moved.max()), 1.0)] @ free_motions
     if not len(free_motions):
         return []
     if not loaded_only:
-        names = list(RIGID_MOTIONS)
-        column_free = np.abs(held).max(axis=0, initial=0.0) == 0.0
-        return [name for name, free in zip(names, column_free) if free] or [
-            "a rigid motion combining "
-            + ", ".join(
-                name
-                for name, weight in zip(names, np.abs(free_motions[0] * scale))
-                if weight > 1e-6
-            )
-        ]
+        moves = np.abs(moving).max(axis=0, initial=0.0) > 0.0
+        column_free = (np.abs(held).max(axis=0, initial=0.0) == 0.0) & moves
+        named = [name for name, free in zip(RIGID_MOTIONS, column_free) if free]
+        # The free motions that are no elementary one (a turn about a cylinder's axis that
+        # does not pass through the centroid): the free space less the elementary axes.
+        scaled = free_motions * scale
+        scaled = scaled - scaled[:, column_free] @ np.eye(6)[column_free]
+        rest, weights, _ = np.linalg.svd(scaled.T, full_matrices=False)
+        others = rest[:, weights > 1e-6].T / scale  # (the rows of free_motions are unit)
+        return named + [_described(q, centre) for q in others]
     force, moment = model.external_load(1.0, quasi_static=True)
     load = np.concatenate([force, moment], axis=1)
     work = np.einsum("kc,cnj,nj->k", free_motions, motions, load)
@@ -105,3 +120,62 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         "a rigid motion combining "
         + ", ".join(name for name, weight in zip(names, np.abs(pushed[0] * scale)) if weight > 1e-6)
     ]
+
+
+def _described(motion: np.ndarray, centre: np.ndarray) -> str:
+    """A rigid motion (t (3,), omega (3,)) about ``centre`` in words: a translation along a
+    direction, or a rotation about an axis (its direction and a point on it, mm)."""
+    t, omega = motion[:3], motion[3:]
+    turn = float(np.linalg.norm(omega))
+
+    def written(vector: np.ndarray) -> str:
+        return ", ".join(f"{v:.3g}" for v in np.where(np.abs(vector) < 1e-9, 0.0, vector))
+
+    def unit(vector: np.ndarray) -> np.ndarray:
+        vector = vector / np.linalg.norm(vector)
+        return vector * np.sign(vector[np.argmax(np.abs(vector))])
+
+    if turn < 1e-9 * float(np.linalg.norm(t)):
+        return f"translation along ({written(unit(t))})"
+    point = centre + np.cross(omega, t) / turn**2
+    scale = max(float(np.abs(point).max()), 1.0)
+    return (
+        f"rotation about the axis along ({written(unit(omega))}) through "
+        f"({written(np.where(np.abs(point) < 1e-9 * scale, 0.0, point))})"
+    )
+
+
+def _interaction_rows(model: CompiledModel) -> tuple[np.ndarray, np.ndarray] | None:
+    """The nodes (k,) and unit directions (k, 3) the interactions hold against the ground,
+    or None when one of them does not say (InteractionBlock.held_directions)."""
+    nodes, directions = [np.zeros(0, dtype=np.int64)], [np.zeros((0, 3))]
+    for block in model.interactions:
+        held = block.held_directions()
+        if held is None:
+            return None
+        nodes.append(np.asarray(held[0], dtype=np.int64).reshape(-1))
+        directions.append(np.asarray(held[1], dtype=float).reshape(-1, 3))
+    return np.concatenate(nodes), np.concatenate(directions)
+
+
+def interaction_notes(model: CompiledModel) -> list[str]:
+    """What the interactions that hold only some directions at their nodes leave free, for
+    a message about unheld motions: e.g. "interaction 0 (ContactBlock, tool 1) holds each
+    node only along the tool's normal (frictionless): it resists no sliding along the tool"."""
+    notes = []
+    tool = 1
+    for index, block in enumerate(model.interactions):
+        held = block.held_directions()
+        count = int(block.n_tools)
+        if held is not None and len(held[0]):
+            _, per_node = np.unique(np.asarray(held[0]), return_counts=True)
+            if per_node.max() < 3:
+                which = f", tool {tool}" if count else ""
+                notes.append(
+                    f"interaction {index} ({type(block).__name__.removesuffix('Block')}{which}) "
+                    "holds its nodes only "
+                    "along the tool's normal (frictionless contact): it resists no sliding "
+                    "along the tool"
+                )
+        tool += count
+    return notes

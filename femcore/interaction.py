@@ -181,6 +181,22 @@ class InteractionBlock(ABC):
         """History variables in the reference state (None: none)."""
         return None
 
+    def check_start(self) -> None:
+        """Raise ValueError when the body cannot start where it is (nodes that start inside
+        a tool, deeper than the contact offset); called once when the model is compiled. The
+        default accepts any start."""
+        return None
+
+    def held_directions(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """What the block holds against a rigid motion of the whole body, in the reference
+        state: (nodes (k,) int, unit directions (k, 3)), each row a node held along a
+        direction against the ground (a frictionless tool: its normal at each contact node;
+        with friction, x, y and z too). Empty arrays for an interaction between the body's
+        own nodes, which holds no rigid motion of the whole. None (the default): unknown,
+        taken to hold every motion (femcore.diagnostics.unheld_rigid_motions then does not
+        check the model)."""
+        return None
+
     def update_history(self, state: State, history: Any) -> Any:
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history

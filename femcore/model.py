@@ -30,9 +30,14 @@ NodeSelection = str | int | Sequence[int] | np.ndarray | NodePredicate
 
 
 def _vector3(value, what: str) -> np.ndarray:
-    vector = np.asarray(value, dtype=float)
-    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
-        raise ValueError(f"{what} must be 3 finite numbers, got {value!r}")
+    """A (3,) float vector, or ValueError naming ``what`` (a word such as "down" where a
+    vector belongs is refused here, not deep inside numpy)."""
+    try:
+        vector = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        vector = None
+    if vector is None or vector.shape != (3,) or not np.all(np.isfinite(vector)):
+        raise ValueError(f"{what} must be 3 finite numbers (a vector x, y, z), got {value!r}")
     return vector
 
 

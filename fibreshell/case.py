@@ -66,6 +66,7 @@ found through Python entry points; the registry's docstring says how a part's ``
 from __future__ import annotations
 
 import inspect
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -687,7 +688,7 @@ def _solver(top: _Where, value: Any) -> dict:
     try:
         SOLVERS[kind](**options)  # the solver's own checks, now, with the file named
     except (ValueError, TypeError) as error:
-        raise where.error(None, str(error)) from None
+        raise where.error(_named_option(str(error), options), str(error)) from None
     return {"kind": kind, "options": options, **_checkpoint(where, kind, value)}
 
 
@@ -726,6 +727,17 @@ def _checkpoint(where: _Where, kind: str, value: dict) -> dict:
             "checkpoint_interval", f"expected wall-clock seconds >= 0, got {interval!r}"
         )
     return {"checkpoint": checkpoint or None, "checkpoint_interval": float(interval)}
+
+
+def _named_option(message: str, options: dict) -> str | None:
+    """The option a solver's message is about (the one it names, the first named if
+    several), so that the case error points at its key; None if it names none."""
+    named = [(match.start(), key) for key in options if (match := _word(key).search(message))]
+    return min(named)[1] if named else None
+
+
+def _word(key: str) -> re.Pattern:
+    return re.compile(rf"(?<![\w.]){re.escape(key)}(?!\w)")
 
 
 def _output(top: _Where, value: Any, case: Case) -> None:

@@ -92,6 +92,9 @@ def _parser() -> argparse.ArgumentParser:
                          "n)); several --vary make the full product")  # fmt: skip
     command.add_argument("--zip", action="store_true",
                          help="pair the i-th values of every --vary instead")  # fmt: skip
+    command.add_argument("--max-variants", type=int, default=None, metavar="N",
+                         help="the most variants the sweep may have (default 10000): more "
+                         "is refused before anything runs")  # fmt: skip
     _cluster_options(command)
     text = "fit values of a case's keys to measured data (least squares on Dask)"
     command = commands.add_parser("identify", help=text, description=text)
@@ -145,14 +148,15 @@ def _key_numbers(text: str, option: str) -> dict[str, float | None]:
 
 
 def _sweep(args: argparse.Namespace, progress: bool) -> int:
-    from fibreshell.sweep import parse_vary, sweep
+    from fibreshell.sweep import MAX_VARIANTS, parse_vary, sweep
 
-    vary = dict(parse_vary(item) for item in args.vary)
+    cap = MAX_VARIANTS if args.max_variants is None else args.max_variants
+    vary = dict(parse_vary(item, cap) for item in args.vary)
     if len(vary) != len(args.vary):
         raise ValueError("a key is given to --vary twice: give all its values in one --vary")
     out = _out_folder(args.out, args.case, "-sweep")
     table = sweep(args.case, vary, paired=args.zip, out=out, scheduler=args.scheduler,
-                  workers=args.workers, progress=progress)  # fmt: skip
+                  workers=args.workers, progress=progress, max_variants=cap)  # fmt: skip
     failed = table.failed
     print(table.text())
     which = f" (variants {', '.join(map(str, failed))}: see the error column)" if failed else ""
@@ -183,11 +187,19 @@ def _identify(args: argparse.Namespace, progress: bool) -> int:
 
 
 def _out_folder(argument: str | None, case_path: str, suffix: str) -> Path:
-    """The output folder, created and checked for writing (femcore.writable.check_folder)."""
+    """The output folder, checked for writing (femcore.writable.check_folder): an existing
+    one, or the nearest existing folder above a new one, which the command creates only once
+    its options are checked (a refused command leaves nothing behind)."""
     from femcore.writable import check_folder
 
     out = Path(argument) if argument else Path(Path(case_path).stem + suffix)
-    return check_folder(out, "--out")
+    if out.exists():
+        return check_folder(out, "--out", create=False)
+    above = next(folder for folder in out.absolute().parents if folder.exists())
+    if not above.is_dir():
+        raise ValueError(f"--out {str(out)!r}: {str(above)!r} is a file, not a folder")
+    check_folder(above, f"--out {str(out)!r}: the folder above it,", create=False)
+    return out
 
 
 def _interrupted_line(case, run, args: argparse.Namespace, out: Path) -> str:

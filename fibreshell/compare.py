@@ -99,7 +99,8 @@ def compare_case(
     ------
     ValueError
         A case without a fibrous part (nothing to calibrate on or to split into plies), an
-        unknown kinematics or calibration.
+        unknown kinematics or calibration, a calibration number it refuses (a negative
+        ``shear_ratio``), a bad ply count or fit path: all before the first run.
     """
     chosen = _kinematics(kinematics)
     if isinstance(calibration, str) and calibration not in CALIBRATIONS:
@@ -112,21 +113,29 @@ def compare_case(
             f'{case.path}: compare needs a fibrous part (element = "fibrous"): the Mindlin '
             "shell is calibrated on its fabric and the plies split it"
         )
-    out.mkdir(parents=True, exist_ok=True)
     fitting = calibration == "fit" or (
         isinstance(calibration, Calibration)
         and calibration.name == "fit"
         and not calibration.fitted
     )
+    # Every option is checked before the first run: a mistake in the last one must not cost
+    # the fibrous run first.
+    if isinstance(calibration, Calibration):
+        rule = calibration
+    else:
+        rule = Calibration.from_options(calibration, shear_ratio)
+    if fitting and "mindlin" in chosen:
+        _check_fit(case, fit_path, fit_evaluations)
+    if "plies" in chosen:
+        from fibreshell.plies import ply_stack
+
+        ply_stack(case, plies)  # the count and the case's fitness for plies, now
+    out.mkdir(parents=True, exist_ok=True)
     runs: dict[str, Run] = {}
     if "fibrous" in chosen or (fitting and "mindlin" in chosen):
         runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
     if fitting and "mindlin" in chosen:
         rule = fit_calibration(case, runs["fibrous"], out / "fit", fit_path, fit_evaluations)
-    elif isinstance(calibration, Calibration):
-        rule = calibration
-    else:
-        rule = Calibration.from_options(calibration, shear_ratio)
     if "mindlin" in chosen:
         runs["mindlin"] = run_case(case, out / "mindlin", "mindlin", progress, calibration=rule)
     if "plies" in chosen:
@@ -153,6 +162,28 @@ def compare_case(
         comparison["figures"].append(path_figure(case, runs, name, out, label).name)
     (out / "comparison.json").write_text(strict_json(comparison))
     return runs
+
+
+def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
+    """The path the fit matches (``path``, or the case's first), or ValueError: no path, an
+    unknown one, a case not read from a file, a count of evaluations that is not one."""
+    if not case.paths:
+        raise ValueError(
+            f"{case.path}: the fit calibration matches the mid-surface along a path; the case "
+            "has no [output] paths"
+        )
+    path = path or next(iter(case.paths))
+    if path not in case.paths:
+        raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(case.paths)}")
+    if not Path(case.path).is_file():
+        raise ValueError(f"the fit calibration reruns the case file; {case.path} is not a file")
+    if (
+        isinstance(max_evaluations, bool)
+        or not isinstance(max_evaluations, int | np.integer)
+        or max_evaluations < 1
+    ):
+        raise ValueError(f"fit evaluations must be an integer >= 1, got {max_evaluations!r}")
+    return path
 
 
 def fit_calibration(
@@ -183,16 +214,7 @@ def fit_calibration(
     from elements.mindlin_fabric import default_transverse_shear
     from fibreshell.identify import identify
 
-    if not case.paths:
-        raise ValueError(
-            f"{case.path}: the fit calibration matches the mid-surface along a path; the case "
-            "has no [output] paths"
-        )
-    path = path or next(iter(case.paths))
-    if path not in case.paths:
-        raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(case.paths)}")
-    if not Path(case.path).is_file():
-        raise ValueError(f"the fit calibration reruns the case file; {case.path} is not a file")
+    path = _check_fit(case, path, max_evaluations)
     line = fibrous.summary["paths"][path]
     n = len(line["horizontal"])
     data = {

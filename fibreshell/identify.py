@@ -107,8 +107,8 @@ def read_measurements(data: str | Path | dict) -> dict[str, list]:
     Raises
     ------
     ValueError
-        A missing or empty file, rows of unequal length, an empty cell, or a response column
-        that is not numbers.
+        A missing, empty or binary file, rows of unequal length, an empty cell, or a response
+        column that is not numbers.
     """
     if isinstance(data, dict):
         columns = {str(k): list(v) for k, v in data.items()}
@@ -117,8 +117,15 @@ def read_measurements(data: str | Path | dict) -> dict[str, list]:
         where = str(data)
         if not Path(data).is_file():
             raise ValueError(f"{where}: no such data file")
-        with open(data, newline="") as handle:
-            lines = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)]
+        try:
+            with open(data, newline="", encoding="utf-8") as handle:
+                lines = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)]
+        except (UnicodeDecodeError, csv.Error) as error:
+            # A binary file (a spreadsheet, an image): say which file, not the codec's words.
+            raise ValueError(
+                f"{where}: not a text CSV file (header row, then rows of values separated "
+                f"by commas): {error}"
+            ) from None
         if len(lines) < 2:
             raise ValueError(f"{where}: expected a header row and at least one row of data")
         header = [name.strip() for name in lines[0]]

@@ -33,8 +33,8 @@ from fibreshell.case import CaseError, case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks, set_threads
 
 __all__ = [
-    "RUN_KEYS", "SweepTable", "apply_overrides", "parse_vary", "read_value", "run_variant",
-    "split_values", "summary_row", "sweep", "variants",
+    "MAX_VARIANTS", "RUN_KEYS", "SweepTable", "apply_overrides", "parse_vary", "read_value",
+    "run_variant", "split_values", "summary_row", "sweep", "variants",
 ]  # fmt: skip
 
 # Keys that are options of the run, not of the case file: run_case's keywords (those of
@@ -47,10 +47,13 @@ RUN_KEYS = {
     "transverse_shear": None,
 }
 _SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
+#: The most variants a sweep runs unless told otherwise (``max_variants``, ``--max-variants``):
+#: more is almost always a typo (a count of 1e9 in a linspace), refused before anything runs.
+MAX_VARIANTS = 10_000
 
 
 # ------------------------------------------------------------------ the variants
-def parse_vary(text: str) -> tuple[str, list]:
+def parse_vary(text: str, max_variants: int = MAX_VARIANTS) -> tuple[str, list]:
     """``KEY=V1,V2,...`` as (key, values). Each value is read as a TOML value (``2``, ``2.5``,
     ``true``, ``"text"``, ``[0.0, 0.0, 1.0]``), a bare word as a string; ``linspace(a, b, n)``
     and ``geomspace(a, b, n)`` give n values from a to b, evenly or geometrically spaced.
@@ -58,7 +61,8 @@ def parse_vary(text: str) -> tuple[str, list]:
     Raises
     ------
     ValueError
-        No ``=``, an empty key or no value.
+        No ``=``, an empty key or no value; a count that is not a whole number, or more than
+        ``max_variants`` values.
     """
     key, sep, rest = text.partition("=")
     key = key.strip()
@@ -77,10 +81,21 @@ def parse_vary(text: str) -> tuple[str, list]:
                 f"--vary {text!r}: expected {spaced.group(1)}(start, stop, count) with numbers "
                 "and a whole count >= 1"
             )
+        if numbers[2] > max_variants:
+            raise ValueError(
+                f"--vary {text!r}: {numbers[2]} values, more than the {max_variants} variants "
+                "a sweep may run (--max-variants)"
+            )
         if spaced.group(1) == "geomspace" and numbers[0] * numbers[1] <= 0:
             raise ValueError(f"--vary {text!r}: geomspace needs start and stop of one sign")
         return key, [float(v) for v in _SPACES[spaced.group(1)](*numbers)]
-    values = [read_value(v) for v in split_values(rest)]
+    texts = split_values(rest)
+    if len(texts) > max_variants:
+        raise ValueError(
+            f"--vary {key}=...: {len(texts)} values, more than the {max_variants} variants a "
+            "sweep may run (--max-variants)"
+        )
+    values = [read_value(v) for v in texts]
     if any(v == "" for v in values):
         raise ValueError(f"--vary {text!r}: an empty value (two commas in a row?)")
     return key, values
@@ -113,21 +128,34 @@ def read_value(text: str) -> Any:
         return text  # a bare word: fibrous, g986_ply
 
 
-def variants(vary: dict[str, list], paired: bool = False) -> list[dict[str, Any]]:
+def variants(
+    vary: dict[str, list], paired: bool = False, max_variants: int = MAX_VARIANTS
+) -> list[dict[str, Any]]:
     """The overrides of every variant: the full product of the values of ``vary`` (the first
     key's values outermost), or with ``paired`` the i-th value of every key together.
 
     Raises
     ------
     ValueError
-        A key without values, or paired lists of different lengths.
+        A key without values, paired lists of different lengths, or more than
+        ``max_variants`` variants (counted before any is built).
     """
+    if isinstance(max_variants, bool) or not isinstance(max_variants, int) or max_variants < 1:
+        raise ValueError(f"max_variants must be an integer >= 1, got {max_variants!r}")
     if not vary:
         raise ValueError("nothing to vary: give at least one KEY=V1,V2,...")
     for key, values in vary.items():
         if not isinstance(values, list | tuple) or len(values) == 0:
             raise ValueError(f"{key}: expected a list of values, got {values!r}")
     keys = list(vary)
+    counts = [len(values) for values in vary.values()]
+    count = counts[0] if paired else math.prod(counts)
+    if count > max_variants:
+        sizes = " x ".join(map(str, counts))
+        raise ValueError(
+            f"the sweep has {count} variants ({sizes} values), more than max_variants = "
+            f"{max_variants} (--max-variants): vary fewer values, or raise the cap"
+        )
     if paired:
         lengths = {key: len(values) for key, values in vary.items()}
         if len(set(lengths.values())) != 1:
@@ -355,6 +383,7 @@ def sweep(
     workers: int | None = None,
     progress: bool | None = None,
     name: str | None = None,
+    max_variants: int = MAX_VARIANTS,
 ) -> SweepTable:
     """Run a case over the values of some of its keys, every variant a Dask task.
 
@@ -380,6 +409,9 @@ def sweep(
         Progress bar over the tasks (None: on unless FIBRESHELL_PROGRESS=0 or under pytest).
     name : str or None
         The case's name in messages when ``case`` is a dict (default: its title).
+    max_variants : int
+        The most variants the sweep may have (default MAX_VARIANTS = 10000); more is refused
+        before anything runs, naming the count.
 
     Returns
     -------
@@ -392,14 +424,15 @@ def sweep(
     ValueError
         A case file that cannot be read, a key that is not in it, no values, paired lists of
         different lengths, a bad ``workers`` or a scheduler that does not answer; or every
-        variant failing to build (then the sweep itself is wrong: the first error is given).
+        variant failing to build (then the sweep itself is wrong: the first error is given);
+        more than ``max_variants`` variants.
     """
     if isinstance(case, dict):
         data, path = case, Path(name or str(case.get("title", "case")))
     else:
         path = Path(case).resolve()
         data = read_case_data(path)
-    combos = variants(vary, paired)
+    combos = variants(vary, paired, max_variants)
     rows: list[dict[str, Any]] = []
     tasks, where = [], []
     folder = Path(out).resolve() if out is not None else None

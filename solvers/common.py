@@ -9,7 +9,7 @@ import time
 import numpy as np
 
 from femcore.checks import check_positive
-from femcore.model import CompiledModel
+from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
 
@@ -18,10 +18,14 @@ __all__ = [
     "DivergenceError",
     "ProgressLine",
     "SolverError",
+    "check_flag",
+    "check_fraction",
     "check_held",
     "check_integer",
+    "check_non_negative",
     "check_positive_or_none",
     "check_tolerance",
+    "compiled_model",
     "empty_result",
     "equilibrium_reactions",
     "inverse_diagonal",
@@ -54,14 +58,32 @@ class ConvergenceError(SolverError):
 def check_held(model: CompiledModel) -> None:
     """Raise ValueError when the loads push the model along a rigid motion that no support
     holds: no equilibrium exists, and a quasi-static solver would only report a residual that
-    never falls (CompiledModel.unheld_rigid_motions)."""
+    never falls (CompiledModel.unheld_rigid_motions). A model held by contact is refused for
+    any rigid motion left free, loaded or not: a body on a frictionless tool slides along it
+    at the first sideways force (the tools' curvature, the round-off of the contact forces),
+    and its tangent is singular along the slide."""
     motions = model.unheld_rigid_motions()
+    notes = model.interaction_notes()
     if motions:
         raise ValueError(
             f"the loads push the model along rigid motions that nothing holds "
-            f"({'; '.join(motions)}): no equilibrium exists. Fix or prescribe DOFs that hold "
-            "them (model.fix, model.displace), or balance the loads"
+            f"({'; '.join(motions)}){''.join(f'; {note}' for note in notes)}: no equilibrium "
+            "exists. Fix or prescribe DOFs that hold them (model.fix, model.displace), or "
+            "balance the loads"
         )
+    if notes:
+        motions = model.unheld_rigid_motions(loaded_only=False)
+        if motions:
+            raise ValueError(
+                f"nothing holds the model against {_listed(motions)}: {'; '.join(notes)}. "
+                "Fix or prescribe a node's DOFs along them (model.fix, model.displace), or "
+                "add friction to the contact"
+            )
+
+
+def _listed(names: list[str]) -> str:
+    """ "a", "a and b", "a, b and c"."""
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def make_frame(
@@ -159,9 +181,57 @@ def check_tolerance(value, name: str = "tol") -> float:
 
 
 def check_integer(value, name: str, minimum: int = 1) -> int:
+    """An int >= ``minimum``, or ValueError naming the option. Floats are refused, even
+    whole ones (2.5 would be truncated, NaN has no count), and so are booleans (True is not a
+    count of anything)."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
+
+
+def check_non_negative(value, name: str, unit: str) -> float:
+    """A finite float >= 0, or ValueError naming the option and its unit."""
+    number = _number(value, name, f"a non-negative number ({unit})")
+    if not np.isfinite(number) or number < 0.0:
+        raise ValueError(f"{name} must be a non-negative number ({unit}), got {value!r}")
+    return number
+
+
+def check_fraction(value, name: str) -> float:
+    """A float in (0, 1] (a safety factor), or ValueError naming the option."""
+    number = _number(value, name, "in (0, 1]")
+    if not (0.0 < number <= 1.0):
+        raise ValueError(f"{name} must be in (0, 1], got {value!r}")
+    return number
+
+
+def check_flag(value, name: str) -> bool:
+    """True or False, or ValueError naming the option: bool("no") would be True."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be true or false, got {value!r}")
+    return bool(value)
+
+
+def _number(value, name: str, expected: str) -> float:
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be {expected}, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {expected}, got {value!r}") from None
+
+
+def compiled_model(model, solver: str) -> CompiledModel:
+    """The compiled model of a Model (compiled now) or a CompiledModel, or ValueError saying
+    what ``solve`` got instead."""
+    if isinstance(model, Model):
+        return model.compile()
+    if isinstance(model, CompiledModel):
+        return model
+    raise ValueError(
+        f"{solver}.solve expects a femcore Model or CompiledModel, got "
+        f"{type(model).__name__} {model!r:.60}"
+    )
 
 
 def equilibrium_reactions(

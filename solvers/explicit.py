@@ -29,7 +29,11 @@ from femcore.state import State
 from solvers.common import (
     DivergenceError,
     ProgressLine,
+    check_fraction,
+    check_integer,
+    check_non_negative,
     check_positive_or_none,
+    compiled_model,
     empty_result,
     make_frame,
     resolve_progress,
@@ -66,6 +70,9 @@ BALANCE_EVERY = 10
 # last good one (2: omega dt = 1.4 may reach it with all the energy in the highest mode); the
 # largest motion of a node in one step, in median element edges.
 BALANCE_TOLERANCE = 0.05
+# The most mass that mass scaling may add, in times the model's own mass (the option
+# max_added_mass): beyond it the inertia, not the model, decides the answer.
+MAX_ADDED_MASS = 10.0
 GROWTH_LIMIT = 10.0
 GOOD_GROWTH = 2.0
 MAX_STEP_MOTION = 0.5
@@ -82,6 +89,10 @@ class CentralDifference:
     mass_scaling_dt : s, a target step: cells whose stable step is smaller get their density
         scaled by (target / dt_cell)^2 so that the step is the target; the added mass is
         reported in ``result.info``.
+    max_added_mass : the most mass scaling may add, in times the model's mass (default
+        MAX_ADDED_MASS = 10); more is refused before the run starts (ValueError naming it).
+    max_steps : the most steps of the run; a duration / dt above it at the first step is
+        refused before the run starts, and a run whose step shrinks past it stops there.
     output_interval : s between frames (default duration / 20).
     output : a ``.pvd`` path: the frames are written there as the run goes (a VTU file each,
         the ParaView index rewritten after each), and only the first and the last are kept in
@@ -115,22 +126,20 @@ class CentralDifference:
         history: str | os.PathLike[str] | None = None,
         history_nodes=(),
         frame_summary: Callable[[Frame], dict] | None = None,
+        max_added_mass: float = MAX_ADDED_MASS,
     ):
         checked = check_positive_or_none(duration, "duration")
         if checked is None:
             raise ValueError("duration must be a positive number of seconds")
         self.duration: float = checked
         self.dt = check_positive_or_none(dt, "dt")
-        if not (0.0 < float(safety) <= 1.0):
-            raise ValueError(f"safety must be in (0, 1], got {safety!r}")
-        self.safety = float(safety)
-        if not np.isfinite(damping) or damping < 0:
-            raise ValueError(f"damping must be a non-negative number (1/s), got {damping!r}")
-        self.damping = float(damping)
+        self.safety = check_fraction(safety, "safety")
+        self.damping = check_non_negative(damping, "damping", "1/s, of C = c M")
         self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt")
+        self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
         self.output_interval = check_positive_or_none(output_interval, "output_interval")
         self.progress = progress
-        self.max_steps = int(max_steps)
+        self.max_steps = check_integer(max_steps, "max_steps")
         self.output = None if output is None else output_path(output, ".pvd", "output")
         self.history = None if history is None else output_path(history, ".csv", "history")
         nodes = np.asarray(history_nodes)
@@ -223,14 +232,13 @@ class CentralDifference:
             frames (before the run), or a write that failed during it (the message names the
             file and what was kept).
         ValueError
-            A checkpoint written by another model or other solver settings, or a negative
-            ``checkpoint_interval``.
+            ``model`` not a Model; a checkpoint written by another model or other solver
+            settings; a ``checkpoint_interval`` that is not a number >= 0; a run that would
+            take more than ``max_steps`` steps or add more than ``max_added_mass`` times the
+            model's mass (both before the first step).
         """
-        compiled = model.compile() if isinstance(model, Model) else model
-        if not np.isfinite(checkpoint_interval) or checkpoint_interval < 0:
-            raise ValueError(
-                f"checkpoint_interval must be a number of seconds >= 0, got {checkpoint_interval!r}"
-            )
+        compiled = compiled_model(model, "CentralDifference")
+        checkpoint_interval = check_non_negative(checkpoint_interval, "checkpoint_interval", "s")
         saved_at = checkpoint_path(checkpoint)
         check_outputs(compiled.mesh, self.output, self.history, saved_at)
         started = time.perf_counter()
@@ -252,6 +260,12 @@ class CentralDifference:
         def diverged(message: str, dt: float):
             """The run stops: the frames end with the last state that passed the checks."""
             good_time = run.good[0].time
+            scaled = (
+                f" Mass scaling added {run.added_mass / float(compiled.mass0.sum()):.3g} times "
+                "the model's mass."
+                if run.added_mass > 0.0
+                else ""
+            )
             kept = [f for f in run.frames if f.time <= good_time * (1.0 + 1e-12)]
             if kept[-1].time < good_time:
                 kept.append(make_frame(compiled, *run.good))
@@ -268,7 +282,7 @@ class CentralDifference:
                 f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
                 f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
                 f"the checks (t = {good_time:.6g} s). Reduce dt or safety, or check the loads "
-                "and material laws.",
+                f"and material laws.{scaled}",
                 result(False),
             )
 
@@ -398,6 +412,7 @@ class CentralDifference:
                 empty_result(compiled, []),
             )
         duration = self.duration
+        self._check_up_front(compiled, float(mass.sum() - compiled.mass0.sum()), dt_nominal)
         run = _Run(
             state=state,
             scale=scale,
@@ -418,6 +433,27 @@ class CentralDifference:
         """Keep ``frame_summary(frame)`` with the frame's time (when there is one)."""
         if self.frame_summary is not None:
             run.summaries.append((frame.time, self.frame_summary(frame)))
+
+    def _check_up_front(self, compiled: CompiledModel, added_mass: float, dt: float) -> None:
+        """Refuse, before the first step, a run that mass scaling would turn into another
+        model (more than ``max_added_mass`` times its mass added) or whose steps would exceed
+        ``max_steps`` at the starting step (a step far too small would otherwise hang)."""
+        total = float(compiled.mass0.sum())
+        if total > 0.0 and added_mass > self.max_added_mass * total:
+            raise ValueError(
+                f"mass_scaling_dt = {self.mass_scaling_dt:g} s would add {added_mass / total:.3g} "
+                f"times the model's mass ({added_mass:.3g} on {total:.3g}), more than "
+                f"max_added_mass = {self.max_added_mass:g}: the run would describe a much "
+                "heavier body. Choose a target step nearer the stable step, or raise "
+                "max_added_mass"
+            )
+        steps = self.duration / dt
+        if steps > self.max_steps:
+            raise ValueError(
+                f"duration / dt = {self.duration:g} s / {dt:.3g} s = {steps:.4g} steps, more "
+                f"than max_steps = {self.max_steps}: raise dt (or mass_scaling_dt), shorten "
+                "the duration, or raise max_steps"
+            )
 
     def _outputs(self, compiled: CompiledModel, run: _Run):
         """The frame stream and the history writer of this run (None when not asked for),

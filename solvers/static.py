@@ -42,9 +42,11 @@ from solvers.arc_length import JUMP_ITERATIONS, Motion, arc_length_path, descend
 from solvers.common import (
     ConvergenceError,
     ProgressLine,
+    check_flag,
     check_held,
     check_integer,
     check_tolerance,
+    compiled_model,
     empty_result,
     equilibrium_reactions,
     make_frame,
@@ -142,7 +144,7 @@ class Static:
         self.increments = check_integer(increments, "increments")
         self.tol = check_tolerance(tol)
         self.max_iterations = check_integer(max_iterations, "max_iterations")
-        self.line_search = bool(line_search)
+        self.line_search = check_flag(line_search, "line_search")
         self.max_cuts = check_integer(max_cuts, "max_cuts", minimum=0)
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
@@ -158,9 +160,9 @@ class Static:
         if at_limit not in ("follow", "jump"):
             raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
         self.at_limit = at_limit
-        self.predictor = bool(predictor)
-        self.seek_stable = bool(seek_stable)
-        self.step_loads_first = bool(step_loads_first)
+        self.predictor = check_flag(predictor, "predictor")
+        self.seek_stable = check_flag(seek_stable, "seek_stable")
+        self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
         self.progress = progress
         self.output = None if output is None else output_path(output, ".pvd", "output")
 
@@ -182,8 +184,10 @@ class Static:
         Raises
         ------
         ValueError
-            When the loads push the model along a rigid motion that no support holds (no
-            equilibrium exists; the message names the motion).
+            When ``model`` is not a Model, or the loads push the model along a rigid motion
+            that no support holds (no equilibrium exists; the message names the motion), or
+            a model held by frictionless contact leaves a rigid motion free (a slide along
+            the tool; the message names it).
         ConvergenceError
             When an increment cannot be completed: ``error.result`` holds the converged
             frames and the last good state, ``error.load_factor`` the load factor reached.
@@ -200,7 +204,7 @@ class Static:
             return self._solve(model)
 
     def _solve(self, model: Model | CompiledModel) -> Result:
-        compiled = model.compile() if isinstance(model, Model) else model
+        compiled = compiled_model(model, "Static")
         check_held(compiled)
         check_outputs(compiled.mesh, self.output)
         run = StaticRun(self, compiled)

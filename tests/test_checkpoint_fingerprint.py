@@ -5,6 +5,7 @@ the same model resumed ends where a run never interrupted ends, to the last bit.
 
 import json
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -12,10 +13,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import solvers.explicit
 from elements import Cable, RigidPlane
 from femcore import Mesh, Model
 from femcore.fingerprint import digest, fingerprint
-from solvers import CentralDifference, DivergenceError, DynamicRelaxation
+from solvers import (
+    CentralDifference,
+    DynamicRelaxation,
+    Interrupted,
+    interruptible,
+)
 
 N = 12  # cable elements
 
@@ -245,16 +252,24 @@ def test_a_series_that_lacks_frames_the_checkpoint_counted_is_refused_on_resume(
         streamed(tmp_path).solve(cable(), checkpoint=checkpoint)
 
 
-def test_an_explicit_run_stopped_and_resumed_ends_as_one_never_stopped(tmp_path):
-    """Stopped by max_steps (which the fingerprint leaves out: it does not change the answer)
-    after checkpoints every 10 steps, then resumed with the same model and settings."""
+def test_an_explicit_run_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, monkeypatch):
+    """Interrupted (SIGINT) at its 25th step after checkpoints every 10 steps, then resumed
+    with the same model and settings."""
     stopped, whole = tmp_path / "stopped", tmp_path / "whole"
     stopped.mkdir(), whole.mkdir()
     checkpoint = stopped / "run.ckpt"
-    with pytest.raises(DivergenceError, match="max_steps"):
-        streamed(stopped, max_steps=25).solve(
-            cable(), checkpoint=checkpoint, checkpoint_interval=0.0
-        )
+    original, calls = solvers.explicit.explicit_step, [0]
+
+    def interrupted_at_25(*args, **kwargs):
+        calls[0] += 1
+        if calls[0] == 25:
+            os.kill(os.getpid(), signal.SIGINT)
+        return original(*args, **kwargs)
+
+    with monkeypatch.context() as patch, interruptible():
+        patch.setattr(solvers.explicit, "explicit_step", interrupted_at_25)
+        with pytest.raises(Interrupted):
+            streamed(stopped).solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
     resumed = streamed(stopped).solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
     reference = streamed(whole).solve(cable())
     assert resumed.steps == reference.steps > 25
