@@ -464,6 +464,11 @@ class PlyContactBlock(InteractionBlock):
     def _point_stiffness(self) -> np.ndarray:
         return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)
 
+    def held_directions(self) -> tuple[np.ndarray, np.ndarray]:
+        """None against the ground: the gap and the slip between two plies do not change when
+        the whole stack moves as one (what holds the stack are its supports and tools)."""
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
+
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
         if np.isnan(self.node_stiffness).any():  # the automatic penalty (module docstring)
             self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2

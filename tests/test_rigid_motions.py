@@ -68,3 +68,35 @@ def test_every_free_rigid_motion_is_listed_loaded_or_not():
     clamped = strip(supports=None)
     clamped.fix("left")
     assert clamped.compile().unheld_rigid_motions(loaded_only=False) == []
+
+
+def test_a_motion_that_moves_no_free_dof_is_not_a_free_one():
+    """A cable pinned at both ends on a frictionless plane: turning about its own line moves
+    none of its (translational) DOFs, so nothing is free; unpinned at one end, the slide
+    along the cable and the turn about the pinned end remain."""
+    from elements import Cable, RigidPlane
+
+    def cable(pins) -> Model:
+        model = Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4))
+        model.add(Cable(1.0e3, 1.0e-9))
+        model.fix(pins)
+        model.contact(RigidPlane((0.0, 0.0, -1.0), (0.0, 0.0, 1.0)))
+        return model
+
+    assert cable([0, 4]).compile().unheld_rigid_motions(loaded_only=False) == []
+    free = cable([0]).compile().unheld_rigid_motions(loaded_only=False)
+    assert free == ["rotation about the axis along (0, 0, 1) through (0, 0, 0)"]
+
+
+def test_a_stack_of_plies_on_a_frictionless_table_names_its_sliding_motions():
+    """The contact between plies moves with the stack: it holds no rigid motion of the whole,
+    so a stack that only lies on a frictionless table is free to slide and turn on it."""
+    from elements import RigidPlane
+    from elements.plies import PlyStack
+
+    stack = PlyStack(Mesh.rectangle(10.0, 5.0, nx=2, ny=1), presets.g986_ply(), 2)
+    model = stack.model()
+    model.contact(RigidPlane((0.0, 0.0, -1.0), (0.0, 0.0, 1.0)), nodes=stack.ply_nodes[0])
+    model.gravity((0.0, 0.0, -9810.0))
+    with pytest.raises(ValueError, match="translation along x, translation along y and rotation"):
+        DynamicRelaxation(progress=False).solve(model)
