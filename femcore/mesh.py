@@ -33,6 +33,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.mesh_checks import (
+    add_set,
+    as_mapping,
+    check_coordinates,
+    check_distinct_cells,
+    read_only,
+)
 from femcore.topology import (
     Topology,
     build_topology,
@@ -94,9 +101,6 @@ CELL_KINDS: Mapping[str, CellKind] = MappingProxyType(_CELL_KIND_TABLE)
 _LEGACY_CELLS = {"triangle": "triangles", "line": "lines"}
 _LEGACY_SETS = {"triangle": "element_sets", "line": "line_sets"}
 
-# Characters that would break the set syntax of .inp or .msh files.
-_FORBIDDEN_NAME_CHARS = {",", "=", '"', "\n", "\r"}
-
 
 class Mesh:
     """Cells of the kinds in CELL_KINDS on shared nodes, with named node and cell sets.
@@ -124,11 +128,13 @@ class Mesh:
     Raises
     ------
     ValueError
-        Wrong shapes, non-finite coordinates (naming the node), node ids out of range (naming
-        the cell and the id), a cell repeating a node, invalid sets, an unknown cell kind, or
-        the same cells or sets given both by their legacy argument and in ``cells`` /
-        ``cell_sets``. Duplicate nodes, zero areas and orientation are checked by
-        :meth:`check`.
+        Wrong shapes, non-finite coordinates or coordinates beyond +-1e60 (naming the node),
+        nodes spanning less than 1e-60 (a degenerate or far too small mesh,
+        femcore.mesh_checks), node ids out of range (naming the cell and the id), a cell
+        repeating a node, two cells of a kind on the same nodes in any order (naming them),
+        invalid sets, an unknown cell kind, or the same cells or sets given both by their
+        legacy argument and in ``cells`` / ``cell_sets``. Duplicate nodes, zero areas and
+        orientation are checked by :meth:`check`.
     """
 
     def __init__(
@@ -149,19 +155,22 @@ class Mesh:
         given_sets = _by_kind(
             cell_sets, "cell_sets", {"triangle": element_sets, "line": line_sets}, _LEGACY_SETS
         )
-        self._points = _read_only(validate_points(points))
+        self._points = read_only(validate_points(points))
+        check_coordinates(self._points)
         n = len(self._points)
         self._cells: dict[str, np.ndarray] = {
-            kind: _read_only(validate_cells(given_cells.get(kind), spec.nodes_per_cell, kind, n))
+            kind: read_only(validate_cells(given_cells.get(kind), spec.nodes_per_cell, kind, n))
             for kind, spec in CELL_KINDS.items()
         }
+        for kind, kind_cells in self._cells.items():
+            check_distinct_cells(kind_cells, kind)
         self._node_sets: dict[str, np.ndarray] = {}
         self._cell_sets: dict[str, dict[str, np.ndarray]] = {kind: {} for kind in CELL_KINDS}
-        for name, ids in _as_mapping(node_sets, "node_sets").items():
+        for name, ids in as_mapping(node_sets, "node_sets").items():
             self.add_node_set(name, ids)
         for kind in CELL_KINDS:
             what = _LEGACY_SETS.get(kind, f"cell_sets[{kind!r}]")
-            for name, ids in _as_mapping(given_sets.get(kind), what).items():
+            for name, ids in as_mapping(given_sets.get(kind), what).items():
                 self.add_cell_set(kind, name, ids)
 
     # ----------------------------------------------------------------------------------------
@@ -291,7 +300,7 @@ class Mesh:
         ValueError
             Invalid or already used name, ids out of range, or a mask of the wrong shape.
         """
-        _add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node")
+        add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node")
 
     def add_cell_set(self, kind: str, name: str, ids: ArrayLike) -> None:
         """Add a new set of cells of one kind.
@@ -314,7 +323,7 @@ class Mesh:
         """
         kind = _known_kind(kind)
         label = CELL_KINDS[kind].set_label
-        _add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
+        add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
 
     def add_element_set(self, name: str, ids: ArrayLike) -> None:
         """Add a new triangle set: ``add_cell_set("triangle", name, ids)``.
@@ -726,7 +735,7 @@ def _by_kind(
     legacy_names: dict[str, str],
 ) -> dict[str, Any]:
     """Merge a generic kind -> value mapping with the legacy per-kind arguments."""
-    merged = dict(_as_mapping(generic, what))
+    merged = dict(as_mapping(generic, what))
     for kind in merged:
         _known_kind(kind)
     for kind, value in legacy.items():
@@ -738,62 +747,3 @@ def _by_kind(
             )
         merged[kind] = value
     return merged
-
-
-def _read_only(array: np.ndarray) -> np.ndarray:
-    array.setflags(write=False)
-    return array
-
-
-def _as_mapping(given: Mapping[str, ArrayLike] | None, what: str) -> Mapping[str, ArrayLike]:
-    if given is None:
-        return {}
-    if not isinstance(given, Mapping):
-        # Project convention: every kind of bad input raises ValueError.
-        raise ValueError(  # noqa: TRY004
-            f"{what} must be a mapping name -> ids, got {type(given).__name__}"
-        )
-    return given
-
-
-def _check_set_name(name: Any, what: str, existing: Mapping[str, np.ndarray]) -> str:
-    if not isinstance(name, str) or not name or name != name.strip():
-        raise ValueError(
-            f"{what} name must be a non-empty string without surrounding blanks, got {name!r}"
-        )
-    if _FORBIDDEN_NAME_CHARS & set(name):
-        raise ValueError(
-            f'{what} name {name!r} must not contain any of , = " or line breaks '
-            "(they break .inp and .msh files)"
-        )
-    if name in existing:
-        raise ValueError(f"{what} {name!r} already exists; sets are never overwritten")
-    return name
-
-
-def _set_ids(ids: ArrayLike, size: int, item: str, label: str) -> np.ndarray:
-    """Sorted unique int64 ids in [0, size) from ids or a (size,) bool mask."""
-    arr = np.asarray(ids)
-    if arr.dtype == np.bool_:
-        if arr.shape != (size,):
-            raise ValueError(f"{label}: a bool mask must have shape ({size},), got {arr.shape}")
-        arr = np.flatnonzero(arr)
-    elif arr.size == 0:
-        arr = np.zeros(0, dtype=np.int64)
-    elif arr.dtype.kind not in "iu" or arr.ndim > 1:
-        raise ValueError(
-            f"{label} must be a 1-D array of integer {item} ids, got dtype {arr.dtype} "
-            f"and shape {arr.shape}"
-        )
-    arr = np.unique(arr.astype(np.int64).reshape(-1))
-    if arr.size and (arr[0] < 0 or arr[-1] >= size):
-        bad = arr[0] if arr[0] < 0 else arr[-1]
-        raise ValueError(f"{label} refers to {item} {bad}, but {item} ids must be in [0, {size})")
-    return _read_only(arr)
-
-
-def _add_set(
-    store: dict[str, np.ndarray], what: str, name: str, ids: ArrayLike, size: int, item: str
-) -> None:
-    name = _check_set_name(name, what, store)
-    store[name] = _set_ids(ids, size, item, f"{what} {name!r}")
