@@ -17,9 +17,19 @@ __all__ = ["MESH_KEYWORDS", "DeckScan", "scan_deck"]
 MESH_KEYWORDS = frozenset({"NODE", "ELEMENT", "NSET", "ELSET", "INCLUDE"})
 """Keywords the mesh reader turns into the mesh: nodes, elements, node and element sets."""
 
-# Keywords that carry nothing a mesh reader could lose: titles, the part/assembly frame.
+# Keywords that carry nothing a mesh reader could lose: titles, the frame of parts,
+# assemblies and steps.
 _NEUTRAL_KEYWORDS = frozenset(
-    {"HEADING", "PREPRINT", "PART", "END PART", "ASSEMBLY", "END ASSEMBLY", "END INSTANCE"}
+    {
+        "HEADING",
+        "PREPRINT",
+        "PART",
+        "END PART",
+        "ASSEMBLY",
+        "END ASSEMBLY",
+        "END INSTANCE",
+        "END STEP",  # its *STEP is listed
+    }
 )
 
 
