@@ -4,7 +4,8 @@ meshio reads the nodes, the elements and the sets of an .inp file and skips ever
 keyword without a word; a deck's *BOUNDARY, *MATERIAL, *SHELL SECTION or *STEP would vanish
 silently. The scan looks only at the lines that start with one "*" (comments start with
 "**"), so it costs one pass over the text, and tells the reader which keywords it does not
-turn into the mesh, and the *ELEMENT blocks in file order with the element set each names.
+turn into the mesh, the *ELEMENT blocks in file order with the element set each names, and
+the sets made of other sets.
 """
 
 from __future__ import annotations
@@ -48,12 +49,17 @@ class DeckScan:
         Number of *NODE blocks.
     includes : int
         Number of *INCLUDE lines (their files are not scanned).
+    set_unions : list[tuple[str, str, list[str]]]
+        The *NSET and *ELSET made of other sets, in file order: ("NSET" or "ELSET", the
+        set's name, the names of the sets it joins). meshio 5.3 reads only the first name
+        of each line of such a set, and leaves an *NSET of sets empty.
     """
 
     ignored: dict[str, list[int]] = field(default_factory=dict)
     element_sets: list[str | None] = field(default_factory=list)
     node_blocks: int = 0
     includes: int = 0
+    set_unions: list[tuple[str, str, list[str]]] = field(default_factory=list)
 
     def ignored_summary(self) -> str:
         """ "*BOUNDARY (line 12), *STEP (lines 20, 31)", the ignored keywords as the deck
@@ -78,13 +84,26 @@ def scan_deck(path: str | Path) -> DeckScan:
     DeckScan
     """
     scan = DeckScan()
+    current_set: tuple[str, str, list[str]] | None = None  # the set whose lines follow
     with open(path, encoding="utf-8", errors="replace") as deck:
         for number, line in enumerate(deck, start=1):
-            if not line.startswith("*") or line.startswith("**"):
+            if line.startswith("**"):
                 continue
+            if not line.startswith("*"):
+                names = [item.strip() for item in line.split(",") if item.strip()]
+                if current_set is not None and names and not names[0][0].isdigit():
+                    current_set[2].extend(names)
+                continue
+            if current_set is not None and current_set[2]:
+                scan.set_unions.append(current_set)
+            current_set = None
             head, _, parameters = line.partition(",")
             keyword = " ".join(head[1:].split()).upper()
-            if keyword == "ELEMENT":
+            if keyword in ("NSET", "ELSET"):
+                name = _parameter(parameters, keyword)
+                if name is not None:
+                    current_set = (keyword, name, [])
+            elif keyword == "ELEMENT":
                 scan.element_sets.append(_parameter(parameters, "ELSET"))
             elif keyword == "NODE":
                 scan.node_blocks += 1
@@ -92,6 +111,8 @@ def scan_deck(path: str | Path) -> DeckScan:
                 scan.includes += 1
             elif keyword not in MESH_KEYWORDS and keyword not in _NEUTRAL_KEYWORDS:
                 scan.ignored.setdefault(keyword, []).append(number)
+    if current_set is not None and current_set[2]:
+        scan.set_unions.append(current_set)
     return scan
 
 

@@ -102,6 +102,16 @@ def check_distinct_cells(cells: np.ndarray, kind: str) -> None:
     if len(cells) < 2:
         return
     nodes = np.sort(cells, axis=1)
+    base = int(nodes[:, -1].max()) + 1
+    if base ** nodes.shape[1] < 2**62:
+        # One int64 key per cell: a 1-D sort, several times faster than a lexsort of rows.
+        key = nodes[:, 0].copy()
+        for column in nodes.T[1:]:
+            key *= base
+            key += column
+        key.sort()
+        if not (key[1:] == key[:-1]).any():
+            return
     order = np.lexsort(nodes.T[::-1])
     ordered = nodes[order]
     same = np.flatnonzero((ordered[1:] == ordered[:-1]).all(axis=1))
@@ -196,7 +206,7 @@ def _set_ids(ids: ArrayLike, size: int, item: str, label: str) -> np.ndarray:
             f"{label} must be a 1-D array of integer {item} ids, got dtype {arr.dtype} "
             f"and shape {arr.shape}"
         )
-    arr = np.unique(arr.astype(np.int64).reshape(-1))
+    arr = _sorted_unique(arr.astype(np.int64).reshape(-1))
     if arr.size and (arr[0] < 0 or arr[-1] >= size):
         bad = arr[0] if arr[0] < 0 else arr[-1]
         raise ValueError(f"{label} refers to {item} {bad}, but {item} ids must be in [0, {size})")
@@ -208,3 +218,12 @@ def _add_set(
 ) -> None:
     name = _check_set_name(name, what, store)
     store[name] = _set_ids(ids, size, item, f"{what} {name!r}")
+
+
+def _sorted_unique(ids: np.ndarray) -> np.ndarray:
+    """Sorted unique ids (1-D int64). A sort and a comparison: np.unique's hashing takes
+    seconds on the millions of ids of a large mesh's "all" set, which is sorted already."""
+    if ids.size > 1 and not (ids[1:] > ids[:-1]).all():
+        ids = np.sort(ids)
+        ids = ids[np.concatenate(([True], ids[1:] != ids[:-1]))]
+    return ids

@@ -78,8 +78,9 @@ def _checked_deck(path: Path) -> DeckScan:
 
 def _abaqus_element_sets(raw: meshio.Mesh, deck: DeckScan) -> meshio.Mesh:
     """``raw`` with the element sets named on *ELEMENT lines (ELSET=) holding every element
-    of their blocks: meshio 5.3 gives the i-th such set to the i-th block, whichever block
-    named it."""
+    of their blocks (meshio 5.3 gives the i-th such set to the i-th block, whichever block
+    named it), and the sets made of other sets joining them (meshio reads the first name of
+    each line of an *ELSET of sets into a wrong shape, and an *NSET of sets as empty)."""
     if deck.includes or len(deck.element_sets) != len(raw.cells):
         return raw  # blocks from included files: the scan cannot tell which is which
     cell_sets = dict(raw.cell_sets)
@@ -88,6 +89,24 @@ def _abaqus_element_sets(raw: meshio.Mesh, deck: DeckScan) -> meshio.Mesh:
             np.arange(len(block.data) if owner == name else 0, dtype=np.int64)
             for block, owner in zip(raw.cells, deck.element_sets, strict=True)
         ]
+    point_sets = dict(raw.point_sets)
+    # Sets of sets, in file order (a set may join sets defined before it).
+    for keyword, name, members in deck.set_unions:
+        store = point_sets if keyword == "NSET" else cell_sets
+        unknown = [member for member in members if member not in store]
+        if unknown:
+            raise ValueError(
+                f"*{keyword} {name!r} joins the sets {unknown}, which the deck does not define "
+                f"before it (known: {sorted(store)})"
+            )
+        if keyword == "NSET":
+            point_sets[name] = np.unique(np.concatenate([point_sets[m] for m in members]))
+        else:
+            cell_sets[name] = [
+                np.unique(np.concatenate(per_block)).astype(np.int64)
+                for per_block in zip(*(cell_sets[m] for m in members), strict=True)
+            ]
+    raw.point_sets = point_sets
     raw.cell_sets = cell_sets
     return raw
 

@@ -225,3 +225,24 @@ def test_a_deck_with_two_node_blocks_is_refused_naming_them(tmp_path):
     )
     with pytest.raises(ValueError, match=r"2 \*NODE blocks"):
         Mesh.read(path)
+
+
+def test_abaqus_sets_made_of_other_sets_join_their_members(tmp_path):
+    path = tmp_path / "set_of_sets.inp"
+    path.write_text(
+        f"*NODE\n{_nodes_text(STRIP_POINTS)}\n"
+        f"*ELEMENT, TYPE=S4R, ELSET=RIGHT\n{_elements_text(RIGHT_QUADS, 11)}\n"
+        f"*ELEMENT, TYPE=S4R\n{_elements_text(LEFT_QUADS, 1)}\n"
+        "*ELSET, ELSET=FIRST\n1\n*ELSET, ELSET=BOTH\nRIGHT, FIRST\n"
+        "*NSET, NSET=LOW\n1, 2\n*NSET, NSET=HIGH, GENERATE\n6, 10, 2\n"
+        "*NSET, NSET=CORNERS\nLOW\nHIGH\n"
+    )
+    mesh = Mesh.read(path)
+    np.testing.assert_array_equal(mesh.element_sets["RIGHT"], [0, 1, 2, 3])
+    np.testing.assert_array_equal(mesh.element_sets["FIRST"], [4, 5])
+    np.testing.assert_array_equal(mesh.element_sets["BOTH"], [0, 1, 2, 3, 4, 5])
+    np.testing.assert_array_equal(mesh.nodes("HIGH"), [5, 7, 9])
+    np.testing.assert_array_equal(mesh.nodes("CORNERS"), [0, 1, 5, 7, 9])
+    path.write_text(path.read_text() + "*NSET, NSET=BAD\nLOW, NOWHERE\n")
+    with pytest.raises(ValueError, match=r"NSET 'BAD' joins the sets \['NOWHERE'\]"):
+        Mesh.read(path)
