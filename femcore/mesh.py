@@ -658,13 +658,20 @@ class Mesh:
     def read(cls, path: str | Path, file_format: str | None = None) -> Mesh:
         """Read a mesh file through meshio (.msh, .vtu, .inp, ...).
 
-        Keeps the cells of the kinds in CELL_KINDS ("triangle" and "line") and ignores
-        "vertex" cells; quadrilaterals (gmsh quads, Abaqus S4/S4R) are split in two triangles
-        each as :meth:`from_quads` does (fibre-aligned when their sides follow the fibres),
-        their sets and cell data following them. Named sets come back from Abaqus NSET/ELSET
-        (.inp), from the "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other
-        formats, and from named gmsh physical groups (dimension 0 -> node set, 1 -> line set,
-        2 -> element set; in general, dimension d -> a set of the cell kinds of dimension d).
+        Keeps the cells of the kinds in CELL_KINDS ("triangle" and "line") of every block,
+        in file order, with meshio's node ids (every point of the file is a node, used or
+        not), and ignores "vertex" cells; quadrilaterals (gmsh quads, Abaqus S4/S4R) are
+        split in two triangles each as :meth:`from_quads` does (fibre-aligned when their
+        sides follow the fibres), their sets and cell data following them. Named sets come
+        back from Abaqus NSET/ELSET (.inp; ELSET= of *ELEMENT lines, sets made of other
+        sets), from the "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other
+        formats, and from named gmsh physical groups: every group is the node set of its
+        cells' nodes (a physical curve "clamp" holds the nodes of its lines), and a group of
+        dimension d is also a set of the cells of the kinds of dimension d (1 -> line set,
+        2 -> element set). An element that MSH 2.2 repeats for each physical group of its
+        entity is kept once. Keywords of an Abaqus deck the reader does not turn into the
+        mesh (*BOUNDARY, *MATERIAL, *SHELL SECTION, *STEP, ...) are listed in one
+        UserWarning.
 
         Parameters
         ----------
@@ -683,7 +690,10 @@ class Mesh:
         FileNotFoundError
             The file does not exist.
         ValueError
-            Unknown format, unreadable file, other cell types, or no cell of a known kind.
+            Unknown format, unreadable file, other cell types, no cell of a known kind, an
+            Abaqus deck with several *NODE blocks or a set of sets naming an unknown set, a
+            mesh too large for the memory available (femcore.memory), or any check of the
+            constructor (e.g. the same triangle twice).
         """
         from femcore.mesh_io import read_mesh
 
