@@ -502,8 +502,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Non-positive or non-finite lengths, non-positive or non-integer counts, or a bad
-            origin.
+            Non-positive or non-finite lengths, non-positive or non-integer counts, a bad
+            origin, or more triangles than the memory available can hold (femcore.memory).
         """
         from femcore.mesh_generators import rectangle
 
@@ -530,7 +530,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Bad or coincident end points, or a non-positive count.
+            Bad or coincident end points, a non-positive count, or more cells than the
+            memory available can hold.
         """
         from femcore.mesh_generators import line
 
@@ -566,8 +567,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Bad shapes or counts, non-coplanar corners, or a non-convex, self-intersecting or
-            degenerate quadrilateral.
+            Bad shapes or counts, non-coplanar corners, a non-convex, self-intersecting or
+            degenerate quadrilateral, or more triangles than the memory available can hold.
         RuntimeError
             gmsh did not return the expected structured grid.
         """
@@ -604,7 +605,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Quads not of shape (q, 4), node ids out of range, or a quad set out of range.
+            Quads not of shape (q, 4), node ids out of range, a quad set out of range, or
+            more triangles than the memory available can hold.
         """
         from femcore.mesh_generators import from_quads
 
