@@ -45,8 +45,21 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(
             f"cannot read {path} as {fmt!r}: not a text file ({err.reason} at byte {err.start})"
         ) from err
+    except ModuleNotFoundError as err:  # e.g. .med files need h5py
+        raise ValueError(
+            f"cannot read {path} as {fmt!r}: meshio needs the package {err.name!r} for this "
+            f"format (pip install {err.name})"
+        ) from err
     except Exception as err:  # meshio's readers raise anything on a corrupt file
-        raise ValueError(f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}") from err
+        hint = ""
+        if "gmsh:physical" in str(err):
+            hint = (
+                " (a MSH 4.1 file written with gmsh's Mesh.SaveAll and physical groups, which "
+                "meshio 5.3 cannot read: write it without SaveAll, or as MSH 2.2)"
+            )
+        raise ValueError(
+            f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}{hint}"
+        ) from err
     if fmt == "abaqus":
         raw = _abaqus_element_sets(raw, deck)
     # Quads become two triangles each; the rest one cell each (vertex cells are dropped).
@@ -402,6 +415,15 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
                 _merge_set(sets[kind], name[len(prefix) :], blocks.ids(local, kind))
     for name, (dim, local) in groups.items():
         _add_physical_group(raw, blocks, sets, name, dim, local)
+    empty = [name for name, (_, local) in groups.items() if not any(ids.size for ids in local)]
+    if empty:
+        warnings.warn(
+            f"{source}: the physical groups {empty} hold no element of the file, so their "
+            "sets are empty (gmsh's Mesh.SaveAll writes MSH 2.2 elements without their "
+            "groups)",
+            UserWarning,
+            stacklevel=4,
+        )
 
     return Mesh(
         raw.points,

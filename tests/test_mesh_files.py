@@ -36,11 +36,12 @@ def _ids_of(rows, among):
     return np.sort([index[tuple(r)] for r in rows.tolist()])
 
 
-def _gmsh_strip(path, surfaces, version):
+def _gmsh_strip(path, surfaces, version, **options):
     """``surfaces`` unit squares side by side along x, conforming, with physical surfaces
     "first" (the first square), "rest" (the others), "all" (every square: each triangle is
     in two groups), the physical curve "clamp" (the edge x = 0, tag 1 like "first") and the
-    physical point "corner" (3, 0, 0) written as MSH ``version``."""
+    physical point "corner" (3, 0, 0) written as MSH ``version``; ``options`` are gmsh Mesh
+    options (e.g. Binary=1, RecombineAll=1 for quads, SaveAll=1)."""
     gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -58,6 +59,8 @@ def _gmsh_strip(path, surfaces, version):
         point = gmsh.model.getEntitiesInBoundingBox(far - 0.1, -0.1, -0.1, far + 0.1, 0.1, 0.1, 0)
         gmsh.model.addPhysicalGroup(0, [t for _, t in point], tag=1, name="corner")
         gmsh.option.setNumber("Mesh.MeshSizeMax", 0.35)
+        for name, value in options.items():
+            gmsh.option.setNumber(f"Mesh.{name}", value)
         gmsh.model.mesh.generate(2)
         gmsh.option.setNumber("Mesh.MshFileVersion", version)
         gmsh.write(str(path))
@@ -246,3 +249,45 @@ def test_abaqus_sets_made_of_other_sets_join_their_members(tmp_path):
     path.write_text(path.read_text() + "*NSET, NSET=BAD\nLOW, NOWHERE\n")
     with pytest.raises(ValueError, match=r"NSET 'BAD' joins the sets \['NOWHERE'\]"):
         Mesh.read(path)
+
+
+@pytest.mark.parametrize("version", [2.2, 4.1])
+def test_binary_and_quad_gmsh_files_give_meshios_cells_split(tmp_path, version):
+    path = tmp_path / "quads.msh"
+    _gmsh_strip(path, 2, version, Binary=1, RecombineAll=1)
+    _, triangles = _meshio_cells(path, "quad")
+    mesh = Mesh.read(path)
+    mesh.check()
+    np.testing.assert_array_equal(mesh.triangles, _first_copies(triangles))
+    np.testing.assert_array_equal(mesh.element_sets["all"], np.arange(mesh.n_triangles))
+    np.testing.assert_array_equal(mesh.nodes("clamp"), np.flatnonzero(mesh.points[:, 0] == 0.0))
+
+
+def test_physical_groups_gmsh_wrote_without_elements_are_named_in_a_warning(tmp_path):
+    path = tmp_path / "save_all.msh"
+    _gmsh_strip(path, 2, 2.2, SaveAll=1)  # MSH 2.2 elements then carry physical tag 0
+    every = r"\['corner', 'clamp', 'first', 'rest', 'all'\]"
+    with pytest.warns(UserWarning, match=rf"physical groups {every} hold no element"):
+        mesh = Mesh.read(path)
+    assert mesh.node_sets["clamp"].size == 0
+    path = tmp_path / "save_all_41.msh"
+    _gmsh_strip(path, 2, 4.1, SaveAll=1)
+    with pytest.raises(ValueError, match=r"cannot read .* without SaveAll, or as MSH 2.2"):
+        Mesh.read(path)
+
+
+def test_a_format_whose_meshio_reader_needs_a_missing_package_says_which(tmp_path):
+    try:
+        import h5py  # noqa: F401
+    except ModuleNotFoundError:
+        path = tmp_path / "plate.med"
+        path.write_bytes(b"")
+        with pytest.raises(ValueError, match=r"needs the package 'h5py'"):
+            Mesh.read(path)
+    else:  # .med readable: its blocks read as the other formats'
+        path = tmp_path / "plate.med"
+        cells = [("quad", RIGHT_QUADS), ("triangle", split_quads(LEFT_QUADS))]
+        meshio.write(path, meshio.Mesh(STRIP_POINTS, cells))
+        raw = meshio.read(path)
+        expected = [split_quads(b.data) if b.type == "quad" else b.data for b in raw.cells]
+        np.testing.assert_array_equal(Mesh.read(path).triangles, np.concatenate(expected))
