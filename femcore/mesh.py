@@ -689,10 +689,8 @@ class Mesh:
 
         Raises
         ------
-        FileNotFoundError
-            The file does not exist.
         ValueError
-            Unknown format, unreadable file, other cell types, no cell of a known kind, an
+            A missing file or a directory, unknown format, unreadable file, other cell types, no cell of a known kind, an
             Abaqus deck with several *NODE blocks or a set of sets naming an unknown set, a
             mesh too large for the memory available (femcore.memory), or any check of the
             constructor (e.g. the same triangle twice).

@@ -33,8 +33,11 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
     """Read a mesh file through meshio: the implementation of :meth:`Mesh.read`, which
     documents the formats, the sets read back and the errors."""
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"mesh file {path} is a directory; expected a mesh file in it")
     if not path.is_file():
-        raise FileNotFoundError(f"mesh file {path} does not exist")
+        # Project convention: every kind of bad input raises ValueError.
+        raise ValueError(f"mesh file {path} does not exist")
     fmt = _resolve_format(path, file_format, writing=False)
     deck = _checked_deck(path) if fmt == "abaqus" else DeckScan()
     try:
