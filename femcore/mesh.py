@@ -690,10 +690,11 @@ class Mesh:
         Raises
         ------
         ValueError
-            A missing file or a directory, unknown format, unreadable file, other cell types, no cell of a known kind, an
-            Abaqus deck with several *NODE blocks or a set of sets naming an unknown set, a
-            mesh too large for the memory available (femcore.memory), or any check of the
-            constructor (e.g. the same triangle twice).
+            A missing file or a directory, unknown format, unreadable file, other cell
+            types, no cell of a known kind, an Abaqus deck with several *NODE blocks or a
+            set of sets naming an unknown set, a mesh too large for the memory available
+            (femcore.memory), or any check of the constructor (e.g. the same triangle
+            twice).
         """
         from femcore.mesh_io import read_mesh
 
