@@ -11,8 +11,10 @@ mesh or a model that is refused would certainly not have fitted:
 - a mesh: about 200 bytes per triangle at generation (the grid, the split into triangles,
   the sets, the checks);
 - a model: about 8 kB per cell once compiled and one internal force evaluated
-  (FibrousShell 7.7 kB, MindlinShell 8.5 kB per triangle); a static solver's tangent adds
-  30-50 kB per triangle on top, not counted here.
+  (FibrousShell 7.7 kB, MindlinShell 8.5 kB per triangle);
+- a static solve (the model, the sparse tangent and its factorisation; peak resident memory
+  of one Static increment on 3200 to 20000 triangles): 39 kB per triangle for MindlinShell,
+  128 kB for FibrousShell (its bending couples each node to its neighbours' neighbours).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from pathlib import Path
 __all__ = [
     "MESH_BYTES_PER_CELL",
     "MODEL_BYTES_PER_CELL",
+    "STATIC_BYTES_PER_CELL",
     "available_memory",
     "check_memory",
     "check_mesh_memory",
@@ -36,6 +39,10 @@ keeps the refusal certain)."""
 MODEL_BYTES_PER_CELL = 6_000
 """Bytes per cell of a compiled model with one force evaluation (measured 7.7-8.5 kB per
 triangle for the shells; the lower figure keeps the refusal certain)."""
+
+STATIC_BYTES_PER_CELL = 30_000
+"""Bytes per cell of a static solve (measured 39-128 kB per triangle; the lower figure keeps
+the refusal certain)."""
 
 _GB = 1024.0**3
 
@@ -113,20 +120,28 @@ def check_mesh_memory(
     check_memory(estimate, f"{what} with {n_cells} {noun}")
 
 
-def check_model_memory(n_cells: int) -> None:
-    """Refuse a model of ``n_cells`` element cells whose arrays could not fit in memory.
+def check_model_memory(
+    n_cells: int, per_cell: int = MODEL_BYTES_PER_CELL, what: str = "a model"
+) -> None:
+    """Refuse a model (or a run of it) of ``n_cells`` element cells that could not fit in
+    memory.
 
     Parameters
     ----------
     n_cells : int
         Number of cells carrying an element, over all element blocks.
+    per_cell : int
+        Bytes per cell: MODEL_BYTES_PER_CELL for the compiled model, STATIC_BYTES_PER_CELL
+        for a static solve.
+    what : str
+        What would need them, e.g. "a static solve".
 
     Raises
     ------
     ValueError
-        The estimate (MODEL_BYTES_PER_CELL per cell) exceeds the memory available.
+        The estimate (``per_cell`` per cell) exceeds the memory available.
     """
     check_memory(
-        float(n_cells) * MODEL_BYTES_PER_CELL,
-        f"a model of {n_cells} element cells (about {MODEL_BYTES_PER_CELL} bytes each)",
+        float(n_cells) * per_cell,
+        f"{what} of {n_cells} element cells (about {per_cell} bytes each)",
     )

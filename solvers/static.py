@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from femcore.dofs import N_COLUMNS, Frames
+from femcore.memory import STATIC_BYTES_PER_CELL, check_model_memory
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import cross, rotate_about
@@ -174,7 +175,9 @@ class Static:
         ------
         ValueError
             When the loads push the model along a rigid motion that no support holds (no
-            equilibrium exists; the message names the motion).
+            equilibrium exists; the message names the motion), or when the solve would need
+            more memory than is available (femcore.memory, about 30 kB per element cell at
+            least).
         ConvergenceError
             When an increment cannot be completed: ``error.result`` holds the converged
             frames and the last good state, ``error.load_factor`` the load factor reached.
@@ -187,6 +190,9 @@ class Static:
     def _solve(self, model: Model | CompiledModel) -> Result:
         compiled = model.compile() if isinstance(model, Model) else model
         check_held(compiled)
+        # The tangent and its factorisation dwarf the model: refuse what cannot fit, up front.
+        n_cells = sum(len(block.cell_ids) for block in compiled.blocks)
+        check_model_memory(n_cells, STATIC_BYTES_PER_CELL, "a static solve")
         run = StaticRun(self, compiled)
         phases = 2 if self.step_loads_first else 1
         for phase in range(phases):

@@ -14,6 +14,7 @@ from femcore.mesh_checks import COORDINATE_LIMIT, MIN_EXTENT
 from femcore.topology import check_duplicate_nodes
 from fibreshell.case import CaseError, case_from_data
 from materials import presets
+from solvers import Static
 
 TRIANGLE = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]
 
@@ -128,6 +129,17 @@ def test_a_model_too_large_for_memory_is_refused_at_compile(monkeypatch):
     monkeypatch.setattr(memory, "available_memory", lambda: 10_000)
     with pytest.raises(ValueError, match=r"a model of 8 element cells .* would need about"):
         model.compile()
+
+
+def test_a_static_solve_too_large_for_memory_is_refused_before_its_first_tangent(monkeypatch):
+    model = Model(Mesh.rectangle(10.0, 10.0, 2, 2))
+    model.add(FibrousShell(presets.g986_ply()))
+    model.fix("left")
+    model.gravity((0.0, 0.0, -9810.0))
+    monkeypatch.setattr(memory, "available_memory", lambda: 100_000)  # the model fits
+    compiled = model.compile()
+    with pytest.raises(ValueError, match=r"a static solve of 8 element cells .* would need"):
+        Static(increments=1, progress=False).solve(compiled)
 
 
 def test_the_available_memory_is_read_from_the_system():
