@@ -213,13 +213,6 @@ def _set_ids(ids: ArrayLike, size: int, item: str, label: str) -> np.ndarray:
     return read_only(arr)
 
 
-def _add_set(
-    store: dict[str, np.ndarray], what: str, name: str, ids: ArrayLike, size: int, item: str
-) -> None:
-    name = _check_set_name(name, what, store)
-    store[name] = _set_ids(ids, size, item, f"{what} {name!r}")
-
-
 def _sorted_unique(ids: np.ndarray) -> np.ndarray:
     """Sorted unique ids (1-D int64). A sort and a comparison: np.unique's hashing takes
     seconds on the millions of ids of a large mesh's "all" set, which is sorted already."""
