@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 from femcore.inp_deck import DeckScan, scan_deck
 from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
+from femcore.mesh_checks import sorted_unique
 from femcore.mesh_generators import split_quads
 
 __all__ = ["read_mesh", "write_mesh"]
@@ -116,10 +117,10 @@ def _abaqus_element_sets(raw: meshio.Mesh, deck: DeckScan) -> meshio.Mesh:
                 f"before it (known: {sorted(store)})"
             )
         if keyword == "NSET":
-            point_sets[name] = np.unique(np.concatenate([point_sets[m] for m in members]))
+            point_sets[name] = sorted_unique(np.concatenate([point_sets[m] for m in members]))
         else:
             cell_sets[name] = [
-                np.unique(np.concatenate(per_block)).astype(np.int64)
+                sorted_unique(np.concatenate(per_block))
                 for per_block in zip(*(cell_sets[m] for m in members), strict=True)
             ]
     raw.point_sets = point_sets
@@ -270,14 +271,14 @@ def _kind_ids(
 
 
 def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None:
-    store[name] = np.union1d(store[name], ids) if name in store else ids
+    store[name] = sorted_unique(np.concatenate([store[name], ids])) if name in store else ids
 
 
 def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray]]:
     """meshio's cell sets as one int64 array of local cell ids per block (None: empty), the
     gmsh bookkeeping ("gmsh:bounding_entities") left out; ValueError for a set whose shape
     does not follow the blocks (meshio 5.3 builds such a set from an Abaqus *ELSET made of
-    other sets)."""
+    other sets, which read_mesh rebuilds unless the deck has *INCLUDE files)."""
     empty = np.zeros(0, dtype=np.int64)
     out = {}
     for name, per_block in raw.cell_sets.items():
@@ -289,16 +290,18 @@ def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray
             ids = []
         if len(ids) != len(raw.cells) or any(b.ndim != 1 for b in ids):
             raise ValueError(
-                f"{source}: cell set {name!r} cannot be read (it does not list cells block by "
-                "block; an Abaqus *ELSET made of other sets is read so): list its elements"
+                f"{source}: cell set {name!r} cannot be read (meshio does not list its cells "
+                "block by block, as for an *ELSET of other sets in an *INCLUDE file): list its "
+                "elements"
             )
         out[name] = ids
     return out
 
 
 def _split_quad_blocks(raw: meshio.Mesh, cell_sets: dict[str, list[np.ndarray]]) -> meshio.Mesh:
-    """``raw`` with each "quad" block replaced by its triangles (``split_quads``): quad i of
-    a block is triangles 2 i and 2 i + 1 of it, in its cell sets and cell data too."""
+    """``raw`` with ``cell_sets`` for its cell sets and each "quad" block replaced by its
+    triangles (``split_quads``): quad i of a block is triangles 2 i and 2 i + 1 of it, in its
+    cell sets and cell data too."""
     if "quad" in CELL_KINDS or not any(block.type == "quad" for block in raw.cells):
         return meshio.Mesh(
             raw.points,
@@ -375,7 +378,7 @@ class _Blocks:
         """Sorted unique ids among the cells of ``kind`` of per-block local cell ids."""
         ids = _kind_ids(local_ids, self.kinds, self.sizes, kind)
         kept = self._kept[kind]
-        return np.unique(ids if kept is None else kept[ids])
+        return sorted_unique(ids if kept is None else kept[ids])
 
 
 def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
@@ -478,7 +481,7 @@ def _add_physical_group(
     curve "clamp" holds the nodes of its lines) and as a set of the cells of the kinds of its
     dimension (1 -> line set, 2 -> element set)."""
     nodes = [np.asarray(block.data)[ids].reshape(-1) for block, ids in zip(raw.cells, local)]
-    _merge_set(sets["node"], name, np.unique(np.concatenate(nodes).astype(np.int64)))
+    _merge_set(sets["node"], name, sorted_unique(np.concatenate(nodes)))
     if dim == 0:
         return
     # The group goes to the kinds of its dimension that have members in it (to the first
