@@ -47,28 +47,66 @@ the refusal certain)."""
 _GB = 1024.0**3
 
 
+# Memory limit and usage of this process's control group (cgroup v2, then v1): a container
+# may be allowed far less than the machine has.
+CGROUP_FILES = (
+    (Path("/sys/fs/cgroup/memory.max"), Path("/sys/fs/cgroup/memory.current")),
+    (
+        Path("/sys/fs/cgroup/memory/memory.limit_in_bytes"),
+        Path("/sys/fs/cgroup/memory/memory.usage_in_bytes"),
+    ),
+)
+MEMINFO = Path("/proc/meminfo")
+
+
 def available_memory() -> int:
     """Memory the machine can still give this process, in bytes.
 
     ``MemAvailable`` of /proc/meminfo (free memory plus what the kernel can reclaim) where
-    the system has it, else the physical memory (``SC_PHYS_PAGES * SC_PAGE_SIZE``); 0 if
-    neither can be read (then no check refuses anything).
+    the system has it, else the physical memory (``SC_PHYS_PAGES * SC_PAGE_SIZE``), and no
+    more than the control group's limit less its usage where a limit is set (a container);
+    0 if nothing can be read (then no check refuses anything).
 
     Returns
     -------
     int
         Bytes.
     """
+    machine = _meminfo_available()
+    if machine is None:
+        try:
+            machine = int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+        except (OSError, ValueError, AttributeError):
+            machine = 0
+    group = _cgroup_available()
+    if group is not None and (machine == 0 or group < machine):
+        return group
+    return machine
+
+
+def _meminfo_available() -> int | None:
     try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
+        for line in MEMINFO.read_text().splitlines():
             if line.startswith("MemAvailable:"):
                 return int(line.split()[1]) * 1024  # the file counts kB
     except (OSError, ValueError, IndexError):
         pass
-    try:
-        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
-    except (OSError, ValueError, AttributeError):
-        return 0
+    return None
+
+
+def _cgroup_available() -> int | None:
+    """The control group's limit less its usage (bytes), None without a limit."""
+    for limit_file, usage_file in CGROUP_FILES:
+        try:
+            limit_text = limit_file.read_text().strip()
+            usage = int(usage_file.read_text().strip())
+        except (OSError, ValueError):
+            continue
+        # "max" (v2) or a huge number (v1, 2^63 rounded to pages) means no limit.
+        if limit_text == "max" or not limit_text.isdigit() or int(limit_text) >= 2**60:
+            return None
+        return max(int(limit_text) - usage, 0)
+    return None
 
 
 def check_memory(n_bytes: float, what: str) -> None:

@@ -144,3 +144,16 @@ def test_a_static_solve_too_large_for_memory_is_refused_before_its_first_tangent
 
 def test_the_available_memory_is_read_from_the_system():
     assert memory.available_memory() > 0
+
+
+def test_a_control_group_limit_caps_the_available_memory(tmp_path, monkeypatch):
+    meminfo = tmp_path / "meminfo"
+    meminfo.write_text("MemTotal:       4000000 kB\nMemAvailable:   2000000 kB\n")
+    limit, usage = tmp_path / "memory.max", tmp_path / "memory.current"
+    limit.write_text("1000000000\n")
+    usage.write_text("300000000\n")
+    monkeypatch.setattr(memory, "MEMINFO", meminfo)
+    monkeypatch.setattr(memory, "CGROUP_FILES", ((limit, usage),))
+    assert memory.available_memory() == 700_000_000
+    limit.write_text("max\n")  # no limit: the machine's MemAvailable
+    assert memory.available_memory() == 2_048_000_000
