@@ -24,6 +24,7 @@ from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.loads import Amplitude, Fix, NodalLoad, Prescribed
+from femcore.memory import check_model_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
@@ -68,6 +69,8 @@ class CompiledModel:
         mesh = model.mesh
         if not model.blocks:
             raise ValueError("the model has no elements: add an element block with model.add(...)")
+        # Before anything is bound: a model too large for the machine is refused at once.
+        check_model_memory(sum(len(entry.cells) for entry in model.blocks))
         n = mesh.n_nodes
         self.mesh = mesh
         self.n_nodes = n

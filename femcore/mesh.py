@@ -33,6 +33,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.mesh_checks import (
+    add_set,
+    as_mapping,
+    check_coordinates,
+    check_distinct_cells,
+    read_only,
+)
 from femcore.topology import (
     Topology,
     build_topology,
@@ -94,9 +101,6 @@ CELL_KINDS: Mapping[str, CellKind] = MappingProxyType(_CELL_KIND_TABLE)
 _LEGACY_CELLS = {"triangle": "triangles", "line": "lines"}
 _LEGACY_SETS = {"triangle": "element_sets", "line": "line_sets"}
 
-# Characters that would break the set syntax of .inp or .msh files.
-_FORBIDDEN_NAME_CHARS = {",", "=", '"', "\n", "\r"}
-
 
 class Mesh:
     """Cells of the kinds in CELL_KINDS on shared nodes, with named node and cell sets.
@@ -124,11 +128,13 @@ class Mesh:
     Raises
     ------
     ValueError
-        Wrong shapes, non-finite coordinates (naming the node), node ids out of range (naming
-        the cell and the id), a cell repeating a node, invalid sets, an unknown cell kind, or
-        the same cells or sets given both by their legacy argument and in ``cells`` /
-        ``cell_sets``. Duplicate nodes, zero areas and orientation are checked by
-        :meth:`check`.
+        Wrong shapes, non-finite coordinates or coordinates beyond +-1e60 (naming the node),
+        nodes spanning less than 1e-60 (a degenerate or far too small mesh,
+        femcore.mesh_checks), node ids out of range (naming the cell and the id), a cell
+        repeating a node, two cells of a kind on the same nodes in any order (naming them),
+        invalid sets, an unknown cell kind, or the same cells or sets given both by their
+        legacy argument and in ``cells`` / ``cell_sets``. Duplicate nodes, zero areas and
+        orientation are checked by :meth:`check`.
     """
 
     def __init__(
@@ -149,19 +155,22 @@ class Mesh:
         given_sets = _by_kind(
             cell_sets, "cell_sets", {"triangle": element_sets, "line": line_sets}, _LEGACY_SETS
         )
-        self._points = _read_only(validate_points(points))
+        self._points = read_only(validate_points(points))
+        check_coordinates(self._points)
         n = len(self._points)
         self._cells: dict[str, np.ndarray] = {
-            kind: _read_only(validate_cells(given_cells.get(kind), spec.nodes_per_cell, kind, n))
+            kind: read_only(validate_cells(given_cells.get(kind), spec.nodes_per_cell, kind, n))
             for kind, spec in CELL_KINDS.items()
         }
+        for kind, kind_cells in self._cells.items():
+            check_distinct_cells(kind_cells, kind)
         self._node_sets: dict[str, np.ndarray] = {}
         self._cell_sets: dict[str, dict[str, np.ndarray]] = {kind: {} for kind in CELL_KINDS}
-        for name, ids in _as_mapping(node_sets, "node_sets").items():
+        for name, ids in as_mapping(node_sets, "node_sets").items():
             self.add_node_set(name, ids)
         for kind in CELL_KINDS:
             what = _LEGACY_SETS.get(kind, f"cell_sets[{kind!r}]")
-            for name, ids in _as_mapping(given_sets.get(kind), what).items():
+            for name, ids in as_mapping(given_sets.get(kind), what).items():
                 self.add_cell_set(kind, name, ids)
 
     # ----------------------------------------------------------------------------------------
@@ -291,7 +300,7 @@ class Mesh:
         ValueError
             Invalid or already used name, ids out of range, or a mask of the wrong shape.
         """
-        _add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node")
+        add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node")
 
     def add_cell_set(self, kind: str, name: str, ids: ArrayLike) -> None:
         """Add a new set of cells of one kind.
@@ -314,7 +323,7 @@ class Mesh:
         """
         kind = _known_kind(kind)
         label = CELL_KINDS[kind].set_label
-        _add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
+        add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
 
     def add_element_set(self, name: str, ids: ArrayLike) -> None:
         """Add a new triangle set: ``add_cell_set("triangle", name, ids)``.
@@ -493,8 +502,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Non-positive or non-finite lengths, non-positive or non-integer counts, or a bad
-            origin.
+            Non-positive or non-finite lengths, non-positive or non-integer counts, a bad
+            origin, or more triangles than the memory available can hold (femcore.memory).
         """
         from femcore.mesh_generators import rectangle
 
@@ -521,7 +530,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Bad or coincident end points, or a non-positive count.
+            Bad or coincident end points, a non-positive count, or more cells than the
+            memory available can hold.
         """
         from femcore.mesh_generators import line
 
@@ -557,8 +567,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Bad shapes or counts, non-coplanar corners, or a non-convex, self-intersecting or
-            degenerate quadrilateral.
+            Bad shapes or counts, non-coplanar corners, a non-convex, self-intersecting or
+            degenerate quadrilateral, or more triangles than the memory available can hold.
         RuntimeError
             gmsh did not return the expected structured grid.
         """
@@ -595,7 +605,8 @@ class Mesh:
         Raises
         ------
         ValueError
-            Quads not of shape (q, 4), node ids out of range, or a quad set out of range.
+            Quads not of shape (q, 4), node ids out of range, a quad set out of range, or
+            more triangles than the memory available can hold.
         """
         from femcore.mesh_generators import from_quads
 
@@ -649,13 +660,20 @@ class Mesh:
     def read(cls, path: str | Path, file_format: str | None = None) -> Mesh:
         """Read a mesh file through meshio (.msh, .vtu, .inp, ...).
 
-        Keeps the cells of the kinds in CELL_KINDS ("triangle" and "line") and ignores
-        "vertex" cells; quadrilaterals (gmsh quads, Abaqus S4/S4R) are split in two triangles
-        each as :meth:`from_quads` does (fibre-aligned when their sides follow the fibres),
-        their sets and cell data following them. Named sets come back from Abaqus NSET/ELSET
-        (.inp), from the "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other
-        formats, and from named gmsh physical groups (dimension 0 -> node set, 1 -> line set,
-        2 -> element set; in general, dimension d -> a set of the cell kinds of dimension d).
+        Keeps the cells of the kinds in CELL_KINDS ("triangle" and "line") of every block,
+        in file order, with meshio's node ids (every point of the file is a node, used or
+        not), and ignores "vertex" cells; quadrilaterals (gmsh quads, Abaqus S4/S4R) are
+        split in two triangles each as :meth:`from_quads` does (fibre-aligned when their
+        sides follow the fibres), their sets and cell data following them. Named sets come
+        back from Abaqus NSET/ELSET (.inp; ELSET= of *ELEMENT lines, sets made of other
+        sets), from the "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other
+        formats, and from named gmsh physical groups: every group is the node set of its
+        cells' nodes (a physical curve "clamp" holds the nodes of its lines), and a group of
+        dimension d is also a set of the cells of the kinds of dimension d (1 -> line set,
+        2 -> element set). An element that MSH 2.2 repeats for each physical group of its
+        entity is kept once. Keywords of an Abaqus deck the reader does not turn into the
+        mesh (*BOUNDARY, *MATERIAL, *SHELL SECTION, *STEP, ...) are listed in one
+        UserWarning.
 
         Parameters
         ----------
@@ -671,10 +689,12 @@ class Mesh:
 
         Raises
         ------
-        FileNotFoundError
-            The file does not exist.
         ValueError
-            Unknown format, unreadable file, other cell types, or no cell of a known kind.
+            A missing file or a directory, unknown format, unreadable file, other cell
+            types, no cell of a known kind, an Abaqus deck with several *NODE blocks or a
+            set of sets naming an unknown set, a mesh too large for the memory available
+            (femcore.memory), or any check of the constructor (e.g. the same triangle
+            twice).
         """
         from femcore.mesh_io import read_mesh
 
@@ -726,7 +746,7 @@ def _by_kind(
     legacy_names: dict[str, str],
 ) -> dict[str, Any]:
     """Merge a generic kind -> value mapping with the legacy per-kind arguments."""
-    merged = dict(_as_mapping(generic, what))
+    merged = dict(as_mapping(generic, what))
     for kind in merged:
         _known_kind(kind)
     for kind, value in legacy.items():
@@ -738,62 +758,3 @@ def _by_kind(
             )
         merged[kind] = value
     return merged
-
-
-def _read_only(array: np.ndarray) -> np.ndarray:
-    array.setflags(write=False)
-    return array
-
-
-def _as_mapping(given: Mapping[str, ArrayLike] | None, what: str) -> Mapping[str, ArrayLike]:
-    if given is None:
-        return {}
-    if not isinstance(given, Mapping):
-        # Project convention: every kind of bad input raises ValueError.
-        raise ValueError(  # noqa: TRY004
-            f"{what} must be a mapping name -> ids, got {type(given).__name__}"
-        )
-    return given
-
-
-def _check_set_name(name: Any, what: str, existing: Mapping[str, np.ndarray]) -> str:
-    if not isinstance(name, str) or not name or name != name.strip():
-        raise ValueError(
-            f"{what} name must be a non-empty string without surrounding blanks, got {name!r}"
-        )
-    if _FORBIDDEN_NAME_CHARS & set(name):
-        raise ValueError(
-            f'{what} name {name!r} must not contain any of , = " or line breaks '
-            "(they break .inp and .msh files)"
-        )
-    if name in existing:
-        raise ValueError(f"{what} {name!r} already exists; sets are never overwritten")
-    return name
-
-
-def _set_ids(ids: ArrayLike, size: int, item: str, label: str) -> np.ndarray:
-    """Sorted unique int64 ids in [0, size) from ids or a (size,) bool mask."""
-    arr = np.asarray(ids)
-    if arr.dtype == np.bool_:
-        if arr.shape != (size,):
-            raise ValueError(f"{label}: a bool mask must have shape ({size},), got {arr.shape}")
-        arr = np.flatnonzero(arr)
-    elif arr.size == 0:
-        arr = np.zeros(0, dtype=np.int64)
-    elif arr.dtype.kind not in "iu" or arr.ndim > 1:
-        raise ValueError(
-            f"{label} must be a 1-D array of integer {item} ids, got dtype {arr.dtype} "
-            f"and shape {arr.shape}"
-        )
-    arr = np.unique(arr.astype(np.int64).reshape(-1))
-    if arr.size and (arr[0] < 0 or arr[-1] >= size):
-        bad = arr[0] if arr[0] < 0 else arr[-1]
-        raise ValueError(f"{label} refers to {item} {bad}, but {item} ids must be in [0, {size})")
-    return _read_only(arr)
-
-
-def _add_set(
-    store: dict[str, np.ndarray], what: str, name: str, ids: ArrayLike, size: int, item: str
-) -> None:
-    name = _check_set_name(name, what, store)
-    store[name] = _set_ids(ids, size, item, f"{what} {name!r}")

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.memory import check_mesh_memory
 from femcore.mesh import Mesh
 
 __all__ = [
@@ -53,6 +54,7 @@ def rectangle(
     nx = _positive_int(nx, "nx")
     ny = _positive_int(ny, "ny")
     base = _point3(origin, "origin")
+    _check_grid_memory(f"Mesh.rectangle(nx={nx}, ny={ny})", nx, ny)
     # linspace hits the far edge exactly, unlike i * (lx / nx).
     x, y = np.meshgrid(np.linspace(0.0, lx, nx + 1), np.linspace(0.0, ly, ny + 1))
     points = base + np.column_stack((x.ravel(), y.ravel(), np.zeros(x.size)))
@@ -72,6 +74,7 @@ def line(p0: ArrayLike, p1: ArrayLike, n: int) -> Mesh:
     a = _point3(p0, "p0")
     b = _point3(p1, "p1")
     n = _positive_int(n, "n")
+    check_mesh_memory(n, n + 1, f"Mesh.line(n={n})", "lines")
     if np.array_equal(a, b):
         raise ValueError(f"p0 and p1 must differ, both are {a.tolist()}")
     t = np.linspace(0.0, 1.0, n + 1)[:, None]
@@ -92,6 +95,7 @@ def quadrilateral(corners: ArrayLike, nx: int, ny: int) -> Mesh:
     quad, normal = _validate_quadrilateral(corners)
     nx = _positive_int(nx, "nx")
     ny = _positive_int(ny, "ny")
+    _check_grid_memory(f"Mesh.quadrilateral(nx={nx}, ny={ny})", nx, ny)
     coords, quads = _gmsh_structured_quads(quad, nx, ny)
     if len(quads) != nx * ny:
         raise RuntimeError(f"gmsh returned {len(quads)} quadrangles, expected {nx * ny}")
@@ -120,6 +124,7 @@ def from_quads(
     quads = np.asarray(quads)
     if quads.ndim != 2 or quads.shape[1] != 4 or len(quads) == 0:
         raise ValueError(f"quads must have shape (q, 4) with q >= 1, got {quads.shape}")
+    check_mesh_memory(2 * len(quads), len(np.asarray(points)), "Mesh.from_quads", "triangles")
     sets = {}
     for name, ids in (quad_sets or {}).items():
         ids = np.asarray(ids, dtype=np.int64).ravel()
@@ -142,6 +147,7 @@ def corner(lx: float, ly: float, n: int, grip: ArrayLike | None = None) -> Mesh:
     lx = _positive_length(lx, "lx")
     ly = _positive_length(ly, "ly")
     n = _positive_int(n, "n")
+    _check_grid_memory(f"Mesh.corner(n={n})", n, n)
     if grip is None:
         full = rectangle(lx, ly, nx=n, ny=n)
     else:
@@ -247,6 +253,12 @@ def _point3(value: ArrayLike, name: str) -> np.ndarray:
     if point.shape not in ((2,), (3,)) or not np.isfinite(point).all():
         raise ValueError(f"{name} must be a finite point (x, y[, z]), got {value!r}")
     return np.append(point, 0.0) if point.size == 2 else point
+
+
+def _check_grid_memory(call: str, nx: int, ny: int) -> None:
+    """Refuse an nx x ny grid of 2 nx ny triangles that cannot be built in memory; ``call``
+    names the generator in the message, e.g. "Mesh.rectangle(nx=10, ny=20)"."""
+    check_mesh_memory(2 * nx * ny, (nx + 1) * (ny + 1), call, "triangles")
 
 
 def grid_quads(nx: int, ny: int) -> np.ndarray:

@@ -6,6 +6,7 @@ and the known losses, and delegate to :func:`read_mesh` and :func:`write_mesh` h
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -14,7 +15,10 @@ import meshio
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.inp_deck import DeckScan, scan_deck
+from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
+from femcore.mesh_checks import sorted_unique
 from femcore.mesh_generators import split_quads
 
 __all__ = ["read_mesh", "write_mesh"]
@@ -30,9 +34,13 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
     """Read a mesh file through meshio: the implementation of :meth:`Mesh.read`, which
     documents the formats, the sets read back and the errors."""
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"mesh file {path} is a directory; expected a mesh file in it")
     if not path.is_file():
-        raise FileNotFoundError(f"mesh file {path} does not exist")
+        # Project convention: every kind of bad input raises ValueError.
+        raise ValueError(f"mesh file {path} does not exist")
     fmt = _resolve_format(path, file_format, writing=False)
+    deck = _checked_deck(path) if fmt == "abaqus" else DeckScan()
     try:
         raw = meshio.read(path, file_format=fmt)
     except SystemExit as err:  # meshio's VTU reader ends the process on a corrupt file
@@ -41,9 +49,83 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(
             f"cannot read {path} as {fmt!r}: not a text file ({err.reason} at byte {err.start})"
         ) from err
+    except ModuleNotFoundError as err:  # e.g. .med files need h5py
+        raise ValueError(
+            f"cannot read {path} as {fmt!r}: meshio needs the package {err.name!r} for this "
+            f"format (pip install {err.name})"
+        ) from err
     except Exception as err:  # meshio's readers raise anything on a corrupt file
-        raise ValueError(f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}") from err
-    return _mesh_from_meshio(raw, str(path))
+        hint = ""
+        if "gmsh:physical" in str(err):
+            hint = (
+                " (a MSH 4.1 file written with gmsh's Mesh.SaveAll and physical groups, which "
+                "meshio 5.3 cannot read: write it without SaveAll, or as MSH 2.2)"
+            )
+        raise ValueError(
+            f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}{hint}"
+        ) from err
+    if fmt == "abaqus":
+        raw = _abaqus_element_sets(raw, deck)
+    # Quads become two triangles each; the rest one cell each (vertex cells are dropped).
+    n_cells = sum(len(block.data) * (2 if block.type == "quad" else 1) for block in raw.cells)
+    check_mesh_memory(n_cells, len(raw.points), f"the mesh of {path}")
+    mesh = _mesh_from_meshio(raw, str(path))
+    if deck.ignored:
+        warnings.warn(
+            f"{path}: the mesh reader keeps the nodes, elements and node/element sets of an "
+            f"Abaqus deck and ignores {deck.ignored_summary()}; give supports, loads, "
+            "materials, sections and steps in the model or the case file",
+            UserWarning,
+            stacklevel=3,
+        )
+    return mesh
+
+
+def _checked_deck(path: Path) -> DeckScan:
+    """The keyword scan of an Abaqus deck, or ValueError for a deck meshio would read wrong
+    (several *NODE blocks)."""
+    deck = scan_deck(path)
+    if deck.node_blocks > 1:
+        raise ValueError(
+            f"{path} has {deck.node_blocks} *NODE blocks; the .inp reader (meshio) keeps only "
+            "the last one: gather the nodes in one *NODE block"
+        )
+    return deck
+
+
+def _abaqus_element_sets(raw: meshio.Mesh, deck: DeckScan) -> meshio.Mesh:
+    """``raw`` with the element sets named on *ELEMENT lines (ELSET=) holding every element
+    of their blocks (meshio 5.3 gives the i-th such set to the i-th block, whichever block
+    named it), and the sets made of other sets joining them (meshio reads the first name of
+    each line of an *ELSET of sets into a wrong shape, and an *NSET of sets as empty)."""
+    if deck.includes or len(deck.element_sets) != len(raw.cells):
+        return raw  # blocks from included files: the scan cannot tell which is which
+    cell_sets = dict(raw.cell_sets)
+    for name in {n for n in deck.element_sets if n is not None}:
+        cell_sets[name] = [
+            np.arange(len(block.data) if owner == name else 0, dtype=np.int64)
+            for block, owner in zip(raw.cells, deck.element_sets, strict=True)
+        ]
+    point_sets = dict(raw.point_sets)
+    # Sets of sets, in file order (a set may join sets defined before it).
+    for keyword, name, members in deck.set_unions:
+        store = point_sets if keyword == "NSET" else cell_sets
+        unknown = [member for member in members if member not in store]
+        if unknown:
+            raise ValueError(
+                f"*{keyword} {name!r} joins the sets {unknown}, which the deck does not define "
+                f"before it (known: {sorted(store)})"
+            )
+        if keyword == "NSET":
+            point_sets[name] = sorted_unique(np.concatenate([point_sets[m] for m in members]))
+        else:
+            cell_sets[name] = [
+                sorted_unique(np.concatenate(per_block))
+                for per_block in zip(*(cell_sets[m] for m in members), strict=True)
+            ]
+    raw.point_sets = point_sets
+    raw.cell_sets = cell_sets
+    return raw
 
 
 def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> None:
@@ -176,7 +258,9 @@ def _resolve_format(path: Path, file_format: str | None, writing: bool) -> str:
 def _kind_ids(
     local_ids: Sequence[ArrayLike | None], kinds: Sequence[str], sizes: Sequence[int], kind: str
 ) -> np.ndarray:
-    """Ids in the concatenated numbering of ``kind`` cells from per-block local ids."""
+    """Ids in the concatenated numbering of ``kind`` cells from per-block local cell ids (a
+    block's local cell i is cell offset + i of its kind, the offset counting the cells of that
+    kind in the blocks before it). Cell ids only: node ids never get an offset."""
     parts, offset = [], 0
     for block_kind, size, ids in zip(kinds, sizes, local_ids, strict=True):  # over blocks
         if block_kind == kind:
@@ -187,14 +271,47 @@ def _kind_ids(
 
 
 def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None:
-    store[name] = np.union1d(store[name], ids) if name in store else ids
+    store[name] = sorted_unique(np.concatenate([store[name], ids])) if name in store else ids
 
 
-def _split_quad_blocks(raw: meshio.Mesh) -> meshio.Mesh:
-    """``raw`` with each "quad" block replaced by its triangles (``split_quads``): quad i of
-    a block is triangles 2 i and 2 i + 1 of it, in its cell sets and cell data too."""
+def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray]]:
+    """meshio's cell sets as one int64 array of local cell ids per block (None: empty), the
+    gmsh bookkeeping ("gmsh:bounding_entities") left out; ValueError for a set whose shape
+    does not follow the blocks (meshio 5.3 builds such a set from an Abaqus *ELSET made of
+    other sets, which read_mesh rebuilds unless the deck has *INCLUDE files)."""
+    empty = np.zeros(0, dtype=np.int64)
+    out = {}
+    for name, per_block in raw.cell_sets.items():
+        if name.startswith("gmsh:"):
+            continue
+        try:
+            ids = [empty if b is None else np.asarray(b, dtype=np.int64) for b in per_block]
+        except (TypeError, ValueError):
+            ids = []
+        if len(ids) != len(raw.cells) or any(b.ndim != 1 for b in ids):
+            raise ValueError(
+                f"{source}: cell set {name!r} cannot be read (meshio does not list its cells "
+                "block by block, as for an *ELSET of other sets in an *INCLUDE file): list its "
+                "elements"
+            )
+        out[name] = ids
+    return out
+
+
+def _split_quad_blocks(raw: meshio.Mesh, cell_sets: dict[str, list[np.ndarray]]) -> meshio.Mesh:
+    """``raw`` with ``cell_sets`` for its cell sets and each "quad" block replaced by its
+    triangles (``split_quads``): quad i of a block is triangles 2 i and 2 i + 1 of it, in its
+    cell sets and cell data too."""
     if "quad" in CELL_KINDS or not any(block.type == "quad" for block in raw.cells):
-        return raw  # no quads, or a registered quad kind that keeps them
+        return meshio.Mesh(
+            raw.points,
+            raw.cells,
+            point_data=raw.point_data,
+            cell_data=raw.cell_data,
+            field_data=raw.field_data,
+            point_sets=raw.point_sets,
+            cell_sets=cell_sets,
+        )
     quad = [block.type == "quad" for block in raw.cells]
     cells = [
         meshio.CellBlock("triangle", split_quads(np.asarray(block.data))) if is_quad else block
@@ -217,17 +334,60 @@ def _split_quad_blocks(raw: meshio.Mesh) -> meshio.Mesh:
         cells,
         point_data=raw.point_data,
         cell_data={name: doubled(v, False) for name, v in raw.cell_data.items()},
+        field_data=raw.field_data,
         point_sets=raw.point_sets,
-        cell_sets={name: doubled(v, True) for name, v in raw.cell_sets.items()},
+        cell_sets={name: doubled(v, True) for name, v in cell_sets.items()},
     )
 
 
+class _Blocks:
+    """The cells of each kind gathered from meshio's blocks (node ids as they are), and the
+    map from per-block local cell ids to ids among the cells of a kind.
+
+    With ``merge_copies`` a cell repeated with the same nodes in the same order is kept once
+    and its ids map to the kept copy: gmsh's MSH 2.2 writes an element once per physical group
+    of its entity (one tag each), so a surface in two groups comes back twice.
+    """
+
+    def __init__(self, raw: meshio.Mesh, kinds: list[str], merge_copies: bool):
+        self.kinds = kinds
+        self.sizes = [len(block.data) for block in raw.cells]
+        self.connectivity: dict[str, np.ndarray] = {}
+        self._kept: dict[str, np.ndarray | None] = {}
+        for kind, spec in CELL_KINDS.items():
+            width = spec.nodes_per_cell
+            parts = [
+                np.asarray(block.data, dtype=np.int64).reshape(-1, width)
+                for block, block_kind in zip(raw.cells, kinds)
+                if block_kind == kind
+            ]
+            cells = np.concatenate(parts) if parts else np.zeros((0, width), dtype=np.int64)
+            kept = None
+            if merge_copies and len(cells) > 1:
+                _, first, inverse = np.unique(cells, axis=0, return_index=True, return_inverse=True)
+                if len(first) < len(cells):
+                    # Keep the first copy of each cell, in the order of the file.
+                    rank = np.empty(len(first), dtype=np.int64)
+                    rank[np.argsort(first)] = np.arange(len(first))
+                    kept = rank[np.ravel(inverse)]
+                    cells = cells[np.sort(first)]
+            self.connectivity[kind] = cells
+            self._kept[kind] = kept
+
+    def ids(self, local_ids: Sequence[ArrayLike | None], kind: str) -> np.ndarray:
+        """Sorted unique ids among the cells of ``kind`` of per-block local cell ids."""
+        ids = _kind_ids(local_ids, self.kinds, self.sizes, kind)
+        kept = self._kept[kind]
+        return sorted_unique(ids if kept is None else kept[ids])
+
+
 def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
-    raw = _split_quad_blocks(raw)
+    """The Mesh of a meshio mesh: every block of every kind in file order (quads split in two
+    triangles), node ids those of meshio's points, and every named set."""
+    raw = _split_quad_blocks(raw, _clean_cell_sets(raw, source))
     # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
     kind_of = _kind_of_meshio()
     kinds = [kind_of.get(block.type, block.type) for block in raw.cells]
-    sizes = [len(block.data) for block in raw.cells]
     unsupported = sorted({block.type for block in raw.cells} - set(kind_of) - {"vertex"})
     if unsupported:
         names = ", ".join(kind_of)
@@ -236,21 +396,18 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
         )
     if not set(kinds) & set(CELL_KINDS):
         raise ValueError(f"{source} contains {_neither(list(CELL_KINDS))} cells")
-    cells = {
-        kind: _kind_ids([b.data for b in raw.cells], kinds, sizes, kind).reshape(
-            -1, spec.nodes_per_cell
-        )
-        for kind, spec in CELL_KINDS.items()
-    }
+    from_gmsh = "gmsh:physical" in raw.cell_data or "gmsh:geometrical" in raw.cell_data
+    groups = _physical_groups(raw, kinds) if from_gmsh else {}
+    blocks = _Blocks(raw, kinds, merge_copies=from_gmsh)
     sets: dict[str, dict[str, np.ndarray]] = {"node": {}, **{kind: {} for kind in CELL_KINDS}}
 
     for name, ids in raw.point_sets.items():
         _merge_set(sets["node"], name, np.asarray(ids, dtype=np.int64))
     for name, per_block in raw.cell_sets.items():
-        if name.startswith("gmsh:"):  # meshio bookkeeping such as gmsh:bounding_entities
+        if name in groups:  # gmsh 4.1 physical groups, read below with their dimension
             continue
         for kind in CELL_KINDS:
-            ids = _kind_ids(list(per_block), kinds, sizes, kind)
+            ids = blocks.ids(per_block, kind)
             if ids.size:  # a set of another cell kind has no members here
                 _merge_set(sets[kind], name, ids)
     for name, data in raw.point_data.items():
@@ -261,36 +418,76 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
         for name, per_block in raw.cell_data.items():
             if name.startswith(prefix):
                 local = [np.flatnonzero(np.ravel(mask)) for mask in per_block]
-                _merge_set(sets[kind], name[len(prefix) :], _kind_ids(local, kinds, sizes, kind))
-    _add_physical_groups(raw, kinds, sizes, sets)
+                _merge_set(sets[kind], name[len(prefix) :], blocks.ids(local, kind))
+    for name, (dim, local) in groups.items():
+        _add_physical_group(raw, blocks, sets, name, dim, local)
+    empty = [name for name, (_, local) in groups.items() if not any(ids.size for ids in local)]
+    if empty:
+        warnings.warn(
+            f"{source}: the physical groups {empty} hold no element of the file, so their "
+            "sets are empty (gmsh's Mesh.SaveAll writes MSH 2.2 elements without their "
+            "groups)",
+            UserWarning,
+            stacklevel=4,
+        )
 
     return Mesh(
         raw.points,
         node_sets=sets["node"],
-        cells=cells,
+        cells=blocks.connectivity,
         cell_sets={kind: sets[kind] for kind in CELL_KINDS},
     )
 
 
-def _add_physical_groups(
-    raw: meshio.Mesh, kinds: list[str], sizes: list[int], sets: dict[str, dict[str, np.ndarray]]
-) -> None:
-    """Named gmsh physical groups -> node sets (dimension 0) and cell sets (dimension d: the
-    cell kinds of that dimension, e.g. 1 -> line sets, 2 -> element sets)."""
-    physical = raw.cell_data.get("gmsh:physical")
-    if physical is None:
-        return
-    for name, (tag, dim) in ((n, np.ravel(v)[:2]) for n, v in raw.field_data.items()):
-        local = [np.flatnonzero(np.ravel(tags) == tag) for tags in physical]
-        if int(dim) == 0:
-            ids = _kind_ids(local, kinds, sizes, "vertex")
-            vertices = _kind_ids([b.data for b in raw.cells], kinds, sizes, "vertex")
-            _merge_set(sets["node"], name, np.unique(vertices[ids]))
+def _physical_groups(raw: meshio.Mesh, kinds: list[str]) -> dict[str, tuple[int, list]]:
+    """Named gmsh physical groups: name -> (dimension, local cell ids per block).
+
+    A physical tag is unique within a dimension only (a curve and a surface may both be
+    group 1), so the tags of a group are looked for in the blocks of its dimension. MSH 4.1
+    files give meshio a cell set per group (every group of every entity); MSH 2.2 files one
+    physical tag per element (the element repeated for each further group).
+    """
+    dims = [0 if kind == "vertex" else CELL_KINDS[kind].dimension for kind in kinds]
+    tags = raw.cell_data.get("gmsh:physical")
+    empty = np.zeros(0, dtype=np.int64)
+    groups = {}
+    for name, value in raw.field_data.items():
+        value = np.ravel(value)
+        if value.size < 2:
             continue
-        # A group goes to the kinds of its dimension that have members in it (to the first
-        # such kind if none has: an empty set, as for a group on cells of an unused kind).
-        candidates = [kind for kind, spec in CELL_KINDS.items() if spec.dimension == int(dim)]
-        found = {kind: _kind_ids(local, kinds, sizes, kind) for kind in candidates}
-        targets = [kind for kind in candidates if found[kind].size] or candidates[:1]
-        for kind in targets:
-            _merge_set(sets[kind], name, found[kind])
+        tag, dim = int(value[0]), int(value[1])
+        if name in raw.cell_sets:
+            local = [np.asarray(ids, dtype=np.int64) for ids in raw.cell_sets[name]]
+        elif tags is not None and len(tags) == len(kinds):
+            local = [
+                np.flatnonzero(np.ravel(t) == tag) if d == dim else empty
+                for t, d in zip(tags, dims)
+            ]
+        else:
+            local = [empty] * len(kinds)
+        groups[name] = (dim, local)
+    return groups
+
+
+def _add_physical_group(
+    raw: meshio.Mesh,
+    blocks: _Blocks,
+    sets: dict[str, dict[str, np.ndarray]],
+    name: str,
+    dim: int,
+    local: list[np.ndarray],
+) -> None:
+    """A physical group as a node set (the nodes of its cells, any dimension: a physical
+    curve "clamp" holds the nodes of its lines) and as a set of the cells of the kinds of its
+    dimension (1 -> line set, 2 -> element set)."""
+    nodes = [np.asarray(block.data)[ids].reshape(-1) for block, ids in zip(raw.cells, local)]
+    _merge_set(sets["node"], name, sorted_unique(np.concatenate(nodes)))
+    if dim == 0:
+        return
+    # The group goes to the kinds of its dimension that have members in it (to the first
+    # such kind if none has: an empty set, as for a group on cells of an unused kind).
+    candidates = [kind for kind, spec in CELL_KINDS.items() if spec.dimension == dim]
+    found = {kind: blocks.ids(local, kind) for kind in candidates}
+    targets = [kind for kind in candidates if found[kind].size] or candidates[:1]
+    for kind in targets:
+        _merge_set(sets[kind], name, found[kind])

@@ -366,6 +366,12 @@ def check_duplicate_nodes(points: ArrayLike, triangles: ArrayLike | None = None)
         return
     sub = pts[used]
     tol = DUPLICATE_TOL * _length_scale(sub)
+    if tol < np.finfo(np.float64).tiny:
+        raise ValueError(
+            f"the mesh is degenerate or too small: its {used.size} nodes span "
+            f"{_length_scale(sub):.3g} (bounding-box diagonal), so the duplicate-node "
+            f"tolerance ({DUPLICATE_TOL:g} x that) is {tol:.3g}; check the units"
+        )
     pairs = cKDTree(sub).query_pairs(tol, output_type="ndarray")
     if len(pairs) == 0:
         return

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from femcore.dofs import N_COLUMNS, Frames
+from femcore.memory import STATIC_BYTES_PER_CELL, check_model_memory
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import cross, rotate_about
@@ -187,7 +188,8 @@ class Static:
             When ``model`` is not a Model, or the loads push the model along a rigid motion
             that no support holds (no equilibrium exists; the message names the motion), or
             a model held by frictionless contact leaves a rigid motion free (a slide along
-            the tool; the message names it).
+            the tool; the message names it), or the solve would need more memory than is
+            available (femcore.memory, about 30 kB per element cell at least).
         ConvergenceError
             When an increment cannot be completed: ``error.result`` holds the converged
             frames and the last good state, ``error.load_factor`` the load factor reached.
@@ -207,6 +209,9 @@ class Static:
         compiled = compiled_model(model, "Static")
         check_held(compiled)
         check_outputs(compiled.mesh, self.output)
+        # The tangent and its factorisation dwarf the model: refuse what cannot fit, up front.
+        n_cells = sum(len(block.cell_ids) for block in compiled.blocks)
+        check_model_memory(n_cells, STATIC_BYTES_PER_CELL, "a static solve")
         run = StaticRun(self, compiled)
         phases = 2 if self.step_loads_first else 1
         for phase in range(phases):

@@ -472,8 +472,10 @@ def test_read_rejects_unsupported_cell_types(tmp_path):
 def test_unknown_suffix_missing_file_and_empty_mesh_are_errors(tmp_path):
     with pytest.raises(ValueError, match=r"cannot tell the mesh format"):
         Mesh.rectangle(1.0, 1.0, 1, 1).write(tmp_path / "mesh.unknown")
-    with pytest.raises(FileNotFoundError, match=r"does not exist"):
+    with pytest.raises(ValueError, match=r"does not exist"):
         Mesh.read(tmp_path / "missing.vtu")
+    with pytest.raises(ValueError, match=r"is a directory"):
+        Mesh.read(tmp_path)
     with pytest.raises(ValueError, match=r"neither triangles nor lines"):
         Mesh([[0.0, 0.0]]).write(tmp_path / "empty.vtu")
 
