@@ -22,6 +22,17 @@ slip and the dissipation are the block's history (femcore.element), so a quasi-s
 increment returns to them at every iteration and the tangent is that of the return mapping
 (non-symmetric in slip: the solvers' LU takes it).
 
+Active set (the quasi-static solvers). ``freeze`` fixes which nodes touch, those of a given
+state, for the Newton iterations that follow: a node of that set keeps its normal spring k (h/2 -
+d) n whatever the sign of h/2 - d (a bilateral spring, pulling as well as pushing), a node
+outside it has none, so the force is smooth while the set stays frozen and Newton converges
+quadratically. Unilateral contact would lose a node sliding on a curved tool at every linearised
+step (the straight step lifts it by s^2 / 2R, more than the penalty's penetration F / k once the
+slide s exceeds sqrt(2 R F / k)), and its tangent would then hold the node by nothing.
+``freeze`` also counts the nodes whose status the state contradicts; the solver refreezes until
+it converges with the set it froze and accepts only states in equilibrium under the unilateral
+law (``thaw``). The friction limit is mu k max(p, 0) for a frozen node.
+
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
 without the contact. A contact spring then adds 10 % to omega^2 of a node, 20 % for a node
@@ -32,7 +43,7 @@ given or automatic (``springs``; docs/theory.md §9.1).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -129,12 +140,15 @@ class FrictionHistory:
         step takes the friction limit at the mean of the two).
     dissipated : float
         Energy dissipated by friction so far, N mm.
+    active : (s,) bool or None
+        The frozen contact set (module docstring), None: decided by the gap.
     """
 
     anchor: np.ndarray
     slip: np.ndarray
     penetration: np.ndarray
     dissipated: float
+    active: np.ndarray | None = None
 
 
 class ContactBlock(InteractionBlock):
@@ -205,12 +219,35 @@ class ContactBlock(InteractionBlock):
     def _positions(self, state: State) -> np.ndarray:
         return state.positions[self.connectivity[:, 0]]
 
-    def touch(self, state: State):
+    def touch(self, state: State, history: FrictionHistory | None = None):
         """Penetration p (s,), mm, the tool's normal (s, 3) at the nodes and whether each
         node touches (s,) bool: a node exactly on the surface counts, so that a body laid
-        on a tool has a stiffness against it from the first Newton iteration."""
+        on a tool has a stiffness against it from the first Newton iteration. With a frozen
+        set in ``history``: the nodes of the set touch, p = h/2 - d of either sign."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
-        return self._touching(d, n)
+        active = None if history is None else history.active
+        if active is None:
+            return self._touching(d, n)
+        return np.where(active, self.offset - d, 0.0), n, active.copy()
+
+    def freeze(self, state: State, history: FrictionHistory | None = None):
+        """(the history with the contact set frozen at ``state``'s touching nodes, the number
+        of nodes whose status under the unilateral law at ``state`` differs from the set
+        frozen in ``history``; all the touching nodes when none is)."""
+        d, n = self.tool.distance(self._positions(state), state.load_factor)
+        _, _, touching = self._touching(d, n)
+        before = None if history is None else history.active
+        changed = int(touching.sum()) if before is None else int((before != touching).sum())
+        if history is None:
+            none = np.full((len(d), 3), np.nan)
+            history = FrictionHistory(none, np.zeros(len(d)), np.zeros(len(d)), 0.0)
+        return replace(history, active=touching), changed
+
+    def thaw(self, history: FrictionHistory | None):
+        """The history without its frozen set (None for a frictionless contact)."""
+        if history is None or self.friction == 0.0:
+            return None
+        return replace(history, active=None)
 
     def _touching(self, d: np.ndarray, n: np.ndarray):
         """``touch`` from the distances d (s,) and normals n (s, 3) of the tool."""
@@ -231,7 +268,7 @@ class ContactBlock(InteractionBlock):
         s = np.where(anchored[:, None], r - np.sum(r * n, axis=1)[:, None] * n, 0.0)
         k = self.stiffness
         trial = k * np.linalg.norm(s, axis=1)
-        limit = self.friction * k * p
+        limit = self.friction * k * np.maximum(p, 0.0)
         stuck = anchored & (trial <= limit)
         sliding = anchored & ~stuck
         scale = np.where(
@@ -241,7 +278,7 @@ class ContactBlock(InteractionBlock):
 
     def contact_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(s, 3) the forces the tool exerts on the nodes, N: k p n and the friction."""
-        p, n, touching = self.touch(state)
+        p, n, touching = self.touch(state, history)
         friction, *_ = self.tangential(state, history, p, n, touching)
         return (self.stiffness * p)[:, None] * n + friction
 
@@ -255,7 +292,7 @@ class ContactBlock(InteractionBlock):
 
     def strain_energy(self, state: State, history: Any = None) -> float:
         """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm."""
-        p, n, touching = self.touch(state)
+        p, n, touching = self.touch(state, history)
         friction, *_ = self.tangential(state, history, p, n, touching)
         stored = self.stiffness * p**2 + np.sum(friction**2, axis=1) / self.stiffness
         return float(0.5 * np.sum(stored))
@@ -275,8 +312,9 @@ class ContactBlock(InteractionBlock):
         limit, new contacts are anchored where they are, lost ones forget their anchor."""
         if history is None:
             return None
-        p, n, touching = self.touch(state)
+        p, n, touching = self.touch(state, history)
         _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
+        p = np.maximum(p, 0.0)  # a frozen node pulled off the tool has no friction limit
         x = self._positions(state)
         length = np.linalg.norm(s, axis=1)
         limit = self.friction * p  # the spring's length at the limit, mu k p / k_t
@@ -310,7 +348,7 @@ class ContactBlock(InteractionBlock):
         - a a^T) (``RigidTool.projector_scale``), and the return mapping's friction: k_t ds/dx
         in stick, -mu k s^ n^T + mu k p / |s| (I - s^ s^T) ds/dx in slip, where ds/dx = I -
         n n^T - (n . r) N - n (N r)^T, r = x - a."""
-        p, n, touching = self.touch(state)
+        p, n, touching = self.touch(state, history)
         x = self._positions(state)
         k = self.stiffness[:, None, None]
         eye = np.eye(3)
@@ -330,9 +368,11 @@ class ContactBlock(InteractionBlock):
             ds_dx = eye - nn - normal_part * curvature - n[:, :, None] * curved_r[:, None, :]
             length = np.linalg.norm(s, axis=1)
             unit = s / np.where(length > 0, length, 1.0)[:, None]
-            mu = self.friction
+            # A frozen node pulled off the tool (p < 0) has the limit mu k max(p, 0) = 0.
+            mu = self.friction * (p > 0.0)[:, None, None]
+            pressed = np.maximum(p, 0.0)
             slip_part = -mu * k * unit[:, :, None] * n[:, None, :] + (
-                mu * k * (p / np.where(length > 0, length, 1.0))[:, None, None]
+                mu * k * (pressed / np.where(length > 0, length, 1.0))[:, None, None]
             ) * np.einsum("sij,sjk->sik", eye - unit[:, :, None] * unit[:, None, :], ds_dx)
             blocks = blocks + np.where(
                 stuck[:, None, None], k * ds_dx, np.where(sliding[:, None, None], slip_part, 0.0)

@@ -249,6 +249,27 @@ class CompiledModel:
         history = tuple(part.update_history(state, h) for part, h in zip(self.parts, state.history))
         return replace(state, history=history)
 
+    def freeze(self, state: State) -> tuple[State, int]:
+        """(the state with every interaction's contact set frozen at it, the number of nodes
+        whose contact status there differs from the sets frozen before): the active-set
+        strategy of the quasi-static solvers (femcore.interaction.InteractionBlock.freeze)."""
+        if not self.interactions:
+            return state, 0
+        history, changed = list(self._histories(state)), 0
+        for i, part in enumerate(self.interactions, start=len(self.blocks)):
+            history[i], count = part.freeze(state, history[i])
+            changed += count
+        return replace(state, history=tuple(history)), changed
+
+    def thaw(self, state: State) -> State:
+        """The state with the contact sets decided by the gaps again (``freeze`` undone)."""
+        if not self.interactions:
+            return state
+        history = list(self._histories(state))
+        for i, part in enumerate(self.interactions, start=len(self.blocks)):
+            history[i] = part.thaw(history[i])
+        return replace(state, history=tuple(history))
+
     def lumped_mass(self, state: State, density_scale: list | None = None):
         """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
         (cells,) factor array per block (selective mass scaling) or None."""

@@ -201,6 +201,19 @@ class InteractionBlock(ABC):
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history
 
+    def freeze(self, state: State, history: Any = None) -> tuple[Any, int]:
+        """The active-set strategy of the quasi-static solvers: (the history with the set of
+        touching nodes frozen at ``state``, so that the forces are smooth while the solver
+        iterates; the number of nodes whose contact status at ``state`` differs from the set
+        frozen in ``history``, all touching nodes when none is). The default has no contact
+        set: (history, 0)."""
+        return history, 0
+
+    def thaw(self, history: Any) -> Any:
+        """The history without the set ``freeze`` froze (the contact decided by the gap
+        again); the default returns it as it is."""
+        return history
+
     def dissipated_energy(self, history: Any = None) -> float:
         """Energy dissipated since the start (N mm; friction), kept in the history."""
         return 0.0

@@ -66,6 +66,8 @@ __all__ = [
 ARMIJO = 1e-4
 SMALLEST_STEP = 1.0 / 64.0
 WATCHDOG = 4
+# How many times an increment may find its contact set wrong at convergence and solve again.
+MAX_CONTACT_UPDATES = 10
 # Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
 # layered shell can ask for director turns of several radians, which lead Newton into states
 # with collapsed cells or fibres stretched by orders of magnitude, where a log-strain
@@ -98,6 +100,9 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     history: list[float] = []
     watchdog = Watchdog(run, equilibrium, solver.line_search)
     allowed = max_iterations or solver.max_iterations
+    # The contact sets stay frozen while Newton iterates (module docstring).
+    state, _ = model.freeze(state)
+    updates = 0
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
         r, ratio, forces = equilibrium.residual(state, frames, forces)
@@ -107,6 +112,19 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
             raise IncrementFailed("non-finite residual")
         push = False
         if ratio <= solver.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
+            unfrozen, ratio = settle_contacts(model, equilibrium, state, frames, solver.tol)
+            if unfrozen is None:  # converged with the wrong contact set: a new one
+                updates += 1
+                run.info["contact_set_updates"] += 1
+                if updates > MAX_CONTACT_UPDATES:
+                    raise IncrementFailed(
+                        f"the contact set changed at each of {MAX_CONTACT_UPDATES} solves"
+                    )
+                state, _ = model.freeze(state)
+                forces = None
+                watchdog = Watchdog(run, equilibrium, solver.line_search)
+                continue
+            state = unfrozen
             if factor is None:  # no factorisation yet: one for the stability report
                 factor = run.factorise(run.tangent(state, frames)[0])
             negative = factor.negative or 0
@@ -115,6 +133,7 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
             # An unstable equilibrium: leave it along its buckling mode.
             escapes += 1
             push = True
+            state, _ = model.freeze(state)
             run.info["branch_switches"].append(load_factor)
             run.progress(
                 f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
@@ -155,6 +174,7 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         # load that no update removes. A full step that moves nothing (1e-9 of an element,
         # 1e-9 rad) with the residual already small is converged.
         if at_round_off_floor(scale, delta, ratio, size):
+            state = model.thaw(state)
             _, ratio, forces = equilibrium.residual(state, dofs.frames(state.directors))
             history.append(ratio)
             return run.settled(state, factor), iteration, ratio, history
@@ -166,6 +186,21 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         f"residual ratio {history[-1]:.3g} after {allowed} iterations"
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
+
+
+def settle_contacts(
+    model: CompiledModel, equilibrium: Residual, state: State, frames: Frames, tol: float
+) -> tuple[State | None, float]:
+    """A state converged with its contact sets frozen: (the state with them thawed, its
+    residual ratio under the unilateral contact law) when it is in equilibrium under that law
+    too, else (None, that ratio): the sets were wrong (a frozen node pulled off the tool, a
+    free node pressed into it) and the solve goes on with the state's own."""
+    thawed = model.thaw(state)
+    _, changed = model.freeze(state)
+    _, unilateral, _ = equilibrium.residual(thawed, frames)
+    if not changed:
+        return thawed, unilateral
+    return (thawed if unilateral <= tol else None), unilateral
 
 
 def at_round_off_floor(scale: float, delta: np.ndarray, ratio: float, size: float) -> bool:

@@ -327,6 +327,7 @@ class StaticRun:
             "limit_points": [],
             "jumps": [],
             "regularised_iterations": 0,
+            "contact_set_updates": 0,
             "branch_switches": [],
             "residual_history": [],
             "evaluations": self.counts,
