@@ -32,6 +32,10 @@ slide s exceeds sqrt(2 R F / k)), and its tangent would then hold the node by no
 ``freeze`` also counts the nodes whose status the state contradicts; the solver refreezes until
 it converges with the set it froze and accepts only states in equilibrium under the unilateral
 law (``thaw``). The friction limit is mu k max(p, 0) for a frozen node.
+With friction, ``freeze`` fixes the stick and slip sets too, and each sliding node's slip
+direction: the friction force of a frozen sliding node is mu k max(p, 0) against that direction
+(projected on the tool's tangent plane), smooth in x, where the return mapping's s / |s| turns
+over wherever a node reverses, which sends Newton round a cycle.
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
@@ -142,6 +146,11 @@ class FrictionHistory:
         Energy dissipated by friction so far, N mm.
     active : (s,) bool or None
         The frozen contact set (module docstring), None: decided by the gap.
+    sliding : (s,) bool or None
+        The frozen slip set, None: decided by the return mapping.
+    direction : (s, 3) float or None
+        The frozen unit slip direction of each sliding node (the friction opposes its
+        projection on the tool's tangent plane).
     """
 
     anchor: np.ndarray
@@ -149,6 +158,8 @@ class FrictionHistory:
     penetration: np.ndarray
     dissipated: float
     active: np.ndarray | None = None
+    sliding: np.ndarray | None = None
+    direction: np.ndarray | None = None
 
 
 class ContactBlock(InteractionBlock):
@@ -235,19 +246,25 @@ class ContactBlock(InteractionBlock):
         of nodes whose status under the unilateral law at ``state`` differs from the set
         frozen in ``history``; all the touching nodes when none is)."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
-        _, _, touching = self._touching(d, n)
+        p, n, touching = self._touching(d, n)
         before = None if history is None else history.active
         changed = int(touching.sum()) if before is None else int((before != touching).sum())
         if history is None:
             none = np.full((len(d), 3), np.nan)
             history = FrictionHistory(none, np.zeros(len(d)), np.zeros(len(d)), 0.0)
-        return replace(history, active=touching), changed
+        free = replace(history, active=None, sliding=None, direction=None)
+        _, s, _, sliding = self.tangential(state, free, p, n, touching)
+        length = np.linalg.norm(s, axis=1)
+        direction = s / np.where(length > 0, length, 1.0)[:, None]
+        if history.sliding is not None:
+            changed += int((history.sliding != sliding).sum())
+        return replace(history, active=touching, sliding=sliding, direction=direction), changed
 
     def thaw(self, history: FrictionHistory | None):
         """The history without its frozen set (None for a frictionless contact)."""
         if history is None or self.friction == 0.0:
             return None
-        return replace(history, active=None)
+        return replace(history, active=None, sliding=None, direction=None)
 
     def _touching(self, d: np.ndarray, n: np.ndarray):
         """``touch`` from the distances d (s,) and normals n (s, 3) of the tool."""
@@ -269,12 +286,26 @@ class ContactBlock(InteractionBlock):
         k = self.stiffness
         trial = k * np.linalg.norm(s, axis=1)
         limit = self.friction * k * np.maximum(p, 0.0)
+        if history.sliding is not None:  # frozen (module docstring)
+            sliding = anchored & history.sliding
+            stuck = anchored & ~sliding
+            along = self._slip_direction(history, n)
+            force = np.where(stuck[:, None], -k[:, None] * s, -limit[:, None] * along)
+            return np.where(anchored[:, None], force, 0.0), s, stuck, sliding
         stuck = anchored & (trial <= limit)
         sliding = anchored & ~stuck
         scale = np.where(
             stuck, k, np.where(sliding, limit / np.where(trial > 0, trial, 1.0) * k, 0)
         )
         return -scale[:, None] * s, s, stuck, sliding
+
+    @staticmethod
+    def _slip_direction(history: FrictionHistory, n: np.ndarray) -> np.ndarray:
+        """(s, 3) the frozen slip directions projected on the tangent planes of normals n."""
+        assert history.direction is not None
+        along = history.direction - np.sum(history.direction * n, axis=1)[:, None] * n
+        length = np.linalg.norm(along, axis=1)
+        return along / np.where(length > 0, length, 1.0)[:, None]
 
     def contact_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(s, 3) the forces the tool exerts on the nodes, N: k p n and the friction."""
@@ -374,6 +405,22 @@ class ContactBlock(InteractionBlock):
             slip_part = -mu * k * unit[:, :, None] * n[:, None, :] + (
                 mu * k * (pressed / np.where(length > 0, length, 1.0))[:, None, None]
             ) * np.einsum("sij,sjk->sik", eye - unit[:, :, None] * unit[:, None, :], ds_dx)
+            if history.sliding is not None:  # a frozen direction d, projected: v = P d
+                fixed = history.direction
+                v = fixed - np.sum(fixed * n, axis=1)[:, None] * n
+                size = np.linalg.norm(v, axis=1)
+                along = v / np.where(size > 0, size, 1.0)[:, None]
+                curved_d = np.einsum("sij,sj->si", curvature, fixed)
+                dv_dx = (
+                    -np.sum(n * fixed, axis=1)[:, None, None] * curvature
+                    - n[:, :, None] * curved_d[:, None, :]
+                )
+                turn = (eye - along[:, :, None] * along[:, None, :]) / np.where(
+                    size > 0, size, 1.0
+                )[:, None, None]
+                slip_part = -mu * k * along[:, :, None] * n[:, None, :] + mu * k * pressed[
+                    :, None, None
+                ] * np.einsum("sij,sjk->sik", turn, dv_dx)
             blocks = blocks + np.where(
                 stuck[:, None, None], k * ds_dx, np.where(sliding[:, None, None], slip_part, 0.0)
             )

@@ -33,6 +33,9 @@ __all__ = ["Factorisation", "LinearSolver"]
 # Relative asymmetry (max |K - K^T| / max |K|) below which K_ff is treated as symmetric: the
 # element tangents computed by central differences carry ~1e-9 of noise.
 SYMMETRY_TOLERANCE = 1e-7
+# Relative asymmetry above which K_ff is no potential's Hessian (Coulomb friction in slip: of
+# the order of mu), and its inertia is not reported (Factorisation.negative is None).
+NON_CONSERVATIVE = 1e-3
 # Backward error accepted from the LDL^T solve before refining it or falling back to LU
 # (a stable factorisation gives ~1e-16).
 ACCURACY = 1e-12
@@ -45,7 +48,8 @@ class Factorisation:
     """One factorised K_ff.
 
     negative : the number of negative eigenvalues of the symmetric part of K_ff (from the LDL^T
-        pivots), or None when the LDL^T failed (then only the LU is available).
+        pivots), or None when the LDL^T failed (then only the LU is available) or K_ff is far
+        from symmetric (NON_CONSERVATIVE: no stability is read from it).
     kind : "ldlt" or "lu", the factorisation that solves.
     """
 
@@ -102,6 +106,11 @@ class LinearSolver:
         symmetric = scale > 0.0 and asymmetry <= SYMMETRY_TOLERANCE * scale
         if ldl is not None and symmetric:
             return Factorisation(k, negative, "ldlt", _ldl=ldl)
+        if asymmetry > NON_CONSERVATIVE * scale:
+            # Friction in slip: the symmetric part of a stable frictional tangent is often
+            # indefinite (the slip does not follow a potential), so its pivots say nothing
+            # about stability.
+            negative = None
         return Factorisation(k, negative, "lu", _lu=_lu(k))
 
     def _ldlt(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:

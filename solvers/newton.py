@@ -30,6 +30,7 @@ Convergence is the force-reference test of solvers.convergence (``Residual``).
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -102,6 +103,7 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     allowed = max_iterations or solver.max_iterations
     # The contact sets stay frozen while Newton iterates (module docstring).
     state, _ = model.freeze(state)
+    start = state
     updates = 0
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
@@ -114,15 +116,12 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         if ratio <= solver.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
             unfrozen, ratio = settle_contacts(model, equilibrium, state, frames, solver.tol)
             if unfrozen is None:  # converged with the wrong contact set: a new one
+                state, forces, watchdog = refreeze(run, equilibrium, start, state)
                 updates += 1
-                run.info["contact_set_updates"] += 1
                 if updates > MAX_CONTACT_UPDATES:
                     raise IncrementFailed(
                         f"the contact set changed at each of {MAX_CONTACT_UPDATES} solves"
                     )
-                state, _ = model.freeze(state)
-                forces = None
-                watchdog = Watchdog(run, equilibrium, solver.line_search)
                 continue
             state = unfrozen
             if factor is None:  # no factorisation yet: one for the stability report
@@ -174,10 +173,14 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         # load that no update removes. A full step that moves nothing (1e-9 of an element,
         # 1e-9 rad) with the residual already small is converged.
         if at_round_off_floor(scale, delta, ratio, size):
-            state = model.thaw(state)
-            _, ratio, forces = equilibrium.residual(state, dofs.frames(state.directors))
+            frames = dofs.frames(state.directors)
+            unfrozen, ratio = settle_contacts(model, equilibrium, state, frames, 0.0, True)
             history.append(ratio)
-            return run.settled(state, factor), iteration, ratio, history
+            if unfrozen is not None:
+                return run.settled(unfrozen, factor), iteration, ratio, history
+            state, forces, watchdog = refreeze(run, equilibrium, start, state)
+            updates += 1
+            continue
         run.progress(
             f"load factor {load_factor:.4g}: iteration {iteration}, residual ratio "
             f"{history[-1]:.3g} (tol {solver.tol:g})"
@@ -188,18 +191,34 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     )
 
 
+def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State):
+    """(the start of the increment with the contact sets of ``state``, no forces, a new
+    watchdog): the state converged with the wrong sets can be far off (a node held by its
+    stick spring where it slides), the start is an equilibrium."""
+    run.info["contact_set_updates"] += 1
+    restart = replace(start, history=run.model.freeze(state)[0].history)
+    return restart, None, Watchdog(run, equilibrium, run.solver.line_search)
+
+
 def settle_contacts(
-    model: CompiledModel, equilibrium: Residual, state: State, frames: Frames, tol: float
+    model: CompiledModel,
+    equilibrium: Residual,
+    state: State,
+    frames: Frames,
+    tol: float,
+    floor: bool = False,
 ) -> tuple[State | None, float]:
     """A state converged with its contact sets frozen: (the state with them thawed, its
     residual ratio under the unilateral contact law) when it is in equilibrium under that law
     too, else (None, that ratio): the sets were wrong (a frozen node pulled off the tool, a
     free node pressed into it) and the solve goes on with the state's own."""
     thawed = model.thaw(state)
+    if not model.interactions:
+        return state, equilibrium.residual(state, frames)[1]
     _, changed = model.freeze(state)
     _, unilateral, _ = equilibrium.residual(thawed, frames)
-    if not changed:
-        return thawed, unilateral
+    if floor:  # at the round-off floor (at_round_off_floor): the same sets, a small residual
+        return (thawed if not changed and unilateral <= 1e-3 else None), unilateral
     return (thawed if unilateral <= tol else None), unilateral
 
 
