@@ -253,9 +253,13 @@ class ContactBlock(InteractionBlock):
             none = np.full((len(d), 3), np.nan)
             history = FrictionHistory(none, np.zeros(len(d)), np.zeros(len(d)), 0.0)
         free = replace(history, active=None, sliding=None, direction=None)
-        _, s, _, sliding = self.tangential(state, free, p, n, touching)
+        _, s, stuck, sliding = self.tangential(state, free, p, n, touching)
         length = np.linalg.norm(s, axis=1)
         direction = s / np.where(length > 0, length, 1.0)[:, None]
+        # A node at the friction limit (where the return mapping left a sliding node) slides
+        # on when pushed the same way: frozen as sliding, the next increment starts right.
+        at_limit = stuck & (length >= (1.0 - 1e-6) * self.friction * p) & (p > 0.0)
+        sliding = sliding | at_limit
         if history.sliding is not None:
             changed += int((history.sliding != sliding).sum())
         return replace(history, active=touching, sliding=sliding, direction=direction), changed

@@ -1,0 +1,134 @@
+"""The capstan: a cable wrapped half a turn over a fixed cylinder, a dead weight T1 on one end,
+the other end pulled down by a prescribed displacement until the cable slides over the
+cylinder; T2 is the reaction at the pulled end. Frictionless, T2 = T1; with Coulomb friction
+mu, the Euler-Eytelwein law T2 / T1 = exp(mu pi) (Euler, Remarques sur l'effet du frottement
+dans l'equilibre, Mem. Acad. Sci. Berlin 18 (1762) 265; Eytelwein, Handbuch der Statik fester
+Koerper, 1808).
+
+The model (``capstan``): R = 50 mm, EA = 1e5 N, T1 = 10 N, a penalty of 1e4 N/mm per node, 32
+cells on the half turn and cells of the same length h = pi R / 32 along both legs, so that the
+cable that slides onto the cylinder has the spacing of the wrap; the pull is 4 h, so that the
+wrap ends on nodes again. The pulled end's prescribed displacement holds every rigid motion in
+the cable's plane (the slide round the cylinder is the one the test is about); the swings out
+of that plane about the pulled end move every node along the cylinder's axis, which a
+frictionless cylinder does not resist: only the cable's tension holds them (at second order,
+as a pendulum), which the solvers' check of rigid motions does not count, so the capstan is
+solved as the plane problem it is (uy = 0 at every node).
+
+Discretisation: the cable turns by phi = pi / 32 at each node of the wrap (half that at the
+two ends), and a node slipping between tensions T and T' with its normal force along the
+bisector holds T' / T = (1 + mu tan(phi / 2)) / (1 - mu tan(phi / 2)) exactly, so the chain
+holds the product of those, ``discrete_capstan``, whose log is mu pi (1 + (1 + mu^2) phi^2 /
+12 + ...): 0.026 % (mu = 0.1) to 0.083 % (mu = 0.3) above exp(mu pi). The penalty's
+compliance moves each node into the cylinder by its normal force over k (2e-4 mm), the same at
+both ends of each cell: it changes the radius, which the capstan law does not contain.
+"""
+
+import numpy as np
+import pytest
+
+from elements import Cable, RigidCylinder
+from femcore import Mesh, Model
+from solvers import DynamicRelaxation, Static
+
+RADIUS, EA, T1, PENALTY, WRAP_CELLS, LEG_CELLS, PULL_CELLS = 50.0, 1e5, 10.0, 1e4, 32, 10, 4
+
+
+def capstan(mu: float) -> Model:
+    """The cable over the cylinder (module docstring): node 0 the pulled end, the last node
+    the one that carries the weight."""
+    cell = np.pi * RADIUS / WRAP_CELLS
+    theta = np.pi * np.arange(WRAP_CELLS + 1) / WRAP_CELLS
+    wrap = np.column_stack([RADIUS * np.cos(theta), np.zeros_like(theta), RADIUS * np.sin(theta)])
+    down = cell * np.arange(1, LEG_CELLS + 1)
+    right = np.column_stack([np.full(LEG_CELLS, RADIUS), np.zeros(LEG_CELLS), -down])[::-1]
+    left = np.column_stack([np.full(LEG_CELLS, -RADIUS), np.zeros(LEG_CELLS), -down])
+    points = np.vstack([right, wrap, left])
+    lines = np.column_stack([np.arange(len(points) - 1), np.arange(1, len(points))])
+    model = Model(Mesh(points, lines=lines))
+    model.add(Cable(EA, 1e-9))
+    model.fix(np.arange(len(points)), "uy")
+    model.contact(
+        RigidCylinder((0.0, 0.0, 0.0), (0.0, 1.0, 0.0), RADIUS), friction=mu, penalty=PENALTY
+    )
+    model.force([len(points) - 1], (0.0, 0.0, -T1), amplitude="step")
+    model.displace([0], ux=0.0, uz=-PULL_CELLS * cell, amplitude="linear")
+    return model
+
+
+def discrete_capstan(mu: float) -> float:
+    """T2 / T1 of the chain of nodes sliding over the wrap (module docstring)."""
+    half = mu * np.tan(0.5 * np.pi / WRAP_CELLS)
+    return float(((1.0 + half) / (1.0 - half)) ** WRAP_CELLS)
+
+
+def pulled_tension(result) -> np.ndarray:
+    """T2 at each frame: the upward reaction at the pulled end, N."""
+    return np.array([-frame.reactions[0][2] for frame in result.frames])
+
+
+def assert_slid_over_the_whole_wrap(result) -> None:
+    """The weight rose by about the pull (the cable slid, less its stretch), and every node
+    that touches slipped."""
+    cell = np.pi * RADIUS / WRAP_CELLS
+    rise = result.positions[-1, 2] - result.mesh.points[-1, 2]
+    assert rise == pytest.approx(PULL_CELLS * cell, rel=0.01)
+    touching = result.field("contact_force") > 0.0
+    assert touching.sum() >= WRAP_CELLS - 1
+
+
+def test_the_discrete_capstan_tends_to_euler_eytelwein():
+    """The reference of the chain of nodes is exp(mu pi) to (1 + mu^2) phi^2 / 12 of its
+    log."""
+    for mu in (0.1, 0.2, 0.3):
+        assert discrete_capstan(mu) / np.exp(mu * np.pi) - 1.0 == pytest.approx(
+            mu * np.pi * (1.0 + mu**2) * (np.pi / WRAP_CELLS) ** 2 / 12.0, rel=0.02
+        )
+
+
+def test_static_slides_a_frictionless_cable_over_a_cylinder_with_equal_tensions():
+    """T2 = T1 at every increment, hanging and pulling, to 1e-3 (measured 4e-5: the tensions differ
+    only where the lift-off falls between two nodes, by at most 1 - cos(phi / 2) = 1.2e-3).
+    The weight hangs in 10 increments (Static's step_loads_first), then the pull slides the
+    cable in 10: 2-3 Newton iterations per increment hanging, 4 (12-15 where a node of a leg
+    comes onto the cylinder and the contact set is updated once) pulling."""
+    result = Static(increments=10, step_loads_first=True, progress=False).solve(capstan(0.0))
+    assert result.converged
+    weight = T1 * np.minimum(result.info["load_factors"], 1.0)  # ramped while it hangs
+    np.testing.assert_allclose(pulled_tension(result)[1:], weight, rtol=1e-3)
+    assert_slid_over_the_whole_wrap(result)
+    assert max(result.info["iterations_per_increment"]) <= 20
+
+
+@pytest.mark.parametrize("mu", [0.1, 0.2, 0.3])
+def test_static_pulls_a_cable_over_a_rough_cylinder_at_euler_eytelwein(mu):
+    """Holding T1 and pulling until the cable slides: T2 / T1 = exp(mu pi) to 1.5e-3 (the
+    discretisation, module docstring: 2.6e-4 to 8.3e-4 here), and the chain's own ratio
+    (discrete_capstan) to 1e-4 (measured 1e-6: the penalty's compliance and the tolerance).
+    While the weight hangs (load factors 0-1), the cable slips towards it and T2 = T1
+    exp(-mu pi). Newton iterations per increment: 19 for the first one (the stress-free
+    cable finds its stick and slip zones), 2 hanging, 9-16 pulling (the stick and slip sets
+    of the increment's start, then updated once or twice, each from the increment's start)."""
+    result = Static(increments=10, step_loads_first=True, progress=False).solve(capstan(mu))
+    assert result.converged
+    tension = pulled_tension(result)
+    hanging = tension[result.info["load_factors"].index(1.0) + 1]
+    assert hanging / T1 == pytest.approx(1.0 / discrete_capstan(mu), rel=1e-4)
+    assert tension[-1] / T1 == pytest.approx(np.exp(mu * np.pi), rel=1.5e-3)
+    assert tension[-1] / T1 == pytest.approx(discrete_capstan(mu), rel=1e-4)
+    assert_slid_over_the_whole_wrap(result)
+    assert (result.field("contact_slip")[result.field("contact_force") > 0.0] > 0.0).all()
+    assert max(result.info["iterations_per_increment"]) <= 25
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.2])
+def test_dynamic_relaxation_pulls_a_cable_over_a_cylinder_at_euler_eytelwein(mu):
+    """The same capstan by dynamic relaxation (the weight from the first increment, the pull
+    in 10): T2 / T1 = exp(mu pi) to 2e-3 and the chain's ratio to 1e-3 (its tolerance 1e-4
+    of the forces; measured 5e-4). 1000-3000 iterations per increment."""
+    result = DynamicRelaxation(increments=10, progress=False).solve(capstan(mu))
+    assert result.converged
+    tension = pulled_tension(result)
+    assert tension[-1] / T1 == pytest.approx(np.exp(mu * np.pi), rel=2e-3)
+    assert tension[-1] / T1 == pytest.approx(discrete_capstan(mu), rel=1e-3)
+    assert_slid_over_the_whole_wrap(result)
