@@ -241,10 +241,12 @@ class ContactBlock(InteractionBlock):
             return self._touching(d, n)
         return np.where(active, self.offset - d, 0.0), n, active.copy()
 
-    def freeze(self, state: State, history: FrictionHistory | None = None):
+    def freeze(self, state: State, history: FrictionHistory | None = None, grow: bool = False):
         """(the history with the contact set frozen at ``state``'s touching nodes, the number
         of nodes whose status under the unilateral law at ``state`` differs from the set
-        frozen in ``history``; all the touching nodes when none is)."""
+        frozen in ``history``; all the touching nodes when none is). ``grow``: the set frozen
+        in ``history`` with the nodes that penetrate at ``state`` added (their number is the
+        count), the others' sets and directions kept."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
         p, n, touching = self._touching(d, n)
         before = None if history is None else history.active
@@ -260,6 +262,16 @@ class ContactBlock(InteractionBlock):
         # on when pushed the same way: frozen as sliding, the next increment starts right.
         at_limit = stuck & (length >= (1.0 - 1e-6) * self.friction * p) & (p > 0.0)
         sliding = sliding | at_limit
+        if grow and before is not None:
+            added = (d < self.offset) & ~before
+            kept = history.sliding if history.sliding is not None else sliding
+            kept_direction = history.direction if history.direction is not None else direction
+            return replace(
+                history,
+                active=before | added,
+                sliding=np.where(added, sliding, kept),
+                direction=np.where(added[:, None], direction, kept_direction),
+            ), int(added.sum())
         if history.sliding is not None:
             changed += int((history.sliding != sliding).sum())
         return replace(history, active=touching, sliding=sliding, direction=direction), changed

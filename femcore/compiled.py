@@ -249,15 +249,16 @@ class CompiledModel:
         history = tuple(part.update_history(state, h) for part, h in zip(self.parts, state.history))
         return replace(state, history=history)
 
-    def freeze(self, state: State) -> tuple[State, int]:
+    def freeze(self, state: State, grow: bool = False) -> tuple[State, int]:
         """(the state with every interaction's contact set frozen at it, the number of nodes
         whose contact status there differs from the sets frozen before): the active-set
-        strategy of the quasi-static solvers (femcore.interaction.InteractionBlock.freeze)."""
+        strategy of the quasi-static solvers (femcore.interaction.InteractionBlock.freeze;
+        ``grow``: the nodes that penetrate added to the frozen sets, and counted)."""
         if not self.interactions:
             return state, 0
         history, changed = list(self._histories(state)), 0
         for i, part in enumerate(self.interactions, start=len(self.blocks)):
-            history[i], count = part.freeze(state, history[i])
+            history[i], count = part.freeze(state, history[i], grow)
             changed += count
         return replace(state, history=tuple(history)), changed
 

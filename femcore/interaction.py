@@ -201,11 +201,13 @@ class InteractionBlock(ABC):
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history
 
-    def freeze(self, state: State, history: Any = None) -> tuple[Any, int]:
+    def freeze(self, state: State, history: Any = None, grow: bool = False) -> tuple[Any, int]:
         """The active-set strategy of the quasi-static solvers: (the history with the set of
         touching nodes frozen at ``state``, so that the forces are smooth while the solver
         iterates; the number of nodes whose contact status at ``state`` differs from the set
-        frozen in ``history``, all touching nodes when none is). The default has no contact
+        frozen in ``history``, all touching nodes when none is). ``grow``: only add the nodes
+        that penetrate at ``state`` to the set frozen in ``history`` (a set that only grows
+        while Newton iterates cannot chatter), and count them. The default has no contact
         set: (history, 0)."""
         return history, 0
 
