@@ -90,14 +90,14 @@ def test_static_slides_a_frictionless_cable_over_a_cylinder_with_equal_tensions(
     """T2 = T1 at every increment, hanging and pulling, to 1e-3 (measured 4e-5: the tensions differ
     only where the lift-off falls between two nodes, by at most 1 - cos(phi / 2) = 1.2e-3).
     The weight hangs in 10 increments (Static's step_loads_first), then the pull slides the
-    cable in 10: 2-3 Newton iterations per increment hanging, 4 (12-15 where a node of a leg
-    comes onto the cylinder and the contact set is updated once) pulling."""
+    cable in 10: 2-3 Newton iterations per increment hanging, 4 pulling (9 where a node of a
+    leg comes onto the cylinder and the contact set is updated once)."""
     result = Static(increments=10, step_loads_first=True, progress=False).solve(capstan(0.0))
     assert result.converged
     weight = T1 * np.minimum(result.info["load_factors"], 1.0)  # ramped while it hangs
     np.testing.assert_allclose(pulled_tension(result)[1:], weight, rtol=1e-3)
     assert_slid_over_the_whole_wrap(result)
-    assert max(result.info["iterations_per_increment"]) <= 20
+    assert max(result.info["iterations_per_increment"]) <= 10
 
 
 @pytest.mark.parametrize("mu", [0.1, 0.2, 0.3])
@@ -106,9 +106,9 @@ def test_static_pulls_a_cable_over_a_rough_cylinder_at_euler_eytelwein(mu):
     discretisation, module docstring: 2.6e-4 to 8.3e-4 here), and the chain's own ratio
     (discrete_capstan) to 1e-4 (measured 1e-6: the penalty's compliance and the tolerance).
     While the weight hangs (load factors 0-1), the cable slips towards it and T2 = T1
-    exp(-mu pi). Newton iterations per increment: 19 for the first one (the stress-free
-    cable finds its stick and slip zones), 2 hanging, 9-16 pulling (the stick and slip sets
-    of the increment's start, then updated once or twice, each from the increment's start)."""
+    exp(-mu pi). Newton iterations per increment: 19-20 for the first one (the stress-free
+    cable finds its stick and slip zones), 2 hanging, 4-9 pulling (7-9: the stick and slip
+    sets of the increment's start, updated once from there)."""
     result = Static(increments=10, step_loads_first=True, progress=False).solve(capstan(mu))
     assert result.converged
     tension = pulled_tension(result)
@@ -118,7 +118,7 @@ def test_static_pulls_a_cable_over_a_rough_cylinder_at_euler_eytelwein(mu):
     assert tension[-1] / T1 == pytest.approx(discrete_capstan(mu), rel=1e-4)
     assert_slid_over_the_whole_wrap(result)
     assert (result.field("contact_slip")[result.field("contact_force") > 0.0] > 0.0).all()
-    assert max(result.info["iterations_per_increment"]) <= 25
+    assert max(result.info["iterations_per_increment"]) <= 22
 
 
 @pytest.mark.parametrize("mu", [0.0, 0.2])
