@@ -25,6 +25,20 @@ Each Newton iteration:
   large rotation climb the energy on the way (the straight update stretches the membrane) and
   still reach the equilibrium in a few steps, where a monotone line search would crawl.
 
+Contact (the active-set strategy of implicit contact codes; elements/contact.py): the contact
+sets of the interactions (which nodes touch, which stick, which slide and in what direction)
+are frozen at the start of the increment, so that the contact forces are smooth and the
+tangent exact while Newton iterates: the unilateral law would lose every node of a cable
+sliding over a curved tool at each linearised step (the straight step lifts it by s^2 / 2R,
+more than the penalty's penetration), and the return mapping's slip direction turns over
+wherever a node reverses. A node that penetrates joins the set at once (the set only grows
+within a solve: no chatter). A state that converges is checked under the unilateral law; when
+the sets were wrong, the solve goes on with the sets that state shows, from that state when
+its residual is already below that of the increment's first iterate, else from the start of
+the increment (a node held by its stick spring where it slides leaves a state far off). After
+MAX_CONTACT_UPDATES wrong sets the increment goes on with the unilateral law itself, which
+settles the nodes whose contact force is near zero (a lift-off) where frozen sets alternate.
+
 Convergence is the force-reference test of solvers.convergence (``Residual``).
 """
 
