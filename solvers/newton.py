@@ -139,7 +139,7 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
             raise IncrementFailed("non-finite residual")
         push = False
         if ratio <= solver.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
-            unfrozen = state
+            unfrozen: State | None = state
             if frozen:
                 unfrozen, ratio = settle_contacts(model, equilibrium, state, frames, solver.tol)
             if unfrozen is None:  # converged with the wrong contact set: a new one
@@ -201,7 +201,7 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         # 1e-9 rad) with the residual already small is converged.
         if at_round_off_floor(scale, delta, ratio, size):
             frames = dofs.frames(state.directors)
-            unfrozen: State | None = state
+            unfrozen = state
             if frozen:
                 unfrozen, ratio = settle_contacts(model, equilibrium, state, frames, 0.0, True)
             else:
