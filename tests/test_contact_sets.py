@@ -59,7 +59,8 @@ def test_the_frozen_contact_tangent_is_the_derivative_of_the_frozen_force(tool):
 def test_a_frozen_node_lifted_off_the_tool_is_pulled_back_until_thawed():
     """A node of the frozen set lifted 0.1 mm clear of the tool feels a spring k x 0.1 pulling
     it back (the bilateral spring of the frozen set, no friction beyond the tool); thawed, it
-    feels nothing; a node that was not touching stays free while frozen even if it moves in."""
+    feels nothing; a node that was not touching stays free while frozen even if it moves in,
+    until the set grows (what Newton does at each iteration: a set that only grows)."""
     tool = RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
     mesh = Mesh(np.array([[0.0, 0.0, 0.4], [1.0, 0.0, 0.6]]), lines=np.array([[0, 1]]))
     block = Contact(tool, [0, 1], offset=0.5, penalty=100.0).bind(Body.bare(mesh))
@@ -70,6 +71,8 @@ def test_a_frozen_node_lifted_off_the_tool_is_pulled_back_until_thawed():
     lifted = State(np.array([[0.0, 0.0, 0.6], [1.0, 0.0, 0.3]]), zero, zero, zero)
     np.testing.assert_allclose(block.contact_forces(lifted, frozen), [[0, 0, -10.0], [0, 0, 0]])
     assert block.freeze(lifted, frozen)[1] == 2  # both nodes changed their status
+    grown, added = block.freeze(lifted, frozen, grow=True)  # the pressed node joins, none leaves
+    assert grown.active.tolist() == [True, True] and added == 1
     assert block.thaw(frozen) is None  # frictionless: no history
     np.testing.assert_allclose(block.contact_forces(lifted, None), [[0, 0, 0], [0, 0, 20.0]])
 
