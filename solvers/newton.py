@@ -94,7 +94,11 @@ MAX_ROTATION = 0.5
 
 
 class IncrementFailed(Exception):
-    """An increment that did not converge (caught to cut the increment)."""
+    """An increment that did not converge (caught to cut the increment); ``iterations`` and
+    ``history`` (the residual ratios) of the attempt, when known."""
+
+    iterations = 0
+    history: list[float] = []
 
 
 def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int | None = None):
@@ -102,8 +106,42 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
 
     Returns (converged state, iterations, final ratio, ratio per iteration starting with
     the ratio before the first update); raises IncrementFailed when the increment has to be
-    cut.
+    cut. With contact, the frozen contact sets first (module docstring); where they fail,
+    the unilateral law from ``state`` again before the increment is cut (the iterations of
+    both are counted).
     """
+    if not run.model.interactions:
+        return _newton(run, state, load_factor, max_iterations, False)
+    try:
+        return _newton(run, state, load_factor, max_iterations, True)
+    except IncrementFailed as failure:
+        run.info["contact_set_fallbacks"] += 1
+        converged, count, ratio, history = _newton(run, state, load_factor, max_iterations, False)
+        return converged, count + failure.iterations, ratio, failure.history + history
+
+
+def _newton(
+    run: StaticRun, state: State, load_factor: float, max_iterations: int | None, frozen: bool
+):
+    """``newton`` with the contact sets frozen or not; a failure carries the attempt's
+    iterations and residual ratios."""
+    history: list[float] = []
+    try:
+        return _iterate(run, state, load_factor, max_iterations, frozen, history)
+    except IncrementFailed as failure:
+        failure.iterations, failure.history = max(len(history) - 1, 0), history
+        raise
+
+
+def _iterate(
+    run: StaticRun,
+    state: State,
+    load_factor: float,
+    max_iterations: int | None,
+    frozen: bool,
+    history: list[float],
+):
+    """The Newton iterations of ``newton``; ``history`` receives the residual ratios."""
     solver = run.solver
     model = run.model
     dofs = model.dofs
@@ -115,14 +153,13 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     translation = index % N_COLUMNS < 3
     factor: Factorisation | None = None
     forces = None  # the internal forces of the accepted trial, reused next iteration
-    history: list[float] = []
     watchdog = Watchdog(run, equilibrium, solver.line_search)
     allowed = max_iterations or solver.max_iterations
     # The contact sets stay frozen while Newton iterates (module docstring).
-    state, _ = model.freeze(state)
+    if frozen:
+        state, _ = model.freeze(state)
     start = state
     updates = 0
-    frozen = bool(model.interactions)
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
         if frozen:

@@ -328,6 +328,7 @@ class StaticRun:
             "jumps": [],
             "regularised_iterations": 0,
             "contact_set_updates": 0,
+            "contact_set_fallbacks": 0,
             "branch_switches": [],
             "residual_history": [],
             "evaluations": self.counts,
