@@ -29,13 +29,13 @@ outside it has none, so the force is smooth while the set stays frozen and Newto
 quadratically. Unilateral contact would lose a node sliding on a curved tool at every linearised
 step (the straight step lifts it by s^2 / 2R, more than the penalty's penetration F / k once the
 slide s exceeds sqrt(2 R F / k)), and its tangent would then hold the node by nothing.
-``freeze`` also counts the nodes whose status the state contradicts; the solver refreezes until
-it converges with the set it froze and accepts only states in equilibrium under the unilateral
-law (``thaw``). The friction limit is mu k max(p, 0) for a frozen node.
-With friction, ``freeze`` fixes the stick and slip sets too, and each sliding node's slip
-direction: the friction force of a frozen sliding node is mu k max(p, 0) against that direction
-(projected on the tool's tangent plane), smooth in x, where the return mapping's s / |s| turns
-over wherever a node reverses, which sends Newton round a cycle.
+``freeze`` also counts the nodes whose status the state contradicts (``grow``: adds the nodes
+that penetrate, and only those); the solver (solvers.newton) accepts only states in
+equilibrium under the unilateral law (``thaw``). The friction limit is mu k max(p, 0) for a
+frozen node. With friction, ``freeze`` fixes the stick and slip sets too, and each sliding
+node's slip direction: the friction force of a frozen sliding node is mu k max(p, 0) against
+that direction (projected on the tool's tangent plane), smooth in x, where the return
+mapping's s / |s| turns over wherever a node reverses, which sends Newton round a cycle.
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
