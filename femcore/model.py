@@ -9,6 +9,7 @@ step needs (femcore.compiled). The changing quantities live in ``femcore.state.S
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -16,10 +17,18 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from femcore.compiled import CompiledModel
-from femcore.dofs import dof_columns
+from femcore.dofs import DOF_NAMES, dof_columns
 from femcore.element import ElementType
 from femcore.interaction import Interaction
-from femcore.loads import AmplitudeFunction, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
+from femcore.loads import (
+    AmplitudeFunction,
+    Fix,
+    Gravity,
+    NodalLoad,
+    Prescribed,
+    RigidNode,
+    amplitude_of,
+)
 from femcore.mesh import CELL_KINDS, Mesh, NodePredicate
 
 __all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
@@ -67,6 +76,8 @@ class Model:
         self.loads: list[NodalLoad] = []
         self.gravities: list[Gravity] = []
         self.interactions: list[Interaction] = []
+        self.rigid_nodes: list[RigidNode] = []
+        self._tool_nodes: list[tuple[object, int]] = []  # (driven tool, its node)
         self._compiled: CompiledModel | None = None
 
     # ----------------------------------------------------------------- description
@@ -291,6 +302,11 @@ class Model:
         int
             The interaction's index (``model.interactions``); ``CompiledModel.tool_forces``
             gives the force on each tool.
+
+        A tool free along some axes (``tool.driven``, ``tool.free``: a blank holder) gets a
+        node of its own on its first contact (``rigid_node`` at ``tool.reference_point()``
+        with ``tool.mass``), loaded by ``tool.force`` with the tool's amplitude; every contact
+        with that tool shares it (``tool_node`` of the contact).
         """
         build = getattr(tool, "contact", None)
         if not callable(build):
@@ -304,8 +320,72 @@ class Model:
             ids = None
         else:
             ids = self._node_ids(nodes)
-        interaction = build(ids, friction=friction, penalty=penalty)
+        if getattr(tool, "driven", False):
+            node = self._tool_node(tool)
+            interaction = build(ids, friction=friction, penalty=penalty, tool_node=node)
+        else:
+            interaction = build(ids, friction=friction, penalty=penalty)
         return self.interact(interaction)
+
+    def _tool_node(self, tool) -> int:
+        """The node of a driven tool: made on its first contact, shared by the next."""
+        for known, node in self._tool_nodes:
+            if known is tool:
+                return node
+        free = tuple("u" + axis for axis in tool.free_names)
+        node = self.rigid_node(tool.reference_point(), tool.mass, free)
+        if np.any(tool.force != 0.0):
+            self.force(node, tool.force, tool.amplitude_given)
+        self._tool_nodes.append((tool, node))
+        return node
+
+    def rigid_node(
+        self,
+        position: ArrayLike,
+        mass: float | None = None,
+        free: str | Sequence[str] = ("ux", "uy", "uz"),
+    ) -> int:
+        """A node of its own, used by no cell, carrying the translations of a rigid body (a
+        force-driven tool's: ``contact`` makes it): a point appended to the model's mesh
+        (``model.mesh`` becomes a new Mesh; the one given is unchanged, its node ids kept).
+
+        Parameters
+        ----------
+        position : (3,) float
+            Where the node is, mm.
+        mass : float, optional
+            Its mass, t (gravity acts on it); None: none stated, which the quasi-static
+            solvers accept (a nominal mass, no weight) and the explicit solver refuses.
+        free : str or sequence of str
+            The translations it is free along ("ux", "uy", "uz"); the others are held.
+
+        Returns
+        -------
+        int
+            The node's id: load it with ``force``, read it in results.
+        """
+        point = _vector3(position, "rigid_node position")
+        if mass is not None and not (
+            isinstance(mass, (int, float)) and math.isfinite(mass) and mass > 0
+        ):
+            raise ValueError(f"rigid_node mass must be a positive number of t, got {mass!r}")
+        columns = dof_columns(free)
+        if (columns > 2).any():
+            raise ValueError(f"a rigid node is free along translations only, got free={free!r}")
+        mesh = self.mesh
+        self.mesh = Mesh(
+            np.vstack([mesh.points, point]),
+            node_sets=mesh.node_sets,
+            cells={kind: mesh.cells(kind) for kind in CELL_KINDS},
+            cell_sets={kind: mesh.cell_sets(kind) for kind in CELL_KINDS},
+        )
+        node = mesh.n_nodes
+        self.rigid_nodes.append(RigidNode(node, None if mass is None else float(mass)))
+        held = [name for name in ("ux", "uy", "uz") if name not in {DOF_NAMES[c] for c in columns}]
+        if held:
+            self.fixes.append(Fix(np.array([node]), dof_columns(held)))
+        self._compiled = None
+        return node
 
     def gravity(self, vector: ArrayLike, amplitude: str | AmplitudeFunction = "step") -> None:
         """Acceleration of gravity acting on the lumped mass.

@@ -55,6 +55,9 @@ class Frame:
     tool_forces : numpy.ndarray, shape (t, 3)
         The force (N) the model exerts on each rigid tool, in the order of the contacts
         (``Model.contact``); (0, 3) without tools.
+    tool_displacements : numpy.ndarray, shape (t, 3)
+        Each rigid tool's translation from where it was given (mm): its prescribed motion,
+        and for a force-driven tool its free translation; (0, 3) without tools.
     """
 
     time: float
@@ -66,6 +69,7 @@ class Frame:
     reaction_moments: np.ndarray
     fields: dict[str, dict[str, np.ndarray]] = dataclasses.field(default_factory=dict)
     tool_forces: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 3)))
+    tool_displacements: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 3)))
 
 
 @dataclass
@@ -136,6 +140,14 @@ class Result:
         return np.array([frame.tool_forces for frame in self.frames]).reshape(
             len(self.frames), -1, 3
         )
+
+    @property
+    def tool_displacements(self) -> np.ndarray:
+        """(frames, t, 3) each rigid tool's translation (mm) at each frame, in the order of
+        ``tool_forces`` (a force-driven tool's travel)."""
+        return np.array(
+            [getattr(frame, "tool_displacements", np.zeros((0, 3))) for frame in self.frames]
+        ).reshape(len(self.frames), -1, 3)
 
     @property
     def reactions(self) -> np.ndarray:

@@ -104,6 +104,7 @@ def make_frame(
         reaction_moments=np.zeros((n, 3)) if reaction_moments is None else reaction_moments.copy(),
         fields=model.fields(state),
         tool_forces=model.tool_forces(state),
+        tool_displacements=model.tool_displacements(state),
     )
 
 

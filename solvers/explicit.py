@@ -101,7 +101,8 @@ class CentralDifference:
         run goes (solvers.output.HistoryWriter): ``time``, ``energy_kinetic``,
         ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
         (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
-        ``tool<k>_force_x/y/z`` (N) and ``displacement_node<i>_x/y/z`` (mm) of
+        ``tool<k>_force_x/y/z`` (N), ``tool<k>_displacement_x/y/z`` (mm) and
+        ``displacement_node<i>_x/y/z`` (mm) of
         ``history_nodes``.
     history_nodes : node indices whose displacements the history records.
     frame_summary : callable Frame -> dict, optional
@@ -362,6 +363,7 @@ class CentralDifference:
                     reactions,
                     state.positions - compiled.reference_positions,
                     compiled.tool_forces(state),
+                    compiled.tool_displacements(state),
                 )
             if run.schedule.due(state.time):
                 frame = make_frame(compiled, state, reactions, reaction_moments)
@@ -438,6 +440,13 @@ class CentralDifference:
         """Refuse, before the first step, a run that mass scaling would turn into another
         model (more than ``max_added_mass`` times its mass added) or whose steps would exceed
         ``max_steps`` at the starting step (a step far too small would otherwise hang)."""
+        if compiled.nominal_mass_nodes.size:
+            raise ValueError(
+                f"node {int(compiled.nominal_mass_nodes[0])} carries a force-driven tool's "
+                "free translation without a stated mass: in explicit dynamics the tool moves "
+                "by m a = F - (contact forces); give the tool its mass (t), e.g. "
+                "RigidPlane(..., free=('z',), force=..., mass=...), or [[contact]] mass = ..."
+            )
         total = float(compiled.mass0.sum())
         if total > 0.0 and added_mass > self.max_added_mass * total:
             raise ValueError(
