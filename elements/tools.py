@@ -70,7 +70,13 @@ class RigidTool:
     distance (mm, > 0 on the body's side) and the unit normal towards the body's side, and
     ``curvature(x, load_factor)`` -> (k,) the curvature 1/R of the surface's normal section
     (0 for a plane), for the contact tangent. ``side="inside"`` keeps the body inside a
-    sphere or a cylinder (a die) instead of outside (a punch)."""
+    sphere or a cylinder (a die) instead of outside (a punch).
+
+    Driving options of every tool: ``motion`` (3,) mm reached through ``amplitude``; ``free``
+    the axes ("x", "y", "z", or "all") along which the tool moves freely instead, pushed by
+    ``force`` (3,) N (components along free axes only; the same amplitude), with ``mass`` t
+    (required by the explicit solver). ValueError for a force along a held axis, a motion
+    along a free one, or a mass for a tool with no free axis."""
 
     def __init__(
         self,
