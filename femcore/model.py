@@ -418,6 +418,9 @@ class Model:
             nodes = self.mesh.node_sets[nodes]
         elif callable(nodes):  # a predicate(x, y, z) -> mask, as Mesh.nodes takes
             nodes = self.mesh.nodes(nodes)
+            # A rigid tool's own node is selected by its id only: a predicate over the
+            # body's coordinates must not hold or load a holder that happens to lie there.
+            nodes = np.setdiff1d(nodes, [r.node for r in self.rigid_nodes])
         return self._ids(nodes, self.mesh.n_nodes, "node")
 
     @staticmethod

@@ -143,6 +143,18 @@ def test_a_landed_damped_holder_rests_where_the_contact_springs_balance_its_forc
     assert run.tool_forces[-1, 0, 2] == pytest.approx(1.0, rel=1e-9)
 
 
+def test_a_bouncing_holder_keeps_the_energy_balance():
+    """Undamped, the holder falls 0.01 mm, lands on the springs and bounces: its kinetic
+    energy and the springs' add up to the work of its force (the tool's node is a node like
+    any other: its force is external work, its motion kinetic energy), to 1e-3 of the work."""
+    model = held_plate_and_holder(gap=0.01, force=1.0, mass=1e-3, penalty=100.0)
+    run = CentralDifference(duration=0.05, dt=1e-4).solve(model)
+    e = run.energies
+    balance = e["kinetic"] + e["internal"] + e["damping"] - e["external_work"]
+    assert e["external_work"].max() >= 0.01  # F x gap: it landed
+    assert np.abs(balance).max() < 1e-3 * e["external_work"].max()
+
+
 def test_the_holder_mass_and_its_springs_bound_the_explicit_step():
     """A light holder on stiff springs: the chosen step stays below 2 / omega of the holder's
     own mode, omega^2 = s k / m."""
@@ -230,6 +242,18 @@ def test_a_tool_in_two_contacts_has_one_node_and_the_given_mesh_is_unchanged():
     compiled = model.compile()
     assert [block.tool_node for block in compiled.interactions] == [9, 9]
     assert compiled.dofs.free[9].tolist() == [False, False, True, False, False]
+
+
+def test_a_predicate_selects_the_body_not_the_tool_node_where_it_lies():
+    """The holder's node lies at (0, 0, 1), inside the box x <= 5: a support or a load
+    written as a predicate afterwards holds the plate's nodes only (the holder stays free)."""
+    flat = Mesh.rectangle(SIDE, SIDE, nx=2, ny=2)
+    model = Model(flat)
+    model.add(mindlin())
+    model.contact(RigidPlane((0, 0, 1.0), (0, 0, -1.0), free="z", force=(0, 0, -1.0)))
+    model.fix(lambda x, y, z: x <= 5.0)
+    assert model.fixes[-1].nodes.tolist() == [0, 3, 6]
+    assert model.compile().dofs.free[9, 2]
 
 
 # ---------------------------------------------------------------------- case files
