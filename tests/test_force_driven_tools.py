@@ -310,3 +310,18 @@ def test_a_case_file_names_the_key_of_a_bad_holder(tmp_path, holder, solver, key
     path.write_text(CASE.format(holder=holder, solver=solver))
     with pytest.raises(CaseError, match=rf"contact\[1\]\.{key}|contact\[1\].*{key}"):
         load_case(path)
+
+
+def test_sweep_csv_spreads_each_tool_force_and_travel():
+    from fibreshell.sweep import summary_row
+
+    summary = {
+        "converged": True,
+        "wall_time_s": 1.0,
+        "steps": 2,
+        "final_load_factor": 1.0,
+        "tool_forces": {"tool1": [0.0, 0.0, -50.0]},
+        "tool_displacements": {"tool1": [0.0, 0.0, -0.25]},
+    }
+    row = summary_row(summary)
+    assert row["tool1_force_z"] == -50.0 and row["tool1_displacement_z"] == -0.25
