@@ -104,6 +104,33 @@ def test_dynamic_relaxation_finds_the_same_holder_equilibrium():
     assert run.tool_displacements[-1, 1, 2] == pytest.approx(-2.0 * sink, rel=1e-5)
 
 
+def test_pulling_a_plate_from_under_a_holder_takes_twice_mu_times_its_force():
+    """The plate slid 1 mm along x between the die and the holder (F = 50 N, mu = 0.2 on both
+    faces): the supports pull it with mu F per face, 2 mu F in all (1e-6); the holder's guide
+    (its node held along x) holds the holder against the plate's drag, mu F, and the holder
+    does not move along x."""
+    flat = Mesh.rectangle(SIDE, SIDE, nx=2, ny=2)
+    model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5]))
+    model.add(mindlin())
+    model.fix(EVERY_NODE, ["uy"])
+    model.displace(EVERY_NODE, ux=1.0, amplitude="linear")
+    mu, force = 0.2, 50.0
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), friction=mu)
+    holder = RigidPlane(
+        (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), free="z", force=(0, 0, -force), amplitude="step"
+    )
+    model.contact(holder, friction=mu)
+    run = Static(increments=4).solve(model)
+    assert run.converged
+    plate = np.arange(flat.n_nodes)
+    pull = run.reactions[plate].sum(axis=0)
+    assert pull[0] == pytest.approx(2.0 * mu * force, rel=1e-6)
+    guide = run.reactions[model.rigid_nodes[0].node]
+    assert guide[0] == pytest.approx(-mu * force, rel=1e-6)
+    np.testing.assert_allclose(run.tool_forces[-1, :, 0], [mu * force, mu * force], rtol=1e-6)
+    assert run.tool_displacements[-1, 1, 0] == 0.0
+
+
 def held_plate_and_holder(gap: float, force: float, mass: float, penalty: float) -> Model:
     """The plate held still (every DOF), the holder ``gap`` above its top face, pushed down
     by ``force`` at once (amplitude step)."""
