@@ -21,7 +21,11 @@ import pytest
 from elements import FibrousShell, MindlinShell, RigidPlane, RigidSphere
 from elements.contact import Contact, FrictionHistory
 from femcore import Body, Mesh, Model
-from femcore.interaction_checks import check_force_is_energy_gradient, check_tangent
+from femcore.interaction_checks import (
+    check_energy,
+    check_force_is_energy_gradient,
+    check_tangent,
+)
 from femcore.state import State
 from fibreshell.case import CaseError, load_case
 from fibreshell.run import run_case
@@ -227,6 +231,7 @@ def test_the_driven_contact_force_is_the_energy_gradient_at_the_nodes_and_the_to
 def test_the_driven_contact_tangent_is_the_force_derivative_with_the_tool_coupling(friction):
     block, state, history = driven_contact(friction)
     assert check_tangent(block, state, history)
+    check_energy(block, state, history)
 
 
 # ---------------------------------------------------------------------- bad input
