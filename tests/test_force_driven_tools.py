@@ -328,6 +328,23 @@ def test_a_case_file_drives_a_holder_and_its_history_has_its_force_and_travel(tm
     assert travel == pytest.approx(summary["tool_displacements"]["tool2"][2], rel=1e-12)
 
 
+def test_the_shipped_pullout_case_pulls_twice_mu_times_the_holder_force(tmp_path):
+    """cases/holder_pullout.toml: a fibrous strip pulled 5 mm from under a 100 N holder, mu =
+    0.3 on both faces: the pulled end's reaction is 2 mu F = 60 N, the die carries F, both
+    tools are dragged by mu F (1e-6); the holder went down."""
+    from pathlib import Path
+
+    case = load_case(Path(__file__).parents[1] / "cases" / "holder_pullout.toml")
+    run = run_case(case, tmp_path, progress=False)
+    assert run.result.converged
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["reactions"]["end"][0] == pytest.approx(60.0, rel=1e-6)
+    die, holder = summary["tool_forces"]["tool1"], summary["tool_forces"]["tool2"]
+    np.testing.assert_allclose([die[0], die[2]], [30.0, -100.0], rtol=1e-6)
+    np.testing.assert_allclose([holder[0], holder[2]], [30.0, 100.0], rtol=1e-6)
+    assert summary["tool_displacements"]["tool2"][2] < 0.0
+
+
 @pytest.mark.parametrize(
     "holder, solver, key",
     [
