@@ -262,6 +262,22 @@ def test_a_driven_tool_needs_its_own_node_and_explicit_dynamics_needs_its_mass()
         CentralDifference(duration=1e-3).solve(model)
 
 
+@pytest.mark.parametrize(
+    "position, mass, free, words",
+    [
+        ((0.0, 0.0), None, "uz", "3 finite numbers"),
+        ((0.0, 0.0, 1.0), -1.0, "uz", "positive number of t"),
+        ((0.0, 0.0, 1.0), None, "alpha", "translations only"),
+        ((0.0, 0.0, 1.0), None, "wz", "unknown DOF name"),
+    ],
+)
+def test_a_rigid_node_refuses_a_bad_position_mass_or_freedom(position, mass, free, words):
+    model = Model(Mesh.rectangle(SIDE, SIDE, nx=2, ny=2))
+    with pytest.raises(ValueError, match=words):
+        model.rigid_node(position, mass, free)
+    assert model.mesh.n_nodes == 9 and not model.rigid_nodes
+
+
 def test_a_tool_in_two_contacts_has_one_node_and_the_given_mesh_is_unchanged():
     flat = Mesh.rectangle(SIDE, SIDE, nx=2, ny=2)
     model = Model(flat)
