@@ -304,6 +304,19 @@ def test_a_predicate_selects_the_body_not_the_tool_node_where_it_lies():
     assert model.compile().dofs.free[9, 2]
 
 
+def test_a_rigid_node_mass_is_part_of_the_model_fingerprint():
+    """A checkpoint of a run with one holder mass is not resumed with another."""
+    from femcore.fingerprint import fingerprint
+
+    def tools_part(mass):
+        model = Model(Mesh.rectangle(SIDE, SIDE, nx=2, ny=2))
+        model.add(mindlin())
+        model.rigid_node((0.0, 0.0, 1.0), mass, "uz")
+        return fingerprint(model.compile()).parts["tools"]
+
+    assert tools_part(1e-3) == tools_part(1e-3) != tools_part(2e-3)
+
+
 # ---------------------------------------------------------------------- case files
 CASE = """
 title = "holder"
