@@ -365,6 +365,11 @@ class RigidSurface(RigidTool):
     tool if more): further away the distance returned is never less than the true one.
     The contact tangent treats each facet as flat (no curvature term) (docs/theory.md §9.3).
 
+    A meshed tool free along some axes may be driven by a ``pressure`` (N/mm^2) instead of a
+    force: the force is then the pressure times the facets' area vectors summed (each
+    facet's area along its normal, towards the body), along the free axes: a holder of face
+    A pressed at p pushes with p A (docs/theory.md §9.5).
+
     Speed: that search costs tens of microseconds per point. The tool keeps, for the last
     points it was asked about, every facet that can become their closest while they move
     less than ``MARGIN`` circumradius (the facets within the proof's radius plus twice that
@@ -384,6 +389,7 @@ class RigidSurface(RigidTool):
         free: str | Sequence[str] = (),
         force: ArrayLike = (0.0, 0.0, 0.0),
         mass: float | None = None,
+        pressure: float | None = None,
     ):
         from scipy.spatial import cKDTree
 
@@ -420,6 +426,34 @@ class RigidSurface(RigidTool):
         self.n_facets = len(triangles)
         self._centre = centroids.mean(axis=0)
         self._cache: _Candidates | None = None
+        self.pressure = None
+        if pressure is not None:
+            self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
+
+    def _drive_by_pressure(self, pressure: float, areas: np.ndarray) -> None:
+        """force = pressure x the facets' area vectors summed (f, 3) (each facet's area along
+        its normal, towards the body), its components along the free axes: what a pressure
+        on the whole face pushes the tool with, the guides holding the rest."""
+        self.pressure = check_positive(pressure, "RigidSurface pressure", "N/mm^2")
+        if not self.free:
+            raise ValueError(
+                f"pressure = {pressure!r} N/mm^2 is given to a tool with no free axis: give "
+                "free = (...) for the axes the pressure drives it along"
+            )
+        if np.any(self.force != 0.0):
+            raise ValueError(
+                "pressure and force are both given: the pressure makes the force (pressure x "
+                "the facets' area along their normals); give one"
+            )
+        resultant = self.pressure * areas.sum(axis=0)
+        force = np.zeros(3)
+        force[list(self.free)] = resultant[list(self.free)]
+        if not np.any(np.abs(force) > 1e-12 * np.abs(resultant).max(initial=0.0)):
+            raise ValueError(
+                f"the pressure's resultant {tuple(float(r) for r in resultant)} N has no "
+                f"component along the free axes {self.free_names}: the facets face across them"
+            )
+        self.force = force
 
     def _closest(self, x: np.ndarray, count: int):
         """The closest points on the count nearest facets (by centroid): (point (k, 3),

@@ -30,7 +30,8 @@ centre = [0.0, 0.0, -50.0]               # plane: point, normal; sphere: centre,
 radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip
 side = "outside"                         # sphere and cylinder: "outside" | "inside"
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
-# free = ["z"], force = [0.0, 0.0, -500.0], mass = 1e-3: free along z, pushed by 500 N (t)
+# free = ["z"], force = [0.0, 0.0, -500.0], mass = 1e-3: free along z, pushed by 500 N (t);
+# a "surface" tool may take pressure = 0.2 (N/mm^2 on its facets' area) instead of force
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
@@ -107,7 +108,7 @@ _TOOL_KEYS = {
 }
 _CONTACT_KEYS = ("tool", "nodes", "friction", "penalty", "motion", "amplitude")
 # A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
-_DRIVE_KEYS = ("free", "force", "mass")
+_DRIVE_KEYS = ("free", "force", "mass", "pressure")
 
 
 class CaseError(ValueError):
@@ -660,8 +661,15 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
         if not isinstance(free, list) or not all(isinstance(a, str) for a in free):
             raise where.error("free", f'expected axis names such as ["z"], got {free!r}')
         options["free"] = tuple(free)
-    if "mass" in value:
-        options["mass"] = _number(where, value["mass"], "mass")
+    for key in ("mass", "pressure"):
+        if key in value:
+            options[key] = _number(where, value[key], key)
+    if "pressure" in value and kind != "surface":
+        raise where.error(
+            "pressure",
+            'a pressure needs a meshed tool (tool = "surface"), whose facets have an area; '
+            "an analytic tool has none: give force = [...]",
+        )
     for key in _TOOL_KEYS[kind] + ("motion", "force"):
         if key not in value:
             continue

@@ -18,7 +18,7 @@ import json
 import numpy as np
 import pytest
 
-from elements import FibrousShell, MindlinShell, RigidPlane, RigidSphere
+from elements import FibrousShell, MindlinShell, RigidPlane, RigidSphere, RigidSurface
 from elements.contact import Contact, FrictionHistory
 from femcore import Body, Mesh, Model
 from femcore.interaction_checks import (
@@ -96,6 +96,53 @@ def test_under_gravity_the_die_carries_the_holder_force_and_both_weights():
         assert run.converged
         expected = 50.0 + plate + weight
         assert run.tool_forces[-1, 0, 2] == pytest.approx(-expected, rel=1e-6)
+
+
+def holder_face(tilt: float = 0.0) -> Mesh:
+    """A meshed holder face over the plate, SIDE x SIDE in plan at z = 1 (the plate's top
+    face), its facets' normals up (RigidSurface flips them down), tilted about y by ``tilt``
+    rad (through its edge x = SIDE)."""
+    face = Mesh.rectangle(SIDE, SIDE, nx=4, ny=4)
+    x = face.points.copy()
+    x[:, 2] = 1.0 + np.tan(tilt) * (x[:, 0] - SIDE)
+    return face.with_points(x)
+
+
+def test_a_meshed_holder_pressed_at_p_pushes_with_p_times_its_face_area():
+    """p = 0.125 N/mm^2 on a 20 x 20 mm face: 50 N on the plate and the die (1e-6)."""
+    flat = Mesh.rectangle(SIDE, SIDE, nx=2, ny=2)
+    model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5]))
+    model.add(mindlin())
+    model.fix(EVERY_NODE, ["ux", "uy"])
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)))
+    holder = RigidSurface(holder_face(), flip=True, free="z", pressure=0.125)
+    np.testing.assert_allclose(holder.force, [0.0, 0.0, -50.0], rtol=1e-12)
+    model.contact(holder)
+    run = Static(increments=2).solve(model)
+    assert run.converged
+    assert run.tool_forces[-1, 0, 2] == pytest.approx(-50.0, rel=1e-6)
+
+
+def test_a_tilted_face_pushes_along_its_free_axis_with_p_times_its_area_across_it():
+    """The same face tilted 0.3 rad: its area grows by 1 / cos, its resultant turns, and
+    along z (free) the force stays p x the area in plan, 0.125 x 400 = 50 N; the guides take
+    the rest."""
+    holder = RigidSurface(holder_face(tilt=0.3), flip=True, free="z", pressure=0.125)
+    np.testing.assert_allclose(holder.force, [0.0, 0.0, -50.0], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        ({"pressure": 0.1}, "no free axis"),
+        ({"free": "z", "pressure": 0.1, "force": (0, 0, -1.0)}, "both given"),
+        ({"free": "z", "pressure": -0.1}, "pressure"),
+        ({"free": "x", "pressure": 0.1}, "no component along the free axes"),
+    ],
+)
+def test_a_pressure_needs_free_axes_it_pushes_along_and_no_force(options, words):
+    with pytest.raises(ValueError, match=words):
+        RigidSurface(holder_face(), flip=True, **options)
 
 
 def test_dynamic_relaxation_finds_the_same_holder_equilibrium():
@@ -381,6 +428,7 @@ def test_the_shipped_pullout_case_pulls_twice_mu_times_the_holder_force(tmp_path
         ('free = ["z"]\nforce = [5.0, 0.0, -50.0]', 'kind = "static"', "force"),
         ('free = "q"', 'kind = "static"', "free"),
         ("mass = 0.001", 'kind = "static"', "mass"),
+        ('free = ["z"]\npressure = 0.2', 'kind = "static"', "pressure"),
     ],
 )
 def test_a_case_file_names_the_key_of_a_bad_holder(tmp_path, holder, solver, key):
