@@ -421,6 +421,21 @@ def test_the_shipped_pullout_case_pulls_twice_mu_times_the_holder_force(tmp_path
     assert summary["tool_displacements"]["tool2"][2] < 0.0
 
 
+def test_a_case_file_presses_a_meshed_holder_at_a_pressure(tmp_path):
+    face = Mesh.rectangle(SIDE, SIDE, nx=4, ny=4)
+    face.with_points(face.points + [0.0, 0.0, 0.5]).write(tmp_path / "face.vtu")
+    text = CASE.format(holder="", solver='kind = "static"\nincrements = 2')
+    text = text.replace(
+        'tool = "plane"\npoint = [0.0, 0.0, 0.5]\nnormal = [0.0, 0.0, -1.0]',
+        'tool = "surface"\nfile = "face.vtu"\nflip = true\nfree = ["z"]\npressure = 0.125',
+    )
+    path = tmp_path / "holder.toml"
+    path.write_text(text)
+    run = run_case(load_case(path), tmp_path / "out", progress=False)
+    assert run.result.converged
+    assert run.result.tool_forces[-1, 0, 2] == pytest.approx(-50.0, rel=1e-6)
+
+
 @pytest.mark.parametrize(
     "holder, solver, key",
     [
