@@ -426,7 +426,7 @@ class RigidSurface(RigidTool):
         self.n_facets = len(triangles)
         self._centre = centroids.mean(axis=0)
         self._cache: _Candidates | None = None
-        self.pressure = None
+        self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
 
