@@ -16,6 +16,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_path
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.writable import OutputError, check_folder, frame_bytes
 
@@ -337,7 +338,7 @@ class Result:
             The folder is not writable or its disk too full for the frames (checked before
             writing), or a write failed: the message names the file and what was written.
         """
-        path = Path(path)
+        path = as_path(path, "Result.write path")
         suffix = path.suffix.lower()
         if suffix not in (".vtu", ".pvd", ".xdmf"):
             raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")

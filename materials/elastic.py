@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from femcore.checks import check_positive, warn_implausible
+from femcore.checks import as_number, check_positive, warn_implausible
 
 if TYPE_CHECKING:  # a type only: materials.fabric needs nothing from here
     from materials.fabric import Fabric
@@ -269,10 +269,7 @@ class ElasticShell:
 
 
 def _poisson(value: Any, name: str) -> float:
-    try:
-        nu = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number in (-1, 0.5), got {value!r}") from None
+    nu = as_number(value, name, "a number in (-1, 0.5)")
     if not -1.0 < nu < 0.5:
         raise ValueError(f"{name} must be in (-1, 0.5), got {value!r}")
     return nu
