@@ -258,3 +258,30 @@ def test_a_path_that_is_not_a_file_name_is_a_value_error(tmp_path):
     afile.write_text("x")
     with pytest.raises(ValueError, match=r"Mesh.write .*afile.* is a file, not a folder|afile"):
         Mesh.rectangle(1.0, 1.0, 2, 2).write(afile / "m.vtu")
+
+
+# ------------------------------------------------------------------ results
+def test_the_director_angle_of_a_result_without_directors_is_refused_not_zero():
+    model = Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4))
+    model.add(Cable(1e3, 1e-9))
+    model.fix("start")
+    model.fix("end")
+    result = Static(progress=False).solve(model)
+    with pytest.raises(ValueError, match=r"no node of this result has a director"):
+        result.director_angle()
+
+
+def test_the_director_angle_is_nan_at_the_nodes_of_a_cable_beside_a_shell():
+    mesh = Mesh.rectangle(20.0, 5.0, nx=2, ny=1)
+    model = Model(mesh)
+    model.add(MindlinShell(steel()))
+    state = model.compile().initial_state()
+    from femcore import Frame, Result
+
+    directors = state.directors.copy()
+    directors[0] = 0.0  # a node without a director, as a cable's
+    zero = np.zeros_like(state.positions)
+    result = Result(mesh, [Frame(0.0, 0.0, state.positions, zero, directors, zero, zero)])
+    angle = result.director_angle()
+    assert np.isnan(angle[0])
+    assert np.allclose(angle[1:], 90.0)
