@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_number, as_reals
 from femcore.memory import check_mesh_memory
 from femcore.mesh import Mesh
 
@@ -236,20 +237,14 @@ def _positive_int(value: Any, name: str) -> int:
 
 
 def _positive_length(value: Any, name: str) -> float:
-    try:
-        length = float(value)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from err
+    length = as_number(value, name, "a positive finite number")
     if not np.isfinite(length) or length <= 0.0:
         raise ValueError(f"{name} must be a positive finite number, got {value!r}")
     return length
 
 
 def _point3(value: ArrayLike, name: str) -> np.ndarray:
-    try:
-        point = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be a point (x, y[, z]), got {value!r}") from err
+    point = as_reals(value, name, "a point (x, y[, z])")
     if point.shape not in ((2,), (3,)) or not np.isfinite(point).all():
         raise ValueError(f"{name} must be a finite point (x, y[, z]), got {value!r}")
     return np.append(point, 0.0) if point.size == 2 else point

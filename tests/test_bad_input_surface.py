@@ -144,6 +144,12 @@ NUMBERS = {
     ),
     "DynamicRelaxation tol '1e-3'": (lambda: DynamicRelaxation(tol="1e-3"), r"tol .*'1e-3'"),
     "DynamicRelaxation tol True": (lambda: DynamicRelaxation(tol=True), r"tol .*got True"),
+    "Mesh.rectangle lx '1'": (lambda: Mesh.rectangle("1", 1.0, 2, 2), r"lx .*got '1'"),
+    "Mesh.rectangle lx True": (lambda: Mesh.rectangle(True, 1.0, 2, 2), r"lx .*got True"),
+    "Mesh.line p0 strings": (
+        lambda: Mesh.line(["0", "0", "0"], (1.0, 0.0, 0.0), 3),
+        r"p0 must be a point",
+    ),
     "Static progress 'no'": (
         lambda: Static(progress="no"),
         r"progress must be true or false, got 'no'",
