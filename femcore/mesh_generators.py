@@ -180,8 +180,8 @@ def _grip_size(grip: ArrayLike, lx: float, ly: float) -> tuple[float, float]:
     """The gripped patch (a, b) along x and y (mm) of ``grip``, one size (a square) or two;
     the patch must leave at least one cell of the grid free before the clamp."""
     try:
-        size = np.broadcast_to(np.asarray(grip, dtype=np.float64), (2,))
-    except (TypeError, ValueError) as err:
+        size = np.broadcast_to(as_reals(grip, "grip", "a size or a pair of sizes"), (2,))
+    except ValueError as err:
         raise ValueError(f"grip must be a size or a pair of sizes, got {grip!r}") from err
     a, b = (float(v) for v in size)
     if not (np.isfinite(a) and np.isfinite(b) and a > 0.0 and b > 0.0 and a / lx + b / ly < 1.0):

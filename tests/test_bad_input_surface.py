@@ -71,6 +71,10 @@ NUMBERS = {
     "ElasticShell thickness NaN": (lambda: steel(thickness=NAN), r"thickness .*got nan"),
     "orthotropic E1 '1'": (lambda: orthotropic(E1="1"), r"E1 .*got '1'"),
     "orthotropic nu12 True": (lambda: orthotropic(nu12=True), r"nu12 .*got True"),
+    "orthotropic warp strings": (
+        lambda: orthotropic(warp=["1", "0", "0"]),
+        r"ElasticShell warp must be a non-zero 3-vector",
+    ),
     "equivalent shear_ratio '0.5'": (
         lambda: ElasticShell.equivalent(fabric(), shear_ratio="0.5"),
         r"shear_ratio .*got '0.5'",
@@ -149,6 +153,10 @@ NUMBERS = {
     "Mesh.line p0 strings": (
         lambda: Mesh.line(["0", "0", "0"], (1.0, 0.0, 0.0), 3),
         r"p0 must be a point",
+    ),
+    "Mesh.corner grip strings": (
+        lambda: Mesh.corner(200.0, 150.0, 4, grip=["20", "15"]),
+        r"grip must be a size or a pair of sizes",
     ),
     "Static progress 'no'": (
         lambda: Static(progress="no"),
