@@ -9,6 +9,7 @@ import pytest
 
 from elements import (
     Cable,
+    Contact,
     FibrousShell,
     Grip,
     MindlinShell,
@@ -17,6 +18,7 @@ from elements import (
     RigidSphere,
     RigidSurface,
 )
+from elements.plies import PlyStack
 from femcore import Mesh, Model
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DynamicRelaxation, Static
@@ -128,6 +130,19 @@ NUMBERS = {
     "RigidSurface flip 'yes'": (
         lambda: RigidSurface(Mesh.rectangle(1.0, 1.0, 2, 2), flip="yes"),
         r"flip must be True or False, got 'yes'",
+    ),
+    "Contact offset strings": (
+        lambda: Contact(RigidPlane(*PLANE), offset=["1"]),
+        r"offset must be finite numbers >= 0",
+    ),
+    "Grip stiffness True": (lambda: Grip("left", True), r"Grip stiffness .*got True"),
+    "PlyStack penalty True": (
+        lambda: PlyStack(Mesh.rectangle(1.0, 1.0, 2, 2), fabric(), 2, penalty=True),
+        r"penalty must be a positive number \(N/mm\) or None, got True",
+    ),
+    "CentralDifference history 5": (
+        lambda: CentralDifference(duration=1e-4, history=5),
+        r"history must be a file name .*got 5",
     ),
     "Grip stiffness 'stiff'": (lambda: Grip("left", "stiff"), r"Grip stiffness .*'stiff'"),
     "CentralDifference duration '1e-3'": (
