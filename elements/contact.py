@@ -47,6 +47,7 @@ import numpy as np
 
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
+from femcore.checks import as_number, as_reals
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.state import State
 
@@ -103,16 +104,21 @@ class Contact(Interaction):
         self.tool = tool
         self.nodes = None if nodes is None else np.asarray(nodes, dtype=np.int64).ravel()
         if offset is not None:
-            given = np.asarray(offset, dtype=float)
+            given = as_reals(offset, "offset", "finite numbers >= 0 (mm)")
             if not np.all(np.isfinite(given)) or (given < 0).any():
                 raise ValueError(f"offset must be finite and >= 0 (mm), got {offset!r}")
         self.offset = offset
-        if penalty is not None and not (np.isfinite(penalty) and penalty > 0):
-            raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
-        if not (isinstance(friction, (int, float)) and np.isfinite(friction) and friction >= 0):
+        if penalty is not None:
+            stiffness = as_number(penalty, "penalty", "a positive number (N/mm) or None")
+            if not (np.isfinite(stiffness) and stiffness > 0):
+                raise ValueError(
+                    f"penalty must be a positive number (N/mm) or None, got {penalty!r}"
+                )
+        mu = as_number(friction, "friction", "a Coulomb coefficient >= 0")
+        if not (np.isfinite(mu) and mu >= 0):
             raise ValueError(f"friction must be a Coulomb coefficient >= 0, got {friction!r}")
         self.penalty = penalty
-        self.friction = float(friction)
+        self.friction = mu
 
     def bind(self, body: Body) -> ContactBlock:
         mesh = body.mesh

@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from elements.kernels import closest_facets
-from femcore.checks import check_positive
+from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
 
 __all__ = ["RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface", "RigidTool"]
@@ -54,7 +54,7 @@ def _free_axes(free: str | Sequence[str]) -> tuple[int, ...]:
 
 
 def _vector(value: ArrayLike, name: str, unit: bool = False) -> np.ndarray:
-    vector = np.asarray(value, dtype=float).ravel()
+    vector = as_reals(value, name, "3 finite numbers").ravel()
     if vector.shape != (3,) or not np.isfinite(vector).all():
         raise ValueError(f"{name} must be 3 finite numbers, got {value!r}")
     if unit:
@@ -412,7 +412,7 @@ class RigidSurface(RigidTool):
             raise ValueError(
                 f"RigidSurface: facet {int(np.argmin(length))} has no area (collinear nodes)"
             )
-        self.flipped = bool(flip)
+        self.flipped = as_flag(flip, "RigidSurface flip")
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())

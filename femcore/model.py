@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_reals
 from femcore.compiled import CompiledModel
 from femcore.dofs import DOF_NAMES, dof_columns
 from femcore.element import ElementType
@@ -41,11 +42,9 @@ NodeSelection = str | int | Sequence[int] | np.ndarray | NodePredicate
 def _vector3(value, what: str) -> np.ndarray:
     """A (3,) float vector, or ValueError naming ``what`` (a word such as "down" where a
     vector belongs is refused here, not deep inside numpy)."""
-    try:
-        vector = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        vector = None
-    if vector is None or vector.shape != (3,) or not np.all(np.isfinite(vector)):
+    expected = "3 finite numbers (a vector x, y, z)"
+    vector = as_reals(value, what, expected)
+    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
         raise ValueError(f"{what} must be 3 finite numbers (a vector x, y, z), got {value!r}")
     return vector
 
@@ -200,7 +199,7 @@ class Model:
         for column, (name, value) in enumerate((("ux", ux), ("uy", uy), ("uz", uz))):
             if value is None:
                 continue
-            value = np.asarray(value, dtype=float)
+            value = as_reals(value, name, f"a finite number or {ids.size} (one per node)")
             if value.shape not in ((), (ids.size,)) or not np.all(np.isfinite(value)):
                 raise ValueError(
                     f"{name} must be a finite number or {ids.size} finite numbers (one per node), "
@@ -425,7 +424,20 @@ class Model:
 
     @staticmethod
     def _ids(ids, count: int, what: str) -> np.ndarray:
-        array = np.atleast_1d(np.asarray(ids))
+        try:
+            array = np.atleast_1d(np.asarray(ids))
+        except (TypeError, ValueError):
+            array = np.array([ids], dtype=object)
+        if array.dtype.kind not in "iufb":
+            raise ValueError(
+                f"{what} selection must be {what} ids (integers), a set name or a predicate, "
+                f"got {ids!r:.80}"
+            )
+        if array.ndim != 1:
+            raise ValueError(
+                f"{what} ids must be a flat sequence of integers, got an array of shape "
+                f"{array.shape}"
+            )
         if array.size == 0:
             raise ValueError(f"empty {what} selection: expected at least one {what} id")
         if array.dtype == bool:

@@ -16,6 +16,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_path, as_reals
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.writable import OutputError, check_folder, frame_bytes
 
@@ -189,14 +190,23 @@ class Result:
         Raises
         ------
         ValueError
-            A normal that is not a non-zero finite 3-vector, or ``frame`` out of range.
+            A normal that is not a non-zero finite 3-vector, ``frame`` out of range, or a
+            result without any director.
         """
-        axis = np.asarray(normal, dtype=float).ravel()
+        axis = as_reals(normal, "normal", "a non-zero 3-vector").ravel()
         if axis.shape != (3,) or not np.isfinite(axis).all() or not np.linalg.norm(axis) > 0:
             raise ValueError(f"normal must be a non-zero 3-vector, got {normal!r}")
         directors = self.frames[self._frame_index(frame)].directors
+        # A node without a director (a cable's) has a zero row: its angle is undefined, not 0.
+        present = np.linalg.norm(directors, axis=1) > 0
+        if not present.any():
+            raise ValueError(
+                "director_angle: no node of this result has a director (a model of cables "
+                "only); directors come from shell elements"
+            )
         sine = np.abs(directors @ (axis / np.linalg.norm(axis)))
-        return np.degrees(np.arcsin(np.clip(sine, 0.0, 1.0)))
+        angle = np.degrees(np.arcsin(np.clip(sine, 0.0, 1.0)))
+        return np.where(present, angle, np.nan)
 
     @property
     def times(self) -> np.ndarray:
@@ -349,7 +359,7 @@ class Result:
             The folder is not writable or its disk too full for the frames (checked before
             writing), or a write failed: the message names the file and what was written.
         """
-        path = Path(path)
+        path = as_path(path, "Result.write path")
         suffix = path.suffix.lower()
         if suffix not in (".vtu", ".pvd", ".xdmf"):
             raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")

@@ -33,6 +33,7 @@ from solvers.common import (
     check_integer,
     check_non_negative,
     check_positive_or_none,
+    check_progress,
     compiled_model,
     empty_result,
     make_frame,
@@ -139,7 +140,7 @@ class CentralDifference:
         self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt")
         self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
         self.output_interval = check_positive_or_none(output_interval, "output_interval")
-        self.progress = progress
+        self.progress = check_progress(progress)
         self.max_steps = check_integer(max_steps, "max_steps")
         self.output = None if output is None else output_path(output, ".pvd", "output")
         self.history = None if history is None else output_path(history, ".csv", "history")

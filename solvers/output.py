@@ -15,6 +15,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from femcore.checks import as_path
 from femcore.fingerprint import Fingerprint
 from femcore.mesh import Mesh
 from femcore.results import Frame, Result
@@ -45,7 +46,7 @@ def _atomic_write(path: Path, data: bytes) -> None:
 
 def output_path(path: str | os.PathLike[str], suffix: str, what: str) -> Path:
     """``path`` as a Path with the given suffix in an existing directory, else ValueError."""
-    checked = Path(path)
+    checked = as_path(path, what)
     if checked.suffix.lower() != suffix:
         raise ValueError(f"{what} must be a {suffix} path, got {str(path)!r}")
     if not checked.parent.is_dir():
@@ -261,7 +262,7 @@ def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
     """The ``checkpoint`` argument of a solve as a Path in an existing directory, or None."""
     if checkpoint is None:
         return None
-    path = Path(checkpoint)
+    path = as_path(checkpoint, "checkpoint")
     if not path.parent.is_dir():
         raise ValueError(f"checkpoint: the directory {str(path.parent)!r} does not exist")
     return path
