@@ -11,6 +11,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, Scatter, check_positive
+from femcore.checks import as_flag
 from femcore.mesh import Mesh
 from femcore.state import State
 
@@ -38,7 +39,7 @@ class Cable(ElementType):
     ):
         self.axial_stiffness = check_positive(axial_stiffness, "axial_stiffness EA", "N")
         self.mass_per_length = check_positive(mass_per_length, "mass_per_length", "t/mm")
-        self.tension_only = bool(tension_only)
+        self.tension_only = as_flag(tension_only, "Cable tension_only")
         self.kernel = kernels.choose(kernel)
 
     def bind(self, mesh: Mesh, cell_ids: np.ndarray, directors: np.ndarray) -> CableBlock:

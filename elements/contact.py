@@ -43,6 +43,14 @@ without the contact. A contact spring then adds 10 % to omega^2 of a node, 20 % 
 pinched between two tools (a punch and a die), and a node resting under its own weight sinks
 m g / k = g dt^2 / 0.4, far below the thickness. The explicit step takes every penalty in,
 given or automatic (``springs``; docs/theory.md §9.1).
+
+Force-driven tools (a blank holder: ``RigidTool(free=..., force=...)``). The tool's free
+translation c is the displacement of a node of its own, ``tool_node`` (``Model.rigid_node``),
+which carries the tool's mass, the prescribed force as a nodal load, and supports on the axes
+it is not free along. The contact sees each node at x - c (the tool only translates), each row
+of ``connectivity`` is (node, tool node), and the tool node takes the reaction of every
+contact force: its equation is m a = F(t) - sum f in explicit dynamics and F = sum f in the
+quasi-static solvers, assembled, stepped and solved as any node's (docs/theory.md §9.5).
 """
 
 from __future__ import annotations
@@ -54,6 +62,7 @@ import numpy as np
 
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
+from femcore.checks import as_number, as_reals
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.state import State
 
@@ -77,6 +86,9 @@ class Contact(Interaction):
         k, N/mm per node; None: chosen when the model is compiled (module docstring).
     friction : float
         The Coulomb coefficient mu >= 0 (0: frictionless, no history kept).
+    tool_node : int, optional
+        The node carrying a driven tool's free translation (``Model.rigid_node``; what
+        ``Model.contact`` passes); required for a tool with ``free`` axes, refused otherwise.
     """
 
     dofs = ("ux", "uy", "uz")
@@ -88,26 +100,52 @@ class Contact(Interaction):
         offset=None,
         penalty: float | None = None,
         friction: float = 0.0,
+        tool_node: int | None = None,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
+        if tool.driven and tool_node is None:
+            raise ValueError(
+                f"the {type(tool).__name__} is free along {', '.join(tool.free_names)} (driven "
+                "by a force): add its contact with model.contact(tool, ...), which gives the "
+                "tool a node of its own for that translation"
+            )
+        if tool_node is not None and not tool.driven:
+            raise ValueError(
+                f"tool_node = {tool_node!r} is given for a {type(tool).__name__} with no free "
+                "axis: a tool driven by its motion has no node of its own"
+            )
+        self.tool_node = None if tool_node is None else int(tool_node)
         self.tool = tool
         self.nodes = None if nodes is None else np.asarray(nodes, dtype=np.int64).ravel()
         if offset is not None:
-            given = np.asarray(offset, dtype=float)
+            given = as_reals(offset, "offset", "finite numbers >= 0 (mm)")
             if not np.all(np.isfinite(given)) or (given < 0).any():
                 raise ValueError(f"offset must be finite and >= 0 (mm), got {offset!r}")
         self.offset = offset
-        if penalty is not None and not (np.isfinite(penalty) and penalty > 0):
-            raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
-        if not (isinstance(friction, (int, float)) and np.isfinite(friction) and friction >= 0):
+        if penalty is not None:
+            stiffness = as_number(penalty, "penalty", "a positive number (N/mm) or None")
+            if not (np.isfinite(stiffness) and stiffness > 0):
+                raise ValueError(
+                    f"penalty must be a positive number (N/mm) or None, got {penalty!r}"
+                )
+        mu = as_number(friction, "friction", "a Coulomb coefficient >= 0")
+        if not (np.isfinite(mu) and mu >= 0):
             raise ValueError(f"friction must be a Coulomb coefficient >= 0, got {friction!r}")
         self.penalty = penalty
-        self.friction = float(friction)
+        self.friction = mu
 
     def bind(self, body: Body) -> ContactBlock:
         mesh = body.mesh
         nodes = np.flatnonzero(body.covered()) if self.nodes is None else self.nodes
+        if self.tool_node is not None:
+            if not 0 <= self.tool_node < mesh.n_nodes:
+                raise ValueError(
+                    f"tool_node = {self.tool_node} is not a node of the mesh "
+                    f"(0..{mesh.n_nodes - 1})"
+                )
+            if self.tool_node in nodes:
+                raise ValueError(f"the contact nodes include the tool's own node {self.tool_node}")
         if self.offset is None:
             offset = body.half_thickness()[nodes]
         else:
@@ -127,7 +165,7 @@ class Contact(Interaction):
                 np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
             )
             np.add.at(area, triangles.ravel(), np.repeat(cell_area / 3.0, 3))
-        return ContactBlock(self, nodes, offset, mesh.n_nodes, mesh.points, area)
+        return ContactBlock(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
 
 
 @dataclass(frozen=True)
@@ -163,7 +201,8 @@ class FrictionHistory:
 
 
 class ContactBlock(InteractionBlock):
-    """The bound contact: one row of ``connectivity`` per node, one tool."""
+    """The bound contact: one row of ``connectivity`` per node, one tool; a row is (node,
+    tool node) for a driven tool."""
 
     dofs = Contact.dofs
     reach = 1
@@ -177,10 +216,17 @@ class ContactBlock(InteractionBlock):
         n_nodes: int,
         points: np.ndarray,
         area: np.ndarray,
+        tool_node: int | None = None,
     ):
         self.tool = contact.tool
         self.friction = contact.friction
-        self.connectivity = nodes[:, None]
+        self.tool_node = tool_node
+        if tool_node is None:
+            self.connectivity = nodes[:, None]
+        else:
+            self.connectivity = np.column_stack([nodes, np.full(len(nodes), tool_node)])
+            self._tool_reference = points[tool_node].copy()
+        self._mass_ratio = np.ones(len(nodes))  # m_node / m_tool, set by calibrate
         self.scatter = Scatter(self.connectivity, n_nodes)
         self.n_nodes = n_nodes
         self.offset = offset
@@ -215,20 +261,41 @@ class ContactBlock(InteractionBlock):
         """Frictionless: each contact node held along the tool's normal where it starts (a
         plane leaves the translations in it and the turn about its normal free, a cylinder
         the slide along and the turn about its axis, a sphere the turns about its centre).
-        With friction: each contact node held along x, y and z."""
+        With friction: each contact node held along x, y and z. A driven tool holds only
+        along the axes it is not free along (the parts of those directions there)."""
         nodes = self.connectivity[:, 0]
         if self.friction > 0.0:
-            return np.repeat(nodes, 3), np.tile(np.eye(3), (len(nodes), 1))
-        _, normal = self.tool.distance(self._reference, 0.0)
-        return nodes, np.array(normal, dtype=float)
+            nodes, directions = np.repeat(nodes, 3), np.tile(np.eye(3), (len(nodes), 1))
+        else:
+            _, normal = self.tool.distance(self._reference, 0.0)
+            directions = np.array(normal, dtype=float)
+        if self.tool_node is None:
+            return nodes, directions
+        directions = directions.copy()
+        directions[:, list(self.tool.free)] = 0.0
+        length = np.linalg.norm(directions, axis=1)
+        kept = length > 1e-12
+        return nodes[kept], directions[kept] / length[kept, None]
 
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
         if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
             self.stiffness = PENALTY_SHARE * mass[self.connectivity[:, 0]] * (2.0 / stable_dt) ** 2
+        if self.tool_node is not None:
+            self._mass_ratio = mass[self.connectivity[:, 0]] / mass[self.tool_node]
 
     # ------------------------------------------------------------------ kinematics
+    def tool_translation(self, state: State) -> np.ndarray:
+        """(3,) the driven tool's free translation, mm: its node's displacement (zero for a
+        tool driven by its motion alone)."""
+        if self.tool_node is None:
+            return np.zeros(3)
+        return state.positions[self.tool_node] - self._tool_reference
+
     def _positions(self, state: State) -> np.ndarray:
-        return state.positions[self.connectivity[:, 0]]
+        """(s, 3) the contact nodes where the tool sees them: less its free translation (a
+        translated tool's distance is the unmoved tool's at x - c)."""
+        x = state.positions[self.connectivity[:, 0]]
+        return x if self.tool_node is None else x - self.tool_translation(state)
 
     def touch(self, state: State, history: FrictionHistory | None = None):
         """Penetration p (s,), mm, the tool's normal (s, 3) at the nodes and whether each
@@ -335,7 +402,15 @@ class ContactBlock(InteractionBlock):
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history: Any = None):
-        return self.scatter.vectors(-self.contact_forces(state, history)[:, None, :]), None
+        force = self.contact_forces(state, history)[:, None, :]
+        if self.tool_node is not None:  # the reaction on the tool's node
+            force = np.concatenate([force, -force], axis=1)
+        return self.scatter.vectors(-force), None
+
+    def tool_displacements(self, state: State, history: Any = None) -> np.ndarray:
+        """(1, 3) the tool's translation from where it was given, mm: its prescribed motion
+        and its free translation."""
+        return (self.tool.offset(state.load_factor) + self.tool_translation(state))[None, :]
 
     def strain_energy(self, state: State, history: Any = None) -> float:
         """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm."""
@@ -441,11 +516,27 @@ class ContactBlock(InteractionBlock):
                 stuck[:, None, None], k * ds_dx, np.where(sliding[:, None, None], slip_part, 0.0)
             )
         blocks = np.where(touching[:, None, None], blocks, 0.0)
+        if self.tool_node is not None:
+            # The force depends on x - c: d/dc = -d/dx, and the tool's node takes the
+            # reaction: [[K, -K], [-K, K]] per (node, tool node).
+            pair = np.empty((len(blocks), 2, 3, 2, 3))
+            pair[:, 0, :, 0, :] = pair[:, 1, :, 1, :] = blocks
+            pair[:, 0, :, 1, :] = pair[:, 1, :, 0, :] = -blocks
+            return [CellTangent(self.connectivity, pair)]
         return [CellTangent(self.connectivity, blocks[:, None, :, None, :])]
 
     def springs(self) -> tuple[np.ndarray, np.ndarray]:
-        """Each node's penalty, N/mm (the friction's stick spring has the same stiffness)."""
-        return self.connectivity[:, 0], self.stiffness
+        """Each node's penalty, N/mm (the friction's stick spring has the same stiffness).
+        With a driven tool the springs join the nodes to the tool's node: each row of the
+        mass-scaled stiffness is bounded by Gershgorin's theorem, k (1 + sqrt(m / m_t)) at a
+        node and sum k (1 + sqrt(m_t / m)) at the tool's node (every spring pressing at once),
+        with the masses the contact was calibrated with."""
+        nodes, k = self.connectivity[:, 0], self.stiffness
+        if self.tool_node is None:
+            return nodes, k
+        root = np.sqrt(self._mass_ratio)
+        on_tool = float(np.sum(k * (1.0 + 1.0 / root)))
+        return np.append(nodes, self.tool_node), np.append(k * (1.0 + root), on_tool)
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """contact_gap (mm, < 0 a penetration, NaN off the node set), contact_force (the normal

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from femcore.assembly import CellTangent
+from femcore.checks import check_positive
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.state import State
 
@@ -43,9 +44,8 @@ class Grip(Interaction):
     dofs = ("ux", "uy", "uz")
 
     def __init__(self, nodes: str | np.ndarray | list[int], stiffness: float):
-        if not (np.isfinite(stiffness) and stiffness > 0.0):
-            raise ValueError(f"Grip: stiffness must be positive and finite, got {stiffness!r}")
-        self.nodes, self.stiffness = nodes, float(stiffness)
+        self.nodes = nodes
+        self.stiffness = check_positive(stiffness, "Grip stiffness", "N/mm")
 
     def bind(self, body: Body) -> GripBlock:
         """The springs from the first node to each other one."""

@@ -25,6 +25,7 @@ import numpy as np
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
 from femcore.assembly import Scatter
+from femcore.checks import as_reals
 from femcore.mesh import Mesh
 from femcore.rotation import cross
 from femcore.state import State
@@ -186,7 +187,9 @@ class MindlinShell(ElementType):
             return
         from elements.mindlin_fabric import default_transverse_shear, default_twisting
 
-        axis = np.array((1.0, 0.0, 0.0) if warp is None else warp, dtype=float).ravel()
+        axis = as_reals(
+            (1.0, 0.0, 0.0) if warp is None else warp, "MindlinShell warp", "a non-zero 3-vector"
+        ).ravel()
         if axis.shape != (3,) or not np.isfinite(axis).all() or np.linalg.norm(axis) == 0:
             raise ValueError(f"MindlinShell warp must be a non-zero 3-vector, got {warp!r}")
         self.warp = axis / np.linalg.norm(axis)

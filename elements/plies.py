@@ -197,7 +197,10 @@ class PlyStack:
                 f"element must be a callable ply_fabric -> ElementType, got {element!r}"
             )
         if penalty is not None and not (
-            isinstance(penalty, (int, float)) and np.isfinite(penalty) and penalty > 0
+            isinstance(penalty, (int, float))
+            and not isinstance(penalty, bool)
+            and np.isfinite(penalty)
+            and penalty > 0
         ):
             raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
         self.mid = mesh

@@ -256,7 +256,10 @@ class PlyContact(Interaction):
         self.upper_offset, self.lower_offset = upper_offset, lower_offset
         self.smoothing = None if smoothing is None else float(smoothing)
         if penalty is not None and not (
-            isinstance(penalty, (int, float)) and np.isfinite(penalty) and penalty > 0
+            isinstance(penalty, (int, float))
+            and not isinstance(penalty, bool)
+            and np.isfinite(penalty)
+            and penalty > 0
         ):
             raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
         self.penalty = penalty

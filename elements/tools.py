@@ -6,25 +6,55 @@ Each tool may move rigidly: ``motion`` (3,) is a translation reached at the end 
 through an ``amplitude`` a(tau) (femcore.loads: "linear" by default, "smooth", "step" or a
 callable), tau the load factor of the quasi-static solvers or t / duration of the explicit one:
 the tool is at ``a(tau) * motion`` from where it was given. Units: mm.
+
+A tool may instead be free along some axes (``free``, e.g. ``("z",)``) and driven there by a
+prescribed ``force`` (N) with the same amplitude: a blank holder. ``Model.contact`` then gives
+the tool a node of its own (``Model.rigid_node``) carrying its translation along those axes,
+with the tool's ``mass`` (t; required in explicit dynamics) and the force as a nodal load on
+it, its other translations held; the contact couples each contact node with that node
+(elements/contact.py, docs/theory.md §9.5). The motion and the force act on different axes.
 """
 
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from elements.kernels import closest_facets
-from femcore.checks import check_positive
+from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
 
 __all__ = ["RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface", "RigidTool"]
 
 
+AXES = ("x", "y", "z")
+
+
+def _free_axes(free: str | Sequence[str]) -> tuple[int, ...]:
+    """The column indices (0, 1, 2) of the free axes named "x", "y", "z" (or "all")."""
+    names: Sequence[str] = (
+        ("x", "y", "z") if free == "all" else (free,) if isinstance(free, str) else free
+    )
+    try:
+        names = tuple(names)
+    except TypeError:
+        names = (free,)  # type: ignore[assignment]
+    bad = [name for name in names if name not in AXES]
+    if bad:
+        raise ValueError(
+            f"free must name translation axes among 'x', 'y', 'z' (or be 'all'), got {free!r}"
+        )
+    if len(set(names)) != len(names):
+        raise ValueError(f"free names an axis twice: {free!r}")
+    return tuple(sorted(AXES.index(name) for name in names))
+
+
 def _vector(value: ArrayLike, name: str, unit: bool = False) -> np.ndarray:
-    vector = np.asarray(value, dtype=float).ravel()
+    vector = as_reals(value, name, "3 finite numbers").ravel()
     if vector.shape != (3,) or not np.isfinite(vector).all():
         raise ValueError(f"{name} must be 3 finite numbers, got {value!r}")
     if unit:
@@ -40,19 +70,67 @@ class RigidTool:
     distance (mm, > 0 on the body's side) and the unit normal towards the body's side, and
     ``curvature(x, load_factor)`` -> (k,) the curvature 1/R of the surface's normal section
     (0 for a plane), for the contact tangent. ``side="inside"`` keeps the body inside a
-    sphere or a cylinder (a die) instead of outside (a punch)."""
+    sphere or a cylinder (a die) instead of outside (a punch).
+
+    Driving options of every tool: ``motion`` (3,) mm reached through ``amplitude``; ``free``
+    the axes ("x", "y", "z", or "all") along which the tool moves freely instead, pushed by
+    ``force`` (3,) N (components along free axes only; the same amplitude), with ``mass`` t
+    (required by the explicit solver). ValueError for a force along a held axis, a motion
+    along a free one, or a mass for a tool with no free axis."""
 
     def __init__(
         self,
         motion: ArrayLike = (0.0, 0.0, 0.0),
         side: str = "outside",
         amplitude: str | AmplitudeFunction = "linear",
+        free: str | Sequence[str] = (),
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        mass: float | None = None,
     ):
         self.motion = _vector(motion, "motion")
         if side not in ("outside", "inside"):
             raise ValueError(f"side must be 'outside' or 'inside', got {side!r}")
         self.sign = 1.0 if side == "outside" else -1.0
         self.amplitude = amplitude_of(amplitude).dynamic
+        self.amplitude_given = amplitude
+        self.free = _free_axes(free)
+        self.force = _vector(force, "force")
+        self.mass = None if mass is None else check_positive(mass, "tool mass", "t")
+        free_mask = np.isin(np.arange(3), self.free)
+        where = ", ".join(AXES[i] for i in np.flatnonzero(~free_mask & (self.force != 0.0)))
+        if where:
+            raise ValueError(
+                f"force = {tuple(float(f) for f in self.force)} N acts along {where}, an axis "
+                f"the tool does not move freely along (free = {self.free_names}): add it to "
+                "free, or drop that component"
+            )
+        where = ", ".join(AXES[i] for i in np.flatnonzero(free_mask & (self.motion != 0.0)))
+        if where:
+            raise ValueError(
+                f"motion = {tuple(float(m) for m in self.motion)} mm moves the tool along "
+                f"{where}, an axis it is free along (free = {self.free_names}): a free axis "
+                "follows the force and the contact, not a prescribed motion"
+            )
+        if mass is not None and not self.free:
+            raise ValueError(
+                f"mass = {mass!r} t is given to a tool with no free axis: its motion is "
+                "prescribed and its mass unused; give free = (...) to drive it by a force"
+            )
+
+    @property
+    def driven(self) -> bool:
+        """Whether the tool is free along some axis (driven by its force and the contact)."""
+        return bool(self.free)
+
+    @property
+    def free_names(self) -> tuple[str, ...]:
+        """The free axes by name, e.g. ("z",)."""
+        return tuple(AXES[i] for i in self.free)
+
+    def reference_point(self) -> np.ndarray:
+        """(3,) a point of the tool where it was given, mm: where its own node (a driven
+        tool's, ``Model.rigid_node``) is placed."""
+        raise NotImplementedError
 
     @property
     def moves(self) -> bool:
@@ -65,12 +143,19 @@ class RigidTool:
             return np.zeros(3)
         return float(self.amplitude(load_factor)) * self.motion
 
-    def contact(self, nodes=None, friction: float = 0.0, penalty: float | None = None):
+    def contact(
+        self,
+        nodes=None,
+        friction: float = 0.0,
+        penalty: float | None = None,
+        tool_node: int | None = None,
+    ):
         """The penalty contact of ``nodes`` (None: every node of the body's elements) with
-        this tool (elements.contact.Contact), what ``Model.contact`` adds."""
+        this tool (elements.contact.Contact), what ``Model.contact`` adds; ``tool_node`` the
+        node carrying a driven tool's free translation (``Model.rigid_node``)."""
         from elements.contact import Contact  # contact.py builds on this module
 
-        return Contact(self, nodes, penalty=penalty, friction=friction)
+        return Contact(self, nodes, penalty=penalty, friction=friction, tool_node=tool_node)
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError
@@ -103,8 +188,11 @@ class RigidPlane(RigidTool):
         normal: ArrayLike,
         motion: ArrayLike = (0.0, 0.0, 0.0),
         amplitude: str | AmplitudeFunction = "linear",
+        free: str | Sequence[str] = (),
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        mass: float | None = None,
     ):
-        super().__init__(motion, amplitude=amplitude)
+        super().__init__(motion, amplitude=amplitude, free=free, force=force, mass=mass)
         self.point = _vector(point, "RigidPlane point")
         self.normal = _vector(normal, "RigidPlane normal", unit=True)
 
@@ -118,6 +206,9 @@ class RigidPlane(RigidTool):
 
     def side_hint(self) -> str:
         return f"normal = {tuple(float(v) for v in self.normal)} must point towards the body"
+
+    def reference_point(self) -> np.ndarray:
+        return self.point.copy()
 
 
 class _RoundTool(RigidTool):
@@ -155,10 +246,16 @@ class RigidSphere(_RoundTool):
         motion: ArrayLike = (0.0, 0.0, 0.0),
         side: str = "outside",
         amplitude: str | AmplitudeFunction = "linear",
+        free: str | Sequence[str] = (),
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        mass: float | None = None,
     ):
-        super().__init__(motion, side, amplitude)
+        super().__init__(motion, side, amplitude, free, force, mass)
         self.centre = _vector(centre, "RigidSphere centre")
         self.radius = check_positive(radius, "RigidSphere radius", "mm")
+
+    def reference_point(self) -> np.ndarray:
+        return self.centre.copy()
 
     def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
         return x - (self.centre + self.offset(load_factor))
@@ -176,12 +273,18 @@ class RigidCylinder(_RoundTool):
         motion: ArrayLike = (0.0, 0.0, 0.0),
         side: str = "outside",
         amplitude: str | AmplitudeFunction = "linear",
+        free: str | Sequence[str] = (),
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        mass: float | None = None,
     ):
-        super().__init__(motion, side, amplitude)
+        super().__init__(motion, side, amplitude, free, force, mass)
         self.point = _vector(point, "RigidCylinder point")
         self.direction = _vector(axis, "RigidCylinder axis", unit=True)
         self.axis = self.direction
         self.radius = check_positive(radius, "RigidCylinder radius", "mm")
+
+    def reference_point(self) -> np.ndarray:
+        return self.point.copy()
 
     def _relative(self, x: np.ndarray, load_factor: float) -> np.ndarray:
         r = x - (self.point + self.offset(load_factor))
@@ -262,6 +365,11 @@ class RigidSurface(RigidTool):
     tool if more): further away the distance returned is never less than the true one.
     The contact tangent treats each facet as flat (no curvature term) (docs/theory.md §9.3).
 
+    A meshed tool free along some axes may be driven by a ``pressure`` (N/mm^2) instead of a
+    force: the force is then the pressure times the facets' area vectors summed (each
+    facet's area along its normal, towards the body), along the free axes: a holder of face
+    A pressed at p pushes with p A (docs/theory.md §9.5).
+
     Speed: that search costs tens of microseconds per point. The tool keeps, for the last
     points it was asked about, every facet that can become their closest while they move
     less than ``MARGIN`` circumradius (the facets within the proof's radius plus twice that
@@ -278,12 +386,16 @@ class RigidSurface(RigidTool):
         flip: bool = False,
         amplitude: str | AmplitudeFunction = "linear",
         search_distance: float | None = None,
+        free: str | Sequence[str] = (),
+        force: ArrayLike = (0.0, 0.0, 0.0),
+        mass: float | None = None,
+        pressure: float | None = None,
     ):
         from scipy.spatial import cKDTree
 
         from femcore.mesh import Mesh
 
-        super().__init__(motion, amplitude=amplitude)
+        super().__init__(motion, amplitude=amplitude, free=free, force=force, mass=mass)
         if not isinstance(mesh, Mesh):
             try:
                 mesh = Mesh.read(mesh)
@@ -300,7 +412,7 @@ class RigidSurface(RigidTool):
             raise ValueError(
                 f"RigidSurface: facet {int(np.argmin(length))} has no area (collinear nodes)"
             )
-        self.flipped = bool(flip)
+        self.flipped = as_flag(flip, "RigidSurface flip")
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())
@@ -312,7 +424,36 @@ class RigidSurface(RigidTool):
             else check_positive(search_distance, "RigidSurface search_distance", "mm")
         )
         self.n_facets = len(triangles)
+        self._centre = centroids.mean(axis=0)
         self._cache: _Candidates | None = None
+        self.pressure: float | None = None
+        if pressure is not None:
+            self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
+
+    def _drive_by_pressure(self, pressure: float, areas: np.ndarray) -> None:
+        """force = pressure x the facets' area vectors summed (f, 3) (each facet's area along
+        its normal, towards the body), its components along the free axes: what a pressure
+        on the whole face pushes the tool with, the guides holding the rest."""
+        self.pressure = check_positive(pressure, "RigidSurface pressure", "N/mm^2")
+        if not self.free:
+            raise ValueError(
+                f"pressure = {pressure!r} N/mm^2 is given to a tool with no free axis: give "
+                "free = (...) for the axes the pressure drives it along"
+            )
+        if np.any(self.force != 0.0):
+            raise ValueError(
+                "pressure and force are both given: the pressure makes the force (pressure x "
+                "the facets' area along their normals); give one"
+            )
+        resultant = self.pressure * areas.sum(axis=0)
+        force = np.zeros(3)
+        force[list(self.free)] = resultant[list(self.free)]
+        if not np.any(np.abs(force) > 1e-12 * np.abs(resultant).max(initial=0.0)):
+            raise ValueError(
+                f"the pressure's resultant {tuple(float(r) for r in resultant)} N has no "
+                f"component along the free axes {self.free_names}: the facets face across them"
+            )
+        self.force = force
 
     def _closest(self, x: np.ndarray, count: int):
         """The closest points on the count nearest facets (by centroid): (point (k, 3),
@@ -327,6 +468,9 @@ class RigidSurface(RigidTool):
         best = np.argmin(gaps, axis=1)
         rows = np.arange(len(x))
         return points[rows, best], facets[rows, best], gaps[rows, best], spread[:, -1]
+
+    def reference_point(self) -> np.ndarray:
+        return self._centre.copy()
 
     def exact_within(self, distance: float) -> None:
         if not self._given_search and distance > self.search_distance:

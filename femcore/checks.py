@@ -2,12 +2,109 @@
 
 from __future__ import annotations
 
+import os
 import warnings
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["check_positive", "warn_implausible"]
+__all__ = ["as_flag", "as_number", "as_path", "as_reals", "check_positive", "warn_implausible"]
+
+
+def as_number(value: Any, name: str, expected: str) -> float:
+    """``float(value)`` for a real number, or ValueError naming the parameter.
+
+    Strings, booleans and None are refused even though ``float()`` takes "1" and True: a
+    quoted number in a script or a case file, or a flag where a quantity is meant, is a
+    mistake to report, not a value to guess.
+
+    Parameters
+    ----------
+    value : Any
+        The argument: an int, a float, a numpy scalar or a 0-d numeric array.
+    name : str
+        Parameter name used in the message.
+    expected : str
+        What the parameter must be, for the message, e.g. "a positive number (mm)".
+
+    Returns
+    -------
+    float
+        The value as a float (possibly NaN or inf: range checks are the caller's).
+
+    Raises
+    ------
+    ValueError
+        ``value`` is a string, bytes, a boolean, None or anything else not a real number.
+    """
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
+        raise ValueError(f"{name} must be {expected}, got {value!r}")
+    if isinstance(value, np.ndarray) and (value.ndim != 0 or value.dtype.kind not in "iuf"):
+        raise ValueError(f"{name} must be {expected}, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {expected}, got {value!r}") from None
+
+
+def as_reals(value: Any, name: str, expected: str) -> np.ndarray:
+    """``value`` as a float array, or ValueError naming the parameter when it holds strings,
+    booleans, None or other objects (``np.asarray(["1", "0", "0"], dtype=float)`` would
+    take the strings; range and shape checks are the caller's).
+
+    Parameters
+    ----------
+    value : Any
+        A number or a (nested) sequence of numbers.
+    name, expected : str
+        For the message, e.g. "RigidPlane normal", "3 finite numbers".
+
+    Returns
+    -------
+    numpy.ndarray of float64
+        The values, in the shape given.
+    """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise ValueError(f"{name} must be {expected}, got {value!r}")
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {expected}, got {value!r}") from None
+    if array.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be {expected}, got {value!r}")
+    return array.astype(float)
+
+
+def as_flag(value: Any, name: str) -> bool:
+    """True or False, or ValueError naming the option: ``bool("no")`` would be True.
+
+    Parameters
+    ----------
+    value : Any
+        The option's value.
+    name : str
+        Option name for the message.
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def as_path(value: Any, name: str) -> Path:
+    """``value`` as a Path, or ValueError naming the parameter when it is not a str or an
+    os.PathLike (a number or None where a file name is meant) or is empty.
+
+    Parameters
+    ----------
+    value : Any
+        The file or folder name.
+    name : str
+        Parameter name for the message, e.g. "Result.write path".
+    """
+    if not isinstance(value, (str, os.PathLike)) or str(value) == "":
+        raise ValueError(f"{name} must be a file name (str or path), got {value!r}")
+    return Path(value)
 
 
 def check_positive(value: Any, name: str, unit: str) -> float:
@@ -16,7 +113,7 @@ def check_positive(value: Any, name: str, unit: str) -> float:
     Parameters
     ----------
     value : Any
-        The argument to check; anything ``float()`` accepts.
+        The argument to check: a real number (strings, booleans and None are refused).
     name : str
         Parameter name used in the message, e.g. "Fabric thickness".
     unit : str
@@ -32,10 +129,7 @@ def check_positive(value: Any, name: str, unit: str) -> float:
     ValueError
         ``value`` is not a number, not finite, or not > 0.
     """
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive number ({unit}), got {value!r}") from None
+    number = as_number(value, name, f"a positive number ({unit})")
     if not np.isfinite(number) or number <= 0.0:
         raise ValueError(f"{name} must be a positive finite number ({unit}), got {value!r}")
     return number

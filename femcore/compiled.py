@@ -84,6 +84,15 @@ class CompiledModel:
             active[np.ix_(np.unique(cells), columns)] = True
             if entry.element.defines_directors:
                 shell_triangles.append(cells)
+        # Nodes of rigid bodies (a force-driven tool's translation): translations, no cell.
+        self.rigid_nodes = np.array([r.node for r in model.rigid_nodes], dtype=np.int64)
+        active[self.rigid_nodes, :3] = True
+        self._rigid_mass = np.array([r.mass or 0.0 for r in model.rigid_nodes])
+        #: The rigid nodes without a stated mass: a nominal one (the mean nodal mass of the
+        #: body) and no weight; the explicit solver refuses them.
+        self.nominal_mass_nodes = np.array(
+            [r.node for r in model.rigid_nodes if r.mass is None], dtype=np.int64
+        )
         self.has_rotation = active[:, 3].copy()
         triangle_cells = [self._cells(e) for e in cell_entries if e.element.cell_type == "triangle"]
         if triangle_cells:
@@ -146,6 +155,13 @@ class CompiledModel:
 
         state0 = self.initial_state()
         self.mass0, self.inertia0 = self.lumped_mass(state0)
+        self._weighed_mass = self.mass0.copy()  # what gravity acts on
+        if self.nominal_mass_nodes.size:
+            body = self.mass0 > 0
+            nominal = float(self.mass0[body].mean()) if body.any() else 1.0
+            unstated = np.isin(self.rigid_nodes, self.nominal_mass_nodes)
+            self._rigid_mass = np.where(unstated, nominal, self._rigid_mass)
+            self.mass0, self.inertia0 = self.lumped_mass(state0)
         unmassed = active[:, 0] & ~(self.mass0 > 0)
         if unmassed.any():
             raise ValueError(
@@ -281,6 +297,8 @@ class CompiledModel:
             mass += m
             if j is not None:
                 inertia += j
+        if self.rigid_nodes.size:
+            np.add.at(mass, self.rigid_nodes, self._rigid_mass)
         return mass, inertia
 
     def _histories(self, state: State) -> tuple:
@@ -371,6 +389,15 @@ class CompiledModel:
         if not forces:
             return np.zeros((0, 3))
         return np.concatenate([np.asarray(f, dtype=float).reshape(-1, 3) for f in forces])
+
+    def tool_displacements(self, state: State) -> np.ndarray:
+        """(n_tools, 3) each rigid tool's translation from where it was given (mm), in the
+        order of ``tool_forces``."""
+        histories = self._interaction_histories(state)
+        moves = [i.tool_displacements(state, h) for i, h in zip(self.interactions, histories)]
+        if not moves:
+            return np.zeros((0, 3))
+        return np.concatenate([np.asarray(m, dtype=float).reshape(-1, 3) for m in moves])
 
     def tool_work(self, state: State, start: float, end: float) -> float:
         """Work (N mm) the moving tools do on the model while the load factor goes from
@@ -482,7 +509,7 @@ class CompiledModel:
             else:
                 moment += factor * values
         for amplitude, vector in self._gravity_terms:
-            force += _evaluate(amplitude, tau, quasi_static) * self.mass0[:, None] * vector
+            force += _evaluate(amplitude, tau, quasi_static) * self._weighed_mass[:, None] * vector
         force[~self.dofs.active[:, 0]] = 0.0
         return force, moment
 

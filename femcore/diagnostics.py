@@ -50,13 +50,18 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         return []
     dofs = model.dofs
     x = model.reference_positions
-    centre = x[dofs.active[:, 0]].mean(axis=0) if dofs.active[:, 0].any() else x.mean(0)
+    # A rigid tool's own node (a force-driven tool) is another body: it does not move with
+    # the model's rigid motions, and its supports and loads hold or push none of them.
+    body = dofs.active[:, 0].copy()
+    body[model.rigid_nodes] = False
+    centre = x[body].mean(axis=0) if body.any() else x.mean(0)
     axes = np.eye(3)
     # (6 motions, n, 6): u then psi per node.
     motions = np.zeros((6, model.n_nodes, 6))
     motions[:3, :, :3] = axes[:, None, :]
     motions[3:, :, :3] = np.cross(axes[:, None, :], (x - centre)[None])
     motions[3:, :, 3:] = np.where(model.has_rotation[None, :, None], axes[:, None, :], 0.0)
+    motions[:, model.rigid_nodes] = 0.0
     frames = dofs.frames(model.reference_directors)
     v1, v2 = frames if frames is not None else (x, x)
     # Generalised components (u, alpha = psi . V2, beta = psi . V1) as the DOF masks.

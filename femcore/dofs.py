@@ -68,7 +68,13 @@ def dof_columns(names: str | Iterable[str] | None) -> np.ndarray:
         return np.arange(len(DOF_NAMES))
     if isinstance(names, str):
         names = (names,)
-    names = tuple(names)
+    try:
+        names = tuple(names)
+    except TypeError:
+        raise ValueError(
+            f"DOFs must be a name or a sequence of names among {', '.join(DOF_NAMES)}, "
+            f"got {names!r}"
+        ) from None
     if not names:
         raise ValueError("empty DOF list: expected one or more of " + ", ".join(DOF_NAMES))
     columns = []

@@ -11,7 +11,8 @@ model naming what differs (solvers.checkpoint). The parts:
 - ``supports``: the fixed and the prescribed DOFs;
 - ``loads``: nodal forces and moments, gravity and prescribed displacements, with their
   amplitudes;
-- ``tools``: the rigid tools the interactions act against (geometry, motion, amplitude);
+- ``tools``: the rigid tools the interactions act against (geometry, motion, amplitude; a
+  force-driven tool's node and its mass);
 - ``interactions``: the interactions' own options (nodes, penalty, friction, ...);
 - ``solver``: the settings a solver passes in.
 
@@ -127,6 +128,9 @@ def fingerprint(model: CompiledModel, solver: Mapping[str, Any] | None = None) -
         for attribute, value in _public_attributes(element).items():
             part = "elements" if _plain(value) else "materials"
             add(part, f"{name} {attribute}", value)
+
+    if len(model.rigid_nodes):  # a force-driven tool's node and its mass
+        add("tools", "rigid nodes", (model.rigid_nodes, model._rigid_mass))
 
     add("supports", "fixed DOFs", model.dofs.fixed)
     add("supports", "prescribed DOFs", model.dofs.prescribed)

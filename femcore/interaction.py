@@ -19,7 +19,8 @@ step.
 Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt)`` with the
 elements' lumped masses and critical step, then, as a solver goes, ``internal_force``,
 ``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
-bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_work``, ``node_fields``).
+bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_work``,
+``node_fields``).
 
 History: ``State.history`` holds one entry per part of the compiled model, the element blocks
 first, then the interactions (``CompiledModel.parts``); an interaction receives its entry and
@@ -91,8 +92,14 @@ class Body:
         return self.mesh.n_nodes
 
     def covered(self) -> np.ndarray:
-        """(n,) bool: the nodes that carry DOFs (those some element's cells use)."""
-        return np.asarray(self.active.any(axis=1))
+        """(n,) bool: the nodes some element's cells use (every node carrying DOFs in a bare
+        body); a rigid tool's own node (``Model.rigid_node``) is not one."""
+        if not self.parts:
+            return np.asarray(self.active.any(axis=1))
+        used = np.zeros(self.mesh.n_nodes, dtype=bool)
+        for part in self.parts:
+            used[np.asarray(part.cells).ravel()] = True
+        return used
 
     def half_thickness(self) -> np.ndarray:
         """(n,) float, mm: at each node, the largest ``half_thickness`` of the elements around
@@ -222,6 +229,12 @@ class InteractionBlock(ABC):
 
     def tool_forces(self, state: State, history: Any = None) -> np.ndarray:
         """(n_tools, 3) the force (N) the body exerts on each of the block's rigid tools."""
+        return np.zeros((self.n_tools, 3))
+
+    def tool_displacements(self, state: State, history: Any = None) -> np.ndarray:
+        """(n_tools, 3) each rigid tool's translation from where it was given, mm (its
+        prescribed motion and, for a force-driven tool, its free translation); zeros by
+        default."""
         return np.zeros((self.n_tools, 3))
 
     def tool_work(self, state: State, history: Any, start: float, end: float) -> float:

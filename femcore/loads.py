@@ -25,6 +25,7 @@ __all__ = [
     "Gravity",
     "NodalLoad",
     "Prescribed",
+    "RigidNode",
     "amplitude_of",
     "linear",
     "smooth_step",
@@ -222,3 +223,21 @@ class Gravity:
 
     vector: np.ndarray
     amplitude: Amplitude
+
+
+@dataclass(frozen=True)
+class RigidNode:
+    """A node no cell uses, carrying the translations of a rigid body (a force-driven tool's
+    free translation, ``Model.rigid_node``).
+
+    Parameters
+    ----------
+    node : int
+        Its id in the model's mesh.
+    mass : float or None
+        Its mass, t; None: none stated (the quasi-static solvers give it a nominal mass and
+        no weight; the explicit solver refuses it).
+    """
+
+    node: int
+    mass: float | None

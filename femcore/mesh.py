@@ -39,6 +39,7 @@ from femcore.mesh_checks import (
     check_coordinates,
     check_distinct_cells,
     read_only,
+    select_by_predicate,
 )
 from femcore.topology import (
     Topology,
@@ -408,14 +409,7 @@ class Mesh:
 
     def _select_by_predicate(self, predicate: NodePredicate) -> tuple[np.ndarray, str]:
         label = f"predicate {getattr(predicate, '__qualname__', repr(predicate))}"
-        mask = np.asarray(predicate(*self._points.T))
-        if mask.shape != (self.n_nodes,):
-            raise ValueError(
-                f"{label} must return a mask of shape ({self.n_nodes},), got shape {mask.shape}"
-            )
-        if mask.dtype != np.bool_:
-            raise ValueError(f"{label} must return a bool mask, got dtype {mask.dtype}")
-        return np.flatnonzero(mask), label
+        return select_by_predicate(self._points, predicate), label
 
     def bounding_box(self) -> tuple[np.ndarray, np.ndarray]:
         """Corners of the axis-aligned box around all nodes.

@@ -9,7 +9,8 @@ cells, one pass over the points), so they cost little next to building the mesh.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import inspect
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -23,6 +24,7 @@ __all__ = [
     "check_coordinates",
     "check_distinct_cells",
     "read_only",
+    "select_by_predicate",
     "sorted_unique",
 ]
 
@@ -222,3 +224,58 @@ def sorted_unique(ids: ArrayLike) -> np.ndarray:
         ids = np.sort(ids)
         ids = ids[np.concatenate(([True], ids[1:] != ids[:-1]))]
     return ids
+
+
+_PREDICATE_FORM = (
+    "a node predicate takes the (x, y, z) coordinate arrays and returns a bool array, "
+    "one entry per node, e.g. lambda x, y, z: np.isclose(x, 0.0)"
+)
+
+
+def select_by_predicate(points: np.ndarray, predicate: Callable[..., Any]) -> np.ndarray:
+    """Ids of the nodes a predicate selects, or ValueError saying what a predicate must be.
+
+    Parameters
+    ----------
+    points : numpy.ndarray, shape (n, 3)
+        Node coordinates (length units).
+    predicate : callable
+        Called once as ``predicate(x, y, z)`` with the (n,) coordinate arrays; must return an
+        (n,) bool array.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (s,)
+        Sorted ids of the nodes where the mask is True (possibly empty).
+
+    Raises
+    ------
+    ValueError
+        The predicate cannot be called with three arguments, or returns something else than
+        an (n,) bool array.
+    """
+    label = f"predicate {getattr(predicate, '__qualname__', repr(predicate))}"
+    # The arity is checked before the call: a TypeError raised inside a predicate of the right
+    # arity is the predicate's own bug and is left to propagate with its traceback.
+    try:
+        signature = inspect.signature(predicate)
+    except (TypeError, ValueError):
+        signature = None
+    if signature is not None:
+        try:
+            signature.bind(points[:, 0], points[:, 1], points[:, 2])
+        except TypeError:
+            raise ValueError(
+                f"{label}{signature} cannot be called as predicate(x, y, z): {_PREDICATE_FORM}"
+            ) from None
+    mask = np.asarray(predicate(points[:, 0], points[:, 1], points[:, 2]))
+    n = points.shape[0]
+    if mask.shape != (n,):
+        raise ValueError(
+            f"{label} returned an array of shape {mask.shape}, expected ({n},): {_PREDICATE_FORM}"
+        )
+    if mask.dtype != np.bool_:
+        raise ValueError(
+            f"{label} returned an array of dtype {mask.dtype}, expected bool: {_PREDICATE_FORM}"
+        )
+    return np.flatnonzero(mask)

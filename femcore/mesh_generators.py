@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_number, as_reals
 from femcore.memory import check_mesh_memory
 from femcore.mesh import Mesh
 
@@ -179,8 +180,8 @@ def _grip_size(grip: ArrayLike, lx: float, ly: float) -> tuple[float, float]:
     """The gripped patch (a, b) along x and y (mm) of ``grip``, one size (a square) or two;
     the patch must leave at least one cell of the grid free before the clamp."""
     try:
-        size = np.broadcast_to(np.asarray(grip, dtype=np.float64), (2,))
-    except (TypeError, ValueError) as err:
+        size = np.broadcast_to(as_reals(grip, "grip", "a size or a pair of sizes"), (2,))
+    except ValueError as err:
         raise ValueError(f"grip must be a size or a pair of sizes, got {grip!r}") from err
     a, b = (float(v) for v in size)
     if not (np.isfinite(a) and np.isfinite(b) and a > 0.0 and b > 0.0 and a / lx + b / ly < 1.0):
@@ -236,20 +237,14 @@ def _positive_int(value: Any, name: str) -> int:
 
 
 def _positive_length(value: Any, name: str) -> float:
-    try:
-        length = float(value)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from err
+    length = as_number(value, name, "a positive finite number")
     if not np.isfinite(length) or length <= 0.0:
         raise ValueError(f"{name} must be a positive finite number, got {value!r}")
     return length
 
 
 def _point3(value: ArrayLike, name: str) -> np.ndarray:
-    try:
-        point = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be a point (x, y[, z]), got {value!r}") from err
+    point = as_reals(value, name, "a point (x, y[, z])")
     if point.shape not in ((2,), (3,)) or not np.isfinite(point).all():
         raise ValueError(f"{name} must be a finite point (x, y[, z]), got {value!r}")
     return np.append(point, 0.0) if point.size == 2 else point

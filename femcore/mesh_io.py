@@ -15,11 +15,13 @@ import meshio
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_path
 from femcore.inp_deck import DeckScan, scan_deck
 from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.mesh_checks import sorted_unique
 from femcore.mesh_generators import split_quads
+from femcore.writable import OutputError, check_folder
 
 __all__ = ["read_mesh", "write_mesh"]
 
@@ -33,7 +35,7 @@ _NODE_MASK = "nset:"
 def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
     """Read a mesh file through meshio: the implementation of :meth:`Mesh.read`, which
     documents the formats, the sets read back and the errors."""
-    path = Path(path)
+    path = as_path(path, "Mesh.read path")
     if path.is_dir():
         raise ValueError(f"mesh file {path} is a directory; expected a mesh file in it")
     if not path.is_file():
@@ -131,8 +133,9 @@ def _abaqus_element_sets(raw: meshio.Mesh, deck: DeckScan) -> meshio.Mesh:
 def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> None:
     """Write a mesh through meshio: the implementation of :meth:`Mesh.write`, which documents
     the formats, how the sets are kept, the known losses and the errors."""
-    path = Path(path)
+    path = as_path(path, "Mesh.write path")
     fmt = _resolve_format(path, file_format, writing=True)
+    check_folder(path.parent, "Mesh.write", create=False)
     blocks = [(kind, mesh.cells(kind)) for kind in mesh.cell_kinds]
     if not blocks:
         raise ValueError(
@@ -153,6 +156,8 @@ def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> 
         meshio.write(path, out, file_format=fmt, **options)
     except meshio.WriteError as err:
         raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
+    except OSError as err:
+        raise OutputError.from_error(err, "nothing (the file may be incomplete)") from err
 
 
 def _native_sets(mesh: Mesh, kinds: list[str]) -> dict[str, Any]:

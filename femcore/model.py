@@ -9,17 +9,27 @@ step needs (femcore.compiled). The changing quantities live in ``femcore.state.S
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_reals
 from femcore.compiled import CompiledModel
-from femcore.dofs import dof_columns
+from femcore.dofs import DOF_NAMES, dof_columns
 from femcore.element import ElementType
 from femcore.interaction import Interaction
-from femcore.loads import AmplitudeFunction, Fix, Gravity, NodalLoad, Prescribed, amplitude_of
+from femcore.loads import (
+    AmplitudeFunction,
+    Fix,
+    Gravity,
+    NodalLoad,
+    Prescribed,
+    RigidNode,
+    amplitude_of,
+)
 from femcore.mesh import CELL_KINDS, Mesh, NodePredicate
 
 __all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
@@ -32,11 +42,9 @@ NodeSelection = str | int | Sequence[int] | np.ndarray | NodePredicate
 def _vector3(value, what: str) -> np.ndarray:
     """A (3,) float vector, or ValueError naming ``what`` (a word such as "down" where a
     vector belongs is refused here, not deep inside numpy)."""
-    try:
-        vector = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        vector = None
-    if vector is None or vector.shape != (3,) or not np.all(np.isfinite(vector)):
+    expected = "3 finite numbers (a vector x, y, z)"
+    vector = as_reals(value, what, expected)
+    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
         raise ValueError(f"{what} must be 3 finite numbers (a vector x, y, z), got {value!r}")
     return vector
 
@@ -67,6 +75,8 @@ class Model:
         self.loads: list[NodalLoad] = []
         self.gravities: list[Gravity] = []
         self.interactions: list[Interaction] = []
+        self.rigid_nodes: list[RigidNode] = []
+        self._tool_nodes: list[tuple[object, int]] = []  # (driven tool, its node)
         self._compiled: CompiledModel | None = None
 
     # ----------------------------------------------------------------- description
@@ -189,7 +199,7 @@ class Model:
         for column, (name, value) in enumerate((("ux", ux), ("uy", uy), ("uz", uz))):
             if value is None:
                 continue
-            value = np.asarray(value, dtype=float)
+            value = as_reals(value, name, f"a finite number or {ids.size} (one per node)")
             if value.shape not in ((), (ids.size,)) or not np.all(np.isfinite(value)):
                 raise ValueError(
                     f"{name} must be a finite number or {ids.size} finite numbers (one per node), "
@@ -291,6 +301,11 @@ class Model:
         int
             The interaction's index (``model.interactions``); ``CompiledModel.tool_forces``
             gives the force on each tool.
+
+        A tool free along some axes (``tool.driven``, ``tool.free``: a blank holder) gets a
+        node of its own on its first contact (``rigid_node`` at ``tool.reference_point()``
+        with ``tool.mass``), loaded by ``tool.force`` with the tool's amplitude; every contact
+        with that tool shares it (``tool_node`` of the contact).
         """
         build = getattr(tool, "contact", None)
         if not callable(build):
@@ -304,8 +319,72 @@ class Model:
             ids = None
         else:
             ids = self._node_ids(nodes)
-        interaction = build(ids, friction=friction, penalty=penalty)
+        if getattr(tool, "driven", False):
+            node = self._tool_node(tool)
+            interaction = build(ids, friction=friction, penalty=penalty, tool_node=node)
+        else:
+            interaction = build(ids, friction=friction, penalty=penalty)
         return self.interact(interaction)
+
+    def _tool_node(self, tool) -> int:
+        """The node of a driven tool: made on its first contact, shared by the next."""
+        for known, node in self._tool_nodes:
+            if known is tool:
+                return node
+        free = tuple("u" + axis for axis in tool.free_names)
+        node = self.rigid_node(tool.reference_point(), tool.mass, free)
+        if np.any(tool.force != 0.0):
+            self.force(node, tool.force, tool.amplitude_given)
+        self._tool_nodes.append((tool, node))
+        return node
+
+    def rigid_node(
+        self,
+        position: ArrayLike,
+        mass: float | None = None,
+        free: str | Sequence[str] = ("ux", "uy", "uz"),
+    ) -> int:
+        """A node of its own, used by no cell, carrying the translations of a rigid body (a
+        force-driven tool's: ``contact`` makes it): a point appended to the model's mesh
+        (``model.mesh`` becomes a new Mesh; the one given is unchanged, its node ids kept).
+
+        Parameters
+        ----------
+        position : (3,) float
+            Where the node is, mm.
+        mass : float, optional
+            Its mass, t (gravity acts on it); None: none stated, which the quasi-static
+            solvers accept (a nominal mass, no weight) and the explicit solver refuses.
+        free : str or sequence of str
+            The translations it is free along ("ux", "uy", "uz"); the others are held.
+
+        Returns
+        -------
+        int
+            The node's id: load it with ``force``, read it in results.
+        """
+        point = _vector3(position, "rigid_node position")
+        if mass is not None and not (
+            isinstance(mass, (int, float)) and math.isfinite(mass) and mass > 0
+        ):
+            raise ValueError(f"rigid_node mass must be a positive number of t, got {mass!r}")
+        columns = dof_columns(free)
+        if (columns > 2).any():
+            raise ValueError(f"a rigid node is free along translations only, got free={free!r}")
+        mesh = self.mesh
+        self.mesh = Mesh(
+            np.vstack([mesh.points, point]),
+            node_sets=mesh.node_sets,
+            cells={kind: mesh.cells(kind) for kind in CELL_KINDS},
+            cell_sets={kind: mesh.cell_sets(kind) for kind in CELL_KINDS},
+        )
+        node = mesh.n_nodes
+        self.rigid_nodes.append(RigidNode(node, None if mass is None else float(mass)))
+        held = [name for name in ("ux", "uy", "uz") if name not in {DOF_NAMES[c] for c in columns}]
+        if held:
+            self.fixes.append(Fix(np.array([node]), dof_columns(held)))
+        self._compiled = None
+        return node
 
     def gravity(self, vector: ArrayLike, amplitude: str | AmplitudeFunction = "step") -> None:
         """Acceleration of gravity acting on the lumped mass.
@@ -338,11 +417,27 @@ class Model:
             nodes = self.mesh.node_sets[nodes]
         elif callable(nodes):  # a predicate(x, y, z) -> mask, as Mesh.nodes takes
             nodes = self.mesh.nodes(nodes)
+            # A rigid tool's own node is selected by its id only: a predicate over the
+            # body's coordinates must not hold or load a holder that happens to lie there.
+            nodes = np.setdiff1d(nodes, [r.node for r in self.rigid_nodes])
         return self._ids(nodes, self.mesh.n_nodes, "node")
 
     @staticmethod
     def _ids(ids, count: int, what: str) -> np.ndarray:
-        array = np.atleast_1d(np.asarray(ids))
+        try:
+            array = np.atleast_1d(np.asarray(ids))
+        except (TypeError, ValueError):
+            array = np.array([ids], dtype=object)
+        if array.dtype.kind not in "iufb":
+            raise ValueError(
+                f"{what} selection must be {what} ids (integers), a set name or a predicate, "
+                f"got {ids!r:.80}"
+            )
+        if array.ndim != 1:
+            raise ValueError(
+                f"{what} ids must be a flat sequence of integers, got an array of shape "
+                f"{array.shape}"
+            )
         if array.size == 0:
             raise ValueError(f"empty {what} selection: expected at least one {what} id")
         if array.dtype == bool:

@@ -16,6 +16,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_path, as_reals
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.writable import OutputError, check_folder, frame_bytes
 
@@ -55,6 +56,9 @@ class Frame:
     tool_forces : numpy.ndarray, shape (t, 3)
         The force (N) the model exerts on each rigid tool, in the order of the contacts
         (``Model.contact``); (0, 3) without tools.
+    tool_displacements : numpy.ndarray, shape (t, 3)
+        Each rigid tool's translation from where it was given (mm): its prescribed motion,
+        and for a force-driven tool its free translation; (0, 3) without tools.
     """
 
     time: float
@@ -66,6 +70,7 @@ class Frame:
     reaction_moments: np.ndarray
     fields: dict[str, dict[str, np.ndarray]] = dataclasses.field(default_factory=dict)
     tool_forces: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 3)))
+    tool_displacements: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, 3)))
 
 
 @dataclass
@@ -138,6 +143,14 @@ class Result:
         )
 
     @property
+    def tool_displacements(self) -> np.ndarray:
+        """(frames, t, 3) each rigid tool's translation (mm) at each frame, in the order of
+        ``tool_forces`` (a force-driven tool's travel)."""
+        return np.array(
+            [getattr(frame, "tool_displacements", np.zeros((0, 3))) for frame in self.frames]
+        ).reshape(len(self.frames), -1, 3)
+
+    @property
     def reactions(self) -> np.ndarray:
         """(n, 3) final support forces at constrained translational DOFs (N)."""
         return self.frames[-1].reactions
@@ -177,14 +190,23 @@ class Result:
         Raises
         ------
         ValueError
-            A normal that is not a non-zero finite 3-vector, or ``frame`` out of range.
+            A normal that is not a non-zero finite 3-vector, ``frame`` out of range, or a
+            result without any director.
         """
-        axis = np.asarray(normal, dtype=float).ravel()
+        axis = as_reals(normal, "normal", "a non-zero 3-vector").ravel()
         if axis.shape != (3,) or not np.isfinite(axis).all() or not np.linalg.norm(axis) > 0:
             raise ValueError(f"normal must be a non-zero 3-vector, got {normal!r}")
         directors = self.frames[self._frame_index(frame)].directors
+        # A node without a director (a cable's) has a zero row: its angle is undefined, not 0.
+        present = np.linalg.norm(directors, axis=1) > 0
+        if not present.any():
+            raise ValueError(
+                "director_angle: no node of this result has a director (a model of cables "
+                "only); directors come from shell elements"
+            )
         sine = np.abs(directors @ (axis / np.linalg.norm(axis)))
-        return np.degrees(np.arcsin(np.clip(sine, 0.0, 1.0)))
+        angle = np.degrees(np.arcsin(np.clip(sine, 0.0, 1.0)))
+        return np.where(present, angle, np.nan)
 
     @property
     def times(self) -> np.ndarray:
@@ -337,7 +359,7 @@ class Result:
             The folder is not writable or its disk too full for the frames (checked before
             writing), or a write failed: the message names the file and what was written.
         """
-        path = Path(path)
+        path = as_path(path, "Result.write path")
         suffix = path.suffix.lower()
         if suffix not in (".vtu", ".pvd", ".xdmf"):
             raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")

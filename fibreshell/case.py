@@ -30,6 +30,8 @@ centre = [0.0, 0.0, -50.0]               # plane: point, normal; sphere: centre,
 radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip
 side = "outside"                         # sphere and cylinder: "outside" | "inside"
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
+# free = ["z"], force = [0.0, 0.0, -500.0], mass = 1e-3: free along z, pushed by 500 N (t);
+# a "surface" tool may take pressure = 0.2 (N/mm^2 on its facets' area) instead of force
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
@@ -105,6 +107,8 @@ _TOOL_KEYS = {
     "surface": ("file", "flip", "search_distance"),
 }
 _CONTACT_KEYS = ("tool", "nodes", "friction", "penalty", "motion", "amplitude")
+# A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
+_DRIVE_KEYS = ("free", "force", "mass", "pressure")
 
 
 class CaseError(ValueError):
@@ -351,6 +355,14 @@ def case_from_data(data: dict, path: str | Path) -> Case:
             {"nodes": _select(where, mesh, item["nodes"], "nodes"), "stiffness": stiffness}
         )
     case.solver = _solver(top, data["solver"])
+    for i, contact in enumerate(case.contacts):
+        tool = contact["tool"]
+        if case.solver["kind"] == "explicit" and tool.driven and tool.mass is None:
+            raise top.child(f"contact[{i}]").error(
+                "mass",
+                f"the tool is free along {', '.join(tool.free_names)} and the solver is "
+                "explicit: give its mass (t), which m a = F - (contact forces) needs",
+            )
     _output(top, data.get("output", {}), case)
     return case
 
@@ -640,13 +652,29 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     kind = value.get("tool") if isinstance(value, dict) else None
     if kind not in TOOLS:
         raise where.error("tool", f"expected one of {', '.join(TOOLS)}, got {kind!r}")
-    _table(where, value, "", _CONTACT_KEYS + _TOOL_KEYS[kind], ("tool",))
+    _table(where, value, "", _CONTACT_KEYS + _DRIVE_KEYS + _TOOL_KEYS[kind], ("tool",))
     options: dict[str, Any] = {}
-    for key in _TOOL_KEYS[kind] + ("motion",):
+    if "free" in value:
+        free = value["free"]
+        if isinstance(free, str):
+            free = [free]
+        if not isinstance(free, list) or not all(isinstance(a, str) for a in free):
+            raise where.error("free", f'expected axis names such as ["z"], got {free!r}')
+        options["free"] = tuple(free)
+    for key in ("mass", "pressure"):
+        if key in value:
+            options[key] = _number(where, value[key], key)
+    if "pressure" in value and kind != "surface":
+        raise where.error(
+            "pressure",
+            'a pressure needs a meshed tool (tool = "surface"), whose facets have an area; '
+            "an analytic tool has none: give force = [...]",
+        )
+    for key in _TOOL_KEYS[kind] + ("motion", "force"):
         if key not in value:
             continue
         item = value[key]
-        if key in ("point", "normal", "centre", "axis", "motion"):
+        if key in ("point", "normal", "centre", "axis", "motion", "force"):
             options[key] = _vector(where, item, key)
         elif key in ("radius", "search_distance"):
             options[key] = _number(where, item, key)
@@ -665,7 +693,9 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     try:
         tool = TOOLS[kind](**options)
     except (TypeError, ValueError) as error:
-        raise where.error("tool", str(error)) from None
+        text = str(error)
+        key = next((k for k in _DRIVE_KEYS + ("motion",) if text.startswith(k)), "tool")
+        raise where.error(key, text) from None
     friction = _number(where, value.get("friction", 0.0), "friction")
     if friction < 0:
         raise where.error("friction", f"expected a Coulomb coefficient >= 0, got {friction!r}")

@@ -220,7 +220,8 @@ def frame_row(case: Case, frame: Frame) -> dict[str, float]:
     """The history columns of one frame: ``time`` (s), ``load_factor``,
     ``reaction_<set>_x/y/z`` the reaction sums over each ``history.reactions`` set (N),
     ``displacement_<set>_x/y/z`` the mean displacement of each ``history.displacements`` set
-    (mm) and ``tool<k>_force_x/y/z`` the force on each rigid tool (N)."""
+    (mm), ``tool<k>_force_x/y/z`` the force on each rigid tool (N) and
+    ``tool<k>_displacement_x/y/z`` its translation from where it was given (mm)."""
     row: dict[str, float] = {"time": frame.time, "load_factor": frame.load_factor}
     for name in case.history.get("reactions", []):
         total = frame.reactions[case.mesh.nodes(name)].sum(axis=0)
@@ -229,8 +230,16 @@ def frame_row(case: Case, frame: Frame) -> dict[str, float]:
         nodes = case.mesh.nodes(name)
         mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
         row.update({f"displacement_{name}_{axis}": float(mean[i]) for i, axis in enumerate("xyz")})
+    moved = getattr(frame, "tool_displacements", np.zeros((0, 3)))
     for tool, force in enumerate(frame.tool_forces, start=1):
         row.update({f"tool{tool}_force_{axis}": float(force[i]) for i, axis in enumerate("xyz")})
+        if len(moved) >= tool:
+            row.update(
+                {
+                    f"tool{tool}_displacement_{axis}": float(moved[tool - 1][i])
+                    for i, axis in enumerate("xyz")
+                }
+            )
     return row
 
 
@@ -324,6 +333,8 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
     }
     if len(final.tool_forces):  # the force on each tool ([[contact]] order), N
         out["tool_forces"] = {f"tool{i}": f for i, f in enumerate(final.tool_forces, start=1)}
+        moved = getattr(final, "tool_displacements", np.zeros((0, 3)))
+        out["tool_displacements"] = {f"tool{i}": d for i, d in enumerate(moved, start=1)}
     triangle = final.fields.get("triangle", {})
     if "warp_strain" in triangle:
         out["max_fibre_strain"] = float(

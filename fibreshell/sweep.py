@@ -254,6 +254,8 @@ def summary_row(summary: dict) -> dict[str, Any]:
             row.update({f"{prefix}_{name}_{a}": float(v) for a, v in zip("xyz", vector)})
     for name, vector in summary.get("tool_forces", {}).items():
         row.update({f"{name}_force_{a}": float(v) for a, v in zip("xyz", vector)})
+        moved = summary.get("tool_displacements", {}).get(name, ())
+        row.update({f"{name}_displacement_{a}": float(v) for a, v in zip("xyz", moved)})
     if "max_fibre_strain" in summary:
         row["max_fibre_strain"] = summary["max_fibre_strain"]
     if "director_tilt_deg" in summary:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from femcore.checks import check_positive, warn_implausible
+from femcore.checks import as_number, as_reals, check_positive, warn_implausible
 
 if TYPE_CHECKING:  # a type only: materials.fabric needs nothing from here
     from materials.fabric import Fabric
@@ -146,7 +146,7 @@ class ElasticShell:
             raise ValueError(f"ElasticShell: nu12^2 E2/E1 must be < 1, got {nu12 * nu21:.4g}")
         d = 1 - nu12 * nu21
         q = np.array([[E1 / d, nu12 * E2 / d, 0], [nu12 * E2 / d, E2 / d, 0], [0, 0, G12]])
-        axis = np.array(warp, dtype=float).ravel()
+        axis = as_reals(warp, "ElasticShell warp", "a non-zero 3-vector").ravel()
         if axis.shape != (3,) or not np.isfinite(axis).all() or np.linalg.norm(axis) == 0:
             raise ValueError(f"ElasticShell warp must be a non-zero 3-vector, got {warp!r}")
         self = cls.__new__(cls)
@@ -269,10 +269,7 @@ class ElasticShell:
 
 
 def _poisson(value: Any, name: str) -> float:
-    try:
-        nu = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number in (-1, 0.5), got {value!r}") from None
+    nu = as_number(value, name, "a number in (-1, 0.5)")
     if not -1.0 < nu < 0.5:
         raise ValueError(f"{name} must be in (-1, 0.5), got {value!r}")
     return nu

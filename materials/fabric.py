@@ -27,9 +27,9 @@ def _law(value: Any, family: type[TensionLaw | ShearLaw | BendingLaw], name: str
                 f"{name} must be a {family.__name__} (or a number for a linear law), got {value!r}"
             )
         return value
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ValueError(f"{name} must be a {family.__name__} or a number ({unit}), got {value!r}")
-    return family.linear(value)
+    return family.linear(float(value))
 
 
 @dataclass(frozen=True, init=False)

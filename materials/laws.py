@@ -22,14 +22,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.checks import as_flag, as_number, as_reals
+
 __all__ = ["BendingLaw", "Law", "ShearLaw", "TensionLaw"]
 
 
 def _finite(value: Any, name: str) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    number = as_number(value, name, "a number")
     if not np.isfinite(number):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return number
@@ -38,11 +37,8 @@ def _finite(value: Any, name: str) -> float:
 def _table(x: ArrayLike, y: ArrayLike, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
     """Validated knots of a piecewise-linear law; with ``odd`` a table given for x >= 0 is
     mirrored to negative x."""
-    try:
-        x = np.array(x, dtype=float).ravel()
-        y = np.array(y, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} table must be two numeric sequences") from None
+    x = as_reals(x, f"{what} table abscissae", "a sequence of numbers").ravel()
+    y = as_reals(y, f"{what} table values", "a sequence of numbers").ravel()
     if x.size != y.size or x.size < 2:
         raise ValueError(
             f"{what} table needs two sequences of equal length >= 2, got {x.size} and {y.size}"
@@ -305,7 +301,8 @@ class TensionLaw:
             C not a finite number > 0.
         """
         law = _odd_polynomial("TensionLaw.linear", (stiffness,), ("stiffness C",), "N/mm")
-        return Law(law.family, law.description, law.odd_coefficients, compression=not tension_only)
+        compression = not as_flag(tension_only, "tension_only")
+        return Law(law.family, law.description, law.odd_coefficients, compression=compression)
 
     @staticmethod
     def table(strain: ArrayLike, tension: ArrayLike, tension_only: bool = False) -> Law:
@@ -337,7 +334,7 @@ class TensionLaw:
             "TensionLaw",
             f"TensionLaw.table({len(knots[0])} points)",
             knots=knots,
-            compression=not tension_only,
+            compression=not as_flag(tension_only, "tension_only"),
         )
 
 

@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from femcore.checks import check_positive
+from femcore.checks import as_number, check_positive
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -104,6 +104,7 @@ def make_frame(
         reaction_moments=np.zeros((n, 3)) if reaction_moments is None else reaction_moments.copy(),
         fields=model.fields(state),
         tool_forces=model.tool_forces(state),
+        tool_displacements=model.tool_displacements(state),
     )
 
 
@@ -171,10 +172,7 @@ def inverse_diagonal(values: np.ndarray) -> np.ndarray:
 
 def check_tolerance(value, name: str = "tol") -> float:
     """A relative tolerance strictly between 0 and 1, or ValueError naming it."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be in (0, 1), got {value!r}") from None
+    number = as_number(value, name, "in (0, 1)")
     if not np.isfinite(number) or not (0.0 < number < 1.0):
         raise ValueError(f"{name} must be in (0, 1), got {value!r}")
     return number
@@ -205,6 +203,12 @@ def check_fraction(value, name: str) -> float:
     return number
 
 
+def check_progress(value) -> bool | None:
+    """The ``progress`` option: None (the default rule of ``resolve_progress``), True or
+    False; ValueError otherwise (``bool("no")`` would be True)."""
+    return None if value is None else check_flag(value, "progress")
+
+
 def check_flag(value, name: str) -> bool:
     """True or False, or ValueError naming the option: bool("no") would be True."""
     if not isinstance(value, (bool, np.bool_)):
@@ -213,12 +217,7 @@ def check_flag(value, name: str) -> bool:
 
 
 def _number(value, name: str, expected: str) -> float:
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be {expected}, got {value!r}")
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be {expected}, got {value!r}") from None
+    return as_number(value, name, expected)
 
 
 def compiled_model(model, solver: str) -> CompiledModel:

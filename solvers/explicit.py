@@ -33,6 +33,7 @@ from solvers.common import (
     check_integer,
     check_non_negative,
     check_positive_or_none,
+    check_progress,
     compiled_model,
     empty_result,
     make_frame,
@@ -101,7 +102,8 @@ class CentralDifference:
         run goes (solvers.output.HistoryWriter): ``time``, ``energy_kinetic``,
         ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
         (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
-        ``tool<k>_force_x/y/z`` (N) and ``displacement_node<i>_x/y/z`` (mm) of
+        ``tool<k>_force_x/y/z`` (N), ``tool<k>_displacement_x/y/z`` (mm) and
+        ``displacement_node<i>_x/y/z`` (mm) of
         ``history_nodes``.
     history_nodes : node indices whose displacements the history records.
     frame_summary : callable Frame -> dict, optional
@@ -138,7 +140,7 @@ class CentralDifference:
         self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt")
         self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
         self.output_interval = check_positive_or_none(output_interval, "output_interval")
-        self.progress = progress
+        self.progress = check_progress(progress)
         self.max_steps = check_integer(max_steps, "max_steps")
         self.output = None if output is None else output_path(output, ".pvd", "output")
         self.history = None if history is None else output_path(history, ".csv", "history")
@@ -362,6 +364,7 @@ class CentralDifference:
                     reactions,
                     state.positions - compiled.reference_positions,
                     compiled.tool_forces(state),
+                    compiled.tool_displacements(state),
                 )
             if run.schedule.due(state.time):
                 frame = make_frame(compiled, state, reactions, reaction_moments)
@@ -438,6 +441,13 @@ class CentralDifference:
         """Refuse, before the first step, a run that mass scaling would turn into another
         model (more than ``max_added_mass`` times its mass added) or whose steps would exceed
         ``max_steps`` at the starting step (a step far too small would otherwise hang)."""
+        if compiled.nominal_mass_nodes.size:
+            raise ValueError(
+                f"node {int(compiled.nominal_mass_nodes[0])} carries a force-driven tool's "
+                "free translation without a stated mass: in explicit dynamics the tool moves "
+                "by m a = F - (contact forces); give the tool its mass (t), e.g. "
+                "RigidPlane(..., free=('z',), force=..., mass=...), or [[contact]] mass = ..."
+            )
         total = float(compiled.mass0.sum())
         if total > 0.0 and added_mass > self.max_added_mass * total:
             raise ValueError(

@@ -15,6 +15,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from femcore.checks import as_path
 from femcore.fingerprint import Fingerprint
 from femcore.mesh import Mesh
 from femcore.results import Frame, Result
@@ -45,7 +46,7 @@ def _atomic_write(path: Path, data: bytes) -> None:
 
 def output_path(path: str | os.PathLike[str], suffix: str, what: str) -> Path:
     """``path`` as a Path with the given suffix in an existing directory, else ValueError."""
-    checked = Path(path)
+    checked = as_path(path, what)
     if checked.suffix.lower() != suffix:
         raise ValueError(f"{what} must be a {suffix} path, got {str(path)!r}")
     if not checked.parent.is_dir():
@@ -127,9 +128,9 @@ class HistoryWriter:
     """CSV rows appended (and flushed) as the run goes: ``time`` (s), ``energy_kinetic``,
     ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
     (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
-    ``tool<k>_force_x/y/z`` the force on each rigid tool (N) and ``displacement_node<i>_x/y/z``
-    the displacements (mm) of chosen nodes: the names fibreshell's history.csv gives the same
-    quantities."""
+    ``tool<k>_force_x/y/z`` the force on each rigid tool (N) and ``tool<k>_displacement_x/y/z``
+    its translation (mm), and ``displacement_node<i>_x/y/z`` the displacements (mm) of chosen
+    nodes: the names fibreshell's history.csv gives the same quantities."""
 
     def __init__(self, path: Path, nodes: np.ndarray, tools: int = 0):
         self.path, self.nodes, self.tools = path, nodes, tools
@@ -140,6 +141,7 @@ class HistoryWriter:
         columns += [f"reaction_all_{axis}" for axis in "xyz"]
         for tool in range(1, self.tools + 1):
             columns += [f"tool{tool}_force_{axis}" for axis in "xyz"]
+            columns += [f"tool{tool}_displacement_{axis}" for axis in "xyz"]
         for node in self.nodes:
             columns += [f"displacement_node{node}_{axis}" for axis in "xyz"]
         return columns
@@ -190,9 +192,12 @@ class HistoryWriter:
         reactions: np.ndarray,
         displacements: np.ndarray,
         tool_forces: np.ndarray | None = None,
+        tool_displacements: np.ndarray | None = None,
     ) -> None:
-        tools = np.zeros((0, 3)) if tool_forces is None else tool_forces
-        row = [*energies, *reactions.sum(axis=0), *tools.ravel()]
+        tools = np.zeros((self.tools, 3)) if tool_forces is None else tool_forces
+        moved = np.zeros((self.tools, 3)) if tool_displacements is None else tool_displacements
+        paired = np.concatenate([np.reshape(tools, (-1, 3)), np.reshape(moved, (-1, 3))], axis=1)
+        row = [*energies, *reactions.sum(axis=0), *paired.ravel()]
         row += [*displacements[self.nodes].ravel()]
         with open(self.path, "a", newline="") as handle:
             csv.writer(handle).writerow([repr(float(v)) for v in row])
@@ -257,7 +262,7 @@ def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
     """The ``checkpoint`` argument of a solve as a Path in an existing directory, or None."""
     if checkpoint is None:
         return None
-    path = Path(checkpoint)
+    path = as_path(checkpoint, "checkpoint")
     if not path.parent.is_dir():
         raise ValueError(f"checkpoint: the directory {str(path.parent)!r} does not exist")
     return path

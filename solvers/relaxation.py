@@ -48,6 +48,7 @@ from solvers.common import (
     check_fraction,
     check_held,
     check_integer,
+    check_progress,
     check_tolerance,
     compiled_model,
     empty_result,
@@ -151,7 +152,7 @@ class DynamicRelaxation:
             if plateau_iterations is None
             else check_integer(plateau_iterations, "plateau_iterations")
         )
-        self.progress = progress
+        self.progress = check_progress(progress)
 
     @keeps_writes
     def solve(

@@ -46,6 +46,7 @@ from solvers.common import (
     check_flag,
     check_held,
     check_integer,
+    check_progress,
     check_tolerance,
     compiled_model,
     empty_result,
@@ -164,7 +165,7 @@ class Static:
         self.predictor = check_flag(predictor, "predictor")
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
-        self.progress = progress
+        self.progress = check_progress(progress)
         self.output = None if output is None else output_path(output, ".pvd", "output")
 
     @keeps_writes

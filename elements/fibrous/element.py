@@ -12,6 +12,7 @@ import numpy as np
 from elements import kernels
 from elements.base import ElementType
 from elements.fibrous.block import FibrousShellBlock
+from femcore.checks import as_flag, as_number, as_reals
 from femcore.mesh import Mesh
 from materials.fabric import Fabric
 
@@ -116,18 +117,20 @@ class FibrousShell(ElementType):
             raise ValueError(f"FibrousShell needs a materials.Fabric, got {fabric!r}")
         self.fabric = fabric
         self.zeta, self.weights = _levels(levels)
-        warp = np.array(warp, dtype=float).ravel()
+        warp = as_reals(warp, "FibrousShell warp", "a non-zero 3-vector").ravel()
         if warp.shape != (3,) or not np.isfinite(warp).all() or np.linalg.norm(warp) == 0:
             raise ValueError(f"warp must be a non-zero 3-vector, got {warp!r}")
         self.warp = warp / np.linalg.norm(warp)
-        tolerance = float(fibre_angle_tolerance)
+        tolerance = as_number(
+            fibre_angle_tolerance, "fibre_angle_tolerance", "a number of degrees in (0, 45)"
+        )
         if not 0.0 < tolerance < 45.0:
             raise ValueError(
                 f"fibre_angle_tolerance must be in (0, 45) degrees, got {fibre_angle_tolerance!r}"
             )
         self.fibre_angle_tolerance = tolerance
         self.clamped = clamped
-        self.thickness_variation = bool(thickness_variation)
+        self.thickness_variation = as_flag(thickness_variation, "thickness_variation")
         if thickness not in ("nodal", "element"):
             raise ValueError(
                 f"thickness must be 'nodal' (h_m from the nodal normals) or 'element' (Bai "
