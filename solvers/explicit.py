@@ -164,10 +164,12 @@ class CentralDifference:
     def _step_size(
         self, model: CompiledModel, state: State, scale, mass: np.ndarray, inertia=None
     ) -> float:
-        """safety x the critical step: the larger of two safe bounds, the cells' own (cheap,
+        """safety x the critical step: the smaller of two bounds, the cells' own (cheap,
         every STABLE_DT_EVERY steps) and the assembly's Gershgorin bound (``inertia`` given:
         evaluated now with ``mass``; else the last one, carried along with the cells' bound
-        as the geometry changes), lowered for the penalty springs of contacts."""
+        as the geometry changes), lowered for the penalty springs of contacts. The smaller:
+        the fibrous cells' bound is an estimate, not a bound (docs/theory.md §6.2), and the
+        larger of the two took a forming blank past its exact critical step."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
@@ -179,7 +181,7 @@ class CentralDifference:
             self._assembled = None if assembled is None else (assembled, critical)
         if self._assembled is not None:
             assembled, cells_then = self._assembled
-            critical = max(critical, assembled * critical / cells_then)
+            critical = min(critical, assembled * critical / cells_then)
         # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
         # bound: the two add exactly when they act along the same direction of one node).
         springs = model.penalty_frequency_squared(mass)
