@@ -92,8 +92,9 @@ def test_mass_scaling_reaches_the_target_step_and_reports_the_added_mass():
     target = 2.0 * TRANSIT / N
     solver = CentralDifference(duration=TRANSIT, mass_scaling_dt=target)
     result = solver.solve(bar_model())
-    # (the tension of the loaded bar adds a little geometric stiffness, hence 1e-3)
-    assert result.info["dt"] == pytest.approx(target, rel=1e-3)
+    # The cells reach the target; the assembly's Gershgorin bound, the smaller of the two on
+    # the scaled bar, takes 5 % off it (and the tension a little geometric stiffness).
+    assert 0.9 * target < result.info["dt"] <= target * (1.0 + 1e-3)
     # dt ~ sqrt(m). The step taken is safety x the cells' stable step, so every cell must reach
     # target / safety = (2 / 0.9) L/c: its mass grows by (2 / 0.9)^2.
     assert result.info["added_mass_ratio"] == pytest.approx((2.0 / 0.9) ** 2 - 1.0, rel=1e-9)
