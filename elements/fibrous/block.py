@@ -304,10 +304,10 @@ class FibrousShellBlock(ElementBlock):
           the warp-weft angle (two fibres in line at node 0 give the 3-mass chain value);
         * shear (A4): omega^2 = 2 K A0 (1/L1^2 + 1/L2^2) / m;
         * bending (A3): dt = 0.35 L_min^2 sqrt(rho_A / B).
-        Director modes do not govern with I = m h_m^2 / 4 (A2) as long as I follows the
-        current h_m (the solvers refresh the rotary inertia with the step) and the directors
-        stay near the normal: at a tilt of 70 deg the exact step was 0.87 of this bound
-        (docs/theory.md §6.2, measured on a pinched blank).
+        Director modes do not govern with I = m (h_m / cos(tilt))^2 / 4 (A2, ``lumped_mass``)
+        as long as I follows the geometry (the solvers refresh the rotary inertia with the
+        step); with I = m h_m^2 / 4 they did once the directors tilted past about 60 deg
+        (docs/theory.md §6.2).
         """
         x = state.positions[self.connectivity]
         g1 = x[:, 1] - x[:, 0]
