@@ -39,7 +39,7 @@ def main() -> None:
     parser.add_argument("--cells", type=int, default=100)
     parser.add_argument("--duration", type=float, default=case.DURATION)
     parser.add_argument("--mass-scaling-dt", type=float, default=None)
-    parser.add_argument("--safety", type=float, default=case.SAFETY)
+    parser.add_argument("--safety", type=float, default=0.9, help="the solver's default 0.9")
     args = parser.parse_args()
     mesh, model = case.model(args.cells, "fibrous")
     compiled = model.compile()

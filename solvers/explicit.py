@@ -18,7 +18,7 @@ import math
 import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -166,10 +166,12 @@ class CentralDifference:
     def _step_size(
         self, model: CompiledModel, state: State, scale, mass: np.ndarray, inertia=None
     ) -> float:
-        """safety x the critical step: the larger of two safe bounds, the cells' own (cheap,
+        """safety x the critical step: the smaller of two bounds, the cells' own (cheap,
         every STABLE_DT_EVERY steps) and the assembly's Gershgorin bound (``inertia`` given:
         evaluated now with ``mass``; else the last one, carried along with the cells' bound
-        as the geometry changes), lowered for the penalty springs of contacts."""
+        as the geometry changes), lowered for the penalty springs of contacts. The smaller:
+        the fibrous cells' bound is an estimate, not a bound (docs/theory.md §6.2), and the
+        larger of the two took a forming blank past its exact critical step."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
@@ -181,7 +183,7 @@ class CentralDifference:
             self._assembled = None if assembled is None else (assembled, critical)
         if self._assembled is not None:
             assembled, cells_then = self._assembled
-            critical = max(critical, assembled * critical / cells_then)
+            critical = min(critical, assembled * critical / cells_then)
         # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
         # bound: the two add exactly when they act along the same direction of one node).
         springs = model.penalty_frequency_squared(mass)
@@ -319,9 +321,13 @@ class CentralDifference:
                     save()  # before the refresh below, which a resumed run repeats
                     last_saved = time.perf_counter()
                 if compiled.dofs.any_rotation:
-                    # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director; a stale
-                    # I under a tilting director makes the director modes unstable.
-                    _, run.inertia = compiled.lumped_mass(state, run.scale)
+                    # Eq. 39: I = m h_m^2 / 4 follows the thickness along the director (and its
+                    # lever, docs/theory.md §1.6); a stale I under a tilting director makes the
+                    # director modes unstable. It only grows: a larger I is as stable, and a
+                    # director flapping about the guard would otherwise have it drop 600-fold.
+                    inertia = np.maximum(run.inertia, compiled.lumped_mass(state, run.scale)[1])
+                    run.state = state = _keep_rotary_energy(state, run.inertia, inertia)
+                    run.inertia = inertia
                     masses = LumpedMasses(run.mass, run.inertia)
                 if self.dt is None:
                     fresh = step % ASSEMBLED_DT_EVERY == 0
@@ -536,6 +542,17 @@ class CentralDifference:
         if self.frame_summary is not None:
             result.info["frame_summaries"] = [summary for _, summary in run.summaries]
         return result
+
+
+def _keep_rotary_energy(state: State, before: np.ndarray, after: np.ndarray) -> State:
+    """``state`` with its angular velocities (n, 3) scaled by sqrt(I_before / I_after) at each
+    node, so that 1/2 I omega^2 is the same with the refreshed rotary inertia ``after`` (n,),
+    t mm^2. The inertia follows the geometry (the fibrous director's lever h / cos^2(tilt)
+    grows to 25 h at the guard): without the scaling the energy balance would see rotational
+    kinetic energy made without work (a formed blank's flipped corner directors: 2 -> 119
+    N mm at one refresh)."""
+    ratio = np.sqrt(np.divide(before, after, out=np.ones_like(after), where=after > 0.0))
+    return replace(state, angular_velocities=state.angular_velocities * ratio[:, None])
 
 
 def _stopped_by(signal_name: str, step: int, time: float, duration: float, saved_at) -> str:

@@ -239,12 +239,19 @@ def _tool_work(
 ) -> tuple:
     """The step's energy terms with the work of moving tools added to the external work:
     their motion over [t(i - 1/2), t(i + 1/2)] (and [t(i - 1/2), t(i)] for the checks)
-    against the contact forces at t(i), the midpoint rule of the other terms."""
+    against the contact forces at t(i), the midpoint rule of the other terms.
+
+    The internal work gets it too: the contact springs are parts of the model, and the work
+    of their forces on the nodes alone, -f.dx, is their energy change less the tool's work
+    (d(1/2 k p^2) = -f.dx + f.dx_tool); with the tool's work added back it is the change of
+    the strain energy, so that the internal work is U and the tool's work is counted once,
+    in the external work."""
     tau = state.time / duration
     before = tau - 0.5 * dt_prev / duration
     d_tool = model.tool_work(state, before, tau + 0.5 * dt / duration)
     terms = list(work)
     terms[0] += d_tool
+    terms[1] += d_tool
     if checking:  # the checks need the work done before t(i) too
         terms[6] += model.tool_work(state, before, tau)
     return tuple(terms)

@@ -92,8 +92,9 @@ def test_mass_scaling_reaches_the_target_step_and_reports_the_added_mass():
     target = 2.0 * TRANSIT / N
     solver = CentralDifference(duration=TRANSIT, mass_scaling_dt=target)
     result = solver.solve(bar_model())
-    # (the tension of the loaded bar adds a little geometric stiffness, hence 1e-3)
-    assert result.info["dt"] == pytest.approx(target, rel=1e-3)
+    # The cells reach the target; the assembly's Gershgorin bound, the smaller of the two on
+    # the scaled bar, takes 5 % off it (and the tension a little geometric stiffness).
+    assert 0.9 * target < result.info["dt"] <= target * (1.0 + 1e-3)
     # dt ~ sqrt(m). The step taken is safety x the cells' stable step, so every cell must reach
     # target / safety = (2 / 0.9) L/c: its mass grows by (2 / 0.9)^2.
     assert result.info["added_mass_ratio"] == pytest.approx((2.0 / 0.9) ** 2 - 1.0, rel=1e-9)
@@ -172,3 +173,22 @@ def test_a_step_just_beyond_the_critical_one_is_caught(factor, duration, stable_
     )
     for frame in result.frames:
         assert np.abs(frame.positions - result.frames[0].positions).max() <= envelope
+
+
+def test_a_refreshed_rotary_inertia_keeps_each_nodes_rotational_kinetic_energy():
+    """The explicit solver refreshes the rotary inertia as the directors tilt (their lever
+    grows up to 25-fold at the guard); the angular velocities are scaled so that 1/2 I w^2 is
+    kept at each node, which the energy balance would otherwise see made without work."""
+    from femcore.state import State
+    from solvers.explicit import _keep_rotary_energy
+
+    rng = np.random.default_rng(0)
+    before, after = np.array([1.0, 2.0, 0.0]), np.array([60.0, 2.0, 0.0])
+    omega = rng.normal(size=(3, 3))
+    state = State(np.zeros((3, 3)), np.tile([0.0, 0.0, 1.0], (3, 1)), np.zeros((3, 3)), omega)
+    kept = _keep_rotary_energy(state, before, after)
+    energy = 0.5 * np.sum(omega**2, axis=1)
+    assert np.allclose(after[:2] * 0.5 * np.sum(kept.angular_velocities[:2] ** 2, axis=1),
+                       before[:2] * energy[:2], rtol=1e-12)  # fmt: skip
+    assert np.array_equal(kept.angular_velocities[2], omega[2])  # no inertia: left alone
+    assert np.array_equal(state.angular_velocities, omega)  # the state given is unchanged

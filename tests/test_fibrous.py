@@ -96,6 +96,23 @@ def test_rotary_inertia_is_eq_39():
     assert inertia == pytest.approx(mass * 4.0**2 / 4.0, rel=1e-12, abs=0.0)  # I = m h_m^2 / 4
 
 
+@pytest.mark.parametrize("tilt", [0.6, 1.4])
+def test_rotary_inertia_follows_the_lever_of_a_tilted_director(tilt):
+    """Directors tilted from the normal: a rotation moves the fibre levels by h_m / cos(tilt)
+    (h_m = h / cos(tilt) turns with them), and I = m (h_m / cos(tilt))^2 / 4 = m (h /
+    cos^2)^2 / 4; past the guard (cos(1.4) = 0.17 < 0.2) the guard's value, m (h / 0.2^2)^2 / 4."""
+    material = fabric(areal_density=2.5e-9, thickness=4.0)
+    for thickness in ("nodal", "element"):
+        model = compiled(MESH, material, thickness=thickness)
+        state = model.initial_state()
+        state.directors = rotate_about(
+            state.directors, np.tile([0.0, tilt, 0.0], (MESH.n_nodes, 1))
+        )
+        mass, inertia = model.lumped_mass(state)
+        cosine = max(np.cos(tilt), 0.2)
+        assert inertia == pytest.approx(mass * (4.0 / cosine**2) ** 2 / 4.0, rel=1e-9)
+
+
 # ------------------------------------------------------------------ curvature (docs/theory.md §4.2)
 def _curvatures(model, surface, epsilon=1e-6):
     """Warp and weft curvature of every cell when nodes are lifted to z = epsilon f(x, y)."""

@@ -45,13 +45,13 @@ def slivers(offset: float) -> Model:
 
 
 def bounds_and_exact(model: Model, state=None):
-    """(the cells' bound, the solver's: the larger of it and the assembly's Gershgorin bound,
+    """(the cells' bound, the solver's: the smaller of it and the assembly's Gershgorin bound,
     the exact critical step)."""
     compiled = model.compile()
     state = state if state is not None else compiled.initial_state()
     cells = compiled.stable_dt(state)
     assembled = compiled.assembled_stable_dt(state, *compiled.lumped_mass(state))
-    return cells, max(cells, assembled), exact_stable_step(compiled, state)
+    return cells, min(cells, assembled), exact_stable_step(compiled, state)
 
 
 @pytest.mark.parametrize("aspect", [1, 10, 20])
@@ -64,16 +64,19 @@ def test_mindlin_step_is_safe_on_stretched_cells(aspect):
 @pytest.mark.parametrize("offset", [1.0, 0.2, 0.05])
 def test_mindlin_step_is_safe_on_slivers(offset):
     """The cells' bound stays safe but falls to 0.14-0.03 of the exact step here (a sliver's
-    share of its nodes' mass is tiny); the assembly's bound keeps the solver's step within 2."""
+    share of its nodes' mass is tiny); the solver takes it, the smaller bound."""
     cells, step, exact = bounds_and_exact(slivers(offset))
     assert cells <= exact
-    assert 0.5 * exact <= step <= exact
+    assert step <= exact
 
 
-@pytest.mark.parametrize("tilt", [0.5, 1.0])
+@pytest.mark.parametrize("tilt", [0.5, 1.0, 1.2, 1.3, 1.4])
 def test_fibrous_step_is_safe_with_directors_far_from_the_normal(tilt):
-    """Directors turned by ``tilt`` rad about y: h_m = h / cos(tilt), up to 1.85 h, and the
-    rotary inertia m h_m^2 / 4 follows it (docs/theory.md §6.2 A2)."""
+    """Directors turned by ``tilt`` rad about y: h_m = h / cos(tilt), up to 3.7 h, and past
+    the guard (cos(1.4) = 0.17 < 0.2) 5 h. A rotation moves the fibre levels by h_m / cos(tilt)
+    (h_m turns with the director), and the rotary inertia m (h_m / cos(tilt))^2 / 4 follows
+    that lever (docs/theory.md §6.2 A2): with m h_m^2 / 4 the cells' bound was 1.32 times the
+    exact step at 1.2 rad (69 deg), the tilt at which a formed blank's corner went unstable."""
     model = Model(Mesh.rectangle(30.0, 20.0, nx=3, ny=2))
     model.add(FibrousShell(fabric()))
     model.fix("left")
@@ -113,3 +116,35 @@ def test_the_readme_laminate_strip_falls_undamped_at_the_default_safety():
     assert result.converged
     assert result.info["energy_balance_error"] < 5e-3
     assert np.all(result.thickness >= 15.0 * (1.0 - 1e-9))  # h_m >= h: no director inverted
+
+
+def test_the_step_is_the_safety_times_the_smaller_of_the_cells_and_the_assembly_bounds():
+    """On square Mindlin cells the assembly's Gershgorin bound (1.04e-7 s) is below the
+    cells' (1.18e-7 s; exact 1.20e-7 s): the solver takes the smaller, where it took the
+    larger, which put a fibrous forming blank past its exact critical step."""
+    model = strip(1)
+    model.gravity((0.0, 0.0, -9810.0))
+    compiled = model.compile()
+    state = compiled.initial_state()
+    cells = compiled.stable_dt(state)
+    assembled = compiled.assembled_stable_dt(state, *compiled.lumped_mass(state))
+    assert assembled < cells
+    result = CentralDifference(duration=20 * cells, progress=False).solve(compiled)
+    assert result.info["dt"] == pytest.approx(0.9 * assembled, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_the_coarse_hemisphere_forming_blank_runs_at_the_default_safety():
+    """The hemisphere forming case's fibrous blank (12 x 12 squares, punch and meshed die,
+    about 4600 steps, 10-35 s on one thread) at the default safety 0.9: before the rotary
+    inertia followed the lever of a tilted director its free corners' directors went
+    unstable late in the stroke (the case ran at safety 0.5). Measured: energy balance
+    within 0.75 % of the largest energy, the step 0.64 of the exact critical step of the
+    assembly with the contact springs at the end."""
+    from validation.cases import hemisphere_forming as case
+
+    _, model = case.model(12, "fibrous")
+    solver = CentralDifference(duration=case.DURATION, damping=case.DAMPING, progress=False)
+    result = solver.solve(model)
+    assert result.converged
+    assert result.info["energy_balance_error"] < 0.02

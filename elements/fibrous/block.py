@@ -19,7 +19,7 @@ from elements.fibrous import tangent as stiffness
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
 from elements.fibrous.packed_laws import pack_laws
 from elements.fibrous.tangent import CornerPairs
-from elements.shell_geometry import guarded_thickness, lumped_mass
+from elements.shell_geometry import GUARD, guarded_thickness, lumped_mass
 from femcore.assembly import Scatter, TangentPart
 from femcore.mesh import Mesh
 from femcore.state import State
@@ -257,7 +257,34 @@ class FibrousShellBlock(ElementBlock):
         each cell's tension + shear by central differences of its loads."""
         return stiffness.tangent(self, state)
 
+    def rotary_lever(self, state: State) -> np.ndarray:
+        """How far (n,), mm, the outer fibre levels move per radian of director rotation,
+        times 2: h_m / max(V . n, guard) = h / max(V . n, guard)^2 with the nodal normal (or,
+        with element normals, its area-weighted mean over the node's cells); 0 at nodes
+        outside the block.
+
+        The levels sit at (zeta / 2) h_m V, and h_m = h / (V . n) turns with the director:
+        d(h_m V)/dpsi has the length h_m / cos(tilt), not h_m (docs/theory.md §6.2 A2). Past
+        the guard h_m no longer follows the tilt, and the value is kept at that of the guard
+        (continuous, and above the lever h_m there)."""
+        if self.compiled and self.nodal_normals:
+            sums = geometry.normal_sums(self, state.positions)
+            length = np.linalg.norm(sums, axis=1)
+            inside = self.node_in_block
+            cosine = np.sum(state.directors * sums, axis=1) / np.where(inside, length, 1.0)
+            h_m, _ = guarded_thickness(self.fabric.thickness, cosine)
+            lever = h_m / np.maximum(cosine, GUARD)
+            return np.where(inside, lever, 0.0)
+        geo = geometry.geometry(self, state.positions, state.directors, layers=False)
+        per_corner = geo["thickness"] / np.maximum(geo["cosine"], GUARD)
+        return geometry.node_thickness(self, {**geo, "thickness": per_corner})
+
     def lumped_mass(self, state: State, density_scale=None):
+        """Nodal mass (n,), t, and rotary inertia (n,), t mm^2: Bai Eq. 38-39 with the lever
+        of ``rotary_lever`` in place of h_m, I = m (h_m / cos(tilt))^2 / 4, so that a director
+        mode is no faster than the tension mode of its cell at any tilt (A2; with h_m alone,
+        directors tilted 69 deg had an exact critical step 0.76 of the cells' bound, and a
+        formed blank's corner director, flapping up to that tilt, went unstable)."""
         density: float | np.ndarray = self.fabric.areal_density
         if density_scale is not None:
             density = density * np.asarray(density_scale, dtype=float)
@@ -265,7 +292,7 @@ class FibrousShellBlock(ElementBlock):
             density,
             self.reference_area,
             self.connectivity,
-            self.nodal_thickness(state),
+            self.rotary_lever(state),
             self.n_nodes,
         )
 
@@ -277,10 +304,10 @@ class FibrousShellBlock(ElementBlock):
           the warp-weft angle (two fibres in line at node 0 give the 3-mass chain value);
         * shear (A4): omega^2 = 2 K A0 (1/L1^2 + 1/L2^2) / m;
         * bending (A3): dt = 0.35 L_min^2 sqrt(rho_A / B).
-        Director modes do not govern with I = m h_m^2 / 4 (A2) as long as I follows the
-        current h_m (the solvers refresh the rotary inertia with the step) and the directors
-        stay near the normal: at a tilt of 70 deg the exact step was 0.87 of this bound
-        (docs/theory.md §6.2, measured on a pinched blank).
+        Director modes do not govern with I = m (h_m / cos(tilt))^2 / 4 (A2, ``lumped_mass``)
+        as long as I follows the geometry (the solvers refresh the rotary inertia with the
+        step); with I = m h_m^2 / 4 they did once the directors tilted past about 60 deg
+        (docs/theory.md §6.2).
         """
         x = state.positions[self.connectivity]
         g1 = x[:, 1] - x[:, 0]
