@@ -298,6 +298,25 @@ MARGIN = 0.25
 CANDIDATES = 8
 
 
+def open_edges(triangles: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The boundary edges of a triangulated surface (the edges of one triangle only): (start
+    (f, 3, 3), a point of each facet's edge k from node k to node k + 1, mm; out (f, 3, 3),
+    its unit normal in the facet's plane pointing away from the facet for a boundary edge,
+    zero for an edge two facets share)."""
+    pairs = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=2)  # (f, 3, 2)
+    _, inverse, counts = np.unique(
+        np.sort(pairs.reshape(-1, 2), axis=1), axis=0, return_inverse=True, return_counts=True
+    )
+    boundary = (counts[inverse.ravel()] == 1).reshape(-1, 3)
+    start = corners
+    along = np.roll(corners, -1, axis=1) - corners
+    along /= np.linalg.norm(along, axis=2, keepdims=True)
+    away = corners - np.roll(corners, 1, axis=1)  # from the opposite node to the edge's start
+    away -= np.sum(away * along, axis=2, keepdims=True) * along
+    away /= np.linalg.norm(away, axis=2, keepdims=True)
+    return start.copy(), np.where(boundary[..., None], away, 0.0)
+
+
 def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
     """The closest point to each x (..., 3) on the triangle (a, b, c) (..., 3) of the same
     index (Ericson, Real-Time Collision Detection, 2005, §5.1.5: the Voronoi regions of the
@@ -356,7 +375,11 @@ class RigidSurface(RigidTool):
 
     The signed distance of a point is that to the closest point of the surface, positive on
     the normals' side; its normal is along the line to that point (the facet's normal inside
-    a facet; around an edge or a vertex, the direction from it). The closest facet is found
+    a facet; around an edge or a vertex, the direction from it). An open surface (a table, a
+    die's flange) ends at its boundary edges (those of one facet only): a point past such an
+    edge's line, in its facet's plane, is beside the tool whichever side of the facets it
+    lies on, its distance that to the edge, positive (the overhang of a strip on a table
+    sags below the table's plane without being inside it). The closest facet is found
     among the nearest facet centroids of a k-d tree (scipy.spatial.cKDTree, built once):
     CANDIDATES of them, more where those cannot be shown to include it (a centroid further
     than the closest point found plus the largest facet's circumradius cannot belong to a
@@ -414,6 +437,7 @@ class RigidSurface(RigidTool):
             )
         self.flipped = as_flag(flip, "RigidSurface flip")
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
+        self.edge_start, self.edge_out = open_edges(triangles, self.corners)
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())
         self.tree = cKDTree(centroids)
@@ -545,6 +569,13 @@ class RigidSurface(RigidTool):
         facet_normal = self.normals[facet]
         towards = local - point
         side = np.where(np.sum(towards * facet_normal, axis=1) < 0.0, -1.0, 1.0)
+        behind = np.flatnonzero(side < 0.0)
+        if behind.size:  # past an open edge: beside the tool, not in it (class docstring)
+            f = facet[behind]
+            past = np.einsum(
+                "kej,kej->ke", local[behind, None, :] - self.edge_start[f], self.edge_out[f]
+            )
+            side[behind[(past > 1e-9 * self.reach).any(axis=1)]] = 1.0
         # Off the surface the normal is the direction from the closest point; on it (or
         # within rounding of it) that of the facet.
         along = gap > 1e-12 * max(self.reach, 1.0)
