@@ -331,6 +331,7 @@ class StaticRun:
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "branch_switches": [],
+            "saddles_kept": [],
             "residual_history": [],
             "evaluations": self.counts,
         }
