@@ -201,7 +201,9 @@ def _iterate(
             load = equilibrium.load(frames).ravel()[index]
             if not push_descends(run, state, frames, load, modes, translation):
                 run.info["saddles_kept"].append(load_factor)
-                return run.settled(state, factor), iteration - 1, ratio, history
+                settled = run.settled(state, factor)
+                run.on_kept_saddle = True
+                return settled, iteration - 1, ratio, history
             # An unstable equilibrium: leave it along its buckling mode.
             escapes += 1
             push = True
@@ -233,7 +235,12 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
-        if (factor.negative or escapes) and solver.seek_stable:
+        # Steps on an indefinite tangent are turned downhill, except on the way from a kept
+        # saddle: the path of saddles no push descends from is followed by plain Newton (a
+        # turned step there heads off the path and finds no lower branch), and each converged
+        # state of it is checked again.
+        turn = escapes or (factor.negative and not run.on_kept_saddle)
+        if turn and solver.seek_stable:
             load = equilibrium.load(frames).ravel()[index]
             delta_free = downhill(
                 k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes

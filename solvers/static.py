@@ -307,6 +307,9 @@ class StaticRun:
         self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
+        # The last converged state is a saddle that no push along its negative modes descends
+        # from (solvers.stability.push_descends): the next increment follows it by plain Newton.
+        self.on_kept_saddle = False
         self.mode: Motion | None = None  # the next arc-length increment starts along it
         self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
         self.phase = 0
@@ -437,6 +440,7 @@ class StaticRun:
     def settled(self, state: State, factor: Factorisation) -> State:
         """A converged state: note the inertia of its tangent."""
         self.negative = factor.negative
+        self.on_kept_saddle = False
         return state
 
     def accept(self, state: State, load_factor: float) -> None:
