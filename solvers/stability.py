@@ -157,6 +157,8 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     alone took the limit point of bai-6.1.2 (Mindlin) for a bifurcation and sent the path
     back along itself.
 
+    A mode along which a push is no descent (``push_descends``) gives None as well.
+
     ``pattern``: (forces, moments, imposed displacements) per unit load factor of the phase."""
     dofs, state = run.model.dofs, run.state
     frames = dofs.frames(state.directors)
@@ -170,6 +172,9 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
         return None
     load = run.equilibrium(run.reached).load(frames).ravel()[dofs.free_slots]
+    chosen = (values[negative][-1:], phi[:, None])
+    if not push_descends(run, state, frames, load, chosen, dofs.free_slots % N_COLUMNS < 3):
+        return None  # a saddle no push descends from (push_descends): the path goes on
     side = np.sign(phi @ load) or 1.0
     flat = np.zeros(dofs.n_slots)
     flat[dofs.free_slots] = side * phi

@@ -130,3 +130,30 @@ def test_the_default_static_shears_the_stacks_central_zone_as_the_pin_jointed_ne
     _, central = stack_pulled
     expected = np.degrees(specimens.pin_jointed_shear(LENGTH, WIDTH, PULL))
     np.testing.assert_allclose(central, expected, rtol=2e-3)
+
+
+@pytest.mark.slow
+def test_the_arc_length_path_keeps_the_flat_stack_too():
+    # Along the arc length a growing count of negative eigenvalues is a bifurcation only
+    # when a push along the new mode descends; here none does, and the path stays flat with
+    # no switch (before, it switched at the first increment and came back): 4-6 Newton
+    # iterations per increment, 5 increments (about 14 s).
+    mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
+    fabric = dataclasses.replace(presets.g986_stack(), tension=1.2e6, tension_weft=1.2e6)
+    c = np.cos(np.pi / 4)
+    model = Model(mesh)
+    model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
+    model.fix("left")
+    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
+    model.displace("right", ux=PULL)
+    result = Static(increments=4, path="arc_length", progress=False).solve(model)
+    assert result.frames[-1].load_factor == pytest.approx(1.0)
+    assert result.info["branch_switches"] == []
+    assert max(result.info["negative_eigenvalues"]) >= 6
+    assert np.abs(result.displacements[:, 2]).max() < 1e-6
+    centres = mesh.points[mesh.triangles].mean(axis=1)
+    x, off_axis = centres[:, 0], np.abs(centres[:, 1] - WIDTH / 2)
+    central = np.abs(x - LENGTH / 2) < WIDTH / 2 - off_axis
+    shear = np.degrees(np.abs(result.frames[-1].fields["triangle"]["shear_angle"]).mean(axis=1))
+    expected = np.degrees(specimens.pin_jointed_shear(LENGTH, WIDTH, PULL))
+    np.testing.assert_allclose(shear[central], expected, rtol=2e-3)
