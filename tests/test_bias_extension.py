@@ -137,7 +137,7 @@ def test_the_arc_length_path_keeps_the_flat_stack_too():
     # Along the arc length a growing count of negative eigenvalues is a bifurcation only
     # when a push along the new mode descends; here none does, and the path stays flat with
     # no switch (before, it switched at the first increment and came back): 4-6 Newton
-    # iterations per increment, 5 increments (about 14 s).
+    # iterations per increment, 5 increments.
     mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
     fabric = dataclasses.replace(presets.g986_stack(), tension=1.2e6, tension_weft=1.2e6)
     c = np.cos(np.pi / 4)
