@@ -101,6 +101,10 @@ class Static:
         the count of negative eigenvalues grows while the load keeps its direction (a
         bifurcation, not a limit point), the next increment starts along the buckling mode
         (up to three times per phase). Each switch is listed in ``info["branch_switches"]``.
+        Either way a mode is followed only when a push of half an element along it lowers the
+        total potential energy beyond round-off (solvers.stability.push_descends); a saddle
+        that no push descends from is kept (``info["saddles_kept"]``, load path) and the next
+        increment follows it by plain Newton: a flat fabric sheared in its plane stays flat.
     step_loads_first : apply the loads whose amplitude is "step" (gravity by default) first,
         over load factors 0 to 1 with the prescribed displacements held at zero, then the
         other loads and the prescribed displacements over 1 to 2 (a specimen hangs under its
