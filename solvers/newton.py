@@ -45,7 +45,7 @@ Convergence is the force-reference test of solvers.convergence (``Residual``).
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -56,7 +56,7 @@ from femcore.model import CompiledModel
 from femcore.state import State
 from solvers.convergence import Equilibrium
 from solvers.linear import Factorisation
-from solvers.stability import downhill
+from solvers.stability import downhill, lowest_modes, push_descends
 
 if TYPE_CHECKING:
     from solvers.static import StaticRun
@@ -175,6 +175,8 @@ def _iterate(
         if not np.isfinite(ratio):
             raise IncrementFailed("non-finite residual")
         push = False
+        tangent: tuple[Any, Any] | None = None  # (K_ff, K_fp) at ``state``, when assembled
+        modes: tuple[np.ndarray, np.ndarray] | None = None  # their lowest modes
         if ratio <= solver.tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
             unfrozen: State | None = state
             if frozen:
@@ -192,18 +194,29 @@ def _iterate(
             negative = factor.negative or 0
             if not (negative and solver.seek_stable and escapes < 3):
                 return run.settled(state, factor), iteration - 1, ratio, history
+            # A saddle that no push along its negative modes descends from stays: the
+            # quartic terms close the way off within a fraction of the push (solvers.stability).
+            tangent = run.tangent(state, frames)
+            modes = lowest_modes(tangent[0], negative)
+            load = equilibrium.load(frames).ravel()[index]
+            if not push_descends(run, state, frames, load, modes, translation):
+                run.info["saddles_kept"].append(load_factor)
+                settled = run.settled(state, factor)
+                run.on_kept_saddle = True
+                return settled, iteration - 1, ratio, history
             # An unstable equilibrium: leave it along its buckling mode.
             escapes += 1
             push = True
-            if frozen:
+            if frozen:  # the frozen sets change the tangent
                 state, _ = model.freeze(state)
+                tangent, modes = None, None
             run.info["branch_switches"].append(load_factor)
             run.progress(
                 f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
                 "the buckling mode",
                 force=True,
             )
-        k_ff, k_fp = run.tangent(state, frames)
+        k_ff, k_fp = tangent if tangent is not None else run.tangent(state, frames)
         rhs = r.ravel()[index]
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
@@ -222,10 +235,15 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
-        if (factor.negative or escapes) and solver.seek_stable:
+        # Steps on an indefinite tangent are turned downhill, except on the way from a kept
+        # saddle: the path of saddles no push descends from is followed by plain Newton (a
+        # turned step there heads off the path and finds no lower branch), and each converged
+        # state of it is checked again.
+        turn = escapes or (factor.negative and not run.on_kept_saddle)
+        if turn and solver.seek_stable:
             load = equilibrium.load(frames).ravel()[index]
             delta_free = downhill(
-                k_ff, rhs, delta_free, load, translation, size, push, factor.negative
+                k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
             )
         flat = left.ravel().copy()
         flat[index] = delta_free

@@ -13,7 +13,15 @@ plate that stayed flat, the part of a path beyond a limit point. Two ways off it
   mode, if it is a bifurcation mode (not driven by the load, not along the path), is where the
   next arc-length increment starts.
 
-Both use the lowest modes of the symmetric part of K_ff (``lowest_modes``).
+Both use the lowest modes of the symmetric part of K_ff (``lowest_modes``). A converged saddle
+is left only when a push along one of its negative modes is a descent (``push_descends``): the
+total potential energy evaluated at the pushed state is lower by more than round-off. A
+negative second variation says that the energy falls along the mode for small enough
+amplitudes; where the quartic terms take over within a fraction of the push (a flat sheet
+whose fibres in tension stiffen any out-of-plane motion within a thousandth of an element), the
+push climbs the energy and the Newton iteration from there wanders off the load path instead of
+finding a lower branch: the flat specimen of a bias-extension test, a saddle of the discrete
+energy only within 1e-3 of an element of the plane, failed its increments that way.
 """
 
 from __future__ import annotations
@@ -29,10 +37,16 @@ if TYPE_CHECKING:
     from solvers.arc_length import Motion
     from solvers.static import StaticRun
 
-__all__ = ["buckling_mode", "downhill", "lowest_modes"]
+__all__ = ["PUSH", "buckling_mode", "downhill", "lowest_modes", "push_descends"]
+
+# The push off a converged saddle along its buckling mode: this fraction of the element size
+# for the largest translation of the mode.
+PUSH = 0.5
 
 
-def downhill(k_ff, rhs, delta, load, translation, size, push, negative=None) -> np.ndarray:
+def downhill(
+    k_ff, rhs, delta, load, translation, size, push, negative=None, modes=None
+) -> np.ndarray:
     """The Newton step with its components along the negative modes of K_ff turned downhill.
 
     A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
@@ -43,9 +57,10 @@ def downhill(k_ff, rhs, delta, load, translation, size, push, negative=None) -> 
 
     k_ff : the tangent of the free DOFs; rhs, delta, load : (n_free,) the right-hand side, the
     Newton step and the external load on the free DOFs; translation : (n_free,) bool, the
-    translation slots; size : the element size, mm; negative : the negative pivots of K_ff.
+    translation slots; size : the element size, mm; negative : the negative pivots of K_ff;
+    modes : (eigenvalues, eigenvectors) of ``lowest_modes`` already computed for K_ff.
     """
-    values, vectors = lowest_modes(k_ff, negative)
+    values, vectors = lowest_modes(k_ff, negative) if modes is None else modes
     delta = delta.copy()
     for value, phi in zip(values, vectors.T):
         if value >= 0.0:
@@ -53,11 +68,48 @@ def downhill(k_ff, rhs, delta, load, translation, size, push, negative=None) -> 
         along = phi @ rhs
         wanted = along / abs(value)
         reach = np.abs(phi[translation]).max(initial=0.0)
-        if push and reach > 0.0 and abs(wanted) < 0.5 * size / reach:
+        if push and reach > 0.0 and abs(wanted) < PUSH * size / reach:
             side = np.sign(phi @ load) or np.sign(along) or 1.0
-            wanted = side * 0.5 * size / reach
+            wanted = side * PUSH * size / reach
         delta += (wanted - phi @ delta) * phi
     return delta
+
+
+def push_descends(run: StaticRun, state, frames, load, modes, translation) -> bool:
+    """Whether pushing the converged ``state`` along one of its negative modes lowers the total
+    potential energy by more than round-off.
+
+    Each mode phi with eigenvalue < 0 is tried on both sides, moved so that its largest
+    translation is PUSH elements (the push of ``downhill``); the change of the total potential
+    is W(pushed) - W(state) - load . (a phi), the dead loads' work along the straight push
+    (prescribed DOFs held). Round-off: 1e-10 of the strain energies, as in the line search.
+    A mode with no translation is taken as a descent (nothing to measure it by; ``downhill``
+    does not push it).
+
+    run : the StaticRun; state : the converged state; frames : its nodal frames; load :
+    (n_free,) the external load on the free DOFs, N and N mm; modes : (eigenvalues (k,),
+    unit eigenvectors (n_free, k)) of ``lowest_modes``; translation : (n_free,) bool.
+    """
+    model = run.model
+    dofs = model.dofs
+    values, vectors = modes
+    before = run.energy(state)
+    for value, phi in zip(values, vectors.T):
+        if value >= 0.0:
+            continue
+        reach = np.abs(phi[translation]).max(initial=0.0)
+        if reach <= 0.0:
+            return True
+        amplitude = PUSH * model.element_size / reach
+        for side in (1.0, -1.0):
+            flat = np.zeros(dofs.n_slots)
+            flat[dofs.free_slots] = side * amplitude * phi
+            pushed = dofs.advance(state, flat.reshape(-1, N_COLUMNS), frames)
+            after = run.energy(pushed)
+            change = after - before - side * amplitude * float(phi @ load)
+            if change < -1e-10 * (abs(before) + abs(after)):
+                return True
+    return False
 
 
 def lowest_modes(k_ff, negative: int | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -105,6 +157,8 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     alone took the limit point of bai-6.1.2 (Mindlin) for a bifurcation and sent the path
     back along itself.
 
+    A mode along which a push is no descent (``push_descends``) gives None as well.
+
     ``pattern``: (forces, moments, imposed displacements) per unit load factor of the phase."""
     dofs, state = run.model.dofs, run.state
     frames = dofs.frames(state.directors)
@@ -118,6 +172,9 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
         return None
     load = run.equilibrium(run.reached).load(frames).ravel()[dofs.free_slots]
+    chosen = (values[negative][-1:], phi[:, None])
+    if not push_descends(run, state, frames, load, chosen, dofs.free_slots % N_COLUMNS < 3):
+        return None  # a saddle no push descends from (push_descends): the path goes on
     side = np.sign(phi @ load) or 1.0
     flat = np.zeros(dofs.n_slots)
     flat[dofs.free_slots] = side * phi

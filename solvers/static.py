@@ -101,6 +101,10 @@ class Static:
         the count of negative eigenvalues grows while the load keeps its direction (a
         bifurcation, not a limit point), the next increment starts along the buckling mode
         (up to three times per phase). Each switch is listed in ``info["branch_switches"]``.
+        Either way a mode is followed only when a push of half an element along it lowers the
+        total potential energy beyond round-off (solvers.stability.push_descends); a saddle
+        that no push descends from is kept (``info["saddles_kept"]``, load path) and the next
+        increment follows it by plain Newton: a flat fabric sheared in its plane stays flat.
     step_loads_first : apply the loads whose amplitude is "step" (gravity by default) first,
         over load factors 0 to 1 with the prescribed displacements held at zero, then the
         other loads and the prescribed displacements over 1 to 2 (a specimen hangs under its
@@ -307,6 +311,9 @@ class StaticRun:
         self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
+        # The last converged state is a saddle that no push along its negative modes descends
+        # from (solvers.stability.push_descends): the next increment follows it by plain Newton.
+        self.on_kept_saddle = False
         self.mode: Motion | None = None  # the next arc-length increment starts along it
         self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
         self.phase = 0
@@ -331,6 +338,7 @@ class StaticRun:
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "branch_switches": [],
+            "saddles_kept": [],
             "residual_history": [],
             "evaluations": self.counts,
         }
@@ -436,6 +444,7 @@ class StaticRun:
     def settled(self, state: State, factor: Factorisation) -> State:
         """A converged state: note the inertia of its tangent."""
         self.negative = factor.negative
+        self.on_kept_saddle = False
         return state
 
     def accept(self, state: State, load_factor: float) -> None:
