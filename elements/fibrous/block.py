@@ -183,6 +183,13 @@ class FibrousShellBlock(ElementBlock):
         geo = geometry.geometry(self, positions, directors, layers=False)
         return {key: geo[key] for key in ("cosine", "thickness", "guarded")}
 
+    def _nodal_cosine(self, state: State) -> np.ndarray:
+        """V . N at each node (n,) from the compiled normal sums (nodal normals); meaningless,
+        but finite, at nodes outside the block."""
+        sums = geometry.normal_sums(self, state.positions)
+        length = np.where(self.node_in_block, np.linalg.norm(sums, axis=1), 1.0)
+        return np.sum(state.directors * sums, axis=1) / length
+
     def nodal_thickness(self, state: State) -> np.ndarray:
         """Thickness along the director at the nodes (n,), mm: h_m from the nodal normal, or
         with element normals the area-weighted mean of the per-element h_m (docs/theory.md
@@ -190,12 +197,9 @@ class FibrousShellBlock(ElementBlock):
         if self.compiled and self.nodal_normals:
             # h / max(V . N, guard) at each node of the block from the compiled normal sums
             # (the explicit solver refreshes the rotary inertia with it)
-            sums = geometry.normal_sums(self, state.positions)
-            length = np.linalg.norm(sums, axis=1)
-            inside = self.node_in_block
-            cosine = np.sum(state.directors * sums, axis=1) / np.where(inside, length, 1.0)
+            cosine = self._nodal_cosine(state)
             h_m, _ = guarded_thickness(self.fabric.thickness, cosine)
-            return np.where(inside, h_m, 0.0)
+            return np.where(self.node_in_block, h_m, 0.0)
         geo = geometry.geometry(self, state.positions, state.directors, layers=False)
         return geometry.node_thickness(self, geo)
 
@@ -268,13 +272,9 @@ class FibrousShellBlock(ElementBlock):
         the guard h_m no longer follows the tilt, and the value is kept at that of the guard
         (continuous, and above the lever h_m there)."""
         if self.compiled and self.nodal_normals:
-            sums = geometry.normal_sums(self, state.positions)
-            length = np.linalg.norm(sums, axis=1)
-            inside = self.node_in_block
-            cosine = np.sum(state.directors * sums, axis=1) / np.where(inside, length, 1.0)
+            cosine = self._nodal_cosine(state)
             h_m, _ = guarded_thickness(self.fabric.thickness, cosine)
-            lever = h_m / np.maximum(cosine, GUARD)
-            return np.where(inside, lever, 0.0)
+            return np.where(self.node_in_block, h_m / np.maximum(cosine, GUARD), 0.0)
         geo = geometry.geometry(self, state.positions, state.directors, layers=False)
         per_corner = geo["thickness"] / np.maximum(geo["cosine"], GUARD)
         return geometry.node_thickness(self, {**geo, "thickness": per_corner})
