@@ -364,10 +364,7 @@ class Result:
         if suffix not in (".vtu", ".pvd", ".xdmf"):
             raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")
         frames = 1 if suffix == ".vtu" else len(self.frames)
-        size = frame_bytes(
-            len(self.mesh.points), sum(len(self.mesh.cells(k)) for k in self.mesh.cell_kinds)
-        )
-        check_folder(path.parent, "write", needed=frames * size, create=False)
+        check_folder(path.parent, "write", needed=frames * frame_bytes(self.mesh), create=False)
         written: list[str] = []
         try:
             self._write(path, suffix, frame, written)

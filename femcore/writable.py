@@ -18,6 +18,10 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from femcore.mesh import Mesh
 
 __all__ = ["OutputError", "check_folder", "frame_bytes", "series_frames"]
 
@@ -66,10 +70,11 @@ class OutputError(OSError):
         return cls(f"{reason}; stopped, kept: {kept}", error.errno, str(path), reason)
 
 
-def frame_bytes(n_nodes: int, n_cells: int) -> int:
-    """An upper estimate (bytes) of one VTU frame of a mesh of ``n_nodes`` nodes and
-    ``n_cells`` cells."""
-    return BYTES_PER_NODE * int(n_nodes) + BYTES_PER_CELL * int(n_cells) + 4096
+def frame_bytes(mesh: Mesh) -> int:
+    """An upper estimate (bytes) of one VTU frame of ``mesh`` (its nodes and its cells of
+    every kind)."""
+    cells = sum(len(mesh.cells(kind)) for kind in mesh.cell_kinds)
+    return BYTES_PER_NODE * len(mesh.points) + BYTES_PER_CELL * cells + 4096
 
 
 def check_folder(

@@ -108,8 +108,7 @@ def run_case(
     from fibreshell.calibration import Calibration
 
     mesh = case.mesh
-    frame = frame_bytes(len(mesh.points), sum(len(mesh.cells(k)) for k in mesh.cell_kinds))
-    check_folder(out, "output folder", needed=FIRST_FRAMES * frame)
+    check_folder(out, "output folder", needed=FIRST_FRAMES * frame_bytes(mesh))
     kind = case.solver["kind"]
     named = case.solver.get("checkpoint")
     checkpoint = None if named is None else out / named

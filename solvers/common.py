@@ -189,7 +189,7 @@ def check_integer(value, name: str, minimum: int = 1) -> int:
 
 def check_non_negative(value, name: str, unit: str) -> float:
     """A finite float >= 0, or ValueError naming the option and its unit."""
-    number = _number(value, name, f"a non-negative number ({unit})")
+    number = as_number(value, name, f"a non-negative number ({unit})")
     if not np.isfinite(number) or number < 0.0:
         raise ValueError(f"{name} must be a non-negative number ({unit}), got {value!r}")
     return number
@@ -197,7 +197,7 @@ def check_non_negative(value, name: str, unit: str) -> float:
 
 def check_fraction(value, name: str) -> float:
     """A float in (0, 1] (a safety factor), or ValueError naming the option."""
-    number = _number(value, name, "in (0, 1]")
+    number = as_number(value, name, "in (0, 1]")
     if not (0.0 < number <= 1.0):
         raise ValueError(f"{name} must be in (0, 1], got {value!r}")
     return number
@@ -214,10 +214,6 @@ def check_flag(value, name: str) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be true or false, got {value!r}")
     return bool(value)
-
-
-def _number(value, name: str, expected: str) -> float:
-    return as_number(value, name, expected)
 
 
 def compiled_model(model, solver: str) -> CompiledModel:

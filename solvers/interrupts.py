@@ -124,8 +124,7 @@ def check_outputs(mesh: Mesh, frames: Path | None, *others: Path | None) -> None
     the folders of ``others`` (histories, checkpoints; None: not written) can be written
     (femcore.writable.check_folder: ValueError or OutputError)."""
     if frames is not None:
-        size = frame_bytes(len(mesh.points), sum(len(mesh.cells(k)) for k in mesh.cell_kinds))
-        check_folder(frames.parent, "output", needed=FIRST_FRAMES * size, create=False)
+        check_folder(frames.parent, "output", needed=FIRST_FRAMES * frame_bytes(mesh), create=False)
     for path in others:
         if path is not None:
             check_folder(path.parent, "the folder of " + repr(str(path)), create=False)

@@ -66,7 +66,10 @@ class FrameStream:
     def write(self, frame: Frame) -> None:
         stem = self.path.with_suffix("")
         part = stem.parent / f"{stem.name}_{len(self.entries):05d}.vtu"
-        Result(self.mesh, [frame], has_rotation=self.has_rotation).write(part)
+        # The folder was checked once before the run (solvers.interrupts.check_outputs);
+        # Result.write would probe it again at every frame. A failed write is an OSError the
+        # solve turns into one OutputError (solvers.interrupts.keeps_writes).
+        Result(self.mesh, [frame], has_rotation=self.has_rotation).to_meshio(0).write(part)
         self.entries.append((frame.time, part.name))
         self._write_index()
 
