@@ -246,7 +246,9 @@ class CentralDifference:
         saved_at = checkpoint_path(checkpoint)
         check_outputs(compiled.mesh, self.output, self.history, saved_at)
         started = time.perf_counter()
-        signature = self._signature(compiled)
+        # The fingerprint only matters to a checkpoint (it samples the amplitudes, hashes
+        # the model): a run without one skips it.
+        signature = self._signature(compiled) if saved_at is not None else None
         payload = resume(saved_at, signature)
         if payload is not None:
             run: _Run = payload["run"]
@@ -421,13 +423,14 @@ class CentralDifference:
                 empty_result(compiled, []),
             )
         duration = self.duration
-        self._check_up_front(compiled, float(mass.sum() - compiled.mass0.sum()), dt_nominal)
+        added_mass = float(mass.sum() - compiled.mass0.sum())
+        self._check_up_front(compiled, added_mass, dt_nominal)
         run = _Run(
             state=state,
             scale=scale,
             mass=mass,
             inertia=inertia,
-            added_mass=float(mass.sum() - compiled.mass0.sum()),
+            added_mass=added_mass,
             dt_nominal=dt_nominal,
             energy=EnergyAccount(thin=max(1, int(duration / dt_nominal / ENERGY_RECORDS))),
             schedule=FrameSchedule(self.output_interval or duration / 20.0, duration),

@@ -271,14 +271,15 @@ def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
     return path
 
 
-def resume(path: Path | None, signature: Fingerprint) -> dict[str, Any] | None:
+def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] | None:
     """The checkpoint at ``path`` to resume from, None if there is none.
 
     Parameters
     ----------
     path : Path or None
-    signature : femcore.fingerprint.Fingerprint
-        The fingerprint of the model and the solver settings of this run.
+    signature : femcore.fingerprint.Fingerprint or None
+        The fingerprint of the model and the solver settings of this run (None, not computed,
+        when there is no ``path``).
 
     Raises
     ------
@@ -289,6 +290,7 @@ def resume(path: Path | None, signature: Fingerprint) -> dict[str, Any] | None:
     payload = load_checkpoint(path) if path is not None else None
     if payload is None:
         return None
+    assert signature is not None, "a checkpoint path comes with its run's fingerprint"
     saved = payload.get("signature")
     if not isinstance(saved, Fingerprint):
         raise ValueError(

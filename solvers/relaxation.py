@@ -255,7 +255,7 @@ class DynamicRelaxation:
             "refresh": self.refresh,
             "start": None if start is None else (state.positions, state.directors, first),
         }
-        signature = fingerprint(compiled, settings)
+        signature = fingerprint(compiled, settings) if saved_at is not None else None
         payload = resume(saved_at, signature)
         if payload is not None:
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
