@@ -686,17 +686,27 @@ def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:
     """a(tau), or ValueError naming the amplitude and where it failed: a user amplitude that
     returns NaN or raises would otherwise surface as a diverged step, far from its cause."""
     function: Callable = amplitude.quasi_static if quasi_static else amplitude.dynamic
-    where = f"load factor {tau:.6g}" if quasi_static else f"tau = t / duration = {tau:.6g}"
-    what = f"amplitude {amplitude.name!r}"
-    if amplitude.name == "user":
-        what += f" ({getattr(function, '__name__', repr(function))})"
     try:
         value = float(function(tau))
     except Exception as exc:  # the user's function: report what it did and where
+        what, where = _amplitude_named(amplitude, function, tau, quasi_static)
         raise ValueError(f"the {what} failed at {where}: {exc}") from exc
     if not math.isfinite(value):
+        what, where = _amplitude_named(amplitude, function, tau, quasi_static)
         raise ValueError(
             f"the {what} returned {value!r} at {where}: an amplitude must return a finite "
             "number at every time and load factor"
         )
     return value
+
+
+def _amplitude_named(
+    amplitude: Amplitude, function: Callable, tau: float, quasi_static: bool
+) -> tuple[str, str]:
+    """("amplitude 'user' (ramp)", "load factor 0.5") for a message: built only on failure,
+    since amplitudes are evaluated at every step."""
+    what = f"amplitude {amplitude.name!r}"
+    if amplitude.name == "user":
+        what += f" ({getattr(function, '__name__', repr(function))})"
+    where = f"load factor {tau:.6g}" if quasi_static else f"tau = t / duration = {tau:.6g}"
+    return what, where
