@@ -466,3 +466,18 @@ def test_sweep_csv_spreads_each_tool_force_and_travel():
     }
     row = summary_row(summary)
     assert row["tool1_force_z"] == -50.0 and row["tool1_displacement_z"] == -0.25
+
+
+def test_holder_ring_covers_its_annulus_with_facets_facing_down():
+    """The blank holder mesh of the forming cases: its facets tile the annulus (area
+    pi (R^2 - r^2) within the polygon error of its rings, 1e-3) and face -z."""
+    from validation.specimens import holder_ring
+
+    ring = holder_ring(51.2, 145.0, 4.0)
+    corners = ring.points[ring.triangles]
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    assert (normals[:, 2] < 0).all()
+    area = 0.5 * np.linalg.norm(normals, axis=1).sum()
+    assert area == pytest.approx(np.pi * (145.0**2 - 51.2**2), rel=1e-3)
+    with pytest.raises(ValueError, match="inner < outer"):
+        holder_ring(10.0, 5.0, 1.0)

@@ -56,6 +56,7 @@ __all__ = [
     "fibrous_strip",
     "grip_stiffness",
     "hanging_chain",
+    "holder_ring",
     "mindlin_equivalent",
     "mindlin_fabric_strip",
     "mindlin_strip",
@@ -427,6 +428,31 @@ def hemisphere_die(radius: float, flange: float, rings: int) -> Mesh:
     for ring in range(len(angles) - 1):
         triangles += _zip_rings(angles[ring], angles[ring + 1], starts[ring], starts[ring + 1])
     return Mesh(np.vstack(points), triangles=np.array(triangles))
+
+
+def holder_ring(inner: float, outer: float, width: float) -> Mesh:
+    """A flat blank holder meshed with triangles: an annulus in the plane z = 0 from radius
+    ``inner`` to ``outer`` (mm, about the z axis), facets of about ``width`` mm, for
+    ``elements.RigidSurface``. Its facets' normals point down (the side the blank is on, the
+    holder pressing it onto a die's flange from above); move it to its height with the tool's
+    own offset or by shifting the points."""
+    if not 0.0 < inner < outer:
+        raise ValueError(f"holder_ring needs 0 < inner < outer, got {inner} and {outer}")
+    if not 0.0 < width < outer - inner:
+        raise ValueError(f"holder_ring width must be in (0, {outer - inner}), got {width}")
+    radii = np.linspace(inner, outer, max(1, round((outer - inner) / width)) + 1)
+    points, angles = [], []
+    for r in radii:
+        count = max(6, round(2.0 * np.pi * r / width))
+        angle = np.linspace(0.0, 2.0 * np.pi, count, endpoint=False)
+        points.append(np.column_stack([r * np.cos(angle), r * np.sin(angle), np.zeros(count)]))
+        angles.append(angle)
+    starts = np.cumsum([0] + [len(a) for a in angles])
+    triangles = []
+    for ring in range(len(angles) - 1):
+        triangles += _zip_rings(angles[ring], angles[ring + 1], starts[ring], starts[ring + 1])
+    # _zip_rings winds counter-clockwise seen from +z (normals up): reverse for a holder.
+    return Mesh(np.vstack(points), triangles=np.array(triangles)[:, ::-1])
 
 
 def _zip_rings(inner: np.ndarray, outer: np.ndarray, first_inner: int, first_outer: int):
