@@ -2,13 +2,36 @@
 the plain Python function and ``prange`` is ``range``, so the numpy paths keep working.
 
 ``jit`` compiles a loop over cells or nodes that runs in parallel (its ``prange`` loops split
-over ``numba.set_num_threads`` threads); ``serial`` compiles a helper called from inside such
-loops. Both cache the machine code next to the module (``cache=True``) and keep IEEE
-arithmetic (no fastmath), so that a compiled loop gives the numbers of its numpy reference up
-to the order of its sums.
+over threads, ``threads_for``); ``serial`` compiles a helper called from inside such loops.
+Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
+fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
+its sums; the kernels sum in the same order on any number of threads, so a run gives the same
+numbers to the last bit whatever the thread count.
+
+Threads, chosen here and only here:
+
+* the threading layer is numba's OpenMP layer with a passive wait (``OMP_WAIT_POLICY=PASSIVE``,
+  set before numba loads the layer unless the environment sets it): its threads sleep between
+  two parallel loops. The default policy spins there, and on a machine where another process
+  is busy the spinning threads take the cores the working ones need: the fibrous force of a
+  20k-triangle blank took 208 ms per evaluation on 2 threads against 50 ms on one, 41 ms with
+  the passive wait (benchmarks/threads.py). The workqueue layer measured the same as the
+  passive OpenMP one but aborts a process that launches parallel loops from two threads at
+  once. ``NUMBA_THREADING_LAYER`` in the environment still chooses another layer;
+* each parallel loop runs on ``threads_for(items)`` threads: one for a loop over fewer than
+  ``SMALL_LOOP`` items (waking and joining a thread costs more than it saves), else the cores
+  free for this process (``free_cores``), at most numba's setting (``numba.set_num_threads``,
+  ``NUMBA_NUM_THREADS``: the caller's cap).
 """
 
 from __future__ import annotations
+
+import functools
+import os
+import time
+
+# Before numba loads its OpenMP layer (at the first parallel loop): a passive wait.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 try:  # numba is a dependency; the numpy paths keep the package usable without it
     import numba
@@ -18,14 +41,107 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
     numba = None  # type: ignore[assignment]
     AVAILABLE = False
 
-__all__ = ["AVAILABLE", "jit", "prange", "serial"]
+if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
+    # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
+    numba.config.THREADING_LAYER_PRIORITY = ["omp", "workqueue", "tbb"]
+
+__all__ = [
+    "AVAILABLE",
+    "FOLLOW_LOAD",
+    "SMALL_LOOP",
+    "free_cores",
+    "jit",
+    "prange",
+    "serial",
+    "threads_for",
+]
+
+# A parallel loop over fewer items than this runs on one thread.
+SMALL_LOOP = 2000
+# Whether the threads follow the free cores (False: numba's setting alone, as in the tests
+# that compare thread counts).
+FOLLOW_LOAD = True
+# Seconds between two looks at the machine's load (free_cores).
+LOAD_REFRESH = 2.0
+
+
+class _Load:
+    """What ``free_cores`` last found: when, this process's CPU time then, the answer."""
+
+    wall = -float("inf")
+    cpu = 0.0
+    free = 1
+
+
+def _allowed_cores() -> int:
+    """The cores this process may run on (its affinity mask; all of them where the system
+    has no such mask)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # pragma: no cover - macOS and Windows
+        return os.cpu_count() or 1
+
+
+def free_cores() -> int:
+    """The cores free for this process's threads (at least 1): those it may run on less
+    those other processes keep busy, the 1-minute load average less this process's own
+    share of it (its CPU time over the time since the last look), the load spread over the
+    machine's cores when the affinity mask allows only some of them. Looked at every
+    ``LOAD_REFRESH`` seconds at most, so a loop pays a clock read."""
+    now = time.monotonic()
+    if now - _Load.wall < LOAD_REFRESH:
+        return _Load.free
+    cpu = time.process_time()
+    allowed = _allowed_cores()
+    try:
+        load = os.getloadavg()[0] * allowed / max(os.cpu_count() or allowed, allowed)
+    except (AttributeError, OSError):  # pragma: no cover - Windows
+        load = 0.0
+    own = 0.0 if _Load.wall == -float("inf") else (cpu - _Load.cpu) / (now - _Load.wall)
+    others = max(0.0, load - own)
+    _Load.wall, _Load.cpu = now, cpu
+    _Load.free = max(1, min(allowed, int(round(allowed - others))))
+    return _Load.free
+
+
+def threads_for(items: int) -> int:
+    """The threads a parallel loop over ``items`` cells or nodes runs on: 1 below
+    ``SMALL_LOOP``, else the free cores (``free_cores``; numba's setting when ``FOLLOW_LOAD`` is
+    False), at most numba's current setting."""
+    if not AVAILABLE:
+        return 1
+    cap = numba.get_num_threads()
+    if items < SMALL_LOOP or cap == 1:
+        return 1
+    return min(cap, free_cores()) if FOLLOW_LOAD else cap
+
+
+class _Parallel:
+    """A compiled parallel loop called on ``threads_for`` threads: the length of its first
+    argument (the cells or the nodes it loops over) is its size."""
+
+    def __init__(self, dispatcher):
+        self.dispatcher = dispatcher
+        functools.update_wrapper(self, dispatcher.py_func)
+
+    def __call__(self, *args):
+        cap = numba.get_num_threads()
+        threads = threads_for(len(args[0]))
+        if threads == cap:
+            return self.dispatcher(*args)
+        numba.set_num_threads(threads)
+        try:
+            return self.dispatcher(*args)
+        finally:
+            numba.set_num_threads(cap)
 
 
 def jit(function):
-    """``function`` compiled with its ``prange`` loops in parallel (as is without numba)."""
+    """``function`` compiled with its ``prange`` loops in parallel, on ``threads_for`` threads
+    of its first argument's length (as is without numba)."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True, parallel=True, fastmath=False)(function)
+    return _Parallel(numba.njit(cache=True, parallel=True, fastmath=False)(function))
 
 
 def serial(function):

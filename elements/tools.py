@@ -353,6 +353,14 @@ def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndar
     return point
 
 
+def _spans(start: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """The indices start[i] .. start[i + 1] - 1 of each row i of ``rows``, row after row:
+    where a CSR-like list (``start`` (k + 1,)) keeps those rows' entries."""
+    counts = start[rows + 1] - start[rows]
+    offsets = np.repeat(start[rows] - np.cumsum(counts) + counts, counts)
+    return offsets + np.arange(counts.sum())
+
+
 @dataclass(frozen=True)
 class _Candidates:
     """What RigidSurface keeps of its last search: the points (k, 3), in the tool's frame;
@@ -397,9 +405,10 @@ class RigidSurface(RigidTool):
     points it was asked about, every facet that can become their closest while they move
     less than ``MARGIN`` circumradius (the facets within the proof's radius plus twice that
     margin; none for the points beyond the search distance, which are told their distance
-    less how far they moved), and answers from those alone (a compiled loop) until a point
-    has moved further: microseconds per point and step in an explicit run
-    (benchmarks/contact_search.py).
+    less how far they moved), and answers from those alone (a compiled loop); a point that
+    has moved further is searched again alone, the others keeping theirs: microseconds per
+    point and step in an explicit run (benchmarks/contact_search.py). The same points asked
+    again get the same answer without a search.
     """
 
     def __init__(
@@ -450,6 +459,8 @@ class RigidSurface(RigidTool):
         self.n_facets = len(triangles)
         self._centre = centroids.mean(axis=0)
         self._cache: _Candidates | None = None
+        # The last points asked about (in the tool's frame) with their answer (d, n).
+        self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
@@ -499,7 +510,7 @@ class RigidSurface(RigidTool):
     def exact_within(self, distance: float) -> None:
         if not self._given_search and distance > self.search_distance:
             self.search_distance = float(distance)
-            self._cache = None
+            self._cache = self._last = None
 
     def _candidates(self, local: np.ndarray, gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every facet whose centroid lies within the proof's radius of each point plus twice
@@ -524,27 +535,56 @@ class RigidSurface(RigidTool):
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         local = np.asarray(x, dtype=float) - self.offset(load_factor)
+        last = self._last
+        if last is not None and np.array_equal(last[0], local):
+            return last[1].copy(), last[2].copy()  # asked again (the energy check of a step)
         cache = self._cache
-        if cache is not None and cache.points.shape == local.shape:
-            shift = np.abs(local - cache.points)
-            # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it was.
-            if shift.max(initial=0.0) < MARGIN / np.sqrt(3.0) * self.reach:
-                point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
-                d, n = self._signed(local, point, facet, gap)
-                # Points beyond the search distance have no candidates: what they are told
-                # is a distance less than their true one and more than the search distance.
-                moved = np.linalg.norm(shift[cache.far], axis=1)
-                d[cache.far] = (
-                    cache.distance[cache.far] - np.sign(cache.distance[cache.far]) * moved
-                )
-                n[cache.far] = cache.normal[cache.far]
-                return d, n
-        point, facet, gap = self._search(local)
+        if cache is None or cache.points.shape != local.shape:
+            cache = self._searched(local, np.ones(len(local), dtype=bool), None)
+        else:
+            # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
+            # was searched, and its kept candidates still hold its closest facet.
+            moved = np.abs(local - cache.points).max(axis=1, initial=0.0) >= (
+                MARGIN / np.sqrt(3.0) * self.reach
+            )
+            if moved.any():
+                cache = self._searched(local, moved, cache)
+        self._cache = cache
+        point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
         d, n = self._signed(local, point, facet, gap)
-        far = gap > self.search_distance
-        start, facets = self._candidates(local, np.where(far, -np.inf, gap))
-        self._cache = _Candidates(local.copy(), start, facets, far, d, n)
+        far = cache.far
+        if far.any():
+            # Points beyond the search distance have no candidates: what they are told is a
+            # distance less than their true one and more than the search distance.
+            moved_by = np.linalg.norm(local[far] - cache.points[far], axis=1)
+            d[far] = cache.distance[far] - np.sign(cache.distance[far]) * moved_by
+            n[far] = cache.normal[far]
+        self._last = (local.copy(), d.copy(), n.copy())
         return d, n
+
+    def _searched(self, local: np.ndarray, rows: np.ndarray, cache: _Candidates | None):
+        """The candidates kept, with the points ``rows`` (k,) bool searched again where they
+        are now (all of them without a ``cache``): the other points keep theirs."""
+        at = np.flatnonzero(rows)
+        here = local[at]
+        point, facet, gap = self._search(here)
+        d, n = self._signed(here, point, facet, gap)
+        far = gap > self.search_distance
+        start, facets = self._candidates(here, np.where(far, -np.inf, gap))
+        if cache is None:
+            return _Candidates(here.copy(), start, facets, far, d, n)
+        counts = np.diff(cache.start)
+        kept = np.flatnonzero(~rows)
+        counts[at] = np.diff(start)
+        merged_start = np.concatenate([[0], np.cumsum(counts)])
+        merged = np.empty(merged_start[-1], dtype=np.int64)
+        merged[_spans(merged_start, kept)] = cache.facets[_spans(cache.start, kept)]
+        merged[_spans(merged_start, at)] = facets
+        points, distance, normal = cache.points.copy(), cache.distance.copy(), cache.normal.copy()
+        points[at], distance[at], normal[at] = here, d, n
+        far_all = cache.far.copy()
+        far_all[at] = far
+        return _Candidates(points, merged_start, merged, far_all, distance, normal)
 
     def _search(self, local: np.ndarray):
         """The closest facet of each point by the k-d tree (class docstring)."""

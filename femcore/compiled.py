@@ -354,16 +354,19 @@ class CompiledModel:
         cells' bound fell to 0.03 on slivers (docs/theory.md §6.2). None when a block has no
         tangent of its own (finite differences would cost tens of force evaluations) or a
         free DOF has no mass."""
-        parts = self.tangent_parts(state, list(range(len(self.parts))))
-        if parts is None:
-            return None
         free = self.dofs.free_slots
         diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()[free]
         if free.size == 0 or not np.all(diagonal > 0.0):
             return None
-        stiffness = abs(self.stiffness(state, "element").tocsr()[free][:, free])
-        scale = 1.0 / np.sqrt(diagonal)
-        rows = np.asarray(stiffness @ scale).ravel() * scale
+        parts = self.tangent_parts(state, list(range(len(self.parts))))
+        if parts is None:
+            return None
+        stiffness = tangent_matrix(self.dofs, parts, self.dofs.frames(state.directors))
+        # The row sums of |K_ff| M^-1/2 over the free columns: a scale of 0 on the other
+        # columns, rather than slicing K (which costs as much as the product).
+        scale = np.zeros(self.dofs.n_slots)
+        scale[free] = 1.0 / np.sqrt(diagonal)
+        rows = np.asarray(abs(stiffness) @ scale).ravel()[free] * scale[free]
         largest = float(rows.max(initial=0.0))
         return 2.0 / np.sqrt(largest) if largest > 0.0 else None
 

@@ -3,7 +3,7 @@ on one thread, except in the tests marked ``parallel``."""
 
 import pytest
 
-from elements import kernels
+from elements import jit, kernels
 from femcore import Mesh
 from validation import specimens
 
@@ -35,12 +35,16 @@ def one_numba_thread():
 
 @pytest.fixture(autouse=True)
 def all_numba_threads_if_parallel(request, one_numba_thread):
-    """numba's default thread count for a test marked ``parallel``."""
+    """numba's default thread count for a test marked ``parallel``, on every loop whatever
+    its size and the machine's load (elements.jit would run these small models on one)."""
     if not kernels.AVAILABLE or request.node.get_closest_marker("parallel") is None:
         yield
         return
     import numba
 
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False
     yield
+    jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
     numba.set_num_threads(1)

@@ -501,6 +501,57 @@ def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_fin
     assert np.all(d[outside] > 0) and np.all(d[exact < -sagitta] < 0)
 
 
+def test_a_meshed_tool_searches_again_only_the_points_that_moved_past_its_margin():
+    """Points wandering near a 600-facet sphere, a few of them jumping beyond the cache's
+    margin at each call while the others creep: at every call the distances within the
+    search distance are the brute force's over every facet to rounding (1e-12 mm); the points
+    searched again are exactly those that moved past the margin, the others keeping their
+    candidate facets. The same points asked again get the same answer, not a view of the
+    tool's memory."""
+    from elements import RigidSurface
+    from elements.tools import MARGIN, closest_on_triangles
+
+    radius = 10.0
+    mesh = fibonacci_sphere(radius, 302)
+    tool = RigidSurface(mesh)
+    corners = mesh.points[mesh.triangles]
+
+    def brute_force(x):
+        a, b, c = (corners[None, :, i] for i in range(3))
+        nearest = closest_on_triangles(x[:, None, :], a, b, c)
+        return np.linalg.norm(nearest - x[:, None, :], axis=2).min(axis=1)
+
+    rng = np.random.default_rng(3)
+    direction = rng.normal(size=(400, 3))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    x = direction * rng.uniform(radius - 1.5, radius + 1.5, size=(400, 1))
+    tool.distance(x)
+    for _ in range(6):
+        before = tool._cache
+        x = x + rng.uniform(-0.05, 0.05, size=x.shape) * tool.reach
+        jumpers = rng.choice(len(x), size=20, replace=False)
+        x[jumpers] += rng.normal(scale=1.0, size=(20, 3)) * tool.reach
+        d, n = tool.distance(x)
+        exact = brute_force(x)
+        near = ~tool._cache.far  # beyond the search distance a point is told less (above)
+        assert near.sum() > 300
+        np.testing.assert_allclose(np.abs(d[near]), exact[near], atol=1e-12)
+        assert np.all(np.abs(d[~near]) <= exact[~near] + 1e-12)
+        np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-12)
+        after = tool._cache
+        stayed = np.all(after.points == before.points, axis=1)
+        past = np.abs(x - before.points).max(axis=1) >= MARGIN / np.sqrt(3.0) * tool.reach
+        np.testing.assert_array_equal(stayed, ~past)  # searched again: those past the margin
+        assert past[jumpers].all() and stayed.sum() > 300
+        for i in np.flatnonzero(stayed)[:50]:
+            kept = before.facets[before.start[i] : before.start[i + 1]]
+            np.testing.assert_array_equal(after.facets[after.start[i] : after.start[i + 1]], kept)
+        again, _ = tool.distance(x)
+        np.testing.assert_array_equal(again, d)
+        again[:] = 0.0
+        np.testing.assert_array_equal(tool.distance(x)[0], d)
+
+
 def test_a_plate_resting_on_a_meshed_floor_is_the_plate_on_an_analytic_plane():
     """The resting plate of the first test on a floor meshed with 2 x 8 x 8 triangles instead
     of RigidPlane: the same nodal contact forces, to rounding (1e-9 relative)."""

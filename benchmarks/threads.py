@@ -1,0 +1,140 @@
+"""Threads on a shared machine: the explicit steps of a fibrous blank on one thread and on the
+default threads (elements/jit.py), with the machine as it is and with busy processes
+competing for its cores, for numba's threading layers and wait policies side by side.
+
+Each configuration runs in a process of its own (the wait policy is read when numba loads its
+threading layer): ``passive``, the default of elements/jit.py (OpenMP, OMP_WAIT_POLICY=PASSIVE);
+``spinning``, OpenMP with OMP_WAIT_POLICY=ACTIVE (numba's threads spin between two parallel
+loops, as they did before); ``workqueue``, numba's own layer. Each times ``--steps`` explicit
+steps of the hemisphere forming blank (``--cells`` squares a side, two triangles each; the
+element, the meshed die and the punch, the step's updates) on one thread and on the default
+threads, in turns, best of ``--repeats``, with a reference pass over the same nodes (one norm
+per node) in the same process. Printed per configuration and load: ms per step (wall and CPU),
+the threads the default chose, and the ratio of the default's wall time to one thread's (the
+issue's bound: at most 1.3 under a competing busy process), with /proc/loadavg.
+
+Run from the project root:
+
+    python benchmarks/threads.py                     # 100 x 100 x 2 = 20k triangles
+    python benchmarks/threads.py --cells 40 --busy 0,1,2
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIGURATIONS = {
+    "passive": {},
+    "spinning": {"OMP_WAIT_POLICY": "ACTIVE", "NUMBA_THREADING_LAYER": "omp"},
+    "workqueue": {"NUMBA_THREADING_LAYER": "workqueue"},
+}
+
+
+def load() -> str:
+    try:
+        return Path("/proc/loadavg").read_text().split(" ")[0]
+    except OSError:  # pragma: no cover - not Linux
+        return "?"
+
+
+def child(cells: int, steps: int, repeats: int) -> None:
+    """Time the steps in this process and print one JSON line."""
+    import numba
+    import numpy as np
+
+    sys.path.insert(0, str(ROOT))
+    os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
+    from elements import jit
+    from solvers.step import LumpedMasses, explicit_step
+    from validation.cases import hemisphere_forming as case
+
+    _, model = case.model(cells, "fibrous")
+    compiled = model.compile()
+    start = compiled.initial_state()
+    masses = LumpedMasses.of(compiled, start)
+    dt = 0.5 * compiled.stable_dt(start)
+    default = numba.get_num_threads()
+
+    def run(threads: int) -> tuple[float, float]:
+        numba.set_num_threads(threads)
+        state, previous = start, 0.0
+        wall, cpu = time.perf_counter(), time.process_time()
+        for _ in range(steps):
+            step = explicit_step(compiled, state, dt, masses, dt_prev=previous, duration=0.1)
+            state, previous = compiled.commit(step.state), dt
+        return (time.perf_counter() - wall) / steps, (time.process_time() - cpu) / steps
+
+    run(default)  # compiles, fills the tools' caches
+    times: dict[int, list[tuple[float, float]]] = {1: [], default: []}
+    for _ in range(repeats):
+        for threads in times:
+            times[threads].append(run(threads))
+    numba.set_num_threads(default)
+    reference = min(_timed(lambda: np.linalg.norm(start.positions, axis=1)) for _ in range(20))
+    print(
+        json.dumps(
+            {
+                "layer": numba.threading_layer(),
+                "wait": os.environ.get("OMP_WAIT_POLICY"),
+                "threads": jit.threads_for(2 * cells * cells),
+                "cap": default,
+                "one": min(times[1]),
+                "default": min(times[default]),
+                "reference": reference,
+            }
+        )
+    )
+
+
+def _timed(function) -> float:
+    start = time.perf_counter()
+    function()
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cells", type=int, default=100)
+    parser.add_argument("--steps", type=int, default=50)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--busy", default="0,1", help="competing busy processes, a list")
+    parser.add_argument("--configurations", default=",".join(CONFIGURATIONS))
+    parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        child(args.cells, args.steps, args.repeats)
+        return
+    print(f"{2 * args.cells**2} triangles, {args.steps} steps, best of {args.repeats}; "
+          f"cores {len(os.sched_getaffinity(0))}")  # fmt: skip
+    print(f"{'busy':>4} {'configuration':>13} {'layer':>9} {'threads':>7} {'1 thread ms':>11} "
+          f"{'default ms':>10} {'cpu ms':>6} {'ratio':>5} {'ref ms':>6} {'load':>5}")  # fmt: skip
+    for busy in (int(b) for b in args.busy.split(",")):
+        hogs = [subprocess.Popen([sys.executable, "-c", "while 1: pass"]) for _ in range(busy)]
+        try:
+            time.sleep(1.0 if busy else 0.0)
+            for name in args.configurations.split(","):
+                env = {**os.environ, **CONFIGURATIONS[name]}
+                command = [sys.executable, __file__, "--child", "--cells", str(args.cells),
+                           "--steps", str(args.steps), "--repeats", str(args.repeats)]  # fmt: skip
+                out = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
+                r = json.loads(out.stdout.strip().splitlines()[-1])
+                one, default = r["one"], r["default"]
+                print(f"{busy:>4} {name:>13} {r['layer']:>9} {r['threads']:>3} of {r['cap']:<1} "
+                      f"{one[0] * 1e3:>11.2f} {default[0] * 1e3:>10.2f} {default[1] * 1e3:>6.2f} "
+                      f"{default[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} {load():>5}",
+                      flush=True)  # fmt: skip
+        finally:
+            for hog in hogs:
+                hog.kill()
+                hog.wait()
+
+
+if __name__ == "__main__":
+    main()
