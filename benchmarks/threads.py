@@ -11,7 +11,9 @@ element, the meshed die and the punch, the step's updates) on one thread and on 
 threads, in turns, best of ``--repeats``, with a reference pass over the same nodes (one norm
 per node) in the same process. Printed per configuration and load: ms per step (wall and CPU),
 the threads the default chose, and the ratio of the default's wall time to one thread's (the
-issue's bound: at most 1.3 under a competing busy process), with /proc/loadavg.
+issue's bound: at most 1.3 under a competing busy process), the same on all of numba's threads
+whatever the load (``elements.jit.FOLLOW_LOAD`` off: what the wait policy alone gives), with
+/proc/loadavg.
 
 Run from the project root:
 
@@ -62,8 +64,9 @@ def child(cells: int, steps: int, repeats: int) -> None:
     dt = 0.5 * compiled.stable_dt(start)
     default = numba.get_num_threads()
 
-    def run(threads: int) -> tuple[float, float]:
+    def run(threads: int, follow: bool = True) -> tuple[float, float]:
         numba.set_num_threads(threads)
+        jit.FOLLOW_LOAD = follow
         state, previous = start, 0.0
         wall, cpu = time.perf_counter(), time.process_time()
         for _ in range(steps):
@@ -72,11 +75,13 @@ def child(cells: int, steps: int, repeats: int) -> None:
         return (time.perf_counter() - wall) / steps, (time.process_time() - cpu) / steps
 
     run(default)  # compiles, fills the tools' caches
-    times: dict[int, list[tuple[float, float]]] = {1: [], default: []}
+    times: dict[str, list[tuple[float, float]]] = {"one": [], "default": [], "all": []}
     for _ in range(repeats):
-        for threads in times:
-            times[threads].append(run(threads))
+        times["one"].append(run(1))
+        times["default"].append(run(default))
+        times["all"].append(run(default, follow=False))
     numba.set_num_threads(default)
+    jit.FOLLOW_LOAD = True
     reference = min(_timed(lambda: np.linalg.norm(start.positions, axis=1)) for _ in range(20))
     print(
         json.dumps(
@@ -85,8 +90,7 @@ def child(cells: int, steps: int, repeats: int) -> None:
                 "wait": os.environ.get("OMP_WAIT_POLICY"),
                 "threads": jit.threads_for(2 * cells * cells),
                 "cap": default,
-                "one": min(times[1]),
-                "default": min(times[default]),
+                **{key: min(values) for key, values in times.items()},
                 "reference": reference,
             }
         )
@@ -114,7 +118,8 @@ def main() -> None:
     print(f"{2 * args.cells**2} triangles, {args.steps} steps, best of {args.repeats}; "
           f"cores {len(os.sched_getaffinity(0))}")  # fmt: skip
     print(f"{'busy':>4} {'configuration':>13} {'layer':>9} {'threads':>7} {'1 thread ms':>11} "
-          f"{'default ms':>10} {'cpu ms':>6} {'ratio':>5} {'ref ms':>6} {'load':>5}")  # fmt: skip
+          f"{'default ms':>10} {'cpu ms':>6} {'ratio':>5} {'all threads ms':>14} {'ratio':>5} "
+          f"{'ref ms':>6} {'load':>5}")  # fmt: skip
     for busy in (int(b) for b in args.busy.split(",")):
         hogs = [subprocess.Popen([sys.executable, "-c", "while 1: pass"]) for _ in range(busy)]
         try:
@@ -125,10 +130,11 @@ def main() -> None:
                            "--steps", str(args.steps), "--repeats", str(args.repeats)]  # fmt: skip
                 out = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
                 r = json.loads(out.stdout.strip().splitlines()[-1])
-                one, default = r["one"], r["default"]
+                one, default, every = r["one"], r["default"], r["all"]
                 print(f"{busy:>4} {name:>13} {r['layer']:>9} {r['threads']:>3} of {r['cap']:<1} "
                       f"{one[0] * 1e3:>11.2f} {default[0] * 1e3:>10.2f} {default[1] * 1e3:>6.2f} "
-                      f"{default[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} {load():>5}",
+                      f"{default[0] / one[0]:>5.2f} {every[0] * 1e3:>14.2f} "
+                      f"{every[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} {load():>5}",
                       flush=True)  # fmt: skip
         finally:
             for hog in hogs:
