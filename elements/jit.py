@@ -12,12 +12,13 @@ Threads, chosen here and only here:
 
 * the threading layer is numba's OpenMP layer with a passive wait (``OMP_WAIT_POLICY=PASSIVE``,
   set before numba loads the layer unless the environment sets it): its threads sleep between
-  two parallel loops. The default policy spins there, and on a machine where another process
-  is busy the spinning threads take the cores the working ones need: the fibrous force of a
-  20k-triangle blank took 208 ms per evaluation on 2 threads against 50 ms on one, 41 ms with
-  the passive wait (benchmarks/threads.py). The workqueue layer measured the same as the
-  passive OpenMP one but aborts a process that launches parallel loops from two threads at
-  once. ``NUMBA_THREADING_LAYER`` in the environment still chooses another layer;
+  two parallel loops. The default policy spins there, and on a machine where other processes
+  are busy the spinning threads take the cores the working ones need: explicit steps of a
+  9800-triangle blank on 2 threads took 4.7 times as long as on one (3.8 with one more busy
+  process), 1.0 and 0.9 times with the passive wait (benchmarks/threads.py, 2 cores at a load
+  of 13). The workqueue layer does not spin either, but aborts a process that launches
+  parallel loops from two threads at once. ``NUMBA_THREADING_LAYER`` in the environment still
+  chooses another layer;
 * each parallel loop runs on ``threads_for(items)`` threads: one for a loop over fewer than
   ``SMALL_LOOP`` items (waking and joining a thread costs more than it saves), else the cores
   free for this process (``free_cores``), at most numba's setting (``numba.set_num_threads``,
@@ -43,7 +44,7 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
 
 if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
     # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
-    numba.config.THREADING_LAYER_PRIORITY = ["omp", "workqueue", "tbb"]
+    numba.config.THREADING_LAYER_PRIORITY = ["omp", "workqueue", "tbb"]  # type: ignore[attr-defined]
 
 __all__ = [
     "AVAILABLE",
@@ -56,7 +57,8 @@ __all__ = [
     "threads_for",
 ]
 
-# A parallel loop over fewer items than this runs on one thread.
+# A parallel loop over fewer items than this runs on one thread (measured at a load of 8 on
+# 2 cores: the fibrous force of 800 triangles no faster on 2 threads, of 9800 1.2 times).
 SMALL_LOOP = 2000
 # Whether the threads follow the free cores (False: numba's setting alone, as in the tests
 # that compare thread counts).
