@@ -175,3 +175,38 @@ def test_the_assembled_bound_is_gershgorins_on_the_free_dofs_and_never_above_the
     gershgorin = 2.0 / np.sqrt(float((sliced @ scale * scale).max()))
     assert bound == pytest.approx(gershgorin, rel=1e-12)
     assert bound <= exact_stable_step(compiled, state)
+
+
+@pytest.mark.parametrize(
+    "drift, evaluated", [(0.0, [0, 100, 200]), (0.003, [0, 40, 80, 120, 160, 200, 240])]
+)
+def test_the_assembled_bound_waits_for_the_cells_bound_to_move_or_the_longest_interval(
+    monkeypatch, drift, evaluated
+):
+    """The assembled bound costs a tangent: looked at every ASSEMBLED_DT_EVERY steps (here
+    20), it is evaluated again only when the cells' bound (evaluated every 10 steps) has moved
+    by more than ASSEMBLED_DT_STEADY (1 %) since the last evaluation, and at least every
+    ASSEMBLED_DT_MAX steps (here 100): 250 steps of a resting strip whose cells' bound does
+    not move, and of the same with that bound made to shrink by ``drift`` at each of its
+    evaluations (past 1 % after 4, 40 steps)."""
+    from solvers import explicit
+
+    monkeypatch.setattr(explicit, "ASSEMBLED_DT_EVERY", 20)
+    monkeypatch.setattr(explicit, "ASSEMBLED_DT_MAX", 100)
+    compiled = strip(1).compile()
+    evaluate, cells = compiled.assembled_stable_dt, compiled.cell_stable_dt
+    calls, steps = [], []
+
+    def drifting(state):  # the solver asks at its start and then every 10 steps
+        calls.append(state.time)
+        return [dt * (1.0 - drift * (len(calls) - 1)) for dt in cells(state)]
+
+    def counted(state, mass, inertia):
+        steps.append(10 * (len(calls) - 1))
+        return evaluate(state, mass, inertia)
+
+    monkeypatch.setattr(compiled, "cell_stable_dt", drifting)
+    monkeypatch.setattr(compiled, "assembled_stable_dt", counted)
+    step = 0.9 * evaluate(compiled.initial_state(), *compiled.lumped_mass(compiled.initial_state()))
+    CentralDifference(duration=249.5 * step, progress=False).solve(compiled)
+    assert steps == evaluated
