@@ -9,13 +9,15 @@ per node), then per run (``--mass-scaling-dt``, a list: "none" for the model's o
 wall and CPU time, the machine's load before and after (/proc/loadavg: the machine may be
 shared), the threads (elements/jit.py), the steps, ms per step and its ratio to the
 reference pass, the step size, the mass scaling asked and the mass it added, and the kinetic
-energy at the end over the work done (a quasi-static run keeps it small).
+energy at the end over the work done (a quasi-static run keeps it small). ``--fraction`` stops
+each run at that fraction of the stroke's time (its figures: those of the steps done).
 
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
     python benchmarks/hemisphere_forming.py --mass-scaling-dt none,3.5e-6
     python benchmarks/hemisphere_forming.py --cells 40 --duration 0.05
+    python benchmarks/hemisphere_forming.py --fraction 0.2        # the first fifth of it
 """
 
 from __future__ import annotations
@@ -48,6 +50,9 @@ def main() -> None:
         "--mass-scaling-dt", default="none", help='target steps, s, a list ("none": no scaling)'
     )
     parser.add_argument("--safety", type=float, default=0.9, help="the solver's default 0.9")
+    parser.add_argument(
+        "--fraction", type=float, default=1.0, help="stop at this fraction of the stroke's time"
+    )
     args = parser.parse_args()
     mesh, model = case.model(args.cells, "fibrous")
     compiled = model.compile()
@@ -74,6 +79,21 @@ def main() -> None:
           f"{reference * 1e3:.3f} ms")  # fmt: skip
 
     threads = jit.threads_for(mesh.n_triangles)
+    # The steps, counted where the solver accepts each (a run stopped early has no result).
+    steps = [0]
+    commit = compiled.commit
+
+    def counted(new_state):
+        steps[0] += 1
+        return commit(new_state)
+
+    compiled.commit = counted  # type: ignore[method-assign]
+
+    def stop_early(frame) -> dict:
+        if frame.time >= args.fraction * args.duration * (1.0 - 1e-9):
+            raise _Enough
+        return {}
+
     for target in args.mass_scaling_dt.split(","):
         scaling = None if target.strip().lower() == "none" else float(target)
         solver = CentralDifference(
@@ -82,21 +102,33 @@ def main() -> None:
             damping=case.DAMPING,
             mass_scaling_dt=scaling,
             progress=False,
+            output_interval=args.duration / 100.0 if args.fraction < 1.0 else None,
+            frame_summary=stop_early if args.fraction < 1.0 else None,
         )
         load_before = load()
+        steps[0] = 0
         start, cpu = time.perf_counter(), time.process_time()
-        result = solver.solve(compiled)
+        try:
+            result = solver.solve(compiled)
+        except _Enough:
+            result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
-        energies = {key: values[-1] for key, values in result.energies.items()}
-        ratio = energies["kinetic"] / max(abs(energies["external_work"]), 1e-300)
-        per_step = wall / result.steps
-        print(f"run, mass scaling {scaling}: {wall:.1f} s wall, {cpu:.1f} s CPU on {threads} "
-              f"threads (load {load_before} -> {load()}), {result.steps} steps, "
-              f"{per_step * 1e3:.2f} ms per step ({cpu / result.steps * 1e3:.2f} ms CPU; "
-              f"{per_step / reference:.0f} x the reference pass), dt {result.info['dt']:.3g} s, "
-              f"added mass {result.info['added_mass_ratio']:.3g} x the model's, kinetic / "
-              f"work at the end {ratio:.3f}, punch force {result.tool_forces[-1, 1, 2]:.3g} N, "
-              f"converged {result.converged}", flush=True)  # fmt: skip
+        per_step = wall / steps[0]
+        print(f"run, mass scaling {scaling}, {args.fraction:g} of the stroke: {wall:.1f} s wall, "
+              f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
+              f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
+              f"ms CPU; {per_step / reference:.0f} x the reference pass)", flush=True)  # fmt: skip
+        if result is not None:
+            energies = {key: values[-1] for key, values in result.energies.items()}
+            ratio = energies["kinetic"] / max(abs(energies["external_work"]), 1e-300)
+            print(f"  dt {result.info['dt']:.3g} s at the end, added mass "
+                  f"{result.info['added_mass_ratio']:.3g} x the model's, kinetic / work at the "
+                  f"end {ratio:.3f}, punch force {result.tool_forces[-1, 1, 2]:.3g} N, "
+                  f"converged {result.converged}", flush=True)  # fmt: skip
+
+
+class _Enough(Exception):
+    """Raised to stop a run at ``--fraction`` of its stroke."""
 
 
 def load() -> str:
