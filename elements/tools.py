@@ -448,7 +448,10 @@ class RigidSurface(RigidTool):
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
         self.edge_start, self.edge_out = open_edges(triangles, self.corners)
         centroids = self.corners.mean(axis=1)
-        self.reach = float(np.linalg.norm(self.corners - centroids[:, None], axis=2).max())
+        # Each facet's circumradius about its centroid (f,), mm; the largest is the reach.
+        self._radius = np.linalg.norm(self.corners - centroids[:, None], axis=2).max(axis=1)
+        self._centroids = centroids
+        self.reach = float(self._radius.max())
         self.tree = cKDTree(centroids)
         self._given_search = search_distance is not None
         self.search_distance = (
@@ -513,15 +516,22 @@ class RigidSurface(RigidTool):
             self._cache = self._last = None
 
     def _candidates(self, local: np.ndarray, gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Every facet whose centroid lies within the proof's radius of each point plus twice
-        the cache's margin (MARGIN circumradius), as (start (k + 1,), facets): point i's are
-        facets[start[i]:start[i + 1]]."""
-        radius = np.minimum(gap, self.search_distance) + (1.0 + 2.0 * MARGIN) * self.reach
-        found = self.tree.query_ball_point(local, np.maximum(radius, 0.0), return_sorted=False)
+        """Every facet that can hold a point's closest point while it moves less than the
+        cache's margin (MARGIN circumradius): within the proof's distance plus twice the
+        margin of the point, so with its centroid within that plus the facet's own
+        circumradius (the k-d tree finds those within the largest one, then each is held to
+        its own), as (start (k + 1,), facets): point i's are facets[start[i]:start[i + 1]]."""
+        near = np.minimum(gap, self.search_distance) + 2.0 * MARGIN * self.reach
+        found = self.tree.query_ball_point(
+            local, np.maximum(near + self.reach, 0.0), return_sorted=False
+        )
         counts = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
-        start = np.concatenate([[0], np.cumsum(counts)])
-        facets = np.fromiter(itertools.chain.from_iterable(found), np.int64, count=start[-1])
-        return start, facets
+        facets = np.fromiter(itertools.chain.from_iterable(found), np.int64, count=counts.sum())
+        owner = np.repeat(np.arange(len(local)), counts)
+        reach = np.linalg.norm(self._centroids[facets] - local[owner], axis=1)
+        kept = reach <= near[owner] + self._radius[facets]
+        counts = np.bincount(owner[kept], minlength=len(local))
+        return np.concatenate([[0], np.cumsum(counts)]), facets[kept]
 
     def _from_candidates(self, local: np.ndarray, candidates):
         """(point, facet, gap) of each point among its kept candidate facets."""
