@@ -22,7 +22,9 @@ Threads, chosen here and only here:
 * each parallel loop runs on ``threads_for(items)`` threads: one for a loop over fewer than
   ``SMALL_LOOP`` items (waking and joining a thread costs more than it saves), else the cores
   free for this process (``free_cores``), at most numba's setting (``numba.set_num_threads``,
-  ``NUMBA_NUM_THREADS``: the caller's cap).
+  ``NUMBA_NUM_THREADS``: the caller's cap). A loop on one thread runs a serial build of the
+  same function (compiled when first needed), which wakes no thread and asks numba nothing:
+  the small models of the tests pay no more per loop than a plain compiled function.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from __future__ import annotations
 import functools
 import os
 import time
+import types
 
 # Before numba loads its OpenMP layer (at the first parallel loop): a passive wait.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
@@ -119,21 +122,38 @@ def threads_for(items: int) -> int:
 
 
 class _Parallel:
-    """A compiled parallel loop called on ``threads_for`` threads: the length of its first
-    argument (the cells or the nodes it loops over) is its size."""
+    """A compiled parallel loop called on ``threads_for`` threads of the length of its
+    first argument (the cells or the nodes it loops over): a loop for one thread runs a
+    serial build of the same function (no thread to wake, no call into numba's thread
+    settings, ``prange`` a ``range``), a larger one the parallel build."""
 
-    def __init__(self, dispatcher):
-        self.dispatcher = dispatcher
-        functools.update_wrapper(self, dispatcher.py_func)
+    def __init__(self, function):
+        self.parallel = numba.njit(cache=True, parallel=True, fastmath=False)(function)
+        # A function object of its own, so that its cached machine code has a file of its
+        # own: numba's cache keys do not tell a parallel build from a serial one.
+        twin = types.FunctionType(
+            function.__code__,
+            function.__globals__,
+            function.__name__,
+            function.__defaults__,
+            function.__closure__,
+        )
+        twin.__qualname__ = function.__qualname__ + "_serial"
+        self.serial = numba.njit(cache=True, fastmath=False)(twin)
+        functools.update_wrapper(self, function)
 
     def __call__(self, *args):
+        if len(args[0]) < SMALL_LOOP:
+            return self.serial(*args)
         cap = numba.get_num_threads()
-        threads = threads_for(len(args[0]))
+        threads = min(cap, free_cores()) if FOLLOW_LOAD else cap
+        if threads == 1:
+            return self.serial(*args)
         if threads == cap:
-            return self.dispatcher(*args)
+            return self.parallel(*args)
         numba.set_num_threads(threads)
         try:
-            return self.dispatcher(*args)
+            return self.parallel(*args)
         finally:
             numba.set_num_threads(cap)
 
@@ -143,7 +163,7 @@ def jit(function):
     of its first argument's length (as is without numba)."""
     if not AVAILABLE:
         return function
-    return _Parallel(numba.njit(cache=True, parallel=True, fastmath=False)(function))
+    return _Parallel(function)
 
 
 def serial(function):

@@ -63,16 +63,17 @@ def sheet(cells: int) -> np.ndarray:
 
 
 def test_the_forces_are_the_same_to_the_last_bit_on_one_thread_and_on_all():
-    """The kernels sum in cell order whatever the threads: a run is reproducible to the
-    last bit on any thread count, and whatever the load makes free_cores choose."""
+    """The kernels sum in cell order whatever the threads: the serial build a loop on one
+    thread runs and the parallel build on all of numba's threads give the same forces to
+    the last bit, so a run is reproducible whatever the load makes free_cores choose."""
     import numba
 
     before = numba.get_num_threads()
     small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
     try:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False
-        numba.set_num_threads(1)
+        jit.SMALL_LOOP = 10**9  # every loop on one thread: the serial builds
         one = sheet(12)
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on all threads
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
         every = sheet(12)
     finally:
