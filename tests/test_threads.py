@@ -89,13 +89,14 @@ def test_numbas_threads_wait_passively_on_the_openmp_layer():
     policy given in the environment is kept. Two subprocesses: 5-30 s."""
     script = (
         "import os, numba; import numpy as np; from elements import jit, kernels;"
+        "jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False;"  # the parallel build, on 2 threads
         "kernels.NodeCorners(np.arange(6).reshape(2, 3), 6).sum(np.ones((2, 3, 3)));"
         "print(numba.threading_layer(), os.environ['OMP_WAIT_POLICY'])"
     )
     env = {
         k: v for k, v in os.environ.items() if k not in ("OMP_WAIT_POLICY", "NUMBA_THREADING_LAYER")
     }
-    env["PYTHONPATH"] = str(ROOT)
+    env["PYTHONPATH"], env["NUMBA_NUM_THREADS"] = str(ROOT), "2"
     out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True,
                          check=True, cwd=ROOT)  # fmt: skip
     assert out.stdout.split() == ["omp", "PASSIVE"]
