@@ -403,12 +403,13 @@ class RigidSurface(RigidTool):
 
     Speed: that search costs tens of microseconds per point. The tool keeps, for the last
     points it was asked about, every facet that can become their closest while they move
-    less than ``MARGIN`` circumradius (the facets within the proof's radius plus twice that
-    margin; none for the points beyond the search distance, which are told their distance
-    less how far they moved), and answers from those alone (a compiled loop); a point that
-    has moved further is searched again alone, the others keeping theirs: microseconds per
-    point and step in an explicit run (benchmarks/contact_search.py). The same points asked
-    again get the same answer without a search.
+    less than ``MARGIN`` circumradius (those whose centroid lies within the proof's distance
+    plus twice that margin plus their own circumradius; none for the points beyond the
+    search distance, which are told their distance less how far they moved), and answers from
+    those alone (a compiled loop); a point that has moved further is searched again alone, the
+    others keeping theirs: microseconds per point and step in an explicit run
+    (benchmarks/contact_search.py). The same points asked again get the same answer without
+    a search.
     """
 
     def __init__(
@@ -528,8 +529,8 @@ class RigidSurface(RigidTool):
         counts = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
         facets = np.fromiter(itertools.chain.from_iterable(found), np.int64, count=counts.sum())
         owner = np.repeat(np.arange(len(local)), counts)
-        reach = np.linalg.norm(self._centroids[facets] - local[owner], axis=1)
-        kept = reach <= near[owner] + self._radius[facets]
+        apart = np.linalg.norm(self._centroids[facets] - local[owner], axis=1)
+        kept = apart <= near[owner] + self._radius[facets]
         counts = np.bincount(owner[kept], minlength=len(local))
         return np.concatenate([[0], np.cumsum(counts)]), facets[kept]
 
