@@ -22,9 +22,7 @@ Threads, chosen here and only here:
 * each parallel loop runs on ``threads_for(items)`` threads: one for a loop over fewer than
   ``SMALL_LOOP`` items (waking and joining a thread costs more than it saves), else the cores
   free for this process (``free_cores``), at most numba's setting (``numba.set_num_threads``,
-  ``NUMBA_NUM_THREADS``: the caller's cap). A loop on one thread runs a serial build of the
-  same function (compiled when first needed), which wakes no thread and asks numba nothing:
-  the small models of the tests pay no more per loop than a plain compiled function.
+  ``NUMBA_NUM_THREADS``: the caller's cap).
 """
 
 from __future__ import annotations
@@ -32,7 +30,6 @@ from __future__ import annotations
 import functools
 import os
 import time
-import types
 
 # Before numba loads its OpenMP layer (at the first parallel loop): a passive wait.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
@@ -44,6 +41,9 @@ try:  # numba is a dependency; the numpy paths keep the package usable without i
 except ImportError:  # pragma: no cover - exercised only where numba is missing
     numba = None  # type: ignore[assignment]
     AVAILABLE = False
+
+if AVAILABLE:
+    from numba.np.ufunc import parallel as _layer
 
 if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
     # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
@@ -115,40 +115,41 @@ def threads_for(items: int) -> int:
     False), at most numba's current setting."""
     if not AVAILABLE:
         return 1
-    cap = numba.get_num_threads()
+    return _threads(items, numba.get_num_threads())
+
+
+def _threads(items: int, cap: int) -> int:
+    """``threads_for`` with numba's setting ``cap`` read."""
     if items < SMALL_LOOP or cap == 1:
         return 1
     return min(cap, free_cores()) if FOLLOW_LOAD else cap
 
 
+def _setting() -> int:
+    """numba's thread setting of the calling thread: read from its threading layer directly
+    once the layer is loaded (numba.get_num_threads takes two locks first, several
+    microseconds a loop), through numba before."""
+    try:
+        if _layer._is_initialized:
+            return _layer._get_num_threads()  # type: ignore[attr-defined]
+    except AttributeError:  # pragma: no cover - another numba's internals
+        pass
+    return numba.get_num_threads()
+
+
 class _Parallel:
     """A compiled parallel loop called on ``threads_for`` threads of the length of its
-    first argument (the cells or the nodes it loops over): a loop for one thread runs a
-    serial build of the same function (no thread to wake, no call into numba's thread
-    settings, ``prange`` a ``range``), a larger one the parallel build."""
+    first argument (the cells or the nodes it loops over). A loop for one thread runs the
+    same parallel build (a serial build of the kernels, without the parallel compiler's
+    hoisting of their small arrays out of the loop, measured 3 times slower per cell)."""
 
     def __init__(self, function):
         self.parallel = numba.njit(cache=True, parallel=True, fastmath=False)(function)
-        # A function object of its own, so that its cached machine code has a file of its
-        # own: numba's cache keys do not tell a parallel build from a serial one.
-        twin = types.FunctionType(
-            function.__code__,
-            function.__globals__,
-            function.__name__,
-            function.__defaults__,
-            function.__closure__,
-        )
-        twin.__qualname__ = function.__qualname__ + "_serial"
-        self.serial = numba.njit(cache=True, fastmath=False)(twin)
         functools.update_wrapper(self, function)
 
     def __call__(self, *args):
-        if len(args[0]) < SMALL_LOOP:
-            return self.serial(*args)
-        cap = numba.get_num_threads()
-        threads = min(cap, free_cores()) if FOLLOW_LOAD else cap
-        if threads == 1:
-            return self.serial(*args)
+        cap = _setting()
+        threads = _threads(len(args[0]), cap)
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)

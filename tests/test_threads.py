@@ -63,15 +63,15 @@ def sheet(cells: int) -> np.ndarray:
 
 
 def test_the_forces_are_the_same_to_the_last_bit_on_one_thread_and_on_all():
-    """The kernels sum in cell order whatever the threads: the serial build a loop on one
-    thread runs and the parallel build on all of numba's threads give the same forces to
-    the last bit, so a run is reproducible whatever the load makes free_cores choose."""
+    """The kernels sum in cell order whatever the threads: a loop on one thread and on all
+    of numba's threads give the same forces to the last bit, so a run is reproducible
+    whatever the load makes free_cores choose."""
     import numba
 
     before = numba.get_num_threads()
     small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
     try:
-        jit.SMALL_LOOP = 10**9  # every loop on one thread: the serial builds
+        jit.SMALL_LOOP = 10**9  # every loop on one thread
         one = sheet(12)
         jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on all threads
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
@@ -84,12 +84,12 @@ def test_the_forces_are_the_same_to_the_last_bit_on_one_thread_and_on_all():
 
 @pytest.mark.slow
 def test_numbas_threads_wait_passively_on_the_openmp_layer():
-    """In a fresh process, after elements is imported and a parallel loop has run: OpenMP
+    """In a fresh process, after elements is imported and a loop has run on 2 threads: OpenMP
     with OMP_WAIT_POLICY=PASSIVE (its threads sleep between loops instead of spinning); a
     policy given in the environment is kept. Two subprocesses: 5-30 s."""
     script = (
         "import os, numba; import numpy as np; from elements import jit, kernels;"
-        "jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False;"  # the parallel build, on 2 threads
+        "jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False;"  # on 2 threads
         "kernels.NodeCorners(np.arange(6).reshape(2, 3), 6).sum(np.ones((2, 3, 3)));"
         "print(numba.threading_layer(), os.environ['OMP_WAIT_POLICY'])"
     )
