@@ -49,6 +49,7 @@ from solvers.output import (
     resume,
     save_checkpoint,
 )
+from solvers.quasi_static import KINETIC_BOUND, QuasiStaticWatch, kinetic_over_work
 from solvers.step import LumpedMasses, explicit_step
 
 __all__ = ["CentralDifference"]
@@ -112,6 +113,14 @@ class CentralDifference:
         (they are part of the checkpoint): how a streamed run, which keeps only two frames in
         memory, gives a history row per frame.
     progress : print status lines (None: only on an interactive terminal).
+    kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
+        (default KINETIC_BOUND = 0.1, the upper end of the field's 5-10 %,
+        solvers/quasi_static.py): past it, after the first tenth of the duration, one
+        UserWarning with the time and the ratio; None for a dynamic run (watched, not
+        warned). KE / W per energy record is ``result.energies["kinetic_over_work"]``, and
+        ``result.info["quasi_static"]`` reports it with the mass and time scaling.
+    process_duration : s, the duration of the real process, when ``duration`` is shorter
+        (time scaling): the factor process_duration / duration is reported with its KE / W.
     """
 
     def __init__(
@@ -129,6 +138,8 @@ class CentralDifference:
         history_nodes=(),
         frame_summary: Callable[[Frame], dict] | None = None,
         max_added_mass: float = MAX_ADDED_MASS,
+        kinetic_bound: float | None = KINETIC_BOUND,
+        process_duration: float | None = None,
     ):
         checked = check_positive_or_none(duration, "duration")
         if checked is None:
@@ -153,6 +164,8 @@ class CentralDifference:
                 f"frame_summary must be a function of a Frame, got {type(frame_summary).__name__}"
             )
         self.frame_summary = frame_summary
+        self.kinetic_bound = check_positive_or_none(kinetic_bound, "kinetic_bound")
+        self.process_duration = check_positive_or_none(process_duration, "process_duration")
         # (assembled Gershgorin step, the cells' bound when it was evaluated), set by solve
         self._assembled: tuple[float, float] | None = None
 
@@ -366,7 +379,10 @@ class CentralDifference:
                 energy.friction = compiled.dissipated_energy(state)
             run.dt_prev = dt
             run.step = step = step + 1
-            if energy.record(step, state.time) and history is not None:
+            recorded = energy.record(step, state.time)
+            if recorded:
+                run.quasi_static.observe(state.time, energy.kinetic, energy.external)
+            if recorded and history is not None:
                 history.append(
                     energy.latest(),
                     reactions,
@@ -437,6 +453,7 @@ class CentralDifference:
             frames=[make_frame(compiled, state)],
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
+            quasi_static=QuasiStaticWatch(self.kinetic_bound, duration),
         )
         self._summarise(run, run.frames[0])
         return run
@@ -539,7 +556,13 @@ class CentralDifference:
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
+            "quasi_static": run.quasi_static.report(
+                run.added_mass / float(compiled.mass0.sum()), self.process_duration
+            ),
         }
+        result.energies["kinetic_over_work"] = kinetic_over_work(
+            result.energies["kinetic"], result.energies["external_work"]
+        )
         if self.output is not None:
             result.info["output"] = str(self.output)
         if self.frame_summary is not None:
@@ -585,6 +608,7 @@ class _Run:
     frames: list[Frame]
     strain_at_start: float
     good: tuple  # the last state that passed the checks, with its reactions and moments
+    quasi_static: QuasiStaticWatch  # KE / W watched against its bound
     step: int = 0
     dt_prev: float = 0.0
     worst: float = 0.0  # the largest energy balance error met
