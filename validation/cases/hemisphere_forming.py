@@ -68,7 +68,7 @@ SHEAR_LOCKING_K5 = 2.4  # N/mm
 # tension-dominated fabric models) and carry a hundredth of that, 0.6 N/mm. Held flat under
 # the holder, a flange of fibres as stiff in compression stored most of the work in its
 # hoop-compressed fibres (2.6 %) and snapped at 70 % of the stroke on the 32-cell mesh.
-TENSION, COMPRESSION_RATIO = 60.0, 0.01
+TENSION, COMPRESSION_RATIO = 60.0, 0.1
 FABRIC = Fabric(
     thickness=THICKNESS,
     areal_density=2.85e-10,
@@ -132,10 +132,10 @@ def blank_shear(mesh: Mesh, positions: np.ndarray) -> np.ndarray:
     return 0.5 * np.pi - np.arccos(np.clip(cosine, -1.0, 1.0))
 
 
-def model(cells: int, kinematics: str, holder_force: float = HOLDER_FORCE) -> tuple[Mesh, Model]:
+def model(cells: int, kinematics: str, holder_force: float | None = None) -> tuple[Mesh, Model]:
     """The blank on the die's flange under the holder and the punch, for ``kinematics``
     "fibrous" or "mindlin". Tools in order: the die, the punch, the holder (pressed down
-    by ``holder_force``, N; none at 0)."""
+    by ``holder_force``, N, default HOLDER_FORCE; none at 0)."""
     blank = Mesh.rectangle(
         2 * HALF, 2 * HALF, nx=cells, ny=cells, origin=(-HALF, -HALF, 0.5 * THICKNESS)
     )
@@ -151,6 +151,7 @@ def model(cells: int, kinematics: str, holder_force: float = HOLDER_FORCE) -> tu
     travel = PUNCH + THICKNESS
     punch = RigidSphere((0.0, 0.0, travel), PUNCH, motion=(0.0, 0.0, -travel), amplitude="smooth")
     built.contact(punch)
+    holder_force = HOLDER_FORCE if holder_force is None else holder_force
     if holder_force == 0.0:
         return blank, built
     ring = holder_ring(HOLDER_INNER, HOLDER_OUTER, 4.0)
