@@ -49,7 +49,7 @@ from solvers.output import (
     resume,
     save_checkpoint,
 )
-from solvers.quasi_static import KINETIC_BOUND, QuasiStaticWatch, kinetic_over_work
+from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
 from solvers.step import LumpedMasses, explicit_step
 
 __all__ = ["CentralDifference"]
@@ -115,8 +115,9 @@ class CentralDifference:
     progress : print status lines (None: only on an interactive terminal).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
         (default KINETIC_BOUND = 0.1, the upper end of the field's 5-10 %,
-        solvers/quasi_static.py): past it, after the first tenth of the duration, one
-        UserWarning with the time and the ratio; None for a dynamic run (watched, not
+        solvers/quasi_static.py): past it after the first tenth of the duration, where the
+        work done has reached 1 % of the run's, one UserWarning at the end of a run that
+        completes, with the time and the ratio; None for a dynamic run (reported, not
         warned). KE / W per energy record is ``result.energies["kinetic_over_work"]``, and
         ``result.info["quasi_static"]`` reports it with the mass and time scaling.
     process_duration : s, the duration of the real process, when ``duration`` is shorter
@@ -379,10 +380,7 @@ class CentralDifference:
                 energy.friction = compiled.dissipated_energy(state)
             run.dt_prev = dt
             run.step = step = step + 1
-            recorded = energy.record(step, state.time)
-            if recorded:
-                run.quasi_static.observe(state.time, energy.kinetic, energy.external)
-            if recorded and history is not None:
+            if energy.record(step, state.time) and history is not None:
                 history.append(
                     energy.latest(),
                     reactions,
@@ -453,7 +451,6 @@ class CentralDifference:
             frames=[make_frame(compiled, state)],
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
-            quasi_static=QuasiStaticWatch(self.kinetic_bound, duration),
         )
         self._summarise(run, run.frames[0])
         return run
@@ -556,8 +553,13 @@ class CentralDifference:
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
-            "quasi_static": run.quasi_static.report(
-                run.added_mass / float(compiled.mass0.sum()), self.process_duration
+            "quasi_static": quasi_static_report(
+                result.energies,
+                self.kinetic_bound,
+                self.duration,
+                run.added_mass / float(compiled.mass0.sum()),
+                self.process_duration,
+                warn=converged,
             ),
         }
         result.energies["kinetic_over_work"] = kinetic_over_work(
@@ -608,7 +610,6 @@ class _Run:
     frames: list[Frame]
     strain_at_start: float
     good: tuple  # the last state that passed the checks, with its reactions and moments
-    quasi_static: QuasiStaticWatch  # KE / W watched against its bound
     step: int = 0
     dt_prev: float = 0.0
     worst: float = 0.0  # the largest energy balance error met

@@ -223,7 +223,9 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
         "draw_in_mm": float(HALF - np.linalg.norm(x[edge, :2], axis=1).mean()),
         # The blank pushes the punch up: +z on the second tool.
         "punch_force_N": float(result.tool_forces[-1, 1, 2]),
-        "holder_travel_mm": float(result.frames[-1].tool_displacements[2, 2]),
+        "holder_travel_mm": (
+            float(moved[2, 2]) if len(moved := result.frames[-1].tool_displacements) > 2 else None
+        ),
         "kinetic_over_work": quasi["kinetic_over_work_final"],
         "largest_kinetic_over_work": quasi["kinetic_over_work_largest"],
         "cost": cost,
