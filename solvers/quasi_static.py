@@ -106,7 +106,7 @@ def quasi_static_report(
                 "quasi-static process, slow the loading (a longer duration), lower the mass "
                 "scaling or damp it; for a dynamic run, set kinetic_bound=None",
                 UserWarning,
-                stacklevel=5,
+                stacklevel=6,
             )
     return {
         "kinetic_bound": bound,

@@ -84,6 +84,7 @@ def test_a_fast_pull_warns_once_with_the_time_and_the_ratio(fast):
     assert report["kinetic_over_work_largest"] > 0.3  # the bar rings
     at = report["exceeded_at_s"]
     assert KINETIC_CHECK_FROM * 0.2 * PERIOD <= at <= 0.2 * PERIOD
+    assert caught[0].filename == __file__  # it points at the caller's solve
     message = str(caught[0].message)
     assert f"t = {at:.6g} s" in message and "kinetic_bound = 0.1" in message
     (first,) = np.flatnonzero(result.energies["time"] == at)
