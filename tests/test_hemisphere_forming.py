@@ -4,6 +4,7 @@ over three meshes, and its coarse blank formed to the end against the net."""
 import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from solvers.quasi_static import KINETIC_BOUND
@@ -52,3 +53,50 @@ def test_the_coarse_blank_forms_to_the_end_along_the_net_and_comes_to_rest():
     assert record["kinetic_over_work"] < 0.5 * KINETIC_BOUND
     assert result.info["quasi_static"]["kinetic_over_work_final"] == record["kinetic_over_work"]
     assert record["holder_travel_mm"] is None  # the case runs without a holder
+
+
+def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(monkeypatch):
+    """compute("fine") runs the two coarser meshes too (here: flat blanks standing in for the
+    runs, their numbers f = f0 + C h^p) and reports an order per kinematics and quantity; the
+    quantities ORDER_TOLERANCE names are checked."""
+    from femcore import Mesh
+
+    def flat_run(cells, kinematics, net=None):
+        mesh = Mesh.rectangle(200.0, 200.0, nx=cells, ny=cells, origin=(-100.0, -100.0, 0.0))
+        h = 200.0 / cells
+        result = SimpleNamespace(
+            converged=True,
+            positions=mesh.points,
+            steps=10,
+            wall_time=1.0,
+        )
+        return {
+            "cells": cells,
+            "mesh": mesh,
+            "result": result,
+            "shear": np.zeros(len(mesh.triangles)),
+            "in_die": np.zeros(len(mesh.triangles), dtype=bool),
+            "compared": 0,
+            "rms_deg": 2.0 + 0.001 * h**2,
+            "largest_shear_deg": 0.0,
+            "draw_in_mm": 50.0 - 0.01 * h**2,
+            "punch_force_N": 75.0 - 0.5 * h,
+            "holder_travel_mm": None,
+            "kinetic_over_work": 0.01,
+            "largest_kinetic_over_work": 0.05,
+            "cost": {"wall_s": 1.0, "cpu_s": 1.0, "load": (1.0, 1.0)},
+        }
+
+    monkeypatch.setattr(case, "run", flat_run)
+    outcome = case.compute("fine")
+    assert {(o.kinematics, o.cells) for o in outcome.orders} == {
+        ("fibrous", (12, 20, 32)),
+        ("mindlin", (12, 20, 32)),
+    }
+    draw_in = next(
+        o for o in outcome.orders if o.kinematics == "fibrous" and o.quantity.startswith("draw")
+    )
+    assert draw_in.order == pytest.approx(2.0, rel=1e-9)
+    ordered = [c for c in outcome.checks if "observed order" in c.name]
+    assert len(ordered) == len(case.ORDER_TOLERANCE) and all(c.passed for c in ordered)
+    assert "fibrous n = 12: runtime" in outcome.parameters
