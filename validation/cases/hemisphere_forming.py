@@ -327,8 +327,8 @@ def compute(resolution: str) -> Outcome:
         "punch_radius_mm": PUNCH,
         "die_radius_mm": DIE,
         "blank_mm": f"{2 * HALF} x {2 * HALF} x {THICKNESS}",
-        "fabric": f"0.3 mm, 285 g/m^2, tension {TENSION:g} N/mm ({COMPRESSION_RATIO:g} of it "
-        f"in compression), bending 0.375 N mm, shear 0.2 g + {SHEAR_LOCKING_K5} g^5 N/mm",
+        "fabric": f"0.3 mm, 285 g/m^2, tension {TENSION:g} N/mm (x {COMPRESSION_RATIO:g} in "
+        f"compression), bending 0.375 N mm, shear 0.2 g + {SHEAR_LOCKING_K5} g^5 N/mm",
         "holder": (
             f"ring r = {HOLDER_INNER:g}-{HOLDER_OUTER:g} mm, {HOLDER_FORCE:g} N, "
             f"{HOLDER_MASS * 1e6:g} g, frictionless"
