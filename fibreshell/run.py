@@ -305,7 +305,9 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
 def summarise(case: Case, result: Result, kinematics: str, error: str, wall: float) -> dict:
     """The numbers of a run for summary.json: how it ended, the history sets at the final
     frame, the force on each rigid tool, the largest fibre strain and director tilt where the
-    element reports them, and the profiles along the paths."""
+    element reports them, the profiles along the paths, and for an explicit run
+    ``quasi_static``: its kinetic energy over external work with the mass and time scaling
+    (solvers/quasi_static.py, ``QuasiStaticWatch.report``)."""
     final = result.frames[-1]
     out: dict[str, Any] = {
         "case": case.title,
@@ -330,6 +332,8 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
             for n in [case.mesh.nodes(name)]
         },
     }
+    if "quasi_static" in result.info:  # explicit runs: KE / W, mass and time scaling
+        out["quasi_static"] = dict(result.info["quasi_static"])
     if len(final.tool_forces):  # the force on each tool ([[contact]] order), N
         out["tool_forces"] = {f"tool{i}": f for i, f in enumerate(final.tool_forces, start=1)}
         moved = getattr(final, "tool_displacements", np.zeros((0, 3)))

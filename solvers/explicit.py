@@ -49,6 +49,7 @@ from solvers.output import (
     resume,
     save_checkpoint,
 )
+from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
 from solvers.step import LumpedMasses, explicit_step
 
 __all__ = ["CentralDifference"]
@@ -121,6 +122,15 @@ class CentralDifference:
         (they are part of the checkpoint): how a streamed run, which keeps only two frames in
         memory, gives a history row per frame.
     progress : print status lines (None: only on an interactive terminal).
+    kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
+        (default KINETIC_BOUND = 0.1, the upper end of the field's 5-10 %,
+        solvers/quasi_static.py): past it after the first tenth of the duration, where the
+        work done has reached 1 % of the run's, one UserWarning at the end of a run that
+        completes, with the time and the ratio; None for a dynamic run (reported, not
+        warned). KE / W per energy record is ``result.energies["kinetic_over_work"]``, and
+        ``result.info["quasi_static"]`` reports it with the mass and time scaling.
+    process_duration : s, the duration of the real process, when ``duration`` is shorter
+        (time scaling): the factor process_duration / duration is reported with its KE / W.
     """
 
     def __init__(
@@ -138,6 +148,8 @@ class CentralDifference:
         history_nodes=(),
         frame_summary: Callable[[Frame], dict] | None = None,
         max_added_mass: float = MAX_ADDED_MASS,
+        kinetic_bound: float | None = KINETIC_BOUND,
+        process_duration: float | None = None,
     ):
         checked = check_positive_or_none(duration, "duration")
         if checked is None:
@@ -162,6 +174,8 @@ class CentralDifference:
                 f"frame_summary must be a function of a Frame, got {type(frame_summary).__name__}"
             )
         self.frame_summary = frame_summary
+        self.kinetic_bound = check_positive_or_none(kinetic_bound, "kinetic_bound")
+        self.process_duration = check_positive_or_none(process_duration, "process_duration")
         # (assembled Gershgorin step, the cells' bound and the step when it was evaluated),
         # set by solve
         self._assembled: tuple[float, float, int] | None = None
@@ -562,7 +576,18 @@ class CentralDifference:
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
+            "quasi_static": quasi_static_report(
+                result.energies,
+                self.kinetic_bound,
+                self.duration,
+                run.added_mass / float(compiled.mass0.sum()),
+                self.process_duration,
+                warn=converged,
+            ),
         }
+        result.energies["kinetic_over_work"] = kinetic_over_work(
+            result.energies["kinetic"], result.energies["external_work"]
+        )
         if self.output is not None:
             result.info["output"] = str(self.output)
         if self.frame_summary is not None:

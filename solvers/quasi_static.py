@@ -1,0 +1,122 @@
+"""Quasi-static honesty of an explicit run: the kinetic energy against the external work.
+
+An explicit run of a slow process (forming, a drape) is quasi-static only when the inertia it
+adds is small: the kinetic energy KE a small part of the work W done on the model. The
+field's rule (Abaqus Analysis User's Guide, "Quasi-static analysis": the kinetic energy of the
+deforming material should not exceed a small fraction, typically 5 % to 10 %, of its internal
+energy over most of the process) is the default bound here, at its upper end: KE / W <= 0.1
+(W >= the internal energy, damping and friction taking their share). Mass scaling (added
+mass) and time scaling (a shorter duration than the process's) raise KE / W; the report states
+both with the KE / W they produced.
+
+Early in a run both energies are tiny and their ratio says nothing (a punch touching a blank
+accelerates it before it stretches it: KE / W = 0.4-0.7 while W is below 1e-4 of the work at
+the end): the ratio is judged from ``KINETIC_CHECK_FROM`` of the duration on, where the work
+done has reached ``KINETIC_WORK_FLOOR`` of the run's work at its end.
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "KINETIC_BOUND",
+    "KINETIC_CHECK_FROM",
+    "KINETIC_WORK_FLOOR",
+    "kinetic_over_work",
+    "quasi_static_report",
+]
+
+#: The default largest KE / W of a quasi-static run (the upper end of the field's 5-10 %).
+KINETIC_BOUND = 0.1
+#: The part of the duration before which KE / W is not judged.
+KINETIC_CHECK_FROM = 0.1
+#: Nor while the work done is below this part of the work at the end of the run.
+KINETIC_WORK_FLOOR = 0.01
+
+
+def kinetic_over_work(kinetic: np.ndarray, external_work: np.ndarray) -> np.ndarray:
+    """KE / W_ext per record, 0 where no work has been done (W_ext <= 0: from rest the
+    kinetic energy comes from the work, KE <= W up to the integration error).
+
+    Parameters
+    ----------
+    kinetic, external_work : (k,) float, N mm
+
+    Returns
+    -------
+    (k,) float, dimensionless.
+    """
+    kinetic = np.asarray(kinetic, dtype=float)
+    work = np.asarray(external_work, dtype=float)
+    return np.divide(kinetic, work, out=np.zeros_like(kinetic), where=work > 0.0)
+
+
+def quasi_static_report(
+    energies: dict[str, np.ndarray],
+    bound: float | None,
+    duration: float,
+    added_mass_ratio: float,
+    process_duration: float | None = None,
+    warn: bool = True,
+) -> dict[str, Any]:
+    """What a run's inertia did, from its energy records, and one UserWarning (with the time
+    and the ratio) if KE / W passed ``bound`` where it is judged (``bound`` None or ``warn``
+    False: reported, not warned).
+
+    Parameters
+    ----------
+    energies : the run's records: "time" (s), "kinetic" and "external_work" (N mm), (k,) each.
+    bound : the largest KE / W of a quasi-static run, or None.
+    duration : s, the run's.
+    added_mass_ratio : the mass scaling's added mass over the model's mass.
+    process_duration : s, the real process's duration when the run is shorter (time scaling).
+    warn : False for a run that stopped (its error says more).
+
+    Returns
+    -------
+    dict
+        ``kinetic_bound``; ``checked_from_s`` (KINETIC_CHECK_FROM of the duration);
+        ``kinetic_over_work_final``; ``kinetic_over_work_largest`` where judged and when
+        (``largest_at_s``); ``exceeded_at_s``, when it first passed the bound (None: never);
+        ``added_mass_ratio``; ``duration_s``, ``process_duration_s`` and ``time_scaling``
+        (process_duration / duration, None without it).
+    """
+    time = np.asarray(energies["time"], dtype=float)
+    work = np.asarray(energies["external_work"], dtype=float)
+    ratio = kinetic_over_work(energies["kinetic"], work)
+    judged = (time >= KINETIC_CHECK_FROM * duration) & (work >= KINETIC_WORK_FLOOR * work[-1])
+    judged &= work > 0.0
+    largest = largest_at = exceeded_at = None
+    if judged.any():
+        index = int(np.flatnonzero(judged)[np.argmax(ratio[judged])])
+        largest, largest_at = float(ratio[index]), float(time[index])
+        if bound is not None and largest > bound:
+            first = int(np.flatnonzero(judged & (ratio > bound))[0])
+            exceeded_at = float(time[first])
+        if exceeded_at is not None and warn:
+            warnings.warn(
+                f"the run is not quasi-static: at t = {exceeded_at:.6g} s the kinetic energy "
+                f"is {ratio[first]:.3g} of the external work ({energies['kinetic'][first]:.4g} "
+                f"of {work[first]:.4g} N mm; at most {largest:.3g}, at t = {largest_at:.6g} s), "
+                f"more than kinetic_bound = {bound:g}: inertia shapes the answer. For a "
+                "quasi-static process, slow the loading (a longer duration), lower the mass "
+                "scaling or damp it; for a dynamic run, set kinetic_bound=None",
+                UserWarning,
+                stacklevel=6,
+            )
+    return {
+        "kinetic_bound": bound,
+        "checked_from_s": KINETIC_CHECK_FROM * duration,
+        "kinetic_over_work_final": float(ratio[-1]),
+        "kinetic_over_work_largest": largest,
+        "largest_at_s": largest_at,
+        "exceeded_at_s": exceeded_at,
+        "added_mass_ratio": added_mass_ratio,
+        "duration_s": duration,
+        "process_duration_s": process_duration,
+        "time_scaling": None if process_duration is None else process_duration / duration,
+    }
