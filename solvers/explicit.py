@@ -123,12 +123,14 @@ class CentralDifference:
         memory, gives a history row per frame.
     progress : print status lines (None: only on an interactive terminal).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
-        (default KINETIC_BOUND = 0.1, the upper end of the field's 5-10 %,
-        solvers/quasi_static.py): past it after the first tenth of the duration, where the
+        (solvers/quasi_static.py): past it after the first tenth of the duration, where the
         work done has reached 1 % of the run's, one UserWarning at the end of a run that
         completes, with the time and the ratio; None for a dynamic run (reported, not
-        warned). KE / W per energy record is ``result.energies["kinetic_over_work"]``, and
-        ``result.info["quasi_static"]`` reports it with the mass and time scaling.
+        warned). Default "auto": KINETIC_BOUND = 0.1 (the upper end of the field's 5-10 %)
+        for a model with rigid tools (a forming run, quasi-static by intent), None for one
+        without (a wave, a swinging cable: dynamic by intent). KE / W per energy record is
+        ``result.energies["kinetic_over_work"]``, and ``result.info["quasi_static"]``
+        reports it with the mass and time scaling.
     process_duration : s, the duration of the real process, when ``duration`` is shorter
         (time scaling): the factor process_duration / duration is reported with its KE / W.
     """
@@ -148,7 +150,7 @@ class CentralDifference:
         history_nodes=(),
         frame_summary: Callable[[Frame], dict] | None = None,
         max_added_mass: float = MAX_ADDED_MASS,
-        kinetic_bound: float | None = KINETIC_BOUND,
+        kinetic_bound: float | str | None = "auto",
         process_duration: float | None = None,
     ):
         checked = check_positive_or_none(duration, "duration")
@@ -174,7 +176,11 @@ class CentralDifference:
                 f"frame_summary must be a function of a Frame, got {type(frame_summary).__name__}"
             )
         self.frame_summary = frame_summary
-        self.kinetic_bound = check_positive_or_none(kinetic_bound, "kinetic_bound")
+        self.kinetic_bound: float | str | None = (
+            "auto"
+            if isinstance(kinetic_bound, str) and kinetic_bound == "auto"
+            else check_positive_or_none(kinetic_bound, "kinetic_bound")
+        )
         self.process_duration = check_positive_or_none(process_duration, "process_duration")
         # (assembled Gershgorin step, the cells' bound and the step when it was evaluated),
         # set by solve
@@ -562,6 +568,13 @@ class CentralDifference:
         if growth <= GOOD_GROWTH:
             run.good = (state, reactions, reaction_moments)
 
+    def _kinetic_bound(self, compiled: CompiledModel) -> float | None:
+        """The KE / W bound warned about: "auto" is KINETIC_BOUND with rigid tools, else
+        None."""
+        if self.kinetic_bound == "auto":
+            return KINETIC_BOUND if compiled.n_tools > 0 else None
+        return self.kinetic_bound  # type: ignore[return-value]
+
     def _result(self, compiled, run: _Run, started: float, converged: bool) -> Result:
         result = empty_result(compiled, list(run.frames))
         result.steps = run.step
@@ -578,7 +591,7 @@ class CentralDifference:
             "energy_growth": run.grown,
             "quasi_static": quasi_static_report(
                 result.energies,
-                self.kinetic_bound,
+                self._kinetic_bound(compiled),
                 self.duration,
                 run.added_mass / float(compiled.mass0.sum()),
                 self.process_duration,
