@@ -38,7 +38,7 @@ from femcore.dofs import N_COLUMNS, Frames
 from femcore.rotation import cross
 from femcore.state import State
 
-__all__ = ["STABILISATION_BOUND", "Dashpots"]
+__all__ = ["STABILISATION_BOUND", "Dashpots", "with_dashpots"]
 
 # The dissipated energy past which a stabilised run warns: this fraction of the strain energy
 # at the end of the run.
