@@ -123,7 +123,8 @@ def main() -> None:
           f"stabilise {args.stabilise:g}")  # fmt: skip
     print(f"  load factors {[round(x, 4) for x in info['load_factors']]}")
     print(f"  Newton iterations per increment {info['iterations_per_increment']}, cuts "
-          f"{info['cuts']}, contact-set updates {info['contact_set_updates']}, fallbacks "
+          f"{info['cuts']} (their attempts {info['iterations_cut']} iterations), contact-set "
+          f"updates {info['contact_set_updates']}, fallbacks "
           f"{info['contact_set_fallbacks']}")  # fmt: skip
     report = info.get("stabilisation", {})
     if report:

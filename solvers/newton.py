@@ -117,7 +117,13 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         return _newton(run, state, load_factor, max_iterations, True)
     except IncrementFailed as failure:
         run.info["contact_set_fallbacks"] += 1
-        converged, count, ratio, history = _newton(run, state, load_factor, max_iterations, False)
+        try:
+            converged, count, ratio, history = _newton(
+                run, state, load_factor, max_iterations, False
+            )
+        except IncrementFailed as fallback:
+            fallback.iterations += failure.iterations  # both attempts' iterations
+            raise
         return converged, count + failure.iterations, ratio, failure.history + history
 
 

@@ -198,8 +198,10 @@ class Static:
         -------
         femcore.results.Result
             The reference state and one frame per increment (``time`` = load factor), with
-            ``info``: iterations per increment, cuts, the negative-eigenvalue count of each
-            frame, branch switches, evaluation counts and the linear-solver statistics.
+            ``info``: iterations per increment (of the attempts that converged; those of
+            the attempts that were cut are summed in ``iterations_cut``), cuts, the
+            negative-eigenvalue count of each frame, branch switches, evaluation counts and
+            the linear-solver statistics.
 
         Raises
         ------
@@ -268,6 +270,7 @@ class Static:
                     else:
                         converged, count, ratio, history = newton(run, start, trial)
                 except IncrementFailed as failure:
+                    run.info["iterations_cut"] += failure.iterations
                     total = self.increments * (2 if self.step_loads_first else 1)
                     cuts_here = run.cut(
                         cuts_here,
@@ -366,6 +369,7 @@ class StaticRun:
             "load_factors": [],
             "iterations_per_increment": [],
             "cuts": 0,
+            "iterations_cut": 0,
             "tangent_colours": self._tangent.graph.n_colours if self._tangent.graph else 0,
             "residual_ratio_per_increment": [],
             "negative_eigenvalues": [],
