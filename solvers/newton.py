@@ -56,6 +56,7 @@ from femcore.model import CompiledModel
 from femcore.state import State
 from solvers.convergence import Equilibrium
 from solvers.linear import Factorisation
+from solvers.stabilisation import Dashpots, with_dashpots
 from solvers.stability import downhill, lowest_modes, push_descends
 
 if TYPE_CHECKING:
@@ -116,7 +117,13 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
         return _newton(run, state, load_factor, max_iterations, True)
     except IncrementFailed as failure:
         run.info["contact_set_fallbacks"] += 1
-        converged, count, ratio, history = _newton(run, state, load_factor, max_iterations, False)
+        try:
+            converged, count, ratio, history = _newton(
+                run, state, load_factor, max_iterations, False
+            )
+        except IncrementFailed as fallback:
+            fallback.iterations += failure.iterations  # both attempts' iterations
+            raise
         return converged, count + failure.iterations, ratio, failure.history + history
 
 
@@ -155,6 +162,9 @@ def _iterate(
     forces = None  # the internal forces of the accepted trial, reused next iteration
     watchdog = Watchdog(run, equilibrium, solver.line_search)
     allowed = max_iterations or solver.max_iterations
+    # The tools' prescribed motions are where the load factor puts them from the first
+    # iteration on (a tool is placed by ``state.load_factor``).
+    state = replace(state, load_factor=load_factor, time=load_factor)
     # The contact sets stay frozen while Newton iterates (module docstring).
     if frozen:
         state, _ = model.freeze(state)
@@ -358,11 +368,21 @@ class Residual:
 
     model : the compiled model. f_ext, m_ext : (n, 3) dead forces N and moments N mm.
     imposed : (n, 3) prescribed displacements, mm. counts : the evaluation counts of the run
-    (its "residual" entry counts the internal-force evaluations).
+    (its "residual" entry counts the internal-force evaluations). dashpots : the viscous
+    stabilisation of the increment (solvers.stabilisation), or None.
     """
 
-    def __init__(self, model: CompiledModel, f_ext, m_ext, imposed, counts=None):
+    def __init__(
+        self,
+        model: CompiledModel,
+        f_ext,
+        m_ext,
+        imposed,
+        counts=None,
+        dashpots: Dashpots | None = None,
+    ):
         self.model, self.f_ext, self.m_ext = model, f_ext, m_ext
+        self.dashpots = dashpots
         self.counts = counts if counts is not None else {"residual": 0}
         self.target = model.reference_positions + imposed if model.has_prescribed else None
         # One scale for both: a moment M counts as the force M / (element size), so that a
@@ -390,9 +410,10 @@ class Residual:
             self.counts["residual"] += 1
             forces = model.internal_force(state)
         f_int, m_int = forces
-        r = np.where(
-            model.dofs.free, model.dofs.generalised(frames, f_ext - f_int, m_ext - m_int), 0.0
-        )
+        r = model.dofs.generalised(frames, f_ext - f_int, m_ext - m_int)
+        if self.dashpots is not None:
+            r = r + with_dashpots(frames, model.dofs, self.dashpots, state)
+        r = np.where(model.dofs.free, r, 0.0)
         ratio = self.test.ratios(r[:, :3], r[:, 3:], f_int, m_int).checked()
         return r, ratio, (f_int, m_int)
 

@@ -28,11 +28,14 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
+from femcore.checks import as_number
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.memory import STATIC_BYTES_PER_CELL, check_model_memory
 from femcore.model import CompiledModel, Model
@@ -58,6 +61,7 @@ from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.linear import Factorisation, LinearSolver
 from solvers.newton import IncrementFailed, Residual, Tangent, newton
 from solvers.output import FrameStream, output_path
+from solvers.stabilisation import STABILISATION_BOUND, Dashpots
 
 __all__ = ["PATHS", "Static", "StaticRun"]
 
@@ -112,6 +116,14 @@ class Static:
     tangent : "element" (default): each block's own ``tangent`` where it has one, coloured
         finite differences of ``internal_force`` for the others; "finite_difference": coloured
         finite differences for every block.
+    stabilise : load path: c >= 0, the viscous stabilisation of the increments (1/s^2 per unit
+        load factor; 0, the default: none): each node is held to where it was at the last
+        converged increment by a dashpot c m_i / dlambda (m_i its lumped mass; its director by
+        c I_i / dlambda), so that a blank that is a mechanism until the tools hold it (a
+        flange that wrinkles) is formed by Newton, as implicit forming codes do
+        (solvers.stabilisation). The energy the dashpots dissipated is reported against the
+        strain energy in ``info["stabilisation"]``, with a UserWarning past
+        STABILISATION_BOUND (5 %) of it at the end.
     progress : print status lines (None: only on an interactive terminal).
     output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
         rewritten after each) as its increment converges, so that a killed run leaves the
@@ -144,6 +156,7 @@ class Static:
         max_increments: int | None = None,
         at_limit: str = "follow",
         predictor: bool = False,
+        stabilise: float = 0.0,
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
     ):
@@ -167,6 +180,7 @@ class Static:
             raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
         self.at_limit = at_limit
         self.predictor = check_flag(predictor, "predictor")
+        self.stabilise = check_stabilise(stabilise, path)
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
         self.progress = check_progress(progress)
@@ -184,8 +198,10 @@ class Static:
         -------
         femcore.results.Result
             The reference state and one frame per increment (``time`` = load factor), with
-            ``info``: iterations per increment, cuts, the negative-eigenvalue count of each
-            frame, branch switches, evaluation counts and the linear-solver statistics.
+            ``info``: iterations per increment (of the attempts that converged; those of
+            the attempts that were cut are summed in ``iterations_cut``), cuts, the
+            negative-eigenvalue count of each frame, branch switches, evaluation counts and
+            the linear-solver statistics.
 
         Raises
         ------
@@ -225,6 +241,7 @@ class Static:
                 self._load_path(run, phase)
             elif arc_length_path(run, phase):  # stopped at a limit point to jump
                 self._load_path(run, phase, jump=True)
+        run.report_stabilisation()
         return run.result(True)
 
     # ------------------------------------------------------------------ load path
@@ -244,6 +261,7 @@ class Static:
                 # Land on the target exactly: sums of step fractions miss it by rounding.
                 trial = target if run.reached + step >= target - 1e-12 else run.reached + step
                 start = run.predict(trial)
+                run.damp(trial)
                 try:
                     if iterations_allowed is not None:
                         converged, count, ratio, history = descend(
@@ -252,6 +270,7 @@ class Static:
                     else:
                         converged, count, ratio, history = newton(run, start, trial)
                 except IncrementFailed as failure:
+                    run.info["iterations_cut"] += failure.iterations
                     total = self.increments * (2 if self.step_loads_first else 1)
                     cuts_here = run.cut(
                         cuts_here,
@@ -263,6 +282,7 @@ class Static:
                 iterations += count
                 iterations_allowed = None
                 run.accept(converged, trial)
+                run.damp(None)
                 # After a cut, grow the step back towards the nominal one.
                 step = min(1.0 / self.increments, 2.0 * step)
             run.frame(iterations, ratio, history)
@@ -285,6 +305,22 @@ class Static:
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
+
+
+def check_stabilise(value: Any, path: str) -> float:
+    """The ``stabilise`` coefficient, checked: a finite number >= 0, zero on the arc-length
+    path (its load factor is an unknown, and the dashpots need the increment's)."""
+    coefficient = as_number(value, "stabilise", "a number >= 0 (1/s^2 per unit load factor)")
+    if not (np.isfinite(coefficient) and coefficient >= 0.0):
+        raise ValueError(
+            f"stabilise must be a finite number >= 0 (1/s^2 per unit load factor), got {value!r}"
+        )
+    if coefficient > 0.0 and path != "load":
+        raise ValueError(
+            f"stabilise = {value!r} needs path='load' (the dashpots act over a known increment "
+            f"of the load factor), got path={path!r}"
+        )
+    return coefficient
 
 
 class StaticRun:
@@ -318,6 +354,11 @@ class StaticRun:
         self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
         self.phase = 0
         self.counts = {"residual": 0, "energy": 0, "tangent": 0}
+        # The viscous stabilisation (solvers.stabilisation): the masses once, the dashpots of
+        # the increment being solved, and the energy they dissipated so far.
+        self.dashpots: Dashpots | None = None
+        self.masses = model.lumped_mass(self.state) if solver.stabilise > 0.0 else None
+        self.dissipated = 0.0
         self.info: dict[str, Any] = {
             "solver": "Static",
             "path": solver.path,
@@ -328,6 +369,7 @@ class StaticRun:
             "load_factors": [],
             "iterations_per_increment": [],
             "cuts": 0,
+            "iterations_cut": 0,
             "tangent_colours": self._tangent.graph.n_colours if self._tangent.graph else 0,
             "residual_ratio_per_increment": [],
             "negative_eigenvalues": [],
@@ -346,7 +388,46 @@ class StaticRun:
     # ------------------------------------------------------------------ model evaluations
     def equilibrium(self, load_factor: float) -> Residual:
         force, moment, imposed = self.solver.loads(self.model, load_factor)
-        return Residual(self.model, force, moment, imposed, self.counts)
+        return Residual(self.model, force, moment, imposed, self.counts, self.dashpots)
+
+    def damp(self, load_factor: float | None) -> None:
+        """Stabilised runs: the dashpots of the increment from the last converged state to
+        ``load_factor`` (None: none, between increments)."""
+        if self.masses is None or load_factor is None:
+            self.dashpots = None
+            return
+        mass, inertia = self.masses
+        self.dashpots = Dashpots(
+            self.solver.stabilise,
+            mass,
+            inertia,
+            self.model.has_rotation,
+            self.state,
+            load_factor - self.reached,
+        )
+
+    def report_stabilisation(self) -> None:
+        """Stabilised runs: the energy the dashpots dissipated against the strain energy at
+        the end, in ``info["stabilisation"]``; a UserWarning past STABILISATION_BOUND."""
+        if self.masses is None:
+            return
+        strain = self.strain_energies[-1]
+        ratio = self.dissipated / strain if strain > 0.0 else float("inf")
+        self.info["stabilisation"] = {
+            "coefficient_per_s2": self.solver.stabilise,
+            "dissipated_N_mm": self.dissipated,
+            "strain_energy_N_mm": strain,
+            "dissipated_over_strain_energy": ratio,
+        }
+        if self.dissipated > STABILISATION_BOUND * strain:
+            warnings.warn(
+                f"the viscous stabilisation dissipated {self.dissipated:.4g} N mm, "
+                f"{ratio:.3g} of the strain energy ({strain:.4g} N mm), more than "
+                f"{STABILISATION_BOUND:g}: the dashpots, not the model, shape the result; "
+                f"lower stabilise (now {self.solver.stabilise:g}) or take more increments",
+                UserWarning,
+                stacklevel=4,
+            )
 
     def pattern(self, phase: int):
         """(forces, moments, imposed displacements) per unit load factor in a phase."""
@@ -355,20 +436,33 @@ class StaticRun:
         return tuple(a - b for a, b in zip(upper, lower))
 
     def energy(self, state: State) -> float:
+        """The strain energy at ``state`` (with the dashpots' pseudo-potential in a
+        stabilised increment), N mm."""
         self.counts["energy"] += 1
-        return self.model.strain_energy(state)
+        energy = self.model.strain_energy(state)
+        if self.dashpots is not None:
+            energy += self.dashpots.energy(state)
+        return energy
 
     def tangent(self, state: State, frames: Frames):
+        """(K_ff, K_fp) at ``state``, the dashpots' diagonal added in a stabilised
+        increment."""
         self.counts["tangent"] += 1
-        return self._tangent(state, frames)
+        k_ff, k_fp = self._tangent(state, frames)
+        if self.dashpots is not None:
+            diagonal = self.dashpots.diagonal(self.model.dofs.free_slots)
+            k_ff = (k_ff + sp.diags(diagonal, format="csc")).tocsc()
+        return k_ff, k_fp
 
     def factorise(self, k_ff) -> Factorisation:
         return self.linear.factorise(k_ff)
 
     # ------------------------------------------------------------------ configurations
     def place(self, state: State, load_factor: float) -> State:
-        """The state with its prescribed translations at their values for ``load_factor``."""
+        """The state with its prescribed translations at their values for ``load_factor``, and
+        that load factor (where the tools' prescribed motions place them)."""
         model = self.model
+        state = replace(state, load_factor=load_factor, time=load_factor)
         if not model.has_prescribed:
             return state
         target = model.reference_positions + self.solver.loads(model, load_factor)[2]
@@ -448,6 +542,8 @@ class StaticRun:
         return state
 
     def accept(self, state: State, load_factor: float) -> None:
+        if self.dashpots is not None:
+            self.dissipated += self.dashpots.dissipated(state)
         motion = self.motion_between(self.state, self.reached, state, load_factor)
         self.last_motion = (self.phase, load_factor, motion)
         self.reached = load_factor

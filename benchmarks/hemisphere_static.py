@@ -1,0 +1,163 @@
+"""The hemisphere drape by Static, a quasi-static forming run as implicit forming codes do it,
+against the pin-jointed net and against the explicit run of the same model.
+
+The blank, die and punch of validation/cases/hemisphere_forming.py (``model(cells,
+kinematics)``: 200 x 200 x 0.3 mm, the punch a sphere of 50 mm stepped 50.3 mm down, the die
+meshed with 48 rings of facets, frictionless), with a blank holder: a flat meshed ring
+(validation.specimens.holder_ring, from 2 mm outside the die's rim to 170 mm) fixed on the
+blank's top face, zero clearance, frictionless. It keeps the flange from wrinkling up (each
+wrinkle is an out-of-plane instability that a coarse blank makes one cell wide) and leaves the
+draw-in free. Static steps the punch in ``--increments`` equal load-factor steps (the punch's
+smooth amplitude puts most of its travel in the middle ones), with the viscous stabilisation
+``--stabilise`` c (1/s^2 per unit load factor; solvers/stabilisation.py). Printed: the Newton
+iterations per increment, the contact-set updates, the cuts, the wall time, the energy the
+dashpots dissipated against the strain energy, the rms of the shear angle against the net over
+the cells in the die (the case's measure), and the same for CentralDifference on the same
+model (the case's duration and damping), with the rms difference of the two shear fields.
+
+Reference pass: one internal-force evaluation of the model (the unit of a Newton iteration's
+cost besides the tangent and its factorisation), timed in the same run.
+
+Measured on this machine (2 cores shared with other jobs), 8 cells, fibrous, 10 increments,
+c = 300: every increment converged, Newton iterations 7, 10, 14, 18, 14, 35, 20, 12, 16, 14
+(the sixth after one cut, whose attempts took 98 more), 27 contact-set updates, 179-251 s wall
+under a load of 7-15 (500-760 reference passes of 0.33-0.36 s; 118 s on a quieter machine);
+the dashpots dissipated 0.72 % of the strain energy (430 N mm); rms against the net 3.56 deg
+over 26 cells in the die; punch force 43.8 N. CentralDifference on the same model: 3120
+steps, 470 s wall under the same load, rms against the net 3.56 deg over the same 26 cells,
+punch force 40.8 N; the two shear fields differ by 0.12 deg rms over those cells. At 12 cells
+(the case's coarse mesh) c = 300 stops at load factor 0.699 (7-87 iterations per increment,
+10 cuts whose attempts took 887 iterations, 499 s).
+
+The Mindlin blank (ElasticShell.equivalent) with the same holder stops at load factor 0.64 at
+c = 300 (233 iterations at 0.6, then 6 cuts); at c = 3000 it converges (7-130 iterations per
+increment, 12 cuts, 313 s, 3.8 % dissipated), but only 10 cells end on the bowl (rms 6.4 deg,
+punch force 307 N: its soft membrane; the case's Mindlin check has no tolerance either).
+Without the holder the fibrous runs tried (c = 300 and 3000, 10 and 40 increments) had not
+passed load factor 0.8 (0.6 at c = 3000) after several minutes each, their increments cut
+where the flange wrinkles.
+
+Run: python benchmarks/hemisphere_static.py [--cells 8] [--increments 10] [--stabilise 300]
+[--kinematics fibrous] [--skip-explicit]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from scipy.interpolate import RegularGridInterpolator  # noqa: E402
+
+from elements import RigidSurface  # noqa: E402
+from femcore import Mesh, Model  # noqa: E402
+from solvers import CentralDifference, ConvergenceError, Static  # noqa: E402
+from validation.cases import hemisphere_forming as case  # noqa: E402
+from validation.specimens import holder_ring  # noqa: E402
+
+__all__ = ["held_blank", "main", "net_shear", "shear_error"]
+
+
+def held_blank(cells: int, kinematics: str) -> tuple[Mesh, Model]:
+    """The case's model with the blank holder of the module docstring."""
+    mesh, model = case.model(cells, kinematics)
+    ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)
+    model.contact(RigidSurface(ring.with_points(ring.points + [0.0, 0.0, case.THICKNESS])))
+    return mesh, model
+
+
+def net_shear(mesh: Mesh) -> np.ndarray:
+    """(m,) the pin-jointed net's shear angle at each cell of the blank, rad (NaN off it)."""
+    net = case.fishnet_on_sphere(
+        case.DIE - 0.5 * case.THICKNESS,
+        case.NET_CELL,
+        int(0.5 * np.pi * case.DIE / case.NET_CELL),
+    )
+    interpolate = RegularGridInterpolator((net["u"], net["v"]), net["shear"], bounds_error=False)
+    return interpolate(mesh.points[mesh.triangles].mean(axis=1)[:, :2])
+
+
+def shear_error(mesh: Mesh, positions: np.ndarray, net: np.ndarray):
+    """(rms of shear - net over the cells in the die, deg; those cells (m,) bool; the shear
+    (m,) rad): the case's measure, cells whose three nodes lie within 0.5 mm of the sphere of
+    the mid-surface below z = -5 mm."""
+    radius = np.linalg.norm(positions, axis=1)
+    on_bowl = (np.abs(radius - (case.DIE - 0.5 * case.THICKNESS)) < 0.5) & (positions[:, 2] < -5.0)
+    in_die = on_bowl[mesh.triangles].all(axis=1) & np.isfinite(net)
+    shear = case.blank_shear(mesh, positions)
+    error = np.degrees(shear[in_die] - net[in_die])
+    rms = float(np.sqrt(np.mean(error**2))) if in_die.any() else float("inf")
+    return rms, in_die, shear
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cells", type=int, default=8)
+    parser.add_argument("--increments", type=int, default=10)
+    parser.add_argument("--stabilise", type=float, default=300.0)
+    parser.add_argument("--kinematics", default="fibrous", choices=("fibrous", "mindlin"))
+    parser.add_argument("--skip-explicit", action="store_true")
+    args = parser.parse_args()
+    mesh, model = held_blank(args.cells, args.kinematics)
+    compiled = model.compile()
+    state = compiled.initial_state()
+    compiled.internal_force(state)  # compiles the kernels
+    start = time.perf_counter()
+    for _ in range(5):
+        compiled.internal_force(state)
+    reference = (time.perf_counter() - start) / 5
+    net = net_shear(mesh)
+    print(f"blank: {args.cells} x {args.cells} cells, {mesh.n_triangles} triangles, "
+          f"{args.kinematics}; reference pass (one internal-force evaluation) "
+          f"{reference * 1e3:.2f} ms")  # fmt: skip
+
+    solver = Static(increments=args.increments, stabilise=args.stabilise, progress=False)
+    start = time.perf_counter()
+    try:
+        result = solver.solve(held_blank(args.cells, args.kinematics)[1])
+        status = "converged"
+    except ConvergenceError as error:
+        result, status = error.result, f"stopped at load factor {error.load_factor:.3g}"
+    wall = time.perf_counter() - start
+    info = result.info
+    print(f"Static: {status}, {wall:.1f} s wall ({wall / reference:.0f} reference passes), "
+          f"stabilise {args.stabilise:g}")  # fmt: skip
+    print(f"  load factors {[round(x, 4) for x in info['load_factors']]}")
+    print(f"  Newton iterations per increment {info['iterations_per_increment']}, cuts "
+          f"{info['cuts']} (their attempts {info['iterations_cut']} iterations), contact-set "
+          f"updates {info['contact_set_updates']}, fallbacks "
+          f"{info['contact_set_fallbacks']}")  # fmt: skip
+    report = info.get("stabilisation", {})
+    if report:
+        print(f"  dashpots dissipated {report['dissipated_N_mm']:.4g} N mm, "
+              f"{report['dissipated_over_strain_energy']:.2%} of the strain energy "
+              f"({report['strain_energy_N_mm']:.4g} N mm)")  # fmt: skip
+    rms, in_die, static_shear = shear_error(mesh, result.positions, net)
+    tolerance = case.RMS_TOLERANCE_DEG["coarse"]
+    print(f"  rms of shear - net over {int(in_die.sum())} cells in the die: {rms:.2f} deg "
+          f"(the case's tolerance at its coarse mesh {tolerance} deg)")  # fmt: skip
+    print(f"  punch force at the end {result.tool_forces[-1, 1, 2]:.3g} N")
+    if args.skip_explicit:
+        return
+
+    explicit = CentralDifference(duration=case.DURATION, damping=case.DAMPING, progress=False)
+    start = time.perf_counter()
+    run = explicit.solve(held_blank(args.cells, args.kinematics)[1])
+    wall = time.perf_counter() - start
+    rms_explicit, in_die_explicit, explicit_shear = shear_error(mesh, run.positions, net)
+    both = in_die & in_die_explicit
+    difference = np.degrees(static_shear[both] - explicit_shear[both])
+    print(f"CentralDifference: {wall:.1f} s wall, {run.steps} steps; rms of shear - net over "
+          f"{int(in_die_explicit.sum())} cells in the die: {rms_explicit:.2f} deg; rms of "
+          f"Static - explicit shear over the {int(both.sum())} cells in the die in both: "
+          f"{float(np.sqrt(np.mean(difference**2))) if both.any() else float('nan'):.2f} deg; "
+          f"punch force at the end {run.tool_forces[-1, 1, 2]:.3g} N")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
