@@ -32,10 +32,10 @@ def held_blank():
 
 @pytest.mark.slow
 def test_static_drapes_the_hemisphere_as_the_pin_jointed_net():
-    """Every increment converges (measured Newton iterations 7-35 per increment, one cut, about
-    2 minutes on this machine); the dashpots dissipate less than 5 % of the strain energy
-    (measured 0.7 %); the rms of shear - net over the cells in the die is within the case's
-    coarse tolerance (measured 3.56 deg over 26 cells)."""
+    """Every increment converges (measured Newton iterations 4-36 per increment, 6 s to 2 min
+    on this machine as it is loaded); the dashpots dissipate less than 5 % of the strain energy
+    (measured 0.6 %); the rms of shear - net over the cells in the die is within the case's
+    coarse tolerance (measured 3.51 deg over 26 cells)."""
     mesh, model = held_blank()
     result = Static(increments=INCREMENTS, stabilise=STABILISE, progress=False).solve(model)
     assert result.converged
@@ -50,7 +50,10 @@ def test_static_drapes_the_hemisphere_as_the_pin_jointed_net():
     interpolate = RegularGridInterpolator((net["u"], net["v"]), net["shear"], bounds_error=False)
     net_shear = interpolate(mesh.points[mesh.triangles].mean(axis=1)[:, :2])
     x = result.positions
-    on_bowl = (np.abs(np.linalg.norm(x, axis=1) - (case.DIE - 0.5 * case.THICKNESS)) < 0.5) & (
+    # In the die: within 1 mm of the mid-surface's sphere, below z = -5 mm. The punch presses
+    # the stiffening shear law's cells 0.4-0.5 mm off that sphere (into the punch's penalty
+    # springs by 0.06 mm at most), so the explicit case's 0.5 mm band would miss half of them.
+    on_bowl = (np.abs(np.linalg.norm(x, axis=1) - (case.DIE - 0.5 * case.THICKNESS)) < 1.0) & (
         x[:, 2] < -5.0
     )
     in_die = on_bowl[mesh.triangles].all(axis=1) & np.isfinite(net_shear)
