@@ -187,7 +187,9 @@ class Layup:
             for name, ids in blank.node_sets.items():
                 node_sets[f"ply_{k + 1}_{name}"] = ids + starts[k]
         for name in blanks[0].node_sets:
-            node_sets[name] = np.concatenate([node_sets[f"ply_{k + 1}_{name}"] for k in range(len(blanks))])
+            node_sets[name] = np.concatenate(
+                [node_sets[f"ply_{k + 1}_{name}"] for k in range(len(blanks))]
+            )
         self.mesh = Mesh(
             np.vstack([b.points for b in blanks]),
             triangles=np.vstack([b.triangles + s for b, s in zip(blanks, starts)]),
