@@ -13,7 +13,7 @@ Punch a rigid sphere of radius 50 mm moving 50.6 mm down (smooth amplitude) into
 a bowl of radius 50.9 mm (the punch, two plies and a clearance of one ply) with a flat flange.
 Blank holder: a flat ring (``validation.specimens.holder_ring``, 60.9 to 150 mm) on the top
 ply, free along z, pressed down by a force F reaching its value over the first tenth of the
-run (10 N and 20 N: a nominal pressure of 0.17 and 0.34 kPa on its 59,000 mm^2), mass 0.1 kg.
+run (10 N and 20 N: a nominal pressure of 0.17 and 0.34 kPa on its 59,000 mm^2), mass 1 kg.
 Friction: Coulomb mu = 0.2 between the plies (``PlyContact``); the tools frictionless (with
 mu = 0.2 on the die and the holder the explicit run stopped on its energy balance at 8 % of the
 stroke, an open problem of the force-driven tools with friction), so the holder force acts on
@@ -67,7 +67,7 @@ LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
 CELLS = {"coarse": 6, "default": 8}
 MU = 0.2  # ply on ply
 HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
-HOLDER_MASS = 1e-4  # t (0.1 kg)
+HOLDER_MASS = 1e-3  # t (1 kg)
 HOLDER_RING = (DIE + 10.0, 150.0, 10.0)  # inner, outer radius, facet width, mm
 HOLDER_RAMP = 0.1  # share of the run over which the holder force grows
 DURATION = 0.1  # s
@@ -169,7 +169,7 @@ def compute(resolution: str) -> Outcome:
     plan += [(name, "fibrous", HOLDER_FORCES[1]) for name in LAYUPS]
     layups, runs, shear, net_shear, in_die = {}, {}, {}, {}, {}
     parameters: dict[str, Any] = {
-        "cells": f"{cells} fibre segments across the blank (0/90 deg plies: {cells} x {cells} squares)",
+        "cells": f"{cells} fibre segments across the blank ({cells} x {cells} squares at 0 deg)",
         "blank_mm": f"{2 * HALF} x {2 * HALF}, plies {THICKNESS} mm",
         "punch_radius_mm": PUNCH,
         "die_radius_mm": DIE,
