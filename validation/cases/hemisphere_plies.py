@@ -47,7 +47,7 @@ from elements.layup import Layup
 from elements.ply_slip import slip_summary
 from femcore import Mesh, Model
 from materials import Fabric
-from solvers import CentralDifference
+from solvers import CentralDifference, SolverError
 from validation.checks import check
 from validation.records import Case, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
@@ -64,7 +64,7 @@ DIE = PUNCH + (PLIES + 1) * THICKNESS  # the punch, the plies and a clearance of
 TRAVEL = PUNCH + PLIES * THICKNESS
 FABRIC = Fabric(thickness=THICKNESS, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
 LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
-CELLS = {"coarse": 6, "default": 8}
+CELLS = {"coarse": 8, "default": 10}
 MU = 0.2  # ply on ply
 HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
 HOLDER_MASS = 1e-3  # t (1 kg)
@@ -186,7 +186,23 @@ def compute(resolution: str) -> Outcome:
     for name, kinematics, force in plan:
         key = f"{name} {kinematics} {force:g} N"
         layup, built = model(cells, LAYUPS[name], kinematics, force)
-        result = CentralDifference(duration=DURATION, damping=DAMPING, progress=False).solve(built)
+        solver = CentralDifference(duration=DURATION, damping=DAMPING, progress=False)
+        try:
+            result = solver.solve(built)
+        except SolverError as error:  # reported with the last good frame, not raised
+            if error.result is None:
+                raise
+            result = error.result
+            parameters[f"{key} stopped"] = str(error)
+        checks.append(
+            check(
+                f"{key}: the run reaches the end of the stroke (s)",
+                DURATION,
+                float(result.frames[-1].time),
+                1e-6,
+                source="the stroke",
+            )
+        )
         layups[key], runs[key] = layup, result
         x = result.positions
         shear[key] = layup.shear(x)
