@@ -28,8 +28,31 @@ die, the largest shear, the draw-in of the edge middle and of the corner, the wr
 outline, and the inter-ply slip (``ply_slip``, the top ply's faces against the bottom ply's
 since the start: max and rms); the holder's force and travel; the fibrous [0/90] and [0/45]
 again at the second holder force (the sensitivity).
-Runtime (measured on this machine, NUMBA_NUM_THREADS=1, other jobs running): see
-``RUNTIME_NOTE``.
+Measured on this machine (one thread, NUMBA_NUM_THREADS=1, while other jobs ran): the six
+runs take 168 s of CPU at coarse (8 cells) and 194 s at default (10 cells; three of its runs
+stopped early), 690-735 s of wall time under that load. What they show, honestly:
+- The bottom ply is not in the die at the end in any run: its nodes lie 0.7 mm inside the bowl
+  (radius 50.0-50.1 mm where 50.75 is expected), at or above the top ply's: the punch pushes
+  the top ply through the bottom one. Cause: the ply contact measures gaps against flat
+  triangles, and on the 50-mm sphere a cell s of 20-25 mm sags by s^2 / (8 R) = 1.0-1.6 mm,
+  several ply thicknesses, so the two plies' faceted faces cannot stay 0.3 mm apart (a penalty
+  of 300 N/mm per node, 10 x the automatic one, did not help and took 3.4 x the steps). Meshes
+  whose sag is below h (s < 11 mm, 18 cells and more) are needed, at about 70 s per ply per run
+  (hemisphere-forming), beyond this case's budget: its ply-1 shear checks fail (no cell of ply
+  1 in the die) and say so.
+- The top ply does lie on the die's sphere of its mid-surface where it is in the die, and its
+  shear follows its own net: rms 3.0 and 2.7 deg for the 90-deg ply ([0/90] fibrous, 10 and 20
+  N, default), 3.8 deg for the 45-deg ply ([0/45] fibrous, 10 N), 6.5 deg at coarse.
+- Draw-in of the edge middle 24.5 mm for the 0-deg and 90-deg plies at both holder forces
+  (frictionless tools: the holder force reaches the draw-in only through the plies' friction,
+  and it does not move it); the 45-deg ply draws in by 22 mm at its corner (along its fibres)
+  and 6-9 mm at the edge middle. Wrinkles of the bottom ply's outline: 5 crests at 10 N, none
+  at 20 N ([0/90] fibrous, coarse): the holder holds the flange down.
+- Inter-ply slip: 0.6-1.0 mm at most for [0/90] (the two plies deform alike), 12-23 mm for
+  [0/45] (the 45-deg ply draws in along its own fibres): the slip field tells the layups apart.
+- Several runs stop on the explicit energy balance late in the stroke (Mindlin plies at 64-97
+  %, [0/45] fibrous at 67-99 %); their rows are reported from the last good frame, with a
+  failed "reaches the end of the stroke" check.
 """
 
 from __future__ import annotations
@@ -46,6 +69,7 @@ from elements import RigidSphere, RigidSurface
 from elements.layup import Layup
 from elements.ply_slip import slip_summary
 from femcore import Mesh, Model
+from femcore.topology import nodal_normals
 from materials import Fabric
 from solvers import CentralDifference, SolverError
 from validation.checks import check
@@ -73,10 +97,10 @@ HOLDER_RAMP = 0.1  # share of the run over which the holder force grows
 DURATION = 0.1  # s
 DAMPING = 20.0  # 1/s, as hemisphere-forming
 NET_CELL = 1.0  # mm
-RUNTIME_NOTE = "measured: see the module's tolerances"
-# rms of shear - net (deg) over a ply's cells in the die: tolerances ~1.35 x measured (fibrous);
-# the Mindlin plies are reported, not checked (as in hemisphere-forming).
-RMS_TOLERANCE_DEG = {"coarse": 10.0, "default": 10.0}
+# rms of shear - net (deg) over a ply's cells in the die: tolerances ~1.35 x the top plies'
+# measured values (fibrous; module docstring); the Mindlin plies are reported, not checked (as
+# in hemisphere-forming).
+RMS_TOLERANCE_DEG = {"coarse": 8.8, "default": 5.1}
 
 
 @dataclass(frozen=True)
@@ -103,7 +127,8 @@ def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
     top = f"ply_{layup.count}"
-    built.contact(RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48)), nodes="ply_1")
+    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48))
+    built.contact(die, nodes="ply_1")
     punch = RigidSphere((0.0, 0.0, TRAVEL), PUNCH, motion=(0.0, 0.0, -TRAVEL), amplitude="smooth")
     built.contact(punch, nodes=top)
     ring = holder_ring(*HOLDER_RING)
@@ -238,6 +263,13 @@ def compute(resolution: str) -> Outcome:
             parameters[f"{ply}_rms_shear_error_deg"] = rms
             parameters[f"{ply}_largest_shear_deg"] = float(
                 np.degrees(np.abs(shear[key][k][compared]).max(initial=0.0))
+            )
+            # the contact's faces sit h/2 (1 - cos tilt) inside a fibrous ply's (§9.3b)
+            nodes = layup.ply_nodes[k]
+            normals = nodal_normals(x[: layup.mesh.n_nodes], triangles[layup.ply_cells[k]])
+            cosine = np.abs(np.sum(normals[nodes] * result.directors[nodes], axis=1))
+            parameters[f"{ply}_largest_director_tilt_deg"] = float(
+                np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))).max()
             )
             edge, corner = _draw_in(layup, x, k)
             parameters[f"{ply}_draw_in_edge_middle_mm"] = edge
