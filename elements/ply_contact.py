@@ -111,7 +111,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from elements import ply_friction
+from elements import ply_friction, ply_slip
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from femcore.assembly import CellTangent
 from femcore.interaction import Body, Interaction, InteractionBlock
@@ -454,6 +454,14 @@ class PlyContactBlock(InteractionBlock):
             np.zeros((self.n_nodes, 3)),
         )
         self._reference = reference
+        self.slip_anchors = ply_slip.anchor(
+            reference.positions,
+            reference.directors,
+            self.upper,
+            np.asarray(upper_offset, dtype=float)[self.upper],
+            cells,
+            self.corner_offset,
+        )
         near = self._candidates(reference)[1][:, : min(3, self.candidates)]
         self.connectivity = np.column_stack([self.above, cells[near].reshape(len(self.above), -1)])
         self.lower_nodes = np.unique(cells)
@@ -685,8 +693,11 @@ class PlyContactBlock(InteractionBlock):
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """ply_gap (mm, the mean signed gap of the contact points around each upper node,
         weighted by N_j, < 0 a penetration; NaN off the upper nodes and where no point faces
-        a triangle) and ply_contact_force (sum_p N_j (-dW/dg), the pressing force lumped to
-        the upper nodes, N; 0 off them)."""
+        a triangle), ply_contact_force (sum_p N_j (-dW/dg), the pressing force lumped to
+        the upper nodes, N; 0 off them), ply_slip_vector (n, 3) and ply_slip (n,): the
+        tangential displacement of each upper node's face against the lower ply's face since
+        the start and its length, mm (elements/ply_slip.py; NaN off the upper nodes and
+        where no ply is below)."""
         facing = self.facing(state)
         overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
         facing_any = overshoot <= MARGIN
@@ -702,4 +713,13 @@ class PlyContactBlock(InteractionBlock):
         pressing[on] = -penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[1]
         force = np.zeros(self.n_nodes)
         force[self.upper] = self._lumped(pressing)[self.upper]
-        return {"ply_gap": gap, "ply_contact_force": force}
+        vectors = np.full((self.n_nodes, 3), np.nan)
+        vectors[self.upper] = ply_slip.slip_vectors(
+            self.slip_anchors, state.positions, state.directors, self.cells, self.corner_offset
+        )
+        return {
+            "ply_gap": gap,
+            "ply_contact_force": force,
+            "ply_slip": np.linalg.norm(vectors, axis=1),
+            "ply_slip_vector": vectors,
+        }

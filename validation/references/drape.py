@@ -20,13 +20,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["chebyshev_shear", "fishnet_on_sphere"]
+__all__ = ["chebyshev_shear", "fishnet_on_sphere", "net_coordinates"]
 
 
-def fishnet_on_sphere(radius: float, cell: float, count: int) -> dict:
+def fishnet_on_sphere(radius: float, cell: float, count: int, angle: float = 0.0) -> dict:
     """The pin-jointed net of segment ``cell`` (mm) on the upper hemisphere of ``radius``
     (mm, centre at the origin, pole at (0, 0, radius)), ``count`` cells from the pole along
-    each generator each way, warp along x and weft along y at the pole.
+    each generator each way, warp along x and weft along y at the pole; with ``angle`` (deg)
+    the generators turned by it about z (the net of a ply laid at that angle: warp along
+    (cos a, sin a, 0) at the pole), marched from them alike.
 
     Returns a dict: u, v (2 count + 1,) the fibre arc lengths of the crossings from the pole
     (mm, i cell and j cell); points (2 count + 1, 2 count + 1, 3), NaN where the net would
@@ -36,6 +38,7 @@ def fishnet_on_sphere(radius: float, cell: float, count: int) -> dict:
     """
     if not (cell > 0 and radius > 0 and cell < radius):
         raise ValueError(f"need 0 < cell < radius, got cell {cell!r}, radius {radius!r}")
+    ply_angle = angle
     n = int(count)
     size = 2 * n + 1
     points = np.full((size, size, 3), np.nan)
@@ -43,12 +46,16 @@ def fishnet_on_sphere(radius: float, cell: float, count: int) -> dict:
     k = np.arange(-n, n + 1)
     angle = k * step
     on = np.abs(angle) <= 0.5 * np.pi
-    points[:, n][on] = (
-        radius * np.column_stack([np.sin(angle), np.zeros_like(angle), np.cos(angle)])[on]
-    )
-    points[n, :][on] = (
-        radius * np.column_stack([np.zeros_like(angle), np.sin(angle), np.cos(angle)])[on]
-    )
+    turn = np.radians(float(ply_angle))
+    warp = np.array([np.cos(turn), np.sin(turn), 0.0])
+    weft = np.array([-np.sin(turn), np.cos(turn), 0.0])
+    pole = np.array([0.0, 0.0, 1.0])
+    points[:, n][on] = (radius * (np.sin(angle)[:, None] * warp + np.cos(angle)[:, None] * pole))[
+        on
+    ]
+    points[n, :][on] = (radius * (np.sin(angle)[:, None] * weft + np.cos(angle)[:, None] * pole))[
+        on
+    ]
     reach = radius**2 - 0.5 * cell**2
     for si in (-1, 1):
         for sj in (-1, 1):
@@ -61,6 +68,19 @@ def fishnet_on_sphere(radius: float, cell: float, count: int) -> dict:
                     if p is not None and p[2] >= 0.0:
                         points[n + si * i, n + sj * j] = p
     return {"u": k * cell, "v": k * cell, "points": points, "shear": _shear(points)}
+
+
+def net_coordinates(xy: np.ndarray, angle: float) -> np.ndarray:
+    """(p, 2) the fibre arc lengths (u, v) from the pole, mm, of a ply laid at ``angle``
+    (deg) at its points of plane coordinates ``xy`` (p, 2) (a blank centred on the pole): u
+    along the ply's warp (cos a, sin a), v along its weft (-sin a, cos a). The net of that
+    ply (``fishnet_on_sphere(..., angle=a)``) has at (u, v) the shear of the 0-deg net at the
+    same (u, v): look the 0-deg net up at these coordinates."""
+    a = np.radians(float(angle))
+    xy = np.asarray(xy, dtype=float)
+    return np.column_stack(
+        [xy[:, 0] * np.cos(a) + xy[:, 1] * np.sin(a), -xy[:, 0] * np.sin(a) + xy[:, 1] * np.cos(a)]
+    )
 
 
 def _third_crossing(a, b, d, radius, reach):

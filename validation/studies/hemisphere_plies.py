@@ -1,0 +1,370 @@
+"""Two-ply layups formed on the hemisphere under a blank holder: [0/90] and [0/45], fibrous
+and Mindlin plies, each ply's shear angles against the pin-jointed net of its own orientation.
+
+A study, not a case of the report (validation/cases discovers its modules; this one is kept
+apart) until it validates: at the meshes affordable today the plies cross under the punch
+(below). Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
+print(compute('coarse').parameters)"``.
+
+Source: the pin-jointed net of Mack and Taylor (J. Textile Inst. 47 (1956) T477) on the
+sphere of each ply's mid-surface, its generators along that ply's fibres through the pole
+(validation/references/drape.py: the net of a ply laid at angle a is the 0-deg net turned by
+a about z, so the 0-deg net is looked up at the ply's fibre coordinates, ``net_coordinates``).
+Where a ply lies in the die, its inextensible fibres free to shear must form that net.
+Geometry: each ply a 200 x 200 mm square blank meshed along its own fibres
+(``femcore.blank.ply_blank``: at 45 deg a diamond grid whose half-diamonds fill the square),
+centred on the punch; ply 1 (bottom) at 0 deg, ply 2 at 90 or 45 deg (``elements.layup.Layup``).
+Punch a rigid sphere of radius 50 mm moving 50.6 mm down (smooth amplitude) into a meshed die:
+a bowl of radius 50.9 mm (the punch, two plies and a clearance of one ply) with a flat flange.
+Blank holder: a flat ring (``validation.specimens.holder_ring``, 60.9 to 150 mm) on the top
+ply, free along z, pressed down by a force F reaching its value over the first tenth of the
+run (10 N and 20 N: a nominal pressure of 0.17 and 0.34 kPa on its 59,000 mm^2), mass 1 kg.
+Friction: Coulomb mu = 0.2 between the plies (``PlyContact``); the tools frictionless (with
+mu = 0.2 on the die and the holder the explicit run stopped on its energy balance at 8 % of the
+stroke, an open problem of the force-driven tools with friction), so the holder force acts on
+the draw-in only through the plies' friction and on the wrinkles by holding the flange down.
+The centre lines of both plies held in their symmetry planes (the balanced fabric makes the
+[0/45] stack mirror-symmetric too: a 45-deg ply mirrored is a 135-deg one, warp and weft
+swapped). Parameters: the ply of hemisphere-forming (0.3 mm, 285 g/m^2, tension 60 N/mm,
+bending 0.375 N mm, shear 0.2 N/mm); the Mindlin ply is ``ElasticShell.equivalent`` with the
+ply's warp. Explicit, no mass scaling, mass-proportional damping 20 /s, duration 0.1 s.
+Reported per layup, kinematics and ply: the rms of shear - net shear over the cells in the
+die, the largest shear, the draw-in of the edge middle and of the corner, the wrinkles of the
+outline, and the inter-ply slip (``ply_slip``, the top ply's faces against the bottom ply's
+since the start: max and rms); the holder's force and travel; the fibrous [0/90] and [0/45]
+again at the second holder force (the sensitivity).
+Measured on this machine (one thread, NUMBA_NUM_THREADS=1, while other jobs ran): the six
+runs take 168 s of CPU at coarse (8 cells) and 194 s at default (10 cells; three of its runs
+stopped early), 690-735 s of wall time under that load. What they show, honestly:
+- The bottom ply is not in the die at the end in any run: its nodes lie 0.7 mm inside the bowl
+  (radius 50.0-50.1 mm where 50.75 is expected), at or above the top ply's: the punch pushes
+  the top ply through the bottom one. The likely cause (not yet tried at finer meshes): the
+  ply contact measures gaps against flat triangles, and on the 50-mm sphere a cell s of 20-25
+  mm sags by s^2 / (8 R) = 1.0-1.6 mm, several ply thicknesses, so the two plies' faceted
+  faces cannot stay 0.3 mm apart (a penalty of 300 N/mm per node, 10 x the automatic one, did
+  not help and took 3.4 x the steps). Meshes whose sag is below h (s < 11 mm, 18 cells and
+  more) would be needed, beyond this case's budget; tried once at 18 cells ([0/90] fibrous,
+  10 N), the run stopped on the energy balance at 69 % of the stroke (64 s of CPU) before the
+  plies reached the bowl, so the explanation is untested. The ply-1 shear checks fail (no cell
+  of ply 1 in the die) and say so.
+- The top ply does lie on the die's sphere of its mid-surface where it is in the die, and its
+  shear follows its own net: rms 3.0 and 2.7 deg for the 90-deg ply ([0/90] fibrous, 10 and 20
+  N, default), 3.8 deg for the 45-deg ply ([0/45] fibrous, 10 N), 6.5 deg at coarse.
+- Draw-in of the edge middle 24.5 mm for the 0-deg and 90-deg plies at both holder forces
+  (frictionless tools: the holder force reaches the draw-in only through the plies' friction,
+  and it does not move it); the 45-deg ply draws in by 22 mm at its corner (along its fibres)
+  and 6-9 mm at the edge middle. Wrinkles of the bottom ply's outline: 5 crests at 10 N, none
+  at 20 N ([0/90] fibrous, coarse): the holder holds the flange down.
+- Inter-ply slip: 0.6-1.1 mm at most for [0/90] (the two plies deform alike; 10.2 mm in the
+  default run at 10 N, where the holder rose 7.4 mm on a fold), 12-23 mm for [0/45] (the
+  45-deg ply draws in along its own fibres): the slip field tells the layups apart.
+- Several runs stop on the explicit energy balance late in the stroke (Mindlin plies at 64-97
+  %, [0/45] fibrous at 67-99 %); their rows are reported from the last good frame, with a
+  failed "reaches the end of the stroke" check.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+
+from elements import RigidSphere, RigidSurface
+from elements.layup import Layup
+from elements.ply_slip import slip_summary
+from femcore import Mesh, Model
+from femcore.topology import nodal_normals
+from materials import Fabric
+from solvers import CentralDifference, SolverError
+from validation.checks import check
+from validation.records import Case, Outcome
+from validation.references.drape import fishnet_on_sphere, net_coordinates
+from validation.specimens import hemisphere_die, holder_ring
+
+__all__ = ["CASE", "LAYUPS", "PliesData", "compute", "model", "render"]
+
+NAME = "hemisphere-plies"
+TITLE = "Two-ply layups [0/90] and [0/45] formed on the hemisphere under a blank holder"
+SOURCE = "Mack and Taylor (1956) pin-jointed net on the sphere, per ply orientation"
+PUNCH, HALF, THICKNESS = 50.0, 100.0, 0.3
+PLIES = 2
+DIE = PUNCH + (PLIES + 1) * THICKNESS  # the punch, the plies and a clearance of one ply
+TRAVEL = PUNCH + PLIES * THICKNESS
+FABRIC = Fabric(thickness=THICKNESS, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
+LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
+CELLS = {"coarse": 8, "default": 10}
+MU = 0.2  # ply on ply
+HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
+HOLDER_MASS = 1e-3  # t (1 kg)
+HOLDER_RING = (DIE + 10.0, 150.0, 10.0)  # inner, outer radius, facet width, mm
+HOLDER_RAMP = 0.1  # share of the run over which the holder force grows
+DURATION = 0.1  # s
+DAMPING = 20.0  # 1/s, as hemisphere-forming
+NET_CELL = 1.0  # mm
+# rms of shear - net (deg) over a ply's cells in the die: tolerances ~1.35 x the top plies'
+# measured values (fibrous; module docstring); the Mindlin plies are reported, not checked (as
+# in hemisphere-forming).
+RMS_TOLERANCE_DEG = {"coarse": 8.8, "default": 5.1}
+
+
+@dataclass(frozen=True)
+class PliesData:
+    """Per run key "<layup> <kinematics> <force> N": the layup, the result, each ply's shear
+    (rad, per cell), the net's shear at the same cells and which cells lie in the die."""
+
+    layups: dict[str, Layup]
+    runs: dict[str, Any]
+    shear: dict[str, list[np.ndarray]]
+    net_shear: dict[str, list[np.ndarray]]
+    in_die: dict[str, list[np.ndarray]]
+    cells: int
+
+
+def _holder_amplitude(tau):
+    return np.clip(np.asarray(tau, dtype=float) / HOLDER_RAMP, 0.0, 1.0)
+
+
+def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
+    """The layup on the die's flange under the punch and the holder: (Layup, Model)."""
+    layup = Layup(FABRIC, angles, 2 * HALF, cells=cells, kinematics=kinematics, friction=MU)
+    built: Model = layup.model()
+    built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
+    built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
+    top = f"ply_{layup.count}"
+    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48))
+    built.contact(die, nodes="ply_1")
+    punch = RigidSphere((0.0, 0.0, TRAVEL), PUNCH, motion=(0.0, 0.0, -TRAVEL), amplitude="smooth")
+    built.contact(punch, nodes=top)
+    ring = holder_ring(*HOLDER_RING)
+    ring = Mesh(ring.points + [0.0, 0.0, layup.count * THICKNESS], triangles=ring.triangles)
+    holder = RigidSurface(
+        ring,
+        free="z",
+        force=(0.0, 0.0, -force),
+        mass=HOLDER_MASS,
+        amplitude=_holder_amplitude,
+    )
+    built.contact(holder, nodes=top)
+    return layup, built
+
+
+def _nets() -> list[dict]:
+    """The 0-deg net on each ply's mid-surface sphere (ply 1 first)."""
+    nets = []
+    for k in range(PLIES):
+        radius = DIE - (k + 0.5) * THICKNESS
+        net = fishnet_on_sphere(radius, NET_CELL, int(0.5 * np.pi * radius / NET_CELL))
+        nets.append(
+            {
+                "radius": radius,
+                "at": RegularGridInterpolator(
+                    (net["u"], net["v"]), net["shear"], bounds_error=False
+                ),
+            }
+        )
+    return nets
+
+
+def _wrinkles(layup: Layup, positions: np.ndarray, k: int) -> dict[str, Any]:
+    """Ply k's outline out of the die: crests more than 0.5 h above its flat height along it
+    (by polar angle) and the largest height, mm."""
+    outline = layup.mesh.node_sets[f"ply_{k + 1}_outline"]
+    x = positions[outline]
+    order = np.argsort(np.arctan2(x[:, 1], x[:, 0]))
+    height = x[order, 2] - layup.heights[k]
+    crest = (
+        (height > np.roll(height, 1)) & (height >= np.roll(height, -1)) & (height > 0.5 * THICKNESS)
+    )
+    return {"count": int(crest.sum()), "height": float(height.max())}
+
+
+def _draw_in(layup: Layup, positions: np.ndarray, k: int) -> tuple[float, float]:
+    """Ply k's draw-in of the edge middle (+x, 0) and of the corner (+x, +y), mm: how much
+    nearer the axis in plan than at the start."""
+    nodes = layup.ply_nodes[k]
+    reference = layup.mesh.points[nodes, :2]
+    out = []
+    for target in ((HALF, 0.0), (HALF, HALF)):
+        i = nodes[np.argmin(np.linalg.norm(reference - target, axis=1))]
+        start = np.linalg.norm(layup.mesh.points[i, :2])
+        out.append(float(start - np.linalg.norm(positions[i, :2])))
+    return out[0], out[1]
+
+
+def compute(resolution: str) -> Outcome:
+    cells = CELLS[resolution]
+    nets = _nets()
+    plan = [(name, kin, HOLDER_FORCES[0]) for name in LAYUPS for kin in ("fibrous", "mindlin")]
+    plan += [(name, "fibrous", HOLDER_FORCES[1]) for name in LAYUPS]
+    layups, runs, shear, net_shear, in_die = {}, {}, {}, {}, {}
+    parameters: dict[str, Any] = {
+        "cells": f"{cells} fibre segments across the blank ({cells} x {cells} squares at 0 deg)",
+        "blank_mm": f"{2 * HALF} x {2 * HALF}, plies {THICKNESS} mm",
+        "punch_radius_mm": PUNCH,
+        "die_radius_mm": DIE,
+        "punch_travel_mm": TRAVEL,
+        "holder_ring_mm": f"{HOLDER_RING[0]:.1f} to {HOLDER_RING[1]:.1f}",
+        "holder_forces_N": list(HOLDER_FORCES),
+        "holder_mass_t": HOLDER_MASS,
+        "ply_friction_mu": MU,
+        "tool_friction_mu": 0.0,
+        "duration_s": DURATION,
+        "damping_per_s": DAMPING,
+    }
+    checks = []
+    for name, kinematics, force in plan:
+        key = f"{name} {kinematics} {force:g} N"
+        layup, built = model(cells, LAYUPS[name], kinematics, force)
+        solver = CentralDifference(duration=DURATION, damping=DAMPING, progress=False)
+        try:
+            result = solver.solve(built)
+        except SolverError as error:  # reported with the last good frame, not raised
+            if error.result is None:
+                raise
+            result = error.result
+            parameters[f"{key} stopped"] = str(error)
+        checks.append(
+            check(
+                f"{key}: the run reaches the end of the stroke (s)",
+                DURATION,
+                float(result.frames[-1].time),
+                1e-6,
+                source="the stroke",
+            )
+        )
+        layups[key], runs[key] = layup, result
+        x = result.positions
+        shear[key] = layup.shear(x)
+        net_shear[key], in_die[key] = [], []
+        triangles = layup.mesh.triangles
+        for k, cells_k in enumerate(layup.ply_cells):
+            centres = layup.mesh.points[triangles[cells_k]].mean(axis=1)[:, :2]
+            net_shear[key].append(nets[k]["at"](net_coordinates(centres, layup.angles[k])))
+            radius = np.linalg.norm(x[: layup.mesh.n_nodes], axis=1)
+            on_bowl = (np.abs(radius - nets[k]["radius"]) < 0.5) & (
+                x[: layup.mesh.n_nodes, 2] < -5.0
+            )
+            in_die[key].append(on_bowl[triangles[cells_k]].all(axis=1))
+        slip = slip_summary(result.frames[-1].fields["point"]["ply_slip"])
+        prefix = key.replace(" ", "_").replace("/", "-")
+        parameters[f"{prefix}_steps"] = result.steps
+        parameters[f"{prefix}_wall_time_s"] = result.wall_time
+        parameters[f"{prefix}_interply_slip_max_mm"] = slip["max_mm"]
+        parameters[f"{prefix}_interply_slip_rms_mm"] = slip["rms_mm"]
+        parameters[f"{prefix}_holder_travel_mm"] = float(result.tool_displacements[-1, 2, 2])
+        parameters[f"{prefix}_holder_force_N"] = float(result.tool_forces[-1, 2, 2])
+        parameters[f"{prefix}_punch_force_N"] = float(result.tool_forces[-1, 1, 2])
+        energies = {e: v[-1] for e, v in result.energies.items()}
+        parameters[f"{prefix}_final_kinetic_over_work"] = energies["kinetic"] / max(
+            abs(energies["external_work"]), 1e-300
+        )
+        for k in range(layup.count):
+            ply = f"{prefix}_ply{k + 1}_{layup.angles[k]:g}deg"
+            compared = in_die[key][k] & np.isfinite(net_shear[key][k])
+            error = np.degrees(shear[key][k][compared] - net_shear[key][k][compared])
+            rms = float(np.sqrt(np.mean(error**2))) if compared.any() else math.inf
+            parameters[f"{ply}_cells_in_die"] = int(compared.sum())
+            parameters[f"{ply}_rms_shear_error_deg"] = rms
+            parameters[f"{ply}_largest_shear_deg"] = float(
+                np.degrees(np.abs(shear[key][k][compared]).max(initial=0.0))
+            )
+            # the contact's faces sit h/2 (1 - cos tilt) inside a fibrous ply's (§9.3b)
+            nodes = layup.ply_nodes[k]
+            normals = nodal_normals(x[: layup.mesh.n_nodes], triangles[layup.ply_cells[k]])
+            cosine = np.abs(np.sum(normals[nodes] * result.directors[nodes], axis=1))
+            parameters[f"{ply}_largest_director_tilt_deg"] = float(
+                np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))).max()
+            )
+            edge, corner = _draw_in(layup, x, k)
+            parameters[f"{ply}_draw_in_edge_middle_mm"] = edge
+            parameters[f"{ply}_draw_in_corner_mm"] = corner
+            wrinkles = _wrinkles(layup, x, k)
+            parameters[f"{ply}_wrinkles"] = wrinkles["count"]
+            parameters[f"{ply}_wrinkle_height_mm"] = wrinkles["height"]
+            checks.append(
+                check(
+                    f"{key}, ply {k + 1} ({layup.angles[k]:g} deg): rms of shear - net shear "
+                    f"over its cells in the die (deg)",
+                    0.0,
+                    rms,
+                    RMS_TOLERANCE_DEG[resolution] if kinematics == "fibrous" else math.inf,
+                    relative=False,
+                    source=SOURCE,
+                )
+            )
+        checks.append(
+            check(
+                f"{key}: the holder carries its force at the end (N)",
+                force,
+                float(result.tool_forces[-1, 2, 2]),
+                0.05,
+                source="the holder's equation of motion at rest",
+            )
+        )
+    return Outcome(
+        converged=all(r.converged for r in runs.values()),
+        wall_time_s=sum(r.wall_time for r in runs.values()),
+        steps=sum(r.steps for r in runs.values()),
+        solver=f"CentralDifference, {DURATION} s, no mass scaling, the default safety",
+        parameters=parameters,
+        checks=checks,
+        data=PliesData(layups, runs, shear, net_shear, in_die, cells),
+    )
+
+
+def render(data: PliesData, out_dir: Path) -> list[str]:
+    """A figure per layup: each ply's shear angle (fibrous, first holder force) against its
+    own net over the blank, and the inter-ply slip of the top ply."""
+    import matplotlib.pyplot as plt
+    from matplotlib.tri import Triangulation
+
+    names = []
+    for name in LAYUPS:
+        key = f"{name} fibrous {HOLDER_FORCES[0]:g} N"
+        layup = data.layups[key]
+        points, triangles = layup.mesh.points, layup.mesh.triangles
+        fig, axes = plt.subplots(1, 5, figsize=(20, 4.2), constrained_layout=True)
+        top = max(np.nanmax(np.abs(np.degrees(s))) for s in data.net_shear[key])
+        art = None
+        for k in range(layup.count):
+            cells = layup.ply_cells[k]
+            flat = Triangulation(points[:, 0], points[:, 1], triangles[cells])
+            for j, (label, values) in enumerate(
+                (("fibrous", data.shear[key][k]), ("net", data.net_shear[key][k]))
+            ):
+                ax = axes[2 * k + j]
+                art = ax.tripcolor(flat, np.degrees(values), cmap="coolwarm", vmin=-top, vmax=top)
+                ax.set_title(f"ply {k + 1} ({layup.angles[k]:g} deg): {label}", fontsize="medium")
+                ax.set_aspect("equal")
+                ax.set_xlabel("blank x (mm)")
+        axes[0].set_ylabel("blank y (mm)")
+        if art is not None:
+            fig.colorbar(art, ax=axes[:4], shrink=0.8, label="shear angle (deg)")
+        slip = data.runs[key].frames[-1].fields["point"]["ply_slip"]
+        nodes = layup.ply_nodes[-1]
+        ax = axes[4]
+        spot = ax.scatter(points[nodes, 0], points[nodes, 1], c=slip[nodes], cmap="viridis", s=12)
+        ax.set_title("inter-ply slip of the top ply (mm)", fontsize="medium")
+        ax.set_aspect("equal")
+        fig.colorbar(spot, ax=ax, shrink=0.8)
+        filename = f"{NAME}-{name.replace('/', '-')}.png"
+        fig.savefig(out_dir / filename, dpi=100)
+        plt.close(fig)
+        names.append(filename)
+    return names
+
+
+CASE = Case(
+    name=NAME,
+    title=TITLE,
+    source=SOURCE,
+    description=__doc__,
+    group="verification",
+    order=111,
+    compute=compute,
+    render=render,
+)
