@@ -27,7 +27,7 @@ import numpy as np
 
 from elements.fibrous import FibrousShell
 from elements.mindlin import MindlinShell
-from elements.ply_contact import PlyContact
+from elements.ply_contact import PlyContact, join_neighbours
 from femcore.blank import ply_blank, ply_directions
 from femcore.element import ElementType
 from femcore.mesh import Mesh
@@ -216,19 +216,15 @@ class Layup:
         for k in range(1, self.count + 1):
             model.add(self.element(k), cells=f"ply_{k}")
         half = 0.5 * self.fabric.thickness
-        for k in range(1, self.count):
-            model.interact(
-                PlyContact(
-                    f"ply_{k + 1}",
-                    f"ply_{k}",
-                    half,
-                    half,
-                    penalty=self.penalty,
-                    rule=self.rule,
-                    smoothing=self.smoothing,
-                    friction=self.friction,
-                )
-            )
+        join_neighbours(
+            model,
+            self.count,
+            half,
+            penalty=self.penalty,
+            rule=self.rule,
+            smoothing=self.smoothing,
+            friction=self.friction,
+        )
         return model
 
     def shear(self, positions: np.ndarray) -> list[np.ndarray]:

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from elements.mindlin import MindlinShell
-from elements.ply_contact import PlyContact
+from elements.ply_contact import PlyContact, join_neighbours
 from femcore.element import ElementType
 from femcore.mesh import Mesh
 from femcore.model import Model
@@ -271,19 +271,15 @@ class PlyStack:
         for k in range(self.count):
             model.add(self.element(self.ply_fabric), cells=f"ply_{k + 1}")
         half = 0.5 * self.ply_thickness
-        for k in range(1, self.count):
-            model.interact(
-                PlyContact(
-                    f"ply_{k + 1}",
-                    f"ply_{k}",
-                    half,
-                    half,
-                    penalty=self.penalty,
-                    rule=self.rule,
-                    smoothing=self.smoothing,
-                    friction=self.friction,
-                )
-            )
+        join_neighbours(
+            model,
+            self.count,
+            half,
+            penalty=self.penalty,
+            rule=self.rule,
+            smoothing=self.smoothing,
+            friction=self.friction,
+        )
         return model
 
     def material_lines(self, positions: np.ndarray, directors: np.ndarray) -> MaterialLines:

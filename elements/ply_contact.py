@@ -125,6 +125,7 @@ __all__ = [
     "SMOOTHING",
     "Facing",
     "PlyContact",
+    "join_neighbours",
     "PlyContactBlock",
     "penalty_law",
 ]
@@ -723,3 +724,14 @@ class PlyContactBlock(InteractionBlock):
             "ply_slip": np.linalg.norm(vectors, axis=1),
             "ply_slip_vector": vectors,
         }
+
+
+def join_neighbours(model: Any, count: int, half_thickness: float, **options: Any) -> None:
+    """Add to ``model`` a ``PlyContact`` of ply k + 1 on ply k for k = 1 .. count - 1 (the
+    triangle sets "ply_k"), both faces ``half_thickness`` (mm) from the mid-surfaces;
+    ``options`` (penalty, rule, smoothing, friction) go to every one. The stacks of
+    elements.plies and elements.layup join their plies so."""
+    for k in range(1, count):
+        model.interact(
+            PlyContact(f"ply_{k + 1}", f"ply_{k}", half_thickness, half_thickness, **options)
+        )
