@@ -176,12 +176,17 @@ class CentralDifference:
                 f"frame_summary must be a function of a Frame, got {type(frame_summary).__name__}"
             )
         self.frame_summary = frame_summary
+        if isinstance(kinetic_bound, str) and kinetic_bound != "auto":
+            raise ValueError(
+                'kinetic_bound must be "auto", None or a positive ratio KE / W, '
+                f"got {kinetic_bound!r}"
+            )
         self.kinetic_bound: float | str | None = (
             "auto"
-            if isinstance(kinetic_bound, str) and kinetic_bound == "auto"
-            else check_positive_or_none(kinetic_bound, "kinetic_bound")
+            if isinstance(kinetic_bound, str)
+            else check_positive_or_none(kinetic_bound, "kinetic_bound", "a ratio KE / W")
         )
-        self.process_duration = check_positive_or_none(process_duration, "process_duration")
+        self.process_duration = check_positive_or_none(process_duration, "process_duration", "s")
         # (assembled Gershgorin step, the cells' bound and the step when it was evaluated),
         # set by solve
         self._assembled: tuple[float, float, int] | None = None

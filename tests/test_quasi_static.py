@@ -143,6 +143,8 @@ def test_by_default_a_run_with_rigid_tools_is_judged_and_one_without_is_not():
 def test_the_bound_must_be_a_positive_number():
     with pytest.raises(ValueError, match="kinetic_bound"):
         CentralDifference(duration=1.0, kinetic_bound=-0.1)
+    with pytest.raises(ValueError, match='"auto", None or a positive ratio'):
+        CentralDifference(duration=1.0, kinetic_bound="always")
     with pytest.raises(ValueError, match="process_duration"):
         CentralDifference(duration=1.0, process_duration=0.0)
 
