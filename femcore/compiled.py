@@ -546,18 +546,33 @@ class CompiledModel:
     def fields(self, state: State) -> dict:
         """Output fields: {"point": {name: (n, ...)}, kind: {...} for each cell kind} with the
         cell fields spread over all mesh cells of that type (NaN where a block does not cover);
-        the interactions' node fields after the blocks'."""
+        the interactions' node fields after the blocks'. Element blocks on disjoint nodes give
+        one node field of a name (each node's value from its own block); parts that share
+        nodes give name, name_2, ... in the order of the parts."""
         out: dict[str, dict] = {"point": {}, **{kind: {} for kind in CELL_KINDS}}
         counts = {kind: len(self.mesh.cells(kind)) for kind in CELL_KINDS}
+        covered: dict[str, np.ndarray | None] = {}  # field -> the nodes element blocks gave it
         for part, history in zip(self.parts, self._histories(state)):
+            nodes = np.unique(part.connectivity) if isinstance(part, ElementBlock) else None
             for name, values in part.node_fields(state, history).items():
-                # Two parts with the same field (two tools' contact_gap): the second is
-                # named contact_gap_2, and so on, in the order of the parts.
+                before = covered.get(name)
+                if nodes is not None and before is not None:
+                    if not np.isin(nodes, before).any():
+                        # Element blocks on their own nodes (the plies of a layup): one
+                        # field, each node's value from the block it belongs to.
+                        merged = np.array(out["point"][name], copy=True)
+                        merged[nodes] = np.asarray(values)[nodes]
+                        out["point"][name] = merged
+                        covered[name] = np.union1d(before, nodes)
+                        continue
+                # Two parts with the same field on shared nodes (two tools' contact_gap):
+                # the second is named contact_gap_2, and so on, in the order of the parts.
                 key, count = name, 1
                 while key in out["point"]:
                     count += 1
                     key = f"{name}_{count}"
                 out["point"][key] = values
+                covered.setdefault(key, nodes)
             if not isinstance(part, ElementBlock):  # interactions have no cells
                 continue
             kind = part.cell_type

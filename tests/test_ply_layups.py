@@ -192,3 +192,18 @@ def test_a_holder_presses_a_layup_onto_the_die_with_its_force():
     assert die[2] == pytest.approx(-2.0, rel=1e-6)
     assert pressed[2] == pytest.approx(2.0, rel=1e-6)
     assert run.tool_displacements[-1, 1, 2] < 0.0
+
+
+def test_the_plies_of_a_layup_give_one_field_of_each_name_with_each_plys_own_values():
+    """Element blocks on disjoint nodes (the plies) write one node field of a name, not
+    thickness, thickness_2, ...: each node's value is its own ply's."""
+    layup = Layup(PLY, (0.0, 90.0), 40.0, cells=4)
+    compiled = layup.model().compile()
+    state = compiled.initial_state()
+    fields = compiled.fields(state)["point"]
+    own = [block.node_fields(state, None) for block in compiled.blocks[:2]]
+    assert own[0], "a fibrous ply has node fields"
+    for name in own[0]:
+        assert f"{name}_2" not in fields
+        for k, nodes in enumerate(layup.ply_nodes):
+            np.testing.assert_array_equal(fields[name][nodes], np.asarray(own[k][name])[nodes])
