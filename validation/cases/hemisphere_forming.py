@@ -51,7 +51,8 @@ from femcore import Mesh, Model
 from femcore.loads import smooth_step  # the punch's amplitude
 from materials import ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DivergenceError
-from validation.checks import check, observed_order
+from validation.checks import check
+from validation.paper.orders import observed_orders
 from validation.plots import figure
 from validation.records import Case, ObservedOrder, Outcome
 from validation.references.drape import fishnet_on_sphere
@@ -263,29 +264,20 @@ def orders(measured: dict[str, list[dict[str, Any]]]) -> list[ObservedOrder]:
     """The observed order (Richardson, validation.checks.observed_order) of each of
     ``ORDER_QUANTITIES`` per kinematics over its three runs (coarsest first, each a ``run``
     record), the mesh size h = the blank's side / cells (mm)."""
-    out = []
-    for kinematics, runs in measured.items():
-        cells = tuple(r["cells"] for r in runs)
-        sizes = tuple(2.0 * HALF / n for n in cells)
-        for key, quantity in ORDER_QUANTITIES.items():
-            values = tuple(float(r[key]) for r in runs)
-            if not all(math.isfinite(v) for v in values):
-                order, extrapolated = math.nan, math.nan
-            else:
-                order, extrapolated = observed_order(sizes, values)
-            out.append(
-                ObservedOrder(
-                    kinematics=kinematics,
-                    quantity=quantity,
-                    cells=cells,
-                    sizes=sizes,
-                    values=values,
-                    order=order,
-                    extrapolated=extrapolated,
-                    converged=all(bool(r["result"].converged) for r in runs),
+    return observed_orders(
+        {
+            kinematics: [
+                (
+                    r["cells"],
+                    2.0 * HALF / r["cells"],
+                    {quantity: float(r[key]) for key, quantity in ORDER_QUANTITIES.items()},
+                    bool(r["result"].converged),
                 )
-            )
-    return out
+                for r in runs
+            ]
+            for kinematics, runs in measured.items()
+        }
+    )
 
 
 def order_checks(records: list[ObservedOrder]) -> list:

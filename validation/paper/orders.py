@@ -94,14 +94,19 @@ def observed_orders(
     measured: dict[str, Sequence[tuple[int, float, dict[str, float], bool]]],
 ) -> list[ObservedOrder]:
     """One record per kinematics and quantity from ``measured``: kinematics -> the three runs,
-    coarsest first, each (cells, mesh size h, ``order_quantities``, converged)."""
+    coarsest first, each (cells, mesh size h, {quantity: value}, converged). A quantity not
+    finite on every mesh (a run that stopped before it could be measured) has NaN order and
+    extrapolated value."""
     out = []
     for kinematics, runs in measured.items():
         cells = tuple(run[0] for run in runs)
         sizes = tuple(run[1] for run in runs)
         for quantity in runs[0][2]:
             values = tuple(run[2][quantity] for run in runs)
-            order, extrapolated = observed_order(sizes, values)
+            if all(math.isfinite(v) for v in values):
+                order, extrapolated = observed_order(sizes, values)
+            else:
+                order, extrapolated = math.nan, math.nan
             out.append(
                 ObservedOrder(
                     kinematics=kinematics,
