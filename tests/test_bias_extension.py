@@ -30,11 +30,24 @@ from solvers import Static
 from validation import specimens
 
 LENGTH, WIDTH, PULL = 200.0, 100.0, 30.0
+STACK = dataclasses.replace(presets.g986_stack(), tension=1.2e6, tension_weft=1.2e6)
+
+
+def bias_specimen(fabric: Fabric):
+    """The bias specimen (10 cells) of ``fabric``, fibres at 45 deg, clamped at the left,
+    the right clamp pulled PULL mm along x: (mesh, model)."""
+    mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
+    c = np.cos(np.pi / 4)
+    model = Model(mesh)
+    model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
+    model.fix("left")
+    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
+    model.displace("right", ux=PULL)
+    return mesh, model
 
 
 @pytest.fixture(scope="module")
 def pulled():
-    mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
     fabric = Fabric(
         thickness=0.3,
         areal_density=2.85e-10,
@@ -42,12 +55,7 @@ def pulled():
         shear=ShearLaw.linear(0.2),
         bending=7.5,
     )
-    c = np.cos(np.pi / 4)
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
-    model.fix("left")
-    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
-    model.displace("right", ux=PULL)
+    mesh, model = bias_specimen(fabric)
     # The flat state loses stability to wrinkling as the shear grows (negative eigenvalues of
     # the tangent); the pin-jointed net describes the flat branch, which is followed here.
     result = Static(path="arc_length", seek_stable=False, progress=False).solve(model)
@@ -86,14 +94,7 @@ def test_the_sheet_stays_flat_on_the_flat_branch(pulled):
 def stack_pulled():
     """The G986 stack (20 plies, shear 4 N/mm, Table 1 bending) with fibres of 1.2e6 N/mm,
     pulled by Static at its default settings (load path, seek_stable) in 4 increments."""
-    mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
-    fabric = dataclasses.replace(presets.g986_stack(), tension=1.2e6, tension_weft=1.2e6)
-    c = np.cos(np.pi / 4)
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
-    model.fix("left")
-    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
-    model.displace("right", ux=PULL)
+    mesh, model = bias_specimen(STACK)
     result = Static(increments=4, progress=False).solve(model)
     centres = mesh.points[mesh.triangles].mean(axis=1)
     x, off_axis = centres[:, 0], np.abs(centres[:, 1] - WIDTH / 2)
@@ -138,14 +139,7 @@ def test_the_arc_length_path_keeps_the_flat_stack_too():
     # when a push along the new mode descends; here none does, and the path stays flat with
     # no switch (before, it switched at the first increment and came back): 4-6 Newton
     # iterations per increment, 5 increments.
-    mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
-    fabric = dataclasses.replace(presets.g986_stack(), tension=1.2e6, tension_weft=1.2e6)
-    c = np.cos(np.pi / 4)
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
-    model.fix("left")
-    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
-    model.displace("right", ux=PULL)
+    mesh, model = bias_specimen(STACK)
     result = Static(increments=4, path="arc_length", progress=False).solve(model)
     assert result.frames[-1].load_factor == pytest.approx(1.0)
     assert result.info["branch_switches"] == []
