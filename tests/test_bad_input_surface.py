@@ -271,12 +271,17 @@ def test_model_methods_refuse_values_of_the_wrong_kind(call, message):
 
 
 # ------------------------------------------------------------------ paths
-def test_a_path_that_is_not_a_file_name_is_a_value_error(tmp_path):
+def held_cable() -> Model:
+    """A cable held at both ends: a model whose result has no directors."""
     model = Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4))
     model.add(Cable(1e3, 1e-9))
     model.fix("start")
     model.fix("end")
-    result = Static(progress=False).solve(model)
+    return model
+
+
+def test_a_path_that_is_not_a_file_name_is_a_value_error(tmp_path):
+    result = Static(progress=False).solve(held_cable())
     with pytest.raises(ValueError, match=r"Result.write path must be a file name .*got 5"):
         result.write(5)
     with pytest.raises(ValueError, match=r"Mesh.read path must be a file name .*got 5"):
@@ -291,11 +296,7 @@ def test_a_path_that_is_not_a_file_name_is_a_value_error(tmp_path):
 
 # ------------------------------------------------------------------ results
 def test_the_director_angle_of_a_result_without_directors_is_refused_not_zero():
-    model = Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4))
-    model.add(Cable(1e3, 1e-9))
-    model.fix("start")
-    model.fix("end")
-    result = Static(progress=False).solve(model)
+    result = Static(progress=False).solve(held_cable())
     with pytest.raises(ValueError, match=r"no node of this result has a director"):
         result.director_angle()
 

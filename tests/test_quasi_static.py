@@ -29,9 +29,7 @@ PERIOD = 4.0 * LENGTH / np.sqrt(EA / MU)  # s, the slowest mode's
 
 
 def pulled_bar(tool: bool = False) -> Model:
-    points = np.column_stack([np.linspace(0, LENGTH, N + 1), np.zeros(N + 1), np.zeros(N + 1)])
-    mesh = Mesh(points, lines=np.column_stack([np.arange(N), np.arange(1, N + 1)]))
-    model = Model(mesh)
+    model = Model(Mesh.line((0.0, 0.0, 0.0), (LENGTH, 0.0, 0.0), N))
     model.add(Cable(EA, MU))
     model.fix([0])
     model.fix(np.arange(1, N + 1), ("uy", "uz"))
