@@ -56,7 +56,7 @@ from femcore.model import CompiledModel
 from femcore.state import State
 from solvers.convergence import Equilibrium
 from solvers.linear import Factorisation
-from solvers.stabilisation import Dashpots, with_dashpots
+from solvers.stabilisation import Dashpots
 from solvers.stability import downhill, lowest_modes, push_descends
 
 if TYPE_CHECKING:
@@ -410,10 +410,11 @@ class Residual:
             self.counts["residual"] += 1
             forces = model.internal_force(state)
         f_int, m_int = forces
-        r = model.dofs.generalised(frames, f_ext - f_int, m_ext - m_int)
+        f_out, m_out = f_ext - f_int, m_ext - m_int
         if self.dashpots is not None:
-            r = r + with_dashpots(frames, model.dofs, self.dashpots, state)
-        r = np.where(model.dofs.free, r, 0.0)
+            f_dashpots, m_dashpots = self.dashpots.forces(state)
+            f_out, m_out = f_out + f_dashpots, m_out + m_dashpots
+        r = np.where(model.dofs.free, model.dofs.generalised(frames, f_out, m_out), 0.0)
         ratio = self.test.ratios(r[:, :3], r[:, 3:], f_int, m_int).checked()
         return r, ratio, (f_int, m_int)
 

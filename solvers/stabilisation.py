@@ -34,11 +34,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from femcore.dofs import N_COLUMNS, Frames
+from femcore.dofs import N_COLUMNS
 from femcore.rotation import cross
 from femcore.state import State
 
-__all__ = ["STABILISATION_BOUND", "Dashpots", "with_dashpots"]
+__all__ = ["STABILISATION_BOUND", "Dashpots"]
 
 # The dissipated energy past which a stabilised run warns: this fraction of the strain energy
 # at the end of the run.
@@ -103,11 +103,3 @@ class Dashpots:
         """The dashpots' work over the increment ending at ``state``, N mm: twice D (the force
         of each dashpot is constant over the increment's pseudo-time in backward Euler)."""
         return 2.0 * self.energy(state)
-
-
-def with_dashpots(frames: Frames, dofs, dashpots: Dashpots | None, state: State) -> np.ndarray:
-    """(n, 5) the dashpots' generalised forces at ``state`` (zeros without dashpots)."""
-    if dashpots is None:
-        return np.zeros((dofs.n_nodes, N_COLUMNS))
-    force, moment = dashpots.forces(state)
-    return dofs.generalised(frames, force, moment)

@@ -35,7 +35,6 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from femcore.checks import as_number
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.memory import STATIC_BYTES_PER_CELL, check_model_memory
 from femcore.model import CompiledModel, Model
@@ -49,6 +48,7 @@ from solvers.common import (
     check_flag,
     check_held,
     check_integer,
+    check_non_negative,
     check_progress,
     check_tolerance,
     compiled_model,
@@ -310,11 +310,7 @@ class Static:
 def check_stabilise(value: Any, path: str) -> float:
     """The ``stabilise`` coefficient, checked: a finite number >= 0, zero on the arc-length
     path (its load factor is an unknown, and the dashpots need the increment's)."""
-    coefficient = as_number(value, "stabilise", "a number >= 0 (1/s^2 per unit load factor)")
-    if not (np.isfinite(coefficient) and coefficient >= 0.0):
-        raise ValueError(
-            f"stabilise must be a finite number >= 0 (1/s^2 per unit load factor), got {value!r}"
-        )
+    coefficient = check_non_negative(value, "stabilise", "1/s^2 per unit load factor")
     if coefficient > 0.0 and path != "load":
         raise ValueError(
             f"stabilise = {value!r} needs path='load' (the dashpots act over a known increment "
