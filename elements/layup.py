@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from elements.fibrous import FibrousShell
+from elements.fibrous.fibres import fibre_ordering, shear_orientation
 from elements.mindlin import MindlinShell
 from elements.ply_contact import PlyContact, join_neighbours
 from femcore.blank import ply_blank, ply_directions
@@ -270,26 +271,15 @@ def ply_shear(
     warp : (3,) float
         The ply's unit warp in the reference plane.
     """
-    x0 = reference[triangles]
-    x = positions[triangles]
-    normal = np.cross(x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0])
-    normal /= np.linalg.norm(normal, axis=1)[:, None]
-    weft = np.cross(normal, warp)
-    legs0 = np.stack([np.roll(x0, -1, axis=1) - x0, np.roll(x0, -2, axis=1) - x0], axis=2)
-    legs = np.stack([np.roll(x, -1, axis=1) - x, np.roll(x, -2, axis=1) - x], axis=2)
-    # (m, 3 corners, 2 legs, 3): the right-angled corner has legs of zero dot product
-    unit = legs0 / np.linalg.norm(legs0, axis=-1, keepdims=True)
-    corner = np.argmin(np.abs(np.sum(unit[:, :, 0] * unit[:, :, 1], axis=-1)), axis=1)
-    rows = np.arange(len(triangles))
-    ref, cur = legs0[rows, corner], legs[rows, corner]  # (m, 2, 3)
-    on_warp = np.abs(np.einsum("mli,mi->ml", ref, np.broadcast_to(warp, normal.shape)))
-    first_is_warp = on_warp[:, 0] >= on_warp[:, 1]
-    warp_leg = np.where(first_is_warp[:, None], cur[:, 0], cur[:, 1])
-    weft_leg = np.where(first_is_warp[:, None], cur[:, 1], cur[:, 0])
-    warp_ref = np.where(first_is_warp[:, None], ref[:, 0], ref[:, 1])
-    weft_ref = np.where(first_is_warp[:, None], ref[:, 1], ref[:, 0])
-    sign = np.sign(warp_ref @ warp) * np.sign(np.sum(weft_ref * weft, axis=1))
-    cosine = np.sum(warp_leg * weft_leg, axis=1) / (
-        np.linalg.norm(warp_leg, axis=1) * np.linalg.norm(weft_leg, axis=1)
+    # The fibrous shell's own fibre frame (Bai Eq. 9): node 0 at the right-angled corner, and
+    # the sign that gives the shear one convention in every cell.
+    warp = np.asarray(warp, dtype=float)
+    cells = np.arange(len(triangles))
+    connectivity, xi_is_warp = fibre_ordering(reference, triangles, cells, warp, 1.0)
+    sign = shear_orientation(reference, connectivity, xi_is_warp, warp)
+    x = positions[connectivity]
+    legs = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]  # along the two fibres (either order)
+    cosine = np.sum(legs[0] * legs[1], axis=1) / (
+        np.linalg.norm(legs[0], axis=1) * np.linalg.norm(legs[1], axis=1)
     )
     return sign * (0.5 * np.pi - np.arccos(np.clip(cosine, -1.0, 1.0)))

@@ -47,6 +47,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from elements import FibrousShell, MindlinShell, RigidSphere, RigidSurface
+from elements.layup import ply_shear
 from femcore import Mesh, Model
 from femcore.loads import smooth_step  # the punch's amplitude
 from materials import ElasticShell, Fabric, ShearLaw, TensionLaw
@@ -125,14 +126,8 @@ def blank_shear(mesh: Mesh, positions: np.ndarray) -> np.ndarray:
     """(m,) the shear angle of each cell of a ``Mesh.rectangle`` blank, rad: 90 degrees less
     the angle between its deformed warp and weft edges (each cell is right-angled at its
     local node 0, edge 0-1 along the warp and 0-2 along the weft). The same for both
-    kinematics, from the mid-surface alone."""
-    corners = positions[mesh.triangles]
-    warp = corners[:, 1] - corners[:, 0]
-    weft = corners[:, 2] - corners[:, 0]
-    cosine = np.sum(warp * weft, axis=1) / (
-        np.linalg.norm(warp, axis=1) * np.linalg.norm(weft, axis=1)
-    )
-    return 0.5 * np.pi - np.arccos(np.clip(cosine, -1.0, 1.0))
+    kinematics, from the mid-surface alone: a 0-deg ply's shear (elements.layup.ply_shear)."""
+    return ply_shear(mesh.points, positions, mesh.triangles, np.array([1.0, 0.0, 0.0]))
 
 
 def model(cells: int, kinematics: str, holder_force: float | None = None) -> tuple[Mesh, Model]:
