@@ -22,6 +22,17 @@ slip and the dissipation are the block's history (femcore.element), so a quasi-s
 increment returns to them at every iteration and the tangent is that of the return mapping
 (non-symmetric in slip: the solvers' LU takes it).
 
+Stick spring. The tangential spring may be softer than the normal one: k_t = r k with r =
+``stick_stiffness`` in (0, 1] (default 1). A node then sticks until |s| = mu k p / k_t, the
+elastic slip (Abaqus's slip tolerance, there 0.5 % of an element by default). With k_t = k
+that is mu times the penetration, for a light body 1e-7 of an element: every Newton update
+that moves a node at all crosses the stick limit, the stick and slip sets trade nodes at each
+iteration, and a body that nothing but friction holds in its plane (a strip lying on a
+table) is a mechanism in every iterate where all its nodes slide. A softer stick spring
+leaves the friction law and the sliding force mu k p unchanged and gives the stuck nodes a
+stiffness Newton can use; what it costs is the elastic slip, which the explicit solver's
+step does not see (it takes k, the larger).
+
 Active set (the quasi-static solvers). ``freeze`` fixes which nodes touch, those of a given
 state, for the Newton iterations that follow: a node of that set keeps its normal spring k (h/2 -
 d) n whatever the sign of h/2 - d (a bilateral spring, pulling as well as pushing), a node
@@ -89,6 +100,9 @@ class Contact(Interaction):
     tool_node : int, optional
         The node carrying a driven tool's free translation (``Model.rigid_node``; what
         ``Model.contact`` passes); required for a tool with ``free`` axes, refused otherwise.
+    stick_stiffness : float
+        k_t / k in (0, 1]: the friction's stick spring over the normal penalty (module
+        docstring, "Stick spring"); 1 by default.
     """
 
     dofs = ("ux", "uy", "uz")
@@ -101,6 +115,7 @@ class Contact(Interaction):
         penalty: float | None = None,
         friction: float = 0.0,
         tool_node: int | None = None,
+        stick_stiffness: float = 1.0,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
@@ -134,6 +149,13 @@ class Contact(Interaction):
             raise ValueError(f"friction must be a Coulomb coefficient >= 0, got {friction!r}")
         self.penalty = penalty
         self.friction = mu
+        ratio = as_number(stick_stiffness, "stick_stiffness", "a number in (0, 1]")
+        if not (np.isfinite(ratio) and 0.0 < ratio <= 1.0):
+            raise ValueError(
+                "stick_stiffness must be in (0, 1] (the stick spring k_t over the normal "
+                f"penalty k), got {stick_stiffness!r}"
+            )
+        self.stick_ratio = ratio
 
     def bind(self, body: Body) -> ContactBlock:
         mesh = body.mesh
@@ -237,6 +259,7 @@ class ContactBlock(InteractionBlock):
         self.tolerance = 1e-9 * float(np.ptp(points, axis=0).max(initial=0.0) or 1.0)
         given = contact.penalty
         self.stiffness = np.full(len(nodes), np.nan if given is None else given)
+        self.stick_ratio = contact.stick_ratio  # k_t / k
 
     def check_start(self) -> None:
         """ValueError when nodes start past the tool's surface (their mid-surface beyond it,
@@ -327,7 +350,8 @@ class ContactBlock(InteractionBlock):
         direction = s / np.where(length > 0, length, 1.0)[:, None]
         # A node at the friction limit (where the return mapping left a sliding node) slides
         # on when pushed the same way: frozen as sliding, the next increment starts right.
-        at_limit = stuck & (length >= (1.0 - 1e-6) * self.friction * p) & (p > 0.0)
+        held = self.friction * p / self.stick_ratio  # |s| at the limit, mu k p / k_t
+        at_limit = stuck & (length >= (1.0 - 1e-6) * held) & (p > 0.0)
         sliding = sliding | at_limit
         if grow and before is not None:
             added = (d < self.offset) & ~before
@@ -366,9 +390,9 @@ class ContactBlock(InteractionBlock):
         anchor = np.where(anchored[:, None], history.anchor, 0.0)
         r = self._positions(state) - (anchor + self.tool.offset(state.load_factor))
         s = np.where(anchored[:, None], r - np.sum(r * n, axis=1)[:, None] * n, 0.0)
-        k = self.stiffness
+        k = self.stiffness * self.stick_ratio  # k_t, the stick spring
         trial = k * np.linalg.norm(s, axis=1)
-        limit = self.friction * k * np.maximum(p, 0.0)
+        limit = self.friction * self.stiffness * np.maximum(p, 0.0)
         if history.sliding is not None:  # frozen (module docstring)
             sliding = anchored & history.sliding
             stuck = anchored & ~sliding
@@ -416,7 +440,8 @@ class ContactBlock(InteractionBlock):
         """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm."""
         p, n, touching = self.touch(state, history)
         friction, *_ = self.tangential(state, history, p, n, touching)
-        stored = self.stiffness * p**2 + np.sum(friction**2, axis=1) / self.stiffness
+        stick = self.stiffness * self.stick_ratio
+        stored = self.stiffness * p**2 + np.sum(friction**2, axis=1) / stick
         return float(0.5 * np.sum(stored))
 
     def initial_history(self) -> FrictionHistory | None:
@@ -439,7 +464,7 @@ class ContactBlock(InteractionBlock):
         p = np.maximum(p, 0.0)  # a frozen node pulled off the tool has no friction limit
         x = self._positions(state)
         length = np.linalg.norm(s, axis=1)
-        limit = self.friction * p  # the spring's length at the limit, mu k p / k_t
+        limit = self.friction * p / self.stick_ratio  # the spring's length at the limit
         slid = np.where(sliding, length - limit, 0.0)
         unit = s / np.where(length > 0, length, 1.0)[:, None]
         origin = self.tool.offset(state.load_factor)
@@ -513,7 +538,9 @@ class ContactBlock(InteractionBlock):
                     :, None, None
                 ] * np.einsum("sij,sjk->sik", turn, dv_dx)
             blocks = blocks + np.where(
-                stuck[:, None, None], k * ds_dx, np.where(sliding[:, None, None], slip_part, 0.0)
+                stuck[:, None, None],
+                self.stick_ratio * k * ds_dx,
+                np.where(sliding[:, None, None], slip_part, 0.0),
             )
         blocks = np.where(touching[:, None, None], blocks, 0.0)
         if self.tool_node is not None:

@@ -149,13 +149,22 @@ class RigidTool:
         friction: float = 0.0,
         penalty: float | None = None,
         tool_node: int | None = None,
+        stick_stiffness: float = 1.0,
     ):
         """The penalty contact of ``nodes`` (None: every node of the body's elements) with
         this tool (elements.contact.Contact), what ``Model.contact`` adds; ``tool_node`` the
-        node carrying a driven tool's free translation (``Model.rigid_node``)."""
+        node carrying a driven tool's free translation (``Model.rigid_node``);
+        ``stick_stiffness`` the friction's stick spring over the normal penalty."""
         from elements.contact import Contact  # contact.py builds on this module
 
-        return Contact(self, nodes, penalty=penalty, friction=friction, tool_node=tool_node)
+        return Contact(
+            self,
+            nodes,
+            penalty=penalty,
+            friction=friction,
+            tool_node=tool_node,
+            stick_stiffness=stick_stiffness,
+        )
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError

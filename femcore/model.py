@@ -275,6 +275,7 @@ class Model:
         nodes: NodeSelection | None = None,
         friction: float = 0.0,
         penalty: float | None = None,
+        stick_stiffness: float | None = None,
     ) -> int:
         """Penalty contact of ``nodes`` with a ``tool``, with Coulomb friction: the
         interaction ``tool.contact(nodes, friction=, penalty=)`` builds (a rigid tool of
@@ -295,6 +296,13 @@ class Model:
             N/mm per node, normal and tangential; None: 0.1 m (2 / dt)^2 per node, chosen
             when the model is compiled (m the node's lumped mass, dt the critical step of the
             model without contact: the explicit step stays stable; elements/contact.py).
+        stick_stiffness : float, optional
+            The friction's stick spring k_t over the normal penalty k, in (0, 1] (None: 1).
+            A node sticks until its tangential offset from its anchor reaches mu k p / k_t
+            (the elastic slip); k_t = k makes that a fraction of the normal penetration, a
+            stick zone so narrow that a quasi-static Newton meets stick and slip by turns
+            where nothing but friction holds a body in its plane. 1e-2 leaves the elastic
+            slip a small fraction of an element (elements/contact.py, "Stick spring").
 
         Returns
         -------
@@ -319,11 +327,12 @@ class Model:
             ids = None
         else:
             ids = self._node_ids(nodes)
+        options: dict = {"friction": friction, "penalty": penalty}
+        if stick_stiffness is not None:  # a tool's own contact may not know the option
+            options["stick_stiffness"] = stick_stiffness
         if getattr(tool, "driven", False):
-            node = self._tool_node(tool)
-            interaction = build(ids, friction=friction, penalty=penalty, tool_node=node)
-        else:
-            interaction = build(ids, friction=friction, penalty=penalty)
+            options["tool_node"] = self._tool_node(tool)
+        interaction = build(ids, **options)
         return self.interact(interaction)
 
     def _tool_node(self, tool) -> int:

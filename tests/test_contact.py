@@ -290,26 +290,64 @@ def test_friction_dissipation_closes_the_energy_balance_of_a_sliding_plate():
         RigidCylinder((0.0, 0.0, -20.0), (1.0, 0.2, 0.0), 20.0),
     ],
 )
-def test_the_friction_tangent_is_the_derivative_of_the_return_mapping(tool):
+@pytest.mark.parametrize("stick", [1.0, 0.05], ids=["stick-k", "stick-soft"])
+def test_the_friction_tangent_is_the_derivative_of_the_return_mapping(tool, stick):
     """Central differences of the contact force with friction (anchors a little off each
     node, mu = 0.4, so that some nodes stick and some slip) against the block's tangent:
-    1e-6 of the penalty (the truncation and rounding of test above)."""
+    1e-6 of the penalty (the truncation and rounding of test above); with the stick spring
+    k_t = k and k_t = 0.05 k (``stick_stiffness``)."""
     from elements.contact import FrictionHistory
 
     rng = np.random.default_rng(5)
     mesh = Mesh.rectangle(4.0, 4.0, nx=3, ny=3)
     x = mesh.points + rng.normal(scale=0.2, size=mesh.points.shape) - [2.0, 2.0, 0.4]
-    contact = Contact(tool, np.arange(mesh.n_nodes), offset=0.5, penalty=100.0, friction=0.4)
+    contact = Contact(
+        tool,
+        np.arange(mesh.n_nodes),
+        offset=0.5,
+        penalty=100.0,
+        friction=0.4,
+        stick_stiffness=stick,
+    )
     block = contact.bind(Body.bare(mesh))
     zero = np.zeros_like(x)
     state = State(positions=x, directors=zero, velocities=zero, angular_velocities=zero)
     state.load_factor = 0.5
-    anchor = x - tool.offset(0.5) + rng.normal(scale=0.4, size=x.shape)
+    # Anchors as far off as the stick spring is soft: the same trial forces k_t |s|.
+    anchor = x - tool.offset(0.5) + rng.normal(scale=0.4 / stick, size=x.shape)
     history = FrictionHistory(anchor, np.zeros(len(x)), np.zeros(len(x)), 0.0)
     p, n, touching = block.touch(state)
     _, _, stuck, sliding = block.tangential(state, history, p, n, touching)
     assert stuck.sum() >= 2 and sliding.sum() >= 2
     assert_tangent_is_the_force_derivative(block, state, history, tolerance=1e-6 * 100.0)
+
+
+def test_a_soft_stick_spring_holds_a_stuck_node_by_k_t_and_a_sliding_one_by_mu_k_p():
+    """stick_stiffness = 0.1 on a plane, k = 100 N/mm, mu = 0.5: a node pressed 0.1 mm in
+    (N = 10 N) with its anchor 0.5 mm away sticks (k_t |s| = 5 N = mu N: at the limit, which
+    is 0.05 mm of elastic slip with k_t = k), one 2 mm away slides at mu N = 5 N; the stored
+    energy of the stuck node's spring is |f|^2 / (2 k_t)."""
+    from elements.contact import FrictionHistory
+
+    mesh = Mesh(np.array([[0.0, 0.0, 0.4], [5.0, 0.0, 0.4]]), lines=np.array([[0, 1]]))
+    plane = RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    contact = Contact(plane, [0, 1], offset=0.5, penalty=100.0, friction=0.5, stick_stiffness=0.1)
+    block = contact.bind(Body.bare(mesh))
+    zero = np.zeros((2, 3))
+    state = State(mesh.points.copy(), zero, zero.copy(), zero.copy())
+    anchor = mesh.points - [[0.4999, 0.0, 0.0], [2.0, 0.0, 0.0]]
+    history = FrictionHistory(anchor, np.zeros(2), np.full(2, 0.1), 0.0)
+    force = block.contact_forces(state, history)
+    np.testing.assert_allclose(force[:, 2], 10.0)
+    np.testing.assert_allclose(force[:, 0], [-10.0 * 0.4999, -5.0])
+    energy = block.strain_energy(state, history)
+    assert energy == pytest.approx(2 * 0.5 * 100.0 * 0.1**2 + (4.999**2 + 5.0**2) / 20.0)
+
+
+@pytest.mark.parametrize("value", [0.0, -0.1, 1.5, float("nan"), "0.1"])
+def test_the_stick_stiffness_must_be_a_fraction_of_the_penalty(value):
+    with pytest.raises(ValueError, match="stick_stiffness"):
+        Contact(RigidPlane((0, 0, 0), (0, 0, 1)), friction=0.3, stick_stiffness=value)
 
 
 @pytest.mark.slow
