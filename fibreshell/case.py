@@ -33,7 +33,8 @@ motion = [0.0, 0.0, 20.0]                # optional translation at the end, with
 # free = ["z"], force = [0.0, 0.0, -500.0], mass = 1e-3: free along z, pushed by 500 N (t);
 # a "surface" tool may take pressure = 0.2 (N/mm^2 on its facets' area) instead of force
 friction = 0.2                           # optional: Coulomb coefficient (0)
-# nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic)
+# nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic),
+# stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
 stiffness = 23000.0                      # the first node to each other one
@@ -106,7 +107,7 @@ _TOOL_KEYS = {
     "cylinder": ("point", "axis", "radius", "side"),
     "surface": ("file", "flip", "search_distance"),
 }
-_CONTACT_KEYS = ("tool", "nodes", "friction", "penalty", "motion", "amplitude")
+_CONTACT_KEYS = ("tool", "nodes", "friction", "penalty", "stick_stiffness", "motion", "amplitude")
 # A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
 _DRIVE_KEYS = ("free", "force", "mass", "pressure")
 
@@ -186,7 +187,7 @@ class Case:
         {"acceleration": (3,), "amplitude": str}.
     contacts : list of dict
         {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
-        None} per ``[[contact]]``.
+        None, "stick_stiffness": float or None} per ``[[contact]]``.
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
@@ -243,9 +244,7 @@ class Case:
         if self.gravity is not None:
             model.gravity(self.gravity["acceleration"], amplitude=self.gravity["amplitude"])
         for contact in self.contacts:
-            model.contact(
-                contact["tool"], contact["nodes"], contact["friction"], contact["penalty"]
-            )
+            model.contact(**contact)
         for grip in self.grips:
             model.interact(Grip(grip["nodes"], grip["stiffness"]))
         return model
@@ -702,8 +701,11 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     penalty = value.get("penalty")
     if penalty is not None and not _number(where, penalty, "penalty") > 0:
         raise where.error("penalty", f"expected a positive number (N/mm), got {penalty!r}")
+    stick = value.get("stick_stiffness")
+    if stick is not None and not 0.0 < _number(where, stick, "stick_stiffness") <= 1.0:
+        raise where.error("stick_stiffness", f"expected a number in (0, 1], got {stick!r}")
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
-    return {"tool": tool, "nodes": nodes, "friction": friction, "penalty": penalty}
+    return dict(tool=tool, nodes=nodes, friction=friction, penalty=penalty, stick_stiffness=stick)
 
 
 def _solver(top: _Where, value: Any) -> dict:

@@ -407,6 +407,8 @@ friction = 0.2
         ("friction = 0.2", "friction = -0.2", r"\[contact\[0\].friction\]"),
         ("friction = 0.2", 'friction = 0.2\nnodes = "nowhere"', r"\[contact\[0\].nodes\]"),
         ("centre = [50.0, 5.0, -30.0]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
+        ("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.0", r"\[contact\[0\].stick_"),
+        ("friction = 0.2", "friction = 0.2\nstick_stiffness = 2.0", r"in \(0, 1\], got 2.0"),
     ],
 )
 def test_a_mistake_in_a_contact_table_names_the_file_the_table_and_the_key(
@@ -425,6 +427,17 @@ def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
     assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
     model = case.model()
     assert model.interactions[-1].friction == 0.2
+
+
+def test_a_contact_table_sets_the_stick_spring_of_its_friction(tmp_path):
+    """``stick_stiffness`` = 0.01: the contact's stick spring is 1e-2 of its penalty; without
+    the key, the penalty itself (elements/contact.py, "Stick spring")."""
+    soft = CONTACT.replace("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.01")
+    assert (
+        load_case(write(tmp_path, CANTILEVER + soft)).model().interactions[-1].stick_ratio == 0.01
+    )
+    plain = load_case(write(tmp_path, CANTILEVER + CONTACT, "plain.toml")).model()
+    assert plain.interactions[-1].stick_ratio == 1.0
 
 
 @pytest.mark.parametrize(
