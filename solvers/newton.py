@@ -55,6 +55,7 @@ from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel
 from femcore.state import State
 from solvers.convergence import Equilibrium
+from solvers.inertia import convexified_step
 from solvers.linear import Factorisation
 from solvers.stabilisation import Dashpots
 from solvers.stability import downhill, lowest_modes, push_descends
@@ -251,9 +252,15 @@ def _iterate(
         # state of it is checked again.
         turn = escapes or (factor.negative and not run.on_kept_saddle)
         if turn and solver.seek_stable:
+            # More negative modes than downhill turns: the shifted tangent's step (inertia).
+            shifted = None if push else convexified_step(run, k_ff, rhs, factor.negative)
             load = equilibrium.load(frames).ravel()[index]
-            delta_free = downhill(
-                k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
+            delta_free = (
+                shifted
+                if shifted is not None
+                else downhill(
+                    k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
+                )
             )
         flat = left.ravel().copy()
         flat[index] = delta_free

@@ -373,6 +373,7 @@ class StaticRun:
             "limit_points": [],
             "jumps": [],
             "regularised_iterations": 0,
+            "shifted": [],
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "branch_switches": [],
