@@ -23,8 +23,8 @@ from validation.specimens import holder_ring
 CELLS, INCREMENTS, STABILISE = 8, 10, 300.0
 
 
-def held_blank():
-    mesh, model = case.model(CELLS, "fibrous")
+def held_blank(cells: int = CELLS):
+    mesh, model = case.model(cells, "fibrous")
     ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)
     model.contact(RigidSurface(ring.with_points(ring.points + [0.0, 0.0, case.THICKNESS])))
     return mesh, model
@@ -32,14 +32,39 @@ def held_blank():
 
 @pytest.mark.slow
 def test_static_drapes_the_hemisphere_as_the_pin_jointed_net():
-    """Every increment converges (measured Newton iterations 4-36 per increment, 6 s to 2 min
-    on this machine as it is loaded); the dashpots dissipate less than 5 % of the strain energy
-    (measured 0.6 %); the rms of shear - net over the cells in the die is within the case's
-    coarse tolerance (measured 3.51 deg over 26 cells)."""
+    """Every increment converges, none cut (measured Newton iterations 4-42 per increment,
+    5 of them on a shifted tangent, solvers/inertia.py; without that correction the sixth
+    increment met 7 or more negative eigenvalues, was cut once and its attempt took 98
+    iterations; 8-25 s on this machine as it is loaded); the dashpots dissipate less than 5 %
+    of the strain energy (measured 0.6 %); the rms of shear - net over the cells in the die
+    is within the case's coarse tolerance (measured 3.51 deg over 26 cells)."""
     mesh, model = held_blank()
     result = Static(increments=INCREMENTS, stabilise=STABILISE, progress=False).solve(model)
     assert result.converged
     assert max(result.info["iterations_per_increment"]) <= 50
+    assert result.info["cuts"] == 0
+    assert_drapes_as_the_net(mesh, result, 20)
+
+
+@pytest.mark.slow
+def test_static_drapes_the_hemisphere_at_the_case_coarse_mesh():
+    """12 x 12 cells, the same holder and solver: every increment converges with at most 3
+    cuts (measured 2, whose attempts took 156 iterations; 9-93 iterations per increment, 214
+    steps on a shifted tangent; 2-4 minutes). Without the inertia correction: 7 cuts whose
+    attempts took 532 iterations, 1043 iterations in all against 626. The rms of shear - net
+    over the cells in the die within the case's coarse tolerance (benchmarks/hemisphere_static.py,
+    whose band is 0.5 mm: 2.96 deg over 86 cells)."""
+    mesh, model = held_blank(12)
+    result = Static(increments=INCREMENTS, stabilise=STABILISE, progress=False).solve(model)
+    assert result.converged
+    assert result.info["cuts"] <= 3
+    assert_drapes_as_the_net(mesh, result, 60)
+
+
+def assert_drapes_as_the_net(mesh, result, cells_in_die: int) -> None:
+    """The dashpots dissipated less than 5 % of the strain energy, and the rms of shear - net
+    over the cells in the die (at least ``cells_in_die`` of them) is within the case's coarse
+    tolerance."""
     report = result.info["stabilisation"]
     assert report["dissipated_over_strain_energy"] < 0.05
     net = case.fishnet_on_sphere(
@@ -57,6 +82,6 @@ def test_static_drapes_the_hemisphere_as_the_pin_jointed_net():
         x[:, 2] < -5.0
     )
     in_die = on_bowl[mesh.triangles].all(axis=1) & np.isfinite(net_shear)
-    assert in_die.sum() >= 20
+    assert in_die.sum() >= cells_in_die
     error = np.degrees(case.blank_shear(mesh, x)[in_die] - net_shear[in_die])
     assert np.sqrt(np.mean(error**2)) < case.RMS_TOLERANCE_DEG["coarse"]
