@@ -253,15 +253,15 @@ def _iterate(
         turn = escapes or (factor.negative and not run.on_kept_saddle)
         if turn and solver.seek_stable:
             # More negative modes than downhill turns: the shifted tangent's step (inertia).
-            shifted = None if push else convexified_step(run, k_ff, rhs, factor.negative)
+            shifted = (
+                None if push else convexified_step(run, k_ff, rhs, factor.negative, delta_free)
+            )
             load = equilibrium.load(frames).ravel()[index]
-            delta_free = (
-                shifted
-                if shifted is not None
-                else downhill(
+            if shifted is None:
+                shifted = downhill(
                     k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
                 )
-            )
+            delta_free = shifted
         flat = left.ravel().copy()
         flat[index] = delta_free
         delta = flat.reshape(-1, N_COLUMNS)

@@ -1,7 +1,8 @@
 """The inertia correction of Newton steps on a tangent with many negative eigenvalues
-(solvers/inertia.py): past the six modes the downhill turn computes, the step is that of
-K + delta diag(|K_ii|) with the smallest listed delta that leaves no negative pivot, a descent
-direction of the total potential; with six or fewer the step is left to the downhill turn."""
+(solvers/inertia.py): past the six modes the downhill turn computes, a Newton step that climbs
+(r . dq <= 0) is replaced by that of K + delta diag(|K_ii|) with the smallest listed delta that
+leaves no negative pivot, a descent direction of the total potential; with six or fewer
+negative modes, or a Newton step that descends already, the step is left as it was."""
 
 import numpy as np
 import pytest
@@ -12,9 +13,11 @@ from solvers.linear import LinearSolver
 
 
 class Run:
-    """What convexified_step uses of a StaticRun: its factorisation and its info."""
+    """What convexified_step uses of a StaticRun: its factorisation, its info and the
+    dashpots of a stabilised increment (``stabilised``: a stand-in, None: none)."""
 
-    def __init__(self):
+    def __init__(self, stabilised: bool = False):
+        self.dashpots = object() if stabilised else None
         self.linear = LinearSolver()
         self.factorise = self.linear.factorise
         self.info = {"shifted": []}
@@ -36,8 +39,10 @@ def test_a_tangent_with_many_negative_modes_gets_a_descent_step_from_the_smalles
     k = tangent(10)
     assert (np.linalg.eigvalsh(k.toarray()) < 0).sum() == 10 > MODES
     rhs = np.random.default_rng(1).standard_normal(k.shape[0])
+    newton = np.linalg.solve(k.toarray(), rhs)
+    assert rhs @ newton < 0.0  # Newton's own step climbs here
     run = Run()
-    step = convexified_step(run, k, rhs, 10)
+    step = convexified_step(run, k, rhs, 10, newton)
     assert step is not None
     (shift,) = run.info["shifted"]
     weights = np.diag(np.abs(k.diagonal()))
@@ -48,7 +53,24 @@ def test_a_tangent_with_many_negative_modes_gets_a_descent_step_from_the_smalles
         assert np.linalg.eigvalsh(k.toarray() + earlier[-1] * weights).min() < 0.0
     np.testing.assert_allclose(shifted @ step, rhs, atol=1e-10)
     assert rhs @ step > 0.0
-    assert rhs @ np.linalg.solve(k.toarray(), rhs) < 0.0  # Newton's own step climbs here
+
+
+def test_a_newton_step_that_descends_already_is_kept_unless_the_increment_is_stabilised():
+    """Ten negative eigenvalues, but a right-hand side on the positive modes alone (a flat
+    sheet's in-plane residual, its negative modes out of plane): r . dq > 0, no shift; in a
+    stabilised increment (a minimum is sought) the shifted step all the same."""
+    k = tangent(10)
+    rhs = np.zeros(k.shape[0])
+    rhs[20:] = 1.0
+    newton = np.linalg.solve(k.toarray(), rhs)
+    assert rhs @ newton > 0.0
+    run = Run()
+    assert convexified_step(run, k, rhs, 10, newton) is None
+    assert run.linear.numeric == 0
+    stabilised = Run(stabilised=True)
+    step = convexified_step(stabilised, k, rhs, 10, newton)
+    assert step is not None and len(stabilised.info["shifted"]) == 1
+    assert rhs @ step > 0.0
 
 
 @pytest.mark.parametrize("negative", [None, 0, 3, MODES])
@@ -57,6 +79,8 @@ def test_a_tangent_the_downhill_turn_covers_is_left_to_it(negative):
     factorisation."""
     run = Run()
     k = tangent(negative or 0)
-    assert convexified_step(run, k, np.ones(k.shape[0]), negative) is None
+    rhs = np.random.default_rng(1).standard_normal(k.shape[0])
+    newton = np.linalg.solve(k.toarray(), rhs)
+    assert convexified_step(run, k, rhs, negative, newton) is None
     assert run.info["shifted"] == []
     assert run.linear.numeric == 0
