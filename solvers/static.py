@@ -109,6 +109,10 @@ class Static:
         total potential energy beyond round-off (solvers.stability.push_descends); a saddle
         that no push descends from is kept (``info["saddles_kept"]``, load path) and the next
         increment follows it by plain Newton: a flat fabric sheared in its plane stays flat.
+        A tangent with more negative eigenvalues than the six the downhill turn computes (a
+        wrinkling flange) gets the step of K + delta diag|K| instead, the smallest delta
+        leaving no negative pivot (solvers.inertia; every such step of a stabilised
+        increment, only the climbing ones otherwise; the deltas in ``info["shifted"]``).
     step_loads_first : apply the loads whose amplitude is "step" (gravity by default) first,
         over load factors 0 to 1 with the prescribed displacements held at zero, then the
         other loads and the prescribed displacements over 1 to 2 (a specimen hangs under its
