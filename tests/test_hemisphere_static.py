@@ -23,8 +23,8 @@ from validation.specimens import holder_ring
 CELLS, INCREMENTS, STABILISE = 8, 10, 300.0
 
 
-def held_blank(cells: int = CELLS):
-    mesh, model = case.model(cells, "fibrous")
+def held_blank(cells: int = CELLS, kinematics: str = "fibrous"):
+    mesh, model = case.model(cells, kinematics)
     ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)
     model.contact(RigidSurface(ring.with_points(ring.points + [0.0, 0.0, case.THICKNESS])))
     return mesh, model
@@ -59,6 +59,19 @@ def test_static_drapes_the_hemisphere_at_the_case_coarse_mesh():
     assert result.converged
     assert result.info["cuts"] <= 3
     assert_drapes_as_the_net(mesh, result, 60)
+
+
+@pytest.mark.slow
+def test_static_drapes_the_mindlin_blank_at_the_fibrous_blanks_stabilisation():
+    """The Mindlin blank (ElasticShell.equivalent), 8 cells, the same holder, c = 300: every
+    increment converges (measured 4-154 Newton iterations per increment, 9 cuts, no step on a
+    shifted tangent, about 35 s; it needed c = 3000 on older code) and the dashpots dissipate
+    less than 5 % of the strain energy (measured 0.25 %). Its shear is not checked: its soft
+    membrane leaves only 7 cells on the bowl (benchmarks/hemisphere_static.py)."""
+    _, model = held_blank(kinematics="mindlin")
+    result = Static(increments=INCREMENTS, stabilise=STABILISE, progress=False).solve(model)
+    assert result.converged
+    assert result.info["stabilisation"]["dissipated_over_strain_energy"] < 0.05
 
 
 def assert_drapes_as_the_net(mesh, result, cells_in_die: int) -> None:
