@@ -245,8 +245,9 @@ def test_static_lays_a_fibrous_strip_on_a_table_with_the_closed_form_overhang():
 
 
 def test_static_lays_the_unheld_strip_on_a_rough_table_with_a_light_stabilisation():
-    """Nothing holds the strip in its plane but the friction (mu = 0.3): plain Static's contact
-    sets alternate between stick and slip at the lift-off and its increments fail. With the
+    """Nothing holds the strip in its plane but the friction (mu = 0.3): with the stick spring
+    k_t = k plain Static's contact sets alternate between stick and slip and its increments are
+    cut (the soft stick spring of the test below is the other way). With the
     viscous stabilisation (``stabilise`` = 10 1/s^2 per unit load factor, solvers/stabilisation.py)
     the tip sags by delta to 1 % (measured 0.1 %; 0.5 % at c = 100: the dashpots' bias grows
     with c) and the strip lifts off at sqrt(2) L; the dashpots dissipate 0.09 % of the strain
