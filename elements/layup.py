@@ -10,8 +10,9 @@ warp=w_k)`` or a ``MindlinShell`` of the fabric's Mindlin calibration with the s
 (``ElasticShell.equivalent(fabric, warp=w_k)``, as the single-ply forming case), or any
 element a factory builds from (fabric, warp). Neighbouring plies touch through
 ``PlyContact`` (the upper ply's lower face on the lower ply's upper face, h / 2 from the
-mid-surfaces along the nodal normals of fibrous plies, along the directors of Mindlin ones) with the Coulomb coefficient ``friction``; its node fields
-hold the inter-ply slip (``ply_slip``, mm, elements/ply_slip.py).
+mid-surfaces along the nodal normals of fibrous plies, along the directors of Mindlin ones)
+with the Coulomb coefficient ``friction``; its node fields hold the inter-ply slip
+(``ply_slip``, mm, elements/ply_slip.py).
 
 Unlike ``elements.plies.PlyStack`` (copies of one mesh splitting one stack's thickness), the
 plies here are whole fabrics with meshes of their own that do not match from ply to ply.
