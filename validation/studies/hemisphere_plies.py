@@ -74,6 +74,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from elements import RigidSphere, RigidSurface
+from elements.tools import closest_on_triangles
 from elements.layup import Layup
 from elements.ply_slip import slip_summary
 from femcore import Mesh, Model
@@ -96,8 +97,9 @@ DIE = PUNCH + (PLIES + 1) * THICKNESS  # the punch, the plies and a clearance of
 TRAVEL = PUNCH + PLIES * THICKNESS
 FABRIC = Fabric(thickness=THICKNESS, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
 LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
-CELLS = {"coarse": 8, "default": 10}
+CELLS = {"coarse": 8, "default": 10, "fine": 14}
 MU = 0.2  # ply on ply
+RULE = "gauss"  # three points per cell, near enough its corners to hold a node the punch pushes
 HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
 HOLDER_MASS = 1e-3  # t (1 kg)
 HOLDER_RING = (DIE + 10.0, 150.0, 10.0)  # inner, outer radius, facet width, mm
@@ -130,7 +132,9 @@ def _holder_amplitude(tau):
 
 def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
     """The layup on the die's flange under the punch and the holder: (Layup, Model)."""
-    layup = Layup(FABRIC, angles, 2 * HALF, cells=cells, kinematics=kinematics, friction=MU)
+    layup = Layup(
+        FABRIC, angles, 2 * HALF, cells=cells, kinematics=kinematics, friction=MU, rule=RULE
+    )
     built: Model = layup.model()
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
@@ -153,10 +157,11 @@ def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
 
 
 def _nets() -> list[dict]:
-    """The 0-deg net on each ply's mid-surface sphere (ply 1 first)."""
+    """The 0-deg net on each ply's mid-surface sphere over the punch (ply 1, the outer one,
+    first)."""
     nets = []
     for k in range(PLIES):
-        radius = DIE - (k + 0.5) * THICKNESS
+        radius = PUNCH + (PLIES - k - 0.5) * THICKNESS
         net = fishnet_on_sphere(radius, NET_CELL, int(0.5 * np.pi * radius / NET_CELL))
         nets.append(
             {
@@ -180,6 +185,53 @@ def _wrinkles(layup: Layup, positions: np.ndarray, k: int) -> dict[str, Any]:
         (height > np.roll(height, 1)) & (height >= np.roll(height, -1)) & (height > 0.5 * THICKNESS)
     )
     return {"count": int(crest.sum()), "height": float(height.max())}
+
+
+def _node_gaps(layup: Layup, positions: np.ndarray) -> np.ndarray:
+    """(s,) each top-ply node's gap to the bottom ply's upper face, mm (< 0: it passed
+    through): its lower face point x - (h/2) n against the nearest point of the bottom ply's
+    faceted upper face y = x + (h/2) n (n the plies' area-weighted nodal normals), signed by
+    that facet's normal; NaN where the nearest point is off the facets' interiors by more
+    than 0.05 mm across (past the bottom ply's outline)."""
+    n_nodes = layup.mesh.n_nodes
+    x = positions[:n_nodes]
+    normals = nodal_normals(x, layup.mesh.triangles)
+    half = 0.5 * THICKNESS
+    below = layup.mesh.triangles[layup.ply_cells[0]]
+    face = x[layup.ply_nodes[-1]] - half * normals[layup.ply_nodes[-1]]
+    y = x + half * normals
+    a, b, c = (y[below[:, j]][None] for j in range(3))
+    nearest = closest_on_triangles(face[:, None, :], a, b, c)  # (s, m, 3)
+    distance = np.linalg.norm(face[:, None, :] - nearest, axis=2)
+    best = np.argmin(distance, axis=1)
+    rows = np.arange(len(face))
+    facet = np.cross(b[0] - a[0], c[0] - a[0])
+    facet /= np.linalg.norm(facet, axis=1)[:, None]
+    signed = np.sum((face - nearest[rows, best]) * facet[best], axis=1)
+    across = np.sqrt(np.maximum(distance[rows, best] ** 2 - signed**2, 0.0))
+    return np.where(across < 0.05, signed, np.nan)
+
+
+def _least_gaps(layup: Layup, result: Any) -> dict[str, Any]:
+    """The top ply's least node gap to the bottom ply's face (``_node_gaps``, mm): over its
+    nodes in the die at the end, and over every node and frame of the run, with when and
+    where (the node's blank coordinates)."""
+    top = layup.ply_nodes[-1]
+    least, at, where = math.inf, 0.0, ""
+    for frame in result.frames:
+        gap = _node_gaps(layup, frame.positions)
+        if np.isfinite(gap).any() and np.nanmin(gap) < least:
+            i = int(np.nanargmin(gap))
+            least, at = float(gap[i]), float(frame.time)
+            where = f"({layup.mesh.points[top[i], 0]:g}, {layup.mesh.points[top[i], 1]:g})"
+    gap = _node_gaps(layup, result.positions)
+    deep = (result.positions[top, 2] < -5.0) & np.isfinite(gap)
+    return {
+        "in_die": float(gap[deep].min(initial=math.inf)),
+        "run": least,
+        "at_s": at,
+        "where": where,
+    }
 
 
 def _draw_in(layup: Layup, positions: np.ndarray, k: int) -> tuple[float, float]:
@@ -251,6 +303,11 @@ def compute(resolution: str) -> Outcome:
             in_die[key].append(on_bowl[triangles[cells_k]].all(axis=1))
         slip = slip_summary(result.frames[-1].fields["point"]["ply_slip"])
         prefix = key.replace(" ", "_").replace("/", "-")
+        crossing = _least_gaps(layup, result)
+        parameters[f"{prefix}_least_gap_in_die_mm"] = crossing["in_die"]
+        parameters[f"{prefix}_least_gap_over_the_run_mm"] = crossing["run"]
+        parameters[f"{prefix}_least_gap_at_s"] = crossing["at_s"]
+        parameters[f"{prefix}_least_gap_where"] = crossing["where"]
         parameters[f"{prefix}_steps"] = result.steps
         parameters[f"{prefix}_wall_time_s"] = result.wall_time
         parameters[f"{prefix}_interply_slip_max_mm"] = slip["max_mm"]
