@@ -437,6 +437,11 @@ class PlyContactBlock(InteractionBlock):
         k_j of the upper nodes ``upper``, N/mm.
     smoothing : float
         delta, mm.
+    along_normals : bool
+        The faces lie along the plies' nodal normals (``faces="normal"``).
+    lever : float
+        1 with faces along the directors, 0 along the normals: the factor of the offsets in
+        the moments on the directors and in their tangent.
     """
 
     dofs = PlyContact.dofs
