@@ -61,23 +61,31 @@ is a chord 1-3 mm inside the punch's sphere, and a top node held on it is pinche
 analytic punch. The Gauss points (near the corners, not on them) give every fibrous run to
 the end.
 
-Measured on this machine (one thread, NUMBA_NUM_THREADS=1), coarse (8 cells): the six runs
-take 161 s of CPU. Fibrous runs reach the end of the stroke with both plies in the die:
-rms of shear - net 2.4 deg (ply 1, 0 deg) and 3.5 deg (ply 2, 90 deg) for [0/90], 1.9 and 4.1
-deg for [0/45], at both holder forces; draw-in of the edge middle 24.6-25.1 mm for the 0 and
-90-deg plies, 5.5-5.6 mm for the 45-deg ply (22.2-22.3 mm at its corner, along its fibres);
-inter-ply slip 0.35-0.49 mm at most for [0/90] and 19.0-19.2 mm for [0/45] (the slip field
-tells the layups apart); wrinkles of the outline: none for [0/90], 7-10 crests for [0/45].
+Measured on this machine (one thread, NUMBA_NUM_THREADS=1): the six runs take 161 s of CPU
+at coarse (8 cells) and 234 s at default (10 cells). Fibrous runs reach the end of the stroke
+with both plies in the die (8 and 6 of ply 1's cells at coarse, 52 at default): rms of shear -
+net 2.4 deg (ply 1, 0 deg) and 3.5 deg (ply 2, 90 deg) for [0/90] at coarse, 3.2 and 2.8 deg at
+default; 1.9 and 4.1 deg for [0/45] at coarse, 3.6 and 4.0-4.2 deg at default, at both holder
+forces (the [0/45] at 20 N and default stops at 94 % of the stroke on the energy balance);
+draw-in of the edge middle 24.6-25.1 mm (coarse) and 27.3-28.0 mm (default) for the 0 and
+90-deg plies, 5.5-8.4 mm for the 45-deg ply (22 mm at its corner, along its fibres); inter-ply
+slip 0.35-0.61 mm at most for [0/90] and 17.8-19.2 mm for [0/45] (the slip field tells the
+layups apart); wrinkles of the outline: 0-4 crests for [0/90], 7-14 for [0/45].
 What still fails, and why this is a study:
-- The top ply's least node gap in the die at the end: -0.25 mm for [0/90] (the pole reached
-  -0.52 to -0.56 mm mid-run), -2.5 mm for [0/45], whose meshes do not match: its nodes lie
-  on the punch's sphere, the bottom ply's facets are chords inside it. At 12 cells ([0/45],
-  10 N) -0.45 mm: the faceting error falls with the mesh, below h needs s < sqrt(8 R h) = 11
-  mm (18 cells and more), or curved contact faces.
-- The Mindlin runs stop on the explicit energy balance at 73-78 % of the stroke (89 % for
-  [0/90] with its faces along the normal), as before these changes (64-97 %).
-- The holder's mean force over the last tenth is 9.86 and 10.9 N at 10 N, 18.7 and 18.9 N at
-  20 N: within 5 % for [0/90] at 10 N only; the 1-kg holder rings on its contact springs.
+- The top ply's least node gap in the die at the end: -0.25 mm (coarse) and -0.16 mm (default)
+  for [0/90] (the pole reached -0.4 to -0.6 mm mid-run), -2.5 and -1.9 mm for [0/45], whose
+  meshes do not match: its nodes lie on the punch's sphere, the bottom ply's facets are chords
+  inside it (and bridge from the punch to the die's rim). At 12 cells ([0/45], 10 N) -0.45 mm:
+  the faceting error falls with the mesh; below h it needs s < sqrt(8 R h) = 11 mm (18 cells
+  and more, beyond this study's budget) or curved contact faces (Phong's surface over the
+  nodal normals, tried as a correction of the gap alone: without its gradient in the force,
+  the explicit run stopped on its energy balance at 3 % of the stroke).
+- The Mindlin runs stop on the explicit energy balance at 67-83 % of the stroke (89 % for
+  [0/90] at coarse with its faces along the normal), as before these changes (64-97 %).
+- The holder's mean force over the last tenth of the run: 9.9 and 10.9 N (coarse), 15.8 and
+  23.5 N (default) at 10 N; 18.7 and 18.9 N, 18.0 and 25.9 N at 20 N: within 5 % for [0/90] at
+  coarse and 10 N only. The 1-kg holder rings on its contact springs, and lifts on the
+  flange's wrinkles.
 """
 
 from __future__ import annotations
@@ -127,7 +135,7 @@ NET_CELL = 1.0  # mm
 # rms of shear - net (deg) over a ply's cells in the die: tolerances ~1.35 x the top plies'
 # measured values (fibrous; module docstring); the Mindlin plies are reported, not checked (as
 # in hemisphere-forming).
-RMS_TOLERANCE_DEG = {"coarse": 8.8, "default": 5.1}
+RMS_TOLERANCE_DEG = {"coarse": 8.8, "default": 5.1, "fine": 5.1}
 
 
 @dataclass(frozen=True)
