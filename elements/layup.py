@@ -10,8 +10,9 @@ warp=w_k)`` or a ``MindlinShell`` of the fabric's Mindlin calibration with the s
 (``ElasticShell.equivalent(fabric, warp=w_k)``, as the single-ply forming case), or any
 element a factory builds from (fabric, warp). Neighbouring plies touch through
 ``PlyContact`` (the upper ply's lower face on the lower ply's upper face, h / 2 from the
-mid-surfaces along the directors) with the Coulomb coefficient ``friction``; its node fields
-hold the inter-ply slip (``ply_slip``, mm, elements/ply_slip.py).
+mid-surfaces along the nodal normals of fibrous plies, along the directors of Mindlin ones)
+with the Coulomb coefficient ``friction``; its node fields hold the inter-ply slip
+(``ply_slip``, mm, elements/ply_slip.py).
 
 Unlike ``elements.plies.PlyStack`` (copies of one mesh splitting one stack's thickness), the
 plies here are whole fabrics with meshes of their own that do not match from ply to ply.
@@ -95,6 +96,10 @@ class Layup:
         The blank's centre in the plane, mm.
     penalty, rule, smoothing
         Of every ``PlyContact`` (None: their defaults).
+    faces : str, optional
+        Of every ``PlyContact``: "director" or "normal"; None: "normal" for fibrous plies
+        (their directors tilt freely, elements/ply_contact.py "Faces along the normal"),
+        "director" otherwise.
 
     Attributes
     ----------
@@ -137,6 +142,7 @@ class Layup:
         penalty: float | None = None,
         rule: str = "centroid",
         smoothing: float | None = None,
+        faces: str | None = None,
     ):
         if not isinstance(fabric, Fabric):
             raise ValueError(f"Layup needs a materials.Fabric (one ply), got {fabric!r}")
@@ -155,10 +161,18 @@ class Layup:
             )
         self.kinematics = kinematics
         # the contact's options checked here, at the API boundary
+        if faces is None:  # a fibrous ply's director tilts freely: its faces along the normal
+            faces = "normal" if kinematics == "fibrous" else "director"
         PlyContact(
-            "ply_2", "ply_1", penalty=penalty, rule=rule, smoothing=smoothing, friction=friction
+            "ply_2",
+            "ply_1",
+            penalty=penalty,
+            rule=rule,
+            smoothing=smoothing,
+            friction=friction,
+            faces=faces,
         )
-        self.penalty, self.rule, self.smoothing = penalty, rule, smoothing
+        self.penalty, self.rule, self.smoothing, self.faces = penalty, rule, smoothing, faces
         self.friction = float(friction)
         if isinstance(bottom, bool) or not isinstance(bottom, (int, float)):
             raise ValueError(f"bottom must be a height in mm, got {bottom!r}")
@@ -225,6 +239,7 @@ class Layup:
             rule=self.rule,
             smoothing=self.smoothing,
             friction=self.friction,
+            faces=self.faces,
         )
         return model
 

@@ -139,8 +139,8 @@ def friction_loads(
         ],
         axis=1,
     )
-    offset = np.column_stack([-block.upper_offset[on], block.corner_offset[tri]])
-    moments = offset[:, :, None] * np.cross(state.directors[nodes], forces)
+    offset = block.lever * np.column_stack([-block.upper_offset[on], block.corner_offset[tri]])
+    moments = offset[:, :, None] * np.cross(block.offset_directions(state)[nodes], forces)
     return nodes, forces, moments
 
 
@@ -195,14 +195,14 @@ def friction_tangent(
     nodes = np.column_stack(
         [block.above[on], block.cells[facing.triangle[on]], block.cells[sliding.triangle[on]]]
     )
-    offset = np.column_stack(
+    offset = block.lever * np.column_stack(
         [
             -block.upper_offset[on],
             block.corner_offset[facing.triangle[on]],
             block.corner_offset[sliding.triangle[on]],
         ]
     )
-    d = state.directors[nodes]  # (t, 9, 3)
+    d = block.offset_directions(state)[nodes]  # (t, 9, 3)
     own = np.zeros((t, 9, 3, 6))
     own[:, :, :, :3] = eye
     own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)

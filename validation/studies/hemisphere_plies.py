@@ -2,8 +2,9 @@
 and Mindlin plies, each ply's shear angles against the pin-jointed net of its own orientation.
 
 A study, not a case of the report (validation/cases discovers its modules; this one is kept
-apart) until it validates: at the meshes affordable today the plies cross under the punch
-(below). Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
+apart) until it validates: at the meshes affordable today the top ply's nodes still pass
+the bottom ply's faceted face in [0/45], and the Mindlin runs stop before the end (below).
+Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
 print(compute('coarse').parameters)"``.
 
 Source: the pin-jointed net of Mack and Taylor (J. Textile Inst. 47 (1956) T477) on the
@@ -28,39 +29,63 @@ The centre lines of both plies held in their symmetry planes (the balanced fabri
 swapped). Parameters: the ply of hemisphere-forming (0.3 mm, 285 g/m^2, tension 60 N/mm,
 bending 0.375 N mm, shear 0.2 N/mm); the Mindlin ply is ``ElasticShell.equivalent`` with the
 ply's warp. Explicit, no mass scaling, mass-proportional damping 20 /s, duration 0.1 s.
-Reported per layup, kinematics and ply: the rms of shear - net shear over the cells in the
-die, the largest shear, the draw-in of the edge middle and of the corner, the wrinkles of the
-outline, and the inter-ply slip (``ply_slip``, the top ply's faces against the bottom ply's
-since the start: max and rms); the holder's force and travel; the fibrous [0/90] and [0/45]
-again at the second holder force (the sensitivity).
-Measured on this machine (one thread, NUMBA_NUM_THREADS=1, while other jobs ran): the six
-runs take 168 s of CPU at coarse (8 cells) and 194 s at default (10 cells; three of its runs
-stopped early), 690-735 s of wall time under that load. What they show, honestly:
-- The bottom ply is not in the die at the end in any run: its nodes lie 0.7 mm inside the bowl
-  (radius 50.0-50.1 mm where 50.75 is expected), at or above the top ply's: the punch pushes
-  the top ply through the bottom one. The likely cause (not yet tried at finer meshes): the
-  ply contact measures gaps against flat triangles, and on the 50-mm sphere a cell s of 20-25
-  mm sags by s^2 / (8 R) = 1.0-1.6 mm, several ply thicknesses, so the two plies' faceted
-  faces cannot stay 0.3 mm apart (a penalty of 300 N/mm per node, 10 x the automatic one, did
-  not help and took 3.4 x the steps). Meshes whose sag is below h (s < 11 mm, 18 cells and
-  more) would be needed, beyond this case's budget; tried once at 18 cells ([0/90] fibrous,
-  10 N), the run stopped on the energy balance at 69 % of the stroke (64 s of CPU) before the
-  plies reached the bowl, so the explanation is untested. The ply-1 shear checks fail (no cell
-  of ply 1 in the die) and say so.
-- The top ply does lie on the die's sphere of its mid-surface where it is in the die, and its
-  shear follows its own net: rms 3.0 and 2.7 deg for the 90-deg ply ([0/90] fibrous, 10 and 20
-  N, default), 3.8 deg for the 45-deg ply ([0/45] fibrous, 10 N), 6.5 deg at coarse.
-- Draw-in of the edge middle 24.5 mm for the 0-deg and 90-deg plies at both holder forces
-  (frictionless tools: the holder force reaches the draw-in only through the plies' friction,
-  and it does not move it); the 45-deg ply draws in by 22 mm at its corner (along its fibres)
-  and 6-9 mm at the edge middle. Wrinkles of the bottom ply's outline: 5 crests at 10 N, none
-  at 20 N ([0/90] fibrous, coarse): the holder holds the flange down.
-- Inter-ply slip: 0.6-1.1 mm at most for [0/90] (the two plies deform alike; 10.2 mm in the
-  default run at 10 N, where the holder rose 7.4 mm on a fold), 12-23 mm for [0/45] (the
-  45-deg ply draws in along its own fibres): the slip field tells the layups apart.
-- Several runs stop on the explicit energy balance late in the stroke (Mindlin plies at 64-97
-  %, [0/45] fibrous at 67-99 %); their rows are reported from the last good frame, with a
-  failed "reaches the end of the stroke" check.
+The plies touch at three Gauss points per cell (``PlyContact`` rule "gauss"), their faces
+h/2 along the nodal normals for fibrous plies (``faces="normal"``, the Layup's default for
+them), along the directors for Mindlin ones. Nets on each ply's sphere over the punch
+(radius 50.15 mm for the top ply, 50.45 mm for the bottom one: with the clearance the plies
+wrap the punch); a ply's cell is "in the die" when its corners lie within 0.5 mm of that
+sphere and 5 mm below the flange. Reported per layup, kinematics and ply: the rms of shear -
+net shear over the cells in the die, the largest shear, the draw-in of the edge middle and of
+the corner, the wrinkles of the outline, the inter-ply slip (``ply_slip``: max and rms), and
+the top ply's least node gap to the bottom ply's face (a node-to-surface probe: in the die at
+the end, and over every node and frame of the run); the holder's force (at the end and its
+mean over the last tenth) and travel; the fibrous [0/90] and [0/45] again at 20 N.
+
+Why the plies crossed (measured at 8 cells, [0/90] fibrous, 10 N, before the faces along the
+normal). The two plies' meshes coincide triangle over triangle (the 90-deg grid of this blank
+is the 0-deg one), so facets and search were not at fault: each node of the top ply faced the
+facets of the bottom ply's node below it, no search depth cut a contact off, no normal
+flipped, the punch and holder acted on the top ply and the die on the bottom one. What did
+it: (1) the faces lay h/2 along the directors, and a fibrous director is free to tilt; the
+contact's own moments tilted them to 74-77 deg from the normal in the top ply and 90 deg in
+the bottom one by t = 0.054 s, so the faces lay 0.04 mm from the mid-surfaces, and at the end
+the paired nodes of the two plies were 0.06 mm apart on average (0.3 expected, -0.66 at the
+least); (2) the contact acted at the cells' centroids only, and the top ply's pole node, which
+the punch pushes, is none: it passed through the bottom ply's face by 0.24 mm at t = 0.010 s
+(punch 0.4 mm down), 1.0 mm at 0.020 s, 1.7 mm at 0.040 s and 2.6 mm at 0.054 s, while the
+centroids' gaps stayed above -0.13 mm. Faces along the normal alone cut the nodes crossing by
+more than 0.05 mm at t = 0.020 s from 61 to 1 (the pole, still 1.6 mm through at 0.040 s);
+with node-to-surface points too the least gap was -0.03 mm at 0.040 s and -0.2 mm at the end,
+but the [0/45] runs then stopped at 69 % of the stroke: at 8 cells a bottom facet of 24-35 mm
+is a chord 1-3 mm inside the punch's sphere, and a top node held on it is pinched against the
+analytic punch. The Gauss points (near the corners, not on them) give every fibrous run to
+the end.
+
+Measured on this machine (one thread, NUMBA_NUM_THREADS=1): the six runs take 161 s of CPU
+at coarse (8 cells) and 234 s at default (10 cells). Fibrous runs reach the end of the stroke
+with both plies in the die (8 and 6 of ply 1's cells at coarse, 52 at default): rms of shear -
+net 2.4 deg (ply 1, 0 deg) and 3.5 deg (ply 2, 90 deg) for [0/90] at coarse, 3.2 and 2.8 deg at
+default; 1.9 and 4.1 deg for [0/45] at coarse, 3.6 and 4.0-4.2 deg at default, at both holder
+forces (the [0/45] at 20 N and default stops at 94 % of the stroke on the energy balance);
+draw-in of the edge middle 24.6-25.1 mm (coarse) and 27.3-28.0 mm (default) for the 0 and
+90-deg plies, 5.5-8.4 mm for the 45-deg ply (22 mm at its corner, along its fibres); inter-ply
+slip 0.35-0.61 mm at most for [0/90] and 17.8-19.2 mm for [0/45] (the slip field tells the
+layups apart); wrinkles of the outline: 0-4 crests for [0/90], 7-14 for [0/45].
+What still fails, and why this is a study:
+- The top ply's least node gap in the die at the end: -0.25 mm (coarse) and -0.16 mm (default)
+  for [0/90] (the pole reached -0.4 to -0.6 mm mid-run), -2.5 and -1.9 mm for [0/45], whose
+  meshes do not match: its nodes lie on the punch's sphere, the bottom ply's facets are chords
+  inside it (and bridge from the punch to the die's rim). At 12 cells ([0/45], 10 N) -0.45 mm:
+  the faceting error falls with the mesh; below h it needs s < sqrt(8 R h) = 11 mm (18 cells
+  and more, beyond this study's budget) or curved contact faces (Phong's surface over the
+  nodal normals, tried as a correction of the gap alone: without its gradient in the force,
+  the explicit run stopped on its energy balance at 3 % of the stroke).
+- The Mindlin runs stop on the explicit energy balance at 67-83 % of the stroke (89 % for
+  [0/90] at coarse with its faces along the normal), as before these changes (64-97 %).
+- The holder's mean force over the last tenth of the run: 9.9 and 10.9 N (coarse), 15.8 and
+  23.5 N (default) at 10 N; 18.7 and 18.9 N, 18.0 and 25.9 N at 20 N: within 5 % for [0/90] at
+  coarse and 10 N only. The 1-kg holder rings on its contact springs, and lifts on the
+  flange's wrinkles.
 """
 
 from __future__ import annotations
@@ -77,6 +102,7 @@ from elements import RigidSphere, RigidSurface
 from elements.layup import Layup
 from elements.ply_slip import slip_summary
 from femcore import Mesh, Model
+from femcore.state import State
 from femcore.topology import nodal_normals
 from materials import Fabric
 from solvers import CentralDifference, SolverError
@@ -96,8 +122,9 @@ DIE = PUNCH + (PLIES + 1) * THICKNESS  # the punch, the plies and a clearance of
 TRAVEL = PUNCH + PLIES * THICKNESS
 FABRIC = Fabric(thickness=THICKNESS, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
 LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
-CELLS = {"coarse": 8, "default": 10}
+CELLS = {"coarse": 8, "default": 10, "fine": 14}
 MU = 0.2  # ply on ply
+RULE = "gauss"  # three points per cell, near enough its corners to hold a node the punch pushes
 HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
 HOLDER_MASS = 1e-3  # t (1 kg)
 HOLDER_RING = (DIE + 10.0, 150.0, 10.0)  # inner, outer radius, facet width, mm
@@ -105,10 +132,11 @@ HOLDER_RAMP = 0.1  # share of the run over which the holder force grows
 DURATION = 0.1  # s
 DAMPING = 20.0  # 1/s, as hemisphere-forming
 NET_CELL = 1.0  # mm
-# rms of shear - net (deg) over a ply's cells in the die: tolerances ~1.35 x the top plies'
-# measured values (fibrous; module docstring); the Mindlin plies are reported, not checked (as
-# in hemisphere-forming).
-RMS_TOLERANCE_DEG = {"coarse": 8.8, "default": 5.1}
+# rms of shear - net (deg) over a ply's cells in the die: the fibrous plies measured at most
+# 4.1 deg (coarse) and 4.2 deg (default) (module docstring); the fine tolerance is the
+# default's, unmeasured. The Mindlin plies are reported, not checked (as in
+# hemisphere-forming).
+RMS_TOLERANCE_DEG = {"coarse": 8.8, "default": 5.1, "fine": 5.1}
 
 
 @dataclass(frozen=True)
@@ -130,7 +158,9 @@ def _holder_amplitude(tau):
 
 def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
     """The layup on the die's flange under the punch and the holder: (Layup, Model)."""
-    layup = Layup(FABRIC, angles, 2 * HALF, cells=cells, kinematics=kinematics, friction=MU)
+    layup = Layup(
+        FABRIC, angles, 2 * HALF, cells=cells, kinematics=kinematics, friction=MU, rule=RULE
+    )
     built: Model = layup.model()
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
@@ -153,10 +183,11 @@ def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
 
 
 def _nets() -> list[dict]:
-    """The 0-deg net on each ply's mid-surface sphere (ply 1 first)."""
+    """The 0-deg net on each ply's mid-surface sphere over the punch (ply 1, the outer one,
+    first)."""
     nets = []
     for k in range(PLIES):
-        radius = DIE - (k + 0.5) * THICKNESS
+        radius = PUNCH + (PLIES - k - 0.5) * THICKNESS
         net = fishnet_on_sphere(radius, NET_CELL, int(0.5 * np.pi * radius / NET_CELL))
         nets.append(
             {
@@ -180,6 +211,57 @@ def _wrinkles(layup: Layup, positions: np.ndarray, k: int) -> dict[str, Any]:
         (height > np.roll(height, 1)) & (height >= np.roll(height, -1)) & (height > 0.5 * THICKNESS)
     )
     return {"count": int(crest.sum()), "height": float(height.max())}
+
+
+def _node_gaps(probe: Any, layup: Layup, positions: np.ndarray) -> np.ndarray:
+    """(s,) each top-ply node's gap to the bottom ply's upper face, mm (< 0: it passed
+    through): the least gap of a node-to-surface contact (``probe``, the layup's ply
+    contact at the "vertices" rule) at the node over its triangles; NaN where no facet of
+    the bottom ply faces the node."""
+    zero = np.zeros_like(positions)
+    facing = probe.facing(State(positions, zero, zero, zero))
+    corner = probe.above[np.arange(len(facing.gap)), np.argmax(probe.shape, axis=1)]
+    facing_any = np.maximum(0.0, -facing.weights.min(axis=1)) <= 0.5
+    gap = np.full(len(positions), np.inf)
+    np.minimum.at(gap, corner[facing_any], facing.gap[facing_any])
+    top = gap[layup.ply_nodes[-1]]
+    return np.where(np.isfinite(top), top, np.nan)
+
+
+def _least_gaps(layup: Layup, result: Any, cells: int) -> dict[str, Any]:
+    """The top ply's least node gap to the bottom ply's face (``_node_gaps``, mm): over its
+    nodes in the die at the end, and over every node and frame of the run, with when and
+    where (the node's blank coordinates)."""
+    top = layup.ply_nodes[-1]
+    least, at, where = math.inf, 0.0, ""
+    probe = (
+        Layup(FABRIC, tuple(layup.angles), 2 * HALF, cells=cells, rule="vertices")
+        .model()
+        .compile()
+        .interactions[0]
+    )
+    for frame in result.frames:
+        gap = _node_gaps(probe, layup, frame.positions[: layup.mesh.n_nodes])
+        if np.isfinite(gap).any() and np.nanmin(gap) < least:
+            i = int(np.nanargmin(gap))
+            least, at = float(gap[i]), float(frame.time)
+            where = f"({layup.mesh.points[top[i], 0]:g}, {layup.mesh.points[top[i], 1]:g})"
+    gap = _node_gaps(probe, layup, result.positions[: layup.mesh.n_nodes])
+    deep = (result.positions[top, 2] < -5.0) & np.isfinite(gap)
+    return {
+        "in_die": float(gap[deep].min(initial=math.inf)),
+        "run": least,
+        "at_s": at,
+        "where": where,
+    }
+
+
+def _last_tenth_mean(result: Any, values: np.ndarray) -> float:
+    """The mean of a per-frame series over the frames of the last tenth of the run (the
+    last frame alone when the run stopped before it)."""
+    times = np.array([frame.time for frame in result.frames])
+    last = times >= 0.9 * DURATION
+    return float(np.mean(values[last])) if last.any() else float(values[-1])
 
 
 def _draw_in(layup: Layup, positions: np.ndarray, k: int) -> tuple[float, float]:
@@ -251,12 +333,20 @@ def compute(resolution: str) -> Outcome:
             in_die[key].append(on_bowl[triangles[cells_k]].all(axis=1))
         slip = slip_summary(result.frames[-1].fields["point"]["ply_slip"])
         prefix = key.replace(" ", "_").replace("/", "-")
+        crossing = _least_gaps(layup, result, cells)
+        parameters[f"{prefix}_least_gap_in_die_mm"] = crossing["in_die"]
+        parameters[f"{prefix}_least_gap_over_the_run_mm"] = crossing["run"]
+        parameters[f"{prefix}_least_gap_at_s"] = crossing["at_s"]
+        parameters[f"{prefix}_least_gap_where"] = crossing["where"]
         parameters[f"{prefix}_steps"] = result.steps
         parameters[f"{prefix}_wall_time_s"] = result.wall_time
         parameters[f"{prefix}_interply_slip_max_mm"] = slip["max_mm"]
         parameters[f"{prefix}_interply_slip_rms_mm"] = slip["rms_mm"]
         parameters[f"{prefix}_holder_travel_mm"] = float(result.tool_displacements[-1, 2, 2])
         parameters[f"{prefix}_holder_force_N"] = float(result.tool_forces[-1, 2, 2])
+        parameters[f"{prefix}_holder_force_last_tenth_mean_N"] = _last_tenth_mean(
+            result, result.tool_forces[:, 2, 2]
+        )
         parameters[f"{prefix}_punch_force_N"] = float(result.tool_forces[-1, 1, 2])
         energies = {e: v[-1] for e, v in result.energies.items()}
         parameters[f"{prefix}_final_kinetic_over_work"] = energies["kinetic"] / max(
@@ -298,11 +388,23 @@ def compute(resolution: str) -> Outcome:
             )
         checks.append(
             check(
-                f"{key}: the holder carries its force at the end (N)",
+                f"{key}: the top ply's least node gap to the bottom ply's face in the die, "
+                "its penetration within the ply thickness: the mid-surfaces stay in order (mm)",
+                0.0,
+                min(crossing["in_die"], 0.0),
+                THICKNESS,
+                relative=False,
+                source="the plies cannot pass through each other",
+            )
+        )
+        checks.append(
+            check(
+                f"{key}: the holder carries its force over the last tenth of the run, on "
+                "average (N)",
                 force,
-                float(result.tool_forces[-1, 2, 2]),
+                _last_tenth_mean(result, result.tool_forces[:, 2, 2]),
                 0.05,
-                source="the holder's equation of motion at rest",
+                source="the holder's equation of motion, on average over its oscillation",
             )
         )
     return Outcome(
