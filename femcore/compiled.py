@@ -319,6 +319,29 @@ class CompiledModel:
                 moment += m
         return force, moment
 
+    def internal_force_and_energy(self, state: State) -> tuple[np.ndarray, np.ndarray, float]:
+        """``internal_force`` and ``strain_energy`` of every part at ``state`` in one call:
+        each element block's ``internal_force_and_energy`` (one pass where the block fuses
+        them), each interaction's force and penalty energy. Returns (force (n, 3) N, moment
+        (n, 3) N mm, energy N mm)."""
+        force = np.zeros((self.n_nodes, 3))
+        moment = np.zeros((self.n_nodes, 3))
+        energy = 0.0
+        histories = self._histories(state)
+        for block, history in zip(self.blocks, histories):
+            f, m, e = block.internal_force_and_energy(state, history)
+            force += f
+            if m is not None:
+                moment += m
+            energy += e
+        for interaction, history in zip(self.interactions, histories[len(self.blocks) :]):
+            f, m = interaction.internal_force(state, history)
+            force += f
+            if m is not None:
+                moment += m
+            energy += interaction.strain_energy(state, history)
+        return force, moment, float(energy)
+
     def cell_stable_dt(self, state: State) -> list[np.ndarray]:
         """Per-block arrays of per-cell critical steps (s)."""
         return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]

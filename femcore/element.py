@@ -153,6 +153,29 @@ class ElementBlock(ABC):
         """Energy stored in the block (N mm): the potential whose gradient is the force."""
 
     # ------------------------------------------------------------------ optional
+    def internal_force_and_energy(
+        self, state: State, history: Any = None
+    ) -> tuple[np.ndarray, np.ndarray | None, float]:
+        """``internal_force`` and ``strain_energy`` at the same state, in one call.
+
+        The explicit solver asks for both on the steps where it checks the energy balance.
+        The default makes the two calls (two passes over the cells); a block whose force pass
+        meets the energy on the way (a compiled kernel summing 1/2 E . D E where it forms the
+        stresses) overrides it and returns both from one pass. An override must return the
+        same values as the two methods (to rounding): the conformance tests hold it there.
+
+        Returns
+        -------
+        force : (n, 3) float, N
+            As ``internal_force``.
+        moment : (n, 3) float, N mm, or None
+            As ``internal_force``.
+        energy : float, N mm
+            As ``strain_energy``.
+        """
+        force, moment = self.internal_force(state, history)
+        return force, moment, float(self.strain_energy(state, history))
+
     def tangent(self, state: State, history: Any = None) -> Sequence[TangentPart] | None:
         """The block's own stiffness d(internal_force)/d(u, psi) as tangent parts (CellTangent
         blocks per cell, or a SparseTangent over all nodes for wider couplings), or None
