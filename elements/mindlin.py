@@ -53,6 +53,29 @@ _PRODUCTS = (
 )
 # Cells per slice of the analytic tangent (MindlinShellBlock.tangent).
 _TANGENT_SLICE = 256
+# The packed upper triangle of a symmetric 7 x 7 (MindlinShellBlock.level_stiffness).
+_PACKED_ROWS, _PACKED_COLUMNS = kernels.PACKED_ROWS, kernels.PACKED_COLUMNS
+
+
+def _level_stiffness_of(weighted: np.ndarray) -> np.ndarray:
+    """D^_z = sum_p L_p^T D_pz L_p (m, Z, 7, 7) from the point-wise D_pz (m, P, Z, 5, 5)."""
+    maps = _strain_maps(*_assumed_shear_coefficients())[None, :, None]  # (1, P, 1, 5, 7)
+    return (np.swapaxes(maps, -1, -2) @ weighted @ maps).sum(axis=1)
+
+
+def _packed(full: np.ndarray) -> np.ndarray:
+    """The upper triangle (..., 28) of symmetric 7 x 7 matrices (..., 7, 7), symmetrised."""
+    return 0.5 * (
+        full[..., _PACKED_ROWS, _PACKED_COLUMNS] + full[..., _PACKED_COLUMNS, _PACKED_ROWS]
+    )
+
+
+def _check_volume(smallest_det: np.ndarray, cell_ids: np.ndarray) -> None:
+    """ValueError naming the first triangle whose reference det J (smallest over its points,
+    (m,)) is not positive: its director field inverts the shell volume."""
+    if np.any(~(smallest_det > 0)):
+        bad = int(cell_ids[np.argmax(~(smallest_det > 0))])
+        raise ValueError(f"triangle {bad}: the director field inverts the shell volume")
 
 
 def _assumed_shear_coefficients() -> tuple[np.ndarray, np.ndarray]:
@@ -220,10 +243,15 @@ class MindlinShell(ElementType):
 class MindlinShellBlock(ElementBlock):
     """MindlinShell over mesh triangles ``cell_ids``.
 
-    Precomputed: ``weighted_stiffness`` (m, 3, Z, 5, 5), the material matrix acting on the
-    covariant strain vector (E11, E22, 2E12, 2E13, 2E23) at each in-plane point and thickness
-    point, times the integration weight and det J (so W = 1/2 sum E . D E); ``to_lamina``
-    (m, 3, Z, 5, 5) from covariant to lamina-frame engineering strains; reference vectors.
+    Precomputed at bind: ``level_stiffness`` (m, Z, 28), the packed upper triangle of
+    the symmetric D^_z (7 x 7) acting on the seven level measures of each thickness level
+    (docs/theory.md §5.5: the material matrices of the in-plane points, their weights and
+    det J and the assumed shear summed in, W = 1/2 sum_z e_z . D^_z e_z), N mm; and
+    ``reference_measures`` (m, Z, 7), the products the measures are changes of. Those are
+    all a step reads (560 bytes a triangle at Z = 2). The point-wise tables of the numpy
+    reference path (``weighted_stiffness`` (m, 3, Z, 5, 5): the material matrix acting on
+    the covariant strains (E11, E22, 2E12, 2E13, 2E23) at each in-plane and thickness point
+    times its weight and det J; ``to_lamina``) are built when it first needs them.
     """
 
     dofs = MindlinShell.dofs
@@ -250,22 +278,43 @@ class MindlinShellBlock(ElementBlock):
         gradient, self._curvature_table = _product_coefficients(zeta, self.h)
         self._director_gradient_table = gradient[:, :, 3:].reshape(len(zeta), 7, 15)
         self._turned_gradient_table = _turned_gradient_table(gradient)
-        self._level_stiffness_cache: np.ndarray | None = None
+        self._point_tables: tuple[np.ndarray, np.ndarray] | None = None
+        self._weighted: np.ndarray | None = None
+        # Kept by reference (the model's arrays, never written): the point-wise tables, the
+        # fields and the stable step's calibration are computed from them when needed.
+        self.reference_directors = np.asarray(directors, dtype=float)
 
-        x0 = np.asarray(mesh.points, dtype=float)[self.connectivity]
-        v0 = np.asarray(directors, dtype=float)[self.connectivity]
+        x0, v0 = self._reference_cells()
         self.reference_area = 0.5 * np.linalg.norm(
             cross(x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]), axis=1
         )
         ref = self._vectors(x0, v0)
-        self.reference = ref
-        self.reference_metric = self._metric(ref)
+        metric = self._metric(ref)
+        measures = np.empty(metric["11"].shape + (7,))
+        measures[..., 0], measures[..., 1], measures[..., 2] = (
+            metric["11"],
+            metric["22"],
+            metric["12"],
+        )
+        measures[..., 3:] = metric["tying"]
+        self.reference_measures = measures
+        self.reference_metric = {
+            "11": measures[..., 0],
+            "22": measures[..., 1],
+            "12": measures[..., 2],
+            "tying": measures[..., 3:],
+        }
         self._material_matrices(ref, v0)
+        del x0, v0, ref, metric
         self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
         # The stable step's calibration (omega^2 of each element's eigenvalue problem over
-        # the cheap bound), computed from these at the first call of cell_stable_dt.
-        self._reference_cells = (x0, v0)
+        # the cheap bound), computed at the first call of cell_stable_dt.
         self._step_calibration: np.ndarray | None = None
+
+    def _reference_cells(self, cells: slice = slice(None)) -> tuple[np.ndarray, np.ndarray]:
+        """Corner positions and directors (c, 3, 3) of the cells in the reference state."""
+        connectivity = self.connectivity[cells]
+        return self.reference_positions[connectivity], self.reference_directors[connectivity]
 
     def _thickness_levels(self, shell: MindlinShell) -> tuple[np.ndarray, np.ndarray]:
         """The levels zeta (Z,) through the thickness where the strains are measured, and
@@ -307,9 +356,58 @@ class MindlinShellBlock(ElementBlock):
         }
 
     def _material_matrices(self, ref: dict, v0: np.ndarray) -> None:
-        """D = w det(J) T^T C T at every point, with T the covariant-to-lamina transformation
-        (docs/theory.md §5.2) and C = diag(Q rotated to the lamina frame, kappa G13, kappa G23)."""
-        m, nz = len(self.cell_ids), len(self.zeta)
+        """The level stiffness ``level_stiffness`` (m, Z, 28) of docs/theory.md §5.5, packed:
+        D^_z = sum_p L_p^T D_pz L_p with D_pz = w det(J) T^T C T at every point, T the
+        covariant-to-lamina transformation (§5.2) and C = diag(Q rotated to the lamina frame,
+        kappa G13, kappa G23); by the compiled loop of elements/kernels.py, cell by cell,
+        where numba is installed (no table over all points is made), else from the
+        point-wise tables of the numpy path."""
+        c = np.zeros((5, 5))
+        c[:3, :3] = self.material.plane_stress
+        c[3, 3], c[4, 4] = self.material.transverse
+        self.lamina_stiffness = c
+        if kernels.AVAILABLE:
+            stiffness, smallest = kernels.mindlin_tables(
+                self, self.reference_positions, self.reference_directors
+            )
+            _check_volume(smallest, self.cell_ids)
+        else:  # pragma: no cover - numba is a dependency
+            stiffness = _packed(_level_stiffness_of(self.weighted_stiffness))
+        self.level_stiffness = stiffness
+
+    @property
+    def weighted_stiffness(self) -> np.ndarray:
+        """D_pz = w det(J) T^T C T (m, P, Z, 5, 5), N mm: the material matrix acting on the
+        covariant strains at each in-plane and thickness point, times the point's weight and
+        det J (W = 1/2 sum E . D E): the numpy reference path's table, built at its first
+        use and kept."""
+        if self._weighted is None:
+            weight, transform = self._tables()
+            weighted = np.swapaxes(transform, -1, -2) @ self.lamina_stiffness @ transform
+            self._weighted = weight[..., None, None] * weighted
+        return self._weighted
+
+    @property
+    def to_lamina(self) -> np.ndarray:
+        """T (m, P, Z, 5, 5): covariant to lamina-frame engineering strains at each point."""
+        return self._tables()[1]
+
+    @property
+    def point_weight(self) -> np.ndarray:
+        """w det J (m, P, Z), mm^3: each point's share of the volume."""
+        return self._tables()[0]
+
+    def _tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """(point weights (m, P, Z), transformations T (m, P, Z, 5, 5)), built once."""
+        if self._point_tables is None:
+            self._point_tables = self._point_tables_of(*self._reference_cells())
+        return self._point_tables
+
+    def _point_tables_of(self, x0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(w det J (c, P, Z), T (c, P, Z, 5, 5)) of cells with reference corners x0 and
+        directors v0 (c, 3, 3), by numpy."""
+        ref = self._vectors(x0, v0)
+        m, nz = len(x0), len(self.zeta)
         half = 0.5 * self.h
         r, s = _IN_PLANE[:, 0], _IN_PLANE[:, 1]
         shape = np.column_stack([1 - r - s, r, s])  # (3 points, 3 nodes)
@@ -339,19 +437,9 @@ class MindlinShellBlock(ElementBlock):
                 else:
                     value = 0.5 * (t[..., a, i] * t[..., b, j] + t[..., a, j] * t[..., b, i])
                 transform[..., row, col] = (1.0 if a == b else 2.0) * value
-        c = np.zeros((5, 5))
-        c[:3, :3] = self.material.plane_stress
-        c[3, 3], c[4, 4] = self.material.transverse
         weight = (1.0 / 6.0) * self.zeta_weights[None, None, :] * det
-        self.to_lamina = transform
-        self.lamina_stiffness = c
-        self.point_weight = weight  # (m, P, Z), mm^3
-        self.weighted_stiffness = (
-            weight[..., None, None] * np.swapaxes(transform, -1, -2) @ c @ transform
-        )
-        if np.any(det <= 0):
-            bad = int(self.cell_ids[np.argmax((det <= 0).any(axis=(1, 2)))])
-            raise ValueError(f"triangle {bad}: the director field inverts the shell volume")
+        _check_volume(det.reshape(m, -1).min(axis=1), self.cell_ids)
+        return weight, transform
 
     # ------------------------------------------------------------------ strains and forces
     def _covariant_strains(self, vec: dict) -> np.ndarray:
@@ -374,6 +462,14 @@ class MindlinShellBlock(ElementBlock):
         vec = self._vectors(x, v)
         vec["directors"] = v
         return vec
+
+    def internal_force_and_energy(self, state: State, history=None):
+        """Forces, moments (n, 3) and strain energy (N mm) from one pass of the compiled
+        kernel (the energy is summed where the stresses are formed); the two numpy passes
+        on the numpy path."""
+        if self.kernel == "compiled":
+            return kernels.mindlin_loads_and_energy(self, state.positions, state.directors)
+        return super().internal_force_and_energy(state, history)
 
     def internal_force(self, state: State, history=None):
         if self.kernel == "compiled":
@@ -417,15 +513,15 @@ class MindlinShellBlock(ElementBlock):
         step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         return [CellTangent(self.connectivity, local_tangent(self._cell_loads, x, v, step))]
 
-    def _level_stiffness(self) -> np.ndarray:
-        """D^_z = sum_p L_p^T D_pz L_p (m, Z, 7, 7), N mm (docs/theory.md §5.5): the stiffness
-        of the seven level measures, the in-plane points summed out. Built at the first tangent
-        and kept (explicit dynamics never needs it)."""
-        if self._level_stiffness_cache is None:
-            maps = _strain_maps(self.shear_a, self.shear_b)[None, :, None]  # (1, P, 1, 5, 7)
-            per_point = np.swapaxes(maps, -1, -2) @ self.weighted_stiffness @ maps
-            self._level_stiffness_cache = per_point.sum(axis=1)
-        return self._level_stiffness_cache
+    def _level_stiffness(self, cells: slice = slice(None)) -> np.ndarray:
+        """D^_z = sum_p L_p^T D_pz L_p (c, Z, 7, 7), N mm (docs/theory.md §5.5) of the cells:
+        the stiffness of the seven level measures, the in-plane points summed out, unpacked
+        from ``level_stiffness``."""
+        packed = self.level_stiffness[cells]
+        full = np.empty(packed.shape[:-1] + (7, 7))
+        full[..., _PACKED_ROWS, _PACKED_COLUMNS] = packed
+        full[..., _PACKED_COLUMNS, _PACKED_ROWS] = packed
+        return full
 
     def _level_measures(self, vec: dict, cells: slice = slice(None)) -> np.ndarray:
         """Level measures e (m, Z, 7) of docs/theory.md §5.5 (E11, E22, 2E12 and the changes of
@@ -462,7 +558,7 @@ class MindlinShellBlock(ElementBlock):
         N mm, and d2W/de2 B^psi (m, Z * 7, 18). The elastic section is linear and its levels
         apart: sigma_z = D^_z e_z."""
         m, nz = e.shape[:2]
-        stiffness = self._level_stiffness()[cells]
+        stiffness = self._level_stiffness(cells)
         sigma = np.matmul(stiffness, e[..., None])  # (m, Z, 7, 1): dW/de, N mm
         stressed = np.matmul(stiffness, b_psi).reshape(m, nz * 7, 18)
         return sigma, stressed
@@ -593,7 +689,7 @@ class MindlinShellBlock(ElementBlock):
         ``_cheap_omega2``, which then follows the current geometry at each call.
         """
         if self._step_calibration is None:
-            x0, v0 = self._reference_cells
+            x0, v0 = self._reference_cells()
             self._step_calibration = self.element_omega2(x0, v0) / self._cheap_omega2(x0)
         x = state.positions[self.connectivity]
         return 2.0 / np.sqrt(self._cheap_omega2(x) * self._step_calibration)
@@ -634,7 +730,16 @@ class MindlinShellBlock(ElementBlock):
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         """Section forces per unit length in the lamina frame, averaged over the element:
-        membrane (N11, N22, N12) N/mm, bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm."""
+        membrane (N11, N22, N12) N/mm, bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm.
+        The compiled path forms each point's lamina map from the reference configuration as
+        it goes (kept tables would cost 2.4 kB a triangle)."""
+        if self.kernel == "compiled":
+            fields = kernels.mindlin_fields(self, state.positions, state.directors)
+            return {
+                "membrane_force": fields[:, :3],
+                "bending_moment": fields[:, 3:6],
+                "shear_force": fields[:, 6:],
+            }
         strain = self._covariant_strains(self._state_vectors(state))
         lamina = np.matmul(self.to_lamina, strain[..., None])[..., 0]
         stress = np.matmul(self.lamina_stiffness, lamina[..., None])[..., 0]  # (m, P, Z, 5)

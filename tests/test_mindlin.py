@@ -373,6 +373,94 @@ def test_the_compiled_kernel_gives_the_numpy_forces_and_energy(points):
     assert values["compiled"][2] == pytest.approx(values["numpy"][2], rel=1e-12)
 
 
+def _jittered_pair(points=2, warp=(1.0, 1.0, 0.0)):
+    """The numpy and the compiled block on one orthotropic patch, and a jittered, tilted
+    state of it."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+    material = ElasticShell.orthotropic(70e3, 20e3, 0.3, 5e3, 4e3, 3e3, 1.0, 2.7e-9, warp=warp)
+    models = {}
+    for kernel in ("numpy", "compiled"):
+        model = Model(mesh)
+        model.add(MindlinShell(material, thickness_points=points, kernel=kernel))
+        models[kernel] = model.compile()
+    state = models["numpy"].initial_state()
+    rng = np.random.default_rng(5)
+    state.positions = state.positions + rng.normal(scale=0.5, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.3, size=state.positions.shape))
+    state.directors = rotate_about(state.directors, turn)
+    return models, state
+
+
+@pytest.mark.parametrize("points", [2, 5])
+def test_the_compiled_level_stiffness_is_the_sum_of_the_point_matrices(points):
+    """The packed D^_z the compiled bind forms cell by cell equals sum_p L_p^T D_pz L_p of
+    the numpy point tables, to 1e-12 of its largest entry."""
+    models, _ = _jittered_pair(points)
+    block = models["compiled"].blocks[0]
+    reference = mindlin._packed(mindlin._level_stiffness_of(block.weighted_stiffness))
+    assert block.level_stiffness.shape == (len(block.connectivity), points, 28)
+    scale = np.abs(reference).max()
+    assert np.abs(block.level_stiffness - reference).max() <= 1e-12 * scale
+
+
+def test_the_force_pass_returns_the_strain_energy_it_met():
+    """internal_force_and_energy: the compiled block's one pass gives the forces, moments
+    and energy of its two calls, and the numpy block's default (the two calls) the same
+    to 1e-12."""
+    models, state = _jittered_pair()
+    for model in models.values():
+        block = model.blocks[0]
+        force, moment, energy = block.internal_force_and_energy(state)
+        alone_force, alone_moment = block.internal_force(state)
+        np.testing.assert_array_equal(force, alone_force)
+        np.testing.assert_array_equal(moment, alone_moment)
+        assert energy == block.strain_energy(state) > 0.0
+        summed = model.internal_force_and_energy(state)
+        np.testing.assert_array_equal(summed[0], alone_force)
+        assert summed[2] == model.strain_energy(state)
+    numpy_values = models["numpy"].internal_force_and_energy(state)
+    compiled_values = models["compiled"].internal_force_and_energy(state)
+    assert compiled_values[2] == pytest.approx(numpy_values[2], rel=1e-12)
+
+
+@pytest.mark.parametrize("warp", [(1.0, 1.0, 0.0), None])
+def test_the_compiled_section_forces_are_the_numpy_ones(warp):
+    """The compiled cell fields (lamina maps formed on the fly) against the numpy path's
+    point tables, to 1e-12 of the largest value of each field."""
+    if warp is None:
+        mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+        models = {}
+        for kernel in ("numpy", "compiled"):
+            model = Model(mesh)
+            model.add(MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9), kernel=kernel))
+            models[kernel] = model.compile()
+        _, state = _jittered_pair()
+    else:
+        models, state = _jittered_pair(3, warp)
+    reference = models["numpy"].blocks[0].cell_fields(state)
+    fields = models["compiled"].blocks[0].cell_fields(state)
+    assert fields.keys() == reference.keys()
+    for name, values in reference.items():
+        assert fields[name].shape == values.shape
+        scale = np.abs(values).max()
+        assert scale > 0.0
+        assert np.abs(fields[name] - values).max() <= 1e-12 * scale, name
+
+
+def test_a_block_keeps_no_point_tables_for_the_compiled_step():
+    """What the compiled path reads per triangle stays small: the packed level stiffness and
+    the reference products (560 bytes at two levels), no point-wise 5 x 5 tables."""
+    models, state = _jittered_pair()
+    block = models["compiled"].blocks[0]
+    block.internal_force_and_energy(state)
+    block.cell_fields(state)
+    assert block._point_tables is None and block._weighted is None
+    per_cell = (block.level_stiffness.nbytes + block.reference_measures.nbytes) / len(
+        block.connectivity
+    )
+    assert per_cell == 560
+
+
 def test_an_unknown_kernel_is_refused():
     with pytest.raises(ValueError, match="kernel must be"):
         MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9), kernel="fortran")

@@ -1,0 +1,185 @@
+"""The explicit step taken apart: where its time goes, what the model costs to build and hold.
+
+On the pinned square sheet of ``shell_sheet.py`` (5 mm cells, gravity from rest) of the
+Mindlin shell (aluminium, h = 1 mm) or the fibrous shell (G986 stack), for each size:
+
+* build: seconds for ``Model.compile`` and the process's resident memory it added (and the
+  peak), kB per triangle;
+* the steady step: ``CentralDifference`` over ``--steps`` and over twice as many steps, the
+  difference of the two wall times per added element-step (what a long run costs per step:
+  compilation, the first and last frames and the run's start left out), and the whole run
+  of ``--steps`` steps per element-step as ``shell_sheet.py`` reports it;
+* per-phase timers at the sheet's state after the run (best of ``--repeats``, µs per element):
+  the internal force, the force with the strain energy (``internal_force_and_energy``: what a
+  step that checks the energy balance asks), the strain energy alone, and the rest of a step
+  (``explicit_step`` less its force);
+* the numpy reference pass of ``shell_sheet.reference_pass`` in the same run.
+
+Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
+printed with the figures.
+
+Run from the project root:
+
+    python benchmarks/explicit_step.py
+    python benchmarks/explicit_step.py --element fibrous --sizes 10000,100000 --threads 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import os
+import platform
+import resource
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+
+from shell_sheet import GRAVITY, reference_pass  # noqa: E402
+
+from femcore import Mesh, Model  # noqa: E402
+from solvers import CentralDifference  # noqa: E402
+from solvers.step import LumpedMasses, explicit_step  # noqa: E402
+
+ALUMINIUM = dict(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)  # MPa, mm, t/mm^3
+
+
+def element(name: str, kernel: str):
+    """A fresh element of the benchmark's kind."""
+    if name == "mindlin":
+        from elements import MindlinShell
+        from materials import ElasticShell
+
+        return MindlinShell(ElasticShell(**ALUMINIUM), kernel=kernel)
+    from elements import FibrousShell
+    from materials import presets
+
+    return FibrousShell(presets.g986_stack(), kernel=kernel)
+
+
+def resident_mb() -> float:
+    """The process's resident memory now, MB (Linux /proc)."""
+    with open("/proc/self/statm") as statm:
+        pages = int(statm.read().split()[1])
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def sheet(name: str, kernel: str, triangles: int):
+    """The pinned sheet's model, compiled, with the build's seconds and memory."""
+    n = max(2, round(math.sqrt(triangles / 2)))
+    before = resident_mb()
+    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
+    model = Model(mesh)
+    model.add(element(name, kernel))
+    for edge in ("left", "right", "bottom", "top"):
+        model.fix(edge, ["ux", "uy", "uz"])
+    model.gravity(GRAVITY)
+    started = time.perf_counter()
+    compiled = model.compile()
+    build = time.perf_counter() - started
+    return compiled, build, resident_mb() - before
+
+
+def run(compiled, steps: int) -> tuple[float, object]:
+    """Wall seconds of ``CentralDifference`` over ``steps`` steps at 0.9 x the stable step,
+    frames at the start and the end only."""
+    dt = 0.9 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=steps * dt, dt=dt, output_interval=steps * dt, progress=False
+    )
+    started = time.perf_counter()
+    result = solver.solve(compiled)
+    return time.perf_counter() - started, result
+
+
+def best(call, repeats: int) -> float:
+    shortest = math.inf
+    for _ in range(repeats):
+        started = time.perf_counter()
+        call()
+        shortest = min(shortest, time.perf_counter() - started)
+    return shortest
+
+
+def phases(compiled, state, repeats: int) -> dict:
+    """Per-phase seconds at ``state`` (best of ``repeats``)."""
+    masses = LumpedMasses.of(compiled, state)
+    dt = 0.9 * compiled.stable_dt(state)
+    force = best(lambda: compiled.internal_force(state), repeats)
+    fused = best(lambda: compiled.internal_force_and_energy(state), repeats)
+    energy = best(lambda: compiled.strain_energy(state), repeats)
+    step = best(lambda: explicit_step(compiled, state, dt, masses, duration=1.0), repeats)
+    checked = best(
+        lambda: explicit_step(compiled, state, dt, masses, duration=1.0, checking=True), repeats
+    )
+    commit = best(lambda: compiled.commit(state), repeats)
+    return {
+        "force": force,
+        "force+energy": fused,
+        "energy": energy,
+        "step less force": step - force,
+        "checked step": checked,
+        "commit": commit,
+    }
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--element", choices=("mindlin", "fibrous"), default="mindlin")
+    parser.add_argument("--kernel", choices=("compiled", "numpy"), default="compiled")
+    parser.add_argument("--sizes", default="10000,100000")
+    parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--threads", type=int, default=1)
+    args = parser.parse_args(argv)
+    import numba
+
+    numba.set_num_threads(min(args.threads, numba.config.NUMBA_NUM_THREADS))
+    print(
+        f"python {platform.python_version()} on {platform.machine()}, {args.element} "
+        f"({args.kernel}), {numba.get_num_threads()} thread(s), load average "
+        f"{os.getloadavg()[0]:.2f}"
+    )
+    compiled, _, _ = sheet(args.element, args.kernel, 200)  # compile the loops first
+    run(compiled, 3)
+    for size in [int(s) for s in args.sizes.split(",")]:
+        compiled, build, memory = sheet(args.element, args.kernel, size)
+        elements = sum(len(block.connectivity) for block in compiled.blocks)
+        short, _ = run(compiled, args.steps)
+        long, result = run(compiled, 2 * args.steps)
+        steady = (long - short) / (elements * args.steps) * 1e6
+        whole = short / (elements * args.steps) * 1e6
+        reference = reference_pass(size)
+        state = result.frames[-1]
+        at = dataclasses.replace(
+            compiled.initial_state(),
+            positions=state.positions,
+            directors=state.directors,
+            velocities=state.velocities,
+        )
+        timed = phases(compiled, at, args.repeats)
+        print(
+            f"{elements:>8d} triangles: build {build:6.2f} s, +{memory:6.0f} MB resident "
+            f"({memory * 1024 / elements:.2f} kB per triangle), peak {peak_mb():6.0f} MB "
+            f"({peak_mb() * 1024 / elements:.2f} kB per triangle); load {os.getloadavg()[0]:.2f}"
+        )
+        print(
+            f"{'':>10} steady step {steady:.3f} us/element-step ({steady / reference:.1f} x the "
+            f"reference pass {reference:.3f}); whole run of {args.steps} steps {whole:.3f}"
+        )
+        print(
+            f"{'':>10} per element, us: "
+            + ", ".join(f"{name} {value / elements * 1e6:.3f}" for name, value in timed.items()),
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
