@@ -358,55 +358,60 @@ def _mindlin_tables(
     (elements/mindlin.py ``_level_stiffness_of``), and the smallest det J of its points into
     ``smallest_det`` (m,)."""
     m = connectivity.shape[0]
-    for c in prange(m):
+    chunks = (m + _CHUNK - 1) // _CHUNK
+    for chunk in prange(chunks):
+        # scratch per chunk of cells: allocated once, not once a cell
         jac = np.empty((3, 3))
         t = np.empty((3, 3))
         transform = np.empty((5, 5))
         ct = np.empty((5, 5))
         w = np.empty((5, 5))
         level = np.empty((7, 7))
-        lowest = np.inf
-        for z in range(zeta.shape[0]):
-            level[:] = 0.0
-            for p in range(in_plane.shape[0]):
-                _base_vectors(
-                    points, directors, connectivity, c, zeta[z], half, in_plane[p, 0],
-                    in_plane[p, 1], jac,
-                )  # fmt: skip
-                det = _point_transform(jac, warp, has_warp, t, transform)
-                lowest = min(lowest, det)
-                weight = zeta_weights[z] * det / 6.0
-                for i in range(5):
-                    for j in range(5):
-                        total = 0.0
-                        for k in range(5):
-                            total += lamina[i, k] * transform[k, j]
-                        ct[i, j] = total
-                for i in range(5):
-                    for j in range(5):
-                        total = 0.0
-                        for k in range(5):
-                            total += transform[k, i] * ct[k, j]
-                        w[i, j] = weight * total
-                # L_p: identity on (E11, E22, 2E12); 2E13 = a_p . dt, 2E23 = b_p . dt
-                for i in range(3):
-                    for j in range(3):
-                        level[i, j] += w[i, j]
-                    for j in range(4):
-                        value = w[i, 3] * shear_a[p, j] + w[i, 4] * shear_b[p, j]
-                        level[i, 3 + j] += value
-                        level[3 + j, i] += w[3, i] * shear_a[p, j] + w[4, i] * shear_b[p, j]
-                for i in range(4):
-                    for j in range(4):
-                        level[3 + i, 3 + j] += shear_a[p, i] * (
-                            w[3, 3] * shear_a[p, j] + w[3, 4] * shear_b[p, j]
-                        ) + shear_b[p, i] * (w[4, 3] * shear_a[p, j] + w[4, 4] * shear_b[p, j])
-            index = 0
-            for i in range(7):
-                for j in range(i, 7):
-                    stiffness[c, z, index] = 0.5 * (level[i, j] + level[j, i])
-                    index += 1
-        smallest_det[c] = lowest
+        for c in range(chunk * _CHUNK, min(m, (chunk + 1) * _CHUNK)):
+            lowest = np.inf
+            for z in range(zeta.shape[0]):
+                for i in range(7):
+                    for j in range(7):
+                        level[i, j] = 0.0
+                for p in range(in_plane.shape[0]):
+                    _base_vectors(
+                        points, directors, connectivity, c, zeta[z], half, in_plane[p, 0],
+                        in_plane[p, 1], jac,
+                    )  # fmt: skip
+                    det = _point_transform(jac, warp, has_warp, t, transform)
+                    lowest = min(lowest, det)
+                    weight = zeta_weights[z] * det / 6.0
+                    for i in range(5):
+                        for j in range(5):
+                            total = 0.0
+                            for k in range(5):
+                                total += lamina[i, k] * transform[k, j]
+                            ct[i, j] = total
+                    for i in range(5):
+                        for j in range(5):
+                            total = 0.0
+                            for k in range(5):
+                                total += transform[k, i] * ct[k, j]
+                            w[i, j] = weight * total
+                    # L_p: identity on (E11, E22, 2E12); 2E13 = a_p . dt, 2E23 = b_p . dt
+                    for i in range(3):
+                        for j in range(3):
+                            level[i, j] += w[i, j]
+                        for j in range(4):
+                            value = w[i, 3] * shear_a[p, j] + w[i, 4] * shear_b[p, j]
+                            level[i, 3 + j] += value
+                            level[3 + j, i] += w[3, i] * shear_a[p, j] + w[4, i] * shear_b[p, j]
+                    for i in range(4):
+                        for j in range(4):
+                            level[3 + i, 3 + j] += shear_a[p, i] * (
+                                w[3, 3] * shear_a[p, j] + w[3, 4] * shear_b[p, j]
+                            ) + shear_b[p, i] * (w[4, 3] * shear_a[p, j] + w[4, 4] * shear_b[p, j])
+                index = 0
+                for i in range(7):
+                    for j in range(i, 7):
+                        stiffness[c, z, index] = 0.5 * (level[i, j] + level[j, i])
+                        index += 1
+            smallest_det[c] = lowest
 
 
 @jit
@@ -420,58 +425,65 @@ def _mindlin_fields(
     from the reference configuration (points, directors0), the strains from the current one."""
     m = connectivity.shape[0]
     nz, npts = zeta.shape[0], in_plane.shape[0]
-    for c in prange(m):
+    chunks = (m + _CHUNK - 1) // _CHUNK
+    for chunk in prange(chunks):
         jac = np.empty((3, 3))
         now = np.empty((3, 3))
         t = np.empty((3, 3))
         transform = np.empty((5, 5))
         strain = np.empty(5)
-        sums = np.zeros(8)
-        for z in range(nz):
-            _base_vectors(positions, directors, connectivity, c, zeta[z], half, 0.0, 0.0, now)
-            g1x, g1y, g1z = now[0, 0], now[0, 1], now[0, 2]
-            g2x, g2y, g2z = now[1, 0], now[1, 1], now[1, 2]
-            r = reference[c, z]
-            e = np.empty(7)
-            e[0] = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - r[0])
-            e[1] = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - r[1])
-            e[2] = g1x * g2x + g1y * g2y + g1z * g2z - r[2]
-            for q in range(4):  # tying points A, C, B, C against g1, g1, g2, g2
-                point = (0.5, 0.5, 0.0, 0.5)[q]
-                other = (0.0, 0.5, 0.5, 0.5)[q]
-                _base_vectors(
-                    positions, directors, connectivity, c, 0.0, half, point, other, now
-                )  # fmt: skip
-                if q < 2:
-                    e[3 + q] = g1x * now[2, 0] + g1y * now[2, 1] + g1z * now[2, 2] - r[3 + q]
-                else:
-                    e[3 + q] = g2x * now[2, 0] + g2y * now[2, 1] + g2z * now[2, 2] - r[3 + q]
-            through = half * zeta_weights[z]
-            for p in range(npts):
-                _base_vectors(
-                    points, directors0, connectivity, c, zeta[z], half, in_plane[p, 0],
-                    in_plane[p, 1], jac,
-                )  # fmt: skip
-                _point_transform(jac, warp, has_warp, t, transform)
-                strain[0], strain[1], strain[2] = e[0], e[1], e[2]
-                strain[3] = 0.0
-                strain[4] = 0.0
-                for j in range(4):
-                    strain[3] += shear_a[p, j] * e[3 + j]
-                    strain[4] += shear_b[p, j] * e[3 + j]
-                for i in range(5):
-                    stress = 0.0
+        engineering = np.empty(5)
+        e = np.empty(7)
+        sums = np.empty(8)
+        for c in range(chunk * _CHUNK, min(m, (chunk + 1) * _CHUNK)):
+            for k in range(8):
+                sums[k] = 0.0
+            for z in range(nz):
+                _base_vectors(positions, directors, connectivity, c, zeta[z], half, 0.0, 0.0, now)
+                g1x, g1y, g1z = now[0, 0], now[0, 1], now[0, 2]
+                g2x, g2y, g2z = now[1, 0], now[1, 1], now[1, 2]
+                r = reference[c, z]
+                e[0] = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - r[0])
+                e[1] = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - r[1])
+                e[2] = g1x * g2x + g1y * g2y + g1z * g2z - r[2]
+                for q in range(4):  # tying points A, C, B, C against g1, g1, g2, g2
+                    point = (0.5, 0.5, 0.0, 0.5)[q]
+                    other = (0.0, 0.5, 0.5, 0.5)[q]
+                    _base_vectors(
+                        positions, directors, connectivity, c, 0.0, half, point, other, now
+                    )  # fmt: skip
+                    if q < 2:
+                        e[3 + q] = g1x * now[2, 0] + g1y * now[2, 1] + g1z * now[2, 2] - r[3 + q]
+                    else:
+                        e[3 + q] = g2x * now[2, 0] + g2y * now[2, 1] + g2z * now[2, 2] - r[3 + q]
+                through = half * zeta_weights[z]
+                for p in range(npts):
+                    _base_vectors(
+                        points, directors0, connectivity, c, zeta[z], half, in_plane[p, 0],
+                        in_plane[p, 1], jac,
+                    )  # fmt: skip
+                    _point_transform(jac, warp, has_warp, t, transform)
+                    strain[0], strain[1], strain[2] = e[0], e[1], e[2]
+                    strain[3] = 0.0
+                    strain[4] = 0.0
+                    for j in range(4):
+                        strain[3] += shear_a[p, j] * e[3 + j]
+                        strain[4] += shear_b[p, j] * e[3 + j]
                     for k in range(5):
-                        engineering = 0.0
+                        total = 0.0
                         for j in range(5):
-                            engineering += transform[k, j] * strain[j]
-                        stress += lamina[i, k] * engineering
-                    sums[i] += through * stress / npts
-                    if i < 3:
-                        sums[5 + i] += through * half * zeta[z] * stress / npts
-        out[c, 0], out[c, 1], out[c, 2] = sums[0], sums[1], sums[2]
-        out[c, 3], out[c, 4], out[c, 5] = sums[5], sums[6], sums[7]
-        out[c, 6], out[c, 7] = sums[3], sums[4]
+                            total += transform[k, j] * strain[j]
+                        engineering[k] = total
+                    for i in range(5):
+                        stress = 0.0
+                        for k in range(5):
+                            stress += lamina[i, k] * engineering[k]
+                        sums[i] += through * stress / npts
+                        if i < 3:
+                            sums[5 + i] += through * half * zeta[z] * stress / npts
+            out[c, 0], out[c, 1], out[c, 2] = sums[0], sums[1], sums[2]
+            out[c, 3], out[c, 4], out[c, 5] = sums[5], sums[6], sums[7]
+            out[c, 6], out[c, 7] = sums[3], sums[4]
 
 
 def mindlin_tables(block, points, directors, cells: slice = slice(None)):
@@ -526,6 +538,10 @@ def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.nd
     )
     return out
 
+
+# Cells per chunk of the bind-time and output loops: their scratch arrays are made once a
+# chunk (an allocation per cell cost more than the arithmetic).
+_CHUNK = 256
 
 # In-plane 3-point rule (r, s) of the Mindlin triangle (elements/mindlin.py _IN_PLANE).
 IN_PLANE = np.array([[1 / 6, 1 / 6], [2 / 3, 1 / 6], [1 / 6, 2 / 3]])
