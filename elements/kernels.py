@@ -351,12 +351,14 @@ _base_vectors = serial(_base_vectors)
 @jit
 def _mindlin_tables(
     points, directors, connectivity, zeta, zeta_weights, half, in_plane, warp, has_warp,
-    lamina, shear_a, shear_b, stiffness, smallest_det,
+    lamina, shear_a, shear_b, stiffness, smallest_det, measures, area,
 ):  # fmt: skip
     """The packed level stiffness (m, Z, 28) of each triangle in its reference configuration
     (points, directors (n, 3)): D^_z = sum_p L_p^T (w_p det J T^T C T) L_p
-    (elements/mindlin.py ``_level_stiffness_of``), and the smallest det J of its points into
-    ``smallest_det`` (m,)."""
+    (elements/mindlin.py ``_level_stiffness_of``), the smallest det J of its points into
+    ``smallest_det`` (m,), the reference products of its level measures into ``measures``
+    (m, Z, 7: g1.g1, g2.g2, g1.g2, g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C) and its area into
+    ``area`` (m,)."""
     m = connectivity.shape[0]
     chunks = (m + _CHUNK - 1) // _CHUNK
     for chunk in prange(chunks):
@@ -367,9 +369,32 @@ def _mindlin_tables(
         ct = np.empty((5, 5))
         w = np.empty((5, 5))
         level = np.empty((7, 7))
+        tying = np.empty((3, 3))
         for c in range(chunk * _CHUNK, min(m, (chunk + 1) * _CHUNK)):
             lowest = np.inf
+            for q in range(3):  # g3 at the tying points A (1/2, 0), B (0, 1/2), C (1/2, 1/2)
+                _base_vectors(
+                    points, directors, connectivity, c, 0.0, half, (0.5, 0.0, 0.5)[q],
+                    (0.0, 0.5, 0.5)[q], jac,
+                )  # fmt: skip
+                tying[q, 0], tying[q, 1], tying[q, 2] = jac[2, 0], jac[2, 1], jac[2, 2]
+            cx = jac[0, 1] * jac[1, 2] - jac[0, 2] * jac[1, 1]
+            cy = jac[0, 2] * jac[1, 0] - jac[0, 0] * jac[1, 2]
+            cz = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
+            area[c] = 0.5 * np.sqrt(cx * cx + cy * cy + cz * cz)  # (zeta = 0: the edges)
             for z in range(zeta.shape[0]):
+                _base_vectors(points, directors, connectivity, c, zeta[z], half, 0.0, 0.0, jac)
+                products = measures[c, z]
+                products[0] = jac[0, 0] * jac[0, 0] + jac[0, 1] * jac[0, 1] + jac[0, 2] * jac[0, 2]
+                products[1] = jac[1, 0] * jac[1, 0] + jac[1, 1] * jac[1, 1] + jac[1, 2] * jac[1, 2]
+                products[2] = jac[0, 0] * jac[1, 0] + jac[0, 1] * jac[1, 1] + jac[0, 2] * jac[1, 2]
+                for q in range(4):  # g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C
+                    row, point = (0, 0, 1, 1)[q], (0, 2, 1, 2)[q]
+                    products[3 + q] = (
+                        jac[row, 0] * tying[point, 0]
+                        + jac[row, 1] * tying[point, 1]
+                        + jac[row, 2] * tying[point, 2]
+                    )
                 for i in range(7):
                     for j in range(7):
                         level[i, j] = 0.0
@@ -381,12 +406,16 @@ def _mindlin_tables(
                     det = _point_transform(jac, warp, has_warp, t, transform)
                     lowest = min(lowest, det)
                     weight = zeta_weights[z] * det / 6.0
-                    for i in range(5):
-                        for j in range(5):
-                            total = 0.0
-                            for k in range(5):
-                                total += lamina[i, k] * transform[k, j]
-                            ct[i, j] = total
+                    # C T, C = diag(Q, kappa G13, kappa G23) (blocks: a third of the work)
+                    for j in range(5):
+                        for i in range(3):
+                            ct[i, j] = (
+                                lamina[i, 0] * transform[0, j]
+                                + lamina[i, 1] * transform[1, j]
+                                + lamina[i, 2] * transform[2, j]
+                            )
+                        ct[3, j] = lamina[3, 3] * transform[3, j]
+                        ct[4, j] = lamina[4, 4] * transform[4, j]
                     for i in range(5):
                         for j in range(5):
                             total = 0.0
@@ -487,12 +516,15 @@ def _mindlin_fields(
 
 
 def mindlin_tables(block, points, directors, cells: slice = slice(None)):
-    """(level stiffness (c, Z, 28), smallest det J (c,)) of a MindlinShellBlock's cells by
-    the compiled kernel, from the reference points and directors (n, 3)."""
+    """(level stiffness (c, Z, 28), smallest det J (c,), reference products of the level
+    measures (c, Z, 7), areas (c,)) of a MindlinShellBlock's cells by the compiled kernel,
+    from the reference points and directors (n, 3)."""
     connectivity = np.ascontiguousarray(block.connectivity[cells])
     m = len(connectivity)
     stiffness = np.empty((m, len(block.zeta), 28))
     smallest = np.empty(m)
+    measures = np.empty((m, len(block.zeta), 7))
+    area = np.empty(m)
     warp = block.material.warp
     _mindlin_tables(
         np.ascontiguousarray(points, dtype=np.float64),
@@ -509,8 +541,10 @@ def mindlin_tables(block, points, directors, cells: slice = slice(None)):
         block.shear_b,
         stiffness,
         smallest,
+        measures,
+        area,
     )
-    return stiffness, smallest
+    return stiffness, smallest, measures, area
 
 
 def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.ndarray:

@@ -268,7 +268,7 @@ class MindlinShellBlock(ElementBlock):
         self.n_nodes = mesh.n_nodes
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.connectivity = mesh.triangles[self.cell_ids]
-        self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self._scatter: Scatter | None = None
         # the compiled path's sums from cells to nodes (parallel over nodes)
         self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.reference_positions = np.asarray(mesh.points, dtype=float)
@@ -284,6 +284,36 @@ class MindlinShellBlock(ElementBlock):
         # fields and the stable step's calibration are computed from them when needed.
         self.reference_directors = np.asarray(directors, dtype=float)
 
+        self._bind_tables()
+        measures = self.reference_measures
+        self.reference_metric = {
+            "11": measures[..., 0],
+            "22": measures[..., 1],
+            "12": measures[..., 2],
+            "tying": measures[..., 3:],
+        }
+        self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
+        # The stable step's calibration (omega^2 of each element's eigenvalue problem over
+        # the cheap bound), computed at the first call of cell_stable_dt.
+        self._step_calibration: np.ndarray | None = None
+
+    def _bind_tables(self) -> None:
+        """``reference_area`` (m,), ``reference_measures`` (m, Z, 7) (the products the level
+        measures are changes of: g1.g1, g2.g2, g1.g2, g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C)
+        and the section's tables (``_material_matrices``). The elastic section's come from
+        one compiled loop over the cells where numba is installed: no (m, ...) temporaries
+        (a fifth of the model's build at 400k triangles); a section of its own (a subclass
+        with its own ``_material_matrices``) gets the reference vectors from numpy."""
+        compiled = type(self)._material_matrices is MindlinShellBlock._material_matrices
+        if compiled and kernels.AVAILABLE:
+            self._set_lamina_stiffness()
+            stiffness, smallest, measures, area = kernels.mindlin_tables(
+                self, self.reference_positions, self.reference_directors
+            )
+            _check_volume(smallest, self.cell_ids)
+            self.level_stiffness, self.reference_measures = stiffness, measures
+            self.reference_area = area
+            return
         x0, v0 = self._reference_cells()
         self.reference_area = 0.5 * np.linalg.norm(
             cross(x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]), axis=1
@@ -291,25 +321,18 @@ class MindlinShellBlock(ElementBlock):
         ref = self._vectors(x0, v0)
         metric = self._metric(ref)
         measures = np.empty(metric["11"].shape + (7,))
-        measures[..., 0], measures[..., 1], measures[..., 2] = (
-            metric["11"],
-            metric["22"],
-            metric["12"],
-        )
-        measures[..., 3:] = metric["tying"]
+        measures[..., 0], measures[..., 1] = metric["11"], metric["22"]
+        measures[..., 2], measures[..., 3:] = metric["12"], metric["tying"]
         self.reference_measures = measures
-        self.reference_metric = {
-            "11": measures[..., 0],
-            "22": measures[..., 1],
-            "12": measures[..., 2],
-            "tying": measures[..., 3:],
-        }
         self._material_matrices(ref, v0)
-        del x0, v0, ref, metric
-        self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
-        # The stable step's calibration (omega^2 of each element's eigenvalue problem over
-        # the cheap bound), computed at the first call of cell_stable_dt.
-        self._step_calibration: np.ndarray | None = None
+
+    @property
+    def scatter(self) -> Scatter:
+        """Gather / scatter over ``connectivity`` (the numpy path's sums; made at its first
+        use: its index table is 72 bytes a triangle the compiled path does not read)."""
+        if self._scatter is None:
+            self._scatter = Scatter(self.connectivity, self.n_nodes)
+        return self._scatter
 
     def _reference_cells(self, cells: slice = slice(None)) -> tuple[np.ndarray, np.ndarray]:
         """Corner positions and directors (c, 3, 3) of the cells in the reference state."""
@@ -359,21 +382,17 @@ class MindlinShellBlock(ElementBlock):
         """The level stiffness ``level_stiffness`` (m, Z, 28) of docs/theory.md §5.5, packed:
         D^_z = sum_p L_p^T D_pz L_p with D_pz = w det(J) T^T C T at every point, T the
         covariant-to-lamina transformation (§5.2) and C = diag(Q rotated to the lamina frame,
-        kappa G13, kappa G23); by the compiled loop of elements/kernels.py, cell by cell,
-        where numba is installed (no table over all points is made), else from the
-        point-wise tables of the numpy path."""
+        kappa G13, kappa G23), from the point-wise tables of the numpy path (numba's loop in
+        ``_bind_tables`` forms the same cell by cell)."""
+        self._set_lamina_stiffness()
+        self.level_stiffness = _packed(_level_stiffness_of(self.weighted_stiffness))
+
+    def _set_lamina_stiffness(self) -> None:
+        """C (5, 5) = diag(Q rotated to the lamina frame, kappa G13, kappa G23), MPa."""
         c = np.zeros((5, 5))
         c[:3, :3] = self.material.plane_stress
         c[3, 3], c[4, 4] = self.material.transverse
         self.lamina_stiffness = c
-        if kernels.AVAILABLE:
-            stiffness, smallest = kernels.mindlin_tables(
-                self, self.reference_positions, self.reference_directors
-            )
-            _check_volume(smallest, self.cell_ids)
-        else:  # pragma: no cover - numba is a dependency
-            stiffness = _packed(_level_stiffness_of(self.weighted_stiffness))
-        self.level_stiffness = stiffness
 
     @property
     def weighted_stiffness(self) -> np.ndarray:
@@ -666,10 +685,13 @@ class MindlinShellBlock(ElementBlock):
 
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:
         """Smallest altitude 2A / L_max of each triangle (m,), mm."""
-        x = (self.reference_positions if positions is None else positions)[self.connectivity]
-        sides = np.linalg.norm(x[:, [1, 2, 0]] - x, axis=-1)
-        area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
-        return area2 / sides.max(axis=1)
+        points = self.reference_positions if positions is None else positions
+        x0, x1, x2 = (points[self.connectivity[:, k]] for k in range(3))
+        longest = np.maximum(
+            np.maximum(np.linalg.norm(x1 - x0, axis=1), np.linalg.norm(x2 - x1, axis=1)),
+            np.linalg.norm(x0 - x2, axis=1),
+        )
+        return np.linalg.norm(cross(x1 - x0, x2 - x0), axis=1) / longest
 
     def lumped_mass(self, state: State, density_scale=None):
         share = self.material.areal_density * self.reference_area / 3.0

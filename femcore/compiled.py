@@ -81,7 +81,7 @@ class CompiledModel:
         for entry in cell_entries:
             columns = dof_columns(entry.element.dofs)
             cells = self._cells(entry)
-            active[np.ix_(np.unique(cells), columns)] = True
+            active[np.ix_(_used_nodes(cells, n), columns)] = True
             if entry.element.defines_directors:
                 shell_triangles.append(cells)
         # Nodes of rigid bodies (a force-driven tool's translation): translations, no cell.
@@ -94,11 +94,17 @@ class CompiledModel:
             [r.node for r in model.rigid_nodes if r.mass is None], dtype=np.int64
         )
         self.has_rotation = active[:, 3].copy()
-        triangle_cells = [self._cells(e) for e in cell_entries if e.element.cell_type == "triangle"]
-        if triangle_cells:
+        triangle_ids = [e.cells for e in cell_entries if e.element.cell_type == "triangle"]
+        if triangle_ids:
             # Duplicate nodes, zero-area triangles, non-manifold edges and flipped triangles
-            # make every shell kinematics wrong: refuse them before anything is bound.
-            check_triangles(mesh.points, np.unique(np.concatenate(triangle_cells), axis=0))
+            # make every shell kinematics wrong: refuse them before anything is bound (each
+            # triangle once, in mesh order, when blocks share cells).
+            ids = (
+                triangle_ids[0]
+                if len(triangle_ids) == 1
+                else np.unique(np.concatenate(triangle_ids))
+            )
+            check_triangles(mesh.points, mesh.triangles[ids])
 
         fixed = self._fixed_mask(model.fixes, active)
         prescribed, self._prescribed_terms = self._prescribed(model.prescribed, active)
@@ -690,7 +696,7 @@ def _check_bound(
             raise ValueError(
                 f"{type(block).__name__}.connectivity refers to nodes outside 0..{len(active) - 1}"
             )
-        nodes = np.unique(connectivity)
+        nodes = _used_nodes(connectivity, len(active))
         lacking = ~active[np.ix_(nodes, dof_columns(dofs))]
         if lacking.any():
             node = nodes[np.argwhere(lacking)[0, 0]]
@@ -699,6 +705,12 @@ def _check_bound(
                 f"{', '.join(dof_names(active[node])) or 'no DOF'}: it needs nodes of an "
                 "element with the DOFs it uses"
             )
+
+
+def _used_nodes(connectivity: np.ndarray, n_nodes: int) -> np.ndarray:
+    """The nodes (increasing) that the cells (m, k) use: np.unique by a count, without the
+    sort (a tenth of its time at 400k triangles)."""
+    return np.flatnonzero(np.bincount(np.asarray(connectivity).ravel(), minlength=n_nodes))
 
 
 def _takes_history(method: Callable) -> bool:

@@ -394,13 +394,23 @@ def _jittered_pair(points=2, warp=(1.0, 1.0, 0.0)):
 @pytest.mark.parametrize("points", [2, 5])
 def test_the_compiled_level_stiffness_is_the_sum_of_the_point_matrices(points):
     """The packed D^_z the compiled bind forms cell by cell equals sum_p L_p^T D_pz L_p of
-    the numpy point tables, to 1e-12 of its largest entry."""
+    the numpy point tables, to 1e-12 of its largest entry; its reference products and
+    areas are numpy's."""
     models, _ = _jittered_pair(points)
     block = models["compiled"].blocks[0]
     reference = mindlin._packed(mindlin._level_stiffness_of(block.weighted_stiffness))
     assert block.level_stiffness.shape == (len(block.connectivity), points, 28)
     scale = np.abs(reference).max()
     assert np.abs(block.level_stiffness - reference).max() <= 1e-12 * scale
+    # the reference products and areas of the same loop against numpy's
+    x0, v0 = block._reference_cells()
+    metric = block._metric(block._vectors(x0, v0))
+    products = np.concatenate(
+        [np.stack([metric["11"], metric["22"], metric["12"]], -1), metric["tying"]], -1
+    )
+    assert np.abs(block.reference_measures - products).max() <= 1e-12 * np.abs(products).max()
+    area = 0.5 * np.linalg.norm(np.cross(x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]), axis=1)
+    np.testing.assert_allclose(block.reference_area, area, rtol=1e-12)
 
 
 def test_the_force_pass_returns_the_strain_energy_it_met():
