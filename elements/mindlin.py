@@ -70,6 +70,22 @@ def _packed(full: np.ndarray) -> np.ndarray:
     )
 
 
+def _congruent_cells(x0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cells of the same reference shape: (the first cell of each shape (s,), the shape
+    of each cell (m,)), the shape being the edges x1 - x0, x2 - x0 and the three directors
+    equal to the bit (c, 3, 3 each). A cell's element eigenvalue depends on nothing else
+    (its material, mass and rotary factor follow from it, the last to rounding)."""
+    m = len(x0)
+    key = np.empty((m, 15))
+    key[:, :3], key[:, 3:6] = x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]
+    key[:, 6:] = v0.reshape(m, 9)
+    key += 0.0  # -0.0 and 0.0 are one shape
+    _, first, shape_of = np.unique(
+        key.view(np.dtype((np.void, 15 * 8))).ravel(), return_index=True, return_inverse=True
+    )
+    return first, shape_of.ravel()
+
+
 def _check_volume(smallest_det: np.ndarray, cell_ids: np.ndarray) -> None:
     """ValueError naming the first triangle whose reference det J (smallest over its points,
     (m,)) is not positive: its director field inverts the shell volume."""
@@ -708,11 +724,15 @@ class MindlinShellBlock(ElementBlock):
         the lumped masses and rotary inertias), which bounds that of the assembly (Irons:
         the Rayleigh quotient of a sum is at most the largest of the elements'). It is
         computed once, in the reference configuration, as a factor on the cheap bound
-        ``_cheap_omega2``, which then follows the current geometry at each call.
+        ``_cheap_omega2``, which then follows the current geometry at each call. Cells of
+        the same reference shape (edges and directors equal to the bit: the cells of a
+        structured mesh) share one eigenvalue problem.
         """
         if self._step_calibration is None:
             x0, v0 = self._reference_cells()
-            self._step_calibration = self.element_omega2(x0, v0) / self._cheap_omega2(x0)
+            first, shape_of = _congruent_cells(x0, v0)
+            omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
+            self._step_calibration = omega2 / self._cheap_omega2(x0)
         x = state.positions[self.connectivity]
         return 2.0 / np.sqrt(self._cheap_omega2(x) * self._step_calibration)
 
@@ -732,21 +752,25 @@ class MindlinShellBlock(ElementBlock):
         omega2 = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear) * inverse_heights2
         return omega2 + shear / (2.0 * rho * self.rotary_factor)
 
-    def element_omega2(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Largest eigenvalue (m,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
-        corners x and directors v (m, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
+    def element_omega2(
+        self, x: np.ndarray, v: np.ndarray, cells: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Largest eigenvalue (c,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
+        corners x and directors v (c, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
         part), M_e its lumped share rho h A / 3 per translation and that times j per
-        rotation (the drilling rotation too: a larger space only raises the maximum)."""
-        share = self.material.areal_density * self.reference_area / 3.0
-        node = np.stack([share] * 3 + [share * self.rotary_factor] * 3, axis=1)  # (m, 6)
-        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (m, 18), M_e^-1/2
+        rotation (the drilling rotation too: a larger space only raises the maximum).
+        ``cells`` (c,): the block's cells x and v belong to (default: all, in order)."""
+        cells = np.arange(len(x)) if cells is None else np.asarray(cells)
+        share = self.material.areal_density * self.reference_area[cells] / 3.0
+        node = np.stack([share] * 3 + [share * self.rotary_factor[cells]] * 3, axis=1)
+        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (c, 18), M_e^-1/2
         omega2 = np.empty(len(x))
         for start in range(0, len(x), _TANGENT_SLICE):
-            cells = slice(start, start + _TANGENT_SLICE)
-            k = self._cell_tangent(x[cells], v[cells], cells).reshape(-1, 18, 18)
+            rows = slice(start, start + _TANGENT_SLICE)
+            k = self._cell_tangent(x[rows], v[rows], cells[rows]).reshape(-1, 18, 18)
             k = 0.5 * (k + np.swapaxes(k, 1, 2))
-            k *= scale[cells, :, None] * scale[cells, None, :]
-            omega2[cells] = np.linalg.eigvalsh(k)[:, -1]
+            k *= scale[rows, :, None] * scale[rows, None, :]
+            omega2[rows] = np.linalg.eigvalsh(k)[:, -1]
         return omega2
 
     # ------------------------------------------------------------------ outputs

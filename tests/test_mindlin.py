@@ -474,3 +474,20 @@ def test_a_block_keeps_no_point_tables_for_the_compiled_step():
 def test_an_unknown_kernel_is_refused():
     with pytest.raises(ValueError, match="kernel must be"):
         MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9), kernel="fortran")
+
+
+def test_congruent_cells_share_one_element_eigenvalue_problem():
+    """The stable step's calibration solves one eigenvalue problem per reference shape (two
+    on a structured rectangle) and gives each cell what its own problem gives, to 1e-13."""
+    model = compiled(mesh=Mesh.rectangle(40.0, 30.0, nx=8, ny=6))
+    block = model.blocks[0]
+    x0, v0 = block._reference_cells()
+    first, shape_of = mindlin._congruent_cells(x0, v0)
+    assert len(first) == 2 and shape_of.shape == (len(x0),)
+    block.cell_stable_dt(model.initial_state())
+    own = block.element_omega2(x0, v0) / block._cheap_omega2(x0)
+    np.testing.assert_allclose(block._step_calibration, own, rtol=1e-13)
+    # a jittered mesh: every cell its own shape
+    rng = np.random.default_rng(2)
+    jittered = x0 + rng.uniform(-0.1, 0.1, size=x0.shape)
+    assert len(mindlin._congruent_cells(jittered, v0)[0]) == len(x0)
