@@ -154,9 +154,11 @@ class CompiledModel:
         self.given_interactions: tuple[Interaction, ...] = tuple(model.interactions)
         self.n_tools = sum(int(i.n_tools) for i in self.interactions)
 
-        self.translation_free = self.dofs.free[:, :3]
-        self.translation_constrained = self.dofs.constrained[:, :3]
-        self.translation_prescribed = self.dofs.prescribed[:, :3]
+        # Contiguous copies: the compiled passes of a step read them (a strided view would be
+        # copied at every step).
+        self.translation_free = np.ascontiguousarray(self.dofs.free[:, :3])
+        self.translation_constrained = np.ascontiguousarray(self.dofs.constrained[:, :3])
+        self.translation_prescribed = np.ascontiguousarray(self.dofs.prescribed[:, :3])
         self.rotation_fixed = self.dofs.fixed[:, 3:] & self.has_rotation[:, None]
 
         state0 = self.initial_state()
@@ -315,10 +317,15 @@ class CompiledModel:
     ) -> tuple[np.ndarray, np.ndarray]:
         """Internal nodal forces F_int = dW/dx (n, 3) and moment vectors dW/dpsi (n, 3), summed
         over the parts (or over the parts of the given indices into ``parts``)."""
+        histories = self._histories(state)
+        indices = range(len(self.parts)) if parts is None else parts
+        if len(indices) == 1:  # one part: its own (fresh) arrays, no sum to make
+            i = indices[0]
+            f, m = self.parts[i].internal_force(state, histories[i])
+            return np.asarray(f, dtype=float), self._moment_or_zeros(m)
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
-        histories = self._histories(state)
-        for i in range(len(self.parts)) if parts is None else parts:
+        for i in indices:
             f, m = self.parts[i].internal_force(state, histories[i])
             force += f
             if m is not None:
@@ -330,10 +337,13 @@ class CompiledModel:
         each element block's ``internal_force_and_energy`` (one pass where the block fuses
         them), each interaction's force and penalty energy. Returns (force (n, 3) N, moment
         (n, 3) N mm, energy N mm)."""
+        histories = self._histories(state)
+        if len(self.parts) == 1:  # one block: its own (fresh) arrays, no sum to make
+            f, m, e = self.blocks[0].internal_force_and_energy(state, histories[0])
+            return np.asarray(f, dtype=float), self._moment_or_zeros(m), 0.0 + e
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
         energy = 0.0
-        histories = self._histories(state)
         for block, history in zip(self.blocks, histories):
             f, m, e = block.internal_force_and_energy(state, history)
             force += f
@@ -347,6 +357,9 @@ class CompiledModel:
                 moment += m
             energy += interaction.strain_energy(state, history)
         return force, moment, float(energy)
+
+    def _moment_or_zeros(self, moment: np.ndarray | None) -> np.ndarray:
+        return np.zeros((self.n_nodes, 3)) if moment is None else np.asarray(moment, dtype=float)
 
     def cell_stable_dt(self, state: State) -> list[np.ndarray]:
         """Per-block arrays of per-cell critical steps (s)."""

@@ -189,6 +189,7 @@ def explicit_step(
         (dt_bar, dt, dt_prev),
         c,
         checking,
+        masses.inverse_mass,
     )
     if model.n_tools:
         work = _tool_work(model, state, dt, dt_prev, work, checking, duration)
