@@ -350,6 +350,10 @@ class MindlinShellBlock(ElementBlock):
             self._scatter = Scatter(self.connectivity, self.n_nodes)
         return self._scatter
 
+    @scatter.setter
+    def scatter(self, value: Scatter) -> None:
+        self._scatter = value
+
     def _reference_cells(self, cells: slice = slice(None)) -> tuple[np.ndarray, np.ndarray]:
         """Corner positions and directors (c, 3, 3) of the cells in the reference state."""
         connectivity = self.connectivity[cells]
@@ -767,7 +771,9 @@ class MindlinShellBlock(ElementBlock):
         omega2 = np.empty(len(x))
         for start in range(0, len(x), _TANGENT_SLICE):
             rows = slice(start, start + _TANGENT_SLICE)
-            k = self._cell_tangent(x[rows], v[rows], cells[rows]).reshape(-1, 18, 18)
+            # An index array selects the cells' tables as the slices of ``tangent`` do.
+            selected = cast(slice, cells[rows])
+            k = self._cell_tangent(x[rows], v[rows], selected).reshape(-1, 18, 18)
             k = 0.5 * (k + np.swapaxes(k, 1, 2))
             k *= scale[rows, :, None] * scale[rows, None, :]
             omega2[rows] = np.linalg.eigvalsh(k)[:, -1]
