@@ -3,17 +3,23 @@
 On the pinned square sheet of ``shell_sheet.py`` (5 mm cells, gravity from rest) of the
 Mindlin shell (aluminium, h = 1 mm) or the fibrous shell (G986 stack), for each size:
 
-* build: seconds for ``Model.compile`` and the process's resident memory it added (and the
-  peak), kB per triangle;
-* the steady step: ``CentralDifference`` over ``--steps`` and over twice as many steps, the
-  difference of the two wall times per added element-step (what a long run costs per step:
-  compilation, the first and last frames and the run's start left out), and the whole run
-  of ``--steps`` steps per element-step as ``shell_sheet.py`` reports it;
-* per-phase timers at the sheet's state after the run (best of ``--repeats``, µs per element):
-  the internal force, the force with the strain energy (``internal_force_and_energy``: what a
-  step that checks the energy balance asks), the strain energy alone, and the rest of a step
-  (``explicit_step`` less its force);
-* the numpy reference pass of ``shell_sheet.reference_pass`` in the same run.
+* build: seconds (wall and CPU) for ``Model.compile``, the resident memory it added and the
+  process's peak, kB per triangle;
+* the steady step: ``CentralDifference`` over ``--steps`` (at least ``--work`` element-steps)
+  and over twice as many, the difference of the two times per added element-step (what a
+  long run costs a step: the run's start, its first and last frames left out), wall and CPU,
+  against the reference pass; and the shorter run's whole time per element-step as
+  ``shell_sheet.py`` reports it;
+* per-phase CPU times at the sheet's state after the run (best of ``--repeats``, µs per
+  element): the internal force, the force with the strain energy
+  (``internal_force_and_energy``: what a step that checks the energy balance asks), the
+  strain energy alone, the rest of a step (``explicit_step`` less its force), a checked step;
+* the numpy reference pass of ``shell_sheet.reference_pass`` (wall, best of 20) and the same
+  in CPU time.
+
+On one thread the CPU time is what the step costs whatever the other processes of a shared
+machine take (their caches and memory traffic still count); the wall time is what a user
+waits.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
@@ -158,7 +164,10 @@ def main(argv=None) -> None:
     parser.add_argument("--element", choices=("mindlin", "fibrous"), default="mindlin")
     parser.add_argument("--kernel", choices=("compiled", "numpy"), default="compiled")
     parser.add_argument("--sizes", default="10000,100000")
-    parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--steps", type=int, default=100, help="at least this many steps")
+    parser.add_argument(
+        "--work", type=float, default=1e7, help="element-steps a run makes at least"
+    )
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--threads", type=int, default=1)
     args = parser.parse_args(argv)
@@ -175,9 +184,10 @@ def main(argv=None) -> None:
     for size in [int(s) for s in args.sizes.split(",")]:
         compiled, build, memory = sheet(args.element, args.kernel, size)
         elements = sum(len(block.connectivity) for block in compiled.blocks)
-        short, _ = run(compiled, args.steps)
-        long, result = run(compiled, 2 * args.steps)
-        per = 1e6 / (elements * args.steps)
+        steps = max(args.steps, round(args.work / elements))
+        short, _ = run(compiled, steps)
+        long, result = run(compiled, 2 * steps)
+        per = 1e6 / (elements * steps)
         steady = [(b - a) * per for a, b in zip(short, long)]
         whole = [a * per for a in short]
         reference = reference_pass(size)
@@ -200,7 +210,7 @@ def main(argv=None) -> None:
             f"{'':>10} steady step {steady[0]:.3f} us/element-step wall, {steady[1]:.3f} CPU "
             f"({steady[1] / reference_cpu:.1f} x the reference pass, {reference:.3f} wall, "
             f"{reference_cpu:.3f} CPU); "
-            f"whole run of {args.steps} steps {whole[0]:.3f} wall, {whole[1]:.3f} CPU"
+            f"whole run of {steps} steps {whole[0]:.3f} wall, {whole[1]:.3f} CPU"
         )
         print(
             f"{'':>10} per element, us of CPU: "
