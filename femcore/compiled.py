@@ -185,6 +185,12 @@ class CompiledModel:
         self._no_history = (None,) * len(self.parts)
         self._load_terms = self._loads(model.loads, active)
         self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
+        # Each gravity's nodal weights m g (n, 3), and the nodes no element carries: made
+        # once, not at every step's load.
+        self._gravity_forces = [
+            self._weighed_mass[:, None] * np.asarray(vector) for _, vector in self._gravity_terms
+        ]
+        self._unloaded = np.flatnonzero(~active[:, 0])
 
     # ------------------------------------------------------------- construction helpers
     def _cells(self, entry: BlockEntry) -> np.ndarray:
@@ -553,9 +559,10 @@ class CompiledModel:
                 force += factor * values
             else:
                 moment += factor * values
-        for amplitude, vector in self._gravity_terms:
-            force += _evaluate(amplitude, tau, quasi_static) * self._weighed_mass[:, None] * vector
-        force[~self.dofs.active[:, 0]] = 0.0
+        for (amplitude, _), weight in zip(self._gravity_terms, self._gravity_forces):
+            force += _evaluate(amplitude, tau, quasi_static) * weight
+        if self._unloaded.size:
+            force[self._unloaded] = 0.0
         return force, moment
 
     def prescribed_displacement(self, tau: float, quasi_static: bool = False) -> np.ndarray:
