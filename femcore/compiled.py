@@ -18,10 +18,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
-from femcore.assembly import NodeGraph, TangentPart, finite_difference_tangent, tangent_matrix
+from femcore.assembly import (
+    CellTangent,
+    NodeGraph,
+    TangentPart,
+    finite_difference_tangent,
+    tangent_matrix,
+)
 from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
+from femcore.gershgorin import gershgorin_largest
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.loads import Amplitude, Fix, NodalLoad, Prescribed
 from femcore.memory import check_model_memory
@@ -409,13 +416,19 @@ class CompiledModel:
         parts = self.tangent_parts(state, list(range(len(self.parts))))
         if parts is None:
             return None
-        stiffness = tangent_matrix(self.dofs, parts, self.dofs.frames(state.directors))
         # The row sums of |K_ff| M^-1/2 over the free columns: a scale of 0 on the other
         # columns, rather than slicing K (which costs as much as the product).
         scale = np.zeros(self.dofs.n_slots)
         scale[free] = 1.0 / np.sqrt(diagonal)
-        rows = np.asarray(abs(stiffness) @ scale).ravel()[free] * scale[free]
-        largest = float(rows.max(initial=0.0))
+        frames = self.dofs.frames(state.directors)
+        if all(isinstance(part, CellTangent) for part in parts):
+            # summed per node pair by a compiled loop: no sparse matrix made
+            maps = self.dofs.node_maps(frames)
+            largest = gershgorin_largest(parts, maps, scale, self.n_nodes)  # type: ignore[arg-type]
+        else:
+            stiffness = tangent_matrix(self.dofs, parts, frames)
+            rows = np.asarray(abs(stiffness) @ scale).ravel()[free] * scale[free]
+            largest = float(rows.max(initial=0.0))
         return 2.0 / np.sqrt(largest) if largest > 0.0 else None
 
     def strain_energy(self, state: State) -> float:
