@@ -21,9 +21,12 @@ __all__ = [
     "AVAILABLE",
     "NodeCorners",
     "cable_forces",
+    "mindlin_cell_steps",
     "mindlin_energy",
+    "mindlin_fields",
     "mindlin_loads",
     "mindlin_loads_and_energy",
+    "mindlin_tables",
 ]
 
 
@@ -278,6 +281,45 @@ def mindlin_loads_and_energy(block, positions: np.ndarray, directors: np.ndarray
 def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float:
     """Strain energy (N mm) of a MindlinShellBlock by the compiled kernel."""
     return float(_run_mindlin(block, positions, directors, False)[1].sum())
+
+
+@jit
+def _cell_steps(positions, connectivity, translational, rotational, calibration, out):
+    """The Mindlin cells' stable steps 2 / sqrt(omega^2 calibration) into out (m,), omega^2 =
+    translational sum_k 1 / h_k^2 + rotational[c] (h_k the altitudes at the current
+    positions): elements/mindlin.py ``_cheap_omega2`` and ``cell_stable_dt`` in one loop."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        ax = positions[n1, 0] - positions[n0, 0]
+        ay = positions[n1, 1] - positions[n0, 1]
+        az = positions[n1, 2] - positions[n0, 2]
+        bx = positions[n2, 0] - positions[n0, 0]
+        by = positions[n2, 1] - positions[n0, 1]
+        bz = positions[n2, 2] - positions[n0, 2]
+        cx = positions[n2, 0] - positions[n1, 0]
+        cy = positions[n2, 1] - positions[n1, 1]
+        cz = positions[n2, 2] - positions[n1, 2]
+        nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        area2 = np.sqrt(nx * nx + ny * ny + nz * nz)
+        # (side opposite node k / 2A)^2 = 1 / h_k^2
+        inverse = (cx * cx + cy * cy + cz * cz) + (bx * bx + by * by + bz * bz)
+        inverse += ax * ax + ay * ay + az * az
+        inverse /= area2 * area2
+        out[c] = 2.0 / np.sqrt((translational * inverse + rotational[c]) * calibration[c])
+
+
+def mindlin_cell_steps(block, positions: np.ndarray, translational: float, rotational, calibration):
+    """Stable steps (m,) of a MindlinShellBlock's cells by the compiled loop."""
+    out = np.empty(len(block.connectivity))
+    _cell_steps(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        block.connectivity,
+        float(translational),
+        rotational,
+        calibration,
+        out,
+    )
+    return out
 
 
 def _point_transform(jac, warp, has_warp, t, transform):

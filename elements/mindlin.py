@@ -737,8 +737,22 @@ class MindlinShellBlock(ElementBlock):
             first, shape_of = _congruent_cells(x0, v0)
             omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
             self._step_calibration = omega2 / self._cheap_omega2(x0)
+        if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
+            translational, rotational = self._cheap_terms()
+            return kernels.mindlin_cell_steps(
+                self, state.positions, translational, rotational, self._step_calibration
+            )
         x = state.positions[self.connectivity]
         return 2.0 / np.sqrt(self._cheap_omega2(x) * self._step_calibration)
+
+    def _cheap_terms(self) -> tuple[float, np.ndarray]:
+        """(a, b) of ``_cheap_omega2`` = a sum_k 1 / h_k^2 + b: a = 3 / rho (max(Q11, Q22) +
+        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2."""
+        q = self.material.plane_stress
+        shear = float(np.max(self.material.transverse))
+        rho = self.material.density
+        translational = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear)
+        return translational, shear / (2.0 * rho * self.rotary_factor)
 
     def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
         """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3):
@@ -750,11 +764,8 @@ class MindlinShellBlock(ElementBlock):
         sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
         area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
-        q = self.material.plane_stress
-        shear = float(np.max(self.material.transverse))
-        rho = self.material.density
-        omega2 = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear) * inverse_heights2
-        return omega2 + shear / (2.0 * rho * self.rotary_factor)
+        translational, rotational = self._cheap_terms()
+        return translational * inverse_heights2 + rotational
 
     def element_omega2(
         self, x: np.ndarray, v: np.ndarray, cells: np.ndarray | None = None
