@@ -18,6 +18,7 @@ corner positions and directors, carried to the rotation vectors of the directors
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import cast
 
 import numpy as np
@@ -53,6 +54,8 @@ _PRODUCTS = (
 )
 # Cells per slice of the analytic tangent (MindlinShellBlock.tangent).
 _TANGENT_SLICE = 256
+# Cells per piece of ``tangent_pieces`` (a piece's blocks: 10 MB).
+_PIECE = 4096
 # The packed upper triangle of a symmetric 7 x 7 (MindlinShellBlock.level_stiffness).
 _PACKED_ROWS, _PACKED_COLUMNS = kernels.PACKED_ROWS, kernels.PACKED_COLUMNS
 
@@ -531,6 +534,20 @@ class MindlinShellBlock(ElementBlock):
             cells = slice(start, start + _TANGENT_SLICE)
             blocks[cells] = self._cell_tangent(x[cells], v[cells], cells)
         return [CellTangent(self.connectivity, blocks)]
+
+    def tangent_pieces(self, state: State, history=None) -> Iterator[CellTangent]:
+        """``tangent`` a slice of cells at a time (the blocks of all cells are 2.6 kB a
+        triangle; a slice's are made, given and dropped)."""
+        x = state.positions[self.connectivity]
+        v = state.directors[self.connectivity]
+        for start in range(0, len(x), _PIECE):
+            cells = slice(start, start + _PIECE)
+            blocks = np.empty((len(x[cells]), 3, 6, 3, 6))
+            for first in range(start, min(start + _PIECE, len(x)), _TANGENT_SLICE):
+                rows = slice(first, min(first + _TANGENT_SLICE, start + _PIECE))
+                within = slice(rows.start - start, rows.stop - start)
+                blocks[within] = self._cell_tangent(x[rows], v[rows], rows)
+            yield CellTangent(self.connectivity[cells], blocks)
 
     def difference_tangent(self, state: State) -> list[CellTangent]:
         """The blocks of ``tangent`` by central differences of the element loads (36

@@ -10,6 +10,7 @@ to ``parts[i]``.
 from __future__ import annotations
 
 import inspect
+import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -19,7 +20,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from femcore.assembly import (
-    CellTangent,
     NodeGraph,
     TangentPart,
     finite_difference_tangent,
@@ -413,22 +413,24 @@ class CompiledModel:
         diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()[free]
         if free.size == 0 or not np.all(diagonal > 0.0):
             return None
-        parts = self.tangent_parts(state, list(range(len(self.parts))))
-        if parts is None:
-            return None
+        pieces = []
+        histories = self._histories(state)
+        for part, history in zip(self.parts, histories):
+            given = (
+                part.tangent_pieces(state, history)
+                if isinstance(part, ElementBlock)
+                else part.tangent(state, history)
+            )
+            if given is None:
+                return None
+            pieces.append(given)
         # The row sums of |K_ff| M^-1/2 over the free columns: a scale of 0 on the other
-        # columns, rather than slicing K (which costs as much as the product).
+        # columns. K is summed per node pair from the pieces as they come (no sparse matrix,
+        # no block's whole tangent held at once).
         scale = np.zeros(self.dofs.n_slots)
         scale[free] = 1.0 / np.sqrt(diagonal)
-        frames = self.dofs.frames(state.directors)
-        if all(isinstance(part, CellTangent) for part in parts):
-            # summed per node pair by a compiled loop: no sparse matrix made
-            maps = self.dofs.node_maps(frames)
-            largest = gershgorin_largest(parts, maps, scale, self.n_nodes)  # type: ignore[arg-type]
-        else:
-            stiffness = tangent_matrix(self.dofs, parts, frames)
-            rows = np.asarray(abs(stiffness) @ scale).ravel()[free] * scale[free]
-            largest = float(rows.max(initial=0.0))
+        maps = self.dofs.node_maps(self.dofs.frames(state.directors))
+        largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes)
         return 2.0 / np.sqrt(largest) if largest > 0.0 else None
 
     def strain_energy(self, state: State) -> float:

@@ -28,7 +28,7 @@ docstrings are those of the examples (mm, N, t, s); any consistent set works.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -182,6 +182,16 @@ class ElementBlock(ABC):
         (the default): the assembler then differentiates ``internal_force`` by coloured central
         differences over the node graph of ``connectivity`` and ``reach``."""
         return None
+
+    def tangent_pieces(self, state: State, history: Any = None) -> Iterator[TangentPart] | None:
+        """``tangent`` in pieces whose sum is the block's tangent (CellTangent parts over
+        subsets of its cells), or None when it has no tangent of its own. The default gives
+        ``tangent``'s parts; a block that forms its tangent a slice of cells at a time
+        overrides it, so that a caller summing the pieces as they come (the explicit
+        solver's Gershgorin bound, femcore/gershgorin.py) never holds all the cells' blocks
+        at once."""
+        parts = self.tangent(state, history)
+        return None if parts is None else iter(parts)
 
     def apply_supports(self, held: np.ndarray) -> None:
         """Learn which nodes the model's supports hold; the default ignores it.

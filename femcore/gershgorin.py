@@ -6,17 +6,21 @@ The bound is max_i s_i sum_j |K_ij| s_j over the slots of the DOF map (n nodes x
 s = M^-1/2 on the free slots and 0 elsewhere, K in generalised coordinates (T^T K T per node
 pair, T the node maps of ``DofManager.node_maps``). K_ij sums the blocks of every cell that
 holds both nodes before the absolute value is taken, so the blocks are summed per node pair
-first: a compiled loop over the cells in their order (the same sums whatever the threads)
-into the node pairs the cells make, then the row sums. A sparse assembly of the same
-(``femcore.assembly.tangent_matrix``) costs six times as much at 100k triangles, most of it
-in scipy's conversions.
+first: a compiled loop over the cells in their order into the node pairs they make, a piece
+of the tangent at a time as the blocks give them (``ElementBlock.tangent_pieces``: the
+Mindlin block never holds all its cells' 18 x 18 matrices, 2.6 kB a triangle), then each
+pair's pieces summed in their order (the same sums whatever the threads) and the row sums.
+A sparse assembly of the same (``femcore.assembly.tangent_matrix``) cost three times the
+time and twice the memory at 100k triangles, most of it in scipy's conversions.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 
-from femcore.assembly import CellTangent
+from femcore.assembly import CellTangent, TangentPart, generalised_sparse
 
 __all__ = ["gershgorin_largest"]
 
@@ -48,16 +52,27 @@ def _pair_sums(nodes, pair_of, blocks, maps, components, out):
                         target[r, c] += total
 
 
-def _row_bound(first, second, sums, scale):
-    """max over slots i of s_i sum_j |K_ij| s_j, K_ij of the node-pair sums (pairs, 5, 5)
-    of node pairs (first, second)."""
+def _row_bound(keys, order, sums, scale, n_nodes):
+    """max over slots i of s_i sum_j |K_ij| s_j: the pieces' node-pair sums (entries, 5, 5)
+    of node pairs keys (entries,), sorted by ``order``, summed per pair in the pieces'
+    order, then taken absolutely into the rows."""
     rows = np.zeros(scale.shape[0])
-    for pair in range(first.shape[0]):
-        a, b = first[pair], second[pair]
+    block = np.empty((5, 5))
+    position = 0
+    while position < order.shape[0]:
+        key = keys[order[position]]
+        block[:, :] = 0.0
+        while position < order.shape[0] and keys[order[position]] == key:
+            entry = order[position]
+            for r in range(5):
+                for c in range(5):
+                    block[r, c] += sums[entry, r, c]
+            position += 1
+        a, b = key // n_nodes, key % n_nodes
         for r in range(5):
             total = 0.0
             for c in range(5):
-                total += abs(sums[pair, r, c]) * scale[5 * b + c]
+                total += abs(block[r, c]) * scale[5 * b + c]
             rows[5 * a + r] += total
     largest = 0.0
     for i in range(rows.shape[0]):
@@ -76,28 +91,48 @@ except ImportError:  # pragma: no cover - numba is a dependency
     pass
 
 
+def _piece_sums(piece: TangentPart, maps: np.ndarray, n_nodes: int):
+    """(node-pair keys a n + b (pairs,), their summed generalised 5 x 5 blocks) of one
+    tangent piece."""
+    if isinstance(piece, CellTangent):
+        nodes = np.ascontiguousarray(piece.nodes, dtype=np.int64)
+        flat = (nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel()
+        keys, pair_of = np.unique(flat, return_inverse=True)
+        sums = np.zeros((len(keys), 5, 5))
+        blocks = np.ascontiguousarray(piece.blocks, dtype=np.float64)
+        where = pair_of.reshape(nodes.shape + nodes.shape[1:2])
+        _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums)
+        return keys, sums
+    matrix = generalised_sparse(piece, maps).tocoo()
+    row, col = matrix.row.astype(np.int64), matrix.col.astype(np.int64)
+    keys, pair_of = np.unique((row // 5) * n_nodes + col // 5, return_inverse=True)
+    sums = np.zeros((len(keys), 5, 5))
+    np.add.at(sums, (pair_of.ravel(), row % 5, col % 5), matrix.data)
+    return keys, sums
+
+
 def gershgorin_largest(
-    parts: list[CellTangent], maps: np.ndarray, scale: np.ndarray, n_nodes: int
+    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
 ) -> float:
-    """max_i s_i sum_j |K_ij| s_j (1/s^2 when s = M^-1/2) of the generalised tangent of
-    the CellTangent ``parts``.
+    """max_i s_i sum_j |K_ij| s_j (1/s^2 when s = M^-1/2) of the generalised tangent whose
+    pieces (CellTangent blocks (m, p, c, p, c), c = 6 (u, psi) or 3 (u); SparseTangent
+    matrices) are given, taken one at a time as they come.
 
     Parameters
     ----------
-    parts : CellTangent parts, blocks (m, p, c, p, c) with c = 6 (u, psi) or 3 (u).
+    pieces : the tangent's parts (``ElementBlock.tangent_pieces``).
     maps : (n, 6, 5) node maps (u, psi) = T q.
     scale : (5 n,) s per slot, 0 off the free slots.
     n_nodes : n.
     """
-    pairs = [(part.nodes[:, :, None] * n_nodes + part.nodes[:, None, :]).ravel() for part in parts]
-    keys, pair_of = np.unique(np.concatenate(pairs), return_inverse=True)
-    sums = np.zeros((len(keys), 5, 5))
-    start = 0
-    for part, flat in zip(parts, pairs):
-        nodes = np.ascontiguousarray(part.nodes, dtype=np.int64)
-        where = pair_of[start : start + flat.size].reshape(nodes.shape + nodes.shape[1:2])
-        start += flat.size
-        blocks = np.ascontiguousarray(part.blocks, dtype=np.float64)
-        _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums)
-    first, second = np.divmod(keys, n_nodes)
-    return float(_row_bound(first, second, sums, np.ascontiguousarray(scale)))
+    keys, sums = [], []
+    for piece in pieces:
+        piece_keys, piece_sums = _piece_sums(piece, maps, n_nodes)
+        keys.append(piece_keys)
+        sums.append(piece_sums)
+    if not keys:
+        return 0.0
+    all_keys = np.concatenate(keys)
+    all_sums = np.concatenate(sums) if len(sums) > 1 else sums[0]
+    order = np.argsort(all_keys, kind="stable")  # a pair's pieces in their order
+    return float(_row_bound(all_keys, order, all_sums, np.ascontiguousarray(scale), n_nodes))
