@@ -25,10 +25,10 @@ Measured on the project's 2-core machine shared with other busy processes (load 
 wall times about 2.5 x the CPU times), Mindlin shell, one thread, before this renovation
 (main 3698780) and after it, µs per element-step of CPU (wall in brackets):
 
-    size   steady step             x reference    force + energy    rest of a step   build
-    10k    0.27 (0.81) -> 0.11 (0.24)   3.5 -> 1.6    0.20 -> 0.07      0.08 -> 0.02     0.31 -> 0.03 s
-    100k   0.26 (0.77) -> 0.11 (0.31)   3.4 -> 1.4    0.19 -> 0.08      0.07 -> 0.02     3.2 -> 0.26 s
-    400k   0.37 (issue) -> 0.12 (0.42)          1.2                                       ~15 -> 1.6 s
+    size   steady step                  x ref.      force+energy  rest of step  build, s
+    10k    0.27 (0.81) -> 0.11 (0.24)   3.5 -> 1.6  0.20 -> 0.07  0.08 -> 0.02  0.31 -> 0.03
+    100k   0.26 (0.77) -> 0.11 (0.31)   3.4 -> 1.4  0.19 -> 0.08  0.07 -> 0.02  3.2 -> 0.26
+    400k   0.37 (issue) -> 0.12 (0.42)  1.2                                     ~15 -> 1.6
 
 Memory (kB per triangle, the model's resident memory after the build; the process's peak at
 400k, the interpreter's 176 MB included): 3.7 -> 1.0 resident; peak 7.4 (issue) -> 1.97 with
