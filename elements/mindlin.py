@@ -735,8 +735,11 @@ class MindlinShellBlock(ElementBlock):
         if density_scale is not None:
             share = share * np.asarray(density_scale, dtype=float)
         per_node = np.repeat(share[:, None], 3, axis=1)
-        mass = self.scatter.scalars(per_node)
-        inertia = self.scatter.scalars(per_node * self.rotary_factor[:, None])
+        # Scatter.scalars' sums, without making the scatter's vector table
+        corners, n = self.connectivity.ravel(), self.n_nodes
+        mass = np.bincount(corners, weights=per_node.ravel(), minlength=n)
+        weights = (per_node * self.rotary_factor[:, None]).ravel()
+        inertia = np.bincount(corners, weights=weights, minlength=n)
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:

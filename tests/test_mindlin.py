@@ -459,12 +459,16 @@ def test_the_compiled_section_forces_are_the_numpy_ones(warp):
 
 def test_a_block_keeps_no_point_tables_for_the_compiled_step():
     """What the compiled path reads per triangle stays small: the packed level stiffness and
-    the reference products (560 bytes at two levels), no point-wise 5 x 5 tables."""
+    the reference products (560 bytes at two levels), no point-wise 5 x 5 tables, no
+    scatter tables (forces, fields, masses and stable steps alike)."""
     models, state = _jittered_pair()
     block = models["compiled"].blocks[0]
     block.internal_force_and_energy(state)
     block.cell_fields(state)
+    block.lumped_mass(state)
+    block.cell_stable_dt(state)
     assert block._point_tables is None and block._weighted is None
+    assert block._scatter is None  # the numpy path's index tables neither
     per_cell = (block.level_stiffness.nbytes + block.reference_measures.nbytes) / len(
         block.connectivity
     )
