@@ -619,7 +619,8 @@ def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.nd
 # chunk (an allocation per cell cost more than the arithmetic).
 _CHUNK = 256
 
-# In-plane 3-point rule (r, s) of the Mindlin triangle (elements/mindlin.py _IN_PLANE).
+# In-plane 3-point rule (r, s) of the Mindlin triangle, weight 1/6 each in the (r, s)
+# triangle of area 1/2 (elements/mindlin_tables.py).
 IN_PLANE = np.array([[1 / 6, 1 / 6], [2 / 3, 1 / 6], [1 / 6, 2 / 3]])
 
 

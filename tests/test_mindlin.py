@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 import pytest
 
-from elements import MindlinShell, mindlin
+from elements import MindlinShell, mindlin, mindlin_tables
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import ElasticShell
@@ -398,7 +398,7 @@ def test_the_compiled_level_stiffness_is_the_sum_of_the_point_matrices(points):
     areas are numpy's."""
     models, _ = _jittered_pair(points)
     block = models["compiled"].blocks[0]
-    reference = mindlin._packed(mindlin._level_stiffness_of(block.weighted_stiffness))
+    reference = mindlin_tables._packed(mindlin_tables._level_stiffness_of(block.weighted_stiffness))
     assert block.level_stiffness.shape == (len(block.connectivity), points, 28)
     scale = np.abs(reference).max()
     assert np.abs(block.level_stiffness - reference).max() <= 1e-12 * scale
@@ -486,7 +486,7 @@ def test_congruent_cells_share_one_element_eigenvalue_problem():
     model = compiled(mesh=Mesh.rectangle(40.0, 30.0, nx=8, ny=6))
     block = model.blocks[0]
     x0, v0 = block._reference_cells()
-    first, shape_of = mindlin._congruent_cells(x0, v0)
+    first, shape_of = mindlin_tables._congruent_cells(x0, v0)
     assert len(first) == 2 and shape_of.shape == (len(x0),)
     block.cell_stable_dt(model.initial_state())
     own = block.element_omega2(x0, v0) / block._cheap_omega2(x0)
@@ -494,7 +494,7 @@ def test_congruent_cells_share_one_element_eigenvalue_problem():
     # a jittered mesh: every cell its own shape
     rng = np.random.default_rng(2)
     jittered = x0 + rng.uniform(-0.1, 0.1, size=x0.shape)
-    assert len(mindlin._congruent_cells(jittered, v0)[0]) == len(x0)
+    assert len(mindlin_tables._congruent_cells(jittered, v0)[0]) == len(x0)
 
 
 @pytest.mark.parallel
