@@ -38,7 +38,7 @@ from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.common import inverse_diagonal
 from solvers.dynamics import EnergyAccount, damped_velocity, update_rates
-from solvers.turning import turn
+from solvers.turning import COMPILED, move, rates, turn
 
 __all__ = [
     "LumpedMasses",
@@ -233,7 +233,7 @@ def rotational_update(
     damping: float = 0.0,
     checking: bool = False,
 ) -> tuple[State, np.ndarray, tuple[float, ...]]:
-    """The rotational half of ``explicit_step`` from its public pieces, in numpy passes: the
+    """The rotational half of ``explicit_step`` in numpy passes over (n, 3) arrays: the
     reference that solvers/turning.py's one compiled pass is tested against.
 
     moments : (external, internal) moment vectors (n, 3) at t(i), N mm. velocities : (n, 3)
@@ -245,9 +245,9 @@ def rotational_update(
     # Only the drilling part is dropped here, so that the update below sees what a fixed
     # alpha / beta has to hold: that difference is the support moment.
     moment = drop_along(m_ext - m_int, state.directors)
-    w_free, w_new = angular_rates(
-        model, state.angular_velocities, moment, masses.inverse_inertia, dt_bar, c, state.directors
-    )
+    omega = state.angular_velocities
+    w_free = damped_velocity(omega, moment, masses.inverse_inertia, dt_bar, c)
+    w_new = model.constrain_angular(w_free, state.directors)
     reaction_moments = inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
     turning = EnergyAccount.increments(
         (m_ext + reaction_moments, m_int),
@@ -258,7 +258,8 @@ def rotational_update(
         dt,
         checking,
     )
-    moved = replace(advance(model, state, dt, velocities, w_new), angular_velocities=w_new)
+    moved = model.dofs.move(state, dt * velocities, dt * w_new)
+    moved = replace(moved, angular_velocities=w_new)
     return moved, reaction_moments, turning
 
 
@@ -279,6 +280,17 @@ def angular_rates(
     inverse_inertia : (n, 1) 1/I. dt_bar : s. damping : c, 1/s. directors : (n, 3) at t(i).
     Returns (free, constrained) omega(i+1/2), (n, 3) each.
     """
+    if COMPILED:  # one pass over the nodes (solvers/turning.py), the numpy formulas
+        return rates(
+            omega,
+            moment,
+            inverse_inertia,
+            model.has_rotation,
+            model.rotation_fixed,
+            directors,
+            dt_bar,
+            damping,
+        )
     free = damped_velocity(omega, moment, inverse_inertia, dt_bar, damping)
     return free, model.constrain_angular(free, directors)
 
@@ -293,6 +305,16 @@ def advance(
     """The configuration update: positions + dt v (n, 3), directors turned by the finite
     rotations dt omega (n, 3) at the nodes that have them (None: not turned); the rates of
     the returned state are those of ``state``."""
+    if COMPILED and angular_velocities is not None and model.dofs.any_rotation:
+        positions, directors = move(
+            state.positions,
+            state.directors,
+            velocities,
+            angular_velocities,
+            dt,
+            model.has_rotation,
+        )
+        return replace(state, positions=positions, directors=directors)
     return model.dofs.move(
         state, dt * velocities, None if angular_velocities is None else dt * angular_velocities
     )

@@ -9,8 +9,8 @@ from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import ElasticShell
 from solvers import CentralDifference, LumpedMasses, Step, explicit_step
-from solvers.dynamics import EnergyAccount
-from solvers.step import rotational_update
+from solvers.dynamics import EnergyAccount, damped_velocity
+from solvers.step import advance, angular_rates, rotational_update
 
 
 def hanging_cable():
@@ -168,3 +168,27 @@ def test_a_checked_step_carries_the_strain_energy_of_its_state():
     checked = explicit_step(compiled, state, dt, masses, checking=True)
     assert checked.strain_energy == compiled.strain_energy(state) > 0.0
     assert explicit_step(compiled, state, dt, masses).strain_energy is None
+
+
+@pytest.mark.parametrize("fix_rotations", [False, True])
+def test_angular_rates_and_advance_are_the_numpy_passes(fix_rotations):
+    """The one-loop angular_rates and advance dynamic relaxation moves with give the numpy
+    passes' values (damped_velocity, constrain_angular, DofManager.move) to 1e-12."""
+    compiled, state = turned_plate(fix_rotations)
+    masses = LumpedMasses.of(compiled, state)
+    rng = np.random.default_rng(8)
+    moment = rng.normal(scale=50.0, size=state.positions.shape)
+    free, held = angular_rates(
+        compiled, state.angular_velocities, moment, masses.inverse_inertia, 1e-6, 40.0,
+        state.directors,
+    )  # fmt: skip
+    expected = damped_velocity(state.angular_velocities, moment, masses.inverse_inertia, 1e-6, 40.0)
+    assert np.abs(free - expected).max() <= 1e-12 * np.abs(expected).max()
+    constrained = compiled.constrain_angular(expected, state.directors)
+    assert np.abs(held - constrained).max() <= 1e-12 * np.abs(constrained).max()
+    moved = advance(compiled, state, 1e-3, state.velocities, held)
+    reference = compiled.dofs.move(state, 1e-3 * state.velocities, 1e-3 * held)
+    for name in ("positions", "directors"):
+        mine, theirs = getattr(moved, name), getattr(reference, name)
+        assert np.abs(mine - theirs).max() <= 1e-12 * np.abs(theirs).max(), name
+    assert np.abs(moved.directors - state.directors).max() > 1e-6  # it turned
