@@ -17,7 +17,6 @@ time and twice the memory at 100k triangles, most of it in scipy's conversions.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import Any
 
 import numpy as np
 
@@ -53,11 +52,10 @@ def _pair_sums(nodes, pair_of, blocks, maps, components, out):
                         target[r, c] += total
 
 
-def _row_bound(keys, order, chunks, chunk_of, starts, scale, n_nodes):
-    """max over slots i of s_i sum_j |K_ij| s_j: the pieces' node-pair sums (entry e in
-    chunks[chunk_of[e]] at e - starts[chunk_of[e]], 5 x 5 each) of node pairs keys
-    (entries,), sorted by ``order``, summed per pair in the pieces' order, then taken
-    absolutely into the rows."""
+def _row_bound(keys, order, sums, scale, n_nodes):
+    """max over slots i of s_i sum_j |K_ij| s_j: the pieces' node-pair sums (entries, 5, 5)
+    of node pairs keys (entries,), sorted by ``order``, summed per pair in the pieces'
+    order, then taken absolutely into the rows."""
     rows = np.zeros(scale.shape[0])
     block = np.empty((5, 5))
     position = 0
@@ -66,12 +64,9 @@ def _row_bound(keys, order, chunks, chunk_of, starts, scale, n_nodes):
         block[:, :] = 0.0
         while position < order.shape[0] and keys[order[position]] == key:
             entry = order[position]
-            chunk = chunk_of[entry]
-            sums = chunks[chunk]
-            local = entry - starts[chunk]
             for r in range(5):
                 for c in range(5):
-                    block[r, c] += sums[local, r, c]
+                    block[r, c] += sums[entry, r, c]
             position += 1
         a, b = key // n_nodes, key % n_nodes
         for r in range(5):
@@ -87,15 +82,11 @@ def _row_bound(keys, order, chunks, chunk_of, starts, scale, n_nodes):
     return largest
 
 
-# The container of the pieces' sums: numba's typed list (the compiled loop reads it), or a list.
-_chunk_list: Any = list
 try:
     import numba
-    from numba.typed import List
 
     _pair_sums = numba.njit(cache=True)(_pair_sums)
     _row_bound = numba.njit(cache=True)(_row_bound)
-    _chunk_list = List
 except ImportError:  # pragma: no cover - numba is a dependency
     pass
 
@@ -134,21 +125,14 @@ def gershgorin_largest(
     scale : (5 n,) s per slot, 0 off the free slots.
     n_nodes : n.
     """
-    # The pieces' sums stay where they were made (no concatenated copy: they are most of
-    # the memory this takes, 0.7 kB a triangle of the Mindlin shell).
-    keys, chunks = [], _chunk_list()
+    keys, sums = [], []
     for piece in pieces:
         piece_keys, piece_sums = _piece_sums(piece, maps, n_nodes)
         keys.append(piece_keys)
-        chunks.append(piece_sums)
+        sums.append(piece_sums)
     if not keys:
         return 0.0
-    sizes = np.array([len(k) for k in keys], dtype=np.int64)
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
-    chunk_of = np.repeat(np.arange(len(keys), dtype=np.int64), sizes)
     all_keys = np.concatenate(keys)
+    all_sums = np.concatenate(sums) if len(sums) > 1 else sums[0]
     order = np.argsort(all_keys, kind="stable")  # a pair's pieces in their order
-    largest = _row_bound(
-        all_keys, order, chunks, chunk_of, starts, np.ascontiguousarray(scale), n_nodes
-    )
-    return float(largest)
+    return float(_row_bound(all_keys, order, all_sums, np.ascontiguousarray(scale), n_nodes))
