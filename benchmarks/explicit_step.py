@@ -31,14 +31,14 @@ wall times about 2.5 x the CPU times), Mindlin shell, one thread, before this re
     400k   0.37 (issue) -> 0.12 (0.42)  1.2                                     ~15 -> 1.6
 
 Memory (kB per triangle, the model's resident memory after the build; the process's peak at
-400k, the interpreter's 176 MB included): 3.7 -> 0.96 resident; peak 7.4 (issue) -> 1.97 with
-a given dt and 3.3 with the solver's own (its assembled stable step holds the node pairs' 5 x 5
-sums). The assembled stable step at 100k: 6.2 -> 1.8 s of CPU; the cells' calibration 6.6 s ->
-0.2 s (cells of one shape share one eigenvalue problem). Two threads gave the one-thread
-figures at that load (the threads follow the free cores). The fibrous shell with its force
-kernel as on main, 100k: steady step 1.10 -> 0.77 µs of CPU, the rest of a step 0.070 ->
-0.034, build 0.77 -> 0.47 s (its energy still a pass of its own here: the block's
-``internal_force_and_energy`` is the fibrous kernel's to fuse).
+400k, the interpreter's 176 MB included): 3.7 -> 0.96 resident; peak 7.4 (issue) -> 1.9 with
+a given dt and 2.7 with the solver's own (its assembled stable step holds the node pairs'
+5 x 5 sums, 0.7 kB a triangle). The assembled stable step at 100k: 6.2 -> 0.7-1.8 s of CPU;
+the cells' calibration 6.6 s -> 0.2 s (cells of one shape share one eigenvalue problem). Two
+threads gave the one-thread figures at that load (the threads follow the free cores). The
+fibrous shell with its force kernel as on main, 100k: steady step 1.10 -> 0.77 µs of CPU, the
+rest of a step 0.070 -> 0.034, build 0.77 -> 0.47 s (its energy still a pass of its own here:
+the block's ``internal_force_and_energy`` is the fibrous kernel's to fuse).
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.

@@ -91,24 +91,42 @@ except ImportError:  # pragma: no cover - numba is a dependency
     pass
 
 
-def _piece_sums(piece: TangentPart, maps: np.ndarray, n_nodes: int):
-    """(node-pair keys a n + b (pairs,), their summed generalised 5 x 5 blocks) of one
-    tangent piece."""
+class _Sums:
+    """The pieces' node-pair sums one after the other in one array, grown in place
+    (``ndarray.resize``: the kernel moves the pages, nothing is copied, and only the rows
+    written are ever in memory): a concatenation at the end would hold them twice."""
+
+    def __init__(self) -> None:
+        self.rows = np.empty((0, 5, 5))
+        self.used = 0
+
+    def region(self, count: int) -> np.ndarray:
+        """The next ``count`` rows, zeroed, to sum a piece into."""
+        needed = self.used + count
+        if needed > len(self.rows):
+            self.rows.resize((max(needed, 2 * len(self.rows)), 5, 5), refcheck=False)
+        region = self.rows[self.used : needed]
+        region[:] = 0.0
+        self.used = needed
+        return region
+
+
+def _piece_sums(piece: TangentPart, maps: np.ndarray, n_nodes: int, sums: _Sums) -> np.ndarray:
+    """The node-pair keys a n + b (pairs,) of one tangent piece, its summed generalised
+    5 x 5 blocks added to ``sums`` in their order."""
     if isinstance(piece, CellTangent):
         nodes = np.ascontiguousarray(piece.nodes, dtype=np.int64)
         flat = (nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel()
         keys, pair_of = np.unique(flat, return_inverse=True)
-        sums = np.zeros((len(keys), 5, 5))
         blocks = np.ascontiguousarray(piece.blocks, dtype=np.float64)
         where = pair_of.reshape(nodes.shape + nodes.shape[1:2])
-        _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums)
-        return keys, sums
+        _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums.region(len(keys)))
+        return keys
     matrix = generalised_sparse(piece, maps).tocoo()
     row, col = matrix.row.astype(np.int64), matrix.col.astype(np.int64)
     keys, pair_of = np.unique((row // 5) * n_nodes + col // 5, return_inverse=True)
-    sums = np.zeros((len(keys), 5, 5))
-    np.add.at(sums, (pair_of.ravel(), row % 5, col % 5), matrix.data)
-    return keys, sums
+    np.add.at(sums.region(len(keys)), (pair_of.ravel(), row % 5, col % 5), matrix.data)
+    return keys
 
 
 def gershgorin_largest(
@@ -125,14 +143,11 @@ def gershgorin_largest(
     scale : (5 n,) s per slot, 0 off the free slots.
     n_nodes : n.
     """
-    keys, sums = [], []
-    for piece in pieces:
-        piece_keys, piece_sums = _piece_sums(piece, maps, n_nodes)
-        keys.append(piece_keys)
-        sums.append(piece_sums)
+    sums = _Sums()
+    keys = [_piece_sums(piece, maps, n_nodes, sums) for piece in pieces]
     if not keys:
         return 0.0
     all_keys = np.concatenate(keys)
-    all_sums = np.concatenate(sums) if len(sums) > 1 else sums[0]
     order = np.argsort(all_keys, kind="stable")  # a pair's pieces in their order
-    return float(_row_bound(all_keys, order, all_sums, np.ascontiguousarray(scale), n_nodes))
+    rows = sums.rows[: sums.used]
+    return float(_row_bound(all_keys, order, rows, np.ascontiguousarray(scale), n_nodes))
