@@ -3,6 +3,11 @@
 importing the element types), the ``Scatter`` of femcore.assembly, and helpers: ``local_tangent``
 (a cell-local stiffness by central differences, all cells at once) and ``check_positive``.
 
+A block may fuse its force and energy passes by overriding
+``ElementBlock.internal_force_and_energy`` (the default calls ``internal_force`` and
+``strain_energy``): the explicit solver asks for both on the steps that check the energy
+balance.
+
 A new element type is one class deriving from ``ElementType`` whose ``bind`` returns an
 ``ElementBlock``; it may live in the user's own module and works with every solver.
 """

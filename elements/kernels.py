@@ -17,7 +17,17 @@ import numpy as np
 
 from elements.jit import AVAILABLE, jit, prange, serial
 
-__all__ = ["AVAILABLE", "NodeCorners", "cable_forces", "mindlin_energy", "mindlin_loads"]
+__all__ = [
+    "AVAILABLE",
+    "NodeCorners",
+    "cable_forces",
+    "mindlin_cell_steps",
+    "mindlin_energy",
+    "mindlin_fields",
+    "mindlin_loads",
+    "mindlin_loads_and_energy",
+    "mindlin_tables",
+]
 
 
 def choose(kernel: str | None) -> str:
@@ -69,20 +79,29 @@ def _node_sums(offsets, corners, per_corner, out):
         out[node, 0], out[node, 1], out[node, 2] = sx, sy, sz
 
 
+# The packed upper triangle of a symmetric 7 x 7 level stiffness: entry (r, s), r <= s, row
+# by row (elements/mindlin.py ``MindlinShellBlock.level_stiffness``).
+PACKED_ROWS, PACKED_COLUMNS = np.triu_indices(7)
+
+
 @jit
 def _mindlin_cells(
-    positions, directors, connectivity, zeta, half, ref11, ref22, ref12, ref_tying,
-    shear_a, shear_b, stiffness, tying_n, with_forces, force, moment, energy,
+    positions, directors, connectivity, zeta, half, reference, stiffness, tying_n, with_forces,
+    loads, energy,
 ):  # fmt: skip
-    """The strain energy (m,) of each MITC3 Mindlin triangle (elements/mindlin.py
-    ``strain_energy``: 1/2 sum E . D E over its points) into ``energy`` and, ``with_forces``,
-    its nodal forces and director moments (m, 3, 3) (``_cell_loads``, docs/theory.md
-    §5.2-5.4) into ``force`` and ``moment``. stiffness: (m, P, Z, 5, 5) weighted lamina
-    stiffness per point. Three-vectors are kept in scalars (x, y, z components): no array is
-    allocated inside the loop."""
+    """The strain energy (m,) of each MITC3 Mindlin triangle into ``energy`` and, with
+    ``with_forces``, its nodal forces and director moments into ``loads`` (m, 3, 6): forces
+    in [..., :3], moments in [..., 3:].
+
+    By level (docs/theory.md §5.5): the seven level measures e = (E11, E22, 2E12, and the
+    changes of the tying products g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C) from the products of
+    the current vectors less ``reference`` (m, Z, 7), their conjugates sigma = D^ e with the
+    level stiffness ``stiffness`` (m, Z, 28, the packed upper triangle of the symmetric
+    7 x 7, the in-plane points and the assumed shear summed in at bind), W = 1/2 sum e . sigma,
+    and the loads sigma . de/ds. Three-vectors are kept in scalars: no array is allocated
+    inside the loop."""
     m = connectivity.shape[0]
     nz = zeta.shape[0]
-    npts = shear_a.shape[0]
     for c in prange(m):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         d1x = positions[n1, 0] - positions[n0, 0]
@@ -114,46 +133,38 @@ def _mindlin_cells(
             zz = zeta[z]
             g1x, g1y, g1z = d1x + zz * w1x, d1y + zz * w1y, d1z + zz * w1z
             g2x, g2y, g2z = d2x + zz * w2x, d2y + zz * w2y, d2z + zz * w2z
-            e11 = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - ref11[c, z])
-            e22 = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - ref22[c, z])
-            e12 = g1x * g2x + g1y * g2y + g1z * g2z - ref12[c, z]
-            ta = 0.5 * (g1x * ax + g1y * ay + g1z * az - ref_tying[c, z, 0])
-            tc1 = 0.5 * (g1x * cx + g1y * cy + g1z * cz - ref_tying[c, z, 1])
-            tb = 0.5 * (g2x * bx + g2y * by + g2z * bz - ref_tying[c, z, 2])
-            tc2 = 0.5 * (g2x * cx + g2y * cy + g2z * cz - ref_tying[c, z, 3])
-            s11 = s22 = s12 = 0.0
-            y0 = y1 = y2 = y3 = 0.0  # conjugates of the tying values, halved
-            for p in range(npts):
-                e13 = 2.0 * (
-                    ta * shear_a[p, 0] + tc1 * shear_a[p, 1] + tb * shear_a[p, 2]
-                    + tc2 * shear_a[p, 3]
-                )  # fmt: skip
-                e23 = 2.0 * (
-                    ta * shear_b[p, 0] + tc1 * shear_b[p, 1] + tb * shear_b[p, 2]
-                    + tc2 * shear_b[p, 3]
-                )  # fmt: skip
-                k = stiffness[c, p, z]
-                r0 = k[0, 0] * e11 + k[0, 1] * e22 + k[0, 2] * e12 + k[0, 3] * e13 + k[0, 4] * e23
-                r1 = k[1, 0] * e11 + k[1, 1] * e22 + k[1, 2] * e12 + k[1, 3] * e13 + k[1, 4] * e23
-                r2 = k[2, 0] * e11 + k[2, 1] * e22 + k[2, 2] * e12 + k[2, 3] * e13 + k[2, 4] * e23
-                r3 = k[3, 0] * e11 + k[3, 1] * e22 + k[3, 2] * e12 + k[3, 3] * e13 + k[3, 4] * e23
-                r4 = k[4, 0] * e11 + k[4, 1] * e22 + k[4, 2] * e12 + k[4, 3] * e13 + k[4, 4] * e23
-                stored += e11 * r0 + e22 * r1 + e12 * r2 + e13 * r3 + e23 * r4
-                s11 += r0
-                s22 += r1
-                s12 += r2
-                y0 += r3 * shear_a[p, 0] + r4 * shear_b[p, 0]
-                y1 += r3 * shear_a[p, 1] + r4 * shear_b[p, 1]
-                y2 += r3 * shear_a[p, 2] + r4 * shear_b[p, 2]
-                y3 += r3 * shear_a[p, 3] + r4 * shear_b[p, 3]
+            r = reference[c, z]
+            e0 = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - r[0])
+            e1 = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - r[1])
+            e2 = g1x * g2x + g1y * g2y + g1z * g2z - r[2]
+            e3 = g1x * ax + g1y * ay + g1z * az - r[3]
+            e4 = g1x * cx + g1y * cy + g1z * cz - r[4]
+            e5 = g2x * bx + g2y * by + g2z * bz - r[5]
+            e6 = g2x * cx + g2y * cy + g2z * cz - r[6]
+            k = stiffness[c, z]
+            s0 = k[0] * e0 + k[1] * e1 + k[2] * e2 + k[3] * e3 + k[4] * e4 + k[5] * e5 + k[6] * e6
+            s1 = k[1] * e0 + k[7] * e1 + k[8] * e2 + k[9] * e3 + k[10] * e4 + k[11] * e5
+            s1 += k[12] * e6
+            s2 = k[2] * e0 + k[8] * e1 + k[13] * e2 + k[14] * e3 + k[15] * e4 + k[16] * e5
+            s2 += k[17] * e6
+            s3 = k[3] * e0 + k[9] * e1 + k[14] * e2 + k[18] * e3 + k[19] * e4 + k[20] * e5
+            s3 += k[21] * e6
+            s4 = k[4] * e0 + k[10] * e1 + k[15] * e2 + k[19] * e3 + k[22] * e4 + k[23] * e5
+            s4 += k[24] * e6
+            s5 = k[5] * e0 + k[11] * e1 + k[16] * e2 + k[20] * e3 + k[23] * e4 + k[25] * e5
+            s5 += k[26] * e6
+            s6 = k[6] * e0 + k[12] * e1 + k[17] * e2 + k[21] * e3 + k[24] * e4 + k[26] * e5
+            s6 += k[27] * e6
+            stored += e0 * s0 + e1 * s1 + e2 * s2 + e3 * s3 + e4 * s4 + e5 * s5 + e6 * s6
             if not with_forces:
                 continue
-            p1x = s11 * g1x + s12 * g2x + y0 * ax + y1 * cx
-            p1y = s11 * g1y + s12 * g2y + y0 * ay + y1 * cy
-            p1z = s11 * g1z + s12 * g2z + y0 * az + y1 * cz
-            p2x = s22 * g2x + s12 * g1x + y2 * bx + y3 * cx
-            p2y = s22 * g2y + s12 * g1y + y2 * by + y3 * cy
-            p2z = s22 * g2z + s12 * g1z + y2 * bz + y3 * cz
+            # dW/dg1, dW/dg2 at this level; dW/dg3 at A, B, C
+            p1x = s0 * g1x + s2 * g2x + s3 * ax + s4 * cx
+            p1y = s0 * g1y + s2 * g2y + s3 * ay + s4 * cy
+            p1z = s0 * g1z + s2 * g2z + s3 * az + s4 * cz
+            p2x = s1 * g2x + s2 * g1x + s5 * bx + s6 * cx
+            p2y = s1 * g2y + s2 * g1y + s5 * by + s6 * cy
+            p2z = s1 * g2z + s2 * g1z + s5 * bz + s6 * cz
             t1x += p1x
             t1y += p1y
             t1z += p1z
@@ -166,27 +177,27 @@ def _mindlin_cells(
             a2x += zz * p2x
             a2y += zz * p2y
             a2z += zz * p2z
-            qax += y0 * g1x
-            qay += y0 * g1y
-            qaz += y0 * g1z
-            qbx += y2 * g2x
-            qby += y2 * g2y
-            qbz += y2 * g2z
-            qcx += y1 * g1x + y3 * g2x
-            qcy += y1 * g1y + y3 * g2y
-            qcz += y1 * g1z + y3 * g2z
+            qax += s3 * g1x
+            qay += s3 * g1y
+            qaz += s3 * g1z
+            qbx += s5 * g2x
+            qby += s5 * g2y
+            qbz += s5 * g2z
+            qcx += s4 * g1x + s6 * g2x
+            qcy += s4 * g1y + s6 * g2y
+            qcz += s4 * g1z + s6 * g2z
         energy[c] = 0.5 * stored
         if not with_forces:
             continue
-        force[c, 0, 0] = -(t1x + t2x)
-        force[c, 0, 1] = -(t1y + t2y)
-        force[c, 0, 2] = -(t1z + t2z)
-        force[c, 1, 0] = t1x
-        force[c, 1, 1] = t1y
-        force[c, 1, 2] = t1z
-        force[c, 2, 0] = t2x
-        force[c, 2, 1] = t2y
-        force[c, 2, 2] = t2z
+        loads[c, 0, 0] = -(t1x + t2x)
+        loads[c, 0, 1] = -(t1y + t2y)
+        loads[c, 0, 2] = -(t1z + t2z)
+        loads[c, 1, 0] = t1x
+        loads[c, 1, 1] = t1y
+        loads[c, 1, 2] = t1z
+        loads[c, 2, 0] = t2x
+        loads[c, 2, 1] = t2y
+        loads[c, 2, 2] = t2z
         for node_k in range(3):
             # dW/dV_k: the in-plane levels' part, then g3^T = h/2 sum_k N_k(T) V_k
             if node_k == 0:
@@ -202,48 +213,415 @@ def _mindlin_cells(
             ux += half * (na * qax + nb * qbx + nc * qcx)
             uy += half * (na * qay + nb * qby + nc * qcy)
             uz += half * (na * qaz + nb * qbz + nc * qcz)
-            moment[c, node_k, 0] = vy * uz - vz * uy
-            moment[c, node_k, 1] = vz * ux - vx * uz
-            moment[c, node_k, 2] = vx * uy - vy * ux
+            loads[c, node_k, 3] = vy * uz - vz * uy
+            loads[c, node_k, 4] = vz * ux - vx * uz
+            loads[c, node_k, 5] = vx * uy - vy * ux
+
+
+@jit
+def _node_sums6(offsets, corners, per_corner, out):
+    """out[node] = sum of per_corner[j] (m * 3, 6) over the node's corners j: forces and
+    moments in one pass."""
+    for node in prange(out.shape[0]):
+        s0 = s1 = s2 = s3 = s4 = s5 = 0.0
+        for j in range(offsets[node], offsets[node + 1]):
+            corner = corners[j]
+            s0 += per_corner[corner, 0]
+            s1 += per_corner[corner, 1]
+            s2 += per_corner[corner, 2]
+            s3 += per_corner[corner, 3]
+            s4 += per_corner[corner, 4]
+            s5 += per_corner[corner, 5]
+        out[node, 0], out[node, 1], out[node, 2] = s0, s1, s2
+        out[node, 3], out[node, 4], out[node, 5] = s3, s4, s5
 
 
 def _run_mindlin(block, positions, directors, with_forces: bool):
     m = len(block.connectivity)
-    shape = (m, 3, 3) if with_forces else (0, 3, 3)
-    force, moment, energy = np.empty(shape), np.empty(shape), np.empty(m)
-    ref = block.reference_metric
+    loads = np.empty((m, 3, 6) if with_forces else (0, 3, 6))
+    energy = np.empty(m)
     _mindlin_cells(
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
         block.connectivity,
         block.zeta,
         0.5 * block.h,
-        ref["11"],
-        ref["22"],
-        ref["12"],
-        ref["tying"],
-        block.shear_a,
-        block.shear_b,
-        block.weighted_stiffness,
+        block.reference_measures,
+        block.level_stiffness,
         block.tying_n,
         with_forces,
-        force,
-        moment,
+        loads,
         energy,
     )
-    return force, moment, energy
+    return loads, energy
+
+
+def _nodal(block, loads):
+    corners = block.node_corners
+    out = np.empty((len(corners.offsets) - 1, 6))
+    _node_sums6(corners.offsets, corners.corners, loads.reshape(-1, 6), out)
+    return out[:, :3], out[:, 3:]
 
 
 def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
     compiled kernel."""
-    force, moment, _ = _run_mindlin(block, positions, directors, True)
-    return block.node_corners.sum(force), block.node_corners.sum(moment)
+    loads, _ = _run_mindlin(block, positions, directors, True)
+    return _nodal(block, loads)
+
+
+def mindlin_loads_and_energy(block, positions: np.ndarray, directors: np.ndarray):
+    """Nodal internal forces and director moments (n, 3) and the strain energy (N mm) of a
+    MindlinShellBlock, from one pass of the compiled kernel."""
+    loads, energy = _run_mindlin(block, positions, directors, True)
+    force, moment = _nodal(block, loads)
+    return force, moment, float(energy.sum())
 
 
 def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float:
     """Strain energy (N mm) of a MindlinShellBlock by the compiled kernel."""
-    return float(_run_mindlin(block, positions, directors, False)[2].sum())
+    return float(_run_mindlin(block, positions, directors, False)[1].sum())
+
+
+@jit
+def _cell_steps(positions, connectivity, translational, rotational, calibration, out):
+    """The Mindlin cells' stable steps 2 / sqrt(omega^2 calibration) into out (m,), omega^2 =
+    translational sum_k 1 / h_k^2 + rotational[c] (h_k the altitudes at the current
+    positions): elements/mindlin.py ``_cheap_omega2`` and ``cell_stable_dt`` in one loop."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        ax = positions[n1, 0] - positions[n0, 0]
+        ay = positions[n1, 1] - positions[n0, 1]
+        az = positions[n1, 2] - positions[n0, 2]
+        bx = positions[n2, 0] - positions[n0, 0]
+        by = positions[n2, 1] - positions[n0, 1]
+        bz = positions[n2, 2] - positions[n0, 2]
+        cx = positions[n2, 0] - positions[n1, 0]
+        cy = positions[n2, 1] - positions[n1, 1]
+        cz = positions[n2, 2] - positions[n1, 2]
+        nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        area2 = np.sqrt(nx * nx + ny * ny + nz * nz)
+        # (side opposite node k / 2A)^2 = 1 / h_k^2
+        inverse = (cx * cx + cy * cy + cz * cz) + (bx * bx + by * by + bz * bz)
+        inverse += ax * ax + ay * ay + az * az
+        inverse /= area2 * area2
+        out[c] = 2.0 / np.sqrt((translational * inverse + rotational[c]) * calibration[c])
+
+
+def mindlin_cell_steps(block, positions: np.ndarray, translational: float, rotational, calibration):
+    """Stable steps (m,) of a MindlinShellBlock's cells by the compiled loop."""
+    out = np.empty(len(block.connectivity))
+    _cell_steps(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        block.connectivity,
+        float(translational),
+        rotational,
+        calibration,
+        out,
+    )
+    return out
+
+
+def _point_transform(jac, warp, has_warp, t, transform):
+    """At one integration point with covariant base vectors jac (3, 3) (rows G1, G2, G3):
+    t[a, i] = e_a . G^i with the lamina frame e (e3 along G1 x G2, e1 along the warp, or
+    G1 without one, made normal to e3) and the contravariant vectors G^i, and the
+    covariant-to-lamina map of the engineering strains (11, 22, 12, 13, 23) into transform
+    (5, 5) (elements/mindlin.py ``_material_matrices``). Returns det J."""
+    g1x, g1y, g1z = jac[0, 0], jac[0, 1], jac[0, 2]
+    g2x, g2y, g2z = jac[1, 0], jac[1, 1], jac[1, 2]
+    g3x, g3y, g3z = jac[2, 0], jac[2, 1], jac[2, 2]
+    # G^1 = G2 x G3 / det, G^2 = G3 x G1 / det, G^3 = G1 x G2 / det
+    c23x, c23y, c23z = g2y * g3z - g2z * g3y, g2z * g3x - g2x * g3z, g2x * g3y - g2y * g3x
+    c31x, c31y, c31z = g3y * g1z - g3z * g1y, g3z * g1x - g3x * g1z, g3x * g1y - g3y * g1x
+    c12x, c12y, c12z = g1y * g2z - g1z * g2y, g1z * g2x - g1x * g2z, g1x * g2y - g1y * g2x
+    det = g1x * c23x + g1y * c23y + g1z * c23z
+    inverse = 1.0 / det if det != 0.0 else 0.0
+    norm = np.sqrt(c12x * c12x + c12y * c12y + c12z * c12z)
+    e3x, e3y, e3z = c12x / norm, c12y / norm, c12z / norm
+    if has_warp:
+        ux, uy, uz = warp[0], warp[1], warp[2]
+    else:
+        ux, uy, uz = g1x, g1y, g1z
+    along = ux * e3x + uy * e3y + uz * e3z
+    ux, uy, uz = ux - along * e3x, uy - along * e3y, uz - along * e3z
+    norm = np.sqrt(ux * ux + uy * uy + uz * uz)
+    e1x, e1y, e1z = ux / norm, uy / norm, uz / norm
+    e2x, e2y, e2z = e3y * e1z - e3z * e1y, e3z * e1x - e3x * e1z, e3x * e1y - e3y * e1x
+    for a in range(3):
+        if a == 0:
+            ex, ey, ez = e1x, e1y, e1z
+        elif a == 1:
+            ex, ey, ez = e2x, e2y, e2z
+        else:
+            ex, ey, ez = e3x, e3y, e3z
+        t[a, 0] = (ex * c23x + ey * c23y + ez * c23z) * inverse
+        t[a, 1] = (ex * c31x + ey * c31y + ez * c31z) * inverse
+        t[a, 2] = (ex * c12x + ey * c12y + ez * c12z) * inverse
+    for row in range(5):
+        a, b = _PAIR_A[row], _PAIR_B[row]
+        factor = 1.0 if a == b else 2.0
+        for col in range(5):
+            i, j = _PAIR_A[col], _PAIR_B[col]
+            if i == j:
+                value = t[a, i] * t[b, i]
+            else:
+                value = 0.5 * (t[a, i] * t[b, j] + t[a, j] * t[b, i])
+            transform[row, col] = factor * value
+    return det
+
+
+# The strain components (11, 22, 12, 13, 23) as index pairs.
+_PAIR_A = np.array([0, 1, 0, 0, 1])
+_PAIR_B = np.array([0, 1, 1, 2, 2])
+_point_transform = serial(_point_transform)
+
+
+def _base_vectors(x, v, conn, c, zz, half, r, s, jac):
+    """The covariant base vectors of cell c at level zz and in-plane point (r, s) into jac
+    rows G1, G2, G3 (elements/mindlin.py ``_vectors`` and ``_material_matrices``)."""
+    n0, n1, n2 = conn[c, 0], conn[c, 1], conn[c, 2]
+    for i in range(3):
+        jac[0, i] = x[n1, i] - x[n0, i] + zz * half * (v[n1, i] - v[n0, i])
+        jac[1, i] = x[n2, i] - x[n0, i] + zz * half * (v[n2, i] - v[n0, i])
+        jac[2, i] = half * ((1.0 - r - s) * v[n0, i] + r * v[n1, i] + s * v[n2, i])
+
+
+_base_vectors = serial(_base_vectors)
+
+
+@jit
+def _mindlin_tables(
+    points, directors, connectivity, zeta, zeta_weights, half, in_plane, warp, has_warp,
+    lamina, shear_a, shear_b, stiffness, smallest_det, measures, area,
+):  # fmt: skip
+    """The packed level stiffness (m, Z, 28) of each triangle in its reference configuration
+    (points, directors (n, 3)): D^_z = sum_p L_p^T (w_p det J T^T C T) L_p
+    (elements/mindlin.py ``_level_stiffness_of``), the smallest det J of its points into
+    ``smallest_det`` (m,), the reference products of its level measures into ``measures``
+    (m, Z, 7: g1.g1, g2.g2, g1.g2, g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C) and its area into
+    ``area`` (m,)."""
+    m = connectivity.shape[0]
+    chunks = (m + _CHUNK - 1) // _CHUNK
+    for chunk in prange(chunks):
+        # scratch per chunk of cells: allocated once, not once a cell
+        jac = np.empty((3, 3))
+        t = np.empty((3, 3))
+        transform = np.empty((5, 5))
+        ct = np.empty((5, 5))
+        w = np.empty((5, 5))
+        level = np.empty((7, 7))
+        tying = np.empty((3, 3))
+        for c in range(chunk * _CHUNK, min(m, (chunk + 1) * _CHUNK)):
+            lowest = np.inf
+            for q in range(3):  # g3 at the tying points A (1/2, 0), B (0, 1/2), C (1/2, 1/2)
+                _base_vectors(
+                    points, directors, connectivity, c, 0.0, half, (0.5, 0.0, 0.5)[q],
+                    (0.0, 0.5, 0.5)[q], jac,
+                )  # fmt: skip
+                tying[q, 0], tying[q, 1], tying[q, 2] = jac[2, 0], jac[2, 1], jac[2, 2]
+            cx = jac[0, 1] * jac[1, 2] - jac[0, 2] * jac[1, 1]
+            cy = jac[0, 2] * jac[1, 0] - jac[0, 0] * jac[1, 2]
+            cz = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
+            area[c] = 0.5 * np.sqrt(cx * cx + cy * cy + cz * cz)  # (zeta = 0: the edges)
+            for z in range(zeta.shape[0]):
+                _base_vectors(points, directors, connectivity, c, zeta[z], half, 0.0, 0.0, jac)
+                products = measures[c, z]
+                products[0] = jac[0, 0] * jac[0, 0] + jac[0, 1] * jac[0, 1] + jac[0, 2] * jac[0, 2]
+                products[1] = jac[1, 0] * jac[1, 0] + jac[1, 1] * jac[1, 1] + jac[1, 2] * jac[1, 2]
+                products[2] = jac[0, 0] * jac[1, 0] + jac[0, 1] * jac[1, 1] + jac[0, 2] * jac[1, 2]
+                for q in range(4):  # g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C
+                    row, point = (0, 0, 1, 1)[q], (0, 2, 1, 2)[q]
+                    products[3 + q] = (
+                        jac[row, 0] * tying[point, 0]
+                        + jac[row, 1] * tying[point, 1]
+                        + jac[row, 2] * tying[point, 2]
+                    )
+                for i in range(7):
+                    for j in range(7):
+                        level[i, j] = 0.0
+                for p in range(in_plane.shape[0]):
+                    _base_vectors(
+                        points, directors, connectivity, c, zeta[z], half, in_plane[p, 0],
+                        in_plane[p, 1], jac,
+                    )  # fmt: skip
+                    det = _point_transform(jac, warp, has_warp, t, transform)
+                    lowest = min(lowest, det)
+                    weight = zeta_weights[z] * det / 6.0
+                    # C T, C = diag(Q, kappa G13, kappa G23) (blocks: a third of the work)
+                    for j in range(5):
+                        for i in range(3):
+                            ct[i, j] = (
+                                lamina[i, 0] * transform[0, j]
+                                + lamina[i, 1] * transform[1, j]
+                                + lamina[i, 2] * transform[2, j]
+                            )
+                        ct[3, j] = lamina[3, 3] * transform[3, j]
+                        ct[4, j] = lamina[4, 4] * transform[4, j]
+                    for i in range(5):
+                        for j in range(5):
+                            total = 0.0
+                            for k in range(5):
+                                total += transform[k, i] * ct[k, j]
+                            w[i, j] = weight * total
+                    # L_p: identity on (E11, E22, 2E12); 2E13 = a_p . dt, 2E23 = b_p . dt
+                    for i in range(3):
+                        for j in range(3):
+                            level[i, j] += w[i, j]
+                        for j in range(4):
+                            value = w[i, 3] * shear_a[p, j] + w[i, 4] * shear_b[p, j]
+                            level[i, 3 + j] += value
+                            level[3 + j, i] += w[3, i] * shear_a[p, j] + w[4, i] * shear_b[p, j]
+                    for i in range(4):
+                        for j in range(4):
+                            level[3 + i, 3 + j] += shear_a[p, i] * (
+                                w[3, 3] * shear_a[p, j] + w[3, 4] * shear_b[p, j]
+                            ) + shear_b[p, i] * (w[4, 3] * shear_a[p, j] + w[4, 4] * shear_b[p, j])
+                index = 0
+                for i in range(7):
+                    for j in range(i, 7):
+                        stiffness[c, z, index] = 0.5 * (level[i, j] + level[j, i])
+                        index += 1
+            smallest_det[c] = lowest
+
+
+@jit
+def _mindlin_fields(
+    positions, directors, points, directors0, connectivity, zeta, zeta_weights, half,
+    in_plane, warp, has_warp, lamina, shear_a, shear_b, reference, out,
+):  # fmt: skip
+    """Section forces of each triangle into out (m, 8): membrane (N11, N22, N12) N/mm,
+    bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm in the lamina frame, averaged over
+    the in-plane points (elements/mindlin.py ``cell_fields``): the lamina map of each point
+    from the reference configuration (points, directors0), the strains from the current one."""
+    m = connectivity.shape[0]
+    nz, npts = zeta.shape[0], in_plane.shape[0]
+    chunks = (m + _CHUNK - 1) // _CHUNK
+    for chunk in prange(chunks):
+        jac = np.empty((3, 3))
+        now = np.empty((3, 3))
+        t = np.empty((3, 3))
+        transform = np.empty((5, 5))
+        strain = np.empty(5)
+        engineering = np.empty(5)
+        e = np.empty(7)
+        sums = np.empty(8)
+        for c in range(chunk * _CHUNK, min(m, (chunk + 1) * _CHUNK)):
+            for k in range(8):
+                sums[k] = 0.0
+            for z in range(nz):
+                _base_vectors(positions, directors, connectivity, c, zeta[z], half, 0.0, 0.0, now)
+                g1x, g1y, g1z = now[0, 0], now[0, 1], now[0, 2]
+                g2x, g2y, g2z = now[1, 0], now[1, 1], now[1, 2]
+                r = reference[c, z]
+                e[0] = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - r[0])
+                e[1] = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - r[1])
+                e[2] = g1x * g2x + g1y * g2y + g1z * g2z - r[2]
+                for q in range(4):  # tying points A, C, B, C against g1, g1, g2, g2
+                    point = (0.5, 0.5, 0.0, 0.5)[q]
+                    other = (0.0, 0.5, 0.5, 0.5)[q]
+                    _base_vectors(
+                        positions, directors, connectivity, c, 0.0, half, point, other, now
+                    )  # fmt: skip
+                    if q < 2:
+                        e[3 + q] = g1x * now[2, 0] + g1y * now[2, 1] + g1z * now[2, 2] - r[3 + q]
+                    else:
+                        e[3 + q] = g2x * now[2, 0] + g2y * now[2, 1] + g2z * now[2, 2] - r[3 + q]
+                through = half * zeta_weights[z]
+                for p in range(npts):
+                    _base_vectors(
+                        points, directors0, connectivity, c, zeta[z], half, in_plane[p, 0],
+                        in_plane[p, 1], jac,
+                    )  # fmt: skip
+                    _point_transform(jac, warp, has_warp, t, transform)
+                    strain[0], strain[1], strain[2] = e[0], e[1], e[2]
+                    strain[3] = 0.0
+                    strain[4] = 0.0
+                    for j in range(4):
+                        strain[3] += shear_a[p, j] * e[3 + j]
+                        strain[4] += shear_b[p, j] * e[3 + j]
+                    for k in range(5):
+                        total = 0.0
+                        for j in range(5):
+                            total += transform[k, j] * strain[j]
+                        engineering[k] = total
+                    for i in range(5):
+                        stress = 0.0
+                        for k in range(5):
+                            stress += lamina[i, k] * engineering[k]
+                        sums[i] += through * stress / npts
+                        if i < 3:
+                            sums[5 + i] += through * half * zeta[z] * stress / npts
+            out[c, 0], out[c, 1], out[c, 2] = sums[0], sums[1], sums[2]
+            out[c, 3], out[c, 4], out[c, 5] = sums[5], sums[6], sums[7]
+            out[c, 6], out[c, 7] = sums[3], sums[4]
+
+
+def mindlin_tables(block, points, directors, cells: slice = slice(None)):
+    """(level stiffness (c, Z, 28), smallest det J (c,), reference products of the level
+    measures (c, Z, 7), areas (c,)) of a MindlinShellBlock's cells by the compiled kernel,
+    from the reference points and directors (n, 3)."""
+    connectivity = np.ascontiguousarray(block.connectivity[cells])
+    m = len(connectivity)
+    stiffness = np.empty((m, len(block.zeta), 28))
+    smallest = np.empty(m)
+    measures = np.empty((m, len(block.zeta), 7))
+    area = np.empty(m)
+    warp = block.material.warp
+    _mindlin_tables(
+        np.ascontiguousarray(points, dtype=np.float64),
+        np.ascontiguousarray(directors, dtype=np.float64),
+        connectivity,
+        block.zeta,
+        block.zeta_weights,
+        0.5 * block.h,
+        IN_PLANE,
+        np.zeros(3) if warp is None else np.asarray(warp, dtype=np.float64),
+        warp is not None,
+        block.lamina_stiffness,
+        block.shear_a,
+        block.shear_b,
+        stiffness,
+        smallest,
+        measures,
+        area,
+    )
+    return stiffness, smallest, measures, area
+
+
+def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.ndarray:
+    """Section forces (m, 8) of a MindlinShellBlock by the compiled kernel: membrane (3),
+    bending (3), shear (2)."""
+    out = np.empty((len(block.connectivity), 8))
+    warp = block.material.warp
+    _mindlin_fields(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        np.ascontiguousarray(directors, dtype=np.float64),
+        block.reference_positions,
+        block.reference_directors,
+        block.connectivity,
+        block.zeta,
+        block.zeta_weights,
+        0.5 * block.h,
+        IN_PLANE,
+        np.zeros(3) if warp is None else np.asarray(warp, dtype=np.float64),
+        warp is not None,
+        block.lamina_stiffness,
+        block.shear_a,
+        block.shear_b,
+        block.reference_measures,
+        out,
+    )
+    return out
+
+
+# Cells per chunk of the bind-time and output loops: their scratch arrays are made once a
+# chunk (an allocation per cell cost more than the arithmetic).
+_CHUNK = 256
+
+# In-plane 3-point rule (r, s) of the Mindlin triangle, weight 1/6 each in the (r, s)
+# triangle of area 1/2 (elements/mindlin_tables.py).
+IN_PLANE = np.array([[1 / 6, 1 / 6], [2 / 3, 1 / 6], [1 / 6, 2 / 3]])
 
 
 @serial

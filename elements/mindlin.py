@@ -18,12 +18,26 @@ corner positions and directors, carried to the rotation vectors of the directors
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import cast
 
 import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
+from elements.mindlin_tables import (
+    _IN_PLANE,
+    _PACKED_COLUMNS,
+    _PACKED_ROWS,
+    _TYING_N,
+    _assumed_shear_coefficients,
+    _check_volume,
+    _congruent_cells,
+    _level_stiffness_of,
+    _packed,
+    _product_coefficients,
+    _turned_gradient_table,
+)
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.mesh import Mesh
@@ -35,88 +49,10 @@ from materials.fabric import Fabric
 
 __all__ = ["MindlinShell", "MindlinShellBlock"]
 
-# In-plane 3-point rule (r, s), weight 1/6 each in the (r, s) triangle of area 1/2.
-_IN_PLANE = np.array([[1 / 6, 1 / 6], [2 / 3, 1 / 6], [1 / 6, 2 / 3]])
-# MITC3 tying points A (1/2, 0), B (0, 1/2), C (1/2, 1/2): shape functions N_k there.
-_TYING_N = np.array([[0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]])
-# The seven strain measures of a thickness level (docs/theory.md §5.5), each a product
-# f (g_a . g_b) of two of the vectors (g1, g2, g3^A, g3^B, g3^C) = indices 0-4: E11 = g1.g1/2,
-# E22 = g2.g2/2, 2E12 = g1.g2 and the tying products g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C.
-_PRODUCTS = (
-    (0, 0, 0.5),
-    (1, 1, 0.5),
-    (0, 1, 1.0),
-    (0, 2, 1.0),
-    (0, 4, 1.0),
-    (1, 3, 1.0),
-    (1, 4, 1.0),
-)
 # Cells per slice of the analytic tangent (MindlinShellBlock.tangent).
 _TANGENT_SLICE = 256
-
-
-def _assumed_shear_coefficients() -> tuple[np.ndarray, np.ndarray]:
-    """Rows a_p, b_p with e_rt(p) = a_p . t and e_st(p) = b_p . t, t = (e_rt^A, e_rt^C,
-    e_st^B, e_st^C): e_rt = e_rt^A + c s, e_st = e_st^B - c r, c = (e_rt^C - e_rt^A) -
-    (e_st^C - e_st^B) (docs/theory.md §5.3)."""
-    r, s = _IN_PLANE[:, 0], _IN_PLANE[:, 1]
-    a = np.column_stack([1 - s, s, s, -s])
-    b = np.column_stack([r, -r, 1 - r, r])
-    return a, b
-
-
-def _strain_maps(shear_a: np.ndarray, shear_b: np.ndarray) -> np.ndarray:
-    """L_p (P, 5, 7): the strain vector (E11, E22, 2E12, 2E13, 2E23) at in-plane point p from
-    the level measures e = (E11, E22, 2E12, dt_A1, dt_C1, dt_B2, dt_C2) of docs/theory.md §5.5
-    (dt: change of a tying product g_alpha . g3^T; 2E13 = a_p . dt, 2E23 = b_p . dt, §5.3)."""
-    maps = np.zeros((len(_IN_PLANE), 5, 7))
-    maps[:, :3, :3] = np.eye(3)
-    maps[:, 3, 3:] = shear_a
-    maps[:, 4, 3:] = shear_b
-    return maps
-
-
-def _product_coefficients(zeta: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-    """Constant tables of the level measures e_r = f_r g_a . g_b (docs/theory.md §5.5) over the
-    18 cell numbers s = (x_1, x_2, x_3, V_1, V_2, V_3).
-
-    Each vector is linear in s, g_u = sum_k c_uk s_k, with scalar c (Z, 5, 6): g1 and g2 at the
-    level zeta, g3 at the tying points. Returns
-
-    * ``gradient`` (Z, 7, 6, 5): de_r/ds_k = sum_u gradient[r, k, u] g_u (a 3-vector), i.e.
-      f_r (c_ak g_b + c_bk g_a);
-    * ``curvature`` (Z, 7, 6, 6): d2e_r/ds_k ds_l = curvature[r, k, l] I3, i.e.
-      f_r (c_ak c_bl + c_bk c_al), constant (the measures are quadratic in s).
-    """
-    half = 0.5 * h
-    nz = len(zeta)
-    c = np.zeros((nz, 5, 6))
-    d_xi, d_eta = np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
-    c[:, 0, :3], c[:, 1, :3] = d_xi, d_eta
-    c[:, 0, 3:] = half * zeta[:, None] * d_xi
-    c[:, 1, 3:] = half * zeta[:, None] * d_eta
-    c[:, 2:, 3:] = half * _TYING_N  # g3^T = h/2 sum_k N_k(T) V_k
-    gradient = np.zeros((nz, 7, 6, 5))
-    curvature = np.zeros((nz, 7, 6, 6))
-    for r, (a, b, f) in enumerate(_PRODUCTS):
-        gradient[:, r, :, b] += f * c[:, a]
-        gradient[:, r, :, a] += f * c[:, b]
-        outer = c[:, a, :, None] * c[:, b, None, :]
-        curvature[:, r] = f * (outer + np.swapaxes(outer, -1, -2))
-    return gradient, curvature
-
-
-def _turned_gradient_table(gradient: np.ndarray) -> np.ndarray:
-    """(Z, 42, 20): row (r, k, t) of B^psi (docs/theory.md §5.5) from the 20 vectors
-    (g_u, V_1 x g_u, V_2 x g_u, V_3 x g_u), u = 0-4: de_r/du_k (t = 0) = sum_u c g_u and
-    de_r/dpsi_k (t = 1) = V_k x de_r/dV_k = sum_u c (V_k x g_u), with the c of ``gradient``
-    (Z, 7, 6, 5) from _product_coefficients."""
-    nz = len(gradient)
-    table = np.zeros((nz, 7, 3, 2, 4, 5))
-    for k in range(3):
-        table[:, :, k, 0, 0] = gradient[:, :, k]
-        table[:, :, k, 1, 1 + k] = gradient[:, :, 3 + k]
-    return table.reshape(nz, 42, 20)
+# Cells per piece of ``tangent_pieces`` (a piece's blocks: 10 MB).
+_PIECE = 4096
 
 
 class MindlinShell(ElementType):
@@ -220,10 +156,15 @@ class MindlinShell(ElementType):
 class MindlinShellBlock(ElementBlock):
     """MindlinShell over mesh triangles ``cell_ids``.
 
-    Precomputed: ``weighted_stiffness`` (m, 3, Z, 5, 5), the material matrix acting on the
-    covariant strain vector (E11, E22, 2E12, 2E13, 2E23) at each in-plane point and thickness
-    point, times the integration weight and det J (so W = 1/2 sum E . D E); ``to_lamina``
-    (m, 3, Z, 5, 5) from covariant to lamina-frame engineering strains; reference vectors.
+    Precomputed at bind: ``level_stiffness`` (m, Z, 28), the packed upper triangle of
+    the symmetric D^_z (7 x 7) acting on the seven level measures of each thickness level
+    (docs/theory.md §5.5: the material matrices of the in-plane points, their weights and
+    det J and the assumed shear summed in, W = 1/2 sum_z e_z . D^_z e_z), N mm; and
+    ``reference_measures`` (m, Z, 7), the products the measures are changes of. Those are
+    all a step reads (560 bytes a triangle at Z = 2). The point-wise tables of the numpy
+    reference path (``weighted_stiffness`` (m, 3, Z, 5, 5): the material matrix acting on
+    the covariant strains (E11, E22, 2E12, 2E13, 2E23) at each in-plane and thickness point
+    times its weight and det J; ``to_lamina``) are built when it first needs them.
     """
 
     dofs = MindlinShell.dofs
@@ -240,7 +181,7 @@ class MindlinShellBlock(ElementBlock):
         self.n_nodes = mesh.n_nodes
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.connectivity = mesh.triangles[self.cell_ids]
-        self.scatter = Scatter(self.connectivity, mesh.n_nodes)
+        self._scatter: Scatter | None = None
         # the compiled path's sums from cells to nodes (parallel over nodes)
         self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.reference_positions = np.asarray(mesh.points, dtype=float)
@@ -250,22 +191,70 @@ class MindlinShellBlock(ElementBlock):
         gradient, self._curvature_table = _product_coefficients(zeta, self.h)
         self._director_gradient_table = gradient[:, :, 3:].reshape(len(zeta), 7, 15)
         self._turned_gradient_table = _turned_gradient_table(gradient)
-        self._level_stiffness_cache: np.ndarray | None = None
+        self._point_tables: tuple[np.ndarray, np.ndarray] | None = None
+        self._weighted: np.ndarray | None = None
+        # Kept by reference (the model's arrays, never written): the point-wise tables, the
+        # fields and the stable step's calibration are computed from them when needed.
+        self.reference_directors = np.asarray(directors, dtype=float)
 
-        x0 = np.asarray(mesh.points, dtype=float)[self.connectivity]
-        v0 = np.asarray(directors, dtype=float)[self.connectivity]
+        self._bind_tables()
+        measures = self.reference_measures
+        self.reference_metric = {
+            "11": measures[..., 0],
+            "22": measures[..., 1],
+            "12": measures[..., 2],
+            "tying": measures[..., 3:],
+        }
+        self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
+        # The stable step's calibration (omega^2 of each element's eigenvalue problem over
+        # the cheap bound), computed at the first call of cell_stable_dt.
+        self._step_calibration: np.ndarray | None = None
+
+    def _bind_tables(self) -> None:
+        """``reference_area`` (m,), ``reference_measures`` (m, Z, 7) (the products the level
+        measures are changes of: g1.g1, g2.g2, g1.g2, g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C)
+        and the section's tables (``_material_matrices``). The elastic section's come from
+        one compiled loop over the cells where numba is installed: no (m, ...) temporaries
+        (a fifth of the model's build at 400k triangles); a section of its own (a subclass
+        with its own ``_material_matrices``) gets the reference vectors from numpy."""
+        compiled = type(self)._material_matrices is MindlinShellBlock._material_matrices
+        if compiled and kernels.AVAILABLE:
+            self._set_lamina_stiffness()
+            stiffness, smallest, measures, area = kernels.mindlin_tables(
+                self, self.reference_positions, self.reference_directors
+            )
+            _check_volume(smallest, self.cell_ids)
+            self.level_stiffness, self.reference_measures = stiffness, measures
+            self.reference_area = area
+            return
+        x0, v0 = self._reference_cells()
         self.reference_area = 0.5 * np.linalg.norm(
             cross(x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]), axis=1
         )
         ref = self._vectors(x0, v0)
-        self.reference = ref
-        self.reference_metric = self._metric(ref)
+        metric = self._metric(ref)
+        measures = np.empty(metric["11"].shape + (7,))
+        measures[..., 0], measures[..., 1] = metric["11"], metric["22"]
+        measures[..., 2], measures[..., 3:] = metric["12"], metric["tying"]
+        self.reference_measures = measures
         self._material_matrices(ref, v0)
-        self.rotary_factor = self._rotary_factor(shell.rotary_scaling)
-        # The stable step's calibration (omega^2 of each element's eigenvalue problem over
-        # the cheap bound), computed from these at the first call of cell_stable_dt.
-        self._reference_cells = (x0, v0)
-        self._step_calibration: np.ndarray | None = None
+
+    @property
+    def scatter(self) -> Scatter:
+        """Gather / scatter over ``connectivity`` (the numpy path's sums; made at its first
+        use: its index table is 72 bytes a triangle the compiled path does not read)."""
+        if self._scatter is None:
+            self._scatter = Scatter(self.connectivity, self.n_nodes)
+        return self._scatter
+
+    @scatter.setter
+    def scatter(self, value: Scatter) -> None:
+        self._scatter = value
+
+    def _reference_cells(self, cells: slice = slice(None)) -> tuple[np.ndarray, np.ndarray]:
+        """Corner positions and directors (c, 3, 3) of the cells in the reference state."""
+        connectivity = self.connectivity[cells]
+        return self.reference_positions[connectivity], self.reference_directors[connectivity]
 
     def _thickness_levels(self, shell: MindlinShell) -> tuple[np.ndarray, np.ndarray]:
         """The levels zeta (Z,) through the thickness where the strains are measured, and
@@ -307,9 +296,54 @@ class MindlinShellBlock(ElementBlock):
         }
 
     def _material_matrices(self, ref: dict, v0: np.ndarray) -> None:
-        """D = w det(J) T^T C T at every point, with T the covariant-to-lamina transformation
-        (docs/theory.md §5.2) and C = diag(Q rotated to the lamina frame, kappa G13, kappa G23)."""
-        m, nz = len(self.cell_ids), len(self.zeta)
+        """The level stiffness ``level_stiffness`` (m, Z, 28) of docs/theory.md §5.5, packed:
+        D^_z = sum_p L_p^T D_pz L_p with D_pz = w det(J) T^T C T at every point, T the
+        covariant-to-lamina transformation (§5.2) and C = diag(Q rotated to the lamina frame,
+        kappa G13, kappa G23), from the point-wise tables of the numpy path (numba's loop in
+        ``_bind_tables`` forms the same cell by cell)."""
+        self._set_lamina_stiffness()
+        self.level_stiffness = _packed(_level_stiffness_of(self.weighted_stiffness))
+
+    def _set_lamina_stiffness(self) -> None:
+        """C (5, 5) = diag(Q rotated to the lamina frame, kappa G13, kappa G23), MPa."""
+        c = np.zeros((5, 5))
+        c[:3, :3] = self.material.plane_stress
+        c[3, 3], c[4, 4] = self.material.transverse
+        self.lamina_stiffness = c
+
+    @property
+    def weighted_stiffness(self) -> np.ndarray:
+        """D_pz = w det(J) T^T C T (m, P, Z, 5, 5), N mm: the material matrix acting on the
+        covariant strains at each in-plane and thickness point, times the point's weight and
+        det J (W = 1/2 sum E . D E): the numpy reference path's table, built at its first
+        use and kept."""
+        if self._weighted is None:
+            weight, transform = self._tables()
+            weighted = np.swapaxes(transform, -1, -2) @ self.lamina_stiffness @ transform
+            self._weighted = weight[..., None, None] * weighted
+        return self._weighted
+
+    @property
+    def to_lamina(self) -> np.ndarray:
+        """T (m, P, Z, 5, 5): covariant to lamina-frame engineering strains at each point."""
+        return self._tables()[1]
+
+    @property
+    def point_weight(self) -> np.ndarray:
+        """w det J (m, P, Z), mm^3: each point's share of the volume."""
+        return self._tables()[0]
+
+    def _tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """(point weights (m, P, Z), transformations T (m, P, Z, 5, 5)), built once."""
+        if self._point_tables is None:
+            self._point_tables = self._point_tables_of(*self._reference_cells())
+        return self._point_tables
+
+    def _point_tables_of(self, x0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(w det J (c, P, Z), T (c, P, Z, 5, 5)) of cells with reference corners x0 and
+        directors v0 (c, 3, 3), by numpy."""
+        ref = self._vectors(x0, v0)
+        m, nz = len(x0), len(self.zeta)
         half = 0.5 * self.h
         r, s = _IN_PLANE[:, 0], _IN_PLANE[:, 1]
         shape = np.column_stack([1 - r - s, r, s])  # (3 points, 3 nodes)
@@ -339,19 +373,9 @@ class MindlinShellBlock(ElementBlock):
                 else:
                     value = 0.5 * (t[..., a, i] * t[..., b, j] + t[..., a, j] * t[..., b, i])
                 transform[..., row, col] = (1.0 if a == b else 2.0) * value
-        c = np.zeros((5, 5))
-        c[:3, :3] = self.material.plane_stress
-        c[3, 3], c[4, 4] = self.material.transverse
         weight = (1.0 / 6.0) * self.zeta_weights[None, None, :] * det
-        self.to_lamina = transform
-        self.lamina_stiffness = c
-        self.point_weight = weight  # (m, P, Z), mm^3
-        self.weighted_stiffness = (
-            weight[..., None, None] * np.swapaxes(transform, -1, -2) @ c @ transform
-        )
-        if np.any(det <= 0):
-            bad = int(self.cell_ids[np.argmax((det <= 0).any(axis=(1, 2)))])
-            raise ValueError(f"triangle {bad}: the director field inverts the shell volume")
+        _check_volume(det.reshape(m, -1).min(axis=1), self.cell_ids)
+        return weight, transform
 
     # ------------------------------------------------------------------ strains and forces
     def _covariant_strains(self, vec: dict) -> np.ndarray:
@@ -375,6 +399,14 @@ class MindlinShellBlock(ElementBlock):
         vec["directors"] = v
         return vec
 
+    def internal_force_and_energy(self, state: State, history=None):
+        """Forces, moments (n, 3) and strain energy (N mm) from one pass of the compiled
+        kernel (the energy is summed where the stresses are formed); the two numpy passes
+        on the numpy path."""
+        if self.kernel == "compiled":
+            return kernels.mindlin_loads_and_energy(self, state.positions, state.directors)
+        return super().internal_force_and_energy(state, history)
+
     def internal_force(self, state: State, history=None):
         if self.kernel == "compiled":
             return kernels.mindlin_loads(self, state.positions, state.directors)
@@ -397,6 +429,20 @@ class MindlinShellBlock(ElementBlock):
             blocks[cells] = self._cell_tangent(x[cells], v[cells], cells)
         return [CellTangent(self.connectivity, blocks)]
 
+    def tangent_pieces(self, state: State, history=None) -> Iterator[CellTangent]:
+        """``tangent`` a slice of cells at a time (the blocks of all cells are 2.6 kB a
+        triangle; a slice's are made, given and dropped)."""
+        x = state.positions[self.connectivity]
+        v = state.directors[self.connectivity]
+        for start in range(0, len(x), _PIECE):
+            cells = slice(start, start + _PIECE)
+            blocks = np.empty((len(x[cells]), 3, 6, 3, 6))
+            for first in range(start, min(start + _PIECE, len(x)), _TANGENT_SLICE):
+                rows = slice(first, min(first + _TANGENT_SLICE, start + _PIECE))
+                within = slice(rows.start - start, rows.stop - start)
+                blocks[within] = self._cell_tangent(x[rows], v[rows], rows)
+            yield CellTangent(self.connectivity[cells], blocks)
+
     def difference_tangent(self, state: State) -> list[CellTangent]:
         """The blocks of ``tangent`` by central differences of the element loads (36
         evaluations of the loads of all triangles, step 1e-6 of the median element size): the
@@ -417,15 +463,15 @@ class MindlinShellBlock(ElementBlock):
         step = 1e-6 * float(np.sqrt(np.median(self.reference_area)))
         return [CellTangent(self.connectivity, local_tangent(self._cell_loads, x, v, step))]
 
-    def _level_stiffness(self) -> np.ndarray:
-        """D^_z = sum_p L_p^T D_pz L_p (m, Z, 7, 7), N mm (docs/theory.md §5.5): the stiffness
-        of the seven level measures, the in-plane points summed out. Built at the first tangent
-        and kept (explicit dynamics never needs it)."""
-        if self._level_stiffness_cache is None:
-            maps = _strain_maps(self.shear_a, self.shear_b)[None, :, None]  # (1, P, 1, 5, 7)
-            per_point = np.swapaxes(maps, -1, -2) @ self.weighted_stiffness @ maps
-            self._level_stiffness_cache = per_point.sum(axis=1)
-        return self._level_stiffness_cache
+    def _level_stiffness(self, cells: slice = slice(None)) -> np.ndarray:
+        """D^_z = sum_p L_p^T D_pz L_p (c, Z, 7, 7), N mm (docs/theory.md §5.5) of the cells:
+        the stiffness of the seven level measures, the in-plane points summed out, unpacked
+        from ``level_stiffness``."""
+        packed = self.level_stiffness[cells]
+        full = np.empty(packed.shape[:-1] + (7, 7))
+        full[..., _PACKED_ROWS, _PACKED_COLUMNS] = packed
+        full[..., _PACKED_COLUMNS, _PACKED_ROWS] = packed
+        return full
 
     def _level_measures(self, vec: dict, cells: slice = slice(None)) -> np.ndarray:
         """Level measures e (m, Z, 7) of docs/theory.md §5.5 (E11, E22, 2E12 and the changes of
@@ -462,7 +508,7 @@ class MindlinShellBlock(ElementBlock):
         N mm, and d2W/de2 B^psi (m, Z * 7, 18). The elastic section is linear and its levels
         apart: sigma_z = D^_z e_z."""
         m, nz = e.shape[:2]
-        stiffness = self._level_stiffness()[cells]
+        stiffness = self._level_stiffness(cells)
         sigma = np.matmul(stiffness, e[..., None])  # (m, Z, 7, 1): dW/de, N mm
         stressed = np.matmul(stiffness, b_psi).reshape(m, nz * 7, 18)
         return sigma, stressed
@@ -570,18 +616,24 @@ class MindlinShellBlock(ElementBlock):
 
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:
         """Smallest altitude 2A / L_max of each triangle (m,), mm."""
-        x = (self.reference_positions if positions is None else positions)[self.connectivity]
-        sides = np.linalg.norm(x[:, [1, 2, 0]] - x, axis=-1)
-        area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
-        return area2 / sides.max(axis=1)
+        points = self.reference_positions if positions is None else positions
+        x0, x1, x2 = (points[self.connectivity[:, k]] for k in range(3))
+        longest = np.maximum(
+            np.maximum(np.linalg.norm(x1 - x0, axis=1), np.linalg.norm(x2 - x1, axis=1)),
+            np.linalg.norm(x0 - x2, axis=1),
+        )
+        return np.linalg.norm(cross(x1 - x0, x2 - x0), axis=1) / longest
 
     def lumped_mass(self, state: State, density_scale=None):
         share = self.material.areal_density * self.reference_area / 3.0
         if density_scale is not None:
             share = share * np.asarray(density_scale, dtype=float)
         per_node = np.repeat(share[:, None], 3, axis=1)
-        mass = self.scatter.scalars(per_node)
-        inertia = self.scatter.scalars(per_node * self.rotary_factor[:, None])
+        # Scatter.scalars' sums, without making the scatter's vector table
+        corners, n = self.connectivity.ravel(), self.n_nodes
+        mass = np.bincount(corners, weights=per_node.ravel(), minlength=n)
+        weights = (per_node * self.rotary_factor[:, None]).ravel()
+        inertia = np.bincount(corners, weights=weights, minlength=n)
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
@@ -590,13 +642,31 @@ class MindlinShellBlock(ElementBlock):
         the lumped masses and rotary inertias), which bounds that of the assembly (Irons:
         the Rayleigh quotient of a sum is at most the largest of the elements'). It is
         computed once, in the reference configuration, as a factor on the cheap bound
-        ``_cheap_omega2``, which then follows the current geometry at each call.
+        ``_cheap_omega2``, which then follows the current geometry at each call. Cells of
+        the same reference shape (edges and directors equal to the bit: the cells of a
+        structured mesh) share one eigenvalue problem.
         """
         if self._step_calibration is None:
-            x0, v0 = self._reference_cells
-            self._step_calibration = self.element_omega2(x0, v0) / self._cheap_omega2(x0)
+            x0, v0 = self._reference_cells()
+            first, shape_of = _congruent_cells(x0, v0)
+            omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
+            self._step_calibration = omega2 / self._cheap_omega2(x0)
+        if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
+            translational, rotational = self._cheap_terms()
+            return kernels.mindlin_cell_steps(
+                self, state.positions, translational, rotational, self._step_calibration
+            )
         x = state.positions[self.connectivity]
         return 2.0 / np.sqrt(self._cheap_omega2(x) * self._step_calibration)
+
+    def _cheap_terms(self) -> tuple[float, np.ndarray]:
+        """(a, b) of ``_cheap_omega2`` = a sum_k 1 / h_k^2 + b: a = 3 / rho (max(Q11, Q22) +
+        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2."""
+        q = self.material.plane_stress
+        shear = float(np.max(self.material.transverse))
+        rho = self.material.density
+        translational = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear)
+        return translational, shear / (2.0 * rho * self.rotary_factor)
 
     def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
         """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3):
@@ -608,33 +678,45 @@ class MindlinShellBlock(ElementBlock):
         sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
         area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
-        q = self.material.plane_stress
-        shear = float(np.max(self.material.transverse))
-        rho = self.material.density
-        omega2 = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear) * inverse_heights2
-        return omega2 + shear / (2.0 * rho * self.rotary_factor)
+        translational, rotational = self._cheap_terms()
+        return translational * inverse_heights2 + rotational
 
-    def element_omega2(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Largest eigenvalue (m,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
-        corners x and directors v (m, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
+    def element_omega2(
+        self, x: np.ndarray, v: np.ndarray, cells: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Largest eigenvalue (c,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
+        corners x and directors v (c, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
         part), M_e its lumped share rho h A / 3 per translation and that times j per
-        rotation (the drilling rotation too: a larger space only raises the maximum)."""
-        share = self.material.areal_density * self.reference_area / 3.0
-        node = np.stack([share] * 3 + [share * self.rotary_factor] * 3, axis=1)  # (m, 6)
-        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (m, 18), M_e^-1/2
+        rotation (the drilling rotation too: a larger space only raises the maximum).
+        ``cells`` (c,): the block's cells x and v belong to (default: all, in order)."""
+        cells = np.arange(len(x)) if cells is None else np.asarray(cells)
+        share = self.material.areal_density * self.reference_area[cells] / 3.0
+        node = np.stack([share] * 3 + [share * self.rotary_factor[cells]] * 3, axis=1)
+        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (c, 18), M_e^-1/2
         omega2 = np.empty(len(x))
         for start in range(0, len(x), _TANGENT_SLICE):
-            cells = slice(start, start + _TANGENT_SLICE)
-            k = self._cell_tangent(x[cells], v[cells], cells).reshape(-1, 18, 18)
+            rows = slice(start, start + _TANGENT_SLICE)
+            # An index array selects the cells' tables as the slices of ``tangent`` do.
+            selected = cast(slice, cells[rows])
+            k = self._cell_tangent(x[rows], v[rows], selected).reshape(-1, 18, 18)
             k = 0.5 * (k + np.swapaxes(k, 1, 2))
-            k *= scale[cells, :, None] * scale[cells, None, :]
-            omega2[cells] = np.linalg.eigvalsh(k)[:, -1]
+            k *= scale[rows, :, None] * scale[rows, None, :]
+            omega2[rows] = np.linalg.eigvalsh(k)[:, -1]
         return omega2
 
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         """Section forces per unit length in the lamina frame, averaged over the element:
-        membrane (N11, N22, N12) N/mm, bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm."""
+        membrane (N11, N22, N12) N/mm, bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm.
+        The compiled path forms each point's lamina map from the reference configuration as
+        it goes (kept tables would cost 2.4 kB a triangle)."""
+        if self.kernel == "compiled":
+            fields = kernels.mindlin_fields(self, state.positions, state.directors)
+            return {
+                "membrane_force": fields[:, :3],
+                "bending_moment": fields[:, 3:6],
+                "shear_force": fields[:, 6:],
+            }
         strain = self._covariant_strains(self._state_vectors(state))
         lamina = np.matmul(self.to_lamina, strain[..., None])[..., 0]
         stress = np.matmul(self.lamina_stiffness, lamina[..., None])[..., 0]  # (m, P, Z, 5)

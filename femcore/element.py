@@ -28,7 +28,7 @@ docstrings are those of the examples (mm, N, t, s); any consistent set works.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -153,12 +153,45 @@ class ElementBlock(ABC):
         """Energy stored in the block (N mm): the potential whose gradient is the force."""
 
     # ------------------------------------------------------------------ optional
+    def internal_force_and_energy(
+        self, state: State, history: Any = None
+    ) -> tuple[np.ndarray, np.ndarray | None, float]:
+        """``internal_force`` and ``strain_energy`` at the same state, in one call.
+
+        The explicit solver asks for both on the steps where it checks the energy balance.
+        The default makes the two calls (two passes over the cells); a block whose force pass
+        meets the energy on the way (a compiled kernel summing 1/2 E . D E where it forms the
+        stresses) overrides it and returns both from one pass. An override must return the
+        same values as the two methods (to rounding): the conformance tests hold it there.
+
+        Returns
+        -------
+        force : (n, 3) float, N
+            As ``internal_force``.
+        moment : (n, 3) float, N mm, or None
+            As ``internal_force``.
+        energy : float, N mm
+            As ``strain_energy``.
+        """
+        force, moment = self.internal_force(state, history)
+        return force, moment, float(self.strain_energy(state, history))
+
     def tangent(self, state: State, history: Any = None) -> Sequence[TangentPart] | None:
         """The block's own stiffness d(internal_force)/d(u, psi) as tangent parts (CellTangent
         blocks per cell, or a SparseTangent over all nodes for wider couplings), or None
         (the default): the assembler then differentiates ``internal_force`` by coloured central
         differences over the node graph of ``connectivity`` and ``reach``."""
         return None
+
+    def tangent_pieces(self, state: State, history: Any = None) -> Iterator[TangentPart] | None:
+        """``tangent`` in pieces whose sum is the block's tangent (CellTangent parts over
+        subsets of its cells), or None when it has no tangent of its own. The default gives
+        ``tangent``'s parts; a block that forms its tangent a slice of cells at a time
+        overrides it, so that a caller summing the pieces as they come (the explicit
+        solver's Gershgorin bound, femcore/gershgorin.py) never holds all the cells' blocks
+        at once."""
+        parts = self.tangent(state, history)
+        return None if parts is None else iter(parts)
 
     def apply_supports(self, held: np.ndarray) -> None:
         """Learn which nodes the model's supports hold; the default ignores it.

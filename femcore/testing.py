@@ -9,7 +9,9 @@ conforms to the element protocol when, on a small free-floating model of it:
 2. objectivity: a deformed state turned rigidly carries the turned forces and moments and the
    same energy;
 3. the internal force and the moments are the gradient of the strain energy (central
-   differences over the translations and over the two rotations of each director);
+   differences over the translations and over the two rotations of each director), and
+   ``internal_force_and_energy`` (one pass where a block fuses them) gives what
+   ``internal_force`` and ``strain_energy`` give;
 4. the element tangent, if the element has one, is the derivative of the internal force
    (against the coloured finite differences of the assembled force);
 5. the lumped mass sums to the total mass and every node has a positive mass (and a positive
@@ -71,6 +73,7 @@ __all__ = [
     "EnergyPart",
     "NotApplicable",
     "assert_lumped_mass",
+    "assert_force_and_energy_agree",
     "assert_loads_are_the_energy_gradient",
     "assert_objective",
     "assert_rigid_motion_gives_no_load",
@@ -508,6 +511,37 @@ def assert_loads_are_the_energy_gradient(case: ElementCase) -> None:
         )
 
 
+def assert_force_and_energy_agree(case: ElementCase) -> None:
+    """Check 3b: at the deformed state, each block's ``internal_force_and_energy`` gives the
+    forces, moments and strain energy of its ``internal_force`` and ``strain_energy``, to
+    round-off of the largest force and of the energy (a fused pass sums in its own order).
+    Raises AssertionError."""
+    model = case.model()
+    state = case.deformed(model)
+    for index, block in enumerate(model.blocks):
+        history = state.history[index] if index < len(state.history) else None
+        force, moment, energy = block.internal_force_and_energy(state, history)
+        alone_force, alone_moment = block.internal_force(state, history)
+        alone_energy = block.strain_energy(state, history)
+        scale = max(largest(alone_force), 1e-300)
+        error = largest(np.asarray(force) - alone_force)
+        assert error <= 1e-12 * scale, (
+            f"{case}: internal_force_and_energy's force off internal_force by {error:.3g} "
+            f"(largest force {scale:.3g})"
+        )
+        if alone_moment is None:
+            assert moment is None or not np.any(moment), f"{case}: moments without rotations"
+        else:
+            error = largest(np.asarray(moment) - alone_moment)
+            assert error <= 1e-12 * max(largest(alone_moment), 1e-300), (
+                f"{case}: internal_force_and_energy's moment off internal_force by {error:.3g}"
+            )
+        assert _close(float(energy), float(alone_energy), ENERGY_ROUND_OFF.value), (
+            f"{case}: internal_force_and_energy's energy {energy!r} against strain_energy "
+            f"{alone_energy!r} ({ENERGY_ROUND_OFF.why})"
+        )
+
+
 # ---------------------------------------------------------------------- 4. tangent
 def assert_tangent_is_the_force_derivative(case: ElementCase) -> None:
     """Check 4: at the deformed state, the element tangent matches the finite-difference
@@ -607,6 +641,7 @@ def element_checks(case: ElementCase) -> Iterator[tuple[str, Callable[[], None]]
             )
         yield f"objective under {motion}", partial(assert_objective, case, motion)
     yield "loads are the energy gradient", partial(assert_loads_are_the_energy_gradient, case)
+    yield "force and energy in one call", partial(assert_force_and_energy_agree, case)
     yield "tangent is the force derivative", partial(assert_tangent_is_the_force_derivative, case)
     yield "lumped mass", partial(assert_lumped_mass, case)
     for name in case.states():

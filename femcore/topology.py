@@ -220,23 +220,10 @@ def build_topology(triangles: ArrayLike) -> Topology:
     """
     tri = validate_cells(triangles, 3, "triangle")
     m = len(tri)
-    sides = np.sort(_directed_sides(tri), axis=2).reshape(-1, 2)  # half-edge h = 3 * t + s
-    # Encode each undirected edge as one integer so np.unique works on a 1-D array; the key
-    # order lo * base + hi is the lexicographic order of (lo, hi).
-    base = int(tri.max()) + 1 if m else 1
-    keys = sides[:, 0] * base + sides[:, 1]
-    unique_keys, edge_of_half, counts = np.unique(keys, return_inverse=True, return_counts=True)
-    edge_of_half = edge_of_half.reshape(-1)
-    _raise_if_non_manifold(unique_keys, counts, edge_of_half, base)
-
-    edges = np.column_stack((unique_keys // base, unique_keys % base))
-    # Group half-edges by edge; a stable sort keeps the smaller triangle id first.
-    order = np.argsort(edge_of_half, kind="stable")
-    first_slot = np.cumsum(counts) - counts
-    first = order[first_slot]
+    groups = _half_edges(tri)
+    unique_keys, edge_of_half, counts, first, second, base = groups
     interior = counts == 2
-    second = np.full(len(edges), -1, dtype=np.int64)
-    second[interior] = order[first_slot[interior] + 1]
+    edges = np.column_stack((unique_keys // base, unique_keys % base))
 
     edge_triangles = np.column_stack((first // 3, np.where(interior, second // 3, -1)))
     # mate[h] is the other half-edge of the same edge, -1 on the boundary.
@@ -257,6 +244,33 @@ def build_topology(triangles: ArrayLike) -> Topology:
         apex=_frozen(apex.reshape(m, 3)),
         boundary_edges=_frozen(edges[counts == 1]),
     )
+
+
+def _half_edges(tri: np.ndarray) -> tuple:
+    """The half-edges h = 3 t + s (side s of triangle t) of valid triangles (m, 3) grouped by
+    undirected edge: (the edges' keys lo * base + hi in increasing order, the edge of each
+    half-edge (3m,), the half-edges of each edge, its first and second half-edges (-1 where
+    it has one), base). ValueError for an edge of more than two triangles."""
+    m = len(tri)
+    sides = np.sort(_directed_sides(tri), axis=2).reshape(-1, 2)  # half-edge h = 3 * t + s
+    # Encode each undirected edge as one integer so that one sort groups them; the key order
+    # lo * base + hi is the lexicographic order of (lo, hi).
+    base = int(tri.max()) + 1 if m else 1
+    keys = sides[:, 0] * base + sides[:, 1]
+    # One stable sort: the half-edges of an edge side by side, the smaller triangle id first.
+    order = np.argsort(keys, kind="stable")
+    ordered = keys[order]
+    starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]]) if m else np.zeros(0, int)
+    counts = np.diff(np.r_[starts, len(keys)])
+    unique_keys = ordered[starts]
+    edge_of_half = np.empty(len(keys), dtype=np.int64)
+    edge_of_half[order] = np.repeat(np.arange(len(starts)), counts)
+    _raise_if_non_manifold(unique_keys, counts, edge_of_half, base)
+    first = order[starts]
+    second = np.full(len(starts), -1, dtype=np.int64)
+    interior = counts == 2
+    second[interior] = order[starts[interior] + 1]
+    return unique_keys, edge_of_half, counts, first, second, base
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
@@ -319,19 +333,23 @@ def check_orientation(triangles: ArrayLike) -> None:
         non-manifold edge, or invalid connectivity.
     """
     tri = validate_cells(triangles, 3, "triangle")
-    topo = build_topology(tri)
-    interior = np.flatnonzero(topo.edge_triangles[:, 1] >= 0)
-    t0, t1 = topo.edge_triangles[interior].T
-    directed = _directed_sides(tri)  # (m, 3, 2)
-    # Local side of each edge in each of its two triangles.
-    s0 = np.argmax(topo.triangle_edges[t0] == interior[:, None], axis=1)
-    s1 = np.argmax(topo.triangle_edges[t1] == interior[:, None], axis=1)
-    same = np.flatnonzero((directed[t0, s0] == directed[t1, s1]).all(axis=1))
+    _check_orientation(tri, _half_edges(tri))
+
+
+def _check_orientation(tri: np.ndarray, groups: tuple) -> None:
+    """check_orientation on the half-edge groups of ``_half_edges``: the two half-edges of
+    an interior edge start at different nodes."""
+    _, _, counts, first, second, _ = groups
+    interior = np.flatnonzero(counts == 2)
+    h0, h1 = first[interior], second[interior]
+    directed = _directed_sides(tri).reshape(-1, 2)  # (3m, 2): start and end of half-edge h
+    same = np.flatnonzero(directed[h0, 0] == directed[h1, 0])
     if same.size:
         k = int(same[0])
-        start, end = directed[t0[k], s0[k]].tolist()
+        t0, t1 = h0[k] // 3, h1[k] // 3
+        start, end = directed[h0[k]].tolist()
         raise ValueError(
-            f"triangles {t0[k]} and {t1[k]} have inconsistent orientation: both traverse "
+            f"triangles {t0} and {t1} have inconsistent orientation: both traverse "
             f"edge {start} -> {end} in the same direction"
         )
 
@@ -361,7 +379,8 @@ def check_duplicate_nodes(points: ArrayLike, triangles: ArrayLike | None = None)
     if triangles is None:
         used = np.arange(len(pts))
     else:
-        used = np.unique(validate_cells(triangles, 3, "triangle", len(pts)))
+        cells = validate_cells(triangles, 3, "triangle", len(pts))
+        used = np.flatnonzero(np.bincount(cells.ravel(), minlength=len(pts)))
     if used.size < 2:
         return
     sub = pts[used]
@@ -442,8 +461,8 @@ def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
         Describing the first problem found.
     """
     pts, tri = _points_and_triangles(points, triangles)
-    check_manifold(tri)
-    check_orientation(tri)
+    # One grouping of the half-edges serves the manifold and the orientation checks.
+    _check_orientation(tri, _half_edges(tri))
     check_duplicate_nodes(pts, tri)
     check_zero_area(pts, tri)
 

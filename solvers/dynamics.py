@@ -106,6 +106,7 @@ def update_rates(
     steps: tuple[float, float, float],
     damping: float,
     full: bool,
+    inverse_mass: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, tuple[float, ...]]:
     """One kind of nodal rate through a step: v(i+1/2) of ``damped_velocity`` where the DOF
     is free, the ``target`` rate (NaN: none) where it is prescribed, 0 where it is fixed; the
@@ -114,7 +115,8 @@ def update_rates(
 
     old, applied, internal : (n, 3) rates v(i-1/2) and external and internal loads at t(i).
     mass : (n,) lumped mass or inertia. free, constrained : (n, 3) bool. steps : (dt_bar, dt,
-    dt_prev), s. Returns (new rates, reactions, energy terms)."""
+    dt_prev), s. inverse_mass : (n, 1) 1/m, 0 where m is not positive (default: made from
+    ``mass``). Returns (new rates, reactions, energy terms)."""
     new = np.empty_like(old)
     reactions = np.empty_like(old)
     terms = np.zeros(8)
@@ -123,7 +125,7 @@ def update_rates(
         np.ascontiguousarray(old),
         np.ascontiguousarray(applied),
         np.ascontiguousarray(internal),
-        inverse_diagonal(mass),
+        inverse_diagonal(mass) if inverse_mass is None else inverse_mass,
         np.ascontiguousarray(mass, dtype=np.float64),
         np.ascontiguousarray(free),
         np.ascontiguousarray(constrained),

@@ -50,7 +50,7 @@ from solvers.output import (
     save_checkpoint,
 )
 from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
-from solvers.step import LumpedMasses, explicit_step
+from solvers.step import LumpedMasses, Step, explicit_step
 
 __all__ = ["CentralDifference"]
 
@@ -70,8 +70,8 @@ ASSEMBLED_DT_EVERY = 500
 # (penalty_frequency_squared).
 ASSEMBLED_DT_STEADY = 0.01
 ASSEMBLED_DT_MAX = 4000
-# The energy balance is checked every this many steps (it costs one strain-energy evaluation,
-# about a force evaluation) and on the last step.
+# The energy balance is checked every this many steps (the strain energy comes with the
+# step's force pass: ElementBlock.internal_force_and_energy) and on the last step.
 BALANCE_EVERY = 10
 # The checks of a run (EnergyAccount.check, docs/theory.md §6.1): the largest energy balance
 # error |KE* + U + D - W_ext| / (largest energy of the run) (a good run: 1e-7 on a sagging
@@ -408,7 +408,7 @@ class CentralDifference:
                 )
             energy.accept(*work)
             if checking:
-                self._check(compiled, run, work, new, dt, reactions, reaction_moments, diverged)
+                self._check(compiled, run, outcome, dt, diverged)
             run.state = state = compiled.commit(new)
             if compiled.n_tools:
                 energy.friction = compiled.dissipated_energy(state)
@@ -540,13 +540,18 @@ class CentralDifference:
             history.start()
         return stream, history
 
-    def _check(self, compiled, run: _Run, work, new, dt, reactions, reaction_moments, diverged):
+    def _check(self, compiled, run: _Run, outcome: Step, dt, diverged):
         """The energy checks of docs/theory.md §6.1 on the state at t(i), whose forces the
-        step used; raises ``diverged(...)``, or notes the state as the last good one."""
-        state = run.state
+        step used (and whose strain energy it met on the way, ``Step.strain_energy``);
+        raises ``diverged(...)``, or notes the state as the last good one."""
+        state, new = run.state, outcome.state
+        reactions, reaction_moments = outcome.reactions, outcome.reaction_moments
+        strain = outcome.strain_energy
+        if strain is None:  # a step taken without ``checking``
+            strain = compiled.strain_energy(state)
         balance, growth = run.energy.check(
-            work,
-            compiled.strain_energy(state) - run.strain_at_start,
+            outcome.energy,
+            strain - run.strain_at_start,
             compiled.dissipated_energy(state),
         )
         run.worst = max(run.worst, balance)

@@ -38,8 +38,16 @@ from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.common import inverse_diagonal
 from solvers.dynamics import EnergyAccount, damped_velocity, update_rates
+from solvers.turning import COMPILED, move, rates, turn
 
-__all__ = ["LumpedMasses", "Step", "advance", "angular_rates", "explicit_step"]
+__all__ = [
+    "LumpedMasses",
+    "Step",
+    "advance",
+    "angular_rates",
+    "explicit_step",
+    "rotational_update",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,12 +91,16 @@ class Step:
         energy, and for the checks at t (zeros unless ``checking``) the kinetic energy
         1/2 v(i-1/2) . M v(i+1/2), that of the mean velocity, and the external and damping
         work done before t.
+    strain_energy : the model's strain energy at t, N mm, on the steps taken with
+        ``checking`` (met by the force pass: ``CompiledModel.internal_force_and_energy``);
+        None on the others.
     """
 
     state: State
     reactions: np.ndarray
     reaction_moments: np.ndarray
     energy: tuple[float, ...]
+    strain_energy: float | None = None
 
     @property
     def external_work(self) -> float:
@@ -141,7 +153,8 @@ def explicit_step(
         s, the length of the loading: loads and prescribed displacements are taken at
         t / duration of their amplitudes, and the new state's load factor is t(i+1) / duration.
     checking : bool
-        Compute the energy terms of the checks at t(i) too (``Step.energy``).
+        Compute the energy terms of the checks at t(i) too (``Step.energy``), and the strain
+        energy at t(i) with the internal forces (``Step.strain_energy``).
 
     Returns
     -------
@@ -149,14 +162,18 @@ def explicit_step(
     """
     dt_prev = dt if dt_prev is None else dt_prev
     c = damping
-    inertia, inv_inertia = masses.inertia, masses.inverse_inertia
+    inertia = masses.inertia
     dofs = model.dofs
     t_next = state.time + dt
     dt_bar = 0.5 * (dt_prev + dt)
     velocity, omega = state.velocities, state.angular_velocities
 
     f_ext, m_ext = model.external_load(state.time / duration)
-    f_int, m_int = model.internal_force(state)
+    strain = None
+    if checking:
+        f_int, m_int, strain = model.internal_force_and_energy(state)
+    else:
+        f_int, m_int = model.internal_force(state)
     target = None
     if model.has_prescribed:
         goal = model.reference_positions + model.prescribed_displacement(t_next / duration)
@@ -172,30 +189,78 @@ def explicit_step(
         (dt_bar, dt, dt_prev),
         c,
         checking,
+        masses.inverse_mass,
     )
     if model.n_tools:
         work = _tool_work(model, state, dt, dt_prev, work, checking, duration)
-    w_new = None
-    reaction_moments = np.zeros_like(reactions)
     if dofs.any_rotation:
-        # Only the drilling part is dropped here, so that the update below sees what a
-        # fixed alpha / beta has to hold: that difference is the support moment.
-        moment = drop_along(m_ext - m_int, state.directors)
-        w_free, w_new = angular_rates(model, omega, moment, inv_inertia, dt_bar, c, state.directors)
-        reaction_moments = inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
-        turning = EnergyAccount.increments(
-            (m_ext + reaction_moments, m_int), (omega, w_new), inertia, c, dt_prev, dt, checking
+        # One pass over the nodes (solvers/turning.py): what ``rotational_update`` does.
+        w_new, reaction_moments, directors, positions, turning = turn(
+            omega,
+            (m_ext, m_int),
+            state.directors,
+            (state.positions, v_new),
+            inertia,
+            model.has_rotation,
+            model.rotation_fixed,
+            (dt_bar, dt, dt_prev),
+            c,
+            checking,
         )
         work = tuple(a + b for a, b in zip(work, turning))
-    moved = advance(model, state, dt, v_new, w_new)
+        moved = replace(state, positions=positions, directors=directors)
+    else:
+        w_new, reaction_moments = omega, np.zeros_like(reactions)
+        moved = advance(model, state, dt, v_new)
     new = replace(
         moved,
         velocities=v_new,
-        angular_velocities=omega if w_new is None else w_new,
+        angular_velocities=w_new,
         time=t_next,
         load_factor=t_next / duration,
     )
-    return Step(new, reactions, reaction_moments, work)
+    return Step(new, reactions, reaction_moments, work, strain)
+
+
+def rotational_update(
+    model: CompiledModel,
+    state: State,
+    dt: float,
+    masses: LumpedMasses,
+    moments: tuple[np.ndarray, np.ndarray],
+    velocities: np.ndarray,
+    dt_prev: float,
+    damping: float = 0.0,
+    checking: bool = False,
+) -> tuple[State, np.ndarray, tuple[float, ...]]:
+    """The rotational half of ``explicit_step`` in numpy passes over (n, 3) arrays: the
+    reference that solvers/turning.py's one compiled pass is tested against.
+
+    moments : (external, internal) moment vectors (n, 3) at t(i), N mm. velocities : (n, 3)
+    v(i+1/2), mm/s. Returns (the state moved to t(i+1) with omega(i+1/2), the support
+    moments (n, 3), the 8 energy terms of the rotations)."""
+    c, inertia = damping, masses.inertia
+    dt_bar = 0.5 * (dt_prev + dt)
+    m_ext, m_int = moments
+    # Only the drilling part is dropped here, so that the update below sees what a fixed
+    # alpha / beta has to hold: that difference is the support moment.
+    moment = drop_along(m_ext - m_int, state.directors)
+    omega = state.angular_velocities
+    w_free = damped_velocity(omega, moment, masses.inverse_inertia, dt_bar, c)
+    w_new = model.constrain_angular(w_free, state.directors)
+    reaction_moments = inertia[:, None] * (w_new - w_free) * (1.0 + 0.5 * c * dt_bar) / dt_bar
+    turning = EnergyAccount.increments(
+        (m_ext + reaction_moments, m_int),
+        (state.angular_velocities, w_new),
+        inertia,
+        c,
+        dt_prev,
+        dt,
+        checking,
+    )
+    moved = model.dofs.move(state, dt * velocities, dt * w_new)
+    moved = replace(moved, angular_velocities=w_new)
+    return moved, reaction_moments, turning
 
 
 def angular_rates(
@@ -215,6 +280,17 @@ def angular_rates(
     inverse_inertia : (n, 1) 1/I. dt_bar : s. damping : c, 1/s. directors : (n, 3) at t(i).
     Returns (free, constrained) omega(i+1/2), (n, 3) each.
     """
+    if COMPILED:  # one pass over the nodes (solvers/turning.py), the numpy formulas
+        return rates(
+            omega,
+            moment,
+            inverse_inertia,
+            model.has_rotation,
+            model.rotation_fixed,
+            directors,
+            dt_bar,
+            damping,
+        )
     free = damped_velocity(omega, moment, inverse_inertia, dt_bar, damping)
     return free, model.constrain_angular(free, directors)
 
@@ -229,6 +305,16 @@ def advance(
     """The configuration update: positions + dt v (n, 3), directors turned by the finite
     rotations dt omega (n, 3) at the nodes that have them (None: not turned); the rates of
     the returned state are those of ``state``."""
+    if COMPILED and angular_velocities is not None and model.dofs.any_rotation:
+        positions, directors = move(
+            state.positions,
+            state.directors,
+            velocities,
+            angular_velocities,
+            dt,
+            model.has_rotation,
+        )
+        return replace(state, positions=positions, directors=directors)
     return model.dofs.move(
         state, dt * velocities, None if angular_velocities is None else dt * angular_velocities
     )

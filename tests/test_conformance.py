@@ -72,6 +72,11 @@ def test_forces_and_moments_are_the_gradient_of_the_strain_energy(case: ElementC
     run(testing.assert_loads_are_the_energy_gradient, case)
 
 
+@case_parameter
+def test_the_force_pass_with_the_energy_gives_the_two_calls(case: ElementCase):
+    run(testing.assert_force_and_energy_agree, case)
+
+
 # ---------------------------------------------------------------------- 4. tangent
 @case_parameter
 def test_element_tangent_is_the_derivative_of_the_internal_force(case: ElementCase):

@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 import pytest
 
-from elements import MindlinShell, mindlin
+from elements import MindlinShell, mindlin, mindlin_tables
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import ElasticShell
@@ -373,6 +373,180 @@ def test_the_compiled_kernel_gives_the_numpy_forces_and_energy(points):
     assert values["compiled"][2] == pytest.approx(values["numpy"][2], rel=1e-12)
 
 
+def _jittered_pair(points=2, warp=(1.0, 1.0, 0.0)):
+    """The numpy and the compiled block on one orthotropic patch, and a jittered, tilted
+    state of it."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+    material = ElasticShell.orthotropic(70e3, 20e3, 0.3, 5e3, 4e3, 3e3, 1.0, 2.7e-9, warp=warp)
+    models = {}
+    for kernel in ("numpy", "compiled"):
+        model = Model(mesh)
+        model.add(MindlinShell(material, thickness_points=points, kernel=kernel))
+        models[kernel] = model.compile()
+    state = models["numpy"].initial_state()
+    rng = np.random.default_rng(5)
+    state.positions = state.positions + rng.normal(scale=0.5, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.3, size=state.positions.shape))
+    state.directors = rotate_about(state.directors, turn)
+    return models, state
+
+
+@pytest.mark.parametrize("points", [2, 5])
+def test_the_compiled_level_stiffness_is_the_sum_of_the_point_matrices(points):
+    """The packed D^_z the compiled bind forms cell by cell equals sum_p L_p^T D_pz L_p of
+    the numpy point tables, to 1e-12 of its largest entry; its reference products and
+    areas are numpy's."""
+    models, _ = _jittered_pair(points)
+    block = models["compiled"].blocks[0]
+    reference = mindlin_tables._packed(mindlin_tables._level_stiffness_of(block.weighted_stiffness))
+    assert block.level_stiffness.shape == (len(block.connectivity), points, 28)
+    scale = np.abs(reference).max()
+    assert np.abs(block.level_stiffness - reference).max() <= 1e-12 * scale
+    # the reference products and areas of the same loop against numpy's
+    x0, v0 = block._reference_cells()
+    metric = block._metric(block._vectors(x0, v0))
+    products = np.concatenate(
+        [np.stack([metric["11"], metric["22"], metric["12"]], -1), metric["tying"]], -1
+    )
+    assert np.abs(block.reference_measures - products).max() <= 1e-12 * np.abs(products).max()
+    area = 0.5 * np.linalg.norm(np.cross(x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]), axis=1)
+    np.testing.assert_allclose(block.reference_area, area, rtol=1e-12)
+
+
+def test_the_force_pass_returns_the_strain_energy_it_met():
+    """internal_force_and_energy: the compiled block's one pass gives the forces, moments
+    and energy of its two calls, and the numpy block's default (the two calls) the same
+    to 1e-12."""
+    models, state = _jittered_pair()
+    for model in models.values():
+        block = model.blocks[0]
+        force, moment, energy = block.internal_force_and_energy(state)
+        alone_force, alone_moment = block.internal_force(state)
+        np.testing.assert_array_equal(force, alone_force)
+        np.testing.assert_array_equal(moment, alone_moment)
+        assert energy == block.strain_energy(state) > 0.0
+        summed = model.internal_force_and_energy(state)
+        np.testing.assert_array_equal(summed[0], alone_force)
+        assert summed[2] == model.strain_energy(state)
+    numpy_values = models["numpy"].internal_force_and_energy(state)
+    compiled_values = models["compiled"].internal_force_and_energy(state)
+    assert compiled_values[2] == pytest.approx(numpy_values[2], rel=1e-12)
+
+
+@pytest.mark.parametrize("warp", [(1.0, 1.0, 0.0), None])
+def test_the_compiled_section_forces_are_the_numpy_ones(warp):
+    """The compiled cell fields (lamina maps formed on the fly) against the numpy path's
+    point tables, to 1e-12 of the largest value of each field."""
+    if warp is None:
+        mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+        models = {}
+        for kernel in ("numpy", "compiled"):
+            model = Model(mesh)
+            model.add(MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9), kernel=kernel))
+            models[kernel] = model.compile()
+        _, state = _jittered_pair()
+    else:
+        models, state = _jittered_pair(3, warp)
+    reference = models["numpy"].blocks[0].cell_fields(state)
+    fields = models["compiled"].blocks[0].cell_fields(state)
+    assert fields.keys() == reference.keys()
+    for name, values in reference.items():
+        assert fields[name].shape == values.shape
+        scale = np.abs(values).max()
+        assert scale > 0.0
+        assert np.abs(fields[name] - values).max() <= 1e-12 * scale, name
+
+
+def test_a_block_keeps_no_point_tables_for_the_compiled_step():
+    """What the compiled path reads per triangle stays small: the packed level stiffness and
+    the reference products (560 bytes at two levels), no point-wise 5 x 5 tables, no
+    scatter tables (forces, fields, masses and stable steps alike)."""
+    models, state = _jittered_pair()
+    block = models["compiled"].blocks[0]
+    block.internal_force_and_energy(state)
+    block.cell_fields(state)
+    block.lumped_mass(state)
+    block.cell_stable_dt(state)
+    assert block._point_tables is None and block._weighted is None
+    assert block._scatter is None  # the numpy path's index tables neither
+    per_cell = (block.level_stiffness.nbytes + block.reference_measures.nbytes) / len(
+        block.connectivity
+    )
+    assert per_cell == 560
+
+
 def test_an_unknown_kernel_is_refused():
     with pytest.raises(ValueError, match="kernel must be"):
         MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9), kernel="fortran")
+
+
+def test_congruent_cells_share_one_element_eigenvalue_problem():
+    """The stable step's calibration solves one eigenvalue problem per reference shape (two
+    on a structured rectangle) and gives each cell what its own problem gives, to 1e-13."""
+    model = compiled(mesh=Mesh.rectangle(40.0, 30.0, nx=8, ny=6))
+    block = model.blocks[0]
+    x0, v0 = block._reference_cells()
+    first, shape_of = mindlin_tables._congruent_cells(x0, v0)
+    assert len(first) == 2 and shape_of.shape == (len(x0),)
+    block.cell_stable_dt(model.initial_state())
+    own = block.element_omega2(x0, v0) / block._cheap_omega2(x0)
+    np.testing.assert_allclose(block._step_calibration, own, rtol=1e-13)
+    # a jittered mesh: every cell its own shape
+    rng = np.random.default_rng(2)
+    jittered = x0 + rng.uniform(-0.1, 0.1, size=x0.shape)
+    assert len(mindlin_tables._congruent_cells(jittered, v0)[0]) == len(x0)
+
+
+@pytest.mark.parallel
+def test_a_mindlin_run_gives_the_same_bits_on_one_thread_and_on_all():
+    """Bind tables, forces, energy, section forces and 30 explicit steps (the fused
+    rotational update included) of a sagging sheet are the same to the last bit whatever
+    the threads."""
+    import numba
+
+    from elements import jit
+    from solvers import CentralDifference
+
+    def run():
+        model = Model(Mesh.rectangle(60.0, 40.0, nx=12, ny=8))
+        model.add(MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9)))
+        model.fix("left")
+        model.gravity((0.0, 0.0, -9810.0))
+        compiled_model = model.compile()
+        dt = 0.9 * compiled_model.stable_dt(compiled_model.initial_state())
+        result = CentralDifference(duration=30 * dt, dt=dt, progress=False).solve(compiled_model)
+        frame = result.frames[-1]
+        state = dataclasses.replace(
+            compiled_model.initial_state(), positions=frame.positions, directors=frame.directors
+        )
+        return [
+            compiled_model.blocks[0].level_stiffness,
+            np.hstack(compiled_model.internal_force(state)),
+            frame.positions,
+            frame.directors,
+            frame.fields["triangle"]["bending_moment"],
+            np.array([compiled_model.strain_energy(state)]),
+        ]
+
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        jit.SMALL_LOOP = 10**9  # every loop on one thread
+        one = run()
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on all threads
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        every = run()
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
+    assert np.abs(one[2] - Mesh.rectangle(60.0, 40.0, nx=12, ny=8).points).max() > 1e-8
+    for a, b in zip(one, every):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_the_compiled_cell_steps_are_the_numpy_ones():
+    """The explicit solver's cell bound every 10 steps: one compiled loop, numpy's steps to
+    1e-13 on a jittered, tilted state."""
+    models, state = _jittered_pair()
+    steps = {kernel: model.blocks[0].cell_stable_dt(state) for kernel, model in models.items()}
+    np.testing.assert_allclose(steps["compiled"], steps["numpy"], rtol=1e-13)

@@ -6,8 +6,11 @@ import pytest
 
 from elements import Cable, MindlinShell
 from femcore import Mesh, Model
+from femcore.rotation import rotate_about
 from materials import ElasticShell
 from solvers import CentralDifference, LumpedMasses, Step, explicit_step
+from solvers.dynamics import EnergyAccount, damped_velocity
+from solvers.step import advance, angular_rates, rotational_update
 
 
 def hanging_cable():
@@ -86,3 +89,106 @@ def test_a_step_reports_its_state_reactions_and_energy():
     second = explicit_step(compiled, compiled.commit(first.state), dt, masses)  # dt_prev = dt
     assert second.state.time == pytest.approx(2 * dt)
     assert masses.inverse_mass.shape == (compiled.n_nodes, 1)
+
+
+def turned_plate(fix_rotations: bool):
+    """A Mindlin plate, pinned on its left edge (alpha and beta held there too with
+    ``fix_rotations``), in a tilted, moving state with a directed moment at every node."""
+    mesh = Mesh.rectangle(60.0, 40.0, nx=6, ny=4)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)))
+    model.fix("left", ["ux", "uy", "uz", "alpha", "beta"] if fix_rotations else ["ux", "uz"])
+    model.moment(mesh.nodes("right"), (0.0, 5.0, 1.0))
+    compiled = model.compile()
+    state = compiled.initial_state()
+    rng = np.random.default_rng(11)
+    state.positions = state.positions + rng.normal(scale=0.2, size=state.positions.shape)
+    tilt = np.cross(state.directors, rng.normal(scale=0.3, size=state.positions.shape))
+    state.directors = rotate_about(state.directors, tilt)
+    state.velocities = rng.normal(scale=10.0, size=state.positions.shape)
+    spin = rng.normal(scale=5.0, size=state.positions.shape)
+    state.angular_velocities = np.cross(state.directors, spin)
+    return compiled, state
+
+
+@pytest.mark.parametrize("fix_rotations", [False, True])
+@pytest.mark.parametrize("checking", [False, True])
+def test_the_fused_rotational_update_is_the_numpy_one(fix_rotations, checking):
+    """explicit_step's one compiled pass over the nodes (solvers/turning.py) gives the
+    directors, positions, angular velocities, support moments and energy terms of
+    ``rotational_update``, the public pieces in numpy, to 1e-12, with damping and a
+    variable step."""
+    compiled, state = turned_plate(fix_rotations)
+    masses = LumpedMasses.of(compiled, state)
+    dt = 0.5 * compiled.stable_dt(state)
+    step = explicit_step(
+        compiled, state, dt, masses, dt_prev=0.8 * dt, damping=300.0, checking=checking
+    )
+    f_ext, m_ext = compiled.external_load(0.0)
+    moved, reaction_moments, turning = rotational_update(
+        compiled,
+        state,
+        dt,
+        masses,
+        (m_ext, compiled.internal_force(state)[1]),
+        step.state.velocities,
+        0.8 * dt,
+        300.0,
+        checking,
+    )
+    assert np.abs(step.state.angular_velocities).max() > 1.0  # it turns
+    for name in ("positions", "directors", "angular_velocities"):
+        mine, reference = getattr(step.state, name), getattr(moved, name)
+        assert np.abs(mine - reference).max() <= 1e-12 * np.abs(reference).max(), name
+    scale = np.abs(step.state.angular_velocities).max() * masses.inertia.max() / dt
+    if fix_rotations:  # the held alpha and beta push back
+        assert np.abs(reaction_moments).max() > 1e-3 * scale
+    assert np.abs(step.reaction_moments - reaction_moments).max() <= 1e-12 * scale
+    without = explicit_step(compiled, state, dt, masses, dt_prev=0.8 * dt, damping=300.0,
+                            checking=checking)  # fmt: skip
+    assert without.energy == step.energy  # the same numbers on every call
+    translation = EnergyAccount.increments(
+        (f_ext + step.reactions, compiled.internal_force(state)[0]),
+        (state.velocities, step.state.velocities),
+        masses.mass,
+        300.0,
+        0.8 * dt,
+        dt,
+        checking,
+    )
+    expected = [a + b for a, b in zip(translation, turning)]
+    assert step.energy == pytest.approx(expected, rel=1e-12, abs=1e-12 * max(map(abs, expected)))
+
+
+def test_a_checked_step_carries_the_strain_energy_of_its_state():
+    """The strain energy the checks need comes with the force pass, on checked steps only."""
+    compiled, state = turned_plate(False)
+    masses = LumpedMasses.of(compiled, state)
+    dt = 0.5 * compiled.stable_dt(state)
+    checked = explicit_step(compiled, state, dt, masses, checking=True)
+    assert checked.strain_energy == compiled.strain_energy(state) > 0.0
+    assert explicit_step(compiled, state, dt, masses).strain_energy is None
+
+
+@pytest.mark.parametrize("fix_rotations", [False, True])
+def test_angular_rates_and_advance_are_the_numpy_passes(fix_rotations):
+    """The one-loop angular_rates and advance dynamic relaxation moves with give the numpy
+    passes' values (damped_velocity, constrain_angular, DofManager.move) to 1e-12."""
+    compiled, state = turned_plate(fix_rotations)
+    masses = LumpedMasses.of(compiled, state)
+    rng = np.random.default_rng(8)
+    moment = rng.normal(scale=50.0, size=state.positions.shape)
+    free, held = angular_rates(
+        compiled, state.angular_velocities, moment, masses.inverse_inertia, 1e-6, 40.0,
+        state.directors,
+    )  # fmt: skip
+    expected = damped_velocity(state.angular_velocities, moment, masses.inverse_inertia, 1e-6, 40.0)
+    assert np.abs(free - expected).max() <= 1e-12 * np.abs(expected).max()
+    constrained = compiled.constrain_angular(expected, state.directors)
+    assert np.abs(held - constrained).max() <= 1e-12 * np.abs(constrained).max()
+    moved = advance(compiled, state, 1e-3, state.velocities, held)
+    reference = compiled.dofs.move(state, 1e-3 * state.velocities, 1e-3 * held)
+    for name in ("positions", "directors"):
+        mine, theirs = getattr(moved, name), getattr(reference, name)
+        assert np.abs(mine - theirs).max() <= 1e-12 * np.abs(theirs).max(), name
+    assert np.abs(moved.directors - state.directors).max() > 1e-6  # it turned

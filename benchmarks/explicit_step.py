@@ -1,0 +1,242 @@
+"""The explicit step taken apart: where its time goes, what the model costs to build and hold.
+
+On the pinned square sheet of ``shell_sheet.py`` (5 mm cells, gravity from rest) of the
+Mindlin shell (aluminium, h = 1 mm) or the fibrous shell (G986 stack), for each size:
+
+* build: seconds (wall and CPU) for ``Model.compile``, the resident memory it added and the
+  process's peak, kB per triangle;
+* the steady step: ``CentralDifference`` over ``--steps`` (at least ``--work`` element-steps)
+  and over twice as many, the difference of the two times per added element-step (what a
+  long run costs a step: the run's start, its first and last frames left out), wall and CPU,
+  against the reference pass; and the shorter run's whole time per element-step as
+  ``shell_sheet.py`` reports it;
+* per-phase CPU times at the sheet's state after the run (best of ``--repeats``, µs per
+  element): the internal force, the force with the strain energy
+  (``internal_force_and_energy``: what a step that checks the energy balance asks), the
+  strain energy alone, the rest of a step (``explicit_step`` less its force), a checked step;
+* the numpy reference pass of ``shell_sheet.reference_pass`` (wall, best of 20) and the same
+  in CPU time.
+
+On one thread the CPU time is what the step costs whatever the other processes of a shared
+machine take (their caches and memory traffic still count); the wall time is what a user
+waits.
+
+Measured on the project's 2-core machine shared with other busy processes (load average 5-6:
+wall times about 2.5 x the CPU times), Mindlin shell, one thread, before this renovation
+(main 3698780) and after it, µs per element-step of CPU (wall in brackets):
+
+    size   steady step                  x ref.      force+energy  rest of step  build, s
+    10k    0.27 (0.81) -> 0.11 (0.24)   3.5 -> 1.6  0.20 -> 0.07  0.08 -> 0.02  0.31 -> 0.03
+    100k   0.26 (0.77) -> 0.11 (0.31)   3.4 -> 1.4  0.19 -> 0.08  0.07 -> 0.02  3.2 -> 0.26
+    400k   0.37 (issue) -> 0.12 (0.42)  1.2                                     ~15 -> 1.6
+
+Memory (kB per triangle, the model's resident memory after the build; the process's peak at
+400k, the interpreter's 176 MB included): 3.7 -> 0.96 resident; peak 7.4 (issue) -> 1.9 with
+a given dt and 2.7 with the solver's own (its assembled stable step holds the node pairs'
+5 x 5 sums, 0.7 kB a triangle). The assembled stable step at 100k: 6.2 -> 0.7-1.8 s of CPU;
+the cells' calibration 6.6 s -> 0.2 s (cells of one shape share one eigenvalue problem). Two
+threads gave the one-thread figures at that load (the threads follow the free cores). The
+fibrous shell with its force kernel as on main, 100k: steady step 1.10 -> 0.77 µs of CPU, the
+rest of a step 0.070 -> 0.034, build 0.77 -> 0.47 s (its energy still a pass of its own here:
+the block's ``internal_force_and_energy`` is the fibrous kernel's to fuse).
+
+Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
+printed with the figures.
+
+Run from the project root:
+
+    python benchmarks/explicit_step.py
+    python benchmarks/explicit_step.py --element fibrous --sizes 10000,100000 --threads 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import os
+import platform
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+
+from shell_sheet import GRAVITY, reference_pass  # noqa: E402
+
+from femcore import Mesh, Model  # noqa: E402
+from solvers import CentralDifference  # noqa: E402
+from solvers.step import LumpedMasses, explicit_step  # noqa: E402
+
+ALUMINIUM = dict(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)  # MPa, mm, t/mm^3
+
+
+def element(name: str, kernel: str):
+    """A fresh element of the benchmark's kind."""
+    if name == "mindlin":
+        from elements import MindlinShell
+        from materials import ElasticShell
+
+        return MindlinShell(ElasticShell(**ALUMINIUM), kernel=kernel)
+    from elements import FibrousShell
+    from materials import presets
+
+    return FibrousShell(presets.g986_stack(), kernel=kernel)
+
+
+def resident_mb() -> float:
+    """The process's resident memory now, MB (Linux /proc)."""
+    with open("/proc/self/statm") as statm:
+        pages = int(statm.read().split()[1])
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def sheet(name: str, kernel: str, triangles: int):
+    """The pinned sheet's model, compiled, with the build's seconds and memory."""
+    n = max(2, round(math.sqrt(triangles / 2)))
+    before = resident_mb()
+    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
+    model = Model(mesh)
+    model.add(element(name, kernel))
+    for edge in ("left", "right", "bottom", "top"):
+        model.fix(edge, ["ux", "uy", "uz"])
+    model.gravity(GRAVITY)
+    started, cpu = time.perf_counter(), time.process_time()
+    compiled = model.compile()
+    build = (time.perf_counter() - started, time.process_time() - cpu)
+    return compiled, build, resident_mb() - before
+
+
+def run(compiled, steps: int) -> tuple[tuple[float, float], object]:
+    """(wall, CPU) seconds of ``CentralDifference`` over ``steps`` steps at 0.9 x the stable
+    step, frames at the start and the end only."""
+    dt = 0.9 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=steps * dt, dt=dt, output_interval=steps * dt, progress=False
+    )
+    started, cpu = time.perf_counter(), time.process_time()
+    result = solver.solve(compiled)
+    return (time.perf_counter() - started, time.process_time() - cpu), result
+
+
+def best(call, repeats: int) -> float:
+    """The shortest CPU time of ``repeats`` calls, s (on one thread the CPU time is what the
+    call costs whatever the other processes of a shared machine take)."""
+    shortest = math.inf
+    for _ in range(repeats):
+        started = time.process_time()
+        call()
+        shortest = min(shortest, time.process_time() - started)
+    return shortest
+
+
+def cpu_reference(triangles: int, repeats: int = 20) -> float:
+    """``shell_sheet.reference_pass`` timed in CPU time: µs per element, the best of
+    ``repeats``."""
+    n = max(2, round(math.sqrt(triangles / 2)))
+    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
+    points, cells = mesh.points, mesh.triangles
+
+    def once():
+        x = points[cells]
+        normal = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+        out = np.zeros((mesh.n_nodes, 3))
+        for axis in range(3):
+            out[:, axis] = np.bincount(
+                cells.ravel(), np.repeat(normal[:, axis], 3), minlength=mesh.n_nodes
+            )
+
+    return 1e6 * best(once, repeats) / len(cells)
+
+
+def phases(compiled, state, repeats: int) -> dict:
+    """Per-phase seconds at ``state`` (best of ``repeats``)."""
+    masses = LumpedMasses.of(compiled, state)
+    dt = 0.9 * compiled.stable_dt(state)
+    force = best(lambda: compiled.internal_force(state), repeats)
+    fused = best(lambda: compiled.internal_force_and_energy(state), repeats)
+    energy = best(lambda: compiled.strain_energy(state), repeats)
+    step = best(lambda: explicit_step(compiled, state, dt, masses, duration=1.0), repeats)
+    checked = best(
+        lambda: explicit_step(compiled, state, dt, masses, duration=1.0, checking=True), repeats
+    )
+    commit = best(lambda: compiled.commit(state), repeats)
+    return {
+        "force": force,
+        "force+energy": fused,
+        "energy": energy,
+        "step less force": step - force,
+        "checked step": checked,
+        "commit": commit,
+    }
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--element", choices=("mindlin", "fibrous"), default="mindlin")
+    parser.add_argument("--kernel", choices=("compiled", "numpy"), default="compiled")
+    parser.add_argument("--sizes", default="10000,100000")
+    parser.add_argument("--steps", type=int, default=100, help="at least this many steps")
+    parser.add_argument(
+        "--work", type=float, default=1e7, help="element-steps a run makes at least"
+    )
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--threads", type=int, default=1)
+    args = parser.parse_args(argv)
+    import numba
+
+    numba.set_num_threads(min(args.threads, numba.config.NUMBA_NUM_THREADS))
+    print(
+        f"python {platform.python_version()} on {platform.machine()}, {args.element} "
+        f"({args.kernel}), {numba.get_num_threads()} thread(s), load average "
+        f"{os.getloadavg()[0]:.2f}"
+    )
+    compiled, _, _ = sheet(args.element, args.kernel, 200)  # compile the loops first
+    run(compiled, 3)
+    for size in [int(s) for s in args.sizes.split(",")]:
+        compiled, build, memory = sheet(args.element, args.kernel, size)
+        elements = sum(len(block.connectivity) for block in compiled.blocks)
+        steps = max(args.steps, round(args.work / elements))
+        short, _ = run(compiled, steps)
+        long, result = run(compiled, 2 * steps)
+        per = 1e6 / (elements * steps)
+        steady = [(b - a) * per for a, b in zip(short, long)]
+        whole = [a * per for a in short]
+        reference = reference_pass(size)
+        reference_cpu = cpu_reference(size)
+        state = result.frames[-1]
+        at = dataclasses.replace(
+            compiled.initial_state(),
+            positions=state.positions,
+            directors=state.directors,
+            velocities=state.velocities,
+        )
+        timed = phases(compiled, at, args.repeats)
+        print(
+            f"{elements:>8d} triangles: build {build[0]:6.2f} s wall, {build[1]:6.2f} s CPU, "
+            f"+{memory:6.0f} MB resident ({memory * 1024 / elements:.2f} kB per triangle), "
+            f"peak {peak_mb():6.0f} MB ({peak_mb() * 1024 / elements:.2f} kB per triangle); "
+            f"load {os.getloadavg()[0]:.2f}"
+        )
+        print(
+            f"{'':>10} steady step {steady[0]:.3f} us/element-step wall, {steady[1]:.3f} CPU "
+            f"({steady[1] / reference_cpu:.1f} x the reference pass, {reference:.3f} wall, "
+            f"{reference_cpu:.3f} CPU); "
+            f"whole run of {steps} steps {whole[0]:.3f} wall, {whole[1]:.3f} CPU"
+        )
+        print(
+            f"{'':>10} per element, us of CPU: "
+            + ", ".join(f"{name} {value / elements * 1e6:.3f}" for name, value in timed.items()),
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
