@@ -274,6 +274,8 @@ class FreeTangentAssembler:
         self.ff_select = np.flatnonzero(ff)
         keys, self.ff_map = np.unique(c_f[ff] * self.n_free + r_f[ff], return_inverse=True)
         self.ff_cols, self.ff_rows = np.divmod(keys, self.n_free)
+        # The keys are unique and sorted by column then row: K_ff's CSC structure as it is.
+        self.ff_indptr = np.searchsorted(self.ff_cols, np.arange(self.n_free + 1))
         moved = max(self.n_moved, 1)
         self.fp_select = np.flatnonzero(fp)
         keys, self.fp_map = np.unique(r_f[fp] * moved + c_p[fp], return_inverse=True)
@@ -311,7 +313,8 @@ class FreeTangentAssembler:
             values.append(np.matmul(np.swapaxes(maps[block_rows], 1, 2), right).ravel())
         flat = np.concatenate(values or [np.zeros(0)])
         ff = np.bincount(self.ff_map, flat[self.ff_select], minlength=self.ff_rows.size)
-        k_ff = sp.csc_matrix((ff, (self.ff_rows, self.ff_cols)), shape=(self.n_free, self.n_free))
+        k_ff = sp.csc_matrix((ff, self.ff_rows, self.ff_indptr), shape=(self.n_free, self.n_free))
+        k_ff.has_sorted_indices = True  # canonical by construction (unique sorted keys)
         fp = np.bincount(self.fp_map, flat[self.fp_select], minlength=self.fp_rows.size)
         k_fp = sp.csr_matrix((fp, (self.fp_rows, self.fp_cols)), shape=(self.n_free, self.n_moved))
         return k_ff, k_fp
