@@ -10,8 +10,14 @@ pivots give the inertia of K_ff (Sylvester's law: D has as many negative entries
 negative eigenvalues), which tells a stable equilibrium from a saddle whatever the number of
 negative modes: the sign of det K only sees an odd number of them.
 
-The factorisation is QDLDL (an LDL^T without pivoting, after an AMD ordering) through the
-``qdldl`` package. Without pivoting it can fail on an indefinite matrix (a zero pivot) or lose
+The factorisation is an LDL^T without pivoting: the compiled band LDL^T of solvers.band (after
+a reverse Cuthill-McKee ordering) where the pattern's band costs at most BAND_ADVANTAGE times
+the operations of QDLDL's factor (shells, strips, sheets a few hundred unknowns wide: 5 times
+faster), else QDLDL (after an AMD ordering) through the ``qdldl`` package; the choice is made
+once per sparsity pattern, the factor of a failed band (a zero pivot) is QDLDL's. The pattern's
+analysis (the ordering, the band layout, QDLDL's elimination tree) is kept while it holds, and
+so is the map from K_ff's entries to its symmetrised upper triangle. Without pivoting it can
+fail on an indefinite matrix (a zero pivot) or lose
 accuracy; every solution is therefore checked by its backward error and refined with the same
 factors (up to REFINEMENTS steps), and a failed or still inaccurate factorisation falls back
 to scipy's pivoting LU (SuperLU), as does a non-symmetric K_ff.
@@ -28,6 +34,9 @@ import qdldl
 import scipy.sparse as sp
 from scipy.sparse.linalg import MatrixRankWarning, splu
 
+from solvers.band import AVAILABLE as BAND_AVAILABLE
+from solvers.band import BandPlan
+
 __all__ = ["Factorisation", "LinearSolver"]
 
 # Relative asymmetry (max |K - K^T| / max |K|) below which K_ff is treated as symmetric: the
@@ -41,6 +50,11 @@ NON_CONSERVATIVE = 1e-3
 ACCURACY = 1e-12
 # Steps of iterative refinement tried before the LU fallback.
 REFINEMENTS = 3
+# How many times more elimination operations the band LDL^T (solvers.band) may take than
+# QDLDL's and still be chosen for a pattern: per operation it runs 4-5 times faster (the
+# Mindlin cantilever of benchmarks/static_solver.py: 29 million in 5 ms against QDLDL's 35
+# million in 26 ms).
+BAND_ADVANTAGE = 3.0
 
 
 @dataclass
@@ -93,6 +107,7 @@ class LinearSolver:
     def __init__(self) -> None:
         self._ldl: qdldl.Solver | None = None
         self._pattern: tuple[np.ndarray, np.ndarray] | None = None
+        self._band: BandPlan | None = None
         self._plan: _UpperPlan | None = None
         self._plan_pattern: tuple[np.ndarray, np.ndarray] | None = None
         self.symbolic = 0
@@ -131,23 +146,53 @@ class LinearSolver:
         self._plan = _UpperPlan.of(k)
         return self._plan
 
-    def _ldlt(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
+    def _ldlt(self, upper: sp.csc_matrix) -> tuple[Any, int | None]:
+        """(the LDL^T of the symmetric matrix of this upper triangle, its negative pivots), or
+        (None, None) when it failed: the band LDL^T where the pattern chose it, else QDLDL."""
         pattern = (upper.indptr, upper.indices)
+        if not self._same(pattern):
+            self._ldl, self._band = None, None
+            self._pattern = (upper.indptr.copy(), upper.indices.copy())
+            self.symbolic += 1
+            self._band = self._choose_band(upper)
+        self.numeric += 1
+        if self._band is not None:
+            factor = self._band.factorise(upper.data)
+            if factor is not None:
+                return factor, factor.negative
+        return self._qdldl(upper)
+
+    def _qdldl(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
         try:
-            if self._ldl is not None and self._same(pattern):
+            if self._ldl is not None:
                 self._ldl.update(upper, upper=True)
             else:
                 self._ldl = qdldl.Solver(upper, upper=True)
-                self._pattern = (upper.indptr.copy(), upper.indices.copy())
-                self.symbolic += 1
-            self.numeric += 1
             pivots = np.asarray(self._ldl.factors()[1])
         except RuntimeError:  # a zero pivot: singular, or an unlucky indefinite ordering
-            self._ldl, self._pattern = None, None
+            self._ldl = None
             return None, None
         if not np.all(np.isfinite(pivots)):
             return None, None
         return self._ldl, int(np.count_nonzero(pivots < 0.0))
+
+    def _choose_band(self, upper: sp.csc_matrix) -> BandPlan | None:
+        """The band plan of a new pattern when its elimination costs at most BAND_ADVANTAGE
+        times QDLDL's in operations (the band's contiguous updates run that much faster per
+        operation; solvers.band), from QDLDL's own factor of this matrix (kept for the
+        fallback): n b^2 / 2 against the sum of its column counts squared over 2."""
+        n = upper.shape[0]
+        if not BAND_AVAILABLE or n == 0:
+            return None
+        plan = BandPlan(upper)
+        try:
+            self._ldl = qdldl.Solver(upper, upper=True)
+            counts = np.diff(self._ldl.factors()[0].indptr).astype(float)
+        except RuntimeError:  # QDLDL's ordering meets a zero pivot: try the band
+            self._ldl = None
+            return plan
+        band_operations = n * float(plan.bandwidth) ** 2
+        return plan if band_operations <= BAND_ADVANTAGE * float(np.sum(counts**2)) else None
 
     def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:
         return (

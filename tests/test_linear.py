@@ -90,3 +90,72 @@ def test_a_non_symmetric_pattern_is_still_factorised_and_solved():
     rhs = np.ones(k.shape[0])
     x = LinearSolver().factorise(k).solve(rhs)
     assert np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def strip_matrix(length=60, width=4, shift=0.0, seed=0):
+    """A symmetric matrix on the node graph of a length x width grid of 5-unknown nodes (the
+    pattern of a shell strip's tangent), shifted by -shift on the diagonal."""
+    rng = np.random.default_rng(seed)
+    nodes = np.arange(length * width).reshape(length, width)
+    pairs = [(nodes[:-1, :], nodes[1:, :]), (nodes[:, :-1], nodes[:, 1:])]
+    pairs.append((nodes[:-1, :-1], nodes[1:, 1:]))
+    a = sp.lil_matrix((5 * nodes.size, 5 * nodes.size))
+    for first, second in pairs:
+        for i, j in zip(first.ravel(), second.ravel()):
+            block = rng.uniform(-0.2, 0.2, (5, 5))
+            a[5 * i : 5 * i + 5, 5 * j : 5 * j + 5] = block
+            a[5 * j : 5 * j + 5, 5 * i : 5 * i + 5] = block.T
+    diagonal = rng.uniform(2.0, 4.0, 5 * nodes.size) - shift
+    return (a.tocsc() + sp.diags(diagonal)).tocsc()
+
+
+@pytest.mark.parametrize("shift", [0.0, 2.5, 3.5])
+def test_the_band_ldlt_counts_the_negative_eigenvalues_and_solves(shift):
+    from solvers.band import BandPlan
+
+    k = strip_matrix(shift=shift)
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    factor = BandPlan(upper).factorise(upper.data)
+    assert factor is not None
+    assert factor.negative == int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+    rhs = np.random.default_rng(1).standard_normal(k.shape[0])
+    x = factor.solve(rhs)
+    assert np.allclose(x, np.linalg.solve(k.toarray(), rhs), rtol=1e-9, atol=1e-9)
+
+
+def test_a_strip_pattern_takes_the_band_and_a_scattered_one_qdldl():
+    # The band of a strip is a few nodes wide; a random pattern's band is the whole matrix.
+    on_strip, scattered = LinearSolver(), LinearSolver()
+    on_strip.factorise(strip_matrix())
+    scattered.factorise(symmetric())
+    assert on_strip._band is not None
+    assert scattered._band is None
+
+
+def test_the_band_and_qdldl_give_the_same_solution_and_inertia():
+    from solvers import linear
+
+    k = strip_matrix(shift=2.5)
+    rhs = np.arange(k.shape[0], dtype=float)
+    band = LinearSolver().factorise(k)
+    advantage = linear.BAND_ADVANTAGE
+    try:
+        linear.BAND_ADVANTAGE = 0.0  # never the band
+        general = LinearSolver().factorise(k)
+    finally:
+        linear.BAND_ADVANTAGE = advantage
+    assert band.negative == general.negative > 0
+    x, y = band.solve(rhs), general.solve(rhs)
+    assert np.abs(x - y).max() <= 1e-9 * np.abs(y).max()
+
+
+def test_a_zero_pivot_of_the_band_falls_back_and_still_solves():
+    # Zero diagonal everywhere: the band's first pivot is zero, QDLDL or the LU take over.
+    k = strip_matrix()
+    k = (k - sp.diags(k.diagonal())).tocsc()
+    k = (k + sp.diags(np.zeros(k.shape[0]))).tocsc()
+    rhs = np.ones(k.shape[0])
+    x = LinearSolver().factorise(k).solve(rhs)
+    assert x is not None
+    assert np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
