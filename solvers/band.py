@@ -129,9 +129,9 @@ class BandLDLT:
         self.plan, self.band, self.negative = plan, band, negative
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
-        """x with K x = rhs, rhs (n,)."""
+        """x (n,) with K x = rhs, rhs (n,) or (n, 1)."""
         perm = self.plan.perm
-        y = _solve(self.band, np.ascontiguousarray(rhs[perm], dtype=float))
+        y = _solve(self.band, np.ascontiguousarray(np.ravel(rhs)[perm], dtype=float))
         x = np.empty_like(y)
         x[perm] = y
         return x

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 import qdldl
 import scipy.sparse as sp
-from scipy.sparse.linalg import MatrixRankWarning, splu
+from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 
 from solvers.band import AVAILABLE as BAND_AVAILABLE
 from solvers.band import BandPlan
@@ -92,6 +92,15 @@ class Factorisation:
             return None
         x = _columns(self._lu.solve, rhs)
         return x if np.all(np.isfinite(x)) else None
+
+    def inverse(self) -> LinearOperator | None:
+        """K^-1 as a LinearOperator from the LDL^T's factors (of K's symmetric part, without
+        the accuracy checks of ``solve``: for the shift-invert of solvers.stability), or None
+        when only the LU solves."""
+        if self.kind != "ldlt":
+            return None
+        n = self.matrix.shape[0]
+        return LinearOperator((n, n), matvec=self._ldl.solve, dtype=float)
 
 
 class LinearSolver:

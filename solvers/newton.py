@@ -252,6 +252,8 @@ def _iterate(
         turn = escapes or (factor.negative and not run.on_kept_saddle)
         if turn and solver.seek_stable:
             load = equilibrium.load(frames).ravel()[index]
+            if modes is None:  # shift-invert with the factorisation just made
+                modes = lowest_modes(k_ff, factor.negative, factor.inverse())
             delta_free = downhill(
                 k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
             )

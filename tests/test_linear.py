@@ -159,3 +159,15 @@ def test_a_zero_pivot_of_the_band_falls_back_and_still_solves():
     x = LinearSolver().factorise(k).solve(rhs)
     assert x is not None
     assert np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def test_the_shift_invert_with_the_kept_factors_finds_the_same_lowest_modes():
+    from solvers.stability import lowest_modes
+
+    k = strip_matrix(shift=2.1)
+    factor = LinearSolver().factorise(k)
+    assert factor.kind == "ldlt" and factor.negative
+    values, vectors = lowest_modes(k, factor.negative, factor.inverse())
+    expected, _ = lowest_modes(k, factor.negative)
+    assert np.allclose(values, expected, rtol=1e-8, atol=1e-10)
+    assert np.allclose(np.abs(vectors.T @ (k @ vectors)), np.diag(np.abs(values)), atol=1e-8)
