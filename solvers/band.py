@@ -94,7 +94,10 @@ class BandPlan:
 
     def __init__(self, upper: sp.csc_matrix):
         n = upper.shape[0]
-        full = (upper + upper.T).tocsr()
+        # The ordering sees the pattern, stored zeros included (a flat shell's tangent stores
+        # its zero membrane-bending couplings, and a sum of the values would drop them).
+        ones = sp.csc_matrix((np.ones(upper.nnz), upper.indices, upper.indptr), shape=upper.shape)
+        full = (ones + ones.T).tocsr()
         self.n = n
         self.perm = np.asarray(reverse_cuthill_mckee(full, symmetric_mode=True), dtype=np.int64)
         position = np.empty(n, dtype=np.int64)
