@@ -14,10 +14,14 @@
    more so as the mesh resolves the corners and as the shear stiffness grows.
 5. A von Mises truss pushed through a soft spring, along the arc length (path with two limit
    points).
+6. Peirce's cantilever (validation case heavy-cantilever-nonlinear): the G986 strip whose
+   chord dips 41.5 deg under its own weight, 20 x 1 cells, 3 increments, fibrous shell and
+   MindlinShell(fabric).
 
 Every Static line gives the wall time, the Newton iterations, the evaluations of the internal
-forces, strain energy and tangent, and the wall time in units of one internal-force evaluation
-of the same model timed in the same run (what a solve costs, whatever the machine's load).
+forces, strain energy and tangent, the CPU time of the process (on a shared machine the
+fairer figure) and the wall time in units of one internal-force evaluation of the same model
+timed in the same run (what a solve costs, whatever the machine's load).
 
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
@@ -43,7 +47,7 @@ from materials import presets  # noqa: E402
 from materials.presets import g1151_laminate  # noqa: E402
 from solvers import ConvergenceError, DynamicRelaxation, Static  # noqa: E402
 from validation import specimens  # noqa: E402
-from validation.references.elastica import tip_loaded_cantilever  # noqa: E402
+from validation.references.elastica import peirce_overhang, tip_loaded_cantilever  # noqa: E402
 
 __all__ = [
     "bias_extension",
@@ -114,12 +118,13 @@ def von_mises_truss():
 
 
 def timed(solver, model):
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), time.process_time()
     try:
         result = solver.solve(model)
         converged = True
     except ConvergenceError as error:
         result, converged = error.result, False
+    result.cpu_time = time.process_time() - cpu
     return result, time.perf_counter() - started, converged
 
 
@@ -149,7 +154,9 @@ def describe(name, result, wall, converged, extra="", model=None):
     else:
         its = f"{result.steps} iterations"
     status = "" if converged else " (NOT converged)"
-    print(f"  {name}: {wall:.1f} s, {its}{status}{extra}")
+    cpu = getattr(result, "cpu_time", None)
+    cpu_text = "" if cpu is None else f" ({cpu:.2f} s CPU)"
+    print(f"  {name}: {wall:.2f} s{cpu_text}, {its}{status}{extra}")
 
 
 def main(argv=None) -> None:
@@ -261,6 +268,25 @@ def main(argv=None) -> None:
         + ", ".join(f"{value:.4f}" for value in result.info["limit_points"]),
         model=model,
     )
+
+    fabric = presets.g986_stack()
+    overhang = peirce_overhang(fabric.areal_density * specimens.GRAVITY, fabric.bending)["overhang"]
+    print(f"6. Peirce's cantilever, G986 stack, overhang {overhang:.2f} mm, 20 x 1 cells:")
+    for name, build in (
+        ("fibrous", specimens.fibrous_strip),
+        ("MindlinShell(fabric)", specimens.mindlin_fabric_strip),
+    ):
+        mesh, model = build(overhang, 10.0, fabric, 20)
+        result, wall, ok = timed(Static(increments=3), model)
+        x, _, z = result.positions[mesh.nodes("right")].mean(axis=0)
+        describe(
+            f"Static, {name}",
+            result,
+            wall,
+            ok,
+            f"; chord {math.degrees(math.atan2(-z, x)):.2f} deg (Peirce: 41.5)",
+            model=model,
+        )
 
 
 if __name__ == "__main__":

@@ -117,6 +117,7 @@ class LinearSolver:
         self._ldl: qdldl.Solver | None = None
         self._pattern: tuple[np.ndarray, np.ndarray] | None = None
         self._band: BandPlan | None = None
+        self._fresh = False  # whether self._ldl holds the factors of the last matrix given
         self._plan: _UpperPlan | None = None
         self._plan_pattern: tuple[np.ndarray, np.ndarray] | None = None
         self.symbolic = 0
@@ -160,10 +161,12 @@ class LinearSolver:
         (None, None) when it failed: the band LDL^T where the pattern chose it, else QDLDL."""
         pattern = (upper.indptr, upper.indices)
         if not self._same(pattern):
-            self._ldl, self._band = None, None
+            self._ldl, self._band, self._fresh = None, None, False
             self._pattern = (upper.indptr.copy(), upper.indices.copy())
             self.symbolic += 1
             self._band = self._choose_band(upper)
+        else:
+            self._fresh = False
         self.numeric += 1
         if self._band is not None:
             factor = self._band.factorise(upper.data)
@@ -173,10 +176,13 @@ class LinearSolver:
 
     def _qdldl(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
         try:
-            if self._ldl is not None:
+            if self._ldl is not None and self._fresh:
+                pass  # made from this very matrix when its pattern was chosen
+            elif self._ldl is not None:
                 self._ldl.update(upper, upper=True)
             else:
                 self._ldl = qdldl.Solver(upper, upper=True)
+            self._fresh = False
             pivots = np.asarray(self._ldl.factors()[1])
         except RuntimeError:  # a zero pivot: singular, or an unlucky indefinite ordering
             self._ldl = None
@@ -196,9 +202,10 @@ class LinearSolver:
         plan = BandPlan(upper)
         try:
             self._ldl = qdldl.Solver(upper, upper=True)
+            self._fresh = True
             counts = np.diff(self._ldl.factors()[0].indptr).astype(float)
         except RuntimeError:  # QDLDL's ordering meets a zero pivot: try the band
-            self._ldl = None
+            self._ldl, self._fresh = None, False
             return plan
         band_operations = n * float(plan.bandwidth) ** 2
         return plan if band_operations <= BAND_ADVANTAGE * float(np.sum(counts**2)) else None
@@ -216,14 +223,17 @@ class _UpperPlan:
     """Where the entries of a structurally symmetric CSC pattern with a full diagonal go:
     ``transposed`` (the position of entry (j, i) for each entry (i, j)), ``upper`` (the
     positions of the entries with row <= column, in CSC order of the upper triangle) and that
-    triangle's ``indptr``, ``indices``. With it the asymmetry and the symmetrised upper
-    triangle of each new K_ff on the pattern are two gathers, where sparse transposes, sums and
-    sorts cost as much as a tenth of the numeric factorisation."""
+    triangle's ``indptr``, ``indices``, ``columns`` and ``diagonal`` (which of its entries are).
+    With it the asymmetry and the symmetrised upper triangle of each new K_ff on the pattern
+    are two gathers, where sparse transposes, sums and sorts cost as much as a tenth of the
+    numeric factorisation."""
 
     transposed: np.ndarray
     upper: np.ndarray
     indptr: np.ndarray
     indices: np.ndarray
+    columns: np.ndarray
+    diagonal: np.ndarray
     shape: tuple[int, int]
 
     @classmethod
@@ -243,14 +253,27 @@ class _UpperPlan:
         if np.count_nonzero(rows == columns) != n:
             return None  # QDLDL needs every diagonal entry stored
         indptr = np.concatenate([[0], np.cumsum(np.bincount(columns[upper], minlength=n))])
-        return cls(transposed, upper, indptr, rows[upper].copy(), (n, n))
+        kept_rows, kept_columns = rows[upper].copy(), columns[upper]
+        diagonal = kept_rows == kept_columns
+        return cls(transposed, upper, indptr, kept_rows, kept_columns, diagonal, (n, n))
 
     def split(self, data: np.ndarray) -> tuple[float, sp.csc_matrix]:
-        """(max |K - K^T|, the upper triangle of (K + K^T) / 2) of K's CSC ``data``."""
+        """(max |K - K^T|, the upper triangle of (K + K^T) / 2) of K's CSC ``data``, without
+        its off-diagonal zeros: the entries that are zero in this K (the bending couplings of
+        a flat sheet: the pattern of the fibrous shell's nodal normals reaches two rings of
+        cells, its values do only once the sheet curves) are left out of the factorisation,
+        which then fills far less (10 times less on a flat 3200-triangle fibrous sheet)."""
         mirror = data[self.transposed]
         asymmetry = float(np.abs(data - mirror).max(initial=0.0))
         values = 0.5 * (data[self.upper] + mirror[self.upper])
-        upper = sp.csc_matrix((values, self.indices, self.indptr), shape=self.shape)
+        keep = (values != 0.0) | self.diagonal
+        if keep.all():
+            indices, indptr = self.indices, self.indptr
+        else:
+            values, indices = values[keep], self.indices[keep]
+            counts = np.bincount(self.columns[keep], minlength=self.shape[0])
+            indptr = np.concatenate([[0], np.cumsum(counts)])
+        upper = sp.csc_matrix((values, indices, indptr), shape=self.shape)
         upper.has_sorted_indices = True
         return asymmetry, upper
 

@@ -184,3 +184,18 @@ def test_the_band_ordering_sees_stored_zeros_as_part_of_the_pattern():
     columns = np.repeat(np.arange(upper.shape[0]), np.diff(upper.indptr))
     zeros.data[upper.indices // 5 != columns // 5] = 0.0  # every coupling of two nodes
     assert BandPlan(zeros).bandwidth == BandPlan(upper).bandwidth < 50
+
+
+def test_the_plan_leaves_zero_couplings_out_and_keeps_every_diagonal_entry():
+    # A flat sheet's tangent stores zero bending couplings; QDLDL needs the diagonal stored.
+    from solvers.linear import _UpperPlan
+
+    values = np.array([[0.0, 1.0, 0.0], [1.0, 3.0, 4.0], [0.0, 4.0, 5.0]])
+    k = sp.csc_matrix(np.ones((3, 3)))  # every entry stored
+    k.data = values.T.ravel().copy()  # CSC order: column by column
+    plan = _UpperPlan.of(k)
+    assert plan is not None
+    _, upper = plan.split(k.data)
+    stored = set(zip(np.repeat(np.arange(3), np.diff(upper.indptr)), upper.indices))
+    assert stored == {(0, 0), (1, 0), (1, 1), (2, 1), (2, 2)}  # (column, row): no (2, 0)
+    assert np.array_equal(upper.toarray(), np.triu(values))
