@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from elements.base import CellTangent, SparseTangent, local_tangent
-from elements.fibrous import bending
+from elements.fibrous import bending, tangent_kernels
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import (
     cell_geometry,
@@ -118,7 +118,10 @@ def nodal_membrane_tangent(
 
     # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
     pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
-    second = corner_normal_pull_tangent(x, pull)
+    if block.compiled and tangent_kernels.AVAILABLE:
+        second = tangent_kernels.normal_pull_stiffness(x, pull)
+    else:
+        second = corner_normal_pull_tangent(x, pull)
     return SparseTangent(jac.T @ (h_ext @ jac)), second
 
 

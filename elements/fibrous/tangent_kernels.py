@@ -1,0 +1,167 @@
+"""Compiled loops of the fibrous shell's tangent (elements/fibrous/tangent.py keeps the numpy
+reference of each and the tests compare them to 1e-12).
+
+``normal_pull_stiffness``: ``tangent.corner_normal_pull_tangent``, the stiffness of the
+nodal normals' second derivatives sum_k T_k . d2(alpha_k n)/dx2 with the pulls T held, one
+cell at a time: its numpy form differentiates every formula in the 9 unit directions of the
+corners at once, about 60 array passes over (m, 9, 3, 3) temporaries, where the loop forms
+each cell's 81 numbers in registers.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from elements.jit import AVAILABLE, jit, prange
+
+__all__ = ["AVAILABLE", "normal_pull_stiffness"]
+
+
+@jit
+def _normal_pull_cells(x, pull, out):
+    """out (m, 3 k, 3 i, 3 j, 3 c): d(force_k,i)/d(x_j,c) of the corner-normal pulls of each
+    cell, x (m, 3, 3) its corners, pull (m, 3, 3) the pulls T_k held."""
+    m = x.shape[0]
+    for cell in prange(m):
+        a = np.empty(3)
+        b = np.empty(3)
+        n = np.empty(3)
+        u = np.empty((3, 3))
+        w = np.empty((3, 3))
+        d_next = np.empty((3, 3))
+        d_prev = np.empty((3, 3))
+        angle = np.empty(3)
+        u2 = np.empty(3)
+        w2 = np.empty(3)
+        weight = np.empty(3)
+        g0 = np.zeros(3)
+        for c in range(3):
+            a[c] = x[cell, 1, c] - x[cell, 0, c]
+            b[c] = x[cell, 2, c] - x[cell, 0, c]
+        n[0] = a[1] * b[2] - a[2] * b[1]
+        n[1] = a[2] * b[0] - a[0] * b[2]
+        n[2] = a[0] * b[1] - a[1] * b[0]
+        size = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+        for c in range(3):
+            n[c] /= size
+        for k in range(3):
+            for c in range(3):
+                u[k, c] = x[cell, (k + 1) % 3, c] - x[cell, k, c]
+                w[k, c] = x[cell, (k + 2) % 3, c] - x[cell, k, c]
+            u2[k] = u[k, 0] * u[k, 0] + u[k, 1] * u[k, 1] + u[k, 2] * u[k, 2]
+            w2[k] = w[k, 0] * w[k, 0] + w[k, 1] * w[k, 1] + w[k, 2] * w[k, 2]
+            c0 = u[k, 1] * w[k, 2] - u[k, 2] * w[k, 1]
+            c1 = u[k, 2] * w[k, 0] - u[k, 0] * w[k, 2]
+            c2 = u[k, 0] * w[k, 1] - u[k, 1] * w[k, 0]
+            dot = u[k, 0] * w[k, 0] + u[k, 1] * w[k, 1] + u[k, 2] * w[k, 2]
+            angle[k] = math.atan2(math.sqrt(c0 * c0 + c1 * c1 + c2 * c2), dot)
+            # d_next = -(n x u) / |u|^2, d_prev = -(w x n) / |w|^2
+            d_next[k, 0] = -(n[1] * u[k, 2] - n[2] * u[k, 1]) / u2[k]
+            d_next[k, 1] = -(n[2] * u[k, 0] - n[0] * u[k, 2]) / u2[k]
+            d_next[k, 2] = -(n[0] * u[k, 1] - n[1] * u[k, 0]) / u2[k]
+            d_prev[k, 0] = -(w[k, 1] * n[2] - w[k, 2] * n[1]) / w2[k]
+            d_prev[k, 1] = -(w[k, 2] * n[0] - w[k, 0] * n[2]) / w2[k]
+            d_prev[k, 2] = -(w[k, 0] * n[1] - w[k, 1] * n[0]) / w2[k]
+            weight[k] = pull[cell, k, 0] * n[0] + pull[cell, k, 1] * n[1] + pull[cell, k, 2] * n[2]
+            for c in range(3):
+                g0[c] += angle[k] * pull[cell, k, c]
+        along = g0[0] * n[0] + g0[1] * n[1] + g0[2] * n[2]
+        g = np.empty(3)
+        for c in range(3):
+            g[c] = (g0[c] - along * n[c]) / size
+        da = np.empty(3)
+        db = np.empty(3)
+        dc = np.empty(3)
+        dn = np.empty(3)
+        du = np.empty((3, 3))
+        dw = np.empty((3, 3))
+        nxt = np.empty((3, 3))
+        prv = np.empty((3, 3))
+        dg0 = np.empty(3)
+        dg = np.empty(3)
+        force = np.empty((3, 3))
+        for node in range(3):  # the direction: corner node moved along component comp
+            for comp in range(3):
+                for c in range(3):
+                    da[c] = 0.0
+                    db[c] = 0.0
+                unit_a = (1.0 if node == 1 else 0.0) - (1.0 if node == 0 else 0.0)
+                unit_b = (1.0 if node == 2 else 0.0) - (1.0 if node == 0 else 0.0)
+                da[comp] = unit_a
+                db[comp] = unit_b
+                dc[0] = (da[1] * b[2] - da[2] * b[1]) + (a[1] * db[2] - a[2] * db[1])
+                dc[1] = (da[2] * b[0] - da[0] * b[2]) + (a[2] * db[0] - a[0] * db[2])
+                dc[2] = (da[0] * b[1] - da[1] * b[0]) + (a[0] * db[1] - a[1] * db[0])
+                d_size = n[0] * dc[0] + n[1] * dc[1] + n[2] * dc[2]
+                for c in range(3):
+                    dn[c] = (dc[c] - d_size * n[c]) / size
+                for c in range(3):
+                    dg0[c] = 0.0
+                for k in range(3):
+                    for c in range(3):
+                        du[k, c] = 0.0
+                        dw[k, c] = 0.0
+                    moved_next = (1.0 if node == (k + 1) % 3 else 0.0) - (1.0 if node == k else 0.0)
+                    moved_prev = (1.0 if node == (k + 2) % 3 else 0.0) - (1.0 if node == k else 0.0)
+                    du[k, comp] = moved_next
+                    dw[k, comp] = moved_prev
+                    d_angle = d_next[k, comp] * moved_next + d_prev[k, comp] * moved_prev
+                    u_du = u[k, comp] * moved_next
+                    w_dw = w[k, comp] * moved_prev
+                    d_weight = pull[cell, k, 0] * dn[0] + pull[cell, k, 1] * dn[1]
+                    d_weight += pull[cell, k, 2] * dn[2]
+                    # dd_next = -(dn x u + n x du) / |u|^2 - 2 d_next (u . du) / |u|^2
+                    # dd_prev = -(dw x n + w x dn) / |w|^2 - 2 d_prev (w . dw) / |w|^2
+                    for c in range(3):
+                        c1, c2 = (c + 1) % 3, (c + 2) % 3
+                        dd_next = (
+                            -(
+                                (dn[c1] * u[k, c2] - dn[c2] * u[k, c1])
+                                + (n[c1] * du[k, c2] - n[c2] * du[k, c1])
+                            )
+                            / u2[k]
+                            - 2.0 * d_next[k, c] * u_du / u2[k]
+                        )
+                        dd_prev = (
+                            -(
+                                (dw[k, c1] * n[c2] - dw[k, c2] * n[c1])
+                                + (w[k, c1] * dn[c2] - w[k, c2] * dn[c1])
+                            )
+                            / w2[k]
+                            - 2.0 * d_prev[k, c] * w_dw / w2[k]
+                        )
+                        nxt[k, c] = d_weight * d_next[k, c] + weight[k] * dd_next
+                        prv[k, c] = d_weight * d_prev[k, c] + weight[k] * dd_prev
+                        dg0[c] += d_angle * pull[cell, k, c]
+                for k in range(3):
+                    for c in range(3):
+                        force[k, c] = (
+                            -(nxt[k, c] + prv[k, c]) + nxt[(k + 2) % 3, c] + prv[(k + 1) % 3, c]
+                        )
+                dg0_n = dg0[0] * n[0] + dg0[1] * n[1] + dg0[2] * n[2]
+                g0_dn = g0[0] * dn[0] + g0[1] * dn[1] + g0[2] * dn[2]
+                for c in range(3):
+                    dg[c] = (dg0[c] - (dg0_n + g0_dn) * n[c] - along * dn[c]) / size
+                    dg[c] -= g[c] * d_size / size
+                for c in range(3):
+                    c1, c2 = (c + 1) % 3, (c + 2) % 3
+                    along_a = (db[c1] * g[c2] - db[c2] * g[c1]) + (b[c1] * dg[c2] - b[c2] * dg[c1])
+                    along_b = (dg[c1] * a[c2] - dg[c2] * a[c1]) + (g[c1] * da[c2] - g[c2] * da[c1])
+                    force[0, c] -= along_a + along_b
+                    force[1, c] += along_a
+                    force[2, c] += along_b
+                for k in range(3):
+                    for c in range(3):
+                        out[cell, k, c, node, comp] = force[k, c]
+
+
+def normal_pull_stiffness(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
+    """``tangent.corner_normal_pull_tangent(x, pull)`` (m, 3, 3, 3, 3), N per unit of the sums,
+    by the compiled loop; x, pull (m, 3, 3)."""
+    out = np.empty((len(x), 3, 3, 3, 3))
+    _normal_pull_cells(
+        np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(pull, dtype=float), out
+    )
+    return out

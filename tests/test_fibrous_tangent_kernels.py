@@ -1,0 +1,47 @@
+"""elements/fibrous/tangent_kernels.py: the compiled loops of the fibrous shell's tangent give
+the numbers of their numpy references in elements/fibrous/tangent.py (the same sums in
+another order: 1e-12 of the largest entry)."""
+
+import dataclasses
+
+import numpy as np
+
+from elements import FibrousShell
+from elements.fibrous.tangent import corner_normal_pull_tangent
+from elements.fibrous.tangent_kernels import normal_pull_stiffness
+from femcore import Mesh, Model
+from femcore.rotation import rotate_about
+from materials import presets
+
+
+def test_the_compiled_normal_pull_stiffness_gives_the_numpy_one():
+    # Random cells: obtuse, slender and nearly flat corners alike.
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(500, 3, 3))
+    pull = rng.normal(size=(500, 3, 3))
+    reference = corner_normal_pull_tangent(x, pull)
+    compiled = normal_pull_stiffness(x, pull)
+    assert np.abs(compiled - reference).max() <= 1e-12 * np.abs(reference).max()
+
+
+def test_the_block_tangent_is_the_same_with_the_compiled_loops():
+    # The fibrous sheet with nodal normals, jittered and its directors tilted: every part of
+    # the tangent (the sparse membrane part and the cell blocks) as the numpy kernel gives it.
+    mesh = Mesh.rectangle(40.0, 20.0, nx=6, ny=3)
+    parts = {}
+    for kernel in ("numpy", "compiled"):
+        model = Model(mesh)
+        model.add(FibrousShell(presets.g986_stack(), kernel=kernel))
+        compiled = model.compile()
+        state = compiled.initial_state()
+        rng = np.random.default_rng(4)
+        positions = state.positions + rng.normal(scale=0.4, size=state.positions.shape)
+        turn = np.cross(state.directors, rng.normal(scale=0.2, size=state.positions.shape))
+        state = dataclasses.replace(
+            state, positions=positions, directors=rotate_about(state.directors, turn)
+        )
+        parts[kernel] = compiled.tangent_parts(state, [0])
+    for reference, fast in zip(parts["numpy"], parts["compiled"]):
+        expected = reference.matrix.toarray() if hasattr(reference, "matrix") else reference.blocks
+        got = fast.matrix.toarray() if hasattr(fast, "matrix") else fast.blocks
+        assert np.abs(got - expected).max() <= 1e-12 * np.abs(expected).max()
