@@ -1,6 +1,6 @@
 """elements/fibrous/tangent_kernels.py: the compiled loops of the fibrous shell's tangent give
-the numbers of their numpy references in elements/fibrous/tangent.py (the same sums in
-another order: 1e-12 of the largest entry)."""
+the numbers of their numpy references in elements/fibrous/tangent.py and bending.py (the same
+sums in another order: 1e-12 of the largest entry)."""
 
 import dataclasses
 
@@ -45,3 +45,15 @@ def test_the_block_tangent_is_the_same_with_the_compiled_loops():
         expected = reference.matrix.toarray() if hasattr(reference, "matrix") else reference.blocks
         got = fast.matrix.toarray() if hasattr(fast, "matrix") else fast.blocks
         assert np.abs(got - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
+def test_the_compiled_share_stiffness_gives_the_numpy_one():
+    from elements.fibrous.bending import share_tangent
+    from elements.fibrous.tangent_kernels import share_stiffness
+
+    rng = np.random.default_rng(1)
+    x = rng.normal(size=(500, 3, 3))
+    side_moment = rng.normal(size=(500, 3))
+    reference = share_tangent(x, side_moment)
+    compiled = share_stiffness(x, side_moment)
+    assert np.abs(compiled - reference).max() <= 1e-12 * np.abs(reference).max()

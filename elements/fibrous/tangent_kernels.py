@@ -6,6 +6,9 @@ nodal normals' second derivatives sum_k T_k . d2(alpha_k n)/dx2 with the pulls T
 cell at a time: its numpy form differentiates every formula in the 9 unit directions of the
 corners at once, about 60 array passes over (m, 9, 3, 3) temporaries, where the loop forms
 each cell's 81 numbers in registers.
+
+``share_stiffness``: ``bending.share_tangent``, d/dx of each element's own share of the
+bending forces sum_s mu_s D[s, k] n with the side moments mu_s held, the same way.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import numpy as np
 
 from elements.jit import AVAILABLE, jit, prange
 
-__all__ = ["AVAILABLE", "normal_pull_stiffness"]
+__all__ = ["AVAILABLE", "normal_pull_stiffness", "share_stiffness"]
 
 
 @jit
@@ -163,5 +166,106 @@ def normal_pull_stiffness(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
     out = np.empty((len(x), 3, 3, 3, 3))
     _normal_pull_cells(
         np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(pull, dtype=float), out
+    )
+    return out
+
+
+@jit
+def _share_cells(x, side_moment, out):
+    """out (m, 3 k, 3 i, 3 j, 3 c): d(sum_s mu_s D[s, k] n)_i / d(x_j)_c of each cell, x
+    (m, 3, 3) its corners, side_moment (m, 3) mu_s held; side s runs from corner s + 1 to
+    corner s + 2 (geometry.SIDE_FROM, SIDE_TO)."""
+    m = x.shape[0]
+    for cell in prange(m):
+        a = np.empty(3)
+        b = np.empty(3)
+        n = np.empty(3)
+        side = np.empty((3, 3))
+        length = np.empty(3)
+        outward = np.empty((3, 3))
+        grad_n = np.empty((3, 3))
+        w = np.zeros(3)
+        da = np.empty(3)
+        db = np.empty(3)
+        dc = np.empty(3)
+        dn = np.empty(3)
+        d_side = np.empty((3, 3))
+        d_length = np.empty(3)
+        d_outward = np.empty((3, 3))
+        d_grad_n = np.empty((3, 3))
+        dw = np.empty(3)
+        for c in range(3):
+            a[c] = x[cell, 1, c] - x[cell, 0, c]
+            b[c] = x[cell, 2, c] - x[cell, 0, c]
+        n[0] = a[1] * b[2] - a[2] * b[1]
+        n[1] = a[2] * b[0] - a[0] * b[2]
+        n[2] = a[0] * b[1] - a[1] * b[0]
+        area2 = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+        for c in range(3):
+            n[c] /= area2
+        for s in range(3):
+            for c in range(3):
+                side[s, c] = x[cell, (s + 2) % 3, c] - x[cell, (s + 1) % 3, c]
+            length[s] = math.sqrt(side[s, 0] ** 2 + side[s, 1] ** 2 + side[s, 2] ** 2)
+            for c in range(3):
+                c1, c2 = (c + 1) % 3, (c + 2) % 3
+                outward[s, c] = (side[s, c1] * n[c2] - side[s, c2] * n[c1]) / length[s]
+                grad_n[s, c] = (n[c1] * side[s, c2] - n[c2] * side[s, c1]) / area2
+        for s in range(3):
+            for k in range(3):
+                dot = outward[s, 0] * grad_n[k, 0] + outward[s, 1] * grad_n[k, 1]
+                dot += outward[s, 2] * grad_n[k, 2]
+                w[k] -= side_moment[cell, s] * dot
+        for node in range(3):  # the direction: corner node moved along component comp
+            for comp in range(3):
+                for c in range(3):
+                    da[c] = 0.0
+                    db[c] = 0.0
+                da[comp] = (1.0 if node == 1 else 0.0) - (1.0 if node == 0 else 0.0)
+                db[comp] = (1.0 if node == 2 else 0.0) - (1.0 if node == 0 else 0.0)
+                dc[0] = (da[1] * b[2] - da[2] * b[1]) + (a[1] * db[2] - a[2] * db[1])
+                dc[1] = (da[2] * b[0] - da[0] * b[2]) + (a[2] * db[0] - a[0] * db[2])
+                dc[2] = (da[0] * b[1] - da[1] * b[0]) + (a[0] * db[1] - a[1] * db[0])
+                d_area2 = n[0] * dc[0] + n[1] * dc[1] + n[2] * dc[2]
+                for c in range(3):
+                    dn[c] = (dc[c] - d_area2 * n[c]) / area2
+                for s in range(3):
+                    for c in range(3):
+                        d_side[s, c] = 0.0
+                    to_end = 1.0 if node == (s + 2) % 3 else 0.0
+                    from_end = 1.0 if node == (s + 1) % 3 else 0.0
+                    d_side[s, comp] = to_end - from_end
+                    d_length[s] = side[s, comp] * d_side[s, comp] / length[s]
+                for s in range(3):
+                    for c in range(3):
+                        c1, c2 = (c + 1) % 3, (c + 2) % 3
+                        d_outward[s, c] = (
+                            (d_side[s, c1] * n[c2] - d_side[s, c2] * n[c1])
+                            + (side[s, c1] * dn[c2] - side[s, c2] * dn[c1])
+                        ) / length[s] - outward[s, c] * d_length[s] / length[s]
+                        d_grad_n[s, c] = (
+                            (dn[c1] * side[s, c2] - dn[c2] * side[s, c1])
+                            + (n[c1] * d_side[s, c2] - n[c2] * d_side[s, c1])
+                        ) / area2 - grad_n[s, c] * (d_area2 / area2)
+                for k in range(3):
+                    total = 0.0
+                    for s in range(3):
+                        d_gradient = 0.0
+                        for c in range(3):
+                            d_gradient -= d_outward[s, c] * grad_n[k, c]
+                            d_gradient -= outward[s, c] * d_grad_n[k, c]
+                        total += side_moment[cell, s] * d_gradient
+                    dw[k] = total
+                for k in range(3):
+                    for c in range(3):
+                        out[cell, k, c, node, comp] = dw[k] * n[c] + w[k] * dn[c]
+
+
+def share_stiffness(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
+    """``bending.share_tangent(x, side_moment)`` (m, 3, 3, 3, 3), N/mm, by the compiled
+    loop; x (m, 3, 3), side_moment (m, 3)."""
+    out = np.empty((len(x), 3, 3, 3, 3))
+    _share_cells(
+        np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(side_moment, dtype=float), out
     )
     return out
