@@ -57,3 +57,27 @@ def test_the_compiled_share_stiffness_gives_the_numpy_one():
     reference = share_tangent(x, side_moment)
     compiled = share_stiffness(x, side_moment)
     assert np.abs(compiled - reference).max() <= 1e-12 * np.abs(reference).max()
+
+
+def test_the_structured_membrane_product_is_the_sparse_product():
+    # J's node blocks are the identity on the diagonal plus dS/dx in rows 6-8, columns 0-2;
+    # the compiled product uses that shape and must give scipy's J^T H J of the full blocks.
+    import scipy.sparse as sp
+
+    from elements.fibrous.tangent import CornerPairs
+    from elements.fibrous.tangent_kernels import MembraneProduct
+
+    mesh = Mesh.rectangle(30.0, 20.0, nx=4, ny=3)
+    pairs = CornerPairs(mesh.triangles, len(mesh.points))
+    rng = np.random.default_rng(2)
+    count, n = pairs.indices.size, len(mesh.points)
+    hessian = rng.normal(size=(count, 9, 9))
+    jacobian = np.zeros((count, 9, 6))
+    jacobian[:, 6:, :3] = rng.normal(size=(count, 3, 3))
+    diagonal = pairs.indices == np.repeat(np.arange(n), np.diff(pairs.indptr))
+    jacobian[diagonal, :6, :6] += np.eye(6)
+    h = sp.bsr_matrix((hessian, pairs.indices, pairs.indptr), shape=(9 * n, 9 * n))
+    j = sp.bsr_matrix((jacobian, pairs.indices, pairs.indptr), shape=(9 * n, 6 * n))
+    expected = (j.T @ (h @ j)).toarray()
+    got = MembraneProduct(pairs.indptr, pairs.indices, n)(hessian, jacobian[:, 6:, :3])
+    assert np.abs(got.toarray() - expected).max() <= 1e-12 * np.abs(expected).max()

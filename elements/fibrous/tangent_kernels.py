@@ -9,6 +9,11 @@ each cell's 81 numbers in registers.
 
 ``share_stiffness``: ``bending.share_tangent``, d/dx of each element's own share of the
 bending forces sum_s mu_s D[s, k] n with the side moments mu_s held, the same way.
+
+``MembraneProduct``: J^T H J of ``tangent.nodal_membrane_tangent`` with the shape of J used:
+each of its 9 x 6 node blocks is the identity (u, psi) on the diagonal plus dS_k/dx_j in three
+rows and three columns, so H J and J^T (H J) take a sixth of the products of general 9 x 9 by
+9 x 6 block products (scipy's BSR product multiplies the stored zeros too).
 """
 
 from __future__ import annotations
@@ -16,10 +21,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import scipy.sparse as sp
 
-from elements.jit import AVAILABLE, jit, prange
+from elements.jit import AVAILABLE, jit, prange, serial
 
-__all__ = ["AVAILABLE", "normal_pull_stiffness", "share_stiffness"]
+__all__ = ["AVAILABLE", "MembraneProduct", "normal_pull_stiffness", "share_stiffness"]
 
 
 @jit
@@ -269,3 +275,108 @@ def share_stiffness(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
         np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(side_moment, dtype=float), out
     )
     return out
+
+
+@serial
+def _membrane_product(
+    indptr, indices, transposed, hessian, jacobian, p_indptr, p_indices, k_indptr, k_indices,
+    product, out,
+):  # fmt: skip
+    """out (K's blocks, 6, 6) = J^T H J on the pattern (k_indptr, k_indices), through
+    product (P's blocks, 9, 6) = H J on (p_indptr, p_indices). H's blocks hessian (pairs, 9,
+    9) and J's S rows jacobian (pairs, 3, 3) (dS_k/dx_j, rows 6-8 and columns 0-2 of J's
+    block; the identity of J's diagonal blocks implied) on the node pairs (indptr, indices),
+    transposed[b] the pair (j, i) of pair b = (i, j). One pass over the rows of each product,
+    a marker of the row's pattern giving each block's place."""
+    n = indptr.size - 1
+    marker = np.full(n, -1)
+    for k in range(n):  # P_kj = sum_l H_kl J_lj
+        for q in range(p_indptr[k], p_indptr[k + 1]):
+            marker[p_indices[q]] = q
+            product[q] = 0.0
+        for hb in range(indptr[k], indptr[k + 1]):
+            node = indices[hb]
+            q = marker[node]
+            for r in range(9):
+                for c in range(6):
+                    product[q, r, c] += hessian[hb, r, c]
+            for jb in range(indptr[node], indptr[node + 1]):
+                q = marker[indices[jb]]
+                for r in range(9):
+                    for c in range(3):
+                        total = 0.0
+                        for t in range(3):
+                            total += hessian[hb, r, 6 + t] * jacobian[jb, t, c]
+                        product[q, r, c] += total
+        for q in range(p_indptr[k], p_indptr[k + 1]):
+            marker[p_indices[q]] = -1
+    for i in range(n):  # K_ij = sum_k J_ki^T P_kj
+        for t in range(k_indptr[i], k_indptr[i + 1]):
+            marker[k_indices[t]] = t
+            out[t] = 0.0
+        for b in range(indptr[i], indptr[i + 1]):
+            node = indices[b]
+            jb = transposed[b]  # J_(node, i)
+            for q in range(p_indptr[node], p_indptr[node + 1]):
+                t = marker[p_indices[q]]
+                if node == i:
+                    for r in range(6):
+                        for c in range(6):
+                            out[t, r, c] += product[q, r, c]
+                for r in range(3):
+                    for c in range(6):
+                        total = 0.0
+                        for s in range(3):
+                            total += jacobian[jb, s, r] * product[q, 6 + s, c]
+                        out[t, r, c] += total
+        for t in range(k_indptr[i], k_indptr[i + 1]):
+            marker[k_indices[t]] = -1
+
+
+class MembraneProduct:
+    """J^T H J of the fibrous membrane tangent on the node pairs of the cells (a CornerPairs
+    pattern: ``indptr``, ``indices``, symmetric), the patterns of H J and of the product found
+    once (from scipy's product of the patterns)."""
+
+    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n_nodes: int):
+        self.indptr = np.asarray(indptr, dtype=np.int64)
+        self.indices = np.asarray(indices, dtype=np.int64)
+        self.n = n_nodes
+        pairs = self.indices.size
+        rows = np.repeat(np.arange(n_nodes), np.diff(self.indptr))
+        keys = rows * n_nodes + self.indices
+        self.transposed = np.searchsorted(keys, self.indices * n_nodes + rows).astype(np.int64)
+        h = sp.bsr_matrix(
+            (np.ones((pairs, 9, 9)), self.indices, self.indptr), shape=(9 * n_nodes, 9 * n_nodes)
+        )
+        j = sp.bsr_matrix(
+            (np.ones((pairs, 9, 6)), self.indices, self.indptr), shape=(9 * n_nodes, 6 * n_nodes)
+        )
+        p = sp.bsr_matrix(h @ j, blocksize=(9, 6))
+        p.sort_indices()
+        k = sp.bsr_matrix(j.T @ p, blocksize=(6, 6))
+        k.sort_indices()
+        self.p_indptr = p.indptr.astype(np.int64)
+        self.p_indices = p.indices.astype(np.int64)
+        self.k_indptr = k.indptr.astype(np.int64)
+        self.k_indices = k.indices.astype(np.int64)
+
+    def __call__(self, hessian: np.ndarray, jacobian: np.ndarray) -> sp.bsr_matrix:
+        """J^T H J (6 n, 6 n) as BSR with 6 x 6 blocks, from H's blocks (pairs, 9, 9) and the
+        S rows of J's blocks (pairs, 3, 3)."""
+        product = np.empty((self.p_indices.size, 9, 6))
+        out = np.empty((self.k_indices.size, 6, 6))
+        _membrane_product(
+            self.indptr,
+            self.indices,
+            self.transposed,
+            np.ascontiguousarray(hessian, dtype=float),
+            np.ascontiguousarray(jacobian, dtype=float),
+            self.p_indptr,
+            self.p_indices,
+            self.k_indptr,
+            self.k_indices,
+            product,
+            out,
+        )
+        return sp.bsr_matrix((out, self.k_indices, self.k_indptr), shape=(6 * self.n, 6 * self.n))
