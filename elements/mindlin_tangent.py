@@ -104,8 +104,8 @@ def _tangent_cells(
                     for q in range(7):
                         total += stiffness[cell, z, r, q] * b_psi[z, q, col]
                     stressed[r, col] = total
-            for row in range(18):
-                for col in range(18):
+            for row in range(18):  # symmetric (D^_z is): the upper triangle, mirrored below
+                for col in range(row, 18):
                     total = 0.0
                     for r in range(7):
                         total += b_psi[z, r, row] * stressed[r, col]
@@ -121,6 +121,9 @@ def _tangent_cells(
                 for p in range(6):
                     for q in range(6):
                         geometric[p, q] += s * curvature[z, r, p, q]
+        for row in range(18):
+            for col in range(row):
+                k[row, col] = k[col, row]
         # Geometric part: the block of slots (t, a), (t', b) is G P_at P_bt'^T, P_a0 = I and
         # P_a1 = [V_a]x.
         for a in range(3):
