@@ -31,9 +31,15 @@ watchdog never cuts one there). The first Newton step of an increment moves the 
 straight lines, which stretches a turning strip: the residual is then the membrane force of
 that stretch (ratio ~1 for two or three iterations) before the quadratic phase. Measured and
 not taken: extrapolating the last increment (``predictor=True``: 9-10-10-8-8 and worse on 6),
-a residual line search or chord corrections with the kept factors (both crawl: the residual
-grows along the steps that lead to the equilibrium), smaller rotation caps, more increments
-(24 increments on 6 still take 7-9 each).
+a residual line search or chord corrections with the kept factors accepted on the residual
+(both crawl: the residual grows along the steps that lead to the equilibrium), smaller
+rotation caps, more increments (24 increments on 6 still take 7-9 each). Promising, not yet
+taken: up to N chord corrections K(x)^-1 r(y) after each full step, accepted while they lower
+the total potential energy. Tangents per increment, N = 1 / 2 / 4 against none: cantilever
+6-8-10-8-7 / 6-8-7-6-5 / 5-6-5-5-5 (9-9-9-8-8), roll-up 7-7-10-7 / 7-7-10-7 / 6-6-10-6
+(9-9-9-9), Peirce fibrous 18-9-9 / 12-13-14 / 12-35-10 (36-21-18), Peirce Mindlin 32-10-9 /
+32-12-19 / 33-43-20 (33-30-22): fewer tangents, not always, and no less CPU time where the
+tangent is as cheap as the Mindlin one now is.
 
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
