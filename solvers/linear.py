@@ -55,6 +55,10 @@ REFINEMENTS = 3
 # Mindlin cantilever of benchmarks/static_solver.py: 29 million in 5 ms against QDLDL's 35
 # million in 26 ms).
 BAND_ADVANTAGE = 3.0
+# Where QDLDL fails on a new pattern (a zero pivot), the band is tried only if it holds at most
+# this many times the entries of K_ff's upper triangle (the cantilever's: 5.5), so that a wide
+# band never takes the memory of a dense matrix.
+BAND_FILL_WITHOUT_QDLDL = 20
 
 
 @dataclass
@@ -204,9 +208,9 @@ class LinearSolver:
             self._ldl = qdldl.Solver(upper, upper=True)
             self._fresh = True
             counts = np.diff(self._ldl.factors()[0].indptr).astype(float)
-        except RuntimeError:  # QDLDL's ordering meets a zero pivot: try the band
+        except RuntimeError:  # QDLDL's ordering meets a zero pivot: the band, if it is narrow
             self._ldl, self._fresh = None, False
-            return plan
+            return plan if plan.fill <= BAND_FILL_WITHOUT_QDLDL * max(upper.nnz, 1) else None
         band_operations = n * float(plan.bandwidth) ** 2
         return plan if band_operations <= BAND_ADVANTAGE * float(np.sum(counts**2)) else None
 

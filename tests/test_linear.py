@@ -199,3 +199,16 @@ def test_the_plan_leaves_zero_couplings_out_and_keeps_every_diagonal_entry():
     stored = set(zip(np.repeat(np.arange(3), np.diff(upper.indptr)), upper.indices))
     assert stored == {(0, 0), (1, 0), (1, 1), (2, 1), (2, 2)}  # (column, row): no (2, 0)
     assert np.array_equal(upper.toarray(), np.triu(values))
+
+
+def test_a_wide_band_is_not_tried_where_qdldl_fails():
+    # A scattered pattern with a zero diagonal: QDLDL meets a zero pivot; its band would hold
+    # as many entries as the dense matrix, so the LU solves, without a band.
+    k = symmetric(n=1500, seed=3)
+    k = (k - sp.diags(k.diagonal()) + sp.diags(np.zeros(k.shape[0]))).tocsc()
+    solver = LinearSolver()
+    factor = solver.factorise(k)
+    assert solver._band is None and factor.kind == "lu"
+    rhs = np.ones(k.shape[0])
+    x = factor.solve(rhs)
+    assert x is None or np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
