@@ -38,6 +38,7 @@ from elements.mindlin_tables import (
     _product_coefficients,
     _turned_gradient_table,
 )
+from elements.mindlin_tangent import mindlin_tangent_blocks
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.mesh import Mesh
@@ -196,6 +197,7 @@ class MindlinShellBlock(ElementBlock):
         # Kept by reference (the model's arrays, never written): the point-wise tables, the
         # fields and the stable step's calibration are computed from them when needed.
         self.reference_directors = np.asarray(directors, dtype=float)
+        self._product_tables: tuple[np.ndarray, np.ndarray] | None = None
 
         self._bind_tables()
         measures = self.reference_measures
@@ -420,6 +422,15 @@ class MindlinShellBlock(ElementBlock):
         (docs/theory.md §5.5): blocks (m, 3, 6, 3, 6), N/mm, N, N mm."""
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
+        # The compiled loop for the elastic section, whose level response is linear (a
+        # fabric section answers by its own laws: the numpy path).
+        if self.kernel == "compiled" and type(self)._level_response is _ELASTIC_RESPONSE:
+            if self._product_tables is None:
+                self._product_tables = _product_coefficients(self.zeta, self.h)
+            blocks = mindlin_tangent_blocks(
+                self, x, v, self._level_stiffness(), *self._product_tables
+            )
+            return [CellTangent(self.connectivity, blocks)]
         blocks = np.empty((len(x), 3, 6, 3, 6))
         # Slices of cells: the temporaries (a few times the output) then stay small and are
         # reused from one slice to the next instead of being mapped and page-faulted afresh,
@@ -747,3 +758,7 @@ class MindlinShellBlock(ElementBlock):
 
     def total_mass(self) -> float:
         return float(self.material.areal_density * self.reference_area.sum())
+
+
+# The elastic section's level response (sigma = D^ e): the compiled tangent's condition.
+_ELASTIC_RESPONSE = MindlinShellBlock._level_response

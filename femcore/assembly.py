@@ -5,7 +5,9 @@
   costs one fancy-indexing gather and one ``np.bincount`` per scattered field, with no Python
   loop over cells or nodes.
 - Tangent stiffness in generalised coordinates (femcore.dofs): ``tangent_matrix`` and
-  ``FreeTangentAssembler`` from the elements' own tangent parts, ``CellTangent`` (dense blocks
+  ``FreeTangentAssembler`` (the cell blocks transformed and added into K_ff's fixed CSC
+  structure by one compiled pass, at positions found once per pattern) from the elements'
+  own tangent parts, ``CellTangent`` (dense blocks
   per cell) or ``SparseTangent`` (a sparse matrix over all nodes, for couplings wider than a
   cell; best as BSR with 6 x 6 node blocks); the assembler caches the sparsity pattern of both
   and rebuilds it when the parts' structure changes; and
@@ -16,7 +18,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -163,6 +165,79 @@ def generalised_sparse(part: SparseTangent, maps: np.ndarray) -> sp.csr_matrix:
     return (t.T @ sp.csr_matrix(part.matrix) @ t).tocsr()
 
 
+def _add_cell_blocks(
+    blocks: np.ndarray,
+    nodes: np.ndarray,
+    maps: np.ndarray,
+    ff_destination: np.ndarray,
+    fp_destination: np.ndarray,
+    ff: np.ndarray,
+    fp: np.ndarray,
+) -> None:
+    """Adds T_a^T K_ab T_b of every block pair of a CellTangent into the CSC data of K_ff
+    (``ff``) and K_fp (``fp``), in the order of the entries (cell, a, i, b, j) of the
+    generalised blocks, at the positions ``*_destination`` (-1: not in that matrix).
+
+    blocks (m, p, c, p, c), c = 6 (u, psi) or 3 (translations: no transformation); nodes
+    (m, p); maps (n, 6, 5) of ``DofManager.node_maps``, whose T = [[I, 0], [0, R]] with
+    R = [V2 V1] (3 x 2): the products use that shape (66 products per pair, not 900).
+    Compiled by numba (one serial pass: the sums in a fixed order)."""
+    m, p, c = blocks.shape[0], blocks.shape[1], blocks.shape[2]
+    size = 5 if c == 6 else 3
+    kq = np.empty((size, size))
+    right = np.empty((3, 2))
+    for cell in range(m):
+        for a in range(p):
+            node_a = nodes[cell, a]
+            for b in range(p):
+                node_b = nodes[cell, b]
+                for i in range(3):
+                    for j in range(3):
+                        kq[i, j] = blocks[cell, a, i, b, j]
+                if c == 6:
+                    for i in range(3):
+                        for q in range(2):
+                            upper = 0.0
+                            turned = 0.0
+                            for r in range(3):
+                                rb = maps[node_b, 3 + r, 3 + q]
+                                upper += blocks[cell, a, i, b, 3 + r] * rb
+                                turned += blocks[cell, a, 3 + i, b, 3 + r] * rb
+                            kq[i, 3 + q] = upper
+                            right[i, q] = turned
+                    for q in range(2):
+                        for j in range(3):
+                            total = 0.0
+                            for r in range(3):
+                                total += maps[node_a, 3 + r, 3 + q] * blocks[cell, a, 3 + r, b, j]
+                            kq[3 + q, j] = total
+                        for t in range(2):
+                            total = 0.0
+                            for r in range(3):
+                                total += maps[node_a, 3 + r, 3 + q] * right[r, t]
+                            kq[3 + q, 3 + t] = total
+                for i in range(size):
+                    row = ((cell * p + a) * size + i) * p + b
+                    for j in range(size):
+                        entry = row * size + j  # (cell, a, i, b, j) of the blocks, raveled
+                        where = ff_destination[entry]
+                        if where >= 0:
+                            ff[where] += kq[i, j]
+                        else:
+                            where = fp_destination[entry]
+                            if where >= 0:
+                                fp[where] += kq[i, j]
+
+
+_add_cell_blocks_compiled: Any = None
+try:  # numba is a dependency; without it the assembler sums the numpy blocks by bincount
+    import numba
+
+    _add_cell_blocks_compiled = numba.njit(cache=True)(_add_cell_blocks)
+except ImportError:  # pragma: no cover - numba is a dependency
+    _add_cell_blocks_compiled = None
+
+
 def entry_slots(nodes: np.ndarray, components: int) -> tuple[np.ndarray, np.ndarray]:
     """Global slot row and column of every entry of (m, p, c_q, p, c_q) blocks, raveled."""
     index = DofManager.slots(nodes[:, :, None], np.arange(components))  # (m, p, c_q)
@@ -274,10 +349,33 @@ class FreeTangentAssembler:
         self.ff_select = np.flatnonzero(ff)
         keys, self.ff_map = np.unique(c_f[ff] * self.n_free + r_f[ff], return_inverse=True)
         self.ff_cols, self.ff_rows = np.divmod(keys, self.n_free)
+        # The keys are unique and sorted by column then row: K_ff's CSC structure as it is.
+        self.ff_indptr = np.searchsorted(self.ff_cols, np.arange(self.n_free + 1))
         moved = max(self.n_moved, 1)
         self.fp_select = np.flatnonzero(fp)
         keys, self.fp_map = np.unique(r_f[fp] * moved + c_p[fp], return_inverse=True)
         self.fp_rows, self.fp_cols = np.divmod(keys, moved)
+        # Per entry of the concatenated parts, its position in K_ff's or K_fp's data (-1: in
+        # neither), split by part: the compiled pass adds each cell part's blocks there.
+        ff_destination = np.full(rows_all.size, -1, dtype=np.int64)
+        ff_destination[self.ff_select] = self.ff_map
+        fp_destination = np.full(rows_all.size, -1, dtype=np.int64)
+        fp_destination[self.fp_select] = self.fp_map
+        bounds = np.cumsum([0] + [r.size for r in rows[1:]])
+        self._destinations = [
+            (ff_destination[start:stop], fp_destination[start:stop])
+            for start, stop in zip(bounds[:-1], bounds[1:])
+        ]
+        # The entries the compiled pass does not add (all of them without numba): the
+        # SparseTangent parts', summed by bincount.
+        first = int(bounds[len(parts)]) if _add_cell_blocks_compiled is not None else 0
+        ff_rest, fp_rest = self.ff_select >= first, self.fp_select >= first
+        self._rest = (
+            self.ff_map[ff_rest],
+            self.ff_select[ff_rest] - first,
+            self.fp_map[fp_rest],
+            self.fp_select[fp_rest] - first,
+        )
         self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
         self._block_rows = [
             np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr)) for b in blocks
@@ -304,15 +402,34 @@ class FreeTangentAssembler:
         if not self._same_pattern(parts, blocks):
             self._build(parts, blocks)
         maps = self.dofs.node_maps(frames)
-        values = [generalised_blocks(part, maps).ravel() for part in parts]
+        ff = np.zeros(self.ff_rows.size)
+        fp = np.zeros(self.fp_rows.size)
+        compiled = _add_cell_blocks_compiled is not None
+        values = []
+        for part, (to_ff, to_fp) in zip(parts, self._destinations):
+            if compiled:
+                _add_cell_blocks_compiled(
+                    np.ascontiguousarray(part.blocks, dtype=float),
+                    np.ascontiguousarray(part.nodes, dtype=np.int64),
+                    maps,
+                    to_ff,
+                    to_fp,
+                    ff,
+                    fp,
+                )
+            else:
+                values.append(generalised_blocks(part, maps).ravel())
         for b, block_rows in zip(blocks, self._block_rows):
             # T_i^T K_ij T_j per node block, (count, 5, 5).
             right = np.matmul(b.data, maps[b.indices])
             values.append(np.matmul(np.swapaxes(maps[block_rows], 1, 2), right).ravel())
-        flat = np.concatenate(values or [np.zeros(0)])
-        ff = np.bincount(self.ff_map, flat[self.ff_select], minlength=self.ff_rows.size)
-        k_ff = sp.csc_matrix((ff, (self.ff_rows, self.ff_cols)), shape=(self.n_free, self.n_free))
-        fp = np.bincount(self.fp_map, flat[self.fp_select], minlength=self.fp_rows.size)
+        if values:  # the parts the compiled pass did not add, by one bincount each
+            flat = np.concatenate(values)
+            ff_map, ff_select, fp_map, fp_select = self._rest
+            ff += np.bincount(ff_map, flat[ff_select], minlength=ff.size)
+            fp += np.bincount(fp_map, flat[fp_select], minlength=fp.size)
+        k_ff = sp.csc_matrix((ff, self.ff_rows, self.ff_indptr), shape=(self.n_free, self.n_free))
+        k_ff.has_sorted_indices = True  # canonical by construction (unique sorted keys)
         k_fp = sp.csr_matrix((fp, (self.fp_rows, self.fp_cols)), shape=(self.n_free, self.n_moved))
         return k_ff, k_fp
 

@@ -10,8 +10,14 @@ pivots give the inertia of K_ff (Sylvester's law: D has as many negative entries
 negative eigenvalues), which tells a stable equilibrium from a saddle whatever the number of
 negative modes: the sign of det K only sees an odd number of them.
 
-The factorisation is QDLDL (an LDL^T without pivoting, after an AMD ordering) through the
-``qdldl`` package. Without pivoting it can fail on an indefinite matrix (a zero pivot) or lose
+The factorisation is an LDL^T without pivoting: the compiled band LDL^T of solvers.band (after
+a reverse Cuthill-McKee ordering) where the pattern's band costs at most BAND_ADVANTAGE times
+the operations of QDLDL's factor (shells, strips, sheets a few hundred unknowns wide: 5 times
+faster), else QDLDL (after an AMD ordering) through the ``qdldl`` package; the choice is made
+once per sparsity pattern, the factor of a failed band (a zero pivot) is QDLDL's. The pattern's
+analysis (the ordering, the band layout, QDLDL's elimination tree) is kept while it holds, and
+so is the map from K_ff's entries to its symmetrised upper triangle. Without pivoting it can
+fail on an indefinite matrix (a zero pivot) or lose
 accuracy; every solution is therefore checked by its backward error and refined with the same
 factors (up to REFINEMENTS steps), and a failed or still inaccurate factorisation falls back
 to scipy's pivoting LU (SuperLU), as does a non-symmetric K_ff.
@@ -26,7 +32,10 @@ from typing import Any
 import numpy as np
 import qdldl
 import scipy.sparse as sp
-from scipy.sparse.linalg import MatrixRankWarning, splu
+from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
+
+from solvers.band import AVAILABLE as BAND_AVAILABLE
+from solvers.band import BandPlan
 
 __all__ = ["Factorisation", "LinearSolver"]
 
@@ -41,6 +50,15 @@ NON_CONSERVATIVE = 1e-3
 ACCURACY = 1e-12
 # Steps of iterative refinement tried before the LU fallback.
 REFINEMENTS = 3
+# How many times more elimination operations the band LDL^T (solvers.band) may take than
+# QDLDL's and still be chosen for a pattern: per operation it runs 4-5 times faster (the
+# Mindlin cantilever of benchmarks/static_solver.py: 29 million in 5 ms against QDLDL's 35
+# million in 26 ms).
+BAND_ADVANTAGE = 3.0
+# Where QDLDL fails on a new pattern (a zero pivot), the band is tried only if it holds at most
+# this many times the entries of K_ff's upper triangle (the cantilever's: 5.5), so that a wide
+# band never takes the memory of a dense matrix.
+BAND_FILL_WITHOUT_QDLDL = 20
 
 
 @dataclass
@@ -79,6 +97,15 @@ class Factorisation:
         x = _columns(self._lu.solve, rhs)
         return x if np.all(np.isfinite(x)) else None
 
+    def inverse(self) -> LinearOperator | None:
+        """K^-1 as a LinearOperator from the LDL^T's factors (of K's symmetric part, without
+        the accuracy checks of ``solve``: for the shift-invert of solvers.stability), or None
+        when only the LU solves."""
+        if self.kind != "ldlt":
+            return None
+        n = self.matrix.shape[0]
+        return LinearOperator((n, n), matvec=self._ldl.solve, dtype=float)
+
 
 class LinearSolver:
     """Factorises successive K_ff of one model, reusing the symbolic LDL^T while the sparsity
@@ -93,15 +120,23 @@ class LinearSolver:
     def __init__(self) -> None:
         self._ldl: qdldl.Solver | None = None
         self._pattern: tuple[np.ndarray, np.ndarray] | None = None
+        self._band: BandPlan | None = None
+        self._fresh = False  # whether self._ldl holds the factors of the last matrix given
+        self._plan: _UpperPlan | None = None
+        self._plan_pattern: tuple[np.ndarray, np.ndarray] | None = None
         self.symbolic = 0
         self.numeric = 0
 
     def factorise(self, k_ff: sp.spmatrix) -> Factorisation:
         """The factorisation of a square sparse K_ff."""
-        k = sp.csc_matrix(k_ff)
+        k = k_ff if isinstance(k_ff, sp.csc_matrix) else sp.csc_matrix(k_ff)
+        plan = self._plan_for(k)
         scale = float(np.abs(k.data).max(initial=0.0))
-        asymmetry = float(np.abs((k - k.T).data).max(initial=0.0))
-        upper = _upper(0.5 * (k + k.T))
+        if plan is None:
+            asymmetry = float(np.abs((k - k.T).data).max(initial=0.0))
+            upper = _upper(0.5 * (k + k.T))
+        else:
+            asymmetry, upper = plan.split(k.data)
         ldl, negative = self._ldlt(upper)
         symmetric = scale > 0.0 and asymmetry <= SYMMETRY_TOLERANCE * scale
         if ldl is not None and symmetric:
@@ -113,23 +148,71 @@ class LinearSolver:
             negative = None
         return Factorisation(k, negative, "lu", _lu=_lu(k))
 
-    def _ldlt(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
+    def _plan_for(self, k: sp.csc_matrix) -> _UpperPlan | None:
+        """The upper-triangle plan of K_ff's sparsity pattern (kept while the pattern is the
+        same), or None when the pattern is not structurally symmetric with its diagonal."""
+        if self._plan_pattern is not None and (
+            np.array_equal(self._plan_pattern[0], k.indptr)
+            and np.array_equal(self._plan_pattern[1], k.indices)
+        ):
+            return self._plan
+        self._plan_pattern = (k.indptr.copy(), k.indices.copy())
+        self._plan = _UpperPlan.of(k)
+        return self._plan
+
+    def _ldlt(self, upper: sp.csc_matrix) -> tuple[Any, int | None]:
+        """(the LDL^T of the symmetric matrix of this upper triangle, its negative pivots), or
+        (None, None) when it failed: the band LDL^T where the pattern chose it, else QDLDL."""
         pattern = (upper.indptr, upper.indices)
+        if not self._same(pattern):
+            self._ldl, self._band, self._fresh = None, None, False
+            self._pattern = (upper.indptr.copy(), upper.indices.copy())
+            self.symbolic += 1
+            self._band = self._choose_band(upper)
+        else:
+            self._fresh = False
+        self.numeric += 1
+        if self._band is not None:
+            factor = self._band.factorise(upper.data)
+            if factor is not None:
+                return factor, factor.negative
+        return self._qdldl(upper)
+
+    def _qdldl(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
         try:
-            if self._ldl is not None and self._same(pattern):
+            if self._ldl is not None and self._fresh:
+                pass  # made from this very matrix when its pattern was chosen
+            elif self._ldl is not None:
                 self._ldl.update(upper, upper=True)
             else:
                 self._ldl = qdldl.Solver(upper, upper=True)
-                self._pattern = (upper.indptr.copy(), upper.indices.copy())
-                self.symbolic += 1
-            self.numeric += 1
+            self._fresh = False
             pivots = np.asarray(self._ldl.factors()[1])
         except RuntimeError:  # a zero pivot: singular, or an unlucky indefinite ordering
-            self._ldl, self._pattern = None, None
+            self._ldl = None
             return None, None
         if not np.all(np.isfinite(pivots)):
             return None, None
         return self._ldl, int(np.count_nonzero(pivots < 0.0))
+
+    def _choose_band(self, upper: sp.csc_matrix) -> BandPlan | None:
+        """The band plan of a new pattern when its elimination costs at most BAND_ADVANTAGE
+        times QDLDL's in operations (the band's contiguous updates run that much faster per
+        operation; solvers.band), from QDLDL's own factor of this matrix (kept for the
+        fallback): n b^2 / 2 against the sum of its column counts squared over 2."""
+        n = upper.shape[0]
+        if not BAND_AVAILABLE or n == 0:
+            return None
+        plan = BandPlan(upper)
+        try:
+            self._ldl = qdldl.Solver(upper, upper=True)
+            self._fresh = True
+            counts = np.diff(self._ldl.factors()[0].indptr).astype(float)
+        except RuntimeError:  # QDLDL's ordering meets a zero pivot: the band, if it is narrow
+            self._ldl, self._fresh = None, False
+            return plan if plan.fill <= BAND_FILL_WITHOUT_QDLDL * max(upper.nnz, 1) else None
+        band_operations = n * float(plan.bandwidth) ** 2
+        return plan if band_operations <= BAND_ADVANTAGE * float(np.sum(counts**2)) else None
 
     def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:
         return (
@@ -137,6 +220,66 @@ class LinearSolver:
             and np.array_equal(self._pattern[0], pattern[0])
             and np.array_equal(self._pattern[1], pattern[1])
         )
+
+
+@dataclass
+class _UpperPlan:
+    """Where the entries of a structurally symmetric CSC pattern with a full diagonal go:
+    ``transposed`` (the position of entry (j, i) for each entry (i, j)), ``upper`` (the
+    positions of the entries with row <= column, in CSC order of the upper triangle) and that
+    triangle's ``indptr``, ``indices``, ``columns`` and ``diagonal`` (which of its entries are).
+    With it the asymmetry and the symmetrised upper triangle of each new K_ff on the pattern
+    are two gathers, where sparse transposes, sums and sorts cost as much as a tenth of the
+    numeric factorisation."""
+
+    transposed: np.ndarray
+    upper: np.ndarray
+    indptr: np.ndarray
+    indices: np.ndarray
+    columns: np.ndarray
+    diagonal: np.ndarray
+    shape: tuple[int, int]
+
+    @classmethod
+    def of(cls, k: sp.csc_matrix) -> _UpperPlan | None:
+        n = k.shape[0]
+        if not k.has_sorted_indices:
+            return None
+        columns = np.repeat(np.arange(n), np.diff(k.indptr))
+        rows = k.indices
+        keys = columns.astype(np.int64) * n + rows  # CSC order: sorted
+        swapped = rows.astype(np.int64) * n + columns
+        transposed = np.searchsorted(keys, swapped)
+        transposed = np.minimum(transposed, keys.size - 1)
+        if keys.size == 0 or not np.array_equal(keys[transposed], swapped):
+            return None  # an entry without its mirror
+        upper = np.flatnonzero(rows <= columns)
+        if np.count_nonzero(rows == columns) != n:
+            return None  # QDLDL needs every diagonal entry stored
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(columns[upper], minlength=n))])
+        kept_rows, kept_columns = rows[upper].copy(), columns[upper]
+        diagonal = kept_rows == kept_columns
+        return cls(transposed, upper, indptr, kept_rows, kept_columns, diagonal, (n, n))
+
+    def split(self, data: np.ndarray) -> tuple[float, sp.csc_matrix]:
+        """(max |K - K^T|, the upper triangle of (K + K^T) / 2) of K's CSC ``data``, without
+        its off-diagonal zeros: the entries that are zero in this K (the bending couplings of
+        a flat sheet: the pattern of the fibrous shell's nodal normals reaches two rings of
+        cells, its values do only once the sheet curves) are left out of the factorisation,
+        which then fills far less (10 times less on a flat 3200-triangle fibrous sheet)."""
+        mirror = data[self.transposed]
+        asymmetry = float(np.abs(data - mirror).max(initial=0.0))
+        values = 0.5 * (data[self.upper] + mirror[self.upper])
+        keep = (values != 0.0) | self.diagonal
+        if keep.all():
+            indices, indptr = self.indices, self.indptr
+        else:
+            values, indices = values[keep], self.indices[keep]
+            counts = np.bincount(self.columns[keep], minlength=self.shape[0])
+            indptr = np.concatenate([[0], np.cumsum(counts)])
+        upper = sp.csc_matrix((values, indices, indptr), shape=self.shape)
+        upper.has_sorted_indices = True
+        return asymmetry, upper
 
 
 def _upper(k: sp.spmatrix) -> sp.csc_matrix:

@@ -25,6 +25,12 @@ Each Newton iteration:
   large rotation climb the energy on the way (the straight update stretches the membrane) and
   still reach the equilibrium in a few steps, where a monotone line search would crawl.
 
+Chord corrections (``Static(chords=N)``, ``chord_corrections``): after a whole step, up to N
+steps K^-1 r with the factorisation just made, each kept while it lowers the total potential
+energy: where the straight update of a turning strip has stretched it, they take the membrane
+back at the cost of a solve and two evaluations each, instead of a tangent and its
+factorisation.
+
 Contact (the active-set strategy of implicit contact codes; elements/contact.py): the contact
 sets of the interactions (which nodes touch, which stick, which slide and in what direction)
 are frozen at the start of the increment, so that the contact forces are smooth and the
@@ -73,6 +79,7 @@ __all__ = [
     "Tangent",
     "Watchdog",
     "at_round_off_floor",
+    "chord_corrections",
     "mechanism",
     "newton",
     "step_cap",
@@ -258,6 +265,8 @@ def _iterate(
             )
             load = equilibrium.load(frames).ravel()[index]
             if shifted is None:
+                if modes is None:  # shift-invert with the factorisation just made
+                    modes = lowest_modes(k_ff, factor.negative, factor.inverse())
                 shifted = downhill(
                     k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
                 )
@@ -267,6 +276,10 @@ def _iterate(
         delta = flat.reshape(-1, N_COLUMNS)
         imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing)
+        if solver.chords and scale == 1.0 and not (push or imposing or frozen):
+            state, forces = chord_corrections(
+                run, equilibrium, watchdog, state, frames, forces, factor
+            )
         # Round-off floor: the internal forces come from differences of nearly equal
         # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
         # load that no update removes. A full step that moves nothing (1e-9 of an element,
@@ -295,6 +308,46 @@ def _iterate(
         f"residual ratio {history[-1]:.3g} after {allowed} iterations"
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
+
+
+def chord_corrections(
+    run: StaticRun,
+    equilibrium: Residual,
+    watchdog: Watchdog,
+    state: State,
+    frames: Frames,
+    forces,
+    factor: Factorisation,
+):
+    """After a whole Newton step to ``state`` (internal ``forces`` there): up to
+    ``solver.chords`` chord steps K^-1 r(state) with the iteration's factorisation ``factor``
+    (one solve and one force evaluation each, where a Newton iteration forms and factorises
+    a tangent), each kept while it lowers the total potential energy (the residual is no
+    guide: it grows along steps that lead to the equilibrium). Returns (state, forces)."""
+    model, dofs = run.model, run.model.dofs
+    index = dofs.free_slots
+    energy = run.energy(state)
+    for _ in range(run.solver.chords):
+        r, ratio, forces = equilibrium.residual(state, frames, forces)
+        if not np.isfinite(ratio) or ratio <= run.solver.tol:
+            break
+        step = factor.solve(r.ravel()[index])
+        if step is None:
+            break
+        flat = np.zeros(dofs.n_slots)
+        flat[index] = step
+        delta = flat.reshape(-1, N_COLUMNS)
+        trial = dofs.advance(state, delta, frames)
+        work = float(equilibrium.load(frames).ravel() @ flat)  # of the dead loads
+        trial_energy = run.energy(trial)
+        if not trial_energy - work < energy:
+            break
+        trial_forces = model.internal_force(trial)
+        run.counts["residual"] += 1
+        state, forces, energy = trial, trial_forces, trial_energy
+        watchdog.work += work  # the potential of the iterates is measured from its best one
+        run.info["chord_corrections"] += 1
+    return state, forces
 
 
 def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, near: bool = False):

@@ -112,7 +112,7 @@ def push_descends(run: StaticRun, state, frames, load, modes, translation) -> bo
     return False
 
 
-def lowest_modes(k_ff, negative: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def lowest_modes(k_ff, negative: int | None = None, inverse=None) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues of the symmetric part of K_ff with their unit eigenvectors (columns),
     ascending: the ``negative`` ones (at most 6) when the inertia says there are some, else
     the (up to) 6 nearest zero; empty when ARPACK fails.
@@ -121,7 +121,11 @@ def lowest_modes(k_ff, negative: int | None = None) -> tuple[np.ndarray, np.ndar
     eigenvalues nearest zero are the smallest (most negative) 1 / l, and the eigenvalues
     nearest zero those of largest |1 / l|. The largest negative eigenvalue of a buckled plate
     may lie beyond several small positive ones, so asking for the nearest to zero alone can
-    miss it."""
+    miss it.
+
+    ``inverse``: a LinearOperator applying the inverse of the symmetric part of K_ff from a
+    factorisation already made (``Factorisation.inverse``), which the shift-invert then uses
+    instead of factorising K_ff again (a SuperLU as costly as a Newton iteration's own)."""
     n = k_ff.shape[0]
     if n <= 200:  # small: all of them, densely (ARPACK needs k < n - 1)
         values, vectors = np.linalg.eigh(0.5 * (k_ff + k_ff.T).toarray())
@@ -135,10 +139,15 @@ def lowest_modes(k_ff, negative: int | None = None) -> tuple[np.ndarray, np.ndar
     try:
         if negative:
             values, vectors = eigsh(
-                symmetric, k=min(negative, 6, n - 2), sigma=0.0, which="SA", v0=start
+                symmetric,
+                k=min(negative, 6, n - 2),
+                sigma=0.0,
+                which="SA",
+                v0=start,
+                OPinv=inverse,
             )
         else:
-            values, vectors = eigsh(symmetric, k=6, sigma=0.0, which="LM", v0=start)
+            values, vectors = eigsh(symmetric, k=6, sigma=0.0, which="LM", v0=start, OPinv=inverse)
     except (RuntimeError, ArpackNoConvergence):
         return np.zeros(0), np.zeros((n, 0))
     order = np.argsort(values)

@@ -128,6 +128,14 @@ class Static:
         (solvers.stabilisation). The energy the dashpots dissipated is reported against the
         strain energy in ``info["stabilisation"]``, with a UserWarning past
         STABILISATION_BOUND (5 %) of it at the end.
+    chords : load path: after each whole Newton step, up to this many chord corrections
+        K^-1 r with the step's own factorisation, each kept while it lowers the total
+        potential energy (default 0: none). They take the place of tangents where the first
+        steps of an increment stretch a turning strip (benchmarks/static_solver.py: the
+        Mindlin cantilever in 5-6-5-5-5 tangents with 4, 9-9-9-8-8 without); a correction
+        costs a force and an energy evaluation and a solve, and the count of tangents is not
+        always lower (Peirce's cantilever). Counted in ``info["chord_corrections"]``; not in
+        increments with prescribed motion or contact.
     progress : print status lines (None: only on an interactive terminal).
     output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
         rewritten after each) as its increment converges, so that a killed run leaves the
@@ -161,6 +169,7 @@ class Static:
         at_limit: str = "follow",
         predictor: bool = False,
         stabilise: float = 0.0,
+        chords: int = 0,
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
     ):
@@ -185,6 +194,7 @@ class Static:
         self.at_limit = at_limit
         self.predictor = check_flag(predictor, "predictor")
         self.stabilise = check_stabilise(stabilise, path)
+        self.chords = check_integer(chords, "chords", minimum=0)
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
         self.progress = check_progress(progress)
@@ -378,6 +388,7 @@ class StaticRun:
             "jumps": [],
             "regularised_iterations": 0,
             "shifted": [],
+            "chord_corrections": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "branch_switches": [],

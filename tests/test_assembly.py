@@ -70,3 +70,32 @@ def test_sparse_parts_assemble_from_their_node_blocks_with_the_cached_pattern():
     # The second matrix has the first one's blocks (the same mask); the CSR one too, once
     # converted to blocks.
     assert assemble.builds == 1
+
+
+def test_the_compiled_scatter_adds_the_generalised_blocks_where_the_bincount_does():
+    """The assembler's compiled pass (T_a^T K_ab T_b with T's shape used, added at positions
+    found once) against generalised_blocks and a bincount, on 6-node patches in the frames of
+    tilted directors, with a node twice in a patch and a prescribed unknown."""
+    from femcore import assembly
+
+    active = np.ones((N, 5), dtype=bool)
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    prescribed = np.zeros_like(active)
+    prescribed[3, 1] = True
+    dofs = DofManager(N, active, fixed, prescribed)
+    rng = np.random.default_rng(2)
+    directors = rng.normal(size=(N, 3))
+    maps = dofs.node_maps(dofs.frames(directors / np.linalg.norm(directors, axis=1)[:, None]))
+    nodes = np.array([[0, 1, 2, 3, 1, 2], [3, 2, 1, 0, 0, 3]])
+    part = CellTangent(nodes, rng.normal(size=(2, 6, 6, 6, 6)))
+    assemble = FreeTangentAssembler(dofs)
+    assemble([part], dofs.frames(np.tile([0.0, 0.0, 1.0], (N, 1))))  # builds the positions
+    to_ff, to_fp = assemble._destinations[0]
+    ff, fp = np.zeros(assemble.ff_rows.size), np.zeros(assemble.fp_rows.size)
+    assembly._add_cell_blocks(part.blocks, nodes, maps, to_ff, to_fp, ff, fp)
+    flat = assembly.generalised_blocks(part, maps).ravel()
+    expected_ff = np.bincount(assemble.ff_map, flat[assemble.ff_select], minlength=ff.size)
+    expected_fp = np.bincount(assemble.fp_map, flat[assemble.fp_select], minlength=fp.size)
+    assert np.allclose(ff, expected_ff, rtol=1e-14, atol=1e-13)
+    assert np.allclose(fp, expected_fp, rtol=1e-14, atol=1e-13)

@@ -104,7 +104,8 @@ INTEGER_OPTIONS = [
     (lambda **o: CentralDifference(duration=1.0, **o), "max_steps"),
     *[(DynamicRelaxation, name) for name in ("increments", "max_iterations", "refresh",
                                               "stall_iterations", "plateau_iterations")],
-    *[(Static, name) for name in ("increments", "max_iterations", "max_cuts", "max_increments")],
+    *[(Static, name) for name in ("increments", "max_iterations", "max_cuts", "max_increments",
+                                  "chords")],
 ]  # fmt: skip
 
 

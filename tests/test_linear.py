@@ -53,3 +53,162 @@ def test_a_non_symmetric_matrix_is_solved_exactly_by_lu():
 def test_a_singular_matrix_gives_no_solution():
     k = sp.csc_matrix(np.array([[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]]))
     assert LinearSolver().factorise(k).solve(np.ones(3)) is None
+
+
+def test_the_kept_pattern_plan_gives_the_scipy_asymmetry_and_upper_triangle():
+    # The plan of a structurally symmetric pattern replaces sparse transposes and sorts by two
+    # gathers; it must give what they give, to the bit, on a matrix with a non-symmetric part.
+    from solvers.linear import _upper, _UpperPlan
+
+    k = symmetric()
+    skew = sp.triu(k, k=1) * 1e-3
+    k = (k + skew - skew.T).tocsc()
+    k.sort_indices()
+    plan = _UpperPlan.of(k)
+    assert plan is not None
+    asymmetry, upper = plan.split(k.data)
+    assert asymmetry == np.abs((k - k.T).data).max()
+    reference = _upper(0.5 * (k + k.T))
+    assert np.array_equal(upper.indptr, reference.indptr)
+    assert np.array_equal(upper.indices, reference.indices)
+    assert np.array_equal(upper.data, reference.data)
+
+
+def test_a_pattern_without_its_mirror_or_its_diagonal_gets_no_plan():
+    from solvers.linear import _UpperPlan
+
+    lower_only = sp.csc_matrix(np.tril(np.ones((4, 4))))
+    assert _UpperPlan.of(lower_only) is None
+    no_diagonal = sp.csc_matrix(np.ones((4, 4)) - np.eye(4))
+    assert _UpperPlan.of(no_diagonal) is None
+
+
+def test_a_non_symmetric_pattern_is_still_factorised_and_solved():
+    k = symmetric().tolil()
+    k[0, 5] = 0.3  # no (5, 0) entry: the pattern is not symmetric
+    k = k.tocsc()
+    rhs = np.ones(k.shape[0])
+    x = LinearSolver().factorise(k).solve(rhs)
+    assert np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def strip_matrix(length=60, width=4, shift=0.0, seed=0):
+    """A symmetric matrix on the node graph of a length x width grid of 5-unknown nodes (the
+    pattern of a shell strip's tangent), shifted by -shift on the diagonal."""
+    rng = np.random.default_rng(seed)
+    nodes = np.arange(length * width).reshape(length, width)
+    pairs = [(nodes[:-1, :], nodes[1:, :]), (nodes[:, :-1], nodes[:, 1:])]
+    pairs.append((nodes[:-1, :-1], nodes[1:, 1:]))
+    a = sp.lil_matrix((5 * nodes.size, 5 * nodes.size))
+    for first, second in pairs:
+        for i, j in zip(first.ravel(), second.ravel()):
+            block = rng.uniform(-0.2, 0.2, (5, 5))
+            a[5 * i : 5 * i + 5, 5 * j : 5 * j + 5] = block
+            a[5 * j : 5 * j + 5, 5 * i : 5 * i + 5] = block.T
+    diagonal = rng.uniform(2.0, 4.0, 5 * nodes.size) - shift
+    return (a.tocsc() + sp.diags(diagonal)).tocsc()
+
+
+@pytest.mark.parametrize("shift", [0.0, 2.5, 3.5])
+def test_the_band_ldlt_counts_the_negative_eigenvalues_and_solves(shift):
+    from solvers.band import BandPlan
+
+    k = strip_matrix(shift=shift)
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    factor = BandPlan(upper).factorise(upper.data)
+    assert factor is not None
+    assert factor.negative == int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+    rhs = np.random.default_rng(1).standard_normal(k.shape[0])
+    x = factor.solve(rhs)
+    assert np.allclose(x, np.linalg.solve(k.toarray(), rhs), rtol=1e-9, atol=1e-9)
+
+
+def test_a_strip_pattern_takes_the_band_and_a_scattered_one_qdldl():
+    # The band of a strip is a few nodes wide; a random pattern's band is the whole matrix.
+    on_strip, scattered = LinearSolver(), LinearSolver()
+    on_strip.factorise(strip_matrix())
+    scattered.factorise(symmetric())
+    assert on_strip._band is not None
+    assert scattered._band is None
+
+
+def test_the_band_and_qdldl_give_the_same_solution_and_inertia():
+    from solvers import linear
+
+    k = strip_matrix(shift=2.5)
+    rhs = np.arange(k.shape[0], dtype=float)
+    band = LinearSolver().factorise(k)
+    advantage = linear.BAND_ADVANTAGE
+    try:
+        linear.BAND_ADVANTAGE = 0.0  # never the band
+        general = LinearSolver().factorise(k)
+    finally:
+        linear.BAND_ADVANTAGE = advantage
+    assert band.negative == general.negative > 0
+    x, y = band.solve(rhs), general.solve(rhs)
+    assert np.abs(x - y).max() <= 1e-9 * np.abs(y).max()
+
+
+def test_a_zero_pivot_of_the_band_falls_back_and_still_solves():
+    # Zero diagonal everywhere: the band's first pivot is zero, QDLDL or the LU take over.
+    k = strip_matrix()
+    k = (k - sp.diags(k.diagonal())).tocsc()
+    k = (k + sp.diags(np.zeros(k.shape[0]))).tocsc()
+    rhs = np.ones(k.shape[0])
+    x = LinearSolver().factorise(k).solve(rhs)
+    assert x is not None
+    assert np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)
+
+
+def test_the_shift_invert_with_the_kept_factors_finds_the_same_lowest_modes():
+    from solvers.stability import lowest_modes
+
+    k = strip_matrix(shift=2.1)
+    factor = LinearSolver().factorise(k)
+    assert factor.kind == "ldlt" and factor.negative
+    values, vectors = lowest_modes(k, factor.negative, factor.inverse())
+    expected, _ = lowest_modes(k, factor.negative)
+    assert np.allclose(values, expected, rtol=1e-8, atol=1e-10)
+    assert np.allclose(np.abs(vectors.T @ (k @ vectors)), np.diag(np.abs(values)), atol=1e-8)
+
+
+def test_the_band_ordering_sees_stored_zeros_as_part_of_the_pattern():
+    # A flat shell's tangent stores exact zeros (its membrane-bending couplings); an ordering
+    # of the values alone would leave those couplings out of the band it plans.
+    from solvers.band import BandPlan
+
+    upper = sp.triu(strip_matrix(), format="csc")
+    upper.sort_indices()
+    zeros = upper.copy()
+    columns = np.repeat(np.arange(upper.shape[0]), np.diff(upper.indptr))
+    zeros.data[upper.indices // 5 != columns // 5] = 0.0  # every coupling of two nodes
+    assert BandPlan(zeros).bandwidth == BandPlan(upper).bandwidth < 50
+
+
+def test_the_plan_leaves_zero_couplings_out_and_keeps_every_diagonal_entry():
+    # A flat sheet's tangent stores zero bending couplings; QDLDL needs the diagonal stored.
+    from solvers.linear import _UpperPlan
+
+    values = np.array([[0.0, 1.0, 0.0], [1.0, 3.0, 4.0], [0.0, 4.0, 5.0]])
+    k = sp.csc_matrix(np.ones((3, 3)))  # every entry stored
+    k.data = values.T.ravel().copy()  # CSC order: column by column
+    plan = _UpperPlan.of(k)
+    assert plan is not None
+    _, upper = plan.split(k.data)
+    stored = set(zip(np.repeat(np.arange(3), np.diff(upper.indptr)), upper.indices))
+    assert stored == {(0, 0), (1, 0), (1, 1), (2, 1), (2, 2)}  # (column, row): no (2, 0)
+    assert np.array_equal(upper.toarray(), np.triu(values))
+
+
+def test_a_wide_band_is_not_tried_where_qdldl_fails():
+    # A scattered pattern with a zero diagonal: QDLDL meets a zero pivot; its band would hold
+    # as many entries as the dense matrix, so the LU solves, without a band.
+    k = symmetric(n=1500, seed=3)
+    k = (k - sp.diags(k.diagonal()) + sp.diags(np.zeros(k.shape[0]))).tocsc()
+    solver = LinearSolver()
+    factor = solver.factorise(k)
+    assert solver._band is None and factor.kind == "lu"
+    rhs = np.ones(k.shape[0])
+    x = factor.solve(rhs)
+    assert x is None or np.linalg.norm(k @ x - rhs) <= 1e-8 * np.linalg.norm(rhs)

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements.base import CellTangent
-from elements.fibrous import kernels
+from elements.fibrous import kernels, tangent_kernels
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
 from femcore.rotation import cross
@@ -200,7 +200,10 @@ def tangent(block: FibrousShellBlock, positions: np.ndarray) -> CellTangent:
     side_moment = side_moments(block, moments(block, chi), coefficients)
 
     x = positions[block.connectivity]
-    blocks[:, :3, :, :3] += share_tangent(x, side_moment)
+    if block.compiled and tangent_kernels.AVAILABLE:
+        blocks[:, :3, :, :3] += tangent_kernels.share_stiffness(x, side_moment)
+    else:
+        blocks[:, :3, :, :3] += share_tangent(x, side_moment)
     return CellTangent(nodes, blocks)
 
 

@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from elements.base import CellTangent, SparseTangent, local_tangent
-from elements.fibrous import bending
+from elements.fibrous import bending, tangent_kernels
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import (
     cell_geometry,
@@ -118,7 +118,16 @@ def nodal_membrane_tangent(
 
     # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
     pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
-    second = corner_normal_pull_tangent(x, pull)
+    if block.compiled and tangent_kernels.AVAILABLE:
+        second = tangent_kernels.normal_pull_stiffness(x, pull)
+    else:
+        second = corner_normal_pull_tangent(x, pull)
+    if block.compiled and tangent_kernels.AVAILABLE:
+        if pairs.product is None:
+            pairs.product = tangent_kernels.MembraneProduct(
+                pairs.indptr, pairs.indices, pairs.n_nodes
+            )
+        return SparseTangent(pairs.product(h_ext.data, jac.data[:, 6:, :3])), second
     return SparseTangent(jac.T @ (h_ext @ jac)), second
 
 
@@ -463,6 +472,8 @@ class CornerPairs:
         # The identity of (u, psi) on the diagonal blocks of J.
         diagonal = self.slot[self.first_cell, self.first_corner, self.first_corner]
         self.identity_index = (diagonal[:, None] * 54 + np.arange(6) * 7).ravel()
+        # The compiled J^T H J on this pattern (tangent_kernels.MembraneProduct), at first use.
+        self.product: tangent_kernels.MembraneProduct | None = None
 
     def _matrix(self, data: np.ndarray, r: int, c: int) -> sp.bsr_matrix:
         return sp.bsr_matrix(

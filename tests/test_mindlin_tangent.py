@@ -1,0 +1,48 @@
+"""elements/mindlin_tangent.py: the compiled tangent of the elastic Mindlin triangle gives the
+numbers of the numpy reference (MindlinShellBlock._cell_tangent, itself checked against
+central differences in tests/test_mindlin.py), and a fabric section keeps the numpy path."""
+
+import numpy as np
+import pytest
+
+from elements import MindlinShell
+from femcore import Mesh, Model
+from materials import ElasticShell, presets
+from tests.test_mindlin import CYLINDER, MESH, ORTHOTROPIC, _deformed_state
+
+
+@pytest.mark.parametrize("thickness_points", [2, 3, 5])
+@pytest.mark.parametrize("mesh", [MESH, CYLINDER], ids=["flat", "cylinder"])
+@pytest.mark.parametrize("material", [None, ORTHOTROPIC], ids=["isotropic", "orthotropic"])
+def test_the_compiled_tangent_gives_the_numpy_blocks_to_1e_12(thickness_points, mesh, material):
+    # The same sums in another order: agreement to round-off of the largest entry, on the
+    # reference state and on stretched, sheared states with large director rotations.
+    model = Model(mesh)
+    section = material or ElasticShell(1000.0, 0.3, 2.0, 1e-9)
+    model.add(MindlinShell(section, thickness_points=thickness_points))
+    compiled = model.compile()
+    block = compiled.blocks[0]
+    assert block.kernel == "compiled"
+    rng = np.random.default_rng(thickness_points)
+    states = [compiled.initial_state(), _deformed_state(compiled, rng)]
+    for state in states:
+        fast = block.tangent(state)[0]
+        block.kernel = "numpy"
+        try:
+            reference = block.tangent(state)[0]
+        finally:
+            block.kernel = "compiled"
+        assert np.array_equal(fast.nodes, reference.nodes)
+        scale = np.abs(reference.blocks).max()
+        assert np.abs(fast.blocks - reference.blocks).max() <= 1e-12 * scale
+
+
+def test_a_fabric_section_keeps_the_numpy_tangent():
+    # Its level response follows the fabric's own (non-linear) laws, which the compiled loop
+    # (sigma = D e) does not know.
+    model = Model(Mesh.rectangle(40.0, 30.0, nx=4, ny=3))
+    model.add(MindlinShell(presets.g986_stack()))
+    compiled = model.compile()
+    block = compiled.blocks[0]
+    block.tangent(compiled.initial_state())
+    assert block._product_tables is None
