@@ -507,3 +507,26 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, c
     for reference, value in zip(loads["numpy"][:3], loads["compiled"][:3]):
         assert np.abs(value - reference).max() <= 1e-12 * np.abs(reference).max()
     assert loads["compiled"][3] == pytest.approx(loads["numpy"][3], rel=1e-12)
+
+
+@pytest.mark.parametrize("thickness", ["nodal", "element"])
+def test_one_pass_gives_the_forces_and_the_energy_of_the_two_calls_to_the_last_bit(thickness):
+    """internal_force_and_energy (one pass over the cells that meets the energy on its way
+    to the forces) returns the forces of internal_force and the energy of strain_energy to
+    the last bit, with every kind of law (tables, polynomials) and a clamped edge; the numpy
+    path makes the two calls."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+    for kernel in ("compiled", "numpy"):
+        model = Model(mesh)
+        shell = FibrousShell(nonlinear_fabric(), thickness=thickness, clamped="left", kernel=kernel)
+        model.add(shell)
+        model.fix("left")
+        built = model.compile()
+        state = deformed(built, amplitude=0.8, tilt=0.3, seed=3)
+        block = built.blocks[0]
+        force, moment, energy = block.internal_force_and_energy(state)
+        separate = block.internal_force(state)
+        np.testing.assert_array_equal(force, separate[0])
+        np.testing.assert_array_equal(moment, separate[1])
+        assert energy == block.strain_energy(state)
+        assert energy > 0.0

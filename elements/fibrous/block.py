@@ -221,12 +221,25 @@ class FibrousShellBlock(ElementBlock):
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history=None):
-        if self.compiled:  # the four passes of elements/fibrous/kernels.py
+        if self.compiled:  # the passes of elements/fibrous/kernels.py
             return kernels.internal_force(self, state.positions, state.directors)
         geo = geometry.geometry(self, state.positions, state.directors)
         force, moment = membrane.forces(self, geo, membrane.strains(self, geo))
         force = force + bending.forces(self, state.positions, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
+
+    def internal_force_and_energy(self, state: State, history=None):
+        """``internal_force`` and ``strain_energy`` at ``state`` in one call: (force (n, 3) N,
+        moment (n, 3) N mm, energy N mm). The compiled loops meet the energy on their way to
+        the forces and return both from one pass over the cells (kernels.py), the energy the
+        same to the last bit as ``strain_energy``; the numpy path makes the two calls."""
+        if self.compiled:
+            force, moment, parts = kernels.internal_force_and_energy(
+                self, state.positions, state.directors
+            )
+            return force, moment, float(sum(parts.values()))
+        force, moment = self.internal_force(state, history)
+        return force, moment, self.strain_energy(state, history)
 
     def internal_force_parts(self, state: State) -> dict:
         """{"tension" | "shear": (forces (n,3), moments (n,3)), "bending": (forces, zeros)}:
