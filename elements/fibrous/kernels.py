@@ -41,21 +41,14 @@ from elements.shell_geometry import GUARD
 
 __all__ = [
     "bending_geometry",
-    "corner_shares",
     "internal_force",
     "internal_force_and_energy",
+    "normal_sums",
     "strain_energy_parts",
 ]
 
 
 # ---------------------------------------------------------------------- scalar helpers
-@serial
-def _corner_angle(ux, uy, uz, wx, wy, wz):
-    """The angle (rad) between the edges u and w leaving a corner."""
-    sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
-    return np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
-
-
 @serial
 def _corner_thickness(vx, vy, vz, sx, sy, sz, nodal, nx, ny, nz, thickness, guard):
     """At one corner: V . N, h_m = h / max(V . N, guard) and N (the nodal normal S / |S| from
@@ -63,8 +56,9 @@ def _corner_thickness(vx, vy, vz, sx, sy, sz, nodal, nx, ny, nz, thickness, guar
     normals): (cos, h_m, Nx, Ny, Nz, |S|)."""
     if nodal:
         length = np.sqrt(sx * sx + sy * sy + sz * sz)
-        cos = (vx * sx + vy * sy + vz * sz) / length
-        return cos, thickness / max(cos, guard), sx / length, sy / length, sz / length, length
+        inverse = 1.0 / length
+        cos = (vx * sx + vy * sy + vz * sz) * inverse
+        return cos, thickness / max(cos, guard), sx * inverse, sy * inverse, sz * inverse, length
     cos = vx * nx + vy * ny + vz * nz
     return cos, thickness / max(cos, guard), nx, ny, nz, 1.0
 
@@ -105,14 +99,15 @@ def _side_terms(
     wall); f1, f2 the unit edges 0 -> 1, 0 -> 2 (bending.py ``geometry``)."""
     sx, sy, sz = qx - px, qy - py, qz - pz
     length = np.sqrt(sx * sx + sy * sy + sz * sz)
-    ox = (sy * nz - sz * ny) / length
-    oy = (sz * nx - sx * nz) / length
-    oz = (sx * ny - sy * nx) / length
+    inverse = 1.0 / length
+    ox = (sy * nz - sz * ny) * inverse
+    oy = (sz * nx - sx * nz) * inverse
+    oz = (sx * ny - sy * nx) * inverse
     fold = np.arctan2(-(mx * ox + my * oy + mz * oz), mx * nx + my * ny + mz * nz)
-    total = area2 / length + other_area2 / length
+    scale = 2.0 * length / (area2 + other_area2)  # 2 / (h + h')
     p1 = f1x * ox + f1y * oy + f1z * oz
     p2 = f2x * ox + f2y * oy + f2z * oz
-    return fold, 2.0 * p1 * p1 / total, 2.0 * p2 * p2 / total
+    return fold, p1 * p1 * scale, p2 * p2 * scale
 
 
 @serial
@@ -141,15 +136,15 @@ def _angle_pull(nx, ny, nz, ux, uy, uz, wx, wy, wz, weight):
     """weight times d alpha / dx at the next corner (-(n x u) / |u|^2) and at the previous one
     (-(w x n) / |w|^2) of a corner with edges u and w: (tx, ty, tz, vx, vy, vz); the corner
     itself takes minus their sum."""
-    u2 = ux * ux + uy * uy + uz * uz
-    w2 = wx * wx + wy * wy + wz * wz
+    to_u = -weight / (ux * ux + uy * uy + uz * uz)
+    to_w = -weight / (wx * wx + wy * wy + wz * wz)
     return (
-        -weight * (ny * uz - nz * uy) / u2,
-        -weight * (nz * ux - nx * uz) / u2,
-        -weight * (nx * uy - ny * ux) / u2,
-        -weight * (wy * nz - wz * ny) / w2,
-        -weight * (wz * nx - wx * nz) / w2,
-        -weight * (wx * ny - wy * nx) / w2,
+        to_u * (ny * uz - nz * uy),
+        to_u * (nz * ux - nx * uz),
+        to_u * (nx * uy - ny * ux),
+        to_w * (wy * nz - wz * ny),
+        to_w * (wz * nx - wx * nz),
+        to_w * (wx * ny - wy * nx),
     )
 
 
@@ -170,13 +165,13 @@ def _normals_pass(connectivity, positions, with_angles, normal, double_area, ang
         normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
         double_area[c] = size
         if with_angles:
-            angles[c, 0] = _corner_angle(ax, ay, az, bx, by, bz)
-            angles[c, 1] = _corner_angle(
-                x2x - x1x, x2y - x1y, x2z - x1z, x0x - x1x, x0y - x1y, x0z - x1z
+            # |u x w| = |c| at every corner, and the three angles sum to pi
+            alpha0 = np.arctan2(size, ax * bx + ay * by + az * bz)
+            alpha1 = np.arctan2(
+                size,
+                (x2x - x1x) * (x0x - x1x) + (x2y - x1y) * (x0y - x1y) + (x2z - x1z) * (x0z - x1z),
             )
-            angles[c, 2] = _corner_angle(
-                x0x - x2x, x0y - x2y, x0z - x2z, x1x - x2x, x1y - x2y, x1z - x2z
-            )
+            angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
 
 
 @jit
@@ -203,14 +198,16 @@ def _cell_normals(block, positions: np.ndarray, with_angles: bool):
     return normal, double_area, angles
 
 
-def corner_shares(positions: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
-    """alpha_k n (m, 3, 3) of each cell by the compiled loop."""
-    m = len(connectivity)
-    normal, double_area, angles = np.empty((m, 3)), np.empty(m), np.empty((m, 3))
+def normal_sums(block, positions: np.ndarray) -> np.ndarray:
+    """S_k (n, 3), the sums of alpha_k n over the block's cells around each node (0 at nodes
+    outside the block; the wall nodes not replaced), by the compiled loops: the same numbers
+    to the last bit as the scatter of geometry.py ``corner_normals``."""
     x = np.ascontiguousarray(positions, dtype=np.float64)
-    conn = np.ascontiguousarray(connectivity, dtype=np.int64)
-    _normals_pass(conn, x, True, normal, double_area, angles)
-    return angles[:, :, None] * normal[:, None, :]
+    normal, _, angles = _cell_normals(block, x, True)
+    sums = np.empty((block.n_nodes, 3))
+    corners = block.node_corners
+    _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+    return sums
 
 
 # ---------------------------------------------------------------------- pass 2: the cells
@@ -272,13 +269,17 @@ def _cells_pass(
         s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f dW/dg_a
         a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f dW/dg_a
         lx = ly = lz = 0.0  # dW/dn
+        # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9): g_a = r_a +
+        # zeta_f l_a, r_a = x_a - x_0 and l_a = (h_m^a V_a - h_m^0 V_0) / 2
+        r1x, r1y, r1z = x1x - x0x, x1y - x0y, x1z - x0z
+        r2x, r2y, r2z = x2x - x0x, x2y - x0y, x2z - x0z
+        u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
+        l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
+        l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
         for f in range(levels):
-            # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9)
-            half = 0.5 * zeta[f]
-            o0, o1, o2 = half * h0, half * h1, half * h2
-            bx, by, bz = x0x + o0 * v0x, x0y + o0 * v0y, x0z + o0 * v0z
-            g1x, g1y, g1z = x1x + o1 * v1x - bx, x1y + o1 * v1y - by, x1z + o1 * v1z - bz
-            g2x, g2y, g2z = x2x + o2 * v2x - bx, x2y + o2 * v2y - by, x2z + o2 * v2z - bz
+            z = zeta[f]
+            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
+            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
             # squared lengths: the log strain is half the log of their ratio, and the shear
             # needs 1 / (|g1| |g2|) only (one root instead of four)
             square1 = g1x * g1x + g1y * g1y + g1z * g1z
@@ -335,7 +336,6 @@ def _cells_pass(
             s2x += p2x
             s2y += p2y
             s2z += p2z
-            z = zeta[f]
             a1x += z * p1x
             a1y += z * p1y
             a1z += z * p1z
@@ -406,11 +406,11 @@ def _cells_pass(
                 own[c, 0] = own[c, 1] = own[c, 2] = 0.0
             continue
         ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-        length = np.sqrt(ex * ex + ey * ey + ez * ez)
-        f1x, f1y, f1z = ex / length, ey / length, ez / length
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
         ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-        length = np.sqrt(ex * ex + ey * ey + ez * ez)
-        f2x, f2y, f2z = ex / length, ey / length, ez / length
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
         c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
         chi1 = chi2 = 0.0
         for s in range(3):
@@ -592,11 +592,11 @@ def _bending_sides(
         gradient[c, 1, 0], gradient[c, 1, 1], gradient[c, 1, 2] = d[3], d[4], d[5]
         gradient[c, 2, 0], gradient[c, 2, 1], gradient[c, 2, 2] = d[6], d[7], d[8]
         ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-        length = np.sqrt(ex * ex + ey * ey + ez * ez)
-        f1x, f1y, f1z = ex / length, ey / length, ez / length
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
         ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-        length = np.sqrt(ex * ex + ey * ey + ez * ez)
-        f2x, f2y, f2z = ex / length, ey / length, ez / length
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
