@@ -8,6 +8,7 @@ clamps), and kernels.py (the same forces and energy by compiled loops).
 
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -99,7 +100,6 @@ class FibrousShellBlock(ElementBlock):
             shell.warp,
             shell.fibre_angle_tolerance,
         )
-        self.scatter = Scatter(self.connectivity, mesh.n_nodes)
         self.node_corners = node_kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
         self.node_in_block[self.connectivity] = True
@@ -147,6 +147,13 @@ class FibrousShellBlock(ElementBlock):
         self.max_bending_stiffness = max(
             fabric.bending.max_slope(), fabric.bending_weft.max_slope()
         )
+
+    @functools.cached_property
+    def scatter(self) -> Scatter:
+        """The scatter of per-corner values to the nodes (numpy.bincount) of the numpy paths
+        and the tangent, built at its first use: the compiled loops sum through
+        ``node_corners`` and an explicit run never needs its 96 bytes per cell."""
+        return Scatter(self.connectivity, self.n_nodes)
 
     def apply_supports(self, held: np.ndarray) -> None:
         """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
@@ -347,8 +354,12 @@ class FibrousShellBlock(ElementBlock):
         return 2.0 / np.sqrt(omega2)
 
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
-        geo = geometry.geometry(self, state.positions, state.directors)
-        strain = membrane.strains(self, geo)
+        if self.compiled:  # the strains alone, not the level vectors (m, L, 3) and corners
+            strain = kernels.strains(self, state.positions, state.directors)
+        else:
+            strain = membrane.strains(
+                self, geometry.geometry(self, state.positions, state.directors)
+            )
         warp, weft = by_family(self.xi_is_warp, strain["eps1"], strain["eps2"])
         chi, _ = bending.curvatures(self, bending.geometry(self, state.positions))
         moments = bending.moments(self, chi)

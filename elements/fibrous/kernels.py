@@ -44,6 +44,7 @@ __all__ = [
     "internal_force",
     "internal_force_and_energy",
     "normal_sums",
+    "strains",
     "strain_energy_parts",
 ]
 
@@ -631,6 +632,81 @@ def bending_geometry(block, positions: np.ndarray) -> dict:
         block.clamped_side, block.reference_normal, fold, coefficients, gradient,
     )  # fmt: skip
     return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}
+
+
+# ---------------------------------------------------------------------- strains (fields)
+@jit
+def _strains_pass(
+    connectivity, positions, directors, sums, normal, nodal, thickness, guard, zeta,
+    reference_length1, reference_length2, shear_sign, reference_shear, eps1, eps2, gamma,
+):  # fmt: skip
+    """The log fibre strains eps1, eps2 along edges 0-1 and 0-2 and the shear angles (m, L)
+    of every cell and level (membrane.py ``strains``), as ``_cells_pass`` forms them."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
+        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
+        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
+        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
+        if nodal:
+            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
+            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
+            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
+        else:
+            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
+        h0 = _corner_thickness(v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard)[1]
+        h1 = _corner_thickness(v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard)[1]
+        h2 = _corner_thickness(v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard)[1]
+        r1x = positions[n1, 0] - positions[n0, 0]
+        r1y = positions[n1, 1] - positions[n0, 1]
+        r1z = positions[n1, 2] - positions[n0, 2]
+        r2x = positions[n2, 0] - positions[n0, 0]
+        r2y = positions[n2, 1] - positions[n0, 1]
+        r2z = positions[n2, 2] - positions[n0, 2]
+        u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
+        l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
+        l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
+        for f in range(zeta.shape[0]):
+            z = zeta[f]
+            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
+            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
+            square1 = g1x * g1x + g1y * g1y + g1z * g1z
+            square2 = g2x * g2x + g2y * g2y + g2z * g2z
+            fibre1, fibre2 = square1, square2
+            if nodal:  # the lengths projected on the element's plane
+                q1 = g1x * nx + g1y * ny + g1z * nz
+                q2 = g2x * nx + g2y * ny + g2z * nz
+                fibre1 = square1 - q1 * q1
+                fibre2 = square2 - q2 * q2
+            reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
+            eps1[c, f] = 0.5 * np.log(fibre1 / (reference1 * reference1))
+            eps2[c, f] = 0.5 * np.log(fibre2 / (reference2 * reference2))
+            cos = (g1x * g2x + g1y * g2y + g1z * g2z) / np.sqrt(square1 * square2)
+            angle = np.arcsin(min(max(cos, -1.0), 1.0))
+            gamma[c, f] = shear_sign[c] * angle - reference_shear[c, f]
+
+
+def strains(block, positions: np.ndarray, directors: np.ndarray) -> dict:
+    """membrane.py ``strains`` by the compiled loops, for the fields: eps1, eps2 and gamma
+    (m, L), without the level vectors and corners (m, L, 3) the numpy path keeps."""
+    x = np.ascontiguousarray(positions, dtype=np.float64)
+    v = np.ascontiguousarray(directors, dtype=np.float64)
+    nodal = block.nodal_normals
+    normal, _, angles = _cell_normals(block, x, nodal)
+    sums = np.zeros((0, 3))
+    if nodal:
+        sums = np.empty((block.n_nodes, 3))
+        corners = block.node_corners
+        _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+        sums[block.wall_node_ids] = block.wall_sums
+    shape = block.reference_length1.shape
+    eps1, eps2, gamma = np.empty(shape), np.empty(shape), np.empty(shape)
+    _strains_pass(
+        block.connectivity, x, v, sums, normal, nodal, float(block.fabric.thickness), GUARD,
+        block.zeta, block.reference_length1, block.reference_length2, block.shear_sign,
+        block.reference_shear, eps1, eps2, gamma,
+    )  # fmt: skip
+    return {"eps1": eps1, "eps2": eps2, "gamma": gamma}
 
 
 # ---------------------------------------------------------------------- the internal force
