@@ -384,11 +384,17 @@ class FibrousShellBlock(ElementBlock):
         }
 
     def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
-        geo = geometry.geometry(self, state.positions, state.directors, layers=False)
-        guarded = np.zeros(self.n_nodes)
-        guarded[self.connectivity[geo["guarded"]]] = 1.0
+        if self.compiled and self.nodal_normals:  # from the compiled normal sums
+            h_m, at_guard = guarded_thickness(self.fabric.thickness, self._nodal_cosine(state))
+            thickness = np.where(self.node_in_block, h_m, 0.0)
+            guarded = np.where(self.node_in_block & at_guard, 1.0, 0.0)
+        else:
+            geo = geometry.geometry(self, state.positions, state.directors, layers=False)
+            guarded = np.zeros(self.n_nodes)
+            guarded[self.connectivity[geo["guarded"]]] = 1.0
+            thickness = geometry.node_thickness(self, geo)
         return {
-            "thickness": geometry.node_thickness(self, geo),
+            "thickness": thickness,
             "thickness_guarded": guarded,
             "director_tilt": self.director_tilt(state),  # rad, from the nodal normal
         }
