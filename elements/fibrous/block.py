@@ -8,7 +8,6 @@ clamps), and kernels.py (the same forces and energy by compiled loops).
 
 from __future__ import annotations
 
-import functools
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -100,6 +99,7 @@ class FibrousShellBlock(ElementBlock):
             shell.warp,
             shell.fibre_angle_tolerance,
         )
+        self.scatter = Scatter(self.connectivity, mesh.n_nodes)
         self.node_corners = node_kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
         self.node_in_block[self.connectivity] = True
@@ -147,13 +147,6 @@ class FibrousShellBlock(ElementBlock):
         self.max_bending_stiffness = max(
             fabric.bending.max_slope(), fabric.bending_weft.max_slope()
         )
-
-    @functools.cached_property
-    def scatter(self) -> Scatter:
-        """The scatter of per-corner values to the nodes (numpy.bincount) of the numpy paths
-        and the tangent, built at its first use: the compiled loops sum through
-        ``node_corners`` and an explicit run never needs its 96 bytes per cell."""
-        return Scatter(self.connectivity, self.n_nodes)
 
     def apply_supports(self, held: np.ndarray) -> None:
         """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
