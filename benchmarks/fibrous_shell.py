@@ -24,13 +24,18 @@ Run from the project root:
     python benchmarks/fibrous_shell.py --phases --sizes 10000,100000 --skip-relaxation
 
 Measured on this 2-core machine (AMD EPYC, 2.6 GHz) shared with other processes (1-minute load
-5-6 of 2 cores), one thread, CPU time, microseconds per element-step at 10k / 100k triangles
-(the reference pass of the same run in brackets, wall time, inflated by the load):
+2.5-4 on 2 cores), CPU microseconds per element(-step) on one thread at 10k / 100k triangles
+(CentralDifference 50 steps, frames at the start and the end; force and energy on the sheet
+sagged into a bowl; memory: the peak of a fresh process's 20-step run over its baseline):
 
-    before (the 4-pass kernels with per-cell scratch arrays, main 3698780):
-        CentralDifference 0.69 at 100k (ref 0.21); force 0.77, strain energy 0.80;
-        peak memory 2.1 kB per triangle
-    after: see the --phases table of the last run in the issue note
+    before (main 3698780: four passes over copies of the corners, per-cell scratch arrays,
+    the laws called with their tables, a full strain-energy pass):
+        step 1.17 / 0.90, force 0.64 / 0.68, strain energy 0.63 / 0.67, 2059 / 2181 B/triangle
+    after (three passes reading the nodes, scalars only, the laws inlined):
+        step 0.40 / 0.39, force 0.30 / 0.33, strain energy 0.25 / 0.26, the energy with the
+        force 0.08 more than the force alone, 1489 / 1493 B/triangle
+    reference pass (wall) 0.07 / 0.08 in both runs; with the default 2 threads at a load of 4
+    (free_cores leaves one): step wall 1.59 / 1.41 before, 0.53 / 0.73 after.
 """
 
 from __future__ import annotations
