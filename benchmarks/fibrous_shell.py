@@ -10,17 +10,41 @@
 3. ``DynamicRelaxation`` of a 40 x 10-cell cantilever strip (200 x 50 mm, G1151 laminate of
    Bai Table 2, clamped-edge option) under its own weight: wall time and iterations (the
    strip builder of the validation case fibrous-heavy-cantilever, validation.specimens).
+4. ``--phases``: the explicit step on one thread in CPU time (honest on a shared machine,
+   where wall time counts the other processes' turns), the compiled force split into its
+   passes (elements/fibrous/kernels.py), the energy check as a separate strain-energy pass
+   and as the increment of the fused force-and-energy pass, beside the reference pass; and
+   the peak memory per triangle of a run in a fresh process (its resident peak over the
+   process's baseline after compilation).
 
 Run from the project root:
 
     python benchmarks/fibrous_shell.py
     python benchmarks/fibrous_shell.py --sizes 1000,10000 --steps 50
+    python benchmarks/fibrous_shell.py --phases --sizes 10000,100000 --skip-relaxation
+
+Measured on this 2-core machine (AMD EPYC, 2.6 GHz) shared with other processes (1-minute load
+2.5-4 on 2 cores), CPU microseconds per element(-step) on one thread at 10k / 100k triangles
+(CentralDifference 50 steps, frames at the start and the end; force and energy on the sheet
+sagged into a bowl; memory: the peak of a fresh process's 20-step run over its baseline):
+
+    before (main 3698780: four passes over copies of the corners, per-cell scratch arrays,
+    the laws called with their tables, a full strain-energy pass):
+        step 1.17 / 0.90, force 0.64 / 0.68, strain energy 0.63 / 0.67, 2059 / 2181 B/triangle
+    after (three passes reading the nodes, scalars only, the laws inlined):
+        step 0.40 / 0.39, force 0.30 / 0.33, strain energy 0.25 / 0.26, the energy with the
+        force 0.08 more than the force alone, 1489 / 1493 B/triangle
+    reference pass (wall) 0.07 / 0.08 in both runs; with the default 2 threads at a load of 4
+    (free_cores leaves one): step wall 1.59 / 1.41 before, 0.53 / 0.73 after.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
+import os
 import platform
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -28,15 +52,152 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 import numpy as np  # noqa: E402
-from shell_sheet import kernel_rows, print_explicit_table  # noqa: E402
+from shell_sheet import GRAVITY, kernel_rows, print_explicit_table, reference_pass  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
+from elements.fibrous import kernels  # noqa: E402
+from elements.shell_geometry import GUARD  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from materials import presets  # noqa: E402
-from solvers import DynamicRelaxation  # noqa: E402
+from solvers import CentralDifference, DynamicRelaxation  # noqa: E402
 from validation.specimens import fibrous_strip  # noqa: E402
 
-__all__ = ["main", "relaxation", "thickness_options"]
+__all__ = ["force_phases", "main", "peak_memory", "relaxation", "step_cpu", "thickness_options"]
+
+
+def _sheet(triangles: int, kernel: str = "compiled"):
+    """The benchmark sheet of shell_sheet.py (5 mm cells, pinned edges, gravity), compiled."""
+    n = max(2, round(math.sqrt(triangles / 2)))
+    mesh = Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_stack(), kernel=kernel))
+    for edge in ("left", "right", "bottom", "top"):
+        model.fix(edge, ["ux", "uy", "uz"])
+    model.gravity(GRAVITY)
+    return model.compile()
+
+
+def step_cpu(triangles: int, steps: int) -> dict:
+    """CentralDifference on the sheet for ``steps`` steps at 0.9 x the stable step (frames at
+    the start and the end only): CPU and wall microseconds per element-step."""
+    compiled = _sheet(triangles)
+    dt = 0.9 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=steps * dt, dt=dt, output_interval=steps * dt, progress=False
+    )
+    cpu, wall = time.process_time(), time.perf_counter()
+    result = solver.solve(compiled)
+    cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+    per = 1e6 / (len(compiled.blocks[0].connectivity) * result.steps)
+    return {"cpu": cpu * per, "wall": wall * per, "steps": result.steps}
+
+
+def force_phases(triangles: int, repeats: int = 10) -> dict:
+    """CPU microseconds per element of each pass of the compiled force (best of
+    ``repeats``) on the sheet sagged into a bowl, and of the energy: a separate strain-energy
+    pass, and what the fused force-and-energy pass adds to the force."""
+    compiled = _sheet(triangles)
+    block = compiled.blocks[0]
+    state = compiled.initial_state()
+    x = state.positions
+    centre = x[:, :2].mean(axis=0)
+    state.positions = x + np.column_stack(
+        [0 * x[:, 0], 0 * x[:, 0], 1e-3 * np.sum((x[:, :2] - centre) ** 2, axis=1)]
+    )
+    positions, directors = state.positions, state.directors
+    m, corners = len(block.connectivity), block.node_corners
+    best: dict[str, float] = {}
+
+    def timed(name, function, *args):
+        started = time.process_time()
+        out = function(*args)
+        best[name] = min(best.get(name, math.inf), time.process_time() - started)
+        return out
+
+    for _ in range(repeats + 1):  # the first round compiles or loads the loops
+        normal, area, angles = timed(
+            "1 cells: normals", kernels._cell_normals, block, positions, True
+        )
+        sums = np.empty((block.n_nodes, 3))
+        timed("1 nodes: normal sums", kernels._normal_sums, corners.offsets, corners.corners,
+              angles, normal, sums)  # fmt: skip
+        force, moment, d_sums = (np.empty((m, 3, 3)) for _ in range(3))
+        own, energy = np.empty((m, 3)), np.empty((0, 3))
+        timed("2 cells: membrane, bending", kernels._cells_pass,
+            block.connectivity, positions, directors, sums, normal, area, True,
+            float(block.fabric.thickness), GUARD, block.zeta, block.weights,
+            block.reference_area, block.reference_length1, block.reference_length2,
+            block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,
+            block.thickness_variation, block.across_cell, block.interior_side,
+            block.clamped_side, block.reference_normal, block.reference_fold,
+            block.reference_coefficients, block.reference_curvature_coefficients, True,
+            False, force, moment, d_sums, own, energy)  # fmt: skip
+        pull = timed("2 nodes: dW/dS sums", corners.sum, d_sums)
+        timed("3 cells: pulls", kernels._pulls_pass,
+            block.connectivity, positions, normal, area, angles, pull, True, own,
+            block.across_cell, block.across_side, block.interior_side, force)  # fmt: skip
+        out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
+        timed("3 nodes: forces, moments", kernels._node_loads,
+            corners.offsets, corners.corners, force.reshape(-1, 3), moment.reshape(-1, 3),
+            out_force, out_moment)  # fmt: skip
+        timed("internal_force", block.internal_force, state)
+        timed("strain_energy", block.strain_energy, state)
+        timed("internal_force_and_energy", block.internal_force_and_energy, state)
+    return {name: 1e6 * value / m for name, value in best.items()}
+
+
+def peak_memory(triangles: int, steps: int) -> float:
+    """Bytes per triangle: the resident peak of a CentralDifference run of the sheet in a
+    fresh process, over that process's baseline once the loops are compiled (Linux)."""
+    script = (
+        "import sys; sys.path.insert(0, 'benchmarks'); import fibrous_shell as b;"
+        f"b._memory_child({triangles}, {steps})"
+    )
+    root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_NUM_THREADS": "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True
+    )
+    if out.returncode != 0:
+        raise RuntimeError(out.stderr[-2000:])
+    return float(out.stdout.split()[-1])
+
+
+def _memory_child(triangles: int, steps: int) -> None:
+    """``peak_memory`` inside its fresh process: prints bytes per triangle."""
+
+    def resident(key: str) -> int:
+        with open("/proc/self/status") as status:
+            return next(int(line.split()[1]) for line in status if line.startswith(key))
+
+    step_cpu(200, 2)  # compile (or load) every loop first
+    baseline = resident("VmRSS")
+    with open("/proc/self/clear_refs", "w") as clear:
+        clear.write("5")  # the peak starts from here
+    step_cpu(triangles, steps)
+    print(1024.0 * (resident("VmHWM") - baseline) / (2 * round(math.sqrt(triangles / 2)) ** 2))
+
+
+def print_phases(sizes, steps: int) -> None:
+    """The --phases tables (see the module docstring, item 4)."""
+    import numba
+
+    numba.set_num_threads(1)
+    step_cpu(200, 2)
+    print(
+        "FibrousShell on one thread, CPU microseconds per element (-step), "
+        f"1-minute load {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores:"
+    )
+    rows = {}
+    for size in sizes:
+        rows[size] = force_phases(size) | {
+            "CentralDifference step": step_cpu(size, steps)["cpu"],
+            "reference pass (wall)": reference_pass(size),
+            "peak memory, bytes per triangle": peak_memory(size, 20),
+        }
+    print(f"{'':40s}" + "".join(f"{size:>12d}" for size in sizes))
+    for name in rows[sizes[0]]:
+        print(f"{name:40s}" + "".join(f"{rows[size][name]:12.3f}" for size in sizes))
 
 
 def thickness_options(cells_per_side: int, repeats: int = 5) -> dict:
@@ -89,9 +250,13 @@ def main(argv=None) -> None:
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--skip-relaxation", action="store_true")
     parser.add_argument("--thickness-cells", type=int, default=70)
+    parser.add_argument("--phases", action="store_true", help="the one-thread CPU tables only")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
     sizes = [int(size) for size in args.sizes.split(",")]
+    if args.phases:
+        print_phases(sizes, args.steps)
+        return
     print_explicit_table(
         "FibrousShell, CentralDifference (the numpy path, and the compiled loops on 1 and on "
         "all threads):",

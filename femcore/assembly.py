@@ -17,6 +17,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
@@ -97,9 +98,14 @@ class Scatter:
             raise ValueError(f"connectivity refers to nodes outside 0..{n_nodes - 1}")
         self.connectivity = connectivity
         self.n_nodes = int(n_nodes)
-        # Flat index of (node, component) for 3-vectors: one bincount scatters all components.
-        self._flat3 = (connectivity[:, :, None] * 3 + np.arange(3)).ravel()
         self._flat1 = connectivity.ravel()
+
+    @functools.cached_property
+    def _flat3(self) -> np.ndarray:
+        """Flat index of (node, component) for 3-vectors: one bincount scatters all
+        components. Built at the first scatter of vectors (m k 3 int64, 72 bytes per triangle
+        that a compiled element summing at the nodes itself never needs)."""
+        return (self.connectivity[:, :, None] * 3 + np.arange(3)).ravel()
 
     def gather(self, nodal: np.ndarray) -> np.ndarray:
         """Per-cell copy of a nodal array: (n, ...) -> (m, k, ...)."""

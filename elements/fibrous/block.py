@@ -221,12 +221,25 @@ class FibrousShellBlock(ElementBlock):
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history=None):
-        if self.compiled:  # the four passes of elements/fibrous/kernels.py
+        if self.compiled:  # the passes of elements/fibrous/kernels.py
             return kernels.internal_force(self, state.positions, state.directors)
         geo = geometry.geometry(self, state.positions, state.directors)
         force, moment = membrane.forces(self, geo, membrane.strains(self, geo))
         force = force + bending.forces(self, state.positions, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
+
+    def internal_force_and_energy(self, state: State, history=None):
+        """``internal_force`` and ``strain_energy`` at ``state`` in one call: (force (n, 3) N,
+        moment (n, 3) N mm, energy N mm). The compiled loops meet the energy on their way to
+        the forces and return both from one pass over the cells (kernels.py), the energy the
+        same to the last bit as ``strain_energy``; the numpy path makes the two calls."""
+        if self.compiled:
+            force, moment, parts = kernels.internal_force_and_energy(
+                self, state.positions, state.directors
+            )
+            return force, moment, float(sum(parts.values()))
+        force, moment = self.internal_force(state, history)
+        return force, moment, self.strain_energy(state, history)
 
     def internal_force_parts(self, state: State) -> dict:
         """{"tension" | "shear": (forces (n,3), moments (n,3)), "bending": (forces, zeros)}:
@@ -334,8 +347,12 @@ class FibrousShellBlock(ElementBlock):
         return 2.0 / np.sqrt(omega2)
 
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
-        geo = geometry.geometry(self, state.positions, state.directors)
-        strain = membrane.strains(self, geo)
+        if self.compiled:  # the strains alone, not the level vectors (m, L, 3) and corners
+            strain = kernels.strains(self, state.positions, state.directors)
+        else:
+            strain = membrane.strains(
+                self, geometry.geometry(self, state.positions, state.directors)
+            )
         warp, weft = by_family(self.xi_is_warp, strain["eps1"], strain["eps2"])
         chi, _ = bending.curvatures(self, bending.geometry(self, state.positions))
         moments = bending.moments(self, chi)
@@ -360,11 +377,17 @@ class FibrousShellBlock(ElementBlock):
         }
 
     def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
-        geo = geometry.geometry(self, state.positions, state.directors, layers=False)
-        guarded = np.zeros(self.n_nodes)
-        guarded[self.connectivity[geo["guarded"]]] = 1.0
+        if self.compiled and self.nodal_normals:  # from the compiled normal sums
+            h_m, at_guard = guarded_thickness(self.fabric.thickness, self._nodal_cosine(state))
+            thickness = np.where(self.node_in_block, h_m, 0.0)
+            guarded = np.where(self.node_in_block & at_guard, 1.0, 0.0)
+        else:
+            geo = geometry.geometry(self, state.positions, state.directors, layers=False)
+            guarded = np.zeros(self.n_nodes)
+            guarded[self.connectivity[geo["guarded"]]] = 1.0
+            thickness = geometry.node_thickness(self, geo)
         return {
-            "thickness": geometry.node_thickness(self, geo),
+            "thickness": thickness,
             "thickness_guarded": guarded,
             "director_tilt": self.director_tilt(state),  # rad, from the nodal normal
         }

@@ -62,10 +62,9 @@ def normal_sums(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
     element normals weighted by the cells' angles at the node; S_k / |S_k| is the nodal
     normal (docs/theory.md §1.4)."""
     if block.compiled:
-        s = kernels.corner_shares(positions, block.connectivity)
+        sums = kernels.normal_sums(block, positions)
     else:
-        s, _ = corner_normals(positions[block.connectivity])
-    sums = block.scatter.vectors(s)
+        sums = block.scatter.vectors(corner_normals(positions[block.connectivity])[0])
     if block.wall_nodes.any():
         sums[block.wall_nodes] = block.reference_sums[block.wall_nodes]
     return sums

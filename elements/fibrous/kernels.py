@@ -2,22 +2,33 @@
 (geometry.py, membrane.py, bending.py) as their vectorised reference (``kernel="numpy"``); the
 tests hold the two to 1e-12.
 
-``internal_force`` and ``strain_energy_parts`` evaluate the whole element, laws included
-(``law_value`` and ``law_energy`` of packed_laws.py on the tables of ``pack_laws``), in four
-parallel passes,
-because two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4):
+``internal_force``, ``strain_energy_parts`` and ``internal_force_and_energy`` evaluate the
+whole element, laws included (``law_value`` and ``law_energy`` of packed_laws.py on the tables
+of ``pack_laws``), in three parallel passes over the cells and three over the nodes, because
+two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4):
 
-1. each cell's share of the nodal normal sums S_k, summed at the nodes;
-2. each cell's tension and shear in one loop over its fibre levels (``_membrane_cell``: forces,
-   director moments, dW/dS_k, energies), then its fold angles, which read the neighbours'
-   normals, its bending energy and its share of each side's moment;
-3. T_k, the sums of dW/dS_k over the cells around each node;
-4. the pulls of T_k and of the side moments on each cell's nodes, summed at the nodes.
+1. cells: each cell's unit normal, double area and corner angles; nodes: the nodal normal sums
+   S_k, the sums of alpha_k n over the node's cells;
+2. cells: each cell's tension and shear in one loop over its fibre levels (forces, director
+   moments, dW/dS_k and, when asked, energies), then its fold angles, which read the
+   neighbours' normals, its curvatures, bending energy and its share of each side's moment;
+   nodes: T_k, the sums of dW/dS_k over the cells around each node;
+3. cells: the pulls of T_k and of the side moments on each cell's nodes; nodes: the nodal
+   forces and director moments.
+
+A cell pass reads the positions and directors at its nodes itself and keeps every vector in
+scalars (x, y, z), with the corner and side loops written out: no per-cell scratch array, no
+modulo indexing, no array passed to a helper inside the hot loop (each such call costs
+reference counting). Between two passes only what the next one reads is kept (about 300 bytes
+per cell: normals, areas, angles, the corner forces, moments and dW/dS_k, the side moments);
+the fold-angle gradient D[s, k] = t_s . t_k / (|t_s| 2A) (t_s the side opposite corner s, the
+in-plane form of -grad N_k . n^c_s) is recomputed where it is used.
 
 Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
-in cell order (elements/kernels.py ``NodeCorners``): parallel without races, and the same sums
-in the same order as ``numpy.bincount``. The per-cell pieces of the bending geometry also serve
-``bending_geometry``, the compiled form of bending.py ``geometry`` (tangent, fields).
+in cell order (elements/kernels.py ``NodeCorners``): parallel without races, the same sums in
+the same order as ``numpy.bincount``, and the same numbers to the last bit on any number of
+threads. The per-cell pieces of the bending geometry also serve ``bending_geometry``, the
+compiled form of bending.py ``geometry`` (tangent, fields).
 """
 
 from __future__ import annotations
@@ -28,551 +39,746 @@ from elements.fibrous.packed_laws import law_energy, law_value
 from elements.jit import jit, prange, serial
 from elements.shell_geometry import GUARD
 
-__all__ = ["bending_geometry", "corner_shares", "internal_force", "strain_energy_parts"]
+__all__ = [
+    "bending_geometry",
+    "internal_force",
+    "internal_force_and_energy",
+    "normal_sums",
+    "strains",
+    "strain_energy_parts",
+]
 
 
-# ---------------------------------------------------------------------- one cell's geometry
+# ---------------------------------------------------------------------- scalar helpers
 @serial
-def _edges(x, c):
-    """The edges a = x1 - x0 and b = x2 - x0 of cell c with corners x (m, 3, 3)."""
-    return (
-        x[c, 1, 0] - x[c, 0, 0],
-        x[c, 1, 1] - x[c, 0, 1],
-        x[c, 1, 2] - x[c, 0, 2],
-        x[c, 2, 0] - x[c, 0, 0],
-        x[c, 2, 1] - x[c, 0, 1],
-        x[c, 2, 2] - x[c, 0, 2],
-    )
-
-
-@serial
-def _unit_normal(x, c):
-    """(n_x, n_y, n_z, |c|) of cell c with corners x (m, 3, 3): c = (x1 - x0) x (x2 - x0)."""
-    ax, ay, az, bx, by, bz = _edges(x, c)
-    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-    size = np.sqrt(cx * cx + cy * cy + cz * cz)
-    return cx / size, cy / size, cz / size, size
-
-
-@serial
-def _add_cross_pull(x, c, gx, gy, gz, force):
-    """force[c] += d(g . c)/dx at the corners of cell c, g held: b x g on x1, g x a on x2
-    (a = x1 - x0, b = x2 - x0), minus their sum on x0 (geometry.py ``cross_product_pull``)."""
-    ax, ay, az, bx, by, bz = _edges(x, c)
-    p1x, p1y, p1z = by * gz - bz * gy, bz * gx - bx * gz, bx * gy - by * gx
-    p2x, p2y, p2z = gy * az - gz * ay, gz * ax - gx * az, gx * ay - gy * ax
-    force[c, 0, 0] -= p1x + p2x
-    force[c, 0, 1] -= p1y + p2y
-    force[c, 0, 2] -= p1z + p2z
-    force[c, 1, 0] += p1x
-    force[c, 1, 1] += p1y
-    force[c, 1, 2] += p1z
-    force[c, 2, 0] += p2x
-    force[c, 2, 1] += p2y
-    force[c, 2, 2] += p2z
-
-
-@serial
-def _corner_edges(x, c, k):
-    """The two edges of cell c at corner k, u = x_(k+1) - x_k and w = x_(k+2) - x_k:
-    (ux, uy, uz, wx, wy, wz)."""
-    q, r = (k + 1) % 3, (k + 2) % 3
-    return (
-        x[c, q, 0] - x[c, k, 0],
-        x[c, q, 1] - x[c, k, 1],
-        x[c, q, 2] - x[c, k, 2],
-        x[c, r, 0] - x[c, k, 0],
-        x[c, r, 1] - x[c, k, 1],
-        x[c, r, 2] - x[c, k, 2],
-    )
-
-
-@serial
-def _corner(x, c, k):
-    """The angle alpha_k of cell c at corner k and its two edges (``_corner_edges``):
-    (alpha, ux, uy, uz, wx, wy, wz)."""
-    ux, uy, uz, wx, wy, wz = _corner_edges(x, c, k)
-    sx, sy, sz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
-    angle = np.arctan2(np.sqrt(sx * sx + sy * sy + sz * sz), ux * wx + uy * wy + uz * wz)
-    return angle, ux, uy, uz, wx, wy, wz
-
-
-@serial
-def _shares_cell(x, c, shares, normal, double_area, angles):
-    """Cell c's unit normal and double area, its angles alpha_k and its share of the nodal
-    normal sums, alpha_k n at each corner k (geometry.py ``corner_normals``)."""
-    nx, ny, nz, size = _unit_normal(x, c)
-    normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = nx, ny, nz, size
-    for k in range(3):
-        angle = _corner(x, c, k)[0]
-        angles[c, k] = angle
-        shares[c, k, 0] = angle * nx
-        shares[c, k, 1] = angle * ny
-        shares[c, k, 2] = angle * nz
-
-
-@jit
-def _corner_shares(x, shares, normal, double_area, angles):
-    for c in prange(x.shape[0]):
-        _shares_cell(x, c, shares, normal, double_area, angles)
-
-
-def corner_shares(positions: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
-    """alpha_k n (m, 3, 3) of each cell by the compiled loop."""
-    m = len(connectivity)
-    shares = np.empty((m, 3, 3))
-    x = np.ascontiguousarray(positions[connectivity], dtype=np.float64)
-    _corner_shares(x, shares, np.empty((m, 3)), np.empty(m), np.empty((m, 3)))
-    return shares
-
-
-# ---------------------------------------------------------------------- one cell's membrane
-@serial
-def _membrane_cell(
-    c, x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
-    reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
-    law_integers, law_reals, thickness_variation, with_forces, normal, double_area, cosine,
-    h_m, node_normal, energy, force, moment, d_sums,
-):  # fmt: skip
-    """Tension and shear of cell c in one pass over its fibre levels (geometry.py
-    ``cell_geometry``, membrane.py ``strains``, ``layer_loads`` and ``layer_forces``; Eq. 8-10, 14,
-    24-33): the element normal and area, h_m = h / max(V . N, guard) at the corners (N the
-    nodal normal S_k / |S_k|, S (n, 3) read at the cell's nodes, when ``nodal``; else the
-    element's), then at each level the vectors g1, g2, the log strains and the shear angle,
-    and the laws (packed laws 0, 1, 2: warp tension, weft tension, shear). ``with_forces``:
-    the cell's forces, director moments and dW/dS_k (zero without nodal normals), (m, 3, 3)
-    rows; else its energies (energy[c, 0] tension, energy[c, 1] shear, N mm).
-    cosine, h_m (m, 3) and node_normal (m, 3, 3) are scratch rows of the cell."""
-    nx, ny, nz, size = _unit_normal(x, c)
-    normal[c, 0], normal[c, 1], normal[c, 2] = nx, ny, nz
-    double_area[c] = size
-    for k in range(3):
-        if nodal:
-            node = connectivity[c, k]
-            sx, sy, sz = sums[node, 0], sums[node, 1], sums[node, 2]
-            length = np.sqrt(sx * sx + sy * sy + sz * sz)
-            node_normal[c, k, 0] = sx / length
-            node_normal[c, k, 1] = sy / length
-            node_normal[c, k, 2] = sz / length
-            cos = (v[c, k, 0] * sx + v[c, k, 1] * sy + v[c, k, 2] * sz) / length
-        else:
-            cos = v[c, k, 0] * nx + v[c, k, 1] * ny + v[c, k, 2] * nz
-        cosine[c, k] = cos
-        h_m[c, k] = thickness / max(cos, guard)
-    law1, law2 = (0, 1) if xi_is_warp[c] else (1, 0)  # the tension laws along 0-1 and 0-2
-    tension_energy = shear_energy = 0.0
-    s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f P_a
-    a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f P_a
-    lx = ly = lz = 0.0  # dW/dn
-    for f in range(zeta.shape[0]):
-        # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9)
-        half = 0.5 * zeta[f]
-        o0, o1, o2 = half * h_m[c, 0], half * h_m[c, 1], half * h_m[c, 2]
-        b = x[c, 0, 0] + o0 * v[c, 0, 0]
-        g1x, g2x = x[c, 1, 0] + o1 * v[c, 1, 0] - b, x[c, 2, 0] + o2 * v[c, 2, 0] - b
-        b = x[c, 0, 1] + o0 * v[c, 0, 1]
-        g1y, g2y = x[c, 1, 1] + o1 * v[c, 1, 1] - b, x[c, 2, 1] + o2 * v[c, 2, 1] - b
-        b = x[c, 0, 2] + o0 * v[c, 0, 2]
-        g1z, g2z = x[c, 1, 2] + o1 * v[c, 1, 2] - b, x[c, 2, 2] + o2 * v[c, 2, 2] - b
-        # squared lengths: the log strain is half the log of their ratio, and the shear needs
-        # 1 / (|g1| |g2|) only (one root instead of four)
-        square1 = g1x * g1x + g1y * g1y + g1z * g1z
-        square2 = g2x * g2x + g2y * g2y + g2z * g2z
-        if nodal:  # the lengths of g_a projected on the element's plane (docs/theory.md §2.2)
-            q1 = g1x * nx + g1y * ny + g1z * nz
-            q2 = g2x * nx + g2y * ny + g2z * nz
-            e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
-            e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
-            fibre1 = e1x * e1x + e1y * e1y + e1z * e1z
-            fibre2 = e2x * e2x + e2y * e2y + e2z * e2z
-        else:
-            q1 = q2 = 0.0
-            e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
-            fibre1, fibre2 = square1, square2
-        reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
-        eps1 = 0.5 * np.log(fibre1 / (reference1 * reference1))
-        eps2 = 0.5 * np.log(fibre2 / (reference2 * reference2))
-        inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
-        cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
-        gamma = shear_sign[c] * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
-        w = area[c] * weights[f]  # A0 w_f
-        if not with_forces:
-            tension_energy += w * (
-                law_energy(law_integers, law_reals, law1, eps1)
-                + law_energy(law_integers, law_reals, law2, eps2)
-            )
-            shear_energy += w * law_energy(law_integers, law_reals, 2, gamma)
-            continue
-        # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal normals)
-        k1 = w * law_value(law_integers, law_reals, law1, eps1) / fibre1
-        k2 = w * law_value(law_integers, law_reals, law2, eps2) / fibre2
-        p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
-        p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
-        lx -= k1 * q1 * e1x + k2 * q2 * e2x
-        ly -= k1 * q1 * e1y + k2 * q2 * e2y
-        lz -= k1 * q1 * e1z + k2 * q2 * e2z
-        # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|), t1 / |g1| =
-        # (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise
-        sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
-        shear_moment = w * shear_sign[c] * law_value(law_integers, law_reals, 2, gamma) / sin
-        c1, c2 = cos / square1, cos / square2
-        p1x += shear_moment * (g2x * inverse - c1 * g1x)
-        p1y += shear_moment * (g2y * inverse - c1 * g1y)
-        p1z += shear_moment * (g2z * inverse - c1 * g1z)
-        p2x += shear_moment * (g1x * inverse - c2 * g2x)
-        p2y += shear_moment * (g1y * inverse - c2 * g2y)
-        p2z += shear_moment * (g1z * inverse - c2 * g2z)
-        s1x += p1x
-        s1y += p1y
-        s1z += p1z
-        s2x += p2x
-        s2y += p2y
-        s2z += p2z
-        a1x += zeta[f] * p1x
-        a1y += zeta[f] * p1y
-        a1z += zeta[f] * p1z
-        a2x += zeta[f] * p2x
-        a2y += zeta[f] * p2y
-        a2z += zeta[f] * p2z
-    if not with_forces:
-        energy[c, 0], energy[c, 1] = tension_energy, shear_energy
-        return
-    # F_k = sum_a N_k,a P_a on the nodes (Eq. 24); the director takes the moment of the
-    # lever arm zeta_f h_m / 2 along V (Eq. 28, Bai Fig. 3)
-    force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = -(s1x + s2x), -(s1y + s2y), -(s1z + s2z)
-    force[c, 1, 0], force[c, 1, 1], force[c, 1, 2] = s1x, s1y, s1z
-    force[c, 2, 0], force[c, 2, 1], force[c, 2, 2] = s2x, s2y, s2z
-    # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|
-    gx = gy = gz = 0.0
+def _corner_thickness(vx, vy, vz, sx, sy, sz, nodal, nx, ny, nz, thickness, guard):
+    """At one corner: V . N, h_m = h / max(V . N, guard) and N (the nodal normal S / |S| from
+    the normal sum S when ``nodal``, else the element's n), and |S| (1 without nodal
+    normals): (cos, h_m, Nx, Ny, Nz, |S|)."""
     if nodal:
-        along = lx * nx + ly * ny + lz * nz
-        gx, gy, gz = (lx - along * nx) / size, (ly - along * ny) / size, (lz - along * nz) / size
-    for k in range(3):
-        if k == 0:
-            rx, ry, rz = -(a1x + a2x), -(a1y + a2y), -(a1z + a2z)
-        elif k == 1:
-            rx, ry, rz = a1x, a1y, a1z
-        else:
-            rx, ry, rz = a2x, a2y, a2z
-        vx, vy, vz = v[c, k, 0], v[c, k, 1], v[c, k, 2]
-        half_h = 0.5 * h_m[c, k]
-        mx = half_h * (vy * rz - vz * ry)
-        my = half_h * (vz * rx - vx * rz)
-        mz = half_h * (vx * ry - vy * rx)
-        dsx = dsy = dsz = 0.0
-        if thickness_variation:  # the work of h_m = h / c, c = V . N (docs/theory.md §2.5)
-            dw_dh = 0.5 * (rx * vx + ry * vy + rz * vz)
-            ck = cosine[c, k]
-            dw_dc = 0.0 if ck < guard else -dw_dh * thickness / (ck * ck)
-            if nodal:  # dc/dS_k = (V_k - c N_k) / |S_k|, dc/dpsi_k = V_k x N_k
-                wx, wy, wz = node_normal[c, k, 0], node_normal[c, k, 1], node_normal[c, k, 2]
-                node = connectivity[c, k]
-                length = np.sqrt(
-                    sums[node, 0] * sums[node, 0]
-                    + sums[node, 1] * sums[node, 1]
-                    + sums[node, 2] * sums[node, 2]
-                )
-                factor = dw_dc / length
-                dsx = factor * (vx - ck * wx)
-                dsy = factor * (vy - ck * wy)
-                dsz = factor * (vz - ck * wz)
-            else:  # through n = c / |c|: dc_k = (V_k - c_k n) . dc / |c|
-                wx, wy, wz = nx, ny, nz
-                gx += dw_dc * (vx - ck * nx) / size
-                gy += dw_dc * (vy - ck * ny) / size
-                gz += dw_dc * (vz - ck * nz) / size
-            mx += dw_dc * (vy * wz - vz * wy)
-            my += dw_dc * (vz * wx - vx * wz)
-            mz += dw_dc * (vx * wy - vy * wx)
-        moment[c, k, 0], moment[c, k, 1], moment[c, k, 2] = mx, my, mz
-        d_sums[c, k, 0], d_sums[c, k, 1], d_sums[c, k, 2] = dsx, dsy, dsz
-    _add_cross_pull(x, c, gx, gy, gz, force)
-
-
-@serial
-def _normal_pull_cell(x, c, pull, connectivity, angles, force):
-    """force[c] += sum_k T_k . d(alpha_k n)/dx_j at the corners of cell c, T (n, 3) read at
-    its nodes (geometry.py ``corner_normal_pull``); angles (m, 3) the alpha_k of
-    pass 1."""
-    nx, ny, nz, size = _unit_normal(x, c)
-    gx = gy = gz = 0.0
-    for k in range(3):
-        q, r = (k + 1) % 3, (k + 2) % 3
-        node = connectivity[c, k]
-        px, py, pz = pull[node, 0], pull[node, 1], pull[node, 2]
-        angle = angles[c, k]
-        ux, uy, uz, wx, wy, wz = _corner_edges(x, c, k)
-        u_len = np.sqrt(ux * ux + uy * uy + uz * uz)
-        w_len = np.sqrt(wx * wx + wy * wy + wz * wz)
-        # d alpha_k / dx at the next corner: -(n x u / |u|) / |u|; at the previous one:
-        # -((w / |w|) x n) / |w|; at x_k minus their sum.
-        tx = -(ny * uz - nz * uy) / (u_len * u_len)
-        ty = -(nz * ux - nx * uz) / (u_len * u_len)
-        tz = -(nx * uy - ny * ux) / (u_len * u_len)
-        vx = -(wy * nz - wz * ny) / (w_len * w_len)
-        vy = -(wz * nx - wx * nz) / (w_len * w_len)
-        vz = -(wx * ny - wy * nx) / (w_len * w_len)
-        weight = px * nx + py * ny + pz * nz
-        force[c, q, 0] += weight * tx
-        force[c, q, 1] += weight * ty
-        force[c, q, 2] += weight * tz
-        force[c, r, 0] += weight * vx
-        force[c, r, 1] += weight * vy
-        force[c, r, 2] += weight * vz
-        force[c, k, 0] -= weight * (tx + vx)
-        force[c, k, 1] -= weight * (ty + vy)
-        force[c, k, 2] -= weight * (tz + vz)
-        gx += angle * px
-        gy += angle * py
-        gz += angle * pz
-    along = gx * nx + gy * ny + gz * nz
-    gx, gy, gz = (gx - along * nx) / size, (gy - along * ny) / size, (gz - along * nz) / size
-    _add_cross_pull(x, c, gx, gy, gz, force)
-
-
-# ---------------------------------------------------------------------- one cell's bending
-@serial
-def _bending_sides_cell(
-    x, c, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients,
-    gradient,
-):  # fmt: skip
-    """bending.py ``geometry`` of cell c: the fold angle theta_s of each
-    side against the neighbour across it (or the wall of the reference plane on a clamped
-    side), the curvature coefficients c_as (m, 2, 3) and the gradient D[s, k] (m, 3, 3).
-    ``normal`` and ``double_area`` hold every cell's (the neighbours' are read)."""
-    nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-    area2 = double_area[c]
-    f1x, f1y, f1z, f2x, f2y, f2z = _edges(x, c)
-    l1 = np.sqrt(f1x * f1x + f1y * f1y + f1z * f1z)
-    l2 = np.sqrt(f2x * f2x + f2y * f2y + f2z * f2z)
-    f1x, f1y, f1z = f1x / l1, f1y / l1, f1z / l1
-    f2x, f2y, f2z = f2x / l2, f2y / l2, f2z / l2
-    for s in range(3):
-        p, q = (s + 1) % 3, (s + 2) % 3  # side s runs from corner p to corner q
-        sx = x[c, q, 0] - x[c, p, 0]
-        sy = x[c, q, 1] - x[c, p, 1]
-        sz = x[c, q, 2] - x[c, p, 2]
         length = np.sqrt(sx * sx + sy * sy + sz * sz)
-        ox = (sy * nz - sz * ny) / length  # outward in-plane normal n^c_s
-        oy = (sz * nx - sx * nz) / length
-        oz = (sx * ny - sy * nx) / length
-        for k in range(3):
-            pk, qk = (k + 1) % 3, (k + 2) % 3
-            tx = x[c, qk, 0] - x[c, pk, 0]
-            ty = x[c, qk, 1] - x[c, pk, 1]
-            tz = x[c, qk, 2] - x[c, pk, 2]
-            gx = (ny * tz - nz * ty) / area2  # grad N_k
-            gy = (nz * tx - nx * tz) / area2
-            gz = (nx * ty - ny * tx) / area2
-            gradient[c, s, k] = -(ox * gx + oy * gy + oz * gz)
-        if not (interior[c, s] or clamped[c, s]):
-            fold[c, s] = 0.0
-            coefficients[c, 0, s] = 0.0
-            coefficients[c, 1, s] = 0.0
-            continue
-        if clamped[c, s]:
-            mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-            other_height = 0.0
-        else:
-            other = across_cell[c, s]
-            mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-            other_height = double_area[other] / length
-        if clamped[c, s] and interior[c, s]:
-            other_height = double_area[across_cell[c, s]] / length
-        fold[c, s] = np.arctan2(-(mx * ox + my * oy + mz * oz), mx * nx + my * ny + mz * nz)
-        total = area2 / length + other_height
-        p1 = f1x * ox + f1y * oy + f1z * oz
-        p2 = f2x * ox + f2y * oy + f2z * oz
-        coefficients[c, 0, s] = 2.0 * p1 * p1 / total
-        coefficients[c, 1, s] = 2.0 * p2 * p2 / total
+        inverse = 1.0 / length
+        cos = (vx * sx + vy * sy + vz * sz) * inverse
+        return cos, thickness / max(cos, guard), sx * inverse, sy * inverse, sz * inverse, length
+    cos = vx * nx + vy * ny + vz * nz
+    return cos, thickness / max(cos, guard), nx, ny, nz, 1.0
+
+
+@serial
+def _director_moment(
+    rx, ry, rz, vx, vy, vz, h_m, cos, wx, wy, wz, length, thickness, guard, variation
+):  # fmt: skip
+    """The director moment of one corner from r = sum_f zeta_f dW/dg at the corner (the lever
+    arm zeta_f h_m / 2 along V, Eq. 28, Bai Fig. 3) and, with ``variation``, the work of
+    h_m = h / c, c = V . N (docs/theory.md §2.5): dc/dpsi = V x N, dc/dS = (V - c N) / |S|.
+    Returns (m (3), dW/dc (V - c N) (3), with dW/dc divided by |S|): the second is dW/dS_k
+    with nodal normals, and with the element's normal the corner's pull on n times |c|."""
+    half_h = 0.5 * h_m
+    mx = half_h * (vy * rz - vz * ry)
+    my = half_h * (vz * rx - vx * rz)
+    mz = half_h * (vx * ry - vy * rx)
+    if not variation:
+        return mx, my, mz, 0.0, 0.0, 0.0
+    dw_dh = 0.5 * (rx * vx + ry * vy + rz * vz)
+    dw_dc = 0.0 if cos < guard else -dw_dh * thickness / (cos * cos)
+    mx += dw_dc * (vy * wz - vz * wy)
+    my += dw_dc * (vz * wx - vx * wz)
+    mz += dw_dc * (vx * wy - vy * wx)
+    factor = dw_dc / length
+    return mx, my, mz, factor * (vx - cos * wx), factor * (vy - cos * wy), factor * (vz - cos * wz)
+
+
+@serial
+def _side_terms(
+    px, py, pz, qx, qy, qz, nx, ny, nz, area2, f1x, f1y, f1z, f2x, f2y, f2z, mx, my, mz,
+    other_area2,
+):  # fmt: skip
+    """The fold angle of a side from p to q against the unit normal m across it,
+    theta = atan2(-m . n^c, m . n), n^c = (q - p) x n / |q - p| the outward in-plane normal,
+    and its curvature coefficients c_as = 2 (f_a . n^c)^2 / (h + h'), h = 2A / |q - p| the
+    cell's height over the side and h' = other_area2 / |q - p| the neighbour's (0 for a
+    wall); f1, f2 the unit edges 0 -> 1, 0 -> 2 (bending.py ``geometry``)."""
+    sx, sy, sz = qx - px, qy - py, qz - pz
+    length = np.sqrt(sx * sx + sy * sy + sz * sz)
+    inverse = 1.0 / length
+    ox = (sy * nz - sz * ny) * inverse
+    oy = (sz * nx - sx * nz) * inverse
+    oz = (sx * ny - sy * nx) * inverse
+    fold = np.arctan2(-(mx * ox + my * oy + mz * oz), mx * nx + my * ny + mz * nz)
+    scale = 2.0 * length / (area2 + other_area2)  # 2 / (h + h')
+    p1 = f1x * ox + f1y * oy + f1z * oz
+    p2 = f2x * ox + f2y * oy + f2z * oz
+    return fold, p1 * p1 * scale, p2 * p2 * scale
+
+
+@serial
+def _fold_gradient(t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, area2):
+    """D[s, k] = -grad N_k . n^c_s = t_s . t_k / (|t_s| 2A) of a cell whose sides (opposite
+    corners 0, 1, 2) are t0 = x2 - x1, t1 = x0 - x2, t2 = x1 - x0: the share D[s, k] n of
+    d theta_s / dx_k on the cell's own nodes (Eq. 36). Returns the 9 entries row by row."""
+    d00 = t0x * t0x + t0y * t0y + t0z * t0z
+    d11 = t1x * t1x + t1y * t1y + t1z * t1z
+    d22 = t2x * t2x + t2y * t2y + t2z * t2z
+    d01 = t0x * t1x + t0y * t1y + t0z * t1z
+    d02 = t0x * t2x + t0y * t2y + t0z * t2z
+    d12 = t1x * t2x + t1y * t2y + t1z * t2z
+    s0 = 1.0 / (np.sqrt(d00) * area2)
+    s1 = 1.0 / (np.sqrt(d11) * area2)
+    s2 = 1.0 / (np.sqrt(d22) * area2)
+    return (
+        d00 * s0, d01 * s0, d02 * s0,
+        d01 * s1, d11 * s1, d12 * s1,
+        d02 * s2, d12 * s2, d22 * s2,
+    )  # fmt: skip
+
+
+@serial
+def _angle_pull(nx, ny, nz, ux, uy, uz, wx, wy, wz, weight):
+    """weight times d alpha / dx at the next corner (-(n x u) / |u|^2) and at the previous one
+    (-(w x n) / |w|^2) of a corner with edges u and w: (tx, ty, tz, vx, vy, vz); the corner
+    itself takes minus their sum."""
+    to_u = -weight / (ux * ux + uy * uy + uz * uz)
+    to_w = -weight / (wx * wx + wy * wy + wz * wz)
+    return (
+        to_u * (ny * uz - nz * uy),
+        to_u * (nz * ux - nx * uz),
+        to_u * (nx * uy - ny * ux),
+        to_w * (wy * nz - wz * ny),
+        to_w * (wz * nx - wx * nz),
+        to_w * (wx * ny - wy * nx),
+    )
+
+
+# ---------------------------------------------------------------------- pass 1: normals
+@jit
+def _normals_pass(connectivity, positions, with_angles, normal, double_area, angles):
+    """Unit normal (m, 3), double area (m,) and, ``with_angles``, the corner angles alpha_k
+    (m, 3) of every cell."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
+        x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
+        x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
+        ax, ay, az = x1x - x0x, x1y - x0y, x1z - x0z
+        bx, by, bz = x2x - x0x, x2y - x0y, x2z - x0z
+        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        size = np.sqrt(cx * cx + cy * cy + cz * cz)
+        normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
+        double_area[c] = size
+        if with_angles:
+            # |u x w| = |c| at every corner, and the three angles sum to pi
+            alpha0 = np.arctan2(size, ax * bx + ay * by + az * bz)
+            alpha1 = np.arctan2(
+                size,
+                (x2x - x1x) * (x0x - x1x) + (x2y - x1y) * (x0y - x1y) + (x2z - x1z) * (x0z - x1z),
+            )
+            angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
 
 
 @jit
-def _cell_normals(x, normal, double_area):
-    """Unit normals (m, 3) and double areas (m,) of the cells with corners x (m, 3, 3)."""
-    for c in prange(x.shape[0]):
-        normal[c, 0], normal[c, 1], normal[c, 2], double_area[c] = _unit_normal(x, c)
+def _normal_sums(offsets, corners, angles, normal, out):
+    """out[node] (n, 3) = sum of alpha_k n over the node's corners c * 3 + k, in cell order."""
+    for node in prange(out.shape[0]):
+        sx = sy = sz = 0.0
+        for j in range(offsets[node], offsets[node + 1]):
+            corner = corners[j]
+            c = corner // 3
+            angle = angles[c, corner - 3 * c]
+            sx += angle * normal[c, 0]
+            sy += angle * normal[c, 1]
+            sz += angle * normal[c, 2]
+        out[node, 0], out[node, 1], out[node, 2] = sx, sy, sz
 
 
+def _cell_normals(block, positions: np.ndarray, with_angles: bool):
+    """Pass 1 over the cells: (normal (m, 3), double_area (m,), angles (m, 3) or empty)."""
+    m = len(block.connectivity)
+    normal, double_area = np.empty((m, 3)), np.empty(m)
+    angles = np.empty((m, 3) if with_angles else (0, 3))
+    _normals_pass(block.connectivity, positions, with_angles, normal, double_area, angles)
+    return normal, double_area, angles
+
+
+def normal_sums(block, positions: np.ndarray) -> np.ndarray:
+    """S_k (n, 3), the sums of alpha_k n over the block's cells around each node (0 at nodes
+    outside the block; the wall nodes not replaced), by the compiled loops: the same numbers
+    to the last bit as the scatter of geometry.py ``corner_normals``."""
+    x = np.ascontiguousarray(positions, dtype=np.float64)
+    normal, _, angles = _cell_normals(block, x, True)
+    sums = np.empty((block.n_nodes, 3))
+    corners = block.node_corners
+    _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+    return sums
+
+
+# ---------------------------------------------------------------------- pass 2: the cells
+@jit
+def _cells_pass(
+    connectivity, positions, directors, sums, normal, double_area, nodal, thickness, guard,
+    zeta, weights, area, reference_length1, reference_length2, shear_sign, reference_shear,
+    xi_is_warp, law_integers, law_reals, variation, across_cell, interior, clamped, wall,
+    reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
+    with_energy, force, moment, d_sums, own, energy,
+):  # fmt: skip
+    """Each cell's tension and shear (geometry.py ``cell_geometry``, membrane.py ``strains``,
+    ``layer_loads``, ``layer_forces``; Eq. 8-10, 14, 24-33) and bending (bending.py
+    ``geometry``, ``curvatures``, ``side_moments``; Eq. 34-37).
+
+    Membrane: h_m = h / max(V . N, guard) at the corners (N = S_k / |S_k| from the normal sums
+    S (n, 3) when ``nodal``, else the element's normal), then at each fibre level the vectors
+    g1, g2, the log strains and the shear angle, and the laws (packed laws 0, 1, 2: warp
+    tension, weft tension, shear). Bending: the fold angle of each side against the
+    neighbour's normal (or the wall of the reference plane on a clamped side), the
+    curvatures chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed laws 3,
+    4: warp, weft).
+
+    ``with_forces``: force, moment, d_sums (m, 3, 3) the corner forces, director moments and
+    dW/dS_k (zero without nodal normals), own (m, 3) the cell's share of each side's moment,
+    -A0 sum_a M_a c_as; ``with_energy``: energy (m, 3) tension, shear, bending, N mm.
+    """
+    levels = zeta.shape[0]
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
+        x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
+        x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
+        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
+        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
+        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
+        nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
+        a0 = area[c]
+        # h_m and N at the corners (Eq. 10, 14)
+        if nodal:
+            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
+            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
+            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
+        else:
+            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
+        cos0, h0, w0x, w0y, w0z, len0 = _corner_thickness(
+            v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard
+        )
+        cos1, h1, w1x, w1y, w1z, len1 = _corner_thickness(
+            v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard
+        )
+        cos2, h2, w2x, w2y, w2z, len2 = _corner_thickness(
+            v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard
+        )
+        warp_first = xi_is_warp[c]
+        law1, law2 = (0, 1) if warp_first else (1, 0)  # the tension laws along 0-1 and 0-2
+        sign = shear_sign[c]
+        tension_energy = shear_energy = 0.0
+        s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f dW/dg_a
+        a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f dW/dg_a
+        lx = ly = lz = 0.0  # dW/dn
+        # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9): g_a = r_a +
+        # zeta_f l_a, r_a = x_a - x_0 and l_a = (h_m^a V_a - h_m^0 V_0) / 2
+        r1x, r1y, r1z = x1x - x0x, x1y - x0y, x1z - x0z
+        r2x, r2y, r2z = x2x - x0x, x2y - x0y, x2z - x0z
+        u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
+        l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
+        l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
+        for f in range(levels):
+            z = zeta[f]
+            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
+            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
+            # squared lengths: the log strain is half the log of their ratio, and the shear
+            # needs 1 / (|g1| |g2|) only (one root instead of four)
+            square1 = g1x * g1x + g1y * g1y + g1z * g1z
+            square2 = g2x * g2x + g2y * g2y + g2z * g2z
+            if nodal:  # the lengths of g_a projected on the element's plane (theory §2.2)
+                q1 = g1x * nx + g1y * ny + g1z * nz
+                q2 = g2x * nx + g2y * ny + g2z * nz
+                e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
+                e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
+                fibre1 = e1x * e1x + e1y * e1y + e1z * e1z
+                fibre2 = e2x * e2x + e2y * e2y + e2z * e2z
+            else:
+                q1 = q2 = 0.0
+                e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
+                fibre1, fibre2 = square1, square2
+            reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
+            eps1 = 0.5 * np.log(fibre1 / (reference1 * reference1))
+            eps2 = 0.5 * np.log(fibre2 / (reference2 * reference2))
+            inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
+            cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
+            gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
+            w = a0 * weights[f]  # A0 w_f
+            if with_energy:
+                tension_energy += w * (
+                    law_energy(law_integers, law_reals, law1, eps1)
+                    + law_energy(law_integers, law_reals, law2, eps2)
+                )
+                shear_energy += w * law_energy(law_integers, law_reals, 2, gamma)
+            if not with_forces:
+                continue
+            # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal
+            # normals)
+            k1 = w * law_value(law_integers, law_reals, law1, eps1) / fibre1
+            k2 = w * law_value(law_integers, law_reals, law2, eps2) / fibre2
+            p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
+            p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
+            lx -= k1 * q1 * e1x + k2 * q2 * e2x
+            ly -= k1 * q1 * e1y + k2 * q2 * e2y
+            lz -= k1 * q1 * e1z + k2 * q2 * e2z
+            # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|),
+            # t1 / |g1| = (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise
+            sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
+            shear_moment = w * sign * law_value(law_integers, law_reals, 2, gamma) / sin
+            c1, c2 = cos / square1, cos / square2
+            p1x += shear_moment * (g2x * inverse - c1 * g1x)
+            p1y += shear_moment * (g2y * inverse - c1 * g1y)
+            p1z += shear_moment * (g2z * inverse - c1 * g1z)
+            p2x += shear_moment * (g1x * inverse - c2 * g2x)
+            p2y += shear_moment * (g1y * inverse - c2 * g2y)
+            p2z += shear_moment * (g1z * inverse - c2 * g2z)
+            s1x += p1x
+            s1y += p1y
+            s1z += p1z
+            s2x += p2x
+            s2y += p2y
+            s2z += p2z
+            a1x += z * p1x
+            a1y += z * p1y
+            a1z += z * p1z
+            a2x += z * p2x
+            a2y += z * p2y
+            a2z += z * p2z
+        if with_energy:
+            energy[c, 0], energy[c, 1] = tension_energy, shear_energy
+        if with_forces:
+            # The director moments (Eq. 28) and the work of h_m through V . N (theory §2.5)
+            m0x, m0y, m0z, d0x, d0y, d0z = _director_moment(
+                -(a1x + a2x), -(a1y + a2y), -(a1z + a2z), v0x, v0y, v0z, h0, cos0,
+                w0x, w0y, w0z, len0, thickness, guard, variation,
+            )  # fmt: skip
+            m1x, m1y, m1z, d1x, d1y, d1z = _director_moment(
+                a1x, a1y, a1z, v1x, v1y, v1z, h1, cos1, w1x, w1y, w1z, len1, thickness,
+                guard, variation,
+            )  # fmt: skip
+            m2x, m2y, m2z, d2x, d2y, d2z = _director_moment(
+                a2x, a2y, a2z, v2x, v2y, v2z, h2, cos2, w2x, w2y, w2z, len2, thickness,
+                guard, variation,
+            )  # fmt: skip
+            moment[c, 0, 0], moment[c, 0, 1], moment[c, 0, 2] = m0x, m0y, m0z
+            moment[c, 1, 0], moment[c, 1, 1], moment[c, 1, 2] = m1x, m1y, m1z
+            moment[c, 2, 0], moment[c, 2, 1], moment[c, 2, 2] = m2x, m2y, m2z
+            # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|, and
+            # without nodal normals h_m varies with n too (dc_k = (V_k - c_k n) . dc / |c|)
+            gx = gy = gz = 0.0
+            if nodal:
+                d_sums[c, 0, 0], d_sums[c, 0, 1], d_sums[c, 0, 2] = d0x, d0y, d0z
+                d_sums[c, 1, 0], d_sums[c, 1, 1], d_sums[c, 1, 2] = d1x, d1y, d1z
+                d_sums[c, 2, 0], d_sums[c, 2, 1], d_sums[c, 2, 2] = d2x, d2y, d2z
+                along = lx * nx + ly * ny + lz * nz
+                gx, gy, gz = (
+                    (lx - along * nx) / size,
+                    (ly - along * ny) / size,
+                    (lz - along * nz) / size,
+                )
+            else:
+                gx = (d0x + d1x + d2x) / size
+                gy = (d0y + d1y + d2y) / size
+                gz = (d0z + d1z + d2z) / size
+            # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
+            # minus their sum on x0 (a = x1 - x0, b = x2 - x0)
+            ax, ay, az = x1x - x0x, x1y - x0y, x1z - x0z
+            bx, by, bz = x2x - x0x, x2y - x0y, x2z - x0z
+            f1x = s1x + (by * gz - bz * gy)
+            f1y = s1y + (bz * gx - bx * gz)
+            f1z = s1z + (bx * gy - by * gx)
+            f2x = s2x + (gy * az - gz * ay)
+            f2y = s2y + (gz * ax - gx * az)
+            f2z = s2z + (gx * ay - gy * ax)
+            force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = (
+                -(f1x + f2x),
+                -(f1y + f2y),
+                -(f1z + f2z),
+            )
+            force[c, 1, 0], force[c, 1, 1], force[c, 1, 2] = f1x, f1y, f1z
+            force[c, 2, 0], force[c, 2, 1], force[c, 2, 2] = f2x, f2y, f2z
+
+        # ------------------------------------------------------------ bending
+        if not (interior[c, 0] or interior[c, 1] or interior[c, 2]) and not (
+            clamped[c, 0] or clamped[c, 1] or clamped[c, 2]
+        ):  # no side folds (a lone or a held cell)
+            if with_energy:
+                energy[c, 2] = 0.0
+            if with_forces:
+                own[c, 0] = own[c, 1] = own[c, 2] = 0.0
+            continue
+        ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
+        ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
+        c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
+        chi1 = chi2 = 0.0
+        for s in range(3):
+            if not (interior[c, s] or clamped[c, s]):
+                continue
+            # side s runs from corner s + 1 to corner s + 2
+            if s == 0:
+                px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
+            elif s == 1:
+                px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
+            else:
+                px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
+            other_area2 = mx = my = mz = 0.0
+            if interior[c, s]:
+                other = across_cell[c, s]
+                other_area2 = double_area[other]
+                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
+            if clamped[c, s]:
+                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
+            fold, c1s, c2s = _side_terms(
+                px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
+                mx, my, mz, other_area2,
+            )  # fmt: skip
+            if use_reference_coefficients:
+                c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
+            if s == 0:
+                c10, c20 = c1s, c2s
+            elif s == 1:
+                c11, c21 = c1s, c2s
+            else:
+                c12, c22 = c1s, c2s
+            turn = fold - reference_fold[c, s]
+            chi1 -= c1s * turn
+            chi2 -= c2s * turn
+        bend1, bend2 = (3, 4) if warp_first else (4, 3)
+        if with_energy:
+            energy[c, 2] = a0 * (
+                law_energy(law_integers, law_reals, bend1, chi1)
+                + law_energy(law_integers, law_reals, bend2, chi2)
+            )
+        if with_forces:
+            moment1 = law_value(law_integers, law_reals, bend1, chi1)
+            moment2 = law_value(law_integers, law_reals, bend2, chi2)
+            own[c, 0] = -a0 * (moment1 * c10 + moment2 * c20)
+            own[c, 1] = -a0 * (moment1 * c11 + moment2 * c21)
+            own[c, 2] = -a0 * (moment1 * c12 + moment2 * c22)
+
+
+# ---------------------------------------------------------------------- pass 3: the pulls
+@jit
+def _pulls_pass(
+    connectivity, positions, normal, double_area, angles, pull, nodal, own, across_cell,
+    across_side, interior, force,
+):  # fmt: skip
+    """force[c] += the pull of T_k (n, 3), the nodal sums of dW/dS_k, through alpha_k n at the
+    cell's corners (nodal normals only; geometry.py ``corner_normal_pull``) and each side's
+    moment (own plus the neighbour's across it) times D[s, k] n (Eq. 37): every cell pulls on
+    its own three nodes only."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
+        x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
+        x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
+        nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
+        # the sides opposite each corner: t0 = x2 - x1, t1 = x0 - x2, t2 = x1 - x0
+        t0x, t0y, t0z = x2x - x1x, x2y - x1y, x2z - x1z
+        t1x, t1y, t1z = x0x - x2x, x0y - x2y, x0z - x2z
+        t2x, t2y, t2z = x1x - x0x, x1y - x0y, x1z - x0z
+        # bending: each side's moment times D[s, k] n
+        side0, side1, side2 = own[c, 0], own[c, 1], own[c, 2]
+        if interior[c, 0]:
+            side0 += own[across_cell[c, 0], across_side[c, 0]]
+        if interior[c, 1]:
+            side1 += own[across_cell[c, 1], across_side[c, 1]]
+        if interior[c, 2]:
+            side2 += own[across_cell[c, 2], across_side[c, 2]]
+        b0 = b1 = b2 = 0.0
+        if side0 != 0.0 or side1 != 0.0 or side2 != 0.0:
+            d00, d01, d02, d10, d11, d12, d20, d21, d22 = _fold_gradient(
+                t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, size
+            )
+            b0 = side0 * d00 + side1 * d10 + side2 * d20
+            b1 = side0 * d01 + side1 * d11 + side2 * d21
+            b2 = side0 * d02 + side1 * d12 + side2 * d22
+        f0x, f0y, f0z = b0 * nx, b0 * ny, b0 * nz
+        f1x, f1y, f1z = b1 * nx, b1 * ny, b1 * nz
+        f2x, f2y, f2z = b2 * nx, b2 * ny, b2 * nz
+        if nodal:
+            # T_k . d(alpha_k n)/dx: through alpha_k (d alpha_k / dx in the plane) and
+            # through n (the pull on c = a x b with g = P sum_k alpha_k T_k / |c|)
+            p0x, p0y, p0z = pull[n0, 0], pull[n0, 1], pull[n0, 2]
+            p1x, p1y, p1z = pull[n1, 0], pull[n1, 1], pull[n1, 2]
+            p2x, p2y, p2z = pull[n2, 0], pull[n2, 1], pull[n2, 2]
+            # corner 0: u = x1 - x0 = t2, w = x2 - x0 = -t1
+            tx, ty, tz, vx, vy, vz = _angle_pull(
+                nx, ny, nz, t2x, t2y, t2z, -t1x, -t1y, -t1z, p0x * nx + p0y * ny + p0z * nz
+            )
+            f1x, f1y, f1z = f1x + tx, f1y + ty, f1z + tz
+            f2x, f2y, f2z = f2x + vx, f2y + vy, f2z + vz
+            f0x, f0y, f0z = f0x - (tx + vx), f0y - (ty + vy), f0z - (tz + vz)
+            # corner 1: u = x2 - x1 = t0, w = x0 - x1 = -t2
+            tx, ty, tz, vx, vy, vz = _angle_pull(
+                nx, ny, nz, t0x, t0y, t0z, -t2x, -t2y, -t2z, p1x * nx + p1y * ny + p1z * nz
+            )
+            f2x, f2y, f2z = f2x + tx, f2y + ty, f2z + tz
+            f0x, f0y, f0z = f0x + vx, f0y + vy, f0z + vz
+            f1x, f1y, f1z = f1x - (tx + vx), f1y - (ty + vy), f1z - (tz + vz)
+            # corner 2: u = x0 - x2 = t1, w = x1 - x2 = -t0
+            tx, ty, tz, vx, vy, vz = _angle_pull(
+                nx, ny, nz, t1x, t1y, t1z, -t0x, -t0y, -t0z, p2x * nx + p2y * ny + p2z * nz
+            )
+            f0x, f0y, f0z = f0x + tx, f0y + ty, f0z + tz
+            f1x, f1y, f1z = f1x + vx, f1y + vy, f1z + vz
+            f2x, f2y, f2z = f2x - (tx + vx), f2y - (ty + vy), f2z - (tz + vz)
+            alpha0, alpha1, alpha2 = angles[c, 0], angles[c, 1], angles[c, 2]
+            gx = alpha0 * p0x + alpha1 * p1x + alpha2 * p2x
+            gy = alpha0 * p0y + alpha1 * p1y + alpha2 * p2y
+            gz = alpha0 * p0z + alpha1 * p1z + alpha2 * p2z
+            along = gx * nx + gy * ny + gz * nz
+            gx, gy, gz = (
+                (gx - along * nx) / size,
+                (gy - along * ny) / size,
+                (gz - along * nz) / size,
+            )
+            # b x g on x1, g x a on x2, minus their sum on x0 (a = x1 - x0 = t2, b = x2 - x0)
+            ux, uy, uz = t2y * gz - t2z * gy, t2z * gx - t2x * gz, t2x * gy - t2y * gx  # a x g
+            wx, wy, wz = -t1y * gz + t1z * gy, -t1z * gx + t1x * gz, -t1x * gy + t1y * gx  # b x g
+            f1x, f1y, f1z = f1x + wx, f1y + wy, f1z + wz
+            f2x, f2y, f2z = f2x - ux, f2y - uy, f2z - uz
+            f0x, f0y, f0z = f0x - (wx - ux), f0y - (wy - uy), f0z - (wz - uz)
+        force[c, 0, 0] += f0x
+        force[c, 0, 1] += f0y
+        force[c, 0, 2] += f0z
+        force[c, 1, 0] += f1x
+        force[c, 1, 1] += f1y
+        force[c, 1, 2] += f1z
+        force[c, 2, 0] += f2x
+        force[c, 2, 1] += f2y
+        force[c, 2, 2] += f2z
+
+
+@jit
+def _node_loads(offsets, corners, force, moment, out_force, out_moment):
+    """out_force[node], out_moment[node] (n, 3): the sums of force and moment (m * 3, 3) over
+    the node's corners, in cell order."""
+    for node in prange(out_force.shape[0]):
+        fx = fy = fz = mx = my = mz = 0.0
+        for j in range(offsets[node], offsets[node + 1]):
+            corner = corners[j]
+            fx += force[corner, 0]
+            fy += force[corner, 1]
+            fz += force[corner, 2]
+            mx += moment[corner, 0]
+            my += moment[corner, 1]
+            mz += moment[corner, 2]
+        out_force[node, 0], out_force[node, 1], out_force[node, 2] = fx, fy, fz
+        out_moment[node, 0], out_moment[node, 1], out_moment[node, 2] = mx, my, mz
+
+
+# ---------------------------------------------------------------------- bending geometry
 @jit
 def _bending_sides(
-    x, normal, double_area, across_cell, interior, clamped, wall, fold, coefficients, gradient
+    connectivity, positions, normal, double_area, across_cell, interior, clamped, wall, fold,
+    coefficients, gradient,
 ):  # fmt: skip
-    for c in prange(x.shape[0]):
-        _bending_sides_cell(
-            x, c, normal, double_area, across_cell, interior, clamped, wall, fold,
-            coefficients, gradient,
+    """bending.py ``geometry`` of every cell: fold angles (m, 3), curvature coefficients
+    (m, 2, 3) and the gradient D[s, k] (m, 3, 3)."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
+        x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
+        x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
+        nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
+        d = _fold_gradient(
+            x2x - x1x, x2y - x1y, x2z - x1z, x0x - x2x, x0y - x2y, x0z - x2z,
+            x1x - x0x, x1y - x0y, x1z - x0z, size,
         )  # fmt: skip
+        gradient[c, 0, 0], gradient[c, 0, 1], gradient[c, 0, 2] = d[0], d[1], d[2]
+        gradient[c, 1, 0], gradient[c, 1, 1], gradient[c, 1, 2] = d[3], d[4], d[5]
+        gradient[c, 2, 0], gradient[c, 2, 1], gradient[c, 2, 2] = d[6], d[7], d[8]
+        ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
+        ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
+        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
+        for s in range(3):
+            if not (interior[c, s] or clamped[c, s]):
+                fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
+                continue
+            if s == 0:
+                px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
+            elif s == 1:
+                px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
+            else:
+                px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
+            other_area2 = mx = my = mz = 0.0
+            if interior[c, s]:
+                other = across_cell[c, s]
+                other_area2 = double_area[other]
+                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
+            if clamped[c, s]:
+                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
+            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = _side_terms(
+                px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
+                mx, my, mz, other_area2,
+            )  # fmt: skip
 
 
 def bending_geometry(block, positions: np.ndarray) -> dict:
     """bending.py ``geometry`` by the compiled loops."""
-    x = np.ascontiguousarray(positions[block.connectivity], dtype=np.float64)
-    m = len(x)
-    normal, double_area = np.empty((m, 3)), np.empty(m)
-    _cell_normals(x, normal, double_area)
+    x = np.ascontiguousarray(positions, dtype=np.float64)
+    normal, double_area, _ = _cell_normals(block, x, False)
+    m = len(normal)
     fold, coefficients, gradient = np.empty((m, 3)), np.empty((m, 2, 3)), np.empty((m, 3, 3))
     _bending_sides(
-        x, normal, double_area, block.across_cell, block.interior_side, block.clamped_side,
-        block.reference_normal, fold, coefficients, gradient,
+        block.connectivity, x, normal, double_area, block.across_cell, block.interior_side,
+        block.clamped_side, block.reference_normal, fold, coefficients, gradient,
     )  # fmt: skip
     return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}
 
 
-@serial
-def _side_moments_cell(
-    c, fold, reference_fold, coefficients, area, xi_is_warp, law_integers, law_reals,
-    with_forces, energy, own,
+# ---------------------------------------------------------------------- strains (fields)
+@jit
+def _strains_pass(
+    connectivity, positions, directors, sums, normal, nodal, thickness, guard, zeta,
+    reference_length1, reference_length2, shear_sign, reference_shear, eps1, eps2, gamma,
 ):  # fmt: skip
-    """Cell c's share of its side moments (bending.py ``forces``): chi_a =
-    -sum_s c_as (theta_s - theta_s0) (Eq. 35), M_a from the bending laws (packed laws 3, 4:
-    warp, weft) and own_s = -A0 sum_a M_a c_as; without ``with_forces`` its bending energy
-    energy[c, 2] = A0 sum_a Phi_a(chi_a) instead."""
-    chi1 = chi2 = 0.0
-    for s in range(3):
-        turn = fold[c, s] - reference_fold[c, s]
-        chi1 -= coefficients[c, 0, s] * turn
-        chi2 -= coefficients[c, 1, s] * turn
-    law1, law2 = (3, 4) if xi_is_warp[c] else (4, 3)
-    if not with_forces:
-        energy[c, 2] = area[c] * (
-            law_energy(law_integers, law_reals, law1, chi1)
-            + law_energy(law_integers, law_reals, law2, chi2)
-        )
-        return
-    m1 = law_value(law_integers, law_reals, law1, chi1)
-    m2 = law_value(law_integers, law_reals, law2, chi2)
-    for s in range(3):
-        own[c, s] = -area[c] * (m1 * coefficients[c, 0, s] + m2 * coefficients[c, 1, s])
+    """The log fibre strains eps1, eps2 along edges 0-1 and 0-2 and the shear angles (m, L)
+    of every cell and level (membrane.py ``strains``), as ``_cells_pass`` forms them."""
+    for c in prange(connectivity.shape[0]):
+        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
+        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
+        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
+        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
+        if nodal:
+            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
+            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
+            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
+        else:
+            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
+        h0 = _corner_thickness(v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard)[1]
+        h1 = _corner_thickness(v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard)[1]
+        h2 = _corner_thickness(v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard)[1]
+        r1x = positions[n1, 0] - positions[n0, 0]
+        r1y = positions[n1, 1] - positions[n0, 1]
+        r1z = positions[n1, 2] - positions[n0, 2]
+        r2x = positions[n2, 0] - positions[n0, 0]
+        r2y = positions[n2, 1] - positions[n0, 1]
+        r2z = positions[n2, 2] - positions[n0, 2]
+        u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
+        l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
+        l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
+        for f in range(zeta.shape[0]):
+            z = zeta[f]
+            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
+            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
+            square1 = g1x * g1x + g1y * g1y + g1z * g1z
+            square2 = g2x * g2x + g2y * g2y + g2z * g2z
+            fibre1, fibre2 = square1, square2
+            if nodal:  # the lengths projected on the element's plane
+                q1 = g1x * nx + g1y * ny + g1z * nz
+                q2 = g2x * nx + g2y * ny + g2z * nz
+                fibre1 = square1 - q1 * q1
+                fibre2 = square2 - q2 * q2
+            reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
+            eps1[c, f] = 0.5 * np.log(fibre1 / (reference1 * reference1))
+            eps2[c, f] = 0.5 * np.log(fibre2 / (reference2 * reference2))
+            cos = (g1x * g2x + g1y * g2y + g1z * g2z) / np.sqrt(square1 * square2)
+            angle = np.arcsin(min(max(cos, -1.0), 1.0))
+            gamma[c, f] = shear_sign[c] * angle - reference_shear[c, f]
 
 
-@serial
-def _bending_pull_cell(c, own, across_cell, across_side, interior, gradient, normal, force):
-    """force[c] += each side's moment (own plus the neighbour's across it) times D[s, k] n
-    (Eq. 37): every cell pulls on its own three nodes only."""
-    w0 = w1 = w2 = 0.0
-    for s in range(3):
-        side = own[c, s]
-        if interior[c, s]:
-            side += own[across_cell[c, s], across_side[c, s]]
-        w0 += side * gradient[c, s, 0]
-        w1 += side * gradient[c, s, 1]
-        w2 += side * gradient[c, s, 2]
-    for i in range(3):
-        force[c, 0, i] += w0 * normal[c, i]
-        force[c, 1, i] += w1 * normal[c, i]
-        force[c, 2, i] += w2 * normal[c, i]
+def strains(block, positions: np.ndarray, directors: np.ndarray) -> dict:
+    """membrane.py ``strains`` by the compiled loops, for the fields: eps1, eps2 and gamma
+    (m, L), without the level vectors and corners (m, L, 3) the numpy path keeps."""
+    x = np.ascontiguousarray(positions, dtype=np.float64)
+    v = np.ascontiguousarray(directors, dtype=np.float64)
+    nodal = block.nodal_normals
+    normal, _, angles = _cell_normals(block, x, nodal)
+    sums = np.zeros((0, 3))
+    if nodal:
+        sums = np.empty((block.n_nodes, 3))
+        corners = block.node_corners
+        _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+        sums[block.wall_node_ids] = block.wall_sums
+    shape = block.reference_length1.shape
+    eps1, eps2, gamma = np.empty(shape), np.empty(shape), np.empty(shape)
+    _strains_pass(
+        block.connectivity, x, v, sums, normal, nodal, float(block.fabric.thickness), GUARD,
+        block.zeta, block.reference_length1, block.reference_length2, block.shear_sign,
+        block.reference_shear, eps1, eps2, gamma,
+    )  # fmt: skip
+    return {"eps1": eps1, "eps2": eps2, "gamma": gamma}
 
 
 # ---------------------------------------------------------------------- the internal force
-@jit
-def _gather_corners(positions, directors, connectivity, x, v):
-    """x, v (m, 3, 3): the positions and directors at each cell's corners."""
-    for c in prange(connectivity.shape[0]):
-        for k in range(3):
-            node = connectivity[c, k]
-            for i in range(3):
-                x[c, k, i] = positions[node, i]
-                v[c, k, i] = directors[node, i]
-
-
-@jit
-def _cells_pass(
-    x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
-    reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
-    law_integers, law_reals, thickness_variation, with_forces, across_cell, interior, clamped,
-    wall, reference_fold, reference_coefficients, use_reference_coefficients, normal,
-    double_area, cosine, h_m, node_normal, fold, coefficients, gradient, own, energy, force,
-    moment, d_sums,
-):  # fmt: skip
-    """Pass 2: each cell's membrane forces, director moments and dW/dS_k (or energies)
-    (``_membrane_cell``), then its side moments (or bending energy)."""
-    for c in prange(x.shape[0]):
-        _membrane_cell(
-            c, x, v, sums, connectivity, nodal, thickness, guard, zeta, weights, area,
-            reference_length1, reference_length2, shear_sign, reference_shear, xi_is_warp,
-            law_integers, law_reals, thickness_variation, with_forces, normal, double_area,
-            cosine, h_m, node_normal, energy, force, moment, d_sums,
-        )  # fmt: skip
-    # The fold angles read the neighbours' normals: written by every cell above.
-    used = reference_coefficients if use_reference_coefficients else coefficients
-    for c in prange(x.shape[0]):
-        _bending_sides_cell(
-            x, c, normal, double_area, across_cell, interior, clamped, wall, fold,
-            coefficients, gradient,
-        )  # fmt: skip
-        _side_moments_cell(
-            c, fold, reference_fold, used, area, xi_is_warp, law_integers, law_reals,
-            with_forces, energy, own,
-        )  # fmt: skip
-
-
-@jit
-def _pulls_pass(x, pull, connectivity, angles, nodal, own, across_cell, across_side, interior,
-                gradient, normal, force):  # fmt: skip
-    """Pass 4 of ``internal_force``: the pull of the nodal sums of dW/dS_k on each cell's
-    nodes (nodal normals only) and the bending forces."""
-    for c in prange(x.shape[0]):
-        if nodal:
-            _normal_pull_cell(x, c, pull, connectivity, angles, force)
-        _bending_pull_cell(c, own, across_cell, across_side, interior, gradient, normal, force)
-
-
-def _passes(block, positions: np.ndarray, directors: np.ndarray, with_forces: bool):
-    """Passes 1 to 4 (see the module docstring): energies (m, 3) per cell (tension, shear,
-    bending; N mm) and, ``with_forces``, the nodal forces and director moments (n, 3)."""
+def _passes(block, positions, directors, with_forces: bool, with_energy: bool):
+    """The passes of the module docstring: energies (m, 3) per cell (tension, shear, bending;
+    N mm; empty without ``with_energy``) and, ``with_forces``, the nodal forces and director
+    moments (n, 3)."""
     conn, m = block.connectivity, len(block.connectivity)
     nodal, corners = block.nodal_normals, block.node_corners
-    x, v = np.empty((m, 3, 3)), np.empty((m, 3, 3))
-    _gather_corners(
-        np.ascontiguousarray(positions, dtype=np.float64),
-        np.ascontiguousarray(directors, dtype=np.float64),
-        conn, x, v,
-    )  # fmt: skip
-    normal, double_area, angles = np.empty((m, 3)), np.empty(m), np.empty((m, 3))
+    x = np.ascontiguousarray(positions, dtype=np.float64)
+    v = np.ascontiguousarray(directors, dtype=np.float64)
+    normal, double_area, angles = _cell_normals(block, x, nodal)
     sums = np.zeros((0, 3))
-    if nodal:  # pass 1: the nodal normal sums
-        shares = np.empty((m, 3, 3))
-        _corner_shares(x, shares, normal, double_area, angles)
-        sums = corners.sum(shares)
+    if nodal:  # the nodal normal sums; a wall node's is the wall's
+        sums = np.empty((block.n_nodes, 3))
+        _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
         sums[block.wall_node_ids] = block.wall_sums
-    cosine, h_m, node_normal = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3, 3))
-    fold, coefficients = np.empty((m, 3)), np.empty((m, 2, 3))
-    gradient, own, energy = np.empty((m, 3, 3)), np.empty((m, 3)), np.empty((m, 3))
     shape = (m, 3, 3) if with_forces else (0, 3, 3)
-    force, moment, d_sums = np.empty(shape), np.empty(shape), np.empty(shape)
+    force, moment = np.empty(shape), np.empty(shape)
+    d_sums = np.empty(shape if nodal else (0, 3, 3))
+    own = np.empty((m, 3) if with_forces else (0, 3))
+    energy = np.empty((m, 3) if with_energy else (0, 3))
     _cells_pass(
-        x, v, sums, conn, nodal, float(block.fabric.thickness), GUARD, block.zeta,
-        block.weights, block.reference_area, block.reference_length1, block.reference_length2,
-        block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,
-        block.thickness_variation, with_forces, block.across_cell, block.interior_side,
-        block.clamped_side, block.reference_normal, block.reference_fold,
-        block.reference_coefficients, block.reference_curvature_coefficients, normal,
-        double_area, cosine, h_m, node_normal, fold, coefficients, gradient, own, energy,
-        force, moment, d_sums,
+        conn, x, v, sums, normal, double_area, nodal, float(block.fabric.thickness), GUARD,
+        block.zeta, block.weights, block.reference_area, block.reference_length1,
+        block.reference_length2, block.shear_sign, block.reference_shear, block.xi_is_warp,
+        *block.packed_laws, block.thickness_variation, block.across_cell,
+        block.interior_side, block.clamped_side, block.reference_normal, block.reference_fold,
+        block.reference_coefficients, block.reference_curvature_coefficients, with_forces,
+        with_energy, force, moment, d_sums, own, energy,
     )  # fmt: skip
     if not with_forces:
         return energy, None, None
     pull = np.zeros((0, 3))
-    if nodal:  # pass 3: T_k, the sums of dW/dS_k; a wall node's S_k does not vary
+    if nodal:  # T_k, the sums of dW/dS_k; a wall node's S_k does not vary
         pull = corners.sum(d_sums)
         pull[block.wall_node_ids] = 0.0
+    del d_sums
     _pulls_pass(
-        x, pull, conn, angles, nodal, own, block.across_cell, block.across_side,
-        block.interior_side, gradient, normal, force,
+        conn, x, normal, double_area, angles, pull, nodal, own, block.across_cell,
+        block.across_side, block.interior_side, force,
     )  # fmt: skip
-    return energy, corners.sum(force), corners.sum(moment)
+    out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
+    _node_loads(
+        corners.offsets, corners.corners, force.reshape(-1, 3), moment.reshape(-1, 3),
+        out_force, out_moment,
+    )  # fmt: skip
+    return energy, out_force, out_moment
+
+
+def _energy_parts(energy: np.ndarray) -> dict:
+    """{"tension", "shear", "bending"} (N mm) from the per-cell energies (m, 3)."""
+    total = energy.sum(axis=0)
+    return {"tension": float(total[0]), "shear": float(total[1]), "bending": float(total[2])}
 
 
 def internal_force(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a FibrousShellBlock: tension,
     shear and bending (block.py ``internal_force``)."""
-    _, force, moment = _passes(block, positions, directors, True)
+    _, force, moment = _passes(block, positions, directors, True, False)
     return force, moment
+
+
+def internal_force_and_energy(block, positions: np.ndarray, directors: np.ndarray):
+    """``internal_force`` and ``strain_energy_parts`` in one pass over the cells: (force
+    (n, 3) N, moment (n, 3) N mm, parts dict N mm), the energies the same to the last bit as
+    ``strain_energy_parts`` gives."""
+    energy, force, moment = _passes(block, positions, directors, True, True)
+    return force, moment, _energy_parts(energy)
 
 
 def strain_energy_parts(block, positions: np.ndarray, directors: np.ndarray) -> dict:
     """Strain energy (N mm) of a FibrousShellBlock by term: {"tension", "shear", "bending"}
     (block.py ``strain_energy_parts``)."""
-    energy = _passes(block, positions, directors, False)[0].sum(axis=0)
-    return {"tension": float(energy[0]), "shear": float(energy[1]), "bending": float(energy[2])}
+    return _energy_parts(_passes(block, positions, directors, False, True)[0])

@@ -8,7 +8,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import serial
+from elements.jit import AVAILABLE, serial
+
+if AVAILABLE:
+    import numba
+
+
+def _inline(function):
+    """``function`` compiled into its callers' code (numba's inlining): a call of a compiled
+    function with array arguments costs their reference counting, a tenth of a microsecond per
+    cell in the fibrous loops, which call the laws about ten times per cell."""
+    if not AVAILABLE:
+        return function
+    return numba.njit(cache=True, inline="always")(function)
+
 
 __all__ = ["law_energy", "law_value", "pack_laws"]
 
@@ -52,11 +65,11 @@ def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
     return integers, reals
 
 
-@serial
+@_inline
 def law_value(integers, reals, i, x):
     """y(x) of packed law i (materials.Law.value): the odd polynomial sum c_j x^(2j+1), or
     the table interpolated linearly and extended by its end slopes; 0 for x < 0 when the law
-    is tension-only."""
+    is tension-only. The polynomial inline, the table by a call (its search is longer)."""
     if integers[i, 3] == 0 and x < 0.0:
         return 0.0
     if integers[i, 0] == _POLYNOMIAL:
@@ -67,6 +80,12 @@ def law_value(integers, reals, i, x):
             y += reals[i, 0, j] * power
             power *= square
         return y
+    return _table_value(integers, reals, i, x)
+
+
+@_inline
+def _table_value(integers, reals, i, x):
+    """y(x) of table law i, interpolated linearly and extended by its end slopes."""
     # reals[i, 1] and reals[i, 2] are the knots x and y (indexed in place: a slice would be
     # a reference-counted view in the hot loop)
     count = integers[i, 2]
@@ -89,7 +108,7 @@ def law_value(integers, reals, i, x):
     return (y1 - y0) / (x1 - x0) * (x - x0) + y0
 
 
-@serial
+@_inline
 def law_energy(integers, reals, i, x):
     """integral_0^x y of packed law i (materials.Law.energy): sum c_j x^(2j+2) / (2j+2) for a
     polynomial; for a table, F(x) - F(0) with F(t) the integral from the first knot, exact
@@ -105,6 +124,12 @@ def law_energy(integers, reals, i, x):
             e += reals[i, 0, j] * power / (2 * j + 2)
             power *= square
         return e
+    return _table_energy(integers, reals, i, x)
+
+
+@serial
+def _table_energy(integers, reals, i, x):
+    """integral_0^x y of table law i."""
     return _table_integral(integers, reals, i, x) - _table_integral(integers, reals, i, 0.0)
 
 
@@ -117,4 +142,5 @@ def _table_integral(integers, reals, i, t):
     while j < count - 2 and reals[i, 1, j + 1] <= t:
         total += 0.5 * (reals[i, 1, j + 1] - reals[i, 1, j]) * (reals[i, 2, j + 1] + reals[i, 2, j])
         j += 1
-    return total + 0.5 * (t - reals[i, 1, j]) * (reals[i, 2, j] + law_value(integers, reals, i, t))
+    end = _table_value(integers, reals, i, t)
+    return total + 0.5 * (t - reals[i, 1, j]) * (reals[i, 2, j] + end)
