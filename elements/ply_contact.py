@@ -89,7 +89,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from elements import ply_friction, ply_slip
+from elements import ply_friction, ply_slip, ply_surface
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import MARGIN, Facing, closest_facing, penalty_law
 from femcore.assembly import CellTangent
@@ -99,6 +99,7 @@ from femcore.state import State
 
 __all__ = [
     "FACES",
+    "SURFACES",
     "MARGIN",
     "PENALTY_SHARE",
     "RULES",
@@ -119,6 +120,9 @@ SMOOTHING = 1e-3
 #: Where the faces lie: along each node's director ("director") or along its ply's nodal normal
 #: ("normal"), module docstring "Faces along the normal".
 FACES = ("director", "normal")
+#: The lower face over a triangle: the flat facet through its offset corners, or the curved
+#: surface over them and the lower ply's nodal normals (elements/ply_surface.py).
+SURFACES = ("flat", "curved")
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
 RULES = {
@@ -192,6 +196,7 @@ class PlyContact(Interaction):
         smoothing: float | None = None,
         friction: float = 0.0,
         faces: str = "director",
+        surface: str = "flat",
     ):
         self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
@@ -236,6 +241,9 @@ class PlyContact(Interaction):
         if faces not in FACES:
             raise ValueError(f"faces must be one of {FACES}, got {faces!r}")
         self.faces = faces
+        if surface not in SURFACES:
+            raise ValueError(f"surface must be one of {SURFACES}, got {surface!r}")
+        self.surface = surface
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
@@ -353,6 +361,7 @@ class PlyContactBlock(InteractionBlock):
         # Faces along the nodal normals: the plies' own triangles give them, and the contact
         # leaves the directors alone (a lever of 0 on the moments and their tangent).
         self.along_normals = contact.faces == "normal"
+        self.curved = contact.surface == "curved"
         self.lever = 0.0 if self.along_normals else 1.0
         self._own_triangles = np.vstack([above, cells])
         self.smoothing = float(smoothing)
@@ -417,6 +426,8 @@ class PlyContactBlock(InteractionBlock):
         if not self.along_normals:
             return state.directors
         x, tri = state.positions, self._own_triangles
+        if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
+            return ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
         sides = np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
         flat = tri.ravel()
         summed = np.column_stack(
@@ -428,9 +439,12 @@ class PlyContactBlock(InteractionBlock):
     def _faces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm."""
         x, d = state.positions, self.offset_directions(state)
-        p = np.einsum(
-            "pj,pji->pi", self.shape, x[self.above] - self.upper_offset[..., None] * d[self.above]
-        )
+        corners = x[self.above] - self.upper_offset[..., None] * d[self.above]
+        if self.curved:  # on the upper ply's own curved face (elements/ply_surface.py)
+            normals = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)[0]
+            p = ply_surface.surface_point(corners, normals[self.above], self.shape)[0]
+        else:
+            p = np.einsum("pj,pji->pi", self.shape, corners)
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
         return p, y
 
@@ -444,7 +458,68 @@ class PlyContactBlock(InteractionBlock):
         """Each contact point's facing triangle, gap, normal and projection at ``state``
         (elements/ply_projection.py: the nearest of the candidates)."""
         p, near, y = self._candidates(state)
-        return closest_facing(p, y, near, self.tolerance)
+        flat = closest_facing(p, y, near, self.tolerance)
+        if not self.curved:
+            return flat
+        # the curved surface over the facet the flat search picked (elements/ply_surface.py)
+        normals = ply_surface.nodal_normals(state.positions, self._own_triangles, self.n_nodes)[0]
+        lam, _, normal, gap, _, _ = ply_surface.project(
+            p, y[flat.triangle], normals[self.cells[flat.triangle]], flat.weights
+        )
+        overshoot = np.maximum(0.0, -lam.min(axis=1))
+        return Facing(
+            triangle=flat.triangle,
+            gap=gap,
+            normal=normal,
+            weights=lam,
+            gradients=flat.gradients,
+            touching=(gap <= self.tolerance) & (overshoot <= MARGIN),
+            face=p,
+        )
+
+    def _curved_loads(self, state: State, facing: Facing) -> tuple[np.ndarray, np.ndarray]:
+        """The exact gradient of sum W over the curved surface (elements/ply_surface.py):
+        forces (n, 3), N, and moments (n, 3), N mm, the nodal normals' dependence on the
+        positions carried back to the plies' nodes."""
+        on = np.flatnonzero(facing.touching)
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        x = state.positions
+        normals, lengths = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)
+        d = normals if self.along_normals else state.directors
+        rows = facing.triangle[on]
+        tri = self.cells[rows]
+        y = x[tri] + self.corner_offset[rows][:, :, None] * d[tri]
+        lam = facing.weights[on]
+        _, _, q, e = ply_surface.surface_point(y, normals[tri], lam)
+        on_y, on_n = ply_surface.gap_gradients(y, normals[tri], lam, facing.normal[on], q, e)
+        slope = law[1][:, None, None]
+        # p on the upper triangle's curved face: dW/dp = W' nu carried to its corners
+        above = self.above[on]
+        z = x[above] - self.upper_offset[on][:, :, None] * d[above]
+        _, _, q_up, e_up = ply_surface.surface_point(z, normals[above], self.shape[on])
+        on_z, on_n_up = ply_surface.pullback(
+            z, normals[above], self.shape[on], q_up, e_up, law[1][:, None] * facing.normal[on]
+        )
+        nodes = np.column_stack([above, tri])  # (t, 6)
+        # dW/dz at the upper corners' and the lower corners' face points
+        forces = np.concatenate([on_z, slope * on_y], axis=1)
+        offset = np.column_stack([-self.upper_offset[on], self.corner_offset[rows]])
+        flat = nodes.ravel()
+
+        def gathered(values: np.ndarray, at: np.ndarray) -> np.ndarray:
+            return np.column_stack(
+                [np.bincount(at, values[..., k].ravel(), self.n_nodes) for k in range(3)]
+            )
+
+        force = gathered(forces, flat)
+        on_normals = gathered(np.concatenate([on_n_up, slope * on_n], axis=1), flat)
+        if self.along_normals:  # z = x + c n: dW/dn = c dW/dz
+            on_normals += gathered(offset[:, :, None] * forces, flat)
+            moment = np.zeros((self.n_nodes, 3))
+        else:
+            moment = gathered(offset[:, :, None] * np.cross(d[nodes], forces), flat)
+        force += ply_surface.normal_pullback(x, self._own_triangles, normals, lengths, on_normals)
+        return force, moment
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
@@ -487,7 +562,13 @@ class PlyContactBlock(InteractionBlock):
 
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
-        nodes, forces, moments, *_ = self._pair_loads(state, facing)
+        if self.curved:
+            force, moment = self._curved_loads(state, facing)
+            nodes = np.zeros((0, 6), dtype=np.int64)
+            forces = moments = np.zeros((0, 6, 3))
+        else:
+            force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
+            nodes, forces, moments, *_ = self._pair_loads(state, facing)
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
             extra = ply_friction.friction_loads(self, state, sliding, history)
@@ -495,11 +576,9 @@ class PlyContactBlock(InteractionBlock):
             forces = np.concatenate([forces, extra[1]])
             moments = np.concatenate([moments, extra[2]])
         flat = nodes.ravel()
-        force = np.zeros((self.n_nodes, 3))
-        moment = np.zeros((self.n_nodes, 3))
         for axis in range(3):
-            force[:, axis] = np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
-            moment[:, axis] = np.bincount(flat, moments[..., axis].ravel(), self.n_nodes)
+            force[:, axis] += np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
+            moment[:, axis] += np.bincount(flat, moments[..., axis].ravel(), self.n_nodes)
         return force, moment
 
     def strain_energy(self, state: State, history: Any = None) -> float:
