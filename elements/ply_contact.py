@@ -436,6 +436,10 @@ class PlyContactBlock(InteractionBlock):
         length = np.linalg.norm(summed, axis=1)
         return summed / np.where(length > 0.0, length, 1.0)[:, None]
 
+    def surface_normals(self, state: State) -> np.ndarray:
+        """(n, 3) the unit nodal normals of the curved faces (elements/ply_surface.py)."""
+        return ply_surface.nodal_normals(state.positions, self._own_triangles, self.n_nodes)[0]
+
     def _faces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm."""
         x, d = state.positions, self.offset_directions(state)

@@ -125,6 +125,7 @@ LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
 CELLS = {"coarse": 8, "default": 10, "fine": 14}
 MU = 0.2  # ply on ply
 RULE = "gauss"  # three points per cell, near enough its corners to hold a node the punch pushes
+SURFACE = "flat"  # the plies' faces: "curved" over their nodal normals (elements/ply_surface.py)
 HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
 HOLDER_MASS = 1e-3  # t (1 kg)
 HOLDER_RING = (DIE + 10.0, 150.0, 10.0)  # inner, outer radius, facet width, mm
@@ -156,10 +157,19 @@ def _holder_amplitude(tau):
     return np.clip(np.asarray(tau, dtype=float) / HOLDER_RAMP, 0.0, 1.0)
 
 
-def model(cells: int, angles: tuple[float, ...], kinematics: str, force: float):
+def model(
+    cells: int, angles: tuple[float, ...], kinematics: str, force: float, surface: str = SURFACE
+):
     """The layup on the die's flange under the punch and the holder: (Layup, Model)."""
     layup = Layup(
-        FABRIC, angles, 2 * HALF, cells=cells, kinematics=kinematics, friction=MU, rule=RULE
+        FABRIC,
+        angles,
+        2 * HALF,
+        cells=cells,
+        kinematics=kinematics,
+        friction=MU,
+        rule=RULE,
+        surface=surface,
     )
     built: Model = layup.model()
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
@@ -235,7 +245,7 @@ def _least_gaps(layup: Layup, result: Any, cells: int) -> dict[str, Any]:
     top = layup.ply_nodes[-1]
     least, at, where = math.inf, 0.0, ""
     probe = (
-        Layup(FABRIC, tuple(layup.angles), 2 * HALF, cells=cells, rule="vertices")
+        Layup(FABRIC, tuple(layup.angles), 2 * HALF, cells=cells, rule="vertices", surface=SURFACE)
         .model()
         .compile()
         .interactions[0]
