@@ -99,6 +99,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from elements import RigidSphere, RigidSurface
+from elements.dashpot import Dashpot, critical_damping
 from elements.layup import Layup
 from elements.ply_slip import slip_summary
 from femcore import Mesh, Model
@@ -189,7 +190,20 @@ def model(
         amplitude=_holder_amplitude,
     )
     built.contact(holder, nodes=top)
+    built.interact(Dashpot(built.rigid_nodes[0].node, _holder_damping(built, layup)))
     return layup, built
+
+
+def _holder_damping(built: Model, layup: Layup) -> float:
+    """The critical damping 2 sqrt(k m), N s/mm, of the holder's mass on its contact
+    springs: k the automatic penalties (elements/contact.py) of the top ply's nodes under
+    the ring at the start."""
+    compiled = built.compile()
+    holder = compiled.interactions[-1]
+    nodes = holder.connectivity[:, 0]
+    radius = np.linalg.norm(layup.mesh.points[nodes, :2], axis=1)
+    under = (radius >= HOLDER_RING[0]) & (radius <= HOLDER_RING[1])
+    return critical_damping(HOLDER_MASS, float(np.sum(holder.stiffness[under])))
 
 
 def _nets() -> list[dict]:
@@ -311,7 +325,9 @@ def compute(resolution: str) -> Outcome:
     for name, kinematics, force in plan:
         key = f"{name} {kinematics} {force:g} N"
         layup, built = model(cells, LAYUPS[name], kinematics, force)
-        solver = CentralDifference(duration=DURATION, damping=DAMPING, progress=False)
+        solver = CentralDifference(
+            duration=DURATION, damping=DAMPING, progress=False, output_interval=DURATION / 100
+        )
         try:
             result = solver.solve(built)
         except SolverError as error:  # reported with the last good frame, not raised
