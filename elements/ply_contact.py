@@ -27,6 +27,16 @@ alone (no moments; the force and the tangent hold the normals fixed, an error of
 the ply thickness over the cell size). The faces stay continuous from one triangle to the next
 (a node's normal is one for its triangles). The friction then acts on the mid-surface alone.
 
+Curved faces (``surface="curved"``, elements/ply_surface.py). The faces above are flat
+facets: on a curved tool, plies whose meshes do not match put the upper ply's points on facets
+of the lower ply that are chords s^2 / (8 R) inside its true face. With ``surface="curved"``
+both faces are Phong surfaces over the offset corners and the plies' nodal normals (Max's
+weights), the upper points lie on the upper ply's surface, each is projected on the lower
+ply's surface over the facet the flat search picked, and the force is the exact gradient of
+the energy, the nodal normals' dependence on the positions included; with friction the stick
+anchors lie on the curved surface too. The tangent stays the flat one at the curved
+projection.
+
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
 triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's
 barycentric coordinates (``RULES``: the centroid, three interior Gauss points, or the three
@@ -171,13 +181,17 @@ class PlyContact(Interaction):
         the contact acting on the directors too; "normal": along the ply's area-weighted
         nodal normal, the contact acting on the positions alone (module docstring, "Faces
         along the normal": the choice for fibrous plies, whose directors are free to tilt).
+    surface : str
+        "flat" (default): each face over a triangle the flat facet through its offset
+        corners; "curved": the Phong surface over them and the plies' nodal normals, the
+        force the exact gradient of the energy (module docstring, "Curved faces").
 
     Raises
     ------
     ValueError
         Empty or non-integer selections, a negative or non-finite offset or smoothing, a
-        penalty that is not a positive number, fewer than one candidate, an unknown rule or
-        faces; at
+        penalty that is not a positive number, fewer than one candidate, an unknown rule,
+        faces or surface; at
         bind, unknown set names, ids out of range, nodes of the upper triangles that are
         corners of the lower triangles, nodes without directors.
     """
