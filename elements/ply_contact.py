@@ -34,7 +34,8 @@ both faces are Phong surfaces over the offset corners and the plies' nodal norma
 weights), the upper points lie on the upper ply's surface, each is projected on the lower
 ply's surface over the facet the flat search picked, and the force is the exact gradient of
 the energy, the nodal normals' dependence on the positions included; with friction the stick
-anchors lie on the curved surface too. The tangent stays the flat one at the curved
+anchors lie on the curved surface too (a sliding anchor moved by projecting its new place on
+it). The tangent stays the flat one at the curved
 projection.
 
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's

@@ -278,6 +278,10 @@ def updated_history(
     # (its in-plane gradients drop the normal part of q - p).
     target = -sliding.offset + slid[:, None] * unit  # q - p
     moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, target)
+    if block.curved:  # the moved anchor projected on the curved face, where it is measured
+        _, y = block._faces(state)
+        normals = block.surface_normals(state)[block.cells[facing.triangle]]
+        moved = ply_surface.project(facing.face + target, y[facing.triangle], normals, moved)[0]
     triangle = np.where(on, facing.triangle, -1)
     anchor = np.where(on[:, None], facing.weights, np.nan)  # new contacts
     anchor = np.where(sliding.sliding[:, None], moved, anchor)
