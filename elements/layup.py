@@ -100,6 +100,10 @@ class Layup:
         Of every ``PlyContact``: "director" or "normal"; None: "normal" for fibrous plies
         (their directors tilt freely, elements/ply_contact.py "Faces along the normal"),
         "director" otherwise.
+    surface : str
+        Of every ``PlyContact``: "flat" (default) or "curved", the lower ply's face as the
+        curved surface over its nodal normals (elements/ply_surface.py; the choice for plies
+        whose meshes do not match on a curved tool).
 
     Attributes
     ----------
@@ -120,7 +124,7 @@ class Layup:
     ------
     ValueError
         Not a Fabric; angles that are not 1 to ``MAX_PLIES`` finite numbers; a bad size,
-        cell count, kinematics, friction, penalty, rule or smoothing.
+        cell count, kinematics, friction, penalty, rule, smoothing, faces or surface.
 
     Warns
     -----
@@ -143,6 +147,7 @@ class Layup:
         rule: str = "centroid",
         smoothing: float | None = None,
         faces: str | None = None,
+        surface: str = "flat",
     ):
         if not isinstance(fabric, Fabric):
             raise ValueError(f"Layup needs a materials.Fabric (one ply), got {fabric!r}")
@@ -171,8 +176,10 @@ class Layup:
             smoothing=smoothing,
             friction=friction,
             faces=faces,
+            surface=surface,
         )
         self.penalty, self.rule, self.smoothing, self.faces = penalty, rule, smoothing, faces
+        self.surface = surface
         self.friction = float(friction)
         if isinstance(bottom, bool) or not isinstance(bottom, (int, float)):
             raise ValueError(f"bottom must be a height in mm, got {bottom!r}")
@@ -240,6 +247,7 @@ class Layup:
             smoothing=self.smoothing,
             friction=self.friction,
             faces=self.faces,
+            surface=self.surface,
         )
         return model
 

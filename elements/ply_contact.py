@@ -27,6 +27,17 @@ alone (no moments; the force and the tangent hold the normals fixed, an error of
 the ply thickness over the cell size). The faces stay continuous from one triangle to the next
 (a node's normal is one for its triangles). The friction then acts on the mid-surface alone.
 
+Curved faces (``surface="curved"``, elements/ply_surface.py). The faces above are flat
+facets: on a curved tool, plies whose meshes do not match put the upper ply's points on facets
+of the lower ply that are chords s^2 / (8 R) inside its true face. With ``surface="curved"``
+both faces are Phong surfaces over the offset corners and the plies' nodal normals (Max's
+weights), the upper points lie on the upper ply's surface, each is projected on the lower
+ply's surface over the facet the flat search picked, and the force is the exact gradient of
+the energy, the nodal normals' dependence on the positions included; with friction the stick
+anchors lie on the curved surface too (a sliding anchor moved by projecting its new place on
+it). The tangent stays the flat one at the curved
+projection.
+
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
 triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's
 barycentric coordinates (``RULES``: the centroid, three interior Gauss points, or the three
@@ -38,53 +49,18 @@ on which Newton stalled (the 4-ply sag of tests/test_plies.py: no convergence in
 iterations). A centroid sits above the middle of the facing triangle, a third of a cell from
 its edges, and stays there until the plies slide by that much.
 
-Gap and energy. Each point faces the triangle of the lower face found below; its gap is the
-signed distance of p to that triangle's plane, g = (p - y_1) . n, n the unit normal of the
-offset triangle (towards the upper ply: the lower ply's triangles must be counter-clockwise
-about the direction from the lower ply to the upper). The energy of a point is a one-sided
-penalty whose stiffness ramps up over a penetration of ``smoothing`` delta (mm):
-
-    W'' = k for g <= -delta,   k (-g / delta) for -delta < g < 0,   0 for g >= 0,
-
-so W' = k (g + delta/2) and W = k/2 (g + delta/2)^2 + k delta^2 / 24 in penetration past
-delta, W' = -k g^2 / (2 delta) and W = -k g^3 / (6 delta) on the ramp, nothing apart: W is
-C2, the contact force and its stiffness are continuous at contact. Why: frictionless plies
-that sag together carry almost no contact force, so the equilibrium sits at g ~ 0, where the
-second derivative of the plain k/2 min(g, 0)^2 jumps from k to 0 and Newton's tangent switches
-the contact on and off from one iteration to the next. Why not a softplus s(g) in k/2 s^2
-(smooth on both sides): it pushes plies that merely touch apart by k delta log(2) / 2, and the
-automatic penalty of a ply stack is so stiff against its weight (the 2-ply sag of
-tests/test_plies.py: 0.96 N at delta = 1e-3 h/N against 2.5e-3 N of gravity per ply) that the
-plies came apart by 170 delta. The price of the ramp: a pressed contact penetrates delta / 2
-further than the plain penalty at the same force (F = k (|g| - delta / 2)). ``smoothing=0``
-is the plain k/2 min(g, 0)^2. A point counts as touching when g < 0 (g <= 1e-9 of the mesh
-size without smoothing: plies laid on each other then have the contact's stiffness from the
-first iteration) and its projection is within ``MARGIN`` of the triangle.
-
-Measured with solvers.Static (docs/theory.md §9.3a): the 4-ply sag of tests/test_plies.py
-took no convergence (nodes, plain penalty), 30 iterations and a cut (centroids, plain), 24
-(centroids and the ramp; 26 at 8 plies); the 4-ply bai-5.1 strip fails with the plain
-penalty at nodes or centroids and with the ramp at nodes, and converges with centroids and
-the ramp. The ramp has its own cost: where plies need no contact force, points near g = 0
-step in and out of it and Newton converges linearly (up to ~100 iterations in an increment).
+Gap, energy and search (elements/ply_projection.py). Each point faces the triangle of the
+lower face that a search over the nearest ``candidates`` triangles picks, refreshed at every
+call; its gap g is its signed distance to that triangle's plane, and its energy W(g) a
+one-sided penalty whose stiffness ramps up over a penetration of ``smoothing`` (C2 at
+contact). A point counts as touching when g < 0 and its projection is within ``MARGIN`` of
+the triangle.
 
 The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;
 on the lower corners, dW/dy_k = -W' lambda_k n, lambda the barycentric coordinates of the
 projection of p (the surface point held by them: the derivative of the distance to the plane
 brings no other term, see ``PlyContactBlock.tangent``); through the offsets the moments
 -a_j d_j x (N_j W' n) at the upper corners and b_k d_k x (dW/dy_k) at the lower ones.
-
-Search, refreshed at every call. A cKDTree over the current centroids of the offset
-triangles gives each point ``candidates`` triangles; over them (vectorised, no loop over
-points) the barycentric projection of p and the approximate distance to the triangle
-sqrt(g^2 + (o sqrt(2 A))^2), o = max(0, -min lambda) the projection's overshoot past the
-triangle's edges; the facing triangle is, among those that hold the projection, the one p
-penetrates most (over a concave fold two do), and when none holds it (over a convex fold, or
-past the ply's edge) the nearest. Rebuilding the tree costs O(m log m) per call, small against
-the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and no cache
-needs a proof that it is still valid. Within a region where the facing triangle does not
-change the energy is smooth; where a point passes from one triangle to the next the plane
-changes and the energy jumps by O(k g^2 phi^2), phi the angle between the two facets.
 
 Penalty: given (N/mm per upper node), or chosen when the model is compiled (``calibrate``):
 k_j = ``PENALTY_SHARE`` m_j (2 / dt)^2, m_j the upper node's lumped mass and dt the model's
@@ -119,14 +95,14 @@ non-symmetric in slip: ``elements.ply_friction.friction_tangent``). mu = 0: no h
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from elements import ply_friction, ply_slip
+from elements import ply_friction, ply_slip, ply_surface
 from elements.ply_friction import PlyFrictionHistory, Sliding
+from elements.ply_projection import MARGIN, Facing, closest_facing, penalty_law
 from femcore.assembly import CellTangent
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.rotation import cross_matrix
@@ -134,6 +110,7 @@ from femcore.state import State
 
 __all__ = [
     "FACES",
+    "SURFACES",
     "MARGIN",
     "PENALTY_SHARE",
     "RULES",
@@ -146,11 +123,6 @@ __all__ = [
 ]
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
-#: How far past a triangle's edges (in barycentric units) its plane still carries a point.
-MARGIN = 0.5
-#: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
-#: a point right above a vertex or an edge).
-INSIDE = 1e-9
 #: Triangles examined per point (the nearest centroids).
 CANDIDATES = 6
 #: The default smoothing width delta as a share of the two faces' half thicknesses a + b
@@ -159,6 +131,9 @@ SMOOTHING = 1e-3
 #: Where the faces lie: along each node's director ("director") or along its ply's nodal normal
 #: ("normal"), module docstring "Faces along the normal".
 FACES = ("director", "normal")
+#: The lower face over a triangle: the flat facet through its offset corners, or the curved
+#: surface over them and the lower ply's nodal normals (elements/ply_surface.py).
+SURFACES = ("flat", "curved")
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
 RULES = {
@@ -169,38 +144,6 @@ RULES = {
     ),
     "vertices": (np.eye(3), np.full(3, 1.0 / 3.0)),
 }
-
-
-def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
-    """The energy W of one contact point and its first two derivatives in the gap.
-
-    Parameters
-    ----------
-    gap : (t,) float
-        g, mm (< 0: penetration).
-    stiffness : (t,) float
-        k, N/mm.
-    smoothing : float
-        delta, mm: the penetration over which the stiffness ramps from 0 to k (module
-        docstring); 0: W = k/2 min(g, 0)^2.
-
-    Returns
-    -------
-    energy (t,) N mm, force (t,) N (dW/dg, <= 0), stiffness (t,) N/mm (d2W/dg2, >= 0).
-    """
-    if smoothing == 0.0:
-        g = np.minimum(gap, 0.0)
-        return 0.5 * stiffness * g**2, stiffness * g, np.where(gap <= 0.0, stiffness, 0.0)
-    delta = smoothing
-    g = np.minimum(gap, 0.0)
-    deep = g <= -delta
-    energy = np.where(
-        deep, 0.5 * stiffness * (g + 0.5 * delta) ** 2 + stiffness * delta**2 / 24.0, 0.0
-    )
-    energy = np.where(deep, energy, -stiffness * g**3 / (6.0 * delta))
-    force = np.where(deep, stiffness * (g + 0.5 * delta), -stiffness * g**2 / (2.0 * delta))
-    curvature = np.where(deep, stiffness, -stiffness * g / delta)
-    return energy, force, curvature
 
 
 class PlyContact(Interaction):
@@ -239,13 +182,17 @@ class PlyContact(Interaction):
         the contact acting on the directors too; "normal": along the ply's area-weighted
         nodal normal, the contact acting on the positions alone (module docstring, "Faces
         along the normal": the choice for fibrous plies, whose directors are free to tilt).
+    surface : str
+        "flat" (default): each face over a triangle the flat facet through its offset
+        corners; "curved": the Phong surface over them and the plies' nodal normals, the
+        force the exact gradient of the energy (module docstring, "Curved faces").
 
     Raises
     ------
     ValueError
         Empty or non-integer selections, a negative or non-finite offset or smoothing, a
-        penalty that is not a positive number, fewer than one candidate, an unknown rule or
-        faces; at
+        penalty that is not a positive number, fewer than one candidate, an unknown rule,
+        faces or surface; at
         bind, unknown set names, ids out of range, nodes of the upper triangles that are
         corners of the lower triangles, nodes without directors.
     """
@@ -264,6 +211,7 @@ class PlyContact(Interaction):
         smoothing: float | None = None,
         friction: float = 0.0,
         faces: str = "director",
+        surface: str = "flat",
     ):
         self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
@@ -308,6 +256,9 @@ class PlyContact(Interaction):
         if faces not in FACES:
             raise ValueError(f"faces must be one of {FACES}, got {faces!r}")
         self.faces = faces
+        if surface not in SURFACES:
+            raise ValueError(f"surface must be one of {SURFACES}, got {surface!r}")
+        self.surface = surface
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
@@ -376,49 +327,6 @@ def _ids(given: Any, what: str) -> np.ndarray:
     return np.unique(array.astype(np.int64))
 
 
-@dataclass(frozen=True)
-class Facing:
-    """Each contact point's facing triangle at a state (``PlyContactBlock.facing``).
-
-    triangle : (P,) int
-        Row of the block's lower triangles facing each point.
-    gap : (P,) float
-        g, mm: signed distance of the point from the facing offset triangle's plane (< 0:
-        penetration).
-    normal : (P, 3) float
-        Unit normal n of the facing offset triangle (towards the upper ply).
-    weights : (P, 3) float
-        Barycentric coordinates lambda of the projection of the point.
-    gradients : (P, 3, 3) float
-        In-plane gradients of the triangle's barycentric functions, 1/mm (row k: grad phi_k).
-    touching : (P,) bool
-        g < 0 (g <= 1e-9 of the mesh's size with no smoothing) and the projection within
-        ``MARGIN`` of the triangle.
-    face : (P, 3) float
-        The contact points p = sum_j N_j (x_j - a_j d_j), mm.
-    """
-
-    triangle: np.ndarray
-    gap: np.ndarray
-    normal: np.ndarray
-    weights: np.ndarray
-    gradients: np.ndarray
-    touching: np.ndarray
-    face: np.ndarray
-
-
-def _triangle_frames(corners: np.ndarray):
-    """Unit normals (..., 3), twice the areas (...,) and the barycentric gradients
-    (..., 3, 3) of triangles with corners (..., 3, 3)."""
-    y1, y2, y3 = corners[..., 0, :], corners[..., 1, :], corners[..., 2, :]
-    c = np.cross(y2 - y1, y3 - y1)
-    area2 = np.linalg.norm(c, axis=-1)
-    n = c / area2[..., None]
-    edges = np.stack([y3 - y2, y1 - y3, y2 - y1], axis=-2)  # opposite corner k, cyclic
-    gradients = np.cross(n[..., None, :], edges) / area2[..., None, None]
-    return n, area2, gradients
-
-
 class PlyContactBlock(InteractionBlock):
     """The bound ply contact: one row of ``connectivity`` per contact point, the corners of
     its upper triangle then the corners of the lower triangles it faces in the reference
@@ -468,6 +376,7 @@ class PlyContactBlock(InteractionBlock):
         # Faces along the nodal normals: the plies' own triangles give them, and the contact
         # leaves the directors alone (a lever of 0 on the moments and their tangent).
         self.along_normals = contact.faces == "normal"
+        self.curved = contact.surface == "curved"
         self.lever = 0.0 if self.along_normals else 1.0
         self._own_triangles = np.vstack([above, cells])
         self.smoothing = float(smoothing)
@@ -532,6 +441,8 @@ class PlyContactBlock(InteractionBlock):
         if not self.along_normals:
             return state.directors
         x, tri = state.positions, self._own_triangles
+        if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
+            return ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
         sides = np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
         flat = tri.ravel()
         summed = np.column_stack(
@@ -540,12 +451,19 @@ class PlyContactBlock(InteractionBlock):
         length = np.linalg.norm(summed, axis=1)
         return summed / np.where(length > 0.0, length, 1.0)[:, None]
 
+    def surface_normals(self, state: State) -> np.ndarray:
+        """(n, 3) the unit nodal normals of the curved faces (elements/ply_surface.py)."""
+        return ply_surface.nodal_normals(state.positions, self._own_triangles, self.n_nodes)[0]
+
     def _faces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm."""
         x, d = state.positions, self.offset_directions(state)
-        p = np.einsum(
-            "pj,pji->pi", self.shape, x[self.above] - self.upper_offset[..., None] * d[self.above]
-        )
+        corners = x[self.above] - self.upper_offset[..., None] * d[self.above]
+        if self.curved:  # on the upper ply's own curved face (elements/ply_surface.py)
+            normals = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)[0]
+            p = ply_surface.surface_point(corners, normals[self.above], self.shape)[0]
+        else:
+            p = np.einsum("pj,pji->pi", self.shape, corners)
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
         return p, y
 
@@ -557,38 +475,70 @@ class PlyContactBlock(InteractionBlock):
 
     def facing(self, state: State) -> Facing:
         """Each contact point's facing triangle, gap, normal and projection at ``state``
-        (module docstring: the nearest of the candidates)."""
+        (elements/ply_projection.py: the nearest of the candidates)."""
         p, near, y = self._candidates(state)
-        corners = y[near]  # (P, K, 3, 3)
-        n, area2, gradients = _triangle_frames(corners)
-        relative = p[:, None, :] - corners[..., 0, :]
-        gap = np.sum(relative * n, axis=-1)  # (P, K)
-        weights = np.einsum("skij,skj->ski", gradients, p[:, None, :] - corners[..., 1, :])
-        weights[..., 1] = np.einsum("ski,ski->sk", gradients[..., 1, :], relative)
-        weights[..., 2] = 1.0 - weights[..., 0] - weights[..., 1]
-        overshoot = np.maximum(0.0, -weights.min(axis=-1))
-        distance = np.hypot(gap, overshoot * np.sqrt(area2))
-        # Over a concave fold two triangles hold the projection: the deeper penetration
-        # counts (W = k/2 max(p_A, p_B)^2 is convex in the pair, a kink Newton crosses);
-        # over a convex one none holds it: the nearest triangle.
-        inside = overshoot <= INSIDE
-        best = np.where(
-            inside.any(axis=1),
-            np.argmin(np.where(inside, gap, np.inf), axis=1),
-            np.argmin(distance, axis=1),
+        flat = closest_facing(p, y, near, self.tolerance)
+        if not self.curved:
+            return flat
+        # the curved surface over the facet the flat search picked (elements/ply_surface.py)
+        normals = ply_surface.nodal_normals(state.positions, self._own_triangles, self.n_nodes)[0]
+        lam, _, normal, gap, _, _ = ply_surface.project(
+            p, y[flat.triangle], normals[self.cells[flat.triangle]], flat.weights
         )
-        rows = np.arange(len(p))
-        chosen_gap = gap[rows, best]
-        touching = (chosen_gap <= self.tolerance) & (overshoot[rows, best] <= MARGIN)
+        overshoot = np.maximum(0.0, -lam.min(axis=1))
         return Facing(
-            triangle=near[rows, best],
-            gap=chosen_gap,
-            normal=n[rows, best],
-            weights=weights[rows, best],
-            gradients=gradients[rows, best],
-            touching=touching,
+            triangle=flat.triangle,
+            gap=gap,
+            normal=normal,
+            weights=lam,
+            gradients=flat.gradients,
+            touching=(gap <= self.tolerance) & (overshoot <= MARGIN),
             face=p,
         )
+
+    def _curved_loads(self, state: State, facing: Facing) -> tuple[np.ndarray, np.ndarray]:
+        """The exact gradient of sum W over the curved surface (elements/ply_surface.py):
+        forces (n, 3), N, and moments (n, 3), N mm, the nodal normals' dependence on the
+        positions carried back to the plies' nodes."""
+        on = np.flatnonzero(facing.touching)
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        x = state.positions
+        normals, lengths = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)
+        d = normals if self.along_normals else state.directors
+        rows = facing.triangle[on]
+        tri = self.cells[rows]
+        y = x[tri] + self.corner_offset[rows][:, :, None] * d[tri]
+        lam = facing.weights[on]
+        _, _, q, e = ply_surface.surface_point(y, normals[tri], lam)
+        on_y, on_n = ply_surface.gap_gradients(y, normals[tri], lam, facing.normal[on], q, e)
+        slope = law[1][:, None, None]
+        # p on the upper triangle's curved face: dW/dp = W' nu carried to its corners
+        above = self.above[on]
+        z = x[above] - self.upper_offset[on][:, :, None] * d[above]
+        _, _, q_up, e_up = ply_surface.surface_point(z, normals[above], self.shape[on])
+        on_z, on_n_up = ply_surface.pullback(
+            z, normals[above], self.shape[on], q_up, e_up, law[1][:, None] * facing.normal[on]
+        )
+        nodes = np.column_stack([above, tri])  # (t, 6)
+        # dW/dz at the upper corners' and the lower corners' face points
+        forces = np.concatenate([on_z, slope * on_y], axis=1)
+        offset = np.column_stack([-self.upper_offset[on], self.corner_offset[rows]])
+        flat = nodes.ravel()
+
+        def gathered(values: np.ndarray, at: np.ndarray) -> np.ndarray:
+            return np.column_stack(
+                [np.bincount(at, values[..., k].ravel(), self.n_nodes) for k in range(3)]
+            )
+
+        force = gathered(forces, flat)
+        on_normals = gathered(np.concatenate([on_n_up, slope * on_n], axis=1), flat)
+        if self.along_normals:  # z = x + c n: dW/dn = c dW/dz
+            on_normals += gathered(offset[:, :, None] * forces, flat)
+            moment = np.zeros((self.n_nodes, 3))
+        else:
+            moment = gathered(offset[:, :, None] * np.cross(d[nodes], forces), flat)
+        force += ply_surface.normal_pullback(x, self._own_triangles, normals, lengths, on_normals)
+        return force, moment
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
@@ -631,7 +581,13 @@ class PlyContactBlock(InteractionBlock):
 
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
-        nodes, forces, moments, *_ = self._pair_loads(state, facing)
+        if self.curved:
+            force, moment = self._curved_loads(state, facing)
+            nodes = np.zeros((0, 6), dtype=np.int64)
+            forces = moments = np.zeros((0, 6, 3))
+        else:
+            force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
+            nodes, forces, moments, *_ = self._pair_loads(state, facing)
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
             extra = ply_friction.friction_loads(self, state, sliding, history)
@@ -639,11 +595,9 @@ class PlyContactBlock(InteractionBlock):
             forces = np.concatenate([forces, extra[1]])
             moments = np.concatenate([moments, extra[2]])
         flat = nodes.ravel()
-        force = np.zeros((self.n_nodes, 3))
-        moment = np.zeros((self.n_nodes, 3))
         for axis in range(3):
-            force[:, axis] = np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
-            moment[:, axis] = np.bincount(flat, moments[..., axis].ravel(), self.n_nodes)
+            force[:, axis] += np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
+            moment[:, axis] += np.bincount(flat, moments[..., axis].ravel(), self.n_nodes)
         return force, moment
 
     def strain_energy(self, state: State, history: Any = None) -> float:

@@ -15,12 +15,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elements import ply_surface
 from femcore.assembly import CellTangent
 from femcore.rotation import cross_matrix
 from femcore.state import State
 
 if TYPE_CHECKING:
-    from elements.ply_contact import Facing, PlyContactBlock
+    from elements.ply_contact import PlyContactBlock
+    from elements.ply_projection import Facing
 
 __all__ = [
     "PlyFrictionHistory",
@@ -109,7 +111,11 @@ def friction_state(
     triangle = np.where(anchored, history.triangle, 0)
     _, y = block._faces(state)
     weights = np.where(anchored[:, None], history.anchor, 0.0)
-    anchor = np.einsum("pk,pki->pi", weights, y[triangle])
+    if block.curved:  # on the curved face, where the points are (elements/ply_surface.py)
+        normals = block.surface_normals(state)[block.cells[triangle]]
+        anchor = ply_surface.surface_point(y[triangle], normals, weights)[0]
+    else:
+        anchor = np.einsum("pk,pki->pi", weights, y[triangle])
     r = np.where(anchored[:, None], facing.face - anchor, 0.0)
     n = facing.normal
     s = r - np.sum(r * n, axis=1)[:, None] * n
@@ -132,13 +138,15 @@ def friction_loads(
     tri = sliding.triangle[on]
     nodes = np.column_stack([block.above[on], block.cells[tri]])
     force = sliding.force[on]
-    forces = np.concatenate(
-        [
-            block.shape[on][:, :, None] * force[:, None, :],
-            -history.anchor[on][:, :, None] * force[:, None, :],
-        ],
-        axis=1,
-    )
+    if block.curved:  # -F at the anchor on the curved face, carried to its corners
+        _, y = block._faces(state)
+        normals = block.surface_normals(state)[block.cells[tri]]
+        weights = history.anchor[on]
+        _, _, q, e = ply_surface.surface_point(y[tri], normals, weights)
+        lower = ply_surface.pullback(y[tri], normals, weights, q, e, -force)[0]
+    else:
+        lower = -history.anchor[on][:, :, None] * force[:, None, :]
+    forces = np.concatenate([block.shape[on][:, :, None] * force[:, None, :], lower], axis=1)
     offset = block.lever * np.column_stack([-block.upper_offset[on], block.corner_offset[tri]])
     moments = offset[:, :, None] * np.cross(block.offset_directions(state)[nodes], forces)
     return nodes, forces, moments
@@ -270,6 +278,10 @@ def updated_history(
     # (its in-plane gradients drop the normal part of q - p).
     target = -sliding.offset + slid[:, None] * unit  # q - p
     moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, target)
+    if block.curved:  # the moved anchor projected on the curved face, where it is measured
+        _, y = block._faces(state)
+        normals = block.surface_normals(state)[block.cells[facing.triangle]]
+        moved = ply_surface.project(facing.face + target, y[facing.triangle], normals, moved)[0]
     triangle = np.where(on, facing.triangle, -1)
     anchor = np.where(on[:, None], facing.weights, np.nan)  # new contacts
     anchor = np.where(sliding.sliding[:, None], moved, anchor)
