@@ -542,7 +542,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[str]:
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 5), constrained_layout=True)
     for ax, kinematics in zip(axes, ("fibrous", "mindlin")):
-        x = data.runs[kinematics].positions
+        x = data.runs[kinematics].positions[: mesh.n_nodes]  # less the holder's node
         step = max(1, data.cells // 16)
         grid = x.reshape(data.cells + 1, data.cells + 1, 3)
         for j in range(0, data.cells + 1, step):
