@@ -266,7 +266,7 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
     (m,) rad, ``compared`` (m,) bool (``compared_cells``), ``rms_deg`` the rms of shear - net
     shear over them, ``on_bowl`` how many of them end on the die's bowl (within 0.5 mm of the
     sphere of the mid-surface), ``draw_in_mm`` of the edge middle, ``punch_force_N``,
-    ``holder_lift_mm`` the holder's largest rise over the run (None without a holder), the
+    ``holder_lift_mm`` the holder's largest rise at the frames (None without a holder), the
     kinetic energy over the work at the end and its largest after the first tenth, the
     fraction of the work the mass-proportional damping dissipated, and the run's ``cost``
     (wall and CPU time, s; the machine's load average at its start and end). A run that
