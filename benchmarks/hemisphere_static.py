@@ -78,9 +78,9 @@ __all__ = ["held_blank", "main", "net_shear", "shear_error"]
 
 
 def held_blank(cells: int, kinematics: str, holder: bool = True) -> tuple[Mesh, Model]:
-    """The case's model with the blank holder of the module docstring (without it when not
-    ``holder``)."""
-    mesh, model = case.model(cells, kinematics)
+    """The case's model (without its force-driven holder) with the fixed blank holder of the
+    module docstring (without any holder when not ``holder``)."""
+    mesh, model = case.model(cells, kinematics, holder_force=0.0)
     if not holder:
         return mesh, model
     ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)

@@ -1,5 +1,6 @@
 """The hemisphere forming case (validation/cases/hemisphere_forming.py): its observed orders
-over three meshes, and its coarse blank formed to the end against the net."""
+over three meshes, the cells it compares with the net, its holder, and its coarse blank formed
+to the end against the net."""
 
 import math
 from types import SimpleNamespace
@@ -32,33 +33,80 @@ def test_the_orders_recover_a_second_order_sequence_over_the_three_meshes():
         assert record.extrapolated == pytest.approx(3.0, rel=1e-9)
 
 
-def test_an_oscillating_sequence_has_no_order_and_fails_its_check(monkeypatch):
+def test_an_oscillating_sequence_has_no_order_and_fails_its_checks(monkeypatch):
     runs = [fake_run(n, v) for n, v in zip((12, 20, 32), (3.0, 2.0, 2.5))]
     records = case.orders({"fibrous": runs})
     assert all(math.isnan(record.order) for record in records)
-    monkeypatch.setattr(case, "ORDER_TOLERANCE", {"fibrous rms_deg": 0.05})
-    (verdict,) = case.order_checks(records)
-    assert not verdict.passed
+    monkeypatch.setattr(case, "ORDER_TOLERANCE", {"fibrous draw_in_mm": 0.05})
+    verdicts = case.order_checks(records)
+    assert len(verdicts) == 2  # the rms's limit and the draw-in's
+    assert not any(verdict.passed for verdict in verdicts)
+
+
+def test_the_rms_error_converging_to_a_small_limit_passes_and_to_a_large_one_fails():
+    """rms = e0 + 0.05 h on the three meshes: the check is on e0 (deg), the Richardson value."""
+    for limit, passes in ((0.5, True), (case.EXTRAPOLATED_RMS_DEG + 0.5, False)):
+        runs = [fake_run(n, limit + 0.05 * 200.0 / n) for n in (12, 20, 32)]
+        (verdict,) = case.order_checks(case.orders({"fibrous": runs}))
+        assert verdict.passed is passes
+
+
+@pytest.mark.parametrize("cells", [12, 20, 32])
+def test_the_compared_cells_are_one_material_region_inside_the_rim_on_every_mesh(cells):
+    """The cells compared with the net are chosen by the net alone: those it lays at least
+    one coarse cell (RIM_MARGIN of arc) inside the die's rim, 28 % of the blank on every mesh
+    (the area of the region, to a row of cells), as much in each quadrant."""
+    from femcore import Mesh
+
+    mesh = Mesh.rectangle(200.0, 200.0, nx=cells, ny=cells, origin=(-100.0, -100.0, 0.0))
+    compared = case.compared_cells(mesh)
+    assert case.RIM_MARGIN == pytest.approx(200.0 / 12)
+    assert math.degrees(case.COMPARED_POLAR) == pytest.approx(71.07, abs=0.01)
+    assert compared.mean() == pytest.approx(0.28, abs=0.01)
+    centres = mesh.points[mesh.triangles].mean(axis=1)[:, :2]
+    quadrants = [np.sum(compared & (sx * centres[:, 0] > 0) & (sy * centres[:, 1] > 0))
+                 for sx in (-1, 1) for sy in (-1, 1)]  # fmt: skip
+    assert max(quadrants) - min(quadrants) <= cells // 4  # a quarter row of cells
+    # Where the net lays the region's cells: at most COMPARED_POLAR from the bowl's bottom.
+    net = case._net()
+    radius = case.DIE - 0.5 * case.THICKNESS
+    on = case._at_cells(mesh, net["points"][..., 2])[compared]
+    assert np.all(np.arccos(on / radius) <= case.COMPARED_POLAR + 1e-12)
+
+
+def test_the_holder_is_a_plane_on_the_flange_free_along_z_and_pressed_by_its_force():
+    _, held = case.model(4, "fibrous")
+    die, punch, holder = (interaction.tool for interaction in held.interactions)
+    assert holder.free_names == ("z",)
+    assert np.allclose(holder.force, [0.0, 0.0, -case.HOLDER_FORCE])
+    assert np.allclose(holder.point, [0.0, 0.0, case.THICKNESS])
+    assert np.allclose(holder.normal, [0.0, 0.0, -1.0])
+    assert float(case.holder_closing(case.HOLDER_CLOSING)) == 1.0
+    _, unheld = case.model(4, "fibrous", holder_force=0.0)
+    assert len(unheld.interactions) == 2
 
 
 @pytest.mark.slow
-def test_the_coarse_blank_forms_to_the_end_along_the_net_and_comes_to_rest():
-    """12 x 12 cells, fibrous, about 16000 steps (31-35 s of CPU). Measured: the rms shear error
-    against the net 2.90 deg; the kinetic energy 0.012 of the work at the end of the stroke
-    (the wrinkles of the flange snap through half way down: a burst to 0.24 of the work)."""
+def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_statically():
+    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, about 18500 steps (23-37 s of CPU).
+    Measured: the rms shear error against the net 2.75 deg; the kinetic energy at most 0.079
+    of the work after the first tenth, 0.008 at the end; the holder does not rise (its flange
+    stays flat); the damping dissipates 8 % of the work."""
     record = case.run(12, "fibrous")
     result = record["result"]
     assert result.converged
     assert record["rms_deg"] < case.RMS_TOLERANCE_DEG["coarse"]
+    assert record["largest_kinetic_over_work"] < case.KINETIC_TOLERANCE["coarse"]
     assert record["kinetic_over_work"] < 0.5 * KINETIC_BOUND
     assert result.info["quasi_static"]["kinetic_over_work_final"] == record["kinetic_over_work"]
-    assert record["holder_travel_mm"] is None  # the case runs without a holder
+    assert record["holder_lift_mm"] < 0.5 * case.THICKNESS
+    assert 0.0 < record["damping_over_work"] < 0.15
 
 
 def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(monkeypatch):
     """compute("fine") runs the two coarser meshes too (here: flat blanks standing in for the
     runs, their numbers f = f0 + C h^p) and reports an order per kinematics and quantity; the
-    quantities ORDER_TOLERANCE names are checked."""
+    fibrous rms error's limit and the quantities ORDER_TOLERANCE names are checked."""
     from femcore import Mesh
 
     def flat_run(cells, kinematics, net=None):
@@ -75,15 +123,16 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
             "mesh": mesh,
             "result": result,
             "shear": np.zeros(len(mesh.triangles)),
-            "in_die": np.zeros(len(mesh.triangles), dtype=bool),
-            "compared": 0,
-            "rms_deg": 2.0 + 0.001 * h**2,
+            "compared": np.zeros(len(mesh.triangles), dtype=bool),
+            "on_bowl": 0,
+            "rms_deg": 0.5 + 0.001 * h**2,
             "largest_shear_deg": 0.0,
             "draw_in_mm": 50.0 - 0.01 * h**2,
             "punch_force_N": 75.0 - 0.5 * h,
-            "holder_travel_mm": None,
+            "holder_lift_mm": 0.0,
             "kinetic_over_work": 0.01,
             "largest_kinetic_over_work": 0.05,
+            "damping_over_work": 0.1,
             "cost": {"wall_s": 1.0, "cpu_s": 1.0, "load": (1.0, 1.0)},
         }
 
@@ -98,5 +147,8 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
     )
     assert draw_in.order == pytest.approx(2.0, rel=1e-9)
     ordered = [c for c in outcome.checks if "observed order" in c.name]
-    assert len(ordered) == len(case.ORDER_TOLERANCE) and all(c.passed for c in ordered)
+    assert len(ordered) == len(case.ORDER_TOLERANCE) + 1  # and the rms error's limit
+    assert all(c.passed for c in ordered)
+    kinetic = [c for c in outcome.checks if "kinetic energy over the work" in c.name]
+    assert len(kinetic) == 1 and kinetic[0].passed  # fibrous, 0.05 < KINETIC_TOLERANCE
     assert "fibrous n = 12: runtime" in outcome.parameters

@@ -24,7 +24,7 @@ CELLS, INCREMENTS, STABILISE = 8, 10, 300.0
 
 
 def held_blank(cells: int = CELLS, kinematics: str = "fibrous"):
-    mesh, model = case.model(cells, kinematics)
+    mesh, model = case.model(cells, kinematics, holder_force=0.0)  # its own fixed holder
     ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)
     model.contact(RigidSurface(ring.with_points(ring.points + [0.0, 0.0, case.THICKNESS])))
     return mesh, model

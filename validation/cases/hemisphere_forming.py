@@ -12,30 +12,50 @@ Geometry: blank 200 x 200 mm, fibres along its sides, centred on the punch; punc
 sphere of radius 50 mm moving 50.3 mm down (smooth amplitude) into a die meshed with
 triangles (``elements.RigidSurface``, 48 rings of facets over the bowl): a bowl of radius
 50.6 mm (the punch, the ply and a clearance of one ply: the die's facets and the punch never
-pinch it) with a flat flange, no blank holder (the flange lets the blank draw in and
-wrinkle; ``model(holder_force=...)`` adds one, see HOLDER_FORCE). Frictionless. The centre
-lines held in their symmetry planes.
+pinch it) with a flat flange; a blank holder, a rigid plane on the flange pressed down by
+50 N and free to rise (HOLDER_FORCE). Frictionless. The centre lines held in their symmetry
+planes.
 Parameters (assumed, a G986-like ply): 0.3 mm, 285 g/m^2, tension 60 N/mm and bending
 0.375 N mm (Bai Table 1's stack values shared by its 20 plies), shear 0.2 N/mm
 (materials.presets SHEAR_PER_PLY) stiffening to lock near 55 deg. The Mindlin shell is that
-ply's calibration (ElasticShell.equivalent). Explicit, no mass scaling, light
-mass-proportional damping; the kinetic energy over the work over the run
-(solvers/quasi_static.py) says how quasi-static it is.
-The finest mesh: with a linear shear law a wrinkle of the flange folded a 32-cell blank's cell
-flat (two diagonal corners 0.05 mm apart, shear near 90 deg) and the 0.1 s run diverged at
-72 % of the stroke; with the locking law it reached 89 % in 0.15 s, and the end in 0.3 s. A
-holder pressing the flange flat made it worse (HOLDER_FORCE). Measured over 12, 20, 32 cells
-(fibrous, 0.3 s): the draw-in of the edge middle 29.95, 44.71, 48.85 mm (observed order 2.4,
-Richardson 50.8 mm), the punch force at the end 54.7, 63.3, 68.1 N (order 1.1, 75.4 N); the
-rms shear error against the net 2.90, 2.05, 5.15 deg, no order: on the 32-cell mesh the blank
-in the die wrinkles by the rim (its largest shear 54 deg, the net's 43). The kinetic energy
-is 1-4 % of the work at the end of the stroke; when the flange's wrinkles snap through, half
-way down, it bursts to 0.24 of the work on all three meshes (the case warns: not
-quasi-static there).
+ply's calibration (ElasticShell.equivalent). Explicit, no mass scaling, mass-proportional
+damping 20/s; the kinetic energy over the work over the run (solvers/quasi_static.py) says
+how quasi-static it is, the damper's share of the work what the damping took.
+Compared: the shear of the cells the net lays on the bowl at least one coarse cell (16.7 mm
+of arc) inside the rim, the same material region on every mesh (COMPARED_POLAR).
+Measured, fibrous, 0.3 s, 12 / 20 / 32 cells (one thread, machine load 4-6): rms shear error
+against the net 2.75 / 2.09 / 1.67 deg, observed order 0.77, Richardson 0.73 deg (the shell's
+own departure from the ideal net; checked); draw-in of the edge middle 22.6 / 29.4 / 28.3 mm
+and punch force at the end 93.4 / 88.3 / 61.9 N, no order (reported); the largest KE / W
+after the first tenth 0.079 / 0.126 / 0.29 (at the end 0.008 / 0.031 / 0.10), so only the
+coarse mesh is quasi-static by the 0.1 bound (checked: the two finer fail it); the damping
+took 8 / 21 / 42 % of the work; the holder rose at most 0 / 0.35 / 7.6 mm; CPU 23 / 89 /
+371 s (wall 58 / 270 / 959 s). The Mindlin shell, held, 12 / 20 cells (32 not run): rms
+2.97 / 2.78 deg, largest KE / W 0.19 / 0.155, the holder rose 1.4 / 2.4 mm, the damping took
+29 / 33 % of the work; CPU 34 / 79 s.
+What is left on the finer meshes: at 90 % of the stroke (t = 0.24 s) the punch force climbs
+to 230-300 N on the 32-cell mesh: the fibres along the blank's edges by the centre lines,
+which cannot shear there, are compressed 2.9 % under the holder while those in the die
+stretch 4.5 %, and the flange lets go by lifting the holder (the burst of KE / W; on the
+20-cell mesh 1.7 % and 3 %, a burst to 0.126 at t = 0.23 s, the holder 0.35 mm up). The
+32-cell rms of 1.67 deg is thus the state after that release, and the order rests on it. At
+100 and 200 N the holder stays down (0.09 and 0 mm) and the blank buckles in the die instead
+(32 cells: rms 7.3 and 5.0 deg, KE / W 0.14 and 0.15; at 100 N 12 / 20 cells: rms 2.75 /
+2.37 deg, no order over the three); with fibres ten times softer in compression than in
+tension the holder still lifts 5.9 mm (rms 3.5 deg, KE / W 0.16).
+Without the holder (``model(holder_force=0)``), measured at 32 cells: the blank's two
+corners on one diagonal fold up 60 mm along the punch when the flange's wrinkles snap
+through half way down (KE / W 0.26 at t = 0.15 s); in those quadrants the blank in the die
+barely shears (0-5 deg where the net has 20-35 deg; rms 5.6 deg on the compared region, an
+error up to 66 deg by the rim); its rms over 12 / 20 / 32 cells (2.90 / 2.05 / 5.15 deg on
+the cells then found on the bowl) had no order, and its 32-cell figures moved with changes
+to the solvers between runs (5.15 deg and 68.1 N before, 8.4 deg and 54.8 N now, on the
+cells found on the bowl): a snap-through is not a converged state.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import time
@@ -46,7 +66,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from elements import FibrousShell, MindlinShell, RigidSphere, RigidSurface
+from elements import FibrousShell, MindlinShell, RigidPlane, RigidSphere, RigidSurface
 from elements.layup import ply_shear
 from femcore import Mesh, Model
 from femcore.loads import smooth_step  # the punch's amplitude
@@ -57,7 +77,7 @@ from validation.paper.orders import observed_orders
 from validation.plots import figure
 from validation.records import Case, ObservedOrder, Outcome
 from validation.references.drape import fishnet_on_sphere
-from validation.specimens import hemisphere_die, holder_ring
+from validation.specimens import hemisphere_die
 
 __all__ = ["CASE", "HemisphereData", "blank_shear", "compute", "render"]
 
@@ -72,53 +92,77 @@ DIE = PUNCH + 2.0 * THICKNESS  # the punch, the ply and a clearance of one ply
 SHEAR_LOCKING_K5 = 2.4  # N/mm
 TENSION = 60.0  # N/mm, in tension and compression
 # The fibres' compression over their tension stiffness (1: the same law; below 1 they buckle):
-# a study of a held flange, the case runs with 1 (see HOLDER_FORCE).
+# 0.1 under the holder let it lift 5.9 mm on the 32-cell mesh (module docstring).
 COMPRESSION_RATIO = 1.0
 CELLS = {"coarse": 12, "default": 20, "fine": 32}
-# Measured, fibrous, on this machine's two cores shared by other jobs (load 5-11, one thread
-# each): 12 cells 35 s of CPU (212 s wall); 20 cells 98 s (495 s); 32 cells 302 s (818 s).
+# Measured, fibrous, held, on this machine's two cores shared by other jobs (load 4-6, one
+# thread each): 12 cells 23 s of CPU (58 s wall); 20 cells 89 s (270 s); 32 cells 371 s (959 s).
 # Each run's own cost is in the parameters ("<kinematics>: runtime").
 # The three meshes of the observed orders (Richardson); the fine resolution runs all three.
 ORDER_CELLS = {"fine": (12, 20, 32)}
 DURATION = 0.3  # s: the punch travel at 0.17 m/s on average
-DAMPING = 20.0  # 1/s, mass-proportional: calms the flapping flange (a drag of 2 g at 1 m/s)
-# A blank holder (``model(holder_force=...)``): a flat ring over the flange from just outside
-# the die's rim to beyond the blank's corners, free along z, pressed down by the holder force,
-# closed over the first tenth of the stroke, frictionless as the die and the punch. The case
-# runs without it (HOLDER_FORCE = 0): held flat at 50 N, the flange by the centre lines (where
-# the fibres cannot shear) took the hoop compression of the draw-in in its fibres (2.6 % at
-# 60 N/mm, 7 % at 6 N/mm in compression) and snapped at 67-70 % of the stroke on the 32-cell
-# mesh; with fibres at 0.6 N/mm in compression they shortened 27 % and the 20-cell run
-# diverged at 78 %.
-HOLDER_INNER, HOLDER_OUTER = DIE + 5.4, 150.0  # mm
-HOLDER_FORCE = 0.0  # N
+# Mass-proportional damping (a drag of 2 g at 1 m/s): it took 8, 21 and 42 % of the work at
+# 12, 20 and 32 cells (``run``'s damping_over_work), the finer meshes ringing more.
+DAMPING = 20.0  # 1/s
+# The blank holder: a rigid plane on the blank's top face (the flange's), free along z, pressed
+# down by HOLDER_FORCE, frictionless as the die and the punch, closed over the first tenth of
+# the stroke. Its face covers the flange from the die's rim out (the holder's opening the
+# die's; inside the rim the blank only moves down, away from it). What it is for: unheld, the
+# flange's wrinkles snap through half way down (KE / W 0.26) and the blank's free corners fold
+# up along the punch (60 mm on the 32-cell mesh), which keeps the blank in the die from
+# shearing as the net by the rim (rms 5.6 deg on the compared cells). Held at 50 N the flange
+# stays flat on the 12- and 20-cell meshes (the holder rises 0 and 0.35 mm) and the rms
+# error converges; on the 32-cell mesh the flange lifts it 7.6 mm at 90 % of the stroke
+# (module docstring).
+# 50 N over the flange under it (about 3e4 mm^2) is 1.7 kPa, the low end of the holder
+# pressures of dry-fabric forming: frictionless, it only has to keep the flange from
+# rising; at 100 or 200 N the 32-cell blank buckles in the die instead. A meshed ring
+# (validation.specimens.holder_ring) with its open inner edge 5.4 mm outside the rim let
+# the blank bulge in the free annulus and the 32-cell run diverged at 60 % of the stroke (a
+# node at the ring's edge at 19 m/s); ``model(holder_force=0)`` leaves the holder out.
+HOLDER_FORCE = 50.0  # N
 HOLDER_MASS = 1.0e-4  # t (100 g, nine blanks' mass)
 # The holder closes over the first tenth of the stroke (smoothly: pressed at once, it rang on
 # the contact springs with a kinetic energy many times the early work of the punch).
 HOLDER_CLOSING = 0.1
 NET_CELL = 1.0  # mm: the net's segment, well below the blank's cells
-# Compared: cells whose three nodes lie on the die's bowl (within 0.5 mm of the sphere of the
-# mid-surface) below z = -5 mm. Measured rms error of the fibrous shell: 2.90, 2.05 and 5.15
-# deg at 12, 20 and 32 cells (the finest wrinkles in the die); tolerances about 1.35 x
-# measured.
-RMS_TOLERANCE_DEG = {"coarse": 4.0, "default": 2.8, "fine": 7.0}
+# Compared: the cells whose centre the net lays on the bowl at most COMPARED_POLAR from its
+# bottom, the same material region on every mesh, chosen by the reference and not by where a
+# run put the blank (a cell that wrinkles off the bowl still counts). Its margin to the rim is
+# one cell of the coarsest mesh (16.7 mm of arc, 19 deg): no compared cell of any mesh spans
+# the die's edge, where the blank bends from the bowl onto the flange under the holder and
+# the net, a drape on the sphere alone, does not hold.
+RIM_MARGIN = 2.0 * HALF / min(CELLS.values())  # mm of arc along the bowl
+COMPARED_POLAR = 0.5 * np.pi - RIM_MARGIN / (DIE - 0.5 * THICKNESS)  # rad, 71.1 deg
+# The fibrous rms error per resolution: measured 2.75, 2.09 and 1.67 deg at 12, 20 and 32
+# cells; tolerances about 1.35 x measured.
+RMS_TOLERANCE_DEG = {"coarse": 3.7, "default": 2.8, "fine": 2.3}
 # The orders checked ("<kinematics> <quantity>" -> the largest |Richardson value - finest| /
-# |finest|), where the three meshes show a clear order (measured: 0.041 and 0.107, tolerances
-# about 1.4 x); the others are reported.
-ORDER_TOLERANCE: dict[str, float] = {"fibrous draw_in_mm": 0.06, "fibrous punch_force_N": 0.15}
+# |finest|), where the three meshes show a clear order; the others are reported. Held, the
+# draw-in and the punch force show none (module docstring).
+ORDER_TOLERANCE: dict[str, float] = {}
+# The fibrous rms error's Richardson value, checked below this (deg) with a positive order:
+# the limit is the shell's own departure from the ideal net (which has no shear or bending
+# stiffness), measured 0.73 deg (order 0.77); the bound about 1.4 x that.
+EXTRAPOLATED_RMS_DEG = 1.0
+# The largest kinetic energy over the work after the first tenth of the stroke (the solver's
+# KE / W), checked against the quasi-static bound of solvers/quasi_static.py at every
+# resolution, not a tolerance fitted to the runs: measured 0.079, 0.126 and 0.29 at 12, 20 and
+# 32 cells, so the default and fine resolutions fail it (module docstring).
+KINETIC_TOLERANCE = {"coarse": 0.1, "default": 0.1, "fine": 0.1}
 
 
 @dataclass(frozen=True)
 class HemisphereData:
     """Per kinematics ("fibrous", "mindlin"): the result and the per-cell shear (rad), with
-    the net's shear at the same cells, which cells lie in the die, and the punch travel and
-    force records."""
+    the net's shear at the same cells, which cells are compared (``compared_cells``), and the
+    punch travel and force records."""
 
     mesh: Mesh
     runs: dict[str, Any]
     shear: dict[str, np.ndarray]
     net_shear: np.ndarray
-    in_die: dict[str, np.ndarray]
+    compared: np.ndarray
     cells: int
 
 
@@ -152,9 +196,9 @@ def model(cells: int, kinematics: str, holder_force: float | None = None) -> tup
     holder_force = HOLDER_FORCE if holder_force is None else holder_force
     if holder_force == 0.0:
         return blank, built
-    ring = holder_ring(HOLDER_INNER, HOLDER_OUTER, 4.0)
-    holder = RigidSurface(
-        ring.with_points(ring.points + [0.0, 0.0, THICKNESS]),
+    holder = RigidPlane(
+        (0.0, 0.0, THICKNESS),
+        (0.0, 0.0, -1.0),
         free="z",
         force=(0.0, 0.0, -holder_force),
         amplitude=holder_closing,
@@ -188,22 +232,48 @@ def holder_closing(tau):
     return smooth_step(np.minimum(np.asarray(tau, dtype=float) / HOLDER_CLOSING, 1.0))
 
 
+@functools.cache
+def _net() -> dict[str, np.ndarray]:
+    """The pin-jointed net on the sphere of the blank's mid-surface in the die (drape.py)."""
+    return fishnet_on_sphere(DIE - 0.5 * THICKNESS, NET_CELL, int(0.5 * np.pi * DIE / NET_CELL))
+
+
+def _at_cells(mesh: Mesh, values: np.ndarray) -> np.ndarray:
+    """(m,) ``values`` on the net's grid interpolated at the blank cells' centres' fibre arc
+    lengths from the pole, NaN where the net does not reach."""
+    net = _net()
+    interpolate = RegularGridInterpolator((net["u"], net["v"]), values, bounds_error=False)
+    return interpolate(mesh.points[mesh.triangles].mean(axis=1)[:, :2])
+
+
 def net_shear_at(mesh: Mesh) -> np.ndarray:
     """(m,) the pin-jointed net's shear (rad) at the blank cells' centres' fibre arc lengths
     from the pole, NaN where the net does not reach."""
-    net = fishnet_on_sphere(DIE - 0.5 * THICKNESS, NET_CELL, int(0.5 * np.pi * DIE / NET_CELL))
-    interpolate = RegularGridInterpolator((net["u"], net["v"]), net["shear"], bounds_error=False)
-    return interpolate(mesh.points[mesh.triangles].mean(axis=1)[:, :2])
+    return _at_cells(mesh, _net()["shear"])
+
+
+def compared_cells(mesh: Mesh) -> np.ndarray:
+    """(m,) bool: the cells the shear is compared on, those whose centre the net lays on the
+    bowl at most COMPARED_POLAR (rad) from its bottom, RIM_MARGIN (mm of arc) or more inside
+    the die's rim."""
+    net = _net()
+    radius = DIE - 0.5 * THICKNESS
+    polar = np.arccos(np.clip(net["points"][..., 2] / radius, -1.0, 1.0))
+    polar = _at_cells(mesh, np.where(np.isnan(net["points"][..., 2]), np.nan, polar))
+    return np.isfinite(polar) & (polar <= COMPARED_POLAR)
 
 
 def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str, Any]:
     """One forming run and what it measures: ``cells``, ``mesh``, ``result``, ``shear``
-    (m,) rad, ``in_die`` (m,) bool, ``rms_deg`` the rms of shear - net shear over the cells in
-    the die, ``draw_in_mm`` of the edge middle, ``punch_force_N``, ``holder_travel_mm``, the
-    kinetic energy over the work at the end and its largest after the first tenth, and the
-    run's ``cost`` (wall and CPU time, s; the machine's load average at its start and end).
-    A run that diverges keeps its last good frame (``result.converged`` False). ``net``: the
-    net's shear at the cells (``net_shear_at``), when already computed."""
+    (m,) rad, ``compared`` (m,) bool (``compared_cells``), ``rms_deg`` the rms of shear - net
+    shear over them, ``on_bowl`` how many of them end on the die's bowl (within 0.5 mm of the
+    sphere of the mid-surface), ``draw_in_mm`` of the edge middle, ``punch_force_N``,
+    ``holder_lift_mm`` the holder's largest rise at the frames (None without a holder), the
+    kinetic energy over the work at the end and its largest after the first tenth, the
+    fraction of the work the mass-proportional damping dissipated, and the run's ``cost``
+    (wall and CPU time, s; the machine's load average at its start and end). A run that
+    diverges keeps its last good frame (``result.converged`` False). ``net``: the net's shear
+    at the cells (``net_shear_at``), when already computed."""
     mesh, built = model(cells, kinematics)
     # The automatic step at the default safety 0.9: the rotary inertia follows the lever of a
     # tilted director (docs/theory.md §1.6, §6.2), which the blank's free corners need.
@@ -220,30 +290,30 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
     }
     net = net_shear_at(mesh) if net is None else net
     x = result.positions
-    on_bowl = (np.abs(np.linalg.norm(x, axis=1) - (DIE - 0.5 * THICKNESS)) < 0.5) & (x[:, 2] < -5.0)
-    in_die = on_bowl[mesh.triangles].all(axis=1)
+    bowl = np.abs(np.linalg.norm(x, axis=1) - (DIE - 0.5 * THICKNESS)) < 0.5
     shear = blank_shear(mesh, x)
-    compared = in_die & np.isfinite(net)
+    compared = compared_cells(mesh) & np.isfinite(net)
     error = np.degrees(shear[compared] - net[compared])
     edge = np.flatnonzero(np.isclose(mesh.points[:, 0], HALF) & np.isclose(mesh.points[:, 1], 0.0))
     quasi = result.info["quasi_static"]
+    energies = result.energies
+    lifts = [f.tool_displacements[2, 2] for f in result.frames if len(f.tool_displacements) > 2]
     return {
         "cells": cells,
         "mesh": mesh,
         "result": result,
         "shear": shear,
-        "in_die": in_die,
-        "compared": int(compared.sum()),
+        "compared": compared,
+        "on_bowl": int(bowl[mesh.triangles].all(axis=1)[compared].sum()),
         "rms_deg": float(np.sqrt(np.mean(error**2))) if compared.any() else math.inf,
         "largest_shear_deg": float(np.degrees(np.abs(shear[compared]).max(initial=0.0))),
         "draw_in_mm": float(HALF - np.linalg.norm(x[edge, :2], axis=1).mean()),
         # The blank pushes the punch up: +z on the second tool.
         "punch_force_N": float(result.tool_forces[-1, 1, 2]),
-        "holder_travel_mm": (
-            float(moved[2, 2]) if len(moved := result.frames[-1].tool_displacements) > 2 else None
-        ),
+        "holder_lift_mm": float(max(lifts)) if lifts else None,
         "kinetic_over_work": quasi["kinetic_over_work_final"],
         "largest_kinetic_over_work": quasi["kinetic_over_work_largest"],
+        "damping_over_work": float(energies["damping"][-1] / energies["external_work"][-1]),
         "cost": cost,
     }
 
@@ -276,15 +346,30 @@ def orders(measured: dict[str, list[dict[str, Any]]]) -> list[ObservedOrder]:
 
 
 def order_checks(records: list[ObservedOrder]) -> list:
-    """Where ``ORDER_TOLERANCE`` names the quantity (as "<kinematics> <key>"): a positive
-    order and the Richardson value within the tolerance of the finest mesh's (relative)."""
+    """The fibrous rms shear error: a positive order and the Richardson value below
+    ``EXTRAPOLATED_RMS_DEG``. Where ``ORDER_TOLERANCE`` names the quantity (as "<kinematics>
+    <key>"): a positive order and the Richardson value within the tolerance of the finest
+    mesh's (relative)."""
     checks = []
     for record in records:
         key = next(k for k, q in ORDER_QUANTITIES.items() if q == record.quantity)
+        clear = math.isfinite(record.order) and record.order > 0.0 and record.converged
+        if record.kinematics == "fibrous" and key == "rms_deg":
+            checks.append(
+                check(
+                    f"fibrous: {record.quantity}, n = "
+                    f"{', '.join(str(n) for n in record.cells)}: extrapolated (observed order "
+                    f"{record.order:.2f}), below {EXTRAPOLATED_RMS_DEG:g} deg",
+                    0.0,
+                    record.extrapolated if clear else math.inf,
+                    EXTRAPOLATED_RMS_DEG,
+                    relative=False,
+                    source=f"{SOURCE}: Richardson extrapolation on three meshes",
+                )
+            )
         tolerance = ORDER_TOLERANCE.get(f"{record.kinematics} {key}")
         if tolerance is None:
             continue
-        clear = math.isfinite(record.order) and record.order > 0.0 and record.converged
         verdict = check(
             f"{record.kinematics}: {record.quantity}, n = "
             f"{', '.join(str(n) for n in record.cells)}: extrapolated (observed order "
@@ -317,7 +402,7 @@ def compute(resolution: str) -> Outcome:
         "fabric": f"0.3 mm, 285 g/m^2, tension {TENSION:g} N/mm (x {COMPRESSION_RATIO:g} in "
         f"compression), bending 0.375 N mm, shear 0.2 g + {SHEAR_LOCKING_K5} g^5 N/mm",
         "holder": (
-            f"ring r = {HOLDER_INNER:g}-{HOLDER_OUTER:g} mm, {HOLDER_FORCE:g} N, "
+            f"plane on the flange, free along z, {HOLDER_FORCE:g} N, "
             f"{HOLDER_MASS * 1e6:g} g, frictionless"
             if HOLDER_FORCE > 0.0
             else "none"
@@ -327,26 +412,29 @@ def compute(resolution: str) -> Outcome:
         "safety_on_the_stable_step": CentralDifference(duration=DURATION).safety,
         "damping_per_s": DAMPING,
         "net_segment_mm": NET_CELL,
+        "compared_up_to_polar_deg": math.degrees(COMPARED_POLAR),
     }
     extra = _more_runs(resolution, cells, runs, net)
     for kinematics, record in runs.items():
         result = record["result"]
-        parameters[f"{kinematics}_cells_in_die"] = record["compared"]
+        parameters[f"{kinematics}_cells_compared"] = int(record["compared"].sum())
+        parameters[f"{kinematics}_compared_cells_on_the_bowl"] = record["on_bowl"]
         parameters[f"{kinematics}_steps"] = result.steps
         parameters[f"{kinematics}_rms_shear_error_deg"] = record["rms_deg"]
         parameters[f"{kinematics}_final_kinetic_over_work"] = record["kinetic_over_work"]
         parameters[f"{kinematics}_largest_kinetic_over_work"] = record["largest_kinetic_over_work"]
+        parameters[f"{kinematics}_damping_over_work"] = record["damping_over_work"]
         parameters[f"{kinematics}_largest_shear_deg"] = record["largest_shear_deg"]
         wrinkles = _wrinkles(mesh, result.positions)
         parameters[f"{kinematics}_wrinkles"] = wrinkles["count"]
         parameters[f"{kinematics}_wrinkle_height_mm"] = wrinkles["height"]
         parameters[f"{kinematics}_punch_force_N"] = record["punch_force_N"]
-        if record["holder_travel_mm"] is not None:
-            parameters[f"{kinematics}_holder_travel_mm"] = record["holder_travel_mm"]
+        if record["holder_lift_mm"] is not None:
+            parameters[f"{kinematics}_largest_holder_lift_mm"] = record["holder_lift_mm"]
         parameters[f"{kinematics}_draw_in_of_edge_middle_mm"] = record["draw_in_mm"]
         checks.append(
             check(
-                f"{kinematics}: rms of shear - net shear over the cells in the die (deg)",
+                f"{kinematics}: rms of shear - net shear over the compared cells (deg)",
                 0.0,
                 record["rms_deg"],
                 RMS_TOLERANCE_DEG[resolution] if kinematics == "fibrous" else math.inf,
@@ -354,6 +442,18 @@ def compute(resolution: str) -> Outcome:
                 source=SOURCE,
             )
         )
+        if kinematics == "fibrous":
+            checks.append(
+                check(
+                    f"{kinematics}: the largest kinetic energy over the work after the first "
+                    "tenth of the stroke (quasi-static)",
+                    0.0,
+                    record["largest_kinetic_over_work"],
+                    KINETIC_TOLERANCE[resolution],
+                    relative=False,
+                    source="solvers/quasi_static.py: KE / W",
+                )
+            )
     every = list(runs.items()) + [(f"{k} n = {n}", r) for (k, n), r in extra.items()]
     for label, record in every:
         cost = record["cost"]
@@ -384,7 +484,7 @@ def compute(resolution: str) -> Outcome:
             {k: r["result"] for k, r in runs.items()},
             {k: r["shear"] for k, r in runs.items()},
             net,
-            {k: r["in_die"] for k, r in runs.items()},
+            runs["fibrous"]["compared"],
             cells,
         ),
     )
@@ -447,7 +547,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[str]:
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 5), constrained_layout=True)
     for ax, kinematics in zip(axes, ("fibrous", "mindlin")):
-        x = data.runs[kinematics].positions
+        x = data.runs[kinematics].positions[: mesh.n_nodes]  # less the holder's node
         step = max(1, data.cells // 16)
         grid = x.reshape(data.cells + 1, data.cells + 1, 3)
         for j in range(0, data.cells + 1, step):
