@@ -60,6 +60,9 @@ def main() -> None:
     parser.add_argument(
         "--fraction", type=float, default=1.0, help="stop at this fraction of the stroke's time"
     )
+    parser.add_argument(
+        "--phases", action="store_true", help="time the pieces of each step (CPU and wall)"
+    )
     args = parser.parse_args()
     mesh, model = case.model(args.cells, "fibrous")
     compiled = model.compile()
@@ -88,10 +91,12 @@ def main() -> None:
     threads = jit.threads_for(mesh.n_triangles)
     # The steps, counted where the solver accepts each (a run stopped early has no result).
     steps = [0]
+    reached = [0.0]  # the time of the last step accepted, s
     commit = compiled.commit
 
     def counted(new_state):
         steps[0] += 1
+        reached[0] = new_state.time
         return commit(new_state)
 
     compiled.commit = counted  # type: ignore[method-assign]
@@ -114,6 +119,7 @@ def main() -> None:
         )
         load_before = load()
         steps[0] = 0
+        phases = Phases(compiled) if args.phases else None
         start, cpu = time.perf_counter(), time.process_time()
         try:
             result = solver.solve(compiled)
@@ -125,6 +131,13 @@ def main() -> None:
               f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
               f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
               f"ms CPU; {per_step / reference:.0f} x the reference pass)", flush=True)  # fmt: skip
+        stroke = args.duration / (reached[0] / steps[0])  # steps at the mean step so far
+        print(f"  mean step {reached[0] / steps[0]:.3g} s: the stroke at this pace {stroke:.0f} "
+              f"steps, {stroke * cpu / steps[0] / 60:.1f} min CPU, {stroke * per_step / 60:.1f} "
+              "min wall", flush=True)  # fmt: skip
+        if phases is not None:
+            print(phases.report(wall, cpu, steps[0]), flush=True)
+            phases.undo()
         if result is not None:
             energies = {key: values[-1] for key, values in result.energies.items()}
             ratio = energies["kinetic"] / max(abs(energies["external_work"]), 1e-300)
@@ -136,6 +149,57 @@ def main() -> None:
 
 class _Enough(Exception):
     """Raised to stop a run at ``--fraction`` of its stroke."""
+
+
+class Phases:
+    """CPU and wall time spent in the pieces of the steps, by wrapping (on the instances)
+    the element blocks' force passes, the contact blocks' (the closest-facet search inside),
+    the cells' and the assembled stable step and the lumped masses (the rotary inertia
+    refresh); the rest of a step is the solver's own update and bookkeeping."""
+
+    def __init__(self, compiled) -> None:
+        self.spent: dict[str, list[float]] = {}
+        self.wrapped: list[tuple[object, str]] = []
+        for block in compiled.blocks:
+            for name in ("internal_force", "internal_force_and_energy"):
+                self._wrap(block, name, "element force")
+        for interaction in compiled.interactions:
+            for name in ("internal_force", "strain_energy", "tool_work"):
+                self._wrap(interaction, name, "contact")
+        self._wrap(compiled, "cell_stable_dt", "stable step (cells)")
+        self._wrap(compiled, "assembled_stable_dt", "stable step (assembled)")
+        self._wrap(compiled, "lumped_mass", "rotary inertia refresh")
+
+    def _wrap(self, owner, name: str, phase: str) -> None:
+        method = getattr(owner, name, None)
+        if method is None:
+            return
+        totals = self.spent.setdefault(phase, [0.0, 0.0])
+
+        def timed(*args, **kwargs):
+            wall, cpu = time.perf_counter(), time.process_time()
+            try:
+                return method(*args, **kwargs)
+            finally:
+                totals[0] += time.perf_counter() - wall
+                totals[1] += time.process_time() - cpu
+
+        object.__setattr__(owner, name, timed)
+        self.wrapped.append((owner, name))
+
+    def undo(self) -> None:
+        for owner, name in self.wrapped:
+            object.__delattr__(owner, name)
+
+    def report(self, wall: float, cpu: float, steps: int) -> str:
+        rest = [wall - sum(w for w, _ in self.spent.values()),
+                cpu - sum(c for _, c in self.spent.values())]  # fmt: skip
+        rows = [*self.spent.items(), ("update, output, bookkeeping", rest)]
+        return "\n".join(
+            f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
+            f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
+            for phase, (w, c) in rows
+        )
 
 
 def load() -> str:
