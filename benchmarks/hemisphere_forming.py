@@ -19,6 +19,24 @@ tangent once and waited for the cells' bound to move, and the threads stopped sp
 ms after (977 x the reference pass). With ``--mass-scaling-dt 5e-6`` (1.72 times the model's
 mass added, the starting step 4.56e-6 s instead of 2.77e-6 s): 4384 steps, 35.0 ms each.
 
+``--phases`` times the pieces of the steps (CPU and wall per step): the element force
+passes, the contacts (the meshed die's closest-facet search inside), the cells' and the
+assembled stable step, the lumped masses (the rotary inertia refresh every 10 steps), the rest
+(the update, the output, the bookkeeping); and each run prints its mean step and the whole
+stroke projected at that pace. Measured at 20k triangles on the first 1 % of the stroke (1281
+steps, 2.34e-6 s; load 4.3-5.0 on 2 cores, so one thread chosen and half a core had), after
+the element's force kernel was compiled anew, before -> after the closest facet was found by
+a scalar kernel that skips the candidates further than the node's facet of the last step
+(elements/facet_search.py; the same answers to the last bit): per step 18.2 -> 16.8-17.6 ms
+CPU, of which element force 6.8-7.4, contacts 7.5 -> 5.7-6.1, the assembled stable step 2.6-3.0
+(one evaluation, 3.5 s, at the start: it comes again every 4000 steps or when the cells' bound
+moves by 1 %), the cells' bound 0.2, the rotary inertia refresh 0.15, the rest 0.9; the
+closest-facet pass alone over the 10201 nodes (82.6k candidate facets) 4.0 -> 1.5-2.0 ms.
+The stroke, 128k steps at that pace: 37 min CPU on one thread (75 min wall on half a core).
+Two threads forced (elements.jit.FOLLOW_LOAD = False) gave the same wall time at that load.
+With ``--mass-scaling-dt 5e-6`` (mean step 4.56e-6 s): 65.7k steps, 20.7 ms CPU each with the
+assembled bound's start (5.5 ms of it over 658 steps), 17 min CPU projected without it.
+
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
@@ -114,7 +132,10 @@ def main() -> None:
             damping=case.DAMPING,
             mass_scaling_dt=scaling,
             progress=False,
-            output_interval=args.duration / 100.0 if args.fraction < 1.0 else None,
+            # --fraction is looked at on each frame: a frame at least every 1 % and at it.
+            output_interval=args.duration * min(0.01, args.fraction)
+            if args.fraction < 1.0
+            else None,
             frame_summary=stop_early if args.fraction < 1.0 else None,
         )
         load_before = load()
