@@ -24,18 +24,23 @@ passes, the contacts (the meshed die's closest-facet search inside), the cells' 
 assembled stable step, the lumped masses (the rotary inertia refresh every 10 steps), the rest
 (the update, the output, the bookkeeping); and each run prints its mean step and the whole
 stroke projected at that pace. Measured at 20k triangles on the first 1 % of the stroke (1281
-steps, 2.34e-6 s; load 4.3-5.0 on 2 cores, so one thread chosen and half a core had), after
-the element's force kernel was compiled anew, before -> after the closest facet was found by
-a scalar kernel that skips the candidates further than the node's facet of the last step
-(elements/facet_search.py; the same answers to the last bit): per step 18.2 -> 16.8-17.6 ms
-CPU, of which element force 6.8-7.4, contacts 7.5 -> 5.7-6.1, the assembled stable step 2.6-3.0
-(one evaluation, 3.5 s, at the start: it comes again every 4000 steps or when the cells' bound
-moves by 1 %), the cells' bound 0.2, the rotary inertia refresh 0.15, the rest 0.9; the
-closest-facet pass alone over the 10201 nodes (82.6k candidate facets) 4.0 -> 1.5-2.0 ms.
-The stroke, 128k steps at that pace: 37 min CPU on one thread (75 min wall on half a core).
-Two threads forced (elements.jit.FOLLOW_LOAD = False) gave the same wall time at that load.
-With ``--mass-scaling-dt 5e-6`` (mean step 4.56e-6 s): 65.7k steps, 20.7 ms CPU each with the
-assembled bound's start (5.5 ms of it over 658 steps), 17 min CPU projected without it.
+steps of 2.34e-6 s; one thread, the default at a load of 1.7-5 on the 2 cores; two threads
+forced, elements.jit.FOLLOW_LOAD = False, gave the same wall time at a load of 4.5): 17-22 ms
+CPU per step, of which the element force 6.8-9.9 ms (42 %), the contacts 5.7-7.5 (33 %), the
+assembled stable step 2.6-3.7 (one evaluation of 3.5-4 s at the start over these steps; it comes
+again every 4000 steps or when the cells' bound moves by 1 %), the cells' bound 0.2, the rotary
+inertia refresh 0.15-0.2 (0.9 %), the rest 0.9-1.1 (the same code measured 10-20 % apart from
+one run to the next: other work shared the cores). The stroke, 128k steps at that pace: 37-48
+min CPU on one thread. With ``--mass-scaling-dt 5e-6`` (1.72 x the mass added, mean step 4.56e-6
+s): 65.7k steps, 17 min CPU projected.
+
+The closest-facet search of the die, timed apart on the nodes it was asked about every 200
+steps of the first 2 % of the stroke (10201 nodes, 82.6k candidate facets, best of 40, the
+three interleaved): 3.54 ms CPU a pass before, 2.30 with the corners read as scalars, 1.55 with
+the candidates further than the node's facet of the last step skipped (elements/facet_search.py;
+the same points, facets and distances to the last bit). The punch's contact forces asked again
+for its work in the same step: 0.43 ms computed, 0.085 from the contact's memory. Together
+about 2.4 ms CPU per step of the 17-22 (the whole-run figures above do not resolve it).
 
 Run from the project root:
 
@@ -43,6 +48,7 @@ Run from the project root:
     python benchmarks/hemisphere_forming.py --mass-scaling-dt none,3.5e-6
     python benchmarks/hemisphere_forming.py --cells 40 --duration 0.05
     python benchmarks/hemisphere_forming.py --fraction 0.2        # the first fifth of it
+    python benchmarks/hemisphere_forming.py --fraction 0.01 --phases  # where a step goes
 """
 
 from __future__ import annotations
