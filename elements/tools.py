@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from elements.kernels import closest_facets
+from elements.facet_search import SLACK, closest_facets
 from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
 
@@ -474,6 +474,7 @@ class RigidSurface(RigidTool):
         self._cache: _Candidates | None = None
         # The last points asked about (in the tool's frame) with their answer (d, n).
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
         self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
@@ -550,7 +551,16 @@ class RigidSurface(RigidTool):
         point = local.copy()
         facet = np.zeros(len(local), dtype=np.int64)
         gap = np.zeros(len(local))
-        closest_facets(local, self.corners, candidates[0], candidates[1], point, facet, gap)
+        # Each point's facet of the last call as the hint (mostly its nearest again): the
+        # candidates further than it are skipped, the answer the same (elements/facet_search).
+        hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
+        if hint is None or hint.shape != facet.shape:
+            hint = np.full(len(local), -1)
+        closest_facets(
+            local, self.corners, self._centroids, self._radius, SLACK * self.reach,
+            candidates[0], candidates[1], hint, point, facet, gap,
+        )  # fmt: skip
+        self._hint = facet
         return point, facet, gap
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):

@@ -1,0 +1,99 @@
+"""The closest-facet search of a meshed tool (elements/facet_search.py): the facets skipped by
+the hint change nothing, to the last bit, whatever the hint."""
+
+import numpy as np
+
+from elements import RigidSurface
+from elements.facet_search import SLACK, closest_facets
+from femcore.mesh import Mesh
+
+
+def bumpy_surface(n: int = 12) -> Mesh:
+    """A 20 x 20 mm sheet with a bump and a ridge, uneven facets of 2 to 3 mm."""
+    flat = Mesh.rectangle(20.0, 20.0, n, n)
+    x, y = flat.points[:, 0], flat.points[:, 1]
+    rng = np.random.default_rng(3)
+    jitter = rng.uniform(-0.3, 0.3, size=(len(x), 2)) * (20.0 / n)
+    inner = (x > 0) & (x < 20) & (y > 0) & (y < 20)
+    x = x + np.where(inner, jitter[:, 0], 0.0)
+    y = y + np.where(inner, jitter[:, 1], 0.0)
+    z = 3.0 * np.exp(-((x - 8.0) ** 2 + (y - 11.0) ** 2) / 10.0) + 0.2 * np.sin(0.9 * x)
+    return flat.with_points(np.column_stack([x, y, z]))
+
+
+def every_facet_a_candidate(tool: RigidSurface, points: np.ndarray):
+    start = np.arange(len(points) + 1) * tool.n_facets
+    return start, np.tile(np.arange(tool.n_facets), len(points))
+
+
+def search(tool: RigidSurface, points, start, facets, hint):
+    point = points.copy()
+    facet = np.zeros(len(points), dtype=np.int64)
+    gap = np.zeros(len(points))
+    closest_facets(
+        points, tool.corners, tool._centroids, tool._radius, SLACK * tool.reach,
+        start, facets, np.asarray(hint, dtype=np.int64), point, facet, gap,
+    )  # fmt: skip
+    return point, facet, gap
+
+
+def test_the_closest_facet_is_the_same_to_the_last_bit_whatever_the_hint():
+    """Points above, below and on the surface, at its corners (ties between the facets that
+    share a corner), each with all facets as candidates: with no hint (every candidate
+    examined in order), the right facet as the hint, a random facet, or a facet not among the
+    point's candidates, the closest points, facets and distances are identical, and the
+    distance is the smallest over the facets."""
+    tool = RigidSurface(bumpy_surface())
+    rng = np.random.default_rng(5)
+    corners = tool.corners.reshape(-1, 3)
+    points = np.concatenate(
+        [
+            rng.uniform([-2, -2, -3], [22, 22, 6], size=(300, 3)),
+            corners[rng.choice(len(corners), 100)],  # exactly at a corner of several facets
+            tool._centroids[rng.choice(tool.n_facets, 50)],  # on a facet
+        ]
+    )
+    start, facets = every_facet_a_candidate(tool, points)
+    plain = search(tool, points, start, facets, np.full(len(points), -1))
+    gaps = [search(tool, points, start, facets, np.full(len(points), f))[2] for f in range(3)]
+    assert np.all(plain[2] <= np.min(gaps, axis=0))
+    for hint in (plain[1], rng.integers(0, tool.n_facets, len(points))):
+        for got, expected in zip(search(tool, points, start, facets, hint), plain):
+            np.testing.assert_array_equal(got, expected)
+    # The hint outside a point's candidates (here only the facets far from the nearest): the
+    # candidates scanned again without skipping.
+    few = [np.argsort(np.linalg.norm(tool._centroids - p, axis=1))[5:12] for p in points]
+    start = np.arange(len(points) + 1) * 7
+    facets = np.concatenate(few)
+    plain = search(tool, points, start, facets, np.full(len(points), -1))
+    for hint in (np.zeros(len(points)), [f[0] - 5 for f in few], plain[1]):
+        hint = np.asarray(hint) % tool.n_facets
+        for got, expected in zip(search(tool, points, start, facets, hint), plain):
+            np.testing.assert_array_equal(got, expected)
+
+
+def test_a_point_without_candidates_is_at_an_infinite_gap_and_left_untouched():
+    tool = RigidSurface(bumpy_surface(4))
+    points = np.array([[1.0, 1.0, 1.0], [5.0, 5.0, 5.0]])
+    start = np.array([0, 0, 2])
+    point, facet, gap = search(tool, points, start, np.array([0, 1]), [3, -1])
+    assert gap[0] == np.inf and facet[0] == 0
+    np.testing.assert_array_equal(point[0], points[0])
+    assert np.isfinite(gap[1])
+
+
+def test_a_meshed_tool_answers_the_same_with_and_without_the_last_facets_as_hints():
+    """A cloud of points creeping over the surface for 30 calls, a few of them jumping: the
+    signed distances and normals of RigidSurface.distance are identical to those of the same
+    tool made to forget its hints before every call."""
+    mesh = bumpy_surface()
+    hinted, plain = RigidSurface(mesh), RigidSurface(mesh)
+    rng = np.random.default_rng(8)
+    x = rng.uniform([0, 0, -1], [20, 20, 5], size=(400, 3))
+    for _ in range(30):
+        x = x + rng.normal(scale=0.05, size=x.shape)
+        jump = rng.random(len(x)) < 0.05
+        x[jump] += rng.normal(scale=2.0, size=(jump.sum(), 3))
+        plain._hint = np.zeros(0, dtype=np.int64)
+        for got, expected in zip(hinted.distance(x), plain.distance(x)):
+            np.testing.assert_array_equal(got, expected)

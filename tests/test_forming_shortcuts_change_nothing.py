@@ -1,0 +1,43 @@
+"""The shortcuts of an explicit forming run's contacts change nothing: the meshed die's
+closest-facet search with each node's last facet as its hint (elements/facet_search.py) and
+the contact forces answered from memory when asked again (ContactBlock.contact_forces) give a
+run identical to the last bit to one without them."""
+
+import numpy as np
+
+from elements.contact import ContactBlock
+from elements.tools import RigidSurface
+from solvers import CentralDifference
+from validation.cases import hemisphere_forming as case
+
+
+def formed():
+    """The hemisphere case at 12 cells, the punch's stroke in 0.02 s (into the die within
+    the run): the last positions and the punch's forces at every record."""
+    mesh, model = case.model(12, "fibrous")
+    result = CentralDifference(duration=0.02, damping=case.DAMPING, progress=False).solve(model)
+    return result.frames[-1].positions, result.tool_forces
+
+
+def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_memory(
+    monkeypatch,
+):
+    positions, forces = formed()
+    assert np.abs(forces[-1]).max() > 1.0  # the tools pressed the blank
+
+    searched = RigidSurface._from_candidates
+    asked = ContactBlock.contact_forces
+
+    def without_hint(self, local, candidates):
+        self._hint = np.zeros(0, dtype=np.int64)
+        return searched(self, local, candidates)
+
+    def without_memory(self, state, history=None):
+        self._last_forces = None
+        return asked(self, state, history)
+
+    monkeypatch.setattr(RigidSurface, "_from_candidates", without_hint)
+    monkeypatch.setattr(ContactBlock, "contact_forces", without_memory)
+    plain_positions, plain_forces = formed()
+    np.testing.assert_array_equal(positions, plain_positions)
+    np.testing.assert_array_equal(forces, plain_forces)
