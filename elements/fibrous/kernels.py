@@ -112,6 +112,44 @@ def _side_terms(
 
 
 @serial
+def _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
+    """The unit edges f1 = (x1 - x0) / |x1 - x0| and f2 = (x2 - x0) / |x2 - x0| of a cell:
+    (f1x, f1y, f1z, f2x, f2y, f2z)."""
+    ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
+    inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+    f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
+    ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
+    inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+    return f1x, f1y, f1z, ex * inverse, ey * inverse, ez * inverse
+
+
+@serial
+def _side_fold(
+    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, f1x, f1y, f1z,
+    f2x, f2y, f2z, normal, double_area, across_cell, interior, clamped, wall,
+):  # fmt: skip
+    """``_side_terms`` of side s of cell c (from corner s + 1 to corner s + 2) against the
+    neighbour's normal across it, or the wall of a clamped side: (fold, c_1s, c_2s)."""
+    if s == 0:
+        px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
+    elif s == 1:
+        px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
+    else:
+        px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
+    other_area2 = mx = my = mz = 0.0
+    if interior[c, s]:
+        other = across_cell[c, s]
+        other_area2 = double_area[other]
+        mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
+    if clamped[c, s]:
+        mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
+    return _side_terms(
+        px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
+        mx, my, mz, other_area2,
+    )  # fmt: skip
+
+
+@serial
 def _fold_gradient(t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, area2):
     """D[s, k] = -grad N_k . n^c_s = t_s . t_k / (|t_s| 2A) of a cell whose sides (opposite
     corners 0, 1, 2) are t0 = x2 - x1, t1 = x0 - x2, t2 = x1 - x0: the share D[s, k] n of
@@ -406,34 +444,17 @@ def _cells_pass(
             if with_forces:
                 own[c, 0] = own[c, 1] = own[c, 2] = 0.0
             continue
-        ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
-        ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
+        f1x, f1y, f1z, f2x, f2y, f2z = _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
         c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
         chi1 = chi2 = 0.0
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 continue
             # side s runs from corner s + 1 to corner s + 2
-            if s == 0:
-                px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
-            elif s == 1:
-                px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
-            else:
-                px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
-            other_area2 = mx = my = mz = 0.0
-            if interior[c, s]:
-                other = across_cell[c, s]
-                other_area2 = double_area[other]
-                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-            if clamped[c, s]:
-                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-            fold, c1s, c2s = _side_terms(
-                px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
-                mx, my, mz, other_area2,
+            fold, c1s, c2s = _side_fold(
+                c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                f1x, f1y, f1z, f2x, f2y, f2z, normal, double_area, across_cell, interior,
+                clamped, wall,
             )  # fmt: skip
             if use_reference_coefficients:
                 c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
@@ -592,32 +613,15 @@ def _bending_sides(
         gradient[c, 0, 0], gradient[c, 0, 1], gradient[c, 0, 2] = d[0], d[1], d[2]
         gradient[c, 1, 0], gradient[c, 1, 1], gradient[c, 1, 2] = d[3], d[4], d[5]
         gradient[c, 2, 0], gradient[c, 2, 1], gradient[c, 2, 2] = d[6], d[7], d[8]
-        ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
-        ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
+        f1x, f1y, f1z, f2x, f2y, f2z = _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
                 continue
-            if s == 0:
-                px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
-            elif s == 1:
-                px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
-            else:
-                px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
-            other_area2 = mx = my = mz = 0.0
-            if interior[c, s]:
-                other = across_cell[c, s]
-                other_area2 = double_area[other]
-                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-            if clamped[c, s]:
-                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = _side_terms(
-                px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
-                mx, my, mz, other_area2,
+            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = _side_fold(
+                c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                f1x, f1y, f1z, f2x, f2y, f2z, normal, double_area, across_cell, interior,
+                clamped, wall,
             )  # fmt: skip
 
 
