@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.fibrous.packed_laws import law_energy, law_value
-from elements.jit import jit, prange, serial
+from elements.jit import inline, jit, prange, serial
 from elements.shell_geometry import GUARD
 
 __all__ = [
@@ -111,7 +111,7 @@ def _side_terms(
     return fold, p1 * p1 * scale, p2 * p2 * scale
 
 
-@serial
+@inline
 def _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     """The unit edges f1 = (x1 - x0) / |x1 - x0| and f2 = (x2 - x0) / |x2 - x0| of a cell:
     (f1x, f1y, f1z, f2x, f2y, f2z)."""
@@ -123,7 +123,7 @@ def _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     return f1x, f1y, f1z, ex * inverse, ey * inverse, ez * inverse
 
 
-@serial
+@inline
 def _side_fold(
     c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, f1x, f1y, f1z,
     f2x, f2y, f2z, normal, double_area, across_cell, interior, clamped, wall,
