@@ -50,18 +50,22 @@ __all__ = [
 
 
 # ---------------------------------------------------------------------- scalar helpers
-@serial
-def _corner_thickness(vx, vy, vz, sx, sy, sz, nodal, nx, ny, nz, thickness, guard):
-    """At one corner: V . N, h_m = h / max(V . N, guard) and N (the nodal normal S / |S| from
-    the normal sum S when ``nodal``, else the element's n), and |S| (1 without nodal
-    normals): (cos, h_m, Nx, Ny, Nz, |S|)."""
+@inline
+def _corner_thickness(directors, sums, node, nodal, nx, ny, nz, thickness, guard):
+    """At the corner on ``node``: its director V, V . N, h_m = h / max(V . N, guard) and N
+    (the nodal normal S / |S| from the node's normal sum S in ``sums`` (n, 3) when ``nodal``,
+    else the element's n), and |S| (1 without nodal normals):
+    (Vx, Vy, Vz, cos, h_m, Nx, Ny, Nz, |S|)."""
+    vx, vy, vz = directors[node, 0], directors[node, 1], directors[node, 2]
     if nodal:
+        sx, sy, sz = sums[node, 0], sums[node, 1], sums[node, 2]
         length = np.sqrt(sx * sx + sy * sy + sz * sz)
         inverse = 1.0 / length
         cos = (vx * sx + vy * sy + vz * sz) * inverse
-        return cos, thickness / max(cos, guard), sx * inverse, sy * inverse, sz * inverse, length
+        h_m = thickness / max(cos, guard)
+        return vx, vy, vz, cos, h_m, sx * inverse, sy * inverse, sz * inverse, length
     cos = vx * nx + vy * ny + vz * nz
-    return cos, thickness / max(cos, guard), nx, ny, nz, 1.0
+    return vx, vy, vz, cos, thickness / max(cos, guard), nx, ny, nz, 1.0
 
 
 @serial
@@ -280,26 +284,17 @@ def _cells_pass(
         x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
         x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
         x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
-        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
-        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
-        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
         nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
         a0 = area[c]
-        # h_m and N at the corners (Eq. 10, 14)
-        if nodal:
-            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
-            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
-            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
-        else:
-            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
-        cos0, h0, w0x, w0y, w0z, len0 = _corner_thickness(
-            v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard
+        # V, h_m and N at the corners (Eq. 10, 14)
+        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0 = _corner_thickness(
+            directors, sums, n0, nodal, nx, ny, nz, thickness, guard
         )
-        cos1, h1, w1x, w1y, w1z, len1 = _corner_thickness(
-            v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard
+        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1 = _corner_thickness(
+            directors, sums, n1, nodal, nx, ny, nz, thickness, guard
         )
-        cos2, h2, w2x, w2y, w2z, len2 = _corner_thickness(
-            v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard
+        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2 = _corner_thickness(
+            directors, sums, n2, nodal, nx, ny, nz, thickness, guard
         )
         warp_first = xi_is_warp[c]
         law1, law2 = (0, 1) if warp_first else (1, 0)  # the tension laws along 0-1 and 0-2
@@ -649,18 +644,15 @@ def _strains_pass(
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
-        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
-        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
-        if nodal:
-            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
-            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
-            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
-        else:
-            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
-        h0 = _corner_thickness(v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard)[1]
-        h1 = _corner_thickness(v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard)[1]
-        h2 = _corner_thickness(v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard)[1]
+        v0x, v0y, v0z, _, h0, _, _, _, _ = _corner_thickness(
+            directors, sums, n0, nodal, nx, ny, nz, thickness, guard
+        )
+        v1x, v1y, v1z, _, h1, _, _, _, _ = _corner_thickness(
+            directors, sums, n1, nodal, nx, ny, nz, thickness, guard
+        )
+        v2x, v2y, v2z, _, h2, _, _, _, _ = _corner_thickness(
+            directors, sums, n2, nodal, nx, ny, nz, thickness, guard
+        )
         r1x = positions[n1, 0] - positions[n0, 0]
         r1y = positions[n1, 1] - positions[n0, 1]
         r1z = positions[n1, 2] - positions[n0, 2]
