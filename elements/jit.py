@@ -54,6 +54,7 @@ __all__ = [
     "FOLLOW_LOAD",
     "SMALL_LOOP",
     "free_cores",
+    "inline",
     "jit",
     "prange",
     "serial",
@@ -172,6 +173,16 @@ def serial(function):
     if not AVAILABLE:
         return function
     return numba.njit(cache=True)(function)
+
+
+def inline(function):
+    """``function`` compiled into each compiled function that calls it (numba's
+    ``inline="always"``: its body is spliced into the caller before optimisation, so that a
+    helper of a cell loop costs no call and its values stay in registers); as is without
+    numba."""
+    if not AVAILABLE:
+        return function
+    return numba.njit(cache=True, inline="always")(function)
 
 
 def _prange(n):  # pragma: no cover - replaced by numba.prange inside compiled code

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE, jit, prange, serial
+from elements.jit import AVAILABLE, inline, jit, prange, serial
 
 __all__ = [
     "AVAILABLE",
@@ -84,6 +84,16 @@ def _node_sums(offsets, corners, per_corner, out):
 PACKED_ROWS, PACKED_COLUMNS = np.triu_indices(7)
 
 
+@inline
+def _edge(positions, a, b):
+    """The edge x_b - x_a between nodes a and b of positions (n, 3): three scalars."""
+    return (
+        positions[b, 0] - positions[a, 0],
+        positions[b, 1] - positions[a, 1],
+        positions[b, 2] - positions[a, 2],
+    )
+
+
 @jit
 def _mindlin_cells(
     positions, directors, connectivity, zeta, half, reference, stiffness, tying_n, with_forces,
@@ -104,12 +114,8 @@ def _mindlin_cells(
     nz = zeta.shape[0]
     for c in prange(m):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        d1x = positions[n1, 0] - positions[n0, 0]
-        d1y = positions[n1, 1] - positions[n0, 1]
-        d1z = positions[n1, 2] - positions[n0, 2]
-        d2x = positions[n2, 0] - positions[n0, 0]
-        d2y = positions[n2, 1] - positions[n0, 1]
-        d2z = positions[n2, 2] - positions[n0, 2]
+        d1x, d1y, d1z = _edge(positions, n0, n1)
+        d2x, d2y, d2z = _edge(positions, n0, n2)
         v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
         v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
         v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
@@ -290,15 +296,9 @@ def _cell_steps(positions, connectivity, translational, rotational, calibration,
     positions): elements/mindlin.py ``_cheap_omega2`` and ``cell_stable_dt`` in one loop."""
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        ax = positions[n1, 0] - positions[n0, 0]
-        ay = positions[n1, 1] - positions[n0, 1]
-        az = positions[n1, 2] - positions[n0, 2]
-        bx = positions[n2, 0] - positions[n0, 0]
-        by = positions[n2, 1] - positions[n0, 1]
-        bz = positions[n2, 2] - positions[n0, 2]
-        cx = positions[n2, 0] - positions[n1, 0]
-        cy = positions[n2, 1] - positions[n1, 1]
-        cz = positions[n2, 2] - positions[n1, 2]
+        ax, ay, az = _edge(positions, n0, n1)
+        bx, by, bz = _edge(positions, n0, n2)
+        cx, cy, cz = _edge(positions, n1, n2)
         nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
         area2 = np.sqrt(nx * nx + ny * ny + nz * nz)
         # (side opposite node k / 2A)^2 = 1 / h_k^2

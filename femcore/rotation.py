@@ -11,7 +11,16 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FRAME_FALLBACK", "cross", "cross_matrix", "drop_along", "nodal_frames", "rotate_about"]
+__all__ = [
+    "FRAME_FALLBACK",
+    "cross",
+    "cross_matrix",
+    "drop_along",
+    "frame_of",
+    "nodal_frames",
+    "rotate_about",
+    "turned",
+]
 
 # Below this |e2 x V| the Eq. 7 frame is ill-conditioned (V within ~6 deg of +-e2): use e3.
 FRAME_FALLBACK = 0.1
@@ -141,36 +150,60 @@ def drop_along(vectors: np.ndarray, directors: np.ndarray) -> np.ndarray:
     return vectors - np.sum(vectors * directors, axis=1)[:, None] * directors
 
 
+def frame_of(vx, vy, vz):  # pragma: no cover - compiled below
+    """The nodal frame (V1, V2) of ``nodal_frames`` for one unit director (vx, vy, vz): six
+    scalars (V1 then V2), for compiled loops over the nodes (compiled by numba when it is
+    installed)."""
+    ax, ay, az = vz, 0.0, -vx  # e2 x V
+    norm = np.sqrt(ax * ax + az * az)
+    if norm < FRAME_FALLBACK:
+        ax, ay, az = -vy, vx, 0.0  # e3 x V
+        norm = np.sqrt(ax * ax + ay * ay)
+    if norm <= 0.0:
+        norm = 1.0
+    ax, ay, az = ax / norm, ay / norm, az / norm
+    return ax, ay, az, vy * az - vz * ay, vz * ax - vx * az, vx * ay - vy * ax
+
+
+def turned(vx, vy, vz, px, py, pz):  # pragma: no cover - compiled below
+    """The vector (vx, vy, vz) turned by the rotation vector (px, py, pz) (``rotate_about``
+    for one vector, three scalars), for compiled loops over the nodes (compiled by numba when
+    it is installed)."""
+    angle = np.sqrt(px * px + py * py + pz * pz)
+    if angle < 1e-12:
+        fx = vx + (py * vz - pz * vy)
+        fy = vy + (pz * vx - px * vz)
+        fz = vz + (px * vy - py * vx)
+        norm = np.sqrt(fx * fx + fy * fy + fz * fz)
+        if norm <= 0.0:
+            norm = 1.0
+        return fx / norm, fy / norm, fz / norm
+    ax, ay, az = px / angle, py / angle, pz / angle
+    cos, sin = np.cos(angle), np.sin(angle)
+    along = ax * vx + ay * vy + az * vz
+    return (
+        cos * vx + sin * (ay * vz - az * vy) + (1.0 - cos) * along * ax,
+        cos * vy + sin * (az * vx - ax * vz) + (1.0 - cos) * along * ay,
+        cos * vz + sin * (ax * vy - ay * vx) + (1.0 - cos) * along * az,
+    )
+
+
 def _rotate_loop(vectors, rotation, out):  # pragma: no cover - compiled below
     """rotate_about as one loop over the vectors (compiled by numba when it is installed):
     the same formulas, node by node, with no temporary arrays."""
     for i in range(vectors.shape[0]):
-        vx, vy, vz = vectors[i, 0], vectors[i, 1], vectors[i, 2]
-        px, py, pz = rotation[i, 0], rotation[i, 1], rotation[i, 2]
-        angle = np.sqrt(px * px + py * py + pz * pz)
-        if angle < 1e-12:
-            fx, fy, fz = (
-                vx + (py * vz - pz * vy),
-                vy + (pz * vx - px * vz),
-                vz + (px * vy - py * vx),
-            )
-            norm = np.sqrt(fx * fx + fy * fy + fz * fz)
-            if norm <= 0.0:
-                norm = 1.0
-            out[i, 0], out[i, 1], out[i, 2] = fx / norm, fy / norm, fz / norm
-            continue
-        ax, ay, az = px / angle, py / angle, pz / angle
-        cos, sin = np.cos(angle), np.sin(angle)
-        along = ax * vx + ay * vy + az * vz
-        out[i, 0] = cos * vx + sin * (ay * vz - az * vy) + (1.0 - cos) * along * ax
-        out[i, 1] = cos * vy + sin * (az * vx - ax * vz) + (1.0 - cos) * along * ay
-        out[i, 2] = cos * vz + sin * (ax * vy - ay * vx) + (1.0 - cos) * along * az
+        out[i, 0], out[i, 1], out[i, 2] = turned(
+            vectors[i, 0], vectors[i, 1], vectors[i, 2],
+            rotation[i, 0], rotation[i, 1], rotation[i, 2],
+        )  # fmt: skip
 
 
 _compiled_rotate: Any = None
 try:
     import numba
 
+    frame_of = numba.njit(cache=True)(frame_of)
+    turned = numba.njit(cache=True)(turned)
     _compiled_rotate = numba.njit(cache=True)(_rotate_loop)
 except ImportError:  # pragma: no cover - numba is a dependency
     pass

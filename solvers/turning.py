@@ -17,9 +17,26 @@ from __future__ import annotations
 
 import numpy as np
 
-from femcore.rotation import FRAME_FALLBACK
+from femcore.rotation import frame_of, turned
 
 __all__ = ["COMPILED", "move", "rates", "turn"]
+
+
+def _held(fx, fy, fz, vx, vy, vz, alpha, beta):
+    """The angular rate (fx, fy, fz) of a node with rotations under its director
+    constraints: without its drilling part along the director (vx, vy, vz), and without its
+    part along V2 (``alpha``: alpha held) and along V1 (``beta``) of the nodal frame."""
+    along = fx * vx + fy * vy + fz * vz
+    wx, wy, wz = fx - along * vx, fy - along * vy, fz - along * vz
+    if alpha or beta:
+        ax, ay, az, bx, by, bz = frame_of(vx, vy, vz)
+        if alpha:
+            along = wx * bx + wy * by + wz * bz
+            wx, wy, wz = wx - along * bx, wy - along * by, wz - along * bz
+        if beta:
+            along = wx * ax + wy * ay + wz * az
+            wx, wy, wz = wx - along * ax, wy - along * ay, wz - along * az
+    return wx, wy, wz
 
 
 def _turn(
@@ -49,25 +66,7 @@ def _turn(
         fy = (keep * omega[i, 1] + dt_bar * inverse * my) * scale
         fz = (keep * omega[i, 2] + dt_bar * inverse * mz) * scale
         if has_rotation[i]:
-            along = fx * vx + fy * vy + fz * vz
-            wx, wy, wz = fx - along * vx, fy - along * vy, fz - along * vz
-            if fixed_alpha[i] or fixed_beta[i]:
-                # the nodal frame (V1, V2) of femcore.rotation.nodal_frames
-                ax, ay, az = vz, 0.0, -vx  # e2 x V
-                norm = np.sqrt(ax * ax + az * az)
-                if norm < FRAME_FALLBACK:
-                    ax, ay, az = -vy, vx, 0.0  # e3 x V
-                    norm = np.sqrt(ax * ax + ay * ay)
-                if norm <= 0.0:
-                    norm = 1.0
-                ax, ay, az = ax / norm, ay / norm, az / norm
-                bx, by, bz = vy * az - vz * ay, vz * ax - vx * az, vx * ay - vy * ax
-                if fixed_alpha[i]:
-                    along = wx * bx + wy * by + wz * bz
-                    wx, wy, wz = wx - along * bx, wy - along * by, wz - along * bz
-                if fixed_beta[i]:
-                    along = wx * ax + wy * ay + wz * az
-                    wx, wy, wz = wx - along * ax, wy - along * ay, wz - along * az
+            wx, wy, wz = _held(fx, fy, fz, vx, vy, vz, fixed_alpha[i], fixed_beta[i])
         else:
             wx = wy = wz = 0.0
         new_omega[i, 0], new_omega[i, 1], new_omega[i, 2] = wx, wy, wz
@@ -92,25 +91,10 @@ def _turn(
         if not has_rotation[i]:
             new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = vx, vy, vz
             continue
-        # Rodrigues (femcore.rotation.rotate_about), the rotation dt omega
-        px, py, pz = dt * wx, dt * wy, dt * wz
-        angle = np.sqrt(px * px + py * py + pz * pz)
-        if angle < 1e-12:
-            fx = vx + (py * vz - pz * vy)
-            fy = vy + (pz * vx - px * vz)
-            fz = vz + (px * vy - py * vx)
-            norm = np.sqrt(fx * fx + fy * fy + fz * fz)
-            if norm <= 0.0:
-                norm = 1.0
-            new_directors[i, 0], new_directors[i, 1] = fx / norm, fy / norm
-            new_directors[i, 2] = fz / norm
-            continue
-        ax, ay, az = px / angle, py / angle, pz / angle
-        cos, sin = np.cos(angle), np.sin(angle)
-        along = ax * vx + ay * vy + az * vz
-        new_directors[i, 0] = cos * vx + sin * (ay * vz - az * vy) + (1.0 - cos) * along * ax
-        new_directors[i, 1] = cos * vy + sin * (az * vx - ax * vz) + (1.0 - cos) * along * ay
-        new_directors[i, 2] = cos * vz + sin * (ax * vy - ay * vx) + (1.0 - cos) * along * az
+        # femcore.rotation.rotate_about, the rotation dt omega
+        new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = turned(
+            vx, vy, vz, dt * wx, dt * wy, dt * wz
+        )
     terms[0], terms[1], terms[2], terms[3] = d_ext, d_int, d_damp, kinetic
     terms[4], terms[5], terms[6] = product, kinetic_mean, ext_before
     terms[7] = damp_before
@@ -132,24 +116,7 @@ def _rates(omega, moment, inverse, has_rotation, fixed_alpha, fixed_beta, direct
             held[i, 0] = held[i, 1] = held[i, 2] = 0.0
             continue
         vx, vy, vz = directors[i, 0], directors[i, 1], directors[i, 2]
-        along = fx * vx + fy * vy + fz * vz
-        wx, wy, wz = fx - along * vx, fy - along * vy, fz - along * vz
-        if fixed_alpha[i] or fixed_beta[i]:
-            ax, ay, az = vz, 0.0, -vx  # e2 x V
-            norm = np.sqrt(ax * ax + az * az)
-            if norm < FRAME_FALLBACK:
-                ax, ay, az = -vy, vx, 0.0  # e3 x V
-                norm = np.sqrt(ax * ax + ay * ay)
-            if norm <= 0.0:
-                norm = 1.0
-            ax, ay, az = ax / norm, ay / norm, az / norm
-            bx, by, bz = vy * az - vz * ay, vz * ax - vx * az, vx * ay - vy * ax
-            if fixed_alpha[i]:
-                along = wx * bx + wy * by + wz * bz
-                wx, wy, wz = wx - along * bx, wy - along * by, wz - along * bz
-            if fixed_beta[i]:
-                along = wx * ax + wy * ay + wz * az
-                wx, wy, wz = wx - along * ax, wy - along * ay, wz - along * az
+        wx, wy, wz = _held(fx, fy, fz, vx, vy, vz, fixed_alpha[i], fixed_beta[i])
         held[i, 0], held[i, 1], held[i, 2] = wx, wy, wz
 
 
@@ -165,24 +132,9 @@ def _move(positions, directors, velocities, omega, dt, has_rotation, new_positio
         if not has_rotation[i]:
             new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = vx, vy, vz
             continue
-        px, py, pz = dt * omega[i, 0], dt * omega[i, 1], dt * omega[i, 2]
-        angle = np.sqrt(px * px + py * py + pz * pz)
-        if angle < 1e-12:
-            fx = vx + (py * vz - pz * vy)
-            fy = vy + (pz * vx - px * vz)
-            fz = vz + (px * vy - py * vx)
-            norm = np.sqrt(fx * fx + fy * fy + fz * fz)
-            if norm <= 0.0:
-                norm = 1.0
-            new_directors[i, 0], new_directors[i, 1] = fx / norm, fy / norm
-            new_directors[i, 2] = fz / norm
-            continue
-        ax, ay, az = px / angle, py / angle, pz / angle
-        cos, sin = np.cos(angle), np.sin(angle)
-        along = ax * vx + ay * vy + az * vz
-        new_directors[i, 0] = cos * vx + sin * (ay * vz - az * vy) + (1.0 - cos) * along * ax
-        new_directors[i, 1] = cos * vy + sin * (az * vx - ax * vz) + (1.0 - cos) * along * ay
-        new_directors[i, 2] = cos * vz + sin * (ax * vy - ay * vx) + (1.0 - cos) * along * az
+        new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = turned(
+            vx, vy, vz, dt * omega[i, 0], dt * omega[i, 1], dt * omega[i, 2]
+        )
 
 
 #: Whether the loops are compiled (numba installed): without, ``solvers.step`` keeps its
@@ -191,6 +143,7 @@ COMPILED = False
 try:
     import numba
 
+    _held = numba.njit(cache=True)(_held)
     _turn = numba.njit(cache=True)(_turn)
     _rates = numba.njit(cache=True)(_rates)
     _move = numba.njit(cache=True)(_move)

@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.fibrous.packed_laws import law_energy, law_value
-from elements.jit import jit, prange, serial
+from elements.jit import inline, jit, prange, serial
 from elements.shell_geometry import GUARD
 
 __all__ = [
@@ -50,18 +50,22 @@ __all__ = [
 
 
 # ---------------------------------------------------------------------- scalar helpers
-@serial
-def _corner_thickness(vx, vy, vz, sx, sy, sz, nodal, nx, ny, nz, thickness, guard):
-    """At one corner: V . N, h_m = h / max(V . N, guard) and N (the nodal normal S / |S| from
-    the normal sum S when ``nodal``, else the element's n), and |S| (1 without nodal
-    normals): (cos, h_m, Nx, Ny, Nz, |S|)."""
+@inline
+def _corner_thickness(directors, sums, node, nodal, nx, ny, nz, thickness, guard):
+    """At the corner on ``node``: its director V, V . N, h_m = h / max(V . N, guard) and N
+    (the nodal normal S / |S| from the node's normal sum S in ``sums`` (n, 3) when ``nodal``,
+    else the element's n), and |S| (1 without nodal normals):
+    (Vx, Vy, Vz, cos, h_m, Nx, Ny, Nz, |S|)."""
+    vx, vy, vz = directors[node, 0], directors[node, 1], directors[node, 2]
     if nodal:
+        sx, sy, sz = sums[node, 0], sums[node, 1], sums[node, 2]
         length = np.sqrt(sx * sx + sy * sy + sz * sz)
         inverse = 1.0 / length
         cos = (vx * sx + vy * sy + vz * sz) * inverse
-        return cos, thickness / max(cos, guard), sx * inverse, sy * inverse, sz * inverse, length
+        h_m = thickness / max(cos, guard)
+        return vx, vy, vz, cos, h_m, sx * inverse, sy * inverse, sz * inverse, length
     cos = vx * nx + vy * ny + vz * nz
-    return cos, thickness / max(cos, guard), nx, ny, nz, 1.0
+    return vx, vy, vz, cos, thickness / max(cos, guard), nx, ny, nz, 1.0
 
 
 @serial
@@ -109,6 +113,44 @@ def _side_terms(
     p1 = f1x * ox + f1y * oy + f1z * oz
     p2 = f2x * ox + f2y * oy + f2z * oz
     return fold, p1 * p1 * scale, p2 * p2 * scale
+
+
+@inline
+def _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
+    """The unit edges f1 = (x1 - x0) / |x1 - x0| and f2 = (x2 - x0) / |x2 - x0| of a cell:
+    (f1x, f1y, f1z, f2x, f2y, f2z)."""
+    ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
+    inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+    f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
+    ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
+    inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
+    return f1x, f1y, f1z, ex * inverse, ey * inverse, ez * inverse
+
+
+@inline
+def _side_fold(
+    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, f1x, f1y, f1z,
+    f2x, f2y, f2z, normal, double_area, across_cell, interior, clamped, wall,
+):  # fmt: skip
+    """``_side_terms`` of side s of cell c (from corner s + 1 to corner s + 2) against the
+    neighbour's normal across it, or the wall of a clamped side: (fold, c_1s, c_2s)."""
+    if s == 0:
+        px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
+    elif s == 1:
+        px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
+    else:
+        px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
+    other_area2 = mx = my = mz = 0.0
+    if interior[c, s]:
+        other = across_cell[c, s]
+        other_area2 = double_area[other]
+        mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
+    if clamped[c, s]:
+        mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
+    return _side_terms(
+        px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
+        mx, my, mz, other_area2,
+    )  # fmt: skip
 
 
 @serial
@@ -242,26 +284,17 @@ def _cells_pass(
         x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
         x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
         x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
-        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
-        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
-        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
         nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
         a0 = area[c]
-        # h_m and N at the corners (Eq. 10, 14)
-        if nodal:
-            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
-            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
-            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
-        else:
-            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
-        cos0, h0, w0x, w0y, w0z, len0 = _corner_thickness(
-            v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard
+        # V, h_m and N at the corners (Eq. 10, 14)
+        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0 = _corner_thickness(
+            directors, sums, n0, nodal, nx, ny, nz, thickness, guard
         )
-        cos1, h1, w1x, w1y, w1z, len1 = _corner_thickness(
-            v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard
+        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1 = _corner_thickness(
+            directors, sums, n1, nodal, nx, ny, nz, thickness, guard
         )
-        cos2, h2, w2x, w2y, w2z, len2 = _corner_thickness(
-            v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard
+        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2 = _corner_thickness(
+            directors, sums, n2, nodal, nx, ny, nz, thickness, guard
         )
         warp_first = xi_is_warp[c]
         law1, law2 = (0, 1) if warp_first else (1, 0)  # the tension laws along 0-1 and 0-2
@@ -406,34 +439,17 @@ def _cells_pass(
             if with_forces:
                 own[c, 0] = own[c, 1] = own[c, 2] = 0.0
             continue
-        ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
-        ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
+        f1x, f1y, f1z, f2x, f2y, f2z = _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
         c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
         chi1 = chi2 = 0.0
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 continue
             # side s runs from corner s + 1 to corner s + 2
-            if s == 0:
-                px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
-            elif s == 1:
-                px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
-            else:
-                px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
-            other_area2 = mx = my = mz = 0.0
-            if interior[c, s]:
-                other = across_cell[c, s]
-                other_area2 = double_area[other]
-                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-            if clamped[c, s]:
-                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-            fold, c1s, c2s = _side_terms(
-                px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
-                mx, my, mz, other_area2,
+            fold, c1s, c2s = _side_fold(
+                c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                f1x, f1y, f1z, f2x, f2y, f2z, normal, double_area, across_cell, interior,
+                clamped, wall,
             )  # fmt: skip
             if use_reference_coefficients:
                 c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
@@ -592,32 +608,15 @@ def _bending_sides(
         gradient[c, 0, 0], gradient[c, 0, 1], gradient[c, 0, 2] = d[0], d[1], d[2]
         gradient[c, 1, 0], gradient[c, 1, 1], gradient[c, 1, 2] = d[3], d[4], d[5]
         gradient[c, 2, 0], gradient[c, 2, 1], gradient[c, 2, 2] = d[6], d[7], d[8]
-        ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
-        ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-        inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-        f2x, f2y, f2z = ex * inverse, ey * inverse, ez * inverse
+        f1x, f1y, f1z, f2x, f2y, f2z = _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
                 continue
-            if s == 0:
-                px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
-            elif s == 1:
-                px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
-            else:
-                px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
-            other_area2 = mx = my = mz = 0.0
-            if interior[c, s]:
-                other = across_cell[c, s]
-                other_area2 = double_area[other]
-                mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-            if clamped[c, s]:
-                mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = _side_terms(
-                px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
-                mx, my, mz, other_area2,
+            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = _side_fold(
+                c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                f1x, f1y, f1z, f2x, f2y, f2z, normal, double_area, across_cell, interior,
+                clamped, wall,
             )  # fmt: skip
 
 
@@ -645,18 +644,15 @@ def _strains_pass(
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
-        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
-        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
-        if nodal:
-            s0x, s0y, s0z = sums[n0, 0], sums[n0, 1], sums[n0, 2]
-            s1x, s1y, s1z = sums[n1, 0], sums[n1, 1], sums[n1, 2]
-            s2x, s2y, s2z = sums[n2, 0], sums[n2, 1], sums[n2, 2]
-        else:
-            s0x = s0y = s0z = s1x = s1y = s1z = s2x = s2y = s2z = 0.0
-        h0 = _corner_thickness(v0x, v0y, v0z, s0x, s0y, s0z, nodal, nx, ny, nz, thickness, guard)[1]
-        h1 = _corner_thickness(v1x, v1y, v1z, s1x, s1y, s1z, nodal, nx, ny, nz, thickness, guard)[1]
-        h2 = _corner_thickness(v2x, v2y, v2z, s2x, s2y, s2z, nodal, nx, ny, nz, thickness, guard)[1]
+        v0x, v0y, v0z, _, h0, _, _, _, _ = _corner_thickness(
+            directors, sums, n0, nodal, nx, ny, nz, thickness, guard
+        )
+        v1x, v1y, v1z, _, h1, _, _, _, _ = _corner_thickness(
+            directors, sums, n1, nodal, nx, ny, nz, thickness, guard
+        )
+        v2x, v2y, v2z, _, h2, _, _, _, _ = _corner_thickness(
+            directors, sums, n2, nodal, nx, ny, nz, thickness, guard
+        )
         r1x = positions[n1, 0] - positions[n0, 0]
         r1y = positions[n1, 1] - positions[n0, 1]
         r1z = positions[n1, 2] - positions[n0, 2]
