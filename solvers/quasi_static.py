@@ -82,15 +82,24 @@ def quasi_static_report(
         ``kinetic_bound``; ``checked_from_s`` (KINETIC_CHECK_FROM of the duration);
         ``kinetic_over_work_final``; ``kinetic_over_work_largest`` where judged and when
         (``largest_at_s``); ``exceeded_at_s``, when it first passed the bound (None: never);
-        ``added_mass_ratio``; ``duration_s``, ``process_duration_s`` and ``time_scaling``
-        (process_duration / duration, None without it).
+        ``exceeded_share``, the share of the judged time during which KE / W was above the
+        bound (each record standing for the time since the one before; None without a bound
+        or a judged record): the field's rule asks for a small KE / W "throughout the majority
+        of the process" (Abaqus/Explicit's quasi-static guidance), which a short burst keeps
+        where the largest value does not; ``added_mass_ratio``; ``duration_s``,
+        ``process_duration_s`` and ``time_scaling`` (process_duration / duration, None
+        without it).
     """
     time = np.asarray(energies["time"], dtype=float)
     work = np.asarray(energies["external_work"], dtype=float)
     ratio = kinetic_over_work(energies["kinetic"], work)
     judged = (time >= KINETIC_CHECK_FROM * duration) & (work >= KINETIC_WORK_FLOOR * work[-1])
     judged &= work > 0.0
-    largest = largest_at = exceeded_at = None
+    largest = largest_at = exceeded_at = share = None
+    if judged.any() and bound is not None:
+        spans = np.diff(time, prepend=time[0])  # each record: the time since the one before
+        total = float(spans[judged].sum())
+        share = float(spans[judged & (ratio > bound)].sum()) / total if total > 0.0 else 0.0
     if judged.any():
         index = int(np.flatnonzero(judged)[np.argmax(ratio[judged])])
         largest, largest_at = float(ratio[index]), float(time[index])
@@ -115,6 +124,7 @@ def quasi_static_report(
         "kinetic_over_work_largest": largest,
         "largest_at_s": largest_at,
         "exceeded_at_s": exceeded_at,
+        "exceeded_share": share,
         "added_mass_ratio": added_mass_ratio,
         "duration_s": duration,
         "process_duration_s": process_duration,

@@ -21,7 +21,12 @@ from femcore import Mesh, Model
 from fibreshell.case import load_case
 from fibreshell.run import run_case
 from solvers import CentralDifference
-from solvers.quasi_static import KINETIC_BOUND, KINETIC_CHECK_FROM, KINETIC_WORK_FLOOR
+from solvers.quasi_static import (
+    KINETIC_BOUND,
+    KINETIC_CHECK_FROM,
+    KINETIC_WORK_FLOOR,
+    quasi_static_report,
+)
 
 LENGTH, N = 1000.0, 10  # mm, elements
 EA, MU = 1.0e6, 1.0e-8  # N, t/mm: c = 1e7 mm/s
@@ -116,6 +121,25 @@ def test_a_slow_pull_is_quasi_static_and_does_not_warn(slow):
     assert report["exceeded_at_s"] is None
     assert report["kinetic_over_work_largest"] < 0.2 * KINETIC_BOUND
     assert report["kinetic_over_work_final"] < 0.01 * KINETIC_BOUND
+
+
+def test_the_share_above_the_bound_is_the_time_the_burst_lasted_over_the_judged_time():
+    """Records every 0.01 s over 1 s, work growing linearly, KE / W 0.02 except 0.5 from
+    t = 0.50 to 0.54 (5 records, each standing for the 0.01 s before it): judged from the
+    record at 0.1 s (91 records, 0.91 s), the burst is 0.05 s of it; the largest value alone
+    would call the run dynamic."""
+    time = np.linspace(0.0, 1.0, 101)
+    work = 1.0 + 100.0 * time
+    ratio = np.where((time >= 0.495) & (time <= 0.545), 0.5, 0.02)
+    energies = {"time": time, "external_work": work, "kinetic": ratio * work}
+    report = quasi_static_report(energies, KINETIC_BOUND, 1.0, 0.0, warn=False)
+    assert report["kinetic_over_work_largest"] == pytest.approx(0.5)
+    assert report["exceeded_share"] == pytest.approx(0.05 / 0.91, rel=1e-12)
+    quiet = quasi_static_report(
+        {**energies, "kinetic": 0.02 * work}, KINETIC_BOUND, 1.0, 0.0, warn=False
+    )
+    assert quiet["exceeded_share"] == 0.0
+    assert quasi_static_report(energies, None, 1.0, 0.0)["exceeded_share"] is None
 
 
 def test_without_a_bound_the_ratio_is_watched_but_not_warned():
