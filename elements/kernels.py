@@ -557,6 +557,24 @@ def _mindlin_fields(
             out[c, 6], out[c, 7] = sums[3], sums[4]
 
 
+def _section(block) -> tuple:
+    """The section arguments the Mindlin bind-time and output loops share, in their order:
+    levels and weights, half thickness, the in-plane rule, the warp (vector and whether
+    given), the lamina stiffness and the assumed-shear coefficients."""
+    warp = block.material.warp
+    return (
+        block.zeta,
+        block.zeta_weights,
+        0.5 * block.h,
+        IN_PLANE,
+        np.zeros(3) if warp is None else np.asarray(warp, dtype=np.float64),
+        warp is not None,
+        block.lamina_stiffness,
+        block.shear_a,
+        block.shear_b,
+    )
+
+
 def mindlin_tables(block, points, directors, cells: slice = slice(None)):
     """(level stiffness (c, Z, 28), smallest det J (c,), reference products of the level
     measures (c, Z, 7), areas (c,)) of a MindlinShellBlock's cells by the compiled kernel,
@@ -567,20 +585,11 @@ def mindlin_tables(block, points, directors, cells: slice = slice(None)):
     smallest = np.empty(m)
     measures = np.empty((m, len(block.zeta), 7))
     area = np.empty(m)
-    warp = block.material.warp
     _mindlin_tables(
         np.ascontiguousarray(points, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
         connectivity,
-        block.zeta,
-        block.zeta_weights,
-        0.5 * block.h,
-        IN_PLANE,
-        np.zeros(3) if warp is None else np.asarray(warp, dtype=np.float64),
-        warp is not None,
-        block.lamina_stiffness,
-        block.shear_a,
-        block.shear_b,
+        *_section(block),
         stiffness,
         smallest,
         measures,
@@ -593,22 +602,13 @@ def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.nd
     """Section forces (m, 8) of a MindlinShellBlock by the compiled kernel: membrane (3),
     bending (3), shear (2)."""
     out = np.empty((len(block.connectivity), 8))
-    warp = block.material.warp
     _mindlin_fields(
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
         block.reference_positions,
         block.reference_directors,
         block.connectivity,
-        block.zeta,
-        block.zeta_weights,
-        0.5 * block.h,
-        IN_PLANE,
-        np.zeros(3) if warp is None else np.asarray(warp, dtype=np.float64),
-        warp is not None,
-        block.lamina_stiffness,
-        block.shear_a,
-        block.shear_b,
+        *_section(block),
         block.reference_measures,
         out,
     )
