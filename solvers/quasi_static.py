@@ -96,16 +96,17 @@ def quasi_static_report(
     judged = (time >= KINETIC_CHECK_FROM * duration) & (work >= KINETIC_WORK_FLOOR * work[-1])
     judged &= work > 0.0
     largest = largest_at = exceeded_at = share = None
-    if judged.any() and bound is not None:
-        spans = np.diff(time, prepend=time[0])  # each record: the time since the one before
-        total = float(spans[judged].sum())
-        share = float(spans[judged & (ratio > bound)].sum()) / total if total > 0.0 else 0.0
     if judged.any():
         index = int(np.flatnonzero(judged)[np.argmax(ratio[judged])])
         largest, largest_at = float(ratio[index]), float(time[index])
-        if bound is not None and largest > bound:
-            first = int(np.flatnonzero(judged & (ratio > bound))[0])
-            exceeded_at = float(time[first])
+        if bound is not None:
+            above = judged & (ratio > bound)
+            spans = np.diff(time, prepend=time[0])  # each record: the time since the one before
+            total = float(spans[judged].sum())
+            share = float(spans[above].sum()) / total if total > 0.0 else 0.0
+            if above.any():
+                first = int(np.flatnonzero(above)[0])
+                exceeded_at = float(time[first])
         if exceeded_at is not None and warn:
             warnings.warn(
                 f"the run is not quasi-static: at t = {exceeded_at:.6g} s the kinetic energy "
