@@ -10,8 +10,8 @@ title = "G1151 strip under its own weight"     # optional
 rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }   # or: file = "blank.msh" (meshio),
 # or: corner = { lx = 200.0, ly = 150.0, n = 20 } (the corner specimen of Bai §6; grip =
 # [20.0, 15.0] adds the node set "grip", the 20 x 15 mm patch at its corner)
-[sets]                                   # optional named node sets, by bounds (mesh units)
-tip = { x_min = 199.9 }
+[sets]                                   # optional named node sets, by bounds: mesh
+tip = { x_min = "100%" }                 # units, or "P%" of the mesh's extent on that axis
 [[part]]
 element = "fibrous"                      # "fibrous" | "mindlin" | "cable" | a registered name
 material = "g1151_laminate"              # a preset name (registered), or an inline table
@@ -45,8 +45,14 @@ increments = 3                           # any keyword option of that solver
 # checkpoint_interval = 60.0             # explicit: wall-clock s between saves
 [output]
 history = { reactions = ["left"], displacements = ["tip"] }
-paths = { centre = { y_min = 29.9, y_max = 30.1 } }   # profiles along node paths
+paths = { centre = { y_min = "50%", y_max = "50%" } }   # profiles along node paths
 ```
+
+Node sets by bounds (``[sets]``, and wherever a table takes ``nodes`` or a path): each of
+``x_min``, ``x_max``, ... is a number in mesh units or a string ``"P%"``, P from 0 to 100 of
+the mesh's extent along that axis (fibreshell/case_sets.py), so that a sweep over the mesh's
+size keeps the set; bounds that select no node are an error naming the set, each bound and
+the mesh's extent.
 
 Inline materials: for "fibrous" the fields of ``materials.Fabric`` (thickness, areal_density,
 tension, shear, bending, tension_weft, bending_weft), each law a number (linear) or a table
@@ -87,6 +93,7 @@ from elements import (
 )
 from femcore import Mesh, Model
 from fibreshell import registry
+from fibreshell.case_sets import BOUND_KEYS, BoundsError, select_by_bounds
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DynamicRelaxation, Static
 
@@ -95,7 +102,6 @@ __all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
 SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": CentralDifference}
 # Solver options the case file does not take: the outputs are the command's.
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
-_BOUNDS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
 _TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
         "contact", "grip", "solver", "output")  # fmt: skip
 TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
@@ -446,21 +452,12 @@ def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -
             raise where.error(key, str(error)) from None
     if named_only or not isinstance(value, dict):
         raise where.error(key, f"expected a node-set name or a bounds table, got {value!r}")
-    bounds = _table(where, value, key, _BOUNDS)
-    inner = where.child(key)
-    size = float(np.ptp(mesh.points, axis=0).max()) or 1.0
-    tolerance = _number(inner, bounds.get("tolerance", 1e-6 * size), "tolerance")
-    mask = np.ones(mesh.n_nodes, dtype=bool)
-    for axis, name in enumerate("xyz"):
-        if f"{name}_min" in bounds:
-            low = _number(inner, bounds[f"{name}_min"], f"{name}_min")
-            mask &= mesh.points[:, axis] >= low - tolerance
-        if f"{name}_max" in bounds:
-            high = _number(inner, bounds[f"{name}_max"], f"{name}_max")
-            mask &= mesh.points[:, axis] <= high + tolerance
-    if not mask.any():
-        raise where.error(key, f"no node within the bounds {bounds} (tolerance {tolerance:g})")
-    return np.flatnonzero(mask)
+    try:
+        return select_by_bounds(mesh.points, _table(where, value, key, BOUND_KEYS))
+    except BoundsError as error:
+        # a malformed bound at its own key ([sets.tip.x_min]), an empty set at the set's
+        raise (where.child(key).error(error.key, str(error)) if error.key
+               else where.error(key, str(error))) from None  # fmt: skip
 
 
 def _part(where: _Where, value: dict) -> dict:

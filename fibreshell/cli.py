@@ -9,7 +9,11 @@ validation report.
                      [--workers N] [--out DIR] [--quiet]
     fibreshell identify CASE.toml --data MEASURED.csv --fit KEY[=START][,KEY...] [--path NAME]
                      [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
-    fibreshell report [--cases ...] [--resolution ...] [--out DIR]
+    fibreshell report [--list] [--cases A,B] [--resolution ...] [--out DIR] [--jobs N]
+    fibreshell --version
+
+Every output folder defaults to one named after the case file in the working folder
+(``CASE``, ``CASE-compare``, ``CASE-sweep``, ``CASE-identify``; the report's ``report``).
 
 Exit status: 0 done, 1 the solver stopped (its last good state is written; for a sweep: a
 variant failed, its row says why; for identify: a run failed or the fit did not converge),
@@ -36,6 +40,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Shells under large deformation: run a case file, compare the fibrous "
         "and the Mindlin kinematics on it, or write the validation report.",
     )
+    parser.add_argument("--version", action="version", version=f"fibreshell {_version()}")
     commands = parser.add_subparsers(dest="command", required=True)
     for name, text in (
         ("run", "run one case: result.pvd, history.csv, summary.json in --out"),
@@ -47,8 +52,8 @@ def _parser() -> argparse.ArgumentParser:
     ):
         command = commands.add_parser(name, help=text, description=text)
         command.add_argument("case", help="the case file (.toml)")
-        command.add_argument("--out", default=None, help="output folder (default: next to "
-                             "the working folder, named after the case)")  # fmt: skip
+        command.add_argument("--out", default=None, help=_out_help("" if name == "run"
+                                                                   else "-compare"))  # fmt: skip
         command.add_argument("--quiet", action="store_true", help="no progress line")
         if name == "run":
             command.add_argument(
@@ -95,7 +100,7 @@ def _parser() -> argparse.ArgumentParser:
     command.add_argument("--max-variants", type=int, default=None, metavar="N",
                          help="the most variants the sweep may have (default 10000): more "
                          "is refused before anything runs")  # fmt: skip
-    _cluster_options(command)
+    _cluster_options(command, "-sweep")
     text = "fit values of a case's keys to measured data (least squares on Dask)"
     command = commands.add_parser("identify", help=text, description=text)
     command.add_argument("case", help="the case file (.toml)")
@@ -111,13 +116,30 @@ def _parser() -> argparse.ArgumentParser:
                          "each residual is divided by it (default 1)")  # fmt: skip
     command.add_argument("--max-evaluations", type=int, default=30,
                          help="model evaluations the fit may make (default 30)")  # fmt: skip
-    _cluster_options(command)
-    commands.add_parser("report", help="the validation report (python -m validation --help)",
-                        add_help=False)  # fmt: skip
+    _cluster_options(command, "-identify")
+    commands.add_parser("report", help="run the validation cases and write the report "
+                        "(fibreshell report --help)", add_help=False)  # fmt: skip
     return parser
 
 
-def _cluster_options(command: argparse.ArgumentParser) -> None:
+def _version() -> str:
+    """The installed package's version (pyproject.toml), or a word saying it is not
+    installed (the sources run from a checkout)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("fibreshell")
+    except PackageNotFoundError:
+        return "(not installed: version unknown)"
+
+
+def _out_help(suffix: str) -> str:
+    """The --out help: where _out_folder puts the outputs by default."""
+    return (f"output folder (default: the case file's name{suffix} inside the working folder, "
+            f"e.g. g1151_strip{suffix}/ for cases/g1151_strip.toml)")  # fmt: skip
+
+
+def _cluster_options(command: argparse.ArgumentParser, suffix: str) -> None:
     command.add_argument(
         "--scheduler", default=None, metavar="ADDRESS",
         help="a Dask scheduler (tcp://host:8786); default: a local cluster",
@@ -126,8 +148,7 @@ def _cluster_options(command: argparse.ArgumentParser) -> None:
         "--workers", type=int, default=None,
         help="worker processes of the local cluster (default: one per core)",
     )  # fmt: skip
-    command.add_argument("--out", default=None, help="output folder (default: named after "
-                         "the case)")  # fmt: skip
+    command.add_argument("--out", default=None, help=_out_help(suffix))
     command.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -235,10 +256,10 @@ def _main(argv: list[str]) -> int:
     if argv[:1] == ["report"]:
         from validation.__main__ import main as report
 
-        return report(argv[1:])
+        return report(argv[1:], prog="fibreshell report")
     args = _parser().parse_args(argv)
     from fibreshell.case import load_case
-    from fibreshell.compare import compare_case, summary_lines
+    from fibreshell.compare import calibration_lines, compare_case, summary_lines
     from fibreshell.run import run_case
 
     started = time.perf_counter()
@@ -263,12 +284,17 @@ def _main(argv: list[str]) -> int:
             runs = {"": run}
         else:
             out = _out_folder(args.out, args.case, "-compare")
+            # The calibration before the runs: a reader knows what is compared while waiting.
+            stated = calibration_lines(case, args.calibration, args.shear_ratio, args.kinematics)
+            for line in stated:
+                print(line, flush=True)
             runs = compare_case(
                 case, out, progress, calibration=args.calibration, kinematics=args.kinematics,
                 plies=args.plies, shear_ratio=args.shear_ratio, fit_path=args.fit_path,
             )  # fmt: skip
             comparison = json.loads((out / "comparison.json").read_text())
-            for line in summary_lines(comparison):
+            fitted = args.calibration == "fit"  # its values are known only now
+            for line in summary_lines(comparison, calibration=fitted or not stated):
                 print(line)
     except ValueError as error:
         print(f"fibreshell: error: {error}", file=sys.stderr)

@@ -29,7 +29,8 @@ from fibreshell.case import Case
 from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
 
 __all__ = [
-    "COLOURS", "DEFAULT_KINEMATICS", "KINEMATICS", "compare_case", "fit_calibration",
+    "COLOURS", "DEFAULT_KINEMATICS", "KINEMATICS", "calibration_lines", "compare_case",
+    "fit_calibration",
     "kinematics_record", "path_figure", "summary_lines", "view_3d",
 ]  # fmt: skip
 
@@ -325,14 +326,37 @@ def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
-def summary_lines(comparison: dict[str, Any]) -> list[str]:
-    """What ``fibreshell compare`` prints: the calibration and its numbers, then per path the
-    largest differences from the fibrous shell."""
-    calibration = comparison["calibration"]
+def calibration_lines(
+    case: Case,
+    calibration: str = "laws",
+    shear_ratio: float | None = None,
+    kinematics: Sequence[str] | str = DEFAULT_KINEMATICS,
+) -> list[str]:
+    """What ``fibreshell compare`` prints before its runs: the Mindlin calibration it will
+    use, its rule and the numbers it gives the section (the bending laws, S, ...); for "fit"
+    the rule alone, its values being known after the fibrous run (``summary_lines``). Nothing
+    without a Mindlin run or a fabric to calibrate on (``compare_case`` then says why).
+
+    Raises
+    ------
+    ValueError
+        An unknown kinematics or calibration, a calibration number it refuses."""
+    if "mindlin" not in _kinematics(kinematics) or _fabric(case) is None:
+        return []
+    rule = Calibration.from_options(calibration, shear_ratio)
+    if rule.name == "fit":
+        return [
+            f"calibration: fit: {rule.describe(None)['rule']}",
+            "  its values: once fitted, after the fibrous run",
+        ]
+    return _calibration_lines(rule.describe(_fabric(case)))
+
+
+def _calibration_lines(calibration: dict[str, Any]) -> list[str]:
+    """The calibration of comparison.json (``Calibration.describe``) as printed lines."""
     if calibration["name"] is None:
-        lines = ["calibration: none (no Mindlin run)"]
-    else:
-        lines = [f"calibration: {calibration['name']}: {calibration['rule']}"]
+        return ["calibration: none (no Mindlin run)"]
+    lines = [f"calibration: {calibration['name']}: {calibration['rule']}"]
     for key, value in calibration["numbers"].items():
         if key == "fit":
             lines.append(
@@ -345,6 +369,14 @@ def summary_lines(comparison: dict[str, Any]) -> list[str]:
                 )
         else:
             lines.append(f"  {key} = {value if isinstance(value, str) else f'{value:.4g}'}")
+    return lines
+
+
+def summary_lines(comparison: dict[str, Any], calibration: bool = True) -> list[str]:
+    """What ``fibreshell compare`` prints after its runs: the calibration and its numbers
+    (unless ``calibration`` is false: printed before the runs, ``calibration_lines``), then
+    per path the largest differences from the fibrous shell."""
+    lines = _calibration_lines(comparison["calibration"]) if calibration else []
     for name, record in comparison["differences"].items():
         for path, d in record["paths"].items():
             lines.append(

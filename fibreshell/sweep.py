@@ -336,7 +336,8 @@ class SweepTable:
         """The table for a terminal: variant, the varied values, converged, wall time, then
         up to ``most`` numbers of the runs (the z components of the history sets' reactions
         and displacements and of the tool forces, the largest fibre strain), a line each; a
-        failed variant shows its error instead."""
+        failed variant shows its whole error instead (never cut short: the terminal wraps a
+        long one, and the lines of a message of several are indented under its first)."""
         wanted = [
             name for name in self.columns
             if name.endswith("_z") and name.startswith(("reaction_", "displacement_", "tool"))
@@ -356,7 +357,8 @@ class SweepTable:
             line = "  ".join(t.rjust(w) for t, w in zip(texts, widths))
             if row.get("error"):
                 line = "  ".join(t.rjust(w) for t, w in zip(texts[: len(self.keys) + 2], widths))
-                line += f"  {row['error'][:120]}"
+                indent = "\n" + " " * (len(line) + 2)
+                line += "  " + indent.join(str(row["error"]).splitlines())
             lines.append(line)
         return "\n".join(lines)
 

@@ -15,16 +15,19 @@ from validation.report import run_cases
 __all__ = ["main", "parse"]
 
 
-def parse(argv: list[str]) -> argparse.Namespace:
-    """The command line: --list, --cases, --resolution, --out (names checked here)."""
+def parse(argv: list[str], prog: str = "python -m validation") -> argparse.Namespace:
+    """The command line: --list, --cases, --resolution, --out (names checked here); ``prog``
+    the command's name in its help and errors (``fibreshell report`` runs it too)."""
     parser = argparse.ArgumentParser(
-        prog="python -m validation",
+        prog=prog,
         description="Run the validation cases and write an HTML report with results.json.",
     )
     parser.add_argument("--list", action="store_true", help="list the case names and exit")
     parser.add_argument("--cases", default=None, help="comma-separated case names (default: all)")
     parser.add_argument("--resolution", default="default", help="|".join(RESOLUTIONS))
-    parser.add_argument("--out", default="report", help="report folder (default: report)")
+    parser.add_argument(
+        "--out", default="report", help="report folder (default: report, inside the working folder)"
+    )
     parser.add_argument(
         "--jobs",
         type=int,
@@ -57,10 +60,11 @@ def parse(argv: list[str]) -> argparse.Namespace:
     return args
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run the command line; 0 when every check passed and no case raised, 1 when not, 3 when
-    the report could not be written (one line on stderr names the file and what was kept)."""
-    args = parse(sys.argv[1:] if argv is None else argv)
+def main(argv: list[str] | None = None, prog: str = "python -m validation") -> int:
+    """Run the command line (``prog``: the command's name in messages); 0 when every check
+    passed and no case raised, 1 when not, 3 when the report could not be written (one line on
+    stderr names the file and what was kept)."""
+    args = parse(sys.argv[1:] if argv is None else argv, prog)
     if args.list:
         for name, case in CASES.items():
             print(f"{name:28s} {case.title}")
@@ -72,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as error:  # a full or read-only disk under the report
         written = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
         kept = f"{len(written)} file(s) in {str(out)!r}" if written else "nothing"
-        print(f"python -m validation: error: {_describe(error)}; stopped, kept: {kept}",
+        print(f"{prog}: error: {_describe(error)}; stopped, kept: {kept}",
               file=sys.stderr)  # fmt: skip
         return 3
     results = report.cases.values()

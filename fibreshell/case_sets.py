@@ -1,0 +1,143 @@
+"""Node sets of a case file by bounds: ``{ x_min = 199.9 }`` in mesh units, or
+``{ x_min = "100%" }`` as a share of the mesh's extent along that axis.
+
+A bound is a number in mesh units, or a string ``"P%"`` with P from 0 to 100: the
+coordinate ``low + P / 100 (high - low)`` of the mesh's extent [low, high] along that axis
+(its bounding box when the case is read). A relative bound follows the mesh when its size
+changes, so that a sweep over ``mesh.rectangle.lx`` keeps ``tip = { x_min = "100%" }`` at
+the tip; an absolute one stays where it was written. A node is in the set when every bound
+given holds within ``tolerance`` (mesh units, >= 0; default 1e-6 of the mesh's largest
+extent). Bounds that select no node are an error naming each bound, its coordinate and the
+mesh's extent.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+__all__ = ["BOUND_KEYS", "BoundsError", "select_by_bounds"]
+
+BOUND_KEYS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
+_PERCENT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*%\s*")
+
+
+class BoundsError(ValueError):
+    """Bounds that cannot be read or select no node; ``key`` is the bound at fault (None:
+    the bounds together)."""
+
+    def __init__(self, message: str, key: str | None = None) -> None:
+        super().__init__(message)
+        self.key = key
+
+
+def _coordinate(value: Any, key: str, low: float, high: float) -> float:
+    """The coordinate (mesh units) of bound ``key``: a number as given, or "P%" of [low,
+    high]."""
+    if isinstance(value, str):
+        match = _PERCENT.fullmatch(value)
+        if match is None:
+            raise BoundsError(
+                f"expected a number (mesh units) or a share of the mesh's extent such as "
+                f'"100%", got {value!r}',
+                key,
+            )
+        share = float(match.group(1))
+        if not 0.0 <= share <= 100.0:
+            raise BoundsError(
+                f"expected a share of the mesh's extent from 0% to 100%, got {value!r}", key
+            )
+        return low + share / 100.0 * (high - low)
+    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
+        raise BoundsError(
+            f'expected a finite number (mesh units) or a share such as "100%", got {value!r}',
+            key,
+        )
+    return float(value)
+
+
+def _extent(low: np.ndarray, high: np.ndarray) -> str:
+    return ", ".join(f"{a} {lo:g} to {hi:g}" for a, lo, hi in zip("xyz", low, high))
+
+
+def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarray:
+    """The nodes within ``bounds``.
+
+    Parameters
+    ----------
+    points : (n, 3) float array, mesh units
+        The mesh's node coordinates.
+    bounds : mapping
+        Some of ``x_min``, ``x_max``, ``y_min``, ``y_max``, ``z_min``, ``z_max`` (a number
+        in mesh units, or ``"P%"`` of the mesh's extent along that axis, 0 <= P <= 100) and
+        ``tolerance`` (mesh units, >= 0).
+
+    Returns
+    -------
+    (k,) int array
+        The ids of the nodes within every bound, ascending; k >= 1.
+
+    Raises
+    ------
+    BoundsError (a ValueError)
+        An unknown key, a bound that is neither a number nor a share from 0% to 100%, a
+        negative tolerance (``key`` names the bound); bounds that select no node (``key``
+        None: the message names each bound, its coordinate and the mesh's extent).
+    """
+    unknown = [key for key in bounds if key not in BOUND_KEYS]
+    if unknown:
+        raise BoundsError(
+            f"unknown key {unknown[0]!r}; expected one of {', '.join(BOUND_KEYS)}", unknown[0]
+        )
+    low, high = points.min(axis=0), points.max(axis=0)
+    size = float((high - low).max()) or 1.0
+    tolerance = bounds.get("tolerance", 1e-6 * size)
+    if (
+        isinstance(tolerance, bool)
+        or not isinstance(tolerance, int | float)
+        or not np.isfinite(tolerance)
+        or tolerance < 0.0
+    ):
+        raise BoundsError(
+            f"expected a finite distance >= 0 (mesh units), got {tolerance!r}", "tolerance"
+        )
+    mask = np.ones(len(points), dtype=bool)
+    given = []  # (key, text, mask of that bound alone)
+    for axis, name in enumerate("xyz"):
+        for side in ("min", "max"):
+            key = f"{name}_{side}"
+            if key not in bounds:
+                continue
+            at = _coordinate(bounds[key], key, float(low[axis]), float(high[axis]))
+            alone = (
+                points[:, axis] >= at - tolerance
+                if side == "min"
+                else points[:, axis] <= at + tolerance
+            )
+            mask &= alone
+            written = bounds[key]
+            text = f"{key} = {written!r} ({name} = {at:g})" if isinstance(written, str) else (
+                f"{key} = {at:g}"
+            )  # fmt: skip
+            given.append((key, text, alone))
+    if mask.any():
+        return np.flatnonzero(mask)
+    spans = _extent(low, high)
+    empty = [text for _, text, alone in given if not alone.any()]
+    if empty:
+        what = f"no node within {'; '.join(empty)}"
+    elif given:
+        what = f"no node within {', '.join(text for _, text, _ in given)} together"
+    else:
+        what = "no node"  # no points at all
+    hint = (
+        ' (a bound written as a share of the extent, "0%" to "100%", follows the mesh)'
+        if any(not isinstance(bounds[key], str) for key, _, _ in given)
+        else ""
+    )
+    raise BoundsError(
+        f"{what} (tolerance {float(tolerance):g}): the mesh spans {spans}{hint}", None
+    )
