@@ -1,0 +1,141 @@
+"""Node sets of a case file by bounds (fibreshell/case_sets.py): a bound in mesh units or as a
+share of the mesh's extent ("100%"), so that a sweep over the mesh's size keeps its sets; and
+bounds that select nothing are an error naming the set, the bound and the mesh's extent."""
+
+import copy
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fibreshell.case import CaseError, case_from_data, read_case_data
+from fibreshell.case_sets import BoundsError, select_by_bounds
+from fibreshell.sweep import apply_overrides
+
+CASES = Path(__file__).parents[1] / "cases"
+
+
+def strip(sets: dict, lx: float = 200.0, **tables) -> dict:
+    """The tables of a 200 x 60 mm Mindlin strip, 8 x 2 cells, with the node sets ``sets``."""
+    return {
+        "mesh": {"rectangle": {"lx": lx, "ly": 60.0, "nx": 8, "ny": 2}},
+        "sets": sets,
+        "part": [{"element": "mindlin", "material": {"E": 1e3, "nu": 0.3, "thickness": 1.0,
+                                                      "density": 1e-9}}],
+        "solver": {"kind": "static"},
+        **tables,
+    }  # fmt: skip
+
+
+def points_of(case, name: str) -> np.ndarray:
+    return case.mesh.points[case.node_sets[name]]
+
+
+# ---------------------------------------------------------------------- relative bounds
+def test_a_share_of_the_extent_selects_that_place_along_the_axis():
+    case = case_from_data(
+        strip({"tip": {"x_min": "100%"}, "middle": {"y_min": "50%", "y_max": "50%"},
+               "first_quarter": {"x_max": "25 %"}}),
+        "strip.toml",
+    )  # fmt: skip
+    assert np.array_equal(case.node_sets["tip"], case.mesh.nodes("right"))
+    assert np.all(points_of(case, "middle")[:, 1] == 30.0) and len(case.node_sets["middle"]) == 9
+    assert set(points_of(case, "first_quarter")[:, 0]) == {0.0, 25.0, 50.0}
+
+
+def test_a_share_is_of_the_extent_from_its_low_end_not_from_zero():
+    points = np.array([[-50.0, 0.0, 0.0], [0.0, 0.0, 0.0], [50.0, 0.0, 0.0]])
+    assert select_by_bounds(points, {"x_min": "50%", "x_max": "50%"}).tolist() == [1]
+    assert select_by_bounds(points, {"x_max": "0%"}).tolist() == [0]
+
+
+def test_a_sweep_over_the_length_keeps_a_relative_set_at_the_tip_and_loses_an_absolute_one():
+    data = strip({"tip": {"x_min": "100%"}})
+    longer, _ = apply_overrides(data, {"mesh.rectangle.lx": 300.0})
+    case = case_from_data(longer, "strip.toml")
+    assert np.all(points_of(case, "tip")[:, 0] == 300.0) and len(case.node_sets["tip"]) == 3
+    shorter, _ = apply_overrides(strip({"tip": {"x_min": 200.0}}), {"mesh.rectangle.lx": 150.0})
+    with pytest.raises(CaseError, match=r"\[sets\.tip\]: no node within x_min = 200 "):
+        case_from_data(shorter, "strip.toml")
+
+
+def test_relative_bounds_work_wherever_nodes_are_selected_fixes_and_paths_too():
+    case = case_from_data(
+        strip({}, fix=[{"nodes": {"x_max": "0%"}}],
+              output={"paths": {"centre": {"y_min": "50%", "y_max": "50%"}}}),
+        "strip.toml",
+    )  # fmt: skip
+    assert np.array_equal(np.sort(case.fixes[0]["nodes"]), np.sort(case.mesh.nodes("left")))
+    assert np.all(case.mesh.points[case.paths["centre"], 1] == 30.0)
+    assert np.all(np.diff(case.mesh.points[case.paths["centre"], 0]) > 0)  # along x
+
+
+# ---------------------------------------------------------------------- errors
+def test_an_absolute_bound_past_the_mesh_names_the_set_the_bound_and_the_extent():
+    with pytest.raises(CaseError) as caught:
+        case_from_data(strip({"tip": {"x_min": 250.0}}), "strip.toml")
+    message = str(caught.value)
+    assert message.startswith("strip.toml: [sets.tip]: no node within x_min = 250 ")
+    assert "the mesh spans x 0 to 200, y 0 to 60, z 0 to 0" in message
+    assert '"0%" to "100%", follows the mesh' in message  # the way out
+
+
+def test_bounds_that_exclude_each_other_are_named_together():
+    with pytest.raises(CaseError, match=r"no node within x_min = 50, x_max = 40 together"):
+        case_from_data(strip({"gap": {"x_min": 50.0, "x_max": 40.0}}), "strip.toml")
+
+
+def test_an_empty_relative_set_names_the_share_and_the_coordinate_it_is_at():
+    # 8 cells along 200 mm: nodes every 25 mm, none at 10 % (20 mm)
+    with pytest.raises(CaseError) as caught:
+        case_from_data(strip({"line": {"x_min": "10%", "x_max": "10%"}}), "strip.toml")
+    assert "x_min = '10%' (x = 20), x_max = '10%' (x = 20) together" in str(caught.value)
+    assert "follows the mesh" not in str(caught.value)  # already relative
+
+
+@pytest.mark.parametrize(
+    "bounds, key, message",
+    [
+        ({"x_min": "101%"}, "x_min", "from 0% to 100%, got '101%'"),
+        ({"x_min": "-1%"}, "x_min", "from 0% to 100%, got '-1%'"),
+        ({"y_max": "half"}, "y_max", "a share of the mesh's extent such as \"100%\", got 'half'"),
+        ({"z_min": True}, "z_min", "got True"),
+        ({"x_min": float("nan")}, "x_min", "got nan"),
+        ({"x_min": 0.0, "tolerance": -1.0}, "tolerance", "distance >= 0"),
+        ({"x_mn": 0.0}, "x_mn", "unknown key 'x_mn'"),
+    ],
+)
+def test_a_malformed_bound_is_an_error_at_its_own_key(bounds, key, message):
+    with pytest.raises(CaseError, match=rf"\[sets\.tip\.{key}\]: .*{message}"):
+        case_from_data(strip({"tip": bounds}), "strip.toml")
+
+
+def test_select_by_bounds_raises_a_value_error_that_names_the_key():
+    with pytest.raises(ValueError) as caught:
+        select_by_bounds(np.zeros((2, 3)), {"x_min": "200%"})
+    assert isinstance(caught.value, BoundsError) and caught.value.key == "x_min"
+
+
+# ---------------------------------------------------------------------- the shipped cases
+def selections(case) -> dict[str, list[int]]:
+    """Every node selection of a case: its sets, paths, and the nodes of each table."""
+    found = {f"sets.{k}": v for k, v in case.node_sets.items()}
+    found.update({f"paths.{k}": v for k, v in case.paths.items()})
+    for table in ("fixes", "displacements", "forces", "moments", "grips", "contacts"):
+        for i, item in enumerate(getattr(case, table)):
+            if item.get("nodes") is not None:
+                found[f"{table}[{i}]"] = item["nodes"]
+    return {name: sorted(np.asarray(ids).tolist()) for name, ids in found.items()}
+
+
+@pytest.mark.parametrize("path", sorted(CASES.glob("*.toml")), ids=lambda p: p.name)
+def test_every_shipped_case_keeps_its_node_sets_when_its_mesh_is_scaled(path):
+    data = read_case_data(path)
+    kind = next(iter(data["mesh"]))
+    if kind not in ("rectangle", "corner"):
+        pytest.skip("a mesh file has no size key to sweep")
+    scaled = copy.deepcopy(data)
+    for key in ("lx", "ly"):
+        scaled["mesh"][kind][key] *= 1.5
+    before = selections(case_from_data(data, path))
+    assert selections(case_from_data(scaled, path)) == before  # the same nodes by id
