@@ -9,6 +9,7 @@ rate since the start.
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import os
 import sys
@@ -289,11 +290,7 @@ class ProgressLine:
 
 def _widgets() -> bool:
     """A notebook draws the bar with ipywidgets; without them it gets plain lines."""
-    try:
-        import ipywidgets  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    return importlib.util.find_spec("ipywidgets") is not None
 
 
 def _time_left_column(line: ProgressLine) -> Any:
