@@ -244,6 +244,9 @@ class ProgressLine:
             expand=True,
             refresh_per_second=2,
             get_time=self._clock,
+            # Prints during the run go above the bar; stdout only when it is a terminal too
+            # (the console writes to stderr: a piped stdout must keep its lines).
+            redirect_stdout=_is_terminal(sys.stdout),
         )
         self._task = self._bar.add_task("", total=1.0, label=self.label)
         self._bar.start()
@@ -281,11 +284,21 @@ class ProgressLine:
         stream = self._stream or sys.stderr
         print(f"[{self.label}] {self._status()} [{numbers}]", file=stream, flush=True)
 
+    @property
+    def finished(self) -> bool:
+        """The run reported its whole share done."""
+        return self._fraction is not None and self._fraction >= 1.0
+
     def time_left(self) -> float | None:
         """The estimated time left now (s), None while not known."""
-        if self._fraction is not None and self._fraction >= 1.0:
-            return 0.0
-        return self._estimate.remaining(self._clock())
+        return 0.0 if self.finished else self._estimate.remaining(self._clock())
+
+
+def _is_terminal(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):  # no isatty, or a closed file
+        return False
 
 
 def _widgets() -> bool:
@@ -301,9 +314,9 @@ def _time_left_column(line: ProgressLine) -> Any:
         """ "ETA 0:01:05" from the line's estimate (rich's own is the rate since the start)."""
 
         def render(self, task: Any) -> Text:
-            left = line.time_left()
-            if left == 0.0:
+            if line.finished:
                 return Text("")
+            left = line.time_left()
             if left is None:
                 return Text("ETA -:--:--", style="progress.remaining")
             seconds = round(left)
