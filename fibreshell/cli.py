@@ -168,7 +168,7 @@ def _key_numbers(text: str, option: str) -> dict[str, float | None]:
     return numbers
 
 
-def _sweep(args: argparse.Namespace, progress: bool) -> int:
+def _sweep(args: argparse.Namespace, progress: bool | None) -> int:
     from fibreshell.sweep import MAX_VARIANTS, parse_vary, sweep
 
     cap = MAX_VARIANTS if args.max_variants is None else args.max_variants
@@ -186,7 +186,7 @@ def _sweep(args: argparse.Namespace, progress: bool) -> int:
     return 1 if failed else 0
 
 
-def _identify(args: argparse.Namespace, progress: bool) -> int:
+def _identify(args: argparse.Namespace, progress: bool | None) -> int:
     from fibreshell.identify import FitFailed, format_result, identify
 
     out = _out_folder(args.out, args.case, "-identify")
@@ -263,7 +263,7 @@ def _main(argv: list[str]) -> int:
     from fibreshell.run import run_case
 
     started = time.perf_counter()
-    progress = False if args.quiet else True
+    progress = False if args.quiet else None  # None: solvers.progress.resolve_progress
     if args.command in ("sweep", "identify"):
         try:
             return (_sweep if args.command == "sweep" else _identify)(args, progress)

@@ -129,25 +129,19 @@ def map_tasks(
 
     if not arguments:
         return []
-    line = ProgressLine(resolve_progress(progress), label, every=1.0)
     futures = [client.submit(function, *args, pure=False) for args in arguments]
     index = {future.key: i for i, future in enumerate(futures)}
     results: list[Any] = [None] * len(futures)
     failed = 0
-    for count, future in enumerate(as_completed(futures), 1):
-        i = index[future.key]
-        try:
-            results[i] = future.result()
-        except Exception as error:  # the task's own error, or the worker's death
-            results[i] = Failure(f"{type(error).__name__}: {error}")
-        failed += isinstance(results[i], Failure)
-        if done is not None:
-            done(i, results[i])
-        share = count / len(futures)
-        bar = "#" * round(20 * share) + "." * (20 - round(20 * share))
-        line(
-            f"|{bar}| {count}/{len(futures)} tasks, {failed} failed",
-            force=count == len(futures),
-            fraction=share,
-        )
+    with ProgressLine(resolve_progress(progress), label) as line:
+        for count, future in enumerate(as_completed(futures), 1):
+            i = index[future.key]
+            try:
+                results[i] = future.result()
+            except Exception as error:  # the task's own error, or the worker's death
+                results[i] = Failure(f"{type(error).__name__}: {error}")
+            failed += isinstance(results[i], Failure)
+            if done is not None:
+                done(i, results[i])
+            line(f"{count}/{len(futures)} tasks, {failed} failed", fraction=count / len(futures))
     return results

@@ -82,7 +82,7 @@ def run_case(
     kinematics : None, "fibrous" or "mindlin"
         See ``Case.model``.
     progress : bool or None
-        The solver's progress line (None: when stderr is a terminal).
+        The solver's progress bar on stderr (None: solvers.progress.resolve_progress).
     calibration : fibreshell.calibration.Calibration, str or None
         How the Mindlin shell is made of the fabric ("laws" by default, "fit" values or
         "initial-slope"); shear_ratio, bending_scale, transverse_shear set its numbers

@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import os
-import sys
-import time
-
 import numpy as np
 
 from femcore.checks import as_number, check_positive
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
+from solvers.progress import ProgressLine, resolve_progress
 
 __all__ = [
     "ConvergenceError",
@@ -110,52 +107,6 @@ def make_frame(
 
 def empty_result(model: CompiledModel, frames: list[Frame]) -> Result:
     return Result(mesh=model.mesh, frames=frames, has_rotation=model.has_rotation.copy())
-
-
-def resolve_progress(progress: bool | None) -> bool:
-    """Progress lines are shown unless asked otherwise: on a terminal, in a notebook and in a
-    log alike. Off with ``progress=False``, with the environment variable
-    FIBRESHELL_PROGRESS=0 (the validation report, which prints a line per case, sets it), and
-    under pytest unless asked (a test's output is noise)."""
-    if progress is not None:
-        return bool(progress)
-    if os.environ.get("FIBRESHELL_PROGRESS", "1") == "0":
-        return False
-    return "PYTEST_CURRENT_TEST" not in os.environ
-
-
-class ProgressLine:
-    """Prints a status line to stderr at most every ``every`` seconds (and on demand), with
-    the share done and the estimated time left when the caller gives ``fraction``."""
-
-    def __init__(self, enabled: bool, label: str, every: float = 2.0):
-        self.enabled = enabled
-        self.label = label
-        self.every = every
-        self._started = self._last = time.perf_counter()
-
-    def __call__(self, text: str, force: bool = False, fraction: float | None = None) -> None:
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        if force or now - self._last >= self.every:
-            self._last = now
-            elapsed = now - self._started
-            if fraction is not None and 0.0 < fraction < 1.0:
-                left = elapsed * (1.0 - fraction) / fraction
-                text += f" [{100 * fraction:.0f} %, {elapsed:.0f} s, ETA {_duration(left)}]"
-            elif fraction is not None:
-                text += f" [{elapsed:.1f} s]"
-            print(f"[{self.label}] {text}", file=sys.stderr, flush=True)
-
-
-def _duration(seconds: float) -> str:
-    """ "42 s", "3 min 20 s", "2 h 05 min"."""
-    if seconds < 60:
-        return f"{seconds:.0f} s"
-    if seconds < 3600:
-        return f"{int(seconds // 60)} min {int(seconds % 60):02d} s"
-    return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60):02d} min"
 
 
 def check_positive_or_none(value, name: str, unit: str = "") -> float | None:

@@ -19,6 +19,7 @@ import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import partial
 
 import numpy as np
 
@@ -121,7 +122,8 @@ class CentralDifference:
         ``result.info["frame_summaries"]``, one per frame of the series, also after a resume
         (they are part of the checkpoint): how a streamed run, which keeps only two frames in
         memory, gives a history row per frame.
-    progress : print status lines (None: only on an interactive terminal).
+    progress : show a progress bar on stderr, its share the time reached (None: unless under
+        pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
         (solvers/quasi_static.py): past it after the first tenth of the duration, where the
         work done has reached 1 % of the run's, one UserWarning at the end of a run that
@@ -304,7 +306,25 @@ class CentralDifference:
         else:
             run = self._start(compiled)
         stream, history = self._outputs(compiled, run)
-        progress = ProgressLine(resolve_progress(self.progress), "central difference")
+        with ProgressLine(resolve_progress(self.progress), "central difference") as progress:
+            return self._march(
+                compiled, run, stream, history, progress, started, saved_at, signature,
+                checkpoint_interval,
+            )  # fmt: skip
+
+    def _march(
+        self,
+        compiled: CompiledModel,
+        run: _Run,
+        stream,
+        history,
+        progress: ProgressLine,
+        started: float,
+        saved_at,
+        signature,
+        checkpoint_interval: float,
+    ) -> Result:
+        """The time steps of ``solve`` from ``run``'s state to the end of the duration."""
         last_saved = time.perf_counter()
         duration = self.duration
 
@@ -431,13 +451,12 @@ class CentralDifference:
                     run.frames.append(frame)
                 self._summarise(run, frame)
             progress(
-                f"t = {state.time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
-                f"KE = {energy.kinetic:.4g}, IE = {energy.internal:.4g}",
+                partial(_status, state.time, duration, step, dt, energy.kinetic, energy.internal),
                 fraction=state.time / duration,
             )
 
         save()
-        progress(f"done: {run.step} steps", force=True, fraction=1.0)
+        progress(f"done: {run.step} steps", fraction=1.0)
         return result(True)
 
     def _signature(self, model: CompiledModel) -> Fingerprint:
@@ -627,6 +646,16 @@ def _keep_rotary_energy(state: State, before: np.ndarray, after: np.ndarray) -> 
     N mm at one refresh)."""
     ratio = np.sqrt(np.divide(before, after, out=np.ones_like(after), where=after > 0.0))
     return replace(state, angular_velocities=state.angular_velocities * ratio[:, None])
+
+
+def _status(
+    time: float, duration: float, step: int, dt: float, kinetic: float, internal: float
+) -> str:
+    """The status of a step (made only when the progress line shows it)."""
+    return (
+        f"t = {time:.4g}/{duration:.4g} s, step {step}, dt = {dt:.3g} s, "
+        f"KE = {kinetic:.4g}, IE = {internal:.4g}"
+    )
 
 
 def _stopped_by(signal_name: str, step: int, time: float, duration: float, saved_at) -> str:

@@ -32,6 +32,7 @@ import math
 import os
 import time
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -61,6 +62,7 @@ from solvers.dynamics import damped_velocity
 from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
+from solvers.progress import relaxed_share
 from solvers.step import advance, angular_rates
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
@@ -117,7 +119,10 @@ class DynamicRelaxation:
         relaxed from a box shape swings down for 10 000 iterations before improving on the
         ratio it met first).
     progress : bool or None
-        Print status lines (None: only on an interactive terminal).
+        Show a progress bar on stderr (None: unless under pytest or with
+        FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress). Its share is the
+        increments done plus, in the current one, log(r1 / r) / log(r1 / tol) of the
+        residual ratio r from its first value r1 to the tolerance.
     """
 
     def __init__(
@@ -236,7 +241,6 @@ class DynamicRelaxation:
                 state, positions=positions, directors=directors, load_factor=first, time=first
             )
             frames.append(make_frame(compiled, state))
-        progress = ProgressLine(resolve_progress(self.progress), "dynamic relaxation")
         masses: RelaxationMasses = (
             GershgorinMasses(compiled, self.safety)
             if self.masses == "gershgorin"
@@ -261,6 +265,28 @@ class DynamicRelaxation:
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
             iterations, residuals = payload["iterations"], payload["residuals"]
             masses.estimates, masses.recoveries = payload["estimates"], payload["recoveries"]
+        with ProgressLine(resolve_progress(self.progress), "dynamic relaxation") as progress:
+            return self._increments(
+                compiled, state, frames, first, done, iterations, residuals, masses, progress,
+                started, saved_at, signature,
+            )  # fmt: skip
+
+    def _increments(
+        self,
+        compiled: CompiledModel,
+        state: State,
+        frames: list,
+        first: float,
+        done: int,
+        iterations: list[int],
+        residuals: list[float],
+        masses: RelaxationMasses,
+        progress: ProgressLine,
+        started: float,
+        saved_at,
+        signature,
+    ) -> Result:
+        """Relax the increments after the ``done`` ones of ``solve``, saving each."""
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
@@ -298,7 +324,6 @@ class DynamicRelaxation:
                 )
             progress(
                 f"increment {increment}/{self.increments} converged in {count} iterations",
-                force=True,
                 fraction=increment / self.increments,
             )
         return self._result(compiled, frames, iterations, residuals, masses, started, True)
@@ -364,7 +389,7 @@ class DynamicRelaxation:
         rotation_since_start = np.zeros_like(state.positions)
         rest_rotation = rotation_since_start.copy()  # its value at ``at_rest``
         c = 0.0
-        ratio = math.inf
+        ratio = first_ratio = math.inf
         size_of_model = float(np.ptp(model.reference_positions, axis=0).max())
         first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
         high_since = 1  # the first iteration of the current run of ratios above 0.5
@@ -397,6 +422,13 @@ class DynamicRelaxation:
                     angular_velocities=np.zeros_like(omega),
                 )
                 return model.commit(rest), iteration, ratio, reactions, reaction_moments
+            if iteration == 1:
+                first_ratio = ratio
+            progress(
+                partial(_iteration_status, increment, iteration, ratio, self.tol),
+                fraction=(increment - 1 + relaxed_share(first_ratio, ratio, self.tol))
+                / self.increments,
+            )
             # The size of the out-of-balance in force units. Not the ratio: a blow-up that
             # stretches the model grows F_int, the ratio's own reference, with it.
             size = float(np.linalg.norm(residual)) + (
@@ -474,10 +506,6 @@ class DynamicRelaxation:
                     mass, inertia, dt = masses(state, inflate)
                     inv_inertia = inverse_diagonal(inertia)
                     estimated_at = iteration
-                progress(
-                    f"increment {increment}: iteration {iteration}, residual ratio "
-                    f"{ratio:.3g} (tol {self.tol:g})"
-                )
                 continue
 
             state = advance(model, state, dt, v_new, w_new if any_rot else None)
@@ -541,6 +569,11 @@ _TURN_CHECK = 10
 _MAX_INFLATION = 1024.0
 #: A residual ratio above this has not fallen (the mechanism watch).
 _STALL_RATIO = 0.5
+
+
+def _iteration_status(increment: int, iteration: int, ratio: float, tol: float) -> str:
+    """The status of an iteration (made only when the progress line shows it)."""
+    return f"increment {increment}: iteration {iteration}, residual ratio {ratio:.3g} (tol {tol:g})"
 
 
 def _interrupted(error: Interrupted, increment: int, increments: int, saved_at) -> str:

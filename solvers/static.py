@@ -136,7 +136,8 @@ class Static:
         costs a force and an energy evaluation and a solve, and the count of tangents is not
         always lower (Peirce's cantilever). Counted in ``info["chord_corrections"]``; not in
         increments with prescribed motion or contact.
-    progress : print status lines (None: only on an interactive terminal).
+    progress : show a progress bar on stderr, its share the load factor reached (None: unless
+        under pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
         rewritten after each) as its increment converges, so that a killed run leaves the
         increments it converged. All frames are also kept in memory.
@@ -248,15 +249,16 @@ class Static:
         n_cells = sum(len(block.cell_ids) for block in compiled.blocks)
         check_model_memory(n_cells, STATIC_BYTES_PER_CELL, "a static solve")
         run = StaticRun(self, compiled)
-        phases = 2 if self.step_loads_first else 1
-        for phase in range(phases):
-            run.phase = phase
-            if self.path == "load":
-                self._load_path(run, phase)
-            elif arc_length_path(run, phase):  # stopped at a limit point to jump
-                self._load_path(run, phase, jump=True)
-        run.report_stabilisation()
-        return run.result(True)
+        with run.progress:
+            phases = 2 if self.step_loads_first else 1
+            for phase in range(phases):
+                run.phase = phase
+                if self.path == "load":
+                    self._load_path(run, phase)
+                elif arc_length_path(run, phase):  # stopped at a limit point to jump
+                    self._load_path(run, phase, jump=True)
+            run.report_stabilisation()
+            return run.result(True)
 
     # ------------------------------------------------------------------ load path
     def _load_path(self, run: StaticRun, phase: int, jump: bool = False) -> None:
@@ -580,8 +582,8 @@ class StaticRun:
         reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
         self.keep(make_frame(model, state, reactions, reaction_moments))
         self.progress(
-            f"load factor {self.reached:.4g} converged in {iterations} Newton iterations",
-            force=True,
+            f"increment {len(self.frames) - 1}: load factor {self.reached:.4g} converged in "
+            f"{iterations} Newton iterations",
             fraction=self.reached / (2.0 if self.solver.step_loads_first else 1.0),
         )
         if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
