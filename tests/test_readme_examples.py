@@ -137,10 +137,12 @@ def quoted(pattern: str) -> tuple[str, ...]:
 
 
 def within_rounding(value: float, shown: str) -> bool:
-    """``value`` rounds to ``shown`` (a number as the README prints it): within half its
-    last digit."""
-    decimals = len(shown.partition(".")[2])
-    return abs(value - float(shown)) <= 0.5 * 10.0**-decimals * (1 + 1e-9)
+    """``value`` rounds to ``shown`` (a number as the README prints it, ``126.3`` or
+    ``3.000e-10``): within half its last digit."""
+    mantissa, _, exponent = shown.lower().partition("e")
+    decimals = len(mantissa.partition(".")[2])
+    half = 0.5 * 10.0 ** (int(exponent or 0) - decimals)
+    return abs(value - float(shown)) <= half * (1 + 1e-9)
 
 
 # ------------------------------------------------------------------------- the blocks
@@ -351,6 +353,9 @@ def check_identify(argv, folder, printed):
     assert fitted["part.0.material.bending"]["value"] == pytest.approx(0.1, rel=0.01)
     assert fitted["part.0.material.areal_density"]["value"] == pytest.approx(3e-10, rel=1e-4)
     assert fitted["part.0.material.areal_density"]["start"] == 1e-10  # the case's own value
+    bending, density = quoted(r"returns B = (\d\.\d+) N mm and (\S+) t/mm\^2")
+    assert within_rounding(fitted["part.0.material.bending"]["value"], bending)
+    assert within_rounding(fitted["part.0.material.areal_density"]["value"], density)
     assert "95 % interval" in printed and (out / "fit.png").is_file()
 
 
@@ -423,6 +428,22 @@ PYTHON_CHECKS = {
 }
 
 
+def test_every_file_the_readme_names_exists():
+    """A path into the project (``elements/contact.py``, ``cases/strip.toml``) names a file
+    there, and each file the Layout section lists by name under a folder is in that folder."""
+    text = README.read_text()
+    folders = {p.name for p in ROOT.iterdir() if p.is_dir() and not p.name.startswith(".")}
+    paths = set(re.findall(r"\b([\w-]+(?:/[\w.-]+)+\.(?:py|toml|csv|md))\b", text))
+    missing = [p for p in sorted(paths) if p.split("/")[0] in folders and not (ROOT / p).exists()]
+    layout = text[text.index("## Layout") :].split("\n## ")[0]
+    for item in layout.split("\n- `")[1:]:
+        folder = ROOT / item.split("`")[0]
+        for name in set(re.findall(r"(?<![\w/])([\w]+\.py)\b", item)):
+            if not any(folder.rglob(name)):
+                missing.append(f"{folder.name}/.../{name}")
+    assert not missing, missing
+
+
 def test_the_identify_example_uses_shipped_files():
     (command,) = [argv for b in BLOCKS for argv in b.commands if argv[0] == "identify"]
     for argument in (command[1], command[command.index("--data") + 1]):
@@ -442,4 +463,5 @@ def test_the_test_reads_markers_and_commands_as_documented():
                                                        ["compare", "b.toml"]]  # fmt: skip
     assert (third.language, third.marker, third.argument) == ("toml", "fragment-of", "cases/a.toml")
     assert first.commands == [] and within_rounding(126.34, "126.3")
+    assert within_rounding(3.0004e-10, "3.000e-10") and not within_rounding(3.0006e-10, "3.000e-10")
     assert not within_rounding(126.36, "126.3") and within_rounding(20.4, "20")
