@@ -335,7 +335,9 @@ def check_sweep(argv, folder, printed):
         rows = list(csv.DictReader(handle))
     assert len(rows) == 3 * 2
     for column in ("part.0.material.bending", "kinematics", "converged", "error", "wall_time_s",
-                   "steps", "reaction_left_z", "displacement_tip_z"):  # fmt: skip
+                   "steps", "reaction_left_z", "displacement_tip_z", "max_fibre_strain",
+                   "director_tilt_min_deg", "director_tilt_max_deg",
+                   "path_centre_director_angle_min_deg", "path_centre_director_angle_max_deg"):  # fmt: skip
         assert column in rows[0], (column, list(rows[0]))
     assert all(row["converged"] == "True" for row in rows), rows
     assert (out_folder(argv, folder) / "variant-000").is_dir()
