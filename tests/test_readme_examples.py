@@ -334,10 +334,13 @@ def check_sweep(argv, folder, printed):
     with open(out_folder(argv, folder) / "sweep.csv", newline="") as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) == 3 * 2
-    for column in ("part.0.material.bending", "kinematics", "converged", "error", "wall_time_s",
-                   "steps", "reaction_left_z", "displacement_tip_z", "max_fibre_strain",
-                   "director_tilt_min_deg", "director_tilt_max_deg",
-                   "path_centre_director_angle_min_deg", "path_centre_director_angle_max_deg"):  # fmt: skip
+    columns = (
+        "part.0.material.bending", "kinematics", "converged", "error", "wall_time_s", "steps",
+        "reaction_left_z", "displacement_tip_z", "max_fibre_strain", "director_tilt_min_deg",
+        "director_tilt_max_deg", "path_centre_director_angle_min_deg",
+        "path_centre_director_angle_max_deg",
+    )  # fmt: skip
+    for column in columns:
         assert column in rows[0], (column, list(rows[0]))
     assert all(row["converged"] == "True" for row in rows), rows
     assert (out_folder(argv, folder) / "variant-000").is_dir()
