@@ -263,13 +263,18 @@ def test_the_command_runs(block, argv, project_folder, capsys):
         status = stop.code or 0
     printed = capsys.readouterr().out
     assert status == 0, printed
-    if argv[0] in COMMAND_CHECKS:
-        COMMAND_CHECKS[argv[0]](argv, project_folder, printed)
+    check = COMMAND_CHECKS.get((argv[0], argv[1] if len(argv) > 1 else ""))
+    if check is not None:
+        check(argv, project_folder, printed)
 
 
 # ------------------------------------------------------------- the numbers the text quotes
 def out_folder(argv: list[str], folder: Path) -> Path:
-    return folder / argv[argv.index("--out") + 1]
+    """The command's output folder: ``--out``, else named after the case (README tour)."""
+    if "--out" in argv:
+        return folder / argv[argv.index("--out") + 1]
+    suffix = {"run": ""}.get(argv[0], f"-{argv[0]}")
+    return folder / (Path(argv[1]).stem + suffix)
 
 
 def check_run(argv, folder, printed):
@@ -370,8 +375,12 @@ def check_identify(argv, folder, printed):
     assert "95 % interval" in printed and (out / "fit.png").is_file()
 
 
-COMMAND_CHECKS = {"run": check_run, "compare": check_compare, "sweep": check_sweep,
-                  "identify": check_identify}  # fmt: skip
+COMMAND_CHECKS = {  # (command, case): what its README text says of it
+    ("run", "cases/g1151_strip.toml"): check_run,
+    ("compare", "cases/g1151_strip.toml"): check_compare,
+    ("sweep", "cases/g1151_strip.toml"): check_sweep,
+    ("identify", "cases/strip.toml"): check_identify,
+}
 
 
 def check_cable_pulled_through_a_spring(namespace, printed):
@@ -453,6 +462,16 @@ def test_every_file_the_readme_names_exists():
             if not any(folder.rglob(name)):
                 missing.append(f"{folder.name}/.../{name}")
     assert not missing, missing
+
+
+def test_every_check_of_quoted_numbers_finds_its_example():
+    """A README edit that drops or renames an example fails here rather than skipping the
+    check of what its text says."""
+    commands = {(argv[0], argv[1]) for b in BLOCKS for argv in b.commands if len(argv) > 1}
+    assert set(COMMAND_CHECKS) <= commands, set(COMMAND_CHECKS) - commands
+    for phrase in PYTHON_CHECKS:
+        found = [b.line for b in BLOCKS if b.language == "python" and phrase in b.text]
+        assert len(found) == 1, (phrase, found)
 
 
 def test_the_identify_example_uses_shipped_files():
