@@ -464,6 +464,22 @@ def test_every_file_the_readme_names_exists():
     assert not missing, missing
 
 
+def test_every_readme_section_the_code_points_to_exists():
+    """A docstring's ``README "Case files"`` names a heading of the README."""
+    headings = [line.lstrip("#").strip() for line in README.read_text().splitlines()
+                if line.startswith("#")]  # fmt: skip
+    pointers = []
+    for folder in ("femcore", "elements", "materials", "solvers", "fibreshell", "validation",
+                   "benchmarks", "tests", "docs"):  # fmt: skip
+        for path in (ROOT / folder).rglob("*.*"):
+            if path.suffix in (".py", ".md") and path != Path(__file__):
+                text = " ".join(path.read_text().split())
+                pointers += [(path.name, name) for name in re.findall(r'README "([^"]+)"', text)]
+    assert pointers
+    lost = [(f, name) for f, name in pointers if not any(name in h for h in headings)]
+    assert not lost, lost
+
+
 def test_every_check_of_quoted_numbers_finds_its_example():
     """A README edit that drops or renames an example fails here rather than skipping the
     check of what its text says."""
