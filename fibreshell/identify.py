@@ -184,9 +184,9 @@ def start_values(data: dict, fit: dict[str, float | None]) -> np.ndarray:
                 elif (
                     depth == len(parts) - 1
                     and parts[depth - 1] == "material"
-                    and (_preset_number(node, part) is not None)
+                    and (number := _preset_number(node, part)) is not None
                 ):
-                    node = _preset_number(node, part)
+                    node = number
                 else:
                     raise ValueError(
                         f"{key}: the case has no number there to start from; give one "
@@ -215,8 +215,9 @@ def _preset_number(material: Any, name: str) -> float | None:
     except (ValueError, TypeError):
         return None  # the case reader names what is wrong with the preset
     value = getattr(built, name, None)
-    numeric = isinstance(value, int | float) and not isinstance(value, bool)
-    return float(value) if numeric else None
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    return float(value)
 
 
 def identify(
