@@ -302,8 +302,11 @@ def check_compare(argv, folder, printed):
     (tip, path, director angles, thickness) from comparison.json; the schema of
     comparison.json that "Comparing kinematics" sketches."""
     out = out_folder(argv, folder)
-    for name in ("comparison.json", "view-3d.png", "path-centre.png", "fibrous", "mindlin"):
-        assert (out / name).exists(), name
+    for name in ("comparison.json", "view-3d.png", "path-centre.png"):
+        assert (out / name).is_file(), name
+    for kinematics in ("fibrous", "mindlin"):  # "the same per kinematics" as strip/
+        for name in ("result.pvd", "history.csv", "summary.json"):
+            assert (out / kinematics / name).is_file(), (kinematics, name)
     data = json.loads((out / "comparison.json").read_text())
     fibrous, mindlin = (data["kinematics"][k] for k in ("fibrous", "mindlin"))
     tips = quoted(r"tip (\d+\.\d) and (\d+\.\d) mm down")
