@@ -493,6 +493,20 @@ def test_every_check_of_quoted_numbers_finds_its_example():
         assert len(found) == 1, (phrase, found)
 
 
+def test_the_overhang_data_are_what_their_comment_says():
+    """cases/overhangs.csv: the heavy elastica's tip deflections of a 0.1 N mm, 3e-10 t/mm^2
+    strip and its weight, 10 mm wide, to the 6 significant digits written."""
+    from fibreshell.identify import read_measurements
+    from validation.references.elastica import heavy_cantilever
+
+    data = read_measurements(ROOT / "cases" / "overhangs.csv")
+    weight = 3e-10 * 9810.0  # N/mm^2
+    for length, tip, reaction in zip(*data.values()):
+        deflection = heavy_cantilever(length, weight, 0.1)["tip_deflection"]
+        assert -tip == pytest.approx(deflection, rel=1e-5)
+        assert reaction == pytest.approx(weight * length * 10.0, rel=1e-5)
+
+
 def test_the_identify_example_uses_shipped_files():
     (command,) = [argv for b in BLOCKS for argv in b.commands if argv[0] == "identify"]
     for argument in (command[1], command[command.index("--data") + 1]):
