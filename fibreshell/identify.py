@@ -24,6 +24,7 @@ theta +- t(0.975, m - n) sigma (Gauss-Newton's linearisation at the solution).
 from __future__ import annotations
 
 import csv
+import inspect
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from fibreshell import registry
 from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.run import strict_json
@@ -102,7 +104,8 @@ class Identification:
 
 def read_measurements(data: str | Path | dict) -> dict[str, list]:
     """The columns of a measured-data CSV (header row, then values: numbers, or TOML values
-    such as ``mindlin``), or a dict of equal-length columns given in Python.
+    such as ``mindlin``; lines starting with ``#`` are comments, e.g. the data's source), or a
+    dict of equal-length columns given in Python.
 
     Raises
     ------
@@ -119,7 +122,11 @@ def read_measurements(data: str | Path | dict) -> dict[str, list]:
             raise ValueError(f"{where}: no such data file")
         try:
             with open(data, newline="", encoding="utf-8") as handle:
-                lines = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)]
+                # Lines starting with # say where the data came from; blank lines are spacing.
+                lines = [
+                    row for row in csv.reader(handle)
+                    if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")
+                ]  # fmt: skip
         except (UnicodeDecodeError, csv.Error) as error:
             # A binary file (a spreadsheet, an image): say which file, not the codec's words.
             raise ValueError(
@@ -155,7 +162,9 @@ def _is_response(name: str) -> bool:
 
 def start_values(data: dict, fit: dict[str, float | None]) -> np.ndarray:
     """The starting value of every fitted key: the one given, else the case's own number at
-    that key (a value set in the file; a preset's law has no single number to start from).
+    that key: a value set in the file, or a preset material's own number
+    (``part.0.material.areal_density`` of ``material = "g1151_laminate"``; a law has no single
+    number to start from).
 
     Raises
     ------
@@ -166,11 +175,18 @@ def start_values(data: dict, fit: dict[str, float | None]) -> np.ndarray:
     for key, given in fit.items():
         if given is None:
             node: Any = data
-            for part in key.split("."):
+            parts = key.split(".")
+            for depth, part in enumerate(parts):
                 if isinstance(node, list) and part.isdigit() and int(part) < len(node):
                     node = node[int(part)]
                 elif isinstance(node, dict) and part in node:
                     node = node[part]
+                elif (
+                    depth == len(parts) - 1
+                    and parts[depth - 1] == "material"
+                    and (number := _preset_number(node, part)) is not None
+                ):
+                    node = number
                 else:
                     raise ValueError(
                         f"{key}: the case has no number there to start from; give one "
@@ -183,6 +199,25 @@ def start_values(data: dict, fit: dict[str, float | None]) -> np.ndarray:
             raise ValueError(f"{key}: the start must not be 0 (the fit scales by it)")
         start.append(float(given))
     return np.array(start)
+
+
+def _preset_number(material: Any, name: str) -> float | None:
+    """The number ``name`` of a preset material (``"g1151_laminate"`` or ``{ preset =
+    "g1151_laminate", ... }``) as the preset makes it, or None (not a preset, no such field,
+    or not a number: a law)."""
+    table = {"preset": material} if isinstance(material, str) else material
+    if not isinstance(table, dict) or not isinstance(table.get("preset"), str):
+        return None
+    try:
+        make = registry.material_factory(table["preset"])
+        own = inspect.signature(make).parameters
+        built = make(**{k: v for k, v in table.items() if k in own})
+    except (ValueError, TypeError):
+        return None  # the case reader names what is wrong with the preset
+    value = getattr(built, name, None)
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    return float(value)
 
 
 def identify(

@@ -15,6 +15,7 @@ from shell_helpers import clamped_strip_tables
 from fibreshell.cli import main
 from fibreshell.identify import identify, read_measurements, start_values
 from fibreshell.sweep import sweep
+from materials import presets
 from validation.references.elastica import heavy_cantilever
 
 GRAVITY = 9810.0
@@ -168,6 +169,28 @@ def test_start_values_come_from_the_case():
     assert start_values(case, {"part.0.material.bending": None, "mesh.rectangle.lx": 5}) == (
         pytest.approx([0.1, 5.0])
     )
+
+
+def test_a_preset_material_gives_its_own_numbers_to_start_from_but_not_its_laws():
+    case = strip(60.0, 4, 0.1, 1e-10)
+    case["part"][0]["material"] = "g1151_laminate"  # Bai Table 2: 6.93 kg/m^2, 15 mm
+    fit = {"part.0.material.areal_density": None, "part.0.material.thickness": None}
+    assert start_values(case, fit) == pytest.approx([6.93e-9, 15.0])
+    case["part"][0]["material"] = {"preset": "g986_stack", "plies": 3}  # its own argument
+    stack = presets.g986_stack(3)
+    assert start_values(case, {"part.0.material.areal_density": None}) == pytest.approx(
+        [stack.areal_density]
+    )
+    with pytest.raises(ValueError, match="no number there to start from"):
+        start_values(case, {"part.0.material.bending": None})  # a law
+
+
+def test_comment_lines_of_a_data_file_say_where_the_data_came_from(tmp_path):
+    data = tmp_path / "measured.csv"
+    data.write_text(
+        "# measured on 2020-05-04, ruler 0.5 mm\nx,z\n\n1.0,2.0\n# a note, with a comma\n3.0,4.0\n"
+    )
+    assert read_measurements(data) == {"x": [1.0, 3.0], "z": [2.0, 4.0]}
 
 
 @pytest.mark.slow
