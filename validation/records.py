@@ -92,7 +92,7 @@ class SideProfile:
         normal, = rotation for a director that kept its vertical orientation).
     normal_tilt_deg : numpy.ndarray
         Angle between the director and the area-weighted nodal normal of the deformed surface,
-        in three dimensions (deg, >= 0; the fibrous shell's node field "director_tilt").
+        in three dimensions (deg, >= 0; the fibrous shell's node field "director_tilt_deg").
     """
 
     s: np.ndarray

@@ -74,7 +74,7 @@ def fibre_statistics(result: Any, specimen: specimens.Specimen) -> dict[str, flo
     return {
         "max_fibre_strain": float(strain.max()),
         "max_fibre_strain_away_from_support": float(strain[~at_support].max()),
-        "max_shear_angle_deg": float(np.degrees(np.abs(result.field("shear_angle")).max())),
+        "max_shear_angle_deg": float(np.abs(result.field("shear_angle_deg")).max()),
     }
 
 
