@@ -49,8 +49,16 @@ def write_xdmf(
         A cell type other than triangle or line.
     OSError
         A file could not be written.
+    ImportError
+        h5py is not installed (it is a dependency of the project).
     """
-    import h5py
+    try:
+        import h5py
+    except ImportError:
+        raise ImportError(
+            "XDMF output writes its arrays with h5py, a dependency of fibreshell that is not "
+            "installed here: pip install h5py (or pip install -e . in the project)"
+        ) from None
 
     unknown = sorted({kind for kind, _ in cells} - set(_TOPOLOGY))
     if unknown:

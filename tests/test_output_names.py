@@ -6,6 +6,7 @@ import json
 import re
 from pathlib import Path
 
+import h5py
 import meshio
 import numpy as np
 import pytest
@@ -108,7 +109,6 @@ def test_the_vtu_component_names_are_what_vtk_reads(strip_run):
 
 
 def test_the_xdmf_series_is_one_grid_over_one_mesh_in_binary_hdf5(strip_run, tmp_path):
-    h5py = pytest.importorskip("h5py")  # a dependency; the skip only eases a stale install
     run, _ = strip_run
     result = run.result
     path = result.write(tmp_path / "strip.xdmf")
@@ -153,7 +153,6 @@ def test_vtk_s_xdmf_reader_sees_one_grid_with_a_time_step_per_frame(strip_run, t
 
 
 def test_an_xdmf_series_of_triangles_and_lines_reads_back_block_by_block(tmp_path):
-    pytest.importorskip("h5py")
     points = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]])
     cells = [("triangle", np.array([[0, 1, 2]])), ("line", np.array([[1, 3], [3, 2]]))]
     force = [np.array([7.0]), np.array([1.0, 2.0])]
