@@ -120,8 +120,8 @@ def central_shear(result, mesh) -> float:
     """Mean |shear angle| (deg) of the cells within 10 mm of the specimen's centre."""
     centres = mesh.points[mesh.triangles].mean(axis=1)
     central = np.linalg.norm(centres[:, :2] - [100.0, 50.0], axis=1) < 10.0
-    gamma = result.frames[-1].fields["triangle"]["shear_angle"]
-    return float(np.degrees(np.abs(gamma[central]).mean()))
+    gamma = result.frames[-1].fields["triangle"]["shear_angle_deg"]
+    return float(np.abs(gamma[central]).mean())
 
 
 def von_mises_truss():

@@ -41,6 +41,7 @@ from elements.mindlin_tables import (
 from elements.mindlin_tangent import mindlin_tangent_blocks
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
+from femcore.field_names import name_components
 from femcore.mesh import Mesh
 from femcore.rotation import cross
 from femcore.state import State
@@ -49,6 +50,11 @@ from materials.elastic import ElasticShell
 from materials.fabric import Fabric
 
 __all__ = ["MindlinShell", "MindlinShellBlock"]
+
+# The components ParaView names (README "Output fields"): the lamina frame, 3 the normal.
+name_components("membrane_force", ("11", "22", "12"))
+name_components("bending_moment", ("11", "22", "12"))
+name_components("shear_force", ("13", "23"))
 
 # Cells per slice of the analytic tangent (MindlinShellBlock.tangent).
 _TANGENT_SLICE = 256
@@ -745,15 +751,17 @@ class MindlinShellBlock(ElementBlock):
     def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         """The nodal fields both shells write (README "Output fields"): ``thickness`` along
         the director, h (mm: the director is an inextensible material fibre of the section),
-        and ``director_tilt``, the angle between the director and the area-weighted nodal
-        normal of the block (rad; the transverse shear rotation); 0 at nodes outside it."""
+        and ``director_tilt_deg``, the angle between the director and the area-weighted nodal
+        normal of the block (deg; the transverse shear rotation); 0 at nodes outside it."""
         inside = np.zeros(self.n_nodes, dtype=bool)
         inside[self.connectivity] = True
         normals = nodal_normals(state.positions, self.connectivity)
         cosine = np.sum(state.directors * np.where(inside[:, None], normals, 0.0), axis=1)
         return {
             "thickness": np.where(inside, self.h, 0.0),
-            "director_tilt": np.where(inside, np.arccos(np.clip(cosine, -1.0, 1.0)), 0.0),
+            "director_tilt_deg": np.where(
+                inside, np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))), 0.0
+            ),
         }
 
     def total_mass(self) -> float:

@@ -217,7 +217,7 @@ class MindlinFabricBlock(MindlinShellBlock):
         """The fields both shells write (README "Output fields"), in the fibre frame: membrane
         (warp tension, weft tension, shear moment) N/mm, bending (warp, weft, twisting
         moments) N mm/mm, and the strains the laws take: log fibre strains, shear angle
-        (rad), curvatures (1/mm)."""
+        (deg), curvatures (1/mm)."""
         y = self.section_measures(self._state_vectors(state))
         answer = response(self.section, y, hessian=False)
         return {
@@ -225,7 +225,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             "bending_moment": answer.moments,
             "warp_strain": answer.strains[:, 0],
             "weft_strain": answer.strains[:, 1],
-            "shear_angle": answer.shear_angle,
+            "shear_angle_deg": np.degrees(answer.shear_angle),
             "warp_curvature": answer.curvatures[:, 0],
             "weft_curvature": answer.curvatures[:, 1],
             "warp_moment": answer.moments[:, 0],

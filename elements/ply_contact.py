@@ -104,6 +104,7 @@ from elements import ply_friction, ply_slip, ply_surface
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import MARGIN, Facing, closest_facing, penalty_law
 from femcore.assembly import CellTangent
+from femcore.field_names import name_components
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.rotation import cross_matrix
 from femcore.state import State
@@ -121,6 +122,8 @@ __all__ = [
     "PlyContactBlock",
     "penalty_law",
 ]
+
+name_components("ply_slip_vector", ("x", "y", "z"))  # global axes, as the displacement's
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
 #: Triangles examined per point (the nearest centroids).

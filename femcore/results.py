@@ -1,4 +1,4 @@
-"""Result of a solve: frames of nodal and element fields, energies, and VTU/XDMF export.
+"""Result of a solve: frames of nodal and element fields, energies, and VTU/PVD/XDMF export.
 
 Cell fields are stored per cell kind (the kinds of :data:`femcore.mesh.CELL_KINDS`), and every
 export loops over the kinds present in the mesh, so a new cell kind needs no change here.
@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,13 +18,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from femcore.checks import as_path, as_reals
+from femcore.field_names import component_names
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.writable import OutputError, check_folder, frame_bytes
 
 if TYPE_CHECKING:
     import meshio
 
-__all__ = ["Frame", "Result"]
+__all__ = ["Frame", "Result", "write_vtu"]
 
 # A cell block for meshio: (meshio cell type, (c, nodes_per_cell) connectivity).
 _CellBlock = tuple[str, np.ndarray]
@@ -332,11 +334,14 @@ class Result:
         """Write for ParaView.
 
         ``.vtu``: one frame (the last unless ``frame`` is given). ``.pvd``: every frame as a
-        VTU series next to a ParaView collection file. ``.xdmf``: every frame in one XDMF time
-        series (XML data, no HDF5 needed). Every format holds the same thing: the reference
-        coordinates and, per frame, the "displacement" field with the other nodal and cell
-        fields, so one ParaView pipeline (Warp By Vector on "displacement") shows the
-        deformed shape of any of them.
+        VTU series next to a ParaView collection file. ``.xdmf``: every frame in one XDMF
+        time series whose arrays are in binary HDF5 beside it (``<stem>.h5``, the mesh once,
+        the fields per frame; femcore.xdmf). Every format holds the same thing: the
+        reference coordinates and, per frame, the "displacement" field with the other nodal
+        and cell fields, so one ParaView pipeline (Warp By Vector on "displacement") shows
+        the deformed shape of any of them. The VTU arrays with several components name them
+        (``ComponentName0`` ...: "x", "y", "z"; "11", "22", "12"; "bottom", ..., "top"; see
+        femcore.field_names).
 
         Parameters
         ----------
@@ -376,16 +381,14 @@ class Result:
     def _write(self, path: Path, suffix: str, frame: int | None, written: list[str]) -> None:
         """Write ``path`` in the format of ``suffix``, listing in ``written`` each frame file
         of a .pvd series once it is complete."""
-        import meshio
-
         if suffix == ".vtu":
-            self.to_meshio(-1 if frame is None else frame).write(path)
+            write_vtu(self.to_meshio(-1 if frame is None else frame), path)
         elif suffix == ".pvd":
             stem = path.with_suffix("")
             entries = []
             for i, f in enumerate(self.frames):
                 part = stem.parent / f"{stem.name}_{i:04d}.vtu"
-                self.to_meshio(i).write(part)
+                write_vtu(self.to_meshio(i), part)
                 written.append(part.name)
                 entries.append(
                     f"    <DataSet timestep={quoteattr(repr(f.time))} file={quoteattr(part.name)}/>"
@@ -395,10 +398,43 @@ class Result:
                 "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n"
             )
         elif suffix == ".xdmf":
-            first = self.frames[0]
-            cells, _, _ = self._meshio_data(first)
-            with meshio.xdmf.TimeSeriesWriter(path, data_format="XML") as writer:
-                writer.write_points_cells(self.mesh.points, cells)
-                for f in self.frames:
-                    _, point_data, cell_data = self._meshio_data(f)
-                    writer.write_data(f.time, point_data=point_data, cell_data=cell_data)
+            from femcore.xdmf import write_xdmf
+
+            cells, _, _ = self._meshio_data(self.frames[0])
+            series = ((f.time, *self._meshio_data(f)[1:]) for f in self.frames)
+            write_xdmf(path, self.mesh.points, cells, series)
+
+
+# The opening tag of a data array as meshio writes it, one to a line (its data never starts a
+# line with "<": base64 text).
+_DATA_ARRAY = re.compile(
+    rb'^<DataArray type="[^"]*" Name="([^"]*)" NumberOfComponents="(\d+)"', re.MULTILINE
+)
+
+
+def write_vtu(mesh: meshio.Mesh, path: Path) -> None:
+    """Write ``mesh`` to the VTU file ``path`` (binary, zlib-compressed, by meshio) with the
+    names of the components of its multi-component arrays (``ComponentName0`` ...
+    attributes, which VTK's XML reader and so ParaView read) where femcore.field_names
+    knows them.
+
+    Parameters
+    ----------
+    mesh : meshio.Mesh
+        The mesh and its point and cell data.
+    path : pathlib.Path
+        The .vtu file; its folder must exist.
+    """
+    mesh.write(path)
+    text = path.read_bytes()
+
+    def named(match: re.Match[bytes]) -> bytes:
+        names = component_names(match[1].decode(), int(match[2]))
+        if names is None:
+            return match[0]
+        extra = "".join(f" ComponentName{i}={quoteattr(n)}" for i, n in enumerate(names))
+        return match[0] + extra.encode()
+
+    renamed = _DATA_ARRAY.sub(named, text)
+    if renamed != text:
+        path.write_bytes(renamed)

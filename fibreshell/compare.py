@@ -285,7 +285,7 @@ def _path_record(case: Case, run: Run, name: str, h: float) -> dict[str, Any]:
     record = {k: v for k, v in line.items() if k not in ("directors", "director_horizontal")}
     nodes = case.paths[name]
     try:
-        tilt = np.degrees(run.result.field("director_tilt")[nodes])
+        tilt = run.result.field("director_tilt_deg")[nodes]
     except (KeyError, ValueError):
         tilt = np.full(len(nodes), np.nan)
     record["director_tilt_deg"] = tilt

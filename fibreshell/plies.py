@@ -20,6 +20,7 @@ import numpy as np
 
 from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
+from femcore.results import write_vtu
 from fibreshell.case import SOLVERS, Case
 from fibreshell.run import Run, path_axis, solve_keeping, strict_json
 
@@ -185,26 +186,26 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
 def write_material_lines(case: Case, stack: PlyStack, lines, path: Path) -> Path:
     """The stack's mid-surface (the middle of each material line) as a VTU on the case's
     mesh, with the fields the fibrous shell writes under the same names: ``director`` (unit,
-    from ply 1 to ply N), ``director_tilt`` (rad, from the stack's normal), ``thickness``
+    from ply 1 to ply N), ``director_tilt_deg`` (deg, from the stack's normal), ``thickness``
     (along the director, mm), and ``displacement`` (mm, from the reference mid-surface) for
     ParaView's Warp By Vector, plus ``ply_gap`` (the largest gap between plies, mm) and
     ``straightness`` (the largest distance of a ply from the line, mm)."""
     import meshio
 
     mesh = case.mesh
-    meshio.write(
-        path,
+    write_vtu(
         meshio.Mesh(
             mesh.points,
             [("triangle", mesh.triangles)],
             point_data={
                 "displacement": lines.midpoint - mesh.points,
                 "director": lines.direction,
-                "director_tilt": lines.angle,
+                "director_tilt_deg": np.degrees(lines.angle),
                 "thickness": lines.thickness,
                 "ply_gap": lines.gap,
                 "straightness": lines.straightness,
             },
         ),
+        path,
     )
     return path

@@ -345,8 +345,8 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
                 np.abs(np.r_[triangle["warp_strain"].ravel(), triangle["weft_strain"].ravel()])
             )
         )
-    if "director_tilt" in final.fields.get("point", {}):
-        tilt = np.degrees(final.fields["point"]["director_tilt"])
+    if "director_tilt_deg" in final.fields.get("point", {}):
+        tilt = final.fields["point"]["director_tilt_deg"]
         out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
     thickness = section_thickness(case)
     out["paths"] = {

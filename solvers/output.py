@@ -18,7 +18,7 @@ import numpy as np
 from femcore.checks import as_path
 from femcore.fingerprint import Fingerprint
 from femcore.mesh import Mesh
-from femcore.results import Frame, Result
+from femcore.results import Frame, Result, write_vtu
 
 __all__ = [
     "CHECKPOINT_MAGIC",
@@ -69,7 +69,7 @@ class FrameStream:
         # The folder was checked once before the run (solvers.interrupts.check_outputs);
         # Result.write would probe it again at every frame. A failed write is an OSError the
         # solve turns into one OutputError (solvers.interrupts.keeps_writes).
-        Result(self.mesh, [frame], has_rotation=self.has_rotation).to_meshio(0).write(part)
+        write_vtu(Result(self.mesh, [frame], has_rotation=self.has_rotation).to_meshio(0), part)
         self.entries.append((frame.time, part.name))
         self._write_index()
 

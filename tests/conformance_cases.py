@@ -180,7 +180,7 @@ def _fibrous_case(
         rigid_fields=(
             "warp_strain",
             "weft_strain",
-            "shear_angle",
+            "shear_angle_deg",
             "warp_curvature",
             "weft_curvature",
             "warp_moment",
@@ -292,7 +292,7 @@ def _mindlin_fabric_case(name: str, material, note: str) -> ElementCase:
             "bending_moment",
             "warp_strain",
             "weft_strain",
-            "shear_angle",
+            "shear_angle_deg",
             "warp_curvature",
             "weft_curvature",
         ),

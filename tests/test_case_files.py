@@ -134,7 +134,7 @@ def test_both_shells_write_the_common_fields_and_the_beam_moment(tmp_path):
     for kinematics, run in runs.items():
         result = run.result
         assert result.field("thickness").shape == (case.mesh.n_nodes,)
-        assert result.field("director_tilt").shape == (case.mesh.n_nodes,)
+        assert result.field("director_tilt_deg").shape == (case.mesh.n_nodes,)
         assert result.field("membrane_force").shape == (len(case.mesh.triangles), 3)
         moment = np.abs(result.field("bending_moment")[:, 0])
         error = np.abs(moment - exact)[near].max() / exact.max()

@@ -118,8 +118,8 @@ def test_the_quantities_are_read_at_the_middle_of_each_side():
         director_angle_deg=np.full(4, 90.0),
         thickness=np.array([2.0, 2.1, 2.4, 2.2]),
         rotation_deg=np.zeros(4),
+        side_tilt_deg=np.zeros(4),
         director_tilt_deg=np.zeros(4),
-        normal_tilt_deg=np.zeros(4),
     )
     fibrous = order_quantities({"side_1": side}, "fibrous", 2.0)
     assert fibrous[deflection_name("side_1")] == pytest.approx(9.0 + 20.0 / 40.0 * (49.0 - 9.0))

@@ -83,8 +83,8 @@ def test_paper_case_invariants_hold_with_the_three_kinematics(coarse_report, nam
                 "director_angle_deg",
                 "thickness",
                 "rotation_deg",
+                "side_tilt_deg",
                 "director_tilt_deg",
-                "normal_tilt_deg",
             ):
                 assert len(data[key]) == n, key
             if kinematics != "mindlin":

@@ -86,13 +86,13 @@ class SideProfile:
         Rotation theta of the mid-surface from the clamp's (horizontal) orientation seen facing
         the side: the slope of the side profile, positive when it rises away from the clamp
         (deg).
-    director_tilt_deg : numpy.ndarray
+    side_tilt_deg : numpy.ndarray
         Tilt of the director from the normal of the side profile seen facing the side, signed
         like ``rotation_deg``: 90 + rotation - director angle (deg; 0 for a director on the
         normal, = rotation for a director that kept its vertical orientation).
-    normal_tilt_deg : numpy.ndarray
+    director_tilt_deg : numpy.ndarray
         Angle between the director and the area-weighted nodal normal of the deformed surface,
-        in three dimensions (deg, >= 0; the fibrous shell's node field "director_tilt").
+        in three dimensions (deg, >= 0): the shells' node field of that name.
     """
 
     s: np.ndarray
@@ -100,8 +100,8 @@ class SideProfile:
     director_angle_deg: np.ndarray
     thickness: np.ndarray
     rotation_deg: np.ndarray
+    side_tilt_deg: np.ndarray
     director_tilt_deg: np.ndarray
-    normal_tilt_deg: np.ndarray
 
     def to_json(self) -> dict[str, Any]:
         """The JSON record (arrays are written as lists by the report's encoder)."""
@@ -111,8 +111,8 @@ class SideProfile:
             "director_angle_deg": self.director_angle_deg,
             "thickness": self.thickness,
             "rotation_deg": self.rotation_deg,
+            "side_tilt_deg": self.side_tilt_deg,
             "director_tilt_deg": self.director_tilt_deg,
-            "normal_tilt_deg": self.normal_tilt_deg,
         }
 
 
@@ -124,7 +124,7 @@ class SideSummary:
     director_angle_min_deg: float
     director_angle_max_deg: float
     thickness_max_over_h: float
-    director_tilt_max_deg: float  # largest |tilt| of the director from the normal
+    side_tilt_max_deg: float  # largest |tilt| of the director from the normal, facing the side
 
 
 @dataclass(frozen=True)

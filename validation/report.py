@@ -206,7 +206,7 @@ def _key_numbers(case: dict, kinematics: str) -> str:
                 f"{side.replace('_', ' ')}: slope up to {numbers['max_midsurface_slope_deg']:.0f}"
                 f" deg, director {numbers['director_angle_min_deg']:.0f}-"
                 f"{numbers['director_angle_max_deg']:.0f} deg, tilt from the normal up to "
-                f"{numbers['director_tilt_max_deg']:.0f} deg, thickness up to "
+                f"{numbers['side_tilt_max_deg']:.0f} deg, thickness up to "
                 f"{numbers['thickness_max_over_h']:.2f} h"
             )
     return html.escape("; ".join(parts))

@@ -21,6 +21,7 @@ from elements.fibrous.packed_laws import pack_laws
 from elements.fibrous.tangent import CornerPairs
 from elements.shell_geometry import GUARD, guarded_thickness, lumped_mass
 from femcore.assembly import Scatter, TangentPart
+from femcore.field_names import LEVELS, name_components
 from femcore.mesh import Mesh
 from femcore.state import State
 from femcore.topology import build_topology
@@ -29,6 +30,13 @@ if TYPE_CHECKING:
     from elements.fibrous.element import FibrousShell
 
 __all__ = ["FibrousShellBlock"]
+
+# The components ParaView names (README "Output fields"): sections forces in the fibre frame
+# (1 = warp, 2 = weft), the per-level fields from the bottom level to the top.
+for _name in ("membrane_force", "bending_moment"):
+    name_components(_name, ("11", "22", "12"))
+for _name in ("warp_strain", "weft_strain", "shear_angle_deg"):
+    name_components(_name, LEVELS)
 
 # Bending time-step coefficient of docs/theory.md §6.2 (A3): dt_b = 0.35 L^2 sqrt(rho_A / B), the
 # worst case (square cells) of the exact eigenvalues of the rotation-free bending stiffness.
@@ -366,7 +374,7 @@ class FibrousShellBlock(ElementBlock):
         return {
             "warp_strain": warp,  # (m, L), log strain, levels bottom -> top
             "weft_strain": weft,
-            "shear_angle": strain["gamma"],  # (m, L), rad
+            "shear_angle_deg": np.degrees(strain["gamma"]),  # (m, L)
             "warp_curvature": chi_warp,  # 1/mm
             "weft_curvature": chi_weft,
             "warp_moment": m_warp,  # N (N mm per mm)
@@ -389,7 +397,7 @@ class FibrousShellBlock(ElementBlock):
         return {
             "thickness": thickness,
             "thickness_guarded": guarded,
-            "director_tilt": self.director_tilt(state),  # rad, from the nodal normal
+            "director_tilt_deg": np.degrees(self.director_tilt(state)),  # from the nodal normal
         }
 
     def total_mass(self) -> float:

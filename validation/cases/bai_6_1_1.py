@@ -48,7 +48,7 @@ SLIP_NOTE = (
     "free end lets them slip all the way from the clamp. The default directors are still "
     "compared with atan(theta) at every node of the sides but the clamped and the gripped ones "
     "(seen facing the side; the surface is also bent across the sides near the corner, which "
-    "the tilt in three dimensions, the node field director_tilt, includes). The rotations stay "
+    "the tilt in three dimensions, the node field director_tilt_deg, includes). The rotations stay "
     "moderate here, where atan(theta) and theta differ by about the discretisation error, so "
     "the relation is measured but not made a check: it would pass for both fibrous variants."
 )

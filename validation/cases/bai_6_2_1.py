@@ -102,7 +102,7 @@ SLIP_NOTE = (
     "still compared with "
     "atan(theta) at every node of the sides but the clamped and the gripped ones (seen facing "
     "the side; the surface is also bent across the sides near the corner, which the tilt in "
-    "three dimensions, the node field director_tilt, includes), but the relation is measured, "
+    "three dimensions, the node field director_tilt_deg, includes), but the relation is measured, "
     "not made a check."
 )
 

@@ -79,8 +79,8 @@ def discussion(
         sides = list(record.sides.values())
         numbers[kinematics] = {
             "rotation": _largest([np.asarray(s.rotation_deg)[1:] for s in sides]),
-            "tilt": _largest([np.asarray(s.director_tilt_deg)[1:] for s in sides]),
-            "normal_tilt": _largest([np.asarray(s.normal_tilt_deg)[1:] for s in sides]),
+            "tilt": _largest([np.asarray(s.side_tilt_deg)[1:] for s in sides]),
+            "normal_tilt": _largest([np.asarray(s.director_tilt_deg)[1:] for s in sides]),
             "turned": _largest([np.asarray(s.director_angle_deg) - 90.0 for s in sides]),
             "thick": max(float(np.max(s.thickness)) for s in sides) / h,
         }

@@ -140,33 +140,36 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
     rule = case.calibration
     fields = runs.results["fibrous"].frames[-1].fields.get("triangle", {})
 
-    def reach(names: tuple[str, ...], floor: float) -> float:
-        values = [np.abs(np.asarray(fields[n])) for n in names if n in fields]
+    def reach(names: tuple[str, ...], floor: float, to_law: float) -> float:
+        values = [np.abs(np.asarray(fields[n])) * to_law for n in names if n in fields]
         largest = max((float(np.nanmax(v)) for v in values), default=0.0)
         return max(1.2 * largest, floor)
 
+    # Each panel: its fields, the factor from their unit to the law's argument (the shear
+    # angle field is in degrees, the shear law takes radians), the axes drawn in the fields'.
     panels = (
-        ("tension", fabric.tension, fabric.tension_weft, ("warp_strain", "weft_strain"), 1e-3,
-         "log strain", "T (N/mm)"),
-        ("in-plane shear", fabric.shear, None, ("shear_angle",), 0.05, "shear angle (rad)",
-         "M_s (N/mm)"),
+        ("tension", fabric.tension, fabric.tension_weft, ("warp_strain", "weft_strain"), 1.0,
+         1e-3, "log strain", "T (N/mm)"),
+        ("in-plane shear", fabric.shear, None, ("shear_angle_deg",), np.pi / 180.0, 0.05,
+         "shear angle (deg)", "M_s (N/mm)"),
         ("bending (cf. Bai Fig. 7)", fabric.bending, fabric.bending_weft,
-         ("warp_curvature", "weft_curvature"), 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
+         ("warp_curvature", "weft_curvature"), 1.0, 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
     )  # fmt: skip
     both = "" if rule.name == "initial-slope" else " (both shells)"
     fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), constrained_layout=True)
-    for axis, (title, warp, weft, names, floor, xlabel, ylabel) in zip(axes, panels):
-        x = np.linspace(0.0, reach(names, floor), 401)  # the laws are odd (or tension-only)
-        axis.plot(x, warp.value(x), color="k", label=f"warp{both}")
+    for axis, (title, warp, weft, names, to_law, floor, xlabel, ylabel) in zip(axes, panels):
+        x = np.linspace(0.0, reach(names, floor, to_law), 401)  # the laws are odd (or tension-only)
+        shown = x / to_law
+        axis.plot(shown, warp.value(x), color="k", label=f"warp{both}")
         if weft is not None and weft is not warp:
-            axis.plot(x, weft.value(x), color="0.5", label=f"weft{both}")
+            axis.plot(shown, weft.value(x), color="0.5", label=f"weft{both}")
         if title.startswith("bending") and rule.name == "initial-slope":
             initial = float(warp.slope(np.array(0.0)))
-            axis.plot(x, initial * x, ls="--", color=COLOURS["mindlin"],
+            axis.plot(shown, initial * x, ls="--", color=COLOURS["mindlin"],
                       label="Mindlin, warp: E h^3/12 = B0")  # fmt: skip
         elif title.startswith("bending") and rule.bending_scale != 1.0:
             scaled = rule.section_fabric(fabric).bending
-            axis.plot(x, scaled.value(x), ls="--", color=COLOURS["mindlin"],
+            axis.plot(shown, scaled.value(x), ls="--", color=COLOURS["mindlin"],
                       label=f"Mindlin, warp x {rule.bending_scale:.3g}")  # fmt: skip
         axis.set(title=title, xlabel=xlabel, ylabel=ylabel)
         axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))

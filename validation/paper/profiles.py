@@ -55,8 +55,8 @@ def side_data(
             director_angle_deg=angle,
             thickness=h,
             rotation_deg=rotation,
-            director_tilt_deg=90.0 + rotation - angle,
-            normal_tilt_deg=normal_tilt[nodes],
+            side_tilt_deg=90.0 + rotation - angle,
+            director_tilt_deg=normal_tilt[nodes],
         )
     return out
 
@@ -74,7 +74,7 @@ def fibre_statistics(result: Any, specimen: specimens.Specimen) -> dict[str, flo
     return {
         "max_fibre_strain": float(strain.max()),
         "max_fibre_strain_away_from_support": float(strain[~at_support].max()),
-        "max_shear_angle_deg": float(np.degrees(np.abs(result.field("shear_angle")).max())),
+        "max_shear_angle_deg": float(np.abs(result.field("shear_angle_deg")).max()),
     }
 
 
@@ -97,7 +97,7 @@ def key_numbers(elements: dict[str, ElementRun], h: float) -> dict[str, SideSumm
                 director_angle_min_deg=float(angle.min()),
                 director_angle_max_deg=float(angle.max()),
                 thickness_max_over_h=float(np.max(data.thickness) / h),
-                director_tilt_max_deg=float(np.abs(data.director_tilt_deg).max()),
+                side_tilt_max_deg=float(np.abs(data.side_tilt_deg).max()),
             )
     return out
 
@@ -113,7 +113,7 @@ def slip_errors(
         free = ~np.isin(nodes, np.r_[specimen.clamp, specimen.loaded])
         data = record.sides[side]
         expected = np.degrees(np.arctan(np.radians(np.asarray(data.rotation_deg))))
-        out[side] = np.abs(np.asarray(data.director_tilt_deg) - expected)[free]
+        out[side] = np.abs(np.asarray(data.side_tilt_deg) - expected)[free]
     return out
 
 
