@@ -27,6 +27,7 @@ from femcore.fingerprint import Fingerprint, fingerprint
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
+from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     DivergenceError,
     ProgressLine,
@@ -246,6 +247,7 @@ class CentralDifference:
 
     # ------------------------------------------------------------------ solve
     @keeps_writes
+    @one_blas_thread
     def solve(
         self,
         model: Model | CompiledModel,

@@ -42,6 +42,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import drop_along
 from femcore.state import State
+from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     ConvergenceError,
     DivergenceError,
@@ -160,6 +161,7 @@ class DynamicRelaxation:
         self.progress = check_progress(progress)
 
     @keeps_writes
+    @one_blas_thread
     def solve(
         self,
         model: Model | CompiledModel,

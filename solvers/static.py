@@ -42,6 +42,7 @@ from femcore.results import Result
 from femcore.rotation import cross, rotate_about
 from femcore.state import State
 from solvers.arc_length import JUMP_ITERATIONS, Motion, arc_length_path, descend
+from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     ConvergenceError,
     ProgressLine,
@@ -202,6 +203,7 @@ class Static:
         self.output = None if output is None else output_path(output, ".pvd", "output")
 
     @keeps_writes
+    @one_blas_thread
     def solve(self, model: Model | CompiledModel) -> Result:
         """Solve every increment.
 
