@@ -38,6 +38,12 @@ def _short(value) -> str:
     return _number(value)
 
 
+def _numeric(value) -> str:
+    """The class of a number's cell (right-aligned, kept on one line); none for text."""
+    is_number = isinstance(value, (int, float, np.integer, np.floating))
+    return " class='num'" if is_number and not isinstance(value, bool) else ""
+
+
 STYLE = """
 body { font-family: system-ui, sans-serif; margin: 1.5em auto; max-width: 1100px; color: #222;
        padding: 0 1em; line-height: 1.4; }
@@ -238,11 +244,13 @@ def _checks_table(case: dict) -> str:
         )
     passed = sum(c["passed"] for c in case["checks"])
     failed = passed < len(case["checks"])
+    if not rows:
+        return "<details class='checks'><summary>Checks: none</summary></details>"
     return (
         f"<details class='checks'{' open' if failed else ''}><summary>Checks: {passed} of "
         f"{len(case['checks'])} passed</summary><p class='small'>{RULES}</p>"
-        "<table><tr><th>check (source)</th><th>reference</th><th>value</th><th>error</th>"
-        f"<th>tolerance</th><th>result</th></tr>{''.join(rows)}</table></details>"
+        "<table class='checks'><tr><th>check (source)</th><th>reference</th><th>value</th>"
+        f"<th>error</th><th>tolerance</th><th>result</th></tr>{''.join(rows)}</table></details>"
     )
 
 
@@ -310,7 +318,7 @@ def _section(number: int, name: str, case: dict, first_figure: int) -> str:
         if paragraph.strip()
     )
     parameters = "".join(
-        f"<tr><th>{html.escape(str(k))}</th><td class='num'>{_number(v)}</td></tr>"
+        f"<tr><th>{html.escape(str(k))}</th><td{_numeric(v)}>{_number(v)}</td></tr>"
         for k, v in case["parameters"].items()
     )
     files = ""
