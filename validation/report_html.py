@@ -51,7 +51,8 @@ h1 { font-size: 1.6em; margin-bottom: 0.2em; }
 h2 { margin-top: 2em; border-bottom: 1px solid #ccc; font-size: 1.3em; }
 table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.92em; max-width: 100%; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; text-align: left; vertical-align: top;
-         overflow-wrap: anywhere; }
+         overflow-wrap: break-word; }
+td.small, td.key { overflow-wrap: anywhere; }
 th { background: #f2f2f2; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; overflow-wrap: normal;
          white-space: nowrap; }
@@ -68,7 +69,7 @@ figcaption b { color: #000; }
 details { margin: 0.8em 0; } summary { cursor: pointer; font-weight: 600; }
 pre { background: #f7f7f7; padding: 0.8em; white-space: pre-wrap; font-size: 0.85em;
       overflow-wrap: anywhere; }
-td.small { font-size: 0.85em; }
+td.small, .small { font-size: 0.85em; } span.small { color: #555; }
 p.discussion, p.verdict { max-width: 62em; }
 p.verdict { font-size: 1.02em; }
 @media (max-width: 900px) {
@@ -219,8 +220,9 @@ def _runs_table(case: dict) -> str:
 
 RULES = (
     "Rule: pass if |value - reference| / |reference| &lt;= tolerance for a relative check (rel), "
-    "pass if |value - reference| &lt;= tolerance for an absolute one (abs); a check without a "
-    "tolerance is reported, not judged."
+    "pass if |value - reference| &lt;= tolerance for an absolute one (abs); a tolerance of "
+    "none: no two-sided bound, the check's name states a one-sided one (e.g. &gt; 10) or the "
+    "value is reported only."
 )
 
 
