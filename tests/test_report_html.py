@@ -5,6 +5,7 @@ from html.parser import HTMLParser
 
 import pytest
 
+from validation import plots
 from validation.cases import CASES
 from validation.records import Case, Figure, Outcome, caption_problem
 from validation.report import run_case
@@ -17,8 +18,8 @@ def check_record(name, value, reference, tolerance, passed=True, relative=True):
             "source": "closed form"}  # fmt: skip
 
 
-def figure(file, caption):
-    return {"file": file, "caption": caption}
+def figure(file, caption, width=None, height=None):
+    return {"file": file, "caption": caption, "width": width, "height": height}
 
 
 def side(tilt, thickness):
@@ -57,6 +58,8 @@ REPORT = {
                 figure(
                     "paper-strip-3d.png",
                     "The deformed strip in 3D with its directors, fibrous left and Mindlin right.",
+                    1300,
+                    460,
                 ),
             ],  # fmt: skip
             [check_record("director gap (deg)", 40.0, 10.0, None)],
@@ -71,6 +74,8 @@ REPORT = {
                     "catenary.png",
                     "A chain relaxed onto the closed-form catenary: the "
                     "nodes should sit on the line.",
+                    704,
+                    396,
                 )
             ],  # fmt: skip
             [
@@ -177,6 +182,14 @@ def test_every_thumbnail_links_to_its_full_size_image(page):
     assert all(f["link"] == f["image"] for f in parsed.figures)
 
 
+def test_a_figure_of_known_size_reserves_its_place_and_a_narrow_one_sits_beside_another(page):
+    text, _ = page
+    assert "width='1300' height='460'" in text and "width='704' height='396'" in text
+    assert "<figure id='figure-3' class='half'>" in text  # the 704 px catenary
+    assert "<figure id='figure-2'>" in text  # the 1300 px view keeps the whole width
+    assert "<img src='paper-strip-sides.png' alt=" in text  # size unknown: no attributes
+
+
 def test_the_summary_comes_before_the_first_figure_with_one_line_per_case(page):
     text, parsed = page
     assert parsed.order[0] == "summary" and parsed.order.count("summary") == 1
@@ -245,3 +258,20 @@ def test_a_figure_without_a_caption_fails_its_case_at_report_time(monkeypatch, t
     result = run_case("uncaptioned", "coarse", tmp_path)
     assert result.outcome.error is not None
     assert "figure 'uncaptioned.png' has no caption" in result.outcome.error
+
+
+def test_a_figure_s_pixel_size_is_read_from_its_png_at_report_time(monkeypatch, tmp_path):
+    def compute(resolution):
+        return Outcome(True, 0.0, 0, "none", {}, [])
+
+    def render(data, out_dir):
+        with plots.figure(out_dir / "sized.png", "x (mm)", "z (mm)", size=(3.0, 2.0)) as ax:
+            ax.plot([0.0, 1.0], [0.0, 1.0])
+        return [Figure("sized.png", "A straight line drawn to be measured, no kinematics.")]
+
+    sized = Case("sized", "t", "s", "d", "verification", 1, compute, render)
+    monkeypatch.setitem(CASES, "sized", sized)
+    (shown,) = run_case("sized", "coarse", tmp_path).outcome.figures
+    assert (shown.width, shown.height) == (330, 220)  # 3 x 2 in at 110 dpi
+    assert shown.to_json() == {"file": "sized.png", "caption": shown.caption,
+                               "width": 330, "height": 220}  # fmt: skip

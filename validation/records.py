@@ -120,6 +120,9 @@ class Figure:
     caption : str
         One or two sentences: what is shown, which kinematics (fibrous, Mindlin or the
         reference) and what to look at (``caption_problem`` says what it must be).
+    width, height : int or None
+        The image's size in pixels, read by the report runner from the file (None until then),
+        so that the page reserves its place and sets small figures side by side.
 
     Raises
     ------
@@ -129,6 +132,8 @@ class Figure:
 
     file: str
     caption: str
+    width: int | None = None
+    height: int | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.file, str) or not self.file:
@@ -137,9 +142,15 @@ class Figure:
         if problem is not None:
             raise ValueError(f"figure {self.file!r}: {problem}; got {self.caption!r}")
 
-    def to_json(self) -> dict[str, str]:
-        """The JSON record: {"file": ..., "caption": ...}."""
-        return {"file": self.file, "caption": self.caption}
+    def to_json(self) -> dict[str, Any]:
+        """The JSON record: {"file", "caption", "width", "height"} (the size in pixels, or
+        null)."""
+        return {
+            "file": self.file,
+            "caption": self.caption,
+            "width": self.width,
+            "height": self.height,
+        }
 
 
 @dataclass(frozen=True)

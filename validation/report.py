@@ -43,10 +43,24 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
                     "validation.records.Figure(file, caption) records, a caption of a sentence "
                     "or two (what is shown, which kinematics, what to look at)"
                 )
-        outcome = replace(outcome, figures=figures)
+        outcome = replace(outcome, figures=[_sized(figure, out_dir) for figure in figures])
     except Exception as error:  # a broken case is reported, never hidden
         outcome = Outcome.failed(error)
     return CaseResult(case=case, outcome=outcome, case_time_s=time.perf_counter() - started)
+
+
+def _sized(figure: Figure, out_dir: Path) -> Figure:
+    """``figure`` with the pixel size of its PNG in ``out_dir`` (read from the PNG header),
+    or as it is when the file is not a PNG."""
+    try:
+        with open(out_dir / figure.file, "rb") as file:
+            head = file.read(24)
+    except OSError:
+        return figure
+    if head[:8] != b"\x89PNG\r\n\x1a\n" or head[12:16] != b"IHDR":
+        return figure
+    width, height = (int.from_bytes(head[k : k + 4], "big") for k in (16, 20))
+    return replace(figure, width=width, height=height)
 
 
 def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):

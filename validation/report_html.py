@@ -62,7 +62,9 @@ table.summary td.what { min-width: 12em; }
 table.summary td.key { font-size: 0.9em; }
 table.summary td.name { overflow-wrap: normal; }
 table.summary td.verdict { white-space: nowrap; }
-figure { margin: 1em 0; }
+.figures { display: flex; flex-wrap: wrap; gap: 0 1.5em; align-items: flex-start; }
+figure { margin: 1em 0; flex: 1 1 100%; min-width: 0; }
+figure.half { flex: 1 1 460px; }
 figure img { display: block; max-width: 100%; height: auto; border: 1px solid #eee; }
 figcaption { font-size: 0.92em; color: #333; max-width: 62em; margin-top: 0.3em; }
 figcaption b { color: #000; }
@@ -295,12 +297,21 @@ def _orders_table(case: dict) -> str:
     )
 
 
+# Figures at most this wide (pixels) sit two to a row on a wide page.
+NARROW_FIGURE = 800
+
+
 def _figure(number: int, figure: dict) -> str:
-    """A numbered figure: the thumbnail links to the full-size image; its case's caption."""
+    """A numbered figure: the thumbnail links to the full-size image; its case's caption.
+    With its size known, the image's place is reserved and a narrow figure is classed
+    "half" (two to a row where the page is wide enough)."""
     file, caption = html.escape(figure["file"]), html.escape(figure["caption"])
+    width, height = figure.get("width"), figure.get("height")
+    size = f" width='{width}' height='{height}'" if width and height else ""
+    half = " class='half'" if width and width <= NARROW_FIGURE else ""
     return (
-        f"<figure id='figure-{number}'><a href='{file}'><img src='{file}' alt='{caption}'>"
-        f"</a><figcaption><b>Figure {number}.</b> {caption}</figcaption>"
+        f"<figure id='figure-{number}'{half}><a href='{file}'><img src='{file}'{size} "
+        f"alt='{caption}'></a><figcaption><b>Figure {number}.</b> {caption}</figcaption>"
         "</figure>"
     )
 
@@ -309,6 +320,7 @@ def _section(number: int, name: str, case: dict, first_figure: int) -> str:
     """A case: its verdict line, its figures numbered from ``first_figure``, its discussion,
     then folded: the runs, the orders, the statement with the parameters, the checks."""
     figures = "".join(_figure(first_figure + i, f) for i, f in enumerate(case["figures"]))
+    figures = f"<div class='figures'>{figures}</div>" if figures else ""
     error = (
         f"<p class='fail'>The case failed: {html.escape(case['error'])}</p>"
         if "error" in case
