@@ -123,9 +123,9 @@ def render(data: WaveData, out_dir: Path) -> list[Figure]:
         ),
         Figure(
             "bar-wave-energy.png",
-            "The energy account of the same bar: kinetic and internal energy against the work "
-            "of the applied force. Without damping their sum must follow the work; look for "
-            "a gap between the curves, which there should not be.",
+            "The energy account of the same bar, explicit central difference: kinetic and "
+            "internal energy and the work of the applied force. Without damping, kinetic plus "
+            "internal must equal the work at every time, which the energy balance checks.",
         ),
     ]
 
