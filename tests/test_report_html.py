@@ -275,3 +275,9 @@ def test_a_figure_s_pixel_size_is_read_from_its_png_at_report_time(monkeypatch, 
     assert (shown.width, shown.height) == (330, 220)  # 3 x 2 in at 110 dpi
     assert shown.to_json() == {"file": "sized.png", "caption": shown.caption,
                                "width": 330, "height": 220}  # fmt: skip
+
+
+def test_a_page_of_figures_without_captions_is_refused_naming_the_case():
+    old = {**REPORT, "cases": {"catenary": case("A cable", ["catenary.png"], [])}}
+    with pytest.raises(ValueError, match="case 'catenary': figure 'catenary.png' has no caption"):
+        render_html(old)

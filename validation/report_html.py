@@ -319,6 +319,12 @@ def _figure(number: int, figure: dict) -> str:
 def _section(number: int, name: str, case: dict, first_figure: int) -> str:
     """A case: its verdict line, its figures numbered from ``first_figure``, its discussion,
     then folded: the runs, the orders, the statement with the parameters, the checks."""
+    for figure in case["figures"]:
+        if not isinstance(figure, dict) or not figure.get("caption"):
+            raise ValueError(
+                f"case {name!r}: figure {figure!r} has no caption: each figure of results.json "
+                'is a record {"file": ..., "caption": ...} (validation.records.Figure)'
+            )
     figures = "".join(_figure(first_figure + i, f) for i, f in enumerate(case["figures"]))
     figures = f"<div class='figures'>{figures}</div>" if figures else ""
     error = (
@@ -356,7 +362,8 @@ def _section(number: int, name: str, case: dict, first_figure: int) -> str:
     verdict = (
         f"<p class='verdict'>{_word(case)}: {passed} of "
         f"{len(case['checks'])} checks passed. Key number: {_key_number(case)}. Source: "
-        f"{html.escape(case['source'])}; {case['wall_time_s']:.1f} s of solving.</p>"
+        f"{html.escape(case['source'])}; {case['wall_time_s']:.1f} s of solving. "
+        "<a href='#summary'>Back to the summary</a>.</p>"
     )
     return (
         f"<section id='{html.escape(name)}'><h2>{number}. {html.escape(name)}: "
