@@ -12,8 +12,8 @@ from validation.report import run_case
 from validation.report_html import render_html
 
 
-def check_record(name, value, reference, tolerance, passed=True, relative=True):
-    return {"name": name, "reference": reference, "value": value, "error": 0.01,
+def check_record(name, value, reference, tolerance, passed=True, relative=True, error=0.01):
+    return {"name": name, "reference": reference, "value": value, "error": error,
             "tolerance": tolerance, "relative": relative, "passed": passed,
             "source": "closed form"}  # fmt: skip
 
@@ -79,7 +79,8 @@ REPORT = {
                 )
             ],  # fmt: skip
             [
-                check_record("sag (mm)", 31.9, 31.85, 0.01),
+                check_record("run converged", 1.0, 1.0, 0.0, error=0.0),  # exact: margin 0
+                check_record("sag (mm)", 31.9, 31.85, 0.01),  # the whole tolerance used
                 check_record("sag error (mm)", 0.05, 0.0, 0.1, relative=False),
             ],  # fmt: skip
         ),
@@ -199,12 +200,12 @@ def test_the_summary_comes_before_the_first_figure_with_one_line_per_case(page):
     assert lines == 1 + len(REPORT["cases"])
 
 
-def test_the_summary_states_each_verdict_and_a_short_key_number(page):
+def test_the_summary_states_each_verdict_and_the_check_nearest_its_bound(page):
     text, _ = page
     summary = text.split("<table class='summary'>")[1].split("</table>")[0]
     rows = summary.split("<tr>")[2:]
     assert "pass</span> 1/1" in rows[0] and "up to 42 deg from the normal (Mindlin 3)" in rows[0]
-    assert "pass</span> 2/2" in rows[1] and "sag (mm): 31.9 (reference 31.85)" in rows[1]
+    assert "pass</span> 3/3" in rows[1] and "sag (mm): 31.9 (reference 31.85)" in rows[1]
     assert "ERROR" in rows[2] and "RuntimeError: x" in rows[2]
     assert "FAIL</span> 0/1" in rows[3] and "deflection (mm): 2 (reference 1)" in rows[3]
     # Short enough for one or two lines: no column forces a tall table.

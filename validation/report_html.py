@@ -52,7 +52,6 @@ h2 { margin-top: 2em; border-bottom: 1px solid #ccc; font-size: 1.3em; }
 table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.92em; max-width: 100%; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; text-align: left; vertical-align: top;
          overflow-wrap: break-word; }
-td.small, td.key { overflow-wrap: anywhere; }
 th { background: #f2f2f2; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; overflow-wrap: normal;
          white-space: nowrap; }
@@ -72,6 +71,7 @@ details { margin: 0.8em 0; } summary { cursor: pointer; font-weight: 600; }
 pre { background: #f7f7f7; padding: 0.8em; white-space: pre-wrap; font-size: 0.85em;
       overflow-wrap: anywhere; }
 td.small, .small { font-size: 0.85em; } span.small { color: #555; }
+td.small, td.key { overflow-wrap: anywhere; }
 p.discussion, p.verdict { max-width: 62em; }
 p.verdict { font-size: 1.02em; }
 @media (max-width: 900px) {
@@ -129,32 +129,34 @@ def _margin(check: dict) -> float:
     tolerance, error = check["tolerance"], check["error"]
     if tolerance is None or error is None:
         return 0.0
-    return float("inf") if tolerance == 0 else abs(error) / tolerance
+    if tolerance == 0:  # an exact check (e.g. "converged"): used up only when missed
+        return 0.0 if error == 0 else float("inf")
+    return abs(error) / tolerance
 
 
 def _key_number(case: dict) -> str:
     """The number a reader of the summary looks at, as short text (HTML escaped).
 
-    A paper case: how far the default fibrous directors leave the normal and how thick the
-    stack grows along them on side 1 (the paper's point), beside the Mindlin tilt. Another
-    case: its first failed check, or the check that uses most of its tolerance, as value and
-    reference. A case that raised: the start of its error.
+    A case that raised: the start of its error. A case with a failed check: the first one,
+    as value and reference. A paper case: how far the default fibrous directors leave the
+    normal and how thick the stack grows along them on side 1 (the paper's point), beside the
+    Mindlin tilt. Another case: the check that uses most of its tolerance.
     """
     if "error" in case:
         error = case["error"]
         return html.escape(error if len(error) <= 90 else error[:87] + "...")
+    checks = case["checks"]
+    failed = [c for c in checks if not c["passed"]]
     numbers = case.get("key_numbers") or {}
     fibrous, mindlin = numbers.get("fibrous side_1"), numbers.get("mindlin side_1")
-    if fibrous and mindlin:
+    if fibrous and mindlin and not failed:
         return (
             f"fibrous directors up to {fibrous['director_tilt_max_deg']:.0f} deg from the "
             f"normal (Mindlin {mindlin['director_tilt_max_deg']:.0f}), thickness up to "
             f"{fibrous['thickness_max_over_h']:.2f} h"
         )
-    checks = case["checks"]
     if not checks:
         return "no checks"
-    failed = [c for c in checks if not c["passed"]]
     check = failed[0] if failed else max(checks, key=_margin)
     if check["reference"] is None or check["tolerance"] is None:
         return f"{html.escape(check['name'])}: {_short(check['value'])}"
