@@ -26,7 +26,7 @@ from validation.paper import (
     thickness_name,
 )
 from validation.records import ObservedOrder, SideProfile
-from validation.report import _orders_table
+from validation.report_html import _orders_table
 
 
 # ---------------------------------------------------------------------- Richardson

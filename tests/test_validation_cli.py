@@ -43,12 +43,14 @@ def test_a_coarse_run_writes_the_report_and_passes_its_checks(coarse_report):
         assert case["converged"] and case["checks"]
         assert all(check["passed"] for check in case["checks"]), case["checks"]
         for figure in case["figures"]:
-            assert (out / figure).stat().st_size > 1000
+            assert (out / figure["file"]).stat().st_size > 1000
     page = (out / "index.html").read_text()
     assert "FAIL" not in page
-    # a reader's page: contents, captions, each case's checks collapsed with their rule
-    assert "<nav><h2>Contents</h2>" in page and "<figcaption>Figure 1." in page
-    assert page.count("<details>") == len(report["cases"])
+    # a reader's page: the summary as contents, captions, each case's checks collapsed with
+    # their rule (tests/test_report_html.py checks the structure)
+    assert '<nav id="summary"><h2>Summary</h2>' in page
+    assert "<figcaption><b>Figure 1.</b>" in page
+    assert page.count("<details class='checks'>") == len(report["cases"])
     assert "pass if |value - reference| / |reference| &lt;= tolerance" in page
     assert "(None" not in page and "None," not in page  # no Python reprs in cells
     # Strict JSON: no NaN or Infinity (an unbounded tolerance is written as null).

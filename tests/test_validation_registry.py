@@ -17,7 +17,7 @@ from validation.cases import (
     RegistryError,
     discover,
 )
-from validation.records import Case, CaseResult, Outcome
+from validation.records import Case, CaseResult, Figure, Outcome
 from validation.report import run_case
 
 CASE_DIR = Path(validation.cases.__file__).parent
@@ -206,7 +206,8 @@ def test_a_case_that_raises_is_reported_with_the_keys_of_results_json(monkeypatc
 def test_an_outcome_serialises_with_the_keys_of_results_json():
     from validation.checks import check
 
-    outcome = Outcome(True, 1.0, 2, "solver", {"p": 1}, [check("c", 1.0, 1.0, 0.1)], ["f.png"])
+    figure = Figure("f.png", "The strip's centre line on the closed-form curve, both shells.")
+    outcome = Outcome(True, 1.0, 2, "solver", {"p": 1}, [check("c", 1.0, 1.0, 0.1)], [figure])
     case = Case("ok", "t", "s", "d", "verification", 1, compute=print, render=print)
     record = CaseResult(case, outcome, 1.5).to_json()
     assert list(record) == [

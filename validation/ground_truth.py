@@ -27,7 +27,7 @@ from fibreshell.compare import COLOURS, kinematics_record, path_figure
 from fibreshell.plies import run_plies
 from fibreshell.run import Run, run_case
 from validation.checks import check
-from validation.records import Outcome
+from validation.records import Figure, Outcome
 
 __all__ = ["GroundTruth", "compute", "discussion", "render"]
 
@@ -284,10 +284,11 @@ def discussion(records, differences, h: float, plies: int, summary: dict) -> str
     return "\n\n".join([first, second, where])
 
 
-def render(data: GroundTruth, out_dir: Path, name: str) -> list[str]:
+def render(data: GroundTruth, out_dir: Path, name: str) -> list[Figure]:
     """The comparison figure (fibreshell.compare.path_figure: side elevation with the
     through-thickness lines, director angle, tilt and thickness along the director), named
-    after the case, and each run's final frame as ``<name>-<kinematics>.vtu``."""
+    after the case, with its caption, and each run's final frame as
+    ``<name>-<kinematics>.vtu``."""
     figure = path_figure(
         data.case, data.runs, data.path, out_dir, Calibration().label(
             data.case.parts[0]["element"].fabric
@@ -298,4 +299,13 @@ def render(data: GroundTruth, out_dir: Path, name: str) -> list[str]:
     assert set(data.runs) <= set(COLOURS)
     for kinematics, run in data.runs.items():  # the plies' on their own N-ply mesh
         run.result.write(out_dir / f"{name}-{kinematics}.vtu")
-    return [target.name]
+    return [
+        Figure(
+            target.name,
+            f"Along the path '{data.path}': the side elevation with the through-thickness "
+            "lines, the director angle, its tilt from the normal and the thickness along it, "
+            f"for the fibrous shell, the Mindlin shell and the stack as {data.plies} "
+            "frictionless plies (their material lines, the reference). The fibrous curves "
+            "should follow the plies; the Mindlin directors stay on the normal.",
+        )
+    ]

@@ -3,9 +3,10 @@
 A case module in ``validation/cases`` declares one ``Case``: its name, title, source, description,
 group and order key, a ``compute`` function (resolution -> ``Outcome``: the numbers, the checks
 and, in ``Outcome.data``, what its figures draw and its VTU files hold) and a ``render`` function
-(``Outcome.data``, report folder -> the names of the figures it drew). The report runner calls
-``compute`` then ``render`` and serialises the records to results.json with their ``to_json``
-methods (the keys and their order are those of the report's JSON format).
+(``Outcome.data``, report folder -> the ``Figure`` records of the figures it drew: each file
+with its caption). The report runner calls ``compute`` then ``render`` and serialises the
+records to results.json with their ``to_json`` methods (the keys and their order are those of
+the report's JSON format).
 """
 
 from __future__ import annotations
@@ -24,11 +25,13 @@ __all__ = [
     "CaseResult",
     "Check",
     "ElementRun",
+    "Figure",
     "ObservedOrder",
     "Outcome",
     "Report",
     "SideProfile",
     "SideSummary",
+    "caption_problem",
 ]
 
 RESOLUTIONS = ("coarse", "default", "fine")
@@ -66,6 +69,88 @@ class Check:
     relative: bool
     passed: bool
     source: str = ""
+
+
+# A caption is at least this many words: what is shown, which kinematics, what to look at.
+CAPTION_WORDS = 8
+
+
+def caption_problem(caption: object, file: str) -> str | None:
+    """What is wrong with ``caption`` as the caption of the figure ``file``, or None.
+
+    A caption is one or two sentences a reader understands without the file name: it starts
+    with a capital letter, ends with a full stop, has at least ``CAPTION_WORDS`` words and is
+    not the file's name (a slug such as "bai-5.1: 3d").
+    """
+    if not isinstance(caption, str):
+        return f"a caption is a str, got {type(caption).__name__}"
+    text = caption.strip()
+    stem = Path(file).stem
+    if not text:
+        return "the caption is empty"
+    if _words(text) == _words(stem):
+        return "the caption is the file's name, not a sentence"
+    if len(text.split()) < CAPTION_WORDS:
+        return (
+            f"a caption is a sentence or two of at least {CAPTION_WORDS} words (what is shown, "
+            "which kinematics, what to look at)"
+        )
+    if not text[0].isupper():
+        return "a caption starts with a capital letter"
+    if not text.endswith((".", ".)")):
+        return "a caption ends with a full stop"
+    return None
+
+
+def _words(text: str) -> str:
+    """``text`` lowercased with its dashes, underscores and colons as single spaces."""
+    for mark in "-_:":
+        text = text.replace(mark, " ")
+    return " ".join(text.lower().split())
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure of the report: its file in the report folder and its caption.
+
+    Attributes
+    ----------
+    file : str
+        The PNG's name in the report folder.
+    caption : str
+        One or two sentences: what is shown, which kinematics (fibrous, Mindlin or the
+        reference) and what to look at (``caption_problem`` says what it must be).
+    width, height : int or None
+        The image's size in pixels, read by the report runner from the file (None until then),
+        so that the page reserves its place and sets small figures side by side.
+
+    Raises
+    ------
+    ValueError
+        When the caption is not one (empty, too short, the file's name), naming the file.
+    """
+
+    file: str
+    caption: str
+    width: int | None = None
+    height: int | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.file, str) or not self.file:
+            raise ValueError(f"a figure's file is a non-empty str, got {self.file!r}")
+        problem = caption_problem(self.caption, self.file)
+        if problem is not None:
+            raise ValueError(f"figure {self.file!r}: {problem}; got {self.caption!r}")
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON record: {"file", "caption", "width", "height"} (the size in pixels, or
+        null)."""
+        return {
+            "file": self.file,
+            "caption": self.caption,
+            "width": self.width,
+            "height": self.height,
+        }
 
 
 @dataclass(frozen=True)
@@ -226,8 +311,9 @@ class Outcome:
         The stated parameters, name -> number or text.
     checks : list of Check
         The verification checks.
-    figures : list of str
-        Names of the figures in the report folder; empty until the case's ``render`` ran.
+    figures : list of Figure
+        The figures in the report folder with their captions; empty until the case's
+        ``render`` ran.
     elements : dict of str to ElementRun or None
         Paper cases: one record per kinematics.
     key_numbers : dict of str to SideSummary or None
@@ -250,7 +336,7 @@ class Outcome:
     solver: str
     parameters: dict[str, Any]
     checks: list[Check]
-    figures: list[str] = field(default_factory=list)
+    figures: list[Figure] = field(default_factory=list)
     elements: dict[str, ElementRun] | None = None
     key_numbers: dict[str, SideSummary] | None = None
     discussion: str | None = None
@@ -293,8 +379,8 @@ class Case:
     compute : callable
         ``compute(resolution) -> Outcome`` with ``Outcome.figures`` empty.
     render : callable
-        ``render(data, out_dir) -> list[str]``: draws the figures and writes the VTU files of
-        ``Outcome.data`` into ``out_dir``, returns the figure file names.
+        ``render(data, out_dir) -> list[Figure]``: draws the figures and writes the VTU files
+        of ``Outcome.data`` into ``out_dir``, returns each figure's file and caption.
     """
 
     name: str
@@ -304,7 +390,7 @@ class Case:
     group: str
     order: int
     compute: Callable[[str], Outcome] = field(repr=False)
-    render: Callable[[Any, Path], list[str]] = field(repr=False)
+    render: Callable[[Any, Path], list[Figure]] = field(repr=False)
 
     def __post_init__(self) -> None:
         if self.group not in GROUPS:
@@ -340,7 +426,7 @@ class CaseResult:
                 "converged": o.converged,
                 "error": o.error,
                 "checks": checks,
-                "figures": list(o.figures),
+                "figures": [f.to_json() for f in o.figures],
                 "parameters": dict(o.parameters),
                 "steps": o.steps,
                 "solver": o.solver,
@@ -363,7 +449,11 @@ class CaseResult:
                 record["discussion"] = o.discussion
             if o.orders is not None:
                 record["observed_orders"] = [asdict(order) for order in o.orders]
-            record.update(checks=checks, figures=list(o.figures), case_time_s=self.case_time_s)
+            record.update(
+                checks=checks,
+                figures=[f.to_json() for f in o.figures],
+                case_time_s=self.case_time_s,
+            )
         record.update(
             title=self.case.title,
             source=self.case.source,

@@ -20,7 +20,7 @@ import numpy as np
 from solvers import DynamicRelaxation
 from validation.checks import check
 from validation.plots import figure
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.references.catenary import catenary_sag, elastic_catenary_shape
 from validation.specimens import (
     CHAIN_LENGTH,
@@ -96,7 +96,7 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: CatenaryData, out_dir: Path) -> list[str]:
+def render(data: CatenaryData, out_dir: Path) -> list[Figure]:
     """The relaxed chain on the catenary; the VTU file of the result."""
     positions = data.result.positions
     with figure(out_dir / "cable-catenary.png", "x (mm)", "z (mm)") as ax:
@@ -105,7 +105,14 @@ def render(data: CatenaryData, out_dir: Path) -> list[str]:
         ax.plot(data.start[:, 0], data.start[:, 2], ":", color="0.6", label="start")
         ax.set_aspect("equal")
     data.result.write(out_dir / "cable-catenary.vtu")
-    return ["cable-catenary.png"]
+    return [
+        Figure(
+            "cable-catenary.png",
+            "A stiff chain of cables relaxed by dynamic relaxation from a box-shaped start "
+            "(dotted) onto the closed-form catenary of Irvine (1981, line). The dots are the "
+            "nodes: they should sit on the line, sag included.",
+        )
+    ]
 
 
 CASE = Case(

@@ -30,7 +30,7 @@ from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.references.elastica import heavy_cantilever
 from validation.specimens import GRAVITY, fibrous_strip
 
@@ -182,7 +182,7 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: HeavyCantileverData, out_dir: Path) -> list[str]:
+def render(data: HeavyCantileverData, out_dir: Path) -> list[Figure]:
     """The side y = 0 with its directors on the heavy elastica; the VTU file."""
     p, d, h, reference = data.positions, data.directors, data.thickness, data.reference
     with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)") as ax:
@@ -195,7 +195,15 @@ def render(data: HeavyCantileverData, out_dir: Path) -> list[str]:
         ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded mid-surface")
         ax.set_aspect("equal")
     data.result.write(out_dir / f"{NAME}.vtu")
-    return [f"{NAME}.png"]
+    return [
+        Figure(
+            f"{NAME}.png",
+            "A fibrous strip clamped at one end and sagging under its own weight, side y = 0: "
+            "the fibrous shell's nodes and directors (drawn as long as the thickness along "
+            "them) on the heavy elastica solved as a boundary-value problem (line). The nodes "
+            "should sit on the line, and the directors lean from the normal as the plies slip.",
+        )
+    ]
 
 
 CASE = Case(

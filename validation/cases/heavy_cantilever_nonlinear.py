@@ -36,7 +36,7 @@ from materials.presets import g986_stack
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.references.elastica import (
     PEIRCE_ANGLE_DEG,
     heavy_cantilever_law,
@@ -212,7 +212,7 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: NonlinearCantileverData, out_dir: Path) -> list[str]:
+def render(data: NonlinearCantileverData, out_dir: Path) -> list[Figure]:
     """The reference shapes and both kinematics (side y = 0, middle mesh); the errors against
     the mesh; the VTU files."""
     shape, convergence = f"{NAME}.png", f"{NAME}-convergence.png"
@@ -238,7 +238,21 @@ def render(data: NonlinearCantileverData, out_dir: Path) -> list[str]:
         ax.loglog(h, 0.9e-2 * (h / h[0]) ** -2, ":", color="0.5", label="second order")
     for kinematics, result in data.results.items():
         result.write(out_dir / f"{NAME}-{kinematics}.vtu")
-    return [shape, convergence]
+    return [
+        Figure(
+            shape,
+            "A G986 strip under its own weight with Bai's bilinear bending law, side y = 0: "
+            "the fibrous and the Mindlin shell against the heavy elastica of the bilinear law "
+            "(line; dotted with the Mindlin shell's transverse shear) and of a linear fit "
+            "(dashed). Each kinematics should sit on its own reference, not on the linear fit.",
+        ),
+        Figure(
+            convergence,
+            "The relative tip errors of the fibrous and the Mindlin shell against their "
+            "references on three meshes (log-log), deflection and x, with a second-order "
+            "line. The errors should fall with the mesh at about that slope.",
+        ),
+    ]
 
 
 CASE = Case(

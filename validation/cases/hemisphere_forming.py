@@ -97,7 +97,7 @@ from solvers.quasi_static import KINETIC_BOUND
 from validation.checks import check
 from validation.paper.orders import observed_orders
 from validation.plots import figure
-from validation.records import Case, ObservedOrder, Outcome
+from validation.records import Case, Figure, ObservedOrder, Outcome
 from validation.references.drape import fishnet_on_sphere
 from validation.specimens import hemisphere_die
 
@@ -543,14 +543,14 @@ def _wrinkles(mesh: Mesh, positions: np.ndarray) -> dict[str, Any]:
     return {"count": int(crest.sum()), "height": float(height.max())}
 
 
-def render(data: HemisphereData, out_dir: Path) -> list[str]:
+def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
     """The shear angle fields (fibrous, Mindlin, the net) over the blank, the deformed
     fibres seen from above (the draw-in), and the punch force against its travel."""
     import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
 
     mesh = data.mesh
-    names = []
+    figures = []
     flat = Triangulation(mesh.points[:, 0], mesh.points[:, 1], mesh.triangles)
     fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), constrained_layout=True)
     fields = [
@@ -569,7 +569,15 @@ def render(data: HemisphereData, out_dir: Path) -> list[str]:
     fig.colorbar(art, ax=axes, shrink=0.8)
     fig.savefig(out_dir / f"{NAME}-shear.png", dpi=110)
     plt.close(fig)
-    names.append(f"{NAME}-shear.png")
+    figures.append(
+        Figure(
+            f"{NAME}-shear.png",
+            "The shear angle over the flat blank after forming into the hemisphere: the "
+            "fibrous shell, the Mindlin shell and the pin-jointed net draped on the same "
+            "sphere (Mack and Taylor), on one colour scale. Inside the die the shells should "
+            "show the net's pattern, largest along the diagonals, and its magnitudes.",
+        )
+    )
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 5), constrained_layout=True)
     for ax, kinematics in zip(axes, ("fibrous", "mindlin")):
@@ -590,7 +598,15 @@ def render(data: HemisphereData, out_dir: Path) -> list[str]:
     axes[0].set_ylabel("y (mm)")
     fig.savefig(out_dir / f"{NAME}-fibres.png", dpi=110)
     plt.close(fig)
-    names.append(f"{NAME}-fibres.png")
+    figures.append(
+        Figure(
+            f"{NAME}-fibres.png",
+            "The formed blank seen from above: warp (blue) and weft (red) fibres of the "
+            "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted) and "
+            "the die's edge (dashed). Look at the draw-in of the edges and the wrinkles on "
+            "the flange.",
+        )
+    )
 
     with figure(out_dir / f"{NAME}-force.png", "punch travel (mm)", "punch force (N)") as ax:
         for kinematics, result in data.runs.items():
@@ -599,10 +615,17 @@ def render(data: HemisphereData, out_dir: Path) -> list[str]:
             ]
             force = [f.tool_forces[1, 2] if len(f.tool_forces) > 1 else 0.0 for f in result.frames]
             ax.plot(travel, force, "o-", ms=3, label=kinematics)
-    names.append(f"{NAME}-force.png")
+    figures.append(
+        Figure(
+            f"{NAME}-force.png",
+            "The punch force against its travel for the fibrous and the Mindlin shell. Both "
+            "rise as the blank is drawn into the die; compare their levels and where they "
+            "start to climb.",
+        )
+    )
     for kinematics, result in data.runs.items():
         result.write(out_dir / f"{NAME}-{kinematics}.pvd")
-    return names
+    return figures
 
 
 CASE = Case(

@@ -25,7 +25,7 @@ import numpy as np
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.specimens import mindlin_strip
 
 __all__ = ["CASE", "RollupData", "compute", "render"]
@@ -108,7 +108,7 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: RollupData, out_dir: Path) -> list[str]:
+def render(data: RollupData, out_dir: Path) -> list[Figure]:
     """The edge y = 0 per increment on the exact arcs; the VTU file."""
     s = np.linspace(0.0, LENGTH, 200)
     with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)", size=(6.4, 4.4)) as ax:
@@ -127,7 +127,14 @@ def render(data: RollupData, out_dir: Path) -> list[str]:
         ax.set_aspect("equal")
 
     data.result.write(out_dir / f"{NAME}.vtu")
-    return [f"{NAME}.png"]
+    return [
+        Figure(
+            f"{NAME}.png",
+            "A Mindlin cantilever strip rolled up by an end moment, one set of points per load "
+            "increment, on the circles of radius EI / M (lines): at full load a quarter "
+            "circle. Every increment's points should sit on its circle.",
+        )
+    ]
 
 
 CASE = Case(

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from validation import ground_truth
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 
 __all__ = ["CASE", "compute", "render"]
 
@@ -61,7 +61,7 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: ground_truth.GroundTruth, out_dir: Path) -> list[str]:
+def render(data: ground_truth.GroundTruth, out_dir: Path) -> list[Figure]:
     return ground_truth.render(data, out_dir, NAME)
 
 

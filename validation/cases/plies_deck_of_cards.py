@@ -47,7 +47,7 @@ from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
 from validation.checks import check
 from validation.plots import figure
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.specimens import GRAVITY, fibrous_strip
 
 __all__ = ["CASE", "DeckRun", "PliesData", "SagRun", "bend", "compute", "render", "sag"]
@@ -358,7 +358,7 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: PliesData, out_dir: Path) -> list[str]:
+def render(data: PliesData, out_dir: Path) -> list[Figure]:
     """The decks' material lines against atan(theta); the mesh study; the heavy stacks."""
     names = [f"{NAME}-tilt.png", f"{NAME}-convergence.png", f"{NAME}-heavy-stack.png"]
     with figure(
@@ -399,7 +399,27 @@ def render(data: PliesData, out_dir: Path) -> list[str]:
                 "FibrousShell director" if run.count == 0 else f"{run.count} plies, material line"
             )
             ax.plot(x, np.degrees(run.angle), "o-" if run.count else "-", ms=3, label=label)
-    return names
+    return [
+        Figure(
+            names[0],
+            "A deck of N frictionless Mindlin plies bent onto a quarter circle: the tilt of its "
+            "material lines from the normal against the bend angle theta, for several ply "
+            "counts and meshes, against the closed form atan(theta). The points should lie on "
+            "the line: the plies are the discrete deck of cards the fibrous shell models.",
+        ),
+        Figure(
+            names[1],
+            "The largest errors of the two-ply deck's tilt and thickness against the closed "
+            "form on three meshes (log-log). The errors should fall as the mesh is refined.",
+        ),
+        Figure(
+            names[2],
+            "A stack sagging under its own weight: the fibrous shell's director angle from the "
+            "vertical along the strip against the material lines of stacks of N plies. The "
+            "ply curves should lie near the fibrous one along the strip and part from it near "
+            "the free end, where the plies open.",
+        ),
+    ]
 
 
 CASE = Case(

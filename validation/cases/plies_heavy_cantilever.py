@@ -25,7 +25,7 @@ from typing import Any
 from materials.presets import g986_stack
 from validation import ground_truth
 from validation.checks import check
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.references.elastica import heavy_cantilever_law
 from validation.specimens import GRAVITY
 
@@ -88,7 +88,7 @@ def compute(resolution: str) -> Outcome:
     return dataclasses.replace(outcome, checks=outcome.checks + checks)
 
 
-def render(data: ground_truth.GroundTruth, out_dir: Path) -> list[str]:
+def render(data: ground_truth.GroundTruth, out_dir: Path) -> list[Figure]:
     return ground_truth.render(data, out_dir, NAME)
 
 

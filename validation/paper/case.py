@@ -49,7 +49,7 @@ from validation.paper.orders import (
     order_quantities,
 )
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data
-from validation.records import Case, ElementRun, ObservedOrder, Outcome, SideProfile
+from validation.records import Case, ElementRun, Figure, ObservedOrder, Outcome, SideProfile
 
 __all__ = [
     "PaperCase",
@@ -377,9 +377,9 @@ def refinement_orders(
     return observed_orders(measured), cost
 
 
-def render_paper_case(case: PaperCase, runs: PaperRuns, out_dir: Path) -> list[str]:
-    """Write the VTU and XDMF files of the three runs and draw the side profiles and the 3D
-    view; returns the figure names."""
+def render_paper_case(case: PaperCase, runs: PaperRuns, out_dir: Path) -> list[Figure]:
+    """Write the VTU and XDMF files of the three runs and draw the side profiles, the side
+    elevation, the 3D view and the laws; returns the figures with their captions."""
     for kinematics, result in runs.results.items():
         for suffix in ("vtu", "xdmf"):
             result.write(out_dir / f"{case.name}-{kinematics}.{suffix}")

@@ -6,7 +6,7 @@ as the paper photographs them; ``laws_figure``: the fabric's laws over the range
 run reached, which are the Mindlin shell's too with the "laws" calibration; ``view_3d``: the
 deformed mid-surface with the director segments drawn along the sides like the lines on the
 specimens. Each states the Mindlin shell's calibration in its title, writes a PNG into the
-output folder and returns its name.
+output folder and returns it as a ``Figure`` with its caption.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from validation.paper.kinematics import (
     calibration_title,
 )
 from validation.plots import plt
-from validation.records import SideProfile
+from validation.records import Figure, SideProfile
 
 if TYPE_CHECKING:
     from validation.paper.case import PaperCase, PaperRuns
@@ -35,10 +35,24 @@ if TYPE_CHECKING:
 __all__ = ["laws_figure", "side_elevation", "side_figure", "view_3d"]
 
 
-def side_figure(case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path) -> str:
+# The three kinematics in a caption, in the figures' colours.
+IN_WORDS = (
+    "the fibrous shell with nodal normals (blue), the fibrous shell with Bai's Eq. 15 (green) "
+    "and the reference Mindlin shell (orange)"
+)
+# What to look at in every paper case: where the three sets of directors point.
+DIRECTORS = (
+    "the Mindlin directors follow the normal, the Eq. 15 ones stay vertical and the default "
+    "fibrous ones lean in between as the plies slip"
+)
+
+
+def side_figure(
+    case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
+) -> Figure:
     """Bai Fig. 10-style panels: rows = sides, columns = mid-surface, director angle,
     thickness along the director; the three kinematics on the same axes. ``profiles`` is
-    kinematics -> side -> profile; returns the file name."""
+    kinematics -> side -> profile; returns the figure with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
     fig, axes = plt.subplots(
         len(sides), 3, figsize=(13, 3.6 * len(sides)), squeeze=False, constrained_layout=True
@@ -83,17 +97,23 @@ def side_figure(case: PaperCase, profiles: dict[str, dict[str, SideProfile]], ou
     name = f"{case.name}-sides.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
-    return name
+    return Figure(
+        name,
+        f"Side profiles of {case.title} (Bai {case.source}): along each filmed side, the "
+        f"mid-surface, the director angle to the horizontal and the thickness along the "
+        f"director, for {IN_WORDS}. Look at the director angle: {DIRECTORS}, and the "
+        "thickness along the fibrous directors grows where they lean.",
+    )
 
 
 def side_elevation(
     case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
-) -> str:
+) -> Figure:
     """The specimen seen from the side, as the paper photographs it (Bai Figs. 9, 11, 13, 15):
     per kinematics (rows) and filmed side (columns), the band between the bottom and top
     surfaces (mid-surface -/+ half the thickness along the director) and the lines drawn
-    through the thickness at every node, along the directors; true scale. Returns the file
-    name."""
+    through the thickness at every node, along the directors; true scale. Returns the figure
+    with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
     fig, axes = plt.subplots(
         len(KINEMATICS), len(sides), figsize=(6.5 * len(sides), 2.6 * len(KINEMATICS)),
@@ -120,22 +140,30 @@ def side_elevation(
             axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize="medium")
             axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
     fig.suptitle(
-        f"{case.name}: the sides seen from the side, true scale (cf. the paper's photographs)"
-        f"\n{calibration_title(case.calibration, case.fabric)}"
+        f"{case.name}: the sides seen from the side, true scale\n"
+        f"{calibration_title(case.calibration, case.fabric)}"
     )
     name = f"{case.name}-side-elevation.png"
-    fig.savefig(out_dir / name, dpi=100)
+    # One side is a narrow figure: the tight box widens it to its two-line title.
+    fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
-    return name
+    return Figure(
+        name,
+        f"The sides of {case.name} seen from the side at true scale, as the paper photographs "
+        f"its specimens: one row per kinematics ({IN_WORDS}), the band between the bottom and top "
+        "surfaces with a black line through the thickness at every node along its director. "
+        "Compare the black lines with the lines drawn on the specimens: square to the surface "
+        "in the Mindlin row, leaning in the fibrous rows.",
+    )
 
 
-def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
+def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
     """The fabric's laws (cf. Bai Fig. 7 for bending) from 0 over the range the fibrous run
     reached (they are odd, or zero in compression), warp and weft. With the "laws"
     calibration they are the Mindlin section's laws as well (MindlinShell(fabric)), and the
     title says so; a calibration that changes the bending law draws the Mindlin one dashed
     (the "fit" scale, or the "initial-slope" line E h^3 / 12 = B0 at every curvature).
-    Returns the file name."""
+    Returns the figure with its caption."""
     fabric = case.fabric
     rule = case.calibration
     fields = runs.results["fibrous"].frames[-1].fields.get("triangle", {})
@@ -188,16 +216,27 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> str:
     name = f"{case.name}-laws.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
-    return name
+    mindlin = (
+        "With the 'laws' calibration the Mindlin section uses these same laws, so that the "
+        "runs differ by their kinematics alone."
+        if rule.name == "laws"
+        else f"The Mindlin section (calibration '{rule.name}') draws its bending dashed where "
+        "it differs from the fabric's."
+    )
+    return Figure(
+        name,
+        f"The fabric's laws of {case.name} over the range its fibrous run reached: fibre "
+        f"tension, in-plane shear and bending (cf. Bai Fig. 7), warp and weft. {mindlin}",
+    )
 
 
 def view_3d(
     case: PaperCase, specimen: specimens.Specimen, results: dict[str, Any], out_dir: Path
-) -> str:
+) -> Figure:
     """Deformed mid-surface with the through-thickness director segments drawn along the
     sides (the lines drawn on the specimens' sides), the three kinematics side by side;
-    returns the file name."""
-    fig = plt.figure(figsize=(16, 5.0), constrained_layout=True)
+    returns the figure with its caption."""
+    fig = plt.figure(figsize=(13, 4.6), constrained_layout=True)
     h = case.fabric.thickness
     for i, kinematics in enumerate(KINEMATICS):
         ax = fig.add_subplot(1, len(KINEMATICS), i + 1, projection="3d")
@@ -234,11 +273,19 @@ def view_3d(
         ax.view_init(elev=22, azim=-140)
         ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
         scale = "true scale" if exaggeration == 1.0 else f"z exaggerated x {exaggeration:.1f}"
-        ax.set_title(
-            f"{LABELS[kinematics]}: directors along the sides ({scale})", fontsize="medium"
-        )
-    fig.suptitle(f"{case.name}: {calibration_title(case.calibration, case.fabric)}")
+        # Two short lines: a 3D axes' title is not made room for by the layout.
+        ax.set_title(f"{LABELS[kinematics]}\n({scale})", fontsize="medium")
+    fig.suptitle(
+        f"{case.name}: directors along the sides\n"
+        f"{calibration_title(case.calibration, case.fabric)}"
+    )
     name = f"{case.name}-3d.png"
-    fig.savefig(out_dir / name, dpi=100)
+    # The layout does not see a 3D axes' z label; the tight box keeps the last one in view.
+    fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.15)
     plt.close(fig)
-    return name
+    return Figure(
+        name,
+        f"The deformed {case.name} in 3D: the mid-surface with the through-thickness segments "
+        f"(black) along the filmed sides, for {IN_WORDS}, left to right. Look at the black "
+        f"segments: {DIRECTORS}.",
+    )

@@ -130,7 +130,7 @@ from femcore.topology import nodal_normals
 from materials import Fabric
 from solvers import CentralDifference, SolverError
 from validation.checks import check
-from validation.records import Case, Outcome
+from validation.records import Case, Figure, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
 from validation.specimens import hemisphere_die, holder_ring
 
@@ -471,13 +471,13 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def render(data: PliesData, out_dir: Path) -> list[str]:
+def render(data: PliesData, out_dir: Path) -> list[Figure]:
     """A figure per layup: each ply's shear angle (fibrous, first holder force) against its
     own net over the blank, and the inter-ply slip of the top ply."""
     import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
 
-    names = []
+    figures = []
     for name in LAYUPS:
         key = f"{name} fibrous {HOLDER_FORCES[0]:g} N"
         layup = data.layups[key]
@@ -509,8 +509,16 @@ def render(data: PliesData, out_dir: Path) -> list[str]:
         filename = f"{NAME}-{name.replace('/', '-')}.png"
         fig.savefig(out_dir / filename, dpi=100)
         plt.close(fig)
-        names.append(filename)
-    return names
+        figures.append(
+            Figure(
+                filename,
+                f"The [{name}] layup formed on the hemisphere: each fibrous ply's shear angle "
+                "over its blank beside the pin-jointed net of its own orientation, and the "
+                "inter-ply slip of the top ply. Each ply should show its net's pattern inside "
+                "the die.",
+            )
+        )
+    return figures
 
 
 CASE = Case(
