@@ -107,8 +107,8 @@ What still fails, and why this is a study:
   each other and lift it by 2.0 mm), at 20 N stopped on the energy balance at 97 % of the
   stroke; the Mindlin runs stopped at 81 % ([0/90]) and 65 % ([0/45]). With the curved faces
   too, [0/45] fibrous is -0.36 mm in the die at 76 % of the stroke but stops there on the
-  energy balance (at safety 0.6 as well). Not adopted: the [0/45] crossing stays, and three
-  runs stop earlier.
+  energy balance (at safety 0.6 as well, and frictionless at 69 %). Not adopted: the [0/45]
+  crossing stays, and three runs stop earlier.
 - The Mindlin runs stopped on the explicit energy balance at 67-83 % of the stroke (89 % for
   [0/90] at coarse). With a dashpot on the holder (below) both reach the end at coarse with a
   still dashpot, and with the following one [0/90] does and [0/45] stops at 85 %: the holder's
