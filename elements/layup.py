@@ -104,6 +104,11 @@ class Layup:
         Of every ``PlyContact``: "flat" (default) or "curved", the lower ply's face as the
         curved surface over its nodal normals (elements/ply_surface.py; the choice for plies
         whose meshes do not match on a curved tool).
+    lower_rule : str, optional
+        A key of ``elements.ply_contact.RULES``: every ``PlyContact`` then has its mirrored
+        pass, the lower ply's points at that rule against the upper ply's face
+        (elements/ply_contact.py, "Both ways"; "vertices": the lower ply's nodes); None
+        (default): one pass, the upper ply's points alone.
 
     Attributes
     ----------
@@ -124,7 +129,8 @@ class Layup:
     ------
     ValueError
         Not a Fabric; angles that are not 1 to ``MAX_PLIES`` finite numbers; a bad size,
-        cell count, kinematics, friction, penalty, rule, smoothing, faces or surface.
+        cell count, kinematics, friction, penalty, rule, smoothing, faces, surface or
+        lower_rule.
 
     Warns
     -----
@@ -148,6 +154,7 @@ class Layup:
         smoothing: float | None = None,
         faces: str | None = None,
         surface: str = "flat",
+        lower_rule: str | None = None,
     ):
         if not isinstance(fabric, Fabric):
             raise ValueError(f"Layup needs a materials.Fabric (one ply), got {fabric!r}")
@@ -178,6 +185,9 @@ class Layup:
             faces=faces,
             surface=surface,
         )
+        if lower_rule is not None:
+            PlyContact("ply_2", "ply_1", rule=lower_rule, points="lower")
+        self.lower_rule = lower_rule
         self.penalty, self.rule, self.smoothing, self.faces = penalty, rule, smoothing, faces
         self.surface = surface
         self.friction = float(friction)
@@ -233,7 +243,9 @@ class Layup:
     def model(self) -> Model:
         """A Model of the layup: ply k's shell on triangle set "ply_k" (element block k - 1)
         and a ``PlyContact`` of ply k + 1 on ply k (interactions 0..N-2, offsets h / 2,
-        friction mu). Supports, loads and tools are the caller's."""
+        friction mu; with ``lower_rule`` each followed by its mirrored pass, interactions
+        0..2N-3, the pass of ply k + 1's points at 2k - 2). Supports, loads and tools are
+        the caller's."""
         model = Model(self.mesh)
         for k in range(1, self.count + 1):
             model.add(self.element(k), cells=f"ply_{k}")
@@ -248,6 +260,7 @@ class Layup:
             friction=self.friction,
             faces=self.faces,
             surface=self.surface,
+            lower_rule=self.lower_rule,
         )
         return model
 

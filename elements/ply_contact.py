@@ -49,6 +49,15 @@ on which Newton stalled (the 4-ply sag of tests/test_plies.py: no convergence in
 iterations). A centroid sits above the middle of the facing triangle, a third of a cell from
 its edges, and stays there until the plies slide by that much.
 
+Both ways (``points="lower"``). The points above are the upper ply's alone: nothing holds a
+node of the lower ply, or a node of the upper ply between its points, off the other ply's
+face. A second PlyContact with ``points="lower"`` is the mirrored pass: its points lie on the
+lower ply's upper face, x + b d, at its rule's coordinates in the lower triangles, and meet
+the upper ply's lower face, x - a d, whose triangles it turns so that their normal points
+towards the lower ply; the rest (search, law, friction, tangent) is the same code with the
+plies' roles and the offsets' signs swapped. With its points at the lower ply's nodes
+("vertices") the two passes hold both plies' nodes and the upper ply's interior points.
+
 Gap, energy and search (elements/ply_projection.py). Each point faces the triangle of the
 lower face that a search over the nearest ``candidates`` triangles picks, refreshed at every
 call; its gap g is its signed distance to that triangle's plane, and its energy W(g) a
@@ -111,6 +120,7 @@ from femcore.state import State
 
 __all__ = [
     "FACES",
+    "POINTS",
     "SURFACES",
     "MARGIN",
     "PENALTY_SHARE",
@@ -137,6 +147,8 @@ FACES = ("director", "normal")
 #: The lower face over a triangle: the flat facet through its offset corners, or the curved
 #: surface over them and the lower ply's nodal normals (elements/ply_surface.py).
 SURFACES = ("flat", "curved")
+#: Which ply carries the contact points (module docstring, "Both ways").
+POINTS = ("upper", "lower")
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
 RULES = {
@@ -189,13 +201,18 @@ class PlyContact(Interaction):
         "flat" (default): each face over a triangle the flat facet through its offset
         corners; "curved": the Phong surface over them and the plies' nodal normals, the
         force the exact gradient of the energy (module docstring, "Curved faces").
+    points : str
+        Which ply carries the contact points: "upper" (default), the rule's points of the
+        upper ply's lower face against the lower ply's upper face; "lower", the rule's points
+        of the lower ply's upper face against the upper ply's lower face (module docstring,
+        "Both ways": the two together hold each ply's points off the other's face).
 
     Raises
     ------
     ValueError
         Empty or non-integer selections, a negative or non-finite offset or smoothing, a
         penalty that is not a positive number, fewer than one candidate, an unknown rule,
-        faces or surface; at
+        faces, surface or points; at
         bind, unknown set names, ids out of range, nodes of the upper triangles that are
         corners of the lower triangles, nodes without directors.
     """
@@ -215,6 +232,7 @@ class PlyContact(Interaction):
         friction: float = 0.0,
         faces: str = "director",
         surface: str = "flat",
+        points: str = "upper",
     ):
         self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
@@ -262,6 +280,9 @@ class PlyContact(Interaction):
         if surface not in SURFACES:
             raise ValueError(f"surface must be one of {SURFACES}, got {surface!r}")
         self.surface = surface
+        if points not in POINTS:
+            raise ValueError(f"points must be one of {POINTS}, got {points!r}")
+        self.points = points
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
@@ -316,6 +337,10 @@ class PlyContact(Interaction):
         smoothing = self.smoothing
         if smoothing is None:
             smoothing = SMOOTHING * float(np.mean(a[above]) + np.mean(b[cells]))
+        if self.points == "lower":  # the points on the lower ply's upper face, x + b d
+            # against the upper ply's lower face, x - a d, its triangles turned so that their
+            # normal points towards the lower ply (module docstring, "Both ways")
+            return PlyContactBlock(self, cells, above[:, [0, 2, 1]], -b, -a, smoothing, body)
         return PlyContactBlock(self, above, cells, a, b, smoothing, body)
 
 
@@ -381,7 +406,10 @@ class PlyContactBlock(InteractionBlock):
         self.along_normals = contact.faces == "normal"
         self.curved = contact.surface == "curved"
         self.lever = 0.0 if self.along_normals else 1.0
-        self._own_triangles = np.vstack([above, cells])
+        # the plies' own triangles, in their own orientation, give the nodal normals (the
+        # points' ply's and the facing ply's): the mirrored pass turned its facing triangles
+        self.mirrored = contact.points == "lower"
+        self._own_triangles = np.vstack([above, cells[:, [0, 2, 1]] if self.mirrored else cells])
         self.smoothing = float(smoothing)
         self.upper_offset = np.asarray(upper_offset, dtype=float)[self.above]  # (P, 3)
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
@@ -529,9 +557,10 @@ class PlyContactBlock(InteractionBlock):
         flat = nodes.ravel()
 
         def gathered(values: np.ndarray, at: np.ndarray) -> np.ndarray:
+            # float even when no point touches (bincount of no weights is integer)
             return np.column_stack(
                 [np.bincount(at, values[..., k].ravel(), self.n_nodes) for k in range(3)]
-            )
+            ).astype(float)
 
         force = gathered(forces, flat)
         on_normals = gathered(np.concatenate([on_n_up, slope * on_n], axis=1), flat)
@@ -708,7 +737,10 @@ class PlyContactBlock(InteractionBlock):
         the upper nodes, N; 0 off them), ply_slip_vector (n, 3) and ply_slip (n,): the
         tangential displacement of each upper node's face against the lower ply's face since
         the start and its length, mm (elements/ply_slip.py; NaN off the upper nodes and
-        where no ply is below)."""
+        where no ply is below). None for the mirrored pass (``points="lower"``): the fields
+        are the upper ply's, given by the pass of its own points."""
+        if self.mirrored:
+            return {}
         facing = self.facing(state)
         overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
         facing_any = overshoot <= MARGIN
@@ -740,12 +772,21 @@ class PlyContactBlock(InteractionBlock):
         }
 
 
-def join_neighbours(model: Any, count: int, half_thickness: float, **options: Any) -> None:
+def join_neighbours(
+    model: Any, count: int, half_thickness: float, lower_rule: str | None = None, **options: Any
+) -> None:
     """Add to ``model`` a ``PlyContact`` of ply k + 1 on ply k for k = 1 .. count - 1 (the
     triangle sets "ply_k"), both faces ``half_thickness`` (mm) from the mid-surfaces;
-    ``options`` (penalty, rule, smoothing, friction) go to every one. The stacks of
+    ``options`` (penalty, rule, smoothing, friction, ...) go to every one. With
+    ``lower_rule`` (a key of ``RULES``), each is followed by its mirrored pass
+    (``points="lower"``) with the lower ply's points at that rule. The stacks of
     elements.plies and elements.layup join their plies so."""
     for k in range(1, count):
         model.interact(
             PlyContact(f"ply_{k + 1}", f"ply_{k}", half_thickness, half_thickness, **options)
         )
+        if lower_rule is not None:  # the mirrored pass (module docstring, "Both ways")
+            mirrored = dict(options, rule=lower_rule, points="lower")
+            model.interact(
+                PlyContact(f"ply_{k + 1}", f"ply_{k}", half_thickness, half_thickness, **mirrored)
+            )

@@ -250,10 +250,12 @@ def plies(
     smoothing=None,
     friction: float = 0.0,
     separate: bool = False,
+    points: str = "upper",
 ):
     """(block, state, None) of PlyContact between the two jittered plies, turned; with
     ``separate``, the upper ply's 18 triangles each with their own corners (every upper node
-    then takes the force of one contact point of the centroid rule)."""
+    then takes the force of one contact point of the centroid rule); ``points="lower"`` the
+    mirrored pass, the lower ply's points against the upper ply's face."""
     from elements.ply_contact import PlyContact
 
     rng = np.random.default_rng(seed)
@@ -263,10 +265,10 @@ def plies(
     above = upper.triangles
     if separate:
         up, above = up[above].reshape(-1, 3), np.arange(above.size).reshape(-1, 3)
-    points = np.vstack([low, up])
-    n = len(points)
+    coordinates = np.vstack([low, up])
+    n = len(coordinates)
     mesh = Mesh(
-        points @ turn.T,
+        coordinates @ turn.T,
         triangles=np.vstack([lower.triangles, above + len(low)]),
         node_sets={"upper": np.arange(len(low), n)},
         element_sets={"lower": np.arange(len(lower.triangles))},
@@ -284,6 +286,7 @@ def plies(
         rule=rule,
         smoothing=smoothing,
         friction=friction,
+        points=points,
     )
     block = contact.bind(Body(mesh, (), directors, active))
     zero = np.zeros((n, 3))
@@ -347,14 +350,33 @@ def test_flat_plies_pressed_by_p_carry_the_penalty_law_along_the_normal(rule, sm
         assert np.abs(force.sum(axis=0)).max() <= 1e-12 * PENALTY
 
 
-def plies_with_friction(turn: np.ndarray = UNTURNED, rule="gauss", smoothing=None, separate=False):
+@pytest.mark.parametrize("rule", ["centroid", "vertices"])
+def test_the_mirrored_ply_contact_conforms(rule):
+    """The lower ply's points against the upper ply's face (``points="lower"``): the same
+    kit, the moments through the swapped offsets included."""
+
+    def build(turn=UNTURNED):
+        return plies(turn, rule=rule, points="lower")
+
+    block, state, history = build()
+    facing = block.facing(state)
+    assert facing.touching.sum() >= 2 and (~facing.touching).sum() >= 2
+    check_interaction(block, state, history)
+    check_objectivity(build, TURN)
+
+
+def plies_with_friction(
+    turn: np.ndarray = UNTURNED, rule="gauss", smoothing=None, separate=False, points="upper"
+):
     """(block, state, history) of ``plies`` with friction MU: each touching point anchored on
     its facing triangle at its projection's barycentric coordinates moved by 0.002 (even
     points: ~4e-3 mm, they stick) or 0.2 (odd: ~0.4 mm, they slide); barycentric, so the
     history is the same whatever the turn."""
     from elements.ply_friction import PlyFrictionHistory
 
-    block, state, _ = plies(turn, rule=rule, smoothing=smoothing, friction=MU, separate=separate)
+    block, state, _ = plies(
+        turn, rule=rule, smoothing=smoothing, friction=MU, separate=separate, points=points
+    )
     facing = block.facing(state)
     count = len(facing.gap)
     shift = np.random.default_rng(7).normal(size=(count, 3))
@@ -372,16 +394,24 @@ def plies_with_friction(turn: np.ndarray = UNTURNED, rule="gauss", smoothing=Non
 
 
 @pytest.mark.parametrize(
-    "rule, smoothing",
-    [("centroid", None), ("gauss", None), ("vertices", None), ("gauss", 0.0), ("gauss", 0.05)],
+    "rule, smoothing, points",
+    [
+        ("centroid", None, "upper"),
+        ("gauss", None, "upper"),
+        ("vertices", None, "upper"),
+        ("gauss", 0.0, "upper"),
+        ("gauss", 0.05, "upper"),
+        ("vertices", None, "lower"),
+    ],
 )
-def test_ply_contact_with_friction_conforms(rule, smoothing):
+def test_ply_contact_with_friction_conforms(rule, smoothing, points):
     """The return mapping's own tangent (exact: stick and slip, through the facing
     triangle's normal and the anchor's triangle), energies and history, objectivity; and an
-    accepted step leaves every point at or within the limit with dissipation added."""
+    accepted step leaves every point at or within the limit with dissipation added; the
+    mirrored pass (``points="lower"``) alike."""
 
     def build(turn=UNTURNED):
-        return plies_with_friction(turn, rule=rule, smoothing=smoothing)
+        return plies_with_friction(turn, rule=rule, smoothing=smoothing, points=points)
 
     block, state, history = build()
     sliding = block.friction_state(state, history)

@@ -1,0 +1,117 @@
+"""The ply contact both ways (elements/ply_contact.py, "Both ways"): the upper ply's points
+against the lower ply's face, and the mirrored pass, the lower ply's points against the upper
+ply's face, so that a node of the upper ply pressed by a tool between its own contact points
+cannot pass through the ply below."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from elements import RigidSphere
+from elements.layup import Layup
+from elements.ply_contact import PlyContact
+from femcore.state import State
+from materials import Fabric
+from solvers import CentralDifference
+
+PLY = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
+
+
+def _node_gaps(layup: Layup, positions: np.ndarray) -> np.ndarray:
+    """(s,) each upper-ply node's least gap to the lower ply's face over the contact points
+    at it (a node-to-surface contact, rule "vertices"), mm; NaN where no facet faces it."""
+    probe = Layup(PLY, tuple(layup.angles), 40.0, cells=4, rule="vertices")
+    contact = probe.model().compile().interactions[0]
+    zero = np.zeros_like(positions)
+    facing = contact.facing(State(positions, zero, zero, zero))
+    corner = contact.above[np.arange(len(facing.gap)), np.argmax(contact.shape, axis=1)]
+    faces_one = np.maximum(0.0, -facing.weights.min(axis=1)) <= 0.5
+    gap = np.full(len(positions), np.inf)
+    np.minimum.at(gap, corner[faces_one], facing.gap[faces_one])
+    top = gap[layup.ply_nodes[-1]]
+    return np.where(np.isfinite(top), top, np.nan)
+
+
+@pytest.mark.parametrize("angles", [(0.0, 90.0), (0.0, 45.0)], ids=["0-90", "0-45"])
+def test_a_node_pressed_by_a_sphere_stays_out_of_the_ply_below(angles):
+    """Two 40-mm plies (10-mm cells, both outlines pinned), the top ply's centre node pressed
+    3 mm down by a rigid sphere of radius 5 mm. With the upper ply's Gauss points alone, the
+    node (no contact point of its ply) went 0.30 mm ([0/90]) and 0.40 mm ([0/45]) through
+    the bottom ply's face, a ply thickness; with the mirrored pass at the bottom ply's nodes
+    it stays within 0.07 mm (the penalty's give), here within half a ply thickness over the
+    whole run."""
+    layup = Layup(PLY, angles, 40.0, cells=4, rule="gauss", lower_rule="vertices")
+    model = layup.model()
+    model.fix("outline", ["ux", "uy", "uz"])
+    top = layup.ply_nodes[1]
+    points = layup.mesh.points
+    centre = top[np.argmin(np.linalg.norm(points[top, :2], axis=1))]
+    radius, depth = 5.0, 3.0
+    start = (0.0, 0.0, points[centre, 2] + 0.5 * PLY.thickness + radius)
+    model.contact(
+        RigidSphere(start, radius, motion=(0.0, 0.0, -depth), amplitude="smooth"), nodes="ply_2"
+    )
+    result = CentralDifference(
+        duration=0.01, damping=20.0, progress=False, kinetic_bound=None
+    ).solve(model)
+    assert result.positions[centre, 2] < points[centre, 2] - 2.5  # pressed
+    n = layup.mesh.n_nodes
+    least = min(np.nanmin(_node_gaps(layup, frame.positions[:n])) for frame in result.frames)
+    assert least > -0.5 * PLY.thickness
+
+
+def _sunk(layup: Layup, sink: float) -> tuple[list, State]:
+    """The layup's compiled ply contacts and a state with the top ply ``sink`` mm into the
+    bottom one, directors upright."""
+    contacts = layup.model().compile().interactions
+    x = layup.mesh.points.copy()
+    x[layup.ply_nodes[1], 2] -= sink
+    zero = np.zeros_like(x)
+    directors = np.tile([0.0, 0.0, 1.0], (len(x), 1))
+    return contacts, State(x, directors, zero, zero)
+
+
+@pytest.mark.parametrize("faces", ["normal", "director"])
+def test_the_mirrored_pass_pushes_the_lower_ply_down_and_the_upper_ply_up(faces):
+    """Flat [0/45] plies sunk 0.1 mm into each other: every node of the bottom ply under the
+    top one penetrates its face by 0.1 mm, and the pass pushes the plies apart along the
+    normal, equal and opposite."""
+    layup = Layup(PLY, (0.0, 45.0), 40.0, cells=4, lower_rule="vertices", faces=faces)
+    contacts, state = _sunk(layup, 0.1)
+    assert len(contacts) == 2 and contacts[1].mirrored and not contacts[0].mirrored
+    mirrored = contacts[1]
+    facing = mirrored.facing(state)
+    assert facing.touching.sum() >= 9
+    np.testing.assert_allclose(facing.gap[facing.touching], -0.1, atol=1e-12)
+    force, moment = mirrored.internal_force(state)  # dW/dx: the push on the plies is -force
+    bottom, top = layup.ply_nodes
+    assert force[top, 2].sum() < 0.0 < force[bottom, 2].sum()
+    assert np.all(force[top, 2] <= 0.0) and np.all(force[bottom, 2] >= 0.0)
+    assert force[top, 2].sum() == pytest.approx(-force[bottom, 2].sum(), rel=1e-12)
+    assert np.abs(force[:, :2]).max() <= 1e-9 * np.abs(force[:, 2]).max()
+    np.testing.assert_allclose(moment, 0.0, atol=1e-9 * np.abs(force).max())
+    assert mirrored.node_fields(state) == {}  # the upper ply's fields are the first pass's
+
+
+def test_a_layup_without_a_lower_rule_keeps_one_pass_per_interface():
+    layup = Layup(PLY, (0.0, 45.0, 90.0), 40.0, cells=2)
+    assert len(layup.model().compile().interactions) == 2
+    both = Layup(PLY, (0.0, 45.0, 90.0), 40.0, cells=2, lower_rule="centroid")
+    assert [c.mirrored for c in both.model().compile().interactions] == [False, True] * 2
+
+
+def test_unknown_points_and_lower_rules_are_refused_with_the_choices():
+    with pytest.raises(ValueError, match="points must be one of .*'upper', 'lower'.*'middle'"):
+        PlyContact("ply_2", "ply_1", points="middle")
+    with pytest.raises(ValueError, match="rule must be one of .*'edges'"):
+        Layup(PLY, (0.0, 90.0), 40.0, cells=2, lower_rule="edges")
+
+
+def test_curved_faces_apart_give_a_zero_float_force():
+    """No point touching: the curved faces' loads are zeros (they were an integer array, on
+    which the normals' pull-back could not be added)."""
+    layup = Layup(PLY, (0.0, 45.0), 40.0, cells=2, surface="curved")
+    contacts, state = _sunk(layup, -1.0)
+    force, moment = contacts[0].internal_force(state)
+    assert force.dtype == np.float64 and not force.any() and not moment.any()
