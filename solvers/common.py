@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import sys
+
 import numpy as np
 
 from femcore.checks import as_number, check_positive
@@ -11,6 +14,7 @@ from femcore.state import State
 from solvers.progress import ProgressLine, resolve_progress
 
 __all__ = [
+    "outside_stacklevel",
     "ConvergenceError",
     "DivergenceError",
     "ProgressLine",
@@ -191,3 +195,18 @@ def equilibrium_reactions(
         model.has_rotation[:, None] & model.rotation_fixed.any(1)[:, None], m_int - m_ext, 0.0
     )
     return reactions, reaction_moments
+
+
+def outside_stacklevel() -> int:
+    """The ``stacklevel`` of ``warnings.warn`` that names the first frame outside the
+    solvers package: the user's call of ``solve``, however many wrappers (interrupts, BLAS
+    threads) and helpers lie between. Called by the function that warns."""
+    package = os.path.dirname(os.path.abspath(__file__))
+    frame = sys._getframe(1)  # the function that warns: level 1
+    level = 1
+    while frame is not None:
+        if os.path.dirname(os.path.abspath(frame.f_code.co_filename)) != package:
+            break
+        frame = frame.f_back
+        level += 1
+    return level

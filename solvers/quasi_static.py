@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from solvers.common import outside_stacklevel
+
 __all__ = [
     "KINETIC_BOUND",
     "KINETIC_CHECK_FROM",
@@ -116,7 +118,7 @@ def quasi_static_report(
                 "quasi-static process, slow the loading (a longer duration), lower the mass "
                 "scaling or damp it; for a dynamic run, set kinetic_bound=None",
                 UserWarning,
-                stacklevel=6,
+                stacklevel=outside_stacklevel(),
             )
     return {
         "kinetic_bound": bound,

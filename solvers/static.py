@@ -56,6 +56,7 @@ from solvers.common import (
     empty_result,
     equilibrium_reactions,
     make_frame,
+    outside_stacklevel,
     resolve_progress,
 )
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
@@ -442,7 +443,7 @@ class StaticRun:
                 f"{STABILISATION_BOUND:g}: the dashpots, not the model, shape the result; "
                 f"lower stabilise (now {self.solver.stabilise:g}) or take more increments",
                 UserWarning,
-                stacklevel=4,
+                stacklevel=outside_stacklevel(),
             )
 
     def pattern(self, phase: int):

@@ -93,8 +93,9 @@ def test_a_light_stabilisation_leaves_the_answer_and_reports_what_it_dissipated(
 def test_a_stabilisation_that_shapes_the_result_is_warned_about():
     """c = 10 1/s^2: the dashpots' work against the plate riding up with the plane is many
     times the plate's strain energy: a UserWarning says so."""
-    with pytest.warns(UserWarning, match="viscous stabilisation dissipated"):
+    with pytest.warns(UserWarning, match="viscous stabilisation dissipated") as caught:
         Static(increments=2, stabilise=10.0, progress=False).solve(plate_on_a_rising_plane())
+    assert caught[0].filename == __file__  # it points at the caller's solve
 
 
 @pytest.mark.parametrize("value", [-1.0, float("nan"), "10", True])
