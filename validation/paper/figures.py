@@ -271,7 +271,9 @@ def view_3d(
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks on a short axis
             axis.set_major_locator(MaxNLocator(nbins=4))
         ax.view_init(elev=22, azim=-140)
-        ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
+        # The z label only on the left panel: a 3D axes' z label sits outside its box, over
+        # the panel to its left, which hid the third one; the caption says so.
+        ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)" if i == 0 else "")
         scale = "true scale" if exaggeration == 1.0 else f"z exaggerated x {exaggeration:.1f}"
         # Two short lines: a 3D axes' title is not made room for by the layout.
         ax.set_title(f"{LABELS[kinematics]}\n({scale})", fontsize="medium")
@@ -280,12 +282,12 @@ def view_3d(
         f"{calibration_title(case.calibration, case.fabric)}"
     )
     name = f"{case.name}-3d.png"
-    # The layout does not see a 3D axes' z label; the tight box keeps the last one in view.
+    # The layout does not see a 3D axes' z label; the tight box keeps the left one in view.
     fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.15)
     plt.close(fig)
     return Figure(
         name,
         f"The deformed {case.name} in 3D: the mid-surface with the through-thickness segments "
         f"(black) along the filmed sides, for {IN_WORDS}, left to right. Look at the black "
-        f"segments: {DIRECTORS}.",
+        f"segments: {DIRECTORS}. The axes are in mm, z upward (labelled on the left panel).",
     )
