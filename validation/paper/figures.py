@@ -41,6 +41,8 @@ IN_WORDS = (
     "the fibrous shell with nodal normals (blue), the fibrous shell with Bai's Eq. 15 (green) "
     "and the reference Mindlin shell (orange)"
 )
+# The characters of an 11-pt title per inch of figure, less a margin.
+TITLE_CHARACTERS_PER_INCH = 11
 # What to look at in every paper case: where the three sets of directors point.
 DIRECTORS = (
     "the Mindlin directors follow the normal, the Eq. 15 ones stay vertical and the default "
@@ -48,16 +50,25 @@ DIRECTORS = (
 )
 
 
+def _title(lines: tuple[str, ...], width: float) -> str:
+    """``lines`` wrapped to a figure ``width`` inches wide (11-pt text), one under another."""
+    return "\n".join(textwrap.fill(line, int(TITLE_CHARACTERS_PER_INCH * width)) for line in lines)
+
+
 def side_figure(
     case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
 ) -> Figure:
-    """Bai Fig. 10-style panels: rows = sides, columns = mid-surface, director angle,
+    """Bai Fig. 10-style panels: columns = sides, rows = mid-surface, director angle,
     thickness along the director; the three kinematics on the same axes. ``profiles`` is
     kinematics -> side -> profile; returns the figure with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
-    fig, axes = plt.subplots(
-        len(sides), 3, figsize=(13, 3.6 * len(sides)), squeeze=False, constrained_layout=True
+    # A column per side, 4.5 in each at 100 dpi: the two sides 900 px wide, whose 10-pt
+    # text reads as 9 pt on an 800-px screen (a row per side was 1,300 px, 7 px there).
+    width = max(6.0, 4.5 * len(sides))
+    fig, grid = plt.subplots(
+        3, len(sides), figsize=(width, 8.4), squeeze=False, layout="constrained"
     )
+    axes = grid.T  # axes[side] is that side's column, lettered down it: (a)-(c), (d)-(f)
     for row, side in enumerate(sides):
         for kinematics in KINEMATICS:
             data = profiles[kinematics][side]
@@ -76,25 +87,26 @@ def side_figure(
             axes[row, 2].plot(s, data.thickness, **style)
         name = side.replace("_", " ")
         axes[row, 0].set(
-            xlabel=f"horizontal distance from the clamp along {name} (mm)",
+            xlabel="horizontal distance from the clamp (mm)",
             ylabel="mid-surface z (mm)",
             title=f"({'ad'[row]}) mid-surface, {name}",
         )
         axes[row, 0].set_aspect("equal", adjustable="datalim")
         axes[row, 1].set(
             xlabel=f"s along {name} (mm)",
-            ylabel="director angle to horizontal (deg)",
-            title=f"({'be'[row]}) material director, {name}",
+            ylabel="director angle (deg)",
+            title=f"({'be'[row]}) director angle to the horizontal, {name}",
         )
         axes[row, 2].set(
             xlabel=f"s along {name} (mm)",
-            ylabel="thickness along director (mm)",
-            title=f"({'cf'[row]}) thickness, {name}",
+            ylabel="thickness (mm)",
+            title=f"({'cf'[row]}) thickness along the director, {name}",
         )
         for ax in axes[row]:
             ax.grid(True, alpha=0.3)
-    axes[0, 0].legend(fontsize="small")
-    fig.suptitle(f"{case.name}: {case.title}\n{calibration_title(case.calibration, case.fabric)}")
+    axes[0, 0].legend(fontsize=9)
+    lines = (f"{case.name}: {case.title}", calibration_title(case.calibration, case.fabric))
+    fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-sides.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
@@ -116,8 +128,9 @@ def side_elevation(
     through the thickness at every node, along the directors; true scale. Returns the figure
     with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
+    width = max(6.0, 4.5 * len(sides))  # 4.5 in per side: 9 in, 10-pt text read as 9 pt
     fig, axes = plt.subplots(
-        len(KINEMATICS), len(sides), figsize=(6.5 * len(sides), 2.6 * len(KINEMATICS)),
+        len(KINEMATICS), len(sides), figsize=(width, 2.4 * len(KINEMATICS)),
         squeeze=False, constrained_layout=True,
     )  # fmt: skip
     for row, kinematics in enumerate(KINEMATICS):
@@ -138,12 +151,13 @@ def side_elevation(
                 axis.plot([bottom[0][k], top[0][k]], [bottom[1][k], top[1][k]], color="k", lw=0.9)
             axis.set_aspect("equal", adjustable="datalim")
             axis.grid(True, alpha=0.3)
-            axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize="medium")
+            axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize=10)
             axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
-    fig.suptitle(
-        f"{case.name}: the sides seen from the side, true scale\n"
-        f"{calibration_title(case.calibration, case.fabric)}"
+    lines = (
+        f"{case.name}: the sides seen from the side, true scale",
+        calibration_title(case.calibration, case.fabric),
     )
+    fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-side-elevation.png"
     # One side is a narrow figure: the tight box widens it to its two-line title.
     fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.1)
@@ -185,7 +199,8 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
          ("warp_curvature", "weft_curvature"), 1.0, 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
     )  # fmt: skip
     both = "" if rule.name == "initial-slope" else " (both shells)"
-    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), constrained_layout=True)
+    # 9 in at 110 dpi (990 px): its 10-pt text reads as 9 pt on an 800-px screen.
+    fig, axes = plt.subplots(1, 3, figsize=(9.0, 3.9), layout="constrained")
     for axis, (title, warp, weft, names, to_law, floor, xlabel, ylabel) in zip(axes, panels):
         x = np.linspace(0.0, reach(names, floor, to_law), 401)  # the laws are odd (or tension-only)
         shown = x / to_law
@@ -204,18 +219,19 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
         axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))
         axis.locator_params(axis="x", nbins=5)
         axis.grid(True, alpha=0.3)
-        axis.legend(fontsize="small")
+        axis.legend(fontsize=9)
     shared = (
         "the Mindlin section's own laws too"
         if rule.name != "initial-slope"
         else "the Mindlin section is elastic"
     )
-    fig.suptitle(
-        f"{case.name}: the fabric's laws over the range the fibrous run reached ({shared})\n"
-        f"{calibration_title(rule, fabric)}"
+    lines = (
+        f"{case.name}: the fabric's laws over the range the fibrous run reached ({shared})",
+        calibration_title(rule, fabric),
     )
+    fig.suptitle(_title(lines, 9.0), fontsize=11)
     name = f"{case.name}-laws.png"
-    fig.savefig(out_dir / name, dpi=100)
+    fig.savefig(out_dir / name, dpi=110)
     plt.close(fig)
     mindlin = (
         "With the 'laws' calibration the Mindlin section uses these same laws, so that the "
