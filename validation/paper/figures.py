@@ -58,17 +58,22 @@ def _title(lines: tuple[str, ...], width: float) -> str:
 def side_figure(
     case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
 ) -> Figure:
-    """Bai Fig. 10-style panels: columns = sides, rows = mid-surface, director angle,
-    thickness along the director; the three kinematics on the same axes. ``profiles`` is
-    kinematics -> side -> profile; returns the figure with its caption."""
+    """Bai Fig. 10-style panels: per side, the mid-surface, the director angle and the
+    thickness along the director (a column per side, or one row for one side); the three
+    kinematics on the same axes. ``profiles`` is kinematics -> side -> profile; returns the
+    figure with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
-    # A column per side, 4.5 in each at 100 dpi: the two sides 900 px wide, whose 10-pt
-    # text reads as 9 pt on an 800-px screen (a row per side was 1,300 px, 7 px there).
-    width = max(6.0, 4.5 * len(sides))
-    fig, grid = plt.subplots(
-        3, len(sides), figsize=(width, 8.4), squeeze=False, layout="constrained"
-    )
-    axes = grid.T  # axes[side] is that side's column, lettered down it: (a)-(c), (d)-(f)
+    # 9 in at 100 dpi (900 px): its 10-pt text reads as 9 pt on an 800-px screen (a row of
+    # three per side was 1,300 px, 7 px there). axes[side] holds that side's three panels,
+    # lettered (a)-(c), then (d)-(f).
+    width = 9.0
+    if len(sides) == 1:
+        fig, axes = plt.subplots(1, 3, figsize=(width, 3.6), squeeze=False, layout="constrained")
+    else:
+        fig, grid = plt.subplots(
+            3, len(sides), figsize=(width, 8.4), squeeze=False, layout="constrained"
+        )
+        axes = grid.T
     for row, side in enumerate(sides):
         for kinematics in KINEMATICS:
             data = profiles[kinematics][side]
@@ -104,7 +109,11 @@ def side_figure(
         )
         for ax in axes[row]:
             ax.grid(True, alpha=0.3)
-    axes[0, 0].legend(fontsize=9)
+            # a third of the width each for one side: the titles on two lines
+            ax.set_title(textwrap.fill(ax.get_title(), 30 if len(sides) == 1 else 50))
+    # Under the panels, where it hides no curve.
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=10)
     lines = (f"{case.name}: {case.title}", calibration_title(case.calibration, case.fabric))
     fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-sides.png"
@@ -128,11 +137,17 @@ def side_elevation(
     through the thickness at every node, along the directors; true scale. Returns the figure
     with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
-    width = max(6.0, 4.5 * len(sides))  # 4.5 in per side: 9 in, 10-pt text read as 9 pt
-    fig, axes = plt.subplots(
-        len(KINEMATICS), len(sides), figsize=(width, 2.4 * len(KINEMATICS)),
-        squeeze=False, constrained_layout=True,
-    )  # fmt: skip
+    # 9 in at 100 dpi (900 px): its 10-pt text reads as 9 pt on an 800-px screen. A column
+    # per side, or for one side the three kinematics in a row: axes[row, column].
+    width = 9.0
+    if len(sides) == 1:
+        fig, grid = plt.subplots(1, 3, figsize=(width, 3.0), squeeze=False, layout="constrained")
+        axes = grid.T
+    else:
+        fig, axes = plt.subplots(
+            len(KINEMATICS), len(sides), figsize=(width, 2.4 * len(KINEMATICS)),
+            squeeze=False, layout="constrained",
+        )  # fmt: skip
     for row, kinematics in enumerate(KINEMATICS):
         for column, side in enumerate(sides):
             data = profiles[kinematics][side]
@@ -151,7 +166,8 @@ def side_elevation(
                 axis.plot([bottom[0][k], top[0][k]], [bottom[1][k], top[1][k]], color="k", lw=0.9)
             axis.set_aspect("equal", adjustable="datalim")
             axis.grid(True, alpha=0.3)
-            axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize=10)
+            title = f"{LABELS[kinematics]}, {side.replace('_', ' ')}"
+            axis.set_title(textwrap.fill(title, 38 * len(sides)), fontsize=10)
             axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
     lines = (
         f"{case.name}: the sides seen from the side, true scale",
@@ -159,16 +175,16 @@ def side_elevation(
     )
     fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-side-elevation.png"
-    # One side is a narrow figure: the tight box widens it to its two-line title.
+    # The tight box keeps the wrapped titles whole.
     fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
     return Figure(
         name,
         f"The sides of {case.name} seen from the side at true scale, as the paper photographs "
-        f"its specimens: one row per kinematics ({IN_WORDS}), the band between the bottom and top "
-        "surfaces with a black line through the thickness at every node along its director. "
-        "Compare the black lines with the lines drawn on the specimens: square to the surface "
-        "in the Mindlin row, leaning in the fibrous rows.",
+        f"its specimens: a panel per kinematics and side ({IN_WORDS}), the band between the "
+        "bottom and top surfaces with a black line through the thickness at every node along "
+        "its director. Compare the black lines with the lines drawn on the specimens: square "
+        "to the surface in the Mindlin panels, leaning in the fibrous ones.",
     )
 
 
@@ -256,7 +272,8 @@ def view_3d(
     # Two rows of two, 9 in at 110 dpi (990 px): on an 800-px screen the 10-pt text still
     # reads as 9 pt (a row of three was 1,332 px, its text 8 px there). The fourth place
     # holds the title's calibration and the key.
-    fig = plt.figure(figsize=(9.0, 7.6), layout="constrained")
+    fig = plt.figure(figsize=(9.0, 8.0), layout="constrained")
+    fig.get_layout_engine().set(h_pad=0.3)  # room for the upper panels' y labels
     h = case.fabric.thickness
     for i, kinematics in enumerate(KINEMATICS):
         ax = fig.add_subplot(2, 2, i + 1, projection="3d")
