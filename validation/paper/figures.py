@@ -335,6 +335,6 @@ def view_3d(
     return Figure(
         name,
         f"The deformed {case.name} in 3D: the mid-surface with the through-thickness segments "
-        f"(black) along the filmed sides, for {IN_WORDS}, left to right. Look at the black "
+        f"(black) along the filmed sides, for {IN_WORDS}, in (a), (b) and (c). Look at the black "
         f"segments: {DIRECTORS}.",
     )
