@@ -37,6 +37,12 @@ __all__ = [
 KINEMATICS = ("fibrous", "mindlin", "plies")
 DEFAULT_KINEMATICS = ("fibrous", "mindlin")
 COLOURS = {"fibrous": "tab:blue", "mindlin": "tab:orange", "plies": "tab:green"}
+# Sized for a report page: 9 in at 110 dpi is 990 px, shown at about 780 px on an 800-px
+# screen, where the smallest text (10 pt) still reads as 9 pt.
+PATH_FIGURE_SIZE = (9.0, 7.6)
+PATH_FIGURE_DPI = 110
+# The characters of 11-pt text across the figure and across one panel of it.
+TITLE_WIDTH, PANEL_TITLE_WIDTH = 100, 46
 
 
 def _fabric(case: Case):
@@ -388,16 +394,21 @@ def summary_lines(comparison: dict[str, Any], calibration: bool = True) -> list[
 
 
 def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path, label: str = "") -> Path:
-    """The figure of path ``name``: (a) side elevation, the mid-surface of each kinematics
-    and its through-thickness lines (the directors drawn across the thickness along them, at
-    true scale); (b) director angle to the horizontal; (c) director tilt from the surface
-    normal; (d) thickness along the director. ``label``: the calibration, in the title."""
+    """The figure of path ``name``, four panels in two rows: (a) side elevation, the
+    mid-surface of each kinematics and its through-thickness lines (the directors drawn
+    across the thickness along them, at true scale); (b) director angle to the horizontal;
+    (c) director tilt from the surface normal; (d) thickness along the director.
+    ``label``: the calibration, in the title. Written as ``path-<name>.png`` in ``out``,
+    990 px wide (PATH_FIGURE_SIZE at PATH_FIGURE_DPI)."""
+    import textwrap
+
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    figure, axes = plt.subplots(1, 4, figsize=(19, 4.4), constrained_layout=True)
+    figure, grid = plt.subplots(2, 2, figsize=PATH_FIGURE_SIZE, layout="constrained")
+    axes = grid.ravel()
     for kinematics, run in runs.items():
         line = kinematics_record(case, run)["paths"][name]
         colour = COLOURS[kinematics]
@@ -406,30 +417,35 @@ def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path, label: s
         angle = np.radians(np.asarray(line["director_angle_deg"]))
         thickness = np.asarray(line["thickness"])
         axes[0].plot(horizontal, z, color=colour, label=kinematics)
-        for u, zz, a, t in zip(horizontal, z, angle, thickness):
-            dh, dz = np.cos(a), np.sin(a)
-            ends_u = [u - 0.5 * t * dh, u + 0.5 * t * dh]
-            ends_z = [zz - 0.5 * t * dz, zz + 0.5 * t * dz]
-            axes[0].plot(ends_u, ends_z, color=colour, linewidth=0.8)
+        half = 0.5 * thickness[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
+        ends_u = np.column_stack([horizontal - half[:, 0], horizontal + half[:, 0]])
+        ends_z = np.column_stack([z - half[:, 1], z + half[:, 1]])
+        axes[0].plot(ends_u.T, ends_z.T, color=colour, linewidth=0.8)
         axes[1].plot(line["s"], line["director_angle_deg"], color=colour, label=kinematics)
         axes[2].plot(line["s"], line["director_tilt_deg"], color=colour, label=kinematics)
         axes[3].plot(line["s"], thickness, color=colour, label=kinematics)
     axes[0].set_aspect("equal", adjustable="datalim")
-    axes[0].set(xlabel="horizontal distance along the path (mm)", ylabel="z (mm)",
-                title=f"(a) side elevation of path '{name}', true scale")  # fmt: skip
-    axes[1].set(xlabel="s, reference arc length (mm)", ylabel="degrees",
-                title="(b) director angle to the horizontal")  # fmt: skip
-    axes[2].set(xlabel="s, reference arc length (mm)", ylabel="degrees",
-                title="(c) director tilt from the surface normal")  # fmt: skip
-    axes[3].set(xlabel="s, reference arc length (mm)", ylabel="mm",
-                title="(d) thickness along the director")  # fmt: skip
-    for axis in axes:
+    titles = (
+        f"(a) side elevation of path '{name}', true scale",
+        "(b) director angle to the horizontal",
+        "(c) director tilt from the surface normal",
+        "(d) thickness along the director",
+    )
+    labels = (
+        ("horizontal distance along the path (mm)", "z (mm)"),
+        ("s, reference arc length (mm)", "degrees"),
+        ("s, reference arc length (mm)", "degrees"),
+        ("s, reference arc length (mm)", "mm"),
+    )
+    for axis, title, (xlabel, ylabel) in zip(axes, titles, labels):
+        axis.set_title(textwrap.fill(title, PANEL_TITLE_WIDTH), fontsize=11)
+        axis.set(xlabel=xlabel, ylabel=ylabel)
         axis.grid(True, alpha=0.3)
-        axis.legend()
-    title = f"{case.title}: {', '.join(runs)}"
-    figure.suptitle(f"{title}\n{label}" if label else title)
+        axis.legend(fontsize=10)
+    lines = [f"{case.title}: {', '.join(runs)}", *([label] if label else [])]
+    figure.suptitle("\n".join(textwrap.fill(text, TITLE_WIDTH) for text in lines), fontsize=11)
     path = out / f"path-{name}.png"
-    figure.savefig(path, dpi=110)
+    figure.savefig(path, dpi=PATH_FIGURE_DPI)
     plt.close(figure)
     return path
 

@@ -108,6 +108,28 @@ def test_comparison_json_has_one_schema_and_states_the_calibration(tmp_path, cap
     assert comparison["figures"] == ["view-3d.png", "path-edge.png"]
 
 
+def test_the_path_figure_is_four_panels_in_two_rows_that_read_on_an_800_px_page(tmp_path):
+    # Two rows of two panels, 990 px wide: shown at about 780 px on an 800-px screen its
+    # 10-pt text still reads as 9 pt (a row of four was 2,090 px, its text 5 px there).
+    from matplotlib.image import imread
+
+    from fibreshell.compare import PATH_FIGURE_DPI, PATH_FIGURE_SIZE
+
+    text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
+    path = tmp_path / "small.toml"
+    path.write_text(text.replace("x_min = 200.0", "x_min = 40.0"))
+    assert main(["compare", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    height, width = imread(tmp_path / "out" / "path-edge.png").shape[:2]
+    assert (width, height) == (
+        round(PATH_FIGURE_SIZE[0] * PATH_FIGURE_DPI),
+        round(PATH_FIGURE_SIZE[1] * PATH_FIGURE_DPI),
+    )
+    assert width <= 1000 and height < 1.2 * width
+    smallest_pt = 10  # ticks, axis labels and legends (matplotlib's default size)
+    shown_px = smallest_pt / 72 * PATH_FIGURE_DPI * 780 / width
+    assert shown_px >= 12  # 9 pt at 96 px per inch
+
+
 @pytest.mark.slow
 def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path):
     # Bai's calibration: the Mindlin bending (a factor on the laws) and transverse shear

@@ -1,6 +1,6 @@
 """The hemisphere forming case (validation/cases/hemisphere_forming.py): its observed orders
-over three meshes, the cells it compares with the net, its holder, and its coarse blank formed
-to the end against the net."""
+over three meshes, the cells it compares with the net, its holder, its coarse blank formed to
+the end against the net, and its figures sized for a report page."""
 
 import math
 from types import SimpleNamespace
@@ -154,3 +154,30 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
     kinetic = [c for c in outcome.checks if "kinetic energy above" in c.name]
     assert len(kinetic) == 1 and kinetic[0].passed  # fibrous, share 0 <= KINETIC_SHARE
     assert "fibrous n = 12: runtime" in outcome.parameters
+
+
+def test_the_shear_and_fibre_figures_fit_an_800_px_page_at_a_readable_size(tmp_path):
+    # At most 1,000 px wide: shown at about 780 px their 10-pt text still reads as 9 pt (the
+    # shear figure was one row of three, 1,430 px, its text 7 px there).
+    from matplotlib.image import imread
+
+    from femcore import Mesh
+
+    cells = 4
+    mesh = Mesh.rectangle(200.0, 200.0, nx=cells, ny=cells, origin=(-100.0, -100.0, 0.0))
+    shear = np.linspace(-0.5, 0.5, len(mesh.triangles))
+    run = SimpleNamespace(
+        positions=np.vstack([mesh.points, [[0.0, 0.0, 1.0]]]),  # and the holder's node
+        frames=[SimpleNamespace(time=t, tool_forces=np.zeros((3, 3))) for t in (0.0, 0.3)],
+        write=lambda path: None,
+    )
+    data = case.HemisphereData(
+        mesh=mesh, runs={"fibrous": run, "mindlin": run},
+        shear={"fibrous": shear, "mindlin": shear}, net_shear=shear,
+        compared=np.ones(len(shear), bool), cells=cells,
+    )  # fmt: skip
+    drawn = {figure.file: figure for figure in case.render(data, tmp_path)}
+    for name in (f"{case.NAME}-shear.png", f"{case.NAME}-fibres.png"):
+        height, width = imread(tmp_path / name).shape[:2]
+        assert 800 < width <= 1000 and height < 1.2 * width, (name, width, height)
+    assert drawn[f"{case.NAME}-shear.png"].caption

@@ -552,21 +552,30 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
     mesh = data.mesh
     figures = []
     flat = Triangulation(mesh.points[:, 0], mesh.points[:, 1], mesh.triangles)
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), constrained_layout=True)
+    # Two rows of two, 8.5 in at 110 dpi (935 px): on an 800-px screen its 10-pt text
+    # still reads as 9 pt. The fourth place holds the colour scale the three share.
+    fig, grid = plt.subplots(2, 2, figsize=(8.5, 8.0), layout="constrained")
+    axes, key = grid.ravel()[:3], grid[1, 1]
     fields = [
-        ("fibrous shell", data.shear["fibrous"]),
-        ("Mindlin shell", data.shear["mindlin"]),
-        ("pin-jointed net (Mack-Taylor)", data.net_shear),
+        ("(a) fibrous shell", data.shear["fibrous"]),
+        ("(b) Mindlin shell", data.shear["mindlin"]),
+        ("(c) pin-jointed net (Mack and Taylor)", data.net_shear),
     ]
     top = np.nanmax(np.abs(np.degrees(data.net_shear)))
     for ax, (label, values) in zip(axes, fields):
         shown = np.degrees(np.where(np.isfinite(values), values, np.nan))
         art = ax.tripcolor(flat, shown, cmap="coolwarm", vmin=-top, vmax=top)
-        ax.set_title(f"shear angle (deg): {label}", fontsize="medium")
+        ax.set_title(label, fontsize=11)
         ax.set_aspect("equal")
         ax.set_xlabel("blank x (mm)")
-    axes[0].set_ylabel("blank y (mm)")
-    fig.colorbar(art, ax=axes, shrink=0.8)
+        ax.set_ylabel("blank y (mm)")
+    key.axis("off")
+    bar = fig.colorbar(art, cax=key.inset_axes((0.05, 0.55, 0.9, 0.08)), orientation="horizontal")
+    bar.set_label("shear angle (deg) of (a), (b) and (c)", fontsize=11)
+    key.text(
+        0.5, 0.3, "over the flat blank,\nafter forming into the hemisphere",
+        ha="center", va="center", fontsize=11, transform=key.transAxes,
+    )  # fmt: skip
     fig.savefig(out_dir / f"{NAME}-shear.png", dpi=110)
     plt.close(fig)
     figures.append(
@@ -579,7 +588,8 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
         )
     )
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 5), constrained_layout=True)
+    # 9 in at 110 dpi (990 px), its 10-pt text read as 9 pt on an 800-px screen.
+    fig, axes = plt.subplots(1, 2, figsize=(9.0, 4.9), layout="constrained")
     for ax, kinematics in zip(axes, ("fibrous", "mindlin")):
         x = data.runs[kinematics].positions[: mesh.n_nodes]  # less the holder's node
         step = max(1, data.cells // 16)
@@ -592,7 +602,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
         )
         circle = np.linspace(0, 2 * np.pi, 200)
         ax.plot(DIE * np.cos(circle), DIE * np.sin(circle), "--", color="0.3", lw=0.8)
-        ax.set_title(f"{kinematics}: warp (blue) and weft (red) from above", fontsize="medium")
+        ax.set_title(f"{kinematics}: warp (blue) and weft (red) from above", fontsize=10)
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm)")
     axes[0].set_ylabel("y (mm)")

@@ -11,6 +11,7 @@ output folder and returns it as a ``Figure`` with its caption.
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -40,6 +41,8 @@ IN_WORDS = (
     "the fibrous shell with nodal normals (blue), the fibrous shell with Bai's Eq. 15 (green) "
     "and the reference Mindlin shell (orange)"
 )
+# The characters of an 11-pt title per inch of figure, less a margin.
+TITLE_CHARACTERS_PER_INCH = 11
 # What to look at in every paper case: where the three sets of directors point.
 DIRECTORS = (
     "the Mindlin directors follow the normal, the Eq. 15 ones stay vertical and the default "
@@ -47,16 +50,30 @@ DIRECTORS = (
 )
 
 
+def _title(lines: tuple[str, ...], width: float) -> str:
+    """``lines`` wrapped to a figure ``width`` inches wide (11-pt text), one under another."""
+    return "\n".join(textwrap.fill(line, int(TITLE_CHARACTERS_PER_INCH * width)) for line in lines)
+
+
 def side_figure(
     case: PaperCase, profiles: dict[str, dict[str, SideProfile]], out_dir: Path
 ) -> Figure:
-    """Bai Fig. 10-style panels: rows = sides, columns = mid-surface, director angle,
-    thickness along the director; the three kinematics on the same axes. ``profiles`` is
-    kinematics -> side -> profile; returns the figure with its caption."""
+    """Bai Fig. 10-style panels: per side, the mid-surface, the director angle and the
+    thickness along the director (a column per side, or one row for one side); the three
+    kinematics on the same axes. ``profiles`` is kinematics -> side -> profile; returns the
+    figure with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
-    fig, axes = plt.subplots(
-        len(sides), 3, figsize=(13, 3.6 * len(sides)), squeeze=False, constrained_layout=True
-    )
+    # 9 in at 100 dpi (900 px): its 10-pt text reads as 9 pt on an 800-px screen (a row of
+    # three per side was 1,300 px, 7 px there). axes[side] holds that side's three panels,
+    # lettered (a)-(c), then (d)-(f).
+    width = 9.0
+    if len(sides) == 1:
+        fig, axes = plt.subplots(1, 3, figsize=(width, 3.6), squeeze=False, layout="constrained")
+    else:
+        fig, grid = plt.subplots(
+            3, len(sides), figsize=(width, 8.4), squeeze=False, layout="constrained"
+        )
+        axes = grid.T
     for row, side in enumerate(sides):
         for kinematics in KINEMATICS:
             data = profiles[kinematics][side]
@@ -75,25 +92,30 @@ def side_figure(
             axes[row, 2].plot(s, data.thickness, **style)
         name = side.replace("_", " ")
         axes[row, 0].set(
-            xlabel=f"horizontal distance from the clamp along {name} (mm)",
+            xlabel="horizontal distance from the clamp (mm)",
             ylabel="mid-surface z (mm)",
             title=f"({'ad'[row]}) mid-surface, {name}",
         )
         axes[row, 0].set_aspect("equal", adjustable="datalim")
         axes[row, 1].set(
             xlabel=f"s along {name} (mm)",
-            ylabel="director angle to horizontal (deg)",
-            title=f"({'be'[row]}) material director, {name}",
+            ylabel="director angle (deg)",
+            title=f"({'be'[row]}) director angle to the horizontal, {name}",
         )
         axes[row, 2].set(
             xlabel=f"s along {name} (mm)",
-            ylabel="thickness along director (mm)",
-            title=f"({'cf'[row]}) thickness, {name}",
+            ylabel="thickness (mm)",
+            title=f"({'cf'[row]}) thickness along the director, {name}",
         )
         for ax in axes[row]:
             ax.grid(True, alpha=0.3)
-    axes[0, 0].legend(fontsize="small")
-    fig.suptitle(f"{case.name}: {case.title}\n{calibration_title(case.calibration, case.fabric)}")
+            # a third of the width each for one side: the titles on two lines
+            ax.set_title(textwrap.fill(ax.get_title(), 30 if len(sides) == 1 else 50))
+    # Under the panels, where it hides no curve.
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=10)
+    lines = (f"{case.name}: {case.title}", calibration_title(case.calibration, case.fabric))
+    fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-sides.png"
     fig.savefig(out_dir / name, dpi=100)
     plt.close(fig)
@@ -115,10 +137,17 @@ def side_elevation(
     through the thickness at every node, along the directors; true scale. Returns the figure
     with its caption."""
     sides = [s for s in ("side_1", "side_2") if s in profiles["fibrous"]]
-    fig, axes = plt.subplots(
-        len(KINEMATICS), len(sides), figsize=(6.5 * len(sides), 2.6 * len(KINEMATICS)),
-        squeeze=False, constrained_layout=True,
-    )  # fmt: skip
+    # 9 in at 100 dpi (900 px): its 10-pt text reads as 9 pt on an 800-px screen. A column
+    # per side, or for one side the three kinematics in a row: axes[row, column].
+    width = 9.0
+    if len(sides) == 1:
+        fig, grid = plt.subplots(1, 3, figsize=(width, 3.0), squeeze=False, layout="constrained")
+        axes = grid.T
+    else:
+        fig, axes = plt.subplots(
+            len(KINEMATICS), len(sides), figsize=(width, 2.4 * len(KINEMATICS)),
+            squeeze=False, layout="constrained",
+        )  # fmt: skip
     for row, kinematics in enumerate(KINEMATICS):
         for column, side in enumerate(sides):
             data = profiles[kinematics][side]
@@ -137,23 +166,25 @@ def side_elevation(
                 axis.plot([bottom[0][k], top[0][k]], [bottom[1][k], top[1][k]], color="k", lw=0.9)
             axis.set_aspect("equal", adjustable="datalim")
             axis.grid(True, alpha=0.3)
-            axis.set_title(f"{LABELS[kinematics]}, {side.replace('_', ' ')}", fontsize="medium")
+            title = f"{LABELS[kinematics]}, {side.replace('_', ' ')}"
+            axis.set_title(textwrap.fill(title, 38 * len(sides)), fontsize=10)
             axis.set(xlabel="horizontal distance from the clamp (mm)", ylabel="z (mm)")
-    fig.suptitle(
-        f"{case.name}: the sides seen from the side, true scale\n"
-        f"{calibration_title(case.calibration, case.fabric)}"
+    lines = (
+        f"{case.name}: the sides seen from the side, true scale",
+        calibration_title(case.calibration, case.fabric),
     )
+    fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-side-elevation.png"
-    # One side is a narrow figure: the tight box widens it to its two-line title.
+    # The tight box keeps the wrapped titles whole.
     fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
     return Figure(
         name,
         f"The sides of {case.name} seen from the side at true scale, as the paper photographs "
-        f"its specimens: one row per kinematics ({IN_WORDS}), the band between the bottom and top "
-        "surfaces with a black line through the thickness at every node along its director. "
-        "Compare the black lines with the lines drawn on the specimens: square to the surface "
-        "in the Mindlin row, leaning in the fibrous rows.",
+        f"its specimens: a panel per kinematics and side ({IN_WORDS}), the band between the "
+        "bottom and top surfaces with a black line through the thickness at every node along "
+        "its director. Compare the black lines with the lines drawn on the specimens: square "
+        "to the surface in the Mindlin panels, leaning in the fibrous ones.",
     )
 
 
@@ -184,7 +215,8 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
          ("warp_curvature", "weft_curvature"), 1.0, 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
     )  # fmt: skip
     both = "" if rule.name == "initial-slope" else " (both shells)"
-    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), constrained_layout=True)
+    # 9 in at 110 dpi (990 px): its 10-pt text reads as 9 pt on an 800-px screen.
+    fig, axes = plt.subplots(1, 3, figsize=(9.0, 3.9), layout="constrained")
     for axis, (title, warp, weft, names, to_law, floor, xlabel, ylabel) in zip(axes, panels):
         x = np.linspace(0.0, reach(names, floor, to_law), 401)  # the laws are odd (or tension-only)
         shown = x / to_law
@@ -203,18 +235,19 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
         axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))
         axis.locator_params(axis="x", nbins=5)
         axis.grid(True, alpha=0.3)
-        axis.legend(fontsize="small")
+        axis.legend(fontsize=9)
     shared = (
         "the Mindlin section's own laws too"
         if rule.name != "initial-slope"
         else "the Mindlin section is elastic"
     )
-    fig.suptitle(
-        f"{case.name}: the fabric's laws over the range the fibrous run reached ({shared})\n"
-        f"{calibration_title(rule, fabric)}"
+    lines = (
+        f"{case.name}: the fabric's laws over the range the fibrous run reached ({shared})",
+        calibration_title(rule, fabric),
     )
+    fig.suptitle(_title(lines, 9.0), fontsize=11)
     name = f"{case.name}-laws.png"
-    fig.savefig(out_dir / name, dpi=100)
+    fig.savefig(out_dir / name, dpi=110)
     plt.close(fig)
     mindlin = (
         "With the 'laws' calibration the Mindlin section uses these same laws, so that the "
@@ -236,10 +269,14 @@ def view_3d(
     """Deformed mid-surface with the through-thickness director segments drawn along the
     sides (the lines drawn on the specimens' sides), the three kinematics side by side;
     returns the figure with its caption."""
-    fig = plt.figure(figsize=(13, 4.6), constrained_layout=True)
+    # Two rows of two, 9 in at 110 dpi (990 px): on an 800-px screen the 10-pt text still
+    # reads as 9 pt (a row of three was 1,332 px, its text 8 px there). The fourth place
+    # holds the title's calibration and the key.
+    fig = plt.figure(figsize=(9.0, 8.0), layout="constrained")
+    fig.get_layout_engine().set(h_pad=0.3)  # room for the upper panels' y labels
     h = case.fabric.thickness
     for i, kinematics in enumerate(KINEMATICS):
-        ax = fig.add_subplot(1, len(KINEMATICS), i + 1, projection="3d")
+        ax = fig.add_subplot(2, 2, i + 1, projection="3d")
         result = results[kinematics]
         x = result.positions
         ax.plot_trisurf(
@@ -271,21 +308,33 @@ def view_3d(
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks on a short axis
             axis.set_major_locator(MaxNLocator(nbins=4))
         ax.view_init(elev=22, azim=-140)
-        ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
+        # The z label only in the left column: a 3D axes' z label sits outside its box, over
+        # the panel to its left, where it hid behind it.
+        ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)" if i % 2 == 0 else "")
         scale = "true scale" if exaggeration == 1.0 else f"z exaggerated x {exaggeration:.1f}"
         # Two short lines: a 3D axes' title is not made room for by the layout.
-        ax.set_title(f"{LABELS[kinematics]}\n({scale})", fontsize="medium")
-    fig.suptitle(
-        f"{case.name}: directors along the sides\n"
-        f"{calibration_title(case.calibration, case.fabric)}"
-    )
+        ax.set_title(f"({'abc'[i]}) {LABELS[kinematics]}\n({scale})", fontsize=11)
+    key = fig.add_subplot(2, 2, 4)
+    key.axis("off")
+    key.text(
+        0.5, 0.5,
+        "\n".join([
+            *textwrap.wrap(calibration_title(case.calibration, case.fabric), 50),
+            "",
+            "black lines: through the thickness",
+            "along the directors, on the sides",
+            "axes in mm, z upward",
+        ]),
+        ha="center", va="center", fontsize=10, transform=key.transAxes,
+    )  # fmt: skip
+    fig.suptitle(f"{case.name}: directors along the sides", fontsize=12)
     name = f"{case.name}-3d.png"
-    # The layout does not see a 3D axes' z label; the tight box keeps the last one in view.
-    fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.15)
+    # The layout does not see a 3D axes' z label; the tight box keeps the left ones in view.
+    fig.savefig(out_dir / name, dpi=110, bbox_inches="tight", pad_inches=0.15)
     plt.close(fig)
     return Figure(
         name,
         f"The deformed {case.name} in 3D: the mid-surface with the through-thickness segments "
-        f"(black) along the filmed sides, for {IN_WORDS}, left to right. Look at the black "
+        f"(black) along the filmed sides, for {IN_WORDS}, in (a), (b) and (c). Look at the black "
         f"segments: {DIRECTORS}.",
     )
