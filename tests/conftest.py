@@ -1,11 +1,21 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
-on one thread, except in the tests marked ``parallel``."""
+on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread."""
 
-import pytest
+import os
 
-from elements import jit, kernels
-from femcore import Mesh
-from validation import specimens
+# Before numpy loads OpenBLAS (here, and in every subprocess the tests start, which inherit
+# the environment): one BLAS thread. The test models' dense matrices are small (the static
+# solvers' eigenvalue check takes a dense eigh up to 200 unknowns), and OpenBLAS's idle
+# threads spin: with other processes busy on 2 cores an eigh of 200 unknowns took 700 ms on
+# its default threads against 8.5 ms on one, and it runs once per increment of every static
+# solve.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import pytest  # noqa: E402
+
+from elements import jit, kernels  # noqa: E402
+from femcore import Mesh  # noqa: E402
+from validation import specimens  # noqa: E402
 
 
 @pytest.fixture
