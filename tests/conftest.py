@@ -25,6 +25,19 @@ def box_chain() -> Mesh:
     return specimens.box_chain(40)
 
 
+@pytest.fixture(scope="session")
+def dask_scheduler():
+    """The address of one LocalCluster (fibreshell.cluster.dask_client: a worker process per
+    core) shared by the tests of what runs on a cluster, fits and sweeps, rather than how a
+    cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their own costs
+    each fit 7 s of starting and warming its workers (a fit of 54 runs took 17 s on its own
+    cluster, 9.5 s on this one, with the machine's load at 2)."""
+    from fibreshell.cluster import dask_client
+
+    with dask_client() as (client, _):
+        yield client.scheduler.address
+
+
 @pytest.fixture(scope="session", autouse=True)
 def one_numba_thread():
     """The test models have tens of cells: a parallel loop over them costs more in starting
