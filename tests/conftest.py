@@ -1,7 +1,15 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
-on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread."""
+on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
+validation report, run in the background from the session's start."""
 
+import json
 import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
 # Before numpy loads OpenBLAS (here, and in every subprocess the tests start, which inherit
 # the environment): one BLAS thread. The test models' dense matrices are small (the static
@@ -16,6 +24,65 @@ import pytest  # noqa: E402
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
 from validation import specimens  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+class CoarseReport:
+    """``python -m validation --resolution coarse --jobs 2`` (the README's main job) running
+    in its own process group, writing into a temporary folder: ``out`` the report, ``log``
+    its printed lines."""
+
+    def __init__(self) -> None:
+        self.folder = Path(tempfile.mkdtemp(prefix="fibreshell-coarse-report-"))
+        self.out = self.folder / "report"
+        self.log = self.folder / "report.log"
+        with open(self.log, "wb") as log:
+            self.process = subprocess.Popen(
+                [sys.executable, "-m", "validation", "--resolution", "coarse",
+                 "--out", str(self.out), "--jobs", "2"],
+                cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+            )  # fmt: skip
+
+    def result(self) -> tuple[Path, dict]:
+        """The report folder and its results.json, once the run has ended."""
+        status = self.process.wait()
+        assert status == 0, self.log.read_text()[-4000:]
+        return self.out, json.loads((self.out / "results.json").read_text())
+
+    def stop(self) -> None:
+        """The run and its workers ended, the folder removed."""
+        if self.process.poll() is None:
+            os.killpg(self.process.pid, signal.SIGTERM)
+            self.process.wait()
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+_reports: list[CoarseReport] = []
+
+
+def pytest_collection_finish(session):
+    """The coarse report starts as soon as a session that checks it is collected: its cases
+    (several minutes of CPU) then run beside the tests, most of which keep one core busy, and
+    the report's tests wait for it instead of starting it."""
+    wanted = any("coarse_report" in getattr(item, "fixturenames", ()) for item in session.items)
+    if wanted and not session.config.option.collectonly:
+        _reports.append(CoarseReport())
+
+
+def pytest_sessionfinish(session):
+    for report in _reports:
+        report.stop()
+
+
+@pytest.fixture(scope="session")
+def coarse_report() -> tuple[Path, dict]:
+    """One coarse run of every case (the paper cases included), two cases at a time in two
+    worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py: the
+    report folder and its results.json."""
+    if not _reports:
+        _reports.append(CoarseReport())
+    return _reports[0].result()
 
 
 @pytest.fixture
