@@ -1,6 +1,6 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
 on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
-validation report, run in the background from the session's start."""
+validation report, run in the background beside the other tests."""
 
 import json
 import os
@@ -58,16 +58,50 @@ class CoarseReport:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+# The kernels the report's cases call first: its run starts once the tests have compiled
+# them into numba's cache (``cache=True``), or once a third of the tests have run, so that its
+# two workers do not compile them again beside the tests in a fresh checkout.
+REPORT_KERNELS = ("kernels._cells_pass", "kernels._mindlin_cells",
+                  "tangent_kernels._membrane_product", "mindlin_tangent._tangent_cells",
+                  "facet_search._closest_facets", "band._factorise")  # fmt: skip
 _reports: list[CoarseReport] = []
+_waiting = {"tests": 0, "ran": 0}
+
+
+def report_kernels_cached() -> bool:
+    """Whether numba's cache (``NUMBA_CACHE_DIR``, or ``__pycache__`` beside each module)
+    holds a build of each of ``REPORT_KERNELS``."""
+    folder = os.environ.get("NUMBA_CACHE_DIR")
+    if folder:
+        indices = Path(folder).glob("**/*.nbi")
+    else:
+        packages = ("elements", "elements/fibrous", "femcore", "solvers")
+        indices = (i for p in packages for i in (ROOT / p / "__pycache__").glob("*.nbi"))
+    cached = {index.name.rsplit("-", 1)[0] for index in indices}
+    return all(kernel in cached for kernel in REPORT_KERNELS)
+
+
+def start_report() -> None:
+    _waiting["tests"] = 0
+    if not _reports:
+        _reports.append(CoarseReport())
 
 
 def pytest_collection_finish(session):
-    """The coarse report starts as soon as a session that checks it is collected: its cases
-    (several minutes of CPU) then run beside the tests, most of which keep one core busy, and
-    the report's tests wait for it instead of starting it."""
+    """A session that checks the coarse report runs it beside its other tests (its cases,
+    minutes of CPU, on the core those leave idle) and the report's tests wait for it."""
     wanted = any("coarse_report" in getattr(item, "fixturenames", ()) for item in session.items)
     if wanted and not session.config.option.collectonly:
-        _reports.append(CoarseReport())
+        _waiting["tests"] = len(session.items)
+        if report_kernels_cached():
+            start_report()
+
+
+def pytest_runtest_logfinish(nodeid, location):
+    if _waiting["tests"]:
+        _waiting["ran"] += 1
+        if report_kernels_cached() or 3 * _waiting["ran"] >= _waiting["tests"]:
+            start_report()
 
 
 def pytest_sessionfinish(session):
@@ -80,8 +114,7 @@ def coarse_report() -> tuple[Path, dict]:
     """One coarse run of every case (the paper cases included), two cases at a time in two
     worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py: the
     report folder and its results.json."""
-    if not _reports:
-        _reports.append(CoarseReport())
+    start_report()
     return _reports[0].result()
 
 
