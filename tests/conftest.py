@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 # Before numpy loads OpenBLAS (here, and in every subprocess the tests start, which inherit
@@ -51,10 +52,19 @@ class CoarseReport:
         return self.out, json.loads((self.out / "results.json").read_text())
 
     def stop(self) -> None:
-        """The run and its workers ended, the folder removed."""
+        """The run and its workers ended (asked to stop, as Ctrl-C would: each finishes its
+        step; killed if still there after 30 s), the folder removed."""
         if self.process.poll() is None:
             os.killpg(self.process.pid, signal.SIGTERM)
             self.process.wait()
+        for _ in range(300):
+            try:
+                os.killpg(self.process.pid, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.1)
+        else:
+            os.killpg(self.process.pid, signal.SIGKILL)
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
