@@ -2,14 +2,7 @@
 on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
 validation report, run in the background beside the other tests."""
 
-import json
 import os
-import shutil
-import signal
-import subprocess
-import sys
-import tempfile
-import time
 from pathlib import Path
 
 # Before numpy loads OpenBLAS (here, and in every subprocess the tests start, which inherit
@@ -18,77 +11,17 @@ from pathlib import Path
 # threads spin: with other processes busy on 2 cores an eigh of 200 unknowns took 700 ms on
 # its default threads against 8.5 ms on one, and it runs once per increment of every static
 # solve.
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
 import pytest  # noqa: E402
+from coarse_report import CoarseReport, report_kernels_cached  # noqa: E402
 
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
 from validation import specimens  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-class CoarseReport:
-    """``python -m validation --resolution coarse --jobs 2`` (the README's main job) running
-    in its own process group, writing into a temporary folder: ``out`` the report, ``log``
-    its printed lines."""
-
-    def __init__(self) -> None:
-        self.folder = Path(tempfile.mkdtemp(prefix="fibreshell-coarse-report-"))
-        self.out = self.folder / "report"
-        self.log = self.folder / "report.log"
-        with open(self.log, "wb") as log:
-            self.process = subprocess.Popen(
-                [sys.executable, "-m", "validation", "--resolution", "coarse",
-                 "--out", str(self.out), "--jobs", "2"],
-                cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
-            )  # fmt: skip
-
-    def result(self) -> tuple[Path, dict]:
-        """The report folder and its results.json, once the run has ended."""
-        status = self.process.wait()
-        assert status == 0, self.log.read_text()[-4000:]
-        return self.out, json.loads((self.out / "results.json").read_text())
-
-    def stop(self) -> None:
-        """The run and its workers ended (asked to stop, as Ctrl-C would: each finishes its
-        step; killed if still there after 30 s), the folder removed."""
-        if self.process.poll() is None:
-            os.killpg(self.process.pid, signal.SIGTERM)
-            self.process.wait()
-        for _ in range(300):
-            try:
-                os.killpg(self.process.pid, 0)
-            except ProcessLookupError:
-                break
-            time.sleep(0.1)
-        else:
-            os.killpg(self.process.pid, signal.SIGKILL)
-        shutil.rmtree(self.folder, ignore_errors=True)
-
-
-# The kernels the report's cases call first: its run starts once the tests have compiled
-# them into numba's cache (``cache=True``), or once a third of the tests have run, so that its
-# two workers do not compile them again beside the tests in a fresh checkout.
-REPORT_KERNELS = ("kernels._cells_pass", "kernels._mindlin_cells",
-                  "tangent_kernels._membrane_product", "mindlin_tangent._tangent_cells",
-                  "facet_search._closest_facets", "band._factorise")  # fmt: skip
 _reports: list[CoarseReport] = []
 _waiting = {"tests": 0, "ran": 0}
-
-
-def report_kernels_cached() -> bool:
-    """Whether numba's cache (``NUMBA_CACHE_DIR``, or ``__pycache__`` beside each module)
-    holds a build of each of ``REPORT_KERNELS``."""
-    folder = os.environ.get("NUMBA_CACHE_DIR")
-    if folder:
-        indices = Path(folder).glob("**/*.nbi")
-    else:
-        packages = ("elements", "elements/fibrous", "femcore", "solvers")
-        indices = (i for p in packages for i in (ROOT / p / "__pycache__").glob("*.nbi"))
-    cached = {index.name.rsplit("-", 1)[0] for index in indices}
-    return all(kernel in cached for kernel in REPORT_KERNELS)
 
 
 def start_report() -> None:
