@@ -1,11 +1,64 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
-on one thread, except in the tests marked ``parallel``."""
+on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
+validation report, run in the background beside the other tests."""
 
-import pytest
+import os
+from pathlib import Path
 
-from elements import jit, kernels
-from femcore import Mesh
-from validation import specimens
+# Before numpy loads OpenBLAS (here, and in every subprocess the tests start, which inherit
+# the environment): one BLAS thread. The test models' dense matrices are small (the static
+# solvers' eigenvalue check takes a dense eigh up to 200 unknowns), and OpenBLAS's idle
+# threads spin: with other processes busy on 2 cores an eigh of 200 unknowns took 700 ms on
+# its default threads against 8.5 ms on one, and it runs once per increment of every static
+# solve.
+os.environ["OPENBLAS_NUM_THREADS"] = "1"
+
+import pytest  # noqa: E402
+from coarse_report import CoarseReport, report_kernels_cached  # noqa: E402
+
+from elements import jit, kernels  # noqa: E402
+from femcore import Mesh  # noqa: E402
+from validation import specimens  # noqa: E402
+
+_reports: list[CoarseReport] = []
+_waiting = {"tests": 0, "ran": 0}
+
+
+def start_report() -> None:
+    _waiting["tests"] = 0
+    if not _reports:
+        _reports.append(CoarseReport())
+
+
+def pytest_collection_finish(session):
+    """A session that checks the coarse report runs it beside its other tests (its cases,
+    minutes of CPU, on the core those leave idle) and the report's tests wait for it."""
+    wanted = any("coarse_report" in getattr(item, "fixturenames", ()) for item in session.items)
+    if wanted and not session.config.option.collectonly:
+        _waiting["tests"] = len(session.items)
+        if report_kernels_cached():
+            start_report()
+
+
+def pytest_runtest_logfinish(nodeid, location):
+    if _waiting["tests"]:
+        _waiting["ran"] += 1
+        if report_kernels_cached() or 3 * _waiting["ran"] >= _waiting["tests"]:
+            start_report()
+
+
+def pytest_sessionfinish(session):
+    for report in _reports:
+        report.stop()
+
+
+@pytest.fixture(scope="session")
+def coarse_report() -> tuple[Path, dict]:
+    """One coarse run of every case (the paper cases included), two cases at a time in two
+    worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py: the
+    report folder and its results.json."""
+    start_report()
+    return _reports[0].result()
 
 
 @pytest.fixture
@@ -13,6 +66,19 @@ def box_chain() -> Mesh:
     """40 segments of 3 mm hanging from (0,0,0) and (96,0,0): down 12, across 96, up 12
     (unstretched length 120 mm). Far from the catenary it relaxes to."""
     return specimens.box_chain(40)
+
+
+@pytest.fixture(scope="session")
+def dask_scheduler():
+    """The address of one LocalCluster (fibreshell.cluster.dask_client: a worker process per
+    core) shared by the tests of what runs on a cluster, fits and sweeps, rather than how a
+    cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their own costs
+    each fit 7 s of starting and warming its workers (a fit of 54 runs took 17 s on its own
+    cluster, 9.5 s on this one, with the machine's load at 2)."""
+    from fibreshell.cluster import dask_client
+
+    with dask_client() as (client, _):
+        yield client.scheduler.address
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -28,23 +28,25 @@ def strip(length: float, cells: int, bending: float, density: float, paths=None)
 
 
 @pytest.mark.slow
-def test_the_bending_stiffness_behind_a_profile_is_recovered():
+def test_the_bending_stiffness_behind_a_profile_is_recovered(dask_scheduler):
     # Synthetic data: the side profile z(x) of an 80 mm strip (B = 0.3 N mm, q L^3 / B = 5:
     # a large deflection) from this very model; the fit starts from B = 0.6 and must land
     # within 1 % of 0.3 (the issue's tolerance; the data are exact, so the fit stops on the
     # optimiser's tolerance, far closer).
     true, density = 0.3, 3e-10
     case = strip(80.0, 8, true, density)
-    data = sweep(case, {"solver.increments": [4]}, progress=False).summaries[0]["paths"]["side"]
-    measured = {"x": list(data["horizontal"][1:]), "z": list(data["z"][1:])}
-    result = identify(case, measured, {"part.0.material.bending": 2 * true}, progress=False)
+    data = sweep(case, {"solver.increments": [4]}, scheduler=dask_scheduler, progress=False)
+    side = data.summaries[0]["paths"]["side"]
+    measured = {"x": list(side["horizontal"][1:]), "z": list(side["z"][1:])}
+    result = identify(case, measured, {"part.0.material.bending": 2 * true},
+                      scheduler=dask_scheduler, progress=False)  # fmt: skip
     assert result.success
     assert result.values[0] == pytest.approx(true, rel=0.01)
     assert result.residual_rms < 1e-3 * np.ptp(measured["z"])
 
 
 @pytest.fixture(scope="module")
-def overhangs(tmp_path_factory):
+def overhangs(tmp_path_factory, dask_scheduler):
     """Peirce's cantilever test on a weighed strip: the tip deflections of overhangs of 40, 60
     and 80 mm of a fabric of rho_A = 0.3 kg/m^2 and B = 0.1 N mm (c = (B / w)^(1/3) =
     32.4 mm) from the inextensible heavy elastica (validation/references/elastica.py), and the
@@ -62,6 +64,7 @@ def overhangs(tmp_path_factory):
         {"part.0.material.bending": None, "part.0.material.areal_density": None},
         sigma={"displacement_right_z": 0.1, "reaction_left_z": 1e-5},
         out=out,
+        scheduler=dask_scheduler,
         progress=False,
     )
     return result, density, bending, out
@@ -99,7 +102,7 @@ def test_the_fit_writes_its_values_and_a_figure(overhangs):
 
 
 @pytest.mark.slow
-def test_a_linear_response_gives_the_closed_form_least_squares_interval():
+def test_a_linear_response_gives_the_closed_form_least_squares_interval(dask_scheduler):
     # The clamp's vertical reaction is the strip's weight, rho_A g L W, whatever its shape:
     # linear in rho_A through the origin. With noisy "measured" reactions y_i at lengths L_i
     # the least-squares rho_A is sum(a_i y_i) / sum(a_i^2), a_i = g L_i W, with standard
@@ -116,6 +119,7 @@ def test_a_linear_response_gives_the_closed_form_least_squares_interval():
         strip(60.0, 4, 10.0, 1e-10),  # stiff: small deflections, quick runs
         {"mesh.rectangle.lx": lengths.tolist(), "reaction_left_z": measured.tolist()},
         {"part.0.material.areal_density": None},
+        scheduler=dask_scheduler,
         progress=False,
     )
     assert result.values[0] == pytest.approx(rho, rel=1e-6)
@@ -226,11 +230,11 @@ def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_a_run_that_fails_during_the_fit_stops_it_with_its_values():
+def test_a_run_that_fails_during_the_fit_stops_it_with_its_values(dask_scheduler):
     from fibreshell.identify import FitFailed
 
     case = strip(60.0, 4, 0.1, 3e-10)
     case["solver"]["max_iterations"] = 1  # Newton may not converge: every run stops
     with pytest.raises(FitFailed, match=r"the run with .*part.0.material.bending = 0.1.* failed"):
         identify(case, {"x": [30.0], "z": [-5.0]}, {"part.0.material.bending": None},
-                 progress=False)  # fmt: skip
+                 scheduler=dask_scheduler, progress=False)  # fmt: skip

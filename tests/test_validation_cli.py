@@ -26,13 +26,8 @@ def test_list_names_every_case(capsys):
     assert all(name in listed for name in CASES)
 
 
-@pytest.fixture(scope="module")
-def coarse_report(tmp_path_factory):
-    """One coarse run of every case (the paper cases included), shared by the tests below; two
-    cases at a time, in two worker processes (--jobs 2)."""
-    out = tmp_path_factory.mktemp("report")
-    assert main(["--resolution", "coarse", "--out", str(out), "--jobs", "2"]) == 0
-    return out, json.loads((out / "results.json").read_text())
+# coarse_report (tests/conftest.py): one coarse run of every case, the paper cases included,
+# started in the background as the session starts.
 
 
 @pytest.mark.slow
