@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+from types import FrameType
 
 import numpy as np
 
@@ -202,7 +203,7 @@ def outside_stacklevel() -> int:
     solvers package: the user's call of ``solve``, however many wrappers (interrupts, BLAS
     threads) and helpers lie between. Called by the function that warns."""
     package = os.path.dirname(os.path.abspath(__file__))
-    frame = sys._getframe(1)  # the function that warns: level 1
+    frame: FrameType | None = sys._getframe(1)  # the function that warns: level 1
     level = 1
     while frame is not None:
         if os.path.dirname(os.path.abspath(frame.f_code.co_filename)) != package:
