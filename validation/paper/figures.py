@@ -231,7 +231,9 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
             scaled = rule.section_fabric(fabric).bending
             axis.plot(shown, scaled.value(x), ls="--", color=COLOURS["mindlin"],
                       label=f"Mindlin, warp x {rule.bending_scale:.3g}")  # fmt: skip
-        axis.set(title=title, xlabel=xlabel, ylabel=ylabel)
+        axis.set(xlabel=xlabel, ylabel=ylabel)
+        # Padded: the y axis's scale (e.g. "1e-2") sits at the panel's top left, under the title.
+        axis.set_title(title, pad=14)
         axis.ticklabel_format(axis="both", style="sci", scilimits=(-2, 3))
         axis.locator_params(axis="x", nbins=5)
         axis.grid(True, alpha=0.3)
