@@ -14,23 +14,37 @@ from elements.ply_contact import PlyContact
 from femcore.state import State
 from materials import Fabric
 from solvers import CentralDifference
+from validation.studies.hemisphere_plies import node_gaps
 
 PLY = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
 
 
 def _node_gaps(layup: Layup, positions: np.ndarray) -> np.ndarray:
-    """(s,) each upper-ply node's least gap to the lower ply's face over the contact points
-    at it (a node-to-surface contact, rule "vertices"), mm; NaN where no facet faces it."""
+    """(s,) each upper-ply node's least gap to the lower ply's face, mm, through a
+    node-to-surface contact (rule "vertices") on the same plies; NaN where no facet faces it."""
     probe = Layup(PLY, tuple(layup.angles), 40.0, cells=4, rule="vertices")
-    contact = probe.model().compile().interactions[0]
-    zero = np.zeros_like(positions)
-    facing = contact.facing(State(positions, zero, zero, zero))
-    corner = contact.above[np.arange(len(facing.gap)), np.argmax(contact.shape, axis=1)]
-    faces_one = np.maximum(0.0, -facing.weights.min(axis=1)) <= 0.5
-    gap = np.full(len(positions), np.inf)
-    np.minimum.at(gap, corner[faces_one], facing.gap[faces_one])
-    top = gap[layup.ply_nodes[-1]]
-    return np.where(np.isfinite(top), top, np.nan)
+    return node_gaps(probe.model().compile().interactions[0], layup, positions)
+
+
+def _pressed(angles: tuple[float, float], clearance: float = 0.0):
+    """Two 40-mm plies (10-mm cells, both outlines pinned, the mirrored pass at the bottom
+    ply's nodes), the top ply's centre node pressed 3 mm down by a rigid sphere of radius 5
+    mm that starts ``clearance`` mm above it: (layup, the centre node, the result)."""
+    layup = Layup(PLY, angles, 40.0, cells=4, rule="gauss", lower_rule="vertices")
+    model = layup.model()
+    model.fix("outline", ["ux", "uy", "uz"])
+    top = layup.ply_nodes[1]
+    points = layup.mesh.points
+    centre = top[np.argmin(np.linalg.norm(points[top, :2], axis=1))]
+    radius, depth = 5.0, 3.0
+    start = (0.0, 0.0, points[centre, 2] + 0.5 * PLY.thickness + radius + clearance)
+    model.contact(
+        RigidSphere(start, radius, motion=(0.0, 0.0, -depth), amplitude="smooth"), nodes="ply_2"
+    )
+    result = CentralDifference(
+        duration=0.01, damping=20.0, progress=False, kinetic_bound=None
+    ).solve(model)
+    return layup, centre, result
 
 
 @pytest.mark.parametrize("angles", [(0.0, 90.0), (0.0, 45.0)], ids=["0-90", "0-45"])
@@ -41,20 +55,8 @@ def test_a_node_pressed_by_a_sphere_stays_out_of_the_ply_below(angles):
     the bottom ply's face, a ply thickness; with the mirrored pass at the bottom ply's nodes
     it stays within 0.07 mm (the penalty's give), here within half a ply thickness over the
     whole run."""
-    layup = Layup(PLY, angles, 40.0, cells=4, rule="gauss", lower_rule="vertices")
-    model = layup.model()
-    model.fix("outline", ["ux", "uy", "uz"])
-    top = layup.ply_nodes[1]
+    layup, centre, result = _pressed(angles)
     points = layup.mesh.points
-    centre = top[np.argmin(np.linalg.norm(points[top, :2], axis=1))]
-    radius, depth = 5.0, 3.0
-    start = (0.0, 0.0, points[centre, 2] + 0.5 * PLY.thickness + radius)
-    model.contact(
-        RigidSphere(start, radius, motion=(0.0, 0.0, -depth), amplitude="smooth"), nodes="ply_2"
-    )
-    result = CentralDifference(
-        duration=0.01, damping=20.0, progress=False, kinetic_bound=None
-    ).solve(model)
     assert result.positions[centre, 2] < points[centre, 2] - 2.5  # pressed
     n = layup.mesh.n_nodes
     least = min(np.nanmin(_node_gaps(layup, frame.positions[:n])) for frame in result.frames)
@@ -121,18 +123,6 @@ def test_a_sphere_starting_clear_of_touching_plies_is_no_divergence_at_rest():
     """The sphere starts 0.1 mm above the top ply: before it touches, the plies' contact at
     zero gap moves the model at rest by round-off (kinetic energy ~4e-29 N mm against no
     external work). That is not a blow-up: the run starts, and the sphere presses the node."""
-    layup = Layup(PLY, (0.0, 45.0), 40.0, cells=4, rule="gauss", lower_rule="vertices")
-    model = layup.model()
-    model.fix("outline", ["ux", "uy", "uz"])
-    top = layup.ply_nodes[1]
+    layup, centre, result = _pressed((0.0, 45.0), clearance=0.1)
     points = layup.mesh.points
-    centre = top[np.argmin(np.linalg.norm(points[top, :2], axis=1))]
-    radius, depth = 5.0, 3.0
-    start = (0.0, 0.0, points[centre, 2] + 0.5 * PLY.thickness + radius + 0.1)
-    model.contact(
-        RigidSphere(start, radius, motion=(0.0, 0.0, -depth), amplitude="smooth"), nodes="ply_2"
-    )
-    result = CentralDifference(
-        duration=0.01, damping=20.0, progress=False, kinetic_bound=None
-    ).solve(model)
     assert result.positions[centre, 2] < points[centre, 2] - 2.5  # pressed

@@ -292,7 +292,7 @@ def _wrinkles(layup: Layup, positions: np.ndarray, k: int) -> dict[str, Any]:
     return {"count": int(crest.sum()), "height": float(height.max())}
 
 
-def _node_gaps(probe: Any, layup: Layup, positions: np.ndarray) -> np.ndarray:
+def node_gaps(probe: Any, layup: Layup, positions: np.ndarray) -> np.ndarray:
     """(s,) each top-ply node's gap to the bottom ply's upper face, mm (< 0: it passed
     through): the least gap of a node-to-surface contact (``probe``, the layup's ply
     contact at the "vertices" rule) at the node over its triangles; NaN where no facet of
@@ -308,7 +308,7 @@ def _node_gaps(probe: Any, layup: Layup, positions: np.ndarray) -> np.ndarray:
 
 
 def _least_gaps(layup: Layup, result: Any, cells: int) -> dict[str, Any]:
-    """The top ply's least node gap to the bottom ply's face (``_node_gaps``, mm): over its
+    """The top ply's least node gap to the bottom ply's face (``node_gaps``, mm): over its
     nodes in the die at the end, and over every node and frame of the run, with when and
     where (the node's blank coordinates)."""
     top = layup.ply_nodes[-1]
@@ -320,12 +320,12 @@ def _least_gaps(layup: Layup, result: Any, cells: int) -> dict[str, Any]:
         .interactions[0]
     )
     for frame in result.frames:
-        gap = _node_gaps(probe, layup, frame.positions[: layup.mesh.n_nodes])
+        gap = node_gaps(probe, layup, frame.positions[: layup.mesh.n_nodes])
         if np.isfinite(gap).any() and np.nanmin(gap) < least:
             i = int(np.nanargmin(gap))
             least, at = float(gap[i]), float(frame.time)
             where = f"({layup.mesh.points[top[i], 0]:g}, {layup.mesh.points[top[i], 1]:g})"
-    gap = _node_gaps(probe, layup, result.positions[: layup.mesh.n_nodes])
+    gap = node_gaps(probe, layup, result.positions[: layup.mesh.n_nodes])
     deep = (result.positions[top, 2] < -5.0) & np.isfinite(gap)
     return {
         "in_die": float(gap[deep].min(initial=math.inf)),
