@@ -103,6 +103,15 @@ class Contact(Interaction):
     stick_stiffness : float
         k_t / k in (0, 1]: the friction's stick spring over the normal penalty (module
         docstring, "Stick spring"); 1 by default.
+    augmented : bool
+        The augmented Lagrangian (Uzawa) under the quasi-static solvers: after an increment
+        converges, each node's normal and stick multipliers take the forces of the penalty
+        springs and the increment is solved again until the penetration and the elastic slip
+        are within ``augmented_tolerance`` (elements/augmented_contact.py). Off by default.
+    augmented_tolerance : float, optional
+        The penetration and the elastic slip the augmented contact accepts, mm; None: 1e-3 of
+        the contact thickness 2 h / 2 (of the median cell edge where the offset is 0: a
+        cable).
     """
 
     dofs = ("ux", "uy", "uz")
@@ -116,6 +125,8 @@ class Contact(Interaction):
         friction: float = 0.0,
         tool_node: int | None = None,
         stick_stiffness: float = 1.0,
+        augmented: bool = False,
+        augmented_tolerance: float | None = None,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
@@ -156,6 +167,19 @@ class Contact(Interaction):
                 f"penalty k), got {stick_stiffness!r}"
             )
         self.stick_ratio = ratio
+        if not isinstance(augmented, (bool, np.bool_)):
+            raise ValueError(f"augmented must be True or False, got {augmented!r}")
+        self.augmented = bool(augmented)
+        if augmented_tolerance is not None:
+            allowed = as_number(augmented_tolerance, "augmented_tolerance", "a length > 0 (mm)")
+            if not (np.isfinite(allowed) and allowed > 0):
+                raise ValueError(
+                    f"augmented_tolerance must be a length > 0 (mm) or None, got "
+                    f"{augmented_tolerance!r}"
+                )
+            if not self.augmented:
+                raise ValueError("augmented_tolerance is given without augmented=True")
+        self.augmented_tolerance = augmented_tolerance
 
     def bind(self, body: Body) -> ContactBlock:
         mesh = body.mesh
@@ -187,6 +211,13 @@ class Contact(Interaction):
                 np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
             )
             np.add.at(area, triangles.ravel(), np.repeat(cell_area / 3.0, 3))
+        if self.augmented:
+            from elements.augmented_contact import AugmentedContactBlock, default_tolerance
+
+            tolerance = self.augmented_tolerance or default_tolerance(mesh, offset)
+            return AugmentedContactBlock(
+                self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node, tolerance
+            )
         return ContactBlock(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
 
 
@@ -211,6 +242,11 @@ class FrictionHistory:
     direction : (s, 3) float or None
         The frozen unit slip direction of each sliding node (the friction opposes its
         projection on the tool's tangent plane).
+    multiplier : (s,) float or None
+        The augmented Lagrangian's normal multiplier of each node, N (None: pure penalty;
+        elements/augmented_contact.py).
+    traction : (s, 3) float or None
+        The augmented Lagrangian's tangential multiplier (the stick traction) of each node, N.
     """
 
     anchor: np.ndarray
@@ -220,6 +256,8 @@ class FrictionHistory:
     active: np.ndarray | None = None
     sliding: np.ndarray | None = None
     direction: np.ndarray | None = None
+    multiplier: np.ndarray | None = None
+    traction: np.ndarray | None = None
 
 
 class ContactBlock(InteractionBlock):
@@ -263,6 +301,11 @@ class ContactBlock(InteractionBlock):
         # contact_forces's last answer: (where the nodes were, the history, the load factor,
         # the stiffness, the forces).
         self._last_forces: tuple | None = None
+
+    def surface_offset(self, history: FrictionHistory | None) -> np.ndarray:
+        """(s,) where the contact's spring starts, mm from the tool: the contact offset h / 2
+        (an augmented contact moves it by its multipliers, elements/augmented_contact.py)."""
+        return self.offset
 
     def check_start(self) -> None:
         """ValueError when nodes start past the tool's surface (their mid-surface beyond it,
@@ -331,8 +374,8 @@ class ContactBlock(InteractionBlock):
         d, n = self.tool.distance(self._positions(state), state.load_factor)
         active = None if history is None else history.active
         if active is None:
-            return self._touching(d, n)
-        return np.where(active, self.offset - d, 0.0), n, active.copy()
+            return self._touching(d, n, history)
+        return np.where(active, self.surface_offset(history) - d, 0.0), n, active.copy()
 
     def freeze(self, state: State, history: FrictionHistory | None = None, grow: bool = False):
         """(the history with the contact set frozen at ``state``'s touching nodes, the number
@@ -341,7 +384,7 @@ class ContactBlock(InteractionBlock):
         in ``history`` with the nodes that penetrate at ``state`` added (their number is the
         count), the others' sets and directions kept."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
-        p, n, touching = self._touching(d, n)
+        p, n, touching = self._touching(d, n, history)
         before = None if history is None else history.active
         changed = int(touching.sum()) if before is None else int((before != touching).sum())
         if history is None:
@@ -357,7 +400,7 @@ class ContactBlock(InteractionBlock):
         at_limit = stuck & (length >= (1.0 - 1e-6) * held) & (p > 0.0)
         sliding = sliding | at_limit
         if grow and before is not None:
-            added = (d < self.offset) & ~before
+            added = (d < self.surface_offset(history)) & ~before
             kept = history.sliding if history.sliding is not None else sliding
             kept_direction = history.direction if history.direction is not None else direction
             return replace(
@@ -376,9 +419,10 @@ class ContactBlock(InteractionBlock):
             return None
         return replace(history, active=None, sliding=None, direction=None)
 
-    def _touching(self, d: np.ndarray, n: np.ndarray):
+    def _touching(self, d: np.ndarray, n: np.ndarray, history: FrictionHistory | None = None):
         """``touch`` from the distances d (s,) and normals n (s, 3) of the tool."""
-        return np.maximum(self.offset - d, 0.0), n, d <= self.offset + self.tolerance
+        offset = self.surface_offset(history)
+        return np.maximum(offset - d, 0.0), n, d <= offset + self.tolerance
 
     def tangential(self, state: State, history: FrictionHistory | None, p, n, touching):
         """The friction of the return mapping at ``state`` from the accepted ``history``:
@@ -591,7 +635,7 @@ class ContactBlock(InteractionBlock):
         NaN without area), friction_force (|tangential force|, N), contact_slip (accumulated
         slip, mm)."""
         d, n = self.tool.distance(self._positions(state), state.load_factor)
-        p, n, touching = self._touching(d, n)
+        p, n, touching = self._touching(d, n, history)
         friction, *_ = self.tangential(state, history, p, n, touching)
         nodes = self.connectivity[:, 0]
         out = {}

@@ -150,11 +150,15 @@ class RigidTool:
         penalty: float | None = None,
         tool_node: int | None = None,
         stick_stiffness: float = 1.0,
+        augmented: bool = False,
+        augmented_tolerance: float | None = None,
     ):
         """The penalty contact of ``nodes`` (None: every node of the body's elements) with
         this tool (elements.contact.Contact), what ``Model.contact`` adds; ``tool_node`` the
         node carrying a driven tool's free translation (``Model.rigid_node``);
-        ``stick_stiffness`` the friction's stick spring over the normal penalty."""
+        ``stick_stiffness`` the friction's stick spring over the normal penalty;
+        ``augmented`` (and its tolerance, mm) the augmented Lagrangian of the quasi-static
+        solvers (elements/augmented_contact.py)."""
         from elements.contact import Contact  # contact.py builds on this module
 
         return Contact(
@@ -164,6 +168,8 @@ class RigidTool:
             friction=friction,
             tool_node=tool_node,
             stick_stiffness=stick_stiffness,
+            augmented=augmented,
+            augmented_tolerance=augmented_tolerance,
         )
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):

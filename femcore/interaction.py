@@ -223,6 +223,13 @@ class InteractionBlock(ABC):
         again); the default returns it as it is."""
         return history
 
+    def augment(self, state: State, history: Any) -> tuple[Any, dict | None]:
+        """The augmented Lagrangian's update at a state a quasi-static solver converged: (the
+        history with the multipliers updated, a report {"penetration", "slip", "tolerance"
+        (mm), "within": the constraints met at ``state``}). The default has no multipliers:
+        (history, None)."""
+        return history, None
+
     def dissipated_energy(self, history: Any = None) -> float:
         """Energy dissipated since the start (N mm; friction), kept in the history."""
         return 0.0

@@ -276,6 +276,8 @@ class Model:
         friction: float = 0.0,
         penalty: float | None = None,
         stick_stiffness: float | None = None,
+        augmented: bool = False,
+        augmented_tolerance: float | None = None,
     ) -> int:
         """Penalty contact of ``nodes`` with a ``tool``, with Coulomb friction: the
         interaction ``tool.contact(nodes, friction=, penalty=)`` builds (a rigid tool of
@@ -303,6 +305,13 @@ class Model:
             stick zone so narrow that a quasi-static Newton meets stick and slip by turns
             where nothing but friction holds a body in its plane. 1e-2 leaves the elastic
             slip a small fraction of an element (elements/contact.py, "Stick spring").
+        augmented : bool
+            The augmented Lagrangian (Uzawa passes) under Static: the penetration and the
+            elastic slip brought within ``augmented_tolerance`` whatever the penalty
+            (elements/augmented_contact.py). Off by default.
+        augmented_tolerance : float, optional
+            The penetration and elastic slip it accepts, mm (None: 1e-3 of the contact
+            thickness, or of the median cell edge for a cable).
 
         Returns
         -------
@@ -330,6 +339,12 @@ class Model:
         options: dict = {"friction": friction, "penalty": penalty}
         if stick_stiffness is not None:  # a tool's own contact may not know the option
             options["stick_stiffness"] = stick_stiffness
+        if augmented:  # nor these
+            options["augmented"] = augmented
+            if augmented_tolerance is not None:
+                options["augmented_tolerance"] = augmented_tolerance
+        elif augmented_tolerance is not None:
+            raise ValueError("augmented_tolerance is given without augmented=True")
         if getattr(tool, "driven", False):
             options["tool_node"] = self._tool_node(tool)
         interaction = build(ids, **options)

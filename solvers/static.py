@@ -85,6 +85,15 @@ class Static:
     line_search : the Armijo line search of the load path (module docstring); without it
         every Newton step is taken whole (after the step cap below).
     max_cuts : how many times an increment may be halved before a ConvergenceError.
+    augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
+        elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
+        After an increment converges, each augmented contact's multipliers take its springs'
+        forces and the increment is solved again from there, until the penetration and the
+        elastic slip are within the contact's tolerance; an increment still outside it after
+        this many passes is accepted, listed in ``info["augmentations_short"]`` and warned
+        about at the end. The passes per increment are in ``info["augmentations"]``, the
+        penetration and elastic slip left at each frame in ``info["augmented_penetration"]``
+        and ``info["augmented_slip"]`` (mm).
     path : "load" (default) or "arc_length" (module docstring).
     max_increments : arc-length path: the most increments per phase before a ConvergenceError
         (default 20 x increments + 20).
@@ -164,6 +173,7 @@ class Static:
         max_iterations: int = 50,
         line_search: bool = True,
         max_cuts: int = 8,
+        augmentations: int = 20,
         tangent: str = "element",
         seek_stable: bool = True,
         step_loads_first: bool = False,
@@ -181,6 +191,7 @@ class Static:
         self.max_iterations = check_integer(max_iterations, "max_iterations")
         self.line_search = check_flag(line_search, "line_search")
         self.max_cuts = check_integer(max_cuts, "max_cuts", minimum=0)
+        self.augmentations = check_integer(augmentations, "augmentations", minimum=0)
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
         self.tangent = tangent
@@ -252,6 +263,12 @@ class Static:
         n_cells = sum(len(block.cell_ids) for block in compiled.blocks)
         check_model_memory(n_cells, STATIC_BYTES_PER_CELL, "a static solve")
         run = StaticRun(self, compiled)
+        if self.path != "load" and compiled.augment(run.state)[1] is not None:
+            raise ValueError(
+                "an augmented contact (augmented=True) needs path='load': the Uzawa passes "
+                "solve an increment again at its load factor, which the arc-length path does "
+                "not keep"
+            )
         with run.progress:
             phases = 2 if self.step_loads_first else 1
             for phase in range(phases):
@@ -261,6 +278,7 @@ class Static:
                 elif arc_length_path(run, phase):  # stopped at a limit point to jump
                     self._load_path(run, phase, jump=True)
             run.report_stabilisation()
+            run.report_augmentation()
             return run.result(True)
 
     # ------------------------------------------------------------------ load path
@@ -275,6 +293,7 @@ class Static:
             if target <= run.reached + 1e-12:  # reached by an arc-length path already
                 continue
             iterations = 0
+            passes = 0
             cuts_here = 0
             while run.reached < target - 1e-12:
                 # Land on the target exactly: sums of step fractions miss it by rounding.
@@ -288,6 +307,9 @@ class Static:
                         )
                     else:
                         converged, count, ratio, history = newton(run, start, trial)
+                    converged, count, ratio, history, more = augment(
+                        run, converged, trial, count, ratio, history
+                    )
                 except IncrementFailed as failure:
                     run.info["iterations_cut"] += failure.iterations
                     total = self.increments * (2 if self.step_loads_first else 1)
@@ -299,12 +321,17 @@ class Static:
                     step = 0.5 * (trial - run.reached)
                     continue
                 iterations += count
+                passes += more
                 iterations_allowed = None
                 run.accept(converged, trial)
                 run.damp(None)
                 # After a cut, grow the step back towards the nominal one.
                 step = min(1.0 / self.increments, 2.0 * step)
             run.frame(iterations, ratio, history)
+            if run.constraint is not None:
+                run.info["augmentations"].append(passes)
+                run.info["augmented_penetration"].append(run.constraint["penetration"])
+                run.info["augmented_slip"].append(run.constraint["slip"])
 
     # ------------------------------------------------------------------ loads
     def loads(self, model: CompiledModel, load_factor: float):
@@ -324,6 +351,31 @@ class Static:
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
+
+
+def augment(run: StaticRun, state: State, load_factor: float, count, ratio, history):
+    """The Uzawa passes of an increment converged at ``state`` (elements/augmented_contact.py):
+    while an augmented contact's penetration or elastic slip exceeds its tolerance, its
+    multipliers are updated and the increment solved again from there, at most
+    ``augmentations`` times. Returns (state, Newton iterations, ratio, ratio history, passes),
+    the iterations and ratios of every pass; an IncrementFailed of a pass carries them too."""
+    passes = 0
+    while True:
+        updated, report = run.model.augment(state)
+        run.constraint = report
+        if report is None or report["within"]:
+            return state, count, ratio, history, passes
+        if passes >= run.solver.augmentations:
+            run.info["augmentations_short"].append((load_factor, report["excess"]))
+            return state, count, ratio, history, passes
+        passes += 1
+        try:
+            state, more, ratio, again = newton(run, updated, load_factor)
+        except IncrementFailed as failure:
+            failure.iterations += count
+            failure.history = history + failure.history
+            raise
+        count, history = count + more, history + again
 
 
 def check_stabilise(value: Any, path: str) -> float:
@@ -374,6 +426,9 @@ class StaticRun:
         self.dashpots: Dashpots | None = None
         self.masses = model.lumped_mass(self.state) if solver.stabilise > 0.0 else None
         self.dissipated = 0.0
+        # The augmented contacts' report at the last converged state (None: no augmented
+        # contact; femcore.compiled.CompiledModel.augment).
+        self.constraint: dict | None = None
         self.info: dict[str, Any] = {
             "solver": "Static",
             "path": solver.path,
@@ -396,6 +451,10 @@ class StaticRun:
             "chord_corrections": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
+            "augmentations": [],
+            "augmented_penetration": [],
+            "augmented_slip": [],
+            "augmentations_short": [],
             "branch_switches": [],
             "saddles_kept": [],
             "residual_history": [],
@@ -445,6 +504,22 @@ class StaticRun:
                 UserWarning,
                 stacklevel=outside_stacklevel(),
             )
+
+    def report_augmentation(self) -> None:
+        """A UserWarning when increments were accepted with an augmented contact's penetration
+        or elastic slip above its tolerance (``augmentations`` passes did not bring them in)."""
+        short = self.info["augmentations_short"]
+        if not short:
+            return
+        worst = max(excess for _, excess in short)
+        warnings.warn(
+            f"{len(short)} increment(s) kept an augmented contact's penetration or elastic slip "
+            f"above its tolerance after {self.solver.augmentations} Uzawa passes (up to "
+            f"{worst:.3g} x the tolerance; info['augmentations_short']): raise augmentations "
+            "or the penalty",
+            UserWarning,
+            stacklevel=outside_stacklevel(),
+        )
 
     def pattern(self, phase: int):
         """(forces, moments, imposed displacements) per unit load factor in a phase."""

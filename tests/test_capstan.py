@@ -34,9 +34,16 @@ from solvers import DynamicRelaxation, Static
 RADIUS, EA, T1, PENALTY, WRAP_CELLS, LEG_CELLS, PULL_CELLS = 50.0, 1e5, 10.0, 1e4, 32, 10, 4
 
 
-def capstan(mu: float, stick: float | None = None) -> Model:
+def capstan(
+    mu: float,
+    stick: float | None = None,
+    penalty: float = PENALTY,
+    augmented: bool = False,
+    tolerance: float | None = None,
+) -> Model:
     """The cable over the cylinder (module docstring): node 0 the pulled end, the last node
-    the one that carries the weight; ``stick`` the contact's stick_stiffness (None: 1)."""
+    the one that carries the weight; ``stick`` the contact's stick_stiffness (None: 1);
+    ``augmented`` and ``tolerance`` its augmented Lagrangian (elements/augmented_contact.py)."""
     cell = np.pi * RADIUS / WRAP_CELLS
     theta = np.pi * np.arange(WRAP_CELLS + 1) / WRAP_CELLS
     wrap = np.column_stack([RADIUS * np.cos(theta), np.zeros_like(theta), RADIUS * np.sin(theta)])
@@ -51,8 +58,10 @@ def capstan(mu: float, stick: float | None = None) -> Model:
     model.contact(
         RigidCylinder((0.0, 0.0, 0.0), (0.0, 1.0, 0.0), RADIUS),
         friction=mu,
-        penalty=PENALTY,
+        penalty=penalty,
         stick_stiffness=stick,
+        augmented=augmented,
+        augmented_tolerance=tolerance,
     )
     model.force([len(points) - 1], (0.0, 0.0, -T1), amplitude="step")
     model.displace([0], ux=0.0, uz=-PULL_CELLS * cell, amplitude="linear")
