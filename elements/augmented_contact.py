@@ -29,6 +29,12 @@ are; the point the node stuck to is ``anchor - traction / k_t``. When a step is 
 that slid sticks where it is, its traction the friction force it had (the anchor stays where
 the spring holds that force); a new contact starts with no traction, a lost one forgets it.
 The explicit solver never updates the multipliers: there the contact is the penalty's.
+
+The stored energy is that of the moved springs, 1/2 (lambda_N + k p)^2 / k and the stick
+spring's: the augmented Lagrangian's potential less the constant lambda^2 / 2k of each node,
+so the same forces, and >= 0 as the interaction protocol asks; it reports lambda_N^2 / 2k
+at a node that its multiplier alone holds on the surface, an energy the constraint does not
+store.
 """
 
 from __future__ import annotations
@@ -105,15 +111,6 @@ class AugmentedContactBlock(ContactBlock):
         traction = np.where(stuck[:, None], history.traction, 0.0)
         traction = np.where(sliding[:, None], stick * (updated.anchor - where), traction)
         return replace(updated, multiplier=history.multiplier.copy(), traction=traction)
-
-    def strain_energy(self, state: State, history: Any = None) -> float:
-        """The penalty contact's energy less lambda_N^2 / 2k per node: the normal part is the
-        augmented Lagrangian's (max(0, lambda_N + k p)^2 - lambda_N^2) / 2k, zero for a node
-        held on the surface by its multiplier alone (the constraint stores no energy)."""
-        energy = super().strain_energy(state, history)
-        if history is None or history.multiplier is None:
-            return energy
-        return energy - float(0.5 * np.sum(history.multiplier**2 / self.stiffness))
 
     def augment(self, state: State, history: Any) -> tuple[Any, dict]:
         """The Uzawa update at a converged ``state`` (module docstring): (the history with the

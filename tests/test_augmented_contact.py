@@ -15,13 +15,22 @@ References, closed forms:
   weight ends up does not depend on k.
 """
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from elements import Contact, MindlinShell, RigidPlane
-from femcore import Mesh, Model
+from femcore import Body, Mesh, Model
+from femcore.interaction_checks import (
+    check_energy,
+    check_force_is_energy_gradient,
+    check_friction,
+    check_tangent,
+)
 from materials import ElasticShell
 from solvers import Static
+from tests import test_interaction_conformance as kit
 from tests.test_capstan import RADIUS, T1, capstan, discrete_capstan, pulled_tension
 
 THICKNESS, PENALTY, LOAD = 0.5, 100.0, 1.0  # mm, N/mm per node, N per node
@@ -118,14 +127,16 @@ def deepest_on_the_wrap(result) -> float:
 @pytest.mark.parametrize("mu", [0.0, 0.2])
 def test_the_augmented_capstan_does_not_depend_on_the_penalty(mu):
     """Penalties 1e3 and 1e4 N/mm per node: with the augmented Lagrangian (tolerance 1e-6 mm)
-    the weight ends at the same height to 1e-5 mm (measured 1e-9 mm) and the wrapped nodes on
-    the cylinder within 1e-6 mm (measured 3e-8 mm); with the penalty alone the heights differ
-    by more than 1e-3 mm (measured 2.7e-3 frictionless, 3.8e-3 with mu = 0.2: the nodes sink
-    0.18-1.8e-3 mm into the cylinder), so that the first assertion fails without the
-    augmentation. T2 / T1 is the chain's (discrete_capstan, the Euler-Eytelwein law on the
-    discrete wrap) to 1e-5 (measured 3e-7) at both penalties. Uzawa passes per increment: 1
-    at k = 1e4; at 1e3, 1 frictionless (2 at two pulling increments), 2-3 with friction.
-    Newton iterations per increment (all passes): 4-12 frictionless, 4-20 with friction."""
+    the weight ends at the same height to 1e-5 mm (measured 2e-8 mm frictionless, 3e-10 mm
+    with mu = 0.2) and the wrapped nodes on the cylinder within 1e-6 mm (measured 7.9e-7 mm
+    frictionless at k = 1e3, 3e-8 mm or less otherwise); with the penalty alone the heights
+    differ by more than 1e-3 mm (measured 2.7e-3 mm frictionless, 3.8e-3 mm with mu = 0.2: the
+    nodes sink 1e-4 to 1.8e-3 mm into the cylinder), so that the first assertion fails without
+    the augmentation. T2 / T1 is the chain's (discrete_capstan, the Euler-Eytelwein law on the
+    discrete wrap) to 1e-5 (measured 1.4e-7) at both penalties. Uzawa passes per increment: 1
+    at k = 1e4; at 1e3, 1 frictionless (2 at two pulling increments), 3 hanging and 2 pulling
+    with friction. Newton iterations per increment (all passes): 4-12 frictionless (2-9 with
+    the penalty alone), 4-20 with friction (2-10)."""
     runs = [capstan_run(k, True, mu) for k in (1e3, 1e4)]
     rises = [weight_rise(r) for r in runs]
     assert abs(rises[0] - rises[1]) < 1e-5
@@ -147,6 +158,47 @@ def test_an_increment_short_of_its_uzawa_passes_is_kept_and_warned_about():
         result = Static(increments=2, augmentations=0, progress=False).solve(plate(True))
     assert sink(result) == pytest.approx(LOAD / PENALTY, rel=1e-9)
     assert [load for load, _ in result.info["augmentations_short"]] == [0.5, 1.0]
+
+
+def augmented_contact(name: str, friction: float = 0.0):
+    """(block, state, history): the interaction kit's body against tool ``name``
+    (tests/test_interaction_conformance.py) with an augmented contact whose nodes carry normal
+    multipliers of 0-20 N (surfaces moved out by up to 0.2 mm at k = 100 N/mm) and tractions
+    of about 2 N; the kit's anchors with friction."""
+    _, state, history = kit.contact(name, friction=friction)
+    mesh, _ = kit.body()
+    nodes = np.arange(mesh.n_nodes)
+    contact = Contact(kit.TOOLS[name](kit.UNTURNED), nodes, kit.OFFSET, kit.PENALTY, friction,
+                      augmented=True)  # fmt: skip
+    block = contact.bind(Body.bare(mesh))
+    rng = np.random.default_rng(11)
+    base = block.initial_history() if history is None else history
+    history = replace(
+        base,
+        multiplier=rng.uniform(0.0, 20.0, mesh.n_nodes),
+        traction=rng.normal(scale=2.0, size=(mesh.n_nodes, 3)),
+    )
+    return block, state, history
+
+
+@pytest.mark.parametrize("name", kit.TOOLS)
+def test_the_augmented_contact_conforms_with_its_multipliers(name):
+    """The interaction kit's checks (femcore/interaction_checks.py, its tolerances) with non-zero
+    multipliers: frictionless, the force is the energy's gradient and the tangent the force's
+    derivative; with friction (mu = 0.4, stuck and sliding nodes), the tangent, Coulomb's law
+    and the energies."""
+    block, state, history = augmented_contact(name)
+    p, _, touching = block.touch(state, history)
+    assert (p > 0).sum() >= 3 and (~touching).sum() >= 1
+    check_force_is_energy_gradient(block, state, history)
+    assert check_tangent(block, state, history)
+    block, state, history = augmented_contact(name, kit.MU)
+    p, n, touching = block.touch(state, history)
+    _, _, stuck, sliding = block.tangential(state, history, p, n, touching)
+    assert stuck.sum() >= 1 and sliding.sum() >= 1
+    assert check_tangent(block, state, history)
+    check_friction(block, state, history, stuck=stuck, sliding=sliding)  # the moved surfaces'
+    check_energy(block, state, history)
 
 
 def test_bad_augmentation_options_are_refused():
