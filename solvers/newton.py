@@ -289,7 +289,7 @@ def _iterate(
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
         if solver.chords and scale == 1.0 and not (push or imposing or frozen):
             state, forces = chord_corrections(
-                run, equilibrium, watchdog, state, frames, forces, factor
+                run, equilibrium, watchdog, state, frames, forces, factor, solver.chords
             )
         # Round-off floor: the internal forces come from differences of nearly equal
         # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
@@ -329,16 +329,17 @@ def chord_corrections(
     frames: Frames,
     forces,
     factor: Factorisation,
+    count: int,
 ):
     """After a whole Newton step to ``state`` (internal ``forces`` there): up to
-    ``solver.chords`` chord steps K^-1 r(state) with the iteration's factorisation ``factor``
+    ``count`` chord steps K^-1 r(state) with the iteration's factorisation ``factor``
     (one solve and one force evaluation each, where a Newton iteration forms and factorises
     a tangent), each kept while it lowers the total potential energy (the residual is no
     guide: it grows along steps that lead to the equilibrium). Returns (state, forces)."""
     model, dofs = run.model, run.model.dofs
     index = dofs.free_slots
     energy = run.energy(state)
-    for _ in range(run.solver.chords):
+    for _ in range(count):
         r, ratio, forces = equilibrium.residual(state, frames, forces)
         if not np.isfinite(ratio) or ratio <= run.solver.tol:
             break

@@ -172,7 +172,7 @@ class Static:
         at_limit: str = "follow",
         predictor: bool = False,
         stabilise: float = 0.0,
-        chords: int = 0,
+        chords: int = 1,
         curved: bool = True,
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
