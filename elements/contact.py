@@ -103,6 +103,10 @@ class Contact(Interaction):
     stick_stiffness : float
         k_t / k in (0, 1]: the friction's stick spring over the normal penalty (module
         docstring, "Stick spring"); 1 by default.
+    damping : float
+        zeta in [0, 1]: a normal viscous force against each node's rate of approach, that
+        fraction of the critical damping 2 sqrt(k m) of its contact spring, in explicit
+        dynamics (elements/contact_damping.py); 0 (none) by default.
     """
 
     dofs = ("ux", "uy", "uz")
@@ -116,6 +120,7 @@ class Contact(Interaction):
         friction: float = 0.0,
         tool_node: int | None = None,
         stick_stiffness: float = 1.0,
+        damping: float = 0.0,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
@@ -156,6 +161,7 @@ class Contact(Interaction):
                 f"penalty k), got {stick_stiffness!r}"
             )
         self.stick_ratio = ratio
+        self.damping = _damping_ratio(damping)
 
     def bind(self, body: Body) -> ContactBlock:
         mesh = body.mesh
@@ -187,7 +193,23 @@ class Contact(Interaction):
                 np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
             )
             np.add.at(area, triangles.ravel(), np.repeat(cell_area / 3.0, 3))
-        return ContactBlock(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
+        block = ContactBlock
+        if self.damping > 0.0:
+            from elements.contact_damping import DampedContactBlock  # builds on this module
+
+            block = DampedContactBlock
+        return block(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
+
+
+def _damping_ratio(damping) -> float:
+    """The contact damping's fraction of critical, checked: a number in [0, 1]."""
+    zeta = as_number(damping, "damping", "a fraction of the critical damping in [0, 1]")
+    if not (np.isfinite(zeta) and 0.0 <= zeta <= 1.0):
+        raise ValueError(
+            "damping must be a fraction of the contact spring's critical damping in [0, 1], "
+            f"got {damping!r}"
+        )
+    return float(zeta)
 
 
 @dataclass(frozen=True)

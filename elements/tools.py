@@ -150,11 +150,13 @@ class RigidTool:
         penalty: float | None = None,
         tool_node: int | None = None,
         stick_stiffness: float = 1.0,
+        damping: float = 0.0,
     ):
         """The penalty contact of ``nodes`` (None: every node of the body's elements) with
         this tool (elements.contact.Contact), what ``Model.contact`` adds; ``tool_node`` the
         node carrying a driven tool's free translation (``Model.rigid_node``);
-        ``stick_stiffness`` the friction's stick spring over the normal penalty."""
+        ``stick_stiffness`` the friction's stick spring over the normal penalty; ``damping``
+        the normal contact damping's fraction of critical (elements/contact_damping.py)."""
         from elements.contact import Contact  # contact.py builds on this module
 
         return Contact(
@@ -164,6 +166,7 @@ class RigidTool:
             friction=friction,
             tool_node=tool_node,
             stick_stiffness=stick_stiffness,
+            damping=damping,
         )
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):

@@ -276,6 +276,7 @@ class Model:
         friction: float = 0.0,
         penalty: float | None = None,
         stick_stiffness: float | None = None,
+        damping: float | None = None,
     ) -> int:
         """Penalty contact of ``nodes`` with a ``tool``, with Coulomb friction: the
         interaction ``tool.contact(nodes, friction=, penalty=)`` builds (a rigid tool of
@@ -303,6 +304,12 @@ class Model:
             stick zone so narrow that a quasi-static Newton meets stick and slip by turns
             where nothing but friction holds a body in its plane. 1e-2 leaves the elastic
             slip a small fraction of an element (elements/contact.py, "Stick spring").
+        damping : float, optional
+            Normal contact damping, a fraction zeta in [0, 1] of the critical damping 2 sqrt(k
+            m) of each node's contact spring, against its rate of approach, in explicit
+            dynamics (None: 0, none). It damps the ringing of nodes on the penalty springs;
+            its dissipated energy is reported with the friction's
+            (elements/contact_damping.py).
 
         Returns
         -------
@@ -330,6 +337,8 @@ class Model:
         options: dict = {"friction": friction, "penalty": penalty}
         if stick_stiffness is not None:  # a tool's own contact may not know the option
             options["stick_stiffness"] = stick_stiffness
+        if damping is not None:
+            options["damping"] = damping
         if getattr(tool, "driven", False):
             options["tool_node"] = self._tool_node(tool)
         interaction = build(ids, **options)

@@ -34,7 +34,8 @@ motion = [0.0, 0.0, 20.0]                # optional translation at the end, with
 # a "surface" tool may take pressure = 0.2 (N/mm^2 on its facets' area) instead of force
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic),
-# stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
+# stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1),
+# damping = 0.2: normal contact damping, of the critical (explicit; default 0)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
 stiffness = 23000.0                      # the first node to each other one
@@ -113,7 +114,9 @@ _TOOL_KEYS = {
     "cylinder": ("point", "axis", "radius", "side"),
     "surface": ("file", "flip", "search_distance"),
 }
-_CONTACT_KEYS = ("tool", "nodes", "friction", "penalty", "stick_stiffness", "motion", "amplitude")
+_CONTACT_KEYS = (
+    "tool", "nodes", "friction", "penalty", "stick_stiffness", "damping", "motion", "amplitude",
+)  # fmt: skip
 # A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
 _DRIVE_KEYS = ("free", "force", "mass", "pressure")
 
@@ -193,7 +196,7 @@ class Case:
         {"acceleration": (3,), "amplitude": str}.
     contacts : list of dict
         {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
-        None, "stick_stiffness": float or None} per ``[[contact]]``.
+        None, "stick_stiffness": float or None, "damping": float or None} per ``[[contact]]``.
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
@@ -701,8 +704,16 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     stick = value.get("stick_stiffness")
     if stick is not None and not 0.0 < _number(where, stick, "stick_stiffness") <= 1.0:
         raise where.error("stick_stiffness", f"expected a number in (0, 1], got {stick!r}")
+    damping = value.get("damping")
+    if damping is not None and not 0.0 <= _number(where, damping, "damping") <= 1.0:
+        raise where.error(
+            "damping", f"expected a fraction of the critical damping in [0, 1], got {damping!r}"
+        )
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
-    return dict(tool=tool, nodes=nodes, friction=friction, penalty=penalty, stick_stiffness=stick)
+    return dict(
+        tool=tool, nodes=nodes, friction=friction, penalty=penalty, stick_stiffness=stick,
+        damping=damping,
+    )  # fmt: skip
 
 
 def _solver(top: _Where, value: Any) -> dict:
