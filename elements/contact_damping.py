@@ -22,7 +22,9 @@ penetration of k / (f / p), a fraction of a micrometre.
 Rate. dr/dt is taken over the last step, (r(t) - r(t_prev)) / (t - t_prev), from the
 positions the history keeps: in explicit dynamics the relative velocity at t - dt / 2, the
 time level of the velocities the step has (the force lags them as a dashpot's does). The
-quasi-static solvers' states are at rest (zero velocities): no force, no tangent.
+quasi-static solvers' states are at rest (zero velocities): no force, no tangent. So is an
+explicit state where nothing moves yet: a tool meeting a body entirely at rest is undamped for
+that one step (its share of a bounce: c dt / m = 2 zeta omega dt of the momentum).
 
 Energy. The block's history keeps the work of the damping force at each accepted state
 against the relative motion of the step around it (the midpoint rule of the explicit
