@@ -126,6 +126,9 @@ DURATION = 0.3  # s: the punch travel at 0.17 m/s on average
 # Mass-proportional damping (a drag of 2 g at 1 m/s): it took 8, 21 and 42 % of the work at
 # 12, 20 and 32 cells (``run``'s damping_over_work), the finer meshes ringing more.
 DAMPING = 20.0  # 1/s
+# Normal contact damping on the die, the punch and the holder, a fraction of the critical
+# damping of each node's penalty spring (elements/contact_damping.py; 0: none).
+CONTACT_DAMPING = 0.0
 # The blank holder: a rigid plane on the blank's top face (the flange's), free along z, pressed
 # down by HOLDER_FORCE, frictionless as the die and the punch, closed over the first tenth of
 # the stroke. Its face covers the flange from the die's rim out (the holder's opening the
@@ -213,10 +216,11 @@ def model(cells: int, kinematics: str, holder_force: float | None = None) -> tup
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
     die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48))
-    built.contact(die)
+    damped = CONTACT_DAMPING if CONTACT_DAMPING > 0.0 else None
+    built.contact(die, damping=damped)
     travel = PUNCH + THICKNESS
     punch = RigidSphere((0.0, 0.0, travel), PUNCH, motion=(0.0, 0.0, -travel), amplitude="smooth")
-    built.contact(punch)
+    built.contact(punch, damping=damped)
     holder_force = HOLDER_FORCE if holder_force is None else holder_force
     if holder_force == 0.0:
         return blank, built
@@ -228,7 +232,7 @@ def model(cells: int, kinematics: str, holder_force: float | None = None) -> tup
         amplitude=holder_closing,
         mass=HOLDER_MASS,
     )
-    built.contact(holder)
+    built.contact(holder, damping=damped)
     return blank, built
 
 
@@ -339,6 +343,10 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
         "largest_kinetic_over_work": quasi["kinetic_over_work_largest"],
         "kinetic_exceeded_share": quasi["exceeded_share"],
         "damping_over_work": float(energies["damping"][-1] / energies["external_work"][-1]),
+        # Frictionless: what the interactions dissipated is the contact damping's.
+        "contact_damping_over_work": float(
+            energies["friction"][-1] / energies["external_work"][-1]
+        ),
         "cost": cost,
     }
 
@@ -436,6 +444,7 @@ def compute(resolution: str) -> Outcome:
         "duration_s": DURATION,
         "safety_on_the_stable_step": CentralDifference(duration=DURATION).safety,
         "damping_per_s": DAMPING,
+        "contact_damping_of_critical": CONTACT_DAMPING,
         "net_segment_mm": NET_CELL,
         "compared_up_to_polar_deg": math.degrees(COMPARED_POLAR),
     }
@@ -450,6 +459,7 @@ def compute(resolution: str) -> Outcome:
         parameters[f"{kinematics}_largest_kinetic_over_work"] = record["largest_kinetic_over_work"]
         parameters[f"{kinematics}_share_above_kinetic_bound"] = record["kinetic_exceeded_share"]
         parameters[f"{kinematics}_damping_over_work"] = record["damping_over_work"]
+        parameters[f"{kinematics}_contact_damping_over_work"] = record["contact_damping_over_work"]
         parameters[f"{kinematics}_largest_shear_deg"] = record["largest_shear_deg"]
         wrinkles = _wrinkles(mesh, result.positions)
         parameters[f"{kinematics}_wrinkles"] = wrinkles["count"]
