@@ -167,7 +167,7 @@ class DampedContactBlock(ContactBlock):
             return None
         return replace(history, inner=super().thaw(history.inner))
 
-    def initial_history(self) -> DampedHistory:
+    def initial_history(self) -> DampedHistory:  # type: ignore[override]
         r = self._reference - self.tool.offset(0.0)
         zero = np.zeros_like(r)
         return DampedHistory(super().initial_history(), r.copy(), r, (0.0, 0.0), zero, 0.0)
