@@ -112,6 +112,10 @@ class Contact(Interaction):
         The penetration and the elastic slip the augmented contact accepts, mm; None: 1e-3 of
         the contact thickness 2 h / 2 (of the median cell edge where the offset is 0: a
         cable).
+    damping : float
+        zeta in [0, 1]: a normal viscous force against each node's rate of approach, that
+        fraction of the critical damping 2 sqrt(k m) of its contact spring, in explicit
+        dynamics (elements/contact_damping.py); 0 (none) by default.
     """
 
     dofs = ("ux", "uy", "uz")
@@ -127,6 +131,7 @@ class Contact(Interaction):
         stick_stiffness: float = 1.0,
         augmented: bool = False,
         augmented_tolerance: float | None = None,
+        damping: float = 0.0,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
@@ -180,6 +185,15 @@ class Contact(Interaction):
             if not self.augmented:
                 raise ValueError("augmented_tolerance is given without augmented=True")
         self.augmented_tolerance = augmented_tolerance
+        self.damping = _damping_ratio(damping)
+        if self.augmented and self.damping > 0.0:
+            # The multipliers are Static's and the damping explicit dynamics': one block
+            # carrying both would serve neither solver better than the two options apart.
+            raise ValueError(
+                "augmented=True and damping > 0 are given together: the augmented Lagrangian "
+                "acts under Static, the contact damping in explicit dynamics; choose one per "
+                "contact"
+            )
 
     def bind(self, body: Body) -> ContactBlock:
         mesh = body.mesh
@@ -218,7 +232,23 @@ class Contact(Interaction):
             return AugmentedContactBlock(
                 self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node, tolerance
             )
-        return ContactBlock(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
+        block = ContactBlock
+        if self.damping > 0.0:
+            from elements.contact_damping import DampedContactBlock  # builds on this module
+
+            block = DampedContactBlock
+        return block(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
+
+
+def _damping_ratio(damping) -> float:
+    """The contact damping's fraction of critical, checked: a number in [0, 1]."""
+    zeta = as_number(damping, "damping", "a fraction of the critical damping in [0, 1]")
+    if not (np.isfinite(zeta) and 0.0 <= zeta <= 1.0):
+        raise ValueError(
+            "damping must be a fraction of the contact spring's critical damping in [0, 1], "
+            f"got {damping!r}"
+        )
+    return float(zeta)
 
 
 @dataclass(frozen=True)

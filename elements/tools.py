@@ -152,13 +152,15 @@ class RigidTool:
         stick_stiffness: float = 1.0,
         augmented: bool = False,
         augmented_tolerance: float | None = None,
+        damping: float = 0.0,
     ):
         """The penalty contact of ``nodes`` (None: every node of the body's elements) with
         this tool (elements.contact.Contact), what ``Model.contact`` adds; ``tool_node`` the
         node carrying a driven tool's free translation (``Model.rigid_node``);
         ``stick_stiffness`` the friction's stick spring over the normal penalty;
         ``augmented`` (and its tolerance, mm) the augmented Lagrangian of the quasi-static
-        solvers (elements/augmented_contact.py)."""
+        solvers (elements/augmented_contact.py); ``damping`` the normal contact damping's
+        fraction of critical (elements/contact_damping.py)."""
         from elements.contact import Contact  # contact.py builds on this module
 
         return Contact(
@@ -170,6 +172,7 @@ class RigidTool:
             stick_stiffness=stick_stiffness,
             augmented=augmented,
             augmented_tolerance=augmented_tolerance,
+            damping=damping,
         )
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):

@@ -278,6 +278,7 @@ class Model:
         stick_stiffness: float | None = None,
         augmented: bool = False,
         augmented_tolerance: float | None = None,
+        damping: float | None = None,
     ) -> int:
         """Penalty contact of ``nodes`` with a ``tool``, with Coulomb friction: the
         interaction ``tool.contact(nodes, friction=, penalty=)`` builds (a rigid tool of
@@ -312,6 +313,12 @@ class Model:
         augmented_tolerance : float, optional
             The penetration and elastic slip it accepts, mm (None: 1e-3 of the contact
             thickness, or of the median cell edge for a cable).
+        damping : float, optional
+            Normal contact damping, a fraction zeta in [0, 1] of the critical damping 2 sqrt(k
+            m) of each node's contact spring, against its rate of approach, in explicit
+            dynamics (None: 0, none). It damps the ringing of nodes on the penalty springs;
+            its dissipated energy is reported with the friction's
+            (elements/contact_damping.py).
 
         Returns
         -------
@@ -345,6 +352,8 @@ class Model:
                 options["augmented_tolerance"] = augmented_tolerance
         elif augmented_tolerance is not None:
             raise ValueError("augmented_tolerance is given without augmented=True")
+        if damping is not None:
+            options["damping"] = damping
         if getattr(tool, "driven", False):
             options["tool_node"] = self._tool_node(tool)
         interaction = build(ids, **options)

@@ -37,6 +37,7 @@ friction = 0.2                           # optional: Coulomb coefficient (0)
 # stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
 # augmented = true: Static's augmented Lagrangian (Uzawa passes) removes the penalty's
 # penetration and elastic slip to augmented_tolerance (mm; default 1e-3 of the thickness)
+# damping = 0.2: normal contact damping, of the critical (explicit; default 0)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
 stiffness = 23000.0                      # the first node to each other one
@@ -123,6 +124,7 @@ _CONTACT_KEYS = (
     "stick_stiffness",
     "augmented",
     "augmented_tolerance",
+    "damping",
     "motion",
     "amplitude",
 )
@@ -206,7 +208,7 @@ class Case:
     contacts : list of dict
         {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
         None, "stick_stiffness": float or None, "augmented": bool, "augmented_tolerance":
-        float or None} per ``[[contact]]``.
+        float or None, "damping": float or None} per ``[[contact]]``.
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
@@ -723,6 +725,11 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
             raise where.error("augmented_tolerance", "given without augmented = true")
         if not _number(where, allowed, "augmented_tolerance") > 0:
             raise where.error("augmented_tolerance", f"expected a length > 0 (mm), got {allowed!r}")
+    damping = value.get("damping")
+    if damping is not None and not 0.0 <= _number(where, damping, "damping") <= 1.0:
+        raise where.error(
+            "damping", f"expected a fraction of the critical damping in [0, 1], got {damping!r}"
+        )
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
     return dict(
         tool=tool,
@@ -732,6 +739,7 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
         stick_stiffness=stick,
         augmented=augmented,
         augmented_tolerance=allowed,
+        damping=damping,
     )
 
 

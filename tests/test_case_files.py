@@ -409,6 +409,7 @@ friction = 0.2
         ("centre = [50.0, 5.0, -30.0]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.0", r"\[contact\[0\].stick_"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 2.0", r"in \(0, 1\], got 2.0"),
+        ("friction = 0.2", "friction = 0.2\ndamping = 1.5", r"\[contact\[0\].damping\]"),
     ],
 )
 def test_a_mistake_in_a_contact_table_names_the_file_the_table_and_the_key(
@@ -438,6 +439,15 @@ def test_a_contact_table_sets_the_stick_spring_of_its_friction(tmp_path):
     )
     plain = load_case(write(tmp_path, CANTILEVER + CONTACT, "plain.toml")).model()
     assert plain.interactions[-1].stick_ratio == 1.0
+
+
+def test_a_contact_table_sets_its_normal_damping(tmp_path):
+    """``damping`` = 0.2: the contact damps its normal approach at 0.2 of critical
+    (elements/contact_damping.py); without the key, none."""
+    damped = CONTACT.replace("friction = 0.2", "friction = 0.2\ndamping = 0.2")
+    assert load_case(write(tmp_path, CANTILEVER + damped)).model().interactions[-1].damping == 0.2
+    plain = load_case(write(tmp_path, CANTILEVER + CONTACT, "plain.toml")).model()
+    assert plain.interactions[-1].damping == 0.0
 
 
 @pytest.mark.parametrize(

@@ -135,6 +135,7 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
             "largest_kinetic_over_work": 0.05,
             "kinetic_exceeded_share": 0.0,
             "damping_over_work": 0.1,
+            "contact_damping_over_work": 0.0,
             "cost": {"wall_s": 1.0, "cpu_s": 1.0, "load": (1.0, 1.0)},
         }
 
