@@ -33,10 +33,16 @@ the residual to 1e-8, and the watchdog takes every step whole there. Measured on
 machine (load 6-8, CPU time, one thread), iterations per increment straight -> default:
 cantilever 9-9-9-8-8 -> 4-5-5-5-5, roll-up 8-8-8-8 -> 4-5-5-4 (20 cells; 2560 triangles here),
 Peirce fibrous 37-21-18 -> 7-14-11, Peirce MindlinShell(fabric) 33-30-22 (one cut) -> 8-12-12;
-the figures of the last run are printed. Measured and not taken: extrapolating the last
-increment (``predictor=True``: 9-10-10-8-8 with straight steps), a residual line search, chord
-corrections accepted on the residual, smaller rotation caps, more increments. ``chords=4``
-with straight steps (line 2): 5-6-5-5-5 tangents, more solves.
+CPU time, best of 3 (load 7-9): cantilever 1.83 -> 1.79 s, Peirce fibrous 0.88 -> 0.44 s,
+Peirce Mindlin 1.35 -> 0.50 s. On the Mindlin cantilever the tangents saved (24 against 43)
+are spent on eigen-solves: the step after a curved first step meets an indefinite tangent
+(the remainder compresses a part of the strip), whose downhill turn (seek_stable) computes its
+lowest modes, 5 shift-invert solves against 2, 2.6 s of 8.2 s profiled; with
+seek_stable=False 2.08 -> 1.46 s. The figures of the last run are printed. Measured and not
+taken: extrapolating the last increment (``predictor=True``: 9-10-10-8-8 with straight
+steps), a residual line search, chord corrections accepted on the residual, smaller rotation
+caps, more increments. ``chords=4`` with straight steps (line 2): 5-6-5-5-5 tangents, more
+solves.
 
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
