@@ -96,7 +96,10 @@ class Static:
     predictor : load path: start each increment after the first of a phase from the previous
         increment extrapolated (module docstring) instead of the last converged state. Off by
         default: on the strips of the tests and benchmarks it saved nothing and cost the last
-        roll-up increment 9 iterations (the chord of a turning strip stretches it).
+        roll-up increment 9 iterations (the chord of a turning strip stretches it); with the
+        curved steps too (roll-up 4-8-6-10 against 4-5-5-4, Peirce's fibrous cantilever
+        7-28-15 against 7-14-11): the extrapolated translations of a turning strip stretch it
+        twice as much as a tangent step.
     seek_stable : when the tangent of a converged state has negative eigenvalues (an unstable
         equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
         settle on the stable branch. Load path: the Newton steps that meet an indefinite
