@@ -23,24 +23,26 @@ forces, strain energy and tangent, the CPU time of the process (on a shared mach
 fairer figure) and the wall time in units of one internal-force evaluation of the same model
 timed in the same run (what a solve costs, whatever the machine's load).
 
-Newton's iterations on 2 and 3 (9 per increment where Kratos' corotational shell takes 6-8 with
-the same absolute residual, benchmarks/kratos_cantilever.py) and on 6 (18-36) are not those of
-an inconsistent tangent: the Mindlin tangent matches central differences of the residual to
-1e-8 on deformed states, fixed or moving nodal frames alike; every step is taken whole (the
-watchdog never cuts one there). The first Newton step of an increment moves the nodes along
-straight lines, which stretches a turning strip: the residual is then the membrane force of
-that stretch (ratio ~1 for two or three iterations) before the quadratic phase. Measured and
-not taken: extrapolating the last increment (``predictor=True``: 9-10-10-8-8 and worse on 6),
-a residual line search or chord corrections with the kept factors accepted on the residual
-(both crawl: the residual grows along the steps that lead to the equilibrium), smaller
-rotation caps, more increments (24 increments on 6 still take 7-9 each). Available, off by
-default (``Static(chords=N)``, run here on 2 and 3 with N = 4): up to N chord corrections
-K(x)^-1 r(y) after each whole step, kept while they lower the total potential energy.
-Tangents per increment, N = 1 / 2 / 4 against none: cantilever
-6-8-10-8-7 / 6-8-7-6-5 / 5-6-5-5-5 (9-9-9-8-8), roll-up 7-7-10-7 / 7-7-10-7 / 6-6-10-6
-(9-9-9-9), Peirce fibrous 18-9-9 / 12-13-14 / 12-35-10 (36-21-18), Peirce Mindlin 32-10-9 /
-32-12-19 / 33-43-20 (33-30-22): fewer tangents, not always, and no less CPU time where the
-tangent is as cheap as the Mindlin one now is.
+Before and after, side by side: each Static line of 1, 2, 3 and 6 runs with the default
+(curved steps and one chord correction per whole step, solvers.newton_curvature) and with
+straight steps and no chord (``curved=False, chords=0``, the solver before them). The
+straight steps of a turning strip stretch it (a chord is longer than its arc by theta^2 / 2):
+the residual is then the membrane force of that stretch (ratio ~1 for two or three
+iterations) before the quadratic phase; the Mindlin tangent matches central differences of
+the residual to 1e-8, and the watchdog takes every step whole there. Measured on this 2-core
+machine (load 6-8, CPU time, one thread), iterations per increment straight -> default:
+cantilever 9-9-9-8-8 -> 4-5-5-5-5, roll-up 8-8-8-8 -> 4-5-5-4 (20 cells; 2560 triangles here),
+Peirce fibrous 37-21-18 -> 7-14-11, Peirce MindlinShell(fabric) 33-30-22 (one cut) -> 8-12-12;
+CPU time, best of 3 (load 7-9): cantilever 1.83 -> 1.79 s, Peirce fibrous 0.88 -> 0.44 s,
+Peirce Mindlin 1.35 -> 0.50 s. On the Mindlin cantilever the tangents saved (24 against 43)
+are spent on eigen-solves: the step after a curved first step meets an indefinite tangent
+(the remainder compresses a part of the strip), whose downhill turn (seek_stable) computes its
+lowest modes, 5 shift-invert solves against 2, 2.6 s of 8.2 s profiled; with
+seek_stable=False 2.08 -> 1.46 s. The figures of the last run are printed. Measured and not
+taken: extrapolating the last increment (``predictor=True``: 9-10-10-8-8 with straight
+steps), a residual line search, chord corrections accepted on the residual, smaller rotation
+caps, more increments. ``chords=4`` with straight steps (line 2): 5-6-5-5-5 tangents, more
+solves.
 
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
@@ -67,6 +69,10 @@ from materials.presets import g1151_laminate  # noqa: E402
 from solvers import ConvergenceError, DynamicRelaxation, Static  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.references.elastica import peirce_overhang, tip_loaded_cantilever  # noqa: E402
+
+# Each Static line of 1, 2, 3 and 6 twice: the default, then the solver before the curved
+# steps (straight Newton steps, no chord correction).
+VARIANTS = (("", {}), (", straight steps", {"curved": False, "chords": 0}))
 
 __all__ = [
     "bias_extension",
@@ -190,8 +196,9 @@ def main(argv=None) -> None:
     model, specimen = corner_model(args.cells)
     n_tri = len(specimen.mesh.triangles)
     print(f"1. Bai 6.2.1 G1151 corner bending, fibrous shell, {n_tri} triangles:")
-    static, wall, ok = timed(Static(increments=4), model)
-    describe("Static", static, wall, ok, model=model)
+    for name, options in VARIANTS:
+        static, wall, ok = timed(Static(increments=4, **options), model)
+        describe(f"Static{name}", static, wall, ok, model=model)
     if not args.skip_dr:
         relaxed, wall, ok = timed(DynamicRelaxation(tol=1e-5, max_iterations=args.dr_limit), model)
         gap = np.abs(relaxed.positions - static.positions).max()
@@ -207,11 +214,12 @@ def main(argv=None) -> None:
 
     model, tip, reference = strip("force")
     print(f"2. Mindlin cantilever, 2560 triangles, tip load (elastica: drop {reference:.2f} mm):")
-    for name, chords in (("Static", 0), ("Static, chords=4", 4)):
-        static, wall, ok = timed(Static(increments=5, chords=chords), model)
+    chorded = (", straight steps, chords=4", {"curved": False, "chords": 4})
+    for name, options in (*VARIANTS, chorded):
+        static, wall, ok = timed(Static(increments=5, **options), model)
         drop = -static.displacements[tip, 2].mean()
         describe(
-            name,
+            f"Static{name}",
             static,
             wall,
             ok,
@@ -233,11 +241,13 @@ def main(argv=None) -> None:
 
     model, tip, radius = strip("moment")
     print(f"3. Mindlin roll-up to a quarter circle, 2560 triangles (radius {radius:.2f} mm):")
-    for tangent in ("element", "finite_difference"):
-        result, wall, ok = timed(Static(increments=4, tangent=tangent), model)
+    runs = [(f"{name}, element tangent", options) for name, options in VARIANTS]
+    runs.append((", finite_difference tangent", {"tangent": "finite_difference"}))
+    for name, options in runs:
+        result, wall, ok = timed(Static(increments=4, **options), model)
         x, _, z = result.positions[tip].mean(axis=0)
         describe(
-            f"Static, {tangent} tangent",
+            f"Static{name}",
             result,
             wall,
             ok,
@@ -297,16 +307,17 @@ def main(argv=None) -> None:
         ("MindlinShell(fabric)", specimens.mindlin_fabric_strip),
     ):
         mesh, model = build(overhang, 10.0, fabric, 20)
-        result, wall, ok = timed(Static(increments=3), model)
-        x, _, z = result.positions[mesh.nodes("right")].mean(axis=0)
-        describe(
-            f"Static, {name}",
-            result,
-            wall,
-            ok,
-            f"; chord {math.degrees(math.atan2(-z, x)):.2f} deg (Peirce: 41.5)",
-            model=model,
-        )
+        for variant, options in VARIANTS:
+            result, wall, ok = timed(Static(increments=3, **options), model)
+            x, _, z = result.positions[mesh.nodes("right")].mean(axis=0)
+            describe(
+                f"Static{variant}, {name}",
+                result,
+                wall,
+                ok,
+                f"; chord {math.degrees(math.atan2(-z, x)):.2f} deg (Peirce: 41.5)",
+                model=model,
+            )
 
 
 if __name__ == "__main__":

@@ -25,11 +25,16 @@ Each Newton iteration:
   large rotation climb the energy on the way (the straight update stretches the membrane) and
   still reach the equilibrium in a few steps, where a monotone line search would crawl.
 
-Chord corrections (``Static(chords=N)``, ``chord_corrections``): after a whole step, up to N
-steps K^-1 r with the factorisation just made, each kept while it lowers the total potential
-energy: where the straight update of a turning strip has stretched it, they take the membrane
-back at the cost of a solve and two evaluations each, instead of a tangent and its
-factorisation.
+Curved steps (``Static(curved=True)``, the default; solvers.newton_curvature): a step on a
+definite tangent gets the second-order term of its path, so that the straight update no
+longer stretches a turning strip by theta^2 / 2; the line search backtracks along the straight
+step.
+
+Chord corrections (``Static(chords=N)``, one by default, ``chord_corrections``): after a
+whole step, up to N steps K^-1 r with the factorisation just made, each kept while it lowers
+the total potential energy: where the straight update of a turning strip has stretched it (or
+a curved step left its third-order remainder), they take the membrane back at the cost of a
+solve and two evaluations each, instead of a tangent and its factorisation.
 
 Contact (the active-set strategy of implicit contact codes; elements/contact.py): the contact
 sets of the interactions (which nodes touch, which stick, which slide and in what direction)

@@ -105,7 +105,10 @@ class Static:
     predictor : load path: start each increment after the first of a phase from the previous
         increment extrapolated (module docstring) instead of the last converged state. Off by
         default: on the strips of the tests and benchmarks it saved nothing and cost the last
-        roll-up increment 9 iterations (the chord of a turning strip stretches it).
+        roll-up increment 9 iterations (the chord of a turning strip stretches it); with the
+        curved steps too (roll-up 4-8-6-10 against 4-5-5-4, Peirce's fibrous cantilever
+        7-28-15 against 7-14-11): the extrapolated translations of a turning strip stretch it
+        twice as much as a tangent step.
     seek_stable : when the tangent of a converged state has negative eigenvalues (an unstable
         equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
         settle on the stable branch. Load path: the Newton steps that meet an indefinite
@@ -141,12 +144,18 @@ class Static:
         STABILISATION_BOUND (5 %) of it at the end.
     chords : load path: after each whole Newton step, up to this many chord corrections
         K^-1 r with the step's own factorisation, each kept while it lowers the total
-        potential energy (default 0: none). They take the place of tangents where the first
-        steps of an increment stretch a turning strip (benchmarks/static_solver.py: the
-        Mindlin cantilever in 5-6-5-5-5 tangents with 4, 9-9-9-8-8 without); a correction
-        costs a force and an energy evaluation and a solve, and the count of tangents is not
-        always lower (Peirce's cantilever). Counted in ``info["chord_corrections"]``; not in
-        increments with prescribed motion or contact.
+        potential energy (default 1; 0: none). They take the place of tangents where the
+        first steps of an increment stretch a turning strip, and after a curved step they take
+        its third-order remainder; a correction costs a force and an energy evaluation and a
+        solve. Counted in ``info["chord_corrections"]``; not in increments with prescribed
+        motion or contact.
+    curved : each Newton step on a definite tangent with the second-order term of its path
+        (solvers.newton_curvature; default True): two force evaluations and a solve with the
+        step's factors, where a straight step of a turning strip would stretch it. With the
+        default chords=1: the Mindlin cantilever of benchmarks/static_solver.py in 4-5-5-5-5
+        Newton iterations (9-9-9-8-8 with straight steps and no chord), the elastica and the
+        roll-up of validation/cases in at most 6. Counted in ``info["curved_steps"]``; not
+        with contact or other interactions.
     progress : show a progress bar on stderr, its share the load factor reached (None: unless
         under pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
