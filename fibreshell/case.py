@@ -35,8 +35,7 @@ motion = [0.0, 0.0, 20.0]                # optional translation at the end, with
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic),
 # stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
-# augmented = true: Static's augmented Lagrangian (Uzawa passes) removes the penalty's
-# penetration and elastic slip to augmented_tolerance (mm; default 1e-3 of the thickness)
+# augmented = true: Static's Uzawa passes (docs/theory.md 9.6), augmented_tolerance = mm
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
 stiffness = 23000.0                      # the first node to each other one
@@ -115,17 +114,8 @@ _TOOL_KEYS = {
     "cylinder": ("point", "axis", "radius", "side"),
     "surface": ("file", "flip", "search_distance"),
 }
-_CONTACT_KEYS = (
-    "tool",
-    "nodes",
-    "friction",
-    "penalty",
-    "stick_stiffness",
-    "augmented",
-    "augmented_tolerance",
-    "motion",
-    "amplitude",
-)
+_CONTACT_KEYS: tuple[str, ...] = ("tool", "nodes", "friction", "penalty", "stick_stiffness")
+_CONTACT_KEYS += ("augmented", "augmented_tolerance", "motion", "amplitude")
 # A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
 _DRIVE_KEYS = ("free", "force", "mass", "pressure")
 
@@ -204,9 +194,8 @@ class Case:
     gravity : dict or None
         {"acceleration": (3,), "amplitude": str}.
     contacts : list of dict
-        {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
-        None, "stick_stiffness": float or None, "augmented": bool, "augmented_tolerance":
-        float or None} per ``[[contact]]``.
+        {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty", ...} per
+        ``[[contact]]``: the keyword arguments of ``Model.contact``.
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
@@ -714,25 +703,14 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     stick = value.get("stick_stiffness")
     if stick is not None and not 0.0 < _number(where, stick, "stick_stiffness") <= 1.0:
         raise where.error("stick_stiffness", f"expected a number in (0, 1], got {stick!r}")
-    augmented = value.get("augmented", False)
+    augmented, tol = value.get("augmented", False), value.get("augmented_tolerance")
     if not isinstance(augmented, bool):
         raise where.error("augmented", f"expected true or false, got {augmented!r}")
-    allowed = value.get("augmented_tolerance")
-    if allowed is not None:
-        if not augmented:
-            raise where.error("augmented_tolerance", "given without augmented = true")
-        if not _number(where, allowed, "augmented_tolerance") > 0:
-            raise where.error("augmented_tolerance", f"expected a length > 0 (mm), got {allowed!r}")
+    if tol is not None and not (augmented and _number(where, tol, "augmented_tolerance") > 0):
+        raise where.error("augmented_tolerance", "expected > 0 (mm) with augmented = true")
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
-    return dict(
-        tool=tool,
-        nodes=nodes,
-        friction=friction,
-        penalty=penalty,
-        stick_stiffness=stick,
-        augmented=augmented,
-        augmented_tolerance=allowed,
-    )
+    options = dict(tool=tool, nodes=nodes, friction=friction, penalty=penalty, augmented=augmented)
+    return options | {"stick_stiffness": stick, "augmented_tolerance": tol}
 
 
 def _solver(top: _Where, value: Any) -> dict:
