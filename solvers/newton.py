@@ -63,6 +63,7 @@ from femcore.state import State
 from solvers.convergence import Equilibrium
 from solvers.inertia import convexified_step
 from solvers.linear import Factorisation
+from solvers.newton_curvature import curved_step
 from solvers.stabilisation import Dashpots
 from solvers.stability import downhill, lowest_modes, push_descends
 
@@ -240,6 +241,7 @@ def _iterate(
             rhs = rhs - k_fp @ left.ravel()[moved_index]
         factor = run.factorise(k_ff)
         delta_free = factor.solve(rhs)
+        regularised = delta_free is None
         if delta_free is None:
             # Exactly singular: a straight stress-free cable or membrane has no transverse
             # stiffness until it sags. A spring of 1e-6 x the largest diagonal on every
@@ -275,10 +277,19 @@ def _iterate(
         flat[index] = delta_free
         delta = flat.reshape(-1, N_COLUMNS)
         imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
-        scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing)
+        # The second-order term of a plain step on a definite tangent (solvers.newton_curvature);
+        # the line search falls back along the straight step. Not with contact: its residual
+        # is smooth only piecewise (a probe of the path may cross a stick limit or a touch).
+        straight = None
+        curving = solver.curved and not model.interactions
+        if curving and not (push or turn or regularised or factor.negative):
+            curved = curved_step(run, equilibrium, state, frames, delta, r, factor)
+            if curved is not None:
+                straight, delta = delta, curved
+        scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
         if solver.chords and scale == 1.0 and not (push or imposing or frozen):
             state, forces = chord_corrections(
-                run, equilibrium, watchdog, state, frames, forces, factor
+                run, equilibrium, watchdog, state, frames, forces, factor, solver.chords
             )
         # Round-off floor: the internal forces come from differences of nearly equal
         # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
@@ -318,16 +329,17 @@ def chord_corrections(
     frames: Frames,
     forces,
     factor: Factorisation,
+    count: int,
 ):
     """After a whole Newton step to ``state`` (internal ``forces`` there): up to
-    ``solver.chords`` chord steps K^-1 r(state) with the iteration's factorisation ``factor``
+    ``count`` chord steps K^-1 r(state) with the iteration's factorisation ``factor``
     (one solve and one force evaluation each, where a Newton iteration forms and factorises
     a tangent), each kept while it lowers the total potential energy (the residual is no
     guide: it grows along steps that lead to the equilibrium). Returns (state, forces)."""
     model, dofs = run.model, run.model.dofs
     index = dofs.free_slots
     energy = run.energy(state)
-    for _ in range(run.solver.chords):
+    for _ in range(count):
         r, ratio, forces = equilibrium.residual(state, frames, forces)
         if not np.isfinite(ratio) or ratio <= run.solver.tol:
             break
@@ -529,20 +541,31 @@ class Watchdog:
         self.work = 0.0  # dead-load work along the updates since the best iterate
         self.misses = 0
 
-    def step(self, state: State, frames: Frames, delta: np.ndarray, r: np.ndarray, whole: bool):
+    def step(
+        self,
+        state: State,
+        frames: Frames,
+        delta: np.ndarray,
+        r: np.ndarray,
+        whole: bool,
+        straight: np.ndarray | None = None,
+    ):
         """The next iterate from ``state`` with Newton step delta (n, 5) and residual r (n, 5):
-        (scale taken, new state, its internal forces); scale 0 when it went back."""
+        (scale taken, new state, its internal forces); scale 0 when it went back.
+        ``straight``: the Newton step itself when delta is its curved form
+        (solvers.newton_curvature); the Armijo slope and the backtracking use it."""
         cap = step_cap(self.run.model, delta) if self.enabled else 1.0
         if not self.enabled or whole:
             self.best = None  # the imposed motion starts a new search
             return self._take(state, frames, delta, cap)
+        line = delta if straight is None else straight
         here = {
             "state": state,
             "frames": frames,
-            "delta": delta,
-            "cap": cap,
+            "delta": line,
+            "cap": cap if straight is None else step_cap(self.run.model, straight),
             "residual": float(np.linalg.norm(r.ravel()[self.free])),
-            "slope": -float(r.ravel()[self.free] @ delta.ravel()[self.free]),  # dPi/ds
+            "slope": -float(r.ravel()[self.free] @ line.ravel()[self.free]),  # dPi/ds
             "energy": None,
         }
         if self.best is None or self._better(here):

@@ -183,7 +183,8 @@ class Static:
         at_limit: str = "follow",
         predictor: bool = False,
         stabilise: float = 0.0,
-        chords: int = 0,
+        chords: int = 1,
+        curved: bool = True,
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
     ):
@@ -210,6 +211,7 @@ class Static:
         self.predictor = check_flag(predictor, "predictor")
         self.stabilise = check_stabilise(stabilise, path)
         self.chords = check_integer(chords, "chords", minimum=0)
+        self.curved = check_flag(curved, "curved")
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
         self.progress = check_progress(progress)
@@ -425,6 +427,7 @@ class StaticRun:
             "regularised_iterations": 0,
             "shifted": [],
             "chord_corrections": 0,
+            "curved_steps": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "augmentations": [],

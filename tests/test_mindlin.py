@@ -121,8 +121,12 @@ def test_generalised_tangent_is_symmetric():
     moment = 0.5 * np.pi * young * width * thickness**3 / 12 / length
     tip = mesh.nodes("right")
     model.moment(tip, (0.0, -moment / len(tip), 0.0), amplitude="linear")
-    result = Static(increments=2).solve(model)
-    by_differences = Static(increments=2, tangent="finite_difference").solve(model)
+    # Straight steps without chords: the acceptance tests of the curved steps and the chord
+    # corrections (solvers.newton_curvature) compare energies that the tangents' 1e-10
+    # difference may tip in the iterations where the residual ratio is still near 1.
+    plain = {"increments": 2, "curved": False, "chords": 0}
+    result = Static(**plain).solve(model)
+    by_differences = Static(**plain, tangent="finite_difference").solve(model)
     assert (
         result.info["iterations_per_increment"] == by_differences.info["iterations_per_increment"]
     )
