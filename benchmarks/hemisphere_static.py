@@ -38,7 +38,7 @@ in all), 384 s (an earlier record stopped at load factor 0.70).
 
 At 16 cells (512 triangles), fibrous, with the holder, not held to the end (load 7-11 on
 this 2-core machine): at c = 300 the run had reached 0.725 after 28 min wall (cuts in the
-increments ending at 0.5, 0.6 and 0.7, attempts running to the 50-iteration limit; stopped
+increments ending at 0.5, 0.6, 0.7 and 0.8, attempts running to the 50-iteration limit; stopped
 there). At c = 1200 (300 x (16 / 8)^2: the dashpots are mass-proportional, and the wrinkles a
 finer flange can take are shorter, with a larger geometric stiffness per unit mass) it stops
 at load factor 0.798 (ConvergenceError after 8 cuts of the increment 0.7-0.8): 12, 27, 31, 39,
