@@ -308,30 +308,6 @@ class CompiledModel:
             history[i] = part.thaw(history[i])
         return replace(state, history=tuple(history))
 
-    def augment(self, state: State) -> tuple[State, dict | None]:
-        """The augmented Lagrangian's update of every interaction that has one
-        (femcore.interaction.InteractionBlock.augment) at a converged ``state``: (the state
-        with the updated multipliers, {"penetration", "slip": the largest over the
-        interactions, mm; "excess": the largest of each one's penetration and slip over its
-        tolerance; "within": every one's constraints met at ``state``}), or (state, None)
-        when no interaction has multipliers."""
-        if not self.interactions:
-            return state, None
-        history, reports = list(self._histories(state)), []
-        for i, part in enumerate(self.interactions, start=len(self.blocks)):
-            history[i], report = part.augment(state, history[i])
-            if report is not None:
-                reports.append(report)
-        if not reports:
-            return state, None
-        summary = {
-            "penetration": max(r["penetration"] for r in reports),
-            "slip": max(r["slip"] for r in reports),
-            "excess": max(max(r["penetration"], r["slip"]) / r["tolerance"] for r in reports),
-            "within": all(r["within"] for r in reports),
-        }
-        return replace(state, history=tuple(history)), summary
-
     def lumped_mass(self, state: State, density_scale: list | None = None):
         """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
         (cells,) factor array per block (selective mass scaling) or None."""

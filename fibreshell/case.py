@@ -35,9 +35,8 @@ motion = [0.0, 0.0, 20.0]                # optional translation at the end, with
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic),
 # stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
-# augmented = true: Static's augmented Lagrangian (Uzawa passes) removes the penalty's
-# penetration and elastic slip to augmented_tolerance (mm; default 1e-3 of the thickness)
-# damping = 0.2: normal contact damping, of the critical (explicit; default 0)
+# augmented = true: Static's Uzawa passes (docs/theory.md 9.6), augmented_tolerance = mm
+# damping = 0.2: normal contact damping, a fraction of critical (explicit; default 0)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
 stiffness = 23000.0                      # the first node to each other one
@@ -77,7 +76,6 @@ found through Python entry points; the registry's docstring says how a part's ``
 
 from __future__ import annotations
 
-import inspect
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -96,8 +94,9 @@ from elements import (
 )
 from femcore import Mesh, Model
 from fibreshell import registry
+from fibreshell.case_materials import _material, _user_element
+from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
 from fibreshell.case_sets import BOUND_KEYS, BoundsError, select_by_bounds
-from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DynamicRelaxation, Static
 
 __all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
@@ -116,77 +115,10 @@ _TOOL_KEYS = {
     "cylinder": ("point", "axis", "radius", "side"),
     "surface": ("file", "flip", "search_distance"),
 }
-_CONTACT_KEYS = (
-    "tool",
-    "nodes",
-    "friction",
-    "penalty",
-    "stick_stiffness",
-    "augmented",
-    "augmented_tolerance",
-    "damping",
-    "motion",
-    "amplitude",
-)
+_CONTACT_KEYS: tuple[str, ...] = ("tool", "nodes", "friction", "penalty", "stick_stiffness")
+_CONTACT_KEYS += ("augmented", "augmented_tolerance", "damping", "motion", "amplitude")
 # A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
 _DRIVE_KEYS = ("free", "force", "mass", "pressure")
-
-
-class CaseError(ValueError):
-    """A case file that cannot be read as written: the message names the file, the table
-    and the key."""
-
-
-@dataclass
-class _Where:
-    """Where a value sits in the case file, for messages: file, then table.key."""
-
-    path: Path
-    table: str
-
-    def error(self, key: str | None, message: str) -> CaseError:
-        at = self.table if key is None else f"{self.table}.{key}" if self.table else key
-        return CaseError(f"{self.path}: [{at}]: {message}")
-
-    def child(self, name: str) -> _Where:
-        return _Where(self.path, f"{self.table}.{name}" if self.table else name)
-
-
-def _table(where: _Where, value: Any, key: str, allowed: tuple[str, ...], required=()) -> dict:
-    """``value`` checked to be a table with only ``allowed`` keys and every ``required``."""
-    if not isinstance(value, dict):
-        raise where.error(key, f"expected a table, got {type(value).__name__} {value!r}")
-    inner = where.child(key) if key else where
-    unknown = [k for k in value if k not in allowed]
-    if unknown:
-        raise inner.error(
-            unknown[0], f"unknown key {unknown[0]!r}; expected one of {', '.join(allowed)}"
-        )
-    missing = [k for k in required if k not in value]
-    if missing:
-        raise inner.error(None, f"missing key {missing[0]!r}")
-    return value
-
-
-def _number(where: _Where, value: Any, key: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
-        raise where.error(key, f"expected a finite number, got {value!r}")
-    return float(value)
-
-
-def _vector(where: _Where, value: Any, key: str) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != 3:
-        raise where.error(key, f"expected a list of 3 numbers, got {value!r}")
-    return np.array([_number(where, v, key) for v in value])
-
-
-def _keywords(where: _Where, callable_: Any, options: dict, reserved=frozenset({"self"})):
-    """``options`` checked against the keyword parameters of ``callable_``."""
-    names = [p for p in inspect.signature(callable_).parameters if p not in reserved]
-    for key in options:
-        if key not in names:
-            raise where.error(key, f"unknown option {key!r}; expected one of {', '.join(names)}")
-    return options
 
 
 @dataclass
@@ -206,9 +138,8 @@ class Case:
     gravity : dict or None
         {"acceleration": (3,), "amplitude": str}.
     contacts : list of dict
-        {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty": float or
-        None, "stick_stiffness": float or None, "augmented": bool, "augmented_tolerance":
-        float or None, "damping": float or None} per ``[[contact]]``.
+        {"tool": RigidTool, "nodes": node ids or None, "friction": float, "penalty", ...} per
+        ``[[contact]]``: the keyword arguments of ``Model.contact``.
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
     solver : dict
@@ -511,131 +442,6 @@ def _part(where: _Where, value: dict) -> dict:
     return {"kind": kind, "element": element, "cells": cells}
 
 
-def _user_element(where: _Where, kind: str, cls: type, material: Any, options: dict):
-    """A registered element type from its part (fibreshell.registry): its ``from_case``
-    classmethod or its constructor, called with the options as keywords and ``material=`` the
-    part's material (a preset built, an inline table as a dict)."""
-    make = getattr(cls, "from_case", cls)
-    parameters = inspect.signature(make).parameters
-    if not any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
-        _keywords(where.child("options"), make, options, frozenset({"self", "material"}))
-    arguments = dict(options)
-    if material is not None:
-        if "material" not in parameters:
-            raise where.error("material", f"element {kind!r} ({cls.__name__}) takes no material")
-        if isinstance(material, str):
-            material = {"preset": material}
-        if not isinstance(material, dict):
-            raise where.error("material", f"expected a preset name or a table, got {material!r}")
-        if "preset" in material:
-            arguments["material"] = _preset(where, where.child("material"), material)
-        else:
-            arguments["material"] = dict(material)
-    elif "material" in parameters and parameters["material"].default is inspect.Parameter.empty:
-        raise where.error(None, "missing key 'material'")
-    return make(**arguments)
-
-
-_LAWS = {
-    "tension": TensionLaw, "tension_weft": TensionLaw, "shear": ShearLaw,
-    "bending": BendingLaw, "bending_weft": BendingLaw,
-}  # fmt: skip
-
-
-def _material(where: _Where, kind: str, value: Any):
-    if value is None:
-        raise where.error(None, "missing key 'material'")
-    if isinstance(value, str):
-        value = {"preset": value}
-    inner = where.child("material")
-    if not isinstance(value, dict):
-        raise where.error("material", f"expected a preset name or a table, got {value!r}")
-    if "preset" in value:
-        # A Mindlin part of a fabric preset has the fabric section (its own laws, MindlinShell
-        # accepts a Fabric): the same material the fibrous shell would have.
-        return _preset(where, inner, value)
-    if kind == "mindlin" and not ({"tension", "bending"} & set(value)):
-        make = ElasticShell.orthotropic if "E1" in value else ElasticShell
-        arguments = _keywords(inner, make, value)
-        for key, item in arguments.items():
-            if key == "warp":
-                _vector(inner, item, key)
-            else:
-                _number(inner, item, key)
-        return make(**arguments)
-    _keywords(inner, Fabric, value)
-    return Fabric(**_fabric_fields(inner, value))
-
-
-def _fabric_fields(inner: _Where, value: dict) -> dict:
-    """Fabric arguments from a material table: numbers checked, law tables made laws."""
-    fields = dict(value)
-    for key, item in fields.items():
-        if key in _LAWS and isinstance(item, dict):
-            fields[key] = _law(inner.child(key), _LAWS[key], item)
-        elif key in _LAWS and not isinstance(item, int | float) or isinstance(item, bool):
-            raise inner.error(key, f"expected a number (linear law) or a law table, got {item!r}")
-        else:
-            _number(inner, item, key)
-    return fields
-
-
-def _preset(where: _Where, inner: _Where, value: dict):
-    """``{ preset = "name", ... }``: the preset of that name (fibreshell.registry: the
-    materials.presets and the registered materials), built with the keys that are its own
-    arguments (``plies``, ``sheets``), then with the others, fields of ``Fabric``, replaced
-    (``Fabric.replace``): a preset with some of its values changed, for a sweep."""
-    name = value["preset"]
-    try:
-        make = registry.material_factory(name)
-    except ValueError as error:
-        raise where.error("material", str(error)) from None
-    parameters = inspect.signature(make).parameters
-    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
-        own = set(value) - {"preset"}  # a factory taking **keywords takes every key
-    else:
-        own = set(parameters)
-    arguments = {k: v for k, v in value.items() if k in own}
-    changes = {k: v for k, v in value.items() if k != "preset" and k not in own}
-    try:
-        material = make(**arguments)
-    except (ValueError, TypeError) as error:
-        raise inner.error(None, str(error)) from None
-    if changes:
-        if not isinstance(material, Fabric):
-            raise inner.error(next(iter(changes)), f"preset {name!r} takes no other keys")
-        allowed = tuple(material.__dataclass_fields__) + tuple(own)
-        _table(inner, changes, "", allowed)
-        material = material.replace(**_fabric_fields(inner, changes))
-    return material
-
-
-def _law(where: _Where, family, value: dict):
-    """A law from {linear = C} | {table = {x, y}} | {bilinear = {initial, final, knee}} |
-    {polynomial = {k1, k3, k5}}, with tension_only for tension laws."""
-    forms = [k for k in value if k != "tension_only"]
-    known = ("linear", "table", "bilinear", "polynomial")
-    if len(forms) != 1 or forms[0] not in known:
-        raise where.error(
-            None,
-            "expected one of linear = C, table = { x = [...], y = [...] }, bilinear = "
-            "{ initial, final, knee }, polynomial = { k1, k3, k5 }",
-        )
-    form = forms[0]
-    extra = {"tension_only": value["tension_only"]} if "tension_only" in value else {}
-    if extra and family is not TensionLaw:
-        raise where.error("tension_only", "only tension laws can be tension-only")
-    if not hasattr(family, form):
-        raise where.error(form, f"{family.__name__} has no {form} form")
-    if form == "linear":
-        return family.linear(_number(where, value["linear"], "linear"), **extra)
-    if form == "table":
-        table = _table(where, value["table"], "table", ("x", "y"), ("x", "y"))
-        return family.table(table["x"], table["y"], **extra)
-    names = tuple(inspect.signature(getattr(family, form)).parameters)
-    return getattr(family, form)(**_table(where, value[form], form, names), **extra)
-
-
 def _fix(where: _Where, mesh: Mesh, value: dict) -> dict:
     _table(where, value, "", ("nodes", "dofs"), ("nodes",))
     dofs = value.get("dofs")
@@ -716,31 +522,17 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     stick = value.get("stick_stiffness")
     if stick is not None and not 0.0 < _number(where, stick, "stick_stiffness") <= 1.0:
         raise where.error("stick_stiffness", f"expected a number in (0, 1], got {stick!r}")
-    augmented = value.get("augmented", False)
+    augmented, tol = value.get("augmented", False), value.get("augmented_tolerance")
     if not isinstance(augmented, bool):
         raise where.error("augmented", f"expected true or false, got {augmented!r}")
-    allowed = value.get("augmented_tolerance")
-    if allowed is not None:
-        if not augmented:
-            raise where.error("augmented_tolerance", "given without augmented = true")
-        if not _number(where, allowed, "augmented_tolerance") > 0:
-            raise where.error("augmented_tolerance", f"expected a length > 0 (mm), got {allowed!r}")
+    if tol is not None and not (augmented and _number(where, tol, "augmented_tolerance") > 0):
+        raise where.error("augmented_tolerance", "expected > 0 (mm) with augmented = true")
     damping = value.get("damping")
     if damping is not None and not 0.0 <= _number(where, damping, "damping") <= 1.0:
-        raise where.error(
-            "damping", f"expected a fraction of the critical damping in [0, 1], got {damping!r}"
-        )
+        raise where.error("damping", f"expected a fraction of critical in [0, 1], got {damping!r}")
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
-    return dict(
-        tool=tool,
-        nodes=nodes,
-        friction=friction,
-        penalty=penalty,
-        stick_stiffness=stick,
-        augmented=augmented,
-        augmented_tolerance=allowed,
-        damping=damping,
-    )
+    options = dict(tool=tool, nodes=nodes, friction=friction, penalty=penalty, augmented=augmented)
+    return options | {"stick_stiffness": stick, "augmented_tolerance": tol, "damping": damping}
 
 
 def _solver(top: _Where, value: Any) -> dict:

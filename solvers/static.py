@@ -42,6 +42,7 @@ from femcore.results import Result
 from femcore.rotation import cross, rotate_about
 from femcore.state import State
 from solvers.arc_length import JUMP_ITERATIONS, Motion, arc_length_path, descend
+from solvers.augmentation import augment, augment_contacts
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     ConvergenceError,
@@ -274,7 +275,7 @@ class Static:
         n_cells = sum(len(block.cell_ids) for block in compiled.blocks)
         check_model_memory(n_cells, STATIC_BYTES_PER_CELL, "a static solve")
         run = StaticRun(self, compiled)
-        if self.path != "load" and compiled.augment(run.state)[1] is not None:
+        if self.path != "load" and augment_contacts(compiled, run.state)[1] is not None:
             raise ValueError(
                 "an augmented contact (augmented=True) needs path='load': the Uzawa passes "
                 "solve an increment again at its load factor, which the arc-length path does "
@@ -362,31 +363,6 @@ class Static:
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
-
-
-def augment(run: StaticRun, state: State, load_factor: float, count, ratio, history):
-    """The Uzawa passes of an increment converged at ``state`` (elements/augmented_contact.py):
-    while an augmented contact's penetration or elastic slip exceeds its tolerance, its
-    multipliers are updated and the increment solved again from there, at most
-    ``augmentations`` times. Returns (state, Newton iterations, ratio, ratio history, passes),
-    the iterations and ratios of every pass; an IncrementFailed of a pass carries them too."""
-    passes = 0
-    while True:
-        updated, report = run.model.augment(state)
-        run.constraint = report
-        if report is None or report["within"]:
-            return state, count, ratio, history, passes
-        if passes >= run.solver.augmentations:
-            run.info["augmentations_short"].append((load_factor, report["excess"]))
-            return state, count, ratio, history, passes
-        passes += 1
-        try:
-            state, more, ratio, again = newton(run, updated, load_factor)
-        except IncrementFailed as failure:
-            failure.iterations += count
-            failure.history = history + failure.history
-            raise
-        count, history = count + more, history + again
 
 
 def check_stabilise(value: Any, path: str) -> float:
