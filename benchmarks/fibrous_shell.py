@@ -11,17 +11,25 @@
    Bai Table 2, clamped-edge option) under its own weight: wall time and iterations (the
    strip builder of the validation case fibrous-heavy-cantilever, validation.specimens).
 4. ``--phases``: the explicit step on one thread in CPU time (honest on a shared machine,
-   where wall time counts the other processes' turns), the compiled force split into its
-   passes (elements/fibrous/kernels.py), the energy check as a separate strain-energy pass
-   and as the increment of the fused force-and-energy pass, beside the reference pass; and
-   the peak memory per triangle of a run in a fresh process (its resident peak over the
-   process's baseline after compilation).
+   where wall time counts the other processes' turns): a whole run of ``--steps`` steps (its
+   start and its two frames included) and the steady step (the difference of runs of N and
+   2N steps per added element-step, as benchmarks/explicit_step.py measures it); the compiled
+   force split into its passes (elements/fibrous/kernels.py), the energy check as a separate
+   strain-energy pass and as the increment of the fused force-and-energy pass, beside the
+   reference pass; and the peak memory per triangle of a run in a fresh process (its
+   resident peak over the process's baseline after compilation).
+5. ``--scaling``: the share of a step's CPU time on one thread spent outside the parallel
+   loops (Python, numpy, serial compiled loops: what a second thread cannot shorten) with
+   Amdahl's bound on 2 threads, then the step and each pass of the force on 1 and on 2
+   threads (every loop on them, whatever the load), in turns, wall time, best of
+   ``--repeats``.
 
 Run from the project root:
 
     python benchmarks/fibrous_shell.py
     python benchmarks/fibrous_shell.py --sizes 1000,10000 --steps 50
     python benchmarks/fibrous_shell.py --phases --sizes 10000,100000 --skip-relaxation
+    python benchmarks/fibrous_shell.py --scaling --sizes 100000 --steps 20
 
 Measured on this 2-core machine (AMD EPYC, 2.6 GHz) shared with other processes (1-minute load
 2.5-4 on 2 cores), CPU microseconds per element(-step) on one thread at 10k / 100k triangles
@@ -36,6 +44,20 @@ sagged into a bowl; memory: the peak of a fresh process's 20-step run over its b
         force 0.08 more than the force alone, 1489 / 1493 B/triangle
     reference pass (wall) 0.07 / 0.08 in both runs; with the default 2 threads at a load of 4
     (free_cores leaves one): step wall 1.59 / 1.41 before, 0.53 / 0.73 after.
+
+One reciprocal for the quotients that share a denominator (elements/fibrous/cell_terms.py:
+35 fewer divisions and 2 fewer square roots per cell), measured against main ff266b3's
+kernels in the same process, taken in turns, order flipped every pair, CPU time on one
+thread, at a load of 6.7-8 on 2 cores (no quiet moment; absolute figures were 1.5-2.5 x
+the quiet ones and varied by +-30 % between runs, so only the paired ratios are given),
+median (quartiles) of new / old: force 20k 0.946 (0.89-1.03) over 150 pairs; force and
+energy 100k 0.934 (best of 12); explicit step 20k 0.942 (0.88-1.01) over 150 pairs, 100k
+0.965 (0.92-1.05) over 40. A 50-step run of ``step_cpu`` at 100k spends 7 % (median of 4,
+load 8) outside its steps (its start, its two frames): the "CentralDifference step" row
+carries it, the steady-step row does not. ``--scaling`` at 100k, load 6: serial share 0.09
+of a step with the run's start counted, before it was left out (the serial compiled update
+of the velocities, solvers/dynamics.py, 1.4 %; the external load 1 %; the Python between the
+loops); 2 threads slower than one at that load (0.89 x: no core was free).
 """
 
 from __future__ import annotations
