@@ -54,10 +54,11 @@ median (quartiles) of new / old: force 20k 0.946 (0.89-1.03) over 150 pairs; for
 energy 100k 0.934 (best of 12); explicit step 20k 0.942 (0.88-1.01) over 150 pairs, 100k
 0.965 (0.92-1.05) over 40. A 50-step run of ``step_cpu`` at 100k spends 7 % (median of 4,
 load 8) outside its steps (its start, its two frames): the "CentralDifference step" row
-carries it, the steady-step row does not. ``--scaling`` at 100k, load 6: serial share 0.09
-of a step with the run's start counted, before it was left out (the serial compiled update
-of the velocities, solvers/dynamics.py, 1.4 %; the external load 1 %; the Python between the
-loops); 2 threads slower than one at that load (0.89 x: no core was free).
+carries it, the steady-step row does not. ``--scaling`` at 100k (20 steps, load 4.6): serial
+share 0.072 of a step on one thread, so Amdahl's bound on 2 threads is 1.87 x (of it, by a
+profile of 30 steps: the serial compiled update of the velocities, solvers/dynamics.py,
+1.4 %; the external load 0.9 %; the Python around the loops); 2 threads 0.76 x one at that
+load (no core was free: the 1.7 x of a quiet machine could not be measured).
 """
 
 from __future__ import annotations
