@@ -22,7 +22,9 @@ modulo indexing, no array passed to a helper inside the hot loop (each such call
 reference counting). Between two passes only what the next one reads is kept (about 300 bytes
 per cell: normals, areas, angles, the corner forces, moments and dW/dS_k, the side moments);
 the fold-angle gradient D[s, k] = t_s . t_k / (|t_s| 2A) (t_s the side opposite corner s, the
-in-plane form of -grad N_k . n^c_s) is recomputed where it is used.
+in-plane form of -grad N_k . n^c_s) is recomputed where it is used. The scalar pieces (corner
+thickness, director moment, side terms, fold gradient, angle pull) are in cell_terms.py,
+where quotients that share a denominator share one reciprocal.
 
 Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
 in cell order (elements/kernels.py ``NodeCorners``): parallel without races, the same sums in
