@@ -11,17 +11,25 @@
    Bai Table 2, clamped-edge option) under its own weight: wall time and iterations (the
    strip builder of the validation case fibrous-heavy-cantilever, validation.specimens).
 4. ``--phases``: the explicit step on one thread in CPU time (honest on a shared machine,
-   where wall time counts the other processes' turns), the compiled force split into its
-   passes (elements/fibrous/kernels.py), the energy check as a separate strain-energy pass
-   and as the increment of the fused force-and-energy pass, beside the reference pass; and
-   the peak memory per triangle of a run in a fresh process (its resident peak over the
-   process's baseline after compilation).
+   where wall time counts the other processes' turns): a whole run of ``--steps`` steps (its
+   start and its two frames included) and the steady step (the difference of runs of N and
+   2N steps per added element-step, as benchmarks/explicit_step.py measures it); the compiled
+   force split into its passes (elements/fibrous/kernels.py), the energy check as a separate
+   strain-energy pass and as the increment of the fused force-and-energy pass, beside the
+   reference pass; and the peak memory per triangle of a run in a fresh process (its
+   resident peak over the process's baseline after compilation).
+5. ``--scaling``: the share of a step's CPU time on one thread spent outside the parallel
+   loops (Python, numpy, serial compiled loops: what a second thread cannot shorten) with
+   Amdahl's bound on 2 threads, then the step and each pass of the force on 1 and on 2
+   threads (every loop on them, whatever the load), in turns, wall time, best of
+   ``--repeats``.
 
 Run from the project root:
 
     python benchmarks/fibrous_shell.py
     python benchmarks/fibrous_shell.py --sizes 1000,10000 --steps 50
     python benchmarks/fibrous_shell.py --phases --sizes 10000,100000 --skip-relaxation
+    python benchmarks/fibrous_shell.py --scaling --sizes 100000 --steps 20
 
 Measured on this 2-core machine (AMD EPYC, 2.6 GHz) shared with other processes (1-minute load
 2.5-4 on 2 cores), CPU microseconds per element(-step) on one thread at 10k / 100k triangles
@@ -36,6 +44,21 @@ sagged into a bowl; memory: the peak of a fresh process's 20-step run over its b
         force 0.08 more than the force alone, 1489 / 1493 B/triangle
     reference pass (wall) 0.07 / 0.08 in both runs; with the default 2 threads at a load of 4
     (free_cores leaves one): step wall 1.59 / 1.41 before, 0.53 / 0.73 after.
+
+One reciprocal for the quotients that share a denominator (elements/fibrous/cell_terms.py:
+35 fewer divisions and 2 fewer square roots per cell), measured against main ff266b3's
+kernels in the same process, taken in turns, order flipped every pair, CPU time on one
+thread, at a load of 6.7-8 on 2 cores (no quiet moment; absolute figures were 1.5-2.5 x
+the quiet ones and varied by +-30 % between runs, so only the paired ratios are given),
+median (quartiles) of new / old: force 20k 0.946 (0.89-1.03) over 150 pairs; force and
+energy 100k 0.934 (best of 12); explicit step 20k 0.942 (0.88-1.01) over 150 pairs, 100k
+0.965 (0.92-1.05) over 40. A 50-step run of ``step_cpu`` at 100k spends 7 % (median of 4,
+load 8) outside its steps (its start, its two frames): the "CentralDifference step" row
+carries it, the steady-step row does not. ``--scaling`` at 100k (20 steps, load 4.6): serial
+share 0.072 of a step on one thread, so Amdahl's bound on 2 threads is 1.87 x (of it, by a
+profile of 30 steps: the serial compiled update of the velocities, solvers/dynamics.py,
+1.4 %; the external load 0.9 %; the Python around the loops); 2 threads 0.76 x one at that
+load (no core was free: the 1.7 x of a quiet machine could not be measured).
 """
 
 from __future__ import annotations
@@ -60,9 +83,20 @@ from elements.shell_geometry import GUARD  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from materials import presets  # noqa: E402
 from solvers import CentralDifference, DynamicRelaxation  # noqa: E402
+from solvers.step import LumpedMasses, explicit_step  # noqa: E402
 from validation.specimens import fibrous_strip  # noqa: E402
 
-__all__ = ["force_phases", "main", "peak_memory", "relaxation", "step_cpu", "thickness_options"]
+__all__ = [
+    "force_phases",
+    "main",
+    "peak_memory",
+    "relaxation",
+    "serial_share",
+    "steady_step",
+    "step_cpu",
+    "thickness_options",
+    "thread_scaling",
+]
 
 
 def _sheet(triangles: int, kernel: str = "compiled"):
@@ -92,11 +126,12 @@ def step_cpu(triangles: int, steps: int) -> dict:
     return {"cpu": cpu * per, "wall": wall * per, "steps": result.steps}
 
 
-def force_phases(triangles: int, repeats: int = 10) -> dict:
+def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.process_time) -> dict:
     """CPU microseconds per element of each pass of the compiled force (best of
-    ``repeats``) on the sheet sagged into a bowl, and of the energy: a separate strain-energy
-    pass, and what the fused force-and-energy pass adds to the force."""
-    compiled = _sheet(triangles)
+    ``repeats``; ``clock`` another clock) on the sheet sagged into a bowl (``compiled``: that
+    sheet, already built), and of the energy: a separate strain-energy pass, and what the
+    fused force-and-energy pass adds to the force."""
+    compiled = _sheet(triangles) if compiled is None else compiled
     block = compiled.blocks[0]
     state = compiled.initial_state()
     x = state.positions
@@ -109,9 +144,9 @@ def force_phases(triangles: int, repeats: int = 10) -> dict:
     best: dict[str, float] = {}
 
     def timed(name, function, *args):
-        started = time.process_time()
+        started = clock()
         out = function(*args)
-        best[name] = min(best.get(name, math.inf), time.process_time() - started)
+        best[name] = min(best.get(name, math.inf), clock() - started)
         return out
 
     for _ in range(repeats + 1):  # the first round compiles or loads the loops
@@ -178,6 +213,119 @@ def _memory_child(triangles: int, steps: int) -> None:
     print(1024.0 * (resident("VmHWM") - baseline) / (2 * round(math.sqrt(triangles / 2)) ** 2))
 
 
+def _start(compiled) -> tuple:
+    """What ``_steps`` starts from: (the initial state, its lumped masses, 0.9 x its stable
+    step)."""
+    state = compiled.initial_state()
+    return state, LumpedMasses.of(compiled, state), 0.9 * compiled.stable_dt(state)
+
+
+def _steps(compiled, start: tuple, steps: int) -> None:
+    """``steps`` explicit steps of the sheet from ``start`` (``_start``) as CentralDifference
+    takes them (the energy checked every 10th), without its frames."""
+    state, masses, dt = start
+    previous = 0.0
+    for step in range(steps):
+        outcome = explicit_step(
+            compiled, state, dt, masses, dt_prev=previous, duration=1.0, checking=step % 10 == 0
+        )
+        state, previous = compiled.commit(outcome.state), dt
+
+
+def steady_step(triangles: int, steps: int) -> float:
+    """CPU microseconds per element-step of a long run: CentralDifference over ``steps`` and
+    over 2 ``steps`` steps, the difference of the two times per added element-step (the run's
+    start and its two frames left out, as benchmarks/explicit_step.py measures it)."""
+    short, long = step_cpu(triangles, steps), step_cpu(triangles, 2 * steps)
+    return 2.0 * long["cpu"] - short["cpu"]
+
+
+def serial_share(triangles: int, steps: int) -> float:
+    """The share of a step's CPU time, on one thread, spent outside the parallel loops of
+    elements.jit (Python, numpy, the serial compiled loops): what a second thread cannot
+    shorten (Amdahl)."""
+    from elements import jit
+
+    compiled = _sheet(triangles)
+    inside = [0.0]
+    original = jit._Parallel.__call__
+
+    def timed(self, *args):
+        started = time.process_time()
+        try:
+            return original(self, *args)
+        finally:
+            inside[0] += time.process_time() - started
+
+    start = _start(compiled)
+    _steps(compiled, start, 2)  # warm
+    jit._Parallel.__call__ = timed  # type: ignore[method-assign]
+    try:
+        started = time.process_time()
+        _steps(compiled, start, steps)
+        total = time.process_time() - started
+    finally:
+        jit._Parallel.__call__ = original  # type: ignore[method-assign]
+    return 1.0 - inside[0] / total
+
+
+def thread_scaling(triangles: int, steps: int, repeats: int) -> dict:
+    """Wall seconds of ``steps`` explicit steps and of each pass of the force on 1 and on 2
+    threads (every parallel loop on them: elements.jit.FOLLOW_LOAD off), taken in turns,
+    best of ``repeats``."""
+    import numba
+
+    from elements import jit
+
+    compiled = _sheet(triangles)
+    start = _start(compiled)
+    best: dict[tuple[str, int], float] = {}
+    follow, before = jit.FOLLOW_LOAD, numba.get_num_threads()
+    jit.FOLLOW_LOAD = False
+    try:
+        for _ in range(repeats):
+            for threads in (1, 2):
+                numba.set_num_threads(threads)
+                started = time.perf_counter()
+                _steps(compiled, start, steps)
+                key = ("explicit step", threads)
+                best[key] = min(best.get(key, math.inf), time.perf_counter() - started)
+                for name, value in force_phases(
+                    triangles, 1, compiled, clock=time.perf_counter
+                ).items():
+                    best[name, threads] = min(best.get((name, threads), math.inf), value)
+    finally:
+        jit.FOLLOW_LOAD = follow
+        numba.set_num_threads(before)
+    per = 1e6 / (len(compiled.blocks[0].connectivity) * steps)
+    return {
+        key: (value * per if key[0] == "explicit step" else value) for key, value in best.items()
+    }
+
+
+def print_scaling(sizes, steps: int, repeats: int) -> None:
+    """The --scaling tables: the serial share of a step and 1 against 2 threads."""
+    import numba
+
+    numba.set_num_threads(1)
+    step_cpu(200, 2)
+    for size in sizes:
+        share = serial_share(size, steps)
+        print(
+            f"{size} triangles: serial share of a step on one thread {share:.3f} (CPU), "
+            f"Amdahl's bound on 2 threads {1.0 / (share + (1.0 - share) / 2.0):.2f} x; "
+            f"1-minute load {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
+        )
+        rows = thread_scaling(size, steps, repeats)
+        print(
+            f"  {'wall us per element(-step)':37s} {'1 thread':>9s} {'2 threads':>9s} {'ratio':>6s}"
+        )
+        for name in dict.fromkeys(key[0] for key in rows):
+            one, two = rows[name, 1], rows[name, 2]
+            print(f"  {name:38s} {one:9.3f} {two:9.3f} {one / two:6.2f}")
+        print(f"  1-minute load after: {os.getloadavg()[0]:.1f}", flush=True)
+
+
 def print_phases(sizes, steps: int) -> None:
     """The --phases tables (see the module docstring, item 4)."""
     import numba
@@ -192,6 +340,7 @@ def print_phases(sizes, steps: int) -> None:
     for size in sizes:
         rows[size] = force_phases(size) | {
             "CentralDifference step": step_cpu(size, steps)["cpu"],
+            "steady step (runs of N and 2N steps)": steady_step(size, steps),
             "reference pass (wall)": reference_pass(size),
             "peak memory, bytes per triangle": peak_memory(size, 20),
         }
@@ -251,11 +400,18 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-relaxation", action="store_true")
     parser.add_argument("--thickness-cells", type=int, default=70)
     parser.add_argument("--phases", action="store_true", help="the one-thread CPU tables only")
+    parser.add_argument(
+        "--scaling", action="store_true", help="the serial share and 1 against 2 threads only"
+    )
+    parser.add_argument("--repeats", type=int, default=3, help="--scaling: best of")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
     sizes = [int(size) for size in args.sizes.split(",")]
     if args.phases:
         print_phases(sizes, args.steps)
+        return
+    if args.scaling:
+        print_scaling(sizes, args.steps, args.repeats)
         return
     print_explicit_table(
         "FibrousShell, CentralDifference (the numpy path, and the compiled loops on 1 and on "

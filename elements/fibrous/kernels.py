@@ -22,7 +22,9 @@ modulo indexing, no array passed to a helper inside the hot loop (each such call
 reference counting). Between two passes only what the next one reads is kept (about 300 bytes
 per cell: normals, areas, angles, the corner forces, moments and dW/dS_k, the side moments);
 the fold-angle gradient D[s, k] = t_s . t_k / (|t_s| 2A) (t_s the side opposite corner s, the
-in-plane form of -grad N_k . n^c_s) is recomputed where it is used.
+in-plane form of -grad N_k . n^c_s) is recomputed where it is used. The scalar pieces (corner
+thickness, director moment, side terms, fold gradient, angle pull) are in cell_terms.py,
+where quotients that share a denominator share one reciprocal.
 
 Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
 in cell order (elements/kernels.py ``NodeCorners``): parallel without races, the same sums in
@@ -35,8 +37,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements.fibrous.cell_terms import (
+    angle_pull,
+    corner_thickness,
+    director_moment,
+    fold_gradient,
+    side_fold,
+    side_squares,
+    unit_edge_squares,
+)
 from elements.fibrous.packed_laws import law_energy, law_value
-from elements.jit import inline, jit, prange, serial
+from elements.jit import jit, prange
 from elements.shell_geometry import GUARD
 
 __all__ = [
@@ -47,148 +58,6 @@ __all__ = [
     "strains",
     "strain_energy_parts",
 ]
-
-
-# ---------------------------------------------------------------------- scalar helpers
-@inline
-def _corner_thickness(directors, sums, node, nodal, nx, ny, nz, thickness, guard):
-    """At the corner on ``node``: its director V, V . N, h_m = h / max(V . N, guard) and N
-    (the nodal normal S / |S| from the node's normal sum S in ``sums`` (n, 3) when ``nodal``,
-    else the element's n), and |S| (1 without nodal normals):
-    (Vx, Vy, Vz, cos, h_m, Nx, Ny, Nz, |S|)."""
-    vx, vy, vz = directors[node, 0], directors[node, 1], directors[node, 2]
-    if nodal:
-        sx, sy, sz = sums[node, 0], sums[node, 1], sums[node, 2]
-        length = np.sqrt(sx * sx + sy * sy + sz * sz)
-        inverse = 1.0 / length
-        cos = (vx * sx + vy * sy + vz * sz) * inverse
-        h_m = thickness / max(cos, guard)
-        return vx, vy, vz, cos, h_m, sx * inverse, sy * inverse, sz * inverse, length
-    cos = vx * nx + vy * ny + vz * nz
-    return vx, vy, vz, cos, thickness / max(cos, guard), nx, ny, nz, 1.0
-
-
-@serial
-def _director_moment(
-    rx, ry, rz, vx, vy, vz, h_m, cos, wx, wy, wz, length, thickness, guard, variation
-):  # fmt: skip
-    """The director moment of one corner from r = sum_f zeta_f dW/dg at the corner (the lever
-    arm zeta_f h_m / 2 along V, Eq. 28, Bai Fig. 3) and, with ``variation``, the work of
-    h_m = h / c, c = V . N (docs/theory.md §2.5): dc/dpsi = V x N, dc/dS = (V - c N) / |S|.
-    Returns (m (3), dW/dc (V - c N) (3), with dW/dc divided by |S|): the second is dW/dS_k
-    with nodal normals, and with the element's normal the corner's pull on n times |c|."""
-    half_h = 0.5 * h_m
-    mx = half_h * (vy * rz - vz * ry)
-    my = half_h * (vz * rx - vx * rz)
-    mz = half_h * (vx * ry - vy * rx)
-    if not variation:
-        return mx, my, mz, 0.0, 0.0, 0.0
-    dw_dh = 0.5 * (rx * vx + ry * vy + rz * vz)
-    dw_dc = 0.0 if cos < guard else -dw_dh * thickness / (cos * cos)
-    mx += dw_dc * (vy * wz - vz * wy)
-    my += dw_dc * (vz * wx - vx * wz)
-    mz += dw_dc * (vx * wy - vy * wx)
-    factor = dw_dc / length
-    return mx, my, mz, factor * (vx - cos * wx), factor * (vy - cos * wy), factor * (vz - cos * wz)
-
-
-@serial
-def _side_terms(
-    px, py, pz, qx, qy, qz, nx, ny, nz, area2, f1x, f1y, f1z, f2x, f2y, f2z, mx, my, mz,
-    other_area2,
-):  # fmt: skip
-    """The fold angle of a side from p to q against the unit normal m across it,
-    theta = atan2(-m . n^c, m . n), n^c = (q - p) x n / |q - p| the outward in-plane normal,
-    and its curvature coefficients c_as = 2 (f_a . n^c)^2 / (h + h'), h = 2A / |q - p| the
-    cell's height over the side and h' = other_area2 / |q - p| the neighbour's (0 for a
-    wall); f1, f2 the unit edges 0 -> 1, 0 -> 2 (bending.py ``geometry``)."""
-    sx, sy, sz = qx - px, qy - py, qz - pz
-    length = np.sqrt(sx * sx + sy * sy + sz * sz)
-    inverse = 1.0 / length
-    ox = (sy * nz - sz * ny) * inverse
-    oy = (sz * nx - sx * nz) * inverse
-    oz = (sx * ny - sy * nx) * inverse
-    fold = np.arctan2(-(mx * ox + my * oy + mz * oz), mx * nx + my * ny + mz * nz)
-    scale = 2.0 * length / (area2 + other_area2)  # 2 / (h + h')
-    p1 = f1x * ox + f1y * oy + f1z * oz
-    p2 = f2x * ox + f2y * oy + f2z * oz
-    return fold, p1 * p1 * scale, p2 * p2 * scale
-
-
-@inline
-def _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
-    """The unit edges f1 = (x1 - x0) / |x1 - x0| and f2 = (x2 - x0) / |x2 - x0| of a cell:
-    (f1x, f1y, f1z, f2x, f2y, f2z)."""
-    ex, ey, ez = x1x - x0x, x1y - x0y, x1z - x0z
-    inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-    f1x, f1y, f1z = ex * inverse, ey * inverse, ez * inverse
-    ex, ey, ez = x2x - x0x, x2y - x0y, x2z - x0z
-    inverse = 1.0 / np.sqrt(ex * ex + ey * ey + ez * ez)
-    return f1x, f1y, f1z, ex * inverse, ey * inverse, ez * inverse
-
-
-@inline
-def _side_fold(
-    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, f1x, f1y, f1z,
-    f2x, f2y, f2z, normal, double_area, across_cell, interior, clamped, wall,
-):  # fmt: skip
-    """``_side_terms`` of side s of cell c (from corner s + 1 to corner s + 2) against the
-    neighbour's normal across it, or the wall of a clamped side: (fold, c_1s, c_2s)."""
-    if s == 0:
-        px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
-    elif s == 1:
-        px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
-    else:
-        px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
-    other_area2 = mx = my = mz = 0.0
-    if interior[c, s]:
-        other = across_cell[c, s]
-        other_area2 = double_area[other]
-        mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-    if clamped[c, s]:
-        mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-    return _side_terms(
-        px, py, pz, qx, qy, qz, nx, ny, nz, size, f1x, f1y, f1z, f2x, f2y, f2z,
-        mx, my, mz, other_area2,
-    )  # fmt: skip
-
-
-@serial
-def _fold_gradient(t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, area2):
-    """D[s, k] = -grad N_k . n^c_s = t_s . t_k / (|t_s| 2A) of a cell whose sides (opposite
-    corners 0, 1, 2) are t0 = x2 - x1, t1 = x0 - x2, t2 = x1 - x0: the share D[s, k] n of
-    d theta_s / dx_k on the cell's own nodes (Eq. 36). Returns the 9 entries row by row."""
-    d00 = t0x * t0x + t0y * t0y + t0z * t0z
-    d11 = t1x * t1x + t1y * t1y + t1z * t1z
-    d22 = t2x * t2x + t2y * t2y + t2z * t2z
-    d01 = t0x * t1x + t0y * t1y + t0z * t1z
-    d02 = t0x * t2x + t0y * t2y + t0z * t2z
-    d12 = t1x * t2x + t1y * t2y + t1z * t2z
-    s0 = 1.0 / (np.sqrt(d00) * area2)
-    s1 = 1.0 / (np.sqrt(d11) * area2)
-    s2 = 1.0 / (np.sqrt(d22) * area2)
-    return (
-        d00 * s0, d01 * s0, d02 * s0,
-        d01 * s1, d11 * s1, d12 * s1,
-        d02 * s2, d12 * s2, d22 * s2,
-    )  # fmt: skip
-
-
-@serial
-def _angle_pull(nx, ny, nz, ux, uy, uz, wx, wy, wz, weight):
-    """weight times d alpha / dx at the next corner (-(n x u) / |u|^2) and at the previous one
-    (-(w x n) / |w|^2) of a corner with edges u and w: (tx, ty, tz, vx, vy, vz); the corner
-    itself takes minus their sum."""
-    to_u = -weight / (ux * ux + uy * uy + uz * uz)
-    to_w = -weight / (wx * wx + wy * wy + wz * wz)
-    return (
-        to_u * (ny * uz - nz * uy),
-        to_u * (nz * ux - nx * uz),
-        to_u * (nx * uy - ny * ux),
-        to_w * (wy * nz - wz * ny),
-        to_w * (wz * nx - wx * nz),
-        to_w * (wx * ny - wy * nx),
-    )
 
 
 # ---------------------------------------------------------------------- pass 1: normals
@@ -287,13 +156,13 @@ def _cells_pass(
         nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
         a0 = area[c]
         # V, h_m and N at the corners (Eq. 10, 14)
-        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0 = _corner_thickness(
+        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0, over0 = corner_thickness(
             directors, sums, n0, nodal, nx, ny, nz, thickness, guard
         )
-        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1 = _corner_thickness(
+        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1, over1 = corner_thickness(
             directors, sums, n1, nodal, nx, ny, nz, thickness, guard
         )
-        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2 = _corner_thickness(
+        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2, over2 = corner_thickness(
             directors, sums, n2, nodal, nx, ny, nz, thickness, guard
         )
         warp_first = xi_is_warp[c]
@@ -329,9 +198,14 @@ def _cells_pass(
                 q1 = q2 = 0.0
                 e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
                 fibre1, fibre2 = square1, square2
+            # 1 / l_a^2 and 1 / L_a^2 (L_a the reference lengths) by one division
             reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
-            eps1 = 0.5 * np.log(fibre1 / (reference1 * reference1))
-            eps2 = 0.5 * np.log(fibre2 / (reference2 * reference2))
+            reference1, reference2 = reference1 * reference1, reference2 * reference2
+            fibres, references = fibre1 * fibre2, reference1 * reference2
+            over = 1.0 / (fibres * references)
+            over_fibre1, over_fibre2 = fibre2 * references * over, fibre1 * references * over
+            eps1 = 0.5 * np.log(fibre1 * (fibres * reference2 * over))
+            eps2 = 0.5 * np.log(fibre2 * (fibres * reference1 * over))
             inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
             cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
             gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
@@ -346,8 +220,8 @@ def _cells_pass(
                 continue
             # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal
             # normals)
-            k1 = w * law_value(law_integers, law_reals, law1, eps1) / fibre1
-            k2 = w * law_value(law_integers, law_reals, law2, eps2) / fibre2
+            k1 = w * law_value(law_integers, law_reals, law1, eps1) * over_fibre1
+            k2 = w * law_value(law_integers, law_reals, law2, eps2) * over_fibre2
             p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
             p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
             lx -= k1 * q1 * e1x + k2 * q2 * e2x
@@ -357,7 +231,8 @@ def _cells_pass(
             # t1 / |g1| = (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise
             sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
             shear_moment = w * sign * law_value(law_integers, law_reals, 2, gamma) / sin
-            c1, c2 = cos / square1, cos / square2
+            c1 = cos * inverse * inverse  # cos / (|g1| |g2|)^2: cos / |g1|^2 and cos / |g2|^2
+            c1, c2 = c1 * square2, c1 * square1
             p1x += shear_moment * (g2x * inverse - c1 * g1x)
             p1y += shear_moment * (g2y * inverse - c1 * g1y)
             p1z += shear_moment * (g2z * inverse - c1 * g1z)
@@ -380,17 +255,17 @@ def _cells_pass(
             energy[c, 0], energy[c, 1] = tension_energy, shear_energy
         if with_forces:
             # The director moments (Eq. 28) and the work of h_m through V . N (theory §2.5)
-            m0x, m0y, m0z, d0x, d0y, d0z = _director_moment(
+            m0x, m0y, m0z, d0x, d0y, d0z = director_moment(
                 -(a1x + a2x), -(a1y + a2y), -(a1z + a2z), v0x, v0y, v0z, h0, cos0,
-                w0x, w0y, w0z, len0, thickness, guard, variation,
+                w0x, w0y, w0z, len0, over0, guard, variation,
             )  # fmt: skip
-            m1x, m1y, m1z, d1x, d1y, d1z = _director_moment(
-                a1x, a1y, a1z, v1x, v1y, v1z, h1, cos1, w1x, w1y, w1z, len1, thickness,
-                guard, variation,
+            m1x, m1y, m1z, d1x, d1y, d1z = director_moment(
+                a1x, a1y, a1z, v1x, v1y, v1z, h1, cos1, w1x, w1y, w1z, len1, over1, guard,
+                variation,
             )  # fmt: skip
-            m2x, m2y, m2z, d2x, d2y, d2z = _director_moment(
-                a2x, a2y, a2z, v2x, v2y, v2z, h2, cos2, w2x, w2y, w2z, len2, thickness,
-                guard, variation,
+            m2x, m2y, m2z, d2x, d2y, d2z = director_moment(
+                a2x, a2y, a2z, v2x, v2y, v2z, h2, cos2, w2x, w2y, w2z, len2, over2, guard,
+                variation,
             )  # fmt: skip
             moment[c, 0, 0], moment[c, 0, 1], moment[c, 0, 2] = m0x, m0y, m0z
             moment[c, 1, 0], moment[c, 1, 1], moment[c, 1, 2] = m1x, m1y, m1z
@@ -398,20 +273,19 @@ def _cells_pass(
             # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|, and
             # without nodal normals h_m varies with n too (dc_k = (V_k - c_k n) . dc / |c|)
             gx = gy = gz = 0.0
+            over_size = 1.0 / size
             if nodal:
                 d_sums[c, 0, 0], d_sums[c, 0, 1], d_sums[c, 0, 2] = d0x, d0y, d0z
                 d_sums[c, 1, 0], d_sums[c, 1, 1], d_sums[c, 1, 2] = d1x, d1y, d1z
                 d_sums[c, 2, 0], d_sums[c, 2, 1], d_sums[c, 2, 2] = d2x, d2y, d2z
                 along = lx * nx + ly * ny + lz * nz
-                gx, gy, gz = (
-                    (lx - along * nx) / size,
-                    (ly - along * ny) / size,
-                    (lz - along * nz) / size,
-                )
+                gx = (lx - along * nx) * over_size
+                gy = (ly - along * ny) * over_size
+                gz = (lz - along * nz) * over_size
             else:
-                gx = (d0x + d1x + d2x) / size
-                gy = (d0y + d1y + d2y) / size
-                gz = (d0z + d1z + d2z) / size
+                gx = (d0x + d1x + d2x) * over_size
+                gy = (d0y + d1y + d2y) * over_size
+                gz = (d0z + d1z + d2z) * over_size
             # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
             # minus their sum on x0 (a = x1 - x0, b = x2 - x0)
             ax, ay, az = x1x - x0x, x1y - x0y, x1z - x0z
@@ -439,17 +313,19 @@ def _cells_pass(
             if with_forces:
                 own[c, 0] = own[c, 1] = own[c, 2] = 0.0
             continue
-        f1x, f1y, f1z, f2x, f2y, f2z = _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
+        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2 = unit_edge_squares(
+            x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z
+        )
         c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
         chi1 = chi2 = 0.0
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 continue
             # side s runs from corner s + 1 to corner s + 2
-            fold, c1s, c2s = _side_fold(
+            fold, c1s, c2s = side_fold(
                 c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                f1x, f1y, f1z, f2x, f2y, f2z, normal, double_area, across_cell, interior,
-                clamped, wall,
+                e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, normal, double_area, across_cell,
+                interior, clamped, wall,
             )  # fmt: skip
             if use_reference_coefficients:
                 c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
@@ -496,6 +372,8 @@ def _pulls_pass(
         t0x, t0y, t0z = x2x - x1x, x2y - x1y, x2z - x1z
         t1x, t1y, t1z = x0x - x2x, x0y - x2y, x0z - x2z
         t2x, t2y, t2z = x1x - x0x, x1y - x0y, x1z - x0z
+        d00, d11, d22, i00, i11, i22 = side_squares(t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z)
+        over_size = 1.0 / size
         # bending: each side's moment times D[s, k] n
         side0, side1, side2 = own[c, 0], own[c, 1], own[c, 2]
         if interior[c, 0]:
@@ -506,12 +384,13 @@ def _pulls_pass(
             side2 += own[across_cell[c, 2], across_side[c, 2]]
         b0 = b1 = b2 = 0.0
         if side0 != 0.0 or side1 != 0.0 or side2 != 0.0:
-            d00, d01, d02, d10, d11, d12, d20, d21, d22 = _fold_gradient(
-                t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, size
-            )
-            b0 = side0 * d00 + side1 * d10 + side2 * d20
-            b1 = side0 * d01 + side1 * d11 + side2 * d21
-            b2 = side0 * d02 + side1 * d12 + side2 * d22
+            g00, g01, g02, g10, g11, g12, g20, g21, g22 = fold_gradient(
+                t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, d00, d11, d22, i00, i11, i22,
+                over_size,
+            )  # fmt: skip
+            b0 = side0 * g00 + side1 * g10 + side2 * g20
+            b1 = side0 * g01 + side1 * g11 + side2 * g21
+            b2 = side0 * g02 + side1 * g12 + side2 * g22
         f0x, f0y, f0z = b0 * nx, b0 * ny, b0 * nz
         f1x, f1y, f1z = b1 * nx, b1 * ny, b1 * nz
         f2x, f2y, f2z = b2 * nx, b2 * ny, b2 * nz
@@ -522,23 +401,26 @@ def _pulls_pass(
             p1x, p1y, p1z = pull[n1, 0], pull[n1, 1], pull[n1, 2]
             p2x, p2y, p2z = pull[n2, 0], pull[n2, 1], pull[n2, 2]
             # corner 0: u = x1 - x0 = t2, w = x2 - x0 = -t1
-            tx, ty, tz, vx, vy, vz = _angle_pull(
-                nx, ny, nz, t2x, t2y, t2z, -t1x, -t1y, -t1z, p0x * nx + p0y * ny + p0z * nz
-            )
+            tx, ty, tz, vx, vy, vz = angle_pull(
+                nx, ny, nz, t2x, t2y, t2z, -t1x, -t1y, -t1z, i22, i11,
+                p0x * nx + p0y * ny + p0z * nz,
+            )  # fmt: skip
             f1x, f1y, f1z = f1x + tx, f1y + ty, f1z + tz
             f2x, f2y, f2z = f2x + vx, f2y + vy, f2z + vz
             f0x, f0y, f0z = f0x - (tx + vx), f0y - (ty + vy), f0z - (tz + vz)
             # corner 1: u = x2 - x1 = t0, w = x0 - x1 = -t2
-            tx, ty, tz, vx, vy, vz = _angle_pull(
-                nx, ny, nz, t0x, t0y, t0z, -t2x, -t2y, -t2z, p1x * nx + p1y * ny + p1z * nz
-            )
+            tx, ty, tz, vx, vy, vz = angle_pull(
+                nx, ny, nz, t0x, t0y, t0z, -t2x, -t2y, -t2z, i00, i22,
+                p1x * nx + p1y * ny + p1z * nz,
+            )  # fmt: skip
             f2x, f2y, f2z = f2x + tx, f2y + ty, f2z + tz
             f0x, f0y, f0z = f0x + vx, f0y + vy, f0z + vz
             f1x, f1y, f1z = f1x - (tx + vx), f1y - (ty + vy), f1z - (tz + vz)
             # corner 2: u = x0 - x2 = t1, w = x1 - x2 = -t0
-            tx, ty, tz, vx, vy, vz = _angle_pull(
-                nx, ny, nz, t1x, t1y, t1z, -t0x, -t0y, -t0z, p2x * nx + p2y * ny + p2z * nz
-            )
+            tx, ty, tz, vx, vy, vz = angle_pull(
+                nx, ny, nz, t1x, t1y, t1z, -t0x, -t0y, -t0z, i11, i00,
+                p2x * nx + p2y * ny + p2z * nz,
+            )  # fmt: skip
             f0x, f0y, f0z = f0x + tx, f0y + ty, f0z + tz
             f1x, f1y, f1z = f1x + vx, f1y + vy, f1z + vz
             f2x, f2y, f2z = f2x - (tx + vx), f2y - (ty + vy), f2z - (tz + vz)
@@ -547,11 +429,9 @@ def _pulls_pass(
             gy = alpha0 * p0y + alpha1 * p1y + alpha2 * p2y
             gz = alpha0 * p0z + alpha1 * p1z + alpha2 * p2z
             along = gx * nx + gy * ny + gz * nz
-            gx, gy, gz = (
-                (gx - along * nx) / size,
-                (gy - along * ny) / size,
-                (gz - along * nz) / size,
-            )
+            gx = (gx - along * nx) * over_size
+            gy = (gy - along * ny) * over_size
+            gz = (gz - along * nz) * over_size
             # b x g on x1, g x a on x2, minus their sum on x0 (a = x1 - x0 = t2, b = x2 - x0)
             ux, uy, uz = t2y * gz - t2z * gy, t2z * gx - t2x * gz, t2x * gy - t2y * gx  # a x g
             wx, wy, wz = -t1y * gz + t1z * gy, -t1z * gx + t1x * gz, -t1x * gy + t1y * gx  # b x g
@@ -601,22 +481,28 @@ def _bending_sides(
         x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
         x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
         nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
-        d = _fold_gradient(
-            x2x - x1x, x2y - x1y, x2z - x1z, x0x - x2x, x0y - x2y, x0z - x2z,
-            x1x - x0x, x1y - x0y, x1z - x0z, size,
+        t0x, t0y, t0z = x2x - x1x, x2y - x1y, x2z - x1z
+        t1x, t1y, t1z = x0x - x2x, x0y - x2y, x0z - x2z
+        t2x, t2y, t2z = x1x - x0x, x1y - x0y, x1z - x0z
+        d00, d11, d22, i00, i11, i22 = side_squares(t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z)
+        d = fold_gradient(
+            t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z, d00, d11, d22, i00, i11, i22,
+            1.0 / size,
         )  # fmt: skip
         gradient[c, 0, 0], gradient[c, 0, 1], gradient[c, 0, 2] = d[0], d[1], d[2]
         gradient[c, 1, 0], gradient[c, 1, 1], gradient[c, 1, 2] = d[3], d[4], d[5]
         gradient[c, 2, 0], gradient[c, 2, 1], gradient[c, 2, 2] = d[6], d[7], d[8]
-        f1x, f1y, f1z, f2x, f2y, f2z = _unit_edges(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
+        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2 = unit_edge_squares(
+            x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z
+        )
         for s in range(3):
             if not (interior[c, s] or clamped[c, s]):
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
                 continue
-            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = _side_fold(
+            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = side_fold(
                 c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                f1x, f1y, f1z, f2x, f2y, f2z, normal, double_area, across_cell, interior,
-                clamped, wall,
+                e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, normal, double_area, across_cell,
+                interior, clamped, wall,
             )  # fmt: skip
 
 
@@ -644,13 +530,13 @@ def _strains_pass(
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-        v0x, v0y, v0z, _, h0, _, _, _, _ = _corner_thickness(
+        v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_thickness(
             directors, sums, n0, nodal, nx, ny, nz, thickness, guard
         )
-        v1x, v1y, v1z, _, h1, _, _, _, _ = _corner_thickness(
+        v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_thickness(
             directors, sums, n1, nodal, nx, ny, nz, thickness, guard
         )
-        v2x, v2y, v2z, _, h2, _, _, _, _ = _corner_thickness(
+        v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_thickness(
             directors, sums, n2, nodal, nx, ny, nz, thickness, guard
         )
         r1x = positions[n1, 0] - positions[n0, 0]
