@@ -61,13 +61,17 @@ mass-proportional damping 1.7 %. So the damping's share of the work measures the
 release, whatever damps it. That release is not the holder's lift (at 100 N the holder stays
 down and the burst is the same: 0.128, rms 2.32 deg), its inertia or ringing (a 1-kg holder:
 0.134; a dashpot on its axis at its critical damping: 0.130), nor the rate (a 0.45-s stroke:
-0.132-0.140, the damping 24-25 %). Only friction on the flange stops the jerk: Coulomb 0.2 on
-the holder alone gives 0.081 at 20 cells (damping 3 %, rms 2.21 deg, the holder down) and 0.066
-at 12 (rms 2.74 deg), 0.1 gives 0.098 (rms 2.21 deg); but at 32 cells the flange so held makes
-the blank buckle in the die as at 100 N (rms 7.2 deg, KE / W 0.113, punch force 206 N), and at
-0.1 it lifts the holder 6.5 mm (KE / W 0.172, the damping 14 %, rms 1.43 deg). Friction on the
-die as well (0.2): 0.060 at 20 cells, rms 3.58 deg. None is adopted: none brings the three
-meshes under the bound with the rms no worse.
+0.132-0.140, the damping 24-25 %). At 32 cells (0.5 of critical; CPU 684 s at load 6-8, 67357
+steps): the largest KE / W 0.070 (none of the stroke above 0.1), the contacts' dampers 32 % of
+the work (the die's 17 %, the punch's 13 %, the holder's 1.6 %), the mass-proportional 1.7 %;
+but the holder stays down and the blank buckles in the die as at 100 N (rms 7.21 deg, punch
+force 203 N, draw-in 23.4 mm): not adopted (CONTACT_DAMPING = 0). Only friction on the flange
+stops the jerk: Coulomb 0.2 on the holder alone gives 0.081 at 20 cells (damping 3 %, rms 2.21
+deg, the holder down) and 0.066 at 12 (rms 2.74 deg), 0.1 gives 0.098 (rms 2.21 deg); but at 32
+cells the flange so held makes the blank buckle in the die as at 100 N (rms 7.2 deg, KE / W
+0.113, punch force 206 N), and at 0.1 it lifts the holder 6.5 mm (KE / W 0.172, the damping 14
+%, rms 1.43 deg). Friction on the die as well (0.2): 0.060 at 20 cells, rms 3.58 deg. None is
+adopted: none brings the three meshes under the bound with the rms no worse.
 Without the holder (``model(holder_force=0)``), measured at 32 cells: the blank's two
 corners on one diagonal fold up 60 mm along the punch when the flange's wrinkles snap
 through half way down (KE / W 0.26 at t = 0.15 s); in those quadrants the blank in the die
@@ -131,7 +135,9 @@ DURATION = 0.3  # s: the punch travel at 0.17 m/s on average
 # 12, 20 and 32 cells (``run``'s damping_over_work), the finer meshes ringing more.
 DAMPING = 20.0  # 1/s
 # Normal contact damping on the die, the punch and the holder, a fraction of the critical
-# damping of each node's penalty spring (elements/contact_damping.py; 0: none).
+# damping of each node's penalty spring (elements/contact_damping.py; 0: none). At 0.5 it
+# removes the ringing (largest KE / W 0.054 and 0.070 at 20 and 32 cells) but the 32-cell
+# holder then stays down and the blank buckles in the die (rms 7.2 deg; module docstring).
 CONTACT_DAMPING = 0.0
 # The blank holder: a rigid plane on the blank's top face (the flange's), free along z, pressed
 # down by HOLDER_FORCE, frictionless as the die and the punch, closed over the first tenth of
