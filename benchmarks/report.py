@@ -9,6 +9,17 @@ workers share the cores). CPU time is the process's user + system time, its chil
 included. The machine's load (os.getloadavg) is printed before and after, as other jobs may
 share the cores: a figure measured beside a busy process is the wall time of a shared core.
 
+Measured (one thread, 2 cores shared with other jobs, load 4-10; CPU of computation + figures):
+coarse, 22 cases, 556 s (the first case compiling a cold cache): hemisphere-forming 131,
+plies-bai-5.1 77, plies-deck-of-cards 52, bai-5.1 38 (warm), bai-6.1.1-sensitivity 29, the
+four other paper cases 16-21, the 14 others 1-11. Default, 17 cases in 275 s: bai-6.2.1 67,
+bai-6.1.1 66, bai-6.1.2 49, bai-6.2.2 46, bai-6.1.1-sensitivity 40, plies-heavy-cantilever 28,
+heavy-cantilever-nonlinear 19, the 10 others 1-6 (bai-5.1, plies-bai-5.1, plies-deck-of-cards
+and hemisphere-forming measured apart: validation/report.py EXPECTED_CPU_S). A paper case's
+figures and VTU/XDMF files take 6-8 s of it (matplotlib's layout and text, the XDMF series);
+each process's imports 2.6-3.3 s; numba's cached kernels load at their first call (about
+0.2 s each).
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """
