@@ -17,8 +17,8 @@ bai-6.1.1 66, bai-6.1.2 49, bai-6.2.2 46, bai-6.1.1-sensitivity 40, plies-heavy-
 heavy-cantilever-nonlinear 19, the 10 others 1-6 (bai-5.1, plies-bai-5.1, plies-deck-of-cards
 and hemisphere-forming measured apart: validation/report.py EXPECTED_CPU_S). A paper case's
 figures and VTU/XDMF files take 6-8 s of it (matplotlib's layout and text, the XDMF series);
-each process's imports 2.6-3.3 s; numba's cached kernels load at their first call (about
-0.2 s each).
+each process's imports 2.6-3.3 s; numba's cached kernels load at their first call (1.8 s
+for mindlin-elastica's 8, 1.2 s of it numba's setup of its registries, once per process).
 
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
