@@ -2,12 +2,15 @@
 
 import json
 import re
+from concurrent.futures import Future
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from validation.__main__ import main
+from elements import jit
+from validation import report as report_module
+from validation.__main__ import main, parse
 from validation.cases import CASES, PAPER_CASES
 from validation.cases.bai_5_1 import SPEC as SPEC_5_1
 from validation.cases.bai_6_1_1 import SPEC as SPEC_6_1_1
@@ -15,6 +18,7 @@ from validation.cases.bai_6_1_2 import SPEC as SPEC_6_1_2
 from validation.cases.bai_6_2_1 import SPEC as SPEC_6_2_1
 from validation.cases.bai_6_2_2 import SPEC as SPEC_6_2_2
 from validation.paper import KINEMATICS, LABELS
+from validation.records import Outcome
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_SPECS = {s.name: s for s in (SPEC_5_1, SPEC_6_1_1, SPEC_6_1_2, SPEC_6_2_1, SPEC_6_2_2)}
@@ -135,6 +139,59 @@ def test_bad_arguments_give_a_clear_error(argv, message, capsys):
         main(argv)
     assert stop.value.code == 2
     assert message in capsys.readouterr().err
+
+
+def test_the_workers_start_the_longest_case_first():
+    # With several jobs the cases are started in decreasing order of their measured cost:
+    # in report order the longest case started last and ran alone on one core at the end.
+    names = list(CASES)
+    for resolution in ("coarse", "default"):
+        order = report_module.schedule(names, resolution)
+        assert sorted(order) == sorted(names)
+        costs = [report_module.expected_cost(name, resolution) for name in order]
+        assert costs == sorted(costs, reverse=True)
+        assert all(0.0 < cost < float("inf") for cost in costs), "every case measured"
+    # a case not measured yet may be the longest: it starts first
+    assert report_module.schedule(["bai-5.1", "no-such-case"], "default")[0] == "no-such-case"
+
+
+def test_run_cases_submits_the_cases_to_the_workers_longest_first(tmp_path, monkeypatch):
+    submitted = []
+
+    class Pool:  # the worker pool, recording what it is given and running nothing
+        def __init__(self, jobs, mp_context):
+            self.jobs = jobs
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def submit(self, function, name, resolution, out_dir, threads):
+            submitted.append(name)
+            future = Future()
+            future.set_result((Outcome.failed(RuntimeError("not run")), 0.0))
+            return future
+
+    monkeypatch.setattr(report_module, "ProcessPoolExecutor", Pool)
+    names = ["mindlin-plate", "plies-bai-5.1", "bar-wave", "bai-5.1"]
+    report = report_module.run_cases(names, "default", tmp_path, echo=lambda *a, **k: None, jobs=2)
+    assert submitted == report_module.schedule(names, "default")
+    assert submitted[0] == "plies-bai-5.1" and submitted != names
+    assert list(report.cases) == names  # the report keeps its order
+
+
+def test_by_default_the_report_runs_as_many_cases_at_once_as_cores_are_free(monkeypatch):
+    monkeypatch.setattr(jit, "_allowed_cores", lambda: 2)
+    monkeypatch.setattr(jit.os, "cpu_count", lambda: 2)
+    for attribute in ("wall", "cpu", "free"):  # free_cores's memory, restored after
+        monkeypatch.setattr(jit._Load, attribute, getattr(jit._Load, attribute))
+    for load, jobs in ((0.2, 2), (1.1, 1), (5.0, 1)):
+        monkeypatch.setattr(jit.os, "getloadavg", lambda load=load: (load, load, load))
+        monkeypatch.setattr(jit._Load, "wall", -float("inf"))  # looked at afresh
+        assert parse(["--list"]).jobs == jobs
+    assert parse(["--list", "--jobs", "2"]).jobs == 2
 
 
 def readme_commands():

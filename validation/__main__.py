@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from pathlib import Path
 
 from femcore.writable import check_folder
 from validation.cases import CASES, RESOLUTIONS
-from validation.report import run_cases
+from validation.report import default_jobs, run_cases
 
 __all__ = ["main", "parse"]
 
@@ -31,10 +30,13 @@ def parse(argv: list[str], prog: str = "python -m validation") -> argparse.Names
     parser.add_argument(
         "--jobs",
         type=int,
-        default=os.cpu_count() or 1,
-        help="cases run at once in parallel processes (default: one per core)",
+        default=None,
+        help="cases run at once in parallel processes, the longest first (default: one per "
+        "core free, those the machine's load leaves)",
     )
     args = parser.parse_args(argv)
+    if args.jobs is None:
+        args.jobs = default_jobs()
     if args.jobs < 1:
         parser.error(f"--jobs must be a whole number >= 1, got {args.jobs}")
     try:  # a folder, writable, before any case runs

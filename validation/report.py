@@ -16,11 +16,78 @@ from typing import Any
 
 import numpy as np
 
+from elements.jit import free_cores
 from validation.cases import CASES
 from validation.records import CaseResult, Figure, Outcome, Report
 from validation.report_html import INTRODUCTION, STYLE, render_html
 
-__all__ = ["INTRODUCTION", "STYLE", "render_html", "run_case", "run_cases"]
+__all__ = [
+    "EXPECTED_CPU_S",
+    "INTRODUCTION",
+    "STYLE",
+    "default_jobs",
+    "expected_cost",
+    "render_html",
+    "run_case",
+    "run_cases",
+    "schedule",
+]
+
+# The CPU time of each case, its computation and its figures (s, one numba thread), at the
+# coarse and the default resolution, measured with benchmarks/report.py (2 cores shared, load
+# 4-10): with several jobs the workers take the cases in decreasing order of it, so that the
+# longest starts first and the last to start is short (in report order hemisphere-forming, the
+# longest, started last and ran alone on one core at the end). An order, not a promise: the
+# coarse paper cases but bai-5.1 ran first after a cold cache (some compilation included); the
+# default bai-5.1 and plies-bai-5.1 are the wall times of an earlier run (--jobs 1, load 3-5);
+# the default plies-deck-of-cards is the sum of its runs measured one by one, its coarse one
+# the run measured with the sag in 3 increments less the 10.9 s that 6 save;
+# hemisphere-forming's default is the sum of its two runs (its module's docstring).
+EXPECTED_CPU_S: dict[str, tuple[float, float]] = {
+    "bai-5.1": (37.7, 73.0),
+    "bai-6.1.1": (21.4, 65.6),
+    "bai-6.1.2": (16.5, 48.5),
+    "bai-6.2.1": (18.6, 67.4),
+    "bai-6.2.2": (16.0, 46.0),
+    "bai-6.1.1-sensitivity": (29.4, 39.8),
+    "cable-catenary": (2.1, 3.0),
+    "cable-elastic-catenary": (0.9, 1.0),
+    "bar-wave": (3.8, 1.6),
+    "fibrous-curvature": (0.8, 0.8),
+    "fibrous-deck-of-cards": (4.6, 5.4),
+    "fibrous-heavy-cantilever": (2.2, 3.3),
+    "plies-deck-of-cards": (41.0, 186.4),
+    "heavy-cantilever-nonlinear": (11.4, 18.7),
+    "plies-heavy-cantilever": (9.5, 28.1),
+    "plies-bai-5.1": (76.7, 180.0),
+    "mindlin-elastica": (1.7, 1.3),
+    "mindlin-rollup": (1.1, 1.1),
+    "mindlin-plate": (2.2, 1.6),
+    "mindlin-scordelis-lo": (1.4, 2.8),
+    "mindlin-pinched-cylinder": (2.7, 4.6),
+    "hemisphere-forming": (131.2, 168.0),
+}  # fmt: skip
+
+
+def expected_cost(name: str, resolution: str) -> float:
+    """The expected CPU time (s) of case ``name`` at ``resolution`` (``EXPECTED_CPU_S``; the
+    fine resolution's order is the default's), infinite for a case not measured yet: a new
+    case starts first, as it may be the longest."""
+    coarse, default = EXPECTED_CPU_S.get(name, (float("inf"), float("inf")))
+    return coarse if resolution == "coarse" else default
+
+
+def schedule(names: list[str], resolution: str) -> list[str]:
+    """``names`` in the order the workers start them: the largest expected cost first
+    (``expected_cost``), report order among equals."""
+    return sorted(names, key=lambda name: -expected_cost(name, resolution))
+
+
+def default_jobs() -> int:
+    """The cases run at once by default: the cores free for the report (elements.jit's
+    ``free_cores``: those this process may run on less those other processes keep busy), at
+    least one."""
+    return free_cores()
 
 
 def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
@@ -145,13 +212,14 @@ def _run_all(
             results[name] = run_case(name, resolution, out_dir)
             done(results[name])
     else:
-        # Spawned workers: numba's thread pool must not be forked.
+        # Spawned workers: numba's thread pool must not be forked. The longest case first.
         context = multiprocessing.get_context("spawn")
+        jobs = min(jobs, len(names))
         threads = max(1, (os.cpu_count() or 1) // jobs)
         with ProcessPoolExecutor(jobs, mp_context=context) as pool:
             futures = {
                 pool.submit(_run_in_worker, name, resolution, out_dir, threads): name
-                for name in names
+                for name in schedule(names, resolution)
             }
             for count, future in enumerate(as_completed(futures), 1):
                 name = futures[future]

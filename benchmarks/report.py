@@ -1,0 +1,154 @@
+"""The validation report's cost, case by case: wall and CPU time of each case's computation and
+of its figures at one resolution, each case in a fresh process of its own (as a worker of
+``python -m validation --jobs N`` meets it: its imports and numba's cached kernels loaded
+once), one case at a time; then the report's fixed costs (the imports of the cases, numba's
+kernels loaded from a warm cache, the HTML page) and the whole report run as a user runs it.
+
+The cases run on one numba thread unless NUMBA_NUM_THREADS says otherwise (the report's
+workers share the cores). CPU time is the process's user + system time, its children's
+included. The machine's load (os.getloadavg) is printed before and after, as other jobs may
+share the cores: a figure measured beside a busy process is the wall time of a shared core.
+
+Measured (one thread, 2 cores shared with other jobs, load 4-10; CPU of computation + figures):
+coarse, 22 cases, 556 s (the first case compiling a cold cache): hemisphere-forming 131,
+plies-bai-5.1 77, plies-deck-of-cards 52, bai-5.1 38 (warm), bai-6.1.1-sensitivity 29, the
+four other paper cases 16-21, the 14 others 1-11. Default, 17 cases in 275 s: bai-6.2.1 67,
+bai-6.1.1 66, bai-6.1.2 49, bai-6.2.2 46, bai-6.1.1-sensitivity 40, plies-heavy-cantilever 28,
+heavy-cantilever-nonlinear 19, the 10 others 1-6 (bai-5.1, plies-bai-5.1, plies-deck-of-cards
+and hemisphere-forming measured apart: validation/report.py EXPECTED_CPU_S). A paper case's
+figures and VTU/XDMF files take 6-8 s of it (matplotlib's layout and text, the XDMF series);
+each process's imports 2.6-3.3 s; numba's cached kernels load at their first call (1.8 s
+for mindlin-elastica's 8, 1.2 s of it numba's setup of its registries, once per process).
+
+Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
+(``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _cpu() -> float:
+    """User + system CPU time of this process and its waited-for children (s)."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def _one(name: str, resolution: str, out: Path) -> dict:
+    """Compute and render one case here (the child's side): the times of each part."""
+    wall, cpu = time.perf_counter(), _cpu()
+    from validation.cases import CASES
+
+    imports = (time.perf_counter() - wall, _cpu() - cpu)
+    case = CASES[name]
+    wall, cpu = time.perf_counter(), _cpu()
+    outcome = case.compute(resolution)
+    compute = (time.perf_counter() - wall, _cpu() - cpu)
+    wall, cpu = time.perf_counter(), _cpu()
+    figures = case.render(outcome.data, out)
+    render = (time.perf_counter() - wall, _cpu() - cpu)
+    return {
+        "imports": imports,
+        "compute": compute,
+        "render": render,
+        "passed": sum(c.passed for c in outcome.checks),
+        "checks": len(outcome.checks),
+        "steps": outcome.steps,
+        "solver": outcome.solver,
+        "figures": len(figures),
+    }
+
+
+def _child(name: str, resolution: str) -> dict:
+    """One case in a fresh process; its times."""
+    with tempfile.TemporaryDirectory() as out:
+        command = [sys.executable, __file__, "--child", name, "--resolution", resolution,
+                   "--out", out]  # fmt: skip
+        done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"{name}: {done.stderr[-2000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _load() -> str:
+    return ", ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--resolution", default="default")
+    parser.add_argument("--cases", default=None)
+    parser.add_argument("--report", type=int, default=0)
+    parser.add_argument("--child", default=None)
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args()
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    os.environ["FIBRESHELL_PROGRESS"] = "0"
+    if args.child:
+        print(json.dumps(_one(args.child, args.resolution, Path(args.out))))
+        return
+    from validation.cases import CASES
+    from validation.report import expected_cost
+
+    names = args.cases.split(",") if args.cases else list(CASES)
+    print(f"resolution {args.resolution}, NUMBA_NUM_THREADS={os.environ['NUMBA_NUM_THREADS']}, "
+          f"{os.cpu_count()} cores; load (1, 5, 15 min) before: {_load()}")  # fmt: skip
+    header = (f"{'case':28s} {'compute CPU':>11s} {'wall':>7s} {'figures CPU':>11s} {'wall':>6s}"
+              f" {'expected':>8s}  checks  steps  solver")  # fmt: skip
+    print(header)
+    total_cpu = total_wall = 0.0
+    fixed = []
+    for name in names:
+        t = _child(name, args.resolution)
+        fixed.append(t["imports"])
+        total_cpu += t["compute"][1] + t["render"][1]
+        total_wall += t["compute"][0] + t["render"][0]
+        print(f"{name:28s} {t['compute'][1]:11.1f} {t['compute'][0]:7.1f} {t['render'][1]:11.1f}"
+              f" {t['render'][0]:6.1f} {expected_cost(name, args.resolution):8.0f}  "
+              f"{t['passed']:2d}/{t['checks']:<3d} {t['steps']:6d}  {t['solver'][:70]}",
+              flush=True)  # fmt: skip
+    print(f"{'all cases':28s} CPU {total_cpu:.1f} s, wall {total_wall:.1f} s (one at a time)")
+    imports = min(fixed, key=lambda f: f[1])
+    print(
+        f"per process, best of {len(fixed)}: imports {imports[1]:.2f} s CPU / {imports[0]:.2f}"
+        " s wall (numba's cached kernels load at their first call, inside the case's time)"
+    )
+    if args.report:
+        with tempfile.TemporaryDirectory() as out:
+            command = [sys.executable, "-m", "validation", "--resolution", args.resolution,
+                       "--jobs", str(args.report), "--out", out]  # fmt: skip
+            if args.cases:
+                command += ["--cases", args.cases]
+            wall, cpu = time.perf_counter(), _cpu()
+            done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True)
+            wall, cpu = time.perf_counter() - wall, _cpu() - cpu
+            results = Path(out) / "results.json"
+            content = json.loads(results.read_text()) if results.exists() else {"cases": {}}
+        print(done.stdout[-3000:])
+        print(
+            f"python -m validation --jobs {args.report}: wall {wall:.1f} s, CPU {cpu:.1f} s, "
+            f"exit {done.returncode}, {len(content['cases'])} cases"
+        )
+        from validation.report import render_html
+
+        wall, cpu = time.perf_counter(), _cpu()
+        render_html(content)
+        wall, cpu = time.perf_counter() - wall, _cpu() - cpu
+        print(f"its HTML page alone: {cpu:.2f} s CPU / {wall:.2f} s wall")
+    print(f"load after: {_load()}")
+
+
+if __name__ == "__main__":
+    main()
