@@ -87,21 +87,25 @@ def test_the_holder_is_a_plane_on_the_flange_free_along_z_and_pressed_by_its_for
 
 
 @pytest.mark.slow
-def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_statically():
-    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, about 18500 steps (23-37 s of CPU).
-    Measured: the rms shear error against the net 2.75 deg; the kinetic energy at most 0.079
-    of the work after the first tenth, 0.008 at the end; the holder does not rise (its flange
-    stays flat); the damping dissipates 8 % of the work."""
-    record = case.run(12, "fibrous")
-    result = record["result"]
-    assert result.converged
-    assert record["rms_deg"] < case.RMS_TOLERANCE_DEG["coarse"]
-    assert record["largest_kinetic_over_work"] < KINETIC_BOUND
-    assert record["kinetic_exceeded_share"] == 0.0
-    assert record["kinetic_over_work"] < 0.5 * KINETIC_BOUND
-    assert result.info["quasi_static"]["kinetic_over_work_final"] == record["kinetic_over_work"]
-    assert record["holder_lift_mm"] < 0.5 * case.THICKNESS
-    assert 0.0 < record["damping_over_work"] < 0.15
+def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_statically(
+    coarse_report,
+):
+    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, about 18500 steps (23-37 s of CPU),
+    read from the coarse report's run of the case (tests/conftest.py: the suite runs the blank
+    once). Measured: the rms shear error against the net 2.75 deg; the kinetic energy at most
+    0.079 of the work after the first tenth, 0.008 at the end; the holder does not rise (its
+    flange stays flat); the damping dissipates 8 % of the work."""
+    _, report = coarse_report
+    run = report["cases"][case.NAME]
+    assert run["converged"]
+    values = run["parameters"]
+    assert values["cells"].startswith("12 x 12")
+    assert values["fibrous_rms_shear_error_deg"] < case.RMS_TOLERANCE_DEG["coarse"]
+    assert values["fibrous_largest_kinetic_over_work"] < KINETIC_BOUND
+    assert values["fibrous_share_above_kinetic_bound"] == 0.0
+    assert values["fibrous_final_kinetic_over_work"] < 0.5 * KINETIC_BOUND
+    assert values["fibrous_largest_holder_lift_mm"] < 0.5 * case.THICKNESS
+    assert 0.0 < values["fibrous_damping_over_work"] < 0.15
 
 
 def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(monkeypatch):
