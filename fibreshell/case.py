@@ -35,7 +35,7 @@ motion = [0.0, 0.0, 20.0]                # optional translation at the end, with
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic),
 # stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
-# augmented = true: Static's Uzawa passes (docs/theory.md 9.6), augmented_tolerance = mm
+# augmented = true: Static's Uzawa passes (docs/theory.md §9.6), augmented_tolerance = mm
 # damping = 0.2: normal contact damping, a fraction of critical (explicit; default 0)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
