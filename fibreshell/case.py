@@ -530,6 +530,10 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     damping = value.get("damping")
     if damping is not None and not 0.0 <= _number(where, damping, "damping") <= 1.0:
         raise where.error("damping", f"expected a fraction of critical in [0, 1], got {damping!r}")
+    if augmented and damping:  # elements.contact.Contact refuses them together
+        raise where.error(
+            "damping", "the contact damping (explicit) is not taken with augmented = true (Static)"
+        )
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
     options = dict(tool=tool, nodes=nodes, friction=friction, penalty=penalty, augmented=augmented)
     return options | {"stick_stiffness": stick, "augmented_tolerance": tol, "damping": damping}
