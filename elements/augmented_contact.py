@@ -1,5 +1,5 @@
 """The augmented Lagrangian (Uzawa) of the node-to-tool contact of elements/contact.py, for the
-quasi-static solvers (``Contact(augmented=True)``; docs/theory.md §9.6).
+static solver, Static (``Contact(augmented=True)``; docs/theory.md §9.6).
 
 A penalty spring lets a node into the tool by its normal force over k, and a stick spring lets
 a stuck node creep by its friction force over k_t (the elastic slip). Each node here carries
@@ -11,7 +11,7 @@ are
     t = P lambda_T - k_t P (x - a),   f_T = t if |t| <= mu f_N, else mu f_N t / |t|,
 
 (P the projector on the tool's tangent plane, a the point the node stuck to), and after each
-converged solve the quasi-static solver updates them (Uzawa; Simo and Laursen, Computers &
+converged solve Static updates them (Uzawa; Simo and Laursen, Computers &
 Structures 42 (1992) 97; Wriggers, Computational Contact Mechanics, 2nd ed. (2006) §6.3.3):
 
     lambda_N <- max(0, lambda_N + k p),   lambda_T <- f_T (the trial traction on the cone),
@@ -28,7 +28,8 @@ the return mapping, the frozen sets and the exact tangent of elements/contact.py
 are; the point the node stuck to is ``anchor - traction / k_t``. When a step is accepted a node
 that slid sticks where it is, its traction the friction force it had (the anchor stays where
 the spring holds that force); a new contact starts with no traction, a lost one forgets it.
-The explicit solver never updates the multipliers: there the contact is the penalty's.
+The explicit solver and dynamic relaxation never update the multipliers: there the contact
+is the penalty's.
 
 The stored energy is that of the moved springs, 1/2 (lambda_N + k p)^2 / k and the stick
 spring's: the augmented Lagrangian's potential less the constant lambda^2 / 2k of each node,

@@ -104,7 +104,7 @@ class Contact(Interaction):
         k_t / k in (0, 1]: the friction's stick spring over the normal penalty (module
         docstring, "Stick spring"); 1 by default.
     augmented : bool
-        The augmented Lagrangian (Uzawa) under the quasi-static solvers: after an increment
+        The augmented Lagrangian (Uzawa) under Static (not dynamic relaxation): after an increment
         converges, each node's normal and stick multipliers take the forces of the penalty
         springs and the increment is solved again until the penetration and the elastic slip
         are within ``augmented_tolerance`` (elements/augmented_contact.py). Off by default.

@@ -16,8 +16,9 @@ frame (less the tool's motion and free translation). A node alone on the spring 
 Kelvin-Voigt contact) then leaves the tool with exp(-zeta pi / sqrt(1 - zeta^2)) of the
 speed it came with, and critically damped (zeta = 1) it does not leave. The force is not
 clipped where it pulls (a node leaving the tool while still within the penetration): the
-clipped law has no such closed form, and the pull lasts while the node crosses a
-penetration of k / (f / p), a fraction of a micrometre.
+clipped law has no such closed form, and the pull lasts only while the node crosses the
+last c |dr/dt . n| / k = 2 zeta |dr/dt . n| / sqrt(k / m) of the penetration (where the
+damping's pull outweighs the spring's push k p).
 
 Rate. dr/dt is taken over the last step, (r(t) - r(t_prev)) / (t - t_prev), from the
 positions the history keeps: in explicit dynamics the relative velocity at t - dt / 2, the

@@ -35,7 +35,7 @@ motion = [0.0, 0.0, 20.0]                # optional translation at the end, with
 friction = 0.2                           # optional: Coulomb coefficient (0)
 # nodes = "blank" (default: every node), penalty = N/mm per node (default: automatic),
 # stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
-# augmented = true: Static's Uzawa passes (docs/theory.md 9.6), augmented_tolerance = mm
+# augmented = true: Static's Uzawa passes (docs/theory.md §9.6), augmented_tolerance = mm
 # damping = 0.2: normal contact damping, a fraction of critical (explicit; default 0)
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
@@ -530,6 +530,10 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     damping = value.get("damping")
     if damping is not None and not 0.0 <= _number(where, damping, "damping") <= 1.0:
         raise where.error("damping", f"expected a fraction of critical in [0, 1], got {damping!r}")
+    if augmented and damping:  # elements.contact.Contact refuses them together
+        raise where.error(
+            "damping", "the contact damping (explicit) is not taken with augmented = true (Static)"
+        )
     nodes = _select(where, mesh, value["nodes"], "nodes") if "nodes" in value else None
     options = dict(tool=tool, nodes=nodes, friction=friction, penalty=penalty, augmented=augmented)
     return options | {"stick_stiffness": stick, "augmented_tolerance": tol, "damping": damping}

@@ -41,10 +41,20 @@ def augment_contacts(model: CompiledModel, state: State) -> tuple[State, dict | 
     return replace(state, history=tuple(history)), summary
 
 
-def augment(run: StaticRun, state: State, load_factor: float, count, ratio, history):
+def augment(
+    run: StaticRun,
+    state: State,
+    load_factor: float,
+    count: int,
+    ratio: float,
+    history: list[float],
+) -> tuple[State, int, float, list[float], int]:
     """The Uzawa passes of an increment converged at ``state``: while an augmented contact's
     penetration or elastic slip exceeds its tolerance, its multipliers are updated and the
-    increment solved again from there, at most ``run.solver.augmentations`` times. Returns
+    increment solved again from there, at most ``run.solver.augmentations`` times.
+
+    ``count``, ``ratio`` and ``history`` are what solvers.newton.newton returned for the
+    increment (its Newton iterations, final residual ratio and ratio per iteration). Returns
     (state, Newton iterations, ratio, ratio history, passes), the iterations and ratios of
     every pass; an IncrementFailed of a pass carries them too."""
     passes = 0

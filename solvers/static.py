@@ -414,7 +414,7 @@ class StaticRun:
         self.masses = model.lumped_mass(self.state) if solver.stabilise > 0.0 else None
         self.dissipated = 0.0
         # The augmented contacts' report at the last converged state (None: no augmented
-        # contact; femcore.compiled.CompiledModel.augment).
+        # contact; solvers.augmentation.augment_contacts).
         self.constraint: dict | None = None
         self.info: dict[str, Any] = {
             "solver": "Static",

@@ -410,6 +410,11 @@ friction = 0.2
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.0", r"\[contact\[0\].stick_"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 2.0", r"in \(0, 1\], got 2.0"),
         ("friction = 0.2", "friction = 0.2\ndamping = 1.5", r"\[contact\[0\].damping\]"),
+        (
+            "friction = 0.2",
+            "friction = 0.2\naugmented = true\ndamping = 0.2",
+            r"\[contact\[0\].damping\]: .*augmented",
+        ),
     ],
 )
 def test_a_mistake_in_a_contact_table_names_the_file_the_table_and_the_key(
