@@ -5,6 +5,7 @@ elastic slip are within each contact's tolerance."""
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -15,7 +16,7 @@ from solvers.newton import IncrementFailed, newton
 if TYPE_CHECKING:
     from solvers.static import StaticRun
 
-__all__ = ["augment", "augment_contacts"]
+__all__ = ["augment", "augment_contacts", "warn_penalty_only"]
 
 
 def augment_contacts(model: CompiledModel, state: State) -> tuple[State, dict | None]:
@@ -39,6 +40,22 @@ def augment_contacts(model: CompiledModel, state: State) -> tuple[State, dict | 
         "within": all(r["within"] for r in reports),
     }
     return replace(state, history=tuple(history)), summary
+
+
+def warn_penalty_only(model: CompiledModel, state: State, solver: str) -> None:
+    """Warn that ``solver`` (a dynamic one) runs an augmented contact of ``model`` as its plain
+    penalty: only Static updates the multipliers, so the penetration and elastic slip are the
+    penalty's, which a user who asked for ``augmented=True`` would not expect silently."""
+    if augment_contacts(model, state)[1] is not None:
+        from solvers.common import outside_stacklevel  # common imports what imports this
+
+        warnings.warn(
+            f"{solver} runs an augmented contact (augmented=True) as its plain penalty: only "
+            "Static's Uzawa passes update the multipliers (docs/theory.md §9.6); the "
+            "penetration and elastic slip here are the penalty's",
+            UserWarning,
+            stacklevel=outside_stacklevel(),
+        )
 
 
 def augment(

@@ -27,6 +27,7 @@ from femcore.fingerprint import Fingerprint, fingerprint
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
+from solvers.augmentation import warn_penalty_only
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     DivergenceError,
@@ -312,6 +313,7 @@ class CentralDifference:
             self._assembled = payload["assembled"]
         else:
             run = self._start(compiled)
+        warn_penalty_only(compiled, run.state, "CentralDifference")
         stream, history = self._outputs(compiled, run)
         with ProgressLine(resolve_progress(self.progress), "central difference") as progress:
             return self._march(

@@ -42,6 +42,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import drop_along
 from femcore.state import State
+from solvers.augmentation import warn_penalty_only
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     ConvergenceError,
@@ -223,6 +224,7 @@ class DynamicRelaxation:
         check_outputs(compiled.mesh, None, saved_at)
         started = time.perf_counter()
         state = compiled.initial_state()
+        warn_penalty_only(compiled, state, "DynamicRelaxation")
         frames = [make_frame(compiled, state)]
         first = 0.0
         if start is not None:

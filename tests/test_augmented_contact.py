@@ -20,6 +20,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+import solvers
 from elements import Contact, MindlinShell, RigidPlane
 from femcore import Body, Mesh, Model
 from femcore.interaction_checks import (
@@ -232,3 +233,35 @@ def test_a_contact_table_turns_the_augmented_lagrangian_on(tmp_path):
     alone = CONTACT.replace("friction = 0.2", "friction = 0.2\naugmented_tolerance = 1e-4")
     with pytest.raises(CaseError, match=r"\[contact\[0\].augmented_tolerance\]"):
         load_case(write(tmp_path, CANTILEVER + alone, "d.toml"))
+
+
+def plate_above_a_table(augmented: bool) -> Model:
+    """The plate of ``plate`` at rest 1 mm above the table, unloaded: nothing to solve."""
+    mesh = Mesh.rectangle(40.0, 40.0, nx=4, ny=4, origin=(0.0, 0.0, 0.5 * THICKNESS + 1.0))
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(E=1e4, nu=0.3, thickness=THICKNESS, density=1e-9)))
+    model.fix(np.arange(mesh.n_nodes))
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), augmented=augmented)
+    return model
+
+
+DYNAMIC = {
+    "DynamicRelaxation": {"increments": 1},
+    "CentralDifference": {"duration": 1e-6, "kinetic_bound": None},
+}
+
+
+@pytest.mark.parametrize("solver", list(DYNAMIC))
+def test_a_dynamic_solver_says_it_runs_an_augmented_contact_as_its_penalty(solver):
+    """Only Static updates the multipliers: the dynamic solvers run the plain penalty, and
+    say so rather than let a user believe the penetration was removed."""
+    make = getattr(solvers, solver)
+    with pytest.warns(UserWarning, match="augmented contact .* as its plain penalty"):
+        make(progress=False, **DYNAMIC[solver]).solve(plate_above_a_table(augmented=True))
+
+
+@pytest.mark.parametrize("solver", list(DYNAMIC))
+def test_a_dynamic_solver_is_silent_on_a_penalty_contact(solver, recwarn):
+    make = getattr(solvers, solver)
+    make(progress=False, **DYNAMIC[solver]).solve(plate_above_a_table(augmented=False))
+    assert not [w for w in recwarn if "plain penalty" in str(w.message)]
