@@ -196,10 +196,9 @@ class PlyContactBlock(InteractionBlock):
         """Each contact point's facing triangle, gap, normal and projection at ``state``
         (elements/ply_projection.py: the nearest of the candidates)."""
         p, near, y = self._candidates(state)
-        flat = closest_facing(p, y, near, self.tolerance)
-        if not self.curved:
-            return flat
-        return ply_curved.curved_facing(self, state, p, y, flat)
+        if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
+            return ply_curved.curved_facing(self, state, p, y, near)
+        return closest_facing(p, y, near, self.tolerance)
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
@@ -372,7 +371,7 @@ class PlyContactBlock(InteractionBlock):
             return {}
         facing = self.facing(state)
         overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
-        facing_any = overshoot <= MARGIN
+        facing_any = overshoot <= (ply_curved.MARGIN_CURVED if self.curved else MARGIN)
         weight = self._lumped(facing_any.astype(float))
         total = self._lumped(np.where(facing_any, facing.gap, 0.0))
         gap = np.full(self.n_nodes, np.nan)
