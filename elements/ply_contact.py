@@ -31,12 +31,14 @@ Curved faces (``surface="curved"``, elements/ply_surface.py). The faces above ar
 facets: on a curved tool, plies whose meshes do not match put the upper ply's points on facets
 of the lower ply that are chords s^2 / (8 R) inside its true face. With ``surface="curved"``
 both faces are Phong surfaces over the offset corners and the plies' nodal normals (Max's
-weights), the upper points lie on the upper ply's surface, each is projected on the lower
-ply's surface over the facet the flat search picked, and the force is the exact gradient of
+weights), the upper points lie on the upper ply's surface, each is projected on the curved
+patches over the search's candidate triangles and faces the nearest patch that holds its
+projection (elements/ply_curved.py: chosen so, the gap and the energy are continuous where a
+point passes from one patch to the next, which the flat facet's choice was not), a patch
+reaching ``MARGIN_CURVED`` (0.05) past its edges, and the force is the exact gradient of
 the energy, the nodal normals' dependence on the positions included; with friction the stick
 anchors lie on the curved surface too (a sliding anchor moved by projecting its new place on
-it). The tangent stays the flat one at the curved
-projection.
+it). The tangent stays the flat one at the curved projection.
 
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
 triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's
