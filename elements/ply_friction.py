@@ -21,7 +21,7 @@ from femcore.rotation import cross_matrix
 from femcore.state import State
 
 if TYPE_CHECKING:
-    from elements.ply_contact import PlyContactBlock
+    from elements.ply_block import PlyContactBlock
     from elements.ply_projection import Facing
 
 __all__ = [

@@ -50,7 +50,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["INSIDE", "MARGIN", "Facing", "closest_facing", "penalty_law", "triangle_frames"]
+__all__ = [
+    "INSIDE",
+    "MARGIN",
+    "Facing",
+    "choose",
+    "closest_facing",
+    "facets",
+    "penalty_law",
+    "triangle_frames",
+]
 
 #: How far past a triangle's edges (in barycentric units) its plane still carries a point.
 MARGIN = 0.5
@@ -134,6 +143,44 @@ def triangle_frames(corners: np.ndarray):
     return n, area2, gradients
 
 
+def facets(p: np.ndarray, corners: np.ndarray):
+    """Each point against each of its candidate triangles' planes: unit normals (P, K, 3),
+    twice the areas (P, K), barycentric gradients (P, K, 3, 3), gaps (P, K) mm and the
+    barycentric coordinates (P, K, 3) of the projections; p (P, 3), corners (P, K, 3, 3)."""
+    n, area2, gradients = triangle_frames(corners)
+    relative = p[:, None, :] - corners[..., 0, :]
+    gap = np.sum(relative * n, axis=-1)  # (P, K)
+    weights = np.einsum("skij,skj->ski", gradients, p[:, None, :] - corners[..., 1, :])
+    weights[..., 1] = np.einsum("ski,ski->sk", gradients[..., 1, :], relative)
+    weights[..., 2] = 1.0 - weights[..., 0] - weights[..., 1]
+    return n, area2, gradients, gap, weights
+
+
+def choose(
+    gap: np.ndarray, weights: np.ndarray, area2: np.ndarray, deepest: bool = True
+) -> np.ndarray:
+    """(P,) the column of each point's facing candidate (module docstring, "Search"): among
+    those whose projection lies in the triangle, the one the point penetrates most, else the
+    nearest by sqrt(g^2 + (o sqrt(2 A))^2), o the projection's overshoot past the edges.
+
+    gap : (P, K) float, mm; weights : (P, K, 3) barycentric coordinates of the projections;
+    area2 : (P, K) float, twice the candidates' areas, mm^2.
+    """
+    overshoot = np.maximum(0.0, -weights.min(axis=-1))
+    distance = np.hypot(gap, overshoot * np.sqrt(area2))
+    # Over a concave fold two triangles hold the projection: the deeper penetration
+    # counts (W = k/2 max(p_A, p_B)^2 is convex in the pair, a kink Newton crosses);
+    # over a convex one none holds it: the nearest triangle.
+    inside = overshoot <= INSIDE
+    return np.where(
+        inside.any(axis=1),
+        np.argmin(np.where(inside, gap, np.inf), axis=1)
+        if deepest
+        else np.argmin(np.where(inside, np.abs(gap), np.inf), axis=1),
+        np.argmin(distance, axis=1),
+    )
+
+
 def closest_facing(p: np.ndarray, y: np.ndarray, near: np.ndarray, tolerance: float) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -150,27 +197,12 @@ def closest_facing(p: np.ndarray, y: np.ndarray, near: np.ndarray, tolerance: fl
     tolerance : float
         The gap (mm) at or below which a point counts as touching.
     """
-    corners = y[near]  # (P, K, 3, 3)
-    n, area2, gradients = triangle_frames(corners)
-    relative = p[:, None, :] - corners[..., 0, :]
-    gap = np.sum(relative * n, axis=-1)  # (P, K)
-    weights = np.einsum("skij,skj->ski", gradients, p[:, None, :] - corners[..., 1, :])
-    weights[..., 1] = np.einsum("ski,ski->sk", gradients[..., 1, :], relative)
-    weights[..., 2] = 1.0 - weights[..., 0] - weights[..., 1]
-    overshoot = np.maximum(0.0, -weights.min(axis=-1))
-    distance = np.hypot(gap, overshoot * np.sqrt(area2))
-    # Over a concave fold two triangles hold the projection: the deeper penetration
-    # counts (W = k/2 max(p_A, p_B)^2 is convex in the pair, a kink Newton crosses);
-    # over a convex one none holds it: the nearest triangle.
-    inside = overshoot <= INSIDE
-    best = np.where(
-        inside.any(axis=1),
-        np.argmin(np.where(inside, gap, np.inf), axis=1),
-        np.argmin(distance, axis=1),
-    )
+    n, area2, gradients, gap, weights = facets(p, y[near])
+    best = choose(gap, weights, area2)
     rows = np.arange(len(p))
     chosen_gap = gap[rows, best]
-    touching = (chosen_gap <= tolerance) & (overshoot[rows, best] <= MARGIN)
+    overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
+    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN)
     return Facing(
         triangle=near[rows, best],
         gap=chosen_gap,

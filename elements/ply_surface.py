@@ -142,15 +142,27 @@ def surface_point(y: np.ndarray, n: np.ndarray, lam: np.ndarray):
 def project(p: np.ndarray, y: np.ndarray, n: np.ndarray, start: np.ndarray):
     """The projection of points ``p`` (P, 3) on the surfaces over corners ``y`` and normals
     ``n`` (P, 3, 3) from barycentric coordinates ``start`` (P, 3): (lambda (P, 3), the
-    surface point (P, 3), unit normal nu (P, 3), gap g (P,) mm, q (P, 3), e (P, 3))."""
+    surface point (P, 3), unit normal nu (P, 3), gap g (P,) mm, q (P, 3), e (P, 3)); NaN
+    where the Gauss-Newton steps did not converge (a folded patch, far past its edges)."""
     lam = start.copy()
+    step = np.zeros((len(lam), 2))
     for _ in range(ITERATIONS):
         point, tangents, _, _ = surface_point(y, n, lam)
         metric = np.einsum("pai,pbi->pab", tangents, tangents)
         rhs = np.einsum("pai,pi->pa", tangents, p - point)
-        step = np.linalg.solve(metric, rhs[..., None])[..., 0]
+        # the 2 x 2 normal equations solved in closed form; a folded patch (far past its
+        # edges, where the quadratic surface turns over) has a singular metric: no step
+        det = metric[:, 0, 0] * metric[:, 1, 1] - metric[:, 0, 1] * metric[:, 1, 0]
+        scale = metric[:, 0, 0] * metric[:, 1, 1]
+        ok = np.abs(det) > 1e-12 * np.where(scale > 0.0, scale, 1.0)
+        inverse = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        step[:, 0] = inverse * (metric[:, 1, 1] * rhs[:, 0] - metric[:, 0, 1] * rhs[:, 1])
+        step[:, 1] = inverse * (metric[:, 0, 0] * rhs[:, 1] - metric[:, 1, 0] * rhs[:, 0])
+        step[~ok] = np.nan
         lam[:, :2] += step
         lam[:, 2] = 1.0 - lam[:, 0] - lam[:, 1]
+    # not converged (the last step above 1e-6 of the cell): NaN, the caller's to judge
+    lam[~(np.abs(step).max(axis=1) <= 1e-6)] = np.nan
     point, tangents, q, e = surface_point(y, n, lam)
     normal = np.cross(tangents[:, 0], tangents[:, 1])
     normal /= np.linalg.norm(normal, axis=1)[:, None]

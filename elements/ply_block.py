@@ -1,0 +1,400 @@
+"""The bound ply contact (``PlyContact.bind``, elements/ply_contact.py, whose docstring
+describes the mechanics): its contact points and their penalties, the search of the facing
+triangles, the normal loads and their exact tangent on flat facets, the friction's history and
+the protocol's extras (springs, node fields). The curved faces' projection and loads are in
+elements/ply_curved.py, the friction's return mapping in elements/ply_friction.py, the
+facing search and the penalty law in elements/ply_projection.py.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from elements import ply_curved, ply_friction, ply_slip, ply_surface
+from elements.ply_friction import PlyFrictionHistory, Sliding
+from elements.ply_projection import MARGIN, Facing, closest_facing, penalty_law
+from femcore.assembly import CellTangent
+from femcore.field_names import name_components
+from femcore.interaction import Body, InteractionBlock
+from femcore.rotation import cross_matrix
+from femcore.state import State
+
+__all__ = ["DOFS", "PENALTY_SHARE", "RULES", "PlyContactBlock"]
+
+name_components("ply_slip_vector", ("x", "y", "z"))  # global axes, as the displacement's
+
+#: The degrees of freedom a ply contact acts on: the positions and the directors' rotations.
+DOFS = ("ux", "uy", "uz", "alpha", "beta")
+PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
+#: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
+#: (Q,) summing to 1).
+RULES = {
+    "centroid": (np.full((1, 3), 1.0 / 3.0), np.ones(1)),
+    "gauss": (
+        np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]),
+        np.full(3, 1.0 / 3.0),
+    ),
+    "vertices": (np.eye(3), np.full(3, 1.0 / 3.0)),
+}
+
+
+class PlyContactBlock(InteractionBlock):
+    """The bound ply contact: one row of ``connectivity`` per contact point, the corners of
+    its upper triangle then the corners of the lower triangles it faces in the reference
+    state (the node graph of a finite-difference tangent while the plies have slid less than
+    a cell; the block's own ``tangent`` follows the sliding).
+
+    Attributes
+    ----------
+    above : (P, 3) int
+        Each point's upper triangle's corners.
+    shape : (P, 3) float
+        N_j of each point at those corners.
+    stiffness : (P,) float
+        k_p, N/mm (NaN until ``calibrate`` when the penalty is automatic).
+    node_stiffness : (s,) float
+        k_j of the upper nodes ``upper``, N/mm.
+    smoothing : float
+        delta, mm.
+    along_normals : bool
+        The faces lie along the plies' nodal normals (``faces="normal"``).
+    lever : float
+        1 with faces along the directors, 0 along the normals: the factor of the offsets in
+        the moments on the directors and in their tangent.
+    """
+
+    dofs = DOFS
+    reach = 1
+    n_tools = 0
+
+    def __init__(
+        self,
+        contact: Any,
+        above: np.ndarray,
+        cells: np.ndarray,
+        upper_offset: np.ndarray,
+        lower_offset: np.ndarray,
+        smoothing: float,
+        body: Body,
+    ):
+        coordinates, weights = RULES[contact.rule]
+        count = len(weights)
+        self.above = np.repeat(above, count, axis=0)  # (P, 3)
+        self.shape = np.tile(coordinates, (len(above), 1))  # (P, 3)
+        self.upper = np.unique(above)
+        self.cells = cells
+        self.n_nodes = body.n_nodes
+        # Faces along the nodal normals: the plies' own triangles give them, and the contact
+        # leaves the directors alone (a lever of 0 on the moments and their tangent).
+        self.along_normals = contact.faces == "normal"
+        self.curved = contact.surface == "curved"
+        self.lever = 0.0 if self.along_normals else 1.0
+        # the plies' own triangles, in their own orientation, give the nodal normals (the
+        # points' ply's and the facing ply's): the mirrored pass turned its facing triangles
+        self.mirrored = contact.points == "lower"
+        self._own_triangles = np.vstack([above, cells[:, [0, 2, 1]] if self.mirrored else cells])
+        self.smoothing = float(smoothing)
+        self.upper_offset = np.asarray(upper_offset, dtype=float)[self.above]  # (P, 3)
+        self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
+        self.candidates = min(contact.candidates, len(cells))
+        # The points' shares of their corners' penalties (elements/ply_contact.py, "Penalty"):
+        # (P, s).
+        x = body.mesh.points
+        sides = np.cross(x[above[:, 1]] - x[above[:, 0]], x[above[:, 2]] - x[above[:, 0]])
+        area = 0.5 * np.linalg.norm(sides, axis=1)
+        lumped = np.bincount(above.ravel(), np.repeat(area / 3.0, 3), self.n_nodes)
+        share = np.repeat(area, count) * np.tile(weights, len(above))
+        self._share = share[:, None] * self.shape / lumped[self.above]  # (P, 3)
+        self._corner_rows = np.searchsorted(self.upper, self.above)  # (P, 3) rows of upper
+        given = contact.penalty
+        self.node_stiffness = np.full(len(self.upper), np.nan if given is None else float(given))
+        self.stiffness = self._point_stiffness()
+        self.friction = contact.friction
+        reference = State(
+            body.mesh.points.copy(),
+            body.directors.copy(),
+            np.zeros((self.n_nodes, 3)),
+            np.zeros((self.n_nodes, 3)),
+        )
+        self._reference = reference
+        self.slip_anchors = ply_slip.anchor(
+            reference.positions,
+            self.offset_directions(reference),
+            self.upper,
+            np.asarray(upper_offset, dtype=float)[self.upper],
+            cells,
+            self.corner_offset,
+        )
+        near = self._candidates(reference)[1][:, : min(3, self.candidates)]
+        self.connectivity = np.column_stack([self.above, cells[near].reshape(len(self.above), -1)])
+        self.lower_nodes = np.unique(cells)
+        # Without smoothing, plies laid on each other (g = 0 up to the rounding of the
+        # offsets) count as touching, so that Newton has the contact's stiffness from its
+        # first iteration (the force, k min(g, 0), is still zero there); with it, W'' = 0 at
+        # g = 0 anyway.
+        size = float(np.ptp(body.mesh.points, axis=0).max(initial=0.0)) or 1.0
+        self.tolerance = 0.0 if self.smoothing > 0 else 1e-9 * size
+
+    def _point_stiffness(self) -> np.ndarray:
+        return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)
+
+    def held_directions(self) -> tuple[np.ndarray, np.ndarray]:
+        """None against the ground: the gap and the slip between two plies do not change when
+        the whole stack moves as one (what holds the stack are its supports and tools)."""
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
+
+    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+        # the automatic penalty (elements/ply_contact.py, "Penalty")
+        if np.isnan(self.node_stiffness).any():
+            self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2
+            self.stiffness = self._point_stiffness()
+
+    # ------------------------------------------------------------------ search
+    def offset_directions(self, state: State) -> np.ndarray:
+        """(n, 3) the unit directions along which the faces lie at ``state``: the directors,
+        or with ``faces="normal"`` the area-weighted normals of each ply's triangles (zero off
+        the plies)."""
+        if not self.along_normals:
+            return state.directors
+        x, tri = state.positions, self._own_triangles
+        if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
+            return ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
+        sides = np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
+        flat = tri.ravel()
+        summed = np.column_stack(
+            [np.bincount(flat, np.repeat(sides[:, k], 3), self.n_nodes) for k in range(3)]
+        )
+        length = np.linalg.norm(summed, axis=1)
+        return summed / np.where(length > 0.0, length, 1.0)[:, None]
+
+    def surface_normals(self, state: State) -> np.ndarray:
+        """(n, 3) the unit nodal normals of the curved faces (elements/ply_surface.py)."""
+        return ply_surface.nodal_normals(state.positions, self._own_triangles, self.n_nodes)[0]
+
+    def _faces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm."""
+        x, d = state.positions, self.offset_directions(state)
+        corners = x[self.above] - self.upper_offset[..., None] * d[self.above]
+        if self.curved:  # on the upper ply's own curved face (elements/ply_surface.py)
+            normals = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)[0]
+            p = ply_surface.surface_point(corners, normals[self.above], self.shape)[0]
+        else:
+            p = np.einsum("pj,pji->pi", self.shape, corners)
+        y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
+        return p, y
+
+    def _candidates(self, state: State):
+        p, y = self._faces(state)
+        tree = cKDTree(y.mean(axis=1))
+        _, near = tree.query(p, k=self.candidates)
+        return p, np.asarray(near).reshape(len(p), self.candidates), y
+
+    def facing(self, state: State) -> Facing:
+        """Each contact point's facing triangle, gap, normal and projection at ``state``
+        (elements/ply_projection.py: the nearest of the candidates)."""
+        p, near, y = self._candidates(state)
+        if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
+            return ply_curved.curved_facing(self, state, p, y, near)
+        return closest_facing(p, y, near, self.tolerance)
+
+    # ------------------------------------------------------------------ loads
+    def _pair_loads(self, state: State, facing: Facing):
+        """Per touching point: node rows (t, 6) (the upper triangle's corners, the facing
+        triangle's corners), forces (t, 6, 3) N, moments (t, 6, 3) N mm (dW/dx and dW/dpsi),
+        the points' rows (t,), the signed offsets c (t, 6) (z = x + c d) and the law's
+        (energy, dW/dg, d2W/dg2), each (t,)."""
+        on = np.flatnonzero(facing.touching)
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        n, lam = facing.normal[on], facing.weights[on]
+        tri = facing.triangle[on]
+        nodes = np.column_stack([self.above[on], self.cells[tri]])
+        on_face = law[1][:, None] * n  # dW/dp
+        forces = np.concatenate(
+            [
+                self.shape[on][:, :, None] * on_face[:, None, :],
+                -lam[:, :, None] * on_face[:, None, :],
+            ],
+            axis=1,
+        )
+        d = self.offset_directions(state)[nodes]  # (t, 6, 3)
+        offset = self.lever * np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
+        # p = sum N_j (x_j - a_j d_j), y_k = x_k + b_k d_k: dW/dpsi = c d x dW/dx.
+        moments = offset[:, :, None] * np.cross(d, forces)
+        return nodes, forces, moments, on, offset, law
+
+    def _frictional(self, history: Any) -> bool:
+        return history is not None and self.friction > 0.0
+
+    def normal_law(self, gap: np.ndarray, stiffness: np.ndarray):
+        """``penalty_law`` of the points with gaps ``gap`` and stiffnesses ``stiffness`` at this
+        block's smoothing: (energy, dW/dg, d2W/dg2)."""
+        return penalty_law(gap, stiffness, self.smoothing)
+
+    def friction_state(
+        self, state: State, history: PlyFrictionHistory | None, facing: Facing | None = None
+    ) -> Sliding:
+        """The return mapping at ``state`` (elements/ply_friction.py)."""
+        return ply_friction.friction_state(self, state, history, facing)
+
+    def internal_force(self, state: State, history: Any = None):
+        facing = self.facing(state)
+        if self.curved:
+            force, moment = ply_curved.curved_loads(self, state, facing)
+            nodes = np.zeros((0, 6), dtype=np.int64)
+            forces = moments = np.zeros((0, 6, 3))
+        else:
+            force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
+            nodes, forces, moments, *_ = self._pair_loads(state, facing)
+        if self._frictional(history):
+            sliding = self.friction_state(state, history, facing)
+            extra = ply_friction.friction_loads(self, state, sliding, history)
+            nodes = np.concatenate([nodes, extra[0]])
+            forces = np.concatenate([forces, extra[1]])
+            moments = np.concatenate([moments, extra[2]])
+        flat = nodes.ravel()
+        for axis in range(3):
+            force[:, axis] += np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
+            moment[:, axis] += np.bincount(flat, moments[..., axis].ravel(), self.n_nodes)
+        return force, moment
+
+    def strain_energy(self, state: State, history: Any = None) -> float:
+        """sum W(g) over the touching points and, with friction, the stick springs' 1/2
+        |F_t|^2 / k, N mm."""
+        facing = self.facing(state)
+        on = facing.touching
+        energy = float(np.sum(penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[0]))
+        if self._frictional(history):  # the tangential springs' |F_t|^2 / (2 k_t)
+            force = self.friction_state(state, history, facing).force
+            energy += 0.5 * float(np.sum(np.sum(force**2, axis=1) / self.stiffness))
+        return energy
+
+    def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
+        """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6).
+
+        Over z = (p, y_1, y_2, y_3): Hess W = W'' G G^T + W' H with G = (n, -lambda_k n) the
+        gradient of g and H its Hessian, from dn/dy_m = -grad phi_m n^T and dlambda_k =
+        grad phi_k . (dp - g dn - sum_m lambda_m dy_m): H_pp = 0, H_p,m = -grad phi_m n^T,
+        H_k,m = -g (grad phi_k . grad phi_m) n n^T + lambda_m n grad phi_k^T + lambda_k
+        grad phi_m n^T. Carried to the nodes by dp = sum_j N_j (du_j - c_j [d_j]x psi_j) and
+        dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
+        psi the director's rotation), with the geometric term of the turned offset,
+        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block.
+        """
+        facing = self.facing(state)
+        nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
+        t = len(on)
+        g = facing.gap[on]
+        n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
+        gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
+        hessian = np.zeros((t, 4, 3, 4, 3))
+        nn = n[:, :, None] * n[:, None, :]
+        for m in range(3):
+            hessian[:, 0, :, 1 + m, :] = -grad[:, m, :, None] * n[:, None, :]
+            hessian[:, 1 + m, :, 0, :] = -n[:, :, None] * grad[:, m, None, :]
+        dots = np.einsum("tki,tmi->tkm", grad, grad)
+        for a_ in range(3):
+            for m in range(3):
+                hessian[:, 1 + a_, :, 1 + m, :] = (
+                    -(g * dots[:, a_, m])[:, None, None] * nn
+                    + lam[:, m, None, None] * n[:, :, None] * grad[:, a_, None, :]
+                    + lam[:, a_, None, None] * grad[:, m, :, None] * n[:, None, :]
+                )
+        outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
+        points = (
+            law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
+        )  # (t, 4, 3, 4, 3)
+        d = self.offset_directions(state)[nodes]  # (t, 6, 3)
+        # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
+        # corners' maps times N_j, each lower corner its own.
+        own = np.zeros((t, 6, 3, 6))
+        own[:, :, :, :3] = np.eye(3)
+        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
+        maps = np.zeros((t, 4, 3, 6, 6))  # (t, z, coordinate, node, dof)
+        for j in range(3):
+            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
+            maps[:, 1 + j, :, 3 + j, :] = own[:, 3 + j]
+        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
+        # c (psi x d) x F = c (d F^T - (F . d) I) psi.
+        geometric = offset[:, :, None, None] * (
+            d[:, :, :, None] * forces[:, :, None, :]
+            - np.sum(forces * d, axis=-1)[:, :, None, None] * np.eye(3)
+        )
+        for row in range(6):
+            blocks[:, row, 3:, row, 3:] += geometric[:, row]
+        parts = [CellTangent(nodes, blocks)]
+        if self._frictional(history):
+            parts.append(ply_friction.friction_tangent(self, state, history, facing))
+        return parts
+
+    # ------------------------------------------------------------------ history
+    def initial_history(self) -> PlyFrictionHistory | None:
+        """None without friction, else the reference contacts anchored
+        (elements/ply_friction.py)."""
+        return ply_friction.initial_history(self)
+
+    def update_history(self, state: State, history: Any) -> Any:
+        """The return mapping accepted, a new history (elements/ply_friction.py)."""
+        return ply_friction.updated_history(self, state, history)
+
+    def dissipated_energy(self, history: Any = None) -> float:
+        """Energy dissipated by friction since the start, N mm."""
+        return 0.0 if history is None else history.dissipated
+
+    # ------------------------------------------------------------------ protocol extras
+    def _lumped(self, values: np.ndarray) -> np.ndarray:
+        """(n,) sum over the points of N_j values_p at their upper corners."""
+        return np.bincount(self.above.ravel(), (self.shape * values[:, None]).ravel(), self.n_nodes)
+
+    def springs(self) -> tuple[np.ndarray, np.ndarray]:
+        """2 sum_p N_j k_p at the upper nodes and 2 max of that (times the ratio of upper to
+        lower nodes when above 1) at the lower ones, N/mm (elements/ply_contact.py, "Penalty")."""
+        upper = 2.0 * self._lumped(self.stiffness)[self.upper]
+        ratio = max(1.0, len(self.upper) / len(self.lower_nodes))
+        lower = np.full(len(self.lower_nodes), ratio * float(np.max(upper)))
+        return np.concatenate([self.upper, self.lower_nodes]), np.concatenate([upper, lower])
+
+    def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
+        """ply_gap (mm, the mean signed gap of the contact points around each upper node,
+        weighted by N_j, < 0 a penetration; NaN off the upper nodes and where no point faces
+        a triangle), ply_contact_force (sum_p N_j (-dW/dg), the pressing force lumped to
+        the upper nodes, N; 0 off them), ply_slip_vector (n, 3) and ply_slip (n,): the
+        tangential displacement of each upper node's face against the lower ply's face since
+        the start and its length, mm (elements/ply_slip.py; NaN off the upper nodes and
+        where no ply is below). None for the mirrored pass (``points="lower"``): the fields
+        are the upper ply's, given by the pass of its own points."""
+        if self.mirrored:
+            return {}
+        facing = self.facing(state)
+        overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
+        facing_any = overshoot <= (ply_curved.MARGIN_CURVED if self.curved else MARGIN)
+        weight = self._lumped(facing_any.astype(float))
+        total = self._lumped(np.where(facing_any, facing.gap, 0.0))
+        gap = np.full(self.n_nodes, np.nan)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            gap[self.upper] = np.where(
+                weight[self.upper] > 0, total[self.upper] / weight[self.upper], np.nan
+            )
+        pressing = np.zeros(len(facing.gap))
+        on = facing.touching
+        pressing[on] = -penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[1]
+        force = np.zeros(self.n_nodes)
+        force[self.upper] = self._lumped(pressing)[self.upper]
+        vectors = np.full((self.n_nodes, 3), np.nan)
+        vectors[self.upper] = ply_slip.slip_vectors(
+            self.slip_anchors,
+            state.positions,
+            self.offset_directions(state),
+            self.cells,
+            self.corner_offset,
+        )
+        return {
+            "ply_gap": gap,
+            "ply_contact_force": force,
+            "ply_slip": np.linalg.norm(vectors, axis=1),
+            "ply_slip_vector": vectors,
+        }

@@ -1,0 +1,127 @@
+"""The curved faces of a ply contact (``PlyContact(surface="curved")``, elements/ply_contact.py
+"Curved faces"): each contact point projected on the Phong surface over the facet the flat
+search picked, and the contact's loads as the exact gradient of its energy over that surface,
+the nodal normals' dependence on the positions included (the surface itself and its
+derivatives: elements/ply_surface.py).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements import ply_surface
+from elements.ply_projection import Facing, choose, facets, penalty_law
+from femcore.state import State
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+
+__all__ = ["MARGIN_CURVED", "curved_facing", "curved_loads"]
+
+#: How far past its patch's edges (in barycentric units) a point still touches the curved
+#: face. The flat facet's plane carries a point half a cell past its edges (``MARGIN``); the
+#: quadratic patch extrapolated so far, over the one-sided normals of a ply's free edge, is
+#: no surface: measured on the coarse [0/45] hemisphere (mirrored pass, the bottom ply's
+#: outline nodes 0.3-0.5 past the top ply's edge triangles), gaps jumping from +0.06 to -0.66
+#: mm in a step and the contact's energy off the work of its force by 32 N mm, past the 5 %
+#: energy balance. The wedges over a fold that no patch holds are a few 1e-3 wide.
+MARGIN_CURVED = 0.05
+
+
+def curved_facing(
+    block: PlyContactBlock, state: State, p: np.ndarray, y: np.ndarray, near: np.ndarray
+) -> Facing:
+    """Each point's facing on the curved surface: p (P, 3) the points, y (m, 3, 3) the lower
+    triangles' offset corners, mm, near (P, K) each point's candidate triangles (rows of y).
+
+    Every candidate's curved patch is projected on (from the flat facet's projection), and
+    the patch is chosen by its curved projection (``choose``: the one holding it that the
+    point penetrates most, else the nearest). Chosen by the flat facets' projections, as it
+    was, a point passed from one patch to the next where its flat projection crossed the
+    facets' edge, not where its curved one crossed the patches' edge (the two differ by the
+    chord's sag times the facet's tilt), and its gap and energy jumped there: measured on a
+    [0/45] pair on a 50-mm sphere turned by one cell, 10-mm cells, k = 100 N/mm, the energy
+    off the work of the force by 0.016-0.02 N mm in a step where a point changed patch
+    (whatever the step) against 1e-8 elsewhere; chosen so, by 3e-3 and 8e-4 N mm at steps of
+    1/1000 and 1/4000 of the turn, the kink's share, and continuous at the switches to 1e-6
+    N mm (tests/test_ply_surface.py). Among patches that hold the projection the nearest
+    (the shallowest penetration), not the deepest: a patch enters the choice with its
+    projection on its edge, a point of the other patch too, no nearer than that patch's own
+    projection, so the least distance does not jump (the deepest did).
+    """
+    count, k = near.shape
+    _, area2, gradients, _, weights = facets(p, y[near])
+    normals = ply_surface.nodal_normals(state.positions, block._own_triangles, block.n_nodes)[0]
+    rows = near.ravel()
+    lam, _, normal, gap, _, _ = ply_surface.project(
+        np.repeat(p, k, axis=0), y[rows], normals[block.cells[rows]], weights.reshape(-1, 3)
+    )
+    lam, gap = lam.reshape(count, k, 3), gap.reshape(count, k)
+    # a candidate's patch whose projection did not converge (far past its edges, where the
+    # quadratic patch folds) is out of the choice
+    bad = ~(np.isfinite(gap) & np.isfinite(lam).all(axis=-1))
+    gap = np.where(bad, np.inf, gap)
+    lam = np.where(bad[..., None], -np.inf, lam)
+    best = choose(gap, lam, area2, deepest=False)
+    at = np.arange(count)
+    lam, gap = lam[at, best], gap[at, best]
+    overshoot = np.maximum(0.0, -lam.min(axis=1))
+    return Facing(
+        triangle=near[at, best],
+        gap=gap,
+        normal=normal.reshape(count, k, 3)[at, best],
+        weights=lam,
+        gradients=gradients[at, best],
+        touching=(gap <= block.tolerance) & (overshoot <= MARGIN_CURVED),
+        face=p,
+    )
+
+
+def curved_loads(
+    block: PlyContactBlock, state: State, facing: Facing
+) -> tuple[np.ndarray, np.ndarray]:
+    """The exact gradient of sum W over the curved surface (elements/ply_surface.py):
+    forces (n, 3), N, and moments (n, 3), N mm, the nodal normals' dependence on the
+    positions carried back to the plies' nodes."""
+    on = np.flatnonzero(facing.touching)
+    law = penalty_law(facing.gap[on], block.stiffness[on], block.smoothing)
+    x = state.positions
+    normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, block.n_nodes)
+    d = normals if block.along_normals else state.directors
+    rows = facing.triangle[on]
+    tri = block.cells[rows]
+    y = x[tri] + block.corner_offset[rows][:, :, None] * d[tri]
+    lam = facing.weights[on]
+    _, _, q, e = ply_surface.surface_point(y, normals[tri], lam)
+    on_y, on_n = ply_surface.gap_gradients(y, normals[tri], lam, facing.normal[on], q, e)
+    slope = law[1][:, None, None]
+    # p on the upper triangle's curved face: dW/dp = W' nu carried to its corners
+    above = block.above[on]
+    z = x[above] - block.upper_offset[on][:, :, None] * d[above]
+    _, _, q_up, e_up = ply_surface.surface_point(z, normals[above], block.shape[on])
+    on_z, on_n_up = ply_surface.pullback(
+        z, normals[above], block.shape[on], q_up, e_up, law[1][:, None] * facing.normal[on]
+    )
+    nodes = np.column_stack([above, tri])  # (t, 6)
+    # dW/dz at the upper corners' and the lower corners' face points
+    forces = np.concatenate([on_z, slope * on_y], axis=1)
+    offset = np.column_stack([-block.upper_offset[on], block.corner_offset[rows]])
+    flat = nodes.ravel()
+
+    def gathered(values: np.ndarray, at: np.ndarray) -> np.ndarray:
+        # float even when no point touches (bincount of no weights is integer)
+        return np.column_stack(
+            [np.bincount(at, values[..., k].ravel(), block.n_nodes) for k in range(3)]
+        ).astype(float)
+
+    force = gathered(forces, flat)
+    on_normals = gathered(np.concatenate([on_n_up, slope * on_n], axis=1), flat)
+    if block.along_normals:  # z = x + c n: dW/dn = c dW/dz
+        on_normals += gathered(offset[:, :, None] * forces, flat)
+        moment = np.zeros((block.n_nodes, 3))
+    else:
+        moment = gathered(offset[:, :, None] * np.cross(d[nodes], forces), flat)
+    force += ply_surface.normal_pullback(x, block._own_triangles, normals, lengths, on_normals)
+    return force, moment
