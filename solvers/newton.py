@@ -282,24 +282,20 @@ def _iterate(
         flat[index] = delta_free
         delta = flat.reshape(-1, N_COLUMNS)
         imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
+        # Curved steps and chords only where the residual is smooth: with contact it is smooth
+        # only piecewise, and a probe of the path or a chord may cross a stick limit or a touch
+        # (with chords the Mindlin hemisphere drape of tests/test_hemisphere_static.py stopped
+        # at load factor 0.66). The frozen contact sets exist only with contact.
+        smooth = not model.interactions
         # The second-order term of a plain step on a definite tangent (solvers.newton_curvature);
-        # the line search falls back along the straight step. Not with contact: its residual
-        # is smooth only piecewise (a probe of the path may cross a stick limit or a touch).
+        # the line search falls back along the straight step.
         straight = None
-        curving = solver.curved and not model.interactions
-        if curving and not (push or turn or regularised or factor.negative):
+        if solver.curved and smooth and not (push or turn or regularised or factor.negative):
             curved = curved_step(run, equilibrium, state, frames, delta, r, factor)
             if curved is not None:
                 straight, delta = delta, curved
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
-        # Not with contact either: a chord taken across a touch or a stick limit lowered the
-        # energy on the wrong piece of the residual (the Mindlin hemisphere drape of
-        # tests/test_hemisphere_static.py stopped at load factor 0.66 with them).
-        if (
-            solver.chords
-            and scale == 1.0
-            and not (push or imposing or frozen or model.interactions)
-        ):
+        if solver.chords and smooth and scale == 1.0 and not (push or imposing):
             state, forces = chord_corrections(
                 run, equilibrium, watchdog, state, frames, forces, factor, solver.chords
             )
