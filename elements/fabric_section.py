@@ -26,13 +26,15 @@ forces and tangent follow by the chain rule.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from elements import fabric_section_kernels
+from elements.fibrous.packed_laws import pack_laws
 from materials.fabric import Fabric
 
-__all__ = ["FabricSection", "SectionResponse", "response"]
+__all__ = ["FabricSection", "SectionResponse", "numpy_response", "response"]
 
 MEASURES = 10
 
@@ -52,6 +54,9 @@ class FabricSection:
     twisting : float, N mm, D_t: the moment per unit width per unit engineering twist.
     transverse : (m, 4, 4) float, N mm, Q: the transverse shear energy form on the tying
         changes, integrated over the cell.
+    laws : (integers, reals)
+        The fabric's laws packed for the compiled response (elements/fabric_section_kernels.py,
+        ``LAW_ORDER``), set from ``fabric``.
     """
 
     fabric: Fabric
@@ -62,6 +67,12 @@ class FabricSection:
     half_thickness: float
     twisting: float
     transverse: np.ndarray
+    laws: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        order = fabric_section_kernels.LAW_ORDER
+        packed = pack_laws([getattr(self.fabric, name) for name in order])
+        object.__setattr__(self, "laws", packed)
 
 
 @dataclass(frozen=True)
@@ -142,7 +153,53 @@ def _outer(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def response(section: FabricSection, y: np.ndarray, hessian: bool = True) -> SectionResponse:
-    """Energy, gradient and Hessian of each cell's section energy in its measures y (m, 10).
+    """Energy, gradient and Hessian of each cell's section energy in its measures y (m, 10):
+    the compiled loop of elements/fabric_section_kernels.py (``numpy_response`` without
+    numba), the same formulas term by term (tests/test_fabric_section_kernels.py: within
+    1e-12 of ``numpy_response``).
+
+    Parameters
+    ----------
+    section : FabricSection
+    y : (m, 10) float
+        The section measures of the module docstring.
+    hessian : bool
+        Also d2W/dy2 (the tangent needs it, the forces do not).
+
+    Returns
+    -------
+    SectionResponse
+
+    Raises
+    ------
+    ValueError
+        A cell whose fibres have locked flat (|gamma| = 90 deg).
+    """
+    if not fabric_section_kernels.COMPILED:
+        return numpy_response(section, y, hessian)
+    integers, reals = section.laws
+    *answer, locked = fabric_section_kernels.section_response(
+        integers,
+        reals,
+        section.area,
+        section.warp_rows,
+        section.weft_rows,
+        section.shear_rows,
+        section.half_thickness,
+        section.twisting,
+        section.transverse,
+        y,
+        hessian,
+    )
+    if locked:
+        raise ValueError(
+            "the fibres of a Mindlin fabric section have locked flat (|gamma| = 90 deg)"
+        )
+    return SectionResponse(*answer)
+
+
+def numpy_response(section: FabricSection, y: np.ndarray, hessian: bool = True) -> SectionResponse:
+    """``response`` in numpy: the reference the compiled loop is tested against.
 
     Parameters
     ----------

@@ -1,0 +1,269 @@
+"""The fabric section's response (elements/fabric_section.py) as one compiled loop over the cells.
+
+``section_response`` gives, per cell, the energy W, its gradient dW/dy and Hessian d2W/dy2 in
+the ten section measures y, and the fibre-frame quantities the outputs write, from the same
+formulas as the numpy reference ``elements.fabric_section.numpy_response`` (docs/theory.md
+§5.7), term by term. Why: a Mindlin ply of a stack has a few tens of cells, where the numpy
+path's hundred or so array operations per call cost about 0.7 ms whatever the cell count
+(Python and numpy's per-call overhead), and Static on a ply stack calls it for every ply at
+every residual, line-search energy and tangent; the loop costs microseconds.
+
+The laws are read from ``elements.fibrous.packed_laws.pack_laws`` arrays in the order
+``LAW_ORDER``; their value and energy are the fibrous kernels' (``law_value``,
+``law_energy``), their slope is ``law_slope`` here (materials.Law.slope: the right derivative
+at a table's knots, its end segments' slopes beyond them).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.fibrous.packed_laws import law_energy, law_value
+from elements.jit import AVAILABLE, inline, serial
+
+__all__ = ["LAW_ORDER", "law_slope", "section_response"]
+
+#: The fabric's laws in the packed arrays' order (attributes of materials.Fabric).
+LAW_ORDER = ("tension", "tension_weft", "shear", "bending", "bending_weft")
+_TENSION, _TENSION_WEFT, _SHEAR, _BENDING, _BENDING_WEFT = range(5)
+_POLYNOMIAL = 0  # elements.fibrous.packed_laws: kind 0 an odd polynomial, 1 a table
+
+
+@inline
+def law_slope(integers, reals, i, x):
+    """dy/dx of packed law i at x (materials.Law.slope): sum (2j+1) c_j x^(2j) for an odd
+    polynomial; for a table the slope of the segment [x_j, x_(j+1)) holding x (the right
+    derivative at a knot), the first or last segment's beyond the ends; 0 for x < 0 when the
+    law is tension-only."""
+    if integers[i, 3] == 0 and x < 0.0:
+        return 0.0
+    if integers[i, 0] == _POLYNOMIAL:
+        s = 0.0
+        power = 1.0
+        square = x * x
+        for j in range(integers[i, 1]):
+            s += (2 * j + 1) * reals[i, 0, j] * power
+            power *= square
+        return s
+    count = integers[i, 2]
+    # the last knot <= x (numpy's searchsorted(side="right") - 1), clipped to a segment
+    j = 0
+    while j < count - 2 and reals[i, 1, j + 1] <= x:
+        j += 1
+    return (reals[i, 2, j + 1] - reals[i, 2, j]) / (reals[i, 1, j + 1] - reals[i, 1, j])
+
+
+@serial
+def _response_cells(
+    integers,
+    reals,
+    area,
+    warp_rows,
+    weft_rows,
+    shear_rows,
+    half,
+    twisting,
+    transverse,
+    y,
+    hessian,
+    energy,
+    gradient,
+    h2,
+    tension,
+    shear_moment,
+    moments,
+    strains,
+    shear_angle,
+    curvatures,
+):
+    """Fill the outputs (see ``section_response``) cell by cell; True when a cell's fibres
+    have locked flat (|sin gamma| >= 1)."""
+    locked = False
+    m = y.shape[0]
+    dq = np.empty((3, 3))
+    second = np.empty((3, 3))
+    dc_dy = np.empty(3)
+    rows = np.empty((3, 3))  # bending rows: warp / (h/2), weft / (h/2), twist
+    for e in range(m):
+        a = area[e]
+        for j in range(3):
+            dq[0, j] = warp_rows[e, j]
+            dq[1, j] = weft_rows[e, j]
+            dq[2, j] = shear_rows[e, j]
+        # Fibre tension: eps = log(p) / 2, p = lambda^2 = 1 + 2 E.
+        p = np.empty(2)
+        w = 0.0
+        for k in range(2):
+            product = 0.0
+            for j in range(3):
+                product += dq[k, j] * y[e, j]
+            p[k] = 1.0 + 2.0 * product
+            eps = 0.5 * np.log(p[k])
+            strains[e, k] = eps
+            t = law_value(integers, reals, _TENSION + k, eps)
+            tension[e, k] = t
+            w += law_energy(integers, reals, _TENSION + k, eps)
+            along = a * t / p[k]
+            for j in range(3):
+                gradient[e, j] += along * dq[k, j]
+            if hessian:
+                bend = a * (law_slope(integers, reals, _TENSION + k, eps) - 2.0 * t) / p[k] ** 2
+                for i in range(3):
+                    for j in range(3):
+                        h2[e, i, j] += bend * dq[k, i] * dq[k, j]
+        # In-plane shear: gamma = asin(c), c = 2 E_ab / sqrt(p_a p_b).
+        pa, pb = p[0], p[1]
+        e_ab = 0.0
+        for j in range(3):
+            e_ab += dq[2, j] * y[e, j]
+        root = np.sqrt(pa * pb)
+        c = 2.0 * e_ab / root
+        if abs(c) >= 1.0:
+            locked = True
+        gamma = np.arcsin(c)
+        shear_angle[e] = gamma
+        d_gamma = 1.0 / np.sqrt(1.0 - c**2)
+        moment_s = law_value(integers, reals, _SHEAR, gamma)
+        shear_moment[e] = moment_s
+        w += law_energy(integers, reals, _SHEAR, gamma)
+        dc0, dc1, dc2 = -c / pa, -c / pb, 2.0 / root
+        for j in range(3):
+            dc_dy[j] = dc0 * dq[0, j] + dc1 * dq[1, j] + dc2 * dq[2, j]
+        pull = a * moment_s * d_gamma
+        for j in range(3):
+            gradient[e, j] += pull * dc_dy[j]
+        if hessian:
+            second[0, 0], second[1, 1], second[2, 2] = 3.0 * c / pa**2, 3.0 * c / pb**2, 0.0
+            second[0, 1] = second[1, 0] = c / (pa * pb)
+            second[0, 2] = second[2, 0] = -2.0 / (root * pa)
+            second[1, 2] = second[2, 1] = -2.0 / (root * pb)
+            d2_gamma = c * d_gamma**3
+            slope = law_slope(integers, reals, _SHEAR, gamma)
+            along = a * (slope * d_gamma**2 + moment_s * d2_gamma)
+            for i in range(3):
+                for j in range(3):
+                    second_y = 0.0
+                    for q in range(3):
+                        for r in range(3):
+                            second_y += dq[q, i] * second[q, r] * dq[r, j]
+                    h2[e, i, j] += along * dc_dy[i] * dc_dy[j] + pull * second_y
+        # Bending per fibre direction and twist: chi = rows . K / (h/2), linear in y.
+        for j in range(3):
+            rows[0, j] = dq[0, j] / half
+            rows[1, j] = dq[1, j] / half
+            rows[2, j] = 2.0 * dq[2, j] / half
+        chi = np.zeros(3)
+        for j in range(3):
+            chi[0] += dq[0, j] * y[e, 3 + j]
+            chi[1] += dq[1, j] * y[e, 3 + j]
+            chi[2] += rows[2, j] * y[e, 3 + j]
+        chi[0] /= half
+        chi[1] /= half
+        for k in range(3):
+            curvatures[e, k] = chi[k]
+        moments[e, 0] = law_value(integers, reals, _BENDING, chi[0])
+        moments[e, 1] = law_value(integers, reals, _BENDING_WEFT, chi[1])
+        moments[e, 2] = twisting * chi[2]
+        w += law_energy(integers, reals, _BENDING, chi[0])
+        w += law_energy(integers, reals, _BENDING_WEFT, chi[1])
+        w += 0.5 * twisting * chi[2] ** 2
+        for k in range(3):
+            along = a * moments[e, k]
+            for j in range(3):
+                gradient[e, 3 + j] += along * rows[k, j]
+            if hessian:
+                if k < 2:
+                    slope = law_slope(integers, reals, _BENDING + k, chi[k])
+                else:
+                    slope = twisting
+                for i in range(3):
+                    for j in range(3):
+                        h2[e, 3 + i, 3 + j] += a * slope * rows[k, i] * rows[k, j]
+        w = a * w
+        # Transverse shear: a quadratic form of the tying changes.
+        for i in range(4):
+            q_t = 0.0
+            for j in range(4):
+                q_t += transverse[e, i, j] * y[e, 6 + j]
+                if hessian:
+                    h2[e, 6 + i, 6 + j] = transverse[e, i, j]
+            gradient[e, 6 + i] = q_t
+            w += 0.5 * y[e, 6 + i] * q_t
+        energy[e] = w
+    return locked
+
+
+def section_response(
+    integers: np.ndarray,
+    reals: np.ndarray,
+    area: np.ndarray,
+    warp_rows: np.ndarray,
+    weft_rows: np.ndarray,
+    shear_rows: np.ndarray,
+    half_thickness: float,
+    twisting: float,
+    transverse: np.ndarray,
+    y: np.ndarray,
+    hessian: bool,
+):
+    """The section energy of each cell, its derivatives and the fibre-frame quantities.
+
+    Parameters
+    ----------
+    integers, reals : the fabric's laws packed in ``LAW_ORDER`` (packed_laws.pack_laws).
+    area : (m,) float, mm^2; warp_rows, weft_rows, shear_rows : (m, 3) float;
+    half_thickness : float, mm; twisting : float, N mm; transverse : (m, 4, 4) float, N mm:
+        the tables of elements.fabric_section.FabricSection.
+    y : (m, 10) float, the section measures.
+    hessian : bool, also d2W/dy2.
+
+    Returns
+    -------
+    tuple
+        energy (m,) N mm, gradient (m, 10), hessian (m, 10, 10) or None, tension (m, 2)
+        N/mm, shear moment (m,) N/mm, moments (m, 3) N, log fibre strains (m, 2), shear
+        angle (m,) rad, curvatures (m, 3) 1/mm, and whether a cell's fibres locked flat.
+    """
+    m = len(y)
+    energy = np.zeros(m)
+    gradient = np.zeros((m, 10))
+    h2 = np.zeros((m if hessian else 0, 10, 10))
+    tension, moments, curvatures = np.zeros((m, 2)), np.zeros((m, 3)), np.zeros((m, 3))
+    strains, shear_moment, shear_angle = np.zeros((m, 2)), np.zeros(m), np.zeros(m)
+    locked = _response_cells(
+        integers,
+        reals,
+        np.ascontiguousarray(area, dtype=float),
+        np.ascontiguousarray(warp_rows, dtype=float),
+        np.ascontiguousarray(weft_rows, dtype=float),
+        np.ascontiguousarray(shear_rows, dtype=float),
+        float(half_thickness),
+        float(twisting),
+        np.ascontiguousarray(transverse, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
+        bool(hessian),
+        energy,
+        gradient,
+        h2,
+        tension,
+        shear_moment,
+        moments,
+        strains,
+        shear_angle,
+        curvatures,
+    )
+    return (
+        energy,
+        gradient,
+        h2 if hessian else None,
+        tension,
+        shear_moment,
+        moments,
+        strains,
+        shear_angle,
+        curvatures,
+        bool(locked),
+    )
+
+
+COMPILED = AVAILABLE
