@@ -204,3 +204,28 @@ def test_the_readme_starts_with_the_two_setup_commands_and_ci_runs_the_second():
     assert commands[0].endswith("python -m validation")
     assert commands[1].endswith("python -m pytest")
     assert commands[1] in (ROOT / ".ci" / "run").read_text()
+
+
+def test_the_sensitivity_sweep_takes_the_cores_its_report_worker_was_given(monkeypatch):
+    # A report worker at --jobs 2 on 2 cores runs on one numba thread; the sweep's Dask
+    # cluster had one process per core beside it (three busy processes on two cores).
+    import numba
+
+    from validation.cases import bai_sensitivity
+
+    asked = []
+
+    def sweep(*args, workers, **kwargs):
+        asked.append(workers)
+        raise RuntimeError("not run")
+
+    monkeypatch.setattr(bai_sensitivity, "sweep", sweep)
+    before = numba.get_num_threads()
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            numba.set_num_threads(threads)
+            with pytest.raises(RuntimeError, match="not run"):
+                bai_sensitivity.compute("coarse")
+            assert asked[-1] == min(threads, len(bai_sensitivity.VARIANTS))
+    finally:
+        numba.set_num_threads(before)

@@ -8,7 +8,9 @@ halved and doubled (MindlinShell(fabric), the fabric's own laws, the sweep's def
 calibration "laws": its bending law and its transverse shear S = 5 B0 / h^2 follow B). The
 eight runs are one parameter sweep of the case file of bai-6.1.1 (fibreshell.sweep, keys
 kinematics, part.0.material.bending and part.0.material.shear paired), each a Dask task on a
-local cluster: they run in parallel.
+local cluster of as many worker processes as this process has numba threads (``sweep_workers``:
+the report gives each of its workers its share of the cores, so the cluster takes that share,
+not a core each beside the report's other workers).
 What is compared: along side 1, the mid-surface and the director angle. The conclusion the
 paper draws (fibrous directors stay nearly vertical while the Mindlin ones follow the normal)
 must not depend on these choices; the check states it for every variant.
@@ -16,7 +18,6 @@ must not depend on these choices; the check states it for every variant.
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -31,7 +32,7 @@ from validation.paper import INCREMENTS
 from validation.plots import plt
 from validation.records import Case, Figure, Outcome
 
-__all__ = ["CASE", "SensitivityData", "base_case", "compute", "render"]
+__all__ = ["CASE", "SensitivityData", "base_case", "compute", "render", "sweep_workers"]
 
 NAME = "bai-6.1.1-sensitivity"
 TITLE = "Paper stack corner test: sensitivity to the assumed bending and shear stiffness"
@@ -90,12 +91,23 @@ def base_case(cells: int) -> dict:
     }
 
 
+def sweep_workers() -> int:
+    """The Dask workers of the sweep: one per numba thread this process may run (the report's
+    workers set theirs to their share of the cores, validation/report.py; NUMBA_NUM_THREADS
+    caps it), at most one per variant. With one worker per core instead, the sweep ran two
+    processes beside the report's other worker at --jobs 2 on 2 cores: three busy processes
+    on two cores."""
+    import numba
+
+    return max(1, min(len(VARIANTS), numba.get_num_threads()))
+
+
 def compute(resolution: str) -> Outcome:
     """Sweep the variants of ``VARIANTS`` over the bai-6.1.1 case; check each."""
     base = paper_stack()
     b = base.bending.slope(np.array(0.0)).item()
     k = base.shear.slope(np.array(0.0)).item()
-    workers = min(len(VARIANTS), os.cpu_count() or 1)
+    workers = sweep_workers()
     started = time.perf_counter()
     table = sweep(
         base_case(CELLS[resolution]),
