@@ -182,6 +182,49 @@ def test_run_cases_submits_the_cases_to_the_workers_longest_first(tmp_path, monk
     assert list(report.cases) == names  # the report keeps its order
 
 
+def test_a_report_folder_s_last_case_times_order_the_next_report(tmp_path, monkeypatch):
+    # The hand-kept EXPECTED_CPU_S orders a first report; a folder that holds a report of the
+    # same cases at the same resolution is ordered by the case times that report measured.
+    names = ["mindlin-plate", "plies-bai-5.1", "bar-wave", "bai-5.1"]
+    last = {"mindlin-plate": 90.0, "plies-bai-5.1": 1.0, "bar-wave": 50.0, "bai-5.1": 2.0}
+    content = {
+        "resolution": "default",
+        "cases": {name: {"case_time_s": seconds} for name, seconds in last.items()},
+    }
+    (tmp_path / "results.json").write_text(json.dumps(content))  # fmt: skip
+    submitted = []
+
+    class Pool:
+        def __init__(self, jobs, mp_context):
+            pass
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def submit(self, function, name, resolution, out_dir, threads):
+            submitted.append(name)
+            future = Future()
+            future.set_result((Outcome.failed(RuntimeError("not run")), 0.0))
+            return future
+
+    monkeypatch.setattr(report_module, "ProcessPoolExecutor", Pool)
+    report_module.run_cases(names, "default", tmp_path, echo=lambda *a, **k: None, jobs=2)
+    assert submitted == ["mindlin-plate", "bar-wave", "bai-5.1", "plies-bai-5.1"]
+    # that run wrote errors: the next one falls back on the table, as for another resolution
+    # or a case the last report did not run
+    assert report_module.measured_costs(tmp_path, names, "default") is None
+    (tmp_path / "results.json").write_text(json.dumps(content))
+    assert report_module.measured_costs(tmp_path, names, "coarse") is None
+    assert report_module.measured_costs(tmp_path, [*names, "catenary"], "default") is None
+    assert report_module.measured_costs(tmp_path, names, "default") == last
+    submitted.clear()
+    report_module.run_cases(names, "coarse", tmp_path, echo=lambda *a, **k: None, jobs=2)
+    assert submitted == report_module.schedule(names, "coarse")
+
+
 def test_by_default_the_report_runs_as_many_cases_at_once_as_cores_are_free(monkeypatch):
     monkeypatch.setattr(jit, "_allowed_cores", lambda: 2)
     monkeypatch.setattr(jit.os, "cpu_count", lambda: 2)

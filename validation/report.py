@@ -27,6 +27,7 @@ __all__ = [
     "STYLE",
     "default_jobs",
     "expected_cost",
+    "measured_costs",
     "render_html",
     "run_case",
     "run_cases",
@@ -35,7 +36,9 @@ __all__ = [
 
 # The CPU time of each case, its computation and its figures (s, one numba thread), at the
 # coarse and the default resolution, measured with benchmarks/report.py (2 cores shared, load
-# 4-10): with several jobs the workers take the cases in decreasing order of it, so that the
+# 4-10), the order of a first report (a report folder that already holds a report of the same
+# cases at the same resolution orders them by its measured case times, ``measured_costs``):
+# with several jobs the workers take the cases in decreasing order of it, so that the
 # longest starts first and the last to start is short (in report order hemisphere-forming, the
 # longest, started last and ran alone on one core at the end). An order, not a promise: the
 # coarse paper cases but bai-5.1 ran first after a cold cache (some compilation included); the
@@ -77,9 +80,31 @@ def expected_cost(name: str, resolution: str) -> float:
     return coarse if resolution == "coarse" else default
 
 
-def schedule(names: list[str], resolution: str) -> list[str]:
-    """``names`` in the order the workers start them: the largest expected cost first
-    (``expected_cost``), report order among equals."""
+def measured_costs(out_dir: Path, names: list[str], resolution: str) -> dict[str, float] | None:
+    """The case times (s) of the report already in ``out_dir`` (its results.json), when it
+    ran every one of ``names`` at ``resolution`` without an error; None otherwise (no report
+    there, another resolution, a case missing or failed, a file that does not read)."""
+    try:
+        content = json.loads((out_dir / "results.json").read_text())
+        if content["resolution"] != resolution:
+            return None
+        cases = content["cases"]
+        costs = {name: float(cases[name]["case_time_s"]) for name in names}
+        if any("error" in cases[name] for name in names):
+            return None
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return costs if all(np.isfinite(list(costs.values()))) else None
+
+
+def schedule(
+    names: list[str], resolution: str, measured: dict[str, float] | None = None
+) -> list[str]:
+    """``names`` in the order the workers start them: the largest cost first, report order
+    among equals; the cost is ``measured`` (``measured_costs``, case times of the last report)
+    when given, else ``expected_cost``."""
+    if measured is not None:
+        return sorted(names, key=lambda name: -measured[name])
     return sorted(names, key=lambda name: -expected_cost(name, resolution))
 
 
@@ -168,11 +193,12 @@ def run_cases(
         Every case's outcome; a case that raised is recorded as failed and the others run.
     """
     out_dir.mkdir(parents=True, exist_ok=True)
+    measured = measured_costs(out_dir, names, resolution)  # before this report replaces it
     # One line per case here: the solvers' own progress lines stay off (workers inherit it).
     before = os.environ.get("FIBRESHELL_PROGRESS")
     os.environ["FIBRESHELL_PROGRESS"] = "0"
     try:
-        results = _run_all(names, resolution, out_dir, echo, jobs)
+        results = _run_all(names, resolution, out_dir, echo, jobs, measured)
     finally:
         if before is None:
             del os.environ["FIBRESHELL_PROGRESS"]
@@ -192,9 +218,15 @@ def run_cases(
 
 
 def _run_all(
-    names: list[str], resolution: str, out_dir: Path, echo: Callable[..., Any], jobs: int
+    names: list[str],
+    resolution: str,
+    out_dir: Path,
+    echo: Callable[..., Any],
+    jobs: int,
+    measured: dict[str, float] | None = None,
 ) -> dict[str, CaseResult]:
-    """The cases of ``run_cases``, one after another or in ``jobs`` worker processes."""
+    """The cases of ``run_cases``, one after another or in ``jobs`` worker processes (the
+    longest first by ``measured``, the last report's case times, else ``EXPECTED_CPU_S``)."""
     results: dict[str, CaseResult] = {}
 
     def done(result: CaseResult, before: str = "") -> None:
@@ -219,7 +251,7 @@ def _run_all(
         with ProcessPoolExecutor(jobs, mp_context=context) as pool:
             futures = {
                 pool.submit(_run_in_worker, name, resolution, out_dir, threads): name
-                for name in schedule(names, resolution)
+                for name in schedule(names, resolution, measured)
             }
             for count, future in enumerate(as_completed(futures), 1):
                 name = futures[future]
