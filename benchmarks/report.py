@@ -20,6 +20,18 @@ figures and VTU/XDMF files take 6-8 s of it (matplotlib's layout and text, the X
 each process's imports 2.6-3.3 s; numba's cached kernels load at their first call (1.8 s
 for mindlin-elastica's 8, 1.2 s of it numba's setup of its registries, once per process).
 
+Since then (load 9-11 on 2 cores, other jobs running; CPU best of 2 side by side with the
+code before, fresh processes, one thread): the fabric section response of MindlinShell(fabric)
+compiled (elements/fabric_section_kernels.py): 1015 -> 27 us per call with the Hessian at 20
+cells (the Mindlin ply's force 1.47 -> 0.77 ms, its tangent 2.57 -> 1.63 ms); the 4-ply deck of
+plies-deck-of-cards on 20 cells 13.8 / 15.2 -> 10.5 / 9.4 s CPU, 258 -> 220 Newton iterations
+(the free end within 3e-13 mm: the round-off of the new sums moves the linear convergence near
+separation, so part of the gain is the path's, not the kernel's; about 56 -> 45 ms per
+iteration). bai-6.1.1-sensitivity's Dask cluster takes one worker per numba thread of its
+report worker (one at --jobs 2 on 2 cores, two before). The default resolution is still far
+from 60 s: hemisphere-forming alone took 168 s, the ply contact's facing search and the
+Mindlin tangent remain numpy.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """
