@@ -13,7 +13,8 @@ integration points): the mid-surface level gives the membrane and tying measures
 difference of the outer ones the bending strains (exact: the level measures are quadratic in
 zeta). The forces are sigma . B^psi and the tangent B^T H B plus the geometric and spin terms
 of the elastic block (docs/theory.md §5.5), with sigma and H the exact gradient and Hessian of
-the section energy: numpy only (no compiled kernel yet).
+the section energy; the section response is one compiled loop over the cells
+(elements/fabric_section_kernels.py), the kinematics numpy.
 """
 
 from __future__ import annotations
