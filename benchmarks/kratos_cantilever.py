@@ -36,6 +36,13 @@ Kratos 10.4.4 from PyPI: Static 1.61 s (0.67 s CPU), 9-9-9-8-8 iterations; Krato
 Mindlin tangent and the compiled assembly, the same run gave 4.62 s (2.28 s CPU) against
 11.25 s (5.59 s CPU): 2.4 x. The tips agree to 0.003 %.
 
+Later, on a machine about 3 x slower (the numpy reference pass of benchmarks/explicit_step.py,
+10k and 100k triangles, one thread: 0.24-0.25 us CPU per element against 0.07-0.08 on the
+machine above) and without Kratos, at load 9-12: Static 1.73-2.35 s CPU (best of 3, runs of
+the same code differ that much at this load) in 4-5-5-5-5 or 5-5-5-5-4 iterations (curved
+steps and one chord correction per step), 0.5-0.8 s on the scale of the machine above against
+Kratos's 5.55 s CPU there: 7-11 x. Wall times were 2.5-3 x the CPU times at that load.
+
 Run: python benchmarks/kratos_cantilever.py [--repeats 3]
 """
 

@@ -44,6 +44,25 @@ steps), a residual line search, chord corrections accepted on the residual, smal
 caps, more increments. ``chords=4`` with straight steps (line 2): 5-6-5-5-5 tangents, more
 solves.
 
+Where the fibrous increments above 6 come from (heavy cantilever of validation/cases, 20
+cells, 30-11-8; Peirce fibrous 7-14-11, MindlinShell(fabric) 8-12-12), measured on this machine
+(one thread, load 9-11): not the tangent (the coloured finite-difference tangent gives 26-11-9,
+7-20-10 and 8-12-12) and not line-search cuts (every step but a few of the first increment
+taken whole). The first Newton step of an increment, curved, leaves a state with residual
+ratio ~1 whose tangents then have up to 61-76 negative eigenvalues (Mindlin cantilever: 1-14):
+a step of 12 elements from the flat strip (heavy cantilever) or of 1.7 elements turning 0.02
+rad (Peirce), whose third-order remainder stretches fibres whose tension stiffness per element,
+T L_e^2 / B, is 7800 times the bending's (heavy cantilever, L_e = 7 mm), where the aluminium
+strip's membrane is 75 times (12 (L_e / t)^2). Shortening steps did worse: curved steps cut to
+a correction of at most 0.1 / 0.2 / 0.3 of the step, heavy 80-44-43 / 49-21-21 / 33-18-8,
+Peirce fibrous 9-67-23 / 8-24-53 / 7-17-27, cantilever 5-18-15-8-7 at 0.1; the first step of
+each increment cut to the lowest total potential of t = 1, 1/2, 1/4, 1/8 along its curved path:
+heavy 40-26-23, Peirce 7-50-30, cantilever 11-11-14-8-7. Without the downhill turns
+(seek_stable=False): heavy 38-18-8, Peirce 7-17-14, cantilever 5-6-4-5-4 (5 mode searches
+fewer); taking Newton's own step on the first indefinite tangent after a definite one of the
+same increment (and turning only a second one in a row): cantilever 5-6-4-5-4, elastica 4-4-4-5-5,
+heavy 38-18-8: not kept. Each line prints the mode searches (eigen-solves) of the run.
+
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
 """
@@ -172,7 +191,7 @@ def describe(name, result, wall, converged, extra="", model=None):
         its = (
             f"Newton iterations per increment {info['iterations_per_increment']}, "
             f"{counts['residual']} force + {counts['energy']} energy + {counts['tangent']} "
-            f"tangent evaluations"
+            f"tangent evaluations, {info['mode_searches']} mode searches"
         )
         if model is not None:
             its += f", = {wall / force_time(model):.0f} force evaluations' worth of time"

@@ -222,6 +222,7 @@ def _iterate(
             # quartic terms close the way off within a fraction of the push (solvers.stability).
             tangent = run.tangent(state, frames)
             modes = lowest_modes(tangent[0], negative)
+            run.info["mode_searches"] += 1
             load = equilibrium.load(frames).ravel()[index]
             if not push_descends(run, state, frames, load, modes, translation):
                 run.info["saddles_kept"].append(load_factor)
@@ -274,6 +275,7 @@ def _iterate(
             if shifted is None:
                 if modes is None:  # shift-invert with the factorisation just made
                     modes = lowest_modes(k_ff, factor.negative, factor.inverse())
+                    run.info["mode_searches"] += 1
                 shifted = downhill(
                     k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
                 )

@@ -119,7 +119,9 @@ class Static:
         quasi-static test shows), not the unstable part of the path. Arc-length path: where
         the count of negative eigenvalues grows while the load keeps its direction (a
         bifurcation, not a limit point), the next increment starts along the buckling mode
-        (up to three times per phase). Each switch is listed in ``info["branch_switches"]``.
+        (up to three times per phase). Each switch is listed in ``info["branch_switches"]``,
+        the eigen-solves of the load path (turns and saddles) counted in
+        ``info["mode_searches"]``.
         Either way a mode is followed only when a push of half an element along it lowers the
         total potential energy beyond round-off (solvers.stability.push_descends); a saddle
         that no push descends from is kept (``info["saddles_kept"]``, load path) and the next
@@ -437,6 +439,7 @@ class StaticRun:
             "shifted": [],
             "chord_corrections": 0,
             "curved_steps": 0,
+            "mode_searches": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "augmentations": [],

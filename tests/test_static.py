@@ -170,6 +170,7 @@ def test_seek_stable_leaves_the_unstable_straight_chain_for_the_buckled_one():
     # middle node sqrt(5^2 - 4^2) = 3 mm aside (N = 0 there: exact geometry).
     result = Static(increments=1).solve(_chain(-2.0, 0.0))
     assert result.info["branch_switches"]
+    assert result.info["mode_searches"] >= 1  # the saddle's modes, at least
     assert result.info["indefinite_at"] == []
     assert abs(result.positions[1, 1]) == pytest.approx(3.0, rel=1e-8)
 
