@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
 from elements.ply_friction import PlyFrictionHistory, Sliding
-from elements.ply_projection import MARGIN, Facing, closest_facing, penalty_law
+from elements.ply_projection import MARGIN, Facing, closest_facing, open_edges, penalty_law
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -99,6 +99,8 @@ class PlyContactBlock(InteractionBlock):
         self.smoothing = float(smoothing)
         self.upper_offset = np.asarray(upper_offset, dtype=float)[self.above]  # (P, 3)
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
+        # the lower face's outline, which its triangles' planes reach past (ply_projection.py)
+        self.outline = open_edges(cells)
         self.candidates = min(contact.candidates, len(cells))
         # The points' shares of their corners' penalties (elements/ply_contact.py, "Penalty"):
         # (P, s).
@@ -198,7 +200,7 @@ class PlyContactBlock(InteractionBlock):
         p, near, y = self._candidates(state)
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             return ply_curved.curved_facing(self, state, p, y, near)
-        return closest_facing(p, y, near, self.tolerance)
+        return closest_facing(p, y, near, self.tolerance, self.outline)
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
@@ -302,6 +304,11 @@ class PlyContactBlock(InteractionBlock):
                     + lam[:, m, None, None] * n[:, :, None] * grad[:, a_, None, :]
                     + lam[:, a_, None, None] * grad[:, m, :, None] * n[:, None, :]
                 )
+        # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
+        # "Search"): g = +-|p - q|, its Hessian over z given by the search.
+        if facing.hessian is not None:
+            bent = np.flatnonzero(np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4)))
+            hessian[bent] = facing.hessian[on][bent]
         outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
         points = (
             law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
