@@ -33,28 +33,27 @@ step in and out of it and Newton converges linearly (up to ~100 iterations in an
 
 Search, refreshed at every call. A cKDTree over the current centroids of the offset
 triangles gives each point ``candidates`` triangles; over them (vectorised, no loop over
-points) the barycentric projection of p. The facing triangle is, among those that hold the
-projection, the one p penetrates most (over a concave fold two do); its gap is the distance
-to its plane. When none holds it (over a convex fold, past the ply's edge or past the
-candidates), p faces the closest point q of the candidate set (on an edge or at a vertex):
-its gap is g = +-|p - q|, signed by the normal of the triangle that holds q, its normal
-(the gap's gradient in p) nu = (p - q) / g and its barycentric coordinates those of q. A
-triangle whose edge lies on the lower ply's outline (``open_edges``) reaches ``MARGIN``
-past that edge, so a point just past the outline keeps the distance to the triangle's
-plane (the extended plane carried it so before). Why the closest point: a distance to a set
-is 1-Lipschitz, so gap and force move no more than the point where the facing triangle
-changes. The nearest triangle's extended plane, used there before, jumped: measured on the
-[0/45] Mindlin plies on the hemisphere (validation/studies/hemisphere_plies.py, coarse), a
-top-ply point pressed by the holder into a wrinkle crest of the bottom ply and past both
-crest triangles' edges went from -0.45 to -2.24 mm in one step as the nearest triangle
-changed, +55.5 N mm of energy with no work (tests/test_ply_facet_switch.py). Over a convex
-fold or past a vertex the sign is the same for every triangle holding q (p - q lies in the
-cone of their normals there); at the outline it would flip where p passes the face's plane
-beside the edge, which the outline's ``MARGIN`` keeps away from the contact. Rebuilding the
-tree costs O(m log m) per call, small against the shells' forces at the sizes of a ply stack
-(measured in benchmarks/plies.py), and no cache needs a proof that it is still valid.
-Within a region where the facing triangle does not change the energy is smooth; where two
-triangles hold the projection over a concave fold the deeper one counts (a kink).
+points) the barycentric projection of p, and the point faces the nearest candidate: by the
+distance to its plane where the triangle holds the projection (the gap g the signed distance
+to that plane, n its normal, lambda the projection's coordinates), else by the distance to
+its closest point q on an edge or at a vertex (g = +-|p - q|, signed by the triangle's
+normal; n = (p - q) / g, the gap's gradient in p; lambda those of q); ties to the lowest
+triangle row. A triangle whose edge lies on the lower ply's outline (``open_edges``) reaches
+``MARGIN`` past that edge, so a point just past the outline keeps the distance to the
+triangle's plane (as the extended plane carried it before). Why: a distance to a set is
+1-Lipschitz, so the gap and the force move no more than the point where the facing triangle
+changes. Before, the point faced the deepest of the triangles holding its projection, else
+the nearest triangle's extended plane, and both jumped where the choice changed: measured on
+the [0/45] Mindlin plies on the hemisphere (validation/studies/hemisphere_plies.py, coarse), a
+top-ply point pressed by the holder into a wrinkle crest of the bottom ply and past both crest
+triangles' edges went from -0.45 to -2.24 mm in one step, +55.5 N mm of energy with no work
+(tests/test_ply_facet_switch.py). Over a convex fold or at an inner vertex the sign is the
+same for every triangle holding q (p - q lies in the cone of their normals there); past the
+outline it would flip where p passes the face's plane beside the edge, which ``MARGIN`` keeps
+out of the contact. The gap's Hessian at an edge or a vertex (``_edge_hessian``) enters the
+tangent. Rebuilding the tree costs O(m log m) per call, small against the shells' forces at
+the sizes of a ply stack (measured in benchmarks/plies.py), and no cache needs a proof that it
+is still valid. Where the facing triangle does not change the energy is smooth.
 """
 
 from __future__ import annotations
