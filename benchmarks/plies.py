@@ -26,9 +26,9 @@ pass) and with only those ``NEAR`` their flat facets: CPU and wall per call, bes
 calls each, and whether the two choose the same patches and gaps for the touching points.
 Measured (one thread, load 10.9, the hemisphere run beside it): 8 cells, 432 points x 6
 candidates, 41.4 -> 17.5 ms CPU per call; 14 cells, 1200 points, 121.2 -> 52.8 ms; the same
-touching points, patches and gaps (another run: 39.9 -> 14.3 and 104.3 -> 46.6 ms; 4 points
-not touching, at the sphere's rim where the
-blank turns flat, no patch holding their projection, face none instead of a far one).
+touching points, patches and gaps (another run: 39.9 -> 14.3 and 104.3 -> 46.6 ms); 4 points
+not touching, at the sphere's rim where the blank turns flat and no patch holds their
+projection, face none instead of a far one.
 """
 
 from __future__ import annotations
