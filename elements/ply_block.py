@@ -194,13 +194,14 @@ class PlyContactBlock(InteractionBlock):
         _, near = tree.query(p, k=self.candidates)
         return p, np.asarray(near).reshape(len(p), self.candidates), y
 
-    def facing(self, state: State) -> Facing:
+    def facing(self, state: State, second: bool = False) -> Facing:
         """Each contact point's facing triangle, gap, normal and projection at ``state``
-        (elements/ply_projection.py: the nearest of the candidates)."""
+        (elements/ply_projection.py: the nearest of the candidates), with ``second`` the gap's
+        Hessian where a point faces an edge or a vertex (flat faces)."""
         p, near, y = self._candidates(state)
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             return ply_curved.curved_facing(self, state, p, y, near)
-        return closest_facing(p, y, near, self.tolerance, self.outline)
+        return closest_facing(p, y, near, self.tolerance, self.outline, second)
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
@@ -283,9 +284,10 @@ class PlyContactBlock(InteractionBlock):
         grad phi_m n^T. Carried to the nodes by dp = sum_j N_j (du_j - c_j [d_j]x psi_j) and
         dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
         psi the director's rotation), with the geometric term of the turned offset,
-        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block.
+        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
+        faces an edge or a vertex, H is the search's (elements/ply_projection.py).
         """
-        facing = self.facing(state)
+        facing = self.facing(state, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         t = len(on)
         g = facing.gap[on]

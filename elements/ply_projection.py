@@ -137,8 +137,8 @@ class Facing:
     hessian : (P, 4, 3, 4, 3) float or None
         d2g/dz2 over z = (p, y_1, y_2, y_3), 1/mm, where the gap is to the closest point q on
         an edge or at a vertex (module docstring, "Search"; ``_edge_hessian``); zero where it
-        is to a triangle's plane (whose Hessian ``PlyContactBlock.tangent`` builds); None:
-        every gap is to a plane.
+        is to a triangle's plane (whose Hessian ``PlyContactBlock.tangent`` builds); None when
+        not asked for (``closest_facing(second=False)``) or every gap is to a plane.
     """
 
     triangle: np.ndarray
@@ -237,11 +237,11 @@ def _grown(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
     return np.einsum("...ij,...jc->...ic", grow, corners)
 
 
-def _towards_closest(p, q, normal, corners, gradients, reach):
+def _towards_closest(p, q, normal, corners, gradients, reach, second):
     """Gap, normal nu, barycentric coordinates of q and d2g/dz2 (``_edge_hessian``) of points
     p (c, 3) against their closest points q (c, 3) on an edge or at a vertex of their
     triangles (corners (c, 3, 3), gradients (c, 3, 3), unit normals (c, 3), grown by
-    ``reach`` (c, 3))."""
+    ``reach`` (c, 3)); the Hessian None unless ``second``."""
     r = p - q
     length = np.linalg.norm(r, axis=-1)
     sign = np.where(np.sum(r * normal, axis=-1) < 0.0, -1.0, 1.0)
@@ -250,6 +250,8 @@ def _towards_closest(p, q, normal, corners, gradients, reach):
     nu = np.where(tiny[:, None], normal, r / np.where(tiny, 1.0, gap)[:, None])
     weights = np.einsum("pki,pi->pk", gradients, q - corners[:, 0, :])
     weights[:, 0] += 1.0
+    if not second:
+        return gap, nu, weights, None
     return gap, nu, weights, _edge_hessian(gap, nu, weights, corners, reach, tiny)
 
 
@@ -305,6 +307,7 @@ def closest_facing(
     near: np.ndarray,
     tolerance: float,
     outline: np.ndarray | None = None,
+    second: bool = False,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -323,9 +326,12 @@ def closest_facing(
     outline : (m, 3) bool, optional
         ``open_edges`` of the lower face: a triangle reaches ``MARGIN`` past those edges.
         None: no edge is on the outline.
+    second : bool
+        Give the gap's Hessian where a point faces an edge or a vertex (``Facing.hessian``,
+        for the tangent); else None.
     """
     n, _, gradients, gap, weights = facets(p, y[near])
-    reach = np.zeros(weights.shape) if outline is None else MARGIN * outline[near].astype(float)
+    reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
     inside = (weights >= -reach - INSIDE).all(axis=-1)
     # The distance to each candidate (grown past the outline): to its plane where it holds
     # the projection, else to its closest point on an edge, computed only where it can beat
@@ -333,7 +339,11 @@ def closest_facing(
     # triangle).
     distance = np.where(inside, np.abs(gap), np.inf)
     held = distance.min(axis=1)
-    outside = np.nonzero(~inside & (np.abs(gap) < held[:, None]))
+    # a lower bound of the distance to a triangle that does not hold the projection: its
+    # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to the
+    # farthest edge line it lies past
+    past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
+    outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
     corners = _grown(y[near[outside]], reach[outside])
     q = closest_on_edges(p[outside[0]], corners)
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
@@ -346,7 +356,7 @@ def closest_facing(
     chosen_gap = gap[rows, best]
     normal = n[rows, best]
     lam = weights[rows, best]
-    hessian = np.zeros((len(p), 4, 3, 4, 3))
+    hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
     on_edge = ~inside[rows, best]
     if on_edge.any():
         # each such point's closest point among the computed ones
@@ -354,14 +364,17 @@ def closest_facing(
         where[outside] = np.arange(len(q))
         edge = np.flatnonzero(on_edge)
         at = best[edge]
-        chosen_gap[edge], normal[edge], lam[edge], hessian[edge] = _towards_closest(
+        chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
             p[edge],
             q[where[edge, at]],
             n[edge, at],
             y[near[edge, at]],
             gradients[edge, at],
             reach[edge, at],
+            second,
         )
+        if hessian is not None:
+            hessian[edge] = bend
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN)
