@@ -179,9 +179,11 @@ def facets(p: np.ndarray, corners: np.ndarray):
 def choose(
     gap: np.ndarray, weights: np.ndarray, area2: np.ndarray, deepest: bool = True
 ) -> np.ndarray:
-    """(P,) the column of each point's facing candidate (module docstring, "Search"): among
-    those whose projection lies in the triangle, the one the point penetrates most, else the
-    nearest by sqrt(g^2 + (o sqrt(2 A))^2), o the projection's overshoot past the edges.
+    """(P,) the column of each point's facing candidate on the curved faces
+    (elements/ply_curved.py; the flat faces take ``closest_facing``'s nearest): among those
+    whose projection lies in the patch, the one the point penetrates most (``deepest``) or
+    the nearest, else the nearest by sqrt(g^2 + (o sqrt(2 A))^2), o the projection's
+    overshoot past the edges.
 
     gap : (P, K) float, mm; weights : (P, K, 3) barycentric coordinates of the projections;
     area2 : (P, K) float, twice the candidates' areas, mm^2.
