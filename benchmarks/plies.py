@@ -36,6 +36,7 @@ from __future__ import annotations
 import os
 import sys
 import time
+from typing import Any
 
 import numba
 import numpy as np
@@ -110,7 +111,7 @@ def curved() -> None:
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     for cells in (8, 14):
         layup = Layup(ply, (0.0, 45.0), 200.0, cells=cells, rule="gauss", surface="curved")
-        block = layup.model().compile().interactions[0]
+        block: Any = layup.model().compile().interactions[0]
         x = layup.mesh.points.copy()
         for k, nodes in enumerate(layup.ply_nodes):
             radius = 50.0 + k * (ply.thickness - 0.1)
@@ -129,13 +130,13 @@ def curved() -> None:
                 cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
                 best = (min(best[0], cpu / 20), min(best[1], wall / 20))
             figures[every] = (best, facing)
-        every, chosen = figures[True][1], figures[False][1]
-        on = every.touching
+        full, chosen = figures[True][1], figures[False][1]
+        on = full.touching
         same = np.array_equal(on, chosen.touching) and np.array_equal(
-            every.triangle[on], chosen.triangle[on]
+            full.triangle[on], chosen.triangle[on]
         )
-        gaps = float(np.max(np.abs(every.gap[on] - chosen.gap[on]), initial=0.0))
-        apart = int(np.sum(every.triangle != chosen.triangle))
+        gaps = float(np.max(np.abs(full.gap[on] - chosen.gap[on]), initial=0.0))
+        apart = int(np.sum(full.triangle != chosen.triangle))
         for every, label in ((True, "every candidate"), (False, "near ones")):
             (cpu, wall), _ = figures[every]
             print(
