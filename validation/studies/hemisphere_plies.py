@@ -120,8 +120,12 @@ What still fails, and why this is a study:
   changing most in the step (+58 and +7 N mm), the ply contact not: at the 74.6 % stop 48
   of its 432 points touch, the deepest at -0.42 mm, one facing an edge. These runs snap at
   ~52 % of the stroke (KE / W 0.2 at the 57 % stop; the blank's nodes at (+-25, +-25) jump
-  off the punch), and where they stop after it changes with the path (on main, at safety
-  0.45 the [0/45] run reached the end): not diagnosed further.
+  off the punch), and where they stop after it changes with the path (with the earlier
+  search, at safety 0.45 the [0/45] run reached the end): not diagnosed further. Mindlin
+  [0/90] 10 N without the dashpot (107 s) stops at 85.4 % the same way (the shell block
+  +24.3 N mm in the step; no touching point facing an edge), the holder lifted 16.8 mm by
+  the flange's wrinkles (20.3 N at the stop); with the earlier search and the dashpot it
+  reached the end.
 - The holder. Its dashpot (critical damping of its mass on its contact springs, following its
   mean velocity; ``model(..., dashpot=True)``, elements/dashpot.py) held the fibrous [0/45]
   holder at 36 N for a 10 N target, lifted by the flange's wrinkles (1.3 mm). Without it,
