@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
 from elements.ply_friction import PlyFrictionHistory, Sliding
-from elements.ply_projection import MARGIN, Facing, closest_facing, penalty_law
+from elements.ply_projection import MARGIN, Facing, closest_facing, open_edges, penalty_law
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -99,6 +99,8 @@ class PlyContactBlock(InteractionBlock):
         self.smoothing = float(smoothing)
         self.upper_offset = np.asarray(upper_offset, dtype=float)[self.above]  # (P, 3)
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
+        # the lower face's outline, which its triangles' planes reach past (ply_projection.py)
+        self.outline = open_edges(cells)
         self.candidates = min(contact.candidates, len(cells))
         # The points' shares of their corners' penalties (elements/ply_contact.py, "Penalty"):
         # (P, s).
@@ -192,13 +194,14 @@ class PlyContactBlock(InteractionBlock):
         _, near = tree.query(p, k=self.candidates)
         return p, np.asarray(near).reshape(len(p), self.candidates), y
 
-    def facing(self, state: State) -> Facing:
+    def facing(self, state: State, second: bool = False) -> Facing:
         """Each contact point's facing triangle, gap, normal and projection at ``state``
-        (elements/ply_projection.py: the nearest of the candidates)."""
+        (elements/ply_projection.py: the nearest of the candidates), with ``second`` the gap's
+        Hessian where a point faces an edge or a vertex (flat faces)."""
         p, near, y = self._candidates(state)
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             return ply_curved.curved_facing(self, state, p, y, near)
-        return closest_facing(p, y, near, self.tolerance)
+        return closest_facing(p, y, near, self.tolerance, self.outline, second)
 
     # ------------------------------------------------------------------ loads
     def _pair_loads(self, state: State, facing: Facing):
@@ -281,9 +284,10 @@ class PlyContactBlock(InteractionBlock):
         grad phi_m n^T. Carried to the nodes by dp = sum_j N_j (du_j - c_j [d_j]x psi_j) and
         dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
         psi the director's rotation), with the geometric term of the turned offset,
-        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block.
+        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
+        faces an edge or a vertex, H is the search's (elements/ply_projection.py).
         """
-        facing = self.facing(state)
+        facing = self.facing(state, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         t = len(on)
         g = facing.gap[on]
@@ -302,6 +306,11 @@ class PlyContactBlock(InteractionBlock):
                     + lam[:, m, None, None] * n[:, :, None] * grad[:, a_, None, :]
                     + lam[:, a_, None, None] * grad[:, m, :, None] * n[:, None, :]
                 )
+        # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
+        # "Search"): g = +-|p - q|, its Hessian over z given by the search.
+        if facing.hessian is not None:
+            bent = np.flatnonzero(np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4)))
+            hessian[bent] = facing.hessian[on][bent]
         outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
         points = (
             law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian

@@ -60,17 +60,21 @@ towards the lower ply; the rest (search, law, friction, tangent) is the same cod
 plies' roles and the offsets' signs swapped. With its points at the lower ply's nodes
 ("vertices") the two passes hold both plies' nodes and the upper ply's interior points.
 
-Gap, energy and search (elements/ply_projection.py). Each point faces the triangle of the
-lower face that a search over the nearest ``candidates`` triangles picks, refreshed at every
-call; its gap g is its signed distance to that triangle's plane, and its energy W(g) a
-one-sided penalty whose stiffness ramps up over a penetration of ``smoothing`` (C2 at
-contact). A point counts as touching when g < 0 and its projection is within ``MARGIN`` of
-the triangle.
+Gap, energy and search (elements/ply_projection.py). Each point faces the nearest of the
+``candidates`` triangles of the lower face that a search picks, refreshed at every call: by
+the distance to the triangle's plane where the triangle holds the point's projection (its gap
+g the signed distance to that plane), else by the distance to its closest point on an edge or
+at a vertex (g = +-|p - q|, signed by the triangle's normal), a triangle on the lower ply's
+outline reaching ``MARGIN`` past it; so the gap is continuous as the point moves (a distance).
+Its energy W(g) is a one-sided penalty whose stiffness ramps up over a penetration of
+``smoothing`` (C2 at contact). A point counts as touching when g < 0 and its projection is
+within ``MARGIN`` of the triangle.
 
 The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;
 on the lower corners, dW/dy_k = -W' lambda_k n, lambda the barycentric coordinates of the
-projection of p (the surface point held by them: the derivative of the distance to the plane
-brings no other term, see ``PlyContactBlock.tangent``); through the offsets the moments
+projection of p, the surface point held by them (the derivative of the distance to the plane
+brings no other term, see ``PlyContactBlock.tangent``; where p faces an edge or a vertex, n
+is (p - q) / g and lambda those of q); through the offsets the moments
 -a_j d_j x (N_j W' n) at the upper corners and b_k d_k x (dW/dy_k) at the lower ones.
 
 Penalty: given (N/mm per upper node), or chosen when the model is compiled (``calibrate``):

@@ -28,15 +28,28 @@ __all__ = ["MARGIN_CURVED", "curved_facing", "curved_loads"]
 #: mm in a step and the contact's energy off the work of its force by 32 N mm, past the 5 %
 #: energy balance. The wedges over a fold that no patch holds are a few 1e-3 wide.
 MARGIN_CURVED = 0.05
+#: Only the candidates whose flat facet's projection lies within this many barycentric units
+#: of the facet are projected on their curved patch (and each point's nearest flat facet):
+#: a patch's curved projection is off its facet's flat one by the patch's rise over the
+#: facet (at most s^2 / (8 R)) times the tilt of its normals (~ s / (2 R)), 0.016 at the
+#: hemisphere's coarsest 25-mm cells on its 50-mm punch, so a patch that holds its curved
+#: projection is among these. Measured in benchmarks/plies.py (``--curved``).
+NEAR = 0.2
 
 
 def curved_facing(
-    block: PlyContactBlock, state: State, p: np.ndarray, y: np.ndarray, near: np.ndarray
+    block: PlyContactBlock,
+    state: State,
+    p: np.ndarray,
+    y: np.ndarray,
+    near: np.ndarray,
+    every: bool = False,
 ) -> Facing:
     """Each point's facing on the curved surface: p (P, 3) the points, y (m, 3, 3) the lower
     triangles' offset corners, mm, near (P, K) each point's candidate triangles (rows of y).
 
-    Every candidate's curved patch is projected on (from the flat facet's projection), and
+    The candidates' curved patches are projected on (from the flat facet's projection; those
+    ``NEAR`` their flat facets, or ``every`` one), and
     the patch is chosen by its curved projection (``choose``: the one holding it that the
     point penetrates most, else the nearest). Chosen by the flat facets' projections, as it
     was, a point passed from one patch to the next where its flat projection crossed the
@@ -52,15 +65,23 @@ def curved_facing(
     projection, so the least distance does not jump (the deepest did).
     """
     count, k = near.shape
-    _, area2, gradients, _, weights = facets(p, y[near])
+    _, area2, gradients, flat_gap, weights = facets(p, y[near])
     normals = ply_surface.nodal_normals(state.positions, block._own_triangles, block.n_nodes)[0]
-    rows = near.ravel()
-    lam, _, normal, gap, _, _ = ply_surface.project(
-        np.repeat(p, k, axis=0), y[rows], normals[block.cells[rows]], weights.reshape(-1, 3)
+    # the patches worth projecting on (``NEAR``), each point's nearest flat facet among them
+    chosen = np.ones((count, k), dtype=bool) if every else weights.min(axis=-1) >= -NEAR
+    chosen[np.arange(count), choose(flat_gap, weights, area2)] = True
+    at_point, column = np.nonzero(chosen)
+    rows = near[at_point, column]
+    found, _, found_normal, found_gap, _, _ = ply_surface.project(
+        p[at_point], y[rows], normals[block.cells[rows]], weights[at_point, column]
     )
-    lam, gap = lam.reshape(count, k, 3), gap.reshape(count, k)
-    # a candidate's patch whose projection did not converge (far past its edges, where the
-    # quadratic patch folds) is out of the choice
+    lam = np.full((count, k, 3), np.nan)
+    gap = np.full((count, k), np.nan)
+    normal = np.zeros((count, k, 3))
+    lam[at_point, column], gap[at_point, column] = found, found_gap
+    normal[at_point, column] = found_normal
+    # a candidate's patch not projected on, or whose projection did not converge (far past
+    # its edges, where the quadratic patch folds), is out of the choice
     bad = ~(np.isfinite(gap) & np.isfinite(lam).all(axis=-1))
     gap = np.where(bad, np.inf, gap)
     lam = np.where(bad[..., None], -np.inf, lam)
@@ -71,7 +92,7 @@ def curved_facing(
     return Facing(
         triangle=near[at, best],
         gap=gap,
-        normal=normal.reshape(count, k, 3)[at, best],
+        normal=normal[at, best],
         weights=lam,
         gradients=gradients[at, best],
         touching=(gap <= block.tolerance) & (overshoot <= MARGIN_CURVED),

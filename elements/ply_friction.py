@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_surface
+from elements.ply_projection import triangle_frames
 from femcore.assembly import CellTangent
 from femcore.rotation import cross_matrix
 from femcore.state import State
@@ -173,14 +174,25 @@ def friction_tangent(
     k = block.stiffness[on]
     eye = np.eye(3)
     across = eye - n[:, :, None] * n[:, None, :]
-    ds = np.zeros((t, 3, 7, 3))
-    ds[:, :, 0, :] = across
-    normal_r = np.sum(n * r, axis=1)
+    # dn/dz over z = (p, y_f1..3): -grad phi_m n^T on the facing corners of a plane; a point
+    # facing the closest point of an edge or a vertex (elements/ply_projection.py) turns its
+    # n = dg/dp with p and the corners as the gap's Hessian says.
+    turning = np.zeros((t, 4, 3, 3))
     for m in range(3):
-        along = np.sum(r * grad[:, m], axis=1)
-        ds[:, :, 1 + m, :] = (normal_r[:, None] * grad[:, m] + along[:, None] * n)[:, :, None] * n[
-            :, None, :
-        ]
+        turning[:, 1 + m] = -grad[:, m, :, None] * n[:, None, :]
+    if facing.hessian is not None:
+        bent = np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4))
+        turning[bent] = np.swapaxes(facing.hessian[on][bent][:, 0], 1, 2)
+    # s = (I - n n^T) r: ds = (I - n n^T) dr - (n . r) dn - n (r . dn)
+    ds = np.zeros((t, 3, 7, 3))
+    normal_r = np.sum(n * r, axis=1)
+    for w in range(4):
+        ds[:, :, w, :] = (
+            -normal_r[:, None, None] * turning[:, w]
+            - n[:, :, None] * np.einsum("ti,tij->tj", r, turning[:, w])[:, None, :]
+        )
+    ds[:, :, 0, :] += across
+    for m in range(3):
         ds[:, :, 4 + m, :] = -big[:, m, None, None] * across
     length = np.linalg.norm(s, axis=1)
     unit = s / np.where(length > 0, length, 1.0)[:, None]
@@ -277,7 +289,17 @@ def updated_history(
     # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
     # (its in-plane gradients drop the normal part of q - p).
     target = -sliding.offset + slid[:, None] * unit  # q - p
-    moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, target)
+    # Re-expressed from the facing triangle's closest point p - g n, and brought into its
+    # plane along n, not along the plane's own normal m: a point facing an edge or a vertex
+    # (elements/ply_projection.py) has n != m, and s, across n, must keep its new length
+    # (on a plane n = m and the correction vanishes).
+    _, y = block._faces(state)
+    plane = triangle_frames(y[facing.triangle])[0]
+    w = target + facing.gap[:, None] * facing.normal
+    tilt = np.sum(plane * facing.normal, axis=1)
+    along = np.where(tilt > 0.1, np.sum(plane * w, axis=1) / np.where(tilt > 0.1, tilt, 1.0), 0.0)
+    w = w - along[:, None] * facing.normal
+    moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, w)
     if block.curved:  # the moved anchor projected on the curved face, where it is measured
         _, y = block._faces(state)
         normals = block.surface_normals(state)[block.cells[facing.triangle]]

@@ -33,15 +33,27 @@ step in and out of it and Newton converges linearly (up to ~100 iterations in an
 
 Search, refreshed at every call. A cKDTree over the current centroids of the offset
 triangles gives each point ``candidates`` triangles; over them (vectorised, no loop over
-points) the barycentric projection of p and the approximate distance to the triangle
-sqrt(g^2 + (o sqrt(2 A))^2), o = max(0, -min lambda) the projection's overshoot past the
-triangle's edges; the facing triangle is, among those that hold the projection, the one p
-penetrates most (over a concave fold two do), and when none holds it (over a convex fold, or
-past the ply's edge) the nearest. Rebuilding the tree costs O(m log m) per call, small against
-the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and no cache
-needs a proof that it is still valid. Within a region where the facing triangle does not
-change the energy is smooth; where a point passes from one triangle to the next the plane
-changes and the energy jumps by O(k g^2 phi^2), phi the angle between the two facets.
+points) the barycentric projection of p, and the point faces the nearest candidate: by the
+distance to its plane where the triangle holds the projection (the gap g the signed distance
+to that plane, n its normal, lambda the projection's coordinates), else by the distance to
+its closest point q on an edge or at a vertex (g = +-|p - q|, signed by the triangle's
+normal; n = (p - q) / g, the gap's gradient in p; lambda those of q); ties to the lowest
+triangle row. A triangle whose edge lies on the lower ply's outline (``open_edges``) reaches
+``MARGIN`` past that edge, so a point just past the outline keeps the distance to the
+triangle's plane (as the extended plane carried it before). Why: a distance to a set is
+1-Lipschitz, so the gap and the force move no more than the point where the facing triangle
+changes. Before, the point faced the deepest of the triangles holding its projection, else
+the nearest triangle's extended plane, and both jumped where the choice changed: measured on
+the [0/45] Mindlin plies on the hemisphere (validation/studies/hemisphere_plies.py, coarse), a
+top-ply point pressed by the holder into a wrinkle crest of the bottom ply and past both crest
+triangles' edges went from -0.45 to -2.24 mm in one step, +55.5 N mm of energy with no work
+(tests/test_ply_facet_switch.py). Over a convex fold or at an inner vertex the sign is the
+same for every triangle holding q (p - q lies in the cone of their normals there); past the
+outline it would flip where p passes the face's plane beside the edge, which ``MARGIN`` keeps
+out of the contact. The gap's Hessian at an edge or a vertex (``_edge_hessian``) enters the
+tangent. Rebuilding the tree costs O(m log m) per call, small against the shells' forces at
+the sizes of a ply stack (measured in benchmarks/plies.py), and no cache needs a proof that it
+is still valid. Where the facing triangle does not change the energy is smooth.
 """
 
 from __future__ import annotations
@@ -56,6 +68,8 @@ __all__ = [
     "Facing",
     "choose",
     "closest_facing",
+    "closest_on_edges",
+    "open_edges",
     "facets",
     "penalty_law",
     "triangle_frames",
@@ -120,6 +134,11 @@ class Facing:
         ``MARGIN`` of the triangle.
     face : (P, 3) float
         The contact points p = sum_j N_j (x_j - a_j d_j), mm.
+    hessian : (P, 4, 3, 4, 3) float or None
+        d2g/dz2 over z = (p, y_1, y_2, y_3), 1/mm, where the gap is to the closest point q on
+        an edge or at a vertex (module docstring, "Search"; ``_edge_hessian``); zero where it
+        is to a triangle's plane (whose Hessian ``PlyContactBlock.tangent`` builds); None when
+        not asked for (``closest_facing(second=False)``) or every gap is to a plane.
     """
 
     triangle: np.ndarray
@@ -129,6 +148,7 @@ class Facing:
     gradients: np.ndarray
     touching: np.ndarray
     face: np.ndarray
+    hessian: np.ndarray | None = None
 
 
 def triangle_frames(corners: np.ndarray):
@@ -159,9 +179,11 @@ def facets(p: np.ndarray, corners: np.ndarray):
 def choose(
     gap: np.ndarray, weights: np.ndarray, area2: np.ndarray, deepest: bool = True
 ) -> np.ndarray:
-    """(P,) the column of each point's facing candidate (module docstring, "Search"): among
-    those whose projection lies in the triangle, the one the point penetrates most, else the
-    nearest by sqrt(g^2 + (o sqrt(2 A))^2), o the projection's overshoot past the edges.
+    """(P,) the column of each point's facing candidate on the curved faces
+    (elements/ply_curved.py; the flat faces take ``closest_facing``'s nearest): among those
+    whose projection lies in the patch, the one the point penetrates most (``deepest``) or
+    the nearest, else the nearest by sqrt(g^2 + (o sqrt(2 A))^2), o the projection's
+    overshoot past the edges.
 
     gap : (P, K) float, mm; weights : (P, K, 3) barycentric coordinates of the projections;
     area2 : (P, K) float, twice the candidates' areas, mm^2.
@@ -181,10 +203,117 @@ def choose(
     )
 
 
-def closest_facing(p: np.ndarray, y: np.ndarray, near: np.ndarray, tolerance: float) -> Facing:
+def open_edges(cells: np.ndarray) -> np.ndarray:
+    """(m, 3) bool: the edge of each triangle opposite its corner k lies on the outline of the
+    mesh ``cells`` (m, 3) (no other triangle of ``cells`` shares it)."""
+    cells = np.asarray(cells)
+    ends = np.stack([cells[:, [1, 2]], cells[:, [2, 0]], cells[:, [0, 1]]], axis=1)  # (m, 3, 2)
+    keys = np.sort(ends, axis=-1).reshape(-1, 2)
+    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    return (counts[inverse.ravel()] == 1).reshape(len(cells), 3)
+
+
+def closest_on_edges(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """(c, 3) the closest point to p (c, 3) on the edges of the triangle with corners
+    (c, 3, 3), mm: the nearest of the three edges' closest points (each a segment clamped to
+    its ends). It is the triangle's closest point where its plane's projection of p lies
+    outside it."""
+    best = np.zeros_like(p)
+    distance = np.full(len(p), np.inf)
+    for a, b in ((1, 2), (2, 0), (0, 1)):
+        start, edge = corners[:, a, :], corners[:, b, :] - corners[:, a, :]
+        t = np.einsum("ci,ci->c", p - start, edge) / np.einsum("ci,ci->c", edge, edge)
+        on_edge = start + np.clip(t, 0.0, 1.0)[:, None] * edge
+        r = p - on_edge
+        length = np.einsum("ci,ci->c", r, r)
+        nearer = length < distance
+        best[nearer] = on_edge[nearer]
+        distance[nearer] = length[nearer]
+    return best
+
+
+def _grown(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """Corners (..., 3, 3) of triangles grown by ``reach`` (..., 3) barycentric units past the
+    edges opposite each corner: corner i of the grown one at lambda_j = -reach_j (j != i)."""
+    grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[..., None, None] - reach[..., None, :]
+    return np.einsum("...ij,...jc->...ic", grow, corners)
+
+
+def _towards_closest(p, q, normal, corners, gradients, reach, second):
+    """Gap, normal nu, barycentric coordinates of q and d2g/dz2 (``_edge_hessian``) of points
+    p (c, 3) against their closest points q (c, 3) on an edge or at a vertex of their
+    triangles (corners (c, 3, 3), gradients (c, 3, 3), unit normals (c, 3), grown by
+    ``reach`` (c, 3)); the Hessian None unless ``second``."""
+    r = p - q
+    length = np.linalg.norm(r, axis=-1)
+    sign = np.where(np.sum(r * normal, axis=-1) < 0.0, -1.0, 1.0)
+    gap = sign * length
+    tiny = length <= 1e-12 * (1.0 + np.linalg.norm(p, axis=-1))
+    nu = np.where(tiny[:, None], normal, r / np.where(tiny, 1.0, gap)[:, None])
+    weights = np.einsum("pki,pi->pk", gradients, q - corners[:, 0, :])
+    weights[:, 0] += 1.0
+    if not second:
+        return gap, nu, weights, None
+    return gap, nu, weights, _edge_hessian(gap, nu, weights, corners, reach, tiny)
+
+
+def _edge_hessian(gap, nu, weights, corners, reach, tiny):
+    """d2g/dz2 (c, 4, 3, 4, 3), 1/mm, over z = (p, y_1, y_2, y_3) of g = +-|p - q|, q the
+    closest point at a corner G_i y of the grown triangle (``_grown``'s rows G) or on its
+    edge from u = G_a y to v = G_b y. At a corner, a a^T (x) (I - nu nu^T) / g with
+    a = (1, -lambda), lambda the barycentric coordinates of q; on an edge e = v - u (unit e^,
+    length L) q slides along it, and minimising over its parameter gives, with
+    m = (0, G_b - G_a),
+
+        (1/g) a a^T (x) (I - nu nu^T - e^ e^T) - (1/L) (a m^T (x) e^ nu^T + m a^T (x) nu e^T)
+        - (g / L^2) m m^T (x) nu nu^T.
+    """
+    count = len(gap)
+    at_bound = weights <= -reach + 1e-9
+    on_edge = at_bound.sum(axis=1) == 1
+    ends = np.argsort(at_bound, axis=1, kind="stable")[:, :2]  # the two corners off the bound
+    grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[:, None, None] - reach[:, None, :]
+    rows = np.arange(count)
+    a = np.concatenate([np.ones((count, 1)), -weights], axis=1)  # (c, 4)
+    m = np.zeros((count, 4))
+    m[:, 1:] = grow[rows, ends[:, 1]] - grow[rows, ends[:, 0]]
+    e = np.einsum("ck,cki->ci", m[:, 1:], corners)
+    length = np.linalg.norm(e, axis=1)
+    unit = e / length[:, None]
+    safe = np.where(tiny, 1.0, gap)
+    nn = nu[:, :, None] * nu[:, None, :]
+    across = (
+        np.eye(3) - nn - np.where(on_edge[:, None, None], unit[:, :, None] * unit[:, None, :], 0.0)
+    )
+
+    def outer(left, right, block):  # (c, 4, 3, 4, 3): left_z right_w block_ij
+        return (
+            left[:, :, None, None, None]
+            * right[:, None, None, :, None]
+            * block[:, None, :, None, :]
+        )
+
+    hessian = outer(a, a, across / safe[:, None, None])
+    slide = np.where(on_edge, 1.0, 0.0)
+    en = unit[:, :, None] * nu[:, None, :]
+    hessian -= (slide / length)[:, None, None, None, None] * (
+        outer(a, m, en) + outer(m, a, np.swapaxes(en, 1, 2))
+    )
+    hessian -= (slide * gap / length**2)[:, None, None, None, None] * outer(m, m, nn)
+    return np.where(tiny[:, None, None, None, None], 0.0, hessian)
+
+
+def closest_facing(
+    p: np.ndarray,
+    y: np.ndarray,
+    near: np.ndarray,
+    tolerance: float,
+    outline: np.ndarray | None = None,
+    second: bool = False,
+) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
-    penetrates most, else the nearest).
+    penetrates most, else the closest point of the candidates).
 
     Parameters
     ----------
@@ -196,19 +325,68 @@ def closest_facing(p: np.ndarray, y: np.ndarray, near: np.ndarray, tolerance: fl
         Each point's candidate triangles (rows of ``y``).
     tolerance : float
         The gap (mm) at or below which a point counts as touching.
+    outline : (m, 3) bool, optional
+        ``open_edges`` of the lower face: a triangle reaches ``MARGIN`` past those edges.
+        None: no edge is on the outline.
+    second : bool
+        Give the gap's Hessian where a point faces an edge or a vertex (``Facing.hessian``,
+        for the tangent); else None.
     """
-    n, area2, gradients, gap, weights = facets(p, y[near])
-    best = choose(gap, weights, area2)
+    n, _, gradients, gap, weights = facets(p, y[near])
+    reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
+    inside = (weights >= -reach - INSIDE).all(axis=-1)
+    # The distance to each candidate (grown past the outline): to its plane where it holds
+    # the projection, else to its closest point on an edge, computed only where it can beat
+    # the nearest plane that holds one (the distance to a plane is at most that to the
+    # triangle).
+    distance = np.where(inside, np.abs(gap), np.inf)
+    held = distance.min(axis=1)
+    # a lower bound of the distance to a triangle that does not hold the projection: its
+    # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to the
+    # farthest edge line it lies past
+    past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
+    outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
+    corners = _grown(y[near[outside]], reach[outside])
+    q = closest_on_edges(p[outside[0]], corners)
+    distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
+    # ties (a closest point on an edge or a vertex that several candidates share) go to the
+    # lowest triangle row, whatever the round-off: the same choice in any frame
+    least = distance.min(axis=1, keepdims=True)
+    tied = distance <= least + 1e-9 * (1.0 + least)
+    best = np.argmin(np.where(tied, near, np.iinfo(np.int64).max), axis=1)
     rows = np.arange(len(p))
     chosen_gap = gap[rows, best]
+    normal = n[rows, best]
+    lam = weights[rows, best]
+    hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
+    on_edge = ~inside[rows, best]
+    if on_edge.any():
+        # each such point's closest point among the computed ones
+        where = np.full(inside.shape, -1)
+        where[outside] = np.arange(len(q))
+        edge = np.flatnonzero(on_edge)
+        at = best[edge]
+        chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
+            p[edge],
+            q[where[edge, at]],
+            n[edge, at],
+            y[near[edge, at]],
+            gradients[edge, at],
+            reach[edge, at],
+            second,
+        )
+        if hessian is not None:
+            hessian[edge] = bend
+    # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN)
     return Facing(
         triangle=near[rows, best],
         gap=chosen_gap,
-        normal=n[rows, best],
-        weights=weights[rows, best],
+        normal=normal,
+        weights=lam,
         gradients=gradients[rows, best],
         touching=touching,
         face=p,
+        hessian=hessian,
     )

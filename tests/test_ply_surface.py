@@ -176,3 +176,22 @@ def test_the_curved_face_does_not_reach_far_past_a_plys_edge():
         past = np.maximum(0.0, -facing.weights.min(axis=1)) > 0.1
         assert past.any()
         assert np.all(facing.touching[past] == touching), surface
+
+
+@pytest.mark.parametrize("cells", [3, 6])
+def test_projecting_only_the_near_patches_chooses_as_projecting_every_candidate(cells):
+    """The curved facing projects only the candidates whose flat projection lies within
+    ``NEAR`` of their facet (elements/ply_curved.py): on the [0/45] pair on the punch's
+    sphere at 23- and 12-mm cells (the coarse hemisphere's are 25 mm), jittered by 0.05 mm,
+    it picks the same patch with the same gap (to 1e-12 mm) as projecting every candidate,
+    the reference."""
+    from elements import ply_curved
+
+    layup, contact = _contact(cells, 70.0, "curved")
+    state = _on_sphere(layup, 0.1, jitter=0.05)
+    p, near, y = contact._candidates(state)
+    every = ply_curved.curved_facing(contact, state, p, y, near, every=True)
+    facing = contact.facing(state)
+    assert facing.touching.sum() >= 5 * cells
+    np.testing.assert_array_equal(facing.triangle, every.triangle)
+    np.testing.assert_allclose(facing.gap, every.gap, atol=1e-12)
