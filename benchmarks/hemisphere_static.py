@@ -86,15 +86,22 @@ from elements import RigidSurface  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from solvers import CentralDifference, ConvergenceError, Static  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
-from validation.specimens import holder_ring  # noqa: E402
+from validation.specimens import hemisphere_die, holder_ring  # noqa: E402
 
 __all__ = ["held_blank", "main", "net_shear", "shear_error"]
 
 
-def held_blank(cells: int, kinematics: str, holder: bool = True) -> tuple[Mesh, Model]:
+def held_blank(
+    cells: int, kinematics: str, holder: bool = True, smooth: bool = False
+) -> tuple[Mesh, Model]:
     """The case's model (without its force-driven holder) with the fixed blank holder of the
-    module docstring (without any holder when not ``holder``)."""
+    module docstring (without any holder when not ``holder``); ``smooth``: the die's facets
+    smoothed (``RigidSurface(smooth=True)``, elements/tool_smoothing.py)."""
     mesh, model = case.model(cells, kinematics, holder_force=0.0)
+    if smooth:  # the case's die (its first contact), the same facets smoothed
+        model.interactions[0].tool = RigidSurface(
+            hemisphere_die(case.DIE, 1.7 * case.HALF, rings=48), smooth=True
+        )
     if not holder:
         return mesh, model
     ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)
