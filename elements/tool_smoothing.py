@@ -98,7 +98,7 @@ def facet_rings(triangles: np.ndarray) -> np.ndarray:
     order = np.argsort(vertex, kind="stable")
     vertex, owner = vertex[order], owner[order]
     starts = np.searchsorted(vertex, np.arange(vertex.max() + 2))
-    rings = [set() for _ in range(f)]
+    rings: list[set[int]] = [set() for _ in range(f)]
     for facet, corners in enumerate(triangles):
         for v in corners:
             rings[facet].update(owner[starts[v] : starts[v + 1]].tolist())

@@ -2,9 +2,10 @@
 elements/tool_smoothing.py): on the concave side of a faceted curved tool the closest-point
 normal jumps by the dihedral angle where a node's closest facet changes, and a node pressed
 there lies on a kink of the contact force that Static's Newton cannot converge on; the
-normal of the Phong surface over the facets turns with the curved tool. References: the analytic sphere and
-cylinder the facets approximate (their normals and, for a node pressed into a trough, the
-equilibrium on the analytic RigidCylinder), within the facets' chordal sag."""
+normal of the Phong surface over the facets turns with the curved tool. References: the
+analytic sphere and cylinder the facets approximate (their normals and, for a node pressed
+into a trough, the equilibrium on the analytic RigidCylinder), within the facets' chordal
+sag."""
 
 import numpy as np
 import pytest
