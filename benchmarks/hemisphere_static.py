@@ -73,8 +73,24 @@ Newton step crossing a sharp convex edge, and the frozen bilateral spring pullin
 that has left the tool there) and on the pinched flange (nodes at zero gap on both tools
 entering the frozen sets one by one); not measured on the 0.7-0.8 increment of the record.
 The facets' own kinks (the closest-point normal jumps by 1.9 deg inside the bowl and 1.3-1.9
-deg at the faceted rim, elements/tool_smoothing.py) are smoothed in the bowl by ``--smooth``;
-whether that changes the run was not measured to the end.
+deg at the faceted rim, elements/tool_smoothing.py) are smoothed in the bowl by ``--smooth``.
+
+The next increment, 0.6 -> 0.7, shows the first cause of those wild first steps: the punch is
+placed at the increment's load factor from the first iteration, 7.8 mm inside 57 blank nodes
+(its smooth stroke moves it up to 9.2 mm per tenth, 30 blank thicknesses); the pole node's
+residual is 433 N and the first Newton step threw 36 nodes up to 18.9 mm into the punch (their
+frozen punch springs then pull them out). Smoothed die, no following: after 40 iterations of
+that increment the ratio was still 0.97 (|r| about 300 N on the wall nodes between punch and
+die) and the run was stopped. Smoothed die with ``Static(follow_tools=True)`` (the nodes on the
+punch start the increment carried by its motion), resumed from the same converged state at
+0.6: 0.6 -> 0.7 converged (196 residual evaluations, 49 s CPU with the start-up), the
+record's failing increment 0.7 -> 0.8 was cut once and then converged in two halves (0.75 at
+195 s CPU, 0.8 at 248 s; 415 residual evaluations, 3 wrong contact sets, each a flange node
+under the holder), past the 0.798 where the plain run stops; the residual left after the
+first iterations lay on flange nodes under the holder (r = 62-116 mm, 0.1-2 N). Load 9-11 on
+the 2 cores. Not yet run: the whole drape with ``follow_tools`` from the start, its end
+(0.8 -> 1.0 was still running), the rms against the net, and the plain die with following
+(whether the smoothing is needed at all).
 
 The Mindlin blank (ElasticShell.equivalent) with the same holder at c = 300 converges (4-154
 iterations per increment, 9 cuts, 34 s, 0.25 % dissipated, no step shifted), but only 7 cells
