@@ -94,10 +94,9 @@ to the end: 0.6 -> 1.0 converged, Newton iterations per increment 94, 135, 96, 1
 net 2.18 deg over 158 cells in the die (the case's coarse tolerance 3.7), the dashpots
 dissipated 14.9 N mm, 2.0 % of the strain energy (758 N mm), the blank's highest node 0.165
 mm above the die's plane. That path was mixed: the plain die without following to 0.55, the
-smoothed die without following to 0.6, both with following from there. Not yet run: the
-whole drape with ``--smooth`` and ``follow_tools`` from the start (the benchmark has no switch
-for follow_tools yet), the plain die with following (whether the smoothing is needed at all),
-20 cells.
+smoothed die without following to 0.6, the smoothed die with following from there. Not yet run: the
+whole drape with ``--smooth --follow-tools`` from the start, the plain die with following
+(whether the smoothing is needed at all), 20 cells.
 
 The Mindlin blank (ElasticShell.equivalent) with the same holder at c = 300 converges (4-154
 iterations per increment, 9 cuts, 34 s, 0.25 % dissipated, no step shifted), but only 7 cells
@@ -115,7 +114,7 @@ had 7-34 negative eigenvalues (175 of 473 factorisations), the flange's hoop com
 The holder is what makes the quasi-static drape a forming run.
 
 Run: python benchmarks/hemisphere_static.py [--cells 8] [--increments 10] [--stabilise 300]
-[--kinematics fibrous] [--skip-explicit] [--no-holder] [--smooth]
+[--kinematics fibrous] [--skip-explicit] [--no-holder] [--smooth] [--follow-tools]
 """
 
 from __future__ import annotations
@@ -191,6 +190,11 @@ def main() -> None:
     parser.add_argument("--skip-explicit", action="store_true")
     parser.add_argument("--no-holder", action="store_true")
     parser.add_argument("--smooth", action="store_true", help="the die's facets smoothed")
+    parser.add_argument(
+        "--follow-tools",
+        action="store_true",
+        help="Static(follow_tools=True): nodes on the punch carried",
+    )
     args = parser.parse_args()
     holder = not args.no_holder
     mesh, model = held_blank(args.cells, args.kinematics, holder, args.smooth)
@@ -206,7 +210,12 @@ def main() -> None:
           f"{args.kinematics}; reference pass (one internal-force evaluation) "
           f"{reference * 1e3:.2f} ms")  # fmt: skip
 
-    solver = Static(increments=args.increments, stabilise=args.stabilise, progress=False)
+    solver = Static(
+        increments=args.increments,
+        stabilise=args.stabilise,
+        follow_tools=args.follow_tools,
+        progress=False,
+    )
     start, cpu = time.perf_counter(), time.process_time()
     try:
         result = solver.solve(held_blank(args.cells, args.kinematics, holder, args.smooth)[1])
