@@ -50,6 +50,54 @@ the increment (d lambda = 3.9e-4), where each dashpot is 256 times stiffer than 
 increment: the failure is not a step too long for Newton. What it is was not measured further
 (a contact event on the meshed die or holder is the suspect the fallback count points at).
 
+Where that 16-cell run struggles, instrumented (one increment, not the 0.7-0.8 one: this
+machine at load 7-11 ran the c = 1200 run from scratch to 0.5 in about 5 min of CPU, numba's
+compilation included, then cut the 0.5-0.6 increment and took 0.5-0.55 in 20 min wall; it
+was stopped there). The increment
+0.55 -> 0.6, resumed from that state with the die smoothed (``--smooth``; the effects below
+are at the die's sharp rim and on the flat flange, where the smoothing changes nothing):
+the first iterate has the pole node pressed 251 N by the punch placed at 0.6; the first
+Newton step then moves the four blank nodes on the symmetry axes at the rim (r = 53.26 mm,
+on the flange) 7.2 mm inwards, straight over the die's rim, to r = 46.1 mm, 1.41 mm into the
+punch; their contact with the die, frozen "on" at the increment's start, is a bilateral
+spring, which now pulls them back towards the rim corner 4.5 mm away (|r| 235-314 N there).
+For the next ~20 iterations these four nodes carry the largest residual and wander round
+the rim corner (r = 48.0-49.2 mm, z = -0.9 to +1.5 mm; ratio 0.98-0.99); then they settle
+0.3 mm above the rim, the ratio falls to 0.11-0.4, and the largest residual moves to flange
+nodes under the holder (r = 74-116 mm, 0.2-1 N), which join the frozen sets a few at a
+time (17 growths, 74 node entries, penetrations 2e-8 to 0.13 mm at zero clearance between
+holder and die), each growth restarting the watchdog line search; the attempt ran into the
+50-iteration limit and the fall-back to the unilateral law began again with the rim nodes
+thrown to r = 46.1 mm (|r| 109-124 N). So the events are at the die's rim (a straight
+Newton step crossing a sharp convex edge, and the frozen bilateral spring pulling back a node
+that has left the tool there) and on the pinched flange (nodes at zero gap on both tools
+entering the frozen sets one by one); not measured on the 0.7-0.8 increment of the record.
+The facets' own kinks (the closest-point normal jumps by 1.9 deg inside the bowl and 1.3-1.9
+deg at the faceted rim, elements/tool_smoothing.py) are smoothed in the bowl by ``--smooth``.
+
+The next increment, 0.6 -> 0.7, shows the first cause of those wild first steps: the punch is
+placed at the increment's load factor from the first iteration, 7.8 mm inside 57 blank nodes
+(its smooth stroke moves it up to 9.2 mm per tenth, 30 blank thicknesses); the pole node's
+residual is 433 N and the first Newton step threw 36 nodes up to 18.9 mm into the punch (their
+frozen punch springs then pull them out). Smoothed die, no following: after 40 iterations of
+that increment the ratio was still 0.97 (|r| about 300 N on the wall nodes between punch and
+die) and the run was stopped. Smoothed die with ``Static(follow_tools=True)`` (the nodes on the
+punch start the increment carried by its motion), resumed from the same converged state at
+0.6: 0.6 -> 0.7 converged (196 residual evaluations, 49 s CPU with the start-up), the
+record's failing increment 0.7 -> 0.8 was cut once and then converged in two halves (0.75 at
+195 s CPU, 0.8 at 248 s; 415 residual evaluations, 3 wrong contact sets, each a flange node
+under the holder), past the 0.798 where the plain run stops; the residual left after the
+first iterations lay on flange nodes under the holder (r = 62-116 mm, 0.1-2 N). It went on
+to the end: 0.6 -> 1.0 converged, Newton iterations per increment 94, 135, 96, 16, 3 cuts
+(their attempts 254 iterations), 12 contact-set updates, 7 fall-backs to the unilateral law,
+227 steps on a shifted tangent, 333 s CPU (1111 s wall, load 5-11). At 1.0: rms of shear -
+net 2.18 deg over 158 cells in the die (the case's coarse tolerance 3.7), the dashpots
+dissipated 14.9 N mm, 2.0 % of the strain energy (758 N mm), the blank's highest node 0.165
+mm above the die's plane. That path was mixed: the plain die without following to 0.55, the
+smoothed die without following to 0.6, the smoothed die with following from there. Not yet run: the
+whole drape with ``--smooth --follow-tools`` from the start, the plain die with following
+(whether the smoothing is needed at all), 20 cells.
+
 The Mindlin blank (ElasticShell.equivalent) with the same holder at c = 300 converges (4-154
 iterations per increment, 9 cuts, 34 s, 0.25 % dissipated, no step shifted), but only 7 cells
 end on the bowl (rms 6.4 deg, punch force 264 N: its soft membrane; the case's Mindlin check
@@ -66,7 +114,7 @@ had 7-34 negative eigenvalues (175 of 473 factorisations), the flange's hoop com
 The holder is what makes the quasi-static drape a forming run.
 
 Run: python benchmarks/hemisphere_static.py [--cells 8] [--increments 10] [--stabilise 300]
-[--kinematics fibrous] [--skip-explicit]
+[--kinematics fibrous] [--skip-explicit] [--no-holder] [--smooth] [--follow-tools]
 """
 
 from __future__ import annotations
@@ -86,15 +134,22 @@ from elements import RigidSurface  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from solvers import CentralDifference, ConvergenceError, Static  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
-from validation.specimens import holder_ring  # noqa: E402
+from validation.specimens import hemisphere_die, holder_ring  # noqa: E402
 
 __all__ = ["held_blank", "main", "net_shear", "shear_error"]
 
 
-def held_blank(cells: int, kinematics: str, holder: bool = True) -> tuple[Mesh, Model]:
+def held_blank(
+    cells: int, kinematics: str, holder: bool = True, smooth: bool = False
+) -> tuple[Mesh, Model]:
     """The case's model (without its force-driven holder) with the fixed blank holder of the
-    module docstring (without any holder when not ``holder``)."""
+    module docstring (without any holder when not ``holder``); ``smooth``: the die's facets
+    smoothed (``RigidSurface(smooth=True)``, elements/tool_smoothing.py)."""
     mesh, model = case.model(cells, kinematics, holder_force=0.0)
+    if smooth:  # the case's die (its first contact), the same facets smoothed
+        model.interactions[0].tool = RigidSurface(
+            hemisphere_die(case.DIE, 1.7 * case.HALF, rings=48), smooth=True
+        )
     if not holder:
         return mesh, model
     ring = holder_ring(case.DIE + 2.0, 1.7 * case.HALF, 0.5 * np.pi * case.DIE / 12.0)
@@ -134,9 +189,15 @@ def main() -> None:
     parser.add_argument("--kinematics", default="fibrous", choices=("fibrous", "mindlin"))
     parser.add_argument("--skip-explicit", action="store_true")
     parser.add_argument("--no-holder", action="store_true")
+    parser.add_argument("--smooth", action="store_true", help="the die's facets smoothed")
+    parser.add_argument(
+        "--follow-tools",
+        action="store_true",
+        help="Static(follow_tools=True): nodes on the punch carried",
+    )
     args = parser.parse_args()
     holder = not args.no_holder
-    mesh, model = held_blank(args.cells, args.kinematics, holder)
+    mesh, model = held_blank(args.cells, args.kinematics, holder, args.smooth)
     compiled = model.compile()
     state = compiled.initial_state()
     compiled.internal_force(state)  # compiles the kernels
@@ -149,10 +210,15 @@ def main() -> None:
           f"{args.kinematics}; reference pass (one internal-force evaluation) "
           f"{reference * 1e3:.2f} ms")  # fmt: skip
 
-    solver = Static(increments=args.increments, stabilise=args.stabilise, progress=False)
+    solver = Static(
+        increments=args.increments,
+        stabilise=args.stabilise,
+        follow_tools=args.follow_tools,
+        progress=False,
+    )
     start, cpu = time.perf_counter(), time.process_time()
     try:
-        result = solver.solve(held_blank(args.cells, args.kinematics, holder)[1])
+        result = solver.solve(held_blank(args.cells, args.kinematics, holder, args.smooth)[1])
         status = "converged"
     except ConvergenceError as error:
         result, status = error.result, f"stopped at load factor {error.load_factor:.3g}"
@@ -182,7 +248,7 @@ def main() -> None:
 
     explicit = CentralDifference(duration=case.DURATION, damping=case.DAMPING, progress=False)
     start = time.perf_counter()
-    run = explicit.solve(held_blank(args.cells, args.kinematics, holder)[1])
+    run = explicit.solve(held_blank(args.cells, args.kinematics, holder, args.smooth)[1])
     wall = time.perf_counter() - start
     rms_explicit, in_die_explicit, explicit_shear = shear_error(mesh, run.positions, net)
     both = in_die & in_die_explicit

@@ -572,6 +572,18 @@ class ContactBlock(InteractionBlock):
         dissipated = history.dissipated + float(np.sum(force * slid))
         return FrictionHistory(anchor, history.slip + slid, p, dissipated)
 
+    def follow(self, state: State, history: Any, start: float, end: float):
+        """The nodes touching the tool at ``state`` and the tool's prescribed translation
+        from load factor ``start`` to ``end`` for each (femcore.interaction: Static's
+        tool-following predictor); zero for a tool that stays or a force-driven one (its own
+        node carries it)."""
+        _, _, touching = self.touch(state, history)
+        shift = np.zeros(3)
+        if self.tool_node is None and self.tool.moves:
+            shift = self.tool.offset(end) - self.tool.offset(start)
+        nodes = self.connectivity[touching, 0]
+        return nodes, np.tile(shift, (len(nodes), 1))
+
     def dissipated_energy(self, history: Any = None) -> float:
         """Energy dissipated by friction since the start, N mm."""
         return 0.0 if history is None else history.dissipated

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from elements.facet_search import SLACK, closest_facets
+from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
 
@@ -419,6 +420,13 @@ class RigidSurface(RigidTool):
     facet's area along its normal, towards the body), along the free axes: a holder of face
     A pressed at p pushes with p A (docs/theory.md §9.5).
 
+    ``smooth=True`` measures the gap along a normal field interpolated from the vertices
+    (elements/tool_smoothing.py) where the closest facet is within the largest facet's
+    circumradius: the contact force then turns continuously over a faceted curved tool
+    instead of jumping by the dihedral angle where a pressed node's closest facet changes on
+    the tool's concave side (Static's Newton cannot converge on such a jump). Off by default:
+    the closest-point distance.
+
     Speed: that search costs tens of microseconds per point. The tool keeps, for the last
     points it was asked about, every facet that can become their closest while they move
     less than ``MARGIN`` circumradius (those whose centroid lies within the proof's distance
@@ -441,6 +449,7 @@ class RigidSurface(RigidTool):
         force: ArrayLike = (0.0, 0.0, 0.0),
         mass: float | None = None,
         pressure: float | None = None,
+        smooth: bool = False,
     ):
         from scipy.spatial import cKDTree
 
@@ -487,6 +496,11 @@ class RigidSurface(RigidTool):
         self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
+        self.smooth = as_flag(smooth, "RigidSurface smooth")
+        if self.smooth:  # the normal field of elements/tool_smoothing.py, once
+            self._triangles = triangles.copy()
+            self._corner_normals = corner_normals(self.corners, triangles, self.normals)
+            self._rings = facet_rings(triangles)
 
     def _drive_by_pressure(self, pressure: float, areas: np.ndarray) -> None:
         """force = pressure x the facets' area vectors summed (f, 3) (each facet's area along
@@ -598,6 +612,13 @@ class RigidSurface(RigidTool):
             moved_by = np.linalg.norm(local[far] - cache.points[far], axis=1)
             d[far] = cache.distance[far] - np.sign(cache.distance[far]) * moved_by
             n[far] = cache.normal[far]
+        if getattr(self, "smooth", False):
+            near = np.flatnonzero(~far & (np.abs(d) < self.reach))
+            gap, normal, found = smoothed_gap(
+                local[near], facet[near], self.corners, self._triangles, self.normals,
+                self._corner_normals, self._rings,
+            )  # fmt: skip
+            d[near[found]], n[near[found]] = gap[found], normal[found]
         self._last = (local.copy(), d.copy(), n.copy())
         return d, n
 

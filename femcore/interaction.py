@@ -223,6 +223,15 @@ class InteractionBlock(ABC):
         again); the default returns it as it is."""
         return history
 
+    def follow(
+        self, state: State, history: Any, start: float, end: float
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The quasi-static solvers' tool-following predictor: (the nodes touching a tool at
+        ``state`` (k,) int, the tool's prescribed translation from load factor ``start`` to
+        ``end`` (k, 3), mm; zero for a tool that stays), so that an increment can start with
+        them carried along instead of the tool inside them. The default: None."""
+        return None
+
     def augment(self, state: State, history: Any) -> tuple[Any, dict | None]:
         """The augmented Lagrangian's update at a state a quasi-static solver converged: (the
         history with the multipliers updated, a report {"penetration", "slip", "tolerance"

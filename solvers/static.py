@@ -159,6 +159,12 @@ class Static:
         Newton iterations (9-9-9-8-8 with straight steps and no chord), the elastica and the
         roll-up of validation/cases in at most 6. Counted in ``info["curved_steps"]``; not
         with contact or other interactions.
+    follow_tools : load path: start each increment with the nodes that touch a moving tool
+        (and no tool that stays) carried by the tool's prescribed translation over the
+        increment (default False): otherwise the tool stands where the increment puts it from
+        the first iteration, inside the body by its whole step (the hemisphere drape's punch:
+        up to 9.2 mm, 30 blank thicknesses, per tenth of its stroke), and the penalty
+        springs' forces there dominate the first Newton steps.
     progress : show a progress bar on stderr, its share the load factor reached (None: unless
         under pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
@@ -196,6 +202,7 @@ class Static:
         stabilise: float = 0.0,
         chords: int = 1,
         curved: bool = True,
+        follow_tools: bool = False,
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
     ):
@@ -223,6 +230,7 @@ class Static:
         self.stabilise = check_stabilise(stabilise, path)
         self.chords = check_integer(chords, "chords", minimum=0)
         self.curved = check_flag(curved, "curved")
+        self.follow_tools = check_flag(follow_tools, "follow_tools")
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
         self.progress = check_progress(progress)
@@ -600,11 +608,37 @@ class StaticRun:
             or self.last_motion is None
             or self.last_motion[0] != self.phase
         ):
-            return self.state
+            return self.follow_tools(self.state, load_factor)
         motion = self.last_motion[2]
         if motion.load <= 0.0:
-            return self.state
+            return self.follow_tools(self.state, load_factor)
         return self.apply(motion.scaled((load_factor - self.reached) / motion.load), load_factor)
+
+    def follow_tools(self, state: State, load_factor: float) -> State:
+        """With ``follow_tools``: the nodes touching a moving tool at the last converged state
+        (and no tool that stays) carried by the tool's translation to ``load_factor``
+        (``InteractionBlock.follow``), so that the increment's first iterate does not have
+        the tool inside the body by the whole of its step."""
+        if not self.solver.follow_tools:
+            return state
+        model = self.model
+        shift = np.zeros((model.n_nodes, 3))
+        held = np.zeros(model.n_nodes, dtype=bool)
+        carried = np.zeros(model.n_nodes, dtype=bool)
+        for i, part in enumerate(model.interactions, start=len(model.blocks)):
+            found = part.follow(state, state.history[i], self.reached, load_factor)
+            if found is None:
+                continue
+            nodes, moves = found
+            moving = np.abs(moves).max(axis=1, initial=0.0) > 0.0
+            shift[nodes[moving]] = moves[moving]
+            carried[nodes[moving]] = True
+            held[nodes[~moving]] = True  # a node on a tool that stays (a die) is not carried
+        carried &= ~held & ~model.translation_prescribed.any(axis=1)
+        if not carried.any():
+            return state
+        positions = state.positions + np.where(carried[:, None], shift, 0.0)
+        return replace(state, positions=positions)
 
     def load_rate(self, pattern, frames: Frames, k_fp) -> tuple[np.ndarray, np.ndarray]:
         """P = dR/dlambda on the free DOFs, F_pattern - K_fp U_pattern, and the prescribed

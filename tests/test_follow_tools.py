@@ -1,0 +1,46 @@
+"""Static's tool-following predictor (``Static(follow_tools=True)``): an increment starts with
+the nodes that touch a moving tool carried by the tool's prescribed translation over the
+increment, instead of the tool standing inside them by its whole step. Reference: a cable
+lying on a rigid plane lifted by 10 mm in two increments, under a dead load pressing it on;
+each node rests where the plane is, less its load over the penalty (closed form)."""
+
+import numpy as np
+import pytest
+
+from elements import Cable, RigidPlane
+from femcore import Mesh, Model
+from solvers import Static
+
+LIFT, LOAD, PENALTY = 10.0, 0.5, 1e3  # mm, N per node, N/mm
+
+
+def lifted_cable() -> Model:
+    """Five nodes along x on the plane z = 0, held along x and y, each pressed down by LOAD;
+    the plane moves LIFT up."""
+    points = np.column_stack([np.arange(5.0), np.zeros(5), np.zeros(5)])
+    model = Model(Mesh(points, lines=np.column_stack([np.arange(4), np.arange(1, 5)])))
+    model.add(Cable(1e3, 1e-9))
+    model.fix(np.arange(5), ["ux", "uy"])
+    model.force(np.arange(5), (0.0, 0.0, -LOAD))
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), motion=(0.0, 0.0, LIFT)),
+                  penalty=PENALTY)  # fmt: skip
+    return model
+
+
+@pytest.mark.parametrize("follow", [False, True])
+def test_nodes_on_a_moving_tool_end_where_it_carries_them(follow):
+    """Either way each node ends at LIFT - LOAD / PENALTY (to 1e-9 mm). Followed, the first
+    iterate of each increment has the nodes where the plane carried them, off their
+    equilibrium only by the increment's load (LOAD / 2 per node, which the contact spring,
+    linear on a plane, takes in one Newton iteration); not followed, the plane stands 5 mm
+    inside the cable (5000 N per node at the first iterate) and each increment takes two."""
+    solver = Static(increments=2, follow_tools=follow, progress=False)
+    result = solver.solve(lifted_cable())
+    assert result.converged
+    assert np.abs(result.positions[:, 2] - (LIFT - LOAD / PENALTY)).max() < 1e-9
+    assert result.info["iterations_per_increment"] == ([1, 1] if follow else [2, 2])
+
+
+def test_follow_tools_is_a_flag():
+    with pytest.raises(ValueError):
+        Static(follow_tools="yes")
