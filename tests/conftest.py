@@ -3,6 +3,8 @@ on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; 
 validation report, run in the background beside the other tests."""
 
 import os
+import tempfile
+import uuid
 from pathlib import Path
 
 # Before numpy loads OpenBLAS (here, and in every subprocess the tests start, which inherit
@@ -20,22 +22,57 @@ from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
 from validation import specimens  # noqa: E402
 
+# The coarse report's folder, shared by the session's processes: chosen by the pytest process
+# that the command started, handed to each pytest-xdist worker (pytest_configure_node).
+_folder: dict[str, Path] = {}
 _reports: list[CoarseReport] = []
 _waiting = {"tests": 0, "ran": 0}
+
+
+def pytest_configure(config):
+    worker = getattr(config, "workerinput", None)
+    if worker is None:
+        name = f"fibreshell-coarse-report-{uuid.uuid4().hex}"
+        _folder["path"] = Path(tempfile.gettempdir()) / name
+    else:
+        # (an xdist run whose main process did not load this file: one folder per run)
+        name = f"fibreshell-coarse-report-{worker['testrunuid']}"
+        _folder["path"] = Path(
+            worker.get("coarse_report_folder", Path(tempfile.gettempdir()) / name)
+        )
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_configure_node(node):
+    """pytest-xdist, before it starts a worker: the folder of the session's one report."""
+    node.workerinput["coarse_report_folder"] = str(_folder["path"])
 
 
 def start_report() -> None:
     _waiting["tests"] = 0
     if not _reports:
-        _reports.append(CoarseReport())
+        _reports.append(CoarseReport.start_once(_folder["path"]))
+
+
+def uses_the_report(item) -> bool:
+    return "coarse_report" in getattr(item, "fixturenames", ())
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """The tests that read the coarse report last (in the order collected otherwise, the same
+    in every xdist worker): a test waiting for the report holds up only the tests after it."""
+    items.sort(key=uses_the_report)
 
 
 def pytest_collection_finish(session):
     """A session that checks the coarse report runs it beside its other tests (its cases,
-    minutes of CPU, on the core those leave idle) and the report's tests wait for it."""
-    wanted = any("coarse_report" in getattr(item, "fixturenames", ()) for item in session.items)
+    minutes of CPU, on the cores those leave idle) and the report's tests wait for it. Under
+    pytest-xdist each worker collects every test and runs its share: the first to ask starts
+    the report, the others read the same run."""
+    wanted = any(uses_the_report(item) for item in session.items)
     if wanted and not session.config.option.collectonly:
-        _waiting["tests"] = len(session.items)
+        workers = getattr(session.config, "workerinput", {}).get("workercount", 1)
+        _waiting["tests"] = max(1, len(session.items) // workers)
         if report_kernels_cached():
             start_report()
 
@@ -48,15 +85,18 @@ def pytest_runtest_logfinish(nodeid, location):
 
 
 def pytest_sessionfinish(session):
-    for report in _reports:
-        report.stop()
+    """The pytest process the command started (not an xdist worker, which may end while
+    another still waits for the report) stops the report and removes its folder."""
+    if getattr(session.config, "workerinput", None) is None and "path" in _folder:
+        (_reports[0] if _reports else CoarseReport(_folder["path"])).stop()
 
 
 @pytest.fixture(scope="session")
 def coarse_report() -> tuple[Path, dict]:
     """One coarse run of every case (the paper cases included), two cases at a time in two
-    worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py: the
-    report folder and its results.json."""
+    worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py and
+    tests/test_hemisphere_forming.py (and by the xdist workers): the report folder and its
+    results.json."""
     start_report()
     return _reports[0].result()
 

@@ -1,11 +1,19 @@
 """The test suite's own setup (tests/conftest.py, tests/coarse_report.py): OpenBLAS on one
-thread, and the background report's start once numba's cache holds the kernels it needs."""
+thread, and the background report: started once numba's cache holds the kernels it needs, once
+for all the session's processes, its failure reported, stopped with the session."""
 
 import ctypes
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from coarse_report import REPORT_KERNELS, report_kernels_cached
+from coarse_report import REPORT_KERNELS, CoarseReport, report_kernels_cached
 
 
 def openblas_threads() -> list[int]:
@@ -42,3 +50,71 @@ def test_the_report_waits_for_every_one_of_its_kernels_in_numbas_cache(tmp_path,
     assert not report_kernels_cached()
     (folder / f"{REPORT_KERNELS[-1]}-7.py311.nbi").touch()
     assert report_kernels_cached()
+
+
+# A stand-in for the report's command: writes results.json into the folder it is given last,
+# after a pause that outlasts the test's second start (or fails, or never ends).
+def stand_in(body: str) -> list[str]:
+    code = (
+        "import json, pathlib, sys, time\n"
+        "out = pathlib.Path(sys.argv[-1])\n"
+        "out.mkdir(parents=True)\n" + body
+    )
+    return [sys.executable, "-c", code]
+
+
+WRITES = stand_in("time.sleep(0.5)\n(out / 'results.json').write_text(json.dumps({'runs': 1}))\n")
+
+
+def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
+    # xdist: each worker asks for the report; the first starts it, the others read that run.
+    folder = tmp_path / "report"
+    first = CoarseReport.start_once(folder, WRITES)
+    # another process (a second xdist worker) asking for it while it runs
+    ask = (
+        "import sys; sys.path.insert(0, sys.argv[1]); from coarse_report import CoarseReport\n"
+        "fails = [sys.executable, '-c', 'raise SystemExit(3)']\n"
+        "report = CoarseReport.start_once(sys.argv[2], fails)\n"
+        "print(report.process is None, report.result()[1])\n"
+    )
+    other = subprocess.run([sys.executable, "-c", ask, str(Path(__file__).parent), str(folder)],
+                           capture_output=True, text=True, check=True)  # fmt: skip
+    assert other.stdout.split(maxsplit=1) == ["True", "{'runs': 1}\n"]
+    assert first.process is not None
+    again = CoarseReport.start_once(folder, stand_in("raise SystemExit(3)\n"))
+    assert again.process is None and again.result() == first.result() == (first.out, {"runs": 1})
+    first.stop()
+    assert not folder.exists()
+
+
+def test_a_failed_or_killed_report_fails_its_tests_with_its_log(tmp_path):
+    failed = CoarseReport.start_once(tmp_path / "a", stand_in("print('no mesh'); sys.exit(2)\n"))
+    with pytest.raises(AssertionError, match="no mesh"):
+        failed.result()
+    killed = CoarseReport.start_once(tmp_path / "b", stand_in("time.sleep(60)\n"))
+    os.killpg(killed.process.pid, signal.SIGKILL)
+    with pytest.raises(AssertionError, match="stopped without its status"):
+        killed.result()
+
+
+def test_the_session_stops_a_report_still_running(tmp_path):
+    report = CoarseReport.start_once(tmp_path / "c", stand_in("time.sleep(60)\n"))
+    started = time.monotonic()
+    report.stop()  # SIGTERM to its process group
+    assert time.monotonic() - started < 10.0
+    assert report.process.poll() is not None and not report.folder.exists()
+    with pytest.raises(ProcessLookupError):
+        os.killpg(report.process.pid, 0)
+
+
+def test_the_tests_that_read_the_report_run_last_in_the_order_collected():
+    # A test waiting for the report holds up only the tests after it in its process.
+    from conftest import pytest_collection_modifyitems
+
+    def item(name, *fixtures):
+        return SimpleNamespace(name=name, fixturenames=fixtures)
+
+    items = [item("a", "coarse_report"), item("b"), item("c", "tmp_path", "coarse_report"),
+             item("d", "tmp_path")]  # fmt: skip
+    pytest_collection_modifyitems(None, None, items)
+    assert [i.name for i in items] == ["b", "d", "a", "c"]
