@@ -212,6 +212,23 @@ def test_the_assembled_bound_waits_for_the_cells_bound_to_move_or_the_longest_in
     assert steps == evaluated
 
 
+def test_where_the_cells_bound_governs_with_room_the_assembled_bound_waits_for_half_of_it():
+    """The assembled bound 1.4 times the cells' when last evaluated (room 0.4): evaluated
+    again once the cells' bound has moved by more than half that room (20 %), not at 1 %;
+    with no room, at 1 %; and in any case after ASSEMBLED_DT_MAX steps."""
+    from solvers import explicit
+
+    solver = CentralDifference(duration=1.0)
+    solver._assembled = (1.4e-6, 1.0e-6, 0)
+    assert not solver._assembled_due(0.85e-6, 100)
+    assert not solver._assembled_due(1.15e-6, 100)
+    assert solver._assembled_due(0.79e-6, 100)
+    assert solver._assembled_due(1.0e-6, explicit.ASSEMBLED_DT_MAX)
+    solver._assembled = (0.9e-6, 1.0e-6, 0)  # the assembled bound governs: 1 %
+    assert not solver._assembled_due(0.995e-6, 100)
+    assert solver._assembled_due(0.985e-6, 100)
+
+
 def plate_on_a_die(holder_mass: float | None = None, penalty: float | None = None) -> Model:
     """A 20 mm Mindlin plate of 10 x 10 cells resting on a die plane (its mid-surface h / 2
     above it: every node touching), in-plane motion held; with ``holder_mass`` (t) a holder
