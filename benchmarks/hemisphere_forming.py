@@ -187,6 +187,17 @@ class Phases:
     def __init__(self, compiled) -> None:
         self.spent: dict[str, list[float]] = {}
         self.wrapped: list[tuple[object, str]] = []
+        # Each evaluation of the assembled bound: (time, the bound, the cells' bound), s.
+        self.assembled: list[tuple[float, float, float]] = []
+        evaluate, cells = compiled.assembled_stable_dt, compiled.cell_stable_dt
+
+        def logged(state, mass, inertia):
+            value = evaluate(state, mass, inertia)
+            cell = min(float(dt.min()) for dt in cells(state))
+            self.assembled.append((state.time, value, cell))
+            return value
+
+        object.__setattr__(compiled, "assembled_stable_dt", logged)  # timed below, undone once
         for block in compiled.blocks:
             for name in ("internal_force", "internal_force_and_energy"):
                 self._wrap(block, name, "element force")
@@ -222,11 +233,17 @@ class Phases:
         rest = [wall - sum(w for w, _ in self.spent.values()),
                 cpu - sum(c for _, c in self.spent.values())]  # fmt: skip
         rows = [*self.spent.items(), ("update, output, bookkeeping", rest)]
-        return "\n".join(
+        lines = [
             f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
             f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
             for phase, (w, c) in rows
+        ]
+        ratios = ", ".join(f"{t:.3g} s: {a / c:.3f}" for t, a, c in self.assembled)
+        lines.append(
+            f"  the assembled bound evaluated {len(self.assembled)} times; its ratio to the "
+            f"cells' bound then: {ratios}"
         )
+        return "\n".join(lines)
 
 
 def load() -> str:
