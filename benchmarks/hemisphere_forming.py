@@ -16,8 +16,8 @@ each run at that fraction of the stroke's time (its figures: those of the steps 
 passes, the contacts (the meshed die's closest-facet search inside), the cells' and the
 assembled stable step, the lumped masses (the rotary inertia refresh every 10 steps), the rest
 (the update, the output, the bookkeeping); it lists each evaluation of the assembled bound
-with its ratio to the cells' bound of the model's own masses, and each run prints its mean step and the whole stroke
-projected at that pace.
+with its ratio to the cells' bound of the model's own masses, and each run prints its mean
+step and the whole stroke projected at that pace.
 
 Measured at 20k triangles on the first 1 % of the stroke, one thread, this machine's 2 cores
 shared with other work (load 5-12: CPU times, which the load inflates too; the same code ran
