@@ -233,15 +233,16 @@ class Contact(Interaction):
                 self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node, tolerance
             )
         block = ContactBlock
-        from elements.tool_contact import FastToolContactBlock, compiled_pass_applies
-
-        if compiled_pass_applies(self.tool, self.friction, self.damping, self.augmented):
-            block = FastToolContactBlock  # the same forces in one compiled pass
         if self.damping > 0.0:
             from elements.contact_damping import DampedContactBlock  # builds on this module
 
             block = DampedContactBlock
-        return block(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
+        bound = block(self, nodes, offset, mesh.n_nodes, mesh.points, area, self.tool_node)
+        from elements import tool_contact
+
+        if tool_contact.compiled_pass_applies(self.tool, self.friction, self.damping, False):
+            bound.compiled_forces = tool_contact.contact_forces  # the same forces, compiled
+        return bound
 
 
 def _damping_ratio(damping) -> float:
@@ -335,6 +336,9 @@ class ContactBlock(InteractionBlock):
         # contact_forces's last answer: (where the nodes were, the history, the load factor,
         # the stiffness, the forces).
         self._last_forces: tuple | None = None
+        # (block, x (s, 3), load factor) -> the forces (s, 3) of a frictionless contact in one
+        # compiled pass (elements/tool_contact.py; set by Contact.bind where it applies).
+        self.compiled_forces: Any = None
 
     def surface_offset(self, history: FrictionHistory | None) -> np.ndarray:
         """(s,) where the contact's spring starts, mm from the tool: the contact offset h / 2
@@ -512,9 +516,13 @@ class ContactBlock(InteractionBlock):
             and np.array_equal(last[0], x)
         ):
             return last[4].copy()
-        p, n, touching = self.touch(state, history)
-        friction, *_ = self.tangential(state, history, p, n, touching)
-        forces = (self.stiffness * p)[:, None] * n + friction
+        compiled = getattr(self, "compiled_forces", None)  # (absent from an older pickle)
+        if compiled is not None and history is None:
+            forces = compiled(self, x, state.load_factor)
+        else:
+            p, n, touching = self.touch(state, history)
+            friction, *_ = self.tangential(state, history, p, n, touching)
+            forces = (self.stiffness * p)[:, None] * n + friction
         self._last_forces = (x, history, state.load_factor, self.stiffness, forces.copy())
         return forces
 

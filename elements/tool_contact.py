@@ -6,25 +6,23 @@ the force k p n of each node (elements/contact.py, docs/theory.md §9), the form
 Why: an explicit forming step asks every contact node of the punch and of the holder for its
 force, and the numpy path makes a dozen (s, 3) arrays to do it (the distance, the normal, the
 penetration, the zero friction, the product), about as costly as the die's compiled
-closest-facet search. ``FastToolContactBlock`` takes that path where it gives the same
-numbers: frictionless, undamped, not augmented, a plane or a sphere; every other contact keeps
-``ContactBlock``'s. Its forces agree with the numpy formulas to round-off (the plane's dot
+closest-facet search. ``Contact.bind`` gives a ContactBlock this pass (its ``compiled_forces``)
+where it gives the same numbers: frictionless, undamped, not augmented, a plane or a sphere;
+every other contact keeps the numpy formulas, as does a frozen contact set of the quasi-static
+solvers (a history). Its forces agree with the numpy formulas to round-off (the plane's dot
 product may be summed in another order by numpy's matrix product; tests/test_tool_contact.py
 holds them to 1e-12 of the largest force).
 """
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from elements.contact import ContactBlock
 from elements.jit import jit, prange
 from elements.tools import RigidPlane, RigidSphere, RigidTool
-from femcore.state import State
 
-__all__ = ["FastToolContactBlock", "compiled_pass_applies", "plane_forces", "sphere_forces"]
+__all__ = ["compiled_pass_applies", "contact_forces", "plane_forces", "sphere_forces"]
 
 
 def _sphere_forces(x, origin, radius, sign, offset, stiffness, out):
@@ -78,34 +76,17 @@ def compiled_pass_applies(tool: RigidTool, friction: float, damping: float, augm
     )
 
 
-class FastToolContactBlock(ContactBlock):
-    """``ContactBlock`` with its forces from the compiled pass (module docstring); the
-    energy, the tangent, the fields and the history are ContactBlock's."""
-
-    def contact_forces(self, state: State, history: Any = None) -> np.ndarray:
-        """(s, 3) the forces the tool exerts on the nodes, N: k p n (frictionless). The same
-        nodes at the same place, load factor and stiffness are answered from the last call,
-        as ContactBlock's."""
-        if history is not None:  # a frozen set (the quasi-static solvers): the numpy path
-            return super().contact_forces(state, history)
-        x = self._positions(state)
-        last = self._last_forces
-        if (
-            last is not None
-            and last[1] is history
-            and last[2] == state.load_factor
-            and last[3] is self.stiffness
-            and np.array_equal(last[0], x)
-        ):
-            return last[4].copy()
-        forces = np.empty((len(x), 3))
-        tool = self.tool
-        if isinstance(tool, RigidSphere):
-            origin = tool.centre + tool.offset(state.load_factor)
-            sphere_forces(x, origin, tool.radius, tool.sign, self.offset, self.stiffness, forces)
-        else:
-            assert isinstance(tool, RigidPlane)
-            origin = tool.point + tool.offset(state.load_factor)
-            plane_forces(x, origin, tool.normal, self.offset, self.stiffness, forces)
-        self._last_forces = (x, history, state.load_factor, self.stiffness, forces.copy())
-        return forces
+def contact_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np.ndarray:
+    """(s, 3) the forces (N) the plane or the sphere of ``block`` (a frictionless
+    ContactBlock) exerts on its nodes at x (s, 3), mm, where the tool sees them (less a
+    driven tool's free translation: ``ContactBlock._positions``), at ``load_factor``."""
+    forces = np.empty((len(x), 3))
+    tool = block.tool
+    if isinstance(tool, RigidSphere):
+        origin = tool.centre + tool.offset(load_factor)
+        sphere_forces(x, origin, tool.radius, tool.sign, block.offset, block.stiffness, forces)
+    else:
+        assert isinstance(tool, RigidPlane)
+        origin = tool.point + tool.offset(load_factor)
+        plane_forces(x, origin, tool.normal, block.offset, block.stiffness, forces)
+    return forces

@@ -7,7 +7,6 @@ analytic tools (elements/tool_contact.py) against the numpy formulas."""
 import numpy as np
 
 from elements.contact import ContactBlock
-from elements.tool_contact import FastToolContactBlock
 from elements.tools import RigidSurface
 from solvers import CentralDifference
 from validation.cases import hemisphere_forming as case
@@ -38,14 +37,8 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_mem
         self._last_forces = None
         return asked(self, state, history)
 
-    def fast_without_memory(self, state, history=None):
-        self._last_forces = None
-        return fast(self, state, history)
-
-    fast = FastToolContactBlock.contact_forces
     monkeypatch.setattr(RigidSurface, "_from_candidates", without_hint)
     monkeypatch.setattr(ContactBlock, "contact_forces", without_memory)
-    monkeypatch.setattr(FastToolContactBlock, "contact_forces", fast_without_memory)
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)
