@@ -31,7 +31,10 @@ shared with other work (load 5-12: CPU times, which the load inflates too; the s
   15.9 ms (47 %), contacts 11.8 (35 %), the assembled bound 3.6 (one evaluation, 4.8 s), the
   cells' bound 0.47, the rotary inertia 0.32, the rest 2.0; the stroke at that pace 134k
   steps, 76 min CPU (the assembled bound, evaluated at least every 4000 steps, then costs
-  about 1.2 ms a step, not 3.6: about 71 min).
+  about 1.2 ms a step, not 3.6: about 71 min). Again with the die's signed distance compiled
+  (below; load 14.3 -> 12.5): the same 1339 steps, 40.1 ms CPU per step, the element force
+  19.5 ms (its code unchanged: the load moves these figures by 20 %), the contacts 12.9: the
+  whole-run figures do not resolve that last gain.
 
 What changed, each at its cause:
 
@@ -51,9 +54,11 @@ What changed, each at its cause:
 * The punch's and the holder's contacts run in one compiled pass (elements/tool_contact.py):
   the same forces to the last bit on this case (tests/test_forming_shortcuts_change_nothing.py),
   0.46-0.69 ms CPU a call against about 2 ms each before (all three contacts 11.8 ms against
-  14.1 per step). The meshed die is the rest of the contacts' time: its distance query costs
-  6-8 ms CPU at this load, of which the compiled closest-facet search about half and the
-  signed distance and normal (numpy) about a quarter.
+  14.1 per step). The meshed die is the rest of the contacts' time: its distance query cost
+  6-8 ms CPU at this load, the compiled closest-facet search about half of it and the signed
+  distance and normal (numpy passes) about a quarter; those now run in one compiled pass
+  (elements/facet_search.py ``signed_from_closest``, the same numbers to the last bit): in a
+  profile of 60 queries their time fell from 0.52 to 0.17 of the closest-facet search's.
 
 Mass scaling (``--mass-scaling-dt``, selective: only the cells whose step is below the target
 get mass), measured at 20 cells on the case's own run (benchmarks/hemisphere_scaling.py), the
