@@ -12,35 +12,77 @@ reference pass, the step size, the mass scaling asked and the mass it added, and
 energy at the end over the work done (a quasi-static run keeps it small). ``--fraction`` stops
 each run at that fraction of the stroke's time (its figures: those of the steps done).
 
-Measured on 2 cores shared with other work (load 5-15, so CPU time; the default threads chose
-one), the first fifth of the stroke at 20k triangles, 7230 steps: 52.8 ms CPU per step before
-the meshed tool searched again only the nodes that moved, the assembled stable step built its
-tangent once and waited for the cells' bound to move, and the threads stopped spinning; 34.5
-ms after (977 x the reference pass). With ``--mass-scaling-dt 5e-6`` (1.72 times the model's
-mass added, the starting step 4.56e-6 s instead of 2.77e-6 s): 4384 steps, 35.0 ms each.
-
 ``--phases`` times the pieces of the steps (CPU and wall per step): the element force
 passes, the contacts (the meshed die's closest-facet search inside), the cells' and the
 assembled stable step, the lumped masses (the rotary inertia refresh every 10 steps), the rest
-(the update, the output, the bookkeeping); and each run prints its mean step and the whole
-stroke projected at that pace. Measured at 20k triangles on the first 1 % of the stroke (1281
-steps of 2.34e-6 s; one thread, the default at a load of 1.7-5 on the 2 cores; two threads
-forced, elements.jit.FOLLOW_LOAD = False, gave the same wall time at a load of 4.5): 17-22 ms
-CPU per step, of which the element force 6.8-9.9 ms (42 %), the contacts 5.7-7.5 (33 %), the
-assembled stable step 2.6-3.7 (one evaluation of 3.5-4 s at the start over these steps; it comes
-again every 4000 steps or when the cells' bound moves by 1 %), the cells' bound 0.2, the rotary
-inertia refresh 0.15-0.2 (0.9 %), the rest 0.9-1.1 (the same code measured 10-20 % apart from
-one run to the next: other work shared the cores). The stroke, 128k steps at that pace: 37-48
-min CPU on one thread. With ``--mass-scaling-dt 5e-6`` (1.72 x the mass added, mean step 4.56e-6
-s): 65.7k steps, 17 min CPU projected.
+(the update, the output, the bookkeeping); it lists each evaluation of the assembled bound
+with its ratio to the cells' bound of the model's own masses, and each run prints its mean
+step and the whole stroke projected at that pace.
 
-The closest-facet search of the die, timed apart on the nodes it was asked about every 200
-steps of the first 2 % of the stroke (10201 nodes, 82.6k candidate facets, best of 40, the
-three interleaved): 3.54 ms CPU a pass before, 2.30 with the corners read as scalars, 1.55 with
-the candidates further than the node's facet of the last step skipped (elements/facet_search.py;
-the same points, facets and distances to the last bit). The punch's contact forces asked again
-for its work in the same step: 0.43 ms computed, 0.085 from the contact's memory. Together
-about 2.4 ms CPU per step of the 17-22 (the whole-run figures above do not resolve it).
+Measured at 20k triangles on the first 1 % of the stroke, one thread, this machine's 2 cores
+shared with other work (load 5-12: CPU times, which the load inflates too; the same code ran
+17-22 ms CPU per step on a quiet, faster machine), the two side by side in this session:
+
+* before (main 799cc6c; load 5.2 -> 9.1): 3099 steps of 9.68e-7 s on average, 46.4 ms CPU per
+  step: element force 16.9 ms (36 %), contacts 14.1 (30 %), the assembled stable step 10.2
+  (22 %: evaluated again at every 1 % move of the cells' bound, 4.9 s of CPU each), the rest
+  4.4 + 0.8; the stroke at that pace 310k steps, 240 min CPU.
+* after (load 11.2 -> 11.6): 1339 steps of 2.24e-6 s, 34.1 ms CPU per step: element force
+  15.9 ms (47 %), contacts 11.8 (35 %), the assembled bound 3.6 (one evaluation, 4.8 s), the
+  cells' bound 0.47, the rotary inertia 0.32, the rest 2.0; the stroke at that pace 134k
+  steps, 76 min CPU (the assembled bound, evaluated at least every 4000 steps, then costs
+  about 1.2 ms a step, not 3.6: about 71 min). Again with the die's signed distance compiled
+  (below; load 14.3 -> 12.5): the same 1339 steps, 40.1 ms CPU per step, the element force
+  19.5 ms (its code unchanged: the load moves these figures by 20 %), the contacts 12.9: the
+  whole-run figures do not resolve that last gain.
+
+What changed, each at its cause:
+
+* The step was 2.3 times too short. The assembled Gershgorin bound summed the contacts'
+  tangents as well as the elements' while the contact springs were added again apart
+  (penalty_frequency_squared), and the holder's springs were bounded by Gershgorin's row sum at
+  its node, sum k (1 + sqrt(m_t / m)) / m_t with m_t / m ~ 1e5: 3.6 times the elements'
+  omega^2. On the starting blank: the cells' bound 2.85e-6 s, the exact 2 / omega_max of the
+  elements 4.10e-6 s (scipy eigsh), their Gershgorin bound 3.99e-6 s (0.97 of it) but 1.54e-6
+  s with the contacts summed in; with the springs the solver took 1.33e-6 s x 0.9. Now the
+  Gershgorin bound is the elements' (the cells' bound governs, 1.40 times below it) and the
+  holder's springs are bounded by max k / m + sum k / m_t (elements/contact.py ``springs``,
+  docs/theory.md §9.5): the step 2.24e-6 s on average over the first 1 %.
+* The assembled bound (3.3-4.9 s of CPU, the fibrous membrane tangent in numpy most of it)
+  was evaluated again whenever the cells' bound moved 1 %; with the cells' bound 1.40 times
+  below it, it now waits for a move of half that room (20 %) or 4000 steps.
+* The punch's and the holder's contacts run in one compiled pass (elements/tool_contact.py):
+  the same forces to the last bit on this case (tests/test_forming_shortcuts_change_nothing.py),
+  0.46-0.69 ms CPU a call against about 2 ms each before (all three contacts 11.8 ms against
+  14.1 per step). The meshed die is the rest of the contacts' time: its distance query cost
+  6-8 ms CPU at this load, the compiled closest-facet search about half of it and the signed
+  distance and normal (numpy passes) about a quarter; those now run in one compiled pass
+  (elements/facet_search.py ``signed_from_closest``, the same numbers to the last bit): in a
+  profile of 60 queries their time fell from 0.52 to 0.17 of the closest-facet search's.
+
+Mass scaling (``--mass-scaling-dt``, selective: only the cells whose step is below the target
+get mass), measured at 20 cells on the case's own run (benchmarks/hemisphere_scaling.py), the
+unscaled run beside it: 2.4e-5 s (the unscaled step ended at 1.03e-5 s) added 0.25 times the
+blank's mass and took 16289 steps instead of 27783 (0.59); the rms shear error against the net
+2.12 deg instead of 2.01 (the case's tolerance 2.8), the draw-in 29.44 mm instead of 29.30, the
+largest KE / W after the first tenth 0.139 instead of 0.128 (above the 0.1 bound over 6.6 %
+of the stroke instead of 5.8; the case allows 10 %), the damping's share of the work 22.9 %
+instead of 21.2 %, the holder's largest lift 0.28 mm instead of 0.46, the punch force at the
+end 81 N instead of 61 (that force rings: 61-88 N between runs of the same mesh). At 20k
+triangles (first 1 %, load 11.6 -> 12.5): 5.5e-6 s adds 0.37 times the mass (at the start)
+and takes 714 steps of 4.2e-6 s on average instead of 1339 (0.53), 37.0 ms CPU each; the
+stroke at that pace 71k steps, 44 min CPU (about 38 with the assembled bound's evaluations
+spread over the stroke). Its effect on the compared results at 20k was not run (the full
+stroke); at 20 cells a like share of added mass stayed within the case's tolerances.
+
+Threads: at the loads of this session (5-12 on 2 cores) the default threads chose one (free
+cores: elements/jit.py), and two forced would measure the other engineers' processes; not
+measured here.
+
+Projected, the full stroke at 20k triangles at these paces and this load (11): unscaled about
+71-76 min CPU, mass-scaled to 5.5e-6 s about 38-44 min; far from the 3 minutes asked. The
+element force alone (15.9 ms a step x 134k steps) is 35 min of the unscaled stroke here. (On
+the quiet, faster machine the same pieces ran about 2 to 2.5 times faster; not measured here.)
 
 Run from the project root:
 
@@ -187,6 +229,17 @@ class Phases:
     def __init__(self, compiled) -> None:
         self.spent: dict[str, list[float]] = {}
         self.wrapped: list[tuple[object, str]] = []
+        # Each evaluation of the assembled bound: (time, the bound, the cells' bound), s.
+        self.assembled: list[tuple[float, float, float]] = []
+        evaluate, cells = compiled.assembled_stable_dt, compiled.cell_stable_dt
+
+        def logged(state, mass, inertia):
+            value = evaluate(state, mass, inertia)
+            cell = min(float(dt.min()) for dt in cells(state))
+            self.assembled.append((state.time, value, cell))
+            return value
+
+        object.__setattr__(compiled, "assembled_stable_dt", logged)  # timed below, undone once
         for block in compiled.blocks:
             for name in ("internal_force", "internal_force_and_energy"):
                 self._wrap(block, name, "element force")
@@ -222,11 +275,17 @@ class Phases:
         rest = [wall - sum(w for w, _ in self.spent.values()),
                 cpu - sum(c for _, c in self.spent.values())]  # fmt: skip
         rows = [*self.spent.items(), ("update, output, bookkeeping", rest)]
-        return "\n".join(
+        lines = [
             f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
             f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
             for phase, (w, c) in rows
+        ]
+        ratios = ", ".join(f"{t:.3g} s: {a / c:.3f}" for t, a, c in self.assembled)
+        lines.append(
+            f"  the assembled bound evaluated {len(self.assembled)} times; its ratio to the "
+            f"cells' bound then: {ratios}"
         )
+        return "\n".join(lines)
 
 
 def load() -> str:

@@ -24,7 +24,7 @@ import numpy as np
 
 from elements.jit import jit, prange, serial
 
-__all__ = ["SLACK", "closest_facets"]
+__all__ = ["SLACK", "closest_facets", "signed_from_closest"]
 
 # The known distance is widened by this fraction of itself and of the tool's reach before a
 # facet is skipped: far beyond the rounding of the distances compared (1e-16 relative).
@@ -123,3 +123,29 @@ def _closest_facets(x, corners, centroids, radius, slack, start, facets, hint, p
 
 
 closest_facets = jit(_closest_facets)
+
+
+def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):
+    """The signed distance and normal of each point local[i] (k, 3) from its closest point
+    point[i] on facet facet[i] at distance gap[i] (RigidSurface._signed's formulas, in their
+    order of operations): the side (+1, or -1 behind the facet's normal ``normals`` (f, 3)),
+    d = side x gap into d (k,), and into n (k, 3) side x (local - point) / gap, or the facet's
+    normal where gap <= ``tiny``. The open-edge correction of the points behind (d < 0) is
+    the caller's."""
+    for i in prange(local.shape[0]):
+        f = facet[i]
+        t0 = local[i, 0] - point[i, 0]
+        t1 = local[i, 1] - point[i, 1]
+        t2 = local[i, 2] - point[i, 2]
+        side = -1.0 if t0 * normals[f, 0] + t1 * normals[f, 1] + t2 * normals[f, 2] < 0.0 else 1.0
+        g = gap[i]
+        d[i] = side * g
+        if g > tiny:
+            n[i, 0] = side * t0 / g
+            n[i, 1] = side * t1 / g
+            n[i, 2] = side * t2 / g
+        else:
+            n[i, 0], n[i, 1], n[i, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
+
+
+signed_from_closest = jit(_signed_from_closest)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from elements.facet_search import SLACK, closest_facets
+from elements.facet_search import SLACK, closest_facets, signed_from_closest
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
@@ -665,7 +665,28 @@ class RigidSurface(RigidTool):
         return point, facet, gap
 
     def _signed(self, local, point, facet, gap):
-        """Signed distance and normal from the closest points (class docstring)."""
+        """Signed distance and normal from the closest points (class docstring): the
+        formulas of ``_signed_numpy`` in one compiled pass (elements/facet_search.py), the
+        points behind a facet (rare: past an open edge, or inside the tool) corrected after
+        it; the same numbers to the last bit."""
+        d = np.empty(len(local))
+        normal = np.empty((len(local), 3))
+        tiny = 1e-12 * max(self.reach, 1.0)
+        signed_from_closest(local, point, facet, gap, self.normals, tiny, d, normal)
+        behind = np.flatnonzero(np.signbit(d))
+        if behind.size:  # past an open edge: beside the tool, not in it (class docstring)
+            f = facet[behind]
+            past = np.einsum(
+                "kej,kej->ke", local[behind, None, :] - self.edge_start[f], self.edge_out[f]
+            )
+            beside = behind[(past > 1e-9 * self.reach).any(axis=1)]
+            d[beside] = gap[beside]
+            turned = beside[gap[beside] > tiny]  # the direction from the point, side +1
+            normal[turned] = -normal[turned]
+        return d, normal
+
+    def _signed_numpy(self, local, point, facet, gap):
+        """``_signed`` in numpy passes over the points (the reference it is tested against)."""
         facet_normal = self.normals[facet]
         towards = local - point
         side = np.where(np.sum(towards * facet_normal, axis=1) < 0.0, -1.0, 1.0)

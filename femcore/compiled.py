@@ -415,12 +415,10 @@ class CompiledModel:
             return None
         pieces = []
         histories = self._histories(state)
-        for part, history in zip(self.parts, histories):
-            given = (
-                part.tangent_pieces(state, history)
-                if isinstance(part, ElementBlock)
-                else part.tangent(state, history)
-            )
+        # The element blocks alone: the interactions' springs are bounded apart
+        # (``penalty_frequency_squared``), which the solver adds to this bound's omega^2.
+        for block, history in zip(self.blocks, histories):
+            given = block.tangent_pieces(state, history)
             if given is None:
                 return None
             pieces.append(given)

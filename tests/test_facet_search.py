@@ -97,3 +97,23 @@ def test_a_meshed_tool_answers_the_same_with_and_without_the_last_facets_as_hint
         plain._hint = np.zeros(0, dtype=np.int64)
         for got, expected in zip(hinted.distance(x), plain.distance(x)):
             np.testing.assert_array_equal(got, expected)
+
+
+def test_the_compiled_signed_distance_is_numpys_to_the_last_bit():
+    """RigidSurface._signed (one compiled pass, the points behind corrected after it) against
+    its numpy reference ``_signed_numpy``: points above and below a bumpy open sheet, beyond
+    its open edges (beside the tool: positive) and on its facets (the facet's normal)."""
+    tool = RigidSurface(bumpy_surface())
+    rng = np.random.default_rng(5)
+    x = rng.uniform([-4, -4, -3], [24, 24, 6], size=(3000, 3))
+    start, facets = every_facet_a_candidate(tool, x)
+    point, facet, gap = search(tool, x, start, facets, np.full(len(x), -1))
+    # Some points on the surface itself: the closest point is the point.
+    x[:50], gap[:50] = point[:50], 0.0
+    d, n = tool._signed(x, point, facet, gap)
+    d_ref, n_ref = tool._signed_numpy(x, point, facet, gap)
+    assert (d_ref < 0).sum() > 100 and (d_ref > 0).sum() > 100
+    behind = np.sum((x - point) * tool.normals[facet], axis=1) < 0
+    assert (behind & (d_ref > 0)).sum() > 10  # beside an open edge, below the sheet's plane
+    np.testing.assert_array_equal(d, d_ref)
+    np.testing.assert_array_equal(n, n_ref)

@@ -1,7 +1,8 @@
 """The shortcuts of an explicit forming run's contacts change nothing: the meshed die's
 closest-facet search with each node's last facet as its hint (elements/facet_search.py) and
 the contact forces answered from memory when asked again (ContactBlock.contact_forces) give a
-run identical to the last bit to one without them."""
+run identical to the last bit to one without them; so does the compiled contact pass of the
+analytic tools (elements/tool_contact.py) against the numpy formulas."""
 
 import numpy as np
 
@@ -38,6 +39,20 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_mem
 
     monkeypatch.setattr(RigidSurface, "_from_candidates", without_hint)
     monkeypatch.setattr(ContactBlock, "contact_forces", without_memory)
+    plain_positions, plain_forces = formed()
+    np.testing.assert_array_equal(positions, plain_positions)
+    np.testing.assert_array_equal(forces, plain_forces)
+
+
+def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the_punch_and_holder(
+    monkeypatch,
+):
+    """The compiled pass of the punch (a sphere) and the holder (a plane along z)
+    (elements/tool_contact.py) against ContactBlock's numpy formulas over a whole run."""
+    from elements import tool_contact
+
+    positions, forces = formed()
+    monkeypatch.setattr(tool_contact, "compiled_pass_applies", lambda *args: False)
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)

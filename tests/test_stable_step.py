@@ -210,3 +210,90 @@ def test_the_assembled_bound_waits_for_the_cells_bound_to_move_or_the_longest_in
     step = 0.9 * evaluate(compiled.initial_state(), *compiled.lumped_mass(compiled.initial_state()))
     CentralDifference(duration=249.5 * step, progress=False).solve(compiled)
     assert steps == evaluated
+
+
+def test_where_the_cells_bound_governs_with_room_the_assembled_bound_waits_for_half_of_it():
+    """The assembled bound 1.4 times the cells' when last evaluated (room 0.4): evaluated
+    again once the cells' bound has moved by more than half that room (20 %), not at 1 %;
+    with no room, at 1 %; and in any case after ASSEMBLED_DT_MAX steps."""
+    from solvers import explicit
+
+    solver = CentralDifference(duration=1.0)
+    solver._assembled = (1.4e-6, 1.0e-6, 0)
+    assert not solver._assembled_due(0.85e-6, 100)
+    assert not solver._assembled_due(1.15e-6, 100)
+    assert solver._assembled_due(0.79e-6, 100)
+    assert solver._assembled_due(1.0e-6, explicit.ASSEMBLED_DT_MAX)
+    solver._assembled = (0.9e-6, 1.0e-6, 0)  # the assembled bound governs: 1 %
+    assert not solver._assembled_due(0.995e-6, 100)
+    assert solver._assembled_due(0.985e-6, 100)
+
+
+def plate_on_a_die(holder_mass: float | None = None, penalty: float | None = None) -> Model:
+    """A 20 mm Mindlin plate of 10 x 10 cells resting on a die plane (its mid-surface h / 2
+    above it: every node touching), in-plane motion held; with ``holder_mass`` (t) a holder
+    plane on its top face, free along z, pushed down by 1 N. The die's ``penalty`` N/mm
+    (None: automatic, as the holder's)."""
+    from elements import RigidPlane
+
+    flat = Mesh.rectangle(20.0, 20.0, nx=10, ny=10)
+    model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5]))
+    model.add(MindlinShell(ALUMINIUM))
+    model.fix(lambda x, y, z: np.ones_like(x, dtype=bool), ["ux", "uy"])
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), penalty=penalty)
+    if holder_mass is not None:
+        holder = RigidPlane(
+            (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), free="z", force=(0, 0, -1.0), mass=holder_mass
+        )
+        model.contact(holder)
+    return model
+
+
+def test_the_assembled_bound_is_the_element_blocks_alone_the_contact_springs_added_apart():
+    """The contact springs enter the step once, through penalty_frequency_squared: the
+    Gershgorin bound of a plate touching a die at every node is that of the plate alone (it
+    also took the contact's tangent, counting the springs twice: with a stiff penalty the
+    bound was 0.54 of the plate's)."""
+    touching = plate_on_a_die(penalty=1e6).compile()
+    alone_model = Model(touching.mesh)
+    alone_model.add(MindlinShell(ALUMINIUM))
+    alone_model.fix(lambda x, y, z: np.ones_like(x, dtype=bool), ["ux", "uy"])
+    alone = alone_model.compile()
+    state = touching.initial_state()
+    assert touching.interactions[0].touch(state)[2].all()  # every node touches
+    mass, inertia = touching.lumped_mass(state)
+    assert touching.assembled_stable_dt(state, mass, inertia) == alone.assembled_stable_dt(
+        alone.initial_state(), mass, inertia
+    )
+
+
+def test_a_driven_holders_springs_are_bounded_by_max_k_over_m_plus_their_sum_over_its_mass():
+    """A holder as heavy as the plate it presses (121 nodes), every spring pressed: the
+    largest eigenvalue of its springs' mass-scaled stiffness (dense, numpy) is max k / m +
+    sum k / m_t, here exactly (the automatic penalty makes k / m the same at every node), and
+    the bound the step takes (penalty_frequency_squared) is that to rounding. Gershgorin's row
+    sums, taken before, gave the tool's node sum k (1 + sqrt(m_t / m)) / m_t: 5.9 times it."""
+    plate_mass = 20.0 * 20.0 * ALUMINIUM.thickness * ALUMINIUM.density
+    model = plate_on_a_die(holder_mass=plate_mass)
+    compiled = model.compile()
+    holder = compiled.interactions[1]
+    state = compiled.initial_state()
+    tool_node = holder.tool_node
+    state.positions[tool_node, 2] -= 0.01  # the holder pressed into the plate
+    assert holder.touch(state)[0].min() > 0.0
+    mass, _ = compiled.lumped_mass(state)
+    (part,) = holder.tangent(state)
+    nodes = part.nodes
+    size = 3 * compiled.n_nodes
+    stiffness = np.zeros((size, size))
+    for row, pair in zip(nodes, part.blocks):
+        slots = (3 * row[:, None] + np.arange(3)).ravel()
+        stiffness[np.ix_(slots, slots)] += pair.reshape(6, 6)
+    scale = 1.0 / np.sqrt(np.repeat(mass, 3))
+    exact = np.linalg.eigvalsh(scale[:, None] * stiffness * scale[None, :]).max()
+    k = holder.stiffness
+    on_nodes = mass[nodes[:, 0]]
+    assert exact == pytest.approx((k / on_nodes).max() + k.sum() / mass[tool_node], rel=1e-9)
+    springs = holder.springs()
+    bound = float(np.max(springs[1] / mass[springs[0]]))
+    assert exact * (1.0 - 1e-12) <= bound <= exact * (1.0 + 1e-9)

@@ -1,0 +1,98 @@
+"""The compiled contact pass of the analytic tools (elements/tool_contact.py) gives the forces
+of ContactBlock's numpy formulas: to 1e-12 of the largest force at every node, penetrating or
+not, for a punch (a sphere, outside), a bowl (inside), a moving plane and a plane driven along
+its free axis by its own node; and it is taken only where those formulas are the frictionless
+undamped ones."""
+
+import numpy as np
+import pytest
+
+from elements import RigidCylinder, RigidPlane, RigidSphere, tool_contact
+from elements.contact import Contact, ContactBlock
+from femcore import Body, Mesh
+from femcore.state import State
+
+TOOLS = [
+    RigidSphere((0.3, -0.2, 4.0), 4.2, motion=(0.0, 0.0, -0.5), amplitude="smooth"),
+    RigidSphere((0.0, 0.0, 6.0), 7.0, side="inside"),
+    RigidPlane((0.0, 0.0, -1.2), (0.2, 0.1, 1.0), motion=(0.0, 0.0, 0.3)),
+]
+
+
+def _state(mesh: Mesh, seed: int, load_factor: float = 0.5) -> State:
+    rng = np.random.default_rng(seed)
+    x = mesh.points + rng.normal(scale=0.3, size=mesh.points.shape) - [2.0, 2.0, 0.4]
+    zero = np.zeros_like(x)
+    state = State(positions=x, directors=zero, velocities=zero, angular_velocities=zero)
+    state.load_factor = load_factor
+    return state
+
+
+@pytest.mark.parametrize("tool", TOOLS)
+def test_the_compiled_pass_gives_the_numpy_forces_of_an_analytic_tool(tool):
+    mesh = Mesh.rectangle(4.0, 4.0, nx=6, ny=6)
+    contact = Contact(tool, np.arange(mesh.n_nodes), offset=0.5, penalty=100.0)
+    fast = contact.bind(Body.bare(mesh))
+    assert type(fast) is ContactBlock and fast.compiled_forces is tool_contact.contact_forces
+    reference = ContactBlock(
+        contact, np.arange(mesh.n_nodes), np.full(mesh.n_nodes, 0.5), mesh.n_nodes,
+        mesh.points, np.zeros(mesh.n_nodes),
+    )  # fmt: skip
+    reference.stiffness = fast.stiffness.copy()
+    for seed in range(3):
+        state = _state(mesh, seed)
+        p, _, _ = reference.touch(state)
+        assert (p > 0).sum() >= 3 and (p == 0).sum() >= 3  # some touch, some do not
+        expected = reference.contact_forces(state)
+        scale = np.abs(expected).max()
+        np.testing.assert_allclose(fast.contact_forces(state), expected, rtol=0, atol=1e-12 * scale)
+        f_fast, _ = fast.internal_force(state)
+        f_ref, _ = reference.internal_force(state)
+        np.testing.assert_allclose(f_fast, f_ref, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(
+            fast.tool_work(state, None, 0.2, 0.5),
+            reference.tool_work(state, None, 0.2, 0.5),
+            rtol=1e-12,
+        )
+
+
+def test_a_driven_plane_takes_the_compiled_pass_with_its_node_and_its_reaction():
+    """A holder: the contact sees the nodes less the tool node's translation, and the tool
+    node takes the sum of the reactions."""
+    mesh = Mesh.rectangle(4.0, 4.0, nx=6, ny=6)
+    tool_node = mesh.n_nodes - 1
+    nodes = np.arange(mesh.n_nodes - 1)
+    holder = RigidPlane((0.0, 0.0, 0.5), (0.0, 0.1, -1.0), free="z", force=(0, 0, -5.0), mass=1.0)
+    contact = Contact(holder, nodes, offset=0.5, penalty=100.0, tool_node=tool_node)
+    fast = contact.bind(Body.bare(mesh))
+    assert type(fast) is ContactBlock and fast.compiled_forces is tool_contact.contact_forces
+    reference = ContactBlock(
+        contact, nodes, np.full(len(nodes), 0.5), mesh.n_nodes, mesh.points,
+        np.zeros(mesh.n_nodes), tool_node,
+    )  # fmt: skip
+    reference.stiffness = fast.stiffness.copy()
+    state = _state(mesh, 4)
+    state.positions[tool_node] = mesh.points[tool_node] + [0.0, 0.0, -0.7]
+    expected, _ = reference.internal_force(state)
+    assert np.abs(expected[tool_node]).max() > 0.0
+    got, _ = fast.internal_force(state)
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+    # The tool node moved, the contact nodes did not: not the last answer.
+    state.positions[tool_node, 2] -= 0.2
+    np.testing.assert_allclose(
+        fast.internal_force(state)[0], reference.internal_force(state)[0], rtol=0,
+        atol=1e-12 * np.abs(expected).max(),
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"friction": 0.2}, {"damping": 0.5}, {"augmented": True}],
+)
+def test_contacts_with_other_formulas_keep_the_numpy_path(options):
+    mesh = Mesh.rectangle(4.0, 4.0, nx=2, ny=2)
+    block = Contact(TOOLS[0], np.arange(mesh.n_nodes), penalty=1.0, **options).bind(Body.bare(mesh))
+    assert getattr(block, "compiled_forces", None) is None
+    cylinder = RigidCylinder((0.0, 0.0, -20.0), (1.0, 0.2, 0.0), 20.0)
+    block = Contact(cylinder, np.arange(mesh.n_nodes), penalty=1.0).bind(Body.bare(mesh))
+    assert block.compiled_forces is None
