@@ -584,7 +584,7 @@ class ContactBlock(InteractionBlock):
         dissipated = history.dissipated + float(np.sum(force * slid))
         return FrictionHistory(anchor, history.slip + slid, p, dissipated)
 
-    def follow(self, state: State, history: Any, start: float, end: float):
+    def carried_by_tool(self, state: State, history: Any, start: float, end: float):
         """The nodes touching the tool at ``state`` and the tool's prescribed translation
         from load factor ``start`` to ``end`` for each (femcore.interaction: Static's
         tool-following predictor); zero for a tool that stays or a force-driven one (its own

@@ -223,7 +223,7 @@ class InteractionBlock(ABC):
         again); the default returns it as it is."""
         return history
 
-    def follow(
+    def carried_by_tool(
         self, state: State, history: Any, start: float, end: float
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """The quasi-static solvers' tool-following predictor: (the nodes touching a tool at

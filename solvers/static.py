@@ -617,7 +617,7 @@ class StaticRun:
     def follow_tools(self, state: State, load_factor: float) -> State:
         """With ``follow_tools``: the nodes touching a moving tool at the last converged state
         (and no tool that stays) carried by the tool's translation to ``load_factor``
-        (``InteractionBlock.follow``), so that the increment's first iterate does not have
+        (``InteractionBlock.carried_by_tool``), so that the increment's first iterate does not have
         the tool inside the body by the whole of its step."""
         if not self.solver.follow_tools:
             return state
@@ -626,7 +626,7 @@ class StaticRun:
         held = np.zeros(model.n_nodes, dtype=bool)
         carried = np.zeros(model.n_nodes, dtype=bool)
         for i, part in enumerate(model.interactions, start=len(model.blocks)):
-            found = part.follow(state, state.history[i], self.reached, load_factor)
+            found = part.carried_by_tool(state, state.history[i], self.reached, load_factor)
             if found is None:
                 continue
             nodes, moves = found

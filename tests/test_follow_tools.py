@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from elements import Cable, RigidPlane
+from elements.dashpot import Dashpot
 from femcore import Mesh, Model
 from solvers import Static
 
@@ -44,3 +45,14 @@ def test_nodes_on_a_moving_tool_end_where_it_carries_them(follow):
 def test_follow_tools_is_a_flag():
     with pytest.raises(ValueError):
         Static(follow_tools="yes")
+
+
+def test_following_passes_over_interactions_that_carry_nothing():
+    """A dashpot beside the moving plane (an interaction with its own ``follow`` setting, which
+    is not the protocol's ``carried_by_tool``) carries no node: the cable still ends where the
+    plane carries it, to 1e-9 mm, in one iteration per increment."""
+    model = lifted_cable()
+    model.interact(Dashpot([0], 1e-9))
+    result = Static(increments=2, follow_tools=True, progress=False).solve(model)
+    assert result.converged
+    assert np.abs(result.positions[:, 2] - (LIFT - LOAD / PENALTY)).max() < 1e-9
