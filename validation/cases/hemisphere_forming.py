@@ -35,6 +35,11 @@ took 8 / 21 / 42 % of the work; the holder rose at most 0 / 0.35 / 7.6 mm; CPU 2
 371 s (wall 58 / 270 / 959 s). The Mindlin shell, held, 12 / 20 cells (32 not run): rms
 2.97 / 2.78 deg, largest KE / W 0.19 / 0.155, the holder rose 1.4 / 2.4 mm, the damping took
 29 / 33 % of the work; CPU 34 / 79 s.
+The figures above were measured before the explicit step stopped counting the contact springs
+twice (femcore/compiled.py, docs/theory.md §6.2; the step about 2.3 times longer on fine
+blanks); at 20 cells after it (fibrous, one run): rms 2.01 deg, draw-in 29.30 mm, largest
+KE / W 0.128 (5.8 % of the stroke above the bound), the damping 21.2 % of the work, the holder
+up 0.46 mm, punch force at the end 61 N (benchmarks/hemisphere_forming.py).
 What is left on the finer meshes: at 90 % of the stroke (t = 0.24 s) the punch force climbs
 to 230-300 N on the 32-cell mesh: the fibres along the blank's edges by the centre lines,
 which cannot shear there, are compressed 2.9 % under the holder while those in the die
