@@ -155,10 +155,12 @@ def test_the_workers_start_the_longest_case_first():
     assert report_module.schedule(["bai-5.1", "no-such-case"], "default")[0] == "no-such-case"
 
 
-def test_run_cases_submits_the_cases_to_the_workers_longest_first(tmp_path, monkeypatch):
-    submitted = []
+def _record_submissions(monkeypatch) -> list[str]:
+    """Replace the report's worker pool by one that records the names of the cases it is
+    given, in order, and runs nothing; the list it fills."""
+    submitted: list[str] = []
 
-    class Pool:  # the worker pool, recording what it is given and running nothing
+    class Pool:
         def __init__(self, jobs, mp_context):
             self.jobs = jobs
 
@@ -175,6 +177,11 @@ def test_run_cases_submits_the_cases_to_the_workers_longest_first(tmp_path, monk
             return future
 
     monkeypatch.setattr(report_module, "ProcessPoolExecutor", Pool)
+    return submitted
+
+
+def test_run_cases_submits_the_cases_to_the_workers_longest_first(tmp_path, monkeypatch):
+    submitted = _record_submissions(monkeypatch)
     names = ["mindlin-plate", "plies-bai-5.1", "bar-wave", "bai-5.1"]
     report = report_module.run_cases(names, "default", tmp_path, echo=lambda *a, **k: None, jobs=2)
     assert submitted == report_module.schedule(names, "default")
@@ -192,25 +199,7 @@ def test_a_report_folder_s_last_case_times_order_the_next_report(tmp_path, monke
         "cases": {name: {"case_time_s": seconds} for name, seconds in last.items()},
     }
     (tmp_path / "results.json").write_text(json.dumps(content))  # fmt: skip
-    submitted = []
-
-    class Pool:
-        def __init__(self, jobs, mp_context):
-            pass
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            return False
-
-        def submit(self, function, name, resolution, out_dir, threads):
-            submitted.append(name)
-            future = Future()
-            future.set_result((Outcome.failed(RuntimeError("not run")), 0.0))
-            return future
-
-    monkeypatch.setattr(report_module, "ProcessPoolExecutor", Pool)
+    submitted = _record_submissions(monkeypatch)
     report_module.run_cases(names, "default", tmp_path, echo=lambda *a, **k: None, jobs=2)
     assert submitted == ["mindlin-plate", "bar-wave", "bai-5.1", "plies-bai-5.1"]
     # that run wrote errors: the next one falls back on the table, as for another resolution
