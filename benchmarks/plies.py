@@ -107,24 +107,32 @@ def main(counts: list[int]) -> None:
     print(f"load after  (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
 
 
-def curved() -> None:
-    from elements import ply_curved
+def _jittered_pair(ply, cells: int, **faces: str) -> tuple[Any, Any]:
+    """A [0/45] pair of ``cells`` x ``cells`` plies laid on spheres of radius 50 and 50 + h -
+    0.1 mm (0.1 mm into each other), its nodes jittered by 0.05 mm (seeded): (the bound ply
+    contact, the state)."""
     from elements.layup import Layup
     from femcore.state import State
+
+    layup = Layup(ply, (0.0, 45.0), 200.0, cells=cells, rule="gauss", **faces)
+    block: Any = layup.model().compile().interactions[0]
+    x = layup.mesh.points.copy()
+    for k, nodes in enumerate(layup.ply_nodes):
+        radius = 50.0 + k * (ply.thickness - 0.1)
+        x[nodes, 2] = np.sqrt(np.maximum(radius**2 - np.sum(x[nodes, :2] ** 2, axis=1), 0.0))
+    x += 0.05 * np.random.default_rng(1).standard_normal(x.shape)
+    zero = np.zeros_like(x)
+    return block, State(x, x / np.linalg.norm(x, axis=1)[:, None], zero, zero)
+
+
+def curved() -> None:
+    from elements import ply_curved
     from materials import Fabric
 
     ply = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     for cells in (8, 14):
-        layup = Layup(ply, (0.0, 45.0), 200.0, cells=cells, rule="gauss", surface="curved")
-        block: Any = layup.model().compile().interactions[0]
-        x = layup.mesh.points.copy()
-        for k, nodes in enumerate(layup.ply_nodes):
-            radius = 50.0 + k * (ply.thickness - 0.1)
-            x[nodes, 2] = np.sqrt(np.maximum(radius**2 - np.sum(x[nodes, :2] ** 2, axis=1), 0.0))
-        x += 0.05 * np.random.default_rng(1).standard_normal(x.shape)
-        zero = np.zeros_like(x)
-        state = State(x, x / np.linalg.norm(x, axis=1)[:, None], zero, zero)
+        block, state = _jittered_pair(ply, cells, surface="curved")
         p, near, y = block._candidates(state)
         figures = {}
         for every in (True, False):
@@ -158,22 +166,12 @@ def curved() -> None:
 
 def flat() -> None:
     """The flat faces' contact force (search and loads) of the same jittered [0/45] pair."""
-    from elements.layup import Layup
-    from femcore.state import State
     from materials import Fabric
 
     ply = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     for cells in (8, 14):
-        layup = Layup(ply, (0.0, 45.0), 200.0, cells=cells, rule="gauss", faces="normal")
-        block: Any = layup.model().compile().interactions[0]
-        x = layup.mesh.points.copy()
-        for k, nodes in enumerate(layup.ply_nodes):
-            radius = 50.0 + k * (ply.thickness - 0.1)
-            x[nodes, 2] = np.sqrt(np.maximum(radius**2 - np.sum(x[nodes, :2] ** 2, axis=1), 0.0))
-        x += 0.05 * np.random.default_rng(1).standard_normal(x.shape)
-        zero = np.zeros_like(x)
-        state = State(x, x / np.linalg.norm(x, axis=1)[:, None], zero, zero)
+        block, state = _jittered_pair(ply, cells, faces="normal")
         best = (np.inf, np.inf)
         for _ in range(3):
             cpu, wall = time.process_time(), time.perf_counter()
