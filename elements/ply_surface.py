@@ -139,14 +139,22 @@ def surface_point(y: np.ndarray, n: np.ndarray, lam: np.ndarray):
     return point, tangents, q, e
 
 
-def project(p: np.ndarray, y: np.ndarray, n: np.ndarray, start: np.ndarray):
+def project(
+    p: np.ndarray,
+    y: np.ndarray,
+    n: np.ndarray,
+    start: np.ndarray,
+    steps: int = ITERATIONS,
+    settled: float = 1e-6,
+):
     """The projection of points ``p`` (P, 3) on the surfaces over corners ``y`` and normals
-    ``n`` (P, 3, 3) from barycentric coordinates ``start`` (P, 3): (lambda (P, 3), the
-    surface point (P, 3), unit normal nu (P, 3), gap g (P,) mm, q (P, 3), e (P, 3)); NaN
-    where the Gauss-Newton steps did not converge (a folded patch, far past its edges)."""
+    ``n`` (P, 3, 3) from barycentric coordinates ``start`` (P, 3), by ``steps`` Gauss-Newton
+    steps: (lambda (P, 3), the surface point (P, 3), unit normal nu (P, 3), gap g (P,) mm,
+    q (P, 3), e (P, 3)); NaN where the last step exceeded ``settled`` (barycentric: not
+    converged; a folded patch, far past its edges)."""
     lam = start.copy()
     step = np.zeros((len(lam), 2))
-    for _ in range(ITERATIONS):
+    for _ in range(steps):
         point, tangents, _, _ = surface_point(y, n, lam)
         metric = np.einsum("pai,pbi->pab", tangents, tangents)
         rhs = np.einsum("pai,pi->pa", tangents, p - point)
@@ -161,8 +169,8 @@ def project(p: np.ndarray, y: np.ndarray, n: np.ndarray, start: np.ndarray):
         step[~ok] = np.nan
         lam[:, :2] += step
         lam[:, 2] = 1.0 - lam[:, 0] - lam[:, 1]
-    # not converged (the last step above 1e-6 of the cell): NaN, the caller's to judge
-    lam[~(np.abs(step).max(axis=1) <= 1e-6)] = np.nan
+    # not converged (the last step above ``settled`` of the cell): NaN, the caller's to judge
+    lam[~(np.abs(step).max(axis=1) <= settled)] = np.nan
     point, tangents, q, e = surface_point(y, n, lam)
     normal = np.cross(tangents[:, 0], tangents[:, 1])
     normal /= np.linalg.norm(normal, axis=1)[:, None]

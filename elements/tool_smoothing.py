@@ -39,6 +39,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements import ply_surface
+
 __all__ = ["FEATURE_ANGLE", "corner_normals", "facet_rings", "project", "smoothed_gap"]
 
 # How far outside a patch (in barycentric units) a projection still counts as on it: round-off
@@ -168,41 +170,9 @@ def project(p: np.ndarray, y: np.ndarray, n: np.ndarray, start: np.ndarray):
     """The closest points of ``p`` (P, 3) on the Phong patches over corners ``y`` and corner
     normals ``n`` (P, 3, 3), from barycentric coordinates ``start`` (P, 3): (lambda (P, 3),
     the patch's unit normal there (P, 3) with the winding of y, the signed gap (P,), mm); NaN
-    where Gauss-Newton did not settle. The surface and its tangents are those of
-    elements/ply_surface.py (surface_point, project), written out for three corners of fixed
-    normals: a rigid tool's patches do not move, so this runs at every contact evaluation."""
-    lam = start.copy()
-    step = np.zeros((len(p), 2))
-    for _ in range(PROJECTION_STEPS):
-        point, tangents = _patch(y, n, lam)
-        t1, t2 = tangents[:, 0], tangents[:, 1]
-        m11, m12, m22 = np.sum(t1 * t1, axis=1), np.sum(t1 * t2, axis=1), np.sum(t2 * t2, axis=1)
-        r = p - point
-        b1, b2 = np.sum(t1 * r, axis=1), np.sum(t2 * r, axis=1)
-        det = m11 * m22 - m12 * m12
-        ok = np.abs(det) > 1e-12 * m11 * m22
-        inverse = np.where(ok, 1.0 / np.where(ok, det, 1.0), np.nan)
-        step[:, 0] = inverse * (m22 * b1 - m12 * b2)
-        step[:, 1] = inverse * (m11 * b2 - m12 * b1)
-        lam[:, :2] += step
-        lam[:, 2] = 1.0 - lam[:, 0] - lam[:, 1]
-    lam[~(np.abs(step).max(axis=1) <= 1e-9)] = np.nan
-    point, tangents = _patch(y, n, lam)
-    normal = np.cross(tangents[:, 0], tangents[:, 1])
-    normal /= np.linalg.norm(normal, axis=1)[:, None]
-    return lam, normal, np.sum((p - point) * normal, axis=1)
-
-
-def _patch(y: np.ndarray, n: np.ndarray, lam: np.ndarray):
-    """The Phong patch's point (P, 3) and tangents d/dlambda_1, d/dlambda_2 (P, 2, 3) at
-    ``lam`` (P, 3) (lambda_3 = 1 - lambda_1 - lambda_2): y(lambda) = q - 1/2 sum_k lambda_k
-    e_k n_k, q = sum_k lambda_k y_k, e_k = (q - y_k) . n_k."""
-    q = np.sum(lam[:, :, None] * y, axis=1)
-    e = np.sum((q[:, None, :] - y) * n, axis=2)  # (P, 3)
-    point = q - 0.5 * np.sum((lam * e)[:, :, None] * n, axis=1)
-    dots = np.sum(y[:, :, None, :] * n[:, None, :, :], axis=3)  # (P, a, k): y_a . n_k
-    # d point / d lambda_a, the three taken apart: y_a - 1/2 e_a n_a - 1/2 sum_k lambda_k
-    # (de_k / dlambda_a = y_a . n_k) n_k, the q - y_k part of e_k's derivative cancelling
-    pulled = np.sum((lam[:, None, :] * dots)[:, :, :, None] * n[:, None, :, :], axis=2)
-    partial = y - 0.5 * e[:, :, None] * n - 0.5 * pulled
-    return point, partial[:, :2] - partial[:, 2:3]
+    where Gauss-Newton did not settle to 1e-9. The surface and its projection are those of a
+    ply's curved face (elements/ply_surface.py ``project``), here PROJECTION_STEPS steps."""
+    lam, _, normal, gap, _, _ = ply_surface.project(
+        p, y, n, start, steps=PROJECTION_STEPS, settled=1e-9
+    )
+    return lam, normal, gap
