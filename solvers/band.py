@@ -78,13 +78,12 @@ try:  # numba is a dependency; without it the band path is not taken (``AVAILABL
     import numba
 
     _factorise = numba.njit(cache=True)(_factorise)
-    # The back substitution is a dot product per unknown: re-associating its sum (and fusing
-    # its multiply-adds) lets the compiler vectorise it: 0.9-1.2 ms against 2.0-3.4 ms of CPU
-    # for 6800 unknowns and a band of 95 solved again and again; within a Static run, where the
-    # 5 MB band comes from memory each time, 3.0 against 3.4 ms (the 235 solves of the
-    # cantilever of benchmarks/static_solver.py, profiled at load 12). The solution changes at
-    # round-off only (1e-15 relative measured); solvers.linear checks each by its residual.
-    _solve = numba.njit(cache=True, fastmath={"reassoc", "contract"})(_solve)
+    # Compiled without fastmath: re-associating the back substitution's sums let the compiler
+    # vectorise it (0.9-1.2 against 2.0-3.4 ms per solve alone, 3.0 against 3.4 ms within a
+    # Static run, memory-bound there), but the sums then depend on the machine's vector width,
+    # and Newton's path with them: the tip-loaded cantilever of tests/test_static.py took 7
+    # iterations in an increment on a machine with 512-bit vectors, 6 with the solve as written.
+    _solve = numba.njit(cache=True)(_solve)
     AVAILABLE = True
 except ImportError:  # pragma: no cover - numba is a dependency
     AVAILABLE = False
