@@ -113,6 +113,16 @@ def test_the_compiled_pair_sums_are_the_bincounts_of_corner_pairs():
     assert np.array_equal(hessian_kernels.pair_sums(pairs.slot, hessian, pairs.n_pairs), expected)
 
 
+def test_the_hessians_summed_a_chunk_of_cells_at_a_time_are_those_of_all_cells_at_once():
+    # Chunks of 7 cells (the sheet has 48): the same additions in the same order.
+    block, x, v, sums = _cells(_polynomial_fabric(), True)
+    pairs = block.corner_pairs()
+    hessian, d_sums = hessian_kernels.membrane_hessians(block, x, v, sums)
+    h_blocks, chunked_sums = hessian_kernels.pair_hessians(block, x, v, sums, pairs, chunk=7)
+    assert np.array_equal(h_blocks, pairs.hessian(hessian).data)
+    assert np.array_equal(chunked_sums, d_sums)
+
+
 def test_the_compiled_membrane_tangent_with_a_clamped_edge_is_the_numpy_one():
     # Wall nodes (the clamped edge's normal sums are the wall's and do not vary) through the
     # whole sparse membrane tangent, compiled against numpy.

@@ -19,7 +19,8 @@ the same code gave the right ones).
 sums (m, 3, 3, 3, 3), the wall nodes' rows zeroed.
 
 ``pair_sums``: the cells' blocks summed on the node pairs of a CornerPairs pattern, in cell
-order (the additions of numpy.bincount, in its order: the same numbers to the last bit).
+order (the additions of numpy.bincount, in its order: the same numbers to the last bit);
+``pair_hessians`` the cells' Hessians so summed, formed a chunk of cells at a time.
 """
 
 from __future__ import annotations
@@ -32,7 +33,17 @@ from elements.fibrous.packed_laws import law_value
 from elements.jit import AVAILABLE, inline, jit, prange, serial
 from elements.shell_geometry import GUARD
 
-__all__ = ["AVAILABLE", "membrane_hessians", "normal_share_jacobians", "pair_sums"]
+__all__ = [
+    "AVAILABLE",
+    "CHUNK",
+    "membrane_hessians",
+    "normal_share_jacobians",
+    "pair_hessians",
+    "pair_sums",
+]
+
+# Cells per chunk of ``pair_hessians`` (their Hessians: 48 MB).
+CHUNK = 8192
 
 # Structure of A = dw/dq (15 rows w = (e_1, e_2, d_1, d_2, n), 27 columns q = (x, psi, S)
 # per corner): the rows of column (corner k, variable j) that can be nonzero.
@@ -470,11 +481,13 @@ def _director_second(
             out[9 * k + 6 + c, column] += d_dsums
 
 
-def membrane_hessians(block, x: np.ndarray, v: np.ndarray, sums: np.ndarray):
+def membrane_hessians(
+    block, x: np.ndarray, v: np.ndarray, sums: np.ndarray, cells: slice = slice(None)
+):
     """``tangent.membrane_hessian(block, x, v, sums)`` by the compiled loop: the cells'
     Hessians (m, 3, 9, 3, 9) in (x, psi, S) per corner (N/mm, N, N mm and per unit of S) and
     dW/dS_k (m, 3, 3), N mm; x, v, sums (m, 3, 3) the corners, directors and normal sums
-    (nodal normals)."""
+    (nodal normals) of the block's ``cells`` (a slice of them, all by default)."""
     m = len(x)
     out = np.empty((m, 27, 27))
     d_sums = np.empty((m, 3, 3))
@@ -487,12 +500,12 @@ def membrane_hessians(block, x: np.ndarray, v: np.ndarray, sums: np.ndarray):
         GUARD,
         block.zeta,
         block.weights,
-        block.reference_area,
-        block.reference_length1,
-        block.reference_length2,
-        block.shear_sign.astype(float),
-        block.reference_shear,
-        block.xi_is_warp,
+        block.reference_area[cells],
+        block.reference_length1[cells],
+        block.reference_length2[cells],
+        block.shear_sign[cells].astype(float),
+        block.reference_shear[cells],
+        block.xi_is_warp[cells],
         integers,
         reals,
         bool(block.thickness_variation),
@@ -502,6 +515,21 @@ def membrane_hessians(block, x: np.ndarray, v: np.ndarray, sums: np.ndarray):
         d_sums,
     )
     return out.reshape(m, 3, 9, 3, 9), d_sums
+
+
+def pair_hessians(block, x: np.ndarray, v: np.ndarray, sums: np.ndarray, pairs, chunk=CHUNK):
+    """The cells' Hessians of ``membrane_hessians`` summed on the node pairs of ``pairs`` (a
+    CornerPairs pattern): (pairs, 9, 9), the numbers of ``pairs.hessian`` to the last bit,
+    and dW/dS_k (m, 3, 3). The cells ``chunk`` at a time, each chunk's Hessians summed before
+    the next is formed: 5.8 kB a cell of them held at once for a chunk, not for the block."""
+    m = len(x)
+    h_blocks = np.zeros((pairs.n_pairs, 9, 9))
+    d_sums = np.empty((m, 3, 3))
+    for start in range(0, m, chunk):
+        cells = slice(start, min(start + chunk, m))
+        hessian, d_sums[cells] = membrane_hessians(block, x[cells], v[cells], sums[cells], cells)
+        pair_sums(pairs.slot[cells], hessian, pairs.n_pairs, h_blocks)
+    return h_blocks, d_sums
 
 
 @jit
@@ -577,11 +605,10 @@ def normal_share_jacobians(x: np.ndarray, held: np.ndarray) -> np.ndarray:
 
 @serial
 def _pair_sums(slot, blocks, out):
-    """out (pairs, r, c) = the blocks (m, 3, r, 3, c) of each cell's corner pair (k, l)
-    summed into out[slot[cell, k, l]], cells in order."""
+    """out (pairs, r, c) += the blocks (m, 3, r, 3, c) of each cell's corner pair (k, l)
+    at out[slot[cell, k, l]], cells in order."""
     m = slot.shape[0]
     rows, columns = blocks.shape[2], blocks.shape[4]
-    out[:] = 0.0
     for cell in range(m):
         for k in range(3):
             for corner in range(3):
@@ -591,11 +618,14 @@ def _pair_sums(slot, blocks, out):
                         out[target, r, c] += blocks[cell, k, r, corner, c]
 
 
-def pair_sums(slot: np.ndarray, blocks: np.ndarray, n_pairs: int) -> np.ndarray:
+def pair_sums(
+    slot: np.ndarray, blocks: np.ndarray, n_pairs: int, out: np.ndarray | None = None
+) -> np.ndarray:
     """The cells' blocks (m, 3, r, 3, c) summed on the node pairs slot (m, 3, 3) of a
     CornerPairs pattern: (n_pairs, r, c), the numbers of ``CornerPairs.hessian`` (its
-    bincount adds the same terms in the same order)."""
-    out = np.empty((n_pairs, blocks.shape[2], blocks.shape[4]))
+    bincount adds the same terms in the same order); added to ``out`` when it is given."""
+    if out is None:
+        out = np.zeros((n_pairs, blocks.shape[2], blocks.shape[4]))
     _pair_sums(
         np.ascontiguousarray(slot, dtype=np.int64), np.ascontiguousarray(blocks, dtype=float), out
     )

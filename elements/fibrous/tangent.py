@@ -110,9 +110,7 @@ def nodal_membrane_tangent(
     if (
         block.compiled and hessian_kernels.AVAILABLE
     ):  # the same numbers by the compiled loops (hessian_kernels.py, tangent_kernels.py)
-        hessian, d_sums = hessian_kernels.membrane_hessians(block, x, v, sums)
-        h_blocks = hessian_kernels.pair_sums(pairs.slot, hessian, pairs.n_pairs)
-        del hessian  # 5.8 kB a cell
+        h_blocks, d_sums = hessian_kernels.pair_hessians(block, x, v, sums, pairs)
         ds_dx = hessian_kernels.normal_share_jacobians(x, block.wall_nodes[conn])
         j_blocks = hessian_kernels.pair_sums(pairs.slot, ds_dx, pairs.n_pairs)
         pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
