@@ -22,18 +22,21 @@ other pieces compiled, as the block formed it) and now, and of the explicit solv
 assembled Gershgorin bound (``assembled_stable_dt``) before (the sparse part through scipy's
 T^T K T) and now; the internal force is the reference pass, timed in the same rounds.
 Measured on this 2-core machine (one thread, NUMBA_NUM_THREADS=1, CPU time, best of 3,
-interleaved, 1-minute load 9.3-9.5):
+interleaved, 1-minute load 9.5), the Hessians formed and summed 8192 cells at a time:
 
-    968 triangles:   tangent  53.0 -> 20.9 ms (x2.5),  bound  112.0 -> 29.2 ms (x3.8),
+    968 triangles:   tangent  50.8 -> 20.0 ms (x2.5),  bound  108.6 -> 28.0 ms (x3.9),
                      internal force 0.7 ms
-    20000 triangles: tangent 1498 -> 477 ms (x3.1),    bound 3115 -> 747 ms (x4.2),
-                     internal force 11.4 ms
+    20000 triangles: tangent 1210 -> 417 ms (x2.9),    bound 2694 -> 651 ms (x4.1),
+                     internal force 10.7 ms
     max |K_now - K_before| / max |K_before| 3.7e-16 and 3.3e-16; the stable steps equal.
 
-Where the 477 ms of the 20k tangent go now (CPU, one thread, load 9.5, parts timed apart):
-the cell Hessians 182 ms (9 us a cell), J^T H J 122 ms, the bending (its material part
-numpy) 87 ms, the node-pair sums of the Hessians 28 ms, the normal-pull stiffness 24 ms, the
-normal-share Jacobians and their sums 9 ms.
+(An earlier run, all cells' Hessians held at once, load 9.3-9.5: 53.0 -> 20.9 and
+1498 -> 477 ms, bounds 112 -> 29 and 3115 -> 747 ms.)
+
+Where the 477 ms of the 20k tangent went in that run (CPU, one thread, load 9.5, parts
+timed apart): the cell Hessians 182 ms (9 us a cell), J^T H J 122 ms, the bending (its
+material part numpy) 87 ms, the node-pair sums of the Hessians 28 ms, the normal-pull
+stiffness 24 ms, the normal-share Jacobians and their sums 9 ms.
 
 Run from the project root:
 
