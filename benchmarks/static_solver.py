@@ -63,6 +63,13 @@ fewer); taking Newton's own step on the first indefinite tangent after a definit
 same increment (and turning only a second one in a row): cantilever 5-6-4-5-4, elastica 4-4-4-5-5,
 heavy 38-18-8: not kept. Each line prints the mode searches (eigen-solves) of the run.
 
+The compiled cell Hessians of the fibrous tangent (elements/fibrous/hessian_kernels.py),
+line 1's Static (default variant) before and after, CPU time on one thread, best of 3 (the
+spread in brackets), load 9-10 on 2 cores: 20 x 20 cells (400 triangles) 0.87 -> 0.76 s (one
+run each), 40 x 40 cells (1600 triangles) 6.35 (6.35-8.18) -> 4.91 (4.91-6.18) s; the same
+Newton iterations 4-4-4-4, 16 tangents and 43 / 48 residuals. Peirce fibrous (line 6, 40
+triangles) 0.29 -> 0.32 s, one run each (its 32 tangents of 40 cells are not what it spends).
+
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).
 """

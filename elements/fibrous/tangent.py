@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from elements.base import CellTangent, SparseTangent, local_tangent
-from elements.fibrous import bending, tangent_kernels
+from elements.fibrous import bending, hessian_kernels, tangent_kernels
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import (
     cell_geometry,
@@ -107,27 +107,30 @@ def nodal_membrane_tangent(
     v = state.directors[conn]
     sums = normal_sums(block, state.positions)[conn]
     pairs = block.corner_pairs()
+    if (
+        block.compiled and hessian_kernels.AVAILABLE
+    ):  # the same numbers by the compiled loops (hessian_kernels.py, tangent_kernels.py)
+        h_blocks, d_sums = hessian_kernels.pair_hessians(block, x, v, sums, pairs)
+        ds_dx = hessian_kernels.normal_share_jacobians(x, block.wall_nodes[conn])
+        j_blocks = hessian_kernels.pair_sums(pairs.slot, ds_dx, pairs.n_pairs)
+        pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
+        second = tangent_kernels.normal_pull_stiffness(x, pull)
+        if pairs.product is None:
+            pairs.product = tangent_kernels.MembraneProduct(
+                pairs.indptr, pairs.indices, pairs.n_nodes
+            )
+        return SparseTangent(pairs.product(h_blocks, j_blocks)), second
+
     hessian, d_sums = membrane_hessian(block, x, v, sums)  # (m, 3, 9, 3, 9), (m, 3, 3)
     h_ext = pairs.hessian(hessian)
-
     # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
     # corners of f.
     _, ds_dx = corner_normals(x, jacobian=True)  # (m, corner k, S comp, node j, x comp)
     ds_dx = ds_dx * ~block.wall_nodes[conn][:, :, None, None, None]
     jac = pairs.jacobian(ds_dx)
-
     # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
     pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
-    if block.compiled and tangent_kernels.AVAILABLE:
-        second = tangent_kernels.normal_pull_stiffness(x, pull)
-    else:
-        second = corner_normal_pull_tangent(x, pull)
-    if block.compiled and tangent_kernels.AVAILABLE:
-        if pairs.product is None:
-            pairs.product = tangent_kernels.MembraneProduct(
-                pairs.indptr, pairs.indices, pairs.n_nodes
-            )
-        return SparseTangent(pairs.product(h_ext.data, jac.data[:, 6:, :3])), second
+    second = corner_normal_pull_tangent(x, pull)
     return SparseTangent(jac.T @ (h_ext @ jac)), second
 
 
