@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.fibrous.angles import polar_angle
 from elements.jit import inline, serial
 
 __all__ = [
@@ -104,7 +103,7 @@ def side_terms(
     wx = sy * nz - sz * ny
     wy = sz * nx - sx * nz
     wz = sx * ny - sy * nx
-    fold = polar_angle(-(mx * wx + my * wy + mz * wz), length * (mx * nx + my * ny + mz * nz))
+    fold = np.arctan2(-(mx * wx + my * wy + mz * wz), length * (mx * nx + my * ny + mz * nz))
     scale = 2.0 / (length * (area2 + other_area2))
     p1 = e1x * wx + e1y * wy + e1z * wz
     p2 = e2x * wx + e2y * wy + e2z * wz

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.fibrous.angles import arc_sine, polar_angle
 from elements.fibrous.cell_terms import (
     angle_pull,
     corner_thickness,
@@ -79,8 +78,8 @@ def _normals_pass(connectivity, positions, with_angles, normal, double_area, ang
         double_area[c] = size
         if with_angles:
             # |u x w| = |c| at every corner, and the three angles sum to pi
-            alpha0 = polar_angle(size, ax * bx + ay * by + az * bz)
-            alpha1 = polar_angle(
+            alpha0 = np.arctan2(size, ax * bx + ay * by + az * bz)
+            alpha1 = np.arctan2(
                 size,
                 (x2x - x1x) * (x0x - x1x) + (x2y - x1y) * (x0y - x1y) + (x2z - x1z) * (x0z - x1z),
             )
@@ -209,7 +208,7 @@ def _cells_pass(
             eps2 = 0.5 * np.log(fibre2 * (fibres * reference1 * over))
             inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
             cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
-            gamma = sign * arc_sine(cos) - reference_shear[c, f]
+            gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
             w = a0 * weights[f]  # A0 w_f
             if with_energy:
                 tension_energy += w * (
@@ -565,7 +564,7 @@ def _strains_pass(
             eps1[c, f] = 0.5 * np.log(fibre1 / (reference1 * reference1))
             eps2[c, f] = 0.5 * np.log(fibre2 / (reference2 * reference2))
             cos = (g1x * g2x + g1y * g2y + g1z * g2z) / np.sqrt(square1 * square2)
-            angle = arc_sine(cos)
+            angle = np.arcsin(min(max(cos, -1.0), 1.0))
             gamma[c, f] = shear_sign[c] * angle - reference_shear[c, f]
 
 
