@@ -59,6 +59,25 @@ share 0.072 of a step on one thread, so Amdahl's bound on 2 threads is 1.87 x (o
 profile of 30 steps: the serial compiled update of the velocities, solvers/dynamics.py,
 1.4 %; the external load 0.9 %; the Python around the loops); 2 threads 0.76 x one at that
 load (no core was free: the 1.7 x of a quiet machine could not be measured).
+
+The table law's energy inlined into the cell loops (elements/fibrous/packed_laws.py; the
+bending laws of G986 are tables, met twice per cell by the energy check), on another 2-core
+machine (Intel Xeon, AVX-512), one thread, CPU time, load 9-10 throughout. Paired in one
+process against the previous kernels (a copy of main 7305bbb's kernels.py, cell_terms.py and
+packed_laws.py imported beside the new ones, taken in turns, order flipped every round), 100k
+triangles, 8 rounds: force 0.502 -> 0.492 us per element (best; median ratio 0.989, the same
+numbers to the last bit), force and energy 0.631 -> 0.560 (median ratio 0.892); 5k, 40
+rounds: force 0.99, force and energy 0.84. benchmarks/explicit_step.py --element fibrous
+--sizes 100000 --repeats 3 on the previous tree (main 7305bbb exported) and on this one, one
+after the other: whole run of 100 steps 0.546 -> 0.541 us per element-step, steady step
+0.710 -> 0.532 (a difference of two runs: noisy at this load, the whole runs say the two
+are equal within it), force 0.490 -> 0.462, force and energy 0.614 -> 0.530, reference pass
+0.181 / 0.170 CPU: the whole run 3.0 / 3.2 x the reference pass. The Mindlin shell there
+(same script, --element mindlin): steady step 0.185, whole run 0.222, reference 0.177.
+Measured and left out, no gain: the corner, fold and shear angles by one arctan of a
+quotient instead of arctan2 and arcsin (force 0.997 of the library's, paired, 5k, 60 rounds;
+the library's arctan2 is as fast as its arctan inside the loops); numba's numpy error model
+(no zero test per division), within the noise.
 """
 
 from __future__ import annotations

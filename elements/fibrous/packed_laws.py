@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE, serial
+from elements.jit import AVAILABLE
 
 if AVAILABLE:
     import numba
@@ -127,13 +127,14 @@ def law_energy(integers, reals, i, x):
     return _table_energy(integers, reals, i, x)
 
 
-@serial
+@_inline
 def _table_energy(integers, reals, i, x):
-    """integral_0^x y of table law i."""
+    """integral_0^x y of table law i (inline, as the value: a call with the tables costs
+    their reference counting, and the energy check meets two table laws per cell)."""
     return _table_integral(integers, reals, i, x) - _table_integral(integers, reals, i, 0.0)
 
 
-@serial
+@_inline
 def _table_integral(integers, reals, i, t):
     """integral of table i's y from its first knot to t (negative below it)."""
     count = integers[i, 2]
