@@ -1,6 +1,7 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
 on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
-validation report, run in the background beside the other tests."""
+validation report, run in the background beside the other tests; numba's kernels compiled
+once for all the session's processes (tests/compile_once.py)."""
 
 import os
 import tempfile
@@ -15,12 +16,17 @@ from pathlib import Path
 # solve.
 os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
+import compile_once  # noqa: E402
 import pytest  # noqa: E402
 from coarse_report import CoarseReport, report_kernels_cached  # noqa: E402
 
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
 from validation import specimens  # noqa: E402
+
+# A kernel missing from numba's cache compiled by one of the session's processes at a time
+# (pytest-xdist's workers ask for the same kernels side by side in a fresh checkout).
+compile_once.install()
 
 # The coarse report's folder, shared by the session's processes: chosen by the pytest process
 # that the command started, handed to each pytest-xdist worker (pytest_configure_node).

@@ -118,3 +118,41 @@ def test_the_tests_that_read_the_report_run_last_in_the_order_collected():
              item("d", "tmp_path")]  # fmt: skip
     pytest_collection_modifyitems(None, None, items)
     assert [i.name for i in items] == ["b", "d", "a", "c"]
+
+
+KERNEL = "import numba\n\n\n@numba.njit(cache=True)\ndef twice(x):\n    return 2.0 * x\n"
+ASK = (
+    "import sys; sys.path[:0] = sys.argv[1:3]\n"
+    "import compile_once; compile_once.install()\n"
+    "import kernel\n"
+    "print('ready', flush=True); sys.stdin.readline()\n"
+    "assert kernel.twice(1.5) == 3.0\n"
+    "print(sum(kernel.twice._cache_misses.values()), sum(kernel.twice._cache_hits.values()))\n"
+)
+
+
+def test_a_kernel_missing_from_the_cache_is_compiled_by_one_of_the_processes_asking(
+    tmp_path, monkeypatch
+):
+    # Two processes, numba imported, ask for the same uncached kernel at the same moment, while
+    # its lock is held (as while a third compiles it): one compiles it, the other loads that
+    # build from numba's cache. (Without the lock each of them compiles it.)
+    import compile_once
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "cache"))
+    (tmp_path / "kernel.py").write_text(KERNEL)
+    command = [sys.executable, "-c", ASK, str(tmp_path), str(Path(__file__).parent)]
+    asking = [
+        subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        for _ in range(2)
+    ]
+    with compile_once.compiling("kernel.twice"):
+        for process in asking:
+            assert process.stdout.readline() == "ready\n"
+        for process in asking:
+            process.stdin.write("go\n")
+            process.stdin.flush()
+        time.sleep(0.5)  # both at the lock
+    counts = sorted(tuple(map(int, p.communicate()[0].split())) for p in asking)
+    assert [p.returncode for p in asking] == [0, 0]
+    assert counts == [(0, 1), (1, 0)]  # (compiled, loaded from the cache) in each process
