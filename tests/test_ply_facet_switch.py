@@ -127,3 +127,39 @@ def test_the_contact_energy_changes_by_minus_the_work_of_its_forces():
         )
     assert energy.max() > 1.0  # the points press in all along
     assert abs(energy[-1] - energy[0] - work) <= 1e-2 * np.ptp(energy)
+
+
+def _strip_beside_its_outline():
+    """A 2 x 1 strip of four triangles (counter-clockwise about +z), its right half turned
+    45 deg down about x = 1 (a wrinkle's flank), and a path 2e-3 mm long per step through the
+    left triangle's plane at (1.3, -0.2): 0.2 past the outline y = 0 and 0.1 past the inner
+    edge x + y = 1, beside the outline next to its vertex (1, 0)."""
+    nodes = np.array(
+        [[0, 0, 0], [1, 0, 0], [2, 0, -1], [0, 1, 0], [1, 1, 0], [2, 1, -1]], dtype=float
+    )
+    cells = np.array([[0, 1, 3], [1, 4, 3], [1, 2, 4], [2, 5, 4]])
+    z = np.arange(0.05, -0.05, -2.0 * STEP)
+    path = np.column_stack([np.full_like(z, 1.3), np.full_like(z, -0.2), z])
+    return nodes[cells], cells, path
+
+
+def test_a_point_beside_the_outline_does_not_touch_as_it_passes_the_plane():
+    """The gap of a point faces the left triangle's inner edge x + y = 1 extended past the
+    outline (its growth by MARGIN), 0.07 mm away in the plane: signed by the triangle's
+    normal it flipped from +0.07 to -0.07 mm as the point passed the plane, a touching point
+    whose gap moved 70 times as far as the point (the +92 N mm jump that stopped the Mindlin
+    [0/45] hemisphere, elements/ply_projection.py "Beside the outline"). The reference is the
+    one of the test above: a touching point's gap moves no more than the point. The point
+    lies beside the lower ply, 0.2 past its outline where the flank below it holds it: its
+    gap is the distance to that flank's plane, +0.25 to +0.18 mm along the path."""
+    from elements.ply_projection import open_edges
+
+    triangles, cells, path = _strip_beside_its_outline()
+    facing = closest_facing(path, triangles, np.tile(np.arange(4), (len(path), 1)), 0.0,
+                            open_edges(cells))  # fmt: skip
+    either = facing.touching[1:] | facing.touching[:-1]
+    jumps = np.abs(np.diff(facing.gap))[either]
+    assert jumps.max(initial=0.0) <= 1.01 * 2.0 * STEP
+    flank = (path - triangles[2, 0]) @ (np.array([1.0, 0.0, 1.0]) / np.sqrt(2.0))
+    assert np.all(facing.triangle == 2)
+    np.testing.assert_allclose(facing.gap, flank, rtol=0, atol=1e-12)
