@@ -170,7 +170,11 @@ candidate the point is outside of mends it (checked on the stored states) but fl
 sign where a point passes a ridge's end vertex (tests/test_ply_facet_switch.py), so Mindlin
 [0/90] still stops at 91.6 % (82 s). Fibrous [0/45] reaches the end (143 s, 4522 steps,
 KE / W 0.25 at most at t = 0.052 s: the fibrous plies snap too), holder 9.6 N over the last
-tenth.
+tenth. Fibrous [0/90] reaches the end (66 s, 4247 steps, KE / W 0.17 at most at 0.053 s),
+holder 10.7 N over the last tenth, the top ply's least node gap in the die -0.29 mm at the
+end by all three measures below (the plies' meshes match: no chords), at the blank's
+(+-25, +-25), whose nodes are 0.31 mm into the punch and over a bottom node 0.59 mm inside
+its nominal sphere (pinched); -0.56 mm over the run (the pole, t = 0.060 s).
 - The gap's measure. The fibrous [0/45] top ply's least node gap in the die at the end is
   -2.49 mm to the bottom ply's flat facets (-2.47 in the Mindlin run), at the four nodes
   (+-16.7, +-16.7) of the blank on the punch 44 mm down; to the bottom ply's curved face
