@@ -162,3 +162,22 @@ def test_a_point_beside_the_outline_does_not_touch_as_it_passes_the_plane():
     jumps = np.abs(np.diff(facing.gap))[either]
     assert jumps.max(initial=0.0) <= 1.01 * 2.0 * STEP
     assert not facing.touching.any()
+
+
+def test_a_point_past_a_fold_pressed_flat_does_not_touch_deeper_than_the_plies():
+    """A unit triangle and its neighbour folded back onto it about their shared edge (a
+    wrinkle's flap laid flat: the same place, opposite normals), the folded one first in the
+    rows; a point 0.3 mm beside the fold's edge, in their plane, moves 2 mm across it. Both
+    triangles tie on the edge and give it opposite signs: the tie's choice handed it
+    -|p - q| (the +9.67 to -9.56 mm flip that stopped the Mindlin [0/90] hemisphere at 92 %
+    of the stroke). A point facing an edge deeper than both faces' half thicknesses (0.3 mm
+    here) has gone past the ply's edge: it does not touch (elements/ply_projection.py
+    "Deeper than the plies"), so along the path its energy is nil."""
+    nodes = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 0]], dtype=float)
+    cells = np.array([[1, 3, 2], [0, 1, 2]])  # the fold (normal -z) first, then the sheet (+z)
+    s = np.linspace(-1.0, 1.0, 201)
+    beside = np.array([0.5, 0.5, 0.0]) + 0.3 * np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    path = beside + s[:, None] * np.array([0.0, 0.0, 1.0])
+    facing = closest_facing(path, nodes[cells], np.tile([0, 1], (len(path), 1)), 0.0, depth=0.3)
+    np.testing.assert_allclose(np.abs(facing.gap), np.hypot(0.3, s), rtol=1e-12)
+    assert not facing.touching[np.abs(s) > 1e-9].any()
