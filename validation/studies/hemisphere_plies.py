@@ -165,10 +165,14 @@ shell block's energy changing most over the next ten steps, which the message na
 shared edge), +1060 N mm. The first is mended (elements/ply_projection.py "Beside the
 outline": such a point does not touch): Mindlin [0/45] now reaches the end (141 s, 8451
 steps; KE / W 0.31 at most, at the snap, 0.15 at most after 0.06 s, 0.03 at the end; the
-least node gap in die -2.47 mm to the flat facets). The second is not: the tie going to a
-candidate the point is outside of mends it (checked on the stored states) but flips the
-sign where a point passes a ridge's end vertex (tests/test_ply_facet_switch.py), so Mindlin
-[0/90] still stops at 91.6 % (82 s). Fibrous [0/45] reaches the end (143 s, 4522 steps,
+least node gap in die -2.47 mm to the flat facets). The second is bounded (ply_projection.py
+"Deeper than the plies": a point facing an edge or a vertex touches down to -0.3 mm only; the
+tie going to a candidate the point is outside of mended it on the stored states but flipped
+the sign where a point passes a ridge's end vertex, tests/test_ply_facet_switch.py): Mindlin
+[0/90] then runs past it and stops at 97.2 % (70 s), again on the balance with the ply
+contact's energy changing most (+153 N mm), a top-ply node at the blank's (-100, -50)
+12.4 mm through the bottom ply's face at t = 0.097 s: not diagnosed. The fibrous runs and
+Mindlin [0/45] above were made before that bound. Fibrous [0/45] reaches the end (143 s, 4522 steps,
 KE / W 0.25 at most at t = 0.052 s: the fibrous plies snap too), holder 9.6 N over the last
 tenth. Fibrous [0/90] reaches the end (66 s, 4247 steps, KE / W 0.17 at most at 0.053 s),
 holder 10.7 N over the last tenth, the top ply's least node gap in the die -0.29 mm at the
