@@ -170,15 +170,19 @@ least node gap in die -2.47 mm to the flat facets). The second is bounded (ply_p
 tie going to a candidate the point is outside of mended it on the stored states but flipped
 the sign where a point passes a ridge's end vertex, tests/test_ply_facet_switch.py): Mindlin
 [0/90] then runs past it and stops at 97.2 % (70 s), again on the balance with the ply
-contact's energy changing most (+153 N mm), a top-ply node at the blank's (-100, -50)
-12.4 mm through the bottom ply's face at t = 0.097 s: not diagnosed. The fibrous runs and
-Mindlin [0/45] above were made before that bound. Fibrous [0/45] reaches the end (143 s, 4522 steps,
-KE / W 0.25 at most at t = 0.052 s: the fibrous plies snap too), holder 9.6 N over the last
-tenth. Fibrous [0/90] reaches the end (66 s, 4247 steps, KE / W 0.17 at most at 0.053 s),
-holder 10.7 N over the last tenth, the top ply's least node gap in the die -0.29 mm at the
-end by all three measures below (the plies' meshes match: no chords), at the blank's
-(+-25, +-25), whose nodes are 0.31 mm into the punch and over a bottom node 0.59 mm inside
-its nominal sphere (pinched); -0.56 mm over the run (the pole, t = 0.060 s).
+contact's energy changing most (+153 N mm in the check's window, +546 N mm in one step),
+on the same flap: two of its triangles folded flat onto each other both hold a top-ply
+point's projection, at the same distance with opposite normals, and the nearest switched
+between them (+4.97 to -4.98 mm and +3.26 to -3.27 mm): the fold pressed flat again, where
+the point faces the triangles' planes, which the depth bound leaves alone. Not mended.
+The fibrous runs and Mindlin [0/45] above were made before that bound. Fibrous [0/45]
+reaches the end (143 s, 4522 steps, KE / W 0.25 at most at t = 0.052 s: the fibrous plies
+snap too), holder 9.6 N over the last tenth. Fibrous [0/90] reaches the end (66 s, 4247
+steps, KE / W 0.17 at most at 0.053 s), holder 10.7 N over the last tenth, the top ply's
+least node gap in the die -0.29 mm at the end by all three measures below (the plies' meshes
+match: no chords), at the blank's (+-25, +-25), whose nodes are 0.31 mm into the punch and
+over a bottom node 0.59 mm inside its nominal sphere (pinched); -0.56 mm over the run (the
+pole, t = 0.060 s).
 - The gap's measure. The fibrous [0/45] top ply's least node gap in the die at the end is
   -2.49 mm to the bottom ply's flat facets (-2.47 in the Mindlin run), at the four nodes
   (+-16.7, +-16.7) of the blank on the punch 44 mm down; to the bottom ply's curved face
