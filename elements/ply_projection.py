@@ -54,6 +54,35 @@ out of the contact. The gap's Hessian at an edge or a vertex (``_edge_hessian``)
 tangent. Rebuilding the tree costs O(m log m) per call, small against the shells' forces at
 the sizes of a ply stack (measured in benchmarks/plies.py), and no cache needs a proof that it
 is still valid. Where the facing triangle does not change the energy is smooth.
+
+Beside the outline. The growth past an outline edge extends the triangle's other two edges
+too, and past their ends (beside the outline, next to an outline vertex) a point can be
+nearest to such an extended edge while no candidate holds its projection within ``MARGIN``'s
+reach of the lower ply: there p passes the triangle's plane at a distance from q, and the
+sign of g = +-|p - q| flips in one step. Measured on the [0/45] Mindlin plies on the
+hemisphere (validation/studies/hemisphere_plies.py, coarse, 10 N) at 70 % of the stroke: a
+top-ply point 6 mm past the bottom ply's drawn-in outline, facing the extension of an inner
+edge of an outline triangle 2.8 mm away, went from +2.80 to -2.83 mm: +92 N mm of penalty
+energy in one step, which threw a node off at 20 m/s and stopped the run on its energy
+balance (tests/test_ply_facet_switch.py). So a point whose nearest candidate's closest point
+lies on the growth, off the triangle itself, is beside the lower ply and does not touch; the
+choice itself is left as it is (the distance stays continuous: passing such a candidate over
+handed a point of the same run, later, to a vertex 14 mm away at a gap of -14.1 mm, +2310 N
+mm in one step). The growth's planes still hold the projections past the outline as above.
+
+Deeper than the plies. Where the lower ply is folded back onto itself (a wrinkle's flap laid
+over, the two triangles of the fold with opposite normals), a point past the fold's edge is
+as near to the one as to the other and its sign by the one is the opposite of its sign by
+the other: measured on the [0/90] Mindlin plies on the hemisphere (coarse, 10 N) at 92 % of
+the stroke, a top-ply point 9.6 mm beside a flap standing on the flange went from +9.67 mm
+(held by one triangle of the fold) to -9.56 mm (the other's, tied on their shared edge),
++1060 N mm in one step. No choice among the tied candidates is right everywhere (taking the
+one the point is outside of mends the fold and flips the sign where a point passes a
+ridge's end vertex). So a point facing an edge or a vertex touches only down to a gap of
+-``depth``, the two faces' half thicknesses (``PlyContactBlock`` gives them): a point that
+deep in a ply and past its triangles has gone past the ply's edge. The energy then jumps by
+at most W(-depth) = k (depth + delta / 2)^2 / 2 where such a point crosses -depth or flips
+(1.04 N mm at the plies' 0.3 mm and 23 N/mm of the coarse hemisphere).
 """
 
 from __future__ import annotations
@@ -310,6 +339,7 @@ def closest_facing(
     tolerance: float,
     outline: np.ndarray | None = None,
     second: bool = False,
+    depth: float = np.inf,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -331,6 +361,9 @@ def closest_facing(
     second : bool
         Give the gap's Hessian where a point faces an edge or a vertex (``Facing.hessian``,
         for the tangent); else None.
+    depth : float
+        mm: a point facing an edge or a vertex with a gap below -depth does not touch (module
+        docstring, "Deeper than the plies"; the contact passes both faces' half thicknesses).
     """
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
@@ -379,7 +412,10 @@ def closest_facing(
             hessian[edge] = bend
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
-    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN)
+    # a point nearest to a growth's edge, off the triangle itself, is beside the lower ply
+    # (module docstring, "Beside the outline")
+    beside = on_edge & ((lam.min(axis=-1) < -INSIDE) | (chosen_gap < -depth))
+    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside
     return Facing(
         triangle=near[rows, best],
         gap=chosen_gap,

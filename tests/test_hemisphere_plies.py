@@ -13,7 +13,8 @@ from validation.studies import hemisphere_plies as study
 
 @pytest.mark.slow
 def test_a_fibrous_0_90_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in_order():
-    """Measured: the top ply's least node gap in the die -0.29 mm at the end (-0.25 with the
+    """Measured: the top ply's least node gap in the die -0.29 mm at the end, to the bottom
+    ply's curved face as to its flat facets (-0.287 on the current step; -0.25 with the
     holder's dashpot and the earlier search; the plies'
     faces along their directors, before: the paired nodes ended 0.06 mm apart on average
     where 0.3 is their thickness, down to -0.66, and the top ply's pole node passed 2.6 mm

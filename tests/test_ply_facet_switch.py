@@ -127,3 +127,57 @@ def test_the_contact_energy_changes_by_minus_the_work_of_its_forces():
         )
     assert energy.max() > 1.0  # the points press in all along
     assert abs(energy[-1] - energy[0] - work) <= 1e-2 * np.ptp(energy)
+
+
+def _strip_beside_its_outline():
+    """A 2 x 1 strip of four triangles (counter-clockwise about +z), its right half turned
+    45 deg down about x = 1 (a wrinkle's flank), and a path 2e-3 mm long per step through the
+    left triangle's plane at (1.3, -0.2): 0.2 past the outline y = 0 and 0.1 past the inner
+    edge x + y = 1, beside the outline next to its vertex (1, 0)."""
+    nodes = np.array(
+        [[0, 0, 0], [1, 0, 0], [2, 0, -1], [0, 1, 0], [1, 1, 0], [2, 1, -1]], dtype=float
+    )
+    cells = np.array([[0, 1, 3], [1, 4, 3], [1, 2, 4], [2, 5, 4]])
+    z = np.arange(0.05, -0.05, -2.0 * STEP)
+    path = np.column_stack([np.full_like(z, 1.3), np.full_like(z, -0.2), z])
+    return nodes[cells], cells, path
+
+
+def test_a_point_beside_the_outline_does_not_touch_as_it_passes_the_plane():
+    """The point is nearest to the left triangle's inner edge x + y = 1 extended past the
+    outline (its growth by MARGIN), 0.07 mm away in the plane. Its gap, signed by the
+    triangle's normal, flipped from +0.07 to -0.07 mm as the point passed the plane: a
+    touching point whose gap moved 70 times as far as the point (the +92 N mm jump that
+    stopped the Mindlin [0/45] hemisphere, elements/ply_projection.py "Beside the outline").
+    The reference is the one of the test above, a touching point's gap moves no more than
+    the point; and the point lies beside the lower ply, past its outline and off every
+    triangle, so it does not touch at all."""
+    from elements.ply_projection import open_edges
+
+    triangles, cells, path = _strip_beside_its_outline()
+    facing = closest_facing(path, triangles, np.tile(np.arange(4), (len(path), 1)), 0.0,
+                            open_edges(cells))  # fmt: skip
+    assert np.all(facing.triangle == 0)  # the premise: the inner edge's extension is nearest
+    either = facing.touching[1:] | facing.touching[:-1]
+    jumps = np.abs(np.diff(facing.gap))[either]
+    assert jumps.max(initial=0.0) <= 1.01 * 2.0 * STEP
+    assert not facing.touching.any()
+
+
+def test_a_point_past_a_fold_pressed_flat_does_not_touch_deeper_than_the_plies():
+    """A unit triangle and its neighbour folded back onto it about their shared edge (a
+    wrinkle's flap laid flat: the same place, opposite normals), the folded one first in the
+    rows; a point 0.3 mm beside the fold's edge, in their plane, moves 2 mm across it. Both
+    triangles tie on the edge and give it opposite signs: the tie's choice handed it
+    -|p - q| (the +9.67 to -9.56 mm flip that stopped the Mindlin [0/90] hemisphere at 92 %
+    of the stroke). A point facing an edge deeper than both faces' half thicknesses (0.3 mm
+    here) has gone past the ply's edge: it does not touch (elements/ply_projection.py
+    "Deeper than the plies"), so along the path its energy is nil."""
+    nodes = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 0]], dtype=float)
+    cells = np.array([[1, 3, 2], [0, 1, 2]])  # the fold (normal -z) first, then the sheet (+z)
+    s = np.linspace(-1.0, 1.0, 201)
+    beside = np.array([0.5, 0.5, 0.0]) + 0.3 * np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    path = beside + s[:, None] * np.array([0.0, 0.0, 1.0])
+    facing = closest_facing(path, nodes[cells], np.tile([0, 1], (len(path), 1)), 0.0, depth=0.3)
+    np.testing.assert_allclose(np.abs(facing.gap), np.hypot(0.3, s), rtol=1e-12)
+    assert not facing.touching[np.abs(s) > 1e-9].any()
