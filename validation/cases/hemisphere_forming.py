@@ -121,6 +121,8 @@ TITLE = "Hemisphere forming: shear angles against the pin-jointed net, draw-in a
 SOURCE = "Mack and Taylor (1956) pin-jointed net on the sphere"
 PUNCH, HALF, THICKNESS = 50.0, 100.0, 0.3
 DIE = PUNCH + 2.0 * THICKNESS  # the punch, the ply and a clearance of one ply
+# The die's entry radius, the round from its bowl onto its flange (mm; 0: a sharp edge).
+DIE_RIM = 0.0
 # The shear law: 0.2 N/mm per rad at small angles (materials.presets SHEAR_PER_PLY) stiffening
 # as the fibres close up, M_s = 0.2 g + K5 g^5: 3.7 times the initial slope at 30 deg, 50 times
 # at 55 deg (a woven fabric's locking angle; the linear law let a wrinkle fold a cell flat).
@@ -230,7 +232,7 @@ def model(cells: int, kinematics: str, holder_force: float | None = None) -> tup
         built.add(MindlinShell(ElasticShell.equivalent(fabric())))
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
-    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48))
+    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48, rim=DIE_RIM))
     damped = CONTACT_DAMPING if CONTACT_DAMPING > 0.0 else None
     built.contact(die, damping=damped)
     travel = PUNCH + THICKNESS
