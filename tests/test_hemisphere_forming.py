@@ -186,3 +186,28 @@ def test_the_shear_and_fibre_figures_fit_an_800_px_page_at_a_readable_size(tmp_p
         height, width = imread(tmp_path / name).shape[:2]
         assert 800 < width <= 1000 and height < 1.2 * width, (name, width, height)
     assert drawn[f"{case.NAME}-shear.png"].caption
+
+
+def test_the_die_with_an_entry_radius_lies_on_its_bowl_its_round_and_its_flange():
+    """validation.specimens.hemisphere_die(rim=r): every point lies on the bowl's sphere, on
+    the round (a torus of tube radius r about the circle of radius sqrt(R^2 + 2 R r) at z = -r,
+    tangent to both: closed form) or on the flange's plane, to round-off; the round spans the
+    polar angles from the sphere's tangent point to the flange; rim 0 is the sharp die."""
+    from validation.specimens import hemisphere_die
+
+    radius, rim = case.DIE, 5.0
+    die = hemisphere_die(radius, 170.0, rings=48, rim=rim)
+    x = die.points
+    r = np.hypot(x[:, 0], x[:, 1])
+    start = math.sqrt(radius**2 + 2.0 * radius * rim)
+    on_bowl = np.abs(np.linalg.norm(x, axis=1) - radius) < 1e-9
+    on_round = np.abs(np.hypot(r - start, x[:, 2] + rim) - rim) < 1e-9
+    on_flange = np.abs(x[:, 2]) < 1e-12
+    assert np.all(on_bowl | on_round | on_flange)
+    round_only = on_round & ~on_bowl & ~on_flange
+    assert round_only.sum() > 0 and r[round_only].min() > radius * start / (radius + rim) - 1e-9
+    assert r[on_flange & (r > 1.0)].min() == pytest.approx(start, rel=1e-12)
+    sharp = hemisphere_die(radius, 170.0, rings=48)
+    assert np.array_equal(hemisphere_die(radius, 170.0, rings=48, rim=0.0).points, sharp.points)
+    with pytest.raises(ValueError, match="rim"):
+        hemisphere_die(radius, 170.0, rings=48, rim=-1.0)
