@@ -214,3 +214,21 @@ def test_the_die_with_an_entry_radius_lies_on_its_bowl_its_round_and_its_flange(
     assert np.array_equal(hemisphere_die(radius, 170.0, rings=48, rim=0.0).points, sharp.points)
     with pytest.raises(ValueError, match="rim"):
         hemisphere_die(radius, 170.0, rings=48, rim=-1.0)
+
+
+def test_the_kinetic_energy_is_judged_before_the_release_and_reported_over_the_stroke():
+    """Records with KE / W = 0.05 up to 0.72 of the stroke and 0.3 after it (a release at its
+    end): judged up to KINETIC_JUDGED_UNTIL (0.7) nothing passes the bound, where the solver's
+    report over the whole stroke finds 0.3 above it for the last 0.28 of the stroke over the
+    0.9 judged (after its first tenth): the share 0.311."""
+    time = np.linspace(0.0, case.DURATION, 3001)
+    work = 1.0 + 1000.0 * (time / case.DURATION) ** 2
+    kinetic = np.where(time <= 0.72 * case.DURATION, 0.05, 0.3) * work
+    energies = {"time": time, "kinetic": kinetic, "external_work": work}
+    judged = case.judged_kinetic(energies)
+    assert judged["exceeded_share"] == 0.0 and judged["exceeded_at_s"] is None
+    assert judged["kinetic_over_work_largest"] == pytest.approx(0.05)
+    from solvers.quasi_static import quasi_static_report
+
+    whole = quasi_static_report(energies, KINETIC_BOUND, case.DURATION, 0.0, warn=False)
+    assert whole["exceeded_share"] == pytest.approx(0.28 / 0.9, abs=2e-3)
