@@ -90,11 +90,12 @@ def test_the_holder_is_a_plane_on_the_flange_free_along_z_and_pressed_by_its_for
 def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_statically(
     coarse_report,
 ):
-    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, about 18500 steps (23-37 s of CPU),
-    read from the coarse report's run of the case (tests/conftest.py: the suite runs the blank
-    once). Measured: the rms shear error against the net 2.75 deg; the kinetic energy at most
-    0.079 of the work after the first tenth, 0.008 at the end; the holder does not rise (its
-    flange stays flat); the damping dissipates 8 % of the work."""
+    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, 16587 steps (47 s of CPU at load
+    6-9), read from the coarse report's run of the case (tests/conftest.py: the suite runs the
+    blank once). Measured: the rms shear error against the net 2.74 deg; the kinetic energy at
+    most 0.085 of the work after the first tenth (the whole stroke and its judged part alike),
+    0.010 at the end; the holder does not rise (its flange stays flat); the damping dissipates
+    8.6 % of the work."""
     _, report = coarse_report
     run = report["cases"][case.NAME]
     assert run["converged"]
@@ -103,6 +104,8 @@ def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_
     assert values["fibrous_rms_shear_error_deg"] < case.RMS_TOLERANCE_DEG["coarse"]
     assert values["fibrous_largest_kinetic_over_work"] < KINETIC_BOUND
     assert values["fibrous_share_above_kinetic_bound"] == 0.0
+    assert values["fibrous_share_above_kinetic_bound_before_the_release"] == 0.0
+    assert values["fibrous_reached_s"] == pytest.approx(case.DURATION)
     assert values["fibrous_final_kinetic_over_work"] < 0.5 * KINETIC_BOUND
     assert values["fibrous_largest_holder_lift_mm"] < 0.5 * case.THICKNESS
     assert 0.0 < values["fibrous_damping_over_work"] < 0.15
