@@ -69,9 +69,11 @@ centre-line fibre on that die), punch force 101 N. At 12 cells: rms 2.76 deg (2.
 draw-in 22.57 mm, punch force 94.8 N, KE / W at most 0.008 (0.085 sharp), the damping 0.5 %
 of the work (8.6 %), 16564 steps in 21 s of CPU (47 s sharp, 16587 steps).
 But the 32-cell blank on the rounded die departs from the net by 4.38 deg rms (the cell
-pairs' means 4.23 deg, so a smooth departure, not noise; 6.4 deg on the compared cells' outer
-ring, 50-70 mm from the blank's centre, against 3.2 on the sharp die), which no run here
-explains yet: DIE_RIM stays 0 (the sharp die) until it is.
+pairs' means 4.23 deg, so not a cell-to-cell noise): on the compared cells more than 45 mm
+from the blank's centre it follows the net along the diagonals (rms 1.4-1.9 deg within 45
+deg of them, 2.4-3.5 on the sharp die) and departs by the centre lines (8.6-8.9 deg within 15
+deg of them, 3.1-4.0 sharp; the net's shear there 8 deg), where the flange's compressed fibres
+enter the die. Not explained yet: DIE_RIM stays 0 (the sharp die) until it is.
 On the sharp die the blank also rings through the stroke: its fastest nodes move at 1.5-2.6
 m/s at t = 0.15 s and 3-10 m/s from t = 0.18 s on every mesh (the punch at most 0.3 m/s), in
 the die and on the flange, carrying the kinetic energy that KE / W measures before the
