@@ -403,19 +403,34 @@ def build(
     return model
 
 
-def hemisphere_die(radius: float, flange: float, rings: int) -> Mesh:
+def hemisphere_die(radius: float, flange: float, rings: int, rim: float = 0.0) -> Mesh:
     """A forming die meshed with triangles: a hemispherical bowl of ``radius`` (mm, centre
     at the origin, rim at z = 0) and a flat flange out to radius ``flange``, for
     ``elements.RigidSurface``. ``rings`` rings of points from the bowl's bottom pole to its
     rim at equal angles, the flange's rings as wide; each ring has as many points as make its
     spacing that width, so the facets are all of about one size (no slivers at the pole),
     and neighbouring rings are zipped into triangles in order of angle. The facets' normals
-    point up and into the bowl (the side the blank is on)."""
+    point up and into the bowl (the side the blank is on).
+
+    ``rim`` (mm, default 0: a sharp edge): the radius of a round joining the bowl to the
+    flange, tangent to both, as a forming die's entry radius. Its centre lies rim below the
+    flange and radius + rim from the bowl's centre, so the flange starts at sqrt(radius^2 +
+    2 radius rim) from the axis and the bowl ends at the polar angle whose sine is that over
+    radius + rim; the round has rings as wide as the others (at least two)."""
+    if rim < 0.0:
+        raise ValueError(f"hemisphere_die rim must be >= 0, got {rim}")
     width = radius * 0.5 * np.pi / rings
-    polar = np.linspace(0.0, 0.5 * np.pi, rings + 1)[1:]
-    outer = np.linspace(radius, flange, max(1, round((flange - radius) / width)) + 1)[1:]
-    ring_radius = np.r_[radius * np.sin(polar), outer]
-    ring_z = np.r_[-radius * np.cos(polar), np.zeros(len(outer))]
+    start = np.sqrt(radius**2 + 2.0 * radius * rim)  # the flange's inner radius
+    last = np.arcsin(start / (radius + rim))  # the bowl's last polar angle (pi/2 sharp)
+    polar = np.linspace(0.0, last, max(1, round(radius * last / width)) + 1)[1:]
+    # The round: from the bowl's tangent point (angle pi - atan(rim / start) about its
+    # centre (start, -rim) in the (r, z) plane) to the flange's (angle pi/2).
+    span = 0.5 * np.pi - np.arctan2(rim, start)
+    turn = np.linspace(0.5 * np.pi + span, 0.5 * np.pi, max(2, round(rim * span / width)) + 1)
+    turn = turn[1:] if rim > 0.0 else turn[:0]
+    outer = np.linspace(start, flange, max(1, round((flange - start) / width)) + 1)[1:]
+    ring_radius = np.r_[radius * np.sin(polar), start + rim * np.cos(turn), outer]
+    ring_z = np.r_[-radius * np.cos(polar), -rim + rim * np.sin(turn), np.zeros(len(outer))]
     points = [np.array([[0.0, 0.0, -radius]])]
     angles = [np.zeros(1)]
     for r, z in zip(ring_radius, ring_z):
