@@ -93,9 +93,8 @@ def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_
     """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, 16587 steps (47 s of CPU at load
     6-9), read from the coarse report's run of the case (tests/conftest.py: the suite runs the
     blank once). Measured: the rms shear error against the net 2.74 deg; the kinetic energy at
-    most 0.085 of the work after the first tenth (the whole stroke and its judged part alike),
-    0.010 at the end; the holder does not rise (its flange stays flat); the damping dissipates
-    8.6 % of the work."""
+    most 0.085 of the work after the first tenth, 0.010 at the end; the holder does not rise (its
+    flange stays flat); the damping dissipates 8.6 % of the work."""
     _, report = coarse_report
     run = report["cases"][case.NAME]
     assert run["converged"]
@@ -141,8 +140,6 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
             "kinetic_over_work": 0.01,
             "largest_kinetic_over_work": 0.05,
             "kinetic_exceeded_share": 0.0,
-            "largest_kinetic_over_work_judged": 0.05,
-            "kinetic_exceeded_share_judged": 0.0,
             "end_time_s": case.DURATION,
             "damping_over_work": 0.1,
             "contact_damping_over_work": 0.0,
@@ -217,21 +214,3 @@ def test_the_die_with_an_entry_radius_lies_on_its_bowl_its_round_and_its_flange(
     assert np.array_equal(hemisphere_die(radius, 170.0, rings=48, rim=0.0).points, sharp.points)
     with pytest.raises(ValueError, match="rim"):
         hemisphere_die(radius, 170.0, rings=48, rim=-1.0)
-
-
-def test_the_kinetic_energy_is_judged_before_the_release_and_reported_over_the_stroke():
-    """Records with KE / W = 0.05 up to 0.72 of the stroke and 0.3 after it (a release at its
-    end): judged up to KINETIC_JUDGED_UNTIL (0.7) nothing passes the bound, where the solver's
-    report over the whole stroke finds 0.3 above it for the last 0.28 of the stroke over the
-    0.9 judged (after its first tenth): the share 0.311."""
-    time = np.linspace(0.0, case.DURATION, 3001)
-    work = 1.0 + 1000.0 * (time / case.DURATION) ** 2
-    kinetic = np.where(time <= 0.72 * case.DURATION, 0.05, 0.3) * work
-    energies = {"time": time, "kinetic": kinetic, "external_work": work}
-    judged = case.judged_kinetic(energies)
-    assert judged["exceeded_share"] == 0.0 and judged["exceeded_at_s"] is None
-    assert judged["kinetic_over_work_largest"] == pytest.approx(0.05)
-    from solvers.quasi_static import quasi_static_report
-
-    whole = quasi_static_report(energies, KINETIC_BOUND, case.DURATION, 0.0, warn=False)
-    assert whole["exceeded_share"] == pytest.approx(0.28 / 0.9, abs=2e-3)
