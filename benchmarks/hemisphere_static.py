@@ -130,7 +130,7 @@ cut, 23 updates, 2.7 s) without; 12 cells, 13, 13, 33, 35, 83, 40, 147, 115, 84,
 whose attempts took 743 iterations (35 updates, 13 fall-backs, 149 s) against 11, 9, 26, 70,
 88, 84, 93, 53, 27, 9 with 2 cuts, 153 iterations (23 updates, 6 fall-backs, 42 s) without; the
 same rms against the net (2.1 and 2.96 deg) and dissipation (0.6 and 0.5 %). Following costs
-iterations on these blanks, so it stays off by default (``Static(follow_tools=False)``); The
+iterations on these blanks, so it stays off by default (``Static(follow_tools=False)``). The
 smoothed die alone (``--smooth``, load 3.9-9.5): 8 cells 7, 10, 13, 18, 14, 43, 17, 12, 17, 4
 (155, no cut, 3.4 s); 12 cells 11, 9, 26, 64, 49, 86, 98, 74, 21, 8 with 3 cuts whose attempts
 took 254 iterations (31 updates, 6 fall-backs, 43 s), about the plain die's cost; both options
