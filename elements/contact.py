@@ -41,12 +41,18 @@ quadratically. Unilateral contact would lose a node sliding on a curved tool at 
 step (the straight step lifts it by s^2 / 2R, more than the penalty's penetration F / k once the
 slide s exceeds sqrt(2 R F / k)), and its tangent would then hold the node by nothing.
 ``freeze`` also counts the nodes whose status the state contradicts (``grow``: adds the nodes
-that penetrate, and only those); the solver (solvers.newton) accepts only states in
-equilibrium under the unilateral law (``thaw``). The friction limit is mu k max(p, 0) for a
-frozen node. With friction, ``freeze`` fixes the stick and slip sets too, and each sliding
-node's slip direction: the friction force of a frozen sliding node is mu k max(p, 0) against
-that direction (projected on the tool's tangent plane), smooth in x, where the return
-mapping's s / |s| turns over wherever a node reverses, which sends Newton round a cycle.
+that penetrate, and, with RELEASE_THICKNESSES finite (off by default), removes those more than
+that many body thicknesses off the tool, which have left it: a blank node that a Newton step
+carries over a die's rim or off a punch would otherwise be pulled back over that distance, onto
+the rim's faceted edge, where the distance is only continuous (the 16-cell hemisphere drape by
+Static held four such nodes 1.3 mm off the die and 1.5 mm off the punch, and its Newton stalled
+there; docs/theory.md §9.1); a node without thickness, a cable, is never removed); the solver
+(solvers.newton) accepts only states in equilibrium under the unilateral law (``thaw``). The
+friction limit is mu k max(p, 0) for a frozen node. With friction, ``freeze`` fixes the stick
+and slip sets too, and each sliding node's slip direction: the friction force of a frozen
+sliding node is mu k max(p, 0) against that direction (projected on the tool's tangent plane),
+smooth in x, where the return mapping's s / |s| turns over wherever a node reverses, which
+sends Newton round a cycle.
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
@@ -66,6 +72,7 @@ quasi-static solvers, assembled, stepped and solved as any node's (docs/theory.m
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -80,6 +87,12 @@ from femcore.state import State
 __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty
+# A frozen node further off the tool than this many body thicknesses (2 x its contact offset)
+# has left it while Newton iterates and leaves the frozen set at once (module docstring,
+# "Active set"); a node without thickness (a cable) never does. Off (infinite) by default: at
+# 1 (or 3 or 4) the 8-cell hemisphere drape by Static took 82 iterations in its sixth
+# increment against 42 (at 1 and 3 with a cut); at 10, 29 (benchmarks/hemisphere_static.py).
+RELEASE_THICKNESSES = math.inf
 
 
 class Contact(Interaction):
@@ -438,7 +451,12 @@ class ContactBlock(InteractionBlock):
         at_limit = stuck & (length >= (1.0 - 1e-6) * held) & (p > 0.0)
         sliding = sliding | at_limit
         if grow and before is not None:
-            added = (d < self.surface_offset(history)) & ~before
+            offset = self.surface_offset(history)
+            added = (d < offset) & ~before
+            # Off the tool by more than the band: left it (module docstring, "Active set").
+            band = 2.0 * np.asarray(self.offset)
+            released = before & (band > 0.0) & (d > offset + RELEASE_THICKNESSES * band)
+            before = before & ~released
             kept = history.sliding if history.sliding is not None else sliding
             kept_direction = history.direction if history.direction is not None else direction
             return replace(
@@ -446,7 +464,7 @@ class ContactBlock(InteractionBlock):
                 active=before | added,
                 sliding=np.where(added, sliding, kept),
                 direction=np.where(added[:, None], direction, kept_direction),
-            ), int(added.sum())
+            ), int(added.sum() + released.sum())
         if history.sliding is not None:
             changed += int((history.sliding != sliding).sum())
         return replace(history, active=touching, sliding=sliding, direction=direction), changed

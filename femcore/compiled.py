@@ -290,7 +290,8 @@ class CompiledModel:
         """(the state with every interaction's contact set frozen at it, the number of nodes
         whose contact status there differs from the sets frozen before): the active-set
         strategy of the quasi-static solvers (femcore.interaction.InteractionBlock.freeze;
-        ``grow``: the nodes that penetrate added to the frozen sets, and counted)."""
+        ``grow``: the nodes that penetrate added to the frozen sets and those clearly off
+        the tools removed, and counted)."""
         if not self.interactions:
             return state, 0
         history, changed = list(self._histories(state)), 0

@@ -213,9 +213,10 @@ class InteractionBlock(ABC):
         touching nodes frozen at ``state``, so that the forces are smooth while the solver
         iterates; the number of nodes whose contact status at ``state`` differs from the set
         frozen in ``history``, all touching nodes when none is). ``grow``: only add the nodes
-        that penetrate at ``state`` to the set frozen in ``history`` (a set that only grows
-        while Newton iterates cannot chatter), and count them. The default has no contact
-        set: (history, 0)."""
+        that penetrate at ``state`` to the set frozen in ``history`` and remove those that are
+        clearly off the tool (elements/contact.py: more than the body's thickness; a set that
+        changes only so while Newton iterates cannot chatter), and count them. The default has
+        no contact set: (history, 0)."""
         return history, 0
 
     def thaw(self, history: Any) -> Any:

@@ -38,17 +38,19 @@ solve and two evaluations each, instead of a tangent and its factorisation.
 
 Contact (the active-set strategy of implicit contact codes; elements/contact.py): the contact
 sets of the interactions (which nodes touch, which stick, which slide and in what direction)
-are frozen at the start of the increment, so that the contact forces are smooth and the
-tangent exact while Newton iterates: the unilateral law would lose every node of a cable
-sliding over a curved tool at each linearised step (the straight step lifts it by s^2 / 2R,
-more than the penalty's penetration), and the return mapping's slip direction turns over
-wherever a node reverses. A node that penetrates joins the set at once (the set only grows
-within a solve: no chatter). A state that converges is checked under the unilateral law; when
-the sets were wrong, the solve goes on with the sets that state shows, from that state when
-its residual is already below that of the increment's first iterate, else from the start of
-the increment (a node held by its stick spring where it slides leaves a state far off). After
-MAX_CONTACT_UPDATES wrong sets the increment goes on with the unilateral law itself, which
-settles the nodes whose contact force is near zero (a lift-off) where frozen sets alternate.
+are frozen at the start of the increment, so that the contact forces are smooth and the tangent
+exact while Newton iterates: the unilateral law would lose every node of a cable sliding over a
+curved tool at each linearised step (the straight step lifts it by s^2 / 2R, more than the
+penalty's penetration), and the return mapping's slip direction turns over wherever a node
+reverses. A node that penetrates joins the set at once, and a frozen node more than the body's
+thickness off the tool leaves it (elements/contact.py, RELEASE_THICKNESSES, off by default):
+joining at a touch and leaving a thickness away, the set does not chatter. A state that
+converges is checked under the unilateral law; when the sets were wrong, the solve goes on with
+the sets that state shows, from that state when its residual is already below that of the
+increment's first iterate, else from the start of the increment (a node held by its stick
+spring where it slides leaves a state far off). After MAX_CONTACT_UPDATES wrong sets the
+increment goes on with the unilateral law itself, which settles the nodes whose contact force
+is near zero (a lift-off) where frozen sets alternate.
 
 Convergence is the force-reference test of solvers.convergence (``Residual``).
 """
@@ -187,8 +189,9 @@ def _iterate(
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
         if frozen:
-            # A node that penetrates joins the frozen set at once (the set only grows while
-            # Newton iterates: no chatter); one pulled off waits for the converged check.
+            # A node that penetrates joins the frozen set at once, one more than a thickness off
+            # the tool leaves it (no chatter in between); one just pulled off waits for the
+            # converged check.
             state, grown = model.freeze(state, grow=True)
             if grown:
                 forces = None

@@ -8,6 +8,7 @@ import pytest
 from test_contact import assert_tangent_is_the_force_derivative
 
 from elements import RigidCylinder, RigidPlane
+from elements import contact as contact_module
 from elements.contact import Contact, FrictionHistory
 from femcore import Mesh
 from femcore.interaction import Body
@@ -75,6 +76,40 @@ def test_a_frozen_node_lifted_off_the_tool_is_pulled_back_until_thawed():
     assert grown.active.tolist() == [True, True] and added == 1
     assert block.thaw(frozen) is None  # frictionless: no history
     np.testing.assert_allclose(block.contact_forces(lifted, None), [[0, 0, 0], [0, 0, 20.0]])
+
+
+def test_a_frozen_node_more_than_a_thickness_off_the_tool_leaves_the_set(monkeypatch):
+    """Offset 0.5 mm (a body 1 mm thick): of three frozen nodes lifted 0.99, 1.01 and 3 mm past the
+    contact surface, the first keeps its bilateral spring (k x 0.99 pulling it back) and the other
+    two leave the set while it grows (RELEASE_THICKNESSES = 1, off by default: off the tool by more
+    than the body's thickness, they have left it; the spring would pull them back over that
+    distance onto whatever part of the tool is nearest), counted with the node that joins. Without
+    thickness (offset 0, a cable) no node leaves; by default (RELEASE_THICKNESSES infinite) none
+        does."""
+    monkeypatch.setattr(contact_module, "RELEASE_THICKNESSES", 1.0)  # off by default
+    tool = RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    points = np.array([[0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [2.0, 0.0, 0.5], [3.0, 0.0, 0.9]])
+    mesh = Mesh(points, lines=np.array([[0, 1], [1, 2], [2, 3]]))
+    zero = np.zeros((4, 3))
+    lifted = State(points + [[0, 0, 0.99], [0, 0, 1.01], [0, 0, 3.0], [0, 0, -0.5]], *[zero] * 3)
+    block = Contact(tool, [0, 1, 2, 3], offset=0.5, penalty=100.0).bind(Body.bare(mesh))
+    frozen_thick, _ = block.freeze(State(points.copy(), zero, zero, zero), None)
+    assert frozen_thick.active.tolist() == [True, True, True, False]
+    grown, changed = block.freeze(lifted, frozen_thick, grow=True)
+    assert grown.active.tolist() == [True, False, False, True] and changed == 3
+    np.testing.assert_allclose(
+        block.contact_forces(lifted, grown), [[0, 0, -99.0], [0, 0, 0], [0, 0, 0], [0, 0, 10.0]]
+    )
+    thin = Contact(tool, [0, 1, 2, 3], offset=0.0, penalty=100.0).bind(Body.bare(mesh))
+    on = State(points - [0.0, 0.0, 0.5], zero, zero, zero)
+    frozen, _ = thin.freeze(on, None)
+    grown, changed = thin.freeze(State(on.positions + [0.0, 0.0, 3.0], *[zero] * 3), frozen,
+                                 grow=True)  # fmt: skip
+    assert grown.active.tolist() == frozen.active.tolist() == [True, True, True, False]
+    assert changed == 0
+    monkeypatch.undo()  # the default: nothing leaves
+    grown, changed = block.freeze(lifted, frozen_thick, grow=True)
+    assert grown.active.tolist() == [True, True, True, True] and changed == 1
 
 
 def test_a_frictional_tangent_reports_no_inertia():
