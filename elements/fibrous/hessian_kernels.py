@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from elements.fibrous.packed_laws import law_value
+from elements.fibrous.tangent_kernels import cell_normal
 from elements.jit import AVAILABLE, inline, jit, prange, serial
 from elements.shell_geometry import GUARD
 
@@ -188,15 +189,7 @@ def _hessian_cells(
         normal_load = np.zeros(3)
         hz = np.empty((3, 3, 3, 3))
         h_w = np.zeros((15, 15))
-        for c in range(3):
-            a[c] = x[cell, 1, c] - x[cell, 0, c]
-            b[c] = x[cell, 2, c] - x[cell, 0, c]
-        n[0] = a[1] * b[2] - a[2] * b[1]
-        n[1] = a[2] * b[0] - a[0] * b[2]
-        n[2] = a[0] * b[1] - a[1] * b[0]
-        area2 = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
-        for c in range(3):
-            n[c] /= area2
+        area2 = cell_normal(x, cell, a, b, n)
         for k in range(3):
             s0, s1, s2 = sums[cell, k, 0], sums[cell, k, 1], sums[cell, k, 2]
             length[k] = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
@@ -547,15 +540,7 @@ def _share_jacobian_cells(x, held, out):
         angle = np.empty(3)
         u = np.empty(3)
         w = np.empty(3)
-        for c in range(3):
-            a[c] = x[cell, 1, c] - x[cell, 0, c]
-            b[c] = x[cell, 2, c] - x[cell, 0, c]
-        n[0] = a[1] * b[2] - a[2] * b[1]
-        n[1] = a[2] * b[0] - a[0] * b[2]
-        n[2] = a[0] * b[1] - a[1] * b[0]
-        size = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
-        for c in range(3):
-            n[c] /= size
+        size = cell_normal(x, cell, a, b, n)
         for k in range(3):
             for c in range(3):
                 u[c] = x[cell, (k + 1) % 3, c] - x[cell, k, c]
