@@ -101,9 +101,9 @@ class PlyContactBlock(InteractionBlock):
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
         # the lower face's outline, which its triangles' planes reach past (ply_projection.py)
         self.outline = open_edges(cells)
-        # the deepest a point facing an edge or a vertex touches: both faces' half thicknesses
-        # (ply_projection.py, "Deeper than the plies")
-        self.edge_depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
+        # the deepest a point touches: both faces' half thicknesses (ply_projection.py,
+        # "Deeper than the plies")
+        self.depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
         self.candidates = min(contact.candidates, len(cells))
         # The points' shares of their corners' penalties (elements/ply_contact.py, "Penalty"):
         # (P, s).
@@ -204,8 +204,12 @@ class PlyContactBlock(InteractionBlock):
         p, near, y = self._candidates(state)
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             return ply_curved.curved_facing(self, state, p, y, near)
+        # the points' plies' side: their faces' offsets from the mid-surfaces point away from
+        # the lower ply (x - a d with a > 0 above it, the mirrored pass's -b below it)
+        d = self.offset_directions(state)[self.above]
+        toward = np.einsum("pj,pj,pji->pi", self.shape, self.upper_offset, d)
         return closest_facing(
-            p, y, near, self.tolerance, self.outline, second, depth=self.edge_depth
+            p, y, near, self.tolerance, self.outline, second, depth=self.depth, toward=toward
         )
 
     # ------------------------------------------------------------------ loads

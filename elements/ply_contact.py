@@ -69,8 +69,10 @@ outline reaching ``MARGIN`` past it; so the gap is continuous as the point moves
 Its energy W(g) is a one-sided penalty whose stiffness ramps up over a penetration of
 ``smoothing`` (C2 at contact). A point counts as touching when g < 0 and its projection is
 within ``MARGIN`` of the triangle; one facing an edge or a vertex only where that closest
-point lies on the triangle itself (not on its growth past the outline) and g >= -(a + b)
-(elements/ply_projection.py, "Beside the outline" and "Deeper than the plies").
+point lies on the triangle itself (not on its growth past the outline) and g >= -(a + b), as
+one facing a triangle whose normal points against the point's own ply (a layer of a fold
+turned away from it; elements/ply_projection.py, "Beside the outline", "Deeper than the
+plies" and "A layer turned away").
 
 The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;
 on the lower corners, dW/dy_k = -W' lambda_k n, lambda the barycentric coordinates of the

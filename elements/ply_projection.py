@@ -80,9 +80,26 @@ the stroke, a top-ply point 9.6 mm beside a flap standing on the flange went fro
 one the point is outside of mends the fold and flips the sign where a point passes a
 ridge's end vertex). So a point facing an edge or a vertex touches only down to a gap of
 -``depth``, the two faces' half thicknesses (``PlyContactBlock`` gives them): a point that
-deep in a ply and past its triangles has gone past the ply's edge. The energy then jumps by
-at most W(-depth) = k (depth + delta / 2)^2 / 2 where such a point crosses -depth or flips
-(1.04 N mm at the plies' 0.3 mm and 23 N/mm of the coarse hemisphere).
+deep in a ply and past its triangles has gone past the ply's edge.
+
+A layer turned away. Where the flap is pressed flat, two of its triangles lie on each other
+with opposite normals and both hold a point's projection at nearly the same distance, one
+giving +g and the other -g: measured on the same run at 97.2 % of the stroke, the nearest
+switched between them (+4.97 to -4.98 mm, +546 N mm in one step), where the point faces the
+triangles' planes. No choice among such candidates keeps the gap continuous where it
+switches between opposite signs (keeping the last facing triangle while it holds the
+projection also needs a history the frictionless contact does not keep). But the one whose
+normal points against the point's own ply (``toward``: from the lower ply to the point's,
+n . toward < 0) is the layer turned away: its upper face looks away from the point, which
+faces its lower face, carried by no contact. So a point facing such a triangle's plane also
+touches only down to -``depth``; deeper, it lies beyond that layer. The energy then jumps by
+at most W(-depth) = k (depth + delta / 2)^2 / 2 where a point crosses -depth or flips,
+whatever the flip's size (1.04 N mm at the plies' 0.3 mm and 23 N/mm of the coarse
+hemisphere). Why not bound every point so: Newton's trial states press points deeper than
+the plies into a layer that does face them, and lost there they stalled the Static solver
+(the holder pressing a layup onto the die and the ply pulled on another, tests/test_plies.py
+and tests/test_ply_layups.py: no convergence in 8 cuts). The curved faces
+(elements/ply_curved.py) have no such bound.
 """
 
 from __future__ import annotations
@@ -340,6 +357,7 @@ def closest_facing(
     outline: np.ndarray | None = None,
     second: bool = False,
     depth: float = np.inf,
+    toward: np.ndarray | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -362,8 +380,13 @@ def closest_facing(
         Give the gap's Hessian where a point faces an edge or a vertex (``Facing.hessian``,
         for the tangent); else None.
     depth : float
-        mm: a point facing an edge or a vertex with a gap below -depth does not touch (module
-        docstring, "Deeper than the plies"; the contact passes both faces' half thicknesses).
+        mm: a point with a gap below -depth does not touch where it faces an edge, a vertex
+        or, with ``toward``, a triangle turned away from it (module docstring, "Deeper than
+        the plies"; the contact passes both faces' half thicknesses).
+    toward : (P, 3) float, optional
+        Each point's direction from the lower ply to its own (any length; the side towards
+        which a facing triangle's normal points): a triangle whose normal points against it
+        is a layer turned away. None: no triangle counts as turned.
     """
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
@@ -413,8 +436,13 @@ def closest_facing(
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
     # a point nearest to a growth's edge, off the triangle itself, is beside the lower ply
-    # (module docstring, "Beside the outline")
+    # (module docstring, "Beside the outline"); one deeper than the plies, whatever it faces,
+    # is on the lower ply's other side where it faces an edge, a vertex or a turned layer
+    # ("Deeper than the plies")
     beside = on_edge & ((lam.min(axis=-1) < -INSIDE) | (chosen_gap < -depth))
+    if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
+        turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
+        beside |= turned & (chosen_gap < -depth)
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside
     return Facing(
         triangle=near[rows, best],

@@ -181,3 +181,30 @@ def test_a_point_past_a_fold_pressed_flat_does_not_touch_deeper_than_the_plies()
     facing = closest_facing(path, nodes[cells], np.tile([0, 1], (len(path), 1)), 0.0, depth=0.3)
     np.testing.assert_allclose(np.abs(facing.gap), np.hypot(0.3, s), rtol=1e-12)
     assert not facing.touching[np.abs(s) > 1e-9].any()
+
+
+def test_a_point_over_a_fold_pressed_flat_keeps_its_touching_gap_continuous():
+    """A sheet triangle (normal +z) with its flap folded back and pressed flat over it (the
+    same footprint, normal -z), the flap tilted 0.02 about x = 1 so that the two planes cross
+    (a flap is never pressed exactly flat); a point 2 mm above them slides 1.4 mm along x in
+    steps of 1e-3 mm. Both triangles hold its projection, at 2 mm from the one and, past
+    x ~ 0.98, a little less from the other, which gives it the opposite sign: the nearest
+    switched from +2.00 to -2.00 mm in one step, a touching point 2 mm deep (the +4.97 to
+    -4.98 mm switch that stopped the Mindlin [0/90] hemisphere at 97.2 % of the stroke,
+    elements/ply_projection.py "Deeper than the plies"). Reference as above: a touching
+    point's gap moves no more than the point. A point 2 mm behind a face of plies 0.3 mm
+    thick (``depth``) is on the lower ply's other side: it does not touch."""
+    sheet = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]
+    flap = [[0.0, 0.0, -0.02], [0.0, 2.0, -0.02], [2.0, 0.0, 0.02]]  # clockwise about +z
+    triangles = np.array([sheet, flap])
+    x = np.arange(0.3, 1.7, STEP)
+    path = np.column_stack([x, np.full_like(x, 0.2), np.full_like(x, 2.0)])
+    near, up = np.tile([0, 1], (len(path), 1)), np.tile([0.0, 0.0, 1.0], (len(path), 1))
+    facing = closest_facing(path, triangles, near, 0.0, depth=0.3, toward=up)
+    # the premise: the facing triangle switches along the path, with the gap's sign
+    switch = np.flatnonzero(np.diff(facing.triangle) != 0)
+    assert switch.size == 1 and facing.gap[switch[0]] * facing.gap[switch[0] + 1] < 0.0
+    either = facing.touching[1:] | facing.touching[:-1]
+    jumps = np.abs(np.diff(facing.gap))[either]
+    assert jumps.max(initial=0.0) <= 1.01 * STEP
+    assert not facing.touching.any()
