@@ -10,7 +10,7 @@ every residual, line-search energy and tangent; the loop costs microseconds.
 
 The laws are read from ``elements.fibrous.packed_laws.pack_laws`` arrays in the order
 ``LAW_ORDER``; their value and energy are the fibrous kernels' (``law_value``,
-``law_energy``), their slope is ``law_slope`` here (materials.Law.slope: the right derivative
+``law_energy``) and their slope too (``law_slope``: materials.Law.slope, the right derivative
 at a table's knots, its end segments' slopes beyond them).
 """
 
@@ -18,39 +18,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.fibrous.packed_laws import law_energy, law_value
-from elements.jit import AVAILABLE, inline, serial
+from elements.fibrous.packed_laws import law_energy, law_slope, law_value
+from elements.jit import AVAILABLE, serial
 
 __all__ = ["LAW_ORDER", "law_slope", "section_response"]
 
 #: The fabric's laws in the packed arrays' order (attributes of materials.Fabric).
 LAW_ORDER = ("tension", "tension_weft", "shear", "bending", "bending_weft")
 _TENSION, _TENSION_WEFT, _SHEAR, _BENDING, _BENDING_WEFT = range(5)
-_POLYNOMIAL = 0  # elements.fibrous.packed_laws: kind 0 an odd polynomial, 1 a table
-
-
-@inline
-def law_slope(integers, reals, i, x):
-    """dy/dx of packed law i at x (materials.Law.slope): sum (2j+1) c_j x^(2j) for an odd
-    polynomial; for a table the slope of the segment [x_j, x_(j+1)) holding x (the right
-    derivative at a knot), the first or last segment's beyond the ends; 0 for x < 0 when the
-    law is tension-only."""
-    if integers[i, 3] == 0 and x < 0.0:
-        return 0.0
-    if integers[i, 0] == _POLYNOMIAL:
-        s = 0.0
-        power = 1.0
-        square = x * x
-        for j in range(integers[i, 1]):
-            s += (2 * j + 1) * reals[i, 0, j] * power
-            power *= square
-        return s
-    count = integers[i, 2]
-    # the last knot <= x (numpy's searchsorted(side="right") - 1), clipped to a segment
-    j = 0
-    while j < count - 2 and reals[i, 1, j + 1] <= x:
-        j += 1
-    return (reals[i, 2, j + 1] - reals[i, 2, j]) / (reals[i, 1, j + 1] - reals[i, 1, j])
 
 
 @serial

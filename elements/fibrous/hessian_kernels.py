@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from elements.fibrous.packed_laws import law_value
+from elements.fibrous.packed_laws import law_slope, law_value
 from elements.fibrous.tangent_kernels import cell_normal
 from elements.jit import AVAILABLE, inline, jit, prange, serial
 from elements.shell_geometry import GUARD
@@ -60,27 +60,6 @@ for _k in range(3):
             _rows += [6, 7, 8] if _k == 1 else [9, 10, 11] if _k == 2 else [6, 7, 8, 9, 10, 11]
         _COLUMN_ROWS[9 * _k + _j, : len(_rows)] = _rows
         _COLUMN_COUNT[9 * _k + _j] = len(_rows)
-
-
-@inline
-def _law_slope(integers, reals, i, x):
-    """dy/dx of packed law i (materials.Law.slope: the right derivative at a table's knots,
-    the end slopes beyond them; 0 for x < 0 when the law is tension-only)."""
-    if integers[i, 3] == 0 and x < 0.0:
-        return 0.0
-    if integers[i, 0] == 0:  # odd polynomial: sum (2j + 1) c_j x^(2j)
-        y = 0.0
-        power = 1.0
-        square = x * x
-        for j in range(integers[i, 1]):
-            y += (2 * j + 1) * reals[i, 0, j] * power
-            power *= square
-        return y
-    count = integers[i, 2]
-    j = 0  # the last knot at or below x, within 0 .. count - 2
-    while j < count - 2 and reals[i, 1, j + 1] <= x:
-        j += 1
-    return (reals[i, 2, j + 1] - reals[i, 2, j]) / (reals[i, 1, j + 1] - reals[i, 1, j])
 
 
 @inline
@@ -260,13 +239,13 @@ def _hessian_cells(
                         for r in range(3):
                             hz[i, j, q, r] = 0.0
             _tension_level(
-                g1, n, t1, _law_slope(law_integers, law_reals, law1, eps1), fibre1, scale, hz, 0
+                g1, n, t1, law_slope(law_integers, law_reals, law1, eps1), fibre1, scale, hz, 0
             )
             _tension_level(
-                g2, n, t2, _law_slope(law_integers, law_reals, law2, eps2), fibre2, scale, hz, 1
+                g2, n, t2, law_slope(law_integers, law_reals, law2, eps2), fibre2, scale, hz, 1
             )
             _shear_level(
-                g1, g2, len1, len2, moment, _law_slope(law_integers, law_reals, 2, gamma), scale, hz
+                g1, g2, len1, len2, moment, law_slope(law_integers, law_reals, 2, gamma), scale, hz
             )
             _add_level(hz, half, h_w)
         jac = np.zeros((15, 27))
@@ -351,18 +330,14 @@ def _jacobians(
                 jac[6 + 3 * edge + i, 3 + j] = -d_director[0, i, j]
                 jac_rows[6 + 3 * edge + i, 9 * (edge + 1) + 3 + j] = d_rows[edge + 1, i, j]
                 jac_rows[6 + 3 * edge + i, 3 + j] = -d_rows[0, i, j]
-    # dn/dx_k = P dc/dx_k / |c|, c = a x b.
     dc = np.empty(3)
+    dn = np.empty(3)
     for k in range(3):
-        da = (1.0 if k == 1 else 0.0) - (1.0 if k == 0 else 0.0)
-        db = (1.0 if k == 2 else 0.0) - (1.0 if k == 0 else 0.0)
         for c in range(3):
-            _direction_cross(a, b, da, db, c, dc)
-            d_area2 = n[0] * dc[0] + n[1] * dc[1] + n[2] * dc[2]
+            _normal_change(a, b, n, area2, k, c, dc, dn)
             for i in range(3):
-                value = (dc[i] - d_area2 * n[i]) / area2
-                jac[12 + i, 9 * k + c] = value
-                jac_rows[12 + i, 9 * k + c] = value
+                jac[12 + i, 9 * k + c] = dn[i]
+                jac_rows[12 + i, 9 * k + c] = dn[i]
 
 
 @inline
@@ -373,6 +348,20 @@ def _direction_cross(a, b, da, db, c, dc):
     dc[c] = 0.0
     dc[c1] = -da * b[c2] + db * a[c2]
     dc[c2] = da * b[c1] - db * a[c1]
+
+
+@inline
+def _normal_change(a, b, n, area2, node, comp, dc, dn):
+    """dc (3,) = d(a x b) and dn (3,) = dn/d(x_node)_comp = P dc / |c| of the cell's unit
+    normal n = c / |c|, c = a x b (|c| = area2), for corner ``node`` moved along ``comp``;
+    returns d|c| = n . dc."""
+    da = (1.0 if node == 1 else 0.0) - (1.0 if node == 0 else 0.0)
+    db = (1.0 if node == 2 else 0.0) - (1.0 if node == 0 else 0.0)
+    _direction_cross(a, b, da, db, comp, dc)
+    d_area2 = n[0] * dc[0] + n[1] * dc[1] + n[2] * dc[2]
+    for c in range(3):
+        dn[c] = (dc[c] - d_area2 * n[c]) / area2
+    return d_area2
 
 
 @inline
@@ -392,10 +381,7 @@ def _normal_second(a, b, n, area2, load, out):
         da = (1.0 if node == 1 else 0.0) - (1.0 if node == 0 else 0.0)
         db = (1.0 if node == 2 else 0.0) - (1.0 if node == 0 else 0.0)
         for comp in range(3):
-            _direction_cross(a, b, da, db, comp, dc)
-            d_area2 = n[0] * dc[0] + n[1] * dc[1] + n[2] * dc[2]
-            for c in range(3):
-                dn[c] = (dc[c] - d_area2 * n[c]) / area2
+            d_area2 = _normal_change(a, b, n, area2, node, comp, dc, dn)
             load_dn = load[0] * dn[0] + load[1] * dn[1] + load[2] * dn[2]
             for c in range(3):
                 d_omega[c] = (-load_dn * n[c] - n_load * dn[c] - omega[c] * d_area2) / area2

@@ -1,7 +1,7 @@
-"""The 1-D material laws of materials.laws as arrays a compiled loop can read (``pack_laws``),
-and their value and energy evaluated inside the loops (``law_value``, ``law_energy``): the
-fibrous shell's compiled kernels (elements/fibrous/kernels.py) evaluate the tension, shear and
-bending laws per fibre level and per cell without calling back into Python.
+"""The 1-D material laws of materials.laws as arrays a compiled loop can read (``pack_laws``), and
+their value, energy and slope evaluated inside the loops (``law_value``, ``law_energy``,
+``law_slope``): the fibrous shell's compiled kernels (elements/fibrous/kernels.py) evaluate the
+tension, shear and bending laws per fibre level and per cell without calling back into Python.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ def _inline(function):
     return numba.njit(cache=True, inline="always")(function)
 
 
-__all__ = ["law_energy", "law_value", "pack_laws"]
+__all__ = ["law_energy", "law_slope", "law_value", "pack_laws"]
 
 # The kinds of packed law (column 0 of the integer table).
 _POLYNOMIAL, _TABLE = 0, 1
@@ -63,6 +63,30 @@ def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
             reals[i, 1, : len(kx)] = kx
             reals[i, 2, : len(ky)] = ky
     return integers, reals
+
+
+@_inline
+def law_slope(integers, reals, i, x):
+    """dy/dx of packed law i at x (materials.Law.slope): sum (2j+1) c_j x^(2j) for an odd
+    polynomial; for a table the slope of the segment [x_j, x_(j+1)) holding x (the right
+    derivative at a knot), the first or last segment's beyond the ends; 0 for x < 0 when the
+    law is tension-only."""
+    if integers[i, 3] == 0 and x < 0.0:
+        return 0.0
+    if integers[i, 0] == _POLYNOMIAL:
+        s = 0.0
+        power = 1.0
+        square = x * x
+        for j in range(integers[i, 1]):
+            s += (2 * j + 1) * reals[i, 0, j] * power
+            power *= square
+        return s
+    count = integers[i, 2]
+    # the last knot <= x (numpy's searchsorted(side="right") - 1), clipped to a segment
+    j = 0
+    while j < count - 2 and reals[i, 1, j + 1] <= x:
+        j += 1
+    return (reals[i, 2, j + 1] - reals[i, 2, j]) / (reals[i, 1, j + 1] - reals[i, 1, j])
 
 
 @_inline
