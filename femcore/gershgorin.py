@@ -31,10 +31,28 @@ from femcore.assembly import CellTangent, TangentPart, generalised_sparse
 __all__ = ["gershgorin_largest"]
 
 
+def _add_transformed(ta, k, tb, right, target):
+    """target (5, 5) += T_a^T K T_b, K (6, 6) a node pair's block and T (6, 5) the nodes' maps:
+    K T_b first into ``right`` (6, 5), then T_a^T (right)."""
+    for i in range(6):
+        for c in range(5):
+            total = 0.0
+            for j in range(6):
+                total += k[i, j] * tb[j, c]
+            right[i, c] = total
+    for r in range(5):
+        for c in range(5):
+            total = 0.0
+            for i in range(6):
+                total += ta[i, r] * right[i, c]
+            target[r, c] += total
+
+
 def _pair_sums(nodes, pair_of, blocks, maps, components, out):
     """Add T_a^T K_ab T_b (5 x 5; K_ab itself, top left, for translations-only blocks) of
     each cell's node pair (a, b) into out[pair_of[cell, a, b]] (pairs, 5, 5)."""
     m, p = nodes.shape
+    right = np.empty((6, 5))
     for cell in range(m):
         for a in range(p):
             ta = maps[nodes[cell, a]]
@@ -47,15 +65,7 @@ def _pair_sums(nodes, pair_of, blocks, maps, components, out):
                         for c in range(3):
                             target[r, c] += k[r, c]
                     continue
-                for r in range(5):
-                    for c in range(5):
-                        total = 0.0
-                        for i in range(6):
-                            row = 0.0
-                            for j in range(6):
-                                row += k[i, j] * tb[j, c]
-                            total += ta[i, r] * row
-                        target[r, c] += total
+                _add_transformed(ta, k, tb, right, target)
 
 
 def _bsr_sums(indptr, indices, blocks, maps, out):
@@ -67,20 +77,7 @@ def _bsr_sums(indptr, indices, blocks, maps, out):
         ta = maps[a]
         for entry in range(indptr[a], indptr[a + 1]):
             tb = maps[indices[entry]]
-            k = blocks[entry]
-            for i in range(6):
-                for c in range(5):
-                    total = 0.0
-                    for j in range(6):
-                        total += k[i, j] * tb[j, c]
-                    right[i, c] = total
-            target = out[entry]
-            for r in range(5):
-                for c in range(5):
-                    total = 0.0
-                    for i in range(6):
-                        total += ta[i, r] * right[i, c]
-                    target[r, c] += total
+            _add_transformed(ta, blocks[entry], tb, right, out[entry])
 
 
 def _row_bound(keys, order, sums, scale, n_nodes):
@@ -116,6 +113,9 @@ def _row_bound(keys, order, sums, scale, n_nodes):
 try:
     import numba
 
+    # Spliced into both loops (numba's inlining): a call with array arguments per node pair
+    # would cost their reference counting.
+    _add_transformed = numba.njit(cache=True, inline="always")(_add_transformed)
     _pair_sums = numba.njit(cache=True)(_pair_sums)
     _row_bound = numba.njit(cache=True)(_row_bound)
     _bsr_sums = numba.njit(cache=True)(_bsr_sums)
