@@ -166,7 +166,7 @@ The holder is what makes the quasi-static drape a forming run.
 
 Run: python benchmarks/hemisphere_static.py [--cells 8] [--increments 10] [--stabilise 300]
 [--kinematics fibrous] [--skip-explicit] [--no-holder] [--smooth] [--follow-tools]
-[--release THICKNESSES]
+[--release THICKNESSES] [--release-turn DEG]
 """
 
 from __future__ import annotations
@@ -210,6 +210,9 @@ def held_blank(
     return mesh, model
 
 
+_held_blank = held_blank
+
+
 def net_shear(mesh: Mesh) -> np.ndarray:
     """(m,) the pin-jointed net's shear angle at each cell of the blank, rad (NaN off it)."""
     net = case.fishnet_on_sphere(
@@ -251,13 +254,27 @@ def main() -> None:
     parser.add_argument(
         "--release",
         type=float,
-        default=None,
-        help="elements.contact.RELEASE_THICKNESSES (default: off, infinite)",
+        default=contact_module.RELEASE_THICKNESSES,
+        help="Contact(release=...): body thicknesses (inf: no release)",
+    )
+    parser.add_argument(
+        "--release-turn",
+        type=float,
+        default=contact_module.RELEASE_TURN_DEG,
+        help="Contact(release_turn=...): deg (0: the distance alone)",
     )
     args = parser.parse_args()
-    if args.release is not None:
-        contact_module.RELEASE_THICKNESSES = args.release
     holder = not args.no_holder
+
+    def held_blank(*given):
+        """The module's ``held_blank`` with the contacts' release of the command line."""
+        mesh, model = _held_blank(*given)
+        for interaction in model.interactions:
+            if isinstance(interaction, contact_module.Contact):
+                interaction.release, interaction.release_turn = args.release, args.release_turn
+        return mesh, model
+
+    print(f"release {args.release:g} thicknesses, turn {args.release_turn:g} deg")
     mesh, model = held_blank(args.cells, args.kinematics, holder, args.smooth)
     compiled = model.compile()
     state = compiled.initial_state()
