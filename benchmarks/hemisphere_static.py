@@ -151,9 +151,9 @@ cells at the defaults (plain die, tools not followed, c = 1200, load 7-9): stopp
 factor 0.798, as the record without release above: 14, 27, 31, 94, 57, 153, 88 Newton
 iterations in the seven converged increments, 13 cuts whose attempts took 1243 iterations, 44
 updates, 15 fall-backs, 390 steps on a shifted tangent, 494 s CPU (1576 s wall): the default
-release does not carry the plain 16-cell drape past 0.8 (the record's stall there is the punch
-placed at each increment's load factor deep inside the blank, which no release addresses:
-``--follow-tools`` does).
+release does not carry the plain 16-cell drape past 0.8. Not traced in this run; the trace of
+0.6 -> 0.7 above points at the punch placed at each increment's load factor deep inside the
+blank, which no release addresses (``--follow-tools`` does).
 
 Following the tools (``--follow-tools``) on the coarser blanks, the plain die, c = 300 (CPU of
 the solve, load 8.4-9.5): 8 cells, Newton iterations 8, 17, 17, 21, 16, 40, 27, 12, 15, 7 (180,
