@@ -489,9 +489,12 @@ class ContactBlock(InteractionBlock):
             # Off the tool by more than the band and facing another feature of it than the one
             # it was frozen on: left it (module docstring, "Active set").
             band = 2.0 * np.asarray(self.offset)
-            frozen_normal = history.normal if history.normal is not None else n
-            turned = np.sum(n * frozen_normal, axis=1) < self.release_cos
-            released = before & (band > 0.0) & (d > offset + self.release * band) & turned
+            # (a history or block pickled before the release had no normals and no release)
+            kept_normal = getattr(history, "normal", None)
+            frozen_normal = kept_normal if kept_normal is not None else n
+            turned = np.sum(n * frozen_normal, axis=1) < getattr(self, "release_cos", 2.0)
+            release = getattr(self, "release", math.inf)
+            released = before & (band > 0.0) & (d > offset + release * band) & turned
             before = before & ~released
             kept = history.sliding if history.sliding is not None else sliding
             kept_direction = history.direction if history.direction is not None else direction
