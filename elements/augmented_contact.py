@@ -97,7 +97,7 @@ class AugmentedContactBlock(ContactBlock):
 
     def thaw(self, history: Any):
         """The history without its frozen set, its multipliers kept."""
-        return replace(history, active=None, sliding=None, direction=None)
+        return replace(history, active=None, sliding=None, direction=None, normal=None)
 
     def update_history(self, state: State, history: Any) -> Any:
         """The penalty contact's update (elements/contact.py), the multipliers carried: a node

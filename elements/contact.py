@@ -41,12 +41,15 @@ quadratically. Unilateral contact would lose a node sliding on a curved tool at 
 step (the straight step lifts it by s^2 / 2R, more than the penalty's penetration F / k once the
 slide s exceeds sqrt(2 R F / k)), and its tangent would then hold the node by nothing.
 ``freeze`` also counts the nodes whose status the state contradicts (``grow``: adds the nodes
-that penetrate, and, with RELEASE_THICKNESSES finite (off by default), removes those more than
-that many body thicknesses off the tool, which have left it: a blank node that a Newton step
-carries over a die's rim or off a punch would otherwise be pulled back over that distance, onto
-the rim's faceted edge, where the distance is only continuous (the 16-cell hemisphere drape by
-Static held four such nodes 1.3 mm off the die and 1.5 mm off the punch, and its Newton stalled
-there; docs/theory.md §9.1); a node without thickness, a cable, is never removed); the solver
+that penetrate, and removes those that have left the tool: more than ``release`` body
+thicknesses off it (1 by default) and facing another feature of it than the one they were
+frozen on, the tool's normal at the node turned by more than ``release_turn`` (30 deg by
+default) from the one the set took it in with (kept in the history). A blank node that a Newton
+step carries over a die's rim would otherwise be pulled back over that distance, onto the rim's
+faceted edge, where the distance is only continuous (the 16-cell hemisphere drape by Static held
+four such nodes 1.3 mm off the die and 1.5 mm off the punch, and its Newton stalled there); a
+node thrown straight off a flat or a bowl still faces it and keeps its spring, which brings it
+back (docs/theory.md §9.1); a node without thickness, a cable, is never removed); the solver
 (solvers.newton) accepts only states in equilibrium under the unilateral law (``thaw``). The
 friction limit is mu k max(p, 0) for a frozen node. With friction, ``freeze`` fixes the stick
 and slip sets too, and each sliding node's slip direction: the friction force of a frozen
@@ -87,12 +90,12 @@ from femcore.state import State
 __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty
-# A frozen node further off the tool than this many body thicknesses (2 x its contact offset)
-# has left it while Newton iterates and leaves the frozen set at once (module docstring,
-# "Active set"); a node without thickness (a cable) never does. Off (infinite) by default: at
-# 1 (or 3 or 4) the 8-cell hemisphere drape by Static took 82 iterations in its sixth
-# increment against 42 (at 1 and 3 with a cut); at 10, 29 (benchmarks/hemisphere_static.py).
-RELEASE_THICKNESSES = math.inf
+# The default release of a frozen node (``Contact(release=..., release_turn=...)``; module
+# docstring, "Active set"): off the tool by more than this many body thicknesses (2 x its
+# contact offset) AND its tool normal turned by more than this angle from the one it was frozen
+# with, it has left the feature it was frozen on (carried over a die's rim) and leaves the set.
+RELEASE_THICKNESSES = 1.0
+RELEASE_TURN_DEG = 30.0
 
 
 class Contact(Interaction):
@@ -129,6 +132,15 @@ class Contact(Interaction):
         zeta in [0, 1]: a normal viscous force against each node's rate of approach, that
         fraction of the critical damping 2 sqrt(k m) of its contact spring, in explicit
         dynamics (elements/contact_damping.py); 0 (none) by default.
+    release : float
+        Under Static: a frozen node further off the tool than this many body thicknesses
+        (2 x its offset) whose tool normal has also turned by more than ``release_turn`` from
+        the one it was frozen with leaves the frozen set while Newton iterates (module
+        docstring, "Active set"); ``math.inf``: none leaves.
+    release_turn : float
+        The turn of the tool's normal at the node, deg in [0, 180), past which a frozen node
+        off the tool by more than ``release`` thicknesses has left the feature it was frozen
+        on; 0: the distance alone decides.
     """
 
     dofs = ("ux", "uy", "uz")
@@ -145,6 +157,8 @@ class Contact(Interaction):
         augmented: bool = False,
         augmented_tolerance: float | None = None,
         damping: float = 0.0,
+        release: float = RELEASE_THICKNESSES,
+        release_turn: float = RELEASE_TURN_DEG,
     ):
         if not isinstance(tool, RigidTool):
             raise ValueError(f"tool must be a rigid tool of elements.tools, got {tool!r}")
@@ -199,6 +213,16 @@ class Contact(Interaction):
                 raise ValueError("augmented_tolerance is given without augmented=True")
         self.augmented_tolerance = augmented_tolerance
         self.damping = _damping_ratio(damping)
+        band = as_number(release, "release", "a number of body thicknesses > 0 (math.inf: off)")
+        if not band > 0.0:  # (NaN refused too)
+            raise ValueError(
+                f"release must be a number of body thicknesses > 0 (math.inf: off), got {release!r}"
+            )
+        self.release = float(band)
+        turn = as_number(release_turn, "release_turn", "an angle in [0, 180) deg")
+        if not (np.isfinite(turn) and 0.0 <= turn < 180.0):
+            raise ValueError(f"release_turn must be an angle in [0, 180) deg, got {release_turn!r}")
+        self.release_turn = float(turn)
         if self.augmented and self.damping > 0.0:
             # The multipliers are Static's and the damping explicit dynamics': one block
             # carrying both would serve neither solver better than the two options apart.
@@ -290,6 +314,9 @@ class FrictionHistory:
     direction : (s, 3) float or None
         The frozen unit slip direction of each sliding node (the friction opposes its
         projection on the tool's tangent plane).
+    normal : (s, 3) float or None
+        The tool's unit normal at each node where the frozen set took it in (the release,
+        module docstring "Active set").
     multiplier : (s,) float or None
         The augmented Lagrangian's normal multiplier of each node, N (None: pure penalty;
         elements/augmented_contact.py).
@@ -304,6 +331,7 @@ class FrictionHistory:
     active: np.ndarray | None = None
     sliding: np.ndarray | None = None
     direction: np.ndarray | None = None
+    normal: np.ndarray | None = None
     multiplier: np.ndarray | None = None
     traction: np.ndarray | None = None
 
@@ -346,6 +374,11 @@ class ContactBlock(InteractionBlock):
         given = contact.penalty
         self.stiffness = np.full(len(nodes), np.nan if given is None else given)
         self.stick_ratio = contact.stick_ratio  # k_t / k
+        self.release = contact.release  # body thicknesses (module docstring, "Active set")
+        # cos of the turn past which a node has left its feature; above 1 for 0: any turn
+        self.release_cos = (
+            math.cos(math.radians(contact.release_turn)) if contact.release_turn > 0 else 2.0
+        )
         # contact_forces's last answer: (where the nodes were, the history, the load factor,
         # the stiffness, the forces).
         self._last_forces: tuple | None = None
@@ -441,7 +474,7 @@ class ContactBlock(InteractionBlock):
         if history is None:
             none = np.full((len(d), 3), np.nan)
             history = FrictionHistory(none, np.zeros(len(d)), np.zeros(len(d)), 0.0)
-        free = replace(history, active=None, sliding=None, direction=None)
+        free = replace(history, active=None, sliding=None, direction=None, normal=None)
         _, s, stuck, sliding = self.tangential(state, free, p, n, touching)
         length = np.linalg.norm(s, axis=1)
         direction = s / np.where(length > 0, length, 1.0)[:, None]
@@ -453,9 +486,15 @@ class ContactBlock(InteractionBlock):
         if grow and before is not None:
             offset = self.surface_offset(history)
             added = (d < offset) & ~before
-            # Off the tool by more than the band: left it (module docstring, "Active set").
+            # Off the tool by more than the band and facing another feature of it than the one
+            # it was frozen on: left it (module docstring, "Active set").
             band = 2.0 * np.asarray(self.offset)
-            released = before & (band > 0.0) & (d > offset + RELEASE_THICKNESSES * band)
+            # (a history or block pickled before the release had no normals and no release)
+            kept_normal = getattr(history, "normal", None)
+            frozen_normal = kept_normal if kept_normal is not None else n
+            turned = np.sum(n * frozen_normal, axis=1) < getattr(self, "release_cos", 2.0)
+            release = getattr(self, "release", math.inf)
+            released = before & (band > 0.0) & (d > offset + release * band) & turned
             before = before & ~released
             kept = history.sliding if history.sliding is not None else sliding
             kept_direction = history.direction if history.direction is not None else direction
@@ -464,16 +503,19 @@ class ContactBlock(InteractionBlock):
                 active=before | added,
                 sliding=np.where(added, sliding, kept),
                 direction=np.where(added[:, None], direction, kept_direction),
+                normal=np.where(added[:, None], n, frozen_normal),
             ), int(added.sum() + released.sum())
         if history.sliding is not None:
             changed += int((history.sliding != sliding).sum())
-        return replace(history, active=touching, sliding=sliding, direction=direction), changed
+        return replace(
+            history, active=touching, sliding=sliding, direction=direction, normal=n
+        ), changed
 
     def thaw(self, history: FrictionHistory | None):
         """The history without its frozen set (None for a frictionless contact)."""
         if history is None or self.friction == 0.0:
             return None
-        return replace(history, active=None, sliding=None, direction=None)
+        return replace(history, active=None, sliding=None, direction=None, normal=None)
 
     def _touching(self, d: np.ndarray, n: np.ndarray, history: FrictionHistory | None = None):
         """``touch`` from the distances d (s,) and normals n (s, 3) of the tool."""

@@ -43,8 +43,9 @@ exact while Newton iterates: the unilateral law would lose every node of a cable
 curved tool at each linearised step (the straight step lifts it by s^2 / 2R, more than the
 penalty's penetration), and the return mapping's slip direction turns over wherever a node
 reverses. A node that penetrates joins the set at once, and a frozen node more than the body's
-thickness off the tool leaves it (elements/contact.py, RELEASE_THICKNESSES, off by default):
-joining at a touch and leaving a thickness away, the set does not chatter. A state that
+thickness off the tool and facing another feature of it (its normal turned) leaves it
+(elements/contact.py, ``Contact(release=..., release_turn=...)``): joining at a touch and
+leaving a thickness away, the set does not chatter. A state that
 converges is checked under the unilateral law; when the sets were wrong, the solve goes on with
 the sets that state shows, from that state when its residual is already below that of the
 increment's first iterate, else from the start of the increment (a node held by its stick
