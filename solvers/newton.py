@@ -127,7 +127,8 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     the ratio before the first update); raises IncrementFailed when the increment has to be
     cut. With contact, the frozen contact sets first (module docstring); where they fail,
     the unilateral law from ``state`` again before the increment is cut (the iterations of
-    both are counted).
+    both are counted), unless no interaction keeps a contact set (``keeps_contact_sets``),
+    when the two attempts would be one.
     """
     if not run.model.interactions:
         return _newton(run, state, load_factor, max_iterations, False)
