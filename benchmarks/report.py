@@ -46,10 +46,11 @@ same 476 converged Newton iterations in the same 20 increments and 4 cuts, the c
 same to 3e-13 deg and 5e-14 mm; in a profiled run of the code before (wall, load 7-9) the
 solve spent 44 % in the tangents, 26 % in the factorisations (18 % choosing the band, a QDLDL
 factor per new pattern), 19 % in the plies' facing search and 17 % rebuilding the assembly's
-map per new pattern (8 % compiling a cold numba cache). plies-deck-of-cards' heavy stacks (20 cells): N = 8 45.4 -> 36.2 s CPU
-(4 cuts, 146 -> 73 iterations cut), N = 4 15.3 -> 15.0 s, the same equilibria to 1e-6 deg
-and mm printed. The band reuse alone is neutral there (the heavy stack's patterns choose
-QDLDL: 281 of 306 new patterns factorised by it anyway; factorise 2.3 of 16.4 s CPU).
+map per new pattern (8 % compiling a cold numba cache). plies-deck-of-cards' heavy stacks (20
+cells): N = 8 45.4 -> 36.2 s CPU (4 cuts, 146 -> 73 iterations cut), N = 4 15.3 -> 15.0 s, the
+same equilibria to 1e-6 deg and mm printed. The band reuse alone is neutral there (the heavy
+stack's patterns choose QDLDL: 281 of 306 new patterns factorised by it anyway; factorise 2.3
+of 16.4 s CPU).
 
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
