@@ -35,6 +35,23 @@ Mindlin tangent remain numpy. The coarse report with these changes (python -m va
 22 cases, every check passed, 529 s CPU (user 519, system 9; its workers and their Dask
 workers included), 1739 s wall (the shared cores' wall, not a figure of the report).
 
+The plies' increments cut once (one thread, CPU, the same process measuring each run; load
+7-9 on 2 cores with other jobs, 2.8 at the end): an increment of a model whose only
+interactions are the plies' contact, which keeps no contact set, was tried a second time under
+the unilateral law, the same iterations again, before it was cut; and a new pattern of K_ff
+(the plies' contact changes it at almost every iteration) takes the band on the last QDLDL
+measurement. plies-bai-5.1's plies run (30 cells, 8 plies, default): 320.2 -> 217.6 s CPU, the
+same 476 converged Newton iterations in the same 20 increments and 4 cuts, the cut attempts
+1126 -> 596 iterations, 1610 -> 1076 tangents (989 new patterns), its material lines the
+same to 3e-13 deg and 5e-14 mm; in a profiled run of the code before (wall, load 7-9) the
+solve spent 44 % in the tangents, 26 % in the factorisations (18 % choosing the band, a QDLDL
+factor per new pattern), 19 % in the plies' facing search and 17 % rebuilding the assembly's
+map per new pattern (8 % compiling a cold numba cache). plies-deck-of-cards' heavy stacks (20
+cells): N = 8 45.4 -> 36.2 s CPU (4 cuts, 146 -> 73 iterations cut), N = 4 15.3 -> 15.0 s, the
+same equilibria to 1e-6 deg and mm printed. The band reuse alone is neutral there (the heavy
+stack's patterns choose QDLDL: 281 of 306 new patterns factorised by it anyway; factorise 2.3
+of 16.4 s CPU).
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """

@@ -14,8 +14,10 @@ The factorisation is an LDL^T without pivoting: the compiled band LDL^T of solve
 a reverse Cuthill-McKee ordering) where the pattern's band costs at most BAND_ADVANTAGE times
 the operations of QDLDL's factor (shells, strips, sheets a few hundred unknowns wide: 5 times
 faster), else QDLDL (after an AMD ordering) through the ``qdldl`` package; the choice is made
-once per sparsity pattern, the factor of a failed band (a zero pivot) is QDLDL's. The pattern's
-analysis (the ordering, the band layout, QDLDL's elimination tree) is kept while it holds, and
+once per sparsity pattern (QDLDL's operations measured again only where the unknowns or a
+wider band call for it: ``LinearSolver._choose_band``), the factor of a failed band (a zero
+pivot) is QDLDL's. The pattern's analysis (the ordering, the band layout, QDLDL's elimination
+tree) is kept while it holds, and
 so is the map from K_ff's entries to its symmetrised upper triangle. Without pivoting it can
 fail on an indefinite matrix (a zero pivot) or lose
 accuracy; every solution is therefore checked by its backward error and refined with the same
@@ -124,6 +126,8 @@ class LinearSolver:
         self._fresh = False  # whether self._ldl holds the factors of the last matrix given
         self._plan: _UpperPlan | None = None
         self._plan_pattern: tuple[np.ndarray, np.ndarray] | None = None
+        # (n, QDLDL's elimination operations) of the last pattern QDLDL was measured on
+        self._measured: tuple[int, float] | None = None
         self.symbolic = 0
         self.numeric = 0
 
@@ -199,11 +203,24 @@ class LinearSolver:
         """The band plan of a new pattern when its elimination costs at most BAND_ADVANTAGE
         times QDLDL's in operations (the band's contiguous updates run that much faster per
         operation; solvers.band), from QDLDL's own factor of this matrix (kept for the
-        fallback): n b^2 / 2 against the sum of its column counts squared over 2."""
+        fallback): n b^2 / 2 against the sum of its column counts squared over 2.
+
+        A new pattern of as many unknowns as the last one QDLDL was measured on (contact
+        pairs that change from one iteration to the next change a few entries of a shell's
+        tangent, and QDLDL's fill hardly) takes the band without measuring QDLDL again when
+        its band fits that measurement; a wider band is measured anew."""
         n = upper.shape[0]
         if not BAND_AVAILABLE or n == 0:
             return None
         plan = BandPlan(upper)
+        band_operations = n * float(plan.bandwidth) ** 2
+        if (
+            self._measured is not None
+            and self._measured[0] == n
+            and band_operations <= BAND_ADVANTAGE * self._measured[1]
+        ):
+            self._ldl, self._fresh = None, False  # QDLDL's factor made only if the band fails
+            return plan
         try:
             self._ldl = qdldl.Solver(upper, upper=True)
             self._fresh = True
@@ -211,8 +228,8 @@ class LinearSolver:
         except RuntimeError:  # QDLDL's ordering meets a zero pivot: the band, if it is narrow
             self._ldl, self._fresh = None, False
             return plan if plan.fill <= BAND_FILL_WITHOUT_QDLDL * max(upper.nnz, 1) else None
-        band_operations = n * float(plan.bandwidth) ** 2
-        return plan if band_operations <= BAND_ADVANTAGE * float(np.sum(counts**2)) else None
+        self._measured = (n, float(np.sum(counts**2)))
+        return plan if band_operations <= BAND_ADVANTAGE * self._measured[1] else None
 
     def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:
         return (

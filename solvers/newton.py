@@ -66,6 +66,7 @@ import scipy.sparse as sp
 
 from femcore.assembly import FreeTangentAssembler, TangentPart
 from femcore.dofs import N_COLUMNS, Frames
+from femcore.interaction import InteractionBlock
 from femcore.model import CompiledModel
 from femcore.state import State
 from solvers.convergence import Equilibrium
@@ -89,6 +90,7 @@ __all__ = [
     "Watchdog",
     "at_round_off_floor",
     "chord_corrections",
+    "keeps_contact_sets",
     "mechanism",
     "newton",
     "step_cap",
@@ -126,13 +128,19 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     the ratio before the first update); raises IncrementFailed when the increment has to be
     cut. With contact, the frozen contact sets first (module docstring); where they fail,
     the unilateral law from ``state`` again before the increment is cut (the iterations of
-    both are counted).
+    both are counted), unless no interaction keeps a contact set (``keeps_contact_sets``),
+    when the two attempts would be one.
     """
     if not run.model.interactions:
         return _newton(run, state, load_factor, max_iterations, False)
     try:
         return _newton(run, state, load_factor, max_iterations, True)
     except IncrementFailed as failure:
+        # Without a contact set to freeze (only interactions such as the plies' contact, whose
+        # force is decided by the gaps alone) the unilateral attempt would repeat the frozen
+        # one iteration for iteration and fail alike: the increment is cut at once.
+        if not keeps_contact_sets(run.model):
+            raise
         run.info["contact_set_fallbacks"] += 1
         try:
             converged, count, ratio, history = _newton(
@@ -142,6 +150,13 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
             fallback.iterations += failure.iterations  # both attempts' iterations
             raise
         return converged, count + failure.iterations, ratio, failure.history + history
+
+
+def keeps_contact_sets(model: CompiledModel) -> bool:
+    """Whether an interaction of ``model`` has contact sets that the iterations freeze (its
+    block overrides ``InteractionBlock.freeze``, as the tools' contact does): without one,
+    the frozen iterations of ``newton`` are those of the unilateral law itself."""
+    return any(type(part).freeze is not InteractionBlock.freeze for part in model.interactions)
 
 
 def _newton(

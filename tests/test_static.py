@@ -531,3 +531,33 @@ def test_the_tip_loaded_cantilever_converges_in_at_most_six_iterations_per_incre
     bending = 70e3 * 20.0 / 12.0
     drop = tip_loaded_cantilever(200.0, 3.0 * bending / 200.0**2, bending)["tip_deflection"]
     assert -result.displacements[tip, 2].mean() == pytest.approx(drop, rel=1e-2)
+
+
+def test_an_increment_of_plies_that_fails_is_cut_after_one_attempt():
+    # The plies' contact has no contact set to freeze: the frozen attempt of an increment is
+    # already the unilateral law's, and a second attempt would repeat it iteration for
+    # iteration. A two-ply deck bent by end moments in one increment of two Newton iterations
+    # (and no cut) cannot converge: it stops after those two iterations' two tangents, not
+    # four (``iterations_cut`` counts an attempt's residual ratios after its first, 1 here).
+    from elements.plies import PlyStack
+
+    mid = Mesh.rectangle(100.0, 5.0, nx=4, ny=1)
+    deck = Fabric(
+        thickness=1.0,
+        areal_density=1e-9,
+        tension=1e4,
+        shear=ShearLaw.linear(1.0),
+        bending=BendingLaw.linear(1.0),
+    )
+    stack = PlyStack(mid, deck, 2)
+    model = stack.model()
+    model.fix(stack.nodes("left"))
+    model.moment(stack.nodes("right"), (0.0, -0.05, 0.0), amplitude="linear")
+    with pytest.raises(ConvergenceError, match="load factor") as failure:
+        Static(increments=1, seek_stable=False, max_iterations=2, max_cuts=0, progress=False).solve(
+            model
+        )
+    info = failure.value.result.info
+    assert info["contact_set_fallbacks"] == 0
+    assert info["evaluations"]["tangent"] == 2
+    assert info["iterations_cut"] == 1
