@@ -76,7 +76,13 @@ follow the directors, and projecting the mid-surface edges made it worse (one th
 turned by the change of the nodal normals as well, 28-36-12 and 8-23-29; with the projection
 followed by one or two relaxations of the directors alone (K_rr^-1 of the iteration's rotation
 block against the rotational residual at the projected end), Peirce 10-16-12 / 6-10-12, heavy
-26-15-8 / 25-14-12, and the relaxation alone Peirce 7-12-35, heavy 42-28-19: not kept. The
+26-15-8 / 25-14-12, and the relaxation alone Peirce 7-12-35, heavy 42-28-19; with the outer
+levels' lengths projected too by Gauss-Newton sweeps on the director rotations (the
+top-bottom difference of each fibre edge: Peirce 6-11-16, heavy 19-15-6; each level: 7-23-13,
+29-15-7): not kept. What the projection leaves on Peirce's strip (its first step of the second
+increment): the mid-surface edges at 4e-7, both outer levels stretched alike by 1.27 %, the
+second-order term of a director tilt across the fibres that a tangent of an unstretched state
+does not resist (the step turns the directors by up to 0.06 rad). The
 cantilever, the elastica and the roll-up have no fibre edges: their counts are those above.
 
 The compiled cell Hessians of the fibrous tangent (elements/fibrous/hessian_kernels.py),
