@@ -86,6 +86,23 @@ class MindlinFabricBlock(MindlinShellBlock):
         super().__init__(shell, mesh, cell_ids, directors)
         self.kernel = "numpy"
 
+    def fibre_edges(self) -> np.ndarray:
+        """(k, 2) node pairs of the cells' edges that run along the warp or the weft in the
+        reference (within 1e-6 rad): the nearly inextensible lines of the fabric (the static
+        solver's fibre-length projection, solvers.newton_fibres)."""
+        c = self.connectivity
+        pairs = np.concatenate([c[:, [0, 1]], c[:, [1, 2]], c[:, [2, 0]]])
+        x = self.reference_positions
+        edge = x[pairs[:, 1]] - x[pairs[:, 0]]
+        edge /= np.linalg.norm(edge, axis=1)[:, None]
+        corner = x[c]
+        normal = np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])
+        normal = np.tile(normal / np.linalg.norm(normal, axis=1)[:, None], (3, 1))
+        weft = np.cross(normal, self.warp)
+        weft /= np.linalg.norm(weft, axis=1)[:, None]
+        along = np.maximum(np.abs(edge @ self.warp), np.abs(np.sum(edge * weft, axis=1)))
+        return pairs[along >= np.cos(1e-6)]
+
     def _thickness_levels(self, shell: MindlinShell) -> tuple[np.ndarray, np.ndarray]:
         """Three measuring levels, zeta = -1, 0, 1; the weights are unused (the section is
         integrated by its laws)."""

@@ -30,6 +30,11 @@ definite tangent gets the second-order term of its path, so that the straight up
 longer stretches a turning strip by theta^2 / 2; the line search backtracks along the straight
 step.
 
+Fibre-length projection (``Static(fibre_projection=True)``, the default;
+solvers.newton_fibres): each step's end, curved or not, is moved back onto the fibre lengths
+its first order asks for, on the blocks that give fibre edges (a fabric's nearly inextensible
+warp and weft lines).
+
 Chord corrections (``Static(chords=N)``, one by default, ``chord_corrections``): after a
 whole step, up to N steps K^-1 r with the factorisation just made, each kept while it lowers
 the total potential energy: where the straight update of a turning strip has stretched it (or
@@ -315,6 +320,12 @@ def _iterate(
             curved = curved_step(run, equilibrium, state, frames, delta, r, factor)
             if curved is not None:
                 straight, delta = delta, curved
+        # The fibre lengths back where the step's first order puts them (solvers.newton_fibres).
+        if run.fibres is not None and smooth and not push:
+            delta = run.fibres.project(
+                run, state.positions, delta if straight is None else straight, delta
+            )
+            run.info["fibre_projections"] += 1
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
         if solver.chords and smooth and scale == 1.0 and not (push or imposing):
             state, forces = chord_corrections(
