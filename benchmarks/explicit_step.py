@@ -52,7 +52,8 @@ pairs of each piece merged with those held); build 2.6-2.8 s CPU (6-7 s wall at 
 The fibrous shell there: peak 12785 MB (32.8 kB a triangle) before and after, all of it the
 tangent that the assembled bound asks for (elements/fibrous/tangent.py forms the membrane's
 and the bending's blocks of all cells at once; ``tangent_pieces`` gives them in one piece);
-with a given dt 729 MB (1.87 kB a triangle, the build's own peak); build 4.4-4.8 s CPU (10-11 s wall) in a fresh process, the cached loops loaded in it.
+with a given dt 729 MB (1.87 kB a triangle, the build's own peak); build 4.4-4.8 s CPU
+(10-11 s wall) in a fresh process, the cached loops loaded in it.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
