@@ -40,6 +40,21 @@ fibrous shell with its force kernel as on main, 100k: steady step 1.10 -> 0.77 Â
 rest of a step 0.070 -> 0.034, build 0.77 -> 0.47 s (its energy still a pass of its own here:
 the block's ``internal_force_and_energy`` is the fibrous kernel's to fuse).
 
+The solver's own stable step at 400k (``--memory --sizes 400000 --steps 10``: a fresh process
+per case, one thread, the peak over the whole process, interpreter included), on a 2-core Intel
+Xeon (AVX-512) at a load of 7-10, before (main 549fe00, a second checkout) and after the
+Gershgorin bound sums a node's row as soon as the tangent's pieces have left it
+(femcore/gershgorin.py) and the Mindlin pieces gather their own corners only: Mindlin peak
+1071-1107 MB (2.74-2.84 kB a triangle) -> 763 MB (1.96; with a given dt 738 MB, 1.89), the
+bound the same to the last bit (3.7145469669250825e-07 s at 100k, 3.7143016430062914e-07 at
+30k), its CPU time at 100k 1.20-1.22 -> 1.27-1.45 s (best of 3, old and new in turns: the
+pairs of each piece merged with those held); build 2.6-2.8 s CPU (6-7 s wall at that load).
+The fibrous shell there: peak 12785 MB (32.8 kB a triangle) before and after, all of it the
+tangent that the assembled bound asks for (elements/fibrous/tangent.py forms the membrane's
+and the bending's blocks of all cells at once; ``tangent_pieces`` gives them in one piece);
+with a given dt 729 MB (1.87 kB a triangle, the build's own peak); build 4.4-4.8 s CPU
+(10-11 s wall) in a fresh process, the cached loops loaded in it.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
 
@@ -57,6 +72,7 @@ import math
 import os
 import platform
 import resource
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -163,6 +179,41 @@ def phases(compiled, state, repeats: int) -> dict:
     }
 
 
+def fresh_peak(name: str, triangles: int, steps: int) -> str:
+    """The process's peak resident memory of a ``CentralDifference`` run of ``steps`` steps with
+    the solver's own stable step (the cells' bound and the assembled Gershgorin bound), the
+    sheet built in a fresh process (one thread): its line of figures."""
+    script = (
+        "import sys; sys.path.insert(0, 'benchmarks'); import explicit_step as b;"
+        f"b._peak_child({name!r}, {triangles}, {steps})"
+    )
+    root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_NUM_THREADS": "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True
+    )
+    if out.returncode != 0:
+        raise RuntimeError(out.stderr[-2000:])
+    return out.stdout.strip().splitlines()[-1]
+
+
+def _peak_child(name: str, triangles: int, steps: int) -> None:
+    """``fresh_peak`` inside its fresh process: prints the build's seconds and the peak."""
+    compiled, build, _ = sheet(name, "compiled", triangles)
+    elements = sum(len(block.connectivity) for block in compiled.blocks)
+    dt = compiled.stable_dt(compiled.initial_state())
+    started = time.process_time()
+    CentralDifference(duration=steps * 0.9 * dt, output_interval=steps * dt, progress=False).solve(
+        compiled
+    )
+    print(
+        f"{name} {elements:>8d} triangles: build {build[0]:.2f} s wall, {build[1]:.2f} s CPU "
+        f"(the loops loaded from the cache); {steps} steps with the solver's own step "
+        f"{time.process_time() - started:.1f} s CPU; peak {peak_mb():.0f} MB "
+        f"({peak_mb() * 1024 / elements:.3f} kB per triangle); load {os.getloadavg()[0]:.2f}"
+    )
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--element", choices=("mindlin", "fibrous"), default="mindlin")
@@ -174,7 +225,17 @@ def main(argv=None) -> None:
     )
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument(
+        "--memory",
+        action="store_true",
+        help="only the peak memory and build of a run with the solver's own step, a fresh "
+        "process per size",
+    )
     args = parser.parse_args(argv)
+    if args.memory:
+        for size in [int(s) for s in args.sizes.split(",")]:
+            print(fresh_peak(args.element, size, args.steps), flush=True)
+        return
     import numba
 
     numba.set_num_threads(min(args.threads, numba.config.NUMBA_NUM_THREADS))

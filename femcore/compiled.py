@@ -423,13 +423,14 @@ class CompiledModel:
             if given is None:
                 return None
             pieces.append(given)
-        # The row sums of |K_ff| M^-1/2 over the free columns: a scale of 0 on the other
-        # columns. K is summed per node pair from the pieces as they come (no sparse matrix,
-        # no block's whole tangent held at once).
+        # The row sums of |K_ff| M^-1/2 over the free columns (a scale of 0 on the others),
+        # from the pieces as they come (``again``: afresh, see gershgorin_largest).
         scale = np.zeros(self.dofs.n_slots)
         scale[free] = 1.0 / np.sqrt(diagonal)
         maps = self.dofs.node_maps(self.dofs.frames(state.directors))
-        largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes)
+        blocks = list(zip(self.blocks, histories))
+        again = lambda: itertools.chain(*(b.tangent_pieces(state, h) or () for b, h in blocks))  # noqa: E731
+        largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes, again)
         return 2.0 / np.sqrt(largest) if largest > 0.0 else None
 
     def strain_energy(self, state: State) -> float:

@@ -21,7 +21,7 @@ time and twice the memory at 100k triangles, most of it in scipy's conversions.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 import numpy as np
 import scipy.sparse as sp
@@ -96,12 +96,22 @@ def _row_bound(keys, order, sums, scale, n_nodes):
                 for c in range(5):
                     block[r, c] += sums[entry, r, c]
             position += 1
-        a, b = key // n_nodes, key % n_nodes
-        for r in range(5):
-            total = 0.0
-            for c in range(5):
-                total += abs(block[r, c]) * scale[5 * b + c]
-            rows[5 * a + r] += total
+        _add_row(block, key // n_nodes, key % n_nodes, scale, rows)
+    return _largest(rows, scale)
+
+
+def _add_row(block, a, b, scale, rows):
+    """rows[5 a + r] += sum_c |block[r, c]| s_(5 b + c): a node pair's share of node a's
+    row sums."""
+    for r in range(5):
+        total = 0.0
+        for c in range(5):
+            total += abs(block[r, c]) * scale[5 * b + c]
+        rows[5 * a + r] += total
+
+
+def _largest(rows, scale):
+    """max over slots i of rows[i] s_i."""
     largest = 0.0
     for i in range(rows.shape[0]):
         value = rows[i] * scale[i]
@@ -110,12 +120,60 @@ def _row_bound(keys, order, sums, scale, n_nodes):
     return largest
 
 
+def _merge(held_keys, held, keys, order, sums, out_keys, out):
+    """The node pairs still open (held_keys (h,) sorted, their sums held (h, 5, 5)) with a
+    piece's (keys (e,), its stable sort ``order``, sums (e, 5, 5)) into out_keys, out: every
+    pair once, sorted, each piece entry added in its order after what was held (0 + s1 + s2
+    ..., the sums of ``_row_bound``). Returns the number of pairs written."""
+    i = j = k = 0
+    while i < held_keys.shape[0] or j < order.shape[0]:
+        if j >= order.shape[0] or (i < held_keys.shape[0] and held_keys[i] <= keys[order[j]]):
+            key = held_keys[i]
+            out[k] = held[i]
+            i += 1
+        else:
+            key = keys[order[j]]
+            out[k] = 0.0
+        while j < order.shape[0] and keys[order[j]] == key:
+            entry = order[j]
+            for r in range(5):
+                for c in range(5):
+                    out[k, r, c] += sums[entry, r, c]
+            j += 1
+        out_keys[k] = key
+        k += 1
+    return k
+
+
+def _close(keys, sums, count, open_nodes, closed, scale, n_nodes, rows):
+    """Take the pairs (a, b) of keys[:count] whose node a is not in ``open_nodes`` (n,) bool
+    into the row sums ``rows`` (their node a met by no later piece: its row is complete),
+    marking a ``closed``; the others are moved to the front, in order. Returns their count."""
+    kept = 0
+    for e in range(count):
+        a = keys[e] // n_nodes
+        if open_nodes[a]:
+            keys[kept] = keys[e]
+            for r in range(5):
+                for c in range(5):
+                    sums[kept, r, c] = sums[e, r, c]
+            kept += 1
+        else:
+            _add_row(sums[e], a, keys[e] % n_nodes, scale, rows)
+            closed[a] = True
+    return kept
+
+
 try:
     import numba
 
     # Spliced into both loops (numba's inlining): a call with array arguments per node pair
     # would cost their reference counting.
     _add_transformed = numba.njit(cache=True, inline="always")(_add_transformed)
+    _add_row = numba.njit(cache=True, inline="always")(_add_row)
+    _largest = numba.njit(cache=True)(_largest)
+    _merge = numba.njit(cache=True)(_merge)
+    _close = numba.njit(cache=True)(_close)
     _pair_sums = numba.njit(cache=True)(_pair_sums)
     _row_bound = numba.njit(cache=True)(_row_bound)
     _bsr_sums = numba.njit(cache=True)(_bsr_sums)
@@ -173,7 +231,11 @@ def _piece_sums(piece: TangentPart, maps: np.ndarray, n_nodes: int, sums: _Sums)
 
 
 def gershgorin_largest(
-    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
+    pieces: Iterable[TangentPart],
+    maps: np.ndarray,
+    scale: np.ndarray,
+    n_nodes: int,
+    again: Callable[[], Iterable[TangentPart]] | None = None,
 ) -> float:
     """max_i s_i sum_j |K_ij| s_j (1/s^2 when s = M^-1/2) of the generalised tangent whose
     pieces (CellTangent blocks (m, p, c, p, c), c = 6 (u, psi) or 3 (u); SparseTangent
@@ -185,7 +247,17 @@ def gershgorin_largest(
     maps : (n, 6, 5) node maps (u, psi) = T q.
     scale : (5 n,) s per slot, 0 off the free slots.
     n_nodes : n.
+    again : a function giving the same pieces afresh, or None. Given, a node's row is summed
+        and its pairs dropped as soon as a piece does not hold it (``_streamed``: the pairs of
+        a few pieces are held instead of all of them); should a later piece hold it after
+        all, the bound is made again from ``again()`` with every pair held. None: every pair
+        held. The same number to the last bit either way.
     """
+    if again is not None:
+        streamed = _streamed(pieces, maps, scale, n_nodes)
+        if streamed is not None:
+            return streamed
+        pieces = again()
     sums = _Sums()
     keys = [_piece_sums(piece, maps, n_nodes, sums) for piece in pieces]
     if not keys:
@@ -194,3 +266,38 @@ def gershgorin_largest(
     order = np.argsort(all_keys, kind="stable")  # a pair's pieces in their order
     rows = sums.rows[: sums.used]
     return float(_row_bound(all_keys, order, rows, np.ascontiguousarray(scale), n_nodes))
+
+
+def _streamed(
+    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
+) -> float | None:
+    """``gershgorin_largest`` holding only the node pairs whose row may still grow: after each
+    piece, the pairs (a, b) whose node a the piece does not hold are summed into a's rows and
+    dropped (a cell-ordered mesh's pieces of consecutive cells share only the nodes along
+    their borders). Each pair is summed in the pieces' order and each row over its pairs in
+    the order of b, as ``_row_bound`` does: the same number to the last bit. None when a
+    piece holds a node already summed (a mesh whose cells are not in a banded order)."""
+    scale = np.ascontiguousarray(scale)
+    rows = np.zeros(scale.shape[0])
+    closed = np.zeros(n_nodes, dtype=bool)
+    open_nodes = np.zeros(n_nodes, dtype=bool)
+    held_keys, held = np.empty(0, dtype=np.int64), np.empty((0, 5, 5))
+    for piece in pieces:
+        sums = _Sums()
+        keys = _piece_sums(piece, maps, n_nodes, sums)
+        first = keys // n_nodes
+        if closed[first].any():
+            return None
+        order = np.argsort(keys, kind="stable")
+        out_keys = np.empty(len(held_keys) + len(keys), dtype=np.int64)
+        out = np.empty((len(out_keys), 5, 5))
+        count = _merge(held_keys, held, keys, order, sums.rows[: sums.used], out_keys, out)
+        del sums
+        open_nodes[:] = False
+        open_nodes[first] = True
+        kept = _close(out_keys, out, count, open_nodes, closed, scale, n_nodes, rows)
+        held_keys, held = out_keys[:kept].copy(), out[:kept].copy()
+        del out_keys, out
+    open_nodes[:] = False
+    _close(held_keys, held, len(held_keys), open_nodes, closed, scale, n_nodes, rows)
+    return float(_largest(rows, scale))

@@ -131,3 +131,58 @@ def test_the_mindlin_tangent_in_pieces_is_its_tangent(monkeypatch):
     expected = 2.0 / np.sqrt(assembled(compiled, state, [whole], scale))
     step = compiled.assembled_stable_dt(state, mass, inertia)
     assert step == pytest.approx(expected, rel=1e-12)
+
+
+def _plate_in_pieces(monkeypatch, size=14):
+    """The bent plate's tangent in pieces of ``size`` cells at its state, node maps and a
+    scale per free slot. Its 40 cells come in rows of 10, so that the cells around a node
+    span at most 13 consecutive ones: a piece of 14 cells cannot fall between two of them."""
+    from elements import mindlin
+
+    monkeypatch.setattr(mindlin, "_PIECE", size)
+    compiled, state = bent_plate()
+    block = compiled.blocks[0]
+    rng = np.random.default_rng(2)
+    scale = np.zeros(compiled.dofs.n_slots)
+    free = compiled.dofs.free_slots
+    scale[free] = rng.uniform(0.5, 2.0, size=free.size)
+    maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
+    return compiled, state, list(block.tangent_pieces(state)), maps, scale
+
+
+def test_rows_summed_as_the_pieces_leave_their_nodes_give_the_same_bound(monkeypatch):
+    """The pieces of consecutive cells: each node's row summed once no later piece holds it
+    (``_streamed``), the pairs of the pieces around it alone held; the same number to the
+    last bit as with every pair held, and the assembled bound to 1e-12."""
+    from femcore import gershgorin
+
+    compiled, state, pieces, maps, scale = _plate_in_pieces(monkeypatch)
+    assert len(pieces) == 3
+    n = compiled.n_nodes
+    held = gershgorin_largest(pieces, maps, scale, n)
+    streamed = gershgorin._streamed(pieces, maps, scale, n)
+    assert streamed is not None
+    assert streamed == held
+    assert gershgorin_largest(pieces, maps, scale, n, again=lambda: pieces) == held
+    assert held == pytest.approx(assembled(compiled, state, pieces, scale), rel=1e-12)
+
+
+def test_a_piece_holding_a_node_already_summed_makes_the_bound_again(monkeypatch):
+    """Pieces in an order that comes back to a node whose row was summed: the streamed sums
+    give up and the bound is made again from ``again()`` with every pair held: the number
+    of the held sums of the same pieces."""
+    from femcore import gershgorin
+
+    compiled, _, pieces, maps, scale = _plate_in_pieces(monkeypatch, 7)
+    shuffled = [pieces[k] for k in (0, 3, 1, 5, 2, 4)]
+    n = compiled.n_nodes
+    assert gershgorin._streamed(shuffled, maps, scale, n) is None
+    asked = []
+
+    def again():
+        asked.append(True)
+        return iter(shuffled)
+
+    held = gershgorin_largest(shuffled, maps, scale, n)
+    assert gershgorin_largest(iter(shuffled), maps, scale, n, again=again) == held
+    assert asked == [True]
