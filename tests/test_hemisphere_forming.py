@@ -213,3 +213,24 @@ def test_the_die_with_an_entry_radius_lies_on_its_bowl_its_round_and_its_flange(
     assert np.array_equal(hemisphere_die(radius, 170.0, rings=48, rim=0.0).points, sharp.points)
     with pytest.raises(ValueError, match="rim"):
         hemisphere_die(radius, 170.0, rings=48, rim=-1.0)
+
+
+@pytest.mark.parametrize("rim", [5.0, 10.0])
+def test_the_net_on_the_compared_cells_lies_on_the_bowl_of_a_die_with_an_entry_radius(rim):
+    """The net at fibre arc lengths (u, v) is built from its crossings in the rectangle
+    [0, u] x [0, v] alone (drape.py: each crossing from its three neighbours towards the
+    pole). Its polar angle grows along every fibre away from the generators, so each compared
+    cell's net lies within COMPARED_POLAR (71.1 deg) of the pole, on the bowl of a die whose
+    round starts at arcsin(sqrt(R^2 + 2 R r) / (R + r)) (closed form: 84.8 deg at r = 5 mm,
+    80.5 at 10): the reference is the same on the sharp and the rounded die."""
+    net = case._net()
+    radius = case.DIE - 0.5 * case.THICKNESS
+    polar = np.arccos(np.clip(net["points"][..., 2] / radius, -1.0, 1.0))
+    n = (len(net["u"]) - 1) // 2
+    for quadrant in (polar[n:, n:], polar[n::-1, n:], polar[n:, n::-1], polar[n::-1, n::-1]):
+        reached = np.isfinite(quadrant)
+        grows = np.diff(quadrant, axis=0) > 0.0
+        assert np.all(grows[reached[1:] & reached[:-1]])
+        assert np.all((np.diff(quadrant, axis=1) > 0.0)[reached[:, 1:] & reached[:, :-1]])
+    bowl_end = math.asin(math.sqrt(case.DIE**2 + 2.0 * case.DIE * rim) / (case.DIE + rim))
+    assert case.COMPARED_POLAR < bowl_end - math.radians(9.0)

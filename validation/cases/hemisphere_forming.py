@@ -83,7 +83,24 @@ pairs' means 4.23 deg, so not a cell-to-cell noise): on the compared cells more 
 from the blank's centre it follows the net along the diagonals (rms 1.4-1.9 deg within 45
 deg of them, 2.4-3.5 on the sharp die) and departs by the centre lines (8.6-8.9 deg within 15
 deg of them, 3.1-4.0 sharp; the net's shear there 8 deg), where the flange's compressed fibres
-enter the die. Not explained yet: DIE_RIM stays 0 (the sharp die) until it is.
+enter the die. Not the reference: the net at fibre arc lengths (u, v) is built from its
+crossings in [0, u] x [0, v] alone and its polar angle grows along every fibre, so the
+compared cells' net lies within 71.1 deg of the pole, on the rounded die's bowl (its round
+starts at 84.8 deg; tests/test_hemisphere_forming.py). Not the die's facets either (48 rings,
+1.7 mm wide, four across the round). It is a mode of the blank's mesh, row by row: the
+centre-line fibre, held in its symmetry plane, is compressed in the bowl (1.5-2.3 % from 34
+to 48 mm from the axis; the draw-in 0.9 mm past the inextensible fibre's), its neighbour
+fibre one cell off stretched 0.8-1.5 % along its length in the die, the next compressed
+1.1 %: the rows of cells between them shear alternately 18 and 1.6 deg where the net has 5.7 and 14
+(x = 60 mm), their mean the net's. It grows late in the stroke: at t = 0.18 s the two
+rows follow the net (3.9 and 11.7 deg, the net 5.7 and 14.1), at 0.225 s they shear 6.3 and
+19.6 where it has 2.7 and 10.9 (x = 58 mm), at 0.27 s 17.9 and 4.4. Over blocks of 2 x 2
+squares (12.5 mm) the 32-cell rms is 1.71 deg; without the two rows of squares beside each
+centre line 2.24 deg (those rows 5.76). The fibrous shell gives its fibres no in-plane
+bending stiffness (docs/theory.md: tension, shear and bending out of the plane), so
+compressed fibres sheared this softly have no wavelength of their own to buckle in the plane
+at: the likely reason the mode takes the mesh's shortest, two rows. Not shown by a run on
+a finer mesh.
 On the sharp die the blank also rings through the stroke: its fastest nodes move at 1.5-2.6
 m/s at t = 0.15 s and 3-10 m/s from t = 0.18 s on every mesh (the punch at most 0.3 m/s), in
 the die and on the flange, carrying the kinetic energy that KE / W measures before the
