@@ -32,11 +32,13 @@ edge middle 22.65 / 28.54 / 24.18 mm (an inextensible centre-line fibre on that 
 / 81.4 N (no order); the largest KE / W after the first tenth 0.009 / 0.007 / 0.016, none of
 the stroke above the 0.1 bound, 0.0003 / 0.0015 / 0.0034 at the end; the damping took 0.24 /
 0.71 / 2.1 % of the work; the holder did not rise (0 mm); every run reaches the end; CPU 26 /
-107 / 237 s (16557 / 27677 / 44335 steps). Beside the centre lines the 32-cell centre-line
-fibre is in tension (0.4-0.6 %) where on the 5-mm die it is compressed 2.3 % (below): the
-rows beside it there 2.48 deg rms (5.76 on the 5-mm die), the 2 x 2-square blocks' means 0.84
-deg (1.71). Not explained: the draw-in's scatter (the 20-cell edge middle 3.2 mm past the
-inextensible fibre's, its centre-line fibre compressed at most 1.2 %).
+107 / 237 s (16557 / 27677 / 44335 steps). The 32-cell centre-line fibre is stretched 0.4-0.6
+% (compressed 2.3 % on the 5-mm die, below); the rows beside it 2.48 deg rms (5.76). The
+draw-in's scatter is the round's resolution: the 20-cell centre-line node 80 mm from the pole
+hangs 3.0 mm off the round, flat under the holder (z = 0.23 mm), on the chord of its
+neighbours (10-mm segments across a 10-mm round), cutting the corner: the fibre's polygon
+99.34 mm long (compressed 0.66 mm), the draw-in 3.17 mm past the inextensible fibre's. At 32
+cells no node hangs off the round (0.06 mm at most). A draw-in order needs finer cells.
 On the sharp die (DIE_RIM = 0), with the step that counts the contact springs once
 (femcore/compiled.py, docs/theory.md §6.2; one thread, machine load 6-10, CPU time): rms shear
 error against the net 2.74 / 2.01 / - deg; draw-in of the edge middle 22.45 / 29.30 / - mm (an
@@ -211,9 +213,8 @@ TENSION = 60.0  # N/mm, in tension and compression
 # kept it down but the rms error grew to 3.99 / 2.89 deg at 12 / 32 cells (module docstring).
 COMPRESSION_RATIO = 1.0
 CELLS = {"coarse": 12, "default": 20, "fine": 32}
-# Measured, fibrous, held, the 10-mm entry radius, on this machine's two cores shared by
-# other jobs (load 7-8, one thread each): 12 cells 26 s of CPU (70 s wall); 20 cells 107 s
-# (251 s); 32 cells 237 s (735 s). On the sharp die 47 / 115 / 392 s (the last to its stop).
+# Measured, fibrous, held, the 10-mm entry radius, two shared cores (load 7-8, one thread):
+# 12 cells 26 s of CPU (70 s wall); 20 cells 107 s (251 s); 32 cells 237 s (735 s).
 # Each run's own cost is in the parameters ("<kinematics>: runtime").
 # The three meshes of the observed orders (Richardson); the fine resolution runs all three.
 ORDER_CELLS = {"fine": (12, 20, 32)}
