@@ -58,7 +58,10 @@ rms and the punch force have no order (they do not change monotonically) and the
 The Mindlin shell on the current step, held, sharp die, 12 / 20 cells (load 4-9): rms 2.84
 / 2.84 deg, draw-in 22.50 / 24.71 mm, punch force 83.1 / 100.4 N, the largest KE / W 0.205 /
 0.153, above the bound for 34 / 31 % of the stroke, the holder up 2.08 / 2.26 mm, the damping
-31 / 32 % of the work; CPU 44 / 102 s (27997 / 49799 steps).
+31 / 32 % of the work; CPU 44 / 102 s (27997 / 49799 steps). On the 10-mm entry radius, 12
+cells (load 8-10): rms 2.66 deg, draw-in 22.79 mm, punch force 91.4 N, KE / W at most 0.169,
+above the bound for 6.8 % of the stroke, the holder up 1.17 mm, the damping 18 % of the
+work; 51 s of CPU (27822 steps).
 The release (what the 20- and 32-cell runs show, frames every 3 ms): from 70 % of the stroke (t
 = 0.21 s) the flange draws in in jerks (32 cells: 19.7 -> 24.9 mm between t = 0.216 and 0.222
 s), then stalls (24.7-25.3 mm to t = 0.246 s) while the punch force climbs (80 -> 294 N) and
@@ -129,41 +132,34 @@ At 100 and 200 N the holder stayed down (0.09 and 0 mm) and the
 32-cell blank buckled in the die instead (rms 7.3 and 5.0 deg, KE / W 0.14 and 0.15; at 100
 N 12 / 20 cells: rms 2.75 / 2.37 deg, no order over the three); with fibres ten times softer
 in compression than in tension the holder still lifted 5.9 mm (rms 3.5 deg, KE / W 0.16).
-What the process's settings do to the 20-cell burst (fibrous, one run each; baseline: largest
-KE / W 0.136 at t = 0.23 s, the damping 21 % of the work, the holder up 0.34 mm, rms 2.05 deg).
-Between t = 0.215 and 0.232 s the punch force climbs to 125 N and drops to 37 N, the work jumps
-500 -> 890 N mm and the flange draws in in a jerk (its nodes at 10 m/s, 90-95 % of the flange's
-kinetic energy in its plane); before it the kinetic energy is 3-4 % of the work. Normal contact
+What the process's settings do to the sharp die's 20-cell burst (fibrous; baseline: largest KE
+/ W 0.136 at t = 0.23 s, the damping 21 % of the work, rms 2.05 deg; between t = 0.215 and
+0.232 s the punch force 125 -> 37 N, the flange drawn in in a jerk at 10 m/s). Normal contact
 damping, 0.5 of critical on the die, the punch and the holder (CONTACT_DAMPING;
 elements/contact_damping.py), removes that ringing: KE / W 1.4 % at t = 0.18 s and 0.2 % at
 0.21 s (4.1 and 3.1 % undamped), the largest 0.054 (none of the stroke above 0.1), 1e-4 at the
 end, the holder down; rms 2.22 deg, draw-in 29.2 mm, punch force 73 N (29.7 mm, 104 N
-undamped); 18 % more steps (the damping's lag shortens the step). The jerk stays: the work
-still jumps 496 -> 994 N mm between t = 0.21 and 0.24 s, and the contacts' dampers take 260 N
-mm of it where the undamped run rang (KE 89 N mm); over the run they took 30 % of the work, the
-mass-proportional damping 1.7 %. So the damping's share of the work measures the flange's
-release, whatever damps it. That release is not the holder's lift (at 100 N the holder stays
-down and the burst is the same: 0.128, rms 2.32 deg), its inertia or ringing (a 1-kg holder:
-0.134; a dashpot on its axis at its critical damping: 0.130), nor the rate (a 0.45-s stroke:
-0.132-0.140, the damping 24-25 %). At 32 cells (0.5 of critical; CPU 684 s at load 6-8, 67357
-steps): the largest KE / W 0.070 (none of the stroke above 0.1), the contacts' dampers 32 % of
-the work (the die's 17 %, the punch's 13 %, the holder's 1.6 %), the mass-proportional 1.7 %;
-but the holder stays down and the blank buckles in the die as at 100 N (rms 7.21 deg, punch
-force 203 N, draw-in 23.4 mm): not adopted (CONTACT_DAMPING = 0). Only friction on the flange
-stops the jerk: Coulomb 0.2 on the holder alone gives 0.081 at 20 cells (damping 3 %, rms 2.21
-deg, the holder down) and 0.066 at 12 (rms 2.74 deg), 0.1 gives 0.098 (rms 2.21 deg); but at 32
-cells the flange so held makes the blank buckle in the die as at 100 N (rms 7.2 deg, KE / W
-0.113, punch force 206 N), and at 0.1 it lifts the holder 6.5 mm (KE / W 0.172, the damping 14
-%, rms 1.43 deg). Friction on the die as well (0.2): 0.060 at 20 cells, rms 3.58 deg. None is
-adopted: none brings the three meshes under the bound with the rms no worse.
-Without the holder (``model(holder_force=0)``), measured at 32 cells: the blank's two
-corners on one diagonal fold up 60 mm along the punch when the flange's wrinkles snap
-through half way down (KE / W 0.26 at t = 0.15 s); in those quadrants the blank in the die
-barely shears (0-5 deg where the net has 20-35 deg; rms 5.6 deg on the compared region, an
-error up to 66 deg by the rim); its rms over 12 / 20 / 32 cells (2.90 / 2.05 / 5.15 deg on
-the cells then found on the bowl) had no order, and its 32-cell figures moved with changes
-to the solvers between runs (5.15 deg and 68.1 N before, 8.4 deg and 54.8 N now, on the
-cells found on the bowl): a snap-through is not a converged state.
+undamped); 18 % more steps. The jerk stays (the work 496 -> 994 N mm between t = 0.21 and 0.24
+s, the contacts' dampers 30 % of the work over the run): the damping's share of the work
+measures the flange's release, whatever damps it. That release is not the holder's lift (at 100
+N the holder stays down and the burst is the same: 0.128, rms 2.32 deg), its inertia or ringing
+(a 1-kg holder: 0.134; a dashpot on its axis at its critical damping: 0.130), nor the rate (a
+0.45-s stroke: 0.132-0.140, the damping 24-25 %). At 32 cells (0.5 of critical; CPU 684 s at
+load 6-8, 67357 steps): the largest KE / W 0.070 (none of the stroke above 0.1), the contacts'
+dampers 32 % of the work (the die's 17 %, the punch's 13 %, the holder's 1.6 %), the
+mass-proportional 1.7 %; but the holder stays down and the blank buckles in the die as at 100 N
+(rms 7.21 deg, punch force 203 N, draw-in 23.4 mm): not adopted (CONTACT_DAMPING = 0). Only
+friction on the flange stops the jerk: Coulomb 0.2 on the holder alone gives 0.081 at 20 cells
+(damping 3 %, rms 2.21 deg, the holder down) and 0.066 at 12 (rms 2.74 deg), 0.1 gives 0.098
+(rms 2.21 deg); but at 32 cells the flange so held makes the blank buckle in the die as at 100
+N (rms 7.2 deg, KE / W 0.113, punch force 206 N), and at 0.1 it lifts the holder 6.5 mm (KE / W
+0.172, the damping 14 %, rms 1.43 deg). Friction on the die as well (0.2): 0.060 at 20 cells,
+rms 3.58 deg. None is adopted: none brings the three meshes under the bound with the rms no
+worse.
+Without the holder (``model(holder_force=0)``; sharp die), at 32 cells two corners fold up
+60 mm along the punch as the flange's wrinkles snap through (KE / W 0.26; rms 5.6 deg, 12 /
+20 / 32 cells 2.90 / 2.05 / 5.15 deg, no order, moving between solver versions): a
+snap-through is not a converged state.
 """
 
 from __future__ import annotations
@@ -312,10 +308,14 @@ def blank_shear(mesh: Mesh, positions: np.ndarray) -> np.ndarray:
     return ply_shear(mesh.points, positions, mesh.triangles, np.array([1.0, 0.0, 0.0]))
 
 
-def model(cells: int, kinematics: str, holder_force: float | None = None) -> tuple[Mesh, Model]:
+def model(
+    cells: int, kinematics: str, holder_force: float | None = None, rim: float = 0.0
+) -> tuple[Mesh, Model]:
     """The blank on the die's flange under the holder and the punch, for ``kinematics``
-    "fibrous" or "mindlin". Tools in order: the die, the punch, the holder (pressed down
-    by ``holder_force``, N, default HOLDER_FORCE; none at 0)."""
+    "fibrous" or "mindlin". Tools in order: the die (entry radius ``rim``, mm; the case's
+    runs give DIE_RIM, the default 0 is the sharp die of the static drapes, whose fixed
+    holder ring opens 2 mm outside the bowl), the punch, the holder (pressed down by
+    ``holder_force``, N, default HOLDER_FORCE; none at 0)."""
     blank = Mesh.rectangle(
         2 * HALF, 2 * HALF, nx=cells, ny=cells, origin=(-HALF, -HALF, 0.5 * THICKNESS)
     )
@@ -326,7 +326,7 @@ def model(cells: int, kinematics: str, holder_force: float | None = None) -> tup
         built.add(MindlinShell(ElasticShell.equivalent(fabric())))
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
     built.fix(lambda x, y, z: np.abs(y) < 1e-9, ["uy"])
-    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48, rim=DIE_RIM))
+    die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48, rim=rim))
     damped = CONTACT_DAMPING if CONTACT_DAMPING > 0.0 else None
     built.contact(die, damping=damped)
     travel = PUNCH + THICKNESS
@@ -427,7 +427,7 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
     (wall and CPU time, s; the machine's load average at its start and end). A run that
     diverges keeps its last good frame (``result.converged`` False). ``net``: the net's shear
     at the cells (``net_shear_at``), when already computed."""
-    mesh, built = model(cells, kinematics)
+    mesh, built = model(cells, kinematics, rim=DIE_RIM)
     # The automatic step at the default safety 0.9: the rotary inertia follows the lever of a
     # tilted director (docs/theory.md §1.6, §6.2), which the blank's free corners need.
     solver = CentralDifference(duration=DURATION, damping=DAMPING, progress=False)
