@@ -34,27 +34,28 @@ the stroke above the 0.1 bound, 0.0003 / 0.0015 / 0.0034 at the end; the damping
 0.71 / 2.1 % of the work; the holder did not rise (0 mm); every run reaches the end; CPU 26 /
 107 / 237 s (16557 / 27677 / 44335 steps). The 32-cell centre-line fibre is stretched 0.4-0.6
 % (compressed 2.3 % on the 5-mm die, below); the rows beside it 2.48 deg rms (5.76). The
-draw-in's scatter is the round's resolution: the 20-cell centre-line node 80 mm from the pole
-hangs 3.0 mm off the round, flat under the holder (z = 0.23 mm), on the chord of its
-neighbours (10-mm segments across a 10-mm round), cutting the corner: the fibre's polygon
-99.34 mm long (compressed 0.66 mm), the draw-in 3.17 mm past the inextensible fibre's. At 32
-cells no node hangs off the round (0.06 mm at most). A draw-in order needs finer cells.
+20-cell centre-line fibre, compressed (0.1-1.2 %), stands off the round: its node 80 mm from
+the pole 3.0 mm off it, under the holder's plane over the die's opening (z = 0.23 mm), the
+segment below it nearly vertical: a square corner as on the sharp die (whose inextensible
+fibre gives 28.88 mm; this run 28.54, 3.17 past the round's). At 32 cells no node stands
+off the round (0.06 mm at most); at 12 one 16.7-mm segment spans it, its chord through the
+round (the contact is the nodes'), the die's path 2.7 mm short. No draw-in order follows.
 On the sharp die (DIE_RIM = 0), with the step that counts the contact springs once
 (femcore/compiled.py, docs/theory.md §6.2; one thread, machine load 6-10, CPU time): rms shear
 error against the net 2.74 / 2.01 / - deg; draw-in of the edge middle 22.45 / 29.30 / - mm (an
-inextensible centre-line fibre on the die: 28.88 mm, ``centre_line_draw_in``); punch force at the
-end 95.0 / 61.3 / - N; the largest KE / W after the first tenth 0.085 / 0.128 / 0.297, above the
-0.1 bound for 0 / 5.8 / 15.3 % of the stroke after its first tenth (checked against KINETIC_SHARE:
-the fine mesh fails it; before the flange's release, up to 0.7 of the stroke, at most 0.085 /
-0.059 / 0.0996); the damping took 8.6 / 21.2 / 23.8 % of the work; the holder rose at most 0 /
-0.46 / 8.4 mm; CPU 47 / 115 / 392 s (16587 / 27783 / 39210 steps). The 32-cell run does not reach
-the end: it stops at t = 0.266 s (the energy balance off by 5.2 % of the largest energy, the
-solver's tolerance 5 %, the die's contact the part whose energy moved most; its last good state
-kept; 202 s of CPU at load 3), 14 ms after its flange lifted the holder (1.6 mm at t = 0.252 s,
-8.4 at 0.258), its nodes then at 15-27 m/s;
-at its last state rms 2.44 deg, draw-in 32.9 mm, punch force 94 N. Over the three meshes the
-rms and the punch force have no order (they do not change monotonically) and the draw-in's
-(1.1, to 38 mm) rests on that broken run: on the sharp die no order could be checked.
+inextensible centre-line fibre on the die: 28.88 mm, ``centre_line_draw_in``); punch force at
+the end 95.0 / 61.3 / - N; the largest KE / W after the first tenth 0.085 / 0.128 / 0.297,
+above the 0.1 bound for 0 / 5.8 / 15.3 % of the stroke after its first tenth (checked against
+KINETIC_SHARE: the fine mesh fails it; before the flange's release, up to 0.7 of the stroke, at
+most 0.085 / 0.059 / 0.0996); the damping took 8.6 / 21.2 / 23.8 % of the work; the holder rose
+at most 0 / 0.46 / 8.4 mm; CPU 47 / 115 / 392 s (16587 / 27783 / 39210 steps). The 32-cell run
+does not reach the end: it stops at t = 0.266 s (the energy balance off by 5.2 % of the largest
+energy, the solver's tolerance 5 %, the die's contact the part whose energy moved most; its
+last good state kept; 202 s of CPU at load 3), 14 ms after its flange lifted the holder (1.6 mm
+at t = 0.252 s, 8.4 at 0.258), its nodes then at 15-27 m/s; at its last state rms 2.44 deg,
+draw-in 32.9 mm, punch force 94 N. Over the three meshes the rms and the punch force have no
+order (they do not change monotonically) and the draw-in's (1.1, to 38 mm) rests on that broken
+run: on the sharp die no order could be checked.
 The Mindlin shell on the current step, held, sharp die, 12 / 20 cells (load 4-9): rms 2.84
 / 2.84 deg, draw-in 22.50 / 24.71 mm, punch force 83.1 / 100.4 N, the largest KE / W 0.205 /
 0.153, above the bound for 34 / 31 % of the stroke, the holder up 2.08 / 2.26 mm, the damping
