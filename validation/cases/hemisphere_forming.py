@@ -23,23 +23,22 @@ damping 20/s; the kinetic energy over the work over the run (solvers/quasi_stati
 how quasi-static it is, the damper's share of the work what the damping took.
 Compared: the shear of the cells the net lays on the bowl at least one coarse cell (16.7 mm
 of arc) inside the rim, the same material region on every mesh (COMPARED_POLAR).
-Measured, fibrous, 0.3 s, 12 / 20 / 32 cells, the die's entry radius 10 mm (one thread, CPU
-time, load 7-8): rms shear error against the net 2.73 / 2.14 / 2.07 deg (observed order 4.2,
-Richardson 2.06 deg: the finest mesh within 0.5 % of it, checked within a tenth,
-ORDER_TOLERANCE; the limit checked below EXTRAPOLATED_RMS_DEG = 1 deg fails); draw-in of the
-edge middle 22.65 / 28.54 / 24.18 mm (an inextensible centre-line fibre on that die: 25.38 mm,
-``centre_line_draw_in``; -10.7 / +12.5 / -4.7 %: no order); punch force at the end 77.5 / 57.2
-/ 81.4 N (no order); the largest KE / W after the first tenth 0.009 / 0.007 / 0.016, none of
-the stroke above the 0.1 bound, 0.0003 / 0.0015 / 0.0034 at the end; the damping took 0.24 /
-0.71 / 2.1 % of the work; the holder did not rise (0 mm); every run reaches the end; CPU 26 /
-107 / 237 s (16557 / 27677 / 44335 steps). The 32-cell centre-line fibre is stretched 0.4-0.6
-% (compressed 2.3 % on the 5-mm die, below); the rows beside it 2.48 deg rms (5.76). The
-20-cell centre-line fibre, compressed (0.1-1.2 %), stands off the round: its node 80 mm from
-the pole 3.0 mm off it, under the holder's plane over the die's opening (z = 0.23 mm), the
-segment below it nearly vertical: a square corner as on the sharp die (whose inextensible
-fibre gives 28.88 mm; this run 28.54, 3.17 past the round's). At 32 cells no node stands
-off the round (0.06 mm at most); at 12 one 16.7-mm segment spans it, its chord through the
-round (the contact is the nodes'), the die's path 2.7 mm short. No draw-in order follows.
+Measured, fibrous, 0.3 s, 12 / 20 / 32 cells, the die's entry radius 10 mm (one thread, load
+7-8): rms shear error against the net 2.73 / 2.14 / 2.07 deg (observed order 4.2, Richardson
+2.06 deg: the finest mesh within 0.5 % of it, checked, ORDER_TOLERANCE; the limit checked below
+EXTRAPOLATED_RMS_DEG = 1 deg fails); draw-in of the edge middle 22.65 / 28.54 / 24.18 mm (an
+inextensible centre-line fibre on that die: 25.38 mm, ``centre_line_draw_in``; -10.7 / +12.5 /
+-4.7 %: no order); punch force at the end 77.5 / 57.2 / 81.4 N (no order); the largest KE / W
+after the first tenth 0.009 / 0.007 / 0.016, none of the stroke above the 0.1 bound, 0.0003 /
+0.0015 / 0.0034 at the end; the damping took 0.24 / 0.71 / 2.1 % of the work; the holder did not
+rise (0 mm); every run reaches the end; CPU 26 / 107 / 237 s (16557 / 27677 / 44335 steps). The
+32-cell centre-line fibre is stretched 0.4-0.6 % (compressed 2.3 % on the 5-mm die, below); the
+rows beside it 2.48 deg rms (5.76). The 20-cell centre-line fibre, compressed (0.1-1.2 %),
+stands off the round: its node 80 mm from the pole 3.0 mm off it, under the holder's plane over
+the die's opening (z = 0.23 mm), the segment below it nearly vertical: a square corner as on the
+sharp die (whose inextensible fibre gives 28.88 mm; this run 28.54, 3.17 past the round's). At
+32 cells no node stands off the round (0.06 mm at most); at 12 one 16.7-mm segment spans it, its
+chord through the round (the contact is the nodes'), the die's path 2.7 mm short.
 On the sharp die (DIE_RIM = 0), with the step that counts the contact springs once
 (femcore/compiled.py, docs/theory.md §6.2; one thread, machine load 6-10, CPU time): rms shear
 error against the net 2.74 / 2.01 / - deg; draw-in of the edge middle 22.45 / 29.30 / - mm (an
