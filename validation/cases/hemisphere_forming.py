@@ -58,10 +58,10 @@ run: on the sharp die no order could be checked.
 The Mindlin shell on the current step, held, sharp die, 12 / 20 cells (load 4-9): rms 2.84
 / 2.84 deg, draw-in 22.50 / 24.71 mm, punch force 83.1 / 100.4 N, the largest KE / W 0.205 /
 0.153, above the bound for 34 / 31 % of the stroke, the holder up 2.08 / 2.26 mm, the damping
-31 / 32 % of the work; CPU 44 / 102 s (27997 / 49799 steps). On the 10-mm entry radius, 12
-cells (load 8-10): rms 2.66 deg, draw-in 22.79 mm, punch force 91.4 N, KE / W at most 0.169,
-above the bound for 6.8 % of the stroke, the holder up 1.17 mm, the damping 18 % of the
-work; 51 s of CPU (27822 steps).
+31 / 32 % of the work; CPU 44 / 102 s (27997 / 49799 steps). On the 10-mm entry radius, 12 / 20
+cells (load 7-10): rms 2.66 / 2.09 deg, draw-in 22.79 / 24.11 mm, punch force 91.4 / 81.0 N,
+KE / W at most 0.169 / 0.036 (above the bound for 6.8 / 0 % of the stroke), the holder up
+1.17 / 0.53 mm, the damping 18 / 4.5 % of the work; CPU 51 / 98 s (27822 / 47270 steps).
 The release (what the 20- and 32-cell runs show, frames every 3 ms): from 70 % of the stroke (t
 = 0.21 s) the flange draws in in jerks (32 cells: 19.7 -> 24.9 mm between t = 0.216 and 0.222
 s), then stalls (24.7-25.3 mm to t = 0.246 s) while the punch force climbs (80 -> 294 N) and
