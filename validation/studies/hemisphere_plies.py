@@ -255,6 +255,7 @@ run (the pole, t = 0.060 s).
 from __future__ import annotations
 
 import math
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -278,7 +279,16 @@ from validation.records import Case, Figure, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
 from validation.specimens import hemisphere_die, holder_ring
 
-__all__ = ["CASE", "LAYUPS", "PliesData", "compute", "model", "render"]
+__all__ = [
+    "CASE",
+    "LAYUPS",
+    "PliesData",
+    "compute",
+    "holder_force_last_tenth",
+    "model",
+    "render",
+    "run",
+]
 
 NAME = "hemisphere-plies"
 TITLE = "Two-ply layups [0/90] and [0/45] formed on the hemisphere under a blank holder"
@@ -487,12 +497,19 @@ def _least_gaps(
     }
 
 
-def _last_tenth_mean(result: Any, values: np.ndarray) -> float:
-    """The mean of a per-frame series over the frames of the last tenth of the run (the
-    last frame alone when the run stopped before it)."""
-    times = np.array([frame.time for frame in result.frames])
+def holder_force_last_tenth(history: str | Path, tool: int = 2) -> float:
+    """The holder's reaction (N) averaged over time (trapezoids) over the last tenth of the
+    run, from a run's ``history`` records (solvers.output.HistoryWriter: one about every other
+    step), ``tool`` its index among the contacts; the last record's when the run stopped
+    before. The run's frames (a hundred) sample the holder's ringing on its contact springs
+    too sparsely for it: eleven frames of the fibrous [0/45] run averaged 10.87 N where its
+    records average 9.91 (module docstring)."""
+    records = np.genfromtxt(history, delimiter=",", names=True)
+    times, force = records["time"], records[f"tool{tool + 1}_force_z"]
     last = times >= 0.9 * DURATION
-    return float(np.mean(values[last])) if last.any() else float(values[-1])
+    if last.sum() < 2:
+        return float(force[-1])
+    return float(np.trapezoid(force[last], times[last]) / (times[last][-1] - times[last][0]))
 
 
 def _draw_in(layup: Layup, positions: np.ndarray, k: int) -> tuple[float, float]:
@@ -529,22 +546,25 @@ def run(
     in_die: dict[str, list[np.ndarray]] = {}
     key = f"{name} {kinematics} {force:g} N"
     layup, built = model(cells, LAYUPS[name], kinematics, force)
-    solver = CentralDifference(
-        duration=DURATION,
-        damping=DAMPING,
-        progress=False,
-        output_interval=DURATION / 100,
-        history=history,
-    )
-    start = time.process_time()
-    try:
-        result = solver.solve(built)
-    except SolverError as error:  # reported with the last good frame, not raised
-        if error.result is None:
-            raise
-        result = error.result
-        parameters[f"{key} stopped"] = str(error)
-    cpu = time.process_time() - start
+    with tempfile.TemporaryDirectory() as folder:
+        records = Path(folder) / "history.csv" if history is None else Path(history)
+        solver = CentralDifference(
+            duration=DURATION,
+            damping=DAMPING,
+            progress=False,
+            output_interval=DURATION / 100,
+            history=records,
+        )
+        start = time.process_time()
+        try:
+            result = solver.solve(built)
+        except SolverError as error:  # reported with the last good frame, not raised
+            if error.result is None:
+                raise
+            result = error.result
+            parameters[f"{key} stopped"] = str(error)
+        cpu = time.process_time() - start
+        holder = holder_force_last_tenth(records)
     checks.append(
         check(
             f"{key}: the run reaches the end of the stroke (s)",
@@ -585,9 +605,7 @@ def run(
     parameters[f"{prefix}_interply_slip_rms_mm"] = slip["rms_mm"]
     parameters[f"{prefix}_holder_travel_mm"] = float(result.tool_displacements[-1, 2, 2])
     parameters[f"{prefix}_holder_force_N"] = float(result.tool_forces[-1, 2, 2])
-    parameters[f"{prefix}_holder_force_last_tenth_mean_N"] = _last_tenth_mean(
-        result, result.tool_forces[:, 2, 2]
-    )
+    parameters[f"{prefix}_holder_force_last_tenth_mean_N"] = holder
     parameters[f"{prefix}_punch_force_N"] = float(result.tool_forces[-1, 1, 2])
     energies = {e: v[-1] for e, v in result.energies.items()}
     parameters[f"{prefix}_final_kinetic_over_work"] = energies["kinetic"] / max(
@@ -640,9 +658,20 @@ def run(
     )
     checks.append(
         check(
+            f"{key}: the largest kinetic energy over external work after the first tenth of "
+            "the run, within the quasi-static bound",
+            0.0,
+            inertia["kinetic_over_work_largest"] or 0.0,
+            KINETIC_BOUND,
+            relative=False,
+            source="solvers/quasi_static.py, KINETIC_BOUND (the field's 5-10 %)",
+        )
+    )
+    checks.append(
+        check(
             f"{key}: the holder carries its force over the last tenth of the run, on average (N)",
             force,
-            _last_tenth_mean(result, result.tool_forces[:, 2, 2]),
+            holder,
             0.05,
             source="the holder's equation of motion, on average over its oscillation",
         )
