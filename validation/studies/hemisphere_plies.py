@@ -134,6 +134,12 @@ The rounded die and the light holder (one thread; CPU of each run, with the mach
   edge middle 24.5 and 5.5 mm (24.5 and 5.9), punch force 138 N (131); the shear (rms 1.85
   and 4.12 deg), the slip (18.9 mm at most) and the least gap in the die (-0.72 mm) as at 10
   N: the holder's force flattens the flange and barely moves the plies in the die.
+- Fibrous [0/90] at default (10 cells; 5346 steps, 129 s, load 7.6): to the end, every
+  check passed: KE / W at most 0.099 (t = 0.038 s), the holder 9.81 N over the last tenth
+  (0.02 mm down at the end), rms of shear - net 3.16 deg (ply 1, 52 cells in the die) and
+  2.76 deg (ply 2, 44 cells), draw-in of the edge middle 27.5 and 27.8 mm (corner 6.1 and
+  6.4), inter-ply slip 0.40 mm at most (rms 0.19), no wrinkle, the top ply's least node gap
+  in the die -0.15 mm (-0.41 mm over the run, t = 0.060 s), punch force 86 N.
 RESULTS_PLACEHOLDER
 
 Before: the sharp die and the 1-kg holder.
