@@ -5,9 +5,10 @@ A study, not a case of the report (validation/cases discovers its modules; this 
 apart) until it validates. On the rounded die with the 100-g holder the fibrous runs reach
 the end quasi-static, the holder carrying its force ([0/90] passes every check at 8 and 10
 cells; [0/45]'s top ply's least node gap in the die stays past one ply thickness to the
-curved face, the faceting below), but at 10 N the Mindlin plies' flange buckles and throws
-the holder up (Mindlin [0/90]: KE / W 0.26) and Mindlin [0/45] stops short of the end of the
-stroke at 10 and 20 N (below, "The rounded die and the light holder").
+curved face: -0.70 mm, below "The gap's measure"), but at 10 N the Mindlin plies' flange
+buckles and throws the holder up (Mindlin [0/90]: KE / W 0.26) and Mindlin [0/45] stops
+short of the end of the stroke at 10 and 20 N (below, "The rounded die and the light
+holder").
 Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
 print(compute('coarse').parameters)"``.
 
