@@ -205,7 +205,7 @@ The holder is what makes the quasi-static drape a forming run.
 
 Run: python benchmarks/hemisphere_static.py [--cells 8] [--increments 10] [--stabilise 300]
 [--kinematics fibrous] [--skip-explicit] [--no-holder] [--smooth] [--follow-tools]
-[--release THICKNESSES] [--release-turn DEG]
+[--follow-after-cut] [--release THICKNESSES] [--release-turn DEG]
 """
 
 from __future__ import annotations
@@ -291,6 +291,11 @@ def main() -> None:
         help="Static(follow_tools=True): nodes on the punch carried",
     )
     parser.add_argument(
+        "--follow-after-cut",
+        action="store_true",
+        help="Static(follow_tools_after_cut=True): the retries of a cut increment followed",
+    )
+    parser.add_argument(
         "--release",
         type=float,
         default=contact_module.RELEASE_THICKNESSES,
@@ -331,6 +336,7 @@ def main() -> None:
         increments=args.increments,
         stabilise=args.stabilise,
         follow_tools=args.follow_tools,
+        follow_tools_after_cut=args.follow_after_cut,
         progress=False,
     )
     start, cpu = time.perf_counter(), time.process_time()
