@@ -168,7 +168,7 @@ numba's compilation cached). The plain die with the tools followed (``--follow-t
 6.7-15): stopped at load factor 0.798, as the plain defaults: Newton iterations 16, 34, 30, 96,
 92, 119, 195 in the seven converged increments, 13 cuts whose attempts took 1248 iterations
 (the plain defaults: 13, 1243), 39 contact-set updates, 18 fall-backs to the unilateral law,
-472 steps on a shifted tangent, 643 s CPU (2348 s wall); at 0.7 the punch force 51.2 N, the
+472 steps on a shifted tangent, 643 s CPU (2348 s wall); where it stopped, punch force 51.2 N, the
 blank's highest node 0.152 mm above the die's plane. Following the punch is not what carries
 the drape past 0.8: with the smoothed die it converges, with the plain die it stops where the
 plain defaults stop; the first three increments took the same iterations as with both options
