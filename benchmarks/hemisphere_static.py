@@ -187,6 +187,9 @@ the punch adds iterations there as on the coarser blanks. It stays an option of 
 little (155 iterations against 151 at 8 cells; 3 cuts against 2 at 12, 43 s against 42, above).
 ``Static(follow_tools_after_cut=True)`` (the retries of a cut increment followed, 8 cells
 unchanged by construction: they cut none) was not run on the drape.
+20 cells (800 triangles) with the smoothed die alone, c = 1200, from the start (load 0.3-1.0):
+not finished after 860 s CPU (861 s wall) and stopped there, its state unreported (the run
+prints at its end only).
 
 The Mindlin blank at 12 cells (c = 300 unless said, CPU of the solve, load 1-2.8), not
 converged: with the default release it stops at load factor 0.844 (Newton iterations 10, 4, 56,
