@@ -173,6 +173,10 @@ class Static:
         the first iteration, inside the body by its whole step (the hemisphere drape's punch:
         up to 9.2 mm, 30 blank thicknesses, per tenth of its stroke), and the penalty
         springs' forces there dominate the first Newton steps.
+    follow_tools_after_cut : load path: the tool-following start of ``follow_tools`` for the
+        sub-increments of an increment that was cut only (default False): an increment that
+        converges from the plain start keeps it, and one whose attempt failed is retried, at
+        the half step, with the touching nodes carried by the tool (docs/theory.md §6.5).
     progress : show a progress bar on stderr, its share the load factor reached (None: unless
         under pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
@@ -212,6 +216,7 @@ class Static:
         curved: bool = True,
         fibre_projection: bool = True,
         follow_tools: bool = False,
+        follow_tools_after_cut: bool = False,
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
     ):
@@ -241,6 +246,7 @@ class Static:
         self.curved = check_flag(curved, "curved")
         self.fibre_projection = check_flag(fibre_projection, "fibre_projection")
         self.follow_tools = check_flag(follow_tools, "follow_tools")
+        self.follow_tools_after_cut = check_flag(follow_tools_after_cut, "follow_tools_after_cut")
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
         self.progress = check_progress(progress)
@@ -330,7 +336,7 @@ class Static:
             while run.reached < target - 1e-12:
                 # Land on the target exactly: sums of step fractions miss it by rounding.
                 trial = target if run.reached + step >= target - 1e-12 else run.reached + step
-                start = run.predict(trial)
+                start = run.predict(trial, follow=self.follow_tools_after_cut and cuts_here > 0)
                 run.damp(trial)
                 try:
                     if iterations_allowed is not None:
@@ -616,26 +622,27 @@ class StaticRun:
             rotations[~self.model.has_rotation] = 0.0
         return Motion(delta[:, :3].copy(), rotations, load, self.model.element_size, mode)
 
-    def predict(self, load_factor: float) -> State:
+    def predict(self, load_factor: float, follow: bool = False) -> State:
         """Load path: the start of the Newton iteration at ``load_factor``: the last
-        increment of the same phase extrapolated (the secant), else the last state."""
+        increment of the same phase extrapolated (the secant), else the last state (with
+        the tools followed under ``follow_tools``, or when ``follow``)."""
         if (
             not self.solver.predictor
             or self.last_motion is None
             or self.last_motion[0] != self.phase
         ):
-            return self.follow_tools(self.state, load_factor)
+            return self.follow_tools(self.state, load_factor, follow)
         motion = self.last_motion[2]
         if motion.load <= 0.0:
-            return self.follow_tools(self.state, load_factor)
+            return self.follow_tools(self.state, load_factor, follow)
         return self.apply(motion.scaled((load_factor - self.reached) / motion.load), load_factor)
 
-    def follow_tools(self, state: State, load_factor: float) -> State:
-        """With ``follow_tools``: the nodes touching a moving tool at the last converged state
-        (and no tool that stays) carried by the tool's translation to ``load_factor``
-        (``InteractionBlock.carried_by_tool``), so that the increment's first iterate does not have
-        the tool inside the body by the whole of its step."""
-        if not self.solver.follow_tools:
+    def follow_tools(self, state: State, load_factor: float, follow: bool = False) -> State:
+        """With ``follow_tools`` (or ``follow``): the nodes touching a moving tool at the last
+        converged state (and no tool that stays) carried by the tool's translation to
+        ``load_factor`` (``InteractionBlock.carried_by_tool``), so that the increment's first
+        iterate does not have the tool inside the body by the whole of its step."""
+        if not (self.solver.follow_tools or follow):
             return state
         model = self.model
         shift = np.zeros((model.n_nodes, 3))
