@@ -124,7 +124,7 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
     with its error, and not raised.
     """
     case = CASES[name]
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), time.process_time()
     try:
         outcome = case.compute(resolution)
         figures = list(case.render(outcome.data, out_dir))
@@ -138,7 +138,12 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
         outcome = replace(outcome, figures=[_sized(figure, out_dir) for figure in figures])
     except Exception as error:  # a broken case is reported, never hidden
         outcome = Outcome.failed(error)
-    return CaseResult(case=case, outcome=outcome, case_time_s=time.perf_counter() - started)
+    return CaseResult(
+        case=case,
+        outcome=outcome,
+        case_time_s=time.perf_counter() - started,
+        case_cpu_s=time.process_time() - cpu,
+    )
 
 
 def _sized(figure: Figure, out_dir: Path) -> Figure:
@@ -157,12 +162,12 @@ def _sized(figure: Figure, out_dir: Path) -> Figure:
 
 def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):
     """``run_case`` in a worker process: (outcome without its figure data, which stays with
-    the worker that drew it, and the case time)."""
+    the worker that drew it, the case time and its CPU time)."""
     import numba
 
     numba.set_num_threads(threads)  # the cores are shared between the workers
     result = run_case(name, resolution, out_dir)
-    return replace(result.outcome, data=None), result.case_time_s
+    return replace(result.outcome, data=None), result.case_time_s, result.case_cpu_s
 
 
 def run_cases(
@@ -236,7 +241,8 @@ def _run_all(
             if result.outcome.error is not None
             else f"{result.passed}/{len(checks)} checks passed"
         )
-        echo(f"{before}{result.case_time_s:.1f} s, {status}")
+        cpu = "" if result.case_cpu_s is None else f" ({result.case_cpu_s:.1f} s CPU)"
+        echo(f"{before}{result.case_time_s:.1f} s{cpu}, {status}")
 
     if jobs <= 1:
         for i, name in enumerate(names, 1):
@@ -255,8 +261,8 @@ def _run_all(
             }
             for count, future in enumerate(as_completed(futures), 1):
                 name = futures[future]
-                outcome, seconds = future.result()
-                results[name] = CaseResult(case=CASES[name], outcome=outcome, case_time_s=seconds)
+                outcome, seconds, cpu = future.result()
+                results[name] = CaseResult(CASES[name], outcome, seconds, cpu)
                 done(results[name], f"[{count}/{len(names)}] {name}: {CASES[name].title}: ")
         results = {name: results[name] for name in names}  # report order
     return results
