@@ -67,6 +67,9 @@ check passed, 14.0 min wall, 330.5 s CPU (user 325.3, system 5.2), the cases' CP
 sensitivity's Dask workers not in its 4.1). With plies-bai-5.1 (201 s), plies-deck-of-cards
 (99 s) and hemisphere-forming (205 s) the whole default report is about 835 s of CPU: at
 least 420 s wall on 2 free cores, far from 60 s.
+Coarse, the three longest (python -m validation --resolution coarse --jobs 2, load 2.2-2.9):
+hemisphere-forming 86.3 s CPU, plies-bai-5.1 43.3, plies-deck-of-cards 27.6; 166 s CPU in all,
+2.8 min wall.
 Each report now records each case's CPU time (results.json ``case_cpu_s``, the worker
 process's) beside its wall time, and prints it on the case's line.
 
