@@ -52,6 +52,27 @@ same equilibria to 1e-6 deg and mm printed. The band reuse alone is neutral ther
 stack's patterns choose QDLDL: 281 of 306 new patterns factorised by it anyway; factorise 2.3
 of 16.4 s CPU).
 
+Measured again (one thread, 2 cores shared with other jobs, load 5.6-10.6, CPU of
+computation + figures): default bai-5.1 45.4 + 7.2 s (1800 Newton iterations in its 7 runs),
+bai-6.1.1 52.8 + 7.6 s. The coarse plies-bai-5.1's plies run (12 cells, 4 plies; load 12-13,
+one process after the other): in 10 increments per phase 50.3 s CPU (358 converged Newton
+iterations, 6 cuts, 370 iterations cut, 734 tangents), in 20 increments 47.5 s (340, 3 cuts,
+447 cut, 790 tangents), the same equilibrium (the material line within 1.9e-9 deg and 6e-11
+mm): more tangents, a CPU difference within what the load moves, so the coarse run keeps 10.
+The default report of the 19 cases other than plies-bai-5.1, plies-deck-of-cards and
+hemisphere-forming (python -m validation --resolution default --jobs 2, load 14 -> 3.9): every
+check passed, 14.0 min wall, 330.5 s CPU (user 325.3, system 5.2), the cases' CPU: bai-6.1.1
+59.0, bai-6.2.1 58.2, bai-5.1 53.6, bai-6.1.2 39.0, bai-6.2.2 30.2, plies-heavy-cantilever
+22.3, bar-wave 12.0, heavy-cantilever-nonlinear 8.7, the 11 others 0.3-4.1 each (the
+sensitivity's Dask workers not in its 4.1). With plies-bai-5.1 (201 s), plies-deck-of-cards
+(99 s) and hemisphere-forming (205 s) the whole default report is about 835 s of CPU: at
+least 420 s wall on 2 free cores, far from 60 s.
+Coarse, the three longest (python -m validation --resolution coarse --jobs 2, load 2.2-2.9):
+hemisphere-forming 86.3 s CPU, plies-bai-5.1 43.3, plies-deck-of-cards 27.6; 166 s CPU in all,
+2.8 min wall.
+Each report now records each case's CPU time (results.json ``case_cpu_s``, the worker
+process's) beside its wall time, and prints it on the case's line.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """

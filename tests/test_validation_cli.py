@@ -173,7 +173,7 @@ def _record_submissions(monkeypatch) -> list[str]:
         def submit(self, function, name, resolution, out_dir, threads):
             submitted.append(name)
             future = Future()
-            future.set_result((Outcome.failed(RuntimeError("not run")), 0.0))
+            future.set_result((Outcome.failed(RuntimeError("not run")), 0.0, 0.0))
             return future
 
     monkeypatch.setattr(report_module, "ProcessPoolExecutor", Pool)

@@ -196,11 +196,13 @@ def test_a_case_that_raises_is_reported_with_the_keys_of_results_json(monkeypatc
         "solver",
         "case_time_s",
         "wall_time_s",
+        "case_cpu_s",
         "title",
         "source",
         "description",
     ]
     assert record["description"] == "d" and record["wall_time_s"] == record["case_time_s"]
+    assert record["case_cpu_s"] >= 0.0
 
 
 def test_an_outcome_serialises_with_the_keys_of_results_json():
@@ -223,6 +225,10 @@ def test_an_outcome_serialises_with_the_keys_of_results_json():
         "source",
         "description",
     ]
+    # the CPU time where the report measured it, after the wall time
+    timed = CaseResult(case, outcome, 1.5, 1.25).to_json()
+    assert list(timed) == [*list(record)[:8], "case_cpu_s", *list(record)[8:]]
+    assert timed["case_cpu_s"] == 1.25
     assert list(record["checks"][0]) == [
         "name",
         "reference",

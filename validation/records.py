@@ -406,11 +406,14 @@ class Case:
 
 @dataclass(frozen=True)
 class CaseResult:
-    """A case and its outcome in the report, with the wall time of compute and render."""
+    """A case and its outcome in the report, with the wall time of compute and render and,
+    where measured, the CPU time of the process that ran them (s; its threads included, not
+    its child processes: bai-6.1.1-sensitivity's Dask workers)."""
 
     case: Case
     outcome: Outcome
     case_time_s: float
+    case_cpu_s: float | None = None
 
     @property
     def passed(self) -> int:
@@ -433,6 +436,8 @@ class CaseResult:
                 "case_time_s": self.case_time_s,
                 "wall_time_s": self.case_time_s,
             }
+            if self.case_cpu_s is not None:
+                record["case_cpu_s"] = self.case_cpu_s
         else:
             record = {
                 "converged": o.converged,
@@ -454,6 +459,8 @@ class CaseResult:
                 figures=[f.to_json() for f in o.figures],
                 case_time_s=self.case_time_s,
             )
+            if self.case_cpu_s is not None:
+                record["case_cpu_s"] = self.case_cpu_s
         record.update(
             title=self.case.title,
             source=self.case.source,

@@ -41,34 +41,40 @@ __all__ = [
 # with several jobs the workers take the cases in decreasing order of it, so that the
 # longest starts first and the last to start is short (in report order hemisphere-forming, the
 # longest, started last and ran alone on one core at the end). An order, not a promise: the
-# coarse paper cases but bai-5.1 ran first after a cold cache (some compilation included); the
-# default bai-5.1 and plies-bai-5.1 are the wall times of an earlier run (--jobs 1, load 3-5);
-# the default plies-deck-of-cards is the sum of its runs measured one by one, its coarse one
-# the run measured with the sag in 3 increments less the 10.9 s that 6 save;
-# hemisphere-forming's default is the sum of its two runs (its module's docstring).
+# coarse paper cases but bai-5.1 ran first after a cold cache (some compilation included).
+# Refreshed at the default resolution (CPU time, 2 cores shared with other jobs): 17 cases
+# from the case_cpu_s of one report of the 19 cases below (--jobs 2, load 3.9-14; 330.5 s CPU
+# in all, 14 min wall); bai-6.1.1-sensitivity keeps its earlier figure (its Dask workers' CPU
+# is not in its worker's case_cpu_s: 4.1 s there, 75 s wall) and bar-wave too (12.0 s there,
+# 1.6 before: not measured again); plies-bai-5.1 (plies in 20 increments) and
+# plies-deck-of-cards each the whole process of ``python -m validation --cases NAME --jobs 1``
+# (user + system, load 1.4-2.5); hemisphere-forming the sum of its two runs, coarse and
+# default (its module's docstring: fibrous 26 / 107 s, Mindlin 51 / 98 s on the 10-mm entry
+# radius). Coarse: plies-bai-5.1, plies-deck-of-cards and hemisphere-forming from one report
+# of the three (--jobs 2, load 2.2-2.9; 166 s CPU, 2.8 min wall), the others as before.
 EXPECTED_CPU_S: dict[str, tuple[float, float]] = {
-    "bai-5.1": (37.7, 73.0),
-    "bai-6.1.1": (21.4, 65.6),
-    "bai-6.1.2": (16.5, 48.5),
-    "bai-6.2.1": (18.6, 67.4),
-    "bai-6.2.2": (16.0, 46.0),
+    "bai-5.1": (37.7, 53.6),
+    "bai-6.1.1": (21.4, 59.0),
+    "bai-6.1.2": (16.5, 39.0),
+    "bai-6.2.1": (18.6, 58.2),
+    "bai-6.2.2": (16.0, 30.2),
     "bai-6.1.1-sensitivity": (29.4, 39.8),
-    "cable-catenary": (2.1, 3.0),
-    "cable-elastic-catenary": (0.9, 1.0),
+    "cable-catenary": (2.1, 2.2),
+    "cable-elastic-catenary": (0.9, 0.6),
     "bar-wave": (3.8, 1.6),
-    "fibrous-curvature": (0.8, 0.8),
-    "fibrous-deck-of-cards": (4.6, 5.4),
-    "fibrous-heavy-cantilever": (2.2, 3.3),
-    "plies-deck-of-cards": (41.0, 186.4),
-    "heavy-cantilever-nonlinear": (11.4, 18.7),
-    "plies-heavy-cantilever": (9.5, 28.1),
-    "plies-bai-5.1": (76.7, 180.0),
-    "mindlin-elastica": (1.7, 1.3),
-    "mindlin-rollup": (1.1, 1.1),
-    "mindlin-plate": (2.2, 1.6),
-    "mindlin-scordelis-lo": (1.4, 2.8),
-    "mindlin-pinched-cylinder": (2.7, 4.6),
-    "hemisphere-forming": (131.2, 168.0),
+    "fibrous-curvature": (0.8, 0.3),
+    "fibrous-deck-of-cards": (4.6, 2.6),
+    "fibrous-heavy-cantilever": (2.2, 0.7),
+    "plies-deck-of-cards": (27.6, 99.1),
+    "heavy-cantilever-nonlinear": (11.4, 8.7),
+    "plies-heavy-cantilever": (9.5, 22.3),
+    "plies-bai-5.1": (43.3, 201.0),
+    "mindlin-elastica": (1.7, 0.8),
+    "mindlin-rollup": (1.1, 0.4),
+    "mindlin-plate": (2.2, 0.9),
+    "mindlin-scordelis-lo": (1.4, 1.7),
+    "mindlin-pinched-cylinder": (2.7, 3.5),
+    "hemisphere-forming": (86.3, 205.0),
 }  # fmt: skip
 
 
@@ -124,7 +130,7 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
     with its error, and not raised.
     """
     case = CASES[name]
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), time.process_time()
     try:
         outcome = case.compute(resolution)
         figures = list(case.render(outcome.data, out_dir))
@@ -138,7 +144,12 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
         outcome = replace(outcome, figures=[_sized(figure, out_dir) for figure in figures])
     except Exception as error:  # a broken case is reported, never hidden
         outcome = Outcome.failed(error)
-    return CaseResult(case=case, outcome=outcome, case_time_s=time.perf_counter() - started)
+    return CaseResult(
+        case=case,
+        outcome=outcome,
+        case_time_s=time.perf_counter() - started,
+        case_cpu_s=time.process_time() - cpu,
+    )
 
 
 def _sized(figure: Figure, out_dir: Path) -> Figure:
@@ -157,12 +168,12 @@ def _sized(figure: Figure, out_dir: Path) -> Figure:
 
 def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):
     """``run_case`` in a worker process: (outcome without its figure data, which stays with
-    the worker that drew it, and the case time)."""
+    the worker that drew it, the case time and its CPU time)."""
     import numba
 
     numba.set_num_threads(threads)  # the cores are shared between the workers
     result = run_case(name, resolution, out_dir)
-    return replace(result.outcome, data=None), result.case_time_s
+    return replace(result.outcome, data=None), result.case_time_s, result.case_cpu_s
 
 
 def run_cases(
@@ -236,7 +247,8 @@ def _run_all(
             if result.outcome.error is not None
             else f"{result.passed}/{len(checks)} checks passed"
         )
-        echo(f"{before}{result.case_time_s:.1f} s, {status}")
+        cpu = "" if result.case_cpu_s is None else f" ({result.case_cpu_s:.1f} s CPU)"
+        echo(f"{before}{result.case_time_s:.1f} s{cpu}, {status}")
 
     if jobs <= 1:
         for i, name in enumerate(names, 1):
@@ -255,8 +267,8 @@ def _run_all(
             }
             for count, future in enumerate(as_completed(futures), 1):
                 name = futures[future]
-                outcome, seconds = future.result()
-                results[name] = CaseResult(case=CASES[name], outcome=outcome, case_time_s=seconds)
+                outcome, seconds, cpu = future.result()
+                results[name] = CaseResult(CASES[name], outcome, seconds, cpu)
                 done(results[name], f"[{count}/{len(names)}] {name}: {CASES[name].title}: ")
         results = {name: results[name] for name in names}  # report order
     return results
