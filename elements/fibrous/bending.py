@@ -175,36 +175,60 @@ def tangent(block: FibrousShellBlock, positions: np.ndarray) -> CellTangent:
     "current" the neglected dc/dx terms are of the order of the fold-angle change over the
     increment).
     """
+    terms = tangent_terms(block, positions)
+    return CellTangent(terms["nodes"], tangent_blocks(block, positions, terms, slice(None)))
+
+
+def tangent_terms(block: FibrousShellBlock, positions: np.ndarray) -> dict:
+    """What ``tangent_blocks`` needs of all cells (a few numbers a cell): the patch nodes
+    (m, 6) and slots (m, 9), the curvature coefficients (m, a, s), the sides' shares
+    D[s, k] n (m, s, k, 3), the moment slopes (m, a) and the side moments (m, s)."""
     bend = geometry(block, positions)
     chi, coefficients = curvatures(block, bend)
-    slopes = moments(block, chi, slope=True)
-    share = bend["gradient"][..., None] * bend["normal"][:, None, None, :]  # (m, s, k, 3)
+    nodes, slot = patch_nodes(block)
+    return {
+        "nodes": nodes,
+        "slot": slot,
+        "coefficients": coefficients,
+        "share": bend["gradient"][..., None] * bend["normal"][:, None, None, :],
+        "slopes": moments(block, chi, slope=True),
+        "side_moment": side_moments(block, moments(block, chi), coefficients),
+    }
+
+
+def tangent_blocks(
+    block: FibrousShellBlock, positions: np.ndarray, terms: dict, cells: slice
+) -> np.ndarray:
+    """The blocks (c, 6, 3, 6, 3), N/mm, of ``tangent`` for a slice of ``cells`` (c of them)
+    from ``tangent_terms``: each cell's own, so that a slice's are those of the whole to
+    round-off (numpy's batched products may round differently in batches of other sizes)."""
+    coefficients = terms["coefficients"][cells]
+    share = terms["share"]  # (m, s, k, 3), all cells: the neighbours' too
+    across_cell, across_side = block.across_cell[cells], block.across_side[cells]
     across_share = np.where(
-        block.interior_side[..., None, None], share[block.across_cell, block.across_side], 0.0
+        block.interior_side[cells][..., None, None], share[across_cell, across_side], 0.0
     )
-    m = len(block.cell_ids)
-    own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
+    m = len(coefficients)
+    own = -np.einsum("mas,mskj->makj", coefficients, share[cells])  # (m, a, 3, 3)
     across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
     # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
     # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
     # a quarter of the size to form and to assemble.
-    nodes, slot = patch_nodes(block)
-    fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
+    fold = (terms["slot"][cells][..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
     g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
     g[:, :, :3] += own  # (m, a, 6, 3)
-    weight = block.reference_area[:, None] * slopes  # (m, a)
+    weight = block.reference_area[cells][:, None] * terms["slopes"][cells]  # (m, a)
     flat = g.reshape(m, 2, 18)
     blocks = np.matmul(flat.transpose(0, 2, 1) * weight[:, None, :], flat)
     blocks = blocks.reshape(m, 6, 3, 6, 3)  # sum_a w_a g_a g_a^T
 
-    side_moment = side_moments(block, moments(block, chi), coefficients)
-
-    x = positions[block.connectivity]
+    side_moment = terms["side_moment"][cells]
+    x = positions[block.connectivity[cells]]
     if block.compiled and tangent_kernels.AVAILABLE:
         blocks[:, :3, :, :3] += tangent_kernels.share_stiffness(x, side_moment)
     else:
         blocks[:, :3, :, :3] += share_tangent(x, side_moment)
-    return CellTangent(nodes, blocks)
+    return blocks
 
 
 def patch_nodes(block: FibrousShellBlock) -> tuple[np.ndarray, np.ndarray]:
