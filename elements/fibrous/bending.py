@@ -176,21 +176,20 @@ def tangent(block: FibrousShellBlock, positions: np.ndarray) -> CellTangent:
     increment).
     """
     terms = tangent_terms(block, positions)
-    return CellTangent(terms["nodes"], tangent_blocks(block, positions, terms, slice(None)))
+    every = slice(None)
+    return CellTangent(patch_nodes(block)[0], tangent_blocks(block, positions, terms, every))
 
 
 def tangent_terms(block: FibrousShellBlock, positions: np.ndarray) -> dict:
-    """What ``tangent_blocks`` needs of all cells (a few numbers a cell): the patch nodes
-    (m, 6) and slots (m, 9), the curvature coefficients (m, a, s), the sides' shares
-    D[s, k] n (m, s, k, 3), the moment slopes (m, a) and the side moments (m, s)."""
+    """What ``tangent_blocks`` needs of all cells (a few numbers a cell): the curvature
+    coefficients (m, a, s), the sides' D[s, k] (m, s, k) and the normals (m, 3) (their shares
+    D[s, k] n formed per slice), the moment slopes (m, a) and the side moments (m, s)."""
     bend = geometry(block, positions)
     chi, coefficients = curvatures(block, bend)
-    nodes, slot = patch_nodes(block)
     return {
-        "nodes": nodes,
-        "slot": slot,
         "coefficients": coefficients,
-        "share": bend["gradient"][..., None] * bend["normal"][:, None, None, :],
+        "gradient": bend["gradient"],
+        "normal": bend["normal"],
         "slopes": moments(block, chi, slope=True),
         "side_moment": side_moments(block, moments(block, chi), coefficients),
     }
@@ -203,18 +202,19 @@ def tangent_blocks(
     from ``tangent_terms``: each cell's own, so that a slice's are those of the whole to
     round-off (numpy's batched products may round differently in batches of other sizes)."""
     coefficients = terms["coefficients"][cells]
-    share = terms["share"]  # (m, s, k, 3), all cells: the neighbours' too
+    gradient, normal = terms["gradient"], terms["normal"]  # all cells: the neighbours' too
+    share = gradient[cells][..., None] * normal[cells][:, None, None, :]  # D[s, k] n
     across_cell, across_side = block.across_cell[cells], block.across_side[cells]
-    across_share = np.where(
-        block.interior_side[cells][..., None, None], share[across_cell, across_side], 0.0
-    )
+    across = gradient[across_cell, across_side][..., None] * normal[across_cell][:, :, None, :]
+    across_share = np.where(block.interior_side[cells][..., None, None], across, 0.0)
     m = len(coefficients)
-    own = -np.einsum("mas,mskj->makj", coefficients, share[cells])  # (m, a, 3, 3)
+    own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
     across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
     # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
     # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
     # a quarter of the size to form and to assemble.
-    fold = (terms["slot"][cells][..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
+    _, slot = patch_nodes(block, cells)
+    fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
     g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
     g[:, :, :3] += own  # (m, a, 6, 3)
     weight = block.reference_area[cells][:, None] * terms["slopes"][cells]  # (m, a)
@@ -231,20 +231,24 @@ def tangent_blocks(
     return blocks
 
 
-def patch_nodes(block: FibrousShellBlock) -> tuple[np.ndarray, np.ndarray]:
+def patch_nodes(
+    block: FibrousShellBlock, cells: slice = slice(None)
+) -> tuple[np.ndarray, np.ndarray]:
     """The six nodes of each cell's bending patch (m, 6): its corners, then across each
     side s the neighbour's node opposite it (the cell's corner s where the side couples
     no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
-    neighbour's corner j across side s, at s * 3 + j."""
-    conn = block.connectivity
-    other = conn[block.across_cell]  # (m, s, j)
+    neighbour's corner j across side s, at s * 3 + j; of the block's ``cells`` (all by
+    default)."""
+    conn = block.connectivity[cells]
+    interior = block.interior_side[cells]
+    other = block.connectivity[block.across_cell[cells]]  # (m, s, j)
     slot = np.broadcast_to(3 + np.arange(3)[None, :, None], other.shape).copy()
     for end in (SIDE_FROM, SIDE_TO):
         ends = conn[:, end]  # (m, s): the side's end node
         slot = np.where(other == ends[..., None], end[None, :, None], slot)
-    slot = np.where(block.interior_side[..., None], slot, 3 + np.arange(3)[None, :, None])
+    slot = np.where(interior[..., None], slot, 3 + np.arange(3)[None, :, None])
     opposite = np.where(slot == 3 + np.arange(3)[None, :, None], other, 0).max(axis=2)
-    opposite = np.where(block.interior_side, opposite, conn)
+    opposite = np.where(interior, opposite, conn)
     return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
 
 

@@ -62,7 +62,8 @@ def tangent_pieces(block: FibrousShellBlock, state: State) -> Iterator[TangentPa
         blocks = bending.tangent_blocks(block, positions, terms, cells)
         x = positions[conn[cells]]
         blocks[:, :3, :, :3] += tangent_kernels.normal_pull_stiffness(x, pull[conn[cells]])
-        yield _piece(block, state, sums, around, cells, CellTangent(terms["nodes"][cells], blocks))
+        patch = CellTangent(bending.patch_nodes(block, cells)[0], blocks)
+        yield _piece(block, state, sums, around, cells, patch)
 
 
 class _NodeCells:
@@ -71,7 +72,7 @@ class _NodeCells:
     def __init__(self, connectivity: np.ndarray, n_nodes: int):
         flat = connectivity.ravel()
         order = np.argsort(flat, kind="stable")
-        self.cells = order // 3
+        self.cells = (order // 3).astype(np.int32 if len(connectivity) < 2**31 else np.int64)
         self.offsets = np.zeros(n_nodes + 1, dtype=np.int64)
         np.cumsum(np.bincount(flat, minlength=n_nodes), out=self.offsets[1:])
 
