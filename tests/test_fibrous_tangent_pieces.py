@@ -42,8 +42,9 @@ def jittered_sheet(clamped: bool):
 @pytest.mark.parametrize("clamped", [False, True], ids=["free", "clamped"])
 def test_the_pieces_sum_to_the_whole_tangent(monkeypatch, clamped):
     # Pieces of 37 cells on the 160-cell sheet (rows of 20 cells): 5 slices, each piece's
-    # membrane reaching the nodes around the slice's own.
+    # membrane reaching the nodes around the slice's own; their Hessians 10 cells at a time.
     monkeypatch.setattr(tangent_pieces, "PIECE", 37)
+    monkeypatch.setattr(tangent_pieces, "_HESSIANS", 10)
     compiled, state = jittered_sheet(clamped)
     block = compiled.blocks[0]
     pieces = list(block.tangent_pieces(state))

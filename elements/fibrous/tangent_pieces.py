@@ -39,6 +39,8 @@ __all__ = ["tangent_pieces"]
 
 # Cells per piece: a piece's local membrane product and bending blocks, a few tens of MB.
 PIECE = 4096
+# Cells whose Hessians are held at once within a piece (6 MB).
+_HESSIANS = 1024
 
 
 def tangent_pieces(block: FibrousShellBlock, state: State) -> Iterator[TangentPart]:
@@ -106,11 +108,16 @@ def _piece(
     local = local.reshape(-1, 3)
     pairs = CornerPairs(local, len(local_nodes))
     own = np.searchsorted(halo, np.arange(cells.start, cells.stop))
-    x = state.positions[conn[cells]]
-    v = state.directors[conn[cells]]
-    hessian, _ = hessian_kernels.membrane_hessians(block, x, v, sums[conn[cells]], cells)
-    h_blocks = hessian_kernels.pair_sums(pairs.slot[own], hessian, pairs.n_pairs)
-    del hessian
+    h_blocks = np.zeros((pairs.n_pairs, 9, 9))
+    # The slice's Hessians (5.8 kB a cell) formed and summed ``_HESSIANS`` cells at a time.
+    for first in range(cells.start, cells.stop, _HESSIANS):
+        part = slice(first, min(first + _HESSIANS, cells.stop))
+        nodes = conn[part]
+        x, v = state.positions[nodes], state.directors[nodes]
+        hessian, _ = hessian_kernels.membrane_hessians(block, x, v, sums[nodes], part)
+        within = own[part.start - cells.start : part.stop - cells.start]
+        hessian_kernels.pair_sums(pairs.slot[within], hessian, pairs.n_pairs, h_blocks)
+        del hessian
     x_halo = state.positions[conn[halo]]
     ds_dx = hessian_kernels.normal_share_jacobians(x_halo, block.wall_nodes[conn[halo]])
     j_blocks = hessian_kernels.pair_sums(pairs.slot, ds_dx, pairs.n_pairs)
