@@ -55,6 +55,16 @@ and the bending's blocks of all cells at once; ``tangent_pieces`` gives them in 
 with a given dt 729 MB (1.87 kB a triangle, the build's own peak); build 4.4-4.8 s CPU
 (10-11 s wall) in a fresh process, the cached loops loaded in it.
 
+The fibrous tangent a slice of cells at a time (elements/fibrous/tangent_pieces.py: per 4096
+cells the membrane's J^T H_C J on the slice's halo and its bending patches, summed into the
+node pairs' rows and dropped), same machine, load 3.5-7, one thread: the 400k sheet with the
+solver's own step peaks at 777 MB (1.99 kB a triangle; 12785 MB, 32.8, before), build 3.5-4.2
+s CPU (5.7-7.2 s wall). The assembled bound alone at 100k (``assembled_stable_dt`` at the
+initial state in a fresh process, old (main b2c069b, a second checkout) and new in turns, load
+2.2-3.0): peak 3336 MB -> 442-448 MB (the interpreter's 127 MB included), CPU 10.0-11.2 s ->
+6.0-6.2 s, the bound 1.0861103818624533e-05 s both times, to the last bit (the pieces add a
+node pair's blocks slice by slice: equal to round-off in general).
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
 

@@ -175,52 +175,80 @@ def tangent(block: FibrousShellBlock, positions: np.ndarray) -> CellTangent:
     "current" the neglected dc/dx terms are of the order of the fold-angle change over the
     increment).
     """
+    terms = tangent_terms(block, positions)
+    every = slice(None)
+    return CellTangent(patch_nodes(block)[0], tangent_blocks(block, positions, terms, every))
+
+
+def tangent_terms(block: FibrousShellBlock, positions: np.ndarray) -> dict:
+    """What ``tangent_blocks`` needs of all cells (a few numbers a cell): the curvature
+    coefficients (m, a, s), the sides' D[s, k] (m, s, k) and the normals (m, 3) (their shares
+    D[s, k] n formed per slice), the moment slopes (m, a) and the side moments (m, s)."""
     bend = geometry(block, positions)
     chi, coefficients = curvatures(block, bend)
-    slopes = moments(block, chi, slope=True)
-    share = bend["gradient"][..., None] * bend["normal"][:, None, None, :]  # (m, s, k, 3)
-    across_share = np.where(
-        block.interior_side[..., None, None], share[block.across_cell, block.across_side], 0.0
-    )
-    m = len(block.cell_ids)
+    return {
+        "coefficients": coefficients,
+        "gradient": bend["gradient"],
+        "normal": bend["normal"],
+        "slopes": moments(block, chi, slope=True),
+        "side_moment": side_moments(block, moments(block, chi), coefficients),
+    }
+
+
+def tangent_blocks(
+    block: FibrousShellBlock, positions: np.ndarray, terms: dict, cells: slice
+) -> np.ndarray:
+    """The blocks (c, 6, 3, 6, 3), N/mm, of ``tangent`` for a slice of ``cells`` (c of them)
+    from ``tangent_terms``: each cell's own, so that a slice's are those of the whole to
+    round-off (numpy's batched products may round differently in batches of other sizes)."""
+    coefficients = terms["coefficients"][cells]
+    gradient, normal = terms["gradient"], terms["normal"]  # all cells: the neighbours' too
+    share = gradient[cells][..., None] * normal[cells][:, None, None, :]  # D[s, k] n
+    across_cell, across_side = block.across_cell[cells], block.across_side[cells]
+    across = gradient[across_cell, across_side][..., None] * normal[across_cell][:, :, None, :]
+    across_share = np.where(block.interior_side[cells][..., None, None], across, 0.0)
+    m = len(coefficients)
     own = -np.einsum("mas,mskj->makj", coefficients, share)  # (m, a, 3, 3)
     across = -coefficients[..., None, None] * across_share[:, None]  # (m, a, s, 3, 3)
     # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
     # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
     # a quarter of the size to form and to assemble.
-    nodes, slot = patch_nodes(block)
+    _, slot = patch_nodes(block, cells)
     fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
     g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
     g[:, :, :3] += own  # (m, a, 6, 3)
-    weight = block.reference_area[:, None] * slopes  # (m, a)
+    weight = block.reference_area[cells][:, None] * terms["slopes"][cells]  # (m, a)
     flat = g.reshape(m, 2, 18)
     blocks = np.matmul(flat.transpose(0, 2, 1) * weight[:, None, :], flat)
     blocks = blocks.reshape(m, 6, 3, 6, 3)  # sum_a w_a g_a g_a^T
 
-    side_moment = side_moments(block, moments(block, chi), coefficients)
-
-    x = positions[block.connectivity]
+    side_moment = terms["side_moment"][cells]
+    x = positions[block.connectivity[cells]]
     if block.compiled and tangent_kernels.AVAILABLE:
         blocks[:, :3, :, :3] += tangent_kernels.share_stiffness(x, side_moment)
     else:
         blocks[:, :3, :, :3] += share_tangent(x, side_moment)
-    return CellTangent(nodes, blocks)
+    return blocks
 
 
-def patch_nodes(block: FibrousShellBlock) -> tuple[np.ndarray, np.ndarray]:
+def patch_nodes(
+    block: FibrousShellBlock, cells: slice = slice(None)
+) -> tuple[np.ndarray, np.ndarray]:
     """The six nodes of each cell's bending patch (m, 6): its corners, then across each
     side s the neighbour's node opposite it (the cell's corner s where the side couples
     no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
-    neighbour's corner j across side s, at s * 3 + j."""
-    conn = block.connectivity
-    other = conn[block.across_cell]  # (m, s, j)
+    neighbour's corner j across side s, at s * 3 + j; of the block's ``cells`` (all by
+    default)."""
+    conn = block.connectivity[cells]
+    interior = block.interior_side[cells]
+    other = block.connectivity[block.across_cell[cells]]  # (m, s, j)
     slot = np.broadcast_to(3 + np.arange(3)[None, :, None], other.shape).copy()
     for end in (SIDE_FROM, SIDE_TO):
         ends = conn[:, end]  # (m, s): the side's end node
         slot = np.where(other == ends[..., None], end[None, :, None], slot)
-    slot = np.where(block.interior_side[..., None], slot, 3 + np.arange(3)[None, :, None])
+    slot = np.where(interior[..., None], slot, 3 + np.arange(3)[None, :, None])
     opposite = np.where(slot == 3 + np.arange(3)[None, :, None], other, 0).max(axis=2)
-    opposite = np.where(block.interior_side, opposite, conn)
+    opposite = np.where(interior, opposite, conn)
     return np.concatenate([conn, opposite], axis=1), slot.reshape(len(conn), 9)
 
 

@@ -8,6 +8,7 @@ clamps), and kernels.py (the same forces and energy by compiled loops).
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -16,6 +17,7 @@ from elements import kernels as node_kernels
 from elements.base import ElementBlock
 from elements.fibrous import bending, geometry, kernels, membrane, supports
 from elements.fibrous import tangent as stiffness
+from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
 from elements.fibrous.packed_laws import pack_laws
 from elements.fibrous.tangent import CornerPairs
@@ -281,6 +283,12 @@ class FibrousShellBlock(ElementBlock):
         normals a sparse matrix and the bending patches, closed form; with element normals
         each cell's tension + shear by central differences of its loads."""
         return stiffness.tangent(self, state)
+
+    def tangent_pieces(self, state: State, history=None) -> Iterator[TangentPart]:
+        """``tangent`` a slice of cells at a time (tangent_pieces.py): with nodal normals the
+        whole tangent is 30 kB a triangle at its peak; a slice's pieces are made, given and
+        dropped."""
+        return pieces.tangent_pieces(self, state)
 
     def rotary_lever(self, state: State) -> np.ndarray:
         """How far (n,), mm, the outer fibre levels move per radian of director rotation,

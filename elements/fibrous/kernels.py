@@ -54,6 +54,7 @@ __all__ = [
     "bending_geometry",
     "internal_force",
     "internal_force_and_energy",
+    "normal_pulls",
     "normal_sums",
     "strains",
     "strain_energy_parts",
@@ -596,6 +597,34 @@ def _passes(block, positions, directors, with_forces: bool, with_energy: bool):
     """The passes of the module docstring: energies (m, 3) per cell (tension, shear, bending;
     N mm; empty without ``with_energy``) and, ``with_forces``, the nodal forces and director
     moments (n, 3)."""
+    conn = block.connectivity
+    x, energy, cells = _cell_passes(block, positions, directors, with_forces, with_energy)
+    if not with_forces:
+        return energy, None, None
+    normal, double_area, angles, force, moment, pull, own = cells
+    _pulls_pass(
+        conn, x, normal, double_area, angles, pull, block.nodal_normals, own, block.across_cell,
+        block.across_side, block.interior_side, force,
+    )  # fmt: skip
+    out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
+    _node_loads(
+        block.node_corners.offsets, block.node_corners.corners, force.reshape(-1, 3),
+        moment.reshape(-1, 3), out_force, out_moment,
+    )  # fmt: skip
+    return energy, out_force, out_moment
+
+
+def normal_pulls(block, positions: np.ndarray, directors: np.ndarray) -> np.ndarray:
+    """T_k = dW/dS_k (n, 3), N mm, the nodal sums of the cells' tension + shear energy
+    derivatives in the normal sums (nodal normals; zero at the wall nodes, whose S_k does
+    not vary): the pull of ``_passes`` without the forces' other passes."""
+    return _cell_passes(block, positions, directors, True, False)[2][5]
+
+
+def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool):
+    """Passes 1 and 2 of the module docstring: the positions as given to the loops, the
+    energies (m, 3) and, ``with_forces``, (normal, double_area, angles, force, moment, pull,
+    own) for pass 3 (else None)."""
     conn, m = block.connectivity, len(block.connectivity)
     nodal, corners = block.nodal_normals, block.node_corners
     x = np.ascontiguousarray(positions, dtype=np.float64)
@@ -621,22 +650,13 @@ def _passes(block, positions, directors, with_forces: bool, with_energy: bool):
         with_energy, force, moment, d_sums, own, energy,
     )  # fmt: skip
     if not with_forces:
-        return energy, None, None
+        return x, energy, None
     pull = np.zeros((0, 3))
     if nodal:  # T_k, the sums of dW/dS_k; a wall node's S_k does not vary
         pull = corners.sum(d_sums)
         pull[block.wall_node_ids] = 0.0
     del d_sums
-    _pulls_pass(
-        conn, x, normal, double_area, angles, pull, nodal, own, block.across_cell,
-        block.across_side, block.interior_side, force,
-    )  # fmt: skip
-    out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
-    _node_loads(
-        corners.offsets, corners.corners, force.reshape(-1, 3), moment.reshape(-1, 3),
-        out_force, out_moment,
-    )  # fmt: skip
-    return energy, out_force, out_moment
+    return x, energy, (normal, double_area, angles, force, moment, pull, own)
 
 
 def _energy_parts(energy: np.ndarray) -> dict:

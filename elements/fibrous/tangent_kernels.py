@@ -354,15 +354,15 @@ class MembraneProduct:
         rows = np.repeat(np.arange(n_nodes), np.diff(self.indptr))
         keys = rows * n_nodes + self.indices
         self.transposed = np.searchsorted(keys, self.indices * n_nodes + rows).astype(np.int64)
-        h = sp.bsr_matrix(
-            (np.ones((pairs, 9, 9)), self.indices, self.indptr), shape=(9 * n_nodes, 9 * n_nodes)
+        # The block patterns of H J and J^T H J are those of the node pairs' patterns
+        # multiplied (the node pairs A: H and J on A, so A A and A A A), found on one
+        # number per node pair rather than 9 x 9 blocks of ones.
+        pattern = sp.csr_matrix(
+            (np.ones(pairs, dtype=np.int32), self.indices, self.indptr), shape=(n_nodes, n_nodes)
         )
-        j = sp.bsr_matrix(
-            (np.ones((pairs, 9, 6)), self.indices, self.indptr), shape=(9 * n_nodes, 6 * n_nodes)
-        )
-        p = sp.bsr_matrix(h @ j, blocksize=(9, 6))
+        p = pattern @ pattern
         p.sort_indices()
-        k = sp.bsr_matrix(j.T @ p, blocksize=(6, 6))
+        k = pattern.T.tocsr() @ p
         k.sort_indices()
         self.p_indptr = p.indptr.astype(np.int64)
         self.p_indices = p.indices.astype(np.int64)
@@ -388,3 +388,44 @@ class MembraneProduct:
             out,
         )
         return sp.bsr_matrix((out, self.k_indices, self.k_indptr), shape=(6 * self.n, 6 * self.n))
+
+
+@serial
+def _patch_sums(indptr, indices, nodes, blocks, data):
+    """data (K's blocks, 6, 6) += blocks (c, p, 3, p, 3), the translations of each cell's
+    patch node pair (a, b) into the top left of the block of row nodes[c, a] and column
+    nodes[c, b] of a BSR pattern (indptr, indices; each row's columns sorted), cells in
+    order. False when a pair is not in the pattern (nothing more added)."""
+    cells, p = nodes.shape
+    for cell in range(cells):
+        for a in range(p):
+            row = nodes[cell, a]
+            for b in range(p):
+                column = nodes[cell, b]
+                low, high = indptr[row], indptr[row + 1]
+                while low < high:  # the column among the row's, sorted
+                    middle = (low + high) // 2
+                    if indices[middle] < column:
+                        low = middle + 1
+                    else:
+                        high = middle
+                if low == indptr[row + 1] or indices[low] != column:
+                    return False
+                for r in range(3):
+                    for c in range(3):
+                        data[low, r, c] += blocks[cell, a, r, b, c]
+    return True
+
+
+def add_patches(matrix: sp.bsr_matrix, nodes: np.ndarray, blocks: np.ndarray) -> None:
+    """Add cell blocks (c, p, 3, p, 3) in translations over the nodes (c, p) of each cell to
+    a BSR matrix with 6 x 6 blocks (sorted columns) whose pattern holds every pair of them,
+    in place; ValueError when a pair is outside its pattern."""
+    if not _patch_sums(
+        np.asarray(matrix.indptr, dtype=np.int64),
+        np.asarray(matrix.indices, dtype=np.int64),
+        np.ascontiguousarray(nodes, dtype=np.int64),
+        np.ascontiguousarray(blocks, dtype=float),
+        matrix.data,
+    ):
+        raise ValueError("a cell's node pair is outside the matrix's pattern")

@@ -1,0 +1,103 @@
+"""elements/fibrous/tangent_pieces.py: the fibrous shell's tangent a slice of cells at a time
+sums to its whole tangent (elements/fibrous/tangent.py), and the explicit solver's Gershgorin
+bound streamed from the pieces (femcore/gershgorin.py) is the bound of the whole tangent.
+
+The pieces add a node pair's blocks slice by slice where the whole tangent adds them all at
+once, so the two agree to round-off: 1e-12 of the largest entry (the entries are sums of at
+most a few hundred terms of one sign of magnitude, each rounded at 1e-16)."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from elements import FibrousShell
+from elements.base import SparseTangent
+from elements.fibrous import tangent_pieces
+from femcore import Mesh, Model
+from femcore import gershgorin as gershgorin_module
+from femcore.assembly import tangent_matrix
+from femcore.gershgorin import gershgorin_largest
+from femcore.rotation import rotate_about
+from materials import presets
+
+
+def jittered_sheet(clamped: bool):
+    """A 160-cell fibrous sheet (nodal normals) jittered, its directors tilted; ``clamped``:
+    its left edge bends against a wall (wall nodes: normal sums held)."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=10, ny=8)
+    model = Model(mesh)
+    options = {"clamped": "left"} if clamped else {}
+    model.add(FibrousShell(presets.g986_stack(), **options))
+    model.fix("left")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    rng = np.random.default_rng(6)
+    positions = state.positions + rng.normal(scale=0.3, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.2, size=state.positions.shape))
+    directors = rotate_about(state.directors, turn)
+    return compiled, dataclasses.replace(state, positions=positions, directors=directors)
+
+
+@pytest.mark.parametrize("clamped", [False, True], ids=["free", "clamped"])
+def test_the_pieces_sum_to_the_whole_tangent(monkeypatch, clamped):
+    # Pieces of 37 cells on the 160-cell sheet (rows of 20 cells): 5 slices, each piece's
+    # membrane reaching the nodes around the slice's own; their Hessians 10 cells at a time.
+    monkeypatch.setattr(tangent_pieces, "PIECE", 37)
+    monkeypatch.setattr(tangent_pieces, "_HESSIANS", 10)
+    compiled, state = jittered_sheet(clamped)
+    block = compiled.blocks[0]
+    pieces = list(block.tangent_pieces(state))
+    assert len(pieces) == 5
+    assert all(isinstance(piece, SparseTangent) for piece in pieces)
+    frames = compiled.dofs.frames(state.directors)
+    whole = tangent_matrix(compiled.dofs, block.tangent(state), frames).toarray()
+    summed = tangent_matrix(compiled.dofs, pieces, frames).toarray()
+    assert np.abs(summed - whole).max() <= 1e-12 * np.abs(whole).max()
+    # A piece left out is seen: each carries its slice's share.
+    fewer = tangent_matrix(compiled.dofs, pieces[1:], frames).toarray()
+    assert np.abs(fewer - whole).max() > 1e-3 * np.abs(whole).max()
+
+
+def test_the_streamed_bound_is_the_whole_tangents(monkeypatch):
+    """The model's assembled stable step streams the pieces (each node's row summed as the
+    pieces leave it): the number of the same pieces with every pair held to the last bit,
+    and the whole tangent's to 1e-12."""
+    monkeypatch.setattr(tangent_pieces, "PIECE", 37)
+    compiled, state = jittered_sheet(True)
+    block = compiled.blocks[0]
+    pieces = list(block.tangent_pieces(state))
+    rng = np.random.default_rng(2)
+    scale = np.zeros(compiled.dofs.n_slots)
+    free = compiled.dofs.free_slots
+    scale[free] = rng.uniform(0.5, 2.0, size=free.size)
+    maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
+    n = compiled.n_nodes
+    held = gershgorin_largest(pieces, maps, scale, n)
+    streamed = gershgorin_module._streamed(pieces, maps, scale, n)
+    assert streamed is not None  # streamed, not made again with every pair held
+    assert streamed == held
+    whole = gershgorin_largest(block.tangent(state), maps, scale, n)
+    assert held == pytest.approx(whole, rel=1e-12, abs=0.0)
+
+    mass, inertia = compiled.lumped_mass(state)
+    diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()[free]
+    scale[:] = 0.0
+    scale[free] = 1.0 / np.sqrt(diagonal)
+    expected = 2.0 / np.sqrt(gershgorin_largest(block.tangent(state), maps, scale, n))
+    step = compiled.assembled_stable_dt(state, mass, inertia)
+    assert step == pytest.approx(expected, rel=1e-12, abs=0.0)
+
+
+def test_element_normals_give_the_whole_tangent():
+    mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_stack(), thickness="element"))
+    compiled = model.compile()
+    state = compiled.initial_state()
+    block = compiled.blocks[0]
+    pieces = list(block.tangent_pieces(state))
+    whole = block.tangent(state)
+    assert len(pieces) == len(whole)
+    for piece, part in zip(pieces, whole):
+        np.testing.assert_array_equal(piece.blocks, part.blocks)
