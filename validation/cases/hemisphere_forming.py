@@ -175,7 +175,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from elements import FibrousShell, MindlinShell, RigidPlane, RigidSphere, RigidSurface
+from elements import FibrousShell, MindlinShell, RigidAnnulus, RigidSphere, RigidSurface
 from elements.layup import ply_shear
 from femcore import Mesh, Model
 from femcore.loads import smooth_step  # the punch's amplitude
@@ -335,9 +335,10 @@ def model(
     holder_force = HOLDER_FORCE if holder_force is None else holder_force
     if holder_force == 0.0:
         return blank, built
-    holder = RigidPlane(
+    holder = RigidAnnulus(
         (0.0, 0.0, THICKNESS),
         (0.0, 0.0, -1.0),
+        flange_start(rim),
         free="z",
         force=(0.0, 0.0, -holder_force),
         amplitude=holder_closing,
@@ -377,6 +378,12 @@ def centre_line_draw_in() -> float:
     start = math.sqrt(DIE**2 + 2.0 * DIE * DIE_RIM)
     polar = math.atan2(start, DIE_RIM)
     return (DIE + DIE_RIM) * polar - start
+
+
+def flange_start(rim: float = DIE_RIM) -> float:
+    """The radius (mm) where the die's flat flange starts, past its entry round of radius
+    ``rim`` (mm; DIE on a sharp die): the holder's bore."""
+    return math.sqrt(DIE**2 + 2.0 * DIE * rim)
 
 
 def holder_closing(tau):
