@@ -77,28 +77,34 @@ def test_the_compared_cells_are_one_material_region_inside_the_rim_on_every_mesh
     assert np.all(np.arccos(on / radius) <= case.COMPARED_POLAR + 1e-12)
 
 
-def test_the_holder_is_a_ring_on_the_flange_free_along_z_and_pressed_by_its_force():
-    _, held = case.model(4, "fibrous", rim=case.DIE_RIM)
+@pytest.mark.parametrize("ring", [False, True])
+def test_the_holder_is_on_the_flange_free_along_z_and_pressed_by_its_force(ring):
+    """A plane over the whole blank or a ring whose bore is the flange's start."""
+    from elements import RigidAnnulus, RigidPlane
+
+    _, held = case.model(4, "fibrous", rim=case.DIE_RIM, ring=ring)
     die, punch, holder = (interaction.tool for interaction in held.interactions)
+    assert type(holder) is (RigidAnnulus if ring else RigidPlane)
     assert holder.free_names == ("z",)
     assert np.allclose(holder.force, [0.0, 0.0, -case.HOLDER_FORCE])
     assert np.allclose(holder.point, [0.0, 0.0, case.THICKNESS])
     assert np.allclose(holder.normal, [0.0, 0.0, -1.0])
-    assert holder.inner == pytest.approx(case.flange_start(case.DIE_RIM), rel=1e-15)
+    if ring:
+        assert holder.inner == pytest.approx(case.flange_start(case.DIE_RIM), rel=1e-15)
     assert float(case.holder_closing(case.HOLDER_CLOSING)) == 1.0
     _, unheld = case.model(4, "fibrous", holder_force=0.0)
     assert len(unheld.interactions) == 2
 
 
 @pytest.mark.parametrize("rim", [0.0, 5.0, 10.0])
-def test_the_holder_presses_the_flat_flange_and_leaves_the_die_round_free(rim):
-    """A holder rests on the die's flat flange, from sqrt(R^2 + 2 R r) out (closed form, the
+def test_the_ring_holder_presses_the_flat_flange_and_leaves_the_die_round_free(rim):
+    """A ring holder (``model(ring=True)``) rests on the die's flat flange, from sqrt(R^2 + 2 R r) out (closed form, the
     round's end), not over the die's opening. Over the flange a blank lying flat touches it
     (its distance h / 2, the contact offset); a blank lying on the round, its mid-surface h /
     2 off the die's torus, and the blank standing over the round at the flange's level (a
     node 3 mm inside the flange's start, 0.23 mm up: the 20-cell run on the plane holder)
     are out of its reach (distance > h / 2): a plane holder pressed them down."""
-    _, held = case.model(4, "fibrous", rim=rim)
+    _, held = case.model(4, "fibrous", rim=rim, ring=True)
     holder = held.interactions[-1].tool
     h = case.THICKNESS
     start = math.sqrt(case.DIE**2 + 2.0 * case.DIE * rim)
