@@ -1,5 +1,6 @@
 """Element types that plug into the femcore model (protocol in elements.base)."""
 
+from elements.annulus import RigidAnnulus
 from elements.base import ElementBlock, ElementType
 from elements.cable import Cable
 from elements.contact import Contact
@@ -10,5 +11,5 @@ from elements.tools import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
 
 __all__ = [
     "Cable", "Contact", "ElementBlock", "ElementType", "FibrousShell", "Grip", "MindlinShell",
-    "RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface",
+    "RigidAnnulus", "RigidCylinder", "RigidPlane", "RigidSphere", "RigidSurface",
 ]  # fmt: skip

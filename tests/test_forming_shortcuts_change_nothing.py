@@ -47,7 +47,7 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_mem
 def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the_punch_and_holder(
     monkeypatch,
 ):
-    """The compiled pass of the punch (a sphere) and the holder (a plane along z)
+    """The compiled pass of the punch (a sphere) and the holder (a ring along z)
     (elements/tool_contact.py) against ContactBlock's numpy formulas over a whole run."""
     from elements import tool_contact
 

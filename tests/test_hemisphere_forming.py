@@ -39,19 +39,22 @@ def test_an_oscillating_sequence_has_no_order_and_fails_its_checks(monkeypatch):
     assert all(math.isnan(record.order) for record in records)
     monkeypatch.setattr(case, "ORDER_TOLERANCE", {"fibrous draw_in_mm": 0.05})
     verdicts = case.order_checks(records)
-    assert len(verdicts) == 2  # the rms's limit and the draw-in's
+    assert len(verdicts) == 1  # the draw-in's
     assert not any(verdict.passed for verdict in verdicts)
 
 
-def test_the_rms_error_converging_to_a_small_limit_passes_and_to_a_large_one_fails():
-    """rms = e0 + 0.05 h on the three meshes: the check is on e0 (deg), the Richardson value."""
-    for limit, passes in ((0.5, True), (case.EXTRAPOLATED_RMS_DEG + 0.5, False)):
-        runs = [fake_run(n, limit + 0.05 * 200.0 / n) for n in (12, 20, 32)]
+def test_the_rms_error_is_checked_for_convergence_whatever_its_limit():
+    """rms = e0 + 0.001 h^2 on the three meshes (h = 200 / n mm): the finest mesh within 7 % of
+    the Richardson value e0, passing ORDER_TOLERANCE's 0.1 for a limit of 0.5 deg as for 2.5
+    (the limit is the shell's departure from the net, not bounded); rms = 0.5 + 0.05 h, the
+    finest 38 % off its limit, fails."""
+    assert case.ORDER_TOLERANCE["fibrous rms_deg"] == 0.1
+    for limit, slope, power, passes in ((0.5, 0.001, 2, True), (2.5, 0.001, 2, True),
+                                        (0.5, 0.05, 1, False)):  # fmt: skip
+        runs = [fake_run(n, limit + slope * (200.0 / n) ** power) for n in (12, 20, 32)]
         verdicts = case.order_checks(case.orders({"fibrous": runs}))
-        # the limit's check (and the finest mesh's against it where ORDER_TOLERANCE names it)
-        assert len(verdicts) == 1 + ("fibrous rms_deg" in case.ORDER_TOLERANCE)
-        verdict = next(v for v in verdicts if "deg" in v.name and "below" in v.name)
-        assert verdict.passed is passes
+        assert len(verdicts) == 1
+        assert "rms" in verdicts[0].name and verdicts[0].passed is passes
 
 
 @pytest.mark.parametrize("cells", [12, 20, 32])
@@ -77,16 +80,47 @@ def test_the_compared_cells_are_one_material_region_inside_the_rim_on_every_mesh
     assert np.all(np.arccos(on / radius) <= case.COMPARED_POLAR + 1e-12)
 
 
-def test_the_holder_is_a_plane_on_the_flange_free_along_z_and_pressed_by_its_force():
-    _, held = case.model(4, "fibrous")
+@pytest.mark.parametrize("ring", [False, True])
+def test_the_holder_is_on_the_flange_free_along_z_and_pressed_by_its_force(ring):
+    """A plane over the whole blank or a ring whose bore is the flange's start."""
+    from elements import RigidAnnulus, RigidPlane
+
+    _, held = case.model(4, "fibrous", rim=case.DIE_RIM, ring=ring)
     die, punch, holder = (interaction.tool for interaction in held.interactions)
+    assert type(holder) is (RigidAnnulus if ring else RigidPlane)
     assert holder.free_names == ("z",)
     assert np.allclose(holder.force, [0.0, 0.0, -case.HOLDER_FORCE])
     assert np.allclose(holder.point, [0.0, 0.0, case.THICKNESS])
     assert np.allclose(holder.normal, [0.0, 0.0, -1.0])
+    if ring:
+        assert holder.inner == pytest.approx(case.flange_start(case.DIE_RIM), rel=1e-15)
     assert float(case.holder_closing(case.HOLDER_CLOSING)) == 1.0
     _, unheld = case.model(4, "fibrous", holder_force=0.0)
     assert len(unheld.interactions) == 2
+
+
+@pytest.mark.parametrize("rim", [0.0, 5.0, 10.0])
+def test_the_ring_holder_presses_the_flat_flange_and_leaves_the_die_round_free(rim):
+    """A ring holder (``model(ring=True)``) rests on the die's flat flange, from sqrt(R^2 +
+    2 R r) out (closed form, the round's end), not over the die's opening. Over the flange a
+    blank lying flat touches it (its distance h / 2, the contact offset); a blank lying on the
+    round, its mid-surface h / 2 off the die's torus, and the blank standing over the round at
+    the flange's level (a node 3 mm inside the flange's start, 0.23 mm up: the 20-cell run
+    under the plane) are out of its reach (distance > h / 2): a plane pressed them down."""
+    _, held = case.model(4, "fibrous", rim=rim, ring=True)
+    holder = held.interactions[-1].tool
+    h = case.THICKNESS
+    start = math.sqrt(case.DIE**2 + 2.0 * case.DIE * rim)
+    d, _ = holder.distance(np.array([[start + 1.0, 0.0, 0.5 * h], [0.0, start + 20.0, 0.5 * h]]))
+    assert d == pytest.approx([0.5 * h, 0.5 * h], abs=1e-12)
+    turn = np.linspace(0.0, 0.5 * np.pi - math.atan2(rim, start), 50)  # from the flange down
+    # the round's points (r, z) on the mid-surface: the torus's tube radius rim + h / 2
+    radial = start - (rim + 0.5 * h) * np.sin(turn)
+    height = -rim + (rim + 0.5 * h) * np.cos(turn)
+    on_round = np.column_stack([radial, np.zeros_like(radial), height])[1:]
+    standing = np.array([[start - 3.0, 0.0, 0.23]])
+    d, _ = holder.distance(np.vstack([on_round, standing]))
+    assert np.all(d > 0.5 * h)
 
 
 @pytest.mark.slow
@@ -116,7 +150,7 @@ def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_
 def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(monkeypatch):
     """compute("fine") runs the two coarser meshes too (here: flat blanks standing in for the
     runs, their numbers f = f0 + C h^p) and reports an order per kinematics and quantity; the
-    fibrous rms error's limit and the quantities ORDER_TOLERANCE names are checked."""
+    quantities ORDER_TOLERANCE names are checked."""
     from femcore import Mesh
 
     def flat_run(cells, kinematics, net=None):
@@ -160,7 +194,7 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
     )
     assert draw_in.order == pytest.approx(2.0, rel=1e-9)
     ordered = [c for c in outcome.checks if "observed order" in c.name]
-    assert len(ordered) == len(case.ORDER_TOLERANCE) + 1  # and the rms error's limit
+    assert len(ordered) == len(case.ORDER_TOLERANCE)
     assert all(c.passed for c in ordered)
     kinetic = [c for c in outcome.checks if "kinetic energy above" in c.name]
     assert len(kinetic) == 1 and kinetic[0].passed  # fibrous, share 0 <= KINETIC_SHARE

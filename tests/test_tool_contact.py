@@ -1,13 +1,14 @@
 """The compiled contact pass of the analytic tools (elements/tool_contact.py) gives the forces
 of ContactBlock's numpy formulas: to 1e-12 of the largest force at every node, penetrating or
-not, for a punch (a sphere, outside), a bowl (inside), a moving plane and a plane driven along
+not, for a punch (a sphere, outside), a bowl (inside), a moving plane, a moving ring (a
+holder's face with its bore) and a plane driven along
 its free axis by its own node; and it is taken only where those formulas are the frictionless
 undamped ones."""
 
 import numpy as np
 import pytest
 
-from elements import RigidCylinder, RigidPlane, RigidSphere, tool_contact
+from elements import RigidAnnulus, RigidCylinder, RigidPlane, RigidSphere, tool_contact
 from elements.contact import Contact, ContactBlock
 from femcore import Body, Mesh
 from femcore.state import State
@@ -16,6 +17,8 @@ TOOLS = [
     RigidSphere((0.3, -0.2, 4.0), 4.2, motion=(0.0, 0.0, -0.5), amplitude="smooth"),
     RigidSphere((0.0, 0.0, 6.0), 7.0, side="inside"),
     RigidPlane((0.0, 0.0, -1.2), (0.2, 0.1, 1.0), motion=(0.0, 0.0, 0.3)),
+    # a ring whose bore (1.5 mm) takes in some of the nodes, touching its edge or not
+    RigidAnnulus((0.0, 0.0, -0.8), (0.1, 0.0, -1.0), 1.5, motion=(0.0, 0.0, 0.2)),
 ]
 
 
