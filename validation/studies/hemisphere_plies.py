@@ -343,6 +343,7 @@ from solvers.quasi_static import KINETIC_BOUND, quasi_static_report
 from validation.checks import check
 from validation.records import Case, Figure, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
+from validation.studies.hemisphere_plies_gaps import radial_gaps
 from validation.studies.hemisphere_plies_setup import (
     CELLS,
     DAMPING,
@@ -453,10 +454,11 @@ def node_gaps(
 def _least_gaps(
     layup: Layup, result: Any, cells: int, surface: str = MEASURED_FACE
 ) -> dict[str, Any]:
-    """The top ply's least node gap to the bottom ply's ``surface`` face (``node_gaps``,
-    mm): over its nodes in the die at the end, each facing a bottom triangle in the die
-    (its corners 5 mm below the flange), and over every node and frame of the run, with
-    when and where (the node's blank coordinates)."""
+    """The top ply's least node gap, mm: in the die at the end along the radius
+    (``radial_gaps``, "in_die"), and to the bottom ply's ``surface`` face (``node_gaps``)
+    over its nodes in the die at the end, each facing a bottom triangle in the die (its
+    corners 5 mm below the flange; "in_die_to_the_face"), and over every node and frame of
+    the run, with when and where (the node's blank coordinates)."""
     top = layup.ply_nodes[-1]
     least, at, where = math.inf, 0.0, ""
     probe = (
@@ -471,10 +473,14 @@ def _least_gaps(
             i = int(np.nanargmin(gap))
             least, at = float(gap[i]), float(frame.time)
             where = f"({layup.mesh.points[top[i], 0]:g}, {layup.mesh.points[top[i], 1]:g})"
-    gap = node_gaps(probe, layup, result.positions[: layup.mesh.n_nodes], below=-5.0)
-    deep = (result.positions[top, 2] < -5.0) & np.isfinite(gap)
+    x = result.positions[: layup.mesh.n_nodes]
+    gap = node_gaps(probe, layup, x, below=-5.0)
+    deep = (x[top, 2] < -5.0) & np.isfinite(gap)
+    radial = radial_gaps(layup, x, THICKNESS)  # the punch's centre ends on the die's
+    inside = (x[top, 2] < -5.0) & np.isfinite(radial)
     return {
-        "in_die": float(gap[deep].min(initial=math.inf)),
+        "in_die": float(radial[inside].min(initial=math.inf)),
+        "in_die_to_the_face": float(gap[deep].min(initial=math.inf)),
         "run": least,
         "at_s": at,
         "where": where,
@@ -573,7 +579,8 @@ def run(
     crossing = _least_gaps(layup, result, cells)
     parameters[f"{prefix}_least_gap_in_die_to_the_flat_facets_mm"] = _least_gaps(
         layup, result, cells, "flat"
-    )["in_die"]
+    )["in_die_to_the_face"]
+    parameters[f"{prefix}_least_gap_in_die_to_the_curved_face_mm"] = crossing["in_die_to_the_face"]
     parameters[f"{prefix}_least_gap_in_die_mm"] = crossing["in_die"]
     parameters[f"{prefix}_least_gap_over_the_run_mm"] = crossing["run"]
     parameters[f"{prefix}_least_gap_at_s"] = crossing["at_s"]
@@ -631,8 +638,9 @@ def run(
         )
     checks.append(
         check(
-            f"{key}: the top ply's least node gap to the bottom ply's face in the die, "
-            "its penetration within the ply thickness: the mid-surfaces stay in order (mm)",
+            f"{key}: the top ply's least node gap to the bottom ply's face in the die along "
+            "the radius, its penetration within the ply thickness: the mid-surfaces stay in "
+            "order (mm)",
             0.0,
             min(crossing["in_die"], 0.0),
             THICKNESS,
