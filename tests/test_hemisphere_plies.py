@@ -54,7 +54,7 @@ def test_a_fibrous_0_90_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     history = tmp_path / "history.csv"
     layup, result = _solve("0/90", "fibrous", history)
     _quasi_static(result, history)
-    gaps = study._least_gaps(layup, result, 8)
+    gaps = study.least_gaps(layup, result, 8)
     assert gaps["in_die"] > -study.THICKNESS
     x = result.positions
     for k, nodes in enumerate(layup.ply_nodes):

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from elements.layup import Layup
-from validation.studies import hemisphere_plies as study
-from validation.studies.hemisphere_plies_gaps import radial_gaps
+from validation.studies import hemisphere_plies_setup as study
+from validation.studies.hemisphere_plies_gaps import node_gaps, radial_gaps
 
 RIM_ANGLE = 1.45  # rad, the polar angle past which a node lies on the flat flange
 
@@ -62,7 +62,7 @@ def test_plies_face_to_face_on_concentric_spheres_read_a_zero_gap_in_the_die():
         .compile()
         .interactions[0]
     )
-    curved = study.node_gaps(probe, layup, x, below=-5.0)
+    curved = node_gaps(probe, layup, x, below=-5.0)
     assert np.nanmin(curved[x[top, 2] < -5.0]) < -study.THICKNESS
 
 

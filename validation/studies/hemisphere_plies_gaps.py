@@ -1,6 +1,8 @@
-"""The two-ply hemisphere's measure of the plies' order in the die: each top-ply node's gap to
-the bottom ply's face along the radius from the die's centre (validation/studies/
-hemisphere_plies.py, "The gap's measure").
+"""The two-ply hemisphere's measures of the plies' order (validation/studies/
+hemisphere_plies.py, "The gap's measure"): each top-ply node's gap to the bottom ply's face
+along the radius from the die's centre (``radial_gaps``, the check's, in the die at the end)
+and to a face of the bottom ply by a node-to-surface probe (``node_gaps``), and the least of
+them over a run (``least_gaps``).
 
 Why along the radius. In the die both plies lie on spheres about the die's centre (the
 origin; the punch's centre ends there), the top ply on the punch, the bottom one against the
@@ -15,11 +17,16 @@ order. The measure is the study's, not the contact's: the contact acts on its ow
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 
 from elements.layup import Layup
+from femcore.state import State
+from validation.studies.hemisphere_plies_setup import FABRIC, HALF, MEASURED_FACE, THICKNESS
 
-__all__ = ["radial_gaps"]
+__all__ = ["least_gaps", "node_gaps", "radial_gaps"]
 
 #: barycentric slack of a ray through a triangle's edge or vertex (shared by its neighbours)
 EDGE_SLACK = 1e-9
@@ -78,3 +85,59 @@ def radial_gaps(
     gap = np.where(through, bottom - r[:, None] - thickness, np.inf).min(axis=1)
     gaps[np.isfinite(gap)] = gap[np.isfinite(gap)]
     return gaps
+
+
+def node_gaps(
+    probe: Any, layup: Layup, positions: np.ndarray, below: float | None = None
+) -> np.ndarray:
+    """(s,) each top-ply node's gap to the bottom ply's upper face, mm (< 0: it passed
+    through): the least gap of a node-to-surface contact (``probe``, the layup's ply
+    contact at the "vertices" rule) at the node over its triangles; NaN where no facet of
+    the bottom ply faces the node, and with ``below`` (mm) where a corner of the facing
+    bottom triangle lies above z = ``below``."""
+    zero = np.zeros_like(positions)
+    facing = probe.facing(State(positions, zero, zero, zero))
+    corner = probe.above[np.arange(len(facing.gap)), np.argmax(probe.shape, axis=1)]
+    facing_any = np.maximum(0.0, -facing.weights.min(axis=1)) <= 0.5
+    if below is not None:
+        facing_any &= (positions[probe.cells[facing.triangle], 2] < below).all(axis=1)
+    gap = np.full(len(positions), np.inf)
+    np.minimum.at(gap, corner[facing_any], facing.gap[facing_any])
+    top = gap[layup.ply_nodes[-1]]
+    return np.where(np.isfinite(top), top, np.nan)
+
+
+def least_gaps(
+    layup: Layup, result: Any, cells: int, surface: str = MEASURED_FACE
+) -> dict[str, Any]:
+    """The top ply's least node gap, mm: in the die at the end along the radius
+    (``radial_gaps``, "in_die"), and to the bottom ply's ``surface`` face (``node_gaps``)
+    over its nodes in the die at the end, each facing a bottom triangle in the die (its
+    corners 5 mm below the flange; "in_die_to_the_face"), and over every node and frame of
+    the run, with when and where (the node's blank coordinates)."""
+    top = layup.ply_nodes[-1]
+    least, at, where = math.inf, 0.0, ""
+    probe = (
+        Layup(FABRIC, tuple(layup.angles), 2 * HALF, cells=cells, rule="vertices", surface=surface)
+        .model()
+        .compile()
+        .interactions[0]
+    )
+    for frame in result.frames:
+        gap = node_gaps(probe, layup, frame.positions[: layup.mesh.n_nodes])
+        if np.isfinite(gap).any() and np.nanmin(gap) < least:
+            i = int(np.nanargmin(gap))
+            least, at = float(gap[i]), float(frame.time)
+            where = f"({layup.mesh.points[top[i], 0]:g}, {layup.mesh.points[top[i], 1]:g})"
+    x = result.positions[: layup.mesh.n_nodes]
+    gap = node_gaps(probe, layup, x, below=-5.0)
+    deep = (x[top, 2] < -5.0) & np.isfinite(gap)
+    radial = radial_gaps(layup, x, THICKNESS)  # the punch's centre ends on the die's
+    inside = (x[top, 2] < -5.0) & np.isfinite(radial)
+    return {
+        "in_die": float(radial[inside].min(initial=math.inf)),
+        "in_die_to_the_face": float(gap[deep].min(initial=math.inf)),
+        "run": least,
+        "at_s": at,
+        "where": where,
+    }
