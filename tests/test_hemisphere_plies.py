@@ -50,7 +50,9 @@ def test_a_fibrous_0_90_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     most 0.099, the holder 9.93 N over the last tenth for its 10 N, the least node gap in the
     die -0.27 mm; on the sharp die with the 1-kg holder KE / W reached 0.17 (the flange caught
     on the rim and let go at ~52 % of the stroke) and the holder 10.7 N over the last tenth's
-    frames (the study's docstring). 69-75 s of CPU (the pytest process, one thread, load 5-8)."""
+    frames (the study's docstring). Along the radius from the die's centre (``radial_gaps``,
+    the measure now checked) -0.26 mm in the die, KE / W 0.099, the holder 9.93 N (69 s of
+    CPU, one thread, load 6-7). 69-75 s of CPU (the pytest process, one thread, load 5-8)."""
     history = tmp_path / "history.csv"
     layup, result = _solve("0/90", "fibrous", history)
     _quasi_static(result, history)

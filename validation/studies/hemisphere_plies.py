@@ -11,8 +11,9 @@ face's misreading"); with the plies' faces along the nodal normals for the Mindl
 Mindlin [0/90] too, but its flange buckles and throws the holder up (KE / W 0.26, the
 holder 8.3 N over the last tenth for 10). At 10 cells fibrous [0/90] passes every check and
 fibrous [0/45]'s flange throws the holder up over the last tenth (17.2 N for 10); the
-Mindlin runs at 10 cells are not made. The fibrous [0/90] runs were measured to the curved
-face (-0.27 mm at 8 cells, -0.15 at 10); their gap along the radius is not re-measured.
+Mindlin runs at 10 cells are not made. Fibrous [0/90] at 8 cells along the radius: -0.26 mm
+(-0.27 to the curved face; 69 s of CPU, load 6-7); at 10 cells not re-measured (-0.15 mm to
+the curved face).
 Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
 print(compute('coarse').parameters)"``.
 
