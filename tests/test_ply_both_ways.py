@@ -14,7 +14,7 @@ from elements.ply_contact import PlyContact
 from femcore.state import State
 from materials import Fabric
 from solvers import CentralDifference
-from validation.studies.hemisphere_plies import node_gaps
+from validation.studies.hemisphere_plies_gaps import node_gaps
 
 PLY = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
 

@@ -23,6 +23,7 @@ __all__ = [
     "DIE_RIM",
     "DURATION",
     "FABRIC",
+    "FACES",
     "HALF",
     "HOLDER_DASHPOT",
     "HOLDER_FORCES",
@@ -63,6 +64,11 @@ SURFACE = "flat"  # the plies' faces: "curved" over their nodal normals (element
 # the sphere of a ply's nodes to O(s^4 / R^3), where the flat facets are chords s^2 / (8 R)
 # inside it (the study's docstring: "The gap's measure")
 MEASURED_FACE = "curved"
+# where the plies' contact faces lie: along the nodal normals for both kinematics; along the
+# directors the Mindlin plies' tilted 30-89 deg and a point 1.2 mm deep was toggled by the
+# turned-layer bound, which stopped Mindlin [0/45] at 90.6 % of the stroke (the study's
+# docstring: "Why it stops")
+FACES: str | None = "normal"
 HOLDER_FORCES = (10.0, 20.0)  # N: the runs of both kinematics at the first, fibrous at both
 # t (100 g, as hemisphere-forming's): the 1-kg holder's inertia and its share of the
 # mass-proportional damping carried 2-7 N of its reaction, and its kinetic energy most of
@@ -90,10 +96,12 @@ def model(
     lower_rule: str | None = LOWER_RULE,
     dashpot: bool = HOLDER_DASHPOT,
     rim: float | None = None,
+    faces: str | None = None,
 ):
     """The layup on the die's flange under the punch and the holder: (Layup, Model);
     ``lower_rule`` the rule of the mirrored ply contact pass (None: none), ``dashpot`` a
-    dashpot on the holder, ``rim`` the die's entry radius, mm (None: DIE_RIM)."""
+    dashpot on the holder, ``rim`` the die's entry radius, mm (None: DIE_RIM), ``faces`` where
+    the plies' contact faces lie ("normal" or "director"; None: FACES)."""
     layup = Layup(
         FABRIC,
         angles,
@@ -104,6 +112,7 @@ def model(
         rule=RULE,
         surface=surface,
         lower_rule=lower_rule,
+        faces=FACES if faces is None else faces,
     )
     built: Model = layup.model()
     built.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux"])  # the symmetry planes
