@@ -110,9 +110,10 @@ os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 
 from contact_search import best  # noqa: E402
 
-from elements import jit  # noqa: E402
+from elements import RigidSurface, jit, tools  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
+from validation.specimens import hemisphere_die  # noqa: E402
 
 
 def main() -> None:
@@ -129,8 +130,24 @@ def main() -> None:
     parser.add_argument(
         "--phases", action="store_true", help="time the pieces of each step (CPU and wall)"
     )
+    parser.add_argument(
+        "--rebuild-share",
+        default=f"1.0,{tools.REBUILD_SHARE}",
+        help="the die's candidate lists (elements.tools.REBUILD_SHARE), a list: 1.0 searches "
+        "again only the nodes past the margin (each run is made once per value)",
+    )
+    parser.add_argument("--rim", type=float, default=case.DIE_RIM, help="the die's entry radius")
+    parser.add_argument(
+        "--die-calls",
+        type=int,
+        default=0,
+        help="only time the die's distance over this many calls on a blank sliding into it",
+    )
     args = parser.parse_args()
-    mesh, model = case.model(args.cells, "fibrous")
+    if args.die_calls:
+        die_pace(args.cells, args.rim, args.die_calls, args.rebuild_share.split(","))
+        return
+    mesh, model = case.model(args.cells, "fibrous", rim=args.rim)
     compiled = model.compile()
     print(f"blank: {mesh.n_triangles} triangles, {mesh.n_nodes} nodes; punch travel "
           f"{case.PUNCH + case.THICKNESS} mm in {args.duration} s")  # fmt: skip
@@ -158,22 +175,27 @@ def main() -> None:
     # The steps, counted where the solver accepts each (a run stopped early has no result).
     steps = [0]
     reached = [0.0]  # the time of the last step accepted, s
-    commit = compiled.commit
 
-    def counted(new_state):
-        steps[0] += 1
-        reached[0] = new_state.time
-        return commit(new_state)
+    def counting(commit):
+        def counted(new_state):
+            steps[0] += 1
+            reached[0] = new_state.time
+            return commit(new_state)
 
-    compiled.commit = counted  # type: ignore[method-assign]
+        return counted
 
     def stop_early(frame) -> dict:
         if frame.time >= args.fraction * args.duration * (1.0 - 1e-9):
             raise _Enough
         return {}
 
-    for target in args.mass_scaling_dt.split(","):
+    runs = itertools.product(args.mass_scaling_dt.split(","), args.rebuild_share.split(","))
+    for target, share in runs:
         scaling = None if target.strip().lower() == "none" else float(target)
+        tools.REBUILD_SHARE = float(share)
+        # A fresh model per run: the die's candidate lists start empty in each.
+        compiled = case.model(args.cells, "fibrous", rim=args.rim)[1].compile()
+        compiled.commit = counting(compiled.commit)  # type: ignore[method-assign]
         solver = CentralDifference(
             duration=args.duration,
             safety=args.safety,
@@ -196,7 +218,8 @@ def main() -> None:
             result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         per_step = wall / steps[0]
-        print(f"run, mass scaling {scaling}, {args.fraction:g} of the stroke: {wall:.1f} s wall, "
+        print(f"run, mass scaling {scaling}, the die's REBUILD_SHARE {share}, {args.fraction:g} "
+              f"of the stroke: {wall:.1f} s wall, "
               f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
               f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
               f"ms CPU; {per_step / reference:.0f} x the reference pass)", flush=True)  # fmt: skip
@@ -214,6 +237,54 @@ def main() -> None:
                   f"{result.info['added_mass_ratio']:.3g} x the model's, kinetic / work at the "
                   f"end {ratio:.3f}, punch force {result.tool_forces[-1, 1, 2]:.3g} N, "
                   f"converged {result.converged}", flush=True)  # fmt: skip
+
+
+def die_pace(cells: int, rim: float, calls: int, shares: list[str]) -> None:
+    """The die's distance (RigidSurface.distance, its candidate lists) at the stroke's peak
+    pace, for each REBUILD_SHARE in ``shares``: the blank's nodes laid on the die (on the
+    bowl half a ply inside it, on the flange half a ply above it) slide towards the axis by
+    SLIDE mm a call, each call a step (the punch at its peak speed, 0.31 m/s, moves 7e-4 mm
+    in a step of 2.24e-6 s), from a slide of 5 mm. Printed per share: CPU per call, the
+    searches and the nodes searched, and a reference pass; one process, the same calls."""
+    mesh = case.model(cells, "fibrous", rim=rim)[0]
+    radius = case.DIE - 0.5 * case.THICKNESS  # the bowl's surface less half a ply, mm
+    r0 = np.linalg.norm(mesh.points[:, :2], axis=1)
+    angle = np.arctan2(mesh.points[:, 1], mesh.points[:, 0])
+
+    def laid(slide: float) -> np.ndarray:
+        r = np.maximum(r0 - slide, 0.0)
+        z = np.where(r < radius, -np.sqrt(np.maximum(radius**2 - r**2, 0.0)), 0.5 * case.THICKNESS)
+        return np.column_stack([r * np.cos(angle), r * np.sin(angle), z])
+
+    reference = best(lambda: np.linalg.norm(mesh.points, axis=1), 20)
+    for share in shares:
+        tools.REBUILD_SHARE = float(share)
+        die = RigidSurface(hemisphere_die(case.DIE, 1.7 * case.HALF, rings=48, rim=rim))
+        die.distance(laid(5.0))  # the lists built
+        searches = [0, 0]
+        search = die._searched
+
+        def counted(local, rows, cache, search=search, searches=searches):
+            searches[0] += 1
+            searches[1] += int(np.count_nonzero(rows))
+            return search(local, rows, cache)
+
+        die._searched = counted  # type: ignore[method-assign]
+        positions = [laid(5.0 + SLIDE * (call + 1)) for call in range(calls)]
+        before = load()
+        cpu = time.process_time()
+        for x in positions:
+            die.distance(x)
+        cpu = time.process_time() - cpu
+        near = int(np.count_nonzero(~die._cache.far))
+        print(f"die, REBUILD_SHARE {share}: {cpu / calls * 1e3:.3f} ms CPU a call over {calls} "
+              f"calls ({mesh.n_nodes} nodes, {near} within the search distance; load {before} "
+              f"-> {load()}), {searches[1]} nodes searched in {searches[0]} searches; the "
+              f"reference pass {reference * 1e3:.3f} ms", flush=True)  # fmt: skip
+
+
+# mm a call of die_pace: the punch's peak speed times the step, 0.31 m/s x 2.24e-6 s
+SLIDE = 7e-4
 
 
 class _Enough(Exception):
@@ -243,20 +314,33 @@ class Phases:
         for block in compiled.blocks:
             for name in ("internal_force", "internal_force_and_energy"):
                 self._wrap(block, name, "element force")
+        # Inside the die's contact: its candidate lists' searches (counted apart from the rest).
+        self.nested = {"  of which the die's searches"}
+        self.searched = [0, 0]  # the die's searches and the points searched in them
         for interaction in compiled.interactions:
+            tool = getattr(interaction, "tool", None)
+            meshed = isinstance(tool, RigidSurface)
             for name in ("internal_force", "strain_energy", "tool_work"):
-                self._wrap(interaction, name, "contact")
+                self._wrap(interaction, name, "contact (die)" if meshed else "contact (others)")
+            if meshed:
+                self._wrap(tool, "_searched", "  of which the die's searches", self._count)
         self._wrap(compiled, "cell_stable_dt", "stable step (cells)")
         self._wrap(compiled, "assembled_stable_dt", "stable step (assembled)")
         self._wrap(compiled, "lumped_mass", "rotary inertia refresh")
 
-    def _wrap(self, owner, name: str, phase: str) -> None:
+    def _count(self, local, rows, cache) -> None:
+        self.searched[0] += 1
+        self.searched[1] += int(np.count_nonzero(rows))
+
+    def _wrap(self, owner, name: str, phase: str, count=None) -> None:
         method = getattr(owner, name, None)
         if method is None:
             return
         totals = self.spent.setdefault(phase, [0.0, 0.0])
 
         def timed(*args, **kwargs):
+            if count is not None:
+                count(*args, **kwargs)
             wall, cpu = time.perf_counter(), time.process_time()
             try:
                 return method(*args, **kwargs)
@@ -272,14 +356,18 @@ class Phases:
             object.__delattr__(owner, name)
 
     def report(self, wall: float, cpu: float, steps: int) -> str:
-        rest = [wall - sum(w for w, _ in self.spent.values()),
-                cpu - sum(c for _, c in self.spent.values())]  # fmt: skip
+        outer = [value for phase, value in self.spent.items() if phase not in self.nested]
+        rest = [wall - sum(w for w, _ in outer), cpu - sum(c for _, c in outer)]
         rows = [*self.spent.items(), ("update, output, bookkeeping", rest)]
         lines = [
             f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
             f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
             for phase, (w, c) in rows
         ]
+        lines.append(
+            f"  the die searched again {self.searched[1]} nodes in {self.searched[0]} batches "
+            f"({self.searched[1] / steps:.1f} nodes a step)"
+        )
         ratios = ", ".join(f"{t:.3g} s: {a / c:.3f}" for t, a, c in self.assembled)
         lines.append(
             f"  the assembled bound evaluated {len(self.assembled)} times; its ratio to the "

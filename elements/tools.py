@@ -312,6 +312,11 @@ class RigidCylinder(_RoundTool):
 
 # How far (in facet circumradii) a point may move before RigidSurface searches it again.
 MARGIN = 0.25
+# When some point has moved past the margin, the points that have moved past this share of it
+# are searched again with it: the searches come in batches, one every few hundred explicit
+# steps, instead of a few points at every step, each batch paying the merge of the kept
+# candidates (O(all candidates)) once (1.0: only the points past the margin).
+REBUILD_SHARE = 0.5
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
@@ -432,8 +437,10 @@ class RigidSurface(RigidTool):
     less than ``MARGIN`` circumradius (those whose centroid lies within the proof's distance
     plus twice that margin plus their own circumradius; none for the points beyond the
     search distance, which are told their distance less how far they moved), and answers from
-    those alone (a compiled loop); a point that has moved further is searched again alone, the
-    others keeping theirs: microseconds per point and step in an explicit run
+    those alone (a compiled loop); when a point has moved further, it is searched again with
+    every point that has moved more than ``REBUILD_SHARE`` of that margin (a Verlet list's
+    rebuild, in batches a few hundred explicit steps apart rather than a few points at every
+    step), the others keeping theirs: microseconds per point and step in an explicit run
     (benchmarks/contact_search.py). The same points asked again get the same answer without
     a search.
     """
@@ -597,11 +604,11 @@ class RigidSurface(RigidTool):
         else:
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.
-            moved = np.abs(local - cache.points).max(axis=1, initial=0.0) >= (
-                MARGIN / np.sqrt(3.0) * self.reach
-            )
-            if moved.any():
-                cache = self._searched(local, moved, cache)
+            limit = MARGIN / np.sqrt(3.0) * self.reach
+            drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
+            if (drift >= limit).any():
+                # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
+                cache = self._searched(local, drift >= REBUILD_SHARE * limit, cache)
         self._cache = cache
         point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
         d, n = self._signed(local, point, facet, gap)
