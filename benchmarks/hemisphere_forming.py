@@ -131,10 +131,12 @@ def main() -> None:
         "--phases", action="store_true", help="time the pieces of each step (CPU and wall)"
     )
     parser.add_argument(
-        "--rebuild-share",
-        default=f"1.0,{tools.REBUILD_SHARE}",
-        help="the die's candidate lists (elements.tools.REBUILD_SHARE), a list: 1.0 searches "
-        "again only the nodes past the margin (each run is made once per value)",
+        "--die-lists",
+        default="old,new",
+        help='the die\'s candidate lists, a list: "old" searches again only the nodes past '
+        'the margin and scans every candidate at every step, "new" searches in batches '
+        "(elements.tools.REBUILD_SHARE) and keeps a nearest facet while it cannot change "
+        "(KEEP_NEAREST); each run is made once per value",
     )
     parser.add_argument("--rim", type=float, default=case.DIE_RIM, help="the die's entry radius")
     parser.add_argument(
@@ -145,7 +147,7 @@ def main() -> None:
     )
     args = parser.parse_args()
     if args.die_calls:
-        die_pace(args.cells, args.rim, args.die_calls, args.rebuild_share.split(","))
+        die_pace(args.cells, args.rim, args.die_calls, args.die_lists.split(","))
         return
     mesh, model = case.model(args.cells, "fibrous", rim=args.rim)
     compiled = model.compile()
@@ -189,10 +191,10 @@ def main() -> None:
             raise _Enough
         return {}
 
-    runs = itertools.product(args.mass_scaling_dt.split(","), args.rebuild_share.split(","))
-    for target, share in runs:
+    runs = itertools.product(args.mass_scaling_dt.split(","), args.die_lists.split(","))
+    for target, lists in runs:
         scaling = None if target.strip().lower() == "none" else float(target)
-        tools.REBUILD_SHARE = float(share)
+        die_lists(lists)
         # A fresh model per run: the die's candidate lists start empty in each.
         compiled = case.model(args.cells, "fibrous", rim=args.rim)[1].compile()
         compiled.commit = counting(compiled.commit)  # type: ignore[method-assign]
@@ -218,7 +220,7 @@ def main() -> None:
             result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         per_step = wall / steps[0]
-        print(f"run, mass scaling {scaling}, the die's REBUILD_SHARE {share}, {args.fraction:g} "
+        print(f"run, mass scaling {scaling}, the die's lists {lists}, {args.fraction:g} "
               f"of the stroke: {wall:.1f} s wall, "
               f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
               f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
@@ -239,13 +241,25 @@ def main() -> None:
                   f"converged {result.converged}", flush=True)  # fmt: skip
 
 
-def die_pace(cells: int, rim: float, calls: int, shares: list[str]) -> None:
+NEW_LISTS = (tools.REBUILD_SHARE, tools.KEEP_NEAREST)
+
+
+def die_lists(which: str) -> None:
+    """The die's candidate lists as they were ("old") or are ("new")."""
+    if which.strip() not in ("old", "new"):
+        raise ValueError(f'--die-lists takes "old" and "new", got {which!r}')
+    old = which.strip() == "old"
+    tools.REBUILD_SHARE, tools.KEEP_NEAREST = (1.0, False) if old else NEW_LISTS
+
+
+def die_pace(cells: int, rim: float, calls: int, kinds: list[str]) -> None:
     """The die's distance (RigidSurface.distance, its candidate lists) at the stroke's peak
-    pace, for each REBUILD_SHARE in ``shares``: the blank's nodes laid on the die (on the
-    bowl half a ply inside it, on the flange half a ply above it) slide towards the axis by
-    SLIDE mm a call, each call a step (the punch at its peak speed, 0.31 m/s, moves 7e-4 mm
-    in a step of 2.24e-6 s), from a slide of 5 mm. Printed per share: CPU per call, the
-    searches and the nodes searched, and a reference pass; one process, the same calls."""
+    pace, for each of ``kinds`` ("old", "new": ``die_lists``): the blank's nodes laid on the
+    die (on the bowl half a ply inside it, on the flange half a ply above it) slide towards
+    the axis by SLIDE mm a call, each call a step (the punch at its peak speed, 0.31 m/s,
+    moves 7e-4 mm in a step of 2.24e-6 s), from a slide of 5 mm. Printed for each: CPU per
+    call, the searches and the nodes searched, and a reference pass; one process, the same
+    calls."""
     mesh = case.model(cells, "fibrous", rim=rim)[0]
     radius = case.DIE - 0.5 * case.THICKNESS  # the bowl's surface less half a ply, mm
     r0 = np.linalg.norm(mesh.points[:, :2], axis=1)
@@ -257,8 +271,8 @@ def die_pace(cells: int, rim: float, calls: int, shares: list[str]) -> None:
         return np.column_stack([r * np.cos(angle), r * np.sin(angle), z])
 
     reference = best(lambda: np.linalg.norm(mesh.points, axis=1), 20)
-    for share in shares:
-        tools.REBUILD_SHARE = float(share)
+    for kind in kinds:
+        die_lists(kind)
         die = RigidSurface(hemisphere_die(case.DIE, 1.7 * case.HALF, rings=48, rim=rim))
         die.distance(laid(5.0))  # the lists built
         searches = [0, 0]
@@ -277,7 +291,7 @@ def die_pace(cells: int, rim: float, calls: int, shares: list[str]) -> None:
             die.distance(x)
         cpu = time.process_time() - cpu
         near = int(np.count_nonzero(~die._cache.far))
-        print(f"die, REBUILD_SHARE {share}: {cpu / calls * 1e3:.3f} ms CPU a call over {calls} "
+        print(f"die, {kind} lists: {cpu / calls * 1e3:.3f} ms CPU a call over {calls} "
               f"calls ({mesh.n_nodes} nodes, {near} within the search distance; load {before} "
               f"-> {load()}), {searches[1]} nodes searched in {searches[0]} searches; the "
               f"reference pass {reference * 1e3:.3f} ms", flush=True)  # fmt: skip

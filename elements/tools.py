@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from elements.facet_search import SLACK, closest_facets, signed_from_closest
+from elements.facet_search import SLACK, closest_facets, closest_facets_kept, signed_from_closest
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
@@ -317,6 +317,10 @@ MARGIN = 0.25
 # steps, instead of a few points at every step, each batch paying the merge of the kept
 # candidates (O(all candidates)) once (1.0: only the points past the margin).
 REBUILD_SHARE = 0.5
+# Whether a point that has not moved far enough to change its nearest facet is given that
+# facet alone instead of a scan of its candidates (elements/facet_search.closest_facets_kept:
+# the same answer to the last bit).
+KEEP_NEAREST = True
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
@@ -586,12 +590,32 @@ class RigidSurface(RigidTool):
         hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
         if hint is None or hint.shape != facet.shape:
             hint = np.full(len(local), -1)
-        closest_facets(
+        if not KEEP_NEAREST:
+            closest_facets(
+                local, self.corners, self._centroids, self._radius, SLACK * self.reach,
+                candidates[0], candidates[1], hint, point, facet, gap,
+            )  # fmt: skip
+            self._hint = facet
+            return point, facet, gap
+        # Each point's room to move keeping its nearest facet (elements/facet_search.py),
+        # valid with the hints it was found with: anew (-1) where those are not this tool's.
+        kept = getattr(self, "_kept", None)
+        if kept is None or kept[0] is not getattr(self, "_hint", None):
+            kept = (hint, np.zeros((len(local), 3)), np.full(len(local), -1.0))
+        anchor, room = kept[1], kept[2]
+        closest_facets_kept(
             local, self.corners, self._centroids, self._radius, SLACK * self.reach,
-            candidates[0], candidates[1], hint, point, facet, gap,
+            candidates[0], candidates[1], hint, anchor, room, point, facet, gap,
         )  # fmt: skip
         self._hint = facet
+        self._kept = (facet, anchor, room)
         return point, facet, gap
+
+    def _forget_nearest(self, rows: np.ndarray) -> None:
+        """The points ``rows`` got new candidate lists: their rooms are asked anew."""
+        kept = getattr(self, "_kept", None)
+        if kept is not None and kept[2].shape == rows.shape:
+            kept[2][rows] = -1.0
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         local = np.asarray(x, dtype=float) - self.offset(load_factor)
@@ -601,6 +625,7 @@ class RigidSurface(RigidTool):
         cache = self._cache
         if cache is None or cache.points.shape != local.shape:
             cache = self._searched(local, np.ones(len(local), dtype=bool), None)
+            self._kept = None
         else:
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.
@@ -608,7 +633,9 @@ class RigidSurface(RigidTool):
             drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
             if (drift >= limit).any():
                 # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
-                cache = self._searched(local, drift >= REBUILD_SHARE * limit, cache)
+                rows = drift >= REBUILD_SHARE * limit
+                cache = self._searched(local, rows, cache)
+                self._forget_nearest(rows)
         self._cache = cache
         point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
         d, n = self._signed(local, point, facet, gap)
