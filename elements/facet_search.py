@@ -16,6 +16,11 @@ scan over the candidates in their order, to the last bit:
   the facets kept find none as near as that (the hint's facet is not a candidate, or rounding
   at the margin), the point's candidates are scanned again without skipping. Measured: 1.5
   ms a pass on the die above.
+* ``closest_facets_kept`` gives a point its last nearest facet alone, without a scan, while
+  it has moved less than half the gap from that facet to the next candidate (docs/theory.md
+  §9.3). On the forming die's 71k facets with a 20k-triangle blank (10k nodes, 10
+  candidates each), one thread, load 14: 0.9 ms a pass where every node keeps its facet
+  against 7.0 for the scan.
 """
 
 from __future__ import annotations

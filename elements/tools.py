@@ -444,9 +444,10 @@ class RigidSurface(RigidTool):
     those alone (a compiled loop); when a point has moved further, it is searched again with
     every point that has moved more than ``REBUILD_SHARE`` of that margin (a Verlet list's
     rebuild, in batches a few hundred explicit steps apart rather than a few points at every
-    step), the others keeping theirs: microseconds per point and step in an explicit run
-    (benchmarks/contact_search.py). The same points asked again get the same answer without
-    a search.
+    step), the others keeping theirs; between scans of its list, a point keeps its nearest
+    facet alone while it cannot change (``KEEP_NEAREST``, docs/theory.md §9.3): microseconds
+    per point and step in an explicit run (benchmarks/contact_search.py). The same points
+    asked again get the same answer without a search.
     """
 
     def __init__(
