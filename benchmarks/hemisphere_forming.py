@@ -75,14 +75,45 @@ stroke at that pace 71k steps, 44 min CPU (about 38 with the assembled bound's e
 spread over the stroke). Its effect on the compared results at 20k was not run (the full
 stroke); at 20 cells a like share of added mass stayed within the case's tolerances.
 
-Threads: at the loads of this session (5-12 on 2 cores) the default threads chose one (free
+The die's candidate lists (``--die-lists old,new``, each run on a fresh model; ``--rim``,
+default the case's DIE_RIM = 10 mm entry radius, which the figures above predate: they ran on
+the sharp die). Two changes, each giving the same run to the last bit
+(tests/test_forming_shortcuts_change_nothing.py): the lists are searched again in batches
+(a node past the margin brings every node past half of it, REBUILD_SHARE) instead of a few
+nodes at every step, and between scans a node keeps its nearest facet alone while it lies
+within half the gap to the next candidate (KEEP_NEAREST, docs/theory.md §9.3). Measured, one
+thread, CPU:
+
+* on the first 0.5 % of the stroke (670 steps of 2.24e-6 s, the 10-mm die, old then new in
+  one process; load 8.1 -> 6.4): the die's contact 9.83 -> 6.09 ms CPU a step, the whole step
+  42.2 -> 38.2 ms (element force 20.2 both, the others' contacts 3.6, the assembled bound 4.0
+  and 3.8 in its one evaluation, the cells' bound 0.6, the rotary inertia 0.4, the rest 3.5);
+  no node moved past the margin yet (the punch's smooth start);
+* at the stroke's peak pace (``--die-calls 600``: the blank laid on the die sliding 7e-4 mm a
+  call, 10089 of its 10201 nodes within the search distance; load 13-15): the die's distance
+  13.0 / 13.6 -> 8.4 / 7.8 ms CPU a call (two passes each, alternated), the lists searched
+  398 times (14028 nodes) -> 59 times (33648 nodes) in 600 calls. The compiled pass alone,
+  same load: 0.9 ms where every node keeps its facet, 7.0 for the scan of every list (the
+  nodes' rooms: median 0.026 mm, a quarter below 0.006: many still scan every few steps); the
+  rest of the 7.8 ms, not timed apart: the batched searches (56 nodes a call on average) and
+  the numpy passes of ``distance``. In a step the die's contact adds its formulas in numpy
+  (``ContactBlock``: the die takes no compiled pass).
+
+Threads: at the loads of this session (6-15 on 2 cores) the default threads chose one (free
 cores: elements/jit.py), and two forced would measure the other engineers' processes; not
 measured here.
 
-Projected, the full stroke at 20k triangles at these paces and this load (11): unscaled about
-71-76 min CPU, mass-scaled to 5.5e-6 s about 38-44 min; far from the 3 minutes asked. The
-element force alone (15.9 ms a step x 134k steps) is 35 min of the unscaled stroke here. (On
-the quiet, faster machine the same pieces ran about 2 to 2.5 times faster; not measured here.)
+Projected, the full stroke at 20k triangles (133.8k steps of 2.24e-6 s unscaled) at this
+session's pace, the assembled bound amortised (about 1.2 ms a step): about 36 ms CPU a step,
+79 min CPU on one thread (the element force alone 20.2 ms, 45 min). 3 minutes on the 2 cores
+is 6 min of CPU at most: 13 times away. What would close it, each to be measured: the element
+force on two threads on a free machine (at most 1.2 times at 9800 triangles, elements/jit.py);
+mass scaling to 5.5e-6 s (0.53 of the steps, above) or a shorter stroke (time scaling; its
+effect at 20 cells: benchmarks/hemisphere_scaling.py --time-scaling); the die's contact in
+one compiled pass with its distance (as elements/tool_contact.py does for the punch and the
+holder: the remaining numpy passes) and the searches compiled; even then the element force
+(20 ms x 134k steps) is 45 min of CPU at this load: only fewer steps (scaling) or a faster
+element kernel brings the stroke near 3 minutes.
 
 Run from the project root:
 
@@ -91,6 +122,8 @@ Run from the project root:
     python benchmarks/hemisphere_forming.py --cells 40 --duration 0.05
     python benchmarks/hemisphere_forming.py --fraction 0.2        # the first fifth of it
     python benchmarks/hemisphere_forming.py --fraction 0.01 --phases  # where a step goes
+    python benchmarks/hemisphere_forming.py --fraction 0.005 --phases --die-lists old,new
+    python benchmarks/hemisphere_forming.py --die-calls 600 --die-lists old,new,old,new
 """
 
 from __future__ import annotations
