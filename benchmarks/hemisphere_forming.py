@@ -108,8 +108,10 @@ session's pace, the assembled bound amortised (about 1.2 ms a step): about 36 ms
 79 min CPU on one thread (the element force alone 20.2 ms, 45 min). 3 minutes on the 2 cores
 is 6 min of CPU at most: 13 times away. What would close it, each to be measured: the element
 force on two threads on a free machine (at most 1.2 times at 9800 triangles, elements/jit.py);
-mass scaling to 5.5e-6 s (0.53 of the steps, above) or a shorter stroke (time scaling; its
-effect at 20 cells: benchmarks/hemisphere_scaling.py --time-scaling); the die's contact in
+mass scaling to 5.5e-6 s (0.53 of the steps, above) or a shorter stroke (time scaling,
+measured at 20 cells on the 10-mm die, benchmarks/hemisphere_scaling.py: twice as fast, half
+the steps, moved the rms by 0.4 % and the draw-in by 0.6 %, KE / W at most 0.026; four times
+as fast drew the edge in 15 % less, KE / W up to 0.082 against the bound 0.1); the die's contact in
 one compiled pass with its distance (as elements/tool_contact.py does for the punch and the
 holder: the remaining numpy passes) and the searches compiled; even then the element force
 (20 ms x 134k steps) is 45 min of CPU at this load: only fewer steps (scaling) or a faster

@@ -505,6 +505,8 @@ class RigidSurface(RigidTool):
         # The last points asked about (in the tool's frame) with their answer (d, n).
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
+        # With those hints: where each point's scan was, and its room to keep its facet.
+        self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
