@@ -75,14 +75,47 @@ stroke at that pace 71k steps, 44 min CPU (about 38 with the assembled bound's e
 spread over the stroke). Its effect on the compared results at 20k was not run (the full
 stroke); at 20 cells a like share of added mass stayed within the case's tolerances.
 
-Threads: at the loads of this session (5-12 on 2 cores) the default threads chose one (free
+The die's candidate lists (``--die-lists old,new``, each run on a fresh model; ``--rim``,
+default the case's DIE_RIM = 10 mm entry radius, which the figures above predate: they ran on
+the sharp die). Two changes, each giving the same run to the last bit
+(tests/test_forming_shortcuts_change_nothing.py): the lists are searched again in batches
+(a node past the margin brings every node past half of it, REBUILD_SHARE) instead of a few
+nodes at every step, and between scans a node keeps its nearest facet alone while it lies
+within half the gap to the next candidate (KEEP_NEAREST, docs/theory.md §9.3). Measured, one
+thread, CPU:
+
+* on the first 0.5 % of the stroke (670 steps of 2.24e-6 s, the 10-mm die, old then new in
+  one process; load 8.1 -> 6.4): the die's contact 9.83 -> 6.09 ms CPU a step, the whole step
+  42.2 -> 38.2 ms (element force 20.2 both, the others' contacts 3.6, the assembled bound 4.0
+  and 3.8 in its one evaluation, the cells' bound 0.6, the rotary inertia 0.4, the rest 3.5);
+  no node moved past the margin yet (the punch's smooth start);
+* at the stroke's peak pace (``--die-calls 600``: the blank laid on the die sliding 7e-4 mm a
+  call, 10089 of its 10201 nodes within the search distance; load 13-15): the die's distance
+  13.0 / 13.6 -> 8.4 / 7.8 ms CPU a call (two passes each, alternated), the lists searched
+  398 times (14028 nodes) -> 59 times (33648 nodes) in 600 calls. The compiled pass alone,
+  same load: 0.9 ms where every node keeps its facet, 7.0 for the scan of every list (the
+  nodes' rooms: median 0.026 mm, a quarter below 0.006: many still scan every few steps); the
+  rest of the 7.8 ms, not timed apart: the batched searches (56 nodes a call on average) and
+  the numpy passes of ``distance``. In a step the die's contact adds its formulas in numpy
+  (``ContactBlock``: the die takes no compiled pass).
+
+Threads: at the loads of this session (6-15 on 2 cores) the default threads chose one (free
 cores: elements/jit.py), and two forced would measure the other engineers' processes; not
 measured here.
 
-Projected, the full stroke at 20k triangles at these paces and this load (11): unscaled about
-71-76 min CPU, mass-scaled to 5.5e-6 s about 38-44 min; far from the 3 minutes asked. The
-element force alone (15.9 ms a step x 134k steps) is 35 min of the unscaled stroke here. (On
-the quiet, faster machine the same pieces ran about 2 to 2.5 times faster; not measured here.)
+Projected, the full stroke at 20k triangles (133.8k steps of 2.24e-6 s unscaled) at this
+session's pace, the assembled bound amortised (about 1.2 ms a step): about 36 ms CPU a step,
+79 min CPU on one thread (the element force alone 20.2 ms, 45 min). 3 minutes on the 2 cores
+is 6 min of CPU at most: 13 times away. What would close it, each to be measured: the element
+force on two threads on a free machine (at most 1.2 times at 9800 triangles, elements/jit.py);
+mass scaling to 5.5e-6 s (0.53 of the steps, above) or a shorter stroke (time scaling,
+measured at 20 cells on the 10-mm die, benchmarks/hemisphere_scaling.py: twice as fast, half
+the steps, moved the rms by 0.4 % and the draw-in by 0.6 %, KE / W at most 0.026; four times
+as fast drew the edge in 15 % less, KE / W up to 0.082 against the bound 0.1); the die's contact in
+one compiled pass with its distance (as elements/tool_contact.py does for the punch and the
+holder: the remaining numpy passes) and the searches compiled; even then the element force
+(20 ms x 134k steps) is 45 min of CPU at this load: only fewer steps (scaling) or a faster
+element kernel brings the stroke near 3 minutes.
 
 Run from the project root:
 
@@ -91,6 +124,8 @@ Run from the project root:
     python benchmarks/hemisphere_forming.py --cells 40 --duration 0.05
     python benchmarks/hemisphere_forming.py --fraction 0.2        # the first fifth of it
     python benchmarks/hemisphere_forming.py --fraction 0.01 --phases  # where a step goes
+    python benchmarks/hemisphere_forming.py --fraction 0.005 --phases --die-lists old,new
+    python benchmarks/hemisphere_forming.py --die-calls 600 --die-lists old,new,old,new
 """
 
 from __future__ import annotations
@@ -110,9 +145,10 @@ os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 
 from contact_search import best  # noqa: E402
 
-from elements import jit  # noqa: E402
+from elements import RigidSurface, jit, tools  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
+from validation.specimens import hemisphere_die  # noqa: E402
 
 
 def main() -> None:
@@ -129,8 +165,26 @@ def main() -> None:
     parser.add_argument(
         "--phases", action="store_true", help="time the pieces of each step (CPU and wall)"
     )
+    parser.add_argument(
+        "--die-lists",
+        default="old,new",
+        help='the die\'s candidate lists, a list: "old" searches again only the nodes past '
+        'the margin and scans every candidate at every step, "new" searches in batches '
+        "(elements.tools.REBUILD_SHARE) and keeps a nearest facet while it cannot change "
+        "(KEEP_NEAREST); each run is made once per value",
+    )
+    parser.add_argument("--rim", type=float, default=case.DIE_RIM, help="the die's entry radius")
+    parser.add_argument(
+        "--die-calls",
+        type=int,
+        default=0,
+        help="only time the die's distance over this many calls on a blank sliding into it",
+    )
     args = parser.parse_args()
-    mesh, model = case.model(args.cells, "fibrous")
+    if args.die_calls:
+        die_pace(args.cells, args.rim, args.die_calls, args.die_lists.split(","))
+        return
+    mesh, model = case.model(args.cells, "fibrous", rim=args.rim)
     compiled = model.compile()
     print(f"blank: {mesh.n_triangles} triangles, {mesh.n_nodes} nodes; punch travel "
           f"{case.PUNCH + case.THICKNESS} mm in {args.duration} s")  # fmt: skip
@@ -158,22 +212,27 @@ def main() -> None:
     # The steps, counted where the solver accepts each (a run stopped early has no result).
     steps = [0]
     reached = [0.0]  # the time of the last step accepted, s
-    commit = compiled.commit
 
-    def counted(new_state):
-        steps[0] += 1
-        reached[0] = new_state.time
-        return commit(new_state)
+    def counting(commit):
+        def counted(new_state):
+            steps[0] += 1
+            reached[0] = new_state.time
+            return commit(new_state)
 
-    compiled.commit = counted  # type: ignore[method-assign]
+        return counted
 
     def stop_early(frame) -> dict:
         if frame.time >= args.fraction * args.duration * (1.0 - 1e-9):
             raise _Enough
         return {}
 
-    for target in args.mass_scaling_dt.split(","):
+    runs = itertools.product(args.mass_scaling_dt.split(","), args.die_lists.split(","))
+    for target, lists in runs:
         scaling = None if target.strip().lower() == "none" else float(target)
+        die_lists(lists)
+        # A fresh model per run: the die's candidate lists start empty in each.
+        compiled = case.model(args.cells, "fibrous", rim=args.rim)[1].compile()
+        compiled.commit = counting(compiled.commit)  # type: ignore[method-assign]
         solver = CentralDifference(
             duration=args.duration,
             safety=args.safety,
@@ -196,7 +255,8 @@ def main() -> None:
             result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         per_step = wall / steps[0]
-        print(f"run, mass scaling {scaling}, {args.fraction:g} of the stroke: {wall:.1f} s wall, "
+        print(f"run, mass scaling {scaling}, the die's lists {lists}, {args.fraction:g} "
+              f"of the stroke: {wall:.1f} s wall, "
               f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
               f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
               f"ms CPU; {per_step / reference:.0f} x the reference pass)", flush=True)  # fmt: skip
@@ -214,6 +274,66 @@ def main() -> None:
                   f"{result.info['added_mass_ratio']:.3g} x the model's, kinetic / work at the "
                   f"end {ratio:.3f}, punch force {result.tool_forces[-1, 1, 2]:.3g} N, "
                   f"converged {result.converged}", flush=True)  # fmt: skip
+
+
+NEW_LISTS = (tools.REBUILD_SHARE, tools.KEEP_NEAREST)
+
+
+def die_lists(which: str) -> None:
+    """The die's candidate lists as they were ("old") or are ("new")."""
+    if which.strip() not in ("old", "new"):
+        raise ValueError(f'--die-lists takes "old" and "new", got {which!r}')
+    old = which.strip() == "old"
+    tools.REBUILD_SHARE, tools.KEEP_NEAREST = (1.0, False) if old else NEW_LISTS
+
+
+def die_pace(cells: int, rim: float, calls: int, kinds: list[str]) -> None:
+    """The die's distance (RigidSurface.distance, its candidate lists) at the stroke's peak
+    pace, for each of ``kinds`` ("old", "new": ``die_lists``): the blank's nodes laid on the
+    die (on the bowl half a ply inside it, on the flange half a ply above it) slide towards
+    the axis by SLIDE mm a call, each call a step (the punch at its peak speed, 0.31 m/s,
+    moves 7e-4 mm in a step of 2.24e-6 s), from a slide of 5 mm. Printed for each: CPU per
+    call, the searches and the nodes searched, and a reference pass; one process, the same
+    calls."""
+    mesh = case.model(cells, "fibrous", rim=rim)[0]
+    radius = case.DIE - 0.5 * case.THICKNESS  # the bowl's surface less half a ply, mm
+    r0 = np.linalg.norm(mesh.points[:, :2], axis=1)
+    angle = np.arctan2(mesh.points[:, 1], mesh.points[:, 0])
+
+    def laid(slide: float) -> np.ndarray:
+        r = np.maximum(r0 - slide, 0.0)
+        z = np.where(r < radius, -np.sqrt(np.maximum(radius**2 - r**2, 0.0)), 0.5 * case.THICKNESS)
+        return np.column_stack([r * np.cos(angle), r * np.sin(angle), z])
+
+    reference = best(lambda: np.linalg.norm(mesh.points, axis=1), 20)
+    for kind in kinds:
+        die_lists(kind)
+        die = RigidSurface(hemisphere_die(case.DIE, 1.7 * case.HALF, rings=48, rim=rim))
+        die.distance(laid(5.0))  # the lists built
+        searches = [0, 0]
+        search = die._searched
+
+        def counted(local, rows, cache, search=search, searches=searches):
+            searches[0] += 1
+            searches[1] += int(np.count_nonzero(rows))
+            return search(local, rows, cache)
+
+        die._searched = counted  # type: ignore[method-assign]
+        positions = [laid(5.0 + SLIDE * (call + 1)) for call in range(calls)]
+        before = load()
+        cpu = time.process_time()
+        for x in positions:
+            die.distance(x)
+        cpu = time.process_time() - cpu
+        near = int(np.count_nonzero(~die._cache.far))
+        print(f"die, {kind} lists: {cpu / calls * 1e3:.3f} ms CPU a call over {calls} "
+              f"calls ({mesh.n_nodes} nodes, {near} within the search distance; load {before} "
+              f"-> {load()}), {searches[1]} nodes searched in {searches[0]} searches; the "
+              f"reference pass {reference * 1e3:.3f} ms", flush=True)  # fmt: skip
+
+
+# mm a call of die_pace: the punch's peak speed times the step, 0.31 m/s x 2.24e-6 s
+SLIDE = 7e-4
 
 
 class _Enough(Exception):
@@ -243,20 +363,33 @@ class Phases:
         for block in compiled.blocks:
             for name in ("internal_force", "internal_force_and_energy"):
                 self._wrap(block, name, "element force")
+        # Inside the die's contact: its candidate lists' searches (counted apart from the rest).
+        self.nested = {"  of which the die's searches"}
+        self.searched = [0, 0]  # the die's searches and the points searched in them
         for interaction in compiled.interactions:
+            tool = getattr(interaction, "tool", None)
+            meshed = isinstance(tool, RigidSurface)
             for name in ("internal_force", "strain_energy", "tool_work"):
-                self._wrap(interaction, name, "contact")
+                self._wrap(interaction, name, "contact (die)" if meshed else "contact (others)")
+            if meshed:
+                self._wrap(tool, "_searched", "  of which the die's searches", self._count)
         self._wrap(compiled, "cell_stable_dt", "stable step (cells)")
         self._wrap(compiled, "assembled_stable_dt", "stable step (assembled)")
         self._wrap(compiled, "lumped_mass", "rotary inertia refresh")
 
-    def _wrap(self, owner, name: str, phase: str) -> None:
+    def _count(self, local, rows, cache) -> None:
+        self.searched[0] += 1
+        self.searched[1] += int(np.count_nonzero(rows))
+
+    def _wrap(self, owner, name: str, phase: str, count=None) -> None:
         method = getattr(owner, name, None)
         if method is None:
             return
         totals = self.spent.setdefault(phase, [0.0, 0.0])
 
         def timed(*args, **kwargs):
+            if count is not None:
+                count(*args, **kwargs)
             wall, cpu = time.perf_counter(), time.process_time()
             try:
                 return method(*args, **kwargs)
@@ -272,14 +405,18 @@ class Phases:
             object.__delattr__(owner, name)
 
     def report(self, wall: float, cpu: float, steps: int) -> str:
-        rest = [wall - sum(w for w, _ in self.spent.values()),
-                cpu - sum(c for _, c in self.spent.values())]  # fmt: skip
+        outer = [value for phase, value in self.spent.items() if phase not in self.nested]
+        rest = [wall - sum(w for w, _ in outer), cpu - sum(c for _, c in outer)]
         rows = [*self.spent.items(), ("update, output, bookkeeping", rest)]
         lines = [
             f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
             f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
             for phase, (w, c) in rows
         ]
+        lines.append(
+            f"  the die searched again {self.searched[1]} nodes in {self.searched[0]} batches "
+            f"({self.searched[1] / steps:.1f} nodes a step)"
+        )
         ratios = ", ".join(f"{t:.3g} s: {a / c:.3f}" for t, a, c in self.assembled)
         lines.append(
             f"  the assembled bound evaluated {len(self.assembled)} times; its ratio to the "

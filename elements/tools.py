@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from elements.facet_search import SLACK, closest_facets, signed_from_closest
+from elements.facet_search import SLACK, closest_facets, closest_facets_kept, signed_from_closest
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
@@ -312,6 +312,15 @@ class RigidCylinder(_RoundTool):
 
 # How far (in facet circumradii) a point may move before RigidSurface searches it again.
 MARGIN = 0.25
+# When some point has moved past the margin, the points that have moved past this share of it
+# are searched again with it: the searches come in batches, one every few hundred explicit
+# steps, instead of a few points at every step, each batch paying the merge of the kept
+# candidates (O(all candidates)) once (1.0: only the points past the margin).
+REBUILD_SHARE = 0.5
+# Whether a point that has not moved far enough to change its nearest facet is given that
+# facet alone instead of a scan of its candidates (elements/facet_search.closest_facets_kept:
+# the same answer to the last bit).
+KEEP_NEAREST = True
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
@@ -432,10 +441,13 @@ class RigidSurface(RigidTool):
     less than ``MARGIN`` circumradius (those whose centroid lies within the proof's distance
     plus twice that margin plus their own circumradius; none for the points beyond the
     search distance, which are told their distance less how far they moved), and answers from
-    those alone (a compiled loop); a point that has moved further is searched again alone, the
-    others keeping theirs: microseconds per point and step in an explicit run
-    (benchmarks/contact_search.py). The same points asked again get the same answer without
-    a search.
+    those alone (a compiled loop); when a point has moved further, it is searched again with
+    every point that has moved more than ``REBUILD_SHARE`` of that margin (a Verlet list's
+    rebuild, in batches a few hundred explicit steps apart rather than a few points at every
+    step), the others keeping theirs; between scans of its list, a point keeps its nearest
+    facet alone while it cannot change (``KEEP_NEAREST``, docs/theory.md §9.3): microseconds
+    per point and step in an explicit run (benchmarks/contact_search.py). The same points
+    asked again get the same answer without a search.
     """
 
     def __init__(
@@ -493,6 +505,8 @@ class RigidSurface(RigidTool):
         # The last points asked about (in the tool's frame) with their answer (d, n).
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
+        # With those hints: where each point's scan was, and its room to keep its facet.
+        self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
@@ -579,12 +593,32 @@ class RigidSurface(RigidTool):
         hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
         if hint is None or hint.shape != facet.shape:
             hint = np.full(len(local), -1)
-        closest_facets(
+        if not KEEP_NEAREST:
+            closest_facets(
+                local, self.corners, self._centroids, self._radius, SLACK * self.reach,
+                candidates[0], candidates[1], hint, point, facet, gap,
+            )  # fmt: skip
+            self._hint = facet
+            return point, facet, gap
+        # Each point's room to move keeping its nearest facet (elements/facet_search.py),
+        # valid with the hints it was found with: anew (-1) where those are not this tool's.
+        kept = getattr(self, "_kept", None)
+        if kept is None or kept[0] is not getattr(self, "_hint", None):
+            kept = (hint, np.zeros((len(local), 3)), np.full(len(local), -1.0))
+        anchor, room = kept[1], kept[2]
+        closest_facets_kept(
             local, self.corners, self._centroids, self._radius, SLACK * self.reach,
-            candidates[0], candidates[1], hint, point, facet, gap,
+            candidates[0], candidates[1], hint, anchor, room, point, facet, gap,
         )  # fmt: skip
         self._hint = facet
+        self._kept = (facet, anchor, room)
         return point, facet, gap
+
+    def _forget_nearest(self, rows: np.ndarray) -> None:
+        """The points ``rows`` got new candidate lists: their rooms are asked anew."""
+        kept = getattr(self, "_kept", None)
+        if kept is not None and kept[2].shape == rows.shape:
+            kept[2][rows] = -1.0
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         local = np.asarray(x, dtype=float) - self.offset(load_factor)
@@ -594,14 +628,17 @@ class RigidSurface(RigidTool):
         cache = self._cache
         if cache is None or cache.points.shape != local.shape:
             cache = self._searched(local, np.ones(len(local), dtype=bool), None)
+            self._kept = None
         else:
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.
-            moved = np.abs(local - cache.points).max(axis=1, initial=0.0) >= (
-                MARGIN / np.sqrt(3.0) * self.reach
-            )
-            if moved.any():
-                cache = self._searched(local, moved, cache)
+            limit = MARGIN / np.sqrt(3.0) * self.reach
+            drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
+            if (drift >= limit).any():
+                # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
+                rows = drift >= REBUILD_SHARE * limit
+                cache = self._searched(local, rows, cache)
+                self._forget_nearest(rows)
         self._cache = cache
         point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
         d, n = self._signed(local, point, facet, gap)

@@ -539,15 +539,15 @@ def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_fin
     assert np.all(d[outside] > 0) and np.all(d[exact < -sagitta] < 0)
 
 
-def test_a_meshed_tool_searches_again_only_the_points_that_moved_past_its_margin():
+def test_a_meshed_tool_searches_again_the_points_that_moved_past_its_margin_in_batches():
     """Points wandering near a 600-facet sphere, a few of them jumping beyond the cache's
     margin at each call while the others creep: at every call the distances within the
     search distance are the brute force's over every facet to rounding (1e-12 mm); the points
-    searched again are exactly those that moved past the margin, the others keeping their
-    candidate facets. The same points asked again get the same answer, not a view of the
-    tool's memory."""
+    searched again are exactly those that moved past the margin and, with them, those that
+    moved past REBUILD_SHARE of it, the others keeping their candidate facets. The same
+    points asked again get the same answer, not a view of the tool's memory."""
     from elements import RigidSurface
-    from elements.tools import MARGIN, closest_on_triangles
+    from elements.tools import MARGIN, REBUILD_SHARE, closest_on_triangles
 
     radius = 10.0
     mesh = fibonacci_sphere(radius, 302)
@@ -564,9 +564,10 @@ def test_a_meshed_tool_searches_again_only_the_points_that_moved_past_its_margin
     direction /= np.linalg.norm(direction, axis=1)[:, None]
     x = direction * rng.uniform(radius - 1.5, radius + 1.5, size=(400, 1))
     tool.distance(x)
+    early = 0  # the points searched again before they were past the margin
     for _ in range(6):
         before = tool._cache
-        x = x + rng.uniform(-0.05, 0.05, size=x.shape) * tool.reach
+        x = x + rng.uniform(-0.03, 0.03, size=x.shape) * tool.reach
         jumpers = rng.choice(len(x), size=20, replace=False)
         x[jumpers] += rng.normal(scale=1.0, size=(20, 3)) * tool.reach
         d, n = tool.distance(x)
@@ -578,9 +579,13 @@ def test_a_meshed_tool_searches_again_only_the_points_that_moved_past_its_margin
         np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-12)
         after = tool._cache
         stayed = np.all(after.points == before.points, axis=1)
-        past = np.abs(x - before.points).max(axis=1) >= MARGIN / np.sqrt(3.0) * tool.reach
-        np.testing.assert_array_equal(stayed, ~past)  # searched again: those past the margin
+        drift = np.abs(x - before.points).max(axis=1)
+        past = drift >= MARGIN / np.sqrt(3.0) * tool.reach
+        # Searched again: those past the margin and, with them, those past REBUILD_SHARE of it.
+        searched = past.any() & (drift >= REBUILD_SHARE * MARGIN / np.sqrt(3.0) * tool.reach)
+        np.testing.assert_array_equal(stayed, ~searched)
         assert past[jumpers].all() and stayed.sum() > 300
+        early += int(np.count_nonzero(searched & ~past))
         for i in np.flatnonzero(stayed)[:50]:
             kept = before.facets[before.start[i] : before.start[i + 1]]
             np.testing.assert_array_equal(after.facets[after.start[i] : after.start[i + 1]], kept)
@@ -588,6 +593,7 @@ def test_a_meshed_tool_searches_again_only_the_points_that_moved_past_its_margin
         np.testing.assert_array_equal(again, d)
         again[:] = 0.0
         np.testing.assert_array_equal(tool.distance(x)[0], d)
+    assert early > 0
 
 
 def test_a_plate_resting_on_a_meshed_floor_is_the_plate_on_an_analytic_plane():

@@ -56,3 +56,20 @@ def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)
+
+
+def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_were(monkeypatch):
+    """The die's candidate lists searched again in batches (REBUILD_SHARE) and each node's
+    nearest facet kept while it cannot change (KEEP_NEAREST, elements/facet_search.py)
+    against the lists searched again node by node past the margin and scanned at every
+    step: the same run, bit for bit (the nodes beyond the search distance, told a distance
+    that depends on when they were searched, touch nothing)."""
+    from elements import tools
+
+    positions, forces = formed()
+    assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST
+    monkeypatch.setattr(tools, "REBUILD_SHARE", 1.0)
+    monkeypatch.setattr(tools, "KEEP_NEAREST", False)
+    plain_positions, plain_forces = formed()
+    np.testing.assert_array_equal(positions, plain_positions)
+    np.testing.assert_array_equal(forces, plain_forces)
