@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import ctypes
 import json
 import multiprocessing
 import os
 import platform
+import signal
+import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -166,6 +169,31 @@ def _sized(figure: Figure, out_dir: Path) -> Figure:
     return replace(figure, width=width, height=height)
 
 
+def _end_with(parent: int) -> None:
+    """A worker's initializer: end the worker once the process ``parent`` (pid) that started it
+    is gone. Killed (kill -9, an out-of-memory kill, a closed terminal), the report runs no
+    clean-up, and a worker would otherwise finish its case, and the pool's queue, on cores
+    nobody wants any more. On Linux the kernel kills it (prctl PR_SET_PDEATHSIG: nothing in the
+    worker has to run, where a compiled loop may hold the interpreter for minutes); elsewhere a
+    daemon thread watches the parent."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        dead_parent_signal = libc.prctl(1, signal.SIGKILL, 0, 0, 0) == 0  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # not Linux
+        dead_parent_signal = False
+    if os.getppid() != parent:  # gone before the signal was asked for
+        os._exit(1)
+    if dead_parent_signal:
+        return
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)  # no clean-up is wanted: the report that would read the results is gone
+
+    threading.Thread(target=watch, name="end-with-the-report", daemon=True).start()
+
+
 def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):
     """``run_case`` in a worker process: (outcome without its figure data, which stays with
     the worker that drew it, the case time and its CPU time)."""
@@ -260,7 +288,9 @@ def _run_all(
         context = multiprocessing.get_context("spawn")
         jobs = min(jobs, len(names))
         threads = max(1, (os.cpu_count() or 1) // jobs)
-        with ProcessPoolExecutor(jobs, mp_context=context) as pool:
+        with ProcessPoolExecutor(
+            jobs, mp_context=context, initializer=_end_with, initargs=(os.getpid(),)
+        ) as pool:
             futures = {
                 pool.submit(_run_in_worker, name, resolution, out_dir, threads): name
                 for name in schedule(names, resolution, measured)

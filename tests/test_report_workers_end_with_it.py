@@ -1,0 +1,91 @@
+"""A report run with several jobs leaves no worker behind when it is killed: its worker
+processes end with it, whatever ends it (a kill -9 runs no clean-up in the report's process)."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _children(pid: int) -> list[int]:
+    """The pids of the processes whose parent is ``pid`` (Linux /proc)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:  # gone meanwhile
+                continue
+            if int(fields[1]) == pid:
+                found.append(int(entry.name))
+    return found
+
+
+def _is_worker(pid: int) -> bool:
+    try:
+        command = Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:
+        return False
+    return b"spawn_main" in command
+
+
+def _cpu_s(pid: int) -> float:
+    """The CPU time (s) process ``pid`` has used, 0 once it is gone."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.slow  # about 20 s of CPU: the report and two workers into their cases
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_killing_a_report_with_two_jobs_ends_its_workers(tmp_path):
+    # Two cases that take a minute each at the coarse resolution: still running at the kill.
+    report = subprocess.Popen(
+        [sys.executable, "-m", "validation", "--cases", "hemisphere-forming,plies-bai-5.1",
+         "--resolution", "coarse", "--jobs", "2", "--out", str(tmp_path / "report")],
+        cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )  # fmt: skip
+    try:
+        workers: list[int] = []
+        deadline = time.monotonic() + 300.0
+        while len(workers) < 2 and time.monotonic() < deadline and report.poll() is None:
+            time.sleep(0.5)
+            workers = [p for p in _children(report.pid) if _is_worker(p)]
+        assert len(workers) == 2, "the report did not start its two workers"
+        # Into their cases: a worker's imports take about 4 s of CPU (minutes of wall on a
+        # loaded machine), its case 80 s or more.
+        deadline = time.monotonic() + 600.0
+        while min(map(_cpu_s, workers)) < 8.0 and time.monotonic() < deadline:
+            time.sleep(0.5)
+        assert min(map(_cpu_s, workers)) >= 8.0, "the workers did not reach their cases"
+        os.kill(report.pid, signal.SIGKILL)
+        report.wait()
+        # Killed by the kernel with its parent (or, elsewhere, by a thread polling every 0.5
+        # s): 20 s allows for a loaded machine.
+        deadline = time.monotonic() + 20.0
+        while any(_alive(p) for p in workers) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        left = [p for p in workers if _alive(p)]
+        assert not left, f"workers {left} outlived the killed report"
+    finally:
+        if report.poll() is None:
+            report.kill()
+        for pid in workers:  # never leave one running, whatever failed
+            if _alive(pid):
+                os.kill(pid, signal.SIGKILL)
