@@ -394,6 +394,7 @@ from solvers.quasi_static import KINETIC_BOUND, quasi_static_report
 from validation.checks import check
 from validation.records import Case, Figure, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
+from validation.studies.hemisphere_plies_energy import kinetic_shares
 from validation.studies.hemisphere_plies_gaps import least_gaps
 from validation.studies.hemisphere_plies_setup import (
     CELLS,
@@ -586,6 +587,18 @@ def run(
     parameters[f"{prefix}_largest_kinetic_over_work"] = inertia["kinetic_over_work_largest"]
     parameters[f"{prefix}_largest_kinetic_over_work_at_s"] = inertia["largest_at_s"]
     parameters[f"{prefix}_kinetic_over_work_above_bound_share"] = inertia["exceeded_share"]
+    # whose kinetic energy the check counts: the plies' or the holder's (its rigid node)
+    shares = kinetic_shares(layup, result, HOLDER_MASS)
+    work = np.interp(
+        shares["time"], result.energies["time"], np.abs(result.energies["external_work"])
+    )
+    judged = (shares["time"] >= 0.1 * DURATION) & (work > 0.0)
+    parameters[f"{prefix}_largest_ply_kinetic_over_work"] = float(
+        (shares["plies"].sum(axis=1)[judged] / work[judged]).max(initial=0.0)
+    )
+    parameters[f"{prefix}_largest_holder_kinetic_over_work"] = float(
+        (shares["holder"][judged] / work[judged]).max(initial=0.0)
+    )
     parameters[f"{prefix}_interply_slip_max_mm"] = slip["max_mm"]
     parameters[f"{prefix}_interply_slip_rms_mm"] = slip["rms_mm"]
     parameters[f"{prefix}_holder_travel_mm"] = float(result.tool_displacements[-1, 2, 2])
