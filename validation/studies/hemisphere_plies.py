@@ -199,8 +199,8 @@ The rounded die and the light holder (one thread; CPU of each run, with the mach
   holder stays down (2.7 mm up at t = 0.083 s against 16 at 10 N; the bottom ply's crests
   up to 16.4 mm, the top ply's 2.7), KE / W at most 0.101 (t = 0.062 s), but the run stops
   at 83.4 % of the stroke on the energy balance (0.0504 of the largest energy against 0.05),
-  the ply contact changing most (+11 N mm in the step): a second stop, not diagnosed. With
-  the faces along the normals it reaches the end (hemisphere_plies_energy.py).
+  the ply contact changing most (+11 N mm in the step): a second stop, not diagnosed. On the
+  current code it reaches the end (hemisphere_plies_energy.py).
 - Fibrous [0/45] at default (10 cells; 5430 steps, 95 s, load 6-9): to the end, KE / W at
   most 0.097 (t = 0.037 s), but over the last tenth the flange throws the holder up (1.0 mm
   at t = 0.08 s, 3.7 at 0.09, 10.8 at the end, 0.7 m/s over the last tenth, the kinetic
