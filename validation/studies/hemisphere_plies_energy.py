@@ -73,14 +73,14 @@ time). There the peak is the directors': at t = 0.059 s the run's 44.7 N mm of k
 are the rotation's 24.2 (0.061 of W), the plies' translations' 17.2 (0.044) and the holder's
 3.3 (0.008); half a millisecond later the rotation's 16.7 and the translations' 25.7, the
 flange snapping. The rotary inertia the rotation carries is the Mindlin shell's scaled one
-(docs/theory.md §6.2, B2: j = kappa L_e^2 / 16, 16 mm^2 on these cells against the physical h^2
-/ 12 = 0.0075 mm^2), which keeps the membrane's step but lends the directors' turns a kinetic
-energy the check counts: not changed here (the physical inertia's step, 2 h sqrt(rho / (6 kappa
-G13)) = 0.9 us, is 1/13 of this run's). Rms of shear - net 2.94 and 4.56 deg (20 and 28 cells
-in the die), draw-in of the edge middle 24.3 and 12.4 mm (corner 21.3 and 26.8), 9 and 9 crests
-up to 26.5 and 11.8 mm, the top ply's least radial gap in the die +0.38 mm, punch force 282 N.
-At 10 N and 8 cells the directors' share was 0.003 of W at the peak (t = 0.044 s), at Mindlin
-[0/90]'s 0.022-0.029."""
+(docs/theory.md §6.2, B2: j = kappa L_e^2 / 16, 16 mm^2 on the 0-deg ply's cells against the
+physical h^2 / 12 = 0.0075 mm^2), which keeps the membrane's step but lends the directors'
+turns a kinetic energy the check counts: not changed here (the physical inertia's step, 2 h
+sqrt(rho / (6 kappa G13)) = 0.9 us, is 1/13 of this run's). Rms of shear - net 2.94 and 4.56
+deg (20 and 28 cells in the die), draw-in of the edge middle 24.3 and 12.4 mm (corner 21.3 and
+26.8), 9 and 9 crests up to 26.5 and 11.8 mm, the top ply's least radial gap in the die +0.38
+mm, punch force 282 N. At 10 N and 8 cells the directors' share was 0.003 of W at the peak (t =
+0.044 s), at Mindlin [0/90]'s 0.022-0.029."""
 
 from __future__ import annotations
 
