@@ -4,12 +4,17 @@ end on the punch inside the die, quasi-static, the holder carrying its force."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
+from elements.layup import Layup, ply_element
 from solvers import CentralDifference
 from solvers.quasi_static import KINETIC_BOUND, quasi_static_report
 from validation.studies import hemisphere_plies as study
+from validation.studies.hemisphere_plies_energy import kinetic_shares
+from validation.studies.hemisphere_plies_setup import FABRIC
 
 
 def _solve(name: str, kinematics: str, history):
@@ -80,3 +85,41 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     _quasi_static(result, history)
     gaps = study.least_gaps(layup, result, 8)
     assert gaps["in_die"] > -study.THICKNESS
+
+
+def test_the_kinetic_energy_is_split_between_the_plies_and_the_holder():
+    """A uniform velocity v of every node carries 1/2 rho_A A v^2 in each ply (A = the
+    square blank's 200 x 200 mm^2, whatever the angle: the 45-deg blank's half-diamonds fill
+    the same square) and the holder's node 1/2 m_h v_h^2: closed forms, to round-off (1e-12
+    relative: sums of a few hundred positive terms)."""
+    layup = Layup(FABRIC, study.LAYUPS["0/45"], 2 * study.HALF, cells=8)
+    n = layup.mesh.n_nodes
+    v, lift = np.array([3.0, -4.0, 12.0]), np.array([0.0, 0.0, 250.0])  # mm/s
+    velocities = np.vstack([np.tile(v, (n, 1)), lift])
+    frames = [
+        SimpleNamespace(time=t, velocities=s * velocities) for t, s in ((0.0, 0.0), (0.05, 1.0))
+    ]
+    shares = kinetic_shares(layup, SimpleNamespace(frames=frames), study.HOLDER_MASS)
+    area = (2 * study.HALF) ** 2
+    ply = 0.5 * FABRIC.areal_density * area * float(v @ v)
+    assert shares["time"].tolist() == [0.0, 0.05]
+    assert shares["plies"][0].tolist() == [0.0, 0.0]
+    assert shares["plies"][1] == pytest.approx([ply, ply], rel=1e-12)
+    assert shares["holder"][1] == pytest.approx(0.5 * study.HOLDER_MASS * 250.0**2, rel=1e-12)
+
+
+def test_the_mindlin_ply_has_the_transverse_shear_of_an_s3_homogeneous_section():
+    """The study's Mindlin ply (``ElasticShell.equivalent``, the ply's warp): its transverse
+    shear stiffness kappa G13 h is that of Abaqus S3 for a homogeneous section, 5/6 G13 h,
+    with G13 = E / 2 of the isotropic section at nu = 0 whose plate stiffness E h^3 / 12 is
+    the fabric's bending slope B0: 5 B0 / h^2 = 20.8 N/mm for B0 = 0.375 N mm, h = 0.3 mm
+    (docs/theory.md §5.4, §5.7's S). So the directors' tilt in the study's Mindlin runs is
+    not a softer transverse shear than the comparison's element would have."""
+    b0, h = 0.375, study.THICKNESS
+    for warp in ((1.0, 0.0, 0.0), (np.sqrt(0.5), np.sqrt(0.5), 0.0)):
+        section = ply_element("mindlin", FABRIC, np.array(warp)).material
+        stiffness = np.asarray(section.transverse) * h  # transverse = kappa (G13, G23)
+        assert section.shear_factor == pytest.approx(5.0 / 6.0, rel=1e-15)
+        g13 = np.asarray(section.transverse) / section.shear_factor
+        assert g13 == pytest.approx([0.5 * section.plane_stress[0, 0]] * 2, rel=1e-12)
+        assert stiffness == pytest.approx([5.0 * b0 / h**2] * 2, rel=1e-12)
