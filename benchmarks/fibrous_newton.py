@@ -11,17 +11,21 @@ Each line: the Newton iterations per increment, the cuts, the tangents and force
 the mode searches (eigen-solves of the downhill turns), the CPU time (best of ``--repeat``, one
 thread) and the tip, the same to 1e-6 mm in both runs.
 
-Measured on this 2-core machine (one thread, CPU time best of 3, 1-minute load 5-8 shared by
-other jobs), exact -> compression-free (the "exact" run is the same code with
+Measured on this 2-core machine (one thread, CPU time best of 3, 1-minute load 4.4-5.3
+shared by other jobs), exact -> compression-free. The exact run is the same code with
 compression_free=0, which takes the code path of the solver before the change: the same
-iterations and evaluation counts as that solver, 7-14-11 / 79 forces / 32 tangents on
-Peirce's strip):
+iterations and evaluation counts as that solver (Peirce 7-14-11, 79 forces, 32 tangents;
+heavy, 20 cells, 30-11-8, 129 forces, 49 tangents, measured on it). Tips equal to 1e-6 mm.
 
-- Peirce fibrous: 7-14-11 -> 9-9-10 iterations, 32 -> 28 tangents, 6 -> 2 mode searches;
-  FIGURES_PEIRCE
-- heavy cantilever, 10 cells: 25-9-8 and a cut -> 26-9-7, no cut; FIGURES_10
-- heavy cantilever, 20 cells: 30-11-8 -> 26-9-8; FIGURES_20
-- heavy cantilever, 40 cells: 47-27-19 -> 49-11-8; FIGURES_40
+- Peirce fibrous: 7-14-11 -> 9-9-10 iterations, 32 -> 28 tangents, 79 -> 72 forces, 6 -> 2
+  mode searches, 0.33 -> 0.26 s CPU;
+- heavy cantilever, 10 cells: 25-9-8 and a cut (92 tangents) -> 26-9-7, no cut (42),
+  0.73 -> 0.31 s;
+- heavy cantilever, 20 cells: 30-11-8 (49 tangents) -> 25-9-8 (42), 0.49 -> 0.36 s;
+- heavy cantilever, 40 cells: 47-27-19 (93 tangents) -> 49-11-9 (69), 3.75 -> 0.98 s.
+
+The first increment (from the flat strip) stays at 25-49 iterations and Peirce's at 9-10: not
+the 3-6 of the Mindlin strips; docs/theory.md §6.5 says what was measured and not kept.
 
 Run: python benchmarks/fibrous_newton.py [--repeat 3]
 """

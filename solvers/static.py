@@ -175,7 +175,8 @@ class Static:
         Peirce's strip). The residual is untouched, so the equilibrium is the same; near it
         (and at every converged state whose stability is judged) the tangent is exact.
         Peirce's fibrous cantilever 7-14-11 -> 9-9-10 iterations, the fibrous heavy
-        cantilever 30-11-8 -> 26-9-8. Counted in ``info["compression_free_tangents"]``.
+        cantilever 30-11-8 -> 25-9-8 (benchmarks/fibrous_newton.py). Counted in
+        ``info["compression_free_tangents"]``.
     follow_tools : load path: start each increment with the nodes that touch a moving tool
         (and no tool that stays) carried by the tool's prescribed translation over the
         increment (default False): otherwise the tool stands where the increment puts it from
