@@ -265,7 +265,14 @@ def _iterate(
                 "the buckling mode",
                 force=True,
             )
-        k_ff, k_fp = tangent if tangent is not None else run.tangent(state, frames)
+        if tangent is None:
+            # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
+            # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
+            # stability is judged, the tangent is exact.
+            slack = 0.0 < solver.compression_free < ratio
+            run.info["compression_free_tangents"] += int(slack)
+            tangent = run.tangent(state, frames, slack)
+        k_ff, k_fp = tangent
         rhs = r.ravel()[index]
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
@@ -546,11 +553,15 @@ class Tangent:
         self.assemble = FreeTangentAssembler(model.dofs)
         self.graph = model.node_graph(others) if others else None
 
-    def __call__(self, state: State, frames: Frames):
+    def __call__(self, state: State, frames: Frames, compression_free: bool = False):
+        """(K_ff, K_fp) at ``state``; ``compression_free``: the fibrous blocks' tangent with
+        their fibres' compression left out of its stress terms (docs/theory.md §6.5)."""
         model, dofs = self.model, self.model.dofs
         parts: list[TangentPart] | None
-        if self.first is not None and state is self.first[0]:
+        if self.first is not None and state is self.first[0] and not compression_free:
             parts = [part for i in self.own for part in self.first[1][i]]
+        elif compression_free:
+            parts = compression_free_parts(model, state, self.own)
         else:
             parts = model.tangent_parts(state, self.own)
         if parts is None:
@@ -565,6 +576,26 @@ class Tangent:
             k_ff = (k_ff + k[free][:, free]).tocsc()
             k_fp = k_fp + k[free][:, moved]
         return k_ff, k_fp
+
+
+def compression_free_parts(
+    model: CompiledModel, state: State, own: list[int]
+) -> list[TangentPart] | None:
+    """``model.tangent_parts(state, own)`` with the compression-free tangent of the blocks
+    that offer one (a true class attribute ``compression_free_tangent``: the fibrous shell,
+    elements/fibrous/tangent.py; docs/theory.md §6.5)."""
+    histories = state.history if len(state.history) == len(model.parts) else None
+    parts: list[TangentPart] = []
+    for i in own:
+        block: Any = model.parts[i]
+        if not getattr(block, "compression_free_tangent", False):
+            given = model.tangent_parts(state, [i])
+        else:
+            given = block.tangent(state, histories and histories[i], compression_free=True)
+        if given is None:
+            return None
+        parts.extend(given)
+    return parts
 
 
 class Watchdog:

@@ -167,6 +167,16 @@ class Static:
         MindlinShell(fabric) in 4-5-5 iterations (8-12-12 without). Counted in
         ``info["fibre_projections"]`` (steps) and ``info["fibre_projection_sweeps"]``; not with
         contact or other interactions.
+    compression_free : the residual ratio above which an iteration's tangent leaves the
+        fibres' compression out of the fibrous shell's stress terms (default 1e-2; 0: never;
+        docs/theory.md §6.5): far from equilibrium a step's remainder compresses fibres whose
+        stiffness is thousands of times the bending's, and the geometric stiffness of that
+        spurious compression makes the tangent indefinite (75 negative eigenvalues on
+        Peirce's strip). The residual is untouched, so the equilibrium is the same; near it
+        (and at every converged state whose stability is judged) the tangent is exact.
+        Peirce's fibrous cantilever 7-14-11 -> 9-9-10 iterations, the fibrous heavy
+        cantilever 30-11-8 -> 25-9-8 (benchmarks/fibrous_newton.py). Counted in
+        ``info["compression_free_tangents"]``.
     follow_tools : load path: start each increment with the nodes that touch a moving tool
         (and no tool that stays) carried by the tool's prescribed translation over the
         increment (default False): otherwise the tool stands where the increment puts it from
@@ -215,6 +225,7 @@ class Static:
         chords: int = 1,
         curved: bool = True,
         fibre_projection: bool = True,
+        compression_free: float = 1e-2,
         follow_tools: bool = False,
         follow_tools_after_cut: bool = False,
         progress: bool | None = None,
@@ -245,6 +256,9 @@ class Static:
         self.chords = check_integer(chords, "chords", minimum=0)
         self.curved = check_flag(curved, "curved")
         self.fibre_projection = check_flag(fibre_projection, "fibre_projection")
+        self.compression_free = check_non_negative(
+            compression_free, "compression_free", "a residual ratio"
+        )
         self.follow_tools = check_flag(follow_tools, "follow_tools")
         self.follow_tools_after_cut = check_flag(follow_tools_after_cut, "follow_tools_after_cut")
         self.seek_stable = check_flag(seek_stable, "seek_stable")
@@ -469,6 +483,7 @@ class StaticRun:
             "curved_steps": 0,
             "fibre_projections": 0,
             "fibre_projection_sweeps": 0,
+            "compression_free_tangents": 0,
             "mode_searches": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
@@ -557,11 +572,11 @@ class StaticRun:
             energy += self.dashpots.energy(state)
         return energy
 
-    def tangent(self, state: State, frames: Frames):
+    def tangent(self, state: State, frames: Frames, compression_free: bool = False):
         """(K_ff, K_fp) at ``state``, the dashpots' diagonal added in a stabilised
-        increment."""
+        increment; ``compression_free``: that of solvers.newton.Tangent."""
         self.counts["tangent"] += 1
-        k_ff, k_fp = self._tangent(state, frames)
+        k_ff, k_fp = self._tangent(state, frames, compression_free)
         if self.dashpots is not None:
             diagonal = self.dashpots.diagonal(self.model.dofs.free_slots)
             k_ff = (k_ff + sp.diags(diagonal, format="csc")).tocsc()

@@ -278,11 +278,19 @@ class FibrousShellBlock(ElementBlock):
     def strain_energy(self, state: State, history=None) -> float:
         return float(sum(self.strain_energy_parts(state).values()))
 
-    def tangent(self, state: State, history=None) -> list[TangentPart]:
+    # The static solver may ask for the compression-free tangent of its iterates far from
+    # equilibrium (solvers.newton.compression_free_parts, docs/theory.md §6.5).
+    compression_free_tangent = True
+
+    def tangent(
+        self, state: State, history=None, compression_free: bool = False
+    ) -> list[TangentPart]:
         """Stiffness of tension + shear and of bending (tangent.py ``tangent``): with nodal
         normals a sparse matrix and the bending patches, closed form; with element normals
-        each cell's tension + shear by central differences of its loads."""
-        return stiffness.tangent(self, state)
+        each cell's tension + shear by central differences of its loads.
+        ``compression_free``: the tension's stress terms with the fibres' strains raised to
+        at least zero (tangent.py ``membrane_hessian``)."""
+        return stiffness.tangent(self, state, compression_free)
 
     def tangent_pieces(self, state: State, history=None) -> Iterator[TangentPart]:
         """``tangent`` a slice of cells at a time (tangent_pieces.py): with nodal normals the

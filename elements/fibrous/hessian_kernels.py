@@ -145,11 +145,12 @@ def _add_level(hz, half, h_w):
 def _hessian_cells(
     x, v, sums, thickness, guard, zeta, weights, reference_area, reference_length1,
     reference_length2, shear_sign, reference_shear, xi_is_warp, law_integers, law_reals,
-    variation, column_rows, column_count, out, d_sums,
+    variation, compression_free, column_rows, column_count, out, d_sums,
 ):  # fmt: skip
     """out (m, 27, 27): each cell's Hessian in (x, psi, S) per corner (tangent.py
     ``membrane_hessian``), d_sums (m, 3, 3): dW/dS_k; x, v, sums (m, 3, 3) the corners,
-    directors and nodal normal sums S_k."""
+    directors and nodal normal sums S_k. ``compression_free``: the tensions of the stress
+    terms at the strains raised to at least zero (tangent.py ``membrane_hessian``)."""
     m = x.shape[0]
     levels = zeta.shape[0]
     for cell in prange(m):
@@ -212,8 +213,12 @@ def _hessian_cells(
             gamma = (
                 shear_sign[cell] * math.asin(min(max(cos12, -1.0), 1.0)) - reference_shear[cell, f]
             )
-            t1 = law_value(law_integers, law_reals, law1, eps1)
-            t2 = law_value(law_integers, law_reals, law2, eps2)
+            if compression_free:  # the stress terms of a slack fibre (tangent.py)
+                t1 = law_value(law_integers, law_reals, law1, max(eps1, 0.0))
+                t2 = law_value(law_integers, law_reals, law2, max(eps2, 0.0))
+            else:
+                t1 = law_value(law_integers, law_reals, law1, eps1)
+                t2 = law_value(law_integers, law_reals, law2, eps2)
             moment = shear_sign[cell] * law_value(law_integers, law_reals, 2, gamma)
             # The layer loads P_a = dW/dg_a and dW/dn (membrane.py ``layer_loads``).
             kappa1 = scale * t1 / fibre1**2
@@ -461,12 +466,17 @@ def _director_second(
 
 
 def membrane_hessians(
-    block, x: np.ndarray, v: np.ndarray, sums: np.ndarray, cells: slice = slice(None)
+    block,
+    x: np.ndarray,
+    v: np.ndarray,
+    sums: np.ndarray,
+    cells: slice = slice(None),
+    compression_free: bool = False,
 ):
-    """``tangent.membrane_hessian(block, x, v, sums)`` by the compiled loop: the cells'
-    Hessians (m, 3, 9, 3, 9) in (x, psi, S) per corner (N/mm, N, N mm and per unit of S) and
-    dW/dS_k (m, 3, 3), N mm; x, v, sums (m, 3, 3) the corners, directors and normal sums
-    (nodal normals) of the block's ``cells`` (a slice of them, all by default)."""
+    """``tangent.membrane_hessian(block, x, v, sums, compression_free)`` by the compiled
+    loop: the cells' Hessians (m, 3, 9, 3, 9) in (x, psi, S) per corner (N/mm, N, N mm and per
+    unit of S) and dW/dS_k (m, 3, 3), N mm; x, v, sums (m, 3, 3) the corners, directors and
+    normal sums (nodal normals) of the block's ``cells`` (a slice of them, all by default)."""
     m = len(x)
     out = np.empty((m, 27, 27))
     d_sums = np.empty((m, 3, 3))
@@ -488,6 +498,7 @@ def membrane_hessians(
         integers,
         reals,
         bool(block.thickness_variation),
+        bool(compression_free),
         _COLUMN_ROWS,
         _COLUMN_COUNT,
         out,
@@ -496,17 +507,28 @@ def membrane_hessians(
     return out.reshape(m, 3, 9, 3, 9), d_sums
 
 
-def pair_hessians(block, x: np.ndarray, v: np.ndarray, sums: np.ndarray, pairs, chunk=CHUNK):
-    """The cells' Hessians of ``membrane_hessians`` summed on the node pairs of ``pairs`` (a
-    CornerPairs pattern): (pairs, 9, 9), the numbers of ``pairs.hessian`` to the last bit,
-    and dW/dS_k (m, 3, 3). The cells ``chunk`` at a time, each chunk's Hessians summed before
-    the next is formed: 5.8 kB a cell of them held at once for a chunk, not for the block."""
+def pair_hessians(
+    block,
+    x: np.ndarray,
+    v: np.ndarray,
+    sums: np.ndarray,
+    pairs,
+    chunk=CHUNK,
+    compression_free: bool = False,
+):
+    """The cells' Hessians of ``membrane_hessians`` (with ``compression_free``) summed on the
+    node pairs of ``pairs`` (a CornerPairs pattern): (pairs, 9, 9), the numbers of
+    ``pairs.hessian`` to the last bit, and dW/dS_k (m, 3, 3). The cells ``chunk`` at a time,
+    each chunk's Hessians summed before the next is formed: 5.8 kB a cell of them held at
+    once for a chunk, not for the block."""
     m = len(x)
     h_blocks = np.zeros((pairs.n_pairs, 9, 9))
     d_sums = np.empty((m, 3, 3))
     for start in range(0, m, chunk):
         cells = slice(start, min(start + chunk, m))
-        hessian, d_sums[cells] = membrane_hessians(block, x[cells], v[cells], sums[cells], cells)
+        hessian, d_sums[cells] = membrane_hessians(
+            block, x[cells], v[cells], sums[cells], cells, compression_free
+        )
         pair_sums(pairs.slot[cells], hessian, pairs.n_pairs, h_blocks)
     return h_blocks, d_sums
 

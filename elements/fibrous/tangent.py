@@ -46,14 +46,21 @@ __all__ = [
 ]
 
 
-def tangent(block: FibrousShellBlock, state: State) -> list[TangentPart]:
+def tangent(
+    block: FibrousShellBlock, state: State, compression_free: bool = False
+) -> list[TangentPart]:
     """Stiffness of tension + shear and of bending (Eq. 37 differentiated, see bending.py
     ``tangent``). Tension + shear: with element normals each cell's own 18 x 18, by central
     differences of its loads, all cells at once; with nodal normals the sparse matrix of
-    ``nodal_membrane_tangent`` (closed form, as the bending)."""
+    ``nodal_membrane_tangent`` (closed form, as the bending).
+
+    compression_free : with nodal normals, the stress terms of the tension (those of T, not
+    of T') with each fibre's strain raised to at least zero (``membrane_hessian``): the
+    tangent of Newton's iterates far from equilibrium (solvers.newton, docs/theory.md §6.5).
+    The material terms T'(eps) are kept; element normals ignore the flag."""
     bend = bending.tangent(block, state.positions)
     if block.nodal_normals:
-        sparse, second = nodal_membrane_tangent(block, state)
+        sparse, second = nodal_membrane_tangent(block, state, compression_free)
         # The cell-local translation blocks join the bending patch's (its first 3 nodes).
         bend.blocks[:, :3, :, :3] += second
         return [sparse, bend]
@@ -86,7 +93,7 @@ def cell_gradient(
 
 
 def nodal_membrane_tangent(
-    block: FibrousShellBlock, state: State
+    block: FibrousShellBlock, state: State, compression_free: bool = False
 ) -> tuple[SparseTangent, np.ndarray]:
     """Exact stiffness of tension + shear with nodal normals (docs/theory.md §2.6): a sparse
     matrix over the nodes in 6 x 6 blocks and the cell-local translation blocks of the
@@ -100,7 +107,7 @@ def nodal_membrane_tangent(
 
     H and J are block sparse on the node pairs of the cells (``CornerPairs``, built once):
     their blocks are summed into that fixed pattern by one bincount each, and the product
-    is a BSR matrix with 6 x 6 blocks.
+    is a BSR matrix with 6 x 6 blocks. ``compression_free``: see ``membrane_hessian``.
     """
     conn = block.connectivity
     x = state.positions[conn]
@@ -110,7 +117,9 @@ def nodal_membrane_tangent(
     if (
         block.compiled and hessian_kernels.AVAILABLE
     ):  # the same numbers by the compiled loops (hessian_kernels.py, tangent_kernels.py)
-        h_blocks, d_sums = hessian_kernels.pair_hessians(block, x, v, sums, pairs)
+        h_blocks, d_sums = hessian_kernels.pair_hessians(
+            block, x, v, sums, pairs, compression_free=compression_free
+        )
         ds_dx = hessian_kernels.normal_share_jacobians(x, block.wall_nodes[conn])
         j_blocks = hessian_kernels.pair_sums(pairs.slot, ds_dx, pairs.n_pairs)
         pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
@@ -121,7 +130,7 @@ def nodal_membrane_tangent(
             )
         return SparseTangent(pairs.product(h_blocks, j_blocks)), second
 
-    hessian, d_sums = membrane_hessian(block, x, v, sums)  # (m, 3, 9, 3, 9), (m, 3, 3)
+    hessian, d_sums = membrane_hessian(block, x, v, sums, compression_free)
     h_ext = pairs.hessian(hessian)
     # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
     # corners of f.
@@ -136,7 +145,11 @@ def nodal_membrane_tangent(
 
 # ---------------------------------------------------------------------- the cells' Hessians
 def membrane_hessian(
-    block: FibrousShellBlock, x: np.ndarray, v: np.ndarray, sums: np.ndarray
+    block: FibrousShellBlock,
+    x: np.ndarray,
+    v: np.ndarray,
+    sums: np.ndarray,
+    compression_free: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """d(``cell_gradient``)/d(x, psi, S) of every cell (m, 3, 9, 3, 9), with nodal normals:
     row (corner, dW/dx | dW/dpsi | dW/dS), column (corner, x | psi | S); N/mm, N, N mm and
@@ -154,12 +167,28 @@ def membrane_hessian(
     gradient's own formulas (with ``thickness_variation=False``, of its moments without the
     h_m term), so this is what central differences of ``cell_gradient`` converge to, in a few
     batched products instead of 54 evaluations of it.
+
+    compression_free : the tension's stress terms (every term of T itself: the loads P_a
+    and dW/dn that the second derivatives of g, n and D are contracted with, and the -2 T of
+    d(T / l^2)) with each fibre's strain raised to at least zero; the material term T'(eps)
+    at the strain itself. Not the Hessian of W then, but the tangent that Newton's iterates
+    far from equilibrium use (docs/theory.md §6.5): there a step's remainder compresses
+    fibres whose stiffness is thousands of times the bending's, and their compression's
+    geometric stiffness makes the tangent indefinite. dW/dS (the second output) is then that
+    of the raised strains too.
     """
     geo = cell_geometry(block, x, v, True, sums)
     strain = strains(block, geo)
-    p1, p2, normal_load = layer_loads(block, geo, strain)
+    slack = strain
+    if compression_free:
+        slack = {
+            **strain,
+            "eps1": np.maximum(strain["eps1"], 0.0),
+            "eps2": np.maximum(strain["eps2"], 0.0),
+        }
+    p1, p2, normal_load = layer_loads(block, geo, slack)
     m = len(x)
-    h_w = _level_sums(block.zeta, level_hessians(block, geo, strain))
+    h_w = _level_sums(block.zeta, level_hessians(block, geo, strain, slack))
     jac, jac_rows = _variable_jacobians(block, geo)
     hessian = np.matmul(np.swapaxes(jac_rows, 1, 2), np.matmul(h_w, jac))
     hessian = hessian.reshape(m, 3, 9, 3, 9)
@@ -171,12 +200,16 @@ def membrane_hessian(
     return hessian, d_sums_gradient
 
 
-def level_hessians(block: FibrousShellBlock, geo: dict, strain: dict) -> np.ndarray:
+def level_hessians(
+    block: FibrousShellBlock, geo: dict, strain: dict, slack: dict | None = None
+) -> np.ndarray:
     """Each level's loads (P_1, P_2, dW/dn) of ``membrane.layer_loads`` differentiated in
-    (g_1, g_2, n): hz[m, f, out, i, in, j] (m, L, 3, 3, 3, 3), tension then shear."""
+    (g_1, g_2, n): hz[m, f, out, i, in, j] (m, L, 3, 3, 3, 3), tension then shear.
+    ``slack``: the strains of the tensions T in the stress terms (``membrane_hessian``;
+    default ``strain``)."""
     m, levels = len(geo["corners"]), block.zeta.size
     hz = np.zeros((m, levels, 3, 3, 3, 3))
-    _add_tension_hessians(block, geo, strain, hz)
+    _add_tension_hessians(block, geo, strain, hz, strain if slack is None else slack)
     _add_shear_hessians(block, geo, strain, hz)
     return hz
 
@@ -186,16 +219,20 @@ def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return a[..., :, None] * b[..., None, :]
 
 
-def _add_tension_hessians(block: FibrousShellBlock, geo: dict, strain: dict, hz: np.ndarray):
+def _add_tension_hessians(
+    block: FibrousShellBlock, geo: dict, strain: dict, hz: np.ndarray, slack: dict
+):
     """hz += the tension part of ``level_hessians``: P_a = A0 w T_a P g_a / l^2 and
-    dW/dn = -sum_a A0 w T_a (n . g_a) P g_a / l^2 (membrane.py ``layer_loads``)."""
+    dW/dn = -sum_a A0 w T_a (n . g_a) P g_a / l^2 (membrane.py ``layer_loads``); T_a at the
+    strains of ``slack``, T'_a at those of ``strain``."""
     eye = np.eye(3)
     scale = block.reference_area[:, None] * block.weights[None, :]  # A0 w_f, (m, L)
     n = geo["normal"][:, None, :]  # (m, 1, 3)
     warp, weft = by_family(block.xi_is_warp, strain["eps1"], strain["eps2"])
+    slack_warp, slack_weft = by_family(block.xi_is_warp, slack["eps1"], slack["eps2"])
     flag = block.xi_is_warp[:, None]
     fabric = block.fabric
-    value = fabric.tension.value(warp), fabric.tension_weft.value(weft)
+    value = fabric.tension.value(slack_warp), fabric.tension_weft.value(slack_weft)
     slope = fabric.tension.slope(warp), fabric.tension_weft.slope(weft)
     tensions = (
         (np.where(flag, value[0], value[1]), np.where(flag, slope[0], slope[1])),
