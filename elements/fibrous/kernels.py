@@ -170,6 +170,9 @@ def _cells_pass(
         law1, law2 = (0, 1) if warp_first else (1, 0)  # the tension laws along 0-1 and 0-2
         sign = shear_sign[c]
         tension_energy = shear_energy = 0.0
+        s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f dW/dg_a
+        a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f dW/dg_a
+        lx = ly = lz = 0.0  # dW/dn
         # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9): g_a = r_a +
         # zeta_f l_a, r_a = x_a - x_0 and l_a = (h_m^a V_a - h_m^0 V_0) / 2
         r1x, r1y, r1z = x1x - x0x, x1y - x0y, x1z - x0z
@@ -177,61 +180,35 @@ def _cells_pass(
         u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
         l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
         l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
-        # The dot products of g_1, g_2 and n at every level are polynomials in zeta_f of
-        # those of r_a, l_a and n, formed once (docs/theory.md §2.7)
-        r11 = r1x * r1x + r1y * r1y + r1z * r1z
-        r1l1 = 2.0 * (r1x * l1x + r1y * l1y + r1z * l1z)
-        l11 = l1x * l1x + l1y * l1y + l1z * l1z
-        r22 = r2x * r2x + r2y * r2y + r2z * r2z
-        r2l2 = 2.0 * (r2x * l2x + r2y * l2y + r2z * l2z)
-        l22 = l2x * l2x + l2y * l2y + l2z * l2z
-        r12 = r1x * r2x + r1y * r2y + r1z * r2z
-        rl12 = r1x * l2x + r1y * l2y + r1z * l2z + (l1x * r2x + l1y * r2y + l1z * r2z)
-        l12 = l1x * l2x + l1y * l2y + l1z * l2z
-        r1n = l1n = r2n = l2n = 0.0
-        if nodal:
-            r1n = r1x * nx + r1y * ny + r1z * nz
-            l1n = l1x * nx + l1y * ny + l1z * nz
-            r2n = r2x * nx + r2y * ny + r2z * nz
-            l2n = l2x * nx + l2y * ny + l2z * nz
-        # dW/dg_1 = A g_1 + B g_2 - D_1 n and dW/dg_2 = B g_1 + C g_2 - D_2 n at each
-        # level: their sums over the levels (weighted by 1, zeta_f, zeta_f^2) make the
-        # sums of dW/dg_a and of zeta_f dW/dg_a and dW/dn after the loop
-        sa = za = qa = sb = zb = qb = sc = zc = qc = 0.0
-        sd1 = zd1 = sd2 = zd2 = se = 0.0
         for f in range(levels):
             z = zeta[f]
+            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
+            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
             # squared lengths: the log strain is half the log of their ratio, and the shear
             # needs 1 / (|g1| |g2|) only (one root instead of four)
-            square1 = r11 + z * (r1l1 + z * l11)
-            square2 = r22 + z * (r2l2 + z * l22)
+            square1 = g1x * g1x + g1y * g1y + g1z * g1z
+            square2 = g2x * g2x + g2y * g2y + g2z * g2z
             if nodal:  # the lengths of g_a projected on the element's plane (theory §2.2)
-                q1 = r1n + z * l1n
-                q2 = r2n + z * l2n
-                fibre1 = square1 - q1 * q1
-                fibre2 = square2 - q2 * q2
+                q1 = g1x * nx + g1y * ny + g1z * nz
+                q2 = g2x * nx + g2y * ny + g2z * nz
+                e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
+                e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
+                fibre1 = e1x * e1x + e1y * e1y + e1z * e1z
+                fibre2 = e2x * e2x + e2y * e2y + e2z * e2z
             else:
                 q1 = q2 = 0.0
+                e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
                 fibre1, fibre2 = square1, square2
-            # 1 / l_a^2, 1 / L_a^2 (L_a the reference lengths), 1 / (|g1| |g2|) and
-            # 1 / (|g1| |g2| sin) by one division: |g1| |g2| sin = |g1 x g2|, whose square
-            # is |g1|^2 |g2|^2 - (g1 . g2)^2 (held above 1e-24 |g1|^2 |g2|^2: sin >= 1e-12)
+            # 1 / l_a^2 and 1 / L_a^2 (L_a the reference lengths) by one division
             reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
             reference1, reference2 = reference1 * reference1, reference2 * reference2
             fibres, references = fibre1 * fibre2, reference1 * reference2
-            squares = square1 * square2
-            dot = r12 + z * (rl12 + z * l12)
-            root = np.sqrt(squares)  # |g1| |g2|
-            sine_root = np.sqrt(max(squares - dot * dot, 1e-24 * squares))  # |g1 x g2|
-            both = fibres * references
-            over_all = 1.0 / (both * root * sine_root)
-            over = over_all * root * sine_root  # 1 / (l_1^2 l_2^2 L_1^2 L_2^2)
-            inverse = over_all * both * sine_root  # 1 / (|g1| |g2|)
-            over_sine = over_all * both * root  # 1 / (|g1| |g2| sin)
+            over = 1.0 / (fibres * references)
             over_fibre1, over_fibre2 = fibre2 * references * over, fibre1 * references * over
             eps1 = 0.5 * np.log(fibre1 * (fibres * reference2 * over))
             eps2 = 0.5 * np.log(fibre2 * (fibres * reference1 * over))
-            cos = dot * inverse
+            inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
+            cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
             gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
             w = a0 * weights[f]  # A0 w_f
             if with_energy:
@@ -242,50 +219,39 @@ def _cells_pass(
                 shear_energy += w * law_energy(law_integers, law_reals, 2, gamma)
             if not with_forces:
                 continue
-            # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 = k_a (g_a - q_a n) (P g
-            # = g without nodal normals), and dW/dn = -sum k_a q_a P g_a
+            # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal
+            # normals)
             k1 = w * law_value(law_integers, law_reals, law1, eps1) * over_fibre1
             k2 = w * law_value(law_integers, law_reals, law2, eps2) * over_fibre2
+            p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
+            p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
+            lx -= k1 * q1 * e1x + k2 * q2 * e2x
+            ly -= k1 * q1 * e1y + k2 * q2 * e2y
+            lz -= k1 * q1 * e1z + k2 * q2 * e2z
             # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|),
-            # t1 / |g1| = (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise:
-            # with M_s' = A0 w_f sign M_s / (|g1| |g2| sin), M_s' (g2 - cos |g2| / |g1| g1)
-            b = w * sign * law_value(law_integers, law_reals, 2, gamma) * over_sine
-            c1 = b * cos * inverse  # cos / (|g1| |g2|): times |g2|^2 and |g1|^2
-            a = k1 - c1 * square2
-            cc = k2 - c1 * square1
-            d1, d2 = k1 * q1, k2 * q2
-            za_, zb_, zc_ = z * a, z * b, z * cc
-            sa += a
-            za += za_
-            qa += z * za_
-            sb += b
-            zb += zb_
-            qb += z * zb_
-            sc += cc
-            zc += zc_
-            qc += z * zc_
-            sd1 += d1
-            zd1 += z * d1
-            sd2 += d2
-            zd2 += z * d2
-            se += d1 * q1 + d2 * q2
-        # sum_f dW/dg_a (s_a) and sum_f zeta_f dW/dg_a (a_a) from g_a = r_a + zeta_f l_a
-        s1x = sa * r1x + za * l1x + sb * r2x + zb * l2x - sd1 * nx
-        s1y = sa * r1y + za * l1y + sb * r2y + zb * l2y - sd1 * ny
-        s1z = sa * r1z + za * l1z + sb * r2z + zb * l2z - sd1 * nz
-        s2x = sb * r1x + zb * l1x + sc * r2x + zc * l2x - sd2 * nx
-        s2y = sb * r1y + zb * l1y + sc * r2y + zc * l2y - sd2 * ny
-        s2z = sb * r1z + zb * l1z + sc * r2z + zc * l2z - sd2 * nz
-        a1x = za * r1x + qa * l1x + zb * r2x + qb * l2x - zd1 * nx
-        a1y = za * r1y + qa * l1y + zb * r2y + qb * l2y - zd1 * ny
-        a1z = za * r1z + qa * l1z + zb * r2z + qb * l2z - zd1 * nz
-        a2x = zb * r1x + qb * l1x + zc * r2x + qc * l2x - zd2 * nx
-        a2y = zb * r1y + qb * l1y + zc * r2y + qc * l2y - zd2 * ny
-        a2z = zb * r1z + qb * l1z + zc * r2z + qc * l2z - zd2 * nz
-        # dW/dn = -sum_f (k_1 q_1 (g_1 - q_1 n) + k_2 q_2 (g_2 - q_2 n))
-        lx = se * nx - (sd1 * r1x + zd1 * l1x + sd2 * r2x + zd2 * l2x)
-        ly = se * ny - (sd1 * r1y + zd1 * l1y + sd2 * r2y + zd2 * l2y)
-        lz = se * nz - (sd1 * r1z + zd1 * l1z + sd2 * r2z + zd2 * l2z)
+            # t1 / |g1| = (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise
+            sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
+            shear_moment = w * sign * law_value(law_integers, law_reals, 2, gamma) / sin
+            c1 = cos * inverse * inverse  # cos / (|g1| |g2|)^2: cos / |g1|^2 and cos / |g2|^2
+            c1, c2 = c1 * square2, c1 * square1
+            p1x += shear_moment * (g2x * inverse - c1 * g1x)
+            p1y += shear_moment * (g2y * inverse - c1 * g1y)
+            p1z += shear_moment * (g2z * inverse - c1 * g1z)
+            p2x += shear_moment * (g1x * inverse - c2 * g2x)
+            p2y += shear_moment * (g1y * inverse - c2 * g2y)
+            p2z += shear_moment * (g1z * inverse - c2 * g2z)
+            s1x += p1x
+            s1y += p1y
+            s1z += p1z
+            s2x += p2x
+            s2y += p2y
+            s2z += p2z
+            a1x += z * p1x
+            a1y += z * p1y
+            a1z += z * p1z
+            a2x += z * p2x
+            a2y += z * p2y
+            a2z += z * p2z
         if with_energy:
             energy[c, 0], energy[c, 1] = tension_energy, shear_energy
         if with_forces:
