@@ -224,6 +224,34 @@ def _peak_child(name: str, triangles: int, steps: int) -> None:
     )
 
 
+def fresh_build(name: str, triangles: int) -> str:
+    """The CPU and wall seconds of ``Model.compile`` of the sheet in a fresh process (one
+    thread), the loops compiled or loaded on a small sheet first: its line of figures."""
+    script = (
+        "import sys; sys.path.insert(0, 'benchmarks'); import explicit_step as b;"
+        f"b._build_child({name!r}, {triangles})"
+    )
+    root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_NUM_THREADS": "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True
+    )
+    if out.returncode != 0:
+        raise RuntimeError(out.stderr[-2000:])
+    return out.stdout.strip().splitlines()[-1]
+
+
+def _build_child(name: str, triangles: int) -> None:
+    """``fresh_build`` inside its fresh process: prints the build's seconds."""
+    sheet(name, "compiled", 200)  # the loops compiled or loaded from the cache
+    compiled, build, memory = sheet(name, "compiled", triangles)
+    elements = sum(len(block.connectivity) for block in compiled.blocks)
+    print(
+        f"{name} {elements:>8d} triangles: build {build[0]:.2f} s wall, {build[1]:.2f} s CPU, "
+        f"+{memory:.0f} MB resident; load {os.getloadavg()[0]:.2f}"
+    )
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--element", choices=("mindlin", "fibrous"), default="mindlin")
@@ -241,7 +269,14 @@ def main(argv=None) -> None:
         help="only the peak memory and build of a run with the solver's own step, a fresh "
         "process per size",
     )
+    parser.add_argument(
+        "--build", action="store_true", help="only the build, a fresh process per size"
+    )
     args = parser.parse_args(argv)
+    if args.build:
+        for size in [int(s) for s in args.sizes.split(",")]:
+            print(fresh_build(args.element, size), flush=True)
+        return
     if args.memory:
         for size in [int(s) for s in args.sizes.split(",")]:
             print(fresh_peak(args.element, size, args.steps), flush=True)
