@@ -67,7 +67,10 @@ def fibre_lengths(block: FibrousShellBlock, geo: dict) -> tuple[np.ndarray, np.n
     if not block.nodal_normals:
         return row_norm(geo["g1"]), row_norm(geo["g2"])
     n = geo["normal"][:, None, :]
-    return tuple(row_norm(g - row_dot(g, n)[..., None] * n) for g in (geo["g1"], geo["g2"]))
+    g1, g2 = geo["g1"], geo["g2"]
+    return row_norm(g1 - row_dot(g1, n)[..., None] * n), row_norm(
+        g2 - row_dot(g2, n)[..., None] * n
+    )
 
 
 def strains(block: FibrousShellBlock, geo: dict) -> dict:
