@@ -69,8 +69,9 @@ The fibrous build (``--build``: ``Model.compile`` of the sheet alone in a fresh 
 thread, the loops compiled on a small sheet first), on the 2-core AMD EPYC machine, CPU time,
 before (main 40ae4af, a second checkout) and after, the same construction timed in turns in
 fresh processes, three rounds at a load of 2.7-2.9: 400k triangles 3.78-3.91 s -> 2.47-2.53 s
-(an earlier pair at a load of 5-6, without the reference geometry's change below: 2.96 -> 1.56 s); ``--build`` itself after: 0.62 s at
-100k, 2.40 s at 400k (3.66 s wall, load 5). What went: the fibre frame of each cell by one
+(an earlier pair at a load of 5-6, without the reference geometry's change below: 2.96 ->
+1.56 s); ``--build`` itself after: 0.62 s at 100k, 2.40 s at 400k (3.66 s wall, load 5).
+What went: the fibre frame of each cell by one
 compiled loop (elements/fibrous/fibre_kernels.py; the numpy order forms some thirty (m, 3)
 temporaries) 0.47-0.62 -> 0.03 s, and the shear signs 0.15 -> 0.004 s; the triangle checks
 on points and cells validated once (not once per check), repeated nodes and edge keys found
