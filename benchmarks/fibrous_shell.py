@@ -79,6 +79,23 @@ quotient instead of arctan2 and arcsin (force 0.997 of the library's, paired, 5k
 the library's arctan2 is as fast as its arctan inside the loops); numba's numpy error model
 (no zero test per division), within the noise.
 
+The level loop on scalars, measured and left out (no gain): the dot products of g_1, g_2
+and n formed once per cell as polynomials in zeta of those of r_a, l_a and n, the levels'
+loads kept as coefficients of g_1, g_2, n and turned into vectors once after the loop, and
+one division per level for 1 / l_a^2, 1 / (|g1| |g2|) and 1 / |g1 x g2|: paired in one
+process against the kernels of main 40ae4af, 100k triangles, one thread, CPU time, 30
+rounds in turns at a load of 3-4, force 0.994 of the previous (median), force and energy
+1.000, best 0.687 against 0.650 us per cell; the director moments moved by 4e-13 of the
+largest. On the AMD machine at that load, with the level loop above (cProfile of 60 steps
+at 100k, CPU time): the
+cells' pass 67 % of a step, the pulls 9 %, the normals 7 %, the rotational update 4 %, the
+nodal loads 3 %, the normal sums 3 %, the sums of dW/dS_k 2 %; a perf profile of the force:
+libm about 30 % of it (atan2 15 %, log 7 %, asin 5 %). benchmarks/explicit_step.py
+--element fibrous --sizes 100000 --repeats 3 on this tree and on main 40ae4af, one after
+the other (the same step), load 3.5-5.8: steady step 1.16 and 0.99 us of CPU, 4.0 and 3.5 x
+the reference pass (0.29 CPU; at a load of 6, earlier: 0.60, 3.4 x): the ratio is not met,
+and at these loads a run's CPU figures vary by a factor of two.
+
 Where a whole run's time goes, on the Intel machine at a load of 7-9, one thread, CPU time: a
 cProfile of ``CentralDifference`` over 200 steps at 30k (1.09 us per element-step): the cells'
 pass 63 %, the pulls' pass 9 %, the normals' pass 8 %, the rotational update and the motion

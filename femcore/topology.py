@@ -20,6 +20,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+from femcore.rotation import cross
+
 __all__ = [
     "Topology",
     "build_topology",
@@ -136,8 +138,12 @@ def validate_cells(
         raise ValueError(
             f"{kind} {cell} refers to node {arr[cell, local]}, but node ids must be {valid}"
         )
-    ordered = np.sort(arr, axis=1)
-    repeated = np.flatnonzero((ordered[:, 1:] == ordered[:, :-1]).any(axis=1))
+    # Each pair of columns compared (a cell has few nodes): no sort of the rows.
+    same = np.zeros(len(arr), dtype=bool)
+    for i in range(nodes_per_cell):
+        for j in range(i + 1, nodes_per_cell):
+            same |= arr[:, i] == arr[:, j]
+    repeated = np.flatnonzero(same)
     if repeated.size:
         cell = int(repeated[0])
         raise ValueError(
@@ -252,11 +258,11 @@ def _half_edges(tri: np.ndarray) -> tuple:
     half-edge (3m,), the half-edges of each edge, its first and second half-edges (-1 where
     it has one), base). ValueError for an edge of more than two triangles."""
     m = len(tri)
-    sides = np.sort(_directed_sides(tri), axis=2).reshape(-1, 2)  # half-edge h = 3 * t + s
+    start, end = tri[:, _SIDE_START].reshape(-1), tri[:, _SIDE_END].reshape(-1)  # h = 3 t + s
     # Encode each undirected edge as one integer so that one sort groups them; the key order
     # lo * base + hi is the lexicographic order of (lo, hi).
     base = int(tri.max()) + 1 if m else 1
-    keys = sides[:, 0] * base + sides[:, 1]
+    keys = np.minimum(start, end) * base + np.maximum(start, end)
     # One stable sort: the half-edges of an edge side by side, the smaller triangle id first.
     order = np.argsort(keys, kind="stable")
     ordered = keys[order]
@@ -376,10 +382,15 @@ def check_duplicate_nodes(points: ArrayLike, triangles: ArrayLike | None = None)
         Two duplicate nodes (the message names their ids and distance), or invalid input.
     """
     pts = validate_points(points)
-    if triangles is None:
+    cells = None if triangles is None else validate_cells(triangles, 3, "triangle", len(pts))
+    _check_duplicate_nodes(pts, cells)
+
+
+def _check_duplicate_nodes(pts: np.ndarray, cells: np.ndarray | None) -> None:
+    """check_duplicate_nodes on validated points (n, 3) and triangles (m, 3) or None."""
+    if cells is None:
         used = np.arange(len(pts))
     else:
-        cells = validate_cells(triangles, 3, "triangle", len(pts))
         used = np.flatnonzero(np.bincount(cells.ravel(), minlength=len(pts)))
     if used.size < 2:
         return
@@ -407,7 +418,7 @@ def check_duplicate_nodes(points: ArrayLike, triangles: ArrayLike | None = None)
 def _triangle_cross(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """(m, 3) cross product (x1 - x0) x (x2 - x0) = 2 x area x unit normal, per triangle."""
     x0, x1, x2 = (points[triangles[:, k]] for k in range(3))
-    return np.cross(x1 - x0, x2 - x0)
+    return cross(x1 - x0, x2 - x0)
 
 
 def check_zero_area(points: ArrayLike, triangles: ArrayLike) -> None:
@@ -428,7 +439,11 @@ def check_zero_area(points: ArrayLike, triangles: ArrayLike) -> None:
     ValueError
         Naming the first triangle with area <= the tolerance, or invalid input.
     """
-    pts, tri = _points_and_triangles(points, triangles)
+    _check_zero_area(*_points_and_triangles(points, triangles))
+
+
+def _check_zero_area(pts: np.ndarray, tri: np.ndarray) -> None:
+    """check_zero_area on validated points (n, 3) and triangles (m, 3)."""
     if len(tri) == 0:
         return
     area = 0.5 * np.linalg.norm(_triangle_cross(pts, tri), axis=1)
@@ -463,8 +478,9 @@ def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
     pts, tri = _points_and_triangles(points, triangles)
     # One grouping of the half-edges serves the manifold and the orientation checks.
     _check_orientation(tri, _half_edges(tri))
-    check_duplicate_nodes(pts, tri)
-    check_zero_area(pts, tri)
+    # The points and triangles validated once for all the checks.
+    _check_duplicate_nodes(pts, tri)
+    _check_zero_area(pts, tri)
 
 
 # --------------------------------------------------------------------------------------------
@@ -499,10 +515,13 @@ def nodal_normals(points: ArrayLike, triangles: ArrayLike) -> np.ndarray:
     pts, tri = _points_and_triangles(points, triangles)
     n = len(pts)
     # The cross product already carries the (doubled) area weight, so no division is needed.
-    weighted = np.repeat(_triangle_cross(pts, tri), 3, axis=0)  # one row per (triangle, node)
+    weighted = _triangle_cross(pts, tri)
     flat_nodes = tri.reshape(-1)
-    summed = np.column_stack(
-        [np.bincount(flat_nodes, weights=weighted[:, k], minlength=n) for k in range(3)]
+    summed = np.column_stack(  # one weight per (triangle, node), component by component
+        [
+            np.bincount(flat_nodes, weights=np.repeat(weighted[:, k], 3), minlength=n)
+            for k in range(3)
+        ]
     )
     norm = np.linalg.norm(summed, axis=1)
     out = np.zeros_like(summed)

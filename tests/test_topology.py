@@ -11,6 +11,7 @@ from femcore.topology import (
     check_triangles,
     check_zero_area,
     nodal_normals,
+    validate_cells,
 )
 
 # Side s of a triangle is opposite local node s (0-based): it joins these local nodes.
@@ -154,6 +155,18 @@ def test_invalid_connectivity_is_rejected():
         check_triangles([[0, 0], [1, 0], [0, 1]], [[0, 1, 5]])
     with pytest.raises(ValueError, match=r"triangle 0 is degenerate"):
         build_topology([[0, 1, 0]])
+
+
+@pytest.mark.parametrize("pair", [(0, 1), (1, 2), (0, 2)])
+def test_the_first_cell_that_repeats_a_node_is_named_whichever_corners_repeat(pair):
+    cells = np.array([[0, 1, 2], [1, 3, 2], [3, 4, 2], [4, 5, 2], [5, 6, 2]])
+    cells[4] = [7, 7, 7]
+    cells[3, pair[1]] = cells[3, pair[0]]
+    with pytest.raises(ValueError, match=r"triangle 3 is degenerate: it repeats a node"):
+        validate_cells(cells, 3, "triangle")
+    with pytest.raises(ValueError, match=r"line 1 is degenerate"):
+        validate_cells([[0, 1], [2, 2], [3, 3]], 2, "line")
+    validate_cells(cells[:3], 3, "triangle")  # no repeat: accepted
 
 
 # ---------------------------------------------------------------------------------------------

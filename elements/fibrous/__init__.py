@@ -27,7 +27,8 @@ The package, one concern per module:
 
 * element.py: the FibrousShell type (fabric, options, ``bind``) and ``lobatto_levels``;
 * block.py: FibrousShellBlock, the tables fixed at bind and the element protocol;
-* fibres.py: the fibre frame of each cell (Eq. 9) and the shear sign;
+* fibres.py: the fibre frame of each cell (Eq. 9) and the shear sign (fibre_kernels.py: the
+  same by compiled loops, for the build of large blocks);
 * geometry.py: normals, nodal normals, thickness along the directors (Eq. 10, 14, 15), the
   fibre vectors of the levels (Eq. 5, 8);
 * membrane.py: tension and in-plane shear at the levels (Eq. 21, 24-33);

@@ -108,6 +108,7 @@ class FibrousShellBlock(ElementBlock):
             self.cell_ids,
             shell.warp,
             shell.fibre_angle_tolerance,
+            compiled=self.compiled,
         )
         self.scatter = Scatter(self.connectivity, mesh.n_nodes)
         self.node_corners = node_kernels.NodeCorners(self.connectivity, mesh.n_nodes)
@@ -115,7 +116,7 @@ class FibrousShellBlock(ElementBlock):
         self.node_in_block[self.connectivity] = True
         self._pairs: CornerPairs | None = None  # the tangent's sparse pattern
         self.shear_sign = shear_orientation(
-            mesh.points, self.connectivity, self.xi_is_warp, shell.warp
+            mesh.points, self.connectivity, self.xi_is_warp, shell.warp, compiled=self.compiled
         )
 
         topology = build_topology(self.connectivity)

@@ -32,12 +32,27 @@ __all__ = [
     "geometry",
     "node_thickness",
     "normal_sums",
+    "row_dot",
+    "row_norm",
     "skew",
 ]
 
 # Side s of a triangle is opposite local node s and runs SIDE_FROM[s] -> SIDE_TO[s].
 SIDE_FROM = np.array([1, 2, 0])
 SIDE_TO = np.array([2, 0, 1])
+
+
+def row_dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a . b over the last axis (length 3), shape (...): np.sum(a * b, axis=-1) to the last
+    bit, its three products added in the same order, without a reduction over a short axis
+    (twice as fast on (m, 3) arrays)."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+
+
+def row_norm(a: np.ndarray) -> np.ndarray:
+    """|a| over the last axis (length 3), shape (...): np.linalg.norm(a, axis=-1) to the
+    last bit (``row_dot``)."""
+    return np.sqrt(row_dot(a, a))
 
 
 def geometry(
@@ -85,15 +100,15 @@ def cell_geometry(
     """``geometry`` from the corner positions x and directors v (m, 3, 3) of each cell and,
     with nodal normals, the normal sums S_k at its corners (m, 3, 3)."""
     normal = cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
-    double_area = np.linalg.norm(normal, axis=1)
+    double_area = row_norm(normal)
     normal /= double_area[:, None]
     extra = {}
     if sums is None:  # Eq. 15: each element's own normal
         cosine = np.matmul(v, normal[:, :, None])[..., 0]
     else:  # the nodal normals N_k = S_k / |S_k|
-        length = np.linalg.norm(sums, axis=-1)
+        length = row_norm(sums)
         node_normal = sums / length[..., None]
-        cosine = np.sum(v * node_normal, axis=-1)
+        cosine = row_dot(v, node_normal)
         extra = {"node_normal": node_normal, "normal_sum_length": length}
     h_m, guarded = guarded_thickness(block.fabric.thickness, cosine)  # Eq. 10 / 14
     geo = {

@@ -23,7 +23,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements.fibrous.fibres import by_family
-from elements.fibrous.geometry import corner_normal_pull, cross_product_pull, free_sums
+from elements.fibrous.geometry import (
+    corner_normal_pull,
+    cross_product_pull,
+    free_sums,
+    row_dot,
+    row_norm,
+)
 from femcore.rotation import cross
 
 if TYPE_CHECKING:
@@ -42,7 +48,7 @@ __all__ = [
 
 def shear_angle(g1: np.ndarray, g2: np.ndarray) -> np.ndarray:
     """gamma = pi/2 - angle(g1, g2) (Eq. 21), rad; > 0 when the warp-weft angle closes."""
-    c = np.sum(g1 * g2, axis=-1) / (np.linalg.norm(g1, axis=-1) * np.linalg.norm(g2, axis=-1))
+    c = row_dot(g1, g2) / (row_norm(g1) * row_norm(g2))
     return np.arcsin(np.clip(c, -1.0, 1.0))
 
 
@@ -59,11 +65,11 @@ def fibre_lengths(block: FibrousShellBlock, geo: dict) -> tuple[np.ndarray, np.n
     (in-plane shear of the levels) still count in full.
     """
     if not block.nodal_normals:
-        return np.linalg.norm(geo["g1"], axis=-1), np.linalg.norm(geo["g2"], axis=-1)
+        return row_norm(geo["g1"]), row_norm(geo["g2"])
     n = geo["normal"][:, None, :]
-    return tuple(
-        np.linalg.norm(g - np.sum(g * n, axis=-1, keepdims=True) * n, axis=-1)
-        for g in (geo["g1"], geo["g2"])
+    g1, g2 = geo["g1"], geo["g2"]
+    return row_norm(g1 - row_dot(g1, n)[..., None] * n), row_norm(
+        g2 - row_dot(g2, n)[..., None] * n
     )
 
 

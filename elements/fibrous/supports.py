@@ -111,8 +111,7 @@ def apply_supports(block: FibrousShellBlock, held: np.ndarray) -> None:
     set_sides(block, held | block.requested_clamp)
     # A held node stays where it was: its nodal normal is the wall's, the reference one,
     # not the mean of the cells that bend away from it (docs/theory.md §1.4).
-    wall = np.zeros_like(held)
-    wall[np.unique(connectivity)] = True
+    wall = block.node_in_block
     block.wall_nodes = np.zeros_like(held)  # the reference sums with no wall yet
     block.reference_sums = geometry.normal_sums(block, block.reference_points)
     block.wall_nodes = wall & (held | block.requested_clamp)
