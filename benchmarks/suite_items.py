@@ -12,8 +12,10 @@ one process on numba's warm cache (run it twice in a fresh checkout: the first p
 Measured (one numba and BLAS thread, 2 cores shared with other jobs, load 4.2): the pull
 0.96 s of CPU along the arc length (10 + 1 increments, 4 Newton iterations each) against
 0.31 s by the load path (4 increments, 3 iterations each), errors 1.78e-4 (A) and 1.25e-4
-(B) for both; one forming run 5.2 s (the module's 6 runs 30.9 s, 4 runs 20.6 s). Side by side in one pytest process (load 2.8-3.9): the bias module 2.13 s of CPU
-old, 0.88 s new; the forming module 28.0 s old, 21.4 s new (one run 5.2-5.4 s).
+(B) for both; one forming run 5.2 s (the module's 6 runs 30.9 s, 4 runs 20.6 s). Side by
+side in one pytest process (load 2.8-3.9): the bias module 2.13 s of CPU old, 0.88 s new;
+the forming module 28.0 s old, 21.4 s new; the rotated sliding plate of tests/test_contact.py
+7.3 s over 1 ms, 3.6 s over 0.5 ms (load 3.7).
 
 Where the time of these items goes in a fresh checkout is numba's compilation, not the
 tests: the augmented-contact plate (tests/test_augmented_contact.py, first test) took 114.3 s
