@@ -5,6 +5,7 @@ run identical to the last bit to one without them; so does the compiled contact 
 analytic tools (elements/tool_contact.py) against the numpy formulas."""
 
 import numpy as np
+import pytest
 
 from elements.contact import ContactBlock
 from elements.tools import RigidSurface
@@ -20,10 +21,21 @@ def formed():
     return result.frames[-1].positions, result.tool_forces
 
 
-def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_memory(
-    monkeypatch,
-):
+@pytest.fixture(scope="module")
+def with_shortcuts():
+    """``formed()`` with every shortcut on, run once for the three comparisons (set up
+    before any test's monkeypatch): its arrays read-only, so that no test alters the
+    reference of the others."""
     positions, forces = formed()
+    positions.setflags(write=False)
+    forces.setflags(write=False)
+    return positions, forces
+
+
+def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_memory(
+    monkeypatch, with_shortcuts
+):
+    positions, forces = with_shortcuts
     assert np.abs(forces[-1]).max() > 1.0  # the tools pressed the blank
 
     searched = RigidSurface._from_candidates
@@ -45,20 +57,22 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_mem
 
 
 def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the_punch_and_holder(
-    monkeypatch,
+    monkeypatch, with_shortcuts
 ):
     """The compiled pass of the punch (a sphere) and the holder (a ring along z)
     (elements/tool_contact.py) against ContactBlock's numpy formulas over a whole run."""
     from elements import tool_contact
 
-    positions, forces = formed()
+    positions, forces = with_shortcuts
     monkeypatch.setattr(tool_contact, "compiled_pass_applies", lambda *args: False)
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)
 
 
-def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_were(monkeypatch):
+def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_were(
+    monkeypatch, with_shortcuts
+):
     """The die's candidate lists searched again in batches (REBUILD_SHARE) and each node's
     nearest facet kept while it cannot change (KEEP_NEAREST, elements/facet_search.py)
     against the lists searched again node by node past the margin and scanned at every
@@ -66,7 +80,7 @@ def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_w
     that depends on when they were searched, touch nothing)."""
     from elements import tools
 
-    positions, forces = formed()
+    positions, forces = with_shortcuts
     assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST
     monkeypatch.setattr(tools, "REBUILD_SHARE", 1.0)
     monkeypatch.setattr(tools, "KEEP_NEAREST", False)
