@@ -1,6 +1,6 @@
 """Newton iterations of Static on the fibrous strips: the compression-free tangent far from
-equilibrium (``Static(compression_free=1e-2)``, the default; docs/theory.md §6.5) against the
-exact tangent at every iterate (``compression_free=0``, the solver before it).
+equilibrium (``Static(compression_free=1e-2)``, an option, off by default; docs/theory.md
+§6.5) against the exact tangent at every iterate (``compression_free=0``, the default).
 
 1. Peirce's cantilever of the fibrous shell (the G986 stack, the overhang whose chord dips
    41.5 deg, 20 x 1 cells, 3 increments; benchmarks/static_solver.py line 6).

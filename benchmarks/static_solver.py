@@ -99,9 +99,9 @@ Newton iterations 4-4-4-4, 16 tangents and 43 / 48 residuals. Peirce fibrous (li
 triangles) 0.29 -> 0.32 s, one run each (its 32 tangents of 40 cells are not what it spends).
 
 The fibrous figures above were measured before the compression-free tangent of the iterates
-far from equilibrium (``Static(compression_free=1e-2)``, the default since; docs/theory.md
-§6.5), i.e. as ``compression_free=0`` gives them now; with it line 6's fibrous strip takes
-9-9-10 iterations (28 tangents) and the heavy cantilever 25-9-8, the same tips
+far from equilibrium (``Static(compression_free=1e-2)``, an option, off by default;
+docs/theory.md §6.5), i.e. as ``compression_free=0`` gives them; with it line 6's fibrous
+strip takes 9-9-10 iterations (28 tangents) and the heavy cantilever 25-9-8, the same tips
 (benchmarks/fibrous_newton.py, both side by side).
 
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]

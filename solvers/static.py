@@ -167,15 +167,16 @@ class Static:
         MindlinShell(fabric) in 4-5-5 iterations (8-12-12 without). Counted in
         ``info["fibre_projections"]`` (steps) and ``info["fibre_projection_sweeps"]``; not with
         contact or other interactions.
-    compression_free : the residual ratio above which an iteration's tangent leaves the
-        fibres' compression out of the fibrous shell's stress terms (default 1e-2; 0: never;
-        docs/theory.md §6.5): far from equilibrium a step's remainder compresses fibres whose
-        stiffness is thousands of times the bending's, and the geometric stiffness of that
-        spurious compression makes the tangent indefinite (75 negative eigenvalues on
-        Peirce's strip). The residual is untouched, so the equilibrium is the same; near it
-        (and at every converged state whose stability is judged) the tangent is exact.
-        Peirce's fibrous cantilever 7-14-11 -> 9-9-10 iterations, the fibrous heavy
-        cantilever 30-11-8 -> 25-9-8 (benchmarks/fibrous_newton.py). Counted in
+    compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
+        compression out of the fibrous shell's stress terms (default 0: never; 1e-2 for the fibrous
+        strips below; docs/theory.md §6.5): far from equilibrium a step's remainder compresses
+        fibres whose stiffness is thousands of times the bending's, and the geometric stiffness of
+        that spurious compression makes the tangent indefinite (75 negative eigenvalues on Peirce's
+        strip). The residual is untouched, so the equilibrium is the same; near it (and at every
+        converged state whose stability is judged) the tangent is exact. Peirce's fibrous cantilever
+        7-14-11 -> 9-9-10 iterations, the fibrous heavy cantilever 30-11-8 -> 25-9-8
+        (benchmarks/fibrous_newton.py). Off by default: with contact, the 12-cell hemisphere drape
+        (tests/test_hemisphere_static.py) converges but with 6 cuts instead of 2. Counted in
         ``info["compression_free_tangents"]``.
     follow_tools : load path: start each increment with the nodes that touch a moving tool
         (and no tool that stays) carried by the tool's prescribed translation over the
@@ -225,7 +226,7 @@ class Static:
         chords: int = 1,
         curved: bool = True,
         fibre_projection: bool = True,
-        compression_free: float = 1e-2,
+        compression_free: float = 0.0,
         follow_tools: bool = False,
         follow_tools_after_cut: bool = False,
         progress: bool | None = None,

@@ -124,8 +124,8 @@ def test_peirce_fibrous_cantilever_converges_in_at_most_ten_iterations_per_incre
     overhang = peirce_overhang(fabric.areal_density * specimens.GRAVITY, fabric.bending)
     mesh, model = specimens.fibrous_strip(overhang["overhang"], 10.0, fabric, 20)
     compiled = model.compile()
-    result = Static(increments=3).solve(compiled)
-    exact = Static(increments=3, compression_free=0.0).solve(compiled)
+    result = Static(increments=3, compression_free=1e-2).solve(compiled)
+    exact = Static(increments=3).solve(compiled)  # off by default
     assert max(result.info["iterations_per_increment"]) <= 10
     assert result.info["compression_free_tangents"] > 0
     assert exact.info["compression_free_tangents"] == 0
