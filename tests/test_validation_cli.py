@@ -161,7 +161,7 @@ def _record_submissions(monkeypatch) -> list[str]:
     submitted: list[str] = []
 
     class Pool:
-        def __init__(self, jobs, mp_context):
+        def __init__(self, jobs, mp_context, initializer=None, initargs=()):
             self.jobs = jobs
 
         def __enter__(self):
