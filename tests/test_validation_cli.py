@@ -159,6 +159,7 @@ def _record_submissions(monkeypatch) -> list[str]:
     """Replace the report's worker pool by one that records the names of the cases it is
     given, in order, and runs nothing; the list it fills."""
     submitted: list[str] = []
+    threads_asked = _record_submissions.threads = []  # type: ignore[attr-defined]
 
     class Pool:
         def __init__(self, jobs, mp_context, initializer=None, initargs=()):
@@ -172,6 +173,7 @@ def _record_submissions(monkeypatch) -> list[str]:
 
         def submit(self, function, name, resolution, out_dir, threads):
             submitted.append(name)
+            threads_asked.append(threads)
             future = Future()
             future.set_result((Outcome.failed(RuntimeError("not run")), 0.0, 0.0))
             return future
@@ -261,3 +263,24 @@ def test_the_sensitivity_sweep_takes_the_cores_its_report_worker_was_given(monke
             assert asked[-1] == min(threads, len(bai_sensitivity.VARIANTS))
     finally:
         numba.set_num_threads(before)
+
+
+def test_the_workers_never_ask_numba_for_more_threads_than_it_may_start(tmp_path, monkeypatch):
+    # NUMBA_NUM_THREADS=1 on a 4-core machine: two workers, each one thread (numba refuses
+    # more: "The number of threads must be between 1 and 1").
+    monkeypatch.setattr(report_module.numba.config, "NUMBA_NUM_THREADS", 1)
+    monkeypatch.setattr(report_module.os, "cpu_count", lambda: 4)
+    _record_submissions(monkeypatch)
+    names = ["mindlin-plate", "bar-wave"]
+    report_module.run_cases(names, "default", tmp_path, echo=lambda *a, **k: None, jobs=2)
+    assert _record_submissions.threads == [1, 1]
+
+
+def test_a_single_case_runs_in_the_report_s_own_process(tmp_path, monkeypatch):
+    # Nothing to share: asked for two jobs, one case runs without a worker pool.
+    submitted = _record_submissions(monkeypatch)
+    report = report_module.run_cases(
+        ["mindlin-rollup"], "coarse", tmp_path, echo=lambda *a, **k: None, jobs=2
+    )
+    assert submitted == []
+    assert report.cases["mindlin-rollup"].outcome.error is None

@@ -17,6 +17,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+import numba
 import numpy as np
 
 from elements.jit import free_cores
@@ -278,6 +279,7 @@ def _run_all(
         cpu = "" if result.case_cpu_s is None else f" ({result.case_cpu_s:.1f} s CPU)"
         echo(f"{before}{result.case_time_s:.1f} s{cpu}, {status}")
 
+    jobs = min(jobs, len(names))  # one case runs here, without a worker to spawn
     if jobs <= 1:
         for i, name in enumerate(names, 1):
             echo(f"[{i}/{len(names)}] {name}: {CASES[name].title} ...", end=" ", flush=True)
@@ -286,8 +288,9 @@ def _run_all(
     else:
         # Spawned workers: numba's thread pool must not be forked. The longest case first.
         context = multiprocessing.get_context("spawn")
-        jobs = min(jobs, len(names))
-        threads = max(1, (os.cpu_count() or 1) // jobs)
+        # The cores shared between the workers, never more threads than numba may start
+        # (NUMBA_NUM_THREADS, which the spawned workers inherit).
+        threads = max(1, min((os.cpu_count() or 1) // jobs, numba.config.NUMBA_NUM_THREADS))
         with ProcessPoolExecutor(
             jobs, mp_context=context, initializer=_end_with, initargs=(os.getpid(),)
         ) as pool:
