@@ -290,7 +290,8 @@ def _run_all(
         context = multiprocessing.get_context("spawn")
         # The cores shared between the workers, never more threads than numba may start
         # (NUMBA_NUM_THREADS, which the spawned workers inherit).
-        threads = max(1, min((os.cpu_count() or 1) // jobs, numba.config.NUMBA_NUM_THREADS))
+        most = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+        threads = max(1, min((os.cpu_count() or 1) // jobs, most))
         with ProcessPoolExecutor(
             jobs, mp_context=context, initializer=_end_with, initargs=(os.getpid(),)
         ) as pool:
