@@ -104,13 +104,13 @@ import math
 import os
 import platform
 import resource
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
+from fresh_process import fresh_output  # noqa: E402
 from shell_sheet import GRAVITY, reference_pass  # noqa: E402
 
 from femcore import Mesh, Model  # noqa: E402
@@ -215,18 +215,8 @@ def fresh_peak(name: str, triangles: int, steps: int) -> str:
     """The process's peak resident memory of a ``CentralDifference`` run of ``steps`` steps with
     the solver's own stable step (the cells' bound and the assembled Gershgorin bound), the
     sheet built in a fresh process (one thread): its line of figures."""
-    script = (
-        "import sys; sys.path.insert(0, 'benchmarks'); import explicit_step as b;"
-        f"b._peak_child({name!r}, {triangles}, {steps})"
-    )
-    root = Path(__file__).resolve().parents[1]
-    env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_NUM_THREADS": "1"}
-    out = subprocess.run(
-        [sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True
-    )
-    if out.returncode != 0:
-        raise RuntimeError(out.stderr[-2000:])
-    return out.stdout.strip().splitlines()[-1]
+    out = fresh_output("explicit_step", f"_peak_child({name!r}, {triangles}, {steps})")
+    return out.strip().splitlines()[-1]
 
 
 def _peak_child(name: str, triangles: int, steps: int) -> None:
@@ -249,18 +239,8 @@ def _peak_child(name: str, triangles: int, steps: int) -> None:
 def fresh_build(name: str, triangles: int) -> str:
     """The CPU and wall seconds of ``Model.compile`` of the sheet in a fresh process (one
     thread), the loops compiled or loaded on a small sheet first: its line of figures."""
-    script = (
-        "import sys; sys.path.insert(0, 'benchmarks'); import explicit_step as b;"
-        f"b._build_child({name!r}, {triangles})"
-    )
-    root = Path(__file__).resolve().parents[1]
-    env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_NUM_THREADS": "1"}
-    out = subprocess.run(
-        [sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True
-    )
-    if out.returncode != 0:
-        raise RuntimeError(out.stderr[-2000:])
-    return out.stdout.strip().splitlines()[-1]
+    out = fresh_output("explicit_step", f"_build_child({name!r}, {triangles})")
+    return out.strip().splitlines()[-1]
 
 
 def _build_child(name: str, triangles: int) -> None:

@@ -116,7 +116,6 @@ import argparse
 import math
 import os
 import platform
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -124,6 +123,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 import numpy as np  # noqa: E402
+from fresh_process import fresh_output  # noqa: E402
 from shell_sheet import GRAVITY, kernel_rows, print_explicit_table, reference_pass  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
@@ -233,18 +233,7 @@ def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.pr
 def peak_memory(triangles: int, steps: int) -> float:
     """Bytes per triangle: the resident peak of a CentralDifference run of the sheet in a
     fresh process, over that process's baseline once the loops are compiled (Linux)."""
-    script = (
-        "import sys; sys.path.insert(0, 'benchmarks'); import fibrous_shell as b;"
-        f"b._memory_child({triangles}, {steps})"
-    )
-    root = Path(__file__).resolve().parents[1]
-    env = {**os.environ, "PYTHONPATH": str(root), "NUMBA_NUM_THREADS": "1"}
-    out = subprocess.run(
-        [sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True
-    )
-    if out.returncode != 0:
-        raise RuntimeError(out.stderr[-2000:])
-    return float(out.stdout.split()[-1])
+    return float(fresh_output("fibrous_shell", f"_memory_child({triangles}, {steps})").split()[-1])
 
 
 def _memory_child(triangles: int, steps: int) -> None:
