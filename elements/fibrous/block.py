@@ -68,6 +68,8 @@ class FibrousShellBlock(ElementBlock):
     held_cell : (m,) bool, cells whose three nodes are held: no bending.
     across_cell, across_side : (m, 3) int, the neighbour and its side where ``interior_side``,
         0 elsewhere (gather indices, masked by ``interior_side``).
+    shared_sides, shared_sign : (e, 6) int and (e,), each interior side once, for the fold
+        angles evaluated once per side (supports.py ``shared_sides``).
     requested_clamp : (n,) bool, the nodes of the ``clamped`` option.
     wall_nodes : (n,) bool, the held nodes whose nodal normal is the wall's (the reference
         one); wall_node_ids their ids and wall_sums (len(wall_node_ids), 3) their normal sums.
@@ -86,6 +88,8 @@ class FibrousShellBlock(ElementBlock):
     held_cell: np.ndarray
     across_cell: np.ndarray
     across_side: np.ndarray
+    shared_sides: np.ndarray
+    shared_sign: np.ndarray
     reference_sums: np.ndarray
 
     def __init__(self, shell: FibrousShell, mesh: Mesh, cell_ids, directors):

@@ -18,13 +18,16 @@ from elements.jit import inline, serial
 
 __all__ = [
     "angle_pull",
+    "cell_cross",
     "corner_thickness",
     "director_moment",
     "fold_gradient",
-    "side_fold",
+    "side_angle",
+    "side_coefficients",
     "side_squares",
-    "side_terms",
+    "side_vector",
     "unit_edge_squares",
+    "wall_fold",
 ]
 
 
@@ -85,55 +88,83 @@ def unit_edge_squares(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     return e1x, e1y, e1z, e2x, e2y, e2z, square2 * over, square1 * over
 
 
-@serial
-def side_terms(
-    px, py, pz, qx, qy, qz, nx, ny, nz, area2, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2,
-    mx, my, mz, other_area2,
-):  # fmt: skip
-    """The fold angle of a side from p to q against the unit normal m across it,
-    theta = atan2(-m . n^c, m . n), n^c = (q - p) x n / |q - p| the outward in-plane normal,
-    and its curvature coefficients c_as = 2 (f_a . n^c)^2 / (h + h'), h = 2A / |q - p| the
-    cell's height over the side and h' = other_area2 / |q - p| the neighbour's (0 for a
-    wall); f_a = e_a / |e_a| the unit edges 0 -> 1, 0 -> 2 (bending.py ``geometry``),
-    ``over1``, ``over2`` = 1 / |e_a|^2 (unit_edge_squares). With w = (q - p) x n (|w| =
-    |q - p|): theta = atan2(-m . w, |q - p| m . n) and c_as = 2 (e_a . w)^2 / (|e_a|^2 |q - p|
-    (2A + 2A')), one division for both."""
-    sx, sy, sz = qx - px, qy - py, qz - pz
+@inline
+def cell_cross(points, i, j, k):
+    """The edges a = x_j - x_i, b = x_k - x_i of the cell on nodes i, j, k of ``points``
+    (n, 3) and c = a x b, whose length is twice the cell's area and whose direction is its
+    normal: (ax, ay, az, bx, by, bz, cx, cy, cz). The one writing of the cell normal that the
+    force passes and the fibre frame (fibre_kernels.py) share."""
+    ax = points[j, 0] - points[i, 0]
+    ay = points[j, 1] - points[i, 1]
+    az = points[j, 2] - points[i, 2]
+    bx = points[k, 0] - points[i, 0]
+    by = points[k, 1] - points[i, 1]
+    bz = points[k, 2] - points[i, 2]
+    return ax, ay, az, bx, by, bz, ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@inline
+def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
+    """The fold angle of the side s = q - p of a cell of unit normal n and double area
+    ``area2`` against the unit normal m across it, theta = atan2(-m . n^c, m . n), n^c = s x
+    n / |s| the outward in-plane normal, and the scale 2 / (|s| (2A + 2A')) of its curvature
+    coefficients (``side_coefficients``; 2A' = ``other_area2``, 0 for a wall). With w = s x n
+    (|w| = |s|): theta = atan2(-m . w, |s| m . n). Returns (theta, scale).
+
+    The fold of a side seen from the cell across it is the same angle (the side runs the
+    other way there and the two normals swap: -n . ((p - q) x m) = -m . ((q - p) x n)), and
+    so is the scale, to the last bit (|p - q| = |q - p| and 2A' + 2A = 2A + 2A'): one
+    evaluation serves both cells (kernels.py ``_side_folds``)."""
     length = np.sqrt(sx * sx + sy * sy + sz * sz)
     wx = sy * nz - sz * ny
     wy = sz * nx - sx * nz
     wz = sx * ny - sy * nx
     fold = np.arctan2(-(mx * wx + my * wy + mz * wz), length * (mx * nx + my * ny + mz * nz))
-    scale = 2.0 / (length * (area2 + other_area2))
-    p1 = e1x * wx + e1y * wy + e1z * wz
-    p2 = e2x * wx + e2y * wy + e2z * wz
-    return fold, p1 * p1 * (over1 * scale), p2 * p2 * (over2 * scale)
+    return fold, 2.0 / (length * (area2 + other_area2))
 
 
 @inline
-def side_fold(
-    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, e1x, e1y, e1z,
-    e2x, e2y, e2z, over1, over2, normal, double_area, across_cell, interior, clamped, wall,
-):  # fmt: skip
-    """``side_terms`` of side s of cell c (from corner s + 1 to corner s + 2) against the
-    neighbour's normal across it, or the wall of a clamped side: (fold, c_1s, c_2s)."""
+def side_coefficients(sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, scale):
+    """The curvature coefficients c_as = 2 (f_a . n^c)^2 / (h + h') of the side s = q - p of a
+    cell of unit normal n (docs/theory.md §4.2): h = 2A / |s| the cell's height over the side
+    and h' = 2A' / |s| the neighbour's (0 for a wall), f_a = e_a / |e_a| the unit edges 0 -> 1,
+    0 -> 2 (bending.py ``geometry``), ``over1``, ``over2`` = 1 / |e_a|^2 (unit_edge_squares),
+    ``scale`` = 2 / (|s| (2A + 2A')) (``side_angle``). With w = s x n (|w| = |s|): c_as =
+    2 (e_a . w)^2 / (|e_a|^2 |s| (2A + 2A')), one division for both. Returns (c_1s, c_2s)."""
+    wx = sy * nz - sz * ny
+    wy = sz * nx - sx * nz
+    wz = sx * ny - sy * nx
+    p1 = e1x * wx + e1y * wy + e1z * wz
+    p2 = e2x * wx + e2y * wy + e2z * wz
+    return p1 * p1 * (over1 * scale), p2 * p2 * (over2 * scale)
+
+
+@inline
+def side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
+    """Side s of a cell, from corner s + 1 to corner s + 2: q - p (3 scalars)."""
     if s == 0:
-        px, py, pz, qx, qy, qz = x1x, x1y, x1z, x2x, x2y, x2z
-    elif s == 1:
-        px, py, pz, qx, qy, qz = x2x, x2y, x2z, x0x, x0y, x0z
-    else:
-        px, py, pz, qx, qy, qz = x0x, x0y, x0z, x1x, x1y, x1z
-    other_area2 = mx = my = mz = 0.0
-    if interior[c, s]:
-        other = across_cell[c, s]
-        other_area2 = double_area[other]
-        mx, my, mz = normal[other, 0], normal[other, 1], normal[other, 2]
-    if clamped[c, s]:
-        mx, my, mz = wall[c, 0], wall[c, 1], wall[c, 2]
-    return side_terms(
-        px, py, pz, qx, qy, qz, nx, ny, nz, size, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2,
-        mx, my, mz, other_area2,
+        return x2x - x1x, x2y - x1y, x2z - x1z
+    if s == 1:
+        return x0x - x2x, x0y - x2y, x0z - x2z
+    return x1x - x0x, x1y - x0y, x1z - x0z
+
+
+@inline
+def wall_fold(
+    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, e1x, e1y, e1z,
+    e2x, e2y, e2z, over1, over2, wall,
+):  # fmt: skip
+    """Side s of cell c (from corner s + 1 to corner s + 2) clamped: its fold against the wall
+    of the reference plane (the unit normal ``wall`` (m, 3) of the cell at bind) and its
+    curvature coefficients (``side_angle``, ``side_coefficients``): (fold, c_1s, c_2s)."""
+    sx, sy, sz = side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
+    fold, scale = side_angle(
+        sx, sy, sz, nx, ny, nz, wall[c, 0], wall[c, 1], wall[c, 2], size, 0.0
     )  # fmt: skip
+    c1s, c2s = side_coefficients(
+        sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, scale
+    )  # fmt: skip
+    return fold, c1s, c2s
 
 
 @inline

@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 
+from elements.fibrous.cell_terms import cell_cross
+from elements.fibrous.kernels import loop_array
 from elements.jit import serial
 
 __all__ = ["fibre_corners", "shear_signs"]
@@ -30,16 +32,9 @@ NORMAL_TO_WARP = -2
 def _corners(points, triangles, warp, cos_tol, corner, xi_is_warp):  # pragma: no cover - numba
     w0, w1, w2 = warp[0], warp[1], warp[2]
     for t in range(triangles.shape[0]):
-        i, j, k = triangles[t, 0], triangles[t, 1], triangles[t, 2]
-        a0 = points[j, 0] - points[i, 0]
-        a1 = points[j, 1] - points[i, 1]
-        a2 = points[j, 2] - points[i, 2]
-        b0 = points[k, 0] - points[i, 0]
-        b1 = points[k, 1] - points[i, 1]
-        b2 = points[k, 2] - points[i, 2]
-        n0 = a1 * b2 - a2 * b1
-        n1 = a2 * b0 - a0 * b2
-        n2 = a0 * b1 - a1 * b0
+        _, _, _, _, _, _, n0, n1, n2 = cell_cross(
+            points, triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        )
         size = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
         n0, n1, n2 = n0 / size, n1 / size, n2 / size
         along_n = n0 * w0 + n1 * w1 + n2 * w2
@@ -83,16 +78,9 @@ def _corners(points, triangles, warp, cos_tol, corner, xi_is_warp):  # pragma: n
 def _signs(points, connectivity, xi_is_warp, warp, sign):  # pragma: no cover - numba
     w0, w1, w2 = warp[0], warp[1], warp[2]
     for t in range(connectivity.shape[0]):
-        i, j, k = connectivity[t, 0], connectivity[t, 1], connectivity[t, 2]
-        a0 = points[j, 0] - points[i, 0]
-        a1 = points[j, 1] - points[i, 1]
-        a2 = points[j, 2] - points[i, 2]
-        b0 = points[k, 0] - points[i, 0]
-        b1 = points[k, 1] - points[i, 1]
-        b2 = points[k, 2] - points[i, 2]
-        n0 = a1 * b2 - a2 * b1
-        n1 = a2 * b0 - a0 * b2
-        n2 = a0 * b1 - a1 * b0
+        a0, a1, a2, b0, b1, b2, n0, n1, n2 = cell_cross(
+            points, connectivity[t, 0], connectivity[t, 1], connectivity[t, 2]
+        )
         q0 = n1 * w2 - n2 * w1  # n x warp, unnormalised
         q1 = n2 * w0 - n0 * w2
         q2 = n0 * w1 - n1 * w0
@@ -117,9 +105,9 @@ def fibre_corners(
     corner = np.empty(m, dtype=np.int64)
     xi_is_warp = np.zeros(m, dtype=bool)
     _corners(
-        np.ascontiguousarray(points, dtype=float),
+        loop_array(points),
         np.ascontiguousarray(triangles, dtype=np.int64),
-        np.ascontiguousarray(warp, dtype=float),
+        loop_array(warp),
         float(np.cos(np.radians(tolerance_deg))),
         corner,
         xi_is_warp,
@@ -134,10 +122,10 @@ def shear_signs(
     normal to its family's direction)."""
     sign = np.empty(len(connectivity))
     _signs(
-        np.ascontiguousarray(points, dtype=float),
+        loop_array(points),
         np.ascontiguousarray(connectivity, dtype=np.int64),
         np.ascontiguousarray(xi_is_warp, dtype=bool),
-        np.ascontiguousarray(warp, dtype=float),
+        loop_array(warp),
         sign,
     )
     return sign

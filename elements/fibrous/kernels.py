@@ -8,10 +8,13 @@ of ``pack_laws``), in three parallel passes over the cells and three over the no
 two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4):
 
 1. cells: each cell's unit normal, double area and corner angles; nodes: the nodal normal sums
-   S_k, the sums of alpha_k n over the node's cells;
+   S_k, the sums of alpha_k n over the node's cells; sides: the fold angle of each side
+   between two cells and the scale of its curvature coefficients, once per side for both
+   cells (the angle is the same seen from either, cell_terms.py ``side_angle``: an arctan2
+   and a square root per side instead of per side and cell);
 2. cells: each cell's tension and shear in one loop over its fibre levels (forces, director
-   moments, dW/dS_k and, when asked, energies), then its fold angles, which read the
-   neighbours' normals, its curvatures, bending energy and its share of each side's moment;
+   moments, dW/dS_k and, when asked, energies), then its curvatures from its sides' folds
+   (a clamped side's against the wall), bending energy and its share of each side's moment;
    nodes: T_k, the sums of dW/dS_k over the cells around each node;
 3. cells: the pulls of T_k and of the side moments on each cell's nodes; nodes: the nodal
    forces and director moments.
@@ -39,12 +42,16 @@ import numpy as np
 
 from elements.fibrous.cell_terms import (
     angle_pull,
+    cell_cross,
     corner_thickness,
     director_moment,
     fold_gradient,
-    side_fold,
+    side_angle,
+    side_coefficients,
     side_squares,
+    side_vector,
     unit_edge_squares,
+    wall_fold,
 )
 from elements.fibrous.packed_laws import law_energy, law_value
 from elements.jit import jit, prange
@@ -54,11 +61,20 @@ __all__ = [
     "bending_geometry",
     "internal_force",
     "internal_force_and_energy",
+    "loop_array",
     "normal_pulls",
     "normal_sums",
     "strains",
     "strain_energy_parts",
 ]
+
+
+def loop_array(array) -> np.ndarray:
+    """``array`` as the loops take every array of floats they read: C-contiguous float64 and
+    writable. numba types a read-only array apart from a writable one and builds a loop once
+    for each type it meets; the mesh's points, which the build passes, are read-only, and
+    are copied here (once per build), so that each loop has one signature."""
+    return np.require(array, dtype=np.float64, requirements=("C", "W"))
 
 
 # ---------------------------------------------------------------------- pass 1: normals
@@ -67,23 +83,17 @@ def _normals_pass(connectivity, positions, with_angles, normal, double_area, ang
     """Unit normal (m, 3), double area (m,) and, ``with_angles``, the corner angles alpha_k
     (m, 3) of every cell."""
     for c in prange(connectivity.shape[0]):
-        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
-        x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
-        x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
-        ax, ay, az = x1x - x0x, x1y - x0y, x1z - x0z
-        bx, by, bz = x2x - x0x, x2y - x0y, x2z - x0z
-        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        ax, ay, az, bx, by, bz, cx, cy, cz = cell_cross(
+            positions, connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+        )
         size = np.sqrt(cx * cx + cy * cy + cz * cz)
         normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
         double_area[c] = size
         if with_angles:
-            # |u x w| = |c| at every corner, and the three angles sum to pi
+            # |u x w| = |c| at every corner, and the three angles sum to pi; at corner 1
+            # u = x2 - x1 = b - a and w = x0 - x1 = -a
             alpha0 = np.arctan2(size, ax * bx + ay * by + az * bz)
-            alpha1 = np.arctan2(
-                size,
-                (x2x - x1x) * (x0x - x1x) + (x2y - x1y) * (x0y - x1y) + (x2z - x1z) * (x0z - x1z),
-            )
+            alpha1 = np.arctan2(size, (ax - bx) * ax + (ay - by) * ay + (az - bz) * az)
             angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
 
 
@@ -111,11 +121,41 @@ def _cell_normals(block, positions: np.ndarray, with_angles: bool):
     return normal, double_area, angles
 
 
+@jit
+def _side_folds(sides, sign, positions, normal, double_area, fold, scale):
+    """The fold angle and the curvature scale (cell_terms.py ``side_angle``) of each side that
+    couples two cells, once per side (supports.py ``shared_sides``: ``sides`` (e, 6), ``sign``
+    (e,)), written for both its cells at (cell, side) in ``fold`` and ``scale`` (m, 3): the
+    angle as its cell of lower index sees it, times ``sign`` for the other (not written where
+    ``sign`` is 0). Every slot is the one side's: no two iterations write the same place."""
+    for e in prange(sides.shape[0]):
+        c, s, other, other_side = sides[e, 0], sides[e, 1], sides[e, 2], sides[e, 3]
+        p, q = sides[e, 4], sides[e, 5]
+        angle, k = side_angle(
+            positions[q, 0] - positions[p, 0], positions[q, 1] - positions[p, 1],
+            positions[q, 2] - positions[p, 2], normal[c, 0], normal[c, 1], normal[c, 2],
+            normal[other, 0], normal[other, 1], normal[other, 2], double_area[c],
+            double_area[other],
+        )  # fmt: skip
+        fold[c, s], scale[c, s] = angle, k
+        if sign[e] != 0.0:
+            fold[other, other_side], scale[other, other_side] = sign[e] * angle, k
+
+
+def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area: np.ndarray):
+    """``_side_folds`` of the block: (fold, scale) (m, 3), set on the sides that couple two
+    cells (``interior_side``) and unset elsewhere."""
+    m = len(block.connectivity)
+    fold, scale = np.empty((m, 3)), np.empty((m, 3))
+    _side_folds(block.shared_sides, block.shared_sign, positions, normal, double_area, fold, scale)
+    return fold, scale
+
+
 def normal_sums(block, positions: np.ndarray) -> np.ndarray:
     """S_k (n, 3), the sums of alpha_k n over the block's cells around each node (0 at nodes
     outside the block; the wall nodes not replaced), by the compiled loops: the same numbers
     to the last bit as the scatter of geometry.py ``corner_normals``."""
-    x = np.ascontiguousarray(positions, dtype=np.float64)
+    x = loop_array(positions)
     normal, _, angles = _cell_normals(block, x, True)
     sums = np.empty((block.n_nodes, 3))
     corners = block.node_corners
@@ -128,8 +168,8 @@ def normal_sums(block, positions: np.ndarray) -> np.ndarray:
 def _cells_pass(
     connectivity, positions, directors, sums, normal, double_area, nodal, thickness, guard,
     zeta, weights, area, reference_length1, reference_length2, shear_sign, reference_shear,
-    xi_is_warp, law_integers, law_reals, variation, across_cell, interior, clamped, wall,
-    reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
+    xi_is_warp, law_integers, law_reals, variation, side_fold, side_scale, interior, clamped,
+    wall, reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
     with_energy, force, moment, d_sums, own, energy,
 ):  # fmt: skip
     """Each cell's tension and shear (geometry.py ``cell_geometry``, membrane.py ``strains``,
@@ -140,9 +180,9 @@ def _cells_pass(
     S (n, 3) when ``nodal``, else the element's normal), then at each fibre level the vectors
     g1, g2, the log strains and the shear angle, and the laws (packed laws 0, 1, 2: warp
     tension, weft tension, shear). Bending: the fold angle of each side against the
-    neighbour's normal (or the wall of the reference plane on a clamped side), the
-    curvatures chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed laws 3,
-    4: warp, weft).
+    neighbour's normal (``side_fold`` and ``side_scale`` (m, 3) of ``_side_folds``, once per
+    side) or the wall of the reference plane on a clamped side, the curvatures chi_a =
+    -sum_s c_as (theta_s - theta_s0) and the bending laws (packed laws 3, 4: warp, weft).
 
     ``with_forces``: force, moment, d_sums (m, 3, 3) the corner forces, director moments and
     dW/dS_k (zero without nodal normals), own (m, 3) the cell's share of each side's moment,
@@ -320,14 +360,21 @@ def _cells_pass(
         c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
         chi1 = chi2 = 0.0
         for s in range(3):
-            if not (interior[c, s] or clamped[c, s]):
-                continue
             # side s runs from corner s + 1 to corner s + 2
-            fold, c1s, c2s = side_fold(
-                c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, normal, double_area, across_cell,
-                interior, clamped, wall,
-            )  # fmt: skip
+            if interior[c, s]:  # its fold from the side's own pass
+                fold = side_fold[c, s]
+                sx, sy, sz = side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
+                c1s, c2s = side_coefficients(
+                    sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2,
+                    side_scale[c, s],
+                )  # fmt: skip
+            elif clamped[c, s]:
+                fold, c1s, c2s = wall_fold(
+                    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                    e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                )  # fmt: skip
+            else:
+                continue
             if use_reference_coefficients:
                 c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
             if s == 0:
@@ -471,11 +518,12 @@ def _node_loads(offsets, corners, force, moment, out_force, out_moment):
 # ---------------------------------------------------------------------- bending geometry
 @jit
 def _bending_sides(
-    connectivity, positions, normal, double_area, across_cell, interior, clamped, wall, fold,
-    coefficients, gradient,
+    connectivity, positions, normal, double_area, side_fold, side_scale, interior, clamped,
+    wall, fold, coefficients, gradient,
 ):  # fmt: skip
     """bending.py ``geometry`` of every cell: fold angles (m, 3), curvature coefficients
-    (m, 2, 3) and the gradient D[s, k] (m, 3, 3)."""
+    (m, 2, 3) and the gradient D[s, k] (m, 3, 3), the folds of the sides between two cells
+    from ``side_fold`` and ``side_scale`` (m, 3) of ``_side_folds``, as the force takes them."""
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
@@ -497,24 +545,31 @@ def _bending_sides(
             x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z
         )
         for s in range(3):
-            if not (interior[c, s] or clamped[c, s]):
+            if interior[c, s]:
+                sx, sy, sz = side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
+                fold[c, s] = side_fold[c, s]
+                coefficients[c, 0, s], coefficients[c, 1, s] = side_coefficients(
+                    sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2,
+                    side_scale[c, s],
+                )  # fmt: skip
+            elif clamped[c, s]:
+                fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = wall_fold(
+                    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                    e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                )  # fmt: skip
+            else:
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
-                continue
-            fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = side_fold(
-                c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, normal, double_area, across_cell,
-                interior, clamped, wall,
-            )  # fmt: skip
 
 
 def bending_geometry(block, positions: np.ndarray) -> dict:
     """bending.py ``geometry`` by the compiled loops."""
-    x = np.ascontiguousarray(positions, dtype=np.float64)
+    x = loop_array(positions)
     normal, double_area, _ = _cell_normals(block, x, False)
+    side_fold, side_scale = _shared_folds(block, x, normal, double_area)
     m = len(normal)
     fold, coefficients, gradient = np.empty((m, 3)), np.empty((m, 2, 3)), np.empty((m, 3, 3))
     _bending_sides(
-        block.connectivity, x, normal, double_area, block.across_cell, block.interior_side,
+        block.connectivity, x, normal, double_area, side_fold, side_scale, block.interior_side,
         block.clamped_side, block.reference_normal, fold, coefficients, gradient,
     )  # fmt: skip
     return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}
@@ -572,8 +627,8 @@ def _strains_pass(
 def strains(block, positions: np.ndarray, directors: np.ndarray) -> dict:
     """membrane.py ``strains`` by the compiled loops, for the fields: eps1, eps2 and gamma
     (m, L), without the level vectors and corners (m, L, 3) the numpy path keeps."""
-    x = np.ascontiguousarray(positions, dtype=np.float64)
-    v = np.ascontiguousarray(directors, dtype=np.float64)
+    x = loop_array(positions)
+    v = loop_array(directors)
     nodal = block.nodal_normals
     normal, _, angles = _cell_normals(block, x, nodal)
     sums = np.zeros((0, 3))
@@ -627,9 +682,10 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     own) for pass 3 (else None)."""
     conn, m = block.connectivity, len(block.connectivity)
     nodal, corners = block.nodal_normals, block.node_corners
-    x = np.ascontiguousarray(positions, dtype=np.float64)
-    v = np.ascontiguousarray(directors, dtype=np.float64)
+    x = loop_array(positions)
+    v = loop_array(directors)
     normal, double_area, angles = _cell_normals(block, x, nodal)
+    side_fold, side_scale = _shared_folds(block, x, normal, double_area)
     sums = np.zeros((0, 3))
     if nodal:  # the nodal normal sums; a wall node's is the wall's
         sums = np.empty((block.n_nodes, 3))
@@ -644,7 +700,7 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
         conn, x, v, sums, normal, double_area, nodal, float(block.fabric.thickness), GUARD,
         block.zeta, block.weights, block.reference_area, block.reference_length1,
         block.reference_length2, block.shear_sign, block.reference_shear, block.xi_is_warp,
-        *block.packed_laws, block.thickness_variation, block.across_cell,
+        *block.packed_laws, block.thickness_variation, side_fold, side_scale,
         block.interior_side, block.clamped_side, block.reference_normal, block.reference_fold,
         block.reference_coefficients, block.reference_curvature_coefficients, with_forces,
         with_energy, force, moment, d_sums, own, energy,

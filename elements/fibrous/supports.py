@@ -22,7 +22,14 @@ from femcore.mesh import Mesh
 if TYPE_CHECKING:
     from elements.fibrous.block import FibrousShellBlock
 
-__all__ = ["apply_supports", "clamped_sides", "neighbour_sides", "requested_clamp", "set_sides"]
+__all__ = [
+    "apply_supports",
+    "clamped_sides",
+    "neighbour_sides",
+    "requested_clamp",
+    "set_sides",
+    "shared_sides",
+]
 
 
 def neighbour_sides(neighbour: np.ndarray) -> np.ndarray:
@@ -84,6 +91,51 @@ def set_sides(block: FibrousShellBlock, clamp: np.ndarray) -> None:
     # Gather indices with free sides pointing at cell 0, masked by interior_side.
     block.across_cell = np.where(block.interior_side, block.neighbour, 0)
     block.across_side = np.where(block.interior_side, block.neighbour_side, 0)
+    block.shared_sides, block.shared_sign = shared_sides(
+        block.connectivity, block.interior_side, block.neighbour, block.neighbour_side
+    )
+
+
+def shared_sides(
+    connectivity: np.ndarray,
+    interior: np.ndarray,
+    neighbour: np.ndarray,
+    neighbour_side: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each side that couples two cells once, for the loop that evaluates its fold angle
+    once for both (kernels.py ``_side_folds``, docs/theory.md §4.1).
+
+    Parameters
+    ----------
+    connectivity : (m, 3) int, the cells' nodes.
+    interior : (m, 3) bool, the sides that couple a cell with its neighbour.
+    neighbour, neighbour_side : (m, 3) int, the cell across each side and the side's index
+        there (-1 on free sides).
+
+    Returns
+    -------
+    table : (e, 6) int64
+        Per side: its cell c (the lower index of the two), its side s there, the cell
+        across and its side there, and the nodes p, q the side runs from and to in c.
+    sign : (e,) float
+        +1 where the cell across runs the side from q to p (the two cells oriented alike:
+        the fold is the same angle seen from either), -1 where it runs it from p to q (its
+        normal flipped: the angle seen from it is the opposite); 0 where the cell across
+        does not name c back (a side of more than two cells): c's side then has a row of
+        its own, as has each of the other cells', and the row serves c alone.
+    """
+    m = len(connectivity)
+    across = np.where(interior, neighbour, 0)
+    back = np.where(interior, neighbour_side, 0)
+    mutual = interior & (neighbour[across, back] == np.arange(m)[:, None])
+    owned = interior & (~mutual | (np.arange(m)[:, None] < neighbour))
+    cell, side = np.nonzero(owned)
+    other, other_side = across[cell, side], back[cell, side]
+    start = connectivity[cell, SIDE_FROM[side]]
+    end = connectivity[cell, SIDE_TO[side]]
+    table = np.column_stack([cell, side, other, other_side, start, end]).astype(np.int64)
+    reverse = connectivity[other, SIDE_FROM[other_side]] == end
+    return table, np.where(mutual[cell, side], np.where(reverse, 1.0, -1.0), 0.0)
 
 
 def apply_supports(block: FibrousShellBlock, held: np.ndarray) -> None:
