@@ -205,6 +205,9 @@ def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.pr
         sums = np.empty((block.n_nodes, 3))
         timed("1 nodes: normal sums", kernels._normal_sums, corners.offsets, corners.corners,
               angles, normal, sums)  # fmt: skip
+        side_fold, side_scale = timed(
+            "1 sides: folds", kernels._shared_folds, block, positions, normal, area
+        )
         force, moment, d_sums = (np.empty((m, 3, 3)) for _ in range(3))
         own, energy = np.empty((m, 3)), np.empty((0, 3))
         timed("2 cells: membrane, bending", kernels._cells_pass,
@@ -212,7 +215,7 @@ def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.pr
             float(block.fabric.thickness), GUARD, block.zeta, block.weights,
             block.reference_area, block.reference_length1, block.reference_length2,
             block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,
-            block.thickness_variation, block.across_cell, block.interior_side,
+            block.thickness_variation, side_fold, side_scale, block.interior_side,
             block.clamped_side, block.reference_normal, block.reference_fold,
             block.reference_coefficients, block.reference_curvature_coefficients, True,
             False, force, moment, d_sums, own, energy)  # fmt: skip

@@ -14,6 +14,7 @@ import pytest
 
 from elements import FibrousShell, MindlinShell
 from elements.fibrous import (
+    bending,
     geometry,
     lobatto_levels,
     side_tables,
@@ -554,3 +555,55 @@ def test_the_compiled_fields_are_the_numpy_ones(thickness):
     for name, reference in fields["numpy"].items():
         value = fields["compiled"][name]
         assert np.abs(value - reference).max() <= 1e-12 * max(np.abs(reference).max(), 1e-300)
+
+
+def test_each_side_between_two_cells_is_evaluated_once_for_both():
+    """The side pass of the compiled force (supports.py ``shared_sides``, kernels.py
+    ``_side_folds``) evaluates each side that couples two cells once: every such (cell,
+    side) is in its table exactly once, as a row's cell or as the cell across, the rows'
+    cells being the lower of the two; the mesh is oriented alike on both sides (sign +1);
+    and the folds and curvature coefficients it gives each cell are those of the cell's own
+    evaluation (the numpy bending.py ``geometry``) to 1e-12 of the largest (radians, 1/mm:
+    the same formula, the neighbour's copy rounded as its partner sees it), with a clamped
+    edge, on a jittered sheet."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
+    geometries = {}
+    for kernel in ("numpy", "compiled"):
+        model = Model(mesh)
+        model.add(FibrousShell(fabric(), clamped="left", kernel=kernel))
+        model.fix("left")
+        built = model.compile()
+        block = built.blocks[0]
+        state = deformed(built, amplitude=0.8, tilt=0.3, seed=11)
+        geometries[kernel] = bending.geometry(block, state.positions)
+    table, sign = block.shared_sides, block.shared_sign
+    seen = np.zeros((len(block.connectivity), 3), dtype=int)
+    np.add.at(seen, (table[:, 0], table[:, 1]), 1)
+    np.add.at(seen, (table[:, 2], table[:, 3]), 1)
+    np.testing.assert_array_equal(seen, block.interior_side.astype(int))
+    assert (table[:, 0] < table[:, 2]).all()
+    np.testing.assert_array_equal(sign, 1.0)
+    for name in ("fold", "coefficients"):
+        reference, value = geometries["numpy"][name], geometries["compiled"][name]
+        assert np.abs(value - reference).max() <= 1e-12 * np.abs(reference).max()
+
+
+def test_each_compiled_loop_has_one_signature():
+    """The loops of elements/fibrous/kernels.py take every array of floats writable
+    (``loop_array``): the build, which passes the mesh's read-only points, and the steps,
+    which pass the state's, run the same machine code (numba types a read-only array apart
+    and would build the loop twice)."""
+    from elements import jit
+    from elements.fibrous import kernels
+
+    if not jit.AVAILABLE:
+        pytest.skip("numba is not installed")
+    model = Model(MESH)
+    model.add(FibrousShell(fabric(), clamped="left"))
+    model.fix("left")
+    model = model.compile()  # the build: the reference normal sums and bending geometry
+    state = deformed(model, seed=2)
+    model.internal_force(state)
+    model.fields(state)
+    for loop in (kernels._normals_pass, kernels._side_folds, kernels._bending_sides):
+        assert len(loop.parallel.signatures) == 1, loop.__name__
