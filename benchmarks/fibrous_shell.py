@@ -205,13 +205,16 @@ def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.pr
         sums = np.empty((block.n_nodes, 3))
         timed("1 nodes: normal sums", kernels._normal_sums, corners.offsets, corners.corners,
               angles, normal, sums)  # fmt: skip
+        frame = np.empty((block.n_nodes, 10))
+        timed("1 nodes: frames", kernels._node_frames, sums, directors, block.node_in_block,
+              float(block.fabric.thickness), GUARD, frame)  # fmt: skip
         side_fold, side_scale = timed(
             "1 sides: folds", kernels._shared_folds, block, positions, normal, area
         )
         force, moment, d_sums = (np.empty((m, 3, 3)) for _ in range(3))
         own, energy = np.empty((m, 3)), np.empty((0, 3))
         timed("2 cells: membrane, bending", kernels._cells_pass,
-            block.connectivity, positions, directors, sums, normal, area, True,
+            block.connectivity, positions, directors, frame, normal, area, True,
             float(block.fabric.thickness), GUARD, block.zeta, block.weights,
             block.reference_area, block.reference_length1, block.reference_length2,
             block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,

@@ -19,6 +19,7 @@ from elements.jit import inline, serial
 __all__ = [
     "angle_pull",
     "cell_cross",
+    "corner_frame",
     "corner_thickness",
     "director_moment",
     "fold_gradient",
@@ -48,6 +49,19 @@ def corner_thickness(directors, sums, node, nodal, nx, ny, nz, thickness, guard)
     cos = vx * nx + vy * ny + vz * nz
     over = 1.0 / max(cos, guard)
     return vx, vy, vz, cos, thickness * over, nx, ny, nz, 1.0, over
+
+
+@inline
+def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
+    """``corner_thickness`` at the corner on ``node``: with nodal normals read from ``frame``
+    (n, 10), the same numbers formed once per node (kernels.py ``_node_frames``: a node is
+    a corner of six cells on a regular mesh); with the element's normal n formed here."""
+    if nodal:
+        return (
+            frame[node, 0], frame[node, 1], frame[node, 2], frame[node, 3], frame[node, 4],
+            frame[node, 5], frame[node, 6], frame[node, 7], frame[node, 8], frame[node, 9],
+        )  # fmt: skip
+    return corner_thickness(directors, frame, node, False, nx, ny, nz, thickness, guard)
 
 
 @serial

@@ -43,6 +43,7 @@ import numpy as np
 from elements.fibrous.cell_terms import (
     angle_pull,
     cell_cross,
+    corner_frame,
     corner_thickness,
     director_moment,
     fold_gradient,
@@ -151,6 +152,26 @@ def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area:
     return fold, scale
 
 
+@jit
+def _node_frames(sums, directors, in_block, thickness, guard, frame):
+    """cell_terms.py ``corner_thickness`` at every node of the block with its nodal normal
+    S / |S| (``sums`` (n, 3), the wall nodes' replaced): frame (n, 10) the director V,
+    V . N, h_m, N, 1 / |S| and 1 / max(V . N, guard), once per node instead of once per
+    corner; zeros at nodes outside the block (no normal there)."""
+    for node in prange(sums.shape[0]):
+        if not in_block[node]:
+            for j in range(10):
+                frame[node, j] = 0.0
+            continue
+        vx, vy, vz, cos, h_m, nx, ny, nz, inverse, over = corner_thickness(
+            directors, sums, node, True, 0.0, 0.0, 0.0, thickness, guard
+        )
+        frame[node, 0], frame[node, 1], frame[node, 2] = vx, vy, vz
+        frame[node, 3], frame[node, 4] = cos, h_m
+        frame[node, 5], frame[node, 6], frame[node, 7] = nx, ny, nz
+        frame[node, 8], frame[node, 9] = inverse, over
+
+
 def normal_sums(block, positions: np.ndarray) -> np.ndarray:
     """S_k (n, 3), the sums of alpha_k n over the block's cells around each node (0 at nodes
     outside the block; the wall nodes not replaced), by the compiled loops: the same numbers
@@ -166,7 +187,7 @@ def normal_sums(block, positions: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------- pass 2: the cells
 @jit
 def _cells_pass(
-    connectivity, positions, directors, sums, normal, double_area, nodal, thickness, guard,
+    connectivity, positions, directors, frame, normal, double_area, nodal, thickness, guard,
     zeta, weights, area, reference_length1, reference_length2, shear_sign, reference_shear,
     xi_is_warp, law_integers, law_reals, variation, side_fold, side_scale, interior, clamped,
     wall, reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
@@ -176,13 +197,14 @@ def _cells_pass(
     ``layer_loads``, ``layer_forces``; Eq. 8-10, 14, 24-33) and bending (bending.py
     ``geometry``, ``curvatures``, ``side_moments``; Eq. 34-37).
 
-    Membrane: h_m = h / max(V . N, guard) at the corners (N = S_k / |S_k| from the normal sums
-    S (n, 3) when ``nodal``, else the element's normal), then at each fibre level the vectors
-    g1, g2, the log strains and the shear angle, and the laws (packed laws 0, 1, 2: warp
-    tension, weft tension, shear). Bending: the fold angle of each side against the
-    neighbour's normal (``side_fold`` and ``side_scale`` (m, 3) of ``_side_folds``, once per
-    side) or the wall of the reference plane on a clamped side, the curvatures chi_a =
-    -sum_s c_as (theta_s - theta_s0) and the bending laws (packed laws 3, 4: warp, weft).
+    Membrane: h_m = h / max(V . N, guard) at the corners (N = S_k / |S_k| from the nodes'
+    ``frame`` (n, 10) of ``_node_frames`` when ``nodal``, else the element's normal), then
+    at each fibre level the vectors g1, g2, the log strains and the shear angle, and the
+    laws (packed laws 0, 1, 2: warp tension, weft tension, shear). Bending: the fold angle of
+    each side against the neighbour's normal (``side_fold`` and ``side_scale`` (m, 3) of
+    ``_side_folds``, once per side) or the wall of the reference plane on a clamped side,
+    the curvatures chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed
+    laws 3, 4: warp, weft).
 
     ``with_forces``: force, moment, d_sums (m, 3, 3) the corner forces, director moments and
     dW/dS_k (zero without nodal normals), own (m, 3) the cell's share of each side's moment,
@@ -197,14 +219,14 @@ def _cells_pass(
         nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
         a0 = area[c]
         # V, h_m and N at the corners (Eq. 10, 14)
-        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0, over0 = corner_thickness(
-            directors, sums, n0, nodal, nx, ny, nz, thickness, guard
+        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0, over0 = corner_frame(
+            frame, directors, n0, nodal, nx, ny, nz, thickness, guard
         )
-        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1, over1 = corner_thickness(
-            directors, sums, n1, nodal, nx, ny, nz, thickness, guard
+        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1, over1 = corner_frame(
+            frame, directors, n1, nodal, nx, ny, nz, thickness, guard
         )
-        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2, over2 = corner_thickness(
-            directors, sums, n2, nodal, nx, ny, nz, thickness, guard
+        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2, over2 = corner_frame(
+            frame, directors, n2, nodal, nx, ny, nz, thickness, guard
         )
         warp_first = xi_is_warp[c]
         law1, law2 = (0, 1) if warp_first else (1, 0)  # the tension laws along 0-1 and 0-2
@@ -686,18 +708,21 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     v = loop_array(directors)
     normal, double_area, angles = _cell_normals(block, x, nodal)
     side_fold, side_scale = _shared_folds(block, x, normal, double_area)
-    sums = np.zeros((0, 3))
-    if nodal:  # the nodal normal sums; a wall node's is the wall's
+    frame = np.zeros((0, 10))
+    if nodal:  # the nodal normal sums (a wall node's is the wall's), then the nodes' frames
         sums = np.empty((block.n_nodes, 3))
         _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
         sums[block.wall_node_ids] = block.wall_sums
+        frame = np.empty((block.n_nodes, 10))
+        _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
+        del sums
     shape = (m, 3, 3) if with_forces else (0, 3, 3)
     force, moment = np.empty(shape), np.empty(shape)
     d_sums = np.empty(shape if nodal else (0, 3, 3))
     own = np.empty((m, 3) if with_forces else (0, 3))
     energy = np.empty((m, 3) if with_energy else (0, 3))
     _cells_pass(
-        conn, x, v, sums, normal, double_area, nodal, float(block.fabric.thickness), GUARD,
+        conn, x, v, frame, normal, double_area, nodal, float(block.fabric.thickness), GUARD,
         block.zeta, block.weights, block.reference_area, block.reference_length1,
         block.reference_length2, block.shear_sign, block.reference_shear, block.xi_is_warp,
         *block.packed_laws, block.thickness_variation, side_fold, side_scale,
