@@ -86,6 +86,14 @@ triangle checks 0.46-0.52 (the duplicate-node search by a k-d tree a third of it
 block's topology 0.17, apply_supports 0.16, the median edge 0.14, the fibre lengths
 0.14-0.19.
 
+The fibrous force with its folds once per side and its corner terms once per node
+(elements/fibrous/kernels.py), Intel Xeon, one thread, ``--element fibrous --sizes 100000
+--repeats 3`` on main 78b2577 (a second checkout) and after, one after the other, load
+5.8-6.1, µs of CPU: force 0.589 -> 0.498, force+energy 0.752 -> 0.574, energy 0.440 -> 0.350,
+steady step 1.039 -> 0.743 (4.8 -> 3.9 x the reference pass, 0.217 / 0.192), whole run of
+100 steps 0.677 -> 0.704 (the steady step is noisy at that load; paired in one process the
+step is 0.933 of before, median of 20 rounds, benchmarks/fibrous_shell.py).
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
 

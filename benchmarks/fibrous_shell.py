@@ -108,6 +108,32 @@ load). A perf profile of the force at 20k: libm 23 % (atan2 of the corner and fo
 left out: LLVM's fused multiply-add (numba fastmath "contract") on the cells' pass, 0.963 of
 the time (median of 30 paired rounds at 20k) but its moments and dW/dS_k 1.3e-11 (relative
 to their largest) off the IEEE pass.
+
+Work done twice no longer (elements/fibrous/kernels.py): each fold angle once per side shared
+by two cells (a side pass after the normals writes the angle and the curvature scale for both
+cells: 1.5 arctangents and roots per cell instead of 3), and a node's corner thickness, nodal
+normal and director terms once per node (a node loop after the normal sums) instead of once
+per corner (3 roots and 6 divisions per cell); the corner terms the same numbers to the last
+bit, the folds within a rounding of the cell's own (forces 1.9e-16 of the largest apart on the
+100k bowl, moments equal). Intel Xeon, one thread, CPU time, paired in one process against
+the previous kernels (a copy of main 78b2577's kernels.py and cell_terms.py imported beside
+the new ones, the block's kernels swapped, taken in turns, order flipped every round), 100k
+triangles, the force on the bowl, the explicit step from rest (10 steps a turn, the energy
+checked every 10th), new / old, median (quartiles): 20 rounds at a load of 5.5-5.8, force
+0.958 (0.887-1.073), force and energy 0.974 (0.898-1.030), step 0.933 (0.890-0.963); best
+force 0.526 -> 0.532 us per element, best step 0.479 -> 0.470 us per element-step, reference
+pass 0.189 CPU (best; median 0.254): the step 2.53 -> 2.48 x the reference pass by the best
+figures. 16 rounds at a load of 6.8 (a test run beside it): force 0.904 (0.811-1.061), step
+0.928 (0.862-1.065); the side pass alone, 12 rounds at 6.7-7.5: force 0.931 (0.888-0.953),
+force and energy 0.926, step 0.967 (0.906-1.030). benchmarks/explicit_step.py --element
+fibrous --sizes 100000 --repeats 3 on the previous tree (a second checkout) and on this one,
+one after the other, load 5.8-6.1: steady step 1.039 -> 0.743 us of CPU (4.8 -> 3.9 x the
+reference pass, 0.217 / 0.192 CPU), but the whole runs of 100 steps 0.677 -> 0.704: the
+steady step, a difference of two runs, moves by more than the change at these loads; force
+0.589 -> 0.498, force and energy 0.752 -> 0.574, energy 0.440 -> 0.350. So about 5-7 % off a
+step: 3 x the reference pass is met by the paired best figures and not by the steady-step
+figure at this load, and 0.35 us per element-step is not met (best 0.47); the transcendental
+functions left (12.5 a cell) and the cells' pass remain the bulk.
 """
 
 from __future__ import annotations
