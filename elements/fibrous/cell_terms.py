@@ -1,7 +1,10 @@
 """Scalar pieces of the fibrous shell's compiled cell loops (elements/fibrous/kernels.py):
-the corner thickness, the director moment, a side's fold angle and curvature coefficients,
-the fold-angle gradient and the pull of a corner angle. Each takes and returns scalars (x, y,
-z components), so that the loops keep every vector in registers.
+a cell's edges and normal (also the fibre frame's, fibre_kernels.py), the corner thickness,
+the director moment, a side's fold angle and curvature coefficients, the fold-angle gradient
+and the pull of a corner angle. Each returns scalars (x, y, z components), so that the loops
+keep every vector in registers; those that read an array (``cell_cross``,
+``corner_thickness``, ``corner_frame``, ``wall_fold``) are inlined into their callers
+(elements/jit.py ``inline``), where an array argument costs no reference counting.
 
 Divisions are the dearest of the loops' arithmetic after the transcendental functions (a
 division or a square root costs several multiplications' time): where several quotients
