@@ -1,0 +1,139 @@
+"""numba's compilations of a fresh checkout, kernel by kernel: which kernels compile, the CPU
+each compilation takes (its own, its callees' compilations taken out), the signatures each
+kernel is compiled for (a kernel compiled twice for a read-only and a writable array, for
+int32 and int64 indices or for C and A layouts shows two), and what a serial build of each
+parallel kernel (elements/jit.py ``jit``) would cost against its parallel build.
+
+One pass: a fresh process on a fresh empty numba cache (NUMBA_CACHE_DIR), one numba and BLAS
+thread, runs the given pytest modules (default: the compile-heavy modules of the suite,
+``-m "not slow"``) with numba's ``Dispatcher.compile`` timed. ``--serial`` then compiles the
+Python function of every parallel kernel met, for each signature it was compiled for, once
+with ``parallel=False`` and once with ``parallel=True`` (no cache, its callees already
+compiled), and prints both. CPU is ``time.process_time``; the machine's load is printed.
+
+Measured: see the figures in the module's history (``git log -p``) and the docstring below
+the table when updated.
+
+Run: python benchmarks/suite_kernels.py [--serial] [tests/test_x.py ...]
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+MODULES = [
+    "tests/test_bias_extension.py",
+    "tests/test_conformance.py",
+    "tests/test_augmented_contact.py",
+]
+
+PROBE = r"""
+import json, sys, time
+from collections import defaultdict
+from numba.core import dispatcher
+
+records = []          # (kernel, signature, own CPU s, loaded from the cache)
+stack = [0.0]         # CPU of the callees' compilations inside the current one
+original = dispatcher.Dispatcher.compile
+kernels = {}
+
+
+def compile(self, sig):
+    name = f"{self.py_func.__module__}.{self.py_func.__qualname__}"
+    hits = sum(self._cache_hits.values())
+    stack.append(0.0)
+    started = time.process_time()
+    try:
+        return original(self, sig)
+    finally:
+        spent = time.process_time() - started
+        inner = stack.pop()
+        stack[-1] += spent
+        loaded = sum(self._cache_hits.values()) > hits
+        kernels[name] = self
+        records.append((name, str(sig), spent - inner, loaded,
+                        bool(self.targetoptions.get("parallel"))))
+
+
+dispatcher.Dispatcher.compile = compile
+import pytest
+started = time.process_time()
+code = pytest.main(sys.argv[2:])
+total = time.process_time() - started
+out = {"records": records, "total": total, "code": int(code), "serial": []}
+if sys.argv[1] == "serial":
+    import numba
+    done = set()
+    for name, sig, _, _, parallel in records:
+        if not parallel or (name, sig) in done:
+            continue
+        done.add((name, sig))
+        function = kernels[name].py_func
+        signature = [s for s in kernels[name].overloads if str(s) == sig]
+        if not signature:
+            continue
+        times = []
+        for flag in (False, True):
+            build = numba.njit(parallel=flag, fastmath=False)(function)
+            t = time.process_time()
+            build.compile(signature[0])
+            times.append(time.process_time() - t)
+        out["serial"].append((name, sig, times[0], times[1]))
+print("PROBE" + json.dumps(out))
+"""
+
+
+def run(modules: list[str], serial: bool) -> dict:
+    """One fresh process on a fresh cache: the records of the probe above."""
+    import json
+
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(ROOT),
+               "NUMBA_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+               "OMP_NUM_THREADS": "1"}  # fmt: skip
+        args = ["serial" if serial else "-", "-q", "-n", "0", "-p", "no:randomly",
+                "-p", "no:cacheprovider", "-m", "not slow", *modules]  # fmt: skip
+        done = subprocess.run(
+            [sys.executable, "-c", PROBE, *args], cwd=ROOT, env=env, capture_output=True,
+            text=True,
+        )  # fmt: skip
+        line = [x for x in done.stdout.splitlines() if x.startswith("PROBE")]
+        if not line:
+            raise RuntimeError(done.stdout[-3000:] + done.stderr[-3000:])
+        return json.loads(line[0][5:])
+
+
+def main() -> None:
+    serial = "--serial" in sys.argv
+    modules = [a for a in sys.argv[1:] if not a.startswith("--")] or MODULES
+    print(f"load before: {os.getloadavg()[0]:.1f}; modules: {' '.join(modules)}")
+    out = run(modules, serial)
+    per: dict[str, list] = {}
+    for name, sig, own, loaded, parallel in out["records"]:
+        entry = per.setdefault(name, [0.0, [], parallel, 0])
+        entry[0] += own
+        entry[1].append(sig)
+        entry[3] += loaded
+    compiled = sum(v[0] for v in per.values())
+    print(f"pytest exit {out['code']}; CPU of the process {out['total']:.1f} s, "
+          f"of numba's compilations {compiled:.1f} s; load {os.getloadavg()[0]:.1f}")  # fmt: skip
+    print(f"{'kernel':60s} {'par':>3s} {'sigs':>4s} {'CPU s':>7s}")
+    for name, (own, sigs, parallel, _) in sorted(per.items(), key=lambda kv: -kv[1][0]):
+        print(f"{name[-60:]:60s} {'P' if parallel else '':>3s} {len(sigs):4d} {own:7.2f}")
+        if len(sigs) > 1:
+            for s in sigs:
+                print(f"{'':8s}{s[:200]}")
+    if serial:
+        print(f"\n{'parallel kernel':60s} {'serial s':>9s} {'parallel s':>10s}")
+        for name, _, t_serial, t_parallel in out["serial"]:
+            print(f"{name[-60:]:60s} {t_serial:9.2f} {t_parallel:10.2f}")
+        plain, parallel = (sum(r[i] for r in out["serial"]) for i in (2, 3))
+        print(f"total: serial {plain:.1f} s, parallel {parallel:.1f} s; "
+              f"load {os.getloadavg()[0]:.1f}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,72 @@
+"""numba's two builds of a kernel (elements/jit.py ``_Parallel``): a loop on one thread runs
+the plain build and leaves the parallel one uncompiled; a loop on more threads runs the
+parallel build; both give the same numbers to the last bit, and are cached apart."""
+
+import numpy as np
+import pytest
+
+from elements import jit
+
+pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
+
+
+def _scaled_sums(offsets, values, out):  # pragma: no cover - numba
+    """out[i] = 0.1 * the sum of values[offsets[i]:offsets[i + 1]] in order (a loop whose
+    rounding shows any change of the order of its sums)."""
+    for i in jit.prange(out.shape[0]):
+        total = 0.0
+        for j in range(offsets[i], offsets[i + 1]):
+            total += 0.1 * values[j]
+        out[i] = total
+
+
+def _kernel_and_arguments():
+    rng = np.random.default_rng(7)
+    values = rng.normal(size=4000) * 10.0 ** rng.integers(-8, 8, size=4000)
+    offsets = np.sort(rng.integers(0, 4000, size=2001))
+    offsets[0], offsets[-1] = 0, 4000
+    return jit.jit(_scaled_sums), offsets, values
+
+
+def _python_sums(offsets, values) -> np.ndarray:
+    """The loop run by Python itself (numba's ``prange`` is ``range`` there)."""
+    out = np.empty(len(offsets) - 1)
+    _scaled_sums(offsets, values, out)
+    return out
+
+
+def test_a_loop_on_one_thread_runs_the_plain_build_and_never_compiles_the_parallel_one():
+    kernel, offsets, values = _kernel_and_arguments()
+    out = np.empty(len(offsets) - 1)
+    kernel(offsets, values, out)  # one numba thread (tests/conftest.py)
+    assert kernel._parallel is None
+    assert len(kernel.serial.signatures) == 1
+    # the same sums in the same order as Python's loop, to the last bit
+    np.testing.assert_array_equal(out, _python_sums(offsets, values))
+
+
+@pytest.mark.parallel
+def test_a_loop_on_all_threads_runs_the_parallel_build_with_the_same_numbers():
+    kernel, offsets, values = _kernel_and_arguments()
+    out = np.empty(len(offsets) - 1)
+    kernel(offsets, values, out)  # every loop on numba's threads (the parallel mark)
+    import numba
+
+    if numba.get_num_threads() > 1:
+        assert kernel._parallel is not None and len(kernel.parallel.signatures) == 1
+        assert not kernel.serial.signatures
+    np.testing.assert_array_equal(out, _python_sums(offsets, values))
+
+
+def test_the_parallel_build_is_cached_under_a_name_of_its_own():
+    """numba's cache index of a function does not tell its parallel build from its plain one:
+    the parallel build compiles a renamed copy of the function."""
+    kernel = jit.jit(_scaled_sums)
+    assert kernel.serial.py_func is _scaled_sums
+    copy = kernel.parallel.py_func
+    assert copy.__qualname__ == "_scaled_sums_parallel"
+    assert copy.__module__ == _scaled_sums.__module__
+    assert copy.__code__ is _scaled_sums.__code__
+    assert kernel.parallel.targetoptions.get("parallel") and not kernel.serial.targetoptions.get(
+        "parallel"
+    )
