@@ -1,8 +1,9 @@
 """The explicit step on one thread with each of numba's two builds of the element kernels
-(elements/jit.py ``_Parallel``): the plain build (``SERIAL_ON_ONE_THREAD = True``, what a loop
-on one thread runs) and the parallel build run on one thread (``False``, what every loop ran
-before the plain build was added), in turns in one process: benchmarks/explicit_step.py's
-figures (µs of CPU per element-step) for each.
+(elements/jit.py ``_Parallel``): the plain build on every loop (``SMALL_LOOP`` raised past
+the model's size: what a loop shorter than ``SMALL_LOOP`` runs) and the parallel build on one
+thread (``PLAIN_SMALL_LOOPS = False``: what every loop ran before the plain build was added,
+and what a loop of ``SMALL_LOOP`` items or more still runs), in turns in one process:
+benchmarks/explicit_step.py's figures (µs of CPU per element-step) for each.
 
 Measured: see the figures below (updated with each measurement).
 
@@ -31,9 +32,11 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
+    small = jit.SMALL_LOOP
     for _ in range(args.rounds):
         for plain in (False, True):
-            jit.SERIAL_ON_ONE_THREAD = plain
+            jit.PLAIN_SMALL_LOOPS = plain
+            jit.SMALL_LOOP = 10**9 if plain else small
             label = "plain build" if plain else "parallel build on one thread"
             print(f"--- {label}; load {os.getloadavg()[0]:.2f}", flush=True)
             explicit_step.main(

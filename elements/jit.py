@@ -2,10 +2,10 @@
 the plain Python function and ``prange`` is ``range``, so the numpy paths keep working.
 
 ``jit`` compiles a loop over cells or nodes that runs in parallel (its ``prange`` loops split
-over threads, ``threads_for``) from numba's parallel build, and on one thread from numba's
-plain build of the same function (``_Parallel``: a process whose loops all run on one thread,
-a test session's, never pays for the parallel build's compilation); ``serial`` compiles a
-helper called from inside such loops.
+over threads, ``threads_for``) from numba's parallel build, and a short loop (one thread)
+from numba's plain build of the same function (``_Parallel``: a process whose loops are all
+short, a test session's, never pays for the parallel build's compilation); ``serial``
+compiles a helper called from inside such loops.
 Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
 fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
 its sums; the kernels sum in the same order on any number of threads, so a run gives the same
@@ -56,7 +56,7 @@ if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
 __all__ = [
     "AVAILABLE",
     "FOLLOW_LOAD",
-    "SERIAL_ON_ONE_THREAD",
+    "PLAIN_SMALL_LOOPS",
     "SMALL_LOOP",
     "free_cores",
     "inline",
@@ -72,9 +72,9 @@ SMALL_LOOP = 2000
 # Whether the threads follow the free cores (False: numba's setting alone, as in the tests
 # that compare thread counts).
 FOLLOW_LOAD = True
-# Whether a loop on one thread runs the plain build of its kernel (False: the parallel build,
-# on one thread; _Parallel).
-SERIAL_ON_ONE_THREAD = True
+# Whether a loop over fewer than SMALL_LOOP items runs the plain build of its kernel (False:
+# the parallel build, on one thread; _Parallel).
+PLAIN_SMALL_LOOPS = True
 # Seconds between two looks at the machine's load (free_cores).
 LOAD_REFRESH = 2.0
 
@@ -150,17 +150,20 @@ class _Parallel:
     """A compiled loop called on ``threads_for`` threads of the length of its first argument
     (the cells or the nodes it loops over), from one of two builds of the same function:
 
-    * ``serial``, numba's plain build (``prange`` a ``range``), for a loop on one thread;
-    * ``parallel``, numba's parallel build, for a loop on more, compiled the first time one
-      runs on more than one thread.
+    * ``serial``, numba's plain build (``prange`` a ``range``), for a loop over fewer than
+      ``SMALL_LOOP`` items (which runs on one thread);
+    * ``parallel``, numba's parallel build, for a longer loop, on one thread or more (on one
+      thread it kept its per-cell speed: the plain build of the fibrous force, without the
+      parallel compiler's hoisting, ran 1.08 times as long per cell at 10k cells,
+      benchmarks/suite_builds.py), compiled at its first call.
 
     Compiling the parallel build costs numba's parallel passes besides the plain build's
-    (benchmarks/suite_kernels.py prints both builds' CPU), and a test model's loops
-    all run on one thread: a process that never runs a loop on two threads never compiles
-    it. The two builds run the same arithmetic in the same order (IEEE, no fastmath, the
-    same cell order), so they give the same numbers to the last bit (tests/test_threads.py);
-    on one thread the plain build runs a loop without starting the parallel scheduler.
-    ``SERIAL_ON_ONE_THREAD = False`` runs the parallel build on one thread too.
+    (benchmarks/suite_kernels.py prints both), and the test models' loops are all short: a
+    process whose loops are all short, a test session's, never compiles a parallel build.
+    The two builds run the same arithmetic in the same order (IEEE, no fastmath, the same
+    cell order), so they give the same numbers to the last bit (tests/test_threads.py,
+    tests/test_kernel_builds.py). ``PLAIN_SMALL_LOOPS = False`` runs the parallel build on
+    every loop.
 
     Each build is cached under a name of its own (the parallel build's with ``_parallel``
     appended): numba's cache index of a function does not tell its parallel build from its
@@ -182,10 +185,11 @@ class _Parallel:
         return self._parallel
 
     def __call__(self, *args):
-        cap = _setting()
-        threads = _threads(len(args[0]), cap)
-        if threads == 1 and SERIAL_ON_ONE_THREAD:
+        items = len(args[0])
+        if items < SMALL_LOOP and PLAIN_SMALL_LOOPS:
             return self.serial(*args)
+        cap = _setting()
+        threads = _threads(items, cap)
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)
