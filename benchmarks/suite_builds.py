@@ -5,7 +5,18 @@ thread (``PLAIN_SMALL_LOOPS = False``: what every loop ran before the plain buil
 and what a loop of ``SMALL_LOOP`` items or more still runs), in turns in one process:
 benchmarks/explicit_step.py's figures (µs of CPU per element-step) for each.
 
-Measured: see the figures below (updated with each measurement).
+Measured (fibrous shell, 10082 triangles, one numba and BLAS thread, 2 cores shared with
+other jobs at a load of 6-7; µs of CPU per element-step: the steady step, the force alone):
+
+    round  parallel build, one thread   plain build
+    1      1.110, force 0.998           1.201, force 1.080
+    2      1.205, force 0.966           1.155, force 0.806
+
+No difference beyond the machine's noise (the parallel compiler's hoisting of a loop's small
+arrays, once measured 3 times faster per cell, buys nothing now that the cell loops keep their
+vectors in scalars). elements/jit.py still runs the parallel build for every loop of
+``SMALL_LOOP`` items or more, so the explicit step of a large model runs the same code as
+before.
 
 Run: python benchmarks/suite_builds.py [--element fibrous] [--sizes 10000] [--rounds 2]
 """

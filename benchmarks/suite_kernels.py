@@ -115,17 +115,20 @@ def main() -> None:
     for name, sig, own, loaded, parallel in out["records"]:
         entry = per.setdefault(name, [0.0, [], parallel, 0])
         entry[0] += own
-        entry[1].append(sig)
+        if sig not in entry[1]:  # (a callee is asked again for each caller typed)
+            entry[1].append(sig)
         entry[3] += loaded
     compiled = sum(v[0] for v in per.values())
     print(f"pytest exit {out['code']}; CPU of the process {out['total']:.1f} s, "
           f"of numba's compilations {compiled:.1f} s; load {os.getloadavg()[0]:.1f}")  # fmt: skip
-    print(f"{'kernel':60s} {'par':>3s} {'sigs':>4s} {'CPU s':>7s}")
+    print(f"{'kernel (numba internals left out)':60s} {'par':>3s} {'sigs':>4s} {'CPU s':>7s}")
     for name, (own, sigs, parallel, _) in sorted(per.items(), key=lambda kv: -kv[1][0]):
+        if name.startswith("numba."):
+            continue
         print(f"{name[-60:]:60s} {'P' if parallel else '':>3s} {len(sigs):4d} {own:7.2f}")
         if len(sigs) > 1:
             for s in sigs:
-                print(f"{'':8s}{s[:200]}")
+                print(f"{'':8s}{s[:300]}")
     if serial:
         print(f"\n{'parallel kernel':60s} {'serial s':>9s} {'parallel s':>10s}")
         for name, _, t_serial, t_parallel in out["serial"]:

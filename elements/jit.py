@@ -152,10 +152,12 @@ class _Parallel:
 
     * ``serial``, numba's plain build (``prange`` a ``range``), for a loop over fewer than
       ``SMALL_LOOP`` items (which runs on one thread);
-    * ``parallel``, numba's parallel build, for a longer loop, on one thread or more (on one
-      thread it kept its per-cell speed: the plain build of the fibrous force, without the
-      parallel compiler's hoisting, ran 1.08 times as long per cell at 10k cells,
-      benchmarks/suite_builds.py), compiled at its first call.
+    * ``parallel``, numba's parallel build, for a longer loop, on one thread or more,
+      compiled at its first call. (On one thread the two builds' fibrous force at 10k cells
+      took 1.08 and 0.83 times as long per cell in the plain build as in the parallel one,
+      two rounds at a load of 6-7, benchmarks/suite_builds.py: no difference beyond the
+      machine's noise. A long loop keeps the parallel build on one thread all the same:
+      its speed is the one measured in benchmarks/explicit_step.py.)
 
     Compiling the parallel build costs numba's parallel passes besides the plain build's
     (benchmarks/suite_kernels.py prints both), and the test models' loops are all short: a

@@ -68,3 +68,46 @@ def test_the_parallel_build_is_cached_under_a_name_of_its_own():
     assert kernel.parallel.targetoptions.get("parallel") and not kernel.serial.targetoptions.get(
         "parallel"
     )
+
+
+def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_type(monkeypatch):
+    """numba compiles a kernel once for each array type it is given, read-only and writable
+    apart: the bind's reference geometry (the mesh's read-only points) is computed from a
+    writable copy, as the states' positions are, so that the normals and bending-side loops
+    compile once. The copy changes no number: the reference sums and fold angles are those
+    of the mesh's points themselves (numpy reference, to the last bit)."""
+    from elements import FibrousShell
+    from elements.fibrous import bending, geometry
+    from elements.fibrous import kernels as fibrous_kernels
+    from femcore import Mesh, Model
+    from materials import Fabric
+
+    seen: list[tuple[str, bool]] = []
+    for name in ("_normals_pass", "_bending_sides"):
+        original = getattr(fibrous_kernels, name)
+
+        def recorded(*args, _name=name, _original=original):
+            seen.append((_name, bool(args[1].flags.writeable)))
+            return _original(*args)
+
+        monkeypatch.setattr(fibrous_kernels, name, recorded)
+    mesh = Mesh.rectangle(30.0, 20.0, nx=3, ny=2)
+    model = Model(mesh)
+    fabric = Fabric(thickness=1.0, areal_density=1e-9, tension=500.0, shear=0.5, bending=2.0)
+    model.add(FibrousShell(fabric))
+    compiled = model.compile()
+    compiled.internal_force(compiled.initial_state())
+    assert {name for name, _ in seen} == {"_normals_pass", "_bending_sides"}
+    assert all(writable for _, writable in seen), seen
+    block = compiled.blocks[0]
+    assert not block.reference_points.flags.writeable  # the mesh's points, kept read-only
+    block.compiled = False  # the numpy reference of the same geometry, from the points
+    wall = block.wall_nodes
+    block.wall_nodes = np.zeros_like(wall)
+    np.testing.assert_array_equal(
+        geometry.normal_sums(block, block.reference_points), block.reference_sums
+    )
+    block.wall_nodes = wall
+    np.testing.assert_array_equal(
+        bending.geometry(block, block.reference_points)["fold"], block.reference_fold
+    )
