@@ -11,8 +11,24 @@ Python function of every parallel kernel met, for each signature it was compiled
 with ``parallel=False`` and once with ``parallel=True`` (no cache, its callees already
 compiled), and prints both. CPU is ``time.process_time``; the machine's load is printed.
 
-Measured: see the figures in the module's history (``git log -p``) and the docstring below
-the table when updated.
+Measured on the 2-core machine shared with other jobs (load 5.5-7), the three default
+modules, fresh cache, one process:
+
+* before (every ``jit`` kernel compiled as numba's parallel build, run on one thread): the
+  process's CPU about 430 s by the time its last kernel was cached (the process's CPU read by
+  ``ps`` beside the cache's file times; its own total is printed at the end of a run with
+  ``--serial``, below);
+* after (a loop shorter than ``SMALL_LOOP`` runs the plain build: every loop of these tests):
+  CPU of the process 192.6 s, of the compilations 179.2 s (load 5.6-6.2); again with the
+  fibrous bind's writable reference points, 159.2 s and 144.9 s (load 5.5). The largest:
+  fibrous ``_cells_pass`` 36-47 s, ``_hessian_cells`` 30-37 s, fabric_section_kernels
+  ``_response_cells`` 28-33 s (a plain build already), Mindlin ``_tangent_cells`` 5.6-5.8 s,
+  ``_normal_pull_cells`` 4.9-5.8 s; every other kernel under 5 s. Signatures: before the
+  writable reference points ``_normals_pass`` and ``_bending_sides`` were compiled twice (a
+  read-only and a writable ``positions``: 1.7 and 3.2 s for the two), after once (0.4 and
+  1.0 s); ``_base_vectors`` (a helper of the Mindlin tables and fields) still twice, 1.2 s
+  for both (the Mindlin block's reference positions are read-only). No int32/int64 or C/A
+  layout duplicates.
 
 Run: python benchmarks/suite_kernels.py [--serial] [tests/test_x.py ...]
 """
