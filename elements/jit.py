@@ -219,7 +219,8 @@ def _renamed(function, suffix: str):
 
 def jit(function):
     """``function`` compiled with its ``prange`` loops in parallel, on ``threads_for`` threads
-    of its first argument's length (as is without numba)."""
+    of its first argument's length, and compiled plain for a loop shorter than ``SMALL_LOOP``
+    (``_Parallel``; as is without numba)."""
     if not AVAILABLE:
         return function
     return _Parallel(function)
