@@ -1,8 +1,7 @@
 """The explicit step on one thread with each of numba's two builds of the element kernels
-(elements/jit.py ``_Parallel``): the plain build on every loop (``SMALL_LOOP`` raised past
-the model's size: what a loop shorter than ``SMALL_LOOP`` runs) and the parallel build on one
-thread (``PLAIN_SMALL_LOOPS = False``: what every loop ran before the plain build was added,
-and what a loop of ``SMALL_LOOP`` items or more still runs), in turns in one process:
+(elements/jit.py ``_Parallel``): the plain build (what a loop on one thread runs) and the
+parallel build on one thread (``PLAIN_ON_ONE_THREAD = False``: what every loop ran before the
+plain build was added), in turns in one process:
 benchmarks/explicit_step.py's figures (µs of CPU per element-step) for each.
 
 Measured (fibrous shell, 10082 triangles, one numba and BLAS thread, 2 cores shared with
@@ -14,9 +13,7 @@ other jobs at a load of 6-7; µs of CPU per element-step: the steady step, the f
 
 No difference beyond the machine's noise (the parallel compiler's hoisting of a loop's small
 arrays, once measured 3 times faster per cell, buys nothing now that the cell loops keep their
-vectors in scalars). elements/jit.py still runs the parallel build for every loop of
-``SMALL_LOOP`` items or more, so the explicit step of a large model runs the same code as
-before.
+vectors in scalars).
 
 Run: python benchmarks/suite_builds.py [--element fibrous] [--sizes 10000] [--rounds 2]
 """
@@ -43,11 +40,9 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
-    small = jit.SMALL_LOOP
     for _ in range(args.rounds):
         for plain in (False, True):
-            jit.PLAIN_SMALL_LOOPS = plain
-            jit.SMALL_LOOP = 10**9 if plain else small
+            jit.PLAIN_ON_ONE_THREAD = plain
             label = "plain build" if plain else "parallel build on one thread"
             print(f"--- {label}; load {os.getloadavg()[0]:.2f}", flush=True)
             explicit_step.main(

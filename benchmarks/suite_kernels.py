@@ -18,7 +18,7 @@ modules, fresh cache, one process:
   process's CPU about 430 s by the time its last kernel was cached (the process's CPU read by
   ``ps`` beside the cache's file times; its own total is printed at the end of a run with
   ``--serial``, below);
-* after (a loop shorter than ``SMALL_LOOP`` runs the plain build: every loop of these tests):
+* after (a loop on one thread runs the plain build: every loop of these tests):
   CPU of the process 192.6 s, of the compilations 179.2 s (load 5.6-6.2); again with the
   fibrous bind's writable reference points, 159.2 s and 144.9 s (load 5.5). The largest:
   fibrous ``_cells_pass`` 36-47 s, ``_hessian_cells`` 30-37 s, fabric_section_kernels

@@ -2,9 +2,9 @@
 the plain Python function and ``prange`` is ``range``, so the numpy paths keep working.
 
 ``jit`` compiles a loop over cells or nodes that runs in parallel (its ``prange`` loops split
-over threads, ``threads_for``) from numba's parallel build, and a short loop (one thread)
-from numba's plain build of the same function (``_Parallel``: a process whose loops are all
-short, a test session's, never pays for the parallel build's compilation); ``serial``
+over threads, ``threads_for``) from numba's parallel build, and a loop on one thread from
+numba's plain build of the same function (``_Parallel``: a process whose loops all run on one
+thread, a test session's, never pays for the parallel build's compilation); ``serial``
 compiles a helper called from inside such loops.
 Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
 fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
@@ -56,7 +56,7 @@ if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
 __all__ = [
     "AVAILABLE",
     "FOLLOW_LOAD",
-    "PLAIN_SMALL_LOOPS",
+    "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
     "inline",
@@ -72,9 +72,9 @@ SMALL_LOOP = 2000
 # Whether the threads follow the free cores (False: numba's setting alone, as in the tests
 # that compare thread counts).
 FOLLOW_LOAD = True
-# Whether a loop over fewer than SMALL_LOOP items runs the plain build of its kernel (False:
-# the parallel build, on one thread; _Parallel).
-PLAIN_SMALL_LOOPS = True
+# Whether a loop on one thread runs the plain build of its kernel (False: the parallel build,
+# on one thread; _Parallel).
+PLAIN_ON_ONE_THREAD = True
 # Seconds between two looks at the machine's load (free_cores).
 LOAD_REFRESH = 2.0
 
@@ -150,21 +150,24 @@ class _Parallel:
     """A compiled loop called on ``threads_for`` threads of the length of its first argument
     (the cells or the nodes it loops over), from one of two builds of the same function:
 
-    * ``serial``, numba's plain build (``prange`` a ``range``), for a loop over fewer than
-      ``SMALL_LOOP`` items (which runs on one thread);
-    * ``parallel``, numba's parallel build, for a longer loop, on one thread or more,
-      compiled at its first call. (On one thread the two builds' fibrous force at 10k cells
-      took 1.08 and 0.83 times as long per cell in the plain build as in the parallel one,
-      two rounds at a load of 6-7, benchmarks/suite_builds.py: no difference beyond the
-      machine's noise. A long loop keeps the parallel build on one thread all the same:
-      its speed is the one measured in benchmarks/explicit_step.py.)
+    * ``serial``, numba's plain build (``prange`` a ``range``), for a loop on one thread
+      (a loop shorter than ``SMALL_LOOP``, or any loop where numba's setting or the free
+      cores give one thread);
+    * ``parallel``, numba's parallel build, for a loop on more threads, compiled at its
+      first call.
 
     Compiling the parallel build costs numba's parallel passes besides the plain build's
-    (benchmarks/suite_kernels.py prints both), and the test models' loops are all short: a
-    process whose loops are all short, a test session's, never compiles a parallel build.
+    (benchmarks/suite_kernels.py), and the test sessions' and the report's workers run on
+    one thread: they never compile a parallel build. On one thread the plain build is as
+    fast per cell as the parallel one (the fibrous force at 10k cells took 1.08 and 0.83
+    times as long per cell in the plain build as in the parallel build on one thread, the
+    steady explicit step 1.08 and 0.96 times, two rounds at a load of 6-7,
+    benchmarks/suite_builds.py: no difference beyond the machine's noise; the parallel
+    compiler's hoisting of small arrays out of a loop, once measured 3 times faster, buys
+    nothing now that the cell loops keep their vectors in scalars).
     The two builds run the same arithmetic in the same order (IEEE, no fastmath, the same
     cell order), so they give the same numbers to the last bit (tests/test_threads.py,
-    tests/test_kernel_builds.py). ``PLAIN_SMALL_LOOPS = False`` runs the parallel build on
+    tests/test_kernel_builds.py). ``PLAIN_ON_ONE_THREAD = False`` runs the parallel build on
     every loop.
 
     Each build is cached under a name of its own (the parallel build's with ``_parallel``
@@ -187,11 +190,10 @@ class _Parallel:
         return self._parallel
 
     def __call__(self, *args):
-        items = len(args[0])
-        if items < SMALL_LOOP and PLAIN_SMALL_LOOPS:
-            return self.serial(*args)
         cap = _setting()
-        threads = _threads(items, cap)
+        threads = _threads(len(args[0]), cap)
+        if threads == 1 and PLAIN_ON_ONE_THREAD:
+            return self.serial(*args)
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)
@@ -219,7 +221,7 @@ def _renamed(function, suffix: str):
 
 def jit(function):
     """``function`` compiled with its ``prange`` loops in parallel, on ``threads_for`` threads
-    of its first argument's length, and compiled plain for a loop shorter than ``SMALL_LOOP``
+    of its first argument's length, and compiled plain for a loop on one thread
     (``_Parallel``; as is without numba)."""
     if not AVAILABLE:
         return function

@@ -1,5 +1,5 @@
-"""numba's two builds of a kernel (elements/jit.py ``_Parallel``): a short loop runs the plain
-build and leaves the parallel one uncompiled; a long one (on all threads here) runs the
+"""numba's two builds of a kernel (elements/jit.py ``_Parallel``): a loop on one thread runs
+the plain build and leaves the parallel one uncompiled; a loop on more threads runs the
 parallel build; both give the same numbers to the last bit, and are cached apart."""
 
 import numpy as np
@@ -23,7 +23,7 @@ def _scaled_sums(offsets, values, out):  # pragma: no cover - numba
 def _kernel_and_arguments():
     rng = np.random.default_rng(7)
     values = rng.normal(size=4000) * 10.0 ** rng.integers(-8, 8, size=4000)
-    offsets = np.sort(rng.integers(0, 4000, size=501))  # 500 sums: under SMALL_LOOP
+    offsets = np.sort(rng.integers(0, 4000, size=501))
     offsets[0], offsets[-1] = 0, 4000
     return jit.jit(_scaled_sums), offsets, values
 
@@ -35,11 +35,10 @@ def _python_sums(offsets, values) -> np.ndarray:
     return out
 
 
-def test_a_short_loop_runs_the_plain_build_and_never_compiles_the_parallel_one():
+def test_a_loop_on_one_thread_runs_the_plain_build_and_never_compiles_the_parallel_one():
     kernel, offsets, values = _kernel_and_arguments()
     out = np.empty(len(offsets) - 1)
-    assert len(offsets) < jit.SMALL_LOOP
-    kernel(offsets, values, out)
+    kernel(offsets, values, out)  # one numba thread (tests/conftest.py)
     assert kernel._parallel is None
     assert len(kernel.serial.signatures) == 1
     # the same sums in the same order as Python's loop, to the last bit
@@ -47,12 +46,15 @@ def test_a_short_loop_runs_the_plain_build_and_never_compiles_the_parallel_one()
 
 
 @pytest.mark.parallel
-def test_a_long_loop_runs_the_parallel_build_with_the_same_numbers():
+def test_a_loop_on_more_threads_runs_the_parallel_build_with_the_same_numbers():
+    import numba
+
     kernel, offsets, values = _kernel_and_arguments()
     out = np.empty(len(offsets) - 1)
-    kernel(offsets, values, out)  # SMALL_LOOP 0, numba's threads (the parallel mark)
-    assert kernel._parallel is not None and len(kernel.parallel.signatures) == 1
-    assert not kernel.serial.signatures
+    kernel(offsets, values, out)  # on numba's threads, every loop (the parallel mark)
+    if numba.get_num_threads() > 1:
+        assert kernel._parallel is not None and len(kernel.parallel.signatures) == 1
+        assert not kernel.serial.signatures
     np.testing.assert_array_equal(out, _python_sums(offsets, values))
 
 
