@@ -4,12 +4,14 @@ parallel build on one thread (``PLAIN_ON_ONE_THREAD = False``: what every loop r
 plain build was added), in turns in one process:
 benchmarks/explicit_step.py's figures (µs of CPU per element-step) for each.
 
-Measured (fibrous shell, 10082 triangles, one numba and BLAS thread, 2 cores shared with
-other jobs at a load of 6-7; µs of CPU per element-step: the steady step, the force alone):
+Measured (10082 triangles, one numba and BLAS thread, 2 cores shared with other jobs; µs of
+CPU per element-step: the steady step, the force alone):
 
-    round  parallel build, one thread   plain build
-    1      1.110, force 0.998           1.201, force 1.080
-    2      1.205, force 0.966           1.155, force 0.806
+    element  round (load)   parallel build, one thread   plain build
+    fibrous  1 (6-7)        1.110, force 0.998           1.201, force 1.080
+    fibrous  2 (6.8-6.9)    1.205, force 0.966           1.155, force 0.806
+    fibrous  3 (4.8-5.0)    1.212, force 0.756           0.877, force 0.798
+    Mindlin  1 (4.8)        0.268, force 0.189           0.226, force 0.137
 
 No difference beyond the machine's noise (the parallel compiler's hoisting of a loop's small
 arrays, once measured 3 times faster per cell, buys nothing now that the cell loops keep their

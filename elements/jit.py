@@ -159,10 +159,10 @@ class _Parallel:
     Compiling the parallel build costs numba's parallel passes besides the plain build's
     (benchmarks/suite_kernels.py), and the test sessions' and the report's workers run on
     one thread: they never compile a parallel build. On one thread the plain build is as
-    fast per cell as the parallel one (the fibrous force at 10k cells took 1.08 and 0.83
-    times as long per cell in the plain build as in the parallel build on one thread, the
-    steady explicit step 1.08 and 0.96 times, two rounds at a load of 6-7,
-    benchmarks/suite_builds.py: no difference beyond the machine's noise; the parallel
+    fast per cell as the parallel one (the steady explicit step at 10k cells took 1.08,
+    0.96 and 0.72 times as long in the plain build as in the parallel build on one thread
+    for the fibrous shell, 0.84 times for the Mindlin shell, at a load of 5-7,
+    benchmarks/suite_builds.py: no slower beyond the machine's noise; the parallel
     compiler's hoisting of small arrays out of a loop, once measured 3 times faster, buys
     nothing now that the cell loops keep their vectors in scalars).
     The two builds run the same arithmetic in the same order (IEEE, no fastmath, the same
