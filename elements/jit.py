@@ -2,7 +2,10 @@
 the plain Python function and ``prange`` is ``range``, so the numpy paths keep working.
 
 ``jit`` compiles a loop over cells or nodes that runs in parallel (its ``prange`` loops split
-over threads, ``threads_for``); ``serial`` compiles a helper called from inside such loops.
+over threads, ``threads_for``) from numba's parallel build, and a loop on one thread from
+numba's plain build of the same function (``_Parallel``: a process whose loops all run on one
+thread, a test session's, never pays for the parallel build's compilation); ``serial``
+compiles a helper called from inside such loops.
 Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
 fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
 its sums; the kernels sum in the same order on any number of threads, so a run gives the same
@@ -30,6 +33,7 @@ from __future__ import annotations
 import functools
 import os
 import time
+import types
 
 # Before numba loads its OpenMP layer (at the first parallel loop): a passive wait.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
@@ -52,6 +56,7 @@ if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
 __all__ = [
     "AVAILABLE",
     "FOLLOW_LOAD",
+    "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
     "inline",
@@ -67,6 +72,9 @@ SMALL_LOOP = 2000
 # Whether the threads follow the free cores (False: numba's setting alone, as in the tests
 # that compare thread counts).
 FOLLOW_LOAD = True
+# Whether a loop on one thread runs the plain build of its kernel (False: the parallel build,
+# on one thread; _Parallel).
+PLAIN_ON_ONE_THREAD = True
 # Seconds between two looks at the machine's load (free_cores).
 LOAD_REFRESH = 2.0
 
@@ -139,18 +147,53 @@ def _setting() -> int:
 
 
 class _Parallel:
-    """A compiled parallel loop called on ``threads_for`` threads of the length of its
-    first argument (the cells or the nodes it loops over). A loop for one thread runs the
-    same parallel build (a serial build of the kernels, without the parallel compiler's
-    hoisting of their small arrays out of the loop, measured 3 times slower per cell)."""
+    """A compiled loop called on ``threads_for`` threads of the length of its first argument
+    (the cells or the nodes it loops over), from one of two builds of the same function:
+
+    * ``serial``, numba's plain build (``prange`` a ``range``), for a loop on one thread
+      (a loop shorter than ``SMALL_LOOP``, or any loop where numba's setting or the free
+      cores give one thread);
+    * ``parallel``, numba's parallel build, for a loop on more threads, compiled at its
+      first call.
+
+    Compiling the parallel build costs numba's parallel passes besides the plain build's
+    (benchmarks/suite_kernels.py), and the test sessions' and the report's workers run on
+    one thread: they never compile a parallel build. On one thread the plain build is as
+    fast per cell as the parallel one (the steady explicit step at 10k cells took 1.08,
+    0.96 and 0.72 times as long in the plain build as in the parallel build on one thread
+    for the fibrous shell, 0.84 times for the Mindlin shell, at a load of 5-7,
+    benchmarks/suite_builds.py: no slower beyond the machine's noise; the parallel
+    compiler's hoisting of small arrays out of a loop, once measured 3 times faster, buys
+    nothing now that the cell loops keep their vectors in scalars).
+    The two builds run the same arithmetic in the same order (IEEE, no fastmath, the same
+    cell order), so they give the same numbers to the last bit (tests/test_threads.py,
+    tests/test_kernel_builds.py). ``PLAIN_ON_ONE_THREAD = False`` runs the parallel build on
+    every loop.
+
+    Each build is cached under a name of its own (the parallel build's with ``_parallel``
+    appended): numba's cache index of a function does not tell its parallel build from its
+    plain one."""
 
     def __init__(self, function):
-        self.parallel = numba.njit(cache=True, parallel=True, fastmath=False)(function)
+        self.serial = numba.njit(cache=True, fastmath=False)(function)
+        self._function = function
+        self._parallel = None
         functools.update_wrapper(self, function)
+
+    @property
+    def parallel(self):
+        """The parallel build (numba's dispatcher), made at its first use."""
+        if self._parallel is None:
+            self._parallel = numba.njit(cache=True, parallel=True, fastmath=False)(
+                _renamed(self._function, "_parallel")
+            )
+        return self._parallel
 
     def __call__(self, *args):
         cap = _setting()
         threads = _threads(len(args[0]), cap)
+        if threads == 1 and PLAIN_ON_ONE_THREAD:
+            return self.serial(*args)
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)
@@ -160,9 +203,26 @@ class _Parallel:
             numba.set_num_threads(cap)
 
 
+def _renamed(function, suffix: str):
+    """A copy of ``function`` (the same code, globals, defaults and closure) whose name and
+    qualified name end in ``suffix``: numba caches it in files of its own."""
+    copy = types.FunctionType(
+        function.__code__,
+        function.__globals__,
+        function.__name__ + suffix,
+        function.__defaults__,
+        function.__closure__,
+    )
+    copy.__qualname__ = function.__qualname__ + suffix
+    copy.__module__ = function.__module__
+    copy.__doc__ = function.__doc__
+    return copy
+
+
 def jit(function):
     """``function`` compiled with its ``prange`` loops in parallel, on ``threads_for`` threads
-    of its first argument's length (as is without numba)."""
+    of its first argument's length, and compiled plain for a loop on one thread
+    (``_Parallel``; as is without numba)."""
     if not AVAILABLE:
         return function
     return _Parallel(function)

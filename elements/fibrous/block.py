@@ -137,7 +137,9 @@ class FibrousShellBlock(ElementBlock):
         supports.set_sides(self, self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
-        x0 = np.asarray(mesh.points, dtype=float)
+        # (a writable copy of the read-only points: the compiled loops then see the states'
+        # array type and compile once, supports.apply_supports)
+        x0 = np.array(mesh.points, dtype=float)
         v0 = np.asarray(directors, dtype=float)
         ref = geometry.geometry(self, x0, v0)
         self.reference_area = 0.5 * ref["double_area"]

@@ -165,10 +165,15 @@ def apply_supports(block: FibrousShellBlock, held: np.ndarray) -> None:
     # not the mean of the cells that bend away from it (docs/theory.md §1.4).
     wall = block.node_in_block
     block.wall_nodes = np.zeros_like(held)  # the reference sums with no wall yet
-    block.reference_sums = geometry.normal_sums(block, block.reference_points)
+    # A writable copy of the mesh's read-only points: numba compiles a kernel once for each
+    # array type it is given, read-only and writable apart, and the states' positions are
+    # writable (benchmarks/suite_kernels.py: the normals and bending-side loops were compiled
+    # twice, the second time for the reference geometry of the bind).
+    points = np.array(block.reference_points)
+    block.reference_sums = geometry.normal_sums(block, points)
     block.wall_nodes = wall & (held | block.requested_clamp)
     block.wall_node_ids = np.flatnonzero(block.wall_nodes)
     block.wall_sums = block.reference_sums[block.wall_node_ids]
-    reference = bending.geometry(block, block.reference_points)
+    reference = bending.geometry(block, points)
     block.reference_fold = reference["fold"]
     block.reference_coefficients = reference["coefficients"]

@@ -1,0 +1,161 @@
+"""numba's compilations of a fresh checkout, kernel by kernel: which kernels compile, the CPU
+each compilation takes (its own, its callees' compilations taken out), the signatures each
+kernel is compiled for (a kernel compiled twice for a read-only and a writable array, for
+int32 and int64 indices or for C and A layouts shows two), and what a serial build of each
+parallel kernel (elements/jit.py ``jit``) would cost against its parallel build.
+
+One pass: a fresh process on a fresh empty numba cache (NUMBA_CACHE_DIR), one numba and BLAS
+thread, runs the given pytest modules (default: the compile-heavy modules of the suite,
+``-m "not slow"``) with numba's ``Dispatcher.compile`` timed. ``--serial`` then compiles the
+Python function of every parallel kernel met, for each signature it was compiled for, once
+with ``parallel=False`` and once with ``parallel=True`` (no cache, its callees already
+compiled), and prints both. CPU is ``time.process_time``; the machine's load is printed.
+
+Measured on the 2-core machine shared with other jobs (load 5.5-7), the three default
+modules, fresh cache, one process:
+
+* before (every ``jit`` kernel compiled as numba's parallel build, run on one thread): CPU
+  of the process 436.9 s (load 1.8-7). ``--serial`` then compiled each parallel kernel's
+  function both ways in that process (its callees compiled, no cache): plain 98.9 s, parallel
+  294.7 s in all (load 5.0); fibrous ``_cells_pass`` 33.8 s against 133.8 s,
+  ``_hessian_cells`` 29.7 against 83.4, Mindlin ``_tangent_cells`` 6.9 against 14.9,
+  ``_normal_pull_cells`` 5.0 against 10.2, ``_mindlin_tables`` 4.1 against 7.7, every other
+  one 1.4-3.5 times as long parallel as plain;
+* after (a loop on one thread runs the plain build: every loop of these tests):
+  CPU of the process 192.6 s, of the compilations 179.2 s (load 5.6-6.2); again with the
+  fibrous bind's writable reference points, 159.2 s and 144.9 s (load 5.5). The largest:
+  fibrous ``_cells_pass`` 36-47 s, ``_hessian_cells`` 30-37 s, fabric_section_kernels
+  ``_response_cells`` 28-33 s (a plain build already), Mindlin ``_tangent_cells`` 5.6-5.8 s,
+  ``_normal_pull_cells`` 4.9-5.8 s; every other kernel under 5 s. Signatures: before the
+  writable reference points ``_normals_pass`` and ``_bending_sides`` were compiled twice (a
+  read-only and a writable ``positions``: 1.7 and 3.2 s for the two), after once (0.4 and
+  1.0 s); ``_base_vectors`` (a helper of the Mindlin tables and fields) still twice, 1.2 s
+  for both (the Mindlin block's reference positions are read-only). No int32/int64 or C/A
+  layout duplicates.
+
+Run: python benchmarks/suite_kernels.py [--serial] [tests/test_x.py ...]
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+MODULES = [
+    "tests/test_bias_extension.py",
+    "tests/test_conformance.py",
+    "tests/test_augmented_contact.py",
+]
+
+PROBE = r"""
+import json, sys, time
+from collections import defaultdict
+from numba.core import dispatcher
+
+records = []          # (kernel, signature, own CPU s, loaded from the cache)
+stack = [0.0]         # CPU of the callees' compilations inside the current one
+original = dispatcher.Dispatcher.compile
+kernels = {}
+
+
+def compile(self, sig):
+    name = f"{self.py_func.__module__}.{self.py_func.__qualname__}"
+    hits = sum(self._cache_hits.values())
+    stack.append(0.0)
+    started = time.process_time()
+    try:
+        return original(self, sig)
+    finally:
+        spent = time.process_time() - started
+        inner = stack.pop()
+        stack[-1] += spent
+        loaded = sum(self._cache_hits.values()) > hits
+        kernels[name] = self
+        records.append((name, str(sig), spent - inner, loaded,
+                        bool(self.targetoptions.get("parallel"))))
+
+
+dispatcher.Dispatcher.compile = compile
+import pytest
+started = time.process_time()
+code = pytest.main(sys.argv[2:])
+total = time.process_time() - started
+out = {"records": list(records), "total": total, "code": int(code), "serial": []}
+if sys.argv[1] == "serial":
+    import numba
+    done = set()
+    for name, sig, _, _, parallel in records:
+        if not parallel or (name, sig) in done:
+            continue
+        done.add((name, sig))
+        function = kernels[name].py_func
+        signature = [s for s in kernels[name].overloads if str(s) == sig]
+        if not signature:
+            continue
+        times = []
+        for flag in (False, True):
+            build = numba.njit(parallel=flag, fastmath=False)(function)
+            t = time.process_time()
+            build.compile(signature[0])
+            times.append(time.process_time() - t)
+        out["serial"].append((name, sig, times[0], times[1]))
+print("PROBE" + json.dumps(out))
+"""
+
+
+def run(modules: list[str], serial: bool) -> dict:
+    """One fresh process on a fresh cache: the records of the probe above."""
+    import json
+
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(ROOT),
+               "NUMBA_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+               "OMP_NUM_THREADS": "1"}  # fmt: skip
+        args = ["serial" if serial else "-", "-q", "-n", "0", "-p", "no:randomly",
+                "-p", "no:cacheprovider", "-m", "not slow", *modules]  # fmt: skip
+        done = subprocess.run(
+            [sys.executable, "-c", PROBE, *args], cwd=ROOT, env=env, capture_output=True,
+            text=True,
+        )  # fmt: skip
+        line = [x for x in done.stdout.splitlines() if x.startswith("PROBE")]
+        if not line:
+            raise RuntimeError(done.stdout[-3000:] + done.stderr[-3000:])
+        return json.loads(line[0][5:])
+
+
+def main() -> None:
+    serial = "--serial" in sys.argv
+    modules = [a for a in sys.argv[1:] if not a.startswith("--")] or MODULES
+    print(f"load before: {os.getloadavg()[0]:.1f}; modules: {' '.join(modules)}")
+    out = run(modules, serial)
+    per: dict[str, list] = {}
+    for name, sig, own, loaded, parallel in out["records"]:
+        entry = per.setdefault(name, [0.0, [], parallel, 0])
+        entry[0] += own
+        if sig not in entry[1]:  # (a callee is asked again for each caller typed)
+            entry[1].append(sig)
+        entry[3] += loaded
+    compiled = sum(v[0] for v in per.values())
+    print(f"pytest exit {out['code']}; CPU of the process {out['total']:.1f} s, "
+          f"of numba's compilations {compiled:.1f} s; load {os.getloadavg()[0]:.1f}")  # fmt: skip
+    print(f"{'kernel (numba internals left out)':60s} {'par':>3s} {'sigs':>4s} {'CPU s':>7s}")
+    for name, (own, sigs, parallel, _) in sorted(per.items(), key=lambda kv: -kv[1][0]):
+        if name.startswith("numba."):
+            continue
+        print(f"{name[-60:]:60s} {'P' if parallel else '':>3s} {len(sigs):4d} {own:7.2f}")
+        if len(sigs) > 1:
+            for s in sigs:
+                print(f"{'':8s}{s[:300]}")
+    if serial:
+        print(f"\n{'parallel kernel':60s} {'serial s':>9s} {'parallel s':>10s}")
+        for name, _, t_serial, t_parallel in out["serial"]:
+            print(f"{name[-60:]:60s} {t_serial:9.2f} {t_parallel:10.2f}")
+        plain, parallel = (sum(r[i] for r in out["serial"]) for i in (2, 3))
+        print(f"total: serial {plain:.1f} s, parallel {parallel:.1f} s; "
+              f"load {os.getloadavg()[0]:.1f}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,115 @@
+"""numba's two builds of a kernel (elements/jit.py ``_Parallel``): a loop on one thread runs
+the plain build and leaves the parallel one uncompiled; a loop on more threads runs the
+parallel build; both give the same numbers to the last bit, and are cached apart."""
+
+import numpy as np
+import pytest
+
+from elements import jit
+
+pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
+
+
+def _scaled_sums(offsets, values, out):  # pragma: no cover - numba
+    """out[i] = 0.1 * the sum of values[offsets[i]:offsets[i + 1]] in order (a loop whose
+    rounding shows any change of the order of its sums)."""
+    for i in jit.prange(out.shape[0]):
+        total = 0.0
+        for j in range(offsets[i], offsets[i + 1]):
+            total += 0.1 * values[j]
+        out[i] = total
+
+
+def _kernel_and_arguments():
+    rng = np.random.default_rng(7)
+    values = rng.normal(size=4000) * 10.0 ** rng.integers(-8, 8, size=4000)
+    offsets = np.sort(rng.integers(0, 4000, size=501))
+    offsets[0], offsets[-1] = 0, 4000
+    return jit.jit(_scaled_sums), offsets, values
+
+
+def _python_sums(offsets, values) -> np.ndarray:
+    """The loop run by Python itself (numba's ``prange`` is ``range`` there)."""
+    out = np.empty(len(offsets) - 1)
+    _scaled_sums(offsets, values, out)
+    return out
+
+
+def test_a_loop_on_one_thread_runs_the_plain_build_and_never_compiles_the_parallel_one():
+    kernel, offsets, values = _kernel_and_arguments()
+    out = np.empty(len(offsets) - 1)
+    kernel(offsets, values, out)  # one numba thread (tests/conftest.py)
+    assert kernel._parallel is None
+    assert len(kernel.serial.signatures) == 1
+    # the same sums in the same order as Python's loop, to the last bit
+    np.testing.assert_array_equal(out, _python_sums(offsets, values))
+
+
+@pytest.mark.parallel
+def test_a_loop_on_more_threads_runs_the_parallel_build_with_the_same_numbers():
+    import numba
+
+    kernel, offsets, values = _kernel_and_arguments()
+    out = np.empty(len(offsets) - 1)
+    kernel(offsets, values, out)  # on numba's threads, every loop (the parallel mark)
+    if numba.get_num_threads() > 1:
+        assert kernel._parallel is not None and len(kernel.parallel.signatures) == 1
+        assert not kernel.serial.signatures
+    np.testing.assert_array_equal(out, _python_sums(offsets, values))
+
+
+def test_the_parallel_build_is_cached_under_a_name_of_its_own():
+    """numba's cache index of a function does not tell its parallel build from its plain one:
+    the parallel build compiles a renamed copy of the function."""
+    kernel = jit.jit(_scaled_sums)
+    assert kernel.serial.py_func is _scaled_sums
+    copy = kernel.parallel.py_func
+    assert copy.__qualname__ == "_scaled_sums_parallel"
+    assert copy.__module__ == _scaled_sums.__module__
+    assert copy.__code__ is _scaled_sums.__code__
+    assert kernel.parallel.targetoptions.get("parallel") and not kernel.serial.targetoptions.get(
+        "parallel"
+    )
+
+
+def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_type(monkeypatch):
+    """numba compiles a kernel once for each array type it is given, read-only and writable
+    apart: the bind's reference geometry (the mesh's read-only points) is computed from a
+    writable copy, as the states' positions are, so that the normals and bending-side loops
+    compile once. The copy changes no number: the reference sums and fold angles are those
+    of the mesh's points themselves (numpy reference, to the last bit)."""
+    from elements import FibrousShell
+    from elements.fibrous import bending, geometry
+    from elements.fibrous import kernels as fibrous_kernels
+    from femcore import Mesh, Model
+    from materials import Fabric
+
+    seen: list[tuple[str, bool]] = []
+    for name in ("_normals_pass", "_bending_sides"):
+        original = getattr(fibrous_kernels, name)
+
+        def recorded(*args, _name=name, _original=original):
+            seen.append((_name, bool(args[1].flags.writeable)))
+            return _original(*args)
+
+        monkeypatch.setattr(fibrous_kernels, name, recorded)
+    mesh = Mesh.rectangle(30.0, 20.0, nx=3, ny=2)
+    model = Model(mesh)
+    fabric = Fabric(thickness=1.0, areal_density=1e-9, tension=500.0, shear=0.5, bending=2.0)
+    model.add(FibrousShell(fabric))
+    compiled = model.compile()
+    compiled.internal_force(compiled.initial_state())
+    assert {name for name, _ in seen} == {"_normals_pass", "_bending_sides"}
+    assert all(writable for _, writable in seen), seen
+    block = compiled.blocks[0]
+    assert not block.reference_points.flags.writeable  # the mesh's points, kept read-only
+    block.compiled = False  # the numpy reference of the same geometry, from the points
+    wall = block.wall_nodes
+    block.wall_nodes = np.zeros_like(wall)
+    np.testing.assert_array_equal(
+        geometry.normal_sums(block, block.reference_points), block.reference_sums
+    )
+    block.wall_nodes = wall
+    np.testing.assert_array_equal(
+        bending.geometry(block, block.reference_points)["fold"], block.reference_fold
+    )
