@@ -222,7 +222,17 @@ where it did (the same 50-iteration cycle from 0.798438). At 8 cells with it (c 
 6.2-6.7, CPU of the solve): 7, 10, 13, 18, 14, 29, 18, 11, 12, 4 (156, no cut, 3.0 s) against
 7, 10, 13, 18, 14, 29, 16, 11, 12, 4 (154, 2.7 s) without, the same drape (rms 2.10 deg, punch
 force 68.2 N, 0.60 % dissipated).
-The 16-cell drape with the smoothed die (``--smooth``, c = 1200) on this code: in progress.
+The 16-cell drape with the smoothed die (``--smooth``, c = 1200) with that tangent, from the
+start (load 5-7, this run sharing the machine with 2-3 others): 14, 27, 31, 92, 58 Newton
+iterations to 0.5, as the record of the smoothed die above; 0.5 -> 0.6 cut (4 cuts by 0.5375,
+reached at 424 s CPU), 0.5875 reached by 650 s CPU and stopped there (not held to the end for
+want of time: the record above, on the code without the edge term, converged at 326 s CPU at
+load 0.3-7.5). The first attempt of 0.5 -> 0.6 from the same 0.5 state, side by side: with and
+without the edge term alike, 98 iterations (frozen sets, then the unilateral fall-back), ratio
+0.95 at the end, 48 and 50 s CPU; its first step, capped at 0.37 of a 114 mm update, threw the
+bowl's nodes through the die (z = -270 mm) against their frozen springs (|r| 1.3e4 N): the
+punch placed at the increment's load factor inside the blank, which ``--follow-tools``
+addresses (above).
 
 The Mindlin blank at 12 cells (c = 300 unless said, CPU of the solve, load 1-2.8), not
 converged: with the default release it stops at load factor 0.844 (Newton iterations 10, 4, 56,
