@@ -669,8 +669,9 @@ class ContactBlock(InteractionBlock):
         return float(self.contact_forces(state, history).sum(axis=0) @ shift)
 
     def tangent(self, state: State, history: Any = None):
-        """d(internal force)/dx per node: normal k n n^T - k p N with N = dn/dx = c (I - n n^T
-        - a a^T) (``RigidTool.projector_scale``), and the return mapping's friction: k_t ds/dx
+        """d(internal force)/dx per node: normal k n n^T - k p N with N = dn/dx
+        (``RigidTool.normal_gradient``: c (I - n n^T - a a^T) on a round tool, the turn about
+        a facet's edge or vertex on a meshed one), and the return mapping's friction: k_t ds/dx
         in stick, -mu k s^ n^T + mu k p / |s| (I - s^ s^T) ds/dx in slip, where ds/dx = I -
         n n^T - (n . r) N - n (N r)^T, r = x - a."""
         p, n, touching = self.touch(state, history)
@@ -678,10 +679,7 @@ class ContactBlock(InteractionBlock):
         k = self.stiffness[:, None, None]
         eye = np.eye(3)
         nn = n[:, :, None] * n[:, None, :]
-        across = eye - nn
-        if self.tool.axis is not None:
-            across = across - np.outer(self.tool.axis, self.tool.axis)
-        curvature = self.tool.projector_scale(x, state.load_factor)[:, None, None] * across
+        curvature = self.tool.normal_gradient(x, n, state.load_factor)
         blocks = k * nn - k * p[:, None, None] * curvature
         _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
         if stuck.any() or sliding.any():

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from elements.facet_normal import turn_round_features
 from elements.facet_search import SLACK, closest_facets, closest_facets_kept, signed_from_closest
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from femcore.checks import as_flag, as_reals, check_positive
@@ -194,6 +195,17 @@ class RigidTool:
         for a sphere): the tool's sign over the distance to its centre or axis; 0 for a
         plane."""
         raise NotImplementedError
+
+    def normal_gradient(
+        self, x: np.ndarray, normal: np.ndarray, load_factor: float = 0.0
+    ) -> np.ndarray:
+        """(k, 3, 3) dn/dx, the turn of the tool's normal n (k, 3) at the points x (k, 3) as
+        they move (the contact tangent's curvature term, docs/theory.md §9.1): c (I - n n^T
+        - a a^T) with c of ``projector_scale``."""
+        across = np.eye(3) - normal[:, :, None] * normal[:, None, :]
+        if self.axis is not None:
+            across = across - np.outer(self.axis, self.axis)
+        return self.projector_scale(x, load_factor)[:, None, None] * across
 
     axis: np.ndarray | None = None
 
@@ -746,6 +758,33 @@ class RigidSurface(RigidTool):
 
     def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
         return np.zeros(len(x))
+
+    def normal_gradient(
+        self, x: np.ndarray, normal: np.ndarray, load_factor: float = 0.0
+    ) -> np.ndarray:
+        """(k, 3, 3) dn/dx at the points x (k, 3) whose normals ``distance`` gave as ``normal``
+        (k, 3) (docs/theory.md §9.3). Inside a facet the normal is the facet's: 0. Where the
+        closest point c lies on an edge of direction e, n = (x - c) / d turns about it:
+        (I - n n^T - e e^T) / d, d the signed distance; on a vertex (I - n n^T) / d. A point
+        whose normal is not the direction from its closest point (a smoothed normal, a point
+        beyond the search distance or on the surface) gets 0."""
+        local = np.asarray(x, dtype=float) - self.offset(load_factor)
+        d, _ = self.distance(x, load_factor)
+        out = np.zeros((len(local), 3, 3))
+        tiny = 1e-9 * max(self.reach, 1.0)
+        rows = np.flatnonzero((np.abs(d) > tiny) & (np.abs(d) <= self.search_distance))
+        if rows.size:
+            point, facet, _ = self._search(local[rows])
+            out[rows] = turn_round_features(
+                local[rows],
+                d[rows],
+                normal[rows],
+                point,
+                self.corners[facet],
+                self.normals[facet],
+                tiny,
+            )
+        return out
 
     def side_hint(self) -> str:
         flipped = "flip = true" if self.flipped else "flip = false"

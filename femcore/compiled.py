@@ -9,30 +9,20 @@ to ``parts[i]``.
 
 from __future__ import annotations
 
-import inspect
-import itertools
-import math
-from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
 
-from femcore.assembly import (
-    NodeGraph,
-    TangentPart,
-    finite_difference_tangent,
-    tangent_matrix,
-)
+from femcore.compiled_checks import Part, bound_interaction, check_block, median_edge, used_nodes
+from femcore.compiled_loads import evaluate, fixed_mask, load_terms, prescribed_terms
+from femcore.compiled_tangent import CompiledTangent
 from femcore.diagnostics import interaction_notes, unheld_rigid_motions
-from femcore.dofs import DOF_NAMES, DofManager, Frames, dof_columns, dof_names
-from femcore.element import ElementBlock, ElementType
-from femcore.gershgorin import gershgorin_largest
+from femcore.dofs import DOF_NAMES, DofManager, dof_columns
+from femcore.element import ElementBlock
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
-from femcore.loads import Amplitude, Fix, NodalLoad, Prescribed
 from femcore.memory import check_model_memory
-from femcore.mesh import CELL_KINDS, Mesh
+from femcore.mesh import CELL_KINDS
 from femcore.rotation import drop_along, nodal_frames
 from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
@@ -42,11 +32,8 @@ if TYPE_CHECKING:
 
 __all__ = ["CompiledModel"]
 
-#: A part of the compiled model: what contributes forces, energies and tangents.
-Part = ElementBlock | InteractionBlock
 
-
-class CompiledModel:
+class CompiledModel(CompiledTangent):
     """The model turned into arrays: bound element blocks and interactions, DOF manager, load
     vectors.
 
@@ -88,7 +75,7 @@ class CompiledModel:
         for entry in cell_entries:
             columns = dof_columns(entry.element.dofs)
             cells = self._cells(entry)
-            active[np.ix_(_used_nodes(cells, n), columns)] = True
+            active[np.ix_(used_nodes(cells, n), columns)] = True
             if entry.element.defines_directors:
                 shell_triangles.append(cells)
         # Nodes of rigid bodies (a force-driven tool's translation): translations, no cell.
@@ -113,8 +100,8 @@ class CompiledModel:
             )
             check_triangles(mesh.points, mesh.triangles[ids])
 
-        fixed = self._fixed_mask(model.fixes, active)
-        prescribed, self._prescribed_terms = self._prescribed(model.prescribed, active)
+        fixed = fixed_mask(model.fixes, active)
+        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active)
         self.dofs = DofManager(n, active, fixed, prescribed)
 
         self.reference_positions = mesh.points.copy()
@@ -132,13 +119,13 @@ class CompiledModel:
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
 
-        self.element_size = _median_edge(mesh, cell_entries, self._cells)
+        self.element_size = median_edge(mesh, cell_entries, self._cells)
         self.blocks: list[ElementBlock] = [
             entry.element.bind(mesh, entry.cells, self.reference_directors)
             for entry in model.blocks
         ]
         for entry, block in zip(model.blocks, self.blocks):
-            _check_block(entry.element, block, active)
+            check_block(entry.element, block, active)
         for entry, block in zip(model.blocks, self.blocks):
             # The nodes where every DOF of the block is fixed or prescribed (femcore.element).
             held = self.dofs.constrained[:, dof_columns(entry.element.dofs)].all(axis=1)
@@ -153,7 +140,7 @@ class CompiledModel:
         self.interactions: list[InteractionBlock] = []
         for index, description in enumerate(model.interactions):
             tool = sum(int(i.n_tools) for i in self.interactions) + 1
-            self.interactions.append(_bound_interaction(description, body, index, tool))
+            self.interactions.append(bound_interaction(description, body, index, tool))
         self.parts: list[Part] = [*self.blocks, *self.interactions]
         # What the model was compiled from, as given: its fingerprint reads them
         # (femcore.fingerprint).
@@ -190,7 +177,7 @@ class CompiledModel:
                 interaction.calibrate(self.mass0, dt)
         self._has_history = any(h is not None for h in state0.history)
         self._no_history = (None,) * len(self.parts)
-        self._load_terms = self._loads(model.loads, active)
+        self._load_terms = load_terms(model.loads, active)
         self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
         # Each gravity's nodal weights m g (n, 3), and the nodes no element carries: made
         # once, not at every step's load.
@@ -204,66 +191,6 @@ class CompiledModel:
         kind = entry.element.cell_type
         assert kind is not None, "elements cover mesh cells"
         return self.mesh.cells(kind)[entry.cells]
-
-    def _fixed_mask(self, fixes: list[Fix], active: np.ndarray) -> np.ndarray:
-        fixed = np.zeros_like(active)
-        for fix in fixes:
-            node_active = active[fix.nodes].any(axis=1)
-            if not node_active.any():
-                raise ValueError(
-                    f"fix selects nodes {fix.nodes[:5].tolist()}... that no element "
-                    "uses: they carry no DOF"
-                )
-            nodes = fix.nodes[node_active]
-            if fix.columns is None:
-                fixed[nodes] |= active[nodes]
-                continue
-            lacking = ~active[np.ix_(nodes, fix.columns)]
-            if lacking.any():
-                row, col = np.argwhere(lacking)[0]
-                raise ValueError(
-                    f"cannot fix {DOF_NAMES[fix.columns[col]]} at node {nodes[row]}: it carries "
-                    f"only {', '.join(dof_names(active[nodes[row]]))}"
-                )
-            fixed[np.ix_(nodes, fix.columns)] = True
-        return fixed
-
-    def _prescribed(self, records: list[Prescribed], active: np.ndarray):
-        mask = np.zeros_like(active)
-        terms = []
-        for record in records:
-            inactive = ~active[record.nodes, 0]
-            if inactive.any():
-                raise ValueError(
-                    f"cannot displace node {record.nodes[inactive][0]}: no element uses it"
-                )
-            given = np.isfinite(record.values)
-            already = mask[record.nodes, :3] & given
-            if already.any():
-                row, col = np.argwhere(already)[0]
-                raise ValueError(
-                    f"{DOF_NAMES[col]} of node {record.nodes[row]} is prescribed twice"
-                )
-            mask[record.nodes, :3] |= given
-            values = np.zeros((self.n_nodes, 3))
-            values[record.nodes] = np.where(given, record.values, 0.0)
-            terms.append((record.amplitude, values))
-        return mask, terms
-
-    def _loads(self, records: list[NodalLoad], active: np.ndarray):
-        terms = []
-        for record in records:
-            column = 0 if record.kind == "force" else 3
-            lacking = ~active[record.nodes, column]
-            if lacking.any():
-                need = "any DOF" if record.kind == "force" else "rotational DOFs"
-                raise ValueError(
-                    f"{record.kind} on node {record.nodes[lacking][0]}, which has no {need}"
-                )
-            values = np.zeros((self.n_nodes, 3))
-            values[record.nodes] = record.vector
-            terms.append((record.kind, record.amplitude, values))
-        return terms
 
     # ------------------------------------------------------------- state and fields
     def initial_state(self) -> State:
@@ -397,42 +324,6 @@ class CompiledModel:
         interactions' springs come in through ``penalty_frequency_squared``)."""
         return float(min(dt.min() for dt in self.cell_stable_dt(state)))
 
-    def assembled_stable_dt(
-        self, state: State, mass: np.ndarray, inertia: np.ndarray
-    ) -> float | None:
-        """A critical time step (s) of the assembled free system from Gershgorin's theorem:
-        omega_max^2 <= max_i sum_j |K_ij| / sqrt(M_i M_j) over the free DOFs, K the blocks'
-        own tangent at ``state`` and M the lumped ``mass`` and rotary ``inertia`` (n,) the
-        solver uses (mass scaling included). A bound like the cells' own, but with the masses
-        of the assembly: a sliver triangle's share of its nodes' mass is tiny while the nodes
-        carry the mass of their other cells. Measured against the exact 2 / omega_max: 0.82 to
-        0.95 on regular, stretched (aspect 20) and sliver cells of both shells, where the
-        cells' bound fell to 0.03 on slivers (docs/theory.md §6.2). None when a block has no
-        tangent of its own (finite differences would cost tens of force evaluations) or a
-        free DOF has no mass."""
-        free = self.dofs.free_slots
-        diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()[free]
-        if free.size == 0 or not np.all(diagonal > 0.0):
-            return None
-        pieces = []
-        histories = self._histories(state)
-        # The element blocks alone: the interactions' springs are bounded apart
-        # (``penalty_frequency_squared``), which the solver adds to this bound's omega^2.
-        for block, history in zip(self.blocks, histories):
-            given = block.tangent_pieces(state, history)
-            if given is None:
-                return None
-            pieces.append(given)
-        # The row sums of |K_ff| M^-1/2 over the free columns (a scale of 0 on the others),
-        # from the pieces as they come (``again``: afresh, see gershgorin_largest).
-        scale = np.zeros(self.dofs.n_slots)
-        scale[free] = 1.0 / np.sqrt(diagonal)
-        maps = self.dofs.node_maps(self.dofs.frames(state.directors))
-        blocks = list(zip(self.blocks, histories))
-        again = lambda: itertools.chain(*(b.tangent_pieces(state, h) or () for b, h in blocks))  # noqa: E731
-        largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes, again)
-        return 2.0 / np.sqrt(largest) if largest > 0.0 else None
-
     def strain_energy(self, state: State) -> float:
         """Total strain energy (N mm) over all parts (the interactions' penalty springs
         included)."""
@@ -473,88 +364,6 @@ class CompiledModel:
             sum(i.tool_work(state, h, start, end) for i, h in zip(self.interactions, histories))
         )
 
-    def tangent_parts(self, state: State, parts: list[int]) -> list[TangentPart] | None:
-        """The tangent parts of the parts of the given indices (into ``parts``), or None if
-        one of them has no tangent of its own."""
-        histories = self._histories(state)
-        tangent: list[TangentPart] = []
-        for i in parts:
-            own = self.parts[i].tangent(state, histories[i])
-            if own is None:
-                return None
-            tangent.extend(own)
-        return tangent
-
-    def stiffness(
-        self,
-        state: State,
-        method: str = "element",
-        frames: Frames = None,
-        parts: list[int] | None = None,
-    ) -> sp.csr_matrix:
-        """Tangent stiffness K = dF_int/dq (n x 5 slots square, femcore.dofs) at ``state``.
-
-        Parameters
-        ----------
-        state : State
-        method : "element" or "finite_difference"
-            The parts' own tangents (every part must give one), or coloured central
-            differences of their internal forces (translation step 1e-6 of the median element
-            edge, rotation step 1e-6 rad).
-        frames : Frames
-            Nodal frames of the generalised rotations (default: those of ``state.directors``).
-        parts : list of int or None
-            Indices into ``parts`` of those to include (default: all).
-
-        Raises
-        ------
-        ValueError
-            For an unknown method, or "element" with a block that has no tangent of its own.
-        """
-        indices = list(range(len(self.parts))) if parts is None else list(parts)
-        frames = self.dofs.frames(state.directors) if frames is None else frames
-        if method == "element":
-            tangent = self.tangent_parts(state, indices)
-            if tangent is None:
-                raise ValueError("a part has no tangent of its own: use method='finite_difference'")
-            return tangent_matrix(self.dofs, tangent, frames)
-        if method == "finite_difference":
-            return self.finite_difference_stiffness(
-                state, indices, self.node_graph(indices), frames
-            )
-        raise ValueError(f"method must be 'element' or 'finite_difference', got {method!r}")
-
-    def node_graph(self, parts: list[int]) -> NodeGraph:
-        """The colouring of the finite-difference tangent of the parts of the given indices
-        (built once per solve: its greedy colouring loops over the nodes)."""
-        reach = max(self.parts[i].reach for i in parts)
-        return NodeGraph(self.n_nodes, [self.parts[i].connectivity for i in parts], reach)
-
-    def finite_difference_stiffness(
-        self, state: State, parts: list[int], graph: NodeGraph, frames: Frames
-    ) -> sp.csr_matrix:
-        """K of the parts of the given indices by coloured central differences of their
-        internal forces: translation step 1e-6 of the median element edge, rotation step
-        1e-6 rad, the nodal frames held."""
-        return finite_difference_tangent(
-            self.dofs,
-            lambda s: self.internal_force(s, parts),
-            state,
-            graph,
-            step=1e-6 * self.element_size,
-            frames=frames,
-        )
-
-    def own_tangents(self, state: State) -> dict[int, Sequence[TangentPart]]:
-        """The tangent parts at ``state`` of the parts that give a tangent of their own, by
-        index into ``parts`` (the others return None: the finite-difference fallback)."""
-        own = {}
-        for i, (part, history) in enumerate(zip(self.parts, self._histories(state))):
-            parts = part.tangent(state, history)
-            if parts is not None:
-                own[i] = parts
-        return own
-
     def unheld_rigid_motions(self, loaded_only: bool = True) -> list[str]:
         """The rigid motions no support holds (femcore.diagnostics.unheld_rigid_motions)."""
         return unheld_rigid_motions(self, loaded_only)
@@ -569,13 +378,13 @@ class CompiledModel:
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
         for kind, amplitude, values in self._load_terms:
-            factor = _evaluate(amplitude, tau, quasi_static)
+            factor = evaluate(amplitude, tau, quasi_static)
             if kind == "force":
                 force += factor * values
             else:
                 moment += factor * values
         for (amplitude, _), weight in zip(self._gravity_terms, self._gravity_forces):
-            force += _evaluate(amplitude, tau, quasi_static) * weight
+            force += evaluate(amplitude, tau, quasi_static) * weight
         if self._unloaded.size:
             force[self._unloaded] = 0.0
         return force, moment
@@ -584,7 +393,7 @@ class CompiledModel:
         """Imposed displacements (n, 3) at progress tau (zero where not prescribed)."""
         displacement = np.zeros((self.n_nodes, 3))
         for amplitude, values in self._prescribed_terms:
-            displacement += _evaluate(amplitude, tau, quasi_static) * values
+            displacement += evaluate(amplitude, tau, quasi_static) * values
         return displacement
 
     @property
@@ -647,154 +456,3 @@ class CompiledModel:
                 )
                 full[part.cell_ids] = values
         return out
-
-
-def _bound_interaction(
-    interaction: Interaction, body: Body, index: int, tool: int
-) -> InteractionBlock:
-    """``interaction.bind(body)``, checked as ``_check_block`` checks an element block, and
-    its ``check_start``; their ValueErrors (a body that starts inside a tool) name the
-    interaction (``model.interactions[index]``) and the tool number ``tool`` it has (the
-    ``tool1`` ... of the histories) when it acts against a tool."""
-    against = f", tool {tool}" if getattr(interaction, "tool", None) is not None else ""
-    where = f"interaction {index} ({type(interaction).__name__}{against})"
-    try:
-        block = interaction.bind(body)
-    except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
-    _check_bound(
-        type(interaction).__name__,
-        block,
-        InteractionBlock,
-        ("internal_force", "strain_energy", "tangent", "node_fields"),
-        interaction.dofs,
-        body.active,
-    )
-    n_tools = getattr(block, "n_tools", None)
-    if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
-        raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
-    try:
-        block.check_start()
-    except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
-    return block
-
-
-def _check_block(element: ElementType, block: ElementBlock, active: np.ndarray) -> None:
-    """A bound block must be an ElementBlock that declares its reach, with a (m, k) node
-    connectivity whose nodes carry the DOFs it needs."""
-    _check_bound(
-        type(element).__name__,
-        block,
-        ElementBlock,
-        ("internal_force", "strain_energy", "tangent", "cell_fields", "node_fields"),
-        element.dofs,
-        active,
-    )
-
-
-def _check_bound(
-    name: str,
-    block: Part,
-    protocol: type,
-    methods: tuple[str, ...],
-    dofs: tuple[str, ...],
-    active: np.ndarray,
-) -> None:
-    """What ``name.bind`` returned is a ``protocol`` block (ElementBlock, InteractionBlock)
-    that declares its reach, whose ``methods`` take (state, history), and whose
-    connectivity's nodes carry ``dofs``."""
-    if not isinstance(block, protocol):
-        raise ValueError(
-            f"{name}.bind returned {type(block).__name__}: expected an {protocol.__name__} "
-            f"({protocol.__module__})"
-        )
-    reach = getattr(block, "reach", None)
-    if isinstance(reach, bool) or not isinstance(reach, (int, np.integer)) or reach < 1:
-        raise ValueError(
-            f"{type(block).__name__}.reach is {reach!r}: every block declares how many cell-hops "
-            "its forces reach (1: cell-local, 2: bending patches over neighbours)"
-        )
-    for method in methods:
-        if not _takes_history(getattr(block, method)):
-            raise ValueError(
-                f"{type(block).__name__}.{method} must take (state, history=None): the model "
-                "passes each part its history variables"
-            )
-    connectivity = np.asarray(block.connectivity)
-    if connectivity.ndim != 2 or not np.issubdtype(connectivity.dtype, np.integer):
-        raise ValueError(
-            f"{type(block).__name__}.connectivity must be an (m, k) integer array of node ids"
-        )
-    if connectivity.size:
-        if connectivity.min() < 0 or connectivity.max() >= len(active):
-            raise ValueError(
-                f"{type(block).__name__}.connectivity refers to nodes outside 0..{len(active) - 1}"
-            )
-        nodes = _used_nodes(connectivity, len(active))
-        lacking = ~active[np.ix_(nodes, dof_columns(dofs))]
-        if lacking.any():
-            node = nodes[np.argwhere(lacking)[0, 0]]
-            raise ValueError(
-                f"{name} acts on node {node}, which carries only "
-                f"{', '.join(dof_names(active[node])) or 'no DOF'}: it needs nodes of an "
-                "element with the DOFs it uses"
-            )
-
-
-def _used_nodes(connectivity: np.ndarray, n_nodes: int) -> np.ndarray:
-    """The nodes (increasing) that the cells (m, k) use: np.unique by a count, without the
-    sort (a tenth of its time at 400k triangles)."""
-    return np.flatnonzero(np.bincount(np.asarray(connectivity).ravel(), minlength=n_nodes))
-
-
-def _takes_history(method: Callable) -> bool:
-    """Whether a bound method accepts two positional arguments (state, history)."""
-    try:
-        parameters = list(inspect.signature(method).parameters.values())
-    except (TypeError, ValueError):  # no signature to read (a C function): trust it
-        return True
-    positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
-    variadic = any(p.kind is p.VAR_POSITIONAL for p in parameters)
-    return variadic or len(positional) >= 2
-
-
-def _median_edge(mesh: Mesh, entries, cells_of) -> float:
-    """Median length of the element edges (mesh length unit): the scale that turns a force
-    into a moment in residual checks."""
-    lengths = []
-    for entry in entries:
-        cells = mesh.points[cells_of(entry)]
-        for k in range(cells.shape[1]):
-            lengths.append(np.linalg.norm(cells[:, k] - cells[:, k - 1], axis=1))
-    return float(np.median(np.concatenate(lengths)))
-
-
-def _evaluate(amplitude: Amplitude, tau: float, quasi_static: bool) -> float:
-    """a(tau), or ValueError naming the amplitude and where it failed: a user amplitude that
-    returns NaN or raises would otherwise surface as a diverged step, far from its cause."""
-    function: Callable = amplitude.quasi_static if quasi_static else amplitude.dynamic
-    try:
-        value = float(function(tau))
-    except Exception as exc:  # the user's function: report what it did and where
-        what, where = _amplitude_named(amplitude, function, tau, quasi_static)
-        raise ValueError(f"the {what} failed at {where}: {exc}") from exc
-    if not math.isfinite(value):
-        what, where = _amplitude_named(amplitude, function, tau, quasi_static)
-        raise ValueError(
-            f"the {what} returned {value!r} at {where}: an amplitude must return a finite "
-            "number at every time and load factor"
-        )
-    return value
-
-
-def _amplitude_named(
-    amplitude: Amplitude, function: Callable, tau: float, quasi_static: bool
-) -> tuple[str, str]:
-    """("amplitude 'user' (ramp)", "load factor 0.5") for a message: built only on failure,
-    since amplitudes are evaluated at every step."""
-    what = f"amplitude {amplitude.name!r}"
-    if amplitude.name == "user":
-        what += f" ({getattr(function, '__name__', repr(function))})"
-    where = f"load factor {tau:.6g}" if quasi_static else f"tau = t / duration = {tau:.6g}"
-    return what, where

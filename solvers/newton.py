@@ -560,10 +560,8 @@ class Tangent:
         parts: list[TangentPart] | None
         if self.first is not None and state is self.first[0] and not compression_free:
             parts = [part for i in self.own for part in self.first[1][i]]
-        elif compression_free:
-            parts = compression_free_parts(model, state, self.own)
         else:
-            parts = model.tangent_parts(state, self.own)
+            parts = model.tangent_parts(state, self.own, compression_free)
         if parts is None:
             raise RuntimeError(
                 "an element block gave a tangent at the start of the solve and none later: a "
@@ -576,26 +574,6 @@ class Tangent:
             k_ff = (k_ff + k[free][:, free]).tocsc()
             k_fp = k_fp + k[free][:, moved]
         return k_ff, k_fp
-
-
-def compression_free_parts(
-    model: CompiledModel, state: State, own: list[int]
-) -> list[TangentPart] | None:
-    """``model.tangent_parts(state, own)`` with the compression-free tangent of the blocks
-    that offer one (a true class attribute ``compression_free_tangent``: the fibrous shell,
-    elements/fibrous/tangent.py; docs/theory.md §6.5)."""
-    histories = state.history if len(state.history) == len(model.parts) else None
-    parts: list[TangentPart] = []
-    for i in own:
-        block: Any = model.parts[i]
-        if not getattr(block, "compression_free_tangent", False):
-            given = model.tangent_parts(state, [i])
-        else:
-            given = block.tangent(state, histories and histories[i], compression_free=True)
-        if given is None:
-            return None
-        parts.extend(given)
-    return parts
 
 
 class Watchdog:

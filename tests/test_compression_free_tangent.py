@@ -17,13 +17,15 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from elements import FibrousShell
+from elements import FibrousShell, RigidPlane
 from elements.fibrous import geometry, hessian_kernels, membrane, tangent
 from femcore import Mesh, Model
+from femcore.assembly import tangent_matrix
 from femcore.rotation import rotate_about
 from materials import BendingLaw, Fabric, ShearLaw, TensionLaw
 from materials.presets import g986_stack
@@ -141,3 +143,45 @@ def test_peirce_fibrous_cantilever_converges_in_at_most_ten_iterations_per_incre
 def test_a_negative_compression_free_ratio_is_refused():
     with pytest.raises(ValueError, match="compression_free"):
         Static(compression_free=-1.0)
+
+
+def test_the_model_gives_the_compression_free_tangent_of_the_blocks_that_offer_it():
+    """``CompiledModel.tangent_parts(..., compression_free=True)`` on the compressed sheet
+    pressed on a plane (a fibrous block and a contact): the fibrous block's own
+    compression-free tangent (``tangent(state, compression_free=True)``) and the contact's
+    own tangent, assembled, are the model's bit for bit (the same arrays summed in the same
+    order: tolerance 0); without the keyword, the exact tangent, which differs there (the
+    compressed fibres' stress terms, more than 1e-6 of the largest entry)."""
+    fabric = Fabric(
+        thickness=2.0,
+        areal_density=1e-9,
+        tension=TensionLaw.linear(TENSION),
+        shear=ShearLaw.linear(0.0),
+        bending=BendingLaw.linear(1.0),
+    )
+    model = Model(Mesh.rectangle(30.0, 20.0, nx=3, ny=2))
+    model.add(FibrousShell(fabric))
+    model.contact(RigidPlane((0.0, 0.0, -0.9), (0.0, 0.0, 1.0)), penalty=100.0)
+    compiled = model.compile()
+    state = compiled.initial_state()
+    rng = np.random.default_rng(5)
+    positions = 0.97 * state.positions + rng.normal(scale=0.05, size=state.positions.shape)
+    state = replace(state, positions=positions)
+    block, contact = compiled.parts
+    assert len(contact.tangent(state, state.history[1])) > 0  # nodes pressed in
+    frames = compiled.dofs.frames(state.directors)
+    both = [0, 1]
+
+    def assembled(parts):
+        return tangent_matrix(compiled.dofs, parts, frames).toarray()
+
+    free = assembled(compiled.tangent_parts(state, both, compression_free=True))
+    own = [
+        *block.tangent(state, state.history[0], compression_free=True),
+        *contact.tangent(state, state.history[1]),
+    ]
+    assert np.array_equal(free, assembled(own))
+    exact = assembled(compiled.tangent_parts(state, both))
+    contact_parts = contact.tangent(state, state.history[1])
+    assert np.array_equal(exact, assembled([*block.tangent(state), *contact_parts]))
+    assert np.abs(free - exact).max() > 1e-6 * np.abs(exact).max()

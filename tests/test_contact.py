@@ -8,7 +8,14 @@ meshed tool finds the closest facet that a search over all facets finds."""
 import numpy as np
 import pytest
 
-from elements import FibrousShell, MindlinShell, RigidCylinder, RigidPlane, RigidSphere
+from elements import (
+    FibrousShell,
+    MindlinShell,
+    RigidCylinder,
+    RigidPlane,
+    RigidSphere,
+    RigidSurface,
+)
 from elements.contact import Contact
 from femcore import Body, Mesh, Model
 from femcore.state import State
@@ -112,6 +119,67 @@ def test_the_contact_tangent_is_the_derivative_of_its_force(tool):
     assert (p > 0).sum() >= 3  # some nodes penetrate
     # truncation O(step^2 k / R^2) and rounding O(k p eps / step): both far below
     assert_tangent_is_the_force_derivative(block, state, None, tolerance=1e-6 * 100.0)
+
+
+def roof() -> RigidSurface:
+    """A meshed roof: two 10 x 5.8 mm facets sloping down at 30 deg from a ridge along y at
+    x = 0, z = 0, from y = -5 to 5 (its ends open)."""
+    eave = -5.0 * np.tan(np.radians(30.0))
+    points = np.array(
+        [[0.0, -5.0, 0.0], [0.0, 5.0, 0.0], [5.0, -5.0, eave], [5.0, 5.0, eave],
+         [-5.0, -5.0, eave], [-5.0, 5.0, eave]]
+    )  # fmt: skip
+    return RigidSurface(
+        Mesh(points, triangles=np.array([[0, 2, 3], [0, 3, 1], [0, 1, 5], [0, 5, 4]]))
+    )
+
+
+@pytest.mark.parametrize("frozen", [False, True], ids=["unilateral", "frozen"])
+def test_the_contact_tangent_of_a_meshed_tool_turns_its_normal_round_edges_and_vertices(frozen):
+    """Nodes whose closest point on a meshed roof is its ridge (an edge between facets), an
+    open end edge, the ridge's end vertex or a facet's inside, within the contact offset 0.5
+    mm (and, frozen, also 0.6-1.2 mm off the ridge, held by the bilateral spring: p < 0):
+    round an edge or a vertex the normal is the direction from the closest point and turns
+    as the node moves, and the tangent's k p dn/dx (``RigidTool.normal_gradient``) matches
+    central differences of the force to 1e-6 of the penalty, as on the analytic tools (the
+    tangent that took each facet as flat was off by k |p| / d, up to 60 N/mm here)."""
+    from elements.contact import FrictionHistory
+
+    tool = roof()
+    eave = -np.tan(np.radians(30.0))
+    x = np.array(
+        [[0.05, 0.0, 0.3], [-0.04, -2.0, 0.25], [0.02, 5.2, 0.2], [-0.03, 5.15, 0.15],
+         [2.0, 5.2, 2.0 * eave + 0.2], [2.0, 1.0, 2.0 * eave + 0.3], [0.3, 1.0, 1.1],
+         [-0.2, -1.0, 0.6], [0.01, 5.6, 0.3]]
+    )  # fmt: skip
+    mesh = Mesh.rectangle(4.0, 4.0, nx=2, ny=2)
+    contact = Contact(tool, np.arange(mesh.n_nodes), offset=0.5, penalty=100.0)
+    block = contact.bind(Body.bare(mesh))
+    zero = np.zeros_like(x)
+    state = State(positions=x, directors=zero, velocities=zero, angular_velocities=zero)
+    history = None
+    d, n = tool.distance(x)
+    if frozen:
+        none = np.full((len(x), 3), np.nan)
+        empty = np.zeros(len(x))
+        history = FrictionHistory(none, empty, empty, 0.0, np.ones(len(x), dtype=bool))
+        assert (d > 0.6).sum() >= 3  # held off the tool
+    else:
+        assert (d < 0.5).sum() >= 6
+    assert np.abs(tool.normal_gradient(x, n)).max(axis=(1, 2)).astype(bool).sum() >= 5
+    assert_tangent_is_the_force_derivative(block, state, history, tolerance=1e-6 * 100.0)
+
+
+def test_a_meshed_plane_does_not_turn_its_normal_over_the_edges_between_its_facets():
+    """Points right over the edges between coplanar facets of a meshed floor (and inside
+    them): the closest point may lie on an edge, yet the normal is the plane's and does not
+    turn (dn/dx = 0, as for RigidPlane), where the edge's (I - n n^T - e e^T) / d would be
+    1 / d."""
+    floor = RigidSurface(Mesh.rectangle(2.0, 2.0, nx=2, ny=2))
+    x = np.array([[1.0, 1.0, 0.3], [0.5, 0.5, 0.2], [1.0, 0.4, -0.1], [0.3, 0.6, 0.25]])
+    d, n = floor.distance(x)
+    assert np.allclose(n, [0.0, 0.0, 1.0]) and np.allclose(d, x[:, 2])
+    assert np.abs(floor.normal_gradient(x, n)).max() == 0.0
 
 
 def test_tools_and_contact_refuse_bad_input():

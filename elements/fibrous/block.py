@@ -286,7 +286,7 @@ class FibrousShellBlock(ElementBlock):
         return float(sum(self.strain_energy_parts(state).values()))
 
     # The static solver may ask for the compression-free tangent of its iterates far from
-    # equilibrium (solvers.newton.compression_free_parts, docs/theory.md §6.5).
+    # equilibrium (femcore.compiled_tangent ``tangent_parts``, docs/theory.md §6.5).
     compression_free_tangent = True
 
     def tangent(
