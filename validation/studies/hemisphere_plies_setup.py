@@ -97,11 +97,13 @@ def model(
     dashpot: bool = HOLDER_DASHPOT,
     rim: float | None = None,
     faces: str | None = None,
+    mass: float = HOLDER_MASS,
 ):
     """The layup on the die's flange under the punch and the holder: (Layup, Model);
     ``lower_rule`` the rule of the mirrored ply contact pass (None: none), ``dashpot`` a
     dashpot on the holder, ``rim`` the die's entry radius, mm (None: DIE_RIM), ``faces`` where
-    the plies' contact faces lie ("normal" or "director"; None: FACES)."""
+    the plies' contact faces lie ("normal" or "director"; None: FACES), ``mass`` the holder's,
+    t."""
     layup = Layup(
         FABRIC,
         angles,
@@ -129,22 +131,22 @@ def model(
         ring,
         free="z",
         force=(0.0, 0.0, -force),
-        mass=HOLDER_MASS,
+        mass=mass,
         amplitude=_holder_amplitude,
     )
     built.contact(holder, nodes=top)
     if not dashpot:
         return layup, built
-    damping = _holder_damping(built, layup)
+    damping = _holder_damping(built, layup, mass)
     # following the holder's mean velocity over its period 2 pi sqrt(m / k) = 4 pi m / c:
     # the ringing damped, the lift on the flange's wrinkles let through (elements/dashpot.py)
     built.interact(
-        Dashpot(built.rigid_nodes[0].node, damping, follow=4.0 * math.pi * HOLDER_MASS / damping)
+        Dashpot(built.rigid_nodes[0].node, damping, follow=4.0 * math.pi * mass / damping)
     )
     return layup, built
 
 
-def _holder_damping(built: Model, layup: Layup) -> float:
+def _holder_damping(built: Model, layup: Layup, mass: float) -> float:
     """The critical damping 2 sqrt(k m), N s/mm, of the holder's mass on its contact
     springs: k the automatic penalties (elements/contact.py) of the top ply's nodes under
     the ring at the start."""
@@ -153,4 +155,4 @@ def _holder_damping(built: Model, layup: Layup) -> float:
     nodes = holder.connectivity[:, 0]
     radius = np.linalg.norm(layup.mesh.points[nodes, :2], axis=1)
     under = (radius >= HOLDER_RING[0]) & (radius <= HOLDER_RING[1])
-    return critical_damping(HOLDER_MASS, float(np.sum(holder.stiffness[under])))
+    return critical_damping(mass, float(np.sum(holder.stiffness[under])))
