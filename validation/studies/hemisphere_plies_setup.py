@@ -77,8 +77,8 @@ HOLDER_FORCES = (20.0, 40.0)
 # t (10 g, about the two plies' 16 g under the ring): a force-driven tool in a run 10^2-10^3
 # times faster than a press carries its inertia m a at (speed factor)^2 the press's, so its
 # mass is scaled down as the run is sped up (the study's docstring: "The holder"); the
-# 100-g holder's inertia carried up to 5.7 N of a 10-N reaction and its kinetic energy 0.18
-# of the run's work, the 1-kg holder's 2-7 N ("The holder's force")
+# 100-g holder's inertia carried 5.7 N of a 17.2-N reaction for 10 N and its kinetic
+# energy 0.18 of the run's work, the 1-kg holder's 2-7 N ("The holder's force")
 HOLDER_MASS = 1e-5
 HOLDER_RING = (DIE + 10.0, 150.0, 10.0)  # inner, outer radius, facet width, mm
 HOLDER_RAMP = 0.1  # share of the run over which the holder force grows
