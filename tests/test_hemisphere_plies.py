@@ -52,10 +52,10 @@ def test_a_fibrous_0_90_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     least radial gap in the die -0.26 mm (-0.27 to the curved face and the flat facets;
     -0.39 mm over the run, the pole at t = 0.041 s), KE / W at most 0.090 (t = 0.041 s), the
     holder 19.99 N over the last tenth for its 20 N, 4336 steps, 87 s of CPU (one thread,
-    load 6-7). With the 100-g holder at 10 N: -0.26 mm, KE / W 0.099, 9.93 N; on the sharp
-    die with the 1-kg holder KE / W reached 0.17 (the flange caught on the rim and let go at
-    ~52 % of the stroke); the plies' faces along their directors, before, let the top ply's
-    pole node 2.6 mm through the bottom ply."""
+    load 6-7); the test 74 s (load 2-5). With the 100-g holder at 10 N: -0.26 mm, KE / W
+    0.099, 9.93 N; on the sharp die with the 1-kg holder KE / W reached 0.17 (the flange
+    caught on the rim and let go at ~52 % of the stroke); the plies' faces along their
+    directors, before, let the top ply's pole node 2.6 mm through the bottom ply."""
     history = tmp_path / "history.csv"
     layup, result = _solve("0/90", "fibrous", history)
     _quasi_static(result, history)
@@ -77,8 +77,8 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     19.94 N over the last tenth for its 20 N (1.3 mm up at the end), the least radial gap in
     the die +0.07 mm, where the bottom ply's curved face reads -0.71 mm (its corners'
     normals turned towards the die's entry radius; the study's docstring, "The curved face's
-    misreading"); 4616 steps, 101 s of CPU (one thread, load 6-7). With the 100-g holder at
-    10 N: KE / W 0.088, 9.91 N, +0.07 mm."""
+    misreading"); 4616 steps, 101 s of CPU (one thread, load 6-7; the test 88 s, load 2-5).
+    With the 100-g holder at 10 N: KE / W 0.088, 9.91 N, +0.07 mm."""
     history = tmp_path / "history.csv"
     layup, result = _solve("0/45", "fibrous", history)
     _quasi_static(result, history)
