@@ -37,17 +37,22 @@ from validation.references.elastica import peirce_overhang
 TENSION = 500.0  # N/mm
 
 
-def _compressed_cells():
-    """A 3 x 2 sheet of 10-mm cells shrunk by 3 % (every fibre level compressed), jittered by
-    0.05 mm, its directors tilted by up to ~0.1 rad: the block and its cells' corners,
-    directors and normal sums."""
-    fabric = Fabric(
+def _fabric() -> Fabric:
+    """A 2-mm fabric of linear tension TENSION, no shear stiffness and unit bending."""
+    return Fabric(
         thickness=2.0,
         areal_density=1e-9,
         tension=TensionLaw.linear(TENSION),
         shear=ShearLaw.linear(0.0),
         bending=BendingLaw.linear(1.0),
     )
+
+
+def _compressed_cells():
+    """A 3 x 2 sheet of 10-mm cells shrunk by 3 % (every fibre level compressed), jittered by
+    0.05 mm, its directors tilted by up to ~0.1 rad: the block and its cells' corners,
+    directors and normal sums."""
+    fabric = _fabric()
     mesh = Mesh.rectangle(30.0, 20.0, nx=3, ny=2)
     model = Model(mesh)
     model.add(FibrousShell(fabric))
@@ -152,13 +157,7 @@ def test_the_model_gives_the_compression_free_tangent_of_the_blocks_that_offer_i
     own tangent, assembled, are the model's bit for bit (the same arrays summed in the same
     order: tolerance 0); without the keyword, the exact tangent, which differs there (the
     compressed fibres' stress terms, more than 1e-6 of the largest entry)."""
-    fabric = Fabric(
-        thickness=2.0,
-        areal_density=1e-9,
-        tension=TensionLaw.linear(TENSION),
-        shear=ShearLaw.linear(0.0),
-        bending=BendingLaw.linear(1.0),
-    )
+    fabric = _fabric()
     model = Model(Mesh.rectangle(30.0, 20.0, nx=3, ny=2))
     model.add(FibrousShell(fabric))
     model.contact(RigidPlane((0.0, 0.0, -0.9), (0.0, 0.0, 1.0)), penalty=100.0)
