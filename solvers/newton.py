@@ -269,7 +269,7 @@ def _iterate(
             # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
             # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
             # stability is judged, the tangent is exact.
-            slack = 0.0 < solver.compression_free < ratio
+            slack = 0.0 < run.compression_free < ratio
             run.info["compression_free_tangents"] += int(slack)
             tangent = run.tangent(state, frames, slack)
         k_ff, k_fp = tangent

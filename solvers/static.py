@@ -67,9 +67,12 @@ from solvers.newton_fibres import FibreEdges
 from solvers.output import FrameStream, output_path
 from solvers.stabilisation import STABILISATION_BOUND, Dashpots
 
-__all__ = ["PATHS", "Static", "StaticRun"]
+__all__ = ["COMPRESSION_FREE", "PATHS", "Static", "StaticRun", "compression_free_ratio"]
 
 PATHS = ("load", "arc_length")
+# The residual ratio above which the fibrous shell's tangent leaves its fibres' compression out
+# of the stress terms by default (``Static(compression_free=None)``; docs/theory.md §6.5).
+COMPRESSION_FREE = 1e-2
 
 
 class Static:
@@ -168,16 +171,20 @@ class Static:
         ``info["fibre_projections"]`` (steps) and ``info["fibre_projection_sweeps"]``; not with
         contact or other interactions.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
-        compression out of the fibrous shell's stress terms (default 0: never; 1e-2 for the fibrous
-        strips below; docs/theory.md §6.5): far from equilibrium a step's remainder compresses
-        fibres whose stiffness is thousands of times the bending's, and the geometric stiffness of
-        that spurious compression makes the tangent indefinite (75 negative eigenvalues on Peirce's
-        strip). The residual is untouched, so the equilibrium is the same; near it (and at every
-        converged state whose stability is judged) the tangent is exact. Peirce's fibrous cantilever
-        7-14-11 -> 9-9-10 iterations, the fibrous heavy cantilever 30-11-8 -> 25-9-8
-        (benchmarks/fibrous_newton.py). Off by default: with contact, the 12-cell hemisphere drape
-        (tests/test_hemisphere_static.py) converges but with 6 cuts instead of 2. Counted in
-        ``info["compression_free_tangents"]``.
+        compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never.
+        None (the default): COMPRESSION_FREE (1e-2) on a model with a block that offers that
+        tangent (the fibrous shell) and no interaction, 0 otherwise. Far from equilibrium a
+        step's remainder compresses fibres whose stiffness is thousands of times the bending's,
+        and the geometric stiffness of that spurious compression makes the tangent indefinite
+        (75 negative eigenvalues on Peirce's strip), whose downhill turns then steer the next
+        steps. The residual is untouched, so the equilibrium is the same; near it (and at every
+        converged state whose stability is judged) the tangent is exact. The fibrous heavy
+        cantilever at 10 cells 47-9-8 -> 26-9-7 iterations, at 40 cells 47-27-19 -> 49-11-8,
+        Peirce's fibrous cantilever 7-14-11 -> 10-9-10 (79 -> 75 forces; the same tips to
+        1e-6 mm; benchmarks/fibrous_newton.py). Not by default with contact: the 12-cell
+        hemisphere drape (tests/test_hemisphere_static.py) converges with it but with 6 cuts
+        instead of 2. Counted in ``info["compression_free_tangents"]``, the ratio used in
+        ``info["compression_free"]``.
     follow_tools : load path: start each increment with the nodes that touch a moving tool
         (and no tool that stays) carried by the tool's prescribed translation over the
         increment (default False): otherwise the tool stands where the increment puts it from
@@ -226,7 +233,7 @@ class Static:
         chords: int = 1,
         curved: bool = True,
         fibre_projection: bool = True,
-        compression_free: float = 0.0,
+        compression_free: float | None = None,
         follow_tools: bool = False,
         follow_tools_after_cut: bool = False,
         progress: bool | None = None,
@@ -257,8 +264,10 @@ class Static:
         self.chords = check_integer(chords, "chords", minimum=0)
         self.curved = check_flag(curved, "curved")
         self.fibre_projection = check_flag(fibre_projection, "fibre_projection")
-        self.compression_free = check_non_negative(
-            compression_free, "compression_free", "a residual ratio"
+        self.compression_free = (
+            None
+            if compression_free is None
+            else check_non_negative(compression_free, "compression_free", "a residual ratio")
         )
         self.follow_tools = check_flag(follow_tools, "follow_tools")
         self.follow_tools_after_cut = check_flag(follow_tools_after_cut, "follow_tools_after_cut")
@@ -418,6 +427,17 @@ def check_stabilise(value: Any, path: str) -> float:
     return coefficient
 
 
+def compression_free_ratio(solver: Static, model: CompiledModel) -> float:
+    """The residual ratio above which the iterations take the compression-free tangent
+    (``Static.compression_free``): the solver's own, or by default COMPRESSION_FREE on a
+    model with a block that offers that tangent and no interaction (with contact the
+    hemisphere drape cut more increments with it), else 0 (never)."""
+    if solver.compression_free is not None:
+        return solver.compression_free
+    offered = any(getattr(part, "compression_free_tangent", False) for part in model.parts)
+    return COMPRESSION_FREE if offered and not model.interactions else 0.0
+
+
 class StaticRun:
     """One solve in progress: the model, its tangent and linear solver, the last converged
     state and load factor, the frames and the info written so far. The Newton iterations
@@ -434,6 +454,7 @@ class StaticRun:
         others = [i for i in range(len(model.parts)) if i not in own]
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
+        self.compression_free = compression_free_ratio(solver, model)
         # The fibre-length projection of the Newton steps (solvers.newton_fibres), where the
         # model has fibre edges.
         fibres = FibreEdges(model) if solver.fibre_projection else None
@@ -484,6 +505,7 @@ class StaticRun:
             "curved_steps": 0,
             "fibre_projections": 0,
             "fibre_projection_sweeps": 0,
+            "compression_free": self.compression_free,
             "compression_free_tangents": 0,
             "mode_searches": 0,
             "contact_set_updates": 0,
