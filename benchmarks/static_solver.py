@@ -99,10 +99,11 @@ Newton iterations 4-4-4-4, 16 tangents and 43 / 48 residuals. Peirce fibrous (li
 triangles) 0.29 -> 0.32 s, one run each (its 32 tangents of 40 cells are not what it spends).
 
 The fibrous figures above were measured before the compression-free tangent of the iterates
-far from equilibrium (``Static(compression_free=1e-2)``, an option, off by default;
-docs/theory.md §6.5), i.e. as ``compression_free=0`` gives them; with it line 6's fibrous
-strip takes 9-9-10 iterations (28 tangents) and the heavy cantilever 25-9-8, the same tips
-(benchmarks/fibrous_newton.py, both side by side).
+far from equilibrium (``Static(compression_free=None)``, by default 1e-2 on a fibrous model
+without interactions; docs/theory.md §6.5), i.e. as ``compression_free=0`` gives them; with it
+line 6's fibrous strip takes 10-9-10 iterations (29 tangents) and the heavy cantilever 25-9-8,
+the same tips (benchmarks/fibrous_newton.py, both side by side); line 1 (20 x 20 cells) 4-4-4-4
+iterations, 16 tangents either way (43 -> 42 forces; one thread, load 7.1, run apart).
 
 Run: python benchmarks/static_solver.py [--cells 20] [--dr-limit 400000] [--skip-dr]
 Prints one line per run; one core (set OMP_NUM_THREADS=1 to be sure).

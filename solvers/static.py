@@ -62,17 +62,14 @@ from solvers.common import (
 )
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.linear import Factorisation, LinearSolver
-from solvers.newton import IncrementFailed, Residual, Tangent, newton
+from solvers.newton import IncrementFailed, Residual, Tangent, compression_free_ratio, newton
 from solvers.newton_fibres import FibreEdges
 from solvers.output import FrameStream, output_path
 from solvers.stabilisation import STABILISATION_BOUND, Dashpots
 
-__all__ = ["COMPRESSION_FREE", "PATHS", "Static", "StaticRun", "compression_free_ratio"]
+__all__ = ["PATHS", "Static", "StaticRun"]
 
 PATHS = ("load", "arc_length")
-# The residual ratio above which the fibrous shell's tangent leaves its fibres' compression out
-# of the stress terms by default (``Static(compression_free=None)``; docs/theory.md §6.5).
-COMPRESSION_FREE = 1e-2
 
 
 class Static:
@@ -171,20 +168,20 @@ class Static:
         ``info["fibre_projections"]`` (steps) and ``info["fibre_projection_sweeps"]``; not with
         contact or other interactions.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
-        compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never.
-        None (the default): COMPRESSION_FREE (1e-2) on a model with a block that offers that
-        tangent (the fibrous shell) and no interaction, 0 otherwise. Far from equilibrium a
-        step's remainder compresses fibres whose stiffness is thousands of times the bending's,
-        and the geometric stiffness of that spurious compression makes the tangent indefinite
-        (75 negative eigenvalues on Peirce's strip), whose downhill turns then steer the next
-        steps. The residual is untouched, so the equilibrium is the same; near it (and at every
-        converged state whose stability is judged) the tangent is exact. The fibrous heavy
-        cantilever at 10 cells 47-9-8 -> 26-9-7 iterations, at 40 cells 47-27-19 -> 49-11-8,
-        Peirce's fibrous cantilever 7-14-11 -> 10-9-10 (79 -> 75 forces; the same tips to
-        1e-6 mm; benchmarks/fibrous_newton.py). Not by default with contact: the 12-cell
-        hemisphere drape (tests/test_hemisphere_static.py) converges with it but with 6 cuts
-        instead of 2. Counted in ``info["compression_free_tangents"]``, the ratio used in
-        ``info["compression_free"]``.
+        compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never. None
+        (the default): solvers.newton.COMPRESSION_FREE (1e-2) on a model with a block that offers
+        that tangent (the fibrous shell) and no interaction, 0 otherwise. Far from equilibrium a
+        step's remainder compresses fibres thousands of times stiffer than the bending, and the
+        geometric stiffness of that spurious compression makes the tangent indefinite (75 negative
+        eigenvalues on Peirce's strip), whose downhill turns then steer the next steps. The residual
+        is untouched, so the equilibrium is the same; near it (and at every converged state whose
+        stability is judged, and at the first iterate of each increment, a converged state whose
+        compression is real) the tangent is exact. The fibrous heavy cantilever at 10 cells 47-9-8
+        -> 26-9-7 iterations, at 40 cells 47-27-19 -> 49-11-9, Peirce's fibrous cantilever 7-14-11
+        -> 10-9-10 (79 -> 75 forces; the same tips to 1e-6 mm; benchmarks/fibrous_newton.py). Not by
+        default with contact: the 12-cell hemisphere drape (tests/test_hemisphere_static.py)
+        converges with it but with 6 cuts instead of 2. Counted in
+        ``info["compression_free_tangents"]``, the ratio used in ``info["compression_free"]``.
     follow_tools : load path: start each increment with the nodes that touch a moving tool
         (and no tool that stays) carried by the tool's prescribed translation over the
         increment (default False): otherwise the tool stands where the increment puts it from
@@ -427,17 +424,6 @@ def check_stabilise(value: Any, path: str) -> float:
     return coefficient
 
 
-def compression_free_ratio(solver: Static, model: CompiledModel) -> float:
-    """The residual ratio above which the iterations take the compression-free tangent
-    (``Static.compression_free``): the solver's own, or by default COMPRESSION_FREE on a
-    model with a block that offers that tangent and no interaction (with contact the
-    hemisphere drape cut more increments with it), else 0 (never)."""
-    if solver.compression_free is not None:
-        return solver.compression_free
-    offered = any(getattr(part, "compression_free_tangent", False) for part in model.parts)
-    return COMPRESSION_FREE if offered and not model.interactions else 0.0
-
-
 class StaticRun:
     """One solve in progress: the model, its tangent and linear solver, the last converged
     state and load factor, the frames and the info written so far. The Newton iterations
@@ -454,7 +440,7 @@ class StaticRun:
         others = [i for i in range(len(model.parts)) if i not in own]
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
-        self.compression_free = compression_free_ratio(solver, model)
+        self.compression_free = compression_free_ratio(solver.compression_free, model)
         # The fibre-length projection of the Newton steps (solvers.newton_fibres), where the
         # model has fibre edges.
         fibres = FibreEdges(model) if solver.fibre_projection else None
