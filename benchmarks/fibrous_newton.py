@@ -35,22 +35,27 @@ The validation cases with a fibrous Static and no contact at coarse resolution
 bai-6.1.1, bai-6.1.2, bai-6.2.1, bai-6.2.2), old code -> the compression-free tangent at every
 iterate above 1e-2 (a pass before the first iterate was made exact): every check's value the
 same to 1.1e-7 (relative), Newton iterations 64 -> 42, 230 -> 201, 33 -> 32, 1450, 536, 645 ->
-646, 507, 589 (the paper cases run the arc length, where the option does not act).
+646, 507, 589 (the paper cases run the arc length, where the option does not act, and load
+steps only beyond a limit point).
 
-Why not 3-6 (docs/theory.md §6.5, "Where the iterations of the fibrous strips go"; scripts
-of the measurements not kept): the tangent is exact (heavy cantilever, 10 cells, at the
-iterates of the first increment: |K - K_fd| / max |K| = 1e-7 to 6e-7, the central
-differences' own asymmetry 1e-7 to 6e-7); the steps are whole except the third to fifth of
-the first increment (director turns of up to 35 rad asked; scales 0.67, 0.013, then back to the
-best iterate). The residual ratio sits at 0.7-1.0 for 22 of the 25 iterations of the heavy
-cantilever's first increment (20 cells) and 4-7 of Peirce's 9-10, then falls quadratically in
+Why not 3-6 (docs/theory.md §6.5, "Where the iterations of the fibrous strips go"; scripts of
+the measurements not kept): the tangent is exact (heavy cantilever, 10 cells, at the iterates of
+the first increment: |K - K_fd| / max |K| = 1e-7 to 6e-7, the central differences' own asymmetry
+1e-7 to 6e-7); the steps are whole except the third to fifth of the first increment (director
+turns of 1.5 to 35 rad asked; 10 cells: scales 0.67, 0.013, then back to the best iterate) and
+one more there. The residual ratio sits at 0.3-1.0 for 22 of the 25 iterations of the heavy
+cantilever's first increment (20 cells) and 6-7 of Peirce's 9-10, then falls quadratically in
 2-4 (9.3e-3 -> 2.1e-8): the plateau is the fibres' stretch by each step's remainder, their
-tension stiffness per element 7800 times the bending's. The first increment's first step is
-the linear bending solution from the flat strip, 8.6 (10 cells) to 12 (20 cells) elements of
+tension stiffness per element 7800 times the bending's (a fibre strain of 1e-6 across the heavy
+strip is 0.012 N, half the weight of an increment). The first increment's first step is the
+linear bending solution from the flat strip, 8.6 (10 cells) to 12 (20 cells) elements of
 deflection with no director turn. Finer load steps shorten the increments but not the solve
 (heavy, 20 cells, exact tangent: 6 increments 12-12-10-8-8-6, 130 forces; 12 increments 4-11,
 191; 24 increments 4-7, 272; against 129 at 3), and Peirce's bilinear law has a knee that single
-increments of 12 or 24 meet with 15-27 iterations.
+increments of 12 or 24 meet with 15-27 iterations. The arc length (``path="arc_length"``, 3
+increments to start, the default tangent) keeps its increments at 3-11 iterations but takes
+18-35 of them: heavy 10 / 20 cells and Peirce 148 / 142 / 188 tangents, 0.9 / 1.2 / 1.7 s CPU
+against 42 / 42 / 29 tangents on the load path (load 5-6).
 
 Run: python benchmarks/fibrous_newton.py [--repeat 3]
 """
