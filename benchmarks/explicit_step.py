@@ -94,6 +94,19 @@ steady step 1.039 -> 0.743 (4.8 -> 3.9 x the reference pass, 0.217 / 0.192), who
 100 steps 0.677 -> 0.704 (the steady step is noisy at that load; paired in one process the
 step is 0.933 of before, median of 20 rounds, benchmarks/fibrous_shell.py).
 
+The fibrous 400k peak after the side pass (``--memory --sizes 400000 --steps 10``, one
+thread, each revision in a checkout of its own with a numba cache of its own, run twice and
+the second, warm, run kept; the first compiles the loops inside the process and peaks higher:
+1044 MB on main 78b2577, 939 MB on main 2c4bff8), 2-core machine at a load of 3-7: main
+78b2577 760 MB (1.947 kB a triangle), main 2c4bff8 787 MB (2.018), after 758-761 MB
+(1.942-1.951). What it was: the side table of the fold angles once per side (supports.py
+``shared_sides``), held by the block, six int64 columns and a float sign per side, 27 + 4.6
+MB at 400k (598533 sides), of which the cell across, its side and the side's two nodes are
+in the block's own tables (``across_cell``, ``across_side``, the connectivity); it now holds
+each side's cell and side (int32) and an int8 sign, 4.6 + 0.6 MB, the forces the same to
+the last bit. The run's peak is the build's own (``Model.compile`` of the 400k sheet alone:
+771 MB peak, 538 MB kept), so whatever the block holds from its side tables on counts in it.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
 
