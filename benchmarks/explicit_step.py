@@ -106,6 +106,9 @@ in the block's own tables (``across_cell``, ``across_side``, the connectivity); 
 each side's cell and side (int32) and an int8 sign, 4.6 + 0.6 MB, the forces the same to
 the last bit. The run's peak is the build's own (``Model.compile`` of the 400k sheet alone:
 771 MB peak, 538 MB kept), so whatever the block holds from its side tables on counts in it.
+The Mindlin shell on the same code and machine (load 6-7), not regressed: peak 709 MB
+(1.816 kB a triangle; 741 MB, 1.899, on the run that compiled its loops), build 2.64 s CPU
+in that run; ``--build --sizes 400000`` 2.14-2.18 s CPU (7.5-7.8 s wall), +356 MB resident.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
