@@ -578,7 +578,10 @@ def test_each_side_between_two_cells_is_evaluated_once_for_both():
         state = deformed(built, amplitude=0.8, tilt=0.3, seed=11)
         geometries[kernel] = bending.geometry(block, state.positions)
     table, sign = block.shared_sides, block.shared_sign
+    # 9 bytes a side held by the block (its cell and side as int32, an int8 sign): the
+    # cell across and the side's nodes are read from the block's own tables
     assert table.shape == (len(table), 2)
+    assert table.nbytes + sign.nbytes == 9 * len(table)
     cell, side = table[:, 0], table[:, 1]
     other, other_side = block.across_cell[cell, side], block.across_side[cell, side]
     seen = np.zeros((len(block.connectivity), 3), dtype=int)
