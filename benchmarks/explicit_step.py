@@ -94,6 +94,25 @@ steady step 1.039 -> 0.743 (4.8 -> 3.9 x the reference pass, 0.217 / 0.192), who
 100 steps 0.677 -> 0.704 (the steady step is noisy at that load; paired in one process the
 step is 0.933 of before, median of 20 rounds, benchmarks/fibrous_shell.py).
 
+The fibrous 400k peak after the side pass (``--memory --sizes 400000 --steps 10``, one
+thread, each revision in a checkout of its own with a numba cache of its own, run twice and
+the second, warm, run kept; the first compiles the loops inside the process and peaks higher:
+1044 MB on main 78b2577, 939 MB on main 2c4bff8, and so does the first run after a checkout
+or merge that touches a kernels' module, whose cached loops numba then drops, its cache
+being keyed on the source file's time stamp and size), 2-core machine at a load of 3-7: main
+78b2577 760 MB (1.947 kB a triangle), main 2c4bff8 787 MB (2.018), after 758-761 MB
+(1.942-1.951). What it was: the side table of the fold angles once per side (supports.py
+``shared_sides``), held by the block, six int64 columns and a float sign per side, 27 + 4.6
+MB at 400k (598533 sides), of which the cell across, its side and the side's two nodes are
+in the block's own tables (``across_cell``, ``across_side``, the connectivity); it now holds
+each side's cell and side (int32) and an int8 sign, 4.6 + 0.6 MB, the forces the same to
+the last bit. The run's peak is reached in the build (``Model.compile`` of the 400k sheet
+alone in a fresh process, after: 771 MB peak, 538 MB kept at its end, load 6), so whatever
+the block holds from its side tables on counts in it.
+The Mindlin shell on the same code and machine (load 6-7), not regressed: peak 709 MB
+(1.816 kB a triangle; 741 MB, 1.899, on the run that compiled its loops), build 2.64 s CPU
+in that run; ``--build --sizes 400000`` 2.14-2.18 s CPU (7.5-7.8 s wall), +356 MB resident.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
 

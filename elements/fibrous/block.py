@@ -68,8 +68,9 @@ class FibrousShellBlock(ElementBlock):
     held_cell : (m,) bool, cells whose three nodes are held: no bending.
     across_cell, across_side : (m, 3) int, the neighbour and its side where ``interior_side``,
         0 elsewhere (gather indices, masked by ``interior_side``).
-    shared_sides, shared_sign : (e, 6) int and (e,), each interior side once, for the fold
-        angles evaluated once per side (supports.py ``shared_sides``).
+    shared_sides, shared_sign : (e, 2) int32 and (e,) int8, each interior side once (its
+        cell and side), for the fold angles evaluated once per side (supports.py
+        ``shared_sides``).
     requested_clamp : (n,) bool, the nodes of the ``clamped`` option.
     wall_nodes : (n,) bool, the held nodes whose nodal normal is the wall's (the reference
         one); wall_node_ids their ids and wall_sums (len(wall_node_ids), 3) their normal sums.

@@ -1,10 +1,13 @@
 """Scalar pieces of the fibrous shell's compiled cell loops (elements/fibrous/kernels.py):
 a cell's edges and normal (also the fibre frame's, fibre_kernels.py), the corner thickness,
-the director moment, a side's fold angle and curvature coefficients, the fold-angle gradient
-and the pull of a corner angle. Each returns scalars (x, y, z components), so that the loops
-keep every vector in registers; those that read an array (``cell_cross``,
-``corner_thickness``, ``corner_frame``, ``wall_fold``) are inlined into their callers
-(elements/jit.py ``inline``), where an array argument costs no reference counting.
+the levers and a level's fibre vectors and strains (the force pass's and the strains
+pass's one writing), the director moment, a side's fold angle and curvature coefficients,
+the fold-angle gradient and the pull of a corner angle. Each returns scalars (x, y, z
+components), so that the loops keep every vector in registers; those that read an array
+(``cell_cross``, ``corner_thickness``, ``corner_frame``, ``wall_fold``) or that two passes
+share (``corner_levers``, ``level_strains``) are inlined into their callers (elements/jit.py
+``inline``), where an array argument costs no reference counting and a level's values stay
+in registers.
 
 Divisions are the dearest of the loops' arithmetic after the transcendental functions (a
 division or a square root costs several multiplications' time): where several quotients
@@ -23,9 +26,11 @@ __all__ = [
     "angle_pull",
     "cell_cross",
     "corner_frame",
+    "corner_levers",
     "corner_thickness",
     "director_moment",
     "fold_gradient",
+    "level_strains",
     "side_angle",
     "side_coefficients",
     "side_squares",
@@ -65,6 +70,68 @@ def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
             frame[node, 5], frame[node, 6], frame[node, 7], frame[node, 8], frame[node, 9],
         )  # fmt: skip
     return corner_thickness(directors, frame, node, False, nx, ny, nz, thickness, guard)
+
+
+@inline
+def corner_levers(h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z):
+    """The levers l_a = (h_m^a V_a - h_m^0 V_0) / 2 of a cell's fibre vectors (Eq. 8-9:
+    x_k^f = x_k + zeta_f / 2 h_m^k V_k, so g_a = x_a^f - x_0^f = r_a + zeta_f l_a with
+    r_a = x_a - x_0) from the corners' h_m and V (``corner_frame``): (l1x, l1y, l1z, l2x,
+    l2y, l2z), mm."""
+    u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
+    return (
+        0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z,
+        0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z,
+    )  # fmt: skip
+
+
+@inline
+def level_strains(
+    z, r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z, nodal, nx, ny, nz,
+    reference1, reference2, sign, reference_shear,
+):  # fmt: skip
+    """The fibre vectors, log strains and shear angle of one level zeta_f = ``z`` of a cell
+    (membrane.py ``strains``; Eq. 8, 21): g_a = r_a + z l_a (r_a the edges 0 -> 1, 0 -> 2,
+    l_a of ``corner_levers``), the log strain of the fibre length l_a (|g_a|, or with
+    ``nodal`` normals |P g_a|, P = I - n n^T with n the cell's unit normal, docs/theory.md
+    §2.2) against the reference length L_a (``reference1``, ``reference2``), and gamma =
+    sign asin(g1 . g2 / (|g1| |g2|)) - ``reference_shear``.
+
+    The log strain is half the log of the squared-length ratio, and 1 / l_a^2 and
+    1 / L_a^2 share one division; the shear needs 1 / (|g1| |g2|) only (one root instead of
+    four). The one writing of a level's strains that the force pass and the strains pass
+    (kernels.py ``_cells_pass``, ``_strains_pass``) share. Returns (g1 (3), g2 (3), |g1|^2,
+    |g2|^2, q1, q2 (g_a . n, 0 without ``nodal``), e1 (3), e2 (3) (P g_a), 1 / l1^2,
+    1 / l2^2, 1 / (|g1| |g2|), cos, eps1, eps2, gamma)."""
+    g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
+    g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
+    square1 = g1x * g1x + g1y * g1y + g1z * g1z
+    square2 = g2x * g2x + g2y * g2y + g2z * g2z
+    if nodal:  # the lengths of g_a projected on the element's plane (theory §2.2)
+        q1 = g1x * nx + g1y * ny + g1z * nz
+        q2 = g2x * nx + g2y * ny + g2z * nz
+        e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
+        e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
+        fibre1 = e1x * e1x + e1y * e1y + e1z * e1z
+        fibre2 = e2x * e2x + e2y * e2y + e2z * e2z
+    else:
+        q1 = q2 = 0.0
+        e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
+        fibre1, fibre2 = square1, square2
+    # 1 / l_a^2 and 1 / L_a^2 by one division
+    reference1, reference2 = reference1 * reference1, reference2 * reference2
+    fibres, references = fibre1 * fibre2, reference1 * reference2
+    over = 1.0 / (fibres * references)
+    over_fibre1, over_fibre2 = fibre2 * references * over, fibre1 * references * over
+    eps1 = 0.5 * np.log(fibre1 * (fibres * reference2 * over))
+    eps2 = 0.5 * np.log(fibre2 * (fibres * reference1 * over))
+    inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
+    cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
+    gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear
+    return (
+        g1x, g1y, g1z, g2x, g2y, g2z, square1, square2, q1, q2, e1x, e1y, e1z, e2x, e2y,
+        e2z, over_fibre1, over_fibre2, inverse, cos, eps1, eps2, gamma,
+    )  # fmt: skip
 
 
 @serial

@@ -33,7 +33,9 @@ Every sum from cells to nodes is a loop over nodes that adds the corners of the 
 in cell order (elements/kernels.py ``NodeCorners``): parallel without races, the same sums in
 the same order as ``numpy.bincount``, and the same numbers to the last bit on any number of
 threads. The per-cell pieces of the bending geometry also serve ``bending_geometry``, the
-compiled form of bending.py ``geometry`` (tangent, fields).
+compiled form of bending.py ``geometry`` (tangent, fields), and the strains of the fields
+(``strains``) come from a pass that reads the nodes' frames of pass 1 and forms each level by
+pass 2's own inlined helper (cell_terms.py ``level_strains``): the strains the force took.
 """
 
 from __future__ import annotations
@@ -44,9 +46,11 @@ from elements.fibrous.cell_terms import (
     angle_pull,
     cell_cross,
     corner_frame,
+    corner_levers,
     corner_thickness,
     director_moment,
     fold_gradient,
+    level_strains,
     side_angle,
     side_coefficients,
     side_squares,
@@ -123,15 +127,21 @@ def _cell_normals(block, positions: np.ndarray, with_angles: bool):
 
 
 @jit
-def _side_folds(sides, sign, positions, normal, double_area, fold, scale):
+def _side_folds(
+    sides, sign, connectivity, across_cell, across_side, positions, normal, double_area, fold,
+    scale,
+):  # fmt: skip
     """The fold angle and the curvature scale (cell_terms.py ``side_angle``) of each side that
-    couples two cells, once per side (supports.py ``shared_sides``: ``sides`` (e, 6), ``sign``
-    (e,)), written for both its cells at (cell, side) in ``fold`` and ``scale`` (m, 3): the
-    angle as its cell of lower index sees it, times ``sign`` for the other (not written where
-    ``sign`` is 0). Every slot is the one side's: no two iterations write the same place."""
+    couples two cells, once per side (supports.py ``shared_sides``: ``sides`` (e, 2) its cell
+    c and side s there, ``sign`` (e,)), written for both its cells at (cell, side) in
+    ``fold`` and ``scale`` (m, 3): the angle as c sees it (the side from its corner s + 1 to
+    its corner s + 2), times ``sign`` for the cell across (``across_cell``, ``across_side``
+    (m, 3); not written where ``sign`` is 0). Every slot is the one side's: no two
+    iterations write the same place."""
     for e in prange(sides.shape[0]):
-        c, s, other, other_side = sides[e, 0], sides[e, 1], sides[e, 2], sides[e, 3]
-        p, q = sides[e, 4], sides[e, 5]
+        c, s = sides[e, 0], sides[e, 1]
+        other, other_side = across_cell[c, s], across_side[c, s]
+        p, q = connectivity[c, (s + 1) % 3], connectivity[c, (s + 2) % 3]
         angle, k = side_angle(
             positions[q, 0] - positions[p, 0], positions[q, 1] - positions[p, 1],
             positions[q, 2] - positions[p, 2], normal[c, 0], normal[c, 1], normal[c, 2],
@@ -139,7 +149,7 @@ def _side_folds(sides, sign, positions, normal, double_area, fold, scale):
             double_area[other],
         )  # fmt: skip
         fold[c, s], scale[c, s] = angle, k
-        if sign[e] != 0.0:
+        if sign[e] != 0:
             fold[other, other_side], scale[other, other_side] = sign[e] * angle, k
 
 
@@ -148,7 +158,10 @@ def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area:
     cells (``interior_side``) and unset elsewhere."""
     m = len(block.connectivity)
     fold, scale = np.empty((m, 3)), np.empty((m, 3))
-    _side_folds(block.shared_sides, block.shared_sign, positions, normal, double_area, fold, scale)
+    _side_folds(
+        block.shared_sides, block.shared_sign, block.connectivity, block.across_cell,
+        block.across_side, positions, normal, double_area, fold, scale,
+    )  # fmt: skip
     return fold, scale
 
 
@@ -235,43 +248,21 @@ def _cells_pass(
         s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f dW/dg_a
         a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f dW/dg_a
         lx = ly = lz = 0.0  # dW/dn
-        # g_a = x_a^f - x_0^f, x_k^f = x_k + zeta_f / 2 h_m^k V_k (Eq. 8-9): g_a = r_a +
-        # zeta_f l_a, r_a = x_a - x_0 and l_a = (h_m^a V_a - h_m^0 V_0) / 2
-        r1x, r1y, r1z = x1x - x0x, x1y - x0y, x1z - x0z
-        r2x, r2y, r2z = x2x - x0x, x2y - x0y, x2z - x0z
-        u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
-        l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
-        l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
+        # g_a = r_a + zeta_f l_a (cell_terms.py ``corner_levers``, ``level_strains``)
+        r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
+        l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
+            h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
+        )
         for f in range(levels):
             z = zeta[f]
-            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
-            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
-            # squared lengths: the log strain is half the log of their ratio, and the shear
-            # needs 1 / (|g1| |g2|) only (one root instead of four)
-            square1 = g1x * g1x + g1y * g1y + g1z * g1z
-            square2 = g2x * g2x + g2y * g2y + g2z * g2z
-            if nodal:  # the lengths of g_a projected on the element's plane (theory §2.2)
-                q1 = g1x * nx + g1y * ny + g1z * nz
-                q2 = g2x * nx + g2y * ny + g2z * nz
-                e1x, e1y, e1z = g1x - q1 * nx, g1y - q1 * ny, g1z - q1 * nz
-                e2x, e2y, e2z = g2x - q2 * nx, g2y - q2 * ny, g2z - q2 * nz
-                fibre1 = e1x * e1x + e1y * e1y + e1z * e1z
-                fibre2 = e2x * e2x + e2y * e2y + e2z * e2z
-            else:
-                q1 = q2 = 0.0
-                e1x, e1y, e1z, e2x, e2y, e2z = g1x, g1y, g1z, g2x, g2y, g2z
-                fibre1, fibre2 = square1, square2
-            # 1 / l_a^2 and 1 / L_a^2 (L_a the reference lengths) by one division
-            reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
-            reference1, reference2 = reference1 * reference1, reference2 * reference2
-            fibres, references = fibre1 * fibre2, reference1 * reference2
-            over = 1.0 / (fibres * references)
-            over_fibre1, over_fibre2 = fibre2 * references * over, fibre1 * references * over
-            eps1 = 0.5 * np.log(fibre1 * (fibres * reference2 * over))
-            eps2 = 0.5 * np.log(fibre2 * (fibres * reference1 * over))
-            inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
-            cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
-            gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear[c, f]
+            (
+                g1x, g1y, g1z, g2x, g2y, g2z, square1, square2, q1, q2, e1x, e1y, e1z, e2x,
+                e2y, e2z, over_fibre1, over_fibre2, inverse, cos, eps1, eps2, gamma,
+            ) = level_strains(
+                z, r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z, nodal, nx, ny,
+                nz, reference_length1[c, f], reference_length2[c, f], sign,
+                reference_shear[c, f],
+            )  # fmt: skip
             w = a0 * weights[f]  # A0 w_f
             if with_energy:
                 tension_energy += w * (
@@ -350,15 +341,13 @@ def _cells_pass(
                 gy = (d0y + d1y + d2y) * over_size
                 gz = (d0z + d1z + d2z) * over_size
             # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
-            # minus their sum on x0 (a = x1 - x0, b = x2 - x0)
-            ax, ay, az = x1x - x0x, x1y - x0y, x1z - x0z
-            bx, by, bz = x2x - x0x, x2y - x0y, x2z - x0z
-            f1x = s1x + (by * gz - bz * gy)
-            f1y = s1y + (bz * gx - bx * gz)
-            f1z = s1z + (bx * gy - by * gx)
-            f2x = s2x + (gy * az - gz * ay)
-            f2y = s2y + (gz * ax - gx * az)
-            f2z = s2z + (gx * ay - gy * ax)
+            # minus their sum on x0 (a = r1 = x1 - x0, b = r2 = x2 - x0)
+            f1x = s1x + (r2y * gz - r2z * gy)
+            f1y = s1y + (r2z * gx - r2x * gz)
+            f1z = s1z + (r2x * gy - r2y * gx)
+            f2x = s2x + (gy * r1z - gz * r1y)
+            f2y = s2y + (gz * r1x - gx * r1z)
+            f2z = s2z + (gx * r1y - gy * r1x)
             force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = (
                 -(f1x + f2x),
                 -(f1y + f2y),
@@ -600,50 +589,53 @@ def bending_geometry(block, positions: np.ndarray) -> dict:
 # ---------------------------------------------------------------------- strains (fields)
 @jit
 def _strains_pass(
-    connectivity, positions, directors, sums, normal, nodal, thickness, guard, zeta,
+    connectivity, positions, directors, frame, normal, nodal, thickness, guard, zeta,
     reference_length1, reference_length2, shear_sign, reference_shear, eps1, eps2, gamma,
 ):  # fmt: skip
     """The log fibre strains eps1, eps2 along edges 0-1 and 0-2 and the shear angles (m, L)
-    of every cell and level (membrane.py ``strains``), as ``_cells_pass`` forms them."""
+    of every cell and level (membrane.py ``strains``) by the arithmetic of ``_cells_pass``:
+    its corner terms (``corner_frame`` on the nodes' ``frame`` (n, 10) of ``_node_frames``
+    when ``nodal``), edges (``cell_cross``) and levels (``level_strains``), so that the
+    fields are the strains the force took, to the last bit."""
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-        v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_thickness(
-            directors, sums, n0, nodal, nx, ny, nz, thickness, guard
+        v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_frame(
+            frame, directors, n0, nodal, nx, ny, nz, thickness, guard
         )
-        v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_thickness(
-            directors, sums, n1, nodal, nx, ny, nz, thickness, guard
+        v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_frame(
+            frame, directors, n1, nodal, nx, ny, nz, thickness, guard
         )
-        v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_thickness(
-            directors, sums, n2, nodal, nx, ny, nz, thickness, guard
+        v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_frame(
+            frame, directors, n2, nodal, nx, ny, nz, thickness, guard
         )
-        r1x = positions[n1, 0] - positions[n0, 0]
-        r1y = positions[n1, 1] - positions[n0, 1]
-        r1z = positions[n1, 2] - positions[n0, 2]
-        r2x = positions[n2, 0] - positions[n0, 0]
-        r2y = positions[n2, 1] - positions[n0, 1]
-        r2z = positions[n2, 2] - positions[n0, 2]
-        u0x, u0y, u0z = 0.5 * h0 * v0x, 0.5 * h0 * v0y, 0.5 * h0 * v0z
-        l1x, l1y, l1z = 0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z
-        l2x, l2y, l2z = 0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z
+        r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
+        l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
+            h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
+        )
+        sign = shear_sign[c]
         for f in range(zeta.shape[0]):
-            z = zeta[f]
-            g1x, g1y, g1z = r1x + z * l1x, r1y + z * l1y, r1z + z * l1z
-            g2x, g2y, g2z = r2x + z * l2x, r2y + z * l2y, r2z + z * l2z
-            square1 = g1x * g1x + g1y * g1y + g1z * g1z
-            square2 = g2x * g2x + g2y * g2y + g2z * g2z
-            fibre1, fibre2 = square1, square2
-            if nodal:  # the lengths projected on the element's plane
-                q1 = g1x * nx + g1y * ny + g1z * nz
-                q2 = g2x * nx + g2y * ny + g2z * nz
-                fibre1 = square1 - q1 * q1
-                fibre2 = square2 - q2 * q2
-            reference1, reference2 = reference_length1[c, f], reference_length2[c, f]
-            eps1[c, f] = 0.5 * np.log(fibre1 / (reference1 * reference1))
-            eps2[c, f] = 0.5 * np.log(fibre2 / (reference2 * reference2))
-            cos = (g1x * g2x + g1y * g2y + g1z * g2z) / np.sqrt(square1 * square2)
-            angle = np.arcsin(min(max(cos, -1.0), 1.0))
-            gamma[c, f] = shear_sign[c] * angle - reference_shear[c, f]
+            level = level_strains(
+                zeta[f], r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z, nodal,
+                nx, ny, nz, reference_length1[c, f], reference_length2[c, f], sign,
+                reference_shear[c, f],
+            )  # fmt: skip
+            eps1[c, f], eps2[c, f], gamma[c, f] = level[20], level[21], level[22]
+
+
+def _frames(block, x: np.ndarray, v: np.ndarray, normal: np.ndarray, angles: np.ndarray):
+    """The nodes' frame table (n, 10) of ``_node_frames`` from the cells' normals and corner
+    angles of pass 1 (the nodal normal sums, a wall node's the wall's), as both cell passes
+    read it; (0, 10) without nodal normals."""
+    if not block.nodal_normals:
+        return np.zeros((0, 10))
+    corners = block.node_corners
+    sums = np.empty((block.n_nodes, 3))
+    _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+    sums[block.wall_node_ids] = block.wall_sums
+    frame = np.empty((block.n_nodes, 10))
+    _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
+    return frame
 
 
 def strains(block, positions: np.ndarray, directors: np.ndarray) -> dict:
@@ -651,20 +643,14 @@ def strains(block, positions: np.ndarray, directors: np.ndarray) -> dict:
     (m, L), without the level vectors and corners (m, L, 3) the numpy path keeps."""
     x = loop_array(positions)
     v = loop_array(directors)
-    nodal = block.nodal_normals
-    normal, _, angles = _cell_normals(block, x, nodal)
-    sums = np.zeros((0, 3))
-    if nodal:
-        sums = np.empty((block.n_nodes, 3))
-        corners = block.node_corners
-        _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
-        sums[block.wall_node_ids] = block.wall_sums
+    normal, _, angles = _cell_normals(block, x, block.nodal_normals)
+    frame = _frames(block, x, v, normal, angles)
     shape = block.reference_length1.shape
     eps1, eps2, gamma = np.empty(shape), np.empty(shape), np.empty(shape)
     _strains_pass(
-        block.connectivity, x, v, sums, normal, nodal, float(block.fabric.thickness), GUARD,
-        block.zeta, block.reference_length1, block.reference_length2, block.shear_sign,
-        block.reference_shear, eps1, eps2, gamma,
+        block.connectivity, x, v, frame, normal, block.nodal_normals,
+        float(block.fabric.thickness), GUARD, block.zeta, block.reference_length1,
+        block.reference_length2, block.shear_sign, block.reference_shear, eps1, eps2, gamma,
     )  # fmt: skip
     return {"eps1": eps1, "eps2": eps2, "gamma": gamma}
 
@@ -708,14 +694,7 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     v = loop_array(directors)
     normal, double_area, angles = _cell_normals(block, x, nodal)
     side_fold, side_scale = _shared_folds(block, x, normal, double_area)
-    frame = np.zeros((0, 10))
-    if nodal:  # the nodal normal sums (a wall node's is the wall's), then the nodes' frames
-        sums = np.empty((block.n_nodes, 3))
-        _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
-        sums[block.wall_node_ids] = block.wall_sums
-        frame = np.empty((block.n_nodes, 10))
-        _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
-        del sums
+    frame = _frames(block, x, v, normal, angles)
     shape = (m, 3, 3) if with_forces else (0, 3, 3)
     force, moment = np.empty(shape), np.empty(shape)
     d_sums = np.empty(shape if nodal else (0, 3, 3))
