@@ -6,13 +6,13 @@ the CPU per step, the kinetic energy at the end (the same figure for the same mo
 speed-ups change nothing) and the machine's load.
 
 Measured (one thread, load 5.5-7.0, the same script on each code; 523 steps with both passes,
-KE 221.363106381 N mm at the end on each): both passes with the lower rule's three points per
-triangle corner (384 points), 18.44 s of CPU; one point per node (81 points, the corners'
-shares summed: elements/ply_block.py), 14.85 s; the nodal normals kept for the last
-positions, 13.62 s; the facing kept for the last state, 9.90 s (18.9 ms per step). One pass
-on the code before these, 470 steps, 9.57 s (20.4 ms per step). This script on the code
-with all three (load 6.0): one pass 470 steps, 7.06 s (15.0 ms per step); both 523 steps,
-10.25 s (19.6 ms per step).
+KE 221.363106381 N mm at the end on each): both passes with three points per triangle corner
+(384 points, rule "vertices"), 18.44 s of CPU; one point per node (81 points, the corners'
+shares summed: rule "nodes", elements/ply_block.py), 14.85 s; the nodal normals kept for the
+last positions, 13.62 s; the facing kept for the last state, 9.90 s (18.9 ms per step). One
+pass on the code before these, 470 steps, 9.57 s (20.4 ms per step). This script with all
+three (load 6.0): one pass 470 steps, 7.06 s (15.0 ms per step); both ("vertices") 523
+steps, 10.25 s (19.6 ms per step).
 
 Run: python benchmarks/ply_both_ways.py
 """
@@ -37,8 +37,8 @@ def _solve(lower_rule: str | None, duration: float):
 
 
 def main() -> None:
-    _solve("vertices", 0.0005)  # compiles the kernels
-    for lower_rule in (None, "vertices"):
+    _solve("nodes", 0.0005)  # compiles the kernels
+    for lower_rule in (None, "vertices", "nodes"):
         load = os.getloadavg()[0]
         result, cpu = _solve(lower_rule, 0.01)
         print(

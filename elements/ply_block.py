@@ -38,6 +38,8 @@ RULES = {
         np.full(3, 1.0 / 3.0),
     ),
     "vertices": (np.eye(3), np.full(3, 1.0 / 3.0)),
+    # the corners too, but one point per node (PlyContactBlock: the same loads)
+    "nodes": (np.eye(3), np.full(3, 1.0 / 3.0)),
 }
 
 
@@ -85,10 +87,10 @@ class PlyContactBlock(InteractionBlock):
         self.above = np.repeat(above, count, axis=0)  # (P, 3)
         self.shape = np.tile(coordinates, (len(above), 1))  # (P, 3)
         # At the corners ("vertices") the points of a node's triangles all lie at the node and
-        # face, touch and slide alike: one point per node, in the first of its triangles,
-        # carrying their summed shares (the node's whole penalty), gives the same energy,
-        # forces and tangent for a sixth of the searches on a structured mesh.
-        at_nodes = contact.rule == "vertices"
+        # face, touch and slide alike: one point per node ("nodes"), in the first of its
+        # triangles, carrying their summed shares (the node's whole penalty), gives the same
+        # energy, forces and tangent for a sixth of the searches on a structured mesh.
+        at_nodes = contact.rule == "nodes"
         if at_nodes:
             node = self.above[np.arange(len(self.above)), np.argmax(self.shape, axis=1)]
             kept = np.unique(node, return_index=True)[1]
