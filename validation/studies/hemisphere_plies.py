@@ -2,15 +2,39 @@
 and Mindlin plies, each ply's shear angles against the pin-jointed net of its own orientation.
 
 A study, not a case of the report (validation/cases discovers its modules; this one is kept
-apart) until it validates. The holder now weighs 10 g and presses 20 N (40 N for the
-sensitivity): below, "The holder", with the table of the twelve runs (RESULTS). The six
-fibrous runs at 8 cells and of [0/90] at 10 pass every check; fibrous [0/45] at 10 cells
-fails the plies' order at both forces (the bottom ply's pole node through the top ply) and
-the four Mindlin runs fail KE / W (0.10-0.15, of it at least 0.02-0.065 of W the
-directors' rotation on the Mindlin shell's scaled rotary inertia), Mindlin [0/45] at 10 cells
-stopping at 76.5 % of the stroke on the energy balance. Run it with
-``python -c "from validation.studies.hemisphere_plies import compute;
+apart) until it validates. The holder weighs 10 g and presses 20 N (40 N for the
+sensitivity): below, "The holder". The plies now touch both ways (``LOWER_RULE = "nodes"``:
+the mirrored pass at the bottom ply's nodes beside the top ply's Gauss points;
+docs/theory.md §9.3b "Both ways", which says which two-pass treatment and why): below, "Both
+passes", with the runs made so far; the table of the twelve runs with one pass follows it
+(RESULTS). Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
 print(compute().parameters)"`` (both meshes; ``compute('coarse')`` one).
+
+Both passes (one thread; CPU of each run, the machine's 1-minute load 5.5-7 at the end of
+each; the columns as in RESULTS below, KE / W with its rotational part from the energy
+records, ``result.energies["kinetic_rotational"]``; * a check failed; the 10-cell runs and
+8-cell [0/90] ran on the ply contact before its one-point-per-node rule and kept faces, which
+change no figure but the CPU: benchmarks/ply_both_ways.py):
+cells layup F N | rms (cells) | draw-in | slip | crests (mm) | holder N, mm | KE/W (rot) | gap | CPU
+ 8 0/90 F 20 3.46/3.51 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)    19.98 -0.1 0.088 (0.000) -0.13 186
+ 8 0/45 F 20 2.24/4.66 (14/36) 27.0/11.9 22.1 14/10 (11.6/11.8) 18.69 11.7 0.075 (0.000) +0.00 97 *
+10 0/45 F 20 3.57/3.81 (34/46) 23.7/7.8  19.2 14/10 (10.1/1.9)  19.86  1.8 0.071         -0.13 312
+10 0/45 F 40 3.55/4.50 (34/52) 23.4/7.5  20.4 5/3 (1.7/0.2)     39.92  0.1 0.064 (0.000) -0.22 286
+- Fibrous [0/45] at 10 cells passes every check at 20 and 40 N: the plies' order in the die,
+  -0.53 and -0.55 mm with one pass, is -0.13 and -0.22 mm (within 0.3): the bottom ply's
+  pole node, drawn inward by its own tension as it wraps the punch, is held off the top ply.
+- Fibrous [0/45] at 8 cells now fails the holder's force, 18.69 N over the last tenth for 20
+  (-6.5 %, against 5 %): the flange's wrinkles, which with one pass went through each other
+  (crests 2.4 and 1.4 mm, the holder 1.3 mm up), are held apart and stand 11.6 and 11.8 mm
+  high, throwing the holder 11.7 mm up; its reaction is then its inertia and damping's as
+  much as the plies'. Every other check passes (the order +0.00 mm, KE / W 0.075). Not
+  looked into further: at 40 N not yet run. tests/test_hemisphere_plies.py keeps this run
+  with one pass, as measured.
+- Not yet rerun with both passes: fibrous [0/90] at 10 cells (20, 40 N), at 8 cells 40 N,
+  fibrous [0/45] at 8 cells 40 N, and the four Mindlin runs (below, RESULTS, with one pass).
+- Mindlin KE / W. The measure keeps counting the directors' kinetic energy on the Mindlin
+  shell's scaled rotary inertia (docs/theory.md §6.3 says why); each run now reports its
+  rotational and translational parts exactly, at every energy record.
 
 The holder. What it is for here: each ply's shear against its own net, the draw-in, the
 wrinkles and their sensitivity to the holder's force; the tools are frictionless, so the
@@ -49,7 +73,8 @@ the flange down.
   counted in KE / W.
 - No dashpot: measured and dropped before (below, "The holder").
 
-RESULTS with the 10-g holder (one thread; CPU of each run, the machine's 1-minute load 5.5-10
+RESULTS with one ply contact pass (the top ply's Gauss points) and the 10-g holder (one
+thread; CPU of each run, the machine's 1-minute load 5.5-10
 throughout; F fibrous, M Mindlin; per ply, ply 1 / ply 2: the rms of shear - net (deg) over
 its cells in the die (their number), the draw-in of its edge middle (mm) and the crests on
 its outline (the highest, mm); the inter-ply slip's largest (mm); the holder's mean reaction
@@ -531,6 +556,7 @@ from validation.studies.hemisphere_plies_setup import (
     HOLDER_FORCES,
     HOLDER_MASS,
     LAYUPS,
+    LOWER_RULE,
     PLIES,
     PUNCH,
     THICKNESS,
@@ -545,6 +571,7 @@ __all__ = [
     "HOLDER_FORCES",
     "HOLDER_MASS",
     "LAYUPS",
+    "LOWER_RULE",
     "PLIES",
     "PUNCH",
     "THICKNESS",
