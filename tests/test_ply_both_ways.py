@@ -171,3 +171,28 @@ def test_the_studys_plies_hold_a_bottom_node_pushed_up_off_the_top_ply():
     n = layup.mesh.n_nodes
     least = min(np.nanmin(_lower_node_gaps(layup, frame.positions[:n])) for frame in result.frames)
     assert least > -0.5 * PLY.thickness
+
+
+@pytest.mark.parametrize("faces", ["normal", "director"])
+def test_one_point_per_node_loads_the_plies_as_a_point_per_triangle_corner(faces):
+    """Rule "nodes" against "vertices" (a point at each corner of each triangle, all of a
+    node's at the node): on [0/45] plies sunk 0.1 mm into each other and jittered, both ways,
+    the same energy, forces and moments, to round-off (1e-12 of the largest: sums of six
+    equal terms against one), for a sixth of the points on a large mesh."""
+    loads = []
+    for rule in ("vertices", "nodes"):
+        layup = Layup(PLY, (0.0, 45.0), 40.0, cells=4, rule=rule, lower_rule=rule, faces=faces)
+        contacts, state = _sunk(layup, 0.1)
+        if not loads:
+            jitter = 0.03 * np.random.default_rng(3).normal(size=state.positions.shape)
+        state.positions += jitter
+        for contact in contacts:
+            force, moment = contact.internal_force(state)
+            loads.append((len(contact.above), contact.strain_energy(state), force, moment))
+    for before, after in zip(loads[:2], loads[2:]):
+        assert after[0] * 3 < before[0]  # 25 points against 96 on these 4 x 4 cells
+        assert after[1] == pytest.approx(before[1], rel=1e-12)
+        scale = np.abs(before[2]).max()
+        np.testing.assert_allclose(after[2], before[2], rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(after[3], before[3], rtol=0, atol=1e-12 * scale)
+        assert before[1] > 0.0
