@@ -81,7 +81,8 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     19.94 N over the last tenth for its 20 N (1.3 mm up at the end), the least radial gap in
     the die +0.07 mm, where the bottom ply's curved face reads -0.71 mm (its corners'
     normals turned towards the die's entry radius; the study's docstring, "The curved face's
-    misreading"); 4616 steps, 101 s of CPU (one thread, load 6-7; the test 88 s, load 2-5).
+    misreading"); 4616 steps, 101 s of CPU (one thread, load 6-7; the test 88 s, load 2-5;
+    on the ply contact's kept normals and facing 58 s of CPU, 88 s wall, load 3.4-5.3).
     With the 100-g holder at 10 N: KE / W 0.088, 9.91 N, +0.07 mm. One ply contact pass (the
     top ply's Gauss points), as measured: with the mirrored pass too (the study's
     ``LOWER_RULE``) the flange's wrinkles, held apart, throw the holder 11.7 mm up at this
