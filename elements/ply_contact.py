@@ -43,7 +43,8 @@ it). The tangent stays the flat one at the curved projection.
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
 triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's
 barycentric coordinates (``RULES``: the centroid, three interior Gauss points, or the three
-corners, which is node-to-surface contact), and its force on p goes back to the upper
+corners, which is node-to-surface contact; "nodes" the same with one point per node
+carrying its triangles' shares), and its force on p goes back to the upper
 triangle's corners by N_j. Why not at the nodes: plies are meshed alike, so every upper node
 sits right above a vertex of the lower ply, where the facing triangle (and with it the normal)
 switches between the facets around the vertex: a kink of the energy at the equilibrium itself,
@@ -58,7 +59,8 @@ lower ply's upper face, x + b d, at its rule's coordinates in the lower triangle
 the upper ply's lower face, x - a d, whose triangles it turns so that their normal points
 towards the lower ply; the rest (search, law, friction, tangent) is the same code with the
 plies' roles and the offsets' signs swapped. With its points at the lower ply's nodes
-("vertices") the two passes hold both plies' nodes and the upper ply's interior points.
+("vertices", or "nodes" for a sixth of the searches) the two passes hold both plies' nodes and
+the upper ply's interior points.
 
 Gap, energy and search (elements/ply_projection.py). Each point faces the nearest of the
 ``candidates`` triangles of the lower face that a search picks, refreshed at every call: by
@@ -176,7 +178,8 @@ class PlyContact(Interaction):
         Triangles examined per point by the search (the nearest centroids), >= 1.
     rule : str
         The contact points of each upper triangle, a key of ``RULES``: "centroid" (default),
-        "gauss" (three interior points) or "vertices" (node-to-surface).
+        "gauss" (three interior points), "vertices" (node-to-surface, a point at each
+        corner of each triangle) or "nodes" (the same contact with one point per node).
     smoothing : float, optional
         delta, mm, the penetration over which the penalty's stiffness ramps up (0: the plain
         k/2 min(g, 0)^2); None: ``SMOOTHING`` (a + b).

@@ -8,11 +8,19 @@ The configuration update itself (move the nodes, turn the directors by finite ro
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from solvers.common import inverse_diagonal
 
-__all__ = ["EnergyAccount", "FrameSchedule", "damped_velocity", "update_rates"]
+__all__ = [
+    "EnergyAccount",
+    "FrameSchedule",
+    "damped_velocity",
+    "rotational_kinetic",
+    "update_rates",
+]
 
 
 def damped_velocity(
@@ -142,6 +150,21 @@ def update_rates(
     return new, reactions, tuple(float(t) for t in terms)
 
 
+def rotational_kinetic(inertia: np.ndarray, omega: np.ndarray) -> float:
+    """The directors' kinetic energy 1/2 sum_i I_i |omega_i|^2, N mm: the rotational part of
+    the kinetic energy the explicit step counts (solvers/turning.py), over the rotary inertia
+    in use (the Mindlin shell's scaled one, docs/theory.md §6.2 B2).
+
+    Parameters
+    ----------
+    inertia : (n,) float
+        Rotary inertia per node, t mm^2 (0 at nodes without rotations).
+    omega : (n, 3) float
+        Angular velocities, rad/s.
+    """
+    return 0.5 * float(np.sum(inertia * np.einsum("ij,ij->i", omega, omega)))
+
+
 class EnergyAccount:
     """Kinetic energy, internal and external work and damping dissipation of an explicit run,
     with the records kept for the result (about ``records`` of them, thinned every ``thin``
@@ -151,6 +174,9 @@ class EnergyAccount:
     """
 
     KEYS = ("time", "kinetic", "internal", "external_work", "damping", "friction")
+    #: Kept beside ``KEYS`` (not in the history's columns): the rotational part of "kinetic",
+    #: 1/2 sum I |omega|^2 over the rotary inertia in use (docs/theory.md §6.3).
+    ROTATIONAL = "kinetic_rotational"
 
     def __init__(self, thin: int):
         self.thin = thin
@@ -255,13 +281,17 @@ class EnergyAccount:
             growth = (kinetic_mean + strain_energy) / self.work_scale
         return balance, growth
 
-    def record(self, step: int, time: float) -> bool:
-        """Keep the energies at ``time`` if the step is one of the thinned records: True."""
+    def record(self, step: int, time: float, rotational: Callable[[], float] | None = None) -> bool:
+        """Keep the energies at ``time`` if the step is one of the thinned records: True;
+        ``rotational`` gives the rotational part of the kinetic energy (N mm; called only for
+        a kept record; None: 0)."""
         if step % self.thin:
             return False
         values = (time, self.kinetic, self.internal, self.external, self.dissipated, self.friction)
         for key, value in zip(self.KEYS, values):
             self.records[key].append(value)
+        kept = self.records.setdefault(self.ROTATIONAL, [0.0] * (len(self.records["time"]) - 1))
+        kept.append(0.0 if rotational is None else rotational())
         return True
 
     def latest(self) -> tuple[float, ...]:

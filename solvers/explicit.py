@@ -42,7 +42,7 @@ from solvers.common import (
     make_frame,
     resolve_progress,
 )
-from solvers.dynamics import EnergyAccount, FrameSchedule
+from solvers.dynamics import EnergyAccount, FrameSchedule, rotational_kinetic
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import (
     FrameStream,
@@ -147,7 +147,9 @@ class CentralDifference:
         for a model with rigid tools (a forming run, quasi-static by intent), None for one
         without (a wave, a swinging cable: dynamic by intent). KE / W per energy record is
         ``result.energies["kinetic_over_work"]``, and ``result.info["quasi_static"]``
-        reports it with the mass and time scaling.
+        reports it with the mass and time scaling. KE counts every mass in use, the
+        directors' rotation on the (scaled) rotary inertia too; its rotational part is
+        ``result.energies["kinetic_rotational"]`` (docs/theory.md §6.3).
     process_duration : s, the duration of the real process, when ``duration`` is shorter
         (time scaling): the factor process_duration / duration is reported with its KE / W.
     """
@@ -455,7 +457,8 @@ class CentralDifference:
                 energy.friction = compiled.dissipated_energy(state)
             run.dt_prev = dt
             run.step = step = step + 1
-            if energy.record(step, state.time) and history is not None:
+            rotational = partial(rotational_kinetic, run.inertia, state.angular_velocities)
+            if energy.record(step, state.time, rotational) and history is not None:
                 history.append(
                     energy.latest(),
                     reactions,

@@ -17,8 +17,10 @@ from validation.studies.hemisphere_plies_energy import kinetic_shares
 from validation.studies.hemisphere_plies_setup import FABRIC
 
 
-def _solve(name: str, kinematics: str, history):
-    layup, model = study.model(8, study.LAYUPS[name], kinematics, study.HOLDER_FORCES[0])
+def _solve(name: str, kinematics: str, history, lower_rule: str | None = study.LOWER_RULE):
+    layup, model = study.model(
+        8, study.LAYUPS[name], kinematics, study.HOLDER_FORCES[0], lower_rule=lower_rule
+    )
     result = CentralDifference(
         duration=study.DURATION,
         damping=study.DAMPING,
@@ -48,8 +50,11 @@ def test_a_fibrous_0_90_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     """The top ply's least node gap to the bottom ply in the die along the radius from the
     die's centre (``radial_gaps``) must stay within one ply thickness, both plies must lie on
     their spheres over the punch, the run must be quasi-static and the holder carry its
-    force. Measured with the 10-g holder at 20 N (the study's docstring, "The holder"): the
-    least radial gap in the die -0.26 mm (-0.27 to the curved face and the flat facets;
+    force. Measured with both ply contact passes (the study's ``LOWER_RULE``), 20 N: the
+    least radial gap in the die -0.13 mm, KE / W at most 0.088, the holder 19.98 N over the
+    last tenth, 5205 steps; the test 78 s of CPU (77 s wall, load 1.4-1.8). With one pass,
+    the 10-g holder at 20 N (the study's docstring, "The holder"):
+    the least radial gap in the die -0.26 mm (-0.27 to the curved face and the flat facets;
     -0.39 mm over the run, the pole at t = 0.041 s), KE / W at most 0.090 (t = 0.041 s), the
     holder 19.99 N over the last tenth for its 20 N, 4336 steps, 87 s of CPU (one thread,
     load 6-7); the test 74 s (load 2-5). With the 100-g holder at 10 N: -0.26 mm, KE / W
@@ -77,10 +82,16 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     19.94 N over the last tenth for its 20 N (1.3 mm up at the end), the least radial gap in
     the die +0.07 mm, where the bottom ply's curved face reads -0.71 mm (its corners'
     normals turned towards the die's entry radius; the study's docstring, "The curved face's
-    misreading"); 4616 steps, 101 s of CPU (one thread, load 6-7; the test 88 s, load 2-5).
-    With the 100-g holder at 10 N: KE / W 0.088, 9.91 N, +0.07 mm."""
+    misreading"); 4616 steps, 101 s of CPU (one thread, load 6-7; the test 88 s, load 2-5;
+    on the ply contact's kept normals and facing 58 s of CPU, 88 s wall, load 3.4-5.3).
+    With the 100-g holder at 10 N: KE / W 0.088, 9.91 N, +0.07 mm. One ply contact pass (the
+    top ply's Gauss points), as measured: with the mirrored pass too (the study's
+    ``LOWER_RULE``) the flange's wrinkles, held apart, throw the holder 11.7 mm up at this
+    mesh and its reaction over the last tenth is 18.69 N for 20 (the study's docstring),
+    which the holder's check fails; what the mirrored pass mends, the [0/45] order at 10
+    cells, costs a run of 10 cells, past a test's budget."""
     history = tmp_path / "history.csv"
-    layup, result = _solve("0/45", "fibrous", history)
+    layup, result = _solve("0/45", "fibrous", history, lower_rule=None)
     _quasi_static(result, history)
     gaps = study.least_gaps(layup, result, 8)
     assert gaps["in_die"] > -study.THICKNESS

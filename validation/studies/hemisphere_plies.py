@@ -2,15 +2,80 @@
 and Mindlin plies, each ply's shear angles against the pin-jointed net of its own orientation.
 
 A study, not a case of the report (validation/cases discovers its modules; this one is kept
-apart) until it validates. The holder now weighs 10 g and presses 20 N (40 N for the
-sensitivity): below, "The holder", with the table of the twelve runs (RESULTS). The six
-fibrous runs at 8 cells and of [0/90] at 10 pass every check; fibrous [0/45] at 10 cells
-fails the plies' order at both forces (the bottom ply's pole node through the top ply) and
-the four Mindlin runs fail KE / W (0.10-0.15, of it at least 0.02-0.065 of W the
-directors' rotation on the Mindlin shell's scaled rotary inertia), Mindlin [0/45] at 10 cells
-stopping at 76.5 % of the stroke on the energy balance. Run it with
-``python -c "from validation.studies.hemisphere_plies import compute;
+apart) until it validates. The holder weighs 10 g and presses 20 N (40 N for the
+sensitivity): below, "The holder". The plies now touch both ways (``LOWER_RULE = "nodes"``:
+the mirrored pass at the bottom ply's nodes beside the top ply's Gauss points;
+docs/theory.md §9.3b "Both ways", which says which two-pass treatment and why): below, "Both
+passes", with the runs made so far; the table of the twelve runs with one pass follows it
+(RESULTS). Run it with ``python -c "from validation.studies.hemisphere_plies import compute;
 print(compute().parameters)"`` (both meshes; ``compute('coarse')`` one).
+
+Both passes (one thread; CPU of each run; the columns as in RESULTS below, KE / W with its
+rotational part from the energy records, ``result.energies["kinetic_rotational"]``; * a
+check failed. The 8-cell [0/90] fibrous run and the 10-cell [0/45] ones ran on the ply
+contact before its one-point-per-node rule and kept normals and facing, which change no
+figure but the CPU (benchmarks/ply_both_ways.py), at the machine's 1-minute load 5.5-7; the
+others on it, at load 6.1 and 4.3 (the next two) and 2-2.2):
+cells layup F N | rms (cells) | draw-in | slip | crests (mm) | holder N, mm | KE/W (rot) | gap | CPU
+ 8 0/90 F 20 3.46/3.51 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)    19.98 -0.1 0.088 (0.000) -0.13 186
+ 8 0/45 F 20 2.24/4.66 (14/36) 27.0/11.9 22.1 14/10 (11.6/11.8) 18.69 11.7 0.075 (0.000) +0.00 97 *
+10 0/45 F 20 3.57/3.81 (34/46) 23.7/7.8  19.2 14/10 (10.1/1.9)  19.86  1.8 0.071         -0.13 312
+10 0/45 F 40 3.55/4.50 (34/52) 23.4/7.5  20.4 5/3 (1.7/0.2)     39.92  0.1 0.064 (0.000) -0.22 286
+ 8 0/90 M 20 3.19/3.36 (20/16) 29.5/29.6  9.6 9/9 (13.6/11.9)   18.21 11.8 0.117 (0.063) -0.11 143 *
+10 0/90 F 20 3.17/3.19 (52/52) 27.4/27.5  0.3 0/0 (0.0/0.0)     20.01 -0.0 0.098 (0.000) -0.08 116
+ 8 0/45 F 40 1.89/4.67 (14/36) 24.4/6.5  20.7 8/9 (10.1/6.2)    40.04  6.2 0.060 (0.000) +0.03  71
+ 8 0/90 F 40 stopped at 22 % of the stroke on the energy balance (below)                       16 *
+10 0/90 F 40 stopped at 12 % of the stroke on the energy balance (below)                       14 *
+ 8 0/45 M 20 stopped at 74 % of the stroke on the energy balance (below)                       91 *
+- Fibrous [0/45] at 10 cells passes every check at 20 and 40 N: the plies' order in the die,
+  -0.53 and -0.55 mm with one pass, is -0.13 and -0.22 mm (within 0.3): the bottom ply's
+  pole node, drawn inward by its own tension as it wraps the punch, is held off the top ply.
+- Fibrous [0/45] at 8 cells now fails the holder's force, 18.69 N over the last tenth for 20
+  (-6.5 %, against 5 %): the flange's wrinkles, which with one pass went through each other
+  (crests 2.4 and 1.4 mm, the holder 1.3 mm up), are held apart and stand 11.6 and 11.8 mm
+  high, throwing the holder 11.7 mm up; its reaction is then its inertia and damping's as
+  much as the plies'. Every other check passes (the order +0.00 mm, KE / W 0.075). At 40 N
+  it passes every check (the holder 40.04 N, 6.2 mm up; crests 10.1 and 6.2 mm). Not looked
+  into further. tests/test_hemisphere_plies.py keeps the 20-N run with one pass, as
+  measured.
+- Fibrous [0/90] at 40 N stops early on the energy balance, at both meshes: at 8 cells at
+  t = 0.0218 s (22 % of the stroke, 1130 steps, 16 s of CPU, load 2.3), 0.051 of the run's
+  largest energy against 0.05, the ply contact's energy changing most (+0.0061 N mm in the
+  step); at 10 cells at t = 0.0120 s (780 steps), 0.0508, the tools' contact (+0.0122 N mm).
+  The energies are small this early (the holder ramps its force over the first tenth), so a
+  hundredth of a N mm fails the balance. Not diagnosed; a likely cause is what the contact
+  points' docstring (elements/ply_contact.py, "Contact points") says of points at nodes on
+  plies meshed alike: each bottom node of [0/90] lies right under a top node, a vertex of
+  the top ply's facets, where the facing triangle switches between the facets around it,
+  a kink of the mirrored pass's energy at the plies' rest. With one pass these runs reach
+  the end (RESULTS below); at 20 N both passes do too.
+- Mindlin [0/45] at 8 cells (load 3.5) stops at 74.4 % of the stroke (7080 steps, t =
+  0.0744 s) on the energy balance, 0.169 of the run's largest energy, the tools' contact
+  block +73.4 N mm in the step (with one pass it reached the end): KE / W 0.160 at the stop
+  (the jump itself), the rotation 0.059 at most (t = 0.060 s); the least radial gap in the
+  die -0.03 mm there. Not diagnosed.
+- Not yet rerun with both passes: the two Mindlin runs at 10 cells (below, RESULTS, with one
+  pass).
+- Mindlin [0/90] at 8 cells (9340 steps) stops at 94.7 % of the stroke on the energy
+  balance (0.0515 of the run's largest energy against 0.05; the tools' contact block +2.79 N
+  mm in the step), the holder thrown 11.8 mm up by the flange's wrinkles (18.21 N over the
+  last tenth); KE / W 0.117 at most (t = 0.043 s, above 0.1 over 7.5 % of the judged time).
+- Mindlin KE / W. The measure keeps counting the directors' kinetic energy on the Mindlin
+  shell's scaled rotary inertia (docs/theory.md §6.3 says why); each run now reports its
+  rotational and translational parts exactly, at every energy record. In the Mindlin [0/90]
+  run above the translations alone reach 0.105 of W (t = 0.043 s, where the total is 0.117:
+  the rotation 0.012 there) and the rotation 0.063 at most, later (t = 0.063 s): leaving out
+  the rotation, or counting only its physical share (h^2 / 12 over the scaled j, 5e-4 of
+  it), would not pass this run. Its KE / W is the flange's: the plies' translations as the
+  flange wrinkles and throws the holder (the holder's own share 0.036 at most, at the
+  frames). The two Mindlin runs at 8 cells with one pass, rerun on this code (to the end,
+  the same figures as in RESULTS below; 91 and 79 s of CPU, load 2.2-3.0): [0/45] KE / W
+  0.102 at t = 0.0601 s where the rotation alone is 0.065 (its largest, t = 0.0601 s) and
+  the translations 0.054 at most (t = 0.061 s); [0/90] 0.123 at t = 0.067 s, the rotation
+  0.070 at most (t = 0.063 s), the translations 0.089 (t = 0.043 s). Without the rotation
+  both would pass; they fail because at the flange's snap the directors hold up to two
+  thirds of the kinetic energy on the scaled rotary inertia, which the check counts
+  (docs/theory.md §6.3).
 
 The holder. What it is for here: each ply's shear against its own net, the draw-in, the
 wrinkles and their sensitivity to the holder's force; the tools are frictionless, so the
@@ -49,7 +114,8 @@ the flange down.
   counted in KE / W.
 - No dashpot: measured and dropped before (below, "The holder").
 
-RESULTS with the 10-g holder (one thread; CPU of each run, the machine's 1-minute load 5.5-10
+RESULTS with one ply contact pass (the top ply's Gauss points) and the 10-g holder (one
+thread; CPU of each run, the machine's 1-minute load 5.5-10
 throughout; F fibrous, M Mindlin; per ply, ply 1 / ply 2: the rms of shear - net (deg) over
 its cells in the die (their number), the draw-in of its edge middle (mm) and the crests on
 its outline (the highest, mm); the inter-ply slip's largest (mm); the holder's mean reaction
@@ -531,6 +597,7 @@ from validation.studies.hemisphere_plies_setup import (
     HOLDER_FORCES,
     HOLDER_MASS,
     LAYUPS,
+    LOWER_RULE,
     PLIES,
     PUNCH,
     THICKNESS,
@@ -545,6 +612,7 @@ __all__ = [
     "HOLDER_FORCES",
     "HOLDER_MASS",
     "LAYUPS",
+    "LOWER_RULE",
     "PLIES",
     "PUNCH",
     "THICKNESS",

@@ -229,6 +229,20 @@ def run(
     parameters[f"{prefix}_largest_kinetic_over_work"] = inertia["kinetic_over_work_largest"]
     parameters[f"{prefix}_largest_kinetic_over_work_at_s"] = inertia["largest_at_s"]
     parameters[f"{prefix}_kinetic_over_work_above_bound_share"] = inertia["exceeded_share"]
+    # the directors' share of it, at every energy record (solvers/dynamics.py
+    # "kinetic_rotational"), and the rest, the translations of the plies' nodes and the holder
+    rotational = result.energies["kinetic_rotational"]
+    for part, kinetic in (
+        ("rotational", rotational),
+        ("translational", result.energies["kinetic"] - rotational),
+    ):
+        alone = quasi_static_report(
+            {**result.energies, "kinetic": kinetic}, None, DURATION, 0.0, warn=False
+        )
+        parameters[f"{prefix}_largest_{part}_kinetic_over_work"] = alone[
+            "kinetic_over_work_largest"
+        ]
+        parameters[f"{prefix}_largest_{part}_kinetic_over_work_at_s"] = alone["largest_at_s"]
     # whose kinetic energy the check counts: the plies' or the holder's (its rigid node)
     shares = kinetic_shares(layup, result, mass)
     work = np.interp(

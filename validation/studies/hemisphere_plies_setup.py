@@ -56,9 +56,10 @@ LAYUPS = {"0/90": (0.0, 90.0), "0/45": (0.0, 45.0)}
 CELLS = {"coarse": 8, "default": 10, "fine": 14}
 MU = 0.2  # ply on ply
 RULE = "gauss"  # three points per cell, near enough its corners to hold a node the punch pushes
-# the mirrored pass (elements/ply_contact.py "Both ways"), "vertices" to hold the bottom ply's
-# nodes off the top ply's face: measured and not adopted (the study's docstring)
-LOWER_RULE = None
+# the mirrored pass (elements/ply_contact.py "Both ways") at the bottom ply's nodes, held off
+# the top ply's face: without it the bottom ply's pole node went 0.23 mm through the top ply
+# in [0/45] at 10 cells, -0.53 mm in the die against one ply thickness (the study's docstring)
+LOWER_RULE: str | None = "nodes"
 SURFACE = "flat"  # the plies' faces: "curved" over their nodal normals (elements/ply_surface.py)
 # the bottom ply's face the top ply's node gaps are measured to: the curved one, which lies on
 # the sphere of a ply's nodes to O(s^4 / R^3), where the flat facets are chords s^2 / (8 R)
