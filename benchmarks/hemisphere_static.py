@@ -378,6 +378,7 @@ def main() -> None:
         default=contact_module.RELEASE_TURN_DEG,
         help="Contact(release_turn=...): deg (0: the distance alone)",
     )
+    parser.add_argument("--progress", action="store_true", help="Static's progress line")
     args = parser.parse_args()
     holder = not args.no_holder
 
@@ -408,7 +409,7 @@ def main() -> None:
         stabilise=args.stabilise,
         follow_tools=args.follow_tools,
         follow_tools_after_cut=args.follow_after_cut,
-        progress=False,
+        progress=args.progress,
     )
     start, cpu = time.perf_counter(), time.process_time()
     try:
