@@ -333,6 +333,9 @@ REBUILD_SHARE = 0.5
 # facet alone instead of a scan of its candidates (elements/facet_search.closest_facets_kept:
 # the same answer to the last bit).
 KEEP_NEAREST = True
+# How many calls of RigidSurface.distance each point's closest facet is kept for
+# (``facet_record``).
+FACET_RECORD = 16
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
@@ -518,6 +521,10 @@ class RigidSurface(RigidTool):
         # The last points asked about (in the tool's frame) with their answer (d, n).
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._last_facet = np.zeros(0, dtype=np.int64)  # with it, each point's closest facet
+        # The closest facet of each point over the last FACET_RECORD calls, column by
+        # column in turn (``facet_record``): what a stopped solver's diagnosis reads.
+        self._record = np.zeros((0, FACET_RECORD), dtype=np.int64)
+        self._recorded = 0
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
         # With those hints: where each point's scan was, and its room to keep its facet.
         self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
@@ -672,7 +679,29 @@ class RigidSurface(RigidTool):
             d[near[found]], n[near[found]] = gap[found], normal[found]
         self._last = (local.copy(), d.copy(), n.copy())
         self._last_facet = facet  # each point's closest facet, for normal_gradient
+        self._note_facets(np.where(far, -1, facet))
         return d, n
+
+    def _note_facets(self, facet: np.ndarray) -> None:
+        """Keep each point's closest facet (k,) (-1 beyond the search distance) of this call
+        in the record, a column a call; points asked in another number start it anew."""
+        record = getattr(self, "_record", None)
+        if record is None or len(record) != len(facet):
+            self._record = record = np.full((len(facet), FACET_RECORD), -1, dtype=np.int64)
+            self._recorded = 0
+        record[:, self._recorded % FACET_RECORD] = facet
+        self._recorded += 1
+
+    def facet_record(self) -> np.ndarray:
+        """(k, m) the closest facet of each of the points of the last calls of ``distance``
+        (k of them in every call), oldest first, m = min(calls, FACET_RECORD) columns; -1
+        beyond the search distance. A pressed node that a solver carries back and forth
+        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py)."""
+        record = getattr(self, "_record", np.zeros((0, FACET_RECORD), dtype=np.int64))
+        calls = getattr(self, "_recorded", 0)
+        if calls < FACET_RECORD:
+            return record[:, :calls].copy()
+        return np.roll(record, -(calls % FACET_RECORD), axis=1)
 
     def _searched(self, local: np.ndarray, rows: np.ndarray, cache: _Candidates | None):
         """The candidates kept, with the points ``rows`` (k,) bool searched again where they
