@@ -28,6 +28,9 @@ __all__ = ["CYCLE_SWITCHES", "crossing_cycles", "describe_cycles"]
 # of tests/test_tool_smoothing.py switched 8 times in 16, the line search's shorter trials
 # keeping it on one side between).
 CYCLE_SWITCHES = 6
+# Facets whose normals differ by less than this (deg) make no crease (the plain 16-cell drape's
+# flange node 81 went to and fro between two coplanar facets of the die's flange).
+CREASE_DEG = 0.01
 # The most nodes a message names.
 NAMED = 3
 
@@ -60,6 +63,8 @@ def crossing_cycles(model: Any) -> list[dict[str, Any]]:
             if len(shared) != 2:
                 continue  # facets meeting at a vertex only, or apart: not an edge's crease
             cosine = float(np.clip(tool.normals[a] @ tool.normals[b], -1.0, 1.0))
+            if np.degrees(np.arccos(cosine)) < CREASE_DEG:
+                continue  # coplanar facets (a flange): the normal does not jump there
             found.append(
                 {
                     "node": int(connectivity[row, 0]),
