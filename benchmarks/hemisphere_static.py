@@ -274,6 +274,55 @@ explicit case inertia does over the stroke's duration; the tangents met on the w
 had 7-34 negative eigenvalues (175 of 473 factorisations), the flange's hoop compression.
 The holder is what makes the quasi-static drape a forming run.
 
+The smoothed normal's turn in the contact tangent (k p dn/dx of the Phong patch as the closest
+point slides on it, elements/facet_normal.py ``turn_on_patches``, docs/theory.md §9.3; before,
+the smoothed die's tangent had no curvature term) and the projection on the patches held to
+1.5 mm off the die (eight Gauss-Newton steps: with four, 97 % of the points 0.6 mm off the die
+fell back to the closest-point normal, up to 1.3 deg off). With both, ``--smooth
+--follow-tools`` at c = 1200 (16 cells) and c = 300 (8, 12), CPU of the solve, numba's
+compilation cached, load 2.4-8 (the machine shared with 4-5 other jobs):
+
+  cells  Newton iterations per increment             cuts (attempts)  CPU s  rms deg (cells) punch N
+  8      8, 17, 17, 21, 16, 29, 23, 12, 11, 7 (161)   0                10.2   2.10 (14)        68.2
+  12     13, 13, 33, 41, 84, 40, 71, 88, 23, 8 (414)  5 (440)          191    2.96 (86)        94.2
+  16     16, 34, 30, 70, 92, 96, 169, 31, 97, 15      5 (449)          648    2.18 (158)       86.1
+         (650)
+
+The 12-cell run (in the same minutes as the 16-cell one): 38 contact-set updates, 7 fall-backs,
+310 steps on a shifted tangent, 0.52 % dissipated, 609 s wall.
+The 16-cell drape converged to the end: 34 contact-set updates, 10 fall-backs to the unilateral
+law, 486 steps on a shifted tangent, 1607 s wall; the dashpots dissipated 15.3 N mm, 2.0 % of
+the strain energy (758 N mm); the blank's highest node 0.165 mm above the die's plane; cuts in
+the increments ending at 0.4 (1), 0.7 (2) and 0.9 (2). Against the record above with the same
+options on the code without the turn (814 iterations in the converged increments, 11 cuts
+whose attempts took 903, 381 s CPU at load 2-8): fewer iterations (1099 against 1717 with the
+attempts) and cuts, more CPU per iteration. Where the CPU goes (a 240 s CPU cProfile of the
+16-cell drape with ``--smooth`` alone, from the start to its stall in 0.3 -> 0.4): 85 % in
+solvers/stability.py ``lowest_modes``, ARPACK's shift-invert ``eigsh`` for the inertia
+correction not converging (24 calls, 187 000 band solves), 3 % in the smoothed gap and its turn
+(the die's distance 24-32 ms and its normal_gradient 35 ms with four steps, 61 ms with eight,
+for 289 points at load 7). The 8-cell drape side by side, same options, load 5-6: 161
+iterations, no cut, with and without the turn (8, 17, 17, 21, 16, 31, 24, 12, 11, 4 without;
+the same drape, rms 2.10 deg, punch force 68.2 N, 0.60 % dissipated). ``--smooth`` alone at 8
+cells: 7, 10, 13, 18, 14, 28, 24, 11, 12, 4 (141, no cut, 8.5 s CPU, load 7) against 155
+without the turn. The 16-cell drape with ``--smooth`` alone (c = 1200, load 7-8) cut its
+increment 0.3 -> 0.4 and its unilateral fall-back stalled in those eigenvalue solves (about 25
+s CPU a Newton iteration at its 22nd); stopped there, not held to the end. The measures over 8,
+12 and 16 cells do not converge monotonically (rms 2.10, 2.96, 2.18 deg over 14, 86 and 158
+cells, the cells in the die a different set on each blank; punch force 68.2, 94.2, 86.1 N): no
+observed order can be given from these three.
+
+When Static stops with a contact node carried back and forth across an edge between two
+facets (the plain die's node 79 at 0.798438 above), its message names the node, the two
+facets and the angle between their normals, and the smoothed tool as the remedy
+(solvers/stop_diagnosis.py; tested on the faceted trough of tests/test_tool_smoothing.py). The
+plain 16-cell drape run again (c = 1200, load 1.2-3.5, 620 s CPU) stops at load factor
+0.798438, as before, and its message names node 79 (31.28, -38.98, -7.136 mm) crossing the
+edge between facets 10145 and 10146 (normals 1.63 deg apart) 15 times in the tool's last 16
+evaluations, node 93 (1.85 deg, 10 times) and 3 more, and the smoothed tool; it also named
+node 81 on the flange going to and fro between two coplanar facets, which no longer counts
+(CREASE_DEG = 0.01 deg; not run again after that change).
+
 Run: python benchmarks/hemisphere_static.py [--cells 8] [--increments 10] [--stabilise 300]
 [--kinematics fibrous] [--skip-explicit] [--no-holder] [--smooth] [--follow-tools]
 [--follow-after-cut] [--release THICKNESSES] [--release-turn DEG]
@@ -378,6 +427,7 @@ def main() -> None:
         default=contact_module.RELEASE_TURN_DEG,
         help="Contact(release_turn=...): deg (0: the distance alone)",
     )
+    parser.add_argument("--progress", action="store_true", help="Static's progress line")
     args = parser.parse_args()
     holder = not args.no_holder
 
@@ -408,7 +458,7 @@ def main() -> None:
         stabilise=args.stabilise,
         follow_tools=args.follow_tools,
         follow_tools_after_cut=args.follow_after_cut,
-        progress=False,
+        progress=args.progress,
     )
     start, cpu = time.perf_counter(), time.process_time()
     try:

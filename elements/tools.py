@@ -333,6 +333,9 @@ REBUILD_SHARE = 0.5
 # facet alone instead of a scan of its candidates (elements/facet_search.closest_facets_kept:
 # the same answer to the last bit).
 KEEP_NEAREST = True
+# How many calls of RigidSurface.distance each point's closest facet is kept for
+# (``facet_record``).
+FACET_RECORD = 16
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
@@ -434,7 +437,8 @@ class RigidSurface(RigidTool):
     closer facet). That proof is asked only below ``search_distance`` (mm; by default two
     facet circumradii, or twice the largest contact offset h / 2 of the contacts that use the
     tool if more): further away the distance returned is never less than the true one.
-    The contact tangent treats each facet as flat (no curvature term) (docs/theory.md §9.3).
+    The contact tangent takes the normal's turn round edges and vertices, and over the smoothed
+    surface its curvature (``normal_gradient``, docs/theory.md §9.3).
 
     A meshed tool free along some axes may be driven by a ``pressure`` (N/mm^2) instead of a
     force: the force is then the pressure times the facets' area vectors summed (each
@@ -516,6 +520,11 @@ class RigidSurface(RigidTool):
         self._cache: _Candidates | None = None
         # The last points asked about (in the tool's frame) with their answer (d, n).
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._last_facet = np.zeros(0, dtype=np.int64)  # with it, each point's closest facet
+        # The closest facet of each point over the last FACET_RECORD calls, column by
+        # column in turn (``facet_record``): what a stopped solver's diagnosis reads.
+        self._record = np.zeros((0, FACET_RECORD), dtype=np.int64)
+        self._recorded = 0
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
         # With those hints: where each point's scan was, and its room to keep its facet.
         self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
@@ -669,7 +678,30 @@ class RigidSurface(RigidTool):
             )  # fmt: skip
             d[near[found]], n[near[found]] = gap[found], normal[found]
         self._last = (local.copy(), d.copy(), n.copy())
+        self._last_facet = facet  # each point's closest facet, for normal_gradient
+        self._note_facets(np.where(far, -1, facet))
         return d, n
+
+    def _note_facets(self, facet: np.ndarray) -> None:
+        """Keep each point's closest facet (k,) (-1 beyond the search distance) of this call
+        in the record, a column a call; points asked in another number start it anew."""
+        record = getattr(self, "_record", None)
+        if record is None or len(record) != len(facet):
+            self._record = record = np.full((len(facet), FACET_RECORD), -1, dtype=np.int64)
+            self._recorded = 0
+        record[:, self._recorded % FACET_RECORD] = facet
+        self._recorded += 1
+
+    def facet_record(self) -> np.ndarray:
+        """(k, m) the closest facet of each of the points of the last calls of ``distance``
+        (k of them in every call), oldest first, m = min(calls, FACET_RECORD) columns; -1
+        beyond the search distance. A pressed node that a solver carries back and forth
+        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py)."""
+        record = getattr(self, "_record", np.zeros((0, FACET_RECORD), dtype=np.int64))
+        calls = getattr(self, "_recorded", 0)
+        if calls < FACET_RECORD:
+            return record[:, :calls].copy()
+        return np.roll(record, -(calls % FACET_RECORD), axis=1)
 
     def _searched(self, local: np.ndarray, rows: np.ndarray, cache: _Candidates | None):
         """The candidates kept, with the points ``rows`` (k,) bool searched again where they
@@ -765,14 +797,16 @@ class RigidSurface(RigidTool):
         """(k, 3, 3) dn/dx at the points x (k, 3) whose normals ``distance`` gave as ``normal``
         (k, 3) (docs/theory.md §9.3). Inside a facet the normal is the facet's: 0. Where the
         closest point c lies on an edge of direction e, n = (x - c) / d turns about it:
-        (I - n n^T - e e^T) / d, d the signed distance; on a vertex (I - n n^T) / d. A point
-        whose normal is not the direction from its closest point (a smoothed normal, a point
-        beyond the search distance or on the surface) gets 0."""
+        (I - n n^T - e e^T) / d, d the signed distance; on a vertex (I - n n^T) / d. A
+        smoothed normal (``smooth``) turns with its Phong patch as the closest point slides
+        on it (elements/facet_normal.py ``turn_on_patches``). A point whose normal is neither
+        (a point beyond the search distance, or on the surface) gets 0."""
         local = np.asarray(x, dtype=float) - self.offset(load_factor)
         d, _ = self.distance(x, load_factor)
         out = np.zeros((len(local), 3, 3))
         tiny = 1e-9 * max(self.reach, 1.0)
-        rows = np.flatnonzero((np.abs(d) > tiny) & (np.abs(d) <= self.search_distance))
+        near = np.abs(d) <= self.search_distance
+        rows = np.flatnonzero(near & (np.abs(d) > tiny))
         if rows.size:
             point, facet, _ = self._search(local[rows])
             out[rows] = turn_round_features(
@@ -784,6 +818,18 @@ class RigidSurface(RigidTool):
                 self.normals[facet],
                 tiny,
             )
+        rows = np.flatnonzero(near)
+        if getattr(self, "smooth", False) and rows.size:
+            # Where distance() gave the patch's normal, the patch's turn: from the facet it
+            # was found with (at a tie on a shared edge another facet's ring may pick the
+            # neighbouring patch, whose normal differs by the patches' own 0.005 deg).
+            facet = self._last_facet[rows]
+            _, patch_normal, found, turn = smoothed_gap(
+                local[rows], facet, self.corners, self._triangles, self.normals,
+                self._corner_normals, self._rings, turning=True,
+            )  # fmt: skip
+            agrees = found & (np.linalg.norm(patch_normal - normal[rows], axis=1) <= 1e-9)
+            out[rows[agrees]] = turn[agrees]
         return out
 
     def side_hint(self) -> str:

@@ -66,6 +66,7 @@ from solvers.newton import IncrementFailed, Residual, Tangent, compression_free_
 from solvers.newton_fibres import FibreEdges
 from solvers.output import FrameStream, output_path
 from solvers.stabilisation import STABILISATION_BOUND, Dashpots
+from solvers.stop_diagnosis import describe_cycles
 
 __all__ = ["PATHS", "Static", "StaticRun"]
 
@@ -761,6 +762,9 @@ class StaticRun:
         return cuts + 1
 
     def failure(self, reason: str) -> ConvergenceError:
+        cause = describe_cycles(self.model, self.state.positions)  # a node across a crease
+        if cause:
+            reason = f"{reason}; {cause}"
         hint = (
             "try path='arc_length' to follow a limit point"
             if self.solver.path == "load"

@@ -1,0 +1,115 @@
+"""What a stopped quasi-static solve can name as the cause: a contact node that Newton's
+iterates carried back and forth across an edge between two facets of a meshed tool
+(docs/theory.md §9.3).
+
+Why. On the concave side of a faceted tool (inside a die's bowl) the closest-point normal
+jumps by the facets' dihedral angle where a node crosses the edge between them, and the
+contact force of a pressed node pushes it across that edge from either side: it has no
+equilibrium on the edge, each Newton step carries it over and the next one back, and no cut
+of the increment removes the cycle (benchmarks/hemisphere_static.py, the 16-cell drape on the
+plain die). The residual then sits on that node, and the generic message (the residual ratio
+after so many iterations) names neither. The meshed tool keeps each point's closest facet
+over its last calls (``RigidSurface.facet_record``); a node whose record holds exactly two
+facets sharing an edge, in turn at least CYCLE_SWITCHES times, is named with the two facets,
+the angle between their normals and the remedy: the smoothed tool
+(``RigidSurface(smooth=True)``), whose normal is continuous across the edges.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["CYCLE_SWITCHES", "crossing_cycles", "describe_cycles"]
+
+# The least number of changes between the two facets in a point's record (of
+# elements/tools.py FACET_RECORD calls) that counts as a cycle (the node of the faceted trough
+# of tests/test_tool_smoothing.py switched 8 times in 16, the line search's shorter trials
+# keeping it on one side between).
+CYCLE_SWITCHES = 6
+# Facets whose normals differ by less than this (deg) make no crease (the plain 16-cell drape's
+# flange node 81 went to and fro between two coplanar facets of the die's flange).
+CREASE_DEG = 0.01
+# The most nodes a message names.
+NAMED = 3
+
+
+def crossing_cycles(model: Any) -> list[dict[str, Any]]:
+    """The contact nodes of ``model`` (a CompiledModel; its interactions with a meshed tool)
+    that cycle across a facet edge, most switches first: each a dict with ``node`` (the
+    body's node id), ``tool`` (the interaction's index), ``facets`` (the two), ``angle_deg``
+    between their normals, ``switches``, ``edge`` (2, 3) its end points, mm."""
+    found: list[dict[str, Any]] = []
+    for index, part in enumerate(getattr(model, "interactions", [])):
+        tool: Any = getattr(part, "tool", None)
+        connectivity = getattr(part, "connectivity", None)
+        if not hasattr(tool, "facet_record") or connectivity is None:
+            continue
+        record_of = tool.facet_record
+        record = record_of()
+        if record.shape[0] != len(connectivity) or record.shape[1] <= CYCLE_SWITCHES:
+            continue
+        low, high = record.min(axis=1), record.max(axis=1)
+        two = (
+            (low >= 0)
+            & (low != high)
+            & np.all((record == low[:, None]) | (record == high[:, None]), axis=1)
+        )
+        switches = np.count_nonzero(np.diff(record, axis=1), axis=1)
+        for row in np.flatnonzero(two & (switches >= CYCLE_SWITCHES)):
+            a, b = int(low[row]), int(high[row])
+            shared = _shared_corners(tool.corners[a], tool.corners[b])
+            if len(shared) != 2:
+                continue  # facets meeting at a vertex only, or apart: not an edge's crease
+            cosine = float(np.clip(tool.normals[a] @ tool.normals[b], -1.0, 1.0))
+            if np.degrees(np.arccos(cosine)) < CREASE_DEG:
+                continue  # coplanar facets (a flange): the normal does not jump there
+            found.append(
+                {
+                    "node": int(connectivity[row, 0]),
+                    "tool": index,
+                    "facets": (a, b),
+                    "angle_deg": float(np.degrees(np.arccos(cosine))),
+                    "switches": int(switches[row]),
+                    "edge": np.array(shared),
+                }
+            )
+    found.sort(key=lambda entry: -int(entry["switches"]))
+    return found
+
+
+def _shared_corners(first: np.ndarray, second: np.ndarray) -> list[np.ndarray]:
+    """The corners (3, 3) of ``first`` that are corners of ``second`` too (to 1e-9 of the
+    facet's size)."""
+    size = float(np.ptp(first, axis=0).max())
+    return [c for c in first if np.min(np.linalg.norm(second - c, axis=1)) <= 1e-9 * size]
+
+
+def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
+    """A sentence naming the nodes of ``crossing_cycles`` (at most NAMED; ``positions``
+    (n, 3), mm, where to say each lies), the cause and the remedy; "" when there are none."""
+    cycles = crossing_cycles(model)
+    if not cycles:
+        return ""
+    named = []
+    for entry in cycles[:NAMED]:
+        node = entry["node"]
+        where = ""
+        if positions is not None:
+            x = positions[node]
+            where = f" (at {x[0]:.4g}, {x[1]:.4g}, {x[2]:.4g} mm)"
+        named.append(
+            f"node {node}{where} of interaction {entry['tool']} crossed the edge between "
+            f"facets {entry['facets'][0]} and {entry['facets'][1]} of its meshed tool "
+            f"(normals {entry['angle_deg']:.3g} deg apart) {entry['switches']} times in its "
+            "last evaluations"
+        )
+    more = f" and {len(cycles) - NAMED} more node(s)" if len(cycles) > NAMED else ""
+    return (
+        "; ".join(named)
+        + more
+        + ": under the closest-point normal a node pressed into a concave crease between "
+        "facets has no equilibrium on it; RigidSurface(smooth=True) gives the tool a normal "
+        "continuous across its edges (docs/theory.md §9.3)"
+    )
