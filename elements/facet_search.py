@@ -21,6 +21,10 @@ scan over the candidates in their order, to the last bit:
   §9.3). On the forming die's 71k facets with a 20k-triangle blank (10k nodes, 10
   candidates each), one thread, load 14: 0.9 ms a pass where every node keeps its facet
   against 7.0 for the scan.
+
+The numpy pieces of the same geometry, which the tool uses at its build and to check these
+loops: the closest point on triangles (``closest_on_triangles``), a surface's boundary edges
+(``open_edges``) and the index spans of a CSR-like list (``spans``).
 """
 
 from __future__ import annotations
@@ -29,7 +33,15 @@ import numpy as np
 
 from elements.jit import jit, prange, serial
 
-__all__ = ["SLACK", "closest_facets", "closest_facets_kept", "signed_from_closest"]
+__all__ = [
+    "SLACK",
+    "closest_facets",
+    "closest_facets_kept",
+    "closest_on_triangles",
+    "open_edges",
+    "signed_from_closest",
+    "spans",
+]
 
 # The known distance is widened by this fraction of itself and of the tool's reach before a
 # facet is skipped: far beyond the rounding of the distances compared (1e-16 relative).
@@ -38,7 +50,7 @@ SLACK = 1e-9
 
 def _closest_on_triangle(p0, p1, p2, a0, a1, a2, b0, b1, b2, c0, c1, c2):
     """The closest point (3 floats) to p on the triangle (a, b, c): Ericson's Voronoi regions
-    (the scalar form of elements.tools.closest_on_triangles)."""
+    (the scalar form of closest_on_triangles below)."""
     ab0, ab1, ab2 = b0 - a0, b1 - a1, b2 - a2
     ac0, ac1, ac2 = c0 - a0, c1 - a1, c2 - a2
     ap0, ap1, ap2 = p0 - a0, p1 - a1, p2 - a2
@@ -225,3 +237,66 @@ def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):
 
 
 signed_from_closest = jit(_signed_from_closest)
+
+
+def open_edges(triangles: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The boundary edges of a triangulated surface (the edges of one triangle only): (start
+    (f, 3, 3), a point of each facet's edge k from node k to node k + 1, mm; out (f, 3, 3),
+    its unit normal in the facet's plane pointing away from the facet for a boundary edge,
+    zero for an edge two facets share)."""
+    pairs = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=2)  # (f, 3, 2)
+    _, inverse, counts = np.unique(
+        np.sort(pairs.reshape(-1, 2), axis=1), axis=0, return_inverse=True, return_counts=True
+    )
+    boundary = (counts[inverse.ravel()] == 1).reshape(-1, 3)
+    start = corners
+    along = np.roll(corners, -1, axis=1) - corners
+    along /= np.linalg.norm(along, axis=2, keepdims=True)
+    away = corners - np.roll(corners, 1, axis=1)  # from the opposite node to the edge's start
+    away -= np.sum(away * along, axis=2, keepdims=True) * along
+    away /= np.linalg.norm(away, axis=2, keepdims=True)
+    return start.copy(), np.where(boundary[..., None], away, 0.0)
+
+
+def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+    """The closest point to each x (..., 3) on the triangle (a, b, c) (..., 3) of the same
+    index (Ericson, Real-Time Collision Detection, 2005, §5.1.5: the Voronoi regions of the
+    vertices, the edges and the face, tested in barycentric terms)."""
+
+    def dot(u, v):
+        return np.einsum("...i,...i->...", u, v)
+
+    ab, ac, ap = b - a, c - a, x - a
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    bp, cp = x - b, x - c
+    d3, d4 = dot(ab, bp), dot(ac, bp)
+    d5, d6 = dot(ab, cp), dot(ac, cp)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        face_v = vb / (va + vb + vc)
+        face_w = vc / (va + vb + vc)
+        on_ab = d1 / (d1 - d3)
+        on_ac = d2 / (d2 - d6)
+        on_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+    point = a + face_v[..., None] * ab + face_w[..., None] * ac
+    # The regions, from the last to the first test of Ericson's order (each overwrites).
+    bc_edge = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
+    point = np.where(bc_edge[..., None], b + on_bc[..., None] * (c - b), point)
+    ac_edge = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+    point = np.where(ac_edge[..., None], a + on_ac[..., None] * ac, point)
+    point = np.where(((d6 >= 0) & (d5 <= d6))[..., None], c, point)
+    ab_edge = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+    point = np.where(ab_edge[..., None], a + on_ab[..., None] * ab, point)
+    point = np.where(((d3 >= 0) & (d4 <= d3))[..., None], b, point)
+    point = np.where(((d1 <= 0) & (d2 <= 0))[..., None], a, point)
+    return point
+
+
+def spans(start: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """The indices start[i] .. start[i + 1] - 1 of each row i of ``rows``, row after row:
+    where a CSR-like list (``start`` (k + 1,)) keeps those rows' entries."""
+    counts = start[rows + 1] - start[rows]
+    offsets = np.repeat(start[rows] - np.cumsum(counts) + counts, counts)
+    return offsets + np.arange(counts.sum())

@@ -25,7 +25,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from elements.facet_normal import turn_round_features
-from elements.facet_search import SLACK, closest_facets, closest_facets_kept, signed_from_closest
+from elements.facet_search import (
+    SLACK,
+    closest_facets,
+    closest_facets_kept,
+    closest_on_triangles,
+    open_edges,
+    signed_from_closest,
+    spans,
+)
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from femcore.checks import as_flag, as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
@@ -339,69 +347,6 @@ FACET_RECORD = 16
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
-
-
-def open_edges(triangles: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The boundary edges of a triangulated surface (the edges of one triangle only): (start
-    (f, 3, 3), a point of each facet's edge k from node k to node k + 1, mm; out (f, 3, 3),
-    its unit normal in the facet's plane pointing away from the facet for a boundary edge,
-    zero for an edge two facets share)."""
-    pairs = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=2)  # (f, 3, 2)
-    _, inverse, counts = np.unique(
-        np.sort(pairs.reshape(-1, 2), axis=1), axis=0, return_inverse=True, return_counts=True
-    )
-    boundary = (counts[inverse.ravel()] == 1).reshape(-1, 3)
-    start = corners
-    along = np.roll(corners, -1, axis=1) - corners
-    along /= np.linalg.norm(along, axis=2, keepdims=True)
-    away = corners - np.roll(corners, 1, axis=1)  # from the opposite node to the edge's start
-    away -= np.sum(away * along, axis=2, keepdims=True) * along
-    away /= np.linalg.norm(away, axis=2, keepdims=True)
-    return start.copy(), np.where(boundary[..., None], away, 0.0)
-
-
-def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
-    """The closest point to each x (..., 3) on the triangle (a, b, c) (..., 3) of the same
-    index (Ericson, Real-Time Collision Detection, 2005, §5.1.5: the Voronoi regions of the
-    vertices, the edges and the face, tested in barycentric terms)."""
-
-    def dot(u, v):
-        return np.einsum("...i,...i->...", u, v)
-
-    ab, ac, ap = b - a, c - a, x - a
-    d1, d2 = dot(ab, ap), dot(ac, ap)
-    bp, cp = x - b, x - c
-    d3, d4 = dot(ab, bp), dot(ac, bp)
-    d5, d6 = dot(ab, cp), dot(ac, cp)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        face_v = vb / (va + vb + vc)
-        face_w = vc / (va + vb + vc)
-        on_ab = d1 / (d1 - d3)
-        on_ac = d2 / (d2 - d6)
-        on_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-    point = a + face_v[..., None] * ab + face_w[..., None] * ac
-    # The regions, from the last to the first test of Ericson's order (each overwrites).
-    bc_edge = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
-    point = np.where(bc_edge[..., None], b + on_bc[..., None] * (c - b), point)
-    ac_edge = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
-    point = np.where(ac_edge[..., None], a + on_ac[..., None] * ac, point)
-    point = np.where(((d6 >= 0) & (d5 <= d6))[..., None], c, point)
-    ab_edge = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
-    point = np.where(ab_edge[..., None], a + on_ab[..., None] * ab, point)
-    point = np.where(((d3 >= 0) & (d4 <= d3))[..., None], b, point)
-    point = np.where(((d1 <= 0) & (d2 <= 0))[..., None], a, point)
-    return point
-
-
-def _spans(start: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """The indices start[i] .. start[i + 1] - 1 of each row i of ``rows``, row after row:
-    where a CSR-like list (``start`` (k + 1,)) keeps those rows' entries."""
-    counts = start[rows + 1] - start[rows]
-    offsets = np.repeat(start[rows] - np.cumsum(counts) + counts, counts)
-    return offsets + np.arange(counts.sum())
 
 
 @dataclass(frozen=True)
@@ -719,8 +664,8 @@ class RigidSurface(RigidTool):
         counts[at] = np.diff(start)
         merged_start = np.concatenate([[0], np.cumsum(counts)])
         merged = np.empty(merged_start[-1], dtype=np.int64)
-        merged[_spans(merged_start, kept)] = cache.facets[_spans(cache.start, kept)]
-        merged[_spans(merged_start, at)] = facets
+        merged[spans(merged_start, kept)] = cache.facets[spans(cache.start, kept)]
+        merged[spans(merged_start, at)] = facets
         points, distance, normal = cache.points.copy(), cache.distance.copy(), cache.normal.copy()
         points[at], distance[at], normal[at] = here, d, n
         far_all = cache.far.copy()
