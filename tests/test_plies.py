@@ -207,7 +207,7 @@ def test_the_ramped_penalty_is_c2_and_nothing_apart():
 @pytest.mark.parametrize(
     "changes, message",
     [
-        ({"rule": "nodes"}, "rule must be one of"),
+        ({"rule": "edges"}, "rule must be one of"),
         ({"smoothing": -1.0}, "smoothing must be"),
         ({"smoothing": True}, "smoothing must be"),
     ],
