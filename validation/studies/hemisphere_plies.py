@@ -73,7 +73,8 @@ cells layup F N | rms (cells) | draw-in | slip | crests (mm) | holder N, mm | KE
   4.6-4.7); 10 cells too (6530 steps, 126 s, load 4.1-4.6), whose stop was the same
   (measured so on the code before the mend, 120 s of CPU with the compilation, load 4-4.5:
   the mirrored pass 0.0395 N mm above the work of its forces at the stop, from 100 steps of
-  more than 1e-4 N mm each after t = 0.007 s, every other part within 6e-5 N mm; the die's
+  more than 1e-4 N mm each after t = 0.007 s, the other parts within 6e-5 N mm but the
+  punch, whose prescribed motion does its work; the die's
   contact was only the part whose energy moved most in the failing step, by its work).
 - Mindlin [0/45] at 8 cells (load 3.5) stops at 74.4 % of the stroke (7080 steps, t =
   0.0744 s) on the energy balance, 0.169 of the run's largest energy, the tools' contact
