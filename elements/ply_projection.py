@@ -88,6 +88,14 @@ would on the triangle, down to -``depth`` as any point facing an edge ("Deeper t
 plies"), so what a flip there can cost is bounded as there. Without a finite ``depth`` every
 closest point on a growth is beside, as before.
 
+Past the outline, deeper than the plies. A point held by a growth's plane (its projection
+past the outline, within MARGIN) deeper than ``depth`` is beside the ply too: at the
+growth's far edge it otherwise passed between touching on the plane and beside on the edge
+at any depth. Measured on the Mindlin [0/45] two-ply hemisphere (8 cells, 20 N): the bottom
+ply's corner node, 3.35 mm behind the top ply's face on a growth's far edge, came into
+contact in one step, +146 N mm (k = 26 N/mm), and stopped the run at 67 % of the stroke on
+its energy balance; with the bound it reaches the end (tests/test_ply_facet_switch.py).
+
 Deeper than the plies. Where the lower ply is folded back onto itself (a wrinkle's flap laid
 over, the two triangles of the fold with opposite normals), a point past the fold's edge is
 as near to the one as to the other and its sign by the one is the opposite of its sign by
@@ -471,6 +479,9 @@ def closest_facing(
         q_k = np.einsum("ck,cki->ci", lam[k], corners)
         off[k] = np.linalg.norm(q_k - closest_on_edges(q_k, corners), axis=1) > depth
     beside = off | (on_edge & (chosen_gap < -depth))
+    # a point held by a growth's plane, its projection past the outline, deeper than the
+    # plies: beside the ply too ("Past the outline, deeper than the plies")
+    beside |= (lam.min(axis=-1) < -INSIDE) & (chosen_gap < -depth)
     if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
         turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
         beside |= turned & (chosen_gap < -depth)

@@ -245,3 +245,25 @@ def test_a_point_at_an_outline_vertex_touches_all_round_it():
     assert facing.gap.max() < 0.0  # the premise: behind the face all round
     assert np.abs(np.diff(energy) - work).max() <= 1e-2 * energy.max()
     assert facing.touching.all()
+
+
+def test_a_point_past_the_outline_deeper_than_the_plies_does_not_touch():
+    """A lone triangle (every edge on the outline, grown by MARGIN = 0.5 past each) and a point
+    1 mm behind its plane, 0.4 to 0.6 past its edge y = 0 in barycentric units, crossing the
+    growth's far edge in steps of 1e-3. Inside the growth its plane held it at -1 mm and it
+    touched; past the far edge its closest point lay on the growth's edge, beside the ply,
+    and it did not: W(-1 mm) in one step (the bottom ply's corner node of the Mindlin [0/45]
+    two-ply hemisphere, 3.35 mm deep, +146 N mm in a step, elements/ply_projection.py "Past
+    the outline, deeper than the plies"). Reference as above: a touching point's gap moves
+    no more than the point, and the energy only by the work of its force; a point past the
+    outline deeper than both faces' half thicknesses (0.3 mm) lies beside the ply and does
+    not touch, on either side."""
+    from elements.ply_projection import open_edges
+
+    triangle = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    y = np.arange(-0.4, -0.6, -STEP)
+    path = np.column_stack([np.full_like(y, 0.3), y, np.full_like(y, -1.0)])
+    near = np.zeros((len(path), 1), dtype=int)
+    facing = closest_facing(path, triangle, near, 0.0, open_edges(np.array([[0, 1, 2]])), depth=0.3)
+    assert facing.gap.max() < -0.3  # the premise: deeper than the plies all along
+    assert not facing.touching.any()
