@@ -69,6 +69,32 @@ lies on the growth, off the triangle itself, is beside the lower ply and does no
 choice itself is left as it is (the distance stays continuous: passing such a candidate over
 handed a point of the same run, later, to a vertex 14 mm away at a gap of -14.1 mm, +2310 N
 mm in one step). The growth's planes still hold the projections past the outline as above.
+Next to its vertex, though, a point is not beside the ply: where a triangle meets the
+outline at a vertex only, between the two outline triangles, or where the face folds along
+an inner edge that ends on the outline, the growths of the outline triangles leave a thin
+wedge past the vertex that none of them holds, and a point there is nearest to a growth's
+edge a hair off its triangle. Plies meshed alike put each node of the mirrored pass
+(elements/ply_contact.py, "Both ways") right under an outline node of the ply above, at
+such a vertex: measured on the two-ply [0/90] fibrous hemisphere (8 cells, 40 N), the
+bottom ply's outline nodes, pressed by the holder 0.01-0.02 mm into the top ply, went in and
+out of the wedge (their closest points 1e-5 to 1e-7 off their triangles, in barycentric
+units) and so out of and into contact at those gaps, 2-9e-3 N mm of penalty energy coming
+or going in a step some hundred times over 0.004 s; the mirrored pass's energy ended 0.078
+N mm above the work of its forces, 5.3 % of the run's largest energy (1.46 N mm), and the
+run stopped on its energy balance at 22 % of the stroke (tests/test_ply_facet_switch.py).
+So a closest point on a growth counts as beside the ply only farther than ``depth`` (the
+two faces' half thicknesses) from the triangle itself; nearer, the point touches as it
+would on the triangle, down to -``depth`` as any point facing an edge ("Deeper than the
+plies"), so what a flip there can cost is bounded as there. Without a finite ``depth`` every
+closest point on a growth is beside, as before.
+
+Past the outline, deeper than the plies. A point held by a growth's plane (its projection
+past the outline, within MARGIN) deeper than ``depth`` is beside the ply too: at the
+growth's far edge it otherwise passed between touching on the plane and beside on the edge
+at any depth. Measured on the Mindlin [0/45] two-ply hemisphere (8 cells, 20 N): the bottom
+ply's corner node, 3.35 mm behind the top ply's face on a growth's far edge, came into
+contact in one step, +146 N mm (k = 26 N/mm), and stopped the run at 67 % of the stroke on
+its energy balance; with the bound it reaches the end (tests/test_ply_facet_switch.py).
 
 Deeper than the plies. Where the lower ply is folded back onto itself (a wrinkle's flap laid
 over, the two triangles of the fold with opposite normals), a point past the fold's edge is
@@ -382,7 +408,9 @@ def closest_facing(
     depth : float
         mm: a point with a gap below -depth does not touch where it faces an edge, a vertex
         or, with ``toward``, a triangle turned away from it (module docstring, "Deeper than
-        the plies"; the contact passes both faces' half thicknesses).
+        the plies"; the contact passes both faces' half thicknesses); finite, a closest
+        point on a growth within it of its triangle does not make the point beside the ply
+        ("Beside the outline", next to its vertex).
     toward : (P, 3) float, optional
         Each point's direction from the lower ply to its own (any length; the side towards
         which a facing triangle's normal points): a triangle whose normal points against it
@@ -439,7 +467,21 @@ def closest_facing(
     # (module docstring, "Beside the outline"); one deeper than the plies, whatever it faces,
     # is on the lower ply's other side where it faces an edge, a vertex or a turned layer
     # ("Deeper than the plies")
-    beside = on_edge & ((lam.min(axis=-1) < -INSIDE) | (chosen_gap < -depth))
+    off = on_edge & (lam.min(axis=-1) < -INSIDE)
+    if off.any() and np.isfinite(depth):
+        # ... but not where q lies within ``depth`` of the triangle itself: next to an outline
+        # vertex shared by a triangle that meets the outline at that vertex only, the growths
+        # of the outline triangles on either side leave a wedge that none of them holds, and
+        # a point right at the vertex (a node of plies meshed alike) passes in and out of it
+        # ("Beside the outline": next to its vertex)
+        k = np.flatnonzero(off)
+        corners = y[near[k, best[k]]]
+        q_k = np.einsum("ck,cki->ci", lam[k], corners)
+        off[k] = np.linalg.norm(q_k - closest_on_edges(q_k, corners), axis=1) > depth
+    beside = off | (on_edge & (chosen_gap < -depth))
+    # a point held by a growth's plane, its projection past the outline, deeper than the
+    # plies: beside the ply too ("Past the outline, deeper than the plies")
+    beside |= (lam.min(axis=-1) < -INSIDE) & (chosen_gap < -depth)
     if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
         turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
         beside |= turned & (chosen_gap < -depth)

@@ -208,3 +208,62 @@ def test_a_point_over_a_fold_pressed_flat_keeps_its_touching_gap_continuous():
     jumps = np.abs(np.diff(facing.gap))[either]
     assert jumps.max(initial=0.0) <= 1.01 * STEP
     assert not facing.touching.any()
+
+
+def test_a_point_at_an_outline_vertex_touches_all_round_it():
+    """The strip above with its right half turned 45 deg up about x = 1: at the outline vertex
+    (1, 0) three triangles meet, the middle one there only, and past the outline the growths
+    of the two outline triangles (by MARGIN) leave a thin wedge that neither holds. A point
+    0.01 mm behind the face circles the vertex at 0.008 mm in 2000 steps of 2.5e-5 mm: the
+    node of a ply meshed as the ply above it, sitting under that ply's outline node (the
+    two-ply [0/90] hemisphere, whose bottom ply's outline nodes went in and out of contact at
+    gaps of -0.01 to -0.02 mm and stopped the run at 22 % of the stroke on its energy
+    balance, the penalty energy of the toggles). In the wedge its closest point lay on a
+    growth's edge a few 1e-3 mm off its triangle, "beside the outline", and it did not touch:
+    its energy jumped by W(-0.01) = 7.1e-3 N mm where it entered the wedge. Reference: a
+    point whose gap is continuous (a distance) exchanges energy only as its force works
+    (the test of the contact energy above): per step, the change of W within 1e-2 of the
+    largest W along the path (measured 9.6e-4: the trapezoidal rule's error where the force
+    turns about the vertex; 1.0 before, the jump), and the point touches all round (it is
+    behind the face, within MARGIN of the outline)."""
+    from elements.ply_projection import open_edges, penalty_law
+
+    nodes = np.array(
+        [[0, 0, 0], [1, 0, 0], [2, 0, 1], [0, 1, 0], [1, 1, 0], [2, 1, 1]], dtype=float
+    )
+    cells = np.array([[0, 1, 3], [1, 4, 3], [1, 2, 4], [2, 5, 4]])
+    angle = np.linspace(0.0, 2.0 * np.pi, 2001)
+    path = np.column_stack(
+        [1.0 + 0.008 * np.cos(angle), 0.008 * np.sin(angle), np.full_like(angle, -0.01)]
+    )
+    near = np.tile(np.arange(4), (len(path), 1))
+    facing = closest_facing(path, nodes[cells], near, 0.0, open_edges(cells), depth=0.3)
+    energy, slope, _ = penalty_law(facing.gap, np.full(len(path), 100.0), 1e-3)
+    energy = np.where(facing.touching, energy, 0.0)
+    force = np.where(facing.touching, slope, 0.0)[:, None] * facing.normal
+    work = np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(path, axis=0), axis=1)
+    assert facing.gap.max() < 0.0  # the premise: behind the face all round
+    assert np.abs(np.diff(energy) - work).max() <= 1e-2 * energy.max()
+    assert facing.touching.all()
+
+
+def test_a_point_past_the_outline_deeper_than_the_plies_does_not_touch():
+    """A lone triangle (every edge on the outline, grown by MARGIN = 0.5 past each) and a point
+    1 mm behind its plane, 0.4 to 0.6 past its edge y = 0 in barycentric units, crossing the
+    growth's far edge in steps of 1e-3. Inside the growth its plane held it at -1 mm and it
+    touched; past the far edge its closest point lay on the growth's edge, beside the ply,
+    and it did not: W(-1 mm) in one step (the bottom ply's corner node of the Mindlin [0/45]
+    two-ply hemisphere, 3.35 mm deep, +146 N mm in a step, elements/ply_projection.py "Past
+    the outline, deeper than the plies"). Reference as above: a touching point's gap moves
+    no more than the point, and the energy only by the work of its force; a point past the
+    outline deeper than both faces' half thicknesses (0.3 mm) lies beside the ply and does
+    not touch, on either side."""
+    from elements.ply_projection import open_edges
+
+    triangle = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    y = np.arange(-0.4, -0.6, -STEP)
+    path = np.column_stack([np.full_like(y, 0.3), y, np.full_like(y, -1.0)])
+    near = np.zeros((len(path), 1), dtype=int)
+    facing = closest_facing(path, triangle, near, 0.0, open_edges(np.array([[0, 1, 2]])), depth=0.3)
+    assert facing.gap.max() < -0.3  # the premise: deeper than the plies all along
+    assert not facing.touching.any()
