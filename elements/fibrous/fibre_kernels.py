@@ -53,12 +53,8 @@ def _corners(points, triangles, warp, cos_tol, corner, xi_is_warp):  # pragma: n
             here = triangles[t, c]
             after = triangles[t, (c + 1) % 3]
             before = triangles[t, (c + 2) % 3]
-            u0 = points[after, 0] - points[here, 0]
-            u1 = points[after, 1] - points[here, 1]
-            u2 = points[after, 2] - points[here, 2]
-            v0 = points[before, 0] - points[here, 0]
-            v1 = points[before, 1] - points[here, 1]
-            v2 = points[before, 2] - points[here, 2]
+            # the edges from this corner: cell_cross's a and b with the corner first
+            u0, u1, u2, v0, v1, v2, _, _, _ = cell_cross(points, here, after, before)
             length = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
             u0, u1, u2 = u0 / length, u1 / length, u2 / length
             length = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
