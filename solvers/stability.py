@@ -29,7 +29,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.sparse.linalg import ArpackNoConvergence, eigsh
+from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigsh, splu
 
 from femcore.dofs import N_COLUMNS
 
@@ -37,7 +37,20 @@ if TYPE_CHECKING:
     from solvers.arc_length import Motion
     from solvers.static import StaticRun
 
-__all__ = ["PUSH", "buckling_mode", "downhill", "lowest_modes", "push_descends"]
+__all__ = ["MODES", "PUSH", "buckling_mode", "downhill", "lowest_modes", "push_descends"]
+
+# The most modes a search returns (solvers.inertia shifts tangents with more negative ones).
+MODES = 6
+# Tangents up to this size are solved densely (all eigenvalues).
+DENSE = 200
+# The Lanczos vectors of each ARPACK search (at least 2 k + 1), its restarts at most (the
+# shift-invert's: solves with the factors; K_ff's own: products with the sparse matrix), and
+# the relative residual at which a Ritz pair counts as converged (|K phi - l phi| <= tol |l|).
+# Each search applies its operator at most NCV + restarts x NCV times.
+NCV = 20
+SHIFT_INVERT_RESTARTS = 20
+PLAIN_RESTARTS = 50
+RITZ_TOL = 1e-8
 
 # The push off a converged saddle along its buckling mode: this fraction of the element size
 # for the largest translation of the mode.
@@ -114,8 +127,9 @@ def push_descends(run: StaticRun, state, frames, load, modes, translation) -> bo
 
 def lowest_modes(k_ff, negative: int | None = None, inverse=None) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues of the symmetric part of K_ff with their unit eigenvectors (columns),
-    ascending: the ``negative`` ones (at most 6) when the inertia says there are some, else
-    the (up to) 6 nearest zero; empty when ARPACK fails.
+    ascending: the ``negative`` ones (at most MODES) when the inertia says there are some,
+    else the (up to) MODES nearest zero; fewer (or none) when the bounded searches below do
+    not find them all.
 
     Both come from shift-invert about 0, where an eigenvalue l maps to 1 / l: the negative
     eigenvalues nearest zero are the smallest (most negative) 1 / l, and the eigenvalues
@@ -123,35 +137,86 @@ def lowest_modes(k_ff, negative: int | None = None, inverse=None) -> tuple[np.nd
     may lie beyond several small positive ones, so asking for the nearest to zero alone can
     miss it.
 
-    ``inverse``: a LinearOperator applying the inverse of the symmetric part of K_ff from a
-    factorisation already made (``Factorisation.inverse``), which the shift-invert then uses
-    instead of factorising K_ff again (a SuperLU as costly as a Newton iteration's own)."""
+    Bounded (docs/theory.md §6.5, "The stability search"): the shift-invert Lanczos
+    (ARPACK) runs NCV vectors, at most SHIFT_INVERT_RESTARTS restarts and stops at a relative
+    residual of RITZ_TOL; the negative modes far from zero, which the shift-invert maps next
+    to 0 among the images of the many small positive eigenvalues and hardly separates (the
+    16-cell hemisphere drape's tangents: -41 and -12 beside -0.15 ... -0.004, positive ones
+    from 5e-4 up; its unbounded search took 5000 to 25 000 solves), are the lowest end of
+    K_ff's own spectrum, which a Lanczos of K_ff itself (products only, at most
+    PLAIN_RESTARTS restarts) finds. The modes it adds are those not already in the span of
+    the shift-invert's (their projection on it below a half). Either search that does not
+    converge gives the Ritz pairs it did converge.
+
+    k_ff : (n, n) sparse tangent; negative : the negative pivots of its LDL^T (None or 0:
+    the modes nearest zero); inverse : a LinearOperator applying the inverse of the symmetric
+    part of K_ff from a factorisation already made (``Factorisation.inverse``), which the
+    shift-invert then uses instead of factorising K_ff again (a SuperLU as costly as a Newton
+    iteration's own).
+
+    Returns (k,) eigenvalues and (n, k) unit eigenvectors, k <= MODES.
+    """
     n = k_ff.shape[0]
-    if n <= 200:  # small: all of them, densely (ARPACK needs k < n - 1)
+    if n <= DENSE:  # small: all of them, densely (ARPACK needs k < n - 1)
         values, vectors = np.linalg.eigh(0.5 * (k_ff + k_ff.T).toarray())
-        count = min(max(negative or 0, 1), 6) if negative else 6
+        count = min(max(negative or 0, 1), MODES) if negative else MODES
         return values[:count], vectors[:, :count]
     symmetric = (0.5 * (k_ff + k_ff.T)).tocsc()
-    # A fixed start vector: ARPACK's default is a random one drawn from a generator that
-    # advances with every call in the process, so the modes (and a push decided on an
-    # eigenvalue near zero) would depend on what ran before in the same process.
-    start = np.random.default_rng(0).standard_normal(n)
-    try:
-        if negative:
-            values, vectors = eigsh(
-                symmetric,
-                k=min(negative, 6, n - 2),
-                sigma=0.0,
-                which="SA",
-                v0=start,
-                OPinv=inverse,
-            )
-        else:
-            values, vectors = eigsh(symmetric, k=6, sigma=0.0, which="LM", v0=start, OPinv=inverse)
-    except (RuntimeError, ArpackNoConvergence):
-        return np.zeros(0), np.zeros((n, 0))
+    if inverse is None:
+        inverse = _inverse(symmetric)
+        if inverse is None:
+            return np.zeros(0), np.zeros((n, 0))
+    wanted = min(negative, MODES, n - 2) if negative else min(MODES, n - 2)
+    which = "SA" if negative else "LM"
+    values, vectors, complete = _arpack(
+        symmetric, wanted, SHIFT_INVERT_RESTARTS, sigma=0.0, which=which, OPinv=inverse
+    )
+    if negative:
+        keep = values < 0.0
+        values, vectors = values[keep], vectors[:, keep]
+        if not complete or values.size < wanted:
+            lowest, modes, _ = _arpack(symmetric, wanted, PLAIN_RESTARTS, which="SA")
+            for value, phi in zip(lowest, modes.T):
+                if value >= 0.0 or values.size >= wanted:
+                    continue
+                if np.linalg.norm(vectors.T @ phi) >= 0.5:
+                    continue  # a mode the shift-invert found already
+                values = np.append(values, value)
+                vectors = np.column_stack([vectors, phi])
     order = np.argsort(values)
     return values[order], vectors[:, order]
+
+
+def _inverse(symmetric) -> LinearOperator | None:
+    """The inverse of ``symmetric`` (a sparse csc matrix) as a LinearOperator from its LU, or
+    None when it is singular."""
+    try:
+        lu = splu(symmetric)
+    except RuntimeError:
+        return None
+    return LinearOperator(symmetric.shape, matvec=lu.solve, dtype=float)
+
+
+def _arpack(symmetric, k: int, restarts: int, **options) -> tuple[np.ndarray, np.ndarray, bool]:
+    """ARPACK's ``eigsh`` of ``symmetric`` for ``k`` pairs with NCV vectors, at most
+    ``restarts`` restarts and the tolerance RITZ_TOL, from a fixed start vector: (the
+    eigenvalues, the eigenvectors, whether all k converged); the converged pairs only when not.
+
+    A fixed start vector: ARPACK's default is a random one drawn from a generator that
+    advances with every call in the process, so the modes (and a push decided on an
+    eigenvalue near zero) would depend on what ran before in the same process."""
+    n = symmetric.shape[0]
+    start = np.random.default_rng(0).standard_normal(n)
+    ncv = min(max(NCV, 2 * k + 1), n - 1)
+    try:
+        values, vectors = eigsh(
+            symmetric, k=k, v0=start, ncv=ncv, maxiter=restarts, tol=RITZ_TOL, **options
+        )
+    except ArpackNoConvergence as partial:
+        return partial.eigenvalues, partial.eigenvectors, False
+    except RuntimeError:
+        return np.zeros(0), np.zeros((n, 0)), False
+    return values, vectors, True
 
 
 def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Motion | None:
