@@ -66,7 +66,7 @@ from solvers.newton import IncrementFailed, Residual, Tangent, compression_free_
 from solvers.newton_fibres import FibreEdges
 from solvers.output import FrameStream, output_path
 from solvers.stabilisation import STABILISATION_BOUND, Dashpots
-from solvers.stop_diagnosis import describe_cycles
+from solvers.stop_diagnosis import stop_hint
 
 __all__ = ["PATHS", "Static", "StaticRun"]
 
@@ -762,18 +762,9 @@ class StaticRun:
         return cuts + 1
 
     def failure(self, reason: str) -> ConvergenceError:
-        cause = describe_cycles(self.model, self.state.positions)  # a node across a crease
-        if cause:
-            reason = f"{reason}; {cause}"
-        hint = (
-            "try path='arc_length' to follow a limit point"
-            if self.solver.path == "load"
-            else "try smaller increments or DynamicRelaxation"
-        )
+        hint = stop_hint(self.model, self.state.positions, self.solver.path)
         error = ConvergenceError(
-            f"static solver stopped at load factor {self.reached:.6g}: {reason}. A limit point "
-            f"or buckling may be near: {hint}.",
-            None,
+            f"static solver stopped at load factor {self.reached:.6g}: {reason}{hint}.", None
         )
         if self.reached > self.frames[-1].load_factor:  # keep the last good state
             self.keep(make_frame(self.model, self.state))

@@ -12,7 +12,10 @@ after so many iterations) names neither. The meshed tool keeps each point's clos
 over its last calls (``RigidSurface.facet_record``); a node whose record holds exactly two
 facets sharing an edge, in turn at least CYCLE_SWITCHES times, is named with the two facets,
 the angle between their normals and the remedy: the smoothed tool
-(``RigidSurface(smooth=True)``), whose normal is continuous across the edges.
+(``RigidSurface(smooth=True)``), whose normal is continuous across the edges. That named
+cause then stands alone in the message: the generic hint of a limit point or buckling (a
+path to follow, smaller increments) would send the user the wrong way, for no cut removes a
+crease's cycle.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["CYCLE_SWITCHES", "crossing_cycles", "describe_cycles"]
+__all__ = ["CYCLE_SWITCHES", "crossing_cycles", "describe_cycles", "stop_hint"]
 
 # The least number of changes between the two facets in a point's record (of
 # elements/tools.py FACET_RECORD calls) that counts as a cycle (the node of the faceted trough
@@ -113,3 +116,18 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
         "facets has no equilibrium on it; RigidSurface(smooth=True) gives the tool a normal "
         "continuous across its edges (docs/theory.md §9.3)"
     )
+
+
+def stop_hint(model: Any, positions: np.ndarray | None, path: str) -> str:
+    """The end of a stopped static solve's message after its reason: "; " and the crease
+    cycles of ``describe_cycles`` when there are some, else ". " and the generic hint of a
+    limit point or buckling for the solver's ``path`` ("load" or "arc_length")."""
+    cause = describe_cycles(model, positions)
+    if cause:
+        return f"; {cause}"
+    remedy = (
+        "try path='arc_length' to follow a limit point"
+        if path == "load"
+        else "try smaller increments or DynamicRelaxation"
+    )
+    return f". A limit point or buckling may be near: {remedy}"
