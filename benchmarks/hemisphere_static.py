@@ -484,9 +484,13 @@ def main() -> None:
     tolerance = case.RMS_TOLERANCE_DEG["coarse"]
     print(f"  rms of shear - net over {int(in_die.sum())} cells in the die: {rms:.2f} deg "
           f"(the case's tolerance at its coarse mesh {tolerance} deg)")  # fmt: skip
+    edge = np.isclose(mesh.points[:, 0], case.HALF) & np.isclose(mesh.points[:, 1], 0.0)
+    draw_in = case.HALF - np.linalg.norm(result.positions[edge, :2], axis=1).mean()
+    print(f"  draw-in of the edge middle {draw_in:.2f} mm (the case's measure)")
     print(f"  punch force at the end {result.tool_forces[-1, 1, 2]:.3g} N; the blank's highest "
           f"node {result.positions[:, 2].max():.3g} mm above the die's plane; Newton steps "
-          f"on a shifted tangent (solvers/inertia.py) {len(info['shifted'])}")  # fmt: skip
+          f"on a shifted tangent (solvers/inertia.py) {len(info['shifted'])}, stability "
+          f"searches (solvers/stability.py) {info['mode_searches']}")  # fmt: skip
     if args.skip_explicit:
         return
 
