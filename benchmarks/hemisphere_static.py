@@ -466,6 +466,7 @@ def main() -> None:
         status = "converged"
     except ConvergenceError as error:
         result, status = error.result, f"stopped at load factor {error.load_factor:.3g}"
+        print(f"Static stopped: {error}")
     wall, cpu = time.perf_counter() - start, time.process_time() - cpu
     info = result.info
     print(f"Static: {status}, {wall:.1f} s wall, {cpu:.1f} s CPU ({wall / reference:.0f} "
