@@ -39,8 +39,9 @@ NAMED = 3
 
 
 def crossing_cycles(model: Any) -> list[dict[str, Any]]:
-    """The contact nodes of ``model`` (a CompiledModel; its interactions with a meshed tool)
-    that cycle across a facet edge, most switches first: each a dict with ``node`` (the
+    """The contact nodes of ``model`` (a CompiledModel; its interactions with a meshed tool,
+    not smoothed: ``RigidSurface(smooth=True)`` has no crease to name) that cycle across a
+    facet edge, most switches first: each a dict with ``node`` (the
     body's node id), ``tool`` (the interaction's index), ``facets`` (the two), ``angle_deg``
     between their normals, ``switches``, ``edge`` (2, 3) its end points, mm."""
     found: list[dict[str, Any]] = []
@@ -49,6 +50,8 @@ def crossing_cycles(model: Any) -> list[dict[str, Any]]:
         connectivity = getattr(part, "connectivity", None)
         if not hasattr(tool, "facet_record") or connectivity is None:
             continue
+        if getattr(tool, "smooth", False):
+            continue  # a smoothed tool's normal is continuous across its edges: no crease
         record_of = tool.facet_record
         record = record_of()
         if record.shape[0] != len(connectivity) or record.shape[1] <= CYCLE_SWITCHES:

@@ -143,6 +143,29 @@ def test_static_settles_a_node_in_a_faceted_trough_as_on_the_cylinder():
     assert np.linalg.norm(smoothed.positions[1] - exact.positions[1]) < sag
 
 
+def test_a_node_cycling_across_an_edge_of_a_smoothed_tool_names_no_crease():
+    """The same record of a node's closest facet (facets 11 and 12 of the trough in turn, 16
+    calls): on the closest-point facets a crease of 10 deg is named; on the smoothed tool,
+    whose normal is continuous across that edge, nothing is (its remedy would be itself)."""
+    from types import SimpleNamespace
+
+    from solvers.stop_diagnosis import crossing_cycles
+
+    angle = np.radians(np.array([-0.5, 0.5] * 8))  # either side of the bottom edge (0 deg)
+    found = []
+    for smooth in (False, True):
+        tool = faceted_trough(smooth)
+        for a in angle:
+            tool.distance(
+                np.array([[(RADIUS - 0.1) * np.sin(a), 0.0, -(RADIUS - 0.1) * np.cos(a)]])
+            )
+        part = SimpleNamespace(tool=tool, connectivity=np.array([[0]]))
+        found.append(crossing_cycles(SimpleNamespace(interactions=[part])))
+    assert len(found[0]) == 1 and found[0][0]["switches"] == 15
+    assert abs(found[0][0]["angle_deg"] - FACET_DEG) < 1e-9
+    assert found[1] == []
+
+
 @pytest.mark.parametrize("frozen", [False, True])
 def test_the_contact_tangent_turns_the_smoothed_normal_with_the_bowl(frozen):
     """Nodes inside the smoothed bowl of the die, 0.05-0.3 mm from it (pressed at the contact
