@@ -312,6 +312,62 @@ s CPU a Newton iteration at its 22nd); stopped there, not held to the end. The m
 cells, the cells in the die a different set on each blank; punch force 68.2, 94.2, 86.1 N): no
 observed order can be given from these three.
 
+The stability search bounded (solvers/stability.py ``lowest_modes``, docs/theory.md §6.5: the
+shift-invert Lanczos capped at 20 vectors and 20 restarts, and a Lanczos of K_ff itself for the
+negative modes far from zero that the shift-invert hardly separates; on four tangents of the
+stall above 228-246 solves and 0.5 s CPU a search, all modes found, against 5027 solves and more
+before). The smoothed die alone (``--smooth``), CPU of the solve, numba's compilation cached:
+
+  cells incr. c     Newton iterations per increment             cuts (attempts) CPU s  load
+  16    10    1200  14, 27, 31, 90, 56, 179, 120, 83, 29, 14   4 (392)         220    5-6.5
+                    (643)
+  16    20    1200  15, 12, 10, 19, 27, 23, 31, 37, 27, 30, 152, 4 (250)          156    4-9
+                    95, 41, 40, 67, 16, 18, 38, 15, 9 (717)
+  12    20    300   17, 11, 11, 8, 20, 24, 19, 15, 25, 25, 18,  1 (97)           45.0   4-6
+                    16, 88, 85, 27, 9, 61, 8, 8, 7 (502)
+  8     20    300   15, 9, 9, 8, 10, 10, 19, 15, 14, 12, 20,   0                10.9   6
+                    15, 6, 12, 10, 10, 34, 14, 7, 3 (250)
+  12    10    300   11, 9, 26, 81, 89, 35, 88, 51, 22, 8 (420)  2 (156)          62.9   8-9
+  8     10    300   7, 10, 13, 18, 14, 28, 24, 11, 12, 4 (141)  0                7.0    8-9
+
+The 16-cell drape at 10 increments no longer stalls in the eigen-solves (the 0.3 -> 0.4 increment
+in 90 iterations) and converges to the end (29 contact-set updates, 9 fall-backs, 433 steps on
+a shifted tangent, 238 stability searches, 448 s wall). The same command run earlier (with
+only Static's stop message different in the code) took the same first five increments, then
+cut 0.5 -> 0.6 down to 1/128 of it and stopped at load factor 0.596 (ten cuts in all,
+their attempts 557 iterations, 244 s CPU, load 7-9): the path through that increment's contact
+events is that sensitive, and what differed between the two processes was not found (the
+8-cell drape gave the same iterations in three runs). At 20 increments it converges (437 s
+wall; 70 contact-set updates, 8 fall-backs, 142 steps on a shifted tangent, 188 stability
+searches). Both in a quarter to a third of the CPU of the record with ``--smooth
+--follow-tools`` above (648 s, on the code before the bound). At the end, at every
+resolution, with either number of increments:
+
+  cells  rms shear - net deg (cells)  punch force N  draw-in of the edge middle mm  dissipated
+  8      2.10 (14)                     68.2           25.11                          0.60-0.62 %
+  12     2.96 (86)                     94.1-94.2      22.58                          0.51-0.53 %
+  16     2.18 (158)                    86.1           25.23                          2.02-2.10 %
+
+No observed order: none of the three measures is monotone over h = 25, 16.7, 12.5 mm
+(validation.checks.observed_order gives NaN for each), as the explicit case's draw-in is not
+(22.65 / 28.54 / 24.18 mm). These blanks are coarse for the die (its radius spans 2, 3 and 4
+cells), the rms is taken over a different set of cells on each (14, 86, 158: those within 0.5 mm
+of the bowl), and the punch force rests on the few nodes under the punch: not in the asymptotic
+range. The plain die at the same settings, side by side (10 increments, CPU of the solve): 8
+cells 136 iterations (7, 10, 13, 18, 14, 29, 18, 11, 12, 4), no cut, 3.3 s (load 8.9) against
+141 and 7.0 s smoothed; 12 cells 466 (11, 9, 26, 69, 85, 84, 93, 53, 27, 9), 2 cuts (156), 52.4
+s (load 9) against 420, 2 cuts, 62.9 s smoothed; the same rms, draw-in and punch force (68.2,
+94.4 N). The smoothed die is not better at every resolution (the 8- and 12-cell drapes cost more
+CPU on it: its gap and normal cost more per evaluation), so the plain die stays the default of
+this benchmark and of tests/test_hemisphere_static.py. The plain die at 16 cells and 20
+increments (c = 1200, load 5-6.4): 15, 12, 10, 19, 27, 23, 31, 38, 27, 30, 81, 92, 42, 45, 144
+Newton iterations in the 15 converged increments (the first ten within one of the smoothed
+die's), then it stops at load factor 0.798438, where the plain drape at 10 increments stopped in
+the records above (13 cuts, their attempts 1103 iterations; 202 s CPU, 398 s wall), the message
+naming node 79 crossing the crease between facets 10145 and 10146 (1.63 deg) 15 times, nodes 93
+and 150 and one more, and the smoothed tool, with no hint of a limit point after it: at 16 cells
+the smoothed die is what carries the drape past 0.8, at either number of increments.
+
 When Static stops with a contact node carried back and forth across an edge between two
 facets (the plain die's node 79 at 0.798438 above), its message names the node, the two
 facets and the angle between their normals, and the smoothed tool as the remedy
