@@ -133,3 +133,19 @@ def test_the_mindlin_ply_has_the_transverse_shear_of_an_s3_homogeneous_section()
         g13 = np.asarray(section.transverse) / section.shear_factor
         assert g13 == pytest.approx([0.5 * section.plane_stress[0, 0]] * 2, rel=1e-12)
         assert stiffness == pytest.approx([5.0 * b0 / h**2] * 2, rel=1e-12)
+
+
+def test_the_report_case_forms_both_layups_at_one_holder_force():
+    """The report's hemisphere-plies case (validation/cases/hemisphere_plies.py): both layups
+    at the first holder force on the study's coarse mesh, the fibrous plies alone in the
+    coarse report and both kinematics at the default resolution; the finer mesh at "fine"."""
+    from validation.cases import CASES
+    from validation.cases import hemisphere_plies as case
+    from validation.studies.hemisphere_plies_run import NAME
+
+    assert CASES[NAME].compute is case.compute
+    for resolution, kinematics in (("coarse", {"fibrous"}), ("default", {"fibrous", "mindlin"})):
+        runs = case.plan(resolution)
+        assert {(n, k) for _, n, k, _ in runs} == {(n, k) for n in study.LAYUPS for k in kinematics}
+        assert {(c, f) for c, *_, f in runs} == {(study.CELLS["coarse"], study.HOLDER_FORCES[0])}
+    assert {c for c, *_ in case.plan("fine")} == {study.CELLS["default"]}

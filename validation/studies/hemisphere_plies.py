@@ -1,8 +1,10 @@
 """Two-ply layups formed on the hemisphere under a blank holder: [0/90] and [0/45], fibrous
 and Mindlin plies, each ply's shear angles against the pin-jointed net of its own orientation.
 
-A study, not a case of the report (validation/cases discovers its modules; this one is kept
-apart) until it validates. The holder weighs 10 g and presses 20 N (40 N for the
+The report's case hemisphere-plies (validation/cases/hemisphere_plies.py) runs its coarse mesh
+at the first holder force, both layups, the fibrous plies alone in the coarse report (both
+kinematics at the default resolution, where the Mindlin runs fail the quasi-static bound:
+below, "Mindlin KE / W"); the finer mesh and the second force stay here. The holder weighs 10 g and presses 20 N (40 N for the
 sensitivity): below, "The holder". The plies now touch both ways (``LOWER_RULE = "nodes"``:
 the mirrored pass at the bottom ply's nodes beside the top ply's Gauss points;
 docs/theory.md §9.3b "Both ways", which says which two-pass treatment and why): below, "Both
