@@ -136,16 +136,18 @@ def test_the_mindlin_ply_has_the_transverse_shear_of_an_s3_homogeneous_section()
 
 
 def test_the_report_case_forms_both_layups_at_one_holder_force():
-    """The report's hemisphere-plies case (validation/cases/hemisphere_plies.py): both layups
-    at the first holder force on the study's coarse mesh, the fibrous plies alone in the
-    coarse report and both kinematics at the default resolution; the finer mesh at "fine"."""
+    """The report's hemisphere-plies case (validation/cases/hemisphere_plies.py): at the
+    default resolution both layups of both kinematics at the first holder force on the
+    study's coarse mesh, the finer mesh at "fine"; the coarse report the fibrous [0/45]
+    layup alone."""
     from validation.cases import CASES
     from validation.cases import hemisphere_plies as case
     from validation.studies.hemisphere_plies_run import NAME
 
     assert CASES[NAME].compute is case.compute
-    for resolution, kinematics in (("coarse", {"fibrous"}), ("default", {"fibrous", "mindlin"})):
-        runs = case.plan(resolution)
-        assert {(n, k) for _, n, k, _ in runs} == {(n, k) for n in study.LAYUPS for k in kinematics}
-        assert {(c, f) for c, *_, f in runs} == {(study.CELLS["coarse"], study.HOLDER_FORCES[0])}
+    every = {(n, k) for n in study.LAYUPS for k in ("fibrous", "mindlin")}
+    runs = case.plan("default")
+    assert {(n, k) for _, n, k, _ in runs} == every and len(runs) == 4
+    assert {(c, f) for c, *_, f in runs} == {(study.CELLS["coarse"], study.HOLDER_FORCES[0])}
+    assert case.plan("coarse") == [(study.CELLS["coarse"], "0/45", "fibrous", 20.0)]
     assert {c for c, *_ in case.plan("fine")} == {study.CELLS["default"]}
