@@ -53,8 +53,8 @@ def test_a_fibrous_0_90_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     force. Measured with both ply contact passes (the study's ``LOWER_RULE``), 20 N: the
     least radial gap in the die -0.13 mm, KE / W at most 0.088, the holder 19.98 N over the
     last tenth, 5205 steps; the test 78 s of CPU (77 s wall, load 1.4-1.8); rerun on the
-    fibre frame's shared helper (the report case's run, 76 s of CPU, load 5-10): KE / W
-    0.086, the holder 20.00 N, the gap and the steps the same. With one pass,
+    current code (the report case's run, 76 s of CPU, load 5-10): KE / W 0.086, the holder
+    20.00 N, the gap and the steps the same. With one pass,
     the 10-g holder at 20 N (the study's docstring, "The holder"):
     the least radial gap in the die -0.26 mm (-0.27 to the curved face and the flat facets;
     -0.39 mm over the run, the pole at t = 0.041 s), KE / W at most 0.090 (t = 0.041 s), the
