@@ -23,8 +23,8 @@ hemisphere-forming); the plies' order in the die (the top ply's least gap to the
 along the radius from the die's centre within one ply thickness); the holder's reaction over
 the last tenth within 5 % of its force; the largest kinetic energy over the work after the
 first tenth within the field's 0.1 (solvers/quasi_static.py), the directors' rotation on the
-Mindlin shell's scaled rotary inertia counted at its physical share (docs/theory.md §6.3;
-the total, with it, reported beside it).
+Mindlin shell's scaled rotary inertia counted whole (docs/theory.md §6.3 says why; its part
+and the translations' reported beside it).
 The report runs the coarsest mesh that shows the physics (``CELLS``: 8 fibre segments across
 the blank, 25-mm cells; at 6 cells the Mindlin [0/90] run stops at 70 % of the stroke, KE / W
 0.31), both layups of both kinematics (``RUNS``), the coarse report the fibrous [0/45] layup
