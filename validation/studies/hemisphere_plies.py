@@ -44,7 +44,12 @@ load 0.3-6.7, the same figures):
 Rerun alone (one thread, CPU of the run, load as said):
 10 0/90 M 20 stopped at 97.8 % of the stroke on the energy balance (below)             157 *
 10 0/45 M 20 3.31/4.55 (46/56) 24.7/8.1  18.5 13/9 (8.3/4.0)    20.00  4.0 0.127 (0.061) -0.11 182 *
+ 8 0/45 F 40 1.93/4.66 (14/36) 24.3/6.4  20.3 9/10 (9.2/5.7)   39.80  5.6 0.060 (0.000) -0.02  72
 RERUN10
+- Fibrous [0/45] at 8 cells, 40 N, on the current code (5155 steps, 72 s of CPU, load
+  5.1-6.0): every check passes, as before the outline's mends (40.04 N, crests 10.1 and 6.2
+  mm): the holder 39.80 N over the last tenth (5.6 mm up), crests up to 9.2 and 5.7 mm, KE /
+  W 0.060, the plies' order -0.02 mm.
 - Mindlin [0/45] at 10 cells (11486 steps, 182 s of CPU, load 5.9-6.1) reaches the end and
   fails only KE / W, 0.127 at t = 0.056 s (above 0.1 over 2.2 % of the judged time), the
   rotation 0.061 and the translations 0.069 there (the plies' 0.060 and the holder's 0.008
