@@ -28,11 +28,11 @@ and the translations' reported beside it).
 The report runs the coarsest mesh that shows the physics (``CELLS``: 8 fibre segments across
 the blank, 25-mm cells; at 6 cells the Mindlin [0/90] run stops at 70 % of the stroke, KE / W
 0.31), both layups of both kinematics (``RUNS``), the coarse report the fibrous [0/45] layup
-alone (the test suite's background run: its checks all pass, 80 s of CPU); the finer mesh (10
-cells, the fine report, where Mindlin [0/45] ends with KE / W 0.127 and Mindlin [0/90] stops at
-97.8 % of the stroke on the energy balance, KE / W 0.177 before it) and the second holder force
-(40 N, the holder's sensitivity) are the study's (validation/studies/hemisphere_plies.py), with
-what they gave and what led to the settings.
+alone (the test suite's background run: its checks all pass, 89.6 s of CPU in the report, load
+4.5-5.5); the finer mesh (10 cells, the fine report, where Mindlin [0/45] ends with KE / W
+0.127 and Mindlin [0/90] stops at 97.8 % of the stroke on the energy balance, KE / W 0.177
+before it) and the second holder force (40 N, the holder's sensitivity) are the study's
+(validation/studies/hemisphere_plies.py), with what they gave and what led to the settings.
 Measured (8 cells, 20 N; one thread, the four runs one after another, 434 s of CPU in all,
 load 4.8-9.8; per ply, ply 1 / ply 2, the rms of shear - net over its cells in the die and
 their number; the holder's reaction over the last tenth and its travel; KE / W at most after
@@ -67,8 +67,9 @@ __all__ = ["CASE", "CELLS", "EVERY", "RUNS", "compute", "plan"]
 # (its runs at 10 cells cost 110-320 s of CPU each)
 CELLS = {"coarse": 8, "default": 8, "fine": 10}
 # the layups and kinematics run per resolution: the coarse report (the test suite's
-# background run) the fibrous [0/45] layup alone, whose plies' meshes do not match (80 s of
-# CPU; with [0/90] 156 s, the Mindlin runs 128 and 132 s more: the module's docstring)
+# background run) the fibrous [0/45] layup alone, whose plies' meshes do not match (89.6 s of
+# CPU in the report; with [0/90] 76 s more, the Mindlin runs 128 and 132 s more: the
+# module's docstring)
 EVERY = tuple((name, kinematics) for name in LAYUPS for kinematics in ("fibrous", "mindlin"))
 RUNS = {"coarse": (("0/45", "fibrous"),), "default": EVERY, "fine": EVERY}
 
