@@ -46,10 +46,11 @@ Rerun alone (one thread, CPU of the run, load as said):
 10 0/45 M 20 3.31/4.55 (46/56) 24.7/8.1  18.5 13/9 (8.3/4.0)    20.00  4.0 0.127 (0.061) -0.11 182 *
  8 0/45 F 40 1.93/4.66 (14/36) 24.3/6.4  20.3 9/10 (9.2/5.7)   39.80  5.6 0.060 (0.000) -0.02  72
 10 0/45 F 20 3.58/3.81 (34/46) 23.8/7.9  19.2 13/10 (7.5/2.0)   19.85  1.9 0.071 (0.000) -0.13 111
-RERUN10
+10 0/45 F 40 3.55/4.50 (34/52) 23.4/7.5  20.4 5/0 (1.6/0.1)     39.99  0.1 0.064 (0.000) -0.22 105
 - Fibrous [0/45] at 10 cells, 20 N, on the current code (6112 steps, 111 s of CPU, load
   4.1-5.0): every check passes, as before the outline's mends (the figures within 0.1 of
-  those above but the crests, 7.5 and 2.0 mm against 10.1 and 1.9).
+  those above but the crests, 7.5 and 2.0 mm against 10.1 and 1.9); at 40 N likewise (105 s of
+  CPU, load 4.1-4.2): 39.99 N, the order -0.22 mm, crests 1.6 and 0.1 mm.
 - Fibrous [0/45] at 8 cells, 40 N, on the current code (5155 steps, 72 s of CPU, load
   5.1-6.0): every check passes, as before the outline's mends (40.04 N, crests 10.1 and 6.2
   mm): the holder 39.80 N over the last tenth (5.6 mm up), crests up to 9.2 and 5.7 mm, KE /
