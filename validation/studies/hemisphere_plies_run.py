@@ -1,9 +1,10 @@
-"""One run of the two-ply hemisphere (validation/studies/hemisphere_plies.py, which documents
-the choices and what they gave; a case of the report once every run passes): the
-layup formed under the punch and the holder, each ply's shear against the pin-jointed net of
-its own orientation, the draw-in, the wrinkles, the inter-ply slip, the holder's force and
-travel and the run's kinetic energy over its work, with the checks of a run (``run``); a plan
-of runs gathered into the report's record (``compute_plan``) and their figures (``render``).
+"""One run of the two-ply hemisphere (validation/studies/hemisphere_plies.py, which documents the
+choices and what they gave; the report's case hemisphere-plies,
+validation/cases/hemisphere_plies.py, runs its plan through ``compute_plan``): the layup formed
+under the punch and the holder, each ply's shear against the pin-jointed net of its own
+orientation, the draw-in, the wrinkles, the inter-ply slip, the holder's force and travel and
+the run's kinetic energy over its work, with the checks of a run (``run``); a plan of runs
+gathered into the report's record (``compute_plan``) and their figures (``render``).
 """
 
 from __future__ import annotations
