@@ -59,7 +59,6 @@ __all__ = [
     "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
-    "inline",
     "jit",
     "prange",
     "serial",
@@ -229,20 +228,22 @@ def jit(function):
 
 
 def serial(function):
-    """``function`` compiled to run on the calling thread (as is without numba)."""
+    """``function`` compiled to run on the calling thread (as is without numba): a kernel, or
+    a helper called from compiled loops.
+
+    A helper is compiled once per signature and linked into each compiled caller, whose
+    module LLVM optimises with it: LLVM inlines the small ones (the fibrous cells' geometry),
+    and calls the larger ones (the packed laws, a level's strains). numba's
+    ``inline="always"`` (the helper's IR spliced into every call site before numba types the
+    caller) compiled the same arithmetic at several times the cost: the three modules of
+    tests/test_fibrous.py, test_bias_extension.py and test_fabric_section_kernels.py compiled
+    in 136.6 s of CPU with it, 70.3 s without; the fibrous force pass 39.6 -> 3.8 s, its
+    Hessian 35.8 -> 5.8 s, the fabric section 25.5 -> 4.3 s (benchmarks/suite_kernels.py).
+    The same numbers to the last bit (IEEE, no fastmath: the same operations in the same
+    order); the explicit step's speed: benchmarks/suite_kernels.py."""
     if not AVAILABLE:
         return function
     return numba.njit(cache=True)(function)
-
-
-def inline(function):
-    """``function`` compiled into each compiled function that calls it (numba's
-    ``inline="always"``: its body is spliced into the caller before optimisation, so that a
-    helper of a cell loop costs no call and its values stay in registers); as is without
-    numba."""
-    if not AVAILABLE:
-        return function
-    return numba.njit(cache=True, inline="always")(function)
 
 
 def _prange(n):  # pragma: no cover - replaced by numba.prange inside compiled code
