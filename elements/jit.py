@@ -59,6 +59,7 @@ __all__ = [
     "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
+    "inline",
     "jit",
     "prange",
     "serial",
@@ -232,18 +233,31 @@ def serial(function):
     a helper called from compiled loops.
 
     A helper is compiled once per signature and linked into each compiled caller, whose
-    module LLVM optimises with it: LLVM inlines the small ones (the fibrous cells' geometry),
-    and calls the larger ones (the packed laws, a level's strains). numba's
-    ``inline="always"`` (the helper's IR spliced into every call site before numba types the
-    caller) compiled the same arithmetic at several times the cost: the three modules of
-    tests/test_fibrous.py, test_bias_extension.py and test_fabric_section_kernels.py compiled
-    in 136.6 s of CPU with it, 70.3 s without; the fibrous force pass 39.6 -> 3.8 s, its
-    Hessian 35.8 -> 5.8 s, the fabric section 25.5 -> 4.3 s (benchmarks/suite_kernels.py).
-    The same numbers to the last bit (IEEE, no fastmath: the same operations in the same
-    order); the explicit step's speed: benchmarks/suite_kernels.py."""
+    module LLVM optimises with it: LLVM inlines the small ones (the fibrous cells' geometry)
+    and calls the larger ones. numba's ``inline="always"`` (``inline``: the helper's IR
+    copied into every call site before the caller is typed) compiles each copy again: with
+    every fibrous helper spliced, the three modules tests/test_fibrous.py,
+    test_bias_extension.py and test_fabric_section_kernels.py took 136.6 s of CPU compiling,
+    with only the laws' value, slope and energy and a level's strains spliced 66.2 s (the
+    fibrous force pass 39.6 -> 8.1 s, its Hessian 35.8 -> 11.1 s, the fabric section 25.5 ->
+    9.8 s), the explicit step as fast (benchmarks/suite_kernels.py). The same numbers to the
+    last bit either way (IEEE, no fastmath: the same operations in the same order)."""
     if not AVAILABLE:
         return function
     return numba.njit(cache=True)(function)
+
+
+def inline(function):
+    """``function`` spliced into each compiled caller (numba's ``inline="always"``: its IR
+    copied into every call site before the caller is typed), as is without numba. For the
+    few helpers of the explicit force pass that LLVM would leave as calls (the packed laws,
+    a level's strains): a call with array arguments costs their reference counting, which
+    made the fibrous explicit step about twice as slow per cell with them called
+    (benchmarks/suite_kernels.py). Each copy is compiled again in each caller: every other
+    helper is ``serial``."""
+    if not AVAILABLE:
+        return function
+    return numba.njit(cache=True, inline="always")(function)
 
 
 def _prange(n):  # pragma: no cover - replaced by numba.prange inside compiled code

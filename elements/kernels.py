@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE, jit, prange, serial
+from elements.jit import AVAILABLE, inline, jit, prange, serial
 
 __all__ = [
     "AVAILABLE",
@@ -84,7 +84,7 @@ def _node_sums(offsets, corners, per_corner, out):
 PACKED_ROWS, PACKED_COLUMNS = np.triu_indices(7)
 
 
-@serial
+@inline
 def _edge(positions, a, b):
     """The edge x_b - x_a between nodes a and b of positions (n, 3): three scalars."""
     return (

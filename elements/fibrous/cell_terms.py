@@ -4,8 +4,8 @@ the levers and a level's fibre vectors and strains (the force pass's and the str
 pass's one writing), the director moment, a side's fold angle and curvature coefficients,
 the fold-angle gradient and the pull of a corner angle. Each returns scalars (x, y, z
 components), so that the loops keep every vector in registers. Each is a compiled helper
-(elements/jit.py ``serial``) that LLVM inlines into its callers: an array argument costs no
-reference counting there and a level's values stay in registers.
+(elements/jit.py ``serial``) that LLVM inlines into its callers, but for ``level_strains``,
+which LLVM leaves a call: spliced into its two callers (``inline``).
 
 Divisions are the dearest of the loops' arithmetic after the transcendental functions (a
 division or a square root costs several multiplications' time): where several quotients
@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import serial
+from elements.jit import inline, serial
 
 __all__ = [
     "angle_pull",
@@ -83,7 +83,7 @@ def corner_levers(h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z):
     )  # fmt: skip
 
 
-@serial
+@inline
 def level_strains(
     z, r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z, nodal, nx, ny, nz,
     reference1, reference2, sign, reference_shear,

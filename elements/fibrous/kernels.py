@@ -35,7 +35,7 @@ the same order as ``numpy.bincount``, and the same numbers to the last bit on an
 threads. The per-cell pieces of the bending geometry also serve ``bending_geometry``, the
 compiled form of bending.py ``geometry`` (tangent, fields), and the strains of the fields
 (``strains``) come from a pass that reads the nodes' frames of pass 1 and forms each level by
-pass 2's own helper (cell_terms.py ``level_strains``): the strains the force took.
+pass 2's own inlined helper (cell_terms.py ``level_strains``): the strains the force took.
 """
 
 from __future__ import annotations

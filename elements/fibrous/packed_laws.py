@@ -2,14 +2,15 @@
 their value, energy and slope evaluated inside the loops (``law_value``, ``law_energy``,
 ``law_slope``): the fibrous shell's compiled kernels (elements/fibrous/kernels.py) evaluate the
 tension, shear and bending laws per fibre level and per cell without calling back into Python.
-Each is a compiled helper (elements/jit.py ``serial``) that LLVM inlines into its callers.
+The value, slope and energy are spliced into their callers (elements/jit.py ``inline``); a
+table law's energy (``_table_energy``) is a compiled call of its own.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import serial
+from elements.jit import inline, serial
 
 __all__ = ["law_energy", "law_slope", "law_value", "pack_laws"]
 
@@ -53,7 +54,7 @@ def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
     return integers, reals
 
 
-@serial
+@inline
 def law_slope(integers, reals, i, x):
     """dy/dx of packed law i at x (materials.Law.slope): sum (2j+1) c_j x^(2j) for an odd
     polynomial; for a table the slope of the segment [x_j, x_(j+1)) holding x (the right
@@ -77,7 +78,7 @@ def law_slope(integers, reals, i, x):
     return (reals[i, 2, j + 1] - reals[i, 2, j]) / (reals[i, 1, j + 1] - reals[i, 1, j])
 
 
-@serial
+@inline
 def law_value(integers, reals, i, x):
     """y(x) of packed law i (materials.Law.value): the odd polynomial sum c_j x^(2j+1), or
     the table interpolated linearly and extended by its end slopes; 0 for x < 0 when the law
@@ -95,7 +96,7 @@ def law_value(integers, reals, i, x):
     return _table_value(integers, reals, i, x)
 
 
-@serial
+@inline
 def _table_value(integers, reals, i, x):
     """y(x) of table law i, interpolated linearly and extended by its end slopes."""
     # reals[i, 1] and reals[i, 2] are the knots x and y (indexed in place: a slice would be
@@ -120,7 +121,7 @@ def _table_value(integers, reals, i, x):
     return (y1 - y0) / (x1 - x0) * (x - x0) + y0
 
 
-@serial
+@inline
 def law_energy(integers, reals, i, x):
     """integral_0^x y of packed law i (materials.Law.energy): sum c_j x^(2j+2) / (2j+2) for a
     polynomial; for a table, F(x) - F(0) with F(t) the integral from the first knot, exact
