@@ -33,6 +33,34 @@ modules, fresh cache, one process:
   for both (the Mindlin block's reference positions are read-only). No int32/int64 or C/A
   layout duplicates.
 
+numba's ``inline="always"`` (elements/jit.py ``inline``) against helpers compiled on their own
+(``serial``), modules tests/test_fibrous.py, test_bias_extension.py and
+test_fabric_section_kernels.py, fresh cache, one process (CPU of the process / of the
+compilations): main 7e3a340, every fibrous helper spliced, 141.0 / 136.6 s (load 6.4-9.1):
+``_cells_pass`` 39.6 s, ``_hessian_cells`` 35.8, ``_response_cells`` 25.5, every other kernel
+under 6 s; every helper on its own 74.7 / 70.3 s (load 1.9-6.4): 3.8, 5.8 and 4.3 s, but LLVM
+left the laws and ``level_strains`` as calls in ``_cells_pass`` (their array arguments'
+reference counting kept, numba's IR of the kernel) and the explicit step of
+benchmarks/explicit_step.py (fibrous, 10082 cells, one thread) took 1.71 µs of CPU per
+element-step, the force 1.61, against 0.45-0.82 and 0.49-0.88 on main (load 4.6-8); the laws' value,
+slope and energy and ``level_strains`` spliced, the rest on its own: 69.5 / 66.2 s (load
+4.8-6.1): 8.1, 11.1 and 9.8 s; the step, in turns with main's (µs of CPU per element-step:
+steady step, force, force with energy): 1.045, 0.970, 1.828 against main's 1.061, 0.831, 1.524
+(load 4.6-6.1); 1.109, 0.641, 1.230 against 1.097, 0.817, 1.529 (load 5.2-5.8); 0.982, 0.731,
+1.231 against 0.809, 1.010, 1.577 (load 5.2-5.5): the same within the machine's noise. The same
+numbers either way (the kernel-vs-numpy tests of these modules pass). The law calls with a
+literal index (the shear law, 2) still compile ``_table_integral`` and ``_table_energy`` once
+more per literal (4 signatures, 2.3 s).
+
+The suite's compile-heavy modules as CI runs them (a fresh clone, a fresh NUMBA_CACHE_DIR,
+``python -m pytest -q -p no:cacheprovider tests/test_fibrous.py tests/test_bias_extension.py
+tests/test_conformance.py``: two xdist workers, the slow tests included; CPU the user + system
+time of pytest and its workers), this branch then main 7e3a340, one after the other: 168.6 s of
+CPU, 323 s wall (load 4.8-5.7 before, 4.3 after) against 290.9 s of CPU, 410 s wall (load
+4.3-5.7 before, 2.0 after). The slowest item, the first compiled fibrous test of a worker
+(test_the_compiled_pieces_give_the_numpy_forces), 194 s wall against 282 s: it still waits on
+the other worker's compilations (tests/compile_once.py) at that load.
+
 Run: python benchmarks/suite_kernels.py [--serial] [tests/test_x.py ...]
 """
 

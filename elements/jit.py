@@ -229,17 +229,32 @@ def jit(function):
 
 
 def serial(function):
-    """``function`` compiled to run on the calling thread (as is without numba)."""
+    """``function`` compiled to run on the calling thread (as is without numba): a kernel, or
+    a helper called from compiled loops.
+
+    A helper is compiled once per signature and linked into each compiled caller, whose
+    module LLVM optimises with it: LLVM inlines the small ones (the fibrous cells' geometry)
+    and calls the larger ones. numba's ``inline="always"`` (``inline``: the helper's IR
+    copied into every call site before the caller is typed) compiles each copy again: with
+    every fibrous helper spliced, the three modules tests/test_fibrous.py,
+    test_bias_extension.py and test_fabric_section_kernels.py took 136.6 s of CPU compiling,
+    with only the laws' value, slope and energy and a level's strains spliced 66.2 s (the
+    fibrous force pass 39.6 -> 8.1 s, its Hessian 35.8 -> 11.1 s, the fabric section 25.5 ->
+    9.8 s), the explicit step as fast (benchmarks/suite_kernels.py). The same numbers to the
+    last bit either way (IEEE, no fastmath: the same operations in the same order)."""
     if not AVAILABLE:
         return function
     return numba.njit(cache=True)(function)
 
 
 def inline(function):
-    """``function`` compiled into each compiled function that calls it (numba's
-    ``inline="always"``: its body is spliced into the caller before optimisation, so that a
-    helper of a cell loop costs no call and its values stay in registers); as is without
-    numba."""
+    """``function`` spliced into each compiled caller (numba's ``inline="always"``: its IR
+    copied into every call site before the caller is typed), as is without numba. For the
+    few helpers of the explicit force pass that LLVM would leave as calls (the packed laws,
+    a level's strains): a call with array arguments costs their reference counting, which
+    made the fibrous explicit step about twice as slow per cell with them called
+    (benchmarks/suite_kernels.py). Each copy is compiled again in each caller: every other
+    helper is ``serial``."""
     if not AVAILABLE:
         return function
     return numba.njit(cache=True, inline="always")(function)

@@ -3,11 +3,9 @@ a cell's edges and normal (also the fibre frame's, fibre_kernels.py), the corner
 the levers and a level's fibre vectors and strains (the force pass's and the strains
 pass's one writing), the director moment, a side's fold angle and curvature coefficients,
 the fold-angle gradient and the pull of a corner angle. Each returns scalars (x, y, z
-components), so that the loops keep every vector in registers; those that read an array
-(``cell_cross``, ``corner_thickness``, ``corner_frame``, ``wall_fold``) or that two passes
-share (``corner_levers``, ``level_strains``) are inlined into their callers (elements/jit.py
-``inline``), where an array argument costs no reference counting and a level's values stay
-in registers.
+components), so that the loops keep every vector in registers. Each is a compiled helper
+(elements/jit.py ``serial``) that LLVM inlines into its callers, but for ``level_strains``,
+which LLVM leaves a call: spliced into its two callers (``inline``).
 
 Divisions are the dearest of the loops' arithmetic after the transcendental functions (a
 division or a square root costs several multiplications' time): where several quotients
@@ -40,7 +38,7 @@ __all__ = [
 ]
 
 
-@inline
+@serial
 def corner_thickness(directors, sums, node, nodal, nx, ny, nz, thickness, guard):
     """At the corner on ``node``: its director V, V . N, h_m = h / max(V . N, guard) and N
     (the nodal normal S / |S| from the node's normal sum S in ``sums`` (n, 3) when ``nodal``,
@@ -59,7 +57,7 @@ def corner_thickness(directors, sums, node, nodal, nx, ny, nz, thickness, guard)
     return vx, vy, vz, cos, thickness * over, nx, ny, nz, 1.0, over
 
 
-@inline
+@serial
 def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
     """``corner_thickness`` at the corner on ``node``: with nodal normals read from ``frame``
     (n, 10), the same numbers formed once per node (kernels.py ``_node_frames``: a node is
@@ -72,7 +70,7 @@ def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
     return corner_thickness(directors, frame, node, False, nx, ny, nz, thickness, guard)
 
 
-@inline
+@serial
 def corner_levers(h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z):
     """The levers l_a = (h_m^a V_a - h_m^0 V_0) / 2 of a cell's fibre vectors (Eq. 8-9:
     x_k^f = x_k + zeta_f / 2 h_m^k V_k, so g_a = x_a^f - x_0^f = r_a + zeta_f l_a with
@@ -159,7 +157,7 @@ def director_moment(
     return mx, my, mz, factor * (vx - cos * wx), factor * (vy - cos * wy), factor * (vz - cos * wz)
 
 
-@inline
+@serial
 def unit_edge_squares(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     """The edges e1 = x1 - x0 and e2 = x2 - x0 of a cell and 1 / |e1|^2, 1 / |e2|^2 (what
     the curvature coefficients need of the unit edges f_a = e_a / |e_a|): (e1x, e1y, e1z,
@@ -172,7 +170,7 @@ def unit_edge_squares(x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     return e1x, e1y, e1z, e2x, e2y, e2z, square2 * over, square1 * over
 
 
-@inline
+@serial
 def cell_cross(points, i, j, k):
     """The edges a = x_j - x_i, b = x_k - x_i of the cell on nodes i, j, k of ``points``
     (n, 3) and c = a x b, whose length is twice the cell's area and whose direction is its
@@ -187,7 +185,7 @@ def cell_cross(points, i, j, k):
     return ax, ay, az, bx, by, bz, ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@inline
+@serial
 def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
     """The fold angle of the side s = q - p of a cell of unit normal n and double area
     ``area2`` against the unit normal m across it, theta = atan2(-m . n^c, m . n), n^c = s x
@@ -207,7 +205,7 @@ def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
     return fold, 2.0 / (length * (area2 + other_area2))
 
 
-@inline
+@serial
 def side_coefficients(sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, scale):
     """The curvature coefficients c_as = 2 (f_a . n^c)^2 / (h + h') of the side s = q - p of a
     cell of unit normal n (docs/theory.md §4.2): h = 2A / |s| the cell's height over the side
@@ -223,7 +221,7 @@ def side_coefficients(sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over
     return p1 * p1 * (over1 * scale), p2 * p2 * (over2 * scale)
 
 
-@inline
+@serial
 def side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     """Side s of a cell, from corner s + 1 to corner s + 2: q - p (3 scalars)."""
     if s == 0:
@@ -233,7 +231,7 @@ def side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
     return x1x - x0x, x1y - x0y, x1z - x0z
 
 
-@inline
+@serial
 def wall_fold(
     c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, e1x, e1y, e1z,
     e2x, e2y, e2z, over1, over2, wall,
@@ -251,7 +249,7 @@ def wall_fold(
     return fold, c1s, c2s
 
 
-@inline
+@serial
 def side_squares(t0x, t0y, t0z, t1x, t1y, t1z, t2x, t2y, t2z):
     """|t_s|^2 of the sides t0, t1, t2 of a cell and their reciprocals by one division:
     (|t0|^2, |t1|^2, |t2|^2, 1 / |t0|^2, 1 / |t1|^2, 1 / |t2|^2)."""

@@ -31,7 +31,7 @@ import numpy as np
 
 from elements.fibrous.packed_laws import law_slope, law_value
 from elements.fibrous.tangent_kernels import cell_normal
-from elements.jit import AVAILABLE, inline, jit, prange, serial
+from elements.jit import AVAILABLE, jit, prange, serial
 from elements.shell_geometry import GUARD
 
 __all__ = [
@@ -62,7 +62,7 @@ for _k in range(3):
         _COLUMN_COUNT[9 * _k + _j] = len(_rows)
 
 
-@inline
+@serial
 def _tension_level(g, n, t, t_slope, fibre, scale, hz, edge):
     """hz (3, 3, 3, 3) += the tension part of one fibre's level Hessian in (g_1, g_2, n)
     (tangent.py ``_add_tension_hessians``): P = kappa r, dW/dn = -kappa s r with r = g - s n,
@@ -84,7 +84,7 @@ def _tension_level(g, n, t, t_slope, fibre, scale, hz, edge):
             hz[2, i, 2, j] += s**2 * beta * rr - kappa * (r[i] * g[j] - s * ng - s**2 * eye)
 
 
-@inline
+@serial
 def _shear_level(g1, g2, len1, len2, moment, moment_slope, scale, hz):
     """hz += the shear part of one level's Hessian (tangent.py ``_add_shear_hessians``):
     P_a = A0 w f(c) dc/dg_a, c = u1 . u2, f = M / s, s = sqrt(1 - c^2)."""
@@ -117,7 +117,7 @@ def _shear_level(g1, g2, len1, len2, moment, moment_slope, scale, hz):
             hz[1, i, 1, j] += f_slope * grads[1, i] * grads[1, j] + f * second_22
 
 
-@inline
+@serial
 def _add_level(hz, half, h_w):
     """h_w (15, 15) += a level's hz with the weights (zeta_f / 2)^p, p the number of director
     offsets d among the row and the column (tangent.py ``_level_sums``)."""
@@ -290,7 +290,7 @@ def _hessian_cells(
             )  # fmt: skip
 
 
-@inline
+@serial
 def _jacobians(
     v, cell, a, b, n, area2, node_normal, length, cosine, h_m, guarded, thickness, variation,
     jac, jac_rows,
@@ -345,7 +345,7 @@ def _jacobians(
                 jac_rows[12 + i, 9 * k + c] = dn[i]
 
 
-@inline
+@serial
 def _direction_cross(a, b, da, db, c, dc):
     """dc (3,) = (da e_c) x b + a x (db e_c): the change of a x b when a moves by da e_c
     and b by db e_c."""
@@ -355,7 +355,7 @@ def _direction_cross(a, b, da, db, c, dc):
     dc[c2] = da * b[c1] - db * a[c1]
 
 
-@inline
+@serial
 def _normal_change(a, b, n, area2, node, comp, dc, dn):
     """dc (3,) = d(a x b) and dn (3,) = dn/d(x_node)_comp = P dc / |c| of the cell's unit
     normal n = c / |c|, c = a x b (|c| = area2), for corner ``node`` moved along ``comp``;
@@ -369,7 +369,7 @@ def _normal_change(a, b, n, area2, node, comp, dc, dn):
     return d_area2
 
 
-@inline
+@serial
 def _normal_second(a, b, n, area2, load, out):
     """out (27, 27) += the second derivatives of n(x) contracted with dW/dn = ``load`` (3,)
     held, on the translation blocks (tangent.py ``_normal_second_derivatives``)."""
@@ -405,7 +405,7 @@ def _normal_second(a, b, n, area2, load, out):
                 out[18 + c, 9 * node + comp] += along_b
 
 
-@inline
+@serial
 def _director_second(
     v, cell, k, lever, node_normal, length, cosine, h_m, guarded, thickness, variation, out,
     d_sums,

@@ -2,26 +2,15 @@
 their value, energy and slope evaluated inside the loops (``law_value``, ``law_energy``,
 ``law_slope``): the fibrous shell's compiled kernels (elements/fibrous/kernels.py) evaluate the
 tension, shear and bending laws per fibre level and per cell without calling back into Python.
+The value, slope and energy are spliced into their callers (elements/jit.py ``inline``); a
+table law's energy (``_table_energy``) is a compiled call of its own.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE
-
-if AVAILABLE:
-    import numba
-
-
-def _inline(function):
-    """``function`` compiled into its callers' code (numba's inlining): a call of a compiled
-    function with array arguments costs their reference counting, a tenth of a microsecond per
-    cell in the fibrous loops, which call the laws about ten times per cell."""
-    if not AVAILABLE:
-        return function
-    return numba.njit(cache=True, inline="always")(function)
-
+from elements.jit import inline, serial
 
 __all__ = ["law_energy", "law_slope", "law_value", "pack_laws"]
 
@@ -65,7 +54,7 @@ def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
     return integers, reals
 
 
-@_inline
+@inline
 def law_slope(integers, reals, i, x):
     """dy/dx of packed law i at x (materials.Law.slope): sum (2j+1) c_j x^(2j) for an odd
     polynomial; for a table the slope of the segment [x_j, x_(j+1)) holding x (the right
@@ -89,11 +78,11 @@ def law_slope(integers, reals, i, x):
     return (reals[i, 2, j + 1] - reals[i, 2, j]) / (reals[i, 1, j + 1] - reals[i, 1, j])
 
 
-@_inline
+@inline
 def law_value(integers, reals, i, x):
     """y(x) of packed law i (materials.Law.value): the odd polynomial sum c_j x^(2j+1), or
     the table interpolated linearly and extended by its end slopes; 0 for x < 0 when the law
-    is tension-only. The polynomial inline, the table by a call (its search is longer)."""
+    is tension-only."""
     if integers[i, 3] == 0 and x < 0.0:
         return 0.0
     if integers[i, 0] == _POLYNOMIAL:
@@ -107,7 +96,7 @@ def law_value(integers, reals, i, x):
     return _table_value(integers, reals, i, x)
 
 
-@_inline
+@inline
 def _table_value(integers, reals, i, x):
     """y(x) of table law i, interpolated linearly and extended by its end slopes."""
     # reals[i, 1] and reals[i, 2] are the knots x and y (indexed in place: a slice would be
@@ -132,7 +121,7 @@ def _table_value(integers, reals, i, x):
     return (y1 - y0) / (x1 - x0) * (x - x0) + y0
 
 
-@_inline
+@inline
 def law_energy(integers, reals, i, x):
     """integral_0^x y of packed law i (materials.Law.energy): sum c_j x^(2j+2) / (2j+2) for a
     polynomial; for a table, F(x) - F(0) with F(t) the integral from the first knot, exact
@@ -151,14 +140,13 @@ def law_energy(integers, reals, i, x):
     return _table_energy(integers, reals, i, x)
 
 
-@_inline
+@serial
 def _table_energy(integers, reals, i, x):
-    """integral_0^x y of table law i (inline, as the value: a call with the tables costs
-    their reference counting, and the energy check meets two table laws per cell)."""
+    """integral_0^x y of table law i."""
     return _table_integral(integers, reals, i, x) - _table_integral(integers, reals, i, 0.0)
 
 
-@_inline
+@serial
 def _table_integral(integers, reals, i, t):
     """integral of table i's y from its first knot to t (negative below it)."""
     count = integers[i, 2]

@@ -23,7 +23,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from elements.jit import AVAILABLE, inline, jit, prange, serial
+from elements.jit import AVAILABLE, jit, prange, serial
 
 __all__ = [
     "AVAILABLE",
@@ -34,12 +34,12 @@ __all__ = [
 ]
 
 
-@inline
+@serial
 def cell_normal(x, cell, a, b, n):
     """Fill a, b (3,) with the sides from corner 0 to corners 1 and 2 of ``cell`` of x
     (m, 3, 3) and n (3,) with the cell's unit normal a x b / |a x b|; return |a x b|, twice
-    the cell's area (mm^2). Spliced into each cell loop (``inline``): the same operations in
-    the same order as the loops wrote them out."""
+    the cell's area (mm^2). Called from each cell loop (LLVM inlines it): the same operations
+    in the same order as the loops wrote them out."""
     for c in range(3):
         a[c] = x[cell, 1, c] - x[cell, 0, c]
         b[c] = x[cell, 2, c] - x[cell, 0, c]
