@@ -270,10 +270,14 @@ def main() -> None:
         if result is not None:
             energies = {key: values[-1] for key, values in result.energies.items()}
             ratio = energies["kinetic"] / max(abs(energies["external_work"]), 1e-300)
+            quasi = result.info["quasi_static"]
             print(f"  dt {result.info['dt']:.3g} s at the end, added mass "
                   f"{result.info['added_mass_ratio']:.3g} x the model's, kinetic / work at the "
-                  f"end {ratio:.3f}, punch force {result.tool_forces[-1, 1, 2]:.3g} N, "
-                  f"converged {result.converged}", flush=True)  # fmt: skip
+                  f"end {ratio:.3f}, largest after the first tenth "
+                  f"{quasi['kinetic_over_work_largest']:.3f} (above the bound over "
+                  f"{quasi['exceeded_share']:.3f} of the stroke), punch force "
+                  f"{result.tool_forces[-1, 1, 2]:.3g} N, converged {result.converged}",
+                  flush=True)  # fmt: skip
 
 
 NEW_LISTS = (tools.REBUILD_SHARE, tools.KEEP_NEAREST)

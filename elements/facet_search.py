@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange, serial
+from elements.jit import inline, jit, prange, serial
 
 __all__ = [
     "SLACK",
@@ -201,7 +201,7 @@ def _kept_nearest(
         room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
 
 
-_kept_nearest = serial(_kept_nearest)
+_kept_nearest = inline(_kept_nearest)
 
 
 def _closest_facets_kept(
@@ -244,7 +244,7 @@ def _signed_one(i, local, point, facet, gap, normals, tiny, d, n):
         n[i, 0], n[i, 1], n[i, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
 
 
-_signed_one = serial(_signed_one)
+_signed_one = inline(_signed_one)
 
 
 def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):

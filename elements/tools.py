@@ -653,7 +653,9 @@ class RigidSurface(RigidTool):
         """(k, m) the closest facet of each of the points of the last calls of ``distance``
         (k of them in every call), oldest first, m = min(calls, FACET_RECORD) columns; -1
         beyond the search distance. A pressed node that a solver carries back and forth
-        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py)."""
+        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py).
+        Kept while ``record_facets`` is on (a contact's ``freeze``, Static's): an explicit
+        run does not pay for it."""
         record = getattr(self, "_record", np.zeros((0, FACET_RECORD), dtype=np.int64))
         calls = getattr(self, "_recorded", 0)
         if calls < FACET_RECORD:
