@@ -96,27 +96,47 @@ thread, CPU:
   same load: 0.9 ms where every node keeps its facet, 7.0 for the scan of every list (the
   nodes' rooms: median 0.026 mm, a quarter below 0.006: many still scan every few steps); the
   rest of the 7.8 ms, not timed apart: the batched searches (56 nodes a call on average) and
-  the numpy passes of ``distance``. In a step the die's contact adds its formulas in numpy
-  (``ContactBlock``: the die takes no compiled pass).
+  the numpy passes of ``distance``. In a step the die's contact added its formulas in numpy
+  (``ContactBlock``); it now takes one compiled pass (below).
 
-Threads: at the loads of this session (6-15 on 2 cores) the default threads chose one (free
+The die's contact in one compiled pass (elements/tool_contact.py ``surface_forces``: each
+node's kept or scanned nearest facet, its signed distance, the open-edge and far-node answers
+and k p n in one loop; the same forces to the last bit, tests/test_tool_contact.py and a
+12-cell forming run bit for bit, tests/test_forming_shortcuts_change_nothing.py), and the
+closest-facet record kept only once a contact is frozen (Static's stop diagnosis), not on the
+explicit path. Measured, one thread, CPU, the two in one process on the same calls (a die's
+contact on the 20k blank, 300 calls, 50 of each in turn, the reference pass beside):
+
+* at the stroke's peak pace (the blank sliding 7e-4 mm a call; load 8.5-8.9): the numpy
+  formulas 9.8 / 9.6 ms a call, the compiled pass 8.9 / 9.2 (the main branch's numpy path
+  7.9 / 8.5 in a process of its own, whose reference pass ran 0.24-0.27 ms against 0.29);
+* the blank all but still (1e-7 mm a call; load 8.8-8.9): 5.9 against 5.4 ms (main 5.2, its
+  reference pass 0.31 against 0.27).
+
+So the numpy passes were not where the die's time goes: of the 6.3 ms a call, 4.2 are the
+compiled loop, and its kept-facet scan alone takes 2.9-3.4 ms where 8000 of the 10201 nodes
+keep their facet (about 330 ns a node at load 5-6: the closest point on that facet, Ericson's
+regions, for every node in contact range at every step); 2093 nodes are beyond the search
+distance. The pass saves 0.5-1 ms a call, within the load's noise on whole runs: on the first
+0.3 % of the stroke side by side (402 steps each, one thread, main then this branch; load
+8.4 -> 7.7, 7.6 -> 7.4): 37.2 against 36.3 ms CPU a step; element force 20.1 / 18.5, die
+5.6 / 6.9, the punch and holder 3.2 / 3.0, the cells' bound 0.57 / 0.51, the assembled bound
+3.5 / 3.3 (one evaluation, 1.4 s of CPU), the rotary inertia 0.35 / 0.32, the rest 4.0 /
+3.8. (Today's main, a first run in a fresh worktree, 670 steps, load 6.4 -> 5.9: element
+21.9, die 6.2, others 3.6, the assembled bound 74.7 ms a step: its one evaluation compiled the
+tangent kernels, 50 s of CPU; warm, it takes 1.35 s of CPU at load 8.2.)
+
+Threads: at the loads of this session (4-9 on 2 cores) the default threads chose one (free
 cores: elements/jit.py), and two forced would measure the other engineers' processes; not
 measured here.
 
-Projected, the full stroke at 20k triangles (133.8k steps of 2.24e-6 s unscaled) at this
-session's pace, the assembled bound amortised (about 1.2 ms a step): about 36 ms CPU a step,
-79 min CPU on one thread (the element force alone 20.2 ms, 45 min). 3 minutes on the 2 cores
-is 6 min of CPU at most: 13 times away. What would close it, each to be measured: the element
-force on two threads on a free machine (at most 1.2 times at 9800 triangles, elements/jit.py);
-mass scaling to 5.5e-6 s (0.53 of the steps, above) or a shorter stroke (time scaling,
-measured at 20 cells on the 10-mm die, benchmarks/hemisphere_scaling.py: twice as fast, half
-the steps, moved the rms by 0.4 % and the draw-in by 0.6 %, KE / W at most 0.026; four times
-as fast drew the edge in 15 % less, KE / W up to 0.082 against the bound 0.1); the die's contact in
-one compiled pass with its distance (as elements/tool_contact.py does for the punch and the
-holder: the remaining numpy passes) and the searches compiled; even then the element force
-(20 ms x 134k steps) is 45 min of CPU at this load: only fewer steps (scaling) or a faster
-element kernel brings the stroke near 3 minutes.
+The stroke in fewer steps (benchmarks/hemisphere_scaling.py, 20 cells, every setting beside
+the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of the case in
+0.25 of the steps (rms 2.087 against 2.140 deg, draw-in 28.50 against 28.57 mm, KE / W at most
+0.082 against the bound 0.1); mass scaling to 2.4e-5 s with time x2 keeps them in 0.29; with
+x4 it does not (KE / W above the bound over 0.28 of the stroke).
 
+FULLRUN
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k

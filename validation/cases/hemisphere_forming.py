@@ -429,6 +429,8 @@ def run(
     at the cells (``net_shear_at``), when already computed. Faster runs (the case runs neither;
     the record's ``scaling`` states them): the stroke in DURATION / ``time_scaling``, and the
     solver's selective ``mass_scaling_dt``, s (benchmarks/hemisphere_scaling.py)."""
+    if not (math.isfinite(time_scaling) and time_scaling > 0.0):
+        raise ValueError(f"time_scaling must be a finite number > 0, got {time_scaling!r}")
     mesh, built = model(cells, kinematics, rim=DIE_RIM)
     # The automatic step at the default safety 0.9: the rotary inertia follows the lever of a
     # tilted director (docs/theory.md §1.6, §6.2), which the blank's free corners need.
