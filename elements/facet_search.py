@@ -31,13 +31,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import inline, jit, prange, serial
+from elements.jit import jit, prange, serial
 
 __all__ = [
     "SLACK",
     "closest_facets",
     "closest_facets_kept",
     "closest_on_triangles",
+    "largest_drift",
     "open_edges",
     "signed_from_closest",
     "spans",
@@ -142,68 +143,6 @@ def _closest_facets(x, corners, centroids, radius, slack, start, facets, hint, p
 closest_facets = jit(_closest_facets)
 
 
-def _kept_nearest(
-    i, x, corners, centroids, radius, slack, start, facets, hint, anchor, room, point, facet, gap
-):
-    """Point i of ``_closest_facets_kept`` (its arguments): its facet kept, or its candidates
-    scanned and its anchor and room set anew."""
-    p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
-    f = hint[i]
-    if f >= 0 and room[i] > 0.0:
-        moved = np.sqrt(
-            (p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2
-        )
-        if moved < room[i]:
-            q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
-            facet[i] = f
-            point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
-            gap[i] = np.sqrt(d)
-            return
-    known = np.inf
-    if f >= 0:
-        known = np.sqrt(_squared_gap(p0, p1, p2, corners, f)[3]) * (1.0 + SLACK)
-        known += slack
-    best = np.inf
-    second = np.inf  # the next facet's distance, or a lower bound of it (mm)
-    for sweep in range(2):
-        for j in range(start[i], start[i + 1]):
-            g = facets[j]
-            if sweep == 0:
-                reach = known + radius[g]
-                apart = (
-                    (centroids[g, 0] - p0) ** 2
-                    + (centroids[g, 1] - p1) ** 2
-                    + (centroids[g, 2] - p2) ** 2
-                )
-                if apart > reach * reach:
-                    second = min(second, np.sqrt(apart) - radius[g])
-                    continue
-            q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
-            if d < best:
-                second = min(second, np.sqrt(best))
-                best = d
-                facet[i] = g
-                point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
-            else:
-                second = min(second, np.sqrt(d))
-        if sweep == 1 or best <= known * known:
-            break
-        best = np.inf  # none kept as near as the hint's: scan them all
-        second = np.inf
-    nearest = np.sqrt(best)
-    gap[i] = nearest
-    anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
-    if start[i] == start[i + 1]:
-        room[i] = -1.0  # no candidates: nothing kept
-    elif second == np.inf:
-        room[i] = np.inf  # its only candidate: the nearest wherever it moves
-    else:
-        room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
-
-
-_kept_nearest = inline(_kept_nearest)
-
-
 def _closest_facets_kept(
     x, corners, centroids, radius, slack, start, facets, hint, anchor, room, point, facet, gap
 ):
@@ -218,33 +157,61 @@ def _closest_facets_kept(
     rounding allowance of SLACK of the two and ``slack`` (mm). A room of -1 (or a hint of -1)
     asks for the scan. The same point, facet and gap as ``_closest_facets``, to the last bit."""
     for i in prange(x.shape[0]):
-        _kept_nearest(
-            i, x, corners, centroids, radius, slack, start, facets, hint, anchor, room, point,
-            facet, gap,
-        )  # fmt: skip
+        p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
+        f = hint[i]
+        if f >= 0 and room[i] > 0.0:
+            moved = np.sqrt(
+                (p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2
+            )
+            if moved < room[i]:
+                q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
+                facet[i] = f
+                point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+                gap[i] = np.sqrt(d)
+                continue
+        known = np.inf
+        if f >= 0:
+            known = np.sqrt(_squared_gap(p0, p1, p2, corners, f)[3]) * (1.0 + SLACK)
+            known += slack
+        best = np.inf
+        second = np.inf  # the next facet's distance, or a lower bound of it (mm)
+        for sweep in range(2):
+            for j in range(start[i], start[i + 1]):
+                g = facets[j]
+                if sweep == 0:
+                    reach = known + radius[g]
+                    apart = (
+                        (centroids[g, 0] - p0) ** 2
+                        + (centroids[g, 1] - p1) ** 2
+                        + (centroids[g, 2] - p2) ** 2
+                    )
+                    if apart > reach * reach:
+                        second = min(second, np.sqrt(apart) - radius[g])
+                        continue
+                q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                if d < best:
+                    second = min(second, np.sqrt(best))
+                    best = d
+                    facet[i] = g
+                    point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+                else:
+                    second = min(second, np.sqrt(d))
+            if sweep == 1 or best <= known * known:
+                break
+            best = np.inf  # none kept as near as the hint's: scan them all
+            second = np.inf
+        nearest = np.sqrt(best)
+        gap[i] = nearest
+        anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
+        if start[i] == start[i + 1]:
+            room[i] = -1.0  # no candidates: nothing kept
+        elif second == np.inf:
+            room[i] = np.inf  # its only candidate: the nearest wherever it moves
+        else:
+            room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
 
 
 closest_facets_kept = jit(_closest_facets_kept)
-
-
-def _signed_one(i, local, point, facet, gap, normals, tiny, d, n):
-    """Point i of ``_signed_from_closest`` (its arguments)."""
-    f = facet[i]
-    t0 = local[i, 0] - point[i, 0]
-    t1 = local[i, 1] - point[i, 1]
-    t2 = local[i, 2] - point[i, 2]
-    side = -1.0 if t0 * normals[f, 0] + t1 * normals[f, 1] + t2 * normals[f, 2] < 0.0 else 1.0
-    g = gap[i]
-    d[i] = side * g
-    if g > tiny:
-        n[i, 0] = side * t0 / g
-        n[i, 1] = side * t1 / g
-        n[i, 2] = side * t2 / g
-    else:
-        n[i, 0], n[i, 1], n[i, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
-
-
-_signed_one = inline(_signed_one)
 
 
 def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):
@@ -255,10 +222,39 @@ def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):
     normal where gap <= ``tiny``. The open-edge correction of the points behind (d < 0) is
     the caller's."""
     for i in prange(local.shape[0]):
-        _signed_one(i, local, point, facet, gap, normals, tiny, d, n)
+        f = facet[i]
+        t0 = local[i, 0] - point[i, 0]
+        t1 = local[i, 1] - point[i, 1]
+        t2 = local[i, 2] - point[i, 2]
+        side = -1.0 if t0 * normals[f, 0] + t1 * normals[f, 1] + t2 * normals[f, 2] < 0.0 else 1.0
+        g = gap[i]
+        d[i] = side * g
+        if g > tiny:
+            n[i, 0] = side * t0 / g
+            n[i, 1] = side * t1 / g
+            n[i, 2] = side * t2 / g
+        else:
+            n[i, 0], n[i, 1], n[i, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
 
 
 signed_from_closest = jit(_signed_from_closest)
+
+
+def _largest_drift(x, anchor):
+    """max |x - anchor| over the points (k, 3) and their coordinates, mm (0 for none): what
+    RigidSurface asks of its candidate lists at every call before it looks at which points
+    have moved past the margin (the numpy passes of that question cost 0.6 ms a call on the
+    20k-triangle forming blank's 10k nodes, a fifth of the die's contact)."""
+    largest = 0.0
+    for i in range(x.shape[0]):
+        for j in range(3):
+            moved = abs(x[i, j] - anchor[i, j])
+            if moved > largest:
+                largest = moved
+    return largest
+
+
+largest_drift = serial(_largest_drift)
 
 
 def open_edges(triangles: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -30,6 +30,7 @@ from elements.facet_search import (
     closest_facets,
     closest_facets_kept,
     closest_on_triangles,
+    largest_drift,
     open_edges,
     signed_from_closest,
     spans,
@@ -630,8 +631,8 @@ class RigidSurface(RigidTool):
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.
             limit = MARGIN / np.sqrt(3.0) * self.reach
-            drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
-            if (drift >= limit).any():
+            if largest_drift(local, cache.points) >= limit:  # (compiled: at every call)
+                drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
                 # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
                 rows = drift >= REBUILD_SHARE * limit
                 cache = self._searched(local, rows, cache)
