@@ -99,34 +99,41 @@ thread, CPU:
   the numpy passes of ``distance``. In a step the die's contact added its formulas in numpy
   (``ContactBlock``); it now takes one compiled pass (below).
 
-The die's contact in one compiled pass (elements/tool_contact.py ``surface_forces``: each
-node's kept or scanned nearest facet, its signed distance, the open-edge and far-node answers
-and k p n in one loop; the same forces to the last bit, tests/test_tool_contact.py and a
-12-cell forming run bit for bit, tests/test_forming_shortcuts_change_nothing.py), and the
+The die's contact compiled (elements/tool_contact.py ``surface_forces``): the closest-facet
+loop (elements/facet_search.py, as it was), then one pass for each node's signed distance, the
+open-edge and far-node answers and k p n; the lists' drift question at every call compiled
+(``largest_drift``); the same forces to the last bit (tests/test_tool_contact.py, and a
+12-cell forming run bit for bit, tests/test_forming_shortcuts_change_nothing.py); the
 closest-facet record kept only once a contact is frozen (Static's stop diagnosis), not on the
-explicit path. Measured, one thread, CPU, the two in one process on the same calls (a die's
-contact on the 20k blank, 300 calls, 50 of each in turn, the reference pass beside):
+explicit path. Measured, one thread, CPU, 300 calls of the die's contact on the 20k blank
+laid in the die (``--die-calls``' blank), the reference pass beside, before (7e3a340) and
+now, each in a process of its own, one after the other:
 
-* at the stroke's peak pace (the blank sliding 7e-4 mm a call; load 8.5-8.9): the numpy
-  formulas 9.8 / 9.6 ms a call, the compiled pass 8.9 / 9.2 (the main branch's numpy path
-  7.9 / 8.5 in a process of its own, whose reference pass ran 0.24-0.27 ms against 0.29);
-* the blank all but still (1e-7 mm a call; load 8.8-8.9): 5.9 against 5.4 ms (main 5.2, its
-  reference pass 0.31 against 0.27).
+* at the stroke's peak pace (7e-4 mm a call; load 5.3 -> 5.6): before 7.3 ms a call, now
+  5.9 (the numpy formulas in the same process 6.9);
+* the blank all but still (1e-7 mm a call; load 5.7 -> 5.9): before 5.7 (4.3 in an earlier
+  pass at load 5.6), now 2.7 (the numpy formulas 3.6).
 
-So the numpy passes were not where the die's time goes: of the 6.3 ms a call, 4.2 are the
-compiled loop, and its kept-facet scan alone takes 2.9-3.4 ms where 8000 of the 10201 nodes
-keep their facet (about 330 ns a node at load 5-6: the closest point on that facet, Ericson's
-regions, for every node in contact range at every step); 2093 nodes are beyond the search
-distance. The pass saves 0.5-1 ms a call, within the load's noise on whole runs: on the first
-0.3 % of the stroke side by side (402 steps each, one thread, main then this branch; load
-8.4 -> 7.7, 7.6 -> 7.4): 37.2 against 36.3 ms CPU a step; element force 20.1 / 18.5, die
-5.6 / 6.9, the punch and holder 3.2 / 3.0, the cells' bound 0.57 / 0.51, the assembled bound
-3.5 / 3.3 (one evaluation, 1.4 s of CPU), the rotary inertia 0.35 / 0.32, the rest 4.0 /
-3.8. (Today's main, a first run in a fresh worktree, 670 steps, load 6.4 -> 5.9: element
-21.9, die 6.2, others 3.6, the assembled bound 74.7 ms a step: its one evaluation compiled the
-tangent kernels, 50 s of CPU; warm, it takes 1.35 s of CPU at load 8.2.)
+Where the die's time went nearly still before the drift question was compiled (3.1 ms a
+call, a profile): the closest-facet loop 37 % (0.45-0.65 ms on the starting blank where the
+nodes keep their facets, more where a node's room is small), numpy reductions (the drift
+question, the memory of the last answer) 24 %, the force pass 10 %, the node gather and the
+scatter 10 %. At the peak pace the batched searches of the
+candidate lists (numpy and the k-d tree) add about 2 ms a call: compiling those is what
+remains of the die. A try that made the two loops one (the closest-facet loop's body an
+inlined helper of the pass) made the kept facets' loop 2.4 times slower (2.2-2.6 against
+0.9-1.1 ms on the 10201 nodes, load 6.4): not kept.
 
-Threads: at the loads of this session (4-9 on 2 cores) the default threads chose one (free
+Before the drift question was compiled, on the first 0.3 % of the stroke side by side (402
+steps each, one thread, before then now; load 8.4 -> 7.7, 7.6 -> 7.4): 37.2 against 36.3
+ms CPU a step; element force 20.1 / 18.5, die 5.6 / 6.9 (that try's slower loop), the punch
+and holder 3.2 / 3.0, the cells' bound 0.57 / 0.51, the assembled bound 3.5 / 3.3 (one
+evaluation, 1.4 s of CPU), the rotary inertia 0.35 / 0.32, the rest 4.0 / 3.8. (7e3a340 as
+first run in a fresh worktree, 670 steps, load 6.4 -> 5.9: element 21.9, die 6.2, others
+3.6, the assembled bound 74.7 ms a step: its one evaluation compiled the tangent kernels, 50
+s of CPU; warm, an evaluation takes 1.35 s of CPU at load 8.2.)
+
+Threads: at the loads of these measurements (4-9 on 2 cores) the default threads chose one (free
 cores: elements/jit.py), and two forced would measure the other engineers' processes; not
 measured here.
 
@@ -135,6 +142,21 @@ the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of 
 0.25 of the steps (rms 2.087 against 2.140 deg, draw-in 28.50 against 28.57 mm, KE / W at most
 0.082 against the bound 0.1); mass scaling to 2.4e-5 s with time x2 keeps them in 0.29; with
 x4 it does not (KE / W above the bound over 0.28 of the stroke).
+
+Projected, the full stroke at 20k triangles: unscaled 133.8k steps of 2.24e-6 s at about
+33 ms CPU a step at these loads (the element force 18.5-20, the die 3-6, the punch and holder
+3.0, the rest 3.8, the bounds and the rotary inertia 1.2): 74 min CPU on one thread (79
+before); at the chosen time scaling x4 (the stroke in 0.075 s) 33.5k steps, about 18 min
+CPU (the assembled bound's nine evaluations 0.4 ms a step). 3 minutes on the 2 cores is 6
+min of CPU at most: 3 times away. What would close it: the element force is 60 % of a step
+(18.5-20 ms at load 5-9, about 9.4 on a quiet machine: benchmarks/explicit_step.py), so a
+quiet machine alone would bring the x4 stroke near 10 min CPU; then the element force on two
+threads when a core is free (not measured here; at most 1.2 times at 9800 triangles under
+load, elements/jit.py); the solver's own update and bookkeeping (3.8 ms a step, numpy); the
+punch's and holder's 3 ms (their compiled passes 0.5-0.7 ms each: the rest is the contact
+blocks' gathers and scatters and the tool work asked of them); the die's candidate searches
+at the stroke's peak pace (about 2 ms a call, numpy and the k-d tree). Fewer steps than x4
+did not keep the case's checks at 20 cells (mass scaling on top of x4).
 
 FULLRUN
 Run from the project root:
