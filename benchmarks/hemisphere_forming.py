@@ -158,7 +158,21 @@ blocks' gathers and scatters and the tool work asked of them); the die's candida
 at the stroke's peak pace (about 2 ms a call, numpy and the k-d tree). Fewer steps than x4
 did not keep the case's checks at 20 cells (mass scaling on top of x4).
 
-FULLRUN
+Measured, the whole 20k-triangle stroke at time scaling x4 (benchmarks/hemisphere_scaling.py
+--cells 100 --time-scaling 4: the case's run, one thread, the code before the drift question
+was compiled and with the slower kept-facet loop of the try above, about 1.5 ms a step more
+in the die than now; load 4.2 -> 2.1): 34884 steps (the step 2.03e-6 s at the end), 1102 s
+of CPU (18.4 min), 2021 s wall (33.7 min: the machine shared), 600 MB resident; it reaches
+the end; KE / W at most 0.087 after the first tenth (none of the stroke above the bound
+0.1), 0.0097 at the end; the damping 1.1 % of the work; the holder did not rise; draw-in of
+the edge middle 28.93 mm (the inextensible centre-line range at 100 cells 24.10-29.68); punch
+force at the end 88.7 N (20 cells: 56.9-64.4 across the settings); rms shear error against
+the net 4.98 deg, against 2.09-2.17 at 20 cells (x4 and the others) and 2.07 unscaled at 32
+cells: the fine blank departs from the net more than the coarse ones, and whether the x4
+stroke does that (its KE / W 0.087 against 0.082 at 20 cells) or the mesh does (wrinkles the
+coarse cells cannot form) would take the unscaled 20k stroke (about 74 min of CPU), not run.
+At 18.4 min of CPU, the stroke is 3 times the 6 min of CPU that 3 minutes on the 2 cores
+allow, and 11 times the 3 minutes of wall on one thread.
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
