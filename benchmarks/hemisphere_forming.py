@@ -96,27 +96,83 @@ thread, CPU:
   same load: 0.9 ms where every node keeps its facet, 7.0 for the scan of every list (the
   nodes' rooms: median 0.026 mm, a quarter below 0.006: many still scan every few steps); the
   rest of the 7.8 ms, not timed apart: the batched searches (56 nodes a call on average) and
-  the numpy passes of ``distance``. In a step the die's contact adds its formulas in numpy
-  (``ContactBlock``: the die takes no compiled pass).
+  the numpy passes of ``distance``. In a step the die's contact added its formulas in numpy
+  (``ContactBlock``); it now takes one compiled pass (below).
 
-Threads: at the loads of this session (6-15 on 2 cores) the default threads chose one (free
+The die's contact compiled (elements/tool_contact.py ``surface_forces``): the closest-facet
+loop (elements/facet_search.py, as it was), then one pass for each node's signed distance, the
+open-edge and far-node answers and k p n; the lists' drift question at every call compiled
+(``largest_drift``); the same forces to the last bit (tests/test_tool_contact.py, and a
+12-cell forming run bit for bit, tests/test_forming_shortcuts_change_nothing.py); the
+closest-facet record kept only once a contact is frozen (Static's stop diagnosis), not on the
+explicit path. Measured, one thread, CPU, 300 calls of the die's contact on the 20k blank
+laid in the die (``--die-calls``' blank), the reference pass beside, before (7e3a340) and
+now, each in a process of its own, one after the other:
+
+* at the stroke's peak pace (7e-4 mm a call; load 5.3 -> 5.6): before 7.3 ms a call, now
+  5.9 (the numpy formulas in the same process 6.9);
+* the blank all but still (1e-7 mm a call; load 5.7 -> 5.9): before 5.7 (4.3 in an earlier
+  pass at load 5.6), now 2.7 (the numpy formulas 3.6).
+
+Where the die's time went nearly still before the drift question was compiled (3.1 ms a
+call, a profile): the closest-facet loop 37 % (0.45-0.65 ms on the starting blank where the
+nodes keep their facets, more where a node's room is small), numpy reductions (the drift
+question, the memory of the last answer) 24 %, the force pass 10 %, the node gather and the
+scatter 10 %. At the peak pace the batched searches of the
+candidate lists (numpy and the k-d tree) add about 2 ms a call: compiling those is what
+remains of the die. A try that made the two loops one (the closest-facet loop's body an
+inlined helper of the pass) made the kept facets' loop 2.4 times slower (2.2-2.6 against
+0.9-1.1 ms on the 10201 nodes, load 6.4): not kept.
+
+Before the drift question was compiled, on the first 0.3 % of the stroke side by side (402
+steps each, one thread, before then now; load 8.4 -> 7.7, 7.6 -> 7.4): 37.2 against 36.3
+ms CPU a step; element force 20.1 / 18.5, die 5.6 / 6.9 (that try's slower loop), the punch
+and holder 3.2 / 3.0, the cells' bound 0.57 / 0.51, the assembled bound 3.5 / 3.3 (one
+evaluation, 1.4 s of CPU), the rotary inertia 0.35 / 0.32, the rest 4.0 / 3.8. (7e3a340 as
+first run in a fresh worktree, 670 steps, load 6.4 -> 5.9: element 21.9, die 6.2, others
+3.6, the assembled bound 74.7 ms a step: its one evaluation compiled the tangent kernels, 50
+s of CPU; warm, an evaluation takes 1.35 s of CPU at load 8.2.)
+
+Threads: at the loads of these measurements (4-9 on 2 cores) the default threads chose one (free
 cores: elements/jit.py), and two forced would measure the other engineers' processes; not
 measured here.
 
-Projected, the full stroke at 20k triangles (133.8k steps of 2.24e-6 s unscaled) at this
-session's pace, the assembled bound amortised (about 1.2 ms a step): about 36 ms CPU a step,
-79 min CPU on one thread (the element force alone 20.2 ms, 45 min). 3 minutes on the 2 cores
-is 6 min of CPU at most: 13 times away. What would close it, each to be measured: the element
-force on two threads on a free machine (at most 1.2 times at 9800 triangles, elements/jit.py);
-mass scaling to 5.5e-6 s (0.53 of the steps, above) or a shorter stroke (time scaling,
-measured at 20 cells on the 10-mm die, benchmarks/hemisphere_scaling.py: twice as fast, half
-the steps, moved the rms by 0.4 % and the draw-in by 0.6 %, KE / W at most 0.026; four times
-as fast drew the edge in 15 % less, KE / W up to 0.082 against the bound 0.1); the die's contact in
-one compiled pass with its distance (as elements/tool_contact.py does for the punch and the
-holder: the remaining numpy passes) and the searches compiled; even then the element force
-(20 ms x 134k steps) is 45 min of CPU at this load: only fewer steps (scaling) or a faster
-element kernel brings the stroke near 3 minutes.
+The stroke in fewer steps (benchmarks/hemisphere_scaling.py, 20 cells, every setting beside
+the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of the case in
+0.25 of the steps (rms 2.087 against 2.140 deg, draw-in 28.50 against 28.57 mm, KE / W at most
+0.082 against the bound 0.1); mass scaling to 2.4e-5 s with time x2 keeps them in 0.29; with
+x4 it does not (KE / W above the bound over 0.28 of the stroke).
 
+Projected, the full stroke at 20k triangles: unscaled 133.8k steps of 2.24e-6 s at about
+33 ms CPU a step at these loads (the element force 18.5-20, the die 3-6, the punch and holder
+3.0, the rest 3.8, the bounds and the rotary inertia 1.2): 74 min CPU on one thread (79
+before); at the chosen time scaling x4 (the stroke in 0.075 s) 33.5k steps, about 18 min
+CPU (the assembled bound's nine evaluations 0.4 ms a step). 3 minutes on the 2 cores is 6
+min of CPU at most: 3 times away. What would close it: the element force is 60 % of a step
+(18.5-20 ms at load 5-9, about 9.4 on a quiet machine: benchmarks/explicit_step.py), so a
+quiet machine alone would bring the x4 stroke near 10 min CPU; then the element force on two
+threads when a core is free (not measured here; at most 1.2 times at 9800 triangles under
+load, elements/jit.py); the solver's own update and bookkeeping (3.8 ms a step, numpy); the
+punch's and holder's 3 ms (their compiled passes 0.5-0.7 ms each: the rest is the contact
+blocks' gathers and scatters and the tool work asked of them); the die's candidate searches
+at the stroke's peak pace (about 2 ms a call, numpy and the k-d tree). Fewer steps than x4
+did not keep the case's checks at 20 cells (mass scaling on top of x4).
+
+Measured, the whole 20k-triangle stroke at time scaling x4 (benchmarks/hemisphere_scaling.py
+--cells 100 --time-scaling 4: the case's run, one thread, the code before the drift question
+was compiled and with the slower kept-facet loop of the try above, about 1.5 ms a step more
+in the die than now; load 4.2 -> 2.1): 34884 steps (the step 2.03e-6 s at the end), 1102 s
+of CPU (18.4 min), 2021 s wall (33.7 min: the machine shared), 600 MB resident; it reaches
+the end; KE / W at most 0.087 after the first tenth (none of the stroke above the bound
+0.1), 0.0097 at the end; the damping 1.1 % of the work; the holder did not rise; draw-in of
+the edge middle 28.93 mm (the inextensible centre-line range at 100 cells 24.10-29.68); punch
+force at the end 88.7 N (20 cells: 56.9-64.4 across the settings); rms shear error against
+the net 4.98 deg, against 2.09-2.17 at 20 cells (x4 and the others) and 2.07 unscaled at 32
+cells: the fine blank departs from the net more than the coarse ones, and whether the x4
+stroke does that (its KE / W 0.087 against 0.082 at 20 cells) or the mesh does (wrinkles the
+coarse cells cannot form) would take the unscaled 20k stroke (about 74 min of CPU), not run.
+At 18.4 min of CPU, the stroke is 3 times the 6 min of CPU that 3 minutes on the 2 cores
+allow, and 11 times the 3 minutes of wall on one thread.
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
@@ -270,10 +326,14 @@ def main() -> None:
         if result is not None:
             energies = {key: values[-1] for key, values in result.energies.items()}
             ratio = energies["kinetic"] / max(abs(energies["external_work"]), 1e-300)
+            quasi = result.info["quasi_static"]
             print(f"  dt {result.info['dt']:.3g} s at the end, added mass "
                   f"{result.info['added_mass_ratio']:.3g} x the model's, kinetic / work at the "
-                  f"end {ratio:.3f}, punch force {result.tool_forces[-1, 1, 2]:.3g} N, "
-                  f"converged {result.converged}", flush=True)  # fmt: skip
+                  f"end {ratio:.3f}, largest after the first tenth "
+                  f"{quasi['kinetic_over_work_largest']:.3f} (above the bound over "
+                  f"{quasi['exceeded_share']:.3f} of the stroke), punch force "
+                  f"{result.tool_forces[-1, 1, 2]:.3g} N, converged {result.converged}",
+                  flush=True)  # fmt: skip
 
 
 NEW_LISTS = (tools.REBUILD_SHARE, tools.KEEP_NEAREST)

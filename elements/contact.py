@@ -466,7 +466,10 @@ class ContactBlock(InteractionBlock):
         of nodes whose status under the unilateral law at ``state`` differs from the set
         frozen in ``history``; all the touching nodes when none is). ``grow``: the set frozen
         in ``history`` with the nodes that penetrate at ``state`` added (their number is the
-        count), the others' sets and directions kept."""
+        count), the others' sets and directions kept. A meshed tool keeps its nodes' closest
+        facets from then on, for the diagnosis of a stopped solve (solvers/stop_diagnosis.py)."""
+        if hasattr(self.tool, "record_facets"):
+            self.tool.record_facets = True
         d, n = self.tool.distance(self._positions(state), state.load_factor)
         p, n, touching = self._touching(d, n, history)
         before = None if history is None else history.active

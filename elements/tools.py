@@ -30,6 +30,7 @@ from elements.facet_search import (
     closest_facets,
     closest_facets_kept,
     closest_on_triangles,
+    largest_drift,
     open_edges,
     signed_from_closest,
     spans,
@@ -470,6 +471,7 @@ class RigidSurface(RigidTool):
         # column in turn (``facet_record``): what a stopped solver's diagnosis reads.
         self._record = np.zeros((0, FACET_RECORD), dtype=np.int64)
         self._recorded = 0
+        self.record_facets = False  # kept only when asked (ContactBlock.freeze: Static's)
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
         # With those hints: where each point's scan was, and its room to keep its facet.
         self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
@@ -554,11 +556,7 @@ class RigidSurface(RigidTool):
         point = local.copy()
         facet = np.zeros(len(local), dtype=np.int64)
         gap = np.zeros(len(local))
-        # Each point's facet of the last call as the hint (mostly its nearest again): the
-        # candidates further than it are skipped, the answer the same (elements/facet_search).
-        hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
-        if hint is None or hint.shape != facet.shape:
-            hint = np.full(len(local), -1)
+        hint, anchor, room = self._kept_lists(len(local))
         if not KEEP_NEAREST:
             closest_facets(
                 local, self.corners, self._centroids, self._radius, SLACK * self.reach,
@@ -566,12 +564,6 @@ class RigidSurface(RigidTool):
             )  # fmt: skip
             self._hint = facet
             return point, facet, gap
-        # Each point's room to move keeping its nearest facet (elements/facet_search.py),
-        # valid with the hints it was found with: anew (-1) where those are not this tool's.
-        kept = getattr(self, "_kept", None)
-        if kept is None or kept[0] is not getattr(self, "_hint", None):
-            kept = (hint, np.zeros((len(local), 3)), np.full(len(local), -1.0))
-        anchor, room = kept[1], kept[2]
         closest_facets_kept(
             local, self.corners, self._centroids, self._radius, SLACK * self.reach,
             candidates[0], candidates[1], hint, anchor, room, point, facet, gap,
@@ -579,6 +571,20 @@ class RigidSurface(RigidTool):
         self._hint = facet
         self._kept = (facet, anchor, room)
         return point, facet, gap
+
+    def _kept_lists(self, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(hint (k,), anchor (k, 3), room (k,)) for ``count`` points: each point's facet of
+        the last call (mostly its nearest again: the candidates further than it are skipped,
+        the answer the same, elements/facet_search.py; -1 for none) and its room to move
+        keeping it, valid with the hints it was found with (anew, -1, where those are not
+        this tool's)."""
+        hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
+        if hint is None or hint.shape != (count,):
+            hint = np.full(count, -1)
+        kept = getattr(self, "_kept", None)
+        if kept is None or kept[0] is not getattr(self, "_hint", None):
+            kept = (hint, np.zeros((count, 3)), np.full(count, -1.0))
+        return hint, kept[1], kept[2]
 
     def _forget_nearest(self, rows: np.ndarray) -> None:
         """The points ``rows`` got new candidate lists: their rooms are asked anew."""
@@ -591,21 +597,7 @@ class RigidSurface(RigidTool):
         last = self._last
         if last is not None and np.array_equal(last[0], local):
             return last[1].copy(), last[2].copy()  # asked again (the energy check of a step)
-        cache = self._cache
-        if cache is None or cache.points.shape != local.shape:
-            cache = self._searched(local, np.ones(len(local), dtype=bool), None)
-            self._kept = None
-        else:
-            # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
-            # was searched, and its kept candidates still hold its closest facet.
-            limit = MARGIN / np.sqrt(3.0) * self.reach
-            drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
-            if (drift >= limit).any():
-                # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
-                rows = drift >= REBUILD_SHARE * limit
-                cache = self._searched(local, rows, cache)
-                self._forget_nearest(rows)
-        self._cache = cache
+        cache = self._prepared(local)
         point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))
         d, n = self._signed(local, point, facet, gap)
         far = cache.far
@@ -624,8 +616,29 @@ class RigidSurface(RigidTool):
             d[near[found]], n[near[found]] = gap[found], normal[found]
         self._last = (local.copy(), d.copy(), n.copy())
         self._last_facet = facet  # each point's closest facet, for normal_gradient
-        self._note_facets(np.where(far, -1, facet))
+        if getattr(self, "record_facets", True):
+            self._note_facets(np.where(far, -1, facet))
         return d, n
+
+    def _prepared(self, local: np.ndarray) -> _Candidates:
+        """The candidate lists for the points ``local`` (k, 3) (the tool's frame), searched
+        again where they have moved past the margin (class docstring), kept as the cache."""
+        cache = self._cache
+        if cache is None or cache.points.shape != local.shape:
+            cache = self._searched(local, np.ones(len(local), dtype=bool), None)
+            self._kept = None
+        else:
+            # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
+            # was searched, and its kept candidates still hold its closest facet.
+            limit = MARGIN / np.sqrt(3.0) * self.reach
+            if largest_drift(local, cache.points) >= limit:  # (compiled: at every call)
+                drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
+                # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
+                rows = drift >= REBUILD_SHARE * limit
+                cache = self._searched(local, rows, cache)
+                self._forget_nearest(rows)
+        self._cache = cache
+        return cache
 
     def _note_facets(self, facet: np.ndarray) -> None:
         """Keep each point's closest facet (k,) (-1 beyond the search distance) of this call
@@ -641,7 +654,9 @@ class RigidSurface(RigidTool):
         """(k, m) the closest facet of each of the points of the last calls of ``distance``
         (k of them in every call), oldest first, m = min(calls, FACET_RECORD) columns; -1
         beyond the search distance. A pressed node that a solver carries back and forth
-        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py)."""
+        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py).
+        Kept while ``record_facets`` is on (a contact's ``freeze``, Static's): an explicit
+        run does not pay for it."""
         record = getattr(self, "_record", np.zeros((0, FACET_RECORD), dtype=np.int64))
         calls = getattr(self, "_recorded", 0)
         if calls < FACET_RECORD:

@@ -151,3 +151,18 @@ def test_a_kept_nearest_facet_gives_the_scans_answer_to_the_last_bit():
         hint = facet
     assert kept > 0.2 * 40 * len(x)  # both ways taken: the kept facet (37 %) and the scan
     assert kept < 0.99 * 40 * len(x)
+
+
+def test_the_largest_drift_is_numpys_largest_coordinate_move():
+    """The compiled question RigidSurface asks at every call (has a point moved past the
+    margin?) against the numpy passes it replaced: the same number, exactly (a max of the
+    same differences)."""
+    from elements.facet_search import largest_drift
+
+    rng = np.random.default_rng(3)
+    anchor = rng.normal(size=(500, 3))
+    x = anchor + rng.normal(scale=1e-3, size=anchor.shape)
+    x[123, 1] = anchor[123, 1] - 0.5  # the largest, a move down
+    expected = np.abs(x - anchor).max(axis=1, initial=0.0).max()
+    assert largest_drift(x, anchor) == expected == abs(x[123, 1] - anchor[123, 1])
+    assert largest_drift(x[:0], anchor[:0]) == 0.0

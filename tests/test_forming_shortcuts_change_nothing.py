@@ -2,7 +2,7 @@
 closest-facet search with each node's last facet as its hint (elements/facet_search.py) and
 the contact forces answered from memory when asked again (ContactBlock.contact_forces) give a
 run identical to the last bit to one without them; so does the compiled contact pass of the
-analytic tools (elements/tool_contact.py) against the numpy formulas."""
+tools (elements/tool_contact.py) against the numpy formulas."""
 
 import numpy as np
 import pytest
@@ -38,29 +38,29 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_mem
     positions, forces = with_shortcuts
     assert np.abs(forces[-1]).max() > 1.0  # the tools pressed the blank
 
-    searched = RigidSurface._from_candidates
+    kept = RigidSurface._kept_lists  # what the numpy and the compiled die's pass start from
     asked = ContactBlock.contact_forces
 
-    def without_hint(self, local, candidates):
+    def without_hint(self, count):
         self._hint = np.zeros(0, dtype=np.int64)
-        return searched(self, local, candidates)
+        return kept(self, count)
 
     def without_memory(self, state, history=None):
         self._last_forces = None
         return asked(self, state, history)
 
-    monkeypatch.setattr(RigidSurface, "_from_candidates", without_hint)
+    monkeypatch.setattr(RigidSurface, "_kept_lists", without_hint)
     monkeypatch.setattr(ContactBlock, "contact_forces", without_memory)
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)
 
 
-def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the_punch_and_holder(
+def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the_tools(
     monkeypatch, with_shortcuts
 ):
-    """The compiled pass of the punch (a sphere) and the holder (a ring along z)
-    (elements/tool_contact.py) against ContactBlock's numpy formulas over a whole run."""
+    """The compiled pass of the punch (a sphere), the holder (a ring along z) and the meshed
+    die (elements/tool_contact.py) against ContactBlock's numpy formulas over a whole run."""
     from elements import tool_contact
 
     positions, forces = with_shortcuts

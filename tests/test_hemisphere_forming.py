@@ -272,3 +272,27 @@ def test_the_net_on_the_compared_cells_lies_on_the_bowl_of_a_die_with_an_entry_r
         assert np.all((np.diff(quadrant, axis=1) > 0.0)[reached[:, 1:] & reached[:, :-1]])
     bowl_end = math.asin(math.sqrt(case.DIE**2 + 2.0 * case.DIE * rim) / (case.DIE + rim))
     assert case.COMPARED_POLAR < bowl_end - math.radians(9.0)
+
+
+def test_the_run_gives_the_solver_its_scaling_options_and_refuses_a_bad_time_scaling(monkeypatch):
+    """``run``'s time and mass scaling reach the solver as stated (the stroke in DURATION / s);
+    without them the case's own unscaled solver."""
+    given = {}
+
+    class Built(Exception):
+        pass
+
+    def solver(**options):
+        given.update(options)
+        raise Built
+
+    monkeypatch.setattr(case, "CentralDifference", solver)
+    with pytest.raises(Built):
+        case.run(4, "fibrous", time_scaling=4.0, mass_scaling_dt=2e-5)
+    assert given["duration"] == case.DURATION / 4.0 and given["mass_scaling_dt"] == 2e-5
+    with pytest.raises(Built):
+        case.run(4, "fibrous")
+    assert given["duration"] == case.DURATION and given["mass_scaling_dt"] is None
+    for bad in (0.0, -2.0, math.nan, math.inf):
+        with pytest.raises(ValueError, match="time_scaling"):
+            case.run(4, "fibrous", time_scaling=bad)

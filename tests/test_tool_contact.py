@@ -99,3 +99,69 @@ def test_contacts_with_other_formulas_keep_the_numpy_path(options):
     cylinder = RigidCylinder((0.0, 0.0, -20.0), (1.0, 0.2, 0.0), 20.0)
     block = Contact(cylinder, np.arange(mesh.n_nodes), penalty=1.0).bind(Body.bare(mesh))
     assert block.compiled_forces is None
+
+
+def _die_and_blank():
+    """A small forming die (a bowl of 10 mm with a 2-mm round and a flange out to 17 mm, 8
+    rings) and a 30-mm blank over it: the blank's corners reach past the flange's edge."""
+    from elements import RigidSurface
+    from validation.specimens import hemisphere_die
+
+    mesh = Mesh.rectangle(30.0, 30.0, nx=10, ny=10, origin=(-15.0, -15.0, 0.0))
+    return RigidSurface(hemisphere_die(10.0, 17.0, rings=8, rim=2.0)), mesh
+
+
+def _pressed(mesh: Mesh, call: int, seed: int) -> State:
+    """The blank drawn into the die by 0.05 mm a call towards the axis and sunk into the bowl
+    (half of it past the contact offset), with some nodes lifted far off the flange, some
+    corners pushed below the flange's plane past its outer edge, and a jitter."""
+    rng = np.random.default_rng(seed)
+    r0 = np.linalg.norm(mesh.points[:, :2], axis=1)
+    r = np.maximum(r0 - 0.05 * call, 0.0)
+    angle = np.arctan2(mesh.points[:, 1], mesh.points[:, 0])
+    z = np.where(r < 9.7, -np.sqrt(np.maximum(9.7**2 - r**2, 0.0)), 0.1)
+    x = np.column_stack([r * np.cos(angle), r * np.sin(angle), z])
+    x += rng.normal(scale=0.05, size=x.shape)
+    x[::7, 2] += 6.0  # beyond the search distance
+    x[r0 > 19.0, 2] = -0.4  # behind the flange's facets, beside its open edge
+    zero = np.zeros_like(x)
+    state = State(positions=x, directors=zero, velocities=zero, angular_velocities=zero)
+    state.load_factor = 0.5
+    return state
+
+
+def test_the_compiled_pass_gives_the_numpy_forces_of_a_meshed_die_on_a_moving_blank():
+    """Two dies, each with its own candidate lists and kept facets: the compiled pass and
+    ContactBlock's numpy formulas over 40 calls on a blank sliding into the bowl (its lists
+    searched again on the way), nodes pressed, nodes off the die, nodes beyond the search
+    distance and nodes beside the flange's open edge: the same forces to the last bit (the
+    same operations in the same order; the far nodes, whose distance numpy's norm may sum in
+    another order, press nothing). The compiled pass keeps no facet record until the
+    contact is frozen (Static's stop diagnosis reads it)."""
+    fast_die, mesh = _die_and_blank()
+    numpy_die, _ = _die_and_blank()
+    nodes = np.arange(mesh.n_nodes)
+    fast = Contact(fast_die, nodes, offset=0.15, penalty=100.0).bind(Body.bare(mesh))
+    assert fast.compiled_forces is tool_contact.contact_forces
+    reference = Contact(numpy_die, nodes, offset=0.15, penalty=100.0).bind(Body.bare(mesh))
+    reference.compiled_forces = None
+    searched = []
+    for call in range(40):
+        state = _pressed(mesh, call, seed=call)
+        d, _ = numpy_die.distance(state.positions, state.load_factor)
+        expected = reference.contact_forces(state)
+        if call == 0:
+            assert (d < 0.15).sum() >= 10 and (d > 0.15).sum() >= 10  # pressed and not
+            assert numpy_die._cache.far.sum() >= 10
+            below = np.linalg.norm(mesh.points[:, :2], axis=1) > 19.0  # lowered past the edge
+            assert below.sum() >= 4 and (d[below] > 0.0).all()  # beside the die, not in it
+        searched.append(fast_die._cache.points.copy() if fast_die._cache is not None else None)
+        np.testing.assert_array_equal(fast.contact_forces(state), expected)
+        np.testing.assert_array_equal(
+            fast.internal_force(state)[0], reference.internal_force(state)[0]
+        )
+    assert not np.array_equal(searched[1], searched[-1])  # the lists were searched again
+    assert fast_die.facet_record().shape[1] == 0
+    fast.freeze(state)
+    fast.contact_forces(_pressed(mesh, 41, seed=41))
+    assert fast_die.facet_record().shape == (mesh.n_nodes, 1)

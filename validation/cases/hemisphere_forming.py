@@ -410,7 +410,10 @@ def compared_cells(mesh: Mesh) -> np.ndarray:
     return np.isfinite(polar) & (polar <= COMPARED_POLAR)
 
 
-def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str, Any]:
+def run(
+    cells: int, kinematics: str, net: np.ndarray | None = None, time_scaling: float = 1.0,
+    mass_scaling_dt: float | None = None,
+) -> dict[str, Any]:  # fmt: skip
     """One forming run and what it measures: ``cells``, ``mesh``, ``result``, ``shear``
     (m,) rad, ``compared`` (m,) bool (``compared_cells``), ``rms_deg`` the rms of shear - net
     shear over them, ``on_bowl`` how many of them end on the die's bowl (within 0.5 mm of the
@@ -420,11 +423,16 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
     fraction of the work the mass-proportional damping dissipated, and the run's ``cost``
     (wall and CPU time, s; the machine's load average at its start and end). A run that
     diverges keeps its last good frame (``result.converged`` False). ``net``: the net's shear
-    at the cells (``net_shear_at``), when already computed."""
+    at the cells (``net_shear_at``), when already computed. Faster runs (the case runs neither;
+    the record's ``scaling`` states them): the stroke in DURATION / ``time_scaling``, and the
+    solver's selective ``mass_scaling_dt``, s (benchmarks/hemisphere_scaling.py)."""
+    if not (math.isfinite(time_scaling) and time_scaling > 0.0):
+        raise ValueError(f"time_scaling must be a finite number > 0, got {time_scaling!r}")
     mesh, built = model(cells, kinematics, rim=DIE_RIM)
     # The automatic step at the default safety 0.9: the rotary inertia follows the lever of a
     # tilted director (docs/theory.md §1.6, §6.2), which the blank's free corners need.
-    solver = CentralDifference(duration=DURATION, damping=DAMPING, progress=False)
+    solver = CentralDifference(duration=DURATION / time_scaling, damping=DAMPING, progress=False,
+                               mass_scaling_dt=mass_scaling_dt)  # fmt: skip
     load, wall, cpu = os.getloadavg()[0], time.perf_counter(), time.process_time()
     try:
         result = solver.solve(built)
@@ -445,6 +453,7 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
     quasi = result.info["quasi_static"]
     energies = result.energies
     lifts = [f.tool_displacements[2, 2] for f in result.frames if len(f.tool_displacements) > 2]
+    scaling = {"time_scaling": time_scaling, "mass_scaling_dt_s": mass_scaling_dt}
     return {
         "cells": cells,
         "mesh": mesh,
@@ -468,6 +477,7 @@ def run(cells: int, kinematics: str, net: np.ndarray | None = None) -> dict[str,
             energies["friction"][-1] / energies["external_work"][-1]
         ),
         "cost": cost,
+        "scaling": {**scaling, "added_mass_ratio": float(result.info["added_mass_ratio"])},
     }
 
 
