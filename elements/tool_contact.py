@@ -247,6 +247,6 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
     tool._kept = (facet, anchor, room)
     tool._last = (local, d, n)
     tool._last_facet = facet
-    if tool.record_facets:
+    if getattr(tool, "record_facets", True):  # a tool pickled before the switch records
         tool._note_facets(np.where(cache.far, -1, facet))
     return forces

@@ -274,7 +274,7 @@ def test_the_net_on_the_compared_cells_lies_on_the_bowl_of_a_die_with_an_entry_r
     assert case.COMPARED_POLAR < bowl_end - math.radians(9.0)
 
 
-def test_the_run_gives_the_solver_its_scaling_options_and_refuses_a_bad_time_scaling(monkeypatch):
+def test_the_run_gives_the_solver_its_scaling_options_and_refuses_bad_ones(monkeypatch):
     """``run``'s time and mass scaling reach the solver as stated (the stroke in DURATION / s);
     without them the case's own unscaled solver."""
     given = {}
@@ -293,6 +293,9 @@ def test_the_run_gives_the_solver_its_scaling_options_and_refuses_a_bad_time_sca
     with pytest.raises(Built):
         case.run(4, "fibrous")
     assert given["duration"] == case.DURATION and given["mass_scaling_dt"] is None
-    for bad in (0.0, -2.0, math.nan, math.inf):
+    for bad in (0.0, -2.0, math.nan, math.inf, True, "4"):
         with pytest.raises(ValueError, match="time_scaling"):
             case.run(4, "fibrous", time_scaling=bad)
+    for bad in (0.0, -1e-6, math.nan):
+        with pytest.raises(ValueError, match="mass_scaling_dt"):
+            case.run(4, "fibrous", mass_scaling_dt=bad)

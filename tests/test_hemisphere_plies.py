@@ -137,7 +137,7 @@ def test_the_mindlin_ply_has_the_transverse_shear_of_an_s3_homogeneous_section()
         assert stiffness == pytest.approx([5.0 * b0 / h**2] * 2, rel=1e-12)
 
 
-def test_the_report_case_forms_both_layups_at_one_holder_force():
+def test_the_report_case_plans_both_layups_at_one_holder_force():
     """The report's hemisphere-plies case (validation/cases/hemisphere_plies.py): at the
     default resolution both layups of both kinematics at the first holder force on the
     study's coarse mesh, the finer mesh at "fine"; the coarse report the fibrous [0/45]

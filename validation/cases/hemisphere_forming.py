@@ -73,9 +73,11 @@ from elements import FibrousShell, MindlinShell, RigidAnnulus, RigidPlane, Rigid
 from elements.layup import ply_shear
 from elements.tools import RigidTool
 from femcore import Mesh, Model
+from femcore.checks import check_positive
 from femcore.loads import smooth_step  # the punch's amplitude
 from materials import ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DivergenceError
+from solvers.common import check_positive_or_none
 from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
 from validation.checks import check
 from validation.paper.orders import observed_orders
@@ -426,8 +428,8 @@ def run(
     at the cells (``net_shear_at``), when already computed. Faster runs (the case runs neither;
     the record's ``scaling`` states them): the stroke in DURATION / ``time_scaling``, and the
     solver's selective ``mass_scaling_dt``, s (benchmarks/hemisphere_scaling.py)."""
-    if not (math.isfinite(time_scaling) and time_scaling > 0.0):
-        raise ValueError(f"time_scaling must be a finite number > 0, got {time_scaling!r}")
+    time_scaling = check_positive(time_scaling, "time_scaling", "")
+    check_positive_or_none(mass_scaling_dt, "mass_scaling_dt", " s")
     mesh, built = model(cells, kinematics, rim=DIE_RIM)
     # The automatic step at the default safety 0.9: the rotary inertia follows the lever of a
     # tilted director (docs/theory.md §1.6, §6.2), which the blank's free corners need.

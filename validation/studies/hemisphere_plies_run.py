@@ -330,7 +330,7 @@ def run(
             f"{KINETIC_BOUND:g} of the external work (quasi-static; the largest KE / W is "
             "reported beside it)",
             0.0,
-            inertia["exceeded_share"],
+            math.inf if inertia["exceeded_share"] is None else inertia["exceeded_share"],
             KINETIC_SHARE,
             relative=False,
             source="solvers/quasi_static.py: KE / W, the hemisphere-forming case's rule "
