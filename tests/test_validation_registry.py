@@ -46,6 +46,7 @@ REPORT_ORDER = [
     "mindlin-scordelis-lo",
     "mindlin-pinched-cylinder",
     "hemisphere-forming",
+    "hemisphere-plies",
 ]
 
 
