@@ -29,6 +29,7 @@ __all__ = [
     "KINETIC_CHECK_FROM",
     "KINETIC_SHARE",
     "KINETIC_WORK_FLOOR",
+    "judged_records",
     "kinetic_over_work",
     "quasi_static_report",
 ]
@@ -62,6 +63,24 @@ def kinetic_over_work(kinetic: np.ndarray, external_work: np.ndarray) -> np.ndar
     kinetic = np.asarray(kinetic, dtype=float)
     work = np.asarray(external_work, dtype=float)
     return np.divide(kinetic, work, out=np.zeros_like(kinetic), where=work > 0.0)
+
+
+def judged_records(time, work, duration: float, final_work: float | None = None) -> np.ndarray:
+    """Where KE / W is judged: the records after the first KINETIC_CHECK_FROM of the
+    ``duration`` (s) whose external work (N mm) is positive and at least KINETIC_WORK_FLOOR of
+    the final work (``final_work``; the last of ``work`` when None). ``time`` and ``work``:
+    (k,) arrays of the same records. Returns a (k,) boolean mask.
+
+    Early in a run the work is a small fraction of its end and KE / W reads large on tiny
+    energies; the floor keeps those records from deciding a quasi-static check."""
+    time = np.asarray(time, dtype=float)
+    work = np.asarray(work, dtype=float)
+    final = float(work[-1]) if final_work is None else float(final_work)
+    return (
+        (time >= KINETIC_CHECK_FROM * duration)
+        & (work >= KINETIC_WORK_FLOOR * final)
+        & (work > 0.0)
+    )
 
 
 def quasi_static_report(
@@ -102,8 +121,7 @@ def quasi_static_report(
     time = np.asarray(energies["time"], dtype=float)
     work = np.asarray(energies["external_work"], dtype=float)
     ratio = kinetic_over_work(energies["kinetic"], work)
-    judged = (time >= KINETIC_CHECK_FROM * duration) & (work >= KINETIC_WORK_FLOOR * work[-1])
-    judged &= work > 0.0
+    judged = judged_records(time, work, duration)
     largest = largest_at = exceeded_at = share = None
     if judged.any():
         index = int(np.flatnonzero(judged)[np.argmax(ratio[judged])])

@@ -25,6 +25,7 @@ from solvers.quasi_static import (
     KINETIC_BOUND,
     KINETIC_CHECK_FROM,
     KINETIC_WORK_FLOOR,
+    judged_records,
     quasi_static_report,
 )
 
@@ -228,3 +229,20 @@ def test_the_run_summary_reports_the_quasi_static_account(tmp_path):
     report = summary["quasi_static"]
     assert report == pytest.approx(run.result.info["quasi_static"])
     assert report["exceeded_at_s"] is not None and report["added_mass_ratio"] == 0.0
+
+
+def test_the_judged_records_start_after_the_first_tenth_where_the_work_has_reached_its_floor():
+    """One window for every KE / W check: a record is judged when its time is past
+    KINETIC_CHECK_FROM of the duration, its work is positive and at least KINETIC_WORK_FLOOR
+    of the final work (the run's own unless another is given)."""
+    time = np.array([0.0, 0.05, 0.1, 0.2, 0.5, 1.0])
+    work = np.array([0.0, 5.0, 0.5, 2.0, 50.0, 100.0])  # the floor: 1 N mm of 100
+    assert KINETIC_CHECK_FROM == 0.1 and KINETIC_WORK_FLOOR == 0.01
+    judged = judged_records(time, work, duration=1.0)
+    assert judged.tolist() == [False, False, False, True, True, True]
+    # a final work given from elsewhere (the run's, for records taken at other times)
+    assert judged_records(time, work, 1.0, final_work=300.0).tolist() == [
+        False, False, False, False, True, True
+    ]  # fmt: skip
+    negative = judged_records(time, -work, 1.0, final_work=100.0)
+    assert not negative.any()  # no positive work, nothing to judge

@@ -25,9 +25,8 @@ from femcore.topology import nodal_normals
 from solvers import CentralDifference, SolverError
 from solvers.quasi_static import (
     KINETIC_BOUND,
-    KINETIC_CHECK_FROM,
     KINETIC_SHARE,
-    KINETIC_WORK_FLOOR,
+    judged_records,
     kinetic_over_work,
     quasi_static_report,
 )
@@ -260,8 +259,8 @@ def run(
     # once the work has reached its floor; without the floor the fibrous [0/90] plies (8
     # cells, 20 N) read 0.31 of W early in the stroke, the work below a hundredth of its
     # end, where the run's KE / W judged from the floor on is 0.086 at most
-    floor = KINETIC_WORK_FLOOR * abs(float(result.energies["external_work"][-1]))
-    judged = (shares["time"] >= KINETIC_CHECK_FROM * DURATION) & (work >= floor) & (work > 0.0)
+    final = abs(float(result.energies["external_work"][-1]))
+    judged = judged_records(shares["time"], work, DURATION, final)
     parameters[f"{prefix}_largest_ply_kinetic_over_work"] = float(
         (shares["plies"].sum(axis=1)[judged] / work[judged]).max(initial=0.0)
     )
@@ -468,9 +467,7 @@ def _kinetic_figure(data: PliesData, out_dir: Path) -> Figure:
     for key, result in data.runs.items():
         energies = result.energies
         time, work = energies["time"], energies["external_work"]
-        judged = (time >= KINETIC_CHECK_FROM * DURATION) & (
-            work >= KINETIC_WORK_FLOOR * abs(float(work[-1]))
-        )
+        judged = judged_records(time, work, DURATION, abs(float(work[-1])))
         (line,) = ax.plot(
             time[judged], kinetic_over_work(energies["kinetic"], work)[judged], label=key
         )
