@@ -41,18 +41,23 @@ steps, rms 4.978 deg, draw-in 28.93 mm, punch 88.7 N, KE / W at most 0.087 (none
 stroke above the bound), the holder down, 1102 s of CPU (benchmarks/hemisphere_forming.py;
 its unscaled run, which would tell the scaling's share of that rms from the mesh's, not run).
 
-At 40 cells, x4 beside the unscaled run (one thread, CPU, one at a time):
+At 40 cells, x2 and x4 beside the unscaled run (one thread, CPU, one at a time):
 
 * unscaled: 55444 steps, rms 1.771 deg, draw-in 28.58 mm, punch 75.7 N, KE / W at most 0.020
   (0), damping 2.7 % of the work, 0 mm, 420 s (load 1.4 -> 4.5, a test run beside it);
+* time x2: 27723 steps, rms 1.698, draw-in 24.89, punch 77.6, KE / W at most 0.026 (0),
+  damping 1.7 %, 0 mm, 208 s (0.4 -> 1.0);
 * time x4: 13867 steps, rms 2.303, draw-in 24.75, punch 78.0, KE / W at most 0.091 (0),
   damping 1.5 %, 0 mm, 176 s (4.6 -> 3.3).
 
 So x4 is not safe on finer meshes although it passes the quasi-static check: at 40 cells it
-moves the rms by +30 % and the draw-in by -13 % (at 20 cells -2.5 % and -0.2 %), KE / W
-staying below the bound throughout. The KE / W rule does not guard the compared results
-against the stroke's speed; a scaling has to be measured against the unscaled run at the
-resolution it is used at. The 20k stroke's 4.98 deg at x4 is therefore not the mesh's figure.
+moves the rms by +30 % and the draw-in by -13 % (at 20 cells -2.5 % and -0.2 %), KE / W staying
+below the bound throughout; x2 moves the draw-in as much (-13 %) and the rms by -4 % (KE / W
+0.026): the 40-cell edge middle takes one of two draw-ins (28.6 or 24.8-24.9 mm) and the
+stroke's speed decides which, not examined further. The KE / W rule does not guard the compared
+results against the stroke's speed; a scaling has to be measured against the unscaled run at
+the resolution it is used at. The 20k stroke's 4.98 deg at x4 is therefore not the mesh's
+figure.
 """
 
 from __future__ import annotations
