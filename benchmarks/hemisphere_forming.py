@@ -174,7 +174,7 @@ coarse cells cannot form) would take the unscaled 20k stroke (about 74 min of CP
 At 40 cells x4 moves the rms from 1.771 to 2.303 deg and the draw-in from 28.58 to 24.75 mm
 against the unscaled run (benchmarks/hemisphere_scaling.py), KE / W below the bound throughout
 (x2: rms 1.698 deg, draw-in 24.89 mm): x4 is not a safe setting on fine meshes, so the x4
-stroke's figures are not the 20k mesh's, and the time it took is not that of a trustworthy
+stroke's figures cannot be taken as the 20k mesh's, nor its time as that of a trustworthy
 stroke; x2 (or mass scaling alone) would have to be measured beyond 40 cells before it is used.
 At 18.4 min of CPU, the stroke is 3 times the 6 min of CPU that 3 minutes on the 2 cores allow,
 and 11 times the 3 minutes of wall on one thread.

@@ -56,8 +56,8 @@ below the bound throughout; x2 moves the draw-in as much (-13 %) and the rms by 
 0.026): the 40-cell edge middle takes one of two draw-ins (28.6 or 24.8-24.9 mm) and the
 stroke's speed decides which, not examined further. The KE / W rule does not guard the compared
 results against the stroke's speed; a scaling has to be measured against the unscaled run at
-the resolution it is used at. The 20k stroke's 4.98 deg at x4 is therefore not the mesh's
-figure.
+the resolution it is used at. So the 20k stroke's 4.98 deg at x4 cannot be taken as the
+mesh's figure.
 """
 
 from __future__ import annotations
