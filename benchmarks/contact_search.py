@@ -1,4 +1,4 @@
-"""Cost of the contact search against a meshed tool (elements.tools.RigidSurface).
+"""Cost of the contact search against a meshed tool (elements.rigid_surface.RigidSurface).
 
 A closed sphere of radius 100 mm meshed with about 1k, 10k and 100k triangles (the convex hull
 of a Fibonacci lattice); 10k points scattered within +-2 mm of it (a blank lying on a tool).

@@ -206,7 +206,8 @@ os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 
 from contact_search import best  # noqa: E402
 
-from elements import RigidSurface, jit, tools  # noqa: E402
+from elements import RigidSurface, jit  # noqa: E402
+from elements import rigid_surface as tools  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
 from validation.specimens import hemisphere_die  # noqa: E402
@@ -231,7 +232,7 @@ def main() -> None:
         default="old,new",
         help='the die\'s candidate lists, a list: "old" searches again only the nodes past '
         'the margin and scans every candidate at every step, "new" searches in batches '
-        "(elements.tools.REBUILD_SHARE) and keeps a nearest facet while it cannot change "
+        "(elements.rigid_surface.REBUILD_SHARE) and keeps a nearest facet while it cannot change "
         "(KEEP_NEAREST); each run is made once per value",
     )
     parser.add_argument("--rim", type=float, default=case.DIE_RIM, help="the die's entry radius")

@@ -7,7 +7,8 @@ from elements.contact import Contact
 from elements.fibrous import FibrousShell
 from elements.grip import Grip
 from elements.mindlin import MindlinShell
-from elements.tools import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
+from elements.rigid_surface import RigidSurface
+from elements.tools import RigidCylinder, RigidPlane, RigidSphere
 
 __all__ = [
     "Cable", "Contact", "ElementBlock", "ElementType", "FibrousShell", "Grip", "MindlinShell",

@@ -1,4 +1,4 @@
-"""The turn of a meshed tool's closest-point normal as a point moves (elements/tools.py
+"""The turn of a meshed tool's closest-point normal as a point moves (elements/rigid_surface.py
 ``RigidSurface.normal_gradient``; docs/theory.md §9.3): the contact tangent's k p dn/dx round
 the edges and vertices of the facets."""
 

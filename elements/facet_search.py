@@ -1,4 +1,4 @@
-"""The closest facet of a meshed rigid tool (elements.tools.RigidSurface), compiled (numba):
+"""The closest facet of a meshed rigid tool (elements.rigid_surface.RigidSurface), compiled (numba):
 for each point, the closest point on each of its candidate facets, the nearest kept.
 
 A forming blank asks this of its ten thousand nodes at every explicit step, each with about

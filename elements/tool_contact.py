@@ -1,6 +1,6 @@
 """The frictionless contact of a node set with a rigid tool (a plane, a sphere or a flat
-ring, elements/annulus.py, or a meshed tool, elements.tools.RigidSurface) in one compiled pass
-over the nodes: the tool's signed distance and normal, the penetration and the force k p n of
+ring, elements/annulus.py, or a meshed tool, elements/rigid_surface.py) in one compiled pass over
+the nodes: the tool's signed distance and normal, the penetration and the force k p n of
 each node (elements/contact.py, docs/theory.md §9), the formulas of
 ``ContactBlock.contact_forces`` with the tool's ``distance`` in the same order of operations.
 
@@ -36,12 +36,13 @@ import math
 
 import numpy as np
 
-from elements import tools
+from elements import rigid_surface
 from elements.annulus import RigidAnnulus
 from elements.contact import ContactBlock
 from elements.facet_search import SLACK, closest_facets_kept
 from elements.jit import jit, prange
-from elements.tools import RigidPlane, RigidSphere, RigidSurface, RigidTool
+from elements.rigid_surface import RigidSurface
+from elements.tools import RigidPlane, RigidSphere, RigidTool
 
 __all__ = [
     "annulus_forces", "compiled_pass_applies", "contact_forces", "plane_forces", "sphere_forces",
@@ -223,7 +224,7 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
     last = tool._last
     if (
         tool.smooth
-        or not tools.KEEP_NEAREST
+        or not rigid_surface.KEEP_NEAREST
         or (last is not None and np.array_equal(last[0], local))
     ):
         d, n = tool.distance(x, load_factor)
@@ -240,13 +241,10 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
     d, n, forces = np.empty(len(local)), np.empty((len(local), 3)), np.empty((len(local), 3))
     surface_pass(
         local, point, facet, gap, tool.normals, tool.edge_start, tool.edge_out,
-        1e-9 * tool.reach, 1e-12 * max(tool.reach, 1.0), cache.far, cache.points,
+        tool.beside_tolerance, tool.on_surface_tolerance, cache.far, cache.points,
         cache.distance, cache.normal, block.offset, block.stiffness, d, n, forces,
     )  # fmt: skip
     tool._hint = facet
     tool._kept = (facet, anchor, room)
-    tool._last = (local, d, n)
-    tool._last_facet = facet
-    if getattr(tool, "record_facets", True):  # a tool pickled before the switch records
-        tool._note_facets(np.where(cache.far, -1, facet))
+    tool._remember(local, d, n, facet, cache.far)
     return forces

@@ -234,10 +234,12 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     A mode along which a push is no descent (``push_descends``) gives None as well.
 
     ``pattern``: (forces, moments, imposed displacements) per unit load factor of the phase."""
+    if not run.negative:  # no negative pivot in the factorisation: no mode to follow
+        return None
     dofs, state = run.model.dofs, run.state
     frames = dofs.frames(state.directors)
     k_ff, k_fp = run.tangent(state, frames)
-    values, vectors = lowest_modes(k_ff, run.negative or 1)
+    values, vectors = lowest_modes(k_ff, run.negative)
     negative = np.flatnonzero(values < 0.0)
     if negative.size == 0:
         return None

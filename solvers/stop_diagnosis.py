@@ -27,9 +27,9 @@ import numpy as np
 __all__ = ["CYCLE_SWITCHES", "crossing_cycles", "describe_cycles", "stop_hint"]
 
 # The least number of changes between the two facets in a point's record (of
-# elements/tools.py FACET_RECORD calls) that counts as a cycle (the node of the faceted trough
-# of tests/test_tool_smoothing.py switched 8 times in 16, the line search's shorter trials
-# keeping it on one side between).
+# elements/rigid_surface.py FACET_RECORD calls) that counts as a cycle (the node of the
+# faceted trough of tests/test_tool_smoothing.py switched 8 times in 16, the line search's
+# shorter trials keeping it on one side between).
 CYCLE_SWITCHES = 6
 # Facets whose normals differ by less than this (deg) make no crease (the plain 16-cell drape's
 # flange node 81 went to and fro between two coplanar facets of the die's flange).
@@ -52,8 +52,7 @@ def crossing_cycles(model: Any) -> list[dict[str, Any]]:
             continue
         if getattr(tool, "smooth", False):
             continue  # a smoothed tool's normal is continuous across its edges: no crease
-        record_of = tool.facet_record
-        record = record_of()
+        record = tool.facet_record()
         if record.shape[0] != len(connectivity) or record.shape[1] <= CYCLE_SWITCHES:
             continue
         low, high = record.min(axis=1), record.max(axis=1)
@@ -69,14 +68,15 @@ def crossing_cycles(model: Any) -> list[dict[str, Any]]:
             if len(shared) != 2:
                 continue  # facets meeting at a vertex only, or apart: not an edge's crease
             cosine = float(np.clip(tool.normals[a] @ tool.normals[b], -1.0, 1.0))
-            if np.degrees(np.arccos(cosine)) < CREASE_DEG:
+            angle = float(np.degrees(np.arccos(cosine)))
+            if angle < CREASE_DEG:
                 continue  # coplanar facets (a flange): the normal does not jump there
             found.append(
                 {
                     "node": int(connectivity[row, 0]),
                     "tool": index,
                     "facets": (a, b),
-                    "angle_deg": float(np.degrees(np.arccos(cosine))),
+                    "angle_deg": angle,
                     "switches": int(switches[row]),
                     "edge": np.array(shared),
                 }

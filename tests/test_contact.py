@@ -566,12 +566,12 @@ def test_a_heavy_strip_draped_over_a_cylinder_wraps_it_then_hangs_as_a_heavy_ela
 # ---------------------------------------------------------------------- meshed tools
 def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_finds():
     """RigidSurface's k-d tree search against brute force over every facet (the exact
-    point-triangle distances of elements.tools.closest_on_triangles): the same distance
+    point-triangle distances of elements.facet_search.closest_on_triangles): the same distance
     to rounding (1e-12 mm) for points inside and outside a 600-facet sphere, near it and
     within the search distance; and the distance to the facets differs from that to the
     sphere they approximate by less than the facets' sagitta."""
     from elements import RigidSurface
-    from elements.tools import closest_on_triangles
+    from elements.facet_search import closest_on_triangles
 
     radius = 10.0
     mesh = fibonacci_sphere(radius, 302)
@@ -610,6 +610,25 @@ def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_fin
     assert np.all(d[outside] > 0) and np.all(d[exact < -sagitta] < 0)
 
 
+def test_a_meshed_tool_pickled_under_its_former_module_loads_and_answers_alike():
+    """Checkpoints written before the meshed tool had its own module name the class
+    elements.tools.RigidSurface: such a pickle loads (elements.tools' module __getattr__)
+    into a tool that gives the same distances, to the last bit."""
+    import pickle
+
+    from elements import RigidSurface
+
+    tool = RigidSurface(fibonacci_sphere(10.0, 60))
+    old = pickle.dumps(tool, protocol=2).replace(
+        b"elements.rigid_surface\nRigidSurface", b"elements.tools\nRigidSurface"
+    )
+    assert b"elements.rigid_surface" not in old
+    loaded = pickle.loads(old)
+    assert type(loaded) is RigidSurface
+    x = np.random.default_rng(3).normal(size=(40, 3)) * 10.0
+    np.testing.assert_array_equal(loaded.distance(x)[0], tool.distance(x)[0])
+
+
 def test_a_meshed_tool_searches_again_the_points_that_moved_past_its_margin_in_batches():
     """Points wandering near a 600-facet sphere, a few of them jumping beyond the cache's
     margin at each call while the others creep: at every call the distances within the
@@ -618,7 +637,8 @@ def test_a_meshed_tool_searches_again_the_points_that_moved_past_its_margin_in_b
     moved past REBUILD_SHARE of it, the others keeping their candidate facets. The same
     points asked again get the same answer, not a view of the tool's memory."""
     from elements import RigidSurface
-    from elements.tools import MARGIN, REBUILD_SHARE, closest_on_triangles
+    from elements.facet_search import closest_on_triangles
+    from elements.rigid_surface import MARGIN, REBUILD_SHARE
 
     radius = 10.0
     mesh = fibonacci_sphere(radius, 302)

@@ -1,4 +1,4 @@
-"""The meshed die's candidate lists (RigidSurface's Verlet list, elements/tools.py): on a
+"""The meshed die's candidate lists (RigidSurface's Verlet list, elements/rigid_surface.py): on a
 blank drawn into the hemisphere die, the distance answered from each node's kept candidates
 is the full search's over every facet, to the last bit, at every call; a node moved past the
 margin (half the list's skin) is searched again, with it those past REBUILD_SHARE of it, and
@@ -8,7 +8,7 @@ import numpy as np
 
 from elements import RigidSurface
 from elements.facet_search import SLACK, closest_facets
-from elements.tools import MARGIN, REBUILD_SHARE
+from elements.rigid_surface import MARGIN, REBUILD_SHARE
 from femcore.mesh import Mesh
 from validation.cases import hemisphere_forming as case
 from validation.specimens import hemisphere_die

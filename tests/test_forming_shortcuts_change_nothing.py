@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from elements.contact import ContactBlock
-from elements.tools import RigidSurface
+from elements.rigid_surface import RigidSurface
 from solvers import CentralDifference
 from validation.cases import hemisphere_forming as case
 
@@ -78,7 +78,7 @@ def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_w
     against the lists searched again node by node past the margin and scanned at every
     step: the same run, bit for bit (the nodes beyond the search distance, told a distance
     that depends on when they were searched, touch nothing)."""
-    from elements import tools
+    from elements import rigid_surface as tools
 
     positions, forces = with_shortcuts
     assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST
