@@ -208,6 +208,7 @@ from contact_search import best  # noqa: E402
 
 from elements import RigidSurface, jit, tools  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
+from solvers import step as step_module  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
 from validation.specimens import hemisphere_die  # noqa: E402
 
@@ -233,6 +234,13 @@ def main() -> None:
         'the margin and scans every candidate at every step, "new" searches in batches '
         "(elements.tools.REBUILD_SHARE) and keeps a nearest facet while it cannot change "
         "(KEEP_NEAREST); each run is made once per value",
+    )
+    parser.add_argument(
+        "--nodal-update",
+        default="one",
+        help='the step\'s nodal update, a list: "one" compiled pass over the nodes '
+        "(solvers/central_pass.py) or \"two\" (the velocities', then the rotations'); each run "
+        "is made once per value",
     )
     parser.add_argument("--rim", type=float, default=case.DIE_RIM, help="the die's entry radius")
     parser.add_argument(
@@ -287,10 +295,15 @@ def main() -> None:
             raise _Enough
         return {}
 
-    runs = itertools.product(args.mass_scaling_dt.split(","), args.die_lists.split(","))
-    for target, lists in runs:
+    runs = itertools.product(
+        args.mass_scaling_dt.split(","), args.die_lists.split(","), args.nodal_update.split(",")
+    )
+    for target, lists, update in runs:
         scaling = None if target.strip().lower() == "none" else float(target)
         die_lists(lists)
+        if update.strip() not in ("one", "two"):
+            raise ValueError(f'--nodal-update takes "one" and "two", got {update!r}')
+        step_module.FUSED = update.strip() == "one"
         # A fresh model per run: the die's candidate lists start empty in each.
         compiled = case.model(args.cells, "fibrous", rim=args.rim)[1].compile()
         compiled.commit = counting(compiled.commit)  # type: ignore[method-assign]
@@ -316,7 +329,8 @@ def main() -> None:
             result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         per_step = wall / steps[0]
-        print(f"run, mass scaling {scaling}, the die's lists {lists}, {args.fraction:g} "
+        print(f"run, mass scaling {scaling}, the die's lists {lists}, nodal update in {update} "
+              f"pass(es), {args.fraction:g} "
               f"of the stroke: {wall:.1f} s wall, "
               f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
               f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
@@ -414,6 +428,7 @@ class Phases:
     def __init__(self, compiled) -> None:
         self.spent: dict[str, list[float]] = {}
         self.wrapped: list[tuple[object, str]] = []
+        self.restored: list[tuple[object, str, object]] = []
         # Each evaluation of the assembled bound: (time, the bound, the cells' bound), s.
         self.assembled: list[tuple[float, float, float]] = []
         evaluate, cells = compiled.assembled_stable_dt, compiled.cell_stable_dt
@@ -441,12 +456,18 @@ class Phases:
         self._wrap(compiled, "cell_stable_dt", "stable step (cells)")
         self._wrap(compiled, "assembled_stable_dt", "stable step (assembled)")
         self._wrap(compiled, "lumped_mass", "rotary inertia refresh")
+        # The rest taken apart: the external loads, the parts' forces summed, the nodal update
+        # (velocities, positions, rotations and their energy terms), the history commit.
+        self._wrap(compiled, "external_load", "rest: external load")
+        self._wrap(compiled, "commit", "rest: commit")
+        for name in ("update_and_turn", "update_rates", "turn"):
+            self._wrap(step_module, name, "rest: nodal update", module=True)
 
     def _count(self, local, rows, cache) -> None:
         self.searched[0] += 1
         self.searched[1] += int(np.count_nonzero(rows))
 
-    def _wrap(self, owner, name: str, phase: str, count=None) -> None:
+    def _wrap(self, owner, name: str, phase: str, count=None, module: bool = False) -> None:
         method = getattr(owner, name, None)
         if method is None:
             return
@@ -462,17 +483,23 @@ class Phases:
                 totals[0] += time.perf_counter() - wall
                 totals[1] += time.process_time() - cpu
 
+        if module:  # a module's function: put back as it was by ``undo``
+            setattr(owner, name, timed)
+            self.restored.append((owner, name, method))
+            return
         object.__setattr__(owner, name, timed)
         self.wrapped.append((owner, name))
 
     def undo(self) -> None:
         for owner, name in self.wrapped:
             object.__delattr__(owner, name)
+        for owner, name, method in self.restored:
+            setattr(owner, name, method)
 
     def report(self, wall: float, cpu: float, steps: int) -> str:
         outer = [value for phase, value in self.spent.items() if phase not in self.nested]
         rest = [wall - sum(w for w, _ in outer), cpu - sum(c for _, c in outer)]
-        rows = [*self.spent.items(), ("update, output, bookkeeping", rest)]
+        rows = [*self.spent.items(), ("rest: the other bookkeeping", rest)]
         lines = [
             f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
             f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
