@@ -90,11 +90,14 @@ def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_w
     np.testing.assert_array_equal(forces, plain_forces)
 
 
+@pytest.mark.slow
 def test_a_forming_run_is_the_same_to_the_last_bit_with_the_nodal_update_in_two_passes(
     monkeypatch, with_shortcuts
 ):
     """The explicit step's nodal update in one compiled pass (solvers/central_pass.py)
-    against the velocities' pass then the rotations' pass over a whole forming run."""
+    against the velocities' pass then the rotations' pass over a whole forming run (slow:
+    about 5 s of CPU; tests/test_step.py holds one step to the last bit in the default
+    run)."""
     from solvers import step
 
     positions, forces = with_shortcuts
