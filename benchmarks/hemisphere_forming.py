@@ -14,10 +14,56 @@ each run at that fraction of the stroke's time (its figures: those of the steps 
 
 ``--phases`` times the pieces of the steps (CPU and wall per step): the element force
 passes, the contacts (the meshed die's closest-facet search inside), the cells' and the
-assembled stable step, the lumped masses (the rotary inertia refresh every 10 steps), the rest
-(the update, the output, the bookkeeping); it lists each evaluation of the assembled bound
-with its ratio to the cells' bound of the model's own masses, and each run prints its mean
-step and the whole stroke projected at that pace.
+assembled stable step, the lumped masses (the rotary inertia refresh every 10 steps), and the
+rest taken apart: the external loads, the nodal update (velocities, positions, rotations and
+their energy terms), the history commit and the other bookkeeping (the parts' forces summed,
+the energy account, the output); it lists each evaluation of the assembled bound with its
+ratio to the cells' bound of the model's own masses, and each run prints its mean step and the
+whole stroke projected at that pace. ``--nodal-update one,two`` runs the step's nodal update
+in one compiled pass over the nodes (solvers/central_pass.py) or in two (the velocities',
+then the rotations').
+
+Subnormal numbers and the one-pass update, measured at 20k triangles on the first 0.3 % of
+the stroke (402 steps of 2.24e-6 s), one thread, CPU, main (9864ff6, a second checkout) and
+this code one after the other, twice (load 5.9 -> 6.9, 6.9 -> 6.7; then 6.9 -> 7.3,
+7.6 -> 8.3):
+
+* before: 36.82 / 36.83 ms a step: element force 21.06 / 21.84, die 3.51 / 3.58, punch and
+  holder 3.33 / 3.41, the cells' bound 0.58 / 0.59, the assembled bound 3.84 / 2.92 (its one
+  evaluation), the rotary inertia 0.36 / 0.37, the rest 4.14 / 4.11;
+* after: 29.85 / 28.45 ms a step (0.81 / 0.77): element force 16.81 / 15.81, die 3.24 /
+  2.91, punch and holder 3.10 / 2.90, the cells' bound 0.52 / 0.49, the assembled bound 3.47
+  / 3.81, the rotary inertia 0.32 / 0.30, the rest 2.38 / 2.24: the external loads 0.22 /
+  0.21, the nodal update 1.12 / 1.06, the commit 0.006, the other bookkeeping 1.03 / 0.96.
+
+What changed: the run flushes subnormal numbers to zero while it steps (elements/subnormals.py,
+the processor's FTZ and DAZ modes). A run from rest spreads its disturbance one ring of cells
+a step; ahead of the wave the velocities, moments and the directors' in-plane components are
+tiny, and their products fall below 2.2e-308, where each operation costs the processor some
+hundred cycles. The nodal update's arguments at step 250 held 819 subnormal velocity
+components, 1046 in the internal forces, 648 in the moments (of 30606 each): the update took
+2.5-2.7 ms CPU on them against 0.7-0.8 on random data of the same size (load 8); the element
+force on that state 15.6-15.9 ms against 11.7-12.1 with the directors' changes below 1e-30
+dropped (11.2-11.4 on the starting state; load 7.6). In a whole step, the same code with and
+without the modes (load 5.5 and 5.8): 27.17 against 27.65 ms, the element force 14.9 against
+16.5, the nodal update 0.99 against 2.24, the assembled bound's one evaluation 3.9 against 2.4
+(that evaluation's noise). A forming run is the same to the last bit with them
+(tests/test_subnormals.py). How long the wave front's subnormals last in the stroke was not
+measured: once the whole blank moves they are gone, and so is this gain.
+
+The one-pass nodal update (solvers/central_pass.py; the same numbers to the last bit,
+tests/test_step.py) is no faster than the two passes it replaces: on the captured arguments of
+step 250, 2.53-3.28 against 2.46-2.97 ms with the subnormals (best of 100, load 8), in the
+runs above 2.77 / 2.60 against 2.37 (one, two, one in one process, load 9.0 -> 8.5): the
+update is arithmetic (the directors' Rodrigues turn, a sine and a cosine a node), not memory
+traffic, at 10201 nodes.
+
+Where the element force goes (a profile of 268 steps at 20k, main, load 7.5, CPU per step):
+the cells' pass (tension, shear, bending of each cell, elements/fibrous/kernels.py
+``_cells_pass``) 15.7 ms, the pulls' pass 1.8, the sides' folds 1.6, the normals 1.3 (with
+the cells' bound's), the normal sums 0.6, the nodal sums of the loads 0.5, of dW/dS_k 0.3,
+the nodes' frames 0.16. The cells' pass is three fibre levels of two logarithms, an arcsine
+and two roots each, plus the corner terms and the bending: not changed here.
 
 Measured at 20k triangles on the first 1 % of the stroke, one thread, this machine's 2 cores
 shared with other work (load 5-12: CPU times, which the load inflates too; the same code ran
@@ -134,8 +180,14 @@ first run in a fresh worktree, 670 steps, load 6.4 -> 5.9: element 21.9, die 6.2
 s of CPU; warm, an evaluation takes 1.35 s of CPU at load 8.2.)
 
 Threads: at the loads of these measurements (4-9 on 2 cores) the default threads chose one (free
-cores: elements/jit.py), and two forced would measure the other engineers' processes; not
-measured here.
+cores: elements/jit.py). Two forced on the element force at 20k (the starting state, 30 calls
+a round, one thread then two, three rounds, load 7.8-7.9, the quietest this session found):
+median wall 34.8 / 33.6 / 34.3 ms on one thread against 29.2 / 29.6 / 33.0 on two (1.04-1.19
+times as fast), while the free cores' count said one: right at that load, where a second
+thread takes a core another process is using for a gain of a tenth. The count takes this
+process's own CPU share out of the load (tests/test_threads.py: alone and busy on one thread
+of two cores, it gives two), so on a machine whose second core is free the element force
+runs on both; the speed-up there was not measured (the machine was never quiet).
 
 The stroke in fewer steps (benchmarks/hemisphere_scaling.py, 20 cells, every setting beside
 the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of the case in
@@ -143,9 +195,32 @@ the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of 
 0.082 against the bound 0.1); mass scaling to 2.4e-5 s with time x2 keeps them in 0.29; with
 x4 it does not (KE / W above the bound over 0.28 of the stroke).
 
-Projected, the full stroke at 20k triangles: unscaled 133.8k steps of 2.24e-6 s at about
-33 ms CPU a step at these loads (the element force 18.5-20, the die 3-6, the punch and holder
-3.0, the rest 3.8, the bounds and the rotary inertia 1.2): 74 min CPU on one thread (79
+Projected at the pace measured above with subnormals flushed (28.5-29.9 ms CPU a step at load
+6.7-8.3, of which the assembled bound's one evaluation 3.5-3.8 ms; spread over the stroke, an
+evaluation of 1.4 s at least every 4000 steps, about 0.35 ms a step: 25.3-26.7 ms a step),
+one thread: unscaled, 133.8k steps, 56-60 min CPU (before: 36.8 ms a step less 2.9-3.8 plus
+0.35, 33.4-34.3: 74-76 min); at time scaling x2 (the stroke in 0.15 s, 66.9k steps) 28-30 min;
+at x4 (33.5k steps) 14-15 min. This assumes the first 0.3 %'s pace throughout: the element
+force's share of the subnormal cost goes once the whole blank moves, and the whole x4 stroke
+measured below averaged 31.6 ms a step (load 2-4) against 37 at its start (load 7-8), so the
+gain over the whole stroke may be smaller than the 0.77-0.81 of its start. 3 minutes on the 2
+cores is 6 min of CPU at most: the x2 stroke is 5 times away, the x4 one 2.5 times. What
+would close the rest: the element force is 55 % of a step (15.8-16.8 ms at load 7-8, about
+9.4 at 0.47 us a cell on a quiet machine), so a quiet machine would take about 6.5 ms off a step
+from the element force alone (the x2 stroke near 22 min of CPU, less as the other pieces
+shrink too); two threads on the element force where the second core is free (not measured
+quiet); the cells' pass itself (``_cells_pass``, 15.7 of the force's 22 ms in a profile:
+transcendental functions per fibre level, not vectorised across cells); the punch's and
+holder's 2.9-3.1 ms, most of it outside their compiled passes (the contact blocks' node
+gathers, 0.34 ms each in a profile, the scatter by bincount, the copies of the answer kept
+from memory: elements/contact.py); the die's 2.9-3.2; the external loads (0.2 ms: two
+(n, 3) arrays of zeros a step, femcore/compiled.py) and the parts' forces summed into fresh
+arrays.
+
+Before the subnormals were flushed, projected: the full stroke at 20k triangles unscaled
+133.8k steps of 2.24e-6 s at about 33 ms CPU a step at these loads (the element force
+18.5-20, the die 3-6, the punch and holder 3.0, the rest 3.8, the bounds and the rotary
+inertia 1.2): 74 min CPU on one thread (79
 before); at the chosen time scaling x4 (the stroke in 0.075 s) 33.5k steps, about 18 min
 CPU (the assembled bound's nine evaluations 0.4 ms a step). 3 minutes on the 2 cores is 6
 min of CPU at most: 3 times away. What would close it: the element force is 60 % of a step
@@ -187,6 +262,8 @@ Run from the project root:
     python benchmarks/hemisphere_forming.py --fraction 0.01 --phases  # where a step goes
     python benchmarks/hemisphere_forming.py --fraction 0.005 --phases --die-lists old,new
     python benchmarks/hemisphere_forming.py --die-calls 600 --die-lists old,new,old,new
+    python benchmarks/hemisphere_forming.py --fraction 0.003 --phases --die-lists new \
+        --nodal-update one,two,one
 """
 
 from __future__ import annotations
