@@ -21,7 +21,7 @@ the energy account, the output); it lists each evaluation of the assembled bound
 ratio to the cells' bound of the model's own masses, and each run prints its mean step and the
 whole stroke projected at that pace. ``--nodal-update one,two`` runs the step's nodal update
 in one compiled pass over the nodes (solvers/central_pass.py) or in two (the velocities',
-then the rotations').
+then the rotations': the solver's default).
 
 Subnormal numbers and the one-pass update, measured at 20k triangles on the first 0.3 % of
 the stroke (402 steps of 2.24e-6 s), one thread, CPU, main (9864ff6, a second checkout) and
@@ -52,11 +52,13 @@ without the modes (load 5.5 and 5.8): 27.17 against 27.65 ms, the element force 
 measured: once the whole blank moves they are gone, and so is this gain.
 
 The one-pass nodal update (solvers/central_pass.py; the same numbers to the last bit,
-tests/test_step.py) is no faster than the two passes it replaces: on the captured arguments of
-step 250, 2.53-3.28 against 2.46-2.97 ms with the subnormals (best of 100, load 8), in the
-runs above 2.77 / 2.60 against 2.37 (one, two, one in one process, load 9.0 -> 8.5): the
-update is arithmetic (the directors' Rodrigues turn, a sine and a cosine a node), not memory
-traffic, at 10201 nodes.
+tests/test_step.py) is no faster than the two passes: on the captured arguments of step 250,
+2.53-3.28 against 2.46-2.97 ms with the subnormals (best of 100, load 8), 0.64-1.02 against
+0.56-0.74 with them flushed (best of 60, load 6.8), in whole runs 2.77 / 2.60 against 2.37
+(one, two, one in one process, subnormals kept, load 9.0 -> 8.5): the update is arithmetic
+(the directors' Rodrigues turn, a sine and a cosine a node), not memory traffic, at 10201
+nodes. It is off by default (``solvers.step.FUSED``); the "after" figures above ran it on
+(with the two passes the nodal update would be a few tenths of a ms less).
 
 Where the element force goes (a profile of 268 steps at 20k, main, load 7.5, CPU per step):
 the cells' pass (tension, shear, bending of each cell, elements/fibrous/kernels.py
@@ -314,7 +316,7 @@ def main() -> None:
     )
     parser.add_argument(
         "--nodal-update",
-        default="one",
+        default="two",
         help='the step\'s nodal update, a list: "one" compiled pass over the nodes '
         "(solvers/central_pass.py) or \"two\" (the velocities', then the rotations'); each run "
         "is made once per value",

@@ -11,11 +11,12 @@ rotation dt * omega (Rodrigues, docs/theory.md §1.3).
 
 ``explicit_step`` is the whole step of CentralDifference (loads, internal forces, the fused
 update of the velocities with the support reactions and the energy terms, the rotations, the
-configuration update; for a model with rotations all of the nodal update in one compiled pass,
-solvers/central_pass.py). Its two last phases are public on their own, for a loop that computes
-its forces itself (DynamicRelaxation: it judges convergence on them first and moves with
-fictitious masses): ``angular_rates``, the damped update of the angular velocities with the
-director constraints, and ``advance``, the configuration update.
+configuration update; ``FUSED``: for a model with rotations all of the nodal update in one
+compiled pass, solvers/central_pass.py, off by default). Its two last phases are public on
+their own, for a loop that computes its forces itself (DynamicRelaxation: it judges
+convergence on them first and moves with fictitious masses): ``angular_rates``, the damped
+update of the angular velocities with the director constraints, and ``advance``, the
+configuration update.
 
 A loop of one's own, with a fixed step and damping::
 
@@ -53,8 +54,10 @@ __all__ = [
 
 #: Whether ``explicit_step`` updates a model with rotations in one compiled pass over the
 #: nodes (solvers/central_pass.py) rather than the velocities' pass then the rotations' (the
-#: same numbers to the last bit; False: the two passes, as the tests compare).
-FUSED = COMPILED
+#: same numbers to the last bit). Off: the one pass measured slower than the two (0.64-1.02
+#: against 0.56-0.74 ms CPU, best of 60, on the 20k forming blank's 10201 nodes with the
+#: subnormals flushed, one thread, load 6.8; benchmarks/hemisphere_forming.py).
+FUSED = False
 
 
 @dataclass(frozen=True, eq=False)

@@ -100,9 +100,9 @@ def test_a_forming_run_is_the_same_to_the_last_bit_with_the_nodal_update_in_two_
     run)."""
     from solvers import step
 
-    positions, forces = with_shortcuts
-    assert step.FUSED
-    monkeypatch.setattr(step, "FUSED", False)
-    plain_positions, plain_forces = formed()
-    np.testing.assert_array_equal(positions, plain_positions)
-    np.testing.assert_array_equal(forces, plain_forces)
+    positions, forces = with_shortcuts  # the solver's default: two passes
+    assert not step.FUSED
+    monkeypatch.setattr(step, "FUSED", True)
+    fused_positions, fused_forces = formed()
+    np.testing.assert_array_equal(positions, fused_positions)
+    np.testing.assert_array_equal(forces, fused_forces)
