@@ -88,12 +88,16 @@ if SUPPORTED:
             _modes(on)
 
 
+def _parallel() -> bool:
+    """Whether the compiled loops may run on more than the calling thread: numba's setting of
+    the calling thread above one (elements/jit.py never goes past it). A test session's (one
+    thread) then never compiles ``_modes_everywhere`` nor starts numba's pool."""
+    return numba.get_num_threads() > 1
+
+
 def _workers(on: bool) -> None:
-    """FTZ and DAZ on (or off) on every thread of numba's pool, where it has more than one
-    (a pool of one thread is the calling thread)."""
+    """FTZ and DAZ on (or off) on every thread of numba's pool."""
     pool = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
-    if pool <= 1:
-        return
     cap = numba.get_num_threads()
     numba.set_num_threads(pool)
     try:
@@ -105,18 +109,21 @@ def _workers(on: bool) -> None:
 @contextmanager
 def flushed() -> Iterator[None]:
     """Subnormal numbers flushed to zero inside the block (where ``SUPPORTED`` and
-    ``ENABLED``), the calling thread's modes as they were afterwards; the worker threads'
-    modes are turned off again, unless the calling thread had them on before."""
+    ``ENABLED``) on the calling thread and, where the loops may run on more threads
+    (``_parallel``), on numba's worker threads; the modes as they were afterwards (a block
+    inside another, or on a thread that had them on already, leaves them on)."""
     if not (SUPPORTED and ENABLED):
         yield
         return
     before = int(_modes(True))
     already = before & FLAGS == FLAGS
-    if not already:
+    workers = not already and _parallel()
+    if workers:
         _workers(True)
     try:
         yield
     finally:
-        if not already:
+        if workers:
             _workers(False)
+        if not already:
             _modes(False)

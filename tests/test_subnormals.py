@@ -32,10 +32,10 @@ def test_a_block_inside_another_leaves_the_modes_on():
 
 
 def formed(flush: bool, monkeypatch):
-    """The hemisphere case at 8 cells, the punch's stroke in 0.01 s: the last positions,
+    """The hemisphere case at 6 cells, the punch's stroke in 0.01 s: the last positions,
     directors and velocities, with subnormals flushed or not."""
     monkeypatch.setattr(subnormals, "ENABLED", flush)
-    _, model = case.model(8, "fibrous")
+    _, model = case.model(6, "fibrous")
     result = CentralDifference(duration=0.01, damping=case.DAMPING, progress=False).solve(model)
     frame = result.frames[-1]
     return frame.positions, frame.directors, result.tool_forces
@@ -52,3 +52,25 @@ def test_a_forming_run_with_subnormals_flushed_is_the_run_without(monkeypatch):
     for mine, reference in zip(with_flush, without):
         assert np.abs(mine - reference).max() <= 1e-12 * np.abs(reference).max()
     assert np.abs(without[2]).max() > 1.0  # the punch pressed the blank
+
+
+@pytest.mark.parallel
+def test_numbas_worker_threads_flush_inside_the_block_and_not_after_it():
+    """A parallel loop's iterations, on every thread of numba's pool, read the FTZ and DAZ
+    modes on inside the block and off after it."""
+    import numba
+
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba's pool has one thread")
+
+    @numba.njit(parallel=True)
+    def modes(out):
+        for i in numba.prange(out.shape[0]):
+            out[i] = subnormals._read_register() & subnormals.FLAGS
+
+    seen = np.zeros(64 * numba.config.NUMBA_NUM_THREADS, dtype=np.int64)
+    with subnormals.flushed():
+        modes(seen)
+        assert (seen == subnormals.FLAGS).all()
+    modes(seen)
+    assert (seen == 0).all()
