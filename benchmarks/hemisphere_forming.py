@@ -185,8 +185,10 @@ Threads: at the loads of these measurements (4-9 on 2 cores) the default threads
 cores: elements/jit.py). Two forced on the element force at 20k (the starting state, 30 calls
 a round, one thread then two, three rounds, load 7.8-7.9, the quietest this session found):
 median wall 34.8 / 33.6 / 34.3 ms on one thread against 29.2 / 29.6 / 33.0 on two (1.04-1.19
-times as fast), while the free cores' count said one: right at that load, where a second
-thread takes a core another process is using for a gain of a tenth. The count takes this
+times as fast); again at load 4.8: 26.0 / 25.0 / 26.4 against 24.0 / 21.8 / 22.9 (1.08-1.15;
+the best single call 11.2 ms on one thread, 18.5 on two), while the free cores' count said
+one: right at that load, where a second thread takes a core another process is using for a
+gain of a tenth. The count takes this
 process's own CPU share out of the load (tests/test_threads.py: alone and busy on one thread
 of two cores, it gives two), so on a machine whose second core is free the element force
 runs on both; the speed-up there was not measured (the machine was never quiet).
