@@ -48,8 +48,13 @@ dropped (11.2-11.4 on the starting state; load 7.6). In a whole step, the same c
 without the modes (load 5.5 and 5.8): 27.17 against 27.65 ms, the element force 14.9 against
 16.5, the nodal update 0.99 against 2.24, the assembled bound's one evaluation 3.9 against 2.4
 (that evaluation's noise). A forming run is the same to the last bit with them
-(tests/test_subnormals.py). How long the wave front's subnormals last in the stroke was not
-measured: once the whole blank moves they are gone, and so is this gain.
+(tests/test_subnormals.py). The gain is the start's alone: at step 2700 (2 % of the stroke,
+the run without the modes, 69.0 s of CPU for those steps, load about 4-5) the state held no
+subnormal velocity, angular velocity, director component, force or moment, and the element
+force took 11.4-11.9 ms with the modes and 11.2-12.7 without (load 4.1). Over the whole stroke
+the modes save at most some 20 s of CPU of its hour; what they change is the first fraction's
+figures, which now show the stroke's pace: the "before" figures above, and every projection
+from the first 1 % or 0.3 % before them, were inflated by the wave front's subnormals.
 
 The one-pass nodal update (solvers/central_pass.py; the same numbers to the last bit,
 tests/test_step.py) is no faster than the two passes: on the captured arguments of step 250,
@@ -201,41 +206,38 @@ x4 it does not (KE / W above the bound over 0.28 of the stroke).
 
 Projected at the pace measured above with subnormals flushed (28.5-29.9 ms CPU a step at load
 6.7-8.3, of which the assembled bound's one evaluation 3.5-3.8 ms; spread over the stroke, an
-evaluation of 1.4 s at least every 4000 steps, about 0.35 ms a step: 25.3-26.7 ms a step),
-one thread: unscaled, 133.8k steps, 56-60 min CPU (before: 36.8 ms a step less 2.9-3.8 plus
-0.35, 33.4-34.3: 74-76 min); at time scaling x2 (the stroke in 0.15 s, 66.9k steps) 28-30 min;
-at x4 (33.5k steps) 14-15 min. This assumes the first 0.3 %'s pace throughout: the element
-force's share of the subnormal cost goes once the whole blank moves, and the whole x4 stroke
-measured below averaged 31.6 ms a step (load 2-4) against 37 at its start (load 7-8), so the
-gain over the whole stroke may be smaller than the 0.77-0.81 of its start. 3 minutes on the 2
-cores is 6 min of CPU at most: the x2 stroke is 5 times away, the x4 one 2.5 times. What
-would close the rest: the element force is 55 % of a step (15.8-16.8 ms at load 7-8, about
-9.4 at 0.47 us a cell on a quiet machine), so a quiet machine would take about 6.5 ms off a step
-from the element force alone (the x2 stroke near 22 min of CPU, less as the other pieces
+evaluation of 1.4 s at least every 4000 steps, about 0.35 ms a step: 25.3-26.7 ms a step), one
+thread: unscaled, 133.8k steps, 56-60 min CPU; at time scaling x2 (the stroke in 0.15 s, 66.9k
+steps) 28-30 min; at x4 (33.5k steps) 14-15 min. The code before runs at that pace too once its
+start's subnormals are gone (the first 2700 steps without the modes averaged 25.5 ms, load 4-5;
+the whole x4 stroke measured below averaged 31.6 ms a step at load 2-4 on older code): the
+74-76 min that its first 0.3 % gave (36.8 ms a step) was the subnormals' figure, not the
+stroke's. 3 minutes on the 2 cores is 6 min of CPU at most: the x2 stroke is 5 times away, the
+x4 one 2.5 times. What would close the rest: the element force is 55 % of a step (15.8-16.8 ms
+at load 7-8, 11.4-11.9 at load 4, 0.57 us a triangle), so a quieter machine takes 4-5 ms off a
+step from the element force alone (the x2 stroke near 24 min of CPU, less as the other pieces
 shrink too); two threads on the element force where the second core is free (not measured
 quiet); the cells' pass itself (``_cells_pass``, 15.7 of the force's 22 ms in a profile:
 transcendental functions per fibre level, not vectorised across cells); the punch's and
 holder's 2.9-3.1 ms, most of it outside their compiled passes (the contact blocks' node
-gathers, 0.34 ms each in a profile, the scatter by bincount, the copies of the answer kept
-from memory: elements/contact.py); the die's 2.9-3.2; the external loads (0.2 ms: two
-(n, 3) arrays of zeros a step, femcore/compiled.py) and the parts' forces summed into fresh
-arrays.
+gathers, 0.34 ms each in a profile, the scatter by bincount, the copies of the answer kept from
+memory: elements/contact.py); the die's 2.9-3.2; the external loads (0.2 ms: two (n, 3) arrays
+of zeros a step, femcore/compiled.py) and the parts' forces summed into fresh arrays.
 
-Before the subnormals were flushed, projected: the full stroke at 20k triangles unscaled
-133.8k steps of 2.24e-6 s at about 33 ms CPU a step at these loads (the element force
-18.5-20, the die 3-6, the punch and holder 3.0, the rest 3.8, the bounds and the rotary
-inertia 1.2): 74 min CPU on one thread (79
-before); at the chosen time scaling x4 (the stroke in 0.075 s) 33.5k steps, about 18 min
-CPU (the assembled bound's nine evaluations 0.4 ms a step). 3 minutes on the 2 cores is 6
-min of CPU at most: 3 times away. What would close it: the element force is 60 % of a step
-(18.5-20 ms at load 5-9, about 9.4 on a quiet machine: benchmarks/explicit_step.py), so a
-quiet machine alone would bring the x4 stroke near 10 min CPU; then the element force on two
-threads when a core is free (not measured here; at most 1.2 times at 9800 triangles under
-load, elements/jit.py); the solver's own update and bookkeeping (3.8 ms a step, numpy); the
-punch's and holder's 3 ms (their compiled passes 0.5-0.7 ms each: the rest is the contact
-blocks' gathers and scatters and the tool work asked of them); the die's candidate searches
-at the stroke's peak pace (about 2 ms a call, numpy and the k-d tree). Fewer steps than x4
-did not keep the case's checks at 20 cells (mass scaling on top of x4).
+Before the subnormals were flushed, projected: the full stroke at 20k triangles unscaled 133.8k
+steps of 2.24e-6 s at about 33 ms CPU a step at these loads (the element force 18.5-20, the die
+3-6, the punch and holder 3.0, the rest 3.8, the bounds and the rotary inertia 1.2): 74 min CPU
+on one thread (79 before); at the chosen time scaling x4 (the stroke in 0.075 s) 33.5k steps,
+about 18 min CPU (the assembled bound's nine evaluations 0.4 ms a step). 3 minutes on the 2
+cores is 6 min of CPU at most: 3 times away. What would close it: the element force is 60 % of
+a step (18.5-20 ms at load 5-9, about 9.4 on a quiet machine: benchmarks/explicit_step.py), so
+a quiet machine alone would bring the x4 stroke near 10 min CPU; then the element force on two
+threads when a core is free (not measured here; at most 1.2 times at 9800 triangles under load,
+elements/jit.py); the solver's own update and bookkeeping (3.8 ms a step, numpy); the punch's
+and holder's 3 ms (their compiled passes 0.5-0.7 ms each: the rest is the contact blocks'
+gathers and scatters and the tool work asked of them); the die's candidate searches at the
+stroke's peak pace (about 2 ms a call, numpy and the k-d tree). Fewer steps than x4 did not
+keep the case's checks at 20 cells (mass scaling on top of x4).
 
 Measured, the whole 20k-triangle stroke at time scaling x4 (benchmarks/hemisphere_scaling.py
 --cells 100 --time-scaling 4: the case's run, one thread, the code before the drift question
