@@ -3,11 +3,13 @@ processor's flush-to-zero and denormals-are-zero modes (the MXCSR register's FTZ
 bits) on the calling thread and on numba's worker threads, the register as it was afterwards.
 
 Why: an explicit run from rest spreads its disturbance one ring of cells a step, and ahead of
-the wave the rates, moments and director components are tiny (1e-200 and below): their
-products fall below the smallest normal double (2.2e-308), and every operation on such a
-subnormal number costs the processor some hundred cycles. On the 20k-triangle forming blank
-(benchmarks/hemisphere_forming.py, the first 0.3 % of the stroke, one thread) the element
-force took 1.3 times and the nodal update 2.7 times as long as with them flushed. A
+the wave the rates, moments and director components are tiny (1e-200 and below): their products
+fall below the smallest normal double (2.2e-308), and every operation on such a subnormal
+number costs the processor some hundred cycles. On the 20k-triangle forming blank
+(benchmarks/hemisphere_forming.py, the first 0.3 % of the stroke, one thread) a step's element
+force took 1.1 times and its nodal update 2.3 times as long as with them flushed (1.3 and 3
+times on the state of step 250); by 2 % of the stroke the whole blank moves and none are left:
+the gain is the start's, and a benchmark of the first steps then shows the stroke's pace. A
 subnormal is zero in any physical sense (mm, N, s, rad): flushed, a run changes only numbers
 below 2.2e-308 and what is made of them alone (a sum with a normal number is the same to the
 last bit), and stays the same to the last bit from one run to the next and on any number of
