@@ -34,6 +34,30 @@ def test_a_small_loop_runs_on_one_thread_and_a_large_one_on_at_most_the_free_cor
         numba.set_num_threads(before)
 
 
+@pytest.mark.parametrize(
+    "load, own, free",
+    [
+        (1.0, 1.0, 2),  # this process busy on one thread, nothing else: the second core is free
+        (2.0, 1.0, 1),  # and one other busy process: it is not
+        (1.0, 0.0, 1),  # another process busy, this one idle since the last look
+        (2.0, 2.0, 2),  # this process on both cores, nothing else
+        (5.0, 1.0, 1),  # a loaded machine
+    ],
+)
+def test_the_free_cores_count_this_process_out_of_the_load(monkeypatch, load, own, free):
+    """free_cores on two cores: the 1-minute load less this process's own CPU share since
+    the last look (its CPU seconds over the wall seconds between the looks)."""
+    monkeypatch.setattr(jit, "_allowed_cores", lambda: 2)
+    monkeypatch.setattr(jit.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(jit.os, "getloadavg", lambda: (load, load, load))
+    monkeypatch.setattr(jit.time, "monotonic", lambda: 100.0)
+    monkeypatch.setattr(jit.time, "process_time", lambda: 50.0)
+    monkeypatch.setattr(jit._Load, "wall", 100.0 - 4.0)  # the last look, 4 s ago
+    monkeypatch.setattr(jit._Load, "cpu", 50.0 - 4.0 * own)
+    monkeypatch.setattr(jit._Load, "free", 1)
+    assert jit.free_cores() == free
+
+
 def test_a_parallel_loop_leaves_the_callers_thread_setting_as_it_was():
     import numba
 
