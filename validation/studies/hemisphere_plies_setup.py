@@ -144,8 +144,9 @@ def model(
     # the holder, a rigid plate, presses whatever ply is under it: every ply's nodes, each
     # touching at its own face (h/2 above its mid-surface), so a bottom ply's node off the
     # top ply's outline is held as the top ply's are, and one under the top ply lies a ply
-    # thickness below the plate, held through the top ply; on the top ply's nodes alone the bottom ply's corner rose 24.7 mm
-    # in fibrous [0/45] at 8 cells (the study's docstring, "The holder on every ply")
+    # thickness below the plate, held through the top ply; on the top ply's nodes alone the
+    # bottom ply's corner rose 24.7 mm in fibrous [0/45] at 8 cells (the study's docstring,
+    # "The holder on every ply")
     built.contact(holder, nodes=np.concatenate(layup.ply_nodes))
     if not dashpot:
         return layup, built
