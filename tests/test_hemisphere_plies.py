@@ -75,8 +75,9 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     study's docstring, RESULTS): KE / W at most 0.075, the holder 19.78 N over the last
     tenth (10.3 mm up at the end), the least radial gap in the die +0.01 mm, the plies'
     faces at most 0.11 and 0.21 mm through the holder's; with the holder on the top ply's
-    nodes alone the bottom ply's corner rose 24.7 mm, through the holder's face by 13.8 mm
-    at the end (the study's docstring, "The holder on every ply")."""
+    nodes alone the bottom ply's corner rose 24.7 mm, through the holder's face by 17.9 mm
+    at t = 0.095 s (``through_holder`` on that run), which this test fails (the study's
+    docstring, "The holder on every ply")."""
     _, report = coarse_report
     _stack_holds(report, "0/45")
 
@@ -89,8 +90,9 @@ def test_the_holder_presses_the_bottom_ply_where_the_top_ply_has_drawn_off_it():
     spring, f_z = -k p, p = 0.15 + 1 + 0.15 - 0.6 = 0.7 mm (to round-off, 1e-12 relative),
     and no other node feels it (every other face at or below the holder's, gap >= 0). With
     the holder on the top ply's nodes alone (the code before) nothing holds that corner: in
-    fibrous [0/45] at 8 cells the 45-deg ply drew in off it and it rose 24.7 mm, 13.8 mm
-    through the holder's face at the end (the study's docstring, "The holder on every ply")."""
+    fibrous [0/45] at 8 cells the 45-deg ply drew in off it and it rose 24.7 mm, 17.9 mm
+    through the holder's face at t = 0.095 s (the study's docstring, "The holder on every
+    ply")."""
     layup, built = study.model(8, study.LAYUPS["0/45"], "fibrous", study.HOLDER_FORCES[0])
     compiled = built.compile()
     (holder,) = [i for i in compiled.interactions if getattr(i, "tool_node", None) is not None]

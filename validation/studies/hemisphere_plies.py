@@ -106,24 +106,25 @@ at a time, CPU of the run, load 2.8-8.2):
   docs/theory.md §6.3).
 - The holder on every ply. The bottom ply's 24.7-mm crest in fibrous [0/45] at 8 cells, 20 N,
   was its corner (blank (-100, 100)), 125.4 mm from the axis and 24.8 mm up at the end (flat
-  up to t = 0.07 s), outside the top ply's outline (the 45-deg ply's corner draws in more
-  than the 0-deg one; its nearest outline nodes 114 and 100 mm from the axis), where the
-  holder, then on the top ply's nodes alone, held nothing: 13.8 mm through the holder's face
-  (10.6 mm up) at the end; the outline nodes next to the blank's corners at x = -100 mm rose
-  12.5-15.3 mm. A rigid plate presses whatever ply is under it: the holder is now in contact
-  with both plies' nodes, each at its own face (``model``: one contact block, the tool's one
-  node and reaction as before). Rerun (the rows above): each ply's face at most 0.11 / 0.21
-  mm through the holder's over the run (``through_holder``, the contact's penetration where
-  it presses a crest), the crests 12 / 12 up to 10.6 / 10.4 mm with the holder 10.3 mm up
-  (10 / 11, 24.7 / 10.7 mm before), the holder 19.78 N over the last tenth (19.58), the rest
-  within 0.5 mm and 0.04 deg. At 10 cells the crests fall from 13 / 10 (7.5 / 2.0 mm) to 16
-  / 10 (1.9 / 1.6), the holder 1.6 mm up (1.9), 19.97 N; the top ply's cells in the die 56
-  (46) and its rms 4.18 deg (3.81), within 5.1. Mindlin [0/45] at 8 cells: to the end, KE / W
-  0.108 (0.102), the crests 11 / 8 up to 16.1 / 16.0 mm (13.5 / 11.8), the holder 16.0 mm up
-  (11.8), the inter-ply slip up to 38.6 mm (22.3), every check passing; Mindlin [0/90] at 8
-  cells: KE / W 0.115 (0.117), the crests 13.3 / 13.0 mm (14.2 / 12.9). [0/90] fibrous is the
-  same to the figures shown but its steps, 5280 against 5205: the bottom ply's nodes carry
-  one more penalty spring, which shortens the stable step by 1.4 %.
+  up to t = 0.07 s), outside the top ply's outline (the 45-deg ply's corner draws in more than
+  the 0-deg one; its nearest outline nodes 114 and 100 mm from the axis), where the holder,
+  then on the top ply's nodes alone, held nothing: through the holder's face by 17.9 mm at t =
+  0.095 s (``through_holder``; 141 s of CPU, load 5-9.5; the top ply's 0.25 mm), 13.8 mm at
+  the end (the holder 10.6 mm up); the outline nodes next to the blank's corners at x = -100
+  mm rose 12.5-15.3 mm. A rigid plate presses whatever ply is under it: the holder is now in
+  contact with both plies' nodes, each at its own face (``model``: one contact block, the
+  tool's one node and reaction as before). Rerun (the rows above): each ply's face at most
+  0.11 / 0.21 mm through the holder's over the run (``through_holder``, the contact's
+  penetration where it presses a crest), the crests 12 / 12 up to 10.6 / 10.4 mm with the
+  holder 10.3 mm up (10 / 11, 24.7 / 10.7 mm before), the holder 19.78 N over the last tenth
+  (19.58), the rest within 0.5 mm and 0.04 deg. At 10 cells the crests fall from 13 / 10 (7.5
+  / 2.0 mm) to 16 / 10 (1.9 / 1.6), the holder 1.6 mm up (1.9), 19.97 N; the top ply's cells
+  in the die 56 (46) and its rms 4.18 deg (3.81), within 5.1. Mindlin [0/45] at 8 cells: to
+  the end, KE / W 0.108 (0.102), the crests 11 / 8 up to 16.1 / 16.0 mm (13.5 / 11.8), the
+  holder 16.0 mm up (11.8), the inter-ply slip up to 38.6 mm (22.3), every check passing;
+  Mindlin [0/90] at 8 cells: KE / W 0.115 (0.117), the crests 13.3 / 13.0 mm (14.2 / 12.9).
+  [0/90] fibrous is the same to the figures shown but its steps, 5280 against 5205: the bottom
+  ply's nodes carry one more penalty spring, which shortens the stable step by 1.4 %.
 - A cheaper mesh for the report, 6 cells (33-mm cells), tried on Mindlin [0/90] at 20 N
   (5080 steps, 61 s of CPU, load 10): it stops at 70 % of the stroke on the energy balance
   (0.069 of the run's largest energy, the tools' contact +12.9 N mm in the step), KE / W
