@@ -73,36 +73,35 @@ at a time, CPU of the run, load 2.8-8.2):
   time), the rotation 0.061 and the translations 0.069 there (the plies' 0.060 and the
   holder's 0.008 at most, at the frames); with one pass it reached the end with the order at
   -0.76 mm and KE / W 0.152 (RESULTS below).
-- Mindlin [0/90] at 10 cells (12050 steps, 157 s of CPU, load 4.7-6.1) stopped at 97.8 % of
-  the stroke on the energy balance, 0.0509 of the run's largest energy against 0.05, the
-  Mindlin shell block +2.34 N mm in the step; KE / W 0.177 at most (t = 0.058 s). With the
-  holder on both plies (12300 steps, 212 s, load 6-9) it stops at 98.5 % (t = 0.0985 s),
-  0.0518, the Mindlin block -3.5 N mm since the last good state: KE / W 0.173 at most (t =
-  0.057 s; above 0.1 over 8.7 % of the judged time; the rotation 0.077, the translations
-  0.126, the plies' 0.102 and the holder's 0.018 at the frames), the holder 20.99 N over the
-  last tenth and 16.0 mm up, rms of shear - net 3.39 and 3.38 deg (52 and 48 cells), draw-in
-  27.5 and 28.3 mm, 11 and 11 crests up to 16.1 and 16.0 mm, the least radial gap in the die
-  -0.09 mm. Why (the same run again with the balance's terms logged at each of its checks,
-  every 10 steps; 210 s of CPU, load 5.8-8.3, the same stop): not the flange's snap. Through
-  the snap (t = 0.057-0.062 s, KE 64-74 N mm) the balance's error stays below 1.2 N mm (0.003
-  of the largest energy); it grows after it, +18.5 N mm over t = 0.065-0.09 s and +48.7 N mm
-  over t = 0.09-0.0985 s, in increments of either sign between checks adding up to +70.5
-  and -3.3 N mm after t = 0.065 s, 18 of them 1.0-5.8 N mm, all positive (41.3 N mm, the
-  first at t = 0.074 s, 15 in the last tenth): energy made without work, not drift,
-  while the flange's wrinkles throw the holder from 11.5 to 16.0 mm up, the punch's force
-  falls from 135 to 79 N as it stops (the smooth amplitude) and the kinetic energy rises from
-  18 to 88 N mm (t = 0.093-0.097 s). Its yardstick is the run's largest energy, the work at
-  t = 0.095 s (1307 N mm), which then falls to 1247 (the holder rising against its force).
-  Not the step's bound either: at half the step (safety 0.45, the same logging; 21270 steps,
-  260 s of CPU, load 3.2-7) the error is the same up to t = 0.08 s (+1.0 N mm at 0.065 s,
-  +6.0 at 0.07, +11.2 at 0.08) and the run stops earlier, at 85.9 % of the stroke (0.0534),
-  on jumps of +11.9 N mm (t = 0.0831 s) and +28.3 N mm (t = 0.0859 s) within 10 steps, the
-  ply contact block +13.7 N mm since the last good state. Energy appearing in single events
-  that a shorter step does not shrink is a contact's doing (a point switching in or out of
-  contact, or between facets, deep in the penalty; as the outline's toggles and the growth's
-  far edge above), not a snap's physics: a defect, not found here (which point, which
-  facet: each part's energy against its forces' work, as for fibrous [0/90] at 40 N above,
-  not done).
+- Mindlin [0/90] at 10 cells (12050 steps, 157 s of CPU, load 4.7-6.1) stopped at 97.8 % of the
+  stroke on the energy balance, 0.0509 of the run's largest energy against 0.05, the Mindlin
+  shell block +2.34 N mm in the step; KE / W 0.177 at most (t = 0.058 s). With the holder on
+  both plies (12300 steps, 212 s, load 6-9) it stops at 98.5 % (t = 0.0985 s), 0.0518, the
+  Mindlin block -3.5 N mm since the last good state: KE / W 0.173 at most (t = 0.057 s; above
+  0.1 over 8.7 % of the judged time; the rotation 0.077, the translations 0.126, the plies'
+  0.102 and the holder's 0.018 at the frames), the holder 20.99 N over the last tenth and 16.0
+  mm up, rms of shear - net 3.39 and 3.38 deg (52 and 48 cells), draw-in 27.5 and 28.3 mm, 11
+  and 11 crests up to 16.1 and 16.0 mm, the least radial gap in the die -0.09 mm. Why (the same
+  run again with the balance's terms logged at each of its checks, every 10 steps; 210 s of CPU,
+  load 5.8-8.3, the same stop): not the flange's snap. Through the snap (t = 0.057-0.062 s, KE
+  64-74 N mm) the balance's error stays below 1.2 N mm (0.003 of the largest energy); it grows
+  after it, +18.5 N mm over t = 0.065-0.09 s and +48.7 N mm over t = 0.09-0.0985 s, in
+  increments of either sign between checks adding up to +70.5 and -3.3 N mm after t = 0.065 s,
+  18 of them 1.0-5.8 N mm, all positive (41.3 N mm, the first at t = 0.074 s, 15 in the last
+  tenth): energy made without work, not drift, while the flange's wrinkles throw the holder from
+  11.5 to 16.0 mm up, the punch's force falls from 135 to 79 N as it stops (the smooth
+  amplitude) and the kinetic energy rises from 18 to 88 N mm (t = 0.093-0.097 s). Its yardstick
+  is the run's largest energy, the work at t = 0.095 s (1307 N mm), which then falls to 1247
+  (the holder rising against its force). Not the step's bound either: at half the step (safety
+  0.45, the same logging; 21270 steps, 260 s of CPU, load 3.2-7) the error is the same up to t =
+  0.08 s (+1.0 N mm at 0.065 s, +6.0 at 0.07, +11.2 at 0.08) and the run stops earlier, at 85.9
+  % of the stroke (0.0534), on jumps of +11.9 N mm (t = 0.0831 s) and +28.3 N mm (t = 0.0859 s)
+  within 10 steps, the ply contact block +13.7 N mm since the last good state. Energy appearing
+  in single events that a shorter step does not shrink is a contact's doing (a point switching
+  in or out of contact, or between facets, deep in the penalty; as the outline's toggles and the
+  growth's far edge above), not a snap's physics: a defect, not found here (which point, which
+  facet: each part's energy against its forces' work, as for fibrous [0/90] at 40 N above, not
+  done).
 - Mindlin [0/90] at 8 cells now reaches the end (9850 steps; it stopped at 94.7 % before the
   outline's mends, below) and passes every check: largest KE / W 0.117 at t = 0.062 s (above
   0.1 over 5.9 % of the judged time): the translations alone 0.104 at t = 0.043 s (the plies'
