@@ -2,7 +2,9 @@
 [0/90] and [0/45] fibrous stacks pressed between the punch and the die do not cross, both
 plies end on the punch inside the die, quasi-static, the holder carrying its force and
 pressing every ply. The runs are the coarse report's (validation/cases/hemisphere_plies.py,
-tests/conftest.py ``coarse_report``): the suite runs each stack once."""
+tests/conftest.py ``coarse_report``): the suite runs each stack once. The case's coarse run
+of both stacks cost 116 s of CPU (load 3.2-4.7), where the tests' own runs cost 76 s
+([0/90]) and 60-88 s ([0/45], one ply contact pass) beside the report's [0/45] run."""
 
 from __future__ import annotations
 
