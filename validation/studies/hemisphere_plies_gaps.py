@@ -24,9 +24,15 @@ import numpy as np
 
 from elements.layup import Layup
 from femcore.state import State
-from validation.studies.hemisphere_plies_setup import FABRIC, HALF, MEASURED_FACE, THICKNESS
+from validation.studies.hemisphere_plies_setup import (
+    FABRIC,
+    HALF,
+    HOLDER_RING,
+    MEASURED_FACE,
+    THICKNESS,
+)
 
-__all__ = ["least_gaps", "node_gaps", "radial_gaps"]
+__all__ = ["least_gaps", "node_gaps", "radial_gaps", "through_holder"]
 
 #: barycentric slack of a ray through a triangle's edge or vertex (shared by its neighbours)
 EDGE_SLACK = 1e-9
@@ -141,3 +147,34 @@ def least_gaps(
         "at_s": at,
         "where": where,
     }
+
+
+def through_holder(layup: Layup, result: Any, holder: int = 2) -> list[dict[str, float]]:
+    """Per ply (bottom first), how far its face rose through the holder's plane over the run:
+    the largest of z + h/2 - z_h over its nodes under the holder's ring (in plan between
+    its inner and outer radius, ``HOLDER_RING``) and the run's frames, mm, z_h the holder's
+    face (the plies' top at the start plus its travel), with the frame's time (s) and the
+    node's blank position (mm). A holder that presses every ply keeps it near 0 (the
+    contact's penetration); one on the top ply's nodes alone lets a bottom-ply node the top
+    ply has drawn in off rise freely (the study's docstring, "The holder on every ply").
+    ``holder`` is the holder's index among the tools."""
+    n = layup.mesh.n_nodes
+    start = layup.heights[-1] + 0.5 * THICKNESS
+    out = []
+    for nodes in layup.ply_nodes:
+        worst = {"mm": -math.inf, "at_s": math.nan, "x_mm": math.nan, "y_mm": math.nan}
+        for frame in result.frames:
+            x = frame.positions[:n][nodes]
+            plan = np.linalg.norm(x[:, :2], axis=1)
+            under = (plan >= HOLDER_RING[0]) & (plan <= HOLDER_RING[1])
+            if not under.any():
+                continue
+            face = start + float(frame.tool_displacements[holder, 2])
+            rise = np.where(under, x[:, 2] + 0.5 * THICKNESS - face, -math.inf)
+            i = int(np.argmax(rise))
+            if rise[i] > worst["mm"]:
+                blank = layup.mesh.points[nodes[i]]
+                worst = {"mm": float(rise[i]), "at_s": float(frame.time),
+                         "x_mm": float(blank[0]), "y_mm": float(blank[1])}  # fmt: skip
+        out.append(worst)
+    return out

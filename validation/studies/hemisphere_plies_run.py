@@ -34,7 +34,7 @@ from validation.checks import check
 from validation.records import Figure, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
 from validation.studies.hemisphere_plies_energy import kinetic_shares
-from validation.studies.hemisphere_plies_gaps import least_gaps
+from validation.studies.hemisphere_plies_gaps import least_gaps, through_holder
 from validation.studies.hemisphere_plies_setup import (
     DAMPING,
     DIE,
@@ -277,8 +277,12 @@ def run(
     parameters[f"{prefix}_final_kinetic_over_work"] = energies["kinetic"] / max(
         abs(energies["external_work"]), 1e-300
     )
+    risen = through_holder(layup, result)
     for k in range(layup.count):
         ply = f"{prefix}_ply{k + 1}_{layup.angles[k]:g}deg"
+        parameters[f"{ply}_through_holder_mm"] = risen[k]["mm"]
+        parameters[f"{ply}_through_holder_at_s"] = risen[k]["at_s"]
+        parameters[f"{ply}_through_holder_where_mm"] = (risen[k]["x_mm"], risen[k]["y_mm"])
         compared = in_die[key][k] & np.isfinite(net_shear[key][k])
         error = np.degrees(shear[key][k][compared] - net_shear[key][k][compared])
         rms = float(np.sqrt(np.mean(error**2))) if compared.any() else math.inf
