@@ -83,10 +83,12 @@ from validation.checks import check
 from validation.paper.orders import observed_orders
 from validation.plots import figure
 from validation.records import Case, Figure, ObservedOrder, Outcome
+from validation.references import centre_line_draw_in as draw_in
+from validation.references.centre_line_draw_in import chord_shortfall
 from validation.references.drape import fishnet_on_sphere
 from validation.specimens import hemisphere_die
 
-__all__ = ["CASE", "HemisphereData", "blank_shear", "compute", "render"]
+__all__ = ["CASE", "HemisphereData", "blank_shear", "chord_shortfall", "compute", "render"]
 
 NAME = "hemisphere-forming"
 TITLE = "Hemisphere forming: shear angles against the pin-jointed net, draw-in and wrinkles"
@@ -293,86 +295,34 @@ def fabric() -> Fabric:
 
 
 def centre_line_draw_in() -> float:
-    """The draw-in of the edge middle (mm) of an inextensible fibre along a centre line lying
-    on the die, its mid-surface half a ply off the die: from the pole along the bowl (radius
-    DIE - h / 2) to the polar angle phi0 where the entry round starts, around the round
-    (radius DIE_RIM + h / 2) to the flange, then flat out to the edge. With rho = DIE_RIM the
-    flange starts at r0 = sqrt(DIE^2 + 2 DIE rho) and phi0 = atan(r0 / rho) (pi / 2 on a sharp
-    rim, whose round is then the ply's half thickness), so the fibre's half length HALF
-    reaches r0 + HALF - (DIE + rho) phi0 and the draw-in is (DIE + rho) phi0 - r0: DIE
-    (pi / 2 - 1) = 28.88 mm on the sharp die; 25.38 mm on the 10-mm round."""
-    start = flange_start()
-    polar = math.atan2(start, DIE_RIM)
-    return (DIE + DIE_RIM) * polar - start
+    """The draw-in of the edge middle (mm) of an inextensible centre-line fibre lying on the
+    die (``lying_draw_in``): 28.88 mm on the sharp die; 25.38 mm on the 10-mm round."""
+    return draw_in.lying_draw_in(DIE, DIE_RIM, THICKNESS)
 
 
 def taut_centre_line_draw_in() -> tuple[float, float, float]:
-    """The least draw-in of the edge middle (mm) an inextensible centre-line fibre can have in
-    the tools at the end of the stroke, and the arcs (mm) its path has on the punch and on the
-    die's round: the shortest path of its mid-surface through the clearance, the taut string.
-    It hugs the punch (a circle of radius a = PUNCH + h / 2 about the origin) from the pole,
-    leaves it along the internal common tangent to the die's round (a circle of radius b =
-    DIE_RIM + h / 2 about c, |c| = d = DIE + DIE_RIM, at the polar angle phi0 = atan(r0 /
-    DIE_RIM)) and hugs the round to its top at the flange's start r0. The tangent meets each
-    circle gamma = acos((a + b) / d) before the line of centres, so the path from the pole to
-    r0 is (a + b)(phi0 - gamma) + d sin(gamma) long and the draw-in is that less r0: 24.97 mm
-    on the 10-mm round, 84.74 mm of path (the fibre lying on the die instead: 25.38 mm,
-    ``centre_line_draw_in``)."""
-    start = flange_start()
-    punch, round_ = PUNCH + 0.5 * THICKNESS, DIE_RIM + 0.5 * THICKNESS
-    centres = DIE + DIE_RIM
-    gamma = math.acos((punch + round_) / centres)
-    turn = math.atan2(start, DIE_RIM) - gamma
-    path = (punch + round_) * turn + centres * math.sin(gamma)
-    return path - start, punch * turn, round_ * turn
+    """The least draw-in (mm) of the edge middle, the taut fibre, and its arcs (mm) on the
+    punch and the round (``taut_draw_in``): 24.97 mm on the 10-mm round, 84.74 mm of path."""
+    return draw_in.taut_draw_in(PUNCH, DIE, DIE_RIM, THICKNESS)
 
 
 def cornered_centre_line_draw_in() -> tuple[float, float]:
-    """The draw-in of the edge middle (mm) of an inextensible centre-line fibre pushed off the
-    die's round into the corner its bowl's sphere makes with the holder's plane over the
-    opening, and its path's length (mm) from the pole to the flange's start: along the sphere
-    of the clearance's die side (radius DIE - h / 2) from the pole to its equator, then
-    straight to the flange's start r0 at the mid-surface's level h / 2. No unfolded path
-    through the clearance under the holder's plane is longer by more than the clearance (0.3
-    mm): it is where a compressed fibre on a frictionless flange goes, nothing pulling it onto
-    the round. 28.80 mm on the 10-mm round, 88.57 mm of path."""
-    start = flange_start()
-    bowl = DIE - 0.5 * THICKNESS
-    path = 0.5 * math.pi * bowl + math.hypot(start - bowl, 0.5 * THICKNESS)
-    return path - start, path
-
-
-def chord_shortfall(radius: float, arc: float, segment: float) -> float:
-    """How much less fibre (mm) covers an ``arc`` (mm) of a circle of ``radius`` (mm) with
-    chords of ``segment`` (mm) between nodes on it than lying on it: the arc less its
-    inscribed chords, arc (1 - segment / (radius theta)) with theta = 2 asin(segment / (2
-    radius)). The contact keeps the nodes out of the tools, not the cells' edges: a cell
-    spanning the round cuts it by its chord."""
-    theta = 2.0 * math.asin(min(1.0, 0.5 * segment / radius))
-    return arc * (1.0 - segment / (radius * theta))
+    """The draw-in (mm) of the fibre cornered under the holder's plane and its path (mm) to
+    the flange's start (``cornered_draw_in``): 28.80 mm on the 10-mm round, 88.57 mm."""
+    return draw_in.cornered_draw_in(DIE, DIE_RIM, THICKNESS)
 
 
 def centre_line_draw_in_range(cells: int) -> tuple[float, float]:
-    """(lowest, highest) draw-in of the edge middle (mm) of a centre-line fibre in the tools'
-    gap at the end of the stroke on a blank of ``cells`` cells a side: from the taut fibre
-    (``taut_centre_line_draw_in``) stretched by FIBRE_STRAIN, its cells cutting the punch and
-    the round by their chords (``chord_shortfall``), to the cornered one
-    (``cornered_centre_line_draw_in``) compressed by FIBRE_STRAIN (chords through a corner
-    only shorten it); a strain eps over a path of length L moves the draw-in by eps L."""
+    """(lowest, highest) draw-in (mm) of the edge middle on a blank of ``cells`` cells a side
+    (``draw_in_range``, FIBRE_STRAIN of strain either way)."""
     segment = 2.0 * HALF / cells
-    taut, on_punch, on_round = taut_centre_line_draw_in()
-    cornered, cornered_path = cornered_centre_line_draw_in()
-    chords = chord_shortfall(PUNCH + 0.5 * THICKNESS, on_punch, segment) + chord_shortfall(
-        DIE_RIM + 0.5 * THICKNESS, on_round, segment
-    )
-    taut_path = taut + flange_start()
-    return taut - FIBRE_STRAIN * taut_path - chords, cornered + FIBRE_STRAIN * cornered_path
+    return draw_in.draw_in_range(PUNCH, DIE, DIE_RIM, THICKNESS, segment, FIBRE_STRAIN)
 
 
 def flange_start(rim: float = DIE_RIM) -> float:
-    """The radius (mm) where the die's flat flange starts, past its entry round of radius
-    ``rim`` (mm; DIE on a sharp die): the holder's bore."""
-    return math.sqrt(DIE**2 + 2.0 * DIE * rim)
+    """The radius (mm) where the die's flat flange starts past its entry round of radius
+    ``rim`` (mm): the ring holder's bore."""
+    return draw_in.flange_start(DIE, rim)
 
 
 def holder_closing(tau):
