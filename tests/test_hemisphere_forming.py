@@ -53,8 +53,41 @@ def test_the_rms_error_is_checked_for_convergence_whatever_its_limit():
                                         (0.5, 0.05, 1, False)):  # fmt: skip
         runs = [fake_run(n, limit + slope * (200.0 / n) ** power) for n in (12, 20, 32)]
         verdicts = case.order_checks(case.orders({"fibrous": runs}))
-        assert len(verdicts) == 1
-        assert "rms" in verdicts[0].name and verdicts[0].passed is passes
+        rms = [verdict for verdict in verdicts if "rms" in verdict.name]
+        assert len(rms) == 1 and rms[0].passed is passes
+
+
+def test_the_draw_ins_averaged_along_the_edges_and_at_the_corners_are_checked_the_middle_not():
+    """The fibrous runs' draw-ins at 12 / 20 / 32 cells (the case's defaults, unscaled;
+    docs/hemisphere_forming.md): averaged along the edges 11.44 / 13.18 / 13.22 mm and at
+    the corners 4.56 / 7.33 / 7.59 mm converge (orders 7.4 and 4.5, the finest within 0.01
+    and 0.5 % of the Richardson values) and pass their checks (ORDER_TOLERANCE, 0.02); the
+    edge middle's 22.62 / 28.56 / 24.26 mm, one node taking one of two states, has no order
+    and would fail the same check."""
+    measured = {
+        "edge_draw_in_mm": (11.44, 13.18, 13.22),
+        "corner_draw_in_mm": (4.56, 7.33, 7.59),
+        "draw_in_mm": (22.62, 28.56, 24.26),
+    }
+    runs = [fake_run(n, 1.0) for n in (12, 20, 32)]
+    for key, values in measured.items():
+        for run, value in zip(runs, values):
+            run[key] = value
+    verdicts = {
+        v.name.split(":")[1].split(",")[0].strip(): v
+        for v in case.order_checks(case.orders({"fibrous": runs}))
+    }
+    assert verdicts[case.ORDER_QUANTITIES["edge_draw_in_mm"]].passed
+    assert verdicts[case.ORDER_QUANTITIES["corner_draw_in_mm"]].passed
+    assert case.ORDER_QUANTITIES["draw_in_mm"] not in verdicts  # reported only
+    tolerance = case.ORDER_TOLERANCE["fibrous edge_draw_in_mm"]
+    middle = next(
+        r
+        for r in case.orders({"fibrous": runs})
+        if r.quantity == case.ORDER_QUANTITIES["draw_in_mm"]
+    )
+    assert math.isnan(middle.order)
+    assert not abs(middle.extrapolated - middle.values[-1]) <= tolerance * middle.values[-1]
 
 
 @pytest.mark.parametrize("cells", [12, 20, 32])
@@ -173,8 +206,8 @@ def test_the_fine_resolution_reports_and_checks_the_orders_of_its_three_meshes(m
             "largest_shear_deg": 0.0,
             "draw_in_mm": 50.0 - 0.01 * h**2,
             "punch_force_N": 75.0 - 0.5 * h,
-            "edge_draw_in_mm": 12.0 - 0.01 * h**2,
-            "corner_draw_in_mm": 7.0 + 0.01 * h**2,
+            "edge_draw_in_mm": 13.0 - 0.001 * h**2,
+            "corner_draw_in_mm": 7.5 - 0.001 * h**2,
             "late_punch_force_N": 60.0 - 0.5 * h,
             "holder_lift_mm": 0.0,
             "kinetic_over_work": 0.01,
