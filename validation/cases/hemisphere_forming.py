@@ -38,10 +38,10 @@ first tenth 0.009 / 0.007 / 0.016; the damping took 0.25 / 0.83 / 2.2 % of the w
 not rise; every run reaches the end; CPU 21 / 43 / 155 s (16557 / 27678 / 44334 steps). The edge
 middle takes one of two states: the centre-line fibre, held in its symmetry plane, has next to no
 axial force on the frictionless flange, and when it passes through zero (88 % of the travel) its
-sign decides: stretched (12, 32 cells) it lies on the die's round, compressed (20 cells; 40 cells
-unscaled) it corners under the holder's plane over the die's opening, one row of nodes wide
-(docs/hemisphere_forming.md). So its draw-in is checked against the range and the edges' mean is
-compared across meshes.
+sign decides: stretched (32 cells; 12: next to none, its 16.7-mm cells' chord through the round) it
+lies on the die's round, compressed (20 cells; 40 cells unscaled) it corners under the holder's
+plane over the die's opening, one row of nodes wide (docs/hemisphere_forming.md). So its draw-in is
+checked against the range and the edges' mean is compared across meshes.
 The holder as a ring on the flat flange (``model(ring=True)``), and Coulomb friction 0.2 on
 the plane holder (the fibre standing off the round, the 32-cell ring run stopping at 73 %):
 docs/hemisphere_forming.md.
