@@ -41,8 +41,9 @@ fibre, held in its symmetry plane, has next to no axial force on the frictionles
 it passes through zero (88 % of the travel) its sign decides: stretched (32 cells; 12: next to
 none, its 16.7-mm cells' chord through the round) it lies on the die's round, compressed (20 cells;
 40 cells unscaled) it corners under the holder's plane over the die's opening, one row of nodes
-wide (docs/hemisphere_forming.md). So its draw-in is checked against the range; the edges' mean, a
-node's weight of it, is what settles with the mesh (13.0-13.4 mm from 20 cells on).
+wide (docs/hemisphere_forming.md). So its draw-in is checked against the range; the edges' mean, in
+which that node weighs h / (8 HALF), settles with the mesh (13.0-13.4 mm from 20 cells on) without
+a clear order.
 The holder as a ring on the flat flange (``model(ring=True)``), and Coulomb friction 0.2 on
 the plane holder (the fibre standing off the round, the 32-cell ring run stopping at 73 %):
 docs/hemisphere_forming.md.
