@@ -65,7 +65,10 @@ punch force averaged over the last fifth of the travel beside it. At 20 cells, x
 unscaled run (one thread, CPU; load 5.7 and 7-8): edges' mean 13.20 against 13.18 mm, corners
 7.40 against 7.33, the late punch force 48.7 against 48.5 N, the edge middle cornered in both
 (28.64 against 28.57 mm); 25 against 43 s of CPU (the x2 figure from a run with frames every
-1.5 ms, the unscaled from the case's run).
+1.5 ms, the unscaled from the case's run). At 40 cells, where x2 flips the edge middle from
+cornered to taut (28.58 -> 24.89 mm): edges' mean 13.44 against 13.50 mm, corners 8.01 against
+8.22, the late punch force 55.16 against 55.29 N; 175 against 263 s of CPU (load 8.0 -> 5.3 and
+5.3 -> 4.1).
 """
 
 from __future__ import annotations
