@@ -24,19 +24,26 @@ how quasi-static it is, the damper's share of the work what the damping took.
 Compared: the shear of the cells the net lays on the bowl at least one coarse cell (16.7 mm
 of arc) inside the rim, the same material region on every mesh (COMPARED_POLAR).
 Measured, fibrous, 0.3 s, 12 / 20 / 32 cells, the die's entry radius 10 mm, the holder a plane
-(HOLDER_RING; one thread, load 7-8): rms shear error against the net 2.73 / 2.14 / 2.07 deg
-(observed order 4.2, Richardson 2.06 deg: the finest mesh within 0.5 % of it, checked,
-ORDER_TOLERANCE); draw-in of the edge middle 22.65 / 28.54 / 24.18 mm (no order), each within the
-range an inextensible centre-line fibre has in the tools' gap (``centre_line_draw_in_range``: 21.87
-/ 23.44 / 23.87 to 29.68 mm, from the taut fibre, 24.97 mm, to the one cornered under the holder,
-28.80 mm; the fibre lying on the die, 25.38 mm, is no reference on a frictionless flange:
-DRAW_IN_CHECKED); punch force at the end 77.5 / 57.2 / 81.4 N (no order); the largest KE / W after
-the first tenth 0.009 / 0.007 / 0.016, 0.0003 / 0.0015 / 0.0034 at the end; the damping took 0.24 /
-0.71 / 2.1 % of the work; the holder did not rise; every run reaches the end; CPU 26 / 107 / 237 s
-(16557 / 27677 / 44335 steps). The 20-cell centre-line fibre stands off the die's round (its node
-80 mm from the pole 3.0 mm off it, at the flange's level, z = 0.23 mm, under the holder's plane
-over the die's opening): a square corner, and the draw-in of a square corner (28.88 mm for an
-inextensible fibre on the sharp die).
+(HOLDER_RING; one thread, load 6-9): rms shear error against the net 2.730 / 2.140 / 2.136 deg
+(observed order 9.7, past validation.checks.ORDER_RANGE's 8: no order, the check fails; 2.07 deg at
+32 cells, order 4.2, in the runs measured before, docs/hemisphere_forming.md); draw-in averaged
+along the edges 11.44 / 13.18 / 13.22 mm (order 7.4; 12.52 / 13.04 / 13.38 mm at 16 / 24 / 36
+cells, order 1.1), of the corners 4.56 / 7.33 / 7.59 mm (5.99 / 6.54 / 7.82), the punch force
+averaged over the last fifth of its travel 40.8 / 48.5 / 53.8 N (46.0 / 52.1 / 54.0; orders 0.6 and
+2.8): no clear order, reported; draw-in of the edge middle 22.61 / 28.57 / 24.51 mm and the punch
+force at the end 79.8 / 56.9 / 83.1 N (no order), the draw-in within the range an inextensible
+centre-line fibre has in the tools' gap (``centre_line_draw_in_range``: 21.87 / 23.44 / 23.87 to
+29.68 mm, from the taut fibre, 24.97 mm, to the one cornered under the holder, 28.80 mm;
+DRAW_IN_CHECKED); the largest KE / W after the first tenth 0.009 / 0.007 / 0.016; the damping took
+0.25 / 0.83 / 2.2 % of the work; the holder did not rise; every run reaches the end; CPU 21 / 43 /
+155 s (16557 / 27678 / 44334 steps). The edge middle takes one of two states: the centre-line
+fibre, held in its symmetry plane, has next to no axial force on the frictionless flange, and when
+it passes through zero (88 % of the travel) its sign decides: stretched (32 cells; 12: next to
+none, its 16.7-mm cells' chord through the round) it lies on the die's round, compressed (20 cells;
+40 cells unscaled) it corners under the holder's plane over the die's opening, one row of nodes
+wide (docs/hemisphere_forming.md). So its draw-in is checked against the range; the edges' mean, in
+which that node weighs h / (8 HALF), settles with the mesh (13.0-13.4 mm from 20 cells on) without
+a clear order.
 The holder as a ring on the flat flange (``model(ring=True)``), and Coulomb friction 0.2 on
 the plane holder (the fibre standing off the round, the 32-cell ring run stopping at 73 %):
 docs/hemisphere_forming.md.
@@ -80,13 +87,16 @@ from solvers import CentralDifference, DivergenceError
 from solvers.common import check_positive_or_none
 from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
 from validation.checks import check
+from validation.forming_measures import corner_draw_in, edge_draw_in, late_mean_force
 from validation.paper.orders import observed_orders
 from validation.plots import figure
 from validation.records import Case, Figure, ObservedOrder, Outcome
+from validation.references import centre_line_draw_in as draw_in
+from validation.references.centre_line_draw_in import chord_shortfall
 from validation.references.drape import fishnet_on_sphere
 from validation.specimens import hemisphere_die
 
-__all__ = ["CASE", "HemisphereData", "blank_shear", "compute", "render"]
+__all__ = ["CASE", "HemisphereData", "blank_shear", "chord_shortfall", "compute", "render"]
 
 NAME = "hemisphere-forming"
 TITLE = "Hemisphere forming: shear angles against the pin-jointed net, draw-in and wrinkles"
@@ -169,8 +179,18 @@ RMS_TOLERANCE_DEG = {"coarse": 3.7, "default": 2.8, "fine": 2.3}
 # |finest|), where the three meshes show a clear order; the others are reported. On the die
 # with its 10-mm entry radius the fibrous rms error falls monotonically (2.73 / 2.14 / 2.07
 # deg, order 4.2, Richardson 2.06): checked, the finest mesh within a tenth of the limit (a
-# converged error is all this asks; measured 0.5 %). The draw-in and the punch force show no
-# order on any die (docs/hemisphere_forming.md).
+# converged error is all this asks; measured 0.5 %; the runs measured now give order 9.7,
+# past validation.checks.ORDER_RANGE, and the check fails: module docstring). The draw-in of
+# the edge middle and the punch force at the end show no order on any die: the edge middle
+# takes one of two states (taut over the die's round or cornered under the holder, module
+# docstring), a single node of the centre line held in its symmetry plane. The draw-in
+# averaged along the edges (that node weighs h / (8 HALF) in it), the corners' and the punch
+# force averaged over the last fifth of the travel are reported with their orders, not
+# checked: over six meshes (12 to 36 cells) the edges' mean settles at 13.0-13.4 mm from 20
+# cells on but not monotonically (order 7.4 on 12 / 20 / 32 cells, 1.1 on 16 / 24 / 36), the
+# corners' does not settle, and the late force rises monotonically (40.8 to 54.0 N) at orders
+# 0.6 and 2.8 on the two triples (docs/hemisphere_forming.md): no clear order to check. At
+# 40 cells the edge middle's two states move the edges' mean by 0.45 %, the late force 0.2 %.
 ORDER_TOLERANCE: dict[str, float] = {"fibrous rms_deg": 0.1}
 # The fibrous rms error's limit is not checked against a bound: it is the fibrous shell's own
 # departure from the net, which no mesh removes. The bound once checked (1 deg) came from
@@ -196,6 +216,10 @@ FIBRE_STRAIN = 0.01
 # The resolutions whose draw-in is checked: all (the coarse mesh's 16.7-mm cells cut the
 # round by their chords, which the range allows: ``chord_shortfall``).
 DRAW_IN_CHECKED = ("coarse", "default", "fine")
+# The punch force compared: its mean over the last fifth of the travel (the work done over
+# it over that travel, ``late_mean_force``), not its last value, which the flange's late
+# release and ringing move by a fifth (module docstring).
+LATE_SHARE = 0.2
 # Quasi-static: the share of the stroke after its first tenth during which the kinetic energy
 # is above the solver's bound, at most KINETIC_SHARE (solvers/quasi_static.py says why). The
 # largest KE / W is reported beside it (measured 0.009, 0.007 and 0.016 at 12, 20 and 32
@@ -293,86 +317,34 @@ def fabric() -> Fabric:
 
 
 def centre_line_draw_in() -> float:
-    """The draw-in of the edge middle (mm) of an inextensible fibre along a centre line lying
-    on the die, its mid-surface half a ply off the die: from the pole along the bowl (radius
-    DIE - h / 2) to the polar angle phi0 where the entry round starts, around the round
-    (radius DIE_RIM + h / 2) to the flange, then flat out to the edge. With rho = DIE_RIM the
-    flange starts at r0 = sqrt(DIE^2 + 2 DIE rho) and phi0 = atan(r0 / rho) (pi / 2 on a sharp
-    rim, whose round is then the ply's half thickness), so the fibre's half length HALF
-    reaches r0 + HALF - (DIE + rho) phi0 and the draw-in is (DIE + rho) phi0 - r0: DIE
-    (pi / 2 - 1) = 28.88 mm on the sharp die; 25.38 mm on the 10-mm round."""
-    start = flange_start()
-    polar = math.atan2(start, DIE_RIM)
-    return (DIE + DIE_RIM) * polar - start
+    """The draw-in of the edge middle (mm) of an inextensible centre-line fibre lying on the
+    die (``lying_draw_in``): 28.88 mm on the sharp die; 25.38 mm on the 10-mm round."""
+    return draw_in.lying_draw_in(DIE, DIE_RIM, THICKNESS)
 
 
 def taut_centre_line_draw_in() -> tuple[float, float, float]:
-    """The least draw-in of the edge middle (mm) an inextensible centre-line fibre can have in
-    the tools at the end of the stroke, and the arcs (mm) its path has on the punch and on the
-    die's round: the shortest path of its mid-surface through the clearance, the taut string.
-    It hugs the punch (a circle of radius a = PUNCH + h / 2 about the origin) from the pole,
-    leaves it along the internal common tangent to the die's round (a circle of radius b =
-    DIE_RIM + h / 2 about c, |c| = d = DIE + DIE_RIM, at the polar angle phi0 = atan(r0 /
-    DIE_RIM)) and hugs the round to its top at the flange's start r0. The tangent meets each
-    circle gamma = acos((a + b) / d) before the line of centres, so the path from the pole to
-    r0 is (a + b)(phi0 - gamma) + d sin(gamma) long and the draw-in is that less r0: 24.97 mm
-    on the 10-mm round, 84.74 mm of path (the fibre lying on the die instead: 25.38 mm,
-    ``centre_line_draw_in``)."""
-    start = flange_start()
-    punch, round_ = PUNCH + 0.5 * THICKNESS, DIE_RIM + 0.5 * THICKNESS
-    centres = DIE + DIE_RIM
-    gamma = math.acos((punch + round_) / centres)
-    turn = math.atan2(start, DIE_RIM) - gamma
-    path = (punch + round_) * turn + centres * math.sin(gamma)
-    return path - start, punch * turn, round_ * turn
+    """The least draw-in (mm) of the edge middle, the taut fibre, and its arcs (mm) on the
+    punch and the round (``taut_draw_in``): 24.97 mm on the 10-mm round, 84.74 mm of path."""
+    return draw_in.taut_draw_in(PUNCH, DIE, DIE_RIM, THICKNESS)
 
 
 def cornered_centre_line_draw_in() -> tuple[float, float]:
-    """The draw-in of the edge middle (mm) of an inextensible centre-line fibre pushed off the
-    die's round into the corner its bowl's sphere makes with the holder's plane over the
-    opening, and its path's length (mm) from the pole to the flange's start: along the sphere
-    of the clearance's die side (radius DIE - h / 2) from the pole to its equator, then
-    straight to the flange's start r0 at the mid-surface's level h / 2. No unfolded path
-    through the clearance under the holder's plane is longer by more than the clearance (0.3
-    mm): it is where a compressed fibre on a frictionless flange goes, nothing pulling it onto
-    the round. 28.80 mm on the 10-mm round, 88.57 mm of path."""
-    start = flange_start()
-    bowl = DIE - 0.5 * THICKNESS
-    path = 0.5 * math.pi * bowl + math.hypot(start - bowl, 0.5 * THICKNESS)
-    return path - start, path
-
-
-def chord_shortfall(radius: float, arc: float, segment: float) -> float:
-    """How much less fibre (mm) covers an ``arc`` (mm) of a circle of ``radius`` (mm) with
-    chords of ``segment`` (mm) between nodes on it than lying on it: the arc less its
-    inscribed chords, arc (1 - segment / (radius theta)) with theta = 2 asin(segment / (2
-    radius)). The contact keeps the nodes out of the tools, not the cells' edges: a cell
-    spanning the round cuts it by its chord."""
-    theta = 2.0 * math.asin(min(1.0, 0.5 * segment / radius))
-    return arc * (1.0 - segment / (radius * theta))
+    """The draw-in (mm) of the fibre cornered under the holder's plane and its path (mm) to
+    the flange's start (``cornered_draw_in``): 28.80 mm on the 10-mm round, 88.57 mm."""
+    return draw_in.cornered_draw_in(DIE, DIE_RIM, THICKNESS)
 
 
 def centre_line_draw_in_range(cells: int) -> tuple[float, float]:
-    """(lowest, highest) draw-in of the edge middle (mm) of a centre-line fibre in the tools'
-    gap at the end of the stroke on a blank of ``cells`` cells a side: from the taut fibre
-    (``taut_centre_line_draw_in``) stretched by FIBRE_STRAIN, its cells cutting the punch and
-    the round by their chords (``chord_shortfall``), to the cornered one
-    (``cornered_centre_line_draw_in``) compressed by FIBRE_STRAIN (chords through a corner
-    only shorten it); a strain eps over a path of length L moves the draw-in by eps L."""
+    """(lowest, highest) draw-in (mm) of the edge middle on a blank of ``cells`` cells a side
+    (``draw_in_range``, FIBRE_STRAIN of strain either way)."""
     segment = 2.0 * HALF / cells
-    taut, on_punch, on_round = taut_centre_line_draw_in()
-    cornered, cornered_path = cornered_centre_line_draw_in()
-    chords = chord_shortfall(PUNCH + 0.5 * THICKNESS, on_punch, segment) + chord_shortfall(
-        DIE_RIM + 0.5 * THICKNESS, on_round, segment
-    )
-    taut_path = taut + flange_start()
-    return taut - FIBRE_STRAIN * taut_path - chords, cornered + FIBRE_STRAIN * cornered_path
+    return draw_in.draw_in_range(PUNCH, DIE, DIE_RIM, THICKNESS, segment, FIBRE_STRAIN)
 
 
 def flange_start(rim: float = DIE_RIM) -> float:
-    """The radius (mm) where the die's flat flange starts, past its entry round of radius
-    ``rim`` (mm; DIE on a sharp die): the holder's bore."""
-    return math.sqrt(DIE**2 + 2.0 * DIE * rim)
+    """The radius (mm) where the die's flat flange starts past its entry round of radius
+    ``rim`` (mm): the ring holder's bore."""
+    return draw_in.flange_start(DIE, rim)
 
 
 def holder_closing(tau):
@@ -466,8 +438,16 @@ def run(
         "rms_deg": float(np.sqrt(np.mean(error**2))) if compared.any() else math.inf,
         "largest_shear_deg": float(np.degrees(np.abs(shear[compared]).max(initial=0.0))),
         "draw_in_mm": float(HALF - np.linalg.norm(x[edge, :2], axis=1).mean()),
+        "edge_draw_in_mm": edge_draw_in(mesh.points, x, HALF),
+        "corner_draw_in_mm": corner_draw_in(mesh.points, x, HALF),
         # The blank pushes the punch up: +z on the second tool.
         "punch_force_N": float(result.tool_forces[-1, 1, 2]),
+        "late_punch_force_N": late_mean_force(
+            np.asarray(energies["time"]),
+            np.asarray(energies["external_work"]),
+            lambda t: (PUNCH + THICKNESS) * smooth_step(t * time_scaling / DURATION),
+            LATE_SHARE,
+        ),
         "holder_lift_mm": float(max(lifts)) if lifts else None,
         "kinetic_over_work": quasi["kinetic_over_work_final"],
         "largest_kinetic_over_work": quasi["kinetic_over_work_largest"],
@@ -487,6 +467,9 @@ ORDER_QUANTITIES = {
     "rms_deg": "rms of shear - net shear in the die (deg)",
     "draw_in_mm": "draw-in of the edge middle (mm)",
     "punch_force_N": "punch force at the end of the stroke (N)",
+    "edge_draw_in_mm": "draw-in averaged along the edges (mm)",
+    "corner_draw_in_mm": "draw-in of the corners (mm)",
+    "late_punch_force_N": "punch force averaged over the last fifth of the travel (N)",
 }
 
 
@@ -592,6 +575,8 @@ def compute(resolution: str) -> Outcome:
         if record["holder_lift_mm"] is not None:
             parameters[f"{kinematics}_largest_holder_lift_mm"] = record["holder_lift_mm"]
         parameters[f"{kinematics}_draw_in_of_edge_middle_mm"] = record["draw_in_mm"]
+        for key in ("edge_draw_in_mm", "corner_draw_in_mm", "late_punch_force_N"):
+            parameters[f"{kinematics}_{key}"] = record[key]
         checks.append(
             check(
                 f"{kinematics}: rms of shear - net shear over the compared cells (deg)",
