@@ -1,0 +1,84 @@
+"""The CPU of chosen test items, compiling and running apart: the items run by pytest in one
+process (``-n 0``) on a fresh empty numba cache (NUMBA_CACHE_DIR: every kernel an item calls
+first is compiled there), then again in a second process on the cache the first one left
+(the run alone). Each item's CPU is ``time.process_time`` over its setup, call and teardown
+(a plugin of this script records it); compile = cold - warm. An item that compiles kernels
+later items also call takes their compile in a cold pass, so the figures depend on the
+items' order (pytest's, as given). One numba and BLAS thread; the machine's 1-minute load is
+printed before and after each pass (2 cores shared with other jobs).
+
+Measured: see the figures below (the commit that added this script).
+
+Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+PLUGIN = """
+import json, os, time
+import pytest
+
+_cpu = {}
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    started = time.process_time()
+    yield
+    _cpu[item.nodeid] = time.process_time() - started
+
+def pytest_sessionfinish(session):
+    with open(os.environ["SUITE_ITEM_CPU"], "w") as f:
+        json.dump(_cpu, f)
+"""
+
+
+def one_pass(checkout: Path, items: list[str], cache: str, plugin_dir: str) -> dict[str, float]:
+    """CPU s per item of one pytest process on ``cache``."""
+    out = Path(plugin_dir) / "cpu.json"
+    one = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+    env = {**os.environ, **one, "NUMBA_CACHE_DIR": cache, "SUITE_ITEM_CPU": str(out),
+           "PYTHONPATH": os.pathsep.join([plugin_dir, str(checkout)])}  # fmt: skip
+    load = os.getloadavg()[0]
+    command = [sys.executable, "-m", "pytest", "-q", "-n", "0", "-p", "no:cacheprovider",
+               "-p", "suite_item_cpu_plugin", *items]  # fmt: skip
+    done = subprocess.run(command, env=env, cwd=checkout, capture_output=True, text=True)
+    last = done.stdout.strip().splitlines()[-1] if done.stdout.strip() else done.stderr[-500:]
+    print(f"  pass in {checkout.name}: load {load:.1f} -> {os.getloadavg()[0]:.1f}, {last}")
+    return json.loads(out.read_text())
+
+
+def measure(checkout: Path, items: list[str]) -> None:
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as plugin_dir:
+        Path(plugin_dir, "suite_item_cpu_plugin.py").write_text(PLUGIN)
+        print(f"{checkout}:")
+        cold = one_pass(checkout, items, cache, plugin_dir)
+        warm = one_pass(checkout, items, cache, plugin_dir)
+    print(f"  {'cold s':>8} {'warm s':>8} {'compile':>8}  item")
+    for item in cold:
+        print(f"  {cold[item]:8.1f} {warm.get(item, float('nan')):8.1f} "
+              f"{cold[item] - warm.get(item, float('nan')):8.1f}  {item}")  # fmt: skip
+    print(f"  {sum(cold.values()):8.1f} {sum(warm.values()):8.1f} "
+          f"{sum(cold.values()) - sum(warm.values()):8.1f}  all")  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("items", nargs="+", help="pytest node ids or files")
+    parser.add_argument("--against", type=Path, help="another checkout, measured first")
+    args = parser.parse_args()
+    for checkout in ([args.against.resolve()] if args.against else []) + [ROOT]:
+        measure(checkout, args.items)
+
+
+if __name__ == "__main__":
+    main()
