@@ -86,7 +86,7 @@ def test_the_same_laws_leave_only_the_kinematics_to_differ(tmp_path):
 def small_comparison(tmp_path_factory) -> tuple[Path, str]:
     """``fibreshell compare`` of a 40 mm strip of 4 cells (the ply strip's case): its output
     folder and what it printed, shared by the tests that read its files (one run of both
-    kinematics and their figures, 6 s of CPU, instead of one per test)."""
+    kinematics and their figures, 1.7 s of CPU at a load of 8, instead of one per test)."""
     folder = tmp_path_factory.mktemp("small_comparison")
     text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
     path = folder / "small.toml"
