@@ -7,7 +7,28 @@ later items also call takes their compile in a cold pass, so the figures depend 
 items' order (pytest's, as given). One numba and BLAS thread; the machine's 1-minute load is
 printed before and after each pass (2 cores shared with other jobs).
 
-Measured: see the figures below (the commit that added this script).
+Measured (2 cores shared with other jobs at a load of 5-8: a cold pass of the slow items
+did not finish in the time there was; the warm figures are of one process on a cache that
+already held their kernels, ``-n 0``, load 8.0 -> 3.2): CPU s of the item, then its wall
+time in a whole run of the suite on main 9864ff6 (a fresh clone, fresh cache, two xdist
+workers beside the coarse report, load 5-8, 47 min 46 s wall in all, 1044 s of CPU of pytest
+and its workers):
+
+    tests/test_hemisphere_static.py  ..._at_the_case_coarse_mesh          63.3   401.6 s
+    tests/test_stable_step.py        ..._coarse_hemisphere_forming_blank  29.0   114.8 s
+    tests/test_compare.py            ..._same_laws_leave_only_the_kinem.  28.7    88.7 s
+    tests/test_compare.py            ..._fit_calibration_recovers_...      2.8    87.8 s
+    tests/test_capstan.py            ..._dynamic_relaxation_...[0.0]       5.6     (< 47 s)
+    tests/test_capstan.py            ..._dynamic_relaxation_...[0.2]       8.9    64.3 s
+
+The fit's CPU is in the Dask workers of the LocalCluster it starts (``fit_calibration``
+takes no scheduler: not the session's shared one); the others are their runs (their
+kernels compiled by earlier items). Items whose whole-suite time is numba's compiling, the
+first of their worker to ask for a family of kernels: test_bias_extension.py's setup
+358.5 s, test_fibrous.py's first compiled pieces 345.0 s, test_conformance.py's first
+Mindlin-fabric motion 105.0 s, test_mindlin.py's parallel kernel [2] 81.2 s,
+test_augmented_contact.py's pressed plate 67.6 s (earlier warm figures: 0.01-0.04 s,
+benchmarks/suite_items.py).
 
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
