@@ -30,6 +30,13 @@ Mindlin-fabric motion 105.0 s, test_mindlin.py's parallel kernel [2] 81.2 s,
 test_augmented_contact.py's pressed plate 67.6 s (earlier warm figures: 0.01-0.04 s,
 benchmarks/suite_items.py).
 
+The coarse report the suite runs beside its tests (tests/conftest.py), in that same run of
+main: 23 cases in 851 s wall on its two jobs, 327.9 s of the cases' CPU (``case_cpu_s``; a
+Dask worker's CPU not in it): hemisphere-plies 90.1, hemisphere-forming 67.4, plies-bai-5.1
+44.3, bai-5.1 28.3, plies-deck-of-cards 27.8, bai-6.1.1 15.5, bai-6.2.1 11.9, bai-6.1.2 11.0,
+bai-6.2.2 10.2, plies-heavy-cantilever 5.0, bai-6.1.1-sensitivity 4.2 (and its Dask workers),
+heavy-cantilever-nonlinear 3.7, the other 11 cases 8.5 s together.
+
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
 
