@@ -5,6 +5,8 @@ printed summary and in every figure; comparison.json has one schema (README)."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 from pathlib import Path
 
@@ -80,17 +82,28 @@ def test_the_same_laws_leave_only_the_kinematics_to_differ(tmp_path):
     assert slope["mindlin"].summary["mean_displacements"]["tip"][2] / tip["fibrous"] < 0.5
 
 
-def test_comparison_json_has_one_schema_and_states_the_calibration(tmp_path, capsys):
+@pytest.fixture(scope="module")
+def small_comparison(tmp_path_factory) -> tuple[Path, str]:
+    """``fibreshell compare`` of a 40 mm strip of 4 cells (the ply strip's case): its output
+    folder and what it printed, shared by the tests that read its files (one run of both
+    kinematics and their figures, 1.7 s of CPU at a load of 8, instead of one per test)."""
+    folder = tmp_path_factory.mktemp("small_comparison")
+    text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
+    path = folder / "small.toml"
+    path.write_text(text.replace("x_min = 200.0", "x_min = 40.0"))
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        assert main(["compare", str(path), "--out", str(folder / "out"), "--quiet"]) == 0
+    return folder / "out", printed.getvalue()
+
+
+def test_comparison_json_has_one_schema_and_states_the_calibration(small_comparison):
     # README "comparison.json": calibration {name, rule, numbers}; per kinematics its paths
     # (s, director angle and tilt, thickness) and sets (displacement); the differences from
     # the fibrous shell; the calibration in the printed summary and in the figures' titles.
-    text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
-    path = tmp_path / "small.toml"
-    path.write_text(text.replace("x_min = 200.0", "x_min = 40.0"))
-    assert main(["compare", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
-    printed = capsys.readouterr().out
+    out, printed = small_comparison
     assert "calibration: laws" in printed and "transverse_shear_N_per_mm" in printed
-    comparison = _read(tmp_path / "out")
+    comparison = _read(out)
     calibration = comparison["calibration"]
     assert calibration["name"] == "laws"
     assert calibration["numbers"]["bending_law_warp"].startswith("BendingLaw.bilinear(B1=7.5")
@@ -108,18 +121,17 @@ def test_comparison_json_has_one_schema_and_states_the_calibration(tmp_path, cap
     assert comparison["figures"] == ["view-3d.png", "path-edge.png"]
 
 
-def test_the_path_figure_is_four_panels_in_two_rows_that_read_on_an_800_px_page(tmp_path):
+def test_the_path_figure_is_four_panels_in_two_rows_that_read_on_an_800_px_page(
+    small_comparison,
+):
     # Two rows of two panels, 990 px wide: shown at about 780 px on an 800-px screen its
     # 10-pt text still reads as 9 pt (a row of four was 2,090 px, its text 5 px there).
     from matplotlib.image import imread
 
     from fibreshell.compare import PATH_FIGURE_DPI, PATH_FIGURE_SIZE
 
-    text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
-    path = tmp_path / "small.toml"
-    path.write_text(text.replace("x_min = 200.0", "x_min = 40.0"))
-    assert main(["compare", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
-    height, width = imread(tmp_path / "out" / "path-edge.png").shape[:2]
+    out, _ = small_comparison
+    height, width = imread(out / "path-edge.png").shape[:2]
     assert (width, height) == (
         round(PATH_FIGURE_SIZE[0] * PATH_FIGURE_DPI),
         round(PATH_FIGURE_SIZE[1] * PATH_FIGURE_DPI),

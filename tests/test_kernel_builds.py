@@ -113,3 +113,38 @@ def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_t
     np.testing.assert_array_equal(
         bending.geometry(block, block.reference_points)["fold"], block.reference_fold
     )
+
+
+def test_a_table_law_s_energy_is_built_once_whatever_constant_index_its_callers_give():
+    """The fibrous kernels call the packed laws' energy with constant indices (the shear law
+    2, the fabric section's module constants): spliced into a caller, such an index is numba's
+    Literal[int], and the table helpers it calls were built once per literal (4 builds where
+    one serves). Every build takes an int64 index; the energies are materials.Law.energy's
+    (the numpy reference: the same trapezoids, to 1e-12 relative)."""
+    import numba
+
+    from elements.fibrous.packed_laws import _table_energy, _table_integral, law_energy, pack_laws
+    from materials import BendingLaw, ShearLaw
+
+    @numba.njit
+    def constant_indices(integers, reals, x):  # pragma: no cover - numba
+        return (
+            law_energy(integers, reals, 0, x),
+            law_energy(integers, reals, 1, x),
+            law_energy(integers, reals, 2, x),
+        )
+
+    laws = [
+        BendingLaw.bilinear(7.5, 0.5, 1e-3),
+        ShearLaw.table([0.0, 0.5, 1.0], [0.0, 1.0, 3.0]),
+        BendingLaw.bilinear(2.0, 0.5, 2e-3),
+    ]
+    integers, reals = pack_laws(laws)
+    for x in (-0.4, 7e-4, 0.8, 1.5):
+        energies = constant_indices(integers, reals, x)
+        for law, energy in zip(laws, energies, strict=True):
+            assert energy == pytest.approx(float(law.energy(x)), rel=1e-12, abs=1e-300)
+    assert [signature[2] for signature in _table_energy.signatures] == [numba.types.int64]
+    # (_table_integral is linked into _table_energy's build: none of its own when that one
+    # came from numba's cache)
+    assert all(signature[2] == numba.types.int64 for signature in _table_integral.signatures)

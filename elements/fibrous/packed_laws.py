@@ -137,7 +137,11 @@ def law_energy(integers, reals, i, x):
             e += reals[i, 0, j] * power / (2 * j + 2)
             power *= square
         return e
-    return _table_energy(integers, reals, i, x)
+    # i as int64: a caller's constant index (the shear law, 2, or a module constant) reaches
+    # a spliced helper as numba's Literal[int], and a compiled callee is built once per
+    # literal it is called with (4 builds of the two table helpers, 2.3 s of compiling);
+    # as int64 one build serves every index.
+    return _table_energy(integers, reals, np.int64(i), x)
 
 
 @serial

@@ -1,0 +1,112 @@
+"""The CPU of chosen test items, compiling and running apart: the items run by pytest in one
+process (``-n 0``) on a fresh empty numba cache (NUMBA_CACHE_DIR: every kernel an item calls
+first is compiled there), then again in a second process on the cache the first one left
+(the run alone). Each item's CPU is ``time.process_time`` over its setup, call and teardown
+(a plugin of this script records it); compile = cold - warm. An item that compiles kernels
+later items also call takes their compile in a cold pass, so the figures depend on the
+items' order (pytest's, as given). One numba and BLAS thread; the machine's 1-minute load is
+printed before and after each pass (2 cores shared with other jobs).
+
+Measured (2 cores shared with other jobs at a load of 5-8: a cold pass of the slow items
+did not finish in the time there was; the warm figures are of one process on a cache that
+already held their kernels, ``-n 0``, load 8.0 -> 3.2): CPU s of the item, then its wall
+time in a whole run of the suite on main 9864ff6 (a fresh clone, fresh cache, two xdist
+workers beside the coarse report, load 5-8, 47 min 46 s wall in all, 1044 s of CPU of pytest
+and its workers):
+
+    tests/test_hemisphere_static.py  ..._at_the_case_coarse_mesh          63.3   401.6 s
+    tests/test_stable_step.py        ..._coarse_hemisphere_forming_blank  29.0   114.8 s
+    tests/test_compare.py            ..._same_laws_leave_only_the_kinem.  28.7    88.7 s
+    tests/test_compare.py            ..._fit_calibration_recovers_...      2.8    87.8 s
+    tests/test_capstan.py            ..._dynamic_relaxation_...[0.0]       5.6     (< 47 s)
+    tests/test_capstan.py            ..._dynamic_relaxation_...[0.2]       8.9    64.3 s
+
+The fit's CPU is in the Dask workers of the LocalCluster it starts (``fit_calibration``
+takes no scheduler: not the session's shared one); the others are their runs (their
+kernels compiled by earlier items). Items whose whole-suite time is numba's compiling, the
+first of their worker to ask for a family of kernels: test_bias_extension.py's setup
+358.5 s, test_fibrous.py's first compiled pieces 345.0 s, test_conformance.py's first
+Mindlin-fabric motion 105.0 s, test_mindlin.py's parallel kernel [2] 81.2 s,
+test_augmented_contact.py's pressed plate 67.6 s (earlier warm figures: 0.01-0.04 s,
+benchmarks/suite_items.py).
+
+The coarse report the suite runs beside its tests (tests/conftest.py), in that same run of
+main: 23 cases in 851 s wall on its two jobs, 327.9 s of the cases' CPU (``case_cpu_s``; a
+Dask worker's CPU not in it): hemisphere-plies 90.1, hemisphere-forming 67.4, plies-bai-5.1
+44.3, bai-5.1 28.3, plies-deck-of-cards 27.8, bai-6.1.1 15.5, bai-6.2.1 11.9, bai-6.1.2 11.0,
+bai-6.2.2 10.2, plies-heavy-cantilever 5.0, bai-6.1.1-sensitivity 4.2 (and its Dask workers),
+heavy-cantilever-nonlinear 3.7, the other 11 cases 8.5 s together.
+
+Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+PLUGIN = """
+import json, os, time
+import pytest
+
+_cpu = {}
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    started = time.process_time()
+    yield
+    _cpu[item.nodeid] = time.process_time() - started
+
+def pytest_sessionfinish(session):
+    with open(os.environ["SUITE_ITEM_CPU"], "w") as f:
+        json.dump(_cpu, f)
+"""
+
+
+def one_pass(checkout: Path, items: list[str], cache: str, plugin_dir: str) -> dict[str, float]:
+    """CPU s per item of one pytest process on ``cache``."""
+    out = Path(plugin_dir) / "cpu.json"
+    one = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+    env = {**os.environ, **one, "NUMBA_CACHE_DIR": cache, "SUITE_ITEM_CPU": str(out),
+           "PYTHONPATH": os.pathsep.join([plugin_dir, str(checkout)])}  # fmt: skip
+    load = os.getloadavg()[0]
+    command = [sys.executable, "-m", "pytest", "-q", "-n", "0", "-p", "no:cacheprovider",
+               "-p", "suite_item_cpu_plugin", *items]  # fmt: skip
+    done = subprocess.run(command, env=env, cwd=checkout, capture_output=True, text=True)
+    last = done.stdout.strip().splitlines()[-1] if done.stdout.strip() else done.stderr[-500:]
+    print(f"  pass in {checkout.name}: load {load:.1f} -> {os.getloadavg()[0]:.1f}, {last}")
+    return json.loads(out.read_text())
+
+
+def measure(checkout: Path, items: list[str]) -> None:
+    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as plugin_dir:
+        Path(plugin_dir, "suite_item_cpu_plugin.py").write_text(PLUGIN)
+        print(f"{checkout}:")
+        cold = one_pass(checkout, items, cache, plugin_dir)
+        warm = one_pass(checkout, items, cache, plugin_dir)
+    print(f"  {'cold s':>8} {'warm s':>8} {'compile':>8}  item")
+    for item in cold:
+        print(f"  {cold[item]:8.1f} {warm.get(item, float('nan')):8.1f} "
+              f"{cold[item] - warm.get(item, float('nan')):8.1f}  {item}")  # fmt: skip
+    print(f"  {sum(cold.values()):8.1f} {sum(warm.values()):8.1f} "
+          f"{sum(cold.values()) - sum(warm.values()):8.1f}  all")  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("items", nargs="+", help="pytest node ids or files")
+    parser.add_argument("--against", type=Path, help="another checkout, measured first")
+    args = parser.parse_args()
+    for checkout in ([args.against.resolve()] if args.against else []) + [ROOT]:
+        measure(checkout, args.items)
+
+
+if __name__ == "__main__":
+    main()
