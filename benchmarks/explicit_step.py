@@ -113,14 +113,15 @@ The Mindlin shell on the same code and machine (load 6-7), not regressed: peak 7
 (1.816 kB a triangle; 741 MB, 1.899, on the run that compiled its loops), build 2.64 s CPU
 in that run; ``--build --sizes 400000`` 2.14-2.18 s CPU (7.5-7.8 s wall), +356 MB resident.
 
-The explicit runs flush subnormal numbers to zero while they step (elements/subnormals.py);
-the fibrous force kernel itself unchanged. ``--element fibrous --sizes 10000,100000 --repeats
-3``, one thread, main 9864ff6 (a second checkout) and after, one after the other, µs of CPU
-an element-step: steady step at 10k 1.133 (load 8.2) -> 1.007 (load 6.9) and 1.200 (load
-9.4, a test run beside it), at 100k 1.112 (load 6.6) -> 1.089 (load 9.2); the force alone at
-10k 1.032 -> 0.770 / 0.909, at 100k 0.938 -> 0.891: the same within this machine's noise at
-these loads (the sheet falls under gravity from rest, every node at once: no wave front of
-tiny rates, unlike the forming blank pressed at its centre, benchmarks/hemisphere_forming.py).
+With the subnormal numbers flushed to zero while the runs stepped (tried, not kept:
+benchmarks/hemisphere_forming.py), the fibrous force kernel itself unchanged. ``--element
+fibrous --sizes 10000,100000 --repeats 3``, one thread, main 9864ff6 (a second checkout) and
+after, one after the other, µs of CPU an element-step: steady step at 10k 1.133 (load 8.2) ->
+1.007 (load 6.9) and 1.200 (load 9.4, a test run beside it), at 100k 1.112 (load 6.6) -> 1.089
+(load 9.2); the force alone at 10k 1.032 -> 0.770 / 0.909, at 100k 0.938 -> 0.891: the same
+within this machine's noise at these loads (the sheet falls under gravity from rest, every node
+at once: no wave front of tiny rates, unlike the forming blank pressed at its centre,
+benchmarks/hemisphere_forming.py).
 The force's 0.498 µs at 100k above was measured at load 6 on the Intel machine; 0.35 was not
 reached.
 

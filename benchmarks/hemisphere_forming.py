@@ -19,51 +19,36 @@ rest taken apart: the external loads, the nodal update (velocities, positions, r
 their energy terms), the history commit and the other bookkeeping (the parts' forces summed,
 the energy account, the output); it lists each evaluation of the assembled bound with its
 ratio to the cells' bound of the model's own masses, and each run prints its mean step and the
-whole stroke projected at that pace. ``--nodal-update one,two`` runs the step's nodal update
-in one compiled pass over the nodes (solvers/central_pass.py) or in two (the velocities',
-then the rotations': the solver's default).
+whole stroke projected at that pace.
 
-Subnormal numbers and the one-pass update, measured at 20k triangles on the first 0.3 % of
-the stroke (402 steps of 2.24e-6 s), one thread, CPU, main (9864ff6, a second checkout) and
-this code one after the other, twice (load 5.9 -> 6.9, 6.9 -> 6.7; then 6.9 -> 7.3,
-7.6 -> 8.3):
+Subnormal numbers, measured at 20k triangles on the first 0.3 % of the stroke (402 steps of
+2.24e-6 s), one thread, CPU, main 9864ff6 twice (load 5.9 -> 6.9, 6.9 -> 7.3): 36.82 / 36.83
+ms a step: element force 21.06 / 21.84, die 3.51 / 3.58, punch and holder 3.33 / 3.41, the
+cells' bound 0.58 / 0.59, the assembled bound 3.84 / 2.92 (its one evaluation), the rotary
+inertia 0.36 / 0.37, the rest 4.14 / 4.11 (a profile, load 7.5: the rotations' pass 1.84,
+the velocities' 0.63, the external loads 0.25; the energy account, the bookkeeping and the
+output next to nothing). A run from rest spreads its disturbance one ring of cells a step;
+ahead of the wave the velocities, moments and the directors' in-plane components are tiny,
+and their products fall below 2.2e-308 (subnormal numbers), where each operation costs the
+processor some hundred cycles. The nodal update's arguments at step 250 held 819 subnormal
+velocity components, 1046 in the internal forces, 648 in the moments (of 30606 each): the
+update took 2.5-2.7 ms CPU on them against 0.7-0.8 on random data of the same size (load 8).
+With the processor's flush-to-zero modes on (FTZ and DAZ, tried), a step took 27.17 against
+27.65 ms (load 5.5 / 5.8), the element force 14.9 against 16.5, the nodal update 0.99 against
+2.24; the same run to the last bit. The gain is the start's alone: at step 2700 (2 % of the
+stroke; 69.0 s of CPU for those steps, load 4-5) no subnormal was left and the element force
+took 11.4-11.9 ms with the modes and 11.2-12.7 without (load 4.1): some 20 s of CPU of the
+stroke's hour. Not kept: the modes are each thread's processor state, to be set and restored
+on every worker of numba's pool, which a work-stealing threading layer (TBB) does not let one
+reach for certain, and a thread left flushed would change every later result. What the
+measurement leaves: the first fraction of a stroke from rest runs slower than the rest of it,
+so a projection from the first 1 % overstates the stroke (the 74-76 min below).
 
-* before: 36.82 / 36.83 ms a step: element force 21.06 / 21.84, die 3.51 / 3.58, punch and
-  holder 3.33 / 3.41, the cells' bound 0.58 / 0.59, the assembled bound 3.84 / 2.92 (its one
-  evaluation), the rotary inertia 0.36 / 0.37, the rest 4.14 / 4.11;
-* after: 29.85 / 28.45 ms a step (0.81 / 0.77): element force 16.81 / 15.81, die 3.24 /
-  2.91, punch and holder 3.10 / 2.90, the cells' bound 0.52 / 0.49, the assembled bound 3.47
-  / 3.81, the rotary inertia 0.32 / 0.30, the rest 2.38 / 2.24: the external loads 0.22 /
-  0.21, the nodal update 1.12 / 1.06, the commit 0.006, the other bookkeeping 1.03 / 0.96.
-
-What changed: the run flushes subnormal numbers to zero while it steps (elements/subnormals.py,
-the processor's FTZ and DAZ modes). A run from rest spreads its disturbance one ring of cells
-a step; ahead of the wave the velocities, moments and the directors' in-plane components are
-tiny, and their products fall below 2.2e-308, where each operation costs the processor some
-hundred cycles. The nodal update's arguments at step 250 held 819 subnormal velocity
-components, 1046 in the internal forces, 648 in the moments (of 30606 each): the update took
-2.5-2.7 ms CPU on them against 0.7-0.8 on random data of the same size (load 8); the element
-force on that state 15.6-15.9 ms against 11.7-12.1 with the directors' changes below 1e-30
-dropped (11.2-11.4 on the starting state; load 7.6). In a whole step, the same code with and
-without the modes (load 5.5 and 5.8): 27.17 against 27.65 ms, the element force 14.9 against
-16.5, the nodal update 0.99 against 2.24, the assembled bound's one evaluation 3.9 against 2.4
-(that evaluation's noise). A forming run is the same to the last bit with them
-(tests/test_subnormals.py). The gain is the start's alone: at step 2700 (2 % of the stroke,
-the run without the modes, 69.0 s of CPU for those steps, load about 4-5) the state held no
-subnormal velocity, angular velocity, director component, force or moment, and the element
-force took 11.4-11.9 ms with the modes and 11.2-12.7 without (load 4.1). Over the whole stroke
-the modes save at most some 20 s of CPU of its hour; what they change is the first fraction's
-figures, which now show the stroke's pace: the "before" figures above, and every projection
-from the first 1 % or 0.3 % before them, were inflated by the wave front's subnormals.
-
-The one-pass nodal update (solvers/central_pass.py; the same numbers to the last bit,
-tests/test_step.py) is no faster than the two passes: on the captured arguments of step 250,
-2.53-3.28 against 2.46-2.97 ms with the subnormals (best of 100, load 8), 0.64-1.02 against
-0.56-0.74 with them flushed (best of 60, load 6.8), in whole runs 2.77 / 2.60 against 2.37
-(one, two, one in one process, subnormals kept, load 9.0 -> 8.5): the update is arithmetic
-(the directors' Rodrigues turn, a sine and a cosine a node), not memory traffic, at 10201
-nodes. It is off by default (``solvers.step.FUSED``); the "after" figures above ran it on
-(with the two passes the nodal update would be a few tenths of a ms less).
+One compiled pass for the whole nodal update (velocities, positions, the directors' turn; the
+same numbers to the last bit) was tried and measured no faster than the solver's two passes:
+on the captured arguments of step 250, 2.53-3.28 against 2.46-2.97 ms (best of 100, load 8),
+in whole runs 2.77 / 2.60 against 2.37 ms (load 9.0 -> 8.5): the update is arithmetic (the
+Rodrigues turn, a sine and a cosine a node), not memory traffic, at 10201 nodes. Not kept.
 
 Where the element force goes (a profile of 268 steps at 20k, main, load 7.5, CPU per step):
 the cells' pass (tension, shear, bending of each cell, elements/fibrous/kernels.py
@@ -188,7 +173,7 @@ s of CPU; warm, an evaluation takes 1.35 s of CPU at load 8.2.)
 
 Threads: at the loads of these measurements (4-9 on 2 cores) the default threads chose one (free
 cores: elements/jit.py). Two forced on the element force at 20k (the starting state, 30 calls
-a round, one thread then two, three rounds, load 7.8-7.9, the quietest this session found):
+a round, one thread then two, three rounds, load 7.8-7.9, the quietest load seen):
 median wall 34.8 / 33.6 / 34.3 ms on one thread against 29.2 / 29.6 / 33.0 on two (1.04-1.19
 times as fast); again at load 4.8: 26.0 / 25.0 / 26.4 against 24.0 / 21.8 / 22.9 (1.08-1.15;
 the best single call 11.2 ms on one thread, 18.5 on two), while the free cores' count said
@@ -204,40 +189,39 @@ the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of 
 0.082 against the bound 0.1); mass scaling to 2.4e-5 s with time x2 keeps them in 0.29; with
 x4 it does not (KE / W above the bound over 0.28 of the stroke).
 
-Projected at the pace measured above with subnormals flushed (28.5-29.9 ms CPU a step at load
-6.7-8.3, of which the assembled bound's one evaluation 3.5-3.8 ms; spread over the stroke, an
-evaluation of 1.4 s at least every 4000 steps, about 0.35 ms a step: 25.3-26.7 ms a step), one
+Projected at the stroke's pace past its start (the first 2700 steps averaged 25.5 ms CPU a
+step, load 4-5; with the subnormals flushed the first 0.3 % ran 28.5-29.9 ms a step at load
+6.7-8.3, 25.3-26.7 with the assembled bound's one 1.4-s evaluation spread over its 4000 steps;
+the whole x4 stroke measured below averaged 31.6 ms a step at load 2-4 on older code), one
 thread: unscaled, 133.8k steps, 56-60 min CPU; at time scaling x2 (the stroke in 0.15 s, 66.9k
-steps) 28-30 min; at x4 (33.5k steps) 14-15 min. The code before runs at that pace too once its
-start's subnormals are gone (the first 2700 steps without the modes averaged 25.5 ms, load 4-5;
-the whole x4 stroke measured below averaged 31.6 ms a step at load 2-4 on older code): the
-74-76 min that its first 0.3 % gave (36.8 ms a step) was the subnormals' figure, not the
-stroke's. 3 minutes on the 2 cores is 6 min of CPU at most: the x2 stroke is 5 times away, the
-x4 one 2.5 times. What would close the rest: the element force is 55 % of a step (15.8-16.8 ms
-at load 7-8, 11.4-11.9 at load 4, 0.57 us a triangle), so a quieter machine takes 4-5 ms off a
-step from the element force alone (the x2 stroke near 24 min of CPU, less as the other pieces
-shrink too); two threads on the element force where the second core is free (not measured
-quiet); the cells' pass itself (``_cells_pass``, 15.7 of the force's 22 ms in a profile:
-transcendental functions per fibre level, not vectorised across cells); the punch's and
-holder's 2.9-3.1 ms, most of it outside their compiled passes (the contact blocks' node
-gathers, 0.34 ms each in a profile, the scatter by bincount, the copies of the answer kept from
-memory: elements/contact.py); the die's 2.9-3.2; the external loads (0.2 ms: two (n, 3) arrays
-of zeros a step, femcore/compiled.py) and the parts' forces summed into fresh arrays.
+steps) 28-30 min; at x4 (33.5k steps) 14-15 min. The 74-76 min that the first 0.3 % gave (36.8
+ms a step) was the start's subnormals' figure, not the stroke's. 3 minutes on the 2 cores is 6
+min of CPU at most: the x2 stroke is 5 times away, the x4 one 2.5 times. What would close the
+rest: the element force is 55 % of a step (15.8-16.8 ms at load 7-8, 11.4-11.9 at load 4, 0.57
+us a triangle), so a quieter machine takes 4-5 ms off a step from the element force alone (the
+x2 stroke near 24 min of CPU, less as the other pieces shrink too); two threads on the element
+force where the second core is free (not measured quiet); the cells' pass itself
+(``_cells_pass``, 15.7 of the force's 22 ms in a profile: transcendental functions per fibre
+level, not vectorised across cells); the punch's and holder's 2.9-3.1 ms, most of it outside
+their compiled passes (the contact blocks' node gathers, 0.34 ms each in a profile, the scatter
+by bincount, the copies of the answer kept from memory: elements/contact.py); the die's
+2.9-3.2; the external loads (0.2 ms: two (n, 3) arrays of zeros a step, femcore/compiled.py)
+and the parts' forces summed into fresh arrays.
 
-Before the subnormals were flushed, projected: the full stroke at 20k triangles unscaled 133.8k
-steps of 2.24e-6 s at about 33 ms CPU a step at these loads (the element force 18.5-20, the die
-3-6, the punch and holder 3.0, the rest 3.8, the bounds and the rotary inertia 1.2): 74 min CPU
-on one thread (79 before); at the chosen time scaling x4 (the stroke in 0.075 s) 33.5k steps,
-about 18 min CPU (the assembled bound's nine evaluations 0.4 ms a step). 3 minutes on the 2
-cores is 6 min of CPU at most: 3 times away. What would close it: the element force is 60 % of
-a step (18.5-20 ms at load 5-9, about 9.4 on a quiet machine: benchmarks/explicit_step.py), so
-a quiet machine alone would bring the x4 stroke near 10 min CPU; then the element force on two
-threads when a core is free (not measured here; at most 1.2 times at 9800 triangles under load,
-elements/jit.py); the solver's own update and bookkeeping (3.8 ms a step, numpy); the punch's
-and holder's 3 ms (their compiled passes 0.5-0.7 ms each: the rest is the contact blocks'
-gathers and scatters and the tool work asked of them); the die's candidate searches at the
-stroke's peak pace (about 2 ms a call, numpy and the k-d tree). Fewer steps than x4 did not
-keep the case's checks at 20 cells (mass scaling on top of x4).
+Projected before from the first 1 % (the start's subnormals in it): the full stroke at 20k
+triangles unscaled 133.8k steps of 2.24e-6 s at about 33 ms CPU a step at these loads (the
+element force 18.5-20, the die 3-6, the punch and holder 3.0, the rest 3.8, the bounds and the
+rotary inertia 1.2): 74 min CPU on one thread (79 before); at the chosen time scaling x4 (the
+stroke in 0.075 s) 33.5k steps, about 18 min CPU (the assembled bound's nine evaluations 0.4 ms
+a step). 3 minutes on the 2 cores is 6 min of CPU at most: 3 times away. What would close it:
+the element force is 60 % of a step (18.5-20 ms at load 5-9, about 9.4 on a quiet machine:
+benchmarks/explicit_step.py), so a quiet machine alone would bring the x4 stroke near 10 min
+CPU; then the element force on two threads when a core is free (not measured here; at most 1.2
+times at 9800 triangles under load, elements/jit.py); the solver's own update and bookkeeping
+(3.8 ms a step, numpy); the punch's and holder's 3 ms (their compiled passes 0.5-0.7 ms each:
+the rest is the contact blocks' gathers and scatters and the tool work asked of them); the
+die's candidate searches at the stroke's peak pace (about 2 ms a call, numpy and the k-d tree).
+Fewer steps than x4 did not keep the case's checks at 20 cells (mass scaling on top of x4).
 
 Measured, the whole 20k-triangle stroke at time scaling x4 (benchmarks/hemisphere_scaling.py
 --cells 100 --time-scaling 4: the case's run, one thread, the code before the drift question
@@ -268,8 +252,6 @@ Run from the project root:
     python benchmarks/hemisphere_forming.py --fraction 0.01 --phases  # where a step goes
     python benchmarks/hemisphere_forming.py --fraction 0.005 --phases --die-lists old,new
     python benchmarks/hemisphere_forming.py --die-calls 600 --die-lists old,new,old,new
-    python benchmarks/hemisphere_forming.py --fraction 0.003 --phases --die-lists new \
-        --nodal-update one,two,one
 """
 
 from __future__ import annotations
@@ -318,13 +300,6 @@ def main() -> None:
         'the margin and scans every candidate at every step, "new" searches in batches '
         "(elements.rigid_surface.REBUILD_SHARE) and keeps a nearest facet while it cannot change "
         "(KEEP_NEAREST); each run is made once per value",
-    )
-    parser.add_argument(
-        "--nodal-update",
-        default="two",
-        help='the step\'s nodal update, a list: "one" compiled pass over the nodes '
-        "(solvers/central_pass.py) or \"two\" (the velocities', then the rotations'); each run "
-        "is made once per value",
     )
     parser.add_argument("--rim", type=float, default=case.DIE_RIM, help="the die's entry radius")
     parser.add_argument(
@@ -379,15 +354,10 @@ def main() -> None:
             raise _Enough
         return {}
 
-    runs = itertools.product(
-        args.mass_scaling_dt.split(","), args.die_lists.split(","), args.nodal_update.split(",")
-    )
-    for target, lists, update in runs:
+    runs = itertools.product(args.mass_scaling_dt.split(","), args.die_lists.split(","))
+    for target, lists in runs:
         scaling = None if target.strip().lower() == "none" else float(target)
         die_lists(lists)
-        if update.strip() not in ("one", "two"):
-            raise ValueError(f'--nodal-update takes "one" and "two", got {update!r}')
-        step_module.FUSED = update.strip() == "one"
         # A fresh model per run: the die's candidate lists start empty in each.
         compiled = case.model(args.cells, "fibrous", rim=args.rim)[1].compile()
         compiled.commit = counting(compiled.commit)  # type: ignore[method-assign]
@@ -413,8 +383,7 @@ def main() -> None:
             result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         per_step = wall / steps[0]
-        print(f"run, mass scaling {scaling}, the die's lists {lists}, nodal update in {update} "
-              f"pass(es), {args.fraction:g} "
+        print(f"run, mass scaling {scaling}, the die's lists {lists}, {args.fraction:g} "
               f"of the stroke: {wall:.1f} s wall, "
               f"{cpu:.1f} s CPU on {threads} threads (load {load_before} -> {load()}), "
               f"{steps[0]} steps, {per_step * 1e3:.2f} ms per step ({cpu / steps[0] * 1e3:.2f} "
@@ -544,7 +513,7 @@ class Phases:
         # (velocities, positions, rotations and their energy terms), the history commit.
         self._wrap(compiled, "external_load", "rest: external load")
         self._wrap(compiled, "commit", "rest: commit")
-        for name in ("update_and_turn", "update_rates", "turn"):
+        for name in ("update_rates", "turn"):
             self._wrap(step_module, name, "rest: nodal update", module=True)
 
     def _count(self, local, rows, cache) -> None:

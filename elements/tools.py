@@ -320,10 +320,12 @@ class RigidCylinder(_RoundTool):
 
 
 def __getattr__(name: str):
-    """``elements.tools.RigidSurface``: where models pickled before the meshed tool had its own
-    module (elements/rigid_surface.py) look for it."""
-    if name == "RigidSurface":
-        from elements.rigid_surface import RigidSurface
+    """``elements.tools.RigidSurface`` and the candidate lists it keeps: where models pickled
+    before the meshed tool had its own module (elements/rigid_surface.py) look for them. (A
+    checkpoint of such a model loads, but its run does not resume: the model's fingerprint
+    names each object's module, femcore/fingerprint.py, and refuses it as another model's.)"""
+    if name in ("RigidSurface", "_Candidates"):
+        from elements import rigid_surface
 
-        return RigidSurface
+        return getattr(rigid_surface, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

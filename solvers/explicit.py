@@ -23,7 +23,6 @@ from functools import partial
 
 import numpy as np
 
-from elements.subnormals import flushed
 from femcore.fingerprint import Fingerprint, fingerprint
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
@@ -327,10 +326,7 @@ class CentralDifference:
             run = self._start(compiled)
         warn_penalty_only(compiled, run.state, "CentralDifference")
         stream, history = self._outputs(compiled, run)
-        # Subnormal numbers flushed to zero while it steps (elements/subnormals.py): the
-        # tiny rates ahead of the wave from rest cost a hundred cycles an operation.
-        progress_line = ProgressLine(resolve_progress(self.progress), "central difference")
-        with flushed(), progress_line as progress:
+        with ProgressLine(resolve_progress(self.progress), "central difference") as progress:
             return self._march(
                 compiled, run, stream, history, progress, started, saved_at, signature,
                 checkpoint_interval,

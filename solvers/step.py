@@ -11,12 +11,10 @@ rotation dt * omega (Rodrigues, docs/theory.md §1.3).
 
 ``explicit_step`` is the whole step of CentralDifference (loads, internal forces, the fused
 update of the velocities with the support reactions and the energy terms, the rotations, the
-configuration update; ``FUSED``: for a model with rotations all of the nodal update in one
-compiled pass, solvers/central_pass.py, off by default). Its two last phases are public on
-their own, for a loop that computes its forces itself (DynamicRelaxation: it judges
-convergence on them first and moves with fictitious masses): ``angular_rates``, the damped
-update of the angular velocities with the director constraints, and ``advance``, the
-configuration update.
+configuration update). Its two last phases are public on their own, for a loop that computes
+its forces itself (DynamicRelaxation: it judges convergence on them first and moves with
+fictitious masses): ``angular_rates``, the damped update of the angular velocities with the
+director constraints, and ``advance``, the configuration update.
 
 A loop of one's own, with a fixed step and damping::
 
@@ -38,7 +36,6 @@ import numpy as np
 from femcore.model import CompiledModel
 from femcore.rotation import drop_along
 from femcore.state import State
-from solvers.central_pass import update_and_turn
 from solvers.common import inverse_diagonal
 from solvers.dynamics import EnergyAccount, damped_velocity, update_rates
 from solvers.turning import COMPILED, move, rates, turn
@@ -51,13 +48,6 @@ __all__ = [
     "explicit_step",
     "rotational_update",
 ]
-
-#: Whether ``explicit_step`` updates a model with rotations in one compiled pass over the
-#: nodes (solvers/central_pass.py) rather than the velocities' pass then the rotations' (the
-#: same numbers to the last bit). Off: the one pass measured slower than the two (0.64-1.02
-#: against 0.56-0.74 ms CPU, best of 60, on the 20k forming blank's 10201 nodes with the
-#: subnormals flushed, one thread, load 6.8; benchmarks/hemisphere_forming.py).
-FUSED = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,35 +178,6 @@ def explicit_step(
     if model.has_prescribed:
         goal = model.reference_positions + model.prescribed_displacement(t_next / duration)
         target = np.where(model.translation_prescribed, (goal - state.positions) / dt, np.nan)
-    if FUSED and dofs.any_rotation:
-        # One pass over the nodes (solvers/central_pass.py): the two passes below in one.
-        v_new, reactions, w_new, reaction_moments, directors, positions, work, turning = (
-            update_and_turn(
-                (velocity, omega),
-                (f_ext, f_int),
-                (m_ext, m_int),
-                (state.positions, state.directors),
-                (masses.mass, masses.inverse_mass, inertia),
-                (model.translation_free, model.translation_constrained, target),
-                (model.has_rotation, model.rotation_fixed),
-                (dt_bar, dt, dt_prev),
-                c,
-                checking,
-            )
-        )
-        if model.n_tools:
-            work = _tool_work(model, state, dt, dt_prev, work, checking, duration)
-        work = tuple(a + b for a, b in zip(work, turning))
-        new = replace(
-            state,
-            positions=positions,
-            directors=directors,
-            velocities=v_new,
-            angular_velocities=w_new,
-            time=t_next,
-            load_factor=t_next / duration,
-        )
-        return Step(new, reactions, reaction_moments, work, strain)
     v_new, reactions, work = update_rates(
         velocity,
         f_ext,

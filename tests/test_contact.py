@@ -611,22 +611,24 @@ def test_a_meshed_tool_finds_the_closest_facet_that_a_search_over_all_facets_fin
 
 
 def test_a_meshed_tool_pickled_under_its_former_module_loads_and_answers_alike():
-    """Checkpoints written before the meshed tool had its own module name the class
-    elements.tools.RigidSurface: such a pickle loads (elements.tools' module __getattr__)
-    into a tool that gives the same distances, to the last bit."""
+    """Models pickled before the meshed tool had its own module name its class and its kept
+    candidate lists in elements.tools: a tool that has answered (its lists kept) pickled so
+    loads (elements.tools' module __getattr__) into a tool that gives the same distances, to
+    the last bit."""
     import pickle
 
     from elements import RigidSurface
 
     tool = RigidSurface(fibonacci_sphere(10.0, 60))
-    old = pickle.dumps(tool, protocol=2).replace(
-        b"elements.rigid_surface\nRigidSurface", b"elements.tools\nRigidSurface"
-    )
-    assert b"elements.rigid_surface" not in old
+    x = np.random.default_rng(3).normal(size=(40, 3)) * 10.0
+    first, _ = tool.distance(x)
+    old = pickle.dumps(tool, protocol=2).replace(b"elements.rigid_surface\n", b"elements.tools\n")
+    assert b"elements.rigid_surface" not in old and b"_Candidates" in old
     loaded = pickle.loads(old)
     assert type(loaded) is RigidSurface
-    x = np.random.default_rng(3).normal(size=(40, 3)) * 10.0
-    np.testing.assert_array_equal(loaded.distance(x)[0], tool.distance(x)[0])
+    moved = x + 0.01
+    np.testing.assert_array_equal(loaded.distance(moved)[0], tool.distance(moved)[0])
+    np.testing.assert_array_equal(loaded.distance(x)[0], first)
 
 
 def test_a_meshed_tool_searches_again_the_points_that_moved_past_its_margin_in_batches():

@@ -2,8 +2,7 @@
 closest-facet search with each node's last facet as its hint (elements/facet_search.py) and
 the contact forces answered from memory when asked again (ContactBlock.contact_forces) give a
 run identical to the last bit to one without them; so does the compiled contact pass of the
-tools (elements/tool_contact.py) against the numpy formulas, and the explicit step's nodal
-update in one pass against its two passes."""
+tools (elements/tool_contact.py) against the numpy formulas."""
 
 import numpy as np
 import pytest
@@ -88,21 +87,3 @@ def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_w
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)
-
-
-@pytest.mark.slow
-def test_a_forming_run_is_the_same_to_the_last_bit_with_the_nodal_update_in_two_passes(
-    monkeypatch, with_shortcuts
-):
-    """The explicit step's nodal update in one compiled pass (solvers/central_pass.py)
-    against the velocities' pass then the rotations' pass over a whole forming run (slow:
-    about 5 s of CPU; tests/test_step.py holds one step to the last bit in the default
-    run)."""
-    from solvers import step
-
-    positions, forces = with_shortcuts  # the solver's default: two passes
-    assert not step.FUSED
-    monkeypatch.setattr(step, "FUSED", True)
-    fused_positions, fused_forces = formed()
-    np.testing.assert_array_equal(positions, fused_positions)
-    np.testing.assert_array_equal(forces, fused_forces)

@@ -19,7 +19,7 @@ from solvers.quasi_static import KINETIC_BOUND
 from validation.studies import hemisphere_plies as study
 from validation.studies.hemisphere_plies_energy import kinetic_shares
 from validation.studies.hemisphere_plies_gaps import through_holder
-from validation.studies.hemisphere_plies_run import NAME
+from validation.studies.hemisphere_plies_run import NAME, run_key
 from validation.studies.hemisphere_plies_setup import FABRIC
 
 
@@ -37,8 +37,10 @@ def _stack_holds(report: dict, name: str) -> None:
     ring over the run (``through_holder``: the contact's penetration where the holder
     presses it)."""
     values = report["cases"][NAME]["parameters"]
-    key = f"{name.replace('/', '-')}_fibrous_20_N"
-    assert f"{name} fibrous 20 N stopped" not in values
+    run = run_key(name, "fibrous", study.HOLDER_FORCES[0])
+    key = run.replace(" ", "_").replace("/", "-")
+    assert f"{run} stopped" not in values
+    assert f"{key}_steps" in values  # the run the report made
     assert values[f"{key}_largest_kinetic_over_work"] <= KINETIC_BOUND
     assert values[f"{key}_holder_force_last_tenth_mean_N"] == pytest.approx(
         study.HOLDER_FORCES[0], rel=0.05

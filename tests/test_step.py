@@ -9,7 +9,6 @@ from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import ElasticShell
 from solvers import CentralDifference, LumpedMasses, Step, explicit_step
-from solvers import step as step_module
 from solvers.dynamics import EnergyAccount, damped_velocity
 from solvers.step import advance, angular_rates, rotational_update
 
@@ -193,41 +192,3 @@ def test_angular_rates_and_advance_are_the_numpy_passes(fix_rotations):
         mine, theirs = getattr(moved, name), getattr(reference, name)
         assert np.abs(mine - theirs).max() <= 1e-12 * np.abs(theirs).max(), name
     assert np.abs(moved.directors - state.directors).max() > 1e-6  # it turned
-
-
-@pytest.mark.parametrize("fix_rotations", [False, True])
-@pytest.mark.parametrize("checking", [False, True])
-def test_the_one_pass_nodal_update_is_the_two_passes_to_the_last_bit(
-    fix_rotations, checking, monkeypatch
-):
-    """explicit_step's one pass over the nodes (solvers/central_pass.py) gives the state,
-    reactions, support moments and energy terms of the velocities' pass then the rotations'
-    pass (solvers/dynamics.py ``update_rates``, solvers/turning.py ``turn``) to the last bit:
-    the same arithmetic in the same order, with damping, a variable step, held rotations and
-    a prescribed displacement."""
-    _, state = turned_plate(fix_rotations)  # the same mesh's tilted, moving state
-    mesh = Mesh.rectangle(60.0, 40.0, nx=6, ny=4)
-    model = Model(mesh)
-    model.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)))
-    model.fix("left", ["ux", "uz", "alpha", "beta"] if fix_rotations else ["ux", "uz"])
-    model.displace("right", ux=0.5, amplitude="linear")
-    model.moment(mesh.nodes("right"), (0.0, 5.0, 1.0))
-    compiled = model.compile()
-    masses = LumpedMasses.of(compiled, state)
-    dt = 0.5 * compiled.stable_dt(state)
-    taken = {}
-    for fused in (True, False):
-        monkeypatch.setattr(step_module, "FUSED", fused)
-        taken[fused] = explicit_step(
-            compiled, state, dt, masses, dt_prev=0.8 * dt, damping=300.0, duration=40 * dt,
-            checking=checking,
-        )  # fmt: skip
-    one, two = taken[True], taken[False]
-    assert np.abs(two.state.velocities[mesh.nodes("right"), 0]).min() > 0.0  # prescribed
-    assert np.abs(two.reactions).max() > 0.0
-    for name in ("positions", "directors", "velocities", "angular_velocities"):
-        assert np.array_equal(getattr(one.state, name), getattr(two.state, name)), name
-    assert (one.state.time, one.state.load_factor) == (two.state.time, two.state.load_factor)
-    assert np.array_equal(one.reactions, two.reactions)
-    assert np.array_equal(one.reaction_moments, two.reaction_moments)
-    assert one.energy == two.energy

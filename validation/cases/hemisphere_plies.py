@@ -79,7 +79,7 @@ CELLS = {"coarse": 8, "default": 8, "fine": 10}
 # the layups and kinematics run per resolution: the coarse report (the test suite's
 # background run, whose two fibrous runs tests/test_hemisphere_plies.py reads: the suite runs
 # each once) the fibrous layups, [0/90] with matching meshes and [0/45] whose plies' meshes
-# do not match; the Mindlin runs cost 128 and 132 s more (the module's docstring)
+# do not match; the Mindlin runs cost 102 and 102 s more (the module's docstring)
 EVERY = tuple((name, kinematics) for name in LAYUPS for kinematics in ("fibrous", "mindlin"))
 RUNS = {"coarse": tuple((name, "fibrous") for name in LAYUPS), "default": EVERY, "fine": EVERY}
 
