@@ -246,7 +246,15 @@ class PlyContactBlock(InteractionBlock):
             d = self.offset_directions(state)[self.above]
             toward = np.einsum("pj,pj,pji->pi", self.shape, self.upper_offset, d)
             found = closest_facing(
-                p, y, near, self.tolerance, self.outline, second, depth=self.depth, toward=toward
+                p,
+                y,
+                near,
+                self.tolerance,
+                self.outline,
+                second,
+                depth=self.depth,
+                toward=toward,
+                nodes=self.cells,
             )
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
