@@ -50,11 +50,12 @@ triangles' edges went from -0.45 to -2.24 mm in one step, +55.5 N mm of energy w
 (tests/test_ply_facet_switch.py). Over a fold or at an inner vertex the sign is the
 feature's (p - q lies in the cone of its triangles' normals there, on which a triangle's own
 normal can be negative where the fold is sharper than a right angle: "The sign at an edge"
-below); past the outline it would flip where p passes the face's plane beside the edge, which ``MARGIN`` keeps
-out of the contact. The gap's Hessian at an edge or a vertex (``_edge_hessian``) enters the
-tangent. Rebuilding the tree costs O(m log m) per call, small against the shells' forces at
-the sizes of a ply stack (measured in benchmarks/plies.py), and no cache needs a proof that it
-is still valid. Where the facing triangle does not change the energy is smooth.
+below); past the outline it would flip where p passes the face's plane beside the edge,
+which ``MARGIN`` keeps out of the contact. The gap's Hessian at an edge or a vertex
+(``_edge_hessian``) enters the tangent. Rebuilding the tree costs O(m log m) per call, small
+against the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and
+no cache needs a proof that it is still valid. Where the facing triangle does not change the
+energy is smooth.
 
 The sign at an edge. Where q lies on an edge or at a vertex shared by several triangles,
 the sign of g = +-|p - q| is taken from that edge's or vertex's pseudonormal (``pseudonormals``:
