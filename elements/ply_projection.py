@@ -164,6 +164,7 @@ __all__ = [
     "choose",
     "closest_facing",
     "closest_on_edges",
+    "edge_ids",
     "open_edges",
     "facets",
     "penalty_law",
@@ -399,41 +400,47 @@ def _edge_hessian(gap, nu, weights, corners, reach, tiny):
     return np.where(tiny[:, None, None, None, None], 0.0, hessian)
 
 
-def pseudonormals(y: np.ndarray, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def edge_ids(nodes: np.ndarray) -> np.ndarray:
+    """(m, 3) int: an id for the edge of each triangle opposite its corner k, one per edge of
+    the mesh (shared by the triangles on either side); nodes (m, 3) the triangles' node ids."""
+    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)
+    inverse = np.unique(np.sort(ends, axis=-1).reshape(-1, 2), axis=0, return_inverse=True)[1]
+    return inverse.reshape(len(nodes), 3)
+
+
+def pseudonormals(
+    y: np.ndarray, nodes: np.ndarray, edges: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """The pseudonormals of a triangle mesh's vertices and edges (module docstring, "The sign
     at an edge"): (v, 3) at each node id, the sum of its triangles' unit normals weighted by
     their angles there, and (m, 3, 3) at each triangle's edge opposite corner k, the sum of
     the unit normals of the (one or two) triangles sharing it; not normalised. y (m, 3, 3)
-    the triangles' corners, mm; nodes (m, 3) their node ids."""
+    the triangles' corners, mm; nodes (m, 3) their node ids; edges (m, 3) ``edge_ids(nodes)``
+    (computed when None)."""
+    edges = edge_ids(nodes) if edges is None else edges
     n = triangle_frames(y)[0]  # (m, 3)
-    angles = np.empty(nodes.shape)
-    for k in range(3):
-        u = y[:, (k + 1) % 3] - y[:, k]
-        v = y[:, (k + 2) % 3] - y[:, k]
-        angles[:, k] = np.arctan2(
-            np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ci,ci->c", u, v)
-        )
+    u = np.roll(y, -1, axis=1) - y  # (m, 3, 3): from corner k to corner k + 1
+    v = np.roll(y, -2, axis=1) - y  # to corner k + 2
+    angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
     count = int(nodes.max()) + 1
     flat = nodes.ravel()
-    weighted = angles[:, :, None] * n[:, None, :]  # (m, 3, 3)
-    vertex = np.column_stack([np.bincount(flat, weighted[..., i].ravel(), count) for i in range(3)])
-    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)
-    inverse = np.unique(np.sort(ends, axis=-1).reshape(-1, 2), axis=0, return_inverse=True)[1]
-    inverse = inverse.ravel()
+    weighted = (angles[:, :, None] * n[:, None, :]).reshape(-1, 3)
+    vertex = np.column_stack([np.bincount(flat, weighted[:, i], count) for i in range(3)])
+    ids = edges.ravel()
     repeated = np.repeat(n, 3, axis=0)  # (3 m, 3): each edge's triangle normal
     summed = np.column_stack(
-        [np.bincount(inverse, repeated[:, i], inverse.max() + 1) for i in range(3)]
+        [np.bincount(ids, repeated[:, i], int(ids.max()) + 1) for i in range(3)]
     )
-    return vertex, summed[inverse].reshape(len(nodes), 3, 3)
+    return vertex, summed[ids].reshape(len(nodes), 3, 3)
 
 
-def _feature_normals(y, nodes, triangle, lam, reach, normal):
+def _feature_normals(y, nodes, edges, triangle, lam, reach, normal):
     """(c, 3) the unit pseudonormal (``pseudonormals``) of the edge or vertex of the mesh on
     which each closest point with barycentric coordinates ``lam`` (c, 3) on triangle row
     ``triangle`` (c,) lies; ``normal`` (c, 3), the triangle's, where it lies on a growth past
     the outline (``reach`` (c, 3) > 0 on that bound) or the pseudonormal nearly vanishes (a
     fold pressed flat, module docstring "A layer turned away")."""
-    vertex, edge = pseudonormals(y, nodes)
+    vertex, edge = pseudonormals(y, nodes, edges)
     bound = lam <= -reach + 1e-9
     grown = np.any(bound & (reach > 0.0), axis=1)
     count = bound.sum(axis=1)
@@ -460,6 +467,7 @@ def closest_facing(
     depth: float = np.inf,
     toward: np.ndarray | None = None,
     nodes: np.ndarray | None = None,
+    edges: np.ndarray | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -496,6 +504,9 @@ def closest_facing(
         point on an edge or at a vertex takes its sign from that edge's or vertex's
         pseudonormal (module docstring, "The sign at an edge"). None: from the facing
         triangle's normal.
+    edges : (m, 3) int, optional
+        ``edge_ids(nodes)``, kept by a caller that searches the same mesh many times
+        (computed when None).
     """
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
@@ -534,7 +545,7 @@ def closest_facing(
         signing = n[edge, at]
         if nodes is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
             signing = _feature_normals(
-                y, nodes, near[edge, at], weights[edge, at], reach[edge, at], signing
+                y, nodes, edges, near[edge, at], weights[edge, at], reach[edge, at], signing
             )
         chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
             p[edge],
