@@ -71,3 +71,26 @@ def test_a_point_outside_a_sharp_ridge_keeps_a_positive_gap_around_it():
         assert not facing.touching[point]
         # the other points rest on the bottom ply at g ~ 0 (the ramp's W ~ g^3: round-off)
         assert block.strain_energy(state(phi)) < 1e-9
+
+
+def test_a_point_outside_a_sharp_apex_keeps_a_positive_gap_around_it():
+    """The vertex's pseudonormal (the angle-weighted normals of its triangles): a point 0.2
+    mm from the apex of a steep four-sided pyramid (faces 63.4 deg off the horizontal, apex
+    at the origin, base corners (+-1, 0, -2), (0, +-1, -2)), moved from -60 to +60 deg about
+    the axis in the xz-plane (the apex is its closest point up to 63.4 deg), keeps a gap of
+    +0.2 mm (1e-9 mm) and never touches; signed by the first triangle's normal (its normal
+    (2, 2, 1) / 3), the gap reads -0.2 mm past -26.6 deg."""
+    from elements.ply_projection import closest_facing
+
+    base = np.array([[1.0, 0.0, -2.0], [0.0, 1.0, -2.0], [-1.0, 0.0, -2.0], [0.0, -1.0, -2.0]])
+    points = np.vstack([np.zeros(3), base])  # node 0 the apex
+    nodes = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]])
+    phi = np.radians(np.linspace(-60.0, 60.0, 49))
+    path = RADIUS * np.column_stack([np.sin(phi), np.zeros_like(phi), np.cos(phi)])
+    near = np.tile(np.arange(4), (len(path), 1))
+    facing = closest_facing(path, points[nodes], near, 0.0, nodes=nodes)
+    assert np.all(np.abs(facing.gap - RADIUS) < 1e-9)
+    assert not facing.touching.any()
+    # the premise: signed by the facing triangle's normal, the gap changes sign on the path
+    alone = closest_facing(path, points[nodes], near, 0.0)
+    assert (alone.gap < 0.0).any()
