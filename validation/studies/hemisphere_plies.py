@@ -63,9 +63,10 @@ at a time, CPU of the run, load 2.8-8.2):
 10 0/90 F 20 3.17/3.19 (52/52) 27.3/27.5  0.2 0/0 (0.0/0.0)     19.97 -0.0 0.091 (0.000) -0.08 113
 10 0/90 M 20 stopped at 98.5 % of the stroke on the energy balance (below)             212 *
 Rerun with a gap to an edge or a vertex signed by its pseudonormal (below, "Mindlin [0/90] at
-10 cells"; one thread, one run at a time, CPU of the run, load 2.6-5.9):
+10 cells"; one thread, one run at a time, CPU of the run, load 0.3-5.9; every check passes):
 10 0/90 M 20 3.36/3.27 (52/52) 29.6/31.1  5.9 12/13 (18.9/18.9) 19.79 18.9 0.173 (0.077) -0.06 134
  8 0/90 F 20 3.46/3.51 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)     20.00 -0.1 0.086 (0.000) -0.13  47
+ 8 0/90 M 20 3.14/3.19 (20/13) 30.7/30.9 11.5 9/9 (13.7/13.4)   19.32 13.4 0.115 (0.051) -0.12  76
 - Fibrous [0/45] at 10 cells, 20 and 40 N, before the holder on both plies (6112 steps, 111
   and 105 s, load 4.1-5.0): every check passes (the rows above).
 - Fibrous [0/45] at 8 cells, 40 N, on the current code (5155 steps, 72 s of CPU, load
