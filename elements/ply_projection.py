@@ -543,13 +543,18 @@ def closest_facing(
         edge = np.flatnonzero(on_edge)
         at = best[edge]
         signing = n[edge, at]
+        closest = q[where[edge, at]]
         if nodes is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
+            # q's barycentric coordinates on the facing triangle: on which edge or at which
+            # vertex it lies
+            on_q = np.einsum("pki,pi->pk", gradients[edge, at], closest - y[near[edge, at], 0])
+            on_q[:, 0] += 1.0
             signing = _feature_normals(
-                y, nodes, edges, near[edge, at], weights[edge, at], reach[edge, at], signing
+                y, nodes, edges, near[edge, at], on_q, reach[edge, at], signing
             )
         chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
             p[edge],
-            q[where[edge, at]],
+            closest,
             signing,
             y[near[edge, at]],
             gradients[edge, at],
