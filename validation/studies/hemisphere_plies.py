@@ -78,8 +78,9 @@ Rerun with a gap to an edge or a vertex signed by its pseudonormal (below, "Mind
   time), the rotation 0.061 and the translations 0.069 there (the plies' 0.060 and the
   holder's 0.008 at most, at the frames); with one pass it reached the end with the order at
   -0.76 mm and KE / W 0.152 (RESULTS below).
-- Mindlin [0/90] at 10 cells now reaches the end (12493 steps, 134 s of CPU, load 2.6-5.9) and
-  passes every check: largest KE / W 0.173 at t = 0.057 s (above 0.1 over 8.8 % of the judged
+- Mindlin [0/90] at 10 cells now reaches the end (12493 steps, 134 and 128 s of CPU in two
+  runs, load 2.6-5.9 and 0.5-1.5, the same figures) and passes every check: largest KE / W
+  0.173 at t = 0.057 s (above 0.1 over 8.8 % of the judged
   time; the rotation 0.077, the translations 0.125, the plies' 0.103 and the holder's 0.019),
   the holder 19.79 N over the last tenth and 18.9 mm up, the plies' order -0.06 mm. What
   stopped it (the ply contacts' energy against the work of their forces, point by point,
