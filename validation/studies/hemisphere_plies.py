@@ -67,6 +67,7 @@ Rerun with a gap to an edge or a vertex signed by its pseudonormal (below, "Mind
 10 0/90 M 20 3.36/3.27 (52/52) 29.6/31.1  5.9 12/13 (18.9/18.9) 19.79 18.9 0.173 (0.077) -0.06 134
  8 0/90 F 20 3.46/3.51 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)     20.00 -0.1 0.086 (0.000) -0.13  47
  8 0/90 M 20 3.14/3.19 (20/13) 30.7/30.9 11.5 9/9 (13.7/13.4)   19.32 13.4 0.115 (0.051) -0.12  76
+10 0/45 M 20 3.44/4.93 (44/54) 24.6/9.4  17.5 13/8 (8.1/7.8)    20.03  7.8 0.130 (0.053) -0.11 155
 - Fibrous [0/45] at 10 cells, 20 and 40 N, before the holder on both plies (6112 steps, 111
   and 105 s, load 4.1-5.0): every check passes (the rows above).
 - Fibrous [0/45] at 8 cells, 40 N, on the current code (5155 steps, 72 s of CPU, load
