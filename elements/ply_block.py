@@ -15,7 +15,14 @@ from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
 from elements.ply_friction import PlyFrictionHistory, Sliding
-from elements.ply_projection import MARGIN, Facing, closest_facing, open_edges, penalty_law
+from elements.ply_projection import (
+    MARGIN,
+    Facing,
+    closest_facing,
+    edge_ids,
+    open_edges,
+    penalty_law,
+)
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -112,6 +119,9 @@ class PlyContactBlock(InteractionBlock):
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
         # the lower face's outline, which its triangles' planes reach past (ply_projection.py)
         self.outline = open_edges(cells)
+        # its edges' ids, shared by neighbours: the pseudonormals that sign a gap to an edge
+        # or a vertex (ply_projection.py, "The sign at an edge")
+        self.edges = edge_ids(cells)
         # the deepest a point touches: both faces' half thicknesses (ply_projection.py,
         # "Deeper than the plies")
         self.depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
@@ -246,7 +256,16 @@ class PlyContactBlock(InteractionBlock):
             d = self.offset_directions(state)[self.above]
             toward = np.einsum("pj,pj,pji->pi", self.shape, self.upper_offset, d)
             found = closest_facing(
-                p, y, near, self.tolerance, self.outline, second, depth=self.depth, toward=toward
+                p,
+                y,
+                near,
+                self.tolerance,
+                self.outline,
+                second,
+                depth=self.depth,
+                toward=toward,
+                nodes=self.cells,
+                edges=self.edges,
             )
         for value in vars(found).values():
             if isinstance(value, np.ndarray):

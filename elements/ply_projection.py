@@ -47,13 +47,36 @@ the nearest triangle's extended plane, and both jumped where the choice changed:
 the [0/45] Mindlin plies on the hemisphere (validation/studies/hemisphere_plies.py, coarse), a
 top-ply point pressed by the holder into a wrinkle crest of the bottom ply and past both crest
 triangles' edges went from -0.45 to -2.24 mm in one step, +55.5 N mm of energy with no work
-(tests/test_ply_facet_switch.py). Over a convex fold or at an inner vertex the sign is the
-same for every triangle holding q (p - q lies in the cone of their normals there); past the
-outline it would flip where p passes the face's plane beside the edge, which ``MARGIN`` keeps
-out of the contact. The gap's Hessian at an edge or a vertex (``_edge_hessian``) enters the
-tangent. Rebuilding the tree costs O(m log m) per call, small against the shells' forces at
-the sizes of a ply stack (measured in benchmarks/plies.py), and no cache needs a proof that it
-is still valid. Where the facing triangle does not change the energy is smooth.
+(tests/test_ply_facet_switch.py). Over a fold or at an inner vertex the sign is the
+feature's (p - q lies in the cone of its triangles' normals there, on which a triangle's own
+normal can be negative where the fold is sharper than a right angle: "The sign at an edge"
+below); past the outline it would flip where p passes the face's plane beside the edge,
+which ``MARGIN`` keeps out of the contact. The gap's Hessian at an edge or a vertex
+(``_edge_hessian``) enters the tangent. Rebuilding the tree costs O(m log m) per call, small
+against the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and
+no cache needs a proof that it is still valid. Where the facing triangle does not change the
+energy is smooth.
+
+The sign at an edge. Where q lies on an edge or at a vertex shared by several triangles,
+the sign of g = +-|p - q| is taken from that edge's or vertex's pseudonormal (``pseudonormals``:
+the sum of the unit normals of an edge's two triangles; at a vertex its triangles' unit
+normals weighted by their angles there), not from the facing triangle's normal. The
+pseudonormal gives a closest point's side of the surface exactly (Baerentzen and Aanaes,
+"Signed distance computation using the angle weighted pseudonormal", IEEE TVCG 11 (2005)
+243-253): p - q lies in the cone of the feature's normals, on which the pseudonormal is
+positive outside and negative inside. A single triangle's normal gives the same sign only
+where the fold is gentler than a right angle: across a sharper ridge p - q can point
+against one of its triangles' normals while outside (n_1 . (a n_1 + b n_2) = a + b cos
+theta < 0), and which triangle faces the point is a tie on q. Measured on the two-ply
+Mindlin [0/90] hemisphere (validation/studies/hemisphere_plies.py, 10 cells, 20 N): the
+bottom ply's nodes of the mirrored pass beside the flange's folded wrinkles, 0.2-0.3 mm from
+an edge of the top ply's face, went from -0.29 to +0.21 mm and back within a few steps,
+3-6 N mm of penalty energy made at each switch into contact, +115 N mm over the run
+against -50 N mm lost, which stopped the run on its energy balance at 98.5 % of the stroke
+(tests/test_ply_edge_sign.py). On a growth past the outline (one triangle) and where the
+pseudonormal vanishes (a fold pressed flat, "A layer turned away") the triangle's normal
+still signs the gap. The sign then changes only where p passes through the face (g = 0),
+where W = 0: the energy is continuous where the facing triangle changes on an edge.
 
 Beside the outline. The growth past an outline edge extends the triangle's other two edges
 too, and past their ends (beside the outline, next to an outline vertex) a point can be
@@ -141,9 +164,11 @@ __all__ = [
     "choose",
     "closest_facing",
     "closest_on_edges",
+    "edge_ids",
     "open_edges",
     "facets",
     "penalty_law",
+    "pseudonormals",
     "triangle_frames",
 ]
 
@@ -375,6 +400,63 @@ def _edge_hessian(gap, nu, weights, corners, reach, tiny):
     return np.where(tiny[:, None, None, None, None], 0.0, hessian)
 
 
+def edge_ids(nodes: np.ndarray) -> np.ndarray:
+    """(m, 3) int: an id for the edge of each triangle opposite its corner k, one per edge of
+    the mesh (shared by the triangles on either side); nodes (m, 3) the triangles' node ids."""
+    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)
+    inverse = np.unique(np.sort(ends, axis=-1).reshape(-1, 2), axis=0, return_inverse=True)[1]
+    return inverse.reshape(len(nodes), 3)
+
+
+def pseudonormals(
+    y: np.ndarray, nodes: np.ndarray, edges: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The pseudonormals of a triangle mesh's vertices and edges (module docstring, "The sign
+    at an edge"): (v, 3) at each node id, the sum of its triangles' unit normals weighted by
+    their angles there, and (m, 3, 3) at each triangle's edge opposite corner k, the sum of
+    the unit normals of the (one or two) triangles sharing it; not normalised. y (m, 3, 3)
+    the triangles' corners, mm; nodes (m, 3) their node ids; edges (m, 3) ``edge_ids(nodes)``
+    (computed when None)."""
+    edges = edge_ids(nodes) if edges is None else edges
+    n = triangle_frames(y)[0]  # (m, 3)
+    u = np.roll(y, -1, axis=1) - y  # (m, 3, 3): from corner k to corner k + 1
+    v = np.roll(y, -2, axis=1) - y  # to corner k + 2
+    angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
+    count = int(nodes.max()) + 1
+    flat = nodes.ravel()
+    weighted = (angles[:, :, None] * n[:, None, :]).reshape(-1, 3)
+    vertex = np.column_stack([np.bincount(flat, weighted[:, i], count) for i in range(3)])
+    ids = edges.ravel()
+    repeated = np.repeat(n, 3, axis=0)  # (3 m, 3): each edge's triangle normal
+    summed = np.column_stack(
+        [np.bincount(ids, repeated[:, i], int(ids.max()) + 1) for i in range(3)]
+    )
+    return vertex, summed[ids].reshape(len(nodes), 3, 3)
+
+
+def _feature_normals(y, nodes, edges, triangle, lam, reach, normal):
+    """(c, 3) the unit pseudonormal (``pseudonormals``) of the edge or vertex of the mesh on
+    which each closest point with barycentric coordinates ``lam`` (c, 3) on triangle row
+    ``triangle`` (c,) lies; ``normal`` (c, 3), the triangle's, where it lies on a growth past
+    the outline (``reach`` (c, 3) > 0 on that bound) or the pseudonormal nearly vanishes (a
+    fold pressed flat, module docstring "A layer turned away")."""
+    vertex, edge = pseudonormals(y, nodes, edges)
+    bound = lam <= -reach + 1e-9
+    grown = np.any(bound & (reach > 0.0), axis=1)
+    count = bound.sum(axis=1)
+    corner = np.argmin(bound, axis=1)  # at a vertex: the corner off both bounds
+    side = np.argmax(bound, axis=1)  # on an edge: the corner it lies opposite
+    chosen = np.where(
+        (count == 2)[:, None],
+        vertex[nodes[triangle, corner]],
+        edge[triangle, side],
+    )
+    length = np.linalg.norm(chosen, axis=1)
+    keep = grown | (count == 0) | (count == 3) | (length < 1e-6)
+    unit = chosen / np.where(length > 0.0, length, 1.0)[:, None]
+    return np.where(keep[:, None], normal, unit)
+
+
 def closest_facing(
     p: np.ndarray,
     y: np.ndarray,
@@ -384,6 +466,8 @@ def closest_facing(
     second: bool = False,
     depth: float = np.inf,
     toward: np.ndarray | None = None,
+    nodes: np.ndarray | None = None,
+    edges: np.ndarray | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -415,6 +499,14 @@ def closest_facing(
         Each point's direction from the lower ply to its own (any length; the side towards
         which a facing triangle's normal points): a triangle whose normal points against it
         is a layer turned away. None: no triangle counts as turned.
+    nodes : (m, 3) int, optional
+        The node ids of the lower face's triangles (shared by neighbours): a gap to a closest
+        point on an edge or at a vertex takes its sign from that edge's or vertex's
+        pseudonormal (module docstring, "The sign at an edge"). None: from the facing
+        triangle's normal.
+    edges : (m, 3) int, optional
+        ``edge_ids(nodes)``, kept by a caller that searches the same mesh many times
+        (computed when None).
     """
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
@@ -450,10 +542,20 @@ def closest_facing(
         where[outside] = np.arange(len(q))
         edge = np.flatnonzero(on_edge)
         at = best[edge]
+        signing = n[edge, at]
+        closest = q[where[edge, at]]
+        if nodes is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
+            # q's barycentric coordinates on the facing triangle: on which edge or at which
+            # vertex it lies
+            on_q = np.einsum("pki,pi->pk", gradients[edge, at], closest - y[near[edge, at], 0])
+            on_q[:, 0] += 1.0
+            signing = _feature_normals(
+                y, nodes, edges, near[edge, at], on_q, reach[edge, at], signing
+            )
         chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
             p[edge],
-            q[where[edge, at]],
-            n[edge, at],
+            closest,
+            signing,
             y[near[edge, at]],
             gradients[edge, at],
             reach[edge, at],

@@ -62,6 +62,12 @@ at a time, CPU of the run, load 2.8-8.2):
 10 0/45 F 20 3.57/4.18 (34/56) 23.6/7.4  19.6 16/10 (1.9/1.6)   19.97  1.6 0.071 (0.000) -0.12 118
 10 0/90 F 20 3.17/3.19 (52/52) 27.3/27.5  0.2 0/0 (0.0/0.0)     19.97 -0.0 0.091 (0.000) -0.08 113
 10 0/90 M 20 stopped at 98.5 % of the stroke on the energy balance (below)             212 *
+Rerun with a gap to an edge or a vertex signed by its pseudonormal (below, "Mindlin [0/90] at
+10 cells"; one thread, one run at a time, CPU of the run, load 0.3-5.9; every check passes):
+10 0/90 M 20 3.36/3.27 (52/52) 29.6/31.1  5.9 12/13 (18.9/18.9) 19.79 18.9 0.173 (0.077) -0.06 134
+ 8 0/90 F 20 3.46/3.51 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)     20.00 -0.1 0.086 (0.000) -0.13  47
+ 8 0/90 M 20 3.14/3.19 (20/13) 30.7/30.9 11.5 9/9 (13.7/13.4)   19.32 13.4 0.115 (0.051) -0.12  76
+10 0/45 M 20 3.44/4.93 (44/54) 24.6/9.4  17.5 13/8 (8.1/7.8)    20.03  7.8 0.130 (0.053) -0.11 155
 - Fibrous [0/45] at 10 cells, 20 and 40 N, before the holder on both plies (6112 steps, 111
   and 105 s, load 4.1-5.0): every check passes (the rows above).
 - Fibrous [0/45] at 8 cells, 40 N, on the current code (5155 steps, 72 s of CPU, load
@@ -73,7 +79,31 @@ at a time, CPU of the run, load 2.8-8.2):
   time), the rotation 0.061 and the translations 0.069 there (the plies' 0.060 and the
   holder's 0.008 at most, at the frames); with one pass it reached the end with the order at
   -0.76 mm and KE / W 0.152 (RESULTS below).
-- Mindlin [0/90] at 10 cells (12050 steps, 157 s of CPU, load 4.7-6.1) stopped at 97.8 % of the
+- Mindlin [0/90] at 10 cells now reaches the end (12493 steps, 134 and 128 s of CPU in two
+  runs, load 2.6-5.9 and 0.5-1.5, the same figures) and passes every check: largest KE / W
+  0.173 at t = 0.057 s (above 0.1 over 8.8 % of the judged
+  time; the rotation 0.077, the translations 0.125, the plies' 0.103 and the holder's 0.019),
+  the holder 19.79 N over the last tenth and 18.9 mm up, the plies' order -0.06 mm. What
+  stopped it (the ply contacts' energy against the work of their forces, point by point,
+  every step: the trapezoidal work of W' n on the point and -lambda_k W' n on its facing
+  triangle's corners): the mirrored pass, the bottom ply's nodes against the top ply's face.
+  Its points by the flange's folded wrinkles (nodes 53 and 103, 82 mm from the axis in the blank),
+  0.2-0.3 mm from an edge of the top ply's face, had their gaps signed by the facing
+  triangle's normal, which across a fold sharper than a right angle points away from a point
+  outside it: gaps of -0.29 to +0.21 mm and back within a few steps, each switch into contact
+  3-6 N mm made without work (k = 139 N/mm), the first at t = 0.074 s; over the run the
+  pass's energy gained +115 N mm on its work and lost -50 N mm in single steps (23 steps of
+  more than +1 N mm, adding up to +72.4 N mm, and -30.8 N mm in steps below -1 N mm). Signed
+  by the edge's or the vertex's pseudonormal (elements/ply_projection.py, "The sign at an
+  edge"; tests/test_ply_edge_sign.py) those flips are gone: 18 steps above +1 N mm (+34.5 N
+  mm) and -3.2 N mm below -1 N mm, now all at the bottom ply's outline nodes (k = 69.4 N/mm)
+  facing the top ply's outline triangles' growths (their closest points 0.005-0.05 past the
+  triangles, in barycentric units): there a point still switches into contact at -0.27 to
+  -0.30 mm where its closest point comes within the plies' 0.3 mm of the triangle ("Beside
+  the outline", next to its vertex: 2-3 N mm in a step), and its gap still flips beside an
+  outline vertex (+0.17 to -0.18 mm, past the plies' outline, where the face has no side;
+  1-1.5 N mm), not mended here. The run's energy balance stays within its 0.05. Before (the
+  facing triangle's sign) at 12050 steps, 157 s of CPU, load 4.7-6.1, it stopped at 97.8 % of the
   stroke on the energy balance, 0.0509 of the run's largest energy against 0.05, the Mindlin
   shell block +2.34 N mm in the step; KE / W 0.177 at most (t = 0.058 s). With the holder on
   both plies (12300 steps, 212 s, load 6-9) it stops at 98.5 % (t = 0.0985 s), 0.0518, the
@@ -566,171 +596,7 @@ The rounded die and the light holder (one thread; CPU of each run, with the mach
   24.9 and 25.1 mm, no crest, the least radial gap in the die -0.26 mm, punch force 83 N.
 Not run on the rounded die with the 100-g holder: 14 cells; Mindlin at 10 cells and 20 N.
 
-Before: the sharp die and the 1-kg holder.
-One thread: the six runs took 161 s of CPU at coarse, 234 s at default. Rms of shear - net
-2.4 and 3.5 deg ([0/90], coarse), 3.2 and 2.8 (default), 1.9 and 4.1 ([0/45], coarse), 3.6
-and 4.0-4.2 (default); draw-in of the edge middle 24.6-28.0 mm for the 0 and 90-deg plies,
-5.5-8.4 for the 45-deg one; slip 0.35-0.61 mm at most for [0/90], 17.8-19.2 for [0/45];
-0-4 crests on the outlines for [0/90], 7-14 for [0/45]. [0/45] at 20 N, default, stopped at
-94 % of the stroke.
-What still fails, and why this is a study:
-- The top ply's least node gap in the die at the end: -0.25 mm (coarse) and -0.16 mm (default)
-  for [0/90] (the pole reached -0.4 to -0.6 mm mid-run), -2.5 and -1.9 mm for [0/45], whose
-  meshes do not match: its nodes lie on the punch's sphere, the bottom ply's facets are chords
-  inside it (and bridge from the punch to the die's rim). At 12 cells ([0/45], 10 N) -0.45 mm:
-  the faceting error falls with the mesh; below h it needs s < sqrt(8 R h) = 11 mm (18 cells
-  and more, beyond this study's budget) or curved contact faces (Phong's surface over the
-  nodal normals, tried as a correction of the gap alone: without its gradient in the force,
-  the explicit run stopped on its energy balance at 3 % of the stroke). The curved faces with
-  their exact gradient (``SURFACE = "curved"``, elements/ply_surface.py: [0/45] plies on the
-  punch's sphere see their true gap to 0.01 mm at 10-mm cells) do not mend it at 8 cells:
-  frictionless, [0/45] fibrous at 10 N reaches the end but its least node gap in the die is
-  still -1.8 mm; with mu = 0.2 (the friction's anchors kept on the curved face) it reaches the
-  end with -2.9 mm (at the blank's (16.7, 16.7), t = 0.084 s) in 101 s of CPU against 22 s.
-  The study keeps the flat facets (``SURFACE = "flat"``). Why the curved faces did not mend
-  it, diagnosed at coarse ([0/45] fibrous, 10 N, flat faces; docs/theory.md §9.3b "Both
-  ways"): early in the stroke the crossing node is the top ply's pole, the one node the punch
-  touches and no contact point (-0.09 / -0.32 / -0.61 mm at t = 0.01 / 0.02 / 0.03 s, the
-  Gauss points' least gap above -0.012 mm); the bottom ply's nodes, which no contact point
-  holds, passed the top ply's face by up to 0.9 mm at the pole and 5.0 mm on the flange, and
-  two ended inside the top ply in the die (radius 49.8 mm, 50.45 nominal); from t = 0.04 s on
-  the Gauss points themselves are 0.5-1.6 mm into the bottom ply's facets, the top ply's
-  nodes 0.1-0.5 mm into the punch and the bottom ply's 0.03-0.2 mm into the die: the facets'
-  chords (1.5-3 mm) do not nest in the die's clearance of one ply, and the plies are pinched.
-  The mirrored pass at the bottom ply's nodes (``model(..., lower_rule="vertices")``) removes
-  the first two: the pole stays out, the bottom ply's nodes pass the top ply's face by 0.47
-  mm at most. Measured at coarse with it (279 s of CPU for the six runs): [0/90] fibrous
-  least gap in the die -0.17 mm at 10 and 20 N (-0.25 without), rms 3.5 and 3.5 deg, holder
-  9.8 and 19.0 N; [0/45] fibrous at 10 N to the end, -2.75 mm in the die (the pinch), rms
-  1.8 and 5.1 deg, holder 61 N (36 without: the flange's wrinkles no longer pass through
-  each other and lift it by 2.0 mm), at 20 N stopped on the energy balance at 97 % of the
-  stroke; the Mindlin runs stopped at 81 % ([0/90]) and 65 % ([0/45]). With the curved faces
-  too, [0/45] fibrous is -0.36 mm in the die at 76 % of the stroke but stops there on the
-  energy balance (at safety 0.6 as well, and frictionless at 69 %). Not adopted: the [0/45]
-  crossing stays, and three runs stop earlier.
-- The ply contact's search now makes the gap a distance (elements/ply_projection.py: the
-  nearest candidate, to its closest point on an edge or at a vertex where no candidate
-  holds the projection). Before, a top-ply point pressed by the holder into a wrinkle crest
-  of the bottom ply, outside both crest triangles, jumped from -0.45 to -2.24 mm as the
-  nearest triangle's extended plane changed: +27 and +55.5 N mm of ply-contact energy with
-  no work stopped the Mindlin [0/45] run at 91 % on the energy balance (safety 0.9, with the
-  following dashpot). Measured at coarse with the new search (one thread, load 9-12; CPU of
-  the run): Mindlin [0/45] 10 N stops at 74.6 % with the following dashpot (99 s) and at
-  57.3 % without it (92 s), both on the energy balance with the shell block's energy
-  changing most in the step (+58 and +7 N mm), the ply contact not: at the 74.6 % stop 48
-  of its 432 points touch, the deepest at -0.42 mm, one facing an edge. These runs snap at
-  ~52 % of the stroke (KE / W 0.2 at the 57 % stop; the blank's nodes at (+-25, +-25) jump
-  off the punch), and where they stop after it changes with the path (with the earlier
-  search, at safety 0.45 the [0/45] run reached the end): not diagnosed further. Mindlin
-  [0/90] 10 N without the dashpot (107 s) stops at 85.4 % the same way (the shell block
-  +24.3 N mm in the step; no touching point facing an edge), the holder lifted 16.8 mm by
-  the flange's wrinkles (20.3 N at the stop); with the earlier search and the dashpot it
-  reached the end.
-- The holder. Its dashpot (critical damping of its mass on its contact springs, following its
-  mean velocity; ``model(..., dashpot=True)``, elements/dashpot.py) held the fibrous [0/45]
-  holder at 36 N for a 10 N target, lifted by the flange's wrinkles (1.3 mm). Without it,
-  measured at coarse with the new search: fibrous [0/45] 10 N reaches the end (89 s of CPU)
-  with the holder at 11.2 N on average over the last tenth (10.5 N at the end, 2.65 mm up);
-  the Mindlin [0/45] holder was at 3.8 N at its 57 % stop (20.1 N with the dashpot at 75 %).
-  The study drops the dashpot (``HOLDER_DASHPOT = False``); the holder's force is checked
-  to 5 %, which 11.2 N misses.
-- Fibrous [0/90] 10 N, coarse, new search, no dashpot (83 s of CPU): to the end, holder
-  10.6 N on average over the last tenth, rms of shear - net 2.37 deg (ply 1, 8 cells in the
-  die) and 3.53 deg (ply 2, 26 cells), draw-in of the edge middle 24.6 and 25.1 mm, the top
-  ply's least node gap in the die -0.29 mm at the end (-0.55 mm over the run, the pole at
-  t = 0.060 s).
-- Fibrous [0/45] 10 N, coarse, new search, no dashpot: rms of shear - net 1.87 deg (ply 1,
-  14 cells in the die) and 4.14 deg (ply 2, 28 cells), draw-in of the edge middle 24.6 and
-  5.5 mm, of the corner 4.8 and 22.2 mm; the top ply's least node gap in the die at the end
-  -2.47 mm (the facets' chords against the punch's sphere, as above), -6.7 mm over the run
-  (at t = 0.085 s, the 45-deg ply's edge middle on the flange, blank (0, -100); measured by
-  the new search, whose gap there is the distance to the bottom ply's closest point: not
-  checked whether the node passed through the ply or lies beside its outline).
-
-Rerun on the current step (the explicit step up to 2.3 x longer: femcore/compiled.py, the
-driven tools' springs), coarse, 10 N, one thread (CPU of the run; load 6-10, other jobs on
-the 2 cores). Before the search's fix below: Mindlin [0/45] stopped at 69.7 % of the stroke
-(117 s), Mindlin [0/90] at 91.6 % (106 s), each on the energy balance. What stopped them was
-not the step: at the [0/45] stop dt = 1.14e-5 s against an exact critical step of 2.51e-5 s
-(scipy eigsh on the finite-difference tangent with the run's masses and rotary inertias, the
-contacts included; 2.51e-5 s for the shells alone), and the balance held to 4e-5 of the
-largest work through the snap at ~52 % of the stroke (KE / W up to 0.31 there: the Mindlin
-plies buckle and ring, KE ~ 50-90 N mm after it, the rotational part 10-14). In both runs
-one ply-contact point's penalty energy jumped in one step: [0/45], a top-ply point 6 mm past
-the bottom ply's drawn-in outline, nearest to an inner edge's extension on an outline
-triangle's growth, from gap +2.80 to -2.83 mm (+92 N mm; the node thrown at 20 m/s, the
-shell block's energy changing most over the next ten steps, which the message named);
-[0/90], a top-ply point 9.6 mm beside a flap of the bottom ply standing on the flange, from
-+9.67 mm (held by one triangle of the flap's fold) to -9.56 mm (the other's, tied on their
-shared edge), +1060 N mm. The first is mended (elements/ply_projection.py "Beside the
-outline": such a point does not touch): Mindlin [0/45] now reaches the end (141 s, 8451
-steps; KE / W 0.31 at most, at the snap, 0.15 at most after 0.06 s, 0.03 at the end; the
-least node gap in die -2.47 mm to the flat facets). The second is bounded (ply_projection.py
-"Deeper than the plies": a point facing an edge or a vertex touches down to -0.3 mm only; the
-tie going to a candidate the point is outside of mended it on the stored states but flipped
-the sign where a point passes a ridge's end vertex, tests/test_ply_facet_switch.py): Mindlin
-[0/90] then runs past it and stops at 97.2 % (70 s), again on the balance with the ply
-contact's energy changing most (+153 N mm in the check's window, +546 N mm in one step),
-on the same flap: two of its triangles folded flat onto each other both hold a top-ply
-point's projection, at the same distance with opposite normals, and the nearest switched
-between them (+4.97 to -4.98 mm and +3.26 to -3.27 mm): the fold pressed flat again, where
-the point faces the triangles' planes, which the depth bound left alone. Mended by bounding
-the depth of a point facing a triangle whose normal points against its own ply (a layer
-turned away, ply_projection.py "A layer turned away"): Mindlin [0/90] now reaches the end
-(89.8 s of CPU, one thread, load 1.6-2.9; KE / W 0.41 at most, at t = 0.053 s), fibrous
-[0/90] too (46.8 s, load 2.8-3.0), but Mindlin [0/45] now stops at 92.5 % of the stroke
-(step 7810, 72.6 s, load 3.0-3.3) on the energy balance, 0.0505 of the run's largest energy
-against 0.05, the Mindlin shell block's energy changing most (+19 N mm), where the same
-commit without the bound reaches the end (90.7 s, load 3.6-5.0). In that [0/45] run the
-bound lets go of points that would touch without it in 2273 of its 16501 searches (30704
-point-searches, the deepest at -2.94 mm): turned layers deeper than the plies are common on
-its wrinkled flange; whether those points belong in the contact is not looked into.
-Mindlin [0/45] with that bound too: to the end (99 s, 8450 steps; KE / W 0.31 at most, at
-the snap), the top ply's least node gap in the die -0.26 mm to the curved face, -4.04 mm
-over the run (t = 0.095 s, the outline node (-33.3, -100) on the flange), holder 16.2 N over
-the last tenth for its 10 N. The fibrous runs below were made before that bound. Fibrous
-[0/45] reaches the end (143 s, 4522 steps, KE / W 0.25 at most at t = 0.052 s: the fibrous
-plies snap too), holder 9.6 N over the last tenth. Fibrous [0/90] reaches the end (66 s,
-4247 steps, KE / W 0.17 at most at 0.053 s), holder 10.7 N over the last tenth, the top
-ply's least node gap in the die -0.29 mm at the end by all three measures below (the plies'
-meshes match: no chords), at the blank's (+-25, +-25), whose nodes are 0.31 mm into the
-punch and over a bottom node 0.59 mm inside its nominal sphere (pinched); -0.56 mm over the
-run (the pole, t = 0.060 s).
-- The gap's measure. The fibrous [0/45] top ply's least node gap in the die at the end is
-  -2.49 mm to the bottom ply's flat facets (-2.47 in the Mindlin run), at the four nodes
-  (+-16.7, +-16.7) of the blank on the punch 44 mm down; to the bottom ply's curved face
-  (the Phong surface over its nodes and normals, elements/ply_surface.py) +0.07 to +0.20 mm
-  there (Mindlin +0.14 to +0.25), and to the sphere through the bottom ply's three nearest
-  nodes (by direction from the punch's centre) +0.26 to +0.62 mm: the facets' chords (the
-  bottom ply's 35-mm hypotenuse sags 35^2 / (8 x 50.45) = 3.0 mm at its middle), not a
-  crossing. The study now measures the gap to the curved face (``MEASURED_FACE``) over the
-  top nodes in the die that face a bottom triangle whose corners are in the die too (the
-  flat facets' figure is kept in the parameters): next to the die's rim a bottom triangle
-  bridges from the bowl onto the flange (a corner at z = +0.1 mm, 55 mm from the axis), no
-  face of it lies on the sphere, and the top node under it at (+-33.3, +-33.3) reads -1.9 mm
-  (flat) and -2.0 mm (curved) where the sphere through the nodes gives +0.5 mm. Measured so,
-  fibrous [0/45] -0.71 mm in the die (at (+-33.3, +-33.3), 29 mm down, where the bottom
-  ply's normals turn towards the rim; the sphere through its nodes +0.14 mm there), -2.04 mm
-  over the run (t = 0.098 s, blank (33.3, -33.3)).
-- The curved face's misreading, and the radial measure. On the rounded die (fibrous [0/45],
-  coarse, 10 N, at the end) the -0.70 mm is the top node (33.3, 33.3), 50.02 mm from the
-  die's centre (29 mm down), facing the bottom triangle of the blank's (25, 25), (50, 25),
-  (25, 50), whose corners are 49.90, 50.91 and 50.92 mm from the centre (all below -18 mm)
-  and whose two outer corners' nodal normals are turned 13.7 deg off the radius towards the
-  rim by their cells on the entry radius: the Phong face over them bulges towards the top
-  ply. Interpolated over that triangle at the node's direction the bottom ply's radius is
-  50.39 mm: the mid-surfaces 0.37 mm apart, the faces +0.07 mm. No contact let the node
-  through; the measure did. Plies laid face to face on concentric spheres with a flange
-  past 83 deg (tests/test_hemisphere_plies_gaps.py): the curved face reads -2.57 mm at
-  (33.3, -33.3), the true gap being 0. The check now measures in the die at the end along
-  the radius from the die's centre, where the punch's centre ends (``radial_gaps``,
-  validation/studies/hemisphere_plies_gaps.py: r_b - r - h with r_b the bottom ply's nodes'
-  radii interpolated where the node's ray crosses its triangle): fibrous [0/45] +0.07 mm
-  (11 top nodes in the die), the curved face's figure (-0.70) and the flat facets' (-2.51)
-  kept in the parameters. Over the run the curved face's figure is kept (-1.97 mm at t =
-  0.099 s, (-33.3, 33.3)): mid-run the plies wrap the punch, whose centre is not the die's.
-  Radially about the die's centre the pole reads -0.99 mm at t = 0.039 s, off that centre's
-  sphere; not a measure there.
+Before: the sharp die and the 1-kg holder: docs/hemisphere_plies.md.
 """
 
 from __future__ import annotations
