@@ -303,11 +303,8 @@ def choose(
 def open_edges(cells: np.ndarray) -> np.ndarray:
     """(m, 3) bool: the edge of each triangle opposite its corner k lies on the outline of the
     mesh ``cells`` (m, 3) (no other triangle of ``cells`` shares it)."""
-    cells = np.asarray(cells)
-    ends = np.stack([cells[:, [1, 2]], cells[:, [2, 0]], cells[:, [0, 1]]], axis=1)  # (m, 3, 2)
-    keys = np.sort(ends, axis=-1).reshape(-1, 2)
-    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    return (counts[inverse.ravel()] == 1).reshape(len(cells), 3)
+    ids = edge_ids(np.asarray(cells))
+    return np.bincount(ids.ravel())[ids] == 1
 
 
 def closest_on_edges(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
@@ -403,7 +400,7 @@ def _edge_hessian(gap, nu, weights, corners, reach, tiny):
 def edge_ids(nodes: np.ndarray) -> np.ndarray:
     """(m, 3) int: an id for the edge of each triangle opposite its corner k, one per edge of
     the mesh (shared by the triangles on either side); nodes (m, 3) the triangles' node ids."""
-    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)
+    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)  # (m, 3, 2)
     inverse = np.unique(np.sort(ends, axis=-1).reshape(-1, 2), axis=0, return_inverse=True)[1]
     return inverse.reshape(len(nodes), 3)
 

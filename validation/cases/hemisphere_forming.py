@@ -104,6 +104,7 @@ TITLE = "Hemisphere forming: shear angles against the pin-jointed net, draw-in a
 SOURCE = "Mack and Taylor (1956) pin-jointed net on the sphere"
 PUNCH, HALF, THICKNESS = 50.0, 100.0, 0.3
 DIE = PUNCH + 2.0 * THICKNESS  # the punch, the ply and a clearance of one ply
+TRAVEL = PUNCH + THICKNESS  # mm: the punch's stroke, from the ply's top to the die's bowl
 # The die's entry radius (mm; 0: a sharp edge): sharp, the 32-cell run stops; at 5 mm its
 # blank forms a row-by-row mode by the centre lines; at 10 mm neither
 # (docs/hemisphere_forming.md).
@@ -280,8 +281,7 @@ def model(
     die = RigidSurface(hemisphere_die(DIE, 1.7 * HALF, rings=48, rim=rim))
     damped = CONTACT_DAMPING if CONTACT_DAMPING > 0.0 else None
     built.contact(die, damping=damped)
-    travel = PUNCH + THICKNESS
-    punch = RigidSphere((0.0, 0.0, travel), PUNCH, motion=(0.0, 0.0, -travel), amplitude="smooth")
+    punch = RigidSphere((0.0, 0.0, TRAVEL), PUNCH, motion=(0.0, 0.0, -TRAVEL), amplitude="smooth")
     built.contact(punch, damping=damped)
     holder_force = HOLDER_FORCE if holder_force is None else holder_force
     if holder_force == 0.0:
@@ -449,7 +449,7 @@ def run(
         "late_punch_force_N": late_mean_force(
             np.asarray(energies["time"]),
             np.asarray(energies["external_work"]),
-            lambda t: (PUNCH + THICKNESS) * smooth_step(t * time_scaling / DURATION),
+            lambda t: TRAVEL * smooth_step(t * time_scaling / DURATION),
             LATE_SHARE,
         ),
         "holder_lift_mm": float(max(lifts)) if lifts else None,
@@ -545,7 +545,7 @@ def compute(resolution: str) -> Outcome:
             if HOLDER_FORCE > 0.0
             else "none"
         ),
-        "punch_travel_mm": PUNCH + THICKNESS,
+        "punch_travel_mm": TRAVEL,
         "duration_s": DURATION,
         "safety_on_the_stable_step": CentralDifference(duration=DURATION).safety,
         "damping_per_s": DAMPING,
@@ -758,9 +758,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
 
     with figure(out_dir / f"{NAME}-force.png", "punch travel (mm)", "punch force (N)") as ax:
         for kinematics, result in data.runs.items():
-            travel = [
-                (PUNCH + THICKNESS) * float(smooth_step(f.time / DURATION)) for f in result.frames
-            ]
+            travel = [TRAVEL * float(smooth_step(f.time / DURATION)) for f in result.frames]
             force = [f.tool_forces[1, 2] if len(f.tool_forces) > 1 else 0.0 for f in result.frames]
             ax.plot(travel, force, "o-", ms=3, label=kinematics)
     figures.append(
