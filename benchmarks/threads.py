@@ -15,6 +15,19 @@ issue's bound: at most 1.3 under a competing busy process), the same on all of n
 whatever the load (``elements.jit.FOLLOW_LOAD`` off: what the wait policy alone gives), with
 /proc/loadavg.
 
+Measured on the 2-core machine nearly quiet (load 0.47-1.07, nothing else running but this
+script; main c108a2a), ``--cells 224 --busy 0 --configurations passive,workqueue --steps 30
+--repeats 3`` (100 352 triangles), ms a step, wall, best of 3:
+
+    configuration  threads  1 thread  default  ratio  all threads  ratio
+    passive (omp)  2 of 2     65.01    39.14   0.60     37.47      0.58
+    workqueue      2 of 2     52.98    45.54   0.86     47.09      0.89
+
+Two threads of OpenMP with a passive wait give 1.66 times one thread in the same process (1.73
+on all threads whatever the load); the workqueue layer 1.16. The one-thread time differs between
+the two processes (65.0 against 53.0 ms, the same plain build): against the faster of the two,
+the two OpenMP threads give 1.35 times.
+
 Run from the project root:
 
     python benchmarks/threads.py                     # 100 x 100 x 2 = 20k triangles

@@ -4,7 +4,7 @@ validation report.
     fibreshell run CASE.toml [--out DIR] [--resume] [--quiet]
     fibreshell compare CASE.toml [--out DIR] [--calibration laws|fit|initial-slope]
                      [--kinematics fibrous,mindlin,plies] [--plies N] [--shear-ratio R]
-                     [--fit-path NAME] [--quiet]
+                     [--fit-path NAME] [--scheduler ADDRESS] [--workers N] [--quiet]
     fibreshell sweep CASE.toml --vary KEY=V1,V2 [--vary ...] [--zip] [--scheduler ADDRESS]
                      [--workers N] [--out DIR] [--quiet]
     fibreshell identify CASE.toml --data MEASURED.csv --fit KEY[=START][,KEY...] [--path NAME]
@@ -86,6 +86,16 @@ def _parser() -> argparse.ArgumentParser:
             command.add_argument(
                 "--fit-path", default=None,
                 help="the path --calibration fit matches (default: the first)",
+            )  # fmt: skip
+            command.add_argument(
+                "--scheduler", default=None, metavar="ADDRESS",
+                help="a Dask scheduler (tcp://host:8786) for --calibration fit's runs; "
+                "default: a local cluster",
+            )  # fmt: skip
+            command.add_argument(
+                "--workers", type=int, default=None,
+                help="worker processes of --calibration fit's local cluster (default: one "
+                "per core)",
             )  # fmt: skip
     text = "run a case over values of its keys, every variant a Dask task: sweep.csv in --out"
     command = commands.add_parser("sweep", help=text, description=text)
@@ -291,6 +301,7 @@ def _main(argv: list[str]) -> int:
             runs = compare_case(
                 case, out, progress, calibration=args.calibration, kinematics=args.kinematics,
                 plies=args.plies, shear_ratio=args.shear_ratio, fit_path=args.fit_path,
+                scheduler=args.scheduler, workers=args.workers,
             )  # fmt: skip
             comparison = json.loads((out / "comparison.json").read_text())
             fitted = args.calibration == "fit"  # its values are known only now

@@ -75,6 +75,8 @@ def compare_case(
     shear_ratio: float | None = None,
     fit_path: str | None = None,
     fit_evaluations: int = 12,
+    scheduler: str | None = None,
+    workers: int | None = None,
 ) -> dict[str, Run]:
     """Run ``case`` in each of ``kinematics`` into ``out/<name>`` and write
     ``out/comparison.json`` (module docstring), ``out/view-3d.png`` (the deformed shells at
@@ -101,6 +103,9 @@ def compare_case(
         The path whose mid-surface the "fit" calibration matches (default: the first).
     fit_evaluations : int
         Model evaluations the "fit" may make.
+    scheduler, workers
+        Where the "fit" runs its evaluations: a Dask scheduler's address, or the worker
+        processes of a LocalCluster started here (``fibreshell.cluster.dask_client``).
 
     Raises
     ------
@@ -133,6 +138,7 @@ def compare_case(
         rule = Calibration.from_options(calibration, shear_ratio)
     if fitting and "mindlin" in chosen:
         _check_fit(case, fit_path, fit_evaluations)
+        _check_cluster(scheduler, workers)
     if "plies" in chosen:
         from fibreshell.plies import ply_stack
 
@@ -142,7 +148,10 @@ def compare_case(
     if "fibrous" in chosen or (fitting and "mindlin" in chosen):
         runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
     if fitting and "mindlin" in chosen:
-        rule = fit_calibration(case, runs["fibrous"], out / "fit", fit_path, fit_evaluations)
+        rule = fit_calibration(
+            case, runs["fibrous"], out / "fit", fit_path, fit_evaluations,
+            scheduler=scheduler, workers=workers,
+        )  # fmt: skip
     if "mindlin" in chosen:
         runs["mindlin"] = run_case(case, out / "mindlin", "mindlin", progress, calibration=rule)
     if "plies" in chosen:
@@ -193,6 +202,24 @@ def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
     return path
 
 
+# Seconds a scheduler given for the fit has to answer before the fibrous run.
+SCHEDULER_TIMEOUT_S = 10.0
+
+
+def _check_cluster(scheduler: str | None, workers: int | None) -> None:
+    """ValueError for a ``workers`` that is not a count, both given, or a scheduler that
+    does not answer: before the fibrous run the fit starts from, not after it."""
+    from fibreshell.cluster import dask_client
+
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):  # fmt: skip
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    if scheduler is not None:
+        # Connects, or names the address it could not reach.
+        with dask_client(scheduler, workers, timeout=SCHEDULER_TIMEOUT_S):
+            pass
+
+
 def fit_calibration(
     case: Case,
     fibrous: Run,
@@ -200,12 +227,15 @@ def fit_calibration(
     path: str | None = None,
     max_evaluations: int = 12,
     start: Calibration | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
 ) -> Calibration:
     """Bai's calibration: the "laws" section's bending scale and transverse shear stiffness
     fitted by least squares (``fibreshell.identify``, each run a Dask task) so that the
     Mindlin mid-surface height matches the fibrous one's along ``path`` at the fibrous
     nodes' horizontal positions, from ``start``'s numbers (default: the laws as given, the
-    default transverse shear).
+    default transverse shear). The evaluations run on the Dask scheduler at ``scheduler``, or
+    on a LocalCluster of ``workers`` processes started here (``fibreshell.cluster.dask_client``).
 
     Returns
     -------
@@ -238,7 +268,7 @@ def fit_calibration(
     }
     found = identify(
         case.path, data, values0, path=path, out=out, max_evaluations=max_evaluations,
-        progress=False,
+        progress=False, scheduler=scheduler, workers=workers,
     )  # fmt: skip
     values = dict(zip(found.keys, (float(v) for v in found.values)))
     fitted = {

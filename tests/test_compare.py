@@ -157,11 +157,32 @@ def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path):
     from fibreshell.run import run_case
 
     fibrous = run_case(case, tmp_path / "fibrous", "fibrous", progress=False)
-    fitted = fit_calibration(case, fibrous, tmp_path / "fit", start=start)
+    # On a scheduler of the caller's (a user's cluster): the fit's runs are its tasks.
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster:
+        fitted = fit_calibration(
+            case, fibrous, tmp_path / "fit", start=start, scheduler=cluster.scheduler_address
+        )
     assert fitted.name == "fit"
     assert fitted.bending_scale == pytest.approx(1.0, rel=0.02)
     assert fitted.fitted["residual_rms_mm"] < 1e-3
     assert (tmp_path / "fit" / "identify.json").is_file()
+
+
+def test_a_fit_on_a_scheduler_that_does_not_answer_is_refused_before_any_run(tmp_path, monkeypatch):
+    # The fit runs after the fibrous run: a wrong cluster must be named before that run, not
+    # after it. (Nothing listens on port 9 here: the wait is the probe's whole timeout.)
+    monkeypatch.setattr("fibreshell.compare.SCHEDULER_TIMEOUT_S", 1.0)
+    from tests.test_case_files import CANTILEVER
+
+    case = _case(tmp_path, CANTILEVER)
+    out = tmp_path / "x"
+    with pytest.raises(ValueError, match="no Dask scheduler answers at 'tcp://127.0.0.1:9'"):
+        compare_case(case, out, calibration="fit", scheduler="tcp://127.0.0.1:9")
+    with pytest.raises(ValueError, match="workers must be a whole number >= 1, got 0"):
+        compare_case(case, out, calibration="fit", workers=0)
+    assert not out.exists()
 
 
 def test_bad_options_are_refused(tmp_path):
