@@ -69,8 +69,8 @@ def test_the_fibrous_strip_converges_quadratically_with_a_linear_bending_law():
     # Peirce's G986 strip (20 x 1 cells, 3 increments) with its bilinear bending law replaced
     # by the initial slope, 7.5 N mm: the fibrous tangent (tension, shear, rotation-free
     # bending, the clamped edge) is exact, the tail quadratic (orders 2.33 and 2.54 measured)
-    # and 4 iterations per increment. With the bilinear law the knee's kink and the soft
-    # branch's deflection per increment take 10-9-10 (benchmarks/newton_iterations.py).
+    # and 3-4-4 iterations. With the bilinear law the soft branch's deflection per increment
+    # takes 9-9-10 (benchmarks/newton_iterations.py).
     fabric = g986_stack()
     overhang = peirce_overhang(fabric.areal_density * specimens.GRAVITY, fabric.bending)
     stiff = dataclasses.replace(fabric, bending=BendingLaw.linear(7.5))
