@@ -81,7 +81,9 @@ class Static:
         adapt).
     tol : convergence when ||r_forces|| <= tol F_ref and ||r_moments|| <= tol F_ref L_e (or,
         at the round-off floor, when a full Newton step moves no DOF by more than 1e-9 of an
-        element or 1e-9 rad while the ratio is below 1e-3), with
+        element or 1e-9 rad while the ratio is below 1e-3, or, without interactions and
+        stabilisation, when the ratio is at most 10 times the rounding of the residual that a
+        rigid translation of the iterate shows, and at most 1e-6: solvers.round_off), with
         F_ref = max(||F_ext||, ||F_int||, ||M_ext|| / L_e, ||M_int|| / L_e) (the internal
         forces include the reactions) and L_e the median element edge.
     max_iterations : Newton iterations per (sub-)increment before it is cut in half.
@@ -495,6 +497,8 @@ class StaticRun:
             "compression_free": self.compression_free,
             "compression_free_tangents": 0,
             "mode_searches": 0,
+            "round_off_probes": 0,
+            "round_off_converged": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "augmentations": [],

@@ -1,0 +1,74 @@
+"""The round-off floor of Static's residual, so that the convergence test asks no more than
+the rounding of the internal forces allows (docs/theory.md §6.5).
+
+The internal forces of a shell are sums of terms much larger than their resultant: on a light
+fabric under its own weight the fibres' tension stiffness (1200 N/mm) times the rounding of
+coordinates of order 40 mm is 1e-11 N per fibre, 1e-9 of the strip's weight, and at a small
+load factor more. An exact equilibrium then has a residual ratio of that order, and an
+increment whose tolerance lies below it spends Newton iterations (a tangent and a
+factorisation each) on steps of 1e-9 of an element that do not lower it
+(solvers.newton.at_round_off_floor ends them).
+
+The rounding is measured where it is met: the residual at the state moved by a rigid
+translation of every node (ROUND_OFF_SHIFT element sizes). Every element's internal forces are
+invariant under it (the conformance kits of femcore.testing check rigid translations), the
+dead loads and the frames do not change, so the change of the residual is the rounding alone,
+at the state's own coordinates and forces. An iteration whose ratio is at most
+FLOOR_FACTOR times that change is converged, when that is at most ROUND_OFF_GATE: a larger
+change is not rounding but a force that the translation moves (an element tied to fixed
+points in space, which the conformance kits would not pass), and the strict test stays. Not
+for models with interactions (a tool does not move with the translation) or stabilised
+increments (the dashpots pull towards the last converged positions).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from femcore.dofs import Frames
+from femcore.state import State
+
+if TYPE_CHECKING:
+    from solvers.newton import Residual
+
+__all__ = ["FLOOR_FACTOR", "ROUND_OFF_GATE", "ROUND_OFF_SHIFT", "round_off_ratio"]
+
+# The rigid translation of the probe, in element sizes: not a power of two, so that every
+# coordinate rounds differently.
+ROUND_OFF_SHIFT = (0.37, 0.59, 0.23)
+# The residual after an exact Newton step at the floor is the force evaluations' rounding
+# plus the solve's (the step's relative error times the condition of K): on Peirce's fibrous
+# strip (benchmarks/newton_iterations.py) the ratios left by steps of 1e-9 to 1e-16 of an
+# element were 2-7 times the probe's change.
+FLOOR_FACTOR = 10.0
+# The largest ratio ever accepted at the floor, and the largest floor taken for rounding;
+# beyond it the full-step test of solvers.newton.at_round_off_floor decides.
+ROUND_OFF_GATE = 1e-6
+
+
+def round_off_ratio(equilibrium: Residual, state: State, frames: Frames, r: np.ndarray, forces):
+    """The residual ratio of the rounding at ``state`` (module docstring).
+
+    Parameters
+    ----------
+    equilibrium : solvers.newton.Residual of the load factor.
+    state : State
+        The iterate, with residual r (n, 5) (free DOFs, generalised components in
+        ``frames``) and internal ``forces`` (f_int, m_int), each (n, 3), N and N mm.
+
+    Returns
+    -------
+    float
+        ||r(x + t) - r(x)|| judged as a residual of ``state`` (solvers.convergence: forces
+        against F_ref, moments against F_ref L_e), t the rigid translation ROUND_OFF_SHIFT
+        times the element size; one evaluation of the internal forces.
+    """
+    model = equilibrium.model
+    shift = np.asarray(ROUND_OFF_SHIFT) * model.element_size
+    moved = replace(state, positions=state.positions + shift)
+    r_moved, _, _ = equilibrium.residual(moved, frames)
+    change = r_moved - r
+    return equilibrium.test.ratios(change[:, :3], change[:, 3:], *forces).largest
