@@ -132,7 +132,8 @@ numba without SVML), one thread, CPU, main c108a2a against after. Paired in one 
 kernels.py, cell_terms.py and packed_laws.py of c108a2a imported beside, in turns, 16-24
 rounds, 100k, load 3.9-5.4): force and energy 0.72-0.75 of before (best 0.50-0.52 -> 0.36-0.38
 µs per element), the energy alone 0.61-0.65 (0.36-0.37 -> 0.22-0.24), the force the same, the
-forces and energies the same to the last bit. This script, before then after (load 5.0-5.5):
+forces and energies the same to the last bit; at 10k (30 rounds, load 10-12) 0.75 and 0.68.
+This script, before then after (load 5.0-5.5):
 10k force+energy 0.834 -> 0.478, energy 0.509 -> 0.293, checked step 0.901 -> 0.491, steady
 step 0.592 -> 0.520; 100k force+energy 0.560 -> 0.490, energy 0.435 -> 0.278, checked step
 0.588 -> 0.483, steady step 0.548 -> 0.505 (the force 0.39-0.53 in these runs: the load's
