@@ -125,6 +125,50 @@ benchmarks/hemisphere_forming.py).
 The force's 0.498 µs at 100k above was measured at load 6 on the Intel machine; 0.35 was not
 reached.
 
+The energy check (elements/fibrous/packed_laws.py: a table law's energy, the G986 bending
+laws', from the integrals at the knots tabled by ``pack_laws``, spliced into the loops instead
+of a compiled call that summed the trapezoids twice), the AMD EPYC machine (znver4, AVX-512,
+numba without SVML), one thread, CPU, main c108a2a against after. Paired in one process (the
+kernels.py, cell_terms.py and packed_laws.py of c108a2a imported beside, in turns, 16-24
+rounds, 100k, load 3.9-5.4): force and energy 0.72-0.75 of before (best 0.50-0.52 -> 0.36-0.38
+µs per element), the energy alone 0.61-0.65 (0.36-0.37 -> 0.22-0.24), the force the same, the
+forces and energies the same to the last bit; at 10k (30 rounds, load 10-12) 0.75 and 0.68.
+This script, before then after (load 5.0-5.5):
+10k force+energy 0.834 -> 0.478, energy 0.509 -> 0.293, checked step 0.901 -> 0.491, steady
+step 0.592 -> 0.520; 100k force+energy 0.560 -> 0.490, energy 0.435 -> 0.278, checked step
+0.588 -> 0.483, steady step 0.548 -> 0.505 (the force 0.39-0.53 in these runs: the load's
+noise). A checked step now costs what a step does, give or take the noise.
+
+Where the fibrous force's 0.32-0.34 µs per element go at 100k (the same process): the cells'
+pass about 0.2, the other passes 0.14 (normals 0.024, sides' folds 0.03, normal sums and
+frames 0.025, pulls 0.036, nodal sums 0.02). A perf profile of the cells' pass (its machine
+code mapped to the samples): about 10 % in libm's log and asin, the rest the scalar arithmetic
+of the corner terms, the three levels and the bending, some thousand double operations a
+cell, one lane at a time, the roots and divisions of 1 / (|g1| |g2|), of the shear's 1 / sin
+and of the strains' shared reciprocal on the longest chains. Measured and not kept (force,
+paired, median new / old):
+
+* numba's numpy error model (no zero test before each division): 0.98;
+* fastmath {"contract"} (multiply-adds fused): 0.96; besides, a serial and a parallel build
+  might fuse differently, and the bits must not depend on the thread count;
+* the log of the strains' ratio and the shear's arcsine by their series near 1 and 0 (no
+  call into libm in the level loop, exact to double precision within |u| <= 0.1, |x| <=
+  0.125): 1.04, slower (a division and eight multiply-adds against the library's log);
+* the levels' log and arcsine replaced by plain arithmetic (wrong, timed only: what the nine
+  calls a cell and the registers saved around them can cost at most): 0.93;
+* the cells' helpers that read arrays (cell_terms.py ``cell_cross``, ``corner_frame``,
+  ``corner_thickness``, ``wall_fold``) spliced by numba rather than inlined by LLVM: 0.92 /
+  0.96, and with one node pass that sums S_k and forms the frames (no (n, 3) sums between
+  two passes): 0.98 / 0.96; the same bits;
+* the bending tables' segment found by counting the knots at or below the curvature (no
+  branch on its sign, which changes from cell to cell) instead of a binary search: 0.99.
+
+What is left is the arithmetic itself: SIMD across cells (structure-of-arrays loops that LLVM
+turns into 8-wide AVX-512 code) needs the transcendental functions out of those loops (numba
+here has no SVML, and its scalar log, asin and atan2 keep a loop scalar): not done. The Mindlin
+shell on the same tree (100k, load 5.1): steady step 0.124 µs CPU, 1.2 x the reference pass
+(0.100), force 0.089, force+energy 0.105, the rest of a step 0.032.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures.
 

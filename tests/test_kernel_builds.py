@@ -115,15 +115,18 @@ def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_t
     )
 
 
-def test_a_table_law_s_energy_is_built_once_whatever_constant_index_its_callers_give():
-    """The fibrous kernels call the packed laws' energy with constant indices (the shear law
-    2, the fabric section's module constants): spliced into a caller, such an index is numba's
-    Literal[int], and the table helpers it calls were built once per literal (4 builds where
-    one serves). Every build takes an int64 index; the energies are materials.Law.energy's
-    (the numpy reference: the same trapezoids, to 1e-12 relative)."""
+def test_a_table_law_s_energy_in_the_loops_is_the_law_s_own_to_the_last_bit_without_a_call():
+    """The fibrous kernels evaluate the packed laws' energy with constant indices (the shear
+    law 2, the fabric section's module constants) inside their cell loops. A table law's
+    energy is a search and a trapezoid on the integrals that ``pack_laws`` tabled, spliced
+    into the caller: no compiled call (whose array arguments a loop reference-counts and
+    around which it saves its registers), and materials.Law.energy's numbers (the numpy
+    reference: the same trapezoids summed in the same order) to the last bit on and between
+    the knots; beyond them to 1e-14 (y on the extensions is ``law_value``'s line through the
+    end segment, numpy's through the end knot: the two round apart)."""
     import numba
 
-    from elements.fibrous.packed_laws import _table_energy, _table_integral, law_energy, pack_laws
+    from elements.fibrous.packed_laws import law_energy, pack_laws
     from materials import BendingLaw, ShearLaw
 
     @numba.njit
@@ -136,15 +139,20 @@ def test_a_table_law_s_energy_is_built_once_whatever_constant_index_its_callers_
 
     laws = [
         BendingLaw.bilinear(7.5, 0.5, 1e-3),
-        ShearLaw.table([0.0, 0.5, 1.0], [0.0, 1.0, 3.0]),
+        ShearLaw.table([-0.3, 0.0, 0.5, 1.0], [-0.4, 0.0, 1.0, 3.0]),
         BendingLaw.bilinear(2.0, 0.5, 2e-3),
     ]
     integers, reals = pack_laws(laws)
-    for x in (-0.4, 7e-4, 0.8, 1.5):
+    grid = np.concatenate(
+        [np.linspace(-3e-3, 3e-3, 61), np.linspace(-1.5, 1.5, 61), [-1e-3, 1e-3, 2e-3, 0.5]]
+    )
+    for x in grid:
         energies = constant_indices(integers, reals, x)
         for law, energy in zip(laws, energies, strict=True):
-            assert energy == pytest.approx(float(law.energy(x)), rel=1e-12, abs=1e-300)
-    assert [signature[2] for signature in _table_energy.signatures] == [numba.types.int64]
-    # (_table_integral is linked into _table_energy's build: none of its own when that one
-    # came from numba's cache)
-    assert all(signature[2] == numba.types.int64 for signature in _table_integral.signatures)
+            if law.knots[0][0] <= x <= law.knots[0][-1]:
+                assert energy == float(law.energy(x)), (law, x)
+            else:  # y on the extensions is law_value's line through the end segment
+                assert energy == pytest.approx(float(law.energy(x)), rel=1e-14), (law, x)
+    (signature,) = constant_indices.signatures
+    lines = constant_indices.inspect_llvm(signature).splitlines()
+    assert not [line for line in lines if " call " in line and "packed_laws" in line]
