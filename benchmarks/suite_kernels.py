@@ -133,13 +133,15 @@ print("PROBE" + json.dumps(out))
 """
 
 
-def run(modules: list[str], serial: bool) -> dict:
-    """One fresh process on a fresh cache: the records of the probe above."""
+def run(modules: list[str], serial: bool, threads: int = 1) -> dict:
+    """One fresh process on a fresh cache, numba's thread setting ``threads`` (the tests
+    marked ``parallel`` run the parallel builds only above 1): the records of the probe
+    above."""
     import json
 
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(ROOT),
-               "NUMBA_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+               "NUMBA_NUM_THREADS": str(threads), "OPENBLAS_NUM_THREADS": "1",
                "OMP_NUM_THREADS": "1"}  # fmt: skip
         args = ["serial" if serial else "-", "-q", "-n", "0", "-p", "no:randomly",
                 "-p", "no:cacheprovider", "-m", "not slow", *modules]  # fmt: skip
@@ -155,9 +157,10 @@ def run(modules: list[str], serial: bool) -> dict:
 
 def main() -> None:
     serial = "--serial" in sys.argv
+    threads = int(next((a.split("=")[1] for a in sys.argv if a.startswith("--threads=")), 1))
     modules = [a for a in sys.argv[1:] if not a.startswith("--")] or MODULES
-    print(f"load before: {os.getloadavg()[0]:.1f}; modules: {' '.join(modules)}")
-    out = run(modules, serial)
+    print(f"load before: {os.getloadavg()[0]:.1f}; threads {threads}; modules: {' '.join(modules)}")
+    out = run(modules, serial, threads)
     per: dict[str, list] = {}
     for name, sig, own, loaded, parallel in out["records"]:
         entry = per.setdefault(name, [0.0, [], parallel, 0])
