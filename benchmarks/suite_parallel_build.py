@@ -11,7 +11,23 @@ the parallel builds compiled), then the best of ``--repeats`` forces on those th
 and CPU per element (µs), and on one thread. The forces' bits are hashed: the same hash in
 both checkouts and on any thread count.
 
-Measured (2 cores shared with other jobs, load printed per pass):
+Measured (39762 cells, 2 threads, 10 repeats; 2 cores shared with other jobs), main c108a2a
+(numba's parallel build of each whole kernel) then this checkout (the plain build in parts):
+
+    pass (load)      first force: 1 thread, then 2   force us/cell wall (CPU): 1 thr., 2 thr.
+    fibrous, main (4.3)    10.75 s, 30.83 s CPU      1.464 (0.540), 1.707 (0.557)
+    fibrous, parts (5.1)   12.66 s, 10.16 s CPU      1.144 (0.591), 1.484 (0.651)
+    Mindlin, main (4.3)     2.48 s,  5.83 s CPU      0.448 (0.141), 0.209 (0.143)
+    Mindlin, parts (5.1)    3.05 s,  1.69 s CPU      0.360 (0.150), 0.346 (0.119)
+
+An earlier pass of main at load 2.6: fibrous 11.61 s and 27.63 s, Mindlin 1.50 and 4.24 s.
+The forces' bits the same in both checkouts and on both thread counts (fibrous b13fbad0fc99,
+Mindlin e9d767b31767). At that load the 2-thread wall times measure the machine, not the
+builds (a second core was seldom free); the CPU per cell, what a force costs, is the same
+within the noise. The explicit step of benchmarks/explicit_step.py (fibrous, 10082 cells,
+one thread, µs of CPU per element-step, old and new in turns, load 3.6-4.3): steady step
+0.647 and 0.678 on main, 0.539 and 0.646 with the parted plain build; force 0.599, 0.562
+against 0.405, 0.472.
 
 Run: python benchmarks/suite_parallel_build.py --against /tmp/old-checkout [--cells 40000]
 """

@@ -1,11 +1,13 @@
 """numba's compilation for the element kernels, optional: without numba the decorators return
 the plain Python function and ``prange`` is ``range``, so the numpy paths keep working.
 
-``jit`` compiles a loop over cells or nodes that runs in parallel (its ``prange`` loops split
-over threads, ``threads_for``) from numba's parallel build, and a loop on one thread from
-numba's plain build of the same function (``_Parallel``: a process whose loops all run on one
-thread, a test session's, never pays for the parallel build's compilation); ``serial``
-compiles a helper called from inside such loops.
+``jit`` compiles a loop over cells or nodes (its one ``prange`` loop) as numba's plain build
+of the function's parted copy, which runs part k of p equal parts of the loop's range, and
+runs it whole for a loop on one thread, or on more threads (``threads_for``) from a small
+parallel build that runs part k on thread k (``_Parallel``: a process whose loops all run on
+one thread, a test session's, never compiles a parallel build, and the parallel build is a
+loop of one call, cheap to compile); ``serial`` compiles a helper called from inside such
+loops.
 Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
 fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
 its sums; the kernels sum in the same order on any number of threads, so a run gives the same
