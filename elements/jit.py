@@ -184,14 +184,31 @@ class _Parallel:
 
     def __init__(self, function):
         self._function = function
-        # (the source read once, here: a loop over the parts made later takes the argument
-        # names read now, whatever happens to the file meanwhile)
-        self._part = _parted(function)
-        self.parted = self._part is not None
-        self._arguments = _arguments(function) if self.parted else []
-        self.serial = numba.njit(cache=True, fastmath=False)(self._part or function)
+        self._part = None  # the parted copy (None: the whole function, or not made yet)
+        self._arguments: list[str] = []
+        self._serial = None
         self._parallel = None
         functools.update_wrapper(self, function)
+
+    @property
+    def serial(self):
+        """The plain build (numba's dispatcher) of the parted copy, made at its first use
+        (the kernel's source read then, not when its module is imported: 27 kernels took
+        0.27 s of CPU to part at a load of 9, and a process uses a few of them)."""
+        if self._serial is None:
+            self._part = _parted(self._function)
+            if self._part is not None:
+                self._arguments = _arguments(self._function)
+            self._serial = numba.njit(cache=True, fastmath=False)(
+                self._function if self._part is None else self._part
+            )
+        return self._serial
+
+    @property
+    def parted(self) -> bool:
+        """Whether the plain build runs the parted copy (else the whole function, beside
+        numba's parallel build of the whole function)."""
+        return self.serial is not None and self._part is not None
 
     @property
     def parallel(self):
@@ -205,13 +222,17 @@ class _Parallel:
         return self._parallel
 
     def __call__(self, *args):
+        serial = self._serial
+        if serial is None:
+            serial = self.serial
+        parted = self._part is not None
         cap = _setting()
         threads = _threads(len(args[0]), cap)
         if threads == 1 and PLAIN_ON_ONE_THREAD:
-            if self.parted:
-                return self.serial(*args, 0, 1)
-            return self.serial(*args)
-        if self.parted:
+            if parted:
+                return serial(*args, 0, 1)
+            return serial(*args)
+        if parted:
             args = (*args, threads)
         if threads == cap:
             return self.parallel(*args)
@@ -236,6 +257,12 @@ def _source_tree(function) -> ast.FunctionDef | None:
         return None
     tree = ast.parse(source)
     if len(tree.body) != 1 or not isinstance(tree.body[0], ast.FunctionDef):
+        return None
+    # the function itself (its file may have changed since it was imported: then the whole
+    # function's builds, from its code as imported)
+    definition = tree.body[0]
+    names = [a.arg for a in definition.args.args]
+    if definition.name != function.__name__ or names != _arguments(function):
         return None
     ast.increment_lineno(tree, function.__code__.co_firstlineno - 1)
     definition = tree.body[0]

@@ -104,7 +104,7 @@ def test_the_parts_cover_the_loop_once_in_order(length, parts):
     out = np.full(len(offsets) - 1, np.nan)
     for part in range(parts):
         before = np.isnan(out).sum()
-        kernel._part(offsets, values, out, part, parts)
+        kernel.serial.py_func(offsets, values, out, part, parts)
         assert np.isnan(out).sum() == before - (
             length * (part + 1) // parts - length * part // parts
         )
