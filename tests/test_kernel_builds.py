@@ -128,6 +128,15 @@ def test_each_build_is_cached_under_a_name_of_its_own():
     )
 
 
+def test_a_kernel_is_parted_and_built_at_its_first_use_not_at_import():
+    """Making a kernel reads no source and builds nothing (a process pays for the kernels it
+    calls only); its first call makes the parted copy and the plain build."""
+    kernel, offsets, values = _kernel_and_arguments()
+    assert kernel._serial is None and kernel._part is None
+    kernel(offsets, values, np.empty(len(offsets) - 1))
+    assert kernel._serial is not None and kernel._part is not None
+
+
 def _two_loops(out):  # pragma: no cover - numba
     for i in jit.prange(out.shape[0]):
         out[i] = i
