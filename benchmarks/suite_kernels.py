@@ -61,7 +61,22 @@ CPU, 323 s wall (load 4.8-5.7 before, 4.3 after) against 290.9 s of CPU, 410 s w
 (test_the_compiled_pieces_give_the_numpy_forces), 194 s wall against 282 s: it still waits on
 the other worker's compilations (tests/compile_once.py) at that load.
 
-Run: python benchmarks/suite_kernels.py [--serial] [tests/test_x.py ...]
+The tests marked ``parallel`` run the parallel builds when numba has more than one thread,
+as in a CI run on 2 cores (``--threads=2``: numba's setting in the probed process; the other
+tests still run on one, tests/conftest.py). tests/test_fibrous.py, fresh cache, one process,
+``--threads=2``, main c108a2a and the parallel build as a loop over parts of the plain build
+(elements/jit.py ``_Parallel``), in turns: CPU of the process / of the compilations 52.7 /
+50.9 s (load 3.4-5.1), then 28.9 / 27.0 (5.1-5.2), 48.2 / 46.6 (5.2-5.0), 27.6 / 25.8
+(5.0-5.3). On main the fibrous ``_cells_pass_parallel`` took 23.1 and 22.1 s beside the plain
+``_cells_pass``'s 7.0; as a loop over parts 3.6 and 3.3 s beside the parted plain build's 6.4
+and 6.0 (the one plain build serves both); the helpers ``corner_thickness`` and ``wall_fold``
+were built again for the parallel loop's unsigned index (uint64), no longer.
+``--threads=2`` on the first compiled fibrous test alone
+(test_the_compiled_pieces_give_the_numpy_forces, load 1.2-2.9): 38.1 s of CPU, 36.6 of it
+compiling (the parallel builds 31.2 of it, ``_cells_pass_parallel`` 23.9), against 24.9 and
+23.5 s (``_cells_pass_parallel`` 3.6, the parted plain ``_cells_pass`` 7.8).
+
+Run: python benchmarks/suite_kernels.py [--serial] [--threads=2] [tests/test_x.py ...]
 """
 
 import os
@@ -133,13 +148,15 @@ print("PROBE" + json.dumps(out))
 """
 
 
-def run(modules: list[str], serial: bool) -> dict:
-    """One fresh process on a fresh cache: the records of the probe above."""
+def run(modules: list[str], serial: bool, threads: int = 1) -> dict:
+    """One fresh process on a fresh cache, numba's thread setting ``threads`` (the tests
+    marked ``parallel`` run the parallel builds only above 1): the records of the probe
+    above."""
     import json
 
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(ROOT),
-               "NUMBA_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+               "NUMBA_NUM_THREADS": str(threads), "OPENBLAS_NUM_THREADS": "1",
                "OMP_NUM_THREADS": "1"}  # fmt: skip
         args = ["serial" if serial else "-", "-q", "-n", "0", "-p", "no:randomly",
                 "-p", "no:cacheprovider", "-m", "not slow", *modules]  # fmt: skip
@@ -155,9 +172,10 @@ def run(modules: list[str], serial: bool) -> dict:
 
 def main() -> None:
     serial = "--serial" in sys.argv
+    threads = int(next((a.split("=")[1] for a in sys.argv if a.startswith("--threads=")), 1))
     modules = [a for a in sys.argv[1:] if not a.startswith("--")] or MODULES
-    print(f"load before: {os.getloadavg()[0]:.1f}; modules: {' '.join(modules)}")
-    out = run(modules, serial)
+    print(f"load before: {os.getloadavg()[0]:.1f}; threads {threads}; modules: {' '.join(modules)}")
+    out = run(modules, serial, threads)
     per: dict[str, list] = {}
     for name, sig, own, loaded, parallel in out["records"]:
         entry = per.setdefault(name, [0.0, [], parallel, 0])

@@ -16,6 +16,15 @@ int64 or uint64, ``nodal`` Literal[bool] True or False), ``cell_terms.wall_fold`
 or uint64), ``hessian_kernels._tension_level`` 2 (``edge`` Literal[int] 0 or 1); Mindlin
 ``kernels._base_vectors`` 2 (a writable and a read-only array).
 
+After those helpers were given one set of argument types (``corner_thickness``'s ``nodal``
+and ``_tension_level``'s edge passed as variables, not constants; the parallel loops' index
+no longer reaching the helpers, elements/jit.py ``_Parallel``; the Mindlin tables and fields
+given read-only positions and directors alike), the cache of one process running
+tests/test_fibrous.py, test_mindlin.py, test_fibrous_hessian_kernels.py,
+test_fibrous_tangent_kernels.py, test_threads.py and test_bias_extension.py
+(``-m "not slow"``, numba on 2 threads, fresh NUMBA_CACHE_DIR): 73 builds, none a kernel's
+second.
+
 Run: python benchmarks/suite_signatures.py [FOLDER]
 """
 

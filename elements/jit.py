@@ -1,11 +1,13 @@
 """numba's compilation for the element kernels, optional: without numba the decorators return
 the plain Python function and ``prange`` is ``range``, so the numpy paths keep working.
 
-``jit`` compiles a loop over cells or nodes that runs in parallel (its ``prange`` loops split
-over threads, ``threads_for``) from numba's parallel build, and a loop on one thread from
-numba's plain build of the same function (``_Parallel``: a process whose loops all run on one
-thread, a test session's, never pays for the parallel build's compilation); ``serial``
-compiles a helper called from inside such loops.
+``jit`` compiles a loop over cells or nodes (its one ``prange`` loop) as numba's plain build
+of the function's parted copy, which runs part k of p equal parts of the loop's range, and
+runs it whole for a loop on one thread, or on more threads (``threads_for``) from a small
+parallel build that runs part k on thread k (``_Parallel``: a process whose loops all run on
+one thread, a test session's, never compiles a parallel build, and the parallel build is a
+loop of one call, cheap to compile); ``serial`` compiles a helper called from inside such
+loops.
 Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
 fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
 its sums; the kernels sum in the same order on any number of threads, so a run gives the same
@@ -30,8 +32,12 @@ Threads, chosen here and only here:
 
 from __future__ import annotations
 
+import ast
+import copy
 import functools
+import inspect
 import os
+import textwrap
 import time
 import types
 
@@ -148,52 +154,86 @@ def _setting() -> int:
 
 class _Parallel:
     """A compiled loop called on ``threads_for`` threads of the length of its first argument
-    (the cells or the nodes it loops over), from one of two builds of the same function:
+    (the cells or the nodes it loops over), from two builds:
 
-    * ``serial``, numba's plain build (``prange`` a ``range``), for a loop on one thread
-      (a loop shorter than ``SMALL_LOOP``, or any loop where numba's setting or the free
-      cores give one thread);
-    * ``parallel``, numba's parallel build, for a loop on more threads, compiled at its
-      first call.
+    * ``serial``, numba's plain build of the function's parted copy (``_parted``: its one
+      ``prange`` loop runs over part ``part`` of ``parts`` equal parts of its range), called
+      with part 0 of 1 for a loop on one thread (a loop shorter than ``SMALL_LOOP``, or any
+      loop where numba's setting or the free cores give one thread);
+    * ``parallel``, numba's parallel build of a small loop over the parts (``_over_parts``:
+      part k of as many parts as threads on thread k), each part run by the plain build,
+      for a loop on more threads, made at its first call.
 
-    Compiling the parallel build costs numba's parallel passes besides the plain build's
-    (benchmarks/suite_kernels.py), and the test sessions' and the report's workers run on
-    one thread: they never compile a parallel build. On one thread the plain build is as
-    fast per cell as the parallel one (the steady explicit step at 10k cells took 1.08,
-    0.96 and 0.72 times as long in the plain build as in the parallel build on one thread
-    for the fibrous shell, 0.84 times for the Mindlin shell, at a load of 5-7,
-    benchmarks/suite_builds.py: no slower beyond the machine's noise; the parallel
-    compiler's hoisting of small arrays out of a loop, once measured 3 times faster, buys
-    nothing now that the cell loops keep their vectors in scalars).
-    The two builds run the same arithmetic in the same order (IEEE, no fastmath, the same
-    cell order), so they give the same numbers to the last bit (tests/test_threads.py,
-    tests/test_kernel_builds.py). ``PLAIN_ON_ONE_THREAD = False`` runs the parallel build on
-    every loop.
+    Every cell (or node) is thus computed by the one plain build whatever the threads: the
+    same machine code, so the same numbers to the last bit on any thread count
+    (tests/test_threads.py, tests/test_kernel_builds.py), and numba's parallel passes
+    (alias analysis, hoisting, the outlining of the loop body into a gufunc) see a loop of
+    one call instead of the whole cell loop. They cost more than the plain build itself on
+    the large loops: the fibrous force pass's parallel build took 23.9 s of CPU to compile
+    against 6.5 s plain, 31 s against 11 s for all the fibrous force's loops, and built the
+    helpers it calls again for its unsigned loop index (load 2-3,
+    benchmarks/suite_kernels.py). numba's own parallel build splits a ``prange`` loop into
+    equal static chunks, one a thread, as the parts do. On one thread the plain build runs
+    as fast per cell as numba's parallel build did (benchmarks/suite_builds.py).
+    ``PLAIN_ON_ONE_THREAD = False`` runs the parallel build on every loop.
 
-    Each build is cached under a name of its own (the parallel build's with ``_parallel``
-    appended): numba's cache index of a function does not tell its parallel build from its
-    plain one."""
+    A function whose source cannot be read, or that has no ``prange`` call or more than
+    one, keeps numba's parallel build of the whole function (``_renamed``), beside its
+    plain build. Each build is cached under a name of its own (``_part`` and ``_parallel``
+    appended): numba's cache index of a function does not tell its builds apart."""
 
     def __init__(self, function):
-        self.serial = numba.njit(cache=True, fastmath=False)(function)
         self._function = function
+        self._part = None  # the parted copy (None: the whole function, or not made yet)
+        self._arguments: list[str] = []
+        self._serial = None
         self._parallel = None
         functools.update_wrapper(self, function)
+
+    @property
+    def serial(self):
+        """The plain build (numba's dispatcher) of the parted copy, made at its first use
+        (the kernel's source read then, not when its module is imported: 27 kernels took
+        0.27 s of CPU to part at a load of 9, and a process uses a few of them)."""
+        if self._serial is None:
+            self._part = _parted(self._function)
+            if self._part is not None:
+                self._arguments = _arguments(self._function)
+            self._serial = numba.njit(cache=True, fastmath=False)(
+                self._function if self._part is None else self._part
+            )
+        return self._serial
+
+    @property
+    def parted(self) -> bool:
+        """Whether the plain build runs the parted copy (else the whole function, beside
+        numba's parallel build of the whole function)."""
+        return self.serial is not None and self._part is not None
 
     @property
     def parallel(self):
         """The parallel build (numba's dispatcher), made at its first use."""
         if self._parallel is None:
-            self._parallel = numba.njit(cache=True, parallel=True, fastmath=False)(
-                _renamed(self._function, "_parallel")
-            )
+            if self.parted:
+                body = _over_parts(self._function, self._arguments, self.serial)
+            else:
+                body = _renamed(self._function, "_parallel")
+            self._parallel = numba.njit(cache=True, parallel=True, fastmath=False)(body)
         return self._parallel
 
     def __call__(self, *args):
+        serial = self._serial
+        if serial is None:
+            serial = self.serial
+        parted = self._part is not None
         cap = _setting()
         threads = _threads(len(args[0]), cap)
         if threads == 1 and PLAIN_ON_ONE_THREAD:
-            return self.serial(*args)
+            if parted:
+                return serial(*args, 0, 1)
+            return serial(*args)
+        if parted:
+            args = (*args, threads)
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)
@@ -201,6 +241,124 @@ class _Parallel:
             return self.parallel(*args)
         finally:
             numba.set_num_threads(cap)
+
+
+# The names the parted copies and the loops over the parts take for their own (a kernel's
+# arguments never end in two underscores).
+_PART, _PARTS, _KERNEL = "part__", "parts__", "kernel__"
+
+
+def _source_tree(function) -> ast.FunctionDef | None:
+    """The definition of ``function`` as parsed from its module's source, undecorated, its
+    lines numbered as in the file; None where the source cannot be read."""
+    try:
+        source = textwrap.dedent(inspect.getsource(function))
+    except (OSError, TypeError):
+        return None
+    tree = ast.parse(source)
+    if len(tree.body) != 1 or not isinstance(tree.body[0], ast.FunctionDef):
+        return None
+    # the function itself (its file may have changed since it was imported: then the whole
+    # function's builds, from its code as imported)
+    definition = tree.body[0]
+    names = [a.arg for a in definition.args.args]
+    if definition.name != function.__name__ or names != _arguments(function):
+        return None
+    ast.increment_lineno(tree, function.__code__.co_firstlineno - 1)
+    definition = tree.body[0]
+    definition.decorator_list = []
+    return definition
+
+
+def _define(definition: ast.FunctionDef, function, namespace: dict | None):
+    """The function of ``definition``, compiled under ``function``'s file (numba caches a
+    function beside the file it reads its source stamp from), its globals ``namespace``, or
+    the module's own (None: the helpers the module defines after the kernel are found when
+    numba types it, at its first call)."""
+    module = ast.Module(body=[definition], type_ignores=[])
+    ast.fix_missing_locations(module)
+    code = compile(module, function.__code__.co_filename, "exec")
+    made_here: dict = {}
+    exec(code, function.__globals__ if namespace is None else namespace, made_here)
+    made = made_here[definition.name]
+    made.__qualname__ = function.__qualname__ + definition.name[len(function.__name__) :]
+    made.__module__ = function.__module__
+    made.__doc__ = function.__doc__
+    return made
+
+
+def _is_prange(node: ast.AST) -> bool:
+    """Whether ``node`` names ``prange`` (``prange`` or ``<module>.prange``)."""
+    if isinstance(node, ast.Name):
+        return node.id == "prange"
+    return isinstance(node, ast.Attribute) and node.attr == "prange"
+
+
+def _parted(function):
+    """A copy of ``function`` with two more arguments, ``part`` and ``parts``, whose one
+    ``prange(n)`` loop runs over ``range(n * part // parts, n * (part + 1) // parts)``: part
+    0 of 1 is the whole loop. None where the source cannot be read, the function has a
+    closure or defaults, or it has no ``prange`` call or more than one."""
+    if function.__closure__ or function.__defaults__ or function.__kwdefaults__:
+        return None
+    definition = _source_tree(function)
+    if definition is None:
+        return None
+    named = [node for node in ast.walk(definition) if _is_prange(node)]
+    calls = [
+        node
+        for node in ast.walk(definition)
+        if isinstance(node, ast.Call)
+        and _is_prange(node.func)
+        and len(node.args) == 1
+        and not node.keywords
+    ]
+    if len(calls) != 1 or len(named) != 1:
+        return None
+    call = calls[0]
+
+    def bound(k: ast.expr) -> ast.expr:  # n * k // parts
+        product = ast.BinOp(left=copy.deepcopy(call.args[0]), op=ast.Mult(), right=k)
+        return ast.BinOp(left=product, op=ast.FloorDiv(), right=ast.Name(_PARTS, ast.Load()))
+
+    part = ast.Name(_PART, ast.Load())
+    following = ast.BinOp(left=ast.Name(_PART, ast.Load()), op=ast.Add(), right=ast.Constant(1))
+    call.func = ast.Name("range", ast.Load())
+    call.args = [bound(part), bound(following)]
+    definition.args.args += [ast.arg(_PART), ast.arg(_PARTS)]
+    definition.name = function.__name__ + "_part"
+    return _define(definition, function, None)
+
+
+def _arguments(function) -> list[str]:
+    """The names of ``function``'s positional arguments."""
+    code = function.__code__
+    return list(code.co_varnames[: code.co_argcount])
+
+
+def _over_parts(function, arguments: list[str], part_build):
+    """A function of ``function``'s ``arguments`` and ``parts`` (int64, the threads) whose
+    ``prange`` loop runs ``part_build`` (the plain build of ``_parted(function)``) over part
+    k of ``parts``, on thread k (numba's parallel loop splits its range into one chunk a
+    thread)."""
+    names = ", ".join(arguments)
+    # the part as int64 (prange's index is unsigned): the plain build's one signature
+    source = (
+        f"def {function.__name__}_parallel({names}, {_PARTS}):\n"
+        f"    for {_PART} in prange({_PARTS}):\n"
+        f"        {_KERNEL}({names}, int64({_PART}), {_PARTS})\n"
+    )
+    tree = ast.parse(source)
+    ast.increment_lineno(tree, function.__code__.co_firstlineno - 1)
+    definition = tree.body[0]
+    assert isinstance(definition, ast.FunctionDef)
+    namespace = {
+        "__builtins__": __builtins__,
+        _KERNEL: part_build,
+        "prange": numba.prange,
+        "int64": numba.int64,
+    }
+    return _define(definition, function, namespace)
 
 
 def _renamed(function, suffix: str):

@@ -575,6 +575,16 @@ def _section(block) -> tuple:
     )
 
 
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only C-contiguous float64 view of ``array`` (a copy where it is not one): the
+    reference and current positions and directors reach ``_base_vectors`` with one array
+    type (numba builds a helper once for each type it is given, read-only and writable
+    apart), the mesh's points being read-only."""
+    view = np.ascontiguousarray(array, dtype=np.float64).view()
+    view.flags.writeable = False
+    return view
+
+
 def mindlin_tables(block, points, directors, cells: slice = slice(None)):
     """(level stiffness (c, Z, 28), smallest det J (c,), reference products of the level
     measures (c, Z, 7), areas (c,)) of a MindlinShellBlock's cells by the compiled kernel,
@@ -586,8 +596,8 @@ def mindlin_tables(block, points, directors, cells: slice = slice(None)):
     measures = np.empty((m, len(block.zeta), 7))
     area = np.empty(m)
     _mindlin_tables(
-        np.ascontiguousarray(points, dtype=np.float64),
-        np.ascontiguousarray(directors, dtype=np.float64),
+        _read_only(points),
+        _read_only(directors),
         connectivity,
         *_section(block),
         stiffness,
@@ -603,10 +613,10 @@ def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.nd
     bending (3), shear (2)."""
     out = np.empty((len(block.connectivity), 8))
     _mindlin_fields(
-        np.ascontiguousarray(positions, dtype=np.float64),
-        np.ascontiguousarray(directors, dtype=np.float64),
-        block.reference_positions,
-        block.reference_directors,
+        _read_only(positions),
+        _read_only(directors),
+        _read_only(block.reference_positions),
+        _read_only(block.reference_directors),
         block.connectivity,
         *_section(block),
         block.reference_measures,

@@ -1,11 +1,15 @@
 """numba's two builds of a kernel (elements/jit.py ``_Parallel``): a loop on one thread runs
-the plain build and leaves the parallel one uncompiled; a loop on more threads runs the
-parallel build; both give the same numbers to the last bit, and are cached apart."""
+the plain build of the kernel's parted copy and leaves the parallel one uncompiled; a loop on
+more threads runs the parallel build, a loop over parts each run by the plain build on a
+thread of its own; both give the same numbers to the last bit, and are cached apart."""
 
 import numpy as np
 import pytest
 
 from elements import jit
+
+if jit.AVAILABLE:
+    from numba import get_thread_id
 
 pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
 
@@ -46,7 +50,9 @@ def test_a_loop_on_one_thread_runs_the_plain_build_and_never_compiles_the_parall
 
 
 @pytest.mark.parallel
-def test_a_loop_on_more_threads_runs_the_parallel_build_with_the_same_numbers():
+def test_a_loop_on_more_threads_runs_the_plain_build_in_parts_with_the_same_numbers():
+    """The parallel build is a loop over parts, one a thread, each part run by the plain
+    build (its one int64 signature: prange's unsigned index is not passed on)."""
     import numba
 
     kernel, offsets, values = _kernel_and_arguments()
@@ -54,22 +60,97 @@ def test_a_loop_on_more_threads_runs_the_parallel_build_with_the_same_numbers():
     kernel(offsets, values, out)  # on numba's threads, every loop (the parallel mark)
     if numba.get_num_threads() > 1:
         assert kernel._parallel is not None and len(kernel.parallel.signatures) == 1
-        assert not kernel.serial.signatures
+        # (loaded from numba's cache, the parallel build holds the plain one's code: the
+        # plain build's dispatcher then has nothing compiled)
+        assert len(kernel.serial.signatures) <= 1
+        for signature in kernel.serial.signatures:
+            assert [str(t) for t in signature[-2:]] == ["int64", "int64"]
     np.testing.assert_array_equal(out, _python_sums(offsets, values))
 
 
-def test_the_parallel_build_is_cached_under_a_name_of_its_own():
-    """numba's cache index of a function does not tell its parallel build from its plain one:
-    the parallel build compiles a renamed copy of the function."""
+def _thread_ids(out):  # pragma: no cover - numba
+    """out[i] = the id of the thread that ran item i."""
+    for i in jit.prange(out.shape[0]):
+        out[i] = get_thread_id()
+
+
+@pytest.mark.parallel
+def test_the_parts_run_on_threads_of_their_own():
+    """Part k of the loop's range, in order, on thread k: as many threads at work as numba's
+    setting, each on one block of consecutive items."""
+    import numba
+
+    threads = numba.get_num_threads()
+    if threads < 2:
+        pytest.skip("numba has one thread here")
+    kernel = jit.jit(_thread_ids)
+    out = np.full(1000, -1, dtype=np.int64)
+    kernel(out)
+    assert kernel._parallel is not None
+    bounds = [1000 * k // threads for k in range(threads + 1)]
+    ids = [set(out[bounds[k] : bounds[k + 1]]) for k in range(threads)]
+    assert all(len(i) == 1 for i in ids)
+    assert len(set.union(*ids)) == threads
+
+
+@pytest.mark.parametrize("length", [0, 1, 7, 500])
+@pytest.mark.parametrize("parts", [1, 2, 3, 8])
+def test_the_parts_cover_the_loop_once_in_order(length, parts):
+    """The parted copy run by Python (``prange`` is numba's, a ``range`` there): parts 0 .. p - 1
+    of a loop of ``length`` items write each item once, and the sums of the whole loop."""
+    kernel, offsets, values = _kernel_and_arguments()
+    offsets = offsets[: length + 1] if length else offsets[:1]
+    whole = _python_sums(offsets, values)
+    out = np.full(len(offsets) - 1, np.nan)
+    for part in range(parts):
+        before = np.isnan(out).sum()
+        kernel.serial.py_func(offsets, values, out, part, parts)
+        assert np.isnan(out).sum() == before - (
+            length * (part + 1) // parts - length * part // parts
+        )
+    np.testing.assert_array_equal(out, whole)
+
+
+def test_each_build_is_cached_under_a_name_of_its_own():
+    """numba's cache index of a function does not tell its builds apart: the plain build
+    compiles the parted copy ``_part``, the parallel one the loop over the parts
+    ``_parallel``, both of the kernel's module and file."""
     kernel = jit.jit(_scaled_sums)
-    assert kernel.serial.py_func is _scaled_sums
-    copy = kernel.parallel.py_func
-    assert copy.__qualname__ == "_scaled_sums_parallel"
-    assert copy.__module__ == _scaled_sums.__module__
-    assert copy.__code__ is _scaled_sums.__code__
+    assert kernel.parted
+    assert kernel.serial.py_func.__qualname__ == "_scaled_sums_part"
+    loop = kernel.parallel.py_func
+    assert loop.__qualname__ == "_scaled_sums_parallel"
+    for build in (kernel.serial.py_func, loop):
+        assert build.__module__ == _scaled_sums.__module__
+        assert build.__code__.co_filename == _scaled_sums.__code__.co_filename
     assert kernel.parallel.targetoptions.get("parallel") and not kernel.serial.targetoptions.get(
         "parallel"
     )
+
+
+def test_a_kernel_is_parted_and_built_at_its_first_use_not_at_import():
+    """Making a kernel reads no source and builds nothing (a process pays for the kernels it
+    calls only); its first call makes the parted copy and the plain build."""
+    kernel, offsets, values = _kernel_and_arguments()
+    assert kernel._serial is None and kernel._part is None
+    kernel(offsets, values, np.empty(len(offsets) - 1))
+    assert kernel._serial is not None and kernel._part is not None
+
+
+def _two_loops(out):  # pragma: no cover - numba
+    for i in jit.prange(out.shape[0]):
+        out[i] = i
+    for i in jit.prange(out.shape[0]):
+        out[i] += 1.0
+
+
+def test_a_function_of_two_parallel_loops_keeps_numbas_parallel_build():
+    kernel = jit.jit(_two_loops)
+    assert not kernel.parted
+    assert kernel.parallel.py_func.__code__ is _two_loops.__code__
+    out = np.zeros(5)
+    kernel(out)
+    np.testing.assert_array_equal(out, np.arange(5) + 1.0)
 
 
 def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_type(monkeypatch):

@@ -67,7 +67,8 @@ def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
             frame[node, 0], frame[node, 1], frame[node, 2], frame[node, 3], frame[node, 4],
             frame[node, 5], frame[node, 6], frame[node, 7], frame[node, 8], frame[node, 9],
         )  # fmt: skip
-    return corner_thickness(directors, frame, node, False, nx, ny, nz, thickness, guard)
+    # (``nodal``, False here, rather than the constant: one build of corner_thickness)
+    return corner_thickness(directors, frame, node, nodal, nx, ny, nz, thickness, guard)
 
 
 @serial

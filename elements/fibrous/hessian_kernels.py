@@ -243,12 +243,16 @@ def _hessian_cells(
                     for q in range(3):
                         for r in range(3):
                             hz[i, j, q, r] = 0.0
+            # the edges as int64, not constants (numba types a constant argument as a literal
+            # and would build the helper once for each)
             _tension_level(
-                g1, n, t1, law_slope(law_integers, law_reals, law1, eps1), fibre1, scale, hz, 0
-            )
+                g1, n, t1, law_slope(law_integers, law_reals, law1, eps1), fibre1, scale, hz,
+                np.int64(0),
+            )  # fmt: skip
             _tension_level(
-                g2, n, t2, law_slope(law_integers, law_reals, law2, eps2), fibre2, scale, hz, 1
-            )
+                g2, n, t2, law_slope(law_integers, law_reals, law2, eps2), fibre2, scale, hz,
+                np.int64(1),
+            )  # fmt: skip
             _shear_level(
                 g1, g2, len1, len2, moment, law_slope(law_integers, law_reals, 2, gamma), scale, hz
             )

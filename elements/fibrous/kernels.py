@@ -176,8 +176,10 @@ def _node_frames(sums, directors, in_block, thickness, guard, frame):
             for j in range(10):
                 frame[node, j] = 0.0
             continue
+        # ``nodal`` given as in_block[node] (True here), not the constant True: numba types a
+        # constant argument as a literal and would build the helper once per constant
         vx, vy, vz, cos, h_m, nx, ny, nz, inverse, over = corner_thickness(
-            directors, sums, node, True, 0.0, 0.0, 0.0, thickness, guard
+            directors, sums, node, in_block[node], 0.0, 0.0, 0.0, thickness, guard
         )
         frame[node, 0], frame[node, 1], frame[node, 2] = vx, vy, vz
         frame[node, 3], frame[node, 4] = cos, h_m
