@@ -298,7 +298,8 @@ def _parted(function):
     """A copy of ``function`` with two more arguments, ``part`` and ``parts``, whose one
     ``prange(n)`` loop runs over ``range(n * part // parts, n * (part + 1) // parts)``: part
     0 of 1 is the whole loop. None where the source cannot be read, the function has a
-    closure or defaults, or it has no ``prange`` call or more than one."""
+    closure or defaults, it has no ``prange`` call or more than one, or its parts would not
+    be independent (``_parts_independent``)."""
     if function.__closure__ or function.__defaults__ or function.__kwdefaults__:
         return None
     definition = _source_tree(function)
@@ -313,7 +314,7 @@ def _parted(function):
         and len(node.args) == 1
         and not node.keywords
     ]
-    if len(calls) != 1 or len(named) != 1:
+    if len(calls) != 1 or len(named) != 1 or not _parts_independent(definition, calls[0]):
         return None
     call = calls[0]
 
@@ -328,6 +329,46 @@ def _parted(function):
     definition.args.args += [ast.arg(_PART), ast.arg(_PARTS)]
     definition.name = function.__name__ + "_part"
     return _define(definition, function, None)
+
+
+def _parts_independent(definition: ast.FunctionDef, call: ast.Call) -> bool:
+    """Whether the parts of ``definition``'s loop over ``call`` (its ``prange``) may each run
+    the whole function: the loop is the function's last statement, the statements before it
+    bind local names only (each part runs them: a write to an argument there, such as
+    zeroing an output, would undo another part's items), nothing is returned, and the loop
+    body accumulates into no name bound outside it (a reduction numba's parallel build
+    combines across threads, which the parts would not). Otherwise the function keeps
+    numba's parallel build."""
+    body = [
+        statement
+        for statement in definition.body
+        if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant))
+    ]
+    if not body or not isinstance(body[-1], ast.For) or body[-1].iter is not call:
+        return False
+    loop = body[-1]
+    for statement in body[:-1]:
+        if not isinstance(statement, ast.Assign):
+            return False
+        for target in statement.targets:
+            names = target.elts if isinstance(target, ast.Tuple) else [target]
+            if not all(isinstance(name, ast.Name) for name in names):
+                return False
+    if any(
+        isinstance(node, ast.Return) and node.value is not None for node in ast.walk(definition)
+    ):
+        return False
+    bound_inside = {
+        node.id
+        for node in ast.walk(loop)
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store)
+        and not any(node is a.target for a in ast.walk(loop) if isinstance(a, ast.AugAssign))
+    }  # fmt: skip
+    return all(
+        node.target.id in bound_inside
+        for node in ast.walk(loop)
+        if isinstance(node, ast.AugAssign) and isinstance(node.target, ast.Name)
+    )
 
 
 def _arguments(function) -> list[str]:

@@ -153,6 +153,43 @@ def test_a_function_of_two_parallel_loops_keeps_numbas_parallel_build():
     np.testing.assert_array_equal(out, np.arange(5) + 1.0)
 
 
+def _reduction(values, out):  # pragma: no cover - numba
+    total = 0.0
+    for i in jit.prange(values.shape[0]):
+        total += values[i]
+    out[0] = total
+
+
+def _zeroed_first(values, out):  # pragma: no cover - numba
+    out[:] = 0.0
+    for i in jit.prange(values.shape[0]):
+        out[i] += values[i]
+
+
+def _returned(values):  # pragma: no cover - numba
+    total = 0.0
+    for i in jit.prange(values.shape[0]):
+        total += values[i]
+    return total
+
+
+@pytest.mark.parametrize("function", [_reduction, _zeroed_first, _returned])
+def test_a_loop_whose_parts_are_not_independent_keeps_numbas_parallel_build(function):
+    """A reduction across the loop, a write to an argument before it, a returned value: each
+    part running the whole function would give a part's sum or undo another part's items, so
+    such a function is not parted, and its answer on several threads is the whole loop's."""
+    kernel = jit.jit(function)
+    assert not kernel.parted
+    values = np.arange(1.0, 5001.0)
+    if function is _returned:
+        assert kernel(values) == values.sum()
+        return
+    out = np.full(values.shape, np.nan)
+    kernel(values, out)
+    whole = values.sum() if function is _reduction else values
+    np.testing.assert_array_equal(out[0] if function is _reduction else out, whole)
+
+
 def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_type(monkeypatch):
     """numba compiles a kernel once for each array type it is given, read-only and writable
     apart: the bind's reference geometry (the mesh's read-only points) is computed from a
