@@ -73,6 +73,51 @@ hemisphere-forming 86.3 s CPU, plies-bai-5.1 43.3, plies-deck-of-cards 27.6; 166
 Each report now records each case's CPU time (results.json ``case_cpu_s``, the worker
 process's) beside its wall time, and prints it on the case's line.
 
+Where the default resolution's CPU goes, looked for waste that is not physics (one numba
+thread, CPU time, 2 cores shared with other jobs at a load of 5-15; cProfile figures are of
+profiled runs, their shares the point):
+- bai-6.1.1 (7 arc-length Static runs: three kinematics on 20 cells, fibrous and Mindlin on
+  10 and 40 for the orders; 515 increments): computation 25.3-27.1 s CPU on a warm numba cache,
+  107 s on a cold one (140 s of a profiled run compiling); figures and files 6.5 s in a fresh
+  process, 4.0 s with matplotlib warm (the side panels 1.0, the side elevation 1.0, the 3D view
+  0.8, the laws 0.5, the XDMF series of the three runs 0.65, the VTU 0.07). In the profiled
+  computation the factorisations take 40 % (QDLDL's numeric updates 28 %: 71 ms each on the
+  40-cell fibrous corner, 4025 unknowns, 833k entries in L after AMD; the band LDL^T of
+  solvers/band.py on the same four matrices 78-107 ms against QDLDL's 82-100 ms, its RCM band
+  6.1 times QDLDL's operations: no gain in choosing it there), the element tangents 31 % (the
+  fibrous membrane Hessian and loads), the assembly 11 % (of it the node blocks' stacked
+  products, 3.4 s of 57 s profiled: now a compiled pass, benchmarks/assembly_node_blocks.py,
+  1.5-2.7 times faster an assembly), the residuals and the path the rest. The case with the
+  numpy pass and with the compiled one, one process each order (load 10-15): 27.1 / 22.7 s and
+  22.7 / 25.9 s CPU (numpy / compiled): the first computation in a process is 3-4 s dearer,
+  first against first 27.1 / 25.9 s and second against second 22.7 / 22.7 s, so the gain (0-1.2
+  s, at most 5 %) is within the machine's noise; every check value and parameter the
+  same to 1.2e-13 relative, the same 515 increments and Newton iterations per run.
+- hemisphere-plies, Mindlin [0/90] on 8 cells, the first 0.01 s of the stroke (999 steps;
+  and 0.002 s on a warm cache): the march is the contacts' searches, the plies' facing search
+  (ply_projection.closest_facing, once per step and direction: the friction's history at the
+  committed state reuses the loads' search) about half, the die's facets (rigid_surface
+  _closest) about a fifth, the shells' forces a small part; the 100 frames and the history
+  rows do not show. On a cold cache the run's start compiled 85 s (the Gershgorin bound's
+  kernels 52 s).
+- numba: the report's workers are spawned processes that load the kernels from the on-disk
+  cache (0.002 s run above: 3.2 s of cache loads profiled, nothing compiled); a fresh checkout
+  or a changed kernel file makes the first report compile (each worker the kernels its cases
+  meet first, both workers the same kernel when they meet it at once).
+- per worker process: the imports of validation.cases 1.5-1.8 s CPU; the references: the
+  plies' nets 1.9 s (once per case), hemisphere-forming's net 0.85 s; bai-6.1.1-sensitivity's
+  LocalCluster of one worker, started, one task and closed, 2.5 s CPU with its processes.
+- No model is solved twice: the paper cases' orders reuse the resolution's own mesh,
+  plies-deck-of-cards its N = 2 deck at the middle mesh, the sensitivity runs 12 cells where
+  bai-6.1.1 runs 20; the plies cases' fibrous and Mindlin runs (the case files' solver) are
+  not the paper cases' arc-length runs.
+So at the default resolution the CPU is the solves (the Static factorisations and tangents,
+the explicit contact searches): the figures and files are 4-8 s a paper case, the imports
+and the cache loads a few seconds a worker. The whole default report was not run again here
+(about 1300 s of CPU, at least 650 s wall on two free cores; hours at the load these figures
+were measured at): its CPU is as EXPECTED_CPU_S (validation/report.py) states but for the
+paper cases' assembly above.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """
