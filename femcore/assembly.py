@@ -235,76 +235,13 @@ def _add_cell_blocks(
                                 fp[where] += kq[i, j]
 
 
-def _add_node_blocks(
-    data: np.ndarray,
-    block_rows: np.ndarray,
-    block_columns: np.ndarray,
-    maps: np.ndarray,
-    ff_destination: np.ndarray,
-    fp_destination: np.ndarray,
-    ff: np.ndarray,
-    fp: np.ndarray,
-) -> None:
-    """Adds T_i^T K_ij T_j of every 6 x 6 node block of a SparseTangent (BSR) into the CSC
-    data of K_ff (``ff``) and K_fp (``fp``), in the order of the entries (block, a, c) of the
-    generalised (5 x 5) blocks, at the positions ``*_destination`` (-1: not in that matrix).
-
-    data (count, 6, 6), the BSR blocks; block_rows, block_columns (count,) their node rows
-    and columns; maps (n, 6, 5) of ``DofManager.node_maps``, T = [[I, 0], [0, R]], R = [V2 V1]
-    (3 x 2): 66 products per block where the two stacked matrix products of numpy take 330
-    (and a gather of the maps and a bincount besides). Compiled by numba (one serial pass:
-    the sums in a fixed order)."""
-    kq = np.empty((5, 5))
-    right = np.empty((3, 2))
-    for k in range(data.shape[0]):
-        node_a = block_rows[k]
-        node_b = block_columns[k]
-        for i in range(3):
-            for j in range(3):
-                kq[i, j] = data[k, i, j]
-        for i in range(3):
-            for q in range(2):
-                upper = 0.0
-                turned = 0.0
-                for r in range(3):
-                    rb = maps[node_b, 3 + r, 3 + q]
-                    upper += data[k, i, 3 + r] * rb
-                    turned += data[k, 3 + i, 3 + r] * rb
-                kq[i, 3 + q] = upper
-                right[i, q] = turned
-        for q in range(2):
-            for j in range(3):
-                total = 0.0
-                for r in range(3):
-                    total += maps[node_a, 3 + r, 3 + q] * data[k, 3 + r, j]
-                kq[3 + q, j] = total
-            for t in range(2):
-                total = 0.0
-                for r in range(3):
-                    total += maps[node_a, 3 + r, 3 + q] * right[r, t]
-                kq[3 + q, 3 + t] = total
-        for i in range(5):
-            for j in range(5):
-                entry = (k * 5 + i) * 5 + j  # (block, a, c) of the generalised blocks, raveled
-                where = ff_destination[entry]
-                if where >= 0:
-                    ff[where] += kq[i, j]
-                else:
-                    where = fp_destination[entry]
-                    if where >= 0:
-                        fp[where] += kq[i, j]
-
-
 _add_cell_blocks_compiled: Any = None
-_add_node_blocks_compiled: Any = None
 try:  # numba is a dependency; without it the assembler sums the numpy blocks by bincount
     import numba
 
     _add_cell_blocks_compiled = numba.njit(cache=True)(_add_cell_blocks)
-    _add_node_blocks_compiled = numba.njit(cache=True)(_add_node_blocks)
 except ImportError:  # pragma: no cover - numba is a dependency
     _add_cell_blocks_compiled = None
-    _add_node_blocks_compiled = None
 
 
 def entry_slots(nodes: np.ndarray, components: int) -> tuple[np.ndarray, np.ndarray]:
@@ -367,12 +304,10 @@ class FreeTangentAssembler:
 
     The map from the parts' entries to the sparse storage is built from their structure (the
     node arrays of the CellTangent parts, the 6 x 6 node-block pattern of the SparseTangent
-    parts) and reused while it stays the same, so that each assembly is the T^T K T of each
-    block added at the positions found then (compiled passes over the cell parts and the node
-    blocks; without numba a gather and one bincount); when it changes (a contact adds or
-    drops pairs), the map is rebuilt at the next call. A SparseTangent given as a BSR matrix
-    with 6 x 6 blocks is used as it is; any other sparse format is converted to one at every
-    call.
+    parts) and reused while it stays the same, so that each assembly is a gather, the T^T K T
+    of each block, and one bincount; when it changes (a contact adds or drops pairs), the map
+    is rebuilt at the next call. A SparseTangent given as a BSR matrix with 6 x 6 blocks is
+    used as it is; any other sparse format is converted to one at every call.
     """
 
     def __init__(self, dofs: DofManager):
@@ -433,16 +368,13 @@ class FreeTangentAssembler:
         fp_destination = np.full(rows_all.size, -1, dtype=np.int64)
         fp_destination[self.fp_select] = self.fp_map
         bounds = np.cumsum([0] + [r.size for r in rows[1:]])
-        # per cell part, then per SparseTangent part (its node blocks)
         self._destinations = [
             (ff_destination[start:stop], fp_destination[start:stop])
             for start, stop in zip(bounds[:-1], bounds[1:])
         ]
-        # The entries the compiled passes do not add (all of them without numba), summed by
-        # bincount.
-        first = 0
-        if _add_cell_blocks_compiled is not None:
-            first = int(bounds[-1] if _add_node_blocks_compiled is not None else bounds[len(parts)])
+        # The entries the compiled pass does not add (all of them without numba): the
+        # SparseTangent parts', summed by bincount.
+        first = int(bounds[len(parts)]) if _add_cell_blocks_compiled is not None else 0
         ff_rest, fp_rest = self.ff_select >= first, self.fp_select >= first
         self._rest = (
             self.ff_map[ff_rest],
@@ -480,7 +412,7 @@ class FreeTangentAssembler:
         fp = np.zeros(self.fp_rows.size)
         compiled = _add_cell_blocks_compiled is not None
         values = []
-        for part, (to_ff, to_fp) in zip(parts, self._destinations[: len(parts)]):
+        for part, (to_ff, to_fp) in zip(parts, self._destinations):
             if compiled:
                 _add_cell_blocks_compiled(
                     np.ascontiguousarray(part.blocks, dtype=float),
@@ -493,21 +425,7 @@ class FreeTangentAssembler:
                 )
             else:
                 values.append(generalised_blocks(part, maps).ravel())
-        for b, block_rows, (to_ff, to_fp) in zip(
-            blocks, self._block_rows, self._destinations[len(parts) :]
-        ):
-            if compiled and _add_node_blocks_compiled is not None:
-                _add_node_blocks_compiled(
-                    np.ascontiguousarray(b.data, dtype=float),
-                    block_rows,
-                    np.ascontiguousarray(b.indices, dtype=np.int64),
-                    maps,
-                    to_ff,
-                    to_fp,
-                    ff,
-                    fp,
-                )
-                continue
+        for b, block_rows in zip(blocks, self._block_rows):
             # T_i^T K_ij T_j per node block, (count, 5, 5).
             right = np.matmul(b.data, maps[b.indices])
             values.append(np.matmul(np.swapaxes(maps[block_rows], 1, 2), right).ravel())

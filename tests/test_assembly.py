@@ -99,38 +99,3 @@ def test_the_compiled_scatter_adds_the_generalised_blocks_where_the_bincount_doe
     expected_fp = np.bincount(assemble.fp_map, flat[assemble.fp_select], minlength=fp.size)
     assert np.allclose(ff, expected_ff, rtol=1e-14, atol=1e-13)
     assert np.allclose(fp, expected_fp, rtol=1e-14, atol=1e-13)
-
-
-def test_the_compiled_scatter_adds_the_node_blocks_where_the_bincount_does():
-    """The assembler's compiled pass over a SparseTangent's 6 x 6 node blocks (T_i^T K_ij T_j
-    with T's shape used, added at positions found once) against numpy's products of the maps
-    and a bincount, in the frames of tilted directors, with fixed and prescribed unknowns."""
-    from femcore import assembly
-
-    active = np.ones((N, 5), dtype=bool)
-    fixed = np.zeros_like(active)
-    fixed[0, :3] = True
-    prescribed = np.zeros_like(active)
-    prescribed[3, 1] = True
-    dofs = DofManager(N, active, fixed, prescribed)
-    rng = np.random.default_rng(3)
-    directors = rng.normal(size=(N, 3))
-    frames = dofs.frames(directors / np.linalg.norm(directors, axis=1)[:, None])
-    maps = dofs.node_maps(frames)
-    mask = np.kron(rng.random((N, N)) < 0.7, np.ones((6, 6)))
-    matrix = sp.bsr_matrix(rng.normal(size=(6 * N, 6 * N)) * mask, blocksize=(6, 6))
-    assemble = FreeTangentAssembler(dofs)
-    assemble([SparseTangent(matrix)], frames)  # builds the positions
-    to_ff, to_fp = assemble._destinations[0]
-    rows = np.repeat(np.arange(N), np.diff(matrix.indptr))
-    ff, fp = np.zeros(assemble.ff_rows.size), np.zeros(assemble.fp_rows.size)
-    assembly._add_node_blocks(matrix.data, rows, matrix.indices, maps, to_ff, to_fp, ff, fp)
-    right = np.matmul(matrix.data, maps[matrix.indices])
-    flat = np.matmul(np.swapaxes(maps[rows], 1, 2), right).ravel()
-    selected = to_ff >= 0
-    expected_ff = np.bincount(to_ff[selected], flat[selected], minlength=ff.size)
-    selected = (to_ff < 0) & (to_fp >= 0)
-    expected_fp = np.bincount(to_fp[selected], flat[selected], minlength=fp.size)
-    assert fp.any() and ff.any()
-    assert np.allclose(ff, expected_ff, rtol=1e-14, atol=1e-13)
-    assert np.allclose(fp, expected_fp, rtol=1e-14, atol=1e-13)
