@@ -86,13 +86,17 @@ profiled runs, their shares the point):
   solvers/band.py on the same four matrices 78-107 ms against QDLDL's 82-100 ms, its RCM band
   6.1 times QDLDL's operations: no gain in choosing it there), the element tangents 31 % (the
   fibrous membrane Hessian and loads), the assembly 11 % (of it the node blocks' stacked
-  products, 3.4 s of 57 s profiled: now a compiled pass, benchmarks/assembly_node_blocks.py,
-  1.5-2.7 times faster an assembly), the residuals and the path the rest. The case with the
-  numpy pass and with the compiled one, one process each order (load 10-15): 27.1 / 22.7 s and
-  22.7 / 25.9 s CPU (numpy / compiled): the first computation in a process is 3-4 s dearer,
-  first against first 27.1 / 25.9 s and second against second 22.7 / 22.7 s, so the gain (0-1.2
-  s, at most 5 %) is within the machine's noise; every check value and parameter the
-  same to 1.2e-13 relative, the same 515 increments and Newton iterations per run.
+  numpy products, 3.4 s of 57 s profiled), the residuals and the path the rest.
+  Tried and taken out: the SparseTangent's node blocks added by a compiled pass with T's
+  shape (66 products a block where the stacked products take 330, straight into K_ff's data
+  at the positions found once, as the cell parts' pass): a whole assembly of the fibrous
+  corner 0.49 -> 0.23 ms on 10 cells (1584 node blocks), 2.16 -> 0.80 on 20 (6849), 11.31 ->
+  7.70 on 40 (28479), K_ff the same to 5e-18 of its largest entry (best of 20, load 10); the
+  whole case with the numpy pass and the compiled one in one process, both orders (load
+  10-15): bai-6.1.1 27.1 / 22.7 s and 22.7 / 25.9 s CPU (numpy / compiled; the first
+  computation in a process 3-4 s dearer), bai-6.2.2 old, new, old, new 14.1, 12.6, 12.4, 12.6
+  s: no gain beyond the noise, while every check value moved by up to 5.6e-12 relative (the
+  sums in another order; the same increments and Newton iterations), so the numpy pass stays.
 - hemisphere-plies, Mindlin [0/90] on 8 cells, the first 0.01 s of the stroke (999 steps;
   and 0.002 s on a warm cache): the march is the contacts' searches, the plies' facing search
   (ply_projection.closest_facing, once per step and direction: the friction's history at the
@@ -115,8 +119,8 @@ So at the default resolution the CPU is the solves (the Static factorisations an
 the explicit contact searches): the figures and files are 4-8 s a paper case, the imports
 and the cache loads a few seconds a worker. The whole default report was not run again here
 (about 1300 s of CPU, at least 650 s wall on two free cores; hours at the load these figures
-were measured at): its CPU is as EXPECTED_CPU_S (validation/report.py) states but for the
-paper cases' assembly above.
+were measured at); nothing here changed its CPU, which EXPECTED_CPU_S (validation/report.py)
+states.
 
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
