@@ -111,6 +111,10 @@ profiled runs, their shares the point):
 - per worker process: the imports of validation.cases 1.5-1.8 s CPU; the references: the
   plies' nets 1.9 s (once per case), hemisphere-forming's net 0.85 s; bai-6.1.1-sensitivity's
   LocalCluster of one worker, started, one task and closed, 2.5 s CPU with its processes.
+- the plies cases (validation/ground_truth.py) run fibreshell's run_case and run_plies into a
+  scratch folder, whose frames (VTU series, history, summary) no check or figure reads: on
+  plies-heavy-cantilever coarse (5.4 s of computation) 0.4 s of 11.3 s profiled (4 %); left,
+  as run_case has no run without its files.
 - No model is solved twice: the paper cases' orders reuse the resolution's own mesh,
   plies-deck-of-cards its N = 2 deck at the middle mesh, the sensitivity runs 12 cells where
   bai-6.1.1 runs 20; the plies cases' fibrous and Mindlin runs (the case files' solver) are
