@@ -73,6 +73,59 @@ hemisphere-forming 86.3 s CPU, plies-bai-5.1 43.3, plies-deck-of-cards 27.6; 166
 Each report now records each case's CPU time (results.json ``case_cpu_s``, the worker
 process's) beside its wall time, and prints it on the case's line.
 
+Where the default resolution's CPU goes, looked for waste that is not physics (one numba
+thread, CPU time, 2 cores shared with other jobs at a load of 5-15; cProfile figures are of
+profiled runs, their shares the point):
+- bai-6.1.1 (7 arc-length Static runs: three kinematics on 20 cells, fibrous and Mindlin on
+  10 and 40 for the orders; 515 increments): computation 25.3-27.1 s CPU on a warm numba cache,
+  107 s on a cold one (140 s of a profiled run compiling); figures and files 6.5 s in a fresh
+  process, 4.0 s with matplotlib warm (the side panels 1.0, the side elevation 1.0, the 3D view
+  0.8, the laws 0.5, the XDMF series of the three runs 0.65, the VTU 0.07). In the profiled
+  computation the factorisations take 40 % (QDLDL's numeric updates 28 %: 71 ms each on the
+  40-cell fibrous corner, 4025 unknowns, 833k entries in L after AMD; the band LDL^T of
+  solvers/band.py on the same four matrices 78-107 ms against QDLDL's 82-100 ms, its RCM band
+  6.1 times QDLDL's operations: no gain in choosing it there), the element tangents 31 % (the
+  fibrous membrane Hessian and loads), the assembly 11 % (of it the node blocks' stacked
+  numpy products, 3.4 s of 57 s profiled), the residuals and the path the rest.
+  Tried and taken out: the SparseTangent's node blocks added by a compiled pass with T's
+  shape (66 products a block where the stacked products take 330, straight into K_ff's data
+  at the positions found once, as the cell parts' pass): a whole assembly of the fibrous
+  corner 0.49 -> 0.23 ms on 10 cells (1584 node blocks), 2.16 -> 0.80 on 20 (6849), 11.31 ->
+  7.70 on 40 (28479), K_ff the same to 5e-18 of its largest entry (best of 20, load 10); the
+  whole case with the numpy pass and the compiled one in one process, both orders (load
+  10-15): bai-6.1.1 27.1 / 22.7 s and 22.7 / 25.9 s CPU (numpy / compiled; the first
+  computation in a process 3-4 s dearer), bai-6.2.2 old, new, old, new 14.1, 12.6, 12.4, 12.6
+  s: no gain beyond the noise, while every check value moved by up to 5.6e-12 relative (the
+  sums in another order; the same increments and Newton iterations), so the numpy pass stays.
+- hemisphere-plies, Mindlin [0/90] on 8 cells, the first 0.01 s of the stroke (999 steps;
+  and 0.002 s on a warm cache): the march is the contacts' searches, the plies' facing search
+  (ply_projection.closest_facing, once per step and direction: the friction's history at the
+  committed state reuses the loads' search) about half, the die's facets (rigid_surface
+  _closest) about a fifth, the shells' forces a small part; the 100 frames and the history
+  rows do not show. On a cold cache the run's start compiled 85 s (the Gershgorin bound's
+  kernels 52 s).
+- numba: the report's workers are spawned processes that load the kernels from the on-disk
+  cache (0.002 s run above: 3.2 s of cache loads profiled, nothing compiled); a fresh checkout
+  or a changed kernel file makes the first report compile (each worker the kernels its cases
+  meet first, both workers the same kernel when they meet it at once).
+- per worker process: the imports of validation.cases 1.5-1.8 s CPU; the references: the
+  plies' nets 1.9 s (once per case), hemisphere-forming's net 0.85 s; bai-6.1.1-sensitivity's
+  LocalCluster of one worker, started, one task and closed, 2.5 s CPU with its processes.
+- the plies cases (validation/ground_truth.py) run fibreshell's run_case and run_plies into a
+  scratch folder, whose frames (VTU series, history, summary) no check or figure reads: on
+  plies-heavy-cantilever coarse (5.4 s of computation) 0.4 s of 11.3 s profiled (4 %); left,
+  as run_case has no run without its files.
+- No model is solved twice: the paper cases' orders reuse the resolution's own mesh,
+  plies-deck-of-cards its N = 2 deck at the middle mesh, the sensitivity runs 12 cells where
+  bai-6.1.1 runs 20; the plies cases' fibrous and Mindlin runs (the case files' solver) are
+  not the paper cases' arc-length runs.
+So at the default resolution the CPU is the solves (the Static factorisations and tangents,
+the explicit contact searches): the figures and files are 4-8 s a paper case, the imports
+and the cache loads a few seconds a worker. The whole default report was not run again here
+(about 1300 s of CPU, at least 650 s wall on two free cores; hours at the load these figures
+were measured at); nothing here changed its CPU, which EXPECTED_CPU_S (validation/report.py)
+states.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """
