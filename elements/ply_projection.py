@@ -246,6 +246,10 @@ class Facing:
     touching: np.ndarray
     face: np.ndarray
     hessian: np.ndarray | None = None
+    fade: np.ndarray | None = None
+    fade_gradient: np.ndarray | None = None
+    reach: np.ndarray | None = None
+    on_growth: np.ndarray | None = None
 
 
 def triangle_frames(corners: np.ndarray):
@@ -439,7 +443,9 @@ def _feature_normals(y, nodes, edges, triangle, lam, reach, normal):
     fold pressed flat, module docstring "A layer turned away")."""
     vertex, edge = pseudonormals(y, nodes, edges)
     bound = lam <= -reach + 1e-9
-    grown = np.any(bound & (reach > 0.0), axis=1)
+    # anywhere on a growth past the outline, off the triangle (its far edge or an edge's
+    # extension): the face has no side there but the triangle's own
+    grown = np.any((lam < -INSIDE) & (reach > 0.0), axis=1)
     count = bound.sum(axis=1)
     corner = np.argmin(bound, axis=1)  # at a vertex: the corner off both bounds
     side = np.argmax(bound, axis=1)  # on an edge: the corner it lies opposite
@@ -562,29 +568,22 @@ def closest_facing(
             hessian[edge] = bend
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
-    # a point nearest to a growth's edge, off the triangle itself, is beside the lower ply
-    # (module docstring, "Beside the outline"); one deeper than the plies, whatever it faces,
-    # is on the lower ply's other side where it faces an edge, a vertex or a turned layer
-    # ("Deeper than the plies")
-    off = on_edge & (lam.min(axis=-1) < -INSIDE)
-    if off.any() and np.isfinite(depth):
-        # ... but not where q lies within ``depth`` of the triangle itself: next to an outline
-        # vertex shared by a triangle that meets the outline at that vertex only, the growths
-        # of the outline triangles on either side leave a wedge that none of them holds, and
-        # a point right at the vertex (a node of plies meshed alike) passes in and out of it
-        # ("Beside the outline": next to its vertex)
-        k = np.flatnonzero(off)
-        corners = y[near[k, best[k]]]
-        q_k = np.einsum("ck,cki->ci", lam[k], corners)
-        off[k] = np.linalg.norm(q_k - closest_on_edges(q_k, corners), axis=1) > depth
-    beside = off | (on_edge & (chosen_gap < -depth))
+    # a point deeper than the plies, whatever it faces, is on the lower ply's other side where
+    # it faces an edge, a vertex or a turned layer ("Deeper than the plies")
+    beside = on_edge & (chosen_gap < -depth)
     # a point held by a growth's plane, its projection past the outline, deeper than the
     # plies: beside the ply too ("Past the outline, deeper than the plies")
     beside |= (lam.min(axis=-1) < -INSIDE) & (chosen_gap < -depth)
     if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
         turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
         beside |= turned & (chosen_gap < -depth)
-    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside
+    # the fade past the outline, and beside a growth's edge ("Past the outline, faded"): a
+    # point whose closest point lies on a growth, off the triangle, signed by its normal
+    from elements.ply_fade import outline_fade
+
+    on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
+    fade, fade_gradient = outline_fade(p, y[near[rows, best]], reach[rows, best], on_growth)
+    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
     return Facing(
         triangle=near[rows, best],
         gap=chosen_gap,
@@ -594,4 +593,8 @@ def closest_facing(
         touching=touching,
         face=p,
         hessian=hessian,
+        fade=fade,
+        fade_gradient=fade_gradient,
+        reach=reach[rows, best],
+        on_growth=on_growth,
     )
