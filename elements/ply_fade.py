@@ -12,7 +12,8 @@ corners z = (p, y_1, y_2, y_3):
   the triangle, 0 from ``FADE`` past the edge in barycentric units on, before the growth's far
   edge (``MARGIN``), where a point used to pass between touching and beside;
 - beside the growth, where the point's closest point q lies on a growth's edge off the
-  triangle (the wedge next to an outline vertex that no growth's plane holds), w_a =
+  triangle (the wedge next to an outline vertex that no growth's plane holds) or at a vertex
+  of the outline (the facing triangle's normal signing the gap there), w_a =
   S(|h| / (SIDEWAYS |p - q|)), h the gap to the triangle's plane: 1 where p - q lies within
   60 deg of the normal, 0 where p lies in the plane beside the growth, the one place where the
   sign of g = +-|p - q| flips at a distance from q.
@@ -62,7 +63,8 @@ def outline_fade(
         edge; elements/ply_projection.py ``MARGIN``).
     beside : (c,) bool
         The point's closest point lies on the triangle's growth past the outline, off the
-        triangle, and its gap is +-|p - q| signed by the triangle's normal.
+        triangle, or at a vertex of the outline, and its gap is +-|p - q| signed by the
+        triangle's normal.
 
     Returns
     -------
