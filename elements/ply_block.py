@@ -14,6 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
+from elements.ply_fade import fade_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -48,6 +49,14 @@ RULES = {
     # the corners too, but one point per node (PlyContactBlock: the same loads)
     "nodes": (np.eye(3), np.full(3, 1.0 / 3.0)),
 }
+
+
+def _fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The fade w (t,) past the outline of the points ``on`` (t,) and dw/dz (t, 4, 3), 1/mm
+    (elements/ply_fade.py; 1 and 0 where the facing carries none: the curved faces)."""
+    if facing.fade is None or facing.fade_gradient is None:
+        return np.ones(len(on)), np.zeros((len(on), 4, 3))
+    return facing.fade[on], facing.fade_gradient[on]
 
 
 class PlyContactBlock(InteractionBlock):
@@ -284,11 +293,15 @@ class PlyContactBlock(InteractionBlock):
         n, lam = facing.normal[on], facing.weights[on]
         tri = facing.triangle[on]
         nodes = np.column_stack([self.above[on], self.cells[tri]])
-        on_face = law[1][:, None] * n  # dW/dp
+        fade, fading = _fade(facing, on)
+        # the energy w W(g) past the outline (elements/ply_fade.py): d(w W)/dz = w W' dg/dz +
+        # W dw/dz
+        on_face = (fade * law[1])[:, None] * n + law[0][:, None] * fading[:, 0]  # dW/dp
         forces = np.concatenate(
             [
                 self.shape[on][:, :, None] * on_face[:, None, :],
-                -lam[:, :, None] * on_face[:, None, :],
+                -(fade * law[1])[:, None, None] * lam[:, :, None] * n[:, None, :]
+                + law[0][:, None, None] * fading[:, 1:],
             ],
             axis=1,
         )
@@ -337,8 +350,9 @@ class PlyContactBlock(InteractionBlock):
         """sum W(g) over the touching points and, with friction, the stick springs' 1/2
         |F_t|^2 / k, N mm."""
         facing = self.facing(state)
-        on = facing.touching
-        energy = float(np.sum(penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[0]))
+        on = np.flatnonzero(facing.touching)
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        energy = float(np.sum(_fade(facing, on)[0] * law[0]))
         if self._frictional(history):  # the tangential springs' |F_t|^2 / (2 k_t)
             force = self.friction_state(state, history, facing).force
             energy += 0.5 * float(np.sum(np.sum(force**2, axis=1) / self.stiffness))
@@ -382,9 +396,25 @@ class PlyContactBlock(InteractionBlock):
             bent = np.flatnonzero(np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4)))
             hessian[bent] = facing.hessian[on][bent]
         outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
-        points = (
+        fade, fading = _fade(facing, on)
+        points = fade[:, None, None, None, None] * (
             law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
         )  # (t, 4, 3, 4, 3)
+        # the fade past the outline (elements/ply_fade.py): Hess (w W) = w Hess W + W' (dg dw^T
+        # + dw dg^T) + W Hess w, the last by central differences of the exact dw/dz
+        faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
+        if faded.size:
+            cross = gradient[faded][:, :, :, None, None] * fading[faded][:, None, None, :, :]
+            points[faded] += law[1][faded, None, None, None, None] * (
+                cross + np.transpose(cross, (0, 3, 4, 1, 2))
+            )
+            p, y = self._faces(state)
+            rows = on[faded]
+            step = 1e-6 * (1.0 + float(np.abs(y).max()))
+            assert facing.reach is not None and facing.on_growth is not None
+            points[faded] += law[0][faded, None, None, None, None] * fade_hessian(
+                p[rows], y[facing.triangle[rows]], facing.reach[rows], facing.on_growth[rows], step
+            )
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
         # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
         # corners' maps times N_j, each lower corner its own.
@@ -461,6 +491,7 @@ class PlyContactBlock(InteractionBlock):
         pressing = np.zeros(len(facing.gap))
         on = facing.touching
         pressing[on] = -penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)[1]
+        pressing[on] *= _fade(facing, np.flatnonzero(on))[0]
         force = np.zeros(self.n_nodes)
         force[self.upper] = self._lumped(pressing)[self.upper]
         vectors = np.full((self.n_nodes, 3), np.nan)

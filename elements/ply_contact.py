@@ -70,11 +70,13 @@ at a vertex (g = +-|p - q|, signed by the triangle's normal), a triangle on the 
 outline reaching ``MARGIN`` past it; so the gap is continuous as the point moves (a distance).
 Its energy W(g) is a one-sided penalty whose stiffness ramps up over a penetration of
 ``smoothing`` (C2 at contact). A point counts as touching when g < 0 and its projection is
-within ``MARGIN`` of the triangle; one facing an edge or a vertex only where that closest
-point lies on the triangle itself (not on its growth past the outline) and g >= -(a + b), as
-one facing a triangle whose normal points against the point's own ply (a layer of a fold
-turned away from it; elements/ply_projection.py, "Beside the outline", "Deeper than the
-plies" and "A layer turned away").
+within ``MARGIN`` of the triangle; one facing an edge or a vertex only where g >= -(a + b),
+as one facing a triangle whose normal points against the point's own ply (a layer of a fold
+turned away from it; elements/ply_projection.py, "Deeper than the plies" and "A layer turned
+away"). Past the lower ply's outline its energy fades: w W(g), w falling continuously to 0
+as the point leaves the face past an outline edge or lies beside it (elements/ply_fade.py;
+elements/ply_projection.py, "Past the outline, faded"), and the force below carries w's
+gradient, W dw/dz, beside w W' dg/dz.
 
 The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;
 on the lower corners, dW/dy_k = -W' lambda_k n, lambda the barycentric coordinates of the

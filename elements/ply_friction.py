@@ -104,6 +104,8 @@ def friction_state(
     on = facing.touching
     pressing = np.zeros(count)
     pressing[on] = -block.normal_law(facing.gap[on], block.stiffness[on])[1]
+    if facing.fade is not None:  # N = -w W' past the outline (elements/ply_fade.py)
+        pressing[on] *= facing.fade[on]
     zero = np.zeros((count, 3))
     if history is None or block.friction <= 0.0:
         none = np.zeros(count, dtype=bool)
@@ -199,8 +201,12 @@ def friction_tangent(
     gap_gradient = np.zeros((t, 7, 3))
     gap_gradient[:, 0] = n
     gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
-    curvature = block.normal_law(facing.gap[on], k)[2]
+    _, slope, curvature = block.normal_law(facing.gap[on], k)
     d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 7, 3)
+    if facing.fade is not None and facing.fade_gradient is not None:
+        # N = -w W'(g) past the outline (elements/ply_fade.py): dN = -(w W'' dg + W' dw)
+        d_pressing *= facing.fade[on][:, None, None]
+        d_pressing[:, :4] -= slope[:, None, None] * facing.fade_gradient[on]
     stuck = sliding.stuck[on]
     mu, pressing = block.friction, sliding.pressing[on]
     ratio = mu * pressing / np.where(length > 0, length, 1.0)

@@ -80,36 +80,37 @@ where W = 0: the energy is continuous where the facing triangle changes on an ed
 
 Beside the outline. The growth past an outline edge extends the triangle's other two edges
 too, and past their ends (beside the outline, next to an outline vertex) a point can be
-nearest to such an extended edge while no candidate holds its projection within ``MARGIN``'s
-reach of the lower ply: there p passes the triangle's plane at a distance from q, and the
-sign of g = +-|p - q| flips in one step. Measured on the [0/45] Mindlin plies on the
-hemisphere (validation/studies/hemisphere_plies.py, coarse, 10 N) at 70 % of the stroke: a
-top-ply point 6 mm past the bottom ply's drawn-in outline, facing the extension of an inner
-edge of an outline triangle 2.8 mm away, went from +2.80 to -2.83 mm: +92 N mm of penalty
-energy in one step, which threw a node off at 20 m/s and stopped the run on its energy
-balance (tests/test_ply_facet_switch.py). So a point whose nearest candidate's closest point
-lies on the growth, off the triangle itself, is beside the lower ply and does not touch; the
-choice itself is left as it is (the distance stays continuous: passing such a candidate over
-handed a point of the same run, later, to a vertex 14 mm away at a gap of -14.1 mm, +2310 N
-mm in one step). The growth's planes still hold the projections past the outline as above.
-Next to its vertex, though, a point is not beside the ply: where a triangle meets the
-outline at a vertex only, between the two outline triangles, or where the face folds along
-an inner edge that ends on the outline, the growths of the outline triangles leave a thin
-wedge past the vertex that none of them holds, and a point there is nearest to a growth's
-edge a hair off its triangle. Plies meshed alike put each node of the mirrored pass
-(elements/ply_contact.py, "Both ways") right under an outline node of the ply above, at
-such a vertex: measured on the two-ply [0/90] fibrous hemisphere (8 cells, 40 N), the
-bottom ply's outline nodes, pressed by the holder 0.01-0.02 mm into the top ply, went in and
-out of the wedge (their closest points 1e-5 to 1e-7 off their triangles, in barycentric
-units) and so out of and into contact at those gaps, 2-9e-3 N mm of penalty energy coming
-or going in a step some hundred times over 0.004 s; the mirrored pass's energy ended 0.078
-N mm above the work of its forces, 5.3 % of the run's largest energy (1.46 N mm), and the
-run stopped on its energy balance at 22 % of the stroke (tests/test_ply_facet_switch.py).
-So a closest point on a growth counts as beside the ply only farther than ``depth`` (the
-two faces' half thicknesses) from the triangle itself; nearer, the point touches as it
-would on the triangle, down to -``depth`` as any point facing an edge ("Deeper than the
-plies"), so what a flip there can cost is bounded as there. Without a finite ``depth`` every
-closest point on a growth is beside, as before.
+nearest to such an extended edge while no candidate holds its projection: there p passes the
+triangle's plane at a distance from q, and the sign of g = +-|p - q| flips in one step.
+Measured on the [0/45] Mindlin plies on the hemisphere (validation/studies/hemisphere_plies.py,
+coarse, 10 N): a top-ply point 6 mm past the bottom ply's outline went from +2.80 to -2.83 mm,
++92 N mm in one step (tests/test_ply_facet_switch.py). Such a point was first made beside the
+ply (no contact), then allowed to touch while its closest point lay within ``depth`` of the
+triangle: plies meshed alike put the mirrored pass's nodes right at the other ply's outline
+vertices, in the thin wedge the growths leave there where the face folds, and the fibrous
+[0/90] hemisphere (8 cells, 40 N) stopped at 22 % of the stroke on their toggles in and out
+of contact. Both rules switched a point's contact at a gap away from zero: on the Mindlin
+[0/90] hemisphere at 10 cells (validation/studies/hemisphere_plies_jumps.py) the mirrored
+pass's outline nodes came into contact at -0.27 to -0.30 mm (2-3 N mm in a step) and flipped
+sign beside an outline vertex (1-1.5 N mm): 18 steps above +1 N mm, +34.7 N mm in all.
+
+Past the outline, faded (elements/ply_fade.py). A point's energy is w W(g), its force the
+exact gradient w W' dg/dz + W dw/dz, w in [0, 1] a continuous function of the point and its
+facing triangle's corners: 1 on the face; past an outline edge it falls (a smoothstep) to 0
+over ``FADE`` (0.15) of the projection's barycentric overshoot, before the growth's far edge;
+and where the closest point lies on a growth's edge off the triangle, or at a vertex of the
+outline, where the face has no side (there the facing triangle's normal signs the gap), it is
+also a smoothstep of |h| / (``SIDEWAYS`` |p - q|), h the gap to the triangle's plane: 0 where
+p passes the plane beside q, the one place where the sign flips at a distance. So the energy
+is continuous where a point leaves the face past the outline and where its sign flips beside
+it; a point touches where w > 0. What is left: a change of facing triangle between candidates
+whose fades differ (w W changes by the difference, small where the plies touch, W being small
+near g = 0) and the depth bounds below (at most W(-depth)). The growths still keep the gap a
+distance where the facing triangle changes past the outline. The mortar methods' contact
+(segment to segment, Puso and Laursen, CMAME 193 (2004) 601) fades so by construction, the
+contact integrated over the two faces' overlap, which shrinks to nothing at an outline; a
+point-to-face contact needs the weight. The tangent takes w's second derivative as the
+central difference of its exact gradient.
 
 Past the outline, deeper than the plies. A point held by a growth's plane (its projection
 past the outline, within MARGIN) deeper than ``depth`` is beside the ply too: at the
@@ -246,6 +247,10 @@ class Facing:
     touching: np.ndarray
     face: np.ndarray
     hessian: np.ndarray | None = None
+    fade: np.ndarray | None = None
+    fade_gradient: np.ndarray | None = None
+    reach: np.ndarray | None = None
+    on_growth: np.ndarray | None = None
 
 
 def triangle_frames(corners: np.ndarray):
@@ -439,7 +444,9 @@ def _feature_normals(y, nodes, edges, triangle, lam, reach, normal):
     fold pressed flat, module docstring "A layer turned away")."""
     vertex, edge = pseudonormals(y, nodes, edges)
     bound = lam <= -reach + 1e-9
-    grown = np.any(bound & (reach > 0.0), axis=1)
+    # anywhere on a growth past the outline, off the triangle (its far edge or an edge's
+    # extension): the face has no side there but the triangle's own
+    grown = np.any((lam < -INSIDE) & (reach > 0.0), axis=1)
     count = bound.sum(axis=1)
     corner = np.argmin(bound, axis=1)  # at a vertex: the corner off both bounds
     side = np.argmax(bound, axis=1)  # on an edge: the corner it lies opposite
@@ -533,6 +540,7 @@ def closest_facing(
     lam = weights[rows, best]
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
     on_edge = ~inside[rows, best]
+    at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
     if on_edge.any():
         # each such point's closest point among the computed ones
         where = np.full(inside.shape, -1)
@@ -549,6 +557,17 @@ def closest_facing(
             signing = _feature_normals(
                 y, nodes, edges, near[edge, at], on_q, reach[edge, at], signing
             )
+            if outline is not None:
+                # at a vertex of the outline the face has no side either: the facing
+                # triangle's normal signs the gap, and the point is faded as beside a
+                # growth's edge ("Past the outline, faded")
+                bound = on_q <= -reach[edge, at] + 1e-9
+                corner = nodes[near[edge, at], np.argmin(bound, axis=1)]
+                rim = np.zeros(int(nodes.max()) + 1, dtype=bool)
+                rim[nodes[:, [1, 2, 0]][outline]] = True
+                rim[nodes[:, [2, 0, 1]][outline]] = True
+                at_rim[edge] = (bound.sum(axis=1) == 2) & rim[corner]
+                signing = np.where(at_rim[edge][:, None], n[edge, at], signing)
         chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
             p[edge],
             closest,
@@ -562,29 +581,33 @@ def closest_facing(
             hessian[edge] = bend
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
-    # a point nearest to a growth's edge, off the triangle itself, is beside the lower ply
-    # (module docstring, "Beside the outline"); one deeper than the plies, whatever it faces,
-    # is on the lower ply's other side where it faces an edge, a vertex or a turned layer
-    # ("Deeper than the plies")
-    off = on_edge & (lam.min(axis=-1) < -INSIDE)
-    if off.any() and np.isfinite(depth):
-        # ... but not where q lies within ``depth`` of the triangle itself: next to an outline
-        # vertex shared by a triangle that meets the outline at that vertex only, the growths
-        # of the outline triangles on either side leave a wedge that none of them holds, and
-        # a point right at the vertex (a node of plies meshed alike) passes in and out of it
-        # ("Beside the outline": next to its vertex)
-        k = np.flatnonzero(off)
-        corners = y[near[k, best[k]]]
-        q_k = np.einsum("ck,cki->ci", lam[k], corners)
-        off[k] = np.linalg.norm(q_k - closest_on_edges(q_k, corners), axis=1) > depth
-    beside = off | (on_edge & (chosen_gap < -depth))
+    # a point deeper than the plies, whatever it faces, is on the lower ply's other side where
+    # it faces an edge, a vertex or a turned layer ("Deeper than the plies")
+    beside = on_edge & (chosen_gap < -depth)
     # a point held by a growth's plane, its projection past the outline, deeper than the
     # plies: beside the ply too ("Past the outline, deeper than the plies")
     beside |= (lam.min(axis=-1) < -INSIDE) & (chosen_gap < -depth)
     if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
         turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
         beside |= turned & (chosen_gap < -depth)
-    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside
+    # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
+    # outline, faded"): a point whose closest point lies there, off the face's sides, signed
+    # by the facing triangle's normal
+    from elements.ply_fade import outline_fade
+
+    on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
+    on_growth |= at_rim
+    # w = 1 off the outline triangles and their growths: computed where it can differ
+    fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 4, 3))
+    near_outline = np.flatnonzero(on_growth | (reach[rows, best] > 0.0).any(axis=-1))
+    if near_outline.size:
+        fade[near_outline], fade_gradient[near_outline] = outline_fade(
+            p[near_outline],
+            y[near[near_outline, best[near_outline]]],
+            reach[near_outline, best[near_outline]],
+            on_growth[near_outline],
+        )
+    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
     return Facing(
         triangle=near[rows, best],
         gap=chosen_gap,
@@ -594,4 +617,8 @@ def closest_facing(
         touching=touching,
         face=p,
         hessian=hessian,
+        fade=fade,
+        fade_gradient=fade_gradient,
+        reach=reach[rows, best],
+        on_growth=on_growth,
     )

@@ -251,16 +251,20 @@ def plies(
     friction: float = 0.0,
     separate: bool = False,
     points: str = "upper",
+    lower_size: float = 4.0,
 ):
-    """(block, state, None) of PlyContact between the two jittered plies, turned; with
+    """(block, state, None) of PlyContact between the two jittered plies, turned (the lower
+    ply ``lower_size`` mm square); with
     ``separate``, the upper ply's 18 triangles each with their own corners (every upper node
     then takes the force of one contact point of the centroid rule); ``points="lower"`` the
     mirrored pass, the lower ply's points against the upper ply's face."""
     from elements.ply_contact import PlyContact
 
     rng = np.random.default_rng(seed)
-    lower, upper = Mesh.rectangle(4.0, 4.0, nx=2, ny=2), Mesh.rectangle(3.0, 3.0, nx=3, ny=3)
-    low = lower.points - [2.0, 2.0, 0.0] + rng.normal(scale=0.1, size=lower.points.shape)
+    lower = Mesh.rectangle(lower_size, lower_size, nx=2, ny=2)
+    upper = Mesh.rectangle(3.0, 3.0, nx=3, ny=3)
+    low = lower.points - [lower_size / 2, lower_size / 2, 0.0]
+    low = low + rng.normal(scale=0.1, size=lower.points.shape)
     up = upper.points - [1.5, 1.5, -0.5] + rng.normal(scale=0.1, size=upper.points.shape)
     above = upper.triangles
     if separate:
@@ -353,14 +357,20 @@ def test_flat_plies_pressed_by_p_carry_the_penalty_law_along_the_normal(rule, sm
 @pytest.mark.parametrize("rule", ["centroid", "vertices"])
 def test_the_mirrored_ply_contact_conforms(rule):
     """The lower ply's points against the upper ply's face (``points="lower"``): the same
-    kit, the moments through the swapped offsets included."""
+    kit, the moments through the swapped offsets included. The lower ply 3.2 mm square, its
+    outline nodes 0.1 mm past the upper ply's (in barycentric units 0-0.2 with the jitter):
+    several of them touch within the fade past the upper ply's outline (elements/ply_fade.py),
+    whose gradient the force carries and whose second derivative the tangent does."""
 
     def build(turn=UNTURNED):
-        return plies(turn, rule=rule, points="lower")
+        return plies(turn, rule=rule, points="lower", lower_size=3.2)
 
     block, state, history = build()
     facing = block.facing(state)
     assert facing.touching.sum() >= 2 and (~facing.touching).sum() >= 2
+    assert facing.fade is not None
+    if rule == "vertices":  # the centroids of the lower ply's cells lie under the upper ply
+        assert (facing.touching & (facing.fade > 0.0) & (facing.fade < 1.0)).sum() >= 2
     check_interaction(block, state, history)
     check_objectivity(build, TURN)
 
@@ -371,11 +381,18 @@ def plies_with_friction(
     """(block, state, history) of ``plies`` with friction MU: each touching point anchored on
     its facing triangle at its projection's barycentric coordinates moved by 0.002 (even
     points: ~4e-3 mm, they stick) or 0.2 (odd: ~0.4 mm, they slide); barycentric, so the
-    history is the same whatever the turn."""
+    history is the same whatever the turn. The mirrored pass's lower ply 3.2 mm square, as
+    in ``test_the_mirrored_ply_contact_conforms``: its outline points touch in the fade."""
     from elements.ply_friction import PlyFrictionHistory
 
     block, state, _ = plies(
-        turn, rule=rule, smoothing=smoothing, friction=MU, separate=separate, points=points
+        turn,
+        rule=rule,
+        smoothing=smoothing,
+        friction=MU,
+        separate=separate,
+        points=points,
+        lower_size=3.2 if points == "lower" else 4.0,
     )
     facing = block.facing(state)
     count = len(facing.gap)

@@ -162,20 +162,32 @@ def test_the_curved_face_does_not_reach_far_past_a_plys_edge():
     """A point half a cell past the bottom ply's edge, penetrating the patch extrapolated
     there, does not touch the curved face (it did up to half a cell, ``MARGIN``, where the
     quadratic patch over the edge's one-sided normals is no surface: on the coarse [0/45]
-    hemisphere, gaps jumping from +0.06 to -0.66 mm in a step); the flat facet's plane still
-    carries it."""
-    for surface, touching in (("flat", True), ("curved", False)):
+    hemisphere, gaps jumping from +0.06 to -0.66 mm in a step); nor the flat facet's plane,
+    whose contact fades out over ``FADE`` (0.15) past the outline (elements/ply_fade.py), and
+    carries a point 0.07 past it at a part of its stiffness."""
+    from elements.ply_fade import FADE
+
+    for surface, slid, touching in (
+        ("flat", 6.0, False),
+        ("curved", 6.0, False),
+        ("flat", 4.0, True),
+    ):
         layup = Layup(PLY, (0.0, 0.0), 40.0, cells=4, rule="centroid", surface=surface)
         contact = layup.model().compile().interactions[0]
         x = layup.mesh.points.copy()
         top = layup.ply_nodes[1]
-        x[top, 0] += 6.0  # the top ply slid 0.6 of a cell: its outer centroids past the edge
+        # the top ply slid 0.6 (0.4) of a cell: its outer centroids 0.27 (0.07) past the edge
+        x[top, 0] += slid
         x[top, 2] -= 0.05
         zero = np.zeros_like(x)
         facing = contact.facing(State(x, np.tile([0.0, 0.0, 1.0], (len(x), 1)), zero, zero))
-        past = np.maximum(0.0, -facing.weights.min(axis=1)) > 0.1
-        assert past.any()
+        overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
+        past = overshoot > 0.05
+        assert past.any() and np.all(overshoot[past] < 0.5)  # within MARGIN, the old reach
         assert np.all(facing.touching[past] == touching), surface
+        if touching:
+            assert facing.fade is not None and np.all(overshoot[past] < FADE)
+            assert np.all((facing.fade[past] > 0.0) & (facing.fade[past] < 1.0))
 
 
 @pytest.mark.parametrize("cells", [3, 6])

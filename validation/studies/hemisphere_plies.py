@@ -102,7 +102,10 @@ Rerun with a gap to an edge or a vertex signed by its pseudonormal (below, "Mind
   -0.30 mm where its closest point comes within the plies' 0.3 mm of the triangle ("Beside
   the outline", next to its vertex: 2-3 N mm in a step), and its gap still flips beside an
   outline vertex (+0.17 to -0.18 mm, past the plies' outline, where the face has no side;
-  1-1.5 N mm), not mended here. The run's energy balance stays within its 0.05. Before (the
+  1-1.5 N mm), mended since by the fade past the outline (docs/hemisphere_plies.md, "The
+  outline's fade": 10 steps above +1 N mm, +16.0 N mm, none of them a point leaving the
+  face past the outline or flipping its sign beside it). The run's energy balance stays
+  within its 0.05. Before (the
   facing triangle's sign) at 12050 steps, 157 s of CPU, load 4.7-6.1, it stopped at 97.8 % of the
   stroke on the energy balance, 0.0509 of the run's largest energy against 0.05, the Mindlin
   shell block +2.34 N mm in the step; KE / W 0.177 at most (t = 0.058 s). With the holder on

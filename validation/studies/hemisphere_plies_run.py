@@ -163,13 +163,15 @@ def run(
     spheres: list[dict] | None = None,
     history: str | None = None,
     mass: float = HOLDER_MASS,
+    instrument: Any = None,
 ) -> tuple[dict[str, Any], list, Layup, Any, list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
     """One run of the study: the ``name`` layup of ``kinematics`` plies under the holder's
     ``force`` (N), ``cells`` fibre segments across the blank: (its parameters, its checks,
     the layup, the result, each ply's shear (rad, per cell), the net's shear at those cells,
     which cells lie in the die); ``spheres`` the nets (``nets``; made when None),
     ``history`` a .csv path for the run's energy and tool records (``CentralDifference``),
-    ``mass`` the holder's, t."""
+    ``mass`` the holder's, t, ``instrument`` a function called with the compiled model before
+    the run (a measurement's hook: validation/studies/hemisphere_plies_jumps.py)."""
     spheres = nets() if spheres is None else spheres
     parameters: dict[str, Any] = {}
     checks: list = []
@@ -178,6 +180,10 @@ def run(
     in_die: dict[str, list[np.ndarray]] = {}
     key = run_key(name, kinematics, force)
     layup, built = model(cells, LAYUPS[name], kinematics, force, mass=mass)
+    solved: Any = built
+    if instrument is not None:
+        solved = built.compile()
+        instrument(solved)
     with tempfile.TemporaryDirectory() as folder:
         records = Path(folder) / "history.csv" if history is None else Path(history)
         solver = CentralDifference(
@@ -189,7 +195,7 @@ def run(
         )
         start = time.process_time()
         try:
-            result = solver.solve(built)
+            result = solver.solve(solved)
         except SolverError as error:  # reported with the last good frame, not raised
             if error.result is None:
                 raise
