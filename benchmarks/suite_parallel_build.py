@@ -1,5 +1,5 @@
 """The parallel build of the element loops (elements/jit.py ``_Parallel``), this checkout beside
-another (``--against``, e.g. a worktree of the previous commit): what its compilation costs in
+another (``--against``, e.g. a checkout of the previous commit): what its compilation costs in
 a fresh checkout and how fast it runs, each pass a fresh process on a fresh empty numba cache
 (NUMBA_CACHE_DIR), the two checkouts in turns.
 

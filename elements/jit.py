@@ -35,6 +35,7 @@ from __future__ import annotations
 import ast
 import copy
 import functools
+import hashlib
 import inspect
 import os
 import textwrap
@@ -164,8 +165,8 @@ class _Parallel:
       part k of as many parts as threads on thread k), each part run by the plain build,
       for a loop on more threads, made at its first call.
 
-    Every cell (or node) is thus computed by the one plain build whatever the threads: the
-    same machine code, so the same numbers to the last bit on any thread count
+    Every cell (or node) is thus computed by the one plain build's code whatever the
+    threads, so the same numbers to the last bit on any thread count
     (tests/test_threads.py, tests/test_kernel_builds.py), and numba's parallel passes
     (alias analysis, hoisting, the outlining of the loop body into a gufunc) see a loop of
     one call instead of the whole cell loop. They cost more than the plain build itself on
@@ -179,11 +180,16 @@ class _Parallel:
 
     A function whose source cannot be read, or that has no ``prange`` call or more than
     one, keeps numba's parallel build of the whole function (``_renamed``), beside its
-    plain build. Each build is cached under a name of its own (``_part`` and ``_parallel``
-    appended): numba's cache index of a function does not tell its builds apart."""
+    plain build. Each build is cached under a name of its own (``_part_<digest>`` and
+    ``_parallel_<digest>`` appended, the digest of the parted copy's source): numba's cache
+    index of a function does not tell its builds apart, nor a change of the rewrite here.
+    The loop over the parts holds its own copy of the plain build's machine code (numba
+    links a called dispatcher into its caller), compiled from the same IR."""
 
     def __init__(self, function):
         self._function = function
+        # The source file as imported: a file edited since is not read for the parted copy.
+        self._stamp = _stamp(function)
         self._part = None  # the parted copy (None: the whole function, or not made yet)
         self._arguments: list[str] = []
         self._serial = None
@@ -196,7 +202,7 @@ class _Parallel:
         (the kernel's source read then, not when its module is imported: 27 kernels took
         0.27 s of CPU to part at a load of 9, and a process uses a few of them)."""
         if self._serial is None:
-            self._part = _parted(self._function)
+            self._part = _parted(self._function, self._stamp)
             if self._part is not None:
                 self._arguments = _arguments(self._function)
             self._serial = numba.njit(cache=True, fastmath=False)(
@@ -248,9 +254,22 @@ class _Parallel:
 _PART, _PARTS, _KERNEL = "part__", "parts__", "kernel__"
 
 
-def _source_tree(function) -> ast.FunctionDef | None:
+def _stamp(function) -> tuple[int, int] | None:
+    """The modification time (ns) and size of ``function``'s source file (None: no file)."""
+    try:
+        found = os.stat(function.__code__.co_filename)
+    except (OSError, AttributeError):
+        return None
+    return found.st_mtime_ns, found.st_size
+
+
+def _source_tree(function, stamp: tuple[int, int] | None) -> ast.FunctionDef | None:
     """The definition of ``function`` as parsed from its module's source, undecorated, its
-    lines numbered as in the file; None where the source cannot be read."""
+    lines numbered as in the file; None where the source cannot be read or its file is no
+    longer the one of ``stamp`` (``_stamp`` when the function was wrapped: a file edited
+    since its import would give code other than the function's)."""
+    if stamp is None or _stamp(function) != stamp:
+        return None
     try:
         source = textwrap.dedent(inspect.getsource(function))
     except (OSError, TypeError):
@@ -294,7 +313,7 @@ def _is_prange(node: ast.AST) -> bool:
     return isinstance(node, ast.Attribute) and node.attr == "prange"
 
 
-def _parted(function):
+def _parted(function, stamp: tuple[int, int] | None):
     """A copy of ``function`` with two more arguments, ``part`` and ``parts``, whose one
     ``prange(n)`` loop runs over ``range(n * part // parts, n * (part + 1) // parts)``: part
     0 of 1 is the whole loop. None where the source cannot be read, the function has a
@@ -302,9 +321,13 @@ def _parted(function):
     be independent (``_parts_independent``)."""
     if function.__closure__ or function.__defaults__ or function.__kwdefaults__:
         return None
-    definition = _source_tree(function)
+    definition = _source_tree(function, stamp)
     if definition is None:
         return None
+    if any(
+        isinstance(node, ast.Name) and node.id in (_PART, _PARTS) for node in ast.walk(definition)
+    ):
+        return None  # the parted copy's own names taken
     named = [node for node in ast.walk(definition) if _is_prange(node)]
     calls = [
         node
@@ -327,7 +350,12 @@ def _parted(function):
     call.func = ast.Name("range", ast.Load())
     call.args = [bound(part), bound(following)]
     definition.args.args += [ast.arg(_PART), ast.arg(_PARTS)]
-    definition.name = function.__name__ + "_part"
+    # numba finds a cached build by its name, its file's stamp and its bytecode: the
+    # rewritten source's digest in the name, so that a change in the rewrite here (which
+    # leaves the kernel's file as it was) is not served the build of the old rewrite, nor is
+    # the loop over the parts, whose bytecode is the same for every kernel.
+    digest = hashlib.sha1(ast.unparse(definition).encode()).hexdigest()[:10]
+    definition.name = f"{function.__name__}_part_{digest}"
     return _define(definition, function, None)
 
 
@@ -349,6 +377,13 @@ def _parts_independent(definition: ast.FunctionDef, call: ast.Call) -> bool:
     loop = body[-1]
     for statement in body[:-1]:
         if not isinstance(statement, ast.Assign):
+            return False
+        # each part runs these: a call (other than len) may write to its arguments
+        if any(
+            isinstance(node, ast.Call)
+            and not (isinstance(node.func, ast.Name) and node.func.id == "len")
+            for node in ast.walk(statement)
+        ):
             return False
         for target in statement.targets:
             names = target.elts if isinstance(target, ast.Tuple) else [target]
@@ -383,9 +418,10 @@ def _over_parts(function, arguments: list[str], part_build):
     k of ``parts``, on thread k (numba's parallel loop splits its range into one chunk a
     thread)."""
     names = ", ".join(arguments)
+    digest = part_build.py_func.__name__.rsplit("_", 1)[-1]  # the parted copy's
     # the part as int64 (prange's index is unsigned): the plain build's one signature
     source = (
-        f"def {function.__name__}_parallel({names}, {_PARTS}):\n"
+        f"def {function.__name__}_parallel_{digest}({names}, {_PARTS}):\n"
         f"    for {_PART} in prange({_PARTS}):\n"
         f"        {_KERNEL}({names}, int64({_PART}), {_PARTS})\n"
     )

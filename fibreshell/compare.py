@@ -139,6 +139,12 @@ def compare_case(
     if fitting and "mindlin" in chosen:
         _check_fit(case, fit_path, fit_evaluations)
         _check_cluster(scheduler, workers)
+    elif scheduler is not None or workers is not None:
+        raise ValueError(
+            "scheduler and workers are where the fit calibration runs (calibration 'fit' with "
+            f"the mindlin kinematics); got scheduler={scheduler!r}, workers={workers!r} "
+            "without it"
+        )
     if "plies" in chosen:
         from fibreshell.plies import ply_stack
 

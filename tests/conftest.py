@@ -149,8 +149,8 @@ def one_numba_thread():
 def all_numba_threads_if_parallel(request, one_numba_thread):
     """numba's default thread count for a test marked ``parallel``, on every loop whatever
     its size and the machine's load (elements.jit would run these small models on one): these
-    tests run numba's parallel build of each kernel, the others its plain build
-    (elements/jit.py ``_Parallel``)."""
+    tests run each kernel's parallel build (its parts on threads of their own), the others its
+    plain build (elements/jit.py ``_Parallel``)."""
     if not kernels.AVAILABLE or request.node.get_closest_marker("parallel") is None:
         yield
         return

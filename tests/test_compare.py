@@ -182,6 +182,8 @@ def test_a_fit_on_a_scheduler_that_does_not_answer_is_refused_before_any_run(tmp
         compare_case(case, out, calibration="fit", scheduler="tcp://127.0.0.1:9")
     with pytest.raises(ValueError, match="workers must be a whole number >= 1, got 0"):
         compare_case(case, out, calibration="fit", workers=0)
+    with pytest.raises(ValueError, match="scheduler and workers are where the fit calibration"):
+        compare_case(case, out, calibration="laws", workers=2)
     assert not out.exists()
 
 

@@ -175,7 +175,8 @@ def law_energy(integers, reals, i, x):
     x0, x1, y0, y1 = reals[i, 1, j], reals[i, 1, j + 1], reals[i, 2, j], reals[i, 2, j + 1]
     if x >= x1 and j == count - 2:  # on or beyond the last knot: the trapezoid from there
         j = count - 1
-        y = y1 if x == x1 else (y1 - y0) / (x1 - x0) * (x - x0) + y0
+        # materials.Law.value's line beyond the table, from the last knot
+        y = y1 if x == x1 else y1 + (y1 - y0) / (x1 - x0) * (x - x1)
     else:
         y = (y1 - y0) / (x1 - x0) * (x - x0) + y0
     return reals[i, 0, j] + (x - reals[i, 1, j]) * (reals[i, 2, j] + y) / 2.0 - reals[i, 0, count]
