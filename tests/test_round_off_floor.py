@@ -70,3 +70,50 @@ def test_the_probe_measures_rounding_not_physics():
     compiled = strip.compile()
     rounding, _ = _rounding(compiled, Static(increments=5, progress=False).solve(compiled))
     assert rounding <= 1e-10
+
+
+def test_no_probe_where_a_translation_moves_a_force():
+    # A tool does not move with the probe's translation, so with an interaction the probe is
+    # not made and the strict test decides (the same strip with a plane 1 m below it, never
+    # touched).
+    from elements.tools import RigidPlane
+
+    fabric = g986_stack()
+    overhang = peirce_overhang(fabric.areal_density * specimens.GRAVITY, fabric.bending)
+    _, model = specimens.fibrous_strip(overhang["overhang"], 10.0, fabric, 20)
+    model.contact(RigidPlane((0.0, 0.0, -1000.0), (0.0, 0.0, 1.0)))
+    result = Static(increments=3, progress=False).solve(model.compile())
+    assert result.converged
+    assert result.info["round_off_probes"] == 0
+    assert result.info["round_off_converged"] == 0
+
+
+def test_a_force_that_a_translation_changes_is_not_taken_for_rounding():
+    # round_off_ratio judges r(x + t) - r(x): with a residual that depends on where the nodes
+    # are (a spring to a point fixed in space, 1 N/mm) the change is the spring's force on the
+    # translation, ||k t|| against F_ref, far above the gate under which Newton takes a floor.
+    from solvers.round_off import ROUND_OFF_GATE
+
+    mesh, model = _peirce()
+    result = Static(increments=3, progress=False).solve(model)
+    state = dataclasses.replace(
+        model.initial_state(), positions=result.positions, directors=result.directors
+    )
+    f_ext, m_ext = model.external_load(1.0, quasi_static=True)
+    equilibrium = Residual(model, f_ext, m_ext, np.zeros((model.n_nodes, 3)))
+    frames = model.dofs.frames(state.directors)
+    r, _, forces = equilibrium.residual(state, frames)
+
+    class Anchored:
+        """The strip's residual plus a spring from every node to its start."""
+
+        model = equilibrium.model
+        test = equilibrium.test
+
+        def residual(self, moved, frames):
+            r_moved, ratio, found = equilibrium.residual(moved, frames)
+            r_moved = r_moved.copy()
+            r_moved[:, :3] -= 1.0 * (moved.positions - state.positions)
+            return r_moved, ratio, found
+
+    assert round_off_ratio(Anchored(), state, frames, r, forces) > 1e3 * ROUND_OFF_GATE
