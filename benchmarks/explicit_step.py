@@ -170,7 +170,17 @@ shell on the same tree (100k, load 5.1): steady step 0.124 µs CPU, 1.2 x the re
 (0.100), force 0.089, force+energy 0.105, the rest of a step 0.032.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
-printed with the figures.
+printed with the figures. On several threads every loop runs on all of them whatever the load
+(``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``
+(before, the shorter timed run paid the parallel builds' first call, and the steady step came
+out negative: -2.9 µs at 100k on two threads).
+With the parallel builds as parts of the plain build (elements/jit.py), 100k triangles, one
+process per line, one and two threads in turns, one other run beside them (load 2.0-2.8), µs an
+element-step (steady wall; whole run of 100 steps wall): fibrous one thread 0.518, 0.473,
+0.480, 0.568 (0.45-0.49); two threads 0.231 (0.297), 1.171 (0.691), 1.093 (0.911), -0.204
+(0.933): twice as fast as one thread when the second core was free (2.2 x), slower when the
+other run held it. Mindlin one thread 0.113, 0.156 (0.167, 0.174), two threads 0.266, 0.315.
+A fair two-thread figure needs the machine quiet (benchmarks/threads.py has the quiet one).
 
 Run from the project root:
 
@@ -374,7 +384,15 @@ def main(argv=None) -> None:
         f"({args.kernel}), {numba.get_num_threads()} thread(s), load average "
         f"{os.getloadavg()[0]:.2f}"
     )
-    compiled, _, _ = sheet(args.element, args.kernel, 200)  # compile the loops first
+    from elements import jit
+
+    # On several threads every loop runs on all of them whatever the load (the free-core
+    # count would pick one on a busy machine), and the loops are first called on a sheet
+    # large enough for their parallel builds: otherwise the shorter timed run pays for those
+    # builds' first call and the steady step comes out negative.
+    jit.FOLLOW_LOAD = numba.get_num_threads() == 1
+    warm = 200 if numba.get_num_threads() == 1 else 4 * jit.SMALL_LOOP
+    compiled, _, _ = sheet(args.element, args.kernel, warm)  # compile the loops first
     run(compiled, 3)
     for size in [int(s) for s in args.sizes.split(",")]:
         compiled, build, memory = sheet(args.element, args.kernel, size)
