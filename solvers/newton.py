@@ -254,8 +254,9 @@ def _iterate(
                 run.info["round_off_probes"] += 1
             if floor <= ROUND_OFF_GATE:  # more is not rounding: a force a translation moves
                 tol = max(tol, floor)
-            run.info["round_off_converged"] += int(ratio <= tol)
-        if ratio <= tol and np.abs(left).max(initial=0.0) <= 1e-9 * size:
+        settled_here = ratio <= tol and np.abs(left).max(initial=0.0) <= 1e-9 * size
+        run.info["round_off_converged"] += int(settled_here and ratio > solver.tol)
+        if settled_here:
             unfrozen: State | None = state
             if frozen:
                 unfrozen, ratio = settle_contacts(model, equilibrium, state, frames, solver.tol)
