@@ -23,8 +23,9 @@ def _peirce():
     return mesh, model.compile()
 
 
-def _rounding(model, result):
-    """round_off_ratio at the converged state of ``result`` (load factor 1)."""
+def _converged(model, result):
+    """The equilibrium at load factor 1, the converged state of ``result``, its frames, its
+    residual, ratio and internal forces."""
     state = dataclasses.replace(
         model.initial_state(), positions=result.positions, directors=result.directors
     )
@@ -33,6 +34,12 @@ def _rounding(model, result):
     frames = model.dofs.frames(state.directors)
     r, ratio, forces = equilibrium.residual(state, frames)
     assert r.shape == (model.n_nodes, N_COLUMNS)
+    return equilibrium, state, frames, r, ratio, forces
+
+
+def _rounding(model, result):
+    """round_off_ratio at the converged state of ``result`` (load factor 1), and its ratio."""
+    equilibrium, state, frames, r, ratio, forces = _converged(model, result)
     return round_off_ratio(equilibrium, state, frames, r, forces), ratio
 
 
@@ -96,13 +103,7 @@ def test_a_force_that_a_translation_changes_is_not_taken_for_rounding():
 
     mesh, model = _peirce()
     result = Static(increments=3, progress=False).solve(model)
-    state = dataclasses.replace(
-        model.initial_state(), positions=result.positions, directors=result.directors
-    )
-    f_ext, m_ext = model.external_load(1.0, quasi_static=True)
-    equilibrium = Residual(model, f_ext, m_ext, np.zeros((model.n_nodes, 3)))
-    frames = model.dofs.frames(state.directors)
-    r, _, forces = equilibrium.residual(state, frames)
+    equilibrium, state, frames, r, _, forces = _converged(model, result)
 
     class Anchored:
         """The strip's residual plus a spring from every node to its start."""
