@@ -28,6 +28,13 @@ on all threads whatever the load); the workqueue layer 1.16. The one-thread time
 the two processes (65.0 against 53.0 ms, the same plain build): against the faster of the two,
 the two OpenMP threads give 1.35 times.
 
+With the parallel builds as parts of the plain build (elements/jit.py), on the same machine
+with its load at 1.3-1.4 (one other run): 1 thread 50.23-60.46 ms, 2 threads 32.54-43.86 (three
+runs; numba's own parallel build before it, in the same minutes: 60.46 / 35.63). Under two
+busy processes (``--busy 2 --configurations passive``, 20k triangles, load 3.1): 1 thread 34.98
+ms, the default 33.29 (0.95; it chose one thread), all threads 26.33 (0.75): within the issue's
+1.3.
+
 Run from the project root:
 
     python benchmarks/threads.py                     # 100 x 100 x 2 = 20k triangles
