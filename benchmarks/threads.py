@@ -29,7 +29,7 @@ the two processes (65.0 against 53.0 ms, the same plain build): against the fast
 the two OpenMP threads give 1.35 times.
 
 With the parallel builds as parts of the plain build (elements/jit.py), on the same machine
-with its load at 1.3-1.4 (one other run): 1 thread 50.23-60.46 ms, 2 threads 32.54-43.86 (three
+with its load at 0.9-1.4 (one other run): 1 thread 50.23-56.37 ms, 2 threads 32.54-43.86 (three
 runs; numba's own parallel build before it, in the same minutes: 60.46 / 35.63). Under two
 busy processes (``--busy 2 --configurations passive``, 20k triangles, load 3.1): 1 thread 34.98
 ms, the default 33.29 (0.95; it chose one thread), all threads 26.33 (0.75): within the issue's
