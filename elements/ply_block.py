@@ -14,7 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
-from elements.ply_fade import fade_hessian
+from elements.ply_fade import fade_hessian, stiffness_factor
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -462,7 +462,26 @@ class PlyContactBlock(InteractionBlock):
     def springs(self) -> tuple[np.ndarray, np.ndarray]:
         """2 sum_p N_j k_p at the upper nodes and 2 max of that (times the ratio of upper to
         lower nodes when above 1) at the lower ones, N/mm (elements/ply_contact.py, "Penalty")."""
-        upper = 2.0 * self._lumped(self.stiffness)[self.upper]
+        return self._springs(self.stiffness)
+
+    def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """``springs`` with each point's penalty k_p times the bound c_p of its faded energy's
+        stiffness (elements/ply_fade.py, "Stiffness"): 12 and more for a point beside a
+        growth's edge or an outline vertex, 1 + O(depth / height) for one past an outline edge,
+        1 elsewhere, so the step shrinks only while a point is in the fade's band. Evaluated
+        with the step (every ``STABLE_DT_EVERY`` steps, solvers/explicit.py): a point that
+        enters the band in between has k_p in the springs until then."""
+        facing = self.facing(state)
+        if facing.fade is None or facing.reach is None or facing.on_growth is None:
+            return self.springs()  # the curved faces carry no fade
+        past = np.any((facing.reach > 0.0) & (facing.weights < 0.0), axis=1)
+        factor = stiffness_factor(
+            facing.gradients, facing.reach, past, facing.on_growth, self.depth
+        )
+        return self._springs(self.stiffness * factor)
+
+    def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        upper = 2.0 * self._lumped(stiffness)[self.upper]
         ratio = max(1.0, len(self.upper) / len(self.lower_nodes))
         lower = np.full(len(self.lower_nodes), ratio * float(np.max(upper)))
         return np.concatenate([self.upper, self.lower_nodes]), np.concatenate([upper, lower])

@@ -94,7 +94,10 @@ its triangles), so that the corner rule gives each node its k_j back and a unifo
 uniform mesh adds up to the same total whatever the rule. ``springs`` reports at each upper
 node 2 sum_p N_j k_p and at the lower ones 2 max(that) (times the ratio of upper to lower nodes
 when above 1), so the explicit step takes the penalty in (the friction's stick spring has
-the point's penalty k_p across the normal, so the bound holds).
+the point's penalty k_p across the normal, so the bound holds); ``springs_at(state)``, which
+the explicit step asks, multiplies the penalty of a point in the fade's band by the bound of
+its faded energy's stiffness (up to 12 and more beside the outline; elements/ply_fade.py,
+"Stiffness").
 
 Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
 elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower

@@ -24,6 +24,23 @@ phi_m n^T (elements/ply_block.py, ``tangent``); dh/dz = (n, -lambda_m n); dg/dz 
 gradient, elements/ply_projection.py); d(h / g) = (dh - (h / g) dg) / g. The second
 derivative of w, which only the tangent needs, is the central difference of this exact
 gradient (``fade_hessian``).
+
+Stiffness (``stiffness_factor``, for the explicit step's springs). The fade's energy w W(g)
+is stiffer than the penalty k along some directions of p. Beside a growth, with r = |p - q|,
+theta the angle of p - q to the normal and w_a(theta) = S(cos theta / SIDEWAYS), the energy
+E = W(r) w_a has in the orthonormal (r, theta) directions the Hessian [[W'' w_a, (W'/r -
+W/r^2) w_a'], [., (W'/r) w_a + (W/r^2) w_a'']] (the azimuth of a vertex adds (W'/r) w_a +
+(W/r^2) cot(theta) w_a' <= k, w_a' <= 0). With W'' <= k, W'/r <= k, 0 <= W'/r - W/r^2 <= k/2
+and W/r^2 <= k/2 (W convex from W(0) = W'(0) = 0, W'' <= k) its largest eigenvalue is at
+most k max_theta lambda_max [[w_a, |w_a'| / 2], [|w_a'| / 2, w_a + max(w_a'', 0) / 2]] =
+k S''(0) / (2 SIDEWAYS^2) = 12 k, reached at theta = 90 deg (p in the triangle's plane beside
+q, w_a = w_a' = 0: E ~ 6 k h^2 for a gap h to the plane), whatever r. The past factor w_e is
+a function of the coordinates lambda, linear in p: |grad w_e| <= 1.5 G / FADE and
+||hess w_e|| <= 6 (G / FADE)^2, G = sum_k |grad phi_k| over the outline edges (1 / the
+heights); with |grad (W w_a)| <= k r (1 + (0.75 / SIDEWAYS)^2)^(1/2) and W w_a <= k r^2 / 2,
+the product's Hessian is at most k (12 + 3 A x + 3 x^2), x = r G / FADE, A = (1 + (0.75 /
+SIDEWAYS)^2)^(1/2), r at most the depth down to which a point in the band touches (the
+plies' half thicknesses a + b, elements/ply_projection.py "Deeper than the plies").
 """
 
 from __future__ import annotations
@@ -32,13 +49,18 @@ import numpy as np
 
 from elements.ply_projection import _grown, closest_on_edges, facets
 
-__all__ = ["FADE", "SIDEWAYS", "fade_hessian", "outline_fade"]
+__all__ = ["FADE", "SIDEWAYS", "fade_hessian", "outline_fade", "stiffness_factor"]
 
 #: Barycentric units past an outline edge over which the contact fades out (< MARGIN = 0.5).
 FADE = 0.15
 #: |h| / |p - q| (the cosine of p - q's angle with the normal) from which a point beside a
 #: growth's edge has its full weight.
 SIDEWAYS = 0.5
+
+
+#: The largest stiffness of the angle's fade beside a growth, in times the penalty k: S''(0) /
+#: (2 SIDEWAYS^2) (module docstring, "Stiffness").
+SIDEWAYS_STIFFNESS = 3.0 / SIDEWAYS**2
 
 
 def _step(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -142,3 +164,39 @@ def fade_hessian(
                 moved.append(outline_fade(q, c, reach, beside)[1])
             hessian[:, node, axis] = (moved[0] - moved[1]) / (2.0 * step)
     return 0.5 * (hessian + np.transpose(hessian, (0, 3, 4, 1, 2)))
+
+
+def stiffness_factor(
+    gradients: np.ndarray,
+    reach: np.ndarray,
+    band: np.ndarray,
+    beside: np.ndarray,
+    depth: float,
+) -> np.ndarray:
+    """An upper bound c_p >= 1 of the stiffness of the faded energy w W(g) along any direction
+    of the point p, in times the penalty k (module docstring, "Stiffness").
+
+    Parameters
+    ----------
+    gradients : (c, 3, 3) float
+        grad phi_k of the points' facing triangles, 1/mm (row k).
+    reach : (c, 3) float
+        How far each triangle reaches past the edge opposite corner k (> 0: an outline edge).
+    band : (c,) bool
+        The point is in the fade's band: its projection lies past an outline edge of its
+        facing triangle (lambda_k < 0), or it is ``beside`` (elsewhere w = 1: c_p = 1).
+    beside : (c,) bool
+        Its closest point lies on a growth's edge or at an outline vertex (the angle's fade).
+    depth : float
+        The deepest gap at which a point in the band touches, mm.
+
+    Returns
+    -------
+    (c,) float
+        (12 beside, else 1) + 3 A x + 3 x^2 in the band (x = depth G / FADE), 1 elsewhere.
+    """
+    spread = np.where(reach > 0.0, np.linalg.norm(gradients, axis=2), 0.0).sum(axis=1)
+    x = depth * spread / FADE
+    cross = np.sqrt(1.0 + (0.75 / SIDEWAYS) ** 2)
+    angle = np.where(beside, max(1.0, SIDEWAYS_STIFFNESS), 1.0)
+    return np.where(band | beside, angle + 3.0 * cross * x + 3.0 * x * x, 1.0)

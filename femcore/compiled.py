@@ -306,14 +306,15 @@ class CompiledModel(CompiledTangent):
         """Per-block arrays of per-cell critical steps (s)."""
         return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]
 
-    def penalty_frequency_squared(self, mass: np.ndarray) -> float:
-        """The largest omega^2 = k / m (1/s^2) the interactions' penalty springs (``springs``)
-        can add to one node, summed over the interactions: a node may be pinched between two
-        tools, and a node not touching now may touch before the step is next evaluated.
-        ``mass`` (n,) the lumped masses the solver uses, t. 0 without springs."""
+    def penalty_frequency_squared(self, mass: np.ndarray, state: State | None = None) -> float:
+        """The largest omega^2 = k / m (1/s^2) the interactions' penalty springs (``springs``,
+        or ``springs_at(state)`` with ``state`` given) can add to one node, summed over the
+        interactions: a node may be pinched between two tools, and a node not touching now
+        may touch before the step is next evaluated. ``mass`` (n,) the lumped masses the
+        solver uses, t. 0 without springs."""
         total = 0.0
         for interaction in self.interactions:
-            springs = interaction.springs()
+            springs = interaction.springs() if state is None else interaction.springs_at(state)
             if springs is not None and len(springs[0]):
                 nodes, stiffness = springs
                 total += float(np.max(np.asarray(stiffness) / mass[nodes]))

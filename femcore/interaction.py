@@ -184,6 +184,12 @@ class InteractionBlock(ABC):
         their frequencies sqrt(k / m) in with the nodes' masses. None: no such spring."""
         return None
 
+    def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray] | None:
+        """``springs`` at ``state``, for a block whose springs stiffen with the configuration
+        (the ply contact's fade beside the outline); the explicit step asks this one, every
+        time it evaluates its step. The default: ``springs()``."""
+        return self.springs()
+
     def initial_history(self) -> Any:
         """History variables in the reference state (None: none)."""
         return None
