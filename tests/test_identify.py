@@ -218,7 +218,7 @@ def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
     out = tmp_path / "fit"
     status = main(["identify", str(case), "--data", str(data), "--fit",
                    "part.0.material.areal_density", "--sigma", "reaction_left_z=1e-4",
-                   "--out", str(out), "--quiet"])  # fmt: skip
+                   "--workers", "1", "--out", str(out), "--quiet"])  # fmt: skip
     printed = capsys.readouterr().out
     assert status == 0, printed
     assert "part.0.material.areal_density = 1.9" in printed and "95 % interval" in printed

@@ -107,17 +107,22 @@ def test_the_session_stops_a_report_still_running(tmp_path):
         os.killpg(report.process.pid, 0)
 
 
-def test_the_tests_that_read_the_report_run_last_in_the_order_collected():
-    # A test waiting for the report holds up only the tests after it in its process.
+def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
+    # A test waiting for the report holds up only the tests after it in its process; a long
+    # test collected late would leave the other xdist worker idle at the end.
     from conftest import pytest_collection_modifyitems
 
-    def item(name, *fixtures):
-        return SimpleNamespace(name=name, fixturenames=fixtures)
+    def item(name, *fixtures, slow=False):
+        def marker(mark):
+            return SimpleNamespace(name=mark) if slow and mark == "slow" else None
+
+        return SimpleNamespace(name=name, fixturenames=fixtures, get_closest_marker=marker)
 
     items = [item("a", "coarse_report"), item("b"), item("c", "tmp_path", "coarse_report"),
-             item("d", "tmp_path")]  # fmt: skip
+             item("d", "tmp_path"), item("e", slow=True), item("f", "coarse_report", slow=True),
+             item("g", slow=True)]  # fmt: skip
     pytest_collection_modifyitems(None, None, items)
-    assert [i.name for i in items] == ["b", "d", "a", "c"]
+    assert [i.name for i in items] == ["e", "g", "b", "d", "f", "a", "c"]
 
 
 KERNEL = "import numba\n\n\n@numba.njit(cache=True)\ndef twice(x):\n    return 2.0 * x\n"

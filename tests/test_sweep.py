@@ -249,7 +249,7 @@ def case_file(tmp_path):
 def test_the_command_writes_sweep_csv(case_file, tmp_path, capsys):
     out = tmp_path / "out"
     status = main(["sweep", str(case_file), "--vary", "part.0.material.bending=1.0,2.0",
-                   "--workers", "2", "--out", str(out), "--quiet"])  # fmt: skip
+                   "--workers", "1", "--out", str(out), "--quiet"])  # fmt: skip
     assert status == 0, capsys.readouterr()
     with open(out / "sweep.csv") as handle:
         rows = list(csv.DictReader(handle))
