@@ -162,11 +162,10 @@ class Law:
         else:
             # y is linear on each piece, so the trapezoid rule from the nearest knot is exact.
             kx, ky = self._knots()
-            cumulative = np.concatenate(([0.0], np.cumsum(np.diff(kx) * (ky[1:] + ky[:-1]) / 2)))
+            integrals = self.knot_integrals()
+            cumulative, e_zero = integrals[:-1], integrals[-1]
             i = np.clip(np.searchsorted(kx, x, side="right") - 1, 0, len(kx) - 1)
             e_raw = cumulative[i] + (x - kx[i]) * (ky[i] + self.value(x)) / 2.0
-            j = np.clip(np.searchsorted(kx, 0.0, side="right") - 1, 0, len(kx) - 1)
-            e_zero = cumulative[j] + (0.0 - kx[j]) * ky[j] / 2.0
             e = e_raw - e_zero
         return e if self.compression else np.where(x < 0.0, 0.0, e)
 
@@ -222,6 +221,15 @@ class Law:
         return Law(
             self.family, description, knots=(kx.copy(), scale * ky), compression=self.compression
         )
+
+    def knot_integrals(self) -> np.ndarray:
+        """A table law's integrals of y from its first knot to each knot, and to 0 last
+        ((knots + 1,), unit of y times unit of x): the sums ``energy`` starts from, which the
+        compiled fibrous kernels table once (elements/fibrous/packed_laws.py)."""
+        kx, ky = self._knots()
+        cumulative = np.concatenate(([0.0], np.cumsum(np.diff(kx) * (ky[1:] + ky[:-1]) / 2)))
+        j = np.clip(np.searchsorted(kx, 0.0, side="right") - 1, 0, len(kx) - 1)
+        return np.append(cumulative, cumulative[j] + (0.0 - kx[j]) * ky[j] / 2.0)
 
     def _knots(self) -> tuple[np.ndarray, np.ndarray]:
         if self.knots is None:

@@ -60,20 +60,9 @@ def pack_laws(laws) -> tuple[np.ndarray, np.ndarray]:
             integers[i, 0], integers[i, 2] = _TABLE, len(kx)
             reals[i, 1, : len(kx)] = kx
             reals[i, 2, : len(ky)] = ky
-            reals[i, 0, : len(kx) + 1] = _table_integrals(law)
+            # materials.Law.energy's own sums (F at the knots, F(0) last)
+            reals[i, 0, : len(kx) + 1] = law.knot_integrals()
     return integers, reals
-
-
-def _table_integrals(law) -> np.ndarray:
-    """(count + 1,) the integrals F(x_j) of a table law's y from its first knot to each knot
-    x_j, and F(0) last: materials.Law.energy's sums, the same operations (trapezoids summed by
-    numpy's cumsum)."""
-    kx, ky = law.knots
-    kx, ky = np.asarray(kx, dtype=float), np.asarray(ky, dtype=float)
-    cumulative = np.concatenate(([0.0], np.cumsum(np.diff(kx) * (ky[1:] + ky[:-1]) / 2)))
-    j = int(np.clip(np.searchsorted(kx, 0.0, side="right") - 1, 0, len(kx) - 1))
-    zero = cumulative[j] + (0.0 - kx[j]) * ky[j] / 2.0
-    return np.append(cumulative, zero)
 
 
 @inline
