@@ -16,7 +16,7 @@ from typing import Any
 
 from solvers.common import ProgressLine, resolve_progress
 
-__all__ = ["Failure", "dask_client", "map_tasks", "set_threads"]
+__all__ = ["Failure", "check_workers", "dask_client", "map_tasks", "set_threads"]
 
 
 @dataclass(frozen=True)
@@ -24,6 +24,13 @@ class Failure:
     """A task that raised (or whose worker died): the exception's type and message."""
 
     error: str
+
+
+def check_workers(workers: int | None) -> None:
+    """ValueError unless ``workers`` is None or a whole number >= 1."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):  # fmt: skip
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
 
 
 @contextmanager
@@ -52,9 +59,7 @@ def dask_client(
     import dask
     from distributed import Client, LocalCluster
 
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
-                                or workers < 1):  # fmt: skip
-        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    check_workers(workers)
     if scheduler is not None:
         if workers is not None:
             raise ValueError("give workers (a LocalCluster here) or a scheduler address, not both")

@@ -215,11 +215,9 @@ SCHEDULER_TIMEOUT_S = 10.0
 def _check_cluster(scheduler: str | None, workers: int | None) -> None:
     """ValueError for a ``workers`` that is not a count, both given, or a scheduler that
     does not answer: before the fibrous run the fit starts from, not after it."""
-    from fibreshell.cluster import dask_client
+    from fibreshell.cluster import check_workers, dask_client
 
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
-                                or workers < 1):  # fmt: skip
-        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    check_workers(workers)
     if scheduler is not None:
         # Connects, or names the address it could not reach.
         with dask_client(scheduler, workers, timeout=SCHEDULER_TIMEOUT_S):
