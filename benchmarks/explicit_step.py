@@ -169,6 +169,41 @@ here has no SVML, and its scalar log, asin and atan2 keep a loop scalar): not do
 shell on the same tree (100k, load 5.1): steady step 0.124 µs CPU, 1.2 x the reference pass
 (0.100), force 0.089, force+energy 0.105, the rest of a step 0.032.
 
+The fibrous force toward 0.35 µs a step, tried after main 544e521 and not kept (nothing paid
+5 %); the AMD EPYC machine (znver4, AVX-512), one thread, CPU. Main itself, ``--element
+fibrous --sizes 100000`` at a load of 5.9: steady step 0.453 (4.7 x the reference pass,
+0.096), force 0.374, force+energy 0.419, energy 0.278, the rest of a step 0.027 (0.439, 0.369,
+0.413, 0.274, 0.021 on a quiet machine, load 0.5-1.3); the 20k hemisphere
+(benchmarks/hemisphere_forming.py ``--fraction 0.003``) 14.82 ms CPU a step (the element force
+6.29 ms), load 6.4-7.0. Where the force goes (benchmarks/fibrous_shell.py's passes, load 3):
+the cells' pass 0.246 µs a cell of 0.43, of which the three fibre levels are 0.17 (the levels
+skipped: 0.585 of the force) and the bending 0.04 (0.899); the normals 0.036 and the sides'
+folds 0.042, their arctan2 calls 0.05 (0.880 with them replaced by arithmetic); the pulls 0.044;
+the nodal sums 0.03. The force costs the same per cell at 2k, 10k and 100k triangles (0.41,
+0.40, 0.40 at a load of 4): the cells' data stay in the caches that matter; the pass is the
+processor's scalar arithmetic.
+
+* Intel's vectorised functions (SVML) cannot be had here: llvmlite's PyPI wheel is built
+  without numba's SVML patch of LLVM (``numba -s``: "llvmlite Using SVML Patched LLVM: False";
+  benchmarks/vector_maths.py prints it), so installing icc-rt or intel-cmplr-lib-rt switches
+  nothing on; numba's conda build of llvmlite has the patch, which pip cannot install.
+  LLVM 22 does vectorise a loop of ``np.log`` and ``np.arcsin`` 8 lanes wide
+  (``llvm.log.v8f64``) and its code generator then calls the scalar library function lane by
+  lane; glibc's vector functions (libmvec, asked for by ``-vector-library=LIBMVEC-X86``
+  through llvmlite before numba loads) were not called either.
+* The library's functions in a compiled loop (benchmarks/vector_maths.py, load 6.8), ns a
+  value: log 3.4, arcsin 4.0, arctan2 11.7, arctan 7.9, 1 / sqrt 3.7 (0.9 with numba's numpy
+  error model, which lets LLVM vectorise it), a multiply-add 0.2.
+* Paired in one process against main's kernels (benchmarks/kernel_pairs.py; its docstring has
+  the table): numba's numpy error model 1.025, fastmath {"contract"} 0.984, the corner and fold
+  angles by Cephes' arctangent in plain arithmetic (two divisions, 2 units in the last place
+  of numpy's) 1.003 with branches and 1.024 with selects, the cells' index unsigned 1.021: all
+  within the noise of loads 2.6-6.5. The laws of the levels cost nothing measurable (1.003 with
+  them replaced by c x).
+* A structure-of-arrays probe of the level strains (64 cells a chunk in a scratch array,
+  vectorised by LLVM as its IR showed) ran at 0.103 µs a cell for the three levels with the
+  library's log and arcsin and 0.034 without them, the same as the scalar loop: not pursued.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
 (``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``

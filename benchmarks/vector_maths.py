@@ -1,0 +1,120 @@
+"""What the C library's transcendental functions cost inside a compiled loop, and whether numba
+here can run them on vectors (SVML): the question behind the fibrous cells' pass
+(elements/fibrous/kernels.py), whose fibre levels call a log twice and an arcsine once each,
+and whose normals and side folds call arctan2.
+
+Printed: numba's SVML state (``numba.config.USING_SVML`` and llvmlite's ``has_svml``: numba
+calls Intel's vectorised functions only with an llvmlite built on its patched LLVM, and with
+the icc-rt package installed); whether LLVM vectorises a loop of ``np.log`` and ``np.arcsin``
+(the vector intrinsics ``llvm.log.v8f64`` in the optimised IR); then the CPU nanoseconds a
+value of loops over 4096 values in [0.3, 0.8] (best of ``--repeats``): log, arcsin,
+arctan2(y, 0.7), arctan, 1 / sqrt, beside a multiply-add (the reference: what the loop costs
+without a call).
+
+Measured on the 2-core AMD EPYC (znver4, AVX-512), numba 0.68.1, llvmlite 0.50.0 (LLVM 22)
+from their PyPI wheels, load 2-4: SVML off and not available (llvmlite's wheel has no SVML
+patch: installing icc-rt cannot switch it on); LLVM vectorises the loop to 8 lanes with
+``llvm.log.v8f64`` and ``llvm.asin.v8f64``, and its code generator calls the scalar library
+functions lane by lane (the option ``-vector-library=LIBMVEC-X86`` set through llvmlite
+before numba loads, tried: no glibc vector function is called). ns a value (load 6.8): log
+3.4, arcsin 4.0, arctan2 11.7, arctan 7.9, 1 / sqrt 3.7 (0.9 with numba's numpy error model,
+without the division's zero test: then LLVM vectorises the loop), the multiply-add 0.2.
+
+Run from the project root:
+
+    python benchmarks/vector_maths.py
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import time
+
+import llvmlite.binding as llvm
+import numba
+import numpy as np
+
+
+@numba.njit
+def _multiply_add(x, y):
+    for i in range(x.shape[0]):
+        y[i] = 1.5 * x[i] + 0.25
+
+
+@numba.njit
+def _log(x, y):
+    for i in range(x.shape[0]):
+        y[i] = np.log(x[i])
+
+
+@numba.njit
+def _arcsin(x, y):
+    for i in range(x.shape[0]):
+        y[i] = np.arcsin(x[i])
+
+
+@numba.njit
+def _arctan2(x, y):
+    for i in range(x.shape[0]):
+        y[i] = np.arctan2(x[i], 0.7)
+
+
+@numba.njit
+def _arctan(x, y):
+    for i in range(x.shape[0]):
+        y[i] = np.arctan(x[i])
+
+
+@numba.njit
+def _inverse_root(x, y):
+    for i in range(x.shape[0]):
+        y[i] = 1.0 / np.sqrt(x[i])
+
+
+@numba.njit
+def _log_and_arcsin(x, y):
+    for i in range(x.shape[0]):
+        y[i] = np.log(x[i]) + np.arcsin(x[i])
+
+
+def per_value(loop, x: np.ndarray, repeats: int) -> float:
+    """CPU ns per value of ``loop`` over ``x``, the best of ``repeats``."""
+    y = np.empty_like(x)
+    loop(x, y)
+    best = np.inf
+    for _ in range(repeats):
+        started = time.process_time()
+        for _ in range(50):
+            loop(x, y)
+        best = min(best, (time.process_time() - started) / 50)
+    return best / len(x) * 1e9
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=40)
+    args = parser.parse_args(argv)
+    print(
+        f"numba {numba.__version__}, llvmlite LLVM {'.'.join(map(str, llvm.llvm_version_info))}: "
+        f"SVML in use {numba.config.USING_SVML}, llvmlite built with SVML {llvm.has_svml}"
+    )
+    x = np.random.default_rng(0).uniform(0.3, 0.8, 4096)
+    _log_and_arcsin(x, np.empty_like(x))
+    ir = _log_and_arcsin.inspect_llvm(_log_and_arcsin.signatures[0])
+    lanes = sorted(set(re.findall(r"llvm\.(?:log|asin)\.v\d+f64", ir)))
+    print(f"a loop of log and arcsin vectorised: {', '.join(lanes) or 'no'}")
+    loops = {
+        "multiply-add (reference)": _multiply_add,
+        "log": _log,
+        "arcsin": _arcsin,
+        "arctan2(x, 0.7)": _arctan2,
+        "arctan": _arctan,
+        "1 / sqrt": _inverse_root,
+    }
+    for name, loop in loops.items():
+        print(f"{name:>26}: {per_value(loop, x, args.repeats):.2f} ns a value", flush=True)
+
+
+if __name__ == "__main__":
+    main()
