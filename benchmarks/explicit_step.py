@@ -176,7 +176,7 @@ fibrous --sizes 100000`` at a load of 5.9: steady step 0.453 (4.7 x the referenc
 0.413, 0.274, 0.021 on a quiet machine, load 0.5-1.3); the 20k hemisphere
 (benchmarks/hemisphere_forming.py ``--fraction 0.003``) 14.82 ms CPU a step (the element force
 6.29 ms), load 6.4-7.0. Where the force goes (benchmarks/fibrous_shell.py's passes, load 3):
-the cells' pass 0.246 µs a cell of 0.43, of which the three fibre levels are 0.17 (the levels
+the cells' pass 0.246 µs a cell of 0.43, of which the three fibre levels are 0.16 (the levels
 skipped: 0.585 of the force) and the bending 0.04 (0.899); the normals 0.036 and the sides'
 folds 0.042, their arctan2 calls 0.05 (0.880 with them replaced by arithmetic); the pulls 0.044;
 the nodal sums 0.03. The force costs the same per cell at 2k, 10k and 100k triangles (0.41,
