@@ -52,6 +52,21 @@ def test_the_report_waits_for_every_one_of_its_kernels_in_numbas_cache(tmp_path,
     assert report_kernels_cached()
 
 
+def test_the_report_counts_a_parallel_kernels_one_thread_build_as_cached(tmp_path, monkeypatch):
+    # elements/jit.py names the one-thread build of a kernel with a parallel loop after the
+    # kernel and a digest of its rewritten source; its parallel build alone is not the one
+    # the report's one-thread workers call
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    folder = tmp_path / "elements_0123"
+    folder.mkdir()
+    for kernel in REPORT_KERNELS[1:]:
+        (folder / f"{kernel}-42.py311.nbi").touch()
+    (folder / f"{REPORT_KERNELS[0]}_parallel_19bcb7f995-203.py311.nbi").touch()
+    assert not report_kernels_cached()
+    (folder / f"{REPORT_KERNELS[0]}_part_19bcb7f995-204.py311.nbi").touch()
+    assert report_kernels_cached()
+
+
 # A stand-in for the report's command: writes results.json into the folder it is given last,
 # after a pause that outlasts the test's second start (or fails, or never ends).
 def stand_in(body: str) -> list[str]:
