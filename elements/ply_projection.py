@@ -168,6 +168,7 @@ __all__ = [
     "edge_ids",
     "open_edges",
     "facets",
+    "grown_corners",
     "penalty_law",
     "pseudonormals",
     "triangle_frames",
@@ -331,7 +332,7 @@ def closest_on_edges(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
     return best
 
 
-def _grown(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
+def grown_corners(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
     """Corners (..., 3, 3) of triangles grown by ``reach`` (..., 3) barycentric units past the
     edges opposite each corner: corner i of the grown one at lambda_j = -reach_j (j != i)."""
     grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[..., None, None] - reach[..., None, :]
@@ -358,7 +359,7 @@ def _towards_closest(p, q, normal, corners, gradients, reach, second):
 
 def _edge_hessian(gap, nu, weights, corners, reach, tiny):
     """d2g/dz2 (c, 4, 3, 4, 3), 1/mm, over z = (p, y_1, y_2, y_3) of g = +-|p - q|, q the
-    closest point at a corner G_i y of the grown triangle (``_grown``'s rows G) or on its
+    closest point at a corner G_i y of the grown triangle (``grown_corners``'s rows G) or on its
     edge from u = G_a y to v = G_b y. At a corner, a a^T (x) (I - nu nu^T) / g with
     a = (1, -lambda), lambda the barycentric coordinates of q; on an edge e = v - u (unit e^,
     length L) q slides along it, and minimising over its parameter gives, with
@@ -526,7 +527,7 @@ def closest_facing(
     # farthest edge line it lies past
     past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
-    corners = _grown(y[near[outside]], reach[outside])
+    corners = grown_corners(y[near[outside]], reach[outside])
     q = closest_on_edges(p[outside[0]], corners)
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
     # ties (a closest point on an edge or a vertex that several candidates share) go to the
