@@ -16,7 +16,6 @@ from scipy.spatial import cKDTree
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
 from elements.ply_fade import fade_hessian, stiffness_factor
 from elements.ply_friction import PlyFrictionHistory, Sliding
-from elements.ply_search import FacingSearch
 from elements.ply_projection import (
     MARGIN,
     Facing,
@@ -25,6 +24,7 @@ from elements.ply_projection import (
     open_edges,
     penalty_law,
 )
+from elements.ply_search import FacingSearch
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -136,7 +136,9 @@ class PlyContactBlock(InteractionBlock):
         # "Deeper than the plies")
         self.depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
         # the facing search (elements/ply_search.py), or the nearest centroids of before
-        self.candidates = None if contact.candidates is None else min(contact.candidates, len(cells))
+        self.candidates = (
+            None if contact.candidates is None else min(contact.candidates, len(cells))
+        )
         # The points' shares of their corners' penalties (elements/ply_contact.py, "Penalty"):
         # (P, s).
         x = body.mesh.points

@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.ply_projection import grown_corners, closest_on_edges, facets
+from elements.ply_projection import closest_on_edges, facets, grown_corners
 
 __all__ = ["FADE", "SIDEWAYS", "fade_hessian", "outline_fade", "stiffness_factor"]
 

@@ -31,8 +31,9 @@ penalty at nodes or centroids and with the ramp at nodes, and converges with cen
 the ramp. The ramp has its own cost: where plies need no contact force, points near g = 0
 step in and out of it and Newton converges linearly (up to ~100 iterations in an increment).
 
-Search, refreshed at every call. A cKDTree over the current centroids of the offset
-triangles gives each point ``candidates`` triangles; over them (vectorised, no loop over
+Search. Each point's candidates hold its nearest triangle and every near tie, proven
+(elements/ply_search.py: bounding spheres and exact distances, lists kept between calls
+while the plies move less than their skin); over them (vectorised, no loop over
 points) the barycentric projection of p, and the point faces the nearest candidate: by the
 distance to its plane where the triangle holds the projection (the gap g the signed distance
 to that plane, n its normal, lambda the projection's coordinates), else by the distance to
@@ -52,10 +53,10 @@ feature's (p - q lies in the cone of its triangles' normals there, on which a tr
 normal can be negative where the fold is sharper than a right angle: "The sign at an edge"
 below); past the outline it would flip where p passes the face's plane beside the edge,
 which ``MARGIN`` keeps out of the contact. The gap's Hessian at an edge or a vertex
-(``_edge_hessian``) enters the tangent. Rebuilding the tree costs O(m log m) per call, small
-against the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and
-no cache needs a proof that it is still valid. Where the facing triangle does not change the
-energy is smooth.
+(``_edge_hessian``) enters the tangent. The answer is that of a search over every triangle,
+bit for bit (tests/test_ply_search.py); the k nearest centroids of before missed a near
+triangle whose centroid is far (a wrinkle's flank). Where the facing triangle does not change
+the energy is smooth.
 
 The sign at an edge. Where q lies on an edge or at a vertex shared by several triangles,
 the sign of g = +-|p - q| is taken from that edge's or vertex's pseudonormal (``pseudonormals``:
