@@ -27,17 +27,10 @@ CLEAR = 0.1  # mm, the point's distance from the wrinkle's flank
 
 def _brute_nearest(p: np.ndarray, y: np.ndarray, reach: np.ndarray) -> np.ndarray:
     """(P,) each point's nearest grown triangle over all of them (the lowest row of ties)."""
-    corners = grown_corners(y, reach)
-    distance = np.stack(
-        [
-            np.linalg.norm(
-                point - closest_on_triangles(point, corners[:, 0], corners[:, 1], corners[:, 2]),
-                axis=1,
-            )
-            for point in np.repeat(p[:, None, :], len(y), axis=1)
-        ]
-    )
-    return np.argmin(distance, axis=1)
+    corners = grown_corners(y, reach)[None]  # (1, m, 3, 3) against p (P, 1, 3)
+    point = p[:, None, :]
+    q = closest_on_triangles(point, corners[..., 0, :], corners[..., 1, :], corners[..., 2, :])
+    return np.argmin(np.linalg.norm(point - q, axis=-1), axis=1)
 
 
 def test_a_point_beside_a_wrinkle_faces_its_nearest_triangle():
