@@ -24,6 +24,7 @@ from elements.ply_projection import (
     open_edges,
     penalty_law,
 )
+from elements.ply_search import FacingSearch
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -134,7 +135,10 @@ class PlyContactBlock(InteractionBlock):
         # the deepest a point touches: both faces' half thicknesses (ply_projection.py,
         # "Deeper than the plies")
         self.depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
-        self.candidates = min(contact.candidates, len(cells))
+        # the facing search (elements/ply_search.py), or the nearest centroids of before
+        self.candidates = (
+            None if contact.candidates is None else min(contact.candidates, len(cells))
+        )
         # The points' shares of their corners' penalties (elements/ply_contact.py, "Penalty"):
         # (P, s).
         x = body.mesh.points
@@ -166,7 +170,11 @@ class PlyContactBlock(InteractionBlock):
             cells,
             self.corner_offset,
         )
-        near = self._candidates(reference)[1][:, : min(3, self.candidates)]
+        # the node graph: the three nearest centroids' triangles in the reference state
+        p, y = self._faces(reference)
+        self.search = FacingSearch.of(y, self.outline)
+        near = np.asarray(cKDTree(y.mean(axis=1)).query(p, k=min(3, len(cells)))[1])
+        near = near.reshape(len(p), -1)
         self.connectivity = np.column_stack([self.above, cells[near].reshape(len(self.above), -1)])
         self.lower_nodes = np.unique(cells)
         # Without smoothing, plies laid on each other (g = 0 up to the rounding of the
@@ -235,9 +243,12 @@ class PlyContactBlock(InteractionBlock):
         return p, y
 
     def _candidates(self, state: State):
+        """The points p (P, 3), their candidate triangles (P, K) and the lower corners y
+        (m, 3, 3) at ``state``."""
         p, y = self._faces(state)
-        tree = cKDTree(y.mean(axis=1))
-        _, near = tree.query(p, k=self.candidates)
+        if self.candidates is None:
+            return p, self.search.near(p, y), y
+        _, near = cKDTree(y.mean(axis=1)).query(p, k=self.candidates)
         return p, np.asarray(near).reshape(len(p), self.candidates), y
 
     def facing(self, state: State, second: bool = False) -> Facing:

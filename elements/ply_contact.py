@@ -62,8 +62,8 @@ plies' roles and the offsets' signs swapped. With its points at the lower ply's 
 ("vertices", or "nodes" for a sixth of the searches) the two passes hold both plies' nodes and
 the upper ply's interior points.
 
-Gap, energy and search (elements/ply_projection.py). Each point faces the nearest of the
-``candidates`` triangles of the lower face that a search picks, refreshed at every call: by
+Gap, energy and search (elements/ply_projection.py). Each point faces the nearest triangle
+of the lower face (among candidates proven to hold it, elements/ply_search.py): by
 the distance to the triangle's plane where the triangle holds the point's projection (its gap
 g the signed distance to that plane), else by the distance to its closest point on an edge or
 at a vertex (g = +-|p - q|, signed by the triangle's normal), a triangle on the lower ply's
@@ -144,7 +144,8 @@ __all__ = [
     "penalty_law",
 ]
 
-#: Triangles examined per point (the nearest centroids).
+#: The search before the exact one (``candidates=CANDIDATES``): the nearest centroids, which
+#: miss a near triangle whose centroid is far (elements/ply_search.py).
 CANDIDATES = 6
 #: The default smoothing width delta as a share of the two faces' half thicknesses a + b
 #: (the ply thickness for plies alike): see docs/theory.md §9.3a for the measurements.
@@ -179,8 +180,12 @@ class PlyContact(Interaction):
     penalty : float, optional
         k, N/mm per upper node (shared out to the points by area, module docstring); None:
         chosen when the model is compiled.
-    candidates : int
-        Triangles examined per point by the search (the nearest centroids), >= 1.
+    candidates : int, optional
+        None (default): each point's candidates hold its nearest triangle, proven
+        (elements/ply_search.py: the triangles whose bounding spheres can be within a skin
+        of the nearest, kept between calls while the plies move less than the skin). An
+        integer >= 1: the search before it, that many nearest centroids at every call, which
+        can miss a near triangle whose centroid is far (kept for comparison).
     rule : str
         The contact points of each upper triangle, a key of ``RULES``: "centroid" (default),
         "gauss" (three interior points), "vertices" (node-to-surface, a point at each
@@ -225,7 +230,7 @@ class PlyContact(Interaction):
         upper_offset: float | None = None,
         lower_offset: float | None = None,
         penalty: float | None = None,
-        candidates: int = CANDIDATES,
+        candidates: int | None = None,
         rule: str = "centroid",
         smoothing: float | None = None,
         friction: float = 0.0,
@@ -257,11 +262,13 @@ class PlyContact(Interaction):
         ):
             raise ValueError(f"penalty must be a positive number (N/mm) or None, got {penalty!r}")
         self.penalty = penalty
-        if isinstance(candidates, bool) or not isinstance(candidates, (int, np.integer)):
-            raise ValueError(f"candidates must be an integer >= 1, got {candidates!r}")
-        if candidates < 1:
-            raise ValueError(f"candidates must be an integer >= 1, got {candidates!r}")
-        self.candidates = int(candidates)
+        if candidates is not None and (
+            isinstance(candidates, bool)
+            or not isinstance(candidates, (int, np.integer))
+            or candidates < 1
+        ):
+            raise ValueError(f"candidates must be None or an integer >= 1, got {candidates!r}")
+        self.candidates = None if candidates is None else int(candidates)
         if rule not in RULES:
             raise ValueError(f"rule must be one of {sorted(RULES)}, got {rule!r}")
         self.rule = rule

@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.ply_projection import _grown, closest_on_edges, facets
+from elements.ply_projection import closest_on_edges, facets, grown_corners
 
 __all__ = ["FADE", "SIDEWAYS", "fade_hessian", "outline_fade", "stiffness_factor"]
 
@@ -120,7 +120,7 @@ def outline_fade(
     at = np.flatnonzero(beside)
     if at.size:
         c = corners[at]
-        q = closest_on_edges(p[at], _grown(c, reach[at]))
+        q = closest_on_edges(p[at], grown_corners(c, reach[at]))
         r = p[at] - q
         distance = np.linalg.norm(r, axis=1)
         sign = np.where(plane[at] < 0.0, -1.0, 1.0)

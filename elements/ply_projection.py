@@ -31,8 +31,9 @@ penalty at nodes or centroids and with the ramp at nodes, and converges with cen
 the ramp. The ramp has its own cost: where plies need no contact force, points near g = 0
 step in and out of it and Newton converges linearly (up to ~100 iterations in an increment).
 
-Search, refreshed at every call. A cKDTree over the current centroids of the offset
-triangles gives each point ``candidates`` triangles; over them (vectorised, no loop over
+Search. Each point's candidates hold its nearest triangle and every near tie, proven
+(elements/ply_search.py: bounding spheres and exact distances, lists kept between calls
+while the plies move less than their skin); over them (vectorised, no loop over
 points) the barycentric projection of p, and the point faces the nearest candidate: by the
 distance to its plane where the triangle holds the projection (the gap g the signed distance
 to that plane, n its normal, lambda the projection's coordinates), else by the distance to
@@ -52,10 +53,10 @@ feature's (p - q lies in the cone of its triangles' normals there, on which a tr
 normal can be negative where the fold is sharper than a right angle: "The sign at an edge"
 below); past the outline it would flip where p passes the face's plane beside the edge,
 which ``MARGIN`` keeps out of the contact. The gap's Hessian at an edge or a vertex
-(``_edge_hessian``) enters the tangent. Rebuilding the tree costs O(m log m) per call, small
-against the shells' forces at the sizes of a ply stack (measured in benchmarks/plies.py), and
-no cache needs a proof that it is still valid. Where the facing triangle does not change the
-energy is smooth.
+(``_edge_hessian``) enters the tangent. The answer is that of a search over every triangle,
+bit for bit (tests/test_ply_search.py); the k nearest centroids of before missed a near
+triangle whose centroid is far (a wrinkle's flank). Where the facing triangle does not change
+the energy is smooth.
 
 The sign at an edge. Where q lies on an edge or at a vertex shared by several triangles,
 the sign of g = +-|p - q| is taken from that edge's or vertex's pseudonormal (``pseudonormals``:
@@ -168,6 +169,7 @@ __all__ = [
     "edge_ids",
     "open_edges",
     "facets",
+    "grown_corners",
     "penalty_law",
     "pseudonormals",
     "triangle_frames",
@@ -331,7 +333,7 @@ def closest_on_edges(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
     return best
 
 
-def _grown(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
+def grown_corners(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
     """Corners (..., 3, 3) of triangles grown by ``reach`` (..., 3) barycentric units past the
     edges opposite each corner: corner i of the grown one at lambda_j = -reach_j (j != i)."""
     grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[..., None, None] - reach[..., None, :]
@@ -358,7 +360,7 @@ def _towards_closest(p, q, normal, corners, gradients, reach, second):
 
 def _edge_hessian(gap, nu, weights, corners, reach, tiny):
     """d2g/dz2 (c, 4, 3, 4, 3), 1/mm, over z = (p, y_1, y_2, y_3) of g = +-|p - q|, q the
-    closest point at a corner G_i y of the grown triangle (``_grown``'s rows G) or on its
+    closest point at a corner G_i y of the grown triangle (``grown_corners``'s rows G) or on its
     edge from u = G_a y to v = G_b y. At a corner, a a^T (x) (I - nu nu^T) / g with
     a = (1, -lambda), lambda the barycentric coordinates of q; on an edge e = v - u (unit e^,
     length L) q slides along it, and minimising over its parameter gives, with
@@ -526,7 +528,7 @@ def closest_facing(
     # farthest edge line it lies past
     past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
-    corners = _grown(y[near[outside]], reach[outside])
+    corners = grown_corners(y[near[outside]], reach[outside])
     q = closest_on_edges(p[outside[0]], corners)
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
     # ties (a closest point on an edge or a vertex that several candidates share) go to the

@@ -1,0 +1,270 @@
+"""The candidate triangles of a ply contact's facing search (elements/ply_block.py): for each
+contact point, a list of lower triangles proven to hold the one nearest to it, kept between
+calls while the points and the triangles have moved too little to change that.
+
+What the list must hold. ``closest_facing`` (elements/ply_projection.py) takes the nearest of
+a point's candidates by its distance to the triangle grown ``MARGIN`` past the outline edges
+(to its plane where it holds the projection, else to its closest point on an edge or at a
+vertex), ties to the lowest row. Its answer is the brute force's (every triangle a candidate)
+exactly when the list holds every triangle within rounding of the least distance d*. The k
+nearest centroids do not: the centroid of a large or stretched triangle, or of one across a
+wrinkle's crest, can be further than k others' while its face is the nearest. Measured on the
+two-ply Mindlin [0/90] hemisphere (10 cells, 20 N): with 6 centroids five steps flipped a
+point's gap over a wrinkle, +0.13 to -0.16 mm, 1.0-1.9 N mm each; with 12 they went
+(docs/hemisphere_plies.md).
+
+The search. The centroid c_T of a triangle lies on it, and every point of the grown triangle
+is within its radius r_T (the largest distance from c_T to a grown corner) of c_T, so
+
+    |p - c_T| - r_T  <=  dist(p, T)  <=  |p - c_T|.
+
+The nearest centroid's distance U bounds d* above; a ball query of radius U + s + max r_T
+about p over a k-d tree of the centroids gives every triangle that can be within d* + s
+(s the skin below); those whose bound |p - c_T| - r_T exceeds U + s are dropped unmeasured,
+the rest measured exactly (Ericson's closest point on the grown triangle) and kept where
+dist(p, T) <= d* + s. The list holds the nearest and every near tie: the brute force's
+answer, bit for bit (the candidates' arithmetic does not depend on which others are listed).
+
+Kept between calls (a Verlet list of skin s). The distance to a set is 1-Lipschitz in the
+point; a point of the grown triangle at barycentric coordinates lambda moves by
+|sum lambda_k dy_k| <= L_T max_k |dy_k| with L_T = sum |lambda_k| <= 1 + 2 sum reach_T (1 on
+an inner triangle, 2 past one outline edge). Distances do not change when the point and the
+triangles move by one translation, so the moves count less the corners' mean move t (a stack
+carried down by a punch keeps its lists). With the point moved by m_p since its list was
+made and every triangle's distance changed by at most M (max over T of L_T times its corners'
+largest move), every distance moved by at most delta = m_p + M; a triangle left out was
+further than d* + s then, so further than d*(now) + s - 2 delta now: while 2 delta < s (less a
+thousandth of s for rounding) the list still holds the nearest and its ties. The triangles'
+moves are measured from an epoch's start (the last full search); a point searched again since
+then adds the move M_i they had at its search (their moves since then, less the change of t,
+are at most M + M_i) and counts its own move less the change of t since its search. When a
+point's delta reaches the bound, every point past ``REBUILD_SHARE`` of it is searched again
+(one tree, one query for the batch); when M itself passes s / 8, all are (a new epoch). An
+explicit step moves the plies by a small part of a cell, so a list serves many steps; a
+Newton iterate that moves further is searched again: the answer is the same.
+
+The skin s is ``SKIN`` times the lower face's mean edge length at bind: larger, a list serves
+longer but holds more triangles, which every call's ``closest_facing`` measures.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from elements.facet_search import _squared_gap, closest_on_triangles
+from elements.jit import jit, prange
+from elements.ply_projection import MARGIN, grown_corners
+
+__all__ = ["REBUILD_SHARE", "SKIN", "FacingSearch", "grown_distance", "pair_distances"]
+
+#: The skin s of the kept lists, a fraction of the lower face's mean edge length.
+SKIN = 0.1
+#: When a point's list must be made again, the points whose move has used this share of
+#: their bound are searched with it (a batch, not a few points at every call).
+REBUILD_SHARE = 0.5
+#: A triangle's move M at which every list is made again (a new epoch), a share of the skin.
+EPOCH_SHARE = 0.125
+#: The share of the skin that the bound 2 delta < s keeps for rounding.
+ROUNDING = 1e-3
+
+
+def grown_distance(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """(c,) the distance, mm, from each point p (c, 3) to the triangle with corners
+    (c, 3, 3) (Ericson's closest point, ``closest_on_triangles``: the reference of
+    ``pair_distances``)."""
+    q = closest_on_triangles(p, corners[:, 0], corners[:, 1], corners[:, 2])
+    return np.linalg.norm(p - q, axis=1)
+
+
+def _pair_distances(x, corners, point, triangle, out):
+    """out[i] (c,) = the distance, mm, from x[point[i]] (x (P, 3)) to the triangle
+    ``triangle[i]`` of corners (m, 3, 3) (Ericson's closest point, compiled: the pairs of a
+    search are some five per point)."""
+    for i in prange(point.shape[0]):
+        j = point[i]
+        out[i] = np.sqrt(_squared_gap(x[j, 0], x[j, 1], x[j, 2], corners, triangle[i])[3])
+
+
+_pair_distances_compiled = jit(_pair_distances)
+
+
+def pair_distances(
+    x: np.ndarray, corners: np.ndarray, point: np.ndarray, triangle: np.ndarray
+) -> np.ndarray:
+    """(c,) the distance, mm, from each point x[point] to its triangle ``triangle`` (rows of
+    corners (m, 3, 3)); x (P, 3), point and triangle (c,) int."""
+    out = np.empty(len(point))
+    _pair_distances_compiled(
+        np.ascontiguousarray(x, dtype=float),
+        np.ascontiguousarray(corners, dtype=float),
+        np.ascontiguousarray(point, dtype=np.int64),
+        np.ascontiguousarray(triangle, dtype=np.int64),
+        out,
+    )
+    return out
+
+
+@dataclass(frozen=True)
+class _Lists:
+    """The kept lists: ``near`` (P, K) each point's candidates (padded with its first),
+    ``count`` (P,) how many are its own, ``origin`` (P, 3) where it was searched, ``moved``
+    (P,) the triangles' move M at its search and ``shift`` (P, 3) their mean move t then,
+    ``epoch`` (m, 3, 3) the corners at the last full search."""
+
+    near: np.ndarray
+    count: np.ndarray
+    origin: np.ndarray
+    moved: np.ndarray
+    shift: np.ndarray
+    epoch: np.ndarray
+
+
+class FacingSearch:
+    """The candidate lists of a ply contact's points (module docstring).
+
+    Parameters
+    ----------
+    reach : (m, 3) float
+        How far (barycentric units) each lower triangle grows past its edge opposite corner k
+        (``MARGIN`` on the outline edges, else 0).
+    skin : float
+        s, mm: a list holds the triangles within s of the nearest, and serves while every
+        distance has moved less than s / 2.
+    """
+
+    def __init__(self, reach: np.ndarray, skin: float):
+        if not skin > 0.0:
+            raise ValueError(f"skin must be a positive length (mm), got {skin!r}")
+        self.reach = np.asarray(reach, dtype=float)
+        self.skin = float(skin)
+        # L_T: how far a point of the grown triangle moves per unit of its corners' move
+        self.lipschitz = 1.0 + 2.0 * self.reach.sum(axis=1)
+        grown = self.reach.sum(axis=1) > 0.0
+        self._groups = (np.flatnonzero(~grown), np.flatnonzero(grown))
+        self._lists: _Lists | None = None
+        #: full searches and points searched since the start (for the benchmarks)
+        self.searches = 0
+        self.searched_points = 0
+
+    @classmethod
+    def of(cls, y: np.ndarray, outline: np.ndarray) -> FacingSearch:
+        """The search of a lower face with triangles' corners y (m, 3, 3), mm, at bind and
+        ``open_edges`` ``outline`` (m, 3): the skin ``SKIN`` times its mean edge length."""
+        edges = np.linalg.norm(y - np.roll(y, 1, axis=1), axis=-1)
+        return cls(np.where(outline, MARGIN, 0.0), SKIN * float(edges.mean()))
+
+    def near(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """(P, K) int: each point's candidates (rows of y), holding its nearest grown triangle
+        and every triangle within ``skin`` of it when the list was made; p (P, 3) the points,
+        y (m, 3, 3) the lower triangles' corners, mm."""
+        lists = self._lists
+        if lists is None or lists.origin.shape != p.shape or lists.epoch.shape != y.shape:
+            return self._renew(p, y)
+        move = y - lists.epoch
+        shift = move.reshape(-1, 3).mean(axis=0)  # the corners' mean move t
+        corner_move = np.sqrt(np.max(np.sum((move - shift) ** 2, axis=-1), axis=1))
+        moved = float(np.max(self.lipschitz * corner_move, initial=0.0))
+        if not moved <= EPOCH_SHARE * self.skin:  # NaN too
+            return self._renew(p, y)
+        own = p - lists.origin - (shift - lists.shift)
+        drift = np.linalg.norm(own, axis=1) + moved + lists.moved
+        bound = 0.5 * (1.0 - ROUNDING) * self.skin
+        if not np.all(drift < bound):
+            rows = np.flatnonzero(~(drift < REBUILD_SHARE * bound))
+            lists = self._refresh(lists, rows, p, y, moved, shift)
+            self._lists = lists
+        return lists.near
+
+    def _renew(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Every point searched at y: a new epoch."""
+        near, count = self._search(p, y, np.arange(len(p)))
+        zero = np.zeros(len(p))
+        self._lists = _Lists(near, count, p.copy(), zero, np.zeros((len(p), 3)), y.copy())
+        return near
+
+    def _refresh(self, lists: _Lists, rows: np.ndarray, p, y, moved: float, shift) -> _Lists:
+        """``lists`` with the points ``rows`` searched again at (p, y)."""
+        near, count = self._search(p, y, rows)
+        counts = lists.count.copy()
+        counts[rows] = count
+        width = int(counts.max())
+        kept = lists.near
+        if kept.shape[1] < width:
+            kept = np.column_stack([kept, np.repeat(kept[:, :1], width - kept.shape[1], axis=1)])
+        kept = kept[:, :width].copy()
+        if near.shape[1] < width:
+            near = np.column_stack([near, np.repeat(near[:, :1], width - near.shape[1], axis=1)])
+        kept[rows] = near[:, :width]
+        origin = lists.origin.copy()
+        origin[rows] = p[rows]
+        at_search = lists.moved.copy()
+        at_search[rows] = moved
+        shifts = lists.shift.copy()
+        shifts[rows] = shift
+        return _Lists(kept, counts, origin, at_search, shifts, lists.epoch)
+
+    def _search(self, p: np.ndarray, y: np.ndarray, rows: np.ndarray):
+        """The lists of the points ``rows`` at (p, y): (r, K) candidates padded with each
+        point's first, and (r,) their counts."""
+        self.searches += 1
+        self.searched_points += len(rows)
+        here = p[rows]
+        corners = grown_corners(y, self.reach)
+        centroids = y.mean(axis=1)  # on the triangle, inside the grown one
+        radius = np.sqrt(np.max(np.sum((corners - centroids[:, None]) ** 2, axis=-1), axis=1))
+        tree = cKDTree(centroids)
+        nearest = np.asarray(tree.query(here, k=1)[1], dtype=np.int64)
+        # >= the least distance d*
+        upper = pair_distances(here, corners, np.arange(len(rows)), nearest)
+        # the inner triangles and the grown ones (larger spheres) queried apart, each with
+        # its own largest radius: a ball query of the grown ones' radius over every triangle
+        # would hand each point three times the pairs
+        pairs = [
+            _ball_pairs(centroids[group], here, upper + self.skin + radius[group].max(), group)
+            for group in self._groups
+            if group.size
+        ]
+        point = np.concatenate([pair[0] for pair in pairs])
+        triangle = np.concatenate([pair[1] for pair in pairs])
+        # the bounding spheres first: a triangle further than U + s cannot be within d* + s
+        ahead = np.linalg.norm(here[point] - centroids[triangle], axis=1) - radius[triangle]
+        keep = ahead <= upper[point] + self.skin
+        point, triangle = point[keep], triangle[keep]
+        distance = pair_distances(here, corners, point, triangle)
+        least = np.full(len(rows), np.inf)
+        np.minimum.at(least, point, distance)
+        keep = distance <= least[point] + self.skin
+        point, triangle = point[keep], triangle[keep]
+        # each point's triangles in the order of their rows, padded with its first
+        order = np.lexsort((triangle, point))
+        point, triangle = point[order], triangle[order]
+        count = np.bincount(point, minlength=len(rows))
+        start = np.concatenate([[0], np.cumsum(count)[:-1]])
+        width = int(count.max(initial=1))
+        near = np.repeat(triangle[start][:, None], width, axis=1)
+        near[point, np.arange(len(point)) - start[point]] = triangle
+        return near, count
+
+
+def _ball_pairs(
+    centres: np.ndarray, points: np.ndarray, radii: np.ndarray, rows: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Every (point, row) pair with |points[i] - centres[j]| <= radii[i]: (point indices,
+    rows[j]), int. The points within the common radius (twice the median) are matched by one
+    ``sparse_distance_matrix`` of two trees (arrays out, no list per point), the few others
+    by a ball query each."""
+    tree = cKDTree(centres)
+    common = min(float(radii.max()), 2.0 * float(np.median(radii)))
+    within = np.flatnonzero(radii <= common)
+    found = cKDTree(points[within]).sparse_distance_matrix(tree, common, output_type="ndarray")
+    point, column = within[found["i"].astype(np.int64)], found["j"].astype(np.int64)
+    wider = np.flatnonzero(radii > common)
+    if wider.size:
+        lists = tree.query_ball_point(points[wider], radii[wider])
+        count = np.fromiter(map(len, lists), dtype=np.int64, count=len(lists))
+        point = np.concatenate([point, np.repeat(wider, count)])
+        column = np.concatenate([column, np.concatenate(lists).astype(np.int64)])
+    return point, rows[column]

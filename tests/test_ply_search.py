@@ -1,0 +1,131 @@
+"""The ply contact's facing search (elements/ply_search.py): each point's candidate triangles
+hold its nearest one, proven, where the nearest centroids miss it (a wrinkle's flank), and
+the lists kept between calls answer as a search over every triangle would.
+
+References: the distance from a point to a plane (closed form) and a brute-force search,
+Ericson's closest point (elements/facet_search.closest_on_triangles) on every triangle of the
+lower face, grown past its outline as the contact grows it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from elements.facet_search import closest_on_triangles
+from elements.layup import Layup
+from elements.ply_projection import MARGIN, closest_facing, edge_ids, grown_corners, open_edges
+from elements.ply_search import FacingSearch
+from femcore.state import State
+from materials import Fabric
+
+PLY = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
+HEIGHT = 40.0  # mm, the wrinkle's crest above the ply
+CLEAR = 0.1  # mm, the point's distance from the wrinkle's flank
+
+
+def _brute_nearest(p: np.ndarray, y: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """(P,) each point's nearest grown triangle over all of them (the lowest row of ties)."""
+    corners = grown_corners(y, reach)[None]  # (1, m, 3, 3) against p (P, 1, 3)
+    point = p[:, None, :]
+    q = closest_on_triangles(point, corners[..., 0, :], corners[..., 1, :], corners[..., 2, :])
+    return np.argmin(np.linalg.norm(point - q, axis=-1), axis=1)
+
+
+def test_a_point_beside_a_wrinkle_faces_its_nearest_triangle():
+    """Two 40-mm plies of 10-mm cells, the bottom one raised into a wrinkle 40 mm high along
+    x = 0 (its flanks z = 40 (1 - |x| / 10): triangles stretched 4:1 up the flank); a node of
+    the top ply moved to 0.1 mm off the flank's face along its normal at (-8, -0.5). Its
+    facing triangle is the brute force's nearest and its gap the distance to the flank's plane,
+    +0.1 mm (1e-9). The premise: that triangle's centroid is not among the point's 6 nearest
+    centroids; the search of before (candidates=6) faced another triangle, 0.5 mm off."""
+    layup = Layup(PLY, (0.0, 0.0), 40.0, cells=4, rule="nodes", faces="director")
+    block = layup.model().compile().interactions[0]
+    x = layup.mesh.points.copy()
+    bottom, top = layup.ply_nodes
+    x[bottom, 2] += HEIGHT * np.clip(1.0 - np.abs(x[bottom, 0]) / 10.0, 0.0, None)
+    half = 0.5 * PLY.thickness
+    face = layup.heights[0] + half  # the bottom ply's face off the wrinkle
+    normal = np.array([-HEIGHT / 10.0, 0.0, 1.0]) / np.hypot(HEIGHT / 10.0, 1.0)
+    node = top[np.argmin(np.linalg.norm(x[top, :2] - [0.0, -10.0], axis=1))]
+    on_flank = np.array([-8.0, -0.5, face + HEIGHT * (1.0 - 8.0 / 10.0)])
+    x[node] = on_flank + CLEAR * normal + [0.0, 0.0, half]
+    directors = np.tile([0.0, 0.0, 1.0], (len(x), 1))
+    state = State(x, directors, np.zeros_like(x), np.zeros_like(x))
+    point = int(np.flatnonzero(block.above[np.arange(len(block.above)), 0] == node)[0])
+    p, y = block._faces(state)
+    nearest = _brute_nearest(p[[point]], y, np.where(block.outline, MARGIN, 0.0))[0]
+    six = cKDTree(y.mean(axis=1)).query(p[point], k=6)[1]
+    assert nearest not in six  # the premise
+    facing = block.facing(state)
+    assert facing.triangle[point] == nearest
+    assert abs(facing.gap[point] - CLEAR) < 1e-9
+
+
+def _crumpled(cells: int, rng: np.random.Generator):
+    """A square sheet of ``cells`` x ``cells`` 10-mm squares, each split into two triangles,
+    its nodes raised by N(0, 6 mm): (node positions (v, 3), triangles (m, 3))."""
+    u = np.arange(cells + 1) * 10.0
+    gx, gy = np.meshgrid(u, u, indexing="ij")
+    nodes = np.column_stack([gx.ravel(), gy.ravel(), rng.normal(0.0, 6.0, gx.size)])
+    k = np.arange(cells + 1) * (cells + 1)
+    a = (k[:-1, None] + np.arange(cells)[None, :]).ravel()  # the squares' lower-left nodes
+    b, c, d = a + (cells + 1), a + (cells + 2), a + 1
+    triangles = np.vstack([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return nodes, triangles
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_kept_lists_answer_as_a_search_over_every_triangle(seed):
+    """A crumpled sheet (10-mm cells, nodes raised by N(0, 6 mm)) and 300 points within 8 mm
+    of it, both moved over 40 calls by random steps (mostly a five-hundredth of a cell, every
+    tenth call a fifth): at every call each point's candidates hold the brute force's nearest
+    triangle, and the facing (triangle, gap, normal, projection, touching, fade) is bit for
+    bit that of ``closest_facing`` with every triangle a candidate. The lists are kept over
+    most calls (fewer searches than calls), and on the sheet the 6 nearest centroids miss the
+    nearest triangle of some points (the premise)."""
+    rng = np.random.default_rng(seed)
+    nodes, triangles = _crumpled(8, rng)
+    outline = open_edges(triangles)
+    edges = edge_ids(triangles)
+    reach = np.where(outline, MARGIN, 0.0)
+    search = FacingSearch.of(nodes[triangles], outline)
+    p = np.column_stack(
+        [rng.uniform(-5.0, 85.0, 300), rng.uniform(-5.0, 85.0, 300), rng.normal(0.0, 8.0, 300)]
+    )
+    every = np.tile(np.arange(len(triangles)), (len(p), 1))
+    missed = 0
+    calls = 40
+    for call in range(calls):
+        size = 2.0 if call % 10 == 9 else 0.02
+        nodes = nodes + rng.normal(0.0, size / 3.0, nodes.shape)
+        p = p + rng.normal(0.0, size / 3.0, p.shape)
+        y = nodes[triangles]
+        near = search.near(p, y)
+        nearest = _brute_nearest(p, y, reach)
+        assert np.all(np.any(near == nearest[:, None], axis=1)), call
+        found = closest_facing(p, y, near, 0.0, outline, nodes=triangles, edges=edges)
+        truth = closest_facing(p, y, every, 0.0, outline, nodes=triangles, edges=edges)
+        for name in ("triangle", "gap", "normal", "weights", "touching", "fade"):
+            assert np.array_equal(getattr(found, name), getattr(truth, name)), (call, name)
+        six = cKDTree(y.mean(axis=1)).query(p, k=6)[1]
+        missed += int(np.sum(~np.any(six == nearest[:, None], axis=1)))
+    assert search.searches < calls
+    assert missed > 0
+
+
+def test_the_compiled_pair_distances_match_the_numpy_closest_point():
+    """``pair_distances`` (compiled) against ``grown_distance`` (numpy, Ericson's closest
+    point): 2000 random points and triangles, every Voronoi region of a triangle visited,
+    within 1e-12 mm."""
+    from elements.ply_search import grown_distance, pair_distances
+
+    rng = np.random.default_rng(3)
+    corners = rng.normal(0.0, 10.0, (50, 3, 3))
+    x = rng.normal(0.0, 15.0, (400, 3))
+    point = rng.integers(0, len(x), 2000)
+    triangle = rng.integers(0, len(corners), 2000)
+    compiled = pair_distances(x, corners, point, triangle)
+    reference = grown_distance(x[point], corners[triangle])
+    assert np.max(np.abs(compiled - reference)) < 1e-12
