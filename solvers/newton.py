@@ -372,6 +372,13 @@ def _iterate(
                 straight = delta
             delta = run.fibres.project(run, state.positions, straight, delta)
             run.info["fibre_projections"] += 1
+        # Every level's fibre strains and shear angles where the step's first order puts them,
+        # at the least energy in the tangent (solvers.newton_levels).
+        if run.levels is not None and smooth and not (push or imposing):
+            if straight is None:
+                straight = delta
+            delta = run.levels.project(run, state, frames, straight, delta, k_ff)
+            run.info["level_projections"] += 1
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
         if solver.chords and smooth and scale == 1.0 and not (push or imposing):
             state, forces = chord_corrections(
