@@ -196,6 +196,76 @@ def floor_lines(repeat: int) -> None:
         print(f"  {increments} increments: positions differ by {moved:.1e} mm")
 
 
+def _heavy(cells: int):
+    from validation.cases.fibrous_heavy_cantilever import strip
+
+    return strip(cells)
+
+
+def branch_switches(compiled, options: dict) -> tuple[list[int], list[int]]:
+    """(cells past the bending law's knee at each tangent of the solve, cells that switched
+    branch between consecutive tangents) on Peirce's fibrous strip: the tangent takes each
+    cell's branch at the iterate, and a chattering active set would show here."""
+    from elements.fibrous import bending
+    from elements.fibrous.block import FibrousShellBlock
+    from solvers import static
+
+    block = next(p for p in compiled.parts if isinstance(p, FibrousShellBlock))
+    knee = 1e-3  # 1/mm, g986_stack's bilinear law
+    active: list[np.ndarray] = []
+    original = static.StaticRun.tangent
+
+    def tangent(run, state, frames, compression_free=False):
+        chi, _ = bending.curvatures(block, bending.geometry(block, state.positions))
+        active.append(np.abs(chi) > knee)
+        return original(run, state, frames, compression_free)
+
+    static.StaticRun.tangent = tangent  # type: ignore[method-assign]
+    try:
+        Static(increments=3, progress=False, **options).solve(compiled)
+    finally:
+        static.StaticRun.tangent = original  # type: ignore[method-assign]
+    switched = [int((b != a).sum()) for a, b in zip(active[:-1], active[1:])]
+    return [int(a.sum()) for a in active], switched
+
+
+def level_lines(repeat: int) -> None:
+    """Line 7: the fibrous strips without and with the level-strain projection
+    (solvers.newton_levels), in the same run; the residual ratio of every iteration and the
+    bending law's branch switches of Peirce's strip."""
+    print("7. the level-strain projection (level_projection False / True):")
+    strips = [("Peirce, fibrous, 3 increments", _peirce("fibrous"), 3)]
+    strips.append(("Peirce, fibrous, 12 increments", _peirce("fibrous"), 12))
+    strips += [(f"heavy fibrous cantilever, {n} cells", _heavy(n), 3) for n in (10, 20, 40)]
+    for name, (_mesh, model), increments in strips:
+        compiled = model.compile()
+        positions = {}
+        for flag in (False, True):
+            best, result = math.inf, None
+            for _ in range(repeat):
+                started = time.process_time()
+                solver = Static(increments=increments, progress=False, level_projection=flag)
+                result = solver.solve(compiled)
+                best = min(best, time.process_time() - started)
+            assert result is not None
+            info = result.info
+            positions[flag] = result.positions
+            print(
+                f"  {name}, {flag}: iterations {info['iterations_per_increment']}, "
+                f"{info['evaluations']['tangent']} tangents, {info['evaluations']['residual']} "
+                f"forces, {info['level_projection_sweeps']} sweeps, {best:.2f} s CPU, load "
+                f"{os.getloadavg()[0]:.1f}"
+            )
+            if increments == 3 and name.startswith("Peirce"):
+                for history in info["residual_history"]:
+                    print("    ratios " + " ".join(f"{r:.1e}" for r in history))
+                past, switched = branch_switches(compiled, {"level_projection": flag})
+                print(f"    cells past the knee per tangent {past}")
+                print(f"    cells that switched branch {switched}")
+        moved = np.abs(positions[True] - positions[False]).max()
+        print(f"  {name}: positions differ by {moved:.1e} mm")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="solves per line (best CPU)")
@@ -225,6 +295,7 @@ def main(argv=None) -> None:
                 f"{os.getloadavg()[0]:.1f}"
             )
     floor_lines(args.repeat)
+    level_lines(args.repeat)
 
 
 if __name__ == "__main__":

@@ -374,7 +374,9 @@ def _iterate(
             run.info["fibre_projections"] += 1
         # Every level's fibre strains and shear angles where the step's first order puts them,
         # at the least energy in the tangent (solvers.newton_levels).
-        if run.levels is not None and smooth and not (push or imposing):
+        # Only on plain steps of a definite tangent, as the curved steps.
+        plain = not (push or imposing or turn or regularised or factor.negative)
+        if run.levels is not None and smooth and plain:
             if straight is None:
                 straight = delta
             delta = run.levels.project(run, state, frames, straight, delta, k_ff)

@@ -178,7 +178,7 @@ class Static:
         (solvers.newton_levels; default True), on the blocks that give ``fibre_strains``
         (FibrousShell): Peirce's fibrous cantilever in 6-5-6 iterations (9-9-10 without).
         Counted in ``info["level_projections"]`` and ``info["level_projection_sweeps"]``; not
-        with contact or other interactions.
+        with contact or other interactions, prescribed motions, or on indefinite tangents.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
         compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never. None
         (the default): solvers.newton.COMPRESSION_FREE (1e-2) on a model with a block that offers
@@ -459,8 +459,12 @@ class StaticRun:
         # model has fibre edges.
         fibres = FibreEdges(model) if solver.fibre_projection else None
         self.fibres = fibres if fibres else None
-        # The level-strain projection (solvers.newton_levels), where a block gives its strains.
-        levels = LevelStrains(model) if solver.level_projection else None
+        # The level-strain projection (solvers.newton_levels), where a block gives its strains
+        # and no motion is prescribed: on the bias extension (tests/test_bias_extension.py) it
+        # held back the in-plane shear that is the motion itself (3-14-9-29 iterations and
+        # cuts where the default takes at most 6).
+        use_levels = solver.level_projection and not model.has_prescribed
+        levels = LevelStrains(model) if use_levels else None
         self.levels = levels if levels else None
         self.frames = [make_frame(model, self.state)]
         self.stream = None
