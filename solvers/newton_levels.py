@@ -6,23 +6,25 @@ their lengths follow the directors' differences from node to node as well as the
 so the mid-surface projection of solvers.newton_fibres does not restore them (it made Peirce's
 cantilever slower). Here the measures the block calls nearly inextensible (``fibre_strains``:
 each level's warp and weft strains and shear angle, per cell) are brought back, after the
-(curved) Newton step delta, to what the step's first order asks for,
+(curved) Newton step delta, towards what the step's first order asks for,
 
     s* = s(q) + ds/dq . straight        (a central difference along the straight step),
 
-by the correction that costs the least energy in the iteration's tangent K: a few sweeps of
+by the correction that costs the least energy in the iteration's tangent K: up to SWEEPS
+sweeps of
 
-    minimise 1/2 dc^T K dc  subject to  J dc = -(s(q + delta) - s*),
+    minimise 1/2 dc^T K dc + rho / 2 |J dc + c|^2,   c = s(q + delta) - s*,
 
-solved as (K + rho J^T J) dc = -rho J^T c with rho = PENALTY times the ratio of the diagonals
-(the constraints are dependent: three measures at each of several levels over five unknowns
-a node, which the penalty form takes as they are). J = ds/d(delta) at the step's end, in the
-iteration's frames, by coloured central differences of the block's strains (its colouring
-made once per solve: the strains of a cell depend on the nodes one cell from its corners,
-through the nodal normals). Where the Euclidean least-norm correction of the same
-constraints moved the nodes across the strip and changed the bending (Peirce 6-10-15 and
-cuts), the energy metric keeps the bending the step found: Peirce's cantilever 9-9-10 -> 6-5-6
-iterations per increment (benchmarks/newton_iterations.py).
+i.e. (K + rho J^T J) dc = -rho J^T c, with rho = PENALTY times the ratio of the largest
+diagonals of K and J^T J (the constraints are dependent: three measures at each of several
+levels over five unknowns a node, which the penalty form takes as they are). J = ds/d(delta)
+at each sweep's end, in the iteration's frames, by coloured one-sided differences of the
+block's strains (the colouring made once per solve: the strains of a cell depend on the nodes
+one cell from its corners, through the nodal normals, and nodes that move a common cell get
+different colours). Where the Euclidean least-norm correction of the same constraints moved
+the nodes across the strip and changed the bending (Peirce 6-10-15 and cuts), the energy
+metric keeps the bending the step found: Peirce's cantilever 9-9-10 -> 6-5-6 iterations per
+increment (benchmarks/newton_iterations.py line 7).
 """
 
 from __future__ import annotations
@@ -34,7 +36,6 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from femcore.assembly import NodeGraph
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel
 
@@ -73,10 +74,6 @@ class LevelStrains:
             return
         n = model.n_nodes
         connectivities = [p.connectivity for p in self.parts]
-        # Two nodes one cell from the corners of the same cell are at most three hops apart;
-        # a reach of 2 keeps same-coloured nodes five hops apart.
-        self.graph = NodeGraph(n, connectivities, 2)
-        colour = self.graph.colour
         pairs_cell, pairs_node = [], []
         offset = 0
         ring = _adjacency(n, connectivities)
@@ -91,12 +88,24 @@ class LevelStrains:
             pairs_cell.append(near.row + offset)
             pairs_node.append(near.col)
             offset += m
-        self.cell = np.concatenate(pairs_cell)
-        self.node = np.concatenate(pairs_node)
+        cell, node = np.concatenate(pairs_cell), np.concatenate(pairs_node)
         self.n_cells = offset
+        # Nodes that move a common cell get different colours (a greedy colouring of that
+        # graph, once per solve; the strains of a cell reach the nodes one cell from its
+        # corners through the nodal normals).
+        reach = sp.csr_matrix((np.ones(cell.size), (cell, node)), shape=(offset, n))
+        conflict = (reach.T @ reach).tocsr()
+        colour = np.full(n, -1)
+        for i in range(n):
+            taken = set(colour[conflict.indices[conflict.indptr[i] : conflict.indptr[i + 1]]])
+            c = 0
+            while c in taken:
+                c += 1
+            colour[i] = c
+        self.groups = [np.flatnonzero(colour == c) for c in range(int(colour.max()) + 1)]
         # The node of each colour that moves each cell (unique by the colouring).
-        self.node_of = np.full((offset, self.graph.n_colours), -1, dtype=np.int64)
-        self.node_of[self.cell, colour[self.node]] = self.node
+        self.node_of = np.full((offset, len(self.groups)), -1, dtype=np.int64)
+        self.node_of[cell, colour[node]] = node
         dofs = model.dofs
         self.slot = np.full(dofs.n_slots, -1, dtype=np.int64)
         self.slot[dofs.free_slots] = np.arange(dofs.free_slots.size)
@@ -171,7 +180,7 @@ class LevelStrains:
         axes = (frames[1], frames[0]) if frames is not None else (None, None)
         base = self.strains(end)
         rows, cols, values = [], [], []
-        for colour, (members, _, _) in enumerate(self.graph.groups):
+        for colour, members in enumerate(self.groups):
             node = self.node_of[:, colour]
             cells = np.flatnonzero(node >= 0)
             for component in range(N_COLUMNS):
