@@ -15,6 +15,11 @@ Lines (every model of the validation cases or benchmarks that run it, one thread
 5. Peirce's fibrous strip with its bilinear bending law (7.5 N mm to the knee at 1e-3 1/mm,
    0.5 N mm beyond) replaced by a linear one of 7.5 or 0.5 N mm, and with its fibre tension
    (1200 N/mm) times 0.01 and 10: what the iterations follow.
+7. (printed after 6) the fibrous strips without and with the level-strain projection
+   (``Static(level_projection=...)``, solvers.newton_levels): Peirce's in 3 and 12
+   increments, the heavy fibrous cantilever of validation/cases at 10, 20 and 40 cells; for
+   Peirce's in 3 increments the residual ratio of every iteration, the cells past the bending
+   law's knee at each tangent and the cells that switched branch between tangents.
 
 Each solve prints its Newton iterations per increment, the residual ratio after the first
 update of each increment (the first iterate starts from the last converged state with the
@@ -79,6 +84,29 @@ Line 6, strict -> floor (same run, one thread, best of 3, load 3.7-4.1): 3 incre
 positions equal to 6e-14 mm. The heavy fibrous cantilever (10, 20, 40 cells), the elastica,
 the roll-up, the 2560-triangle cantilever and Peirce's MindlinShell(fabric) strip: the same
 iterations and positions (their rounding is below tol / 10).
+
+Line 7, level_projection False -> True (same run, one thread, best of 3, load 5.1-5.4; the
+figures of lines 1-6 above are those of the solver before it, whose default is now line 7's
+True on the fibrous strips; the Mindlin strips have no block that gives level strains):
+Peirce 3 increments 9-9-10 -> 6-5-6 iterations, 28 -> 17 tangents, 74 -> 46 force
+evaluations, 0.10 -> 0.24 s CPU; 12 increments 69 -> 51 tangents, 0.21 -> 0.60 s; heavy
+cantilever 10 cells 26-9-7 -> 6-5-4 (42 -> 15 tangents, 0.10 -> 0.17 s), 20 cells 25-9-8 ->
+5-5-4 (42 -> 14, 0.14 -> 0.20 s), 40 cells 49-11-9 -> 6-7-5 (69 -> 18, 0.34 -> 0.31 s); the
+positions equal to 4.5e-9 mm. The CPU goes to the projection's gradient (8 colours x 5
+unknowns of one-sided strain differences at each of up to 4 sweeps, 36 sweeps on Peirce),
+which costs more than the tangents it saves on these 40-80-cell strips (measured and not kept:
+the gradient of every other sweep with 6 sweeps, the same iterations and CPU; of the first
+sweep alone with 8 sweeps, Peirce 7-6-7 in 0.14 s but fibres x 10 9-22-9 and the heavy
+cantilever 8-11-7 at 40 cells; 2 or 3 sweeps, Peirce 11-13-7 or 7-5-5 and the heavy
+cantilever 25-11-8 or 8-6-5 at 20 cells; steps projected from 0.1 or 0.3 element instead of
+0.01, Peirce 7-6-6 or 15-7-7). Before the change,
+the first increment of Peirce's strip (ratios 0.99, 1.0, 1.0, 0.65, 1.0, 0.31, 0.66, 2.4e-4,
+2.2e-5, 1.1e-8): the first update leaves the levels stretched, and each later step that
+corrects the bending by 0.01-0.03 rad stretches them again by 1e-4 to 1e-3 of strain (a
+strain of 1e-6 across the strip is a ratio of 1); the cells past the knee settle after two
+iterations (15 at the first update, then 2, 0, 2, 0, ... switches: no chatter), so the
+tangent's branch at the iterate (a semi-smooth Newton, as it is) is not what costs. With the
+projection the ratios are 0.99, 1.1, 0.20, 0.78, 1.1e-2, 3.5e-5, 8.1e-9.
 
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large]
 """
@@ -196,6 +224,76 @@ def floor_lines(repeat: int) -> None:
         print(f"  {increments} increments: positions differ by {moved:.1e} mm")
 
 
+def _heavy(cells: int):
+    from validation.cases.fibrous_heavy_cantilever import strip
+
+    return strip(cells)
+
+
+def branch_switches(compiled, options: dict) -> tuple[list[int], list[int]]:
+    """(cells past the bending law's knee at each tangent of the solve, cells that switched
+    branch between consecutive tangents) on Peirce's fibrous strip: the tangent takes each
+    cell's branch at the iterate, and a chattering active set would show here."""
+    from elements.fibrous import bending
+    from elements.fibrous.block import FibrousShellBlock
+    from solvers import static
+
+    block = next(p for p in compiled.parts if isinstance(p, FibrousShellBlock))
+    knee = 1e-3  # 1/mm, g986_stack's bilinear law
+    active: list[np.ndarray] = []
+    original = static.StaticRun.tangent
+
+    def tangent(run, state, frames, compression_free=False):
+        chi, _ = bending.curvatures(block, bending.geometry(block, state.positions))
+        active.append(np.abs(chi) > knee)
+        return original(run, state, frames, compression_free)
+
+    static.StaticRun.tangent = tangent  # type: ignore[method-assign]
+    try:
+        Static(increments=3, progress=False, **options).solve(compiled)
+    finally:
+        static.StaticRun.tangent = original  # type: ignore[method-assign]
+    switched = [int((b != a).sum()) for a, b in zip(active[:-1], active[1:])]
+    return [int(a.sum()) for a in active], switched
+
+
+def level_lines(repeat: int) -> None:
+    """Line 7: the fibrous strips without and with the level-strain projection
+    (solvers.newton_levels), in the same run; the residual ratio of every iteration and the
+    bending law's branch switches of Peirce's strip."""
+    print("7. the level-strain projection (level_projection False / True):")
+    strips = [("Peirce, fibrous, 3 increments", _peirce("fibrous"), 3)]
+    strips.append(("Peirce, fibrous, 12 increments", _peirce("fibrous"), 12))
+    strips += [(f"heavy fibrous cantilever, {n} cells", _heavy(n), 3) for n in (10, 20, 40)]
+    for name, (_mesh, model), increments in strips:
+        compiled = model.compile()
+        positions = {}
+        for flag in (False, True):
+            best, result = math.inf, None
+            for _ in range(repeat):
+                started = time.process_time()
+                solver = Static(increments=increments, progress=False, level_projection=flag)
+                result = solver.solve(compiled)
+                best = min(best, time.process_time() - started)
+            assert result is not None
+            info = result.info
+            positions[flag] = result.positions
+            print(
+                f"  {name}, {flag}: iterations {info['iterations_per_increment']}, "
+                f"{info['evaluations']['tangent']} tangents, {info['evaluations']['residual']} "
+                f"forces, {info['level_projection_sweeps']} sweeps, {best:.2f} s CPU, load "
+                f"{os.getloadavg()[0]:.1f}"
+            )
+            if increments == 3 and name.startswith("Peirce"):
+                for history in info["residual_history"]:
+                    print("    ratios " + " ".join(f"{r:.1e}" for r in history))
+                past, switched = branch_switches(compiled, {"level_projection": flag})
+                print(f"    cells past the knee per tangent {past}")
+                print(f"    cells that switched branch {switched}")
+        moved = np.abs(positions[True] - positions[False]).max()
+        print(f"  {name}: positions differ by {moved:.1e} mm")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="solves per line (best CPU)")
@@ -225,6 +323,7 @@ def main(argv=None) -> None:
                 f"{os.getloadavg()[0]:.1f}"
             )
     floor_lines(args.repeat)
+    level_lines(args.repeat)
 
 
 if __name__ == "__main__":

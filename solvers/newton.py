@@ -372,6 +372,15 @@ def _iterate(
                 straight = delta
             delta = run.fibres.project(run, state.positions, straight, delta)
             run.info["fibre_projections"] += 1
+        # Every level's fibre strains and shear angles where the step's first order puts them,
+        # at the least energy in the tangent (solvers.newton_levels).
+        # Only on plain steps of a definite tangent, as the curved steps.
+        plain = not (push or imposing or turn or regularised or factor.negative)
+        if run.levels is not None and smooth and plain:
+            if straight is None:
+                straight = delta
+            delta = run.levels.project(run, state, frames, straight, delta, k_ff)
+            run.info["level_projections"] += 1
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
         if solver.chords and smooth and scale == 1.0 and not (push or imposing):
             state, forces = chord_corrections(

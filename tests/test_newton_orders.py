@@ -75,7 +75,11 @@ def test_the_fibrous_strip_converges_quadratically_with_a_linear_bending_law():
     overhang = peirce_overhang(fabric.areal_density * specimens.GRAVITY, fabric.bending)
     stiff = dataclasses.replace(fabric, bending=BendingLaw.linear(7.5))
     mesh, model = specimens.fibrous_strip(overhang["overhang"], 10.0, stiff, 20)
-    result = Static(increments=3, progress=False).solve(model)
+    # The plain Newton steps (no level-strain projection, solvers.newton_levels): with it
+    # the strip takes 3-3-3 iterations, and its last increment reaches 3.3e-3 from 0.11,
+    # outside the small region where Newton is quadratic on this strip (docs/theory.md §6.5;
+    # the next step rises to 7.6e-3, the one after takes it to 1.4e-8).
+    result = Static(increments=3, progress=False, level_projection=False).solve(model)
     orders = [order for h in result.info["residual_history"] for order in tail_orders(h)]
     assert len(orders) >= 2, result.info["residual_history"]
     assert min(orders) >= LEAST_ORDER, (orders, result.info["residual_history"])

@@ -238,6 +238,18 @@ class FibrousShellBlock(ElementBlock):
         return np.unique(self.connectivity[geo["guarded"]])
 
     # ------------------------------------------------------------------ protocol
+    def fibre_strains(self, state: State) -> np.ndarray:
+        """(m, 3 L) each level's warp and weft strains and shear angle (rad), per cell: the
+        measures the static solver's level projection keeps at their first order
+        (solvers.newton_levels)."""
+        if self.compiled:
+            strain = kernels.strains(self, state.positions, state.directors)
+        else:
+            strain = membrane.strains(
+                self, geometry.geometry(self, state.positions, state.directors)
+            )
+        return np.concatenate([strain["eps1"], strain["eps2"], strain["gamma"]], axis=1)
+
     def internal_force(self, state: State, history=None):
         if self.compiled:  # the passes of elements/fibrous/kernels.py
             return kernels.internal_force(self, state.positions, state.directors)

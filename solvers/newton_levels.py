@@ -1,0 +1,225 @@
+"""The level-strain projection of a Newton step of the static solver
+(``Static(level_projection=True)``, docs/theory.md §6.5).
+
+The fibrous shell's fibres run at several levels through the thickness, x + zeta h_m V / 2:
+their lengths follow the directors' differences from node to node as well as the mid-surface,
+so the mid-surface projection of solvers.newton_fibres does not restore them (it made Peirce's
+cantilever slower). Here the measures the block calls nearly inextensible (``fibre_strains``:
+each level's warp and weft strains and shear angle, per cell) are brought back, after the
+(curved) Newton step delta, towards what the step's first order asks for,
+
+    s* = s(q) + ds/dq . straight        (a central difference along the straight step),
+
+by the correction that costs the least energy in the iteration's tangent K: up to SWEEPS
+sweeps of
+
+    minimise 1/2 dc^T K dc + rho / 2 |J dc + c|^2,   c = s(q + delta) - s*,
+
+i.e. (K + rho J^T J) dc = -rho J^T c, with rho = PENALTY times the ratio of the largest
+diagonals of K and J^T J (the constraints are dependent: three measures at each of several
+levels over five unknowns a node, which the penalty form takes as they are). J = ds/d(delta)
+at each sweep's end, in the iteration's frames, by coloured one-sided differences of the
+block's strains (the colouring made once per solve: the strains of a cell depend on the nodes
+one cell from its corners, through the nodal normals, and nodes that move a common cell get
+different colours). Where the Euclidean least-norm correction of the same constraints moved
+the nodes across the strip and changed the bending (Peirce 6-10-15 and cuts), the energy
+metric keeps the bending the step found: Peirce's cantilever 9-9-10 -> 6-5-6 iterations per
+increment (benchmarks/newton_iterations.py line 7).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from femcore.dofs import N_COLUMNS
+from femcore.model import CompiledModel
+
+if TYPE_CHECKING:
+    from femcore.dofs import Frames
+    from femcore.state import State
+    from solvers.static import StaticRun
+
+__all__ = ["LEVEL_GATE", "PENALTY", "SWEEPS", "TOLERANCE", "LevelStrains"]
+
+# Sweeps of one projection and the strain error at which they stop (a strain of 1e-12 times
+# the fibres' 1200 N/mm over 10 mm is 1e-8 N, below the residual test on Peirce's strip).
+SWEEPS = 4
+TOLERANCE = 1e-12
+# rho of the penalty form over the ratio of the diagonals of K and J^T J: the constraints
+# are met to ~1 / PENALTY of their error by each sweep.
+PENALTY = 1e2
+# Only steps that move a node by more than this many element sizes are projected: near the
+# equilibrium the remainder is below the residual test and the projection's own rounding
+# (the strains' central differences, ~1e-12) would be the larger.
+LEVEL_GATE = 1e-2
+# Central-difference steps: along the Newton step (a fraction of it) and of each unknown
+# (of the element size, and rad).
+ALONG = 1e-4
+PERTURB = 1e-7
+
+
+class LevelStrains:
+    """The level-strain projection of a model's Newton steps (module docstring), over the
+    blocks that give ``fibre_strains(state) -> (m, p)``; false when there are none."""
+
+    def __init__(self, model: CompiledModel):
+        self.model = model
+        self.parts = [p for p in model.parts if hasattr(p, "fibre_strains")]
+        if not self.parts:
+            return
+        n = model.n_nodes
+        connectivities = [p.connectivity for p in self.parts]
+        pairs_cell, pairs_node = [], []
+        offset = 0
+        ring = _adjacency(n, connectivities)
+        for part in self.parts:
+            cells = part.connectivity
+            m = len(cells)
+            corners = sp.csr_matrix(
+                (np.ones(cells.size), (np.repeat(np.arange(m), cells.shape[1]), cells.ravel())),
+                shape=(m, n),
+            )
+            near = (corners @ ring).tocoo()  # (cell, node one cell from a corner)
+            pairs_cell.append(near.row + offset)
+            pairs_node.append(near.col)
+            offset += m
+        cell, node = np.concatenate(pairs_cell), np.concatenate(pairs_node)
+        self.n_cells = offset
+        # Nodes that move a common cell get different colours (a greedy colouring of that
+        # graph, once per solve; the strains of a cell reach the nodes one cell from its
+        # corners through the nodal normals).
+        reach = sp.csr_matrix((np.ones(cell.size), (cell, node)), shape=(offset, n))
+        conflict = (reach.T @ reach).tocsr()
+        colour = np.full(n, -1)
+        for i in range(n):
+            taken = set(colour[conflict.indices[conflict.indptr[i] : conflict.indptr[i + 1]]])
+            c = 0
+            while c in taken:
+                c += 1
+            colour[i] = c
+        self.groups = [np.flatnonzero(colour == c) for c in range(int(colour.max()) + 1)]
+        # The node of each colour that moves each cell (unique by the colouring).
+        self.node_of = np.full((offset, len(self.groups)), -1, dtype=np.int64)
+        self.node_of[cell, colour[node]] = node
+        dofs = model.dofs
+        self.slot = np.full(dofs.n_slots, -1, dtype=np.int64)
+        self.slot[dofs.free_slots] = np.arange(dofs.free_slots.size)
+
+    def __bool__(self) -> bool:
+        return bool(self.parts)
+
+    def strains(self, state: State) -> np.ndarray:
+        """(cells, p) the blocks' nearly inextensible measures, stacked over the blocks."""
+        return np.concatenate([part.fibre_strains(state) for part in self.parts])
+
+    def project(
+        self,
+        run: StaticRun,
+        state: State,
+        frames: Frames,
+        straight: np.ndarray,
+        delta: np.ndarray,
+        k_ff,
+    ) -> np.ndarray:
+        """The step delta (n, 5) corrected so that the measures at its end are those of the
+        first order of ``straight`` (n, 5, the Newton step), at the least energy in K_ff (the
+        iteration's tangent on the free unknowns). Returns a new (n, 5) step, or delta when
+        it moves no node by LEVEL_GATE element sizes or the correction cannot be solved."""
+        model, dofs = self.model, self.model.dofs
+        size = model.element_size
+        if float(np.abs(delta[:, :3]).max(initial=0.0)) <= LEVEL_GATE * size:
+            return delta
+        forward = self.strains(dofs.advance(state, ALONG * straight, frames))
+        backward = self.strains(dofs.advance(state, -ALONG * straight, frames))
+        target = self.strains(state) + (forward - backward) / (2.0 * ALONG)
+        free = dofs.free_slots
+        k_scale = float(np.abs(k_ff.diagonal()).max(initial=0.0))
+        projected = delta.copy()
+        for _ in range(SWEEPS):
+            error = (self.strains(dofs.advance(state, projected, frames)) - target).ravel()
+            if np.abs(error).max(initial=0.0) <= TOLERANCE:
+                break
+            # The gradient at each sweep's end: kept from the first sweep on, the sweeps
+            # stalled (Peirce 11-9-7 against 6-5-5, with PENALTY 1e3).
+            jacobian = self._jacobian(state, frames, projected, size, error.size)
+            normal = (jacobian.T @ jacobian).tocsc()
+            j_scale = float(np.abs(normal.diagonal()).max(initial=0.0))
+            if k_scale <= 0.0 or j_scale <= 0.0:
+                return delta
+            rho = PENALTY * k_scale / j_scale
+            try:
+                correction = spla.splu((k_ff + rho * normal).tocsc()).solve(
+                    -rho * (jacobian.T @ error)
+                )
+            except RuntimeError:  # singular: no projection
+                return delta
+            if not np.all(np.isfinite(correction)):
+                return delta
+            flat = projected.ravel().copy()
+            flat[free] += correction
+            projected = flat.reshape(-1, N_COLUMNS)
+            run.info["level_projection_sweeps"] += 1
+        return projected
+
+    def _jacobian(
+        self, state: State, frames: Frames, delta: np.ndarray, size: float, k: int
+    ) -> sp.csr_matrix:
+        """d(measures)/d(free unknowns) at the end of the step delta (n, 5), (k = cells p,
+        free): coloured central differences at that end, translations by PERTURB element
+        sizes, the directors turned by PERTURB rad about the iteration's frame vectors
+        (V2 for alpha, V1 for beta; the derivative of the turn composed with the step's own
+        turn differs from it by the step's rotation times the perturbation, which the sweeps
+        absorb)."""
+        end = self.model.dofs.advance(state, delta, frames)
+        positions, directors = end.positions, end.directors
+        axes = (frames[1], frames[0]) if frames is not None else (None, None)
+        base = self.strains(end)
+        rows, cols, values = [], [], []
+        for colour, members in enumerate(self.groups):
+            node = self.node_of[:, colour]
+            cells = np.flatnonzero(node >= 0)
+            for component in range(N_COLUMNS):
+                held = self.slot[members * N_COLUMNS + component] < 0
+                moved = members[~held]
+                if moved.size == 0:
+                    continue
+                if component < 3:
+                    h = PERTURB * size
+                    bump = np.zeros_like(positions)
+                    bump[moved, component] = h
+                    plus = replace(end, positions=positions + bump)
+                else:
+                    h = PERTURB
+                    axis = axes[component - 3]
+                    assert axis is not None
+                    turn = np.zeros_like(directors)
+                    turn[moved] = h * np.cross(axis[moved], directors[moved])
+                    plus = replace(end, directors=directors + turn)
+                change = (self.strains(plus) - base) / h
+                column = self.slot[node[cells] * N_COLUMNS + component]
+                keep = column >= 0
+                on, column = cells[keep], column[keep]
+                p = change.shape[1]
+                rows.append((on[:, None] * p + np.arange(p)).ravel())
+                cols.append(np.repeat(column, p))
+                values.append(change[on].ravel())
+        return sp.csr_matrix(
+            (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(k, int(self.model.dofs.free_slots.size)),
+        )
+
+
+def _adjacency(n: int, connectivities: list[np.ndarray]) -> sp.csr_matrix:
+    """(n, n) nodes that share a cell (each node with itself)."""
+    rows, cols = [np.arange(n)], [np.arange(n)]
+    for cells in connectivities:
+        k = cells.shape[1]
+        rows.append(np.repeat(cells, k, axis=1).ravel())
+        cols.append(np.tile(cells, (1, k)).ravel())
+    row, col = np.concatenate(rows), np.concatenate(cols)
+    return sp.csr_matrix((np.ones(row.size), (row, col)), shape=(n, n)).astype(bool).astype(float)
