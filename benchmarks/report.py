@@ -154,6 +154,9 @@ facet search (about 20 %), the element and contact forces, the assembled Gershgo
 K_ff map per new pattern (10-15 %, of it np.unique's sort 8-10 %), the band choice and the
 factorisations (10 %); the plies cases' scratch frames 1.5 % (0.4 s), a paper case's figures
 and files 3-4 s (matplotlib's constrained layout a third of it, its XDMF series 0.5-1 s).
+The default report was not run again (about 1300 s of CPU, hours at this load): the same
+cuts apply there (the parting and the nets per process and case, the tools' offsets in the
+explicit forming runs), a few per cent of it; its CPU is still the solves above.
 
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
