@@ -126,6 +126,38 @@ and the cache loads a few seconds a worker. The whole default report was not run
 were measured at); nothing here changed its CPU, which EXPECTED_CPU_S (validation/report.py)
 states.
 
+The coarse report's waste cut (python -m validation --resolution coarse --jobs 1, one numba
+thread; the code before, main 544e521, and the code after run at the same time side by side,
+each on one of the 2 cores shared with other jobs, load 3.1-5.5; case CPU = results.json
+``case_cpu_s``, before / after, s): hemisphere-plies 102.5 / 101.2, hemisphere-forming 28.7 /
+25.2, plies-bai-5.1 22.3 / 22.7, plies-deck-of-cards 15.5 / 14.9, bai-5.1 13.9 / 13.2, the
+four other paper cases 29.5 / 29.8, the 14 others 13.6 / 12.4; the cases 226.0 / 219.4 s, the
+whole process 235.5 / 227.7 s (user + system), every check passed in both. Every check
+value and parameter of results.json the same in both (only the times differ). The same
+report before, alone on a quieter machine (load 1.5-2.9): 213.5 s of the cases, 221.5 s in
+all. What was cut: the kernels' parting check walked each loop again for every name it
+stores (benchmarks/kernel_parting.py: 1.4-1.8 -> 0.24 s a process, once in each report
+worker and each test process that runs a kernel); the pin-jointed nets marched crossing by
+crossing (benchmarks/drape_net.py: 0.59 -> 0.023 s a net, three in the coarse report); a
+rigid tool's offset and ``moves`` evaluated some ten times a step (benchmarks/tool_offsets.py:
+hemisphere-forming coarse -11 %). Tried and taken out: the assembler's map of K_ff rebuilt
+from the sorted keys of the leading parts that kept their structure (the plies' elements
+while their contact changes): the same map, the builds of plies-deck-of-cards coarse 2.18 ->
+1.88 s of its 15 s (450 builds), plies-bai-5.1 coarse 24.1 / 27.4 -> 24.9 / 25.6 s (no gain
+beyond the noise): not worth its code. Where the rest goes (cProfile of each case coarse,
+shares of the profiled run): hemisphere-plies about 60 % in the ply contact's facing search
+and friction (elements/ply_projection.py, ply_friction.py: the search once per state and
+block, the friction's return mapping twice a step, at the commit and in the next force), the
+die's facet search and the assembled stable step 3-6 % each; hemisphere-forming the die's
+facet search (about 20 %), the element and contact forces, the assembled Gershgorin step (6
+%); plies-bai-5.1 and plies-deck-of-cards the ply search in the tangents (about 25 %), the
+K_ff map per new pattern (10-15 %, of it np.unique's sort 8-10 %), the band choice and the
+factorisations (10 %); the plies cases' scratch frames 1.5 % (0.4 s), a paper case's figures
+and files 3-4 s (matplotlib's constrained layout a third of it, its XDMF series 0.5-1 s).
+The default report was not run again (about 1300 s of CPU, hours at this load): the same
+cuts apply there (the parting and the nets per process and case, the tools' offsets in the
+explicit forming runs), a few per cent of it; its CPU is still the solves above.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """

@@ -64,6 +64,10 @@ def _vector(value: ArrayLike, name: str, unit: bool = False) -> np.ndarray:
     return vector
 
 
+# the tool offsets kept, by load factor (RigidTool.offset)
+_OFFSETS_KEPT = 4
+
+
 class RigidTool:
     """A rigid surface: ``distance(x, load_factor)`` -> (d (k,), n (k, 3)), the signed
     distance (mm, > 0 on the body's side) and the unit normal towards the body's side, and
@@ -87,6 +91,7 @@ class RigidTool:
         mass: float | None = None,
     ):
         self.motion = _vector(motion, "motion")
+        self.motion.setflags(write=False)  # changed by giving another (``offset`` keeps it)
         if side not in ("outside", "inside"):
             raise ValueError(f"side must be 'outside' or 'inside', got {side!r}")
         self.sign = 1.0 if side == "outside" else -1.0
@@ -134,13 +139,29 @@ class RigidTool:
     @property
     def moves(self) -> bool:
         """Whether the tool has a motion."""
-        return bool(np.any(self.motion != 0.0))
+        # asked at every step by the contacts: kept for the motion it was found for
+        kept = self.__dict__.get("_moves")
+        if kept is None or kept[0] is not self.motion:
+            kept = (self.motion, bool(np.any(self.motion != 0.0)))
+            self.__dict__["_moves"] = kept
+        return kept[1]
 
     def offset(self, load_factor: float) -> np.ndarray:
         """(3,) the tool's translation at ``load_factor`` (tau), mm."""
-        if not self.moves:
-            return np.zeros(3)
-        return float(self.amplitude(load_factor)) * self.motion
+        # A step asks for it some ten times at two or three load factors (the contacts'
+        # forces, the tools' work over the step): the amplitude, a pure function of tau, is
+        # evaluated once for each of the last few, the same bits (each kept with the motion
+        # and the amplitude it was found with: a tool given others computes anew).
+        tau = float(load_factor)
+        offsets = self.__dict__.setdefault("_offsets", {})
+        kept = offsets.get(tau)
+        if kept is None or kept[0] is not self.motion or kept[1] is not self.amplitude:
+            if len(offsets) >= _OFFSETS_KEPT:
+                offsets.pop(next(iter(offsets)))
+            found = float(self.amplitude(load_factor)) * self.motion if self.moves else np.zeros(3)
+            kept = (self.motion, self.amplitude, found)
+            offsets[tau] = kept
+        return kept[2].copy()
 
     def contact(
         self,

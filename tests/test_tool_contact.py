@@ -165,3 +165,26 @@ def test_the_compiled_pass_gives_the_numpy_forces_of_a_meshed_die_on_a_moving_bl
     fast.freeze(state)
     fast.contact_forces(_pressed(mesh, 41, seed=41))
     assert fast_die.facet_record().shape == (mesh.n_nodes, 1)
+
+
+def test_a_tool_offset_follows_a_new_motion_or_amplitude_and_is_the_callers_own():
+    """The offset kept per load factor is the amplitude times the motion, the same bits,
+    computed anew when the tool is given another motion or amplitude; the array returned is
+    the caller's (changing it changes nothing kept), and the motion cannot be changed in
+    place."""
+    from femcore.loads import smooth_step
+
+    tool = RigidSphere((0.0, 0.0, 10.0), 5.0, motion=(0.0, 0.0, -3.0), amplitude="smooth")
+    for tau in (0.3, 0.7, 0.3, 1.0, 0.0, 0.3):
+        assert np.array_equal(tool.offset(tau), float(smooth_step(tau)) * np.array([0, 0, -3.0]))
+    given = tool.offset(0.3)
+    given += 100.0
+    assert np.array_equal(tool.offset(0.3), float(smooth_step(0.3)) * np.array([0, 0, -3.0]))
+    with pytest.raises(ValueError):
+        tool.motion[2] = 1.0
+    tool.motion = np.array([1.0, 0.0, 0.0])
+    assert tool.moves and np.array_equal(tool.offset(0.3), float(smooth_step(0.3)) * tool.motion)
+    tool.amplitude = lambda tau: 0.5
+    assert np.array_equal(tool.offset(0.3), [0.5, 0.0, 0.0])
+    tool.motion = np.zeros(3)
+    assert not tool.moves and np.array_equal(tool.offset(0.3), np.zeros(3))

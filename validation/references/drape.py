@@ -57,16 +57,25 @@ def fishnet_on_sphere(radius: float, cell: float, count: int, angle: float = 0.0
         on
     ]
     reach = radius**2 - 0.5 * cell**2
-    for si in (-1, 1):
-        for sj in (-1, 1):
-            for i in range(1, n + 1):
-                for j in range(1, n + 1):
-                    a = points[n + si * i - si, n + sj * j]  # towards the pole along warp
-                    b = points[n + si * i, n + sj * j - sj]
-                    d = points[n + si * i - si, n + sj * j - sj]
-                    p = _third_crossing(a, b, d, radius, reach)
-                    if p is not None and p[2] >= 0.0:
-                        points[n + si * i, n + sj * j] = p
+    # Each crossing needs its three neighbours towards the pole: those i + j = s apart lie on
+    # one anti-diagonal and are independent, so the march goes one anti-diagonal of the four
+    # quadrants at a time (the same operations on each crossing as one by one).
+    quadrant = np.array([(si, sj) for si in (-1, 1) for sj in (-1, 1)])
+    for total in range(2, 2 * n + 1):
+        i = np.arange(max(1, total - n), min(n, total - 1) + 1)
+        si = np.repeat(quadrant[:, 0], len(i))
+        sj = np.repeat(quadrant[:, 1], len(i))
+        i = np.tile(i, len(quadrant))
+        j = total - i
+        rows, columns = n + si * i, n + sj * j
+        p = _third_crossings(
+            points[rows - si, columns],  # towards the pole along warp
+            points[rows, columns - sj],
+            points[rows - si, columns - sj],
+            radius,
+            reach,
+        )
+        points[rows, columns] = p
     return {"u": k * cell, "v": k * cell, "points": points, "shear": _shear(points)}
 
 
@@ -83,20 +92,33 @@ def net_coordinates(xy: np.ndarray, angle: float) -> np.ndarray:
     )
 
 
-def _third_crossing(a, b, d, radius, reach):
-    """The point at distance cell from a and b on the sphere, away from d; None when there
-    is none (the net cannot close on the sphere) or a neighbour is missing."""
-    if not (np.isfinite(a).all() and np.isfinite(b).all() and np.isfinite(d).all()):
-        return None
-    alpha = reach / (radius**2 + a @ b)
-    base = alpha * (a + b)
+def _third_crossings(a, b, d, radius, reach):
+    """(k, 3) the points at distance cell from a and b (k, 3) on the sphere, away from d
+    (k, 3); NaN where there is none (the net cannot close on the sphere), a neighbour is
+    missing, or the point lies below the equator."""
+    ab = _dots(a, b)
+    alpha = reach / (radius**2 + ab)
+    base = alpha[:, None] * (a + b)
     normal = np.cross(a, b)
-    rest = radius**2 - base @ base
-    if rest < 0 or normal @ normal == 0:
-        return None
-    gamma = np.sqrt(rest / (normal @ normal))
-    first, second = base + gamma * normal, base - gamma * normal
-    return first if np.linalg.norm(first - d) > np.linalg.norm(second - d) else second
+    nn = _dots(normal, normal)
+    rest = radius**2 - _dots(base, base)
+    known = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1) & np.isfinite(d).all(axis=1)
+    closes = known & (rest >= 0) & (nn != 0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gamma = np.sqrt(rest / nn)
+    first = base + gamma[:, None] * normal
+    second = base - gamma[:, None] * normal
+    far = np.sqrt(_dots(first - d, first - d)) > np.sqrt(_dots(second - d, second - d))
+    p = np.where(far[:, None], first, second)
+    p[~(closes & (p[:, 2] >= 0.0))] = np.nan
+    return p
+
+
+def _dots(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(k,) the dot products of the rows of a and b (k, 3), each as ``a[i] @ b[i]`` gives it
+    (a stacked matrix product: the same bits as the 3-vectors' own, where a sum of the
+    products written out or einsum rounds otherwise)."""
+    return (a[:, None, :] @ b[:, :, None])[:, 0, 0]
 
 
 def _shear(points: np.ndarray) -> np.ndarray:
