@@ -86,8 +86,8 @@ the roll-up, the 2560-triangle cantilever and Peirce's MindlinShell(fabric) stri
 iterations and positions (their rounding is below tol / 10).
 
 Line 7, level_projection False -> True (same run, one thread, best of 3, load 5.1-5.4; the
-figures of lines 1-6 above are those of the solver before it, whose default is now line 7's
-True on the fibrous strips; the Mindlin strips have no block that gives level strains):
+figures of lines 1-6 above are those of the solver's default, False, the option's True
+being line 7; the Mindlin strips have no block that gives level strains):
 Peirce 3 increments 9-9-10 -> 6-5-6 iterations, 28 -> 17 tangents, 74 -> 46 force
 evaluations, 0.10 -> 0.24 s CPU; 12 increments 69 -> 51 tangents, 0.21 -> 0.60 s; heavy
 cantilever 10 cells 26-9-7 -> 6-5-4 (42 -> 15 tangents, 0.10 -> 0.17 s), 20 cells 25-9-8 ->

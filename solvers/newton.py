@@ -380,7 +380,6 @@ def _iterate(
             if straight is None:
                 straight = delta
             delta = run.levels.project(run, state, frames, straight, delta, k_ff)
-            run.info["level_projections"] += 1
         scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
         if solver.chords and smooth and scale == 1.0 and not (push or imposing):
             state, forces = chord_corrections(

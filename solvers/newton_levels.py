@@ -139,7 +139,7 @@ class LevelStrains:
         target = self.strains(state) + (forward - backward) / (2.0 * ALONG)
         free = dofs.free_slots
         k_scale = float(np.abs(k_ff.diagonal()).max(initial=0.0))
-        projected = delta.copy()
+        projected, swept = delta.copy(), False
         for _ in range(SWEEPS):
             error = (self.strains(dofs.advance(state, projected, frames)) - target).ravel()
             if np.abs(error).max(initial=0.0) <= TOLERANCE:
@@ -164,13 +164,15 @@ class LevelStrains:
             flat[free] += correction
             projected = flat.reshape(-1, N_COLUMNS)
             run.info["level_projection_sweeps"] += 1
+            swept = True
+        run.info["level_projections"] += swept
         return projected
 
     def _jacobian(
         self, state: State, frames: Frames, delta: np.ndarray, size: float, k: int
     ) -> sp.csr_matrix:
         """d(measures)/d(free unknowns) at the end of the step delta (n, 5), (k = cells p,
-        free): coloured central differences at that end, translations by PERTURB element
+        free): coloured one-sided differences at that end, translations by PERTURB element
         sizes, the directors turned by PERTURB rad about the iteration's frame vectors
         (V2 for alpha, V1 for beta; the derivative of the turn composed with the step's own
         turn differs from it by the step's rotation times the perturbation, which the sweeps

@@ -32,11 +32,14 @@ energy as Abaqus users judge ALLSD against ALLIE. ``Static`` warns when it excee
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from femcore.dofs import N_COLUMNS
 from femcore.rotation import cross
 from femcore.state import State
+from solvers.common import check_non_negative
 
 __all__ = ["STABILISATION_BOUND", "Dashpots"]
 
@@ -103,3 +106,15 @@ class Dashpots:
         """The dashpots' work over the increment ending at ``state``, N mm: twice D (the force
         of each dashpot is constant over the increment's pseudo-time in backward Euler)."""
         return 2.0 * self.energy(state)
+
+
+def check_stabilise(value: Any, path: str) -> float:
+    """The ``stabilise`` coefficient, checked: a finite number >= 0, zero on the arc-length
+    path (its load factor is an unknown, and the dashpots need the increment's)."""
+    coefficient = check_non_negative(value, "stabilise", "1/s^2 per unit load factor")
+    if coefficient > 0.0 and path != "load":
+        raise ValueError(
+            f"stabilise = {value!r} needs path='load' (the dashpots act over a known increment "
+            f"of the load factor), got path={path!r}"
+        )
+    return coefficient

@@ -66,7 +66,7 @@ from solvers.newton import IncrementFailed, Residual, Tangent, compression_free_
 from solvers.newton_fibres import FibreEdges
 from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream, output_path
-from solvers.stabilisation import STABILISATION_BOUND, Dashpots
+from solvers.stabilisation import STABILISATION_BOUND, Dashpots, check_stabilise
 from solvers.stop_diagnosis import stop_hint
 
 __all__ = ["PATHS", "Static", "StaticRun"]
@@ -172,13 +172,13 @@ class Static:
         MindlinShell(fabric) in 4-5-5 iterations (8-12-12 without). Counted in
         ``info["fibre_projections"]`` (steps) and ``info["fibre_projection_sweeps"]``; not with
         contact or other interactions.
-    level_projection : each Newton step that moves a node by more than 1e-2 element sizes
-        corrected, at the least energy in the iteration's tangent, so that the fibre strains
-        and shear angles of every level end where its first order puts them
-        (solvers.newton_levels; default True), on the blocks that give ``fibre_strains``
-        (FibrousShell): Peirce's fibrous cantilever in 6-5-6 iterations (9-9-10 without).
-        Counted in ``info["level_projections"]`` and ``info["level_projection_sweeps"]``; not
-        with contact or other interactions, prescribed motions, or on indefinite tangents.
+    level_projection : each Newton step moving a node by over 1e-2 element sizes corrected, at
+        the least energy in the iteration's tangent, so that every level's fibre strains and
+        shear angles end where its first order puts them (solvers.newton_levels; default False;
+        FibrousShell): Peirce's fibrous cantilever in 6-5-6 iterations (9-9-10 without) for
+        about twice the CPU (a finite-difference gradient); a bias specimen sheared by a force:
+        21-49-24-20 (4-4-3-3 without). ``info["level_projections"]`` counts the steps corrected;
+        not with interactions, prescribed motions, or on indefinite tangents.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
         compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never. None
         (the default): solvers.newton.COMPRESSION_FREE (1e-2) on a model with a block that offers
@@ -242,7 +242,7 @@ class Static:
         chords: int = 1,
         curved: bool = True,
         fibre_projection: bool = True,
-        level_projection: bool = True,
+        level_projection: bool = False,
         compression_free: float | None = None,
         follow_tools: bool = False,
         follow_tools_after_cut: bool = False,
@@ -426,18 +426,6 @@ class Static:
         )
 
 
-def check_stabilise(value: Any, path: str) -> float:
-    """The ``stabilise`` coefficient, checked: a finite number >= 0, zero on the arc-length
-    path (its load factor is an unknown, and the dashpots need the increment's)."""
-    coefficient = check_non_negative(value, "stabilise", "1/s^2 per unit load factor")
-    if coefficient > 0.0 and path != "load":
-        raise ValueError(
-            f"stabilise = {value!r} needs path='load' (the dashpots act over a known increment "
-            f"of the load factor), got path={path!r}"
-        )
-    return coefficient
-
-
 class StaticRun:
     """One solve in progress: the model, its tangent and linear solver, the last converged
     state and load factor, the frames and the info written so far. The Newton iterations
@@ -455,14 +443,11 @@ class StaticRun:
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
         self.compression_free = compression_free_ratio(solver.compression_free, model)
-        # The fibre-length projection of the Newton steps (solvers.newton_fibres), where the
-        # model has fibre edges.
+        # The projections of the Newton steps on the fibre lengths (solvers.newton_fibres) and
+        # the level strains (solvers.newton_levels; not with prescribed motion: on the bias
+        # extension it held back the shear that is the motion, 3-14-9-29 iterations and cuts).
         fibres = FibreEdges(model) if solver.fibre_projection else None
         self.fibres = fibres if fibres else None
-        # The level-strain projection (solvers.newton_levels), where a block gives its strains
-        # and no motion is prescribed: on the bias extension (tests/test_bias_extension.py) it
-        # held back the in-plane shear that is the motion itself (3-14-9-29 iterations and
-        # cuts where the default takes at most 6).
         use_levels = solver.level_projection and not model.has_prescribed
         levels = LevelStrains(model) if use_levels else None
         self.levels = levels if levels else None
