@@ -246,8 +246,8 @@ class PlyContactBlock(InteractionBlock):
         """The points p (P, 3), their candidate triangles (P, K) and the lower corners y
         (m, 3, 3) at ``state``."""
         p, y = self._faces(state)
-        if self.candidates is None:
-            return p, self.search.near(p, y), y
+        if self.candidates is None:  # curved faces: made at this state alone (ply_search.py)
+            return p, (self.search.fresh if self.curved else self.search.near)(p, y), y
         _, near = cKDTree(y.mean(axis=1)).query(p, k=self.candidates)
         return p, np.asarray(near).reshape(len(p), self.candidates), y
 

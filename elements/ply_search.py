@@ -43,6 +43,9 @@ point's delta reaches the bound, every point past ``REBUILD_SHARE`` of it is sea
 explicit step moves the plies by a small part of a cell, so a list serves many steps; a
 Newton iterate that moves further is searched again: the answer is the same.
 
+The curved faces (elements/ply_curved.py) read the whole list, not only its nearest: their
+lists are made at each call (``FacingSearch.fresh``), so that the answer is the state's alone.
+
 The skin s is ``SKIN`` times the lower face's mean edge length at bind: larger, a list serves
 longer but holds more triangles, which every call's ``closest_facing`` measures.
 """
@@ -177,6 +180,13 @@ class FacingSearch:
             lists = self._refresh(lists, rows, p, y, moved, shift)
             self._lists = lists
         return lists.near
+
+    def fresh(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """(P, K) int: the lists made at (p, y) alone, not kept. A choice that reads the whole
+        list, not only its nearest (the curved faces' choice among the patches that hold the
+        projection, elements/ply_curved.py), needs these: a kept list holds the triangles
+        within s of the nearest when it was made, a set that depends on the calls before."""
+        return self._search(p, y, np.arange(len(p)))[0]
 
     def _renew(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Every point searched at y: a new epoch."""
