@@ -140,9 +140,11 @@ class RigidTool:
     def moves(self) -> bool:
         """Whether the tool has a motion."""
         # asked at every step by the contacts: kept for the motion it was found for
+        # kept for the motion's value (a restored copy or a new array may be written in place)
         kept = self.__dict__.get("_moves")
-        if kept is None or kept[0] is not self.motion:
-            kept = (self.motion, bool(np.any(self.motion != 0.0)))
+        motion = self.motion.tobytes()
+        if kept is None or kept[0] != motion:
+            kept = (motion, bool(np.any(self.motion != 0.0)))
             self.__dict__["_moves"] = kept
         return kept[1]
 
@@ -150,16 +152,17 @@ class RigidTool:
         """(3,) the tool's translation at ``load_factor`` (tau), mm."""
         # A step asks for it some ten times at two or three load factors (the contacts'
         # forces, the tools' work over the step): the amplitude, a pure function of tau, is
-        # evaluated once for each of the last few, the same bits (each kept with the motion
-        # and the amplitude it was found with: a tool given others computes anew).
+        # evaluated once for each of the last few, the same bits (each kept with the motion's
+        # value and the amplitude it was found with: a tool given others computes anew).
         tau = float(load_factor)
         offsets = self.__dict__.setdefault("_offsets", {})
         kept = offsets.get(tau)
-        if kept is None or kept[0] is not self.motion or kept[1] is not self.amplitude:
+        motion = self.motion.tobytes()
+        if kept is None or kept[0] != motion or kept[1] is not self.amplitude:
             if len(offsets) >= _OFFSETS_KEPT:
                 offsets.pop(next(iter(offsets)))
             found = float(self.amplitude(load_factor)) * self.motion if self.moves else np.zeros(3)
-            kept = (self.motion, self.amplitude, found)
+            kept = (motion, self.amplitude, found)
             offsets[tau] = kept
         return kept[2].copy()
 
