@@ -574,7 +574,10 @@ class Residual:
         model, f_ext, m_ext = self.model, self.f_ext, self.m_ext
         if forces is None:
             self.counts["residual"] += 1
-            forces = model.internal_force(state)
+            try:
+                forces = model.internal_force(state)
+            except ZeroDivisionError as error:  # e.g. a node's normal sum vanished
+                raise IncrementFailed(f"the internal forces cannot be evaluated: {error}") from None
         f_int, m_int = forces
         f_out, m_out = f_ext - f_int, m_ext - m_int
         if self.dashpots is not None:

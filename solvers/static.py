@@ -443,9 +443,8 @@ class StaticRun:
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
         self.compression_free = compression_free_ratio(solver.compression_free, model)
-        # The projections of the Newton steps on the fibre lengths (solvers.newton_fibres) and
-        # the level strains (solvers.newton_levels; not with prescribed motion: on the bias
-        # extension it held back the shear that is the motion, 3-14-9-29 iterations and cuts).
+        # The steps' projections on the fibre lengths (solvers.newton_fibres) and the level strains
+        # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).
         fibres = FibreEdges(model) if solver.fibre_projection else None
         self.fibres = fibres if fibres else None
         use_levels = solver.level_projection and not model.has_prescribed
@@ -583,10 +582,13 @@ class StaticRun:
         return tuple(a - b for a, b in zip(upper, lower))
 
     def energy(self, state: State) -> float:
-        """The strain energy at ``state`` (with the dashpots' pseudo-potential in a
-        stabilised increment), N mm."""
+        """The strain energy at ``state`` (with the dashpots' pseudo-potential in a stabilised
+        increment), N mm; inf at a trial no element can be evaluated at (a vanished normal)."""
         self.counts["energy"] += 1
-        energy = self.model.strain_energy(state)
+        try:
+            energy = self.model.strain_energy(state)
+        except ZeroDivisionError:
+            return np.inf
         if self.dashpots is not None:
             energy += self.dashpots.energy(state)
         return energy
