@@ -486,9 +486,11 @@ class PlyContactBlock(InteractionBlock):
         if facing.fade is None or facing.reach is None or facing.on_growth is None:
             return self.springs()  # the curved faces carry no fade
         past = np.any((facing.reach > 0.0) & (facing.weights < 0.0), axis=1)
-        factor = stiffness_factor(
-            facing.gradients, facing.reach, past, facing.on_growth, self.depth
-        )
+        # a touching point held by a growth's plane in the band may lie deeper than the plies
+        # (elements/ply_projection.py, "Past the outline, deeper than the plies"): its own
+        # depth bounds |p - q| there
+        reached = np.where(facing.touching, np.maximum(self.depth, -facing.gap), self.depth)
+        factor = stiffness_factor(facing.gradients, facing.reach, past, facing.on_growth, reached)
         return self._springs(self.stiffness * factor)
 
     def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

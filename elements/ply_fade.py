@@ -171,7 +171,7 @@ def stiffness_factor(
     reach: np.ndarray,
     band: np.ndarray,
     beside: np.ndarray,
-    depth: float,
+    depth: float | np.ndarray,
 ) -> np.ndarray:
     """An upper bound c_p >= 1 of the stiffness of the faded energy w W(g) along any direction
     of the point p, in times the penalty k (module docstring, "Stiffness").
@@ -187,8 +187,11 @@ def stiffness_factor(
         facing triangle (lambda_k < 0), or it is ``beside`` (elsewhere w = 1: c_p = 1).
     beside : (c,) bool
         Its closest point lies on a growth's edge or at an outline vertex (the angle's fade).
-    depth : float
-        The deepest gap at which a point in the band touches, mm.
+    depth : float or (c,) float
+        The deepest gap at which each point in the band touches, mm: the plies' half
+        thicknesses a + b beside a growth's edge, and a point's own depth where a growth's
+        plane holds it deeper (elements/ply_projection.py, "Past the outline, deeper than the
+        plies").
 
     Returns
     -------

@@ -587,8 +587,8 @@ def closest_facing(
     # it faces an edge, a vertex or a turned layer ("Deeper than the plies")
     beside = on_edge & (chosen_gap < -depth)
     # a point held by a growth's plane, its projection past the outline, deeper than the
-    # plies: beside the ply too ("Past the outline, deeper than the plies")
-    beside |= (lam.min(axis=-1) < -INSIDE) & (chosen_gap < -depth)
+    # plies: beside the ply where the fade is 0, carried there continuously by the fade from
+    # the face's full W (``fade > 0`` below; "Past the outline, deeper than the plies")
     if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
         turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
         beside |= turned & (chosen_gap < -depth)
