@@ -39,8 +39,9 @@ a function of the coordinates lambda, linear in p: |grad w_e| <= 1.5 G / FADE an
 ||hess w_e|| <= 6 (G / FADE)^2, G = sum_k |grad phi_k| over the outline edges (1 / the
 heights); with |grad (W w_a)| <= k r (1 + (0.75 / SIDEWAYS)^2)^(1/2) and W w_a <= k r^2 / 2,
 the product's Hessian is at most k (12 + 3 A x + 3 x^2), x = r G / FADE, A = (1 + (0.75 /
-SIDEWAYS)^2)^(1/2), r at most the depth down to which a point in the band touches (the
-plies' half thicknesses a + b, elements/ply_projection.py "Deeper than the plies").
+SIDEWAYS)^2)^(1/2), r = |p - q| = |g|: at most the plies' half thicknesses a + b, or the
+point's own depth where it lies deeper (past the outline the fade carries a point at any
+depth, elements/ply_projection.py "Past the outline, deeper than the plies").
 """
 
 from __future__ import annotations
