@@ -106,13 +106,13 @@ p passes the plane beside q, the one place where the sign flips at a distance. S
 is continuous where a point leaves the face past the outline and where its sign flips beside
 it; a point touches where w > 0. What is left: a change of facing triangle between candidates
 whose fades differ (w W changes by the difference, small where the plies touch, W being small
-near g = 0, not at depth: "Past the outline, deeper than the plies") and the depth bounds off
-the outline below (at most W(-depth)). The growths still keep the gap a
-distance where the facing triangle changes past the outline. The mortar methods' contact
-(segment to segment, Puso and Laursen, CMAME 193 (2004) 601) fades so by construction, the
-contact integrated over the two faces' overlap, which shrinks to nothing at an outline; a
-point-to-face contact needs the weight. The tangent takes w's second derivative as the
-central difference of its exact gradient.
+near g = 0, though not for a point deeper than the plies on a growth's plane: "Past the
+outline, deeper than the plies") and the depth bounds below (at most W(-depth)). The
+growths still keep the gap a distance where the facing triangle changes past the outline.
+The mortar methods' contact (segment to segment, Puso and Laursen, CMAME 193 (2004) 601)
+fades so by construction, the contact integrated over the two faces' overlap, which shrinks
+to nothing at an outline; a point-to-face contact needs the weight. The tangent takes w's
+second derivative as the central difference of its exact gradient.
 
 Past the outline, deeper than the plies. A point held by a growth's plane (its projection
 past the outline, within MARGIN) deeper than ``depth`` touches as on the face: the fade
@@ -129,8 +129,8 @@ a growth's plane onto the face of the same triangle and came into contact at ful
 (tests/test_ply_outline_fade.py). A point beside a growth's edge or at an outline vertex keeps
 the bound of an edge ("Deeper than the plies"), so a deep point passing there from a growth's
 plane still loses w W(g) in a step: without that bound too, the same run stopped at 83 % of
-the stroke on a point that passed from an outline triangle's inner edge, +3.20 mm, onto a
-growth's edge, -3.20 mm signed by the triangle's normal, +109.9 N mm in a step. The price: a
+the stroke on a point that passed from facing an outline triangle off its growths, +3.20 mm,
+onto a growth's edge, -3.20 mm signed by the triangle's normal, +109.9 N mm in a step. The price: a
 deep point in the band carries w W(g) and w's gradient, a stiffness growing as (|g| G /
 FADE)^2 (elements/ply_fade.py, "Stiffness"; ``PlyContactBlock.springs_at`` takes each touching
 point's own depth), and where its facing triangle changes between two growths whose fades
