@@ -478,7 +478,8 @@ class PlyContactBlock(InteractionBlock):
     def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """``springs`` with each point's penalty k_p times the bound c_p of its faded energy's
         stiffness (elements/ply_fade.py, "Stiffness"): 12 and more for a point beside a
-        growth's edge or an outline vertex, 1 + O(depth / height) for one past an outline edge,
+        growth's edge or an outline vertex, 1 + O(depth / height) for one past an outline edge
+        (depth the plies' half thicknesses, or a touching point's own depth where deeper),
         1 elsewhere, so the step shrinks only while a point is in the fade's band. Evaluated
         with the step (every ``STABLE_DT_EVERY`` steps, solvers/explicit.py): a point that
         enters the band in between has k_p in the springs until then."""
@@ -486,9 +487,11 @@ class PlyContactBlock(InteractionBlock):
         if facing.fade is None or facing.reach is None or facing.on_growth is None:
             return self.springs()  # the curved faces carry no fade
         past = np.any((facing.reach > 0.0) & (facing.weights < 0.0), axis=1)
-        factor = stiffness_factor(
-            facing.gradients, facing.reach, past, facing.on_growth, self.depth
-        )
+        # a touching point held by a growth's plane in the band may lie deeper than the plies
+        # (elements/ply_projection.py, "Past the outline, deeper than the plies"): its own
+        # depth bounds |p - q| there
+        reached = np.where(facing.touching, np.maximum(self.depth, -facing.gap), self.depth)
+        factor = stiffness_factor(facing.gradients, facing.reach, past, facing.on_growth, reached)
         return self._springs(self.stiffness * factor)
 
     def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -75,7 +75,8 @@ as one facing a triangle whose normal points against the point's own ply (a laye
 turned away from it; elements/ply_projection.py, "Deeper than the plies" and "A layer turned
 away"). Past the lower ply's outline its energy fades: w W(g), w falling continuously to 0
 as the point leaves the face past an outline edge or lies beside it (elements/ply_fade.py;
-elements/ply_projection.py, "Past the outline, faded"), and the force below carries w's
+elements/ply_projection.py, "Past the outline, faded"; at any depth where a growth's plane
+holds the point, "Past the outline, deeper than the plies"), and the force below carries w's
 gradient, W dw/dz, beside w W' dg/dz.
 
 The force is the exact gradient of sum W: on p, dW/dp = W' n, to the upper corners N_j W' n;

@@ -39,8 +39,9 @@ a function of the coordinates lambda, linear in p: |grad w_e| <= 1.5 G / FADE an
 ||hess w_e|| <= 6 (G / FADE)^2, G = sum_k |grad phi_k| over the outline edges (1 / the
 heights); with |grad (W w_a)| <= k r (1 + (0.75 / SIDEWAYS)^2)^(1/2) and W w_a <= k r^2 / 2,
 the product's Hessian is at most k (12 + 3 A x + 3 x^2), x = r G / FADE, A = (1 + (0.75 /
-SIDEWAYS)^2)^(1/2), r at most the depth down to which a point in the band touches (the
-plies' half thicknesses a + b, elements/ply_projection.py "Deeper than the plies").
+SIDEWAYS)^2)^(1/2), r = |p - q| = |g|: at most the plies' half thicknesses a + b, or the
+point's own depth where it lies deeper (past the outline the fade carries a point at any
+depth, elements/ply_projection.py "Past the outline, deeper than the plies").
 """
 
 from __future__ import annotations
@@ -171,7 +172,7 @@ def stiffness_factor(
     reach: np.ndarray,
     band: np.ndarray,
     beside: np.ndarray,
-    depth: float,
+    depth: float | np.ndarray,
 ) -> np.ndarray:
     """An upper bound c_p >= 1 of the stiffness of the faded energy w W(g) along any direction
     of the point p, in times the penalty k (module docstring, "Stiffness").
@@ -187,8 +188,11 @@ def stiffness_factor(
         facing triangle (lambda_k < 0), or it is ``beside`` (elsewhere w = 1: c_p = 1).
     beside : (c,) bool
         Its closest point lies on a growth's edge or at an outline vertex (the angle's fade).
-    depth : float
-        The deepest gap at which a point in the band touches, mm.
+    depth : float or (c,) float
+        The deepest gap at which each point in the band touches, mm: the plies' half
+        thicknesses a + b beside a growth's edge, and a point's own depth where a growth's
+        plane holds it deeper (elements/ply_projection.py, "Past the outline, deeper than the
+        plies").
 
     Returns
     -------

@@ -106,20 +106,35 @@ p passes the plane beside q, the one place where the sign flips at a distance. S
 is continuous where a point leaves the face past the outline and where its sign flips beside
 it; a point touches where w > 0. What is left: a change of facing triangle between candidates
 whose fades differ (w W changes by the difference, small where the plies touch, W being small
-near g = 0) and the depth bounds below (at most W(-depth)). The growths still keep the gap a
-distance where the facing triangle changes past the outline. The mortar methods' contact
-(segment to segment, Puso and Laursen, CMAME 193 (2004) 601) fades so by construction, the
-contact integrated over the two faces' overlap, which shrinks to nothing at an outline; a
-point-to-face contact needs the weight. The tangent takes w's second derivative as the
-central difference of its exact gradient.
+near g = 0, though not for a point deeper than the plies on a growth's plane: "Past the
+outline, deeper than the plies") and the depth bounds below (at most W(-depth)). The
+growths still keep the gap a distance where the facing triangle changes past the outline.
+The mortar methods' contact (segment to segment, Puso and Laursen, CMAME 193 (2004) 601)
+fades so by construction, the contact integrated over the two faces' overlap, which shrinks
+to nothing at an outline; a point-to-face contact needs the weight. The tangent takes w's
+second derivative as the central difference of its exact gradient.
 
 Past the outline, deeper than the plies. A point held by a growth's plane (its projection
-past the outline, within MARGIN) deeper than ``depth`` is beside the ply too: at the
-growth's far edge it otherwise passed between touching on the plane and beside on the edge
-at any depth. Measured on the Mindlin [0/45] two-ply hemisphere (8 cells, 20 N): the bottom
-ply's corner node, 3.35 mm behind the top ply's face on a growth's far edge, came into
-contact in one step, +146 N mm (k = 26 N/mm), and stopped the run at 67 % of the stroke on
-its energy balance; with the bound it reaches the end (tests/test_ply_facet_switch.py).
+past the outline, within MARGIN) deeper than ``depth`` touches as on the face: the fade
+carries its energy w W(g) from the face's full W at the outline edge to 0 at ``FADE`` past
+it, continuously, before the growth's far edge, where it used to pass between touching on
+the plane and beside on the edge at any depth (measured on the Mindlin [0/45] two-ply
+hemisphere, 8 cells, 20 N: the bottom ply's corner node, 3.35 mm behind the top ply's face on
+a growth's far edge, came into contact in one step, +146 N mm at k = 26 N/mm, and stopped the
+run at 67 % of the stroke; tests/test_ply_facet_switch.py). Before, such a point was beside
+the ply, a switch at the outline edge itself: on the Mindlin [0/90] hemisphere at 10 cells
+(validation/studies/hemisphere_plies_jumps.py) a mirrored-pass point 2.21 mm deep moved from
+a growth's plane onto the face of the same triangle and came into contact at full depth,
++169.8 N mm in one step, and the run stopped on its energy balance at 99 % of the stroke
+(tests/test_ply_outline_fade.py). A point beside a growth's edge or at an outline vertex keeps
+the bound of an edge ("Deeper than the plies"), so a deep point passing there from a growth's
+plane still loses w W(g) in a step: without that bound too, the same run stopped at 83 % of
+the stroke on a point that passed from facing an outline triangle off its growths, +3.20 mm,
+onto a growth's edge, -3.20 mm signed by the triangle's normal, +109.9 N mm in a step. The price: a
+deep point in the band carries w W(g) and w's gradient, a stiffness growing as (|g| G /
+FADE)^2 (elements/ply_fade.py, "Stiffness"; ``PlyContactBlock.springs_at`` takes each touching
+point's own depth), and where its facing triangle changes between two growths whose fades
+differ its energy changes by the difference times W(g), no longer small at depth.
 
 Deeper than the plies. Where the lower ply is folded back onto itself (a wrinkle's flap laid
 over, the two triangles of the fold with opposite normals), a point past the fold's edge is
@@ -498,9 +513,8 @@ def closest_facing(
     depth : float
         mm: a point with a gap below -depth does not touch where it faces an edge, a vertex
         or, with ``toward``, a triangle turned away from it (module docstring, "Deeper than
-        the plies"; the contact passes both faces' half thicknesses); finite, a closest
-        point on a growth within it of its triangle does not make the point beside the ply
-        ("Beside the outline", next to its vertex).
+        the plies"; the contact passes both faces' half thicknesses); held by a growth's
+        plane, the fade carries it ("Past the outline, deeper than the plies").
     toward : (P, 3) float, optional
         Each point's direction from the lower ply to its own (any length; the side towards
         which a facing triangle's normal points): a triangle whose normal points against it
@@ -583,15 +597,6 @@ def closest_facing(
             hessian[edge] = bend
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
-    # a point deeper than the plies, whatever it faces, is on the lower ply's other side where
-    # it faces an edge, a vertex or a turned layer ("Deeper than the plies")
-    beside = on_edge & (chosen_gap < -depth)
-    # a point held by a growth's plane, its projection past the outline, deeper than the
-    # plies: beside the ply too ("Past the outline, deeper than the plies")
-    beside |= (lam.min(axis=-1) < -INSIDE) & (chosen_gap < -depth)
-    if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
-        turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
-        beside |= turned & (chosen_gap < -depth)
     # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
     # outline, faded"): a point whose closest point lies there, off the face's sides, signed
     # by the facing triangle's normal
@@ -599,6 +604,15 @@ def closest_facing(
 
     on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
     on_growth |= at_rim
+    # a point deeper than the plies is on the lower ply's other side where it faces an edge, a
+    # vertex or a turned layer ("Deeper than the plies"); held by a growth's plane past the
+    # outline, the fade carries its energy to 0 continuously from the face's full W ("Past
+    # the outline, deeper than the plies")
+    deep = chosen_gap < -depth
+    beside = on_edge & deep
+    if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
+        turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
+        beside |= turned & deep
     # w = 1 off the outline triangles and their growths: computed where it can differ
     fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 4, 3))
     near_outline = np.flatnonzero(on_growth | (reach[rows, best] > 0.0).any(axis=-1))

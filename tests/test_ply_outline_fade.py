@@ -97,3 +97,53 @@ def test_the_contact_force_works_what_its_energy_changes_round_the_outline(
     assert np.abs(np.diff(energy) - work).max() <= step_bound * largest
     assert abs(work.sum()) <= loop_bound * largest
     assert abs(energy[-1] - energy[0]) <= 1e-12 * largest  # sin(2 pi) is not 0
+
+
+DEEP = 1.0  # mm behind the lower face: five times the plies' reach (0.2 mm)
+
+
+def test_a_point_deeper_than_the_plies_crossing_from_a_growth_onto_the_face_works_its_energy():
+    """The upper triangle's centroid 1 mm behind the lower face (deeper than both faces' half
+    thicknesses, 0.2 mm) moves from 0.3 mm past the outline edge y = 0 of the flat lower ply
+    (its projection held by the growth's plane, beyond the fade's 0.15) onto the face 0.3 mm
+    inside, in 2000 steps, while the lower ply's nodes move too. What the two-ply Mindlin
+    [0/90] hemisphere did (validation/studies/hemisphere_plies_jumps.py, 10 cells, 20 N): a
+    mirrored-pass point 2.21 mm deep moved from a growth's plane, where it was beside the
+    ply, onto the face of the same triangle and switched into contact at full depth, +169.8
+    N mm in one step, and the run stopped on its energy balance. Reference: the contact is a
+    potential (the work of its force equals the change of its energy, trapezoidal rule per
+    step, on the upper triangle's and the lower ply's nodes): per step within 1e-4 of the
+    largest energy (measured 1.9e-6, the rule's error; the code before made W(-1 mm) = 150
+    N mm at the point's k_p = 300 N/mm, the whole energy, in one step at the outline).
+    Premises: deeper than the plies all along, touching on the face and not beyond the
+    fade."""
+    block, positions, directors = _loop((1.5, 0.0), 0.0)
+    count = 2000
+    across = np.linspace(-0.3, 0.3, count + 1)
+    # the lower ply's nodes move in its plane (a fold would hand the deep point to an inner
+    # edge, where "Deeper than the plies" holds)
+    wobble = 0.02 * np.random.default_rng(3).standard_normal(positions[0][:9].shape)
+    wobble[:, 2] = 0.0
+    # the upper face 1 mm behind the lower face z = 0.1: its mid-surface at 0.1 - 1 + 0.1
+    lowered = positions[0].copy()
+    lowered[9:, 2] -= DEEP - 0.03
+    moved = np.repeat(lowered[None], count + 1, axis=0)
+    moved[:, 9:, 0] -= 0.3  # the centroid from (1.8, y) to (1.5, y), over the edge's middle
+    moved[:, 9:, 1] += across[:, None]
+    s = np.linspace(0.0, 1.0, count + 1)
+    moved[:, :9] += s[:, None, None] * wobble
+    zero = np.zeros_like(moved[0])
+    energy, forces, gaps, touching = [], [], [], []
+    for x in moved:
+        state = State(x, directors, zero, zero)
+        energy.append(block.strain_energy(state))
+        forces.append(block.internal_force(state)[0])
+        facing = block.facing(state)
+        gaps.append(float(facing.gap[0]))
+        touching.append(bool(facing.touching[0]))
+    energy, forces = np.array(energy), np.array(forces)
+    work = np.einsum("sni,sni->s", 0.5 * (forces[1:] + forces[:-1]), np.diff(moved, axis=0))
+    largest = energy.max()
+    assert max(gaps) < -block.depth and touching[-1] and not touching[0]
+    assert largest > 0.9 * 0.5 * float(block.stiffness[0]) * DEEP**2  # W(-1 mm) on the face
+    assert np.abs(np.diff(energy) - work).max() <= 1e-4 * largest
