@@ -35,6 +35,14 @@ busy processes (``--busy 2 --configurations passive``, 20k triangles, load 3.1):
 ms, the default 33.29 (0.95; it chose one thread), all threads 26.33 (0.75): within the issue's
 1.3.
 
+Again on a quiet machine (load 0.56-0.79, nothing else running; main 6529b3b, the fibrous
+kernels as before, the ply search and the tools' kept offsets new), ``--cells 224 --busy 0
+--configurations passive --steps 30 --repeats 5``, two processes one after the other: 1 thread
+46.21 / 45.35 ms a step, the default (2 of 2) 29.43 / 27.39 (ratio 0.64 / 0.60: 1.57-1.66 x),
+all threads 28.86 / 27.91 (1.60-1.62 x); the reference pass 0.86 ms. About 0.73-0.75 of the
+one-thread step runs on both threads (Amdahl): the die's facet search and the step's numpy
+updates are the serial rest, short of the issue's 1.7 x.
+
 Run from the project root:
 
     python benchmarks/threads.py                     # 100 x 100 x 2 = 20k triangles
