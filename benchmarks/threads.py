@@ -40,8 +40,8 @@ kernels as before, the ply search and the tools' kept offsets new), ``--cells 22
 --configurations passive --steps 30 --repeats 5``, two processes one after the other: 1 thread
 46.21 / 45.35 ms a step, the default (2 of 2) 29.43 / 27.39 (ratio 0.64 / 0.60: 1.57-1.66 x),
 all threads 28.86 / 27.91 (1.60-1.62 x); the reference pass 0.86 ms. About 0.73-0.75 of the
-one-thread step runs on both threads (Amdahl): the die's facet search and the step's numpy
-updates are the serial rest, short of the issue's 1.7 x.
+one-thread step runs on both threads (Amdahl), short of the issue's 1.7 x; what the serial
+rest is was not traced (candidates: the step's numpy updates, the contacts' searches).
 
 Run from the project root:
 
