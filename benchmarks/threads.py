@@ -40,15 +40,14 @@ kernels as before, the ply search and the tools' kept offsets new), ``--cells 22
 --configurations passive --steps 30 --repeats 5``, two processes one after the other: 1 thread
 46.21 / 45.35 ms a step, the default (2 of 2) 29.43 / 27.39 (ratio 0.64 / 0.60: 1.57-1.66 x),
 all threads 28.86 / 27.91 (1.60-1.62 x); the reference pass 0.86 ms. About 0.73-0.75 of the
-one-thread step runs on both threads (Amdahl), short of the issue's 1.7 x. A profile of 30
-steps (cProfile, wall, the same process, one thread then two) shows the parallel kernels
-themselves short of 2 x: the fibrous cells' pass 21.9 -> 14.2 ms a step (1.54 x), the pulls
-3.5 -> 2.4 (1.46), the side folds 3.3 -> 2.5 (1.30), the normals 2.8 -> 2.2 (1.29), the die's
-kept closest facets 2.7 -> 1.8 (1.53); the contacts' positions (numpy, 2.4 ms) and the rotation
-update (1.5 ms) stay serial. The two cores are not shared: two compute-bound processes side by
-side take the time of one alone (0.86-0.91 s against 0.87-0.91). The blank scales less at 20k
-(1.44 x) and 5k (1.10 x), so the kernels' own fork, join and balance are the limit: not traced
-further.
+one-thread step runs on both threads (Amdahl), short of the issue's 1.7 x. Timed inside the
+steps (30 steps, wall, FOLLOW_LOAD off, one thread then two, three rounds, load ~1): the
+fibrous block's internal force 33.5-35.9 -> 18.8-24.8 ms a step (up to 1.8 x; called alone
+on the same state 33.1-33.8 -> 17.6-22.4, 1.9 x at best), the whole step 46.4-49.3 -> 30.2-37.4:
+the rest of the step, 13-14 ms on one thread (the die's contact, the rotation update, numpy
+updates), takes 11.5-12.6 on two. The two cores are not shared: two compute-bound processes
+side by side take the time of one alone (0.86-0.91 s against 0.87-0.91). The blank scales less
+at 20k (1.44 x) and 5k (1.10 x). So the serial rest of the step is the limit, not the kernels.
 
 Run from the project root:
 
