@@ -38,6 +38,8 @@ __all__ = [
     "finite_difference_tangent",
     "generalised_blocks",
     "generalised_sparse",
+    "greedy_colours",
+    "node_adjacency",
     "tangent_matrix",
 ]
 
@@ -440,6 +442,35 @@ class FreeTangentAssembler:
         return k_ff, k_fp
 
 
+def node_adjacency(n: int, connectivities: list[np.ndarray]) -> sp.csr_matrix:
+    """(n, n) float, 1 where two nodes share a cell of any of ``connectivities`` ((m, k) int
+    each), and on the diagonal."""
+    rows, cols = [np.arange(n)], [np.arange(n)]
+    for cells in connectivities:
+        k = cells.shape[1]
+        rows.append(np.repeat(cells, k, axis=1).ravel())
+        cols.append(np.tile(cells, (1, k)).ravel())
+    row, col = np.concatenate(rows), np.concatenate(cols)
+    adjacency = sp.csr_matrix((np.ones(row.size), (row, col)), shape=(n, n))
+    return adjacency.astype(bool).astype(float)
+
+
+def greedy_colours(conflict: sp.csr_matrix) -> np.ndarray:
+    """(n,) int, a colour per node such that no two nodes of a stored entry of ``conflict``
+    ((n, n), its diagonal stored) share one: each node, in order, takes the least colour its
+    coloured neighbours leave (a loop over the nodes, once per model or solve, not per step)."""
+    n = conflict.shape[0]
+    colour = np.full(n, -1)
+    indptr, indices = conflict.indptr, conflict.indices
+    for node in range(n):
+        taken = set(colour[indices[indptr[node] : indptr[node + 1]]].tolist())
+        c = 0
+        while c in taken:
+            c += 1
+        colour[node] = c
+    return colour
+
+
 class NodeGraph:
     """Node colouring and sparsity pattern for the finite-difference tangent of some blocks.
 
@@ -459,27 +490,12 @@ class NodeGraph:
 
     def __init__(self, n_nodes: int, connectivities: list[np.ndarray], reach: int):
         n = n_nodes
-        rows, cols = [np.arange(n)], [np.arange(n)]
-        for cells in connectivities:
-            k = cells.shape[1]
-            rows.append(np.repeat(cells, k, axis=1).ravel())
-            cols.append(np.tile(cells, (1, k)).ravel())
-        row, col = np.concatenate(rows), np.concatenate(cols)
-        adjacency = sp.csr_matrix((np.ones(row.size), (row, col)), shape=(n, n))
-        adjacency = adjacency.astype(bool).astype(float)
+        adjacency = node_adjacency(n, connectivities)
         pattern = adjacency
         for _ in range(reach - 1):
             pattern = (pattern @ adjacency).astype(bool).astype(float)
         pattern = pattern.tocsr()
-        conflict = (pattern @ pattern).tocsr()  # within 2 x reach hops
-        colour = np.full(n, -1)
-        indptr, indices = conflict.indptr, conflict.indices
-        for node in range(n):  # greedy colouring, once per model (not per step)
-            taken = set(colour[indices[indptr[node] : indptr[node + 1]]].tolist())
-            c = 0
-            while c in taken:
-                c += 1
-            colour[node] = c
+        colour = greedy_colours((pattern @ pattern).tocsr())  # conflicts within 2 x reach hops
         self.colour = colour
         self.n_colours = int(colour.max()) + 1 if n else 0
         coo = pattern.tocoo()

@@ -36,6 +36,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from femcore.assembly import greedy_colours, node_adjacency
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel
 
@@ -76,7 +77,7 @@ class LevelStrains:
         connectivities = [p.connectivity for p in self.parts]
         pairs_cell, pairs_node = [], []
         offset = 0
-        ring = _adjacency(n, connectivities)
+        ring = node_adjacency(n, connectivities)
         for part in self.parts:
             cells = part.connectivity
             m = len(cells)
@@ -94,14 +95,7 @@ class LevelStrains:
         # graph, once per solve; the strains of a cell reach the nodes one cell from its
         # corners through the nodal normals).
         reach = sp.csr_matrix((np.ones(cell.size), (cell, node)), shape=(offset, n))
-        conflict = (reach.T @ reach).tocsr()
-        colour = np.full(n, -1)
-        for i in range(n):
-            taken = set(colour[conflict.indices[conflict.indptr[i] : conflict.indptr[i + 1]]])
-            c = 0
-            while c in taken:
-                c += 1
-            colour[i] = c
+        colour = greedy_colours((reach.T @ reach).tocsr())
         self.groups = [np.flatnonzero(colour == c) for c in range(int(colour.max()) + 1)]
         # The node of each colour that moves each cell (unique by the colouring).
         self.node_of = np.full((offset, len(self.groups)), -1, dtype=np.int64)
@@ -214,14 +208,3 @@ class LevelStrains:
             (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
             shape=(k, int(self.model.dofs.free_slots.size)),
         )
-
-
-def _adjacency(n: int, connectivities: list[np.ndarray]) -> sp.csr_matrix:
-    """(n, n) nodes that share a cell (each node with itself)."""
-    rows, cols = [np.arange(n)], [np.arange(n)]
-    for cells in connectivities:
-        k = cells.shape[1]
-        rows.append(np.repeat(cells, k, axis=1).ravel())
-        cols.append(np.tile(cells, (1, k)).ravel())
-    row, col = np.concatenate(rows), np.concatenate(cols)
-    return sp.csr_matrix((np.ones(row.size), (row, col)), shape=(n, n)).astype(bool).astype(float)
