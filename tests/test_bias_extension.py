@@ -31,31 +31,34 @@ from validation import specimens
 
 LENGTH, WIDTH, PULL = 200.0, 100.0, 30.0
 STACK = dataclasses.replace(presets.g986_stack(), tension=1.2e6, tension_weft=1.2e6)
+#: A fabric of linear laws (its shear 0.2 N mm per rad).
+LINEAR = Fabric(
+    thickness=0.3,
+    areal_density=2.85e-10,
+    tension=1.2e5,
+    shear=ShearLaw.linear(0.2),
+    bending=7.5,
+)
 
 
-def bias_specimen(fabric: Fabric):
+def bias_specimen(fabric: Fabric, pull: float | None = PULL):
     """The bias specimen (10 cells) of ``fabric``, fibres at 45 deg, clamped at the left,
-    the right clamp pulled PULL mm along x: (mesh, model)."""
+    the right clamp pulled ``pull`` mm along x (None: left free along x for a load):
+    (mesh, model)."""
     mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
     c = np.cos(np.pi / 4)
     model = Model(mesh)
     model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
     model.fix("left")
     model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
-    model.displace("right", ux=PULL)
+    if pull is not None:
+        model.displace("right", ux=pull)
     return mesh, model
 
 
 @pytest.fixture(scope="module")
 def pulled():
-    fabric = Fabric(
-        thickness=0.3,
-        areal_density=2.85e-10,
-        tension=1.2e5,
-        shear=ShearLaw.linear(0.2),
-        bending=7.5,
-    )
-    mesh, model = bias_specimen(fabric)
+    mesh, model = bias_specimen(LINEAR)
     # The pin-jointed net describes the flat branch, which is followed here: no stability
     # check (seek_stable=False), the pull prescribed in 4 load increments of 3 Newton
     # iterations each. The state reached is the arc-length path's (10 increments of 4

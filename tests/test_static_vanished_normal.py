@@ -11,30 +11,15 @@ cut as any other."""
 from __future__ import annotations
 
 import numpy as np
+from test_bias_extension import LENGTH, LINEAR, bias_specimen
 
-from elements import FibrousShell
-from femcore import Model
-from materials import Fabric, ShearLaw
 from solvers import Static
-from validation import specimens
 
-LENGTH, WIDTH, FORCE = 200.0, 100.0, 20.0  # mm, mm, N
+FORCE = 20.0  # N
 
 
 def test_a_trial_with_a_vanished_normal_is_rejected_and_the_pull_converges():
-    fabric = Fabric(
-        thickness=0.3,
-        areal_density=2.85e-10,
-        tension=1.2e5,
-        shear=ShearLaw.linear(0.2),
-        bending=7.5,
-    )
-    mesh = specimens.bias_extension_mesh(LENGTH, WIDTH, cells=10)
-    c = np.cos(np.pi / 4.0)
-    model = Model(mesh)
-    model.add(FibrousShell(fabric, warp=(c, c, 0.0)))
-    model.fix("left")
-    model.fix("right", dofs=("uy", "uz", "alpha", "beta"))
+    mesh, model = bias_specimen(LINEAR, pull=None)
     right = np.asarray(mesh.node_sets["right"])
     model.force("right", (FORCE / len(right), 0.0, 0.0))
     result = Static(increments=4, seek_stable=False, progress=False).solve(model)
