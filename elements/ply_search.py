@@ -201,13 +201,8 @@ class FacingSearch:
         counts = lists.count.copy()
         counts[rows] = count
         width = int(counts.max())
-        kept = lists.near
-        if kept.shape[1] < width:
-            kept = np.column_stack([kept, np.repeat(kept[:, :1], width - kept.shape[1], axis=1)])
-        kept = kept[:, :width].copy()
-        if near.shape[1] < width:
-            near = np.column_stack([near, np.repeat(near[:, :1], width - near.shape[1], axis=1)])
-        kept[rows] = near[:, :width]
+        kept = _padded(lists.near, width)[:, :width].copy()
+        kept[rows] = _padded(near, width)[:, :width]
         origin = lists.origin.copy()
         origin[rows] = p[rows]
         at_search = lists.moved.copy()
@@ -257,6 +252,13 @@ class FacingSearch:
         near = np.repeat(triangle[start][:, None], width, axis=1)
         near[point, np.arange(len(point)) - start[point]] = triangle
         return near, count
+
+
+def _padded(near: np.ndarray, width: int) -> np.ndarray:
+    """``near`` (P, K) with at least ``width`` columns, each row padded with its first."""
+    if near.shape[1] >= width:
+        return near
+    return np.column_stack([near, np.repeat(near[:, :1], width - near.shape[1], axis=1)])
 
 
 def _ball_pairs(

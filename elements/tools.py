@@ -91,7 +91,7 @@ class RigidTool:
         mass: float | None = None,
     ):
         self.motion = _vector(motion, "motion")
-        self.motion.setflags(write=False)  # changed by giving another (``offset`` keeps it)
+        self.motion.setflags(write=False)  # changed by giving another, not in place
         if side not in ("outside", "inside"):
             raise ValueError(f"side must be 'outside' or 'inside', got {side!r}")
         self.sign = 1.0 if side == "outside" else -1.0
