@@ -14,7 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
-from elements.ply_fade import fade_hessian, stiffness_factor
+from elements.ply_fade import fade_hessian, fade_length, outline_segments, stiffness_factor
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -53,10 +53,11 @@ RULES = {
 
 
 def _fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The fade w (t,) past the outline of the points ``on`` (t,) and dw/dz (t, 4, 3), 1/mm
-    (elements/ply_fade.py; 1 and 0 where the facing carries none: the curved faces)."""
+    """The fade w (t,) past the outline of the points ``on`` (t,) and dw/dz (t, 6, 3), 1/mm,
+    over z = (p, y_1, y_2, y_3, a, b), a and b the ends of the outline's edge nearest the
+    point (elements/ply_fade.py; 1 and 0 where the facing carries none: the curved faces)."""
     if facing.fade is None or facing.fade_gradient is None:
-        return np.ones(len(on)), np.zeros((len(on), 4, 3))
+        return np.ones(len(on)), np.zeros((len(on), 6, 3))
     return facing.fade[on], facing.fade_gradient[on]
 
 
@@ -129,6 +130,11 @@ class PlyContactBlock(InteractionBlock):
         self.corner_offset = np.asarray(lower_offset, dtype=float)[cells]  # (m, 3)
         # the lower face's outline, which its triangles' planes reach past (ply_projection.py)
         self.outline = open_edges(cells)
+        # its edges' end nodes and offsets (E, 2): the fade's distance to the outline
+        # (elements/ply_fade.py) moves with them
+        segment_rows, segment_ends = outline_segments(self.outline)
+        self.outline_nodes = cells[segment_rows[:, None], segment_ends]
+        self.outline_offsets = self.corner_offset[segment_rows[:, None], segment_ends]
         # its edges' ids, shared by neighbours: the pseudonormals that sign a gap to an edge
         # or a vertex (ply_projection.py, "The sign at an edge")
         self.edges = edge_ids(cells)
@@ -173,6 +179,9 @@ class PlyContactBlock(InteractionBlock):
         # the node graph: the three nearest centroids' triangles in the reference state
         p, y = self._faces(reference)
         self.search = FacingSearch.of(y, self.outline)
+        # the fade's length past the outline, mm: FADE of the least height of the outline
+        # triangles in the reference state (elements/ply_fade.py, ``fade_length``)
+        self.fade_length = fade_length(y, self.outline)
         near = np.asarray(cKDTree(y.mean(axis=1)).query(p, k=min(3, len(cells)))[1])
         near = near.reshape(len(p), -1)
         self.connectivity = np.column_stack([self.above, cells[near].reshape(len(self.above), -1)])
@@ -286,6 +295,7 @@ class PlyContactBlock(InteractionBlock):
                 toward=toward,
                 nodes=self.cells,
                 edges=self.edges,
+                fade_distance=self.fade_length,
             )
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
@@ -312,7 +322,7 @@ class PlyContactBlock(InteractionBlock):
             [
                 self.shape[on][:, :, None] * on_face[:, None, :],
                 -(fade * law[1])[:, None, None] * lam[:, :, None] * n[:, None, :]
-                + law[0][:, None, None] * fading[:, 1:],
+                + law[0][:, None, None] * fading[:, 1:4],
             ],
             axis=1,
         )
@@ -321,6 +331,25 @@ class PlyContactBlock(InteractionBlock):
         # p = sum N_j (x_j - a_j d_j), y_k = x_k + b_k d_k: dW/dpsi = c d x dW/dx.
         moments = offset[:, :, None] * np.cross(d, forces)
         return nodes, forces, moments, on, offset, law
+
+    def fade_ends(self, facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The node ids (t, 2) and signed offsets (t, 2) (y = x + c d) of the ends a, b of the
+        outline's edge nearest each point ``on`` (t,), which its fade moves with
+        (elements/ply_fade.py); the first edge's where none is (its dw/dz is 0 there)."""
+        edge = np.zeros(len(on), dtype=np.int64)
+        if facing.fade_edge is not None and len(self.outline_nodes):
+            edge = np.maximum(facing.fade_edge[on], 0)
+        if not len(self.outline_nodes):
+            return np.zeros((len(on), 2), dtype=np.int64), np.zeros((len(on), 2))
+        return self.outline_nodes[edge], self.lever * self.outline_offsets[edge]
+
+    def _end_loads(self, state: State, facing: Facing, on: np.ndarray, law) -> tuple:
+        """The fade's forces W dw/da, W dw/db (t, 2, 3) N on the ends of the outline's edge
+        nearest each touching point ``on`` (t,), their nodes (t, 2) and moments (t, 2, 3)."""
+        nodes, offset = self.fade_ends(facing, on)
+        forces = law[0][:, None, None] * _fade(facing, on)[1][:, 4:]
+        moments = offset[:, :, None] * np.cross(self.offset_directions(state)[nodes], forces)
+        return nodes, forces, moments
 
     def _frictional(self, history: Any) -> bool:
         return history is not None and self.friction > 0.0
@@ -344,7 +373,15 @@ class PlyContactBlock(InteractionBlock):
             forces = moments = np.zeros((0, 6, 3))
         else:
             force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
-            nodes, forces, moments, *_ = self._pair_loads(state, facing)
+            nodes, forces, moments, on, _, law = self._pair_loads(state, facing)
+            ends = self._end_loads(state, facing, on, law)
+            for axis in range(3):
+                force[:, axis] += np.bincount(
+                    ends[0].ravel(), ends[1][..., axis].ravel(), self.n_nodes
+                )
+                moment[:, axis] += np.bincount(
+                    ends[0].ravel(), ends[2][..., axis].ravel(), self.n_nodes
+                )
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
             extra = ply_friction.friction_loads(self, state, sliding, history)
@@ -411,21 +448,6 @@ class PlyContactBlock(InteractionBlock):
         points = fade[:, None, None, None, None] * (
             law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
         )  # (t, 4, 3, 4, 3)
-        # the fade past the outline (elements/ply_fade.py): Hess (w W) = w Hess W + W' (dg dw^T
-        # + dw dg^T) + W Hess w, the last by central differences of the exact dw/dz
-        faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
-        if faded.size:
-            cross = gradient[faded][:, :, :, None, None] * fading[faded][:, None, None, :, :]
-            points[faded] += law[1][faded, None, None, None, None] * (
-                cross + np.transpose(cross, (0, 3, 4, 1, 2))
-            )
-            p, y = self._faces(state)
-            rows = on[faded]
-            step = 1e-6 * (1.0 + float(np.abs(y).max()))
-            assert facing.reach is not None and facing.on_growth is not None
-            points[faded] += law[0][faded, None, None, None, None] * fade_hessian(
-                p[rows], y[facing.triangle[rows]], facing.reach[rows], facing.on_growth[rows], step
-            )
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
         # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
         # corners' maps times N_j, each lower corner its own.
@@ -447,9 +469,85 @@ class PlyContactBlock(InteractionBlock):
         for row in range(6):
             blocks[:, row, 3:, row, 3:] += geometric[:, row]
         parts = [CellTangent(nodes, blocks)]
+        faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
+        if faded.size:
+            parts.append(self._fade_tangent(state, facing, on[faded], gradient[faded], law, faded))
         if self._frictional(history):
             parts.append(ply_friction.friction_tangent(self, state, history, facing))
         return parts
+
+    def _fade_tangent(
+        self,
+        state: State,
+        facing: Facing,
+        rows: np.ndarray,
+        gradient: np.ndarray,
+        law: tuple,
+        faded: np.ndarray,
+    ) -> CellTangent:
+        """The fade's part of the tangent of the points ``rows`` (f,) (elements/ply_fade.py):
+        Hess (w W) - w Hess W = W' (dg dw^T + dw dg^T) + W Hess w over z = (p, y_1, y_2,
+        y_3, a, b), Hess w by central differences of the exact dw/dz, dg/dz = ``gradient``
+        (f, 4, 3); carried to the upper triangle's, the facing triangle's and the outline
+        edge's nodes (f, 8), with the turned offsets of the ends' forces W dw/da, W dw/db
+        (the other nodes' are in the main part, whose forces hold the fade's)."""
+        f = len(rows)
+        energy, slope = law[0][faded], law[1][faded]
+        fading = _fade(facing, rows)[1]
+        g6 = np.zeros((f, 6, 3))
+        g6[:, :4] = gradient
+        cross = g6[:, :, :, None, None] * fading[:, None, None, :, :]
+        points = slope[:, None, None, None, None] * (cross + np.transpose(cross, (0, 3, 4, 1, 2)))
+        p, y = self._faces(state)
+        step = 1e-6 * (1.0 + float(np.abs(y).max()))
+        assert facing.reach is not None and facing.on_growth is not None
+        assert facing.fade_edge is not None
+        ends_nodes, ends_offset = self.fade_ends(facing, rows)
+        segment = np.stack(
+            [
+                state.positions[ends_nodes[:, k]]
+                + self.outline_offsets[np.maximum(facing.fade_edge[rows], 0), k, None]
+                * self.offset_directions(state)[ends_nodes[:, k]]
+                for k in range(2)
+            ],
+            axis=1,
+        )
+        points += energy[:, None, None, None, None] * fade_hessian(
+            p[rows],
+            y[facing.triangle[rows]],
+            facing.reach[rows],
+            facing.on_growth[rows],
+            segment,
+            self.fade_length,
+            step,
+        )
+        nodes = np.column_stack([self.above[rows], self.cells[facing.triangle[rows]], ends_nodes])
+        offset = np.column_stack(
+            [
+                -self.lever * self.upper_offset[rows],
+                self.lever * self.corner_offset[facing.triangle[rows]],
+                ends_offset,
+            ]
+        )
+        d = self.offset_directions(state)[nodes]  # (f, 8, 3)
+        own = np.zeros((f, 8, 3, 6))
+        own[:, :, :, :3] = np.eye(3)
+        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
+        maps = np.zeros((f, 6, 3, 8, 6))
+        for j in range(3):
+            maps[:, 0, :, j, :] = self.shape[rows][:, j, None, None] * own[:, j]
+        for z in range(1, 6):
+            maps[:, z, :, 2 + z, :] = own[:, 2 + z]
+        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        forces = energy[:, None, None] * fading[:, 4:]  # on the ends
+        geometric = offset[:, 6:, None, None] * (
+            d[:, 6:, :, None] * forces[:, :, None, :]
+            - np.sum(forces * d[:, 6:], axis=-1)[:, :, None, None] * np.eye(3)
+        )
+        for row in range(2):
+            blocks[:, 6 + row, 3:, 6 + row, 3:] += geometric[:, row]
+        return CellTangent(nodes, blocks)
 
     # ------------------------------------------------------------------ history
     def initial_history(self) -> PlyFrictionHistory | None:
@@ -491,7 +589,7 @@ class PlyContactBlock(InteractionBlock):
         # (elements/ply_projection.py, "Past the outline, deeper than the plies"): its own
         # depth bounds |p - q| there
         reached = np.where(facing.touching, np.maximum(self.depth, -facing.gap), self.depth)
-        factor = stiffness_factor(facing.gradients, facing.reach, past, facing.on_growth, reached)
+        factor = stiffness_factor(past, facing.on_growth, reached, self.fade_length)
         return self._springs(self.stiffness * factor)
 
     def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -3,14 +3,23 @@ outline, faded"; docs/theory.md §9.3a): the weight w in [0, 1] that multiplies 
 point's penalty energy, W_p = w W(g), and its exact gradient, so that the contact's force, w W'
 dg/dz + W dw/dz, stays the gradient of its energy where the point leaves the lower ply's face.
 
-Two factors, each a smoothstep of a quantity continuous in the point and the facing triangle's
-corners z = (p, y_1, y_2, y_3):
+Two factors, each a smoothstep S(u) = 3 u^2 - 2 u^3 on [0, 1] (0 below, 1 above) of a
+quantity continuous in the point, its facing triangle's corners y_k and the ends a, b of the
+lower ply's outline edge nearest it, z = (p, y_1, y_2, y_3, a, b):
 
-- past the outline, w_e = prod_k S(1 + lambda_k / FADE) over the facing triangle's outline
-  edges k (those its plane reaches ``MARGIN`` past), lambda the barycentric coordinates of the
-  projection of p on its plane and S(u) = 3 u^2 - 2 u^3 on [0, 1] (0 below, 1 above): 1 over
-  the triangle, 0 from ``FADE`` past the edge in barycentric units on, before the growth's far
-  edge (``MARGIN``), where a point used to pass between touching and beside;
+- past the outline (the projection past an outline edge of the facing triangle, or the point
+  beside its growth), w_e = S(1 - d / D), d the distance of the point's foot on the grown
+  face from the outline: d^2 = |p - q_o|^2 - g^2, q_o the outline's closest point to p (on
+  its nearest edge, ``nearest_segments``) and g the gap to the grown face, so d is the
+  in-plane distance to the outline on a flat ply and 0 where the point crosses the outline
+  edge; D (``fade_length``) FADE times the least height of the outline triangles over their
+  outline edges in the reference state: 0 before the growths' far edges (``MARGIN``), where
+  a point used to pass between touching and beside. d is one function of the point whatever
+  triangle faces it: the fade of before, S(1 + lambda_k / FADE) by the barycentric
+  overshoot lambda_k of the facing triangle's own edge, differed between neighbouring
+  growths (0.08 and 0.04 of their heights at the same point), and a point passing from one
+  to the next past the outline changed its energy by the difference times W with no work
+  (tests/test_ply_outline_fade.py);
 - beside the growth, where the point's closest point q lies on a growth's edge off the
   triangle (the wedge next to an outline vertex that no growth's plane holds) or at a vertex
   of the outline (the facing triangle's normal signing the gap there), w_a =
@@ -18,12 +27,16 @@ corners z = (p, y_1, y_2, y_3):
   60 deg of the normal, 0 where p lies in the plane beside the growth, the one place where the
   sign of g = +-|p - q| flips at a distance from q.
 
-Gradients: d lambda_k = grad phi_k . (dp - h dn - sum_m lambda_m dy_m) with dn/dy_m = -grad
-phi_m n^T (elements/ply_block.py, ``tangent``); dh/dz = (n, -lambda_m n); dg/dz = (nu,
--lambda_m(q) nu), nu = (p - q) / g, lambda(q) the coordinates of q (the closest point's own
-gradient, elements/ply_projection.py); d(h / g) = (dh - (h / g) dg) / g. The second
-derivative of w, which only the tangent needs, is the central difference of this exact
-gradient (``fade_hessian``).
+Gradients: d(d^2) = 2 (p - q_o) . (dp - (1 - t) da - t db) - 2 g dg (t the parameter of q_o
+on its edge; the envelope of its minimum); dg/dz = (n, -lambda_m n) on a plane, (nu,
+-lambda_m(q) nu) at an edge or a vertex (nu = (p - q) / g, lambda(q) q's coordinates: the
+closest point's own gradient, elements/ply_projection.py); dw_e = -3 (1 - d / D) / D^2
+d(d^2), with no division by d; d lambda_k = grad phi_k . (dp - h dn - sum_m lambda_m dy_m)
+with dn/dy_m = -grad phi_m n^T (elements/ply_block.py, ``tangent``), dh/dz = (n, -lambda_m
+n), d(h / g) = (dh - (h / g) dg) / g. The second derivative of w, which only the tangent
+needs, is the central difference of this exact gradient (``fade_hessian``). The distance to
+the outline kinks where its nearest edge changes on the concave side of a bend (its gradient
+jumps, the energy stays continuous).
 
 Stiffness (``stiffness_factor``, for the explicit step's springs). The fade's energy w W(g)
 is stiffer than the penalty k along some directions of p. Beside a growth, with r = |p - q|,
@@ -34,25 +47,37 @@ W/r^2) w_a'], [., (W'/r) w_a + (W/r^2) w_a'']] (the azimuth of a vertex adds (W'
 and W/r^2 <= k/2 (W convex from W(0) = W'(0) = 0, W'' <= k) its largest eigenvalue is at
 most k max_theta lambda_max [[w_a, |w_a'| / 2], [|w_a'| / 2, w_a + max(w_a'', 0) / 2]] =
 k S''(0) / (2 SIDEWAYS^2) = 12 k, reached at theta = 90 deg (p in the triangle's plane beside
-q, w_a = w_a' = 0: E ~ 6 k h^2 for a gap h to the plane), whatever r. The past factor w_e is
-a function of the coordinates lambda, linear in p: |grad w_e| <= 1.5 G / FADE and
-||hess w_e|| <= 6 (G / FADE)^2, G = sum_k |grad phi_k| over the outline edges (1 / the
-heights); with |grad (W w_a)| <= k r (1 + (0.75 / SIDEWAYS)^2)^(1/2) and W w_a <= k r^2 / 2,
-the product's Hessian is at most k (12 + 3 A x + 3 x^2), x = r G / FADE, A = (1 + (0.75 /
-SIDEWAYS)^2)^(1/2), r = |p - q| = |g|: at most the plies' half thicknesses a + b, or the
-point's own depth where it lies deeper (past the outline the fade carries a point at any
-depth, elements/ply_projection.py "Past the outline, deeper than the plies").
+q, w_a = w_a' = 0: E ~ 6 k h^2 for a gap h to the plane), whatever r. The past factor w_e =
+S(1 - d / D) with |grad d| = 1 (d the in-plane distance on a flat ply, to an edge or a
+vertex) has |grad w_e| <= 1.5 / D (max S') and ||hess w_e|| <= 6 / D^2 (|S''| <= 6 along
+grad d, S'(s) / (s D^2) = 6 (1 - s) / D^2 across it at a vertex); with |grad (W w_a)| <= k r
+(1 + (0.75 / SIDEWAYS)^2)^(1/2) and W w_a <= k r^2 / 2, the product's Hessian is at most k
+(12 + 3 A x + 3 x^2), x = r / D, A = (1 + (0.75 / SIDEWAYS)^2)^(1/2), r = |p - q| = |g|: at
+most the plies' half thicknesses a + b, or the point's own depth where it lies deeper (past
+the outline the fade carries a point at any depth, elements/ply_projection.py "Past the
+outline, deeper than the plies"); checked against central differences of the exact force
+(tests/test_ply_fade_stiffness.py).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements.ply_projection import closest_on_edges, facets, grown_corners
+from elements.ply_projection import closest_on_edges, facets, grown_corners, triangle_frames
 
-__all__ = ["FADE", "SIDEWAYS", "fade_hessian", "outline_fade", "stiffness_factor"]
+__all__ = [
+    "FADE",
+    "SIDEWAYS",
+    "fade_hessian",
+    "fade_length",
+    "nearest_segments",
+    "outline_fade",
+    "outline_segments",
+    "stiffness_factor",
+]
 
-#: Barycentric units past an outline edge over which the contact fades out (< MARGIN = 0.5).
+#: The fade's length past the outline in times the least height of the outline triangles
+#: (< MARGIN = 0.5, the growths' reach in the same units).
 FADE = 0.15
 #: |h| / |p - q| (the cosine of p - q's angle with the normal) from which a point beside a
 #: growth's edge has its full weight.
@@ -70,8 +95,53 @@ def _step(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u * u * (3.0 - 2.0 * u), 6.0 * u * (1.0 - u)
 
 
+def fade_length(corners: np.ndarray, outline: np.ndarray) -> float:
+    """The fade's length D, mm: ``FADE`` times the least height of the triangles with corners
+    ``corners`` (m, 3, 3) over their outline edges (``outline`` (m, 3) bool, the edge opposite
+    corner k), so that w = 0 before the growths' far edges (``MARGIN`` heights past the
+    outline) while the triangles keep heights above FADE / MARGIN of the least; inf without
+    an outline."""
+    if not outline.any():
+        return float(np.inf)
+    gradients = triangle_frames(corners)[2]
+    heights = 1.0 / np.linalg.norm(gradients, axis=-1)  # (m, 3): over the edge opposite k
+    return float(FADE * heights[outline].min())
+
+
+def outline_segments(outline: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The outline's edges as (rows (E,), corners (E, 2)): each edge's triangle row and the
+    corners k + 1, k + 2 (mod 3) at its ends, over ``outline`` (m, 3) bool (the edge opposite
+    corner k of each triangle)."""
+    rows, k = np.nonzero(outline)
+    ends = np.column_stack([(k + 1) % 3, (k + 2) % 3])
+    return rows, ends
+
+
+def nearest_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3)) nearest each point
+    p (c, 3); ties to the lowest index. Every segment is measured (c E work, in blocks of
+    about a million pairs): the outline's edges, a few hundred on a blank."""
+    chosen = np.zeros(len(p), dtype=np.int64)
+    if len(p) == 0:
+        return chosen
+    e = ends - starts
+    squared = np.maximum(np.einsum("ei,ei->e", e, e), np.finfo(float).tiny)
+    block = max(1, 2**20 // max(len(starts), 1))
+    for first in range(0, len(p), block):  # blocks of points, not a loop over points
+        rel = p[first : first + block, None, :] - starts[None]
+        t = np.clip(np.einsum("cei,ei->ce", rel, e) / squared, 0.0, 1.0)
+        r = rel - t[..., None] * e
+        chosen[first : first + block] = np.argmin(np.einsum("cei,cei->ce", r, r), axis=1)
+    return chosen
+
+
 def outline_fade(
-    p: np.ndarray, corners: np.ndarray, reach: np.ndarray, beside: np.ndarray
+    p: np.ndarray,
+    corners: np.ndarray,
+    reach: np.ndarray,
+    beside: np.ndarray,
+    ends: np.ndarray,
+    length: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The fade w and its gradient of points against their facing triangles (module docstring).
 
@@ -88,36 +158,26 @@ def outline_fade(
         The point's closest point lies on the triangle's growth past the outline, off the
         triangle, or at a vertex of the outline, and its gap is +-|p - q| signed by the
         triangle's normal.
+    ends : (c, 2, 3) float
+        The ends a, b of the outline's edge nearest each point (``nearest_segments``), mm.
+    length : float
+        The fade's length D (``fade_length``), mm.
 
     Returns
     -------
     w : (c,) float
         The fade, in [0, 1].
-    gradient : (c, 4, 3) float
-        dw/dz over z = (p, y_1, y_2, y_3), 1/mm.
+    gradient : (c, 6, 3) float
+        dw/dz over z = (p, y_1, y_2, y_3, a, b), 1/mm.
     """
     count = len(p)
     n, _, grad, plane, lam = (a[:, 0] for a in facets(p, corners[:, None]))
-    # d lambda_k / dz, (c, 3, 4, 3)
-    dlam = np.zeros((count, 3, 4, 3))
-    dlam[:, :, 0, :] = grad
-    dots = np.einsum("cki,cmi->ckm", grad, grad)
-    dlam[:, :, 1:, :] = (
-        -lam[:, None, :, None] * grad[:, :, None, :]
-        + (plane[:, None, None] * dots)[..., None] * n[:, None, None, :]
-    )
-    outline = reach > 0.0
-    factor, slope = _step(1.0 + lam / FADE)
-    factor = np.where(outline, factor, 1.0)
-    slope = np.where(outline, slope / FADE, 0.0)
-    others = np.stack(
-        [factor[:, 1] * factor[:, 2], factor[:, 0] * factor[:, 2], factor[:, 0] * factor[:, 1]],
-        axis=1,
-    )
-    past = factor.prod(axis=1)
-    past_gradient = np.einsum("ck,ckzi->czi", others * slope, dlam)
+    # the gap g to the grown face and dg/dz over (p, y_1..3): the plane's, or beside a
+    # growth's edge or at an outline vertex the distance to its closest point q
+    gap = plane.copy()
+    d_gap = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
     side = np.ones(count)
-    side_gradient = np.zeros((count, 4, 3))
+    side_gradient = np.zeros((count, 6, 3))
     at = np.flatnonzero(beside)
     if at.size:
         c = corners[at]
@@ -125,64 +185,87 @@ def outline_fade(
         r = p[at] - q
         distance = np.linalg.norm(r, axis=1)
         sign = np.where(plane[at] < 0.0, -1.0, 1.0)
-        gap = sign * distance
-        safe = np.where(distance > 0.0, gap, 1.0)
+        safe = np.where(distance > 0.0, sign * distance, 1.0)
         nu = r / safe[:, None]
         on_q = np.einsum("cki,ci->ck", grad[at], q - c[:, 0])
         on_q[:, 0] += 1.0
         ratio = np.where(distance > 0.0, plane[at] / safe, 1.0)
-        d_plane = np.concatenate(
-            [n[at][:, None, :], -lam[at][:, :, None] * n[at][:, None, :]], axis=1
-        )
-        d_gap = np.concatenate([nu[:, None, :], -on_q[:, :, None] * nu[:, None, :]], axis=1)
-        d_ratio = (d_plane - ratio[:, None, None] * d_gap) / safe[:, None, None]
+        d_plane = d_gap[at]
+        d_edge = np.concatenate([nu[:, None, :], -on_q[:, :, None] * nu[:, None, :]], axis=1)
+        d_ratio = (d_plane - ratio[:, None, None] * d_edge) / safe[:, None, None]
         value, rise = _step(ratio / SIDEWAYS)
         side[at] = value
-        side_gradient[at] = np.where(
+        side_gradient[at, :4] = np.where(
             (distance > 0.0)[:, None, None], (rise / SIDEWAYS)[:, None, None] * d_ratio, 0.0
         )
-    weight = past * side
-    gradient = side[:, None, None] * past_gradient + past[:, None, None] * side_gradient
+        gap[at] = sign * distance
+        d_gap[at] = np.where((distance > 0.0)[:, None, None], d_edge, 0.0)
+    # past the outline: the distance d of the point's projection on the face from the
+    # outline, d^2 = |p - q_o|^2 - g^2 (q_o the outline's closest point), continuous across
+    # growths; w_e = S(1 - d / D), dw_e = -3 (1 - d / D) / D^2 d(d^2)
+    past = beside | np.any((reach > 0.0) & (lam < 0.0), axis=1)
+    a, b = ends[:, 0], ends[:, 1]
+    e = b - a
+    t = np.clip(
+        np.einsum("ci,ci->c", p - a, e) / np.maximum(np.einsum("ci,ci->c", e, e), 1e-300),
+        0.0,
+        1.0,
+    )
+    r_o = p - a - t[:, None] * e
+    squared = np.maximum(np.einsum("ci,ci->c", r_o, r_o) - gap * gap, 0.0)
+    d_squared = np.zeros((count, 6, 3))
+    d_squared[:, 0] = 2.0 * r_o
+    d_squared[:, :4] -= 2.0 * gap[:, None, None] * d_gap
+    d_squared[:, 4] = -2.0 * (1.0 - t)[:, None] * r_o
+    d_squared[:, 5] = -2.0 * t[:, None] * r_o
+    s = np.sqrt(squared) / length
+    within = past & (s < 1.0)
+    factor = np.where(past, _step(1.0 - s)[0], 1.0)
+    slope = np.where(within, -3.0 * (1.0 - s) / length**2, 0.0)
+    past_gradient = slope[:, None, None] * d_squared
+    weight = factor * side
+    gradient = side[:, None, None] * past_gradient + factor[:, None, None] * side_gradient
     return weight, gradient
 
 
 def fade_hessian(
-    p: np.ndarray, corners: np.ndarray, reach: np.ndarray, beside: np.ndarray, step: float
+    p: np.ndarray,
+    corners: np.ndarray,
+    reach: np.ndarray,
+    beside: np.ndarray,
+    ends: np.ndarray,
+    length: float,
+    step: float,
 ) -> np.ndarray:
-    """(c, 4, 3, 4, 3) d2w/dz2, 1/mm^2: the central difference of ``outline_fade``'s exact
-    gradient by ``step`` (mm) in each of the 12 coordinates of z, made symmetric."""
+    """(c, 6, 3, 6, 3) d2w/dz2 over z = (p, y_1, y_2, y_3, a, b), 1/mm^2: the central
+    difference of ``outline_fade``'s exact gradient by ``step`` (mm) in each of the 18
+    coordinates of z, made symmetric."""
     count = len(p)
-    hessian = np.zeros((count, 4, 3, 4, 3))
-    for node in range(4):
+    hessian = np.zeros((count, 6, 3, 6, 3))
+    for node in range(6):
         for axis in range(3):
             moved = []
             for sign in (1.0, -1.0):
-                q, c = p.copy(), corners.copy()
+                q, c, o = p.copy(), corners.copy(), ends.copy()
                 if node == 0:
                     q[:, axis] += sign * step
-                else:
+                elif node < 4:
                     c[:, node - 1, axis] += sign * step
-                moved.append(outline_fade(q, c, reach, beside)[1])
+                else:
+                    o[:, node - 4, axis] += sign * step
+                moved.append(outline_fade(q, c, reach, beside, o, length)[1])
             hessian[:, node, axis] = (moved[0] - moved[1]) / (2.0 * step)
     return 0.5 * (hessian + np.transpose(hessian, (0, 3, 4, 1, 2)))
 
 
 def stiffness_factor(
-    gradients: np.ndarray,
-    reach: np.ndarray,
-    band: np.ndarray,
-    beside: np.ndarray,
-    depth: float | np.ndarray,
+    band: np.ndarray, beside: np.ndarray, depth: float | np.ndarray, length: float
 ) -> np.ndarray:
     """An upper bound c_p >= 1 of the stiffness of the faded energy w W(g) along any direction
     of the point p, in times the penalty k (module docstring, "Stiffness").
 
     Parameters
     ----------
-    gradients : (c, 3, 3) float
-        grad phi_k of the points' facing triangles, 1/mm (row k).
-    reach : (c, 3) float
-        How far each triangle reaches past the edge opposite corner k (> 0: an outline edge).
     band : (c,) bool
         The point is in the fade's band: its projection lies past an outline edge of its
         facing triangle (lambda_k < 0), or it is ``beside`` (elsewhere w = 1: c_p = 1).
@@ -193,14 +276,15 @@ def stiffness_factor(
         thicknesses a + b beside a growth's edge, and a point's own depth where a growth's
         plane holds it deeper (elements/ply_projection.py, "Past the outline, deeper than the
         plies").
+    length : float
+        The fade's length D (``fade_length``), mm.
 
     Returns
     -------
     (c,) float
-        (12 beside, else 1) + 3 A x + 3 x^2 in the band (x = depth G / FADE), 1 elsewhere.
+        (12 beside, else 1) + 3 A x + 3 x^2 in the band (x = depth / D), 1 elsewhere.
     """
-    spread = np.where(reach > 0.0, np.linalg.norm(gradients, axis=2), 0.0).sum(axis=1)
-    x = depth * spread / FADE
+    x = np.asarray(depth, dtype=float) / length
     cross = np.sqrt(1.0 + (0.75 / SIDEWAYS) ** 2)
     angle = np.where(beside, max(1.0, SIDEWAYS_STIFFNESS), 1.0)
     return np.where(band | beside, angle + 3.0 * cross * x + 3.0 * x * x, 1.0)

@@ -158,8 +158,9 @@ def friction_loads(
 def friction_tangent(
     block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
 ) -> CellTangent:
-    """The return mapping's exact d(force, moment)/d(u, psi), (t, 9, 6, 9, 6) over the
-    upper triangle's, the facing triangle's and the anchor triangle's corners.
+    """The return mapping's exact d(force, moment)/d(u, psi), (t, 11, 6, 11, 6) over the
+    upper triangle's, the facing triangle's and the anchor triangle's corners and the ends
+    of the outline's edge nearest the point (its fade's, elements/ply_fade.py).
 
     Over z = (p, y_f1..3, y_a1..3) (f the facing triangle, a the anchor's): the force F on
     p (``Sliding.force``) and -Lambda_k F on y_ak, with ds/dp = P = I - n n^T, ds/dy_ak =
@@ -186,7 +187,7 @@ def friction_tangent(
         bent = np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4))
         turning[bent] = np.swapaxes(facing.hessian[on][bent][:, 0], 1, 2)
     # s = (I - n n^T) r: ds = (I - n n^T) dr - (n . r) dn - n (r . dn)
-    ds = np.zeros((t, 3, 7, 3))
+    ds = np.zeros((t, 3, 9, 3))  # z = (p, y_f1..3, y_a1..3, a, b): the fade's outline ends
     normal_r = np.sum(n * r, axis=1)
     for w in range(4):
         ds[:, :, w, :] = (
@@ -198,15 +199,16 @@ def friction_tangent(
         ds[:, :, 4 + m, :] = -big[:, m, None, None] * across
     length = np.linalg.norm(s, axis=1)
     unit = s / np.where(length > 0, length, 1.0)[:, None]
-    gap_gradient = np.zeros((t, 7, 3))
+    gap_gradient = np.zeros((t, 9, 3))
     gap_gradient[:, 0] = n
     gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
     _, slope, curvature = block.normal_law(facing.gap[on], k)
-    d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 7, 3)
+    d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 9, 3)
     if facing.fade is not None and facing.fade_gradient is not None:
         # N = -w W'(g) past the outline (elements/ply_fade.py): dN = -(w W'' dg + W' dw)
         d_pressing *= facing.fade[on][:, None, None]
-        d_pressing[:, :4] -= slope[:, None, None] * facing.fade_gradient[on]
+        d_pressing[:, :4] -= slope[:, None, None] * facing.fade_gradient[on][:, :4]
+        d_pressing[:, 7:] -= slope[:, None, None] * facing.fade_gradient[on][:, 4:]
     stuck = sliding.stuck[on]
     mu, pressing = block.friction, sliding.pressing[on]
     ratio = mu * pressing / np.where(length > 0, length, 1.0)
@@ -214,28 +216,40 @@ def friction_tangent(
         :, None, None, None
     ] * np.einsum("tij,tjzb->tizb", eye - unit[:, :, None] * unit[:, None, :], ds)
     d_force = np.where(stuck[:, None, None, None], k[:, None, None, None] * ds, slip_part)
-    points = np.zeros((t, 7, 3, 7, 3))
+    points = np.zeros((t, 9, 3, 9, 3))
     points[:, 0] = d_force
     for m in range(3):
         points[:, 4 + m] = -big[:, m, None, None, None] * d_force
+    ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack(
-        [block.above[on], block.cells[facing.triangle[on]], block.cells[sliding.triangle[on]]]
-    )
-    offset = block.lever * np.column_stack(
         [
-            -block.upper_offset[on],
-            block.corner_offset[facing.triangle[on]],
-            block.corner_offset[sliding.triangle[on]],
+            block.above[on],
+            block.cells[facing.triangle[on]],
+            block.cells[sliding.triangle[on]],
+            ends,
         ]
     )
-    d = block.offset_directions(state)[nodes]  # (t, 9, 3)
-    own = np.zeros((t, 9, 3, 6))
+    offset = np.column_stack(
+        [
+            block.lever
+            * np.column_stack(
+                [
+                    -block.upper_offset[on],
+                    block.corner_offset[facing.triangle[on]],
+                    block.corner_offset[sliding.triangle[on]],
+                ]
+            ),
+            ends_offset,
+        ]
+    )
+    d = block.offset_directions(state)[nodes]  # (t, 11, 3)
+    own = np.zeros((t, 11, 3, 6))
     own[:, :, :, :3] = eye
     own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-    maps = np.zeros((t, 7, 3, 9, 6))
+    maps = np.zeros((t, 9, 3, 11, 6))
     for j in range(3):
         maps[:, 0, :, j, :] = block.shape[on][:, j, None, None] * own[:, j]
-    for z in range(1, 7):
+    for z in range(1, 9):
         maps[:, z, :, 2 + z, :] = own[:, 2 + z]
     carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
     blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
@@ -244,6 +258,7 @@ def friction_tangent(
             block.shape[on][:, :, None] * force[:, None, :],
             np.zeros((t, 3, 3)),
             -big[:, :, None] * force[:, None, :],
+            np.zeros((t, 2, 3)),
         ],
         axis=1,
     )
@@ -251,7 +266,7 @@ def friction_tangent(
         d[:, :, :, None] * forces[:, :, None, :]
         - np.sum(forces * d, axis=-1)[:, :, None, None] * eye
     )
-    for row in range(9):
+    for row in range(11):
         blocks[:, row, 3:, row, 3:] += geometric[:, row]
     return CellTangent(nodes, blocks)
 

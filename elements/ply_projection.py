@@ -95,24 +95,26 @@ of contact. Both rules switched a point's contact at a gap away from zero: on th
 pass's outline nodes came into contact at -0.27 to -0.30 mm (2-3 N mm in a step) and flipped
 sign beside an outline vertex (1-1.5 N mm): 18 steps above +1 N mm, +34.7 N mm in all.
 
-Past the outline, faded (elements/ply_fade.py). A point's energy is w W(g), its force the
-exact gradient w W' dg/dz + W dw/dz, w in [0, 1] a continuous function of the point and its
-facing triangle's corners: 1 on the face; past an outline edge it falls (a smoothstep) to 0
-over ``FADE`` (0.15) of the projection's barycentric overshoot, before the growth's far edge;
-and where the closest point lies on a growth's edge off the triangle, or at a vertex of the
-outline, where the face has no side (there the facing triangle's normal signs the gap), it is
-also a smoothstep of |h| / (``SIDEWAYS`` |p - q|), h the gap to the triangle's plane: 0 where
-p passes the plane beside q, the one place where the sign flips at a distance. So the energy
-is continuous where a point leaves the face past the outline and where its sign flips beside
-it; a point touches where w > 0. What is left: a change of facing triangle between candidates
-whose fades differ (w W changes by the difference, small where the plies touch, W being small
-near g = 0, though not for a point deeper than the plies on a growth's plane: "Past the
-outline, deeper than the plies") and the depth bounds below (at most W(-depth)). The
-growths still keep the gap a distance where the facing triangle changes past the outline.
-The mortar methods' contact (segment to segment, Puso and Laursen, CMAME 193 (2004) 601)
-fades so by construction, the contact integrated over the two faces' overlap, which shrinks
-to nothing at an outline; a point-to-face contact needs the weight. The tangent takes w's
-second derivative as the central difference of its exact gradient.
+Past the outline, faded (elements/ply_fade.py). A point's energy is w W(g), its force the exact
+gradient w W' dg/dz + W dw/dz, w in [0, 1] a continuous function of the point and its facing
+triangle's corners and the outline's nearest edge: 1 on the face; past an outline edge it falls
+(a smoothstep) to 0 over a length D (``FADE`` of the outline triangles' least height) of the
+distance d of the point's foot from the outline, d^2 = |p - q_o|^2 - g^2 (q_o the outline's
+closest point), before the growths' far edges: one function of the point, whichever growth
+faces it (the barycentric overshoot of before differed from one growth to the next); and where
+the closest point lies on a growth's edge off the triangle, or at a vertex of the outline,
+where the face has no side (there the facing triangle's normal signs the gap), it is also a
+smoothstep of |h| / (``SIDEWAYS`` |p - q|), h the gap to the triangle's plane: 0 where p passes
+the plane beside q, the one place where the sign flips at a distance. So the energy is
+continuous where a point leaves the face past the outline and where its sign flips beside it; a
+point touches where w > 0. What is left: a change of facing triangle between a growth (w < 1)
+and a triangle whose face holds the point (w = 1), where a growth overlaps another triangle's
+face, and between growths whose side factors w_a differ, and the depth bounds below (at most
+W(-depth)). The growths still keep the gap a distance where the facing triangle changes past
+the outline. The mortar methods' contact (segment to segment, Puso and Laursen, CMAME 193
+(2004) 601) fades so by construction, the contact integrated over the two faces' overlap, which
+shrinks to nothing at an outline; a point-to-face contact needs the weight. The tangent takes
+w's second derivative as the central difference of its exact gradient.
 
 Past the outline, deeper than the plies. A point held by a growth's plane (its projection
 past the outline, within MARGIN) deeper than ``depth`` touches as on the face: the fade
@@ -131,10 +133,10 @@ the bound of an edge ("Deeper than the plies"), so a deep point passing there fr
 plane still loses w W(g) in a step: without that bound too, the same run stopped at 83 % of
 the stroke on a point that passed from facing an outline triangle off its growths, +3.20 mm,
 onto a growth's edge, -3.20 mm signed by the triangle's normal, +109.9 N mm in a step. The price: a
-deep point in the band carries w W(g) and w's gradient, a stiffness growing as (|g| G /
-FADE)^2 (elements/ply_fade.py, "Stiffness"; ``PlyContactBlock.springs_at`` takes each touching
-point's own depth), and where its facing triangle changes between two growths whose fades
-differ its energy changes by the difference times W(g), no longer small at depth.
+deep point in the band carries w W(g) and w's gradient, a stiffness growing as (|g| / D)^2
+(elements/ply_fade.py, "Stiffness"; ``PlyContactBlock.springs_at`` takes each touching
+point's own depth); passing between growths it keeps w, one function of its distance to the
+outline.
 
 Deeper than the plies. Where the lower ply is folded back onto itself (a wrinkle's flap laid
 over, the two triangles of the fold with opposite normals), a point past the fold's edge is
@@ -254,6 +256,18 @@ class Facing:
         an edge or at a vertex (module docstring, "Search"; ``_edge_hessian``); zero where it
         is to a triangle's plane (whose Hessian ``PlyContactBlock.tangent`` builds); None when
         not asked for (``closest_facing(second=False)``) or every gap is to a plane.
+    fade : (P,) float or None
+        The fade w past the outline (elements/ply_fade.py; None on the curved faces).
+    fade_gradient : (P, 6, 3) float or None
+        dw/dz over z = (p, y_1, y_2, y_3, a, b), 1/mm, a and b the ends of the outline's
+        edge nearest the point (``fade_edge``).
+    reach : (P, 3) float or None
+        How far the facing triangle reaches past its edges (``MARGIN`` on the outline).
+    on_growth : (P,) bool or None
+        The closest point lies on a growth's edge off the triangle or at an outline vertex.
+    fade_edge : (P,) int or None
+        The outline's edge nearest the point (its row in ``open_edges``' nonzero order,
+        elements/ply_fade.py ``outline_segments``), -1 where w is not computed.
     """
 
     triangle: np.ndarray
@@ -268,6 +282,7 @@ class Facing:
     fade_gradient: np.ndarray | None = None
     reach: np.ndarray | None = None
     on_growth: np.ndarray | None = None
+    fade_edge: np.ndarray | None = None
 
 
 def triangle_frames(corners: np.ndarray):
@@ -489,6 +504,7 @@ def closest_facing(
     toward: np.ndarray | None = None,
     nodes: np.ndarray | None = None,
     edges: np.ndarray | None = None,
+    fade_distance: float | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -527,6 +543,9 @@ def closest_facing(
     edges : (m, 3) int, optional
         ``edge_ids(nodes)``, kept by a caller that searches the same mesh many times
         (computed when None).
+    fade_distance : float, optional
+        The fade's length D past the outline, mm (elements/ply_fade.py ``fade_length``, which
+        gives it from ``y`` when None; a contact keeps its reference state's).
     """
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
@@ -600,7 +619,7 @@ def closest_facing(
     # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
     # outline, faded"): a point whose closest point lies there, off the face's sides, signed
     # by the facing triangle's normal
-    from elements.ply_fade import outline_fade
+    from elements.ply_fade import fade_length, nearest_segments, outline_fade, outline_segments
 
     on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
     on_growth |= at_rim
@@ -614,14 +633,23 @@ def closest_facing(
         turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
         beside |= turned & deep
     # w = 1 off the outline triangles and their growths: computed where it can differ
-    fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 4, 3))
+    fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 6, 3))
+    fade_edge = np.full(len(p), -1)
     near_outline = np.flatnonzero(on_growth | (reach[rows, best] > 0.0).any(axis=-1))
-    if near_outline.size:
+    if near_outline.size and outline is not None:
+        segment_rows, segment_ends = outline_segments(outline)
+        starts = y[segment_rows, segment_ends[:, 0]]
+        ends = y[segment_rows, segment_ends[:, 1]]
+        length = fade_length(y, outline) if fade_distance is None else fade_distance
+        fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends)
+        chosen = fade_edge[near_outline]
         fade[near_outline], fade_gradient[near_outline] = outline_fade(
             p[near_outline],
             y[near[near_outline, best[near_outline]]],
             reach[near_outline, best[near_outline]],
             on_growth[near_outline],
+            np.stack([starts[chosen], ends[chosen]], axis=1),
+            length,
         )
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
     return Facing(
@@ -637,4 +665,5 @@ def closest_facing(
         fade_gradient=fade_gradient,
         reach=reach[rows, best],
         on_growth=on_growth,
+        fade_edge=fade_edge,
     )

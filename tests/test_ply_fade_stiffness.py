@@ -144,10 +144,7 @@ def test_the_fades_stiffness_stays_under_its_bound_and_above_the_penalty():
         state = _state(points, directors, face)
         facing = block.facing(state)
         past = ((facing.reach > 0.0) & (facing.weights < 0.0)).any(axis=1)
-        bound = (
-            stiffness_factor(facing.gradients, facing.reach, past, facing.on_growth, block.depth)[0]
-            * k
-        )
+        bound = stiffness_factor(past, facing.on_growth, block.depth, block.fade_length)[0] * k
         largest = np.linalg.eigvalsh(_hessian(block, points, directors, face)).max()
         ratios.append(largest / bound)
         stiff.append(largest / k)
@@ -211,9 +208,7 @@ def test_the_springs_bound_a_point_deeper_than_the_plies_past_the_outline_by_its
             largest = np.linalg.eigvalsh(_hessian(block, points, directors, face)).max()
             ratios.append(largest / (factor * k))
             band = np.ones(1, dtype=bool)
-            old = stiffness_factor(
-                facing.gradients, facing.reach, band, facing.on_growth, block.depth
-            )[0]
+            old = stiffness_factor(band, facing.on_growth, block.depth, block.fade_length)[0]
             beyond_old.append(largest / (old * k))
     assert max(ratios) <= 1.0 + 1e-3
     assert max(beyond_old) > 1.0

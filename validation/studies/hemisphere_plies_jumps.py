@@ -26,6 +26,7 @@ import numpy as np
 
 from elements.ply_block import PlyContactBlock
 from elements.ply_projection import penalty_law
+from femcore.state import State
 
 __all__ = ["Jumps", "measure"]
 
@@ -42,6 +43,8 @@ class Jumps:
         self.steps: list[float] = []
         self.largest: list[tuple[int, int, float, float, float, str]] = []
         self._last: tuple | None = None
+        self._state_before: Any = None
+        self._state_now: Any = None
         original = block.internal_force
 
         def recorded(state, history=None):
@@ -60,15 +63,21 @@ class Jumps:
         fade = np.ones(len(p)) if fade is None else fade
         slope_of_fade = getattr(facing, "fade_gradient", None)
         if slope_of_fade is None:
-            slope_of_fade = np.zeros((len(p), 4, 3))
+            slope_of_fade = np.zeros((len(p), 6, 3))
+        if slope_of_fade.shape[1] == 4:  # code whose fade moves with the facing corners alone
+            slope_of_fade = np.concatenate([slope_of_fade, np.zeros((len(p), 2, 3))], axis=1)
+        # the outline's edge the fade measures from (elements/ply_fade.py), -1: none
+        edge = getattr(facing, "fade_edge", None)
+        edge = np.full(len(p), -1) if edge is None else edge.copy()
         energy, slope, _ = penalty_law(facing.gap, block.stiffness, block.smoothing)
         energy = np.where(on, energy, 0.0)
         slope = np.where(on, slope, 0.0)
         on_p = (fade * slope)[:, None] * facing.normal + energy[:, None] * slope_of_fade[:, 0]
         on_y = (
             -(fade * slope)[:, None, None] * facing.weights[:, :, None] * facing.normal[:, None, :]
-            + energy[:, None, None] * slope_of_fade[:, 1:]
+            + energy[:, None, None] * slope_of_fade[:, 1:4]
         )
+        on_e = energy[:, None, None] * slope_of_fade[:, 4:]
         outline = block.outline[facing.triangle].any(axis=1)
         growth = getattr(facing, "on_growth", None)
         growth = np.zeros(len(p), dtype=bool) if growth is None else growth
@@ -86,17 +95,27 @@ class Jumps:
             y.copy(),
             facing.gap,
             kind,
+            on_e,
+            edge,
         )
         last = self._last
         if last is not None and np.array_equal(last[4], p) and np.array_equal(last[5], y):
             return
         self._last = now
+        # the states' copies (the solver may move its arrays in place): the ends' moves
+        zero = np.zeros_like(state.positions)
+        self._state_before = self._state_now
+        self._state_now = State(state.positions.copy(), state.directors.copy(), zero, zero)
         if last is None:
             return
         dp, dy = p - last[4], y - last[5]
         work = 0.5 * np.einsum("pi,pi->p", last[1] + on_p, dp)
         work += 0.5 * np.einsum("pki,pki->p", last[2], dy[last[3]])
         work += 0.5 * np.einsum("pki,pki->p", on_y, dy[facing.triangle])
+        # the outline's ends a, b: each side's force times the move of its own edge's ends
+        for force, ids in ((last[8], last[9]), (on_e, edge)):
+            moved = self._ends(self._state_now, ids) - self._ends(self._state_before, ids)
+            work += 0.5 * np.einsum("pki,pki->p", force, moved)
         jump = now[0] - last[0] - work
         step = len(self.steps)
         self.steps.append(float(jump.sum()))
@@ -111,6 +130,18 @@ class Jumps:
                     f"before: {last[7][i]}; after: {kind[i]}",
                 )
             )
+
+    def _ends(self, state: Any, edge: np.ndarray) -> np.ndarray:
+        """(P, 2, 3) the offset ends y = x + c d of the outline's edges ``edge`` (P,) at
+        ``state``, mm (zeros where -1, or on code without them)."""
+        block = self.block
+        nodes = getattr(block, "outline_nodes", None)
+        if nodes is None or not len(nodes):
+            return np.zeros((len(edge), 2, 3))
+        rows = np.maximum(edge, 0)
+        ends = nodes[rows]
+        d = block.offset_directions(state)[ends]
+        return state.positions[ends] + block.outline_offsets[rows][..., None] * d
 
     def summary(self) -> dict[str, float]:
         steps = np.array(self.steps)
