@@ -13,7 +13,8 @@ is counted. Run it with ``python -m validation.studies.hemisphere_plies_jumps 10
 mindlin 20``.
 
 Measured (Mindlin [0/90], 10 cells, 20 N; one thread, one run at a time, CPU of the run):
-see docs/hemisphere_plies.md, "The outline's fade".
+see docs/hemisphere_plies.md, "The outline's fade" and "The fade by the distance to the
+outline".
 """
 
 from __future__ import annotations
