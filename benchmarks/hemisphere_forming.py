@@ -487,6 +487,7 @@ class Phases:
 
     def __init__(self, compiled) -> None:
         self.spent: dict[str, list[float]] = {}
+        self.inside: dict[str, list[int]] = {}
         self.wrapped: list[tuple[object, str]] = []
         self.restored: list[tuple[object, str, object]] = []
         # Each evaluation of the assembled bound: (time, the bound, the cells' bound), s.
@@ -509,7 +510,9 @@ class Phases:
         for interaction in compiled.interactions:
             tool = getattr(interaction, "tool", None)
             meshed = isinstance(tool, RigidSurface)
-            for name in ("internal_force", "strain_energy", "tool_work"):
+            # (add_internal_force: how the model sums a contact's forces; the protocol's
+            # default calls internal_force, timed once: ``_wrap``)
+            for name in ("internal_force", "add_internal_force", "strain_energy", "tool_work"):
                 self._wrap(interaction, name, "contact (die)" if meshed else "contact (others)")
             if meshed:
                 self._wrap(tool, "_searched", "  of which the die's searches", self._count)
@@ -532,14 +535,19 @@ class Phases:
         if method is None:
             return
         totals = self.spent.setdefault(phase, [0.0, 0.0])
+        inside = self.inside.setdefault(phase, [0])  # a timed call of the phase under way
 
         def timed(*args, **kwargs):
             if count is not None:
                 count(*args, **kwargs)
+            if inside[0]:  # called from another of the phase's timed calls: counted there
+                return method(*args, **kwargs)
+            inside[0] += 1
             wall, cpu = time.perf_counter(), time.process_time()
             try:
                 return method(*args, **kwargs)
             finally:
+                inside[0] -= 1
                 totals[0] += time.perf_counter() - wall
                 totals[1] += time.process_time() - cpu
 

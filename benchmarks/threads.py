@@ -103,18 +103,22 @@ def child(cells: int, steps: int, repeats: int) -> None:
     dt = 0.5 * compiled.stable_dt(start)
     default = numba.get_num_threads()
 
-    def run(threads: int, follow: bool = True) -> tuple[float, float]:
+    def run(threads: int, follow: bool = True) -> tuple[float, float, float]:
         numba.set_num_threads(threads)
         jit.FOLLOW_LOAD = follow
         state, previous = start, 0.0
-        wall, cpu = time.perf_counter(), time.process_time()
+        wall, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
         for _ in range(steps):
             step = explicit_step(compiled, state, dt, masses, dt_prev=previous, duration=0.1)
             state, previous = compiled.commit(step.state), dt
-        return (time.perf_counter() - wall) / steps, (time.process_time() - cpu) / steps
+        return (
+            (time.perf_counter() - wall) / steps,
+            (time.process_time() - cpu) / steps,
+            (time.thread_time() - own) / steps,  # the calling thread's: the critical path
+        )
 
     run(default)  # compiles, fills the tools' caches
-    times: dict[str, list[tuple[float, float]]] = {"one": [], "default": [], "all": []}
+    times: dict[str, list[tuple[float, float, float]]] = {"one": [], "default": [], "all": []}
     for _ in range(repeats):
         times["one"].append(run(1))
         times["default"].append(run(default))
@@ -130,6 +134,8 @@ def child(cells: int, steps: int, repeats: int) -> None:
                 "threads": jit.threads_for(2 * cells * cells),
                 "cap": default,
                 **{key: min(values) for key, values in times.items()},
+                # the CPU of one thread's step over the calling thread's on all threads
+                "critical": min(t[1] for t in times["one"]) / min(t[2] for t in times["all"]),
                 "reference": reference,
             }
         )
@@ -158,7 +164,7 @@ def main() -> None:
           f"cores {len(os.sched_getaffinity(0))}")  # fmt: skip
     print(f"{'busy':>4} {'configuration':>13} {'layer':>9} {'threads':>7} {'1 thread ms':>11} "
           f"{'default ms':>10} {'cpu ms':>6} {'ratio':>5} {'all threads ms':>14} {'ratio':>5} "
-          f"{'ref ms':>6} {'load':>5}")  # fmt: skip
+          f"{'ref ms':>6} {'critical':>8} {'load':>5}")  # fmt: skip
     for busy in (int(b) for b in args.busy.split(",")):
         hogs = [subprocess.Popen([sys.executable, "-c", "while 1: pass"]) for _ in range(busy)]
         try:
@@ -173,7 +179,8 @@ def main() -> None:
                 print(f"{busy:>4} {name:>13} {r['layer']:>9} {r['threads']:>3} of {r['cap']:<1} "
                       f"{one[0] * 1e3:>11.2f} {default[0] * 1e3:>10.2f} {default[1] * 1e3:>6.2f} "
                       f"{default[0] / one[0]:>5.2f} {every[0] * 1e3:>14.2f} "
-                      f"{every[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} {load():>5}",
+                      f"{every[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} "
+                      f"{r['critical']:>8.2f} {load():>5}",
                       flush=True)  # fmt: skip
         finally:
             for hog in hogs:

@@ -30,14 +30,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange, serial
+from elements.jit import jit, prange, serial, unsigned
 
 __all__ = ["add_node_forces", "distinct_nodes", "row_sums", "shifted"]
 
 
 def _shifted(x, shift, out):
     """out = x - shift: x, out (s, 3); shift (3,)."""
-    for i in prange(x.shape[0]):
+    for row in prange(x.shape[0]):
+        i = unsigned(row)  # an index numba need not test for < 0 (elements/jit.py)
         out[i, 0] = x[i, 0] - shift[0]
         out[i, 1] = x[i, 1] - shift[1]
         out[i, 2] = x[i, 2] - shift[2]
@@ -46,8 +47,9 @@ def _shifted(x, shift, out):
 def _add_rows(forces, nodes, out):
     """out[nodes[i]] += 0 - forces[i] for each row i: forces (s, 3), N; nodes (s,) int, each
     listed once; out (n, 3)."""
-    for i in prange(forces.shape[0]):
-        node = nodes[i]
+    for row in prange(forces.shape[0]):
+        i = unsigned(row)
+        node = unsigned(nodes[i])  # a node id, not negative
         out[node, 0] += 0.0 - forces[i, 0]
         out[node, 1] += 0.0 - forces[i, 1]
         out[node, 2] += 0.0 - forces[i, 2]

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from elements.jit import CHUNK, chunk_sums, chunks, jit, prange
+from elements.jit import CHUNK, chunk_sums, chunks, jit, prange, unsigned
 from solvers.common import inverse_diagonal
 
 __all__ = [
@@ -65,7 +65,9 @@ def _update_rates(
     for chunk in prange(partial.shape[0]):
         d_ext = d_int = d_damp = kinetic = 0.0
         product = kinetic_mean = ext_before = damp_before = 0.0
-        for i in range(chunk * CHUNK, min(n, (chunk + 1) * CHUNK)):
+        start = chunk * CHUNK
+        for within in range(min(n - start, CHUNK)):
+            i = unsigned(start + within)  # an index numba need not test for < 0
             m = mass[i]
             for j in range(3):
                 v0 = old[i, j]

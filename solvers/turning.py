@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import CHUNK, chunk_sums, chunks, jit, prange
+from elements.jit import CHUNK, chunk_sums, chunks, jit, prange, unsigned
 from femcore.rotation import frame_of, turned
 
 __all__ = ["COMPILED", "move", "rates", "turn"]
@@ -58,7 +58,9 @@ def _turn(
     for chunk in prange(partial.shape[0]):
         d_ext = d_int = d_damp = kinetic = 0.0
         product = kinetic_mean = ext_before = damp_before = 0.0
-        for i in range(chunk * CHUNK, min(n, (chunk + 1) * CHUNK)):
+        start = chunk * CHUNK
+        for within in range(min(n - start, CHUNK)):
+            i = unsigned(start + within)  # an index numba need not test for < 0
             new_positions[i, 0] = positions[i, 0] + dt * velocities[i, 0]
             new_positions[i, 1] = positions[i, 1] + dt * velocities[i, 1]
             new_positions[i, 2] = positions[i, 2] + dt * velocities[i, 2]
