@@ -190,6 +190,16 @@ process's own CPU share out of the load (tests/test_threads.py: alone and busy o
 of two cores, it gives two), so on a machine whose second core is free the element force
 runs on both; the speed-up there was not measured (the machine was never quiet).
 
+The punch's and holder's forces added into the model's sums in place, their node gathers
+and totals compiled (elements/node_rows.py), the velocity and rotation updates on the threads
+(solvers/dynamics.py, turning.py; benchmarks/threads.py): ``--fraction 0.005 --phases``, one
+thread (the default chose one at these loads), main fdcebfd and after in turns, twice, CPU
+ms a step (load 6.1-6.6, 7.1-7.6, 9.0-9.8, 10.4-10.9): the step 12.93 / 13.27 -> 12.18 /
+12.99; the punch and holder 0.96 / 1.04 -> 0.51 / 0.56; the die 1.66 / 1.71 -> 1.51 / 1.64;
+the nodal update 0.64 / 0.65 -> 0.69 / 0.73 (before its index was unsigned: elements/jit.py
+``unsigned``); the element force 7.88 / 8.01 -> 7.74 / 8.20 (unchanged code). On two threads
+forced the main thread's share was not measured at 20k; at 100k see benchmarks/threads.py.
+
 The stroke in fewer steps (benchmarks/hemisphere_scaling.py, 20 cells, every setting beside
 the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of the case in
 0.25 of the steps (rms 2.087 against 2.140 deg, draw-in 28.50 against 28.57 mm, KE / W at most
