@@ -14,8 +14,8 @@ the nodes on the threads of elements/jit.py (each node's update is its own, the 
 thread count); ``_turn`` sums its energy terms a chunk of ``CHUNK`` nodes at a time, in node
 order within a chunk, and the chunks' sums in chunk order (``chunk_sums``): the same to the
 last bit on any number of threads. Serial, the rotation update of the 100k-triangle forming
-blank was a sixth of the step's part that did not run on two threads
-(benchmarks/threads.py).
+blank was a fifth of the step's part that did not run on two threads (1.5 of 7 ms:
+benchmarks/threads.py).
 """
 
 from __future__ import annotations
