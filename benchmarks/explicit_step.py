@@ -217,6 +217,12 @@ element-step (steady wall; whole run of 100 steps wall): fibrous one thread 0.51
 other run held it. Mindlin one thread 0.113, 0.156 (0.167, 0.174), two threads 0.266, 0.315.
 A fair two-thread figure needs the machine quiet (benchmarks/threads.py has the quiet one).
 
+The velocity and rotation updates on the threads, their energy terms summed by chunks of
+nodes (solvers/dynamics.py, turning.py; benchmarks/threads.py): the one-thread step as
+before, main fdcebfd and after in turns, 100k, ``--repeats 3``, µs of CPU an element-step
+(steady; the step less its force): Mindlin 0.124 / 0.129 -> 0.130 / 0.128 (0.031 -> 0.032 /
+0.033), load 6.1-6.7; fibrous 0.442 -> 0.441 (0.022 -> 0.022), load 8.0-8.9.
+
 Run from the project root:
 
     python benchmarks/explicit_step.py

@@ -190,6 +190,16 @@ process's own CPU share out of the load (tests/test_threads.py: alone and busy o
 of two cores, it gives two), so on a machine whose second core is free the element force
 runs on both; the speed-up there was not measured (the machine was never quiet).
 
+The punch's and holder's forces added into the model's sums in place, their node gathers
+and totals compiled (elements/node_rows.py), the velocity and rotation updates on the threads
+(solvers/dynamics.py, turning.py; benchmarks/threads.py): ``--fraction 0.005 --phases``, one
+thread (the default chose one at these loads), main fdcebfd and after in turns, twice, CPU
+ms a step (load 6.1-6.6, 7.1-7.6, 9.0-9.8, 10.4-10.9): the step 12.93 / 13.27 -> 12.18 /
+12.99; the punch and holder 0.96 / 1.04 -> 0.51 / 0.56; the die 1.66 / 1.71 -> 1.51 / 1.64;
+the nodal update 0.64 / 0.65 -> 0.69 / 0.73 (before its index was unsigned: elements/jit.py
+``unsigned``); the element force 7.88 / 8.01 -> 7.74 / 8.20 (unchanged code). On two threads
+forced the main thread's share was not measured at 20k; at 100k see benchmarks/threads.py.
+
 The stroke in fewer steps (benchmarks/hemisphere_scaling.py, 20 cells, every setting beside
 the unscaled run): time scaling x4 (the stroke in 0.075 s) keeps every check of the case in
 0.25 of the steps (rms 2.087 against 2.140 deg, draw-in 28.50 against 28.57 mm, KE / W at most
@@ -487,6 +497,7 @@ class Phases:
 
     def __init__(self, compiled) -> None:
         self.spent: dict[str, list[float]] = {}
+        self.inside: dict[str, list[int]] = {}
         self.wrapped: list[tuple[object, str]] = []
         self.restored: list[tuple[object, str, object]] = []
         # Each evaluation of the assembled bound: (time, the bound, the cells' bound), s.
@@ -509,7 +520,9 @@ class Phases:
         for interaction in compiled.interactions:
             tool = getattr(interaction, "tool", None)
             meshed = isinstance(tool, RigidSurface)
-            for name in ("internal_force", "strain_energy", "tool_work"):
+            # (add_internal_force: how the model sums a contact's forces; the protocol's
+            # default calls internal_force, timed once: ``_wrap``)
+            for name in ("internal_force", "add_internal_force", "strain_energy", "tool_work"):
                 self._wrap(interaction, name, "contact (die)" if meshed else "contact (others)")
             if meshed:
                 self._wrap(tool, "_searched", "  of which the die's searches", self._count)
@@ -532,14 +545,19 @@ class Phases:
         if method is None:
             return
         totals = self.spent.setdefault(phase, [0.0, 0.0])
+        inside = self.inside.setdefault(phase, [0])  # a timed call of the phase under way
 
         def timed(*args, **kwargs):
             if count is not None:
                 count(*args, **kwargs)
+            if inside[0]:  # called from another of the phase's timed calls: counted there
+                return method(*args, **kwargs)
+            inside[0] += 1
             wall, cpu = time.perf_counter(), time.process_time()
             try:
                 return method(*args, **kwargs)
             finally:
+                inside[0] -= 1
                 totals[0] += time.perf_counter() - wall
                 totals[1] += time.process_time() - cpu
 

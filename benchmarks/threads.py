@@ -54,6 +54,51 @@ same numbers; np.take, 0.13 ms, for other node sets). Side by side in turns (old
 load 0.7-1.3): 1 thread 45.35 / 45.18 -> 43.31 / 43.60 ms a step (-4 %), the default 27.76 /
 28.24 -> 25.95 / 27.21 (1.61-1.67 x one thread).
 
+``critical``: the one-thread step's CPU time over the calling thread's CPU time a step on all
+threads. With the passive wait the calling thread sleeps while it waits for the other one,
+so its CPU time is the step's critical path: its serial part and its own share of the
+parallel loops, what a quiet machine's wall time would be without the cost of waking the
+threads and of sharing the memory. The load does not hide it (the wall times do: at a load
+of 6-10 the default runs on one thread and the other thread of the "all threads" runs waits
+for a core), and it overstates the wall-time ratio: 1.66-1.78 for main fdcebfd (below)
+where the quiet machine gave 1.61-1.67 above.
+
+The serial rest moved onto the threads (elements/node_rows.py, solvers/dynamics.py,
+solvers/turning.py): the velocity and rotation updates run over the nodes in parallel,
+their energy terms summed by chunks of elements.jit.CHUNK nodes in one order; a contact adds
+its forces into the model's sums in place (``InteractionBlock.add_internal_force``: no
+bincount scatter, no (n, 3) array a contact), its positions less the driven holder's
+translation, the meshed die's positions in its frame and the punch's total force compiled
+(numpy's ``x - c`` and ``f.sum(axis=0)`` ran an inner loop of 3 a row: 0.25 and 0.74 ms at
+50k nodes, on one thread whatever the threads). The trajectory is the same to the last bit
+as before (and on 1 and 2 threads); the energy terms differ from before by their chunked
+order of summation (1e-13 relative). Side by side, main fdcebfd (through a copy of this
+script beside links to main's packages) and after, in turns, ``--cells 224 --busy 0
+--configurations passive --steps 30 --repeats 3``, load 6.1-9.8 (the default chose one
+thread):
+
+    run      1-thread step CPU ms     critical
+    main     46.05 / 44.99 / 45.09    1.75 / 1.68 / 1.66
+    after    42.44 / 41.23 / 43.67    1.91 / 1.84 / 1.91
+
+Where the calling thread's CPU goes, 20 steps timed inside (FOLLOW_LOAD off; load 9.0 for
+main, 6.5 after), ms a step on two threads (on one thread in brackets), main -> after: the
+whole step 25.93 (44.19) -> 22.34 (42.65); the fibrous force 16.82 (33.24) -> 16.75 (34.02),
+its code unchanged; the die 3.13 (4.79) -> 2.68 (4.53); the punch 0.67 (0.82) -> 0.50
+(0.67); the driven holder 1.62 (1.66) -> 0.35 (0.45); the parts' sum 0.36 -> 0.22; the
+punch's work 1.06 (1.05) -> 0.34 (0.35); the rotation update 1.54 (1.53) -> 0.88 (1.59);
+the velocity update 0.45 (0.45) -> 0.28 (0.46). The serial rest is now about 1.9 ms of
+the calling thread's 22 (the die's own numpy between its compiled passes, the contacts'
+caches, the external loads, the sums). The two-thread wall ratio on a quiet machine was not
+measured (the machine was never quiet in those hours); with main's distance from
+``critical`` to it (0.05-0.11), about 1.73-1.86.
+
+The small passes on two threads cost more than they save on a busy machine: x - c of 50k
+rows took 46 against 56 us (best of 300, load 5-6), the forces' add 66 against 79; the
+velocity update (0.39 ms) ran no faster on two threads there either, its second thread
+waiting for a core (the calling thread's CPU halved, 545 -> 280 us). A loop follows the free
+cores (elements/jit.py), so on such a machine they run on one.
+
 Run from the project root:
 
     python benchmarks/threads.py                     # 100 x 100 x 2 = 20k triangles
@@ -103,18 +148,22 @@ def child(cells: int, steps: int, repeats: int) -> None:
     dt = 0.5 * compiled.stable_dt(start)
     default = numba.get_num_threads()
 
-    def run(threads: int, follow: bool = True) -> tuple[float, float]:
+    def run(threads: int, follow: bool = True) -> tuple[float, float, float]:
         numba.set_num_threads(threads)
         jit.FOLLOW_LOAD = follow
         state, previous = start, 0.0
-        wall, cpu = time.perf_counter(), time.process_time()
+        wall, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
         for _ in range(steps):
             step = explicit_step(compiled, state, dt, masses, dt_prev=previous, duration=0.1)
             state, previous = compiled.commit(step.state), dt
-        return (time.perf_counter() - wall) / steps, (time.process_time() - cpu) / steps
+        return (
+            (time.perf_counter() - wall) / steps,
+            (time.process_time() - cpu) / steps,
+            (time.thread_time() - own) / steps,  # the calling thread's: the critical path
+        )
 
     run(default)  # compiles, fills the tools' caches
-    times: dict[str, list[tuple[float, float]]] = {"one": [], "default": [], "all": []}
+    times: dict[str, list[tuple[float, float, float]]] = {"one": [], "default": [], "all": []}
     for _ in range(repeats):
         times["one"].append(run(1))
         times["default"].append(run(default))
@@ -130,6 +179,8 @@ def child(cells: int, steps: int, repeats: int) -> None:
                 "threads": jit.threads_for(2 * cells * cells),
                 "cap": default,
                 **{key: min(values) for key, values in times.items()},
+                # the CPU of one thread's step over the calling thread's on all threads
+                "critical": min(t[1] for t in times["one"]) / min(t[2] for t in times["all"]),
                 "reference": reference,
             }
         )
@@ -158,7 +209,7 @@ def main() -> None:
           f"cores {len(os.sched_getaffinity(0))}")  # fmt: skip
     print(f"{'busy':>4} {'configuration':>13} {'layer':>9} {'threads':>7} {'1 thread ms':>11} "
           f"{'default ms':>10} {'cpu ms':>6} {'ratio':>5} {'all threads ms':>14} {'ratio':>5} "
-          f"{'ref ms':>6} {'load':>5}")  # fmt: skip
+          f"{'ref ms':>6} {'critical':>8} {'load':>5}")  # fmt: skip
     for busy in (int(b) for b in args.busy.split(",")):
         hogs = [subprocess.Popen([sys.executable, "-c", "while 1: pass"]) for _ in range(busy)]
         try:
@@ -173,7 +224,8 @@ def main() -> None:
                 print(f"{busy:>4} {name:>13} {r['layer']:>9} {r['threads']:>3} of {r['cap']:<1} "
                       f"{one[0] * 1e3:>11.2f} {default[0] * 1e3:>10.2f} {default[1] * 1e3:>6.2f} "
                       f"{default[0] / one[0]:>5.2f} {every[0] * 1e3:>14.2f} "
-                      f"{every[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} {load():>5}",
+                      f"{every[0] / one[0]:>5.2f} {r['reference'] * 1e3:>6.3f} "
+                      f"{r['critical']:>8.2f} {load():>5}",
                       flush=True)  # fmt: skip
         finally:
             for hog in hogs:

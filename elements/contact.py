@@ -81,6 +81,7 @@ from typing import Any
 
 import numpy as np
 
+from elements.node_rows import add_node_forces, distinct_nodes, row_sums, shifted
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
 from femcore.checks import as_number, as_reals
@@ -370,6 +371,7 @@ class ContactBlock(InteractionBlock):
         contiguous = np.array_equal(nodes, np.arange(first, first + len(nodes)))
         self._span = slice(first, first + len(nodes)) if contiguous else None
         self.scatter = Scatter(self.connectivity, n_nodes)
+        self._distinct = distinct_nodes(self.connectivity)  # (add_internal_force)
         self.n_nodes = n_nodes
         self.offset = offset
         self.area = area[nodes]
@@ -455,10 +457,12 @@ class ContactBlock(InteractionBlock):
         translated tool's distance is the unmoved tool's at x - c)."""
         span = getattr(self, "_span", None)  # (absent from a block pickled without it)
         if span is not None:
-            x = state.positions[span].copy()
+            x = state.positions[span]  # a view: copied, or shifted into a new array
         else:
             x = np.take(state.positions, self.connectivity[:, 0], axis=0)
-        return x if self.tool_node is None else x - self.tool_translation(state)
+        if self.tool_node is None:
+            return x.copy() if span is not None else x
+        return shifted(x, self.tool_translation(state))
 
     def touch(self, state: State, history: FrictionHistory | None = None):
         """Penetration p (s,), mm, the tool's normal (s, 3) at the nodes and whether each
@@ -601,7 +605,7 @@ class ContactBlock(InteractionBlock):
 
     def tool_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(1, 3) the total force the body exerts on the tool, N."""
-        return -self.contact_forces(state, history).sum(axis=0)[None, :]
+        return -row_sums(self.contact_forces(state, history))[None, :]
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history: Any = None):
@@ -609,6 +613,14 @@ class ContactBlock(InteractionBlock):
         if self.tool_node is not None:  # the reaction on the tool's node
             force = np.concatenate([force, -force], axis=1)
         return self.scatter.vectors(-force), None
+
+    def add_internal_force(self, state: State, history: Any, force, moment) -> None:
+        """``internal_force`` added into ``force`` (n, 3) in place, the same numbers, in one
+        compiled pass over the nodes (elements/node_rows.py; a node listed twice: the sum
+        of the arrays)."""
+        if not getattr(self, "_distinct", False):  # (absent from a block pickled without it)
+            return super().add_internal_force(state, history, force, moment)
+        add_node_forces(self.connectivity, self.contact_forces(state, history), force)
 
     def tool_displacements(self, state: State, history: Any = None) -> np.ndarray:
         """(1, 3) the tool's translation from where it was given, mm: its prescribed motion
@@ -679,7 +691,7 @@ class ContactBlock(InteractionBlock):
         if not self.tool.moves:
             return 0.0
         shift = self.tool.offset(end) - self.tool.offset(start)
-        return float(self.contact_forces(state, history).sum(axis=0) @ shift)
+        return float(row_sums(self.contact_forces(state, history)) @ shift)
 
     def tangent(self, state: State, history: Any = None):
         """d(internal force)/dx per node: normal k n n^T - k p N with N = dn/dx

@@ -62,15 +62,19 @@ if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
 
 __all__ = [
     "AVAILABLE",
+    "CHUNK",
     "FOLLOW_LOAD",
     "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
+    "chunk_sums",
+    "chunks",
     "inline",
     "jit",
     "prange",
     "serial",
     "threads_for",
+    "unsigned",
 ]
 
 # A parallel loop over fewer items than this runs on one thread (measured at a load of 8 on
@@ -84,6 +88,30 @@ FOLLOW_LOAD = True
 PLAIN_ON_ONE_THREAD = True
 # Seconds between two looks at the machine's load (free_cores).
 LOAD_REFRESH = 2.0
+# Nodes per chunk of a parallel loop that sums over its nodes (an energy): each chunk sums
+# its own nodes in order, and the chunks' sums are added in chunk order (``chunk_sums``), so
+# that the sum is the same to the last bit on any number of threads. Small enough that the
+# chunks of the 20k-triangle blank (10k nodes) share out evenly on two threads.
+CHUNK = 1024
+
+
+# An array index as an unsigned integer inside compiled code (int without numba): numba
+# tests a signed index for < 0 at every array access (to count from the end), unless it can
+# tell the index is not negative, as it can for range(n) but not for a chunk's range of a
+# loop's part (range(start, stop) with start computed from the part): a chunked loop over the
+# nodes ran 1.3 times as long as the plain loop, as fast with its index unsigned.
+unsigned = numba.uint64 if AVAILABLE else int
+
+
+def chunks(items: int) -> int:
+    """The number of ``CHUNK``-item chunks that cover ``items`` items (at least 1)."""
+    return max(1, -(-items // CHUNK))
+
+
+def chunk_sums(partial):
+    """(k,) the sums of the chunks' partial sums ``partial`` (chunks, k): numpy's sum along
+    the chunks, one order whatever the threads that computed them."""
+    return partial.sum(axis=0)
 
 
 class _Load:

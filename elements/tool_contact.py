@@ -41,6 +41,7 @@ from elements.annulus import RigidAnnulus
 from elements.contact import ContactBlock
 from elements.facet_search import SLACK, closest_facets_kept
 from elements.jit import jit, prange
+from elements.node_rows import shifted
 from elements.rigid_surface import RigidSurface
 from elements.tools import RigidPlane, RigidSphere, RigidTool
 
@@ -220,7 +221,7 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
     tool was just asked about (its answer from memory)."""
     tool = block.tool
     assert isinstance(tool, RigidSurface)
-    local = np.asarray(x, dtype=float) - tool.offset(load_factor)
+    local = shifted(x, tool.offset(load_factor))  # x - offset, compiled
     last = tool._last
     if (
         tool.smooth

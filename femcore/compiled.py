@@ -266,7 +266,11 @@ class CompiledModel(CompiledTangent):
             return np.asarray(f, dtype=float), self._moment_or_zeros(m)
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
+        blocks = len(self.blocks)
         for i in indices:
+            if i >= blocks:  # an interaction adds its rows in place (no (n, 3) arrays)
+                self.interactions[i - blocks].add_internal_force(state, histories[i], force, moment)
+                continue
             f, m = self.parts[i].internal_force(state, histories[i])
             force += f
             if m is not None:
@@ -292,10 +296,7 @@ class CompiledModel(CompiledTangent):
                 moment += m
             energy += e
         for interaction, history in zip(self.interactions, histories[len(self.blocks) :]):
-            f, m = interaction.internal_force(state, history)
-            force += f
-            if m is not None:
-                moment += m
+            interaction.add_internal_force(state, history, force, moment)
             energy += interaction.strain_energy(state, history)
         return force, moment, float(energy)
 

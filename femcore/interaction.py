@@ -167,6 +167,18 @@ class InteractionBlock(ABC):
         (penalty springs, stuck friction springs)."""
 
     # ------------------------------------------------------------------ optional
+    def add_internal_force(
+        self, state: State, history: Any, force: np.ndarray, moment: np.ndarray
+    ) -> None:
+        """``internal_force`` added into ``force`` and ``moment`` (n, 3) in place, the same
+        numbers as adding the arrays it returns: how the model sums its parts
+        (femcore.compiled). The default adds them; a block may add its rows without making
+        (n, 3) arrays of its own (elements/node_rows.py)."""
+        f, m = self.internal_force(state, history)
+        force += f
+        if m is not None:
+            moment += m
+
     def tangent(self, state: State, history: Any = None) -> Sequence[TangentPart] | None:
         """d(internal_force)/d(u, psi) as tangent parts, or None (the default): the assembler
         then differentiates ``internal_force`` over ``connectivity`` and ``reach``."""

@@ -18,7 +18,9 @@ kit imports no test framework.
 * ``check_energy``: the stored energy and the dissipation are >= 0, an accepted step
   dissipates no negative energy, and ``update_history`` leaves the history it is given as it
   was;
-* ``check_interaction``: the first two and the last at one state.
+* ``check_added_force``: ``add_internal_force`` adds what ``internal_force`` returns, bit for
+  bit (how the model sums its parts);
+* ``check_interaction``: the first two and the last two at one state.
 
 Tolerances. Derivatives are central differences with a step h (default 1e-6 of the size of
 the nodes' bounding box, 1e-6 rad for rotations): their truncation error is O(h^2) relative
@@ -53,6 +55,7 @@ from femcore.rotation import nodal_frames, rotate_about
 from femcore.state import State
 
 __all__ = [
+    "check_added_force",
     "check_energy",
     "check_force_is_energy_gradient",
     "check_friction",
@@ -588,6 +591,35 @@ def check_energy(block: InteractionBlock, state: State, history: Any = None) -> 
         )
 
 
+def check_added_force(block: InteractionBlock, state: State, history: Any = None) -> None:
+    """``add_internal_force`` into sums that start from zero gives what ``internal_force``
+    returns, to the last bit (the model sums its parts so: femcore.compiled), and leaves
+    the moments as they were where the block gives none.
+
+    Raises
+    ------
+    AssertionError
+        Naming the first node whose sum differs.
+    """
+    name = type(block).__name__
+    force, moment = block.internal_force(state, history)
+    n = len(state.positions)
+    added_force, added_moment = np.zeros((n, 3)), np.zeros((n, 3))
+    block.add_internal_force(state, history, added_force, added_moment)
+    expected_moment = np.zeros((n, 3)) if moment is None else 0.0 + np.asarray(moment)
+    for what, added, expected in (
+        ("force", added_force, 0.0 + np.asarray(force, dtype=float)),
+        ("moment", added_moment, expected_moment),
+    ):
+        differ = np.flatnonzero((added != expected).any(axis=1))
+        if differ.size:
+            node = int(differ[0])
+            raise AssertionError(
+                f"{name}.add_internal_force added the {what} {added[node]} at node {node} where "
+                f"internal_force gives {expected[node]}: the same sums expected"
+            )
+
+
 def check_interaction(
     block: InteractionBlock,
     state: State,
@@ -595,8 +627,10 @@ def check_interaction(
     step: float | None = None,
     rtol: float = 1e-6,
 ) -> None:
-    """``check_force_is_energy_gradient``, ``check_tangent`` and ``check_energy`` at one
-    state (the checks that need no tool, no rotation and no placement)."""
+    """``check_force_is_energy_gradient``, ``check_tangent``, ``check_energy`` and
+    ``check_added_force`` at one state (the checks that need no tool, no rotation and no
+    placement)."""
     check_force_is_energy_gradient(block, state, history, step, rtol)
     check_tangent(block, state, history, step, rtol)
     check_energy(block, state, history)
+    check_added_force(block, state, history)

@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from elements.jit import CHUNK, chunk_sums, chunks, jit, prange, unsigned
 from solvers.common import inverse_diagonal
 
 __all__ = [
@@ -51,56 +52,58 @@ def damped_velocity(
 
 def _update_rates(
     old, applied, internal, inverse_mass, mass, free, constrained, target, dt_bar, dt, dt_prev,
-    damping, full, new, reactions, terms,
+    damping, full, new, reactions, partial,
 ):  # fmt: skip
     """The central-difference update of one kind of nodal rate (velocities or angular
     velocities, (n, 3)) fused with its support reactions and energy terms, in one pass over
-    the nodes (compiled by numba when it is installed); ``update_rates`` documents it."""
+    the nodes (compiled by numba when it is installed, on the threads of elements/jit.py);
+    ``update_rates`` documents it. Each chunk of ``CHUNK`` nodes writes its energy terms to
+    its row of ``partial`` (chunks, 8), summed in node order."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)
     keep = 1.0 - 0.5 * damping * dt_bar
-    d_ext = d_int = d_damp = kinetic = 0.0
-    product = kinetic_mean = ext_before = damp_before = 0.0
-    for i in range(old.shape[0]):
-        m = mass[i]
-        for j in range(3):
-            v0 = old[i, j]
-            v_free = (
-                keep * v0 + dt_bar * inverse_mass[i, 0] * (applied[i, j] - internal[i, j])
-            ) * scale
-            if free[i, j]:
-                v1 = v_free
-            elif target.shape[0] > 0 and not np.isnan(target[i, j]):
-                v1 = target[i, j]
-            else:
-                v1 = 0.0
-            reaction = 0.0
-            if constrained[i, j]:
-                reaction = m * (v1 - v_free) / (scale * dt_bar)
-            new[i, j] = v1
-            reactions[i, j] = reaction
-            external = applied[i, j] + reaction
-            dx = 0.5 * (dt_prev * v0 + dt * v1)
-            d_ext += external * dx
-            d_int += internal[i, j] * dx
-            d_damp += damping * m * 0.5 * (v0 + v1) * dx
-            kinetic += 0.5 * m * v1 * v1
-            if full:
-                mean = 0.5 * (v0 + v1)
-                product += 0.5 * m * v0 * v1
-                kinetic_mean += 0.5 * m * mean * mean
-                ext_before += external * 0.5 * dt_prev * v0
-                damp_before += damping * m * v0 * 0.5 * dt_prev * v0
-    terms[0], terms[1], terms[2], terms[3] = d_ext, d_int, d_damp, kinetic
-    terms[4], terms[5], terms[6] = product, kinetic_mean, ext_before
-    terms[7] = damp_before
+    n = old.shape[0]
+    for chunk in prange(partial.shape[0]):
+        d_ext = d_int = d_damp = kinetic = 0.0
+        product = kinetic_mean = ext_before = damp_before = 0.0
+        start = chunk * CHUNK
+        for within in range(min(n - start, CHUNK)):
+            i = unsigned(start + within)  # an index numba need not test for < 0
+            m = mass[i]
+            for j in range(3):
+                v0 = old[i, j]
+                v_free = (
+                    keep * v0 + dt_bar * inverse_mass[i, 0] * (applied[i, j] - internal[i, j])
+                ) * scale
+                if free[i, j]:
+                    v1 = v_free
+                elif target.shape[0] > 0 and not np.isnan(target[i, j]):
+                    v1 = target[i, j]
+                else:
+                    v1 = 0.0
+                reaction = 0.0
+                if constrained[i, j]:
+                    reaction = m * (v1 - v_free) / (scale * dt_bar)
+                new[i, j] = v1
+                reactions[i, j] = reaction
+                external = applied[i, j] + reaction
+                dx = 0.5 * (dt_prev * v0 + dt * v1)
+                d_ext += external * dx
+                d_int += internal[i, j] * dx
+                d_damp += damping * m * 0.5 * (v0 + v1) * dx
+                kinetic += 0.5 * m * v1 * v1
+                if full:
+                    mean = 0.5 * (v0 + v1)
+                    product += 0.5 * m * v0 * v1
+                    kinetic_mean += 0.5 * m * mean * mean
+                    ext_before += external * 0.5 * dt_prev * v0
+                    damp_before += damping * m * v0 * 0.5 * dt_prev * v0
+        partial[chunk, 0], partial[chunk, 1] = d_ext, d_int
+        partial[chunk, 2], partial[chunk, 3] = d_damp, kinetic
+        partial[chunk, 4], partial[chunk, 5] = product, kinetic_mean
+        partial[chunk, 6], partial[chunk, 7] = ext_before, damp_before
 
 
-try:
-    import numba
-
-    _update_rates = numba.njit(cache=True)(_update_rates)
-except ImportError:  # pragma: no cover - numba is a dependency
-    pass
+_update_rates = jit(_update_rates)
 
 
 def update_rates(
@@ -127,7 +130,7 @@ def update_rates(
     ``mass``). Returns (new rates, reactions, energy terms)."""
     new = np.empty_like(old)
     reactions = np.empty_like(old)
-    terms = np.zeros(8)
+    partial = np.empty((chunks(len(old)), 8))
     dt_bar, dt, dt_prev = steps
     _update_rates(
         np.ascontiguousarray(old),
@@ -145,8 +148,9 @@ def update_rates(
         full,
         new,
         reactions,
-        terms,
+        partial,
     )
+    terms = chunk_sums(partial)
     return new, reactions, tuple(float(t) for t in terms)
 
 

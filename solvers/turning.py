@@ -9,14 +9,20 @@ It does in one loop what the damped update of ``solvers.dynamics.damped_velocity
 in a dozen numpy passes over (n, 3) arrays (a fifth of a Mindlin step at 100k triangles);
 ``solvers.step.rotational_update`` is that numpy reference, and the tests hold the two to
 1e-12. ``rates`` and ``move`` are the same loops without the energy terms: the
-``angular_rates`` and ``advance`` that dynamic relaxation moves with. The loops are serial:
-the energy sums then run in node order, the same on any number of threads.
+``angular_rates`` and ``advance`` that dynamic relaxation moves with. The loops run over
+the nodes on the threads of elements/jit.py (each node's update is its own, the same on any
+thread count); ``_turn`` sums its energy terms a chunk of ``CHUNK`` nodes at a time, in node
+order within a chunk, and the chunks' sums in chunk order (``chunk_sums``): the same to the
+last bit on any number of threads. Serial, the rotation update of the 100k-triangle forming
+blank was a fifth of the step's part that did not run on two threads (1.5 of 7 ms:
+benchmarks/threads.py).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from elements.jit import CHUNK, chunk_sums, chunks, jit, prange, unsigned
 from femcore.rotation import frame_of, turned
 
 __all__ = ["COMPILED", "move", "rates", "turn"]
@@ -42,62 +48,67 @@ def _held(fx, fy, fz, vx, vy, vz, alpha, beta):
 def _turn(
     omega, applied, internal, directors, positions, velocities, inertia, has_rotation,
     fixed_alpha, fixed_beta, dt_bar, dt, dt_prev, damping, full,
-    new_omega, reaction, new_directors, new_positions, terms,
+    new_omega, reaction, new_directors, new_positions, partial,
 ):  # fmt: skip
     """See ``turn``; the outputs are written into new_omega, reaction, new_directors,
-    new_positions (n, 3) and terms (8,)."""
+    new_positions (n, 3) and partial (chunks, 8): each chunk's energy terms (``chunks``)."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)
     keep = 1.0 - 0.5 * damping * dt_bar
-    d_ext = d_int = d_damp = kinetic = 0.0
-    product = kinetic_mean = ext_before = damp_before = 0.0
-    for i in range(omega.shape[0]):
-        new_positions[i, 0] = positions[i, 0] + dt * velocities[i, 0]
-        new_positions[i, 1] = positions[i, 1] + dt * velocities[i, 1]
-        new_positions[i, 2] = positions[i, 2] + dt * velocities[i, 2]
-        vx, vy, vz = directors[i, 0], directors[i, 1], directors[i, 2]
-        mx = applied[i, 0] - internal[i, 0]
-        my = applied[i, 1] - internal[i, 1]
-        mz = applied[i, 2] - internal[i, 2]
-        along = mx * vx + my * vy + mz * vz
-        mx, my, mz = mx - along * vx, my - along * vy, mz - along * vz
-        j = inertia[i]
-        inverse = 1.0 / j if j > 0.0 else 0.0
-        fx = (keep * omega[i, 0] + dt_bar * inverse * mx) * scale
-        fy = (keep * omega[i, 1] + dt_bar * inverse * my) * scale
-        fz = (keep * omega[i, 2] + dt_bar * inverse * mz) * scale
-        if has_rotation[i]:
-            wx, wy, wz = _held(fx, fy, fz, vx, vy, vz, fixed_alpha[i], fixed_beta[i])
-        else:
-            wx = wy = wz = 0.0
-        new_omega[i, 0], new_omega[i, 1], new_omega[i, 2] = wx, wy, wz
-        factor = j * (1.0 + 0.5 * damping * dt_bar) / dt_bar
-        rx, ry, rz = factor * (wx - fx), factor * (wy - fy), factor * (wz - fz)
-        reaction[i, 0], reaction[i, 1], reaction[i, 2] = rx, ry, rz
-        for k in range(3):
-            old = omega[i, k]
-            new = wx if k == 0 else (wy if k == 1 else wz)
-            external = applied[i, k] + (rx if k == 0 else (ry if k == 1 else rz))
-            dx = 0.5 * (dt_prev * old + dt * new)
-            mean = 0.5 * (old + new)
-            d_ext += external * dx
-            d_int += internal[i, k] * dx
-            d_damp += damping * j * mean * dx
-            kinetic += 0.5 * j * new * new
-            if full:
-                product += 0.5 * j * old * new
-                kinetic_mean += 0.5 * j * mean * mean
-                ext_before += external * 0.5 * dt_prev * old
-                damp_before += damping * j * old * 0.5 * dt_prev * old
-        if not has_rotation[i]:
-            new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = vx, vy, vz
-            continue
-        # femcore.rotation.rotate_about, the rotation dt omega
-        new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = turned(
-            vx, vy, vz, dt * wx, dt * wy, dt * wz
-        )
-    terms[0], terms[1], terms[2], terms[3] = d_ext, d_int, d_damp, kinetic
-    terms[4], terms[5], terms[6] = product, kinetic_mean, ext_before
-    terms[7] = damp_before
+    n = omega.shape[0]
+    for chunk in prange(partial.shape[0]):
+        d_ext = d_int = d_damp = kinetic = 0.0
+        product = kinetic_mean = ext_before = damp_before = 0.0
+        start = chunk * CHUNK
+        for within in range(min(n - start, CHUNK)):
+            i = unsigned(start + within)  # an index numba need not test for < 0
+            new_positions[i, 0] = positions[i, 0] + dt * velocities[i, 0]
+            new_positions[i, 1] = positions[i, 1] + dt * velocities[i, 1]
+            new_positions[i, 2] = positions[i, 2] + dt * velocities[i, 2]
+            vx, vy, vz = directors[i, 0], directors[i, 1], directors[i, 2]
+            mx = applied[i, 0] - internal[i, 0]
+            my = applied[i, 1] - internal[i, 1]
+            mz = applied[i, 2] - internal[i, 2]
+            along = mx * vx + my * vy + mz * vz
+            mx, my, mz = mx - along * vx, my - along * vy, mz - along * vz
+            j = inertia[i]
+            inverse = 1.0 / j if j > 0.0 else 0.0
+            fx = (keep * omega[i, 0] + dt_bar * inverse * mx) * scale
+            fy = (keep * omega[i, 1] + dt_bar * inverse * my) * scale
+            fz = (keep * omega[i, 2] + dt_bar * inverse * mz) * scale
+            if has_rotation[i]:
+                wx, wy, wz = _held(fx, fy, fz, vx, vy, vz, fixed_alpha[i], fixed_beta[i])
+            else:
+                wx = wy = wz = 0.0
+            new_omega[i, 0], new_omega[i, 1], new_omega[i, 2] = wx, wy, wz
+            factor = j * (1.0 + 0.5 * damping * dt_bar) / dt_bar
+            rx, ry, rz = factor * (wx - fx), factor * (wy - fy), factor * (wz - fz)
+            reaction[i, 0], reaction[i, 1], reaction[i, 2] = rx, ry, rz
+            for k in range(3):
+                old = omega[i, k]
+                new = wx if k == 0 else (wy if k == 1 else wz)
+                external = applied[i, k] + (rx if k == 0 else (ry if k == 1 else rz))
+                dx = 0.5 * (dt_prev * old + dt * new)
+                mean = 0.5 * (old + new)
+                d_ext += external * dx
+                d_int += internal[i, k] * dx
+                d_damp += damping * j * mean * dx
+                kinetic += 0.5 * j * new * new
+                if full:
+                    product += 0.5 * j * old * new
+                    kinetic_mean += 0.5 * j * mean * mean
+                    ext_before += external * 0.5 * dt_prev * old
+                    damp_before += damping * j * old * 0.5 * dt_prev * old
+            if not has_rotation[i]:
+                new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = vx, vy, vz
+                continue
+            # femcore.rotation.rotate_about, the rotation dt omega
+            new_directors[i, 0], new_directors[i, 1], new_directors[i, 2] = turned(
+                vx, vy, vz, dt * wx, dt * wy, dt * wz
+            )
+        partial[chunk, 0], partial[chunk, 1] = d_ext, d_int
+        partial[chunk, 2], partial[chunk, 3] = d_damp, kinetic
+        partial[chunk, 4], partial[chunk, 5] = product, kinetic_mean
+        partial[chunk, 6], partial[chunk, 7] = ext_before, damp_before
 
 
 def _rates(omega, moment, inverse, has_rotation, fixed_alpha, fixed_beta, directors, dt_bar,
@@ -107,7 +118,7 @@ def _rates(omega, moment, inverse, has_rotation, fixed_alpha, fixed_beta, direct
     (n, 3) (the formulas of ``_turn``)."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)
     keep = 1.0 - 0.5 * damping * dt_bar
-    for i in range(omega.shape[0]):
+    for i in prange(omega.shape[0]):
         fx = (keep * omega[i, 0] + dt_bar * inverse[i] * moment[i, 0]) * scale
         fy = (keep * omega[i, 1] + dt_bar * inverse[i] * moment[i, 1]) * scale
         fz = (keep * omega[i, 2] + dt_bar * inverse[i] * moment[i, 2]) * scale
@@ -124,7 +135,7 @@ def _move(positions, directors, velocities, omega, dt, has_rotation, new_positio
           new_directors):  # fmt: skip
     """``solvers.step.advance`` in one loop: positions + dt v, the directors turned by
     dt omega where they have rotations (the formulas of ``_turn``)."""
-    for i in range(positions.shape[0]):
+    for i in prange(positions.shape[0]):
         new_positions[i, 0] = positions[i, 0] + dt * velocities[i, 0]
         new_positions[i, 1] = positions[i, 1] + dt * velocities[i, 1]
         new_positions[i, 2] = positions[i, 2] + dt * velocities[i, 2]
@@ -144,9 +155,9 @@ try:
     import numba
 
     _held = numba.njit(cache=True)(_held)
-    _turn = numba.njit(cache=True)(_turn)
-    _rates = numba.njit(cache=True)(_rates)
-    _move = numba.njit(cache=True)(_move)
+    _turn = jit(_turn)
+    _rates = jit(_rates)
+    _move = jit(_move)
     COMPILED = True
 except ImportError:  # pragma: no cover - numba is a dependency
     pass
@@ -245,7 +256,7 @@ def turn(
     n = len(omega)
     new_omega, reaction = np.empty((n, 3)), np.empty((n, 3))
     new_directors, new_positions = np.empty((n, 3)), np.empty((n, 3))
-    terms = np.zeros(8)
+    partial = np.empty((chunks(n), 8))
     dt_bar, dt, dt_prev = steps
     fixed = np.ascontiguousarray(rotation_fixed)
     _turn(
@@ -268,6 +279,7 @@ def turn(
         reaction,
         new_directors,
         new_positions,
-        terms,
+        partial,
     )
+    terms = chunk_sums(partial)
     return new_omega, reaction, new_directors, new_positions, tuple(float(t) for t in terms)

@@ -21,6 +21,7 @@ from elements import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
 from elements.contact import Contact, FrictionHistory
 from femcore import Body, Mesh
 from femcore.interaction_checks import (
+    check_added_force,
     check_energy,
     check_force_is_energy_gradient,
     check_friction,
@@ -108,6 +109,7 @@ def test_the_contact_tangent_is_the_force_derivative_and_its_energies_are_sound(
     block, state, history = contact(name, friction=friction)
     assert check_tangent(block, state, history)
     check_energy(block, state, history)
+    check_added_force(block, state, history)  # the rows added in place (elements/node_rows.py)
 
 
 @pytest.mark.parametrize("name", TOOLS)
@@ -183,6 +185,21 @@ def test_the_kit_names_a_force_that_is_not_the_energy_gradient():
     block, state, history = floor(block_type=HalfEnergy)
     with pytest.raises(AssertionError, match="HalfEnergy: at node .* the force is"):
         check_force_is_energy_gradient(block, state, history)
+
+
+def test_the_kit_names_forces_added_otherwise_than_internal_force_gives_them():
+    """A block whose in-place sum (how the model sums its parts) is not its internal_force."""
+
+    class TwiceAdded(PlaneContactBlock):
+        def add_internal_force(self, state, history, force, moment):
+            super().add_internal_force(state, history, force, moment)
+            super().add_internal_force(state, history, force, moment)
+
+    block, state, history = floor()
+    check_added_force(block, state, history)  # the protocol's default
+    block, state, history = floor(block_type=TwiceAdded)
+    with pytest.raises(AssertionError, match="TwiceAdded.add_internal_force added the force"):
+        check_added_force(block, state, history)
 
 
 def test_the_kit_names_a_tangent_that_is_not_the_force_derivative():
