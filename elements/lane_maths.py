@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from elements.jit import AVAILABLE, lanes
+from elements.jit import AVAILABLE, inline, lanes
 
 __all__ = ["bits_float", "float_bits", "lane_arcsin", "lane_log"]
 
@@ -155,3 +155,67 @@ def lane_arcsin(x):
     if big:
         return -near_one if x < 0.0 else near_one
     return x + x * w
+
+
+# fdlibm s_atan.c: atan(0.5), atan(1), atan(1.5), atan(inf) in two parts, and the coefficients
+# aT[0..10] of the odd polynomial.
+_ATAN_HI0, _ATAN_HI1 = 4.63647609000806093515e-01, 7.85398163397448278999e-01
+_ATAN_HI2, _ATAN_HI3 = 9.82793723247329054082e-01, 1.57079632679489655800e00
+_ATAN_LO0, _ATAN_LO1 = 2.26987774529616870924e-17, 3.06161699786838301793e-17
+_ATAN_LO2, _ATAN_LO3 = 1.39033110312309984516e-17, 6.12323399573676603587e-17
+_AT0 = 3.33333333333329318027e-01
+_AT1 = -1.99999999998764832476e-01
+_AT2 = 1.42857142725034663711e-01
+_AT3 = -1.11111104054623557880e-01
+_AT4 = 9.09088713343650656196e-02
+_AT5 = -7.69187620504482999495e-02
+_AT6 = 6.66107313738753120669e-02
+_AT7 = -5.83357013379057348645e-02
+_AT8 = 4.97687799461593236017e-02
+_AT9 = -3.65315727442169155270e-02
+_AT10 = 1.62858201153657823623e-02
+_PI = 3.1415926535897931160e00
+_PI_LO = 1.2246467991473531772e-16
+
+
+@inline
+def _arctan_ratio(q):
+    """atan(q) for q in [0, inf] (fdlibm's s_atan.c by selects): its five ranges of q, each
+    but the first reduced by one division to an argument below 7/16 for the polynomial."""
+    # [0, 7/16) as it is; [7/16, 11/16), [11/16, 19/16), [19/16, 39/16) about 0.5, 1, 1.5 by
+    # (2q - 1) / (2 + q), (q - 1) / (q + 1), (q - 1.5) / (1 + 1.5 q); above, -1 / q about inf
+    # (-1 / inf = -0 at q = inf: pi/2)
+    small, first, second, third = q < 0.4375, q < 0.6875, q < 1.1875, q < 2.4375
+    numerator = q if small else (2.0 * q - 1.0 if first else (q - 1.0 if second else (
+        q - 1.5 if third else -1.0)))  # fmt: skip
+    denominator = 1.0 if small else (2.0 + q if first else (q + 1.0 if second else (
+        1.0 + 1.5 * q if third else q)))  # fmt: skip
+    hi = 0.0 if small else (_ATAN_HI0 if first else (_ATAN_HI1 if second else (
+        _ATAN_HI2 if third else _ATAN_HI3)))  # fmt: skip
+    lo = 0.0 if small else (_ATAN_LO0 if first else (_ATAN_LO1 if second else (
+        _ATAN_LO2 if third else _ATAN_LO3)))  # fmt: skip
+    r = numerator / denominator
+    z = r * r
+    w = z * z
+    s1 = z * (_AT0 + w * (_AT2 + w * (_AT4 + w * (_AT6 + w * (_AT8 + w * _AT10)))))
+    s2 = w * (_AT1 + w * (_AT3 + w * (_AT5 + w * (_AT7 + w * _AT9))))
+    return hi - ((r * (s1 + s2) - lo) - r)
+
+
+@inline
+def lane_arctan2(y, x):
+    """arctan2(y, x) of two float64 (numpy's at the signed zeros, infinities and nan), within 2
+    units in the last place of numpy's, by selects only: fdlibm's atan of q = |y| / |x|
+    (``_arctan_ratio``), then the quadrant by the signs' bits (e_atan2.c)."""
+    q = abs(y) / abs(x)  # inf where x = 0; nan where both are 0 or both inf
+    angle = _arctan_ratio(q)  # in [0, pi/2]
+    negative_x = float_bits(x) < 0  # the sign bits: -0 counts as negative
+    negative_y = float_bits(y) < 0
+    # x < 0 (but for q = inf, x = 0 or y infinite: pi/2 on either side)
+    left = _PI - (angle - _PI_LO)
+    angle = left if negative_x & (q < np.inf) else angle
+    # q = nan: both 0 (0 or pi), both infinite (pi/4 or 3 pi/4), or a nan
+    zero = abs(x) == 0.0
+    both = (_PI if zero else 0.75 * _PI) if negative_x else (0.0 if zero else 0.25 * _PI)
+    angle = angle if q == q else (both if (x == x) & (y == y) else np.nan)
+    return -angle if negative_y else angle

@@ -33,6 +33,7 @@ __all__ = [
     "side_angle",
     "side_coefficients",
     "side_squares",
+    "side_terms",
     "side_vector",
     "unit_edge_squares",
     "wall_fold",
@@ -200,12 +201,21 @@ def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
     other way there and the two normals swap: -n . ((p - q) x m) = -m . ((q - p) x n)), and
     so is the scale, to the last bit (|p - q| = |q - p| and 2A' + 2A = 2A + 2A'): one
     evaluation serves both cells (kernels.py ``_side_folds``)."""
+    y, x, scale = side_terms(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2)
+    return np.arctan2(y, x), scale
+
+
+@serial
+def side_terms(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
+    """``side_angle`` but for its arctangent: (y, x, scale), the fold angle atan2(y, x) (the
+    sides' pass, kernels.py ``_side_folds``, takes the arctangents of a chunk of sides at
+    once)."""
     length = np.sqrt(sx * sx + sy * sy + sz * sz)
     wx = sy * nz - sz * ny
     wy = sz * nx - sx * nz
     wz = sx * ny - sy * nx
-    fold = np.arctan2(-(mx * wx + my * wy + mz * wz), length * (mx * nx + my * ny + mz * nz))
-    return fold, 2.0 / (length * (area2 + other_area2))
+    y = -(mx * wx + my * wy + mz * wz)
+    return y, length * (mx * nx + my * ny + mz * nz), 2.0 / (length * (area2 + other_area2))
 
 
 @serial

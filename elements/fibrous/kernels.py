@@ -52,15 +52,16 @@ from elements.fibrous.cell_terms import (
     director_moment,
     fold_gradient,
     level_strains,
-    side_angle,
     side_coefficients,
     side_squares,
+    side_terms,
     side_vector,
     unit_edge_squares,
     wall_fold,
 )
 from elements.fibrous.packed_laws import law_energy, law_value
 from elements.jit import jit, jit_lanes, prange
+from elements.lane_maths import lane_arctan2
 from elements.shell_geometry import GUARD
 
 __all__ = [
@@ -84,23 +85,40 @@ def loop_array(array) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- pass 1: normals
-@jit
+@jit_lanes
 def _normals_pass(connectivity, positions, with_angles, normal, double_area, angles):
     """Unit normal (m, 3), double area (m,) and, ``with_angles``, the corner angles alpha_k
-    (m, 3) of every cell."""
-    for c in prange(connectivity.shape[0]):
-        ax, ay, az, bx, by, bz, cx, cy, cz = cell_cross(
-            positions, connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        )
-        size = np.sqrt(cx * cx + cy * cy + cz * cz)
-        normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
-        double_area[c] = size
-        if with_angles:
+    (m, 3) of every cell, their arctangents across chunks of cells (elements/lane_maths.py
+    ``lane_arctan2``, vectorised); a cell of no area raises ZeroDivisionError."""
+    chunks = (connectivity.shape[0] + lane.CHUNK - 1) // lane.CHUNK
+    for chunk in prange(chunks):
+        start = chunk * lane.CHUNK
+        count = min(lane.CHUNK, connectivity.shape[0] - start)
+        rows = np.empty(3 * lane.CHUNK)  # |c|, then the angles' cosines times |c| and angles
+        for i in range(count):
+            c = start + i
+            ax, ay, az, bx, by, bz, cx, cy, cz = cell_cross(
+                positions, connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+            )
+            size = np.sqrt(cx * cx + cy * cy + cz * cz)
+            if size == 0.0:
+                raise ZeroDivisionError("a fibrous cell has no area")
+            normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
+            double_area[c] = size
             # |u x w| = |c| at every corner, and the three angles sum to pi; at corner 1
             # u = x2 - x1 = b - a and w = x0 - x1 = -a
-            alpha0 = np.arctan2(size, ax * bx + ay * by + az * bz)
-            alpha1 = np.arctan2(size, (ax - bx) * ax + (ay - by) * ay + (az - bz) * az)
-            angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
+            rows[i] = size
+            rows[lane.CHUNK + i] = ax * bx + ay * by + az * bz
+            rows[2 * lane.CHUNK + i] = (ax - bx) * ax + (ay - by) * ay + (az - bz) * az
+        if with_angles:
+            for i in range(count):
+                size = rows[i]
+                rows[lane.CHUNK + i] = lane_arctan2(size, rows[lane.CHUNK + i])
+                rows[2 * lane.CHUNK + i] = lane_arctan2(size, rows[2 * lane.CHUNK + i])
+            for i in range(count):
+                c = start + i
+                alpha0, alpha1 = rows[lane.CHUNK + i], rows[2 * lane.CHUNK + i]
+                angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
 
 
 @jit
@@ -127,7 +145,7 @@ def _cell_normals(block, positions: np.ndarray, with_angles: bool):
     return normal, double_area, angles
 
 
-@jit
+@jit_lanes
 def _side_folds(
     sides, sign, connectivity, across_cell, across_side, positions, normal, double_area, fold,
     scale,
@@ -138,20 +156,36 @@ def _side_folds(
     ``fold`` and ``scale`` (m, 3): the angle as c sees it (the side from its corner s + 1 to
     its corner s + 2), times ``sign`` for the cell across (``across_cell``, ``across_side``
     (m, 3); not written where ``sign`` is 0). Every slot is the one side's: no two
-    iterations write the same place."""
-    for e in prange(sides.shape[0]):
-        c, s = sides[e, 0], sides[e, 1]
-        other, other_side = across_cell[c, s], across_side[c, s]
-        p, q = connectivity[c, (s + 1) % 3], connectivity[c, (s + 2) % 3]
-        angle, k = side_angle(
-            positions[q, 0] - positions[p, 0], positions[q, 1] - positions[p, 1],
-            positions[q, 2] - positions[p, 2], normal[c, 0], normal[c, 1], normal[c, 2],
-            normal[other, 0], normal[other, 1], normal[other, 2], double_area[c],
-            double_area[other],
-        )  # fmt: skip
-        fold[c, s], scale[c, s] = angle, k
-        if sign[e] != 0:
-            fold[other, other_side], scale[other, other_side] = sign[e] * angle, k
+    iterations write the same place. The arctangents across chunks of sides
+    (elements/lane_maths.py ``lane_arctan2``, vectorised)."""
+    chunks = (sides.shape[0] + lane.CHUNK - 1) // lane.CHUNK
+    for chunk in prange(chunks):
+        start = chunk * lane.CHUNK
+        count = min(lane.CHUNK, sides.shape[0] - start)
+        rows = np.empty(2 * lane.CHUNK)  # atan2's y, then the angles; its x
+        for i in range(count):
+            e = start + i
+            c, s = sides[e, 0], sides[e, 1]
+            other, other_side = across_cell[c, s], across_side[c, s]
+            p, q = connectivity[c, (s + 1) % 3], connectivity[c, (s + 2) % 3]
+            y, x, k = side_terms(
+                positions[q, 0] - positions[p, 0], positions[q, 1] - positions[p, 1],
+                positions[q, 2] - positions[p, 2], normal[c, 0], normal[c, 1], normal[c, 2],
+                normal[other, 0], normal[other, 1], normal[other, 2], double_area[c],
+                double_area[other],
+            )  # fmt: skip
+            rows[i], rows[lane.CHUNK + i] = y, x
+            scale[c, s] = k
+            if sign[e] != 0:
+                scale[other, other_side] = k
+        for i in range(count):
+            rows[i] = lane_arctan2(rows[i], rows[lane.CHUNK + i])
+        for i in range(count):
+            e = start + i
+            c, s = sides[e, 0], sides[e, 1]
+            fold[c, s] = rows[i]
+            if sign[e] != 0:
+                fold[across_cell[c, s], across_side[c, s]] = sign[e] * rows[i]
 
 
 def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area: np.ndarray):
