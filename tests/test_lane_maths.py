@@ -2,7 +2,8 @@
 over their whole domain: random values across every binade, near 1 and near 0, and the edges
 (0, -0, the smallest subnormal, the largest float, inf, nan, negative values); the bound in
 units in the last place of numpy's value is the module's claim (1 for the log, 2 for the
-arcsine: fdlibm's error below 1, the arcsine's simpler reduction above 0.5 one more)."""
+arcsine: fdlibm's error below 1, the arcsine's simpler reduction above 0.5 one more; 2 for
+the arctangent of two values: the rounding of |y| / |x| and fdlibm's atan's own)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import pytest
 
 numba = pytest.importorskip("numba")
 
-from elements.lane_maths import lane_arcsin, lane_log  # noqa: E402
+from elements.lane_maths import lane_arcsin, lane_arctan2, lane_log  # noqa: E402
 
 
 @numba.njit
@@ -24,6 +25,12 @@ def _logs(x, out):
 def _arcsines(x, out):
     for i in range(x.shape[0]):
         out[i] = lane_arcsin(x[i])
+
+
+@numba.njit(error_model="numpy")  # lane_arctan2 is spliced: its division unchecked here too
+def _arctangents(y, x, out):
+    for i in range(x.shape[0]):
+        out[i] = lane_arctan2(y[i], x[i])
 
 
 def _ulps(value: np.ndarray, reference: np.ndarray) -> np.ndarray:
@@ -86,3 +93,34 @@ def test_the_arcsine_keeps_the_sign_of_zero_and_is_nan_beyond_one():
     value = _evaluated(_arcsines, x)
     assert np.array_equal(value, reference, equal_nan=True)
     assert np.array_equal(np.signbit(value[:2]), [False, True])
+
+
+def test_the_arctangent_of_two_is_within_two_ulps_of_numpys_over_its_whole_domain():
+    rng = np.random.default_rng(5)
+    n = 300_000
+    signs = rng.choice([-1.0, 1.0], (2, n))
+    y = np.concatenate([
+        rng.normal(size=n),
+        signs[0] * 10.0 ** rng.uniform(-320.0, 308.0, n),  # every binade of y / x
+        rng.uniform(0.0, 1.0, n),  # a corner's |c| against its cosine times |c|
+    ])  # fmt: skip
+    x = np.concatenate([
+        rng.normal(size=n),
+        signs[1] * 10.0 ** rng.uniform(-320.0, 308.0, n),
+        rng.uniform(-1.0, 1.0, n),
+    ])  # fmt: skip
+    value = np.empty_like(x)
+    _arctangents(y, x, value)
+    assert np.max(_ulps(value, np.arctan2(y, x))) <= 2.0
+
+
+def test_the_arctangent_of_two_is_numpys_at_zeros_infinities_and_nan():
+    edges = np.array([0.0, -0.0, np.inf, -np.inf, np.nan, 1.0, -1.0, 5e-324, -5e-324])
+    y, x = (a.ravel() for a in np.meshgrid(edges, edges))
+    value = np.empty_like(x)
+    _arctangents(y, x, value)
+    reference = np.arctan2(y, x)
+    assert np.array_equal(value, reference, equal_nan=True)
+    number = ~np.isnan(reference)  # the signed zeros and infinities' quadrants (a nan's sign
+    # bit is no part of its value)
+    assert np.array_equal(np.signbit(value[number]), np.signbit(reference[number]))
