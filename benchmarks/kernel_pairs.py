@@ -4,9 +4,10 @@ and the jit it compiles with) needs on a shared machine, where two runs minutes 
 by more than the change.
 
 The revision's ``elements/fibrous/kernels.py``, ``cell_terms.py``, ``packed_laws.py``,
-``level_lanes.py``, ``elements/lane_maths.py`` and ``elements/jit.py`` (``git show``; those it
-has) are written into a package of their own in a temporary folder, their imports of one
-another pointed there, and imported beside this tree's; the block is built once by this tree (the two must read the same block), the sheet of
+``level_lanes.py``, ``elements/lane_maths.py`` and ``elements/jit.py`` (``git show``; those
+it has) are written into a package of their own in a temporary folder, their
+imports of one another pointed there, and imported beside this tree's; the block is built
+once by this tree (the two must read the same block), the sheet of
 benchmarks/fibrous_shell.py sagged into a bowl. Each round times ``--calls`` calls of each in
 CPU time, the order flipped every round; printed: the best µs per cell of each, the median
 and quartiles of new / old over the rounds, whether the two give the same numbers to the last
