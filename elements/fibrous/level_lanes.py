@@ -1,7 +1,7 @@
 """The fibre levels of a chunk of cells as loops across the cells (structure of arrays), for the
 fibrous cells' pass (kernels.py ``_cells_pass``): the pass gathers ``CHUNK`` cells' edges,
-levers and normals into the rows of one scratch array (``lanes``: (ROWS, CHUNK), a row per
-quantity, a column per cell), then runs, level by level, three loops over the chunk's cells:
+levers and normals into the rows of one scratch array (``lanes``: ROWS * CHUNK doubles, a row
+a quantity, a column a cell), then runs, level by level, three loops over the chunk's cells:
 
 1. ``level_lanes``: each cell's fibre vectors, log strains and shear angle (cell_terms.py
    ``level_strains``: the same arithmetic as the strains pass, its log and arcsine
