@@ -305,6 +305,7 @@ def _cells_pass(
             rows[lane.L2X + i], rows[lane.L2Y + i], rows[lane.L2Z + i] = l2x, l2y, l2z
             rows[lane.NX + i], rows[lane.NY + i], rows[lane.NZ + i] = nx, ny, nz
             rows[lane.AREA + i], rows[lane.SIGN + i] = area[c], shear_sign[c]
+            rows[lane.WARP_FIRST + i] = 1.0 if xi_is_warp[c] else 0.0
             for row in range(lane.S1X, lane.REFERENCE1, lane.CHUNK):  # the sums over levels
                 rows[row + i] = 0.0
         zero = 0
@@ -314,9 +315,8 @@ def _cells_pass(
                 reference_shear,
             )  # fmt: skip
             lane.law_lanes(
-                rows, count, start, weights[f], xi_is_warp, law_integers, law_reals,
-                with_forces, with_energy,
-            )  # fmt: skip
+                rows, count, weights[f], law_integers, law_reals, with_forces, with_energy
+            )
             if with_forces:
                 lane.load_lanes(rows, count, zeta[f], weights[f])
         if zero > 0:

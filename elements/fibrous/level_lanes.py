@@ -22,12 +22,12 @@ from __future__ import annotations
 import numpy as np
 
 from elements.fibrous.cell_terms import level_strains
-from elements.fibrous.packed_laws import law_energy, law_value
+from elements.fibrous.packed_laws import _POLYNOMIAL, law_energy, law_value
 from elements.jit import inline
 
 __all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes"]
 
-# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 16 kB) stays in the level-1 cache.
+# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 19 kB) stays in the level-1 cache.
 CHUNK = 32
 # The rows of the scratch array (``lanes``: ROWS * CHUNK doubles, one dimension, row k at
 # k * CHUNK: the rows' distances are constants, from which LLVM knows that no two rows
@@ -50,7 +50,11 @@ LX, LY, LZ = (k * CHUNK for k in range(55, 58))  # dW/dn
 TENSION_ENERGY, SHEAR_ENERGY = (k * CHUNK for k in range(58, 60))
 # ... and the level's references (gathered by level_lanes).
 REFERENCE1, REFERENCE2, REFERENCE_SHEAR = (k * CHUNK for k in range(60, 63))
-ROWS = 63
+# ... and the laws' rows (law_lanes): 1 where edge 0 -> 1 is warp (else 0; gathered by the
+# cells' pass), the strains by family, a power and a square, each law's value and energy.
+WARP_FIRST, WARP, WEFT, POWER, SQUARE = (k * CHUNK for k in range(63, 68))
+VALUE0, VALUE1, VALUE2, ENERGY0, ENERGY1, ENERGY2 = (k * CHUNK for k in range(68, 74))
+ROWS = 74
 
 
 @inline
@@ -94,27 +98,79 @@ def level_lanes(
 
 
 @inline
-def law_lanes(
-    lanes, count, start, weight, xi_is_warp, law_integers, law_reals, with_forces, with_energy
-):  # fmt: skip
+def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_energy):
     """The packed laws (packed_laws.py; 0, 1, 2: warp tension, weft tension, shear) of the
-    level's strains, cell by cell: with ``with_forces`` their values in the rows TENSION1,
-    TENSION2 (along edges 0-1 and 0-2) and SHEAR; with ``with_energy`` the level's energies
-    A0 w_f W added to the cells' sums (``weight`` w_f)."""
+    level's strains: with ``with_forces`` their values in the rows TENSION1, TENSION2 (along
+    edges 0-1 and 0-2) and SHEAR; with ``with_energy`` the level's energies A0 w_f W added to
+    the cells' sums (``weight`` w_f). Each law over the chunk's strains of its family at once
+    (``law_row``), then each cell's values and energies by its edges' families."""
     for i in range(count):
-        law1, law2 = (0, 1) if xi_is_warp[start + i] else (1, 0)
-        eps1, eps2, gamma = lanes[EPS1 + i], lanes[EPS2 + i], lanes[GAMMA + i]
+        warp_first = lanes[WARP_FIRST + i] != 0.0
+        eps1, eps2 = lanes[EPS1 + i], lanes[EPS2 + i]
+        lanes[WARP + i] = eps1 if warp_first else eps2
+        lanes[WEFT + i] = eps2 if warp_first else eps1
+    law_row(lanes, count, law_integers, law_reals, 0, WARP, VALUE0, ENERGY0, with_forces,
+            with_energy)  # fmt: skip
+    law_row(lanes, count, law_integers, law_reals, 1, WEFT, VALUE1, ENERGY1, with_forces,
+            with_energy)  # fmt: skip
+    law_row(lanes, count, law_integers, law_reals, 2, GAMMA, VALUE2, ENERGY2, with_forces,
+            with_energy)  # fmt: skip
+    for i in range(count):
+        warp_first = lanes[WARP_FIRST + i] != 0.0
         if with_energy:
             w = lanes[AREA + i] * weight  # A0 w_f
-            lanes[TENSION_ENERGY + i] += w * (
-                law_energy(law_integers, law_reals, law1, eps1)
-                + law_energy(law_integers, law_reals, law2, eps2)
-            )
-            lanes[SHEAR_ENERGY + i] += w * law_energy(law_integers, law_reals, 2, gamma)
+            # W(law 1, eps1) + W(law 2, eps2): the warp's and the weft's, in either order
+            lanes[TENSION_ENERGY + i] += w * (lanes[ENERGY0 + i] + lanes[ENERGY1 + i])
+            lanes[SHEAR_ENERGY + i] += w * lanes[ENERGY2 + i]
         if with_forces:
-            lanes[TENSION1 + i] = law_value(law_integers, law_reals, law1, eps1)
-            lanes[TENSION2 + i] = law_value(law_integers, law_reals, law2, eps2)
-            lanes[SHEAR + i] = law_value(law_integers, law_reals, 2, gamma)
+            warp, weft = lanes[VALUE0 + i], lanes[VALUE1 + i]
+            lanes[TENSION1 + i] = warp if warp_first else weft
+            lanes[TENSION2 + i] = weft if warp_first else warp
+            lanes[SHEAR + i] = lanes[VALUE2 + i]
+
+
+@inline
+def law_row(lanes, count, integers, reals, k, source, value, energy, with_forces, with_energy):
+    """Packed law k's value and energy (packed_laws.py ``law_value``, ``law_energy``: the same
+    operations in the same order) of the row ``source`` in the rows ``value`` and
+    ``energy``: an odd polynomial by loops across the cells, one a coefficient; a table cell
+    by cell (its segment searched)."""
+    if integers[k, 0] != _POLYNOMIAL:
+        for i in range(count):
+            x = lanes[source + i]
+            if with_forces:
+                lanes[value + i] = law_value(integers, reals, k, x)
+            if with_energy:
+                lanes[energy + i] = law_energy(integers, reals, k, x)
+        return
+    for i in range(count):
+        x = lanes[source + i]
+        lanes[SQUARE + i] = x * x
+    if with_forces:  # y = sum c_j x^(2j+1)
+        for i in range(count):
+            lanes[value + i] = 0.0
+            lanes[POWER + i] = lanes[source + i]
+        for j in range(integers[k, 1]):
+            coefficient = reals[k, 0, j]
+            for i in range(count):
+                lanes[value + i] += coefficient * lanes[POWER + i]
+                lanes[POWER + i] *= lanes[SQUARE + i]
+    if with_energy:  # W = sum c_j x^(2j+2) / (2j+2)
+        for i in range(count):
+            lanes[energy + i] = 0.0
+            lanes[POWER + i] = lanes[SQUARE + i]
+        for j in range(integers[k, 1]):
+            coefficient = reals[k, 0, j]
+            for i in range(count):
+                lanes[energy + i] += coefficient * lanes[POWER + i] / (2 * j + 2)
+                lanes[POWER + i] *= lanes[SQUARE + i]
+    if integers[k, 3] == 0:  # tension only: nothing below 0
+        for i in range(count):
+            negative = lanes[source + i] < 0.0
+            if with_forces:
+                lanes[value + i] = 0.0 if negative else lanes[value + i]
+            if with_energy:
+                lanes[energy + i] = 0.0 if negative else lanes[energy + i]
 
 
 @inline
