@@ -7,8 +7,9 @@ a quantity, a column a cell), then runs, level by level, three loops over the ch
    ``level_strains``: the same arithmetic as the strains pass, its log and arcsine
    branch-free, elements/lane_maths.py), straight-line code that LLVM runs 8 cells at a time
    (AVX-512) or 4 (AVX2);
-2. ``law_lanes``: the laws' values (and energies) of those strains, one cell at a time (the
-   packed laws branch on their kind and search their tables);
+2. ``law_lanes``: the laws' values (and energies) of those strains, each law over the strains
+   of its family (warp, weft, shear) at once (``law_row``): an odd polynomial by loops across
+   the cells, one a coefficient, vectorised as 1; a table cell by cell (its segment searched);
 3. ``load_lanes``: the tension and shear loads dW/dg_a of the level and their sums over the
    levels (Eq. 24-33), vectorised as 1.
 
