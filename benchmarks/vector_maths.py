@@ -46,7 +46,10 @@ folds by lane_arctan2 across chunks too 0.807 (load 5.3; force and energy 0.819)
 the chunked tree itself (HEAD), 8-10 rounds: the fibre levels skipped (wrong, timed only)
 0.790, so the levels now cost 0.066 µs a cell of 0.32 (0.16 before); the membrane's laws
 replaced by c x (the same bits on this sheet) 0.987; the pulls' pass (pass 3) as loops
-across chunks too (vectorised, its 0.044 µs a cell) 0.981, not kept (below 5 %).
+across chunks too (vectorised, its 0.044 µs a cell) 0.981, not kept (below 5 %); each
+membrane law over the chunk's strains of its family at once (level_lanes.py ``law_row``, an
+odd polynomial vectorised a coefficient at a time), the same bits: force and energy 0.939
+and 0.930 (load 7-7.6), the force 0.960-0.981, kept (the checked step's path).
 
 Run from the project root:
 

@@ -29,8 +29,9 @@ LLVM vectorises those loops (the library's functions are called one value a call
 ``_cells_pass`` is built with numba's numpy error model (elements/jit.py ``jit_lanes``: no
 zero test before each division, which would keep a loop scalar; a fibre of no length in
 its plane still raises ZeroDivisionError, a cell of no area in pass 1 too). Measured
-(benchmarks/kernel_pairs.py, one thread, 100k triangles, 10 rounds paired against the
-scalar passes, load 5.3): the force 0.807 of its time, force and energy 0.819.
+(benchmarks/kernel_pairs.py, one thread, 100k triangles, 12 rounds paired against the
+scalar passes, load 12): the force 0.791 of its time, force and energy 0.769, the energy
+0.686.
 
 Outside the chunks' loops a cell pass reads the positions and directors at its nodes itself and
 keeps every vector in scalars (x, y, z), with the corner and side loops written out: one
