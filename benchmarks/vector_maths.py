@@ -49,9 +49,11 @@ replaced by c x (the same bits on this sheet) 0.987; the pulls' pass (pass 3) as
 across chunks too (vectorised, its 0.044 µs a cell) 0.981, not kept (below 5 %); each
 membrane law over the chunk's strains of its family at once (level_lanes.py ``law_row``, an
 odd polynomial vectorised a coefficient at a time), the same bits: force and energy 0.939
-and 0.930 (load 7-7.6), the force 0.960-0.981, kept (the checked step's path); chunks of 16
-and 64 cells instead of 32: the force 1.045 and 1.051, force and energy 1.061 and 1.038
-(load 13).
+and 0.930 (load 7-7.6), the force 0.960-0.981, kept (the checked step's path). A control,
+this tree against its own commit (the same code on both sides): the force 0.996, force and
+energy 1.042 (8 rounds, load 7.5), the pairing's noise at that load. Chunks of 16 and 64
+cells were not measured: the runs read numba's cached build of 32 (the cache of kernels.py
+does not see a change of level_lanes.py's constants).
 
 Run from the project root:
 

@@ -28,9 +28,9 @@ from elements.jit import inline
 
 __all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes"]
 
-# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 19 kB) stays in the level-1 cache
-# (16 and 64 cells a chunk: the force 1.045 and 1.051 of its time with 32, force and energy
-# 1.061 and 1.038; benchmarks/kernel_pairs.py, 8 rounds, load 13).
+# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 19 kB) stays in the level-1 cache.
+# (A change here needs the kernels' numba caches cleared: the cache of kernels.py does not see
+# a change of this module's constants.)
 CHUNK = 32
 # The rows of the scratch array (``lanes``: ROWS * CHUNK doubles, one dimension, row k at
 # k * CHUNK: the rows' distances are constants, from which LLVM knows that no two rows
