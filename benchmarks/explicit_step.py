@@ -204,6 +204,22 @@ processor's scalar arithmetic.
   vectorised by LLVM as its IR showed) ran at 0.103 µs a cell for the three levels with the
   library's log and arcsin and 0.034 without them, the same as the scalar loop: not pursued.
 
+The fibre levels, the corner angles and the sides' folds as loops across chunks of 32 cells
+(elements/fibrous/level_lanes.py; their log, arcsine and arctangent branch-free,
+elements/lane_maths.py; what each step gave: benchmarks/vector_maths.py), the same machine,
+one thread, CPU, main 9d2b4be and this tree in turns, two runs each of ``--element fibrous
+--sizes 100000`` at a load of 7.9-9.1, µs per element-step (main -> this tree): steady step
+0.448 / 0.547 -> 0.366 / 0.388 (3.7-3.9 x the reference pass, 0.10), force 0.380 -> 0.319 /
+0.321, force+energy 0.424 / 0.426 -> 0.341 / 0.346, energy 0.275 / 0.279 -> 0.196 / 0.198,
+checked step 0.451 / 0.536 -> 0.366 / 0.371; the forces within 7.3e-15 of main's (of the
+largest), the energies 4.7e-19. Paired in one process against main (benchmarks/kernel_pairs.py,
+12 rounds, load 11.6-12.2): the force 0.791 (quartiles 0.759-0.821; best 0.406 -> 0.314),
+force+energy 0.769 (0.764-0.775), energy 0.686 (0.677-0.695). Not reached: the issue's 0.35
+µs a step on one core (main's 0.439 on a quiet machine would be about 0.36 by these ratios);
+what is left of the force is the scalar work around the lanes (the corner frames, director
+moments and forces, the bending with its tables, the sides' gathers), which vectorises only
+with its gathers and scatters done apart (the pulls' pass so done gave 0.981: not kept).
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
 (``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``

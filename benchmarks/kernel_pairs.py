@@ -3,10 +3,11 @@ taken in turns: the paired measure a change to elements/fibrous/kernels.py (or t
 and the jit it compiles with) needs on a shared machine, where two runs minutes apart differ
 by more than the change.
 
-The revision's ``elements/fibrous/kernels.py``, ``cell_terms.py``, ``packed_laws.py`` and
-``elements/jit.py`` (``git show``) are written into a package of their own in a temporary
-folder, their imports of one another pointed there, and imported beside this tree's; the
-block is built once by this tree (the two must read the same block), the sheet of
+The revision's ``elements/fibrous/kernels.py``, ``cell_terms.py``, ``packed_laws.py``,
+``level_lanes.py``, ``elements/lane_maths.py`` and ``elements/jit.py`` (``git show``; those
+it has) are written into a package of their own in a temporary folder, their
+imports of one another pointed there, and imported beside this tree's; the block is built
+once by this tree (the two must read the same block), the sheet of
 benchmarks/fibrous_shell.py sagged into a bowl. Each round times ``--calls`` calls of each in
 CPU time, the order flipped every round; printed: the best µs per cell of each, the median
 and quartiles of new / old over the rounds, whether the two give the same numbers to the last
@@ -57,6 +58,8 @@ MODULES = {
     "elements/fibrous/kernels.py": "elements.fibrous.kernels",
     "elements/fibrous/cell_terms.py": "elements.fibrous.cell_terms",
     "elements/fibrous/packed_laws.py": "elements.fibrous.packed_laws",
+    "elements/fibrous/level_lanes.py": "elements.fibrous.level_lanes",
+    "elements/lane_maths.py": "elements.lane_maths",
     "elements/jit.py": "elements.jit",
 }
 CALLS = {
@@ -77,13 +80,17 @@ def other_kernels(ref: str, folder: Path):
     (folder / package).mkdir()
     (folder / package / "__init__.py").write_text("")
     for path, name in MODULES.items():
-        text = subprocess.run(
-            ["git", "-C", str(ROOT), "show", f"{ref}:{path}"],
-            check=True, capture_output=True, text=True,
-        ).stdout  # fmt: skip
+        shown = subprocess.run(
+            ["git", "-C", str(ROOT), "show", f"{ref}:{path}"], capture_output=True, text=True
+        )
+        if shown.returncode != 0:  # a module the revision does not have
+            continue
+        text = shown.stdout
         for other in MODULES.values():
+            parent, module = other.rsplit(".", 1)
+            text = text.replace(f"from {other} import", f"from {package}.{module} import")
             text = text.replace(
-                f"from {other} import", f"from {package}.{other.rsplit('.', 1)[1]} import"
+                f"from {parent} import {module} as", f"from {package} import {module} as"
             )
         (folder / package / f"{name.rsplit('.', 1)[1]}.py").write_text(text)
     sys.path.insert(0, str(folder))

@@ -41,6 +41,7 @@ import os
 import textwrap
 import time
 import types
+from typing import Any, Literal
 
 # Before numba loads its OpenMP layer (at the first parallel loop): a passive wait.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
@@ -71,6 +72,8 @@ __all__ = [
     "chunks",
     "inline",
     "jit",
+    "jit_lanes",
+    "lanes",
     "prange",
     "serial",
     "threads_for",
@@ -214,14 +217,15 @@ class _Parallel:
     The loop over the parts holds its own copy of the plain build's machine code (numba
     links a called dispatcher into its caller), compiled from the same IR."""
 
-    def __init__(self, function):
+    def __init__(self, function, error_model: Literal["python", "numpy"] = "python"):
         self._function = function
+        self._error_model = error_model
         # The source file as imported: a file edited since is not read for the parted copy.
         self._stamp = _stamp(function)
         self._part = None  # the parted copy (None: the whole function, or not made yet)
         self._arguments: list[str] = []
-        self._serial = None
-        self._parallel = None
+        self._serial: Any = None
+        self._parallel: Any = None
         functools.update_wrapper(self, function)
 
     @property
@@ -230,10 +234,10 @@ class _Parallel:
         (the kernel's source read then, not when its module is imported: 27 kernels took
         0.27 s of CPU to part at a load of 9, and a process uses a few of them)."""
         if self._serial is None:
-            self._part = _parted(self._function, self._stamp)
+            self._part = _parted(self._function, self._stamp, self._error_model)
             if self._part is not None:
                 self._arguments = _arguments(self._function)
-            self._serial = numba.njit(cache=True, fastmath=False)(
+            self._serial = numba.njit(cache=True, fastmath=False, error_model=self._error_model)(
                 self._function if self._part is None else self._part
             )
         return self._serial
@@ -252,7 +256,9 @@ class _Parallel:
                 body = _over_parts(self._function, self._arguments, self.serial)
             else:
                 body = _renamed(self._function, "_parallel")
-            self._parallel = numba.njit(cache=True, parallel=True, fastmath=False)(body)
+            self._parallel = numba.njit(
+                cache=True, parallel=True, fastmath=False, error_model=self._error_model
+            )(body)
         return self._parallel
 
     def __call__(self, *args):
@@ -341,12 +347,13 @@ def _is_prange(node: ast.AST) -> bool:
     return isinstance(node, ast.Attribute) and node.attr == "prange"
 
 
-def _parted(function, stamp: tuple[int, int] | None):
+def _parted(function, stamp: tuple[int, int] | None, error_model: str = "python"):
     """A copy of ``function`` with two more arguments, ``part`` and ``parts``, whose one
     ``prange(n)`` loop runs over ``range(n * part // parts, n * (part + 1) // parts)``: part
     0 of 1 is the whole loop. None where the source cannot be read, the function has a
     closure or defaults, it has no ``prange`` call or more than one, or its parts would not
-    be independent (``_parts_independent``)."""
+    be independent (``_parts_independent``); ``error_model`` (numba's) other than "python"
+    is part of the name's digest."""
     if function.__closure__ or function.__defaults__ or function.__kwdefaults__:
         return None
     definition = _source_tree(function, stamp)
@@ -382,7 +389,8 @@ def _parted(function, stamp: tuple[int, int] | None):
     # rewritten source's digest in the name, so that a change in the rewrite here (which
     # leaves the kernel's file as it was) is not served the build of the old rewrite, nor is
     # the loop over the parts, whose bytecode is the same for every kernel.
-    digest = hashlib.sha1(ast.unparse(definition).encode()).hexdigest()[:10]
+    rewritten = ast.unparse(definition) + ("" if error_model == "python" else error_model)
+    digest = hashlib.sha1(rewritten.encode()).hexdigest()[:10]
     definition.name = f"{function.__name__}_part_{digest}"
     return _define(definition, function, None)
 
@@ -493,6 +501,16 @@ def jit(function):
     return _Parallel(function)
 
 
+def jit_lanes(function):
+    """``jit`` with numba's numpy error model: a division by zero gives inf or nan and is not
+    tested before each division, a test and branch that keeps LLVM from vectorising a loop
+    (``lanes``). For the kernels whose inner loops run across cells (elements/fibrous/
+    kernels.py ``_cells_pass``), which test their own divisors where a zero can occur."""
+    if not AVAILABLE:
+        return function
+    return _Parallel(function, "numpy")
+
+
 def serial(function):
     """``function`` compiled to run on the calling thread (as is without numba): a kernel, or
     a helper called from compiled loops.
@@ -510,6 +528,16 @@ def serial(function):
     if not AVAILABLE:
         return function
     return numba.njit(cache=True)(function)
+
+
+def lanes(function):
+    """``serial`` with numba's numpy error model: a division by zero gives inf or nan instead
+    of raising ZeroDivisionError, so that the division has no test and branch, which would
+    keep LLVM from vectorising a loop of the helper (elements/lane_maths.py: helpers whose
+    divisors are never zero)."""
+    if not AVAILABLE:
+        return function
+    return numba.njit(cache=True, error_model="numpy")(function)
 
 
 def inline(function):

@@ -457,6 +457,19 @@ def nonlinear_fabric():
     )
 
 
+def polynomial_fabric():
+    """Odd polynomial laws only, the warp's tension-only (the compiled loops evaluate each
+    polynomial across a chunk of cells, elements/fibrous/level_lanes.py ``law_row``)."""
+    return Fabric(
+        thickness=3.0,
+        areal_density=1e-9,
+        tension=TensionLaw.linear(800.0, tension_only=True),
+        tension_weft=TensionLaw.linear(300.0),
+        shear=ShearLaw.polynomial(5.0, 40.0, 300.0),
+        bending=BendingLaw.bilinear(20.0, 2.0, knee=0.01),
+    )
+
+
 @pytest.mark.parallel
 @pytest.mark.parametrize(
     "thickness, variation, tilt, clamped, options",
@@ -468,6 +481,7 @@ def nonlinear_fabric():
         ("nodal", True, 0.3, True, {}),
         ("nodal", True, 0.3, False, {"bending_geometry": "reference", "nonlinear": True}),
         ("element", True, 0.3, True, {"nonlinear": True}),
+        ("nodal", True, 0.3, False, {"polynomial": True}),
     ],
 )
 def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, clamped, options):
@@ -477,6 +491,7 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, c
     moment and nodal thickness (the rotary inertia's), and of the energy."""
     options = dict(options)
     material = nonlinear_fabric() if options.pop("nonlinear", False) else fabric()
+    material = polynomial_fabric() if options.pop("polynomial", False) else material
     mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
     rng = np.random.default_rng(7)
     jitter = rng.normal(scale=0.8, size=(mesh.n_nodes, 3))

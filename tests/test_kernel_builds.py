@@ -312,3 +312,34 @@ def test_a_table_law_s_energy_in_the_loops_is_the_law_s_own_to_the_last_bit_with
     (signature,) = constant_indices.signatures
     lines = constant_indices.inspect_llvm(signature).splitlines()
     assert not [line for line in lines if " call " in line and "packed_laws" in line]
+
+
+def _reciprocals(values, out):  # pragma: no cover - numba
+    """out[i] = 1 / values[i]."""
+    for i in jit.prange(out.shape[0]):
+        out[i] = 1.0 / values[i]
+
+
+def test_a_lanes_kernel_is_parted_and_divides_by_zero_without_raising():
+    """``jit_lanes``: the parted builds with numba's numpy error model (no zero test before a
+    division, which keeps LLVM from vectorising a loop): 1 / 0 is inf there, where ``jit``'s
+    build raises ZeroDivisionError as Python does."""
+    values = np.array([2.0, 0.0, -0.0])
+    out = np.empty(3)
+    kernel = jit.jit_lanes(_reciprocals)
+    kernel(values, out)
+    assert kernel.parted
+    assert out.tolist() == [0.5, np.inf, -np.inf]
+    with pytest.raises(ZeroDivisionError):
+        jit.jit(_reciprocals)(values, out)
+
+
+def test_the_fibrous_loops_across_chunks_of_cells_are_parted():
+    """The fibrous passes whose loop runs over chunks of cells or sides (kernels.py
+    ``_normals_pass``, ``_side_folds``, ``_cells_pass``) keep the parted builds' shape (one
+    ``prange`` over the chunks, the last statement): their parts run on threads of their own
+    (tests/test_threads.py holds their forces the same on one thread and on all)."""
+    from elements.fibrous import kernels
+
+    for kernel in (kernels._normals_pass, kernels._side_folds, kernels._cells_pass):
+        assert kernel.parted, kernel.__name__

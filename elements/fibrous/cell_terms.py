@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import inline, serial
+from elements.lane_maths import lane_arcsin, lane_log
 
 __all__ = [
     "angle_pull",
@@ -32,6 +33,7 @@ __all__ = [
     "side_angle",
     "side_coefficients",
     "side_squares",
+    "side_terms",
     "side_vector",
     "unit_edge_squares",
     "wall_fold",
@@ -94,7 +96,8 @@ def level_strains(
     l_a of ``corner_levers``), the log strain of the fibre length l_a (|g_a|, or with
     ``nodal`` normals |P g_a|, P = I - n n^T with n the cell's unit normal, docs/theory.md
     §2.2) against the reference length L_a (``reference1``, ``reference2``), and gamma =
-    sign asin(g1 . g2 / (|g1| |g2|)) - ``reference_shear``.
+    sign asin(g1 . g2 / (|g1| |g2|)) - ``reference_shear``; the log and the arcsine
+    branch-free (elements/lane_maths.py), so that a loop of levels across cells vectorises.
 
     The log strain is half the log of the squared-length ratio, and 1 / l_a^2 and
     1 / L_a^2 share one division; the shear needs 1 / (|g1| |g2|) only (one root instead of
@@ -122,11 +125,11 @@ def level_strains(
     fibres, references = fibre1 * fibre2, reference1 * reference2
     over = 1.0 / (fibres * references)
     over_fibre1, over_fibre2 = fibre2 * references * over, fibre1 * references * over
-    eps1 = 0.5 * np.log(fibre1 * (fibres * reference2 * over))
-    eps2 = 0.5 * np.log(fibre2 * (fibres * reference1 * over))
+    eps1 = 0.5 * lane_log(fibre1 * (fibres * reference2 * over))
+    eps2 = 0.5 * lane_log(fibre2 * (fibres * reference1 * over))
     inverse = 1.0 / np.sqrt(square1 * square2)  # 1 / (|g1| |g2|)
     cos = (g1x * g2x + g1y * g2y + g1z * g2z) * inverse
-    gamma = sign * np.arcsin(min(max(cos, -1.0), 1.0)) - reference_shear
+    gamma = sign * lane_arcsin(min(max(cos, -1.0), 1.0)) - reference_shear
     return (
         g1x, g1y, g1z, g2x, g2y, g2z, square1, square2, q1, q2, e1x, e1y, e1z, e2x, e2y,
         e2z, over_fibre1, over_fibre2, inverse, cos, eps1, eps2, gamma,
@@ -198,12 +201,21 @@ def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
     other way there and the two normals swap: -n . ((p - q) x m) = -m . ((q - p) x n)), and
     so is the scale, to the last bit (|p - q| = |q - p| and 2A' + 2A = 2A + 2A'): one
     evaluation serves both cells (kernels.py ``_side_folds``)."""
+    y, x, scale = side_terms(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2)
+    return np.arctan2(y, x), scale
+
+
+@serial
+def side_terms(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
+    """``side_angle`` but for its arctangent: (y, x, scale), the fold angle atan2(y, x) (the
+    sides' pass, kernels.py ``_side_folds``, takes the arctangents of a chunk of sides at
+    once)."""
     length = np.sqrt(sx * sx + sy * sy + sz * sz)
     wx = sy * nz - sz * ny
     wy = sz * nx - sx * nz
     wz = sx * ny - sy * nx
-    fold = np.arctan2(-(mx * wx + my * wy + mz * wz), length * (mx * nx + my * ny + mz * nz))
-    return fold, 2.0 / (length * (area2 + other_area2))
+    y = -(mx * wx + my * wy + mz * wz)
+    return y, length * (mx * nx + my * ny + mz * nz), 2.0 / (length * (area2 + other_area2))
 
 
 @serial

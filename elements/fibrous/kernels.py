@@ -12,22 +12,37 @@ two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4
    between two cells and the scale of its curvature coefficients, once per side for both
    cells (the angle is the same seen from either, cell_terms.py ``side_angle``: an arctan2
    and a square root per side instead of per side and cell);
-2. cells: each cell's tension and shear in one loop over its fibre levels (forces, director
-   moments, dW/dS_k and, when asked, energies), then its curvatures from its sides' folds
-   (a clamped side's against the wall), bending energy and its share of each side's moment;
+2. cells: each cell's tension and shear over its fibre levels (forces, director moments,
+   dW/dS_k and, when asked, energies), then its curvatures from its sides' folds (a clamped
+   side's against the wall), bending energy and its share of each side's moment;
    nodes: T_k, the sums of dW/dS_k over the cells around each node;
 3. cells: the pulls of T_k and of the side moments on each cell's nodes; nodes: the nodal
    forces and director moments.
 
-A cell pass reads the positions and directors at its nodes itself and keeps every vector in
-scalars (x, y, z), with the corner and side loops written out: no per-cell scratch array, no
-modulo indexing, no array passed to a helper inside the hot loop (each such call costs
-reference counting). Between two passes only what the next one reads is kept (about 300 bytes
-per cell: normals, areas, angles, the corner forces, moments and dW/dS_k, the side moments);
-the fold-angle gradient D[s, k] = t_s . t_k / (|t_s| 2A) (t_s the side opposite corner s, the
-in-plane form of -grad N_k . n^c_s) is recomputed where it is used. The scalar pieces (corner
-thickness, director moment, side terms, fold gradient, angle pull) are in cell_terms.py,
-where quotients that share a denominator share one reciprocal.
+The cells (and the sides) are taken in chunks of 32 (level_lanes.py ``CHUNK``) where a loop
+across them can run 8 cells at a time (AVX-512; 4 with AVX2): the fibre levels of pass 2
+(level_lanes.py: the chunk's inputs gathered into the rows of one scratch array, each level's
+strains, laws and loads as loops across the chunk) and the arctangents of the corner angles
+and the folds; their log, arcsine and arctangent are branch-free arithmetic
+(elements/lane_maths.py, within 2 units in the last place of the library's), with which
+LLVM vectorises those loops (the library's functions are called one value a call), and
+``_cells_pass`` is built with numba's numpy error model (elements/jit.py ``jit_lanes``: no
+zero test before each division, which would keep a loop scalar; a fibre of no length in
+its plane still raises ZeroDivisionError, a cell of no area in pass 1 too). Measured
+(benchmarks/kernel_pairs.py, one thread, 100k triangles, 12 rounds paired against the
+scalar passes, load 12): the force 0.791 of its time, force and energy 0.769, the energy
+0.686.
+
+Outside the chunks' loops a cell pass reads the positions and directors at its nodes itself and
+keeps every vector in scalars (x, y, z), with the corner and side loops written out: one
+scratch array a chunk (one allocation per 32 cells), none per cell, no modulo indexing, no
+array passed to a helper inside the hot loop (each such call costs reference counting). Between
+two passes only what the next one reads is kept (about 300 bytes per cell: normals, areas,
+angles, the corner forces, moments and dW/dS_k, the side moments); the fold-angle gradient
+D[s, k] = t_s . t_k / (|t_s| 2A) (t_s the side opposite corner s, the in-plane form of
+-grad N_k . n^c_s) is recomputed where it is used. The scalar pieces (corner thickness,
+director moment, side terms, fold gradient, angle pull) are in cell_terms.py, where
+quotients that share a denominator share one reciprocal.
 
 Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
 in cell order (elements/kernels.py ``NodeCorners``): parallel without races, the same sums in
@@ -42,6 +57,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements.fibrous import level_lanes as lane
 from elements.fibrous.cell_terms import (
     angle_pull,
     cell_cross,
@@ -51,15 +67,16 @@ from elements.fibrous.cell_terms import (
     director_moment,
     fold_gradient,
     level_strains,
-    side_angle,
     side_coefficients,
     side_squares,
+    side_terms,
     side_vector,
     unit_edge_squares,
     wall_fold,
 )
 from elements.fibrous.packed_laws import law_energy, law_value
-from elements.jit import jit, prange
+from elements.jit import jit, jit_lanes, prange
+from elements.lane_maths import lane_arctan2
 from elements.shell_geometry import GUARD
 
 __all__ = [
@@ -83,23 +100,40 @@ def loop_array(array) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- pass 1: normals
-@jit
+@jit_lanes
 def _normals_pass(connectivity, positions, with_angles, normal, double_area, angles):
     """Unit normal (m, 3), double area (m,) and, ``with_angles``, the corner angles alpha_k
-    (m, 3) of every cell."""
-    for c in prange(connectivity.shape[0]):
-        ax, ay, az, bx, by, bz, cx, cy, cz = cell_cross(
-            positions, connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        )
-        size = np.sqrt(cx * cx + cy * cy + cz * cz)
-        normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
-        double_area[c] = size
-        if with_angles:
+    (m, 3) of every cell, their arctangents across chunks of cells (elements/lane_maths.py
+    ``lane_arctan2``, vectorised); a cell of no area raises ZeroDivisionError."""
+    chunks = (connectivity.shape[0] + lane.CHUNK - 1) // lane.CHUNK
+    for chunk in prange(chunks):
+        start = chunk * lane.CHUNK
+        count = min(lane.CHUNK, connectivity.shape[0] - start)
+        rows = np.empty(3 * lane.CHUNK)  # |c|, then the angles' cosines times |c| and angles
+        for i in range(count):
+            c = start + i
+            ax, ay, az, bx, by, bz, cx, cy, cz = cell_cross(
+                positions, connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+            )
+            size = np.sqrt(cx * cx + cy * cy + cz * cz)
+            if size == 0.0:
+                raise ZeroDivisionError("a fibrous cell has no area")
+            normal[c, 0], normal[c, 1], normal[c, 2] = cx / size, cy / size, cz / size
+            double_area[c] = size
             # |u x w| = |c| at every corner, and the three angles sum to pi; at corner 1
             # u = x2 - x1 = b - a and w = x0 - x1 = -a
-            alpha0 = np.arctan2(size, ax * bx + ay * by + az * bz)
-            alpha1 = np.arctan2(size, (ax - bx) * ax + (ay - by) * ay + (az - bz) * az)
-            angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
+            rows[i] = size
+            rows[lane.CHUNK + i] = ax * bx + ay * by + az * bz
+            rows[2 * lane.CHUNK + i] = (ax - bx) * ax + (ay - by) * ay + (az - bz) * az
+        if with_angles:
+            for i in range(count):
+                size = rows[i]
+                rows[lane.CHUNK + i] = lane_arctan2(size, rows[lane.CHUNK + i])
+                rows[2 * lane.CHUNK + i] = lane_arctan2(size, rows[2 * lane.CHUNK + i])
+            for i in range(count):
+                c = start + i
+                alpha0, alpha1 = rows[lane.CHUNK + i], rows[2 * lane.CHUNK + i]
+                angles[c, 0], angles[c, 1], angles[c, 2] = alpha0, alpha1, np.pi - alpha0 - alpha1
 
 
 @jit
@@ -126,7 +160,7 @@ def _cell_normals(block, positions: np.ndarray, with_angles: bool):
     return normal, double_area, angles
 
 
-@jit
+@jit_lanes
 def _side_folds(
     sides, sign, connectivity, across_cell, across_side, positions, normal, double_area, fold,
     scale,
@@ -137,20 +171,36 @@ def _side_folds(
     ``fold`` and ``scale`` (m, 3): the angle as c sees it (the side from its corner s + 1 to
     its corner s + 2), times ``sign`` for the cell across (``across_cell``, ``across_side``
     (m, 3); not written where ``sign`` is 0). Every slot is the one side's: no two
-    iterations write the same place."""
-    for e in prange(sides.shape[0]):
-        c, s = sides[e, 0], sides[e, 1]
-        other, other_side = across_cell[c, s], across_side[c, s]
-        p, q = connectivity[c, (s + 1) % 3], connectivity[c, (s + 2) % 3]
-        angle, k = side_angle(
-            positions[q, 0] - positions[p, 0], positions[q, 1] - positions[p, 1],
-            positions[q, 2] - positions[p, 2], normal[c, 0], normal[c, 1], normal[c, 2],
-            normal[other, 0], normal[other, 1], normal[other, 2], double_area[c],
-            double_area[other],
-        )  # fmt: skip
-        fold[c, s], scale[c, s] = angle, k
-        if sign[e] != 0:
-            fold[other, other_side], scale[other, other_side] = sign[e] * angle, k
+    iterations write the same place. The arctangents across chunks of sides
+    (elements/lane_maths.py ``lane_arctan2``, vectorised)."""
+    chunks = (sides.shape[0] + lane.CHUNK - 1) // lane.CHUNK
+    for chunk in prange(chunks):
+        start = chunk * lane.CHUNK
+        count = min(lane.CHUNK, sides.shape[0] - start)
+        rows = np.empty(2 * lane.CHUNK)  # atan2's y, then the angles; its x
+        for i in range(count):
+            e = start + i
+            c, s = sides[e, 0], sides[e, 1]
+            other, other_side = across_cell[c, s], across_side[c, s]
+            p, q = connectivity[c, (s + 1) % 3], connectivity[c, (s + 2) % 3]
+            y, x, k = side_terms(
+                positions[q, 0] - positions[p, 0], positions[q, 1] - positions[p, 1],
+                positions[q, 2] - positions[p, 2], normal[c, 0], normal[c, 1], normal[c, 2],
+                normal[other, 0], normal[other, 1], normal[other, 2], double_area[c],
+                double_area[other],
+            )  # fmt: skip
+            rows[i], rows[lane.CHUNK + i] = y, x
+            scale[c, s] = k
+            if sign[e] != 0:
+                scale[other, other_side] = k
+        for i in range(count):
+            rows[i] = lane_arctan2(rows[i], rows[lane.CHUNK + i])
+        for i in range(count):
+            e = start + i
+            c, s = sides[e, 0], sides[e, 1]
+            fold[c, s] = rows[i]
+            if sign[e] != 0:
+                fold[across_cell[c, s], across_side[c, s]] = sign[e] * rows[i]
 
 
 def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area: np.ndarray):
@@ -200,7 +250,7 @@ def normal_sums(block, positions: np.ndarray) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- pass 2: the cells
-@jit
+@jit_lanes
 def _cells_pass(
     connectivity, positions, directors, frame, normal, double_area, nodal, thickness, guard,
     zeta, weights, area, reference_length1, reference_length2, shear_sign, reference_shear,
@@ -226,191 +276,182 @@ def _cells_pass(
     -A0 sum_a M_a c_as; ``with_energy``: energy (m, 3) tension, shear, bending, N mm.
     """
     levels = zeta.shape[0]
-    for c in prange(connectivity.shape[0]):
-        n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
-        x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
-        x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
-        nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
-        a0 = area[c]
-        # V, h_m and N at the corners (Eq. 10, 14)
-        v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0, over0 = corner_frame(
-            frame, directors, n0, nodal, nx, ny, nz, thickness, guard
-        )
-        v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1, over1 = corner_frame(
-            frame, directors, n1, nodal, nx, ny, nz, thickness, guard
-        )
-        v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2, over2 = corner_frame(
-            frame, directors, n2, nodal, nx, ny, nz, thickness, guard
-        )
-        warp_first = xi_is_warp[c]
-        law1, law2 = (0, 1) if warp_first else (1, 0)  # the tension laws along 0-1 and 0-2
-        sign = shear_sign[c]
-        tension_energy = shear_energy = 0.0
-        s1x = s1y = s1z = s2x = s2y = s2z = 0.0  # sum_f dW/dg_a
-        a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sum_f zeta_f dW/dg_a
-        lx = ly = lz = 0.0  # dW/dn
-        # g_a = r_a + zeta_f l_a (cell_terms.py ``corner_levers``, ``level_strains``)
-        r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
-        l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
-            h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
-        )
-        for f in range(levels):
-            z = zeta[f]
-            (
-                g1x, g1y, g1z, g2x, g2y, g2z, square1, square2, q1, q2, e1x, e1y, e1z, e2x,
-                e2y, e2z, over_fibre1, over_fibre2, inverse, cos, eps1, eps2, gamma,
-            ) = level_strains(
-                z, r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z, nodal, nx, ny,
-                nz, reference_length1[c, f], reference_length2[c, f], sign,
-                reference_shear[c, f],
-            )  # fmt: skip
-            w = a0 * weights[f]  # A0 w_f
-            if with_energy:
-                tension_energy += w * (
-                    law_energy(law_integers, law_reals, law1, eps1)
-                    + law_energy(law_integers, law_reals, law2, eps2)
-                )
-                shear_energy += w * law_energy(law_integers, law_reals, 2, gamma)
-            if not with_forces:
-                continue
-            # Tension (Eq. 24-27): dW/dg_a = A0 w_f T_a P g_a / l^2 (P g = g without nodal
-            # normals)
-            k1 = w * law_value(law_integers, law_reals, law1, eps1) * over_fibre1
-            k2 = w * law_value(law_integers, law_reals, law2, eps2) * over_fibre2
-            p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
-            p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
-            lx -= k1 * q1 * e1x + k2 * q2 * e2x
-            ly -= k1 * q1 * e1y + k2 * q2 * e2y
-            lz -= k1 * q1 * e1z + k2 * q2 * e2z
-            # Shear (Eq. 30-33): d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|),
-            # t1 / |g1| = (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise
-            sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
-            shear_moment = w * sign * law_value(law_integers, law_reals, 2, gamma) / sin
-            c1 = cos * inverse * inverse  # cos / (|g1| |g2|)^2: cos / |g1|^2 and cos / |g2|^2
-            c1, c2 = c1 * square2, c1 * square1
-            p1x += shear_moment * (g2x * inverse - c1 * g1x)
-            p1y += shear_moment * (g2y * inverse - c1 * g1y)
-            p1z += shear_moment * (g2z * inverse - c1 * g1z)
-            p2x += shear_moment * (g1x * inverse - c2 * g2x)
-            p2y += shear_moment * (g1y * inverse - c2 * g2y)
-            p2z += shear_moment * (g1z * inverse - c2 * g2z)
-            s1x += p1x
-            s1y += p1y
-            s1z += p1z
-            s2x += p2x
-            s2y += p2y
-            s2z += p2z
-            a1x += z * p1x
-            a1y += z * p1y
-            a1z += z * p1z
-            a2x += z * p2x
-            a2y += z * p2y
-            a2z += z * p2z
-        if with_energy:
-            energy[c, 0], energy[c, 1] = tension_energy, shear_energy
-        if with_forces:
-            # The director moments (Eq. 28) and the work of h_m through V . N (theory §2.5)
-            m0x, m0y, m0z, d0x, d0y, d0z = director_moment(
-                -(a1x + a2x), -(a1y + a2y), -(a1z + a2z), v0x, v0y, v0z, h0, cos0,
-                w0x, w0y, w0z, len0, over0, guard, variation,
-            )  # fmt: skip
-            m1x, m1y, m1z, d1x, d1y, d1z = director_moment(
-                a1x, a1y, a1z, v1x, v1y, v1z, h1, cos1, w1x, w1y, w1z, len1, over1, guard,
-                variation,
-            )  # fmt: skip
-            m2x, m2y, m2z, d2x, d2y, d2z = director_moment(
-                a2x, a2y, a2z, v2x, v2y, v2z, h2, cos2, w2x, w2y, w2z, len2, over2, guard,
-                variation,
-            )  # fmt: skip
-            moment[c, 0, 0], moment[c, 0, 1], moment[c, 0, 2] = m0x, m0y, m0z
-            moment[c, 1, 0], moment[c, 1, 1], moment[c, 1, 2] = m1x, m1y, m1z
-            moment[c, 2, 0], moment[c, 2, 1], moment[c, 2, 2] = m2x, m2y, m2z
-            # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|, and
-            # without nodal normals h_m varies with n too (dc_k = (V_k - c_k n) . dc / |c|)
-            gx = gy = gz = 0.0
-            over_size = 1.0 / size
-            if nodal:
-                d_sums[c, 0, 0], d_sums[c, 0, 1], d_sums[c, 0, 2] = d0x, d0y, d0z
-                d_sums[c, 1, 0], d_sums[c, 1, 1], d_sums[c, 1, 2] = d1x, d1y, d1z
-                d_sums[c, 2, 0], d_sums[c, 2, 1], d_sums[c, 2, 2] = d2x, d2y, d2z
-                along = lx * nx + ly * ny + lz * nz
-                gx = (lx - along * nx) * over_size
-                gy = (ly - along * ny) * over_size
-                gz = (lz - along * nz) * over_size
-            else:
-                gx = (d0x + d1x + d2x) * over_size
-                gy = (d0y + d1y + d2y) * over_size
-                gz = (d0z + d1z + d2z) * over_size
-            # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
-            # minus their sum on x0 (a = r1 = x1 - x0, b = r2 = x2 - x0)
-            f1x = s1x + (r2y * gz - r2z * gy)
-            f1y = s1y + (r2z * gx - r2x * gz)
-            f1z = s1z + (r2x * gy - r2y * gx)
-            f2x = s2x + (gy * r1z - gz * r1y)
-            f2y = s2y + (gz * r1x - gx * r1z)
-            f2z = s2z + (gx * r1y - gy * r1x)
-            force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = (
-                -(f1x + f2x),
-                -(f1y + f2y),
-                -(f1z + f2z),
+    chunks = (connectivity.shape[0] + lane.CHUNK - 1) // lane.CHUNK
+    for chunk in prange(chunks):
+        start = chunk * lane.CHUNK
+        count = min(lane.CHUNK, connectivity.shape[0] - start)
+        rows = np.empty(lane.ROWS * lane.CHUNK)  # a row a quantity, a column a cell
+        for i in range(count):  # the cells' inputs to their levels, gathered
+            c = start + i
+            n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+            nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
+            # V and h_m at the corners (Eq. 10, 14)
+            v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_frame(
+                frame, directors, n0, nodal, nx, ny, nz, thickness, guard
             )
-            force[c, 1, 0], force[c, 1, 1], force[c, 1, 2] = f1x, f1y, f1z
-            force[c, 2, 0], force[c, 2, 1], force[c, 2, 2] = f2x, f2y, f2z
-
-        # ------------------------------------------------------------ bending
-        if not (interior[c, 0] or interior[c, 1] or interior[c, 2]) and not (
-            clamped[c, 0] or clamped[c, 1] or clamped[c, 2]
-        ):  # no side folds (a lone or a held cell)
-            if with_energy:
-                energy[c, 2] = 0.0
+            v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_frame(
+                frame, directors, n1, nodal, nx, ny, nz, thickness, guard
+            )
+            v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_frame(
+                frame, directors, n2, nodal, nx, ny, nz, thickness, guard
+            )
+            # g_a = r_a + zeta_f l_a (cell_terms.py ``corner_levers``, ``level_strains``)
+            r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
+            l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
+                h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
+            )
+            rows[lane.R1X + i], rows[lane.R1Y + i], rows[lane.R1Z + i] = r1x, r1y, r1z
+            rows[lane.R2X + i], rows[lane.R2Y + i], rows[lane.R2Z + i] = r2x, r2y, r2z
+            rows[lane.L1X + i], rows[lane.L1Y + i], rows[lane.L1Z + i] = l1x, l1y, l1z
+            rows[lane.L2X + i], rows[lane.L2Y + i], rows[lane.L2Z + i] = l2x, l2y, l2z
+            rows[lane.NX + i], rows[lane.NY + i], rows[lane.NZ + i] = nx, ny, nz
+            rows[lane.AREA + i], rows[lane.SIGN + i] = area[c], shear_sign[c]
+            rows[lane.WARP_FIRST + i] = 1.0 if xi_is_warp[c] else 0.0
+            for row in range(lane.S1X, lane.REFERENCE1, lane.CHUNK):  # the sums over levels
+                rows[row + i] = 0.0
+        zero = 0
+        for f in range(levels):  # each level across the chunk's cells (level_lanes.py)
+            zero += lane.level_lanes(
+                rows, count, start, f, zeta[f], nodal, reference_length1, reference_length2,
+                reference_shear,
+            )  # fmt: skip
+            lane.law_lanes(
+                rows, count, weights[f], law_integers, law_reals, with_forces, with_energy
+            )
             if with_forces:
-                own[c, 0] = own[c, 1] = own[c, 2] = 0.0
-            continue
-        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2 = unit_edge_squares(
-            x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z
-        )
-        c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
-        chi1 = chi2 = 0.0
-        for s in range(3):
-            # side s runs from corner s + 1 to corner s + 2
-            if interior[c, s]:  # its fold from the side's own pass
-                fold = side_fold[c, s]
-                sx, sy, sz = side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
-                c1s, c2s = side_coefficients(
-                    sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2,
-                    side_scale[c, s],
+                lane.load_lanes(rows, count, zeta[f], weights[f])
+        if zero > 0:
+            raise ZeroDivisionError("a fibre of a fibrous cell has no length in its plane")
+        for i in range(count):
+            c = start + i
+            n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
+            x0x, x0y, x0z = positions[n0, 0], positions[n0, 1], positions[n0, 2]
+            x1x, x1y, x1z = positions[n1, 0], positions[n1, 1], positions[n1, 2]
+            x2x, x2y, x2z = positions[n2, 0], positions[n2, 1], positions[n2, 2]
+            nx, ny, nz, size = normal[c, 0], normal[c, 1], normal[c, 2], double_area[c]
+            a0 = area[c]
+            warp_first = xi_is_warp[c]
+            if with_energy:
+                energy[c, 0] = rows[lane.TENSION_ENERGY + i]
+                energy[c, 1] = rows[lane.SHEAR_ENERGY + i]
+            if with_forces:
+                v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0, over0 = corner_frame(
+                    frame, directors, n0, nodal, nx, ny, nz, thickness, guard
+                )
+                v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1, over1 = corner_frame(
+                    frame, directors, n1, nodal, nx, ny, nz, thickness, guard
+                )
+                v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2, over2 = corner_frame(
+                    frame, directors, n2, nodal, nx, ny, nz, thickness, guard
+                )
+                r1x, r1y, r1z = rows[lane.R1X + i], rows[lane.R1Y + i], rows[lane.R1Z + i]
+                r2x, r2y, r2z = rows[lane.R2X + i], rows[lane.R2Y + i], rows[lane.R2Z + i]
+                s1x, s1y, s1z = rows[lane.S1X + i], rows[lane.S1Y + i], rows[lane.S1Z + i]
+                s2x, s2y, s2z = rows[lane.S2X + i], rows[lane.S2Y + i], rows[lane.S2Z + i]
+                a1x, a1y, a1z = rows[lane.A1X + i], rows[lane.A1Y + i], rows[lane.A1Z + i]
+                a2x, a2y, a2z = rows[lane.A2X + i], rows[lane.A2Y + i], rows[lane.A2Z + i]
+                lx, ly, lz = rows[lane.LX + i], rows[lane.LY + i], rows[lane.LZ + i]
+                # The director moments (Eq. 28) and the work of h_m through V . N (theory §2.5)
+                m0x, m0y, m0z, d0x, d0y, d0z = director_moment(
+                    -(a1x + a2x), -(a1y + a2y), -(a1z + a2z), v0x, v0y, v0z, h0, cos0,
+                    w0x, w0y, w0z, len0, over0, guard, variation,
                 )  # fmt: skip
-            elif clamped[c, s]:
-                fold, c1s, c2s = wall_fold(
-                    c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                    e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                m1x, m1y, m1z, d1x, d1y, d1z = director_moment(
+                    a1x, a1y, a1z, v1x, v1y, v1z, h1, cos1, w1x, w1y, w1z, len1, over1, guard,
+                    variation,
                 )  # fmt: skip
-            else:
+                m2x, m2y, m2z, d2x, d2y, d2z = director_moment(
+                    a2x, a2y, a2z, v2x, v2y, v2z, h2, cos2, w2x, w2y, w2z, len2, over2, guard,
+                    variation,
+                )  # fmt: skip
+                moment[c, 0, 0], moment[c, 0, 1], moment[c, 0, 2] = m0x, m0y, m0z
+                moment[c, 1, 0], moment[c, 1, 1], moment[c, 1, 2] = m1x, m1y, m1z
+                moment[c, 2, 0], moment[c, 2, 1], moment[c, 2, 2] = m2x, m2y, m2z
+                # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|, and
+                # without nodal normals h_m varies with n too (dc_k = (V_k - c_k n) . dc / |c|)
+                gx = gy = gz = 0.0
+                over_size = 1.0 / size
+                if nodal:
+                    d_sums[c, 0, 0], d_sums[c, 0, 1], d_sums[c, 0, 2] = d0x, d0y, d0z
+                    d_sums[c, 1, 0], d_sums[c, 1, 1], d_sums[c, 1, 2] = d1x, d1y, d1z
+                    d_sums[c, 2, 0], d_sums[c, 2, 1], d_sums[c, 2, 2] = d2x, d2y, d2z
+                    along = lx * nx + ly * ny + lz * nz
+                    gx = (lx - along * nx) * over_size
+                    gy = (ly - along * ny) * over_size
+                    gz = (lz - along * nz) * over_size
+                else:
+                    gx = (d0x + d1x + d2x) * over_size
+                    gy = (d0y + d1y + d2y) * over_size
+                    gz = (d0z + d1z + d2z) * over_size
+                # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
+                # minus their sum on x0 (a = r1 = x1 - x0, b = r2 = x2 - x0)
+                f1x = s1x + (r2y * gz - r2z * gy)
+                f1y = s1y + (r2z * gx - r2x * gz)
+                f1z = s1z + (r2x * gy - r2y * gx)
+                f2x = s2x + (gy * r1z - gz * r1y)
+                f2y = s2y + (gz * r1x - gx * r1z)
+                f2z = s2z + (gx * r1y - gy * r1x)
+                force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = (
+                    -(f1x + f2x),
+                    -(f1y + f2y),
+                    -(f1z + f2z),
+                )
+                force[c, 1, 0], force[c, 1, 1], force[c, 1, 2] = f1x, f1y, f1z
+                force[c, 2, 0], force[c, 2, 1], force[c, 2, 2] = f2x, f2y, f2z
+
+            # ------------------------------------------------------------ bending
+            if not (interior[c, 0] or interior[c, 1] or interior[c, 2]) and not (
+                clamped[c, 0] or clamped[c, 1] or clamped[c, 2]
+            ):  # no side folds (a lone or a held cell)
+                if with_energy:
+                    energy[c, 2] = 0.0
+                if with_forces:
+                    own[c, 0] = own[c, 1] = own[c, 2] = 0.0
                 continue
-            if use_reference_coefficients:
-                c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
-            if s == 0:
-                c10, c20 = c1s, c2s
-            elif s == 1:
-                c11, c21 = c1s, c2s
-            else:
-                c12, c22 = c1s, c2s
-            turn = fold - reference_fold[c, s]
-            chi1 -= c1s * turn
-            chi2 -= c2s * turn
-        bend1, bend2 = (3, 4) if warp_first else (4, 3)
-        if with_energy:
-            energy[c, 2] = a0 * (
-                law_energy(law_integers, law_reals, bend1, chi1)
-                + law_energy(law_integers, law_reals, bend2, chi2)
+            e1x, e1y, e1z, e2x, e2y, e2z, over1, over2 = unit_edge_squares(
+                x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z
             )
-        if with_forces:
-            moment1 = law_value(law_integers, law_reals, bend1, chi1)
-            moment2 = law_value(law_integers, law_reals, bend2, chi2)
-            own[c, 0] = -a0 * (moment1 * c10 + moment2 * c20)
-            own[c, 1] = -a0 * (moment1 * c11 + moment2 * c21)
-            own[c, 2] = -a0 * (moment1 * c12 + moment2 * c22)
+            c10 = c11 = c12 = c20 = c21 = c22 = 0.0  # c_as of the sides that fold
+            chi1 = chi2 = 0.0
+            for s in range(3):
+                # side s runs from corner s + 1 to corner s + 2
+                if interior[c, s]:  # its fold from the side's own pass
+                    fold = side_fold[c, s]
+                    sx, sy, sz = side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
+                    c1s, c2s = side_coefficients(
+                        sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2,
+                        side_scale[c, s],
+                    )  # fmt: skip
+                elif clamped[c, s]:
+                    fold, c1s, c2s = wall_fold(
+                        c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
+                        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                    )  # fmt: skip
+                else:
+                    continue
+                if use_reference_coefficients:
+                    c1s, c2s = reference_coefficients[c, 0, s], reference_coefficients[c, 1, s]
+                if s == 0:
+                    c10, c20 = c1s, c2s
+                elif s == 1:
+                    c11, c21 = c1s, c2s
+                else:
+                    c12, c22 = c1s, c2s
+                turn = fold - reference_fold[c, s]
+                chi1 -= c1s * turn
+                chi2 -= c2s * turn
+            bend1, bend2 = (3, 4) if warp_first else (4, 3)
+            if with_energy:
+                energy[c, 2] = a0 * (
+                    law_energy(law_integers, law_reals, bend1, chi1)
+                    + law_energy(law_integers, law_reals, bend2, chi2)
+                )
+            if with_forces:
+                moment1 = law_value(law_integers, law_reals, bend1, chi1)
+                moment2 = law_value(law_integers, law_reals, bend2, chi2)
+                own[c, 0] = -a0 * (moment1 * c10 + moment2 * c20)
+                own[c, 1] = -a0 * (moment1 * c11 + moment2 * c21)
+                own[c, 2] = -a0 * (moment1 * c12 + moment2 * c22)
 
 
 # ---------------------------------------------------------------------- pass 3: the pulls

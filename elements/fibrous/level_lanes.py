@@ -1,0 +1,221 @@
+"""The fibre levels of a chunk of cells as loops across the cells (structure of arrays), for the
+fibrous cells' pass (kernels.py ``_cells_pass``): the pass gathers ``CHUNK`` cells' edges,
+levers and normals into the rows of one scratch array (``lanes``: ROWS * CHUNK doubles, a row
+a quantity, a column a cell), then runs, level by level, three loops over the chunk's cells:
+
+1. ``level_lanes``: each cell's fibre vectors, log strains and shear angle (cell_terms.py
+   ``level_strains``: the same arithmetic as the strains pass, its log and arcsine
+   branch-free, elements/lane_maths.py), straight-line code that LLVM runs 8 cells at a time
+   (AVX-512) or 4 (AVX2);
+2. ``law_lanes``: the laws' values (and energies) of those strains, each law over the strains
+   of its family (warp, weft, shear) at once (``law_row``): an odd polynomial by loops across
+   the cells, one a coefficient, vectorised as 1; a table cell by cell (its segment searched);
+3. ``load_lanes``: the tension and shear loads dW/dg_a of the level and their sums over the
+   levels (Eq. 24-33), vectorised as 1.
+
+Each cell's sums run over the levels in the order of the scalar pass, and every operation is
+the one it did, so that the cells' pass gives the numbers it gave cell by cell (but for the
+log and arcsine, within 1 and 2 units in the last place of the library's).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.fibrous.cell_terms import level_strains
+from elements.fibrous.packed_laws import _POLYNOMIAL, law_energy, law_value
+from elements.jit import inline
+
+__all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes"]
+
+# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 19 kB) stays in the level-1 cache.
+# (A change here needs the kernels' numba caches cleared: the cache of kernels.py does not see
+# a change of this module's constants.)
+CHUNK = 32
+# The rows of the scratch array (``lanes``: ROWS * CHUNK doubles, one dimension, row k at
+# k * CHUNK: the rows' distances are constants, from which LLVM knows that no two rows
+# overlap; with a 2-D array's run-time stride it would test each pair of rows first, too many
+# tests to vectorise): the cell's inputs (gathered by the cells' pass) ...
+R1X, R1Y, R1Z, R2X, R2Y, R2Z = (k * CHUNK for k in range(0, 6))  # edges x1 - x0, x2 - x0
+L1X, L1Y, L1Z, L2X, L2Y, L2Z = (k * CHUNK for k in range(6, 12))  # cell_terms.corner_levers
+NX, NY, NZ, AREA, SIGN = (k * CHUNK for k in range(12, 17))  # normal, reference area, sign
+# ... a level's strains (level_lanes) ...
+G1X, G1Y, G1Z, G2X, G2Y, G2Z = (k * CHUNK for k in range(17, 23))
+SQUARE1, SQUARE2, Q1, Q2 = (k * CHUNK for k in range(23, 27))
+E1X, E1Y, E1Z, E2X, E2Y, E2Z = (k * CHUNK for k in range(27, 33))
+OVER1, OVER2, INVERSE, COS, EPS1, EPS2, GAMMA = (k * CHUNK for k in range(33, 40))
+# ... its laws' values (law_lanes) ...
+TENSION1, TENSION2, SHEAR = (k * CHUNK for k in range(40, 43))
+# ... and the sums over the levels (load_lanes, law_lanes; zeroed by the cells' pass) ...
+S1X, S1Y, S1Z, S2X, S2Y, S2Z = (k * CHUNK for k in range(43, 49))  # sum_f dW/dg_a
+A1X, A1Y, A1Z, A2X, A2Y, A2Z = (k * CHUNK for k in range(49, 55))  # sum_f zeta_f dW/dg_a
+LX, LY, LZ = (k * CHUNK for k in range(55, 58))  # dW/dn
+TENSION_ENERGY, SHEAR_ENERGY = (k * CHUNK for k in range(58, 60))
+# ... and the level's references (gathered by level_lanes).
+REFERENCE1, REFERENCE2, REFERENCE_SHEAR = (k * CHUNK for k in range(60, 63))
+# ... and the laws' rows (law_lanes): 1 where edge 0 -> 1 is warp (else 0; gathered by the
+# cells' pass), the strains by family, a power and a square, each law's value and energy.
+WARP_FIRST, WARP, WEFT, POWER, SQUARE = (k * CHUNK for k in range(63, 68))
+VALUE0, VALUE1, VALUE2, ENERGY0, ENERGY1, ENERGY2 = (k * CHUNK for k in range(68, 74))
+ROWS = 74
+
+
+@inline
+def level_lanes(
+    lanes, count, start, f, z, nodal, reference_length1, reference_length2, reference_shear
+):  # fmt: skip
+    """Level f (zeta_f = ``z``) of the chunk's ``count`` cells (cells start, start + 1, ...):
+    cell_terms.py ``level_strains`` of each from its inputs' rows, its results written in
+    their rows. Returns how many of the cells have a fibre of zero length in their plane
+    (their strains are then inf or nan: the pass raises)."""
+    # the level's references first, in rows of their own: LLVM does not vectorise a loop that
+    # reads a column of a 2-D argument (it cannot bound the addresses it would check)
+    for i in range(count):
+        lanes[REFERENCE1 + i] = reference_length1[start + i, f]
+        lanes[REFERENCE2 + i] = reference_length2[start + i, f]
+        lanes[REFERENCE_SHEAR + i] = reference_shear[start + i, f]
+    zero = 0
+    for i in range(count):
+        (
+            g1x, g1y, g1z, g2x, g2y, g2z, square1, square2, q1, q2, e1x, e1y, e1z, e2x,
+            e2y, e2z, over1, over2, inverse, cos, eps1, eps2, gamma,
+        ) = level_strains(
+            z, lanes[R1X + i], lanes[R1Y + i], lanes[R1Z + i], lanes[R2X + i], lanes[R2Y + i],
+            lanes[R2Z + i], lanes[L1X + i], lanes[L1Y + i], lanes[L1Z + i], lanes[L2X + i],
+            lanes[L2Y + i], lanes[L2Z + i], nodal, lanes[NX + i], lanes[NY + i], lanes[NZ + i],
+            lanes[REFERENCE1 + i], lanes[REFERENCE2 + i], lanes[SIGN + i],
+            lanes[REFERENCE_SHEAR + i],
+        )  # fmt: skip
+        # l_1^2 l_2^2, the divisor of level_strains' one division (times L_1^2 L_2^2 > 0)
+        fibres = (e1x * e1x + e1y * e1y + e1z * e1z) * (e2x * e2x + e2y * e2y + e2z * e2z)
+        zero += fibres == 0.0
+        lanes[G1X + i], lanes[G1Y + i], lanes[G1Z + i] = g1x, g1y, g1z
+        lanes[G2X + i], lanes[G2Y + i], lanes[G2Z + i] = g2x, g2y, g2z
+        lanes[SQUARE1 + i], lanes[SQUARE2 + i] = square1, square2
+        lanes[Q1 + i], lanes[Q2 + i] = q1, q2
+        lanes[E1X + i], lanes[E1Y + i], lanes[E1Z + i] = e1x, e1y, e1z
+        lanes[E2X + i], lanes[E2Y + i], lanes[E2Z + i] = e2x, e2y, e2z
+        lanes[OVER1 + i], lanes[OVER2 + i], lanes[INVERSE + i] = over1, over2, inverse
+        lanes[COS + i], lanes[EPS1 + i], lanes[EPS2 + i], lanes[GAMMA + i] = cos, eps1, eps2, gamma
+    return zero
+
+
+@inline
+def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_energy):
+    """The packed laws (packed_laws.py; 0, 1, 2: warp tension, weft tension, shear) of the
+    level's strains: with ``with_forces`` their values in the rows TENSION1, TENSION2 (along
+    edges 0-1 and 0-2) and SHEAR; with ``with_energy`` the level's energies A0 w_f W added to
+    the cells' sums (``weight`` w_f). Each law over the chunk's strains of its family at once
+    (``law_row``), then each cell's values and energies by its edges' families."""
+    for i in range(count):
+        warp_first = lanes[WARP_FIRST + i] != 0.0
+        eps1, eps2 = lanes[EPS1 + i], lanes[EPS2 + i]
+        lanes[WARP + i] = eps1 if warp_first else eps2
+        lanes[WEFT + i] = eps2 if warp_first else eps1
+    law_row(lanes, count, law_integers, law_reals, 0, WARP, VALUE0, ENERGY0, with_forces,
+            with_energy)  # fmt: skip
+    law_row(lanes, count, law_integers, law_reals, 1, WEFT, VALUE1, ENERGY1, with_forces,
+            with_energy)  # fmt: skip
+    law_row(lanes, count, law_integers, law_reals, 2, GAMMA, VALUE2, ENERGY2, with_forces,
+            with_energy)  # fmt: skip
+    for i in range(count):
+        warp_first = lanes[WARP_FIRST + i] != 0.0
+        if with_energy:
+            w = lanes[AREA + i] * weight  # A0 w_f
+            # W(law 1, eps1) + W(law 2, eps2): the warp's and the weft's, in either order
+            lanes[TENSION_ENERGY + i] += w * (lanes[ENERGY0 + i] + lanes[ENERGY1 + i])
+            lanes[SHEAR_ENERGY + i] += w * lanes[ENERGY2 + i]
+        if with_forces:
+            warp, weft = lanes[VALUE0 + i], lanes[VALUE1 + i]
+            lanes[TENSION1 + i] = warp if warp_first else weft
+            lanes[TENSION2 + i] = weft if warp_first else warp
+            lanes[SHEAR + i] = lanes[VALUE2 + i]
+
+
+@inline
+def law_row(lanes, count, integers, reals, k, source, value, energy, with_forces, with_energy):
+    """Packed law k's value and energy (packed_laws.py ``law_value``, ``law_energy``: the same
+    operations in the same order) of the row ``source`` in the rows ``value`` and
+    ``energy``: an odd polynomial by loops across the cells, one a coefficient; a table cell
+    by cell (its segment searched)."""
+    if integers[k, 0] != _POLYNOMIAL:
+        for i in range(count):
+            x = lanes[source + i]
+            if with_forces:
+                lanes[value + i] = law_value(integers, reals, k, x)
+            if with_energy:
+                lanes[energy + i] = law_energy(integers, reals, k, x)
+        return
+    for i in range(count):
+        x = lanes[source + i]
+        lanes[SQUARE + i] = x * x
+    if with_forces:  # y = sum c_j x^(2j+1)
+        for i in range(count):
+            lanes[value + i] = 0.0
+            lanes[POWER + i] = lanes[source + i]
+        for j in range(integers[k, 1]):
+            coefficient = reals[k, 0, j]
+            for i in range(count):
+                lanes[value + i] += coefficient * lanes[POWER + i]
+                lanes[POWER + i] *= lanes[SQUARE + i]
+    if with_energy:  # W = sum c_j x^(2j+2) / (2j+2)
+        for i in range(count):
+            lanes[energy + i] = 0.0
+            lanes[POWER + i] = lanes[SQUARE + i]
+        for j in range(integers[k, 1]):
+            coefficient = reals[k, 0, j]
+            for i in range(count):
+                lanes[energy + i] += coefficient * lanes[POWER + i] / (2 * j + 2)
+                lanes[POWER + i] *= lanes[SQUARE + i]
+    if integers[k, 3] == 0:  # tension only: nothing below 0
+        for i in range(count):
+            negative = lanes[source + i] < 0.0
+            if with_forces:
+                lanes[value + i] = 0.0 if negative else lanes[value + i]
+            if with_energy:
+                lanes[energy + i] = 0.0 if negative else lanes[energy + i]
+
+
+@inline
+def load_lanes(lanes, count, z, weight):
+    """The level's loads on each cell of the chunk, added to the sums over the levels: tension
+    (Eq. 24-27) dW/dg_a = A0 w_f T_a P g_a / l_a^2 (P g = g without nodal normals) and its
+    pull on n; shear (Eq. 30-33) d gamma = sign (dg1 . t1 / |g1| + dg2 . t2 / |g2|), t1 /
+    |g1| = (g2 / (|g1| |g2|) - cos g1 / |g1|^2) / sin, and t2 / |g2| likewise."""
+    for i in range(count):
+        w = lanes[AREA + i] * weight  # A0 w_f
+        k1 = w * lanes[TENSION1 + i] * lanes[OVER1 + i]
+        k2 = w * lanes[TENSION2 + i] * lanes[OVER2 + i]
+        e1x, e1y, e1z = lanes[E1X + i], lanes[E1Y + i], lanes[E1Z + i]
+        e2x, e2y, e2z = lanes[E2X + i], lanes[E2Y + i], lanes[E2Z + i]
+        q1, q2 = lanes[Q1 + i], lanes[Q2 + i]
+        p1x, p1y, p1z = k1 * e1x, k1 * e1y, k1 * e1z
+        p2x, p2y, p2z = k2 * e2x, k2 * e2y, k2 * e2z
+        lanes[LX + i] -= k1 * q1 * e1x + k2 * q2 * e2x
+        lanes[LY + i] -= k1 * q1 * e1y + k2 * q2 * e2y
+        lanes[LZ + i] -= k1 * q1 * e1z + k2 * q2 * e2z
+        cos, inverse = lanes[COS + i], lanes[INVERSE + i]
+        sin = np.sqrt(max(1.0 - cos * cos, 1e-24))
+        shear_moment = w * lanes[SIGN + i] * lanes[SHEAR + i] / sin
+        c1 = cos * inverse * inverse  # cos / (|g1| |g2|)^2: cos / |g1|^2 and cos / |g2|^2
+        c1, c2 = c1 * lanes[SQUARE2 + i], c1 * lanes[SQUARE1 + i]
+        g1x, g1y, g1z = lanes[G1X + i], lanes[G1Y + i], lanes[G1Z + i]
+        g2x, g2y, g2z = lanes[G2X + i], lanes[G2Y + i], lanes[G2Z + i]
+        p1x += shear_moment * (g2x * inverse - c1 * g1x)
+        p1y += shear_moment * (g2y * inverse - c1 * g1y)
+        p1z += shear_moment * (g2z * inverse - c1 * g1z)
+        p2x += shear_moment * (g1x * inverse - c2 * g2x)
+        p2y += shear_moment * (g1y * inverse - c2 * g2y)
+        p2z += shear_moment * (g1z * inverse - c2 * g2z)
+        lanes[S1X + i] += p1x
+        lanes[S1Y + i] += p1y
+        lanes[S1Z + i] += p1z
+        lanes[S2X + i] += p2x
+        lanes[S2Y + i] += p2y
+        lanes[S2Z + i] += p2z
+        lanes[A1X + i] += z * p1x
+        lanes[A1Y + i] += z * p1y
+        lanes[A1Z + i] += z * p1z
+        lanes[A2X + i] += z * p2x
+        lanes[A2Y + i] += z * p2y
+        lanes[A2Z + i] += z * p2z
