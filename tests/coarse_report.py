@@ -2,12 +2,12 @@
 (tests/conftest.py, the ``coarse_report`` fixture): ``python -m validation`` in a process group
 of its own, started once per session in a folder the session's processes share (the pytest
 process, or each of pytest-xdist's workers: the first of them to ask starts it, the others
-read the same run), and whether numba's cache already holds the kernels its cases call first."""
+read the same run), its processes compiling numba's kernels under the session's locks
+(tests/report_site/sitecustomize.py, tests/compile_once.py)."""
 
 import fcntl
 import json
 import os
-import re
 import shutil
 import signal
 import subprocess
@@ -16,6 +16,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+# First on the report's PYTHONPATH: its sitecustomize installs tests/compile_once.py in each of
+# the report's processes.
+SITE = Path(__file__).resolve().parent / "report_site"
 
 # The report's command wrapped so that its exit status lands in a file, where a process that
 # did not start it (another xdist worker) can read it: os.replace makes the file whole or absent.
@@ -48,18 +51,22 @@ class CoarseReport:
     def start_once(cls, folder: Path, command: list[str] | None = None) -> "CoarseReport":
         """The run in ``folder``: started here if no process has started it yet. ``command``
         replaces the report's (a test's stand-in: it writes ``out``/results.json, whose path
-        it is given as its last argument)."""
+        it is given as its last argument). The run's processes, and those they start, find
+        ``SITE`` first on their PYTHONPATH: a kernel that a test compiles beside them is
+        compiled once, by whichever process asks first."""
         report = cls(folder)
         report.folder.mkdir(parents=True, exist_ok=True)
         with open(report.folder / "lock", "w") as lock:
             fcntl.flock(lock, fcntl.LOCK_EX)
             if not report.pid.exists():
+                path = os.pathsep.join([str(SITE), *filter(None, [os.environ.get("PYTHONPATH")])])
                 with open(report.log, "wb") as log:
                     report.process = subprocess.Popen(
                         [sys.executable, "-c", _RECORD_STATUS, str(report.status),
                          *(command or [sys.executable, "-m", "validation", "--resolution",
                                        "coarse", "--jobs", "2", "--out"]), str(report.out)],
                         cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+                        env={**os.environ, "PYTHONPATH": path},
                     )  # fmt: skip
                 report.pid.write_text(str(report.process.pid))
         return report
@@ -101,31 +108,3 @@ class CoarseReport:
             else:
                 os.killpg(group, signal.SIGKILL)
         shutil.rmtree(self.folder, ignore_errors=True)
-
-
-# The kernels the report's cases call first: its run starts once the tests have compiled
-# them into numba's cache (``cache=True``), or once a third of the tests have run, so that its
-# two workers do not compile them again beside the tests in a fresh checkout.
-REPORT_KERNELS = ("kernels._cells_pass", "kernels._mindlin_cells",
-                  "tangent_kernels._membrane_product", "mindlin_tangent._tangent_cells",
-                  "facet_search._closest_facets", "band._factorise")  # fmt: skip
-
-
-PART = re.compile(r"_part_[0-9a-f]+$")
-
-
-def report_kernels_cached() -> bool:
-    """Whether numba's cache (``NUMBA_CACHE_DIR``, or ``__pycache__`` beside each module)
-    holds a build of each of ``REPORT_KERNELS``."""
-    folder = os.environ.get("NUMBA_CACHE_DIR")
-    if folder:
-        indices = Path(folder).glob("**/*.nbi")
-    else:
-        packages = ("elements", "elements/fibrous", "femcore", "solvers")
-        indices = (i for p in packages for i in (ROOT / p / "__pycache__").glob("*.nbi"))
-    # A kernel with a parallel loop is cached as its one-thread build, "<kernel>_part_<digest>"
-    # (elements/jit.py): the build the report's one-thread workers call. Any digest counts: in
-    # a checkout whose kernels changed, an older build starts the report early (it compiles
-    # what it misses), the cost of a start, not a wrong result.
-    cached = {PART.sub("", index.name.rsplit("-", 1)[0]) for index in indices}
-    return all(kernel in cached for kernel in REPORT_KERNELS)

@@ -1,7 +1,8 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
 on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
-validation report, run in the background beside the other tests; numba's kernels compiled
-once for all the session's processes (tests/compile_once.py)."""
+validation report, run in the background beside the other tests from the session's start;
+numba's kernels compiled once for all the session's processes, the report's included
+(tests/compile_once.py)."""
 
 import os
 import tempfile
@@ -18,7 +19,7 @@ os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
 import compile_once  # noqa: E402
 import pytest  # noqa: E402
-from coarse_report import CoarseReport, report_kernels_cached  # noqa: E402
+from coarse_report import CoarseReport  # noqa: E402
 
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
@@ -32,7 +33,6 @@ compile_once.install()
 # that the command started, handed to each pytest-xdist worker (pytest_configure_node).
 _folder: dict[str, Path] = {}
 _reports: list[CoarseReport] = []
-_waiting = {"tests": 0, "ran": 0}
 
 
 def pytest_configure(config):
@@ -55,7 +55,6 @@ def pytest_configure_node(node):
 
 
 def start_report() -> None:
-    _waiting["tests"] = 0
     if not _reports:
         _reports.append(CoarseReport.start_once(_folder["path"]))
 
@@ -74,23 +73,16 @@ def pytest_collection_modifyitems(session, config, items):
 
 
 def pytest_collection_finish(session):
-    """A session that checks the coarse report runs it beside its other tests (its cases,
-    minutes of CPU, on the cores those leave idle) and the report's tests wait for it. Under
+    """A session that checks the coarse report starts it at once, beside its other tests: its
+    cases, minutes of CPU, take the cores those leave idle (a test waiting for a subprocess,
+    a Dask cluster or another process's compilation) and its longest case starts first. Its
+    processes compile numba's kernels under the session's locks (tests/compile_once.py), so a
+    fresh checkout compiles each kernel once, in whichever process asks first. Under
     pytest-xdist each worker collects every test and runs its share: the first to ask starts
     the report, the others read the same run."""
     wanted = any(uses_the_report(item) for item in session.items)
     if wanted and not session.config.option.collectonly:
-        workers = getattr(session.config, "workerinput", {}).get("workercount", 1)
-        _waiting["tests"] = max(1, len(session.items) // workers)
-        if report_kernels_cached():
-            start_report()
-
-
-def pytest_runtest_logfinish(nodeid, location):
-    if _waiting["tests"]:
-        _waiting["ran"] += 1
-        if report_kernels_cached() or 3 * _waiting["ran"] >= _waiting["tests"]:
-            start_report()
+        start_report()
 
 
 def pytest_sessionfinish(session):

@@ -1,6 +1,6 @@
 """The test suite's own setup (tests/conftest.py, tests/coarse_report.py): OpenBLAS on one
-thread, and the background report: started once numba's cache holds the kernels it needs, once
-for all the session's processes, its failure reported, stopped with the session."""
+thread, and the background report: started once for all the session's processes, compiling
+numba's kernels under the session's locks, its failure reported, stopped with the session."""
 
 import ctypes
 import os
@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from coarse_report import REPORT_KERNELS, CoarseReport, report_kernels_cached
+from coarse_report import CoarseReport
 
 
 def openblas_threads() -> list[int]:
@@ -40,33 +40,6 @@ def test_the_tests_run_openblas_on_one_thread():
     assert counts == [1] * len(counts)
 
 
-def test_the_report_waits_for_every_one_of_its_kernels_in_numbas_cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
-    assert not report_kernels_cached()  # a fresh checkout
-    folder = tmp_path / "elements_0123"
-    folder.mkdir()
-    for kernel in REPORT_KERNELS[:-1]:
-        (folder / f"{kernel}-42.py311.nbi").touch()
-    assert not report_kernels_cached()
-    (folder / f"{REPORT_KERNELS[-1]}-7.py311.nbi").touch()
-    assert report_kernels_cached()
-
-
-def test_the_report_counts_a_parallel_kernels_one_thread_build_as_cached(tmp_path, monkeypatch):
-    # elements/jit.py names the one-thread build of a kernel with a parallel loop after the
-    # kernel and a digest of its rewritten source; its parallel build alone is not the one
-    # the report's one-thread workers call
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
-    folder = tmp_path / "elements_0123"
-    folder.mkdir()
-    for kernel in REPORT_KERNELS[1:]:
-        (folder / f"{kernel}-42.py311.nbi").touch()
-    (folder / f"{REPORT_KERNELS[0]}_parallel_19bcb7f995-203.py311.nbi").touch()
-    assert not report_kernels_cached()
-    (folder / f"{REPORT_KERNELS[0]}_part_19bcb7f995-204.py311.nbi").touch()
-    assert report_kernels_cached()
-
-
 # A stand-in for the report's command: writes results.json into the folder it is given last,
 # after a pause that outlasts the test's second start (or fails, or never ends).
 def stand_in(body: str) -> list[str]:
@@ -79,6 +52,35 @@ def stand_in(body: str) -> list[str]:
 
 
 WRITES = stand_in("time.sleep(0.5)\n(out / 'results.json').write_text(json.dumps({'runs': 1}))\n")
+
+
+# Whether numba's compilations in a process go through tests/compile_once.py's locks, and the
+# folder of those locks: in the report's process and in a worker it spawns.
+LOCKED = (
+    "getattr(__import__('numba.core.dispatcher', fromlist=['Dispatcher']).Dispatcher.compile,"
+    " 'compile_once', False), str(__import__('compile_once').lock_folder())"
+)
+
+
+def test_the_reports_processes_compile_under_the_sessions_locks(tmp_path):
+    # The report starts with the session, beside the tests compiling the kernels of a fresh
+    # checkout: its processes, and the workers they spawn, must take the same per-kernel
+    # locks (the same folder) or each would compile a kernel that a test is compiling.
+    import compile_once
+
+    body = (
+        "import multiprocessing\n"
+        f"main = eval({LOCKED!r})\n"
+        "with multiprocessing.get_context('spawn').Pool(1) as pool:\n"
+        f"    worker = pool.apply(eval, ({LOCKED!r},))\n"
+        "(out / 'results.json').write_text(json.dumps([main, worker]))\n"
+    )
+    report = CoarseReport.start_once(tmp_path / "locks", stand_in(body))
+    try:
+        locked = [True, str(compile_once.lock_folder())]
+        assert report.result()[1] == [locked, locked]
+    finally:
+        report.stop()
 
 
 def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
