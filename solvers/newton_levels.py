@@ -245,15 +245,21 @@ class LevelStrains:
             (direct, turns, through_sums, shares), pairs = part.fibre_strain_gradient(end)
             values.append(direct.ravel())
             if v1 is not None and v2 is not None:
-                values.append(np.einsum("mpki,mki->mpk", turns, v2[conn]).ravel())
-                values.append(np.einsum("mpki,mki->mpk", turns, v1[conn]).ravel())
+                for axis in (v2[conn][:, None], v1[conn][:, None]):
+                    values.append(
+                        (
+                            turns[..., 0] * axis[..., 0]
+                            + turns[..., 1] * axis[..., 1]
+                            + turns[..., 2] * axis[..., 2]
+                        ).ravel()
+                    )
             if pairs is not None and through_sums is not None and shares is not None:
                 cell, corner, other, other_corner = pairs
-                values.append(
-                    np.einsum(
-                        "qps,qsjx->qpjx", through_sums[cell, :, corner], shares[other, other_corner]
-                    ).ravel()
+                # (q, p, 3) @ (q, 3, 9): the pull on S_k through each share's derivative.
+                pull = np.matmul(
+                    through_sums[cell, :, corner], shares[other, other_corner].reshape(-1, 3, 9)
                 )
+                values.append(pull.ravel())
         data = np.bincount(inverse, weights=np.concatenate(values)[keep], minlength=indices.size)
         return sp.csr_matrix((data, indices, indptr), shape=shape)
 

@@ -115,7 +115,7 @@ def level_strain_gradient(
     if not nodal:
         # c_k = V_k . n, n = c / |c|: dc_k = (V_k - c_k n) . dc / |c|.
         v_perp = v - cosine[..., None] * n[:, None, :]
-        g = np.einsum("mpk,mki->mpi", ds_dc, v_perp) / geo["double_area"][:, None, None]
+        g = np.matmul(ds_dc, v_perp) / geo["double_area"][:, None, None]
         return direct + _pull(x, g), turns, None, None
     # c_k = V_k . S_k / |S_k|: dc/dS_k = (V_k - c N_k) / |S_k|.
     tilt = (v - cosine[..., None] * normal_of_corner) / geo["normal_sum_length"][..., None]
