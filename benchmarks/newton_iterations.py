@@ -88,23 +88,24 @@ the roll-up, the 2560-triangle cantilever and Peirce's MindlinShell(fabric) stri
 iterations and positions (their rounding is below tol / 10).
 
 Line 7, off / coloured differences / exact gradient (same run, one thread, CPU best of 3,
-load 2.6-2.8; the figures of lines 1-6 above are those of the solver's default, off; the
+load 1.8-2.0; the figures of lines 1-6 above are those of the solver's default, off; the
 Mindlin strips have no block that gives level strains; "coloured" is the projection with the
-gradient of before, on today's solve and rule of held measures):
-Peirce 3 increments 9-9-10 / 6-5-6 / 6-5-6 iterations, 28 / 17 / 17 tangents, 0.09 / 0.22 /
-0.14 s; 12 increments 69 / 51 / 51 tangents, 0.20 / 0.51 / 0.36 s; heavy cantilever 10 cells
-26-9-7 / 6-5-4 / 6-5-4, 0.10 / 0.15 / 0.09 s; 20 cells 25-9-8 / 5-5-4 / 5-5-4, 0.14 / 0.18 /
-0.12 s; 40 cells 49-11-9 / 6-7-5 / 6-7-5, 0.35 / 0.28 / 0.19 s; the bias specimen pulled by
-20 N 4-4-4-4 / 16-5-4-4 / 6-4-4-4, 0.20 / 1.20 / 0.43 s; positions (exact against off)
-equal to 4.5e-9 mm. The exact gradient costs 0.56 ms a sweep on Peirce's strip against
-2.3-2.7 by coloured differences. Before the rule holding only the measures a step changes by
-at most 1e-3 (solvers.newton_levels CHANGE), the pulled bias took 6-5-13-19 with the exact
-gradient and 28-29-27-34 with the coloured one (16-5-4-4 with the rule). The projection stays
-an option: on Peirce's strip (1.6-1.8 x) and the pulled bias (2.2 x) its sweeps, about 2 a
-projected step at 2-5 ms each (a gradient, J^T J, a band LDL^T, a strain evaluation), cost
-more than the tangents they save; it saves CPU on the heavy cantilever (0.54-0.9 x). The
-same run at load 6.7-7.5 (einsum where matmul is now): 0.12 / 0.26 / 0.17, 0.23 / 0.62 /
-0.44, 0.14 / 0.18 / 0.12, 0.17 / 0.20 / 0.14, 0.38 / 0.33 / 0.24, 0.21 / 1.23 / 0.47 s.
+gradient of before, on today's solve, rule of held measures and stopping test):
+Peirce 3 increments 9-9-10 / 6-5-6 / 6-5-6 iterations, 28 / 17 / 17 tangents, 23 sweeps,
+0.09 / 0.17 / 0.11 s; 12 increments 69 / 51 / 52 tangents, 47 sweeps, 0.20 / 0.36 / 0.27 s;
+heavy cantilever 10 cells 26-9-7 / 6-6-4 / 6-6-4, 0.10 / 0.13 / 0.08 s; 20 cells 25-9-8 /
+5-5-4 / 5-5-4, 0.14 / 0.16 / 0.11 s; 40 cells 49-11-9 / 6-7-5 / 6-7-5, 0.33 / 0.26 / 0.19 s;
+the bias specimen pulled by 20 N 4-4-4-4 / 12-5-4-4 / 6-4-4-4, 0.19 / 0.89 / 0.31 s;
+positions (exact against off) equal to 4.5e-9 mm. The exact gradient costs 0.56 ms a sweep
+on Peirce's strip against 2.3-2.7 by coloured differences. Before the rule holding only the
+measures a step changes by at most 1e-3 (solvers.newton_levels CHANGE), the pulled bias took
+6-5-13-19 with the exact gradient and 28-29-27-34 with the coloured one. The projection stays
+an option: on Peirce's strip (1.2-1.35 x) and the pulled bias (1.6 x) its sweeps (about 1.5
+a projected step at 2-5 ms each: a gradient, J^T J, a band LDL^T, a strain evaluation) cost
+more than the tangents they save; it saves CPU on the heavy cantilever (0.58-0.8 x). With
+the sweeps' stopping test at 1e-12 (before the last change; load 2.6-2.8): Peirce 0.09 /
+0.22 / 0.14 and 0.20 / 0.51 / 0.36 s, heavy 0.10 / 0.15 / 0.09, 0.14 / 0.18 / 0.12, 0.35 /
+0.28 / 0.19 s, the pulled bias 0.20 / 1.20 / 0.43 s (36, 88, 32, 32, 32, 40 sweeps).
 Before the exact gradient (load 5.1-5.4, SuperLU for the sweeps' solve): Peirce 3
 increments 0.10 -> 0.24 s, 12 increments 0.21 -> 0.60 s; heavy cantilever 0.10 -> 0.17,
 0.14 -> 0.20, 0.34 -> 0.31 s. The CPU went to the projection's gradient (8 colours x 5
