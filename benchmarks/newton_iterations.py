@@ -15,9 +15,11 @@ Lines (every model of the validation cases or benchmarks that run it, one thread
 5. Peirce's fibrous strip with its bilinear bending law (7.5 N mm to the knee at 1e-3 1/mm,
    0.5 N mm beyond) replaced by a linear one of 7.5 or 0.5 N mm, and with its fibre tension
    (1200 N/mm) times 0.01 and 10: what the iterations follow.
-7. (printed after 6) the fibrous strips without and with the level-strain projection
-   (``Static(level_projection=...)``, solvers.newton_levels): Peirce's in 3 and 12
-   increments, the heavy fibrous cantilever of validation/cases at 10, 20 and 40 cells; for
+7. (printed after 6) the fibrous strips without the level-strain projection
+   (``Static(level_projection=...)``, solvers.newton_levels), with it by the coloured
+   differences of before (the reference pass) and with it by the exact gradient: Peirce's in
+   3 and 12 increments, the heavy fibrous cantilever of validation/cases at 10, 20 and 40
+   cells, the bias specimen of tests/test_bias_extension.py pulled by a force of 20 N; for
    Peirce's in 3 increments the residual ratio of every iteration, the cells past the bending
    law's knee at each tangent and the cells that switched branch between tangents.
 
@@ -85,21 +87,34 @@ positions equal to 6e-14 mm. The heavy fibrous cantilever (10, 20, 40 cells), th
 the roll-up, the 2560-triangle cantilever and Peirce's MindlinShell(fabric) strip: the same
 iterations and positions (their rounding is below tol / 10).
 
-Line 7, level_projection False -> True (same run, one thread, best of 3, load 5.1-5.4; the
-figures of lines 1-6 above are those of the solver's default, False, the option's True
-being line 7; the Mindlin strips have no block that gives level strains):
-Peirce 3 increments 9-9-10 -> 6-5-6 iterations, 28 -> 17 tangents, 74 -> 46 force
-evaluations, 0.10 -> 0.24 s CPU; 12 increments 69 -> 51 tangents, 0.21 -> 0.60 s; heavy
-cantilever 10 cells 26-9-7 -> 6-5-4 (42 -> 15 tangents, 0.10 -> 0.17 s), 20 cells 25-9-8 ->
-5-5-4 (42 -> 14, 0.14 -> 0.20 s), 40 cells 49-11-9 -> 6-7-5 (69 -> 18, 0.34 -> 0.31 s); the
-positions equal to 4.5e-9 mm. The CPU goes to the projection's gradient (8 colours x 5
-unknowns of one-sided strain differences at each of up to 4 sweeps, 36 sweeps on Peirce),
-which costs more than the tangents it saves on these 40-80-cell strips (measured and not kept:
-the gradient of every other sweep with 6 sweeps, the same iterations and CPU; of the first
-sweep alone with 8 sweeps, Peirce 7-6-7 in 0.14 s but fibres x 10 9-22-9 and the heavy
-cantilever 8-11-7 at 40 cells; 2 or 3 sweeps, Peirce 11-13-7 or 7-5-5 and the heavy
-cantilever 25-11-8 or 8-6-5 at 20 cells; steps projected from 0.1 or 0.3 element instead of
-0.01, Peirce 7-6-6 or 15-7-7). Before the change,
+Line 7, off / coloured differences / exact gradient (same run, one thread, CPU best of 3,
+load 1.8-2.0; the figures of lines 1-6 above are those of the solver's default, off; the
+Mindlin strips have no block that gives level strains; "coloured" is the projection with the
+gradient of before, on today's solve, rule of held measures and stopping test):
+Peirce 3 increments 9-9-10 / 6-5-6 / 6-5-6 iterations, 28 / 17 / 17 tangents, 23 sweeps,
+0.09 / 0.17 / 0.11 s; 12 increments 69 / 51 / 52 tangents, 47 sweeps, 0.20 / 0.36 / 0.27 s;
+heavy cantilever 10 cells 26-9-7 / 6-6-4 / 6-6-4, 0.10 / 0.13 / 0.08 s; 20 cells 25-9-8 /
+5-5-4 / 5-5-4, 0.14 / 0.16 / 0.11 s; 40 cells 49-11-9 / 6-7-5 / 6-7-5, 0.33 / 0.26 / 0.19 s;
+the bias specimen pulled by 20 N 4-4-4-4 / 12-5-4-4 / 6-4-4-4, 0.19 / 0.89 / 0.31 s;
+positions (exact against off) equal to 4.5e-9 mm. The exact gradient costs 0.56 ms a sweep
+on Peirce's strip against 2.3-2.7 by coloured differences. Before the rule holding only the
+measures a step changes by at most 1e-3 (solvers.newton_levels CHANGE), the pulled bias took
+6-5-13-19 with the exact gradient and 28-29-27-34 with the coloured one. The projection stays
+an option: on Peirce's strip (1.2-1.35 x) and the pulled bias (1.6 x) its sweeps (about 1.5
+a projected step at 2-5 ms each: a gradient, J^T J, a band LDL^T, a strain evaluation) cost
+more than the tangents they save; it saves CPU on the heavy cantilever (0.58-0.8 x). With
+the sweeps' stopping test at 1e-12 (before the last change; load 2.6-2.8): Peirce 0.09 /
+0.22 / 0.14 and 0.20 / 0.51 / 0.36 s, heavy 0.10 / 0.15 / 0.09, 0.14 / 0.18 / 0.12, 0.35 /
+0.28 / 0.19 s, the pulled bias 0.20 / 1.20 / 0.43 s (36, 88, 32, 32, 32, 40 sweeps).
+Before the exact gradient (load 5.1-5.4, SuperLU for the sweeps' solve): Peirce 3
+increments 0.10 -> 0.24 s, 12 increments 0.21 -> 0.60 s; heavy cantilever 0.10 -> 0.17,
+0.14 -> 0.20, 0.34 -> 0.31 s. The CPU went to the projection's gradient (8 colours x 5
+unknowns of one-sided strain differences at each of up to 4 sweeps, 36 sweeps on Peirce)
+(measured and not kept: the gradient of every other sweep with 6 sweeps, the same
+iterations and CPU; of the first sweep alone with 8 sweeps, Peirce 7-6-7 in 0.14 s but
+fibres x 10 9-22-9 and the heavy cantilever 8-11-7 at 40 cells; 2 or 3 sweeps, Peirce
+11-13-7 or 7-5-5 and the heavy cantilever 25-11-8 or 8-6-5 at 20 cells; steps projected from
+0.1 or 0.3 element instead of 0.01, Peirce 7-6-6 or 15-7-7). Before the projection,
 the first increment of Peirce's strip (ratios 0.99, 1.0, 1.0, 0.65, 1.0, 0.31, 0.66, 2.4e-4,
 2.2e-5, 1.1e-8): the first update leaves the levels stretched, and each later step that
 corrects the bending by 0.01-0.03 rad stretches them again by 1e-4 to 1e-3 of strain (a
@@ -108,7 +123,7 @@ iterations (15 at the first update, then 2, 0, 2, 0, ... switches: no chatter), 
 tangent's branch at the iterate (a semi-smooth Newton, as it is) is not what costs. With the
 projection the ratios are 0.99, 1.1, 0.20, 0.78, 1.1e-2, 3.5e-5, 8.1e-9.
 
-Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large]
+Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 """
 
 from __future__ import annotations
@@ -257,40 +272,73 @@ def branch_switches(compiled, options: dict) -> tuple[list[int], list[int]]:
     return [int(a.sum()) for a in active], switched
 
 
+def _coloured_gradient(levels, state, frames, delta):
+    """The projection's J by the coloured one-sided differences it took before the exact
+    gradient (solvers.newton_levels ``_jacobian``): the reference pass of line 7."""
+    k = levels.strains(state).size
+    return levels._jacobian(state, frames, delta, levels.model.element_size, k)
+
+
+def _pulled_bias():
+    """The bias specimen of tests/test_bias_extension.py (its linear fabric) pulled by 20 N
+    on its free end (tests/test_static_vanished_normal.py): its shear is the load's own."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from test_bias_extension import LINEAR, bias_specimen
+
+    mesh, model = bias_specimen(LINEAR, pull=None)
+    right = np.asarray(mesh.node_sets["right"])
+    model.force("right", (20.0 / len(right), 0.0, 0.0))
+    return mesh, model
+
+
 def level_lines(repeat: int) -> None:
-    """Line 7: the fibrous strips without and with the level-strain projection
-    (solvers.newton_levels), in the same run; the residual ratio of every iteration and the
-    bending law's branch switches of Peirce's strip."""
-    print("7. the level-strain projection (level_projection False / True):")
+    """Line 7: the fibrous strips without the level-strain projection, with it by the
+    coloured differences of before, and with it by the exact gradient (solvers.newton_levels),
+    in the same run; the residual ratio of every iteration and the bending law's branch
+    switches of Peirce's strip."""
+    from solvers.newton_levels import LevelStrains
+
+    print("7. the level-strain projection (off / coloured differences / exact gradient):")
     strips = [("Peirce, fibrous, 3 increments", _peirce("fibrous"), 3)]
     strips.append(("Peirce, fibrous, 12 increments", _peirce("fibrous"), 12))
     strips += [(f"heavy fibrous cantilever, {n} cells", _heavy(n), 3) for n in (10, 20, 40)]
+    strips.append(("bias specimen pulled by 20 N", _pulled_bias(), 4))
+    exact = LevelStrains.gradient
+    variants = (
+        ("off", False, exact),
+        ("coloured", True, _coloured_gradient),
+        ("exact", True, exact),
+    )
     for name, (_mesh, model), increments in strips:
         compiled = model.compile()
         positions = {}
-        for flag in (False, True):
+        for variant, flag, gradient in variants:
+            LevelStrains.gradient = gradient  # type: ignore[method-assign]
             best, result = math.inf, None
-            for _ in range(repeat):
-                started = time.process_time()
-                solver = Static(increments=increments, progress=False, level_projection=flag)
-                result = solver.solve(compiled)
-                best = min(best, time.process_time() - started)
+            try:
+                for _ in range(repeat):
+                    started = time.process_time()
+                    solver = Static(increments=increments, progress=False, level_projection=flag)
+                    result = solver.solve(compiled)
+                    best = min(best, time.process_time() - started)
+            finally:
+                LevelStrains.gradient = exact  # type: ignore[method-assign]
             assert result is not None
             info = result.info
-            positions[flag] = result.positions
+            positions[variant] = result.positions
             print(
-                f"  {name}, {flag}: iterations {info['iterations_per_increment']}, "
+                f"  {name}, {variant}: iterations {info['iterations_per_increment']}, "
                 f"{info['evaluations']['tangent']} tangents, {info['evaluations']['residual']} "
                 f"forces, {info['level_projection_sweeps']} sweeps, {best:.2f} s CPU, load "
                 f"{os.getloadavg()[0]:.1f}"
             )
-            if increments == 3 and name.startswith("Peirce"):
+            if increments == 3 and name.startswith("Peirce") and variant != "coloured":
                 for history in info["residual_history"]:
                     print("    ratios " + " ".join(f"{r:.1e}" for r in history))
                 past, switched = branch_switches(compiled, {"level_projection": flag})
                 print(f"    cells past the knee per tangent {past}")
                 print(f"    cells that switched branch {switched}")
-        moved = np.abs(positions[True] - positions[False]).max()
+        moved = np.abs(positions["exact"] - positions["off"]).max()
         print(f"  {name}: positions differ by {moved:.1e} mm")
 
 
@@ -298,8 +346,12 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="solves per line (best CPU)")
     parser.add_argument("--skip-large", action="store_true", help="without line 3")
+    parser.add_argument("--levels-only", action="store_true", help="line 7 alone")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
+    if args.levels_only:
+        level_lines(args.repeat)
+        return
     for name, mesh, model, increments, variants in lines(args.skip_large):
         compiled = model.compile()
         print(f"{name}:")

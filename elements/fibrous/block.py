@@ -15,7 +15,7 @@ import numpy as np
 
 from elements import kernels as node_kernels
 from elements.base import ElementBlock
-from elements.fibrous import bending, geometry, kernels, membrane, supports
+from elements.fibrous import bending, geometry, kernels, level_jacobian, membrane, supports
 from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
@@ -103,6 +103,8 @@ class FibrousShellBlock(ElementBlock):
         # hops). With nodal normals a node's force also depends on the h_m of the nodes of its
         # cells, each set by the normals of the cells around that node (3 hops).
         self.reach = 3 if self.nodal_normals else 2
+        # The corners on a common node (level_jacobian.sums_pairs), made at the first call.
+        self._sums_pairs: tuple[np.ndarray, ...] | None = None
         self.reference_curvature_coefficients = shell.bending_geometry == "reference"
         self.n_nodes = mesh.n_nodes
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
@@ -249,6 +251,17 @@ class FibrousShellBlock(ElementBlock):
                 self, geometry.geometry(self, state.positions, state.directors)
             )
         return np.concatenate([strain["eps1"], strain["eps2"], strain["gamma"]], axis=1)
+
+    def fibre_strain_gradient(self, state: State) -> tuple:
+        """The derivatives of ``fibre_strains`` at each cell's corners (direct, turns, and
+        with nodal normals the pull on the normal sums and the cells' shares' derivatives)
+        and the pairs of corners on a common node they are combined over
+        (level_jacobian.py ``level_strain_gradient``, ``sums_pairs``; None with element
+        normals)."""
+        pieces = level_jacobian.level_strain_gradient(self, state.positions, state.directors)
+        if self._sums_pairs is None and self.nodal_normals:
+            self._sums_pairs = level_jacobian.sums_pairs(self)
+        return pieces, self._sums_pairs
 
     def internal_force(self, state: State, history=None):
         if self.compiled:  # the passes of elements/fibrous/kernels.py
