@@ -212,14 +212,17 @@ def outline_fade(
         1.0,
     )
     r_o = p - a - t[:, None] * e
-    squared = np.maximum(np.einsum("ci,ci->c", r_o, r_o) - gap * gap, 0.0)
+    raw = np.einsum("ci,ci->c", r_o, r_o) - gap * gap
+    # where the nearest outline edge is nearer than the face's plane (a fold, a deep point on
+    # a growth's plane) d^2 < 0 is clamped to 0: w = 1 there and flat, so no gradient either
+    squared = np.maximum(raw, 0.0)
     d_squared = np.zeros((count, 6, 3))
     d_squared[:, 0] = 2.0 * r_o
     d_squared[:, :4] -= 2.0 * gap[:, None, None] * d_gap
     d_squared[:, 4] = -2.0 * (1.0 - t)[:, None] * r_o
     d_squared[:, 5] = -2.0 * t[:, None] * r_o
     s = np.sqrt(squared) / length
-    within = past & (s < 1.0)
+    within = past & (s < 1.0) & (raw > 0.0)
     factor = np.where(past, _step(1.0 - s)[0], 1.0)
     slope = np.where(within, -3.0 * (1.0 - s) / length**2, 0.0)
     past_gradient = slope[:, None, None] * d_squared

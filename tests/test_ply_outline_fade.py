@@ -210,3 +210,44 @@ def test_a_point_passing_from_one_growth_to_the_next_past_the_outline_works_its_
     assert len(set(triangles)) == 2
     assert 0.0 < min(fades) and max(fades) < 1.0
     assert np.abs(np.diff(energy) - work).max() <= 1e-3 * energy.max()
+
+
+@pytest.mark.parametrize(
+    "p, ends",
+    [
+        # the nearest outline edge nearer than the face's plane (|p - q_o| < |g|): d^2 < 0 is
+        # clamped to 0, w = 1 and flat there
+        ([0.5, -0.01, -0.05], [[0.4, -0.01, -0.04], [0.6, -0.01, -0.04]]),
+        # 0.05 mm past the outline edge y = 0, 0.05 mm behind the face: w inside (0, 1)
+        ([0.5, -0.05, -0.05], [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]),
+    ],
+    ids=["clamped", "fading"],
+)
+def test_the_fades_gradient_is_the_derivative_of_the_fade(p, ends):
+    """outline_fade's exact gradient over z = (p, y_1, y_2, y_3, a, b) against central
+    differences of the fade itself (step 1e-7 mm, error ~1e-7 of the gradient's ~10 / mm
+    scale for a smoothstep of 0.15 mm: 1e-5 / mm allowed), including where the distance
+    to the outline is clamped (the fade 1 and flat: its gradient 0, where it was -3 / D^2
+    times d(d^2) before)."""
+    from elements.ply_fade import outline_fade
+
+    corners = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    reach = np.array([[0.0, 0.0, 0.5]])  # the edge y = 0 (opposite corner 2) on the outline
+    beside = np.array([False])
+    length = 0.15
+    z = np.vstack([[p], corners[0], ends])  # (6, 3)
+
+    def fade(zz):
+        return outline_fade(zz[None, 0], zz[None, 1:4], reach, beside, zz[None, 4:6], length)
+
+    w, gradient = fade(z)
+    step = 1e-7
+    central = np.zeros((6, 3))
+    for node in range(6):
+        for axis in range(3):
+            plus, minus = z.copy(), z.copy()
+            plus[node, axis] += step
+            minus[node, axis] -= step
+            central[node, axis] = (fade(plus)[0][0] - fade(minus)[0][0]) / (2 * step)
+    assert 0.0 < w[0] <= 1.0
+    assert np.abs(gradient[0] - central).max() <= 1e-5
