@@ -219,6 +219,13 @@ force+energy 0.769 (0.764-0.775), energy 0.686 (0.677-0.695). Not reached: the i
 what is left of the force is the scalar work around the lanes (the corner frames, director
 moments and forces, the bending with its tables, the sides' gathers), which vectorises only
 with its gathers and scatters done apart (the pulls' pass so done gave 0.981: not kept).
+Quiet (load 0.83-0.98, nothing else running), the merged tree (7fd0cbe: the lanes, the
+threaded updates) and main before them (fdcebfd) in turns, two runs each, ``--element
+fibrous --sizes 100000``, one thread, µs of CPU an element-step: steady step 0.430 / 0.442 ->
+0.346 / 0.371 (3.5-3.7 x the reference pass, 0.095-0.100), force 0.374 / 0.386 -> 0.321 /
+0.311, force+energy 0.420 / 0.424 -> 0.337 / 0.339, energy 0.272 / 0.273 -> 0.201 / 0.193,
+step less force 0.024 / 0.040 -> 0.012 / 0.025: at the issue's 0.35 in one run of two, 0.371
+in the other.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load

@@ -92,6 +92,12 @@ the calling thread's 22 (the die's own numpy between its compiled passes, the co
 caches, the external loads, the sums). The two-thread wall ratio on a quiet machine was not
 measured (the machine was never quiet in those hours); with main's distance from
 ``critical`` to it (0.05-0.11), about 1.73-1.86.
+Measured then on the machine quiet (load 0.83-1.13, nothing else running; main 7fd0cbe, the
+serial rest on the threads and the fibrous lanes merged), ``--cells 224 --busy 0
+--configurations passive --steps 30 --repeats 3``: 1 thread 38.40 ms a step, the default (2
+of 2) 20.94 (ratio 0.55: 1.83 x), all threads 20.06 (1.91 x), critical 2.00; the reference
+pass 0.854 ms. main fdcebfd right after could not be measured quiet (other runs had started:
+the default took 1 of 2 threads, 45.85 / 46.13 ms); its quiet figures above: 1.61-1.67 x.
 
 The small passes on two threads cost more than they save on a busy machine: x - c of 50k
 rows took 46 against 56 us (best of 300, load 5-6), the forces' add 66 against 79; the
