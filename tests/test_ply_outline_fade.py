@@ -31,18 +31,16 @@ PENALTY = 100.0  # N/mm
 RADIUS = 0.3  # mm, beyond the plies' reach (0.2 mm: both faces' offsets) past the outline
 
 
-def _loop(centre, lift):
-    """(block, positions (STEPS + 1, n, 3)) of the upper triangle circling ``centre``, the
-    lower ply's middle node lifted by ``lift`` (mm)."""
-    lower = Mesh.rectangle(2.0, 2.0, nx=2, ny=2)
-    low = lower.points.copy()
-    low[4, 2] = lift  # the middle node: the inner edges are folds
+def _pair(lower, low, start):
+    """(block, points (n, 3), directors (n, 3)) of the lower ply ``lower`` (its nodes at
+    ``low``) and the upper triangle, 0.02 mm across, its centroid at ``start`` (x, y) and its
+    face p = x - 0.1 z 0.03 mm behind the lower face z = 0.1 (the plies' faces 0.1 mm from
+    their mid-surfaces), bound as a ply contact of penalty PENALTY at the centroid."""
     side = 0.02
     tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
     tiny -= tiny.mean(axis=0)
-    # the upper face point p = x - 0.1 z at 0.03 mm behind the lower face z = 0.1
     height = 0.1 - 0.03 + 0.1
-    points = np.vstack([low, tiny + [centre[0], centre[1], height]])
+    points = np.vstack([low, tiny + [start[0], start[1], height]])
     n = len(points)
     mesh = Mesh(
         points,
@@ -54,7 +52,16 @@ def _loop(centre, lift):
     active = np.zeros((n, 6), dtype=bool)
     active[:, :5] = True
     contact = PlyContact("upper", "lower", 0.1, 0.1, penalty=PENALTY, rule="centroid")
-    block = contact.bind(Body(mesh, (), directors, active))
+    return contact.bind(Body(mesh, (), directors, active)), points, directors
+
+
+def _loop(centre, lift):
+    """(block, positions (STEPS + 1, n, 3)) of the upper triangle circling ``centre``, the
+    lower ply's middle node lifted by ``lift`` (mm)."""
+    lower = Mesh.rectangle(2.0, 2.0, nx=2, ny=2)
+    low = lower.points.copy()
+    low[4, 2] = lift  # the middle node: the inner edges are folds
+    block, points, directors = _pair(lower, low, centre)
     angle = np.linspace(0.0, 2.0 * np.pi, STEPS + 1)
     path = RADIUS * np.column_stack([np.cos(angle), np.sin(angle), np.zeros_like(angle)])
     positions = np.repeat(points[None], STEPS + 1, axis=0)
@@ -171,23 +178,7 @@ def test_a_point_passing_from_one_growth_to_the_next_past_the_outline_works_its_
     lower = Mesh.rectangle(2.0, 2.0, nx=2, ny=2)
     low = lower.points.copy()
     low[3, 1] = 0.5  # (0, 1) -> (0, 0.5): the first outline triangle 0.5 mm high
-    side = 0.02
-    tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
-    tiny -= tiny.mean(axis=0)
-    height = 0.1 - 0.03 + 0.1  # the upper face p = x - 0.1 z, 0.03 mm behind z = 0.1
-    points = np.vstack([low, tiny + [0.5, -0.04, height]])
-    n = len(points)
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower.triangles, [[9, 10, 11]]]),
-        node_sets={"upper": np.array([9, 10, 11])},
-        element_sets={"lower": np.arange(len(lower.triangles))},
-    )
-    directors = np.tile([0.0, 0.0, 1.0], (n, 1))
-    active = np.zeros((n, 6), dtype=bool)
-    active[:, :5] = True
-    contact = PlyContact("upper", "lower", 0.1, 0.1, penalty=PENALTY, rule="centroid")
-    block = contact.bind(Body(mesh, (), directors, active))
+    block, points, directors = _pair(lower, low, (0.5, -0.04))
     count = 2000
     s = np.linspace(0.0, 1.0, count + 1)
     wobble = 0.005 * np.random.default_rng(5).standard_normal((9, 3))
