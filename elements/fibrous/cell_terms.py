@@ -24,6 +24,7 @@ from elements.lane_maths import lane_arcsin, lane_log
 __all__ = [
     "angle_pull",
     "cell_cross",
+    "cell_levers",
     "corner_frame",
     "corner_levers",
     "corner_thickness",
@@ -84,6 +85,28 @@ def corner_levers(h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z):
         0.5 * h1 * v1x - u0x, 0.5 * h1 * v1y - u0y, 0.5 * h1 * v1z - u0z,
         0.5 * h2 * v2x - u0x, 0.5 * h2 * v2y - u0y, 0.5 * h2 * v2z - u0z,
     )  # fmt: skip
+
+
+@serial
+def cell_levers(frame, directors, positions, n0, n1, n2, nodal, nx, ny, nz, thickness, guard):
+    """A cell's edges r_a = x_a - x_0 (``cell_cross``) and levers l_a (``corner_levers``, from
+    its corners' ``corner_frame``), what its fibre levels g_a = r_a + zeta_f l_a are made of
+    (the force pass's and the strains pass's one writing): (r1x, r1y, r1z, r2x, r2y, r2z,
+    l1x, l1y, l1z, l2x, l2y, l2z), mm."""
+    v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_frame(
+        frame, directors, n0, nodal, nx, ny, nz, thickness, guard
+    )
+    v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_frame(
+        frame, directors, n1, nodal, nx, ny, nz, thickness, guard
+    )
+    v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_frame(
+        frame, directors, n2, nodal, nx, ny, nz, thickness, guard
+    )
+    r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
+    l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
+        h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
+    )
+    return r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z
 
 
 @inline

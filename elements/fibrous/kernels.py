@@ -61,8 +61,8 @@ from elements.fibrous import level_lanes as lane
 from elements.fibrous.cell_terms import (
     angle_pull,
     cell_cross,
+    cell_levers,
     corner_frame,
-    corner_levers,
     corner_thickness,
     director_moment,
     fold_gradient,
@@ -285,20 +285,10 @@ def _cells_pass(
             c = start + i
             n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
             nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-            # V and h_m at the corners (Eq. 10, 14)
-            v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_frame(
-                frame, directors, n0, nodal, nx, ny, nz, thickness, guard
-            )
-            v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_frame(
-                frame, directors, n1, nodal, nx, ny, nz, thickness, guard
-            )
-            v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_frame(
-                frame, directors, n2, nodal, nx, ny, nz, thickness, guard
-            )
-            # g_a = r_a + zeta_f l_a (cell_terms.py ``corner_levers``, ``level_strains``)
-            r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
-            l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
-                h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
+            # g_a = r_a + zeta_f l_a, V and h_m at the corners (Eq. 10, 14; cell_terms.py
+            # ``cell_levers``, ``level_strains``)
+            r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z = cell_levers(
+                frame, directors, positions, n0, n1, n2, nodal, nx, ny, nz, thickness, guard
             )
             rows[lane.R1X + i], rows[lane.R1Y + i], rows[lane.R1Z + i] = r1x, r1y, r1z
             rows[lane.R2X + i], rows[lane.R2Y + i], rows[lane.R2Z + i] = r2x, r2y, r2z
@@ -643,18 +633,8 @@ def _strains_pass(
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
-        v0x, v0y, v0z, _, h0, _, _, _, _, _ = corner_frame(
-            frame, directors, n0, nodal, nx, ny, nz, thickness, guard
-        )
-        v1x, v1y, v1z, _, h1, _, _, _, _, _ = corner_frame(
-            frame, directors, n1, nodal, nx, ny, nz, thickness, guard
-        )
-        v2x, v2y, v2z, _, h2, _, _, _, _, _ = corner_frame(
-            frame, directors, n2, nodal, nx, ny, nz, thickness, guard
-        )
-        r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
-        l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
-            h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z
+        r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z = cell_levers(
+            frame, directors, positions, n0, n1, n2, nodal, nx, ny, nz, thickness, guard
         )
         sign = shear_sign[c]
         for f in range(zeta.shape[0]):
