@@ -57,6 +57,8 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
 if AVAILABLE:
     from numba.np.ufunc import parallel as _layer
 
+from femcore.kernel_cache import njit  # noqa: E402 (after the wait policy is set)
+
 if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
     # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
     numba.config.THREADING_LAYER_PRIORITY = ["omp", "workqueue", "tbb"]  # type: ignore[attr-defined]
@@ -68,6 +70,7 @@ __all__ = [
     "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
+    "chunk_size",
     "chunk_sums",
     "chunks",
     "inline",
@@ -106,9 +109,18 @@ CHUNK = 1024
 unsigned = numba.uint64 if AVAILABLE else int
 
 
-def chunks(items: int) -> int:
-    """The number of ``CHUNK``-item chunks that cover ``items`` items (at least 1)."""
-    return max(1, -(-items // CHUNK))
+def chunk_size() -> int:
+    """``CHUNK`` as it is at this call. A compiled loop takes its chunk size as an argument
+    from here, never ``CHUNK`` itself: numba freezes a global into the machine code it builds
+    (and caches), and the Python side sizing the chunks' sums would then disagree with the
+    loop whenever the two saw different values."""
+    return CHUNK
+
+
+def chunks(items: int, size: int | None = None) -> int:
+    """The number of ``size``-item chunks (default ``CHUNK``) that cover ``items`` items (at
+    least 1)."""
+    return max(1, -(-items // (CHUNK if size is None else size)))
 
 
 def chunk_sums(partial):
@@ -237,8 +249,10 @@ class _Parallel:
             self._part = _parted(self._function, self._stamp, self._error_model)
             if self._part is not None:
                 self._arguments = _arguments(self._function)
-            self._serial = numba.njit(cache=True, fastmath=False, error_model=self._error_model)(
-                self._function if self._part is None else self._part
+            self._serial = njit(
+                self._function if self._part is None else self._part,
+                fastmath=False,
+                error_model=self._error_model,
             )
         return self._serial
 
@@ -256,9 +270,9 @@ class _Parallel:
                 body = _over_parts(self._function, self._arguments, self.serial)
             else:
                 body = _renamed(self._function, "_parallel")
-            self._parallel = numba.njit(
-                cache=True, parallel=True, fastmath=False, error_model=self._error_model
-            )(body)
+            self._parallel = njit(
+                body, parallel=True, fastmath=False, error_model=self._error_model
+            )
         return self._parallel
 
     def __call__(self, *args):
@@ -527,7 +541,7 @@ def serial(function):
     last bit either way (IEEE, no fastmath: the same operations in the same order)."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True)(function)
+    return njit(function)
 
 
 def lanes(function):
@@ -537,7 +551,7 @@ def lanes(function):
     divisors are never zero)."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True, error_model="numpy")(function)
+    return njit(function, error_model="numpy")
 
 
 def inline(function):
@@ -550,7 +564,7 @@ def inline(function):
     helper is ``serial``."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True, inline="always")(function)
+    return njit(function, inline="always")
 
 
 def _prange(n):  # pragma: no cover - replaced by numba.prange inside compiled code
