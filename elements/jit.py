@@ -8,10 +8,12 @@ parallel build that runs part k on thread k (``_Parallel``: a process whose loop
 one thread, a test session's, never compiles a parallel build, and the parallel build is a
 loop of one call, cheap to compile); ``serial`` compiles a helper called from inside such
 loops.
-Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
-fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
-its sums; the kernels sum in the same order on any number of threads, so a run gives the same
-numbers to the last bit whatever the thread count.
+Both cache the machine code next to the module (numba's disk cache, made by
+femcore/kernel_cache.py to find a build stale when a project module the kernel's file imports
+has changed, not only the file itself) and keep IEEE arithmetic (no fastmath), so that a
+compiled loop gives the numbers of its numpy reference up to the order of its sums; the kernels
+sum in the same order on any number of threads, so a run gives the same numbers to the last
+bit whatever the thread count.
 
 Threads, chosen here and only here:
 
@@ -399,7 +401,8 @@ def _parted(function, stamp: tuple[int, int] | None, error_model: str = "python"
     call.func = ast.Name("range", ast.Load())
     call.args = [bound(part), bound(following)]
     definition.args.args += [ast.arg(_PART), ast.arg(_PARTS)]
-    # numba finds a cached build by its name, its file's stamp and its bytecode: the
+    # numba finds a cached build by its name, its file's stamp (with the texts of the project
+    # modules the file imports: femcore/kernel_cache.py) and its bytecode: the
     # rewritten source's digest in the name, so that a change in the rewrite here (which
     # leaves the kernel's file as it was) is not served the build of the old rewrite, nor is
     # the loop over the parts, whose bytecode is the same for every kernel.
