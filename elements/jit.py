@@ -59,7 +59,7 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
 if AVAILABLE:
     from numba.np.ufunc import parallel as _layer
 
-from femcore.kernel_cache import njit  # noqa: E402 (after the wait policy is set)
+from femcore.kernel_cache import dependency_digest, njit  # noqa: E402 (after the wait policy)
 
 if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
     # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
@@ -236,6 +236,9 @@ class _Parallel:
         self._error_model = error_model
         # The source file as imported: a file edited since is not read for the parted copy.
         self._stamp = _stamp(function)
+        # The project modules as imported (the cache's stamp, femcore/kernel_cache.py), taken
+        # now: the builds are made at the first call, maybe after some file was edited.
+        self._digest = dependency_digest(function.__code__.co_filename)
         self._part = None  # the parted copy (None: the whole function, or not made yet)
         self._arguments: list[str] = []
         self._serial: Any = None
@@ -253,6 +256,7 @@ class _Parallel:
                 self._arguments = _arguments(self._function)
             self._serial = njit(
                 self._function if self._part is None else self._part,
+                self._digest,
                 fastmath=False,
                 error_model=self._error_model,
             )
@@ -273,7 +277,7 @@ class _Parallel:
             else:
                 body = _renamed(self._function, "_parallel")
             self._parallel = njit(
-                body, parallel=True, fastmath=False, error_model=self._error_model
+                body, self._digest, parallel=True, fastmath=False, error_model=self._error_model
             )
         return self._parallel
 

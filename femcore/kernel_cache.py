@@ -18,10 +18,12 @@ imports, followed through their own imports. A change in any of them is a change
 numba then finds the function's cached builds stale, compiles it again and saves the new
 build in place of the old ones (no pile of stale builds beside the fresh one).
 
-The digest is taken at a kernel's first look into the cache (its first call), not when its
-module is imported, and each file is read once per process: the modules a process has
-imported are the ones its kernels are built from, so a file edited while the process runs
-does not change what it builds or the stamp it saves the build under.
+The digest is taken when the kernel is made, as numba takes the stamp of its file: when its
+module is imported, right after the modules it imports (a kernel of elements/jit.py, built at
+its first call, takes the digest its wrapper took at import). Each file is read once per
+process. A file edited while a process runs (a test session lasts minutes) thus leaves the
+stamp of what the process imported, and the builds of the old code are not saved under the
+new files' stamp, where the next process would take them for fresh.
 """
 
 from __future__ import annotations
@@ -158,42 +160,20 @@ def dependency_digest(path: str | Path) -> str:
 
 try:  # numba is a dependency; without it there is nothing to cache
     import numba
-    from numba.core.caching import FunctionCache, IndexDataCacheFile
-
-    class _Index(IndexDataCacheFile):
-        """numba's index of a function's cached builds, its stamp (numba's: the hash of the
-        function's file) joined at its first read or write with the ``dependency_digest`` of
-        the file."""
-
-        def __init__(self, cache_path, filename_base, source_stamp, source_file: str):
-            super().__init__(cache_path, filename_base, source_stamp)
-            self._source_file = source_file
-            self._joined = False
-
-        def _join(self) -> None:
-            if not self._joined:
-                self._source_stamp = (self._source_stamp, dependency_digest(self._source_file))
-                self._joined = True
-
-        def _load_index(self):
-            self._join()
-            return super()._load_index()
-
-        def _save_index(self, overloads):
-            self._join()
-            super()._save_index(overloads)
+    from numba.core.caching import FunctionCache
 
     class ProjectCache(FunctionCache):
         """numba's disk cache of a function whose builds are stale when the function's file
-        or any project module it depends on (``dependency_files``) has changed."""
+        or any project module it depends on (``dependency_files``) has changed: the stamp of
+        its index, numba's hash of the function's file, joined with ``digest`` (the
+        ``dependency_digest`` of the file when the function was made: default, now)."""
 
-        def __init__(self, py_func):
+        def __init__(self, py_func, digest: str | None = None):
             super().__init__(py_func)
-            own = self._cache_file
-            self._cache_file = _Index(
-                own._cache_path, self._impl.filename_base, own._source_stamp,
-                py_func.__code__.co_filename,
-            )  # fmt: skip
+            if digest is None:
+                digest = dependency_digest(py_func.__code__.co_filename)
+            index = self._cache_file
+            index._source_stamp = (index._source_stamp, digest)
 
     AVAILABLE = True
 except ImportError:  # pragma: no cover - numba is a dependency
@@ -202,12 +182,13 @@ except ImportError:  # pragma: no cover - numba is a dependency
     AVAILABLE = False
 
 
-def njit(function, **options: Any):
+def njit(function, digest: str | None = None, **options: Any):
     """numba's ``njit(**options)`` of ``function`` cached on disk by ``ProjectCache`` (stale
-    when a project module the function's file imports changes); ``function`` itself without
-    numba."""
+    when a project module the function's file imports changes), ``digest`` the
+    ``dependency_digest`` of the function's file taken when the function was made (default:
+    now); ``function`` itself without numba."""
     if not AVAILABLE:
         return function
     dispatcher = numba.njit(cache=False, **options)(function)
-    dispatcher._cache = ProjectCache(dispatcher.py_func)
+    dispatcher._cache = ProjectCache(dispatcher.py_func, digest)
     return dispatcher

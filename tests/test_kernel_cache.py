@@ -194,3 +194,34 @@ def test_the_node_loops_sum_by_the_chunk_size_of_the_call(monkeypatch, size):
     np.testing.assert_array_equal(moved, positions + 1e-3 * velocities)
     spinning = 0.5 * np.sum(mass * np.einsum("ij,ij->i", spin, spin))
     assert abs(spin_terms[3] - spinning) <= 1e-12 * spinning
+
+
+def test_the_stamp_is_the_one_of_the_modules_as_imported(tmp_path, monkeypatch):
+    """A kernel built at its first call, after a module it imports was edited, runs the
+    imported code and is cached under the digest taken at its import: saved under the
+    edited files' digest, its build would pass for fresh in the next process."""
+    for name in ("files", "closures", "digests"):  # this test's own reading of the files
+        monkeypatch.setattr(kernel_cache._Read, name, {})
+    package = tmp_path / "stamped"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "constants.py").write_text("SCALE = 2.0\n")
+    (package / "kernel.py").write_text(
+        "from elements import jit\n\nfrom .constants import SCALE\n\n\n"
+        "def scale(out):\n"
+        "    for i in jit.prange(out.shape[0]):\n"
+        "        out[i] = SCALE * out[i]\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    module = importlib.import_module("stamped.kernel")
+    kernel = jit.jit(module.scale)
+    imported = kernel_cache.dependency_digest(package / "kernel.py")
+    (package / "constants.py").write_text("SCALE = 3.0\n")
+    for name in ("files", "closures", "digests"):  # a fresh reading sees the edit
+        monkeypatch.setattr(kernel_cache._Read, name, {})
+    edited = kernel_cache.dependency_digest(package / "kernel.py")
+    assert edited != imported
+    out = np.ones(4)
+    kernel(out)
+    np.testing.assert_array_equal(out, 2.0)  # the imported constant
+    assert kernel.serial._cache._cache_file._source_stamp[1] == imported
