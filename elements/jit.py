@@ -8,10 +8,12 @@ parallel build that runs part k on thread k (``_Parallel``: a process whose loop
 one thread, a test session's, never compiles a parallel build, and the parallel build is a
 loop of one call, cheap to compile); ``serial`` compiles a helper called from inside such
 loops.
-Both cache the machine code next to the module (``cache=True``) and keep IEEE arithmetic (no
-fastmath), so that a compiled loop gives the numbers of its numpy reference up to the order of
-its sums; the kernels sum in the same order on any number of threads, so a run gives the same
-numbers to the last bit whatever the thread count.
+Both cache the machine code next to the module (numba's disk cache, made by
+femcore/kernel_cache.py to find a build stale when a project module the kernel's file imports
+has changed, not only the file itself) and keep IEEE arithmetic (no fastmath), so that a
+compiled loop gives the numbers of its numpy reference up to the order of its sums; the kernels
+sum in the same order on any number of threads, so a run gives the same numbers to the last
+bit whatever the thread count.
 
 Threads, chosen here and only here:
 
@@ -57,6 +59,8 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
 if AVAILABLE:
     from numba.np.ufunc import parallel as _layer
 
+from femcore.kernel_cache import dependency_digest, njit  # noqa: E402 (after the wait policy)
+
 if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
     # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
     numba.config.THREADING_LAYER_PRIORITY = ["omp", "workqueue", "tbb"]  # type: ignore[attr-defined]
@@ -68,6 +72,7 @@ __all__ = [
     "PLAIN_ON_ONE_THREAD",
     "SMALL_LOOP",
     "free_cores",
+    "chunk_size",
     "chunk_sums",
     "chunks",
     "inline",
@@ -106,9 +111,18 @@ CHUNK = 1024
 unsigned = numba.uint64 if AVAILABLE else int
 
 
-def chunks(items: int) -> int:
-    """The number of ``CHUNK``-item chunks that cover ``items`` items (at least 1)."""
-    return max(1, -(-items // CHUNK))
+def chunk_size() -> int:
+    """``CHUNK`` as it is at this call. A compiled loop takes its chunk size as an argument
+    from here, never ``CHUNK`` itself: numba freezes a global into the machine code it builds
+    (and caches), and the Python side sizing the chunks' sums would then disagree with the
+    loop whenever the two saw different values."""
+    return CHUNK
+
+
+def chunks(items: int, size: int | None = None) -> int:
+    """The number of ``size``-item chunks (default ``CHUNK``) that cover ``items`` items (at
+    least 1)."""
+    return max(1, -(-items // (CHUNK if size is None else size)))
 
 
 def chunk_sums(partial):
@@ -222,6 +236,9 @@ class _Parallel:
         self._error_model = error_model
         # The source file as imported: a file edited since is not read for the parted copy.
         self._stamp = _stamp(function)
+        # The project modules as imported (the cache's stamp, femcore/kernel_cache.py), taken
+        # now: the builds are made at the first call, maybe after some file was edited.
+        self._digest = dependency_digest(function.__code__.co_filename)
         self._part = None  # the parted copy (None: the whole function, or not made yet)
         self._arguments: list[str] = []
         self._serial: Any = None
@@ -237,8 +254,11 @@ class _Parallel:
             self._part = _parted(self._function, self._stamp, self._error_model)
             if self._part is not None:
                 self._arguments = _arguments(self._function)
-            self._serial = numba.njit(cache=True, fastmath=False, error_model=self._error_model)(
-                self._function if self._part is None else self._part
+            self._serial = njit(
+                self._function if self._part is None else self._part,
+                self._digest,
+                fastmath=False,
+                error_model=self._error_model,
             )
         return self._serial
 
@@ -256,9 +276,9 @@ class _Parallel:
                 body = _over_parts(self._function, self._arguments, self.serial)
             else:
                 body = _renamed(self._function, "_parallel")
-            self._parallel = numba.njit(
-                cache=True, parallel=True, fastmath=False, error_model=self._error_model
-            )(body)
+            self._parallel = njit(
+                body, self._digest, parallel=True, fastmath=False, error_model=self._error_model
+            )
         return self._parallel
 
     def __call__(self, *args):
@@ -385,7 +405,8 @@ def _parted(function, stamp: tuple[int, int] | None, error_model: str = "python"
     call.func = ast.Name("range", ast.Load())
     call.args = [bound(part), bound(following)]
     definition.args.args += [ast.arg(_PART), ast.arg(_PARTS)]
-    # numba finds a cached build by its name, its file's stamp and its bytecode: the
+    # numba finds a cached build by its name, its file's stamp (with the texts of the project
+    # modules the file imports: femcore/kernel_cache.py) and its bytecode: the
     # rewritten source's digest in the name, so that a change in the rewrite here (which
     # leaves the kernel's file as it was) is not served the build of the old rewrite, nor is
     # the loop over the parts, whose bytecode is the same for every kernel.
@@ -527,7 +548,7 @@ def serial(function):
     last bit either way (IEEE, no fastmath: the same operations in the same order)."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True)(function)
+    return njit(function)
 
 
 def lanes(function):
@@ -537,7 +558,7 @@ def lanes(function):
     divisors are never zero)."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True, error_model="numpy")(function)
+    return njit(function, error_model="numpy")
 
 
 def inline(function):
@@ -550,7 +571,7 @@ def inline(function):
     helper is ``serial``."""
     if not AVAILABLE:
         return function
-    return numba.njit(cache=True, inline="always")(function)
+    return njit(function, inline="always")
 
 
 def _prange(n):  # pragma: no cover - replaced by numba.prange inside compiled code

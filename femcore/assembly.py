@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
+from femcore import kernel_cache
 from femcore.dofs import N_COLUMNS, DofManager, Frames
 from femcore.state import State
 
@@ -238,11 +239,10 @@ def _add_cell_blocks(
 
 
 _add_cell_blocks_compiled: Any = None
-try:  # numba is a dependency; without it the assembler sums the numpy blocks by bincount
-    import numba
-
-    _add_cell_blocks_compiled = numba.njit(cache=True)(_add_cell_blocks)
-except ImportError:  # pragma: no cover - numba is a dependency
+# numba is a dependency; without it the assembler sums the numpy blocks by bincount
+if kernel_cache.AVAILABLE:
+    _add_cell_blocks_compiled = kernel_cache.njit(_add_cell_blocks)
+else:  # pragma: no cover - numba is a dependency
     _add_cell_blocks_compiled = None
 
 

@@ -26,6 +26,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 import scipy.sparse as sp
 
+from femcore import kernel_cache
 from femcore.assembly import CellTangent, TangentPart, generalised_sparse
 
 __all__ = ["gershgorin_largest"]
@@ -164,21 +165,17 @@ def _close(keys, sums, count, open_nodes, closed, scale, n_nodes, rows):
     return kept
 
 
-try:
-    import numba
-
+if kernel_cache.AVAILABLE:
     # Spliced into both loops (numba's inlining): a call with array arguments per node pair
     # would cost their reference counting.
-    _add_transformed = numba.njit(cache=True, inline="always")(_add_transformed)
-    _add_row = numba.njit(cache=True, inline="always")(_add_row)
-    _largest = numba.njit(cache=True)(_largest)
-    _merge = numba.njit(cache=True)(_merge)
-    _close = numba.njit(cache=True)(_close)
-    _pair_sums = numba.njit(cache=True)(_pair_sums)
-    _row_bound = numba.njit(cache=True)(_row_bound)
-    _bsr_sums = numba.njit(cache=True)(_bsr_sums)
-except ImportError:  # pragma: no cover - numba is a dependency
-    pass
+    _add_transformed = kernel_cache.njit(_add_transformed, inline="always")
+    _add_row = kernel_cache.njit(_add_row, inline="always")
+    _largest = kernel_cache.njit(_largest)
+    _merge = kernel_cache.njit(_merge)
+    _close = kernel_cache.njit(_close)
+    _pair_sums = kernel_cache.njit(_pair_sums)
+    _row_bound = kernel_cache.njit(_row_bound)
+    _bsr_sums = kernel_cache.njit(_bsr_sums)
 
 
 class _Sums:

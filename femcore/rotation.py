@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from femcore import kernel_cache
+
 __all__ = [
     "FRAME_FALLBACK",
     "cross",
@@ -199,11 +201,7 @@ def _rotate_loop(vectors, rotation, out):  # pragma: no cover - compiled below
 
 
 _compiled_rotate: Any = None
-try:
-    import numba
-
-    frame_of = numba.njit(cache=True)(frame_of)
-    turned = numba.njit(cache=True)(turned)
-    _compiled_rotate = numba.njit(cache=True)(_rotate_loop)
-except ImportError:  # pragma: no cover - numba is a dependency
-    pass
+if kernel_cache.AVAILABLE:
+    frame_of = kernel_cache.njit(frame_of)
+    turned = kernel_cache.njit(turned)
+    _compiled_rotate = kernel_cache.njit(_rotate_loop)

@@ -22,6 +22,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
+from femcore import kernel_cache
+
 __all__ = ["BandLDLT", "BandPlan"]
 
 
@@ -74,18 +76,17 @@ def _solve(band: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return x
 
 
-try:  # numba is a dependency; without it the band path is not taken (``AVAILABLE``)
-    import numba
-
-    _factorise = numba.njit(cache=True)(_factorise)
+# numba is a dependency; without it the band path is not taken (``AVAILABLE``)
+if kernel_cache.AVAILABLE:
+    _factorise = kernel_cache.njit(_factorise)
     # Compiled without fastmath: re-associating the back substitution's sums let the compiler
     # vectorise it (0.9-1.2 against 2.0-3.4 ms per solve alone, 3.0 against 3.4 ms within a
     # Static run, memory-bound there), but the sums then depend on the machine's vector width,
     # and Newton's path with them: the tip-loaded cantilever of tests/test_static.py took 7
     # iterations in an increment on a machine with 512-bit vectors, 6 with the solve as written.
-    _solve = numba.njit(cache=True)(_solve)
+    _solve = kernel_cache.njit(_solve)
     AVAILABLE = True
-except ImportError:  # pragma: no cover - numba is a dependency
+else:  # pragma: no cover - numba is a dependency
     AVAILABLE = False
 
 

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from elements.jit import CHUNK, chunk_sums, chunks, jit, prange, unsigned
+from elements.jit import chunk_size, chunk_sums, chunks, jit, prange, unsigned
 from solvers.common import inverse_diagonal
 
 __all__ = [
@@ -52,21 +52,22 @@ def damped_velocity(
 
 def _update_rates(
     old, applied, internal, inverse_mass, mass, free, constrained, target, dt_bar, dt, dt_prev,
-    damping, full, new, reactions, partial,
+    damping, full, size, new, reactions, partial,
 ):  # fmt: skip
     """The central-difference update of one kind of nodal rate (velocities or angular
     velocities, (n, 3)) fused with its support reactions and energy terms, in one pass over
     the nodes (compiled by numba when it is installed, on the threads of elements/jit.py);
-    ``update_rates`` documents it. Each chunk of ``CHUNK`` nodes writes its energy terms to
-    its row of ``partial`` (chunks, 8), summed in node order."""
+    ``update_rates`` documents it. Each chunk of ``size`` nodes (elements/jit.py ``CHUNK``,
+    passed at each call) writes its energy terms to its row of ``partial`` (chunks, 8),
+    summed in node order."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)
     keep = 1.0 - 0.5 * damping * dt_bar
     n = old.shape[0]
     for chunk in prange(partial.shape[0]):
         d_ext = d_int = d_damp = kinetic = 0.0
         product = kinetic_mean = ext_before = damp_before = 0.0
-        start = chunk * CHUNK
-        for within in range(min(n - start, CHUNK)):
+        start = chunk * size
+        for within in range(min(n - start, size)):
             i = unsigned(start + within)  # an index numba need not test for < 0
             m = mass[i]
             for j in range(3):
@@ -130,7 +131,8 @@ def update_rates(
     ``mass``). Returns (new rates, reactions, energy terms)."""
     new = np.empty_like(old)
     reactions = np.empty_like(old)
-    partial = np.empty((chunks(len(old)), 8))
+    size = chunk_size()
+    partial = np.empty((chunks(len(old), size), 8))
     dt_bar, dt, dt_prev = steps
     _update_rates(
         np.ascontiguousarray(old),
@@ -146,6 +148,7 @@ def update_rates(
         dt_prev,
         damping,
         full,
+        size,
         new,
         reactions,
         partial,

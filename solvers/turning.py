@@ -22,7 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import CHUNK, chunk_sums, chunks, jit, prange, unsigned
+from elements.jit import chunk_size, chunk_sums, chunks, jit, prange, unsigned
+from femcore import kernel_cache
 from femcore.rotation import frame_of, turned
 
 __all__ = ["COMPILED", "move", "rates", "turn"]
@@ -47,19 +48,20 @@ def _held(fx, fy, fz, vx, vy, vz, alpha, beta):
 
 def _turn(
     omega, applied, internal, directors, positions, velocities, inertia, has_rotation,
-    fixed_alpha, fixed_beta, dt_bar, dt, dt_prev, damping, full,
+    fixed_alpha, fixed_beta, dt_bar, dt, dt_prev, damping, full, size,
     new_omega, reaction, new_directors, new_positions, partial,
 ):  # fmt: skip
     """See ``turn``; the outputs are written into new_omega, reaction, new_directors,
-    new_positions (n, 3) and partial (chunks, 8): each chunk's energy terms (``chunks``)."""
+    new_positions (n, 3) and partial (chunks, 8): each chunk's energy terms (``chunks``), a
+    chunk ``size`` nodes (elements/jit.py ``CHUNK``, passed at each call)."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)
     keep = 1.0 - 0.5 * damping * dt_bar
     n = omega.shape[0]
     for chunk in prange(partial.shape[0]):
         d_ext = d_int = d_damp = kinetic = 0.0
         product = kinetic_mean = ext_before = damp_before = 0.0
-        start = chunk * CHUNK
-        for within in range(min(n - start, CHUNK)):
+        start = chunk * size
+        for within in range(min(n - start, size)):
             i = unsigned(start + within)  # an index numba need not test for < 0
             new_positions[i, 0] = positions[i, 0] + dt * velocities[i, 0]
             new_positions[i, 1] = positions[i, 1] + dt * velocities[i, 1]
@@ -151,16 +153,12 @@ def _move(positions, directors, velocities, omega, dt, has_rotation, new_positio
 #: Whether the loops are compiled (numba installed): without, ``solvers.step`` keeps its
 #: numpy passes for ``angular_rates`` and ``advance``.
 COMPILED = False
-try:
-    import numba
-
-    _held = numba.njit(cache=True)(_held)
+if kernel_cache.AVAILABLE:
+    _held = kernel_cache.njit(_held)
     _turn = jit(_turn)
     _rates = jit(_rates)
     _move = jit(_move)
     COMPILED = True
-except ImportError:  # pragma: no cover - numba is a dependency
-    pass
 
 
 def rates(
@@ -256,7 +254,8 @@ def turn(
     n = len(omega)
     new_omega, reaction = np.empty((n, 3)), np.empty((n, 3))
     new_directors, new_positions = np.empty((n, 3)), np.empty((n, 3))
-    partial = np.empty((chunks(n), 8))
+    size = chunk_size()
+    partial = np.empty((chunks(n, size), 8))
     dt_bar, dt, dt_prev = steps
     fixed = np.ascontiguousarray(rotation_fixed)
     _turn(
@@ -275,6 +274,7 @@ def turn(
         float(dt_prev),
         float(damping),
         bool(full),
+        size,
         new_omega,
         reaction,
         new_directors,
