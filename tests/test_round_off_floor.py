@@ -48,10 +48,14 @@ def test_the_light_fibrous_strip_stops_at_its_round_off_floor(monkeypatch):
     # iteration on a step of 4e-16 of an element (ratio 1.1e-8 -> 7.4e-9): 10-9-10 iterations.
     # The floor, 10 times the rounding the probe measures (1.3e-9 here), ends it one earlier
     # at the same state: 9-9-10, positions equal to 1e-9 mm (measured 6e-14).
+    # With the fibrous kernels' own logarithms (elements/lane_maths.py: other last bits) the
+    # three increments' path meets the strict test itself (9-9-10 both ways); in four
+    # increments the strict test takes 7-9-8-7 and the floor ends two increments one
+    # iteration earlier at the same state: 6-8-8-7 (measured).
     # Measured on the iterations without the level-strain projection (solvers.newton_levels),
     # whose path meets the floor; with it the iterations end above the floor (6-5-6).
     mesh, model = _peirce()
-    plain = {"increments": 3, "progress": False, "level_projection": False}
+    plain = {"increments": 4, "progress": False, "level_projection": False}
     result = Static(**plain).solve(model)
     assert result.info["iterations_per_increment"][0] <= 9
     assert result.info["round_off_converged"] >= 1
