@@ -16,12 +16,28 @@ at the points facing an outline triangle, in the reference pass too): 3.67 ms wi
 against 3.00 ms for the reference pass; the barycentric fade of before, run after it from an
 export of its commit, 3.41 against 2.76 ms (one thread, 200 repeats, load 5.4-5.6).
 
-Run: python benchmarks/ply_fade.py
+The outline's nearest edge (``ply_fade.nearest_segments``) by a KD-tree over the edges'
+midpoints (``tree_segments``) against every edge against every point (the reference pass,
+the search as it was; the same answers, tests/test_ply_outline_nearest.py), alternately in
+the same process: on a wavy closed outline of E edges with c points spread 5 mm about it
+(``--outline``), and in the hemisphere step's searches above (c points near the outline
+against its E edges).
+Measured (one thread, CPU, load 6.9-8.3; the outline's best of 5, the hemisphere's mean of
+200): E 400, c 2000: tree 4.3-4.7 ms against 35.2-36.2 ms every edge; E 1200, c 5000: 19.7-20.2
+against 220-230 ms; E 4000, c 10000: 87-90 against 1104-1134 ms. The hemisphere at 10 cells
+(searches of 114 and 36 points against 40 edges): the tree 4.87 ms a step's searches against
+4.31 ms every edge (its build and queries cost more than 4560 pairs): below ``EVERY_PAIR`` =
+8192 pairs ``nearest_segments`` measures every pair, 4.30 ms; at 32 cells (378 and 122 points
+against 128 edges, 7233 points in all) 18.5-19.0 ms with the tree against 19.8-20.0 ms every
+edge.
+
+Run: python benchmarks/ply_fade.py [--outline | --cells N (the hemisphere's, 10)]
 """
 
 from __future__ import annotations
 
 import os
+import sys
 import time
 
 import numpy as np
@@ -38,8 +54,53 @@ def _unfaded(p, corners, reach, beside, ends, length):
     return np.ones(len(p)), np.zeros((len(p), 6, 3))
 
 
-def main() -> None:
-    _, model = setup.model(10, setup.LAYUPS["0/90"], "mindlin", 20.0)
+def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """The nearest segment by measuring every segment against every point (as it was)."""
+    chosen = np.zeros(len(p), dtype=np.int64)
+    if len(p) == 0:
+        return chosen
+    e = ends - starts
+    squared = np.maximum(np.einsum("ei,ei->e", e, e), np.finfo(float).tiny)
+    block = max(1, 2**20 // max(len(starts), 1))
+    for first in range(0, len(p), block):
+        rel = p[first : first + block, None, :] - starts[None]
+        t = np.clip(np.einsum("cei,ei->ce", rel, e) / squared, 0.0, 1.0)
+        r = rel - t[..., None] * e
+        chosen[first : first + block] = np.argmin(np.einsum("cei,cei->ce", r, r), axis=1)
+    return chosen
+
+
+def outline(repeats: int = 5) -> None:
+    """CPU of the nearest edge on a wavy outline of E edges, c points about it: the tree and
+    every edge, alternately, the best of ``repeats``."""
+    rng = np.random.default_rng(0)
+    for edges, count in [(400, 2000), (1200, 5000), (4000, 10000)]:
+        angle = np.linspace(0.0, 2.0 * np.pi, edges + 1)
+        radius = 100.0 * (1.0 + 0.2 * np.sin(5.0 * angle))
+        loop = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), 0 * angle])
+        starts, ends = loop[:-1], loop[1:]
+        p = rng.normal(size=(count, 3)) * 5.0 + starts[rng.integers(0, edges, count)]
+        best = {"tree": np.inf, "every edge": np.inf}
+        for _ in range(repeats):
+            for name, search in (
+                ("tree", ply_fade.nearest_segments),
+                ("every edge", every_segment),
+            ):
+                start = time.process_time()
+                found = search(p, starts, ends)
+                best[name] = min(best[name], time.process_time() - start)
+                if name == "tree":
+                    tree = found
+            assert np.array_equal(tree, every_segment(p, starts, ends))
+        print(
+            f"E {edges}, c {count}: tree {1e3 * best['tree']:.2f} ms, "
+            f"every edge {1e3 * best['every edge']:.2f} ms"
+        )
+    print("load", os.getloadavg())
+
+
+def main(cells: int = 10) -> None:
+    _, model = setup.model(cells, setup.LAYUPS["0/90"], "mindlin", 20.0)
     compiled = model.compile()
     blocks = [b for b in compiled.interactions if isinstance(b, PlyContactBlock)]
     n = compiled.mesh.n_nodes
@@ -63,8 +124,41 @@ def main() -> None:
     points = sum(len(b.above) for b in blocks)
     for name, total in totals.items():
         print(f"{name}: {1e3 * total / REPEATS:.3f} ms per step's searches ({points} points)")
+    # the nearest edge by the tree and by every edge, the same searches
+    tree = ply_fade.nearest_segments
+    sizes = []
+
+    def counted(p, starts, ends):
+        sizes.append((len(p), len(starts)))
+        return tree(p, starts, ends)
+
+    ply_fade.nearest_segments = counted
+    for block in blocks:
+        block._facing_at = None
+        block.facing(state)
+    searches = {
+        "nearest_segments": tree,
+        "tree_segments": ply_fade.tree_segments,
+        "every edge (as it was)": every_segment,
+    }
+    totals = dict.fromkeys(searches, 0.0)
+    for _ in range(REPEATS):
+        for name, search in searches.items():
+            ply_fade.nearest_segments = search
+            start = time.process_time()
+            for block in blocks:
+                block._facing_at = None
+                block.facing(state)
+            totals[name] += time.process_time() - start
+    ply_fade.nearest_segments = tree
+    print("nearest edge, (points, edges) per search:", sizes)
+    for name, total in totals.items():
+        print(f"nearest edge by {name}: {1e3 * total / REPEATS:.3f} ms a step's searches")
     print("load", os.getloadavg())
 
 
 if __name__ == "__main__":
-    main()
+    if "--outline" in sys.argv:
+        outline()
+    else:
+        main(int(sys.argv[sys.argv.index("--cells") + 1]) if "--cells" in sys.argv else 10)

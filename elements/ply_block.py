@@ -335,13 +335,22 @@ class PlyContactBlock(InteractionBlock):
     def fade_ends(self, facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The node ids (t, 2) and signed offsets (t, 2) (y = x + c d) of the ends a, b of the
         outline's edge nearest each point ``on`` (t,), which its fade moves with
-        (elements/ply_fade.py); the first edge's where none is (its dw/dz is 0 there)."""
-        edge = np.zeros(len(on), dtype=np.int64)
-        if facing.fade_edge is not None and len(self.outline_nodes):
-            edge = np.maximum(facing.fade_edge[on], 0)
-        if not len(self.outline_nodes):
-            return np.zeros((len(on), 2), dtype=np.int64), np.zeros((len(on), 2))
-        return self.outline_nodes[edge], self.lever * self.outline_offsets[edge]
+        (elements/ply_fade.py). Where the fade does not move with them (dw/dz = 0: w = 1 off
+        the outline's band, or no nearest edge), the point's own facing corners y_1, y_2
+        instead: the tangent's and the loads' node lists then hold no node the point does
+        not act on (the outline's first edge there tied every such point to two far nodes,
+        in the node graph and the band the solver factorises)."""
+        tri = facing.triangle[on]
+        nodes = self.cells[tri, :2]
+        offset = self.lever * self.corner_offset[tri, :2]
+        if facing.fade_edge is None or facing.fade_gradient is None or not len(self.outline_nodes):
+            return nodes, offset
+        edge = facing.fade_edge[on]
+        moving = (edge >= 0) & np.any(facing.fade_gradient[on] != 0.0, axis=(1, 2))
+        chosen = np.maximum(edge, 0)
+        nodes = np.where(moving[:, None], self.outline_nodes[chosen], nodes)
+        offset = np.where(moving[:, None], self.lever * self.outline_offsets[chosen], offset)
+        return nodes, offset
 
     def _end_loads(self, state: State, facing: Facing, on: np.ndarray, law) -> tuple:
         """The fade's forces W dw/da, W dw/db (t, 2, 3) N on the ends of the outline's edge

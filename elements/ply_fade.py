@@ -66,14 +66,17 @@ import numpy as np
 from elements.ply_projection import closest_on_edges, facets, grown_corners, triangle_frames
 
 __all__ = [
+    "EVERY_PAIR",
     "FADE",
     "SIDEWAYS",
+    "every_segment",
     "fade_hessian",
     "fade_length",
     "nearest_segments",
     "outline_fade",
     "outline_segments",
     "stiffness_factor",
+    "tree_segments",
 ]
 
 #: The fade's length past the outline in times the least height of the outline triangles
@@ -117,21 +120,99 @@ def outline_segments(outline: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return rows, ends
 
 
+def _segment_squared(rel: np.ndarray, e: np.ndarray, squared: np.ndarray) -> np.ndarray:
+    """(k,) squared distances of points from segments, pair by pair, from p - a ``rel``
+    (k, 3), the segments' b - a ``e`` (k, 3) and |b - a|^2 ``squared`` (k,): the same
+    operations, in the same order, for any pairing, so that a distance has the same bits
+    whichever pairs are measured together."""
+    t = np.clip(np.einsum("ki,ki->k", rel, e) / squared, 0.0, 1.0)
+    r = rel - t[:, None] * e
+    return np.einsum("ki,ki->k", r, r)
+
+
+#: Below this many point-edge pairs the nearest edge measures every pair: a KD-tree's build
+#: and queries cost more there (crossing at 5000-10000 pairs, benchmarks/ply_fade.py).
+EVERY_PAIR = 8192
+
+
 def nearest_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
     """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3)) nearest each point
-    p (c, 3); ties to the lowest index. Every segment is measured (c E work, in blocks of
-    about a million pairs): the outline's edges, a few hundred on a blank."""
+    p (c, 3); ties to the lowest index. The same answer, bit for bit, by measuring every pair
+    (up to ``EVERY_PAIR`` pairs, ``every_segment``) or the segments a KD-tree finds near the
+    point (``tree_segments``; tests/test_ply_outline_nearest.py)."""
+    if len(p) * len(starts) <= EVERY_PAIR:
+        return every_segment(p, starts, ends)
+    return tree_segments(p, starts, ends)
+
+
+def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """``nearest_segments`` by measuring every segment against every point (c E work, in
+    blocks of about a million pairs)."""
     chosen = np.zeros(len(p), dtype=np.int64)
-    if len(p) == 0:
+    if len(p) == 0 or len(starts) == 0:
         return chosen
     e = ends - starts
     squared = np.maximum(np.einsum("ei,ei->e", e, e), np.finfo(float).tiny)
-    block = max(1, 2**20 // max(len(starts), 1))
+    block = max(1, 2**20 // len(starts))
     for first in range(0, len(p), block):  # blocks of points, not a loop over points
         rel = p[first : first + block, None, :] - starts[None]
         t = np.clip(np.einsum("cei,ei->ce", rel, e) / squared, 0.0, 1.0)
         r = rel - t[..., None] * e
         chosen[first : first + block] = np.argmin(np.einsum("cei,cei->ce", r, r), axis=1)
+    return chosen
+
+
+def tree_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """``nearest_segments`` measuring only the segments that can be nearest, found with a
+    KD-tree over samples of the segments: each segment's midpoint, a long one's pieces'
+    midpoints (the pieces no longer than the larger of the median segment and a quarter of
+    the mean), so that every point of a segment lies within ``half`` of one of its samples,
+    and a segment is no nearer to p than |p - s| - half, s its nearest sample. The segments
+    of the k nearest samples give a least distance delta; a segment not among them is
+    nearer only if the k-th sample lies within delta + half: k doubles for those points (the
+    bound padded by 1e-9 of the model's size, far above the round-off of the distances, and
+    each pair's distance the same operations as in ``every_segment``, so that the least has
+    the same bits). About c log E work against c E: 1200 outline edges against 5000 points
+    20 ms against 223 ms (benchmarks/ply_fade.py)."""
+    from scipy.spatial import cKDTree
+
+    count, edges = len(p), len(starts)
+    chosen = np.zeros(count, dtype=np.int64)
+    if count == 0 or edges == 0:
+        return chosen
+    e = ends - starts
+    squared = np.maximum(np.einsum("ei,ei->e", e, e), np.finfo(float).tiny)
+    # each segment sampled at its midpoint, a long one at the midpoints of pieces no longer
+    # than the median segment (nor than a quarter of the mean: at most 5 E samples): every
+    # point of a segment within ``half`` of a sample of it
+    lengths = np.sqrt(squared)
+    spacing = max(float(np.median(lengths)), 0.25 * float(lengths.mean()), np.finfo(float).tiny)
+    pieces = np.maximum(np.ceil(lengths / spacing), 1.0).astype(np.int64)
+    owner = np.repeat(np.arange(edges), pieces)
+    first_piece = np.cumsum(pieces) - pieces
+    along = (np.arange(owner.size) - first_piece[owner] + 0.5) / pieces[owner]
+    samples = starts[owner] + along[:, None] * e[owner]
+    half = 0.5 * float(np.max(lengths / pieces))
+    pad = 1e-9 * (float(np.abs(p).max()) + float(np.abs(starts).max()) + float(lengths.max()))
+    tree = cKDTree(samples)
+    best = np.full(count, np.inf)
+    todo = np.arange(count)
+    k = min(8, owner.size)
+    while todo.size:  # rounds over the points still open, at most log2(samples / 8) + 1
+        reach, near = tree.query(p[todo], k=k)
+        reach, near = reach.reshape(len(todo), k), owner[near.reshape(len(todo), k)]
+        rel = (p[todo, None, :] - starts[near]).reshape(-1, 3)
+        values = _segment_squared(rel, e[near.ravel()], squared[near.ravel()]).reshape(near.shape)
+        # ties to the lowest index among the least distances
+        least = values.min(axis=1)
+        chosen[todo] = np.where(values == least[:, None], near, edges).min(axis=1)
+        best[todo] = least
+        # a segment not measured has every sample beyond the k-th: it is nearer than the
+        # nearest measured only if that sample is within its distance plus ``half``
+        bound = np.sqrt(best[todo]) + half + pad
+        open_ = (reach[:, -1] <= bound) & (k < owner.size)
+        todo = todo[open_]
+        k = min(2 * k, owner.size)
     return chosen
 
 
