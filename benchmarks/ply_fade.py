@@ -54,20 +54,9 @@ def _unfaded(p, corners, reach, beside, ends, length):
     return np.ones(len(p)), np.zeros((len(p), 6, 3))
 
 
-def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """The nearest segment by measuring every segment against every point (as it was)."""
-    chosen = np.zeros(len(p), dtype=np.int64)
-    if len(p) == 0:
-        return chosen
-    e = ends - starts
-    squared = np.maximum(np.einsum("ei,ei->e", e, e), np.finfo(float).tiny)
-    block = max(1, 2**20 // max(len(starts), 1))
-    for first in range(0, len(p), block):
-        rel = p[first : first + block, None, :] - starts[None]
-        t = np.clip(np.einsum("cei,ei->ce", rel, e) / squared, 0.0, 1.0)
-        r = rel - t[..., None] * e
-        chosen[first : first + block] = np.argmin(np.einsum("cei,cei->ce", r, r), axis=1)
-    return chosen
+# the nearest segment by measuring every segment against every point: the search as it was
+# for every size (ply_fade keeps it for few pairs)
+every_segment = ply_fade.every_segment
 
 
 def outline(repeats: int = 5) -> None:
