@@ -38,6 +38,10 @@ __all__ = ["ProjectCache", "dependency_digest", "dependency_files", "njit"]
 # The folder that holds the project's packages (femcore, elements, materials, solvers, ...):
 # a module whose dotted name names a file under it is the project's.
 ROOT = Path(__file__).resolve().parents[1]
+# The project's packages (pyproject.toml's packages.find): only their modules are followed,
+# so that installed in site-packages, beside numpy and numba, the digest does not walk into
+# them (952 files read at import against 55, and every upgrade of numpy a rebuild).
+PACKAGES = frozenset({"femcore", "elements", "materials", "solvers", "validation", "fibreshell"})
 
 # ``from a.b import c, d`` (the names possibly in parentheses over several lines) and
 # ``import a.b, c as d``; at the start of a line, indented or not (imports inside functions
@@ -59,7 +63,7 @@ class _Read:
 def _module_file(name: str, folder: Path) -> Path | None:
     """The file of module ``name`` (dotted, under ``folder``): a.b -> folder/a/b.py or
     folder/a/b/__init__.py; None where there is neither."""
-    if not name:
+    if not name or (folder == ROOT and name.split(".")[0] not in PACKAGES):
         return None
     base = folder.joinpath(*name.split("."))
     for candidate in (base.with_name(base.name + ".py"), base / "__init__.py"):
@@ -161,6 +165,7 @@ def dependency_digest(path: str | Path) -> str:
 try:  # numba is a dependency; without it there is nothing to cache
     import numba
     from numba.core.caching import FunctionCache
+    from numba.core.dispatcher import Dispatcher
 
     class ProjectCache(FunctionCache):
         """numba's disk cache of a function whose builds are stale when the function's file
@@ -190,5 +195,7 @@ def njit(function, digest: str | None = None, **options: Any):
     if not AVAILABLE:
         return function
     dispatcher = numba.njit(cache=False, **options)(function)
-    dispatcher._cache = ProjectCache(dispatcher.py_func, digest)
+    if not isinstance(dispatcher, Dispatcher):
+        return dispatcher  # NUMBA_DISABLE_JIT=1: the plain function, nothing to cache
+    dispatcher._cache = ProjectCache(dispatcher.py_func, digest)  # type: ignore[attr-defined]
     return dispatcher
