@@ -139,8 +139,13 @@ def nearest_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.
     """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3)) nearest each point
     p (c, 3); ties to the lowest index. The same answer, bit for bit, by measuring every pair
     (up to ``EVERY_PAIR`` pairs, ``every_segment``) or the segments a KD-tree finds near the
-    point (``tree_segments``; tests/test_ply_outline_nearest.py)."""
-    if len(p) * len(starts) <= EVERY_PAIR:
+    point (``tree_segments``; tests/test_ply_outline_nearest.py). Non-finite coordinates (a
+    trial state that blew up) are measured pair by pair too, as before the tree: the tree
+    refuses them, and the caller's own finiteness check decides what such a state is."""
+    small = len(p) * len(starts) <= EVERY_PAIR
+    if small or not (
+        np.isfinite(p).all() and np.isfinite(starts).all() and np.isfinite(ends).all()
+    ):
         return every_segment(p, starts, ends)
     return tree_segments(p, starts, ends)
 

@@ -109,3 +109,21 @@ def test_the_hemisphere_plies_facing_is_that_of_every_segment(monkeypatch):
             if isinstance(value, np.ndarray):
                 np.testing.assert_array_equal(getattr(tree, name), value, err_msg=name)
     assert compared > 50
+
+
+def test_a_blown_up_state_is_measured_as_before_not_refused():
+    """Above EVERY_PAIR a non-finite vertex or point (a trial state that blew up) is answered
+    by every pair, as before the tree (which refuses non-finite coordinates): the caller's
+    own finiteness check, not a ValueError from deep inside the search, decides about it."""
+    rng = np.random.default_rng(7)
+    starts = rng.uniform(-100.0, 100.0, (200, 3))
+    ends = starts + rng.uniform(-5.0, 5.0, (200, 3))
+    p = rng.uniform(-100.0, 100.0, (100, 3))
+    assert len(p) * len(starts) > ply_fade.EVERY_PAIR
+    broken = starts.copy()
+    broken[3] = np.nan
+    far = p.copy()
+    far[1] = np.inf
+    for points, first in ((p, broken), (far, starts)):
+        chosen = ply_fade.nearest_segments(points, first, ends)
+        assert np.array_equal(chosen, _every_segment(points, first, ends))
