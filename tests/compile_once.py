@@ -1,7 +1,7 @@
-"""numba's compilations shared by the session's processes: a kernel (``cache=True``) missing
-from numba's cache is compiled by one process at a time, under a file lock of its own, so that
-a process asking for it while another compiles it waits and then loads the other's build from
-the cache instead of compiling it a second time.
+"""numba's compilations shared by the session's processes: a kernel cached on disk
+(femcore/kernel_cache.py) missing from numba's cache is compiled by one process at a time,
+under a file lock of its own, so that a process asking for it while another compiles it
+waits and then loads the other's build from the cache instead of compiling it a second time.
 
 In a fresh checkout the cache is empty, and pytest-xdist's workers run the tests of a module
 side by side: both asked for the same kernels at the same time and compiled each of them, tens
