@@ -260,6 +260,14 @@ stroke's figures cannot be taken as the 20k mesh's, nor its time as that of a tr
 stroke; x2 (or mass scaling alone) would have to be measured beyond 40 cells before it is used.
 At 18.4 min of CPU, the stroke is 3 times the 6 min of CPU that 3 minutes on the 2 cores allow,
 and 11 times the 3 minutes of wall on one thread.
+Quiet (load 0.5-1.0, nothing else running; main 1fdf3ac: the threaded updates, the fibrous
+lanes), ``--fraction 0.005 --phases``, unscaled, 670 steps: one thread 11.70 ms a step wall
+(11.69 CPU; the element force 7.07, the die 1.59, the other contacts 0.53, the assembled bound
+1.07, the nodal update 0.66, the rest 0.33): the stroke at that pace 133.8k steps, 26.1 min;
+``NUMBA_NUM_THREADS=2`` 11.33 ms a step wall (15.00 CPU): the element force halves (3.70 ms
+wall) but the die (2.30) and the assembled bound (3.39 against 1.07) took longer in that one
+run, not examined; the stroke 25.3 min wall. The issue's 3 minutes on 2 cores is 8 times away
+unscaled.
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
