@@ -264,10 +264,10 @@ Quiet (load 0.5-1.0, nothing else running; main 1fdf3ac: the threaded updates, t
 lanes), ``--fraction 0.005 --phases``, unscaled, 670 steps: one thread 11.70 ms a step wall
 (11.69 CPU; the element force 7.07, the die 1.59, the other contacts 0.53, the assembled bound
 1.07, the nodal update 0.66, the rest 0.33): the stroke at that pace 133.8k steps, 26.1 min;
-``NUMBA_NUM_THREADS=2`` 11.33 ms a step wall (15.00 CPU): the element force halves (3.70 ms
-wall) but the die (2.30) and the assembled bound (3.39 against 1.07) took longer in that one
-run, not examined; the stroke 25.3 min wall. The issue's 3 minutes on 2 cores is 8 times away
-unscaled.
+``NUMBA_NUM_THREADS=2`` 8.11 ms a step wall (11.73 CPU; the element force 3.87 wall, the die
+1.22, the assembled bound 1.03, the nodal update 0.51): 1.44 x one thread, the stroke 18.1 min
+wall (a first two-thread run, 11.33 ms, paid the parallel builds' compilation in its timed
+steps). The issue's 3 minutes on 2 cores is 6 times away unscaled.
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
