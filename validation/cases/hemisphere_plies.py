@@ -91,6 +91,11 @@ velocity at the window's ends: its mean reaction is its force plus its momentum 
 tenth, m dv / T (``holder_inertia_last_tenth``, reported beside it), -0.61 N for Mindlin [0/90]
 here and -1.23 N (a failing 18.78 N) on the barycentric fade of before
 (docs/hemisphere_plies.md, "The holder at 10 cells").
+The fine resolution again after the fade's clamp was made flat and the tangent's outline ends
+trimmed (`python -m validation --cases hemisphere-plies --resolution fine`, one thread, quiet):
+24 of 24 checks, 399.6 s of CPU; rms fibrous [0/90] 3.17 / 3.19 deg, holder 19.96 N; Mindlin
+[0/90] 3.36 / 3.41 deg, holder 19.85 N, above KE / W 0.1 over 9.0 % (peak 0.131); fibrous
+[0/45] 3.57 / 4.38 deg, holder 19.92 N; Mindlin [0/45] 3.34 / 4.42 deg, holder 20.34 N.
 """
 
 from __future__ import annotations
