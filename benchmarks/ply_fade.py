@@ -59,6 +59,24 @@ def _unfaded(p, corners, reach, beside, ends, length):
 every_segment = ply_fade.every_segment
 
 
+def _alternated(blocks, state, attribute: str, variants: dict) -> dict:
+    """CPU of the blocks' facing searches at ``state`` with ply_fade's ``attribute`` replaced by
+    each of ``variants`` (name -> function) in turn, REPEATS rounds, summed per name (s); the
+    module's own function put back after."""
+    own = getattr(ply_fade, attribute)
+    totals = dict.fromkeys(variants, 0.0)
+    for _ in range(REPEATS):
+        for name, function in variants.items():
+            setattr(ply_fade, attribute, function)
+            start = time.process_time()
+            for block in blocks:
+                block._facing_at = None
+                block.facing(state)
+            totals[name] += time.process_time() - start
+    setattr(ply_fade, attribute, own)
+    return totals
+
+
 def outline(repeats: int = 5) -> None:
     """CPU of the nearest edge on a wavy outline of E edges, c points about it: the tree and
     every edge, alternately, the best of ``repeats``."""
@@ -99,17 +117,8 @@ def main(cells: int = 10) -> None:
     x[:, 2] += rng.uniform(-0.05, 0.05, n)
     directors = np.tile([0.0, 0.0, 1.0], (n, 1))
     state = State(x, directors, np.zeros((n, 3)), np.zeros((n, 3)))
-    faded = ply_fade.outline_fade
-    totals = {"fade": 0.0, "reference (w = 1)": 0.0}
-    for _ in range(REPEATS):
-        for name, function in (("fade", faded), ("reference (w = 1)", _unfaded)):
-            ply_fade.outline_fade = function
-            start = time.process_time()
-            for block in blocks:
-                block._facing_at = None
-                block.facing(state)
-            totals[name] += time.process_time() - start
-    ply_fade.outline_fade = faded
+    fades = {"fade": ply_fade.outline_fade, "reference (w = 1)": _unfaded}
+    totals = _alternated(blocks, state, "outline_fade", fades)
     points = sum(len(b.above) for b in blocks)
     for name, total in totals.items():
         print(f"{name}: {1e3 * total / REPEATS:.3f} ms per step's searches ({points} points)")
@@ -125,21 +134,13 @@ def main(cells: int = 10) -> None:
     for block in blocks:
         block._facing_at = None
         block.facing(state)
+    ply_fade.nearest_segments = tree
     searches = {
         "nearest_segments": tree,
         "tree_segments": ply_fade.tree_segments,
         "every edge (as it was)": every_segment,
     }
-    totals = dict.fromkeys(searches, 0.0)
-    for _ in range(REPEATS):
-        for name, search in searches.items():
-            ply_fade.nearest_segments = search
-            start = time.process_time()
-            for block in blocks:
-                block._facing_at = None
-                block.facing(state)
-            totals[name] += time.process_time() - start
-    ply_fade.nearest_segments = tree
+    totals = _alternated(blocks, state, "nearest_segments", searches)
     print("nearest edge, (points, edges) per search:", sizes)
     for name, total in totals.items():
         print(f"nearest edge by {name}: {1e3 * total / REPEATS:.3f} ms a step's searches")
