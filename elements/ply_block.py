@@ -529,6 +529,7 @@ class PlyContactBlock(InteractionBlock):
             segment,
             self.fade_length,
             step,
+            None if facing.joined is None else facing.joined[rows],
         )
         nodes = np.column_stack([self.above[rows], self.cells[facing.triangle[rows]], ends_nodes])
         offset = np.column_stack(
@@ -598,7 +599,13 @@ class PlyContactBlock(InteractionBlock):
         # (elements/ply_projection.py, "Past the outline, deeper than the plies"): its own
         # depth bounds |p - q| there
         reached = np.where(facing.touching, np.maximum(self.depth, -facing.gap), self.depth)
-        factor = stiffness_factor(past, facing.on_growth, reached, self.fade_length)
+        # a joined growth's edge has no angle factor (elements/ply_projection.py, "Growths
+        # joined"): beside with the 12 k bound only off those edges
+        beside = facing.on_growth
+        if facing.joined is not None:
+            past |= facing.joined
+            beside = beside & ~facing.joined
+        factor = stiffness_factor(past, beside, reached, self.fade_length)
         return self._springs(self.stiffness * factor)
 
     def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -25,7 +25,9 @@ lower ply's outline edge nearest it, z = (p, y_1, y_2, y_3, a, b):
   of the outline (the facing triangle's normal signing the gap there), w_a =
   S(|h| / (SIDEWAYS |p - q|)), h the gap to the triangle's plane: 1 where p - q lies within
   60 deg of the normal, 0 where p lies in the plane beside the growth, the one place where the
-  sign of g = +-|p - q| flips at a distance from q.
+  sign of g = +-|p - q| flips at a distance from q. Not on an edge's extension that the
+  neighbour's growth holds too (``joined``): there the edge's pseudonormal signs the gap, the
+  face has a side and w_a = 1 (elements/ply_projection.py, "Growths joined").
 
 Gradients: d(d^2) = 2 (p - q_o) . (dp - (1 - t) da - t db) - 2 g dg (t the parameter of q_o
 on its edge; the envelope of its minimum); dg/dz = (n, -lambda_m n) on a plane, (nu,
@@ -228,6 +230,7 @@ def outline_fade(
     beside: np.ndarray,
     ends: np.ndarray,
     length: float,
+    joined: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The fade w and its gradient of points against their facing triangles (module docstring).
 
@@ -248,6 +251,11 @@ def outline_fade(
         The ends a, b of the outline's edge nearest each point (``nearest_segments``), mm.
     length : float
         The fade's length D (``fade_length``), mm.
+    joined : (c,) bool, optional
+        Of the ``beside`` points, those whose closest point lies on an edge's extension that
+        the neighbour's growth holds too (elements/ply_projection.py, "Growths joined"): the
+        gap is the distance to q, signed by the edge's pseudonormal, and has no angle factor
+        (w_a = 1). None: none.
 
     Returns
     -------
@@ -280,9 +288,13 @@ def outline_fade(
         d_edge = np.concatenate([nu[:, None, :], -on_q[:, :, None] * nu[:, None, :]], axis=1)
         d_ratio = (d_plane - ratio[:, None, None] * d_edge) / safe[:, None, None]
         value, rise = _step(ratio / SIDEWAYS)
-        side[at] = value
+        # on a joined edge the face has a side (the edge's pseudonormal's): no angle factor
+        sideways = np.ones(at.size, dtype=bool) if joined is None else ~joined[at]
+        side[at] = np.where(sideways, value, 1.0)
         side_gradient[at, :4] = np.where(
-            (distance > 0.0)[:, None, None], (rise / SIDEWAYS)[:, None, None] * d_ratio, 0.0
+            ((distance > 0.0) & sideways)[:, None, None],
+            (rise / SIDEWAYS)[:, None, None] * d_ratio,
+            0.0,
         )
         gap[at] = sign * distance
         d_gap[at] = np.where((distance > 0.0)[:, None, None], d_edge, 0.0)
@@ -325,10 +337,11 @@ def fade_hessian(
     ends: np.ndarray,
     length: float,
     step: float,
+    joined: np.ndarray | None = None,
 ) -> np.ndarray:
     """(c, 6, 3, 6, 3) d2w/dz2 over z = (p, y_1, y_2, y_3, a, b), 1/mm^2: the central
     difference of ``outline_fade``'s exact gradient by ``step`` (mm) in each of the 18
-    coordinates of z, made symmetric."""
+    coordinates of z, made symmetric (``joined`` as there)."""
     count = len(p)
     hessian = np.zeros((count, 6, 3, 6, 3))
     for node in range(6):
@@ -342,7 +355,7 @@ def fade_hessian(
                     c[:, node - 1, axis] += sign * step
                 else:
                     o[:, node - 4, axis] += sign * step
-                moved.append(outline_fade(q, c, reach, beside, o, length)[1])
+                moved.append(outline_fade(q, c, reach, beside, o, length, joined)[1])
             hessian[:, node, axis] = (moved[0] - moved[1]) / (2.0 * step)
     return 0.5 * (hessian + np.transpose(hessian, (0, 3, 4, 1, 2)))
 

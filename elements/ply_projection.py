@@ -76,8 +76,26 @@ an edge of the top ply's face, went from -0.29 to +0.21 mm and back within a few
 against -50 N mm lost, which stopped the run on its energy balance at 98.5 % of the stroke
 (tests/test_ply_edge_sign.py). On a growth past the outline (one triangle) and where the
 pseudonormal vanishes (a fold pressed flat, "A layer turned away") the triangle's normal
-still signs the gap. The sign then changes only where p passes through the face (g = 0),
-where W = 0: the energy is continuous where the facing triangle changes on an edge.
+still signs the gap, but on an edge's extension that two growths hold ("Growths joined"). The
+sign then changes only where p passes through the face (g = 0), where W = 0: the energy is
+continuous where the facing triangle changes on an edge.
+
+Growths joined. Two outline triangles A and B that share an inner edge ending at an outline
+vertex v, each grown past its own outline edge there (A's and B's outline edges both end at
+v, the fan of v holding A and B alone), both hold that edge's extension past v: their growths
+meet along it as their faces meet along the edge, a fold of the grown face. A closest point
+on that extension is signed by the edge's pseudonormal n_A + n_B, as on the edge itself, and
+the fade has no angle factor there (the face has a side); a growth's edge that no
+neighbour's growth continues keeps the triangle's normal and the angle factor ("Past the
+outline, faded"). Before, the facing triangle's normal (the lower row of the two, tied on q)
+signed it, and past a fold sharper than a right angle (a wrinkle's crest at the outline) a
+point outside the fold had p - q against that normal: its gap flipped from -|p - q| on the
+extension to +|p - q| on the other growth's plane, W(-|p - q|) with no work. Measured on the
+two-ply Mindlin [0/90] hemisphere (validation/studies/hemisphere_plies_jumps.py, 20 N): the
+mirrored pass's points past the top ply's wrinkled outline, docs/hemisphere_plies.md "Growths
+joined at a fold"; a point round a ridge of 127 deg between its sides' normals, 0.05 mm past
+the outline, went from -0.080 mm on the extension to +0.080 mm on the other side's plane, the
+whole of its energy in one step (tests/test_ply_growth_sign.py).
 
 Beside the outline. The growth past an outline edge extends the triangle's other two edges
 too, and past their ends (beside the outline, next to an outline vertex) a point can be
@@ -265,6 +283,10 @@ class Facing:
         How far the facing triangle reaches past its edges (``MARGIN`` on the outline).
     on_growth : (P,) bool or None
         The closest point lies on a growth's edge off the triangle or at an outline vertex.
+    joined : (P,) bool or None
+        Of those, the closest point lies on the extension past the outline of an edge whose
+        two triangles both grow past it (module docstring, "Growths joined"): the edge's
+        pseudonormal signs the gap and the fade has no angle factor there.
     fade_edge : (P,) int or None
         The outline's edge nearest the point (its row in ``open_edges``' nonzero order,
         elements/ply_fade.py ``outline_segments``), -1 where w is not computed.
@@ -283,6 +305,7 @@ class Facing:
     reach: np.ndarray | None = None
     on_growth: np.ndarray | None = None
     fade_edge: np.ndarray | None = None
+    joined: np.ndarray | None = None
 
 
 def triangle_frames(corners: np.ndarray):
@@ -468,29 +491,63 @@ def pseudonormals(
     return vertex, summed[ids].reshape(len(nodes), 3, 3)
 
 
-def _feature_normals(y, nodes, edges, triangle, lam, reach, normal):
+def _feature_normals(y, nodes, edges, triangle, lam, reach, normal, outline=None):
     """(c, 3) the unit pseudonormal (``pseudonormals``) of the edge or vertex of the mesh on
     which each closest point with barycentric coordinates ``lam`` (c, 3) on triangle row
     ``triangle`` (c,) lies; ``normal`` (c, 3), the triangle's, where it lies on a growth past
-    the outline (``reach`` (c, 3) > 0 on that bound) or the pseudonormal nearly vanishes (a
-    fold pressed flat, module docstring "A layer turned away")."""
+    the outline (``reach`` (c, 3) > 0 on that bound) off an edge joined to its neighbour's
+    growth, or the pseudonormal nearly vanishes (a fold pressed flat, module docstring "A
+    layer turned away"); and (c,) bool, the closest point lies on such a joined edge's
+    extension past the outline (module docstring, "Growths joined"; ``outline`` (m, 3) bool,
+    ``open_edges``: none without it)."""
     vertex, edge = pseudonormals(y, nodes, edges)
     bound = lam <= -reach + 1e-9
     # anywhere on a growth past the outline, off the triangle (its far edge or an edge's
-    # extension): the face has no side there but the triangle's own
+    # extension): the face has no side there but the triangle's own, unless the edge's
+    # extension is also its neighbour's growth's
     grown = np.any((lam < -INSIDE) & (reach > 0.0), axis=1)
     count = bound.sum(axis=1)
     corner = np.argmin(bound, axis=1)  # at a vertex: the corner off both bounds
     side = np.argmax(bound, axis=1)  # on an edge: the corner it lies opposite
+    joined = np.zeros(len(triangle), dtype=bool)
+    if outline is not None:
+        joined = grown & (count == 1) & _joined_growth(nodes, edges, outline, triangle, side, lam)
     chosen = np.where(
         (count == 2)[:, None],
         vertex[nodes[triangle, corner]],
         edge[triangle, side],
     )
     length = np.linalg.norm(chosen, axis=1)
-    keep = grown | (count == 0) | (count == 3) | (length < 1e-6)
+    keep = (grown & ~joined) | (count == 0) | (count == 3) | (length < 1e-6)
+    joined &= ~keep
     unit = chosen / np.where(length > 0.0, length, 1.0)[:, None]
-    return np.where(keep[:, None], normal, unit)
+    return np.where(keep[:, None], normal, unit), joined
+
+
+def _joined_growth(nodes, edges, outline, triangle, side, lam):
+    """(c,) bool: the edge opposite corner ``side`` (c,) of triangle row ``triangle`` (c,)
+    is shared with a neighbour that grows past it as the triangle does: of the edge's two
+    ends, the one whose coordinate lam_i (c, 3) is negative (the closest point lies on the
+    edge's line past its other end, an outline vertex) is opposite an outline edge of the
+    neighbour as of the triangle, so both growths hold that extension of the edge (module
+    docstring, "Growths joined"); ``nodes``, ``edges`` (m, 3) int and ``outline`` (m, 3)
+    bool of the lower face."""
+    count = len(triangle)
+    flat = edges.ravel()
+    order = np.argsort(flat, kind="stable")
+    first = np.searchsorted(flat[order], flat, side="left")
+    last = np.searchsorted(flat[order], flat, side="right") - 1
+    own = triangle * 3 + side
+    a, b = order[first[own]], order[last[own]]
+    other = np.where(a == own, b, a)  # the neighbour's (row * 3 + k), own on an open edge
+    shared = other != own
+    rows = np.arange(count)
+    ends = np.where(np.arange(3)[None, :] == side[:, None], np.inf, lam)
+    past = np.argmin(ends, axis=1)  # the end whose coordinate is negative
+    node = nodes[triangle, past]
+    neighbour = other // 3
+    at = np.argmax(nodes[neighbour] == node[:, None], axis=1)
+    return shared & outline[triangle, past] & outline[neighbour, at] & (lam[rows, past] < 0.0)
 
 
 def closest_facing(
@@ -576,6 +633,7 @@ def closest_facing(
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
     on_edge = ~inside[rows, best]
     at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
+    joined = np.zeros(len(p), dtype=bool)  # on an edge's extension that two growths hold
     if on_edge.any():
         # each such point's closest point among the computed ones
         where = np.full(inside.shape, -1)
@@ -589,8 +647,8 @@ def closest_facing(
             # vertex it lies
             on_q = np.einsum("pki,pi->pk", gradients[edge, at], closest - y[near[edge, at], 0])
             on_q[:, 0] += 1.0
-            signing = _feature_normals(
-                y, nodes, edges, near[edge, at], on_q, reach[edge, at], signing
+            signing, joined[edge] = _feature_normals(
+                y, nodes, edges, near[edge, at], on_q, reach[edge, at], signing, outline
             )
             if outline is not None:
                 # at a vertex of the outline the face has no side either: the facing
@@ -603,6 +661,7 @@ def closest_facing(
                 rim[nodes[:, [2, 0, 1]][outline]] = True
                 at_rim[edge] = (bound.sum(axis=1) == 2) & rim[corner]
                 signing = np.where(at_rim[edge][:, None], n[edge, at], signing)
+                joined[edge] &= ~at_rim[edge]
         chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
             p[edge],
             closest,
@@ -650,6 +709,7 @@ def closest_facing(
             on_growth[near_outline],
             np.stack([starts[chosen], ends[chosen]], axis=1),
             length,
+            joined[near_outline],
         )
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
     return Facing(
@@ -666,4 +726,5 @@ def closest_facing(
         reach=reach[rows, best],
         on_growth=on_growth,
         fade_edge=fade_edge,
+        joined=joined,
     )

@@ -82,10 +82,22 @@ class Jumps:
         outline = block.outline[facing.triangle].any(axis=1)
         growth = getattr(facing, "on_growth", None)
         growth = np.zeros(len(p), dtype=bool) if growth is None else growth
-        # what each point faces: a triangle on the outline or not, a growth's edge, its fade
+        joined = getattr(facing, "joined", None)
+        joined = np.zeros(len(p), dtype=bool) if joined is None else joined
+        reach = getattr(facing, "reach", None)
+        reach = np.zeros((len(p), 3)) if reach is None else reach
+        # the closest point's feature: the facing triangle's plane, an edge (a growth's edge
+        # joined to its neighbour's growth or not) or a vertex
+        bounds = (facing.weights <= -reach + 1e-9).sum(axis=1)
+        feature = np.array(["plane", "edge", "vertex", "vertex"])[bounds]
+        # what each point faces: its row, a triangle on the outline or not, a growth's edge,
+        # its fade
         kind = [
-            f"outline {int(o)} growth {int(g)} fade {w:.3f} touching {int(t)}"
-            for o, g, w, t in zip(outline, growth, fade, on)
+            f"row {r} {f} outline {int(o)} growth {int(g)} joined {int(j)} fade {w:.3f} "
+            f"touching {int(t)}"
+            for r, f, o, g, j, w, t in zip(
+                facing.triangle, feature, outline, growth, joined, fade, on
+            )
         ]
         now = (
             fade * energy,

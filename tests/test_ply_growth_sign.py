@@ -1,0 +1,113 @@
+"""A ply contact point going round a sharp ridge of the other ply's face past its outline.
+
+What was left at the outline of the two-ply Mindlin [0/90] hemisphere (validation/studies/
+hemisphere_plies.py, 8 and 10 cells, 20 N; validation/studies/hemisphere_plies_jumps.py): the
+mirrored pass's points past the top ply's wrinkled outline flipped the sign of their gap
+where their closest point passed from one outline triangle's growth onto the extension of
+the edge it shares with its neighbour, whose growth holds that extension too, signed there by
+the facing triangle's own normal (elements/ply_projection.py, "Growths joined").
+
+Reference: the contact is a potential, its force the gradient of its energy, so along any
+path the work of the force equals the change of the energy (trapezoidal rule per step), and
+around a closed path the work is nil. The lower ply: two outline triangles A, B sharing the
+edge from w = (0, -1) to the outline vertex v = (0, 0), folded along it into a ridge whose
+sides fall by 2 mm a mm (normals 127 deg apart, a fold sharper than a right angle, as a
+wrinkle's crest), with two triangles beside them so that each of A and B has one outline
+edge (y = 0); faces 0.1 mm from the mid-surfaces. One upper triangle (its centroid the
+contact point, 0.02 mm across, moved rigidly, the directors held along z) circles the
+ridge's extension 0.05 mm past the outline (within the fade's band) at 0.08 mm: past its
+sides inside the ridge it touches, outside it does not.
+"""
+
+import numpy as np
+
+from elements.ply_contact import PlyContact
+from femcore import Body, Mesh
+from femcore.state import State
+
+STEPS = 1000
+PENALTY = 100.0  # N/mm
+SLOPE = 2.0  # mm a mm: the ridge's sides
+RADIUS = 0.08  # mm, round the ridge's extension
+PAST = 0.05  # mm past the outline y = 0
+
+
+def _ridge():
+    """(block, positions (STEPS + 1, n, 3), directors (n, 3)): the ridge of the module
+    docstring and the upper triangle's path round it, bound as a ply contact of penalty
+    PENALTY at the centroid."""
+    low = np.array(
+        [
+            [-1.0, 0.0, -SLOPE],  # 0 v1
+            [0.0, 0.0, 0.0],  # 1 v, the outline vertex on the ridge
+            [1.0, 0.0, -SLOPE],  # 2 v3
+            [0.0, -1.0, 0.0],  # 3 w, the ridge's inner end
+            [-1.0, -1.0, -SLOPE],  # 4
+            [1.0, -1.0, -SLOPE],  # 5
+        ]
+    )
+    # counter-clockwise about +z; A = (v1, w, v) and B = (w, v3, v) share the ridge w-v
+    lower = np.array([[0, 3, 1], [3, 2, 1], [0, 4, 3], [3, 5, 2]])
+    side = 0.02
+    tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
+    tiny -= tiny.mean(axis=0)
+    points = np.vstack([low, tiny])
+    mesh = Mesh(
+        points,
+        triangles=np.vstack([lower, [[6, 7, 8]]]),
+        node_sets={"upper": np.array([6, 7, 8])},
+        element_sets={"lower": np.arange(len(lower))},
+    )
+    n = len(points)
+    directors = np.tile([0.0, 0.0, 1.0], (n, 1))
+    active = np.zeros((n, 6), dtype=bool)
+    active[:, :5] = True
+    contact = PlyContact("upper", "lower", 0.1, 0.1, penalty=PENALTY, rule="centroid")
+    block = contact.bind(Body(mesh, (), directors, active))
+    # the upper face p = x - 0.1 z circles the ridge's extension (0, PAST, 0.1) in the x-z plane
+    angle = np.linspace(0.0, 2.0 * np.pi, STEPS + 1)
+    centre = np.array([0.0, PAST, 0.1 + 0.1])
+    path = centre + RADIUS * np.column_stack([np.cos(angle), np.zeros_like(angle), np.sin(angle)])
+    positions = np.repeat(points[None], STEPS + 1, axis=0)
+    positions[:, 6:] += path[:, None, :]
+    return block, positions, directors
+
+
+def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_energy():
+    """Per step |Delta E - work| within 0.05 of the largest energy on the path, and around
+    the loop the work within 0.05 of it: the trapezoidal rule's error in the one step where
+    the point, inside the ridge, passes from A's plane to B's at the bisector and its force
+    turns by 127 deg (first order in the step: measured 0.025 in that step and 0.025 round
+    the loop at 1000 steps, 2.5e-14 elsewhere per step). The code before, which signed the gap
+    on the ridge's extension by the facing triangle's own normal: 1.00 of it in one step (the
+    point outside the ridge at -0.080 mm, touching on A's growth's edge, then +0.080 mm on
+    B's plane) and -0.99 round the loop. Every gap of a point outside the ridge (above both
+    sides' planes) is positive. Premises: the point touches on part of the loop and not on
+    another, its closest point lies on the ridge's extension (joined) on part of it, the
+    fade is below 1 (past the outline) and above 0."""
+    block, positions, directors = _ridge()
+    zero = np.zeros_like(positions[0])
+    energy, forces, touching, joined, outside, gaps, fades = [], [], [], [], [], [], []
+    for x in positions:
+        state = State(x, directors, zero, zero)
+        facing = block.facing(state)
+        energy.append(block.strain_energy(state))
+        forces.append(block.internal_force(state)[0])
+        touching.append(bool(facing.touching[0]))
+        on_joined = getattr(facing, "joined", None)  # None on the code before
+        joined.append(bool(on_joined is not None and on_joined[0]))
+        p = x[6:].mean(axis=0) - [0.0, 0.0, 0.1]  # the contact point on the upper face
+        # above both sides' planes (through the offset ridge z = 0.1 + 0): outside the ridge
+        outside.append(p[2] - 0.1 > -SLOPE * abs(p[0]))
+        gaps.append(float(facing.gap[0]))
+        fades.append(float(facing.fade[0]))
+    energy, forces = np.array(energy), np.array(forces)
+    gaps, outside = np.array(gaps), np.array(outside)
+    work = np.einsum("sni,sni->s", 0.5 * (forces[1:] + forces[:-1]), np.diff(positions, axis=0))
+    largest = energy.max()
+    assert largest > 1e-3 and any(touching) and not all(touching)
+    assert 0.0 < min(fades) and max(fades) < 1.0
+    assert np.abs(np.diff(energy) - work).max() <= 0.05 * largest
+    assert abs(work.sum()) <= 0.05 * largest
+    assert (gaps[outside] > 0.0).all()
+    assert any(joined)
