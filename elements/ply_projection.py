@@ -90,12 +90,14 @@ neighbour's growth continues keeps the triangle's normal and the angle factor ("
 outline, faded"). Before, the facing triangle's normal (the lower row of the two, tied on q)
 signed it, and past a fold sharper than a right angle (a wrinkle's crest at the outline) a
 point outside the fold had p - q against that normal: its gap flipped from -|p - q| on the
-extension to +|p - q| on the other growth's plane, W(-|p - q|) with no work. Measured on the
-two-ply Mindlin [0/90] hemisphere (validation/studies/hemisphere_plies_jumps.py, 20 N): the
-mirrored pass's points past the top ply's wrinkled outline, docs/hemisphere_plies.md "Growths
-joined at a fold"; a point round a ridge of 127 deg between its sides' normals, 0.05 mm past
-the outline, went from -0.080 mm on the extension to +0.080 mm on the other side's plane, the
-whole of its energy in one step (tests/test_ply_growth_sign.py).
+extension to +|p - q| on the other growth's plane, W(-|p - q|) with no work: a point round a
+ridge of 127 deg between its sides' normals, 0.05 mm past the outline, went from -0.080 mm on
+the extension to +0.080 mm on the other side's plane, the whole of its energy in one step
+(tests/test_ply_growth_sign.py). An outline vertex of three triangles (the middle one touching
+the outline there alone, not grown) has no joined growths: A's and B's end on the lines of
+their inner edges and leave the wedge between them past the vertex to no growth, where the
+sign still flips at a distance (on the two-ply hemisphere every outline vertex but two
+corners; docs/hemisphere_plies.md, "Growths joined at a fold").
 
 Beside the outline. The growth past an outline edge extends the triangle's other two edges
 too, and past their ends (beside the outline, next to an outline vertex) a point can be

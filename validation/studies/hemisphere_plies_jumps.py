@@ -13,8 +13,15 @@ is counted. Run it with ``python -m validation.studies.hemisphere_plies_jumps 10
 mindlin 20``.
 
 Measured (Mindlin [0/90], 10 cells, 20 N; one thread, one run at a time, CPU of the run):
-see docs/hemisphere_plies.md, "The outline's fade" and "The fade by the distance to the
-outline".
+see docs/hemisphere_plies.md, "The outline's fade", "The fade by the distance to the
+outline" and "Growths joined at a fold". On d004b4e and with the growths joined (one thread,
+CPU of the run, load 5-12): 8 cells 2 steps above +1 N mm (+3.3) in 13351 and 3 (+9.9) in
+13262, 10 cells 16 (+46.1) in 17040 and 8 (+18.2) in 16955, every check passing in the four,
+134 / 135 / 225 / 211 s; the runs part early, and every jump left is at an outline vertex of
+three triangles, where no growths are joined. Each jump's line names what the point faced
+before and after: the facing triangle's row, the closest point's feature (its plane, an edge
+or a vertex), whether on the outline, on a growth's edge, on a joined growth's edge, its fade
+and whether it touches.
 """
 
 from __future__ import annotations
