@@ -55,15 +55,7 @@ def measure(kinematics: str, name: str, force: float, cells: int) -> dict[str, A
     parameters, checks, *_ = run(cells, name, kinematics, force)
     cpu = time.process_time() - start
     key = run_key(name, kinematics, force).replace(" ", "_").replace("/", "-")
-    values: dict[str, float] = {}
-    for k, angle in enumerate(LAYUPS[name]):
-        ply = f"{key}_ply{k + 1}_{angle:g}deg"
-        for quantity in QUANTITIES:
-            values[f"ply {k + 1} ({angle:g} deg) {quantity}"] = float(
-                parameters[f"{ply}_{quantity}"]
-            )
-    for quantity in RUN_QUANTITIES:
-        values[quantity] = float(parameters[f"{key}_{quantity}"])
+    values = _values(parameters, key, LAYUPS[name])
     return {
         "values": values,
         "checks": [(c.name, bool(c.passed)) for c in checks],
@@ -84,15 +76,7 @@ def recorded(kinematics: str, name: str, force: float, path: str) -> dict[str, A
         case = json.load(file)["cases"][NAME]
     parameters = case["parameters"]
     key = run_key(name, kinematics, force).replace(" ", "_").replace("/", "-")
-    values: dict[str, float] = {}
-    for k, angle in enumerate(LAYUPS[name]):
-        ply = f"{key}_ply{k + 1}_{angle:g}deg"
-        for quantity in QUANTITIES:
-            values[f"ply {k + 1} ({angle:g} deg) {quantity}"] = float(
-                parameters[f"{ply}_{quantity}"]
-            )
-    for quantity in RUN_QUANTITIES:
-        values[quantity] = float(parameters[f"{key}_{quantity}"])
+    values = _values(parameters, key, LAYUPS[name])
     run = run_key(name, kinematics, force)
     checks = [(c["name"], bool(c["passed"])) for c in case["checks"] if c["name"].startswith(run)]
     stopped = [v for k, v in parameters.items() if k.startswith(run) and k.endswith("stopped")]
@@ -105,6 +89,21 @@ def recorded(kinematics: str, name: str, force: float, path: str) -> dict[str, A
     }
 
 
+def _values(parameters: dict[str, Any], key: str, layup: Any) -> dict[str, float]:
+    """{quantity label: value} of the run ``key`` read from its parameters, each ply's
+    ``QUANTITIES`` and the run's ``RUN_QUANTITIES``."""
+    values: dict[str, float] = {}
+    for k, angle in enumerate(layup):
+        ply = f"{key}_ply{k + 1}_{angle:g}deg"
+        for quantity in QUANTITIES:
+            values[f"ply {k + 1} ({angle:g} deg) {quantity}"] = float(
+                parameters[f"{ply}_{quantity}"]
+            )
+    for quantity in RUN_QUANTITIES:
+        values[quantity] = float(parameters[f"{key}_{quantity}"])
+    return values
+
+
 def orders(cells: list[int], runs: list[dict[str, Any]]) -> dict[str, tuple[float, float]]:
     """{quantity: (p, Richardson value)} over three runs at ``cells`` (increasing), h = 1 /
     cells (NaN where the differences change sign or vanish)."""
@@ -115,10 +114,39 @@ def orders(cells: list[int], runs: list[dict[str, Any]]) -> dict[str, tuple[floa
     }
 
 
+def _arguments(argv: list[str] | None = None) -> Any:
+    """The command line: kinematics, stack, holder force (N) and three increasing cell
+    counts, each optionally ``count@results.json``."""
+    import argparse
+
+    from validation.studies.hemisphere_plies_setup import LAYUPS
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("kinematics", choices=("fibrous", "mindlin"))
+    parser.add_argument("stack", choices=tuple(LAYUPS))
+    parser.add_argument("force", type=float, help="the holder's force, N")
+    parser.add_argument(
+        "cells", nargs=3, help="three increasing cell counts; count@results.json reads a report"
+    )
+    arguments = parser.parse_args(argv)
+    counts = []
+    for text in arguments.cells:
+        count = text.split("@")[0]
+        if not count.isdigit() or int(count) < 1:
+            parser.error(
+                f"a cell count must be a positive integer (count or count@path), got {text!r}"
+            )
+        counts.append(int(count))
+    if not counts[0] < counts[1] < counts[2]:
+        parser.error(f"the three cell counts must increase, got {counts}")
+    arguments.counts = counts
+    return arguments
+
+
 if __name__ == "__main__":
-    kinematics, name, force = sys.argv[1], sys.argv[2], float(sys.argv[3])
-    given = sys.argv[4:7]
-    resolutions = [int(c.split("@")[0]) for c in given]
+    arguments = _arguments()
+    kinematics, name, force = arguments.kinematics, arguments.stack, arguments.force
+    resolutions, given = arguments.counts, arguments.cells
     done = []
     for count, text in zip(resolutions, given):
         if "@" in text:
