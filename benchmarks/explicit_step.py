@@ -251,7 +251,8 @@ scales and flags gathered, the coefficients and curvatures in one loop, the laws
 (sides, normals, moments, angles and T_k gathered, ``fold_gradient`` and ``angle_pull`` in one
 loop) 1.069; the normal sums and the nodes' frames in one node pass 0.989 (quartiles
 0.983-1.017); a linear law's value and energy in one loop across the chunk instead of four
-(``law_row``) 0.991, force+energy 0.976: within the noise, or slower.
+(``law_row``) 0.991, force+energy 0.976; the two together, 16 rounds, 1.000 (0.991-1.006),
+force+energy 0.990: within the noise, or slower.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
