@@ -227,6 +227,33 @@ fibrous --sizes 100000``, one thread, µs of CPU an element-step: steady step 0.
 step less force 0.024 / 0.040 -> 0.012 / 0.025: at the issue's 0.35 in one run of two, 0.371
 in the other.
 
+The director moments, dW/dS_k and corner forces of the cells' pass as one more loop across
+the chunk (level_lanes.py ``moment_lanes``; before, cell by cell after the levels, each
+corner's frame read a second time: 0.18 of the force's time, by the pass timed without
+them), the AMD EPYC machine, one thread, CPU, the forces and energies the same to the last
+bit. Paired in one process against main d004b4e (benchmarks/kernel_pairs.py, 10 rounds, load
+11.4-11.6): the force 0.845 (quartiles 0.834-0.852; best 0.340 -> 0.287 µs a cell),
+force+energy 0.856 (0.854-0.861). This script, main d004b4e and this tree each exported to a
+folder of its own and run in turns, five rounds of ``--element fibrous --sizes 100000``
+(load 7.3-12.6, other runs beside them), µs per element-step (main -> this tree): steady
+step 0.377 / 0.385 / 0.387 / 0.387 / 0.401 -> 0.327 / 0.337 / 0.353 / 0.329 / 0.343 (3.3-3.4
+x the reference pass, 0.10), force 0.331 / 0.332 / 0.339 / 0.333 / 0.337 -> 0.282 / 0.277 /
+0.284 / 0.285 / 0.288, force+energy 0.353-0.371 -> 0.308-0.325, energy 0.221-0.229 ->
+0.212-0.217, checked step 0.382-0.397 -> 0.337-0.342; main's 0.346 / 0.371 on a quiet machine
+(above) would be about 0.30 / 0.32 by these ratios. The force's passes after it
+(benchmarks/fibrous_shell.py ``force_phases``, load 10.6; at load 4 before): the cells' pass
+0.203 -> 0.155 µs a cell, the sides' folds 0.034, the pulls 0.044, the normals 0.015, the
+nodal sums 0.010 + 0.003 (normals, frames), 0.007 (dW/dS), 0.012 (forces, moments).
+Tried on top of it and not kept (force paired against it, median new / old, load 5-10, the same bits
+each time): the bending of the cells' pass as loops across the chunk (the sides' folds,
+scales and flags gathered, the coefficients and curvatures in one loop, the laws by
+``law_row``) 1.056 with a loop over the sides, 1.022 written out; the pulls' pass so
+(sides, normals, moments, angles and T_k gathered, ``fold_gradient`` and ``angle_pull`` in one
+loop) 1.069; the normal sums and the nodes' frames in one node pass 0.989 (quartiles
+0.983-1.017); a linear law's value and energy in one loop across the chunk instead of four
+(``law_row``) 0.991, force+energy 0.976; the two together, 16 rounds, 1.000 (0.991-1.006),
+force+energy 0.990: within the noise, or slower.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
 (``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``

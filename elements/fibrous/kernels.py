@@ -22,7 +22,8 @@ two quantities couple a cell to its neighbours (docs/theory.md §1.4, §2.5, §4
 The cells (and the sides) are taken in chunks of 32 (level_lanes.py ``CHUNK``) where a loop
 across them can run 8 cells at a time (AVX-512; 4 with AVX2): the fibre levels of pass 2
 (level_lanes.py: the chunk's inputs gathered into the rows of one scratch array, each level's
-strains, laws and loads as loops across the chunk) and the arctangents of the corner angles
+strains, laws and loads as loops across the chunk, then the director moments and corner
+forces from the levels' sums as one more such loop) and the arctangents of the corner angles
 and the folds; their log, arcsine and arctangent are branch-free arithmetic
 (elements/lane_maths.py, within 2 units in the last place of the library's), with which
 LLVM vectorises those loops (the library's functions are called one value a call), and
@@ -63,8 +64,8 @@ from elements.fibrous.cell_terms import (
     cell_cross,
     cell_levers,
     corner_frame,
+    corner_levers,
     corner_thickness,
-    director_moment,
     fold_gradient,
     level_strains,
     side_coefficients,
@@ -286,10 +287,28 @@ def _cells_pass(
             n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
             nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
             # g_a = r_a + zeta_f l_a, V and h_m at the corners (Eq. 10, 14; cell_terms.py
-            # ``cell_levers``, ``level_strains``)
-            r1x, r1y, r1z, r2x, r2y, r2z, l1x, l1y, l1z, l2x, l2y, l2z = cell_levers(
-                frame, directors, positions, n0, n1, n2, nodal, nx, ny, nz, thickness, guard
-            )
+            # ``cell_levers``, ``level_strains``), the corners' frames kept for the moments
+            for k in range(3):
+                frame_row = lane.FRAME0 + 10 * lane.CHUNK * k
+                (
+                    rows[frame_row + lane.VX + i], rows[frame_row + lane.VY + i],
+                    rows[frame_row + lane.VZ + i], rows[frame_row + lane.COSINE + i],
+                    rows[frame_row + lane.HM + i], rows[frame_row + lane.WX + i],
+                    rows[frame_row + lane.WY + i], rows[frame_row + lane.WZ + i],
+                    rows[frame_row + lane.LENGTH + i], rows[frame_row + lane.OVER + i],
+                ) = corner_frame(
+                    frame, directors, connectivity[c, k], nodal, nx, ny, nz, thickness, guard
+                )  # fmt: skip
+            r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
+            l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
+                rows[lane.FRAME0 + lane.HM + i], rows[lane.FRAME0 + lane.VX + i],
+                rows[lane.FRAME0 + lane.VY + i], rows[lane.FRAME0 + lane.VZ + i],
+                rows[lane.FRAME1 + lane.HM + i], rows[lane.FRAME1 + lane.VX + i],
+                rows[lane.FRAME1 + lane.VY + i], rows[lane.FRAME1 + lane.VZ + i],
+                rows[lane.FRAME2 + lane.HM + i], rows[lane.FRAME2 + lane.VX + i],
+                rows[lane.FRAME2 + lane.VY + i], rows[lane.FRAME2 + lane.VZ + i],
+            )  # fmt: skip
+            rows[lane.DOUBLE_AREA + i] = double_area[c]
             rows[lane.R1X + i], rows[lane.R1Y + i], rows[lane.R1Z + i] = r1x, r1y, r1z
             rows[lane.R2X + i], rows[lane.R2Y + i], rows[lane.R2Z + i] = r2x, r2y, r2z
             rows[lane.L1X + i], rows[lane.L1Y + i], rows[lane.L1Z + i] = l1x, l1y, l1z
@@ -312,6 +331,8 @@ def _cells_pass(
                 lane.load_lanes(rows, count, zeta[f], weights[f])
         if zero > 0:
             raise ZeroDivisionError("a fibre of a fibrous cell has no length in its plane")
+        if with_forces:  # the director moments and corner forces across the chunk's cells
+            lane.moment_lanes(rows, count, nodal, guard, variation)
         for i in range(count):
             c = start + i
             n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
@@ -324,63 +345,16 @@ def _cells_pass(
             if with_energy:
                 energy[c, 0] = rows[lane.TENSION_ENERGY + i]
                 energy[c, 1] = rows[lane.SHEAR_ENERGY + i]
-            if with_forces:
-                v0x, v0y, v0z, cos0, h0, w0x, w0y, w0z, len0, over0 = corner_frame(
-                    frame, directors, n0, nodal, nx, ny, nz, thickness, guard
-                )
-                v1x, v1y, v1z, cos1, h1, w1x, w1y, w1z, len1, over1 = corner_frame(
-                    frame, directors, n1, nodal, nx, ny, nz, thickness, guard
-                )
-                v2x, v2y, v2z, cos2, h2, w2x, w2y, w2z, len2, over2 = corner_frame(
-                    frame, directors, n2, nodal, nx, ny, nz, thickness, guard
-                )
-                r1x, r1y, r1z = rows[lane.R1X + i], rows[lane.R1Y + i], rows[lane.R1Z + i]
-                r2x, r2y, r2z = rows[lane.R2X + i], rows[lane.R2Y + i], rows[lane.R2Z + i]
-                s1x, s1y, s1z = rows[lane.S1X + i], rows[lane.S1Y + i], rows[lane.S1Z + i]
-                s2x, s2y, s2z = rows[lane.S2X + i], rows[lane.S2Y + i], rows[lane.S2Z + i]
-                a1x, a1y, a1z = rows[lane.A1X + i], rows[lane.A1Y + i], rows[lane.A1Z + i]
-                a2x, a2y, a2z = rows[lane.A2X + i], rows[lane.A2Y + i], rows[lane.A2Z + i]
-                lx, ly, lz = rows[lane.LX + i], rows[lane.LY + i], rows[lane.LZ + i]
-                # The director moments (Eq. 28) and the work of h_m through V . N (theory §2.5)
-                m0x, m0y, m0z, d0x, d0y, d0z = director_moment(
-                    -(a1x + a2x), -(a1y + a2y), -(a1z + a2z), v0x, v0y, v0z, h0, cos0,
-                    w0x, w0y, w0z, len0, over0, guard, variation,
-                )  # fmt: skip
-                m1x, m1y, m1z, d1x, d1y, d1z = director_moment(
-                    a1x, a1y, a1z, v1x, v1y, v1z, h1, cos1, w1x, w1y, w1z, len1, over1, guard,
-                    variation,
-                )  # fmt: skip
-                m2x, m2y, m2z, d2x, d2y, d2z = director_moment(
-                    a2x, a2y, a2z, v2x, v2y, v2z, h2, cos2, w2x, w2y, w2z, len2, over2, guard,
-                    variation,
-                )  # fmt: skip
-                moment[c, 0, 0], moment[c, 0, 1], moment[c, 0, 2] = m0x, m0y, m0z
-                moment[c, 1, 0], moment[c, 1, 1], moment[c, 1, 2] = m1x, m1y, m1z
-                moment[c, 2, 0], moment[c, 2, 1], moment[c, 2, 2] = m2x, m2y, m2z
-                # n = c / |c| varies: the corners pull on c = a x b with g = P dW/dn / |c|, and
-                # without nodal normals h_m varies with n too (dc_k = (V_k - c_k n) . dc / |c|)
-                gx = gy = gz = 0.0
-                over_size = 1.0 / size
+            if with_forces:  # moment_lanes' rows, cell by cell
+                for k in range(3):
+                    for j in range(3):
+                        moment[c, k, j] = rows[lane.MOMENT + (3 * k + j) * lane.CHUNK + i]
                 if nodal:
-                    d_sums[c, 0, 0], d_sums[c, 0, 1], d_sums[c, 0, 2] = d0x, d0y, d0z
-                    d_sums[c, 1, 0], d_sums[c, 1, 1], d_sums[c, 1, 2] = d1x, d1y, d1z
-                    d_sums[c, 2, 0], d_sums[c, 2, 1], d_sums[c, 2, 2] = d2x, d2y, d2z
-                    along = lx * nx + ly * ny + lz * nz
-                    gx = (lx - along * nx) * over_size
-                    gy = (ly - along * ny) * over_size
-                    gz = (lz - along * nz) * over_size
-                else:
-                    gx = (d0x + d1x + d2x) * over_size
-                    gy = (d0y + d1y + d2y) * over_size
-                    gz = (d0z + d1z + d2z) * over_size
-                # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
-                # minus their sum on x0 (a = r1 = x1 - x0, b = r2 = x2 - x0)
-                f1x = s1x + (r2y * gz - r2z * gy)
-                f1y = s1y + (r2z * gx - r2x * gz)
-                f1z = s1z + (r2x * gy - r2y * gx)
-                f2x = s2x + (gy * r1z - gz * r1y)
-                f2y = s2y + (gz * r1x - gx * r1z)
-                f2z = s2z + (gx * r1y - gy * r1x)
+                    for k in range(3):
+                        for j in range(3):
+                            d_sums[c, k, j] = rows[lane.D_SUM + (3 * k + j) * lane.CHUNK + i]
+                f1x, f1y, f1z = rows[lane.F1X + i], rows[lane.F1Y + i], rows[lane.F1Z + i]
+                f2x, f2y, f2z = rows[lane.F2X + i], rows[lane.F2Y + i], rows[lane.F2Z + i]
                 force[c, 0, 0], force[c, 0, 1], force[c, 0, 2] = (
                     -(f1x + f2x),
                     -(f1y + f2y),

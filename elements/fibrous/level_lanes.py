@@ -11,7 +11,13 @@ a quantity, a column a cell), then runs, level by level, three loops over the ch
    of its family (warp, weft, shear) at once (``law_row``): an odd polynomial by loops across
    the cells, one a coefficient, vectorised as 1; a table cell by cell (its segment searched);
 3. ``load_lanes``: the tension and shear loads dW/dg_a of the level and their sums over the
-   levels (Eq. 24-33), vectorised as 1.
+   levels (Eq. 24-33), vectorised as 1;
+
+and, once the levels are summed, ``moment_lanes``: the director moments, dW/dS_k and the
+corner forces from those sums and the corners' frames (gathered with the edges), vectorised
+as 1, the pass copying them cell by cell into its outputs: the force takes 0.85 of the time
+it took with them formed cell by cell after the levels, the frames read again (the same
+numbers to the last bit; benchmarks/explicit_step.py).
 
 Each cell's sums run over the levels in the order of the scalar pass, and every operation is
 the one it did, so that the cells' pass gives the numbers it gave cell by cell (but for the
@@ -22,13 +28,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.fibrous.cell_terms import level_strains
+from elements.fibrous.cell_terms import director_moment, level_strains
 from elements.fibrous.packed_laws import _POLYNOMIAL, law_energy, law_value
 from elements.jit import inline
 
-__all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes"]
+__all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes", "moment_lanes"]
 
-# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 19 kB) stays in the level-1 cache.
+# Cells a chunk: the scratch array (ROWS x CHUNK doubles, 27 kB) stays in the level-1 cache.
 # (A change here needs the kernels' numba caches cleared: the cache of kernels.py does not see
 # a change of this module's constants.)
 CHUNK = 32
@@ -57,7 +63,18 @@ REFERENCE1, REFERENCE2, REFERENCE_SHEAR = (k * CHUNK for k in range(60, 63))
 # cells' pass), the strains by family, a power and a square, each law's value and energy.
 WARP_FIRST, WARP, WEFT, POWER, SQUARE = (k * CHUNK for k in range(63, 68))
 VALUE0, VALUE1, VALUE2, ENERGY0, ENERGY1, ENERGY2 = (k * CHUNK for k in range(68, 74))
-ROWS = 74
+# The corners' frames (cell_terms.py ``corner_frame``; gathered by the cells' pass for
+# ``moment_lanes``): corner k's rows from FRAME0, FRAME1, FRAME2, each quantity at its offset:
+# V, V . N, h_m, N, 1 / |S|, 1 / max(V . N, guard); and the cell's double area |c|.
+FRAME0, FRAME1, FRAME2 = (k * CHUNK for k in range(74, 104, 10))
+VX, VY, VZ, COSINE, HM, WX, WY, WZ, LENGTH, OVER = (k * CHUNK for k in range(10))
+DOUBLE_AREA = 104 * CHUNK
+# ``moment_lanes``' results, in the level's rows (free once the last level's loads are
+# summed): corner k's director moment (3 rows from MOMENT + 3 k rows) and dW/dS_k (from
+# D_SUM), the forces on corners 1 and 2 (F1X ...; corner 0's is minus their sum).
+MOMENT, D_SUM = 17 * CHUNK, 26 * CHUNK
+F1X, F1Y, F1Z, F2X, F2Y, F2Z = (k * CHUNK for k in range(35, 41))
+ROWS = 105
 
 
 @inline
@@ -219,3 +236,72 @@ def load_lanes(lanes, count, z, weight):
         lanes[A2X + i] += z * p2x
         lanes[A2Y + i] += z * p2y
         lanes[A2Z + i] += z * p2z
+
+
+@inline
+def moment_lanes(lanes, count, nodal, guard, variation):
+    """The director moments (Eq. 28) and corner forces (Eq. 24) of the chunk's cells from the
+    sums over their levels and their corners' frames (rows from FRAME0), as the cells' pass
+    wrote them cell by cell (cell_terms.py ``director_moment``: the same operations in the
+    same order), in the rows from MOMENT, D_SUM (dW/dS_k with nodal normals) and F1X: one
+    loop across the cells, vectorised as ``level_lanes``. The pull of the normal n = c / |c|
+    on c = a x b is g = P dW/dn / |c| with nodal normals, else the corners' pulls on n
+    divided by |c| (dc_k = (V_k - c_k n) . dc / |c|)."""
+    for i in range(count):
+        a1x, a1y, a1z = lanes[A1X + i], lanes[A1Y + i], lanes[A1Z + i]
+        a2x, a2y, a2z = lanes[A2X + i], lanes[A2Y + i], lanes[A2Z + i]
+        m0x, m0y, m0z, d0x, d0y, d0z = director_moment(
+            -(a1x + a2x), -(a1y + a2y), -(a1z + a2z), lanes[FRAME0 + VX + i],
+            lanes[FRAME0 + VY + i], lanes[FRAME0 + VZ + i], lanes[FRAME0 + HM + i],
+            lanes[FRAME0 + COSINE + i], lanes[FRAME0 + WX + i], lanes[FRAME0 + WY + i],
+            lanes[FRAME0 + WZ + i], lanes[FRAME0 + LENGTH + i], lanes[FRAME0 + OVER + i],
+            guard, variation,
+        )  # fmt: skip
+        m1x, m1y, m1z, d1x, d1y, d1z = director_moment(
+            a1x, a1y, a1z, lanes[FRAME1 + VX + i], lanes[FRAME1 + VY + i],
+            lanes[FRAME1 + VZ + i], lanes[FRAME1 + HM + i], lanes[FRAME1 + COSINE + i],
+            lanes[FRAME1 + WX + i], lanes[FRAME1 + WY + i], lanes[FRAME1 + WZ + i],
+            lanes[FRAME1 + LENGTH + i], lanes[FRAME1 + OVER + i], guard, variation,
+        )  # fmt: skip
+        m2x, m2y, m2z, d2x, d2y, d2z = director_moment(
+            a2x, a2y, a2z, lanes[FRAME2 + VX + i], lanes[FRAME2 + VY + i],
+            lanes[FRAME2 + VZ + i], lanes[FRAME2 + HM + i], lanes[FRAME2 + COSINE + i],
+            lanes[FRAME2 + WX + i], lanes[FRAME2 + WY + i], lanes[FRAME2 + WZ + i],
+            lanes[FRAME2 + LENGTH + i], lanes[FRAME2 + OVER + i], guard, variation,
+        )  # fmt: skip
+        lanes[MOMENT + i], lanes[MOMENT + CHUNK + i], lanes[MOMENT + 2 * CHUNK + i] = m0x, m0y, m0z
+        lanes[MOMENT + 3 * CHUNK + i] = m1x
+        lanes[MOMENT + 4 * CHUNK + i] = m1y
+        lanes[MOMENT + 5 * CHUNK + i] = m1z
+        lanes[MOMENT + 6 * CHUNK + i] = m2x
+        lanes[MOMENT + 7 * CHUNK + i] = m2y
+        lanes[MOMENT + 8 * CHUNK + i] = m2z
+        over_size = 1.0 / lanes[DOUBLE_AREA + i]
+        nx, ny, nz = lanes[NX + i], lanes[NY + i], lanes[NZ + i]
+        if nodal:
+            lanes[D_SUM + i], lanes[D_SUM + CHUNK + i], lanes[D_SUM + 2 * CHUNK + i] = d0x, d0y, d0z
+            lanes[D_SUM + 3 * CHUNK + i] = d1x
+            lanes[D_SUM + 4 * CHUNK + i] = d1y
+            lanes[D_SUM + 5 * CHUNK + i] = d1z
+            lanes[D_SUM + 6 * CHUNK + i] = d2x
+            lanes[D_SUM + 7 * CHUNK + i] = d2y
+            lanes[D_SUM + 8 * CHUNK + i] = d2z
+            lx, ly, lz = lanes[LX + i], lanes[LY + i], lanes[LZ + i]
+            along = lx * nx + ly * ny + lz * nz
+            gx = (lx - along * nx) * over_size
+            gy = (ly - along * ny) * over_size
+            gz = (lz - along * nz) * over_size
+        else:
+            gx = (d0x + d1x + d2x) * over_size
+            gy = (d0y + d1y + d2y) * over_size
+            gz = (d0z + d1z + d2z) * over_size
+        # F_k = sum_a N_k,a dW/dg_a (Eq. 24) and the pull on c: b x g on x1, g x a on x2,
+        # minus their sum on x0 (a = r1 = x1 - x0, b = r2 = x2 - x0)
+        r1x, r1y, r1z = lanes[R1X + i], lanes[R1Y + i], lanes[R1Z + i]
+        r2x, r2y, r2z = lanes[R2X + i], lanes[R2Y + i], lanes[R2Z + i]
+        lanes[F1X + i] = lanes[S1X + i] + (r2y * gz - r2z * gy)
+        lanes[F1Y + i] = lanes[S1Y + i] + (r2z * gx - r2x * gz)
+        lanes[F1Z + i] = lanes[S1Z + i] + (r2x * gy - r2y * gx)
+        lanes[F2X + i] = lanes[S2X + i] + (gy * r1z - gz * r1y)
+        lanes[F2Y + i] = lanes[S2Y + i] + (gz * r1x - gx * r1z)
+        lanes[F2Z + i] = lanes[S2Z + i] + (gx * r1y - gy * r1x)
