@@ -280,22 +280,23 @@ step. Those quiet figures so corrected, the stroke would take about 24 min on on
 16 min on two (10.8 and 7.3 ms a step); threading the Gershgorin sums would take at most 0.08
 s of CPU off each evaluation (1 % of the assembled bound's share), not done.
 
-What sets the step (benchmarks/hemisphere_step_bounds.py, 20k blank at 0.01 of the stroke):
-the solver's 2.242e-6 s is 0.546 of the exact 2 / omega_max of the blank (4.103e-6 s, scipy
-eigsh on its tangent and lumped masses): the safety 0.9, the cells' bound 0.695 of the exact
-(the assembled Gershgorin bound 0.974), and the tools' springs, counted as sum over the tools
-of max k / m (0.644 of the exact omega^2), which lower the cells' critical step to 0.873 of
-it, while pressing every node along z by all three tools lowers the exact one by nothing at
-the start and by 8-14 % at 0.5-0.9 of the stroke (20 cells). A softer automatic penalty does
-not pay (benchmarks/hemisphere_scaling.py, 20 cells): a quarter of it (PENALTY_SHARE 0.025)
-took 0.91 of the steps and let the ply 0.41 mm into the die (0.11 at the default), the
-corners' draw-in moved 15 %; a tenth, 0.89 of the steps, the ply 0.82 mm into the die and the
-edge middle's draw-in out of the case's range. The assembled bound alone (not the library's
-rule: the smaller of the two is taken, docs/theory.md §6.2) would give the step 0.691 of the
-exact here (2.83e-6 s, 0.79 of the steps), 0.834 of the steps over the whole 20-cell stroke
-with its compared results unchanged; at 20k it would have to be evaluated often (every 500
-steps: 1.5 ms a step on one thread) for the carried ratio to stay safe, which eats most of
-the gain.
+What sets the step (benchmarks/hemisphere_step_bounds.py, 20k blank at 0.01 of the stroke): the
+solver's 2.242e-6 s is 0.546 of the exact 2 / omega_max of the blank (4.103e-6 s, scipy eigsh
+on its tangent and lumped masses): the safety 0.9, the cells' bound 0.695 of the exact (the
+assembled Gershgorin bound 0.974; at mid-stroke, t = 0.15 s, the step, the cells' bound and
+Gershgorin 0.547, 0.691 and 0.939 of the exact 3.979e-6 s), and the tools' springs, counted as
+sum over the tools of max k / m (0.644 of the exact omega^2), which lower the cells' critical
+step to 0.873 of it, while pressing every node along z by all three tools lowers the exact one
+by nothing at the start, by 10.6 % at mid-stroke (20k) and by 8-14 % at 0.5-0.9 of the stroke
+(20 cells). A softer automatic penalty does not pay (benchmarks/hemisphere_scaling.py, 20
+cells): a quarter of it (PENALTY_SHARE 0.025) took 0.91 of the steps and let the ply 0.41 mm
+into the die (0.11 at the default), the corners' draw-in moved 15 %; a tenth, 0.89 of the
+steps, the ply 0.82 mm into the die and the edge middle's draw-in out of the case's range. The
+assembled bound alone (not the library's rule: the smaller of the two is taken, docs/theory.md
+§6.2) would give the step 0.691 of the exact here (2.83e-6 s, 0.79 of the steps; 0.682 at
+mid-stroke), 0.834-0.841 of the steps over the whole stroke at 20, 32 and 40 cells with the
+compared results within 2 %; at 20k it would have to be evaluated often (every 500 steps: 1.5
+ms a step on one thread) for the carried ratio to stay safe, which eats most of the gain.
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
