@@ -110,7 +110,7 @@ bound it was not proven safe here (its ratio to the cells' bound fell from 1.39 
 0.5 and 0.9 of the 20-cell stroke; at the evaluations every 500 steps the bound carried there
 was at most 1.044 times the one evaluated afresh at 20 cells, 47 evaluations, median 1.000, and
 1.027 at 32 cells, 75 evaluations: the margin it needs is the safety's and Gershgorin's own,
-0.94-0.97 of the exact, measured, not proven), so the library's rule is left as it is
+0.81-0.97 of the exact, measured, not proven), so the library's rule is left as it is
 (docs/theory.md §6.2).
 """
 
