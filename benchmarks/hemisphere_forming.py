@@ -268,6 +268,35 @@ lanes), ``--fraction 0.005 --phases``, unscaled, 670 steps: one thread 11.70 ms 
 1.22, the assembled bound 1.03, the nodal update 0.51): 1.44 x one thread, the stroke 18.1 min
 wall (a first two-thread run, 11.33 ms, paid the parallel builds' compilation in its timed
 steps). The issue's 3 minutes on 2 cores is 6 times away unscaled.
+
+What the 0.5 % figures put on a step that the stroke does not: the assembled bound's 1.03-1.07
+ms a step is its one evaluation at the start (0.75 s of CPU on one thread, three evaluations
+on the starting state, load 10; 0.67 s of it the fibrous tangent's pieces, 0.08 s the
+Gershgorin sums of femcore/gershgorin.py) spread over the 670 steps. Over the stroke it is
+evaluated again when the cells' bound has moved by half the room it had below it (20 % at
+the start, 7 % at 0.9 of the stroke on the 20-cell blank) or after 4000 steps
+(solvers/explicit.py ASSEMBLED_DT_MAX): some 35-40 evaluations in 133.8k steps, 0.2 ms a
+step. Those quiet figures so corrected, the stroke would take about 24 min on one thread and
+16 min on two (10.8 and 7.3 ms a step); threading the Gershgorin sums would take at most 0.08
+s of CPU off each evaluation (1 % of the assembled bound's share), not done.
+
+What sets the step (benchmarks/hemisphere_step_bounds.py, 20k blank at 0.01 of the stroke): the
+solver's 2.242e-6 s is 0.546 of the exact 2 / omega_max of the blank (4.103e-6 s, scipy eigsh
+on its tangent and lumped masses): the safety 0.9, the cells' bound 0.695 of the exact (the
+assembled Gershgorin bound 0.974; at mid-stroke, t = 0.15 s, the step, the cells' bound and
+Gershgorin 0.547, 0.691 and 0.939 of the exact 3.979e-6 s), and the tools' springs, counted as
+sum over the tools of max k / m (0.644 of the exact omega^2), which lower the cells' critical
+step to 0.873 of it, while pressing every node along z by all three tools lowers the exact one
+by nothing at the start, by 10.6 % at mid-stroke (20k) and by 8-14 % at 0.5-0.9 of the stroke
+(20 cells). A softer automatic penalty does not pay (benchmarks/hemisphere_scaling.py, 20
+cells): a quarter of it (PENALTY_SHARE 0.025) took 0.91 of the steps and let the ply 0.41 mm
+into the die (0.11 at the default), the corners' draw-in moved 15 %; a tenth, 0.89 of the
+steps, the ply 0.82 mm into the die and the edge middle's draw-in out of the case's range. The
+assembled bound alone (not the library's rule: the smaller of the two is taken, docs/theory.md
+§6.2) would give the step 0.691 of the exact here (2.83e-6 s, 0.79 of the steps; 0.682 at
+mid-stroke), 0.834-0.841 of the steps over the whole stroke at 20, 32 and 40 cells with the
+compared results within 2 %; at 20k it would have to be evaluated often (every 500 steps: 1.5
+ms a step on one thread) for the carried ratio to stay safe, which eats most of the gain.
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k

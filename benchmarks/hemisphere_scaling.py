@@ -14,6 +14,8 @@ its defaults and checks are unscaled. Run from the project root:
 
     python benchmarks/hemisphere_scaling.py --cells 20 --mass-scaling-dt none,2.4e-5
     python benchmarks/hemisphere_scaling.py --cells 20 --time-scaling 1,2,4
+    python benchmarks/hemisphere_scaling.py --cells 20 --penalty-share none,0.025
+    python benchmarks/hemisphere_scaling.py --cells 32 --bound assembled,smaller
 
 Measured at 20 cells on the case's 10-mm die (fibrous, one thread, CPU, one run at a time;
 load 4.5-9.4), each run's figures: steps, rms shear error against the net (deg; the case's
@@ -69,27 +71,155 @@ unscaled run (one thread, CPU; load 5.7 and 7-8): edges' mean 13.20 against 13.1
 cornered to taut (28.58 -> 24.89 mm): edges' mean 13.44 against 13.50 mm, corners 8.01 against
 8.22, the late punch force 55.16 against 55.29 N; 175 against 263 s of CPU (load 8.0 -> 5.3 and
 5.3 -> 4.1).
+
+The tools' penalty and the step's bound (``--penalty-share``: the automatic penalty's share of
+the cells' omega^2, elements.contact.PENALTY_SHARE, 0.1 in the library; ``--bound assembled``:
+the assembled Gershgorin bound alone evaluated every 500 steps, where the library takes the
+smaller of it and the cells' bound; benchmarks/hemisphere_step_bounds.py says why these two).
+Each run's largest penetration of the die, the punch and the holder (looked at every 50th
+step) is printed beside the case's figures. Unscaled, one thread, CPU, main d004b4e (load
+7-12, two other runs of this study beside them):
+
+* 20 cells, the library's: 27677 steps, rms 2.162 deg, draw-in 28.65 mm (edges' mean 13.19,
+  corners 7.39), late punch force 48.4 N, KE / W at most 0.007; penetration at most 0.113 /
+  0.069 / 0.118 mm (the ply is 0.3 mm); the assembled bound evaluated 7 times (every 4000
+  steps); 23-25 s;
+* penalty share 0.025: 25269 steps (0.913), rms 2.043, draw-in 28.62 (edges 12.72, corners
+  6.31: -15 %), late force 49.3, KE / W 0.008; penetration 0.409 / 0.248 / 0.363 mm;
+* penalty share 0.01: 24735 steps (0.894), rms 2.075, draw-in 23.41 (below the case's range
+  from 23.44 mm), edges 12.46, corners 6.24, late force 47.6; penetration 0.820 / 0.545 /
+  0.632 mm;
+* the assembled bound alone: 23086 steps (0.834), rms 2.155, draw-in 28.62 (edges 13.18,
+  corners 7.33), late force 48.3, KE / W 0.007; penetration 0.124 / 0.087 / 0.113 mm; 22 s;
+* 32 cells, the library's: 44349 steps, rms 2.171, draw-in 24.16 (edges 13.25, corners 7.73),
+  late force 53.7, KE / W 0.017; penetration 0.083 / 0.067 / 0.051 mm; 72 s; the assembled
+  bound alone: 37206 steps (0.839), rms 2.191, draw-in 24.15 (edges 13.24, corners 7.68),
+  late force 53.7, KE / W 0.016; penetration 0.083 / 0.089 / 0.065 mm; 69 s;
+* 40 cells, the library's: 55443 steps, rms 1.854, draw-in 29.13 (edges 13.60, corners 8.45),
+  late force 54.8, KE / W 0.019; penetration 0.077 / 0.052 / 0.056 mm; the assembled bound
+  evaluated 14 times; 138 s; the assembled bound alone: 46650 steps (0.841), rms 1.889 (+1.9
+  %), draw-in 29.05 (edges 13.58, corners 8.47), late force 55.2, KE / W 0.019; penetration
+  0.079 / 0.059 / 0.050 mm; evaluated 94 times; 135 s (the two side by side, load 8 -> 5).
+
+A softer penalty saves few steps (the springs take 12.7 % off the cells' critical step) and
+costs the contact: not kept. The assembled bound alone keeps every compared result within 2 %
+in 0.83-0.84 of the steps (the edge middle cornered in both runs at 20 and 40 cells, taut in
+both at 32: the step does not flip it, where time scaling x2 did at 40 cells); it is a bound
+only on the state it was evaluated on, and carried over 500 steps in proportion to the cells'
+bound it was not proven safe here (its ratio to the cells' bound fell from 1.39 to 1.14 between
+0.5 and 0.9 of the 20-cell stroke; at the evaluations every 500 steps the bound carried there
+was at most 1.044 times the one evaluated afresh at 20 cells, 47 evaluations, median 1.000, and
+1.027 at 32 cells, 75 evaluations: the margin it needs is the safety's and Gershgorin's own,
+0.81-0.97 of the exact, measured, not proven), so the library's rule is left as it is
+(docs/theory.md §6.2).
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
+import math
 import os
 import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 
+import solvers.explicit as explicit  # noqa: E402
+from elements import contact  # noqa: E402
+from femcore.compiled import CompiledModel  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
 
+# The tools' penetration is looked at every this many accepted steps.
+PENETRATION_EVERY = 50
 
-def measure(cells: int, scaling: float | None, speed: float) -> dict:
+
+# ``assembled_alone``'s carried bound over the one evaluated afresh, at each evaluation.
+OVERSHOOT: list[float] = []
+
+
+def assembled_alone(self, model, state, scale, mass, inertia=None, step=0) -> float:
+    """The step of ``--bound assembled`` (not the library's): safety x the assembled
+    Gershgorin bound alone (evaluated every ASSEMBLED_DT_EVERY steps, carried in between in
+    proportion to the cells' bound), the cells' bound only until it is first evaluated; the
+    springs and the damping as the library takes them (solvers/explicit.py ``_step_size``);
+    at each evaluation the bound carried to it over the one evaluated there is kept in
+    OVERSHOOT (above 1: the carried bound was above the fresh one)."""
+    cell_dt = model.cell_stable_dt(state)
+    if scale is not None:
+        cell_dt = [dt * np.sqrt(s) for dt, s in zip(cell_dt, scale)]
+    critical = min(float(dt.min()) for dt in cell_dt)
+    if inertia is not None:
+        assembled = model.assembled_stable_dt(state, mass, inertia)
+        if self._assembled is not None and assembled is not None:
+            # The bound carried to this step against the one evaluated on it.
+            then, cells_then, _ = self._assembled
+            OVERSHOOT.append(then * critical / cells_then / assembled)
+        self._assembled = None if assembled is None else (assembled, critical, step)
+    if self._assembled is not None:
+        assembled, cells_then, _ = self._assembled
+        critical = assembled * critical / cells_then
+    springs = model.penalty_frequency_squared(mass, state)
+    if springs > 0.0:
+        critical = 2.0 / math.sqrt((2.0 / critical) ** 2 + springs)
+    xi = self.damping * critical / 4.0
+    return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
+
+
+def measure(
+    cells: int, scaling: float | None, speed: float, share: float | None = None,
+    bound: str = "smaller",
+) -> dict:  # fmt: skip
     """One run of the case at ``cells`` with the solver's ``mass_scaling_dt`` = ``scaling``
     and the stroke ``speed`` times faster (the case's own options); the case's ``run``
-    record."""
-    return case.run(cells, "fibrous", time_scaling=speed, mass_scaling_dt=scaling)
+    record, with ``penetration_mm``: the largest penetration of each tool's contact (die,
+    punch, holder) at every PENETRATION_EVERY-th accepted step, and how many times the
+    assembled bound was evaluated (``assembled_evaluations``). ``share``: the automatic
+    penalty's share of omega^2 (elements.contact.PENALTY_SHARE) for this run, None: the
+    library's. ``bound``: "smaller" (the library's step) or "assembled"
+    (``assembled_alone``)."""
+    kept, commit = contact.PENALTY_SHARE, CompiledModel.commit
+    step_size = explicit.CentralDifference._step_size
+    evaluate = CompiledModel.assembled_stable_dt
+    evaluations = [0]
+
+    def counted(self, state, mass, inertia):
+        evaluations[0] += 1
+        return evaluate(self, state, mass, inertia)
+
+    deepest: list[float] = []
+    calls = [0]
+
+    def looked(self, state):
+        calls[0] += 1
+        if calls[0] % PENETRATION_EVERY == 0:
+            blocks = self.interactions
+            deepest.extend([0.0] * (len(blocks) - len(deepest)))
+            for i, block in enumerate(blocks):
+                p = block.touch(state)[0]
+                deepest[i] = max(deepest[i], float(p.max(initial=0.0)))
+        return commit(self, state)
+
+    if share is not None:
+        contact.PENALTY_SHARE = share
+    CompiledModel.commit = looked  # type: ignore[method-assign]
+    CompiledModel.assembled_stable_dt = counted  # type: ignore[method-assign]
+    OVERSHOOT.clear()
+    if bound == "assembled":
+        explicit.CentralDifference._step_size = assembled_alone  # type: ignore[method-assign]
+    elif bound != "smaller":
+        raise ValueError(f'--bound takes "smaller" and "assembled", got {bound!r}')
+    try:
+        out = case.run(cells, "fibrous", time_scaling=speed, mass_scaling_dt=scaling)
+    finally:
+        contact.PENALTY_SHARE, CompiledModel.commit = kept, commit  # type: ignore[method-assign]
+        explicit.CentralDifference._step_size = step_size  # type: ignore[method-assign]
+        CompiledModel.assembled_stable_dt = evaluate  # type: ignore[method-assign]
+    return {**out, "penetration_mm": deepest, "assembled_evaluations": evaluations[0]}
 
 
 def main() -> None:
@@ -97,15 +227,33 @@ def main() -> None:
     parser.add_argument("--cells", type=int, default=20)
     parser.add_argument("--mass-scaling-dt", default="none", help='targets, s ("none": none)')
     parser.add_argument("--time-scaling", default="1", help="stroke speed-up factors")
+    parser.add_argument(
+        "--penalty-share",
+        default="none",
+        help="the automatic penalty's share of omega^2, a list (none: the library's "
+        f"{contact.PENALTY_SHARE})",
+    )
+    parser.add_argument(
+        "--bound",
+        default="smaller",
+        help="the step's bound, a list: \"smaller\" (the library's: the smaller of the cells' "
+        'and the assembled one), "assembled" (the assembled Gershgorin bound alone)',
+    )
     args = parser.parse_args()
-    for target in args.mass_scaling_dt.split(","):
+    shares = [
+        None if s.strip().lower() == "none" else float(s) for s in args.penalty_share.split(",")
+    ]
+    bounds = args.bound.split(",")
+    for target, share, bound in itertools.product(args.mass_scaling_dt.split(","), shares, bounds):
         for speed in (float(s) for s in args.time_scaling.split(",")):
             scaling = None if target.strip().lower() == "none" else float(target)
             start = time.process_time()
-            out = measure(args.cells, scaling, speed)
+            out = measure(args.cells, scaling, speed, share, bound)
             result = out["result"]
             info = result.info
-            print(f"{args.cells} cells, mass_scaling_dt {scaling}, stroke x{speed:g} faster: "
+            print(f"{args.cells} cells, mass_scaling_dt {scaling}, stroke x{speed:g} faster, "
+                  f"penalty share {contact.PENALTY_SHARE if share is None else share:g}, the "
+                  f"{bound} bound: "
                   f"converged {result.converged}, {result.steps} steps, dt {info['dt']:.3g} s, "
                   f"added mass {info['added_mass_ratio']:.3g}; rms {out['rms_deg']:.3f} deg, "
                   f"draw-in {out['draw_in_mm']:.2f} mm (edges' mean "
@@ -116,6 +264,12 @@ def main() -> None:
                   f"{out['kinetic_over_work']:.4f}, share above the bound "
                   f"{out['kinetic_exceeded_share']:.3f}, damping/W "
                   f"{out['damping_over_work']:.3f}, holder lift {out['holder_lift_mm']:.3f} mm; "
+                  f"largest penetration (die, punch, holder) "
+                  f"{', '.join(f'{p:.4f}' for p in out['penetration_mm'])} mm; the assembled "
+                  f"bound evaluated {out['assembled_evaluations']} times"
+                  + (f" (the carried over the fresh one at most {max(OVERSHOOT):.4f}, median "
+                     f"{float(np.median(OVERSHOOT)):.4f})" if bound == "assembled" and OVERSHOOT
+                     else "") + "; "
                   f"CPU {time.process_time() - start:.0f} s, wall {out['cost']['wall_s']:.0f} s, "
                   f"load {out['cost']['load'][0]:.1f} -> {out['cost']['load'][1]:.1f}",
                   flush=True)  # fmt: skip
