@@ -94,10 +94,12 @@ extension to +|p - q| on the other growth's plane, W(-|p - q|) with no work: a p
 ridge of 127 deg between its sides' normals, 0.05 mm past the outline, went from -0.080 mm on
 the extension to +0.080 mm on the other side's plane, the whole of its energy in one step
 (tests/test_ply_growth_sign.py). An outline vertex of three triangles (the middle one touching
-the outline there alone, not grown) has no joined growths: A's and B's end on the lines of
-their inner edges and leave the wedge between them past the vertex to no growth, where the
-sign still flips at a distance (on the two-ply hemisphere every outline vertex but two
-corners; docs/hemisphere_plies.md, "Growths joined at a fold").
+the outline there alone, not grown) has no joined growths: A's and B's reach past the vertex
+up to the lines of their inner edges, each on its outline edge's side, so both hold the wedge
+between those lines (the middle triangle's angle mirrored through the vertex) and overlap
+there; across a fold their planes sign a point between them oppositely and the sign flips
+where the nearer changes (on the two-ply hemisphere every outline vertex but two corners;
+tests/test_ply_wedge.py; docs/hemisphere_plies.md, "The wedge is an overlap").
 
 Beside the outline. The growth past an outline edge extends the triangle's other two edges
 too, and past their ends (beside the outline, next to an outline vertex) a point can be
