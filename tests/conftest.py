@@ -112,10 +112,12 @@ def box_chain() -> Mesh:
 @pytest.fixture(scope="session")
 def dask_scheduler():
     """The address of one LocalCluster (fibreshell.cluster.dask_client: a worker process per
-    core) shared by the tests of what runs on a cluster, fits and sweeps, rather than how a
-    cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their own costs
-    each fit 7 s of starting and warming its workers (a fit of 54 runs took 17 s on its own
-    cluster, 9.5 s on this one, with the machine's load at 2)."""
+    core) shared by the tests of what runs on a cluster, fits and sweeps on a scheduler's
+    address, rather than how a cluster starts (tests/test_sweep.py's paired sweep and dead
+    worker start their own): a LocalCluster of their own costs each fit 7 s of starting and
+    warming its workers (a fit of 54 runs took 17 s on its own cluster, 9.5 s on this one,
+    with the machine's load at 2; the fit calibration and the sweep on an address together
+    15.0 s of CPU on clusters of their own, 9.2 s on this one, benchmarks/suite_item_cpu.py)."""
     from fibreshell.cluster import dask_client
 
     with dask_client() as (client, _):

@@ -83,6 +83,28 @@ def test_the_reports_processes_compile_under_the_sessions_locks(tmp_path):
         report.stop()
 
 
+def test_the_reports_processes_start_without_an_error_and_keep_the_next_sitecustomize(
+    tmp_path,
+):
+    # tests/report_site/sitecustomize.py runs first in each of the report's processes, then
+    # the next sitecustomize on the path as Python would have run it. Without one it used to
+    # leave "Error in sitecustomize ... KeyError" at the start of every process's output (the
+    # report's log: one per worker process).
+    from coarse_report import SITE
+
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "sitecustomize.py").write_text("import builtins\nbuiltins.NEXT_SITE = True\n")
+    probe = "import builtins, sitecustomize; print(getattr(builtins, 'NEXT_SITE', False))"
+    for path, expected in (([SITE], "False"), ([SITE, other], "True")):
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(map(str, path))}
+        run = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True,
+                             text=True, timeout=120)  # fmt: skip
+        assert run.returncode == 0, run.stderr
+        assert "Error in sitecustomize" not in run.stderr, run.stderr
+        assert run.stdout.strip() == expected
+
+
 def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
     # xdist: each worker asks for the report; the first starts it, the others read that run.
     folder = tmp_path / "report"
