@@ -105,6 +105,28 @@ def test_the_reports_processes_start_without_an_error_and_keep_the_next_sitecust
         assert run.stdout.strip() == expected
 
 
+def test_the_shared_cluster_stops_after_the_last_test_that_uses_it(monkeypatch):
+    # tests/conftest.py's dask_scheduler: its LocalCluster idles at about 5.7 s of CPU a
+    # minute, and its tests run among the first of a whole run (marked slow): kept to the
+    # session's end it took minutes of CPU from the others. Stopped after the last test in
+    # the session's order that uses it (each xdist worker runs its share in that order).
+    import conftest
+
+    closed: list[int] = []
+    uses = [["dask_scheduler", "tmp_path"], [], ["overhangs", "dask_scheduler"], ["tmp_path"]]
+    items = [SimpleNamespace(nodeid=f"t{i}", fixturenames=names) for i, names in enumerate(uses)]
+    session = SimpleNamespace(items=items)
+    for item in items:
+        item.session = session
+    monkeypatch.setattr(
+        conftest, "_cluster", {"stack": SimpleNamespace(close=lambda: closed.append(1))}
+    )
+    for item, stopped in zip(items, [[], [], [1], [1]], strict=True):
+        conftest.pytest_runtest_teardown(item, None)
+        assert closed == stopped, item.nodeid
+    assert conftest._cluster["stack"] is None
+
+
 def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
     # xdist: each worker asks for the report; the first starts it, the others read that run.
     folder = tmp_path / "report"
