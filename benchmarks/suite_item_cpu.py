@@ -72,10 +72,21 @@ its reaped processes, ``/usr/bin/time``, old and new in turns):
   of CPU (load 3.8-4.9, 7.7-10.0), after (the fit on the shared cluster, stopped after the
   last test that uses it) 46.5 and 46.7 s (load 4.9-7.7, 10.0-9.6).
 * the fit calibration, the sweep on a scheduler's address (tests/test_sweep.py) and one
-  identify test, the first two on clusters of their own against both on the shared one: 15.0
+  identify test, the first two on clusters of their own against both on the shared one: 15.3
   and 14.8 s of CPU, 28 and 27 s wall, against 9.4 and 9.1 s, 18 and 17 s wall (load 7-8).
   The sweep's test runs late in a whole run (not slow): on the shared cluster it would keep
   that cluster up to there, so it keeps a cluster of its own.
+
+A whole run each (a fresh clone, ``python -m pytest``, two xdist workers beside the coarse
+report, each item's CPU and reaped children's CPU logged), before (d004b4e, load 1.2 -> 12.4)
+and after (c57c400, load 8.9 -> 13 -> 4.6), one after the other on the 2-core machine shared
+with other jobs: 1991 / 1993 passed in 895.6 / 981.4 s wall; the workers' own CPU 344.0 /
+342.6 s; the report's cases 255 / 249 s (``case_cpu_s``). The shared cluster started with
+the fit calibration (247 s into the run) and was stopped after the last identify test (610.6
+s, 32.6 s of CPU of its workers reaped there, the fits' runs included); before, it ran from
+the first identify test (about 400 s) to the session's end (868 s): at 5.7 s of CPU a
+minute, about 30 s of CPU that the other processes now have. At those loads the wall times
+measure the other jobs, not the suite: the figures to compare are the CPU's.
 
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
