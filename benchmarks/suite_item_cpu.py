@@ -51,6 +51,43 @@ Mindlin Static drape 61.1 s, the same-laws comparison 36.9 s, the Mindlin kernel
 26.3 s. No run of main beside it: at that load a second 24-minute run would have measured
 the other jobs more than the suite.
 
+Each item's figures are its own process's CPU and, apart ("children"), the CPU of the
+processes it reaped during the item: a subprocess, a Dask LocalCluster's workers stopped in
+it. A cluster the session shares (tests/conftest.py ``dask_scheduler``) is reaped in the item
+after which it stops, with the CPU of every task it ran and of its idle time.
+
+Measured, the Dask clusters of the tests (one pytest process, ``-n 0``, warm cache, the
+2-core machine shared with other jobs, load 4-10; CPU the user + system time of pytest and
+its reaped processes, ``/usr/bin/time``, old and new in turns):
+
+* an idle LocalCluster of 2 workers (fibreshell.cluster.dask_client, nothing submitted for
+  60 s after one task): 3.25 s of CPU in its workers and 2.47 s in the process that started
+  it (its scheduler's and nannies' event loops: ticks, heartbeats, memory monitors), about
+  5.7 s a minute; starting it took 0.83 s in its workers, 4.0 s wall (load 8). The suite's
+  shared cluster was kept to the session's end, though the tests that use it are marked slow
+  and run among the first of a whole run (tests/test_identify.py): minutes of that.
+* the fit calibration (tests/test_compare.py, a LocalCluster of its own before, the shared one
+  after), then tests/test_identify.py, test_static.py, test_nonlinear_bending.py and
+  test_relaxation.py (84 tests): before (the shared cluster kept to the end) 51.4 and 56.9 s
+  of CPU (load 3.8-4.9, 7.7-10.0), after (the fit on the shared cluster, stopped after the
+  last test that uses it) 46.5 and 46.7 s (load 4.9-7.7, 10.0-9.6).
+* the fit calibration, the sweep on a scheduler's address (tests/test_sweep.py) and one
+  identify test, the first two on clusters of their own against both on the shared one: 15.3
+  and 14.8 s of CPU, 28 and 27 s wall, against 9.4 and 9.1 s, 18 and 17 s wall (load 7-8).
+  The sweep's test runs late in a whole run (not slow): on the shared cluster it would keep
+  that cluster up to there, so it keeps a cluster of its own.
+
+A whole run each (a fresh clone, ``python -m pytest``, two xdist workers beside the coarse
+report, each item's CPU and reaped children's CPU logged), before (d004b4e, load 1.2 -> 12.4)
+and after (c57c400, load 8.9 -> 13 -> 4.6), one after the other on the 2-core machine shared
+with other jobs: 1991 / 1993 passed in 895.6 / 981.4 s wall; the workers' own CPU 344.0 /
+342.6 s; the report's cases 255 / 249 s (``case_cpu_s``). The shared cluster started with
+the fit calibration (247 s into the run) and was stopped after the last identify test (610.6
+s, 32.6 s of CPU of its workers reaped there, the fits' runs included); before, it ran from
+the first identify test (about 400 s) to the session's end (868 s): at 5.7 s of CPU a
+minute, about 30 s of CPU that the other processes now have. At those loads the wall times
+measure the other jobs, not the suite: the figures to compare are the CPU's.
+
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
 
@@ -67,16 +104,20 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 PLUGIN = """
-import json, os, time
+import json, os, resource, time
 import pytest
 
 _cpu = {}
 
+def _children():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item, nextitem):
-    started = time.process_time()
+    started, children = time.process_time(), _children()
     yield
-    _cpu[item.nodeid] = time.process_time() - started
+    _cpu[item.nodeid] = (time.process_time() - started, _children() - children)
 
 def pytest_sessionfinish(session):
     with open(os.environ["SUITE_ITEM_CPU"], "w") as f:
@@ -84,8 +125,11 @@ def pytest_sessionfinish(session):
 """
 
 
-def one_pass(checkout: Path, items: list[str], cache: str, plugin_dir: str) -> dict[str, float]:
-    """CPU s per item of one pytest process on ``cache``."""
+def one_pass(
+    checkout: Path, items: list[str], cache: str, plugin_dir: str
+) -> dict[str, tuple[float, float]]:
+    """CPU s per item of one pytest process on ``cache``: its own, and that of the processes
+    it reaped during the item (a subprocess, a Dask cluster's workers)."""
     out = Path(plugin_dir) / "cpu.json"
     one = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
     env = {**os.environ, **one, "NUMBA_CACHE_DIR": cache, "SUITE_ITEM_CPU": str(out),
@@ -96,7 +140,7 @@ def one_pass(checkout: Path, items: list[str], cache: str, plugin_dir: str) -> d
     done = subprocess.run(command, env=env, cwd=checkout, capture_output=True, text=True)
     last = done.stdout.strip().splitlines()[-1] if done.stdout.strip() else done.stderr[-500:]
     print(f"  pass in {checkout.name}: load {load:.1f} -> {os.getloadavg()[0]:.1f}, {last}")
-    return json.loads(out.read_text())
+    return {item: tuple(cpu) for item, cpu in json.loads(out.read_text()).items()}
 
 
 def measure(checkout: Path, items: list[str]) -> None:
@@ -105,12 +149,14 @@ def measure(checkout: Path, items: list[str]) -> None:
         print(f"{checkout}:")
         cold = one_pass(checkout, items, cache, plugin_dir)
         warm = one_pass(checkout, items, cache, plugin_dir)
-    print(f"  {'cold s':>8} {'warm s':>8} {'compile':>8}  item")
+    nan = (float("nan"), float("nan"))
+    print(f"  {'cold s':>8} {'warm s':>8} {'compile':>8} {'children':>17}  item")
     for item in cold:
-        print(f"  {cold[item]:8.1f} {warm.get(item, float('nan')):8.1f} "
-              f"{cold[item] - warm.get(item, float('nan')):8.1f}  {item}")  # fmt: skip
-    print(f"  {sum(cold.values()):8.1f} {sum(warm.values()):8.1f} "
-          f"{sum(cold.values()) - sum(warm.values()):8.1f}  all")  # fmt: skip
+        (c, c_children), (w, w_children) = cold[item], warm.get(item, nan)
+        print(f"  {c:8.1f} {w:8.1f} {c - w:8.1f} {c_children:8.1f} {w_children:8.1f}  {item}")
+    c, c_children = (sum(cpu[k] for cpu in cold.values()) for k in (0, 1))
+    w, w_children = (sum(cpu[k] for cpu in warm.values()) for k in (0, 1))
+    print(f"  {c:8.1f} {w:8.1f} {c - w:8.1f} {c_children:8.1f} {w_children:8.1f}  all")
 
 
 def main() -> None:

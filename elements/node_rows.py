@@ -44,12 +44,14 @@ def _shifted(x, shift, out):
         out[i, 2] = x[i, 2] - shift[2]
 
 
-def _add_rows(forces, nodes, out):
-    """out[nodes[i]] += 0 - forces[i] for each row i: forces (s, 3), N; nodes (s,) int, each
-    listed once; out (n, 3)."""
+def _add_rows(forces, connectivity, out):
+    """out[connectivity[i, 0]] += 0 - forces[i] for each row i: forces (s, 3), N;
+    connectivity (s, 1) or (s, 2) int, C-ordered, its first column's nodes each listed once;
+    out (n, 3). (The whole rows, not their first column: a column of (s, 2) rows is a strided
+    array and (s, 1) rows' a contiguous one, two builds of the kernel for one loop.)"""
     for row in prange(forces.shape[0]):
         i = unsigned(row)
-        node = unsigned(nodes[i])  # a node id, not negative
+        node = unsigned(connectivity[i, 0])  # a node id, not negative
         out[node, 0] += 0.0 - forces[i, 0]
         out[node, 1] += 0.0 - forces[i, 1]
         out[node, 2] += 0.0 - forces[i, 2]
@@ -112,7 +114,7 @@ def add_node_forces(connectivity: np.ndarray, forces: np.ndarray, out: np.ndarra
         The model's nodal internal forces, N.
     """
     forces = np.ascontiguousarray(forces, dtype=np.float64)
-    _add_rows(forces, connectivity[:, 0], out)
+    _add_rows(forces, np.ascontiguousarray(connectivity, dtype=np.int64), out)
     if connectivity.shape[1] > 1 and len(connectivity):
         total = np.zeros(3)  # bincount's 0 + f_0 + f_1 + ...
         _row_sums(forces, 0, total)

@@ -109,17 +109,57 @@ def box_chain() -> Mesh:
     return specimens.box_chain(40)
 
 
+# The session's shared LocalCluster (``dask_scheduler``), stopped once this process has run
+# the last test that asks for it: the last in the session's order (the same in every xdist
+# worker, each of which runs its share in that order), found at the first teardown.
+_cluster: dict = {"stack": None}
+
+
+def uses_the_cluster(item) -> bool:
+    return "dask_scheduler" in getattr(item, "fixturenames", ())
+
+
+def stop_the_cluster() -> None:
+    stack, _cluster["stack"] = _cluster["stack"], None
+    if stack is not None:
+        stack.close()
+
+
+def pytest_runtest_teardown(item, nextitem):
+    """The shared cluster stopped after the last test that uses it (``dask_scheduler``)."""
+    if _cluster["stack"] is None:
+        return
+    if "last" not in _cluster:
+        order = {test.nodeid: i for i, test in enumerate(item.session.items)}
+        users = [order[test.nodeid] for test in item.session.items if uses_the_cluster(test)]
+        _cluster["order"], _cluster["last"] = order, max(users, default=-1)
+    if _cluster["order"].get(item.nodeid, -1) >= _cluster["last"]:
+        stop_the_cluster()
+
+
 @pytest.fixture(scope="session")
 def dask_scheduler():
     """The address of one LocalCluster (fibreshell.cluster.dask_client: a worker process per
     core) shared by the tests of what runs on a cluster, fits and sweeps, rather than how a
     cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their own costs
     each fit 7 s of starting and warming its workers (a fit of 54 runs took 17 s on its own
-    cluster, 9.5 s on this one, with the machine's load at 2)."""
+    cluster, 9.5 s on this one, with the machine's load at 2).
+
+    Stopped once the last test that uses it has run (``pytest_runtest_teardown``), not kept
+    to the session's end: an idle LocalCluster of 2 workers takes about 5.7 s of CPU a minute
+    (its event loops' ticks, heartbeats and memory monitors: 3.3 s in its workers, 2.5 s in
+    the threads of the process that started it), minutes of an idle cluster in a whole run
+    whose tests that use it run among the first (marked slow). benchmarks/suite_item_cpu.py
+    prints the figures."""
+    from contextlib import ExitStack
+
     from fibreshell.cluster import dask_client
 
-    with dask_client() as (client, _):
-        yield client.scheduler.address
+    with ExitStack() as stack:
+        client, _ = stack.enter_context(dask_client())
+        _cluster["stack"] = stack.pop_all()
+    yield client.scheduler.address
+    stop_the_cluster()
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -143,7 +143,7 @@ def test_the_path_figure_is_four_panels_in_two_rows_that_read_on_an_800_px_page(
 
 
 @pytest.mark.slow
-def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path):
+def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path, dask_scheduler):
     # Bai's calibration: the Mindlin bending (a factor on the laws) and transverse shear
     # fitted to the fibrous mid-surface. On the small-deflection cantilever of a linear
     # fabric both kinematics sag as q L^4 / (8 B) (tests/test_case_files.py), so from a start
@@ -157,13 +157,9 @@ def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path):
     from fibreshell.run import run_case
 
     fibrous = run_case(case, tmp_path / "fibrous", "fibrous", progress=False)
-    # On a scheduler of the caller's (a user's cluster): the fit's runs are its tasks.
-    from distributed import LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster:
-        fitted = fit_calibration(
-            case, fibrous, tmp_path / "fit", start=start, scheduler=cluster.scheduler_address
-        )
+    # On a scheduler of the caller's (a user's cluster; here the session's, tests/conftest.py,
+    # whose workers have started already): the fit's runs are its tasks.
+    fitted = fit_calibration(case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler)
     assert fitted.name == "fit"
     assert fitted.bending_scale == pytest.approx(1.0, rel=0.02)
     assert fitted.fitted["residual_rms_mm"] < 1e-3

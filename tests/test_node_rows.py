@@ -5,7 +5,7 @@ adds its forces into the model's sums in place as the sum of its ``internal_forc
 import numpy as np
 import pytest
 
-from elements import jit
+from elements import jit, node_rows
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, shifted
 from femcore.assembly import Scatter
 from validation.cases import hemisphere_forming
@@ -50,6 +50,11 @@ def test_the_passes_give_numpys_numbers_to_the_last_bit():
         add_node_forces(connectivity, forces, added)
         assert bits(added) == bits(expected)
     assert not distinct_nodes(np.array([[1], [2], [1]]))
+    # One build of the loop for both shapes of rows (a column of (s, 2) rows is strided, of
+    # (s, 1) rows contiguous: two builds, each compiled in a fresh checkout, before).
+    loop = node_rows._add_rows
+    builds = [b for b in (loop.serial, loop._parallel) if b is not None and b.signatures]
+    assert builds and [len(b.signatures) for b in builds] == [1] * len(builds)
 
 
 @pytest.mark.parallel

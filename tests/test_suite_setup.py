@@ -83,6 +83,50 @@ def test_the_reports_processes_compile_under_the_sessions_locks(tmp_path):
         report.stop()
 
 
+def test_the_reports_processes_start_without_an_error_and_keep_the_next_sitecustomize(
+    tmp_path,
+):
+    # tests/report_site/sitecustomize.py runs first in each of the report's processes, then
+    # the next sitecustomize on the path as Python would have run it. Without one it used to
+    # leave "Error in sitecustomize ... KeyError" at the start of every process's output (the
+    # report's log: one per worker process).
+    from coarse_report import SITE
+
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "sitecustomize.py").write_text("import builtins\nbuiltins.NEXT_SITE = True\n")
+    probe = "import builtins, sitecustomize; print(getattr(builtins, 'NEXT_SITE', False))"
+    for path, expected in (([SITE], "False"), ([SITE, other], "True")):
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(map(str, path))}
+        run = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True,
+                             text=True, timeout=120)  # fmt: skip
+        assert run.returncode == 0, run.stderr
+        assert "Error in sitecustomize" not in run.stderr, run.stderr
+        assert run.stdout.strip() == expected
+
+
+def test_the_shared_cluster_stops_after_the_last_test_that_uses_it(monkeypatch):
+    # tests/conftest.py's dask_scheduler: its LocalCluster idles at about 5.7 s of CPU a
+    # minute, and its tests run among the first of a whole run (marked slow): kept to the
+    # session's end it took minutes of CPU from the others. Stopped after the last test in
+    # the session's order that uses it (each xdist worker runs its share in that order).
+    import conftest
+
+    closed: list[int] = []
+    uses = [["dask_scheduler", "tmp_path"], [], ["overhangs", "dask_scheduler"], ["tmp_path"]]
+    items = [SimpleNamespace(nodeid=f"t{i}", fixturenames=names) for i, names in enumerate(uses)]
+    session = SimpleNamespace(items=items)
+    for item in items:
+        item.session = session
+    monkeypatch.setattr(
+        conftest, "_cluster", {"stack": SimpleNamespace(close=lambda: closed.append(1))}
+    )
+    for item, stopped in zip(items, [[], [], [1], [1]], strict=True):
+        conftest.pytest_runtest_teardown(item, None)
+        assert closed == stopped, item.nodeid
+    assert conftest._cluster["stack"] is None
+
+
 def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
     # xdist: each worker asks for the report; the first starts it, the others read that run.
     folder = tmp_path / "report"

@@ -17,13 +17,16 @@ sys.modules["compile_once"] = compile_once
 _spec.loader.exec_module(compile_once)
 compile_once.install()
 
-# The next sitecustomize on the path (Debian's, for one), as Python would have run it.
-del sys.modules["sitecustomize"]
+# The next sitecustomize on the path (Debian's, for one), as Python would have run it. Where
+# there is none this module stays registered under the name: Python's import of it takes it
+# back out of sys.modules once it has run ("Error in sitecustomize ... KeyError" otherwise,
+# printed at the start of each of the report's processes).
+_self = sys.modules.pop("sitecustomize")
 _path = sys.path
 try:
     sys.path = [p for p in _path if Path(p or ".").resolve() != _here]
     importlib.import_module("sitecustomize")
 except ImportError:
-    pass
+    sys.modules["sitecustomize"] = _self
 finally:
     sys.path = _path
