@@ -53,6 +53,7 @@ import scipy.sparse as sp
 from femcore.assembly import greedy_colours, node_adjacency
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel
+from solvers.level_system import PenaltySystem
 from solvers.linear import LinearSolver
 
 if TYPE_CHECKING:
@@ -137,7 +138,7 @@ class LevelStrains:
         self.slot[dofs.free_slots] = np.arange(dofs.free_slots.size)
         self.solver = LinearSolver()
         self.pattern: tuple | None = None
-        self.system: tuple | None = None
+        self.system = PenaltySystem(int(dofs.free_slots.size))
 
     def __bool__(self) -> bool:
         return bool(self.parts)
@@ -177,7 +178,7 @@ class LevelStrains:
         if not held.any():
             return delta
         free = dofs.free_slots
-        k_scale = float(np.abs(k_ff.diagonal()).max(initial=0.0))
+        k_ff = k_ff if isinstance(k_ff, sp.csc_matrix) else sp.csc_matrix(k_ff)
         projected, swept = delta.copy(), False
         for _ in range(SWEEPS):
             error = (self.strains(dofs.advance(state, projected, frames)) - target).ravel()
@@ -185,18 +186,17 @@ class LevelStrains:
                 break
             # The gradient at each sweep's end: kept from the first sweep on, the sweeps
             # stalled (Peirce 11-9-7 against 6-5-5, with PENALTY 1e3).
-            jacobian = sp.diags(held) @ self.gradient(state, frames, projected)
-            error *= held
-            normal = (jacobian.T @ jacobian).tocsc()
-            j_scale = float(np.abs(normal.diagonal()).max(initial=0.0))
-            if k_scale <= 0.0 or j_scale <= 0.0:
-                return delta
-            rho = PENALTY * k_scale / j_scale
+            jacobian = self.gradient(state, frames, projected)
             # K + rho J^T J is symmetric positive definite where the projection runs (a
             # positive definite K): the band LDL^T of solvers.linear, its symbolic part kept
-            # while the pattern holds (SuperLU's pivoting LU took 1.7 ms a sweep on Peirce's).
-            system = self._fixed_pattern((k_ff + rho * normal).tocsc(), jacobian)
-            correction = self.solver.factorise(system).solve(-rho * (jacobian.T @ error))
+            # while the pattern holds (SuperLU's pivoting LU took 1.7 ms a sweep on Peirce's),
+            # the pattern and J^T J's sums kept by solvers.level_system.
+            assembled = self.system.assemble(k_ff, jacobian, held, PENALTY)
+            if assembled is None:
+                return delta
+            system, rho = assembled
+            pull = self.system.pull(jacobian, held, error)
+            correction = self.solver.factorise(system).solve(-rho * pull)
             if correction is None or not np.all(np.isfinite(correction)):  # singular
                 return delta
             flat = projected.ravel().copy()
@@ -206,34 +206,6 @@ class LevelStrains:
             swept = True
         run.info["level_projections"] += swept
         return projected
-
-    def _fixed_pattern(self, matrix: sp.csc_matrix, jacobian: sp.csr_matrix) -> sp.csc_matrix:
-        """``matrix`` (K + rho J^T J, CSC) on the pattern of K's and J^T J's structures, made
-        once per solve and grown when K's pattern grows: the sparse sum and product drop the
-        entries that come out exactly zero (a flat strip's), and a pattern that changed from
-        sweep to sweep made solvers.linear analyse it again at each. Each value is placed, not
-        summed: the same bits."""
-        for _ in range(2):
-            if self.system is None:
-                structure = jacobian.copy()
-                structure.data[:] = 1.0
-                union = (structure.T @ structure + abs(matrix)).tocsc()
-                union.sort_indices()
-                size = union.shape[0]
-                column = np.repeat(np.arange(size), np.diff(union.indptr))
-                self.system = (column * size + union.indices, union.indices, union.indptr)
-            keys, indices, indptr = self.system
-            matrix.sort_indices()
-            size = matrix.shape[0]
-            column = np.repeat(np.arange(size), np.diff(matrix.indptr))
-            wanted = column * size + matrix.indices
-            place = np.minimum(np.searchsorted(keys, wanted), keys.size - 1)
-            if np.array_equal(keys[place], wanted):
-                data = np.zeros(keys.size)
-                data[place] = matrix.data
-                return sp.csc_matrix((data, indices, indptr), shape=matrix.shape)
-            self.system = None
-        return matrix
 
     def gradient(self, state: State, frames: Frames, delta: np.ndarray) -> sp.csr_matrix:
         """d(measures)/d(free unknowns) (cells p, free) at the end of the step delta (n, 5),
