@@ -53,6 +53,7 @@ import scipy.sparse as sp
 from femcore.assembly import greedy_colours, node_adjacency
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel
+from solvers.level_gather import gather
 from solvers.level_system import PenaltySystem
 from solvers.linear import LinearSolver
 
@@ -212,40 +213,35 @@ class LevelStrains:
         exact (elements/fibrous/level_jacobian.py): the translations' columns as they are,
         the directors' turned about the iteration's frame vectors (V2 for alpha, V1 for
         beta), as ``_jacobian``'s differences turn them. Its entries are summed into the
-        pattern made once per solve (``_pattern``) by one bincount."""
+        pattern made once per solve (``_pattern``) by one compiled pass
+        (solvers.level_gather)."""
         if self.pattern is None:
             self.pattern = self._pattern()
-        inverse, keep, indices, indptr, shape = self.pattern
+        place, indices, indptr, shape = self.pattern
         end = self.model.dofs.advance(state, delta, frames)
         v1, v2 = frames if frames is not None else (None, None)
-        values = []
+        data = np.zeros(indices.size)
+        start = 0
         for part in self.parts:
             conn = part.connectivity
             (direct, turns, through_sums, shares), pairs = part.fibre_strain_gradient(end)
-            values.append(direct.ravel())
+            m = conn.shape[0]
             if v1 is not None and v2 is not None:
-                for axis in (v2[conn][:, None], v1[conn][:, None]):
-                    values.append(
-                        (
-                            turns[..., 0] * axis[..., 0]
-                            + turns[..., 1] * axis[..., 1]
-                            + turns[..., 2] * axis[..., 2]
-                        ).ravel()
-                    )
+                axes = np.stack([v2[conn], v1[conn]])
+            else:
+                axes = np.zeros((0, m, 3, 3))
             if pairs is not None and through_sums is not None and shares is not None:
-                cell, corner, other, other_corner = pairs
-                # (q, p, 3) @ (q, 3, 9): the pull on S_k through each share's derivative.
-                pull = np.matmul(
-                    through_sums[cell, :, corner], shares[other, other_corner].reshape(-1, 3, 9)
-                )
-                values.append(pull.ravel())
-        data = np.bincount(inverse, weights=np.concatenate(values)[keep], minlength=indices.size)
+                corners = np.stack(pairs)
+            else:
+                through_sums, shares = direct, np.zeros((m, 3, 3, 3, 3))
+                corners = np.zeros((4, 0), dtype=np.int64)
+            start = gather(direct, turns, axes, through_sums, shares, corners, place, start, data)
         return sp.csr_matrix((data, indices, indptr), shape=shape)
 
     def _pattern(self):
-        """(inverse, keep, indices, indptr, shape): where each value of ``gradient``'s goes
-        in the CSR pattern of J over the free unknowns (the values at held unknowns dropped
-        by ``keep``, the rest summed at ``inverse``), in the order ``gradient`` makes them."""
+        """(place, indices, indptr, shape): where each value of ``gradient``'s goes in the
+        CSR pattern of J over the free unknowns (-1: a value at a held unknown, dropped), in
+        the order ``gradient`` makes them."""
         frames = self.model.dofs.any_rotation
         rows, cols = [], []
         offset = 0
@@ -277,7 +273,9 @@ class LevelStrains:
         key, inverse = np.unique(row[keep] * n_free + col[keep], return_inverse=True)
         entry_rows, indices = np.divmod(key, n_free)
         indptr = np.searchsorted(entry_rows, np.arange(offset + 1))
-        return inverse.ravel(), keep, indices, indptr, (offset, n_free)
+        place = np.full(keep.size, -1, dtype=np.int64)
+        place[keep] = inverse.ravel()
+        return place, indices, indptr, (offset, n_free)
 
     def _jacobian(
         self, state: State, frames: Frames, delta: np.ndarray, size: float, k: int
