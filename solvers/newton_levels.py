@@ -33,13 +33,23 @@ same iterations on the cantilevers).
 
 J = ds/d(delta) at each sweep's end, in the iteration's frames, is exact (the block's
 ``fibre_strain_gradient``, elements/fibrous/level_jacobian.py), summed into a CSR pattern
-made once per solve. The coloured one-sided differences it replaced (``_jacobian``: nodes
-that move a common cell get different colours) are kept as its reference for the tests and
+made once per solve by one compiled pass (solvers.level_gather). The coloured one-sided
+differences it replaced (``_jacobian``: nodes that move a common cell get different colours)
+are kept as its reference for the tests and
 benchmarks/newton_iterations.py: 2.3-2.7 ms a sweep on Peirce's strip against 0.56-0.59 ms,
 the same iterations there; on the force-pulled bias specimen their error (one-sided steps of
 1e-7 element on fibres of 120000 N/mm) took 28-29-27-34 iterations. K + rho J^T J is
 symmetric positive definite where the projection runs: the band LDL^T of solvers.linear
-solves it, on a pattern kept over the solve (SuperLU's LU of before: 1.7 ms a sweep).
+solves it, on a pattern kept over the solve (SuperLU's LU of before: 1.7 ms a sweep), J^T J
+summed into it by a compiled loop over each cell's block of J (solvers.level_system; scipy's
+diagonal scaling, product, sum and placement took 1.1 ms a sweep on Peirce's strip, now 0.3).
+
+Where a sweep's CPU goes on Peirce's strip (3 increments, 23 sweeps in 8 projected steps, one
+thread, load 9-14; benchmarks/newton_iterations.py line 7): the gradient 0.8-0.9 ms (the
+numpy of level_strain_gradient 0.35-0.38 of it), the system 0.3, its factorisation and solve
+0.4, the strains at the sweep's end 0.1; each projected step's target (two strain
+evaluations) 0.3. 40-50 ms a solve in all, against 11 tangents and their factorisations saved
+(28 -> 17): 1.09-1.15 times the CPU of the solve without (1.21-1.23 before the compiled sums).
 """
 
 from __future__ import annotations
