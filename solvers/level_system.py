@@ -33,30 +33,34 @@ def _normal(
     """out (entries of the system's pattern) = J^T diag(held) J, J in CSR (indptr, data) whose
     rows groups[g]..groups[g + 1] share one column list; ``target`` the place of each product
     of a group's columns (group by group, a then b). Each product summed over the group's
-    held rows in a dense block (its upper triangle, contiguous rows), then added at its place
-    and its mirror's: J^T J exactly symmetric."""
+    held rows in a dense block (its upper triangle), then added at its place and its
+    mirror's: J^T J exactly symmetric."""
     out[:] = 0.0
     k = 0
-    block = np.empty(0)
     for g in range(groups.size - 1):
         first, last = groups[g], groups[g + 1]
         length = indptr[first + 1] - indptr[first]
-        if block.size < length * length:
-            block = np.empty(length * length)
-        block[: length * length] = 0.0
+        # the group's held rows, column by column: each product a sum along a short
+        # contiguous run, in registers (updating a block row by row went through memory:
+        # 1.6 against 0.9 ms a sweep on the force-pulled bias specimen)
+        rows = np.empty((length, last - first))
+        held_rows = 0
         for r in range(first, last):
             if held[r] == 0.0:
                 continue
-            start = indptr[r]
             for a in range(length):
-                value = data[start + a]
-                row = a * length
-                for b in range(a, length):  # the upper triangle: J^T J is symmetric
-                    block[row + b] += value * data[start + b]
+                rows[a, held_rows] = data[indptr[r] + a]
+            held_rows += 1
+        block = np.empty((length, length))
+        for a in range(length):
+            for b in range(a, length):  # the upper triangle: J^T J is symmetric
+                total = 0.0
+                for r in range(held_rows):
+                    total += rows[a, r] * rows[b, r]
+                block[a, b] = total
         for a in range(length):
             for b in range(length):
-                low, high = min(a, b), max(a, b)
-                out[target[k]] += block[low * length + high]
+                out[target[k]] += block[min(a, b), max(a, b)]
                 k += 1
 
 
