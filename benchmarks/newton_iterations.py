@@ -123,6 +123,31 @@ iterations (15 at the first update, then 2, 0, 2, 0, ... switches: no chatter), 
 tangent's branch at the iterate (a semi-smooth Newton, as it is) is not what costs. With the
 projection the ratios are 0.99, 1.1, 0.20, 0.78, 1.1e-2, 3.5e-5, 8.1e-9.
 
+Line 7 after the projection's sums were compiled (solvers.level_system: K + rho J^T J on a
+pattern kept over the solve, J^T J by cell blocks; solvers.level_gather: J's entries), off /
+on, e5843a3 beside this code in turns, two rounds each (one thread, CPU best of 5, load
+2.0-3.5): Peirce 3 increments 0.089-0.091 / 0.110-0.111 s (1.21-1.23 x) -> 0.088-0.089 /
+0.091-0.092 s (1.035-1.04 x); 12 increments 0.192-0.193 / 0.260-0.264 (1.34-1.38 x) -> 0.190-
+0.193 / 0.220 (1.14-1.16 x; 5 iterations in one increment where 4, 52 tangents against 51);
+heavy cantilever 10 cells 0.100-0.103 / 0.085-0.087 -> 0.101-0.104 / 0.070-0.071 (0.67-0.70
+x), 20 cells 0.140-0.143 / 0.109-0.112 -> 0.139-0.145 / 0.087-0.089 (0.61-0.63 x), 40 cells
+0.325-0.330 / 0.190-0.201 (7-7-5) -> 0.323-0.342 / 0.147-0.156 (6-7-5; 0.45-0.46 x); the
+force-pulled bias 0.201-0.202 / 0.299-0.302 -> 0.196-0.213 / 0.306-0.323 (1.52-1.56 x).
+Profile of Peirce's 3 increments with the projection (cProfile by tottime and timers around
+each part, one thread): 23 sweeps in 8 projected steps; before, 49-65 ms a solve in the
+projection against 0.10-0.12 s for the solve: the gradient 21 ms (level_strain_gradient's
+numpy 0.35-0.38 ms a sweep, its sums into J 0.25), scipy's diag(held) J, J^T J, K + rho N
+15 ms and their placement on the kept pattern 7, the factorisation and solve of the sweeps
+10, the strains at each sweep's end 4.5, the targets' central differences 2.3; after, 37 ms:
+the gradient 16, the system 6 (0.6 of it its pattern, once a solve), the factorisations and
+solves 9, strains and steps 6. The projection saves 11 tangents and their factorisations
+(28 -> 17), about 35 ms: it stays an option (``level_projection=False`` the default) until
+the gradient's numpy (about 8 ms a solve here) is compiled as well. Not kept: J^T J by one
+product per pair of a row's entries (245 000 on Peirce's strip, 0.4-0.5 ms a sweep) and by
+a block updated row by row (1.6 ms a sweep on the bias against scipy's 0.8: the updates went
+through memory); the places of the products by np.unique / searchsorted over all keys
+(19 ms once a solve on the bias, 6 by bisection within each column).
+
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 """
 

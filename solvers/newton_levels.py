@@ -33,13 +33,23 @@ same iterations on the cantilevers).
 
 J = ds/d(delta) at each sweep's end, in the iteration's frames, is exact (the block's
 ``fibre_strain_gradient``, elements/fibrous/level_jacobian.py), summed into a CSR pattern
-made once per solve. The coloured one-sided differences it replaced (``_jacobian``: nodes
-that move a common cell get different colours) are kept as its reference for the tests and
+made once per solve by one compiled pass (solvers.level_gather). The coloured one-sided
+differences it replaced (``_jacobian``: nodes that move a common cell get different colours)
+are kept as its reference for the tests and
 benchmarks/newton_iterations.py: 2.3-2.7 ms a sweep on Peirce's strip against 0.56-0.59 ms,
 the same iterations there; on the force-pulled bias specimen their error (one-sided steps of
 1e-7 element on fibres of 120000 N/mm) took 28-29-27-34 iterations. K + rho J^T J is
 symmetric positive definite where the projection runs: the band LDL^T of solvers.linear
-solves it, on a pattern kept over the solve (SuperLU's LU of before: 1.7 ms a sweep).
+solves it, on a pattern kept over the solve (SuperLU's LU of before: 1.7 ms a sweep), J^T J
+summed into it by a compiled loop over each cell's block of J (solvers.level_system; scipy's
+diagonal scaling, product, sum and placement took 1.1 ms a sweep on Peirce's strip, now 0.3).
+
+Where a sweep's CPU goes on Peirce's strip (3 increments, 23 sweeps in 8 projected steps, one
+thread, load 9-14; benchmarks/newton_iterations.py line 7): the gradient 0.8-0.9 ms (the
+numpy of level_strain_gradient 0.35-0.38 of it), the system 0.3, its factorisation and solve
+0.4, the strains at the sweep's end 0.1; each projected step's target (two strain
+evaluations) 0.3. 40-50 ms a solve in all, against 11 tangents and their factorisations saved
+(28 -> 17): 1.09-1.15 times the CPU of the solve without (1.21-1.23 before the compiled sums).
 """
 
 from __future__ import annotations
@@ -53,6 +63,8 @@ import scipy.sparse as sp
 from femcore.assembly import greedy_colours, node_adjacency
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel
+from solvers.level_gather import gather
+from solvers.level_system import PenaltySystem
 from solvers.linear import LinearSolver
 
 if TYPE_CHECKING:
@@ -137,7 +149,7 @@ class LevelStrains:
         self.slot[dofs.free_slots] = np.arange(dofs.free_slots.size)
         self.solver = LinearSolver()
         self.pattern: tuple | None = None
-        self.system: tuple | None = None
+        self.system = PenaltySystem(int(dofs.free_slots.size))
 
     def __bool__(self) -> bool:
         return bool(self.parts)
@@ -177,7 +189,7 @@ class LevelStrains:
         if not held.any():
             return delta
         free = dofs.free_slots
-        k_scale = float(np.abs(k_ff.diagonal()).max(initial=0.0))
+        k_ff = k_ff if isinstance(k_ff, sp.csc_matrix) else sp.csc_matrix(k_ff)
         projected, swept = delta.copy(), False
         for _ in range(SWEEPS):
             error = (self.strains(dofs.advance(state, projected, frames)) - target).ravel()
@@ -185,18 +197,17 @@ class LevelStrains:
                 break
             # The gradient at each sweep's end: kept from the first sweep on, the sweeps
             # stalled (Peirce 11-9-7 against 6-5-5, with PENALTY 1e3).
-            jacobian = sp.diags(held) @ self.gradient(state, frames, projected)
-            error *= held
-            normal = (jacobian.T @ jacobian).tocsc()
-            j_scale = float(np.abs(normal.diagonal()).max(initial=0.0))
-            if k_scale <= 0.0 or j_scale <= 0.0:
-                return delta
-            rho = PENALTY * k_scale / j_scale
+            jacobian = self.gradient(state, frames, projected)
             # K + rho J^T J is symmetric positive definite where the projection runs (a
             # positive definite K): the band LDL^T of solvers.linear, its symbolic part kept
-            # while the pattern holds (SuperLU's pivoting LU took 1.7 ms a sweep on Peirce's).
-            system = self._fixed_pattern((k_ff + rho * normal).tocsc(), jacobian)
-            correction = self.solver.factorise(system).solve(-rho * (jacobian.T @ error))
+            # while the pattern holds (SuperLU's pivoting LU took 1.7 ms a sweep on Peirce's),
+            # the pattern and J^T J's sums kept by solvers.level_system.
+            assembled = self.system.assemble(k_ff, jacobian, held, PENALTY)
+            if assembled is None:
+                return delta
+            system, rho = assembled
+            pull = self.system.pull(jacobian, held, error)
+            correction = self.solver.factorise(system).solve(-rho * pull)
             if correction is None or not np.all(np.isfinite(correction)):  # singular
                 return delta
             flat = projected.ravel().copy()
@@ -207,73 +218,40 @@ class LevelStrains:
         run.info["level_projections"] += swept
         return projected
 
-    def _fixed_pattern(self, matrix: sp.csc_matrix, jacobian: sp.csr_matrix) -> sp.csc_matrix:
-        """``matrix`` (K + rho J^T J, CSC) on the pattern of K's and J^T J's structures, made
-        once per solve and grown when K's pattern grows: the sparse sum and product drop the
-        entries that come out exactly zero (a flat strip's), and a pattern that changed from
-        sweep to sweep made solvers.linear analyse it again at each. Each value is placed, not
-        summed: the same bits."""
-        for _ in range(2):
-            if self.system is None:
-                structure = jacobian.copy()
-                structure.data[:] = 1.0
-                union = (structure.T @ structure + abs(matrix)).tocsc()
-                union.sort_indices()
-                size = union.shape[0]
-                column = np.repeat(np.arange(size), np.diff(union.indptr))
-                self.system = (column * size + union.indices, union.indices, union.indptr)
-            keys, indices, indptr = self.system
-            matrix.sort_indices()
-            size = matrix.shape[0]
-            column = np.repeat(np.arange(size), np.diff(matrix.indptr))
-            wanted = column * size + matrix.indices
-            place = np.minimum(np.searchsorted(keys, wanted), keys.size - 1)
-            if np.array_equal(keys[place], wanted):
-                data = np.zeros(keys.size)
-                data[place] = matrix.data
-                return sp.csc_matrix((data, indices, indptr), shape=matrix.shape)
-            self.system = None
-        return matrix
-
     def gradient(self, state: State, frames: Frames, delta: np.ndarray) -> sp.csr_matrix:
         """d(measures)/d(free unknowns) (cells p, free) at the end of the step delta (n, 5),
         exact (elements/fibrous/level_jacobian.py): the translations' columns as they are,
         the directors' turned about the iteration's frame vectors (V2 for alpha, V1 for
         beta), as ``_jacobian``'s differences turn them. Its entries are summed into the
-        pattern made once per solve (``_pattern``) by one bincount."""
+        pattern made once per solve (``_pattern``) by one compiled pass
+        (solvers.level_gather)."""
         if self.pattern is None:
             self.pattern = self._pattern()
-        inverse, keep, indices, indptr, shape = self.pattern
+        place, indices, indptr, shape = self.pattern
         end = self.model.dofs.advance(state, delta, frames)
         v1, v2 = frames if frames is not None else (None, None)
-        values = []
+        data = np.zeros(indices.size)
+        start = 0
         for part in self.parts:
             conn = part.connectivity
             (direct, turns, through_sums, shares), pairs = part.fibre_strain_gradient(end)
-            values.append(direct.ravel())
+            m = conn.shape[0]
             if v1 is not None and v2 is not None:
-                for axis in (v2[conn][:, None], v1[conn][:, None]):
-                    values.append(
-                        (
-                            turns[..., 0] * axis[..., 0]
-                            + turns[..., 1] * axis[..., 1]
-                            + turns[..., 2] * axis[..., 2]
-                        ).ravel()
-                    )
+                axes = np.stack([v2[conn], v1[conn]])
+            else:
+                axes = np.zeros((0, m, 3, 3))
             if pairs is not None and through_sums is not None and shares is not None:
-                cell, corner, other, other_corner = pairs
-                # (q, p, 3) @ (q, 3, 9): the pull on S_k through each share's derivative.
-                pull = np.matmul(
-                    through_sums[cell, :, corner], shares[other, other_corner].reshape(-1, 3, 9)
-                )
-                values.append(pull.ravel())
-        data = np.bincount(inverse, weights=np.concatenate(values)[keep], minlength=indices.size)
+                corners = np.stack(pairs)
+            else:
+                through_sums, shares = direct, np.zeros((m, 3, 3, 3, 3))
+                corners = np.zeros((4, 0), dtype=np.int64)
+            start = gather(direct, turns, axes, through_sums, shares, corners, place, start, data)
         return sp.csr_matrix((data, indices, indptr), shape=shape)
 
     def _pattern(self):
-        """(inverse, keep, indices, indptr, shape): where each value of ``gradient``'s goes
-        in the CSR pattern of J over the free unknowns (the values at held unknowns dropped
-        by ``keep``, the rest summed at ``inverse``), in the order ``gradient`` makes them."""
+        """(place, indices, indptr, shape): where each value of ``gradient``'s goes in the
+        CSR pattern of J over the free unknowns (-1: a value at a held unknown, dropped), in
+        the order ``gradient`` makes them."""
         frames = self.model.dofs.any_rotation
         rows, cols = [], []
         offset = 0
@@ -305,7 +283,9 @@ class LevelStrains:
         key, inverse = np.unique(row[keep] * n_free + col[keep], return_inverse=True)
         entry_rows, indices = np.divmod(key, n_free)
         indptr = np.searchsorted(entry_rows, np.arange(offset + 1))
-        return inverse.ravel(), keep, indices, indptr, (offset, n_free)
+        place = np.full(keep.size, -1, dtype=np.int64)
+        place[keep] = inverse.ravel()
+        return place, indices, indptr, (offset, n_free)
 
     def _jacobian(
         self, state: State, frames: Frames, delta: np.ndarray, size: float, k: int
