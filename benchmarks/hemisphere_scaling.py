@@ -140,6 +140,7 @@ PENETRATION_EVERY = 50
 
 # ``assembled_alone``'s carried bound over the one evaluated afresh, at each evaluation.
 OVERSHOOT: list[float] = []
+BOUNDS = ("smaller", "assembled")  # the library's step, the assembled bound alone
 
 
 def assembled_alone(self, model, state, scale, mass, inertia=None, step=0) -> float:
@@ -204,6 +205,8 @@ def measure(
                 deepest[i] = max(deepest[i], float(p.max(initial=0.0)))
         return commit(self, state)
 
+    if bound not in BOUNDS:
+        raise ValueError(f"the step's bound must be one of {BOUNDS}, got {bound!r}")
     if share is not None:
         contact.PENALTY_SHARE = share
     CompiledModel.commit = looked  # type: ignore[method-assign]
@@ -211,8 +214,6 @@ def measure(
     OVERSHOOT.clear()
     if bound == "assembled":
         explicit.CentralDifference._step_size = assembled_alone  # type: ignore[method-assign]
-    elif bound != "smaller":
-        raise ValueError(f'--bound takes "smaller" and "assembled", got {bound!r}')
     try:
         out = case.run(cells, "fibrous", time_scaling=speed, mass_scaling_dt=scaling)
     finally:
@@ -244,6 +245,8 @@ def main() -> None:
         None if s.strip().lower() == "none" else float(s) for s in args.penalty_share.split(",")
     ]
     bounds = args.bound.split(",")
+    if not set(bounds) <= set(BOUNDS):  # before the first run, not after it
+        parser.error(f"--bound takes a list of {BOUNDS}, got {args.bound!r}")
     for target, share, bound in itertools.product(args.mass_scaling_dt.split(","), shares, bounds):
         for speed in (float(s) for s in args.time_scaling.split(",")):
             scaling = None if target.strip().lower() == "none" else float(target)

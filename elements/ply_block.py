@@ -587,7 +587,9 @@ class PlyContactBlock(InteractionBlock):
         """``springs`` with each point's penalty k_p times the bound c_p of its faded energy's
         stiffness (elements/ply_fade.py, "Stiffness"): 12 and more for a point beside a
         growth's edge or an outline vertex, 1 + O(depth / height) for one past an outline edge
-        (depth the plies' half thicknesses, or a touching point's own depth where deeper),
+        or on the extension of an edge whose two growths are joined (no angle fade there:
+        elements/ply_projection.py, "Growths joined"; depth the plies' half thicknesses, or a
+        touching point's own depth where deeper),
         1 elsewhere, so the step shrinks only while a point is in the fade's band. Evaluated
         with the step (every ``STABLE_DT_EVERY`` steps, solvers/explicit.py): a point that
         enters the band in between has k_p in the springs until then."""

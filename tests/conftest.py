@@ -86,8 +86,10 @@ def pytest_collection_finish(session):
 
 
 def pytest_sessionfinish(session):
-    """The pytest process the command started (not an xdist worker, which may end while
-    another still waits for the report) stops the report and removes its folder."""
+    """Each process stops its shared cluster if one is left; the pytest process the command
+    started (not an xdist worker, which may end while another still waits for the report)
+    stops the report and removes its folder."""
+    stop_the_cluster()
     if getattr(session.config, "workerinput", None) is None and "path" in _folder:
         (_reports[0] if _reports else CoarseReport(_folder["path"])).stop()
 
@@ -110,9 +112,11 @@ def box_chain() -> Mesh:
 
 
 # The session's shared LocalCluster (``dask_scheduler``), stopped once this process has run
-# the last test that asks for it: the last in the session's order (the same in every xdist
-# worker, each of which runs its share in that order), found at the first teardown.
-_cluster: dict = {"stack": None}
+# the last test that asks for it in the session's order, found at the first teardown. A
+# worker need not run its share in that order (xdist's worksteal hands a worker the tail of
+# another's queue; a rerun repeats a test): a test that asks for the cluster after it stopped
+# starts it again, and the session's end stops whatever is left.
+_cluster: dict = {"stack": None, "address": None}
 
 
 def uses_the_cluster(item) -> bool:
@@ -120,9 +124,24 @@ def uses_the_cluster(item) -> bool:
 
 
 def stop_the_cluster() -> None:
-    stack, _cluster["stack"] = _cluster["stack"], None
+    stack, _cluster["stack"], _cluster["address"] = _cluster["stack"], None, None
     if stack is not None:
         stack.close()
+
+
+def start_the_cluster() -> str:
+    """The shared LocalCluster's scheduler address, the cluster started if it is not
+    running (fibreshell.cluster.dask_client: a worker process per core)."""
+    if _cluster["stack"] is None:
+        from contextlib import ExitStack
+
+        from fibreshell.cluster import dask_client
+
+        with ExitStack() as stack:
+            client, _ = stack.enter_context(dask_client())
+            _cluster["stack"] = stack.pop_all()
+        _cluster["address"] = client.scheduler.address
+    return _cluster["address"]
 
 
 def pytest_runtest_teardown(item, nextitem):
@@ -137,8 +156,8 @@ def pytest_runtest_teardown(item, nextitem):
         stop_the_cluster()
 
 
-@pytest.fixture(scope="session")
-def dask_scheduler():
+@pytest.fixture
+def dask_scheduler() -> str:
     """The address of one LocalCluster (fibreshell.cluster.dask_client: a worker process per
     core) shared by the tests of what runs on a cluster, fits and sweeps, rather than how a
     cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their own costs
@@ -150,16 +169,9 @@ def dask_scheduler():
     (its event loops' ticks, heartbeats and memory monitors: 3.3 s in its workers, 2.5 s in
     the threads of the process that started it), minutes of an idle cluster in a whole run
     whose tests that use it run among the first (marked slow). benchmarks/suite_item_cpu.py
-    prints the figures."""
-    from contextlib import ExitStack
-
-    from fibreshell.cluster import dask_client
-
-    with ExitStack() as stack:
-        client, _ = stack.enter_context(dask_client())
-        _cluster["stack"] = stack.pop_all()
-    yield client.scheduler.address
-    stop_the_cluster()
+    prints the figures. Started again by a test that asks for it after that (a test another
+    worker's queue handed on, a rerun); the session's end stops it."""
+    return start_the_cluster()
 
 
 @pytest.fixture(scope="session", autouse=True)

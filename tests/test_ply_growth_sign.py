@@ -20,6 +20,7 @@ sides inside the ridge it touches, outside it does not.
 """
 
 import numpy as np
+import pytest
 
 from elements.ply_contact import PlyContact
 from femcore import Body, Mesh
@@ -27,23 +28,23 @@ from femcore.state import State
 
 STEPS = 1000
 PENALTY = 100.0  # N/mm
-SLOPE = 2.0  # mm a mm: the ridge's sides
+SLOPE = 2.0  # mm a mm: the ridge's sides (a valley's when negative)
 RADIUS = 0.08  # mm, round the ridge's extension
 PAST = 0.05  # mm past the outline y = 0
 
 
-def _ridge():
+def _ridge(slope: float = SLOPE):
     """(block, positions (STEPS + 1, n, 3), directors (n, 3)): the ridge of the module
     docstring and the upper triangle's path round it, bound as a ply contact of penalty
-    PENALTY at the centroid."""
+    PENALTY at the centroid; its sides fall by ``slope`` mm a mm (rise where negative)."""
     low = np.array(
         [
-            [-1.0, 0.0, -SLOPE],  # 0 v1
+            [-1.0, 0.0, -slope],  # 0 v1
             [0.0, 0.0, 0.0],  # 1 v, the outline vertex on the ridge
-            [1.0, 0.0, -SLOPE],  # 2 v3
+            [1.0, 0.0, -slope],  # 2 v3
             [0.0, -1.0, 0.0],  # 3 w, the ridge's inner end
-            [-1.0, -1.0, -SLOPE],  # 4
-            [1.0, -1.0, -SLOPE],  # 5
+            [-1.0, -1.0, -slope],  # 4
+            [1.0, -1.0, -slope],  # 5
         ]
     )
     # counter-clockwise about +z; A = (v1, w, v) and B = (w, v3, v) share the ridge w-v
@@ -73,7 +74,8 @@ def _ridge():
     return block, positions, directors
 
 
-def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_energy():
+@pytest.mark.parametrize("slope", [SLOPE, -SLOPE], ids=["ridge", "valley"])
+def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_energy(slope):
     """Per step |Delta E - work| within 0.05 of the largest energy on the path, and around
     the loop the work within 0.05 of it: the trapezoidal rule's error in the one step where
     the point, inside the ridge, passes from A's plane to B's at the bisector and its force
@@ -84,8 +86,11 @@ def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_ene
     B's plane) and -0.99 round the loop. Every gap of a point outside the ridge (above both
     sides' planes) is positive. Premises: the point touches on part of the loop and not on
     another, its closest point lies on the ridge's extension (joined) on part of it, the
-    fade is below 1 (past the outline) and above 0."""
-    block, positions, directors = _ridge()
+    fade is below 1 (past the outline) and above 0. The valley (the sides rising by 2 mm a
+    mm): the points on the extension, joined, are inside it and touch, so their force is
+    the one whose work is checked (on the ridge the joined points are outside, at no
+    energy)."""
+    block, positions, directors = _ridge(slope)
     zero = np.zeros_like(positions[0])
     energy, forces, touching, joined, outside, gaps, fades = [], [], [], [], [], [], []
     for x in positions:
@@ -98,7 +103,7 @@ def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_ene
         joined.append(bool(on_joined is not None and on_joined[0]))
         p = x[6:].mean(axis=0) - [0.0, 0.0, 0.1]  # the contact point on the upper face
         # above both sides' planes (through the offset ridge z = 0.1 + 0): outside the ridge
-        outside.append(p[2] - 0.1 > -SLOPE * abs(p[0]))
+        outside.append(p[2] - 0.1 > -slope * abs(p[0]))
         gaps.append(float(facing.gap[0]))
         fades.append(float(facing.fade[0]))
     energy, forces = np.array(energy), np.array(forces)
@@ -111,3 +116,5 @@ def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_ene
     assert abs(work.sum()) <= 0.05 * largest
     assert (gaps[outside] > 0.0).all()
     assert any(joined)
+    if slope < 0.0:  # the joined points touch: their force does work
+        assert any(t and j for t, j in zip(touching, joined, strict=True))

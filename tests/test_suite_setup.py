@@ -127,6 +127,40 @@ def test_the_shared_cluster_stops_after_the_last_test_that_uses_it(monkeypatch):
     assert conftest._cluster["stack"] is None
 
 
+def test_a_test_that_asks_for_the_cluster_after_it_stopped_gets_a_running_one(monkeypatch):
+    # A worker need not run its share in the session's order (xdist's worksteal hands it the
+    # tail of another's queue; a rerun repeats a test): a test that asks for the shared
+    # cluster after the teardown hook stopped it must not get the stopped one's address.
+    from contextlib import contextmanager
+
+    import conftest
+
+    import fibreshell.cluster
+
+    started: list[str] = []
+    closed: list[str] = []
+
+    @contextmanager
+    def one_cluster():
+        address = f"tcp://127.0.0.1:{8800 + len(started)}"
+        started.append(address)
+        try:
+            yield SimpleNamespace(scheduler=SimpleNamespace(address=address)), None
+        finally:
+            closed.append(address)
+
+    monkeypatch.setattr(fibreshell.cluster, "dask_client", one_cluster)
+    monkeypatch.setattr(conftest, "_cluster", {"stack": None, "address": None})
+    first = conftest.start_the_cluster()
+    assert conftest.start_the_cluster() == first and started == [first]  # shared while up
+    conftest.stop_the_cluster()
+    assert closed == [first]
+    second = conftest.start_the_cluster()
+    assert second != first and started == [first, second] and closed == [first]
+    conftest.stop_the_cluster()
+    assert closed == [first, second]
+
+
 def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
     # xdist: each worker asks for the report; the first starts it, the others read that run.
     folder = tmp_path / "report"

@@ -65,8 +65,9 @@ def measure(kinematics: str, name: str, force: float, cells: int) -> dict[str, A
     }
 
 
-def recorded(kinematics: str, name: str, force: float, path: str) -> dict[str, Any]:
-    """``measure``'s figures of the run of a report's records (results.json at ``path``)."""
+def recorded(kinematics: str, name: str, force: float, path: str, cells: int) -> dict[str, Any]:
+    """``measure``'s figures of the run of a report's records (results.json at ``path``), whose
+    run must be of ``cells`` across the blank."""
     import json
 
     from validation.studies.hemisphere_plies_run import NAME, run_key
@@ -75,6 +76,9 @@ def recorded(kinematics: str, name: str, force: float, path: str) -> dict[str, A
     with open(path) as file:
         case = json.load(file)["cases"][NAME]
     parameters = case["parameters"]
+    made = [int(text.split()[0]) for text in parameters["cells"]]
+    if made != [cells]:
+        raise ValueError(f"{path} holds runs of {made} cells across the blank, not of {cells}")
     key = run_key(name, kinematics, force).replace(" ", "_").replace("/", "-")
     values = _values(parameters, key, LAYUPS[name])
     run = run_key(name, kinematics, force)
@@ -119,6 +123,7 @@ def _arguments(argv: list[str] | None = None) -> Any:
     counts, each optionally ``count@results.json``."""
     import argparse
 
+    from validation.studies.hemisphere_plies_run import RMS_TOLERANCE_DEG
     from validation.studies.hemisphere_plies_setup import LAYUPS
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -139,6 +144,12 @@ def _arguments(argv: list[str] | None = None) -> Any:
         counts.append(int(count))
     if not counts[0] < counts[1] < counts[2]:
         parser.error(f"the three cell counts must increase, got {counts}")
+    checked = sorted(RMS_TOLERANCE_DEG)
+    if arguments.kinematics == "fibrous" and not set(counts) <= set(checked):
+        # a fibrous run's rms check needs its tolerance: found missing only after the solve
+        parser.error(
+            f"fibrous runs are checked at {checked} cells (RMS_TOLERANCE_DEG), got {counts}"
+        )
     arguments.counts = counts
     return arguments
 
@@ -150,7 +161,7 @@ if __name__ == "__main__":
     done = []
     for count, text in zip(resolutions, given):
         if "@" in text:
-            outcome = recorded(kinematics, name, force, text.split("@", 1)[1])
+            outcome = recorded(kinematics, name, force, text.split("@", 1)[1], count)
         else:
             outcome = measure(kinematics, name, force, count)
         done.append(outcome)
