@@ -46,7 +46,7 @@ def test_the_bending_stiffness_behind_a_profile_is_recovered(dask_scheduler):
 
 
 @pytest.fixture(scope="module")
-def overhangs(tmp_path_factory, dask_scheduler):
+def overhangs(tmp_path_factory, module_dask_scheduler):
     """Peirce's cantilever test on a weighed strip: the tip deflections of overhangs of 40, 60
     and 80 mm of a fabric of rho_A = 0.3 kg/m^2 and B = 0.1 N mm (c = (B / w)^(1/3) =
     32.4 mm) from the inextensible heavy elastica (validation/references/elastica.py), and the
@@ -64,7 +64,7 @@ def overhangs(tmp_path_factory, dask_scheduler):
         {"part.0.material.bending": None, "part.0.material.areal_density": None},
         sigma={"displacement_right_z": 0.1, "reaction_left_z": 1e-5},
         out=out,
-        scheduler=dask_scheduler,
+        scheduler=module_dask_scheduler,
         progress=False,
     )
     return result, density, bending, out
