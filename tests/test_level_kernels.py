@@ -76,11 +76,13 @@ def test_the_compiled_gradient_is_the_numpy_one(thickness):
 def test_the_compiled_gradient_has_the_same_bits_on_any_thread_count():
     import numba
 
-    # 2 x 30 x 40 = 2400 cells: above elements/jit.py SMALL_LOOP, a loop on the threads.
-    block, positions, directors = _sheet("nodal", 30, 40)
+    # (the parallel mark runs every loop on the threads, tests/conftest.py)
+    block, positions, directors = _sheet("nodal")
     runs = []
     for threads in (1, numba.config.NUMBA_NUM_THREADS):
         numba.set_num_threads(threads)
         runs.append(level_jacobian.level_strain_gradient(block, positions, directors, True))
+    if numba.config.NUMBA_NUM_THREADS > 1:
+        assert level_kernels._gradient_cells._parallel is not None  # the parts on threads
     for one, every in zip(*runs):
         np.testing.assert_array_equal(every, one)
