@@ -17,7 +17,10 @@ Lines (every model of the validation cases or benchmarks that run it, one thread
    (1200 N/mm) times 0.01 and 10: what the iterations follow.
 7. (printed after 6) the fibrous strips without the level-strain projection
    (``Static(level_projection=...)``, solvers.newton_levels), with it by the coloured
-   differences of before (the reference pass) and with it by the exact gradient: Peirce's in
+   differences of before (the reference pass; ``--no-coloured`` leaves it out), with it by
+   the exact gradient's numpy form (level_jacobian.py ``level_strain_gradient(...,
+   compiled=False)``, the reference pass of the compiled loop) and by its compiled cell loop
+   (elements/fibrous/level_kernels.py, the default): Peirce's in
    3 and 12 increments, the heavy fibrous cantilever of validation/cases at 10, 20 and 40
    cells, the bias specimen of tests/test_bias_extension.py pulled by a force of 20 N; for
    Peirce's in 3 increments the residual ratio of every iteration, the cells past the bending
@@ -148,7 +151,27 @@ a block updated row by row (1.6 ms a sweep on the bias against scipy's 0.8: the 
 through memory); the places of the products by np.unique / searchsorted over all keys
 (19 ms once a solve on the bias, 6 by bisection within each column).
 
+Line 7 after the gradient's pieces were compiled (elements/fibrous/level_kernels.py, one cell
+at a time; level_jacobian.py's numpy its reference pass), off / numpy gradient / compiled in
+the same run, three rounds (one thread, CPU best of 5, load 7.9-9.6; a fourth round run beside
+a profile not counted): Peirce 3 increments 0.096 / 0.099 / 0.093, 0.103 / 0.104 / 0.098,
+0.090 / 0.097 / 0.086 s (on over off 1.01-1.08 -> 0.95-0.97 x); 12 increments 0.216 / 0.253 /
+0.230, 0.223 / 0.238 / 0.228, 0.191 / 0.218 / 0.202 s (1.07-1.17 -> 1.02-1.065 x; 52
+tangents, 47 sweeps); heavy cantilever 10 cells 0.101-0.116 / 0.070-0.079 / 0.063-0.069 s
+(0.68-0.70 -> 0.59-0.64 x), 20 cells 0.140-0.156 / 0.088-0.098 / 0.078-0.092 (0.63-0.64 ->
+0.55-0.59 x), 40 cells 0.322-0.346 / 0.147-0.151 (6-7-5) / 0.136-0.142 s (7-7-5: the pieces'
+rounding, 3e-13 mm in the positions, moves one iteration; 0.44-0.46 -> 0.40-0.42 x); the
+force-pulled bias 0.203-0.209 / 0.311-0.336 / 0.298-0.312 s (1.52-1.66 -> 1.44-1.54 x). The
+positions of the compiled and numpy gradients' solves equal to 3.2e-13 mm. A sweep's gradient
+on Peirce's strip (solvers.newton_levels ``gradient``, 40 cells, load 9): 0.51 -> 0.24 ms, its
+pieces 0.34 -> 0.07 (the normal sums 0.009, the shares 0.015 of it), the step's end (``advance``)
+0.055, the compiled sums into J 0.035, scipy's CSR 0.02. The projection now saves CPU on
+Peirce's strip in 3 increments but not in 12 (1.02-1.065 x): the default stays off. What is
+left a sweep (about 1 ms: the gradient 0.24, K + rho J^T J 0.3, its factorisation and solve
+0.4, the strains 0.1) is spread over pieces of 0.02-0.4 ms.
+
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
+[--no-coloured]
 """
 
 from __future__ import annotations
@@ -316,29 +339,46 @@ def _pulled_bias():
     return mesh, model
 
 
-def level_lines(repeat: int) -> None:
+def _numpy_gradient(function):
+    """``level_jacobian.level_strain_gradient`` by its numpy form (the reference pass of the
+    compiled cell loop, elements/fibrous/level_kernels.py)."""
+
+    def numpy_form(block, positions, directors, compiled=None):
+        return function(block, positions, directors, compiled=False)
+
+    return numpy_form
+
+
+def level_lines(repeat: int, coloured: bool = True) -> None:
     """Line 7: the fibrous strips without the level-strain projection, with it by the
-    coloured differences of before, and with it by the exact gradient (solvers.newton_levels),
-    in the same run; the residual ratio of every iteration and the bending law's branch
-    switches of Peirce's strip."""
+    coloured differences of before (unless ``coloured`` is false), with it by the exact
+    gradient's numpy form and by its compiled loop (solvers.newton_levels), in the same run;
+    the residual ratio of every iteration and the bending law's branch switches of Peirce's
+    strip."""
+    from elements.fibrous import level_jacobian
     from solvers.newton_levels import LevelStrains
 
-    print("7. the level-strain projection (off / coloured differences / exact gradient):")
+    print("7. the level-strain projection (off / coloured / numpy gradient / compiled):")
     strips = [("Peirce, fibrous, 3 increments", _peirce("fibrous"), 3)]
     strips.append(("Peirce, fibrous, 12 increments", _peirce("fibrous"), 12))
     strips += [(f"heavy fibrous cantilever, {n} cells", _heavy(n), 3) for n in (10, 20, 40)]
     strips.append(("bias specimen pulled by 20 N", _pulled_bias(), 4))
     exact = LevelStrains.gradient
-    variants = (
-        ("off", False, exact),
-        ("coloured", True, _coloured_gradient),
-        ("exact", True, exact),
-    )
+    compiled_form = level_jacobian.level_strain_gradient
+    variants = [
+        ("off", False, exact, compiled_form),
+        ("coloured", True, _coloured_gradient, compiled_form),
+        ("numpy", True, exact, _numpy_gradient(compiled_form)),
+        ("exact", True, exact, compiled_form),
+    ]
+    if not coloured:
+        del variants[1]
     for name, (_mesh, model), increments in strips:
         compiled = model.compile()
         positions = {}
-        for variant, flag, gradient in variants:
+        for variant, flag, gradient, pieces in variants:
             LevelStrains.gradient = gradient  # type: ignore[method-assign]
+            level_jacobian.level_strain_gradient = pieces
             best, result = math.inf, None
             try:
                 for _ in range(repeat):
@@ -348,23 +388,25 @@ def level_lines(repeat: int) -> None:
                     best = min(best, time.process_time() - started)
             finally:
                 LevelStrains.gradient = exact  # type: ignore[method-assign]
+                level_jacobian.level_strain_gradient = compiled_form
             assert result is not None
             info = result.info
             positions[variant] = result.positions
             print(
                 f"  {name}, {variant}: iterations {info['iterations_per_increment']}, "
                 f"{info['evaluations']['tangent']} tangents, {info['evaluations']['residual']} "
-                f"forces, {info['level_projection_sweeps']} sweeps, {best:.2f} s CPU, load "
+                f"forces, {info['level_projection_sweeps']} sweeps, {best:.3f} s CPU, load "
                 f"{os.getloadavg()[0]:.1f}"
             )
-            if increments == 3 and name.startswith("Peirce") and variant != "coloured":
+            if increments == 3 and name.startswith("Peirce") and variant in ("off", "exact"):
                 for history in info["residual_history"]:
                     print("    ratios " + " ".join(f"{r:.1e}" for r in history))
                 past, switched = branch_switches(compiled, {"level_projection": flag})
                 print(f"    cells past the knee per tangent {past}")
                 print(f"    cells that switched branch {switched}")
         moved = np.abs(positions["exact"] - positions["off"]).max()
-        print(f"  {name}: positions differ by {moved:.1e} mm")
+        same = np.abs(positions["exact"] - positions["numpy"]).max()
+        print(f"  {name}: positions differ by {moved:.1e} mm (compiled against numpy {same:.1e})")
 
 
 def main(argv=None) -> None:
@@ -372,10 +414,13 @@ def main(argv=None) -> None:
     parser.add_argument("--repeat", type=int, default=3, help="solves per line (best CPU)")
     parser.add_argument("--skip-large", action="store_true", help="without line 3")
     parser.add_argument("--levels-only", action="store_true", help="line 7 alone")
+    parser.add_argument(
+        "--no-coloured", action="store_true", help="line 7 without the coloured differences"
+    )
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()} on {platform.machine()} ({platform.system()})")
     if args.levels_only:
-        level_lines(args.repeat)
+        level_lines(args.repeat, not args.no_coloured)
         return
     for name, mesh, model, increments, variants in lines(args.skip_large):
         compiled = model.compile()
@@ -400,7 +445,7 @@ def main(argv=None) -> None:
                 f"{os.getloadavg()[0]:.1f}"
             )
     floor_lines(args.repeat)
-    level_lines(args.repeat)
+    level_lines(args.repeat, not args.no_coloured)
 
 
 if __name__ == "__main__":

@@ -27,8 +27,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements.fibrous import hessian_kernels
+from elements.fibrous import hessian_kernels, level_kernels
 from elements.fibrous.geometry import cell_geometry, corner_normals, normal_sums, row_dot
+from elements.shell_geometry import GUARD
 from femcore.rotation import cross
 
 if TYPE_CHECKING:
@@ -47,7 +48,10 @@ def _pull(x: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 
 def level_strain_gradient(
-    block: FibrousShellBlock, positions: np.ndarray, directors: np.ndarray
+    block: FibrousShellBlock,
+    positions: np.ndarray,
+    directors: np.ndarray,
+    compiled: bool | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
     """The derivatives of ``fibre_strains`` (row j of a cell: eps1 of each level, then eps2,
     then gamma; p = 3 L measures) at each cell's corners.
@@ -56,6 +60,9 @@ def level_strain_gradient(
     ----------
     block : the fibrous block.
     positions, directors : (n, 3) float, mm and unit.
+    compiled : None (the block's kernel: compiled where it is and numba is installed), True
+        (level_kernels.py's cell loop, one cell at a time) or False (the numpy below, the
+        reference of the compiled loop).
 
     Returns
     -------
@@ -75,6 +82,15 @@ def level_strain_gradient(
     x, v = positions[conn], directors[conn]
     nodal = bool(block.nodal_normals)
     sums = normal_sums(block, positions)[conn] if nodal else None
+    if compiled is None:
+        compiled = block.compiled and level_kernels.AVAILABLE
+    if compiled:
+        direct, turns, through_sums = level_kernels.level_gradient_cells(
+            x, v, sums, block.zeta, block.fabric.thickness, block.shear_sign, GUARD
+        )
+        if not nodal:
+            return direct, turns, None, None
+        return direct, turns, through_sums, _shares(block, x, conn)
     geo = cell_geometry(block, x, v, True, sums)
     g1, g2, n = geo["g1"], geo["g2"], geo["normal"]
     # The loads of each measure on g_1, g_2 (m, p, 3) and on n; each at its own level.
@@ -120,12 +136,15 @@ def level_strain_gradient(
     # c_k = V_k . S_k / |S_k|: dc/dS_k = (V_k - c N_k) / |S_k|.
     tilt = (v - cosine[..., None] * normal_of_corner) / geo["normal_sum_length"][..., None]
     through_sums = ds_dc[..., None] * tilt[:, None]
+    return direct, turns, through_sums, _shares(block, x, conn)
+
+
+def _shares(block: FibrousShellBlock, x: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """d(alpha_k n)/dx_j of each cell (m, 3, 3, 3, 3), zero on the wall nodes' rows."""
     held = block.wall_nodes[conn]
     if block.compiled and hessian_kernels.AVAILABLE:
-        shares = hessian_kernels.normal_share_jacobians(x, held)
-    else:
-        shares = corner_normals(x, jacobian=True)[1] * ~held[:, :, None, None, None]
-    return direct, turns, through_sums, shares
+        return hessian_kernels.normal_share_jacobians(x, held)
+    return corner_normals(x, jacobian=True)[1] * ~held[:, :, None, None, None]
 
 
 def sums_pairs(block: FibrousShellBlock) -> tuple[np.ndarray, ...]:
