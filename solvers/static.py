@@ -175,11 +175,10 @@ class Static:
     level_projection : each Newton step moving a node by over 1e-2 element sizes corrected, at
         the least energy in the iteration's tangent, so that the level strains and shear
         angles the step keeps nearly constant end where its first order puts them
-        (solvers.newton_levels; default False; FibrousShell): Peirce's fibrous cantilever in
-        6-5-6 iterations (9-9-10 without) for 0.95-0.97 x the CPU in 3 increments and 1.02-1.07 x
-        in 12 (heavy cantilever 0.4-0.6 x); bias pulled by a force 6-4-4-4 (4-4-4-4 without),
-        1.45-1.55 x. ``info["level_projections"]`` counts the steps corrected; not with
-        interactions, prescribed motions, or on indefinite tangents.
+        (solvers.newton_levels; default False; FibrousShell): Peirce's cantilever 6-5-6
+        iterations (9-9-10 without), 0.95-1.07 x the CPU; heavy cantilever 0.4-0.6 x; bias
+        pulled 6-4-4-4 (4-4-4-4), 1.45-1.55 x. ``info["level_projections"]`` counts the steps
+        corrected; not with interactions, prescribed motions, or on indefinite tangents.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
         compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never. None
         (the default): solvers.newton.COMPRESSION_FREE (1e-2) on a model with a block that offers
