@@ -253,6 +253,13 @@ loop) 1.069; the normal sums and the nodes' frames in one node pass 0.989 (quart
 0.983-1.017); a linear law's value and energy in one loop across the chunk instead of four
 (``law_row``) 0.991, force+energy 0.976; the two together, 16 rounds, 1.000 (0.991-1.006),
 force+energy 0.990: within the noise, or slower.
+Measured after, main 34bcb6a (the moments' lanes merged), nearly quiet (load 1.1-1.2: one
+other single-thread run beside it), ``--element fibrous --sizes 100000 --repeats 3``, three
+fresh processes, one thread: steady step 0.314 / 0.316 / 0.313 µs an element-step (3.2-3.4 x
+the reference pass, 0.094-0.098), force 0.275, force+energy 0.306, checked step 0.332, step
+less force 0.024; build 0.38 s, the process's peak 397 MB (4.05 kB a triangle: this script's
+runs and reference pass in one process, not the model's own, below); ``--element mindlin``
+0.121 (1.3 x its reference pass), force 0.087, step less force 0.030.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
