@@ -259,7 +259,9 @@ fresh processes, one thread: steady step 0.314 / 0.316 / 0.313 µs an element-st
 the reference pass, 0.094-0.098), force 0.275, force+energy 0.306, checked step 0.332, step
 less force 0.024; build 0.38 s, the process's peak 397 MB (4.05 kB a triangle: this script's
 runs and reference pass in one process, not the model's own, below); ``--element mindlin``
-0.121 (1.3 x its reference pass), force 0.087, step less force 0.030.
+0.121 (1.3 x its reference pass), force 0.087, step less force 0.030. ``--build --sizes
+400000`` on the same code (load 7.8-8.0, the test suite beside it): fibrous 2.03 s CPU (10.2
+s wall), +338 MB resident; Mindlin 1.56 s CPU (4.7 s wall), +355 MB.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
