@@ -25,6 +25,7 @@ from elements.ply_projection import (
     penalty_law,
 )
 from elements.ply_search import FacingSearch
+from elements.ply_topology import FaceTopology
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -138,6 +139,10 @@ class PlyContactBlock(InteractionBlock):
         # its edges' ids, shared by neighbours: the pseudonormals that sign a gap to an edge
         # or a vertex (ply_projection.py, "The sign at an edge")
         self.edges = edge_ids(cells)
+        # the rest of its topology the search reads at every call (its half-edges, the edges'
+        # and vertices' tables of the pseudonormals, the outline's vertices and edges):
+        # elements/ply_topology.py
+        self.topology = FaceTopology.of(cells, self.outline, self.edges)
         # the deepest a point touches: both faces' half thicknesses (ply_projection.py,
         # "Deeper than the plies")
         self.depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
@@ -293,9 +298,8 @@ class PlyContactBlock(InteractionBlock):
                 second,
                 depth=self.depth,
                 toward=toward,
-                nodes=self.cells,
-                edges=self.edges,
                 fade_distance=self.fade_length,
+                topology=self.topology,
             )
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
