@@ -195,10 +195,14 @@ and tests/test_ply_layups.py: no convergence in 8 cuts). The curved faces
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from elements.ply_topology import FaceTopology
+
+if TYPE_CHECKING:  # ply_fade imports this module
+    from elements.ply_fade import OutlineTree
 
 __all__ = [
     "INSIDE",
@@ -601,6 +605,7 @@ def closest_facing(
     edges: np.ndarray | None = None,
     fade_distance: float | None = None,
     topology: FaceTopology | None = None,
+    outline_tree: OutlineTree | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -646,6 +651,9 @@ def closest_facing(
         ``FaceTopology.of(nodes, outline, edges)`` (elements/ply_topology.py), made once by a
         caller that searches the same mesh many times (made here from ``nodes`` when None;
         given, it stands for ``nodes`` and ``edges``, and its outline must be ``outline``).
+    outline_tree : OutlineTree, optional
+        The outline's KD-tree kept between calls (elements/ply_fade.py ``OutlineTree``) by a
+        caller that searches the same mesh many times; None: built at the call if needed.
     """
     if topology is None and nodes is not None:
         topology = FaceTopology.of(nodes, outline, edges)
@@ -745,7 +753,10 @@ def closest_facing(
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends)
+        if outline_tree is None:
+            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends)
+        else:
+            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
         chosen = fade_edge[near_outline]
         fade[near_outline], fade_gradient[near_outline] = outline_fade(
             p[near_outline],
