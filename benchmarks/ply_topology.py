@@ -14,10 +14,23 @@ outline), and each call moves them as an explicit step does (all down by ``DENT`
 own kept lists, called in turns (which goes first alternates). Each call's facing, forces and
 energy are checked equal, bit for bit.
 
-Measured (one thread, 30 calls, 1-minute load 2.0-3.2, other jobs on the 2 cores), ms per
-call, CPU, both passes:
+Measured (one thread, 20 calls, 1-minute load 3.0-3.6, other jobs on the 2 cores), ms per
+call, CPU, both passes; the pieces: the whole face's pseudonormals and the edge ids' sort
+(before) against the pseudonormals at the touched rows and the neighbour table's look-up
+(after), at the last state, 20 repeats:
 
-(figures below)
+| cells (triangles a ply) | facing old / new | internal force old / new | pieces before / after |
+|---|---|---|---|
+| 10 (200) | 3.35 / 3.21 | 3.61 / 3.49 | 0.50 / 0.40 |
+| 40 (3200) | 27.7 / 25.4 | 29.7 / 27.7 | 3.56 / 0.61 |
+| 100 (20000) | 284 / 267 | 290 / 281 | 20.9 / 1.26 |
+
+An earlier run (load 2.6-3.9): facing 3.19 / 3.18, 27.2 / 25.3, 287 / 280; force 3.58 / 3.48,
+29.0 / 27.2, 316 / 290. The pieces per call went down 1.2 / 5.8 / 17 x, but they were 3-15 %
+of a call: the rest is the candidates' planes and projections (``facets``, the reductions),
+the faces' offsets and the fade, as before. The outline's KD-tree (the fade's nearest edge,
+``ply_fade.OutlineTree``) is not used on these plies below 8192 point-edge pairs (every pair
+is measured), so its reuse does not show here.
 
 Run: python benchmarks/ply_topology.py [--calls 30] [--cells 10 40 100]
 """
@@ -40,6 +53,7 @@ sys.path.insert(0, str(ROOT))  # run from anywhere
 
 from elements import ply_block  # noqa: E402
 from elements.ply_block import PlyContactBlock  # noqa: E402
+from elements.ply_projection import pseudonormals, pseudonormals_at  # noqa: E402
 from femcore.state import State  # noqa: E402
 
 #: The commit whose elements/ply_projection.py is the reference pass.
@@ -50,6 +64,8 @@ NOISE = 0.05
 #: kept lists serve).
 STEP = 1e-4
 DENT = 4e-3
+#: Repeats of the pieces' own measure.
+REPEATS = 20
 
 
 def _old_projection() -> types.ModuleType:
@@ -87,7 +103,7 @@ def run(cells: int, calls: int, old_facing) -> None:
     totals = {(code, what): 0.0 for code in ("old", "new") for what in ("facing", "force")}
     real = ply_block.closest_facing
 
-    def before(*args, topology=None, **kwargs):
+    def before(*args, topology=None, outline_tree=None, **kwargs):
         return old_facing(*args, nodes=topology.nodes, edges=topology.edges, **kwargs)
 
     rough = compiled.mesh.points + rng.normal(0.0, NOISE, (n, 3))
@@ -113,12 +129,36 @@ def run(cells: int, calls: int, old_facing) -> None:
             assert _equal(kept["old", mirrored], kept["new", mirrored])
             for a, b in zip(kept["old", mirrored, "F"], kept["new", mirrored, "F"]):
                 assert np.array_equal(a, b)
+    # the pieces themselves, at the last state: the whole face's pseudonormals and the edge
+    # ids' sort (before) against the pseudonormals at the rows the off-triangle points touch
+    pieces = {"before": 0.0, "after": 0.0}
+    for block in new:
+        facing = block.facing(state)
+        off = np.flatnonzero(np.any(facing.weights < -1e-9, axis=1))
+        rows = facing.triangle[off]
+        corner = np.argmin(facing.weights[off], axis=1)
+        y = block._faces(state)[1]
+        topology = block.topology
+        for _ in range(REPEATS):
+            start = time.process_time()
+            pseudonormals(y, topology.nodes, topology.edges)
+            flat = topology.edges.ravel()
+            order = np.argsort(flat, kind="stable")
+            np.searchsorted(flat[order], flat, side="left")
+            np.searchsorted(flat[order], flat, side="right")
+            middle = time.process_time()
+            pseudonormals_at(y, topology, topology.nodes[rows, corner], rows * 3 + corner)
+            topology.other[rows * 3 + corner]
+            pieces["after"] += time.process_time() - middle
+            pieces["before"] += middle - start
     triangles = len(new[0].cells)
     points = sum(len(b.above) for b in new)
     print(f"{cells} cells: {triangles} triangles a ply, {points} points (both passes)")
     for what in ("facing", "force"):
         o, w = (1e3 * totals[c, what] / calls for c in ("old", "new"))
         print(f"  {what:>7}: old {o:8.3f}  new {w:8.3f} ms a call  ({o / w:.2f} x)")
+    o, w = (1e3 * pieces[c] / REPEATS for c in ("before", "after"))
+    print(f"  topology pieces (both passes): before {o:7.3f}  after {w:7.3f} ms a call")
 
 
 def main() -> None:
