@@ -26,11 +26,14 @@ call, CPU, both passes; the pieces: the whole face's pseudonormals and the edge 
 | 100 (20000) | 284 / 267 | 290 / 281 | 20.9 / 1.26 |
 
 An earlier run (load 2.6-3.9): facing 3.19 / 3.18, 27.2 / 25.3, 287 / 280; force 3.58 / 3.48,
-29.0 / 27.2, 316 / 290. The pieces per call went down 1.2 / 5.8 / 17 x, but they were 3-15 %
-of a call: the rest is the candidates' planes and projections (``facets``, the reductions),
-the faces' offsets and the fade, as before. The outline's KD-tree (the fade's nearest edge,
-``ply_fade.OutlineTree``) is not used on these plies below 8192 point-edge pairs (every pair
-is measured), so its reuse does not show here.
+29.0 / 27.2, 316 / 290; a later one (load 4.5-8.0): facing 3.75 / 3.82, 29.0 / 26.9, 312 / 281;
+force 4.17 / 4.36, 31.4 / 29.4, 303 / 297 (at 10 cells the two are within the noise). The
+pieces per call went down 1.2 / 5.8 / 17 x, but they were 3-15 % of a call: the rest is the
+candidates' planes and projections (``facets``, the reductions), the faces' offsets and the
+fade, as before. The outline's nearest edge (``ply_fade.tree_segments``) of the points near
+the outline, a tree built at the call against the kept tree (``ply_fade.OutlineTree``, built
+once over the 2 x 20 calls of each pass, load 4.5-8.0): 1.19 / 0.97 ms at 40 cells, 2.41 /
+2.07 ms at 100 cells; at 10 cells every pair is measured (below ``EVERY_PAIR``), no tree.
 
 Run: python benchmarks/ply_topology.py [--calls 30] [--cells 10 40 100]
 """
@@ -51,7 +54,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # run from anywhere
 
-from elements import ply_block  # noqa: E402
+from elements import ply_block, ply_fade  # noqa: E402
 from elements.ply_block import PlyContactBlock  # noqa: E402
 from elements.ply_projection import pseudonormals, pseudonormals_at  # noqa: E402
 from femcore.state import State  # noqa: E402
@@ -131,7 +134,7 @@ def run(cells: int, calls: int, old_facing) -> None:
                 assert np.array_equal(a, b)
     # the pieces themselves, at the last state: the whole face's pseudonormals and the edge
     # ids' sort (before) against the pseudonormals at the rows the off-triangle points touch
-    pieces = {"before": 0.0, "after": 0.0}
+    pieces = {"before": 0.0, "after": 0.0, "tree built": 0.0, "tree kept": 0.0}
     for block in new:
         facing = block.facing(state)
         off = np.flatnonzero(np.any(facing.weights < -1e-9, axis=1))
@@ -151,6 +154,21 @@ def run(cells: int, calls: int, old_facing) -> None:
             topology.other[rows * 3 + corner]
             pieces["after"] += time.process_time() - middle
             pieces["before"] += middle - start
+        # the outline's nearest edge of the points near it: a tree built, the kept tree
+        near = np.flatnonzero(facing.fade_edge >= 0)
+        starts = y[topology.segment_rows, topology.segment_ends[:, 0]]
+        ends = y[topology.segment_rows, topology.segment_ends[:, 1]]
+        if len(near) * len(starts) > ply_fade.EVERY_PAIR:
+            for _ in range(REPEATS):
+                start = time.process_time()
+                built = ply_fade.tree_segments(facing.face[near], starts, ends)
+                middle = time.process_time()
+                kept_tree = ply_fade.tree_segments(
+                    facing.face[near], starts, ends, block.outline_tree
+                )
+                pieces["tree kept"] += time.process_time() - middle
+                pieces["tree built"] += middle - start
+                assert np.array_equal(built, kept_tree)
     triangles = len(new[0].cells)
     points = sum(len(b.above) for b in new)
     print(f"{cells} cells: {triangles} triangles a ply, {points} points (both passes)")
@@ -159,6 +177,11 @@ def run(cells: int, calls: int, old_facing) -> None:
         print(f"  {what:>7}: old {o:8.3f}  new {w:8.3f} ms a call  ({o / w:.2f} x)")
     o, w = (1e3 * pieces[c] / REPEATS for c in ("before", "after"))
     print(f"  topology pieces (both passes): before {o:7.3f}  after {w:7.3f} ms a call")
+    o, w = (1e3 * pieces[c] / REPEATS for c in ("tree built", "tree kept"))
+    builds = [b.outline_tree.builds for b in new]
+    print(
+        f"  outline's nearest edge: tree built {o:7.3f}  kept {w:7.3f} ms a call; builds {builds}"
+    )
 
 
 def main() -> None:
