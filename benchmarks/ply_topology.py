@@ -35,6 +35,13 @@ the outline, a tree built at the call against the kept tree (``ply_fade.OutlineT
 once over the 2 x 20 calls of each pass, load 4.5-8.0): 1.19 / 0.97 ms at 40 cells, 2.41 /
 2.07 ms at 100 cells; at 10 cells every pair is measured (below ``EVERY_PAIR``), no tree.
 
+The coarse hemisphere-plies case (``python -m validation --cases hemisphere-plies --resolution
+coarse``, one thread): its results.json the same as ``BASE``'s but for the times; its CPU 96.6
+(``BASE``) and 126.6 s (this code, its compiled caches cold) run one after the other, 130.4
+(``BASE``) and 100.3 s (this) run at once (load 3-8): within the machine's noise, the 0/90 run
+alone going 39.6-71.9 s on the same code. Its plies are 10-16 cells: the contact's pieces
+above are a few tenths of a ms a call there.
+
 Run: python benchmarks/ply_topology.py [--calls 30] [--cells 10 40 100]
 """
 

@@ -78,7 +78,9 @@ against -50 N mm lost, which stopped the run on its energy balance at 98.5 % of 
 pseudonormal vanishes (a fold pressed flat, "A layer turned away") the triangle's normal
 still signs the gap, but on an edge's extension that two growths hold ("Growths joined"). The
 sign then changes only where p passes through the face (g = 0), where W = 0: the energy is
-continuous where the facing triangle changes on an edge.
+continuous where the facing triangle changes on an edge. A contact sums the pseudonormals only
+at the edges and vertices its closest points touch (``pseudonormals_at``, over tables of the
+face's topology made once at bind, elements/ply_topology.py), with the whole face's bits.
 
 Growths joined. Two outline triangles A and B that share an inner edge ending at an outline
 vertex v, each grown past its own outline edge there (A's and B's outline edges both end at
