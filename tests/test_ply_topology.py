@@ -145,3 +145,26 @@ def test_a_stepped_two_ply_model_is_as_with_the_whole_face_computed_at_each_call
             np.testing.assert_array_equal(force[1], ref_force[1])
             assert energy == ref_energy
     assert edged > 50  # points off their triangles: edges' and vertices' pseudonormals read
+
+
+def test_a_kept_tree_s_bound_takes_the_samples_move():
+    """Dense short segments, each moved by just under ``TREE_MOVE`` of the kept tree's bound
+    in its own direction: the tree serves (one build), and its answers are every pair's
+    only with the bound widened by the move (without it, points of this draw went to a
+    farther segment: the test fails)."""
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        starts = rng.uniform(0.0, 10.0, (400, 3)) * [1.0, 1.0, 0.1]
+        ends = starts + rng.normal(0.0, 0.7, (400, 3))
+        kept = ply_fade.OutlineTree()
+        ply_fade.nearest_segments(rng.uniform(0.0, 10.0, (3000, 3)), starts, ends, kept)
+        half = 0.5 * float(np.max(np.linalg.norm(ends - starts, axis=1) / kept._kept[4]))
+        for _ in range(5):
+            way = rng.normal(0.0, 1.0, (400, 3))
+            way *= 0.24 * half / np.linalg.norm(way, axis=1)[:, None]
+            p = rng.uniform(0.0, 10.0, (3000, 3)) * [1.0, 1.0, 0.1]
+            moved_starts, moved_ends = starts + way, ends + way
+            found = ply_fade.nearest_segments(p, moved_starts, moved_ends, kept)
+            every = ply_fade.every_segment(p, moved_starts, moved_ends)
+            np.testing.assert_array_equal(found, every)
+        assert kept.builds == 1
