@@ -126,9 +126,9 @@ def main(cells: int = 10) -> None:
     tree = ply_fade.nearest_segments
     sizes = []
 
-    def counted(p, starts, ends):
+    def counted(p, starts, ends, kept=None):
         sizes.append((len(p), len(starts)))
-        return tree(p, starts, ends)
+        return tree(p, starts, ends, kept)
 
     ply_fade.nearest_segments = counted
     for block in blocks:
@@ -138,7 +138,7 @@ def main(cells: int = 10) -> None:
     searches = {
         "nearest_segments": tree,
         "tree_segments": ply_fade.tree_segments,
-        "every edge (as it was)": every_segment,
+        "every edge (as it was)": lambda p, starts, ends, kept=None: every_segment(p, starts, ends),
     }
     totals = _alternated(blocks, state, "nearest_segments", searches)
     print("nearest edge, (points, edges) per search:", sizes)

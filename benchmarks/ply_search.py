@@ -40,6 +40,10 @@ again more often: the 4-ply bai-5.1 strip (benchmarks/plies.py's solve, one thre
 in its own process, side by side, load 4.9-5.5) took 53.6 s of CPU on both codes, 418 Newton
 iterations and 7 cuts on both.
 
+With the lower face's topology made once (elements/ply_topology.py, the pseudonormals summed
+at the touched rows only; benchmarks/ply_topology.py), 20 calls, load 2.4-2.5: 4.53 / 2.53 /
+4.63 and 58.5 / 48.0 / 86.8 ms.
+
 Run: python benchmarks/ply_search.py [--calls 200]
 """
 
@@ -59,6 +63,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 from elements.ply_block import PlyContactBlock  # noqa: E402
 from elements.ply_projection import closest_facing, edge_ids, open_edges  # noqa: E402
 from elements.ply_search import FacingSearch  # noqa: E402
+from elements.ply_topology import FaceTopology  # noqa: E402
 from femcore.state import State  # noqa: E402
 
 
@@ -129,6 +134,7 @@ def sheet(calls: int, cells: int = 100, points: int = 10000) -> None:
     b, c, d = a + (cells + 1), a + (cells + 2), a + 1
     triangles = np.vstack([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
     outline, edges = open_edges(triangles), edge_ids(triangles)
+    topology = FaceTopology.of(triangles, outline, edges)  # made once, as a contact does
     # the points: above random places of the sheet, within 1 mm
     at = rng.integers(0, len(triangles), points)
     weights = rng.dirichlet(np.ones(3), points)
@@ -149,7 +155,7 @@ def sheet(calls: int, cells: int = 100, points: int = 10000) -> None:
                 near = fresh.near(p, y)
             else:
                 near = search.near(p, y)
-            closest_facing(p, y, near, 0.0, outline, nodes=triangles, edges=edges)
+            closest_facing(p, y, near, 0.0, outline, topology=topology)
             totals[name] += time.process_time() - start
     print(f"wavy sheet: {len(triangles)} triangles, {points} points")
     for name, total in totals.items():

@@ -14,7 +14,13 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
-from elements.ply_fade import fade_hessian, fade_length, outline_segments, stiffness_factor
+from elements.ply_fade import (
+    OutlineTree,
+    fade_hessian,
+    fade_length,
+    outline_segments,
+    stiffness_factor,
+)
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -25,6 +31,7 @@ from elements.ply_projection import (
     penalty_law,
 )
 from elements.ply_search import FacingSearch
+from elements.ply_topology import FaceTopology
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -138,6 +145,13 @@ class PlyContactBlock(InteractionBlock):
         # its edges' ids, shared by neighbours: the pseudonormals that sign a gap to an edge
         # or a vertex (ply_projection.py, "The sign at an edge")
         self.edges = edge_ids(cells)
+        # the rest of its topology the search reads at every call (its half-edges, the edges'
+        # and vertices' tables of the pseudonormals, the outline's vertices and edges):
+        # elements/ply_topology.py
+        self.topology = FaceTopology.of(cells, self.outline, self.edges)
+        # the KD-tree of its outline's edges (the fade's nearest edge), kept while they move
+        # little (elements/ply_fade.py, ``OutlineTree``)
+        self.outline_tree = OutlineTree()
         # the deepest a point touches: both faces' half thicknesses (ply_projection.py,
         # "Deeper than the plies")
         self.depth = float(np.abs(self.upper_offset).max() + np.abs(self.corner_offset).max())
@@ -293,9 +307,9 @@ class PlyContactBlock(InteractionBlock):
                 second,
                 depth=self.depth,
                 toward=toward,
-                nodes=self.cells,
-                edges=self.edges,
                 fade_distance=self.fade_length,
+                topology=self.topology,
+                outline_tree=self.outline_tree,
             )
         for value in vars(found).values():
             if isinstance(value, np.ndarray):

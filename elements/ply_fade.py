@@ -75,6 +75,8 @@ __all__ = [
     "fade_hessian",
     "fade_length",
     "nearest_segments",
+    "OutlineTree",
+    "TREE_MOVE",
     "outline_fade",
     "outline_segments",
     "stiffness_factor",
@@ -137,19 +139,22 @@ def _segment_squared(rel: np.ndarray, e: np.ndarray, squared: np.ndarray) -> np.
 EVERY_PAIR = 8192
 
 
-def nearest_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+def nearest_segments(
+    p: np.ndarray, starts: np.ndarray, ends: np.ndarray, kept: OutlineTree | None = None
+) -> np.ndarray:
     """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3)) nearest each point
     p (c, 3); ties to the lowest index. The same answer, bit for bit, by measuring every pair
     (up to ``EVERY_PAIR`` pairs, ``every_segment``) or the segments a KD-tree finds near the
-    point (``tree_segments``; tests/test_ply_outline_nearest.py). Non-finite coordinates (a
-    trial state that blew up) are measured pair by pair too, as before the tree: the tree
-    refuses them, and the caller's own finiteness check decides what such a state is."""
+    point (``tree_segments``, its tree kept in ``kept`` between calls where given;
+    tests/test_ply_outline_nearest.py). Non-finite coordinates (a trial state that blew up)
+    are measured pair by pair too, as before the tree: the tree refuses them, and the
+    caller's own finiteness check decides what such a state is."""
     small = len(p) * len(starts) <= EVERY_PAIR
     if small or not (
         np.isfinite(p).all() and np.isfinite(starts).all() and np.isfinite(ends).all()
     ):
         return every_segment(p, starts, ends)
-    return tree_segments(p, starts, ends)
+    return tree_segments(p, starts, ends, kept)
 
 
 def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
@@ -169,7 +174,41 @@ def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.nda
     return chosen
 
 
-def tree_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+#: How far the outline's edges' ends may move from where a kept tree sampled them, in times
+#: the tree's bound ``half`` at its build, before the tree is built again (``OutlineTree``).
+TREE_MOVE = 0.25
+
+
+class OutlineTree:
+    """The KD-tree of ``tree_segments`` kept between calls over the same outline: its
+    samples' owners and places along their segments, the ends it sampled and its bound
+    ``half`` there. A sample lies at a fixed place between its segment's ends, so it moves no
+    more than the ends' largest move m since the build: a segment not measured is then no
+    nearer than reach_k - m - half (half of the pieces' current lengths), and the search
+    widens its bound by m; the answer is that of a fresh tree, bit for bit (the distances
+    measured at the current ends). Built again when m passes ``TREE_MOVE`` of the build's
+    half (a wider bound measures more pairs) or the outline's size changes."""
+
+    def __init__(self) -> None:
+        self.builds = 0
+        self._kept: tuple | None = None
+
+
+def _sampled(starts: np.ndarray, e: np.ndarray, lengths: np.ndarray):
+    """The samples of segments from ``starts`` (E, 3) along ``e`` (E, 3) of ``lengths`` (E,)
+    (``tree_segments``): owners (s,), places along their segments (s,), pieces (E,)."""
+    edges = len(starts)
+    spacing = max(float(np.median(lengths)), 0.25 * float(lengths.mean()), np.finfo(float).tiny)
+    pieces = np.maximum(np.ceil(lengths / spacing), 1.0).astype(np.int64)
+    owner = np.repeat(np.arange(edges), pieces)
+    first_piece = np.cumsum(pieces) - pieces
+    along = (np.arange(owner.size) - first_piece[owner] + 0.5) / pieces[owner]
+    return owner, along, pieces
+
+
+def tree_segments(
+    p: np.ndarray, starts: np.ndarray, ends: np.ndarray, kept: OutlineTree | None = None
+) -> np.ndarray:
     """``nearest_segments`` measuring only the segments that can be nearest, found with a
     KD-tree over samples of the segments: each segment's midpoint, a long one's pieces'
     midpoints (the pieces no longer than the larger of the median segment and a quarter of
@@ -180,7 +219,8 @@ def tree_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.nda
     bound padded by 1e-9 of the model's size, far above the round-off of the distances, and
     each pair's distance the same operations as in ``every_segment``, so that the least has
     the same bits). About c log E work against c E: 1200 outline edges against 5000 points
-    20 ms against 223 ms (benchmarks/ply_fade.py)."""
+    20 ms against 223 ms (benchmarks/ply_fade.py). With ``kept`` the tree of an earlier call
+    serves while the ends have moved little (``OutlineTree``)."""
     from scipy.spatial import cKDTree
 
     count, edges = len(p), len(starts)
@@ -193,15 +233,31 @@ def tree_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.nda
     # than the median segment (nor than a quarter of the mean: at most 5 E samples): every
     # point of a segment within ``half`` of a sample of it
     lengths = np.sqrt(squared)
-    spacing = max(float(np.median(lengths)), 0.25 * float(lengths.mean()), np.finfo(float).tiny)
-    pieces = np.maximum(np.ceil(lengths / spacing), 1.0).astype(np.int64)
-    owner = np.repeat(np.arange(edges), pieces)
-    first_piece = np.cumsum(pieces) - pieces
-    along = (np.arange(owner.size) - first_piece[owner] + 0.5) / pieces[owner]
-    samples = starts[owner] + along[:, None] * e[owner]
+    moved = 0.0
+    built = None if kept is None else kept._kept
+    if built is not None and built[0].shape == starts.shape:
+        moved = float(
+            np.sqrt(
+                max(
+                    np.einsum("ei,ei->e", starts - built[0], starts - built[0]).max(),
+                    np.einsum("ei,ei->e", ends - built[1], ends - built[1]).max(),
+                )
+            )
+        )
+        if not moved <= TREE_MOVE * built[6]:  # (NaN too)
+            built = None
+    if built is None:
+        owner, along, pieces = _sampled(starts, e, lengths)
+        tree = cKDTree(starts[owner] + along[:, None] * e[owner])
+        moved = 0.0
+        if kept is not None:
+            built_half = 0.5 * float(np.max(lengths / pieces))
+            kept._kept = (starts.copy(), ends.copy(), owner, along, pieces, tree, built_half)
+            kept.builds += 1
+    else:
+        owner, pieces, tree = built[2], built[4], built[5]
     half = 0.5 * float(np.max(lengths / pieces))
     pad = 1e-9 * (float(np.abs(p).max()) + float(np.abs(starts).max()) + float(lengths.max()))
-    tree = cKDTree(samples)
     best = np.full(count, np.inf)
     todo = np.arange(count)
     k = min(8, owner.size)
@@ -215,8 +271,9 @@ def tree_segments(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.nda
         chosen[todo] = np.where(values == least[:, None], near, edges).min(axis=1)
         best[todo] = least
         # a segment not measured has every sample beyond the k-th: it is nearer than the
-        # nearest measured only if that sample is within its distance plus ``half``
-        bound = np.sqrt(best[todo]) + half + pad
+        # nearest measured only if that sample is within its distance plus ``half`` (plus
+        # the samples' move since a kept tree sampled them)
+        bound = np.sqrt(best[todo]) + half + moved + pad
         open_ = (reach[:, -1] <= bound) & (k < owner.size)
         todo = todo[open_]
         k = min(2 * k, owner.size)

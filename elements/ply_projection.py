@@ -78,7 +78,9 @@ against -50 N mm lost, which stopped the run on its energy balance at 98.5 % of 
 pseudonormal vanishes (a fold pressed flat, "A layer turned away") the triangle's normal
 still signs the gap, but on an edge's extension that two growths hold ("Growths joined"). The
 sign then changes only where p passes through the face (g = 0), where W = 0: the energy is
-continuous where the facing triangle changes on an edge.
+continuous where the facing triangle changes on an edge. A contact sums the pseudonormals only
+at the edges and vertices its closest points touch (``pseudonormals_at``, over tables of the
+face's topology made once at bind, elements/ply_topology.py), with the whole face's bits.
 
 Growths joined. Two outline triangles A and B that share an inner edge ending at an outline
 vertex v, each grown past its own outline edge there (A's and B's outline edges both end at
@@ -195,8 +197,14 @@ and tests/test_ply_layups.py: no convergence in 8 cuts). The curved faces
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+from elements.ply_topology import FaceTopology
+
+if TYPE_CHECKING:  # ply_fade imports this module
+    from elements.ply_fade import OutlineTree
 
 __all__ = [
     "INSIDE",
@@ -211,6 +219,7 @@ __all__ = [
     "grown_corners",
     "penalty_law",
     "pseudonormals",
+    "pseudonormals_at",
     "triangle_frames",
 ]
 
@@ -495,16 +504,54 @@ def pseudonormals(
     return vertex, summed[ids].reshape(len(nodes), 3, 3)
 
 
-def _feature_normals(y, nodes, edges, triangle, lam, reach, normal, outline=None):
+def _unit_normals_and_angles(y: np.ndarray, rows: np.ndarray):
+    """The unit normals (r, 3) of the triangles ``rows`` (r,) of y (m, 3, 3) and their angles
+    (r, 3) at each corner, rad: the expressions of ``pseudonormals``, row by row."""
+    corners = y[rows]
+    n = triangle_frames(corners)[0]
+    u = np.roll(corners, -1, axis=1) - corners
+    v = np.roll(corners, -2, axis=1) - corners
+    angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
+    return n, angles
+
+
+def pseudonormals_at(
+    y: np.ndarray, topology: FaceTopology, vertices: np.ndarray, halves: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """``pseudonormals`` at a few vertices and edges only, with the same bits: (c, 3) at the
+    node ids ``vertices`` (c,) and (h, 3) at the edges of the half-edges ``halves`` (h,)
+    (row * 3 + k: the edge of triangle row opposite corner k). y (m, 3, 3) the triangles'
+    corners, mm; ``topology`` the face's (elements/ply_topology.py), whose tables give each
+    sum's terms in the order ``np.bincount`` adds them over the whole face."""
+    fan = topology.fans[vertices]  # (c, f) corners row * 3 + k
+    sharing = topology.edge_halves[topology.edges.ravel()[halves]]  # (h, w)
+    rows = np.unique(np.concatenate([fan[fan >= 0] // 3, sharing[sharing >= 0] // 3]))
+    n, angles = _unit_normals_and_angles(y, rows)
+    at = np.full(len(y), -1)
+    at[rows] = np.arange(len(rows))
+    vertex = np.zeros((len(vertices), 3))
+    for column in range(fan.shape[1]):  # the fan's corners in bincount's order, from 0.0
+        corner = fan[:, column]
+        row = at[corner // 3]
+        term = angles[row, corner % 3][:, None] * n[row]
+        vertex = vertex + np.where((corner >= 0)[:, None], term, 0.0)
+    edge = np.zeros((len(halves), 3))
+    for column in range(sharing.shape[1]):
+        half = sharing[:, column]
+        edge = edge + np.where((half >= 0)[:, None], n[at[half // 3]], 0.0)
+    return vertex, edge
+
+
+def _feature_normals(y, topology, triangle, lam, reach, normal):
     """(c, 3) the unit pseudonormal (``pseudonormals``) of the edge or vertex of the mesh on
     which each closest point with barycentric coordinates ``lam`` (c, 3) on triangle row
     ``triangle`` (c,) lies; ``normal`` (c, 3), the triangle's, where it lies on a growth past
     the outline (``reach`` (c, 3) > 0 on that bound) off an edge joined to its neighbour's
     growth, or the pseudonormal nearly vanishes (a fold pressed flat, module docstring "A
     layer turned away"); and (c,) bool, the closest point lies on such a joined edge's
-    extension past the outline (module docstring, "Growths joined"; ``outline`` (m, 3) bool,
-    ``open_edges``: none without it)."""
-    vertex, edge = pseudonormals(y, nodes, edges)
+    extension past the outline (module docstring, "Growths joined"; none without the
+    topology's outline). ``topology`` the face's (elements/ply_topology.py)."""
+    nodes, outline = topology.nodes, topology.outline
     bound = lam <= -reach + 1e-9
     # anywhere on a growth past the outline, off the triangle (its far edge or an edge's
     # extension): the face has no side there but the triangle's own, unless the edge's
@@ -513,14 +560,11 @@ def _feature_normals(y, nodes, edges, triangle, lam, reach, normal, outline=None
     count = bound.sum(axis=1)
     corner = np.argmin(bound, axis=1)  # at a vertex: the corner off both bounds
     side = np.argmax(bound, axis=1)  # on an edge: the corner it lies opposite
+    vertex, edge = pseudonormals_at(y, topology, nodes[triangle, corner], triangle * 3 + side)
     joined = np.zeros(len(triangle), dtype=bool)
     if outline is not None:
-        joined = grown & (count == 1) & _joined_growth(nodes, edges, outline, triangle, side, lam)
-    chosen = np.where(
-        (count == 2)[:, None],
-        vertex[nodes[triangle, corner]],
-        edge[triangle, side],
-    )
+        joined = grown & (count == 1) & _joined_growth(topology, triangle, side, lam)
+    chosen = np.where((count == 2)[:, None], vertex, edge)
     length = np.linalg.norm(chosen, axis=1)
     keep = (grown & ~joined) | (count == 0) | (count == 3) | (length < 1e-6)
     joined &= ~keep
@@ -528,22 +572,18 @@ def _feature_normals(y, nodes, edges, triangle, lam, reach, normal, outline=None
     return np.where(keep[:, None], normal, unit), joined
 
 
-def _joined_growth(nodes, edges, outline, triangle, side, lam):
+def _joined_growth(topology, triangle, side, lam):
     """(c,) bool: the edge opposite corner ``side`` (c,) of triangle row ``triangle`` (c,)
     is shared with a neighbour that grows past it as the triangle does: of the edge's two
     ends, the one whose coordinate lam_i (c, 3) is negative (the closest point lies on the
     edge's line past its other end, an outline vertex) is opposite an outline edge of the
     neighbour as of the triangle, so both growths hold that extension of the edge (module
-    docstring, "Growths joined"); ``nodes``, ``edges`` (m, 3) int and ``outline`` (m, 3)
-    bool of the lower face."""
+    docstring, "Growths joined"); ``topology`` the lower face's (elements/ply_topology.py,
+    with its outline)."""
+    nodes, outline = topology.nodes, topology.outline
     count = len(triangle)
-    flat = edges.ravel()
-    order = np.argsort(flat, kind="stable")
-    first = np.searchsorted(flat[order], flat, side="left")
-    last = np.searchsorted(flat[order], flat, side="right") - 1
     own = triangle * 3 + side
-    a, b = order[first[own]], order[last[own]]
-    other = np.where(a == own, b, a)  # the neighbour's (row * 3 + k), own on an open edge
+    other = topology.other[own]  # the neighbour's (row * 3 + k), own on an open edge
     shared = other != own
     rows = np.arange(count)
     ends = np.where(np.arange(3)[None, :] == side[:, None], np.inf, lam)
@@ -566,6 +606,8 @@ def closest_facing(
     nodes: np.ndarray | None = None,
     edges: np.ndarray | None = None,
     fade_distance: float | None = None,
+    topology: FaceTopology | None = None,
+    outline_tree: OutlineTree | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -607,7 +649,16 @@ def closest_facing(
     fade_distance : float, optional
         The fade's length D past the outline, mm (elements/ply_fade.py ``fade_length``, which
         gives it from ``y`` when None; a contact keeps its reference state's).
+    topology : FaceTopology, optional
+        ``FaceTopology.of(nodes, outline, edges)`` (elements/ply_topology.py), made once by a
+        caller that searches the same mesh many times (made here from ``nodes`` when None;
+        given, it stands for ``nodes`` and ``edges``, and its outline must be ``outline``).
+    outline_tree : OutlineTree, optional
+        The outline's KD-tree kept between calls (elements/ply_fade.py ``OutlineTree``) by a
+        caller that searches the same mesh many times; None: built at the call if needed.
     """
+    if topology is None and nodes is not None:
+        topology = FaceTopology.of(nodes, outline, edges)
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
     inside = (weights >= -reach - INSIDE).all(axis=-1)
@@ -646,24 +697,21 @@ def closest_facing(
         at = best[edge]
         signing = n[edge, at]
         closest = q[where[edge, at]]
-        if nodes is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
+        if topology is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
             # q's barycentric coordinates on the facing triangle: on which edge or at which
             # vertex it lies
             on_q = np.einsum("pki,pi->pk", gradients[edge, at], closest - y[near[edge, at], 0])
             on_q[:, 0] += 1.0
             signing, joined[edge] = _feature_normals(
-                y, nodes, edges, near[edge, at], on_q, reach[edge, at], signing, outline
+                y, topology, near[edge, at], on_q, reach[edge, at], signing
             )
             if outline is not None:
                 # at a vertex of the outline the face has no side either: the facing
                 # triangle's normal signs the gap, and the point is faded as beside a
                 # growth's edge ("Past the outline, faded")
                 bound = on_q <= -reach[edge, at] + 1e-9
-                corner = nodes[near[edge, at], np.argmin(bound, axis=1)]
-                rim = np.zeros(int(nodes.max()) + 1, dtype=bool)
-                rim[nodes[:, [1, 2, 0]][outline]] = True
-                rim[nodes[:, [2, 0, 1]][outline]] = True
-                at_rim[edge] = (bound.sum(axis=1) == 2) & rim[corner]
+                corner = topology.nodes[near[edge, at], np.argmin(bound, axis=1)]
+                at_rim[edge] = (bound.sum(axis=1) == 2) & topology.rim[corner]
                 signing = np.where(at_rim[edge][:, None], n[edge, at], signing)
                 joined[edge] &= ~at_rim[edge]
         chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
@@ -700,11 +748,17 @@ def closest_facing(
     fade_edge = np.full(len(p), -1)
     near_outline = np.flatnonzero(on_growth | (reach[rows, best] > 0.0).any(axis=-1))
     if near_outline.size and outline is not None:
-        segment_rows, segment_ends = outline_segments(outline)
+        if topology is None:
+            segment_rows, segment_ends = outline_segments(outline)
+        else:
+            segment_rows, segment_ends = topology.segment_rows, topology.segment_ends
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends)
+        if outline_tree is None:
+            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends)
+        else:
+            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
         chosen = fade_edge[near_outline]
         fade[near_outline], fade_gradient[near_outline] = outline_fade(
             p[near_outline],

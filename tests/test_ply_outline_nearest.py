@@ -18,8 +18,11 @@ import pytest
 from elements import ply_fade
 
 
-def _every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """The brute force (c E work), as ``nearest_segments`` was."""
+def _every_segment(
+    p: np.ndarray, starts: np.ndarray, ends: np.ndarray, kept: object = None
+) -> np.ndarray:
+    """The brute force (c E work), as ``nearest_segments`` was (``kept``, a caller's kept
+    tree, unused)."""
     chosen = np.zeros(len(p), dtype=np.int64)
     if len(p) == 0:
         return chosen
