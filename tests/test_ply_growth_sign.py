@@ -21,10 +21,7 @@ sides inside the ridge it touches, outside it does not.
 
 import numpy as np
 import pytest
-
-from elements.ply_contact import PlyContact
-from femcore import Body, Mesh
-from femcore.state import State
+from ply_point_loops import point_round, walk
 
 STEPS = 1000
 PENALTY = 100.0  # N/mm
@@ -49,29 +46,7 @@ def _ridge(slope: float = SLOPE):
     )
     # counter-clockwise about +z; A = (v1, w, v) and B = (w, v3, v) share the ridge w-v
     lower = np.array([[0, 3, 1], [3, 2, 1], [0, 4, 3], [3, 5, 2]])
-    side = 0.02
-    tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
-    tiny -= tiny.mean(axis=0)
-    points = np.vstack([low, tiny])
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower, [[6, 7, 8]]]),
-        node_sets={"upper": np.array([6, 7, 8])},
-        element_sets={"lower": np.arange(len(lower))},
-    )
-    n = len(points)
-    directors = np.tile([0.0, 0.0, 1.0], (n, 1))
-    active = np.zeros((n, 6), dtype=bool)
-    active[:, :5] = True
-    contact = PlyContact("upper", "lower", 0.1, 0.1, penalty=PENALTY, rule="centroid")
-    block = contact.bind(Body(mesh, (), directors, active))
-    # the upper face p = x - 0.1 z circles the ridge's extension (0, PAST, 0.1) in the x-z plane
-    angle = np.linspace(0.0, 2.0 * np.pi, STEPS + 1)
-    centre = np.array([0.0, PAST, 0.1 + 0.1])
-    path = centre + RADIUS * np.column_stack([np.cos(angle), np.zeros_like(angle), np.sin(angle)])
-    positions = np.repeat(points[None], STEPS + 1, axis=0)
-    positions[:, 6:] += path[:, None, :]
-    return block, positions, directors
+    return point_round(low, lower, steps=STEPS, penalty=PENALTY, radius=RADIUS, past=PAST)
 
 
 @pytest.mark.parametrize("slope", [SLOPE, -SLOPE], ids=["ridge", "valley"])
@@ -91,24 +66,13 @@ def test_a_point_round_a_ridge_past_the_outline_keeps_its_sign_and_works_its_ene
     the one whose work is checked (on the ridge the joined points are outside, at no
     energy)."""
     block, positions, directors = _ridge(slope)
-    zero = np.zeros_like(positions[0])
-    energy, forces, touching, joined, outside, gaps, fades = [], [], [], [], [], [], []
-    for x in positions:
-        state = State(x, directors, zero, zero)
-        facing = block.facing(state)
-        energy.append(block.strain_energy(state))
-        forces.append(block.internal_force(state)[0])
-        touching.append(bool(facing.touching[0]))
-        on_joined = getattr(facing, "joined", None)  # None on the code before
-        joined.append(bool(on_joined is not None and on_joined[0]))
-        p = x[6:].mean(axis=0) - [0.0, 0.0, 0.1]  # the contact point on the upper face
-        # above both sides' planes (through the offset ridge z = 0.1 + 0): outside the ridge
-        outside.append(p[2] - 0.1 > -slope * abs(p[0]))
-        gaps.append(float(facing.gap[0]))
-        fades.append(float(facing.fade[0]))
-    energy, forces = np.array(energy), np.array(forces)
-    gaps, outside = np.array(gaps), np.array(outside)
-    work = np.einsum("sni,sni->s", 0.5 * (forces[1:] + forces[:-1]), np.diff(positions, axis=0))
+    walked = walk(block, positions, directors)
+    energy, work, touching, joined = (walked[k] for k in ("energy", "work", "touching", "joined"))
+    gaps, fades = walked["gap"], walked["fade"]
+    # the contact point on the upper face, above both sides' planes through the offset ridge
+    # z = 0.1 + 0: outside the ridge
+    p = positions[:, -3:].mean(axis=1) - [0.0, 0.0, 0.1]
+    outside = p[:, 2] - 0.1 > -slope * np.abs(p[:, 0])
     largest = energy.max()
     assert largest > 1e-3 and any(touching) and not all(touching)
     assert 0.0 < min(fades) and max(fades) < 1.0

@@ -36,11 +36,9 @@ import functools
 
 import numpy as np
 import pytest
+from ply_point_loops import point_round, walk
 
-from elements.ply_contact import PlyContact
 from elements.ply_projection import open_edges
-from femcore import Body, Mesh
-from femcore.state import State
 
 STEPS = 1000
 PENALTY = 100.0  # N/mm
@@ -69,27 +67,9 @@ def _fan():
     low[6, 2] = low[2, 2]  # the row below level with a and b
     # counter-clockwise about +z: A = (x1, a, v), M = (v, a, b), B = (v, b, x2)
     lower = np.array([[1, 2, 0], [0, 2, 3], [0, 3, 4], [1, 5, 2], [2, 6, 3], [3, 7, 4]])
-    side = 0.02
-    tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
-    tiny -= tiny.mean(axis=0)
-    points = np.vstack([low, tiny])
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower, [[8, 9, 10]]]),
-        node_sets={"upper": np.array([8, 9, 10])},
-        element_sets={"lower": np.arange(len(lower))},
+    block, positions, directors = point_round(
+        low, lower, steps=STEPS, penalty=PENALTY, radius=RADIUS, past=PAST
     )
-    n = len(points)
-    directors = np.tile([0.0, 0.0, 1.0], (n, 1))
-    active = np.zeros((n, 6), dtype=bool)
-    active[:, :5] = True
-    contact = PlyContact("upper", "lower", 0.1, 0.1, penalty=PENALTY, rule="centroid")
-    block = contact.bind(Body(mesh, (), directors, active))
-    angle = np.linspace(0.0, 2.0 * np.pi, STEPS + 1)
-    centre = np.array([0.0, PAST, 0.1 + 0.1])
-    path = centre + RADIUS * np.column_stack([np.cos(angle), np.zeros_like(angle), np.sin(angle)])
-    positions = np.repeat(points[None], STEPS + 1, axis=0)
-    positions[:, 8:] += path[:, None, :]
     return block, positions, directors, lower
 
 
@@ -111,19 +91,8 @@ def test_the_fan_has_three_triangles_at_its_outline_vertex_and_two_outline_edges
 def _loop():
     """(energy (STEPS + 1,) N mm, work (STEPS,) N mm of each step by the trapezoidal rule,
     touching (STEPS + 1,) bool, fades (STEPS + 1,)) of the point round the vertex."""
-    block, positions, directors, _ = _fan()
-    zero = np.zeros_like(positions[0])
-    energy, forces, touching, fades = [], [], [], []
-    for x in positions:
-        state = State(x, directors, zero, zero)
-        facing = block.facing(state)
-        energy.append(block.strain_energy(state))
-        forces.append(block.internal_force(state)[0])
-        touching.append(bool(facing.touching[0]))
-        fades.append(float(facing.fade[0]))
-    forces = np.array(forces)
-    work = np.einsum("sni,sni->s", 0.5 * (forces[1:] + forces[:-1]), np.diff(positions, axis=0))
-    return np.array(energy), work, np.array(touching), np.array(fades)
+    walked = walk(*_fan()[:3])
+    return walked["energy"], walked["work"], walked["touching"], walked["fade"]
 
 
 def test_the_point_round_the_vertex_touches_on_part_of_its_path_past_the_outline():

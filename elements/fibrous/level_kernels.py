@@ -20,6 +20,7 @@ import math
 
 import numpy as np
 
+from elements.fibrous.tangent_kernels import cell_normal
 from elements.jit import AVAILABLE, jit, prange
 
 __all__ = ["AVAILABLE", "level_gradient_cells"]
@@ -50,15 +51,7 @@ def _gradient_cells(
         load = np.empty((p, 3))  # on the normal; with element normals on c (ds_dc pull)
         corner = np.empty((3, 3))
         ds_dc = np.empty(3)
-        for c in range(3):
-            a[c] = x[cell, 1, c] - x[cell, 0, c]
-            b[c] = x[cell, 2, c] - x[cell, 0, c]
-        n[0] = a[1] * b[2] - a[2] * b[1]
-        n[1] = a[2] * b[0] - a[0] * b[2]
-        n[2] = a[0] * b[1] - a[1] * b[0]
-        double_area = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
-        for c in range(3):
-            n[c] /= double_area
+        double_area = cell_normal(x, cell, a, b, n)
         for k in range(3):
             if nodal:
                 s0, s1, s2 = sums[cell, k, 0], sums[cell, k, 1], sums[cell, k, 2]

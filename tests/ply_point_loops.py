@@ -1,0 +1,82 @@
+"""A ply contact point carried round a feature of the lower ply's face past its outline: the
+set-up shared by tests/test_ply_growth_sign.py and tests/test_ply_wedge.py.
+
+One upper triangle 0.02 mm across (its centroid the contact point, moved rigidly, the
+directors held along z) circles (0, ``past``, 0.2) at ``radius`` in the x-z plane: its face
+p = x - 0.1 z circles (0, ``past``, 0.1), the lower face's point above the origin (faces 0.1
+mm from the mid-surfaces). The lower ply's outline runs along y = 0 through the origin.
+"""
+
+import numpy as np
+
+from elements.ply_contact import PlyContact
+from femcore import Body, Mesh
+from femcore.state import State
+
+
+def point_round(
+    low: np.ndarray,
+    lower: np.ndarray,
+    *,
+    steps: int,
+    penalty: float,
+    radius: float,
+    past: float,
+):
+    """(block, positions (steps + 1, n, 3), directors (n, 3)): the lower ply's nodes ``low``
+    (l, 3) and triangles ``lower`` (t, 3) with the upper triangle of the module docstring
+    (nodes l, l + 1, l + 2), bound as a ply contact of ``penalty`` N/mm at the centroid, and
+    the path of ``steps`` steps round the circle of ``radius`` mm ``past`` mm past the
+    outline."""
+    side = 0.02
+    tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
+    tiny -= tiny.mean(axis=0)
+    points = np.vstack([low, tiny])
+    first = len(low)
+    upper = np.arange(first, first + 3)
+    mesh = Mesh(
+        points,
+        triangles=np.vstack([lower, upper[None]]),
+        node_sets={"upper": upper},
+        element_sets={"lower": np.arange(len(lower))},
+    )
+    n = len(points)
+    directors = np.tile([0.0, 0.0, 1.0], (n, 1))
+    active = np.zeros((n, 6), dtype=bool)
+    active[:, :5] = True
+    contact = PlyContact("upper", "lower", 0.1, 0.1, penalty=penalty, rule="centroid")
+    block = contact.bind(Body(mesh, (), directors, active))
+    angle = np.linspace(0.0, 2.0 * np.pi, steps + 1)
+    centre = np.array([0.0, past, 0.1 + 0.1])
+    path = centre + radius * np.column_stack([np.cos(angle), np.zeros_like(angle), np.sin(angle)])
+    positions = np.repeat(points[None], steps + 1, axis=0)
+    positions[:, first:] += path[:, None, :]
+    return block, positions, directors
+
+
+def walk(block, positions: np.ndarray, directors: np.ndarray) -> dict[str, np.ndarray]:
+    """Along the path: energy (s + 1,) N mm, work (s,) N mm of each step by the trapezoidal
+    rule, and the point's facing fields touching, joined (False where the facing carries no
+    such field), gap (mm) and fade, each (s + 1,)."""
+    zero = np.zeros_like(positions[0])
+    energy, forces, touching, joined, gaps, fades = [], [], [], [], [], []
+    for x in positions:
+        state = State(x, directors, zero, zero)
+        facing = block.facing(state)
+        energy.append(block.strain_energy(state))
+        forces.append(block.internal_force(state)[0])
+        touching.append(bool(facing.touching[0]))
+        on_joined = getattr(facing, "joined", None)
+        joined.append(bool(on_joined is not None and on_joined[0]))
+        gaps.append(float(facing.gap[0]))
+        fades.append(float(facing.fade[0]))
+    forces_ = np.array(forces)
+    work = np.einsum("sni,sni->s", 0.5 * (forces_[1:] + forces_[:-1]), np.diff(positions, axis=0))
+    return {
+        "energy": np.array(energy),
+        "work": work,
+        "touching": np.array(touching),
+        "joined": np.array(joined),
+        "gap": np.array(gaps),
+        "fade": np.array(fades),
+    }
