@@ -659,6 +659,8 @@ def closest_facing(
     """
     if topology is None and nodes is not None:
         topology = FaceTopology.of(nodes, outline, edges)
+    elif topology is not None and topology.outline is not outline:
+        raise ValueError("closest_facing: the topology's outline must be the outline given")
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
     inside = (weights >= -reach - INSIDE).all(axis=-1)

@@ -66,8 +66,9 @@ def _normal(
 
 def _groups(indptr: np.ndarray, indices: np.ndarray) -> np.ndarray:
     """(groups + 1,) the first row of each run of consecutive rows with one column list (the
-    measures of one cell), and the row count at the end."""
-    starts = np.empty(indptr.size, dtype=np.int64)
+    measures of one cell), and the row count at the end (one more slot than rows: a J with no
+    rows gives [0, 0], one empty run, rather than a write past the array's end)."""
+    starts = np.empty(indptr.size + 1, dtype=np.int64)
     count = 1
     starts[0] = 0
     for r in range(1, indptr.size - 1):

@@ -146,7 +146,8 @@ def start_the_cluster() -> str:
 
 
 def pytest_runtest_teardown(item, nextitem):
-    """The shared cluster stopped after the last test that uses it (``dask_scheduler``)."""
+    """The shared cluster stopped after the last test that uses it (``dask_scheduler`` or
+    ``module_dask_scheduler``)."""
     if _cluster["stack"] is None:
         return
     if "last" not in _cluster:

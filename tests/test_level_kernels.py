@@ -5,7 +5,9 @@ itself checked against central differences in tests/test_level_projection.py):
 * on a jittered, bent and twisted sheet with nodal normals (wall nodes at the clamp, their
   sums held) and with element normals, one corner's director tilted past the thickness guard,
   every piece equal to 1e-12 of its largest entry (the two forms differ by the order of a few
-  sums: rounding of 1e-16 relative, amplified by no cancellation worse than 1e4);
+  sums: rounding of 1e-16 relative, amplified by no cancellation worse than 1e4). Not for a
+  corner whose V . n lies within an ulp of the guard: the two forms' last bits may then take
+  opposite sides of it with element normals (one zeroes ds/dc, the other not);
 * the same bits on one thread as on all of numba's threads (each cell's numbers from its own
   corners only).
 """

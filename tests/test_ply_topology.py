@@ -97,11 +97,14 @@ def test_a_stepped_two_ply_model_is_as_with_the_whole_face_computed_at_each_call
     """Facing, forces and energies of the two-ply Mindlin [0/90] hemisphere's contacts
     (validation/studies/hemisphere_plies_setup.py, 10 cells) over steps of a rough layup,
     against the same blocks with the pseudonormals of the whole face at each call and no
-    kept outline tree."""
+    kept outline tree. Every nearest outline edge by a tree (``EVERY_PAIR`` 0: the model's
+    40 outline edges would otherwise be measured pair by pair and no tree used), each
+    block's kept tree built at least once."""
     from elements.ply_block import PlyContactBlock
     from femcore.state import State
     from validation.studies import hemisphere_plies_setup as setup
 
+    monkeypatch.setattr(ply_fade, "EVERY_PAIR", 0)
     _, model = setup.model(10, setup.LAYUPS["0/90"], "mindlin", 20.0)
     compiled = model.compile()
     blocks = [b for b in compiled.interactions if isinstance(b, PlyContactBlock)]
@@ -145,6 +148,7 @@ def test_a_stepped_two_ply_model_is_as_with_the_whole_face_computed_at_each_call
             np.testing.assert_array_equal(force[1], ref_force[1])
             assert energy == ref_energy
     assert edged > 50  # points off their triangles: edges' and vertices' pseudonormals read
+    assert all(block.outline_tree.builds >= 1 for block in blocks)  # the kept tree answered
 
 
 def test_a_kept_tree_s_bound_takes_the_samples_move():
