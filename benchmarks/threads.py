@@ -98,6 +98,11 @@ serial rest on the threads and the fibrous lanes merged), ``--cells 224 --busy 0
 of 2) 20.94 (ratio 0.55: 1.83 x), all threads 20.06 (1.91 x), critical 2.00; the reference
 pass 0.854 ms. main fdcebfd right after could not be measured quiet (other runs had started:
 the default took 1 of 2 threads, 45.85 / 46.13 ms); its quiet figures above: 1.61-1.67 x.
+Quiet again after the director moments' lanes (main 5ca146d, load 1.0-1.1, nothing else
+running), the same command, two runs: 1 thread 33.15 / 33.37 ms a step, the default (2 of
+2) 19.96 / 18.12 (1.66 / 1.84 x), all threads 19.95 / 18.02, critical 1.90 / 1.93; the
+reference pass 0.853 / 0.855 ms. The one-thread step 13 % shorter than before; the two
+threads' gain as before within the runs' spread.
 
 The small passes on two threads cost more than they save on a busy machine: x - c of 50k
 rows took 46 against 56 us (best of 300, load 5-6), the forces' add 66 against 79; the
