@@ -181,7 +181,7 @@ TREE_MOVE = 0.25
 
 class OutlineTree:
     """The KD-tree of ``tree_segments`` kept between calls over the same outline: its
-    samples' owners and places along their segments, the ends it sampled and its bound
+    samples' owners and each segment's count of them, the ends it sampled and its bound
     ``half`` there. A sample lies at a fixed place between its segment's ends, so it moves no
     more than the ends' largest move m since the build: a segment not measured is then no
     nearer than reach_k - m - half (half of the pieces' current lengths), and the search
@@ -191,7 +191,25 @@ class OutlineTree:
 
     def __init__(self) -> None:
         self.builds = 0
-        self._kept: tuple | None = None
+        self.tree = None  # the cKDTree over the samples; None before the first build
+        self.starts = self.ends = np.zeros((0, 3))  # (E, 3) the ends it sampled, mm
+        self.owner = np.zeros(0, dtype=np.int64)  # (s,) each sample's segment
+        self.pieces = np.zeros(0, dtype=np.int64)  # (E,) each segment's samples
+        self.half = 0.0  # its bound there, mm
+
+    def moved(self, starts: np.ndarray, ends: np.ndarray) -> float:
+        """The largest move of the outline's edges' ends (E, 3) since the build, mm (inf
+        before the first build or where the outline's size changed; NaN passes through)."""
+        if self.tree is None or self.starts.shape != starts.shape:
+            return np.inf
+        return float(
+            np.sqrt(
+                max(
+                    np.einsum("ei,ei->e", starts - self.starts, starts - self.starts).max(),
+                    np.einsum("ei,ei->e", ends - self.ends, ends - self.ends).max(),
+                )
+            )
+        )
 
 
 def _sampled(starts: np.ndarray, e: np.ndarray, lengths: np.ndarray):
@@ -233,30 +251,20 @@ def tree_segments(
     # than the median segment (nor than a quarter of the mean: at most 5 E samples): every
     # point of a segment within ``half`` of a sample of it
     lengths = np.sqrt(squared)
-    moved = 0.0
-    built = None if kept is None else kept._kept
-    if built is not None and built[0].shape == starts.shape:
-        moved = float(
-            np.sqrt(
-                max(
-                    np.einsum("ei,ei->e", starts - built[0], starts - built[0]).max(),
-                    np.einsum("ei,ei->e", ends - built[1], ends - built[1]).max(),
-                )
-            )
-        )
-        if not moved <= TREE_MOVE * built[6]:  # (NaN too)
-            built = None
-    if built is None:
+    moved = np.inf if kept is None else kept.moved(starts, ends)
+    build = kept is None or not moved <= TREE_MOVE * kept.half  # (NaN too)
+    if build:
         owner, along, pieces = _sampled(starts, e, lengths)
         tree = cKDTree(starts[owner] + along[:, None] * e[owner])
         moved = 0.0
-        if kept is not None:
-            built_half = 0.5 * float(np.max(lengths / pieces))
-            kept._kept = (starts.copy(), ends.copy(), owner, along, pieces, tree, built_half)
-            kept.builds += 1
     else:
-        owner, pieces, tree = built[2], built[4], built[5]
+        assert kept is not None  # (build is True without one)
+        owner, pieces, tree = kept.owner, kept.pieces, kept.tree
     half = 0.5 * float(np.max(lengths / pieces))
+    if build and kept is not None:
+        kept.starts, kept.ends, kept.owner, kept.pieces = starts.copy(), ends.copy(), owner, pieces
+        kept.tree, kept.half = tree, half
+        kept.builds += 1
     pad = 1e-9 * (float(np.abs(p).max()) + float(np.abs(starts).max()) + float(lengths.max()))
     best = np.full(count, np.inf)
     todo = np.arange(count)

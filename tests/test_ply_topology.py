@@ -162,7 +162,7 @@ def test_a_kept_tree_s_bound_takes_the_samples_move():
         ends = starts + rng.normal(0.0, 0.7, (400, 3))
         kept = ply_fade.OutlineTree()
         ply_fade.nearest_segments(rng.uniform(0.0, 10.0, (3000, 3)), starts, ends, kept)
-        half = 0.5 * float(np.max(np.linalg.norm(ends - starts, axis=1) / kept._kept[4]))
+        half = kept.half
         for _ in range(5):
             way = rng.normal(0.0, 1.0, (400, 3))
             way *= 0.24 * half / np.linalg.norm(way, axis=1)[:, None]
