@@ -488,10 +488,7 @@ def pseudonormals(
     the triangles' corners, mm; nodes (m, 3) their node ids; edges (m, 3) ``edge_ids(nodes)``
     (computed when None)."""
     edges = edge_ids(nodes) if edges is None else edges
-    n = triangle_frames(y)[0]  # (m, 3)
-    u = np.roll(y, -1, axis=1) - y  # (m, 3, 3): from corner k to corner k + 1
-    v = np.roll(y, -2, axis=1) - y  # to corner k + 2
-    angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
+    n, angles = _unit_normals_and_angles(y)  # (m, 3), (m, 3)
     count = int(nodes.max()) + 1
     flat = nodes.ravel()
     weighted = (angles[:, :, None] * n[:, None, :]).reshape(-1, 3)
@@ -504,13 +501,12 @@ def pseudonormals(
     return vertex, summed[ids].reshape(len(nodes), 3, 3)
 
 
-def _unit_normals_and_angles(y: np.ndarray, rows: np.ndarray):
-    """The unit normals (r, 3) of the triangles ``rows`` (r,) of y (m, 3, 3) and their angles
-    (r, 3) at each corner, rad: the expressions of ``pseudonormals``, row by row."""
-    corners = y[rows]
+def _unit_normals_and_angles(corners: np.ndarray):
+    """The unit normals (r, 3) of the triangles of ``corners`` (r, 3, 3), mm, and their
+    angles (r, 3) at each corner, rad (row by row: a few rows' have the whole face's bits)."""
     n = triangle_frames(corners)[0]
-    u = np.roll(corners, -1, axis=1) - corners
-    v = np.roll(corners, -2, axis=1) - corners
+    u = np.roll(corners, -1, axis=1) - corners  # from corner k to corner k + 1
+    v = np.roll(corners, -2, axis=1) - corners  # to corner k + 2
     angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
     return n, angles
 
@@ -526,7 +522,7 @@ def pseudonormals_at(
     fan = topology.fans[vertices]  # (c, f) corners row * 3 + k
     sharing = topology.edge_halves[topology.edges.ravel()[halves]]  # (h, w)
     rows = np.unique(np.concatenate([fan[fan >= 0] // 3, sharing[sharing >= 0] // 3]))
-    n, angles = _unit_normals_and_angles(y, rows)
+    n, angles = _unit_normals_and_angles(y[rows])
     at = np.full(len(y), -1)
     at[rows] = np.arange(len(rows))
     vertex = np.zeros((len(vertices), 3))
@@ -757,10 +753,7 @@ def closest_facing(
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        if outline_tree is None:
-            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends)
-        else:
-            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
+        fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
         chosen = fade_edge[near_outline]
         fade[near_outline], fade_gradient[near_outline] = outline_fade(
             p[near_outline],
