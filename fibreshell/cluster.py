@@ -16,7 +16,21 @@ from typing import Any
 
 from solvers.common import ProgressLine, resolve_progress
 
-__all__ = ["Failure", "check_workers", "dask_client", "map_tasks", "set_threads"]
+__all__ = ["Failure", "IDLE_CONFIG", "check_workers", "dask_client", "map_tasks", "set_threads"]
+
+# Dask's defaults poll for an interactive dashboard's sake: the event loop's health every 20 ms,
+# each worker's memory every 100 ms, work stealing every 100 ms, and each worker samples its
+# threads for the profiler every 10 ms. An idle 2-worker LocalCluster then takes 4.5-5.3 s of
+# CPU a minute (about 9 % of a core, felt on a laptop between a sweep's tasks); with these,
+# 1.0 s (benchmarks/cluster_idle.py). A sweep's tasks last seconds to hours, so a second's
+# latency in stealing or in the memory monitor changes nothing, and no dashboard reads the
+# profiles. The nannies pass the config to their workers.
+IDLE_CONFIG: dict[str, Any] = {
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.scheduler.work-stealing-interval": "1s",
+    "distributed.worker.profile.enabled": False,
+}
 
 
 @dataclass(frozen=True)
@@ -79,13 +93,18 @@ def dask_client(
     # Dask's nannies start their workers with MALLOC_TRIM_THRESHOLD_=65536, which also fixes
     # glibc's mmap threshold: every large numpy temporary is then mapped and unmapped, and
     # a solver runs 25-40 % slower than in this process (measured, benchmarks/sweep.py).
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+    # Without a dashboard the scheduler still serves HTTP (its health and metrics routes), by
+    # default on port 8787, and warns when a second cluster finds it taken: bound here to a
+    # free port on this machine only.
+    config = IDLE_CONFIG | {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+    with dask.config.set(config):
         try:
             cluster = LocalCluster(
                 n_workers=count,
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
+                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
                 silence_logs=logging.ERROR,
             )
         except RuntimeError as error:
