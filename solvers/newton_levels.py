@@ -129,39 +129,16 @@ class LevelStrains:
         ]
         if not self.parts:
             return
-        n = model.n_nodes
-        connectivities = [p.connectivity for p in self.parts]
-        pairs_cell, pairs_node = [], []
-        offset = 0
-        ring = node_adjacency(n, connectivities)
-        for part in self.parts:
-            cells = part.connectivity
-            m = len(cells)
-            corners = sp.csr_matrix(
-                (np.ones(cells.size), (np.repeat(np.arange(m), cells.shape[1]), cells.ravel())),
-                shape=(m, n),
-            )
-            near = (corners @ ring).tocoo()  # (cell, node one cell from a corner)
-            pairs_cell.append(near.row + offset)
-            pairs_node.append(near.col)
-            offset += m
-        cell, node = np.concatenate(pairs_cell), np.concatenate(pairs_node)
-        self.n_cells = offset
-        # Nodes that move a common cell get different colours (a greedy colouring of that
-        # graph, once per solve; the strains of a cell reach the nodes one cell from its
-        # corners through the nodal normals).
-        reach = sp.csr_matrix((np.ones(cell.size), (cell, node)), shape=(offset, n))
-        colour = greedy_colours((reach.T @ reach).tocsr())
-        self.groups = [np.flatnonzero(colour == c) for c in range(int(colour.max()) + 1)]
-        # The node of each colour that moves each cell (unique by the colouring).
-        self.node_of = np.full((offset, len(self.groups)), -1, dtype=np.int64)
-        self.node_of[cell, colour[node]] = node
         dofs = model.dofs
         self.slot = np.full(dofs.n_slots, -1, dtype=np.int64)
         self.slot[dofs.free_slots] = np.arange(dofs.free_slots.size)
         self.solver = LinearSolver()
         self.pattern: tuple | None = None
         self.system = PenaltySystem(int(dofs.free_slots.size))
+        # The colouring of the coloured differences (``_jacobian``), made at their first use:
+        # the solves take the exact gradient and need none of it.
+        self.groups: list[np.ndarray] = []
+        self.node_of = np.zeros((0, 0), dtype=np.int64)
 
     def __bool__(self) -> bool:
         return bool(self.parts)
@@ -303,6 +280,36 @@ class LevelStrains:
         place[keep] = locate(indptr, indices, col, row)
         return place, indices, indptr, (offset, n_free)
 
+    def _colour(self) -> None:
+        """The colour groups and each cell's node of each colour (``groups``, ``node_of``)
+        of ``_jacobian``'s coloured differences."""
+        n = self.model.n_nodes
+        connectivities = [p.connectivity for p in self.parts]
+        pairs_cell, pairs_node = [], []
+        offset = 0
+        ring = node_adjacency(n, connectivities)
+        for part in self.parts:
+            cells = part.connectivity
+            m = len(cells)
+            corners = sp.csr_matrix(
+                (np.ones(cells.size), (np.repeat(np.arange(m), cells.shape[1]), cells.ravel())),
+                shape=(m, n),
+            )
+            near = (corners @ ring).tocoo()  # (cell, node one cell from a corner)
+            pairs_cell.append(near.row + offset)
+            pairs_node.append(near.col)
+            offset += m
+        cell, node = np.concatenate(pairs_cell), np.concatenate(pairs_node)
+        # Nodes that move a common cell get different colours (a greedy colouring of that
+        # graph, once per projection; the strains of a cell reach the nodes one cell from its
+        # corners through the nodal normals).
+        reach = sp.csr_matrix((np.ones(cell.size), (cell, node)), shape=(offset, n))
+        colour = greedy_colours((reach.T @ reach).tocsr())
+        self.groups = [np.flatnonzero(colour == c) for c in range(int(colour.max()) + 1)]
+        # The node of each colour that moves each cell (unique by the colouring).
+        self.node_of = np.full((offset, len(self.groups)), -1, dtype=np.int64)
+        self.node_of[cell, colour[node]] = node
+
     def _jacobian(
         self, state: State, frames: Frames, delta: np.ndarray, size: float, k: int
     ) -> sp.csr_matrix:
@@ -316,6 +323,8 @@ class LevelStrains:
         positions, directors = end.positions, end.directors
         axes = (frames[1], frames[0]) if frames is not None else (None, None)
         base = self.strains(end)
+        if not self.groups:
+            self._colour()
         rows, cols, values = [], [], []
         for colour, members in enumerate(self.groups):
             node = self.node_of[:, colour]
