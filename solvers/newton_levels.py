@@ -1,5 +1,5 @@
 """The level-strain projection of a Newton step of the static solver
-(``Static(level_projection=True)``, docs/theory.md §6.5).
+(``Static``'s default on a fibrous model, docs/theory.md §6.5).
 
 The fibrous shell's fibres run at several levels through the thickness, x + zeta h_m V / 2:
 their lengths follow the directors' differences from node to node as well as the mid-surface,
