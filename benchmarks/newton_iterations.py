@@ -218,7 +218,12 @@ the plies' deck's fibrous sag 12-12-14-9-6-5 -> 5-6-5-4-4-4), their solves' CPU 
 (load 9-12). Lines 1-2 now (one thread, best of 3, load 9-10): elastica 4-6-5-4-4, 23 tangents,
 0.06 s; roll-up 5-4-5-4, 18, 0.05 s (Mindlin: no level strains, the same with either setting).
 Lines 4-6's fibrous Peirce figures above were taken with the projection off; with the default
-now, 6-5-6.
+now, 6-5-6. Left as it is: the projection's set-up once a solve, 25-30 ms on the 169-node plate
+of tests/test_fibrous_supports.py (J's pattern 7-11 ms, the system's maps 11-16 of which the
+products' places 3.4, the first factorisation's analysis 3.6; 1.5, 1.4 and 0.8 ms on Peirce's
+42 nodes): its one-increment solves 0.058 -> 0.093 s with the same 3 iterations. Measured and
+not kept: the sweeps after the first with the first sweep's factorisation (J new in the
+right-hand side only): Peirce stopped at load factor 0.58 after 8 cuts.
 
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 [--no-coloured]
