@@ -244,3 +244,25 @@ def test_the_default_leaves_the_projection_off_under_prescribed_motion():
     result = Static(increments=4, seek_stable=False, progress=False).solve(model)
     assert result.info["level_projections"] == 0
     assert max(result.info["iterations_per_increment"]) <= 4
+
+
+def test_a_case_file_turns_the_projection_off_with_its_solver_option(tmp_path):
+    # The case files' [solver] options are Static's keywords: level_projection = false there
+    # gives the plain Newton steps (the G986 strip of cases/g986-heavy-cantilever.toml, 5
+    # increments: 6-9-8-7-7 iterations without the projection, 5-5-5-4-5 with it).
+    from pathlib import Path
+
+    from fibreshell.case import load_case
+
+    source = Path(__file__).resolve().parents[1] / "cases" / "g986-heavy-cantilever.toml"
+    text = source.read_text().replace(
+        "increments = 5\n", "increments = 5\nlevel_projection = false\n"
+    )
+    off = tmp_path / "off.toml"
+    off.write_text(text)
+    assert load_case(source).make_solver().level_projection is True
+    case = load_case(off)
+    solver = case.make_solver()
+    assert solver.level_projection is False
+    solver.progress = False
+    assert solver.solve(case.model()).info["level_projections"] == 0
