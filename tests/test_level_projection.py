@@ -19,7 +19,8 @@
 * The projection is Static's default on a fibrous model: Peirce's cantilever by
   ``Static(increments=3)`` takes 3-6 Newton iterations per increment (9-9-10 before) and its
   chord makes Peirce's 41.5 deg, the angle of the overhang's heavy elastica
-  (validation.references.elastica.peirce_overhang); not with prescribed motions.
+  (validation.references.elastica.peirce_overhang); not with prescribed motions; a case
+  file's ``[solver] level_projection = false`` turns it off.
 """
 
 from __future__ import annotations
