@@ -144,7 +144,7 @@ numpy 0.35-0.38 ms a sweep, its sums into J 0.25), scipy's diag(held) J, J^T J, 
 10, the strains at each sweep's end 4.5, the targets' central differences 2.3; after, 37 ms:
 the gradient 16, the system 6 (0.6 of it its pattern, once a solve), the factorisations and
 solves 9, strains and steps 6. The projection saves 11 tangents and their factorisations
-(28 -> 17), about 35 ms: it stays an option (``level_projection=False`` the default) until
+(28 -> 17), about 35 ms: it stayed an option (``level_projection=False`` the default) until
 the gradient's numpy (about 8 ms a solve here) is compiled as well. Not kept: J^T J by one
 product per pair of a row's entries (245 000 on Peirce's strip, 0.4-0.5 ms a sweep) and by
 a block updated row by row (1.6 ms a sweep on the bias against scipy's 0.8: the updates went
@@ -166,9 +166,64 @@ positions of the compiled and numpy gradients' solves equal to 3.2e-13 mm. A swe
 on Peirce's strip (solvers.newton_levels ``gradient``, 40 cells, load 9): 0.51 -> 0.24 ms, its
 pieces 0.34 -> 0.07 (the normal sums 0.009, the shares 0.015 of it), the step's end (``advance``)
 0.055, the compiled sums into J 0.035, scipy's CSR 0.02. The projection now saves CPU on
-Peirce's strip in 3 increments but not in 12 (1.02-1.065 x): the default stays off. What is
+Peirce's strip in 3 increments but not in 12 (1.02-1.065 x): the default stayed off. What is
 left a sweep (about 1 ms: the gradient 0.24, K + rho J^T J 0.3, its factorisation and solve
 0.4, the strains 0.1) is spread over pieces of 0.02-0.4 ms.
+
+The projection made the default on fibrous models (solvers.newton_levels CHANGE 1e-3 ->
+1e-4). Profile of the force-pulled bias with and without it (cProfile by tottime, one thread,
+load 0.3-2): without, 4-4-4-5 iterations, 17 tangents, the first update of every increment
+leaving the ratio at 1.0 (0.46-0.15 before it); with it (CHANGE 1e-3) 6-4-4-4, 18 tangents:
+no iteration saved, and 24 sweeps in 10 projected steps (2.4 a step) at about 4 ms each: the
+J^T J sums (level_system ``_normal``, 2.4 ms a sweep: 30-60 columns a cell), the gradient
+(1.4 ms), the system's factorisation (its pattern new whenever K's zeros move: 18 symbolic
+analyses a solve against 7), and once a solve J's pattern (np.unique over 282 000 keys,
+20-25 ms) and the system's maps (10-15 ms). The projected steps that did not pay: the first
+increment's third step (0.06 element) held the fibres near the clamps, whose first-order
+change was 7e-4 to 9e-4, to targets off by about its square (5e-7 at 120000 N/mm) and left a
+ratio of 7.7e-2 where plain Newton reached 2.5e-4; each later increment's second step (0.02-
+0.04 element, held error 1.4e-5 to 2.6e-5) took the ratio from 3e-2 to 3e-2 / 4e-3 / 1e-3 only.
+Measured and not kept (one thread, best of 3, load 5-6.6): a gate on the held error before
+the first sweep (skip the projection below 1e-5 / 3e-5 / 1e-4): the bias 6-4-4-4 / 6-3-3-3 /
+6-3-3-3 but Peirce 10-6-6 (its first step's held error is 3.4e-6, and that one sweep saves
+4 iterations) and the heavy cantilevers up to 6-6-7; steps projected from 0.05 or 0.1
+element (LEVEL_GATE): the bias 7-3-4-3, Peirce 6-6-6 and in 12 increments one of 11
+iterations (58 tangents against 52). CHANGE 3e-5 / 1e-4 / 3e-4: the bias 5-4-4-3 / 5-4-3-3 /
+5-4-4-3, Peirce and the heavy cantilevers the same iterations from 3e-5 to 1e-3: 1e-4 kept.
+J's pattern by scipy's sums of duplicates and a bisection in each row (the same bits): the
+bias 0.342 -> 0.305 s with CHANGE 1e-3.
+
+Line 7 off / on (CHANGE 1e-4) / on with CHANGE 1e-3 (its reference pass), same run, two
+rounds (one thread, CPU best of 5, load 12.4-13.0): Peirce 3 increments 0.096 / 0.092 / 0.086,
+0.096 / 0.089 / 0.087 s (6-5-6, 17 tangents against 9-9-10, 28); 12 increments 0.214 / 0.231 /
+0.231, 0.206 / 0.224 / 0.213 s (52 tangents against 69); heavy cantilever 10 cells 0.113-0.116
+/ 0.070 / 0.070-0.071, 20 cells 0.156-0.160 / 0.084-0.094 / 0.091-0.095, 40 cells 0.358-0.359 /
+0.147-0.154 / 0.151-0.156 s; the force-pulled bias 0.222 / 0.244 / 0.306, 0.218 / 0.249 /
+0.311 s (5-4-3-3, 15 tangents, 17 sweeps / 6-4-4-4, 18, 24; off 4-4-4-5, 17): on over off
+Peirce 0.93-0.96 and 1.08-1.09 x, heavy 0.60-0.62 / 0.54-0.59 / 0.41-0.43 x, bias 1.10-1.14 x
+(1.38-1.43 with CHANGE 1e-3); the six solves in sum 1.154-1.159 -> 0.874-0.876 s (0.76 x).
+Every fibrous Static solve of the tests (tests/test_static*, test_fibrous*, test_newton*,
+test_bias*, test_plies, test_hemisphere_static, test_capstan, test_level_projection,
+test_round_off_floor, test_nonlinear_bending, test_compression_free_tangent,
+test_picture_frame, test_case_files and others: 105 solves) and of the coarse validation cases
+that run one (fibrous- and plies-heavy-cantilever, fibrous- and plies-deck-of-cards,
+bai-6.1.1-sensitivity, bai-6.1.2: 28 solves) run with the projection off and on: the same tests
+pass (but those of test_level_projection that ask for the projection); 24 test solves and 3
+case solves projected, the rest have prescribed motions (the fibrous deck of cards, the paper
+cases on the arc-length path: the projection off there) or interactions (the plies), and are
+the same to the bit; the cases' checks all pass both ways, the compared values equal to 1e-9 of
+each (the heavy cantilever's tip 117.5210592 mm both, tolerance 1 %), their iterations 2606 ->
+2535 (heavy cantilever 26-9-7 -> 6-6-4, the plies' heavy fibrous strip 6-12-8-7-7 -> 5-6-5-4-5,
+the plies' deck's fibrous sag 12-12-14-9-6-5 -> 5-6-5-4-4-4), their solves' CPU 31.7 -> 31.6 s
+(load 9-12). Lines 1-2 now (one thread, best of 3, load 9-10): elastica 4-6-5-4-4, 23 tangents,
+0.06 s; roll-up 5-4-5-4, 18, 0.05 s (Mindlin: no level strains, the same with either setting).
+Lines 4-6's fibrous Peirce figures above were taken with the projection off; with the default
+now, 6-5-6. Left as it is: the projection's set-up once a solve, 25-30 ms on the 169-node plate
+of tests/test_fibrous_supports.py (J's pattern 7-11 ms, the system's maps 11-16 of which the
+products' places 3.4, the first factorisation's analysis 3.6; 1.5, 1.4 and 0.8 ms on Peirce's
+42 nodes): its one-increment solves 0.058 -> 0.093 s with the same 3 iterations. Measured and
+not kept: the sweeps after the first with the first sweep's factorisation (J new in the
+right-hand side only): Peirce stopped at load factor 0.58 after 8 cuts.
 
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 [--no-coloured]

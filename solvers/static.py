@@ -175,9 +175,9 @@ class Static:
     level_projection : each Newton step moving a node by over 1e-2 element sizes corrected, at
         the least energy in the iteration's tangent, so that the level strains and shear
         angles the step keeps nearly constant end where its first order puts them
-        (solvers.newton_levels; default False; FibrousShell): Peirce's cantilever 6-5-6
-        iterations (9-9-10 without), 0.95-1.07 x the CPU; heavy cantilever 0.4-0.6 x; bias
-        pulled 6-4-4-4 (4-4-4-4), 1.45-1.55 x. ``info["level_projections"]`` counts the steps
+        (solvers.newton_levels; default True, on FibrousShell blocks; False turns it off):
+        Peirce's cantilever 6-5-6 iterations (9-9-10 without); heavy cantilever 0.4-0.6 x the
+        CPU; bias pulled 5-4-3-3 (4-4-4-5). ``info["level_projections"]`` counts the steps
         corrected; not with interactions, prescribed motions, or on indefinite tangents.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
         compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never. None
@@ -242,7 +242,7 @@ class Static:
         chords: int = 1,
         curved: bool = True,
         fibre_projection: bool = True,
-        level_projection: bool = False,
+        level_projection: bool = True,
         compression_free: float | None = None,
         follow_tools: bool = False,
         follow_tools_after_cut: bool = False,
@@ -447,7 +447,7 @@ class StaticRun:
         # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).
         fibres = FibreEdges(model) if solver.fibre_projection else None
         self.fibres = fibres if fibres else None
-        use_levels = solver.level_projection and not model.has_prescribed
+        use_levels = solver.level_projection and not (model.has_prescribed or model.interactions)
         levels = LevelStrains(model) if use_levels else None
         self.levels = levels if levels else None
         self.frames = [make_frame(model, self.state)]

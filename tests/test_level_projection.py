@@ -14,8 +14,13 @@
   and 25-9-8, to the same equilibrium (positions equal to 1e-6 mm; the two solves' residuals
   are within the convergence test, tol 1e-8 of F_ref, which bounds the difference far below).
 * A bias specimen pulled by a force, whose shear is the load's own, converges in as few
-  iterations as without the projection (the measures a step changes by more than 1e-3 are
+  iterations as without the projection (the measures a step changes by more than 1e-4 are
   not held).
+* The projection is Static's default on a fibrous model: Peirce's cantilever by
+  ``Static(increments=3)`` takes 3-6 Newton iterations per increment (9-9-10 before) and its
+  chord makes Peirce's 41.5 deg, the angle of the overhang's heavy elastica
+  (validation.references.elastica.peirce_overhang); not with prescribed motions; a case
+  file's ``[solver] level_projection = false`` turns it off.
 """
 
 from __future__ import annotations
@@ -33,7 +38,7 @@ from solvers.newton_levels import LevelStrains
 from solvers.static import StaticRun
 from validation import specimens
 from validation.cases.fibrous_heavy_cantilever import strip as heavy_strip
-from validation.references.elastica import peirce_overhang
+from validation.references.elastica import PEIRCE_ANGLE_DEG, peirce_overhang
 
 FABRIC = g986_stack()
 
@@ -190,10 +195,12 @@ def test_level_projection_must_be_a_flag():
 def test_a_bias_specimen_pulled_by_a_force_is_not_held_back():
     # The shear of the bias specimen (tests/test_bias_extension.py, its linear fabric) is the
     # load's own: 0.1-0.16 rad a step, whose first-order target is off by about its square.
-    # The projection holds only the measures a step changes by at most CHANGE (1e-3), so the
-    # pull converges as without it (4-4-4-4 or 4-4-4-5 as the last bits of the fibrous
-    # kernels' logarithms fall; with it 6-4-4-4); holding every measure took 6-5-13-19 with
-    # the exact gradient and 28-29-27-34 with the coloured differences of before.
+    # The projection holds only the measures a step changes by at most CHANGE (1e-4), so the
+    # pull converges in no more iterations than without it (4-4-4-4 or 4-4-4-5 as the last
+    # bits of the fibrous kernels' logarithms fall; with it 5-4-3-3, and 6-4-4-4 with CHANGE
+    # 1e-3, which held the fibres near the clamps to targets off by 5e-7); holding every
+    # measure took 6-5-13-19 with the exact gradient and 28-29-27-34 with the coloured
+    # differences of before.
     from test_bias_extension import LINEAR, bias_specimen
 
     mesh, model = bias_specimen(LINEAR, pull=None)
@@ -204,7 +211,59 @@ def test_a_bias_specimen_pulled_by_a_force_is_not_held_back():
     after = Static(increments=4, progress=False, level_projection=True).solve(compiled)
     assert max(before.info["iterations_per_increment"]) <= 5
     assert max(after.info["iterations_per_increment"]) <= 6
-    assert sum(after.info["iterations_per_increment"]) <= 20
+    done = sum(after.info["iterations_per_increment"])
+    assert done <= sum(before.info["iterations_per_increment"])
     assert after.info["level_projections"] > 0
     # Both within the convergence test (tol 1e-8 of F_ref) of the same equilibrium.
     assert np.abs(after.positions - before.positions).max() <= 1e-6
+
+
+def test_peirce_cantilever_by_the_default_static_takes_three_to_six_iterations_an_increment():
+    # The G986 stack's Peirce overhang (20 cells) by Static with its defaults: the projection
+    # is on for a fibrous model. Before it was, 9-9-10 iterations. The chord from the clamp to
+    # the tip against Peirce's 41.5 deg, the angle of the heavy elastica of this overhang and
+    # bending law (validation.references.elastica.peirce_overhang); 0.2 deg, as
+    # tests/test_nonlinear_bending.py bounds the same strip's chord by the plain Newton steps
+    # (the 20-cell tip errors +0.23 %, -0.10 % make 0.094 deg; the two solves' positions agree
+    # to 1e-6 mm, test_fibrous_cantilevers_take_at_most_six_iterations_per_increment).
+    overhang = peirce_overhang(FABRIC.areal_density * specimens.GRAVITY, FABRIC.bending)
+    mesh, model = specimens.fibrous_strip(overhang["overhang"], 10.0, FABRIC, 20)
+    result = Static(increments=3, progress=False).solve(model)
+    assert all(3 <= n <= 6 for n in result.info["iterations_per_increment"])
+    assert result.info["level_projections"] > 0
+    tip = result.positions[mesh.nodes("right")].mean(axis=0)
+    chord = np.degrees(np.arctan2(-tip[2], tip[0]))
+    assert chord == pytest.approx(PEIRCE_ANGLE_DEG, abs=0.2)
+
+
+def test_the_default_leaves_the_projection_off_under_prescribed_motion():
+    # The bias extension pulled by its clamp's displacement: the in-plane shear is the motion
+    # itself, and the projection took 3-14-9-29 iterations there (solvers.static, StaticRun).
+    from test_bias_extension import LINEAR, bias_specimen
+
+    _, model = bias_specimen(LINEAR)
+    result = Static(increments=4, seek_stable=False, progress=False).solve(model)
+    assert result.info["level_projections"] == 0
+    assert max(result.info["iterations_per_increment"]) <= 4
+
+
+def test_a_case_file_turns_the_projection_off_with_its_solver_option(tmp_path):
+    # The case files' [solver] options are Static's keywords: level_projection = false there
+    # gives the plain Newton steps (the G986 strip of cases/g986-heavy-cantilever.toml, 5
+    # increments: 6-9-8-7-7 iterations without the projection, 5-5-5-4-5 with it).
+    from pathlib import Path
+
+    from fibreshell.case import load_case
+
+    source = Path(__file__).resolve().parents[1] / "cases" / "g986-heavy-cantilever.toml"
+    text = source.read_text().replace(
+        "increments = 5\n", "increments = 5\nlevel_projection = false\n"
+    )
+    off = tmp_path / "off.toml"
+    off.write_text(text)
+    assert load_case(source).make_solver().level_projection is True
+    case = load_case(off)
+    solver = case.make_solver()
+    assert solver.level_projection is False
+    solver.progress = False
+    assert solver.solve(case.model()).info["level_projections"] == 0
