@@ -20,6 +20,11 @@ gives all four to the envelope (before, with n b^2 against 3.0, the fibrous corn
 In bai-6.2.1's 40-cell fibrous run (74 Newton iterations, 76 factorisations) the
 factorisations took 5.91 s of CPU by QDLDL, 4.44 s by the envelope (load 5-10).
 
+Tried and taken out: the elimination by panels of 32 columns, each row below a panel taking
+the panel's updates in turn while in the cache (every entry the same updates in the same
+order: the same bits): 54 -> 166 ms on the 40-cell fibrous corner (load 13), the row-outer
+update compiled far worse than the column's axpys.
+
 Run: python benchmarks/band_envelope.py [--rounds 5]
 """
 
