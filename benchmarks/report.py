@@ -158,6 +158,43 @@ The default report was not run again (about 1300 s of CPU, hours at this load): 
 cuts apply there (the parting and the nets per process and case, the tools' offsets in the
 explicit forming runs), a few per cent of it; its CPU is still the solves above.
 
+The paper cases at the default resolution, where their CPU goes and what was cut (one numba
+thread, CPU time, 2 cores shared with other jobs at a load of 5-13). bai-6.2.1 in a fresh
+process: imports 1.5 s, computation 19.6-21.0 s, figures and files 4.3 s (2.8 s with matplotlib
+warm: the side panels 0.7, the side elevation 0.7, the 3D view 0.5, the laws 0.3, the XDMF
+series of the three runs 0.45, the VTU 0.01-0.05). The computation is its seven Static solves
+(no other part above 0.1 s): the fibrous run on 40 cells (4025 unknowns, 74 Newton iterations)
+10.2-10.6 s, of it 5.9 s in 76 QDLDL factorisations (75 ms each); the fibrous Eq. 15 run on 20
+cells 2.8-2.9 s (its membrane tangent by central differences of the numpy loads, 31 ms a
+tangent, 75 tangents), the default fibrous run 2.1-2.5 s, the Mindlin run on 40 cells 2.7 s,
+the four others 0.2-0.7 s each. bai-6.1.1 alike: computation 20.8 s, its 40-cell fibrous run
+11.1 s with 6.2 s in 75 QDLDL factorisations, the 20-cell runs 2.2 / 2.9 / 0.7 s, the 40-cell
+Mindlin 3.2 s, the 10-cell ones 0.45 / 0.25 s. No waste found in the path: 19-21 increments and
+3.5 Newton iterations per increment on the corners, no cut, one tangent and one factorisation
+per iteration, the assembly's map built once per model, every figure and file written once.
+Cut: the band LDL^T eliminates within the envelope of the ordered matrix (the same factors to
+the bit: benchmarks/band_envelope.py) and is chosen by the envelope's operations, so the
+fibrous corners leave QDLDL (40 cells: 75 -> 53 ms a factorisation; the run's 76 factorisations
+5.91 -> 4.44 s). Tried and taken out: the side elevation's lines through the thickness as one
+LineCollection (0.59-0.66 -> 0.55-0.59 s, within the noise); the Eq. 15 membrane tangent's 36
+perturbed states stacked along the cell axis into one call of the numpy loads (the same bits;
+29.6-30.1 -> 33.8-35.4 ms a tangent on 20 cells: the loads' arithmetic, not numpy's overhead
+per call, is its cost). The six paper cases, code before (main 036d613) and after run at the
+same time side by side (python -m validation --cases
+bai-6.2.1,bai-6.1.1,bai-6.1.2,bai-6.2.2,bai-5.1,bai-6.1.1-sensitivity --resolution default
+--jobs 1, one per core, load 11.9 -> 5.0; case CPU = results.json ``case_cpu_s``, before /
+after, s): bai-6.2.1 23.9 / 21.5, bai-6.1.1 22.1 / 19.9, bai-6.1.2 13.9 / 13.1, bai-6.2.2 13.0
+/ 12.3, bai-5.1 19.0 / 19.0, bai-6.1.1-sensitivity 1.2 / 1.3 (its Dask worker's CPU not
+counted); 93.1 / 87.1 s, the whole process (user + system) 102.3 / 96.4 s, 7.4 / 7.2 min wall.
+Every check passed in both; the same increments, Newton iterations and cuts in every run; every
+number of results.json the same but for round-off (among the values above 1e-9 in size the
+largest relative difference 1.7e-6: a shear angle of 1.8e-9 deg), the printed digits of the
+report the same but for the runs' times and four check values that are zero to round-off (three
+Eq. 15 director tilts of 1.4e-14 to 4.3e-14 deg, tolerance 1 deg; a thinnest thickness 1 -
+1.1e-16 -> 1). These figures are far below the 30-59 s measured earlier at loads of 4-14
+(validation/report.py EXPECTED_CPU_S, now the figures after): a case's CPU time on a shared
+core grows with the load.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
 """

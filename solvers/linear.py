@@ -11,7 +11,7 @@ negative eigenvalues), which tells a stable equilibrium from a saddle whatever t
 negative modes: the sign of det K only sees an odd number of them.
 
 The factorisation is an LDL^T without pivoting: the compiled band LDL^T of solvers.band (after
-a reverse Cuthill-McKee ordering) where the pattern's band costs at most BAND_ADVANTAGE times
+a reverse Cuthill-McKee ordering) where the pattern's envelope costs at most BAND_ADVANTAGE times
 the operations of QDLDL's factor (shells, strips, sheets a few hundred unknowns wide: 5 times
 faster), else QDLDL (after an AMD ordering) through the ``qdldl`` package; the choice is made
 once per sparsity pattern (QDLDL's operations measured again only where the unknowns or a
@@ -52,11 +52,14 @@ NON_CONSERVATIVE = 1e-3
 ACCURACY = 1e-12
 # Steps of iterative refinement tried before the LU fallback.
 REFINEMENTS = 3
-# How many times more elimination operations the band LDL^T (solvers.band) may take than
-# QDLDL's and still be chosen for a pattern: per operation it runs 4-5 times faster (the
-# Mindlin cantilever of benchmarks/static_solver.py: 29 million in 5 ms against QDLDL's 35
-# million in 26 ms).
-BAND_ADVANTAGE = 3.0
+# How many times more elimination operations the band LDL^T (solvers.band, within its
+# envelope: the sum of its column reaches squared) may take than QDLDL's (the sum of its
+# column counts squared) and still be chosen for a pattern: per operation it runs 3.5-4.5
+# times faster on the paper cases' corners (benchmarks/band_envelope.py: the 40-cell fibrous
+# corner 0.70e9 operations in 53 ms against QDLDL's 0.22e9 in 75 ms; the 40-cell Mindlin one
+# 86 million in 8.4 ms against 29 million in 9.9 ms), 4-5 on the Mindlin cantilever of
+# benchmarks/static_solver.py. It was 3.0 when the band's operations were counted as n b^2.
+BAND_ADVANTAGE = 3.5
 # Where QDLDL fails on a new pattern (a zero pivot), the band is tried only if it holds at most
 # this many times the entries of K_ff's upper triangle (the cantilever's: 5.5), so that a wide
 # band never takes the memory of a dense matrix.
@@ -203,7 +206,8 @@ class LinearSolver:
         """The band plan of a new pattern when its elimination costs at most BAND_ADVANTAGE
         times QDLDL's in operations (the band's contiguous updates run that much faster per
         operation; solvers.band), from QDLDL's own factor of this matrix (kept for the
-        fallback): n b^2 / 2 against the sum of its column counts squared over 2.
+        fallback): the sum of the band's column reaches squared (its envelope,
+        ``BandPlan.operations``) against the sum of QDLDL's column counts squared.
 
         A new pattern of as many unknowns as the last one QDLDL was measured on (contact
         pairs that change from one iteration to the next change a few entries of a shell's
@@ -213,7 +217,7 @@ class LinearSolver:
         if not BAND_AVAILABLE or n == 0:
             return None
         plan = BandPlan(upper)
-        band_operations = n * float(plan.bandwidth) ** 2
+        band_operations = plan.operations
         if (
             self._measured is not None
             and self._measured[0] == n
