@@ -130,16 +130,23 @@ def stop_the_cluster() -> None:
         stack.close()
 
 
+#: The shared cluster's worker processes: one. The pytest-xdist workers and the coarse report
+#: already keep the cores busy, so a second Dask worker ran no task sooner; it cost its start
+#: (importing the package, loading numba's kernels) and its idle ticks
+#: (benchmarks/suite_processes.py prints the figures).
+CLUSTER_WORKERS = 1
+
+
 def start_the_cluster() -> str:
     """The shared LocalCluster's scheduler address, the cluster started if it is not
-    running (fibreshell.cluster.dask_client: a worker process per core)."""
+    running (fibreshell.cluster.dask_client, ``CLUSTER_WORKERS`` worker processes)."""
     if _cluster["stack"] is None:
         from contextlib import ExitStack
 
         from fibreshell.cluster import dask_client
 
         with ExitStack() as stack:
-            client, _ = stack.enter_context(dask_client())
+            client, _ = stack.enter_context(dask_client(workers=CLUSTER_WORKERS))
             _cluster["stack"] = stack.pop_all()
         _cluster["address"] = client.scheduler.address
     return _cluster["address"]
@@ -160,11 +167,11 @@ def pytest_runtest_teardown(item, nextitem):
 
 @pytest.fixture
 def dask_scheduler() -> str:
-    """The address of one LocalCluster (fibreshell.cluster.dask_client: a worker process per
-    core) shared by the tests of what runs on a cluster, fits and sweeps, rather than how a
-    cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their own costs
-    each fit 7 s of starting and warming its workers (a fit of 54 runs took 17 s on its own
-    cluster, 9.5 s on this one, with the machine's load at 2).
+    """The address of one LocalCluster (fibreshell.cluster.dask_client, ``CLUSTER_WORKERS``
+    worker processes) shared by the tests of what runs on a cluster, fits and sweeps, rather
+    than how a cluster starts (tests/test_sweep.py starts its own): a LocalCluster of their
+    own costs each fit 7 s of starting and warming its workers (a fit of 54 runs took 17 s on
+    its own cluster, 9.5 s on this one, with the machine's load at 2).
 
     Stopped once the last test that uses it has run (``pytest_runtest_teardown``), not kept
     to the session's end: an idle LocalCluster of 2 workers takes about 5.7 s of CPU a minute

@@ -141,7 +141,9 @@ def test_a_test_that_asks_for_the_cluster_after_it_stopped_gets_a_running_one(mo
     closed: list[str] = []
 
     @contextmanager
-    def one_cluster():
+    def one_cluster(workers=None):
+        # one worker process: the cores are the xdist workers' and the report's already
+        assert workers == conftest.CLUSTER_WORKERS == 1
         address = f"tcp://127.0.0.1:{8800 + len(started)}"
         started.append(address)
         try:
