@@ -423,7 +423,8 @@ class CompiledModel(CompiledTangent):
         cell fields spread over all mesh cells of that type (NaN where a block does not cover);
         the interactions' node fields after the blocks'. Element blocks on disjoint nodes give
         one node field of a name (each node's value from its own block); parts that share
-        nodes give name, name_2, ... in the order of the parts."""
+        nodes give name, name_2, ... in the order of the parts, and so do cell fields of one
+        name whose shapes differ between blocks."""
         out: dict[str, dict] = {"point": {}, **{kind: {} for kind in CELL_KINDS}}
         counts = {kind: len(self.mesh.cells(kind)) for kind in CELL_KINDS}
         covered: dict[str, np.ndarray | None] = {}  # field -> the nodes element blocks gave it
@@ -453,8 +454,14 @@ class CompiledModel(CompiledTangent):
             kind = part.cell_type
             for name, values in part.cell_fields(state, history).items():
                 values = np.asarray(values, dtype=float)
+                # A field of another shape in an earlier block (a fibrous block's three
+                # levels beside a Mindlin block's one value) is named name_2, name_3, ...
+                key, count = name, 1
+                while key in out[kind] and out[kind][key].shape[1:] != values.shape[1:]:
+                    count += 1
+                    key = f"{name}_{count}"
                 full = out[kind].setdefault(
-                    name, np.full((counts[kind],) + values.shape[1:], np.nan)
+                    key, np.full((counts[kind],) + values.shape[1:], np.nan)
                 )
                 full[part.cell_ids] = values
         return out
