@@ -202,6 +202,12 @@ rounds (one thread, CPU best of 5, load 12.4-13.0): Peirce 3 increments 0.096 / 
 0.311 s (5-4-3-3, 15 tangents, 17 sweeps / 6-4-4-4, 18, 24; off 4-4-4-5, 17): on over off
 Peirce 0.93-0.96 and 1.08-1.09 x, heavy 0.60-0.62 / 0.54-0.59 / 0.41-0.43 x, bias 1.10-1.14 x
 (1.38-1.43 with CHANGE 1e-3); the six solves in sum 1.154-1.159 -> 0.874-0.876 s (0.76 x).
+Again after the band LDL^T took the envelope and these patterns (solvers/linear.py: the bias's
+526 unknowns go to the band, whose factors differ from QDLDL's in the last bits), off / on
+(one thread, CPU best of 5, load 7.3-9.0): Peirce 3 increments 0.117 / 0.108 s (the same
+9-9-10 / 6-5-6), 12 increments 0.253 / 0.257, heavy cantilever 0.133 / 0.082, 0.187 / 0.105,
+0.417 / 0.168, the bias 0.222 / 0.285 s (4-4-4-4, 16 tangents / 6-4-4-3, 17, 17 sweeps): on
+over off 0.92, 1.02, 0.62 / 0.56 / 0.40 and 1.28 x; the six in sum 1.329 -> 1.005 s (0.76 x).
 Every fibrous Static solve of the tests (tests/test_static*, test_fibrous*, test_newton*,
 test_bias*, test_plies, test_hemisphere_static, test_capstan, test_level_projection,
 test_round_off_floor, test_nonlinear_bending, test_compression_free_tangent,

@@ -33,9 +33,10 @@ as far as the remainder the projection would remove, and holding it fought the l
 clamps, whose first-order changes reach 7e-4 to 9e-4 a step, were held to targets off by
 about 5e-7 (fibres of 120000 N/mm): a step of its first increment projected to them left a
 ratio of 7.7e-2 where plain Newton reached 2.5e-4; at 1e-4 the bias takes 5-4-3-3 (15
-tangents against 17 without the projection), at 3e-5 and 3e-4 5-4-4-3, and Peirce's and the
-heavy cantilevers the same iterations from 3e-5 to 1e-3 (benchmarks/newton_iterations.py
-line 7).
+tangents against 17 without the projection; 6-4-4-3 against 4-4-4-4, 17 tangents against 16,
+since its factorisations are the band's, whose last bits differ from QDLDL's), at 3e-5 and
+3e-4 5-4-4-3, and Peirce's and the heavy cantilevers the same iterations from 3e-5 to 1e-3
+(benchmarks/newton_iterations.py line 7).
 
 J = ds/d(delta) at each sweep's end, in the iteration's frames, is exact (the block's
 ``fibre_strain_gradient``, elements/fibrous/level_jacobian.py), summed into a CSR pattern
@@ -176,7 +177,7 @@ class LevelStrains:
         # more, as the shear of a bias specimen pulled by a force (0.1-0.16 rad a step), its
         # first-order target is off by the change squared, as far as the remainder the
         # projection would remove (1e-2), and holding it fought the load (6-5-13-19
-        # iterations against 4-4-4-4 without the projection; 5-4-3-3 with this rule).
+        # iterations against 4-4-4-4 without the projection; 6-4-4-3 with this rule).
         held = (np.abs(change) <= CHANGE).ravel().astype(float)
         if not held.any():
             return delta

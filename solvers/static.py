@@ -177,7 +177,7 @@ class Static:
         angles the step keeps nearly constant end where its first order puts them
         (solvers.newton_levels; default True, on FibrousShell blocks; False turns it off):
         Peirce's cantilever 6-5-6 iterations (9-9-10 without); heavy cantilever 0.4-0.6 x the
-        CPU; bias pulled 5-4-3-3 (4-4-4-5). ``info["level_projections"]`` counts the steps
+        CPU; bias pulled 6-4-4-3 (4-4-4-4). ``info["level_projections"]`` counts the steps
         corrected; not with interactions, prescribed motions, or on indefinite tangents.
     compression_free : the residual ratio above which an iteration's tangent leaves the fibres'
         compression out of the fibrous shell's stress terms (docs/theory.md §6.5); 0: never. None
