@@ -612,10 +612,11 @@ def closest_facing(
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
     inside = (weights >= -reach - INSIDE).all(axis=-1)
     held_grown = inside
-    lines = ends = None
-    if cuts is not None and cuts.any:  # a cut growth holds what each of its cuts keeps
-        lines, ends = cuts.lines[near], cuts.ends[near]
-        inside = inside & cut_keeps(weights, lines)
+    # a cut growth holds what each of its cuts keeps (measured at the cut candidates alone)
+    cut_at = np.nonzero(cuts.cut[near]) if cuts is not None and cuts.any else None
+    if cut_at is not None and cuts is not None:
+        inside = inside.copy()
+        inside[cut_at] &= cut_keeps(weights[cut_at], cuts.lines[near[cut_at]])
     # The distance to each candidate (grown past the outline): to its plane where it holds
     # the projection, else to its closest point on an edge, computed only where it can beat
     # the nearest plane that holds one (the distance to a plane is at most that to the
@@ -626,17 +627,21 @@ def closest_facing(
     # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to the
     # farthest edge line it lies past
     past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
-    if lines is not None:  # and to the farthest cut it lies past
-        past = np.maximum(past, cut_overshoot(weights, lines, gradients))
+    if cut_at is not None and cuts is not None:  # and to the farthest cut it lies past
+        past[cut_at] = np.maximum(
+            past[cut_at],
+            cut_overshoot(weights[cut_at], cuts.lines[near[cut_at]], gradients[cut_at]),
+        )
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
     corners = grown_corners(y[near[outside]], reach[outside])
     q = closest_on_edges(p[outside[0]], corners)
     on_cut, segment, along = np.zeros(len(q), dtype=bool), np.zeros((len(q), 2, 3)), None
-    if lines is not None and ends is not None:  # the cut growth's closest point
+    if cut_at is not None and cuts is not None:  # the cut growth's closest point
         projected = p[outside[0]] - gap[outside][:, None] * n[outside]
         q = np.where(held_grown[outside][:, None], projected, q)
+        rows = near[outside]
         q, on_cut, segment, along = closest_on_cut(
-            p[outside[0]], y[near[outside]], q, lines[outside], ends[outside]
+            p[outside[0]], y[rows], q, cuts.lines[rows], cuts.ends[rows]
         )
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
     # ties (a closest point on an edge or a vertex that several candidates share) go to the

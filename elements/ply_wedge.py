@@ -39,6 +39,7 @@ ply_search.py) hold P too; its exact distances to P are these.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -72,9 +73,15 @@ class WedgeCuts:
     lines: np.ndarray
     ends: np.ndarray
 
-    @property
+    @cached_property
+    def cut(self) -> np.ndarray:
+        """(m,) bool: the triangle has a cut."""
+        return np.any(self.lines != 0.0, axis=(1, 2))
+
+    @cached_property
     def any(self) -> bool:
-        return bool(np.any(self.lines != 0.0))
+        """Some triangle has a cut."""
+        return bool(self.cut.any())
 
     @classmethod
     def none(cls, count: int) -> WedgeCuts:
