@@ -45,9 +45,10 @@ import numpy as np
 
 __all__ = ["GAP", "WedgeCuts", "closest_on_cut", "cut_keeps"]
 
-#: The share of the blend of the wedge's two directions by which each growth's cut leans
-#: towards its own side of the bisector (0: both at the bisector; 0.5: each at the other's
-#: inner edge's line, the whole wedge a gap).
+#: The share of the wedge's angle by which each growth's cut turns from the wedge's bisector
+#: (or the line where the two planes meet) towards its own side: the gap between the two
+#: growths is twice that (0: the cuts on one line; 0.5 about the bisector: the whole wedge a
+#: gap).
 GAP = 0.1
 #: The angle between A's and B's normals at bind (rad) from which their cuts turn from the
 #: line where their planes meet rather than from the wedge's bisector (blended below it).
@@ -140,16 +141,18 @@ class WedgeCuts:
         across = (x - v) - np.einsum("wsi,wsi->ws", x - v, u)[..., None] * u
         across = across / np.linalg.norm(across, axis=-1, keepdims=True)
         # where A's and B's planes cross at bind (a fold already there), the growths meet
-        # along that line L (direction n_A x n_B past v): the cut turns from it, not from the
-        # bisector, by the share of a fold of FOLD (blended below it: the line is lost in
-        # the round-off of a flat fan's normals)
+        # along that line L (direction n_A x n_B, towards the wedge): the cut turns from it,
+        # not from the bisector, where the normals are FOLD or more apart, from a blend of the
+        # two below (L is lost in the round-off of a flat fan's normals), and from the
+        # bisector alone where L lies outside the growth's angle past v
         normals = triangle_frames(y[prow])[0]  # (w, 2, 3)
-        line = np.cross(normals[:, 0], normals[:, 1])
-        sine = np.linalg.norm(line, axis=-1)
-        line = line / np.where(sine > 0.0, sine, 1.0)[:, None]
-        line = line * np.where(np.einsum("wi,wi->w", line, u.sum(axis=1)) < 0.0, -1.0, 1.0)[:, None]
+        meet = np.cross(normals[:, 0], normals[:, 1])
+        sine = np.linalg.norm(meet, axis=-1)
+        meet = meet / np.where(sine > 0.0, sine, 1.0)[:, None]
+        towards = np.einsum("wi,wi->w", meet, u.sum(axis=1)) < 0.0
+        meet = meet * np.where(towards, -1.0, 1.0)[:, None]
         # its angle in each plane from the line of the inner edge towards the outline edge
-        meets = np.arctan2(np.einsum("wi,wsi->ws", line, across), np.einsum("wi,wsi->ws", line, u))
+        meets = np.arctan2(np.einsum("wi,wsi->ws", meet, across), np.einsum("wi,wsi->ws", meet, u))
         room = np.pi - angles[prow, pk]  # the growth's angle past v
         fold = np.clip(np.arcsin(np.minimum(sine, 1.0)) / FOLD, 0.0, 1.0)[:, None]
         fold = np.where((meets > 0.0) & (meets < room), fold, 0.0)
@@ -170,11 +173,14 @@ class WedgeCuts:
         scale = np.abs(step).max(axis=-1, keepdims=True)
         enters = np.all((start > 0.0) | (rows_reach > 0.0) | (step >= 1e-6 * scale), axis=-1)
         usable = enters & np.isfinite(length) & (length > 0.0)
+        length = np.where(usable, length, 1.0)
         end = start + length[..., None] * step
         line = np.cross(start, end)
         side = line.sum(axis=-1)  # at the centroid (times 3): the triangle's side
         line = line * np.where(side < 0.0, -1.0, 1.0)[..., None]
-        line = line / np.abs(line).max(axis=-1, keepdims=True)
+        largest = np.abs(line).max(axis=-1, keepdims=True)
+        usable &= largest[..., 0] > 0.0
+        line = line / np.where(largest > 0.0, largest, 1.0)
         lines, ends = cuts.lines.copy(), cuts.ends.copy()
         use = usable.ravel()
         lines[prow.ravel()[use], pk.ravel()[use]] = line.reshape(-1, 3)[use]

@@ -83,8 +83,11 @@ def _fan(flat_at_bind: bool = False):
 
 def test_the_fan_has_three_triangles_at_its_outline_vertex_and_two_outline_edges_there():
     """The premise of the path: v (node 0) is held by A, M and B, ends A's and B's outline
-    edges, and M has none at v."""
-    _, _, _, lower = _fan()
+    edges, and M has none at v; A's and B's growths are cut there (A's from its corner 2, B's
+    from its corner 0), nothing else."""
+    block, _, _, lower = _fan()
+    cut = np.any(block.cuts.lines != 0.0, axis=2)
+    assert np.flatnonzero(cut.ravel()).tolist() == [0 * 3 + 2, 2 * 3 + 0]
     outline = open_edges(lower)
     at_v = np.flatnonzero((lower == 0).any(axis=1))
     assert at_v.tolist() == [0, 1, 2]
