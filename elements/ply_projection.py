@@ -306,7 +306,8 @@ class Facing:
     reach : (P, 3) float or None
         How far the facing triangle reaches past its edges (``MARGIN`` on the outline).
     on_growth : (P,) bool or None
-        The closest point lies on a growth's edge off the triangle or at an outline vertex.
+        The closest point lies on a growth's edge off the triangle (a cut's too,
+        elements/ply_wedge.py) or at an outline vertex.
     joined : (P,) bool or None
         Of those, the closest point lies on the extension past the outline of an edge whose
         two triangles both grow past it (module docstring, "Growths joined"): the edge's
