@@ -32,6 +32,7 @@ from elements.ply_projection import (
 )
 from elements.ply_search import FacingSearch
 from elements.ply_topology import FaceTopology
+from elements.ply_wedge import WedgeCuts
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
@@ -192,7 +193,10 @@ class PlyContactBlock(InteractionBlock):
         )
         # the node graph: the three nearest centroids' triangles in the reference state
         p, y = self._faces(reference)
-        self.search = FacingSearch.of(y, self.outline)
+        # the growths' cuts past outline vertices of three or more triangles, fixed in their
+        # triangles' barycentric coordinates here (elements/ply_wedge.py)
+        self.cuts = WedgeCuts.of(y, cells, self.outline, np.where(self.outline, MARGIN, 0.0))
+        self.search = FacingSearch.of(y, self.outline, self.cuts)
         # the fade's length past the outline, mm: FADE of the least height of the outline
         # triangles in the reference state (elements/ply_fade.py, ``fade_length``)
         self.fade_length = fade_length(y, self.outline)
@@ -310,6 +314,7 @@ class PlyContactBlock(InteractionBlock):
                 fade_distance=self.fade_length,
                 topology=self.topology,
                 outline_tree=self.outline_tree,
+                cuts=self.cuts,
             )
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
@@ -544,6 +549,8 @@ class PlyContactBlock(InteractionBlock):
             self.fade_length,
             step,
             None if facing.joined is None else facing.joined[rows],
+            self.cuts.lines[facing.triangle[rows]],
+            self.cuts.ends[facing.triangle[rows]],
         )
         nodes = np.column_stack([self.above[rows], self.cells[facing.triangle[rows]], ends_nodes])
         offset = np.column_stack(

@@ -65,7 +65,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.ply_projection import closest_on_edges, facets, grown_corners, triangle_frames
+from elements.ply_projection import facets, triangle_frames
+from elements.ply_wedge import closest_on_grown
 
 __all__ = [
     "EVERY_PAIR",
@@ -296,6 +297,8 @@ def outline_fade(
     ends: np.ndarray,
     length: float,
     joined: np.ndarray | None = None,
+    lines: np.ndarray | None = None,
+    ends_cut: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The fade w and its gradient of points against their facing triangles (module docstring).
 
@@ -321,6 +324,10 @@ def outline_fade(
         the neighbour's growth holds too (elements/ply_projection.py, "Growths joined"): the
         gap is the distance to q, signed by the edge's pseudonormal, and has no angle factor
         (w_a = 1). None: none.
+    lines, ends_cut : (c, 3, 3) float, optional
+        The facing triangles' cuts past outline vertices of three or more triangles
+        (elements/ply_wedge.py ``WedgeCuts``): a ``beside`` point's closest point is the cut
+        growth's. None: no cut.
 
     Returns
     -------
@@ -340,7 +347,13 @@ def outline_fade(
     at = np.flatnonzero(beside)
     if at.size:
         c = corners[at]
-        q = closest_on_edges(p[at], grown_corners(c, reach[at]))
+        q = closest_on_grown(
+            p[at],
+            c,
+            reach[at],
+            None if lines is None else lines[at],
+            None if ends_cut is None else ends_cut[at],
+        )[0]
         r = p[at] - q
         distance = np.linalg.norm(r, axis=1)
         sign = np.where(plane[at] < 0.0, -1.0, 1.0)
@@ -403,10 +416,12 @@ def fade_hessian(
     length: float,
     step: float,
     joined: np.ndarray | None = None,
+    lines: np.ndarray | None = None,
+    ends_cut: np.ndarray | None = None,
 ) -> np.ndarray:
     """(c, 6, 3, 6, 3) d2w/dz2 over z = (p, y_1, y_2, y_3, a, b), 1/mm^2: the central
     difference of ``outline_fade``'s exact gradient by ``step`` (mm) in each of the 18
-    coordinates of z, made symmetric (``joined`` as there)."""
+    coordinates of z, made symmetric (``joined``, ``lines`` and ``ends_cut`` as there)."""
     count = len(p)
     hessian = np.zeros((count, 6, 3, 6, 3))
     for node in range(6):
@@ -420,7 +435,9 @@ def fade_hessian(
                     c[:, node - 1, axis] += sign * step
                 else:
                     o[:, node - 4, axis] += sign * step
-                moved.append(outline_fade(q, c, reach, beside, o, length, joined)[1])
+                moved.append(
+                    outline_fade(q, c, reach, beside, o, length, joined, lines, ends_cut)[1]
+                )
             hessian[:, node, axis] = (moved[0] - moved[1]) / (2.0 * step)
     return 0.5 * (hessian + np.transpose(hessian, (0, 3, 4, 1, 2)))
 

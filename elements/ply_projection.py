@@ -53,7 +53,7 @@ feature's (p - q lies in the cone of its triangles' normals there, on which a tr
 normal can be negative where the fold is sharper than a right angle: "The sign at an edge"
 below); past the outline it would flip where p passes the face's plane beside the edge,
 which ``MARGIN`` keeps out of the contact. The gap's Hessian at an edge or a vertex
-(``_edge_hessian``) enters the tangent. The answer is that of a search over every triangle,
+(elements/ply_edge_gap.py) enters the tangent. The answer is that of a search over every triangle,
 bit for bit (tests/test_ply_search.py); the k nearest centroids of before missed a near
 triangle whose centroid is far (a wrinkle's flank). Where the facing triangle does not change
 the energy is smooth.
@@ -95,13 +95,22 @@ point outside the fold had p - q against that normal: its gap flipped from -|p -
 extension to +|p - q| on the other growth's plane, W(-|p - q|) with no work: a point round a
 ridge of 127 deg between its sides' normals, 0.05 mm past the outline, went from -0.080 mm on
 the extension to +0.080 mm on the other side's plane, the whole of its energy in one step
-(tests/test_ply_growth_sign.py). An outline vertex of three triangles (the middle one touching
-the outline there alone, not grown) has no joined growths: A's and B's reach past the vertex
-up to the lines of their inner edges, each on its outline edge's side, so both hold the wedge
-between those lines (the middle triangle's angle mirrored through the vertex) and overlap
-there; across a fold their planes sign a point between them oppositely and the sign flips
-where the nearer changes (on the two-ply hemisphere every outline vertex but two corners;
-tests/test_ply_wedge.py; docs/hemisphere_plies.md, "The wedge is an overlap").
+(tests/test_ply_growth_sign.py).
+
+The wedge cut (elements/ply_wedge.py). At an outline vertex of three or more triangles (the
+middle ones touching the outline there alone, not grown) A's and B's growths reached past the
+vertex up to the lines of their inner edges, each on its outline edge's side, so both held the
+wedge between those lines (the middle triangles' angle mirrored through the vertex): across a
+fold their planes signed a point between them oppositely and the sign flipped where the nearer
+changed (on the two-ply hemisphere every outline vertex but two corners; tests/test_ply_wedge.py:
+the whole of a point's energy in one step). Each growth is now cut by a ray from the vertex
+fixed at bind in its own barycentric coordinates, near the wedge's bisector (or the line where
+A's and B's planes meet, where they are folded at bind), leaning GAP of the wedge's angle to
+its own side: a candidate holds the projection where every cut keeps it too, and else faces
+the cut growth's closest point, on a cut a growth's edge like the others (the triangle's
+normal signs the gap, the angle's fade beside it, its Hessian that of a segment,
+elements/ply_edge_gap.py). The wedge is then held by at most one growth, with a thin gap
+between the two (docs/hemisphere_plies.md, "The wedge is an overlap").
 
 Beside the outline. The growth past an outline edge extends the triangle's other two edges
 too, and past their ends (beside the outline, next to an outline vertex) a point can be
@@ -201,7 +210,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
+from elements.ply_wedge import WedgeCuts, closest_on_cut, cut_keeps, cut_overshoot
 
 if TYPE_CHECKING:  # ply_fade imports this module
     from elements.ply_fade import OutlineTree
@@ -284,7 +295,7 @@ class Facing:
         The contact points p = sum_j N_j (x_j - a_j d_j), mm.
     hessian : (P, 4, 3, 4, 3) float or None
         d2g/dz2 over z = (p, y_1, y_2, y_3), 1/mm, where the gap is to the closest point q on
-        an edge or at a vertex (module docstring, "Search"; ``_edge_hessian``); zero where it
+        an edge or at a vertex (module docstring, "Search"; elements/ply_edge_gap.py); zero where it
         is to a triangle's plane (whose Hessian ``PlyContactBlock.tangent`` builds); None when
         not asked for (``closest_facing(second=False)``) or every gap is to a plane.
     fade : (P,) float or None
@@ -295,7 +306,8 @@ class Facing:
     reach : (P, 3) float or None
         How far the facing triangle reaches past its edges (``MARGIN`` on the outline).
     on_growth : (P,) bool or None
-        The closest point lies on a growth's edge off the triangle or at an outline vertex.
+        The closest point lies on a growth's edge off the triangle (a cut's too,
+        elements/ply_wedge.py) or at an outline vertex.
     joined : (P,) bool or None
         Of those, the closest point lies on the extension past the outline of an edge whose
         two triangles both grow past it (module docstring, "Growths joined"): the edge's
@@ -404,70 +416,6 @@ def grown_corners(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
     edges opposite each corner: corner i of the grown one at lambda_j = -reach_j (j != i)."""
     grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[..., None, None] - reach[..., None, :]
     return np.einsum("...ij,...jc->...ic", grow, corners)
-
-
-def _towards_closest(p, q, normal, corners, gradients, reach, second):
-    """Gap, normal nu, barycentric coordinates of q and d2g/dz2 (``_edge_hessian``) of points
-    p (c, 3) against their closest points q (c, 3) on an edge or at a vertex of their
-    triangles (corners (c, 3, 3), gradients (c, 3, 3), unit normals (c, 3), grown by
-    ``reach`` (c, 3)); the Hessian None unless ``second``."""
-    r = p - q
-    length = np.linalg.norm(r, axis=-1)
-    sign = np.where(np.sum(r * normal, axis=-1) < 0.0, -1.0, 1.0)
-    gap = sign * length
-    tiny = length <= 1e-12 * (1.0 + np.linalg.norm(p, axis=-1))
-    nu = np.where(tiny[:, None], normal, r / np.where(tiny, 1.0, gap)[:, None])
-    weights = np.einsum("pki,pi->pk", gradients, q - corners[:, 0, :])
-    weights[:, 0] += 1.0
-    if not second:
-        return gap, nu, weights, None
-    return gap, nu, weights, _edge_hessian(gap, nu, weights, corners, reach, tiny)
-
-
-def _edge_hessian(gap, nu, weights, corners, reach, tiny):
-    """d2g/dz2 (c, 4, 3, 4, 3), 1/mm, over z = (p, y_1, y_2, y_3) of g = +-|p - q|, q the
-    closest point at a corner G_i y of the grown triangle (``grown_corners``'s rows G) or on its
-    edge from u = G_a y to v = G_b y. At a corner, a a^T (x) (I - nu nu^T) / g with
-    a = (1, -lambda), lambda the barycentric coordinates of q; on an edge e = v - u (unit e^,
-    length L) q slides along it, and minimising over its parameter gives, with
-    m = (0, G_b - G_a),
-
-        (1/g) a a^T (x) (I - nu nu^T - e^ e^T) - (1/L) (a m^T (x) e^ nu^T + m a^T (x) nu e^T)
-        - (g / L^2) m m^T (x) nu nu^T.
-    """
-    count = len(gap)
-    at_bound = weights <= -reach + 1e-9
-    on_edge = at_bound.sum(axis=1) == 1
-    ends = np.argsort(at_bound, axis=1, kind="stable")[:, :2]  # the two corners off the bound
-    grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[:, None, None] - reach[:, None, :]
-    rows = np.arange(count)
-    a = np.concatenate([np.ones((count, 1)), -weights], axis=1)  # (c, 4)
-    m = np.zeros((count, 4))
-    m[:, 1:] = grow[rows, ends[:, 1]] - grow[rows, ends[:, 0]]
-    e = np.einsum("ck,cki->ci", m[:, 1:], corners)
-    length = np.linalg.norm(e, axis=1)
-    unit = e / length[:, None]
-    safe = np.where(tiny, 1.0, gap)
-    nn = nu[:, :, None] * nu[:, None, :]
-    across = (
-        np.eye(3) - nn - np.where(on_edge[:, None, None], unit[:, :, None] * unit[:, None, :], 0.0)
-    )
-
-    def outer(left, right, block):  # (c, 4, 3, 4, 3): left_z right_w block_ij
-        return (
-            left[:, :, None, None, None]
-            * right[:, None, None, :, None]
-            * block[:, None, :, None, :]
-        )
-
-    hessian = outer(a, a, across / safe[:, None, None])
-    slide = np.where(on_edge, 1.0, 0.0)
-    en = unit[:, :, None] * nu[:, None, :]
-    hessian -= (slide / length)[:, None, None, None, None] * (
-        outer(a, m, en) + outer(m, a, np.swapaxes(en, 1, 2))
-    )
-    hessian -= (slide * gap / length**2)[:, None, None, None, None] * outer(m, m, nn)
-    return np.where(tiny[:, None, None, None, None], 0.0, hessian)
 
 
 def edge_ids(nodes: np.ndarray) -> np.ndarray:
@@ -604,6 +552,7 @@ def closest_facing(
     fade_distance: float | None = None,
     topology: FaceTopology | None = None,
     outline_tree: OutlineTree | None = None,
+    cuts: WedgeCuts | None = None,
 ) -> Facing:
     """Each contact point's facing triangle, gap, normal and projection (module docstring,
     "Search": among the candidates, the one holding the projection that the point
@@ -652,6 +601,9 @@ def closest_facing(
     outline_tree : OutlineTree, optional
         The outline's KD-tree kept between calls (elements/ply_fade.py ``OutlineTree``) by a
         caller that searches the same mesh many times; None: built at the call if needed.
+    cuts : WedgeCuts, optional
+        The growths' cuts past outline vertices of three or more triangles
+        (elements/ply_wedge.py, made at bind; "The wedge cut"). None: no cut.
     """
     if topology is None and nodes is not None:
         topology = FaceTopology.of(nodes, outline, edges)
@@ -660,6 +612,12 @@ def closest_facing(
     n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
     inside = (weights >= -reach - INSIDE).all(axis=-1)
+    held_grown = inside
+    # a cut growth holds what each of its cuts keeps (measured at the cut candidates alone)
+    cut_at = np.nonzero(cuts.cut[near]) if cuts is not None and cuts.any else None
+    if cut_at is not None and cuts is not None:
+        inside = inside.copy()
+        inside[cut_at] &= cut_keeps(weights[cut_at], cuts.lines[near[cut_at]])
     # The distance to each candidate (grown past the outline): to its plane where it holds
     # the projection, else to its closest point on an edge, computed only where it can beat
     # the nearest plane that holds one (the distance to a plane is at most that to the
@@ -670,9 +628,22 @@ def closest_facing(
     # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to the
     # farthest edge line it lies past
     past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
+    if cut_at is not None and cuts is not None:  # and to the farthest cut it lies past
+        past[cut_at] = np.maximum(
+            past[cut_at],
+            cut_overshoot(weights[cut_at], cuts.lines[near[cut_at]], gradients[cut_at]),
+        )
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
     corners = grown_corners(y[near[outside]], reach[outside])
     q = closest_on_edges(p[outside[0]], corners)
+    on_cut, segment, along = np.zeros(len(q), dtype=bool), np.zeros((len(q), 2, 3)), None
+    if cut_at is not None and cuts is not None:  # the cut growth's closest point
+        projected = p[outside[0]] - gap[outside][:, None] * n[outside]
+        q = np.where(held_grown[outside][:, None], projected, q)
+        rows = near[outside]
+        q, on_cut, segment, along = closest_on_cut(
+            p[outside[0]], y[rows], q, cuts.lines[rows], cuts.ends[rows]
+        )
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
     # ties (a closest point on an edge or a vertex that several candidates share) go to the
     # lowest triangle row, whatever the round-off: the same choice in any frame
@@ -695,6 +666,7 @@ def closest_facing(
         at = best[edge]
         signing = n[edge, at]
         closest = q[where[edge, at]]
+        cutting = on_cut[where[edge, at]]
         if topology is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
             # q's barycentric coordinates on the facing triangle: on which edge or at which
             # vertex it lies
@@ -712,7 +684,11 @@ def closest_facing(
                 at_rim[edge] = (bound.sum(axis=1) == 2) & topology.rim[corner]
                 signing = np.where(at_rim[edge][:, None], n[edge, at], signing)
                 joined[edge] &= ~at_rim[edge]
-        chosen_gap[edge], normal[edge], lam[edge], bend = _towards_closest(
+            # on a cut the face has no side either: as beside a growth's edge ("The wedge cut")
+            signing = np.where(cutting[:, None], n[edge, at], signing)
+            joined[edge] &= ~cutting
+            at_rim[edge] |= cutting
+        chosen_gap[edge], normal[edge], lam[edge], bend = towards_closest(
             p[edge],
             closest,
             signing,
@@ -720,6 +696,7 @@ def closest_facing(
             gradients[edge, at],
             reach[edge, at],
             second,
+            (cutting, segment[where[edge, at]], None if along is None else along[where[edge, at]]),
         )
         if hessian is not None:
             hessian[edge] = bend
@@ -763,6 +740,8 @@ def closest_facing(
             np.stack([starts[chosen], ends[chosen]], axis=1),
             length,
             joined[near_outline],
+            None if cuts is None else cuts.lines[near[near_outline, best[near_outline]]],
+            None if cuts is None else cuts.ends[near[near_outline, best[near_outline]]],
         )
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
     return Facing(

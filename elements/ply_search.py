@@ -60,6 +60,7 @@ from scipy.spatial import cKDTree
 from elements.facet_search import _squared_gap, closest_on_triangles
 from elements.jit import jit, prange
 from elements.ply_projection import MARGIN, grown_corners
+from elements.ply_wedge import WedgeCuts, closest_on_grown
 
 __all__ = ["REBUILD_SHARE", "SKIN", "FacingSearch", "grown_distance", "pair_distances"]
 
@@ -138,11 +139,14 @@ class FacingSearch:
         distance has moved less than s / 2.
     """
 
-    def __init__(self, reach: np.ndarray, skin: float):
+    def __init__(self, reach: np.ndarray, skin: float, cuts: WedgeCuts | None = None):
         if not skin > 0.0:
             raise ValueError(f"skin must be a positive length (mm), got {skin!r}")
         self.reach = np.asarray(reach, dtype=float)
         self.skin = float(skin)
+        # the growths' cuts (elements/ply_wedge.py): the distances to the cut triangles are
+        # to their cut growths, which the facing measures
+        self.cuts = cuts if cuts is not None and cuts.any else None
         # L_T: how far a point of the grown triangle moves per unit of its corners' move
         self.lipschitz = 1.0 + 2.0 * self.reach.sum(axis=1)
         grown = self.reach.sum(axis=1) > 0.0
@@ -153,11 +157,31 @@ class FacingSearch:
         self.searched_points = 0
 
     @classmethod
-    def of(cls, y: np.ndarray, outline: np.ndarray) -> FacingSearch:
+    def of(cls, y: np.ndarray, outline: np.ndarray, cuts: WedgeCuts | None = None) -> FacingSearch:
         """The search of a lower face with triangles' corners y (m, 3, 3), mm, at bind and
-        ``open_edges`` ``outline`` (m, 3): the skin ``SKIN`` times its mean edge length."""
+        ``open_edges`` ``outline`` (m, 3): the skin ``SKIN`` times its mean edge length;
+        ``cuts`` its growths' cuts (elements/ply_wedge.py), None: none."""
         edges = np.linalg.norm(y - np.roll(y, 1, axis=1), axis=-1)
-        return cls(np.where(outline, MARGIN, 0.0), SKIN * float(edges.mean()))
+        return cls(np.where(outline, MARGIN, 0.0), SKIN * float(edges.mean()), cuts)
+
+    def _distances(self, x, y, corners, point, triangle) -> np.ndarray:
+        """``pair_distances`` to the grown triangles, to the cut growth where a triangle has
+        a cut (elements/ply_wedge.py: P inside T, so the spheres still bound it)."""
+        distance = pair_distances(x, corners, point, triangle)
+        if self.cuts is None:
+            return distance
+        cut = np.flatnonzero(np.any(self.cuts.lines[triangle] != 0.0, axis=(1, 2)))
+        if cut.size:
+            rows = triangle[cut]
+            q = closest_on_grown(
+                x[point[cut]],
+                y[rows],
+                self.reach[rows],
+                self.cuts.lines[rows],
+                self.cuts.ends[rows],
+            )[0]
+            distance[cut] = np.linalg.norm(x[point[cut]] - q, axis=1)
+        return distance
 
     def near(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
         """(P, K) int: each point's candidates (rows of y), holding its nearest grown triangle
@@ -223,7 +247,7 @@ class FacingSearch:
         tree = cKDTree(centroids)
         nearest = np.asarray(tree.query(here, k=1)[1], dtype=np.int64)
         # >= the least distance d*
-        upper = pair_distances(here, corners, np.arange(len(rows)), nearest)
+        upper = self._distances(here, y, corners, np.arange(len(rows)), nearest)
         # the inner triangles and the grown ones (larger spheres) queried apart, each with
         # its own largest radius: a ball query of the grown ones' radius over every triangle
         # would hand each point three times the pairs
@@ -238,7 +262,7 @@ class FacingSearch:
         ahead = np.linalg.norm(here[point] - centroids[triangle], axis=1) - radius[triangle]
         keep = ahead <= upper[point] + self.skin
         point, triangle = point[keep], triangle[keep]
-        distance = pair_distances(here, corners, point, triangle)
+        distance = self._distances(here, y, corners, point, triangle)
         least = np.full(len(rows), np.inf)
         np.minimum.at(least, point, distance)
         keep = distance <= least[point] + self.skin

@@ -22,20 +22,23 @@ def point_round(
     penalty: float,
     radius: float,
     past: float,
+    bound_at: np.ndarray | None = None,
 ):
     """(block, positions (steps + 1, n, 3), directors (n, 3)): the lower ply's nodes ``low``
     (l, 3) and triangles ``lower`` (t, 3) with the upper triangle of the module docstring
     (nodes l, l + 1, l + 2), bound as a ply contact of ``penalty`` N/mm at the centroid, and
     the path of ``steps`` steps round the circle of ``radius`` mm ``past`` mm past the
-    outline."""
+    outline. ``bound_at`` (l, 3): the lower ply's nodes when the contact is bound (its
+    reference state), ``low`` when None; the path is walked with them at ``low``."""
     side = 0.02
     tiny = np.array([[0.0, 0.0, 0.0], [side, 0.0, 0.0], [0.0, side, 0.0]])
     tiny -= tiny.mean(axis=0)
     points = np.vstack([low, tiny])
     first = len(low)
     upper = np.arange(first, first + 3)
+    reference = points if bound_at is None else np.vstack([bound_at, tiny])
     mesh = Mesh(
-        points,
+        reference,
         triangles=np.vstack([lower, upper[None]]),
         node_sets={"upper": upper},
         element_sets={"lower": np.arange(len(lower))},

@@ -157,24 +157,29 @@ def test_a_point_deeper_than_the_plies_crossing_from_a_growth_onto_the_face_work
 
 
 def test_a_point_passing_from_one_growth_to_the_next_past_the_outline_works_its_energy():
-    """The upper triangle's centroid 0.03 mm behind the lower face moves 0.04 mm past the
-    flat lower ply's outline edge y = 0, from x = 0.5 to 1.5, while the lower ply's nodes
-    move in its plane: it faces the growth of the outline triangle (0, 0), (1, 0), (0, 0.5)
-    (0.5 mm high over the outline, its middle-left node lowered), then from x = 1.08 (that
-    growth's hypotenuse extended, the two growths' planes tied until there) the growth of
-    (1, 0), (2, 0), (1, 1) (1 mm high). The fade by the projection's barycentric overshoot
-    (the code before) differed between the two growths (w 0.45 against 0.82 at 0.04 mm past
-    the outline, 0.08 and 0.04 of their heights, before the nodes move), and the point's
-    energy w W(g) jumped by the difference where its facing triangle changed, with no work
-    (a suspect of the two-ply Mindlin [0/90] hemisphere's outline jumps,
-    validation/studies/hemisphere_plies_jumps.py). The fade of the distance to the outline
+    """The upper triangle's centroid 0.03 mm behind the lower face moves 0.04 mm past the flat lower
+    ply's outline edge y = 0, from x = 0.5 to 1.5, while the lower ply's nodes move in its plane: it
+    faces the growth of the outline triangle (0, 0), (1, 0), (0, 0.5) (0.5 mm high over the outline,
+    its middle-left node lowered), then the growth of (1, 0), (2, 0), (1, 1) (1 mm high; before the
+    growths' cuts from x = 1.08, the first growth's hypotenuse extended, the two growths' planes
+    tied until there). The fade by the projection's barycentric overshoot (the code before) differed
+    between the two growths (w 0.45 against 0.82 at 0.04 mm past the outline, 0.08 and 0.04 of their
+    heights, before the nodes move), and the point's energy w W(g) jumped by the difference where
+    its facing triangle changed, with no work (a suspect of the two-ply Mindlin [0/90] hemisphere's
+    outline jumps,
+validation/studies/hemisphere_plies_jumps.py). The fade of the distance to the outline
     (elements/ply_fade.py) is the same function on both. Reference: the contact is a
     potential (trapezoidal work of its force on every node, the outline edge's ends
-    included, equals the change of its energy per step): within 1e-3 of the largest energy
-    per step, the rule's error (measured 8.0e-5, at x = 1, where the nearest outline edge
-    changes and the distance to the wobbled outline kinks; the code before 0.52 in the step
-    where the facing triangle changed, w 0.38 -> 0.80). Premises: touching all along, the
-    fade between 0 and 1, the facing triangle changes."""
+    included, equals the change of its energy per step): within 5e-3 of the largest energy
+    per step, the rule's error where the energy kinks. The two growths are cut past the
+    outline vertex (1, 0) (elements/ply_wedge.py), and the point now passes from the first to
+    the second at x = 1.027, in the gap between their cuts, its closest point from one cut
+    to the other: its force turns by the gap's angle seen from the point (about 20 deg, the
+    gap 0.011 mm wide 0.048 mm from the vertex, the point 0.03 mm behind) in one step,
+    measured 1.6e-3 there (8.0e-5 at x = 1, where the nearest outline edge changes and the
+    distance to the wobbled outline kinks, the largest before the cuts; the code before the
+    distance's fade 0.52 in the step where the facing triangle changed, w 0.38 -> 0.80).
+    Premises: touching all along, the fade between 0 and 1, the facing triangle changes."""
     lower = Mesh.rectangle(2.0, 2.0, nx=2, ny=2)
     low = lower.points.copy()
     low[3, 1] = 0.5  # (0, 1) -> (0, 0.5): the first outline triangle 0.5 mm high
@@ -200,7 +205,7 @@ def test_a_point_passing_from_one_growth_to_the_next_past_the_outline_works_its_
     work = np.einsum("sni,sni->s", 0.5 * (forces[1:] + forces[:-1]), np.diff(moved, axis=0))
     assert len(set(triangles)) == 2
     assert 0.0 < min(fades) and max(fades) < 1.0
-    assert np.abs(np.diff(energy) - work).max() <= 1e-3 * energy.max()
+    assert np.abs(np.diff(energy) - work).max() <= 5e-3 * energy.max()
 
 
 @pytest.mark.parametrize(

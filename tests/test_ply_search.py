@@ -17,6 +17,7 @@ from elements.facet_search import closest_on_triangles
 from elements.layup import Layup
 from elements.ply_projection import MARGIN, closest_facing, edge_ids, grown_corners, open_edges
 from elements.ply_search import FacingSearch
+from elements.ply_wedge import WedgeCuts, closest_on_grown
 from femcore.state import State
 from materials import Fabric
 
@@ -25,12 +26,23 @@ HEIGHT = 40.0  # mm, the wrinkle's crest above the ply
 CLEAR = 0.1  # mm, the point's distance from the wrinkle's flank
 
 
-def _brute_nearest(p: np.ndarray, y: np.ndarray, reach: np.ndarray) -> np.ndarray:
-    """(P,) each point's nearest grown triangle over all of them (the lowest row of ties)."""
+def _brute_nearest(
+    p: np.ndarray, y: np.ndarray, reach: np.ndarray, cuts: WedgeCuts | None = None
+) -> np.ndarray:
+    """(P,) each point's nearest grown triangle over all of them (the lowest row of ties),
+    cut where ``cuts`` cuts it (elements/ply_wedge.py: the closest point of the cut growth)."""
     corners = grown_corners(y, reach)[None]  # (1, m, 3, 3) against p (P, 1, 3)
     point = p[:, None, :]
     q = closest_on_triangles(point, corners[..., 0, :], corners[..., 1, :], corners[..., 2, :])
-    return np.argmin(np.linalg.norm(point - q, axis=-1), axis=1)
+    distance = np.linalg.norm(point - q, axis=-1)
+    if cuts is not None:
+        rows = np.flatnonzero(np.any(cuts.lines != 0.0, axis=(1, 2)))
+        pairs = np.array(np.meshgrid(np.arange(len(p)), rows, indexing="ij")).reshape(2, -1)
+        at = closest_on_grown(
+            p[pairs[0]], y[pairs[1]], reach[pairs[1]], cuts.lines[pairs[1]], cuts.ends[pairs[1]]
+        )[0]
+        distance[pairs[0], pairs[1]] = np.linalg.norm(p[pairs[0]] - at, axis=1)
+    return np.argmin(distance, axis=1)
 
 
 def test_a_point_beside_a_wrinkle_faces_its_nearest_triangle():
@@ -76,21 +88,27 @@ def _crumpled(cells: int, rng: np.random.Generator):
     return nodes, triangles
 
 
+@pytest.mark.parametrize("cut", [False, True], ids=["grown", "cut"])
 @pytest.mark.parametrize("seed", [0, 1])
-def test_kept_lists_answer_as_a_search_over_every_triangle(seed):
+def test_kept_lists_answer_as_a_search_over_every_triangle(seed, cut):
     """A crumpled sheet (10-mm cells, nodes raised by N(0, 6 mm)) and 300 points within 8 mm
     of it, both moved over 40 calls by random steps (mostly a five-hundredth of a cell, every
     tenth call a fifth): at every call each point's candidates hold the brute force's nearest
     triangle, and the facing (triangle, gap, normal, projection, touching, fade) is bit for
     bit that of ``closest_facing`` with every triangle a candidate. The lists are kept over
     most calls (fewer searches than calls), and on the sheet the 6 nearest centroids miss the
-    nearest triangle of some points (the premise)."""
+    nearest triangle of some points (the premise). ``cut``: the growths cut past the sheet's
+    outline vertices of three triangles (elements/ply_wedge.py, fixed at the first state),
+    the search's distances and the brute force's to the cut growths (the premise: some
+    triangles are cut)."""
     rng = np.random.default_rng(seed)
     nodes, triangles = _crumpled(8, rng)
     outline = open_edges(triangles)
     edges = edge_ids(triangles)
     reach = np.where(outline, MARGIN, 0.0)
-    search = FacingSearch.of(nodes[triangles], outline)
+    cuts = WedgeCuts.of(nodes[triangles], triangles, outline, reach) if cut else None
+    assert not cut or (cuts is not None and cuts.any)
+    search = FacingSearch.of(nodes[triangles], outline, cuts)
     p = np.column_stack(
         [rng.uniform(-5.0, 85.0, 300), rng.uniform(-5.0, 85.0, 300), rng.normal(0.0, 8.0, 300)]
     )
@@ -103,10 +121,10 @@ def test_kept_lists_answer_as_a_search_over_every_triangle(seed):
         p = p + rng.normal(0.0, size / 3.0, p.shape)
         y = nodes[triangles]
         near = search.near(p, y)
-        nearest = _brute_nearest(p, y, reach)
+        nearest = _brute_nearest(p, y, reach, cuts)
         assert np.all(np.any(near == nearest[:, None], axis=1)), call
-        found = closest_facing(p, y, near, 0.0, outline, nodes=triangles, edges=edges)
-        truth = closest_facing(p, y, every, 0.0, outline, nodes=triangles, edges=edges)
+        found = closest_facing(p, y, near, 0.0, outline, nodes=triangles, edges=edges, cuts=cuts)
+        truth = closest_facing(p, y, every, 0.0, outline, nodes=triangles, edges=edges, cuts=cuts)
         for name in ("triangle", "gap", "normal", "weights", "touching", "fade"):
             assert np.array_equal(getattr(found, name), getattr(truth, name)), (call, name)
         six = cKDTree(y.mean(axis=1)).query(p, k=6)[1]

@@ -18,7 +18,10 @@ outline" and "Growths joined at a fold". On d004b4e and with the growths joined 
 CPU of the run, load 5-12): 8 cells 2 steps above +1 N mm (+3.3) in 13351 and 3 (+9.9) in
 13262, 10 cells 16 (+46.1) in 17040 and 8 (+18.2) in 16955, every check passing in the four,
 134 / 135 / 225 / 211 s; the runs part early, and every jump left is at an outline vertex of
-three triangles, where no growths are joined. Each jump's line names what the point faced
+three triangles, where no growths are joined. With the growths cut there (elements/
+ply_wedge.py; docs/hemisphere_plies.md, "The wedge cut"; the codes side by side, load 5-13):
+8 cells 3 (+5.7) in 13705, the holder's check failing, 10 cells 1 (+1.6) in 17019, every
+check passing, 176 / 252 s. Each jump's line names what the point faced
 before and after: the facing triangle's row, the closest point's feature (its plane, an edge
 or a vertex), whether on the outline, on a growth's edge, on a joined growth's edge, its fade
 and whether it touches.
