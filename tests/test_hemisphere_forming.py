@@ -183,12 +183,13 @@ def test_the_ring_holder_presses_the_flat_flange_and_leaves_the_die_round_free(r
 def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_statically(
     coarse_report,
 ):
-    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, the die's 10-mm entry radius,
-    16557 steps (26 s of CPU at load 7-8), read from the coarse report's run of the case
-    (tests/conftest.py: the suite runs the blank once). Measured: the rms shear error against
-    the net 2.73 deg; the kinetic energy at most 0.009 of the work after the first tenth,
-    0.0003 at the end; the holder does not rise (its flange stays flat); the damping
-    dissipates 0.24 % of the work."""
+    """12 x 12 cells, fibrous, the holder at HOLDER_FORCE, the die's 10-mm entry radius, the
+    stroke time-scaled x2 (TIME_SCALING), 8279 steps (6 s of CPU at load 17), read from the
+    coarse report's run of the case (tests/conftest.py: the suite runs the blank once).
+    Measured: the rms shear error against the net 2.73 deg (2.74 unscaled); the kinetic
+    energy at most 0.033 of the work after the first tenth (0.009 unscaled), 0.0007 at the
+    end; the holder does not rise (its flange stays flat); the damping dissipates 0.34 % of
+    the work (0.25 % unscaled)."""
     _, report = coarse_report
     run = report["cases"][case.NAME]
     assert run["converged"]
