@@ -302,6 +302,26 @@ def test_every_run_of_a_resolution_takes_its_time_scaling_and_the_report_states_
     assert case.TIME_SCALING["fibrous"]["default"] > 1.0
 
 
+def test_a_fibrous_run_whose_kinetic_energy_nears_the_bound_fails_the_scalings_margin(monkeypatch):
+    """A fibrous run with KE / W at most 0.07 after the first tenth (as x3 gave), never above
+    the bound 0.1, passes the share rule but fails the margin its time scaling must keep
+    (KINETIC_MARGIN of the bound); 0.03 (as x2 gave) passes both."""
+    for largest, kept in ((0.07, False), (0.03, True)):
+
+        def ringing(cells, kinematics, net=None, time_scaling=1.0, largest=largest):
+            return {
+                **flat_run(cells, kinematics, net, time_scaling),
+                "largest_kinetic_over_work": largest,
+            }
+
+        monkeypatch.setattr(case, "run", ringing)
+        checks = case.compute("default").checks
+        share = [c for c in checks if "kinetic energy above" in c.name]
+        margin = [c for c in checks if "the largest KE / W" in c.name]
+        assert len(share) == 1 and share[0].passed
+        assert len(margin) == 1 and margin[0].passed is kept
+
+
 def test_the_shear_and_fibre_figures_fit_an_800_px_page_at_a_readable_size(tmp_path):
     # At most 1,000 px wide: shown at about 780 px their 10-pt text still reads as 9 pt (the
     # shear figure was one row of three, 1,430 px, its text 7 px there).
