@@ -55,7 +55,14 @@ rings near the bound already unscaled (its flange's wrinkles lift the holder) an
 % of the stroke above it (the rule allows 10 %), its corners' draw-in +10 %; at 20 cells x2
 moves its rms by -0.14 deg and its late punch force by -1.1 N, about a quarter and all of
 the change from 12 to 20 cells (-0.57 deg, -1.2 N). The fine resolution is left unscaled
-(40 cells x2 flips the edge middle, above).
+(40 cells x2 flips the edge middle, above). Selective mass scaling of the Mindlin run
+(``--kinematics mindlin --mass-scaling-dt``, targets near the fibrous run's step; load 8-9):
+at 20 cells 1.0e-5 s added 5.1 % of the mass and took 39238 steps (0.83 of 47270; the step
+6.53e-6 s, held by more than the cells' bound), rms 2.067, 24.21 / 12.95 / 5.87 mm, 80.7 /
+35.4 N, KE / W 0.037 (0), the holder 0.52 mm up, 23 s; at 12 cells 1.7e-5 s added 5.8 %,
+22752 steps (0.82 of 27822), rms 2.876 (+0.22 deg), the edge middle 26.05 mm (+3.3 mm),
+corners 5.54, 76.6 / 34.9 N, KE / W 0.173 (0.084), the holder 1.87 mm up, 13 s: a sixth of
+the steps saved, the coarse Mindlin flange moved by more than the scaling is worth; not kept.
 
 * hemisphere-plies (validation/studies/hemisphere_plies_run.py ``run``, whose stroke is
   already 0.1 s where hemisphere-forming's is 0.3), fibrous [0/90] at 8 cells (the coarse and
