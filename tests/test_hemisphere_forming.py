@@ -198,7 +198,9 @@ def test_the_coarse_blank_forms_to_the_end_under_its_holder_along_the_net_quasi_
     assert values["fibrous_rms_shear_error_deg"] < case.RMS_TOLERANCE_DEG["coarse"]
     assert values["fibrous_largest_kinetic_over_work"] < KINETIC_BOUND
     assert values["fibrous_share_above_kinetic_bound"] == 0.0
-    assert values["fibrous_reached_s"] == pytest.approx(case.DURATION / case.TIME_SCALING["coarse"])
+    assert values["fibrous_reached_s"] == pytest.approx(
+        case.DURATION / case.TIME_SCALING["fibrous"]["coarse"]
+    )
     assert values["fibrous_final_kinetic_over_work"] < 0.5 * KINETIC_BOUND
     assert values["fibrous_largest_holder_lift_mm"] < 0.5 * case.THICKNESS
     assert 0.0 < values["fibrous_damping_over_work"] < 0.15
