@@ -4,8 +4,8 @@ pin-jointed net, the draw-in of the edge middle, the punch force at the end, the
 kinetic energy over the work after the first tenth, the damping's share of the work, the
 holder's lift, the steps and the CPU time, for each scaling beside the unscaled run at the
 same resolution (``run`` is unscaled unless given a scaling; the report's runs take the
-case's TIME_SCALING, chosen from "The report's scaling" below), and the same for the
-two-ply case's runs (``--plies``).
+case's TIME_SCALING, validation/forming_scaling.py, chosen from "The report's scaling"
+below), and the same for the two-ply case's runs (``--plies``).
 
 ``--mass-scaling-dt`` targets (s) for the solver's selective mass scaling (cells whose step is
 below it get their density raised to reach it); ``--time-scaling`` factors s: the stroke run
@@ -20,7 +20,7 @@ its checks are the same at any scaling. Run from the project root:
     python benchmarks/hemisphere_scaling.py --cells 20 --time-scaling 1,2 --kinematics mindlin
     python benchmarks/hemisphere_scaling.py --plies 0/90 --cells 8 --time-scaling 1,1.5,2
 
-The report's scaling (validation/cases/hemisphere_forming.py ``TIME_SCALING``): each case at
+The report's scaling (validation/forming_scaling.py ``TIME_SCALING``): each case at
 the report's coarse and default resolutions, each scaling beside the unscaled run (one thread,
 CPU, fresh processes, two or three of this study at a time on a machine at load 9-17; the
 first run of each process includes numba's loading, so its CPU is not the run's). Per run:

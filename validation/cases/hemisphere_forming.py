@@ -20,10 +20,8 @@ Parameters (assumed, a G986-like ply): 0.3 mm, 285 g/m^2, tension 60 N/mm and be
 (materials.presets SHEAR_PER_PLY) stiffening to lock near 55 deg. The Mindlin shell is that
 ply's calibration (ElasticShell.equivalent). Explicit, no mass scaling, mass-proportional
 damping 20/s; the kinetic energy over the work over the run (solvers/quasi_static.py) says
-how quasi-static it is, the damper's share of the work what the damping took. The report's
-coarse and default fibrous runs take the stroke twice as fast (TIME_SCALING: what it moved,
-measured beside the unscaled runs; KE / W at most 0.033 and 0.026 against 0.009 and 0.007),
-the Mindlin runs and the fine resolution unscaled; each run's record states its scaling.
+how quasi-static it is, the damper's share of the work what the damping took. The coarse and
+default fibrous runs take the stroke twice as fast, the others not (validation/forming_scaling.py).
 Compared: the shear of the cells the net lays on the bowl at least one coarse cell (16.7 mm
 of arc) inside the rim, the same material region on every mesh (COMPARED_POLAR).
 Measured, fibrous, 0.3 s, 12 / 20 / 32 cells, the die's entry radius 10 mm, the holder a plane
@@ -92,6 +90,7 @@ from solvers.common import check_positive_or_none
 from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
 from validation.checks import check
 from validation.forming_measures import corner_draw_in, edge_draw_in, late_mean_force
+from validation.forming_scaling import TIME_SCALING, kinetic_margin_check, stroke_words
 from validation.paper.orders import observed_orders
 from validation.plots import figure
 from validation.records import Case, Figure, ObservedOrder, Outcome
@@ -129,31 +128,6 @@ CELLS = {"coarse": 12, "default": 20, "fine": 32}
 # The three meshes of the observed orders (Richardson); the fine resolution runs all three.
 ORDER_CELLS = {"fine": (12, 20, 32)}
 DURATION = 0.3  # s: the punch travel at 0.17 m/s on average
-# The stroke run this many times faster, per kinematics and resolution (in DURATION / s; the
-# punch's amplitude and the holder's ramp follow it, the damping c unchanged), stated in each
-# run's record ``scaling`` and in the report's solver line with the largest KE / W it gave.
-# Measured beside the unscaled runs (benchmarks/hemisphere_scaling.py, "The report's
-# scaling"; one thread, CPU, load 9-17): fibrous x2 at 12 / 20 cells keeps every check and
-# moves rms shear - net by -0.004 / -0.006 deg (tolerance 3.7 / 2.8; 12 -> 20 cells: -0.57),
-# the edges' mean draw-in by -0.01 / -0.01 mm (12 -> 20: +1.75), the corners' by -0.05 /
-# -0.06 mm (+2.8), the edge middle's by +0.02 / -0.09 mm (its range 21.87-29.68 / 23.44-29.68),
-# the late punch force by +0.03 / +0.33 N (+7.6), the punch force at the end by +2.1 / -1.1
-# N (-21.1; it rings), no wrinkles either way, the holder down,
-# KE / W at most 0.033 / 0.026 (0.009 / 0.007 unscaled; bound 0.1, none of the stroke above
-# it), in half the steps. x3 at 12 cells moved nothing more but put KE / W at 0.073: not
-# kept. The Mindlin run is not scaled: unscaled it already rings near the bound (12 cells:
-# KE / W at most 0.169, 6.8 % of the stroke above 0.1, its flange wrinkled and the holder
-# lifted 1.2 mm), and x2 put 15.3 % of the stroke above the bound (the case's rule allows
-# 10 %) and moved its corners' draw-in by +10 %. The fine resolution (the orders over 12 /
-# 20 / 32 cells) stays unscaled: at 40 cells x2 turned the fibrous edge middle from cornered
-# to taut (-13 % of its draw-in), and 32 cells was not measured scaled.
-# The fibrous run's largest KE / W is checked within this share of the bound: the margin a
-# time scaling must keep (x2 gave at most 0.033, x3 0.073; the unscaled fine meshes 0.016).
-KINETIC_MARGIN = 0.5
-TIME_SCALING = {
-    "fibrous": {"coarse": 2.0, "default": 2.0, "fine": 1.0},
-    "mindlin": {"coarse": 1.0, "default": 1.0, "fine": 1.0},
-}
 # Mass-proportional damping (a drag of 2 g at 1 m/s): it took 0.24, 0.71 and 2.1 % of the
 # work at 12, 20 and 32 cells (``run``'s damping_over_work; 8.6, 21.2 and 23.8 % on the sharp
 # die, whose flange rang and jerked); c / (2 omega) of critical, 1 % at 160 Hz.
@@ -431,9 +405,10 @@ def run(
     fraction of the work the mass-proportional damping dissipated, and the run's ``cost``
     (wall and CPU time, s; the machine's load average at its start and end). A run that
     diverges keeps its last good frame (``result.converged`` False). ``net``: the net's shear
-    at the cells (``net_shear_at``), when already computed. Faster runs (the case runs neither;
-    the record's ``scaling`` states them): the stroke in DURATION / ``time_scaling``, and the
-    solver's selective ``mass_scaling_dt``, s (benchmarks/hemisphere_scaling.py)."""
+    at the cells (``net_shear_at``), when already computed. Faster runs (``compute`` gives
+    each its TIME_SCALING; the record's ``scaling`` states them): the stroke in DURATION /
+    ``time_scaling``, and the solver's selective ``mass_scaling_dt``, s
+    (benchmarks/hemisphere_scaling.py)."""
     time_scaling = check_positive(time_scaling, "time_scaling", "")
     check_positive_or_none(mass_scaling_dt, "mass_scaling_dt", " s")
     mesh, built = model(cells, kinematics, rim=DIE_RIM)
@@ -591,7 +566,7 @@ def compute(resolution: str) -> Outcome:
         "centre_line_draw_in_range_mm": centre_line_draw_in_range(cells),
         "cornered_centre_line_draw_in_mm": cornered_centre_line_draw_in()[0],
     }
-    extra = _more_runs(resolution, cells, runs, net)
+    extra = _more_runs(resolution, cells, runs, speed)
     for kinematics, record in runs.items():
         result = record["result"]
         parameters[f"{kinematics}_cells_compared"] = int(record["compared"].sum())
@@ -652,18 +627,7 @@ def compute(resolution: str) -> Outcome:
                     source="solvers/quasi_static.py: KE / W",
                 )
             )
-            checks.append(
-                check(
-                    f"{kinematics}: the largest KE / W after the first tenth, at most "
-                    f"{KINETIC_MARGIN:g} of the bound {KINETIC_BOUND:g} (the margin the "
-                    f"stroke's time scaling x{speed[kinematics]:g} keeps)",
-                    0.0,
-                    record["largest_kinetic_over_work"],
-                    KINETIC_MARGIN * KINETIC_BOUND,
-                    relative=False,
-                    source="TIME_SCALING: KE / W 0.026-0.033 at x2, 0.067-0.073 at x3",
-                )
-            )
+            checks.append(kinetic_margin_check(kinematics, speed[kinematics], record))
     every = list(runs.items()) + [(f"{k} n = {n}", r) for (k, n), r in extra.items()]
     for label, record in every:
         cost = record["cost"]
@@ -685,9 +649,8 @@ def compute(resolution: str) -> Outcome:
         converged=all(r.converged for r in every_result),
         wall_time_s=sum(r.wall_time for r in every_result),
         steps=sum(r.steps for r in every_result),
-        solver=f"CentralDifference, the {DURATION:g}-s stroke: "
-        + "; ".join(_stroke(k, speed[k], r["largest_kinetic_over_work"]) for k, r in runs.items())
-        + "; no mass scaling, the default safety",
+        solver=f"CentralDifference, {stroke_words(DURATION, speed, runs)}; no mass scaling, "
+        "the default safety",
         parameters=parameters,
         checks=checks,
         orders=records,
@@ -703,19 +666,9 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def _stroke(kinematics: str, speed: float, kinetic: float) -> str:
-    """How ``kinematics``' run took the stroke, in words: time-scaled by ``speed`` or not,
-    and the largest KE / W after the first tenth it gave (``kinetic``)."""
-    scaled = "not time-scaled" if speed == 1.0 else (
-        f"time-scaled x{speed:g} (run in {DURATION / speed:g} s)"
-    )  # fmt: skip
-    return f"{kinematics} {scaled}, largest KE / W after the first tenth {kinetic:.3f}"
-
-
-def _more_runs(resolution, cells, runs, net) -> dict[tuple[str, int], dict[str, Any]]:
+def _more_runs(resolution, cells, runs, speed) -> dict[tuple[str, int], dict[str, Any]]:
     """The runs on the other meshes of ``ORDER_CELLS[resolution]`` (none when it names no
-    sequence), keyed by (kinematics, cells), each at its kinematics' ``TIME_SCALING``."""
-    speed = {kinematics: TIME_SCALING[kinematics][resolution] for kinematics in TIME_SCALING}
+    sequence), keyed by (kinematics, cells), each at its kinematics' ``speed``."""
     extra = {}
     for n in ORDER_CELLS.get(resolution, ()):
         if n != cells:
