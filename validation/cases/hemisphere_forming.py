@@ -20,7 +20,8 @@ Parameters (assumed, a G986-like ply): 0.3 mm, 285 g/m^2, tension 60 N/mm and be
 (materials.presets SHEAR_PER_PLY) stiffening to lock near 55 deg. The Mindlin shell is that
 ply's calibration (ElasticShell.equivalent). Explicit, no mass scaling, mass-proportional
 damping 20/s; the kinetic energy over the work over the run (solvers/quasi_static.py) says
-how quasi-static it is, the damper's share of the work what the damping took.
+how quasi-static it is, the damper's share of the work what the damping took. The coarse and
+default fibrous runs take the stroke twice as fast, the others not (validation/forming_scaling.py).
 Compared: the shear of the cells the net lays on the bowl at least one coarse cell (16.7 mm
 of arc) inside the rim, the same material region on every mesh (COMPARED_POLAR).
 Measured, fibrous, 0.3 s, 12 / 20 / 32 cells, the die's entry radius 10 mm, the holder a plane
@@ -70,7 +71,7 @@ import functools
 import math
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -89,6 +90,7 @@ from solvers.common import check_positive_or_none
 from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
 from validation.checks import check
 from validation.forming_measures import corner_draw_in, edge_draw_in, late_mean_force
+from validation.forming_scaling import TIME_SCALING, kinetic_margin_check, stroke_words
 from validation.paper.orders import observed_orders
 from validation.plots import figure
 from validation.records import Case, Figure, ObservedOrder, Outcome
@@ -236,7 +238,8 @@ LATE_SHARE = 0.2
 class HemisphereData:
     """Per kinematics ("fibrous", "mindlin"): the result and the per-cell shear (rad), with
     the net's shear at the same cells, which cells are compared (``compared_cells``), and the
-    punch travel and force records."""
+    punch travel and force records; ``time_scaling`` each kinematics' (its stroke run in
+    DURATION / it; 1 when not given)."""
 
     mesh: Mesh
     runs: dict[str, Any]
@@ -244,6 +247,7 @@ class HemisphereData:
     net_shear: np.ndarray
     compared: np.ndarray
     cells: int
+    time_scaling: dict[str, float] = field(default_factory=dict)
 
 
 def blank_shear(mesh: Mesh, positions: np.ndarray) -> np.ndarray:
@@ -401,9 +405,10 @@ def run(
     fraction of the work the mass-proportional damping dissipated, and the run's ``cost``
     (wall and CPU time, s; the machine's load average at its start and end). A run that
     diverges keeps its last good frame (``result.converged`` False). ``net``: the net's shear
-    at the cells (``net_shear_at``), when already computed. Faster runs (the case runs neither;
-    the record's ``scaling`` states them): the stroke in DURATION / ``time_scaling``, and the
-    solver's selective ``mass_scaling_dt``, s (benchmarks/hemisphere_scaling.py)."""
+    at the cells (``net_shear_at``), when already computed. Faster runs (``compute`` gives
+    each its TIME_SCALING; the record's ``scaling`` states them): the stroke in DURATION /
+    ``time_scaling``, and the solver's selective ``mass_scaling_dt``, s
+    (benchmarks/hemisphere_scaling.py)."""
     time_scaling = check_positive(time_scaling, "time_scaling", "")
     check_positive_or_none(mass_scaling_dt, "mass_scaling_dt", " s")
     mesh, built = model(cells, kinematics, rim=DIE_RIM)
@@ -525,8 +530,9 @@ def compute(resolution: str) -> Outcome:
     cells = CELLS[resolution]
     runs: dict[str, dict[str, Any]] = {}
     net = None
+    speed = {kinematics: TIME_SCALING[kinematics][resolution] for kinematics in TIME_SCALING}
     for kinematics in ("fibrous", "mindlin"):
-        runs[kinematics] = run(cells, kinematics, net)
+        runs[kinematics] = run(cells, kinematics, net, time_scaling=speed[kinematics])
         net = net_shear_at(runs[kinematics]["mesh"]) if net is None else net
     assert net is not None
     mesh = runs["fibrous"]["mesh"]
@@ -547,6 +553,8 @@ def compute(resolution: str) -> Outcome:
         ),
         "punch_travel_mm": TRAVEL,
         "duration_s": DURATION,
+        "time_scaling": speed,
+        "stroke_run_in_s": {k: DURATION / s for k, s in speed.items()},
         "safety_on_the_stable_step": CentralDifference(duration=DURATION).safety,
         "damping_per_s": DAMPING,
         "contact_damping_of_critical": CONTACT_DAMPING,
@@ -558,7 +566,7 @@ def compute(resolution: str) -> Outcome:
         "centre_line_draw_in_range_mm": centre_line_draw_in_range(cells),
         "cornered_centre_line_draw_in_mm": cornered_centre_line_draw_in()[0],
     }
-    extra = _more_runs(resolution, cells, runs, net)
+    extra = _more_runs(resolution, cells, runs, speed)
     for kinematics, record in runs.items():
         result = record["result"]
         parameters[f"{kinematics}_cells_compared"] = int(record["compared"].sum())
@@ -569,6 +577,7 @@ def compute(resolution: str) -> Outcome:
         parameters[f"{kinematics}_largest_kinetic_over_work"] = record["largest_kinetic_over_work"]
         parameters[f"{kinematics}_share_above_kinetic_bound"] = record["kinetic_exceeded_share"]
         parameters[f"{kinematics}_reached_s"] = record["end_time_s"]
+        parameters[f"{kinematics}_scaling"] = record["scaling"]
         parameters[f"{kinematics}_damping_over_work"] = record["damping_over_work"]
         parameters[f"{kinematics}_contact_damping_over_work"] = record["contact_damping_over_work"]
         parameters[f"{kinematics}_largest_shear_deg"] = record["largest_shear_deg"]
@@ -618,6 +627,7 @@ def compute(resolution: str) -> Outcome:
                     source="solvers/quasi_static.py: KE / W",
                 )
             )
+            checks.append(kinetic_margin_check(kinematics, speed[kinematics], record))
     every = list(runs.items()) + [(f"{k} n = {n}", r) for (k, n), r in extra.items()]
     for label, record in every:
         cost = record["cost"]
@@ -639,7 +649,8 @@ def compute(resolution: str) -> Outcome:
         converged=all(r.converged for r in every_result),
         wall_time_s=sum(r.wall_time for r in every_result),
         steps=sum(r.steps for r in every_result),
-        solver=f"CentralDifference, {DURATION} s, no mass scaling, the default safety",
+        solver=f"CentralDifference, {stroke_words(DURATION, speed, runs)}; no mass scaling, "
+        "the default safety",
         parameters=parameters,
         checks=checks,
         orders=records,
@@ -650,18 +661,19 @@ def compute(resolution: str) -> Outcome:
             net,
             runs["fibrous"]["compared"],
             cells,
+            speed,
         ),
     )
 
 
-def _more_runs(resolution, cells, runs, net) -> dict[tuple[str, int], dict[str, Any]]:
+def _more_runs(resolution, cells, runs, speed) -> dict[tuple[str, int], dict[str, Any]]:
     """The runs on the other meshes of ``ORDER_CELLS[resolution]`` (none when it names no
-    sequence), keyed by (kinematics, cells)."""
+    sequence), keyed by (kinematics, cells), each at its kinematics' ``speed``."""
     extra = {}
     for n in ORDER_CELLS.get(resolution, ()):
         if n != cells:
             for kinematics in runs:
-                extra[(kinematics, n)] = run(n, kinematics)
+                extra[(kinematics, n)] = run(n, kinematics, time_scaling=speed[kinematics])
     return extra
 
 
@@ -758,7 +770,8 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
 
     with figure(out_dir / f"{NAME}-force.png", "punch travel (mm)", "punch force (N)") as ax:
         for kinematics, result in data.runs.items():
-            travel = [TRAVEL * float(smooth_step(f.time / DURATION)) for f in result.frames]
+            stroke = DURATION / data.time_scaling.get(kinematics, 1.0)
+            travel = [TRAVEL * float(smooth_step(f.time / stroke)) for f in result.frames]
             force = [f.tool_forces[1, 2] if len(f.tool_forces) > 1 else 0.0 for f in result.frames]
             ax.plot(travel, force, "o-", ms=3, label=kinematics)
     figures.append(
