@@ -17,7 +17,7 @@ Measured (one thread, CPU, 2 cores shared with other jobs, load 12.2-12.5): the 
 of 275 790 entries: the mirrors' search alone 6.9 ms, the whole plan by the transpose 3.0 ms
 (the whole plan before 18.7 ms -> 8.1 ms in another timing at load 15); the same arrays to the
 bit. A profile of the plies run of plies-bai-5.1 at the default resolution (code before;
-cProfile, wall 604 s at that load for 136 s of CPU) put 27 % of the solve in the map's
+cProfile, wall 604 s at load 14-16 for 136 s of CPU) put 27 % of the solve in the map's
 rebuilds (755 of them) and 4 % in the plan's. plies-bai-5.1 and plies-deck-of-cards at the
 default resolution before / after: validation/report.py EXPECTED_CPU_S's comment.
 
