@@ -16,10 +16,12 @@ Measured (one thread, CPU, 2 cores shared with other jobs, load 12.2-12.5): the 
 972 000 entries (3528 unknowns free) 94.2 ms by np.unique -> 32.3 ms per node pair; the plan
 of 275 790 entries: the mirrors' search alone 6.9 ms, the whole plan by the transpose 3.0 ms
 (the whole plan before 18.7 ms -> 8.1 ms in another timing at load 15); the same arrays to the
-bit. A profile of the plies run of plies-bai-5.1 at the default resolution (code before;
-cProfile, wall 604 s at load 14-16 for 136 s of CPU) put 27 % of the solve in the map's
-rebuilds (755 of them) and 4 % in the plan's. plies-bai-5.1 and plies-deck-of-cards at the
-default resolution before / after: validation/report.py EXPECTED_CPU_S's comment.
+bit. The parts' places then gathered from the pair tables by one flat index for both K_ff and
+K_fp (where three broadcast index arrays were taken twice): the map 30.8-32.2 -> 23.3-24.4 ms
+(np.unique 85-87 ms; load 4.7-6.9, the two versions alternated). A profile of the plies run
+of plies-bai-5.1 at the default resolution (code before; cProfile, wall 604 s at load 14-16
+for 136 s of CPU) put 27 % of the solve in the map's rebuilds (755 of them) and 4 % in the
+plan's. That run and the two ply cases before / after: benchmarks/report.py.
 
 Run: python benchmarks/tangent_pattern.py [--repeats 5]
 """

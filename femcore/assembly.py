@@ -408,12 +408,14 @@ class FreeTangentAssembler:
             m, p = part.nodes.shape
             at = inverse[start : start + m * p * p].reshape(m, p, 1, p, 1)
             a, b = components[:c].reshape(1, 1, c, 1, 1), components[:c].reshape(1, 1, 1, 1, c)
-            self._destinations.append((ff_table[at, a, b].ravel(), fp_table[at, a, b].ravel()))
+            flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()  # one index, two gathers
+            self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
             start += m * p * p
         for block_rows in self._block_rows:
             at = inverse[start : start + block_rows.size].reshape(-1, 1, 1)
             a, b = components.reshape(1, -1, 1), components.reshape(1, 1, -1)
-            self._destinations.append((ff_table[at, a, b].ravel(), fp_table[at, a, b].ravel()))
+            flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()
+            self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
             start += block_rows.size
         ff_destination = np.concatenate(
             [np.zeros(0, dtype=np.int64)] + [d[0] for d in self._destinations]
