@@ -58,7 +58,9 @@ mirrors by a transpose (benchmarks/tangent_pattern.py). plies-bai-5.1's plies ru
 (30 cells, 8 plies, default): 100.2 -> 80.9 s CPU, the map's 755 rebuilds 33.4 -> 15.2 s, the
 754 plans 4.8 -> 1.7 s, the same 465 Newton iterations and 3 cuts, the final positions and
 directors equal to the bit (coarse, 4 plies: 22.1 -> 19.8 s, 358 iterations, 6 cuts, the same
-bits). The two cases as the report runs them (python -m validation --cases
+bits); with the places gathered by one flat index (benchmarks/tangent_pattern.py), again side
+by side (load 5-7): 113.4 -> 77.8 s, the rebuilds 33.0 -> 12.1 s, the plans 4.8 -> 1.7 s, the
+same iterations, cuts and bits. The two cases as the report runs them (python -m validation --cases
 plies-bai-5.1,plies-deck-of-cards --resolution default --jobs 1, old and new at once, load
 14 -> 5): plies-bai-5.1 130.2 / 131.6 s CPU (the cut lost in the noise of the shared cores:
 its fibrous and Mindlin runs' wall times moved 130 / 312 and 55 / 10 s between the two),
