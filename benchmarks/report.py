@@ -52,6 +52,24 @@ same equilibria to 1e-6 deg and mm printed. The band reuse alone is neutral ther
 stack's patterns choose QDLDL: 281 of 306 new patterns factorised by it anyway; factorise 2.3
 of 16.4 s CPU).
 
+A new pattern's analysis made cheaper, the same bits (one thread, CPU; old and new side by side
+in fresh processes, load 5-9): the assembler's map counted per node pair and the upper plan's
+mirrors by a transpose (benchmarks/tangent_pattern.py). plies-bai-5.1's plies run alone
+(30 cells, 8 plies, default): 100.2 -> 80.9 s CPU, the map's 755 rebuilds 33.4 -> 15.2 s, the
+754 plans 4.8 -> 1.7 s, the same 465 Newton iterations and 3 cuts, the final positions and
+directors equal to the bit (coarse, 4 plies: 22.1 -> 19.8 s, 358 iterations, 6 cuts, the same
+bits); with the places gathered by one flat index (benchmarks/tangent_pattern.py), again side
+by side (load 5-7): 113.4 -> 77.8 s, the rebuilds 33.0 -> 12.1 s, the plans 4.8 -> 1.7 s, the
+same iterations, cuts and bits. The two cases as the report runs them (python -m validation --cases
+plies-bai-5.1,plies-deck-of-cards --resolution default --jobs 1, old and new at once, load
+14 -> 5): plies-bai-5.1 130.2 / 131.6 s CPU (the cut lost in the noise of the shared cores:
+its fibrous and Mindlin runs' wall times moved 130 / 312 and 55 / 10 s between the two),
+plies-deck-of-cards 55.7 / 50.4 s; their results.json the same in every value but the times.
+The profile of the plies run before (cProfile, wall 604 s for 136 s CPU at load 14-16) put
+the rest in the plies' facing search (25 %), the Mindlin plies' tangents (15 %, 8-9 ms for
+the 960 triangles, numpy: one block instead of 8 measured 1-3 ms less) and the contact's
+tangent (16 %), the band's numeric factorisations (6 %) and its orderings (2 %).
+
 Measured again (one thread, 2 cores shared with other jobs, load 5.6-10.6, CPU of
 computation + figures): default bai-5.1 45.4 + 7.2 s (1800 Newton iterations in its 7 runs),
 bai-6.1.1 52.8 + 7.6 s. The coarse plies-bai-5.1's plies run (12 cells, 4 plies; load 12-13,

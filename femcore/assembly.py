@@ -332,51 +332,105 @@ class FreeTangentAssembler:
         ]
 
     def _build(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> None:
-        rows, cols = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
+        # K_ff's and K_fp's structure from the node pairs the parts couple (a cell part of p
+        # nodes couples p^2 pairs where it holds (5 p)^2 entries): each pair (column node J,
+        # row node I) holds the entries (5 I + a, 5 J + c) with a, c below its widest part's
+        # components; their places in CSC (K_ff) and CSR (K_fp) order are counted per pair,
+        # not sorted out of every entry (np.unique over every entry: a rebuild 2-3 x slower).
+        n = self.dofs.n_nodes
+        pair_keys, wide = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=bool)]
         for part in parts:
-            r, c = entry_slots(part.nodes, _components(part))
-            rows.append(r)
-            cols.append(c)
-        for b in blocks:  # node blocks (i, j) -> entries (5 i + a, 5 j + c), (count, 5, 5)
-            block_rows = np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr))
-            shape = (block_rows.size, N_COLUMNS, N_COLUMNS)
-            slots = np.arange(N_COLUMNS)
-            rows.append(
-                np.broadcast_to(
-                    DofManager.slots(block_rows[:, None, None], slots[:, None]), shape
-                ).ravel()
-            )
-            cols.append(
-                np.broadcast_to(DofManager.slots(b.indices[:, None, None], slots), shape).ravel()
-            )
-        rows_all, cols_all = np.concatenate(rows), np.concatenate(cols)
-        r_f, c_f, c_p = self._position[rows_all], self._position[cols_all], self._moved[cols_all]
-        ff = (r_f >= 0) & (c_f >= 0)
-        fp = (r_f >= 0) & (c_p >= 0)
-        # CSC order of K_ff: by column, then row.
-        self.ff_select = np.flatnonzero(ff)
-        keys, self.ff_map = np.unique(c_f[ff] * self.n_free + r_f[ff], return_inverse=True)
-        self.ff_cols, self.ff_rows = np.divmod(keys, self.n_free)
-        # The keys are unique and sorted by column then row: K_ff's CSC structure as it is.
-        self.ff_indptr = np.searchsorted(self.ff_cols, np.arange(self.n_free + 1))
-        moved = max(self.n_moved, 1)
-        self.fp_select = np.flatnonzero(fp)
-        keys, self.fp_map = np.unique(r_f[fp] * moved + c_p[fp], return_inverse=True)
-        self.fp_rows, self.fp_cols = np.divmod(keys, moved)
+            nodes = np.asarray(part.nodes, dtype=np.int64)
+            keys = nodes[:, None, :] * n + nodes[:, :, None]  # (m, row node, column node)
+            pair_keys.append(keys.ravel())
+            wide.append(np.full(keys.size, _components(part) == N_COLUMNS))
+        self._block_rows = [
+            np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr)) for b in blocks
+        ]
+        for b, block_rows in zip(blocks, self._block_rows):
+            pair_keys.append(b.indices.astype(np.int64) * n + block_rows)
+            wide.append(np.ones(block_rows.size, dtype=bool))
+        pairs, inverse = np.unique(np.concatenate(pair_keys), return_inverse=True)
+        inverse = inverse.ravel()
+        width = np.where(np.bincount(inverse, np.concatenate(wide), pairs.size) > 0, N_COLUMNS, 3)
+        column_node, row_node = np.divmod(pairs, n)
+        components = np.arange(N_COLUMNS)
+        inside = components[None, :] < width[:, None]  # (pairs, 5): a or c below the width
+        free = self._position.reshape(n, N_COLUMNS)
+        moved = self._moved.reshape(n, N_COLUMNS)
+        row_free = free[row_node] >= 0  # (pairs, 5) over a
+        ranks: np.ndarray = np.cumsum(row_free & inside, axis=1) - (row_free & inside)  # rank of a
+        # K_ff (CSC: by column 5 J + c, then row 5 I + a): each pair holds rows_of[P] rows
+        # of every free column c below its width, after the pairs of J before it.
+        rows_of = np.count_nonzero(row_free & inside, axis=1)
+        counts = np.where(inside & (free[column_node] >= 0), rows_of[:, None], 0)  # (P, c)
+        before = np.cumsum(counts, axis=0) - counts
+        group_start = np.searchsorted(column_node, column_node)  # each J's first pair
+        before -= before[group_start]
+        lengths = np.zeros(self.n_free, dtype=np.int64)
+        column_free = free[column_node]
+        np.add.at(lengths, column_free[counts > 0], counts[counts > 0])
+        self.ff_indptr = np.concatenate([[0], np.cumsum(lengths)])
+        entry = row_free[:, :, None] & inside[:, :, None] & (counts > 0)[:, None, :]  # (P, a, c)
+        ff_table = np.where(
+            entry,
+            self.ff_indptr[np.maximum(column_free, 0)][:, None, :]
+            + before[:, None, :]
+            + ranks[:, :, None],
+            -1,
+        )
+        self.ff_rows = np.empty(self.ff_indptr[-1], dtype=np.int64)
+        self.ff_cols = np.empty(self.ff_indptr[-1], dtype=np.int64)
+        where = np.nonzero(entry)
+        self.ff_rows[ff_table[where]] = free[row_node[where[0]], where[1]]
+        self.ff_cols[ff_table[where]] = column_free[where[0], where[2]]
+        # K_fp (CSR through its sorted keys: row 5 I + a, then prescribed column 5 J + c).
+        fp_entry = (
+            row_free[:, :, None]
+            & inside[:, :, None]
+            & (inside & (moved[column_node] >= 0))[:, None, :]
+        )
+        where = np.nonzero(fp_entry)
+        fp_keys = (
+            free[row_node[where[0]], where[1]] * max(self.n_moved, 1)
+            + moved[column_node[where[0]], where[2]]
+        )
+        keys, order = np.unique(fp_keys, return_inverse=True)
+        self.fp_rows, self.fp_cols = np.divmod(keys, max(self.n_moved, 1))
+        fp_table = np.full(fp_entry.shape, -1, dtype=np.int64)
+        fp_table[where] = order.ravel()
         # Per entry of the concatenated parts, its position in K_ff's or K_fp's data (-1: in
         # neither), split by part: the compiled pass adds each cell part's blocks there.
-        ff_destination = np.full(rows_all.size, -1, dtype=np.int64)
-        ff_destination[self.ff_select] = self.ff_map
-        fp_destination = np.full(rows_all.size, -1, dtype=np.int64)
-        fp_destination[self.fp_select] = self.fp_map
-        bounds = np.cumsum([0] + [r.size for r in rows[1:]])
-        self._destinations = [
-            (ff_destination[start:stop], fp_destination[start:stop])
-            for start, stop in zip(bounds[:-1], bounds[1:])
-        ]
+        self._destinations = []
+        start = 0
+        for part in parts:
+            c = _components(part)
+            m, p = part.nodes.shape
+            at = inverse[start : start + m * p * p].reshape(m, p, 1, p, 1)
+            a, b = components[:c].reshape(1, 1, c, 1, 1), components[:c].reshape(1, 1, 1, 1, c)
+            flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()  # one index, two gathers
+            self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
+            start += m * p * p
+        for block_rows in self._block_rows:
+            at = inverse[start : start + block_rows.size].reshape(-1, 1, 1)
+            a, b = components.reshape(1, -1, 1), components.reshape(1, 1, -1)
+            flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()
+            self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
+            start += block_rows.size
+        ff_destination = np.concatenate(
+            [np.zeros(0, dtype=np.int64)] + [d[0] for d in self._destinations]
+        )
+        fp_destination = np.concatenate(
+            [np.zeros(0, dtype=np.int64)] + [d[1] for d in self._destinations]
+        )
+        self.ff_select = np.flatnonzero(ff_destination >= 0)
+        self.ff_map = ff_destination[self.ff_select]
+        self.fp_select = np.flatnonzero(fp_destination >= 0)
+        self.fp_map = fp_destination[self.fp_select]
         # The entries the compiled pass does not add (all of them without numba): the
         # SparseTangent parts', summed by bincount.
-        first = int(bounds[len(parts)]) if _add_cell_blocks_compiled is not None else 0
+        compiled = _add_cell_blocks_compiled is not None
+        first = int(sum(d[0].size for d in self._destinations[: len(parts)])) if compiled else 0
         ff_rest, fp_rest = self.ff_select >= first, self.fp_select >= first
         self._rest = (
             self.ff_map[ff_rest],
@@ -385,9 +439,6 @@ class FreeTangentAssembler:
             self.fp_select[fp_rest] - first,
         )
         self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
-        self._block_rows = [
-            np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr)) for b in blocks
-        ]
         self.builds += 1
 
     def _same_pattern(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> bool:

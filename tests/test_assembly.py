@@ -99,3 +99,53 @@ def test_the_compiled_scatter_adds_the_generalised_blocks_where_the_bincount_doe
     expected_fp = np.bincount(assemble.fp_map, flat[assemble.fp_select], minlength=fp.size)
     assert np.allclose(ff, expected_ff, rtol=1e-14, atol=1e-13)
     assert np.allclose(fp, expected_fp, rtol=1e-14, atol=1e-13)
+
+
+def test_the_pattern_counted_per_node_pair_is_the_sorted_union_of_the_entries():
+    """K_ff's CSC structure and K_fp's CSR structure, counted per node pair (FreeTangentAssembler
+    ._build), equal scipy's canonical structure of every part's entries on the free rows and
+    free / prescribed columns (the np.unique over the entries it replaced), and the values
+    the full matrix's: translation-only and full parts on overlapping pairs, a node twice in a
+    part, a SparseTangent, unknowns fixed, prescribed and inactive; again after the pairs
+    change."""
+    n = 7
+    active = np.ones((n, 5), dtype=bool)
+    active[6, 3:] = False  # a translation-only node
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    fixed[4, 4] = True
+    prescribed = np.zeros_like(active)
+    prescribed[3, 1] = True
+    prescribed[5, :] = True
+    dofs = DofManager(n, active, fixed, prescribed)
+    rng = np.random.default_rng(3)
+    directors = rng.normal(size=(n, 3))
+    frames = dofs.frames(directors / np.linalg.norm(directors, axis=1)[:, None])
+    free, moved = dofs.free_slots, dofs.prescribed_slots
+    assemble = FreeTangentAssembler(dofs)
+    for shift in range(3):
+        pairs = (np.array([[0, 6], [6, 2], [1, 3]]) + shift) % n
+        patches = (np.array([[0, 1, 2, 1], [4, 5, 3, 2]]) + shift) % n
+        mask = np.kron(rng.random((n, n)) < 0.2, np.ones((6, 6)))
+        parts = [
+            CellTangent(pairs, rng.normal(size=(3, 2, 3, 2, 3))),
+            CellTangent(patches, rng.normal(size=(2, 4, 6, 4, 6))),
+            SparseTangent(sp.bsr_matrix(rng.normal(size=(6 * n, 6 * n)) * mask, blocksize=(6, 6))),
+        ]
+        k_ff, k_fp = assemble(parts, frames)
+        full = tangent_matrix(dofs, parts, frames)
+        ones = full.copy()
+        ones.data[:] = 1.0  # every entry stored, also those whose values cancel
+        expected_ff = ones[free][:, free].tocsc()
+        expected_ff.sum_duplicates()
+        expected_fp = ones[free][:, moved].tocsr()
+        expected_fp.sum_duplicates()
+        assert np.array_equal(k_ff.indptr, expected_ff.indptr)
+        assert np.array_equal(k_ff.indices, expected_ff.indices)
+        k_fp.sum_duplicates()
+        assert np.array_equal(k_fp.indptr, expected_fp.indptr)
+        assert np.array_equal(k_fp.indices, expected_fp.indices)
+        dense = full.toarray()
+        assert np.allclose(k_ff.toarray(), dense[np.ix_(free, free)], rtol=0, atol=1e-12)
+        assert np.allclose(k_fp.toarray(), dense[np.ix_(free, moved)], rtol=0, atol=1e-12)
+    assert assemble.builds == 3

@@ -81,6 +81,28 @@ def test_a_pattern_without_its_mirror_or_its_diagonal_gets_no_plan():
     assert _UpperPlan.of(lower_only) is None
     no_diagonal = sp.csc_matrix(np.ones((4, 4)) - np.eye(4))
     assert _UpperPlan.of(no_diagonal) is None
+    # As many entries in each column and row as its transpose, but (1, 0), (2, 1), (0, 2)
+    # mirrored nowhere.
+    cyclic = sp.csc_matrix(np.eye(3) + np.eye(3, k=-1) + np.eye(3, k=2))
+    assert _UpperPlan.of(cyclic) is None
+
+
+def test_the_plan_maps_each_entry_to_its_mirror():
+    """``_UpperPlan.transposed`` (K^T by scipy's counting transpose) against the mirrors found
+    one by one in a dictionary of K's entries, on a scattered symmetric pattern."""
+    from solvers.linear import _UpperPlan
+
+    rng = np.random.default_rng(4)
+    a = sp.random(60, 60, density=0.08, random_state=5, format="csc")
+    k = (a + a.T + sp.identity(60)).tocsc()
+    k.sort_indices()
+    k.data = rng.normal(size=k.nnz)
+    plan = _UpperPlan.of(k)
+    assert plan is not None
+    columns = np.repeat(np.arange(60), np.diff(k.indptr))
+    place = {(int(i), int(j)): e for e, (i, j) in enumerate(zip(k.indices, columns))}
+    expected = [place[(int(j), int(i))] for i, j in zip(k.indices, columns)]
+    assert np.array_equal(plan.transposed, expected)
 
 
 def test_a_non_symmetric_pattern_is_still_factorised_and_solved():

@@ -1,0 +1,122 @@
+"""What a new sparsity pattern of K_ff costs before the numeric work: the assembler's map
+(femcore.assembly.FreeTangentAssembler._build) and the linear solver's upper-triangle plan
+(solvers.linear._UpperPlan.of), each against the way it was done before (the reference pass,
+kept here): the map by np.unique over every entry of every part, the plan by a search of each
+entry's mirror among the sorted keys.
+
+The model: plies-bai-5.1's stack at the default resolution (cases/bai-5.1.toml, 30 x 2 cells,
+8 Mindlin plies, 744 nodes, 3720 unknowns free) with, on each of the 7 interfaces, one contact
+part of 6-node blocks per upper-ply triangle (its 3 nodes and those of a triangle of the ply
+below: the shape of elements/ply_block.py's tangent with every point touching). The ply
+contact changes this pattern at almost every Newton iteration (benchmarks/report.py, "The
+plies' increments cut once": 989 new patterns in 1076 tangents of the 8-ply run). Prints the
+CPU time of each pass (best of the repeats), and whether the two give the same arrays.
+
+Measured (one thread, CPU, 2 cores shared with other jobs, load 12.2-12.5): the map of
+972 000 entries (3528 unknowns free) 94.2 ms by np.unique -> 32.3 ms per node pair; the plan
+of 275 790 entries: the mirrors' search alone 6.9 ms, the whole plan by the transpose 3.0 ms
+(the whole plan before 18.7 ms -> 8.1 ms in another timing at load 15); the same arrays to the
+bit. The parts' places then gathered from the pair tables by one flat index for both K_ff and
+K_fp (where three broadcast index arrays were taken twice): the map 30.8-32.2 -> 23.3-24.4 ms
+(np.unique 85-87 ms; load 4.7-6.9, the two versions alternated). A profile of the plies run
+of plies-bai-5.1 at the default resolution (code before; cProfile, wall 604 s at load 14-16
+for 136 s of CPU) put 27 % of the solve in the map's rebuilds (755 of them) and 4 % in the
+plan's. That run and the two ply cases before / after: benchmarks/report.py.
+
+Run: python benchmarks/tangent_pattern.py [--repeats 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from femcore.assembly import CellTangent, FreeTangentAssembler, _components, _split, entry_slots
+from fibreshell.plies import ply_stack, stack_model
+from solvers.linear import _UpperPlan
+from validation.cases.plies_bai_5_1 import CELLS, FILE, PLIES, PLIES_SOLVER
+from validation.ground_truth import _case
+
+
+def reference_map(assemble: FreeTangentAssembler, parts: list[CellTangent]):
+    """(K_ff's rows, indptr, each entry's place in K_ff) by np.unique over every entry, as
+    FreeTangentAssembler._build did before."""
+    rows, cols = [], []
+    for part in parts:
+        r, c = entry_slots(part.nodes, _components(part))
+        rows.append(r)
+        cols.append(c)
+    rows_all, cols_all = np.concatenate(rows), np.concatenate(cols)
+    r_f, c_f = assemble._position[rows_all], assemble._position[cols_all]
+    ff = (r_f >= 0) & (c_f >= 0)
+    keys, places = np.unique(c_f[ff] * assemble.n_free + r_f[ff], return_inverse=True)
+    columns, ff_rows = np.divmod(keys, assemble.n_free)
+    return ff_rows, np.searchsorted(columns, np.arange(assemble.n_free + 1)), places
+
+
+def reference_mirrors(k: sp.csc_matrix) -> np.ndarray:
+    """Each entry's mirror by a search among the sorted keys, as _UpperPlan.of did before."""
+    n = k.shape[0]
+    columns = np.repeat(np.arange(n), np.diff(k.indptr))
+    keys = columns.astype(np.int64) * n + k.indices
+    return np.searchsorted(keys, k.indices.astype(np.int64) * n + columns)
+
+
+def best(call, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.process_time()
+        call()
+        times.append(time.process_time() - start)
+    return min(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    args = parser.parse_args()
+    print(f"load before: {os.getloadavg()[0]:.1f}")
+    case = _case(FILE, CELLS["default"], {"solver": PLIES_SOLVER})
+    stack = ply_stack(case, PLIES["default"])
+    model = stack_model(case, stack).compile()
+    state = model.initial_state()
+    plies, _ = _split(model.tangent_parts(state, list(range(stack.count)), False))
+    rng = np.random.default_rng(0)
+    contact = []
+    for k in range(stack.count - 1):  # each upper triangle on a triangle of the ply below
+        lower = np.roll(plies[k + 1].nodes, int(rng.integers(1, 4)), axis=0)
+        nodes = np.concatenate([plies[k].nodes, lower], axis=1)
+        contact.append(CellTangent(nodes, rng.standard_normal((len(nodes), 6, 6, 6, 6))))
+    parts = plies + contact
+    assemble = FreeTangentAssembler(model.dofs)
+    entries = sum(entry_slots(p.nodes, _components(p))[0].size for p in parts)
+    new = best(lambda: assemble._build(parts, []), args.repeats)
+    old = best(lambda: reference_map(assemble, parts), args.repeats)
+    ff_rows, indptr, places = reference_map(assemble, parts)
+    same = (
+        np.array_equal(ff_rows, assemble.ff_rows)
+        and np.array_equal(indptr, assemble.ff_indptr)
+        and np.array_equal(places, assemble.ff_map)
+    )
+    print(f"map of {entries} entries ({assemble.n_free} unknowns): np.unique {1e3 * old:.1f} ms,")
+    print(f"  per node pair {1e3 * new:.1f} ms; the same K_ff structure and places: {same}")
+    k = sp.csc_matrix(
+        (rng.standard_normal(assemble.ff_rows.size), assemble.ff_rows, assemble.ff_indptr),
+        shape=(assemble.n_free, assemble.n_free),
+    )
+    k.has_sorted_indices = True
+    new = best(lambda: _UpperPlan.of(k), args.repeats)
+    old = best(lambda: reference_mirrors(k), args.repeats)
+    plan = _UpperPlan.of(k)
+    same = plan is not None and np.array_equal(plan.transposed, reference_mirrors(k))
+    print(f"upper plan of {k.nnz} entries: mirrors searched {1e3 * old:.1f} ms (search alone),")
+    print(f"  the plan by the transpose {1e3 * new:.1f} ms (whole); the same mirrors: {same}")
+    print(f"load after: {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
