@@ -157,18 +157,24 @@ def test_a_strip_pattern_takes_the_band_and_a_scattered_one_qdldl():
     assert scattered._band is None
 
 
-def test_the_band_and_qdldl_give_the_same_solution_and_inertia():
+def qdldl_factorisation(k):
+    """``LinearSolver().factorise(k)`` with the band never chosen: QDLDL's factors."""
     from solvers import linear
+
+    advantage = linear.BAND_ADVANTAGE
+    try:
+        linear.BAND_ADVANTAGE = 0.0
+        return LinearSolver().factorise(k)
+    finally:
+        linear.BAND_ADVANTAGE = advantage
+
+
+def test_the_band_and_qdldl_give_the_same_solution_and_inertia():
 
     k = strip_matrix(shift=2.5)
     rhs = np.arange(k.shape[0], dtype=float)
     band = LinearSolver().factorise(k)
-    advantage = linear.BAND_ADVANTAGE
-    try:
-        linear.BAND_ADVANTAGE = 0.0  # never the band
-        general = LinearSolver().factorise(k)
-    finally:
-        linear.BAND_ADVANTAGE = advantage
+    general = qdldl_factorisation(k)
     assert band.negative == general.negative > 0
     x, y = band.solve(rhs), general.solve(rhs)
     assert np.abs(x - y).max() <= 1e-9 * np.abs(y).max()
@@ -215,12 +221,7 @@ def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution()
     solver = LinearSolver()
     band = solver.factorise(k)
     assert solver._band is not None
-    advantage = linear.BAND_ADVANTAGE
-    try:
-        linear.BAND_ADVANTAGE = 0.0  # never the band
-        general = LinearSolver().factorise(k)
-    finally:
-        linear.BAND_ADVANTAGE = advantage
+    general = qdldl_factorisation(k)
     rhs = np.linspace(-1.0, 1.0, n)
     x, y = band.solve(rhs), general.solve(rhs)
     assert band.negative == general.negative == 0
