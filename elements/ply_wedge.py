@@ -172,7 +172,11 @@ class WedgeCuts:
         # fall, and the ray must leave within the growth
         scale = np.abs(step).max(axis=-1, keepdims=True)
         enters = np.all((start > 0.0) | (rows_reach > 0.0) | (step >= 1e-6 * scale), axis=-1)
-        usable = enters & np.isfinite(length) & (length > 0.0)
+        # and it must turn short of the outline edge: past it (a wedge wider than twice the
+        # growth's angle past v, as at a re-entrant corner or a fan folded at bind) the ray
+        # runs into the triangle itself and would cut part of its own face away, where the
+        # growth lies on its own side of the bisector anyway: no cut there
+        usable = enters & (turn < room) & np.isfinite(length) & (length > 0.0)
         length = np.where(usable, length, 1.0)
         end = start + length[..., None] * step
         line = np.cross(start, end)

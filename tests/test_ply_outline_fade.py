@@ -166,9 +166,8 @@ def test_a_point_passing_from_one_growth_to_the_next_past_the_outline_works_its_
     between the two growths (w 0.45 against 0.82 at 0.04 mm past the outline, 0.08 and 0.04 of their
     heights, before the nodes move), and the point's energy w W(g) jumped by the difference where
     its facing triangle changed, with no work (a suspect of the two-ply Mindlin [0/90] hemisphere's
-    outline jumps,
-validation/studies/hemisphere_plies_jumps.py). The fade of the distance to the outline
-    (elements/ply_fade.py) is the same function on both. Reference: the contact is a
+    outline jumps, validation/studies/hemisphere_plies_jumps.py). The fade of the distance to
+    the outline (elements/ply_fade.py) is the same function on both. Reference: the contact is a
     potential (trapezoidal work of its force on every node, the outline edge's ends
     included, equals the change of its energy per step): within 5e-3 of the largest energy
     per step, the rule's error where the energy kinks. The two growths are cut past the

@@ -208,3 +208,26 @@ def test_the_force_beside_a_cut_is_the_energys_gradient_and_the_tangent_its_deri
                 for j, b in enumerate(part.nodes[row]):
                     tangent[3 * a : 3 * a + 3, 3 * b : 3 * b + 3] += part.blocks[row, i, :3, j, :3]
     assert np.abs(tangent - stiffness).max() <= 1e-4 * np.abs(stiffness).max()
+
+
+@pytest.mark.parametrize(
+    "angles_deg", [(120.0, 140.0, 10.0), (100.0, 60.0, 100.0), (60.0, 100.0, 110.0)]
+)
+def test_no_cut_takes_away_part_of_its_own_triangle(angles_deg):
+    """A cut only shortens a growth past the outline: every corner of its own triangle stays
+    on the kept side (l(e_j) >= 0). Fans flat round v with A, M, B of ``angles_deg`` (a
+    re-entrant corner of 270 deg, a corner of 260 deg with a wide wedge, a convex one); in the
+    first, A's half of the wedge with the gap (84 deg) is wider than its growth's angle past
+    v (60 deg), where a ray turned that far ran into A and cut 29 % of it away."""
+    from elements.ply_wedge import WedgeCuts
+
+    turns = np.radians(180.0 + np.r_[0.0, np.cumsum(angles_deg)])
+    plan = np.vstack([[0.0, 0.0], np.column_stack([np.cos(turns), np.sin(turns)])])
+    y_nodes = np.column_stack([plan, np.zeros(len(plan))])
+    nodes = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4]])
+    y = y_nodes[nodes]
+    outline = open_edges(nodes)
+    cuts = WedgeCuts.of(y, nodes, outline, np.where(outline, 0.5, 0.0))
+    assert cuts.lines.any()  # the fan is cut: the test reaches the rule
+    own = np.einsum("mkj,jc->mkc", cuts.lines, np.eye(3))  # l at each own corner
+    assert own.min() >= -1e-12
