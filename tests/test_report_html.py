@@ -282,3 +282,16 @@ def test_a_page_of_figures_without_captions_is_refused_naming_the_case():
     old = {**REPORT, "cases": {"catenary": case("A cable", ["catenary.png"], [])}}
     with pytest.raises(ValueError, match="case 'catenary': figure 'catenary.png' has no caption"):
         render_html(old)
+
+
+def test_a_parameter_held_as_a_table_is_written_as_its_entries_not_as_python():
+    # A run's scaling as the forming cases record it: a mapping with an absent entry (None).
+    record = case(
+        "A scaled run",
+        [figure("scaled.png", "A blank formed on the die: the shear follows the net.")],
+        [check_record("sag (mm)", 31.9, 31.85, 0.01)],
+    )
+    record["parameters"] = {"fibrous_scaling": {"time_scaling": 2.0, "mass_scaling_dt_s": None}}
+    text = render_html({**REPORT, "cases": {"scaled": record}})
+    assert "time_scaling = 2, mass_scaling_dt_s = none" in text
+    assert "None" not in text and "{" not in text.split("<body")[1].split("<script")[0]

@@ -22,6 +22,8 @@ def _number(value) -> str:
         return "none"
     if isinstance(value, (list, tuple)):  # e.g. an imposed (ux, uy, uz), None = free
         return ", ".join("free" if v is None else _number(v) for v in value)
+    if isinstance(value, dict):  # e.g. a run's scaling: {time_scaling: 2, mass_scaling_dt_s: None}
+        return ", ".join(f"{html.escape(str(key))} = {_number(v)}" for key, v in value.items())
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, (int, np.integer)):
