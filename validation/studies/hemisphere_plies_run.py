@@ -369,13 +369,19 @@ def run(
             "(KINETIC_SHARE: small throughout the majority of the process)",
         )
     )
+    # The holder is driven by its force: averaged over the tenth its equation of motion is
+    # mean R = F + m (v_end - v_start) / T (+ its damping's ~0.02 N). Its mean reaction alone
+    # passed or failed with its velocity at the window's ends, where the flange's wrinkles
+    # lift it late in the stroke (docs/hemisphere_plies.md, "The holder at 10 cells": Mindlin
+    # [0/90] at 8 cells 18.43 N with m dv / T = -1.59 N); both are reported beside it.
     checks.append(
         check(
-            f"{key}: the holder carries its force over the last tenth of the run, on average (N)",
+            f"{key}: the holder carries its force over the last tenth of the run, on average, "
+            "its own mass times its change of velocity over the tenth taken off (N)",
             force,
-            holder,
+            holder - inertia_of_holder,
             0.05,
-            source="the holder's equation of motion, on average over its oscillation",
+            source="the holder's equation of motion, averaged over the last tenth",
         )
     )
     return parameters, checks, layup, result, shear[key], net_shear[key], in_die[key]
