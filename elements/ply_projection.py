@@ -629,9 +629,11 @@ def closest_facing(
     # farthest edge line it lies past
     past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     if cut_at is not None and cuts is not None:  # and to the farthest cut it lies past
-        past[cut_at] = np.maximum(
-            past[cut_at],
-            cut_overshoot(weights[cut_at], cuts.lines[near[cut_at]], gradients[cut_at]),
+        # (read only where the candidate does not hold the projection)
+        cut_out = tuple(index[~inside[cut_at]] for index in cut_at)
+        past[cut_out] = np.maximum(
+            past[cut_out],
+            cut_overshoot(weights[cut_out], cuts.lines[near[cut_out]], gradients[cut_out]),
         )
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
     corners = grown_corners(y[near[outside]], reach[outside])
@@ -642,7 +644,7 @@ def closest_facing(
         q = np.where(held_grown[outside][:, None], projected, q)
         rows = near[outside]
         q, on_cut, segment, along = closest_on_cut(
-            p[outside[0]], y[rows], q, cuts.lines[rows], cuts.ends[rows]
+            p[outside[0]], y[rows], q, cuts.lines[rows], cuts.ends[rows], gradients[outside]
         )
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
     # ties (a closest point on an edge or a vertex that several candidates share) go to the

@@ -214,6 +214,7 @@ def closest_on_cut(
     q: np.ndarray,
     lines: np.ndarray,
     ends: np.ndarray,
+    gradients: np.ndarray | None = None,
 ):
     """The closest point of the cut growths (module docstring) to the points p (c, 3), from
     the grown triangles' closest points ``q`` (c, 3) (the projection where the grown triangle
@@ -225,6 +226,9 @@ def closest_on_cut(
         The triangles' corners y_k (not grown), mm.
     lines, ends : (c, 3, 3) float
         Their cuts (``WedgeCuts``).
+    gradients : (c, 3, 3) float, optional
+        The triangles' barycentric gradients, 1/mm, where the caller has them
+        (``triangle_frames``); None: computed here.
 
     Returns
     -------
@@ -247,7 +251,7 @@ def closest_on_cut(
     if rows.size == 0:
         return q, cut, segment, along
     c = corners[rows]
-    gradients = triangle_frames(c)[2]
+    gradients = triangle_frames(c)[2] if gradients is None else gradients[rows]
     on_q = np.einsum("cki,ci->ck", gradients, q[rows] - c[:, 0])
     on_q[:, 0] += 1.0
     kept = cut_keeps(on_q, lines[rows])
