@@ -103,6 +103,11 @@ running), the same command, two runs: 1 thread 33.15 / 33.37 ms a step, the defa
 2) 19.96 / 18.12 (1.66 / 1.84 x), all threads 19.95 / 18.02, critical 1.90 / 1.93; the
 reference pass 0.853 / 0.855 ms. The one-thread step 13 % shorter than before; the two
 threads' gain as before within the runs' spread.
+Quiet again (main d60fc8c, load 0.6-1.3, nothing else running), ``--cells 224
+--configurations passive --steps 30 --repeats 3``, two runs: 1 thread 34.36 / 34.09 ms a
+step, the default (2 of 2) 19.65 / 18.52 (1.75 / 1.84 x), all threads 19.04 / 18.59, the
+reference pass 0.856 / 0.857 ms; beside one busy process the default 35.31 against 34.88 on
+one thread (1.01), beside two 56.98 against 52.30 (1.09; it took 1 of 2 threads).
 
 The small passes on two threads cost more than they save on a busy machine: x - c of 50k
 rows took 46 against 56 us (best of 300, load 5-6), the forces' add 66 against 79; the
