@@ -189,7 +189,28 @@ class WedgeCuts:
         use = usable.ravel()
         lines[prow.ravel()[use], pk.ravel()[use]] = line.reshape(-1, 3)[use]
         ends[prow.ravel()[use], pk.ravel()[use]] = end.reshape(-1, 3)[use]
-        return cls(lines, ends)
+        return cls(lines, _trimmed(lines, ends))
+
+
+def _trimmed(lines: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """The cuts' segments (m, 3, 3) ended where they cross a triangle's other cut: a triangle
+    cut at two of its corners whose segments cross keeps, of each, only the part on the
+    other's kept side (the cut growth's boundary), so that the nearest of the segments'
+    closest points is a point of the cut growth (``closest_on_cut``)."""
+    trimmed = ends.copy()
+    eye = np.eye(3)
+    for k in range(3):
+        for j in range(3):
+            both = np.any(lines[:, k] != 0.0, axis=1) & np.any(lines[:, j] != 0.0, axis=1)
+            if j == k or not both.any():
+                continue
+            start = lines[:, j] @ eye[k]  # l_j at the segment's start e_k (>= 0: kept)
+            end = np.einsum("mi,mi->m", lines[:, j], ends[:, k])
+            crosses = both & (start >= 0.0) & (end < 0.0)
+            t = np.where(crosses, start / np.where(crosses, start - end, 1.0), 1.0)
+            ended = eye[k] + t[:, None] * (ends[:, k] - eye[k])
+            trimmed[crosses, k] = ended[crosses]
+    return trimmed
 
 
 def cut_keeps(weights: np.ndarray, lines: np.ndarray) -> np.ndarray:

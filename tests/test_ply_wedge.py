@@ -231,3 +231,67 @@ def test_no_cut_takes_away_part_of_its_own_triangle(angles_deg):
     assert cuts.lines.any()  # the fan is cut: the test reaches the rule
     own = np.einsum("mkj,jc->mkc", cuts.lines, np.eye(3))  # l at each own corner
     assert own.min() >= -1e-12
+
+
+@pytest.mark.parametrize("height", [0.3, 1.0])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_triangle_cut_at_both_ends_gives_closest_points_of_its_cut_growth(height, seed):
+    """Outline triangles of a short strip ``height`` mm high, its nodes jittered by 0.05 mm in
+    its plane and 0.2 mm out of it (each with an outline edge between two outline vertices of
+    three triangles), are cut at both ends; where the two cuts' segments cross, each is
+    ended at the other's line, so that the closest point returned lies in the cut growth
+    and no point of the growth is nearer. Reference: a dense sample of the cut growth
+    (barycentric steps of 0.004) and its nearest point by a k-d tree; tolerance, the
+    sample's spacing. Before the segments were ended, returned points lay outside the
+    growth, up to 0.1 of the triangle's side nearer than any of its points."""
+    from scipy.spatial import cKDTree
+
+    from elements.ply_projection import MARGIN
+    from elements.ply_wedge import WedgeCuts, closest_on_grown, cut_keeps
+
+    rng = np.random.default_rng(seed)
+    cells = 4
+    top = [(float(i), 0.0) for i in range(cells + 1)]
+    bottom = [(0.5 * j, -height) for j in range(2 * cells + 1)]
+    plan = np.array(top + bottom)
+    off_plane = rng.normal(0.0, 0.2, len(plan))
+    points = np.column_stack([plan + rng.normal(0.0, 0.05, plan.shape), off_plane])
+    below = cells + 1
+    nodes = [(i, below + 2 * i + 1, i + 1) for i in range(cells)]
+    for i in range(cells + 1):
+        if i > 0:
+            nodes.append((i, below + 2 * i - 1, below + 2 * i))
+        if i < cells:
+            nodes.append((i, below + 2 * i, below + 2 * i + 1))
+    nodes = np.array(nodes)
+    y = points[nodes]
+    flipped = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])[:, 2] < 0.0
+    nodes[flipped] = nodes[flipped][:, [0, 2, 1]]
+    y = points[nodes]
+    outline = open_edges(nodes)
+    reach = np.where(outline, MARGIN, 0.0)
+    cuts = WedgeCuts.of(y, nodes, outline, reach)
+    twice = np.flatnonzero(np.any(cuts.lines != 0.0, axis=2).sum(axis=1) == 2)
+    assert twice.size >= 1  # the premise: a triangle cut at both ends
+    steps = np.linspace(-MARGIN, 1.0 + 2.0 * MARGIN, 301)
+    a, b = np.meshgrid(steps, steps)
+    grid = np.column_stack([a.ravel(), b.ravel(), 1.0 - a.ravel() - b.ravel()])
+    for row in twice:
+        inside = grid[(grid >= -reach[row] - 1e-12).all(axis=1)]
+        kept = inside[cut_keeps(inside, np.broadcast_to(cuts.lines[row], (len(inside), 3, 3)))]
+        sample = kept @ y[row]
+        size = np.linalg.norm(y[row, 1] - y[row, 0])
+        spacing = 2.0 * (steps[1] - steps[0]) * size
+        p = y[row].mean(axis=0) + rng.normal(0.0, size, (200, 3))
+        count = len(p)
+        q = closest_on_grown(
+            p,
+            np.broadcast_to(y[row], (count, 3, 3)).copy(),
+            np.broadcast_to(reach[row], (count, 3)).copy(),
+            np.broadcast_to(cuts.lines[row], (count, 3, 3)).copy(),
+            np.broadcast_to(cuts.ends[row], (count, 3, 3)).copy(),
+        )[0]
+        nearest = cKDTree(sample).query(p)[0]
+        distance = np.linalg.norm(p - q, axis=1)
+        assert (distance >= nearest - spacing).all(), row  # no nearer than the growth allows
+        assert (distance <= nearest + spacing).all(), row
