@@ -401,22 +401,18 @@ class FreeTangentAssembler:
         fp_table[where] = order.ravel()
         # Per entry of the concatenated parts, its position in K_ff's or K_fp's data (-1: in
         # neither), split by part: the compiled pass adds each cell part's blocks there.
+        # Each part's entries (cell, row node, a, column node, c) in its own order; a node
+        # block is a part of one node a cell and every component.
+        shapes = [(len(part.nodes), part.nodes.shape[1], _components(part)) for part in parts]
+        shapes += [(block_rows.size, 1, N_COLUMNS) for block_rows in self._block_rows]
         self._destinations = []
         start = 0
-        for part in parts:
-            c = _components(part)
-            m, p = part.nodes.shape
+        for m, p, c in shapes:
             at = inverse[start : start + m * p * p].reshape(m, p, 1, p, 1)
             a, b = components[:c].reshape(1, 1, c, 1, 1), components[:c].reshape(1, 1, 1, 1, c)
             flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()  # one index, two gathers
             self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
             start += m * p * p
-        for block_rows in self._block_rows:
-            at = inverse[start : start + block_rows.size].reshape(-1, 1, 1)
-            a, b = components.reshape(1, -1, 1), components.reshape(1, 1, -1)
-            flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()
-            self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
-            start += block_rows.size
         ff_destination = np.concatenate(
             [np.zeros(0, dtype=np.int64)] + [d[0] for d in self._destinations]
         )
