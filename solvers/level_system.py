@@ -90,9 +90,8 @@ def locate(
 ) -> np.ndarray:
     """(entries,) the place of each (rows[t], columns[t]) in a CSC pattern (indptr, indices
     sorted within each column; of a CSR pattern with rows and columns swapped), -1 where it is
-    not stored: a bisection within the column's
-    few entries (numpy's searchsorted over the whole pattern's keys took 10 ms a solve on the
-    bias specimen's 282 000 products)."""
+    not stored: a bisection within the column's few entries (numpy's searchsorted over the
+    whole pattern's keys took 10 ms a solve on the bias specimen's 282 000 products)."""
     out = np.empty(rows.size, dtype=np.int64)
     for t in range(rows.size):
         low, high = indptr[columns[t]], indptr[columns[t] + 1]
