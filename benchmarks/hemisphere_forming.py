@@ -362,7 +362,19 @@ def main() -> None:
         default=0,
         help="only time the die's distance over this many calls on a blank sliding into it",
     )
+    parser.add_argument(
+        "--threads",
+        type=int,
+        default=0,
+        help="the threads forced (numba's setting, elements/jit.py's FOLLOW_LOAD off); 0: "
+        "elements/jit.py's choice (the free cores)",
+    )
     args = parser.parse_args()
+    if args.threads:
+        import numba
+
+        numba.set_num_threads(args.threads)
+        jit.FOLLOW_LOAD = False
     if args.die_calls:
         die_pace(args.cells, args.rim, args.die_calls, args.die_lists.split(","))
         return
@@ -430,12 +442,13 @@ def main() -> None:
         load_before = load()
         steps[0] = 0
         phases = Phases(compiled) if args.phases else None
-        start, cpu = time.perf_counter(), time.process_time()
+        start, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
         try:
             result = solver.solve(compiled)
         except _Enough:
             result = None
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+        own = time.thread_time() - own
         per_step = wall / steps[0]
         print(f"run, mass scaling {scaling}, the die's lists {lists}, {args.fraction:g} "
               f"of the stroke: {wall:.1f} s wall, "
@@ -447,7 +460,7 @@ def main() -> None:
               f"steps, {stroke * cpu / steps[0] / 60:.1f} min CPU, {stroke * per_step / 60:.1f} "
               "min wall", flush=True)  # fmt: skip
         if phases is not None:
-            print(phases.report(wall, cpu, steps[0]), flush=True)
+            print(phases.report(wall, cpu, own, steps[0]), flush=True)
             phases.undo()
         if result is not None:
             energies = {key: values[-1] for key, values in result.energies.items()}
@@ -581,7 +594,7 @@ class Phases:
         method = getattr(owner, name, None)
         if method is None:
             return
-        totals = self.spent.setdefault(phase, [0.0, 0.0])
+        totals = self.spent.setdefault(phase, [0.0, 0.0, 0.0])
         inside = self.inside.setdefault(phase, [0])  # a timed call of the phase under way
 
         def timed(*args, **kwargs):
@@ -590,13 +603,14 @@ class Phases:
             if inside[0]:  # called from another of the phase's timed calls: counted there
                 return method(*args, **kwargs)
             inside[0] += 1
-            wall, cpu = time.perf_counter(), time.process_time()
+            wall, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
             try:
                 return method(*args, **kwargs)
             finally:
                 inside[0] -= 1
                 totals[0] += time.perf_counter() - wall
                 totals[1] += time.process_time() - cpu
+                totals[2] += time.thread_time() - own
 
         if module:  # a module's function: put back as it was by ``undo``
             setattr(owner, name, timed)
@@ -611,14 +625,23 @@ class Phases:
         for owner, name, method in self.restored:
             setattr(owner, name, method)
 
-    def report(self, wall: float, cpu: float, steps: int) -> str:
+    def report(self, wall: float, cpu: float, own: float, steps: int) -> str:
+        """The phases' figures per step; ``own``: the main thread's CPU (s) over the run."""
         outer = [value for phase, value in self.spent.items() if phase not in self.nested]
-        rest = [wall - sum(w for w, _ in outer), cpu - sum(c for _, c in outer)]
+        rest = [
+            wall - sum(w for w, _, _ in outer),
+            cpu - sum(c for _, c, _ in outer),
+            own - sum(o for _, _, o in outer),
+        ]
         rows = [*self.spent.items(), ("rest: the other bookkeeping", rest)]
+        # The main thread's CPU beside the process's: a phase that runs on two threads
+        # evenly shows about half on the main thread, a serial one all of it (a measure the
+        # machine's load does not blur, as it does the wall time).
         lines = [
-            f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU per step "
-            f"({c / max(cpu, 1e-300):5.1%} of the CPU)"
-            for phase, (w, c) in rows
+            f"  {phase:28s} {w / steps * 1e3:7.3f} ms wall {c / steps * 1e3:7.3f} ms CPU "
+            f"({o / steps * 1e3:7.3f} on the main thread) per step ({c / max(cpu, 1e-300):5.1%} "
+            "of the CPU)"
+            for phase, (w, c, o) in rows
         ]
         lines.append(
             f"  the die searched again {self.searched[1]} nodes in {self.searched[0]} batches "

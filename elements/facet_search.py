@@ -37,6 +37,7 @@ __all__ = [
     "SLACK",
     "closest_facets",
     "closest_facets_kept",
+    "closest_of_nearest",
     "closest_on_triangles",
     "largest_drift",
     "open_edges",
@@ -141,6 +142,86 @@ def _closest_facets(x, corners, centroids, radius, slack, start, facets, hint, p
 
 
 closest_facets = jit(_closest_facets)
+
+
+def _dot_as_numpy(u0, u1, u2, v0, v1, v2):
+    """u . v summed in the order numpy's einsum sums three products on this machine (its
+    two-lane loop: the first and the third, then the second; measured: the sequential order
+    differed from it in 30 % of random products), so that ``closest_on_triangles`` is
+    reproduced to the last bit (tests/test_facet_search.py holds the two to it)."""
+    return (u0 * v0 + u2 * v2) + u1 * v1
+
+
+_dot_as_numpy = serial(_dot_as_numpy)
+
+
+def _closest_as_numpy(p0, p1, p2, a0, a1, a2, b0, b1, b2, c0, c1, c2):
+    """``_closest_on_triangle`` with ``closest_on_triangles``' dot products
+    (``_dot_as_numpy``): numpy's closest point to the last bit, its regions in its order."""
+    ab0, ab1, ab2 = b0 - a0, b1 - a1, b2 - a2
+    ac0, ac1, ac2 = c0 - a0, c1 - a1, c2 - a2
+    ap0, ap1, ap2 = p0 - a0, p1 - a1, p2 - a2
+    d1 = _dot_as_numpy(ab0, ab1, ab2, ap0, ap1, ap2)
+    d2 = _dot_as_numpy(ac0, ac1, ac2, ap0, ap1, ap2)
+    if d1 <= 0.0 and d2 <= 0.0:
+        return a0, a1, a2
+    bp0, bp1, bp2 = p0 - b0, p1 - b1, p2 - b2
+    d3 = _dot_as_numpy(ab0, ab1, ab2, bp0, bp1, bp2)
+    d4 = _dot_as_numpy(ac0, ac1, ac2, bp0, bp1, bp2)
+    if d3 >= 0.0 and d4 <= d3:
+        return b0, b1, b2
+    cp0, cp1, cp2 = p0 - c0, p1 - c1, p2 - c2
+    d5 = _dot_as_numpy(ab0, ab1, ab2, cp0, cp1, cp2)
+    d6 = _dot_as_numpy(ac0, ac1, ac2, cp0, cp1, cp2)
+    vc = d1 * d4 - d3 * d2
+    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
+        t = d1 / (d1 - d3)
+        return a0 + t * ab0, a1 + t * ab1, a2 + t * ab2
+    if d6 >= 0.0 and d5 <= d6:
+        return c0, c1, c2
+    vb = d5 * d2 - d1 * d6
+    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
+        t = d2 / (d2 - d6)
+        return a0 + t * ac0, a1 + t * ac1, a2 + t * ac2
+    va = d3 * d6 - d5 * d4
+    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        return b0 + t * (c0 - b0), b1 + t * (c1 - b1), b2 + t * (c2 - b2)
+    v, w = vb / (va + vb + vc), vc / (va + vb + vc)
+    return a0 + v * ab0 + w * ac0, a1 + v * ab1 + w * ac1, a2 + v * ab2 + w * ac2
+
+
+_closest_as_numpy = serial(_closest_as_numpy)
+
+
+def _closest_of_nearest(x, corners, facets, point, facet, gap):
+    """For each point x[i] (k, 3), mm, the closest point on the facets facets[i] (k, m) of
+    corners (f, 3, 3), the first of equal distances in the row's order: into point (k, 3),
+    facet (k,) and gap (k,), the distance, mm. The numpy formulas of the search's reference
+    (``closest_on_triangles``, the norm of each point's offsets and numpy's argmin: the
+    first of equal gaps) to the last bit, one point at a time, without the (k, m, 3, 3)
+    gathers: the batched searches of a meshed tool's candidate lists
+    (RigidSurface._closest)."""
+    for i in prange(x.shape[0]):
+        p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
+        best = np.inf
+        for j in range(facets.shape[1]):
+            f = facets[i, j]
+            q0, q1, q2 = _closest_as_numpy(
+                p0, p1, p2,
+                corners[f, 0, 0], corners[f, 0, 1], corners[f, 0, 2],
+                corners[f, 1, 0], corners[f, 1, 1], corners[f, 1, 2],
+                corners[f, 2, 0], corners[f, 2, 1], corners[f, 2, 2],
+            )  # fmt: skip
+            g = np.sqrt((q0 - p0) ** 2 + (q1 - p1) ** 2 + (q2 - p2) ** 2)  # numpy's norm
+            if j == 0 or g < best:
+                best = g
+                facet[i] = f
+                point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+        gap[i] = best
+
+
+closest_of_nearest = jit(_closest_of_nearest)
 
 
 def _closest_facets_kept(

@@ -19,12 +19,14 @@ from elements.facet_search import (
     SLACK,
     closest_facets,
     closest_facets_kept,
+    closest_of_nearest,
     closest_on_triangles,
     largest_drift,
     open_edges,
     signed_from_closest,
     spans,
 )
+from elements.jit import threads_for
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from elements.tools import RigidTool
 from femcore.checks import as_flag, check_positive
@@ -50,6 +52,19 @@ FACET_RECORD = 16
 # Nearest facet centroids examined per point; more are examined where these cannot be
 # shown to contain the closest facet (RigidSurface.distance).
 CANDIDATES = 8
+
+
+# A batched search costs some ten microseconds a point (the k-d tree's queries, the closest
+# points on the nearest facets, the candidates' ball), some twenty times a force pass's cell:
+# the k-d tree's queries of k points run on the threads of a loop over SEARCH_WEIGHT k cells.
+SEARCH_WEIGHT = 20
+
+
+def _workers(points: int) -> int:
+    """The threads the k-d tree's queries of ``points`` points run on (scipy's ``workers``):
+    elements/jit.py's count for a loop of SEARCH_WEIGHT times as many cells. Each point's
+    answer is its own, whatever the threads."""
+    return threads_for(SEARCH_WEIGHT * points)
 
 
 @dataclass(frozen=True)
@@ -213,7 +228,23 @@ class RigidSurface(RigidTool):
 
     def _closest(self, x: np.ndarray, count: int):
         """The closest points on the count nearest facets (by centroid): (point (k, 3),
-        facet (k,), distance to the furthest centroid examined (k,))."""
+        facet (k,), gap (k,), distance to the furthest centroid examined (k,)), the k-d
+        tree's query on the threads ``_workers`` gives, the closest points in one compiled
+        pass (elements/facet_search.py ``closest_of_nearest``): ``_closest_numpy``'s
+        numbers to the last bit."""
+        spread, facets = self.tree.query(x, k=count, workers=_workers(len(x)))
+        spread, facets = spread.reshape(len(x), -1), facets.reshape(len(x), -1)
+        point = np.empty((len(x), 3))
+        facet = np.empty(len(x), dtype=np.int64)
+        gap = np.empty(len(x))
+        closest_of_nearest(
+            np.ascontiguousarray(x, dtype=float), self.corners, facets.astype(np.int64), point,
+            facet, gap,
+        )  # fmt: skip
+        return point, facet, gap, spread[:, -1]
+
+    def _closest_numpy(self, x: np.ndarray, count: int):
+        """``_closest`` in numpy passes (the reference it is tested against)."""
         spread, facets = self.tree.query(x, k=count)
         spread, facets = spread.reshape(len(x), -1), facets.reshape(len(x), -1)
         corners = self.corners[facets]  # (k, count, 3, 3)
@@ -255,7 +286,10 @@ class RigidSurface(RigidTool):
         its own), as (start (k + 1,), facets): point i's are facets[start[i]:start[i + 1]]."""
         near = np.minimum(gap, self.search_distance) + 2.0 * MARGIN * self.reach
         found = self.tree.query_ball_point(
-            local, np.maximum(near + self.reach, 0.0), return_sorted=False
+            local,
+            np.maximum(near + self.reach, 0.0),
+            return_sorted=False,
+            workers=_workers(len(local)),
         )
         counts = np.fromiter((len(f) for f in found), dtype=np.int64, count=len(found))
         facets = np.fromiter(itertools.chain.from_iterable(found), np.int64, count=counts.sum())

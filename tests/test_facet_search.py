@@ -166,3 +166,47 @@ def test_the_largest_drift_is_numpys_largest_coordinate_move():
     expected = np.abs(x - anchor).max(axis=1, initial=0.0).max()
     assert largest_drift(x, anchor) == expected == abs(x[123, 1] - anchor[123, 1])
     assert largest_drift(x[:0], anchor[:0]) == 0.0
+
+
+def test_the_batched_search_is_numpys_to_the_last_bit_on_one_thread_and_on_all():
+    """RigidSurface._closest (the batched searches of the candidate lists: the k-d tree's
+    nearest centroids, then the closest point on each of their facets in one compiled pass,
+    the tree's queries on the threads) against its numpy reference ``_closest_numpy``, with
+    the 8 nearest facets, 3 and every facet: points above, below and beside the bumpy sheet,
+    at its corners (equal gaps to the facets that share a corner: the first in the tree's
+    order is kept, as numpy's argmin keeps it) and on its facets, identical on one thread
+    and on all of numba's."""
+    import numba
+
+    from elements import jit
+
+    tool = RigidSurface(bumpy_surface())
+    rng = np.random.default_rng(8)
+    corners = tool.corners.reshape(-1, 3)
+    x = np.concatenate(
+        [
+            rng.uniform([-4, -4, -3], [24, 24, 6], size=(3000, 3)),
+            corners[rng.choice(len(corners), 300)],
+            tool._centroids[rng.choice(tool.n_facets, 100)],
+        ]
+    )
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        answers = []
+        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
+            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
+            numba.set_num_threads(threads)
+            answers.append([tool._closest(x, count) for count in (8, 3, tool.n_facets)])
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
+    ties = 0
+    for count, one, every in zip((8, 3, tool.n_facets), *answers):
+        expected = tool._closest_numpy(x, count)
+        for got, on_all, reference in zip(one, every, expected):
+            np.testing.assert_array_equal(got, reference)
+            np.testing.assert_array_equal(on_all, reference)
+        if count == tool.n_facets:  # a corner's gap is 0 to each facet that shares it
+            ties = int(np.count_nonzero(expected[2] == 0.0))
+    assert ties >= 300
