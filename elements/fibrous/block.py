@@ -20,6 +20,7 @@ from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
 from elements.fibrous.packed_laws import pack_laws
+from elements.fibrous.stable_steps import cell_steps
 from elements.fibrous.tangent import CornerPairs
 from elements.shell_geometry import GUARD, guarded_thickness, lumped_mass
 from femcore.assembly import Scatter, TangentPart
@@ -378,7 +379,26 @@ class FibrousShellBlock(ElementBlock):
         as long as I follows the geometry (the solvers refresh the rotary inertia with the
         step); with I = m h_m^2 / 4 they did once the directors tilted past about 60 deg
         (docs/theory.md §6.2).
+
+        One compiled pass over the cells (stable_steps.py) with the compiled kernels, the
+        numpy formulas of ``cell_stable_dt_numpy`` to the last bit.
         """
+        if self.compiled:
+            out = np.empty(len(self.connectivity))
+            cell_steps(
+                self.connectivity, np.ascontiguousarray(state.positions, dtype=float),
+                self.reference_area, float(self.fabric.areal_density),
+                float(self.max_tension_stiffness), float(self.max_shear_stiffness),
+                _BENDING_DT_COEFFICIENT,
+                float(np.sqrt(self.fabric.areal_density / self.max_bending_stiffness)),
+                self.nodal_normals, out,
+            )  # fmt: skip
+            return out
+        return self.cell_stable_dt_numpy(state)
+
+    def cell_stable_dt_numpy(self, state: State) -> np.ndarray:
+        """``cell_stable_dt`` in numpy passes over the cells (the reference of the compiled
+        pass; the numpy kernels' path)."""
         x = state.positions[self.connectivity]
         g1 = x[:, 1] - x[:, 0]
         g2 = x[:, 2] - x[:, 0]
