@@ -27,6 +27,7 @@ from elements.facet_search import (
     spans,
 )
 from elements.jit import threads_for
+from elements.node_rows import same_rows
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from elements.tools import RigidTool
 from femcore.checks import as_flag, check_positive
@@ -345,7 +346,7 @@ class RigidSurface(RigidTool):
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         local = np.asarray(x, dtype=float) - self.offset(load_factor)
         last = self._last
-        if last is not None and np.array_equal(last[0], local):
+        if last is not None and same_rows(last[0], local):
             return last[1].copy(), last[2].copy()  # asked again (the energy check of a step)
         cache = self._prepared(local)
         point, facet, gap = self._from_candidates(local, (cache.start, cache.facets))

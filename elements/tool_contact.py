@@ -41,7 +41,7 @@ from elements.annulus import RigidAnnulus
 from elements.contact import ContactBlock
 from elements.facet_search import SLACK, closest_facets_kept
 from elements.jit import jit, prange
-from elements.node_rows import shifted
+from elements.node_rows import same_rows, shifted
 from elements.rigid_surface import RigidSurface
 from elements.tools import RigidPlane, RigidSphere, RigidTool
 
@@ -226,7 +226,7 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
     if (
         tool.smooth
         or not rigid_surface.KEEP_NEAREST
-        or (last is not None and np.array_equal(last[0], local))
+        or (last is not None and same_rows(last[0], local))
     ):
         d, n = tool.distance(x, load_factor)
         return (block.stiffness * np.maximum(block.offset - d, 0.0))[:, None] * n

@@ -88,3 +88,27 @@ def test_a_contact_adds_its_forces_in_place_as_the_sum_of_its_internal_force():
     force, moment = compiled.internal_force(state)
     assert bits(force) == bits(total_force)
     assert bits(moment) == bits(total_moment)
+
+
+def test_same_rows_answers_as_numpys_array_equal():
+    """``same_rows`` (a tool asked about the points of its last call) against np.array_equal:
+    equal arrays, a copy, one entry changed at the first, a middle and the last row, -0
+    against +0 (equal), a NaN (equal to nothing, itself included), another length, a
+    strided view, no rows."""
+    from elements.node_rows import same_rows
+
+    a = rows(5000)
+    cases = [(a, a), (a, a.copy()), (a, a[:-1]), (a[::2], a[::2].copy()), (a[:0], a[:0])]
+    for row in (0, 2500, 4999):
+        b = a.copy()
+        b[row, 2] = np.nextafter(b[row, 2], np.inf)
+        cases.append((a, b))
+    signed = a.copy()
+    signed[a == 0.0] = -0.0
+    cases.append((a, signed))
+    with_nan = a.copy()
+    with_nan[100, 1] = np.nan
+    cases += [(with_nan, with_nan), (with_nan, with_nan.copy())]
+    answers = [same_rows(x, y) for x, y in cases]
+    assert answers == [bool(np.array_equal(x, y)) for x, y in cases]
+    assert answers == [True, True, False, True, True, False, False, False, True, False, False]
