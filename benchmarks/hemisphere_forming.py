@@ -19,7 +19,11 @@ rest taken apart: the external loads, the nodal update (velocities, positions, r
 their energy terms), the history commit and the other bookkeeping (the parts' forces summed,
 the energy account, the output); it lists each evaluation of the assembled bound with its
 ratio to the cells' bound of the model's own masses, and each run prints its mean step and the
-whole stroke projected at that pace.
+whole stroke projected at that pace. Beside each phase's CPU, the main thread's
+(``time.thread_time``): a phase split evenly over two threads shows half its CPU there, a
+serial one all of it, a measure the machine's load does not blur as it blurs the wall time.
+``--threads`` forces a thread count (numba's setting, elements/jit.py's FOLLOW_LOAD off;
+default: the free cores, which at the loads below chose one).
 
 Subnormal numbers, measured at 20k triangles on the first 0.3 % of the stroke (402 steps of
 2.24e-6 s), one thread, CPU, main 9864ff6 twice (load 5.9 -> 6.9, 6.9 -> 7.3): 36.82 / 36.83
@@ -163,11 +167,11 @@ Where the die's time went nearly still before the drift question was compiled (3
 call, a profile): the closest-facet loop 37 % (0.45-0.65 ms on the starting blank where the
 nodes keep their facets, more where a node's room is small), numpy reductions (the drift
 question, the memory of the last answer) 24 %, the force pass 10 %, the node gather and the
-scatter 10 %. At the peak pace the batched searches of the
-candidate lists (numpy and the k-d tree) add about 2 ms a call: compiling those is what
-remains of the die. A try that made the two loops one (the closest-facet loop's body an
-inlined helper of the pass) made the kept facets' loop 2.4 times slower (2.2-2.6 against
-0.9-1.1 ms on the 10201 nodes, load 6.4): not kept.
+scatter 10 %. At the peak pace the batched searches of the candidate lists (numpy and the
+k-d tree) added about 2 ms a call at load 13-15, 0.71-0.88 at load 7-9; their closest points
+are now compiled (the section on two threads below). A try that made the two loops one (the
+closest-facet loop's body an inlined helper of the pass) made the kept facets' loop 2.4 times
+slower (2.2-2.6 against 0.9-1.1 ms on the 10201 nodes, load 6.4): not kept.
 
 Before the drift question was compiled, on the first 0.3 % of the stroke side by side (402
 steps each, one thread, before then now; load 8.4 -> 7.7, 7.6 -> 7.4): 37.2 against 36.3
@@ -188,7 +192,8 @@ one: right at that load, where a second thread takes a core another process is u
 gain of a tenth. The count takes this
 process's own CPU share out of the load (tests/test_threads.py: alone and busy on one thread
 of two cores, it gives two), so on a machine whose second core is free the element force
-runs on both; the speed-up there was not measured (the machine was never quiet).
+runs on both: measured quiet at 1fdf3ac (below, 1.44 x one thread on the whole step), and
+phase by phase on the main thread's CPU in the section on two threads below.
 
 The punch's and holder's forces added into the model's sums in place, their node gathers
 and totals compiled (elements/node_rows.py), the velocity and rotation updates on the threads
@@ -225,19 +230,6 @@ by bincount, the copies of the answer kept from memory: elements/contact.py); th
 2.9-3.2; the external loads (0.2 ms: two (n, 3) arrays of zeros a step, femcore/compiled.py)
 and the parts' forces summed into fresh arrays.
 
-Projected before from the first 1 % (the start's subnormals in it): the full stroke at 20k
-triangles unscaled 133.8k steps of 2.24e-6 s at about 33 ms CPU a step at these loads (the
-element force 18.5-20, the die 3-6, the punch and holder 3.0, the rest 3.8, the bounds and the
-rotary inertia 1.2): 74 min CPU on one thread (79 before); at the chosen time scaling x4 (the
-stroke in 0.075 s) 33.5k steps, about 18 min CPU (the assembled bound's nine evaluations 0.4 ms
-a step). 3 minutes on the 2 cores is 6 min of CPU at most: 3 times away. What would close it:
-the element force is 60 % of a step (18.5-20 ms at load 5-9, about 9.4 on a quiet machine:
-benchmarks/explicit_step.py), so a quiet machine alone would bring the x4 stroke near 10 min
-CPU; then the element force on two threads when a core is free (not measured here; at most 1.2
-times at 9800 triangles under load, elements/jit.py); the solver's own update and bookkeeping
-(3.8 ms a step, numpy); the punch's and holder's 3 ms (their compiled passes 0.5-0.7 ms each:
-the rest is the contact blocks' gathers and scatters and the tool work asked of them); the
-die's candidate searches at the stroke's peak pace (about 2 ms a call, numpy and the k-d tree).
 Fewer steps than x4 did not keep the case's checks at 20 cells (mass scaling on top of x4).
 
 Measured, the whole 20k-triangle stroke at time scaling x4 (benchmarks/hemisphere_scaling.py
@@ -297,6 +289,57 @@ assembled bound alone (not the library's rule: the smaller of the two is taken, 
 mid-stroke), 0.834-0.841 of the steps over the whole stroke at 20, 32 and 40 cells with the
 compared results within 2 %; at 20k it would have to be evaluated often (every 500 steps: 1.5
 ms a step on one thread) for the carried ratio to stay safe, which eats most of the gain.
+
+Two threads, phase by phase (``--threads 1`` and ``--threads 2``, ``--fraction 0.005 --phases``:
+670 steps of 2.24e-6 s; main 5523c00 before, then after the three changes below, alternated in
+fresh processes, two rounds, load 5.4-6.5; CPU ms a step, "main" the main thread's):
+
+* one thread: the step 10.96 / 10.86 before, 9.90 / 10.83 after (the load's noise as large
+  as the gain);
+* two threads: the step 11.69 / 12.08 CPU, 7.50 / 7.64 main before; 10.14 / 10.73 CPU, 6.31 /
+  6.71 main after. Phase by phase, main / CPU, before -> after: the element force 3.08-3.29 /
+  5.93-6.28 -> 2.79-2.99 / 5.35-5.73 (split evenly: some 0.25 ms serial); the die 1.06-1.19 /
+  1.86-2.06 -> 0.90-0.98 / 1.59-1.72 (its two compiled loops split; some 0.2 serial: the
+  node gathers, the drift question, its answer kept); the punch and the holder 0.53-0.60 /
+  0.65-0.73 -> 0.50-0.51 / 0.63 (some 0.4 serial: their passes are a tenth of a ms each, the
+  rest the positions' copies, the forces kept for the tools' work asked again, the holder's
+  reaction summed in order); the cells' bound 0.255-0.258 (numpy, serial) -> 0.022-0.023 /
+  0.041-0.043; the nodal update 0.47-0.49 / 0.78-0.83 -> 0.45-0.47 / 0.77-0.78 (some 0.15
+  serial); serial still: the bookkeeping 0.33-0.38, the external loads 0.08-0.10, the rotary
+  inertia 0.10-0.11, the assembled bound's one evaluation 1.13-1.55 (0.2 a step over the
+  stroke). Serial in all, some 1.5 ms of the 9.9-10.8 ms one-thread step: at most about 1.7 x
+  on two free cores. Wall at that load: two threads 15.3 / 19.0 ms before, 13.1 / 16.1 after,
+  one thread 14.4 / 18.9 and 10.2 / 20.7: the second core was other processes' (no gain from
+  a second thread there, which is why the default takes one);
+* at the stroke's peak pace (``--die-calls 400 --threads 1`` / ``2``, three rounds, load
+  7.0-9.6): the die's distance on one thread 3.54-4.43 ms CPU a call before (its batched
+  searches 0.71-0.88), 2.95-3.57 after (0.47-0.53); on two threads the main thread's
+  2.29-2.59 -> 1.68-2.15 ms a call.
+
+The changes, each the same numbers to the last bit on one thread and on two: the cells'
+critical steps in one compiled pass over the cells (elements/fibrous/stable_steps.py, numpy's
+formulas kept: tests/test_fibrous_stable_steps.py); the batched searches' closest points on the
+k-d tree's nearest facets compiled, the tree's queries on the threads (RigidSurface._closest:
+numpy's closest_on_triangles and argmin to the last bit, tests/test_facet_search.py; the
+candidate lists themselves still from the tree's ball query, whose order decides between equal
+distances: a compiled search of another order would not give the same lists); whether a tool
+is asked about its last points again, a loop that stops at the first difference
+(node_rows.same_rows, 0.14 ms a call of the die before on the main thread).
+
+The stroke on two threads, projected: with its second core free a two-thread step takes at
+least its main thread's CPU, 6.31-6.71 ms at the start after (load 5.5), 5.4-5.7 with the
+assembled bound's evaluations spread over the stroke (before: 6.1-6.6); a step from the
+blank at 0.25 and 0.5 of the unscaled stroke (100 steps of explicit_step from a kept state,
+not a mode of this script; load 6.7-9.2) took 5.00-5.92 ms main and 9.1-10.6 CPU after
+(5.30-6.04 and 9.2-10.4 before); the quiet wall at 1fdf3ac (8.11 ms, 7.3 with the bound spread)
+bounds it from above. Unscaled (133.8k steps) 12-13 min to 16 min; at time scaling x3 (44.6k
+steps) 4.0-4.2 to 5.4 min; at x4 (33.5k) 3.0-3.2 to 4.1 min. The issue's 3 minutes on the 2
+cores: x4 at the main thread's pace alone, and x4 moved the shear and the draw-in at 40 cells
+(above): unscaled, 4 to 5 times away; x2 (66.9k steps, the setting measured safe to 40
+cells) 6-8 min. What is left serial is the next share to take: the punch's and holder's numpy
+around their passes (0.4 ms), the bookkeeping and the external loads (0.45: fresh (n, 3)
+arrays, the parts' sums), the die's 0.2; then the element force itself (5.4-5.9 ms CPU of the
+step at these loads, 2.8-3.0 on the main thread).
 Run from the project root:
 
     python benchmarks/hemisphere_forming.py                       # 100 x 100 x 2 = 20k
@@ -306,6 +349,7 @@ Run from the project root:
     python benchmarks/hemisphere_forming.py --fraction 0.01 --phases  # where a step goes
     python benchmarks/hemisphere_forming.py --fraction 0.005 --phases --die-lists old,new
     python benchmarks/hemisphere_forming.py --die-calls 600 --die-lists old,new,old,new
+    python benchmarks/hemisphere_forming.py --fraction 0.005 --phases --die-lists new --threads 2
 """
 
 from __future__ import annotations
@@ -512,21 +556,31 @@ def die_pace(cells: int, rim: float, calls: int, kinds: list[str]) -> None:
         searches = [0, 0]
         search = die._searched
 
-        def counted(local, rows, cache, search=search, searches=searches):
+        spent = [0.0]  # CPU in the searches, s
+
+        def counted(local, rows, cache, search=search, searches=searches, spent=spent):
             searches[0] += 1
             searches[1] += int(np.count_nonzero(rows))
-            return search(local, rows, cache)
+            cpu = time.process_time()
+            try:
+                return search(local, rows, cache)
+            finally:
+                spent[0] += time.process_time() - cpu
 
         die._searched = counted  # type: ignore[method-assign]
         positions = [laid(5.0 + SLIDE * (call + 1)) for call in range(calls)]
         before = load()
-        cpu = time.process_time()
+        wall, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
         for x in positions:
             die.distance(x)
-        cpu = time.process_time() - cpu
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        own = time.thread_time() - own
         near = int(np.count_nonzero(~die._cache.far))
-        print(f"die, {kind} lists: {cpu / calls * 1e3:.3f} ms CPU a call over {calls} "
-              f"calls ({mesh.n_nodes} nodes, {near} within the search distance; load {before} "
+        print(f"die, {kind} lists: {cpu / calls * 1e3:.3f} ms CPU a call ({own / calls * 1e3:.3f} "
+              f"on the main thread, {wall / calls * 1e3:.3f} wall; the searches "
+              f"{spent[0] / calls * 1e3:.3f} CPU) over {calls} calls on "
+              f"{jit.threads_for(mesh.n_nodes)} threads ({mesh.n_nodes} nodes, {near} within "
+              f"the search distance; load {before} "
               f"-> {load()}), {searches[1]} nodes searched in {searches[0]} searches; the "
               f"reference pass {reference * 1e3:.3f} ms", flush=True)  # fmt: skip
 
