@@ -20,7 +20,7 @@ from elements.ply_fade import (
     outline_segments,
     stiffness_factor,
 )
-from elements.ply_fade_hessian import fade_hessian
+from elements.ply_fade_hessian import fade_hessian, plane_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -453,19 +453,7 @@ class PlyContactBlock(InteractionBlock):
         g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
-        hessian = np.zeros((t, 4, 3, 4, 3))
-        nn = n[:, :, None] * n[:, None, :]
-        for m in range(3):
-            hessian[:, 0, :, 1 + m, :] = -grad[:, m, :, None] * n[:, None, :]
-            hessian[:, 1 + m, :, 0, :] = -n[:, :, None] * grad[:, m, None, :]
-        dots = np.einsum("tki,tmi->tkm", grad, grad)
-        for a_ in range(3):
-            for m in range(3):
-                hessian[:, 1 + a_, :, 1 + m, :] = (
-                    -(g * dots[:, a_, m])[:, None, None] * nn
-                    + lam[:, m, None, None] * n[:, :, None] * grad[:, a_, None, :]
-                    + lam[:, a_, None, None] * grad[:, m, :, None] * n[:, None, :]
-                )
+        hessian = plane_hessian(g, n, lam, grad)  # (t, 4, 3, 4, 3)
         # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
         # "Search"): g = +-|p - q|, its Hessian over z given by the search.
         if facing.hessian is not None:
