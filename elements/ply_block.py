@@ -16,11 +16,11 @@ from scipy.spatial import cKDTree
 from elements import ply_curved, ply_friction, ply_slip, ply_surface
 from elements.ply_fade import (
     OutlineTree,
-    fade_hessian,
     fade_length,
     outline_segments,
     stiffness_factor,
 )
+from elements.ply_fade_hessian import fade_hessian, plane_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -453,19 +453,7 @@ class PlyContactBlock(InteractionBlock):
         g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
-        hessian = np.zeros((t, 4, 3, 4, 3))
-        nn = n[:, :, None] * n[:, None, :]
-        for m in range(3):
-            hessian[:, 0, :, 1 + m, :] = -grad[:, m, :, None] * n[:, None, :]
-            hessian[:, 1 + m, :, 0, :] = -n[:, :, None] * grad[:, m, None, :]
-        dots = np.einsum("tki,tmi->tkm", grad, grad)
-        for a_ in range(3):
-            for m in range(3):
-                hessian[:, 1 + a_, :, 1 + m, :] = (
-                    -(g * dots[:, a_, m])[:, None, None] * nn
-                    + lam[:, m, None, None] * n[:, :, None] * grad[:, a_, None, :]
-                    + lam[:, a_, None, None] * grad[:, m, :, None] * n[:, None, :]
-                )
+        hessian = plane_hessian(g, n, lam, grad)  # (t, 4, 3, 4, 3)
         # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
         # "Search"): g = +-|p - q|, its Hessian over z given by the search.
         if facing.hessian is not None:
@@ -515,7 +503,7 @@ class PlyContactBlock(InteractionBlock):
     ) -> CellTangent:
         """The fade's part of the tangent of the points ``rows`` (f,) (elements/ply_fade.py):
         Hess (w W) - w Hess W = W' (dg dw^T + dw dg^T) + W Hess w over z = (p, y_1, y_2,
-        y_3, a, b), Hess w by central differences of the exact dw/dz, dg/dz = ``gradient``
+        y_3, a, b), Hess w in closed form (elements/ply_fade_hessian.py), dg/dz = ``gradient``
         (f, 4, 3); carried to the upper triangle's, the facing triangle's and the outline
         edge's nodes (f, 8), with the turned offsets of the ends' forces W dw/da, W dw/db
         (the other nodes' are in the main part, whose forces hold the fade's)."""
@@ -527,7 +515,6 @@ class PlyContactBlock(InteractionBlock):
         cross = g6[:, :, :, None, None] * fading[:, None, None, :, :]
         points = slope[:, None, None, None, None] * (cross + np.transpose(cross, (0, 3, 4, 1, 2)))
         p, y = self._faces(state)
-        step = 1e-6 * (1.0 + float(np.abs(y).max()))
         assert facing.reach is not None and facing.on_growth is not None
         assert facing.fade_edge is not None
         ends_nodes, ends_offset = self.fade_ends(facing, rows)
@@ -547,7 +534,6 @@ class PlyContactBlock(InteractionBlock):
             facing.on_growth[rows],
             segment,
             self.fade_length,
-            step,
             None if facing.joined is None else facing.joined[rows],
             self.cuts.lines[facing.triangle[rows]],
             self.cuts.ends[facing.triangle[rows]],

@@ -147,7 +147,7 @@ W(-depth)). The growths still keep the gap a distance where the facing triangle 
 the outline. The mortar methods' contact (segment to segment, Puso and Laursen, CMAME 193
 (2004) 601) fades so by construction, the contact integrated over the two faces' overlap, which
 shrinks to nothing at an outline; a point-to-face contact needs the weight. The tangent takes
-w's second derivative as the central difference of its exact gradient.
+w's second derivative in closed form (elements/ply_fade_hessian.py).
 
 Past the outline, deeper than the plies. A point held by a growth's plane (its projection
 past the outline, within MARGIN) deeper than ``depth`` touches as on the face: the fade

@@ -167,8 +167,9 @@ def test_the_force_beside_a_cut_is_the_energys_gradient_and_the_tangent_its_deri
     energy over every node's coordinates (step 1e-7 mm: round-off ~1e-9 of the force, truncation
     ~1e-14 mm^2 times its third derivative) give the force within 1e-6 of its largest component;
     central differences of that force give the tangent's translational blocks within 1e-4 of its
-    largest entry (the fade's own second derivative in it is a central
-    difference of step 1e-6 mm, elements/ply_fade.py ``fade_hessian``)."""
+    largest entry (the fade's own second derivative in it in closed form,
+    elements/ply_fade_hessian.py; tests/test_ply_fade_hessian.py holds it to the central
+    differences' own error)."""
     block, positions, directors, _ = _fan(flat_at_bind=True)
     x = positions[0].copy()
     low = x[: len(x) - 3]
