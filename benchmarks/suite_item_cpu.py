@@ -123,6 +123,19 @@ the ``--workers`` option's only end-to-end test. tests/test_bias_extension.py's 
 kernels (0.26 and 0.12 s warm); test_capstan.py's Static strips 0.16-0.36 s warm: cutting them
 would move the compilation to the next test that needs those kernels.
 
+The slow tests after these cuts, warm (``-m slow`` in one process, ``-n 0``, on a cache that
+held every kernel but 1.2 s of compiling; the tests reading the coarse report and mypy left
+out; load 2.9-6.9): 43 items, 109.9 s of CPU with their reaped children. The largest: the
+shared cluster's workers reaped after its last test (12.4 s: the fits of test_identify.py and
+test_compare.py, their start and idle ticks), the README's identify command 11.4 s (10.8 in
+its own cluster's two workers), the coarse forming blank 8.5 s, the README's Python sweep 6.4 s
+(a subprocess and its two workers), the same-laws comparison 5.4 s, the README's sweep
+command 5.0 s, the Mindlin Static drape 4.8 s, identify's command test 4.3 s, the smoothed
+drape 4.0 s, Static against dynamic relaxation on the sagging cable 3.5 s; every other under
+3.5 s. Beside the coarse report's cases (a whole run of 5523c00 at a load of 8-10: hemisphere-plies
+156.3 s of CPU, the other 22 cases 143.2 s together) and numba's compilations (81 s in the workers,
+benchmarks/suite_processes.py), what is left in the tests' own runs is small.
+
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
 
