@@ -7,7 +7,8 @@ one process on numba's warm cache (run it twice in a fresh checkout: the first p
   largest relative error of the shear angle of zones A and B against the net (the tests'
   tolerance 2e-3) shows that both reach the same state.
 * tests/test_forming_shortcuts_change_nothing.py: one explicit run of the 12-cell forming case
-  (``formed``); the module made 6 of them, it makes 4 (the run with every shortcut on shared).
+  (``formed``); the module made 6 of them, then 4 (the run with every shortcut on shared), now
+  2 (benchmarks/suite_item_cpu.py).
 
 Measured (one numba and BLAS thread, 2 cores shared with other jobs, load 4.2): the pull
 0.96 s of CPU along the arc length (10 + 1 increments, 4 Newton iterations each) against

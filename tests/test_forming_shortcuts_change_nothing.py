@@ -5,7 +5,6 @@ run identical to the last bit to one without them; so does the compiled contact 
 tools (elements/tool_contact.py) against the numpy formulas."""
 
 import numpy as np
-import pytest
 
 from elements.contact import ContactBlock
 from elements.rigid_surface import RigidSurface
@@ -21,22 +20,23 @@ def formed():
     return result.frames[-1].positions, result.tool_forces
 
 
-@pytest.fixture(scope="module")
-def with_shortcuts():
-    """``formed()`` with every shortcut on, run once for the three comparisons (set up
-    before any test's monkeypatch): its arrays read-only, so that no test alters the
-    reference of the others."""
+def test_a_forming_run_is_the_same_to_the_last_bit_without_its_shortcuts(monkeypatch):
+    """The run with every shortcut on against one with all of them off, bit for bit: the
+    die's hints and the forces from memory; the compiled pass of the punch (a sphere), the
+    holder (a ring along z) and the meshed die (elements/tool_contact.py) against
+    ContactBlock's numpy formulas; the die's candidate lists searched again in batches
+    (REBUILD_SHARE) and each node's nearest facet kept while it cannot change (KEEP_NEAREST,
+    elements/facet_search.py) against the lists searched again node by node past the margin
+    and scanned at every step (the nodes beyond the search distance, told a distance that
+    depends on when they were searched, touch nothing). Two runs, not one per shortcut (5 s
+    of CPU each): a shortcut that changed a bit would show in the pair, which a run with that
+    shortcut alone off then names."""
+    from elements import rigid_surface as tools
+    from elements import tool_contact
+
     positions, forces = formed()
-    positions.setflags(write=False)
-    forces.setflags(write=False)
-    return positions, forces
-
-
-def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_memory(
-    monkeypatch, with_shortcuts
-):
-    positions, forces = with_shortcuts
     assert np.abs(forces[-1]).max() > 1.0  # the tools pressed the blank
+    assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST
 
     kept = RigidSurface._kept_lists  # what the numpy and the compiled die's pass start from
     asked = ContactBlock.contact_forces
@@ -51,37 +51,7 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_the_hints_and_the_mem
 
     monkeypatch.setattr(RigidSurface, "_kept_lists", without_hint)
     monkeypatch.setattr(ContactBlock, "contact_forces", without_memory)
-    plain_positions, plain_forces = formed()
-    np.testing.assert_array_equal(positions, plain_positions)
-    np.testing.assert_array_equal(forces, plain_forces)
-
-
-def test_a_forming_run_is_the_same_to_the_last_bit_with_the_numpy_contact_of_the_tools(
-    monkeypatch, with_shortcuts
-):
-    """The compiled pass of the punch (a sphere), the holder (a ring along z) and the meshed
-    die (elements/tool_contact.py) against ContactBlock's numpy formulas over a whole run."""
-    from elements import tool_contact
-
-    positions, forces = with_shortcuts
     monkeypatch.setattr(tool_contact, "compiled_pass_applies", lambda *args: False)
-    plain_positions, plain_forces = formed()
-    np.testing.assert_array_equal(positions, plain_positions)
-    np.testing.assert_array_equal(forces, plain_forces)
-
-
-def test_a_forming_run_is_the_same_to_the_last_bit_with_the_dies_lists_as_they_were(
-    monkeypatch, with_shortcuts
-):
-    """The die's candidate lists searched again in batches (REBUILD_SHARE) and each node's
-    nearest facet kept while it cannot change (KEEP_NEAREST, elements/facet_search.py)
-    against the lists searched again node by node past the margin and scanned at every
-    step: the same run, bit for bit (the nodes beyond the search distance, told a distance
-    that depends on when they were searched, touch nothing)."""
-    from elements import rigid_surface as tools
-
-    positions, forces = with_shortcuts
-    assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST
     monkeypatch.setattr(tools, "REBUILD_SHARE", 1.0)
     monkeypatch.setattr(tools, "KEEP_NEAREST", False)
     plain_positions, plain_forces = formed()

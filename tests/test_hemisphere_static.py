@@ -9,6 +9,12 @@ in 10 increments with the viscous stabilisation c = 300 1/s^2 per unit load fact
 die, with the case's tolerance at its coarse mesh (4 deg; its explicit run measured 2.93 deg at
 12 cells). benchmarks/hemisphere_static.py prints the same run with its timing and the explicit
 run of the same model beside it.
+
+The case's own coarse mesh (12 x 12 cells, the same holder and solver: every increment
+converges with 2 cuts, rms 2.96 deg over 86 cells; 28-63 s of CPU) is drawn by
+benchmarks/hemisphere_static.py, not here: the 8-cell drape fails on the defect that run
+measures (the inertia correction of solvers/inertia.py taken out: a cut, where none is
+allowed) at a tenth of its CPU (benchmarks/suite_item_cpu.py).
 """
 
 import numpy as np
@@ -67,21 +73,6 @@ def test_static_drapes_the_hemisphere_with_a_smoothed_die_and_the_tools_followed
     assert result.converged
     assert result.info["cuts"] == 0
     assert_drapes_as_the_net(mesh, result, 20)
-
-
-@pytest.mark.slow
-def test_static_drapes_the_hemisphere_at_the_case_coarse_mesh():
-    """12 x 12 cells, the same holder and solver: every increment converges with at most 3
-    cuts (measured 2, whose attempts took 156 iterations; 9-93 iterations per increment, 214
-    steps on a shifted tangent; 2-4 minutes). Without the inertia correction: 7 cuts whose
-    attempts took 532 iterations, 1043 iterations in all against 626. The rms of shear - net
-    over the cells in the die within the case's coarse tolerance (benchmarks/hemisphere_static.py,
-    whose band is 0.5 mm: 2.96 deg over 86 cells)."""
-    mesh, model = held_blank(12)
-    result = Static(increments=INCREMENTS, stabilise=STABILISE, progress=False).solve(model)
-    assert result.converged
-    assert result.info["cuts"] <= 3
-    assert_drapes_as_the_net(mesh, result, 60)
 
 
 @pytest.mark.slow

@@ -239,25 +239,12 @@ def test_a_bent_deck_of_two_plies_tilts_its_material_lines_by_atan_theta():
     assert max(errors["thickness_inside"], errors["thickness_end"]) <= 0.0065
 
 
-@pytest.mark.slow
-def test_a_heavy_stack_of_four_plies_sags_near_the_fibrous_shell():
-    """The heavy stack of fibrous-heavy-cantilever (140 x 10 mm, h = 6 mm, q L^3 / B = 20.5)
-    as 4 frictionless plies against the FibrousShell on the same 10 x 1 cells (validation
-    case plies-deck-of-cards): measured, the mid-surfaces 0.71 mm apart at most (0.22 at 20
-    cells) and, from the clamp to mid-span, the material line's angle within 1.19 deg of the
-    fibrous director's (0.47 at 20 cells); tolerances 0.9 mm and 1.5 deg. Beyond mid-span
-    the plies open (normal gaps up to 0.4 mm, a quarter of h / N: nothing presses
-    frictionless plies hanging steeply together, while the fibrous shell keeps its thickness
-    along the normal) and the angles part by 7 deg at the free end (reported, not checked).
-    About 25 s."""
-    from validation.cases.plies_deck_of_cards import sag
-
-    fibrous, plies = sag(0, cells=10), sag(4, cells=10)
-    assert fibrous.result.converged and plies.result.converged
-    offset = np.linalg.norm(plies.midpoint - fibrous.midpoint, axis=1)
-    difference = np.degrees(np.abs(plies.angle - fibrous.angle))
-    assert offset.max() <= 0.9
-    assert difference[: len(difference) // 2 + 1].max() <= 1.5
+# The heavy stack of fibrous-heavy-cantilever (140 x 10 mm, h = 6 mm, q L^3 / B = 20.5) as 4
+# frictionless plies against the FibrousShell: the coarse report's plies-deck-of-cards sags both
+# on 20 x 1 cells and checks the mid-surfaces within 0.3 mm and, from the clamp to mid-span, the
+# material line's angle within 0.65 deg of the fibrous director's (measured 0.22 mm and 0.48
+# deg), which tests/test_validation_cli.py holds to; the same claims on 10 cells (0.9 mm and
+# 1.5 deg, measured 0.71 and 1.19) would be a run of their own beside the report's.
 
 
 # ---------------------------------------------------------------------- friction between plies
