@@ -344,7 +344,11 @@ class RigidSurface(RigidTool):
             kept[2][rows] = -1.0
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
+        if np.ndim(x) != 2 or np.shape(x)[1] != 3:
+            raise ValueError(f"points of shape {np.shape(x)} given: expected (k, 3) in mm")
         local = np.asarray(x, dtype=float) - self.offset(load_factor)
+        if len(local) == 0:
+            return np.zeros(0), np.zeros((0, 3))
         last = self._last
         if last is not None and same_rows(last[0], local):
             return last[1].copy(), last[2].copy()  # asked again (the energy check of a step)

@@ -315,3 +315,15 @@ def test_the_director_angle_is_nan_at_the_nodes_of_a_cable_beside_a_shell():
     angle = result.director_angle()
     assert np.isnan(angle[0])
     assert np.allclose(angle[1:], 90.0)
+
+
+def test_a_meshed_tool_answers_no_points_with_no_distances_and_refuses_a_wrong_shape():
+    """An empty set of points (a block with no node near the tool) gets empty answers, not
+    numpy's reshape error; points not of shape (k, 3) are a ValueError naming the shape."""
+    floor = RigidSurface(Mesh.rectangle(2.0, 2.0, nx=2, ny=2))
+    d, n = floor.distance(np.zeros((0, 3)))
+    assert d.shape == (0,) and n.shape == (0, 3)
+    with pytest.raises(ValueError, match=r"expected \(k, 3\)"):
+        floor.distance(np.zeros((4, 2)))
+    d, n = floor.distance(np.array([[0.5, 0.5, 0.25]]))
+    assert d[0] == pytest.approx(0.25) and n[0] == pytest.approx([0.0, 0.0, 1.0])

@@ -1,5 +1,5 @@
 """The fibrous cells' critical steps in one compiled pass (elements/fibrous/stable_steps.py)
-against the numpy formulas they replace (``FibrousBlock.cell_stable_dt_numpy``): the same
+against the numpy formulas they replace (``FibrousShellBlock.cell_stable_dt_numpy``): the same
 steps to the last bit, on one thread and on all of numba's."""
 
 import numba

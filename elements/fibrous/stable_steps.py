@@ -1,5 +1,5 @@
 """The fibrous cells' critical steps (docs/theory.md §6.2) in one compiled pass over the cells
-(numba), the formulas of ``FibrousBlock.cell_stable_dt_numpy`` in their order of operations:
+(numba), the formulas of ``FibrousShellBlock.cell_stable_dt_numpy`` in their order of operations:
 the same steps to the last bit, on any number of threads (each cell its own output).
 
 Why: the explicit solver asks for them every STABLE_DT_EVERY steps (solvers/explicit.py), and
