@@ -210,14 +210,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elements import ply_kernels
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts, closest_on_cut, cut_keeps, cut_overshoot
+from femcore.rotation import cross
 
 if TYPE_CHECKING:  # ply_fade imports this module
     from elements.ply_fade import OutlineTree
 
 __all__ = [
+    "COMPILED",
     "INSIDE",
     "MARGIN",
     "Facing",
@@ -239,6 +242,10 @@ MARGIN = 0.5
 #: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
 #: a point right above a vertex or an edge).
 INSIDE = 1e-9
+#: Whether ``closest_facing`` takes its candidates' planes and edges' closest points from the
+#: compiled kernels (elements/ply_kernels.py: the same bits), or from numpy (``facets``,
+#: ``closest_on_edges``: their reference, kept for the tests and the benchmarks).
+COMPILED = True
 
 
 def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
@@ -337,11 +344,11 @@ def triangle_frames(corners: np.ndarray):
     """Unit normals (..., 3), twice the areas (...,) and the barycentric gradients
     (..., 3, 3) of triangles with corners (..., 3, 3)."""
     y1, y2, y3 = corners[..., 0, :], corners[..., 1, :], corners[..., 2, :]
-    c = np.cross(y2 - y1, y3 - y1)
+    c = cross(y2 - y1, y3 - y1)
     area2 = np.linalg.norm(c, axis=-1)
     n = c / area2[..., None]
     edges = np.stack([y3 - y2, y1 - y3, y2 - y1], axis=-2)  # opposite corner k, cyclic
-    gradients = np.cross(n[..., None, :], edges) / area2[..., None, None]
+    gradients = cross(n[..., None, :], edges) / area2[..., None, None]
     return n, area2, gradients
 
 
@@ -455,7 +462,7 @@ def _unit_normals_and_angles(corners: np.ndarray):
     n = triangle_frames(corners)[0]
     u = np.roll(corners, -1, axis=1) - corners  # from corner k to corner k + 1
     v = np.roll(corners, -2, axis=1) - corners  # to corner k + 2
-    angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
+    angles = np.arctan2(np.linalg.norm(cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
     return n, angles
 
 
@@ -609,7 +616,10 @@ def closest_facing(
         topology = FaceTopology.of(nodes, outline, edges)
     elif topology is not None and topology.outline is not outline:
         raise ValueError("closest_facing: the topology's outline must be the outline given")
-    n, _, gradients, gap, weights = facets(p, y[near])
+    if COMPILED:  # the same bits as the numpy reference (elements/ply_kernels.py)
+        n, _, gradients, gap, weights = ply_kernels.facets_at(p, y, near)
+    else:
+        n, _, gradients, gap, weights = facets(p, y[near])
     reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
     inside = (weights >= -reach - INSIDE).all(axis=-1)
     held_grown = inside
@@ -637,7 +647,7 @@ def closest_facing(
         )
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
     corners = grown_corners(y[near[outside]], reach[outside])
-    q = closest_on_edges(p[outside[0]], corners)
+    q = (ply_kernels.edges_closest if COMPILED else closest_on_edges)(p[outside[0]], corners)
     on_cut, segment, along = np.zeros(len(q), dtype=bool), np.zeros((len(q), 2, 3)), None
     if cut_at is not None and cuts is not None:  # the cut growth's closest point
         projected = p[outside[0]] - gap[outside][:, None] * n[outside]

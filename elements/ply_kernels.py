@@ -1,0 +1,153 @@
+"""The ply contact's facing, compiled where it is one pass over small arrays: each point's
+candidate triangles' planes (``facets_at``: unit normal, twice the area, barycentric
+gradients, the point's gap and its projection's barycentric coordinates) and the closest
+points on grown triangles' edges (``edges_closest``), for elements/ply_projection.py's
+``closest_facing`` (docs/theory.md, the ply contact section: "Search").
+
+Their numpy references are ``ply_projection.facets`` and ``ply_projection.closest_on_edges``:
+the kernels do the same IEEE operations in the same order (numpy's cross product, its sums
+of three terms in numpy's order, no fused multiply-add: numba builds without fastmath), so
+they give the same numbers to the last bit, and so the same facing (tests/test_ply_kernels.py
+compares both on random fans with cuts, folded states and bent two-ply hemisphere blanks).
+Run one at a time on small arrays (a few hundred points of some five candidates), numpy
+spent most of the time in its per-call overhead (benchmarks/ply_facing.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.jit import jit_lanes, prange
+
+__all__ = ["edges_closest", "facets_at"]
+
+
+def _facets_at(p, y, near, n, area2, gradients, gap, weights):
+    """For each point p[i] (P, 3) and candidate t = near[i, k] (P, K) of the triangles with
+    corners y (m, 3, 3): n[i, k] (3,), area2[i, k], gradients[i, k] (3, 3), gap[i, k] and
+    weights[i, k] (3,), as ``ply_projection.facets(p, y[near])`` writes them."""
+    for i in prange(p.shape[0]):
+        p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
+        for k in range(near.shape[1]):
+            t = near[i, k]
+            a0, a1, a2 = y[t, 0, 0], y[t, 0, 1], y[t, 0, 2]
+            b0, b1, b2 = y[t, 1, 0], y[t, 1, 1], y[t, 1, 2]
+            c0, c1, c2 = y[t, 2, 0], y[t, 2, 1], y[t, 2, 2]
+            u0, u1, u2 = b0 - a0, b1 - a1, b2 - a2  # y2 - y1
+            v0, v1, v2 = c0 - a0, c1 - a1, c2 - a2  # y3 - y1
+            s0 = u1 * v2 - u2 * v1
+            s1 = u2 * v0 - u0 * v2
+            s2 = u0 * v1 - u1 * v0
+            twice = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+            m0, m1, m2 = s0 / twice, s1 / twice, s2 / twice
+            n[i, k, 0], n[i, k, 1], n[i, k, 2] = m0, m1, m2
+            area2[i, k] = twice
+            # the edges opposite corners 1, 2, 3 (cyclic): y3 - y2, y1 - y3, y2 - y1
+            for e in range(3):
+                if e == 0:
+                    e0, e1, e2 = c0 - b0, c1 - b1, c2 - b2
+                elif e == 1:
+                    e0, e1, e2 = a0 - c0, a1 - c1, a2 - c2
+                else:
+                    e0, e1, e2 = u0, u1, u2
+                gradients[i, k, e, 0] = (m1 * e2 - m2 * e1) / twice
+                gradients[i, k, e, 1] = (m2 * e0 - m0 * e2) / twice
+                gradients[i, k, e, 2] = (m0 * e1 - m1 * e0) / twice
+            r0, r1, r2 = p0 - a0, p1 - a1, p2 - a2  # from corner 1
+            q0, q1, q2 = p0 - b0, p1 - b1, p2 - b2  # from corner 2
+            gap[i, k] = r0 * m0 + r1 * m1 + r2 * m2
+            g = gradients[i, k]
+            # numpy's einsum adds a sum of three products as (first + last) + middle
+            w0 = (g[0, 0] * q0 + g[0, 2] * q2) + g[0, 1] * q1
+            w1 = (g[1, 0] * r0 + g[1, 2] * r2) + g[1, 1] * r1
+            weights[i, k, 0] = w0
+            weights[i, k, 1] = w1
+            weights[i, k, 2] = 1.0 - w0 - w1
+
+
+_facets_at_compiled = jit_lanes(_facets_at)
+
+
+def facets_at(p: np.ndarray, y: np.ndarray, near: np.ndarray):
+    """Each point against each of its candidate triangles' planes, compiled: the same arrays
+    to the bit as ``ply_projection.facets(p, y[near])`` without gathering y[near].
+
+    Parameters
+    ----------
+    p : (P, 3) float
+        The points, mm.
+    y : (m, 3, 3) float
+        The triangles' corners, mm.
+    near : (P, K) int
+        Each point's candidates (rows of ``y``).
+
+    Returns
+    -------
+    n : (P, K, 3) float
+        The candidates' unit normals.
+    area2 : (P, K) float
+        Twice their areas, mm^2.
+    gradients : (P, K, 3, 3) float
+        Their barycentric gradients, 1/mm.
+    gap : (P, K) float
+        The points' gaps to their planes along n, mm.
+    weights : (P, K, 3) float
+        The barycentric coordinates of the points' projections on the planes.
+    """
+    count, k = near.shape
+    n, area2 = np.empty((count, k, 3)), np.empty((count, k))
+    gradients, gap, weights = (
+        np.empty((count, k, 3, 3)),
+        np.empty((count, k)),
+        np.empty((count, k, 3)),
+    )
+    _facets_at_compiled(
+        np.ascontiguousarray(p, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
+        np.ascontiguousarray(near, dtype=np.int64),
+        n,
+        area2,
+        gradients,
+        gap,
+        weights,
+    )
+    return n, area2, gradients, gap, weights
+
+
+def _edges_closest(p, corners, best):
+    """best[i] (c, 3) the closest point to p[i] (c, 3) on the edges of the triangle with
+    corners ``corners[i]`` (c, 3, 3), as ``ply_projection.closest_on_edges`` writes it (the
+    first nearest of the edges opposite corners 1, 2, 3 in that order)."""
+    for i in prange(p.shape[0]):
+        p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
+        distance = np.inf
+        best[i, 0], best[i, 1], best[i, 2] = 0.0, 0.0, 0.0
+        for side in range(3):
+            a, b = (1, 2) if side == 0 else ((2, 0) if side == 1 else (0, 1))
+            s0, s1, s2 = corners[i, a, 0], corners[i, a, 1], corners[i, a, 2]
+            e0 = corners[i, b, 0] - s0
+            e1 = corners[i, b, 1] - s1
+            e2 = corners[i, b, 2] - s2
+            # numpy's einsum adds a sum of three products as (first + last) + middle
+            t = ((p0 - s0) * e0 + (p2 - s2) * e2 + (p1 - s1) * e1) / (e0 * e0 + e2 * e2 + e1 * e1)
+            t = min(max(t, 0.0), 1.0)
+            o0, o1, o2 = s0 + t * e0, s1 + t * e1, s2 + t * e2
+            r0, r1, r2 = p0 - o0, p1 - o1, p2 - o2
+            length = r0 * r0 + r2 * r2 + r1 * r1
+            if length < distance:
+                best[i, 0], best[i, 1], best[i, 2] = o0, o1, o2
+                distance = length
+
+
+_edges_closest_compiled = jit_lanes(_edges_closest)
+
+
+def edges_closest(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """(c, 3) the closest point to p (c, 3), mm, on the edges of the triangle with corners
+    (c, 3, 3), mm, compiled: the same points to the bit as
+    ``ply_projection.closest_on_edges``."""
+    best = np.empty((len(p), 3))
+    _edges_closest_compiled(
+        np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(corners, dtype=float), best
+    )
+    return best
