@@ -19,7 +19,7 @@ import numpy as np
 
 from elements.jit import jit_lanes, prange
 
-__all__ = ["edges_closest", "facets_at"]
+__all__ = ["edges_closest", "every_segment", "facets_at"]
 
 
 def _facets_at(p, y, near, n, area2, gradients, gap, weights):
@@ -151,3 +151,56 @@ def edges_closest(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
         np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(corners, dtype=float), best
     )
     return best
+
+
+def _every_segment(p, starts, e, squared, chosen):
+    """chosen[i] (c,) the segment from starts[j] (E, 3) along e[j] (E, 3), |e_j|^2 =
+    squared[j], nearest p[i] (c, 3), as ``ply_fade.every_segment`` writes it: the first of
+    the least distances, or the first NaN one (numpy's argmin)."""
+    for i in prange(p.shape[0]):
+        best = np.inf
+        found = 0
+        held_nan = False
+        for j in range(starts.shape[0]):
+            r0 = p[i, 0] - starts[j, 0]
+            r1 = p[i, 1] - starts[j, 1]
+            r2 = p[i, 2] - starts[j, 2]
+            # numpy's einsum adds a sum of three products as (first + last) + middle
+            t = (r0 * e[j, 0] + r2 * e[j, 2] + r1 * e[j, 1]) / squared[j]
+            if t < 0.0:
+                t = 0.0
+            elif t > 1.0:
+                t = 1.0
+            r0 -= t * e[j, 0]
+            r1 -= t * e[j, 1]
+            r2 -= t * e[j, 2]
+            value = r0 * r0 + r2 * r2 + r1 * r1
+            if value != value:
+                if not held_nan:
+                    held_nan, found = True, j
+            elif not held_nan and value < best:
+                best, found = value, j
+        chosen[i] = found
+
+
+_every_segment_compiled = jit_lanes(_every_segment)
+
+
+def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3), mm) nearest each
+    point p (c, 3), mm, ties to the lowest index, compiled: the same answer, for every pair
+    measured, as ``ply_fade.every_segment`` (the same distances to the bit)."""
+    chosen = np.zeros(len(p), dtype=np.int64)
+    if len(p) == 0 or len(starts) == 0:
+        return chosen
+    e = ends - starts
+    e0, e1, e2 = e[:, 0], e[:, 1], e[:, 2]
+    squared = np.maximum(e0 * e0 + e2 * e2 + e1 * e1, np.finfo(float).tiny)
+    _every_segment_compiled(
+        np.ascontiguousarray(p, dtype=float),
+        np.ascontiguousarray(starts, dtype=float),
+        np.ascontiguousarray(e),
+        squared,
+        chosen,
+    )
+    return chosen

@@ -242,9 +242,10 @@ MARGIN = 0.5
 #: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
 #: a point right above a vertex or an edge).
 INSIDE = 1e-9
-#: Whether ``closest_facing`` takes its candidates' planes and edges' closest points from the
-#: compiled kernels (elements/ply_kernels.py: the same bits), or from numpy (``facets``,
-#: ``closest_on_edges``: their reference, kept for the tests and the benchmarks).
+#: Whether ``closest_facing`` takes its candidates' planes, edges' closest points and the
+#: outline's nearest edges (pair by pair) from the compiled kernels (elements/ply_kernels.py:
+#: the same bits), or from numpy (``facets``, ``closest_on_edges``, ply_fade.py's
+#: ``nearest_segments``: their reference, kept for the tests and the benchmarks).
 COMPILED = True
 
 
@@ -717,7 +718,13 @@ def closest_facing(
     # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
     # outline, faded"): a point whose closest point lies there, off the face's sides, signed
     # by the facing triangle's normal
-    from elements.ply_fade import fade_length, nearest_segments, outline_fade, outline_segments
+    from elements.ply_fade import (
+        EVERY_PAIR,
+        fade_length,
+        nearest_segments,
+        outline_fade,
+        outline_segments,
+    )
 
     on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
     on_growth |= at_rim
@@ -742,7 +749,10 @@ def closest_facing(
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
+        if COMPILED and near_outline.size * len(starts) <= EVERY_PAIR:  # every pair measured
+            fade_edge[near_outline] = ply_kernels.every_segment(p[near_outline], starts, ends)
+        else:
+            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
         chosen = fade_edge[near_outline]
         fade[near_outline], fade_gradient[near_outline] = outline_fade(
             p[near_outline],

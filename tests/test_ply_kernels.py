@@ -195,3 +195,21 @@ def test_the_bent_two_ply_hemisphere_s_facing_and_forces_are_numpy_s_to_the_bit(
             assert _same(force[0], force_ref[0]) and _same(force[1], force_ref[1])
             touching += int(reference.touching.sum())
     assert touching > 0
+
+
+def test_the_compiled_nearest_outline_edges_are_numpy_s():
+    """``ply_kernels.every_segment`` against ``ply_fade.every_segment``: 300 points among 40
+    random segments, some of them repeated (ties to the lowest index) and one point NaN
+    (numpy's argmin: the first NaN distance)."""
+    from elements.ply_fade import every_segment
+
+    rng = np.random.default_rng(5)
+    starts = rng.normal(0.0, 1.0, (40, 3))
+    ends = starts + rng.normal(0.0, 0.3, (40, 3))
+    starts[20:30], ends[20:30] = starts[0:10], ends[0:10]
+    ends[5] = starts[5]  # a segment of no length
+    p = rng.normal(0.0, 1.2, (300, 3))
+    p[7, 1] = np.nan
+    got = ply_kernels.every_segment(p, starts, ends)
+    assert np.array_equal(got, every_segment(p, starts, ends))
+    assert ply_kernels.every_segment(p[:0], starts, ends).shape == (0,)
