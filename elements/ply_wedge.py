@@ -326,9 +326,12 @@ def closest_on_grown(
     (c, 3, 3; None: no cut), where the plane's projection of p lies outside the cut growth.
     Without a cut, the grown triangle's closest point on its edges
     (elements/ply_projection.py ``closest_on_edges``), bit for bit."""
+    from elements import ply_kernels, ply_projection
     from elements.ply_projection import INSIDE, closest_on_edges, facets, grown_corners
 
-    q = closest_on_edges(p, grown_corners(corners, reach))
+    # compiled, the same bits (elements/ply_kernels.py)
+    edges = ply_kernels.edges_closest if ply_projection.COMPILED else closest_on_edges
+    q = edges(p, grown_corners(corners, reach))
     count = len(p)
     if lines is None or ends is None or not np.any(lines != 0.0):
         return q, np.zeros(count, dtype=bool), np.zeros((count, 2, 3)), np.zeros(count)

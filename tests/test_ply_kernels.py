@@ -213,3 +213,14 @@ def test_the_compiled_nearest_outline_edges_are_numpy_s():
     got = ply_kernels.every_segment(p, starts, ends)
     assert np.array_equal(got, every_segment(p, starts, ends))
     assert ply_kernels.every_segment(p[:0], starts, ends).shape == (0,)
+
+
+def test_the_compiled_grown_corners_are_numpy_s_to_the_bit(monkeypatch):
+    """``ply_kernels.grown_corners`` against ``grown_corners``'s numpy reference (``COMPILED``
+    off) over random triangles grown by random reaches in [0, 1) and by 0 or ``MARGIN``."""
+    rng = np.random.default_rng(7)
+    corners = rng.normal(0.0, 10.0, (300, 3, 3))
+    for reach in (rng.uniform(0.0, 1.0, (300, 3)), rng.choice([0.0, MARGIN], (300, 3))):
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        want = grown_corners(corners, reach)
+        assert _same(ply_kernels.grown_corners(corners, reach), want)
