@@ -19,13 +19,19 @@ import numpy as np
 
 from elements.jit import jit_lanes, prange
 
-__all__ = ["edges_closest", "every_segment", "facets_at", "grown_corners"]
+__all__ = ["candidates_at", "edges_closest", "every_segment", "facets_at", "grown_corners"]
 
 
-def _facets_at(p, y, near, n, area2, gradients, gap, weights):
+def _facets_at(
+    p, y, near, outline, margin, tolerance, n, area2, gradients, gap, weights, reach, inside, past
+):
     """For each point p[i] (P, 3) and candidate t = near[i, k] (P, K) of the triangles with
     corners y (m, 3, 3): n[i, k] (3,), area2[i, k], gradients[i, k] (3, 3), gap[i, k] and
-    weights[i, k] (3,), as ``ply_projection.facets(p, y[near])`` writes them."""
+    weights[i, k] (3,), as ``ply_projection.facets(p, y[near])`` writes them, and as
+    ``ply_projection.closest_facing`` writes them from those: reach[i, k] (3,) (``margin``
+    past the edges ``outline[t]`` (m, 3) bool marks), inside[i, k] (the projection within
+    ``tolerance`` of the grown triangle) and past[i, k] (the projection's largest distance
+    past the grown triangle's edge lines, mm; NaN as numpy's max passes it)."""
     for i in prange(p.shape[0]):
         p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
         for k in range(near.shape[1]):
@@ -60,12 +66,52 @@ def _facets_at(p, y, near, n, area2, gradients, gap, weights):
             # numpy's einsum adds a sum of three products as (first + last) + middle
             w0 = (g[0, 0] * q0 + g[0, 2] * q2) + g[0, 1] * q1
             w1 = (g[1, 0] * r0 + g[1, 2] * r2) + g[1, 1] * r1
+            w2 = 1.0 - w0 - w1
             weights[i, k, 0] = w0
             weights[i, k, 1] = w1
-            weights[i, k, 2] = 1.0 - w0 - w1
+            weights[i, k, 2] = w2
+            held = True
+            farthest = 0.0
+            for e in range(3):
+                r = margin if outline[t, e] else 0.0
+                reach[i, k, e] = r
+                w = w0 if e == 0 else (w1 if e == 1 else w2)
+                if not w >= -r - tolerance:
+                    held = False
+                length = np.sqrt(g[e, 0] * g[e, 0] + g[e, 1] * g[e, 1] + g[e, 2] * g[e, 2])
+                beyond = -(w + r) / length
+                if e == 0 or beyond != beyond or (farthest == farthest and beyond > farthest):
+                    farthest = beyond  # numpy's max: the first NaN, else the largest
+            inside[i, k] = held
+            past[i, k] = farthest
 
 
 _facets_at_compiled = jit_lanes(_facets_at)
+
+
+def _planes(p, y, near, outline, margin, tolerance):
+    """``_facets_at``'s arrays, each new."""
+    count, k = near.shape
+    arrays = (
+        np.empty((count, k, 3)),
+        np.empty((count, k)),
+        np.empty((count, k, 3, 3)),
+        np.empty((count, k)),
+        np.empty((count, k, 3)),
+        np.empty((count, k, 3)),
+        np.empty((count, k), dtype=np.bool_),
+        np.empty((count, k)),
+    )
+    _facets_at_compiled(
+        np.ascontiguousarray(p, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
+        np.ascontiguousarray(near, dtype=np.int64),
+        np.ascontiguousarray(outline, dtype=np.bool_),
+        float(margin),
+        float(tolerance),
+        *arrays,
+    )
+    return arrays
 
 
 def facets_at(p: np.ndarray, y: np.ndarray, near: np.ndarray):
@@ -94,24 +140,29 @@ def facets_at(p: np.ndarray, y: np.ndarray, near: np.ndarray):
     weights : (P, K, 3) float
         The barycentric coordinates of the points' projections on the planes.
     """
-    count, k = near.shape
-    n, area2 = np.empty((count, k, 3)), np.empty((count, k))
-    gradients, gap, weights = (
-        np.empty((count, k, 3, 3)),
-        np.empty((count, k)),
-        np.empty((count, k, 3)),
+    return _planes(p, y, near, np.zeros((len(y), 3), dtype=bool), 0.0, 0.0)[:5]
+
+
+def candidates_at(
+    p: np.ndarray,
+    y: np.ndarray,
+    near: np.ndarray,
+    outline: np.ndarray | None,
+    margin: float,
+    tolerance: float,
+):
+    """``facets_at``'s n, gradients, gap and weights, with what ``closest_facing`` reads of
+    them first, in the same pass and with the same bits: reach (P, K, 3), ``margin`` past
+    the candidates' edges on the outline (``outline`` (m, 3) bool, the edge opposite corner
+    k; None: none), inside (P, K) bool, the projection within ``tolerance`` of the grown
+    triangle, and past (P, K), mm, the projection's largest distance past the grown
+    triangle's edge lines (negative inside)."""
+    if outline is None:
+        outline = np.zeros((len(y), 3), dtype=bool)
+    n, _, gradients, gap, weights, reach, inside, past = _planes(
+        p, y, near, outline, margin, tolerance
     )
-    _facets_at_compiled(
-        np.ascontiguousarray(p, dtype=float),
-        np.ascontiguousarray(y, dtype=float),
-        np.ascontiguousarray(near, dtype=np.int64),
-        n,
-        area2,
-        gradients,
-        gap,
-        weights,
-    )
-    return n, area2, gradients, gap, weights
+    return n, gradients, gap, weights, reach, inside, past
 
 
 def _edges_closest(p, corners, best):

@@ -620,12 +620,18 @@ def closest_facing(
         topology = FaceTopology.of(nodes, outline, edges)
     elif topology is not None and topology.outline is not outline:
         raise ValueError("closest_facing: the topology's outline must be the outline given")
-    if COMPILED:  # the same bits as the numpy reference (elements/ply_kernels.py)
-        n, _, gradients, gap, weights = ply_kernels.facets_at(p, y, near)
+    if COMPILED:  # the same bits as the numpy reference below (elements/ply_kernels.py)
+        n, gradients, gap, weights, reach, inside, past = ply_kernels.candidates_at(
+            p, y, near, outline, MARGIN, INSIDE
+        )
     else:
         n, _, gradients, gap, weights = facets(p, y[near])
-    reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
-    inside = (weights >= -reach - INSIDE).all(axis=-1)
+        reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
+        inside = (weights >= -reach - INSIDE).all(axis=-1)
+        # a lower bound of the distance to a triangle that does not hold the projection: its
+        # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to
+        # the farthest edge line it lies past
+        past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     held_grown = inside
     # a cut growth holds what each of its cuts keeps (measured at the cut candidates alone)
     cut_at = np.nonzero(cuts.cut[near]) if cuts is not None and cuts.any else None
@@ -638,10 +644,6 @@ def closest_facing(
     # triangle).
     distance = np.where(inside, np.abs(gap), np.inf)
     held = distance.min(axis=1)
-    # a lower bound of the distance to a triangle that does not hold the projection: its
-    # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to the
-    # farthest edge line it lies past
-    past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     if cut_at is not None and cuts is not None:  # and to the farthest cut it lies past
         # (read only where the candidate does not hold the projection)
         cut_out = tuple(index[~inside[cut_at]] for index in cut_at)

@@ -224,3 +224,27 @@ def test_the_compiled_grown_corners_are_numpy_s_to_the_bit(monkeypatch):
         monkeypatch.setattr(ply_projection, "COMPILED", False)
         want = grown_corners(corners, reach)
         assert _same(ply_kernels.grown_corners(corners, reach), want)
+
+
+def test_the_compiled_candidates_reach_inside_and_past_are_numpy_s_to_the_bit():
+    """``candidates_at`` against ``closest_facing``'s numpy reference expressions: the reach
+    past outline edges (a random third of them), the projection held by the grown triangle,
+    its distance past the farthest edge line; the premise, both held and not held."""
+    rng = np.random.default_rng(11)
+    y = rng.normal(0.0, 1.0, (60, 3, 3))
+    outline = rng.uniform(size=(60, 3)) < 1.0 / 3.0
+    p = rng.normal(0.0, 1.0, (200, 3))
+    near = rng.integers(0, len(y), (200, 6))
+    n, gradients, gap, weights, reach, inside, past = ply_kernels.candidates_at(
+        p, y, near, outline, MARGIN, ply_projection.INSIDE
+    )
+    n_, _, gradients_, gap_, weights_ = facets(p, y[near])
+    reach_ = np.where(outline[near], MARGIN, 0.0)
+    inside_ = (weights_ >= -reach_ - ply_projection.INSIDE).all(axis=-1)
+    past_ = np.max(-(weights_ + reach_) / np.linalg.norm(gradients_, axis=-1), axis=-1)
+    for got, want in zip(
+        (n, gradients, gap, weights, reach, inside, past),
+        (n_, gradients_, gap_, weights_, reach_, inside_, past_),
+    ):
+        assert _same(got, want)
+    assert inside.any() and not inside.all()
