@@ -336,8 +336,16 @@ def closest_on_grown(
     if lines is None or ends is None or not np.any(lines != 0.0):
         return q, np.zeros(count, dtype=bool), np.zeros((count, 2, 3)), np.zeros(count)
     rows = np.flatnonzero(np.any(lines != 0.0, axis=(1, 2)))
-    n, _, _, gap, weights = (a[:, 0] for a in facets(p[rows], corners[rows][:, None]))
+    if ply_projection.COMPILED:
+        planes = ply_kernels.facets_at(p[rows], corners[rows], np.arange(rows.size)[:, None])
+    else:
+        planes = facets(p[rows], corners[rows][:, None])
+    n, _, gradients, gap, weights = (a[:, 0] for a in planes)
     held = (weights >= -reach[rows] - INSIDE).all(axis=-1)
     q = q.copy()
     q[rows[held]] = p[rows[held]] - gap[held, None] * n[held]
-    return closest_on_cut(p, corners, q, lines, ends)
+    # the cut rows' gradients, which closest_on_cut reads (only there), taken from the planes
+    # (triangle_frames' to the bit) rather than computed again
+    every = np.zeros((count, 3, 3))
+    every[rows] = gradients
+    return closest_on_cut(p, corners, q, lines, ends, every)

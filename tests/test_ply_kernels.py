@@ -108,14 +108,9 @@ def test_the_facing_round_a_cut_outline_vertex_is_numpy_s_to_the_bit(monkeypatch
     assert min(seen.values()) > 0, seen
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_the_facing_of_points_round_strips_cut_at_both_ends_is_numpy_s_to_the_bit(
-    monkeypatch, seed
-):
-    """tests/test_ply_wedge.py's strips (0.3 mm high, jittered 0.2 mm out of plane: cut at
-    both ends of their outline triangles) and 400 points round them, every triangle a
-    candidate: the same facing to the bit, the premise some points past the cuts."""
-    rng = np.random.default_rng(seed)
+def _strip(rng):
+    """tests/test_ply_wedge.py's strip of 4 cells, 0.3 mm high, its nodes jittered 0.05 mm in
+    plane and 0.2 mm out of it: (nodes (m, 3), corners y (m, 3, 3), outline, cuts)."""
     cells, height = 4, 0.3
     plan = np.array(
         [(float(i), 0.0) for i in range(cells + 1)]
@@ -138,6 +133,19 @@ def test_the_facing_of_points_round_strips_cut_at_both_ends_is_numpy_s_to_the_bi
     y = points[nodes]
     outline = open_edges(nodes)
     cuts = WedgeCuts.of(y, nodes, outline, np.where(outline, MARGIN, 0.0))
+    return nodes, y, outline, cuts
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_facing_of_points_round_strips_cut_at_both_ends_is_numpy_s_to_the_bit(
+    monkeypatch, seed
+):
+    """tests/test_ply_wedge.py's strips (cut at both ends of their outline triangles) and 400
+    points round them, every triangle a candidate: the same facing to the bit, the premise
+    some points past the cuts."""
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, cuts = _strip(rng)
+    cells = 4
     assert cuts.any
     topology = FaceTopology.of(nodes, outline)
     p = rng.uniform([-1.0, -1.2, -0.6], [cells + 1.0, 0.9, 0.6], (400, 3))
@@ -248,3 +256,24 @@ def test_the_compiled_candidates_reach_inside_and_past_are_numpy_s_to_the_bit():
     ):
         assert _same(got, want)
     assert inside.any() and not inside.all()
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_search_s_closest_points_of_cut_growths_are_numpy_s_to_the_bit(monkeypatch, seed):
+    """``closest_on_grown`` (the facing search's distances, elements/ply_search.py) with the
+    compiled planes and edges against numpy's, every strip triangle against 100 points."""
+    from elements.ply_wedge import closest_on_grown
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    rows = np.repeat(np.arange(len(y)), 100)
+    p = y[rows].mean(axis=1) + rng.normal(0.0, 0.5, (len(rows), 3))
+    reach = np.where(outline, MARGIN, 0.0)
+
+    def closest():
+        return closest_on_grown(p, y[rows], reach[rows], cuts.lines[rows], cuts.ends[rows])
+
+    compiled, reference = _both(monkeypatch, closest)
+    for got, want in zip(compiled, reference):
+        assert _same(got, want)
+    assert reference[1].any()  # the premise: some closest points on a cut
