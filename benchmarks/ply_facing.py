@@ -14,16 +14,35 @@ Both alternate, best of ``--repeats``; the machine's load is printed.
     python benchmarks/ply_facing.py
 
 Where a step's time goes (the same stretch, fibrous [0/90], 8 cells, 1500 steps, one
-thread, load 9-10, main 5523c00, timed per function in CPU): 6.0 ms a step, of which the
+thread, each function's CPU summed; load 9-10, main 5523c00): 6.0 ms a step, of which the
 ply contact's facing 3.2 ms (53 %: the search's candidates 0.5, the candidates' planes
-0.55, the closest points on edges and cuts 0.35, the feature normals 0.3, the fade 0.65,
-the rest of ``closest_facing``'s numpy calls about 0.7), the ply contact's loads and
-friction 1.2 ms (20 %), the elements' forces and the tools' contact 0.3 ms (5 %), the
-rest (the step, the checks, the records) 1.3 ms.
+0.55, the closest points on edges and cuts 0.35, the feature normals' pseudonormals 0.3,
+the outline's fade 0.65, the rest of ``closest_facing``'s numpy calls about 0.7), the ply
+contact's loads and friction 1.2 ms (20 %), the elements' forces and the tools' contact
+0.3 ms (5 %), the rest (the step, the checks, the records) 1.3 ms. With the kernels (same
+stretch, load 6-7): the facing 49 % of the step, its planes and edges' closest points
+under 0.5 % (0.03 ms), the fade 8 %, the feature normals 5 %, the cuts 4 %, the rest of
+``closest_facing`` about 17 % (numpy calls on arrays of a few hundred rows); the loads and
+friction 22 %. plies-bai-5.1 at coarse (Static, 4 plies; cProfile, so Python calls
+over-counted): 79.6 s, of which the ply facing 42 s (53 %), its search re-listing the
+candidates after Newton's jumps 19.5 s (the cut growths' closest points 9.6 s of it), the
+ply tangent 17 s, the Mindlin tangent 6 s, the factorisations 4 s.
 
-Measured (load 9-10, 2 cores shared with other work; ms CPU): before this script, the
-faces (p, y) kept per state and numpy's cross product replaced by femcore.rotation's (the
-same bits): the step 6.6-6.8 -> 5.8-5.9 ms (main 5523c00 beside this tree, alternating).
+Measured (one thread, 2 cores shared with other work):
+
+* this script, fcd7db7, load 5.0-7.3: the facing 9.57 -> 7.20 ms a state (x 1.33), the step
+  5.84 -> 5.04 ms (x 1.16), numpy -> compiled (both sides with the faces kept per state and
+  femcore.rotation's cross product, not switched by the flag); at 605fbac, load 9.2-6.7:
+  11.03 -> 8.93 (x 1.23) and 6.20 -> 5.65 (x 1.10); at e5761d7 (the planes and the edges'
+  closest points alone), load 10-12: 11.31 -> 10.05 and 6.33 -> 5.47;
+* the step against main 5523c00 (the same stretch run from each tree, alternating, load
+  6.7-7.0): 7.02 / 7.52 ms (main) against 5.22 / 5.28 ms (fcd7db7), x 1.33-1.42;
+* the faces kept and the cross product alone (main beside e5761d7's parent, load 9-10):
+  6.6-6.8 -> 5.8-5.9 ms.
+
+The facing and the forces are the same to the bit on either side (tests/test_ply_kernels.py),
+and the whole hemisphere-plies case at coarse gave the same results.json numbers to the bit
+as main's (its times aside).
 """
 
 from __future__ import annotations

@@ -1,16 +1,24 @@
 """The ply contact's facing, compiled where it is one pass over small arrays: each point's
 candidate triangles' planes (``facets_at``: unit normal, twice the area, barycentric
-gradients, the point's gap and its projection's barycentric coordinates) and the closest
-points on grown triangles' edges (``edges_closest``), for elements/ply_projection.py's
-``closest_facing`` (docs/theory.md, the ply contact section: "Search").
+gradients, the point's gap and its projection's barycentric coordinates; ``candidates_at``
+with the reach past the outline, whether the grown triangle holds the projection and its
+distance past the farthest edge line), the grown triangles' corners (``grown_corners``), the
+closest points on their edges (``edges_closest``) and the outline's nearest edge measured pair
+by pair (``every_segment``), for elements/ply_projection.py's ``closest_facing`` and the
+facing search's distances (elements/ply_search.py, ply_wedge.py ``closest_on_grown``;
+docs/theory.md, the ply contact section).
 
-Their numpy references are ``ply_projection.facets`` and ``ply_projection.closest_on_edges``:
-the kernels do the same IEEE operations in the same order (numpy's cross product, its sums
-of three terms in numpy's order, no fused multiply-add: numba builds without fastmath), so
-they give the same numbers to the last bit, and so the same facing (tests/test_ply_kernels.py
-compares both on random fans with cuts, folded states and bent two-ply hemisphere blanks).
-Run one at a time on small arrays (a few hundred points of some five candidates), numpy
-spent most of the time in its per-call overhead (benchmarks/ply_facing.py).
+Their numpy references are ``ply_projection.facets``, ``closest_facing``'s own expressions,
+``ply_projection.grown_corners`` and ``closest_on_edges``, and ``ply_fade.every_segment``,
+taken with ``ply_projection.COMPILED = False``: the kernels do the same IEEE operations in
+the same order (numpy's cross product, its sums of three terms in numpy's order, no fused
+multiply-add: numba builds without fastmath), so they give the same numbers to the last bit,
+and so the same facing (tests/test_ply_kernels.py compares both on random triangles, the
+wedge test's fan folded at a cut outline vertex, strips cut at both ends and bent two-ply
+hemisphere blanks at 8 and 10 cells, both passes). Each loop is over independent points:
+the same bits on any thread count. Run one at a time on small arrays (a few hundred points
+of some five candidates), numpy spent most of the time in its per-call overhead
+(benchmarks/ply_facing.py).
 """
 
 from __future__ import annotations
