@@ -36,7 +36,7 @@ from elements.ply_wedge import WedgeCuts
 from femcore.assembly import CellTangent
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
-from femcore.rotation import cross_matrix
+from femcore.rotation import cross, cross_matrix
 from femcore.state import State
 
 __all__ = ["DOFS", "PENALTY_SHARE", "RULES", "PlyContactBlock"]
@@ -242,7 +242,7 @@ class PlyContactBlock(InteractionBlock):
         if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
             directions = ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
         else:
-            sides = np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
+            sides = cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
             flat = tri.ravel()
             summed = np.column_stack(
                 [np.bincount(flat, np.repeat(sides[:, k], 3), self.n_nodes) for k in range(3)]
@@ -258,7 +258,18 @@ class PlyContactBlock(InteractionBlock):
         return ply_surface.nodal_normals(state.positions, self._own_triangles, self.n_nodes)[0]
 
     def _faces(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm."""
+        """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm (read-only)."""
+        # a step asks for them four times at the same state (the search, the friction's
+        # return mapping and loads, the committed history): kept for the last positions and
+        # directors, compared by value as the facing is
+        kept = getattr(self, "_faces_at", None)
+        if (
+            kept is not None
+            and kept[0].shape == state.positions.shape
+            and np.array_equal(kept[0], state.positions)
+            and np.array_equal(kept[1], state.directors)
+        ):
+            return kept[2], kept[3]
         x, d = state.positions, self.offset_directions(state)
         corners = x[self.above] - self.upper_offset[..., None] * d[self.above]
         if self.curved:  # on the upper ply's own curved face (elements/ply_surface.py)
@@ -267,6 +278,9 @@ class PlyContactBlock(InteractionBlock):
         else:
             p = np.einsum("pj,pji->pi", self.shape, corners)
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
+        p.setflags(write=False)
+        y.setflags(write=False)
+        self._faces_at = (x.copy(), state.directors.copy(), p, y)
         return p, y
 
     def _candidates(self, state: State):
@@ -348,7 +362,7 @@ class PlyContactBlock(InteractionBlock):
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
         offset = self.lever * np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
         # p = sum N_j (x_j - a_j d_j), y_k = x_k + b_k d_k: dW/dpsi = c d x dW/dx.
-        moments = offset[:, :, None] * np.cross(d, forces)
+        moments = offset[:, :, None] * cross(d, forces)
         return nodes, forces, moments, on, offset, law
 
     def fade_ends(self, facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -376,7 +390,7 @@ class PlyContactBlock(InteractionBlock):
         nearest each touching point ``on`` (t,), their nodes (t, 2) and moments (t, 2, 3)."""
         nodes, offset = self.fade_ends(facing, on)
         forces = law[0][:, None, None] * _fade(facing, on)[1][:, 4:]
-        moments = offset[:, :, None] * np.cross(self.offset_directions(state)[nodes], forces)
+        moments = offset[:, :, None] * cross(self.offset_directions(state)[nodes], forces)
         return nodes, forces, moments
 
     def _frictional(self, history: Any) -> bool:

@@ -18,7 +18,7 @@ import numpy as np
 from elements import ply_surface
 from elements.ply_projection import triangle_frames
 from femcore.assembly import CellTangent
-from femcore.rotation import cross_matrix
+from femcore.rotation import cross, cross_matrix
 from femcore.state import State
 
 if TYPE_CHECKING:
@@ -151,7 +151,7 @@ def friction_loads(
         lower = -history.anchor[on][:, :, None] * force[:, None, :]
     forces = np.concatenate([block.shape[on][:, :, None] * force[:, None, :], lower], axis=1)
     offset = block.lever * np.column_stack([-block.upper_offset[on], block.corner_offset[tri]])
-    moments = offset[:, :, None] * np.cross(block.offset_directions(state)[nodes], forces)
+    moments = offset[:, :, None] * cross(block.offset_directions(state)[nodes], forces)
     return nodes, forces, moments
 
 

@@ -210,14 +210,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elements import ply_kernels
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts, closest_on_cut, cut_keeps, cut_overshoot
+from femcore.rotation import cross
 
 if TYPE_CHECKING:  # ply_fade imports this module
     from elements.ply_fade import OutlineTree
 
 __all__ = [
+    "COMPILED",
     "INSIDE",
     "MARGIN",
     "Facing",
@@ -239,6 +242,11 @@ MARGIN = 0.5
 #: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
 #: a point right above a vertex or an edge).
 INSIDE = 1e-9
+#: Whether ``closest_facing`` takes its candidates' planes, edges' closest points and the
+#: outline's nearest edges (pair by pair) from the compiled kernels (elements/ply_kernels.py:
+#: the same bits), or from numpy (``facets``, ``closest_on_edges``, ply_fade.py's
+#: ``nearest_segments``: their reference, kept for the tests and the benchmarks).
+COMPILED = True
 
 
 def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
@@ -337,11 +345,11 @@ def triangle_frames(corners: np.ndarray):
     """Unit normals (..., 3), twice the areas (...,) and the barycentric gradients
     (..., 3, 3) of triangles with corners (..., 3, 3)."""
     y1, y2, y3 = corners[..., 0, :], corners[..., 1, :], corners[..., 2, :]
-    c = np.cross(y2 - y1, y3 - y1)
+    c = cross(y2 - y1, y3 - y1)
     area2 = np.linalg.norm(c, axis=-1)
     n = c / area2[..., None]
     edges = np.stack([y3 - y2, y1 - y3, y2 - y1], axis=-2)  # opposite corner k, cyclic
-    gradients = np.cross(n[..., None, :], edges) / area2[..., None, None]
+    gradients = cross(n[..., None, :], edges) / area2[..., None, None]
     return n, area2, gradients
 
 
@@ -413,7 +421,10 @@ def closest_on_edges(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
 
 def grown_corners(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
     """Corners (..., 3, 3) of triangles grown by ``reach`` (..., 3) barycentric units past the
-    edges opposite each corner: corner i of the grown one at lambda_j = -reach_j (j != i)."""
+    edges opposite each corner: corner i of the grown one at lambda_j = -reach_j (j != i).
+    Compiled (``COMPILED``, the same bits) for (m, 3, 3) corners."""
+    if COMPILED and corners.ndim == 3 and reach.shape == corners.shape[:2]:
+        return ply_kernels.grown_corners(corners, reach)
     grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[..., None, None] - reach[..., None, :]
     return np.einsum("...ij,...jc->...ic", grow, corners)
 
@@ -455,7 +466,7 @@ def _unit_normals_and_angles(corners: np.ndarray):
     n = triangle_frames(corners)[0]
     u = np.roll(corners, -1, axis=1) - corners  # from corner k to corner k + 1
     v = np.roll(corners, -2, axis=1) - corners  # to corner k + 2
-    angles = np.arctan2(np.linalg.norm(np.cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
+    angles = np.arctan2(np.linalg.norm(cross(u, v), axis=-1), np.einsum("mki,mki->mk", u, v))
     return n, angles
 
 
@@ -609,9 +620,18 @@ def closest_facing(
         topology = FaceTopology.of(nodes, outline, edges)
     elif topology is not None and topology.outline is not outline:
         raise ValueError("closest_facing: the topology's outline must be the outline given")
-    n, _, gradients, gap, weights = facets(p, y[near])
-    reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
-    inside = (weights >= -reach - INSIDE).all(axis=-1)
+    if COMPILED:  # the same bits as the numpy reference below (elements/ply_kernels.py)
+        n, gradients, gap, weights, reach, inside, past = ply_kernels.candidates_at(
+            p, y, near, outline, MARGIN, INSIDE
+        )
+    else:
+        n, _, gradients, gap, weights = facets(p, y[near])
+        reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
+        inside = (weights >= -reach - INSIDE).all(axis=-1)
+        # a lower bound of the distance to a triangle that does not hold the projection: its
+        # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to
+        # the farthest edge line it lies past
+        past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     held_grown = inside
     # a cut growth holds what each of its cuts keeps (measured at the cut candidates alone)
     cut_at = np.nonzero(cuts.cut[near]) if cuts is not None and cuts.any else None
@@ -624,10 +644,6 @@ def closest_facing(
     # triangle).
     distance = np.where(inside, np.abs(gap), np.inf)
     held = distance.min(axis=1)
-    # a lower bound of the distance to a triangle that does not hold the projection: its
-    # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to the
-    # farthest edge line it lies past
-    past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
     if cut_at is not None and cuts is not None:  # and to the farthest cut it lies past
         # (read only where the candidate does not hold the projection)
         cut_out = tuple(index[~inside[cut_at]] for index in cut_at)
@@ -637,7 +653,7 @@ def closest_facing(
         )
     outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
     corners = grown_corners(y[near[outside]], reach[outside])
-    q = closest_on_edges(p[outside[0]], corners)
+    q = (ply_kernels.edges_closest if COMPILED else closest_on_edges)(p[outside[0]], corners)
     on_cut, segment, along = np.zeros(len(q), dtype=bool), np.zeros((len(q), 2, 3)), None
     if cut_at is not None and cuts is not None:  # the cut growth's closest point
         projected = p[outside[0]] - gap[outside][:, None] * n[outside]
@@ -707,7 +723,13 @@ def closest_facing(
     # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
     # outline, faded"): a point whose closest point lies there, off the face's sides, signed
     # by the facing triangle's normal
-    from elements.ply_fade import fade_length, nearest_segments, outline_fade, outline_segments
+    from elements.ply_fade import (
+        EVERY_PAIR,
+        fade_length,
+        nearest_segments,
+        outline_fade,
+        outline_segments,
+    )
 
     on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
     on_growth |= at_rim
@@ -732,7 +754,10 @@ def closest_facing(
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
+        if COMPILED and near_outline.size * len(starts) <= EVERY_PAIR:  # every pair measured
+            fade_edge[near_outline] = ply_kernels.every_segment(p[near_outline], starts, ends)
+        else:
+            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
         chosen = fade_edge[near_outline]
         fade[near_outline], fade_gradient[near_outline] = outline_fade(
             p[near_outline],

@@ -326,15 +326,26 @@ def closest_on_grown(
     (c, 3, 3; None: no cut), where the plane's projection of p lies outside the cut growth.
     Without a cut, the grown triangle's closest point on its edges
     (elements/ply_projection.py ``closest_on_edges``), bit for bit."""
+    from elements import ply_kernels, ply_projection
     from elements.ply_projection import INSIDE, closest_on_edges, facets, grown_corners
 
-    q = closest_on_edges(p, grown_corners(corners, reach))
+    # compiled, the same bits (elements/ply_kernels.py)
+    edges = ply_kernels.edges_closest if ply_projection.COMPILED else closest_on_edges
+    q = edges(p, grown_corners(corners, reach))
     count = len(p)
     if lines is None or ends is None or not np.any(lines != 0.0):
         return q, np.zeros(count, dtype=bool), np.zeros((count, 2, 3)), np.zeros(count)
     rows = np.flatnonzero(np.any(lines != 0.0, axis=(1, 2)))
-    n, _, _, gap, weights = (a[:, 0] for a in facets(p[rows], corners[rows][:, None]))
+    if ply_projection.COMPILED:
+        planes = ply_kernels.facets_at(p[rows], corners[rows], np.arange(rows.size)[:, None])
+    else:
+        planes = facets(p[rows], corners[rows][:, None])
+    n, _, gradients, gap, weights = (a[:, 0] for a in planes)
     held = (weights >= -reach[rows] - INSIDE).all(axis=-1)
     q = q.copy()
     q[rows[held]] = p[rows[held]] - gap[held, None] * n[held]
-    return closest_on_cut(p, corners, q, lines, ends)
+    # the cut rows' gradients, which closest_on_cut reads (only there), taken from the planes
+    # (triangle_frames' to the bit) rather than computed again
+    every = np.zeros((count, 3, 3))
+    every[rows] = gradients
+    return closest_on_cut(p, corners, q, lines, ends, every)

@@ -1,0 +1,279 @@
+"""The ply contact's facing compiled (elements/ply_kernels.py) gives its numpy reference's
+numbers to the last bit.
+
+Reference: ``ply_projection.facets`` and ``ply_projection.closest_on_edges`` (numpy), and
+``closest_facing`` with ``ply_projection.COMPILED = False``. The kernels do the same IEEE
+operations in the same order, so the comparison is exact (no tolerance): the same facing
+triangles, gaps, normals, projections, fades and forces, on random triangles, on a fan
+folded at an outline vertex of three triangles whose growths are cut (tests/
+test_ply_wedge.py's path round the vertex, bound folded and bound flat), on strips cut at
+both ends with points all round, and on bent states of the two-ply hemisphere blank at 8 and
+10 cells (both passes).
+"""
+
+import numpy as np
+import pytest
+from test_ply_wedge import _fan
+
+from elements import ply_kernels, ply_projection
+from elements.ply_block import PlyContactBlock
+from elements.ply_projection import (
+    MARGIN,
+    closest_facing,
+    closest_on_edges,
+    facets,
+    grown_corners,
+    open_edges,
+)
+from elements.ply_topology import FaceTopology
+from elements.ply_wedge import WedgeCuts
+from femcore.state import State
+
+
+def _same(a, b) -> bool:
+    """Equal to the bit wherever both are arrays (None where both are None)."""
+    if a is None or b is None:
+        return a is None and b is None
+    return a.shape == b.shape and a.dtype == b.dtype and np.array_equal(a, b)
+
+
+def _facings_equal(compiled, reference) -> list[str]:
+    """The names of the Facing fields that differ."""
+    return [
+        name
+        for name, value in vars(reference).items()
+        if isinstance(value, np.ndarray) and not _same(getattr(compiled, name), value)
+    ]
+
+
+@pytest.mark.parametrize("shape", [(1, 1), (7, 3), (64, 5), (333, 8)])
+def test_the_compiled_planes_are_numpy_s_to_the_bit(shape):
+    """``facets_at(p, y, near)`` against ``facets(p, y[near])`` over random triangles (some
+    thin: one corner 1e-3 of the side off the others' line) and points 0.01-100 mm off."""
+    rng = np.random.default_rng(shape[0])
+    count, k = shape
+    y = rng.normal(0.0, 1.0, (40, 3, 3))
+    y[::5, 2] = 0.5 * (y[::5, 0] + y[::5, 1]) + rng.normal(0.0, 1e-3, (8, 3))
+    p = rng.normal(0.0, 1.0, (count, 3)) * 10.0 ** rng.uniform(-2, 2, (count, 1))
+    near = rng.integers(0, len(y), shape)
+    for got, want in zip(ply_kernels.facets_at(p, y, near), facets(p, y[near])):
+        assert _same(got, want)
+
+
+def test_the_compiled_edges_closest_points_are_numpy_s_to_the_bit():
+    """``edges_closest`` against ``closest_on_edges`` on triangles grown past their edges by
+    0-0.5 (as ``closest_facing`` grows its outline candidates) and points all round them."""
+    rng = np.random.default_rng(3)
+    corners = rng.normal(0.0, 1.0, (500, 3, 3))
+    grown = grown_corners(corners, rng.choice([0.0, MARGIN], (500, 3)))
+    p = grown.mean(axis=1) + rng.normal(0.0, 2.0, (500, 3))
+    assert _same(ply_kernels.edges_closest(p, grown), closest_on_edges(p, grown))
+
+
+def _both(monkeypatch, call):
+    """``call()`` with the compiled kernels and with numpy's: (compiled, reference)."""
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    compiled = call()
+    monkeypatch.setattr(ply_projection, "COMPILED", False)
+    return compiled, call()
+
+
+@pytest.mark.parametrize("flat_at_bind", [False, True], ids=["folded at bind", "flat at bind"])
+def test_the_facing_round_a_cut_outline_vertex_is_numpy_s_to_the_bit(monkeypatch, flat_at_bind):
+    """Along the wedge test's path round a folded outline vertex of three triangles (cut
+    growths, fades, edges' and vertices' pseudonormals, touching and not): every Facing
+    field, the force and the energy of the compiled facing equal numpy's; the premise, the
+    path crosses edges, a cut and the outline's fade."""
+    block, positions, directors, _ = _fan(flat_at_bind)
+    assert block.cuts.any
+    zero = np.zeros_like(positions[0])
+    seen = {"edge": 0, "cut or rim": 0, "faded": 0}
+    for x in positions[::5]:
+        state = State(x, directors, zero, zero)
+
+        def facing_and_force(state=state):
+            block._facing_at = None
+            facing = block.facing(state, second=True)
+            return facing, block.internal_force(state), block.strain_energy(state)
+
+        (compiled, force, energy), (reference, force_ref, energy_ref) = _both(
+            monkeypatch, facing_and_force
+        )
+        assert _facings_equal(compiled, reference) == []
+        assert _same(force[0], force_ref[0]) and _same(force[1], force_ref[1])
+        assert energy == energy_ref
+        seen["edge"] += int((reference.weights.min(axis=1) < -1e-9).sum())
+        seen["cut or rim"] += int(reference.on_growth.sum())
+        seen["faded"] += int((reference.fade < 1.0).sum())
+    assert min(seen.values()) > 0, seen
+
+
+def _strip(rng):
+    """tests/test_ply_wedge.py's strip of 4 cells, 0.3 mm high, its nodes jittered 0.05 mm in
+    plane and 0.2 mm out of it: (nodes (m, 3), corners y (m, 3, 3), outline, cuts)."""
+    cells, height = 4, 0.3
+    plan = np.array(
+        [(float(i), 0.0) for i in range(cells + 1)]
+        + [(0.5 * j, -height) for j in range(2 * cells + 1)]
+    )
+    points = np.column_stack(
+        [plan + rng.normal(0.0, 0.05, plan.shape), rng.normal(0.0, 0.2, len(plan))]
+    )
+    below = cells + 1
+    nodes = [(i, below + 2 * i + 1, i + 1) for i in range(cells)]
+    for i in range(cells + 1):
+        if i > 0:
+            nodes.append((i, below + 2 * i - 1, below + 2 * i))
+        if i < cells:
+            nodes.append((i, below + 2 * i, below + 2 * i + 1))
+    nodes = np.array(nodes)
+    y = points[nodes]
+    flipped = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])[:, 2] < 0.0
+    nodes[flipped] = nodes[flipped][:, [0, 2, 1]]
+    y = points[nodes]
+    outline = open_edges(nodes)
+    cuts = WedgeCuts.of(y, nodes, outline, np.where(outline, MARGIN, 0.0))
+    return nodes, y, outline, cuts
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_facing_of_points_round_strips_cut_at_both_ends_is_numpy_s_to_the_bit(
+    monkeypatch, seed
+):
+    """tests/test_ply_wedge.py's strips (cut at both ends of their outline triangles) and 400
+    points round them, every triangle a candidate: the same facing to the bit, the premise
+    some points past the cuts."""
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, cuts = _strip(rng)
+    cells = 4
+    assert cuts.any
+    topology = FaceTopology.of(nodes, outline)
+    p = rng.uniform([-1.0, -1.2, -0.6], [cells + 1.0, 0.9, 0.6], (400, 3))
+    near = np.tile(np.arange(len(nodes)), (len(p), 1))
+    toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
+
+    def facing():
+        return closest_facing(
+            p, y, near, 0.0, outline, True, depth=0.2, toward=toward, topology=topology, cuts=cuts
+        )
+
+    compiled, reference = _both(monkeypatch, facing)
+    assert _facings_equal(compiled, reference) == []
+    assert reference.on_growth.any() and (reference.fade < 1.0).any()
+
+
+def _bent(compiled, seed: int, depth: float) -> State:
+    """The blank pressed ``depth`` mm (times (1 - r / 60 mm)^1.5) into a bowl about its pole,
+    jittered 2e-3 mm, its directors tilted about 0.01 rad."""
+    x0 = compiled.mesh.points
+    n = len(x0)
+    rng = np.random.default_rng(seed)
+    radius = np.linalg.norm(x0[:, :2], axis=1)
+    x = x0 + rng.normal(0.0, 2e-3, x0.shape)
+    x[:, 2] -= depth * np.maximum(0.0, 1.0 - radius / 60.0) ** 1.5
+    d = np.tile([0.0, 0.0, 1.0], (n, 1)) + rng.normal(0.0, 0.01, (n, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    return State(x, d, np.zeros((n, 3)), np.zeros((n, 3)))
+
+
+@pytest.mark.parametrize("cells", [8, 10])
+def test_the_bent_two_ply_hemisphere_s_facing_and_forces_are_numpy_s_to_the_bit(monkeypatch, cells):
+    """The two-ply Mindlin [0/90] hemisphere blank (validation/studies/
+    hemisphere_plies_setup.py) bent 0-20 mm and jittered, both passes with friction's
+    history: the same facing and the same forces and moments to the bit."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(cells, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    assert len(blocks) == 2
+    touching = 0
+    for seed, depth in enumerate((0.0, 5.0, 20.0)):
+        state = _bent(compiled_model, seed, depth)
+        for block in blocks:
+            history = block.initial_history()
+
+            def facing_and_force(block=block, state=state, history=history):
+                block._facing_at = None
+                block._faces_at = None
+                return block.facing(state), block.internal_force(state, history)
+
+            (compiled, force), (reference, force_ref) = _both(monkeypatch, facing_and_force)
+            assert _facings_equal(compiled, reference) == []
+            assert _same(force[0], force_ref[0]) and _same(force[1], force_ref[1])
+            touching += int(reference.touching.sum())
+    assert touching > 0
+
+
+def test_the_compiled_nearest_outline_edges_are_numpy_s():
+    """``ply_kernels.every_segment`` against ``ply_fade.every_segment``: 300 points among 40
+    random segments, some of them repeated (ties to the lowest index) and one point NaN
+    (numpy's argmin: the first NaN distance)."""
+    from elements.ply_fade import every_segment
+
+    rng = np.random.default_rng(5)
+    starts = rng.normal(0.0, 1.0, (40, 3))
+    ends = starts + rng.normal(0.0, 0.3, (40, 3))
+    starts[20:30], ends[20:30] = starts[0:10], ends[0:10]
+    ends[5] = starts[5]  # a segment of no length
+    p = rng.normal(0.0, 1.2, (300, 3))
+    p[7, 1] = np.nan
+    got = ply_kernels.every_segment(p, starts, ends)
+    assert np.array_equal(got, every_segment(p, starts, ends))
+    assert ply_kernels.every_segment(p[:0], starts, ends).shape == (0,)
+
+
+def test_the_compiled_grown_corners_are_numpy_s_to_the_bit(monkeypatch):
+    """``ply_kernels.grown_corners`` against ``grown_corners``'s numpy reference (``COMPILED``
+    off) over random triangles grown by random reaches in [0, 1) and by 0 or ``MARGIN``."""
+    rng = np.random.default_rng(7)
+    corners = rng.normal(0.0, 10.0, (300, 3, 3))
+    for reach in (rng.uniform(0.0, 1.0, (300, 3)), rng.choice([0.0, MARGIN], (300, 3))):
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        want = grown_corners(corners, reach)
+        assert _same(ply_kernels.grown_corners(corners, reach), want)
+
+
+def test_the_compiled_candidates_reach_inside_and_past_are_numpy_s_to_the_bit():
+    """``candidates_at`` against ``closest_facing``'s numpy reference expressions: the reach
+    past outline edges (a random third of them), the projection held by the grown triangle,
+    its distance past the farthest edge line; the premise, both held and not held."""
+    rng = np.random.default_rng(11)
+    y = rng.normal(0.0, 1.0, (60, 3, 3))
+    outline = rng.uniform(size=(60, 3)) < 1.0 / 3.0
+    p = rng.normal(0.0, 1.0, (200, 3))
+    near = rng.integers(0, len(y), (200, 6))
+    n, gradients, gap, weights, reach, inside, past = ply_kernels.candidates_at(
+        p, y, near, outline, MARGIN, ply_projection.INSIDE
+    )
+    n_, _, gradients_, gap_, weights_ = facets(p, y[near])
+    reach_ = np.where(outline[near], MARGIN, 0.0)
+    inside_ = (weights_ >= -reach_ - ply_projection.INSIDE).all(axis=-1)
+    past_ = np.max(-(weights_ + reach_) / np.linalg.norm(gradients_, axis=-1), axis=-1)
+    for got, want in zip(
+        (n, gradients, gap, weights, reach, inside, past),
+        (n_, gradients_, gap_, weights_, reach_, inside_, past_),
+    ):
+        assert _same(got, want)
+    assert inside.any() and not inside.all()
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_search_s_closest_points_of_cut_growths_are_numpy_s_to_the_bit(monkeypatch, seed):
+    """``closest_on_grown`` (the facing search's distances, elements/ply_search.py) with the
+    compiled planes and edges against numpy's, every strip triangle against 100 points."""
+    from elements.ply_wedge import closest_on_grown
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    rows = np.repeat(np.arange(len(y)), 100)
+    p = y[rows].mean(axis=1) + rng.normal(0.0, 0.5, (len(rows), 3))
+    reach = np.where(outline, MARGIN, 0.0)
+
+    def closest():
+        return closest_on_grown(p, y[rows], reach[rows], cuts.lines[rows], cuts.ends[rows])
+
+    compiled, reference = _both(monkeypatch, closest)
+    for got, want in zip(compiled, reference):
+        assert _same(got, want)
+    assert reference[1].any()  # the premise: some closest points on a cut
