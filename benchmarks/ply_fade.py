@@ -42,7 +42,7 @@ import time
 
 import numpy as np
 
-from elements import ply_fade
+from elements import ply_fade, ply_projection
 from elements.ply_block import PlyContactBlock
 from femcore.state import State
 from validation.studies import hemisphere_plies_setup as setup
@@ -50,7 +50,8 @@ from validation.studies import hemisphere_plies_setup as setup
 REPEATS = 200
 
 
-def _unfaded(p, corners, reach, beside, ends, length):
+def _unfaded(p, corners, reach, beside, ends, length, *cuts_and_joins):
+    """outline_fade's signature (its optional joins and cuts ignored), no fade: w = 1."""
     return np.ones(len(p)), np.zeros((len(p), 6, 3))
 
 
@@ -122,7 +123,10 @@ def main(cells: int = 10) -> None:
     points = sum(len(b.above) for b in blocks)
     for name, total in totals.items():
         print(f"{name}: {1e3 * total / REPEATS:.3f} ms per step's searches ({points} points)")
-    # the nearest edge by the tree and by every edge, the same searches
+    # the nearest edge by the tree and by every edge, the same searches, on the numpy path
+    # (with ply_projection.COMPILED few pairs go to ply_kernels.every_segment, not through
+    # nearest_segments)
+    ply_projection.COMPILED = False
     tree = ply_fade.nearest_segments
     sizes = []
 
@@ -141,6 +145,7 @@ def main(cells: int = 10) -> None:
         "every edge (as it was)": lambda p, starts, ends, kept=None: every_segment(p, starts, ends),
     }
     totals = _alternated(blocks, state, "nearest_segments", searches)
+    ply_projection.COMPILED = True
     print("nearest edge, (points, edges) per search:", sizes)
     for name, total in totals.items():
         print(f"nearest edge by {name}: {1e3 * total / REPEATS:.3f} ms a step's searches")
