@@ -52,6 +52,8 @@ Newton iterations (per increment), cuts, CPU ("fails": the 1st increment, in 8 c
     on top, (*), penalty 10     fails, 0.5 s | 33 [11, 4, 3 x 6], no cut, 0.3 s
     sag 4 plies, pulled 2 plies, layup holder, deck 2 plies, heavy stack 4 plies: 23, 13, 6,
     130 (1 cut), 237 (2 cuts) iterations | the same, the final positions the same to the bit
+    bai-5.1 4 plies, coarse (ply_fade_hessian's ``_bai``, not in the run below: 24 s a pass):
+    358 iterations, 6 cuts, 21.8 s | the same to the bit, 20.5 s
 (*) benchmarks/ply_fade_hessian.py's settings: 8 increments, seek_stable=False, 100 iterations.
 The overhang's tip hangs 0.090 mm below the upper ply's plane (lowest z 0.410246 mm), its
 deepest point 7.8e-5 mm into the lower ply's face (5.5e-4 mm with penalty 10), within 8.9e-16
