@@ -20,10 +20,14 @@ Each Newton iteration:
   far or the total potential energy (by the Armijo fraction of the first-order decrease of the
   step that left the best iterate; the energy is evaluated only when the residual does not show
   the decrease). Otherwise the iteration goes back to the best iterate and backtracks along its
-  Newton step (halving, down to 1/64) until one of the two falls; when none does, the line
-  search says no and the increment is cut. Full steps first because the first iterations of a
-  large rotation climb the energy on the way (the straight update stretches the membrane) and
-  still reach the equilibrium in a few steps, where a monotone line search would crawl.
+  Newton step (halving, down to 1/64; from the increment's first iterate in a model with
+  interactions, or the first after its contact sets changed, down to 1e-9,
+  ``SMALLEST_FIRST_STEP``: a contact the first tangent does not hold, plies laid on each other
+  under a smoothed penalty, lets the step run into it by the ratio of the penalty to the
+  structure's stiffness) until one of the two falls; when none does, the line search says no
+  and the increment is cut. Full steps first because the first iterations of a large rotation
+  climb the energy on the way (the straight update stretches the membrane) and still reach the
+  equilibrium in a few steps, where a monotone line search would crawl.
 
 Curved steps (``Static(curved=True)``, the default; solvers.newton_curvature): a step on a
 definite tangent gets the second-order term of its path, so that the straight update no
@@ -90,6 +94,7 @@ __all__ = [
     "ARMIJO",
     "COMPRESSION_FREE",
     "MAX_ROTATION",
+    "SMALLEST_FIRST_STEP",
     "SMALLEST_STEP",
     "WATCHDOG",
     "IncrementFailed",
@@ -110,6 +115,12 @@ __all__ = [
 ARMIJO = 1e-4
 SMALLEST_STEP = 1.0 / 64.0
 WATCHDOG = 4
+# The smallest line-search step back from an increment's first iterate in a model with
+# interactions (``Watchdog._backtrack``): there the tangent may hold no stiffness of a contact
+# the step runs into (a smoothed penalty has none at g = 0, where plies are laid on each
+# other), and the step is then longer than the contact lets it go by the ratio of the
+# penalty to the structure's stiffness, 1e4-1e6 and more, which no 1/64 reaches.
+SMALLEST_FIRST_STEP = 1e-9
 # How many times an increment may find its contact sets wrong at convergence and solve again
 # with new ones; then it goes on with the unilateral law itself (a semi-smooth Newton), which
 # settles the nodes whose contact force is near zero (the lift-off of a wrapped strip), where
@@ -639,6 +650,8 @@ class Watchdog:
         self.best: dict | None = None  # the best iterate and its Newton step
         self.work = 0.0  # dead-load work along the updates since the best iterate
         self.misses = 0
+        # the first iterate's step goes back as far as SMALLEST_FIRST_STEP with interactions
+        self.deepest = SMALLEST_FIRST_STEP if run.model.interactions else SMALLEST_STEP
 
     def step(
         self,
@@ -654,6 +667,7 @@ class Watchdog:
         ``straight``: the Newton step itself when delta is its curved form
         (solvers.newton_curvature); the Armijo slope and the backtracking use it."""
         cap = step_cap(self.run.model, delta) if self.enabled else 1.0
+        deepest, self.deepest = self.deepest, SMALLEST_STEP
         if not self.enabled or whole:
             self.best = None  # the imposed motion starts a new search
             return self._take(state, frames, delta, cap)
@@ -666,6 +680,7 @@ class Watchdog:
             "residual": float(np.linalg.norm(r.ravel()[self.free])),
             "slope": -float(r.ravel()[self.free] @ line.ravel()[self.free]),  # dPi/ds
             "energy": None,
+            "deepest": deepest,  # the smallest step back to this iterate's backtracking
         }
         if self.best is None or self._better(here):
             self.best, self.misses, self.work = here, 0, 0.0
@@ -707,13 +722,14 @@ class Watchdog:
 
     def _backtrack(self):
         """Back to the best iterate, then halve its Newton step until the residual or the
-        energy falls (Armijo); IncrementFailed when none does down to SMALLEST_STEP."""
+        energy falls (Armijo); IncrementFailed when none does down to SMALLEST_STEP (to
+        SMALLEST_FIRST_STEP from the first iterate of a model with interactions)."""
         best = self.best
         assert best is not None
         state, frames, delta = best["state"], best["frames"], best["delta"]
         load_rate = float(self.equilibrium.load(frames).ravel() @ delta.ravel())
         scale = 0.5 * best["cap"]
-        while scale >= SMALLEST_STEP * best["cap"]:
+        while scale >= best["deepest"] * best["cap"]:
             trial = self.run.model.dofs.advance(state, scale * delta, frames)
             r, ratio, forces = self.equilibrium.residual(trial, frames)
             if np.isfinite(ratio):

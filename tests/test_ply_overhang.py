@@ -1,0 +1,105 @@
+"""A ply laid on a ply held whole, clamped at one edge and pressed on it by its weight, solved
+by Static at its default settings with the automatic penalty: wholly on the lower ply, and
+overhanging its outline.
+
+The plies start laid on each other (g = 0), where the smoothed penalty has no stiffness; the
+first Newton step sees no contact and drops the upper ply through the lower one by its free
+sag (2.5 mm at the full load, 5 ply thicknesses, 1e5 times the equilibrium's penetration),
+and the line search's backtracking, which stopped at 1/64 of the step, failed the first
+increment in 8 cuts on both models. From an increment's first iterate in a model with
+interactions it now goes back as far as 1e-9 of the step (solvers/newton.py,
+``SMALLEST_FIRST_STEP``; benchmarks/ply_overhang.py has the figures)."""
+
+import numpy as np
+import pytest
+
+from elements import RigidPlane
+from elements.plies import mindlin_ply
+from elements.ply_contact import SMOOTHING, join_neighbours
+from femcore import Mesh, Model
+from materials import Fabric
+from solvers import DynamicRelaxation, Static
+
+# A ply soft in bending (0.05 N mm): its free 10 mm cantilever sags 2.5 mm under its
+# weight; the automatic penalty (100-600 N/mm per node) is some 1e4 times its bending
+# stiffness per node.
+PLY = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=0.05)
+HALF = 0.5 * PLY.thickness
+# The smoothed penalty's ramp, mm: a pressed contact penetrates up to delta / 2 further than
+# the plain penalty does, so the plies' faces are defined to about delta.
+DELTA = SMOOTHING * 2.0 * HALF
+
+
+def _upper(shift: float) -> np.ndarray:
+    """The upper ply's nodes, 10 x 10 mm on 6 x 6 cells, its mid-surface at z = 0.5 (laid
+    on the lower ply's upper face, z = 0.25), clamped at its edge of largest y."""
+    return Mesh.rectangle(10.0, 10.0, nx=6, ny=6).points + [2.5, shift, 2.0 * HALF]
+
+
+def _two_plies(shift: float) -> tuple[Model, np.ndarray]:
+    """The upper ply on a lower ply (20 x 20 mm, 4 x 4 cells, mid-surface z = 0) held
+    whole; ``shift`` mm places the upper ply's edge of least y (-4: 4 mm past the lower
+    ply's outline edge y = 0). Returns the model and the upper ply's node ids."""
+    lower = Mesh.rectangle(20.0, 20.0, nx=4, ny=4)
+    upper = Mesh.rectangle(10.0, 10.0, nx=6, ny=6)
+    up = _upper(shift)
+    first, cells = len(lower.points), len(lower.triangles)
+    points = np.vstack([lower.points, up])
+    mesh = Mesh(
+        points,
+        triangles=np.vstack([lower.triangles, upper.triangles + first]),
+        node_sets={"ply_1": np.arange(first), "ply_2": np.arange(first, len(points))},
+        element_sets={
+            "ply_1": np.arange(cells),
+            "ply_2": cells + np.arange(len(upper.triangles)),
+        },
+    )
+    model = Model(mesh)
+    model.add(mindlin_ply(PLY), cells="ply_1")
+    model.add(mindlin_ply(PLY), cells="ply_2")
+    join_neighbours(model, 2, HALF)  # the automatic penalty
+    model.fix(np.arange(first))
+    model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
+    model.gravity((0.0, 0.0, -9810.0))
+    return model, first + np.arange(len(up))
+
+
+def test_a_ply_laid_on_a_ply_held_whole_rests_as_on_a_rigid_flat():
+    """Wholly on the lower ply: Static's defaults converge, and the upper ply rests where
+    its twin rests on a rigid plane at the lower ply's upper face (RigidPlane, node-to-plane
+    penalty contact, an independent contact code): every node within delta (5e-4 mm, the
+    smoothed penalty's own definition of the face) of the twin's. Measured: 3.5e-5 mm (both
+    lie flat, the weight carried at penetrations of 3e-5 mm and less), in 39 Newton
+    iterations (11 in the first increment). Static failed the first increment before (8
+    cuts, the line search)."""
+    model, upper = _two_plies(5.0)
+    result = Static(progress=False).solve(model)
+    assert result.converged and result.info["cuts"] == 0
+
+    up = _upper(5.0)
+    twin = Model(Mesh(up, triangles=Mesh.rectangle(10.0, 10.0, nx=6, ny=6).triangles))
+    twin.add(mindlin_ply(PLY))
+    twin.contact(RigidPlane((0.0, 0.0, HALF), (0.0, 0.0, 1.0)))
+    twin.fix(np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
+    twin.gravity((0.0, 0.0, -9810.0))
+    rested = Static(progress=False).solve(twin)
+    assert rested.converged
+    assert np.abs(result.positions[upper] - rested.positions).max() <= DELTA
+
+
+@pytest.mark.slow
+def test_a_ply_overhanging_the_outline_of_a_ply_held_whole():
+    """4 mm past the lower ply's outline edge, the overhang droops over it: Static's defaults
+    converge (measured 17 Newton iterations in the first increment, 4 in the nine others,
+    no cut) to the equilibrium dynamic relaxation finds on the same model (an independent
+    solver, no tangent, stopped at a residual ratio of 1e-4): the upper ply's nodes within
+    1e-3 of the tip's droop (9e-5 mm; measured 1.1e-5 mm, 1.2e-4 of the droop 0.090 mm).
+    Static failed the first increment before (8 cuts, the line search)."""
+    model, upper = _two_plies(-4.0)
+    result = Static(progress=False).solve(model)
+    assert result.converged and result.info["cuts"] == 0
+    relaxed = DynamicRelaxation(progress=False).solve(_two_plies(-4.0)[0])
+    assert relaxed.converged
+    droop = 2.0 * HALF - relaxed.positions[upper, 2].min()
+    assert droop > 0.05  # it hangs over the edge
+    assert np.abs(result.positions[upper] - relaxed.positions[upper]).max() <= 1e-3 * droop
