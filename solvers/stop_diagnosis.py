@@ -123,11 +123,21 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
 
 def stop_hint(model: Any, positions: np.ndarray | None, path: str) -> str:
     """The end of a stopped static solve's message after its reason: "; " and the crease
-    cycles of ``describe_cycles`` when there are some, else ". " and the generic hint of a
-    limit point or buckling for the solver's ``path`` ("load" or "arc_length")."""
+    cycles of ``describe_cycles`` when there are some, else ". " and the contacts' hint on a
+    model with interactions, else the generic hint of a limit point or buckling for the
+    solver's ``path`` ("load" or "arc_length")."""
     cause = describe_cycles(model, positions)
     if cause:
         return f"; {cause}"
+    if getattr(model, "interactions", None):
+        # A contact closing, opening or sliding inside an increment stops Newton more often
+        # than a limit point does, and a path along a limit point (arc length) does not help
+        # there; smaller increments meet the contact's events one at a time.
+        return (
+            ". The model has contacts: one that closes, opens or slides within an increment "
+            "can stop Newton; try more increments, or DynamicRelaxation (path='arc_length' "
+            "follows a limit point or buckling, not a contact's events)"
+        )
     remedy = (
         "try path='arc_length' to follow a limit point"
         if path == "load"
