@@ -21,6 +21,44 @@ constant: the fade w_e = S(1 - d / D) is 0 beyond D = FADE h_l past the outline,
 growths' reach MARGIN h_l = 0.5 h_l (elements/ply_projection.py), so D bounds the support's
 reach past the edge and MARGIN has no effect while FADE < MARGIN.
 
+Measured (one thread, CPU of a solve 0.4-31 s, load 5.6-8.5 on 2 cores), tip z (the closed
+form 0.3780 at L = 4 mm) and L_e - 4 mm, L_e the overhang whose closed-form droop is the tip's
+(> 0: the support ends behind the edge); lowest z is within 0.006 of the tip's:
+
+    table (node-to-surface), upper cells 6 | 12 | 22 | 24 | 32 | 36 | 42
+        tip z 0.2245 | 0.3552 | 0.3650 | 0.3549 | 0.3686 | 0.3547 | 0.3705
+        L_e - L +0.904 | +0.175 | +0.103 | +0.178 | +0.075 | +0.179 | +0.061
+        (its last node behind the edge 1.0 | 1/6 | 1/11 | 1/6 | 1/16 | 1/6 | 1/21 mm)
+    ply contact, centroids (the default), tip z (L_e - L), lower cells 4 | 8 | 16 | 32:
+        upper 6    0.4117 (-0.310) | 0.4117 (-0.310) | 0.4117 (-0.310) | 0.3460 (+0.240)
+        upper 12   0.4230 (-0.434) | 0.3959 (-0.155) | 0.3958 (-0.155) | 0.3225 (+0.394)
+        upper 24   0.4307 (-0.527) | 0.3909 (-0.110) | 0.3909 (-0.110) | 0.3745 (+0.028)
+        upper 36   0.4335 (-0.563) | 0.4093 (-0.286) | 0.3791 (-0.009) | 0.3791 (-0.009)
+      support's end past the edge, upper 36: 0.572 mm (w 0.14), 0.293 (w 0.12), 0.015, 0.015
+      (D = 0.75, 0.375, 0.19, 0.094 mm); upper 24: 0.525, 0.108, 0.108, -0.032.
+      lower 32 | 64, upper 12: 0.3225 | 0.3225; 22: 0.3855 (-0.063) | 0.3462 (+0.239);
+      32: 0.3821 (-0.034) | 0.3822 (-0.034); 42: 0.3806 (-0.021) | see below
+    ply contact at the nodes, lower 4 | 8 | 16 | 32 (| 64):
+        upper 6    0.4405 (-0.657, the node row 0.665 mm past held, w 0.036) | 0.2234 | 0.2234
+                   | 0.2235 (the table's 0.2245: the last node 1.0 mm behind)
+        upper 12   0.4400 (-0.651, w 0.036) | 0.3546 | 0.3546 | 0.3546 | 0.3547 (table 0.3552)
+        upper 22, 32, 42 on 32 lower cells: 0.3645, 0.3682, 0.3700 (tables 0.3650, 0.3686,
+        0.3705)
+    FADE (lower 4, upper 12; D = 5 FADE mm) 0.05 | 0.15 | 0.3 | 0.45:
+        centroids  0.3958 (-0.155) | 0.4230 (-0.434) | 0.4738 (-1.277) | 0.4938 (-2.104)
+        nodes      0.3546 (+0.179) | 0.4400 (-0.651) | 0.4516 (-0.826) | 0.4807 (-1.478)
+    MARGIN 0.5 | 0.3 | 0.2 (lower 4, upper 12, centroids): the same bits.
+
+Read: the ply contact's support ends at its last point within D = FADE h_l past the outline
+edge (the growths' reach MARGIN h_l plays no part while FADE < MARGIN), held there even at w
+of a few hundredths by the stiff automatic penalty; on a fine upper ply at about 0.75 D past
+(0.563 of 0.75, 0.286 of 0.375 mm). The table's twin ends at the last node before the edge.
+At the coarse mesh (6 upper cells, tip z 0.412 against 0.2245) the difference is the contact
+points' places, a centroid 0.11 mm past the edge against a node 1.0 mm behind it; with the
+ply contact's points at the nodes and no node within D, the two twins agree to 1e-3 mm.
+Both converge to the closed form at first order in the cells; the table's 0.355 at 12, 24
+and 36 cells is its node 1/6 mm behind the edge on all three, not a converged answer.
+
 Run: python benchmarks/ply_margin.py [quick | refined]
 """
 
