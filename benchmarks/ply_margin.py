@@ -37,17 +37,22 @@ form 0.3780 at L = 4 mm) and L_e - 4 mm, L_e the overhang whose closed-form droo
       support's end past the edge, upper 36: 0.572 mm (w 0.14), 0.293 (w 0.12), 0.015, 0.015
       (D = 0.75, 0.375, 0.19, 0.094 mm); upper 24: 0.525, 0.108, 0.108, -0.032.
       lower 32 | 64, upper 12: 0.3225 | 0.3225; 22: 0.3855 (-0.063) | 0.3462 (+0.239);
-      32: 0.3821 (-0.034) | 0.3822 (-0.034); 42: 0.3806 (-0.021) | see below
+      32: 0.3821 (-0.034) | 0.3822 (-0.034); 42: 0.3806 (-0.021) | 0.3806 (-0.021)
     ply contact at the nodes, lower 4 | 8 | 16 | 32 (| 64):
         upper 6    0.4405 (-0.657, the node row 0.665 mm past held, w 0.036) | 0.2234 | 0.2234
                    | 0.2235 (the table's 0.2245: the last node 1.0 mm behind)
         upper 12   0.4400 (-0.651, w 0.036) | 0.3546 | 0.3546 | 0.3546 | 0.3547 (table 0.3552)
-        upper 22, 32, 42 on 32 lower cells: 0.3645, 0.3682, 0.3700 (tables 0.3650, 0.3686,
-        0.3705)
+        upper 22, 32, 42 on 32 (and 64) lower cells: 0.3645, 0.3682, 0.3700 (tables 0.3650,
+        0.3686, 0.3705)
     FADE (lower 4, upper 12; D = 5 FADE mm) 0.05 | 0.15 | 0.3 | 0.45:
         centroids  0.3958 (-0.155) | 0.4230 (-0.434) | 0.4738 (-1.277) | 0.4938 (-2.104)
         nodes      0.3546 (+0.179) | 0.4400 (-0.651) | 0.4516 (-0.826) | 0.4807 (-1.478)
     MARGIN 0.5 | 0.3 | 0.2 (lower 4, upper 12, centroids): the same bits.
+    with the mirrored pass at the lower ply's nodes (lower, upper cells): (4, 6), (8, 6)
+        0.4117 (-0.310) as without it; (32, 6) 0.4022 (-0.215; without 0.3460); (8, 12),
+        (16, 12) 0.3959, 0.3958 (-0.155) as without; (32, 12), (64, 12) 0.3824 (-0.036;
+        without 0.3225), the support's end the lower ply's edge node; (32, 22) 0.3856 (-0.063)
+        and (32, 32) 0.3821 (-0.034) as without (a centroid within D past the edge).
 
 Read: the ply contact's support ends at its last point within D = FADE h_l past the outline
 edge (the growths' reach MARGIN h_l plays no part while FADE < MARGIN), held there even at w
@@ -57,7 +62,10 @@ At the coarse mesh (6 upper cells, tip z 0.412 against 0.2245) the difference is
 points' places, a centroid 0.11 mm past the edge against a node 1.0 mm behind it; with the
 ply contact's points at the nodes and no node within D, the two twins agree to 1e-3 mm.
 Both converge to the closed form at first order in the cells; the table's 0.355 at 12, 24
-and 36 cells is its node 1/6 mm behind the edge on all three, not a converged answer.
+and 36 cells is its node 1/6 mm behind the edge on all three, not a converged answer. With
+the mirrored pass at the lower ply's nodes, its outline node on the edge holds the upper ply
+there: the support's end lies between the edge and D past it, whatever the upper points'
+places, and its error is D's alone (first order in the lower cell).
 
 Run: python benchmarks/ply_margin.py [quick | refined]
 """
@@ -112,8 +120,11 @@ def _figures(positions: np.ndarray, up: np.ndarray) -> tuple[float, float]:
     return float(positions[:, 2].min()), float(positions[tip, 2])
 
 
-def on_ply(lower_cells: int, upper_cells: int, rule: str = "centroid") -> dict:
-    """The upper ply on the lower ply held whole (ply contact)."""
+def on_ply(
+    lower_cells: int, upper_cells: int, rule: str = "centroid", lower_rule: str | None = None
+) -> dict:
+    """The upper ply on the lower ply held whole (ply contact), with the mirrored pass
+    (``points="lower"``, its points at the lower ply's ``lower_rule``) when given."""
     lower = Mesh.rectangle(20.0, 20.0, nx=lower_cells, ny=lower_cells)
     up, triangles = _upper(upper_cells)
     first, cells = len(lower.points), len(lower.triangles)
@@ -127,7 +138,7 @@ def on_ply(lower_cells: int, upper_cells: int, rule: str = "centroid") -> dict:
     model = Model(mesh)
     model.add(mindlin_ply(PLY), cells="ply_1")
     model.add(mindlin_ply(PLY), cells="ply_2")
-    join_neighbours(model, 2, HALF, rule=rule)
+    join_neighbours(model, 2, HALF, lower_rule, rule=rule)
     model.fix(np.arange(first))
     _finish(model, up, first)
     compiled = model.compile()
@@ -135,18 +146,22 @@ def on_ply(lower_cells: int, upper_cells: int, rule: str = "centroid") -> dict:
     state = replace(
         compiled.initial_state(), positions=result.positions, directors=result.directors
     )
-    facing = compiled.interactions[0].facing(state)
-    fade = np.ones(len(facing.gap)) if facing.fade is None else facing.fade
-    carrying = facing.touching & (facing.gap < 0.0) & (fade > 0.0)
+    ys, ws = [], []
+    for block in compiled.interactions:  # the ply contact, and its mirrored pass if asked
+        facing = block.facing(state)
+        fade = np.ones(len(facing.gap)) if facing.fade is None else facing.fade
+        carrying = facing.touching & (facing.gap < 0.0) & (fade > 0.0)
+        ys.append(facing.face[carrying, 1])
+        ws.append(fade[carrying])
     lowest, tip = _figures(result.positions[first:], up)
-    y = facing.face[carrying, 1]
+    y, w = np.concatenate(ys), np.concatenate(ws)
     last = int(np.argmin(y))
     return {
         "result": result,
         "lowest": lowest,
         "tip": tip,
         "past": -float(y[last]),
-        "w": float(fade[carrying][last]),
+        "w": float(w[last]),
         "height": 20.0 / lower_cells,
     }
 
@@ -206,6 +221,13 @@ def refined() -> None:
     print(f"load after {os.getloadavg()[0]:.1f}", flush=True)
 
 
+def mirrored() -> None:
+    """The ply contact with its mirrored pass, points at the lower ply's nodes (its outline
+    nodes on the edge itself hold the upper ply there)."""
+    for m, n in ((4, 6), (8, 6), (32, 6), (8, 12), (16, 12), (32, 12), (64, 12), (32, 22)):
+        _print(f"ply + mirrored, lower {m}, up {n}", on_ply, m, n, "centroid", "nodes")
+
+
 def margins() -> None:
     """The growths' reach MARGIN (elements/ply_projection.py, imported by name by the modules
     that use it) at 0.5, 0.3 and 0.2 of the outline heights, lower 4, upper 12."""
@@ -247,6 +269,7 @@ def main(quick: bool = False) -> None:
             _print(f"ply {rule}, FADE {fade}, lower 4, up 12", on_ply, 4, 12, rule)
     ply_fade.FADE = kept
     margins()
+    mirrored()
     print(f"load after {os.getloadavg()[0]:.1f}", flush=True)
 
 
