@@ -5,8 +5,8 @@ The model (tests/test_ply_overhang.py): an upper Mindlin ply (10 x 10 mm on 12 x
 0.5 mm, bending D = 0.05 N mm per unit width, q = 9.81e-5 N/mm^2) clamped at its edge of
 largest y, L = 4 mm past the lower ply's outline edge y = 0, under gravity, solved by Static
 at its defaults with the automatic penalty; the ply contact's points at the upper ply's nodes
-(``rule="nodes"``, the node-to-surface of the rigid table's contact). The upper ply's node
-rows nearest the edge lie 0.667 mm past it and 0.167 mm behind it.
+(``rule="nodes"``, the node-to-surface of the rigid table's contact) but in the last test.
+The upper ply's node rows nearest the edge lie 0.667 mm past it and 0.167 mm behind it.
 
 Reference: the heavy strip resting on a rigid flat and pivoting on its edge (Euler-Bernoulli,
 derived in tests/test_table_contact.py): the tip droops (1/8 + sqrt(2)/12) q L^4 / D below
@@ -20,11 +20,14 @@ so a point up to D_f past the edge still touches, held by the stiff automatic pe
 where w is small. On 4 x 4 lower cells (h_l = 5 mm, D_f = 0.75 mm) the node row 0.667 mm past
 the edge is held (w = 0.036); on 8 x 8 (D_f = 0.375 mm) no node lies in the band, and the ply
 rests as on the rigid table (RigidSurface, the independent node-to-surface contact of
-elements/contact.py). benchmarks/ply_margin.py has the study (both rules, the twins as either
-ply is refined, the fade's length varied).
+elements/contact.py). With the mirrored pass at the lower ply's nodes (the last test, the upper
+ply's points at its centroids), the lower ply's outline nodes hold the upper ply at the edge
+itself. benchmarks/ply_margin.py has the study (both rules, the twins as either ply is
+refined, the fade's length and the growths' reach varied, the mirrored pass).
 """
 
 import numpy as np
+import pytest
 
 from elements import RigidSurface
 from elements.plies import mindlin_ply
@@ -57,9 +60,12 @@ def _tip(positions: np.ndarray, up: np.ndarray) -> float:
     return 2.0 * HALF - positions[free[np.argmin(np.abs(up[free, 0] - 7.5))], 2]
 
 
-def _on_ply(lower_cells: int) -> tuple[np.ndarray, np.ndarray]:
+def _on_ply(
+    lower_cells: int, rule: str = "nodes", lower_rule: str | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """The upper ply's final positions on the lower ply (20 x 20 mm on ``lower_cells``
-    squared cells, held whole), and its reference nodes."""
+    squared cells, held whole), and its reference nodes; the ply contact's points at the upper
+    ply's ``rule``, with the mirrored pass at the lower ply's ``lower_rule`` if given."""
     lower = Mesh.rectangle(20.0, 20.0, nx=lower_cells, ny=lower_cells)
     up, triangles = _upper()
     first, cells = len(lower.points), len(lower.triangles)
@@ -73,7 +79,7 @@ def _on_ply(lower_cells: int) -> tuple[np.ndarray, np.ndarray]:
     model = Model(mesh)
     model.add(mindlin_ply(PLY), cells="ply_1")
     model.add(mindlin_ply(PLY), cells="ply_2")
-    join_neighbours(model, 2, HALF, rule="nodes")
+    join_neighbours(model, 2, HALF, lower_rule, rule=rule)
     model.fix(np.arange(first))
     model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
     model.gravity((0.0, 0.0, -9810.0))
@@ -124,3 +130,19 @@ def test_the_fade_holds_a_ply_up_to_its_length_past_the_outline():
     tip = _tip(on_ply, up)
     fade = 0.15 * 5.0  # D_f: FADE times the outline triangles' height, mm
     assert droop(OVERHANG - fade) < tip < droop(OVERHANG - 0.5 * fade)
+
+
+@pytest.mark.slow
+def test_the_mirrored_pass_holds_a_ply_at_the_outline_edge_itself():
+    """The ply contact at the upper ply's centroids with its mirrored pass at the lower ply's
+    nodes, lower ply on 32 x 32 cells (D_f = 0.094 mm; no upper centroid within it past the
+    edge): the lower ply's outline nodes, on the edge itself, hold the upper ply there, and it
+    droops as the strip whose support ends between the edge and D_f past it, within 1 % (the
+    table's twin's distance from its own closed form at these cells, 0.8 %): measured 0.1176
+    mm, between 0.1109 (D_f past) and 0.1220 (the edge). Without the mirrored pass the
+    support ends at the last centroid before the edge, 0.449 mm behind, and the tip droops
+    0.1775 mm (benchmarks/ply_margin.py)."""
+    on_ply, up = _on_ply(32, "centroid", "nodes")
+    tip = _tip(on_ply, up)
+    fade = 0.15 * 20.0 / 32  # D_f, mm
+    assert 0.99 * droop(OVERHANG - fade) < tip < 1.01 * droop(OVERHANG)
