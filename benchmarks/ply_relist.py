@@ -1,0 +1,119 @@
+"""Cost of the ply contact's re-listing in a Static solve (elements/ply_search.py): the
+report's plies-bai-5.1 at coarse (validation/cases/plies_bai_5_1.py: the 4-ply strip of 12
+cells, 10 increments) solved with the search as it was (its pairs from k-d trees at every
+search, every cut triangle's distance to its cut growth measured) and as it is (a search of
+few points over a small face measures every centroid's distance in one matrix,
+``EVERY_PAIR``; a cut triangle whose grown distance is already past U + s is not measured
+to its cut growth), side by side in one process, alternating, one thread, CPU time
+(``time.process_time``), the machine's load printed. The final positions and directors are
+compared to the bit, and the Newton iterations.
+
+Why the search runs so often: the Newton iterates move the plies by more than the lists'
+skin. Measured on this solve: 7074 calls of ``FacingSearch.near`` over the three contacts,
+2785 of them a full search (48 points each, a new epoch) and 3 a partial one; the
+triangles' move M at the call, over the skin s, has quartiles 0 / 0.068 / 0.59, and 1937
+of the calls had M > s / 2, past which no list can serve (2 delta >= 2 M >= s): those
+searches are forced by the bound, so the search itself was made cheaper rather than rarer.
+Of the 2.9 s CPU the searches took then (of 19.4 s for the case's three solves, one thread,
+load 5-6), 1.2 s were the distances to the cut growths (``closest_on_grown``, numpy) and
+0.6 s the k-d trees' pairs.
+
+Measured (one thread, two rounds, the machine's 1-minute load 4.7-5.2, other jobs on the 2
+cores), CPU s:
+
+| round | solve before | solve now | search before | search now |
+|---|---|---|---|---|
+| 0 | 17.52 | 16.98 | 2.85 | 1.53 |
+| 1 | 19.92 | 17.28 | 3.34 | 1.59 |
+
+358 Newton iterations on both; the final positions and directors the same to the bit. The
+report's case (``python -m validation --cases plies-bai-5.1 --resolution coarse --jobs 1``)
+wrote the same results.json (but its times) and the same three .vtu files, byte for byte.
+
+Run: python benchmarks/ply_relist.py [--repeat 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere
+
+from elements import ply_search  # noqa: E402
+from fibreshell.plies import plies_solver, ply_stack, stack_model  # noqa: E402
+from fibreshell.run import solve_keeping  # noqa: E402
+from validation import ground_truth  # noqa: E402
+from validation.cases import plies_bai_5_1 as bai  # noqa: E402
+
+_DISTANCES = ply_search.FacingSearch._distances
+_EVERY_PAIR = ply_search.EVERY_PAIR
+
+
+def _as_before(self, x, y, corners, point, triangle, beyond=None):
+    """The search's distances as before: every cut pair measured to its cut growth."""
+    return _DISTANCES(self, x, y, corners, point, triangle)
+
+
+def _use(before: bool) -> None:
+    ply_search.FacingSearch._distances = _as_before if before else _DISTANCES  # type: ignore[method-assign]
+    ply_search.EVERY_PAIR = 0 if before else _EVERY_PAIR
+
+
+def _solve(resolution: str):
+    """The plies' solve of plies-bai-5.1 at ``resolution``: (result, CPU s, search CPU s)."""
+    solver = {**bai.PLIES_SOLVER, "increments": bai.PLIES_INCREMENTS[resolution]}
+    case = ground_truth._case(bai.FILE, bai.CELLS[resolution], {"solver": solver})
+    stack = ply_stack(case, bai.PLIES[resolution])
+    model = stack_model(case, stack)
+    search = ply_search.FacingSearch._search
+    spent = [0.0]
+
+    def timed(self, p, y, rows):
+        start = time.process_time()
+        try:
+            return search(self, p, y, rows)
+        finally:
+            spent[0] += time.process_time() - start
+
+    ply_search.FacingSearch._search = timed  # type: ignore[method-assign]
+    try:
+        start = time.process_time()
+        result, error, _ = solve_keeping(plies_solver(case, False), model)
+        total = time.process_time() - start
+    finally:
+        ply_search.FacingSearch._search = search  # type: ignore[method-assign]
+    assert not error, error
+    return result, total, spent[0]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--resolution", default="coarse")
+    args = parser.parse_args()
+    print("load", os.getloadavg())
+    finals = {}
+    for round_ in range(args.repeat):
+        for name in ("before", "now"):
+            _use(name == "before")
+            result, total, search = _solve(args.resolution)
+            final = result.frames[-1]
+            finals[name] = (final.positions, final.directors, result.steps)
+            print(
+                f"  round {round_} {name:>6}: solve {total:6.2f} s CPU, search {search:5.2f} s, "
+                f"steps {result.steps}, load {os.getloadavg()[0]:.1f}"
+            )
+        _use(False)
+    same = all(np.array_equal(a, b) for a, b in zip(finals["before"][:2], finals["now"][:2]))
+    print(f"final positions and directors the same to the bit: {same}")
+    print("load", os.getloadavg())
+
+
+if __name__ == "__main__":
+    main()
