@@ -55,7 +55,7 @@ _DISTANCES = ply_search.FacingSearch._distances
 _EVERY_PAIR = ply_search.EVERY_PAIR
 
 
-def _as_before(self, x, y, corners, point, triangle, beyond=None):
+def _as_before(self, x, y, corners, point, triangle, beyond=None, grown=None):
     """The search's distances as before: every cut pair measured to its cut growth."""
     return _DISTANCES(self, x, y, corners, point, triangle)
 

@@ -175,15 +175,16 @@ class FacingSearch:
         edges = np.linalg.norm(y - np.roll(y, 1, axis=1), axis=-1)
         return cls(np.where(outline, MARGIN, 0.0), SKIN * float(edges.mean()), cuts)
 
-    def _distances(self, x, y, corners, point, triangle, beyond=None) -> np.ndarray:
+    def _distances(self, x, y, corners, point, triangle, beyond=None, grown=None) -> np.ndarray:
         """``pair_distances`` to the grown triangles, to the cut growth where a triangle has
         a cut (elements/ply_wedge.py: P inside T, so the spheres still bound it). ``beyond``
         (c,) mm, None: every pair measured; else a pair whose grown distance exceeds it keeps
-        that distance, a lower bound of its cut growth's (P inside T), unmeasured."""
-        distance = pair_distances(x, corners, point, triangle)
+        that distance, a lower bound of its cut growth's (P inside T), unmeasured. ``grown``
+        (c,) mm: the pairs' ``pair_distances`` where the caller has them (None: measured)."""
+        distance = pair_distances(x, corners, point, triangle) if grown is None else grown.copy()
         if self.cuts is None:
             return distance
-        cut = np.any(self.cuts.lines[triangle] != 0.0, axis=(1, 2))
+        cut = self._cut(triangle)
         if beyond is not None:
             cut &= ~(distance > beyond)
         cut = np.flatnonzero(cut)
@@ -198,6 +199,12 @@ class FacingSearch:
             )[0]
             distance[cut] = np.linalg.norm(x[point[cut]] - q, axis=1)
         return distance
+
+    def _cut(self, triangle: np.ndarray) -> np.ndarray:
+        """(c,) bool: the triangles ``triangle`` (c,) whose growth has a cut."""
+        if self.cuts is None:
+            return np.zeros(len(triangle), dtype=bool)
+        return np.any(self.cuts.lines[triangle] != 0.0, axis=(1, 2))
 
     def near(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
         """(P, K) int: each point's candidates (rows of y), holding its nearest grown triangle
@@ -265,11 +272,17 @@ class FacingSearch:
             # most Newton iterates): one matrix of the centroids' distances costs less than
             # the trees' set-up
             apart = np.linalg.norm(here[:, None, :] - centroids[None], axis=-1)
-            nearest = np.argmin(apart, axis=1)
-            upper = self._distances(here, y, corners, np.arange(len(rows)), nearest)
-            # the spheres' test below decides; this one, a rounding looser, only gathers
-            slack = (upper + self.skin) * (1.0 + 1e-9) + 1e-9 * self.skin
+            # the nearest centroid's distance bounds d* above (a centroid lies on its
+            # triangle, which every cut keeps): the pairs within its spheres' bound, a
+            # rounding looser (the spheres' test below decides), are measured to the grown
+            # triangles in one compiled pass, and the least to an uncut one bounds d* closer
+            loose = apart.min(axis=1)
+            slack = (loose + self.skin) * (1.0 + 1e-9) + 1e-9 * self.skin
             point, triangle = np.nonzero(apart - radius[None] <= slack[:, None])
+            grown = pair_distances(here, corners, point, triangle)
+            exact = ~self._cut(triangle)
+            upper = loose.copy()
+            np.minimum.at(upper, point[exact], grown[exact])
         else:
             tree = cKDTree(centroids)
             nearest = np.asarray(tree.query(here, k=1)[1], dtype=np.int64)
@@ -285,6 +298,7 @@ class FacingSearch:
             ]
             point = np.concatenate([pair[0] for pair in pairs])
             triangle = np.concatenate([pair[1] for pair in pairs])
+            grown = None
         # the bounding spheres first: a triangle further than U + s cannot be within d* + s
         ahead = np.linalg.norm(here[point] - centroids[triangle], axis=1) - radius[triangle]
         reach = upper[point] + self.skin
@@ -292,7 +306,9 @@ class FacingSearch:
         point, triangle, reach = point[keep], triangle[keep], reach[keep]
         # a cut triangle whose grown distance (a lower bound of its cut growth's) is past
         # U + s >= d* + s is dropped below whatever its cut distance, and leaves d* as it is
-        distance = self._distances(here, y, corners, point, triangle, beyond=reach)
+        distance = self._distances(
+            here, y, corners, point, triangle, reach, None if grown is None else grown[keep]
+        )
         least = np.full(len(rows), np.inf)
         np.minimum.at(least, point, distance)
         keep = distance <= least[point] + self.skin

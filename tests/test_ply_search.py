@@ -183,7 +183,7 @@ def _search_as_before(search: FacingSearch, p: np.ndarray, y: np.ndarray, measur
     ``measured``)."""
     distances = FacingSearch._distances
 
-    def every_cut(self, x, y, corners, point, triangle, beyond=None):
+    def every_cut(self, x, y, corners, point, triangle, beyond=None, grown=None):
         return distances(self, x, y, corners, point, triangle)
 
     with pytest.MonkeyPatch.context() as patch:
