@@ -24,6 +24,14 @@ about p over a k-d tree of the centroids gives every triangle that can be within
 the rest measured exactly (Ericson's closest point on the grown triangle) and kept where
 dist(p, T) <= d* + s. The list holds the nearest and every near tie: the brute force's
 answer, bit for bit (the candidates' arithmetic does not depend on which others are listed).
+A cut triangle (elements/ply_wedge.py) is measured to its cut growth, which lies inside its
+grown triangle: where the grown distance is already past U + s >= d* + s, the cut one is too,
+so that triangle is dropped, and leaves d* as it is, unmeasured (the cut growth's closest
+point is numpy, the costliest part of a small search). A few points over a small face
+(points times triangles within ``EVERY_PAIR``: a Static solve's plies, searched again after
+most Newton iterates, benchmarks/ply_relist.py) take the nearest centroid and the pairs within
+the spheres' bound from one matrix of the centroids' distances rather than from k-d trees,
+whose set-up costs more there: the same lists (tests/test_ply_search.py).
 
 Kept between calls (a Verlet list of skin s). The distance to a set is 1-Lipschitz in the
 point; a point of the grown triangle at barycentric coordinates lambda moves by
@@ -73,6 +81,9 @@ REBUILD_SHARE = 0.5
 EPOCH_SHARE = 0.125
 #: The share of the skin that the bound 2 delta < s keeps for rounding.
 ROUNDING = 1e-3
+#: Points times triangles up to which a search measures every centroid's distance in one
+#: matrix rather than through k-d trees (the same lists: tests/test_ply_search.py).
+EVERY_PAIR = 16384
 
 
 def grown_distance(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
@@ -164,13 +175,19 @@ class FacingSearch:
         edges = np.linalg.norm(y - np.roll(y, 1, axis=1), axis=-1)
         return cls(np.where(outline, MARGIN, 0.0), SKIN * float(edges.mean()), cuts)
 
-    def _distances(self, x, y, corners, point, triangle) -> np.ndarray:
+    def _distances(self, x, y, corners, point, triangle, beyond=None, grown=None) -> np.ndarray:
         """``pair_distances`` to the grown triangles, to the cut growth where a triangle has
-        a cut (elements/ply_wedge.py: P inside T, so the spheres still bound it)."""
-        distance = pair_distances(x, corners, point, triangle)
+        a cut (elements/ply_wedge.py: P inside T, so the spheres still bound it). ``beyond``
+        (c,) mm, None: every pair measured; else a pair whose grown distance exceeds it keeps
+        that distance, a lower bound of its cut growth's (P inside T), unmeasured. ``grown``
+        (c,) mm: the pairs' ``pair_distances`` where the caller has them (None: measured)."""
+        distance = pair_distances(x, corners, point, triangle) if grown is None else grown.copy()
         if self.cuts is None:
             return distance
-        cut = np.flatnonzero(np.any(self.cuts.lines[triangle] != 0.0, axis=(1, 2)))
+        cut = self._cut(triangle)
+        if beyond is not None:
+            cut &= ~(distance > beyond)
+        cut = np.flatnonzero(cut)
         if cut.size:
             rows = triangle[cut]
             q = closest_on_grown(
@@ -182,6 +199,12 @@ class FacingSearch:
             )[0]
             distance[cut] = np.linalg.norm(x[point[cut]] - q, axis=1)
         return distance
+
+    def _cut(self, triangle: np.ndarray) -> np.ndarray:
+        """(c,) bool: the triangles ``triangle`` (c,) whose growth has a cut."""
+        if self.cuts is None:
+            return np.zeros(len(triangle), dtype=bool)
+        return np.any(self.cuts.lines[triangle] != 0.0, axis=(1, 2))
 
     def near(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
         """(P, K) int: each point's candidates (rows of y), holding its nearest grown triangle
@@ -244,25 +267,48 @@ class FacingSearch:
         corners = grown_corners(y, self.reach)
         centroids = y.mean(axis=1)  # on the triangle, inside the grown one
         radius = np.sqrt(np.max(np.sum((corners - centroids[:, None]) ** 2, axis=-1), axis=1))
-        tree = cKDTree(centroids)
-        nearest = np.asarray(tree.query(here, k=1)[1], dtype=np.int64)
-        # >= the least distance d*
-        upper = self._distances(here, y, corners, np.arange(len(rows)), nearest)
-        # the inner triangles and the grown ones (larger spheres) queried apart, each with
-        # its own largest radius: a ball query of the grown ones' radius over every triangle
-        # would hand each point three times the pairs
-        pairs = [
-            _ball_pairs(centroids[group], here, upper + self.skin + radius[group].max(), group)
-            for group in self._groups
-            if group.size
-        ]
-        point = np.concatenate([pair[0] for pair in pairs])
-        triangle = np.concatenate([pair[1] for pair in pairs])
+        if len(rows) * len(y) <= EVERY_PAIR:
+            # a few points over a small face (a Static solve's plies, searched again after
+            # most Newton iterates): one matrix of the centroids' distances costs less than
+            # the trees' set-up
+            apart = np.linalg.norm(here[:, None, :] - centroids[None], axis=-1)
+            # the nearest centroid's distance bounds d* above (a centroid lies on its
+            # triangle, which every cut keeps): the pairs within its spheres' bound, a
+            # rounding looser (the spheres' test below decides), are measured to the grown
+            # triangles in one compiled pass, and the least to an uncut one bounds d* closer
+            loose = apart.min(axis=1)
+            slack = (loose + self.skin) * (1.0 + 1e-9) + 1e-9 * self.skin
+            point, triangle = np.nonzero(apart - radius[None] <= slack[:, None])
+            grown = pair_distances(here, corners, point, triangle)
+            exact = ~self._cut(triangle)
+            upper = loose.copy()
+            np.minimum.at(upper, point[exact], grown[exact])
+        else:
+            tree = cKDTree(centroids)
+            nearest = np.asarray(tree.query(here, k=1)[1], dtype=np.int64)
+            # >= the least distance d*
+            upper = self._distances(here, y, corners, np.arange(len(rows)), nearest)
+            # the inner triangles and the grown ones (larger spheres) queried apart, each
+            # with its own largest radius: a ball query of the grown ones' radius over every
+            # triangle would hand each point three times the pairs
+            pairs = [
+                _ball_pairs(centroids[group], here, upper + self.skin + radius[group].max(), group)
+                for group in self._groups
+                if group.size
+            ]
+            point = np.concatenate([pair[0] for pair in pairs])
+            triangle = np.concatenate([pair[1] for pair in pairs])
+            grown = None
         # the bounding spheres first: a triangle further than U + s cannot be within d* + s
         ahead = np.linalg.norm(here[point] - centroids[triangle], axis=1) - radius[triangle]
-        keep = ahead <= upper[point] + self.skin
-        point, triangle = point[keep], triangle[keep]
-        distance = self._distances(here, y, corners, point, triangle)
+        reach = upper[point] + self.skin
+        keep = ahead <= reach
+        point, triangle, reach = point[keep], triangle[keep], reach[keep]
+        # a cut triangle whose grown distance (a lower bound of its cut growth's) is past
+        # U + s >= d* + s is dropped below whatever its cut distance, and leaves d* as it is
+        distance = self._distances(
+            here, y, corners, point, triangle, reach, None if grown is None else grown[keep]
+        )
         least = np.full(len(rows), np.inf)
         np.minimum.at(least, point, distance)
         keep = distance <= least[point] + self.skin

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
+from elements import ply_search
 from elements.facet_search import closest_on_triangles
 from elements.layup import Layup
 from elements.ply_projection import MARGIN, closest_facing, edge_ids, grown_corners, open_edges
@@ -174,3 +175,66 @@ def test_a_curved_face_answers_the_same_whatever_the_calls_before(seed):
         fresh = layup.model().compile().interactions[0].facing(states[i])
         for name in ("triangle", "gap", "normal", "weights", "touching"):
             assert np.array_equal(getattr(after_calls, name), getattr(fresh, name), equal_nan=True)
+
+
+def _search_as_before(search: FacingSearch, p: np.ndarray, y: np.ndarray, measured: list):
+    """``search``'s lists of every point at (p, y) as the search made them before: the pairs
+    from k-d trees, every cut pair measured to its cut growth (its rows counted in
+    ``measured``)."""
+    distances = FacingSearch._distances
+
+    def every_cut(self, x, y, corners, point, triangle, beyond=None, grown=None):
+        return distances(self, x, y, corners, point, triangle)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(ply_search, "EVERY_PAIR", 0)
+        patch.setattr(FacingSearch, "_distances", every_cut)
+        return _counted(search, p, y, measured, patch)
+
+
+def _counted(search, p, y, measured, patch):
+    """``search._search`` of every point, the rows it measures to a cut growth appended to
+    ``measured``."""
+    grown = ply_search.closest_on_grown
+
+    def counting(x, *args):
+        measured.append(len(x))
+        return grown(x, *args)
+
+    patch.setattr(ply_search, "closest_on_grown", counting)
+    return search._search(p, y, np.arange(len(p)))
+
+
+@pytest.mark.parametrize("cut", [False, True], ids=["grown", "cut"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_small_search_lists_as_the_trees_did(seed, cut):
+    """A crumpled sheet of 6 x 6 10-mm cells (72 triangles) and 100 points within 8 mm of
+    it, both moved over 12 calls by steps of 2 mm (a Newton iterate's jump, past the skin):
+    the search of every point, its pairs from one matrix of the centroids' distances and its
+    cut triangles measured to their cut growths only where their grown distance is within
+    U + s, lists the same triangles (the same arrays) as the search before (the pairs from
+    k-d trees, every cut pair measured). The premises: the points times triangles are within
+    ``EVERY_PAIR``, and with cuts the search before measured more cut pairs."""
+    rng = np.random.default_rng(seed)
+    nodes, triangles = _crumpled(6, rng)
+    outline = open_edges(triangles)
+    reach = np.where(outline, MARGIN, 0.0)
+    cuts = WedgeCuts.of(nodes[triangles], triangles, outline, reach) if cut else None
+    assert not cut or (cuts is not None and cuts.any)
+    search = FacingSearch.of(nodes[triangles], outline, cuts)
+    p = np.column_stack(
+        [rng.uniform(-5.0, 65.0, 100), rng.uniform(-5.0, 65.0, 100), rng.normal(0.0, 8.0, 100)]
+    )
+    assert len(p) * len(triangles) <= ply_search.EVERY_PAIR
+    now: list[int] = []
+    before: list[int] = []
+    for call in range(12):
+        nodes = nodes + rng.normal(0.0, 2.0 / 3.0, nodes.shape)
+        p = p + rng.normal(0.0, 2.0 / 3.0, p.shape)
+        y = nodes[triangles]
+        with pytest.MonkeyPatch.context() as patch:
+            near, count = _counted(search, p, y, now, patch)
+        near_before, count_before = _search_as_before(search, p, y, before)
+        assert np.array_equal(count, count_before), call
+        assert np.array_equal(near, near_before), call
+    assert not cut or sum(now) < sum(before)
