@@ -444,8 +444,10 @@ class PlyContactBlock(InteractionBlock):
         law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
         energy = float(np.sum(_fade(facing, on)[0] * law[0]))
         if self._frictional(history):  # the tangential springs' |F_t|^2 / (2 k_t)
-            force = self.friction_state(state, history, facing).force
-            energy += 0.5 * float(np.sum(np.sum(force**2, axis=1) / self.stiffness))
+            sliding = self.friction_state(state, history, facing)
+            held = sliding.spring > 0  # k_t = 0: no force
+            force, spring = sliding.force[held], sliding.spring[held]
+            energy += 0.5 * float(np.sum(np.sum(force**2, axis=1) / spring))
         return energy
 
     def tangent(self, state: State, history: Any = None) -> list[CellTangent]:

@@ -94,8 +94,8 @@ weight, A_T the reference area of its triangle, A_j the lumped area of node j, s
 its triangles), so that the corner rule gives each node its k_j back and a uniform penalty on a
 uniform mesh adds up to the same total whatever the rule. ``springs`` reports at each upper
 node 2 sum_p N_j k_p and at the lower ones 2 max(that) (times the ratio of upper to lower nodes
-when above 1), so the explicit step takes the penalty in (the friction's stick spring has
-the point's penalty k_p across the normal, so the bound holds); ``springs_at(state)``, which
+when above 1), so the explicit step takes the penalty in (the friction's stick spring is at
+most the point's penalty k_p across the normal, so the bound holds); ``springs_at(state)``, which
 the explicit step asks, multiplies the penalty of a point in the fade's band by the bound of
 its faded energy's stiffness (up to 12 and more beside the outline; elements/ply_fade.py,
 "Stiffness").
@@ -104,8 +104,10 @@ Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
 elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower
 triangle and barycentric coordinates Lambda, the anchor a = sum Lambda_k y_k sliding with the
 lower ply. Its tangential offset s = (I - n n^T)(p - a), n the facing triangle's normal, loads
-a spring of stiffness k_t = k_p: stuck, k_p |s| <= mu N (N = -W'(g) the point's normal force),
-the force on p is -k_p s (energy |F|^2 / (2 k_p)); sliding, -mu N s / |s|. The force on p goes
+a spring of stiffness k_t = W''(g), the normal law's own (k_p deeper than the smoothing, k_p
+|g| / delta on its ramp; times w past the outline; elements/ply_friction.py): stuck, k_t |s|
+<= mu N (N = -W'(g) the point's normal force), the force on p is -k_t s (energy |F|^2 /
+(2 k_t)); sliding, -mu N s / |s|. The force on p goes
 to the upper corners by N_j (moments through the offsets as the normal force) and, opposite,
 to the anchor triangle's corners by Lambda_k. An accepted step (``update_history``, a new
 ``PlyFrictionHistory``; the one given is left as it was) keeps stuck anchors, moves sliding
