@@ -4,15 +4,17 @@ mapping, its loads and exact tangent, and the history after an accepted step.
 
 Each touching contact point keeps an anchor on the lower face (a triangle and barycentric
 coordinates, so it slides with the lower ply); the tangential offset of the point from it loads
-a spring capped at mu times the point's normal force N. The spring's stiffness is the normal
-law's own, k_t = dN/d(-g) = W''(g) (times the fade's w past the outline): k_p once the point
-is pressed deeper than the smoothing delta, and k_p |g| / delta on the smoothed penalty's
-ramp, where N = k_p g^2 / (2 delta). The elastic slip at the friction limit, mu N / k_t, is
-then mu |g| / 2 on the ramp (mu (|g| - delta / 2) deeper, as before): it vanishes with the
-penetration, where with k_t = k_p it vanished with N, as g^2. Points laid on the face with
-nearly no normal force stick on a spring as soft as their normal one instead of switching
-between stick and slip on a cone of radius mu N / k_p, far below the slips a Newton iterate
-makes there (docs/theory.md §9.3a, "Friction between plies"; benchmarks/ply_friction_laid.py).
+a spring capped at mu times the point's normal force N. The spring's stiffness k_t is the
+point's penalty k_p (PlyContact's ``stick="penalty"``, the default) or the normal law's own
+(``stick="normal law"``), k_t = dN/d(-g) = W''(g) (times the fade's w past the outline): k_p
+once the point is pressed deeper than the smoothing delta, and k_p |g| / delta on the
+smoothed penalty's ramp, where N = k_p g^2 / (2 delta). The elastic slip at the friction
+limit, mu N / k_t, is then mu |g| / 2 on the ramp (mu (|g| - delta / 2) deeper, as with
+k_p): it vanishes with the penetration, where with k_t = k_p it vanishes with N, as g^2.
+Points laid on the face with nearly no normal force stick on a spring as soft as their
+normal one instead of switching between stick and slip on a cone of radius mu N / k_p, far
+below the slips a Newton iterate makes there (docs/theory.md §9.3a, "Friction between
+plies"; benchmarks/ply_friction_laid.py).
 Used by ``PlyContactBlock``; the functions take the block as their first argument.
 """
 
@@ -90,8 +92,8 @@ class Sliding:
     triangle : (P,) int
         The anchors' triangles (0 without an anchor).
     spring : (P,) float
-        k_t = w W''(g), the stick spring of each touching point (module docstring), N/mm (0
-        elsewhere).
+        k_t, the stick spring of each touching point (module docstring: k_p, or w W''(g)),
+        N/mm (0 elsewhere).
     """
 
     force: np.ndarray
@@ -130,6 +132,14 @@ def stick_spring(
     return spring, slope
 
 
+def _spring(block: PlyContactBlock, gap: np.ndarray, stiffness: np.ndarray):
+    """The block's stick spring and its slope (``stick_spring`` for ``stick="normal law"``;
+    k_p and 0 for "penalty", the fade's w left out as before)."""
+    if block.stick == "penalty":
+        return np.array(stiffness, dtype=float), np.zeros(len(gap))
+    return stick_spring(gap, stiffness, block.smoothing)
+
+
 def friction_state(
     block: PlyContactBlock,
     state: State,
@@ -143,10 +153,11 @@ def friction_state(
     on = facing.touching
     pressing, spring = np.zeros(count), np.zeros(count)
     pressing[on] = -block.normal_law(facing.gap[on], block.stiffness[on])[1]
-    spring[on] = stick_spring(facing.gap[on], block.stiffness[on], block.smoothing)[0]
+    spring[on] = _spring(block, facing.gap[on], block.stiffness[on])[0]
     if facing.fade is not None:  # N = -w W' past the outline (elements/ply_fade.py)
         pressing[on] *= facing.fade[on]
-        spring[on] *= facing.fade[on]
+        if block.stick != "penalty":
+            spring[on] *= facing.fade[on]
     zero = np.zeros((count, 3))
     if history is None or block.friction <= 0.0:
         none = np.zeros(count, dtype=bool)
@@ -248,7 +259,7 @@ def friction_tangent(
     gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
     _, slope, curvature = block.normal_law(facing.gap[on], k)
     d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 9, 3)
-    unfaded, spring_slope = stick_spring(facing.gap[on], k, block.smoothing)
+    unfaded, spring_slope = _spring(block, facing.gap[on], k)
     d_spring = spring_slope[:, None, None] * gap_gradient
     if facing.fade is not None and facing.fade_gradient is not None:
         # N = -w W'(g) past the outline (elements/ply_fade.py): dN = -(w W'' dg + W' dw),
@@ -257,9 +268,10 @@ def friction_tangent(
         d_pressing *= fade
         d_pressing[:, :4] -= slope[:, None, None] * facing.fade_gradient[on][:, :4]
         d_pressing[:, 7:] -= slope[:, None, None] * facing.fade_gradient[on][:, 4:]
-        d_spring *= fade
-        d_spring[:, :4] += unfaded[:, None, None] * facing.fade_gradient[on][:, :4]
-        d_spring[:, 7:] += unfaded[:, None, None] * facing.fade_gradient[on][:, 4:]
+        if block.stick != "penalty":
+            d_spring *= fade
+            d_spring[:, :4] += unfaded[:, None, None] * facing.fade_gradient[on][:, :4]
+            d_spring[:, 7:] += unfaded[:, None, None] * facing.fade_gradient[on][:, 4:]
     stuck = sliding.stuck[on]
     mu, pressing = block.friction, sliding.pressing[on]
     ratio = mu * pressing / np.where(length > 0, length, 1.0)
