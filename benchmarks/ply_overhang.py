@@ -94,10 +94,12 @@ def use(before: bool) -> None:
     newton.SMALLEST_FIRST_STEP = newton.SMALLEST_STEP if before else _deepest
 
 
-def two_plies(shift: float, penalty: float | None = None) -> tuple[Model, int]:
+def two_plies(
+    shift: float, penalty: float | None = None, friction: float = 0.0, stick: str = "penalty"
+) -> tuple[Model, int]:
     """The upper ply's edge of least y at ``shift`` mm (-4: overhanging, 5: on top); the
-    penalty given, or the automatic one for None. Returns the model and the upper ply's
-    first node."""
+    penalty given, or the automatic one for None; the plies' Coulomb coefficient
+    ``friction`` and stick spring ``stick``. Returns the model and the upper ply's first node."""
     fabric = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=0.05)
     lower = Mesh.rectangle(20.0, 20.0, nx=4, ny=4)
     upper = Mesh.rectangle(10.0, 10.0, nx=6, ny=6)
@@ -116,7 +118,8 @@ def two_plies(shift: float, penalty: float | None = None) -> tuple[Model, int]:
     model = Model(mesh)
     model.add(mindlin_ply(fabric), cells="ply_1")
     model.add(mindlin_ply(fabric), cells="ply_2")
-    join_neighbours(model, 2, 0.25, **({} if penalty is None else {"penalty": penalty}))
+    options = {} if penalty is None else {"penalty": penalty}
+    join_neighbours(model, 2, 0.25, friction=friction, stick=stick, **options)
     model.fix(np.arange(first))
     model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
     model.gravity((0.0, 0.0, -9810.0))

@@ -176,6 +176,7 @@ class PlyContactBlock(InteractionBlock):
         self.node_stiffness = np.full(len(self.upper), np.nan if given is None else float(given))
         self.stiffness = self._point_stiffness()
         self.friction = contact.friction
+        self.stick = contact.stick
         reference = State(
             body.mesh.points.copy(),
             body.directors.copy(),
@@ -444,8 +445,9 @@ class PlyContactBlock(InteractionBlock):
         law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
         energy = float(np.sum(_fade(facing, on)[0] * law[0]))
         if self._frictional(history):  # the tangential springs' |F_t|^2 / (2 k_t)
-            force = self.friction_state(state, history, facing).force
-            energy += 0.5 * float(np.sum(np.sum(force**2, axis=1) / self.stiffness))
+            sliding = self.friction_state(state, history, facing)
+            spring = np.where(sliding.spring > 0, sliding.spring, 1.0)  # k_t = 0: no force
+            energy += 0.5 * float(np.sum(np.sum(sliding.force**2, axis=1) / spring))
         return energy
 
     def tangent(self, state: State, history: Any = None) -> list[CellTangent]:

@@ -94,8 +94,8 @@ weight, A_T the reference area of its triangle, A_j the lumped area of node j, s
 its triangles), so that the corner rule gives each node its k_j back and a uniform penalty on a
 uniform mesh adds up to the same total whatever the rule. ``springs`` reports at each upper
 node 2 sum_p N_j k_p and at the lower ones 2 max(that) (times the ratio of upper to lower nodes
-when above 1), so the explicit step takes the penalty in (the friction's stick spring has
-the point's penalty k_p across the normal, so the bound holds); ``springs_at(state)``, which
+when above 1), so the explicit step takes the penalty in (the friction's stick spring is at
+most the point's penalty k_p across the normal, so the bound holds); ``springs_at(state)``, which
 the explicit step asks, multiplies the penalty of a point in the fade's band by the bound of
 its faded energy's stiffness (up to 12 and more beside the outline; elements/ply_fade.py,
 "Stiffness").
@@ -104,8 +104,11 @@ Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
 elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower
 triangle and barycentric coordinates Lambda, the anchor a = sum Lambda_k y_k sliding with the
 lower ply. Its tangential offset s = (I - n n^T)(p - a), n the facing triangle's normal, loads
-a spring of stiffness k_t = k_p: stuck, k_p |s| <= mu N (N = -W'(g) the point's normal force),
-the force on p is -k_p s (energy |F|^2 / (2 k_p)); sliding, -mu N s / |s|. The force on p goes
+a spring of stiffness k_t: k_p, or with ``stick="normal law"`` W''(g), the normal law's own
+(k_p deeper than the smoothing, k_p |g| / delta on its ramp; times w past the outline;
+elements/ply_friction.py, for plies laid on each other with nearly no normal force): stuck,
+k_t |s| <= mu N (N = -W'(g) the point's normal force), the force on p is -k_t s (energy |F|^2 /
+(2 k_t)); sliding, -mu N s / |s|. The force on p goes
 to the upper corners by N_j (moments through the offsets as the normal force) and, opposite,
 to the anchor triangle's corners by Lambda_k. An accepted step (``update_history``, a new
 ``PlyFrictionHistory``; the one given is left as it was) keeps stuck anchors, moves sliding
@@ -138,6 +141,7 @@ __all__ = [
     "PENALTY_SHARE",
     "RULES",
     "SMOOTHING",
+    "STICKS",
     "Facing",
     "PlyContact",
     "join_neighbours",
@@ -151,6 +155,9 @@ CANDIDATES = 6
 #: The default smoothing width delta as a share of the two faces' half thicknesses a + b
 #: (the ply thickness for plies alike): see docs/theory.md §9.3a for the measurements.
 SMOOTHING = 1e-3
+#: The friction's stick spring k_t (module docstring, "Friction"): "penalty", the point's
+#: penalty k_p at any normal force; "normal law", W''(g), the normal law's own stiffness.
+STICKS = ("penalty", "normal law")
 #: Where the faces lie: along each node's director ("director") or along its ply's nodal normal
 #: ("normal"), module docstring "Faces along the normal".
 FACES = ("director", "normal")
@@ -197,6 +204,10 @@ class PlyContact(Interaction):
     friction : float
         The Coulomb coefficient mu >= 0 between the plies (module docstring, "Friction"); 0
         (default): frictionless, no history kept, the frictionless code path alone.
+    stick : str
+        The friction's stick spring k_t, one of ``STICKS``: "penalty" (default), k_p; "normal
+        law", W''(g), the normal law's own stiffness (elements/ply_friction.py), for plies
+        laid on each other with nearly no normal force (module docstring, "Friction").
     faces : str
         "director" (default): each face h/2 from the mid-surface along the nodes' directors,
         the contact acting on the directors too; "normal": along the ply's area-weighted
@@ -235,6 +246,7 @@ class PlyContact(Interaction):
         rule: str = "centroid",
         smoothing: float | None = None,
         friction: float = 0.0,
+        stick: str = "penalty",
         faces: str = "director",
         surface: str = "flat",
         points: str = "upper",
@@ -281,6 +293,9 @@ class PlyContact(Interaction):
         ):
             raise ValueError(f"friction must be a Coulomb coefficient >= 0, got {friction!r}")
         self.friction = float(friction)
+        if stick not in STICKS:
+            raise ValueError(f"stick must be one of {STICKS}, got {stick!r}")
+        self.stick = stick
         if faces not in FACES:
             raise ValueError(f"faces must be one of {FACES}, got {faces!r}")
         self.faces = faces

@@ -4,8 +4,18 @@ mapping, its loads and exact tangent, and the history after an accepted step.
 
 Each touching contact point keeps an anchor on the lower face (a triangle and barycentric
 coordinates, so it slides with the lower ply); the tangential offset of the point from it loads
-a spring of the point's penalty stiffness, capped at mu times the point's normal force. Used by
-``PlyContactBlock``; the functions take the block as their first argument.
+a spring capped at mu times the point's normal force N. The spring's stiffness k_t is the
+point's penalty k_p (PlyContact's ``stick="penalty"``, the default) or the normal law's own
+(``stick="normal law"``), k_t = dN/d(-g) = W''(g) (times the fade's w past the outline): k_p
+once the point is pressed deeper than the smoothing delta, and k_p |g| / delta on the
+smoothed penalty's ramp, where N = k_p g^2 / (2 delta). The elastic slip at the friction
+limit, mu N / k_t, is then mu |g| / 2 on the ramp (mu (|g| - delta / 2) deeper, as with
+k_p): it vanishes with the penetration, where with k_t = k_p it vanishes with N, as g^2.
+Points laid on the face with nearly no normal force stick on a spring as soft as their
+normal one instead of switching between stick and slip on a cone of radius mu N / k_p, far
+below the slips a Newton iterate makes there (docs/theory.md §9.3a, "Friction between
+plies"; benchmarks/ply_friction_laid.py).
+Used by ``PlyContactBlock``; the functions take the block as their first argument.
 """
 
 from __future__ import annotations
@@ -16,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_surface
-from elements.ply_projection import triangle_frames
+from elements.ply_projection import penalty_law, triangle_frames
 from femcore.assembly import CellTangent
 from femcore.rotation import cross, cross_matrix
 from femcore.state import State
@@ -32,6 +42,7 @@ __all__ = [
     "friction_state",
     "friction_tangent",
     "initial_history",
+    "stick_spring",
     "updated_history",
 ]
 
@@ -68,7 +79,7 @@ class Sliding:
     """The return mapping at a state (``PlyContactBlock.friction_state``), one row per point.
 
     force : (P, 3) float
-        The tangential part of dW/dp, N: k s in stick, mu N s / |s| in slip, 0 elsewhere (the
+        The tangential part of dW/dp, N: k_t s in stick, mu N s / |s| in slip, 0 elsewhere (the
         lower ply pulls the upper point by -force).
     slip : (P, 3) float
         s = (I - n n^T)(p - a), the tangential offset of the point from its anchor, mm.
@@ -80,6 +91,9 @@ class Sliding:
         r = p - a, mm (0 without an anchor).
     triangle : (P,) int
         The anchors' triangles (0 without an anchor).
+    spring : (P,) float
+        k_t, the stick spring of each touching point (module docstring: k_p, or w W''(g)),
+        N/mm (0 elsewhere).
     """
 
     force: np.ndarray
@@ -89,6 +103,41 @@ class Sliding:
     pressing: np.ndarray
     offset: np.ndarray
     triangle: np.ndarray
+    spring: np.ndarray
+
+
+def stick_spring(
+    gap: np.ndarray, stiffness: np.ndarray, smoothing: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The stick spring k_t = W''(g) of touching points (module docstring) and its slope
+    dk_t/dg = W'''(g), before the fade's w.
+
+    Parameters
+    ----------
+    gap : (t,) float
+        g, mm (< 0: penetration).
+    stiffness : (t,) float
+        The points' penalties k_p, N/mm.
+    smoothing : float
+        delta, mm: the penalty's ramp (elements/ply_projection.py's ``penalty_law``); 0: none.
+
+    Returns
+    -------
+    spring (t,) N/mm, slope (t,) N/mm^2: k_p |g| / delta and -k_p / delta on the ramp
+    (-delta < g < 0), k_p and 0 deeper (and at any g <= 0 without smoothing), 0 and 0 at g > 0.
+    """
+    spring = penalty_law(gap, stiffness, smoothing)[2]
+    ramp = (gap < 0.0) & (gap > -smoothing)
+    slope = np.where(ramp, -stiffness / (smoothing if smoothing > 0 else 1.0), 0.0)
+    return spring, slope
+
+
+def _spring(block: PlyContactBlock, gap: np.ndarray, stiffness: np.ndarray):
+    """The block's stick spring and its slope (``stick_spring`` for ``stick="normal law"``;
+    k_p and 0 for "penalty", the fade's w left out as before)."""
+    if block.stick == "penalty":
+        return np.array(stiffness, dtype=float), np.zeros(len(gap))
+    return stick_spring(gap, stiffness, block.smoothing)
 
 
 def friction_state(
@@ -102,14 +151,18 @@ def friction_state(
     facing = block.facing(state) if facing is None else facing
     count = len(block.above)
     on = facing.touching
-    pressing = np.zeros(count)
+    pressing, spring = np.zeros(count), np.zeros(count)
     pressing[on] = -block.normal_law(facing.gap[on], block.stiffness[on])[1]
+    spring[on] = _spring(block, facing.gap[on], block.stiffness[on])[0]
     if facing.fade is not None:  # N = -w W' past the outline (elements/ply_fade.py)
         pressing[on] *= facing.fade[on]
+        if block.stick != "penalty":
+            spring[on] *= facing.fade[on]
     zero = np.zeros((count, 3))
     if history is None or block.friction <= 0.0:
         none = np.zeros(count, dtype=bool)
-        return Sliding(zero, zero, none, none, pressing, zero, np.zeros(count, dtype=np.int64))
+        nowhere = np.zeros(count, dtype=np.int64)
+        return Sliding(zero, zero, none, none, pressing, zero, nowhere, spring)
     anchored = on & (history.triangle >= 0)
     triangle = np.where(anchored, history.triangle, 0)
     _, y = block._faces(state)
@@ -122,13 +175,14 @@ def friction_state(
     r = np.where(anchored[:, None], facing.face - anchor, 0.0)
     n = facing.normal
     s = r - np.sum(r * n, axis=1)[:, None] * n
-    k = block.stiffness
     length = np.linalg.norm(s, axis=1)
     limit = block.friction * pressing
-    stuck = anchored & (k * length <= limit)
+    stuck = anchored & (spring * length <= limit)
     sliding = anchored & ~stuck
-    scale = np.where(stuck, k, np.where(sliding, limit / np.where(length > 0, length, 1.0), 0.0))
-    return Sliding(scale[:, None] * s, s, stuck, sliding, pressing, r, triangle)
+    scale = np.where(
+        stuck, spring, np.where(sliding, limit / np.where(length > 0, length, 1.0), 0.0)
+    )
+    return Sliding(scale[:, None] * s, s, stuck, sliding, pressing, r, triangle, spring)
 
 
 def friction_loads(
@@ -165,9 +219,10 @@ def friction_tangent(
     Over z = (p, y_f1..3, y_a1..3) (f the facing triangle, a the anchor's): the force F on
     p (``Sliding.force``) and -Lambda_k F on y_ak, with ds/dp = P = I - n n^T, ds/dy_ak =
     -Lambda_k P, ds/dy_fm = ((n . r) grad phi_m + (r . grad phi_m) n) n^T (from dn/dy_fm =
-    -grad phi_m n^T); dF = k ds in stick, mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip,
-    with dN = -W'' dg, dg/dz = (n, -lambda_k n, 0). Carried to the nodes and turned with
-    the directors as the normal part (``tangent``)."""
+    -grad phi_m n^T); dF = k_t ds + s dk_t in stick (k_t = w W'', dk_t = w W''' dg + W'' dw),
+    mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip, with dN = -W'' dg, dg/dz = (n,
+    -lambda_k n, 0). Carried to the nodes and turned with the directors as the normal part
+    (``tangent``)."""
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     t = len(on)
@@ -204,18 +259,28 @@ def friction_tangent(
     gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
     _, slope, curvature = block.normal_law(facing.gap[on], k)
     d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 9, 3)
+    unfaded, spring_slope = _spring(block, facing.gap[on], k)
+    d_spring = spring_slope[:, None, None] * gap_gradient
     if facing.fade is not None and facing.fade_gradient is not None:
-        # N = -w W'(g) past the outline (elements/ply_fade.py): dN = -(w W'' dg + W' dw)
-        d_pressing *= facing.fade[on][:, None, None]
+        # N = -w W'(g) past the outline (elements/ply_fade.py): dN = -(w W'' dg + W' dw),
+        # and k_t = w W'': dk_t = w W''' dg + W'' dw
+        fade = facing.fade[on][:, None, None]
+        d_pressing *= fade
         d_pressing[:, :4] -= slope[:, None, None] * facing.fade_gradient[on][:, :4]
         d_pressing[:, 7:] -= slope[:, None, None] * facing.fade_gradient[on][:, 4:]
+        if block.stick != "penalty":
+            d_spring *= fade
+            d_spring[:, :4] += unfaded[:, None, None] * facing.fade_gradient[on][:, :4]
+            d_spring[:, 7:] += unfaded[:, None, None] * facing.fade_gradient[on][:, 4:]
     stuck = sliding.stuck[on]
     mu, pressing = block.friction, sliding.pressing[on]
     ratio = mu * pressing / np.where(length > 0, length, 1.0)
     slip_part = mu * unit[:, :, None, None] * d_pressing[:, None] + ratio[
         :, None, None, None
     ] * np.einsum("tij,tjzb->tizb", eye - unit[:, :, None] * unit[:, None, :], ds)
-    d_force = np.where(stuck[:, None, None, None], k[:, None, None, None] * ds, slip_part)
+    spring = sliding.spring[on]
+    stick_part = spring[:, None, None, None] * ds + s[:, :, None, None] * d_spring[:, None]
+    d_force = np.where(stuck[:, None, None, None], stick_part, slip_part)
     points = np.zeros((t, 9, 3, 9, 3))
     points[:, 0] = d_force
     for m in range(3):
@@ -305,7 +370,8 @@ def updated_history(
     on = facing.touching
     length = np.linalg.norm(sliding.slip, axis=1)
     unit = sliding.slip / np.where(length > 0, length, 1.0)[:, None]
-    held = block.friction * sliding.pressing / block.stiffness  # |s| at the limit, mm
+    spring = np.where(sliding.spring > 0, sliding.spring, 1.0)  # 0 only where stuck
+    held = block.friction * sliding.pressing / spring  # |s| at the limit, mm
     slid = np.where(sliding.sliding, length - held, 0.0)
     # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
     # (its in-plane gradients drop the normal part of q - p).

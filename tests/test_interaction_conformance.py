@@ -269,6 +269,7 @@ def plies(
     separate: bool = False,
     points: str = "upper",
     lower_size: float = 4.0,
+    stick: str = "penalty",
 ):
     """(block, state, None) of PlyContact between the two jittered plies, turned (the lower
     ply ``lower_size`` mm square); with
@@ -307,6 +308,7 @@ def plies(
         rule=rule,
         smoothing=smoothing,
         friction=friction,
+        stick=stick,
         points=points,
     )
     block = contact.bind(Body(mesh, (), directors, active))
@@ -393,7 +395,12 @@ def test_the_mirrored_ply_contact_conforms(rule):
 
 
 def plies_with_friction(
-    turn: np.ndarray = UNTURNED, rule="gauss", smoothing=None, separate=False, points="upper"
+    turn: np.ndarray = UNTURNED,
+    rule="gauss",
+    smoothing=None,
+    separate=False,
+    points="upper",
+    stick="penalty",
 ):
     """(block, state, history) of ``plies`` with friction MU: each touching point anchored on
     its facing triangle at its projection's barycentric coordinates moved by 0.002 (even
@@ -410,6 +417,7 @@ def plies_with_friction(
         separate=separate,
         points=points,
         lower_size=3.2 if points == "lower" else 4.0,
+        stick=stick,
     )
     facing = block.facing(state)
     count = len(facing.gap)
@@ -428,24 +436,28 @@ def plies_with_friction(
 
 
 @pytest.mark.parametrize(
-    "rule, smoothing, points",
+    "rule, smoothing, points, stick",
     [
-        ("centroid", None, "upper"),
-        ("gauss", None, "upper"),
-        ("vertices", None, "upper"),
-        ("gauss", 0.0, "upper"),
-        ("gauss", 0.05, "upper"),
-        ("vertices", None, "lower"),
+        ("centroid", None, "upper", "penalty"),
+        ("gauss", None, "upper", "penalty"),
+        ("vertices", None, "upper", "penalty"),
+        ("gauss", 0.0, "upper", "penalty"),
+        ("gauss", 0.05, "upper", "penalty"),
+        ("vertices", None, "lower", "penalty"),
+        # the stick spring of the normal law: 4 stuck points on the 0.05-mm ramp, and the
+        # mirrored pass's points in the fade (its k_t = w W'')
+        ("gauss", 0.05, "upper", "normal law"),
+        ("vertices", None, "lower", "normal law"),
     ],
 )
-def test_ply_contact_with_friction_conforms(rule, smoothing, points):
+def test_ply_contact_with_friction_conforms(rule, smoothing, points, stick):
     """The return mapping's own tangent (exact: stick and slip, through the facing
     triangle's normal and the anchor's triangle), energies and history, objectivity; and an
     accepted step leaves every point at or within the limit with dissipation added; the
     mirrored pass (``points="lower"``) alike."""
 
     def build(turn=UNTURNED):
-        return plies_with_friction(turn, rule=rule, smoothing=smoothing, points=points)
+        return plies_with_friction(turn, rule=rule, smoothing=smoothing, points=points, stick=stick)
 
     block, state, history = build()
     sliding = block.friction_state(state, history)

@@ -204,6 +204,32 @@ def test_the_ramped_penalty_is_c2_and_nothing_apart():
     assert np.allclose((up[1] - down[1]) / (2 * h), stiffness, atol=k * h / delta)
 
 
+def test_the_stick_spring_is_the_normal_laws_stiffness_and_its_slope_the_third_derivative():
+    """elements.ply_friction.stick_spring: k_t = W'' of penalty_law (k past the ramp, k |g| /
+    delta on it, 0 for g >= 0; and k at any g <= 0 without smoothing), and its slope the
+    central difference of W'' (exact for W'' linear in g on each side, off the ramp's ends and
+    g = 0 where the third derivative jumps: tolerance 1e-6 of k / delta, the round-off of
+    h = 1e-7 delta), so the elastic slip at the friction limit on the ramp, mu N / k_t, is
+    mu |g| / 2."""
+    from elements.ply_contact import penalty_law
+    from elements.ply_friction import stick_spring
+
+    k, delta, mu = 3.0, 0.01, 0.2
+    g = np.linspace(-3 * delta, 2 * delta, 101)
+    g = g[(np.abs(g) > 1e-6) & (np.abs(g + delta) > 1e-6)]
+    stiffness = np.full(g.size, k)
+    spring, slope = stick_spring(g, stiffness, delta)
+    _, force, curvature = penalty_law(g, stiffness, delta)
+    assert np.array_equal(spring, curvature)
+    h = 1e-7 * delta
+    up, down = (penalty_law(g + s, stiffness, delta)[2] for s in (h, -h))
+    assert np.allclose(slope, (up - down) / (2 * h), rtol=0, atol=1e-6 * k / delta)
+    ramp = (g < 0) & (g > -delta)
+    assert np.allclose(mu * -force[ramp] / spring[ramp], mu * np.abs(g[ramp]) / 2, rtol=1e-12)
+    plain = stick_spring(g, stiffness, 0.0)
+    assert np.array_equal(plain[0], np.where(g <= 0, k, 0.0)) and not plain[1].any()
+
+
 @pytest.mark.parametrize(
     "changes, message",
     [
