@@ -162,35 +162,12 @@ def _pulled():
 def _overhang():
     """An upper ply (10 x 10 mm, 6 x 6 cells) clamped at its edge y = 6 mm over a lower ply
     held whole (20 x 20 mm, 4 x 4 cells), overhanging its outline edge y = 0 by 4 mm and
-    pressed on it by gravity: its centroids past the edge in the fade's band."""
-    from elements.plies import mindlin_ply
-    from elements.ply_contact import join_neighbours
-    from femcore import Mesh, Model
-    from materials import Fabric
+    pressed on it by gravity (validation/studies/ply_overhang_setup.py): its centroids past
+    the edge in the fade's band."""
     from solvers import Static
+    from validation.studies.ply_overhang_setup import two_plies
 
-    fabric = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=0.05)
-    lower = Mesh.rectangle(20.0, 20.0, nx=4, ny=4)
-    upper = Mesh.rectangle(10.0, 10.0, nx=6, ny=6)
-    up = upper.points + [2.5, -4.0, 0.5]
-    points = np.vstack([lower.points, up])
-    first, cells = len(lower.points), len(lower.triangles)
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower.triangles, upper.triangles + first]),
-        node_sets={"ply_1": np.arange(first), "ply_2": np.arange(first, len(points))},
-        element_sets={
-            "ply_1": np.arange(cells),
-            "ply_2": cells + np.arange(len(upper.triangles)),
-        },
-    )
-    model = Model(mesh)
-    model.add(mindlin_ply(fabric), cells="ply_1")
-    model.add(mindlin_ply(fabric), cells="ply_2")
-    join_neighbours(model, 2, 0.25, penalty=10.0)
-    model.fix(np.arange(first))
-    model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
-    model.gravity((0.0, 0.0, -9810.0))
+    model = two_plies(-4.0, penalty=10.0)[0]
     solver = Static(increments=8, seek_stable=False, max_iterations=100, progress=False)
     return solver.solve(model)
 

@@ -82,14 +82,12 @@ import numpy as np
 import elements.ply_fade as ply_fade
 from elements import RigidSurface
 from elements.plies import mindlin_ply
-from elements.ply_contact import join_neighbours
 from femcore import Mesh, Model
-from materials import Fabric
 from solvers import Static
+from validation.studies import ply_overhang_setup as setup
 
-BENDING = 0.05  # D, N mm (moment per unit width per curvature)
-PLY = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=BENDING)
-HALF = 0.5 * PLY.thickness
+BENDING = 0.05  # D, N mm (moment per unit width per curvature): PLY's linear bending law
+PLY, HALF = setup.PLY, setup.HALF
 SHIFT = -4.0  # the upper ply's free edge, mm: 4 mm past the lower ply's outline edge y = 0
 WEIGHT = PLY.areal_density * 9810.0  # q, N/mm^2 (per unit width, N/mm per mm)
 # The heavy strip over a rigid edge (tests/test_table_contact.py, Euler-Bernoulli): the tip
@@ -104,8 +102,8 @@ def reach(tip: float) -> float:
 
 
 def _upper(cells: int) -> tuple[np.ndarray, np.ndarray]:
-    upper = Mesh.rectangle(10.0, 10.0, nx=cells, ny=cells)
-    return upper.points + [2.5, SHIFT, 2.0 * HALF], upper.triangles
+    upper = setup.upper_ply(SHIFT, cells)
+    return upper.points, upper.triangles
 
 
 def _finish(model: Model, up: np.ndarray, first: int) -> None:
@@ -125,22 +123,7 @@ def on_ply(
 ) -> dict:
     """The upper ply on the lower ply held whole (ply contact), with the mirrored pass
     (``points="lower"``, its points at the lower ply's ``lower_rule``) when given."""
-    lower = Mesh.rectangle(20.0, 20.0, nx=lower_cells, ny=lower_cells)
-    up, triangles = _upper(upper_cells)
-    first, cells = len(lower.points), len(lower.triangles)
-    points = np.vstack([lower.points, up])
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower.triangles, triangles + first]),
-        node_sets={"ply_1": np.arange(first), "ply_2": np.arange(first, len(points))},
-        element_sets={"ply_1": np.arange(cells), "ply_2": cells + np.arange(len(triangles))},
-    )
-    model = Model(mesh)
-    model.add(mindlin_ply(PLY), cells="ply_1")
-    model.add(mindlin_ply(PLY), cells="ply_2")
-    join_neighbours(model, 2, HALF, lower_rule, rule=rule)
-    model.fix(np.arange(first))
-    _finish(model, up, first)
+    model, first, up = setup.two_plies(SHIFT, upper_cells, lower_cells, lower_rule, rule=rule)
     compiled = model.compile()
     result = Static(progress=False).solve(compiled)
     state = replace(

@@ -76,11 +76,9 @@ from pathlib import Path
 import numpy as np
 
 import solvers.newton as newton
-from elements.plies import mindlin_ply
-from elements.ply_contact import join_neighbours
-from femcore import Mesh, Model
-from materials import Fabric
+from femcore import Model
 from solvers import Static
+from validation.studies import ply_overhang_setup as setup
 
 sys.path.insert(0, str(Path(__file__).parent))
 import ply_fade_hessian as others  # noqa: E402  (the other Static cases of the plies)
@@ -100,29 +98,8 @@ def two_plies(
     """The upper ply's edge of least y at ``shift`` mm (-4: overhanging, 5: on top); the
     penalty given, or the automatic one for None; the plies' Coulomb coefficient
     ``friction`` and stick spring ``stick``. Returns the model and the upper ply's first node."""
-    fabric = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=0.05)
-    lower = Mesh.rectangle(20.0, 20.0, nx=4, ny=4)
-    upper = Mesh.rectangle(10.0, 10.0, nx=6, ny=6)
-    up = upper.points + [2.5, shift, 0.5]
-    first, cells = len(lower.points), len(lower.triangles)
-    points = np.vstack([lower.points, up])
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower.triangles, upper.triangles + first]),
-        node_sets={"ply_1": np.arange(first), "ply_2": np.arange(first, len(points))},
-        element_sets={
-            "ply_1": np.arange(cells),
-            "ply_2": cells + np.arange(len(upper.triangles)),
-        },
-    )
-    model = Model(mesh)
-    model.add(mindlin_ply(fabric), cells="ply_1")
-    model.add(mindlin_ply(fabric), cells="ply_2")
     options = {} if penalty is None else {"penalty": penalty}
-    join_neighbours(model, 2, 0.25, friction=friction, stick=stick, **options)
-    model.fix(np.arange(first))
-    model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
-    model.gravity((0.0, 0.0, -9810.0))
+    model, first, _ = setup.two_plies(shift, friction=friction, stick=stick, **options)
     return model, first
 
 

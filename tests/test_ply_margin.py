@@ -31,14 +31,11 @@ import pytest
 
 from elements import RigidSurface
 from elements.plies import mindlin_ply
-from elements.ply_contact import join_neighbours
 from femcore import Mesh, Model
-from materials import Fabric
 from solvers import Static
+from validation.studies.ply_overhang_setup import HALF, PLY, two_plies, upper_ply
 
-BENDING = 0.05  # D, N mm
-PLY = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=BENDING)
-HALF = 0.5 * PLY.thickness
+BENDING = 0.05  # D, N mm: PLY's linear bending law (validation/studies/ply_overhang_setup.py)
 OVERHANG, CELLS = 4.0, 12
 WEIGHT = PLY.areal_density * 9810.0  # q, N/mm^2
 
@@ -50,8 +47,8 @@ def droop(overhang: float) -> float:
 
 
 def _upper() -> tuple[np.ndarray, np.ndarray]:
-    upper = Mesh.rectangle(10.0, 10.0, nx=CELLS, ny=CELLS)
-    return upper.points + [2.5, -OVERHANG, 2.0 * HALF], upper.triangles
+    upper = upper_ply(-OVERHANG, CELLS)
+    return upper.points, upper.triangles
 
 
 def _tip(positions: np.ndarray, up: np.ndarray) -> float:
@@ -66,23 +63,7 @@ def _on_ply(
     """The upper ply's final positions on the lower ply (20 x 20 mm on ``lower_cells``
     squared cells, held whole), and its reference nodes; the ply contact's points at the upper
     ply's ``rule``, with the mirrored pass at the lower ply's ``lower_rule`` if given."""
-    lower = Mesh.rectangle(20.0, 20.0, nx=lower_cells, ny=lower_cells)
-    up, triangles = _upper()
-    first, cells = len(lower.points), len(lower.triangles)
-    points = np.vstack([lower.points, up])
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower.triangles, triangles + first]),
-        node_sets={"ply_1": np.arange(first), "ply_2": np.arange(first, len(points))},
-        element_sets={"ply_1": np.arange(cells), "ply_2": cells + np.arange(len(triangles))},
-    )
-    model = Model(mesh)
-    model.add(mindlin_ply(PLY), cells="ply_1")
-    model.add(mindlin_ply(PLY), cells="ply_2")
-    join_neighbours(model, 2, HALF, lower_rule, rule=rule)
-    model.fix(np.arange(first))
-    model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
-    model.gravity((0.0, 0.0, -9810.0))
+    model, first, up = two_plies(-OVERHANG, CELLS, lower_cells, lower_rule, rule=rule)
     result = Static(progress=False).solve(model)
     assert result.converged
     return result.positions[first:], up

@@ -17,16 +17,11 @@ import pytest
 
 from elements import RigidPlane
 from elements.plies import mindlin_ply
-from elements.ply_contact import SMOOTHING, join_neighbours
+from elements.ply_contact import SMOOTHING
 from femcore import Mesh, Model
-from materials import Fabric
 from solvers import DynamicRelaxation, Static
+from validation.studies.ply_overhang_setup import HALF, PLY, two_plies, upper_ply
 
-# A ply soft in bending (0.05 N mm): its free 10 mm cantilever sags 2.5 mm under its
-# weight; the automatic penalty (100-600 N/mm per node) is some 1e4 times its bending
-# stiffness per node.
-PLY = Fabric(thickness=0.5, areal_density=1e-8, tension=1e3, shear=0.1, bending=0.05)
-HALF = 0.5 * PLY.thickness
 # The smoothed penalty's ramp, mm: a pressed contact penetrates up to delta / 2 further than
 # the plain penalty does, so the plies' faces are defined to about delta.
 DELTA = SMOOTHING * 2.0 * HALF
@@ -35,35 +30,16 @@ DELTA = SMOOTHING * 2.0 * HALF
 def _upper(shift: float) -> np.ndarray:
     """The upper ply's nodes, 10 x 10 mm on 6 x 6 cells, its mid-surface at z = 0.5 (laid
     on the lower ply's upper face, z = 0.25), clamped at its edge of largest y."""
-    return Mesh.rectangle(10.0, 10.0, nx=6, ny=6).points + [2.5, shift, 2.0 * HALF]
+    return upper_ply(shift).points
 
 
 def _two_plies(shift: float, **options: Any) -> tuple[Model, np.ndarray]:
     """The upper ply on a lower ply (20 x 20 mm, 4 x 4 cells, mid-surface z = 0) held
-    whole; ``shift`` mm places the upper ply's edge of least y (-4: 4 mm past the lower
-    ply's outline edge y = 0); ``options`` to the ply contact (friction, stick). Returns the
-    model and the upper ply's node ids."""
-    lower = Mesh.rectangle(20.0, 20.0, nx=4, ny=4)
-    upper = Mesh.rectangle(10.0, 10.0, nx=6, ny=6)
-    up = _upper(shift)
-    first, cells = len(lower.points), len(lower.triangles)
-    points = np.vstack([lower.points, up])
-    mesh = Mesh(
-        points,
-        triangles=np.vstack([lower.triangles, upper.triangles + first]),
-        node_sets={"ply_1": np.arange(first), "ply_2": np.arange(first, len(points))},
-        element_sets={
-            "ply_1": np.arange(cells),
-            "ply_2": cells + np.arange(len(upper.triangles)),
-        },
-    )
-    model = Model(mesh)
-    model.add(mindlin_ply(PLY), cells="ply_1")
-    model.add(mindlin_ply(PLY), cells="ply_2")
-    join_neighbours(model, 2, HALF, **options)  # the automatic penalty
-    model.fix(np.arange(first))
-    model.fix(first + np.flatnonzero(up[:, 1] >= up[:, 1].max() - 1e-9))
-    model.gravity((0.0, 0.0, -9810.0))
+    whole (validation/studies/ply_overhang_setup.py); ``shift`` mm places the upper ply's
+    edge of least y (-4: 4 mm past the lower ply's outline edge y = 0); ``options`` to the
+    ply contact (friction, stick), the automatic penalty. Returns the model and the upper
+    ply's node ids."""
+    model, first, up = two_plies(shift, **options)
     return model, first + np.arange(len(up))
 
 
