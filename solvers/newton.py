@@ -667,10 +667,12 @@ class Watchdog:
         ``straight``: the Newton step itself when delta is its curved form
         (solvers.newton_curvature); the Armijo slope and the backtracking use it."""
         cap = step_cap(self.run.model, delta) if self.enabled else 1.0
-        deepest, self.deepest = self.deepest, SMALLEST_STEP
         if not self.enabled or whole:
             self.best = None  # the imposed motion starts a new search
+            # (the first free iterate after it keeps the deep backtracking: the imposed
+            # step is taken whole and cannot back off)
             return self._take(state, frames, delta, cap)
+        deepest, self.deepest = self.deepest, SMALLEST_STEP
         line = delta if straight is None else straight
         here = {
             "state": state,

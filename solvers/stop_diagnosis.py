@@ -134,9 +134,10 @@ def stop_hint(model: Any, positions: np.ndarray | None, path: str) -> str:
         # than a limit point does, and a path along a limit point (arc length) does not help
         # there; smaller increments meet the contact's events one at a time.
         return (
-            ". The model has contacts: one that closes, opens or slides within an increment "
-            "can stop Newton; try more increments, or DynamicRelaxation (path='arc_length' "
-            "follows a limit point or buckling, not a contact's events)"
+            ". The model has interactions (contacts, ties): a contact that closes, opens or "
+            "slides within an increment can stop Newton; try more increments, or "
+            "DynamicRelaxation (path='arc_length' follows a limit point or buckling, not a "
+            "contact's events)"
         )
     remedy = (
         "try path='arc_length' to follow a limit point"

@@ -10,6 +10,7 @@ increment in 8 cuts on both models. From an increment's first iterate in a model
 interactions it now goes back as far as 1e-9 of the step (solvers/newton.py,
 ``SMALLEST_FIRST_STEP``; benchmarks/ply_overhang.py has the figures)."""
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -108,3 +109,40 @@ def test_friction_does_not_move_a_ply_pressed_flat_by_its_weight():
 def test_the_ply_contact_refuses_an_unknown_stick_spring():
     with pytest.raises(ValueError, match="stick must be one of"):
         _two_plies(5.0, friction=0.2, stick="normal")
+
+
+def test_an_imposed_first_step_leaves_the_deep_backtracking_to_the_first_free_iterate(
+    monkeypatch,
+):
+    """An increment whose first iterate imposes prescribed motion takes that step whole (it
+    cannot back off); the deep backtracking of a model with interactions
+    (solvers/newton.py SMALLEST_FIRST_STEP) is then the next iterate's, the first that can
+    fall through a contact its tangent does not hold."""
+    import solvers.newton as newton
+
+    model = SimpleNamespace(
+        interactions=[object()],
+        dofs=SimpleNamespace(free=np.ones((2, 5), bool)),
+        internal_force=lambda state: None,
+    )
+    run = SimpleNamespace(model=model, counts={"residual": 0}, info={})
+    residual = SimpleNamespace(residual=lambda *args: (np.zeros((2, 5)), 0.0, None))
+    watchdog = newton.Watchdog(run, residual, True)
+    monkeypatch.setattr(newton, "step_cap", lambda model, delta: 1.0)
+    monkeypatch.setattr(watchdog, "_take", lambda state, frames, delta, cap: (1.0, state, None))
+    ones = np.ones((2, 5))
+    watchdog.step("imposed", None, ones, ones, True)
+    watchdog.step("free", None, ones, ones, False)
+    assert watchdog.best["deepest"] == newton.SMALLEST_FIRST_STEP
+    assert watchdog.deepest == newton.SMALLEST_STEP  # the iterates after it: 1/64
+
+
+def test_a_diverged_state_is_named_by_the_ply_contact():
+    """A NaN position (a diverged state) gets one ValueError naming it from the ply contact,
+    whatever the block's size (the small search returned empty rows and an IndexError came
+    from deep inside the facing; a k-d tree gave scipy's message)."""
+    compiled = _two_plies(5.0)[0].compile()
+    state = compiled.initial_state()
+    state.positions[-1, 2] = np.nan
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        compiled.interactions[0].facing(state)

@@ -11,7 +11,7 @@ from solvers.stop_diagnosis import stop_hint
 
 def test_a_model_with_contacts_is_sent_to_more_increments_not_to_the_arc_length():
     hint = stop_hint(SimpleNamespace(interactions=[object()]), None, "load")
-    assert "contacts" in hint and "more increments" in hint
+    assert "interactions (contacts" in hint and "more increments" in hint
     assert "try path='arc_length'" not in hint
 
 
