@@ -23,11 +23,10 @@ from elements.ply_projection import (
     closest_on_edges,
     facets,
     grown_corners,
-    open_edges,
 )
 from elements.ply_topology import FaceTopology
-from elements.ply_wedge import WedgeCuts
 from femcore.state import State
+from tests.test_ply_wedge import cut_strip
 
 
 def _same(a, b) -> bool:
@@ -111,29 +110,7 @@ def test_the_facing_round_a_cut_outline_vertex_is_numpy_s_to_the_bit(monkeypatch
 def _strip(rng):
     """tests/test_ply_wedge.py's strip of 4 cells, 0.3 mm high, its nodes jittered 0.05 mm in
     plane and 0.2 mm out of it: (nodes (m, 3), corners y (m, 3, 3), outline, cuts)."""
-    cells, height = 4, 0.3
-    plan = np.array(
-        [(float(i), 0.0) for i in range(cells + 1)]
-        + [(0.5 * j, -height) for j in range(2 * cells + 1)]
-    )
-    points = np.column_stack(
-        [plan + rng.normal(0.0, 0.05, plan.shape), rng.normal(0.0, 0.2, len(plan))]
-    )
-    below = cells + 1
-    nodes = [(i, below + 2 * i + 1, i + 1) for i in range(cells)]
-    for i in range(cells + 1):
-        if i > 0:
-            nodes.append((i, below + 2 * i - 1, below + 2 * i))
-        if i < cells:
-            nodes.append((i, below + 2 * i, below + 2 * i + 1))
-    nodes = np.array(nodes)
-    y = points[nodes]
-    flipped = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])[:, 2] < 0.0
-    nodes[flipped] = nodes[flipped][:, [0, 2, 1]]
-    y = points[nodes]
-    outline = open_edges(nodes)
-    cuts = WedgeCuts.of(y, nodes, outline, np.where(outline, MARGIN, 0.0))
-    return nodes, y, outline, cuts
+    return cut_strip(rng, 0.3)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

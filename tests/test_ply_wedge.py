@@ -249,30 +249,11 @@ def test_a_triangle_cut_at_both_ends_gives_closest_points_of_its_cut_growth(heig
     from scipy.spatial import cKDTree
 
     from elements.ply_projection import MARGIN
-    from elements.ply_wedge import WedgeCuts, closest_on_grown, cut_keeps
+    from elements.ply_wedge import closest_on_grown, cut_keeps
 
     rng = np.random.default_rng(seed)
-    cells = 4
-    top = [(float(i), 0.0) for i in range(cells + 1)]
-    bottom = [(0.5 * j, -height) for j in range(2 * cells + 1)]
-    plan = np.array(top + bottom)
-    off_plane = rng.normal(0.0, 0.2, len(plan))
-    points = np.column_stack([plan + rng.normal(0.0, 0.05, plan.shape), off_plane])
-    below = cells + 1
-    nodes = [(i, below + 2 * i + 1, i + 1) for i in range(cells)]
-    for i in range(cells + 1):
-        if i > 0:
-            nodes.append((i, below + 2 * i - 1, below + 2 * i))
-        if i < cells:
-            nodes.append((i, below + 2 * i, below + 2 * i + 1))
-    nodes = np.array(nodes)
-    y = points[nodes]
-    flipped = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])[:, 2] < 0.0
-    nodes[flipped] = nodes[flipped][:, [0, 2, 1]]
-    y = points[nodes]
-    outline = open_edges(nodes)
+    nodes, y, outline, cuts = cut_strip(rng, height)
     reach = np.where(outline, MARGIN, 0.0)
-    cuts = WedgeCuts.of(y, nodes, outline, reach)
     twice = np.flatnonzero(np.any(cuts.lines != 0.0, axis=2).sum(axis=1) == 2)
     assert twice.size >= 1  # the premise: a triangle cut at both ends
     steps = np.linspace(-MARGIN, 1.0 + 2.0 * MARGIN, 301)
@@ -297,3 +278,33 @@ def test_a_triangle_cut_at_both_ends_gives_closest_points_of_its_cut_growth(heig
         distance = np.linalg.norm(p - q, axis=1)
         assert (distance >= nearest - spacing).all(), row  # no nearer than the growth allows
         assert (distance <= nearest + spacing).all(), row
+
+
+def cut_strip(rng: np.random.Generator, height: float, cells: int = 4):
+    """A short strip of ``cells`` squares' width along x, ``height`` mm high, of outline
+    triangles (each outline vertex of three triangles), its nodes jittered by 0.05 mm in its
+    plane and 0.2 mm out of it, cut at both ends: (nodes (m, 3), corners y (m, 3, 3), outline
+    (m, 3), WedgeCuts)."""
+    from elements.ply_projection import MARGIN
+    from elements.ply_wedge import WedgeCuts
+
+    top = [(float(i), 0.0) for i in range(cells + 1)]
+    bottom = [(0.5 * j, -height) for j in range(2 * cells + 1)]
+    plan = np.array(top + bottom)
+    off_plane = rng.normal(0.0, 0.2, len(plan))
+    points = np.column_stack([plan + rng.normal(0.0, 0.05, plan.shape), off_plane])
+    below = cells + 1
+    nodes = [(i, below + 2 * i + 1, i + 1) for i in range(cells)]
+    for i in range(cells + 1):
+        if i > 0:
+            nodes.append((i, below + 2 * i - 1, below + 2 * i))
+        if i < cells:
+            nodes.append((i, below + 2 * i, below + 2 * i + 1))
+    nodes = np.array(nodes)
+    y = points[nodes]
+    flipped = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])[:, 2] < 0.0
+    nodes[flipped] = nodes[flipped][:, [0, 2, 1]]
+    y = points[nodes]
+    outline = open_edges(nodes)
+    cuts = WedgeCuts.of(y, nodes, outline, np.where(outline, MARGIN, 0.0))
+    return nodes, y, outline, cuts
