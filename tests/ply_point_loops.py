@@ -1,5 +1,6 @@
 """A ply contact point carried round a feature of the lower ply's face past its outline: the
-set-up shared by tests/test_ply_growth_sign.py and tests/test_ply_wedge.py.
+set-up shared by tests/test_ply_growth_sign.py, tests/test_ply_wedge.py and
+tests/test_ply_fade_hessian.py, and the contact's tangent assembled dense over the translations.
 
 One upper triangle 0.02 mm across (its centroid the contact point, moved rigidly, the
 directors held along z) circles (0, ``past``, 0.2) at ``radius`` in the x-z plane: its face
@@ -83,3 +84,16 @@ def walk(block, positions: np.ndarray, directors: np.ndarray) -> dict[str, np.nd
         "gap": np.array(gaps),
         "fade": np.array(fades),
     }
+
+
+def translational_tangent(block, state: State) -> np.ndarray:
+    """The contact block's tangent at ``state`` assembled dense over the nodes' translations
+    (3n, 3n), N/mm: each part's (row, i, :3, j, :3) blocks summed at nodes (a, b)."""
+    size = state.positions.size
+    tangent = np.zeros((size, size))
+    for part in block.tangent(state):
+        for row in range(len(part.nodes)):
+            for i, a in enumerate(part.nodes[row]):
+                for j, b in enumerate(part.nodes[row]):
+                    tangent[3 * a : 3 * a + 3, 3 * b : 3 * b + 3] += part.blocks[row, i, :3, j, :3]
+    return tangent

@@ -30,7 +30,7 @@ import functools
 
 import numpy as np
 import pytest
-from ply_point_loops import point_round
+from ply_point_loops import point_round, translational_tangent
 
 from elements.ply_fade import central_fade_hessian, outline_fade
 from elements.ply_fade_hessian import fade_hessian
@@ -78,13 +78,7 @@ def _placed(x: np.ndarray, face: np.ndarray) -> np.ndarray:
 def _tangent(block, x, directors) -> np.ndarray:
     """The contact's translational tangent (3n, 3n), N/mm."""
     zero = np.zeros_like(x)
-    tangent = np.zeros((x.size, x.size))
-    for part in block.tangent(State(x, directors, zero, zero)):
-        for row in range(len(part.nodes)):
-            for i, a in enumerate(part.nodes[row]):
-                for j, b in enumerate(part.nodes[row]):
-                    tangent[3 * a : 3 * a + 3, 3 * b : 3 * b + 3] += part.blocks[row, i, :3, j, :3]
-    return tangent
+    return translational_tangent(block, State(x, directors, zero, zero))
 
 
 def _central(block, x, directors, step) -> np.ndarray:
