@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements.fibrous.cell_terms import cell_cross
 from elements.jit import jit_lanes, prange
 
 __all__ = ["cell_steps"]
@@ -28,12 +29,7 @@ def _cell_steps(
     stiffness); margin: the nodal normals' 10 % on omega^2."""
     for c in prange(connectivity.shape[0]):
         i0, i1, i2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        a0 = positions[i1, 0] - positions[i0, 0]
-        a1 = positions[i1, 1] - positions[i0, 1]
-        a2 = positions[i1, 2] - positions[i0, 2]
-        b0 = positions[i2, 0] - positions[i0, 0]
-        b1 = positions[i2, 1] - positions[i0, 1]
-        b2 = positions[i2, 2] - positions[i0, 2]
+        a0, a1, a2, b0, b1, b2, _, _, _ = cell_cross(positions, i0, i1, i2)
         # numpy's norm and sum of three components add them in order, from the first
         len1 = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
         len2 = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
