@@ -89,6 +89,27 @@ def _crumpled(cells: int, rng: np.random.Generator):
     return nodes, triangles
 
 
+def _sheet_and_points(rng: np.random.Generator, cells: int, count: int, cut: bool):
+    """``_crumpled(cells)``, its outline and growths' reach, its wedge cuts if ``cut`` (the
+    premise: some triangles are cut), its FacingSearch, and ``count`` points over it within
+    N(0, 8 mm) of its plane: (nodes, triangles, outline, reach, cuts, search, points)."""
+    nodes, triangles = _crumpled(cells, rng)
+    outline = open_edges(triangles)
+    reach = np.where(outline, MARGIN, 0.0)
+    cuts = WedgeCuts.of(nodes[triangles], triangles, outline, reach) if cut else None
+    assert not cut or (cuts is not None and cuts.any)
+    search = FacingSearch.of(nodes[triangles], outline, cuts)
+    side = 10.0 * cells + 5.0
+    p = np.column_stack(
+        [
+            rng.uniform(-5.0, side, count),
+            rng.uniform(-5.0, side, count),
+            rng.normal(0.0, 8.0, count),
+        ]
+    )
+    return nodes, triangles, outline, reach, cuts, search, p
+
+
 @pytest.mark.parametrize("cut", [False, True], ids=["grown", "cut"])
 @pytest.mark.parametrize("seed", [0, 1])
 def test_kept_lists_answer_as_a_search_over_every_triangle(seed, cut):
@@ -103,16 +124,8 @@ def test_kept_lists_answer_as_a_search_over_every_triangle(seed, cut):
     the search's distances and the brute force's to the cut growths (the premise: some
     triangles are cut)."""
     rng = np.random.default_rng(seed)
-    nodes, triangles = _crumpled(8, rng)
-    outline = open_edges(triangles)
+    nodes, triangles, outline, reach, cuts, search, p = _sheet_and_points(rng, 8, 300, cut)
     edges = edge_ids(triangles)
-    reach = np.where(outline, MARGIN, 0.0)
-    cuts = WedgeCuts.of(nodes[triangles], triangles, outline, reach) if cut else None
-    assert not cut or (cuts is not None and cuts.any)
-    search = FacingSearch.of(nodes[triangles], outline, cuts)
-    p = np.column_stack(
-        [rng.uniform(-5.0, 85.0, 300), rng.uniform(-5.0, 85.0, 300), rng.normal(0.0, 8.0, 300)]
-    )
     every = np.tile(np.arange(len(triangles)), (len(p), 1))
     missed = 0
     calls = 40
@@ -216,15 +229,7 @@ def test_a_small_search_lists_as_the_trees_did(seed, cut):
     k-d trees, every cut pair measured). The premises: the points times triangles are within
     ``EVERY_PAIR``, and with cuts the search before measured more cut pairs."""
     rng = np.random.default_rng(seed)
-    nodes, triangles = _crumpled(6, rng)
-    outline = open_edges(triangles)
-    reach = np.where(outline, MARGIN, 0.0)
-    cuts = WedgeCuts.of(nodes[triangles], triangles, outline, reach) if cut else None
-    assert not cut or (cuts is not None and cuts.any)
-    search = FacingSearch.of(nodes[triangles], outline, cuts)
-    p = np.column_stack(
-        [rng.uniform(-5.0, 65.0, 100), rng.uniform(-5.0, 65.0, 100), rng.normal(0.0, 8.0, 100)]
-    )
+    nodes, triangles, _, _, _, search, p = _sheet_and_points(rng, 6, 100, cut)
     assert len(p) * len(triangles) <= ply_search.EVERY_PAIR
     now: list[int] = []
     before: list[int] = []
