@@ -279,6 +279,13 @@ class PlyContactBlock(InteractionBlock):
         else:
             p = np.einsum("pj,pji->pi", self.shape, corners)
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
+        if not (np.isfinite(p).all() and np.isfinite(y).all()):
+            # the searches' own errors differ with the block's size (a k-d tree's "x must be
+            # finite", the small search's empty rows): one message that names the cause
+            raise ValueError(
+                "the plies' positions or directors hold NaN or infinite values: the ply "
+                "contact cannot find the faces their points touch (a diverged state)"
+            )
         p.setflags(write=False)
         y.setflags(write=False)
         self._faces_at = (x.copy(), state.directors.copy(), p, y)
@@ -288,13 +295,6 @@ class PlyContactBlock(InteractionBlock):
         """The points p (P, 3), their candidate triangles (P, K) and the lower corners y
         (m, 3, 3) at ``state``."""
         p, y = self._faces(state)
-        if not (np.isfinite(p).all() and np.isfinite(y).all()):
-            # the searches' own errors differ with the block's size (a k-d tree's "x must be
-            # finite", the small search's empty rows): one message that names the cause
-            raise ValueError(
-                "the plies' positions or directors hold NaN or infinite values: the ply "
-                "contact cannot find the faces their points touch (a diverged state)"
-            )
         if self.candidates is None:  # curved faces: made at this state alone (ply_search.py)
             return p, (self.search.fresh if self.curved else self.search.near)(p, y), y
         _, near = cKDTree(y.mean(axis=1)).query(p, k=self.candidates)
