@@ -370,7 +370,8 @@ def updated_history(
     on = facing.touching
     length = np.linalg.norm(sliding.slip, axis=1)
     unit = sliding.slip / np.where(length > 0, length, 1.0)[:, None]
-    spring = np.where(sliding.spring > 0, sliding.spring, 1.0)  # 0 only where stuck
+    # k_t is 0 only where a point is stuck (k_t |s| <= mu N holds) or not touching: slid 0
+    spring = np.where(sliding.spring > 0, sliding.spring, 1.0)
     held = block.friction * sliding.pressing / spring  # |s| at the limit, mm
     slid = np.where(sliding.sliding, length - held, 0.0)
     # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
