@@ -351,8 +351,8 @@ another name, and the library's ``mass_scaling_dt`` is uniform on this blank (ab
 selective scaling that keeps the translations' inertia (Olovsson, Simonsson, Unosson 2005)
 is capped by the springs: a blank pressed between tools moves as a whole against them, which
 such a scaling leaves as it is; in the solver's rule at most 2.05 times the step (1.76 at beta
-8), the stroke at least 7 min unscaled on two threads and 3.5 min with time scaling x2 on top
-(a linear solve a step besides, not written). The shear's slope at each cell's current angle
+8: the stroke at least 7 min on two threads, 3.5 min with time scaling x2 on top, a linear
+solve of the mass a step besides; not written). The shear's slope at each cell's current angle
 would give 1.08-1.13 times the step (not done: the automatic penalty is calibrated on the same
 bound, so the springs would soften with it).
 Run from the project root:
