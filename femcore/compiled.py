@@ -164,6 +164,10 @@ class CompiledModel(CompiledTangent):
             unstated = np.isin(self.rigid_nodes, self.nominal_mass_nodes)
             self._rigid_mass = np.where(unstated, nominal, self._rigid_mass)
             self.mass0, self.inertia0 = self.lumped_mass(state0)
+        # The mass the elements carry, the tools' aside: what mass scaling scales, and what
+        # its added mass is a share of (a 100-g holder on a 10-g blank would otherwise make
+        # ten times the blank's mass read as a tenth).
+        self.element_mass = float(self.mass0.sum() - self._rigid_mass.sum())
         unmassed = active[:, 0] & ~(self.mass0 > 0)
         if unmassed.any():
             raise ValueError(

@@ -92,7 +92,7 @@ BALANCE_EVERY = 10
 # last good one (2: omega dt = 1.4 may reach it with all the energy in the highest mode); the
 # largest motion of a node in one step, in median element edges.
 BALANCE_TOLERANCE = 0.05
-# The most mass that mass scaling may add, in times the model's own mass (the option
+# The most mass that mass scaling may add, in times the mass of the model's elements (the option
 # max_added_mass): beyond it the inertia, not the model, decides the answer.
 MAX_ADDED_MASS = 10.0
 GROWTH_LIMIT = 10.0
@@ -116,8 +116,9 @@ class CentralDifference:
     mass_scaling_dt : s, a target step: cells whose stable step is smaller get their density
         scaled by (target / dt_cell)^2 so that the step is the target; the added mass is
         reported in ``result.info``.
-    max_added_mass : the most mass scaling may add, in times the model's mass (default
-        MAX_ADDED_MASS = 10); more is refused before the run starts (ValueError naming it).
+    max_added_mass : the most mass scaling may add, in times the elements' mass (the tools'
+        masses aside; default MAX_ADDED_MASS = 10); more is refused before the run starts
+        (ValueError naming it).
     max_steps : the most steps of the run; a duration / dt above it at the first step is
         refused before the run starts, and a run whose step shrinks past it stops there.
     output_interval : s between frames (default duration / 20).
@@ -308,7 +309,7 @@ class CentralDifference:
             ``model`` not a Model; a checkpoint written by another model or other solver
             settings; a ``checkpoint_interval`` that is not a number >= 0; a run that would
             take more than ``max_steps`` steps or add more than ``max_added_mass`` times the
-            model's mass (both before the first step).
+            elements' mass (both before the first step).
         """
         compiled = compiled_model(model, "CentralDifference")
         checkpoint_interval = check_non_negative(checkpoint_interval, "checkpoint_interval", "s")
@@ -355,8 +356,8 @@ class CentralDifference:
             """The run stops: the frames end with the last state that passed the checks."""
             good_time = run.good[0].time
             scaled = (
-                f" Mass scaling added {run.added_mass / float(compiled.mass0.sum()):.3g} times "
-                "the model's mass."
+                f" Mass scaling added {run.added_mass / compiled.element_mass:.3g} times "
+                "the elements' mass."
                 if run.added_mass > 0.0
                 else ""
             )
@@ -548,11 +549,12 @@ class CentralDifference:
                 "by m a = F - (contact forces); give the tool its mass (t), e.g. "
                 "RigidPlane(..., free=('z',), force=..., mass=...), or [[contact]] mass = ..."
             )
-        total = float(compiled.mass0.sum())
+        total = compiled.element_mass
         if total > 0.0 and added_mass > self.max_added_mass * total:
             raise ValueError(
                 f"mass_scaling_dt = {self.mass_scaling_dt:g} s would add {added_mass / total:.3g} "
-                f"times the model's mass ({added_mass:.3g} on {total:.3g}), more than "
+                f"times the elements' mass ({added_mass:.3g} on {total:.3g} t, the tools' "
+                "masses aside), more than "
                 f"max_added_mass = {self.max_added_mass:g}: the run would describe a much "
                 "heavier body. Choose a target step nearer the stable step, or raise "
                 "max_added_mass"
@@ -641,7 +643,7 @@ class CentralDifference:
             "solver": "CentralDifference",
             "dt": run.dt_nominal,
             "added_mass": run.added_mass,
-            "added_mass_ratio": run.added_mass / float(compiled.mass0.sum()),
+            "added_mass_ratio": run.added_mass / compiled.element_mass,
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
@@ -649,7 +651,7 @@ class CentralDifference:
                 result.energies,
                 self._kinetic_bound(compiled),
                 self.duration,
-                run.added_mass / float(compiled.mass0.sum()),
+                run.added_mass / compiled.element_mass,
                 self.process_duration,
                 warn=converged,
             ),

@@ -100,7 +100,8 @@ def quasi_static_report(
     energies : the run's records: "time" (s), "kinetic" and "external_work" (N mm), (k,) each.
     bound : the largest KE / W of a quasi-static run, or None.
     duration : s, the run's.
-    added_mass_ratio : the mass scaling's added mass over the model's mass.
+    added_mass_ratio : the mass scaling's added mass over the elements' mass (the tools'
+        masses aside).
     process_duration : s, the real process's duration when the run is shorter (time scaling).
     warn : False for a run that stopped (its error says more).
 

@@ -141,7 +141,7 @@ def test_mass_scaling_that_would_add_many_times_the_mass_is_refused_naming_the_f
     """The cable's stable step is 2.5e-6 s and the step taken 0.9 of it: a target of 1e-3 s
     would multiply its mass by 2e5, one of 1e-5 s add (1e-5 / 0.9 / 2.5e-6)^2 - 1 = 18.8
     times it (above the default cap of 10, below a cap of 20), one of 4e-6 s 2.2 times."""
-    with pytest.raises(ValueError, match=r"would add 1\.\d+e\+05 times the model's mass"):
+    with pytest.raises(ValueError, match=r"would add 1\.\d+e\+05 times the elements' mass"):
         CentralDifference(duration=1e-3, mass_scaling_dt=1e-3, progress=False).solve(cable())
     with pytest.raises(ValueError, match=r"would add 18\.\d times .* max_added_mass = 10"):
         CentralDifference(duration=1e-4, mass_scaling_dt=1e-5, progress=False).solve(cable())

@@ -481,3 +481,29 @@ def test_holder_ring_covers_its_annulus_with_facets_facing_down():
     assert area == pytest.approx(np.pi * (145.0**2 - 51.2**2), rel=1e-3)
     with pytest.raises(ValueError, match="inner < outer"):
         holder_ring(10.0, 5.0, 1.0)
+
+
+def test_mass_scaling_reports_its_added_mass_as_a_share_of_the_plate_not_of_the_holder():
+    """A 100-times-heavier holder on the plate: mass scaling scales the plate's cells alone,
+    so its added mass is a share of the plate's rho h A (closed form, to round-off 1e-12),
+    and ``max_added_mass`` is judged against that share; a ratio over the model's mass with
+    the holder would read a hundred times smaller and let a run through that adds more than
+    the cap allows."""
+    plate = 1e-9 * 1.0 * SIDE**2  # t, rho h A
+    model = pressed_plate(mindlin(), 1.0, 50.0, mass=100.0 * plate)
+    target = 8.0 * model.compile().stable_dt(model.compile().initial_state())
+    solver = CentralDifference(
+        duration=20.0 * target, mass_scaling_dt=target, max_added_mass=1000.0, progress=False
+    )
+    run = solver.solve(model)
+    added = run.info["added_mass"]
+    assert added > 10.0 * plate
+    assert run.info["added_mass_ratio"] == pytest.approx(added / plate, rel=1e-12)
+    capped = CentralDifference(
+        duration=20.0 * target,
+        mass_scaling_dt=target,
+        max_added_mass=0.5 * added / plate,
+        progress=False,
+    )
+    with pytest.raises(ValueError, match=r"times the elements' mass .*max_added_mass"):
+        capped.solve(model)
