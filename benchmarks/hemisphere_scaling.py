@@ -92,8 +92,8 @@ bound; the case allows 0.1), the holder's largest lift, CPU s (load):
 * unscaled: 27678 steps, 2.140, 28.57, 56.9, 0.007 (0), 0 mm, 68 s (8.8 -> 5.3);
 * time x2: 13840 steps, 2.138, 28.56, 59.8, 0.026 (0), 0 mm, 40 s (8.5 -> 9.0);
 * time x4: 6922 steps, 2.087, 28.50, 58.9, 0.082 (0), 0 mm, 23 s (7.4 -> 8.3);
-* mass 2.4e-5 s (0.253 of the model's mass added, the blank's and the 100-g holder's: 2.5 times
-  the blank's, the step 1.77e-5 s instead of 1.03e-5):
+* mass 2.4e-5 s (2.5 times the blank's mass added, 0.253 of the model's with the 100-g holder,
+  the solver's figure then; the step 1.77e-5 s instead of 1.03e-5):
   16236 steps, 2.167, 28.60, 64.4, 0.022 (0), 0 mm, 29 s (5.2 -> 4.5);
 * mass 2.4e-5 s and time x2: 8119 steps, 2.148, 28.70, 54.6, 0.075 (0), 0 mm, 31 s (9.2 ->
   8.7);
