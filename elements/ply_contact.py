@@ -104,9 +104,10 @@ Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
 elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower
 triangle and barycentric coordinates Lambda, the anchor a = sum Lambda_k y_k sliding with the
 lower ply. Its tangential offset s = (I - n n^T)(p - a), n the facing triangle's normal, loads
-a spring of stiffness k_t: k_p, or with ``stick="normal law"`` W''(g), the normal law's own
-(k_p deeper than the smoothing, k_p |g| / delta on its ramp; times w past the outline;
-elements/ply_friction.py, for plies laid on each other with nearly no normal force): stuck,
+a spring of stiffness k_t: W''(g), the normal law's own (``stick="normal law"``, the default:
+k_p deeper than the smoothing, k_p |g| / delta on its ramp; times w past the outline;
+elements/ply_friction.py: plies laid on each other with nearly no normal force stick), or
+k_p at any normal force (``stick="penalty"``): stuck,
 k_t |s| <= mu N (N = -W'(g) the point's normal force), the force on p is -k_t s (energy |F|^2 /
 (2 k_t)); sliding, -mu N s / |s|. The force on p goes
 to the upper corners by N_j (moments through the offsets as the normal force) and, opposite,
@@ -205,9 +206,10 @@ class PlyContact(Interaction):
         The Coulomb coefficient mu >= 0 between the plies (module docstring, "Friction"); 0
         (default): frictionless, no history kept, the frictionless code path alone.
     stick : str
-        The friction's stick spring k_t, one of ``STICKS``: "penalty" (default), k_p; "normal
-        law", W''(g), the normal law's own stiffness (elements/ply_friction.py), for plies
-        laid on each other with nearly no normal force (module docstring, "Friction").
+        The friction's stick spring k_t, one of ``STICKS``: "normal law" (default), W''(g),
+        the normal law's own stiffness (elements/ply_friction.py), under which plies laid on
+        each other with nearly no normal force stick; "penalty", k_p at any normal force
+        (module docstring, "Friction").
     faces : str
         "director" (default): each face h/2 from the mid-surface along the nodes' directors,
         the contact acting on the directors too; "normal": along the ply's area-weighted
@@ -246,7 +248,7 @@ class PlyContact(Interaction):
         rule: str = "centroid",
         smoothing: float | None = None,
         friction: float = 0.0,
-        stick: str = "penalty",
+        stick: str = "normal law",
         faces: str = "director",
         surface: str = "flat",
         points: str = "upper",

@@ -5,12 +5,13 @@ mapping, its loads and exact tangent, and the history after an accepted step.
 Each touching contact point keeps an anchor on the lower face (a triangle and barycentric
 coordinates, so it slides with the lower ply); the tangential offset of the point from it loads
 a spring capped at mu times the point's normal force N. The spring's stiffness k_t is the
-point's penalty k_p (PlyContact's ``stick="penalty"``, the default) or the normal law's own
-(``stick="normal law"``), k_t = dN/d(-g) = W''(g) (times the fade's w past the outline): k_p
-once the point is pressed deeper than the smoothing delta, and k_p |g| / delta on the
-smoothed penalty's ramp, where N = k_p g^2 / (2 delta). The elastic slip at the friction
-limit, mu N / k_t, is then mu |g| / 2 on the ramp (mu (|g| - delta / 2) deeper, as with
-k_p): it vanishes with the penetration, where with k_t = k_p it vanishes with N, as g^2.
+normal law's own (PlyContact's ``stick="normal law"``, the default), k_t = dN/d(-g) = W''(g)
+(times the fade's w past the outline): k_p once the point is pressed deeper than the
+smoothing delta, and k_p |g| / delta on the smoothed penalty's ramp, where N = k_p g^2 /
+(2 delta); or the point's penalty k_p at any depth (``stick="penalty"``). The elastic slip at
+the friction limit, mu N / k_t, is then mu |g| / 2 on the ramp (mu (|g| - delta / 2) deeper,
+as with k_p): it vanishes with the penetration, where with k_t = k_p it vanishes with N, as
+g^2.
 Points laid on the face with nearly no normal force stick on a spring as soft as their
 normal one instead of switching between stick and slip on a cone of radius mu N / k_p, far
 below the slips a Newton iterate makes there (docs/theory.md §9.3a, "Friction between

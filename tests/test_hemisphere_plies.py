@@ -33,9 +33,17 @@ def _stack_holds(report: dict, name: str) -> None:
     the bottom ply in the die along the radius from the die's centre (``radial_gaps``)
     within one ply thickness; both plies on their spheres over the punch (at least 5 cells
     in the die each: their corners within 0.5 mm of the sphere, 5 mm below the flange); and
-    no ply's face through the holder's face by more than a ply thickness anywhere under its
-    ring over the run (``through_holder``: the contact's penetration where the holder
-    presses it)."""
+    every ply held by the holder under its ring over the run: no node's face through the
+    holder's face by more than its contact spring with the holder takes under the holder's
+    whole force, F / k (``through_holder``'s share, rise k / F, at most 1). A node the holder
+    presses goes into it by the penalty's penetration f / k, f its share of F; one it does not
+    hold rises freely (with the holder on the top ply alone the bottom ply's corner went 17.9
+    mm through the holder's face: 13 F / k of its spring, 14.9 N/mm, now). The rise in
+    mm, against a ply thickness before, is f / k at a crest: k = 0.1 m (2 / dt)^2 follows the
+    node's mass (7.5-13 N/mm at the blank's outline, 40 inside), and which crest carries the
+    holder is chaotic: 0.16-0.82 mm over fourteen runs whose stick spring differs by 0.1-0.3
+    %, a ply thickness passed with either stick spring (docs/hemisphere_plies.md, "The
+    holder's penetration"), where the largest share was 0.27-0.60."""
     values = report["cases"][NAME]["parameters"]
     run = run_key(name, "fibrous", study.HOLDER_FORCES[0])
     key = run.replace(" ", "_").replace("/", "-")
@@ -49,7 +57,7 @@ def _stack_holds(report: dict, name: str) -> None:
     for k, angle in enumerate(study.LAYUPS[name]):
         ply = f"{key}_ply{k + 1}_{angle:g}deg"
         assert values[f"{ply}_cells_in_die"] >= 5, ply
-        assert values[f"{ply}_through_holder_mm"] < study.THICKNESS, ply
+        assert values[f"{ply}_through_holder_share_of_force"] <= 1.0, ply
 
 
 @pytest.mark.slow
@@ -78,7 +86,12 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     """The [0/45] stack, whose plies' meshes do not match (``_stack_holds``). Measured (the
     study's docstring, RESULTS): KE / W at most 0.075, the holder 19.78 N over the last
     tenth (10.3 mm up at the end), the least radial gap in the die +0.01 mm, the plies'
-    faces at most 0.11 and 0.21 mm through the holder's; with the holder on the top ply's
+    faces at most 0.11 and 0.21 mm through the holder's. With the ply contact's stick spring
+    of the normal law, the default since: KE / W 0.075, the holder 19.22 N over the last
+    tenth, 20.01 N with its m dv / T taken off (10.5 mm up), the radial gap +0.015 mm, the
+    faces 0.14 and 0.45 mm through the holder's, shares of its force 0.10 and 0.45 (the
+    top ply's corner crest, k = 13.3 N/mm: docs/hemisphere_plies.md, "The holder's
+    penetration"). With the holder on the top ply's
     nodes alone the bottom ply's corner rose 24.7 mm, through the holder's face by 17.9 mm
     at t = 0.095 s (``through_holder`` on that run), which this test fails (the study's
     docstring, "The holder on every ply")."""
@@ -140,6 +153,38 @@ def test_the_rise_through_the_holder_is_the_face_above_the_holders_face_under_it
     assert first["mm"] == pytest.approx(5.0 + 0.15 + 0.15 - 2.6, rel=1e-12)
     assert (first["at_s"], first["x_mm"], first["y_mm"]) == (0.05, -100.0, 100.0)
     assert second["mm"] == pytest.approx(0.0, abs=1e-12) and second["at_s"] == 0.0
+
+
+def test_the_share_of_the_holders_force_is_the_rise_times_the_nodes_spring_over_the_force():
+    """``through_holder``'s share on the frames above (the bottom ply's corner 2.7 mm through
+    the holder's face, the holder 2 mm up, a node in its bore 9 mm up): with every node's
+    spring 8 N/mm but the corner's 2 N/mm and the holder's force 20 N, the corner's spring
+    would carry 2 x 2.7 = 5.4 N, a share 0.27 (its own spring, not the 8 N/mm of its
+    neighbours), which the bored node's 9 mm does not change; the top ply's, 0 at rest (t =
+    0, its face on the holder's), -2 x 8 / 20 = -0.8 with the holder 2 mm up. Without the springs
+    no share is reported. Closed forms, to round-off (1e-12)."""
+    layup = Layup(FABRIC, study.LAYUPS["0/45"], 2 * study.HALF, cells=8)
+    points = layup.mesh.points
+    bottom = layup.ply_nodes[0]
+    corner = bottom[np.argmin(np.linalg.norm(points[bottom, :2] - [-100, 100], axis=1))]
+    pole = bottom[np.argmin(np.linalg.norm(points[bottom, :2], axis=1))]
+    lifted = points.copy()
+    lifted[corner, 2] += 5.0
+    lifted[pole, 2] += 9.0
+    moved = np.zeros((3, 3))
+    moved[2, 2] = 2.0
+    frames = [
+        SimpleNamespace(time=0.0, positions=points, tool_displacements=np.zeros((3, 3))),
+        SimpleNamespace(time=0.05, positions=lifted, tool_displacements=moved),
+    ]
+    spring = np.full(layup.mesh.n_nodes, 8.0)
+    spring[corner] = 2.0
+    run = SimpleNamespace(frames=frames)
+    first, second = through_holder(layup, run, stiffness=spring, force=20.0)
+    assert first["share"] == pytest.approx(2.0 * 2.7 / 20.0, rel=1e-12)
+    assert first["share_at_s"] == 0.05
+    assert second["share"] == pytest.approx(0.0, abs=1e-12) and second["share_at_s"] == 0.0
+    assert "share" not in through_holder(layup, run)[0]
 
 
 def test_the_kinetic_energy_is_split_between_the_plies_and_the_holder():

@@ -86,21 +86,22 @@ def test_a_ply_overhanging_the_outline_of_a_ply_held_whole():
 
 
 def test_friction_does_not_move_a_ply_pressed_flat_by_its_weight():
-    """With Coulomb friction (mu = 0.2) between the plies and the stick spring of the normal
-    law (``stick="normal law"``: k_t = W''(g), elements/ply_friction.py), wholly on the lower
+    """With Coulomb friction (mu = 0.2) between the plies and the ply contact's default stick
+    spring, the normal law's (``stick="normal law"``: k_t = W''(g), elements/ply_friction.py),
+    wholly on the lower
     ply: the load is normal, so the frictional equilibrium is the frictionless one up to what
     the friction can hold back, the in-plane motion of the upper ply's lower face in the
     frictionless answer (6.1e-6 mm, its directors turning near the clamp): every node within
     1e-5 mm of the frictionless answer (2 % of delta); measured 8.2e-7 mm. Static's defaults
     converge in 39 iterations, as frictionless. With the stick spring k_p at any normal force
-    (the code before, and ``stick="penalty"``, the default) the laid points, pressed 3e-5 mm
+    (``stick="penalty"``, the default before) the laid points, pressed 3e-5 mm
     deep on the smoothed penalty's ramp with N ~ 1e-5 N, switch between stick and slip on a
     cone of radius mu N / k_p ~ 1e-8 mm against the iterates' slips of 1e-7 mm, and the
     first increment fails (residual ratio 0.022 after 50 iterations, 8 cuts)."""
     frictionless, upper = _two_plies(5.0)
     reference = Static(progress=False).solve(frictionless)
     assert reference.converged
-    model, _ = _two_plies(5.0, friction=0.2, stick="normal law")
+    model, _ = _two_plies(5.0, friction=0.2)
     result = Static(progress=False).solve(model)
     assert result.converged and result.info["cuts"] == 0
     assert np.abs(result.positions[upper] - reference.positions[upper]).max() <= 1e-5

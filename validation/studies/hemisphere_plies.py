@@ -68,6 +68,12 @@ Rerun with a gap to an edge or a vertex signed by its pseudonormal (below, "Mind
  8 0/90 F 20 3.46/3.51 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)     20.00 -0.1 0.086 (0.000) -0.13  47
  8 0/90 M 20 3.14/3.19 (20/13) 30.7/30.9 11.5 9/9 (13.7/13.4)   19.32 13.4 0.115 (0.051) -0.12  76
 10 0/45 M 20 3.44/4.93 (44/54) 24.6/9.4  17.5 13/8 (8.1/7.8)    20.03  7.8 0.130 (0.053) -0.11 155
+Rerun with the ply contact's stick spring of the normal law, the default since
+(docs/hemisphere_plies.md, "The holder's penetration"; the coarse report's runs, one thread,
+CPU of the run, load 6-10; every check passes, the holder's rise through its face judged
+against its springs):
+ 8 0/90 F 20 3.46/3.50 (26/26) 24.9/25.1  0.2 0/0 (0.0/0.0)     20.01 -0.1 0.086 (0.000) -0.13  47
+ 8 0/45 F 20 2.25/4.65 (14/36) 28.9/10.6 20.0 11/8 (10.6/10.6)  19.22 10.5 0.075 (0.000) +0.01  43
 - Fibrous [0/45] at 10 cells, 20 and 40 N, before the holder on both plies (6112 steps, 111
   and 105 s, load 4.1-5.0): every check passes (the rows above).
 - Fibrous [0/45] at 8 cells, 40 N, on the current code (5155 steps, 72 s of CPU, load

@@ -149,7 +149,13 @@ def least_gaps(
     }
 
 
-def through_holder(layup: Layup, result: Any, holder: int = 2) -> list[dict[str, float]]:
+def through_holder(
+    layup: Layup,
+    result: Any,
+    holder: int = 2,
+    stiffness: np.ndarray | None = None,
+    force: float | None = None,
+) -> list[dict[str, float]]:
     """Per ply (bottom first), how far its face rose through the holder's plane over the run:
     the largest of z + h/2 - z_h over its nodes under the holder's ring (in plan between
     its inner and outer radius, ``HOLDER_RING``) and the run's frames, mm, z_h the holder's
@@ -157,12 +163,23 @@ def through_holder(layup: Layup, result: Any, holder: int = 2) -> list[dict[str,
     node's blank position (mm). A holder that presses every ply keeps it near 0 (the
     contact's penetration); one on the top ply's nodes alone lets a bottom-ply node the top
     ply has drawn in off rise freely (the study's docstring, "The holder on every ply").
-    ``holder`` is the holder's index among the tools."""
+    ``holder`` is the holder's index among the tools.
+
+    With ``stiffness`` ((n,) float, N/mm: each node's contact spring with the holder, NaN
+    where it has none) and ``force`` (N, the holder's), also "share": the largest of that
+    rise times the node's spring over the holder's force, the share of the holder's force
+    the node's spring carries at that rise, with its time "share_at_s" (s). A node the holder
+    presses carries a share of its force, at most all of it (1) where the run is
+    quasi-static; a node it does not hold rises with no force and reads its rise over the
+    penetration of the holder's whole force on its spring (docs/hemisphere_plies.md, "The
+    holder's penetration").
+    """
     n = layup.mesh.n_nodes
     start = layup.heights[-1] + 0.5 * THICKNESS
     out = []
     for nodes in layup.ply_nodes:
         worst = {"mm": -math.inf, "at_s": math.nan, "x_mm": math.nan, "y_mm": math.nan}
+        share = {"share": -math.inf, "share_at_s": math.nan}
         for frame in result.frames:
             x = frame.positions[:n][nodes]
             plan = np.linalg.norm(x[:, :2], axis=1)
@@ -176,5 +193,10 @@ def through_holder(layup: Layup, result: Any, holder: int = 2) -> list[dict[str,
                 blank = layup.mesh.points[nodes[i]]
                 worst = {"mm": float(rise[i]), "at_s": float(frame.time),
                          "x_mm": float(blank[0]), "y_mm": float(blank[1])}  # fmt: skip
-        out.append(worst)
+            if stiffness is not None and force is not None:
+                carried = np.where(under, rise * stiffness[nodes], -math.inf) / force
+                j = int(np.nanargmax(carried))
+                if carried[j] > share["share"]:
+                    share = {"share": float(carried[j]), "share_at_s": float(frame.time)}
+        out.append({**worst, **share} if stiffness is not None and force is not None else worst)
     return out

@@ -200,10 +200,14 @@ def run(
     in_die: dict[str, list[np.ndarray]] = {}
     key = run_key(name, kinematics, force)
     layup, built = model(cells, LAYUPS[name], kinematics, force, mass=mass)
-    solved: Any = built
+    solved: Any = built.compile()
     if instrument is not None:
-        solved = built.compile()
         instrument(solved)
+    # each node's contact spring with the holder (N/mm; NaN: none), whose penetration under
+    # the holder's force the rise through the holder is measured against
+    (holding,) = [i for i in solved.interactions if getattr(i, "tool_node", None) is not None]
+    spring = np.full(layup.mesh.n_nodes, np.nan)
+    spring[holding.connectivity[:, 0]] = holding.stiffness
     with tempfile.TemporaryDirectory() as folder:
         records = Path(folder) / "history.csv" if history is None else Path(history)
         solver = CentralDifference(
@@ -306,12 +310,14 @@ def run(
     parameters[f"{prefix}_final_kinetic_over_work"] = energies["kinetic"] / max(
         abs(energies["external_work"]), 1e-300
     )
-    risen = through_holder(layup, result)
+    risen = through_holder(layup, result, stiffness=spring, force=force)
     for k in range(layup.count):
         ply = f"{prefix}_ply{k + 1}_{layup.angles[k]:g}deg"
         parameters[f"{ply}_through_holder_mm"] = risen[k]["mm"]
         parameters[f"{ply}_through_holder_at_s"] = risen[k]["at_s"]
         parameters[f"{ply}_through_holder_where_mm"] = (risen[k]["x_mm"], risen[k]["y_mm"])
+        parameters[f"{ply}_through_holder_share_of_force"] = risen[k]["share"]
+        parameters[f"{ply}_through_holder_share_at_s"] = risen[k]["share_at_s"]
         compared = in_die[key][k] & np.isfinite(net_shear[key][k])
         error = np.degrees(shear[key][k][compared] - net_shear[key][k][compared])
         rms = float(np.sqrt(np.mean(error**2))) if compared.any() else math.inf
