@@ -121,11 +121,11 @@ tolerance 2.8), the draw-in 29.44 mm instead of 29.30, the largest KE / W after 
 allows 10 %), the damping's share of the work 22.9 % instead of 21.2 %, the holder's largest
 lift 0.28 mm instead of 0.46, the punch force at the end 81 N instead of 61 (that force rings:
 61-88 N between runs of the same mesh). At 20k triangles (first 1 %, load 11.6 -> 12.5): 5.5e-6
-s adds 3.6 times the blank's mass (its density x4.6; 0.37 of the model's with the holder) and takes 714 steps
-of 4.2e-6 s on average instead of 1339 (0.53), 37.0 ms CPU each; the stroke at that pace 71k
-steps, 44 min CPU (about 38 with the assembled bound's evaluations spread over the stroke). Its
-effect on the compared results at 20k was not run (the full stroke); at 20 cells a like share of
-added mass stayed within the case's tolerances.
+s adds 3.6 times the blank's mass (its density x4.6; 0.37 of the model's with the holder) and
+takes 714 steps of 4.2e-6 s on average instead of 1339 (0.53), 37.0 ms CPU each; the stroke
+at that pace 71k steps, 44 min CPU (about 38 with the assembled bound's evaluations spread
+over the stroke). Its effect on the compared results at 20k was not run (the full stroke); at
+20 cells a like share of added mass stayed within the case's tolerances.
 
 The die's candidate lists (``--die-lists old,new``, each run on a fresh model; ``--rim``,
 default the case's DIE_RIM = 10 mm entry radius, which the figures above predate: they ran on
