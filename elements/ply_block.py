@@ -367,7 +367,7 @@ class PlyContactBlock(InteractionBlock):
             and np.array_equal(kept[1], state.positions)
             and np.array_equal(kept[2], state.directors)
         )
-        if same and (kept[0] or not second):
+        if kept is not None and same and (kept[0] or not second):
             self._hessian_used |= second
             return kept[3]
         # Newton's tangent follows its force pass at the same state: there the facing of
