@@ -73,49 +73,6 @@ def _fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return facing.fade[on], facing.fade_gradient[on]
 
 
-def carried_to_nodes(
-    points: np.ndarray, shape: np.ndarray, offset: np.ndarray, d: np.ndarray
-) -> np.ndarray:
-    """The Hessian ``points`` (t, Z, 3, Z, 3) over z = (p, y_1, ..., y_{Z-1}), N/mm, carried
-    to the Z + 2 nodes (the upper triangle's 3 corners, then one node per y_k): (t, Z + 2, 6,
-    Z + 2, 6), the node's (u, psi) on each side, N/mm, N and N mm.
-
-    Each node's own map is dz = du - c [d]x psi (``offset`` c (t, Z + 2), mm; ``d``
-    (t, Z + 2, 3) the unit directions of its offset), and the point p takes its corners'
-    maps times N_j (``shape`` (t, 3)): M^T H M with M = A (I, R), A the nodes' weights in z
-    (N_j for p, 1 for y_k at node k + 2) and R = -c [d]x. The translational block A^T H A is
-    gathered by broadcasting and the rotations are 3 x 3 products, where one contraction
-    over the whole sparse M (``einsum``) multiplied the zeros too (the same sums to round-off:
-    tests/test_ply_carry.py).
-    """
-    t, z = points.shape[:2]
-    nodes = z + 2
-    k = np.empty((t, nodes, 3, nodes, 3))
-    n = shape
-    k[:, :3, :, :3] = (n[:, :, None] * n[:, None, :])[:, :, None, :, None] * points[
-        :, None, 0, :, None, 0, :
-    ]
-    k[:, :3, :, 3:] = n[:, :, None, None, None] * points[:, None, 0, :, 1:, :]
-    k[:, 3:, :, :3] = points[:, 1:, :, None, 0, :] * n[:, None, None, :, None]
-    k[:, 3:, :, 3:] = points[:, 1:, :, 1:, :]
-    turn = -offset[:, :, None, None] * cross_matrix(d)  # R (t, nodes, 3, 3)
-    blocks = np.empty((t, nodes, 6, nodes, 6))
-    blocks[:, :, :3, :, :3] = k
-    # K_rc R_c for every pair (r, c): the column node's R on the right
-    by_column = k.transpose(0, 3, 1, 2, 4).reshape(t, nodes, 3 * nodes, 3)
-    k_turned = np.matmul(by_column, turn).reshape(t, nodes, nodes, 3, 3).transpose(0, 2, 3, 1, 4)
-    blocks[:, :, :3, :, 3:] = k_turned
-    # R_r^T K_rc and R_r^T K_rc R_c: the row node's R^T on the left
-    turn_t = turn.transpose(0, 1, 3, 2)
-    blocks[:, :, 3:, :, :3] = np.matmul(turn_t, k.reshape(t, nodes, 3, 3 * nodes)).reshape(
-        t, nodes, 3, nodes, 3
-    )
-    blocks[:, :, 3:, :, 3:] = np.matmul(turn_t, k_turned.reshape(t, nodes, 3, 3 * nodes)).reshape(
-        t, nodes, 3, nodes, 3
-    )
-    return blocks
-
-
 class PlyContactBlock(InteractionBlock):
     """The bound ply contact: one row of ``connectivity`` per contact point, the corners of
     its upper triangle then the corners of the lower triangles it faces in the reference
@@ -537,6 +494,7 @@ class PlyContactBlock(InteractionBlock):
         """
         facing = self.facing(state, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
+        t = len(on)
         g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
@@ -552,7 +510,17 @@ class PlyContactBlock(InteractionBlock):
             law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
         )  # (t, 4, 3, 4, 3)
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        blocks = carried_to_nodes(points, self.shape[on], offset, d)
+        # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
+        # corners' maps times N_j, each lower corner its own.
+        own = np.zeros((t, 6, 3, 6))
+        own[:, :, :, :3] = np.eye(3)
+        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
+        maps = np.zeros((t, 4, 3, 6, 6))  # (t, z, coordinate, node, dof)
+        for j in range(3):
+            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
+            maps[:, 1 + j, :, 3 + j, :] = own[:, 3 + j]
+        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
         # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
         # c (psi x d) x F = c (d F^T - (F . d) I) psi.
         geometric = offset[:, :, None, None] * (
@@ -624,7 +592,16 @@ class PlyContactBlock(InteractionBlock):
             ]
         )
         d = self.offset_directions(state)[nodes]  # (f, 8, 3)
-        blocks = carried_to_nodes(points, self.shape[rows], offset, d)
+        own = np.zeros((f, 8, 3, 6))
+        own[:, :, :, :3] = np.eye(3)
+        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
+        maps = np.zeros((f, 6, 3, 8, 6))
+        for j in range(3):
+            maps[:, 0, :, j, :] = self.shape[rows][:, j, None, None] * own[:, j]
+        for z in range(1, 6):
+            maps[:, z, :, 2 + z, :] = own[:, 2 + z]
+        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
+        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
         forces = energy[:, None, None] * fading[:, 4:]  # on the ends
         geometric = offset[:, 6:, None, None] * (
             d[:, 6:, :, None] * forces[:, :, None, :]
