@@ -32,10 +32,14 @@ Measured (one thread, CPU, 2 cores shared with other jobs):
 * the report's cases, case_cpu_s of ``python -m validation --cases ... --jobs 1`` (one numba
   thread), s: main's code (c0b0822, a ``git archive``) at the default resolution,
   plies-bai-5.1 80.3, plies-deck-of-cards 51.5, bai-5.1 21.2 (load 10-16); at coarse 21.8,
-  13.2, 12.3 (load 10-12). With the facing's reuse and the structured carry tried below:
-  plies-bai-5.1 at the default resolution 72.2 s, beside main's code (with the carry alone)
-  at 84.0 s (load 10-17). Without the carry, results.json holds main's numbers (the facing's reuse
-  gives the same forces, energies and tangent to the bit: tests/test_ply_facing_reuse.py).
+  13.2, 12.3 (load 10-12). This code (the facing's reuse alone) and main's again, side by
+  side at the default resolution (load 15 -> 5): plies-bai-5.1 80.4 -> 75.7 s,
+  plies-deck-of-cards 45.7 -> 43.9 s; results.json the same in every number but the times,
+  and the three .vtu files of plies-bai-5.1 the same byte for byte (the facing's reuse gives
+  the same forces, energies and tangent to the bit: tests/test_ply_facing_reuse.py). With
+  the structured carry tried below as well: plies-bai-5.1 72.2 s beside main's code with the
+  carry alone at 84.0 s (load 10-17), plies-deck-of-cards 46.4 s (2040 Newton iterations for
+  main's 1977: the carry's round-off).
 
 Tried and taken out: the contact's Hessian over z carried to the nodes by its structure
 (A^T H A gathered by broadcasting, the rotations as 3 x 3 products) where one einsum over
