@@ -45,6 +45,10 @@ name_components("ply_slip_vector", ("x", "y", "z"))  # global axes, as the displ
 
 #: The degrees of freedom a ply contact acts on: the positions and the directors' rotations.
 DOFS = ("ux", "uy", "uz", "alpha", "beta")
+#: The loads' facings carry the gap's Hessian while Newton's tangents follow them at their
+#: state (``PlyContactBlock.facing``); False: the tangent makes its facing again (the same
+#: values: benchmarks/static_plies.py compares the two).
+HESSIAN_WITH_LOADS = True
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
@@ -211,6 +215,10 @@ class PlyContactBlock(InteractionBlock):
         # g = 0 anyway.
         size = float(np.ptp(body.mesh.points, axis=0).max(initial=0.0)) or 1.0
         self.tolerance = 0.0 if self.smoothing > 0 else 1e-9 * size
+        # the loads' facings computed with the gap's Hessian for the tangent that follows
+        # them (``facing``), and whether the last one with it served a tangent
+        self._hessian_with_loads = False
+        self._hessian_used = False
 
     def _point_stiffness(self) -> np.ndarray:
         return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)
@@ -306,16 +314,30 @@ class PlyContactBlock(InteractionBlock):
         Hessian where a point faces an edge or a vertex (flat faces)."""
         # a step asks twice at the same state (the loads, then the friction's history at the
         # committed state, the next step's loads): kept for the last state, compared by
-        # value (a caller may move the same arrays in place), read-only
+        # value (a caller may move the same arrays in place), read-only. A facing with the
+        # Hessian serves one without: ``second`` adds it and changes nothing else.
+        asked = second
         kept = getattr(self, "_facing_at", None)
-        if (
+        same = (
             kept is not None
-            and kept[0] == second
             and kept[1].shape == state.positions.shape
             and np.array_equal(kept[1], state.positions)
             and np.array_equal(kept[2], state.directors)
-        ):
+        )
+        if kept is not None and same and (kept[0] or not second):
+            self._hessian_used |= second
             return kept[3]
+        # Newton's tangent follows its force pass at the same state: there the facing of
+        # the loads was made again with the Hessian (half the ply contact's facings of a
+        # Static solve). Once a tangent finds the loads' facing at its state, the loads'
+        # facings carry the Hessian, until one is left unused by a tangent (explicit steps,
+        # which ask for a tangent only with the stable step's bound).
+        if same and second:
+            self._hessian_with_loads = HESSIAN_WITH_LOADS
+        elif kept is not None and kept[0] and not self._hessian_used:
+            self._hessian_with_loads = False
+        second = second or self._hessian_with_loads
+        self._hessian_used = asked
         p, near, y = self._candidates(state)
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             found = ply_curved.curved_facing(self, state, p, y, near)
