@@ -13,7 +13,14 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from elements import ply_curved, ply_friction, ply_slip, ply_surface
+from elements import (
+    ply_curved,
+    ply_friction,
+    ply_load_kernels,
+    ply_projection,
+    ply_slip,
+    ply_surface,
+)
 from elements.ply_fade import (
     OutlineTree,
     fade_length,
@@ -417,6 +424,11 @@ class PlyContactBlock(InteractionBlock):
 
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
+        if ply_projection.COMPILED and not self.curved:  # the same bits (ply_load_kernels.py)
+            if not self._frictional(history):
+                return ply_load_kernels.ply_loads(self, state, facing)
+            sliding = self.friction_state(state, history, facing)
+            return ply_load_kernels.ply_loads(self, state, facing, sliding, history.anchor)
         if self.curved:
             force, moment = ply_curved.curved_loads(self, state, facing)
             nodes = np.zeros((0, 6), dtype=np.int64)

@@ -245,7 +245,10 @@ INSIDE = 1e-9
 #: Whether ``closest_facing`` takes its candidates' planes, edges' closest points and the
 #: outline's nearest edges (pair by pair) from the compiled kernels (elements/ply_kernels.py:
 #: the same bits), or from numpy (``facets``, ``closest_on_edges``, ply_fade.py's
-#: ``nearest_segments``: their reference, kept for the tests and the benchmarks).
+#: ``nearest_segments``: their reference, kept for the tests and the benchmarks); and whether
+#: ``PlyContactBlock.internal_force`` sums the flat faces' loads in one compiled pass
+#: (elements/ply_load_kernels.py, the same bits) or by numpy (``_pair_loads``, ``_end_loads``,
+#: ``ply_friction.friction_loads`` and ``np.bincount``).
 COMPILED = True
 
 

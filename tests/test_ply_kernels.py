@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from test_ply_wedge import _fan
 
-from elements import ply_kernels, ply_projection
+from elements import ply_kernels, ply_load_kernels, ply_projection
 from elements.ply_block import PlyContactBlock
 from elements.ply_projection import (
     MARGIN,
@@ -254,3 +254,90 @@ def test_the_search_s_closest_points_of_cut_growths_are_numpy_s_to_the_bit(monke
     for got, want in zip(compiled, reference):
         assert _same(got, want)
     assert reference[1].any()  # the premise: some closest points on a cut
+
+
+def _fields_equal(compiled, reference) -> list[str]:
+    """The names of the array fields of two records (a Sliding, a friction history) that
+    differ to the bit (NaN equal to NaN), and of their float fields that differ."""
+    differ = []
+    for name, value in vars(reference).items():
+        other = getattr(compiled, name)
+        if isinstance(value, np.ndarray):
+            if not (
+                other.shape == value.shape
+                and other.dtype == value.dtype
+                and np.array_equal(other, value, equal_nan=value.dtype.kind == "f")
+            ):
+                differ.append(name)
+        elif other != value:
+            differ.append(name)
+    return differ
+
+
+@pytest.mark.parametrize("stick", ["penalty", "normal law"])
+def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, stick):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells) bent 5 then 5.2 mm, both passes,
+    with friction (the history committed at the first state, so that the second has stuck
+    and sliding anchors): the compiled loads (elements/ply_load_kernels.py) and facing give
+    numpy's forces and moments, energy, return mapping and committed history to the bit, on
+    one thread and on all of numba's (every loop parallel); the premises, stuck and sliding
+    points and touching points whose fade moves the outline's edges' ends."""
+    import numba
+
+    from elements import jit
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    assert len(blocks) == 2
+    first, second = _bent(compiled_model, 3, 5.0), _bent(compiled_model, 3, 5.2)
+    seen = {"stuck": 0, "sliding": 0, "ends moved": 0}
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
+            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
+            numba.set_num_threads(threads)
+            for block in blocks:
+                monkeypatch.setattr(block, "stick", stick)
+                assert block.friction > 0.0
+
+                def loads(block=block):
+                    for kept in ("_facing_at", "_faces_at"):
+                        setattr(block, kept, None)
+                    history = block.update_history(first, block.initial_history())
+                    for kept in ("_facing_at", "_faces_at"):
+                        setattr(block, kept, None)
+                    force = block.internal_force(second, history)
+                    return (
+                        force,
+                        block.strain_energy(second, history),
+                        block.friction_state(second, history),
+                        block.update_history(second, history),
+                        block.facing(second),
+                        history,
+                    )
+
+                compiled, reference = _both(monkeypatch, loads)
+                # the pass itself, on numpy's facing and return mapping (COMPILED off now)
+                direct = ply_load_kernels.ply_loads(
+                    block, second, reference[4], reference[2], reference[5].anchor
+                )
+                assert _same(direct[0], reference[0][0]) and _same(direct[1], reference[0][1])
+                assert _same(compiled[0][0], reference[0][0])
+                assert _same(compiled[0][1], reference[0][1])
+                assert compiled[1] == reference[1]
+                assert _fields_equal(compiled[2], reference[2]) == []
+                assert _fields_equal(compiled[3], reference[3]) == []
+                assert _fields_equal(compiled[5], reference[5]) == []
+                facing, sliding = reference[4], reference[2]
+                seen["stuck"] += int(sliding.stuck.sum())
+                seen["sliding"] += int(sliding.sliding.sum())
+                moving = facing.touching & (facing.fade_edge >= 0)
+                moving &= np.any(facing.fade_gradient[:, 4:] != 0.0, axis=(1, 2))
+                seen["ends moved"] += int(moving.sum())
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
+    assert min(seen.values()) > 0, seen
