@@ -16,6 +16,7 @@ from scipy.spatial import cKDTree
 from elements import (
     ply_curved,
     ply_friction,
+    ply_friction_kernels,
     ply_load_kernels,
     ply_projection,
     ply_slip,
@@ -419,7 +420,10 @@ class PlyContactBlock(InteractionBlock):
     def friction_state(
         self, state: State, history: PlyFrictionHistory | None, facing: Facing | None = None
     ) -> Sliding:
-        """The return mapping at ``state`` (elements/ply_friction.py)."""
+        """The return mapping at ``state`` (elements/ply_friction.py; compiled on flat faces,
+        the same bits: elements/ply_friction_kernels.py)."""
+        if ply_projection.COMPILED:
+            return ply_friction_kernels.friction_state(self, state, history, facing)
         return ply_friction.friction_state(self, state, history, facing)
 
     def internal_force(self, state: State, history: Any = None):
@@ -608,7 +612,10 @@ class PlyContactBlock(InteractionBlock):
         return ply_friction.initial_history(self)
 
     def update_history(self, state: State, history: Any) -> Any:
-        """The return mapping accepted, a new history (elements/ply_friction.py)."""
+        """The return mapping accepted, a new history (elements/ply_friction.py; compiled on
+        flat faces, the same bits: elements/ply_friction_kernels.py)."""
+        if ply_projection.COMPILED:
+            return ply_friction_kernels.updated_history(self, state, history)
         return ply_friction.updated_history(self, state, history)
 
     def dissipated_energy(self, history: Any = None) -> float:
