@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from test_ply_wedge import _fan
 
-from elements import ply_kernels, ply_load_kernels, ply_projection
+from elements import ply_friction_kernels, ply_kernels, ply_load_kernels, ply_projection
 from elements.ply_block import PlyContactBlock
 from elements.ply_projection import (
     MARGIN,
@@ -278,8 +278,9 @@ def _fields_equal(compiled, reference) -> list[str]:
 def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, stick):
     """The two-ply Mindlin [0/90] hemisphere blank (8 cells) bent 5 then 5.2 mm, both passes,
     with friction (the history committed at the first state, so that the second has stuck
-    and sliding anchors): the compiled loads (elements/ply_load_kernels.py) and facing give
-    numpy's forces and moments, energy, return mapping and committed history to the bit, on
+    and sliding anchors): the compiled loads (elements/ply_load_kernels.py), friction
+    (elements/ply_friction_kernels.py) and facing give numpy's forces and moments, energy,
+    return mapping and committed histories (the dissipation too) to the bit, on
     one thread and on all of numba's (every loop parallel); the premises, stuck and sliding
     points and touching points whose fade moves the outline's edges' ends."""
     import numba
@@ -325,6 +326,10 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
                     block, second, reference[4], reference[2], reference[5].anchor
                 )
                 assert _same(direct[0], reference[0][0]) and _same(direct[1], reference[0][1])
+                mapping = ply_friction_kernels.friction_state(
+                    block, second, reference[5], reference[4]
+                )
+                assert _fields_equal(mapping, reference[2]) == []
                 assert _same(compiled[0][0], reference[0][0])
                 assert _same(compiled[0][1], reference[0][1])
                 assert compiled[1] == reference[1]
@@ -341,3 +346,96 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
         jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
         numba.set_num_threads(before)
     assert min(seen.values()) > 0, seen
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
+    """``ply_fade_kernels.outline_fade`` against ``ply_fade.outline_fade`` (numpy, ``COMPILED``
+    off): tests/test_ply_wedge.py's strip cut at both ends, 600 points round its outline
+    triangles, each against one of them and the outline's edge nearest it, a third beside the
+    growth (a fifth of those on a joined edge), with and without the cuts; the premises, w
+    strictly between 0 and 1 both past the outline and beside a growth."""
+    from elements import ply_fade_kernels
+    from elements.ply_fade import every_segment, fade_length, outline_fade, outline_segments
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    rows = rng.choice(np.flatnonzero(outline.any(axis=1)), 600)
+    corners = y[rows]
+    p = corners.mean(axis=1) + rng.normal(0.0, 0.4, (600, 3))
+    reach = np.where(outline, MARGIN, 0.0)[rows]
+    beside = rng.uniform(size=600) < 1.0 / 3.0
+    joined = beside & (rng.uniform(size=600) < 0.2)
+    segment_rows, segment_ends = outline_segments(outline)
+    starts, stops = (y[segment_rows, segment_ends[:, k]] for k in range(2))
+    edge = every_segment(p, starts, stops)
+    ends = np.stack([starts[edge], stops[edge]], axis=1)
+    length = fade_length(y, outline)
+    for lines, cut_ends in ((cuts.lines[rows], cuts.ends[rows]), (None, None)):
+        arguments = (p, corners, reach, beside, ends, length, joined, lines, cut_ends)
+        got = ply_fade_kernels.outline_fade(*arguments)
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        want = outline_fade(*arguments)
+        monkeypatch.setattr(ply_projection, "COMPILED", True)
+        assert _same(got[0], want[0]) and _same(got[1], want[1])
+        between = (want[0] > 0.0) & (want[0] < 1.0)
+        assert (between & beside).any() and (between & ~beside).any()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed):
+    """``ply_choice.choose_facing`` against ``choose_facing_numpy`` on tests/test_ply_wedge.py's
+    strips cut at both ends, 400 points round them, every triangle a candidate (in a shuffled
+    order, so that ties go to the lowest row, not the first column): the same columns and
+    closest points, cut flags, segments and parameters; the premises, points facing edges and
+    cuts."""
+    from elements import ply_choice
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
+    near = np.argsort(rng.uniform(size=(len(p), len(y))), axis=1)
+    planes = ply_kernels.candidates_at(p, y, near, outline, MARGIN, ply_projection.INSIDE)
+    got = ply_choice.choose_facing(p, y, near, *planes, cuts)
+    want = ply_choice.choose_facing_numpy(p, y, near, *planes[:6], planes[6].copy(), cuts)
+    for a, b in zip(got, want):
+        assert _same(a, b)
+    assert want[1].any() and want[3].any()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_feature_normals_are_numpy_s_to_the_bit(seed):
+    """``ply_feature_normals.feature_normals`` against ``ply_projection._feature_normals`` on
+    tests/test_ply_wedge.py's strips: closest points at the triangles' vertices, on their
+    edges, on the growths past the outline (their far edges and the extensions of the other
+    edges past the outline vertices) and inside, on every triangle: the same unit normals and
+    joined flags; the premises, vertices, edges, growths and joined extensions among them."""
+    from elements import ply_feature_normals
+    from elements.ply_projection import _feature_normals
+
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, _ = _strip(rng)
+    topology = FaceTopology.of(nodes, outline)
+    reach = np.where(outline, MARGIN, 0.0)
+    rows = np.repeat(np.arange(len(y)), 60)
+    lam = rng.dirichlet(np.ones(3), len(rows))
+    kind = rng.integers(0, 4, len(rows))
+    k = rng.integers(0, 3, len(rows))
+    every = np.arange(len(rows))
+    lam[kind == 1, :] = 0.0  # at vertex k
+    lam[kind == 1, k[kind == 1]] = 1.0
+    on_edge = kind == 2  # on the edge opposite k, its own bound (-reach past the outline)
+    lam[every[on_edge], k[on_edge]] = -reach[rows[on_edge], k[on_edge]]
+    beyond = kind == 3  # past an outline vertex along an edge's line
+    lam[every[beyond], k[beyond]] = -reach[rows[beyond], k[beyond]]
+    lam[every[beyond], (k[beyond] + 1) % 3] = -rng.uniform(0.0, MARGIN, beyond.sum())
+    lam[:, 2] = 1.0 - lam[:, 0] - lam[:, 1]
+    normal = ply_projection.triangle_frames(y[rows])[0]
+    got = ply_feature_normals.feature_normals(
+        y, topology, rows, lam, reach[rows], normal, ply_projection.INSIDE
+    )
+    want = _feature_normals(y, topology, rows, lam, reach[rows], normal)
+    assert _same(got[0], want[0]) and _same(got[1], want[1])
+    bound = lam <= -reach[rows] + 1e-9
+    assert (bound.sum(axis=1) == 2).any() and (bound.sum(axis=1) == 1).any()
+    assert want[1].any() and not np.array_equal(want[0], normal)
