@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from elements import (
     ply_curved,
+    ply_face_points,
     ply_friction,
     ply_friction_kernels,
     ply_load_kernels,
@@ -250,6 +251,8 @@ class PlyContactBlock(InteractionBlock):
             return kept[1]
         if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
             directions = ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
+        elif ply_projection.COMPILED:  # the same bits (elements/ply_face_points.py)
+            directions = ply_face_points.offset_normals(x, tri, self.n_nodes)
         else:
             sides = cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
             flat = tri.ravel()
@@ -280,6 +283,11 @@ class PlyContactBlock(InteractionBlock):
         ):
             return kept[2], kept[3]
         x, d = state.positions, self.offset_directions(state)
+        if ply_projection.COMPILED and not self.curved:  # the same bits (ply_face_points.py)
+            p, y, finite = ply_face_points.face_points(
+                x, d, self.above, self.upper_offset, self.shape, self.cells, self.corner_offset
+            )
+            return self._kept_faces(state, p, y, finite)
         corners = x[self.above] - self.upper_offset[..., None] * d[self.above]
         if self.curved:  # on the upper ply's own curved face (elements/ply_surface.py)
             normals = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)[0]
@@ -287,7 +295,12 @@ class PlyContactBlock(InteractionBlock):
         else:
             p = np.einsum("pj,pji->pi", self.shape, corners)
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
-        if not (np.isfinite(p).all() and np.isfinite(y).all()):
+        return self._kept_faces(state, p, y, bool(np.isfinite(p).all() and np.isfinite(y).all()))
+
+    def _kept_faces(self, state: State, p: np.ndarray, y: np.ndarray, finite: bool):
+        """``_faces``' p and y, kept for ``state`` (read-only); a ValueError where some are
+        not finite."""
+        if not finite:
             # the searches' own errors differ with the block's size (a k-d tree's "x must be
             # finite", the small search's empty rows): one message that names the cause
             raise ValueError(
@@ -296,7 +309,7 @@ class PlyContactBlock(InteractionBlock):
             )
         p.setflags(write=False)
         y.setflags(write=False)
-        self._faces_at = (x.copy(), state.directors.copy(), p, y)
+        self._faces_at = (state.positions.copy(), state.directors.copy(), p, y)
         return p, y
 
     def _candidates(self, state: State):

@@ -173,6 +173,7 @@ def test_the_bent_two_ply_hemisphere_s_facing_and_forces_are_numpy_s_to_the_bit(
             def facing_and_force(block=block, state=state, history=history):
                 block._facing_at = None
                 block._faces_at = None
+                block._directions_at = None
                 return block.facing(state), block.internal_force(state, history)
 
             (compiled, force), (reference, force_ref) = _both(monkeypatch, facing_and_force)
@@ -305,10 +306,10 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
                 assert block.friction > 0.0
 
                 def loads(block=block):
-                    for kept in ("_facing_at", "_faces_at"):
+                    for kept in ("_facing_at", "_faces_at", "_directions_at"):
                         setattr(block, kept, None)
                     history = block.update_history(first, block.initial_history())
-                    for kept in ("_facing_at", "_faces_at"):
+                    for kept in ("_facing_at", "_faces_at", "_directions_at"):
                         setattr(block, kept, None)
                     force = block.internal_force(second, history)
                     return (
@@ -439,3 +440,34 @@ def test_the_compiled_feature_normals_are_numpy_s_to_the_bit(seed):
     bound = lam <= -reach[rows] + 1e-9
     assert (bound.sum(axis=1) == 2).any() and (bound.sum(axis=1) == 1).any()
     assert want[1].any() and not np.array_equal(want[0], normal)
+
+
+def test_the_compiled_faces_are_numpy_s_to_the_bit(monkeypatch):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells, faces along the plies' nodal
+    normals) bent 0-20 mm, both passes: the compiled nodal normals, contact points and lower
+    corners (elements/ply_face_points.py) equal numpy's to the bit; a non-finite state is
+    refused by the same ValueError on either path."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    assert all(block.along_normals for block in blocks)
+    for seed, depth in enumerate((0.0, 5.0, 20.0)):
+        state = _bent(compiled_model, seed, depth)
+        for block in blocks:
+
+            def faces(block=block, state=state):
+                block._faces_at = block._directions_at = None
+                return (block.offset_directions(state), *block._faces(state))
+
+            for got, want in zip(*_both(monkeypatch, faces)):
+                assert _same(got, want)
+    x = state.positions.copy()
+    x[3, 1] = np.nan
+    broken = State(x, state.directors, state.velocities, state.angular_velocities)
+    for flag in (True, False):
+        monkeypatch.setattr(ply_projection, "COMPILED", flag)
+        blocks[0]._faces_at = blocks[0]._directions_at = None
+        with pytest.raises(ValueError, match="NaN or infinite"):
+            blocks[0]._faces(broken)
