@@ -471,3 +471,41 @@ def test_the_compiled_faces_are_numpy_s_to_the_bit(monkeypatch):
         blocks[0]._faces_at = blocks[0]._directions_at = None
         with pytest.raises(ValueError, match="NaN or infinite"):
             blocks[0]._faces(broken)
+
+
+def test_the_compiled_kept_lists_moves_are_numpy_s_to_the_bit(monkeypatch):
+    """``FacingSearch.near`` with the kept lists' moves compiled (elements/ply_search.py
+    ``_moves``) against numpy's: two searches of the two-ply hemisphere blank's first pass
+    driven through the same 40 states (the bowl deepening by 0.05 mm a state, jittered, 3 mm
+    more every thirteenth, every tenth point slid 0.6 skin every fifth), one on each path:
+    the same candidates and the same kept lists (origins, moves, shifts) to the bit at every
+    state; the premises, lists kept, refreshed and renewed."""
+    from elements.ply_search import FacingSearch
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    block = next(b for b in compiled_model.interactions if isinstance(b, PlyContactBlock))
+    searches = {flag: FacingSearch(block.search.reach, block.search.skin) for flag in (1, 0)}
+    kept = refreshed = renewed = 0
+    for step in range(40):
+        state = _bent(compiled_model, step, 0.05 * step + (3.0 if step % 13 == 12 else 0.0))
+        block._faces_at = block._directions_at = None
+        p, y = block._faces(state)
+        if step % 5 == 2:  # every tenth point slid 0.6 skin: past the bound, searched again
+            p = p.copy()
+            p[::10, 0] += 0.6 * block.search.skin
+        answers = {}
+        for flag, search in searches.items():
+            monkeypatch.setattr(ply_projection, "COMPILED", bool(flag))
+            before = (search.searches, search.searched_points)
+            answers[flag] = (search.near(p, y), search._lists, before)
+        (near, lists, before), (near_, lists_, _) = answers[1], answers[0]
+        assert _same(near, near_)
+        for name in ("near", "count", "origin", "moved", "shift", "epoch"):
+            assert _same(getattr(lists, name), getattr(lists_, name)), name
+        done = searches[1].searched_points - before[1]
+        kept += done == 0
+        refreshed += 0 < done < len(p)
+        renewed += done == len(p)
+    assert kept and refreshed and renewed, (kept, refreshed, renewed)
