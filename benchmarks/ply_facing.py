@@ -1,5 +1,6 @@
-"""The ply contact's facing compiled (elements/ply_kernels.py) against its numpy reference
-(``ply_projection.COMPILED = False``), side by side in one process, CPU, one thread:
+"""The ply contact's facing, loads and friction compiled (elements/ply_kernels.py and the
+kernels named below) against their numpy reference (``ply_projection.COMPILED = False``),
+side by side in one process, CPU, one thread:
 
 * the facing per state (both passes) of the two-ply Mindlin [0/90] hemisphere blank of
   validation/studies/hemisphere_plies_setup.py at ``--cells``, on ``--states`` states bent
@@ -14,35 +15,56 @@ Both alternate, best of ``--repeats``; the machine's load is printed.
     python benchmarks/ply_facing.py
 
 Where a step's time goes (the same stretch, fibrous [0/90], 8 cells, 1500 steps, one
-thread, each function's CPU summed; load 9-10, main 5523c00): 6.0 ms a step, of which the
-ply contact's facing 3.2 ms (53 %: the search's candidates 0.5, the candidates' planes
-0.55, the closest points on edges and cuts 0.35, the feature normals' pseudonormals 0.3,
-the outline's fade 0.65, the rest of ``closest_facing``'s numpy calls about 0.7), the ply
-contact's loads and friction 1.2 ms (20 %), the elements' forces and the tools' contact
-0.3 ms (5 %), the rest (the step, the checks, the records) 1.3 ms. With the kernels (same
-stretch, load 6-7): the facing 49 % of the step, its planes and edges' closest points
-under 0.5 % (0.03 ms), the fade 8 %, the feature normals 5 %, the cuts 4 %, the rest of
-``closest_facing`` about 17 % (numpy calls on arrays of a few hundred rows); the loads and
-friction 22 %. plies-bai-5.1 at coarse (Static, 4 plies; cProfile, so Python calls
-over-counted): 79.6 s, of which the ply facing 42 s (53 %), its search re-listing the
-candidates after Newton's jumps 19.5 s (the cut growths' closest points 9.6 s of it), the
-ply tangent 17 s, the Mindlin tangent 6 s, the factorisations 4 s.
+thread, each function's CPU summed with a timer round it, so a little over the step's own).
+Before the kernels (load 9-10, main 5523c00): 6.0 ms a step, the ply contact's facing 53 %,
+its loads and friction 20 %. With the candidates' planes and the edges' closest points
+compiled (elements/ply_kernels.py, load 5.3-5.6, c0b0822): 4.75-4.94 ms, the facing 49 %
+(``closest_facing`` 1.7 ms: the outline's fade 0.40, the feature normals' pseudonormals 0.28,
+the rest of its numpy calls on arrays of a few hundred rows about 0.95; the search's kept
+lists 0.46), the loads 0.5 ms and the friction's return mapping 0.55 ms (twice a step: the
+loads' and the committed history's, from two different histories), the history's own
+update 0.45 ms. Now, with the rest compiled (the loads and their sums at the nodes,
+elements/ply_load_kernels.py; the friction's return mapping and history,
+elements/ply_friction_kernels.py; the choice of the facing candidate with the cut growths'
+closest points, elements/ply_choice.py; the fade, elements/ply_fade_kernels.py; the feature
+pseudonormals, elements/ply_feature_normals.py; the faces' normals, points and corners,
+elements/ply_face_points.py; load 12.9, 8b3c767): 3.1 ms timed so (2.3 ms untimed), the
+facing 1.74 ms (56 %: ``closest_facing`` 1.14, of which its remaining numpy calls about
+0.63, the choice 0.13, the fade 0.12, the outline's nearest edge 0.10, the planes 0.08, the
+edge gaps 0.05, the pseudonormals 0.03; the search's kept lists 0.25, since compiled too,
+the faces 0.15), the
+loads 0.15 ms, the friction's two return mappings 0.18 ms: the rest of the step is Python
+glue round some forty compiled calls and numpy calls on small arrays. plies-bai-5.1 at
+coarse (Static, 4 plies; cProfile, so Python calls over-counted, before these kernels):
+79.6 s, of which the ply facing 42 s (53 %), its search re-listing the candidates after
+Newton's jumps 19.5 s (the cut growths' closest points 9.6 s of it), the ply tangent 17 s,
+the Mindlin tangent 6 s, the factorisations 4 s.
 
 Measured (one thread, 2 cores shared with other work):
 
-* this script, fcd7db7, load 5.0-7.3: the facing 9.57 -> 7.20 ms a state (x 1.33), the step
-  5.84 -> 5.04 ms (x 1.16), numpy -> compiled (both sides with the faces kept per state and
-  femcore.rotation's cross product, not switched by the flag); at 605fbac, load 9.2-6.7:
-  11.03 -> 8.93 (x 1.23) and 6.20 -> 5.65 (x 1.10); at e5761d7 (the planes and the edges'
-  closest points alone), load 10-12: 11.31 -> 10.05 and 6.33 -> 5.47;
+* this script, numpy -> compiled (``ply_projection.COMPILED``, which now switches the loads,
+  the friction, the faces and the search's kept lists' moves too): with the kept lists'
+  moves compiled as well (elements/ply_search.py ``_moves``), load 16.1-16.6: the facing
+  9.07 -> 5.31 ms a state (x 1.71), the step 6.30 -> 2.11 ms (x 2.98); at 8b3c767 (all but
+  the kept lists' moves), load 13.0-13.8: the
+  facing 9.24 -> 5.43 ms a state (x 1.70), the step 6.07 -> 2.26 ms (x 2.69); at ab19c8b
+  (all but the faces), load 10.2-11.4: 9.18 -> 5.72 (x 1.61) and 6.48 -> 2.55 (x 2.54); at
+  13320b0 (the loads and the friction), load 9.0-9.1: 8.69 -> 5.98 and 5.53 -> 3.01; at
+  11e605f (the loads alone), load 11.0-11.4: 8.80 -> 6.56 and 5.84 -> 4.28; at fcd7db7
+  (the planes and the edges' closest points, the faces kept per state and femcore.rotation's
+  cross product, not switched by the flag), load 5.0-7.3: 9.57 -> 7.20 ms and 5.84 -> 5.04;
 * the step against main 5523c00 (the same stretch run from each tree, alternating, load
-  6.7-7.0): 7.02 / 7.52 ms (main) against 5.22 / 5.28 ms (fcd7db7), x 1.33-1.42;
-* the faces kept and the cross product alone (main beside e5761d7's parent, load 9-10):
-  6.6-6.8 -> 5.8-5.9 ms.
+  6.7-7.0): 7.02 / 7.52 ms (main) against 5.22 / 5.28 ms (fcd7db7), x 1.33-1.42.
 
-The facing and the forces are the same to the bit on either side (tests/test_ply_kernels.py),
-and the whole hemisphere-plies case at coarse gave the same results.json numbers to the bit
-as main's (its times aside).
+Not compiled, measured: the numpy ``arctan2`` of the pseudonormals' angles and ``np.power``
+of the penalty's cube (numpy's vectorised routines differ from libm's ``atan2`` and ``pow``
+in the last bit: 1345 of 1e6 cubes; the kernels take them from numpy); the rest of
+``closest_facing``'s numpy calls after the choice (the chosen candidate's arrays, the edge
+gaps' signs and the fade's inputs, about 0.6 ms of the timed step at load 13). The facing
+and the forces are the same to the bit on either side (tests/test_ply_kernels.py), and the
+whole hemisphere-plies case gave the same results.json numbers to the bit as main c0b0822's
+(its times aside) at coarse (55.5 s CPU against 102.2 s) and at the default resolution
+(148.7 s against 288.1 s; validation/report.py EXPECTED_CPU_S).
 """
 
 from __future__ import annotations

@@ -13,7 +13,16 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from elements import ply_curved, ply_friction, ply_slip, ply_surface
+from elements import (
+    ply_curved,
+    ply_face_points,
+    ply_friction,
+    ply_friction_kernels,
+    ply_load_kernels,
+    ply_projection,
+    ply_slip,
+    ply_surface,
+)
 from elements.ply_fade import (
     OutlineTree,
     fade_length,
@@ -250,6 +259,8 @@ class PlyContactBlock(InteractionBlock):
             return kept[1]
         if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
             directions = ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
+        elif ply_projection.COMPILED:  # the same bits (elements/ply_face_points.py)
+            directions = ply_face_points.offset_normals(x, tri, self.n_nodes)
         else:
             sides = cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
             flat = tri.ravel()
@@ -280,6 +291,11 @@ class PlyContactBlock(InteractionBlock):
         ):
             return kept[2], kept[3]
         x, d = state.positions, self.offset_directions(state)
+        if ply_projection.COMPILED and not self.curved:  # the same bits (ply_face_points.py)
+            p, y, finite = ply_face_points.face_points(
+                x, d, self.above, self.upper_offset, self.shape, self.cells, self.corner_offset
+            )
+            return self._kept_faces(state, p, y, finite)
         corners = x[self.above] - self.upper_offset[..., None] * d[self.above]
         if self.curved:  # on the upper ply's own curved face (elements/ply_surface.py)
             normals = ply_surface.nodal_normals(x, self._own_triangles, self.n_nodes)[0]
@@ -287,7 +303,12 @@ class PlyContactBlock(InteractionBlock):
         else:
             p = np.einsum("pj,pji->pi", self.shape, corners)
         y = x[self.cells] + self.corner_offset[:, :, None] * d[self.cells]
-        if not (np.isfinite(p).all() and np.isfinite(y).all()):
+        return self._kept_faces(state, p, y, bool(np.isfinite(p).all() and np.isfinite(y).all()))
+
+    def _kept_faces(self, state: State, p: np.ndarray, y: np.ndarray, finite: bool):
+        """``_faces``' p and y, kept for ``state`` (read-only); a ValueError where some are
+        not finite."""
+        if not finite:
             # the searches' own errors differ with the block's size (a k-d tree's "x must be
             # finite", the small search's empty rows): one message that names the cause
             raise ValueError(
@@ -296,7 +317,7 @@ class PlyContactBlock(InteractionBlock):
             )
         p.setflags(write=False)
         y.setflags(write=False)
-        self._faces_at = (x.copy(), state.directors.copy(), p, y)
+        self._faces_at = (state.positions.copy(), state.directors.copy(), p, y)
         return p, y
 
     def _candidates(self, state: State):
@@ -434,11 +455,19 @@ class PlyContactBlock(InteractionBlock):
     def friction_state(
         self, state: State, history: PlyFrictionHistory | None, facing: Facing | None = None
     ) -> Sliding:
-        """The return mapping at ``state`` (elements/ply_friction.py)."""
+        """The return mapping at ``state`` (elements/ply_friction.py; compiled on flat faces,
+        the same bits: elements/ply_friction_kernels.py)."""
+        if ply_projection.COMPILED:
+            return ply_friction_kernels.friction_state(self, state, history, facing)
         return ply_friction.friction_state(self, state, history, facing)
 
     def internal_force(self, state: State, history: Any = None):
         facing = self.facing(state)
+        if ply_projection.COMPILED and not self.curved:  # the same bits (ply_load_kernels.py)
+            if not self._frictional(history):
+                return ply_load_kernels.ply_loads(self, state, facing)
+            sliding = self.friction_state(state, history, facing)
+            return ply_load_kernels.ply_loads(self, state, facing, sliding, history.anchor)
         if self.curved:
             force, moment = ply_curved.curved_loads(self, state, facing)
             nodes = np.zeros((0, 6), dtype=np.int64)
@@ -618,7 +647,10 @@ class PlyContactBlock(InteractionBlock):
         return ply_friction.initial_history(self)
 
     def update_history(self, state: State, history: Any) -> Any:
-        """The return mapping accepted, a new history (elements/ply_friction.py)."""
+        """The return mapping accepted, a new history (elements/ply_friction.py; compiled on
+        flat faces, the same bits: elements/ply_friction_kernels.py)."""
+        if ply_projection.COMPILED:
+            return ply_friction_kernels.updated_history(self, state, history)
         return ply_friction.updated_history(self, state, history)
 
     def dissipated_energy(self, history: Any = None) -> float:

@@ -210,10 +210,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_kernels
+from elements import ply_feature_normals, ply_kernels
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
-from elements.ply_wedge import WedgeCuts, closest_on_cut, cut_keeps, cut_overshoot
+from elements.ply_wedge import WedgeCuts
 from femcore.rotation import cross
 
 if TYPE_CHECKING:  # ply_fade imports this module
@@ -245,7 +245,11 @@ INSIDE = 1e-9
 #: Whether ``closest_facing`` takes its candidates' planes, edges' closest points and the
 #: outline's nearest edges (pair by pair) from the compiled kernels (elements/ply_kernels.py:
 #: the same bits), or from numpy (``facets``, ``closest_on_edges``, ply_fade.py's
-#: ``nearest_segments``: their reference, kept for the tests and the benchmarks).
+#: ``nearest_segments``: their reference, kept for the tests and the benchmarks); and whether
+#: ``PlyContactBlock.internal_force`` sums the flat faces' loads in one compiled pass
+#: (elements/ply_load_kernels.py, the same bits) or by numpy (``_pair_loads``, ``_end_loads``,
+#: ``ply_friction.friction_loads`` and ``np.bincount``), and its friction's return mapping and
+#: history (elements/ply_friction_kernels.py) or ``ply_friction``'s numpy.
 COMPILED = True
 
 
@@ -632,67 +636,39 @@ def closest_facing(
         # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to
         # the farthest edge line it lies past
         past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
-    held_grown = inside
-    # a cut growth holds what each of its cuts keeps (measured at the cut candidates alone)
-    cut_at = np.nonzero(cuts.cut[near]) if cuts is not None and cuts.any else None
-    if cut_at is not None and cuts is not None:
-        inside = inside.copy()
-        inside[cut_at] &= cut_keeps(weights[cut_at], cuts.lines[near[cut_at]])
-    # The distance to each candidate (grown past the outline): to its plane where it holds
-    # the projection, else to its closest point on an edge, computed only where it can beat
-    # the nearest plane that holds one (the distance to a plane is at most that to the
-    # triangle).
-    distance = np.where(inside, np.abs(gap), np.inf)
-    held = distance.min(axis=1)
-    if cut_at is not None and cuts is not None:  # and to the farthest cut it lies past
-        # (read only where the candidate does not hold the projection)
-        cut_out = tuple(index[~inside[cut_at]] for index in cut_at)
-        past[cut_out] = np.maximum(
-            past[cut_out],
-            cut_overshoot(weights[cut_out], cuts.lines[near[cut_out]], gradients[cut_out]),
-        )
-    outside = np.nonzero(~inside & (np.hypot(gap, np.maximum(past, 0.0)) < held[:, None]))
-    corners = grown_corners(y[near[outside]], reach[outside])
-    q = (ply_kernels.edges_closest if COMPILED else closest_on_edges)(p[outside[0]], corners)
-    on_cut, segment, along = np.zeros(len(q), dtype=bool), np.zeros((len(q), 2, 3)), None
-    if cut_at is not None and cuts is not None:  # the cut growth's closest point
-        projected = p[outside[0]] - gap[outside][:, None] * n[outside]
-        q = np.where(held_grown[outside][:, None], projected, q)
-        rows = near[outside]
-        q, on_cut, segment, along = closest_on_cut(
-            p[outside[0]], y[rows], q, cuts.lines[rows], cuts.ends[rows], gradients[outside]
-        )
-    distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)
-    # ties (a closest point on an edge or a vertex that several candidates share) go to the
-    # lowest triangle row, whatever the round-off: the same choice in any frame
-    least = distance.min(axis=1, keepdims=True)
-    tied = distance <= least + 1e-9 * (1.0 + least)
-    best = np.argmin(np.where(tied, near, np.iinfo(np.int64).max), axis=1)
+    # the nearest candidate and its closest point ("Search", "The wedge cut")
+    from elements import ply_choice
+
+    choose = ply_choice.choose_facing if COMPILED else ply_choice.choose_facing_numpy
+    best, on_edge, closest_at, cut_at, segment_at, along_at = choose(
+        p, y, near, n, gradients, gap, weights, reach, inside, past, cuts
+    )
     rows = np.arange(len(p))
     chosen_gap = gap[rows, best]
     normal = n[rows, best]
     lam = weights[rows, best]
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
-    on_edge = ~inside[rows, best]
     at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
     joined = np.zeros(len(p), dtype=bool)  # on an edge's extension that two growths hold
     if on_edge.any():
-        # each such point's closest point among the computed ones
-        where = np.full(inside.shape, -1)
-        where[outside] = np.arange(len(q))
         edge = np.flatnonzero(on_edge)
         at = best[edge]
         signing = n[edge, at]
-        closest = q[where[edge, at]]
-        cutting = on_cut[where[edge, at]]
+        closest = closest_at[edge]
+        cutting = cut_at[edge]
         if topology is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
             # q's barycentric coordinates on the facing triangle: on which edge or at which
             # vertex it lies
             on_q = np.einsum("pki,pi->pk", gradients[edge, at], closest - y[near[edge, at], 0])
             on_q[:, 0] += 1.0
-            signing, joined[edge] = _feature_normals(
-                y, topology, near[edge, at], on_q, reach[edge, at], signing
-            )
+            if COMPILED:  # the same bits (elements/ply_feature_normals.py)
+                signing, joined[edge] = ply_feature_normals.feature_normals(
+                    y, topology, near[edge, at], on_q, reach[edge, at], signing, INSIDE
+                )
+            else:
+                signing, joined[edge] = _feature_normals(
+                    y, topology, near[edge, at], on_q, reach[edge, at], signing
+                )
             if outline is not None:
                 # at a vertex of the outline the face has no side either: the facing
                 # triangle's normal signs the gap, and the point is faded as beside a
@@ -714,7 +690,7 @@ def closest_facing(
             gradients[edge, at],
             reach[edge, at],
             second,
-            (cutting, segment[where[edge, at]], None if along is None else along[where[edge, at]]),
+            (cutting, segment_at[edge], None if along_at is None else along_at[edge]),
         )
         if hessian is not None:
             hessian[edge] = bend
@@ -759,7 +735,10 @@ def closest_facing(
         else:
             fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
         chosen = fade_edge[near_outline]
-        fade[near_outline], fade_gradient[near_outline] = outline_fade(
+        from elements import ply_fade_kernels
+
+        fading = ply_fade_kernels.outline_fade if COMPILED else outline_fade  # the same bits
+        fade[near_outline], fade_gradient[near_outline] = fading(
             p[near_outline],
             y[near[near_outline, best[near_outline]]],
             reach[near_outline, best[near_outline]],

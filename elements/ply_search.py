@@ -65,8 +65,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from elements import ply_projection
 from elements.facet_search import _squared_gap, closest_on_triangles
-from elements.jit import jit, prange
+from elements.jit import jit, lanes, prange
 from elements.ply_projection import MARGIN, grown_corners
 from elements.ply_wedge import WedgeCuts, closest_on_grown
 
@@ -120,6 +121,46 @@ def pair_distances(
         out,
     )
     return out
+
+
+def _moves(y, epoch, lipschitz, p, origin, shift_then, moved_then, shift, drift):
+    """The kept lists' moves (``FacingSearch.near``), in numpy's operations and order: the
+    corners' mean move t into ``shift`` (3,) (their sum row by row from 0.0, over their count,
+    as ``mean(axis=0)``), each point's drift |p - origin - (t - t_then)| + M + M_then into
+    ``drift`` (P,), mm; returns M, the largest of L_T times a triangle's largest corner move
+    off t (0 for none, NaN where a move is NaN, as ``np.max(..., initial=0.0)``). y, epoch
+    (m, 3, 3) mm, lipschitz (m,), p, origin (P, 3) mm, shift_then (P, 3), moved_then (P,)."""
+    t0, t1, t2 = 0.0, 0.0, 0.0
+    for t in range(y.shape[0]):
+        for k in range(3):
+            t0 += y[t, k, 0] - epoch[t, k, 0]
+            t1 += y[t, k, 1] - epoch[t, k, 1]
+            t2 += y[t, k, 2] - epoch[t, k, 2]
+    count = float(3 * y.shape[0])
+    t0, t1, t2 = t0 / count, t1 / count, t2 / count
+    shift[0], shift[1], shift[2] = t0, t1, t2
+    moved = 0.0
+    for t in range(y.shape[0]):
+        largest = 0.0
+        for k in range(3):
+            d0 = (y[t, k, 0] - epoch[t, k, 0]) - t0
+            d1 = (y[t, k, 1] - epoch[t, k, 1]) - t1
+            d2 = (y[t, k, 2] - epoch[t, k, 2]) - t2
+            squared = (d0 * d0 + d1 * d1) + d2 * d2
+            if k == 0 or squared != squared or (largest == largest and squared > largest):
+                largest = squared
+        value = lipschitz[t] * np.sqrt(largest)
+        if moved == moved and (value != value or value > moved):
+            moved = value
+    for i in range(p.shape[0]):
+        o0 = (p[i, 0] - origin[i, 0]) - (t0 - shift_then[i, 0])
+        o1 = (p[i, 1] - origin[i, 1]) - (t1 - shift_then[i, 1])
+        o2 = (p[i, 2] - origin[i, 2]) - (t2 - shift_then[i, 2])
+        drift[i] = (np.sqrt((o0 * o0 + o1 * o1) + o2 * o2) + moved) + moved_then[i]
+    return moved
+
+
+_moves_compiled = lanes(_moves)
 
 
 @dataclass(frozen=True)
@@ -213,14 +254,31 @@ class FacingSearch:
         lists = self._lists
         if lists is None or lists.origin.shape != p.shape or lists.epoch.shape != y.shape:
             return self._renew(p, y)
-        move = y - lists.epoch
-        shift = move.reshape(-1, 3).mean(axis=0)  # the corners' mean move t
-        corner_move = np.sqrt(np.max(np.sum((move - shift) ** 2, axis=-1), axis=1))
-        moved = float(np.max(self.lipschitz * corner_move, initial=0.0))
+        if ply_projection.COMPILED:  # the same bits (_moves)
+            shift, drift = np.empty(3), np.empty(len(p))
+            moved = float(
+                _moves_compiled(
+                    np.ascontiguousarray(y, dtype=float),
+                    lists.epoch,
+                    self.lipschitz,
+                    np.ascontiguousarray(p, dtype=float),
+                    lists.origin,
+                    lists.shift,
+                    lists.moved,
+                    shift,
+                    drift,
+                )
+            )
+        else:
+            move = y - lists.epoch
+            shift = move.reshape(-1, 3).mean(axis=0)  # the corners' mean move t
+            corner_move = np.sqrt(np.max(np.sum((move - shift) ** 2, axis=-1), axis=1))
+            moved = float(np.max(self.lipschitz * corner_move, initial=0.0))
         if not moved <= EPOCH_SHARE * self.skin:  # NaN too
             return self._renew(p, y)
-        own = p - lists.origin - (shift - lists.shift)
-        drift = np.linalg.norm(own, axis=1) + moved + lists.moved
+        if not ply_projection.COMPILED:
+            own = p - lists.origin - (shift - lists.shift)
+            drift = np.linalg.norm(own, axis=1) + moved + lists.moved
         bound = 0.5 * (1.0 - ROUNDING) * self.skin
         if not np.all(drift < bound):
             rows = np.flatnonzero(~(drift < REBUILD_SHARE * bound))

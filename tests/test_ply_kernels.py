@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from test_ply_wedge import _fan
 
-from elements import ply_kernels, ply_projection
+from elements import ply_friction_kernels, ply_kernels, ply_load_kernels, ply_projection
 from elements.ply_block import PlyContactBlock
 from elements.ply_projection import (
     MARGIN,
@@ -173,6 +173,7 @@ def test_the_bent_two_ply_hemisphere_s_facing_and_forces_are_numpy_s_to_the_bit(
             def facing_and_force(block=block, state=state, history=history):
                 block._facing_at = None
                 block._faces_at = None
+                block._directions_at = None
                 return block.facing(state), block.internal_force(state, history)
 
             (compiled, force), (reference, force_ref) = _both(monkeypatch, facing_and_force)
@@ -254,3 +255,257 @@ def test_the_search_s_closest_points_of_cut_growths_are_numpy_s_to_the_bit(monke
     for got, want in zip(compiled, reference):
         assert _same(got, want)
     assert reference[1].any()  # the premise: some closest points on a cut
+
+
+def _fields_equal(compiled, reference) -> list[str]:
+    """The names of the array fields of two records (a Sliding, a friction history) that
+    differ to the bit (NaN equal to NaN), and of their float fields that differ."""
+    differ = []
+    for name, value in vars(reference).items():
+        other = getattr(compiled, name)
+        if isinstance(value, np.ndarray):
+            if not (
+                other.shape == value.shape
+                and other.dtype == value.dtype
+                and np.array_equal(other, value, equal_nan=value.dtype.kind == "f")
+            ):
+                differ.append(name)
+        elif other != value:
+            differ.append(name)
+    return differ
+
+
+@pytest.mark.parametrize("stick", ["penalty", "normal law"])
+def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, stick):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells) bent 5 then 5.2 mm, both passes,
+    with friction (the history committed at the first state, so that the second has stuck
+    and sliding anchors): the compiled loads (elements/ply_load_kernels.py), friction
+    (elements/ply_friction_kernels.py) and facing give numpy's forces and moments, energy,
+    return mapping and committed histories (the dissipation too) to the bit, on
+    one thread and on all of numba's (every loop parallel); the premises, stuck and sliding
+    points and touching points whose fade moves the outline's edges' ends."""
+    import numba
+
+    from elements import jit
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    assert len(blocks) == 2
+    first, second = _bent(compiled_model, 3, 5.0), _bent(compiled_model, 3, 5.2)
+    seen = {"stuck": 0, "sliding": 0, "ends moved": 0}
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
+            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
+            numba.set_num_threads(threads)
+            for block in blocks:
+                monkeypatch.setattr(block, "stick", stick)
+                assert block.friction > 0.0
+
+                def loads(block=block):
+                    for kept in ("_facing_at", "_faces_at", "_directions_at"):
+                        setattr(block, kept, None)
+                    history = block.update_history(first, block.initial_history())
+                    for kept in ("_facing_at", "_faces_at", "_directions_at"):
+                        setattr(block, kept, None)
+                    force = block.internal_force(second, history)
+                    return (
+                        force,
+                        block.strain_energy(second, history),
+                        block.friction_state(second, history),
+                        block.update_history(second, history),
+                        block.facing(second),
+                        history,
+                    )
+
+                compiled, reference = _both(monkeypatch, loads)
+                # the pass itself, on numpy's facing and return mapping (COMPILED off now)
+                direct = ply_load_kernels.ply_loads(
+                    block, second, reference[4], reference[2], reference[5].anchor
+                )
+                assert _same(direct[0], reference[0][0]) and _same(direct[1], reference[0][1])
+                mapping = ply_friction_kernels.friction_state(
+                    block, second, reference[5], reference[4]
+                )
+                assert _fields_equal(mapping, reference[2]) == []
+                assert _same(compiled[0][0], reference[0][0])
+                assert _same(compiled[0][1], reference[0][1])
+                assert compiled[1] == reference[1]
+                assert _fields_equal(compiled[2], reference[2]) == []
+                assert _fields_equal(compiled[3], reference[3]) == []
+                assert _fields_equal(compiled[5], reference[5]) == []
+                facing, sliding = reference[4], reference[2]
+                seen["stuck"] += int(sliding.stuck.sum())
+                seen["sliding"] += int(sliding.sliding.sum())
+                moving = facing.touching & (facing.fade_edge >= 0)
+                moving &= np.any(facing.fade_gradient[:, 4:] != 0.0, axis=(1, 2))
+                seen["ends moved"] += int(moving.sum())
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
+    assert min(seen.values()) > 0, seen
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
+    """``ply_fade_kernels.outline_fade`` against ``ply_fade.outline_fade`` (numpy, ``COMPILED``
+    off): tests/test_ply_wedge.py's strip cut at both ends, 600 points round its outline
+    triangles, each against one of them and the outline's edge nearest it, a third beside the
+    growth (a fifth of those on a joined edge), with and without the cuts; the premises, w
+    strictly between 0 and 1 both past the outline and beside a growth."""
+    from elements import ply_fade_kernels
+    from elements.ply_fade import every_segment, fade_length, outline_fade, outline_segments
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    rows = rng.choice(np.flatnonzero(outline.any(axis=1)), 600)
+    corners = y[rows]
+    p = corners.mean(axis=1) + rng.normal(0.0, 0.4, (600, 3))
+    reach = np.where(outline, MARGIN, 0.0)[rows]
+    beside = rng.uniform(size=600) < 1.0 / 3.0
+    joined = beside & (rng.uniform(size=600) < 0.2)
+    segment_rows, segment_ends = outline_segments(outline)
+    starts, stops = (y[segment_rows, segment_ends[:, k]] for k in range(2))
+    edge = every_segment(p, starts, stops)
+    ends = np.stack([starts[edge], stops[edge]], axis=1)
+    length = fade_length(y, outline)
+    for lines, cut_ends in ((cuts.lines[rows], cuts.ends[rows]), (None, None)):
+        arguments = (p, corners, reach, beside, ends, length, joined, lines, cut_ends)
+        got = ply_fade_kernels.outline_fade(*arguments)
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        want = outline_fade(*arguments)
+        monkeypatch.setattr(ply_projection, "COMPILED", True)
+        assert _same(got[0], want[0]) and _same(got[1], want[1])
+        between = (want[0] > 0.0) & (want[0] < 1.0)
+        assert (between & beside).any() and (between & ~beside).any()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed):
+    """``ply_choice.choose_facing`` against ``choose_facing_numpy`` on tests/test_ply_wedge.py's
+    strips cut at both ends, 400 points round them, every triangle a candidate (in a shuffled
+    order, so that ties go to the lowest row, not the first column): the same columns and
+    closest points, cut flags, segments and parameters; the premises, points facing edges and
+    cuts."""
+    from elements import ply_choice
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
+    near = np.argsort(rng.uniform(size=(len(p), len(y))), axis=1)
+    planes = ply_kernels.candidates_at(p, y, near, outline, MARGIN, ply_projection.INSIDE)
+    got = ply_choice.choose_facing(p, y, near, *planes, cuts)
+    want = ply_choice.choose_facing_numpy(p, y, near, *planes[:6], planes[6].copy(), cuts)
+    for a, b in zip(got, want):
+        assert _same(a, b)
+    assert want[1].any() and want[3].any()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_feature_normals_are_numpy_s_to_the_bit(seed):
+    """``ply_feature_normals.feature_normals`` against ``ply_projection._feature_normals`` on
+    tests/test_ply_wedge.py's strips: closest points at the triangles' vertices, on their
+    edges, on the growths past the outline (their far edges and the extensions of the other
+    edges past the outline vertices) and inside, on every triangle: the same unit normals and
+    joined flags; the premises, vertices, edges, growths and joined extensions among them."""
+    from elements import ply_feature_normals
+    from elements.ply_projection import _feature_normals
+
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, _ = _strip(rng)
+    topology = FaceTopology.of(nodes, outline)
+    reach = np.where(outline, MARGIN, 0.0)
+    rows = np.repeat(np.arange(len(y)), 60)
+    lam = rng.dirichlet(np.ones(3), len(rows))
+    kind = rng.integers(0, 4, len(rows))
+    k = rng.integers(0, 3, len(rows))
+    every = np.arange(len(rows))
+    lam[kind == 1, :] = 0.0  # at vertex k
+    lam[kind == 1, k[kind == 1]] = 1.0
+    on_edge = kind == 2  # on the edge opposite k, its own bound (-reach past the outline)
+    lam[every[on_edge], k[on_edge]] = -reach[rows[on_edge], k[on_edge]]
+    beyond = kind == 3  # past an outline vertex along an edge's line
+    lam[every[beyond], k[beyond]] = -reach[rows[beyond], k[beyond]]
+    lam[every[beyond], (k[beyond] + 1) % 3] = -rng.uniform(0.0, MARGIN, beyond.sum())
+    lam[:, 2] = 1.0 - lam[:, 0] - lam[:, 1]
+    normal = ply_projection.triangle_frames(y[rows])[0]
+    got = ply_feature_normals.feature_normals(
+        y, topology, rows, lam, reach[rows], normal, ply_projection.INSIDE
+    )
+    want = _feature_normals(y, topology, rows, lam, reach[rows], normal)
+    assert _same(got[0], want[0]) and _same(got[1], want[1])
+    bound = lam <= -reach[rows] + 1e-9
+    assert (bound.sum(axis=1) == 2).any() and (bound.sum(axis=1) == 1).any()
+    assert want[1].any() and not np.array_equal(want[0], normal)
+
+
+def test_the_compiled_faces_are_numpy_s_to_the_bit(monkeypatch):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells, faces along the plies' nodal
+    normals) bent 0-20 mm, both passes: the compiled nodal normals, contact points and lower
+    corners (elements/ply_face_points.py) equal numpy's to the bit; a non-finite state is
+    refused by the same ValueError on either path."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    assert all(block.along_normals for block in blocks)
+    for seed, depth in enumerate((0.0, 5.0, 20.0)):
+        state = _bent(compiled_model, seed, depth)
+        for block in blocks:
+
+            def faces(block=block, state=state):
+                block._faces_at = block._directions_at = None
+                return (block.offset_directions(state), *block._faces(state))
+
+            for got, want in zip(*_both(monkeypatch, faces)):
+                assert _same(got, want)
+    x = state.positions.copy()
+    x[3, 1] = np.nan
+    broken = State(x, state.directors, state.velocities, state.angular_velocities)
+    for flag in (True, False):
+        monkeypatch.setattr(ply_projection, "COMPILED", flag)
+        blocks[0]._faces_at = blocks[0]._directions_at = None
+        with pytest.raises(ValueError, match="NaN or infinite"):
+            blocks[0]._faces(broken)
+
+
+def test_the_compiled_kept_lists_moves_are_numpy_s_to_the_bit(monkeypatch):
+    """``FacingSearch.near`` with the kept lists' moves compiled (elements/ply_search.py
+    ``_moves``) against numpy's: two searches of the two-ply hemisphere blank's first pass
+    driven through the same 40 states (the bowl deepening by 0.05 mm a state, jittered, 3 mm
+    more every thirteenth, every tenth point slid 0.6 skin every fifth), one on each path:
+    the same candidates and the same kept lists (origins, moves, shifts) to the bit at every
+    state; the premises, lists kept, refreshed and renewed."""
+    from elements.ply_search import FacingSearch
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    block = next(b for b in compiled_model.interactions if isinstance(b, PlyContactBlock))
+    searches = {flag: FacingSearch(block.search.reach, block.search.skin) for flag in (1, 0)}
+    kept = refreshed = renewed = 0
+    for step in range(40):
+        state = _bent(compiled_model, step, 0.05 * step + (3.0 if step % 13 == 12 else 0.0))
+        block._faces_at = block._directions_at = None
+        p, y = block._faces(state)
+        if step % 5 == 2:  # every tenth point slid 0.6 skin: past the bound, searched again
+            p = p.copy()
+            p[::10, 0] += 0.6 * block.search.skin
+        answers = {}
+        for flag, search in searches.items():
+            monkeypatch.setattr(ply_projection, "COMPILED", bool(flag))
+            before = (search.searches, search.searched_points)
+            answers[flag] = (search.near(p, y), search._lists, before)
+        (near, lists, before), (near_, lists_, _) = answers[1], answers[0]
+        assert _same(near, near_)
+        for name in ("near", "count", "origin", "moved", "shift", "epoch"):
+            assert _same(getattr(lists, name), getattr(lists_, name)), name
+        done = searches[1].searched_points - before[1]
+        kept += done == 0
+        refreshed += 0 < done < len(p)
+        renewed += done == len(p)
+    assert kept and refreshed and renewed, (kept, refreshed, renewed)

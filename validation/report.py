@@ -57,13 +57,15 @@ __all__ = [
 # coarse 18.2 s and default 37.2 s (load 7-10; 22.4 and 58.6 s unscaled, run beside them).
 # Coarse: plies-bai-5.1 and plies-deck-of-cards from one report of those two and
 # hemisphere-forming (--jobs 2, load 2.2-2.9; 166 s CPU, 2.8 min wall), the others as before.
-# hemisphere-plies: its default case_cpu_s of ``--cases hemisphere-plies --jobs 1`` with the
-# ply facing compiled (elements/ply_kernels.py): 289.5 s, 24 of 24 checks, load 7-9, the code
-# before it run beside it 366.7 s (before, 283.4 s at load 5.5-10; 472.8 s at load 1.2-3.8
-# on older code; not time-scaled: docs/hemisphere_plies.md, "Time scaling"); coarse (both
-# fibrous layups), ``--cases hemisphere-plies --resolution coarse --jobs 1``: 99.2 s, load
-# 5-7, the code before beside it 130.8 s (before, 116.0 s at load 3.2-4.7); the same
-# results.json numbers to the bit.
+# hemisphere-plies: with the rest of the ply contact's facing, its loads and its friction
+# compiled (benchmarks/ply_facing.py), its case_cpu_s of ``--cases hemisphere-plies --jobs 1``
+# at the default resolution: 148.7 s (24 of 24 checks), main c0b0822 run beside it 288.1 s,
+# load 11-16; coarse (both fibrous layups, ``--resolution coarse``): 55.5 s (59.0 s without
+# the faces' kernel), main beside it 102.2 s, load 9-16; the same results.json numbers to
+# the bit as main's at both resolutions. Before, with the candidates' planes alone compiled
+# (elements/ply_kernels.py): 289.5 s default (24 of 24 checks, load 7-9; 366.7 s for the code
+# before beside it; not time-scaled: docs/hemisphere_plies.md, "Time scaling"), 99.2 s coarse
+# (load 5-7).
 # The five paper cases at the default resolution: their case_cpu_s in one report of the six
 # paper cases (--jobs 1, one numba thread, load 5-13 with other jobs; the band LDL^T within
 # its envelope, benchmarks/report.py), bai-6.1.1-sensitivity as before. plies-bai-5.1 and
@@ -103,7 +105,7 @@ EXPECTED_CPU_S: dict[str, tuple[float, float]] = {
     "mindlin-scordelis-lo": (1.4, 1.7),
     "mindlin-pinched-cylinder": (2.7, 3.5),
     "hemisphere-forming": (18.2, 37.2),
-    "hemisphere-plies": (99.2, 289.5),
+    "hemisphere-plies": (55.5, 148.7),
 }  # fmt: skip
 
 

@@ -1,0 +1,220 @@
+"""The unit pseudonormal of the edge or vertex on which each ply contact point's closest point
+lies, compiled (elements/ply_projection.py ``_feature_normals``, "The sign at an edge" and
+"Growths joined"; docs/theory.md, the ply contact section): which edge or vertex holds the
+closest point, the sum of its triangles' unit normals (weighted at a vertex by their angles
+there, over the face's topology tables, elements/ply_topology.py), whether the point lies on
+an edge's extension that two growths hold, and the facing triangle's normal where the face has
+no side there, in two passes over the points with numpy's ``arctan2`` of the angles between.
+
+Its numpy reference is ``ply_projection._feature_normals`` (with ``pseudonormals_at`` and
+``_joined_growth``), taken with ``ply_projection.COMPILED = False``. The passes do the same
+IEEE operations in the same order (each sum of the tables' terms from 0.0 in their order, as
+``np.bincount`` adds them; numpy's sums of three terms: ``np.linalg.norm`` from the first
+term, ``einsum("mki,mki->mk")`` as (first + last) + middle; no fused multiply-add: numba
+builds without fastmath). The angles' ``arctan2`` stays numpy's: numpy evaluates it with its
+own vectorised routine, whose last bit libm's ``atan2`` does not always give, and which gives
+an element the same bits wherever it stands in the array. So the normals are the same to the
+last bit (tests/test_ply_kernels.py). Each point is independent: the same bits on any thread
+count.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.jit import jit_lanes, lanes, prange
+from elements.ply_topology import FaceTopology
+
+__all__ = ["feature_normals"]
+
+
+@lanes
+def _where(lam, reach, inside):
+    """(count of the bounds the closest point lies on, the first corner off them, the first
+    corner on one, on a growth off the triangle) of the coordinates ``lam`` (3,) with the
+    triangle's ``reach`` (3,) (``_feature_normals``' bound, count, corner, side, grown)."""
+    count = 0
+    corner = -1
+    side = -1
+    grown = False
+    for k in range(3):
+        bound = lam[k] <= -reach[k] + 1e-9
+        if bound:
+            count += 1
+            if side < 0:
+                side = k
+        elif corner < 0:
+            corner = k
+        if lam[k] < -inside and reach[k] > 0.0:
+            grown = True
+    return count, max(corner, 0), max(side, 0), grown
+
+
+def _angle_parts(triangle, y, nodes, fans, lam, reach, inside, rise, run):
+    """rise and run (c, f): |u x v| and u . v of the angle at each corner of the fan of the
+    vertex the closest point lies at (``pseudonormals``' angles, whose ``arctan2`` numpy
+    takes), 0 where the point is not at a vertex or the fan has no more corners; y (m, 3, 3)
+    the corners, nodes (m, 3), fans (v, f), the points' triangle rows (c,), closest points'
+    coordinates ``lam`` (c, 3) and reach (c, 3)."""
+    for i in prange(triangle.shape[0]):
+        count, corner, _, _ = _where(lam[i], reach[i], inside)
+        vertex = nodes[triangle[i], corner]
+        for f in range(fans.shape[1]):
+            rise[i, f] = 0.0
+            run[i, f] = 0.0
+            at = fans[vertex, f]
+            if count != 2 or at < 0:
+                continue
+            t, k = at // 3, at % 3
+            a, b = (k + 1) % 3, (k + 2) % 3
+            u0, u1, u2 = y[t, a, 0] - y[t, k, 0], y[t, a, 1] - y[t, k, 1], y[t, a, 2] - y[t, k, 2]
+            v0, v1, v2 = y[t, b, 0] - y[t, k, 0], y[t, b, 1] - y[t, k, 1], y[t, b, 2] - y[t, k, 2]
+            c0 = u1 * v2 - u2 * v1
+            c1 = u2 * v0 - u0 * v2
+            c2 = u0 * v1 - u1 * v0
+            rise[i, f] = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
+            run[i, f] = (u0 * v0 + u2 * v2) + u1 * v1
+
+
+_angle_parts_compiled = jit_lanes(_angle_parts)
+
+
+@lanes
+def _unit_normal(y, t, out):
+    """out (3,) the unit normal of triangle ``t`` of y (m, 3, 3) (``triangle_frames``)."""
+    e0, e1, e2 = y[t, 1, 0] - y[t, 0, 0], y[t, 1, 1] - y[t, 0, 1], y[t, 1, 2] - y[t, 0, 2]
+    f0, f1, f2 = y[t, 2, 0] - y[t, 0, 0], y[t, 2, 1] - y[t, 0, 1], y[t, 2, 2] - y[t, 0, 2]
+    c0 = e1 * f2 - e2 * f1
+    c1 = e2 * f0 - e0 * f2
+    c2 = e0 * f1 - e1 * f0
+    twice = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
+    out[0], out[1], out[2] = c0 / twice, c1 / twice, c2 / twice
+
+
+def _normals(
+    triangle,
+    y,
+    nodes,
+    fans,
+    edges,
+    edge_halves,
+    other,
+    outline,
+    has_outline,
+    lam,
+    reach,
+    normal,
+    inside,
+    angles,
+    signing,
+    joined,
+):
+    """signing (c, 3) and joined (c,) as ``ply_projection._feature_normals`` gives them, from
+    the face's tables (elements/ply_topology.py: nodes, fans, edges, edge_halves, other; its
+    outline (m, 3) bool where ``has_outline``), the points' triangle rows (c,), closest
+    points' coordinates ``lam`` (c, 3), reach (c, 3), the triangles' normals (c, 3) and the
+    fans' angles (c, f) (``_angle_parts``' arctan2)."""
+    for i in prange(triangle.shape[0]):
+        row = triangle[i]
+        count, corner, side, grown = _where(lam[i], reach[i], inside)
+        s0, s1, s2 = 0.0, 0.0, 0.0
+        unit = np.empty(3)
+        if count == 2:  # the vertex's angle-weighted sum, in its fan's order
+            vertex = nodes[row, corner]
+            for f in range(fans.shape[1]):
+                at = fans[vertex, f]
+                if at < 0:
+                    s0, s1, s2 = s0 + 0.0, s1 + 0.0, s2 + 0.0
+                    continue
+                _unit_normal(y, at // 3, unit)
+                w = angles[i, f]
+                s0, s1, s2 = s0 + w * unit[0], s1 + w * unit[1], s2 + w * unit[2]
+        else:  # the edge's sum over its half-edges
+            edge = edges[row, side]
+            for h in range(edge_halves.shape[1]):
+                half = edge_halves[edge, h]
+                if half < 0:
+                    s0, s1, s2 = s0 + 0.0, s1 + 0.0, s2 + 0.0
+                    continue
+                _unit_normal(y, half // 3, unit)
+                s0, s1, s2 = s0 + unit[0], s1 + unit[1], s2 + unit[2]
+        on_joined = False
+        if has_outline and grown and count == 1:  # ply_projection._joined_growth
+            own = row * 3 + side
+            across = other[own]
+            past = -1
+            least = np.inf
+            for k in range(3):
+                value = np.inf if k == side else lam[i, k]
+                if past < 0 or value < least:
+                    past, least = k, value
+            node = nodes[row, past]
+            neighbour = across // 3
+            at = 0
+            for k in range(3):
+                if nodes[neighbour, k] == node:
+                    at = k
+                    break
+            on_joined = (
+                across != own
+                and outline[row, past]
+                and outline[neighbour, at]
+                and lam[i, past] < 0.0
+            )
+        length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
+        keep = (grown and not on_joined) or count == 0 or count == 3 or length < 1e-6
+        joined[i] = on_joined and not keep
+        if keep:
+            signing[i, 0], signing[i, 1], signing[i, 2] = normal[i, 0], normal[i, 1], normal[i, 2]
+        else:
+            divisor = length if length > 0.0 else 1.0
+            signing[i, 0], signing[i, 1], signing[i, 2] = s0 / divisor, s1 / divisor, s2 / divisor
+
+
+_normals_compiled = jit_lanes(_normals)
+
+
+def feature_normals(
+    y: np.ndarray,
+    topology: FaceTopology,
+    triangle: np.ndarray,
+    lam: np.ndarray,
+    reach: np.ndarray,
+    normal: np.ndarray,
+    inside: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """``ply_projection._feature_normals`` compiled: the same (c, 3) unit normals and (c,)
+    joined flags to the bit (its docstring gives the arguments; ``inside`` its INSIDE)."""
+    count = len(triangle)
+    y = np.ascontiguousarray(y, dtype=float)
+    triangle = np.ascontiguousarray(triangle, dtype=np.int64)
+    lam = np.ascontiguousarray(lam, dtype=float)
+    reach = np.ascontiguousarray(reach, dtype=float)
+    nodes = np.ascontiguousarray(topology.nodes, dtype=np.int64)
+    fans = np.ascontiguousarray(topology.fans, dtype=np.int64)
+    width = fans.shape[1]
+    rise, run = np.empty((count, width)), np.empty((count, width))
+    _angle_parts_compiled(triangle, y, nodes, fans, lam, reach, float(inside), rise, run)
+    angles = np.arctan2(rise, run)  # numpy's, as pseudonormals' (module docstring)
+    outline = topology.outline
+    signing = np.empty((count, 3))
+    joined = np.empty(count, dtype=np.bool_)
+    _normals_compiled(
+        triangle,
+        y,
+        nodes,
+        fans,
+        np.ascontiguousarray(topology.edges, dtype=np.int64),
+        np.ascontiguousarray(topology.edge_halves, dtype=np.int64),
+        np.ascontiguousarray(topology.other, dtype=np.int64),
+        np.zeros((1, 3), dtype=np.bool_) if outline is None else outline,
+        outline is not None,
+        lam,
+        reach,
+        np.ascontiguousarray(normal, dtype=float),
+        float(inside),
+        angles,
+        signing,
+        joined,
+    )
+    return signing, joined

@@ -1,0 +1,289 @@
+"""The flat ply contact's friction compiled (elements/ply_friction.py, docs/theory.md §9.3a):
+the return mapping at a state (``friction_state``: each touching point's normal force and
+stick spring, its anchor on the lower face, its tangential offset s, stick or slip and the
+tangential force) and the history after an accepted step (``updated_history``: the sliding
+anchors moved to the friction limit and re-expressed on the facing triangle, the slip and the
+dissipation), each one pass over the points.
+
+Their numpy reference is ``ply_friction.friction_state`` and ``ply_friction.updated_history``
+(the same signatures), taken with ``ply_projection.COMPILED = False``. The passes do the same
+IEEE operations in the same order (the penalty law's branches as ``penalty_law`` writes them,
+numpy's sums of three terms in its order: ``np.sum`` and ``np.linalg.norm`` over a row from the
+first term, ``einsum("pk,pki->pi")`` likewise, ``einsum("pki,pi->pk")`` as (first + last) +
+middle; no fused multiply-add: numba builds without fastmath), so they give the same numbers
+to the last bit (tests/test_ply_kernels.py). The stick spring before the fade's w comes from
+``ply_friction``'s own numpy for ``stick="normal law"`` (k_p for "penalty"), and the
+dissipation's sum over the points from ``np.sum`` (numpy's pairwise order). Each point is
+independent: the same bits on any thread count.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements import ply_friction
+from elements.jit import jit_lanes, prange
+from elements.ply_friction import PlyFrictionHistory, Sliding
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+    from elements.ply_projection import Facing
+    from femcore.state import State
+
+__all__ = ["friction_state", "updated_history"]
+
+
+def _return_mapping(
+    touching,
+    gap,
+    stiffness,
+    smoothing,
+    fade,
+    stick,
+    fade_spring,
+    friction,
+    anchor_triangle,
+    anchor_weights,
+    face,
+    normal,
+    y,
+    force,
+    slip,
+    stuck,
+    sliding,
+    pressing,
+    offset,
+    triangle,
+    spring,
+):
+    """``ply_friction.friction_state``'s arrays (``Sliding``) of the points, written into
+    force, slip, offset (P, 3), stuck, sliding (P,) bool, pressing, spring (P,), triangle (P,)
+    int: from their touching flags, gaps (mm), penalties k_p (N/mm), the fade w, the stick
+    springs ``stick`` before w (N/mm; times w where ``fade_spring``), the history's anchors
+    (``anchor_triangle`` (P,), -1: none; ``anchor_weights`` (P, 3)), the points p ``face`` (P,
+    3), their facing normals (P, 3) and the lower corners y (m, 3, 3); ``smoothing`` delta, mm,
+    ``friction`` mu."""
+    for i in prange(gap.shape[0]):
+        on = touching[i]
+        normal_force = 0.0
+        k_t = 0.0
+        if on:
+            k = stiffness[i]
+            g = gap[i] if (gap[i] < 0.0 or gap[i] != gap[i]) else 0.0
+            if smoothing == 0.0:
+                law = k * g
+            elif g <= -smoothing:
+                law = k * (g + 0.5 * smoothing)
+            else:
+                law = -k * (g * g) / (2.0 * smoothing)
+            normal_force = -law * fade[i]
+            k_t = stick[i] * fade[i] if fade_spring else stick[i]
+        pressing[i] = normal_force
+        spring[i] = k_t
+        anchored = on and anchor_triangle[i] >= 0
+        t = anchor_triangle[i] if anchored else 0
+        triangle[i] = t
+        r0 = r1 = r2 = 0.0
+        if anchored:
+            w0, w1, w2 = anchor_weights[i, 0], anchor_weights[i, 1], anchor_weights[i, 2]
+            a0 = (w0 * y[t, 0, 0] + w1 * y[t, 1, 0]) + w2 * y[t, 2, 0]
+            a1 = (w0 * y[t, 0, 1] + w1 * y[t, 1, 1]) + w2 * y[t, 2, 1]
+            a2 = (w0 * y[t, 0, 2] + w1 * y[t, 1, 2]) + w2 * y[t, 2, 2]
+            r0, r1, r2 = face[i, 0] - a0, face[i, 1] - a1, face[i, 2] - a2
+        n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
+        along = (r0 * n0 + r1 * n1) + r2 * n2
+        s0, s1, s2 = r0 - along * n0, r1 - along * n1, r2 - along * n2
+        length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
+        limit = friction * normal_force
+        held = anchored and k_t * length <= limit
+        slides = anchored and not held
+        if held:
+            scale = k_t
+        elif slides:
+            scale = limit / (length if length > 0 else 1.0)
+        else:
+            scale = 0.0
+        force[i, 0], force[i, 1], force[i, 2] = scale * s0, scale * s1, scale * s2
+        slip[i, 0], slip[i, 1], slip[i, 2] = s0, s1, s2
+        offset[i, 0], offset[i, 1], offset[i, 2] = r0, r1, r2
+        stuck[i] = held
+        sliding[i] = slides
+
+
+_return_mapping_compiled = jit_lanes(_return_mapping)
+
+
+def friction_state(
+    block: PlyContactBlock,
+    state: State,
+    history: PlyFrictionHistory | None,
+    facing: Facing | None = None,
+) -> Sliding:
+    """``ply_friction.friction_state`` compiled (module docstring) on flat faces with a
+    history and friction; otherwise that numpy reference itself."""
+    facing = block.facing(state) if facing is None else facing
+    if history is None or block.friction <= 0.0 or block.curved or facing.fade is None:
+        return ply_friction.friction_state(block, state, history, facing)
+    count = len(block.above)
+    on = facing.touching
+    stick = np.array(block.stiffness, dtype=float)
+    if block.stick != "penalty":  # the normal law's own spring (ply_friction's numpy)
+        stick[on] = ply_friction._spring(block, facing.gap[on], block.stiffness[on])[0]
+    _, y = block._faces(state)
+    arrays = (
+        np.empty((count, 3)),
+        np.empty((count, 3)),
+        np.empty(count, dtype=np.bool_),
+        np.empty(count, dtype=np.bool_),
+        np.empty(count),
+        np.empty((count, 3)),
+        np.empty(count, dtype=np.int64),
+        np.empty(count),
+    )
+    _return_mapping_compiled(
+        np.ascontiguousarray(on, dtype=np.bool_),
+        np.ascontiguousarray(facing.gap, dtype=float),
+        np.ascontiguousarray(block.stiffness, dtype=float),
+        float(block.smoothing),
+        np.ascontiguousarray(facing.fade, dtype=float),
+        stick,
+        block.stick != "penalty",
+        float(block.friction),
+        np.ascontiguousarray(history.triangle, dtype=np.int64),
+        np.ascontiguousarray(history.anchor, dtype=float),
+        np.ascontiguousarray(facing.face, dtype=float),
+        np.ascontiguousarray(facing.normal, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
+        *arrays,
+    )
+    return Sliding(*arrays)
+
+
+def _moved(
+    touching,
+    facing_triangle,
+    facing_weights,
+    gradients,
+    gap,
+    normal,
+    y,
+    friction,
+    slip,
+    stuck,
+    sliding,
+    pressing,
+    offset,
+    spring,
+    last_triangle,
+    last_anchor,
+    last_slip,
+    last_pressing,
+    triangle,
+    anchor,
+    slipped,
+    dissipation,
+):
+    """``ply_friction.updated_history``'s arrays, written into triangle (P,) int, anchor (P, 3),
+    slipped (P,) mm and dissipation (P,), N mm (each point's mu N_mid times its slip, which
+    numpy sums): from the facing's touching flags, triangles, weights (P, 3), gradients (P, 3,
+    3), gaps and normals (P, 3), the lower corners y (m, 3, 3), mu ``friction``, the return
+    mapping's slip, offset (P, 3), stuck, sliding, pressing and spring (P,), and the last
+    history's triangle, anchor, slip and pressing."""
+    for i in prange(gap.shape[0]):
+        s0, s1, s2 = slip[i, 0], slip[i, 1], slip[i, 2]
+        length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
+        divisor = length if length > 0 else 1.0
+        u0, u1, u2 = s0 / divisor, s1 / divisor, s2 / divisor
+        k_t = spring[i] if spring[i] > 0 else 1.0
+        held = friction * pressing[i] / k_t
+        slid = length - held if sliding[i] else 0.0
+        t0 = -offset[i, 0] + slid * u0
+        t1 = -offset[i, 1] + slid * u1
+        t2 = -offset[i, 2] + slid * u2
+        # the facing triangle's unit normal (ply_projection.triangle_frames)
+        t = facing_triangle[i]
+        e0, e1, e2 = y[t, 1, 0] - y[t, 0, 0], y[t, 1, 1] - y[t, 0, 1], y[t, 1, 2] - y[t, 0, 2]
+        f0, f1, f2 = y[t, 2, 0] - y[t, 0, 0], y[t, 2, 1] - y[t, 0, 1], y[t, 2, 2] - y[t, 0, 2]
+        c0 = e1 * f2 - e2 * f1
+        c1 = e2 * f0 - e0 * f2
+        c2 = e0 * f1 - e1 * f0
+        twice = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
+        m0, m1, m2 = c0 / twice, c1 / twice, c2 / twice
+        n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
+        g = gap[i]
+        w0, w1, w2 = t0 + g * n0, t1 + g * n1, t2 + g * n2
+        tilt = (m0 * n0 + m1 * n1) + m2 * n2
+        if tilt > 0.1:
+            along = ((m0 * w0 + m1 * w1) + m2 * w2) / tilt
+        else:
+            along = 0.0
+        w0, w1, w2 = w0 - along * n0, w1 - along * n1, w2 - along * n2
+        if stuck[i]:
+            triangle[i] = last_triangle[i]
+            for k in range(3):
+                anchor[i, k] = last_anchor[i, k]
+        elif sliding[i]:
+            triangle[i] = t if touching[i] else -1
+            for k in range(3):
+                d = gradients[i, k]
+                anchor[i, k] = facing_weights[i, k] + ((d[0] * w0 + d[2] * w2) + d[1] * w1)
+        elif touching[i]:
+            triangle[i] = t
+            for k in range(3):
+                anchor[i, k] = facing_weights[i, k]
+        else:
+            triangle[i] = -1
+            for k in range(3):
+                anchor[i, k] = np.nan
+        slipped[i] = last_slip[i] + slid
+        dissipation[i] = friction * 0.5 * (pressing[i] + last_pressing[i]) * slid
+
+
+_moved_compiled = jit_lanes(_moved)
+
+
+def updated_history(
+    block: PlyContactBlock, state: State, history: PlyFrictionHistory | None
+) -> PlyFrictionHistory | None:
+    """``ply_friction.updated_history`` compiled (module docstring) on flat faces with
+    friction; otherwise that numpy reference itself."""
+    if history is None or block.friction <= 0.0 or block.curved:
+        return ply_friction.updated_history(block, state, history)
+    facing = block.facing(state)
+    if facing.fade is None:
+        return ply_friction.updated_history(block, state, history)
+    sliding = friction_state(block, state, history, facing)
+    _, y = block._faces(state)
+    count = len(block.above)
+    triangle = np.empty(count, dtype=np.int64)
+    anchor = np.empty((count, 3))
+    slipped = np.empty(count)
+    dissipation = np.empty(count)
+    _moved_compiled(
+        np.ascontiguousarray(facing.touching, dtype=np.bool_),
+        np.ascontiguousarray(facing.triangle, dtype=np.int64),
+        np.ascontiguousarray(facing.weights, dtype=float),
+        np.ascontiguousarray(facing.gradients, dtype=float),
+        np.ascontiguousarray(facing.gap, dtype=float),
+        np.ascontiguousarray(facing.normal, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
+        float(block.friction),
+        sliding.slip,
+        sliding.stuck,
+        sliding.sliding,
+        sliding.pressing,
+        sliding.offset,
+        sliding.spring,
+        np.ascontiguousarray(history.triangle, dtype=np.int64),
+        np.ascontiguousarray(history.anchor, dtype=float),
+        np.ascontiguousarray(history.slip, dtype=float),
+        np.ascontiguousarray(history.pressing, dtype=float),
+        triangle,
+        anchor,
+        slipped,
+        dissipation,
+    )
+    dissipated = history.dissipated + float(np.sum(dissipation))
+    return PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
