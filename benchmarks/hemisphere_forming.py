@@ -527,7 +527,7 @@ def main() -> None:
             ratio = energies["kinetic"] / max(abs(energies["external_work"]), 1e-300)
             quasi = result.info["quasi_static"]
             print(f"  dt {result.info['dt']:.3g} s at the end, added mass "
-                  f"{result.info['added_mass_ratio']:.3g} x the model's, kinetic / work at the "
+                  f"{result.info['added_mass_ratio']:.3g} x the blank's, kinetic / work at the "
                   f"end {ratio:.3f}, largest after the first tenth "
                   f"{quasi['kinetic_over_work_largest']:.3f} (above the bound over "
                   f"{quasi['exceeded_share']:.3f} of the stroke), punch force "

@@ -67,7 +67,8 @@ keeps each cell's rigid translation at its mass); 2 / sqrt(sum over the tools of
 the springs' bound the solver adds, is 2.565e-5 s there (0.98 of that exact step: the bound is
 tight). So in the solver's own rule, 2 / sqrt(omega_cells^2 / (1 + beta) + springs), the step
 at 20 cells and 20k alike would grow 1.53 times at beta 3, 1.76 at 8, 1.88 at 15 and at most
-2.05 times (beta without end), each still below 0.9 of the exact pressed step above; the
+2.05 times (beta without end) at 0.01 of the stroke (2.23 at 0.9, the springs' share
+0.252), each still below 0.9 of the exact pressed step above; the
 rotary inertia kept, the elements' own exact step grows 1.73-1.80 times at most (the director
 modes), which the springs' cap lies below.
 

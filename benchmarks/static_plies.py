@@ -27,8 +27,8 @@ Measured (one thread, CPU, 2 cores shared with other jobs):
 
 * this script, load 13.9 -> 16.9: the coarse plies solve 19.9 s (the tangent's own facing,
   run first) -> 17.8 s (the loads' facing with the Hessian), the same 358 Newton iterations
-  (611 in cut attempts), the final positions and directors the same to the bit (both with
-  the structured carry tried below, since taken out).
+  (611 in cut attempts; 470 since the structured carry tried below was taken out), the final
+  positions and directors the same to the bit (both with that carry).
 * the report's cases, case_cpu_s of ``python -m validation --cases ... --jobs 1`` (one numba
   thread), s: main's code (c0b0822, a ``git archive``) at the default resolution,
   plies-bai-5.1 80.3, plies-deck-of-cards 51.5, bai-5.1 21.2 (load 10-16); at coarse 21.8,

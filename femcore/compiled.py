@@ -56,6 +56,8 @@ class CompiledModel(CompiledTangent):
     translation_free / translation_constrained / translation_prescribed : (n, 3) bool.
     rotation_fixed : (n, 2) bool for (alpha, beta).
     mass0, inertia0 : (n,) physical lumped mass and rotary inertia in the reference state.
+    element_mass : float, the mass the elements carry (``mass0`` without the tools' nodes'):
+        what mass scaling scales and its added mass is a share of.
     element_size : median element edge length (length unit).
     """
 
@@ -158,16 +160,19 @@ class CompiledModel(CompiledTangent):
         state0 = self.initial_state()
         self.mass0, self.inertia0 = self.lumped_mass(state0)
         self._weighed_mass = self.mass0.copy()  # what gravity acts on
+        # The mass the elements carry, the tools' aside: what mass scaling scales, and what
+        # its added mass is a share of (a 100-g holder on a 10-g blank would otherwise make
+        # ten times the blank's mass read as a tenth); summed without the tools' masses, not
+        # their difference (a heavy tool's would swamp the blank's digits).
+        element_mass, _ = self._element_lumped_mass(state0)
+        self.element_mass = float(element_mass.sum())
         if self.nominal_mass_nodes.size:
-            body = self.mass0 > 0
-            nominal = float(self.mass0[body].mean()) if body.any() else 1.0
+            # the mean nodal mass of the body, the stated tools' masses aside
+            body = element_mass > 0
+            nominal = float(element_mass[body].mean()) if body.any() else 1.0
             unstated = np.isin(self.rigid_nodes, self.nominal_mass_nodes)
             self._rigid_mass = np.where(unstated, nominal, self._rigid_mass)
             self.mass0, self.inertia0 = self.lumped_mass(state0)
-        # The mass the elements carry, the tools' aside: what mass scaling scales, and what
-        # its added mass is a share of (a 100-g holder on a 10-g blank would otherwise make
-        # ten times the blank's mass read as a tenth).
-        self.element_mass = float(self.mass0.sum() - self._rigid_mass.sum())
         unmassed = active[:, 0] & ~(self.mass0 > 0)
         if unmassed.any():
             raise ValueError(
@@ -243,6 +248,13 @@ class CompiledModel(CompiledTangent):
     def lumped_mass(self, state: State, density_scale: list | None = None):
         """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
         (cells,) factor array per block (selective mass scaling) or None."""
+        mass, inertia = self._element_lumped_mass(state, density_scale)
+        if self.rigid_nodes.size:
+            np.add.at(mass, self.rigid_nodes, self._rigid_mass)
+        return mass, inertia
+
+    def _element_lumped_mass(self, state: State, density_scale: list | None = None):
+        """The elements' nodal mass (n,) and rotary inertia (n,), the tools' nodes' aside."""
         mass = np.zeros(self.n_nodes)
         inertia = np.zeros(self.n_nodes)
         for i, block in enumerate(self.blocks):
@@ -250,8 +262,6 @@ class CompiledModel(CompiledTangent):
             mass += m
             if j is not None:
                 inertia += j
-        if self.rigid_nodes.size:
-            np.add.at(mass, self.rigid_nodes, self._rigid_mass)
         return mass, inertia
 
     def _histories(self, state: State) -> tuple:

@@ -540,8 +540,9 @@ class CentralDifference:
 
     def _check_up_front(self, compiled: CompiledModel, added_mass: float, dt: float) -> None:
         """Refuse, before the first step, a run that mass scaling would turn into another
-        model (more than ``max_added_mass`` times its mass added) or whose steps would exceed
-        ``max_steps`` at the starting step (a step far too small would otherwise hang)."""
+        model (more than ``max_added_mass`` times its elements' mass added) or whose steps
+        would exceed ``max_steps`` at the starting step (a step far too small would otherwise
+        hang)."""
         if compiled.nominal_mass_nodes.size:
             raise ValueError(
                 f"node {int(compiled.nominal_mass_nodes[0])} carries a force-driven tool's "

@@ -507,3 +507,18 @@ def test_mass_scaling_reports_its_added_mass_as_a_share_of_the_plate_not_of_the_
     )
     with pytest.raises(ValueError, match=r"times the elements' mass .*max_added_mass"):
         capped.solve(model)
+
+
+def test_an_unstated_tool_mass_is_the_mean_nodal_mass_of_the_plate_whatever_the_holder_weighs():
+    """Beside a holder of 1e12 plates, a second free tool without a stated mass gets the
+    mean nodal mass of the plate's 9 nodes, rho h A / 9 (the docstring of
+    ``Model.rigid_node``'s nominal mass; closed form, to round-off), not a mean over the
+    heavy holder's node too; and the elements' mass is the plate's rho h A, the holder's
+    digits not in it (a difference of the totals lost 7.6e-6 of it)."""
+    plate = 1e-9 * 1.0 * SIDE**2  # t, rho h A
+    model = pressed_plate(mindlin(), 1.0, 50.0, mass=1e12 * plate)
+    model.contact(RigidPlane((0.0, 0.0, 5.0), (0.0, 0.0, -1.0), free="z", force=(0.0, 0.0, -1.0)))
+    compiled = model.compile()
+    assert compiled.element_mass == pytest.approx(plate, rel=1e-12)
+    (unstated,) = compiled.nominal_mass_nodes
+    assert compiled.mass0[unstated] == pytest.approx(plate / 9.0, rel=1e-12)

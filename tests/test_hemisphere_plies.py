@@ -89,12 +89,12 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     faces at most 0.11 and 0.21 mm through the holder's. With the ply contact's stick spring
     of the normal law, the default since: KE / W 0.075, the holder 19.22 N over the last
     tenth, 20.01 N with its m dv / T taken off (10.5 mm up), the radial gap +0.015 mm, the
-    faces 0.14 and 0.45 mm through the holder's, shares of its force 0.10 and 0.45 (the
-    top ply's corner crest, k = 13.3 N/mm: docs/hemisphere_plies.md, "The holder's
-    penetration"). With the holder on the top ply's
-    nodes alone the bottom ply's corner rose 24.7 mm, through the holder's face by 17.9 mm
-    at t = 0.095 s (``through_holder`` on that run), which this test fails (the study's
-    docstring, "The holder on every ply")."""
+    faces 0.14 and 0.45 mm through the holder's (the top ply's corner crest, k = 13.3
+    N/mm: docs/hemisphere_plies.md, "The holder's penetration"), the largest shares of its
+    force over the frames and nodes 0.10 and 0.45 (the crest's 0.45 mm carries 0.30). With
+    the holder on the top ply's nodes alone the bottom ply's corner rose 24.7 mm, through the
+    holder's face by 17.9 mm at t = 0.095 s (``through_holder`` on that run), which this test
+    fails (the study's docstring, "The holder on every ply")."""
     _, report = coarse_report
     _stack_holds(report, "0/45")
 
@@ -185,6 +185,12 @@ def test_the_share_of_the_holders_force_is_the_rise_times_the_nodes_spring_over_
     assert first["share_at_s"] == 0.05
     assert second["share"] == pytest.approx(0.0, abs=1e-12) and second["share_at_s"] == 0.0
     assert "share" not in through_holder(layup, run)[0]
+    # The bottom ply without springs (a holder on the top ply alone): its corner 2.7 mm
+    # through the holder's face is a ply the holder does not hold, an infinite share.
+    unheld = spring.copy()
+    unheld[bottom] = np.nan
+    first, _ = through_holder(layup, run, stiffness=unheld, force=20.0)
+    assert first["share"] == np.inf and first["share_at_s"] == 0.05
 
 
 def test_the_kinetic_energy_is_split_between_the_plies_and_the_holder():

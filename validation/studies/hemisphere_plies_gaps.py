@@ -172,7 +172,9 @@ def through_holder(
     presses carries a share of its force, at most all of it (1) where the run is
     quasi-static; a node it does not hold rises with no force and reads its rise over the
     penetration of the holder's whole force on its spring (docs/hemisphere_plies.md, "The
-    holder's penetration").
+    holder's penetration"); a node under the ring with no spring, which the holder cannot
+    press, reads an infinite share once its face is through the holder's (a ply the holder
+    does not hold).
     """
     n = layup.mesh.n_nodes
     start = layup.heights[-1] + 0.5 * THICKNESS
@@ -194,8 +196,11 @@ def through_holder(
                 worst = {"mm": float(rise[i]), "at_s": float(frame.time),
                          "x_mm": float(blank[0]), "y_mm": float(blank[1])}  # fmt: skip
             if stiffness is not None and force is not None:
-                carried = np.where(under, rise * stiffness[nodes], -math.inf) / force
-                j = int(np.nanargmax(carried))
+                spring = stiffness[nodes]
+                unheld = np.where(rise > 0.0, math.inf, -math.inf)
+                carried = np.where(np.isnan(spring), unheld, rise * spring / force)
+                carried = np.where(under, carried, -math.inf)
+                j = int(np.argmax(carried))
                 if carried[j] > share["share"]:
                     share = {"share": float(carried[j]), "share_at_s": float(frame.time)}
         out.append({**worst, **share} if stiffness is not None and force is not None else worst)
