@@ -71,8 +71,9 @@ parallel builds 24.5 s, all in the worker that ran the tests marked ``parallel``
 ``_cells_pass_parallel`` 5.5 s); no kernel compiled in two processes; three kernels with a
 second build (ply_kernels ``_facets_at_part`` and ``_grown_part``, a read-only and a writable
 array; node_rows ``_same_rows``, A and C layouts: 1.7 s for both builds of the three,
-benchmarks/suite_signatures.py). The items 333.6 s of the workers' CPU (their reaped children 70.2 s):
-mypy 22.7 s, the first compiled fibrous test 10.7 s, the coarse forming blank 8.6 s,
+benchmarks/suite_signatures.py). The items 333.6 s of the workers' CPU (their reaped
+children 70.2 s): mypy 22.7 s, the first compiled fibrous test 10.7 s, the coarse forming
+blank 8.6 s,
 test_ply_margin.py's mirrored pass 8.2 s, test_ply_topology.py's kept tree 7.3 s, every other
 under 6 s; by module the largest test_readme_examples.py 27.5 s (21.8 s of it its Dask
 clusters and subprocess), test_identify.py 20.3 s (18.2 s the shared cluster's fits),

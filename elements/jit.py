@@ -275,6 +275,7 @@ class _Parallel:
         self._parallel: Any = None
         # the plain build's machine code by the arguments' types (``_address``)
         self._addresses: dict[tuple, int] = {}
+        self._native = True  # whether numba compiles the builds (not NUMBA_DISABLE_JIT)
         functools.update_wrapper(self, function)
 
     @property
@@ -292,6 +293,7 @@ class _Parallel:
                 fastmath=False,
                 error_model=self._error_model,
             )
+            self._native = hasattr(self._serial, "overloads")  # a numba dispatcher
         return self._serial
 
     @property
@@ -335,7 +337,8 @@ class _Parallel:
         parted = self._part is not None
         cap = _setting()
         threads = _threads(len(args[0]), cap)
-        if threads == 1 and PLAIN_ON_ONE_THREAD:
+        # (numba's jit disabled: the Python function, its parts in order on this thread)
+        if threads == 1 and PLAIN_ON_ONE_THREAD or not self._native:
             if parted:
                 return serial(*args, 0, 1)
             return serial(*args)
