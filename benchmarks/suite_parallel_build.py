@@ -29,6 +29,27 @@ one thread, µs of CPU per element-step, old and new in turns, load 3.6-4.3): st
 0.647 and 0.678 on main, 0.539 and 0.646 with the parted plain build; force 0.599, 0.562
 against 0.405, 0.472.
 
+The loop over the parts calling the plain build through its address (elements/jit.py
+``_call_at``: nothing of the plain build linked into the parallel one, where numba optimised
+and compiled it again), this checkout against c0b0822 (which linked it), 19602 cells, 2
+threads, 5 repeats, each pass on a fresh numba cache; 2 cores shared with other jobs, load
+10.1 and 9.3 (old, new):
+
+    pass             first force: 1 thread, then 2   force us/cell wall (CPU): 1 thr., 2 thr.
+    fibrous, linked       25.88 s, 11.46 s CPU       0.772 (0.314), 0.675 (0.337)
+    fibrous, address      25.42 s,  3.73 s CPU       0.494 (0.294), 0.891 (0.285)
+    Mindlin, linked        1.99 s,  1.57 s CPU       0.101 (0.101), 0.094 (0.094)
+    Mindlin, address       1.82 s,  0.69 s CPU       0.090 (0.090), 0.093 (0.093)
+
+The forces' bits the same in both checkouts and on both thread counts (fibrous db0b2053ae47,
+Mindlin 9e0e0ecd1770). The fibrous force pass's loop over the parts alone (its plain build
+compiled first, each loop built without a cache, 2 threads, load 12.5): 27.18 s of CPU
+linked, 1.22 s through the address, the same outputs to the bit. Looking the address up
+costs each parallel call about 0.3-0.9 µs an argument (``_type_key``: 30 µs wall for the
+fibrous force pass's 35 arguments at a load of 10, where numba's typeof took 79 µs). In a
+whole run of the suite (benchmarks/suite_processes.py, c0b0822, load 1.7 -> 9.5) the 29
+parallel builds the tests marked ``parallel`` compile took 24.5 s of CPU, all in one worker.
+
 Run: python benchmarks/suite_parallel_build.py --against /tmp/old-checkout [--cells 40000]
 """
 

@@ -58,6 +58,59 @@ Measured, not changed (load 8-15):
   ``cuts == 0``); the smoothed-die 8-cell test passes. Both kept: whether the 12-cell
   mesh's robustness is to be checked apart is a choice of what the suite guards.
 
+Measured, c0b0822 (a fresh export, ``python -m pytest``; 2 cores shared with other jobs, load
+1.7 -> 9.5, 1163 s wall; this script's timed compile stands in for tests/compile_once.py's in
+the one test that checks the report's processes take the session's locks, which fails here
+alone): 645.1 s of CPU in all. The xdist workers 346.5 s (numba compiling 60.0 s of it), the
+coarse report's processes 251.7 s (compiling 46.7 s), 13 Dask worker processes 39.9 s (the
+shared cluster's one 13.4 s, every other 1.1-5.3 s: a start, the package imported, numba's
+kernels loaded), pytest 3.1 s, the others 3.9 s. numba's compilations 106.7 s: the plain
+builds of the parted loops 50.4 s (fibrous ``_cells_pass`` 17.8 s, in a report process),
+other kernels and helpers 31.8 s (fabric_section_kernels ``_response_cells`` 7.0 s), the 29
+parallel builds 24.5 s, all in the worker that ran the tests marked ``parallel`` (fibrous
+``_cells_pass_parallel`` 5.5 s); no kernel compiled in two processes; three kernels with a
+second build (ply_kernels ``_facets_at_part`` and ``_grown_part``, a read-only and a writable
+array; node_rows ``_same_rows``, A and C layouts: 1.7 s for both builds of the three,
+benchmarks/suite_signatures.py). The items 333.6 s of the workers' CPU (their reaped
+children 70.2 s): mypy 22.7 s, the first compiled fibrous test 10.7 s, the coarse forming
+blank 8.6 s,
+test_ply_margin.py's mirrored pass 8.2 s, test_ply_topology.py's kept tree 7.3 s, every other
+under 6 s; by module the largest test_readme_examples.py 27.5 s (21.8 s of it its Dask
+clusters and subprocess), test_identify.py 20.3 s (18.2 s the shared cluster's fits),
+test_ply_fade_hessian.py 15.8 s, test_ply_both_ways.py 14.0 s.
+ The same run of 42315a8 (the parallel builds calling the
+plain builds through their addresses, elements/jit.py; load 12.1 -> 3.8, 1226 s wall): 674.8
+s of CPU in all (workers 345.7, coarse report 277.0, Dask workers 44.2 s: at these loads
+the whole run's CPU moves by tens of seconds with the code unchanged, the report's here),
+compilations 107.8 s: the 29 parallel builds 24.5 -> 15.8 s (fibrous ``_cells_pass_parallel``
+5.5 -> 1.2 s; each build now 0.3-1.0 s, numba's parallel passes and the loop's gufunc), the
+plain builds 50.4 -> 57.7 s and the others 31.8 -> 34.3 s with the same kernels (the report's
+process compiled fibrous ``_cells_pass_part`` in 17.8 and 22.4 s of CPU).
+
+Measured beside it and not changed (one process, warm cache, load 9-13):
+
+* the coarse report's cases, computed then drawn (``case.compute``, ``case.render``, CPU
+  s): the paper cases' four figures each 2.4-2.9 s (bai-5.1 9.95 + 2.42, bai-6.1.1 5.27 +
+  2.63, bai-6.1.2 3.99 + 2.75, bai-6.2.1 5.26 + 2.86, bai-6.2.2 4.35 + 2.85: matplotlib's
+  constrained layout, ticks and text, Agg), every other case's figures 0.1-0.9 s; 18.6 s of
+  drawing in all (hemisphere-plies not run), against 85.6 s of computing for the 17 other
+  cases (plies-bai-5.1 18.9, plies-deck-of-cards 13.8, hemisphere-forming 26.6 s). The
+  figures' pixels are the report's: not changed.
+* mypy's ``--timing-stats`` (141 s of per-module wall at load 12): the project's modules
+  117 s (elements/ply_friction.py 9.0, ply_fade_hessian.py 5.2, femcore/assembly.py 4.9,
+  elements/ply_projection.py 4.7, ply_block.py 4.0), the installed packages 24 s (dask 5.2,
+  numba 4.4, distributed 2.6, PIL 1.4, rich 1.3 s): ``follow_imports = "skip"`` for them
+  would save about a sixth and check the calls into them no more.
+* collecting the 2107 tests: 6.7 s of CPU a process; under cProfile pytest's rewriting of
+  the 149 test files' asserts is about half of it (each worker rewrites them in a fresh
+  clone). Kept: the failure messages.
+* tests/test_ply_margin.py's mirrored pass on a coarser lower ply: on 16 cells (3.3 s
+  against 12.0 s on 32, compiling included) it passes with the mirrored pass (0.1042 mm)
+  and without it (0.1042 mm: an upper centroid 0.111 mm past the edge lies within D_f =
+  0.1875 mm), so the test would no longer catch the pass taken out; on 24 cells the
+  mirrored pass falls outside its 1 % (0.1043 < 0.1064 mm). Kept on 32 cells (without the
+  mirrored pass 0.1775 mm, outside).
+
 Run: python benchmarks/suite_processes.py [--refs REF ...] [-- PYTEST_ARGS] (default HEAD; the
 README's ``pytest`` by default: about 6 min of both cores per ref on a quiet machine)
 """

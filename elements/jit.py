@@ -6,8 +6,8 @@ of the function's parted copy, which runs part k of p equal parts of the loop's 
 runs it whole for a loop on one thread, or on more threads (``threads_for``) from a small
 parallel build that runs part k on thread k (``_Parallel``: a process whose loops all run on
 one thread, a test session's, never compiles a parallel build, and the parallel build is a
-loop of one call, cheap to compile); ``serial`` compiles a helper called from inside such
-loops.
+loop of one call to the plain build's machine code through its address, cheap to compile);
+``serial`` compiles a helper called from inside such loops.
 Both cache the machine code next to the module (numba's disk cache, made by
 femcore/kernel_cache.py to find a build stale when a project module the kernel's file imports
 has changed, not only the file itself) and keep IEEE arithmetic (no fastmath), so that a
@@ -64,6 +64,34 @@ from femcore.kernel_cache import dependency_digest, njit  # noqa: E402 (after th
 if AVAILABLE and "NUMBA_THREADING_LAYER" not in os.environ:
     # OpenMP first (passive, above); workqueue where numba has no OpenMP (never spins either).
     numba.config.THREADING_LAYER_PRIORITY = ["omp", "workqueue", "tbb"]  # type: ignore[attr-defined]
+
+if AVAILABLE:
+    import numpy as np
+    from numba.core import cgutils
+    from numba.core import types as numba_types
+    from numba.extending import intrinsic
+
+    @intrinsic
+    def _call_at(typingctx, address, arguments):
+        """Inside compiled code: call the numba build whose machine code starts at
+        ``address`` (int64, ``_Parallel._address``) with the items of the tuple
+        ``arguments``, whose types are that build's signature (numba's calling convention;
+        a kernel that returns nothing). The call goes through the address: nothing of the
+        called build is linked into the caller, which numba would otherwise optimise and
+        compile again in the caller's module."""
+
+        def codegen(context, builder, signature, values):
+            argument_types = list(arguments.types)
+            function = context.call_conv.get_function_type(numba_types.none, argument_types)
+            pointer = builder.inttoptr(values[0], function.as_pointer())
+            items = cgutils.unpack_tuple(builder, values[1], len(argument_types))
+            context.call_conv.call_function(
+                builder, pointer, numba_types.none, argument_types, items
+            )
+            return context.get_dummy_value()
+
+        return numba_types.none(address, arguments), codegen
+
 
 __all__ = [
     "AVAILABLE",
@@ -228,8 +256,10 @@ class _Parallel:
     plain build. Each build is cached under a name of its own (``_part_<digest>`` and
     ``_parallel_<digest>`` appended, the digest of the parted copy's source): numba's cache
     index of a function does not tell its builds apart, nor a change of the rewrite here.
-    The loop over the parts holds its own copy of the plain build's machine code (numba
-    links a called dispatcher into its caller), compiled from the same IR."""
+    The loop over the parts calls the plain build's own machine code through its address
+    (``_address``, ``_over_parts``): nothing of it is linked into the loop's build, which
+    numba would optimise and compile again there (the fibrous force pass's loop over the
+    parts took 27.2 s of CPU so, 1.2 s through the address)."""
 
     def __init__(self, function, error_model: Literal["python", "numpy"] = "python"):
         self._function = function
@@ -243,6 +273,9 @@ class _Parallel:
         self._arguments: list[str] = []
         self._serial: Any = None
         self._parallel: Any = None
+        # the plain build's machine code by the arguments' types (``_address``)
+        self._addresses: dict[tuple, int] = {}
+        self._native = True  # whether numba compiles the builds (not NUMBA_DISABLE_JIT)
         functools.update_wrapper(self, function)
 
     @property
@@ -260,6 +293,7 @@ class _Parallel:
                 fastmath=False,
                 error_model=self._error_model,
             )
+            self._native = hasattr(self._serial, "overloads")  # a numba dispatcher
         return self._serial
 
     @property
@@ -281,6 +315,21 @@ class _Parallel:
             )
         return self._parallel
 
+    def _address(self, args) -> int:
+        """Where the plain build's machine code for the types of ``args`` starts (compiled
+        or loaded from numba's cache at the first call with these types): the parallel
+        build calls it there. Looked up by ``_type_key``, a few hundred nanoseconds an
+        argument (numba's typeof took several microseconds)."""
+        key = tuple([_type_key(a) for a in args])
+        address = self._addresses.get(key)
+        if address is None:
+            signature = (*(numba.typeof(a) for a in args), numba.int64, numba.int64)
+            self.serial.compile(signature)
+            build = self.serial.overloads[signature]
+            address = build.library.get_pointer_to_function(build.fndesc.llvm_func_name)
+            self._addresses[key] = address
+        return address
+
     def __call__(self, *args):
         serial = self._serial
         if serial is None:
@@ -288,12 +337,13 @@ class _Parallel:
         parted = self._part is not None
         cap = _setting()
         threads = _threads(len(args[0]), cap)
-        if threads == 1 and PLAIN_ON_ONE_THREAD:
+        # (numba's jit disabled: the Python function, its parts in order on this thread)
+        if threads == 1 and PLAIN_ON_ONE_THREAD or not self._native:
             if parted:
                 return serial(*args, 0, 1)
             return serial(*args)
         if parted:
-            args = (*args, threads)
+            args = (*args, threads, self._address(args))
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)
@@ -303,9 +353,24 @@ class _Parallel:
             numba.set_num_threads(cap)
 
 
+def _type_key(value) -> Any:
+    """A key of ``value``'s numba type as an argument: an array's dtype, dimensions and
+    flags (numpy's bitmask: the layout, whether it is writeable and aligned, and more, so
+    that two keys may name one type but one key never two), a float's, a bool's, a numpy
+    scalar's or an int64's Python type, else numba's type itself."""
+    kind = type(value)
+    if kind is np.ndarray:
+        return value.dtype, value.ndim, value.flags.num
+    if kind is float or kind is bool or isinstance(value, np.generic):
+        return kind
+    if kind is int and -(2**63) <= value < 2**63:
+        return kind
+    return numba.typeof(value)
+
+
 # The names the parted copies and the loops over the parts take for their own (a kernel's
 # arguments never end in two underscores).
-_PART, _PARTS, _KERNEL = "part__", "parts__", "kernel__"
+_PART, _PARTS, _ADDRESS = "part__", "parts__", "address__"
 
 
 def _stamp(function) -> tuple[int, int] | None:
@@ -380,7 +445,8 @@ def _parted(function, stamp: tuple[int, int] | None, error_model: str = "python"
     if definition is None:
         return None
     if any(
-        isinstance(node, ast.Name) and node.id in (_PART, _PARTS) for node in ast.walk(definition)
+        isinstance(node, ast.Name) and node.id in (_PART, _PARTS, _ADDRESS)
+        for node in ast.walk(definition)
     ):
         return None  # the parted copy's own names taken
     named = [node for node in ast.walk(definition) if _is_prange(node)]
@@ -472,17 +538,24 @@ def _arguments(function) -> list[str]:
 
 
 def _over_parts(function, arguments: list[str], part_build):
-    """A function of ``function``'s ``arguments`` and ``parts`` (int64, the threads) whose
-    ``prange`` loop runs ``part_build`` (the plain build of ``_parted(function)``) over part
-    k of ``parts``, on thread k (numba's parallel loop splits its range into one chunk a
-    thread)."""
+    """A function of ``function``'s ``arguments``, ``parts`` (int64, the threads) and
+    ``address`` (int64: where the machine code of ``part_build``, the plain build of
+    ``_parted(function)``, starts for these arguments' types, ``_Parallel._address``) whose
+    ``prange`` loop calls that code on part k of ``parts``, on thread k (numba's parallel
+    loop splits its range into one chunk a thread).
+
+    The call goes through the address (``_call_at``), not to ``part_build`` by name: numba
+    links a build called by name into its caller and optimises and compiles it again there,
+    which cost the fibrous force pass's parallel build 27.2 s of CPU against 1.2 s through
+    the address, the same numbers to the last bit (benchmarks/suite_parallel_build.py). The
+    parts thus run the plain build's own machine code on any thread count."""
     names = ", ".join(arguments)
     digest = part_build.py_func.__name__.rsplit("_", 1)[-1]  # the parted copy's
     # the part as int64 (prange's index is unsigned): the plain build's one signature
     source = (
-        f"def {function.__name__}_parallel_{digest}({names}, {_PARTS}):\n"
+        f"def {function.__name__}_parallel_{digest}({names}, {_PARTS}, {_ADDRESS}):\n"
         f"    for {_PART} in prange({_PARTS}):\n"
-        f"        {_KERNEL}({names}, int64({_PART}), {_PARTS})\n"
+        f"        call_at({_ADDRESS}, ({names}, int64({_PART}), {_PARTS}))\n"
     )
     tree = ast.parse(source)
     ast.increment_lineno(tree, function.__code__.co_firstlineno - 1)
@@ -490,7 +563,7 @@ def _over_parts(function, arguments: list[str], part_build):
     assert isinstance(definition, ast.FunctionDef)
     namespace = {
         "__builtins__": __builtins__,
-        _KERNEL: part_build,
+        "call_at": _call_at,
         "prange": numba.prange,
         "int64": numba.int64,
     }

@@ -245,15 +245,23 @@ def test_only_the_project_s_packages_are_followed(tmp_path, monkeypatch):
 
 def test_the_library_imports_and_runs_with_numba_s_jit_disabled():
     """NUMBA_DISABLE_JIT=1 (a kernel debugged in Python) gives the plain functions, which
-    have nothing to cache: the packages import and a rotation kernel runs."""
+    have nothing to cache: the packages import and a rotation kernel runs, and a loop that
+    would run on two threads runs its parts in order in Python (elements/jit.py; an
+    AttributeError before, the loop over the parts asking a Python function for its
+    numba build)."""
     code = (
         "import numpy as np, femcore, elements, solvers\n"
         "from femcore.rotation import nodal_frames\n"
+        "from elements import jit\n"
+        "from elements.node_rows import shifted\n"
         "print(nodal_frames(np.array([[0.0, 0.0, 1.0]]))[0].shape)\n"
+        "jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on numba's 2 threads\n"
+        "print(shifted(np.arange(6.0).reshape(2, 3), np.ones(3)).tolist())\n"
     )
-    environment = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    environment = {**os.environ, "NUMBA_DISABLE_JIT": "1", "NUMBA_NUM_THREADS": "2"}
     done = subprocess.run(
         [sys.executable, "-c", code], env=environment, capture_output=True, text=True, timeout=300
     )
     assert done.returncode == 0, done.stderr[-2000:]
     assert "(1, 3)" in done.stdout
+    assert "[[-1.0, 0.0, 1.0], [2.0, 3.0, 4.0]]" in done.stdout
