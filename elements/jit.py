@@ -278,6 +278,14 @@ class _Parallel:
         self._native = True  # whether numba compiles the builds (not NUMBA_DISABLE_JIT)
         functools.update_wrapper(self, function)
 
+    def __getstate__(self) -> dict:
+        """Pickled without the plain build's addresses: machine addresses of this process,
+        which another process (a kernel sent to a worker) would call into at random; it
+        looks them up again at its first call on several threads."""
+        state = self.__dict__.copy()
+        state["_addresses"] = {}
+        return state
+
     @property
     def serial(self):
         """The plain build (numba's dispatcher) of the parted copy, made at its first use
@@ -337,7 +345,7 @@ class _Parallel:
         parted = self._part is not None
         cap = _setting()
         threads = _threads(len(args[0]), cap)
-        # (numba's jit disabled: the Python function, its parts in order on this thread)
+        # (numba's jit disabled: the Python function, the whole loop as part 0 of 1 here)
         if threads == 1 and PLAIN_ON_ONE_THREAD or not self._native:
             if parted:
                 return serial(*args, 0, 1)
@@ -356,12 +364,15 @@ class _Parallel:
 def _type_key(value) -> Any:
     """A key of ``value``'s numba type as an argument: an array's dtype, dimensions and
     flags (numpy's bitmask: the layout, whether it is writeable and aligned, and more, so
-    that two keys may name one type but one key never two), a float's, a bool's, a numpy
-    scalar's or an int64's Python type, else numba's type itself."""
+    that two keys may name one type but one key never two), a numpy scalar's dtype (its
+    unit or record layout with it: timedelta64's days and seconds are two types), a float's,
+    a bool's or an int64's Python type, else numba's type itself."""
     kind = type(value)
     if kind is np.ndarray:
         return value.dtype, value.ndim, value.flags.num
-    if kind is float or kind is bool or isinstance(value, np.generic):
+    if isinstance(value, np.generic):
+        return kind, value.dtype
+    if kind is float or kind is bool:
         return kind
     if kind is int and -(2**63) <= value < 2**63:
         return kind

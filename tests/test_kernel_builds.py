@@ -367,3 +367,26 @@ def test_the_fibrous_loops_across_chunks_of_cells_are_parted():
 
     for kernel in (kernels._normals_pass, kernels._side_folds, kernels._cells_pass):
         assert kernel.parted, kernel.__name__
+
+
+def test_two_numpy_scalars_of_one_class_but_two_units_are_two_argument_types():
+    """The parts' address is looked up by the arguments' types: a timedelta64 in days and
+    one in seconds (two numba types, two builds) must not share a key, or a later call in
+    seconds would run the build in days; an array's key keeps its dtype and layout."""
+    days, seconds = np.timedelta64(1, "D"), np.timedelta64(1, "s")
+    assert jit._type_key(days) != jit._type_key(seconds)
+    assert jit._type_key(np.float64(1.0)) == jit._type_key(np.float64(2.0))
+    assert jit._type_key(np.zeros(3)) != jit._type_key(np.zeros(3, dtype=np.float32))
+    assert jit._type_key(np.zeros((3, 2))) != jit._type_key(np.zeros((3, 2)).T)
+
+
+def test_a_pickled_kernel_carries_no_machine_address_of_this_process():
+    """A kernel sent to another process (pickled) looks its parts' addresses up again
+    there: an address of this process called in another crashed it."""
+    import pickle
+
+    kernel, _, _ = _kernel_and_arguments()
+    kernel._addresses[("a key",)] = 12345  # as a call on several threads leaves it
+    restored = pickle.loads(pickle.dumps(kernel))
+    assert restored._addresses == {}
+    assert kernel._addresses == {("a key",): 12345}  # the sender's own kept

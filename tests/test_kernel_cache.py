@@ -246,7 +246,7 @@ def test_only_the_project_s_packages_are_followed(tmp_path, monkeypatch):
 def test_the_library_imports_and_runs_with_numba_s_jit_disabled():
     """NUMBA_DISABLE_JIT=1 (a kernel debugged in Python) gives the plain functions, which
     have nothing to cache: the packages import and a rotation kernel runs, and a loop that
-    would run on two threads runs its parts in order in Python (elements/jit.py; an
+    would run on two threads runs whole in Python (part 0 of 1) (elements/jit.py; an
     AttributeError before, the loop over the parts asking a Python function for its
     numba build)."""
     code = (
