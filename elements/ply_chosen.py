@@ -21,7 +21,7 @@ import numpy as np
 
 from elements.jit import jit_lanes, prange
 
-__all__ = ["chosen", "chosen_numpy"]
+__all__ = ["chosen", "chosen_numpy", "fade_inputs", "fade_inputs_numpy"]
 
 
 def _chosen(
@@ -174,4 +174,124 @@ def chosen_numpy(
         np.maximum(0.0, -lam.min(axis=-1)),
         (chosen_reach > 0.0).any(axis=-1),
         turned,
+    )
+
+
+def _fade_inputs(
+    at,
+    p,
+    y,
+    triangle,
+    reach,
+    beside,
+    joined,
+    starts,
+    ends,
+    segment,
+    has_cuts,
+    lines,
+    cut_ends,
+    out_p,
+    out_corners,
+    out_reach,
+    out_beside,
+    out_ends,
+    out_joined,
+    out_lines,
+    out_cut_ends,
+):
+    """The rows ``at`` of the points' arrays and their triangles', copied (``fade_inputs``)."""
+    for j in prange(at.shape[0]):
+        i = at[j]
+        t = triangle[i]
+        s = segment[j]
+        out_beside[j] = beside[i]
+        out_joined[j] = joined[i]
+        for c in range(3):
+            out_p[j, c] = p[i, c]
+            out_reach[j, c] = reach[i, c]
+            out_ends[j, 0, c] = starts[s, c]
+            out_ends[j, 1, c] = ends[s, c]
+            for d in range(3):
+                out_corners[j, c, d] = y[t, c, d]
+                if has_cuts:
+                    out_lines[j, c, d] = lines[t, c, d]
+                    out_cut_ends[j, c, d] = cut_ends[t, c, d]
+
+
+_fade_inputs_compiled = jit_lanes(_fade_inputs)
+
+
+def fade_inputs(at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts):
+    """The fade's inputs (elements/ply_fade.py ``outline_fade``'s p, corners, reach, beside,
+    ends, joined, lines and ends_cut) at the points ``at`` (c,) int near the outline,
+    compiled: the same arrays as ``fade_inputs_numpy``.
+
+    Parameters
+    ----------
+    at : (c,) int
+        The points near the outline (rows of the points' arrays).
+    p : (P, 3) float
+        The points, mm.
+    y : (m, 3, 3) float
+        The lower face's triangles' corners, mm.
+    triangle, reach, beside, joined : (P,) int, (P, 3) float, (P,) bool, (P,) bool
+        Each point's facing triangle, its reach past its edges, whether the point is beside a
+        growth's edge (``on_growth``) and on a joined edge.
+    starts, ends : (E, 3) float
+        The outline's edges' ends, mm.
+    segment : (c,) int
+        The outline's edge nearest each point ``at``.
+    cuts : WedgeCuts or None
+        The growths' cuts (elements/ply_wedge.py); None: lines and ends_cut None.
+
+    Returns
+    -------
+    p (c, 3), corners (c, 3, 3), reach (c, 3), beside (c,), ends (c, 2, 3), joined (c,),
+    lines (c, 3, 3) or None, ends_cut (c, 3, 3) or None
+    """
+    count = len(at)
+    has_cuts = cuts is not None
+    out = (
+        np.empty((count, 3)),
+        np.empty((count, 3, 3)),
+        np.empty((count, 3)),
+        np.empty(count, dtype=np.bool_),
+        np.empty((count, 2, 3)),
+        np.empty(count, dtype=np.bool_),
+        np.empty((count if has_cuts else 0, 3, 3)),
+        np.empty((count if has_cuts else 0, 3, 3)),
+    )
+    empty = np.zeros((0, 3, 3))
+    _fade_inputs_compiled(
+        np.ascontiguousarray(at, dtype=np.int64),
+        np.ascontiguousarray(p, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
+        np.ascontiguousarray(triangle, dtype=np.int64),
+        np.ascontiguousarray(reach, dtype=float),
+        np.ascontiguousarray(beside, dtype=np.bool_),
+        np.ascontiguousarray(joined, dtype=np.bool_),
+        np.ascontiguousarray(starts, dtype=float),
+        np.ascontiguousarray(ends, dtype=float),
+        np.ascontiguousarray(segment, dtype=np.int64),
+        has_cuts,
+        np.ascontiguousarray(cuts.lines, dtype=float) if has_cuts else empty,
+        np.ascontiguousarray(cuts.ends, dtype=float) if has_cuts else empty,
+        *out,
+    )
+    return (*out[:6], out[6] if has_cuts else None, out[7] if has_cuts else None)
+
+
+def fade_inputs_numpy(at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts):
+    """``fade_inputs``' numpy reference: the same arrays."""
+    facing = triangle[at]
+    return (
+        p[at],
+        y[facing],
+        reach[at],
+        beside[at],
+        np.stack([starts[segment], ends[segment]], axis=1),
+        joined[at],
+        None if cuts is None else cuts.lines[facing],
+        None if cuts is None else cuts.ends[facing],
     )

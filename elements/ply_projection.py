@@ -744,16 +744,22 @@ def closest_facing(
         from elements import ply_fade_kernels
 
         fading = ply_fade_kernels.outline_fade if COMPILED else outline_fade  # the same bits
+        gather = ply_chosen.fade_inputs if COMPILED else ply_chosen.fade_inputs_numpy
+        at_p, corners, at_reach, at_beside, at_ends, at_joined, lines, cut_ends = gather(
+            near_outline,
+            p,
+            y,
+            triangle,
+            chosen_reach,
+            on_growth,
+            joined,
+            starts,
+            ends,
+            chosen,
+            cuts,
+        )
         fade[near_outline], fade_gradient[near_outline] = fading(
-            p[near_outline],
-            y[triangle[near_outline]],
-            chosen_reach[near_outline],
-            on_growth[near_outline],
-            np.stack([starts[chosen], ends[chosen]], axis=1),
-            length,
-            joined[near_outline],
-            None if cuts is None else cuts.lines[triangle[near_outline]],
-            None if cuts is None else cuts.ends[triangle[near_outline]],
+            at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
         )
     # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)

@@ -563,3 +563,55 @@ def test_the_compiled_chosen_candidate_s_arrays_are_numpy_s_to_the_bit(with_towa
     finally:
         jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
         numba.set_num_threads(before)
+
+
+@pytest.mark.parametrize("with_cuts", [False, True])
+def test_the_compiled_fade_inputs_are_numpy_s_to_the_bit(with_cuts):
+    """``ply_chosen.fade_inputs`` against ``ply_chosen.fade_inputs_numpy``: the points near
+    the outline, their facing triangles' corners, reach, flags, nearest outline edges' ends
+    and cuts, the same arrays to the bit (NaN and -0.0 among them), on one thread and on all
+    of numba's; no cuts: None."""
+    import numba
+
+    from elements import jit, ply_chosen
+    from elements.ply_wedge import WedgeCuts
+
+    rng = np.random.default_rng(3)
+    count, m, edges = 501, 40, 17
+    p = rng.normal(size=(count, 3))
+    p[::7, 1] = -0.0
+    p[::11, 2] = np.nan
+    y = rng.normal(size=(m, 3, 3))
+    triangle = rng.integers(0, m, count)
+    reach = np.where(rng.random((count, 3)) < 0.4, 0.5, 0.0)
+    beside, joined = rng.random(count) < 0.3, rng.random(count) < 0.2
+    starts, ends = rng.normal(size=(edges, 3)), rng.normal(size=(edges, 3))
+    at = np.flatnonzero(rng.random(count) < 0.6)
+    segment = rng.integers(0, edges, len(at))
+    cuts = None
+    if with_cuts:
+        cut = rng.random(m) < 0.3
+        lines = np.where(cut[:, None, None], rng.normal(size=(m, 3, 3)), 0.0)
+        ends_cut = np.where(cut[:, None, None], rng.normal(size=(m, 3, 3)), 0.0)
+        cuts = WedgeCuts(lines=lines, ends=ends_cut)
+    arguments = (at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts)
+    reference = ply_chosen.fade_inputs_numpy(*arguments)
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
+            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
+            numba.set_num_threads(threads)
+            compiled = ply_chosen.fade_inputs(*arguments)
+            assert len(compiled) == len(reference) == 8
+            for got, want in zip(compiled, reference, strict=True):
+                if want is None:
+                    assert got is None and not with_cuts
+                    continue
+                assert got.shape == want.shape and got.dtype == want.dtype
+                assert np.array_equal(got, want, equal_nan=True)
+                if got.dtype == float:
+                    assert np.array_equal(np.signbit(got), np.signbit(want))
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
