@@ -5,14 +5,17 @@ projection's barycentric coordinates and their gradients, reach past its edges, 
 projection's overshoot past the triangle, whether the triangle reaches past the outline at
 all and whether its normal points against the point's ply, in one pass over the points
 instead of a dozen numpy gathers and reductions on arrays of a few hundred rows (each a few
-microseconds of call).
+microseconds of call); and at the points near the outline, the fade's inputs gathered from
+those (``fade_inputs``: the points, their facing triangles' corners and cuts, the nearest
+outline edges' ends) in one pass.
 
-Its numpy reference is ``chosen_numpy``, taken with ``ply_projection.COMPILED = False``. The
-pass copies the chosen values and does the same IEEE operations in the same order (numpy's
-``min`` taking the first NaN and the last of equal values, ``np.maximum(0.0, x)`` keeping a
-NaN and -0.0, ``einsum("pi,pi->p")`` as (first + last) + middle; no fused multiply-add:
-numba builds without fastmath), so it gives the same bits (tests/test_ply_kernels.py). Each
-point is independent: the same bits on any thread count.
+Their numpy references are ``chosen_numpy`` and ``fade_inputs_numpy``, taken with
+``ply_projection.COMPILED = False``. The passes copy the chosen values and do the same IEEE
+operations in the same order (numpy's ``min`` taking the first NaN and the last of equal
+values, ``np.maximum(0.0, x)`` keeping a NaN and -0.0, ``einsum("pi,pi->p")`` as (first +
+last) + middle; no fused multiply-add: numba builds without fastmath), so they give the
+same bits (tests/test_ply_kernels.py). Each point is independent: the same bits on any
+thread count.
 """
 
 from __future__ import annotations
