@@ -43,8 +43,12 @@ the Mindlin tangent 6 s, the factorisations 4 s.
 Measured (one thread, 2 cores shared with other work):
 
 * this script, numpy -> compiled (``ply_projection.COMPILED``, which now switches the loads,
-  the friction, the faces and the search's kept lists' moves too): with the kept lists'
-  moves compiled as well (elements/ply_search.py ``_moves``), load 16.1-16.6: the facing
+  the friction, the faces and the search's kept lists' moves too): with the chosen
+  candidate's arrays and the fade's inputs gathered compiled as well (elements/
+  ply_chosen.py), load 4.6-4.8: the facing 7.68 -> 4.24 ms a state (x 1.81), the step 5.29
+  -> 1.70 ms (x 3.12); main 9aed8a2's own script beside it (load 3.0): 7.65 -> 4.38 and
+  5.15 -> 1.82 ms; with the kept lists' moves compiled as well (elements/ply_search.py
+  ``_moves``), load 16.1-16.6: the facing
   9.07 -> 5.31 ms a state (x 1.71), the step 6.30 -> 2.11 ms (x 2.98); at 8b3c767 (all but
   the kept lists' moves), load 13.0-13.8: the
   facing 9.24 -> 5.43 ms a state (x 1.70), the step 6.07 -> 2.26 ms (x 2.69); at ab19c8b
@@ -53,14 +57,29 @@ Measured (one thread, 2 cores shared with other work):
   11e605f (the loads alone), load 11.0-11.4: 8.80 -> 6.56 and 5.84 -> 4.28; at fcd7db7
   (the planes and the edges' closest points, the faces kept per state and femcore.rotation's
   cross product, not switched by the flag), load 5.0-7.3: 9.57 -> 7.20 ms and 5.84 -> 5.04;
+* the step against main 9aed8a2 (``git archive`` into /tmp; each tree's ``stretch_ms`` in
+  a process of its own, best of 3 rounds of 300 steps, alternating, load 3.8-4.0): main
+  1.844 / 1.860 / 1.905 / 1.931 ms against 1.693 / 1.697 / 1.700 / 1.666 ms with
+  elements/ply_chosen.py (x 1.09-1.16; its ``chosen`` alone, load 3.5-4.2: 2.114 / 1.859 /
+  1.775 / 1.843 against 1.934 / 1.650 / 1.659 / 1.795); ``closest_facing`` alone, a call on
+  60 of the step's calls (both passes, 384 points, one candidate each), best of 5 rounds
+  of 10, load 4.0-4.6: 286-308 µs (main) against 196-198 µs (x 1.5). Its split now, a
+  call, each piece timed with the CPU clock round it (load 5): the candidates' planes 24 µs,
+  the choice 70, the chosen candidate's arrays with its overshoot, reach past the outline
+  and turn 16 (numpy's gathers and reductions for them about 70 on main), the flags on the
+  growths and deeper than the plies 22 (numpy), the outline's segments and their nearest
+  28, the fade 40 (62 on main: its inputs' gathers about 40 then, 18 now; the fade's own
+  call 21), the result 8;
 * the step against main 5523c00 (the same stretch run from each tree, alternating, load
   6.7-7.0): 7.02 / 7.52 ms (main) against 5.22 / 5.28 ms (fcd7db7), x 1.33-1.42.
 
 Not compiled, measured: the numpy ``arctan2`` of the pseudonormals' angles and ``np.power``
 of the penalty's cube (numpy's vectorised routines differ from libm's ``atan2`` and ``pow``
 in the last bit: 1345 of 1e6 cubes; the kernels take them from numpy); the rest of
-``closest_facing``'s numpy calls after the choice (the chosen candidate's arrays, the edge
-gaps' signs and the fade's inputs, about 0.6 ms of the timed step at load 13). The facing
+``closest_facing``'s numpy calls after the choice: the edge gaps' signs
+(elements/ply_edge_gap.py, a few points a call), the flags on the growths (about 20 µs a
+call), the outline segments' ends and ``every_segment``'s glue (about 25 µs), each kernel's
+call through numba's dispatch (10-20 µs with 15-20 arguments). The facing
 and the forces are the same to the bit on either side (tests/test_ply_kernels.py), and the
 whole hemisphere-plies case gave the same results.json numbers to the bit as main c0b0822's
 (its times aside) at coarse (55.5 s CPU against 102.2 s) and at the default resolution

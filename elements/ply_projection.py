@@ -210,7 +210,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_feature_normals, ply_kernels
+from elements import ply_chosen, ply_feature_normals, ply_kernels
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
@@ -643,10 +643,19 @@ def closest_facing(
     best, on_edge, closest_at, cut_at, segment_at, along_at = choose(
         p, y, near, n, gradients, gap, weights, reach, inside, past, cuts
     )
-    rows = np.arange(len(p))
-    chosen_gap = gap[rows, best]
-    normal = n[rows, best]
-    lam = weights[rows, best]
+    # its arrays (elements/ply_chosen.py; ``lam`` the projection's, then the closest point's)
+    pick = ply_chosen.chosen if COMPILED else ply_chosen.chosen_numpy  # the same bits
+    (
+        triangle,
+        chosen_gap,
+        normal,
+        lam,
+        chosen_gradients,
+        chosen_reach,
+        overshoot,
+        reached,
+        turned,
+    ) = pick(best, near, n, gap, weights, gradients, reach, toward)
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
     at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
     joined = np.zeros(len(p), dtype=bool)  # on an edge's extension that two growths hold
@@ -656,25 +665,26 @@ def closest_facing(
         signing = n[edge, at]
         closest = closest_at[edge]
         cutting = cut_at[edge]
+        reach_at, facing_at = chosen_reach[edge], triangle[edge]
         if topology is not None:  # the sign by the feature's pseudonormal ("The sign at an edge")
             # q's barycentric coordinates on the facing triangle: on which edge or at which
             # vertex it lies
-            on_q = np.einsum("pki,pi->pk", gradients[edge, at], closest - y[near[edge, at], 0])
+            on_q = np.einsum("pki,pi->pk", chosen_gradients[edge], closest - y[facing_at, 0])
             on_q[:, 0] += 1.0
             if COMPILED:  # the same bits (elements/ply_feature_normals.py)
                 signing, joined[edge] = ply_feature_normals.feature_normals(
-                    y, topology, near[edge, at], on_q, reach[edge, at], signing, INSIDE
+                    y, topology, facing_at, on_q, reach_at, signing, INSIDE
                 )
             else:
                 signing, joined[edge] = _feature_normals(
-                    y, topology, near[edge, at], on_q, reach[edge, at], signing
+                    y, topology, facing_at, on_q, reach_at, signing
                 )
             if outline is not None:
                 # at a vertex of the outline the face has no side either: the facing
                 # triangle's normal signs the gap, and the point is faded as beside a
                 # growth's edge ("Past the outline, faded")
-                bound = on_q <= -reach[edge, at] + 1e-9
-                corner = topology.nodes[near[edge, at], np.argmin(bound, axis=1)]
+                bound = on_q <= -reach_at + 1e-9
+                corner = topology.nodes[facing_at, np.argmin(bound, axis=1)]
                 at_rim[edge] = (bound.sum(axis=1) == 2) & topology.rim[corner]
                 signing = np.where(at_rim[edge][:, None], n[edge, at], signing)
                 joined[edge] &= ~at_rim[edge]
@@ -686,16 +696,14 @@ def closest_facing(
             p[edge],
             closest,
             signing,
-            y[near[edge, at]],
-            gradients[edge, at],
-            reach[edge, at],
+            y[facing_at],
+            chosen_gradients[edge],
+            reach_at,
             second,
             (cutting, segment_at[edge], None if along_at is None else along_at[edge]),
         )
         if hessian is not None:
             hessian[edge] = bend
-    # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
-    overshoot = np.maximum(0.0, -weights[rows, best].min(axis=-1))
     # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
     # outline, faded"): a point whose closest point lies there, off the face's sides, signed
     # by the facing triangle's normal
@@ -707,7 +715,7 @@ def closest_facing(
         outline_segments,
     )
 
-    on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & (reach[rows, best] > 0.0).any(axis=-1)
+    on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & reached
     on_growth |= at_rim
     # a point deeper than the plies is on the lower ply's other side where it faces an edge, a
     # vertex or a turned layer ("Deeper than the plies"); held by a growth's plane past the
@@ -715,13 +723,11 @@ def closest_facing(
     # the outline, deeper than the plies")
     deep = chosen_gap < -depth
     beside = on_edge & deep
-    if toward is not None:  # a layer turned away from the point's ply ("Deeper than the plies")
-        turned = np.einsum("pi,pi->p", n[rows, best], toward) < 0.0
-        beside |= turned & deep
+    beside |= turned & deep  # a layer turned away from its ply ("Deeper than the plies")
     # w = 1 off the outline triangles and their growths: computed where it can differ
     fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 6, 3))
     fade_edge = np.full(len(p), -1)
-    near_outline = np.flatnonzero(on_growth | (reach[rows, best] > 0.0).any(axis=-1))
+    near_outline = np.flatnonzero(on_growth | reached)
     if near_outline.size and outline is not None:
         if topology is None:
             segment_rows, segment_ends = outline_segments(outline)
@@ -738,30 +744,37 @@ def closest_facing(
         from elements import ply_fade_kernels
 
         fading = ply_fade_kernels.outline_fade if COMPILED else outline_fade  # the same bits
-        fade[near_outline], fade_gradient[near_outline] = fading(
-            p[near_outline],
-            y[near[near_outline, best[near_outline]]],
-            reach[near_outline, best[near_outline]],
-            on_growth[near_outline],
-            np.stack([starts[chosen], ends[chosen]], axis=1),
-            length,
-            joined[near_outline],
-            None if cuts is None else cuts.lines[near[near_outline, best[near_outline]]],
-            None if cuts is None else cuts.ends[near[near_outline, best[near_outline]]],
+        gather = ply_chosen.fade_inputs if COMPILED else ply_chosen.fade_inputs_numpy
+        at_p, corners, at_reach, at_beside, at_ends, at_joined, lines, cut_ends = gather(
+            near_outline,
+            p,
+            y,
+            triangle,
+            chosen_reach,
+            on_growth,
+            joined,
+            starts,
+            ends,
+            chosen,
+            cuts,
         )
+        fade[near_outline], fade_gradient[near_outline] = fading(
+            at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
+        )
+    # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
     touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
     return Facing(
-        triangle=near[rows, best],
+        triangle=triangle,
         gap=chosen_gap,
         normal=normal,
         weights=lam,
-        gradients=gradients[rows, best],
+        gradients=chosen_gradients,
         touching=touching,
         face=p,
         hessian=hessian,
         fade=fade,
         fade_gradient=fade_gradient,
-        reach=reach[rows, best],
+        reach=chosen_reach,
         on_growth=on_growth,
         fade_edge=fade_edge,
         joined=joined,

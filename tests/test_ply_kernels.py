@@ -509,3 +509,109 @@ def test_the_compiled_kept_lists_moves_are_numpy_s_to_the_bit(monkeypatch):
         refreshed += 0 < done < len(p)
         renewed += done == len(p)
     assert kept and refreshed and renewed, (kept, refreshed, renewed)
+
+
+@pytest.mark.parametrize("with_toward", [False, True])
+def test_the_compiled_chosen_candidate_s_arrays_are_numpy_s_to_the_bit(with_toward):
+    """``ply_chosen.chosen`` against ``ply_chosen.chosen_numpy``: the chosen candidate's
+    triangle, gap, normal, coordinates, gradients, reach, overshoot, reach past the outline
+    and turn, to the bit, on random candidates with NaN coordinates (numpy's min takes the
+    first NaN), signed zeros, ties of the least coordinate and normals at right angles to
+    ``toward`` (a dot of exactly 0 is not turned), on one thread and on all of numba's."""
+    import numba
+
+    from elements import jit, ply_chosen
+
+    rng = np.random.default_rng(7)
+    count, k = 997, 4
+    near = rng.integers(0, 50, (count, k))
+    best = rng.integers(0, k, count)
+    n = rng.normal(size=(count, k, 3))
+    gap = rng.normal(size=(count, k))
+    weights = rng.normal(0.3, 0.6, (count, k, 3))
+    weights[::11, :, 1] = np.nan
+    weights[::13, :, 0] = np.nan
+    weights[::7, :, 2] = -0.0
+    weights[::5, :, 0] = weights[::5, :, 2]  # ties
+    weights[::17] = 0.0
+    gradients = rng.normal(size=(count, k, 3, 3))
+    reach = np.where(rng.random((count, k, 3)) < 0.3, 0.5, 0.0)
+    toward = rng.normal(size=(count, 3)) if with_toward else None
+    if with_toward:
+        rows = np.arange(count)
+        toward[::9] = np.cross(n[rows, best][::9], [0.0, 0.0, 1.0])  # at right angles
+        toward[::9, 2] = 0.0
+        n[rows[::9], best[::9], 2] = 0.0
+    arguments = (best, near, n, gap, weights, gradients, reach, toward)
+    reference = ply_chosen.chosen_numpy(*arguments)
+    assert np.isnan(reference[6]).any() and (reference[6] == 0.0).any()
+    assert reference[7].any() and not reference[7].all()
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
+            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
+            numba.set_num_threads(threads)
+            compiled = ply_chosen.chosen(*arguments)
+            assert len(compiled) == len(reference)
+            for got, want in zip(compiled, reference, strict=True):
+                assert got.shape == want.shape and got.dtype == want.dtype
+                assert np.array_equal(got, want, equal_nan=True)
+                # signed zeros too
+                if got.dtype == float:
+                    assert np.array_equal(np.signbit(got), np.signbit(want))
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
+
+
+@pytest.mark.parametrize("with_cuts", [False, True])
+def test_the_compiled_fade_inputs_are_numpy_s_to_the_bit(with_cuts):
+    """``ply_chosen.fade_inputs`` against ``ply_chosen.fade_inputs_numpy``: the points near
+    the outline, their facing triangles' corners, reach, flags, nearest outline edges' ends
+    and cuts, the same arrays to the bit (NaN and -0.0 among them), on one thread and on all
+    of numba's; no cuts: None."""
+    import numba
+
+    from elements import jit, ply_chosen
+    from elements.ply_wedge import WedgeCuts
+
+    rng = np.random.default_rng(3)
+    count, m, edges = 501, 40, 17
+    p = rng.normal(size=(count, 3))
+    p[::7, 1] = -0.0
+    p[::11, 2] = np.nan
+    y = rng.normal(size=(m, 3, 3))
+    triangle = rng.integers(0, m, count)
+    reach = np.where(rng.random((count, 3)) < 0.4, 0.5, 0.0)
+    beside, joined = rng.random(count) < 0.3, rng.random(count) < 0.2
+    starts, ends = rng.normal(size=(edges, 3)), rng.normal(size=(edges, 3))
+    at = np.flatnonzero(rng.random(count) < 0.6)
+    segment = rng.integers(0, edges, len(at))
+    cuts = None
+    if with_cuts:
+        cut = rng.random(m) < 0.3
+        lines = np.where(cut[:, None, None], rng.normal(size=(m, 3, 3)), 0.0)
+        ends_cut = np.where(cut[:, None, None], rng.normal(size=(m, 3, 3)), 0.0)
+        cuts = WedgeCuts(lines=lines, ends=ends_cut)
+    arguments = (at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts)
+    reference = ply_chosen.fade_inputs_numpy(*arguments)
+    before = numba.get_num_threads()
+    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
+    try:
+        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
+            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
+            numba.set_num_threads(threads)
+            compiled = ply_chosen.fade_inputs(*arguments)
+            assert len(compiled) == len(reference) == 8
+            for got, want in zip(compiled, reference, strict=True):
+                if want is None:
+                    assert got is None and not with_cuts
+                    continue
+                assert got.shape == want.shape and got.dtype == want.dtype
+                assert np.array_equal(got, want, equal_nan=True)
+                if got.dtype == float:
+                    assert np.array_equal(np.signbit(got), np.signbit(want))
+    finally:
+        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
+        numba.set_num_threads(before)
