@@ -127,42 +127,10 @@ def test_the_holder_presses_the_bottom_ply_where_the_top_ply_has_drawn_off_it():
     assert np.abs(np.delete(forces, row, axis=0)).max() == 0.0
 
 
-def test_the_rise_through_the_holder_is_the_face_above_the_holders_face_under_its_ring():
-    """``through_holder`` on two frames of a flat [0/45] layup: at rest every ply's face
-    lies at or below the holder's (the top ply's at 0, the bottom ply's at -h); then the
-    holder 2 mm up and the bottom ply's corner (blank (-100, 100), 141 mm from the axis,
-    under the ring) 5 mm up: z + h/2 - z_h = 5.15 + 0.15 - (0.6 + 2) = 2.7 mm, and the top
-    ply's faces 2 mm below the holder's. A node off the ring (inside its bore) lifted 9 mm
-    is not counted. Closed forms, to round-off (1e-12)."""
-    layup = Layup(FABRIC, study.LAYUPS["0/45"], 2 * study.HALF, cells=8)
-    points = layup.mesh.points
-    bottom = layup.ply_nodes[0]
-    corner = bottom[np.argmin(np.linalg.norm(points[bottom, :2] - [-100, 100], axis=1))]
-    pole = bottom[np.argmin(np.linalg.norm(points[bottom, :2], axis=1))]
-    lifted = points.copy()
-    lifted[corner, 2] += 5.0
-    lifted[pole, 2] += 9.0
-    tools = np.zeros((3, 3))
-    moved = tools.copy()
-    moved[2, 2] = 2.0
-    frames = [
-        SimpleNamespace(time=0.0, positions=points, tool_displacements=tools),
-        SimpleNamespace(time=0.05, positions=lifted, tool_displacements=moved),
-    ]
-    first, second = through_holder(layup, SimpleNamespace(frames=frames))
-    assert first["mm"] == pytest.approx(5.0 + 0.15 + 0.15 - 2.6, rel=1e-12)
-    assert (first["at_s"], first["x_mm"], first["y_mm"]) == (0.05, -100.0, 100.0)
-    assert second["mm"] == pytest.approx(0.0, abs=1e-12) and second["at_s"] == 0.0
-
-
-def test_the_share_of_the_holders_force_is_the_rise_times_the_nodes_spring_over_the_force():
-    """``through_holder``'s share on the frames above (the bottom ply's corner 2.7 mm through
-    the holder's face, the holder 2 mm up, a node in its bore 9 mm up): with every node's
-    spring 8 N/mm but the corner's 2 N/mm and the holder's force 20 N, the corner's spring
-    would carry 2 x 2.7 = 5.4 N, a share 0.27 (its own spring, not the 8 N/mm of its
-    neighbours), which the bored node's 9 mm does not change; the top ply's, 0 at rest (t =
-    0, its face on the holder's), -2 x 8 / 20 = -0.8 with the holder 2 mm up. Without the springs
-    no share is reported. Closed forms, to round-off (1e-12)."""
+def _corner_lifted_through_the_holder():
+    """A flat [0/45] layup (8 cells), its bottom ply's corner node (blank (-100, 100)), and a
+    run of two frames: at rest, then the holder 2 mm up with that corner 5 mm up and the
+    bottom ply's node nearest the axis (in the holder's bore) 9 mm up."""
     layup = Layup(FABRIC, study.LAYUPS["0/45"], 2 * study.HALF, cells=8)
     points = layup.mesh.points
     bottom = layup.ply_nodes[0]
@@ -177,9 +145,35 @@ def test_the_share_of_the_holders_force_is_the_rise_times_the_nodes_spring_over_
         SimpleNamespace(time=0.0, positions=points, tool_displacements=np.zeros((3, 3))),
         SimpleNamespace(time=0.05, positions=lifted, tool_displacements=moved),
     ]
+    return layup, corner, SimpleNamespace(frames=frames)
+
+
+def test_the_rise_through_the_holder_is_the_face_above_the_holders_face_under_its_ring():
+    """``through_holder`` on two frames of a flat [0/45] layup: at rest every ply's face
+    lies at or below the holder's (the top ply's at 0, the bottom ply's at -h); then the
+    holder 2 mm up and the bottom ply's corner (blank (-100, 100), 141 mm from the axis,
+    under the ring) 5 mm up: z + h/2 - z_h = 5.15 + 0.15 - (0.6 + 2) = 2.7 mm, and the top
+    ply's faces 2 mm below the holder's. A node off the ring (inside its bore) lifted 9 mm
+    is not counted. Closed forms, to round-off (1e-12)."""
+    layup, _, run = _corner_lifted_through_the_holder()
+    first, second = through_holder(layup, run)
+    assert first["mm"] == pytest.approx(5.0 + 0.15 + 0.15 - 2.6, rel=1e-12)
+    assert (first["at_s"], first["x_mm"], first["y_mm"]) == (0.05, -100.0, 100.0)
+    assert second["mm"] == pytest.approx(0.0, abs=1e-12) and second["at_s"] == 0.0
+
+
+def test_the_share_of_the_holders_force_is_the_rise_times_the_nodes_spring_over_the_force():
+    """``through_holder``'s share on the frames above (the bottom ply's corner 2.7 mm through
+    the holder's face, the holder 2 mm up, a node in its bore 9 mm up): with every node's
+    spring 8 N/mm but the corner's 2 N/mm and the holder's force 20 N, the corner's spring
+    would carry 2 x 2.7 = 5.4 N, a share 0.27 (its own spring, not the 8 N/mm of its
+    neighbours), which the bored node's 9 mm does not change; the top ply's, 0 at rest (t =
+    0, its face on the holder's), -2 x 8 / 20 = -0.8 with the holder 2 mm up. Without the springs
+    no share is reported. Closed forms, to round-off (1e-12)."""
+    layup, corner, run = _corner_lifted_through_the_holder()
+    bottom = layup.ply_nodes[0]
     spring = np.full(layup.mesh.n_nodes, 8.0)
     spring[corner] = 2.0
-    run = SimpleNamespace(frames=frames)
     first, second = through_holder(layup, run, stiffness=spring, force=20.0)
     assert first["share"] == pytest.approx(2.0 * 2.7 / 20.0, rel=1e-12)
     assert first["share_at_s"] == 0.05
