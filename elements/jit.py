@@ -76,7 +76,9 @@ if AVAILABLE:
         """Inside compiled code: call the numba build whose machine code starts at
         ``address`` (int64, ``_Parallel._address``) with the items of the tuple
         ``arguments``, whose types are that build's signature (numba's calling convention;
-        a kernel that returns nothing). The call goes through the address: nothing of the
+        a kernel that returns nothing); True where the call raised (its exception is not
+        carried across the threads: the caller runs the kernel again on one thread to raise
+        it, ``_Parallel.__call__``). The call goes through the address: nothing of the
         called build is linked into the caller, which numba would otherwise optimise and
         compile again in the caller's module."""
 
@@ -85,12 +87,12 @@ if AVAILABLE:
             function = context.call_conv.get_function_type(numba_types.none, argument_types)
             pointer = builder.inttoptr(values[0], function.as_pointer())
             items = cgutils.unpack_tuple(builder, values[1], len(argument_types))
-            context.call_conv.call_function(
+            status, _ = context.call_conv.call_function(
                 builder, pointer, numba_types.none, argument_types, items
             )
-            return context.get_dummy_value()
+            return status.is_error
 
-        return numba_types.none(address, arguments), codegen
+        return numba_types.boolean(address, arguments), codegen
 
 
 __all__ = [
@@ -350,8 +352,19 @@ class _Parallel:
             if parted:
                 return serial(*args, 0, 1)
             return serial(*args)
-        if parted:
-            args = (*args, threads, self._address(args))
+        if not parted:
+            return self._on_threads(threads, cap, args)
+        # each part's flag: whether it raised (its exception stays on its thread, and the
+        # rest of its part unwritten): the whole loop again on this thread raises it, as
+        # the kernel does on one thread
+        raised = np.zeros(threads, dtype=np.bool_)
+        self._on_threads(threads, cap, (*args, threads, self._address(args), raised))
+        if raised.any():
+            return serial(*args, 0, 1)
+        return None
+
+    def _on_threads(self, threads: int, cap: int, args):
+        """The parallel build called with ``args`` on ``threads`` of numba's ``cap``."""
         if threads == cap:
             return self.parallel(*args)
         numba.set_num_threads(threads)
@@ -381,7 +394,7 @@ def _type_key(value) -> Any:
 
 # The names the parted copies and the loops over the parts take for their own (a kernel's
 # arguments never end in two underscores).
-_PART, _PARTS, _ADDRESS = "part__", "parts__", "address__"
+_PART, _PARTS, _ADDRESS, _RAISED = "part__", "parts__", "address__", "raised__"
 
 
 def _stamp(function) -> tuple[int, int] | None:
@@ -456,7 +469,7 @@ def _parted(function, stamp: tuple[int, int] | None, error_model: str = "python"
     if definition is None:
         return None
     if any(
-        isinstance(node, ast.Name) and node.id in (_PART, _PARTS, _ADDRESS)
+        isinstance(node, ast.Name) and node.id in (_PART, _PARTS, _ADDRESS, _RAISED)
         for node in ast.walk(definition)
     ):
         return None  # the parted copy's own names taken
@@ -549,11 +562,12 @@ def _arguments(function) -> list[str]:
 
 
 def _over_parts(function, arguments: list[str], part_build):
-    """A function of ``function``'s ``arguments``, ``parts`` (int64, the threads) and
+    """A function of ``function``'s ``arguments``, ``parts`` (int64, the threads),
     ``address`` (int64: where the machine code of ``part_build``, the plain build of
-    ``_parted(function)``, starts for these arguments' types, ``_Parallel._address``) whose
-    ``prange`` loop calls that code on part k of ``parts``, on thread k (numba's parallel
-    loop splits its range into one chunk a thread).
+    ``_parted(function)``, starts for these arguments' types, ``_Parallel._address``) and
+    ``raised`` ((parts,) bool, written) whose ``prange`` loop calls that code on part k of
+    ``parts``, on thread k (numba's parallel loop splits its range into one chunk a thread),
+    and sets ``raised[k]`` where that part raised.
 
     The call goes through the address (``_call_at``), not to ``part_build`` by name: numba
     links a build called by name into its caller and optimises and compiles it again there,
@@ -564,9 +578,9 @@ def _over_parts(function, arguments: list[str], part_build):
     digest = part_build.py_func.__name__.rsplit("_", 1)[-1]  # the parted copy's
     # the part as int64 (prange's index is unsigned): the plain build's one signature
     source = (
-        f"def {function.__name__}_parallel_{digest}({names}, {_PARTS}, {_ADDRESS}):\n"
+        f"def {function.__name__}_parallel_{digest}({names}, {_PARTS}, {_ADDRESS}, {_RAISED}):\n"
         f"    for {_PART} in prange({_PARTS}):\n"
-        f"        call_at({_ADDRESS}, ({names}, int64({_PART}), {_PARTS}))\n"
+        f"        {_RAISED}[{_PART}] = call_at({_ADDRESS}, ({names}, int64({_PART}), {_PARTS}))\n"
     )
     tree = ast.parse(source)
     ast.increment_lineno(tree, function.__code__.co_firstlineno - 1)

@@ -390,3 +390,32 @@ def test_a_pickled_kernel_carries_no_machine_address_of_this_process():
     restored = pickle.loads(pickle.dumps(kernel))
     assert restored._addresses == {}
     assert kernel._addresses == {("a key",): 12345}  # the sender's own kept
+
+
+def _checked_roots(values, out):  # pragma: no cover - numba
+    """out[i] = sqrt(values[i]); a negative value raises ValueError."""
+    for i in jit.prange(out.shape[0]):
+        if values[i] < 0.0:
+            raise ValueError("a negative value")
+        out[i] = np.sqrt(values[i])
+
+
+@pytest.mark.parallel
+def test_a_part_that_raises_raises_on_any_thread_count():
+    """A loop one of whose parts raises: on several threads the part's exception stays on
+    its thread and the rest of its part unwritten, so the whole loop runs again on this
+    thread and raises it, as on one thread (before: the call returned with garbage left in
+    the unwritten items); a loop that raises nowhere returns its numbers."""
+    import numba
+
+    if numba.get_num_threads() < 2:
+        pytest.skip("numba has one thread here")
+    kernel = jit.jit(_checked_roots)
+    values = np.arange(4000.0)
+    out = np.empty(4000)
+    kernel(values, out)
+    assert kernel._parallel is not None
+    np.testing.assert_array_equal(out, np.sqrt(values))
+    values[3999] = -1.0  # in the last part
+    with pytest.raises(ValueError, match="a negative value"):
+        kernel(values, np.empty(4000))
