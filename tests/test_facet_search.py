@@ -176,9 +176,7 @@ def test_the_batched_search_is_numpys_to_the_last_bit_on_one_thread_and_on_all()
     at its corners (equal gaps to the facets that share a corner: the first in the tree's
     order is kept, as numpy's argmin keeps it) and on its facets, identical on one thread
     and on all of numba's."""
-    import numba
-
-    from elements import jit
+    from tests.thread_runs import on_one_thread_and_on_all
 
     tool = RigidSurface(bumpy_surface())
     rng = np.random.default_rng(8)
@@ -190,17 +188,9 @@ def test_the_batched_search_is_numpys_to_the_last_bit_on_one_thread_and_on_all()
             tool._centroids[rng.choice(tool.n_facets, 100)],
         ]
     )
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        answers = []
-        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
-            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
-            numba.set_num_threads(threads)
-            answers.append([tool._closest(x, count) for count in (8, 3, tool.n_facets)])
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+    answers = on_one_thread_and_on_all(
+        lambda: [tool._closest(x, count) for count in (8, 3, tool.n_facets)]
+    )
     ties = 0
     for count, one, every in zip((8, 3, tool.n_facets), *answers):
         expected = tool._closest_numpy(x, count)

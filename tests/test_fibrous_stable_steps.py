@@ -2,13 +2,13 @@
 against the numpy formulas they replace (``FibrousShellBlock.cell_stable_dt_numpy``): the same
 steps to the last bit, on one thread and on all of numba's."""
 
-import numba
 import numpy as np
 import pytest
 
 from elements import FibrousShell, jit
 from femcore import Mesh, Model
 from materials import Fabric
+from tests.thread_runs import on_one_thread_and_on_all
 
 pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
 
@@ -30,17 +30,7 @@ def test_the_compiled_cell_steps_are_the_numpy_formulas_to_the_last_bit(thicknes
     x = state.positions + rng.normal(scale=0.8, size=state.positions.shape)
     x[:, 2] += 0.01 * (x[:, 0] - 50.0) ** 2  # bent
     state.positions = x
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        jit.SMALL_LOOP = 10**9  # one thread
-        one = block.cell_stable_dt(state)
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # all of numba's threads
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        every = block.cell_stable_dt(state)
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+    one, every = on_one_thread_and_on_all(lambda: block.cell_stable_dt(state))
     reference = block.cell_stable_dt_numpy(state)
     assert block.compiled and len(reference) == 7200
     assert reference.max() > 3.0 * reference.min()  # cells of many shapes

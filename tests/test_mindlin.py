@@ -506,10 +506,8 @@ def test_a_mindlin_run_gives_the_same_bits_on_one_thread_and_on_all():
     """Bind tables, forces, energy, section forces and 30 explicit steps (the fused
     rotational update included) of a sagging sheet are the same to the last bit whatever
     the threads."""
-    import numba
-
-    from elements import jit
     from solvers import CentralDifference
+    from tests.thread_runs import on_one_thread_and_on_all
 
     def run():
         model = Model(Mesh.rectangle(60.0, 40.0, nx=12, ny=8))
@@ -532,17 +530,7 @@ def test_a_mindlin_run_gives_the_same_bits_on_one_thread_and_on_all():
             np.array([compiled_model.strain_energy(state)]),
         ]
 
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        jit.SMALL_LOOP = 10**9  # every loop on one thread
-        one = run()
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on all threads
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        every = run()
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+    one, every = on_one_thread_and_on_all(run)
     assert np.abs(one[2] - Mesh.rectangle(60.0, 40.0, nx=12, ny=8).points).max() > 1e-8
     for a, b in zip(one, every):
         np.testing.assert_array_equal(a, b)

@@ -27,6 +27,7 @@ from elements.ply_projection import (
 from elements.ply_topology import FaceTopology
 from femcore.state import State
 from tests.test_ply_wedge import cut_strip
+from tests.thread_runs import on_one_thread_and_on_all
 
 
 def _same(a, b) -> bool:
@@ -284,9 +285,6 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
     return mapping and committed histories (the dissipation too) to the bit, on
     one thread and on all of numba's (every loop parallel); the premises, stuck and sliding
     points and touching points whose fade moves the outline's edges' ends."""
-    import numba
-
-    from elements import jit
     from validation.studies import hemisphere_plies_setup as setup
 
     _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
@@ -295,57 +293,50 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
     assert len(blocks) == 2
     first, second = _bent(compiled_model, 3, 5.0), _bent(compiled_model, 3, 5.2)
     seen = {"stuck": 0, "sliding": 0, "ends moved": 0}
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
-            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
-            numba.set_num_threads(threads)
-            for block in blocks:
-                monkeypatch.setattr(block, "stick", stick)
-                assert block.friction > 0.0
 
-                def loads(block=block):
-                    for kept in ("_facing_at", "_faces_at", "_directions_at"):
-                        setattr(block, kept, None)
-                    history = block.update_history(first, block.initial_history())
-                    for kept in ("_facing_at", "_faces_at", "_directions_at"):
-                        setattr(block, kept, None)
-                    force = block.internal_force(second, history)
-                    return (
-                        force,
-                        block.strain_energy(second, history),
-                        block.friction_state(second, history),
-                        block.update_history(second, history),
-                        block.facing(second),
-                        history,
-                    )
+    def compare():
+        for block in blocks:
+            monkeypatch.setattr(block, "stick", stick)
+            assert block.friction > 0.0
 
-                compiled, reference = _both(monkeypatch, loads)
-                # the pass itself, on numpy's facing and return mapping (COMPILED off now)
-                direct = ply_load_kernels.ply_loads(
-                    block, second, reference[4], reference[2], reference[5].anchor
+            def loads(block=block):
+                for kept in ("_facing_at", "_faces_at", "_directions_at"):
+                    setattr(block, kept, None)
+                history = block.update_history(first, block.initial_history())
+                for kept in ("_facing_at", "_faces_at", "_directions_at"):
+                    setattr(block, kept, None)
+                force = block.internal_force(second, history)
+                return (
+                    force,
+                    block.strain_energy(second, history),
+                    block.friction_state(second, history),
+                    block.update_history(second, history),
+                    block.facing(second),
+                    history,
                 )
-                assert _same(direct[0], reference[0][0]) and _same(direct[1], reference[0][1])
-                mapping = ply_friction_kernels.friction_state(
-                    block, second, reference[5], reference[4]
-                )
-                assert _fields_equal(mapping, reference[2]) == []
-                assert _same(compiled[0][0], reference[0][0])
-                assert _same(compiled[0][1], reference[0][1])
-                assert compiled[1] == reference[1]
-                assert _fields_equal(compiled[2], reference[2]) == []
-                assert _fields_equal(compiled[3], reference[3]) == []
-                assert _fields_equal(compiled[5], reference[5]) == []
-                facing, sliding = reference[4], reference[2]
-                seen["stuck"] += int(sliding.stuck.sum())
-                seen["sliding"] += int(sliding.sliding.sum())
-                moving = facing.touching & (facing.fade_edge >= 0)
-                moving &= np.any(facing.fade_gradient[:, 4:] != 0.0, axis=(1, 2))
-                seen["ends moved"] += int(moving.sum())
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+
+            compiled, reference = _both(monkeypatch, loads)
+            # the pass itself, on numpy's facing and return mapping (COMPILED off now)
+            direct = ply_load_kernels.ply_loads(
+                block, second, reference[4], reference[2], reference[5].anchor
+            )
+            assert _same(direct[0], reference[0][0]) and _same(direct[1], reference[0][1])
+            mapping = ply_friction_kernels.friction_state(block, second, reference[5], reference[4])
+            assert _fields_equal(mapping, reference[2]) == []
+            assert _same(compiled[0][0], reference[0][0])
+            assert _same(compiled[0][1], reference[0][1])
+            assert compiled[1] == reference[1]
+            assert _fields_equal(compiled[2], reference[2]) == []
+            assert _fields_equal(compiled[3], reference[3]) == []
+            assert _fields_equal(compiled[5], reference[5]) == []
+            facing, sliding = reference[4], reference[2]
+            seen["stuck"] += int(sliding.stuck.sum())
+            seen["sliding"] += int(sliding.sliding.sum())
+            moving = facing.touching & (facing.fade_edge >= 0)
+            moving &= np.any(facing.fade_gradient[:, 4:] != 0.0, axis=(1, 2))
+            seen["ends moved"] += int(moving.sum())
+
+    on_one_thread_and_on_all(compare)
     assert min(seen.values()) > 0, seen
 
 
@@ -518,9 +509,7 @@ def test_the_compiled_chosen_candidate_s_arrays_are_numpy_s_to_the_bit(with_towa
     and turn, to the bit, on random candidates with NaN coordinates (numpy's min takes the
     first NaN), signed zeros, ties of the least coordinate and normals at right angles to
     ``toward`` (a dot of exactly 0 is not turned), on one thread and on all of numba's."""
-    import numba
-
-    from elements import jit, ply_chosen
+    from elements import ply_chosen
 
     rng = np.random.default_rng(7)
     count, k = 997, 4
@@ -546,23 +535,18 @@ def test_the_compiled_chosen_candidate_s_arrays_are_numpy_s_to_the_bit(with_towa
     reference = ply_chosen.chosen_numpy(*arguments)
     assert np.isnan(reference[6]).any() and (reference[6] == 0.0).any()
     assert reference[7].any() and not reference[7].all()
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
-            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
-            numba.set_num_threads(threads)
-            compiled = ply_chosen.chosen(*arguments)
-            assert len(compiled) == len(reference)
-            for got, want in zip(compiled, reference, strict=True):
-                assert got.shape == want.shape and got.dtype == want.dtype
-                assert np.array_equal(got, want, equal_nan=True)
-                # signed zeros too
-                if got.dtype == float:
-                    assert np.array_equal(np.signbit(got), np.signbit(want))
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+
+    def compare():
+        compiled = ply_chosen.chosen(*arguments)
+        assert len(compiled) == len(reference)
+        for got, want in zip(compiled, reference, strict=True):
+            assert got.shape == want.shape and got.dtype == want.dtype
+            assert np.array_equal(got, want, equal_nan=True)
+            # signed zeros too
+            if got.dtype == float:
+                assert np.array_equal(np.signbit(got), np.signbit(want))
+
+    on_one_thread_and_on_all(compare)
 
 
 @pytest.mark.parametrize("with_cuts", [False, True])
@@ -571,9 +555,7 @@ def test_the_compiled_fade_inputs_are_numpy_s_to_the_bit(with_cuts):
     the outline, their facing triangles' corners, reach, flags, nearest outline edges' ends
     and cuts, the same arrays to the bit (NaN and -0.0 among them), on one thread and on all
     of numba's; no cuts: None."""
-    import numba
-
-    from elements import jit, ply_chosen
+    from elements import ply_chosen
     from elements.ply_wedge import WedgeCuts
 
     rng = np.random.default_rng(3)
@@ -596,22 +578,17 @@ def test_the_compiled_fade_inputs_are_numpy_s_to_the_bit(with_cuts):
         cuts = WedgeCuts(lines=lines, ends=ends_cut)
     arguments = (at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts)
     reference = ply_chosen.fade_inputs_numpy(*arguments)
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        for small_loop, threads in ((10**9, 1), (0, numba.config.NUMBA_NUM_THREADS)):
-            jit.SMALL_LOOP, jit.FOLLOW_LOAD = small_loop, False
-            numba.set_num_threads(threads)
-            compiled = ply_chosen.fade_inputs(*arguments)
-            assert len(compiled) == len(reference) == 8
-            for got, want in zip(compiled, reference, strict=True):
-                if want is None:
-                    assert got is None and not with_cuts
-                    continue
-                assert got.shape == want.shape and got.dtype == want.dtype
-                assert np.array_equal(got, want, equal_nan=True)
-                if got.dtype == float:
-                    assert np.array_equal(np.signbit(got), np.signbit(want))
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+
+    def compare():
+        compiled = ply_chosen.fade_inputs(*arguments)
+        assert len(compiled) == len(reference) == 8
+        for got, want in zip(compiled, reference, strict=True):
+            if want is None:
+                assert got is None and not with_cuts
+                continue
+            assert got.shape == want.shape and got.dtype == want.dtype
+            assert np.array_equal(got, want, equal_nan=True)
+            if got.dtype == float:
+                assert np.array_equal(np.signbit(got), np.signbit(want))
+
+    on_one_thread_and_on_all(compare)

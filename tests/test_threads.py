@@ -90,19 +90,9 @@ def test_the_forces_are_the_same_to_the_last_bit_on_one_thread_and_on_all():
     """The kernels sum in cell order whatever the threads: a loop on one thread and on all
     of numba's threads give the same forces to the last bit, so a run is reproducible
     whatever the load makes free_cores choose."""
-    import numba
+    from tests.thread_runs import on_one_thread_and_on_all
 
-    before = numba.get_num_threads()
-    small, follow = jit.SMALL_LOOP, jit.FOLLOW_LOAD
-    try:
-        jit.SMALL_LOOP = 10**9  # every loop on one thread
-        one = sheet(12)
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on all threads
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        every = sheet(12)
-    finally:
-        jit.SMALL_LOOP, jit.FOLLOW_LOAD = small, follow
-        numba.set_num_threads(before)
+    one, every = on_one_thread_and_on_all(lambda: sheet(12))
     np.testing.assert_array_equal(every, one)
 
 
