@@ -58,6 +58,25 @@ def _add(sums, moments, node, lever, direction, f0, f1, f2):
 
 
 @lanes
+def _add_upper(sums, moments, r, shape, above, upper_offset, lever, direction, f0, f1, f2):
+    """Add point ``r``'s force (f0, f1, f2) N on its upper triangle's corners ``above[r]``,
+    each its shape function's share ``shape[r, j]``, with their moments (``_add``, the signed
+    offset -``upper_offset``: the point lies at x - upper_offset d)."""
+    for j in range(3):
+        s = shape[r, j]
+        _add(
+            sums,
+            moments,
+            above[r, j],
+            lever * -upper_offset[r, j],
+            direction,
+            s * f0,
+            s * f1,
+            s * f2,
+        )
+
+
+@lanes
 def _loads(
     on,
     cube,
@@ -135,18 +154,10 @@ def _loads(
         face0 = pressed * n0 + energy * fade_gradient[r, 0, 0]
         face1 = pressed * n1 + energy * fade_gradient[r, 0, 1]
         face2 = pressed * n2 + energy * fade_gradient[r, 0, 2]
-        for j in range(3):
-            s = shape[r, j]
-            _add(
-                pair_force,
-                pair_moment,
-                above[r, j],
-                lever * -upper_offset[r, j],
-                direction,
-                s * face0,
-                s * face1,
-                s * face2,
-            )
+        _add_upper(
+            pair_force, pair_moment, r, shape, above, upper_offset, lever, direction,
+            face0, face1, face2,
+        )  # fmt: skip
         for k in range(3):
             scaled = -pressed * weights[r, k]
             _add(
@@ -163,18 +174,9 @@ def _loads(
         r = sliding[i]
         t = anchor_triangle[r]
         f0, f1, f2 = friction_force[r, 0], friction_force[r, 1], friction_force[r, 2]
-        for j in range(3):
-            s = shape[r, j]
-            _add(
-                pair_force,
-                pair_moment,
-                above[r, j],
-                lever * -upper_offset[r, j],
-                direction,
-                s * f0,
-                s * f1,
-                s * f2,
-            )
+        _add_upper(
+            pair_force, pair_moment, r, shape, above, upper_offset, lever, direction, f0, f1, f2
+        )
         for k in range(3):
             a = -anchor[r, k]
             _add(
