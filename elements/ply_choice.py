@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from elements.jit import jit_lanes, lanes, prange
+from elements.ply_kernels import closest_on_sides
 from elements.ply_projection import closest_on_edges, grown_corners
 from elements.ply_wedge import KEEP, closest_on_cut, cut_keeps, cut_overshoot
 
@@ -39,28 +40,6 @@ def _keeps(lines, t, w0, w1, w2):
         if not level >= -KEEP:
             return False
     return True
-
-
-@lanes
-def _edges(p0, p1, p2, corners, out):
-    """out (3,) the closest point to p on the edges of the triangle ``corners`` (3, 3)
-    (``ply_kernels._edges_closest``'s arithmetic)."""
-    distance = np.inf
-    out[0], out[1], out[2] = 0.0, 0.0, 0.0
-    for side in range(3):
-        a, b = (1, 2) if side == 0 else ((2, 0) if side == 1 else (0, 1))
-        s0, s1, s2 = corners[a, 0], corners[a, 1], corners[a, 2]
-        e0 = corners[b, 0] - s0
-        e1 = corners[b, 1] - s1
-        e2 = corners[b, 2] - s2
-        t = ((p0 - s0) * e0 + (p2 - s2) * e2 + (p1 - s1) * e1) / (e0 * e0 + e2 * e2 + e1 * e1)
-        t = min(max(t, 0.0), 1.0)
-        o0, o1, o2 = s0 + t * e0, s1 + t * e1, s2 + t * e2
-        r0, r1, r2 = p0 - o0, p1 - o1, p2 - o2
-        length = r0 * r0 + r2 * r2 + r1 * r1
-        if length < distance:
-            out[0], out[1], out[2] = o0, o1, o2
-            distance = length
 
 
 def _choose(
@@ -149,7 +128,7 @@ def _choose(
                 g2 = (whole if a == 2 else 0.0) - r2
                 for c in range(3):
                     grown[a, c] = g0 * y[t, 0, c] + g1 * y[t, 1, c] + g2 * y[t, 2, c]
-            _edges(p0, p1, p2, grown, q)
+            closest_on_sides(p0, p1, p2, grown, q)
             if has_cuts:
                 if grown_held[k]:  # the projection, which the cut growth does not hold
                     h = gap[i, k]

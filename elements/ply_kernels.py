@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, prange
+from elements.jit import jit_lanes, lanes, prange
 
 __all__ = ["candidates_at", "edges_closest", "every_segment", "facets_at", "grown_corners"]
 
@@ -173,29 +173,35 @@ def candidates_at(
     return n, gradients, gap, weights, reach, inside, past
 
 
+@lanes
+def closest_on_sides(p0, p1, p2, corners, out):
+    """out (3,) the closest point to p on the edges of the triangle ``corners`` (3, 3), as
+    ``ply_projection.closest_on_edges`` writes it (the first nearest of the edges opposite
+    corners 1, 2, 3 in that order)."""
+    distance = np.inf
+    out[0], out[1], out[2] = 0.0, 0.0, 0.0
+    for side in range(3):
+        a, b = (1, 2) if side == 0 else ((2, 0) if side == 1 else (0, 1))
+        s0, s1, s2 = corners[a, 0], corners[a, 1], corners[a, 2]
+        e0 = corners[b, 0] - s0
+        e1 = corners[b, 1] - s1
+        e2 = corners[b, 2] - s2
+        # numpy's einsum adds a sum of three products as (first + last) + middle
+        t = ((p0 - s0) * e0 + (p2 - s2) * e2 + (p1 - s1) * e1) / (e0 * e0 + e2 * e2 + e1 * e1)
+        t = min(max(t, 0.0), 1.0)
+        o0, o1, o2 = s0 + t * e0, s1 + t * e1, s2 + t * e2
+        r0, r1, r2 = p0 - o0, p1 - o1, p2 - o2
+        length = r0 * r0 + r2 * r2 + r1 * r1
+        if length < distance:
+            out[0], out[1], out[2] = o0, o1, o2
+            distance = length
+
+
 def _edges_closest(p, corners, best):
     """best[i] (c, 3) the closest point to p[i] (c, 3) on the edges of the triangle with
-    corners ``corners[i]`` (c, 3, 3), as ``ply_projection.closest_on_edges`` writes it (the
-    first nearest of the edges opposite corners 1, 2, 3 in that order)."""
+    corners ``corners[i]`` (c, 3, 3) (``closest_on_sides``)."""
     for i in prange(p.shape[0]):
-        p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
-        distance = np.inf
-        best[i, 0], best[i, 1], best[i, 2] = 0.0, 0.0, 0.0
-        for side in range(3):
-            a, b = (1, 2) if side == 0 else ((2, 0) if side == 1 else (0, 1))
-            s0, s1, s2 = corners[i, a, 0], corners[i, a, 1], corners[i, a, 2]
-            e0 = corners[i, b, 0] - s0
-            e1 = corners[i, b, 1] - s1
-            e2 = corners[i, b, 2] - s2
-            # numpy's einsum adds a sum of three products as (first + last) + middle
-            t = ((p0 - s0) * e0 + (p2 - s2) * e2 + (p1 - s1) * e1) / (e0 * e0 + e2 * e2 + e1 * e1)
-            t = min(max(t, 0.0), 1.0)
-            o0, o1, o2 = s0 + t * e0, s1 + t * e1, s2 + t * e2
-            r0, r1, r2 = p0 - o0, p1 - o1, p2 - o2
-            length = r0 * r0 + r2 * r2 + r1 * r1
-            if length < distance:
-                best[i, 0], best[i, 1], best[i, 2] = o0, o1, o2
-                distance = length
+        closest_on_sides(p[i, 0], p[i, 1], p[i, 2], corners[i], best[i])
 
 
 _edges_closest_compiled = jit_lanes(_edges_closest)
