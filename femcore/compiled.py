@@ -158,21 +158,21 @@ class CompiledModel(CompiledTangent):
         self.rotation_fixed = self.dofs.fixed[:, 3:] & self.has_rotation[:, None]
 
         state0 = self.initial_state()
-        self.mass0, self.inertia0 = self.lumped_mass(state0)
-        self._weighed_mass = self.mass0.copy()  # what gravity acts on
+        element_mass, self.inertia0 = self._element_lumped_mass(state0)
         # The mass the elements carry, the tools' aside: what mass scaling scales, and what
         # its added mass is a share of (a 100-g holder on a 10-g blank would otherwise make
         # ten times the blank's mass read as a tenth); summed without the tools' masses, not
         # their difference (a heavy tool's would swamp the blank's digits).
-        element_mass, _ = self._element_lumped_mass(state0)
         self.element_mass = float(element_mass.sum())
+        # what gravity acts on: the tools' stated masses, none for an unstated one
+        self._weighed_mass = self._with_tools(element_mass.copy())
         if self.nominal_mass_nodes.size:
             # the mean nodal mass of the body, the stated tools' masses aside
             body = element_mass > 0
             nominal = float(element_mass[body].mean()) if body.any() else 1.0
             unstated = np.isin(self.rigid_nodes, self.nominal_mass_nodes)
             self._rigid_mass = np.where(unstated, nominal, self._rigid_mass)
-            self.mass0, self.inertia0 = self.lumped_mass(state0)
+        self.mass0 = self._with_tools(element_mass)
         unmassed = active[:, 0] & ~(self.mass0 > 0)
         if unmassed.any():
             raise ValueError(
@@ -249,9 +249,14 @@ class CompiledModel(CompiledTangent):
         """Nodal mass (n,) and rotary inertia (n,) summed over blocks. ``density_scale``: one
         (cells,) factor array per block (selective mass scaling) or None."""
         mass, inertia = self._element_lumped_mass(state, density_scale)
+        return self._with_tools(mass), inertia
+
+    def _with_tools(self, mass: np.ndarray) -> np.ndarray:
+        """``mass`` (n,), the elements' nodal mass, with the tools' nodes' masses added in
+        place."""
         if self.rigid_nodes.size:
             np.add.at(mass, self.rigid_nodes, self._rigid_mass)
-        return mass, inertia
+        return mass
 
     def _element_lumped_mass(self, state: State, density_scale: list | None = None):
         """The elements' nodal mass (n,) and rotary inertia (n,), the tools' nodes' aside."""
