@@ -485,10 +485,11 @@ class PlyContactBlock(InteractionBlock):
                 )
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
-            extra = ply_friction.friction_loads(self, state, sliding, history)
-            nodes = np.concatenate([nodes, extra[0]])
-            forces = np.concatenate([forces, extra[1]])
-            moments = np.concatenate([moments, extra[2]])
+            extra = ply_friction.friction_loads(self, state, sliding, history, facing)
+            # the pairs' rows (6 nodes) then the friction's (11): summed in that order
+            nodes = np.concatenate([nodes.ravel(), extra[0].ravel()])
+            forces = np.concatenate([forces.reshape(-1, 3), extra[1].reshape(-1, 3)])
+            moments = np.concatenate([moments.reshape(-1, 3), extra[2].reshape(-1, 3)])
         flat = nodes.ravel()
         for axis in range(3):
             force[:, axis] += np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
@@ -588,30 +589,8 @@ class PlyContactBlock(InteractionBlock):
         g6[:, :4] = gradient
         cross = g6[:, :, :, None, None] * fading[:, None, None, :, :]
         points = slope[:, None, None, None, None] * (cross + np.transpose(cross, (0, 3, 4, 1, 2)))
-        p, y = self._faces(state)
-        assert facing.reach is not None and facing.on_growth is not None
-        assert facing.fade_edge is not None
         ends_nodes, ends_offset = self.fade_ends(facing, rows)
-        segment = np.stack(
-            [
-                state.positions[ends_nodes[:, k]]
-                + self.outline_offsets[np.maximum(facing.fade_edge[rows], 0), k, None]
-                * self.offset_directions(state)[ends_nodes[:, k]]
-                for k in range(2)
-            ],
-            axis=1,
-        )
-        points += energy[:, None, None, None, None] * fade_hessian(
-            p[rows],
-            y[facing.triangle[rows]],
-            facing.reach[rows],
-            facing.on_growth[rows],
-            segment,
-            self.fade_length,
-            None if facing.joined is None else facing.joined[rows],
-            self.cuts.lines[facing.triangle[rows]],
-            self.cuts.ends[facing.triangle[rows]],
-        )
+        points += energy[:, None, None, None, None] * self.fade_hessian_at(state, facing, rows)
         nodes = np.column_stack([self.above[rows], self.cells[facing.triangle[rows]], ends_nodes])
         offset = np.column_stack(
             [
@@ -639,6 +618,34 @@ class PlyContactBlock(InteractionBlock):
         for row in range(2):
             blocks[:, 6 + row, 3:, 6 + row, 3:] += geometric[:, row]
         return CellTangent(nodes, blocks)
+
+    def fade_hessian_at(self, state: State, facing: Facing, rows: np.ndarray) -> np.ndarray:
+        """Hess w (f, 6, 3, 6, 3), 1/mm^2, of the fade of the points ``rows`` (f,) whose fade
+        moves (dw/dz != 0) over z = (p, y_1, y_2, y_3, a, b) (elements/ply_fade_hessian.py)."""
+        p, y = self._faces(state)
+        assert facing.reach is not None and facing.on_growth is not None
+        assert facing.fade_edge is not None
+        ends_nodes = self.fade_ends(facing, rows)[0]
+        segment = np.stack(
+            [
+                state.positions[ends_nodes[:, k]]
+                + self.outline_offsets[np.maximum(facing.fade_edge[rows], 0), k, None]
+                * self.offset_directions(state)[ends_nodes[:, k]]
+                for k in range(2)
+            ],
+            axis=1,
+        )
+        return fade_hessian(
+            p[rows],
+            y[facing.triangle[rows]],
+            facing.reach[rows],
+            facing.on_growth[rows],
+            segment,
+            self.fade_length,
+            None if facing.joined is None else facing.joined[rows],
+            self.cuts.lines[facing.triangle[rows]],
+            self.cuts.ends[facing.triangle[rows]],
+        )
 
     # ------------------------------------------------------------------ history
     def initial_history(self) -> PlyFrictionHistory | None:

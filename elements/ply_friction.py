@@ -16,6 +16,23 @@ Points laid on the face with nearly no normal force stick on a spring as soft as
 normal one instead of switching between stick and slip on a cone of radius mu N / k_p, far
 below the slips a Newton iterate makes there (docs/theory.md §9.3a, "Friction between
 plies"; benchmarks/ply_friction_laid.py).
+
+The stick potential. A stuck point's energy is E = k_t |s|^2 / 2 = w W''(g) |s|^2 / 2 (its
+record |F|^2 / (2 k_t)); with k_t = w W'' it depends on g and on the fade's w as well as on s,
+so its gradient at fixed s is the tangential force k_t s plus a normal force dE/dg dg/dz =
+w W'''(g) |s|^2 / 2 (n, -lambda_k n) (``Sliding.lift``: W''' = -k_p / delta on the ramp, so
+it pushes the plies apart, by at most mu^2 N / 4 where |s| <= mu |g| / 2; 0 deeper) and, past
+the outline, W'' |s|^2 / 2 dw/dz (``Sliding.stored``) on the point's, the facing triangle's and
+the outline edge's nodes, as the normal law's own w W carries them. The loads carry both and
+the tangent their derivative (``_potential_tangent``). s is measured across the facing normal
+n, and dE/dz also holds k_t (n . r) s . dn/dz, the couple of F and -F a distance n . r ~ g
+apart, which the loads leave out as before (a fraction ~ |g| / l of F at the facing
+triangle's corners, l its size). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g:
+nothing added. A sliding point's force mu N s / |s| is no gradient (friction dissipates);
+its energy record stays the spring's at the limit, |F|^2 / (2 k_t) = (mu N)^2 / (2 k_t), the
+elastic part of its offset (what it gives back when unloaded, continuous with E at the
+switch), with no normal force added: the normal force jumps by the stuck point's lift as the
+point starts sliding.
 Used by ``PlyContactBlock``; the functions take the block as their first argument.
 """
 
@@ -27,6 +44,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_surface
+from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
 from femcore.assembly import CellTangent
 from femcore.rotation import cross, cross_matrix
@@ -95,6 +113,13 @@ class Sliding:
     spring : (P,) float
         k_t, the stick spring of each touching point (module docstring: k_p, or w W''(g)),
         N/mm (0 elsewhere).
+    lift : (P,) float
+        dE/dg of each stuck point's stick potential E = w W''(g) |s|^2 / 2 at fixed s (module
+        docstring, "The stick potential"): w W'''(g) |s|^2 / 2, N, the normal force it adds
+        along dg/dz (0 elsewhere, and with ``stick="penalty"`` or on curved faces).
+    stored : (P,) float
+        W''(g) |s|^2 / 2 of each stuck point, the potential before the fade's w, N mm: the
+        factor of dw/dz in dE/dz past the outline (0 where ``lift`` is).
     """
 
     force: np.ndarray
@@ -105,6 +130,8 @@ class Sliding:
     offset: np.ndarray
     triangle: np.ndarray
     spring: np.ndarray
+    lift: np.ndarray
+    stored: np.ndarray
 
 
 def stick_spring(
@@ -152,10 +179,13 @@ def friction_state(
     facing = block.facing(state) if facing is None else facing
     count = len(block.above)
     on = facing.touching
-    pressing, spring = np.zeros(count), np.zeros(count)
+    pressing, spring, slope = np.zeros(count), np.zeros(count), np.zeros(count)
     pressing[on] = -block.normal_law(facing.gap[on], block.stiffness[on])[1]
-    spring[on] = _spring(block, facing.gap[on], block.stiffness[on])[0]
+    spring[on], slope[on] = _spring(block, facing.gap[on], block.stiffness[on])
+    unfaded = spring.copy()
+    fade = np.ones(count)
     if facing.fade is not None:  # N = -w W' past the outline (elements/ply_fade.py)
+        fade = facing.fade
         pressing[on] *= facing.fade[on]
         if block.stick != "penalty":
             spring[on] *= facing.fade[on]
@@ -163,7 +193,8 @@ def friction_state(
     if history is None or block.friction <= 0.0:
         none = np.zeros(count, dtype=bool)
         nowhere = np.zeros(count, dtype=np.int64)
-        return Sliding(zero, zero, none, none, pressing, zero, nowhere, spring)
+        nothing = np.zeros(count)
+        return Sliding(zero, zero, none, none, pressing, zero, nowhere, spring, nothing, nothing)
     anchored = on & (history.triangle >= 0)
     triangle = np.where(anchored, history.triangle, 0)
     _, y = block._faces(state)
@@ -183,18 +214,69 @@ def friction_state(
     scale = np.where(
         stuck, spring, np.where(sliding, limit / np.where(length > 0, length, 1.0), 0.0)
     )
-    return Sliding(scale[:, None] * s, s, stuck, sliding, pressing, r, triangle, spring)
+    lift, stored = stick_potential(block, stuck, s, fade, unfaded, slope)
+    return Sliding(
+        scale[:, None] * s, s, stuck, sliding, pressing, r, triangle, spring, lift, stored
+    )
+
+
+def stick_potential(
+    block: PlyContactBlock,
+    stuck: np.ndarray,
+    slip: np.ndarray,
+    fade: np.ndarray,
+    spring: np.ndarray,
+    slope: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The g- and w-derivatives of the stuck points' potential E = w W''(g) |s|^2 / 2 at
+    fixed s (module docstring, "The stick potential"): ``Sliding.lift`` and
+    ``Sliding.stored``, each (P,).
+
+    Parameters
+    ----------
+    block : PlyContactBlock
+    stuck : (P,) bool
+    slip : (P, 3) float
+        s, mm.
+    fade : (P,) float
+        w (1 without a fade).
+    spring, slope : (P,) float
+        W''(g), N/mm, and W'''(g), N/mm^2, before w (``stick_spring``; 0 where not touching).
+
+    Returns
+    -------
+    lift (P,) N: w (W''' |s|^2 / 2); stored (P,) N mm: W'' |s|^2 / 2; both 0 off the stuck
+    points, and everywhere with ``stick="penalty"`` (k_p |s|^2 / 2 holds no g) or on the
+    curved faces (whose contact's tangent is the flat one: the stick spring's force k_t s
+    alone there, as before).
+    """
+    potential = stuck & (block.stick != "penalty") & (not block.curved)
+    half = 0.5 * np.sum(slip * slip, axis=1)
+    lift = np.where(potential, fade * (slope * half), 0.0)
+    stored = np.where(potential, spring * half, 0.0)
+    return lift, stored
 
 
 def friction_loads(
-    block: PlyContactBlock, state: State, sliding: Sliding, history: PlyFrictionHistory
+    block: PlyContactBlock,
+    state: State,
+    sliding: Sliding,
+    history: PlyFrictionHistory,
+    facing: Facing,
 ):
-    """Per stuck or sliding point: node rows (t, 6) (the upper triangle's corners, the
-    anchor triangle's corners), forces (t, 6, 3) N (N_j F on the upper corners, -Lambda_k F
-    on the anchor's) and moments (t, 6, 3) N mm (c d x force) of the tangential force F."""
+    """Per stuck or sliding point: node rows (t, 11) (the upper triangle's corners, the
+    anchor triangle's corners, the facing triangle's corners, the ends of the outline's edge
+    nearest the point (``PlyContactBlock.fade_ends``)), forces (t, 11, 3) N and moments
+    (t, 11, 3) N mm (c d x force): the tangential force F (N_j F on the upper corners,
+    -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential at fixed s
+    beyond F (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz,
+    with dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b)
+    (0 for sliding points: their entries add zeros)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     tri = sliding.triangle[on]
-    nodes = np.column_stack([block.above[on], block.cells[tri]])
+    facing_tri = facing.triangle[on]
+    ends, ends_offset = block.fade_ends(facing, on)
+    nodes = np.column_stack([block.above[on], block.cells[tri], block.cells[facing_tri], ends])
     force = sliding.force[on]
     if block.curved:  # -F at the anchor on the curved face, carried to its corners
         _, y = block._faces(state)
@@ -204,8 +286,29 @@ def friction_loads(
         lower = ply_surface.pullback(y[tri], normals, weights, q, e, -force)[0]
     else:
         lower = -history.anchor[on][:, :, None] * force[:, None, :]
-    forces = np.concatenate([block.shape[on][:, :, None] * force[:, None, :], lower], axis=1)
-    offset = block.lever * np.column_stack([-block.upper_offset[on], block.corner_offset[tri]])
+    lift, stored = sliding.lift[on], sliding.stored[on]
+    n, lam = facing.normal[on], facing.weights[on]
+    fading = np.zeros((len(on), 6, 3)) if facing.fade_gradient is None else facing.fade_gradient[on]
+    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
+    forces = np.concatenate(
+        [
+            block.shape[on][:, :, None] * on_face[:, None, :],
+            lower,
+            (-lift[:, None] * lam)[:, :, None] * n[:, None, :]
+            + stored[:, None, None] * fading[:, 1:4],
+            stored[:, None, None] * fading[:, 4:],
+        ],
+        axis=1,
+    )
+    offset = np.column_stack(
+        [
+            block.lever
+            * np.column_stack(
+                [-block.upper_offset[on], block.corner_offset[tri], block.corner_offset[facing_tri]]
+            ),
+            ends_offset,
+        ]
+    )
     moments = offset[:, :, None] * cross(block.offset_directions(state)[nodes], forces)
     return nodes, forces, moments
 
@@ -286,6 +389,17 @@ def friction_tangent(
     points[:, 0] = d_force
     for m in range(3):
         points[:, 4 + m] = -big[:, m, None, None, None] * d_force
+    fading = np.zeros((t, 9, 3))  # dw/dz over the 9 slots (0 without a fade)
+    if facing.fade_gradient is not None:
+        fading[:, :4] = facing.fade_gradient[on][:, :4]
+        fading[:, 7:] = facing.fade_gradient[on][:, 4:]
+    lift, stored = sliding.lift[on], sliding.stored[on]
+    held = np.flatnonzero(stuck & (block.stick != "penalty") & (not block.curved))
+    if held.size:
+        points[held] += _potential_tangent(
+            block, state, facing, on[held], s[held], ds[held], gap_gradient[held],
+            fading[held], unfaded[held], spring_slope[held], lift[held], stored[held],
+        )  # fmt: skip
     ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack(
         [
@@ -319,12 +433,14 @@ def friction_tangent(
         maps[:, z, :, 2 + z, :] = own[:, 2 + z]
     carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
     blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
     forces = np.concatenate(
         [
-            block.shape[on][:, :, None] * force[:, None, :],
-            np.zeros((t, 3, 3)),
+            block.shape[on][:, :, None] * on_face[:, None, :],
+            (-lift[:, None] * lam)[:, :, None] * n[:, None, :]
+            + stored[:, None, None] * fading[:, 1:4],
             -big[:, :, None] * force[:, None, :],
-            np.zeros((t, 2, 3)),
+            stored[:, None, None] * fading[:, 7:],
         ],
         axis=1,
     )
@@ -335,6 +451,60 @@ def friction_tangent(
     for row in range(11):
         blocks[:, row, 3:, row, 3:] += geometric[:, row]
     return CellTangent(nodes, blocks)
+
+
+def _potential_tangent(
+    block: PlyContactBlock,
+    state: State,
+    facing: Facing,
+    rows: np.ndarray,
+    s: np.ndarray,
+    ds: np.ndarray,
+    gap_gradient: np.ndarray,
+    fading: np.ndarray,
+    spring: np.ndarray,
+    slope: np.ndarray,
+    lift: np.ndarray,
+    stored: np.ndarray,
+) -> np.ndarray:
+    """The derivative (h, 9, 3, 9, 3) of the stuck points' ``lift`` dg/dz + ``stored`` dw/dz
+    (``friction_loads``) over z = (p, y_f1..3, y_a1..3, a, b), for the points ``rows`` (h,)
+    of the facing (module docstring, "The stick potential").
+
+    With E = w W'' |s|^2 / 2 at fixed s: lift = w W''' |s|^2 / 2, stored = W'' |s|^2 / 2,
+    d(|s|^2 / 2) = s . ds, and W'''' = 0 (W''' is constant on the ramp and 0 past it), so
+    d lift = W''' |s|^2 / 2 dw + w W''' s . ds and d stored = W''' |s|^2 / 2 dg + W'' s . ds;
+    with the gap's Hessian (``plane_hessian``, or the search's where the point faces an edge
+    or a vertex) times lift and the fade's (``PlyContactBlock.fade_hessian_at``) times stored.
+
+    s (h, 3) mm, ds (h, 3, 9, 3) ds/dz, gap_gradient and fading (h, 9, 3) dg/dz and dw/dz
+    (1/mm), spring W'' (h,) N/mm, slope W''' (h,) N/mm^2, lift (h,) N and stored (h,) N mm.
+    """
+    half = 0.5 * np.sum(s * s, axis=1)
+    along = np.einsum("ti,tizb->tzb", s, ds)  # d(|s|^2 / 2)/dz, mm
+    fade = np.ones(len(rows)) if facing.fade is None else facing.fade[rows]
+    d_lift = (slope * half)[:, None, None] * fading + (fade * slope)[:, None, None] * along
+    d_stored = (slope * half)[:, None, None] * gap_gradient + spring[:, None, None] * along
+    points = (
+        gap_gradient[:, :, :, None, None] * d_lift[:, None, None]
+        + fading[:, :, :, None, None] * d_stored[:, None, None]
+    )
+    n, lam, grad = facing.normal[rows], facing.weights[rows], facing.gradients[rows]
+    hessian = plane_hessian(facing.gap[rows], n, lam, grad)  # (h, 4, 3, 4, 3)
+    if facing.hessian is not None:
+        bent = np.any(facing.hessian[rows] != 0.0, axis=(1, 2, 3, 4))
+        hessian[bent] = facing.hessian[rows][bent]
+    points[:, :4, :, :4, :] += lift[:, None, None, None, None] * hessian
+    faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)) & (stored != 0.0))
+    if faded.size:
+        fade_hessian = stored[faded, None, None, None, None] * block.fade_hessian_at(
+            state, facing, rows[faded]
+        )
+        slots = (0, 1, 2, 3, 7, 8)  # z's of (p, y_1, y_2, y_3, a, b)
+        for i, row in enumerate(slots):
+            for j, column in enumerate(slots):
+                points[faded, row, :, column, :] += fade_hessian[:, i, :, j, :]
+    return points
 
 
 def initial_history(block: PlyContactBlock) -> PlyFrictionHistory | None:

@@ -11,8 +11,10 @@ IEEE operations in the same order (the penalty law's branches as ``penalty_law``
 numpy's sums of three terms in its order: ``np.sum`` and ``np.linalg.norm`` over a row from the
 first term, ``einsum("pk,pki->pi")`` likewise, ``einsum("pki,pi->pk")`` as (first + last) +
 middle; no fused multiply-add: numba builds without fastmath), so they give the same numbers
-to the last bit (tests/test_ply_kernels.py). The stick spring before the fade's w comes from
-``ply_friction``'s own numpy for ``stick="normal law"`` (k_p for "penalty"), and the
+to the last bit (tests/test_ply_kernels.py). The stick spring before the fade's w and its slope
+come from ``ply_friction``'s own numpy for ``stick="normal law"`` (k_p and 0 for "penalty"),
+a stuck point's potential's ``lift`` and ``stored`` as ``ply_friction.stick_potential``
+computes them (|s|^2 / 2 as 0.5 times numpy's row sum), and the
 dissipation's sum over the points from ``np.sum`` (numpy's pairwise order). Each point is
 independent: the same bits on any thread count.
 """
@@ -42,7 +44,9 @@ def _return_mapping(
     smoothing,
     fade,
     stick,
+    stick_slope,
     fade_spring,
+    potential,
     friction,
     anchor_triangle,
     anchor_weights,
@@ -57,11 +61,15 @@ def _return_mapping(
     offset,
     triangle,
     spring,
+    lift,
+    stored,
 ):
     """``ply_friction.friction_state``'s arrays (``Sliding``) of the points, written into
-    force, slip, offset (P, 3), stuck, sliding (P,) bool, pressing, spring (P,), triangle (P,)
-    int: from their touching flags, gaps (mm), penalties k_p (N/mm), the fade w, the stick
-    springs ``stick`` before w (N/mm; times w where ``fade_spring``), the history's anchors
+    force, slip, offset (P, 3), stuck, sliding (P,) bool, pressing, spring, lift, stored (P,),
+    triangle (P,) int: from their touching flags, gaps (mm), penalties k_p (N/mm), the fade w,
+    the stick springs ``stick`` before w (N/mm; times w where ``fade_spring``) and their
+    slopes ``stick_slope`` (N/mm^2), ``potential`` whether a stuck point's spring derives
+    from its potential (``ply_friction.stick_potential``), the history's anchors
     (``anchor_triangle`` (P,), -1: none; ``anchor_weights`` (P, 3)), the points p ``face`` (P,
     3), their facing normals (P, 3) and the lower corners y (m, 3, 3); ``smoothing`` delta, mm,
     ``friction`` mu."""
@@ -110,6 +118,13 @@ def _return_mapping(
         offset[i, 0], offset[i, 1], offset[i, 2] = r0, r1, r2
         stuck[i] = held
         sliding[i] = slides
+        if held and potential:
+            half = 0.5 * ((s0 * s0 + s1 * s1) + s2 * s2)
+            lift[i] = fade[i] * (stick_slope[i] * half)
+            stored[i] = stick[i] * half
+        else:
+            lift[i] = 0.0
+            stored[i] = 0.0
 
 
 _return_mapping_compiled = jit_lanes(_return_mapping)
@@ -129,8 +144,9 @@ def friction_state(
     count = len(block.above)
     on = facing.touching
     stick = np.array(block.stiffness, dtype=float)
+    slope = np.zeros(count)
     if block.stick != "penalty":  # the normal law's own spring (ply_friction's numpy)
-        stick[on] = ply_friction._spring(block, facing.gap[on], block.stiffness[on])[0]
+        stick[on], slope[on] = ply_friction._spring(block, facing.gap[on], block.stiffness[on])
     _, y = block._faces(state)
     arrays = (
         np.empty((count, 3)),
@@ -141,6 +157,8 @@ def friction_state(
         np.empty((count, 3)),
         np.empty(count, dtype=np.int64),
         np.empty(count),
+        np.empty(count),
+        np.empty(count),
     )
     _return_mapping_compiled(
         np.ascontiguousarray(on, dtype=np.bool_),
@@ -149,7 +167,9 @@ def friction_state(
         float(block.smoothing),
         np.ascontiguousarray(facing.fade, dtype=float),
         stick,
+        slope,
         block.stick != "penalty",
+        block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
         float(block.friction),
         np.ascontiguousarray(history.triangle, dtype=np.int64),
         np.ascontiguousarray(history.anchor, dtype=float),

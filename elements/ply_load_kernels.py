@@ -2,7 +2,8 @@
 elements/ply_block.py): each touching point's penalty force w W'(g) dg/dz + W dw/dz on its
 upper triangle's corners and its facing triangle's corners, the fade's forces W dw/da,
 W dw/db on the ends of the outline's edge nearest it, the friction's tangential force on the
-upper corners and the anchor triangle's corners (elements/ply_friction.py
+upper corners and the anchor triangle's corners and a stuck point's stick potential's
+normal and fade terms on the upper, facing and outline-end nodes (elements/ply_friction.py
 ``friction_loads``), their moments c d x F on the directors, and their sums at the nodes, in
 one serial pass per block and call (docs/theory.md, the ply contact section).
 
@@ -103,6 +104,8 @@ def _loads(
     anchor_triangle,
     friction_force,
     anchor,
+    lift,
+    stored,
     force,
     moment,
 ):
@@ -113,7 +116,8 @@ def _loads(
     stiffness, shape (3,), above (3,), upper_offset (3,); per lower triangle: cells (3,),
     corner_offset (3,); direction (n, 3) the faces' unit directions; outline_nodes and
     outline_offsets (E, 2) the outline's edges' ends; sliding (f,) the stuck or sliding
-    points' rows, anchor_triangle, friction_force (3,) and anchor (3,) per point (P rows)."""
+    points' rows, anchor_triangle, friction_force (3,), anchor (3,), lift and stored per
+    point (P rows: elements/ply_friction.py ``Sliding``)."""
     n = force.shape[0]
     ends_force = np.zeros((n, 3))
     ends_moment = np.zeros((n, 3))
@@ -174,9 +178,15 @@ def _loads(
         r = sliding[i]
         t = anchor_triangle[r]
         f0, f1, f2 = friction_force[r, 0], friction_force[r, 1], friction_force[r, 2]
+        # a stuck point's stick potential beyond F: lift dg/dz + stored dw/dz (0: sliding)
+        up, kept = lift[r], stored[r]
+        n0, n1, n2 = normal[r, 0], normal[r, 1], normal[r, 2]
         _add_upper(
-            pair_force, pair_moment, r, shape, above, upper_offset, lever, direction, f0, f1, f2
-        )
+            pair_force, pair_moment, r, shape, above, upper_offset, lever, direction,
+            f0 + (up * n0 + kept * fade_gradient[r, 0, 0]),
+            f1 + (up * n1 + kept * fade_gradient[r, 0, 1]),
+            f2 + (up * n2 + kept * fade_gradient[r, 0, 2]),
+        )  # fmt: skip
         for k in range(3):
             a = -anchor[r, k]
             _add(
@@ -188,6 +198,42 @@ def _loads(
                 a * f0,
                 a * f1,
                 a * f2,
+            )
+        facing = triangle[r]
+        for k in range(3):
+            scaled = -up * weights[r, k]
+            _add(
+                pair_force,
+                pair_moment,
+                cells[facing, k],
+                lever * corner_offset[facing, k],
+                direction,
+                scaled * n0 + kept * fade_gradient[r, 1 + k, 0],
+                scaled * n1 + kept * fade_gradient[r, 1 + k, 1],
+                scaled * n2 + kept * fade_gradient[r, 1 + k, 2],
+            )
+        moving = False
+        if edges > 0 and fade_edge[r] >= 0:
+            for slot in range(6):
+                for c in range(3):
+                    if fade_gradient[r, slot, c] != 0.0:
+                        moving = True
+        for e in range(2):
+            if moving:
+                node = outline_nodes[fade_edge[r], e]
+                offset = lever * outline_offsets[fade_edge[r], e]
+            else:
+                node = cells[facing, e]
+                offset = lever * corner_offset[facing, e]
+            _add(
+                pair_force,
+                pair_moment,
+                node,
+                offset,
+                direction,
+                kept * fade_gradient[r, 4 + e, 0],
+                kept * fade_gradient[r, 4 + e, 1],
+                kept * fade_gradient[r, 4 + e, 2],
             )
     for node in range(n):
         for c in range(3):
@@ -232,9 +278,11 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
     if sliding is None or anchor is None:
         rows = np.zeros(0, dtype=np.int64)
         triangle, friction, anchors = np.zeros(count, dtype=np.int64), np.zeros((count, 3)), None
+        lift = stored = np.zeros(count)
     else:
         rows = np.flatnonzero(sliding.stuck | sliding.sliding)
         triangle, friction, anchors = sliding.triangle, sliding.force, anchor
+        lift, stored = sliding.lift, sliding.stored
     force = np.empty((block.n_nodes, 3))
     moment = np.empty((block.n_nodes, 3))
     outline_nodes = block.outline_nodes.reshape(-1, 2)
@@ -264,6 +312,8 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         _contiguous(triangle, np.int64),
         _contiguous(friction),
         _contiguous(np.zeros((count, 3)) if anchors is None else anchors),
+        _contiguous(lift),
+        _contiguous(stored),
         force,
         moment,
     )

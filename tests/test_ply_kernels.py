@@ -284,7 +284,8 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
     (elements/ply_friction_kernels.py) and facing give numpy's forces and moments, energy,
     return mapping and committed histories (the dissipation too) to the bit, on
     one thread and on all of numba's (every loop parallel); the premises, stuck and sliding
-    points and touching points whose fade moves the outline's edges' ends."""
+    points and touching points whose fade moves the outline's edges' ends (with the normal
+    law's spring: stuck points whose potential lifts them, or whose fade moves)."""
     from validation.studies import hemisphere_plies_setup as setup
 
     _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
@@ -335,6 +336,11 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
             moving = facing.touching & (facing.fade_edge >= 0)
             moving &= np.any(facing.fade_gradient[:, 4:] != 0.0, axis=(1, 2))
             seen["ends moved"] += int(moving.sum())
+            if stick == "normal law":  # the stick potential's normal force and fade term
+                seen["lifted"] = seen.get("lifted", 0) + int(np.sum(sliding.lift != 0.0))
+                faded = sliding.stored != 0.0
+                faded &= np.any(facing.fade_gradient != 0.0, axis=(1, 2))
+                seen["stored, faded"] = seen.get("stored, faded", 0) + int(faded.sum())
 
     on_one_thread_and_on_all(compare)
     assert min(seen.values()) > 0, seen
