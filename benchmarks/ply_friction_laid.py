@@ -58,6 +58,15 @@ iterations, the final positions the same to the bit. The on-top ply with frictio
 within 8.2e-7 mm of the frictionless one (39 iterations too), against a 6.1e-6 mm in-plane
 motion of its lower face there (tests/test_ply_overhang.py).
 
+The stick spring W'' as a potential (its normal force w W''' |s|^2 / 2 along dg/dz and
+W'' |s|^2 / 2 dw/dz past the outline carried by the loads and the tangent: docs/theory.md,
+"Friction between plies"), "normal law" before | after, the same run's two code trees side by
+side (one thread, load 12): on top, Static() 39 [11, 4, 3 x 8] | 40 [11, 4, 4, 3 x 7], no
+cut, 0.78 | 0.82 s, the final positions 9.2e-8 mm apart (within 9.1e-7 mm of the
+frictionless ply, 8.2e-7 before); overhang, Static() 63 [17, 4, 4, 6, 8, 5, 5, 4, 5, 5] | 62
+[17, 6, 4, 9, 3, 7, 5, 5, 3, 3], no cut, 0.69 | 0.76 s, 1.2e-12 mm apart (100 iterations: the
+same). "penalty" adds nothing (E = k_p |s|^2 / 2 holds no g).
+
 Run: python benchmarks/ply_friction_laid.py
 """
 
