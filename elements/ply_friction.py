@@ -394,7 +394,14 @@ def friction_tangent(
         fading[:, :4] = facing.fade_gradient[on][:, :4]
         fading[:, 7:] = facing.fade_gradient[on][:, 4:]
     lift, stored = sliding.lift[on], sliding.stored[on]
-    held = np.flatnonzero(stuck & (block.stick != "penalty") & (not block.curved))
+    # the stuck points whose potential holds g or w: on the ramp (W''' != 0) or in the fade's
+    # band (dw != 0); deeper and inside, every term below is 0
+    held = np.flatnonzero(
+        stuck
+        & (block.stick != "penalty")
+        & (not block.curved)
+        & ((spring_slope != 0.0) | np.any(fading != 0.0, axis=(1, 2)))
+    )
     if held.size:
         points[held] += _potential_tangent(
             block, state, facing, on[held], s[held], ds[held], gap_gradient[held],
