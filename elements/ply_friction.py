@@ -325,8 +325,9 @@ def friction_tangent(
     -Lambda_k P, ds/dy_fm = ((n . r) grad phi_m + (r . grad phi_m) n) n^T (from dn/dy_fm =
     -grad phi_m n^T); dF = k_t ds + s dk_t in stick (k_t = w W'', dk_t = w W''' dg + W'' dw),
     mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip, with dN = -W'' dg, dg/dz = (n,
-    -lambda_k n, 0). Carried to the nodes and turned with the directors as the normal part
-    (``tangent``)."""
+    -lambda_k n, 0); and a stuck point's stick potential beyond F (``friction_loads``: lift
+    dg/dz + stored dw/dz), its derivative from ``_potential_tangent``. Carried to the nodes
+    and turned with the directors as the normal part (``tangent``)."""
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     t = len(on)
