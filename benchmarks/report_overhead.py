@@ -26,7 +26,47 @@ Usage::
     python benchmarks/report_overhead.py render --data /tmp/fig-data --code /tmp/main --code .
     python benchmarks/report_overhead.py imports --results /tmp/report/results.json
 
-Measured: see the end of this docstring.
+Measured (2 cores shared with other jobs, load 9-15; one numba thread; CPU, the least of 2
+rounds, the code before (main 97cc118, from git archive) and this one alternating in fresh
+processes on the same pickled default results of the 23 cases):
+
+The default report's cases computed (``save``, 2 workers, load 9-15, a cold numba cache
+compiled by the first cases): 476 s CPU of solves. Their figures and files (``render``):
+17.70 -> 14.83 s CPU in all, about 3 % of the report. Per case: the five paper cases 2.2-2.6
+-> 1.7-2.1 s each (bai-6.2.1 2.55 -> 1.95, bai-6.1.1 2.37 -> 1.90, bai-6.2.2 2.25 -> 1.69,
+bai-6.1.2 2.24 -> 1.86, bai-5.1 2.31 -> 2.12), hemisphere-plies 1.26 -> 1.10,
+hemisphere-forming 0.93 -> 0.84, fibrous-deck-of-cards 0.53 -> 0.35, the 15 others
+0.1-0.6 s each, about as before. By part, before -> after (inclusive, they nest): savefig
+12.83 -> 6.28 (the layout now runs before it), the constrained layout 5.30 -> 4.69, the
+drawing to the file 4.29 -> 4.34, the XDMF/HDF5 series 2.64 -> 2.60 (femcore.xdmf: h5py's
+dataset per field and frame; not changed here), PNG encoding 0.96 -> 0.67, the 3D axes'
+drawing 0.77 -> 0.58, text measurement 0.65 -> 0.66, tight boxes 0.42 -> 0.36, VTU 0.37.
+Per figure the largest after: fibreshell.compare's path figures of the ply cases 0.40-0.42
+(savefig with constrained layout, in fibreshell: not changed here), the paper cases' 3D
+views 0.26-0.37 (a tight box around 3D axes still needs savefig's two draws), their side
+elevations 0.17-0.32 (0.26-0.60 before), sides 0.18-0.20 (0.47-0.64), laws 0.10 (0.23-0.26),
+the 2000-px hemisphere-plies maps 0.16-0.17 (0.46-0.55), every one-axes figure 0.03-0.05
+(0.07-0.20).
+
+What changed (validation.plots): ``save`` lays a constrained figure out once at its dpi and
+saves it without its engine, with its tight box measured from that layout for a 2D figure
+(savefig drew the figure once without output to lay it out, then to the file); the same
+pixels, 0 of 255 on every such figure. PNGs at zlib level 3: 34 -> 21 ms per 990 x 847
+figure, the report's PNGs 4.65 MB either way. A line per node (the directors of the side
+elevations, the 3D views, fibrous-heavy-cantilever and fibrous-deck-of-cards, the
+hemisphere's fibres) drawn as one line broken by NaN (``segments``): the 3D views' pixels
+the same; the side elevations differ in 80-1647 pixels, at most 238 of 255, where the
+vertical segment at the clamp was snapped to the pixel grid as a line of its own (half a
+pixel); the deck of cards' dotted closed form in 293 px (109 of 255, the dots' phase), the
+heavy cantilever in 47 px (94), the hemisphere's fibres in 8789 px (189 of 255) where warp
+and weft cross (the weft is now drawn over every warp fibre, before alternately).
+
+Imports (``imports``, each in a fresh process, CPU, load 11): validation.report 1.5 s in
+all (validation.cases 1.6 alone, fibreshell 0.8, solvers 0.8, elements 0.7, femcore 0.55,
+matplotlib.pyplot 0.5, mpl_toolkits.mplot3d 0.45, dask.distributed 0.4 (not imported by a
+report worker), numba 0.3, scipy.sparse 0.2, meshio 0.16, h5py 0.12, gmsh 0.11): about 1.5 s
+per worker process and the report's own. index.html (render_html) from the 23 cases'
+results.json: 2 ms.
 """
 
 from __future__ import annotations
