@@ -76,3 +76,88 @@ def test_the_3d_view_labels_z_in_its_left_column_only(tmp_path, monkeypatch):
     panels = [ax for ax in drawn[0].axes if ax.name == "3d"]
     assert [ax.get_zlabel() for ax in panels] == ["z (mm)", "", "z (mm)"]
     assert all(ax.get_xlabel() == "x (mm)" and ax.get_ylabel() == "y (mm)" for ax in panels)
+
+
+def _drawn(monkeypatch, draw):
+    """The matplotlib figure that ``draw()`` saves (kept open: ``plt.close`` recorded)."""
+    kept = []
+    monkeypatch.setattr(figures.plt, "close", kept.append)
+    draw()
+    return kept[0]
+
+
+def _pieces(lines, dims: int) -> list[np.ndarray]:
+    """The straight pieces of ``lines`` (one artist each, or NaN-broken), as (2, dims) ends."""
+    pieces = []
+    for line in lines:
+        data = np.column_stack(line.get_data_3d() if dims == 3 else line.get_data()).astype(float)
+        breaks = np.flatnonzero(np.isnan(data).any(axis=1))
+        for piece in np.split(data, breaks):
+            piece = piece[~np.isnan(piece).any(axis=1)]
+            if len(piece):
+                pieces.append(piece)
+    return pieces
+
+
+@pytest.mark.parametrize("sides", [1, 2])
+def test_the_side_elevation_draws_a_segment_along_the_director_at_every_node(
+    tmp_path, monkeypatch, sides
+):
+    # The segments of each panel: from the bottom surface to the top one, mid-surface -/+ half
+    # the thickness along the director at the profile's angle, one per node, in black and
+    # drawn as one line per panel (a line per node made the figure's layout visit hundreds).
+    case, _, _, profiles = _bent_strip(sides)
+    fig = _drawn(monkeypatch, lambda: figures.side_elevation(case, profiles, tmp_path))
+    panels = [ax for ax in fig.axes if ax.get_xlabel()]
+    assert len(panels) == len(KINEMATICS) * sides
+    order = [(k, s) for k in KINEMATICS for s in profiles[KINEMATICS[0]]]
+    by_title = {ax.get_title().replace("\n", " "): ax for ax in panels}
+    for kinematics, side in order:
+        ax = next(a for t, a in by_title.items() if t.endswith(side.replace("_", " ")))
+        data = profiles[kinematics][side]
+        x = np.asarray(data.midsurface)
+        u = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1))]
+        angle = np.radians(data.director_angle_deg)
+        half = 0.5 * np.asarray(data.thickness)
+        lean = np.column_stack([half * np.cos(angle), half * np.sin(angle)])
+        centre = np.column_stack([u, x[:, 2]])
+        black = [line for line in ax.get_lines() if line.get_color() == "k"]
+        assert len(black) == 1 and len(ax.get_lines()) == 3  # bottom, top, the segments
+        pieces = _pieces(black, 2)
+        assert len(pieces) == len(u)
+        ends = np.array(pieces)
+        np.testing.assert_allclose(ends[:, 0], centre - lean, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(ends[:, 1], centre + lean, rtol=0, atol=1e-12)
+
+
+def test_the_3d_view_draws_a_segment_along_the_director_at_every_side_node(tmp_path, monkeypatch):
+    # Per panel, the side nodes' positions -/+ half the thickness along their directors, one
+    # segment each, in one black line (the drawing of a line per node dominated the figure).
+    case, specimen, results, _ = _bent_strip(2)
+    fig = _drawn(monkeypatch, lambda: figures.view_3d(case, specimen, results, tmp_path))
+    panels = [ax for ax in fig.axes if ax.name == "3d"]
+    assert len(panels) == len(KINEMATICS)
+    for ax, kinematics in zip(panels, KINEMATICS):
+        result = results[kinematics]
+        black = [line for line in ax.get_lines() if line.get_color() == "k"]
+        assert len(black) == len(specimen.sides)  # one line per side
+        pieces = np.array(_pieces(black, 3))
+        nodes = np.concatenate([n for n, _ in specimen.sides.values()])
+        half = 0.5 * result.thickness[nodes, None]  # the fibrous ones; all equal here
+        np.testing.assert_allclose(
+            pieces[:, 0], result.positions[nodes] - half * result.directors[nodes], atol=1e-12
+        )
+        np.testing.assert_allclose(
+            pieces[:, 1], result.positions[nodes] + half * result.directors[nodes], atol=1e-12
+        )
+
+
+def test_segments_break_one_line_after_each_segment():
+    from validation.plots import segments
+
+    starts, ends = np.array([[0.0, 1.0], [2.0, 3.0]]), np.array([[4.0, 5.0], [6.0, 7.0]])
+    drawn = segments(starts, ends)
+    nan = np.nan
+    np.testing.assert_array_equal(drawn, [[0, 1], [4, 5], [nan, nan], [2, 3], [6, 7], [nan, nan]])
+    with pytest.raises(ValueError, match="one shape"):
+        segments(starts, ends[:1])

@@ -29,7 +29,7 @@ from materials.presets import paper_stack
 from validation import specimens
 from validation.checks import check
 from validation.paper import INCREMENTS
-from validation.plots import plt
+from validation.plots import plt, save
 from validation.records import Case, Figure, Outcome
 
 __all__ = ["CASE", "SensitivityData", "base_case", "compute", "render", "sweep_workers"]
@@ -215,7 +215,7 @@ def render(data: SensitivityData, out_dir: Path) -> list[Figure]:
     fig.suptitle(
         "bai-6.1.1, side 1: each kinematics for the varied B and K (same colour, same variant)"
     )
-    fig.savefig(out_dir / figure, dpi=100)
+    save(fig, out_dir / figure, dpi=100)
     plt.close(fig)
     return [
         Figure(

@@ -27,7 +27,7 @@ import numpy as np
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
 from validation.checks import check
-from validation.plots import figure
+from validation.plots import figure, segments
 from validation.records import Case, Figure, Outcome
 from validation.specimens import deck_of_cards
 
@@ -218,33 +218,21 @@ def render(data: DeckData, out_dir: Path) -> list[Figure]:
         ):
             p, d, h = run.positions, run.directors, run.thickness
             ax.plot(p[:, 0], p[:, 2], "-", color="0.4", lw=1)
-            for k, (point, director, length) in enumerate(zip(p, d, h)):
-                ends = point + np.outer([-0.5, 0.5], director) * length * scale
-                ax.plot(
-                    ends[:, 0],
-                    ends[:, 2],
-                    "-",
-                    color=colour,
-                    lw=1.2,
-                    label=f"directors, {label} (x{scale:g})" if k == 0 else None,
-                )
+            half = 0.5 * scale * h[:, None] * d
+            directors = segments(p - half, p + half)
+            ax.plot(directors[:, 0], directors[:, 2], "-", color=colour, lw=1.2,
+                    label=f"directors, {label} (x{scale:g})")  # fmt: skip
         theta = middle.rotation
         normal = np.column_stack([-np.sin(theta), np.cos(theta)])
         tangent = np.column_stack([np.cos(theta), np.sin(theta)])
         exact = (
             np.cos(np.arctan(theta))[:, None] * normal + np.sin(np.arctan(theta))[:, None] * tangent
         )
-        for k, (point, direction, rotation) in enumerate(zip(middle.positions, exact, theta)):
-            length = THICKNESS * np.hypot(1.0, rotation) * scale
-            ends = point[[0, 2]] + np.outer([-0.5, 0.5], direction) * length
-            ax.plot(
-                ends[:, 0],
-                ends[:, 1],
-                ":",
-                color="k",
-                lw=1,
-                label="atan(theta) from the normal" if k == 0 else None,
-            )
+        half = 0.5 * scale * THICKNESS * np.hypot(1.0, theta)[:, None] * exact
+        centre = middle.positions[:, [0, 2]]
+        directors = segments(centre - half, centre + half)
+        ax.plot(directors[:, 0], directors[:, 1], ":", color="k", lw=1,
+                label="atan(theta) from the normal")  # fmt: skip
         ax.set_aspect("equal")
     with figure(
         out_dir / names[1],

@@ -29,7 +29,7 @@ from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
 from validation.checks import check
-from validation.plots import figure
+from validation.plots import figure, segments
 from validation.records import Case, Figure, Outcome
 from validation.references.elastica import heavy_cantilever
 from validation.specimens import GRAVITY, fibrous_strip
@@ -188,10 +188,10 @@ def render(data: HeavyCantileverData, out_dir: Path) -> list[Figure]:
     with figure(out_dir / f"{NAME}.png", "x (mm)", "z (mm)") as ax:
         ax.plot(reference["x"], reference["z"], "-", color="0.3", label="heavy elastica (BVP)")
         ax.plot(p[:, 0], p[:, 2], "o", ms=4, label=f"FibrousShell, {data.cells} cells, side y = 0")
-        for k, (point, director, length) in enumerate(zip(p, d, h)):
-            ends = point + np.outer([-0.5, 0.5], director) * length
-            label = "directors x nodal thickness" if k == 0 else None
-            ax.plot(ends[:, 0], ends[:, 2], "-", color="C1", lw=1, label=label)
+        half = 0.5 * h[:, None] * d
+        directors = segments(p - half, p + half)
+        ax.plot(directors[:, 0], directors[:, 2], "-", color="C1", lw=1,
+                label="directors x nodal thickness")  # fmt: skip
         ax.plot([0, LENGTH], [0, 0], ":", color="0.6", label="unloaded mid-surface")
         ax.set_aspect("equal")
     data.result.write(out_dir / f"{NAME}.vtu")

@@ -27,7 +27,7 @@ from validation.paper.kinematics import (
     MARKERS,
     calibration_title,
 )
-from validation.plots import plt
+from validation.plots import plt, save, segments
 from validation.records import Figure, SideProfile
 
 if TYPE_CHECKING:
@@ -117,7 +117,7 @@ def side_figure(
     lines = (f"{case.name}: {case.title}", calibration_title(case.calibration, case.fabric))
     fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-sides.png"
-    fig.savefig(out_dir / name, dpi=100)
+    save(fig, out_dir / name, dpi=100)
     plt.close(fig)
     return Figure(
         name,
@@ -162,8 +162,8 @@ def side_elevation(
             axis.fill(band[:, 0], band[:, 1], color=COLOURS[kinematics], alpha=0.25, lw=0)
             axis.plot(*bottom, color=COLOURS[kinematics], lw=0.8)
             axis.plot(*top, color=COLOURS[kinematics], lw=0.8)
-            for k in range(len(u)):
-                axis.plot([bottom[0][k], top[0][k]], [bottom[1][k], top[1][k]], color="k", lw=0.9)
+            through = segments(np.column_stack(bottom), np.column_stack(top))
+            axis.plot(through[:, 0], through[:, 1], color="k", lw=0.9)
             axis.set_aspect("equal", adjustable="datalim")
             axis.grid(True, alpha=0.3)
             title = f"{LABELS[kinematics]}, {side.replace('_', ' ')}"
@@ -176,7 +176,7 @@ def side_elevation(
     fig.suptitle(_title(lines, width), fontsize=11)
     name = f"{case.name}-side-elevation.png"
     # The tight box keeps the wrapped titles whole.
-    fig.savefig(out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.1)
+    save(fig, out_dir / name, dpi=100, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
     return Figure(
         name,
@@ -249,7 +249,7 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
     )
     fig.suptitle(_title(lines, 9.0), fontsize=11)
     name = f"{case.name}-laws.png"
-    fig.savefig(out_dir / name, dpi=110)
+    save(fig, out_dir / name, dpi=110)
     plt.close(fig)
     mindlin = (
         "With the 'laws' calibration the Mindlin section uses these same laws, so that the "
@@ -297,8 +297,7 @@ def view_3d(
             d = result.directors[nodes]
             bottom = x[nodes] - half[:, None] * d
             top = x[nodes] + half[:, None] * d
-            for a, b in zip(bottom, top):
-                ax.plot(*np.column_stack([a, b]), color="k", lw=1.4)
+            ax.plot(*segments(bottom, top).T, color="k", lw=1.4)
         # Equal scales on the three axes, the free corner in front; a shape whose height is
         # under a third of its plan size is drawn with z exaggerated to that, and says so.
         low, high = x.min(axis=0) - h, x.max(axis=0) + h
@@ -332,7 +331,7 @@ def view_3d(
     fig.suptitle(f"{case.name}: directors along the sides", fontsize=12)
     name = f"{case.name}-3d.png"
     # The layout does not see a 3D axes' z label; the tight box keeps the left ones in view.
-    fig.savefig(out_dir / name, dpi=110, bbox_inches="tight", pad_inches=0.15)
+    save(fig, out_dir / name, dpi=110, bbox_inches="tight", pad_inches=0.15)
     plt.close(fig)
     return Figure(
         name,

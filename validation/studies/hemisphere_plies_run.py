@@ -456,6 +456,8 @@ def render(data: PliesData, out_dir: Path) -> list[Figure]:
     import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
 
+    from validation.plots import save
+
     figures = []
     for name in LAYUPS:
         key = run_key(name, "fibrous", HOLDER_FORCES[0])
@@ -488,7 +490,7 @@ def render(data: PliesData, out_dir: Path) -> list[Figure]:
         ax.set_aspect("equal")
         fig.colorbar(spot, ax=ax, shrink=0.8)
         filename = f"{NAME}-{name.replace('/', '-')}.png"
-        fig.savefig(out_dir / filename, dpi=100)
+        save(fig, out_dir / filename, dpi=100)
         plt.close(fig)
         figures.append(
             Figure(
@@ -508,6 +510,8 @@ def _kinetic_figure(data: PliesData, out_dir: Path) -> Figure:
     the directors' rotational part, with the bound and the judged window."""
     import matplotlib.pyplot as plt
 
+    from validation.plots import save
+
     fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
     for key, result in data.runs.items():
         energies = result.energies
@@ -526,7 +530,7 @@ def _kinetic_figure(data: PliesData, out_dir: Path) -> Figure:
     ax.set_ylabel("kinetic energy / external work")
     ax.legend(fontsize="small")
     filename = f"{NAME}-kinetic.png"
-    fig.savefig(out_dir / filename, dpi=100)
+    save(fig, out_dir / filename, dpi=100)
     plt.close(fig)
     return Figure(
         filename,
