@@ -29,9 +29,11 @@ Measured (one thread, CPU, 2 cores shared with other jobs):
   line search, two at max_iterations 150) before 1/16 converges in 29 (ratio ~1 for 16,
   then a quadratic tail). Then 116, 26, 14, 18, 8-12 iterations per increment, each a plateau
   of ratio ~1 and a tail. In all 358 converged and 470 cut iterations (1065 force passes,
-  664 energies, 834 tangents). With stall_iterations=25 (load 9-11): 261 and 140 (the second
-  increment 116 -> 19 after a cut; 507 force passes, 218 energies, 403 tangents), 15: 238
-  and 120, 20 with the ratio's halving as the rule: 261 and 119.
+  664 energies, 834 tangents; the accepted trial's forces are already the next iteration's
+  residual: one force pass an iteration, more only where the watchdog backtracks). With
+  stall_iterations=25 (load 9-11): 261 and 140 (the second increment 116 -> 19 after a cut;
+  507 force passes, 218 energies, 403 tangents), 15: 238 and 120, 20 with the ratio's
+  halving as the rule: 261 and 119.
 * bai, default (30 cells, 8 plies, 20 increments a phase; load 9-16): without the rule 57.0 s,
   465 converged iterations (22-6-5-4-4-4-4-3 ... and 92, 33, 21, 12-19 in the displacement
   phase) and 420 in three cut attempts of its first displacement increment (149, 149 and 122
