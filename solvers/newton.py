@@ -62,6 +62,9 @@ spring where it slides leaves a state far off). After MAX_CONTACT_UPDATES wrong 
 increment goes on with the unilateral law itself, which settles the nodes whose contact force
 is near zero (a lift-off) where frozen sets alternate.
 
+Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
+whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
+
 Convergence is the force-reference test of solvers.convergence (``Residual``), no stricter than
 the residual's rounding at the iterate (solvers.round_off).
 """
