@@ -21,7 +21,9 @@ search 47 s (845 trial force passes 33 s, 512 energies 9 s, 54 backtracks 4.7 s)
 factorisations 15 s, the solves 3 s. The ply contact's facing 64 s in all, 17185 calls: a
 Newton iteration made it twice at one state, for the loads (without the Hessian) and again
 for the tangent (with it), the only difference between the two being the Hessian of the
-points that face an edge or a vertex. That second facing is what was cut.
+points that face an edge or a vertex. That second facing is what was cut. Where those Newton
+iterations go increment by increment, and the stalled attempts cut since:
+benchmarks/static_plies_newton.py.
 
 Measured (one thread, CPU, 2 cores shared with other jobs):
 

@@ -62,6 +62,9 @@ spring where it slides leaves a state far off). After MAX_CONTACT_UPDATES wrong 
 increment goes on with the unilateral law itself, which settles the nodes whose contact force
 is near zero (a lift-off) where frozen sets alternate.
 
+Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
+whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
+
 Convergence is the force-reference test of solvers.convergence (``Residual``), no stricter than
 the residual's rounding at the iterate (solvers.round_off).
 """
@@ -96,6 +99,7 @@ __all__ = [
     "MAX_ROTATION",
     "SMALLEST_FIRST_STEP",
     "SMALLEST_STEP",
+    "STALLED_RATIO",
     "WATCHDOG",
     "IncrementFailed",
     "Residual",
@@ -107,6 +111,7 @@ __all__ = [
     "keeps_contact_sets",
     "mechanism",
     "newton",
+    "stalled",
     "step_cap",
 ]
 
@@ -126,6 +131,9 @@ SMALLEST_FIRST_STEP = 1e-9
 # settles the nodes whose contact force is near zero (the lift-off of a wrapped strip), where
 # the frozen sets would alternate.
 MAX_CONTACT_UPDATES = 3
+# ``Static(stall_iterations=N)``: an attempt whose residual ratio stayed above this over its
+# last N iterations is cut at once (``stalled``; docs/theory.md §6.5, "Stalled attempts").
+STALLED_RATIO = 0.1
 # Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
 # layered shell can ask for director turns of several radians, which lead Newton into states
 # with collapsed cells or fibres stretched by orders of magnitude, where a log-strain
@@ -255,6 +263,11 @@ def _iterate(
         history.append(ratio)
         if not np.isfinite(ratio):
             raise IncrementFailed("non-finite residual")
+        if stalled(history, solver.stall_iterations):
+            window = solver.stall_iterations
+            raise IncrementFailed(
+                f"the residual ratio stayed above {STALLED_RATIO:g} for {window} iterations"
+            )
         push = False
         tangent: tuple[Any, Any] | None = None  # (K_ff, K_fp) at ``state``, when assembled
         modes: tuple[np.ndarray, np.ndarray] | None = None  # their lowest modes
@@ -499,6 +512,17 @@ def settle_contacts(
     if floor:  # at the round-off floor (at_round_off_floor): the same sets, a small residual
         return (thawed if not changed and unilateral <= 1e-3 else None), unilateral
     return (thawed if unilateral <= tol else None), unilateral
+
+
+def stalled(history: list[float], window: int | None) -> bool:
+    """Whether the last ``window`` residual ratios of an attempt (``history``: the ratio
+    before the first update, then one per update) all stayed above STALLED_RATIO: Newton
+    making no headway, which on plies in contact (points stepping on and off each other from
+    one iterate to the next) goes on for a hundred iterations before the attempt fails or
+    crawls in, where the half step converges in a few (docs/theory.md §6.5). None: never."""
+    if window is None or len(history) <= window:
+        return False
+    return min(history[-window:]) > STALLED_RATIO
 
 
 def at_round_off_floor(scale: float, delta: np.ndarray, ratio: float, size: float) -> bool:

@@ -92,6 +92,7 @@ class Static:
     line_search : the Armijo line search of the load path (module docstring); without it
         every Newton step is taken whole (after the step cap below).
     max_cuts : how many times an increment may be halved before a ConvergenceError.
+    stall_iterations : cut an attempt whose ratio stayed above 0.1 that long (newton.stalled).
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'
@@ -111,11 +112,7 @@ class Static:
         displacement does. Each such limit is listed in ``info["jumps"]``.
     predictor : load path: start each increment after the first of a phase from the previous
         increment extrapolated (module docstring) instead of the last converged state. Off by
-        default: on the strips of the tests and benchmarks it saved nothing and cost the last
-        roll-up increment 9 iterations (the chord of a turning strip stretches it); with the
-        curved steps too (roll-up 4-8-6-10 against 4-5-5-4, Peirce's fibrous cantilever
-        7-28-15 against 7-14-11): the extrapolated translations of a turning strip stretch it
-        twice as much as a tangent step.
+        default: it cost iterations on the strips and the plies (docs/theory.md §6.5).
     seek_stable : when the tangent of a converged state has negative eigenvalues (an unstable
         equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
         settle on the stable branch. Load path: the Newton steps that meet an indefinite
@@ -230,6 +227,7 @@ class Static:
         max_iterations: int = 50,
         line_search: bool = True,
         max_cuts: int = 8,
+        stall_iterations: int | None = None,
         augmentations: int = 20,
         tangent: str = "element",
         seek_stable: bool = True,
@@ -254,6 +252,8 @@ class Static:
         self.max_iterations = check_integer(max_iterations, "max_iterations")
         self.line_search = check_flag(line_search, "line_search")
         self.max_cuts = check_integer(max_cuts, "max_cuts", minimum=0)
+        stall = stall_iterations
+        self.stall_iterations = None if stall is None else check_integer(stall, "stall_iterations")
         self.augmentations = check_integer(augmentations, "augmentations", minimum=0)
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")

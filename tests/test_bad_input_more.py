@@ -105,7 +105,7 @@ INTEGER_OPTIONS = [
     *[(DynamicRelaxation, name) for name in ("increments", "max_iterations", "refresh",
                                               "stall_iterations", "plateau_iterations")],
     *[(Static, name) for name in ("increments", "max_iterations", "max_cuts", "max_increments",
-                                  "chords")],
+                                  "chords", "stall_iterations")],
 ]  # fmt: skip
 
 

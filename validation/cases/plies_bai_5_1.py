@@ -44,7 +44,12 @@ TOLERANCES = {
 }  # fmt: skip
 TOLERANCES["fine"] = TOLERANCES["default"]
 # Newton without seek_stable (its search of negative modes stalls on the plies, whose
-# tangent goes indefinite on the way: docs/theory.md §9.3a), more iterations per increment.
+# tangent goes indefinite on the way: docs/theory.md §9.3a), more iterations per increment;
+# an attempt whose residual ratio stayed above 0.1 for 25 iterations cut at once
+# (``stall_iterations``, docs/theory.md §6.5 "Stalled attempts"): at the default resolution the
+# three attempts cut in the first displacement increment spent 149, 149 and 122 iterations
+# at ratio ~1 before, 25 each now, the same solve to the bit otherwise (plies 57.0 -> 31.1 s
+# CPU, benchmarks/static_plies_newton.py).
 PLIES_SOLVER: dict[str, Any] = {
     "kind": "static",
     "increments": 10,
@@ -52,6 +57,7 @@ PLIES_SOLVER: dict[str, Any] = {
     "seek_stable": False,
     "max_iterations": 150,
     "max_cuts": 10,
+    "stall_iterations": 25,
 }
 # The plies' increments per phase. Default, 8 plies: in 10 the first displacement increments
 # took 130 and 101 Newton iterations and 4 cuts (1076 tangents in all); in 20, 92 and 33 and

@@ -1,0 +1,268 @@
+"""Where the Static ply cases' Newton iterations go, increment by increment: each attempt's
+residual ratios, the watchdog's step lengths and its trial force passes and energies, the cut
+attempts and why they failed, and what the ply contact's points did between the iterates (on
+or off the ramp -delta < g < 0 of the smoothed penalty, deeper, in the fade past the outline,
+the facing triangle switched, the sign of the gap flipped), docs/theory.md §6.5 ("Stalled
+attempts") and §9.3a; the case's plies solved without ``Static(stall_iterations=...)`` (the
+reference pass, as before) and with it (``--stall``, 25 by default), side by side in this
+process, the final positions and directors compared.
+
+    python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
+        [--resolution coarse|default] [--stall 25] [--detail]
+
+bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
+deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
+fewest plies. One thread, CPU time (``time.process_time``); the machine's load is printed.
+
+Measured (one thread, CPU, 2 cores shared with other jobs):
+
+* bai, coarse (12 cells, 4 plies, 10 increments a phase; load 2-4.5): 21-5-4-4-4-3-3-3-3-3
+  in the gravity phase (the first from the plies laid at g = 0: all 144 points on the ramp,
+  8-28 stepping on or off it at each iterate while the ratio crawls from 1e-4 to 1e-6; each
+  later increment 3-5, a quadratic tail from 1e-3). The displacement phase: at its start 12
+  of the 144 points touch; the imposed step, taken whole with the free unknowns moved by
+  K_ff^-1 K_fp (no stiffness between plies apart), carries 120 points through the ply below
+  (the gaps change sign by more than 1e-3 mm); from there 20-80 points step on or off at every
+  iterate (no facing triangle switches, no point in the fade), the watchdog's steps are
+  0.004-1 with 1-6 trial force passes, and the ratio stays at 0.6-1.0: 105, 149, 52, 149
+  iterations in the attempts at the whole, half, quarter and eighth step (two failed on the
+  line search, two at max_iterations 150) before 1/16 converges in 29 (ratio ~1 for 16,
+  then a quadratic tail). Then 116, 26, 14, 18, 8-12 iterations per increment, each a plateau
+  of ratio ~1 and a tail. In all 358 converged and 470 cut iterations (1065 force passes,
+  664 energies, 834 tangents; the accepted trial's forces are already the next iteration's
+  residual: one force pass an iteration, more only where the watchdog backtracks). With
+  stall_iterations=25 (load 9-11): 261 and 140 (the second increment 116 -> 19 after a cut;
+  507 force passes, 218 energies, 403 tangents), 15: 238 and 120, 20 with the ratio's
+  halving as the rule: 261 and 119.
+* bai, default (30 cells, 8 plies, 20 increments a phase; load 9-16): without the rule 57.0 s,
+  465 converged iterations (22-6-5-4-4-4-4-3 ... and 92, 33, 21, 12-19 in the displacement
+  phase) and 420 in three cut attempts of its first displacement increment (149, 149 and 122
+  iterations at ratio 0.6-1.0); with 25: 31.1 s, the same 465 and 75 cut (25 each), the final
+  positions and directors the same to the bit (the attempts cut fail either way: the path is
+  the same). The report's case side by side (``python -m validation --cases plies-bai-5.1
+  --jobs 1``, main's code from a ``git archive``): default 124.9 -> 82.9 s CPU (load 10-15),
+  results.json the same in every number; coarse 17.2 -> 9.9 s (load 13-15), its numbers
+  within 4e-14 relative (5.2905, 3.2354, 3.3894, 0.2146, 27.031), Newton iterations of the
+  three runs 824 -> 727.
+* sag, coarse (the heavy stack of 4 plies, 20 cells, gravity in 6 increments; load 9-11):
+  98-120-32-33-16-15 and 30 cut without the rule (its first increment converges after a
+  plateau of 58 iterations at ratio ~1); with 25: 289 and 188, with 30: 289 and 97: more in
+  all, so the deck-of-cards case does not set it; its 8-ply stack (default): 142-103-33-22-17-15
+  and 73 cut in 4 attempts (14-23 iterations each, all on the line search), 11.2 s; with 25:
+  218 and 200 in 10, 12.1 s, the same equilibrium to 1e-13 mm. The deck (4 plies, 20 cells,
+  8 increments): 12-12-12-12-12-14-36-92 and 17 cut, the same with 25 (its last increments
+  converge linearly in the band 1e-5 to 1e-2, below the rule's 0.1).
+* heavy, default (plies-heavy-cantilever's 8 plies on 20 cells, 10 increments; load 11-16):
+  18-32-21-33-34-14-44-13-13-11, no cut, 7.2 s; with 25 the seventh increment is cut once
+  (25 iterations, then 20), 209 and 25, 6.0 s, the same equilibrium to 1e-13 mm: nothing
+  saved, and the case does not set it.
+* Not kept (coarse bai, in this script's way): the ply contact's tangent with the full
+  penalty k on the ramp while the ratio is above 1e-2 (472 and 544) or 1e-4 (1996 and 1831);
+  ``predictor=True`` (405 and 596; the heavy stack 348 and 440); the fibre-length
+  projection, the curved steps and the chords let through with the ply contact (fibres alone
+  816 and 1881; with the chords 751 and 1847; all three 425 and 988; on the heavy stack 186
+  and 172 against 314 and 30); the first tangent of each increment (the one of the imposed
+  step) holding the points near contact, touching or up to a gap b apart, with the full
+  penalty k (b = 0.003 mm: 303 and 399; 0.01: 312 and 403; 0.1: 368 and 424), or every
+  tangent so with b = 0.01 (the first increment fails after 10 cuts, stuck at a ratio of
+  3e-5: the tangent no longer the force's derivative near equilibrium): 15 % fewer
+  iterations at best, from the first tangents alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+import solvers.newton as newton_module  # noqa: E402
+import solvers.static as static_module  # noqa: E402
+from elements.ply_block import PlyContactBlock  # noqa: E402
+from solvers import Static  # noqa: E402
+
+RECORD: dict = {}
+
+
+def _ply_states(run, state):
+    """Per ply-contact block: (touching, on the ramp, faded, triangle, gap) at ``state``."""
+    out = []
+    for block in run.model.interactions:
+        if not isinstance(block, PlyContactBlock):
+            continue
+        facing = block.facing(state)
+        gap = np.asarray(facing.gap)
+        touching = np.asarray(facing.touching)
+        ramp = touching & (gap > -block.smoothing)
+        fade = np.ones_like(gap) if facing.fade is None else np.asarray(facing.fade)
+        out.append((touching.copy(), ramp, touching & (fade < 1.0), facing.triangle.copy(), gap))
+    return out
+
+
+def _changes(before, after) -> dict:
+    """Counts of the points whose contact state changed between two iterates."""
+    keys = ("in", "out", "ramp_in", "ramp_out", "fade_changed", "triangle", "sign")
+    total = dict.fromkeys(keys, 0)
+    for (t0, r0, f0, tri0, g0), (t1, r1, f1, tri1, g1) in zip(before, after):
+        total["in"] += int(np.sum(~t0 & t1))
+        total["out"] += int(np.sum(t0 & ~t1))
+        total["ramp_in"] += int(np.sum(~r0 & r1))
+        total["ramp_out"] += int(np.sum(r0 & ~r1))
+        total["fade_changed"] += int(np.sum(f0 != f1))
+        total["triangle"] += int(np.sum(tri0 != tri1))
+        total["sign"] += int(np.sum((np.sign(g0) != np.sign(g1)) & (np.abs(g0 - g1) > 1e-3)))
+    return total
+
+
+def instrument() -> None:
+    """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
+    RECORD.update(attempts=[], iterations=[])
+    plain_newton = static_module.newton
+
+    def newton(run, state, load_factor, max_iterations=None):
+        entry = {"load": load_factor, "iterations": [], "failed": None, "cpu": time.process_time()}
+        RECORD["attempts"].append(entry)
+        RECORD["current"] = entry
+        RECORD["last_ply"] = None
+        try:
+            out = plain_newton(run, state, load_factor, max_iterations)
+        except newton_module.IncrementFailed as failure:
+            entry["failed"] = str(failure)
+            entry["history"] = failure.history
+            entry["cpu"] = time.process_time() - entry["cpu"]
+            raise
+        entry["history"] = out[3]
+        entry["cpu"] = time.process_time() - entry["cpu"]
+        return out
+
+    static_module.newton = newton
+
+    plain_tangent = static_module.StaticRun.tangent
+
+    def tangent(self, state, frames, compression_free=False):
+        plies = _ply_states(self, state)
+        touching = sum(int(p[0].sum()) for p in plies)
+        ramp = sum(int(p[1].sum()) for p in plies)
+        faded = sum(int(p[2].sum()) for p in plies)
+        row = {"touching": touching, "ramp": ramp, "faded": faded, "scale": None, "trials": 0}
+        if RECORD.get("last_ply") is not None:
+            row.update(_changes(RECORD["last_ply"], plies))
+        RECORD["last_ply"] = plies
+        RECORD["current"]["iterations"].append(row)
+        return plain_tangent(self, state, frames, compression_free)
+
+    static_module.StaticRun.tangent = tangent
+
+    plain_step = newton_module.Watchdog.step
+
+    def step(self, *args, **kwargs):
+        before = self.run.counts["residual"]
+        energies = self.run.counts["energy"]
+        out = plain_step(self, *args, **kwargs)
+        rows = RECORD["current"]["iterations"]
+        if rows:
+            rows[-1]["scale"] = out[0]
+            rows[-1]["trials"] = self.run.counts["residual"] - before
+            rows[-1]["energies"] = self.run.counts["energy"] - energies
+        return out
+
+    newton_module.Watchdog.step = step
+
+
+def solve_case(name: str, resolution: str, stall: int | None):
+    """Solve the Static plies of case ``name`` at ``resolution`` with
+    ``Static(stall_iterations=stall)``; the result."""
+    if name in ("bai", "heavy"):
+        from fibreshell.plies import plies_solver, ply_stack, stack_model
+        from validation.cases import plies_bai_5_1, plies_heavy_cantilever
+        from validation.ground_truth import _case
+
+        case_module: Any = plies_bai_5_1 if name == "bai" else plies_heavy_cantilever
+        solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall}
+        if name == "bai":
+            solver["increments"] = case_module.PLIES_INCREMENTS[resolution]
+        if stall is None:
+            del solver["stall_iterations"]
+        case = _case(case_module.FILE, case_module.CELLS[resolution], {"solver": solver})
+        stack = ply_stack(case, case_module.PLIES[resolution])
+        model = stack_model(case, stack).compile()
+        return plies_solver(case, progress=False).solve(model)
+    from validation.cases import plies_deck_of_cards as deck
+
+    deck.Static = functools.partial(Static, stall_iterations=stall)  # type: ignore[attr-defined]
+    if name == "deck":
+        return deck.bend(deck.COUNTS[resolution][-1], deck.MIDDLE).result
+    if name == "sag":
+        return deck.sag(deck.SAG_COUNTS[resolution][0]).result
+    raise ValueError(f"case {name!r}: expected bai, heavy, deck or sag")
+
+
+def report(result) -> None:
+    """Print the attempts, increment by increment."""
+    for entry in RECORD["attempts"]:
+        status = "CUT: " + entry["failed"] if entry["failed"] else "converged"
+        its = entry["iterations"]
+        print(
+            f"load {entry['load']:.4f}: {len(entry['history']) - 1:3d} iterations, "
+            f"{entry['cpu']:.2f} s, {status}"
+        )
+        history = entry["history"]
+        print("   ratios " + " ".join(f"{r:.1e}" for r in history))
+        scales = [row["scale"] for row in its if row["scale"] is not None]
+        print("   scales " + " ".join(f"{s:.3g}" for s in scales))
+        print("   trials " + " ".join(str(row["trials"]) for row in its))
+        print("   touching/ramp/faded " + " ".join(
+            f"{row['touching']}/{row['ramp']}/{row['faded']}" for row in its))  # fmt: skip
+        keys = ("in", "out", "ramp_in", "ramp_out", "triangle", "sign")
+        print("   changes (in,out,ramp in,ramp out,triangle,sign) " + " ".join(
+            ",".join(str(row.get(k, "-")) for k in keys) for row in its[1:]))  # fmt: skip
+    print(f"iterations per increment {result.info['iterations_per_increment']}")
+    print(
+        f"converged iterations {result.steps}, cut {result.info['iterations_cut']}, cuts "
+        f"{result.info['cuts']}; evaluations {result.info['evaluations']}"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--case", default="bai", help="bai, heavy, deck or sag")
+    parser.add_argument("--resolution", default="coarse")
+    parser.add_argument("--stall", type=int, default=25, help="stall_iterations of the new run")
+    parser.add_argument("--detail", action="store_true", help="every attempt, before and after")
+    args = parser.parse_args()
+    print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
+    instrument()
+    results = {}
+    for stall in (None, args.stall):
+        RECORD.update(attempts=[])
+        cpu = time.process_time()
+        result = solve_case(args.case, args.resolution, stall)
+        cpu = time.process_time() - cpu
+        results[stall] = result
+        print(f"--- {args.case} {args.resolution}, stall_iterations={stall}: {cpu:.1f} s CPU")
+        if args.detail:
+            report(result)
+        else:
+            print(f"iterations per increment {result.info['iterations_per_increment']}")
+            print(
+                f"converged iterations {result.steps}, cut {result.info['iterations_cut']}, "
+                f"cuts {result.info['cuts']}; evaluations {result.info['evaluations']}"
+            )
+        print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}", flush=True)
+    before, after = results[None], results[args.stall]
+    moved = np.abs(after.positions - before.positions).max()
+    turned = np.abs(after.directors - before.directors).max()
+    print(f"final positions within {moved:.3g} mm, directors within {turned:.3g}")
+
+
+if __name__ == "__main__":
+    main()
