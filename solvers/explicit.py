@@ -126,9 +126,9 @@ class CentralDifference:
         the ParaView index rewritten after each), and only the first and the last are kept in
         memory.
     history : a ``.csv`` path: a row per energy record (about 4000 in a run), appended as the
-        run goes, written at each frame (solvers.output.HistoryWriter): ``time``, ``energy_kinetic``,
-        ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
-        (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
+        run goes, written at each frame (solvers.output.HistoryWriter): ``time``,
+        ``energy_kinetic``, ``energy_internal``, ``energy_external_work``, ``energy_damping``,
+        ``energy_friction`` (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
         ``tool<k>_force_x/y/z`` (N), ``tool<k>_displacement_x/y/z`` (mm) and
         ``displacement_node<i>_x/y/z`` (mm) of
         ``history_nodes``.
