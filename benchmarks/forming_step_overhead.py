@@ -42,11 +42,43 @@ timers add about a tenth):
   costs 1.1-1.2 us a call from Python, the project's ``jit`` wrapper round it 0.2 us more
   (cProfile puts 13 us on each, its own overhead); the step's 55 kernel calls about 0.08 ms.
 
-The cuts (this tree against main 97cc118, side by side; figures below):
+The cuts, each giving the same bits:
 
 * the history's rows kept in memory and written at the frame rate (solvers/output.py
-  ``HistoryWriter.flush``): the same bytes;
-* the smoothed penalty law in one compiled pass (elements/ply_penalty.py): the same bits.
+  ``HistoryWriter.flush``): the same bytes in the file;
+* the smoothed penalty law in one compiled pass (elements/ply_penalty.py): 22.7 -> 12.5 us a
+  call on 100 points, 51.1 -> 39.2 on 400 (numpy's cube, kept for its bits, is most of what
+  is left), load 14.7;
+* the closest point of the cut growths in one compiled pass (elements/ply_cut_kernels.py):
+  24.3 -> 6.2 us a call on 6 rows, 170.3 -> 7.8 on 30, load 14.7.
+
+Side by side with main 97cc118 (``git archive``; ``python -m validation --cases NAME
+--resolution R --jobs 1``, one numba thread, each tree's numba cache warmed by a run before;
+the trees' runs at once, with other jobs: load 9-14), case_cpu_s and each run's CPU and ms a
+step, main -> this:
+
+* hemisphere-plies coarse (fibrous [0/90] 6816 steps, [0/45] 6083): 50.0 -> 45.4 s; [0/90]
+  20.31 -> 17.96 s (2.98 -> 2.64 ms a step), [0/45] 21.64 -> 19.49 s (3.56 -> 3.20 ms);
+  results.json the same in every one of its 231 numbers but the times (12 of 12 checks);
+* hemisphere-forming default (one fibrous ply): 44.2 -> 37.6 s (first runs), results.json the
+  same in its 121 numbers;
+* hemisphere-plies default (the four runs): 134.0 -> 117.7 s (24 of 24 checks), results.json
+  the same in every one of its 431 numbers but the times; a run's CPU and ms a step: fibrous
+  [0/90] 20.47 -> 17.92 s (3.00 -> 2.63), fibrous [0/45] 20.94 -> 18.94 s (3.44 -> 3.11),
+  Mindlin [0/90] 40.15 -> 34.85 s (2.94 -> 2.55; 13680 steps), Mindlin [0/45] 37.87 -> 31.79
+  s (3.20 -> 2.68; 11844 steps);
+* hemisphere-forming again (second runs): 38.3 -> 38.8 s, the noise: it writes no history
+  and has no ply contact, which is all these cuts touch.
+
+What is left, this tree (``--split --layup 0/45``, load 10.5, 3.53 ms a step with the timers):
+the facing of the new state 1.72 ms (``closest_facing`` 1.12 for the two passes: its numpy
+glue round the kernels about 0.3, the fade 0.18, the choice and the planes about 0.3; the
+search's lists 0.31, renewed every 12 steps at 1.5 ms), the friction's return mapping 0.35
+over its 4.2 calls (the committed history's and the loads', from two histories: not the
+same bits if one served both), the tools' contact at the new state 0.33 (compiled; the next
+step's loads find it kept), the ply loads 0.13, the history's row 0.06, the rest 0.2. The
+step is Python and numpy glue round some forty compiled calls and numpy calls on arrays of
+a few hundred rows; the next cut is ``closest_facing``'s glue in one compiled pass.
 """
 
 from __future__ import annotations
