@@ -26,7 +26,7 @@ import numpy as np
 from elements.jit import jit_lanes, lanes, prange
 from elements.ply_kernels import closest_on_sides
 from elements.ply_projection import closest_on_edges, grown_corners
-from elements.ply_wedge import KEEP, closest_on_cut, cut_keeps, cut_overshoot
+from elements.ply_wedge import KEEP, closest_on_cut_numpy, cut_keeps, cut_overshoot
 
 __all__ = ["choose_facing", "choose_facing_numpy"]
 
@@ -303,7 +303,7 @@ def choose_facing_numpy(p, y, near, n, gradients, gap, weights, reach, inside, p
         projected = p[outside[0]] - gap[outside][:, None] * n[outside]
         q = np.where(held_grown[outside][:, None], projected, q)
         rows = near[outside]
-        q, on_cut, segment, along = closest_on_cut(
+        q, on_cut, segment, along = closest_on_cut_numpy(
             p[outside[0]], y[rows], q, cuts.lines[rows], cuts.ends[rows], gradients[outside]
         )
     distance[outside] = np.linalg.norm(p[outside[0]] - q, axis=1)

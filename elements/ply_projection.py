@@ -210,7 +210,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_chosen, ply_feature_normals, ply_kernels
+from elements import ply_chosen, ply_feature_normals, ply_kernels, ply_penalty
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
@@ -273,6 +273,9 @@ def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
     if smoothing == 0.0:
         g = np.minimum(gap, 0.0)
         return 0.5 * stiffness * g**2, stiffness * g, np.where(gap <= 0.0, stiffness, 0.0)
+    if COMPILED and np.ndim(gap) == 1 and np.shape(stiffness) == np.shape(gap):
+        # one pass, the same bits (elements/ply_penalty.py)
+        return ply_penalty.smoothed_law(gap, stiffness, smoothing)
     delta = smoothing
     g = np.minimum(gap, 0.0)
     deep = g <= -delta

@@ -43,7 +43,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["GAP", "WedgeCuts", "closest_on_cut", "cut_keeps"]
+__all__ = ["GAP", "WedgeCuts", "closest_on_cut", "closest_on_cut_numpy", "cut_keeps"]
 
 #: The share of the wedge's angle by which each growth's cut turns from the wedge's bisector
 #: (or the line where the two planes meet) towards its own side: the gap between the two
@@ -249,7 +249,9 @@ def closest_on_cut(
         Their cuts (``WedgeCuts``).
     gradients : (c, 3, 3) float, optional
         The triangles' barycentric gradients, 1/mm, where the caller has them
-        (``triangle_frames``); None: computed here.
+        (``triangle_frames``); None: computed here. Given, and with
+        ``ply_projection.COMPILED``, the compiled pass answers (elements/ply_cut_kernels.py,
+        the same bits).
 
     Returns
     -------
@@ -262,6 +264,25 @@ def closest_on_cut(
     along : (c,) float
         Its parameter on that segment, in [0, 1] (0 elsewhere).
     """
+    from elements import ply_projection
+
+    if ply_projection.COMPILED and gradients is not None:  # one pass, the same bits
+        from elements import ply_cut_kernels
+
+        return ply_cut_kernels.closest_on_cut(p, corners, q, lines, ends, gradients, KEEP)
+    return closest_on_cut_numpy(p, corners, q, lines, ends, gradients)
+
+
+def closest_on_cut_numpy(
+    p: np.ndarray,
+    corners: np.ndarray,
+    q: np.ndarray,
+    lines: np.ndarray,
+    ends: np.ndarray,
+    gradients: np.ndarray | None = None,
+):
+    """``closest_on_cut`` in numpy: the compiled pass's reference (the same arguments and
+    results)."""
     from elements.ply_projection import triangle_frames
 
     count = len(p)

@@ -126,9 +126,9 @@ class CentralDifference:
         the ParaView index rewritten after each), and only the first and the last are kept in
         memory.
     history : a ``.csv`` path: a row per energy record (about 4000 in a run), appended as the
-        run goes (solvers.output.HistoryWriter): ``time``, ``energy_kinetic``,
-        ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
-        (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
+        run goes, written at each frame (solvers.output.HistoryWriter): ``time``,
+        ``energy_kinetic``, ``energy_internal``, ``energy_external_work``, ``energy_damping``,
+        ``energy_friction`` (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
         ``tool<k>_force_x/y/z`` (N), ``tool<k>_displacement_x/y/z`` (mm) and
         ``displacement_node<i>_x/y/z`` (mm) of
         ``history_nodes``.
@@ -328,10 +328,14 @@ class CentralDifference:
         warn_penalty_only(compiled, run.state, "CentralDifference")
         stream, history = self._outputs(compiled, run)
         with ProgressLine(resolve_progress(self.progress), "central difference") as progress:
-            return self._march(
-                compiled, run, stream, history, progress, started, saved_at, signature,
-                checkpoint_interval,
-            )  # fmt: skip
+            try:
+                return self._march(
+                    compiled, run, stream, history, progress, started, saved_at, signature,
+                    checkpoint_interval,
+                )  # fmt: skip
+            finally:  # the rows kept in memory since the last frame, whatever ended the run
+                if history is not None:
+                    history.flush()
 
     def _march(
         self,
@@ -386,6 +390,7 @@ class CentralDifference:
                 if stream is not None:
                     run.written = list(stream.entries)
                 if history is not None:
+                    history.flush()  # the rows the checkpoint counts are in the file
                     run.history_rows = history.rows
                 payload = {"signature": signature, "run": run, "assembled": self._assembled}
                 save_checkpoint(saved_at, payload)
@@ -468,6 +473,8 @@ class CentralDifference:
                     compiled.tool_displacements(state),
                 )
             if run.schedule.due(state.time):
+                if history is not None:
+                    history.flush()  # written at the frame rate (solvers.output.HistoryWriter)
                 frame = make_frame(compiled, state, reactions, reaction_moments)
                 if stream is not None:
                     stream.write(frame)

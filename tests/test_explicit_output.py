@@ -207,3 +207,63 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
     path.write_text("not a checkpoint")
     with pytest.raises(ValueError, match="not a checkpoint this program wrote"):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
+
+
+def test_history_rows_wait_in_memory_until_a_flush_writes_them_as_rows_written_one_by_one(
+    tmp_path,
+):
+    """solvers.output.HistoryWriter keeps its rows until ``flush`` (the solver flushes at
+    each frame, before a checkpoint and at the end): the file then holds the bytes the csv
+    module writes for each row appended alone, and ``rows`` counts only rows on disk (what a
+    checkpoint counts)."""
+    import csv
+
+    from solvers.output import HistoryWriter
+
+    rng = np.random.default_rng(3)
+    writer = HistoryWriter(tmp_path / "buffered.csv", np.array([1]), tools=1)
+    writer.start()
+    rows = []
+    for k in range(5):
+        energies = tuple(rng.normal(size=6))
+        reactions, moved = rng.normal(size=(4, 3)), rng.normal(size=(3, 3))
+        tool, travel = rng.normal(size=(1, 3)), rng.normal(size=(1, 3))
+        writer.append(energies, reactions, moved, tool, travel)
+        values = [*energies, *reactions.sum(axis=0), *tool[0], *travel[0], *moved[1]]
+        rows.append([repr(float(v)) for v in values])
+        if k == 2:
+            assert writer.rows == 0  # nothing on disk before the flush
+            writer.flush()
+            assert writer.rows == 3
+    writer.flush()
+    writer.flush()  # nothing pending: nothing written twice
+    assert writer.rows == 5
+    reference = tmp_path / "reference.csv"
+    with open(reference, "w", newline="") as handle:
+        csv.writer(handle).writerow(writer.header())
+    for row in rows:  # one open per row, as the rows were written before
+        with open(reference, "a", newline="") as handle:
+            csv.writer(handle).writerow(row)
+    assert (tmp_path / "buffered.csv").read_bytes() == reference.read_bytes()
+
+
+def test_a_diverged_run_leaves_every_history_row_it_recorded(tmp_path):
+    """The rows held in memory since the last frame are written when the run stops: the
+    history of a run that diverges before its first frame after the start holds a row per
+    energy record of its result."""
+    from solvers import DivergenceError
+
+    compiled = hanging_cable().compile()
+    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=0.02, dt=dt, output_interval=0.01, history=tmp_path / "run.csv",
+        progress=False,
+    )  # fmt: skip
+    with pytest.raises(DivergenceError) as error:
+        solver.solve(hanging_cable())
+    energies = error.value.result.energies
+    rows = np.loadtxt(tmp_path / "run.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert error.value.result.frames[-1].time < 0.01  # no frame flushed them
+    assert len(rows) == len(energies["time"]) - 1 > 10
+    np.testing.assert_array_equal(rows[:, 0], energies["time"][1:])
+    np.testing.assert_array_equal(rows[:, 1], energies["kinetic"][1:])

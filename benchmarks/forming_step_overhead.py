@@ -1,0 +1,247 @@
+"""Where an explicit step of the small forming models goes, and the step beside a reference
+tree: the two-ply hemisphere of the report's hemisphere-plies case (validation/studies/
+hemisphere_plies_run.py's model and solver: two 8-cell plies, 128 triangles each, a meshed
+die, a rigid punch, a force-driven ring holder, ply-on-ply friction, the energy and tool
+history every record, 100 frames), one thread, CPU (``time.process_time``).
+
+* ``--split``: one whole run in this process with a CPU timer round each of the step's
+  parts (inclusive: a part's time holds the parts it calls), per step and per call;
+* ``--reference PATH``: the whole run's CPU per step in this tree and in the tree at PATH
+  (``git archive`` of the code before), each in a process of its own, alternating, best of
+  ``--repeats``; the runs' step counts and final positions compared.
+
+    python benchmarks/forming_step_overhead.py --split --layup 0/45
+    python benchmarks/forming_step_overhead.py --reference /tmp/main --repeats 2
+
+Measured (main 97cc118, one thread, 2 cores shared with other jobs, load 11-12; the split's
+timers add about a tenth):
+
+* fibrous [0/90], 6816 steps, 3.70 ms a step: the committed history 1.86 ms (the friction's
+  history at the new state, which makes that state's facing: the facing 1.55 ms, its
+  ``closest_facing`` 1.10 ms for the two passes, the search's lists and the faces the rest),
+  the step 1.09 ms (the ply contact's loads 0.45 with the friction's return mapping again
+  0.24, the elements and the tools 0.25, the tools' work 0.09, the updates of the rates and
+  the rotations 0.07), the history row 0.50 ms (the tools' forces at the new state 0.32, which
+  the next step's loads then find kept; the row's write 0.18: a file opened per row), the
+  stable step 0.03 (every 10 steps; the assembled bound once in 500), the energy record
+  0.03, the frames 0.03. The friction's stick spring (the smoothed penalty law, numpy) 0.23
+  ms over its 4.2 calls a step.
+* fibrous [0/45], 6083 steps, 3.49 ms: the same parts; its search's lists 0.35 ms a step,
+  0.31 of it renewed every 12 steps or so (a full search of all 432 or 81 points, 1.9 ms:
+  the lower ply deforms, so the lists' epoch ends; its every-pair search, the small
+  faces' path, took 2.9-3.5 ms against the trees' 1.6-2.0 on these faces, load 12, with the
+  same lists), ``outline_fade`` 0.20, the choice 0.17, the candidates' planes 0.14.
+* Mindlin [0/90], 13680 steps, 3.28 ms: the same parts (the history row every other step,
+  the records thinned to about 4000). Why twice the steps: the Mindlin cells' bound is 2.27e-5
+  s against the fibrous cells' 4.23e-5 s (the equivalent elastic shell's element
+  eigenvalue, its membrane; the transverse shear on the scaled rotary inertia, x16.3, is 0.32
+  of its cheap bound's omega^2), and the penalty springs, calibrated on each model's cells'
+  bound, add 2.93 times the cells' omega^2 to both (the two ply passes 1.2 each, the tools
+  0.53): the step 0.45 of the cells' bound either way, 1.03e-5 s against 1.92e-5 s.
+* numba's dispatch is not where the step goes: a kernel of 22 array and integer arguments
+  costs 1.1-1.2 us a call from Python, the project's ``jit`` wrapper round it 0.2 us more
+  (cProfile puts 13 us on each, its own overhead); the step's 55 kernel calls about 0.08 ms.
+
+The cuts, each giving the same bits:
+
+* the history's rows kept in memory and written at the frame rate (solvers/output.py
+  ``HistoryWriter.flush``): the same bytes in the file;
+* the smoothed penalty law in one compiled pass (elements/ply_penalty.py): 22.7 -> 12.5 us a
+  call on 100 points, 51.1 -> 39.2 on 400 (numpy's cube, kept for its bits, is most of what
+  is left), load 14.7;
+* the closest point of the cut growths in one compiled pass (elements/ply_cut_kernels.py):
+  24.3 -> 6.2 us a call on 6 rows, 170.3 -> 7.8 on 30, load 14.7.
+
+Side by side with main 97cc118 (``git archive``; ``python -m validation --cases NAME
+--resolution R --jobs 1``, one numba thread, each tree's numba cache warmed by a run before;
+the trees' runs at once, with other jobs: load 9-14), case_cpu_s and each run's CPU and ms a
+step, main -> this:
+
+* hemisphere-plies coarse (fibrous [0/90] 6816 steps, [0/45] 6083): 50.0 -> 45.4 s; [0/90]
+  20.31 -> 17.96 s (2.98 -> 2.64 ms a step), [0/45] 21.64 -> 19.49 s (3.56 -> 3.20 ms);
+  results.json the same in every one of its 231 numbers but the times (12 of 12 checks);
+* hemisphere-forming default (one fibrous ply): 44.2 -> 37.6 s (first runs), results.json the
+  same in its 121 numbers;
+* hemisphere-plies default (the four runs): 134.0 -> 117.7 s (24 of 24 checks), results.json
+  the same in every one of its 431 numbers but the times; a run's CPU and ms a step: fibrous
+  [0/90] 20.47 -> 17.92 s (3.00 -> 2.63), fibrous [0/45] 20.94 -> 18.94 s (3.44 -> 3.11),
+  Mindlin [0/90] 40.15 -> 34.85 s (2.94 -> 2.55; 13680 steps), Mindlin [0/45] 37.87 -> 31.79
+  s (3.20 -> 2.68; 11844 steps);
+* hemisphere-forming again (second runs): 38.3 -> 38.8 s, the noise: it writes no history
+  and has no ply contact, which is all these cuts touch.
+
+What is left, this tree (``--split --layup 0/45``, load 10.5, 3.53 ms a step with the timers):
+the facing of the new state 1.72 ms (``closest_facing`` 1.12 for the two passes: its numpy
+glue round the kernels about 0.3, the fade 0.18, the choice and the planes about 0.3; the
+search's lists 0.31, renewed every 12 steps at 1.5 ms), the friction's return mapping 0.35
+over its 4.2 calls (the committed history's and the loads', from two histories: not the
+same bits if one served both), the tools' contact at the new state 0.33 (compiled; the next
+step's loads find it kept), the ply loads 0.13, the history's row 0.06, the rest 0.2. The
+step is Python and numpy glue round some forty compiled calls and numpy calls on arrays of
+a few hundred rows; the next cut is ``closest_facing``'s glue in one compiled pass.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import functools
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(HERE))  # run from anywhere, no install
+
+# one run in a process of its own: the CPU of the whole solve, its steps, its end state
+RUN = """
+import json, sys, time
+import numpy as np
+from solvers import CentralDifference, SolverError
+from validation.studies import hemisphere_plies_setup as setup
+kinematics, layup, cells, history = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
+_, model = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
+# compiled (or read from numba's cache) before the timing: a short run of the same model
+CentralDifference(duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False,
+                  kinetic_bound=None).solve(model.compile())
+solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False,
+                           output_interval=setup.DURATION / 100, history=history)
+start = time.process_time()
+result = solver.solve(model.compile())
+cpu = time.process_time() - start
+print(json.dumps({"cpu": cpu, "steps": result.steps,
+                  "positions": result.positions.tolist()}))
+"""
+
+
+def run_in(tree: Path, kinematics: str, layup: str, cells: int) -> dict:
+    """One whole run in a process of its own on ``tree``'s code, one numba thread."""
+    environment = {**os.environ, "PYTHONPATH": str(tree), "NUMBA_NUM_THREADS": "1"}
+    history = f"/tmp/forming_step_overhead_{os.getpid()}.csv"
+    done = subprocess.run(
+        [sys.executable, "-c", RUN, kinematics, layup, str(cells), history],
+        cwd=tree, env=environment, capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    Path(history).unlink(missing_ok=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def split(kinematics: str, layup: str, cells: int) -> None:
+    """One whole run here with a CPU timer round each part of the step (inclusive)."""
+    import elements.contact as contact
+    import elements.ply_block as ply_block
+    import elements.ply_search as ply_search
+    import femcore.compiled as compiled_model
+    import solvers.dynamics as dynamics
+    import solvers.explicit as explicit
+    import solvers.output as output
+    import solvers.step as step
+    from elements import ply_fade_kernels, ply_friction, ply_load_kernels, ply_projection
+    from solvers import CentralDifference
+    from validation.studies import hemisphere_plies_setup as setup
+
+    spent: dict[str, float] = collections.defaultdict(float)
+    calls: collections.Counter[str] = collections.Counter()
+
+    def timed(owner, name: str) -> None:
+        function = getattr(owner, name)
+        label = f"{getattr(owner, '__name__', owner)}.{name}"
+
+        @functools.wraps(function)
+        def wrapper(*args, **kwargs):
+            start = time.process_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spent[label] += time.process_time() - start
+                calls[label] += 1
+
+        setattr(owner, name, wrapper)
+
+    parts = [
+        (compiled_model.CompiledModel, ["commit", "internal_force", "internal_force_and_energy",
+                                        "external_load", "tool_work", "tool_forces",
+                                        "tool_displacements", "lumped_mass", "dissipated_energy",
+                                        "penalty_frequency_squared", "cell_stable_dt",
+                                        "assembled_stable_dt"]),
+        (ply_block.PlyContactBlock, ["facing", "add_internal_force", "friction_state",
+                                     "update_history", "springs_at", "_candidates"]),
+        (ply_block, ["closest_facing"]),
+        (ply_search.FacingSearch, ["near", "_renew", "_refresh"]),
+        (contact.ContactBlock, ["add_internal_force", "tool_forces", "tool_work"]),
+        (explicit.CentralDifference, ["_step_size", "_check"]),
+        (explicit, ["explicit_step", "make_frame"]),
+        (output.HistoryWriter, ["append", "flush"]),
+        (dynamics.EnergyAccount, ["record"]),
+        (step, ["update_rates", "turn", "_tool_work"]),
+        (ply_load_kernels, ["ply_loads"]),
+        (ply_fade_kernels, ["outline_fade"]),
+        (ply_friction, ["stick_spring"]),
+        (ply_projection, ["penalty_law"]),
+    ]  # fmt: skip
+    for owner, names in parts:
+        for name in names:
+            timed(owner, name)
+    _, model = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
+    CentralDifference(
+        duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False, kinetic_bound=None
+    ).solve(model.compile())
+    spent.clear()
+    calls.clear()
+    solver = CentralDifference(
+        duration=setup.DURATION,
+        damping=setup.DAMPING,
+        progress=False,
+        output_interval=setup.DURATION / 100,
+        history=f"/tmp/forming_step_overhead_{os.getpid()}.csv",
+    )
+    start = time.process_time()
+    result = solver.solve(model.compile())
+    cpu = time.process_time() - start
+    steps = result.steps
+    print(f"{kinematics} [{layup}], {cells} cells: {steps} steps, {cpu:.2f} s CPU, "
+          f"{cpu / steps * 1e3:.3f} ms a step (load {os.getloadavg()[0]:.1f})")  # fmt: skip
+    for label, seconds in sorted(spent.items(), key=lambda item: -item[1]):
+        each = seconds / calls[label] * 1e6
+        print(f"  {label:52s} {seconds / steps * 1e3:7.3f} ms a step, "
+              f"{calls[label] / steps:5.2f} calls, {each:8.1f} us a call")  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--kinematics", default="fibrous", choices=("fibrous", "mindlin"))
+    parser.add_argument("--layup", default="0/90", choices=("0/90", "0/45"))
+    parser.add_argument("--cells", type=int, default=8, help="fibre segments across the blank")
+    parser.add_argument("--split", action="store_true", help="the step's parts, this tree")
+    parser.add_argument("--reference", type=Path, help="a tree of the code before")
+    parser.add_argument("--repeats", type=int, default=2, help="runs per tree (best CPU)")
+    args = parser.parse_args()
+    if args.split:
+        split(args.kinematics, args.layup, args.cells)
+    if args.reference is None:
+        return
+    trees = {"reference": args.reference.resolve(), "this": HERE}
+    best: dict[str, float] = {name: np.inf for name in trees}
+    ends: dict[str, dict] = {}
+    for _ in range(args.repeats):
+        for name, tree in trees.items():
+            print(f"load {os.getloadavg()[0]:.1f}: {name} ...", flush=True)
+            ran = run_in(tree, args.kinematics, args.layup, args.cells)
+            best[name] = min(best[name], ran["cpu"] / ran["steps"] * 1e3)
+            ends[name] = ran
+    same = ends["this"]["steps"] == ends["reference"]["steps"] and np.array_equal(
+        np.array(ends["this"]["positions"]), np.array(ends["reference"]["positions"])
+    )
+    print(f"{args.kinematics} [{args.layup}], {args.cells} cells, {ends['this']['steps']} steps: "
+          f"ms a step (best of {args.repeats}, CPU) reference {best['reference']:.3f}, this "
+          f"{best['this']:.3f} (x {best['reference'] / best['this']:.2f}); the same steps and "
+          f"final positions to the bit: {same} (load {os.getloadavg()[0]:.1f})")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

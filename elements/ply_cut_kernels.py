@@ -1,0 +1,119 @@
+"""The closest point of the cut growths (elements/ply_wedge.py ``closest_on_cut``, docs/
+theory.md §9.3a) compiled: one pass over the points, where numpy made some forty calls on
+arrays of a few rows (about 110 us a call, once or twice an explicit step of the two-ply
+hemisphere; benchmarks/forming_step_overhead.py).
+
+The same IEEE operations in the same order as numpy's expressions (its einsums' sums of three
+terms in numpy's order, ``np.linalg.norm``'s, ``np.clip``'s comparisons; no fastmath), so the
+same numbers to the last bit (tests/test_ply_cut_kernels.py against the numpy reference,
+``ply_projection.COMPILED = False``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.jit import jit, prange
+
+__all__ = ["closest_on_cut"]
+
+
+def _closest(p, corners, q, lines, ends, gradients, keep, out, cut, segment, along):
+    """``closest_on_cut``'s arrays of each point i (c,): q into ``out`` (c, 3), whether on a
+    cut into ``cut``, the segment's ends' coordinates into ``segment`` (c, 2, 3) and the
+    parameter into ``along`` (c,); ``keep`` ply_wedge.KEEP."""
+    for i in prange(p.shape[0]):
+        for a in range(3):
+            out[i, a] = q[i, a]
+            segment[i, 0, a] = 0.0
+            segment[i, 1, a] = 0.0
+        along[i] = 0.0
+        cut[i] = False
+        present = np.zeros(3, dtype=np.bool_)
+        any_line = False
+        for k in range(3):
+            for j in range(3):
+                if lines[i, k, j] != 0.0:
+                    present[k] = True
+                    any_line = True
+        if not any_line:
+            continue
+        # q's barycentric coordinates on the triangle
+        r0 = q[i, 0] - corners[i, 0, 0]
+        r1 = q[i, 1] - corners[i, 0, 1]
+        r2 = q[i, 2] - corners[i, 0, 2]
+        on = np.empty(3)
+        for k in range(3):
+            g = gradients[i, k]
+            on[k] = (g[0] * r0 + g[2] * r2) + g[1] * r1
+        on[0] += 1.0
+        kept = True
+        for k in range(3):
+            level = (lines[i, k, 0] * on[0] + lines[i, k, 2] * on[2]) + lines[i, k, 1] * on[1]
+            if not level >= -keep:
+                kept = False
+        if kept:
+            continue
+        best = np.inf
+        c0, c1, c2 = q[i, 0], q[i, 1], q[i, 2]
+        start_row, end_row, parameter = -1, -1, 0.0
+        for k in range(3):
+            if not present[k]:
+                continue
+            s0, s1, s2 = corners[i, k, 0], corners[i, k, 1], corners[i, k, 2]
+            e = ends[i, k]
+            edge0 = (
+                (e[0] * corners[i, 0, 0] + e[1] * corners[i, 1, 0]) + e[2] * corners[i, 2, 0]
+            ) - s0
+            edge1 = (
+                (e[0] * corners[i, 0, 1] + e[1] * corners[i, 1, 1]) + e[2] * corners[i, 2, 1]
+            ) - s1
+            edge2 = (
+                (e[0] * corners[i, 0, 2] + e[1] * corners[i, 1, 2]) + e[2] * corners[i, 2, 2]
+            ) - s2
+            squared = (edge0 * edge0 + edge2 * edge2) + edge1 * edge1
+            w0, w1, w2 = p[i, 0] - s0, p[i, 1] - s1, p[i, 2] - s2
+            t = ((w0 * edge0 + w2 * edge2) + w1 * edge1) / (squared if squared > 0 else 1.0)
+            if t < 0.0:
+                t = 0.0
+            elif t > 1.0:
+                t = 1.0
+            x0, x1, x2 = s0 + t * edge0, s1 + t * edge1, s2 + t * edge2
+            d0, d1, d2 = p[i, 0] - x0, p[i, 1] - x1, p[i, 2] - x2
+            distance = np.sqrt((d0 * d0 + d1 * d1) + d2 * d2)
+            if distance < best:
+                best = distance
+                c0, c1, c2 = x0, x1, x2
+                start_row, end_row, parameter = k, k, t
+        out[i, 0], out[i, 1], out[i, 2] = c0, c1, c2
+        cut[i] = np.isfinite(best)
+        if start_row >= 0:
+            segment[i, 0, start_row] = 1.0
+            for a in range(3):
+                segment[i, 1, a] = ends[i, end_row, a]
+            along[i] = parameter
+
+
+_closest_compiled = jit(_closest)
+
+
+def closest_on_cut(p, corners, q, lines, ends, gradients, keep: float):
+    """``ply_wedge.closest_on_cut`` with the triangles' barycentric gradients given: (q (c,
+    3), cut (c,), segment (c, 2, 3), along (c,)), the same bits."""
+    count = len(p)
+    out, cut = np.empty((count, 3)), np.empty(count, dtype=np.bool_)
+    segment, along = np.empty((count, 2, 3)), np.empty(count)
+    _closest_compiled(
+        np.ascontiguousarray(p, dtype=float),
+        np.ascontiguousarray(corners, dtype=float),
+        np.ascontiguousarray(q, dtype=float),
+        np.ascontiguousarray(lines, dtype=float),
+        np.ascontiguousarray(ends, dtype=float),
+        np.ascontiguousarray(gradients, dtype=float),
+        float(keep),
+        out,
+        cut,
+        segment,
+        along,
+    )
+    return out, cut, segment, along
