@@ -329,13 +329,22 @@ class CentralDifference:
         stream, history = self._outputs(compiled, run)
         with ProgressLine(resolve_progress(self.progress), "central difference") as progress:
             try:
-                return self._march(
+                result = self._march(
                     compiled, run, stream, history, progress, started, saved_at, signature,
                     checkpoint_interval,
                 )  # fmt: skip
-            finally:  # the rows kept in memory since the last frame, whatever ended the run
+            except BaseException as error:
+                # the rows kept in memory since the last write, whatever ended the run; a
+                # failing write must not hide the error on its way out (its result, its state)
                 if history is not None:
-                    history.flush()
+                    try:
+                        history.flush()
+                    except OSError as failed:
+                        error.add_note(f"the history's last rows were not written: {failed}")
+                raise
+            if history is not None:
+                history.flush()
+            return result
 
     def _march(
         self,

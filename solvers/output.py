@@ -127,11 +127,19 @@ class FrameStream:
 ENERGY_KEYS = ("kinetic", "internal", "external_work", "damping", "friction")
 
 
+#: The rows a history keeps in memory at most before writing them (one file open per this many
+#: steps: a negligible share of a step, and a killed run loses at most these).
+PENDING_ROWS = 256
+
+
 class HistoryWriter:
     """CSV rows appended as the run goes, kept in memory and written to the file by ``flush``
-    (the solver flushes at each frame, before each checkpoint and when the run ends or stops:
-    opening the file for every row cost a fifth of a millisecond an explicit step of the
-    two-ply hemisphere, about 5 % of it; benchmarks/forming_step_overhead.py): ``time`` (s),
+    (the solver flushes at each frame, before each checkpoint and when the run ends or stops,
+    and ``append`` itself once ``PENDING_ROWS`` rows wait: opening the file for every row cost
+    a fifth of a millisecond an explicit step of the two-ply hemisphere, about 5 % of it;
+    benchmarks/forming_step_overhead.py). A run killed where Python cannot finish it (SIGKILL,
+    the kernel's out-of-memory killer) loses at most the rows since the last write; the file a
+    user watches during a run is at most that far behind. Columns: ``time`` (s),
     ``energy_kinetic``,
     ``energy_internal``, ``energy_external_work``, ``energy_damping``, ``energy_friction``
     (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
@@ -208,16 +216,21 @@ class HistoryWriter:
         row = [*energies, *reactions.sum(axis=0), *paired.ravel()]
         row += [*displacements[self.nodes].ravel()]
         self._pending.append([repr(float(v)) for v in row])
+        if len(self._pending) >= PENDING_ROWS:
+            self.flush()
 
     def flush(self) -> None:
         """Write the rows appended since the last flush to the file (``rows`` counts the rows
-        written: what a checkpoint may count)."""
+        written: what a checkpoint may count). The rows are taken off the queue before the
+        write, so that a write that fails part way (a full disk, a second interrupt) is not
+        repeated by the next flush: the file may then end in a part row, which a resume cuts
+        back to the rows counted."""
         if not self._pending:
             return
+        pending, self._pending = self._pending, []
         with open(self.path, "a", newline="") as handle:
-            csv.writer(handle).writerows(self._pending)
-        self.rows += len(self._pending)
-        self._pending = []
+            csv.writer(handle).writerows(pending)
+        self.rows += len(pending)
 
 
 #: The first bytes of a checkpoint file; then the sha256 of the payload (32 bytes), its length

@@ -267,3 +267,71 @@ def test_a_diverged_run_leaves_every_history_row_it_recorded(tmp_path):
     assert len(rows) == len(energies["time"]) - 1 > 10
     np.testing.assert_array_equal(rows[:, 0], energies["time"][1:])
     np.testing.assert_array_equal(rows[:, 1], energies["kinetic"][1:])
+
+
+def test_a_history_writes_its_rows_itself_once_its_queue_is_full(tmp_path):
+    """A run whose frames are far apart (or that is killed where Python cannot finish it)
+    does not hold its whole history in memory: ``append`` writes the queue once
+    solvers.output.PENDING_ROWS rows wait, so the file is at most that many rows behind."""
+    from solvers import output
+
+    writer = output.HistoryWriter(tmp_path / "queued.csv", np.array([0]))
+    writer.start()
+    for k in range(output.PENDING_ROWS + 3):
+        writer.append(tuple(np.full(6, float(k))), np.zeros((1, 3)), np.zeros((1, 3)))
+    assert writer.rows == output.PENDING_ROWS  # on disk without a flush
+    rows = np.loadtxt(tmp_path / "queued.csv", delimiter=",", skiprows=1, ndmin=2)
+    np.testing.assert_array_equal(rows[:, 0], np.arange(output.PENDING_ROWS))
+    writer.flush()
+    assert writer.rows == output.PENDING_ROWS + 3
+
+
+def test_a_history_write_that_fails_is_not_repeated_by_the_next_flush(tmp_path, monkeypatch):
+    """A write that fails part way (a full disk, an interrupt) leaves its rows off the queue:
+    the next flush writes the rows appended since, never those again (a file with rows twice
+    would not resume), and ``rows`` counts only the rows written whole."""
+    import builtins
+
+    from solvers import output
+
+    writer = output.HistoryWriter(tmp_path / "failing.csv", np.array([0]))
+    writer.start()
+    for k in range(3):
+        writer.append(tuple(np.full(6, float(k))), np.zeros((1, 3)), np.zeros((1, 3)))
+    real_open = builtins.open
+
+    def full_disk(path, mode="r", *args, **kwargs):
+        if "a" in mode:
+            raise OSError(28, "No space left on device")
+        return real_open(path, mode, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", full_disk)
+    with pytest.raises(OSError, match="No space left"):
+        writer.flush()
+    monkeypatch.setattr(builtins, "open", real_open)
+    writer.append(tuple(np.full(6, 9.0)), np.zeros((1, 3)), np.zeros((1, 3)))
+    writer.flush()
+    assert writer.rows == 1
+    rows = np.loadtxt(tmp_path / "failing.csv", delimiter=",", skiprows=1, ndmin=2)
+    np.testing.assert_array_equal(rows[:, 0], [9.0])
+
+
+def test_a_failing_history_write_does_not_hide_why_the_run_stopped(tmp_path, monkeypatch):
+    """A run that diverges while its history cannot be written still raises its
+    DivergenceError with its result (the last good state); the failed write is a note on it."""
+    from solvers import DivergenceError, output
+
+    def full_disk(self):
+        raise OSError(28, "No space left on device")
+
+    compiled = hanging_cable().compile()
+    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
+    solver = CentralDifference(
+        duration=0.02, dt=dt, output_interval=0.01, history=tmp_path / "run.csv",
+        progress=False,
+    )  # fmt: skip
+    monkeypatch.setattr(output.HistoryWriter, "flush", full_disk)
+    with pytest.raises(DivergenceError) as error:
+        solver.solve(hanging_cable())
+    assert error.value.result is not None
+    assert any("history's last rows were not written" in note for note in error.value.__notes__)
