@@ -83,10 +83,16 @@ def central(p, corners, reach, beside, ends, length, joined=None, lines=None, en
 
 def _bai():
     from fibreshell.plies import plies_solver, ply_stack, stack_model
-    from validation.cases.plies_bai_5_1 import CELLS, FILE, PLIES, PLIES_INCREMENTS, PLIES_SOLVER
+    from validation.cases.plies_bai_5_1 import (
+        BEFORE_STALL_RULE,
+        CELLS,
+        FILE,
+        PLIES,
+        PLIES_INCREMENTS,
+    )
     from validation.ground_truth import _case
 
-    solver = {**PLIES_SOLVER, "increments": PLIES_INCREMENTS["coarse"]}
+    solver = {**BEFORE_STALL_RULE, "increments": PLIES_INCREMENTS["coarse"]}
     case = _case(FILE, CELLS["coarse"], {"solver": solver})
     stack = ply_stack(case, PLIES["coarse"])
     return plies_solver(case, False).solve(stack_model(case, stack))

@@ -84,7 +84,10 @@ def main() -> None:
     parser.add_argument("--solves", type=int, default=1, help="rounds of the two solves")
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
-    solver = {**plies_bai_5_1.PLIES_SOLVER, "increments": plies_bai_5_1.PLIES_INCREMENTS["coarse"]}
+    solver = {
+        **plies_bai_5_1.BEFORE_STALL_RULE,
+        "increments": plies_bai_5_1.PLIES_INCREMENTS["coarse"],
+    }
     case = _case(plies_bai_5_1.FILE, plies_bai_5_1.CELLS["coarse"], {"solver": solver})
     stack = ply_stack(case, plies_bai_5_1.PLIES["coarse"])
     finals = {}

@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from femcore.assembly import CellTangent, FreeTangentAssembler, _components, _split, entry_slots
 from fibreshell.plies import ply_stack, stack_model
 from solvers.linear import _UpperPlan
-from validation.cases.plies_bai_5_1 import CELLS, FILE, PLIES, PLIES_SOLVER
+from validation.cases.plies_bai_5_1 import BEFORE_STALL_RULE, CELLS, FILE, PLIES
 from validation.ground_truth import _case
 
 
@@ -80,7 +80,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     print(f"load before: {os.getloadavg()[0]:.1f}")
-    case = _case(FILE, CELLS["default"], {"solver": PLIES_SOLVER})
+    case = _case(FILE, CELLS["default"], {"solver": BEFORE_STALL_RULE})
     stack = ply_stack(case, PLIES["default"])
     model = stack_model(case, stack).compile()
     state = model.initial_state()

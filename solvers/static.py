@@ -92,7 +92,7 @@ class Static:
     line_search : the Armijo line search of the load path (module docstring); without it
         every Newton step is taken whole (after the step cap below).
     max_cuts : how many times an increment may be halved before a ConvergenceError.
-    stall_iterations : cut an attempt whose ratio stayed above 0.1 that long (newton.stalled).
+    stall_iterations : load path: cut an attempt whose ratio stayed above 0.1 that long.
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'

@@ -154,3 +154,13 @@ def test_the_hemisphere_fibres_are_every_step_th_row_and_column_of_the_grid(tmp_
         warp, weft = _pieces(by_colour["C0"]), _pieces(by_colour["C3"])
         np.testing.assert_array_equal(np.array(warp), grid[::2])
         np.testing.assert_array_equal(np.array(weft), grid[:, ::2].transpose(1, 0, 2))
+
+
+def test_save_writes_other_formats_than_png_too(tmp_path):
+    """``save`` gives the PNG encoder its compression level alone: a PDF (whose writer takes
+    no such option) is written as savefig writes it."""
+    fig, ax = plt.subplots(layout="constrained")
+    ax.plot([0, 1], [0, 1])
+    save(fig, tmp_path / "line.pdf", dpi=100, bbox_inches="tight")
+    plt.close(fig)
+    assert (tmp_path / "line.pdf").read_bytes().startswith(b"%PDF")

@@ -43,7 +43,9 @@ def save(fig: matplotlib.figure.Figure, path: Path, dpi: float, **kwargs) -> Non
             pad = matplotlib.rcParams["savefig.pad_inches"] if pad in (None, "layout") else pad
             box = fig.get_tightbbox(fig.canvas.get_renderer())  # inches
             kwargs["bbox_inches"] = box.padded(pad)
-    fig.savefig(path, dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESSION}, **kwargs)
+    if Path(path).suffix.lower() == ".png":  # the PNG encoder's level (other formats have none)
+        kwargs.setdefault("pil_kwargs", {"compress_level": PNG_COMPRESSION})
+    fig.savefig(path, dpi=dpi, **kwargs)
 
 
 def segments(starts: np.ndarray, ends: np.ndarray) -> np.ndarray:

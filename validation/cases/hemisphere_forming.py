@@ -744,8 +744,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
         x = data.runs[kinematics].positions[: mesh.n_nodes]  # less the holder's node
         step = max(1, data.cells // 16)
         grid = x.reshape(data.cells + 1, data.cells + 1, 3)
-        # Every step-th fibre of each family as one line broken by NaN (a line per fibre
-        # made the layout and the drawing visit a hundred artists).
+        # each family's fibres as one line broken by NaN (not a hundred artists to lay out)
         for fibres, colour in ((grid[::step], "C0"), (grid[:, ::step].transpose(1, 0, 2), "C3")):
             broken = np.concatenate([fibres[..., :2], np.full((len(fibres), 1, 2), np.nan)], 1)
             ax.plot(*broken.reshape(-1, 2).T, "-", color=colour, lw=0.8)

@@ -59,6 +59,9 @@ PLIES_SOLVER: dict[str, Any] = {
     "max_cuts": 10,
     "stall_iterations": 25,
 }
+# The same without the stall rule: the solver the benchmarks' figures from before it measured
+# (benchmarks/static_plies.py, ply_relist.py, ply_fade_hessian.py, tangent_pattern.py).
+BEFORE_STALL_RULE = {key: v for key, v in PLIES_SOLVER.items() if key != "stall_iterations"}
 # The plies' increments per phase. Default, 8 plies: in 10 the first displacement increments
 # took 130 and 101 Newton iterations and 4 cuts (1076 tangents in all); in 20, 92 and 33 and
 # 3 cuts (906 tangents; 179.7 s CPU, one thread, load 1.4-2.5), the same equilibrium (material
