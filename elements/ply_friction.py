@@ -23,16 +23,20 @@ so its gradient at fixed s is the tangential force k_t s plus a normal force dE/
 w W'''(g) |s|^2 / 2 (n, -lambda_k n) (``Sliding.lift``: W''' = -k_p / delta on the ramp, so
 it pushes the plies apart, by at most mu^2 N / 4 where |s| <= mu |g| / 2; 0 deeper) and, past
 the outline, W'' |s|^2 / 2 dw/dz (``Sliding.stored``) on the point's, the facing triangle's and
-the outline edge's nodes, as the normal law's own w W carries them. The loads carry both and
-the tangent their derivative (``_potential_tangent``). s is measured across the facing normal
-n, and dE/dz also holds k_t (n . r) s . dn/dz, the couple of F and -F a distance n . r ~ g
-apart, which the loads leave out as before (a fraction ~ |g| / l of F at the facing
-triangle's corners, l its size). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g:
-nothing added. A sliding point's force mu N s / |s| is no gradient (friction dissipates);
-its energy record stays the spring's at the limit, |F|^2 / (2 k_t) = (mu N)^2 / (2 k_t), the
-elastic part of its offset (what it gives back when unloaded, continuous with E at the
-switch), with no normal force added: the normal force jumps by the stuck point's lift as the
-point starts sliding.
+the outline edge's nodes, as the normal law's own w W carries them. s is measured across the
+facing normal n, which turns with the facing triangle's corners y_m, and dE/dy_m also holds
+k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, the couple of F and -F a distance n . r ~ g
+apart: on a plane dn/dy_m = -grad phi_m n^T, so it is k_t (n . r)(s . grad phi_m) n on
+corner m (``stick_couple``; a fraction ~ |g| / l of F, l the triangle's size). The loads
+carry the three and the tangent their derivative (``_potential_tangent``,
+``_couple_tangent``). A point facing an edge or a vertex (``Facing.on_edge``), whose n turns
+with p and the corners as the gap's Hessian says, is left without its couple (the loads do
+not compute that Hessian). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g: its
+gradient is F and the couple. A sliding point's force mu N s / |s| is no gradient (friction
+dissipates); its energy record stays the spring's at the limit, |F|^2 / (2 k_t) =
+(mu N)^2 / (2 k_t), the elastic part of its offset (what it gives back when unloaded,
+continuous with E at the switch), with no normal force nor couple added: the normal force
+jumps by the stuck point's lift as the point starts sliding.
 Used by ``PlyContactBlock``; the functions take the block as their first argument.
 """
 
@@ -119,7 +123,9 @@ class Sliding:
         along dg/dz (0 elsewhere, and with ``stick="penalty"`` or on curved faces).
     stored : (P,) float
         W''(g) |s|^2 / 2 of each stuck point, the potential before the fade's w, N mm: the
-        factor of dw/dz in dE/dz past the outline (0 where ``lift`` is).
+        factor of dw/dz in dE/dz past the outline (0 off the stuck points, with
+        ``stick="penalty"`` and on curved faces; not 0 where ``lift`` is 0 deeper than the
+        ramp).
     """
 
     force: np.ndarray
@@ -296,10 +302,11 @@ def friction_loads(
     anchor triangle's corners, the facing triangle's corners, the ends of the outline's edge
     nearest the point (``PlyContactBlock.fade_ends``)), forces (t, 11, 3) N and moments
     (t, 11, 3) N mm (c d x force): the tangential force F (N_j F on the upper corners,
-    -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential at fixed s
-    beyond F (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz,
-    with dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b)
-    (0 for sliding points: their entries add zeros)."""
+    -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential beyond F
+    (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz, with
+    dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b), and the
+    couple c_m n on the facing corners (``stick_couple``) (0 for sliding points: their
+    entries add zeros)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     tri = sliding.triangle[on]
     facing_tri = facing.triangle[on]
@@ -355,7 +362,8 @@ def friction_tangent(
     -grad phi_m n^T); dF = k_t ds + s dk_t in stick (k_t = w W'', dk_t = w W''' dg + W'' dw),
     mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip, with dN = -W'' dg, dg/dz = (n,
     -lambda_k n, 0); and a stuck point's stick potential beyond F (``friction_loads``: lift
-    dg/dz + stored dw/dz), its derivative from ``_potential_tangent``. Carried to the nodes
+    dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent`` and
+    ``_couple_tangent``. Carried to the nodes
     and turned with the directors as the normal part (``tangent``)."""
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
