@@ -266,18 +266,18 @@ def stick_potential(
 def stick_couple(
     block: PlyContactBlock, sliding: Sliding, facing: Facing, rows: np.ndarray
 ) -> np.ndarray:
-    """The couple of the stuck points ``rows`` (t,): (t, 3) c_m = k_t (n . r)(s . grad phi_m),
-    N, whose c_m n on the facing triangle's corners m is dE/dy_m of the stick potential
-    E = k_t |s|^2 / 2 beyond the normal and fade terms (module docstring, "The stick
-    potential": dE/dy_m = k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, with dn/dy_m =
-    -grad phi_m n^T on a plane). 0 for sliding points, on the curved faces and where the
-    point faces an edge or a vertex (``Facing.on_edge``: there dn/dz is the gap's Hessian,
-    which the loads do not compute)."""
-    n, r, s = facing.normal[rows], sliding.offset[rows], sliding.slip[rows]
+    """The couple of the stuck points ``rows`` (t,): (t, 3) c_m = k_t (n . r)(s . grad phi_m)
+    = (n . r)(F . grad phi_m), F = k_t s their force (``Sliding.force``), N, whose c_m n on
+    the facing triangle's corners m is dE/dy_m of the stick potential E = k_t |s|^2 / 2
+    beyond the normal and fade terms (module docstring, "The stick potential": dE/dy_m =
+    k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, with dn/dy_m = -grad phi_m n^T on a plane).
+    0 for sliding points, on the curved faces and where the point faces an edge or a vertex
+    (``Facing.on_edge``: there dn/dz is the gap's Hessian, which the loads do not compute)."""
+    n, r, force = facing.normal[rows], sliding.offset[rows], sliding.force[rows]
     along = np.sum(n * r, axis=1)
-    across = np.sum(s[:, None, :] * facing.gradients[rows], axis=2)
+    across = np.sum(force[:, None, :] * facing.gradients[rows], axis=2)
     plane = _couple_rows(block, sliding, facing, rows)
-    return np.where(plane[:, None], (sliding.spring[rows] * along)[:, None] * across, 0.0)
+    return np.where(plane[:, None], along[:, None] * across, 0.0)
 
 
 def _couple_rows(

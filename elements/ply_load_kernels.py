@@ -107,11 +107,8 @@ def _loads(
     anchor,
     lift,
     stored,
-    stuck,
-    on_edge,
-    spring,
+    plane,
     anchor_offset,
-    slip,
     gradients,
     force,
     moment,
@@ -123,10 +120,10 @@ def _loads(
     stiffness, shape (3,), above (3,), upper_offset (3,); per lower triangle: cells (3,),
     corner_offset (3,); direction (n, 3) the faces' unit directions; outline_nodes and
     outline_offsets (E, 2) the outline's edges' ends; sliding (f,) the stuck or sliding
-    points' rows, anchor_triangle, friction_force (3,), anchor (3,), lift, stored, stuck,
-    spring, anchor_offset r (3,) and slip (3,) per point (P rows: elements/ply_friction.py
-    ``Sliding``), on_edge (P,) and gradients (P, 3, 3) the facing's (``Facing.on_edge``,
-    ``Facing.gradients``) for the stuck points' couple (``ply_friction.stick_couple``)."""
+    points' rows, anchor_triangle, friction_force (3,), anchor (3,), lift, stored and
+    anchor_offset r (3,) per point (P rows: elements/ply_friction.py ``Sliding``), plane (P,)
+    the stuck points facing a plane and gradients (P, 3, 3) the facing's for their couple
+    (``ply_friction.stick_couple``)."""
     n = force.shape[0]
     ends_force = np.zeros((n, 3))
     ends_moment = np.zeros((n, 3))
@@ -209,17 +206,13 @@ def _loads(
                 a * f2,
             )
         facing = triangle[r]
-        # the couple c_k = k_t (n . r)(s . grad phi_k) on a stuck point's facing corners
-        plane = stuck[r] and not on_edge[r]
-        s0, s1, s2 = slip[r, 0], slip[r, 1], slip[r, 2]
-        along = spring[r] * (
-            (n0 * anchor_offset[r, 0] + n1 * anchor_offset[r, 1]) + n2 * anchor_offset[r, 2]
-        )
+        # the couple c_k = (n . r)(F . grad phi_k), F = k_t s, on a stuck point's facing corners
+        along = (n0 * anchor_offset[r, 0] + n1 * anchor_offset[r, 1]) + n2 * anchor_offset[r, 2]
         for k in range(3):
             couple = 0.0
-            if plane:
+            if plane[r]:
                 g0, g1, g2 = gradients[r, k, 0], gradients[r, k, 1], gradients[r, k, 2]
-                couple = along * ((s0 * g0 + s1 * g1) + s2 * g2)
+                couple = along * ((f0 * g0 + f1 * g1) + f2 * g2)
             scaled = -up * weights[r, k] + couple
             _add(
                 pair_force,
@@ -297,15 +290,14 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
     if sliding is None or anchor is None:
         rows = np.zeros(0, dtype=np.int64)
         triangle, friction, anchors = np.zeros(count, dtype=np.int64), np.zeros((count, 3)), None
-        lift = stored = spring = np.zeros(count)
-        stuck = np.zeros(count, dtype=np.bool_)
-        offset = slip = np.zeros((count, 3))
+        lift = stored = np.zeros(count)
+        plane = np.zeros(count, dtype=np.bool_)
+        offset = np.zeros((count, 3))
     else:
         rows = np.flatnonzero(sliding.stuck | sliding.sliding)
         triangle, friction, anchors = sliding.triangle, sliding.force, anchor
-        lift, stored, stuck = sliding.lift, sliding.stored, sliding.stuck
-        spring, offset, slip = sliding.spring, sliding.offset, sliding.slip
-    on_edge = np.zeros(count, dtype=np.bool_) if facing.on_edge is None else facing.on_edge
+        lift, stored, offset = sliding.lift, sliding.stored, sliding.offset
+        plane = sliding.stuck if facing.on_edge is None else sliding.stuck & ~facing.on_edge
     force = np.empty((block.n_nodes, 3))
     moment = np.empty((block.n_nodes, 3))
     outline_nodes = block.outline_nodes.reshape(-1, 2)
@@ -337,11 +329,8 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         _contiguous(np.zeros((count, 3)) if anchors is None else anchors),
         _contiguous(lift),
         _contiguous(stored),
-        _contiguous(stuck, np.bool_),
-        _contiguous(on_edge, np.bool_),
-        _contiguous(spring),
+        _contiguous(plane, np.bool_),
         _contiguous(offset),
-        _contiguous(slip),
         _contiguous(facing.gradients),
         force,
         moment,
