@@ -60,10 +60,10 @@ CASES = {
 }
 
 
-def _stuck_only(case: str):
+def _stuck_only(case: str, stick: str = "normal law"):
     """(block, state, history, kept (P,) bool) with only the case's stuck points anchored."""
     settings, chosen = CASES[case]
-    block, state, history = plies_with_friction(stick="normal law", **settings)
+    block, state, history = plies_with_friction(stick=stick, **settings)
     facing = block.facing(state)
     kept = block.friction_state(state, history).stuck & chosen(facing, block)
     history = PlyFrictionHistory(
@@ -97,6 +97,20 @@ def test_a_stuck_points_loads_are_the_gradient_of_its_reported_energy(monkeypatc
     else:  # W''' |s|^2 / 2 dw and its dg: lift and stored both
         assert np.any(sliding.lift[kept] < 0.0) and np.all(sliding.stored[kept] > 0.0)
     assert np.any(stick_couple(block, sliding, facing, np.flatnonzero(kept)) != 0.0)
+
+
+@pytest.mark.parametrize("case", ["deeper", "in the fade"])
+def test_with_the_penalty_as_stick_spring_the_loads_are_the_gradient_too(case):
+    """``stick="penalty"``: E = k_p |s|^2 / 2 holds no g nor w, and its gradient is F and the
+    couple (no lift, nothing stored), against the same central differences at every node
+    (without the couple off by 1.2e-3 of the largest force deeper, measured); and the tangent
+    their derivative (``check_tangent``)."""
+    block, state, history, kept = _stuck_only(case, stick="penalty")
+    sliding = block.friction_state(state, history)
+    assert kept.sum() >= 4 and np.array_equal(sliding.stuck, kept)
+    assert not sliding.lift.any() and not sliding.stored.any()
+    check_force_is_energy_gradient(block, state, history)
+    assert check_tangent(block, state, history)
 
 
 @pytest.mark.parametrize("case", list(CASES))
