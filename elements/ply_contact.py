@@ -118,7 +118,9 @@ anchors new contacts at their projections and forgets lost ones; the dissipation
 times the slip, N_mid the mean of the last accepted and the current normal force. A point not
 touching when the last step was accepted has no anchor (it slides freely for that step). The
 pair F on p, -F at a is not moment-free: p and a are apart by n . (p - a) ~ g along the normal,
-a couple F g, small against the moments F h/2 of the offsets. The tangent is exact (stick and
+a couple F g, small against the moments F h/2 of the offsets; a stuck point facing a plane
+carries it on the facing triangle's corners, as its stick potential's gradient
+(``elements.ply_friction.stick_couple``). The tangent is exact (stick and
 slip, through the facing triangle's normal, the normal force and the anchor's triangle;
 non-symmetric in slip: ``elements.ply_friction.friction_tangent``). mu = 0: no history
 (``initial_history`` is None) and the frictionless code path alone, the same numbers.

@@ -23,16 +23,20 @@ so its gradient at fixed s is the tangential force k_t s plus a normal force dE/
 w W'''(g) |s|^2 / 2 (n, -lambda_k n) (``Sliding.lift``: W''' = -k_p / delta on the ramp, so
 it pushes the plies apart, by at most mu^2 N / 4 where |s| <= mu |g| / 2; 0 deeper) and, past
 the outline, W'' |s|^2 / 2 dw/dz (``Sliding.stored``) on the point's, the facing triangle's and
-the outline edge's nodes, as the normal law's own w W carries them. The loads carry both and
-the tangent their derivative (``_potential_tangent``). s is measured across the facing normal
-n, and dE/dz also holds k_t (n . r) s . dn/dz, the couple of F and -F a distance n . r ~ g
-apart, which the loads leave out as before (a fraction ~ |g| / l of F at the facing
-triangle's corners, l its size). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g:
-nothing added. A sliding point's force mu N s / |s| is no gradient (friction dissipates);
-its energy record stays the spring's at the limit, |F|^2 / (2 k_t) = (mu N)^2 / (2 k_t), the
-elastic part of its offset (what it gives back when unloaded, continuous with E at the
-switch), with no normal force added: the normal force jumps by the stuck point's lift as the
-point starts sliding.
+the outline edge's nodes, as the normal law's own w W carries them. s is measured across the
+facing normal n, which turns with the facing triangle's corners y_m, and dE/dy_m also holds
+k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, the couple of F and -F a distance n . r ~ g
+apart: on a plane dn/dy_m = -grad phi_m n^T, so it is k_t (n . r)(s . grad phi_m) n on
+corner m (``stick_couple``; a fraction ~ |g| / l of F, l the triangle's size). The loads
+carry the three and the tangent their derivative (``_potential_tangent``,
+``_couple_tangent``). A point facing an edge or a vertex (``Facing.on_edge``), whose n turns
+with p and the corners as the gap's Hessian says, is left without its couple (the loads do
+not compute that Hessian). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g: its
+gradient is F and the couple. A sliding point's force mu N s / |s| is no gradient (friction
+dissipates); its energy record stays the spring's at the limit, |F|^2 / (2 k_t) =
+(mu N)^2 / (2 k_t), the elastic part of its offset (what it gives back when unloaded,
+continuous with E at the switch), with no normal force nor couple added: the normal force
+jumps by the stuck point's lift as the point starts sliding.
 Used by ``PlyContactBlock``; the functions take the block as their first argument.
 """
 
@@ -119,7 +123,9 @@ class Sliding:
         along dg/dz (0 elsewhere, and with ``stick="penalty"`` or on curved faces).
     stored : (P,) float
         W''(g) |s|^2 / 2 of each stuck point, the potential before the fade's w, N mm: the
-        factor of dw/dz in dE/dz past the outline (0 where ``lift`` is).
+        factor of dw/dz in dE/dz past the outline (0 off the stuck points, with
+        ``stick="penalty"`` and on curved faces; not 0 where ``lift`` is 0 deeper than the
+        ramp).
     """
 
     force: np.ndarray
@@ -257,6 +263,34 @@ def stick_potential(
     return lift, stored
 
 
+def stick_couple(
+    block: PlyContactBlock, sliding: Sliding, facing: Facing, rows: np.ndarray
+) -> np.ndarray:
+    """The couple of the stuck points ``rows`` (t,): (t, 3) c_m = k_t (n . r)(s . grad phi_m)
+    = (n . r)(F . grad phi_m), F = k_t s their force (``Sliding.force``), N, whose c_m n on
+    the facing triangle's corners m is dE/dy_m of the stick potential E = k_t |s|^2 / 2
+    beyond the normal and fade terms (module docstring, "The stick potential": dE/dy_m =
+    k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, with dn/dy_m = -grad phi_m n^T on a plane).
+    0 for sliding points, on the curved faces and where the point faces an edge or a vertex
+    (``Facing.on_edge``: there dn/dz is the gap's Hessian, which the loads do not compute)."""
+    n, r, force = facing.normal[rows], sliding.offset[rows], sliding.force[rows]
+    along = np.sum(n * r, axis=1)
+    across = np.sum(force[:, None, :] * facing.gradients[rows], axis=2)
+    plane = _couple_rows(block, sliding, facing, rows)
+    return np.where(plane[:, None], along[:, None] * across, 0.0)
+
+
+def _couple_rows(
+    block: PlyContactBlock, sliding: Sliding, facing: Facing, rows: np.ndarray
+) -> np.ndarray:
+    """(t,) bool: which of the points ``rows`` carry a couple (``stick_couple``): stuck, on
+    the flat faces, facing a triangle's plane."""
+    plane = sliding.stuck[rows] & (not block.curved)
+    if facing.on_edge is not None:
+        plane = plane & ~facing.on_edge[rows]
+    return plane
+
+
 def friction_loads(
     block: PlyContactBlock,
     state: State,
@@ -268,10 +302,11 @@ def friction_loads(
     anchor triangle's corners, the facing triangle's corners, the ends of the outline's edge
     nearest the point (``PlyContactBlock.fade_ends``)), forces (t, 11, 3) N and moments
     (t, 11, 3) N mm (c d x force): the tangential force F (N_j F on the upper corners,
-    -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential at fixed s
-    beyond F (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz,
-    with dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b)
-    (0 for sliding points: their entries add zeros)."""
+    -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential beyond F
+    (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz, with
+    dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b), and the
+    couple c_m n on the facing corners (``stick_couple``) (0 for sliding points: their
+    entries add zeros)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     tri = sliding.triangle[on]
     facing_tri = facing.triangle[on]
@@ -288,13 +323,14 @@ def friction_loads(
         lower = -history.anchor[on][:, :, None] * force[:, None, :]
     lift, stored = sliding.lift[on], sliding.stored[on]
     n, lam = facing.normal[on], facing.weights[on]
+    couple = stick_couple(block, sliding, facing, on)
     fading = np.zeros((len(on), 6, 3)) if facing.fade_gradient is None else facing.fade_gradient[on]
     on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
     forces = np.concatenate(
         [
             block.shape[on][:, :, None] * on_face[:, None, :],
             lower,
-            (-lift[:, None] * lam)[:, :, None] * n[:, None, :]
+            (-lift[:, None] * lam + couple)[:, :, None] * n[:, None, :]
             + stored[:, None, None] * fading[:, 1:4],
             stored[:, None, None] * fading[:, 4:],
         ],
@@ -326,7 +362,8 @@ def friction_tangent(
     -grad phi_m n^T); dF = k_t ds + s dk_t in stick (k_t = w W'', dk_t = w W''' dg + W'' dw),
     mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip, with dN = -W'' dg, dg/dz = (n,
     -lambda_k n, 0); and a stuck point's stick potential beyond F (``friction_loads``: lift
-    dg/dz + stored dw/dz), its derivative from ``_potential_tangent``. Carried to the nodes
+    dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent`` and
+    ``_couple_tangent``. Carried to the nodes
     and turned with the directors as the normal part (``tangent``)."""
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
@@ -408,6 +445,13 @@ def friction_tangent(
             block, state, facing, on[held], s[held], ds[held], gap_gradient[held],
             fading[held], unfaded[held], spring_slope[held], lift[held], stored[held],
         )  # fmt: skip
+    couple = stick_couple(block, sliding, facing, on)
+    turns = np.flatnonzero(_couple_rows(block, sliding, facing, on))
+    if turns.size:
+        points[turns] += _couple_tangent(
+            n[turns], r[turns], s[turns], grad[turns], big[turns], ds[turns],
+            turning[turns], spring[turns], d_spring[turns], couple[turns],
+        )  # fmt: skip
     ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack(
         [
@@ -445,7 +489,7 @@ def friction_tangent(
     forces = np.concatenate(
         [
             block.shape[on][:, :, None] * on_face[:, None, :],
-            (-lift[:, None] * lam)[:, :, None] * n[:, None, :]
+            (-lift[:, None] * lam + couple)[:, :, None] * n[:, None, :]
             + stored[:, None, None] * fading[:, 1:4],
             -big[:, :, None] * force[:, None, :],
             stored[:, None, None] * fading[:, 7:],
@@ -512,6 +556,57 @@ def _potential_tangent(
         for i, row in enumerate(slots):
             for j, column in enumerate(slots):
                 points[faded, row, :, column, :] += fade_hessian[:, i, :, j, :]
+    return points
+
+
+def _couple_tangent(
+    n: np.ndarray,
+    r: np.ndarray,
+    s: np.ndarray,
+    grad: np.ndarray,
+    big: np.ndarray,
+    ds: np.ndarray,
+    turning: np.ndarray,
+    spring: np.ndarray,
+    d_spring: np.ndarray,
+    couple: np.ndarray,
+) -> np.ndarray:
+    """The derivative (h, 9, 3, 9, 3) of the stuck points' couple c_m n on the facing
+    corners (``stick_couple``: c_m = k_t (n . r)(s . grad phi_m)) over z = (p, y_f1..3,
+    y_a1..3, a, b), for points facing a plane (module docstring, "The stick potential").
+
+    dc_m = dk_t (n . r)(s . g_m) + k_t (s . g_m)(r . dn + n . dr) + k_t (n . r)(g_m . ds +
+    s . dg_m), with dn/dy_fk = -g_k n^T, dr/dp = I, dr/dy_ak = -Lambda_k I and, from
+    sum_m y_m g_m^T = I - n n^T and g_m . n = 0, dg_m/dy_fk = -g_k g_m^T + (g_m . g_k) n n^T,
+    so s . dg_m/dy_fk = -(s . g_k) g_m (s . n = 0); and d(c_m n) = n dc_m + c_m dn.
+
+    n, r, s (h, 3): the facing normal, r = p - a and s, mm; grad (h, 3, 3) the facing
+    triangle's gradients g_m, 1/mm; big (h, 3) the anchor's Lambda; ds (h, 3, 9, 3) ds/dz;
+    turning (h, 4, 3, 3) dn/dz over (p, y_f1..3), 1/mm; spring k_t (h,) N/mm; d_spring
+    (h, 9, 3) dk_t/dz, N/mm^2; couple c_m (h, 3), N.
+    """
+    count = len(n)
+    along = np.sum(n * r, axis=1)  # n . r, mm
+    across = np.sum(s[:, None, :] * grad, axis=2)  # s . g_m, (h, 3)
+    d_along = np.zeros((count, 9, 3))
+    d_along[:, 0] = n
+    d_along[:, 1:4] = np.einsum("ti,twij->twj", r, turning[:, 1:4])
+    d_along[:, 4:7] = -big[:, :, None] * n[:, None, :]
+    d_across = np.einsum("tmi,tizb->tmzb", grad, ds)
+    for k in range(3):
+        d_across[:, :, 1 + k, :] -= across[:, k, None, None] * grad
+    d_couple = (
+        (along[:, None] * across)[:, :, None, None] * d_spring[:, None]
+        + (spring[:, None] * across)[:, :, None, None] * d_along[:, None]
+        + (spring * along)[:, None, None, None] * d_across
+    )  # (h, 3, 9, 3)
+    turned = np.zeros((count, 3, 9, 3))  # dn/dz over the 9 slots
+    turned[:, :, :4, :] = np.swapaxes(turning, 1, 2)
+    points = np.zeros((count, 9, 3, 9, 3))
+    for m in range(3):
+        points[:, 1 + m] = (
+            n[:, :, None, None] * d_couple[:, m, None] + couple[:, m, None, None, None] * turned
+        )
     return points
 
 

@@ -3,9 +3,10 @@ elements/ply_block.py): each touching point's penalty force w W'(g) dg/dz + W dw
 upper triangle's corners and its facing triangle's corners, the fade's forces W dw/da,
 W dw/db on the ends of the outline's edge nearest it, the friction's tangential force on the
 upper corners and the anchor triangle's corners and a stuck point's stick potential's
-normal and fade terms on the upper, facing and outline-end nodes (elements/ply_friction.py
-``friction_loads``), their moments c d x F on the directors, and their sums at the nodes, in
-one serial pass per block and call (docs/theory.md, the ply contact section).
+normal and fade terms on the upper, facing and outline-end nodes and its couple on the facing
+corners (elements/ply_friction.py ``friction_loads``, ``stick_couple``), their moments
+c d x F on the directors, and their sums at the nodes, in one serial pass per block and call
+(docs/theory.md, the ply contact section).
 
 Their numpy reference is ``PlyContactBlock._pair_loads``, ``_end_loads``,
 ``ply_friction.friction_loads`` and the ``np.bincount`` sums of ``internal_force``, taken
@@ -106,6 +107,9 @@ def _loads(
     anchor,
     lift,
     stored,
+    plane,
+    anchor_offset,
+    gradients,
     force,
     moment,
 ):
@@ -116,8 +120,10 @@ def _loads(
     stiffness, shape (3,), above (3,), upper_offset (3,); per lower triangle: cells (3,),
     corner_offset (3,); direction (n, 3) the faces' unit directions; outline_nodes and
     outline_offsets (E, 2) the outline's edges' ends; sliding (f,) the stuck or sliding
-    points' rows, anchor_triangle, friction_force (3,), anchor (3,), lift and stored per
-    point (P rows: elements/ply_friction.py ``Sliding``)."""
+    points' rows, anchor_triangle, friction_force (3,), anchor (3,), lift, stored and
+    anchor_offset r (3,) per point (P rows: elements/ply_friction.py ``Sliding``), plane (P,)
+    the stuck points facing a plane and gradients (P, 3, 3) the facing's for their couple
+    (``ply_friction.stick_couple``)."""
     n = force.shape[0]
     ends_force = np.zeros((n, 3))
     ends_moment = np.zeros((n, 3))
@@ -200,8 +206,14 @@ def _loads(
                 a * f2,
             )
         facing = triangle[r]
+        # the couple c_k = (n . r)(F . grad phi_k), F = k_t s, on a stuck point's facing corners
+        along = (n0 * anchor_offset[r, 0] + n1 * anchor_offset[r, 1]) + n2 * anchor_offset[r, 2]
         for k in range(3):
-            scaled = -up * weights[r, k]
+            couple = 0.0
+            if plane[r]:
+                g0, g1, g2 = gradients[r, k, 0], gradients[r, k, 1], gradients[r, k, 2]
+                couple = along * ((f0 * g0 + f1 * g1) + f2 * g2)
+            scaled = -up * weights[r, k] + couple
             _add(
                 pair_force,
                 pair_moment,
@@ -279,10 +291,13 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         rows = np.zeros(0, dtype=np.int64)
         triangle, friction, anchors = np.zeros(count, dtype=np.int64), np.zeros((count, 3)), None
         lift = stored = np.zeros(count)
+        plane = np.zeros(count, dtype=np.bool_)
+        offset = np.zeros((count, 3))
     else:
         rows = np.flatnonzero(sliding.stuck | sliding.sliding)
         triangle, friction, anchors = sliding.triangle, sliding.force, anchor
-        lift, stored = sliding.lift, sliding.stored
+        lift, stored, offset = sliding.lift, sliding.stored, sliding.offset
+        plane = sliding.stuck if facing.on_edge is None else sliding.stuck & ~facing.on_edge
     force = np.empty((block.n_nodes, 3))
     moment = np.empty((block.n_nodes, 3))
     outline_nodes = block.outline_nodes.reshape(-1, 2)
@@ -314,6 +329,9 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         _contiguous(np.zeros((count, 3)) if anchors is None else anchors),
         _contiguous(lift),
         _contiguous(stored),
+        _contiguous(plane, np.bool_),
+        _contiguous(offset),
+        _contiguous(facing.gradients),
         force,
         moment,
     )

@@ -323,6 +323,9 @@ class Facing:
     on_growth : (P,) bool or None
         The closest point lies on a growth's edge off the triangle (a cut's too,
         elements/ply_wedge.py) or at an outline vertex.
+    on_edge : (P,) bool or None
+        The gap is to the closest point on an edge or at a vertex, not to the facing
+        triangle's plane (the rows of ``hessian`` it gives); None on the curved faces.
     joined : (P,) bool or None
         Of those, the closest point lies on the extension past the outline of an edge whose
         two triangles both grow past it (module docstring, "Growths joined"): the edge's
@@ -346,6 +349,7 @@ class Facing:
     on_growth: np.ndarray | None = None
     fade_edge: np.ndarray | None = None
     joined: np.ndarray | None = None
+    on_edge: np.ndarray | None = None
 
 
 def triangle_frames(corners: np.ndarray):
@@ -781,4 +785,5 @@ def closest_facing(
         on_growth=on_growth,
         fade_edge=fade_edge,
         joined=joined,
+        on_edge=np.asarray(on_edge, dtype=bool),
     )

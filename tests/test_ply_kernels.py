@@ -15,7 +15,13 @@ import numpy as np
 import pytest
 from test_ply_wedge import _fan
 
-from elements import ply_friction_kernels, ply_kernels, ply_load_kernels, ply_projection
+from elements import (
+    ply_friction,
+    ply_friction_kernels,
+    ply_kernels,
+    ply_load_kernels,
+    ply_projection,
+)
 from elements.ply_block import PlyContactBlock
 from elements.ply_projection import (
     MARGIN,
@@ -285,7 +291,8 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
     return mapping and committed histories (the dissipation too) to the bit, on
     one thread and on all of numba's (every loop parallel); the premises, stuck and sliding
     points and touching points whose fade moves the outline's edges' ends (with the normal
-    law's spring: stuck points whose potential lifts them, or whose fade moves)."""
+    law's spring: stuck points whose potential lifts them, or whose fade moves; stuck points
+    with a couple on their facing corners, ``ply_friction.stick_couple``)."""
     from validation.studies import hemisphere_plies_setup as setup
 
     _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
@@ -336,6 +343,9 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
             moving = facing.touching & (facing.fade_edge >= 0)
             moving &= np.any(facing.fade_gradient[:, 4:] != 0.0, axis=(1, 2))
             seen["ends moved"] += int(moving.sum())
+            # stuck points facing a plane carry the couple on the facing corners
+            couple = ply_friction.stick_couple(block, sliding, facing, np.arange(len(facing.gap)))
+            seen["couple"] = seen.get("couple", 0) + int(np.any(couple != 0.0, axis=1).sum())
             if stick == "normal law":  # the stick potential's normal force and fade term
                 seen["lifted"] = seen.get("lifted", 0) + int(np.sum(sliding.lift != 0.0))
                 faded = sliding.stored != 0.0
