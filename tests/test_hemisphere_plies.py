@@ -92,6 +92,10 @@ def test_a_fibrous_0_45_stack_formed_on_the_coarse_hemisphere_keeps_its_plies_in
     faces 0.14 and 0.45 mm through the holder's (the top ply's corner crest, k = 13.3
     N/mm: docs/hemisphere_plies.md, "The holder's penetration"), the largest shares of its
     force over the frames and nodes 0.10 and 0.45 (the crest's 0.45 mm carries 0.30). With
+    that stick spring derived from its potential, the couple included (docs/hemisphere_plies.md
+    gives the runs): the holder 10.09 mm up, the radial gap -0.012 mm, the faces 0.121 and
+    0.489 mm through the holder's, the largest share 0.50 (chaotic: the same couple summed in
+    another order gave 8.46 mm up, 0.170 and 0.142 mm). With
     the holder on the top ply's nodes alone the bottom ply's corner rose 24.7 mm, through the
     holder's face by 17.9 mm at t = 0.095 s (``through_holder`` on that run), which this test
     fails (the study's docstring, "The holder on every ply")."""
