@@ -20,6 +20,7 @@ os.environ["OPENBLAS_NUM_THREADS"] = "1"
 import compile_once  # noqa: E402
 import pytest  # noqa: E402
 from coarse_report import CoarseReport  # noqa: E402
+from run_once import run_once  # noqa: E402
 
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
@@ -102,6 +103,15 @@ def coarse_report() -> tuple[Path, dict]:
     workers): the report folder and its results.json."""
     start_report()
     return _reports[0].result()
+
+
+@pytest.fixture(scope="session")
+def once_per_run():
+    """``once_per_run(name, compute)``: ``compute(out)`` run by the first of the session's
+    processes to ask and read back by the others, ``(out, result)`` (tests/run_once.py), in
+    the folder the session's processes share (removed at its end): a module fixture that
+    pytest-xdist's two workers would each set up when both run tests of its module."""
+    return lambda name, compute: run_once(_folder["path"] / "once", name, compute)
 
 
 @pytest.fixture
