@@ -130,8 +130,7 @@ _cluster: dict = {"stack": None, "address": None}
 
 
 def uses_the_cluster(item) -> bool:
-    names = getattr(item, "fixturenames", ())
-    return "dask_scheduler" in names or "module_dask_scheduler" in names
+    return "dask_scheduler" in getattr(item, "fixturenames", ())
 
 
 def stop_the_cluster() -> None:
@@ -163,8 +162,7 @@ def start_the_cluster() -> str:
 
 
 def pytest_runtest_teardown(item, nextitem):
-    """The shared cluster stopped after the last test that uses it (``dask_scheduler`` or
-    ``module_dask_scheduler``)."""
+    """The shared cluster stopped after the last test that uses it (``dask_scheduler``)."""
     if _cluster["stack"] is None:
         return
     if "last" not in _cluster:
@@ -190,14 +188,6 @@ def dask_scheduler() -> str:
     whose tests that use it run among the first (marked slow). benchmarks/suite_item_cpu.py
     prints the figures. Started again by a test that asks for it after that (a test another
     worker's queue handed on, a rerun); the session's end stops it."""
-    return start_the_cluster()
-
-
-@pytest.fixture(scope="module")
-def module_dask_scheduler() -> str:
-    """``dask_scheduler`` for a module-scoped fixture that runs on the cluster while it is
-    set up (its address is not to be kept past that: the cluster may stop and start again
-    between the module's tests)."""
     return start_the_cluster()
 
 
