@@ -136,6 +136,64 @@ drape 4.0 s, Static against dynamic relaxation on the sagging cable 3.5 s; every
 156.3 s of CPU, the other 22 cases 143.2 s together) and numba's compilations (81 s in the workers,
 benchmarks/suite_processes.py), what is left in the tests' own runs is small.
 
+A whole run of main 97cc118 (benchmarks/suite_processes.py, a fresh export, the 2-core machine
+shared with other jobs, load 2.0 -> 13.3, 20 min 20 s wall; the CPU is the run's): the coarse
+report's processes 212 s (its two jobs 121.5 and 76.6 s, bai-6.1.1-sensitivity's Dask worker
+14.0 s, 7.6 s of it compiling), the xdist workers about 360 s (one of them 205.4 s, 65.4 s
+of it compiling; the other's exit record was lost, its items 146.6 s and their reaped
+children 67.4 s), the tests' Dask workers 46.7 s in 15 processes (the shared cluster's
+one 14.8 s, the others 1.2-5.5 s each: a start, the package imported, kernels loaded),
+pytest 3.5 s; 2133 passed, 1 failed (the one test that script's timed compile fails, as it
+says). Its items (setup, call, teardown) 343 s of the workers' own CPU; the largest mypy
+24.7 s, the bias extension's arc length 23.3 s, the shared cluster reaped after its last
+test 15.3 s, the README's identify command 12.4 s (11.2 s in its own cluster's two
+workers). Found there and cut (CPU of the items with their reaped children, the checkout
+before, main 97cc118, and after run side by side, warm numba caches, one numba thread,
+load 8.9-10.2):
+
+* tests/test_sweep.py's paired sweep (a module fixture on a LocalCluster of 2 workers) ran
+  twice: pytest-xdist handed the module's tests to both workers and each swept on a cluster
+  of its own (4.65 and 4.36 s of reaped Dask CPU in the two). Swept once per run now, the
+  other worker reading its pickled table (tests/run_once.py, tests/conftest.py
+  ``once_per_run``). ``pytest -n 2 tests/test_sweep.py`` (user + system of pytest and every
+  process it reaped): before 23.0 and 22.7 s, after 18.4, 18.4 and 17.9 s.
+* tests/test_identify.py's overhangs fixture fitted Peirce's B and rho_A to three overhangs
+  of 16 cells (on the shared cluster) where the README's identify example fits the same
+  strip, data and starts (cases/strip.toml, cases/overhangs.csv): its claims moved to the
+  README test's check (B and the bending length within 1 %, rho_A to 1e-4, both intervals,
+  runs = 3 x evaluations, identify.json, fit.png), the fixture gone. tests/test_identify.py
+  and the README's four commands (this script, ``-n 0``, load 9.3 -> 5.3), warm: the items
+  4.7 and 4.7 s, their reaped children 31.9 -> 27.4 s (the shared cluster's worker, reaped
+  after the last test that uses it, 10.7 -> 6.0 s), 36.6 -> 32.1 s in all; cold (every
+  kernel compiled in a fresh cache) 98.2 -> 91.4 s.
+
+A whole run after these cuts (5c5be05, a fresh clone, ``python -m pytest``): 2133 passed, 7
+skipped in 10 min 47 s wall, 422 s of user + system CPU of pytest and the processes it
+reaped; started at a load of 2.4, another checkout's whole CI run beside it from its fourth
+minute (load 5-6): the wall measures that run too, not the change.
+* mypy (tests/test_typecheck.py) no longer analyses the packages the five reach only through
+  dask, distributed and matplotlib, nor dask's array, bag and dataframe collections
+  (pyproject.toml, ``follow_imports = "skip"``); the calls into numpy, numba, dask,
+  distributed, matplotlib and rich checked as before. From an empty cache (``python -m mypy``
+  over the five, user CPU, old and new in turns): 21.21 -> 18.47 s (load 9.3), 23.52 ->
+  21.22 and 23.68 -> 22.42 s (load 9-15). Its ``--timing-stats``: elements/ 55 % of the
+  per-module time (ply_friction.py 3.4 s, ply_block.py 1.7 s of 40.7 s wall), femcore 13 %,
+  the installed packages 17 % before.
+
+Measured and not changed:
+
+* tests/test_bias_extension.py's arc-length test: 47.5 s of CPU in a cold pass, 0.8 s warm
+  (load 10-11): numba compiling the fibrous tangent's kernels, which the next fibrous Static
+  test would compile; a shorter path or a smaller mesh would not cut it.
+* the ply contact's kernels are built twice in a fresh checkout, once for read-only and once
+  for writable arrays (benchmarks/suite_signatures.py on the whole run's cache: 17 second
+  builds of 187, ply_choice ``_choose_part`` 2.2 + 2.3 s, ply_load_kernels ``_loads`` 1.7 +
+  1.4 s, ply_feature_normals, ply_chosen, ply_face_points, ply_search ``_moves``; about 7 s
+  of compiling, half in a report job, half in a worker). Giving tests/test_ply_kernels.py's
+  direct calls read-only points and corners (as elements/ply_block.py hands them) left 14
+  second builds of 119 in a cache of that module, test_ply_search.py and a ply test run
+  through the model: the writable builds come from the library's own paths (elements/).
+
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
 

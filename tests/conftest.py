@@ -20,6 +20,7 @@ os.environ["OPENBLAS_NUM_THREADS"] = "1"
 import compile_once  # noqa: E402
 import pytest  # noqa: E402
 from coarse_report import CoarseReport  # noqa: E402
+from run_once import run_once  # noqa: E402
 
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
@@ -104,6 +105,15 @@ def coarse_report() -> tuple[Path, dict]:
     return _reports[0].result()
 
 
+@pytest.fixture(scope="session")
+def once_per_run():
+    """``once_per_run(name, compute)``: ``compute(out)`` run by the first of the session's
+    processes to ask and read back by the others, ``(out, result)`` (tests/run_once.py), in
+    the folder the session's processes share (removed at its end): a module fixture that
+    pytest-xdist's two workers would each set up when both run tests of its module."""
+    return lambda name, compute: run_once(_folder["path"] / "once", name, compute)
+
+
 @pytest.fixture
 def box_chain() -> Mesh:
     """40 segments of 3 mm hanging from (0,0,0) and (96,0,0): down 12, across 96, up 12
@@ -120,8 +130,7 @@ _cluster: dict = {"stack": None, "address": None}
 
 
 def uses_the_cluster(item) -> bool:
-    names = getattr(item, "fixturenames", ())
-    return "dask_scheduler" in names or "module_dask_scheduler" in names
+    return "dask_scheduler" in getattr(item, "fixturenames", ())
 
 
 def stop_the_cluster() -> None:
@@ -153,8 +162,7 @@ def start_the_cluster() -> str:
 
 
 def pytest_runtest_teardown(item, nextitem):
-    """The shared cluster stopped after the last test that uses it (``dask_scheduler`` or
-    ``module_dask_scheduler``)."""
+    """The shared cluster stopped after the last test that uses it (``dask_scheduler``)."""
     if _cluster["stack"] is None:
         return
     if "last" not in _cluster:
@@ -180,14 +188,6 @@ def dask_scheduler() -> str:
     whose tests that use it run among the first (marked slow). benchmarks/suite_item_cpu.py
     prints the figures. Started again by a test that asks for it after that (a test another
     worker's queue handed on, a rerun); the session's end stops it."""
-    return start_the_cluster()
-
-
-@pytest.fixture(scope="module")
-def module_dask_scheduler() -> str:
-    """``dask_scheduler`` for a module-scoped fixture that runs on the cluster while it is
-    set up (its address is not to be kept past that: the cluster may stop and start again
-    between the module's tests)."""
     return start_the_cluster()
 
 

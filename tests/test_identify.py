@@ -1,11 +1,11 @@
 """Identification (fibreshell.identify, ``fibreshell identify``): least squares over case
 keys with the Jacobian's runs as Dask tasks. It recovers the bending stiffness that generated
-a profile, Peirce's bending length (and the weight) from the heavy elastica's tip deflections
-and the clamp reactions of an overhang series, and on a response linear in the parameter its
-value and 95 % interval are those of ordinary least squares in closed form."""
+a profile, and on a response linear in the parameter its value and 95 % interval are those of
+ordinary least squares in closed form. Peirce's bending length (and the weight) from the heavy
+elastica's tip deflections and the clamp reactions of an overhang series is the README's
+identify example, checked in tests/test_readme_examples.py."""
 
 import csv
-import json
 
 import numpy as np
 import pytest
@@ -16,7 +16,6 @@ from fibreshell.cli import main
 from fibreshell.identify import identify, read_measurements, start_values
 from fibreshell.sweep import sweep
 from materials import presets
-from validation.references.elastica import heavy_cantilever
 
 GRAVITY = 9810.0
 
@@ -45,60 +44,12 @@ def test_the_bending_stiffness_behind_a_profile_is_recovered(dask_scheduler):
     assert result.residual_rms < 1e-3 * np.ptp(measured["z"])
 
 
-@pytest.fixture(scope="module")
-def overhangs(tmp_path_factory, module_dask_scheduler):
-    """Peirce's cantilever test on a weighed strip: the tip deflections of overhangs of 40, 60
-    and 80 mm of a fabric of rho_A = 0.3 kg/m^2 and B = 0.1 N mm (c = (B / w)^(1/3) =
-    32.4 mm) from the inextensible heavy elastica (validation/references/elastica.py), and the
-    clamp's reaction, the weight rho_A g L W; B and rho_A both fitted, from 0.2 and 0.1
-    kg/m^2, each response over its uncertainty (0.1 mm, 1e-5 N)."""
-    density, bending = 3e-10, 0.1
-    lengths = [40.0, 60.0, 80.0]
-    tips = [-heavy_cantilever(length, density * GRAVITY, bending)["tip_deflection"]
-            for length in lengths]  # fmt: skip
-    weights = [density * GRAVITY * length * 10.0 for length in lengths]
-    out = tmp_path_factory.mktemp("peirce")
-    result = identify(
-        strip(60.0, 16, 0.2, 1e-10),
-        {"mesh.rectangle.lx": lengths, "displacement_right_z": tips, "reaction_left_z": weights},
-        {"part.0.material.bending": None, "part.0.material.areal_density": None},
-        sigma={"displacement_right_z": 0.1, "reaction_left_z": 1e-5},
-        out=out,
-        scheduler=module_dask_scheduler,
-        progress=False,
-    )
-    return result, density, bending, out
-
-
-@pytest.mark.slow
-def test_peirce_bending_length_from_an_overhang_series(overhangs):
-    # 16 cells per overhang: the clamped-edge shell's tip deflection is within ~0.3 % of the
-    # elastica (second order: 0.8 % at 10 cells), so B within 1 %, c = (B / w)^(1/3) within
-    # 1/3 of that; the issue asks for 1 % on c. The weight is exact (equilibrium): rho_A to
-    # 1e-4.
-    result, density, bending, _ = overhangs
-    c_true = (bending / (density * GRAVITY)) ** (1 / 3)
-    fitted_bending, fitted_density = result.values
-    c_fit = (fitted_bending / (fitted_density * GRAVITY)) ** (1 / 3)
-    assert c_fit == pytest.approx(c_true, rel=0.01)
-    assert fitted_bending == pytest.approx(bending, rel=0.01)
-    assert fitted_density == pytest.approx(density, rel=1e-4)
-    for value, (low, high) in zip(result.values, result.intervals):
-        assert low < value < high  # units 1e9 apart, yet both intervals are estimated
-    # One run per overhang per evaluation; each Jacobian is one batch of 2 x 3 runs.
-    assert result.runs == 3 * result.evaluations
-
-
-@pytest.mark.slow
-def test_the_fit_writes_its_values_and_a_figure(overhangs):
-    result, *_, out = overhangs
-    written = json.loads((out / "identify.json").read_text())
-    fitted = written["parameters"]["part.0.material.bending"]
-    assert fitted["value"] == pytest.approx(result.values[0])
-    assert fitted["start"] == 0.2
-    assert fitted["confidence_95"] == pytest.approx(list(result.intervals[0]))
-    assert written["sigma"] == {"displacement_right_z": 0.1, "reaction_left_z": 1e-5}
-    assert (out / "fit.png").stat().st_size > 10_000
+# Peirce's bending length from an overhang series (B and rho_A both fitted to the heavy
+# elastica's tip deflections and the clamp reactions of 40, 60 and 80 mm overhangs, 16 cells
+# each): the README's identify example is that fit (cases/strip.toml, cases/overhangs.csv),
+# and tests/test_readme_examples.py (check_identify) holds its claims: B within 1 %, the
+# bending length within 1 %, rho_A to 1e-4, both intervals estimated, the runs per
+# evaluation, identify.json and fit.png. The suite runs it once.
 
 
 @pytest.mark.slow

@@ -361,20 +361,36 @@ def check_sweep(argv, folder, printed):
 
 def check_identify(argv, folder, printed):
     """Peirce's test of cases/overhangs.csv: the data are the heavy elastica's at B = 0.1 N mm
-    and rho_A = 3e-10 t/mm^2 (the file says so). The clamp reaction is the weight whatever
-    the shape, so rho_A comes back to 1e-4; B within 1 %, the 16-cell strip's deflection
-    being within about 0.3 % of the elastica's (tests/test_identify.py)."""
+    and rho_A = 3e-10 t/mm^2 (the file says so; validation/references/elastica.py). 16 cells
+    per overhang: the clamped-edge shell's tip deflection is within ~0.3 % of the elastica
+    (second order: 0.8 % at 10 cells), so B within 1 % and the bending length c = (B /
+    (rho_A g))^(1/3) within 1/3 of that (the issue asked for 1 % on c). The clamp reaction is
+    the weight whatever the shape (equilibrium), so rho_A comes back to 1e-4. This is the
+    suite's one run of Peirce's fit (tests/test_identify.py's other fits are on the session's
+    shared cluster): one run per overhang per evaluation, each Jacobian a batch of 2 x 3 runs;
+    identify.json holds the values, their starts, intervals and the sigmas given."""
     out = out_folder(argv, folder)
-    fitted = json.loads((out / "identify.json").read_text())["parameters"]
+    written = json.loads((out / "identify.json").read_text())
+    fitted = written["parameters"]
     source = (ROOT / "cases" / "overhangs.csv").read_text()
     assert "B = 0.1 N mm" in source and "rho_A = 3e-10 t/mm^2" in source
-    assert fitted["part.0.material.bending"]["value"] == pytest.approx(0.1, rel=0.01)
-    assert fitted["part.0.material.areal_density"]["value"] == pytest.approx(3e-10, rel=1e-4)
-    assert fitted["part.0.material.areal_density"]["start"] == 1e-10  # the case's own value
+    bending_fit = fitted["part.0.material.bending"]
+    density_fit = fitted["part.0.material.areal_density"]
+    assert bending_fit["value"] == pytest.approx(0.1, rel=0.01)
+    assert density_fit["value"] == pytest.approx(3e-10, rel=1e-4)
+    c_fit = (bending_fit["value"] / (density_fit["value"] * 9810.0)) ** (1 / 3)
+    assert c_fit == pytest.approx((0.1 / (3e-10 * 9810.0)) ** (1 / 3), rel=0.01)
+    assert bending_fit["start"] == 0.2  # the command's =0.2
+    assert density_fit["start"] == 1e-10  # the case's own value
+    for entry in (bending_fit, density_fit):
+        low, high = entry["confidence_95"]  # units 1e9 apart, yet both intervals estimated
+        assert low < entry["value"] < high
+    assert written["sigma"] == {"displacement_right_z": 0.1, "reaction_left_z": 1e-5}
+    assert written["runs"] == 3 * written["evaluations"]
     bending, density = quoted(r"returns B = (\d\.\d+) N mm and (\S+) t/mm\^2")
-    assert within_rounding(fitted["part.0.material.bending"]["value"], bending)
-    assert within_rounding(fitted["part.0.material.areal_density"]["value"], density)
-    assert "95 % interval" in printed and (out / "fit.png").is_file()
+    assert within_rounding(bending_fit["value"], bending)
+    assert within_rounding(density_fit["value"], density)
+    assert "95 % interval" in printed and (out / "fit.png").stat().st_size > 10_000
 
 
 COMMAND_CHECKS = {  # (command, case): what its README text says of it

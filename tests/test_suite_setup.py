@@ -184,6 +184,32 @@ def test_the_report_starts_once_for_all_the_sessions_processes(tmp_path):
     assert not folder.exists()
 
 
+def test_a_run_shared_by_the_workers_is_computed_once_and_read_back_by_the_others(tmp_path):
+    # tests/run_once.py: the first process to ask computes and pickles; the others (another
+    # xdist worker) read the pickle and never compute, in the same output folder.
+    from run_once import run_once
+
+    calls = []
+
+    def compute(out):
+        calls.append(out)
+        (out / "written").write_text("once")
+        return {"rows": [1.0, 2.0]}
+
+    out, first = run_once(tmp_path, "sweep", compute)
+    assert calls == [out] and out == tmp_path / "sweep" and (out / "written").is_file()
+    assert run_once(tmp_path, "sweep", compute) == (out, first) and len(calls) == 1
+    ask = (
+        "import sys; sys.path.insert(0, sys.argv[1]); from pathlib import Path\n"
+        "from run_once import run_once\n"
+        "def compute(out): raise SystemExit('computed twice')\n"
+        "print(run_once(Path(sys.argv[2]), 'sweep', compute))\n"
+    )
+    other = subprocess.run([sys.executable, "-c", ask, str(Path(__file__).parent), str(tmp_path)],
+                           capture_output=True, text=True, check=True)  # fmt: skip
+    assert other.stdout == f"{(out, first)}\n"
+
+
 def test_a_failed_or_killed_report_fails_its_tests_with_its_log(tmp_path):
     failed = CoarseReport.start_once(tmp_path / "a", stand_in("print('no mesh'); sys.exit(2)\n"))
     with pytest.raises(AssertionError, match="no mesh"):

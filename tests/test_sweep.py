@@ -145,16 +145,20 @@ def test_a_swept_bending_scale_scales_the_mindlin_section(tmp_path):
 
 # ------------------------------------------------------------------ a sweep on Dask
 @pytest.fixture(scope="module")
-def paired_sweep(tmp_path_factory):
+def paired_sweep(once_per_run):
     """Five paired variants on a LocalCluster of 2 workers: B = 10 and 20 fibrous, B = 10
-    Mindlin, B = -1 (refused by the case) and one whose solver may not iterate (it stops)."""
-    out = tmp_path_factory.mktemp("sweep")
+    Mindlin, B = -1 (refused by the case) and one whose solver may not iterate (it stops).
+    Swept once per run of the suite, whichever pytest-xdist worker asks first (the cluster's
+    start and the runs: seconds of CPU)."""
     vary = {
         "part.0.material.bending": [10.0, 20.0, 10.0, -1.0, 10.0],
         "kinematics": ["fibrous", "fibrous", "mindlin", "fibrous", "fibrous"],
         "solver.max_iterations": [25, 25, 25, 25, 1],
     }
-    return out, sweep(cantilever(), vary, paired=True, out=out, workers=2, progress=False)
+    return once_per_run(
+        "paired_sweep",
+        lambda out: sweep(cantilever(), vary, paired=True, out=out, workers=2, progress=False),
+    )
 
 
 def test_every_variant_matches_euler_bernoulli(paired_sweep):
