@@ -284,3 +284,24 @@ def test_a_kernel_missing_from_the_cache_is_compiled_by_one_of_the_processes_ask
     counts = sorted(tuple(map(int, p.communicate()[0].split())) for p in asking)
     assert [p.returncode for p in asking] == [0, 0]
     assert counts == [(0, 1), (1, 0)]  # (compiled, loaded from the cache) in each process
+
+
+def test_two_workers_asking_at_once_compute_the_run_once_and_both_read_it(tmp_path):
+    # tests/run_once.py under a race: two processes ask at the same moment, the compute slow
+    # enough (0.5 s) for the second to ask while the first computes; the lock makes the
+    # second wait and read the pickle (without it both would compute: two lines in the log).
+    ask = (
+        "import sys, time; sys.path.insert(0, sys.argv[1]); from pathlib import Path\n"
+        "from run_once import run_once\n"
+        "def compute(out):\n"
+        "    with open(Path(sys.argv[2]) / 'computes.log', 'a') as log: log.write('x\\n')\n"
+        "    time.sleep(0.5)\n"
+        "    return {'rows': [1.0, 2.0]}\n"
+        "print(run_once(Path(sys.argv[2]) / 'shared', 'sweep', compute)[1])\n"
+    )
+    args = [sys.executable, "-c", ask, str(Path(__file__).parent), str(tmp_path)]
+    both = [subprocess.Popen(args, stdout=subprocess.PIPE, text=True) for _ in range(2)]
+    outputs = [process.communicate(timeout=60)[0] for process in both]
+    assert [process.returncode for process in both] == [0, 0]
+    assert outputs == ["{'rows': [1.0, 2.0]}\n"] * 2
+    assert (tmp_path / "computes.log").read_text() == "x\n"
