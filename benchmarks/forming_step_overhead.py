@@ -79,6 +79,42 @@ same bits if one served both), the tools' contact at the new state 0.33 (compile
 step's loads find it kept), the ply loads 0.13, the history's row 0.06, the rest 0.2. The
 step is Python and numpy glue round some forty compiled calls and numpy calls on arrays of
 a few hundred rows; the next cut is ``closest_facing``'s glue in one compiled pass.
+
+Two cuts of that glue, each giving the same bits:
+
+* the stick spring W''(g) and its slope in the compiled return mapping's own pass
+  (elements/ply_friction_kernels.py), not numpy's ``stick_spring`` on the touching points'
+  masked rows: it cost 38.9 us a call over 4.2 calls a step (``--split`` of [0/90] on
+  db6c2b7, load 3.8: 2.41 ms a step with the timers; ``closest_facing`` 348 us a call, two
+  a step); ``friction_state`` on a bent two-ply [0/90] blank (fibrous, 8 cells, one thread,
+  load 12) 58.1-58.6 -> 18.3-18.8 us a call on the 384 points, 30.3-31.3 -> 14.0 on the 81;
+* the facing's ``toward`` in one compiled pass with d read at the upper corners
+  (elements/ply_face_points.py ``offset_toward``), not numpy's three-operand einsum on the
+  gathered directions (48 and 12 us a facing): the facing 336-337 -> 267-278 us a call (384
+  points), 199-203 -> 177-184 us (81), with both cuts.
+
+Measured beside main db6c2b7 (``git archive``; one numba thread, CPU, each tree's numba cache
+warmed by a run before, the trees' runs at once with other jobs):
+
+* ``--reference`` (the first cut alone), fibrous [0/90], 6771 steps: 2.977 -> 2.448 ms a step
+  (best of 2, load 13 -> 7), the same steps and final positions to the bit;
+* hemisphere-plies coarse (``python -m validation --cases hemisphere-plies --resolution
+  coarse --jobs 1``, both cuts, load 4-9): case_cpu_s 47.2 -> 42.5 s; [0/90] 19.29 -> 16.56 s
+  (6771 steps, 2.85 -> 2.45 ms a step), [0/45] 20.05 -> 18.19 s (6085 steps, 3.30 -> 2.99
+  ms); results.json the same in every one of its numbers but the times (12 of 12 checks);
+* hemisphere-plies default (the four runs, both cuts, load 3-9): case_cpu_s 116.5 -> 109.0 s;
+  fibrous [0/90] 18.23 -> 15.71 s (6771 steps), fibrous [0/45] 18.03 -> 17.36 s (6085),
+  Mindlin [0/90] 36.01 -> 32.60 s (13744), Mindlin [0/45] 28.10 -> 26.88 s (11582);
+  results.json the same in every one of its numbers but the times (24 of 24 checks).
+
+``--split`` again after both cuts (load 5.6, everything 10-35 % slower than in the split above
+at load 3.8, the tools' contact too, which the cuts do not touch): ``stick_spring`` no longer
+called, ``friction_state`` 71.6 -> 34.5 us a call (2.2 a step; the history's two more inside
+``update_history``). What is left of ``closest_facing`` (cProfile of 600 facings of bent
+states of the two passes, its overhead in the figures): its own lines 0.28 s of its 1.38 s,
+the numpy glue round the choice, the chosen candidate's arrays and the fade; the choice 0.24
+s (its kernel 0.16), ``outline_fade`` 0.30 s (its own lines 0.06), the candidates' planes'
+kernel 0.07 s, the jit wrapper's own lines 0.13 s over its 9 calls a facing.
 """
 
 from __future__ import annotations

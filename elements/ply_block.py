@@ -365,8 +365,11 @@ class PlyContactBlock(InteractionBlock):
         else:
             # the points' plies' side: their faces' offsets from the mid-surfaces point away
             # from the lower ply (x - a d with a > 0 above it, the mirrored pass's -b below it)
-            d = self.offset_directions(state)[self.above]
-            toward = np.einsum("pj,pj,pji->pi", self.shape, self.upper_offset, d)
+            d = self.offset_directions(state)
+            if ply_projection.COMPILED:  # the same bits, without d's gather (ply_face_points.py)
+                toward = ply_face_points.offset_toward(d, self.above, self.upper_offset, self.shape)
+            else:
+                toward = np.einsum("pj,pj,pji->pi", self.shape, self.upper_offset, d[self.above])
             found = closest_facing(
                 p,
                 y,

@@ -2,14 +2,18 @@
 ``offset_directions``, elements/ply_block.py; docs/theory.md, the ply contact section): the
 unit area-weighted nodal normals of the plies' triangles along which the faces lie
 (``faces="normal"``), the contact points p = sum_j N_j (x_j - a_j d_j) and the lower
-triangles' offset corners y_k = x_k + b_k d_k, each in one serial pass.
+triangles' offset corners y_k = x_k + b_k d_k, and the points' directions toward their own ply
+sum_j N_j a_j d_j (``PlyContactBlock.facing``'s ``toward``: numpy's three-operand einsum on
+the gathered d cost about 48 and 12 us a facing on the hemisphere's two passes), each in one
+serial pass.
 
 Their numpy reference is the block's own expressions, taken with ``ply_projection.COMPILED =
 False``. The passes do the same IEEE operations in the same order (the normals' sums node by
 node in the order ``np.bincount`` adds them, from 0.0; ``einsum("pj,pji->pi")`` and
-``np.linalg.norm`` from the first term; no fused multiply-add: numba builds without
-fastmath), so they give the same numbers to the last bit (tests/test_ply_kernels.py); the
-same bits on any thread count (serial).
+``np.linalg.norm`` from the first term, ``einsum("pj,pj,pji->pi")`` from 0.0 with the
+products left to right; no fused multiply-add: numba builds without fastmath), so they give
+the same numbers to the last bit (tests/test_ply_kernels.py); the same bits on any thread
+count (serial).
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ import numpy as np
 
 from elements.jit import lanes
 
-__all__ = ["face_points", "offset_normals"]
+__all__ = ["face_points", "offset_normals", "offset_toward"]
 
 
 @lanes
@@ -112,3 +116,34 @@ def face_points(
         y,
     )
     return p, y, bool(finite)
+
+
+@lanes
+def _toward(d, above, upper_offset, shape, toward):
+    """toward (P, 3): sum_j (N_j a_j) d_j over each point's upper corners, as numpy's
+    ``einsum("pj,pj,pji->pi")`` sums it (the products left to right, the terms from 0.0 in
+    j's order)."""
+    for i in range(above.shape[0]):
+        for c in range(3):
+            total = 0.0
+            for j in range(3):
+                total += (shape[i, j] * upper_offset[i, j]) * d[above[i, j], c]
+            toward[i, c] = total
+
+
+def offset_toward(
+    d: np.ndarray, above: np.ndarray, upper_offset: np.ndarray, shape: np.ndarray
+) -> np.ndarray:
+    """(P, 3) each contact point's direction from the lower ply to its own, sum_j N_j a_j d_j
+    (``PlyContactBlock.facing``'s ``toward``), mm, compiled: the same bits as numpy's
+    ``einsum("pj,pj,pji->pi", shape, upper_offset, d[above])`` (module docstring), without
+    the gather of d (n, 3) at the upper corners ``above`` (P, 3); a (P, 3) mm, N (P, 3)."""
+    toward = np.empty((len(above), 3))
+    _toward(
+        np.ascontiguousarray(d, dtype=float),
+        np.ascontiguousarray(above, dtype=np.int64),
+        np.ascontiguousarray(upper_offset, dtype=float),
+        np.ascontiguousarray(shape, dtype=float),
+        toward,
+    )
+    return toward

@@ -12,11 +12,13 @@ numpy's sums of three terms in its order: ``np.sum`` and ``np.linalg.norm`` over
 first term, ``einsum("pk,pki->pi")`` likewise, ``einsum("pki,pi->pk")`` as (first + last) +
 middle; no fused multiply-add: numba builds without fastmath), so they give the same numbers
 to the last bit (tests/test_ply_kernels.py). The stick spring before the fade's w and its slope
-come from ``ply_friction``'s own numpy for ``stick="normal law"`` (k_p and 0 for "penalty"),
-a stuck point's potential's ``lift`` and ``stored`` as ``ply_friction.stick_potential``
-computes them (|s|^2 / 2 as 0.5 times numpy's row sum), and the
-dissipation's sum over the points from ``np.sum`` (numpy's pairwise order). Each point is
-independent: the same bits on any thread count.
+(``ply_friction.stick_spring`` for ``stick="normal law"``, k_p and 0 for "penalty") in the
+same pass, from numpy's min(g, 0) (its signed zeros; tests/test_ply_stick_spring_pass.py):
+before, numpy's ``stick_spring`` on the touching points' masked rows cost about 39 us of the
+pass's 70 (benchmarks/forming_step_overhead.py); a stuck point's potential's ``lift`` and
+``stored`` as ``ply_friction.stick_potential`` computes them (|s|^2 / 2 as 0.5 times numpy's
+row sum), and the dissipation's sum over the points from ``np.sum`` (numpy's pairwise order).
+Each point is independent: the same bits on any thread count.
 """
 
 from __future__ import annotations
@@ -43,9 +45,8 @@ def _return_mapping(
     stiffness,
     smoothing,
     fade,
-    stick,
-    stick_slope,
-    fade_spring,
+    bounded,
+    normal_law,
     potential,
     friction,
     anchor_triangle,
@@ -67,16 +68,19 @@ def _return_mapping(
     """``ply_friction.friction_state``'s arrays (``Sliding``) of the points, written into
     force, slip, offset (P, 3), stuck, sliding (P,) bool, pressing, spring, lift, stored (P,),
     triangle (P,) int: from their touching flags, gaps (mm), penalties k_p (N/mm), the fade w,
-    the stick springs ``stick`` before w (N/mm; times w where ``fade_spring``) and their
-    slopes ``stick_slope`` (N/mm^2), ``potential`` whether a stuck point's spring derives
-    from its potential (``ply_friction.stick_potential``), the history's anchors
-    (``anchor_triangle`` (P,), -1: none; ``anchor_weights`` (P, 3)), the points p ``face`` (P,
-    3), their facing normals (P, 3) and the lower corners y (m, 3, 3); ``smoothing`` delta, mm,
-    ``friction`` mu."""
+    ``bounded`` numpy's min(g, 0) of the gaps (P,) mm (its signed zeros), ``normal_law``
+    whether the stick spring is the normal law's W''(g) (``ply_friction.stick_spring``, with
+    its slope W'''(g), and times w in k_t; else k_p, slope 0, no w), ``potential`` whether a
+    stuck point's spring derives from its potential (``ply_friction.stick_potential``), the
+    history's anchors (``anchor_triangle`` (P,), -1: none; ``anchor_weights`` (P, 3)), the
+    points p ``face`` (P, 3), their facing normals (P, 3) and the lower corners y (m, 3, 3);
+    ``smoothing`` delta, mm, ``friction`` mu."""
     for i in prange(gap.shape[0]):
         on = touching[i]
         normal_force = 0.0
         k_t = 0.0
+        unfaded = 0.0
+        slope = 0.0
         if on:
             k = stiffness[i]
             g = gap[i] if (gap[i] < 0.0 or gap[i] != gap[i]) else 0.0
@@ -87,7 +91,18 @@ def _return_mapping(
             else:
                 law = -k * (g * g) / (2.0 * smoothing)
             normal_force = -law * fade[i]
-            k_t = stick[i] * fade[i] if fade_spring else stick[i]
+            # the stick spring before w and its slope, as ``ply_friction.stick_spring`` writes
+            # them (``penalty_law``'s W'' from numpy's min(g, 0); the slope's -k_p / delta)
+            unfaded = k
+            if normal_law:
+                if smoothing == 0.0:
+                    unfaded = k if gap[i] <= 0.0 else 0.0
+                else:
+                    b = bounded[i]
+                    unfaded = k if b <= -smoothing else (-k * b) / smoothing
+                    if gap[i] < 0.0 and gap[i] > -smoothing:
+                        slope = -k / smoothing
+            k_t = unfaded * fade[i] if normal_law else unfaded
         pressing[i] = normal_force
         spring[i] = k_t
         anchored = on and anchor_triangle[i] >= 0
@@ -120,8 +135,8 @@ def _return_mapping(
         sliding[i] = slides
         if held and potential:
             half = 0.5 * ((s0 * s0 + s1 * s1) + s2 * s2)
-            lift[i] = fade[i] * (stick_slope[i] * half)
-            stored[i] = stick[i] * half
+            lift[i] = fade[i] * (slope * half)
+            stored[i] = unfaded * half
         else:
             lift[i] = 0.0
             stored[i] = 0.0
@@ -143,10 +158,6 @@ def friction_state(
         return ply_friction.friction_state(block, state, history, facing)
     count = len(block.above)
     on = facing.touching
-    stick = np.array(block.stiffness, dtype=float)
-    slope = np.zeros(count)
-    if block.stick != "penalty":  # the normal law's own spring (ply_friction's numpy)
-        stick[on], slope[on] = ply_friction._spring(block, facing.gap[on], block.stiffness[on])
     _, y = block._faces(state)
     arrays = (
         np.empty((count, 3)),
@@ -166,8 +177,7 @@ def friction_state(
         np.ascontiguousarray(block.stiffness, dtype=float),
         float(block.smoothing),
         np.ascontiguousarray(facing.fade, dtype=float),
-        stick,
-        slope,
+        np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
         block.stick != "penalty",
         block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
         float(block.friction),

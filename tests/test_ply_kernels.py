@@ -480,6 +480,43 @@ def test_the_compiled_faces_are_numpy_s_to_the_bit(monkeypatch):
             blocks[0]._faces(broken)
 
 
+def test_the_compiled_points_direction_toward_their_ply_is_numpy_s_to_the_bit():
+    """``ply_face_points.offset_toward`` (the facing's ``toward``, sum_j N_j a_j d_j, d
+    gathered at the upper corners in the pass) gives the bytes of numpy's
+    ``einsum("pj,pj,pji->pi")``: the two-ply Mindlin [0/90]
+    hemisphere blank's points (8 cells, both passes, bent 0-20 mm) and random rows with zero
+    offsets, zero shape functions and -0.0 among them, on one thread and on all of numba's."""
+    from elements import ply_face_points
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    rng = np.random.default_rng(5)
+    cases = []
+    for seed, depth in enumerate((0.0, 5.0, 20.0)):
+        state = _bent(compiled_model, seed, depth)
+        for block in blocks:
+            d = block.offset_directions(state)
+            cases.append((d, block.above, block.upper_offset, block.shape))
+    count, nodes = 500, 40
+    d = rng.normal(size=(nodes, 3))
+    d[:5] = [[0.0, -0.0, 1.0]] * 5
+    above = rng.integers(0, nodes, (count, 3))
+    offset = np.where(rng.random((count, 3)) < 0.2, rng.choice([0.0, -0.0], (count, 3)), 1.5)
+    shape = np.where(rng.random((count, 3)) < 0.2, 0.0, rng.dirichlet(np.ones(3), count))
+    cases.append((d, above, offset * rng.uniform(0.5, 1.5, (count, 3)), shape))
+    for d, above, offset, shape in cases:
+        want = np.einsum("pj,pj,pji->pi", shape, offset, d[above])
+
+        def toward(d=d, above=above, offset=offset, shape=shape):
+            return ply_face_points.offset_toward(d, above, offset, shape)
+
+        for got in on_one_thread_and_on_all(toward):
+            assert got.tobytes() == want.tobytes()
+    assert np.any(np.all(want == 0.0, axis=1))  # rows whose terms all vanish
+
+
 def test_the_compiled_kept_lists_moves_are_numpy_s_to_the_bit(monkeypatch):
     """``FacingSearch.near`` with the kept lists' moves compiled (elements/ply_search.py
     ``_moves``) against numpy's: two searches of the two-ply hemisphere blank's first pass
