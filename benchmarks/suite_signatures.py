@@ -39,8 +39,10 @@ and its helpers ``_add``, ``_add_upper`` (the offset directions), ply_search ``_
 builds (y, p). The one other: node_rows ``_same_rows`` 2 (0.1 s each), an A-layout array
 beside a C one: tests/test_node_rows.py's strided view, which the test gives on purpose (the
 library passes C arrays), left as it is. The compile log of that run holds the xdist workers'
-compilations only (the coarse report's processes wrote none; the cache's index above holds
-every build).
+compilations only: the coarse report's processes import numba's dispatcher in their own
+sitecustomize (tests/report_site, compile_once) before this one's hook was set, which now
+registers at once where numba's dispatcher is imported already; the cache's index above holds
+every build.
 
 The CPU of those second builds, one process (``-n 0``) running tests/test_ply_kernels.py,
 test_ply_search.py, test_ply_penalty.py, test_ply_cut_kernels.py and test_plies.py (``-m
@@ -144,7 +146,10 @@ class _Hook(importlib.abc.MetaPathFinder):
         return spec
 
 
-sys.meta_path.insert(0, _Hook())
+if "numba.core.dispatcher" in sys.modules:  # imported already (a sitecustomize run first)
+    _register()
+else:
+    sys.meta_path.insert(0, _Hook())
 
 _here = Path(__file__).resolve().parent
 _self = sys.modules.pop("sitecustomize")
