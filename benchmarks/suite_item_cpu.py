@@ -193,6 +193,8 @@ Measured and not changed:
   direct calls read-only points and corners (as elements/ply_block.py hands them) left 14
   second builds of 119 in a cache of that module, test_ply_search.py and a ply test run
   through the model: the writable builds come from the library's own paths (elements/).
+  Unified since (the wrappers hand those inputs read-only, elements/kernel_inputs.py):
+  benchmarks/suite_signatures.py.
 
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """

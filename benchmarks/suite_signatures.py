@@ -25,16 +25,151 @@ test_fibrous_tangent_kernels.py, test_threads.py and test_bias_extension.py
 (``-m "not slow"``, numba on 2 threads, fresh NUMBA_CACHE_DIR): 73 builds, none a kernel's
 second.
 
+A whole run of the suite on a fresh empty cache (main db6c2b7, a fresh export, ``--run --
+python -m pytest``: two xdist workers beside the coarse report; 2184 passed, 7 skipped in 22
+min 27 s wall, load 2.2 rising to 12 with other jobs): 193 builds, 17 of them a kernel's
+second, all but one a writable array beside a read-only one in the ply contact's kernels,
+their inputs kept read-only by the block (elements/ply_block.py: the faces p and y, the
+offset directions along the normals) or fresh and writable (a caller's own; a state's
+directors): ply_choice ``_choose`` (p, y), ply_chosen ``_fade_inputs`` (p, y; plain and
+parallel builds), ply_face_points ``_points`` (d), ply_feature_normals ``_angle_parts``,
+``_normals`` and their helper ``_unit_normal`` (y), ply_kernels ``_facets_at`` (p, y; plain
+and parallel) and ``_grown`` (the corners; plain and parallel), ply_load_kernels ``_loads``
+and its helpers ``_add``, ``_add_upper`` (the offset directions), ply_search ``_moves`` 3
+builds (y, p). The one other: node_rows ``_same_rows`` 2 (0.1 s each), an A-layout array
+beside a C one: tests/test_node_rows.py's strided view, which the test gives on purpose (the
+library passes C arrays), left as it is. The compile log of that run holds the xdist workers'
+compilations only: the coarse report's processes import numba's dispatcher in their own
+sitecustomize (tests/report_site, compile_once) before this one's hook was set, which now
+registers at once where numba's dispatcher is imported already; the cache's index above holds
+every build.
+
+The CPU of those second builds, one process (``-n 0``) running tests/test_ply_kernels.py,
+test_ply_search.py, test_ply_penalty.py, test_ply_cut_kernels.py and test_plies.py (``-m
+"not slow"``) on a fresh cache, one numba thread: before (db6c2b7, load 2.2 -> 9) 70 builds,
+13 a kernel's second, 40.9 s of compiling of which 7.2 s the second builds (``_choose`` 2.12
++ 2.06, ``_loads`` 1.43 + 1.35, ``_normals`` 0.87 + 0.90, ``_facets_at`` 0.57 + 0.59, ``_moves``
+0.60 + 0.31 + 0.35, ``_fade_inputs`` 0.31 + 0.33, ``_points`` 0.38 + 0.30, ``_angle_parts``
+0.36 + 0.30, ``_unit_normal`` 0.24 + 0.20, ``_add`` and ``_add_upper`` 0.2 + 0.2 each,
+``_grown`` 0.18 + 0.15 s). The items that paid them: test_ply_kernels.py's direct calls with
+the faces writable (the facing and loads through the block had built the read-only ones)
+and test_ply_search.py's kept lists (``_moves``' third build). After (the wrappers hand those
+inputs through ``elements.kernel_inputs.read_only``, a read-only view of the caller's array,
+no copy: about 0.35 us an array at a load of 9, against 0.15 us for ``np.ascontiguousarray``
+alone), the same tests on a fresh cache (load 5.7 -> 4.7): 57 builds, none a kernel's second,
+33.7 s of compiling. tests/test_ply_kernel_signatures.py holds it: 7 of its 9 kernels had two
+builds on the old wrappers.
+
+The default report's first run after (``--run -- python -m validation --jobs 2``, a fresh
+cache, one numba thread, load 4.2 -> 3.8): 473 s wall, 426 s of CPU, 116 builds, none a
+kernel's second; 100.7 s of compiling in its two jobs, 18.5 s of it 18 kernels that both jobs
+compiled for the same signature (each asked for them before the other had saved its build:
+the fibrous Hessian's cells 5.6 + 5.9 s, the Mindlin tangent's 2.4 + 2.4, ply_choice
+``_choose`` 2.0 + 2.2, the fibrous tangent's shares 1.6 + 1.5, ...). The suite shares its
+compilations through tests/compile_once.py; the report has no such lock.
+
 Run: python benchmarks/suite_signatures.py [FOLDER]
+     python benchmarks/suite_signatures.py --log FOLDER
+     python benchmarks/suite_signatures.py --run -- python -m pytest tests/test_x.py ...
+
+``--run`` runs the command on a fresh empty numba cache (``NUMBA_CACHE_DIR``, a temporary
+folder) with a compile log in each of its Python processes (a ``sitecustomize`` first on
+their PYTHONPATH: numba's ``numba:compile`` event, which numba raises for a build it does
+not find in the cache, timed in CPU, ``time.process_time``, less the builds it compiled
+inside it: a helper typed with its caller), then prints the cache's kernels with more than
+one build (above) and, from the log, each such kernel's builds with their CPU. ``--log``
+prints the log of an earlier ``--run`` (its folder is printed).
 """
 
 from __future__ import annotations
 
+import argparse
+import json
+import os
 import pickle
+import resource
+import subprocess
 import sys
+import tempfile
+from collections import defaultdict
 from pathlib import Path
 
 import numba  # noqa: F401 - the signatures' types, to unpickle them
+
+# Run at the start of each Python process of ``--run``: numba's compilations logged, one
+# JSON line each, in the folder SUITE_SIGNATURES_LOG (a file a process). The listener is
+# registered once numba's dispatcher module is imported (a process that never imports numba
+# pays nothing); the next sitecustomize on the path is run after it, as Python would have.
+SITE = """
+import importlib.abc, importlib.util, json, os, sys, time, traceback
+from pathlib import Path
+
+_log = Path(os.environ["SUITE_SIGNATURES_LOG"]) / f"{os.getpid()}.jsonl"
+
+
+def _register():
+    from numba.core import event
+
+    stack = []
+
+    class Listener(event.Listener):
+        def on_start(self, ev):
+            stack.append([time.process_time(), 0.0])
+
+        def on_end(self, ev):
+            started, inner = stack.pop()
+            spent = time.process_time() - started
+            if stack:
+                stack[-1][1] += spent
+            function = ev.data["dispatcher"].py_func
+            # the call that asked for the build: the innermost frames of the project's own
+            # files (not numba's, nor the dispatch of elements/jit.py)
+            frames = [f"{Path(f.filename).parent.name}/{Path(f.filename).name}:{f.lineno}"
+                      for f in traceback.extract_stack()
+                      if "/lib/python" not in f.filename and "jit.py" not in f.filename
+                      and "kernel_cache" not in f.filename and "compile_once" not in f.filename
+                      and "sitecustomize" not in f.filename and "<" not in f.filename]
+            record = {"module": function.__module__, "name": function.__qualname__,
+                      "args": [str(a) for a in ev.data["args"]], "cpu": spent - inner,
+                      "pid": os.getpid(), "where": frames[-4:]}
+            with open(_log, "a") as handle:
+                handle.write(json.dumps(record) + "\\n")
+
+    event.register("numba:compile", Listener())
+
+
+class _Hook(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name != "numba.core.dispatcher":
+            return None
+        sys.meta_path.remove(self)
+        spec = importlib.util.find_spec(name)
+        run = spec.loader.exec_module
+
+        def exec_module(module):
+            run(module)
+            _register()
+
+        spec.loader.exec_module = exec_module
+        return spec
+
+
+if "numba.core.dispatcher" in sys.modules:  # imported already (a sitecustomize run first)
+    _register()
+else:
+    sys.meta_path.insert(0, _Hook())
+
+_here = Path(__file__).resolve().parent
+_self = sys.modules.pop("sitecustomize")
+_path = sys.path
+try:
+    sys.path = [p for p in _path if Path(p or ".").resolve() != _here]
+    importlib.import_module("sitecustomize")
+except ImportError:
+    sys.modules["sitecustomize"] = _self
+finally:
+    sys.path = _path
+"""
 
 
 def builds(index: Path) -> list[tuple]:
@@ -45,8 +180,8 @@ def builds(index: Path) -> list[tuple]:
     return [key[0] for key in overloads]
 
 
-def main() -> None:
-    folder = Path(sys.argv[1] if len(sys.argv) > 1 else Path(__file__).resolve().parents[1])
+def read_cache(folder: Path) -> None:
+    """Print the kernels the numba cache of ``folder`` holds more than one build of."""
     total = repeated = 0
     for index in sorted(folder.glob("**/*.nbi")):
         if ".venv" in index.parts:
@@ -63,6 +198,89 @@ def main() -> None:
             if len(kinds) > 1:
                 print(f"    argument {position}: {', '.join(sorted(kinds))}")
     print(f"{total} builds in all, {repeated} of them a kernel's second or later")
+
+
+def read_log(folder: Path) -> None:
+    """Print the compile log of ``--run``: the CPU of all builds, and per kernel built for
+    more than one signature each build's CPU and the arguments that differ."""
+    records = []
+    for path in sorted(folder.glob("*.jsonl")):
+        records += [json.loads(line) for line in path.read_text().splitlines() if line]
+    # the project's kernels (numba's own overloads, np.empty's and the like, are compiled in
+    # each caller that uses them: not kernels of the project)
+    records = [r for r in records if not r["module"].startswith("numba.")]
+    by_kernel: dict[tuple[str, str], list[dict]] = defaultdict(list)
+    for record in records:
+        by_kernel[(record["module"], record["name"])].append(record)
+    total = sum(r["cpu"] for r in records)
+    again = again_cpu = same = same_cpu = 0.0
+    for (module, name), compiled in sorted(by_kernel.items()):
+        kinds: dict[tuple, list[dict]] = defaultdict(list)
+        for record in compiled:
+            kinds[tuple(record["args"])].append(record)
+        for copies in kinds.values():  # the same signature compiled in two processes
+            same += len(copies) - 1
+            same_cpu += sum(r["cpu"] for r in copies[1:])
+        if len(kinds) < 2:
+            continue
+        signatures = list(kinds)
+        first = signatures[0]
+        again += len(signatures) - 1
+        cpu = [kinds[s][0]["cpu"] for s in signatures]
+        again_cpu += sum(cpu[1:])
+        print(
+            f"{len(signatures)} builds  {module}.{name}  CPU "
+            + " + ".join(f"{c:.2f}" for c in cpu)
+            + " s"
+        )
+        for position in range(len(first)):
+            seen = {s[position] for s in signatures if position < len(s)}
+            if len(seen) > 1:
+                print(f"    argument {position}: {', '.join(sorted(seen))}")
+        for number, signature in enumerate(signatures):
+            where = " < ".join(reversed(kinds[signature][0].get("where", [])))
+            print(f"    build {number + 1} asked by {where}")
+    print(f"{len(records)} compilations in {len({r['pid'] for r in records})} processes, "
+          f"{total:.1f} s of CPU; {again:.0f} a kernel's second or later signature, "
+          f"{again_cpu:.1f} s; {same:.0f} a signature compiled again in another process, "
+          f"{same_cpu:.1f} s")  # fmt: skip
+
+
+def run(command: list[str]) -> None:
+    """``command`` on a fresh numba cache with the compile log; its cache and log read."""
+    work = Path(tempfile.mkdtemp(prefix="suite-signatures-"))
+    cache, log, site = work / "cache", work / "log", work / "site"
+    for folder in (cache, log, site):
+        folder.mkdir()
+    (site / "sitecustomize.py").write_text(SITE)
+    path = os.pathsep.join([str(site), *filter(None, [os.environ.get("PYTHONPATH")])])
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "SUITE_SIGNATURES_LOG": str(log),
+           "PYTHONPATH": path}  # fmt: skip
+    print(f"load {os.getloadavg()[0]:.2f}; cache and log in {work}", flush=True)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    done = subprocess.run(command, env=env)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    print(f"exit {done.returncode}; the command's CPU {cpu:.1f} s (user + system, the "
+          f"processes it reaped included); load {os.getloadavg()[0]:.2f}")  # fmt: skip
+    read_cache(cache)
+    read_log(log)
+
+
+def main() -> None:
+    argv = sys.argv[1:]
+    if "--run" in argv:  # the command: everything after --run (and a "--")
+        command = argv[argv.index("--run") + 1 :]
+        run(command[1:] if command[:1] == ["--"] else command)
+        return
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("folder", nargs="?", default=str(Path(__file__).resolve().parents[1]))
+    parser.add_argument("--log", help="the log folder of an earlier --run")
+    args = parser.parse_args(argv)
+    if args.log:
+        read_log(Path(args.log))
+    else:
+        read_cache(Path(args.folder))
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from elements.jit import jit_lanes, lanes, prange
+from elements.kernel_inputs import read_only
 from elements.ply_kernels import closest_on_sides
 from elements.ply_projection import closest_on_edges, grown_corners
 from elements.ply_wedge import KEEP, closest_on_cut_numpy, cut_keeps, cut_overshoot
@@ -255,8 +256,8 @@ def choose_facing(p, y, near, n, gradients, gap, weights, reach, inside, past, c
         np.zeros(count),
     )
     _choose_compiled(
-        np.ascontiguousarray(p, dtype=float),
-        np.ascontiguousarray(y, dtype=float),
+        read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
+        read_only(y),
         np.ascontiguousarray(near, dtype=np.int64),
         n,
         gradients,

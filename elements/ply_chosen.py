@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit_lanes, prange
+from elements.kernel_inputs import read_only
 
 __all__ = ["chosen", "chosen_numpy", "fade_inputs", "fade_inputs_numpy"]
 
@@ -268,8 +269,8 @@ def fade_inputs(at, p, y, triangle, reach, beside, joined, starts, ends, segment
     empty = np.zeros((0, 3, 3))
     _fade_inputs_compiled(
         np.ascontiguousarray(at, dtype=np.int64),
-        np.ascontiguousarray(p, dtype=float),
-        np.ascontiguousarray(y, dtype=float),
+        read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
+        read_only(y),
         np.ascontiguousarray(triangle, dtype=np.int64),
         np.ascontiguousarray(reach, dtype=float),
         np.ascontiguousarray(beside, dtype=np.bool_),

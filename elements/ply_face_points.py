@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import lanes
+from elements.kernel_inputs import read_only
 
 __all__ = ["face_points", "offset_normals", "offset_toward"]
 
@@ -105,8 +106,8 @@ def face_points(
     p = np.empty((len(above), 3))
     y = np.empty((len(cells), 3, 3))
     finite = _points(
-        np.ascontiguousarray(x, dtype=float),
-        np.ascontiguousarray(d, dtype=float),
+        read_only(x),  # as the block keeps its directions: one build (kernel_inputs.py)
+        read_only(d),
         np.ascontiguousarray(above, dtype=np.int64),
         np.ascontiguousarray(upper_offset, dtype=float),
         np.ascontiguousarray(shape, dtype=float),

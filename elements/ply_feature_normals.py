@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit_lanes, lanes, prange
+from elements.kernel_inputs import read_only
 from elements.ply_topology import FaceTopology
 
 __all__ = ["feature_normals"]
@@ -186,7 +187,7 @@ def feature_normals(
     """``ply_projection._feature_normals`` compiled: the same (c, 3) unit normals and (c,)
     joined flags to the bit (its docstring gives the arguments; ``inside`` its INSIDE)."""
     count = len(triangle)
-    y = np.ascontiguousarray(y, dtype=float)
+    y = read_only(y)  # read-only as the block keeps it: one build (kernel_inputs.py)
     triangle = np.ascontiguousarray(triangle, dtype=np.int64)
     lam = np.ascontiguousarray(lam, dtype=float)
     reach = np.ascontiguousarray(reach, dtype=float)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit_lanes, lanes, prange
+from elements.kernel_inputs import read_only
 
 __all__ = ["candidates_at", "edges_closest", "every_segment", "facets_at", "grown_corners"]
 
@@ -111,8 +112,8 @@ def _planes(p, y, near, outline, margin, tolerance):
         np.empty((count, k)),
     )
     _facets_at_compiled(
-        np.ascontiguousarray(p, dtype=float),
-        np.ascontiguousarray(y, dtype=float),
+        read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
+        read_only(y),
         np.ascontiguousarray(near, dtype=np.int64),
         np.ascontiguousarray(outline, dtype=np.bool_),
         float(margin),
@@ -293,7 +294,6 @@ def grown_corners(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
     ``reach`` (m, 3) barycentric units past the edges opposite each corner, compiled: the
     same bits as ``ply_projection.grown_corners``."""
     out = np.empty((len(corners), 3, 3))
-    _grown_compiled(
-        np.ascontiguousarray(corners, dtype=float), np.ascontiguousarray(reach, dtype=float), out
-    )
+    # the corners read-only, as the block keeps the faces': one build (kernel_inputs.py)
+    _grown_compiled(read_only(corners), np.ascontiguousarray(reach, dtype=float), out)
     return out

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import lanes
+from elements.kernel_inputs import read_only
 
 __all__ = ["ply_loads"]
 
@@ -320,7 +321,7 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         _contiguous(block.upper_offset),
         _contiguous(block.corner_offset),
         float(block.lever),
-        _contiguous(block.offset_directions(state)),
+        read_only(block.offset_directions(state)),  # as kept: one build (kernel_inputs.py)
         _contiguous(outline_nodes, np.int64),
         _contiguous(block.outline_offsets.reshape(-1, 2)),
         rows,

@@ -68,6 +68,7 @@ from scipy.spatial import cKDTree
 from elements import ply_projection
 from elements.facet_search import _squared_gap, closest_on_triangles
 from elements.jit import jit, lanes, prange
+from elements.kernel_inputs import read_only
 from elements.ply_projection import MARGIN, grown_corners
 from elements.ply_wedge import WedgeCuts, closest_on_grown
 
@@ -258,10 +259,10 @@ class FacingSearch:
             shift, drift = np.empty(3), np.empty(len(p))
             moved = float(
                 _moves_compiled(
-                    np.ascontiguousarray(y, dtype=float),
+                    read_only(y),  # as the block keeps them: one build (kernel_inputs.py)
                     lists.epoch,
                     self.lipschitz,
-                    np.ascontiguousarray(p, dtype=float),
+                    read_only(p),
                     lists.origin,
                     lists.shift,
                     lists.moved,

@@ -1,0 +1,119 @@
+"""The ply contact's kernels are built once, whether their inputs come read-only (the faces
+and directions a block keeps, elements/ply_block.py) or writable (fresh arrays of a caller):
+numba builds a kernel once for each set of argument types, and a writable array is a type
+apart from a read-only one, so each such pair was a second compilation of the same machine
+code (benchmarks/suite_signatures.py: 12 kernels, about 7 s of CPU from an empty cache). The
+wrappers hand those inputs through ``elements.kernel_inputs.read_only``.
+
+Reference: numba's own record of its builds, ``dispatcher.signatures``; no tolerance. The
+numbers of the compiled kernels against numpy's are tests/test_ply_kernels.py's.
+"""
+
+import numpy as np
+import pytest
+from test_ply_wedge import _fan
+
+from elements import (
+    jit,
+    ply_choice,
+    ply_chosen,
+    ply_face_points,
+    ply_feature_normals,
+    ply_kernels,
+    ply_load_kernels,
+    ply_projection,
+    ply_search,
+)
+from elements.kernel_inputs import read_only
+from femcore.state import State
+
+pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
+
+KERNELS = {
+    "choose": ply_choice._choose_compiled,
+    "fade inputs": ply_chosen._fade_inputs_compiled,
+    "face points": ply_face_points._points,
+    "feature angles": ply_feature_normals._angle_parts_compiled,
+    "feature normals": ply_feature_normals._normals_compiled,
+    "planes": ply_kernels._facets_at_compiled,
+    "grown corners": ply_kernels._grown_compiled,
+    "loads": ply_load_kernels._loads,
+    "moves": ply_search._moves_compiled,
+}
+# (the helpers they call, ply_feature_normals._unit_normal and ply_load_kernels._add and
+# _add_upper, take their callers' arrays: built once with them; a build loaded from numba's
+# cache brings its helpers' machine code along and leaves their dispatchers empty)
+
+
+def _signatures(kernel) -> list:
+    """numba's builds of ``kernel`` in this process (a ``jit`` loop's: its plain build's)."""
+    return list((kernel.serial if hasattr(kernel, "serial") else kernel).signatures)
+
+
+def _writable(array: np.ndarray) -> np.ndarray:
+    copy = array.copy()
+    assert copy.flags.writeable
+    return copy
+
+
+def test_each_ply_kernel_is_built_once_for_read_only_and_writable_inputs(monkeypatch):
+    """The fan of tests/test_ply_wedge.py (cut growths, edges, fades) faced and loaded by its
+    block (its faces and directions read-only), then again with the same faces and directions
+    writable, and the faces' and grown corners' kernels called with both: each of the nine
+    kernels holds one build (two on the old wrappers, which passed the flag through)."""
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    block, positions, directors, _ = _fan()
+    zero = np.zeros_like(positions[0])
+    # the directors read-only at the first two states (as the faces along the plies' normals
+    # are kept, ``faces="normal"``), writable at the third (a state's own)
+    kept = directors.copy()
+    kept.setflags(write=False)
+    states = [State(x, kept, zero, zero) for x in positions[[100, 700]]]
+    states.append(State(positions[750], directors.copy(), zero, zero))
+    # the block's own path: its candidates' lists made, then moved; faces kept read-only
+    for state in states[:2]:
+        block.facing(state, second=True)
+        block.internal_force(state)
+    p, y = block._faces(states[1])
+    directions = block.offset_directions(states[1])
+    assert not (p.flags.writeable or y.flags.writeable or directions.flags.writeable)
+    assert block.offset_directions(states[2]).flags.writeable
+    # the same at the third state with writable faces and directions (a caller's fresh ones)
+    state = states[2]
+    x = state.positions
+    fresh_p, fresh_y, _ = ply_face_points.face_points(
+        x,
+        _writable(block.offset_directions(state)),
+        block.above,
+        block.upper_offset,
+        block.shape,
+        block.cells,
+        block.corner_offset,
+    )
+    assert fresh_p.flags.writeable and fresh_y.flags.writeable
+    block._faces_at = (x.copy(), state.directors.copy(), fresh_p, fresh_y)
+    block._facing_at = None
+    facing = block.facing(state, second=True)
+    block.internal_force(state)
+    assert facing.touching.any()
+    reach = np.full((len(y), 3), ply_projection.MARGIN)
+    for corners in (y, _writable(y)):
+        ply_kernels.grown_corners(corners, reach)
+    built = {name: len(_signatures(kernel)) for name, kernel in KERNELS.items()}
+    assert built == dict.fromkeys(KERNELS, 1)
+
+
+def test_read_only_gives_a_read_only_c_contiguous_view_and_leaves_the_caller_s_array():
+    """``read_only``: no copy of a C-contiguous float64 array (a view, the caller's flag
+    kept), the array itself where it is read-only already, a copy of another layout or
+    dtype."""
+    a = np.arange(12.0).reshape(4, 3)
+    view = read_only(a)
+    assert not view.flags.writeable and np.shares_memory(view, a) and a.flags.writeable
+    a.setflags(write=False)
+    assert read_only(a) is a
+    strided = np.arange(24.0).reshape(4, 6)[:, ::2]
+    copied = read_only(strided)
+    assert copied.flags.c_contiguous and not copied.flags.writeable
+    assert np.array_equal(copied, strided)
+    assert read_only(np.arange(4), np.float64).dtype == np.float64
