@@ -80,6 +80,39 @@ def _add_upper(sums, moments, r, shape, above, upper_offset, lever, direction, f
 
 
 @lanes
+def _add_ends(
+    sums, moments, r, t, scale, fade_gradient, fade_edge, outline_nodes, outline_offsets,
+    cells, corner_offset, lever, direction,
+):  # fmt: skip
+    # point r's fade forces scale dw/da, scale dw/db on the ends of the outline's edge nearest
+    # it, where its fade moves with them (PlyContactBlock.fade_ends), else on its facing
+    # triangle t's first two corners (where the fade's gradient is zero)
+    moving = False
+    if outline_nodes.shape[0] > 0 and fade_edge[r] >= 0:
+        for a in range(6):
+            for c in range(3):
+                if fade_gradient[r, a, c] != 0.0:
+                    moving = True
+    for e in range(2):
+        if moving:
+            node = outline_nodes[fade_edge[r], e]
+            offset = lever * outline_offsets[fade_edge[r], e]
+        else:
+            node = cells[t, e]
+            offset = lever * corner_offset[t, e]
+        _add(
+            sums,
+            moments,
+            node,
+            offset,
+            direction,
+            scale * fade_gradient[r, 4 + e, 0],
+            scale * fade_gradient[r, 4 + e, 1],
+            scale * fade_gradient[r, 4 + e, 2],
+        )
+
+
+@lanes
 def _loads(
     on,
     cube,
@@ -130,36 +163,14 @@ def _loads(
     ends_moment = np.zeros((n, 3))
     pair_force = np.zeros((n, 3))
     pair_moment = np.zeros((n, 3))
-    edges = outline_nodes.shape[0]
     for i in range(on.shape[0]):
         r = on[i]
         t = triangle[r]
         energy, slope = _law(gap[r], cube[i], stiffness[r], smoothing, smoothing_squared)
-        # the ends of the outline's edge nearest the point, where its fade moves with them
-        # (PlyContactBlock.fade_ends), else its facing triangle's first two corners
-        moving = False
-        if edges > 0 and fade_edge[r] >= 0:
-            for a in range(6):
-                for c in range(3):
-                    if fade_gradient[r, a, c] != 0.0:
-                        moving = True
-        for e in range(2):
-            if moving:
-                node = outline_nodes[fade_edge[r], e]
-                offset = lever * outline_offsets[fade_edge[r], e]
-            else:
-                node = cells[t, e]
-                offset = lever * corner_offset[t, e]
-            _add(
-                ends_force,
-                ends_moment,
-                node,
-                offset,
-                direction,
-                energy * fade_gradient[r, 4 + e, 0],
-                energy * fade_gradient[r, 4 + e, 1],
-                energy * fade_gradient[r, 4 + e, 2],
-            )
+        _add_ends(
+            ends_force, ends_moment, r, t, energy, fade_gradient, fade_edge, outline_nodes,
+            outline_offsets, cells, corner_offset, lever, direction,
+        )  # fmt: skip
         pressed = fade[r] * slope
         n0, n1, n2 = normal[r, 0], normal[r, 1], normal[r, 2]
         face0 = pressed * n0 + energy * fade_gradient[r, 0, 0]
@@ -225,29 +236,10 @@ def _loads(
                 scaled * n1 + kept * fade_gradient[r, 1 + k, 1],
                 scaled * n2 + kept * fade_gradient[r, 1 + k, 2],
             )
-        moving = False
-        if edges > 0 and fade_edge[r] >= 0:
-            for slot in range(6):
-                for c in range(3):
-                    if fade_gradient[r, slot, c] != 0.0:
-                        moving = True
-        for e in range(2):
-            if moving:
-                node = outline_nodes[fade_edge[r], e]
-                offset = lever * outline_offsets[fade_edge[r], e]
-            else:
-                node = cells[facing, e]
-                offset = lever * corner_offset[facing, e]
-            _add(
-                pair_force,
-                pair_moment,
-                node,
-                offset,
-                direction,
-                kept * fade_gradient[r, 4 + e, 0],
-                kept * fade_gradient[r, 4 + e, 1],
-                kept * fade_gradient[r, 4 + e, 2],
-            )
+        _add_ends(
+            pair_force, pair_moment, r, facing, kept, fade_gradient, fade_edge, outline_nodes,
+            outline_offsets, cells, corner_offset, lever, direction,
+        )  # fmt: skip
     for node in range(n):
         for c in range(3):
             force[node, c] = (0.0 + ends_force[node, c]) + pair_force[node, c]
