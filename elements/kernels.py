@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import AVAILABLE, inline, jit, prange, serial
+from elements.kernel_inputs import read_only
 
 __all__ = [
     "AVAILABLE",
@@ -575,16 +576,6 @@ def _section(block) -> tuple:
     )
 
 
-def _read_only(array: np.ndarray) -> np.ndarray:
-    """A read-only C-contiguous float64 view of ``array`` (a copy where it is not one): the
-    reference and current positions and directors reach ``_base_vectors`` with one array
-    type (numba builds a helper once for each type it is given, read-only and writable
-    apart), the mesh's points being read-only."""
-    view = np.ascontiguousarray(array, dtype=np.float64).view()
-    view.flags.writeable = False
-    return view
-
-
 def mindlin_tables(block, points, directors, cells: slice = slice(None)):
     """(level stiffness (c, Z, 28), smallest det J (c,), reference products of the level
     measures (c, Z, 7), areas (c,)) of a MindlinShellBlock's cells by the compiled kernel,
@@ -596,8 +587,10 @@ def mindlin_tables(block, points, directors, cells: slice = slice(None)):
     measures = np.empty((m, len(block.zeta), 7))
     area = np.empty(m)
     _mindlin_tables(
-        _read_only(points),
-        _read_only(directors),
+        # reference and current positions and directors reach _base_vectors read-only (the
+        # mesh's points are): one build of it (elements/kernel_inputs.py)
+        read_only(points),
+        read_only(directors),
         connectivity,
         *_section(block),
         stiffness,
@@ -613,10 +606,10 @@ def mindlin_fields(block, positions: np.ndarray, directors: np.ndarray) -> np.nd
     bending (3), shear (2)."""
     out = np.empty((len(block.connectivity), 8))
     _mindlin_fields(
-        _read_only(positions),
-        _read_only(directors),
-        _read_only(block.reference_positions),
-        _read_only(block.reference_directors),
+        read_only(positions),
+        read_only(directors),
+        read_only(block.reference_positions),
+        read_only(block.reference_directors),
         block.connectivity,
         *_section(block),
         block.reference_measures,
