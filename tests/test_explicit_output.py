@@ -247,18 +247,23 @@ def test_history_rows_wait_in_memory_until_a_flush_writes_them_as_rows_written_o
     assert (tmp_path / "buffered.csv").read_bytes() == reference.read_bytes()
 
 
+def _diverging_with_history(history):
+    """A central difference on the hanging cable at 1.05 times its stable step, recording its
+    history in ``history``: it diverges before its first frame after the start (0.01 s)."""
+    compiled = hanging_cable().compile()
+    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
+    return CentralDifference(
+        duration=0.02, dt=dt, output_interval=0.01, history=history, progress=False
+    )
+
+
 def test_a_diverged_run_leaves_every_history_row_it_recorded(tmp_path):
     """The rows held in memory since the last frame are written when the run stops: the
     history of a run that diverges before its first frame after the start holds a row per
     energy record of its result."""
     from solvers import DivergenceError
 
-    compiled = hanging_cable().compile()
-    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
-    solver = CentralDifference(
-        duration=0.02, dt=dt, output_interval=0.01, history=tmp_path / "run.csv",
-        progress=False,
-    )  # fmt: skip
+    solver = _diverging_with_history(tmp_path / "run.csv")
     with pytest.raises(DivergenceError) as error:
         solver.solve(hanging_cable())
     energies = error.value.result.energies
@@ -324,12 +329,7 @@ def test_a_failing_history_write_does_not_hide_why_the_run_stopped(tmp_path, mon
     def full_disk(self):
         raise OSError(28, "No space left on device")
 
-    compiled = hanging_cable().compile()
-    dt = 1.05 * compiled.stable_dt(compiled.initial_state())
-    solver = CentralDifference(
-        duration=0.02, dt=dt, output_interval=0.01, history=tmp_path / "run.csv",
-        progress=False,
-    )  # fmt: skip
+    solver = _diverging_with_history(tmp_path / "run.csv")
     monkeypatch.setattr(output.HistoryWriter, "flush", full_disk)
     with pytest.raises(DivergenceError) as error:
         solver.solve(hanging_cable())
