@@ -141,15 +141,16 @@ class CentralDifference:
     progress : show a progress bar on stderr, its share the time reached (None: unless under
         pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
-        (solvers/quasi_static.py): past it after the first tenth of the duration, where the
-        work done has reached 1 % of the run's, one UserWarning at the end of a run that
-        completes, with the time and the ratio; None for a dynamic run (reported, not
-        warned). Default "auto": KINETIC_BOUND = 0.1 (the upper end of the field's 5-10 %)
-        for a model with rigid tools (a forming run, quasi-static by intent), None for one
-        without (a wave, a swinging cable: dynamic by intent). KE / W per energy record is
-        ``result.energies["kinetic_over_work"]``, and ``result.info["quasi_static"]``
-        reports it with the mass and time scaling. KE counts every mass in use, the
-        directors' rotation on the (scaled) rotary inertia too; its rotational part is
+        (solvers/quasi_static.py): above it for more than a tenth (KINETIC_SHARE) of the judged time
+        (after the first tenth of the duration, where the work done has reached 1 % of the run's),
+        one UserWarning at the end of a run that completes, with the time, the ratio and the share
+        (a shorter burst is reported, not warned); None for a dynamic run (reported, not warned).
+        Default "auto": KINETIC_BOUND = 0.1 (the upper end of the field's 5-10 %) for a model with
+        rigid tools (a forming run, quasi-static by intent), None for one without (a wave, a
+        swinging cable: dynamic by intent). KE / W per energy record is
+        ``result.energies["kinetic_over_work"]``, and ``result.info["quasi_static"]`` reports it
+        with the mass and time scaling. KE counts every mass in use, the directors' rotation on the
+        (scaled) rotary inertia too; its rotational part is
         ``result.energies["kinetic_rotational"]`` (docs/theory.md §6.3).
     process_duration : s, the duration of the real process, when ``duration`` is shorter
         (time scaling): the factor process_duration / duration is reported with its KE / W.

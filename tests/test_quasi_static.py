@@ -1,6 +1,7 @@
 """Quasi-static honesty of explicit runs (solvers/quasi_static.py): CentralDifference records
-the kinetic energy over the external work KE / W over time, warns once when it passes its
-bound after the first tenth of the run (where the work done is 1 % of the run's or more), and
+the kinetic energy over the external work KE / W over time, warns once when it is above its
+bound for more than KINETIC_SHARE of the time judged (after the first tenth of the run, where
+the work done is 1 % of the run's or more), and
 reports the mass and time scaling with the KE / W
 they produced, in the Result and in a fibreshell run's summary.json.
 
@@ -24,6 +25,7 @@ from solvers import CentralDifference
 from solvers.quasi_static import (
     KINETIC_BOUND,
     KINETIC_CHECK_FROM,
+    KINETIC_SHARE,
     KINETIC_WORK_FLOOR,
     judged_records,
     quasi_static_report,
@@ -141,6 +143,34 @@ def test_the_share_above_the_bound_is_the_time_the_burst_lasted_over_the_judged_
     )
     assert quiet["exceeded_share"] == 0.0
     assert quasi_static_report(energies, None, 1.0, 0.0)["exceeded_share"] is None
+
+
+def burst(start: float, end: float) -> dict[str, np.ndarray]:
+    """Records every 0.01 s over 1 s, work growing linearly, KE / W 0.02 except 0.5 on the
+    records from ``start`` to ``end`` (s)."""
+    time = np.linspace(0.0, 1.0, 101)
+    work = 1.0 + 100.0 * time
+    ratio = np.where((time >= start - 0.005) & (time <= end + 0.005), 0.5, 0.02)
+    return {"time": time, "external_work": work, "kinetic": ratio * work}
+
+
+def test_a_burst_shorter_than_the_share_is_reported_and_a_longer_one_warned():
+    """The warning's rule is the forming cases' (a small KE / W over the majority of the
+    process, at most KINETIC_SHARE of the judged 0.91 s above the bound): a burst of 0.05 s
+    (a flange snapping over a rim) is reported with its time and largest ratio but not
+    warned; one of 0.15 s is warned, with its share in the message."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any warning fails the short burst
+        short = quasi_static_report(burst(0.50, 0.54), KINETIC_BOUND, 1.0, 0.0)
+    assert short["exceeded_share"] == pytest.approx(0.05 / 0.91, rel=1e-12)
+    assert short["exceeded_share"] < KINETIC_SHARE
+    assert short["exceeded_at_s"] == pytest.approx(0.50)
+    assert short["kinetic_over_work_largest"] == pytest.approx(0.5)
+    with pytest.warns(UserWarning, match="not quasi-static") as caught:
+        long = quasi_static_report(burst(0.50, 0.64), KINETIC_BOUND, 1.0, 0.0)
+    assert long["exceeded_share"] == pytest.approx(0.15 / 0.91, rel=1e-12)
+    assert long["exceeded_share"] > KINETIC_SHARE
+    assert f"above it for {0.15 / 0.91:.3g} of the judged time" in str(caught[0].message)
 
 
 def test_without_a_bound_the_ratio_is_watched_but_not_warned():
