@@ -85,6 +85,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+import solvers.load_path as load_path_module  # noqa: E402
 import solvers.newton as newton_module  # noqa: E402
 import solvers.static as static_module  # noqa: E402
 from elements.ply_block import PlyContactBlock  # noqa: E402
@@ -126,15 +127,15 @@ def _changes(before, after) -> dict:
 def instrument() -> None:
     """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
     RECORD.update(attempts=[], iterations=[])
-    plain_newton = static_module.newton
+    plain_newton = load_path_module.newton
 
-    def newton(run, state, load_factor, max_iterations=None):
+    def newton(run, state, load_factor, max_iterations=None, turn_limit=None):
         entry = {"load": load_factor, "iterations": [], "failed": None, "cpu": time.process_time()}
         RECORD["attempts"].append(entry)
         RECORD["current"] = entry
         RECORD["last_ply"] = None
         try:
-            out = plain_newton(run, state, load_factor, max_iterations)
+            out = plain_newton(run, state, load_factor, max_iterations, turn_limit)
         except newton_module.IncrementFailed as failure:
             entry["failed"] = str(failure)
             entry["history"] = failure.history
@@ -144,7 +145,7 @@ def instrument() -> None:
         entry["cpu"] = time.process_time() - entry["cpu"]
         return out
 
-    static_module.newton = newton
+    load_path_module.newton = newton
 
     plain_tangent = static_module.StaticRun.tangent
 
@@ -178,27 +179,30 @@ def instrument() -> None:
     newton_module.Watchdog.step = step
 
 
-def solve_case(name: str, resolution: str, stall: int | None):
+def solve_case(name: str, resolution: str, stall: int | None, first_turn: float | None = None):
     """Solve the Static plies of case ``name`` at ``resolution`` with
-    ``Static(stall_iterations=stall)``; the result."""
+    ``Static(stall_iterations=stall, first_turn=first_turn)``; the result."""
     if name in ("bai", "heavy"):
         from fibreshell.plies import plies_solver, ply_stack, stack_model
         from validation.cases import plies_bai_5_1, plies_heavy_cantilever
         from validation.ground_truth import _case
 
         case_module: Any = plies_bai_5_1 if name == "bai" else plies_heavy_cantilever
-        solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall}
+        solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall, "first_turn": first_turn}
         if name == "bai":
             solver["increments"] = case_module.PLIES_INCREMENTS[resolution]
-        if stall is None:
-            del solver["stall_iterations"]
+        for key in ("stall_iterations", "first_turn"):
+            if solver[key] is None:
+                del solver[key]
         case = _case(case_module.FILE, case_module.CELLS[resolution], {"solver": solver})
         stack = ply_stack(case, case_module.PLIES[resolution])
         model = stack_model(case, stack).compile()
         return plies_solver(case, progress=False).solve(model)
     from validation.cases import plies_deck_of_cards as deck
 
-    deck.Static = functools.partial(Static, stall_iterations=stall)  # type: ignore[attr-defined]
+    deck.Static = functools.partial(  # type: ignore[attr-defined]
+        Static, stall_iterations=stall, first_turn=first_turn
+    )
     if name == "deck":
         return deck.bend(deck.COUNTS[resolution][-1], deck.MIDDLE).result
     if name == "sag":
@@ -237,28 +241,44 @@ def main() -> None:
     parser.add_argument("--case", default="bai", help="bai, heavy, deck or sag")
     parser.add_argument("--resolution", default="coarse")
     parser.add_argument("--stall", type=int, default=25, help="stall_iterations of the new run")
+    parser.add_argument(
+        "--first-turn",
+        type=float,
+        default=None,
+        help="Static(first_turn=...) of the new run, rad; the reference then keeps --stall",
+    )
+    parser.add_argument("--no-stall", action="store_true", help="with --first-turn: no stall rule")
     parser.add_argument("--detail", action="store_true", help="every attempt, before and after")
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     instrument()
-    results = {}
-    for stall in (None, args.stall):
+    if args.first_turn is None:
+        runs = [(None, None), (args.stall, None)]
+    else:
+        stall = None if args.no_stall else args.stall
+        runs = [(stall, None), (stall, args.first_turn)]
+    results = []
+    for stall, first_turn in runs:
         RECORD.update(attempts=[])
         cpu = time.process_time()
-        result = solve_case(args.case, args.resolution, stall)
+        result = solve_case(args.case, args.resolution, stall, first_turn)
         cpu = time.process_time() - cpu
-        results[stall] = result
-        print(f"--- {args.case} {args.resolution}, stall_iterations={stall}: {cpu:.1f} s CPU")
+        results.append(result)
+        print(
+            f"--- {args.case} {args.resolution}, stall_iterations={stall}, "
+            f"first_turn={first_turn}: {cpu:.1f} s CPU"
+        )
         if args.detail:
             report(result)
         else:
             print(f"iterations per increment {result.info['iterations_per_increment']}")
             print(
                 f"converged iterations {result.steps}, cut {result.info['iterations_cut']}, "
-                f"cuts {result.info['cuts']}; evaluations {result.info['evaluations']}"
+                f"cuts {result.info['cuts']}, first-turn cuts "
+                f"{len(result.info['first_turn_cuts'])}; evaluations {result.info['evaluations']}"
             )
         print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}", flush=True)
-    before, after = results[None], results[args.stall]
+    before, after = results
     moved = np.abs(after.positions - before.positions).max()
     turned = np.abs(after.directors - before.directors).max()
     print(f"final positions within {moved:.3g} mm, directors within {turned:.3g}")
