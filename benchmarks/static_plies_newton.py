@@ -5,10 +5,13 @@ or off the ramp -delta < g < 0 of the smoothed penalty, deeper, in the fade past
 the facing triangle switched, the sign of the gap flipped), docs/theory.md §6.5 ("Stalled
 attempts") and §9.3a; the case's plies solved without ``Static(stall_iterations=...)`` (the
 reference pass, as before) and with it (``--stall``, 25 by default), side by side in this
-process, the final positions and directors compared.
+process, the final positions and directors compared; with ``--first-turn theta`` the two
+sides are the case's solver (``--stall``, or none with ``--no-stall``) without and with
+``Static(first_turn=theta)`` (docs/theory.md §6.5, "Increments sized by the first step").
 
     python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
-        [--resolution coarse|default] [--stall 25] [--detail]
+        [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
+        [--rounds 2] [--detail]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -67,6 +70,42 @@ Measured (one thread, CPU, 2 cores shared with other jobs):
   tangent so with b = 0.01 (the first increment fails after 10 cuts, stuck at a ratio of
   3e-5: the tangent no longer the force's derivative near equilibrium): 15 % fewer
   iterations at best, from the first tangents alone.
+
+The imposed step (``--first-turn``; one thread, CPU, the reference pass first in the same
+process, so its CPU holds the loading of the compiled kernels: the counts are the measure):
+
+* What the first step of each attempt asks for (coarse bai, stall 25): the gravity phase's
+  first steps turn a director by at most 0.052 rad; the displacement phase's first step 1.45
+  rad and 59 mm of free translation for an imposed (-3, 0, -5) mm: pushed along its axis, the
+  sagged strip has to buckle, and the linear step at the sagged state carries 120 of the 144
+  ply points up to 0.49 mm through the ply below (ramp 1.5e-3 mm). Attempts whose first step
+  turned a director by 1.45, 0.73, 0.36, 0.18, 0.134, 0.177 rad were cut (25 iterations each
+  at ratio ~1, or 7 on the line search), and one of 0.090 (8, on the line search); the others,
+  0.044-0.127 rad, converged in 8-29 iterations.
+* Kept, first_turn = 0.1 (the attempt cut to the largest 1/2^k whose first step turns none
+  by more, before any iteration): bai coarse (load 8-9) 261 converged and 140 cut iterations,
+  7 cuts, 403 tangents, 507 force passes, 218 energies, 7.7 s -> 257 and 8, 1 cut, 5
+  first-turn cuts, 271 tangents, 336 force passes, 89 energies, 3.9 s; the same
+  sub-increments (1/16 of the first displacement increment first, as the cuts reached),
+  final positions within 2.5e-14 mm. bai default (load 12-13) 465 and 75, 540 tangents,
+  38.7 s -> 462 and 0, 464 tangents, 28.4 s, within 7.1e-14 mm. The report's case
+  (``python -m validation --cases plies-bai-5.1 --jobs 1``, the code before from a
+  ``git archive`` beside it, warm caches, load 11-14): coarse 9.8 -> 7.4 s CPU (the plies
+  29.0 -> 19.5 s wall), results.json's numbers within 6e-15 relative, steps 727 -> 723.
+* Other limits on bai coarse: 0.05, 339 and 0 (360 tangents; the smaller sub-increments
+  take 14-31 iterations each); 0.2, 261 and 65 (329 tangents).
+* The other stacks, not set there: heavy default (no stall rule, load 12) 233 -> 205
+  tangents (18-32-21-33-34-14-44-13-13-11 -> 18-32-34-22-23-19-20-13-13-11), within 1.1e-13
+  mm; sag coarse (no stall rule, load 9) 314 and 30 (345 tangents) -> 327 and 0 (342), its
+  first increment 98 -> 150 in sub-increments (its first step turns 0.57 rad: the plies laid
+  at g = 0 are the plateau's cause, not the step), within 1.2e-13 mm; with 0.05, 460 and 6
+  (500 tangents).
+* Not kept: the imposed step truncated at the first contact event (the whole step scaled so
+  that no point's gap, interpolated linearly between the iterate and the step's end, passes
+  below -delta where it was above): the scales kept were about 0.01 and each iterate imposed
+  the remainder again, 546 converged and 758 cut (1304 tangents); floored at 1/4, 293 and 75
+  (368 tangents); the imposed step with the free unknowns held (the prescribed nodes moved
+  alone): the first displacement increment failed after 10 cuts at load factor 1.036.
 """
 
 from __future__ import annotations
@@ -249,6 +288,9 @@ def main() -> None:
     )
     parser.add_argument("--no-stall", action="store_true", help="with --first-turn: no stall rule")
     parser.add_argument("--detail", action="store_true", help="every attempt, before and after")
+    parser.add_argument(
+        "--rounds", type=int, default=1, help="solve both sides this many times, alternately"
+    )
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     instrument()
@@ -258,7 +300,7 @@ def main() -> None:
         stall = None if args.no_stall else args.stall
         runs = [(stall, None), (stall, args.first_turn)]
     results = []
-    for stall, first_turn in runs:
+    for stall, first_turn in runs * args.rounds:
         RECORD.update(attempts=[])
         cpu = time.process_time()
         result = solve_case(args.case, args.resolution, stall, first_turn)
@@ -278,7 +320,7 @@ def main() -> None:
                 f"{len(result.info['first_turn_cuts'])}; evaluations {result.info['evaluations']}"
             )
         print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}", flush=True)
-    before, after = results
+    before, after = results[:2]
     moved = np.abs(after.positions - before.positions).max()
     turned = np.abs(after.directors - before.directors).max()
     print(f"final positions within {moved:.3g} mm, directors within {turned:.3g}")

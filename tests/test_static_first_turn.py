@@ -69,7 +69,9 @@ def test_the_coarse_bai_plies_spend_no_iterations_on_the_imposed_steps_too_long(
     solver = {**plies_bai_5_1.PLIES_SOLVER, "increments": plies_bai_5_1.PLIES_INCREMENTS["coarse"]}
     results = {}
     for limit in (None, 0.1):
-        options = dict(solver) if limit is None else {**solver, "first_turn": limit}
+        options = {**solver, "first_turn": limit}
+        if limit is None:
+            del options["first_turn"]
         case = _case(plies_bai_5_1.FILE, plies_bai_5_1.CELLS["coarse"], {"solver": options})
         stack = ply_stack(case, plies_bai_5_1.PLIES["coarse"])
         results[limit] = plies_solver(case, progress=False).solve(stack_model(case, stack))
