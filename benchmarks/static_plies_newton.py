@@ -87,8 +87,12 @@ process, so its CPU holds the loading of the compiled kernels: the counts are th
   7 cuts, 403 tangents, 507 force passes, 218 energies, 7.7 s -> 257 and 8, 1 cut, 5
   first-turn cuts, 271 tangents, 336 force passes, 89 energies, 3.9 s; the same
   sub-increments (1/16 of the first displacement increment first, as the cuts reached),
-  final positions within 2.5e-14 mm. bai default (load 12-13) 465 and 75, 540 tangents,
-  38.7 s -> 462 and 0, 464 tangents, 28.4 s, within 7.1e-14 mm. The report's case
+  final positions within 2.5e-14 mm. Per increment 21-5-4-4-4-3-3-3-3-3 and
+  82-19-26-14-18-8-11-10-8-12 -> the same gravity phase and 82-19-18-18-18-8-11-10-8-12
+  (1.3 and 1.4 now each in two halves of 8-10 iterations, where whole they took 26 and 14).
+  bai default (load 12-13) 465 and 75, 540 tangents, 38.7 s -> 462 and 0, 464 tangents,
+  28.4 s, within 7.1e-14 mm; per increment 22-6-5-4-4-4-4-3 (x13) and 92-33-21-12-15-19-
+  17-14-13-14-18-16-14-11-13-12-10-11-12-10 -> the same but 33 -> 30. The report's case
   (``python -m validation --cases plies-bai-5.1 --jobs 1``, the code before from a
   ``git archive`` beside it, warm caches, load 11-14): coarse 9.8 -> 7.4 s CPU (the plies
   29.0 -> 19.5 s wall), results.json's numbers within 6e-15 relative, steps 727 -> 723.
@@ -96,10 +100,15 @@ process, so its CPU holds the loading of the compiled kernels: the counts are th
   take 14-31 iterations each); 0.2, 261 and 65 (329 tangents).
 * The other stacks, not set there: heavy default (no stall rule, load 12) 233 -> 205
   tangents (18-32-21-33-34-14-44-13-13-11 -> 18-32-34-22-23-19-20-13-13-11), within 1.1e-13
-  mm; sag coarse (no stall rule, load 9) 314 and 30 (345 tangents) -> 327 and 0 (342), its
-  first increment 98 -> 150 in sub-increments (its first step turns 0.57 rad: the plies laid
-  at g = 0 are the plateau's cause, not the step), within 1.2e-13 mm; with 0.05, 460 and 6
-  (500 tangents).
+  mm; heavy coarse 188 -> 192 tangents (17-30-36-11-30-11-14-20-9-10 ->
+  17-30-19-19-22-21-20-20-9-10), within 5.3e-14 mm; sag coarse (no stall rule, load 9) 314
+  and 30 (345 tangents; 98-120-32-33-16-15) -> 327 and 0 (342; 150-64-50-25-23-15: its first
+  increment's step turns 0.57 rad, and the plies laid at g = 0 are its plateau's cause, not
+  the step), within 1.2e-13 mm; with 0.05, 460 and 6 (500 tangents); the deck coarse (no
+  stall rule) 202 and 17 (220 tangents; 12-12-12-12-12-14-36-92) -> 205 and 89 (303;
+  14-14-14-14-14-14-14-107: each of the 8 increments cut once by the rule, two sub-increments
+  taking 14 where the whole took 12, and the last one's attempt still cut after 89), within
+  3.6e-11 mm.
 * Not kept: the imposed step truncated at the first contact event (the whole step scaled so
   that no point's gap, interpolated linearly between the iterate and the step's end, passes
   below -delta where it was above): the scales kept were about 0.01 and each iterate imposed
