@@ -65,6 +65,11 @@ is near zero (a lift-off) where frozen sets alternate.
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
 
+Increments sized by their first step (``Static(first_turn=theta)``, off by default;
+``StepTooLong``): with ``newton(turn_limit=theta)`` an attempt whose first Newton step turns a
+director by more than theta stops before the update, and the load path (solvers.load_path) cuts
+the increment to the share whose first step turns none by more.
+
 Convergence is the force-reference test of solvers.convergence (``Residual``), no stricter than
 the residual's rounding at the iterate (solvers.round_off).
 """
