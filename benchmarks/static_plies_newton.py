@@ -5,10 +5,13 @@ or off the ramp -delta < g < 0 of the smoothed penalty, deeper, in the fade past
 the facing triangle switched, the sign of the gap flipped), docs/theory.md §6.5 ("Stalled
 attempts") and §9.3a; the case's plies solved without ``Static(stall_iterations=...)`` (the
 reference pass, as before) and with it (``--stall``, 25 by default), side by side in this
-process, the final positions and directors compared.
+process, the final positions and directors compared; with ``--first-turn theta`` the two
+sides are the case's solver (``--stall``, or none with ``--no-stall``) without and with
+``Static(first_turn=theta)`` (docs/theory.md §6.5, "Increments sized by the first step").
 
     python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
-        [--resolution coarse|default] [--stall 25] [--detail]
+        [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
+        [--rounds 2] [--detail]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -67,6 +70,54 @@ Measured (one thread, CPU, 2 cores shared with other jobs):
   tangent so with b = 0.01 (the first increment fails after 10 cuts, stuck at a ratio of
   3e-5: the tangent no longer the force's derivative near equilibrium): 15 % fewer
   iterations at best, from the first tangents alone.
+
+The imposed step (``--first-turn``; one thread, CPU, the reference pass first in the same
+process, so its CPU holds the loading of the compiled kernels: the counts are the measure):
+
+* What the first step of each attempt asks for (coarse bai, stall 25): the gravity phase's
+  first steps turn a director by at most 0.052 rad; the displacement phase's first step 1.45
+  rad and 59 mm of free translation for an imposed (-3, 0, -5) mm: pushed along its axis, the
+  sagged strip has to buckle, and the linear step at the sagged state carries 120 of the 144
+  ply points up to 0.49 mm through the ply below (ramp 1.5e-3 mm). Attempts whose first step
+  turned a director by 1.45, 0.73, 0.36, 0.18, 0.134, 0.177 rad were cut (25 iterations each
+  at ratio ~1, or 7 on the line search), and one of 0.090 (8, on the line search); the others,
+  0.044-0.127 rad, converged in 8-29 iterations.
+* Kept, first_turn = 0.1 (the attempt cut to the largest 1/2^k whose first step turns none
+  by more, before any iteration): bai coarse (load 8-9) 261 converged and 140 cut iterations,
+  7 cuts, 403 tangents, 507 force passes, 218 energies, 7.7 s -> 257 and 8, 1 cut, 5
+  first-turn cuts, 271 tangents, 336 force passes, 89 energies, 3.9 s; the same
+  sub-increments (1/16 of the first displacement increment first, as the cuts reached),
+  final positions within 2.5e-14 mm. Per increment 21-5-4-4-4-3-3-3-3-3 and
+  82-19-26-14-18-8-11-10-8-12 -> the same gravity phase and 82-19-18-18-18-8-11-10-8-12
+  (1.3 and 1.4 now each in two halves of 8-10 iterations, where whole they took 26 and 14).
+  bai default (load 12-13) 465 and 75, 540 tangents, 38.7 s -> 462 and 0, 464 tangents,
+  28.4 s, within 7.1e-14 mm; per increment 22-6-5-4-4-4-4-3 (x13) and 92-33-21-12-15-19-
+  17-14-13-14-18-16-14-11-13-12-10-11-12-10 -> the same but 33 -> 30. The report's case
+  (``python -m validation --cases plies-bai-5.1 --jobs 1``, the code before from a
+  ``git archive`` beside it, warm caches, load 11-14): coarse 9.8 -> 7.4 s CPU (the plies
+  29.0 -> 19.5 s wall), results.json's numbers within 6e-15 relative, steps 727 -> 723.
+* Other limits on bai coarse: 0.05, 339 and 0 (360 tangents; the smaller sub-increments
+  take 14-31 iterations each); 0.2, 261 and 65 (329 tangents).
+* The other stacks, not set there: heavy default (no stall rule, load 12) 233 -> 205
+  tangents (18-32-21-33-34-14-44-13-13-11 -> 18-32-34-22-23-19-20-13-13-11), within 1.1e-13
+  mm; heavy coarse 188 -> 192 tangents (17-30-36-11-30-11-14-20-9-10 ->
+  17-30-19-19-22-21-20-20-9-10), within 5.3e-14 mm; sag coarse (no stall rule, load 9) 314
+  and 30 (345 tangents; 98-120-32-33-16-15) -> 327 and 0 (342; 150-64-50-25-23-15: its first
+  increment's step turns 0.57 rad, and the plies laid at g = 0 are its plateau's cause, not
+  the step), within 1.2e-13 mm; with 0.05, 460 and 6 (500 tangents); the deck coarse (no
+  stall rule) 202 and 17 (220 tangents; 12-12-12-12-12-14-36-92) -> 205 and 89 (303;
+  14-14-14-14-14-14-14-107: each of the 8 increments cut once by the rule, two sub-increments
+  taking 14 where the whole took 12, and the last one's attempt still cut after 89), within
+  3.6e-11 mm.
+* Not kept: the imposed step truncated at the first contact event (the whole step scaled so
+  that no point's gap, interpolated linearly between the iterate and the step's end, passes
+  below -delta where it was above): the scales kept were about 0.01 and each iterate imposed
+  the remainder again, 546 converged and 758 cut (1304 tangents); floored at 1/4, 293 and 75
+  (368 tangents); the imposed step with the free unknowns held (the prescribed nodes moved
+  alone): the first displacement increment failed after 10 cuts at load factor 1.036. The
+  update cap (solvers.newton.MAX_ROTATION) at 0.1 rad instead of 0.5, with first_turn=0.1:
+  bai coarse 271 -> 260 tangents (its first displacement increment 82 -> 71 iterations), at
+  0.05 313; sag coarse without first_turn 345 -> 455 (0.1) and 366 (0.05) tangents.
 """
 
 from __future__ import annotations
@@ -85,6 +136,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+import solvers.load_path as load_path_module  # noqa: E402
 import solvers.newton as newton_module  # noqa: E402
 import solvers.static as static_module  # noqa: E402
 from elements.ply_block import PlyContactBlock  # noqa: E402
@@ -126,15 +178,15 @@ def _changes(before, after) -> dict:
 def instrument() -> None:
     """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
     RECORD.update(attempts=[], iterations=[])
-    plain_newton = static_module.newton
+    plain_newton = load_path_module.newton
 
-    def newton(run, state, load_factor, max_iterations=None):
+    def newton(run, state, load_factor, max_iterations=None, turn_limit=None):
         entry = {"load": load_factor, "iterations": [], "failed": None, "cpu": time.process_time()}
         RECORD["attempts"].append(entry)
         RECORD["current"] = entry
         RECORD["last_ply"] = None
         try:
-            out = plain_newton(run, state, load_factor, max_iterations)
+            out = plain_newton(run, state, load_factor, max_iterations, turn_limit)
         except newton_module.IncrementFailed as failure:
             entry["failed"] = str(failure)
             entry["history"] = failure.history
@@ -144,7 +196,7 @@ def instrument() -> None:
         entry["cpu"] = time.process_time() - entry["cpu"]
         return out
 
-    static_module.newton = newton
+    load_path_module.newton = newton
 
     plain_tangent = static_module.StaticRun.tangent
 
@@ -178,27 +230,30 @@ def instrument() -> None:
     newton_module.Watchdog.step = step
 
 
-def solve_case(name: str, resolution: str, stall: int | None):
+def solve_case(name: str, resolution: str, stall: int | None, first_turn: float | None = None):
     """Solve the Static plies of case ``name`` at ``resolution`` with
-    ``Static(stall_iterations=stall)``; the result."""
+    ``Static(stall_iterations=stall, first_turn=first_turn)``; the result."""
     if name in ("bai", "heavy"):
         from fibreshell.plies import plies_solver, ply_stack, stack_model
         from validation.cases import plies_bai_5_1, plies_heavy_cantilever
         from validation.ground_truth import _case
 
         case_module: Any = plies_bai_5_1 if name == "bai" else plies_heavy_cantilever
-        solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall}
+        solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall, "first_turn": first_turn}
         if name == "bai":
             solver["increments"] = case_module.PLIES_INCREMENTS[resolution]
-        if stall is None:
-            del solver["stall_iterations"]
+        for key in ("stall_iterations", "first_turn"):
+            if solver[key] is None:
+                del solver[key]
         case = _case(case_module.FILE, case_module.CELLS[resolution], {"solver": solver})
         stack = ply_stack(case, case_module.PLIES[resolution])
         model = stack_model(case, stack).compile()
         return plies_solver(case, progress=False).solve(model)
     from validation.cases import plies_deck_of_cards as deck
 
-    deck.Static = functools.partial(Static, stall_iterations=stall)  # type: ignore[attr-defined]
+    deck.Static = functools.partial(  # type: ignore[attr-defined]
+        Static, stall_iterations=stall, first_turn=first_turn
+    )
     if name == "deck":
         return deck.bend(deck.COUNTS[resolution][-1], deck.MIDDLE).result
     if name == "sag":
@@ -237,28 +292,47 @@ def main() -> None:
     parser.add_argument("--case", default="bai", help="bai, heavy, deck or sag")
     parser.add_argument("--resolution", default="coarse")
     parser.add_argument("--stall", type=int, default=25, help="stall_iterations of the new run")
+    parser.add_argument(
+        "--first-turn",
+        type=float,
+        default=None,
+        help="Static(first_turn=...) of the new run, rad; the reference then keeps --stall",
+    )
+    parser.add_argument("--no-stall", action="store_true", help="with --first-turn: no stall rule")
     parser.add_argument("--detail", action="store_true", help="every attempt, before and after")
+    parser.add_argument(
+        "--rounds", type=int, default=1, help="solve both sides this many times, alternately"
+    )
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     instrument()
-    results = {}
-    for stall in (None, args.stall):
+    if args.first_turn is None:
+        runs = [(None, None), (args.stall, None)]
+    else:
+        stall = None if args.no_stall else args.stall
+        runs = [(stall, None), (stall, args.first_turn)]
+    results = []
+    for stall, first_turn in runs * args.rounds:
         RECORD.update(attempts=[])
         cpu = time.process_time()
-        result = solve_case(args.case, args.resolution, stall)
+        result = solve_case(args.case, args.resolution, stall, first_turn)
         cpu = time.process_time() - cpu
-        results[stall] = result
-        print(f"--- {args.case} {args.resolution}, stall_iterations={stall}: {cpu:.1f} s CPU")
+        results.append(result)
+        print(
+            f"--- {args.case} {args.resolution}, stall_iterations={stall}, "
+            f"first_turn={first_turn}: {cpu:.1f} s CPU"
+        )
         if args.detail:
             report(result)
         else:
             print(f"iterations per increment {result.info['iterations_per_increment']}")
             print(
                 f"converged iterations {result.steps}, cut {result.info['iterations_cut']}, "
-                f"cuts {result.info['cuts']}; evaluations {result.info['evaluations']}"
+                f"cuts {result.info['cuts']}, first-turn cuts "
+                f"{len(result.info['first_turn_cuts'])}; evaluations {result.info['evaluations']}"
             )
         print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}", flush=True)
-    before, after = results[None], results[args.stall]
+    before, after = results[:2]
     moved = np.abs(after.positions - before.positions).max()
     turned = np.abs(after.directors - before.directors).max()
     print(f"final positions within {moved:.3g} mm, directors within {turned:.3g}")

@@ -65,6 +65,11 @@ is near zero (a lift-off) where frozen sets alternate.
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
 
+Increments sized by their first step (``Static(first_turn=theta)``, off by default;
+``StepTooLong``): with ``newton(turn_limit=theta)`` an attempt whose first Newton step turns a
+director by more than theta stops before the update, and the load path (solvers.load_path) cuts
+the increment to the share whose first step turns none by more.
+
 Convergence is the force-reference test of solvers.convergence (``Residual``), no stricter than
 the residual's rounding at the iterate (solvers.round_off).
 """
@@ -85,6 +90,7 @@ from femcore.state import State
 from solvers.convergence import Equilibrium
 from solvers.inertia import convexified_step
 from solvers.linear import Factorisation
+from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
 from solvers.round_off import FLOOR_FACTOR, ROUND_OFF_GATE, round_off_ratio
 from solvers.stabilisation import Dashpots
@@ -102,6 +108,7 @@ __all__ = [
     "STALLED_RATIO",
     "WATCHDOG",
     "IncrementFailed",
+    "StepTooLong",
     "Residual",
     "Tangent",
     "Watchdog",
@@ -152,7 +159,22 @@ class IncrementFailed(Exception):
     history: list[float] = []
 
 
-def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int | None = None):
+class StepTooLong(IncrementFailed):
+    """The first Newton step of an increment turns a director by ``turn`` (rad), more than
+    the ``turn_limit`` of ``newton``: the increment is cut before it is iterated."""
+
+    def __init__(self, turn: float):
+        super().__init__(f"the first Newton step turns a director by {turn:.3g} rad")
+        self.turn = turn
+
+
+def newton(
+    run: StaticRun,
+    state: State,
+    load_factor: float,
+    max_iterations: int | None = None,
+    turn_limit: float | None = None,
+):
     """Newton-Raphson at one load factor from ``state``.
 
     Returns (converged state, iterations, final ratio, ratio per iteration starting with
@@ -160,12 +182,16 @@ def newton(run: StaticRun, state: State, load_factor: float, max_iterations: int
     cut. With contact, the frozen contact sets first (module docstring); where they fail,
     the unilateral law from ``state`` again before the increment is cut (the iterations of
     both are counted), unless no interaction keeps a contact set (``keeps_contact_sets``),
-    when the two attempts would be one.
+    when the two attempts would be one. ``turn_limit`` (rad): StepTooLong, before any update,
+    when the first Newton step turns a director by more (Static's ``first_turn``,
+    solvers.load_path).
     """
     if not run.model.interactions:
-        return _newton(run, state, load_factor, max_iterations, False)
+        return _newton(run, state, load_factor, max_iterations, False, turn_limit)
     try:
-        return _newton(run, state, load_factor, max_iterations, True)
+        return _newton(run, state, load_factor, max_iterations, True, turn_limit)
+    except StepTooLong:
+        raise
     except IncrementFailed as failure:
         # Without a contact set to freeze (only interactions such as the plies' contact, whose
         # force is decided by the gaps alone) the unilateral attempt would repeat the frozen
@@ -202,13 +228,18 @@ def keeps_contact_sets(model: CompiledModel) -> bool:
 
 
 def _newton(
-    run: StaticRun, state: State, load_factor: float, max_iterations: int | None, frozen: bool
+    run: StaticRun,
+    state: State,
+    load_factor: float,
+    max_iterations: int | None,
+    frozen: bool,
+    turn_limit: float | None = None,
 ):
     """``newton`` with the contact sets frozen or not; a failure carries the attempt's
     iterations and residual ratios."""
     history: list[float] = []
     try:
-        return _iterate(run, state, load_factor, max_iterations, frozen, history)
+        return _iterate(run, state, load_factor, max_iterations, frozen, history, turn_limit)
     except IncrementFailed as failure:
         failure.iterations, failure.history = max(len(history) - 1, 0), history
         raise
@@ -221,6 +252,7 @@ def _iterate(
     max_iterations: int | None,
     frozen: bool,
     history: list[float],
+    turn_limit: float | None = None,
 ):
     """The Newton iterations of ``newton``; ``history`` receives the residual ratios."""
     solver = run.solver
@@ -352,6 +384,14 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
+        if turn_limit is not None and iteration == 1:
+            # The first step is linear in the increment: one that turns a director too far
+            # asks for a smaller increment before any iteration is spent (solvers.load_path).
+            turns = np.zeros((model.n_nodes, N_COLUMNS))
+            turns.ravel()[index] = delta_free
+            first_turn = float(np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0))
+            if first_turn > turn_limit:
+                raise StepTooLong(first_turn)
         # Steps on an indefinite tangent are turned downhill, except on the way from a kept
         # saddle: the path of saddles no push descends from is followed by plain Newton (a
         # turned step there heads off the path and finds no lower branch), and each converged
@@ -437,47 +477,6 @@ def _iterate(
         f"residual ratio {history[-1]:.3g} after {allowed} iterations"
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
-
-
-def chord_corrections(
-    run: StaticRun,
-    equilibrium: Residual,
-    watchdog: Watchdog,
-    state: State,
-    frames: Frames,
-    forces,
-    factor: Factorisation,
-    count: int,
-):
-    """After a whole Newton step to ``state`` (internal ``forces`` there): up to
-    ``count`` chord steps K^-1 r(state) with the iteration's factorisation ``factor``
-    (one solve and one force evaluation each, where a Newton iteration forms and factorises
-    a tangent), each kept while it lowers the total potential energy (the residual is no
-    guide: it grows along steps that lead to the equilibrium). Returns (state, forces)."""
-    model, dofs = run.model, run.model.dofs
-    index = dofs.free_slots
-    energy = run.energy(state)
-    for _ in range(count):
-        r, ratio, forces = equilibrium.residual(state, frames, forces)
-        if not np.isfinite(ratio) or ratio <= run.solver.tol:
-            break
-        step = factor.solve(r.ravel()[index])
-        if step is None:
-            break
-        flat = np.zeros(dofs.n_slots)
-        flat[index] = step
-        delta = flat.reshape(-1, N_COLUMNS)
-        trial = dofs.advance(state, delta, frames)
-        work = float(equilibrium.load(frames).ravel() @ flat)  # of the dead loads
-        trial_energy = run.energy(trial)
-        if not trial_energy - work < energy:
-            break
-        trial_forces = model.internal_force(trial)
-        run.counts["residual"] += 1
-        state, forces, energy = trial, trial_forces, trial_energy
-        watchdog.work += work  # the potential of the iterates is measured from its best one
-        run.info["chord_corrections"] += 1
-    return state, forces
 
 
 def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, near: bool = False):

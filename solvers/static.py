@@ -41,8 +41,8 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import cross, rotate_about
 from femcore.state import State
-from solvers.arc_length import JUMP_ITERATIONS, Motion, arc_length_path, descend
-from solvers.augmentation import augment, augment_contacts
+from solvers.arc_length import Motion, arc_length_path
+from solvers.augmentation import augment_contacts
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     ConvergenceError,
@@ -51,6 +51,7 @@ from solvers.common import (
     check_held,
     check_integer,
     check_non_negative,
+    check_positive_or_none,
     check_progress,
     check_tolerance,
     compiled_model,
@@ -62,7 +63,8 @@ from solvers.common import (
 )
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.linear import Factorisation, LinearSolver
-from solvers.newton import IncrementFailed, Residual, Tangent, compression_free_ratio, newton
+from solvers.load_path import load_path
+from solvers.newton import Residual, Tangent, compression_free_ratio
 from solvers.newton_fibres import FibreEdges
 from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream, output_path
@@ -93,6 +95,12 @@ class Static:
         every Newton step is taken whole (after the step cap below).
     max_cuts : how many times an increment may be halved before a ConvergenceError.
     stall_iterations : load path: cut an attempt whose ratio stayed above 0.1 that long.
+    first_turn : load path: an increment whose first Newton step, from the last converged
+        state, turns a director by more than this (rad) is cut before it is iterated, to the
+        largest 1/2^k of it whose first step turns none by more (None, the default: never;
+        solvers.load_path, docs/theory.md §6.5 "Increments sized by the first step"). The
+        cuts are listed in ``info["first_turn_cuts"]`` as (load factor tried, turn, share
+        kept) and are not counted in ``max_cuts`` or ``info["cuts"]``.
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'
@@ -228,6 +236,7 @@ class Static:
         line_search: bool = True,
         max_cuts: int = 8,
         stall_iterations: int | None = None,
+        first_turn: float | None = None,
         augmentations: int = 20,
         tangent: str = "element",
         seek_stable: bool = True,
@@ -254,6 +263,7 @@ class Static:
         self.max_cuts = check_integer(max_cuts, "max_cuts", minimum=0)
         stall = stall_iterations
         self.stall_iterations = None if stall is None else check_integer(stall, "stall_iterations")
+        self.first_turn = check_positive_or_none(first_turn, "first_turn", "rad")
         self.augmentations = check_integer(augmentations, "augmentations", minimum=0)
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
@@ -347,64 +357,12 @@ class Static:
             for phase in range(phases):
                 run.phase = phase
                 if self.path == "load":
-                    self._load_path(run, phase)
+                    load_path(self, run, phase)
                 elif arc_length_path(run, phase):  # stopped at a limit point to jump
-                    self._load_path(run, phase, jump=True)
+                    load_path(self, run, phase, jump=True)
             run.report_stabilisation()
             run.report_augmentation()
             return run.result(True)
-
-    # ------------------------------------------------------------------ load path
-    def _load_path(self, run: StaticRun, phase: int, jump: bool = False) -> None:
-        """``increments`` equal steps of the load factor over [phase, phase + 1]. ``jump``:
-        the first step leaves a limit point; the way to the stable branch beyond is long, and
-        that step may take JUMP_ITERATIONS x max_iterations Newton iterations."""
-        step = 1.0 / self.increments
-        iterations_allowed = JUMP_ITERATIONS * self.max_iterations if jump else None
-        for increment in range(1, self.increments + 1):
-            target = phase + increment / self.increments
-            if target <= run.reached + 1e-12:  # reached by an arc-length path already
-                continue
-            iterations = 0
-            passes = 0
-            cuts_here = 0
-            while run.reached < target - 1e-12:
-                # Land on the target exactly: sums of step fractions miss it by rounding.
-                trial = target if run.reached + step >= target - 1e-12 else run.reached + step
-                start = run.predict(trial, follow=self.follow_tools_after_cut and cuts_here > 0)
-                run.damp(trial)
-                try:
-                    if iterations_allowed is not None:
-                        converged, count, ratio, history = descend(
-                            run, start, trial, iterations_allowed
-                        )
-                    else:
-                        converged, count, ratio, history = newton(run, start, trial)
-                    converged, count, ratio, history, more = augment(
-                        run, converged, trial, count, ratio, history
-                    )
-                except IncrementFailed as failure:
-                    run.info["iterations_cut"] += failure.iterations
-                    total = self.increments * (2 if self.step_loads_first else 1)
-                    cuts_here = run.cut(
-                        cuts_here,
-                        f"increment {increment + phase * self.increments}/{total}",
-                        failure,
-                    )
-                    step = 0.5 * (trial - run.reached)
-                    continue
-                iterations += count
-                passes += more
-                iterations_allowed = None
-                run.accept(converged, trial)
-                run.damp(None)
-                # After a cut, grow the step back towards the nominal one.
-                step = min(1.0 / self.increments, 2.0 * step)
-            run.frame(iterations, ratio, history)
-            if run.constraint is not None:
-                run.info["augmentations"].append(passes)
-                run.info["augmented_penetration"].append(run.constraint["penetration"])
-                run.info["augmented_slip"].append(run.constraint["slip"])
 
     # ------------------------------------------------------------------ loads
     def loads(self, model: CompiledModel, load_factor: float):
@@ -484,6 +442,7 @@ class StaticRun:
             "iterations_per_increment": [],
             "cuts": 0,
             "iterations_cut": 0,
+            "first_turn_cuts": [],
             "tangent_colours": self._tangent.graph.n_colours if self._tangent.graph else 0,
             "residual_ratio_per_increment": [],
             "negative_eigenvalues": [],

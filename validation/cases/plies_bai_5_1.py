@@ -49,7 +49,13 @@ TOLERANCES["fine"] = TOLERANCES["default"]
 # (``stall_iterations``, docs/theory.md §6.5 "Stalled attempts"): at the default resolution the
 # three attempts cut in the first displacement increment spent 149, 149 and 122 iterations
 # at ratio ~1 before, 25 each now, the same solve to the bit otherwise (plies 57.0 -> 31.1 s
-# CPU, benchmarks/static_plies_newton.py).
+# CPU, benchmarks/static_plies_newton.py). An increment whose first Newton step turns a director
+# by more than 0.1 rad cut before it is iterated (``first_turn``, docs/theory.md §6.5
+# "Increments sized by the first step"): the first displacement increment's step turns one by
+# 1.45 rad (coarse), and its attempts at the whole, half, quarter and eighth spent 25 iterations
+# each before 1/16 converged; now 1/16 is tried first (coarse 401 -> 265 iterations, 403 -> 271
+# tangents; default 540 -> 462, 540 -> 464 tangents; the same sub-increments, the same
+# equilibrium to 7e-14 mm).
 PLIES_SOLVER: dict[str, Any] = {
     "kind": "static",
     "increments": 10,
@@ -58,10 +64,13 @@ PLIES_SOLVER: dict[str, Any] = {
     "max_iterations": 150,
     "max_cuts": 10,
     "stall_iterations": 25,
+    "first_turn": 0.1,
 }
 # The same without the stall rule: the solver the benchmarks' figures from before it measured
 # (benchmarks/static_plies.py, ply_relist.py, ply_fade_hessian.py, tangent_pattern.py).
-BEFORE_STALL_RULE = {key: v for key, v in PLIES_SOLVER.items() if key != "stall_iterations"}
+BEFORE_STALL_RULE = {
+    key: v for key, v in PLIES_SOLVER.items() if key not in ("stall_iterations", "first_turn")
+}
 # The plies' increments per phase. Default, 8 plies: in 10 the first displacement increments
 # took 130 and 101 Newton iterations and 4 cuts (1076 tangents in all); in 20, 92 and 33 and
 # 3 cuts (906 tangents; 179.7 s CPU, one thread, load 1.4-2.5), the same equilibrium (material

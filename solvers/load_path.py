@@ -1,0 +1,89 @@
+"""Static's load path: ``increments`` equal steps of the load factor per phase, an increment
+that does not converge cut in half and retried from the last converged state, and with
+``Static(first_turn=...)`` an increment whose first Newton step turns a director too far cut
+before it is iterated (docs/theory.md §6.5, "Increments sized by the first step")."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from solvers.arc_length import JUMP_ITERATIONS, descend
+from solvers.augmentation import augment
+from solvers.newton import IncrementFailed, StepTooLong, newton
+
+if TYPE_CHECKING:
+    from solvers.static import Static, StaticRun
+
+__all__ = ["load_path", "turn_fraction"]
+
+
+def turn_fraction(turn: float, limit: float) -> float:
+    """The share 1/2^k (k >= 1) of an increment whose first Newton step turns a director by
+    ``turn`` (rad) that turns it by at most ``limit`` (rad): the step is linear in the
+    increment, and the halves are those a cut would take, so the sub-increments land where
+    the cuts' did."""
+    return 0.5 ** max(1, math.ceil(math.log2(turn / limit)))
+
+
+def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) -> None:
+    """``solver.increments`` equal steps of the load factor over [phase, phase + 1]. ``jump``:
+    the first step leaves a limit point; the way to the stable branch beyond is long, and
+    that step may take JUMP_ITERATIONS x max_iterations Newton iterations."""
+    step = 1.0 / solver.increments
+    iterations_allowed = JUMP_ITERATIONS * solver.max_iterations if jump else None
+    for increment in range(1, solver.increments + 1):
+        target = phase + increment / solver.increments
+        if target <= run.reached + 1e-12:  # reached by an arc-length path already
+            continue
+        iterations = 0
+        passes = 0
+        cuts_here = 0
+        resized = False  # the attempt follows a cut by ``first_turn``: not cut so again
+        while run.reached < target - 1e-12:
+            # Land on the target exactly: sums of step fractions miss it by rounding.
+            trial = target if run.reached + step >= target - 1e-12 else run.reached + step
+            start = run.predict(trial, follow=solver.follow_tools_after_cut and cuts_here > 0)
+            run.damp(trial)
+            limit = None if resized or iterations_allowed is not None else solver.first_turn
+            resized = False
+            try:
+                if iterations_allowed is not None:
+                    converged, count, ratio, history = descend(
+                        run, start, trial, iterations_allowed
+                    )
+                else:
+                    converged, count, ratio, history = newton(run, start, trial, turn_limit=limit)
+                converged, count, ratio, history, more = augment(
+                    run, converged, trial, count, ratio, history
+                )
+            except StepTooLong as long:
+                # Cut before iterating: no Newton iteration was spent on the step.
+                assert limit is not None
+                fraction = turn_fraction(long.turn, limit)
+                run.info["first_turn_cuts"].append((trial, long.turn, fraction))
+                step = fraction * (trial - run.reached)
+                resized = True
+                continue
+            except IncrementFailed as failure:
+                run.info["iterations_cut"] += failure.iterations
+                total = solver.increments * (2 if solver.step_loads_first else 1)
+                cuts_here = run.cut(
+                    cuts_here,
+                    f"increment {increment + phase * solver.increments}/{total}",
+                    failure,
+                )
+                step = 0.5 * (trial - run.reached)
+                continue
+            iterations += count
+            passes += more
+            iterations_allowed = None
+            run.accept(converged, trial)
+            run.damp(None)
+            # After a cut, grow the step back towards the nominal one.
+            step = min(1.0 / solver.increments, 2.0 * step)
+        run.frame(iterations, ratio, history)
+        if run.constraint is not None:
+            run.info["augmentations"].append(passes)
+            run.info["augmented_penetration"].append(run.constraint["penetration"])
+            run.info["augmented_slip"].append(run.constraint["slip"])
