@@ -48,6 +48,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_surface
+from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
 from femcore.assembly import CellTangent
@@ -280,6 +281,27 @@ def stick_couple(
     return np.where(plane[:, None], along[:, None] * across, 0.0)
 
 
+def edge_couples(
+    block: PlyContactBlock, state: State, sliding: Sliding, facing: Facing, rows: np.ndarray
+) -> np.ndarray:
+    """The couple (t, 4, 3) C_w on z = (p, y_1, y_2, y_3), N, of the stuck points among
+    ``rows`` (t,) whose closest point lies on an edge or at a vertex of the facing triangle
+    (``Facing.on_edge``; elements/ply_edge_couple.py ``edge_couple``); 0 on the other rows
+    and on the curved faces."""
+    out = np.zeros((len(rows), 4, 3))
+    if facing.on_edge is None or block.curved:
+        return out
+    pick = np.flatnonzero(sliding.stuck[rows] & facing.on_edge[rows])
+    if pick.size:
+        at = rows[pick]
+        _, y = block._faces(state)
+        features = edge_features(facing, y, block.cuts, at)
+        out[pick] = edge_couple(
+            features, facing.gap[at], facing.normal[at], sliding.offset[at], sliding.force[at]
+        )
+    return out
+
+
 def _couple_rows(
     block: PlyContactBlock, sliding: Sliding, facing: Facing, rows: np.ndarray
 ) -> np.ndarray:
@@ -324,14 +346,16 @@ def friction_loads(
     lift, stored = sliding.lift[on], sliding.stored[on]
     n, lam = facing.normal[on], facing.weights[on]
     couple = stick_couple(block, sliding, facing, on)
+    turned = edge_couples(block, state, sliding, facing, on)
     fading = np.zeros((len(on), 6, 3)) if facing.fade_gradient is None else facing.fade_gradient[on]
-    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
+    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0]) + turned[:, 0]
     forces = np.concatenate(
         [
             block.shape[on][:, :, None] * on_face[:, None, :],
             lower,
             (-lift[:, None] * lam + couple)[:, :, None] * n[:, None, :]
-            + stored[:, None, None] * fading[:, 1:4],
+            + stored[:, None, None] * fading[:, 1:4]
+            + turned[:, 1:],
             stored[:, None, None] * fading[:, 4:],
         ],
         axis=1,
@@ -452,6 +476,15 @@ def friction_tangent(
             n[turns], r[turns], s[turns], grad[turns], big[turns], ds[turns],
             turning[turns], spring[turns], d_spring[turns], couple[turns],
         )  # fmt: skip
+    edges = np.flatnonzero(stuck & facing.on_edge[on]) if facing.on_edge is not None else on[:0]
+    if edges.size and not block.curved:  # the couple of points facing an edge or a vertex
+        at = on[edges]
+        _, y = block._faces(state)
+        points[edges] += edge_couple_tangent(
+            edge_features(facing, y, block.cuts, at), facing.gap[at], n[edges], r[edges],
+            s[edges], big[edges], ds[edges], spring[edges], d_spring[edges],
+        )  # fmt: skip
+    turned = edge_couples(block, state, sliding, facing, on)
     ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack(
         [
@@ -485,12 +518,13 @@ def friction_tangent(
         maps[:, z, :, 2 + z, :] = own[:, 2 + z]
     carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
     blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
-    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
+    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0]) + turned[:, 0]
     forces = np.concatenate(
         [
             block.shape[on][:, :, None] * on_face[:, None, :],
             (-lift[:, None] * lam + couple)[:, :, None] * n[:, None, :]
-            + stored[:, None, None] * fading[:, 1:4],
+            + stored[:, None, None] * fading[:, 1:4]
+            + turned[:, 1:],
             -big[:, :, None] * force[:, None, :],
             stored[:, None, None] * fading[:, 7:],
         ],
