@@ -30,10 +30,12 @@ apart: on a plane dn/dy_m = -grad phi_m n^T, so it is k_t (n . r)(s . grad phi_m
 corner m (``stick_couple``; a fraction ~ |g| / l of F, l the triangle's size). The loads
 carry the three and the tangent their derivative (``_potential_tangent``,
 ``_couple_tangent``). A point facing an edge or a vertex (``Facing.on_edge``), whose n turns
-with p and the corners as the gap's Hessian says, is left without its couple (the loads do
-not compute that Hessian). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g: its
-gradient is F and the couple. A sliding point's force mu N s / |s| is no gradient (friction
-dissipates); its energy record stays the spring's at the limit, |F|^2 / (2 k_t) =
+with p and the corners as the gap's Hessian says, carries its couple C_w on p and the facing
+corners (``edge_couples``, elements/ply_edge_couple.py), and the tangent its derivative
+(``edge_couple_tangent``); E's gradient, and the loads, jump where the closest point passes
+between a plane and an edge (the gap's Hessian does). With ``stick="penalty"`` E = k_p |s|^2
+/ 2 holds no g: its gradient is F and the couple. A sliding point's force mu N s / |s| is no
+gradient (friction dissipates); its energy record stays the spring's at the limit, |F|^2 / (2 k_t) =
 (mu N)^2 / (2 k_t), the elastic part of its offset (what it gives back when unloaded,
 continuous with E at the switch), with no normal force nor couple added: the normal force
 jumps by the stuck point's lift as the point starts sliding.
@@ -273,7 +275,7 @@ def stick_couple(
     beyond the normal and fade terms (module docstring, "The stick potential": dE/dy_m =
     k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, with dn/dy_m = -grad phi_m n^T on a plane).
     0 for sliding points, on the curved faces and where the point faces an edge or a vertex
-    (``Facing.on_edge``: there dn/dz is the gap's Hessian, which the loads do not compute)."""
+    (``Facing.on_edge``: their couple is ``edge_couples``')."""
     n, r, force = facing.normal[rows], sliding.offset[rows], sliding.force[rows]
     along = np.sum(n * r, axis=1)
     across = np.sum(force[:, None, :] * facing.gradients[rows], axis=2)
@@ -327,8 +329,9 @@ def friction_loads(
     -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential beyond F
     (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz, with
     dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b), and the
-    couple c_m n on the facing corners (``stick_couple``) (0 for sliding points: their
-    entries add zeros)."""
+    couple c_m n on the facing corners (``stick_couple``), or C_w on p and the facing
+    corners where the point faces an edge or a vertex (``edge_couples``) (0 for sliding
+    points: their entries add zeros)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     tri = sliding.triangle[on]
     facing_tri = facing.triangle[on]
@@ -386,8 +389,8 @@ def friction_tangent(
     -grad phi_m n^T); dF = k_t ds + s dk_t in stick (k_t = w W'', dk_t = w W''' dg + W'' dw),
     mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip, with dN = -W'' dg, dg/dz = (n,
     -lambda_k n, 0); and a stuck point's stick potential beyond F (``friction_loads``: lift
-    dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent`` and
-    ``_couple_tangent``. Carried to the nodes
+    dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent``,
+    ``_couple_tangent`` and ``edge_couple_tangent``. Carried to the nodes
     and turned with the directors as the normal part (``tangent``)."""
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
