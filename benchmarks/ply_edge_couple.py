@@ -18,9 +18,10 @@ call (+0.016 to +0.021 ms for both passes, 10-13 %; about 0.6 % of the coarse he
 on_edge)``; the rest in the compiled pass's friction loop, which now adds the couple's
 conditional terms). A first version that always passed a zero (P, 4, 3) array cost the same
 (0.166 | 0.187 ms, load 14-16). Where stuck points do face an edge or a vertex, the couple is
-numpy: ``edge_couples`` takes 216 us a call on the pit of tests/test_ply_edge_couple.py (46
-stuck points facing its edges and its vertex, load 17), beside 324 us for that block's whole
-compiled loads: a compiled features' pass would cut it, not done.
+numpy: ``edge_couples`` takes 110 us a call (216 with einsums over every row's cuts) on the pit
+of tests/test_ply_edge_couple.py (46 stuck points facing its edges and its vertex, load 17),
+beside 324 us for that block's whole compiled loads: a compiled features' pass would cut it,
+not done.
 
 Run: python benchmarks/ply_edge_couple.py --reference /tmp/before
 """

@@ -94,21 +94,26 @@ def edge_features(
     index = np.arange(count)
     m = np.zeros((count, 4))
     m[:, 1:] = grow[index, ends[:, 1]] - grow[index, ends[:, 0]]
+    cutting = np.zeros(0, dtype=np.int64)
     if cuts is not None and cuts.any:
-        lines, far = cuts.lines[triangle], cuts.ends[triangle]
-        for k in range(3):  # q on a cut's segment from e_k to E_k (elements/ply_wedge.py)
+        cutting = np.flatnonzero(cuts.cut[triangle])
+    # q on a cut's segment from e_k to E_k (elements/ply_wedge.py)
+    if cuts is not None and cutting.size:
+        lines, far = cuts.lines[triangle[cutting]], cuts.ends[triangle[cutting]]
+        held = lam[cutting]
+        for k in range(3):
             present = np.any(lines[:, k] != 0.0, axis=1)
-            level = np.einsum("cj,cj->c", lines[:, k], lam)
+            level = np.sum(lines[:, k] * held, axis=1)
             direction = far[:, k] - np.eye(3)[k]
-            squared = np.einsum("cj,cj->c", direction, direction)
-            along = np.einsum("cj,cj->c", lam - np.eye(3)[k], direction) / np.where(
+            squared = np.sum(direction * direction, axis=1)
+            along = np.sum((held - np.eye(3)[k]) * direction, axis=1) / np.where(
                 squared > 0.0, squared, 1.0
             )
             on = present & (np.abs(level) <= KEEP) & (along >= -END) & (along <= 1.0 + END)
-            m[on, 1:] = direction[on]
-            slide = np.where(on, (along > END) & (along < 1.0 - END), slide)
+            m[cutting[on], 1:] = direction[on]
+            slide[cutting[on]] = (along[on] > END) & (along[on] < 1.0 - END)
     m = np.where(slide[:, None], m, 0.0)
-    e = np.einsum("ck,cki->ci", m[:, 1:], y[triangle])
+    e = np.sum(m[:, 1:, None] * y[triangle], axis=1)
     length = np.linalg.norm(e, axis=1)
     length = np.where(slide & (length > 0.0), length, 1.0)
     unit = np.where(slide[:, None], e / length[:, None], 0.0)
