@@ -236,11 +236,11 @@ def test_at_a_passage_from_a_plane_to_an_edge_the_loads_are_the_energy_s_one_sid
     along x until the point's closest point passes from the edge onto a face's plane (found by
     bisection to 1e-17 mm): 3e-6 mm either side, the upper ply's loads along x are the
     central differences of the reported energy along that motion (step 1e-6 mm) to 1e-4 of
-    the point's |F| (measured: 3e-9). The gap's Hessian jumps there (dn/dp = 0 on the plane,
-    (I - n n^T - e^ e^T) / g on the edge), and so does E's gradient: by 0.18 |F| along the
-    motion and by 0.15 |F| at a node (measured), the loads with it; without the couple at the
-    edge they were off E's gradient on the edge's side by 0.15 |F| (and jumped by 0.05 |F|
-    at a node)."""
+    the point's |F| (measured: 3e-9 and 8e-9). The gap's Hessian jumps there (dn/dp = 0 on
+    the plane, (I - n n^T - e^ e^T) / g on the edge), and so does E's gradient: by 0.18 |F|
+    along the motion and by 0.15 |F| at a node (measured), the loads with it; without the
+    couple at the edge they were off E's gradient on the edge's side by 0.15 |F| (and jumped
+    by 0.05 |F| at a node)."""
     block, state = pit(smoothing=0.2)
     facing = block.facing(state)
     p = facing.face
