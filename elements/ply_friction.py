@@ -49,7 +49,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_surface
+from elements import ply_edge_couple_kernels, ply_projection, ply_surface
 from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
@@ -297,6 +297,11 @@ def edge_couples(
     if pick.size:
         at = rows[pick]
         _, y = block._faces(state)
+        if ply_projection.COMPILED:  # the same bits (elements/ply_edge_couple_kernels.py)
+            out[pick] = ply_edge_couple_kernels.edge_couples(
+                facing, y, block.cuts, at, sliding.offset, sliding.force
+            )
+            return out
         features = edge_features(facing, y, block.cuts, at)
         out[pick] = edge_couple(
             features, facing.gap[at], facing.normal[at], sliding.offset[at], sliding.force[at]

@@ -283,3 +283,35 @@ def test_at_a_passage_from_a_plane_to_an_edge_the_loads_are_the_energy_s_one_sid
         force[side] = loads
     # the premise: E's gradient, and the loads, jump there by a share of |F|
     assert np.abs(force["edge"] - force["plane"]).max() > 0.05 * size
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_edge_couples_are_numpy_s_to_the_bit_round_cut_strips(seed):
+    """The strips above, every point facing an edge, a vertex or a cut given a random offset r
+    and force F: the compiled couple (elements/ply_edge_couple_kernels.py) is numpy's
+    ``edge_couple(edge_features(...))`` to the bit, on one thread and on all of numba's."""
+    from elements import ply_edge_couple_kernels
+    from elements.ply_edge_couple import edge_couple
+    from elements.ply_projection import closest_facing
+    from elements.ply_topology import FaceTopology
+    from tests.test_ply_wedge import cut_strip
+    from tests.thread_runs import on_one_thread_and_on_all
+
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, cuts = cut_strip(rng, 0.3)
+    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
+    near = np.tile(np.arange(len(nodes)), (len(p), 1))
+    toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
+    topology = FaceTopology.of(nodes, outline)
+    facing = closest_facing(
+        p, y, near, 0.0, outline, False, depth=0.2, toward=toward, topology=topology, cuts=cuts
+    )
+    rows = np.flatnonzero(facing.on_edge)
+    offset, force = rng.normal(size=(len(p), 3)), rng.normal(size=(len(p), 3))
+    features = edge_features(facing, y, cuts, rows)
+    want = edge_couple(features, facing.gap[rows], facing.normal[rows], offset[rows], force[rows])
+    for got in on_one_thread_and_on_all(
+        lambda: ply_edge_couple_kernels.edge_couples(facing, y, cuts, rows, offset, force)
+    ):
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+    assert features.slide.any() and (~features.slide).any() and np.any(want != 0.0)
