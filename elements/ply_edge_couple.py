@@ -28,7 +28,8 @@ the edge), so E's gradient, and these loads, jump there by that much.
 The rows of the facing (``Facing``'s weights, reach and triangle) say where q is, as
 ``edge_hessian`` decides it: on a grown edge (one coordinate at its bound), at a corner (two),
 or on a growth's cut (elements/ply_wedge.py: c . lambda = 0 for one of the triangle's cuts,
-inside its segment; at its ends a vertex).
+inside its segment; at its ends a vertex). ``edge_features`` and ``edge_couple`` are the numpy
+reference of the compiled pass (elements/ply_edge_couple_kernels.py, the same bits).
 """
 
 from __future__ import annotations

@@ -5,7 +5,8 @@ W dw/db on the ends of the outline's edge nearest it, the friction's tangential 
 upper corners and the anchor triangle's corners and a stuck point's stick potential's
 normal and fade terms on the upper, facing and outline-end nodes and its couple on the facing
 corners (elements/ply_friction.py ``friction_loads``, ``stick_couple``; facing an edge or a
-vertex, on the point too: ``edge_couples``, computed in numpy and added here), their moments
+vertex, on the point too: ``edge_couples``, computed before the pass (elements/
+ply_edge_couple_kernels.py) and added in it), their moments
 c d x F on the directors, and their sums at the nodes, in one serial pass per block and call
 (docs/theory.md, the ply contact section).
 
