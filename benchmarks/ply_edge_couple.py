@@ -24,6 +24,10 @@ the cuts' test on the rows that have one, and takes 15 us compiled
 (elements/ply_edge_couple_kernels.py, the same bits). Over the coarse fibrous [0/90]
 hemisphere run (6865 steps; 5338 of its 13730 loads calls have such points, 5.7 a call, of
 151 stuck), timed round each call: 0.199 ms a step in numpy, 0.028 compiled (load 14-15).
+The whole run beside 05b57d7 (``python benchmarks/forming_step_overhead.py --reference``,
+fibrous [0/90], 8 cells, best of 2, CPU; the runs differ: 6771 -> 6865 steps): with the couple
+in numpy 1.953 -> 2.384 ms a step (load 13-16), compiled 2.124 -> 2.281 ms a step (+7 %, load
+14-16; the reference itself moved by 9 % between the two sessions).
 
 Run: python benchmarks/ply_edge_couple.py --reference /tmp/before
 """
