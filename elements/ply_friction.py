@@ -30,10 +30,12 @@ apart: on a plane dn/dy_m = -grad phi_m n^T, so it is k_t (n . r)(s . grad phi_m
 corner m (``stick_couple``; a fraction ~ |g| / l of F, l the triangle's size). The loads
 carry the three and the tangent their derivative (``_potential_tangent``,
 ``_couple_tangent``). A point facing an edge or a vertex (``Facing.on_edge``), whose n turns
-with p and the corners as the gap's Hessian says, is left without its couple (the loads do
-not compute that Hessian). With ``stick="penalty"`` E = k_p |s|^2 / 2 holds no g: its
-gradient is F and the couple. A sliding point's force mu N s / |s| is no gradient (friction
-dissipates); its energy record stays the spring's at the limit, |F|^2 / (2 k_t) =
+with p and the corners as the gap's Hessian says, carries its couple C_w on p and the facing
+corners (``edge_couples``, elements/ply_edge_couple.py), and the tangent its derivative
+(``edge_couple_tangent``); E's gradient, and the loads, jump where the closest point passes
+between a plane and an edge (the gap's Hessian does). With ``stick="penalty"`` E = k_p |s|^2
+/ 2 holds no g: its gradient is F and the couple. A sliding point's force mu N s / |s| is no
+gradient (friction dissipates); its energy record stays the spring's at the limit, |F|^2 / (2 k_t) =
 (mu N)^2 / (2 k_t), the elastic part of its offset (what it gives back when unloaded,
 continuous with E at the switch), with no normal force nor couple added: the normal force
 jumps by the stuck point's lift as the point starts sliding.
@@ -47,7 +49,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_surface
+from elements import ply_edge_couple_kernels, ply_projection, ply_surface
+from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
 from femcore.assembly import CellTangent
@@ -272,12 +275,38 @@ def stick_couple(
     beyond the normal and fade terms (module docstring, "The stick potential": dE/dy_m =
     k_t s . ds/dy_m = -k_t (n . r) s . dn/dy_m, with dn/dy_m = -grad phi_m n^T on a plane).
     0 for sliding points, on the curved faces and where the point faces an edge or a vertex
-    (``Facing.on_edge``: there dn/dz is the gap's Hessian, which the loads do not compute)."""
+    (``Facing.on_edge``: their couple is ``edge_couples``')."""
     n, r, force = facing.normal[rows], sliding.offset[rows], sliding.force[rows]
     along = np.sum(n * r, axis=1)
     across = np.sum(force[:, None, :] * facing.gradients[rows], axis=2)
     plane = _couple_rows(block, sliding, facing, rows)
     return np.where(plane[:, None], along[:, None] * across, 0.0)
+
+
+def edge_couples(
+    block: PlyContactBlock, state: State, sliding: Sliding, facing: Facing, rows: np.ndarray
+) -> np.ndarray:
+    """The couple (t, 4, 3) C_w on z = (p, y_1, y_2, y_3), N, of the stuck points among
+    ``rows`` (t,) whose closest point lies on an edge or at a vertex of the facing triangle
+    (``Facing.on_edge``; elements/ply_edge_couple.py ``edge_couple``); 0 on the other rows
+    and on the curved faces."""
+    out = np.zeros((len(rows), 4, 3))
+    if facing.on_edge is None or block.curved:
+        return out
+    pick = np.flatnonzero(sliding.stuck[rows] & facing.on_edge[rows])
+    if pick.size:
+        at = rows[pick]
+        _, y = block._faces(state)
+        if ply_projection.COMPILED:  # the same bits (elements/ply_edge_couple_kernels.py)
+            out[pick] = ply_edge_couple_kernels.edge_couples(
+                facing, y, block.cuts, at, sliding.offset, sliding.force
+            )
+            return out
+        features = edge_features(facing, y, block.cuts, at)
+        out[pick] = edge_couple(
+            features, facing.gap[at], facing.normal[at], sliding.offset[at], sliding.force[at]
+        )
+    return out
 
 
 def _couple_rows(
@@ -305,8 +334,9 @@ def friction_loads(
     -Lambda_k F on the anchor's) and a stuck point's dE/dz of its stick potential beyond F
     (module docstring, "The stick potential"): ``lift`` dg/dz + ``stored`` dw/dz, with
     dg/dz = (n, -lambda_k n) over (p, y_1..3) and dw/dz over (p, y_1..3, a, b), and the
-    couple c_m n on the facing corners (``stick_couple``) (0 for sliding points: their
-    entries add zeros)."""
+    couple c_m n on the facing corners (``stick_couple``), or C_w on p and the facing
+    corners where the point faces an edge or a vertex (``edge_couples``) (0 for sliding
+    points: their entries add zeros)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     tri = sliding.triangle[on]
     facing_tri = facing.triangle[on]
@@ -324,14 +354,16 @@ def friction_loads(
     lift, stored = sliding.lift[on], sliding.stored[on]
     n, lam = facing.normal[on], facing.weights[on]
     couple = stick_couple(block, sliding, facing, on)
+    turned = edge_couples(block, state, sliding, facing, on)
     fading = np.zeros((len(on), 6, 3)) if facing.fade_gradient is None else facing.fade_gradient[on]
-    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
+    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0]) + turned[:, 0]
     forces = np.concatenate(
         [
             block.shape[on][:, :, None] * on_face[:, None, :],
             lower,
             (-lift[:, None] * lam + couple)[:, :, None] * n[:, None, :]
-            + stored[:, None, None] * fading[:, 1:4],
+            + stored[:, None, None] * fading[:, 1:4]
+            + turned[:, 1:],
             stored[:, None, None] * fading[:, 4:],
         ],
         axis=1,
@@ -362,8 +394,8 @@ def friction_tangent(
     -grad phi_m n^T); dF = k_t ds + s dk_t in stick (k_t = w W'', dk_t = w W''' dg + W'' dw),
     mu s^ dN + mu N / |s| (I - s^ s^T) ds in slip, with dN = -W'' dg, dg/dz = (n,
     -lambda_k n, 0); and a stuck point's stick potential beyond F (``friction_loads``: lift
-    dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent`` and
-    ``_couple_tangent``. Carried to the nodes
+    dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent``,
+    ``_couple_tangent`` and ``edge_couple_tangent``. Carried to the nodes
     and turned with the directors as the normal part (``tangent``)."""
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
@@ -452,6 +484,15 @@ def friction_tangent(
             n[turns], r[turns], s[turns], grad[turns], big[turns], ds[turns],
             turning[turns], spring[turns], d_spring[turns], couple[turns],
         )  # fmt: skip
+    edges = np.flatnonzero(stuck & facing.on_edge[on]) if facing.on_edge is not None else on[:0]
+    if edges.size and not block.curved:  # the couple of points facing an edge or a vertex
+        at = on[edges]
+        _, y = block._faces(state)
+        points[edges] += edge_couple_tangent(
+            edge_features(facing, y, block.cuts, at), facing.gap[at], n[edges], r[edges],
+            s[edges], big[edges], ds[edges], spring[edges], d_spring[edges],
+        )  # fmt: skip
+    turned = edge_couples(block, state, sliding, facing, on)
     ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack(
         [
@@ -485,12 +526,13 @@ def friction_tangent(
         maps[:, z, :, 2 + z, :] = own[:, 2 + z]
     carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
     blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
-    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0])
+    on_face = force + (lift[:, None] * n + stored[:, None] * fading[:, 0]) + turned[:, 0]
     forces = np.concatenate(
         [
             block.shape[on][:, :, None] * on_face[:, None, :],
             (-lift[:, None] * lam + couple)[:, :, None] * n[:, None, :]
-            + stored[:, None, None] * fading[:, 1:4],
+            + stored[:, None, None] * fading[:, 1:4]
+            + turned[:, 1:],
             -big[:, :, None] * force[:, None, :],
             stored[:, None, None] * fading[:, 7:],
         ],

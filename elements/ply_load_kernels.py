@@ -4,7 +4,9 @@ upper triangle's corners and its facing triangle's corners, the fade's forces W 
 W dw/db on the ends of the outline's edge nearest it, the friction's tangential force on the
 upper corners and the anchor triangle's corners and a stuck point's stick potential's
 normal and fade terms on the upper, facing and outline-end nodes and its couple on the facing
-corners (elements/ply_friction.py ``friction_loads``, ``stick_couple``), their moments
+corners (elements/ply_friction.py ``friction_loads``, ``stick_couple``; facing an edge or a
+vertex, on the point too: ``edge_couples``, computed before the pass (elements/
+ply_edge_couple_kernels.py) and added in it), their moments
 c d x F on the directors, and their sums at the nodes, in one serial pass per block and call
 (docs/theory.md, the ply contact section).
 
@@ -27,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements import ply_friction
 from elements.jit import lanes
 from elements.kernel_inputs import read_only
 
@@ -144,6 +147,7 @@ def _loads(
     plane,
     anchor_offset,
     gradients,
+    turn,
     force,
     moment,
 ):
@@ -157,8 +161,11 @@ def _loads(
     points' rows, anchor_triangle, friction_force (3,), anchor (3,), lift, stored and
     anchor_offset r (3,) per point (P rows: elements/ply_friction.py ``Sliding``), plane (P,)
     the stuck points facing a plane and gradients (P, 3, 3) the facing's for their couple
-    (``ply_friction.stick_couple``)."""
+    (``ply_friction.stick_couple``), turn (P, 4, 3) the couple on (p, y_1, y_2, y_3) of the
+    stuck points facing an edge or a vertex (``ply_friction.edge_couples``, 0 elsewhere;
+    (0, 4, 3) where there are none)."""
     n = force.shape[0]
+    turned = turn.shape[0] > 0  # no rows: no stuck point faces an edge or a vertex (adds 0)
     ends_force = np.zeros((n, 3))
     ends_moment = np.zeros((n, 3))
     pair_force = np.zeros((n, 3))
@@ -201,9 +208,9 @@ def _loads(
         n0, n1, n2 = normal[r, 0], normal[r, 1], normal[r, 2]
         _add_upper(
             pair_force, pair_moment, r, shape, above, upper_offset, lever, direction,
-            f0 + (up * n0 + kept * fade_gradient[r, 0, 0]),
-            f1 + (up * n1 + kept * fade_gradient[r, 0, 1]),
-            f2 + (up * n2 + kept * fade_gradient[r, 0, 2]),
+            (f0 + (up * n0 + kept * fade_gradient[r, 0, 0])) + (turn[r, 0, 0] if turned else 0.0),
+            (f1 + (up * n1 + kept * fade_gradient[r, 0, 1])) + (turn[r, 0, 1] if turned else 0.0),
+            (f2 + (up * n2 + kept * fade_gradient[r, 0, 2])) + (turn[r, 0, 2] if turned else 0.0),
         )  # fmt: skip
         for k in range(3):
             a = -anchor[r, k]
@@ -232,9 +239,12 @@ def _loads(
                 cells[facing, k],
                 lever * corner_offset[facing, k],
                 direction,
-                scaled * n0 + kept * fade_gradient[r, 1 + k, 0],
-                scaled * n1 + kept * fade_gradient[r, 1 + k, 1],
-                scaled * n2 + kept * fade_gradient[r, 1 + k, 2],
+                (scaled * n0 + kept * fade_gradient[r, 1 + k, 0])
+                + (turn[r, 1 + k, 0] if turned else 0.0),
+                (scaled * n1 + kept * fade_gradient[r, 1 + k, 1])
+                + (turn[r, 1 + k, 1] if turned else 0.0),
+                (scaled * n2 + kept * fade_gradient[r, 1 + k, 2])
+                + (turn[r, 1 + k, 2] if turned else 0.0),
             )
         _add_ends(
             pair_force, pair_moment, r, facing, kept, fade_gradient, fade_edge, outline_nodes,
@@ -244,6 +254,11 @@ def _loads(
         for c in range(3):
             force[node, c] = (0.0 + ends_force[node, c]) + pair_force[node, c]
             moment[node, c] = (0.0 + ends_moment[node, c]) + pair_moment[node, c]
+
+
+#: ``turn`` where no stuck point faces an edge or a vertex: the pass adds 0.0 in its place
+#: (x + 0.0 is x, and -0.0 + 0.0 adds to a node's sum as -0.0 does)
+NO_TURN = np.zeros((0, 4, 3))
 
 
 def _contiguous(array, dtype=float):
@@ -286,11 +301,18 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         lift = stored = np.zeros(count)
         plane = np.zeros(count, dtype=np.bool_)
         offset = np.zeros((count, 3))
+        turn = NO_TURN
     else:
         rows = np.flatnonzero(sliding.stuck | sliding.sliding)
         triangle, friction, anchors = sliding.triangle, sliding.force, anchor
         lift, stored, offset = sliding.lift, sliding.stored, sliding.offset
         plane = sliding.stuck if facing.on_edge is None else sliding.stuck & ~facing.on_edge
+        # the couple of the stuck points facing an edge or a vertex, from numpy on the same
+        # rows as ply_friction.friction_loads (the same bits)
+        turn = NO_TURN
+        if facing.on_edge is not None and np.any(sliding.stuck & facing.on_edge):
+            turn = np.zeros((count, 4, 3))
+            turn[rows] = ply_friction.edge_couples(block, state, sliding, facing, rows)
     force = np.empty((block.n_nodes, 3))
     moment = np.empty((block.n_nodes, 3))
     outline_nodes = block.outline_nodes.reshape(-1, 2)
@@ -325,6 +347,7 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         _contiguous(plane, np.bool_),
         _contiguous(offset),
         _contiguous(facing.gradients),
+        _contiguous(turn),
         force,
         moment,
     )

@@ -1,0 +1,135 @@
+"""The stick couple of stuck points facing an edge or a vertex (elements/ply_edge_couple.py,
+``ply_friction.edge_couples``; docs/theory.md "Friction between plies"): its cost in the ply
+contact's compiled loads, this tree beside a reference tree (``git archive`` of the code
+before), each in a process of its own, in turn, CPU (``time.process_time``), one thread.
+
+The model: tests/test_ply_kernels.py's two-ply Mindlin [0/90] hemisphere blank (8 cells,
+validation/studies/hemisphere_plies_setup.py) bent 5 then 5.2 mm, both ply contact passes with
+friction, the history committed at 5 mm (stuck and sliding anchors at 5.2); ``stick="normal
+law"``; its stuck points, and those facing an edge or a vertex. Timed: ``internal_force`` of
+both passes with the facing kept (a step's loads), best of 7 x 200 calls.
+
+Measured (one thread, 2 cores shared with other jobs, load 14-16), reference (05b57d7, the tree
+before) | this tree, 63 stuck points, none facing an edge or a vertex (what a forming step pays
+for the test of its rows), three runs in turn: 0.160 | 0.179, 0.161 | 0.177, 0.162 | 0.183 ms a
+call (+0.016 to +0.021 ms for both passes, 10-13 %; about 0.6 % of the coarse hemisphere's
+2.5-3 ms step). In one process, per pass: ``ply_loads`` 77-79 -> 87-91 us with friction, 58.3
+-> 58.5 us without (the (0, 4, 3) ``turn`` and its test, 2.6 us of which ``np.any(stuck &
+on_edge)``; the rest in the compiled pass's friction loop, which now adds the couple's
+conditional terms). A first version that always passed a zero (P, 4, 3) array cost the same
+(0.166 | 0.187 ms, load 14-16). Where stuck points do face an edge or a vertex: on the pit of
+tests/test_ply_edge_couple.py (46 stuck points facing its edges and its vertex, load 14-17)
+``edge_couples`` took 216 us a call in numpy with einsums over every row's cuts, 110 us with
+the cuts' test on the rows that have one, and takes 15 us compiled
+(elements/ply_edge_couple_kernels.py, the same bits). Over the coarse fibrous [0/90]
+hemisphere run (6865 steps; 5338 of its 13730 loads calls have such points, 5.7 a call, of
+151 stuck), timed round each call: 0.199 ms a step in numpy, 0.028 compiled (load 14-15).
+The whole run beside 05b57d7 (``python benchmarks/forming_step_overhead.py --reference``,
+fibrous [0/90], 8 cells, best of 2, CPU; the runs differ: 6771 -> 6865 steps): with the couple
+in numpy 1.953 -> 2.384 ms a step (load 13-16), compiled 2.124 -> 2.281 ms a step (+7 %, load
+14-16; the reference itself moved by 9 % between the two sessions).
+
+Run: python benchmarks/ply_edge_couple.py --reference /tmp/before
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parents[1]
+
+
+def _bent(compiled, depth: float):
+    """The blank pressed ``depth`` mm (times (1 - r / 60 mm)^1.5) into a bowl about its pole,
+    jittered 2e-3 mm, its directors tilted about 0.01 rad (tests/test_ply_kernels.py)."""
+    from femcore.state import State
+
+    x0 = compiled.mesh.points
+    n = len(x0)
+    rng = np.random.default_rng(3)
+    radius = np.linalg.norm(x0[:, :2], axis=1)
+    x = x0 + rng.normal(0.0, 2e-3, x0.shape)
+    x[:, 2] -= depth * np.maximum(0.0, 1.0 - radius / 60.0) ** 1.5
+    d = np.tile([0.0, 0.0, 1.0], (n, 1)) + rng.normal(0.0, 0.01, (n, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    return State(x, d, np.zeros((n, 3)), np.zeros((n, 3)))
+
+
+def _best(call, repeats: int = 7, calls: int = 200) -> float:
+    """The least CPU time of one call over ``repeats`` runs of ``calls`` calls, s."""
+    best = np.inf
+    for _ in range(repeats):
+        start = time.process_time()
+        for _ in range(calls):
+            call()
+        best = min(best, (time.process_time() - start) / calls)
+    return best
+
+
+def measure() -> dict:
+    """This process's tree: the loads' CPU a call and the premises' counts."""
+    from elements.ply_block import PlyContactBlock
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled = model.compile()
+    blocks = [b for b in compiled.interactions if isinstance(b, PlyContactBlock)]
+    first, second = _bent(compiled, 5.0), _bent(compiled, 5.2)
+    histories = [b.update_history(first, b.initial_history()) for b in blocks]
+    stuck = edge = 0
+    for block, history in zip(blocks, histories):
+        block.stick = "normal law"
+        block.internal_force(second, history)  # compiled, the facing kept
+        facing = block.facing(second)
+        sliding = block.friction_state(second, history)
+        stuck += int(sliding.stuck.sum())
+        edge += int(np.sum(sliding.stuck & facing.on_edge))
+    ms = 1e3 * _best(lambda: [b.internal_force(second, h) for b, h in zip(blocks, histories)])
+    return {"ms": ms, "stuck": stuck, "edge": edge}
+
+
+def run_in(tree: Path) -> dict:
+    """``measure`` in a process of its own on the code of ``tree``."""
+    environment = dict(os.environ, PYTHONPATH=str(tree), NUMBA_NUM_THREADS="1")
+    done = subprocess.run(
+        [sys.executable, __file__, "--measure"],
+        cwd=tree,
+        env=environment,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--reference", type=Path, help="the tree before (git archive)")
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--measure", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.measure:
+        print(json.dumps(measure()))
+        return
+    for _ in range(args.runs):
+        load = os.getloadavg()[0]
+        old = run_in(args.reference) if args.reference else None
+        new = run_in(HERE)
+        before = f"{old['ms']:.3f} | " if old else ""
+        print(
+            f"load {load:.1f}: {before}{new['ms']:.3f} ms a call (reference | this tree), "
+            f"{new['stuck']} stuck points, {new['edge']} facing an edge or a vertex",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
