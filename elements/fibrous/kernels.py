@@ -746,14 +746,19 @@ def cell_membrane_loads(block, x: np.ndarray, v: np.ndarray):
 
     force, moment = np.empty((cells, 3, 3)), np.empty((cells, 3, 3))
     unset = np.empty((cells, 3))  # the side folds: read only where a side couples two cells
-    alone = np.zeros((cells, 3), dtype=block.interior_side.dtype)
+    # No side shared or clamped, in the layouts of the block's own flags (the force pass's
+    # compiled build serves: another layout would compile another)
+    alone, unclamped = (
+        np.zeros((cells, 3), dtype=flags.dtype, order="C" if flags.flags.c_contiguous else "F")
+        for flags in (block.interior_side, block.clamped_side)
+    )
     _cells_pass(
         connectivity, positions, directors, np.zeros((0, 10)), normal, double_area, False,
         float(block.fabric.thickness), GUARD, block.zeta, block.weights,
         tiled(block.reference_area), tiled(block.reference_length1),
         tiled(block.reference_length2), tiled(block.shear_sign), tiled(block.reference_shear),
         tiled(block.xi_is_warp), *block.packed_laws, block.thickness_variation, unset, unset,
-        alone, alone.astype(block.clamped_side.dtype), block.reference_normal, unset,
+        alone, unclamped, block.reference_normal, unset,
         block.reference_coefficients, False, True, False, force, moment,
         np.empty((0, 3, 3)), np.empty((cells, 3)), np.empty((0, 3)),
     )  # fmt: skip
