@@ -18,8 +18,21 @@ its increments, Newton iterations and cuts.
 
 Measured (one numba thread, CPU, 2 cores shared with other jobs):
 
-Part 1 (load 8-12), ms a tangent, numpy loads -> compiled loads: bai-6.1.1 (400 cells) 30
--> 3.8, the tangents within 4e-10 of each other.
+Part 1 (load 14-15, best of 5), ms a tangent, numpy loads -> compiled loads, and the
+largest difference of the two tangents over the largest entry:
+  bai-5.1    120 cells  15.0 -> 1.6   3.3e-09
+  bai-6.1.1  400 cells  28.5 -> 6.6   1.6e-09   (30 -> 3.8 at load 8-12)
+  bai-6.1.2  144 cells  15.7 -> 2.0   1.5e-09
+  bai-6.2.1  400 cells  28.3 -> 3.6   1.5e-09
+  bai-6.2.2  144 cells  15.3 -> 2.0   1.4e-09
+The whole cases, case_cpu_s of ``python -m validation --cases NAME --jobs 1`` (one thread,
+a warm numba cache), main 05b57d7 beside each in fresh processes, load 13-17: bai-5.1 21.8
+-> 16.5 s, bai-6.1.1 21.2 -> 19.2, bai-6.1.2 14.7 -> 12.9, bai-6.2.1 20.5 -> 18.6 (20.8 ->
+40.2 in a run that recompiled a cache changed under it, not counted), bai-6.2.2 13.7 ->
+12.4 and 13.6 -> 12.6: 91.9 -> 79.5 s for the five. Every check passes; the same
+increments, Newton iterations and cuts in every run; the fibrous and the Mindlin runs'
+results.json numbers the same bits, the Eq. 15 runs' within 3e-13 (mm, deg; the checks
+comparing them with the others' within 3e-14), the same bits from one run to the next.
 
 Part 2 before (main 05b57d7, load 8-12; CPU s: run / tangents / factorisations):
   bai-6.1.1 (19.3 s of solves): fibrous 20 cells 2.30 / 1.13 / 0.39, fibrous Eq. 15 3.29 /
