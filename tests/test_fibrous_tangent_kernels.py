@@ -151,6 +151,10 @@ def test_stacked_central_differences_are_local_tangents_to_the_bit():
     reference = local_tangent(cell_force, x, v, 1e-6)
     stacked = stacked_local_tangent(cell_force, x, v, 1e-6)
     assert np.array_equal(stacked, reference)
+    # In calls of 2 unknowns (160 cells; 18 unknowns), or of one unknown at a time.
+    for cells_per_call in (160, 1):
+        chunked = stacked_local_tangent(cell_force, x, v, 1e-6, cells_per_call=cells_per_call)
+        assert np.array_equal(chunked, reference)
 
 
 def test_the_element_normal_tangent_is_the_numpy_kernels_within_the_differences_noise():
