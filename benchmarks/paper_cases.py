@@ -33,6 +33,9 @@ a warm numba cache), main 05b57d7 beside each in fresh processes, load 13-17: ba
 increments, Newton iterations and cuts in every run; the fibrous and the Mindlin runs'
 results.json numbers the same bits, the Eq. 15 runs' within 3e-13 (mm, deg; the checks
 comparing them with the others' within 3e-14), the same bits from one run to the next.
+From an empty numba cache (a fresh copy of each tree, load 15 -> 11): bai-6.1.1 71.9 -> 69.4
+s (user + system 74.5 -> 72.4 s): about 50 s of it compiling, which this does not touch (the
+element-normal tangent reuses the force pass's compiled build).
 
 Part 2 before (main 05b57d7, load 8-12; CPU s: run / tangents / factorisations):
   bai-6.1.1 (19.3 s of solves): fibrous 20 cells 2.30 / 1.13 / 0.39, fibrous Eq. 15 3.29 /
