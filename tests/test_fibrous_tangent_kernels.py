@@ -81,3 +81,92 @@ def test_the_structured_membrane_product_is_the_sparse_product():
     expected = (j.T @ (h @ j)).toarray()
     got = MembraneProduct(pairs.indptr, pairs.indices, n)(hessian, jacobian[:, 6:, :3])
     assert np.abs(got.toarray() - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
+def _element_normal_block(kernel: str):
+    """A jittered fibrous sheet with Bai's element normals (Eq. 15) and tilted directors:
+    its compiled block and the corner positions and directors of its cells (m, 3, 3)."""
+    mesh = Mesh.rectangle(40.0, 20.0, nx=6, ny=3)
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_stack(), kernel=kernel, thickness="element"))
+    compiled = model.compile()
+    state = compiled.initial_state()
+    rng = np.random.default_rng(5)
+    positions = state.positions + rng.normal(scale=0.4, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.2, size=state.positions.shape))
+    directors = rotate_about(state.directors, turn)
+    block = compiled.blocks[0]
+    state = dataclasses.replace(state, positions=positions, directors=directors)
+    return compiled, state, block, positions[block.connectivity], directors[block.connectivity]
+
+
+def test_the_compiled_cell_membrane_loads_are_the_numpy_ones_for_every_copy():
+    # Element normals: the compiled passes on stacked copies of the cells give each copy the
+    # tension + shear corner loads of membrane.py (the same sums in another order: 1e-12 of
+    # the largest), and a copy moved elsewhere its own loads.
+    from elements.fibrous.kernels import cell_membrane_loads
+    from elements.fibrous.tangent import membrane_loads
+
+    _, _, block, x, v = _element_normal_block("compiled")
+    moved = x + np.random.default_rng(6).normal(scale=0.1, size=x.shape)
+    force, moment = cell_membrane_loads(block, np.concatenate([x, moved]), np.concatenate([v, v]))
+    m = len(x)
+    for copy, corners in ((0, x), (1, moved)):
+        expected_force, expected_moment = membrane_loads(block, corners, v)
+        rows = slice(copy * m, (copy + 1) * m)
+        assert np.abs(force[rows] - expected_force).max() <= 1e-12 * np.abs(expected_force).max()
+        assert np.abs(moment[rows] - expected_moment).max() <= 1e-12 * np.abs(expected_moment).max()
+
+
+def test_cell_membrane_loads_refuses_nodal_normals_and_a_partial_copy():
+    import pytest
+
+    from elements.fibrous.kernels import cell_membrane_loads
+
+    _, _, block, x, v = _element_normal_block("compiled")
+    with pytest.raises(ValueError, match="not copies"):
+        cell_membrane_loads(block, x[:-1], v[:-1])
+    model = Model(Mesh.rectangle(40.0, 20.0, nx=2, ny=2))
+    model.add(FibrousShell(presets.g986_stack()))
+    nodal = model.compile().blocks[0]
+    with pytest.raises(ValueError, match="element normals only"):
+        cell_membrane_loads(nodal, x[: len(nodal.connectivity)], v[: len(nodal.connectivity)])
+
+
+def test_stacked_central_differences_are_local_tangents_to_the_bit():
+    # The same perturbations and quotients in one call: with a force that treats each stacked
+    # copy as local_tangent's cell_force treats the cells, the blocks are the same bits.
+    from elements.base import local_tangent, stacked_local_tangent
+
+    rng = np.random.default_rng(7)
+    x = rng.normal(size=(40, 3, 3))
+    v = rotate_about(
+        np.tile([0.0, 0.0, 1.0], (40, 3, 1)).reshape(-1, 3), rng.normal(scale=0.3, size=(120, 3))
+    ).reshape(40, 3, 3)
+
+    def cell_force(xx, vv):  # a non-linear cell-local force and moment
+        edges = xx - xx.mean(axis=1, keepdims=True)
+        return np.sin(edges) * np.sum(vv * edges, axis=-1)[..., None], np.cross(vv, edges**2)
+
+    reference = local_tangent(cell_force, x, v, 1e-6)
+    stacked = stacked_local_tangent(cell_force, x, v, 1e-6)
+    assert np.array_equal(stacked, reference)
+    # In calls of 2 unknowns (160 cells; 18 unknowns), or of one unknown at a time.
+    for cells_per_call in (160, 1):
+        chunked = stacked_local_tangent(cell_force, x, v, 1e-6, cells_per_call=cells_per_call)
+        assert np.array_equal(chunked, reference)
+
+
+def test_the_element_normal_tangent_is_the_numpy_kernels_within_the_differences_noise():
+    # The compiled kernel's element-normal membrane stiffness is central differences of the
+    # compiled loads, the numpy kernel's of the numpy loads: loads within 1e-15 of each other,
+    # divided by 2 x 1e-6 of an element, leave about 1e-9 of the largest entry (measured
+    # 4e-10).
+    parts = {}
+    for kernel in ("numpy", "compiled"):
+        compiled, state, *_ = _element_normal_block(kernel)
+        parts[kernel] = compiled.tangent_parts(state, [0])
+    for reference, fast in zip(parts["numpy"], parts["compiled"]):
+        expected = reference.matrix.toarray() if hasattr(reference, "matrix") else reference.blocks
+        got = fast.matrix.toarray() if hasattr(fast, "matrix") else fast.blocks
+        assert np.abs(got - expected).max() <= 1e-8 * np.abs(expected).max()

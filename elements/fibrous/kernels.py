@@ -82,6 +82,7 @@ from elements.shell_geometry import GUARD
 
 __all__ = [
     "bending_geometry",
+    "cell_membrane_loads",
     "internal_force",
     "internal_force_and_energy",
     "loop_array",
@@ -714,6 +715,54 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
         pull[block.wall_node_ids] = 0.0
     del d_sums
     return x, energy, (normal, double_area, angles, force, moment, pull, own)
+
+
+def cell_membrane_loads(block, x: np.ndarray, v: np.ndarray):
+    """tangent.py ``membrane_loads`` by the compiled passes, element normals only: the
+    unscattered tension + shear corner forces (N) and director moments (N mm), (p m, 3, 3)
+    each, of p stacked copies of the block's m cells (copy after copy, in cell order) from
+    their corner positions and directors x, v (p m, 3, 3). Each corner is a node of its own
+    and no side couples two cells, so the passes leave out the bending and the pulls, and
+    the cell pass's forces are the membrane's (with the variation of h_m through the
+    element normal): the central differences of the element-normal tangent
+    (base.py ``stacked_local_tangent``) take all their copies in one call."""
+    if block.nodal_normals:
+        raise ValueError("cell_membrane_loads: element normals only (the nodal sums couple cells)")
+    cells = len(x)
+    copies, rest = divmod(cells, len(block.connectivity))
+    if rest:
+        raise ValueError(
+            f"cell_membrane_loads: {cells} cells are not copies of the block's "
+            f"{len(block.connectivity)}"
+        )
+    connectivity = np.arange(3 * cells, dtype=block.connectivity.dtype).reshape(cells, 3)
+    positions = loop_array(x.reshape(-1, 3))
+    directors = loop_array(v.reshape(-1, 3))
+    normal, double_area = np.empty((cells, 3)), np.empty(cells)
+    _normals_pass(connectivity, positions, False, normal, double_area, np.empty((0, 3)))
+
+    def tiled(array: np.ndarray) -> np.ndarray:
+        return np.tile(array, (copies,) + (1,) * (array.ndim - 1))
+
+    force, moment = np.empty((cells, 3, 3)), np.empty((cells, 3, 3))
+    unset = np.empty((cells, 3))  # the side folds: read only where a side couples two cells
+    # No side shared or clamped, in the layouts of the block's own flags (the force pass's
+    # compiled build serves: another layout would compile another)
+    alone, unclamped = (
+        np.zeros((cells, 3), dtype=flags.dtype, order="C" if flags.flags.c_contiguous else "F")
+        for flags in (block.interior_side, block.clamped_side)
+    )
+    _cells_pass(
+        connectivity, positions, directors, np.zeros((0, 10)), normal, double_area, False,
+        float(block.fabric.thickness), GUARD, block.zeta, block.weights,
+        tiled(block.reference_area), tiled(block.reference_length1),
+        tiled(block.reference_length2), tiled(block.shear_sign), tiled(block.reference_shear),
+        tiled(block.xi_is_warp), *block.packed_laws, block.thickness_variation, unset, unset,
+        alone, unclamped, block.reference_normal, unset,
+        block.reference_coefficients, False, True, False, force, moment,
+        np.empty((0, 3, 3)), np.empty((cells, 3)), np.empty((0, 3)),
+    )  # fmt: skip
+    return force, moment
 
 
 def _energy_parts(energy: np.ndarray) -> dict:

@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
-from elements.base import CellTangent, SparseTangent, local_tangent
-from elements.fibrous import bending, hessian_kernels, tangent_kernels
+from elements.base import CellTangent, SparseTangent, local_tangent, stacked_local_tangent
+from elements.fibrous import bending, hessian_kernels, kernels, tangent_kernels
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import (
     cell_geometry,
@@ -67,7 +67,15 @@ def tangent(
     x = state.positions[block.connectivity]
     v = state.directors[block.connectivity]
     step = 1e-6 * float(np.sqrt(np.median(block.reference_area)))
-    membrane = local_tangent(lambda xx, vv: membrane_loads(block, xx, vv), x, v, step)
+    if block.compiled and hessian_kernels.AVAILABLE:
+        # The 36 perturbed copies of the cells through the compiled passes in one call
+        # (kernels.py ``cell_membrane_loads``): the numpy loads cost 30 ms a tangent on 400
+        # cells (benchmarks/paper_cases.py).
+        membrane = stacked_local_tangent(
+            lambda xs, vs: kernels.cell_membrane_loads(block, xs, vs), x, v, step
+        )
+    else:
+        membrane = local_tangent(lambda xx, vv: membrane_loads(block, xx, vv), x, v, step)
     return [CellTangent(block.connectivity, membrane), bend]
 
 
