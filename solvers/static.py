@@ -220,9 +220,13 @@ class Static:
     the first iteration of an increment moves the structure with the imposed nodes instead of
     dragging them alone.
 
-    Stability: every converged state gets the number of negative eigenvalues of its tangent
-    K_ff, counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``, one entry per
-    frame after the first); load factors with a non-zero count (unstable equilibria, past a
+    Stability: every converged state gets the number of negative eigenvalues of the tangent
+    K_ff last factorised on its way (that of the iterate whose update reached it, a step the
+    residual tolerance away; a fresh one only when the increment converged at its start),
+    counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``, one entry per
+    frame after the first): an eigenvalue that crosses zero within that last step is counted
+    at the next increment, where a tangent at the converged state would cost one more
+    factorisation an increment. Load factors with a non-zero count (unstable equilibria, past a
     limit point or a bifurcation) are listed in ``info["indefinite_at"]``. A singular tangent
     is regularised for one update (see solvers.newton.newton) and reported if the increment
     then fails.
@@ -671,7 +675,8 @@ class StaticRun:
 
     # ------------------------------------------------------------------ bookkeeping
     def settled(self, state: State, factor: Factorisation) -> State:
-        """A converged state: note the inertia of its tangent."""
+        """A converged state: note the inertia of ``factor``, the tangent last factorised on
+        the way to it (the class docstring's Stability)."""
         self.negative = factor.negative
         self.on_kept_saddle = False
         return state
