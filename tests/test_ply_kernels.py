@@ -395,8 +395,8 @@ def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed)
     """``ply_choice.choose_facing`` against ``choose_facing_numpy`` on tests/test_ply_wedge.py's
     strips cut at both ends, 400 points round them, every triangle a candidate (in a shuffled
     order, so that ties go to the lowest row, not the first column): the same columns and
-    closest points, cut flags, segments and parameters; the premises, points facing edges and
-    cuts."""
+    closest points, cut flags, segments and parameters, on one thread and on all of numba's;
+    the premises, points facing edges and cuts."""
     from elements import ply_choice
 
     rng = np.random.default_rng(seed)
@@ -404,10 +404,14 @@ def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed)
     p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
     near = np.argsort(rng.uniform(size=(len(p), len(y))), axis=1)
     planes = ply_kernels.candidates_at(p, y, near, outline, MARGIN, ply_projection.INSIDE)
-    got = ply_choice.choose_facing(p, y, near, *planes, cuts)
     want = ply_choice.choose_facing_numpy(p, y, near, *planes[:6], planes[6].copy(), cuts)
-    for a, b in zip(got, want):
-        assert _same(a, b)
+    # on one thread and on all of numba's: each point's rows of the pass's working arrays
+    # are its own (elements/ply_choice.py ``_scratch``)
+    for got in on_one_thread_and_on_all(
+        lambda: ply_choice.choose_facing(p, y, near, *planes, cuts)
+    ):
+        for a, b in zip(got, want):
+            assert _same(a, b)
     assert want[1].any() and want[3].any()
 
 
