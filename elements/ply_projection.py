@@ -210,7 +210,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_chosen, ply_feature_normals, ply_kernels, ply_penalty
+from elements import ply_chosen, ply_edge_kernels, ply_feature_normals, ply_kernels, ply_penalty
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
@@ -666,7 +666,13 @@ def closest_facing(
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
     at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
     joined = np.zeros(len(p), dtype=bool)  # on an edge's extension that two growths hold
-    if on_edge.any():
+    if COMPILED and topology is not None:  # the same bits, two passes (ply_edge_kernels.py)
+        joined, at_rim, on_growth, beside, near, touching = ply_edge_kernels.edge_sides(
+            p, y, topology, (on_edge, closest_at, cut_at, segment_at, along_at), triangle,
+            chosen_gap, normal, lam, chosen_gradients, chosen_reach, reached, turned,
+            overshoot, (INSIDE, depth, tolerance, MARGIN), hessian,
+        )  # fmt: skip
+    elif on_edge.any():
         edge = np.flatnonzero(on_edge)
         at = best[edge]
         signing = n[edge, at]
@@ -722,19 +728,24 @@ def closest_facing(
         outline_segments,
     )
 
-    on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & reached
-    on_growth |= at_rim
-    # a point deeper than the plies is on the lower ply's other side where it faces an edge, a
-    # vertex or a turned layer ("Deeper than the plies"); held by a growth's plane past the
-    # outline, the fade carries its energy to 0 continuously from the face's full W ("Past
-    # the outline, deeper than the plies")
-    deep = chosen_gap < -depth
-    beside = on_edge & deep
-    beside |= turned & deep  # a layer turned away from its ply ("Deeper than the plies")
+    if not (COMPILED and topology is not None):
+        on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & reached
+        on_growth |= at_rim
+        # a point deeper than the plies is on the lower ply's other side where it faces an
+        # edge, a vertex or a turned layer ("Deeper than the plies"); held by a growth's plane
+        # past the outline, the fade carries its energy to 0 continuously from the face's full
+        # W ("Past the outline, deeper than the plies")
+        deep = chosen_gap < -depth
+        beside = on_edge & deep
+        beside |= turned & deep  # a layer turned away from its ply ("Deeper than the plies")
+        near = on_growth | reached
+        # touching within MARGIN of the facing triangle, by the overshoot of the plane's
+        # projection (and where the fade below is above 0)
+        touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside
     # w = 1 off the outline triangles and their growths: computed where it can differ
     fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 6, 3))
     fade_edge = np.full(len(p), -1)
-    near_outline = np.flatnonzero(on_growth | reached)
+    near_outline = np.flatnonzero(near)
     if near_outline.size and outline is not None:
         if topology is None:
             segment_rows, segment_ends = outline_segments(outline)
@@ -768,8 +779,7 @@ def closest_facing(
         fade[near_outline], fade_gradient[near_outline] = fading(
             at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
         )
-    # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
-    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
+    touching &= fade > 0.0
     return Facing(
         triangle=triangle,
         gap=chosen_gap,

@@ -146,6 +146,43 @@ def test_the_facing_of_points_round_strips_cut_at_both_ends_is_numpy_s_to_the_bi
     assert reference.on_growth.any() and (reference.fade < 1.0).any()
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_facing_after_its_choice_is_numpy_s_on_one_thread_and_on_all(monkeypatch, seed):
+    """What follows the choice in two passes (elements/ply_edge_kernels.py ``edge_sides``: the
+    closest points' signs by the features' pseudonormals, at outline vertices and on cuts,
+    their gaps, normals, coordinates and Hessians, the flags on the growths, deeper than the
+    plies, near the outline and touching) against numpy's expressions of ``closest_facing``
+    (``ply_projection.COMPILED = False``), on tests/test_ply_wedge.py's strips cut at both
+    ends with 400 points round them, every triangle a candidate, a layer turned away for a
+    third of them, on one thread and on all of numba's: every Facing field to the bit; the
+    premises, points at vertices and on edges, at the outline's vertices or on cuts, on
+    joined edges' extensions, deeper than the plies and touching."""
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, cuts = _strip(rng)
+    topology = FaceTopology.of(nodes, outline)
+    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
+    near = np.tile(np.arange(len(nodes)), (len(p), 1))
+    toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
+    toward[::3] *= -1.0
+
+    def facing():
+        return closest_facing(
+            p, y, near, 0.0, outline, True, depth=0.2, toward=toward, topology=topology, cuts=cuts
+        )
+
+    monkeypatch.setattr(ply_projection, "COMPILED", False)
+    reference = facing()
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    for compiled in on_one_thread_and_on_all(facing):
+        assert _facings_equal(compiled, reference) == []
+    edge = reference.on_edge
+    bound = reference.weights <= -reference.reach + 1e-9
+    assert (edge & (bound.sum(axis=1) == 2)).any() and (edge & (bound.sum(axis=1) == 1)).any()
+    assert reference.on_growth.any() and reference.joined.any()
+    assert (edge & (reference.gap < -0.2)).any() and reference.touching.any()
+    assert reference.hessian is not None and np.any(reference.hessian != 0.0)
+
+
 def _bent(compiled, seed: int, depth: float) -> State:
     """The blank pressed ``depth`` mm (times (1 - r / 60 mm)^1.5) into a bowl about its pole,
     jittered 2e-3 mm, its directors tilted about 0.01 rad."""
