@@ -210,7 +210,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_chosen, ply_edge_kernels, ply_feature_normals, ply_kernels, ply_penalty
+from elements import ply_chosen, ply_edge_kernels, ply_kernels, ply_penalty
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
@@ -664,6 +664,8 @@ def closest_facing(
         turned,
     ) = pick(best, near, n, gap, weights, gradients, reach, toward)
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
+    # the chosen planes, which the fade's pass reads where the closest point is off them
+    planes = (normal.copy(), chosen_gradients, chosen_gap.copy(), lam.copy()) if COMPILED else ()
     at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
     joined = np.zeros(len(p), dtype=bool)  # on an edge's extension that two growths hold
     if COMPILED and topology is not None:  # the same bits, two passes (ply_edge_kernels.py)
@@ -684,14 +686,10 @@ def closest_facing(
             # vertex it lies
             on_q = np.einsum("pki,pi->pk", chosen_gradients[edge], closest - y[facing_at, 0])
             on_q[:, 0] += 1.0
-            if COMPILED:  # the same bits (elements/ply_feature_normals.py)
-                signing, joined[edge] = ply_feature_normals.feature_normals(
-                    y, topology, facing_at, on_q, reach_at, signing, INSIDE
-                )
-            else:
-                signing, joined[edge] = _feature_normals(
-                    y, topology, facing_at, on_q, reach_at, signing
-                )
+            # (numpy's: the compiled facing takes the passes above)
+            signing, joined[edge] = _feature_normals(
+                y, topology, facing_at, on_q, reach_at, signing
+            )
             if outline is not None:
                 # at a vertex of the outline the face has no side either: the facing
                 # triangle's normal signs the gap, and the point is faded as beside a
@@ -754,31 +752,27 @@ def closest_facing(
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        if COMPILED and near_outline.size * len(starts) <= EVERY_PAIR:  # every pair measured
-            fade_edge[near_outline] = ply_kernels.every_segment(p[near_outline], starts, ends)
-        else:
-            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
-        chosen = fade_edge[near_outline]
-        from elements import ply_fade_kernels
+        every = COMPILED and near_outline.size * len(starts) <= EVERY_PAIR  # every pair measured
+        chosen = None if every else nearest_segments(p[near_outline], starts, ends, outline_tree)
+        if COMPILED:  # the edges, inputs, growths' closest points, fade: one pass, the same bits
+            from elements.ply_fade_kernels import outline_fade_at
 
-        fading = ply_fade_kernels.outline_fade if COMPILED else outline_fade  # the same bits
-        gather = ply_chosen.fade_inputs if COMPILED else ply_chosen.fade_inputs_numpy
-        at_p, corners, at_reach, at_beside, at_ends, at_joined, lines, cut_ends = gather(
-            near_outline,
-            p,
-            y,
-            triangle,
-            chosen_reach,
-            on_growth,
-            joined,
-            starts,
-            ends,
-            chosen,
-            cuts,
-        )
-        fade[near_outline], fade_gradient[near_outline] = fading(
-            at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
-        )
+            out = (fade, fade_gradient, fade_edge)
+            outline_fade_at(
+                near_outline, p, y, triangle, planes, chosen_reach, on_growth, joined, chosen,
+                starts, ends, cuts, length, out,
+            )  # fmt: skip
+        else:
+            fade_edge[near_outline] = chosen
+            at_p, corners, at_reach, at_beside, at_ends, at_joined, lines, cut_ends = (
+                ply_chosen.fade_inputs_numpy(
+                    near_outline, p, y, triangle, chosen_reach, on_growth, joined, starts,
+                    ends, chosen, cuts,
+                )
+            )  # fmt: skip
+            fade[near_outline], fade_gradient[near_outline] = outline_fade(
+                at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
+            )
     touching &= fade > 0.0
     return Facing(
         triangle=triangle,

@@ -16,9 +16,9 @@ from test_ply_wedge import _fan
 from elements import (
     jit,
     ply_choice,
-    ply_chosen,
     ply_edge_kernels,
     ply_face_points,
+    ply_fade_kernels,
     ply_kernels,
     ply_load_kernels,
     ply_projection,
@@ -31,7 +31,7 @@ pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installe
 
 KERNELS = {
     "choose": ply_choice._choose_compiled,
-    "fade inputs": ply_chosen._fade_inputs_compiled,
+    "fade pass": ply_fade_kernels._outline_compiled,
     "face points": ply_face_points._points,
     "edge parts": ply_edge_kernels._parts_compiled,
     "edge sides": ply_edge_kernels._sides_compiled,

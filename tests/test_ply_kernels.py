@@ -427,6 +427,70 @@ def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
         assert (between & beside).any() and (between & ~beside).any()
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_fade_s_one_pass_is_numpy_s_on_one_thread_and_on_all(monkeypatch, seed):
+    """``ply_fade_kernels.outline_fade_at`` (the outline's nearest edges, the fade's inputs,
+    the grown and cut triangles' closest points and the fade in one pass) against numpy's
+    (``ply_fade.every_segment``, ``ply_chosen.fade_inputs_numpy`` and ``ply_fade.outline_fade``
+    with ``COMPILED`` off): tests/test_ply_wedge.py's strip cut at both ends, 600 points round
+    its outline triangles, each against one of them, a third beside the growth (a fifth of
+    those on a joined edge), the pass at every other point, with and without the cuts, the
+    edges measured in the pass and given (the KD-tree's), on one thread and on all of numba's;
+    the premises, w strictly between 0 and 1 both past the outline and beside a growth, and
+    some closest points on the cuts."""
+    from elements import ply_chosen, ply_fade_kernels
+    from elements.ply_fade import every_segment, fade_length, outline_fade, outline_segments
+    from elements.ply_wedge import closest_on_grown
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    count = 600
+    triangle = rng.choice(np.flatnonzero(outline.any(axis=1)), count)
+    p = y[triangle].mean(axis=1) + rng.normal(0.0, 0.4, (count, 3))
+    n, _, gradients, gap, lam = (a[:, 0] for a in facets(p, y[triangle][:, None]))
+    planes = tuple(np.ascontiguousarray(a) for a in (n, gradients, gap, lam))
+    reach = np.where(outline, MARGIN, 0.0)[triangle]
+    beside = rng.uniform(size=count) < 1.0 / 3.0
+    joined = beside & (rng.uniform(size=count) < 0.2)
+    at = np.arange(0, count, 2)
+    segment_rows, segment_ends = outline_segments(outline)
+    starts, stops = (y[segment_rows, segment_ends[:, k]] for k in range(2))
+    length = fade_length(y, outline)
+    edge = every_segment(p[at], starts, stops)
+    for wedge in (cuts, None):
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        inputs = ply_chosen.fade_inputs_numpy(
+            at, p, y, triangle, reach, beside, joined, starts, stops, edge, wedge
+        )
+        at_p, corners, at_reach, at_beside, ends, at_joined, lines, cut_ends = inputs
+        want = outline_fade(
+            at_p, corners, at_reach, at_beside, ends, length, at_joined, lines, cut_ends
+        )
+        monkeypatch.setattr(ply_projection, "COMPILED", True)
+
+        def fade(given, wedge=wedge):
+            out = (np.ones(count), np.zeros((count, 6, 3)), np.full(count, -1))
+            ply_fade_kernels.outline_fade_at(
+                at, p, y, triangle, planes, reach, beside, joined, given, starts, stops, wedge,
+                length, out,
+            )  # fmt: skip
+            return out
+
+        for given in (None, edge):
+            for got in on_one_thread_and_on_all(lambda given=given: fade(given)):
+                assert _same(got[0][at], want[0]) and _same(got[1][at], want[1])
+                assert _same(got[2][at], edge)
+                off = np.setdiff1d(np.arange(count), at)
+                assert np.all(got[0][off] == 1.0) and np.all(got[2][off] == -1)
+        between = (want[0] > 0.0) & (want[0] < 1.0)
+        assert (between & at_beside).any() and (between & ~at_beside).any()
+    on_cut = closest_on_grown(
+        at_p[at_beside], corners[at_beside], at_reach[at_beside],
+        cuts.lines[triangle[at]][at_beside], cuts.ends[triangle[at]][at_beside],
+    )[1]  # fmt: skip
+    assert on_cut.any()
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed):
     """``ply_choice.choose_facing`` against ``choose_facing_numpy`` on tests/test_ply_wedge.py's
