@@ -393,6 +393,49 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
     assert min(seen.values()) > 0, seen
 
 
+@pytest.mark.parametrize("stick", ["penalty", "normal law"])
+def test_the_next_loads_take_the_return_mapping_their_history_was_committed_with(
+    monkeypatch, stick
+):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells) bent 5 then 5.2 mm, both passes,
+    with friction: the history committed at the second state makes the return mapping from
+    itself at that state in its own pass, and the next loads' ``friction_state`` at that
+    state from that history is that one (no second pass), the same to the bit as the mapping
+    made afresh and as numpy's (``ply_friction.friction_state``), on one thread and on all of
+    numba's; not the committed history's own mapping (from the history before: the two
+    mappings of a step differ where points slide); another history or facing is mapped
+    afresh. The premises, stuck and sliding points."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    first, second = _bent(compiled_model, 3, 5.0), _bent(compiled_model, 3, 5.2)
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    seen = {"stuck": 0, "sliding": 0, "differs": 0}
+
+    def check():
+        for block in blocks:
+            monkeypatch.setattr(block, "stick", stick)
+            history = block.update_history(first, block.initial_history())
+            before = block.friction_state(second, history)  # the committed history's own
+            later = block.update_history(second, history)
+            served = block.friction_state(second, later)
+            assert served is block._next_sliding[3]
+            assert block.friction_state(second, history) is not served
+            block._next_sliding = None
+            fresh = block.friction_state(second, later)
+            assert fresh is not served and _fields_equal(fresh, served) == []
+            want = ply_friction.friction_state(block, second, later, block.facing(second))
+            assert _fields_equal(served, want) == []
+            seen["stuck"] += int(served.stuck.sum())
+            seen["sliding"] += int(before.sliding.sum())
+            seen["differs"] += len(_fields_equal(before, served))
+
+    on_one_thread_and_on_all(check)
+    assert min(seen.values()) > 0, seen
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
     """``ply_fade_kernels.outline_fade`` against ``ply_fade.outline_fade`` (numpy, ``COMPILED``
