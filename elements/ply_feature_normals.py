@@ -5,6 +5,9 @@ closest point, the sum of its triangles' unit normals (weighted at a vertex by t
 there, over the face's topology tables, elements/ply_topology.py), whether the point lies on
 an edge's extension that two growths hold, and the facing triangle's normal where the face has
 no side there, in two passes over the points with numpy's ``arctan2`` of the angles between.
+``closest_facing`` calls the helpers of those passes (``fan_parts``, ``signing_at``) from its
+own two passes after the choice (elements/ply_edge_kernels.py); ``feature_normals`` gives the
+normals at any closest points given.
 
 Its numpy reference is ``ply_projection._feature_normals`` (with ``pseudonormals_at`` and
 ``_joined_growth``), taken with ``ply_projection.COMPILED = False``. The passes do the same

@@ -242,10 +242,10 @@ MARGIN = 0.5
 #: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
 #: a point right above a vertex or an edge).
 INSIDE = 1e-9
-#: Whether ``closest_facing`` takes its candidates' planes, edges' closest points and the
-#: outline's nearest edges (pair by pair) from the compiled kernels (elements/ply_kernels.py:
-#: the same bits), or from numpy (``facets``, ``closest_on_edges``, ply_fade.py's
-#: ``nearest_segments``: their reference, kept for the tests and the benchmarks); and whether
+#: Whether ``closest_facing`` takes its candidates' planes, choice, edges' signs and flags,
+#: and the fade from the compiled passes (elements/ply_kernels.py, ply_choice.py,
+#: ply_edge_kernels.py, ply_fade_kernels.py: the same bits), or from numpy (``facets``,
+#: ``closest_on_edges``, ply_fade.py: their reference, kept for the tests); and whether
 #: ``PlyContactBlock.internal_force`` sums the flat faces' loads in one compiled pass
 #: (elements/ply_load_kernels.py, the same bits) or by numpy (``_pair_loads``, ``_end_loads``,
 #: ``ply_friction.friction_loads`` and ``np.bincount``), and its friction's return mapping and
