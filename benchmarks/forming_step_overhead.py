@@ -115,6 +115,69 @@ states of the two passes, its overhead in the figures): its own lines 0.28 s of 
 the numpy glue round the choice, the chosen candidate's arrays and the fade; the choice 0.24
 s (its kernel 0.16), ``outline_fade`` 0.30 s (its own lines 0.06), the candidates' planes'
 kernel 0.07 s, the jit wrapper's own lines 0.13 s over its 9 calls a facing.
+
+Third round: the facing's glue in compiled passes. Where ``closest_facing`` went (324 of its
+calls captured from a fibrous [0/90] run, both passes, replayed with a CPU timer between its
+sections, us a call; main 05b57d7 and this tree in turn, load 15): the candidates' planes
+31.8 -> 33.5, the choice 58.8 -> 42.0, the chosen candidate's arrays 14.0 -> 16.9, the points
+whose closest point is on an edge, at a vertex or on a cut 68.2 -> 39.9, the flags on the
+growths, deeper than the plies and touching 29.9 -> 14.6, the outline's edges' ends and
+nearest edges 38.5 -> 11.0 (the nearest edges now inside the fade's pass), the fade's inputs
+and the fade 79.9 -> 46.9, the rest 17.9 -> 15.3: 339 -> 220 us with the timers; untimed
+(best of 5 rounds of the 324), 335-361 -> 173-178 us a call (load 14-16). The cuts, each
+giving the same bits:
+
+* the choice's working arrays allocated once a call (elements/ply_choice.py ``_scratch``),
+  not nine times a point inside its pass: 55.8 -> 36.3 us a call (384 points of one candidate
+  each);
+* what follows the choice in two passes with numpy's ``arctan2`` of the fans' angles between
+  (elements/ply_edge_kernels.py ``edge_sides``: the closest points' coordinates and fans,
+  then the signs by the features' pseudonormals, at outline vertices and on cuts, the gaps,
+  normals and coordinates, and every point's flags), where the feature normals' two kernels,
+  ``towards_closest`` and the flags were chained by numpy's gathers, masks and scatters;
+* the fade at the points near the outline in one pass (elements/ply_fade_kernels.py
+  ``outline_fade_at``: the outline's nearest edge measured against every edge, the facing
+  triangle's plane read from the chosen candidate's, the grown and cut triangle's closest
+  point, the fade), where ``every_segment``, ``fade_inputs``, ``facets_at``,
+  ``grown_corners``, ``edges_closest``, ``closest_on_cut`` and ``outline_fade`` were chained;
+* the friction: the two return mappings of a step do not take the same inputs (the committed
+  history's maps from the history before it, the next step's loads from the new one, which
+  differs where points slide, touch anew or leave: tests/test_ply_kernels.py), so a step
+  still maps twice, but the history's pass makes the second mapping too and keeps it for the
+  loads (elements/ply_friction_kernels.py): one compiled call and its glue fewer a step per
+  block.
+
+Measured beside main 05b57d7 (``git archive`` of each tree into /tmp, one numba thread, CPU,
+each tree's numba cache warmed by a run before, the trees' runs at once with other jobs):
+
+* ``--reference``, fibrous [0/90], 6771 steps: 2.137 -> 1.842 ms a step (best of 2, load
+  13.7-15.2; before the friction's cut, 2.377 -> 1.965 at load 12-16), the same steps and
+  final positions to the bit;
+* hemisphere-plies coarse (``python -m validation --cases hemisphere-plies --resolution
+  coarse --jobs 1``, load 15): case_cpu_s 46.2 -> 40.9 s; [0/90] 16.69 -> 14.94 s (6771
+  steps, 2.46 -> 2.21 ms a step), [0/45] 19.90 -> 17.54 s (6085 steps, 3.27 -> 2.88 ms);
+  results.json the same in every one of its numbers but the times (12 of 12 checks);
+* hemisphere-plies default (the four runs, load 12-15): case_cpu_s 114.7 -> 104.4 s; fibrous
+  [0/90] 15.83 -> 14.35 s (6771 steps, 2.34 -> 2.12 ms), fibrous [0/45] 16.89 -> 15.24 s
+  (6085, 2.78 -> 2.50), Mindlin [0/90] 34.73 -> 31.33 s (13744, 2.53 -> 2.28), Mindlin [0/45]
+  30.77 -> 26.76 s (11582, 2.66 -> 2.31); results.json the same in every one of its numbers
+  but the times (24 of 24 checks).
+
+``--split`` (fibrous [0/90], the timers' own cost in the figures), main 05b57d7 at load 8.6
+against this tree at load 9.7: 2.947 -> 2.046 ms a step; ``closest_facing`` 467.6 -> 224.3 us
+a call (two a step; now the fade's pass 50.5 us, the choice 43.8, the sides 35.1, the
+candidates' planes and the chosen arrays the rest), the block's ``friction_state`` 37.4 -> 2.9
+us a call (the loads' mapping served from the history's pass), ``update_history`` 695.8 ->
+467.7 us a call (the facing of the new state in it). What is left: the facing of the new state
+0.70 ms a step (``closest_facing`` 0.45 of it, its five compiled calls and their Python
+wrappers, the search's lists 0.11, renewed every 16 steps or so at 1.3 ms), the tools' contact
+at the new state 0.22, the ply loads 0.18, the elements 0.2, the history's row 0.05. The next
+cut would fuse the candidates' planes, the choice and the chosen arrays (three calls of some
+20 arguments each, about 15 us of dispatch a call) and the sides' two passes. The compiling the
+new passes cost: a fibrous and a Mindlin [0/45] run of 1/200 of the stroke from an empty numba
+cache (``git archive`` of each tree, one thread, both at once, load 13-17), 80.1 -> 83.6 s of
+CPU (the fused passes compile their helpers again; the old chain's kernels are left to the
+tests).
 """
 
 from __future__ import annotations
@@ -177,7 +240,14 @@ def split(kinematics: str, layup: str, cells: int) -> None:
     import solvers.explicit as explicit
     import solvers.output as output
     import solvers.step as step
-    from elements import ply_fade_kernels, ply_friction, ply_load_kernels, ply_projection
+    from elements import (
+        ply_choice,
+        ply_edge_kernels,
+        ply_fade_kernels,
+        ply_friction,
+        ply_load_kernels,
+        ply_projection,
+    )
     from solvers import CentralDifference
     from validation.studies import hemisphere_plies_setup as setup
 
@@ -216,7 +286,9 @@ def split(kinematics: str, layup: str, cells: int) -> None:
         (dynamics.EnergyAccount, ["record"]),
         (step, ["update_rates", "turn", "_tool_work"]),
         (ply_load_kernels, ["ply_loads"]),
-        (ply_fade_kernels, ["outline_fade"]),
+        (ply_fade_kernels, ["outline_fade_at"]),
+        (ply_edge_kernels, ["edge_sides"]),
+        (ply_choice, ["choose_facing"]),
         (ply_friction, ["stick_spring"]),
         (ply_projection, ["penalty_law"]),
     ]  # fmt: skip

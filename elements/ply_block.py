@@ -228,6 +228,9 @@ class PlyContactBlock(InteractionBlock):
         # them (``facing``), and whether the last one with it served a tangent
         self._hessian_with_loads = False
         self._hessian_used = False
+        # the friction's return mapping from the history last committed, at its state, which
+        # the next loads take (elements/ply_friction_kernels.py ``updated_history``)
+        self._next_sliding: tuple | None = None
 
     def _point_stiffness(self) -> np.ndarray:
         return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)

@@ -7,7 +7,9 @@ all and whether its normal points against the point's ply, in one pass over the 
 instead of a dozen numpy gathers and reductions on arrays of a few hundred rows (each a few
 microseconds of call); and at the points near the outline, the fade's inputs gathered from
 those (``fade_inputs``: the points, their facing triangles' corners and cuts, the nearest
-outline edges' ends) in one pass.
+outline edges' ends) in one pass, which ``closest_facing`` no longer calls: its fade's own
+pass reads those rows in place (elements/ply_fade_kernels.py ``outline_fade_at``), against
+``fade_inputs_numpy`` and ``ply_fade.outline_fade``.
 
 Their numpy references are ``chosen_numpy`` and ``fade_inputs_numpy``, taken with
 ``ply_projection.COMPILED = False``. The passes copy the chosen values and do the same IEEE

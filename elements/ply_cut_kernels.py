@@ -13,9 +13,78 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange
+from elements.jit import jit, prange, serial
 
-__all__ = ["closest_on_cut"]
+__all__ = ["closest_cut_at", "closest_on_cut"]
+
+
+@serial
+def closest_cut_at(p, corners, q, lines, ends, gradients, keep, out, segment):
+    """``closest_on_cut`` of one point p (3,): from its triangle's corners (3, 3), closest
+    point q (3,) so far, cuts' ``lines`` and ``ends`` (3, 3) and barycentric gradients (3, 3),
+    q into ``out`` (3,) and the segment's ends' coordinates into ``segment`` (2, 3); (whether
+    q lies on a cut, its parameter there) returned. ``keep`` ply_wedge.KEEP."""
+    for a in range(3):
+        out[a] = q[a]
+        segment[0, a] = 0.0
+        segment[1, a] = 0.0
+    present = np.zeros(3, dtype=np.bool_)
+    any_line = False
+    for k in range(3):
+        for j in range(3):
+            if lines[k, j] != 0.0:
+                present[k] = True
+                any_line = True
+    if not any_line:
+        return False, 0.0
+    # q's barycentric coordinates on the triangle
+    r0 = q[0] - corners[0, 0]
+    r1 = q[1] - corners[0, 1]
+    r2 = q[2] - corners[0, 2]
+    on = np.empty(3)
+    for k in range(3):
+        g = gradients[k]
+        on[k] = (g[0] * r0 + g[2] * r2) + g[1] * r1
+    on[0] += 1.0
+    kept = True
+    for k in range(3):
+        level = (lines[k, 0] * on[0] + lines[k, 2] * on[2]) + lines[k, 1] * on[1]
+        if not level >= -keep:
+            kept = False
+    if kept:
+        return False, 0.0
+    best = np.inf
+    c0, c1, c2 = q[0], q[1], q[2]
+    start_row, end_row, parameter = -1, -1, 0.0
+    for k in range(3):
+        if not present[k]:
+            continue
+        s0, s1, s2 = corners[k, 0], corners[k, 1], corners[k, 2]
+        e = ends[k]
+        edge0 = ((e[0] * corners[0, 0] + e[1] * corners[1, 0]) + e[2] * corners[2, 0]) - s0
+        edge1 = ((e[0] * corners[0, 1] + e[1] * corners[1, 1]) + e[2] * corners[2, 1]) - s1
+        edge2 = ((e[0] * corners[0, 2] + e[1] * corners[1, 2]) + e[2] * corners[2, 2]) - s2
+        squared = (edge0 * edge0 + edge2 * edge2) + edge1 * edge1
+        w0, w1, w2 = p[0] - s0, p[1] - s1, p[2] - s2
+        t = ((w0 * edge0 + w2 * edge2) + w1 * edge1) / (squared if squared > 0 else 1.0)
+        if t < 0.0:
+            t = 0.0
+        elif t > 1.0:
+            t = 1.0
+        x0, x1, x2 = s0 + t * edge0, s1 + t * edge1, s2 + t * edge2
+        d0, d1, d2 = p[0] - x0, p[1] - x1, p[2] - x2
+        distance = np.sqrt((d0 * d0 + d1 * d1) + d2 * d2)
+        if distance < best:
+            best = distance
+            c0, c1, c2 = x0, x1, x2
+            start_row, end_row, parameter = k, k, t
+    out[0], out[1], out[2] = c0, c1, c2
+    if start_row < 0:
+        return np.isfinite(best), 0.0
+    segment[0, start_row] = 1.0
+    for a in range(3):
+        segment[1, a] = ends[end_row, a]
+    return np.isfinite(best), parameter
 
 
 def _closest(p, corners, q, lines, ends, gradients, keep, out, cut, segment, along):
@@ -23,75 +92,9 @@ def _closest(p, corners, q, lines, ends, gradients, keep, out, cut, segment, alo
     cut into ``cut``, the segment's ends' coordinates into ``segment`` (c, 2, 3) and the
     parameter into ``along`` (c,); ``keep`` ply_wedge.KEEP."""
     for i in prange(p.shape[0]):
-        for a in range(3):
-            out[i, a] = q[i, a]
-            segment[i, 0, a] = 0.0
-            segment[i, 1, a] = 0.0
-        along[i] = 0.0
-        cut[i] = False
-        present = np.zeros(3, dtype=np.bool_)
-        any_line = False
-        for k in range(3):
-            for j in range(3):
-                if lines[i, k, j] != 0.0:
-                    present[k] = True
-                    any_line = True
-        if not any_line:
-            continue
-        # q's barycentric coordinates on the triangle
-        r0 = q[i, 0] - corners[i, 0, 0]
-        r1 = q[i, 1] - corners[i, 0, 1]
-        r2 = q[i, 2] - corners[i, 0, 2]
-        on = np.empty(3)
-        for k in range(3):
-            g = gradients[i, k]
-            on[k] = (g[0] * r0 + g[2] * r2) + g[1] * r1
-        on[0] += 1.0
-        kept = True
-        for k in range(3):
-            level = (lines[i, k, 0] * on[0] + lines[i, k, 2] * on[2]) + lines[i, k, 1] * on[1]
-            if not level >= -keep:
-                kept = False
-        if kept:
-            continue
-        best = np.inf
-        c0, c1, c2 = q[i, 0], q[i, 1], q[i, 2]
-        start_row, end_row, parameter = -1, -1, 0.0
-        for k in range(3):
-            if not present[k]:
-                continue
-            s0, s1, s2 = corners[i, k, 0], corners[i, k, 1], corners[i, k, 2]
-            e = ends[i, k]
-            edge0 = (
-                (e[0] * corners[i, 0, 0] + e[1] * corners[i, 1, 0]) + e[2] * corners[i, 2, 0]
-            ) - s0
-            edge1 = (
-                (e[0] * corners[i, 0, 1] + e[1] * corners[i, 1, 1]) + e[2] * corners[i, 2, 1]
-            ) - s1
-            edge2 = (
-                (e[0] * corners[i, 0, 2] + e[1] * corners[i, 1, 2]) + e[2] * corners[i, 2, 2]
-            ) - s2
-            squared = (edge0 * edge0 + edge2 * edge2) + edge1 * edge1
-            w0, w1, w2 = p[i, 0] - s0, p[i, 1] - s1, p[i, 2] - s2
-            t = ((w0 * edge0 + w2 * edge2) + w1 * edge1) / (squared if squared > 0 else 1.0)
-            if t < 0.0:
-                t = 0.0
-            elif t > 1.0:
-                t = 1.0
-            x0, x1, x2 = s0 + t * edge0, s1 + t * edge1, s2 + t * edge2
-            d0, d1, d2 = p[i, 0] - x0, p[i, 1] - x1, p[i, 2] - x2
-            distance = np.sqrt((d0 * d0 + d1 * d1) + d2 * d2)
-            if distance < best:
-                best = distance
-                c0, c1, c2 = x0, x1, x2
-                start_row, end_row, parameter = k, k, t
-        out[i, 0], out[i, 1], out[i, 2] = c0, c1, c2
-        cut[i] = np.isfinite(best)
-        if start_row >= 0:
-            segment[i, 0, start_row] = 1.0
-            for a in range(3):
-                segment[i, 1, a] = ends[i, end_row, a]
-            along[i] = parameter
+        cut[i], along[i] = closest_cut_at(
+            p[i], corners[i], q[i], lines[i], ends[i], gradients[i], keep, out[i], segment[i]
+        )
 
 
 _closest_compiled = jit(_closest)

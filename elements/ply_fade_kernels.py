@@ -20,11 +20,108 @@ from __future__ import annotations
 import numpy as np
 
 from elements import ply_kernels
-from elements.jit import jit_lanes, prange
+from elements.jit import jit_lanes, lanes, prange
+from elements.kernel_inputs import read_only
+from elements.ply_cut_kernels import closest_cut_at
 from elements.ply_fade import SIDEWAYS
-from elements.ply_wedge import closest_on_grown
+from elements.ply_kernels import closest_on_sides, nearest_segment, segment_lines
+from elements.ply_projection import INSIDE
+from elements.ply_wedge import KEEP, WedgeCuts, closest_on_grown
 
-__all__ = ["outline_fade"]
+__all__ = ["fade_at", "outline_fade", "outline_fade_at"]
+
+
+@lanes
+def fade_at(
+    p, corners, n, grad, plane, lam, reach, beside, q, start_end, end_end, length,
+    length_squared, sideways, gradient,
+):  # fmt: skip
+    """w of one point, returned, and dw/dz (6, 3) into ``gradient``, as
+    ``ply_fade.outline_fade`` writes them, from the point p (3,), its facing triangle's
+    corners (3, 3), unit normal n (3,), barycentric gradients ``grad`` (3, 3), gap to its
+    plane ``plane`` and projection's coordinates ``lam`` (3,), the reach past its edges (3,),
+    ``beside`` and there the closest point q (3,) of the growth, the ends a ``start_end`` and
+    b ``end_end`` (3,) of the outline's nearest edge, D ``length`` and D^2
+    ``length_squared`` (mm, mm^2), and ``sideways``, the angle's factor applies (not on a
+    joined edge)."""
+    p0, p1, p2 = p[0], p[1], p[2]
+    n0, n1, n2 = n[0], n[1], n[2]
+    # dg/dz over (p, y_1..3), rows of 3: the plane's (n, -lambda_m n)
+    d_gap = np.empty((4, 3))
+    d_gap[0, 0], d_gap[0, 1], d_gap[0, 2] = n0, n1, n2
+    for k in range(3):
+        m = -lam[k]
+        d_gap[1 + k, 0], d_gap[1 + k, 1], d_gap[1 + k, 2] = m * n0, m * n1, m * n2
+    gap = plane
+    side = 1.0
+    side_gradient = np.zeros((4, 3))
+    if beside:  # the distance to q, the angle's factor
+        r0, r1, r2 = p0 - q[0], p1 - q[1], p2 - q[2]
+        distance = np.sqrt((r0 * r0 + r1 * r1) + r2 * r2)
+        sign = -1.0 if plane < 0.0 else 1.0
+        safe = sign * distance if distance > 0.0 else 1.0
+        nu0, nu1, nu2 = r0 / safe, r1 / safe, r2 / safe
+        ratio = plane / safe if distance > 0.0 else 1.0
+        v0 = q[0] - corners[0, 0]
+        v1 = q[1] - corners[0, 1]
+        v2 = q[2] - corners[0, 2]
+        d_edge = np.empty((4, 3))
+        d_edge[0, 0], d_edge[0, 1], d_edge[0, 2] = nu0, nu1, nu2
+        for k in range(3):
+            on_q = (grad[k, 0] * v0 + grad[k, 2] * v2) + grad[k, 1] * v1
+            if k == 0:
+                on_q += 1.0
+            m = -on_q
+            d_edge[1 + k, 0], d_edge[1 + k, 1], d_edge[1 + k, 2] = m * nu0, m * nu1, m * nu2
+        u = min(max(ratio / SIDEWAYS, 0.0), 1.0)
+        value = u * u * (3.0 - 2.0 * u)
+        rise = 6.0 * u * (1.0 - u)
+        if sideways:
+            side = value
+            if distance > 0.0:
+                scale = rise / SIDEWAYS
+                for a in range(4):
+                    for c in range(3):
+                        d_ratio = (d_gap[a, c] - ratio * d_edge[a, c]) / safe
+                        side_gradient[a, c] = scale * d_ratio
+        gap = sign * distance
+        for a in range(4):
+            for c in range(3):
+                d_gap[a, c] = d_edge[a, c] if distance > 0.0 else 0.0
+    # past the outline: d^2 = |p - q_o|^2 - g^2, w_e = S(1 - d / D)
+    past = beside
+    for k in range(3):
+        if reach[k] > 0.0 and lam[k] < 0.0:
+            past = True
+    a0, a1, a2 = start_end[0], start_end[1], start_end[2]
+    e0, e1, e2 = end_end[0] - a0, end_end[1] - a1, end_end[2] - a2
+    w0, w1, w2 = p0 - a0, p1 - a1, p2 - a2
+    t = ((w0 * e0 + w2 * e2) + w1 * e1) / max((e0 * e0 + e2 * e2) + e1 * e1, 1e-300)
+    t = min(max(t, 0.0), 1.0)
+    o0, o1, o2 = w0 - t * e0, w1 - t * e1, w2 - t * e2
+    raw = ((o0 * o0 + o2 * o2) + o1 * o1) - gap * gap
+    squared = raw if (raw > 0.0 or raw != raw) else 0.0
+    s = np.sqrt(squared) / length
+    within = past and s < 1.0 and raw > 0.0
+    factor = 1.0
+    if past:
+        x = min(max(1.0 - s, 0.0), 1.0)
+        factor = x * x * (3.0 - 2.0 * x)
+    slope = -3.0 * (1.0 - s) / length_squared if within else 0.0
+    weight = factor * side
+    twice = 2.0 * gap
+    start = -2.0 * (1.0 - t)
+    end = -2.0 * t
+    for c in range(3):
+        o = o0 if c == 0 else (o1 if c == 1 else o2)
+        d_squared = 2.0 * o - twice * d_gap[0, c]
+        gradient[0, c] = side * (slope * d_squared) + factor * side_gradient[0, c]
+        for a in range(1, 4):
+            d_squared = 0.0 - twice * d_gap[a, c]
+            gradient[a, c] = side * (slope * d_squared) + factor * side_gradient[a, c]
+        gradient[4, c] = side * (slope * (start * o)) + factor * 0.0
+        gradient[5, c] = side * (slope * (end * o)) + factor * 0.0
+    return weight
 
 
 def _fade(
@@ -53,83 +150,10 @@ def _fade(
     ``length_squared`` (mm, mm^2), and ``sideways`` (c,) bool, the angle's factor applies
     (not on a joined edge)."""
     for i in prange(p.shape[0]):
-        p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
-        n0, n1, n2 = n[i, 0], n[i, 1], n[i, 2]
-        # dg/dz over (p, y_1..3), rows of 3: the plane's (n, -lambda_m n)
-        d_gap = np.empty((4, 3))
-        d_gap[0, 0], d_gap[0, 1], d_gap[0, 2] = n0, n1, n2
-        for k in range(3):
-            m = -lam[i, k]
-            d_gap[1 + k, 0], d_gap[1 + k, 1], d_gap[1 + k, 2] = m * n0, m * n1, m * n2
-        gap = plane[i]
-        side = 1.0
-        side_gradient = np.zeros((4, 3))
-        if beside[i]:  # the distance to q, the angle's factor
-            r0, r1, r2 = p0 - q[i, 0], p1 - q[i, 1], p2 - q[i, 2]
-            distance = np.sqrt((r0 * r0 + r1 * r1) + r2 * r2)
-            sign = -1.0 if plane[i] < 0.0 else 1.0
-            safe = sign * distance if distance > 0.0 else 1.0
-            nu0, nu1, nu2 = r0 / safe, r1 / safe, r2 / safe
-            ratio = plane[i] / safe if distance > 0.0 else 1.0
-            v0 = q[i, 0] - corners[i, 0, 0]
-            v1 = q[i, 1] - corners[i, 0, 1]
-            v2 = q[i, 2] - corners[i, 0, 2]
-            d_edge = np.empty((4, 3))
-            d_edge[0, 0], d_edge[0, 1], d_edge[0, 2] = nu0, nu1, nu2
-            for k in range(3):
-                on_q = (grad[i, k, 0] * v0 + grad[i, k, 2] * v2) + grad[i, k, 1] * v1
-                if k == 0:
-                    on_q += 1.0
-                m = -on_q
-                d_edge[1 + k, 0], d_edge[1 + k, 1], d_edge[1 + k, 2] = m * nu0, m * nu1, m * nu2
-            u = min(max(ratio / SIDEWAYS, 0.0), 1.0)
-            value = u * u * (3.0 - 2.0 * u)
-            rise = 6.0 * u * (1.0 - u)
-            if sideways[i]:
-                side = value
-                if distance > 0.0:
-                    scale = rise / SIDEWAYS
-                    for a in range(4):
-                        for c in range(3):
-                            d_ratio = (d_gap[a, c] - ratio * d_edge[a, c]) / safe
-                            side_gradient[a, c] = scale * d_ratio
-            gap = sign * distance
-            for a in range(4):
-                for c in range(3):
-                    d_gap[a, c] = d_edge[a, c] if distance > 0.0 else 0.0
-        # past the outline: d^2 = |p - q_o|^2 - g^2, w_e = S(1 - d / D)
-        past = beside[i]
-        for k in range(3):
-            if reach[i, k] > 0.0 and lam[i, k] < 0.0:
-                past = True
-        a0, a1, a2 = ends[i, 0, 0], ends[i, 0, 1], ends[i, 0, 2]
-        e0, e1, e2 = ends[i, 1, 0] - a0, ends[i, 1, 1] - a1, ends[i, 1, 2] - a2
-        w0, w1, w2 = p0 - a0, p1 - a1, p2 - a2
-        t = ((w0 * e0 + w2 * e2) + w1 * e1) / max((e0 * e0 + e2 * e2) + e1 * e1, 1e-300)
-        t = min(max(t, 0.0), 1.0)
-        o0, o1, o2 = w0 - t * e0, w1 - t * e1, w2 - t * e2
-        raw = ((o0 * o0 + o2 * o2) + o1 * o1) - gap * gap
-        squared = raw if (raw > 0.0 or raw != raw) else 0.0
-        s = np.sqrt(squared) / length
-        within = past and s < 1.0 and raw > 0.0
-        factor = 1.0
-        if past:
-            x = min(max(1.0 - s, 0.0), 1.0)
-            factor = x * x * (3.0 - 2.0 * x)
-        slope = -3.0 * (1.0 - s) / length_squared if within else 0.0
-        weight[i] = factor * side
-        twice = 2.0 * gap
-        start = -2.0 * (1.0 - t)
-        end = -2.0 * t
-        for c in range(3):
-            o = o0 if c == 0 else (o1 if c == 1 else o2)
-            d_squared = 2.0 * o - twice * d_gap[0, c]
-            gradient[i, 0, c] = side * (slope * d_squared) + factor * side_gradient[0, c]
-            for a in range(1, 4):
-                d_squared = 0.0 - twice * d_gap[a, c]
-                gradient[i, a, c] = side * (slope * d_squared) + factor * side_gradient[a, c]
-            gradient[i, 4, c] = side * (slope * (start * o)) + factor * 0.0
-            gradient[i, 5, c] = side * (slope * (end * o)) + factor * 0.0
+        weight[i] = fade_at(
+            p[i], corners[i], n[i], grad[i], plane[i], lam[i], reach[i], beside[i], q[i],
+            ends[i, 0], ends[i, 1], length, length_squared, sideways[i], gradient[i],
+        )  # fmt: skip
 
 
 _fade_compiled = jit_lanes(_fade)
@@ -186,3 +210,178 @@ def outline_fade(
         gradient,
     )
     return weight, gradient
+
+
+def _outline(
+    at,
+    p,
+    y,
+    triangle,
+    n,
+    grad,
+    plane,
+    lam,
+    reach,
+    beside,
+    joined,
+    find,
+    segment,
+    starts,
+    e,
+    squared,
+    ends,
+    has_cuts,
+    lines,
+    cut_ends,
+    inside,
+    keep,
+    length,
+    length_squared,
+    fade,
+    fade_gradient,
+    fade_edge,
+    q,
+    grown,
+    cut_q,
+    cut_segment,
+):
+    """``outline_fade_at``'s pass: at each point i = at[j] its nearest outline edge (measured
+    against every edge where ``find``, else ``segment[j]``) into fade_edge[i], w into fade[i]
+    and dw/dz into fade_gradient[i] (6, 3), from its facing triangle's plane (n, grad, plane,
+    lam: ``ply_kernels.candidates_at``'s rows of the chosen candidate), reach, ``beside`` and
+    there the closest point of its grown (and cut) triangle; q, grown, cut_q and cut_segment
+    (c, ...) working rows."""
+    for j in prange(at.shape[0]):
+        i = at[j]
+        t = triangle[i]
+        p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
+        s = nearest_segment(p0, p1, p2, starts, e, squared) if find else segment[j]
+        fade_edge[i] = s
+        if beside[i]:  # ply_wedge.closest_on_grown: the grown triangle's closest point
+            r0, r1, r2 = reach[i, 0], reach[i, 1], reach[i, 2]
+            whole = 1.0 + (r0 + r1 + r2)
+            for a in range(3):  # ply_kernels._grown
+                g0 = (whole if a == 0 else 0.0) - r0
+                g1 = (whole if a == 1 else 0.0) - r1
+                g2 = (whole if a == 2 else 0.0) - r2
+                for c in range(3):
+                    grown[j, a, c] = g0 * y[t, 0, c] + g1 * y[t, 1, c] + g2 * y[t, 2, c]
+            closest_on_sides(p0, p1, p2, grown[j], q[j])
+            lined = False
+            if has_cuts:
+                for k in range(3):
+                    for c in range(3):
+                        if lines[t, k, c] != 0.0:
+                            lined = True
+            if lined:  # the projection where the growth holds it, then the cuts
+                held = True
+                for k in range(3):
+                    if not lam[i, k] >= -reach[i, k] - inside:
+                        held = False
+                if held:
+                    h = plane[i]
+                    q[j, 0], q[j, 1], q[j, 2] = p0 - h * n[i, 0], p1 - h * n[i, 1], p2 - h * n[i, 2]
+                closest_cut_at(
+                    p[i], y[t], q[j], lines[t], cut_ends[t], grad[i], keep, cut_q[j], cut_segment[j]
+                )
+                for c in range(3):
+                    q[j, c] = cut_q[j, c]
+        fade[i] = fade_at(
+            p[i], y[t], n[i], grad[i], plane[i], lam[i], reach[i], beside[i], q[j], starts[s],
+            ends[s], length, length_squared, not joined[i], fade_gradient[i],
+        )  # fmt: skip
+
+
+_outline_compiled = jit_lanes(_outline)
+
+
+def outline_fade_at(
+    at: np.ndarray,
+    p: np.ndarray,
+    y: np.ndarray,
+    triangle: np.ndarray,
+    planes: tuple,
+    reach: np.ndarray,
+    beside: np.ndarray,
+    joined: np.ndarray,
+    segment: np.ndarray | None,
+    starts: np.ndarray,
+    ends: np.ndarray,
+    cuts: WedgeCuts | None,
+    length: float,
+    out: tuple[np.ndarray, np.ndarray, np.ndarray],
+) -> None:
+    """The fade at the points ``at`` near the outline in one pass (elements/ply_projection.py
+    ``closest_facing``), where the outline's nearest edges, the fade's inputs, their
+    triangles' planes, the grown triangles' closest points and the fade were five compiled
+    calls chained by numpy's gathers: the same bits as ``outline_fade`` on
+    ``ply_chosen.fade_inputs``' arrays with ``ply_kernels.every_segment``'s edges
+    (tests/test_ply_kernels.py).
+
+    Parameters
+    ----------
+    at : (c,) int
+        The points near the outline (rows of the points' arrays).
+    p : (P, 3) float
+        The points, mm.
+    y : (m, 3, 3) float
+        The lower face's triangles' corners, mm.
+    triangle : (P,) int
+        Each point's facing triangle.
+    planes : (n, gradients, gap, lam)
+        Each point's facing triangle's plane: unit normal (P, 3), barycentric gradients
+        (P, 3, 3) 1/mm, the point's gap to it (P,) mm and its projection's coordinates
+        (P, 3) (``ply_kernels.candidates_at``'s rows of the chosen candidates).
+    reach, beside, joined : (P, 3) float, (P,) bool, (P,) bool
+        The facing triangle's reach past its edges, the point beside a growth's edge
+        (``on_growth``), on a joined edge's extension.
+    segment : (c,) int or None
+        The outline's edge nearest each point ``at`` (``ply_fade.nearest_segments``); None:
+        measured here against every edge.
+    starts, ends : (E, 3) float
+        The outline's edges' ends, mm.
+    cuts : WedgeCuts or None
+        The growths' cuts (elements/ply_wedge.py).
+    length : float
+        The fade's length D, mm.
+    out : (fade (P,), fade_gradient (P, 6, 3), fade_edge (P,) int)
+        Written at the rows ``at``.
+    """
+    count = len(at)
+    n, grad, plane, lam = planes
+    e, squared = segment_lines(starts, ends)
+    empty = np.zeros((0, 3, 3))
+    fade, fade_gradient, fade_edge = out
+    _outline_compiled(
+        np.ascontiguousarray(at, dtype=np.int64),
+        read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
+        read_only(y),
+        np.ascontiguousarray(triangle, dtype=np.int64),
+        n,
+        grad,
+        plane,
+        lam,
+        reach,
+        np.ascontiguousarray(beside, dtype=np.bool_),
+        np.ascontiguousarray(joined, dtype=np.bool_),
+        segment is None,
+        np.zeros(count, dtype=np.int64) if segment is None else segment.astype(np.int64),
+        np.ascontiguousarray(starts, dtype=float),
+        e,
+        squared,
+        np.ascontiguousarray(ends, dtype=float),
+        cuts is not None,
+        empty if cuts is None else np.ascontiguousarray(cuts.lines, dtype=float),
+        empty if cuts is None else np.ascontiguousarray(cuts.ends, dtype=float),
+        INSIDE,
+        KEEP,
+        float(length),
+        float(length**2),
+        fade,
+        fade_gradient,
+        fade_edge,
+        np.empty((count, 3)),
+        np.empty((count, 3, 3)),
+        np.empty((count, 3)),
+        np.empty((count, 2, 3)),
+    )

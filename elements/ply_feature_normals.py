@@ -5,6 +5,9 @@ closest point, the sum of its triangles' unit normals (weighted at a vertex by t
 there, over the face's topology tables, elements/ply_topology.py), whether the point lies on
 an edge's extension that two growths hold, and the facing triangle's normal where the face has
 no side there, in two passes over the points with numpy's ``arctan2`` of the angles between.
+``closest_facing`` calls the helpers of those passes (``fan_parts``, ``signing_at``) from its
+own two passes after the choice (elements/ply_edge_kernels.py); ``feature_normals`` gives the
+normals at any closest points given.
 
 Its numpy reference is ``ply_projection._feature_normals`` (with ``pseudonormals_at`` and
 ``_joined_growth``), taken with ``ply_projection.COMPILED = False``. The passes do the same
@@ -51,30 +54,37 @@ def _where(lam, reach, inside):
     return count, max(corner, 0), max(side, 0), grown
 
 
+@lanes
+def fan_parts(row, lam, reach, y, nodes, fans, inside, rise, run):
+    """rise and run (f,): |u x v| and u . v of the angle at each corner of the fan of the
+    vertex at which the closest point of coordinates ``lam`` (3,) on triangle ``row`` with
+    ``reach`` (3,) lies (``pseudonormals``' angles, whose ``arctan2`` numpy takes), 0 where
+    it is not at a vertex or the fan has no more corners; y (m, 3, 3) the corners, nodes
+    (m, 3), fans (v, f)."""
+    count, corner, _, _ = _where(lam, reach, inside)
+    vertex = nodes[row, corner]
+    for f in range(fans.shape[1]):
+        rise[f] = 0.0
+        run[f] = 0.0
+        at = fans[vertex, f]
+        if count != 2 or at < 0:
+            continue
+        t, k = at // 3, at % 3
+        a, b = (k + 1) % 3, (k + 2) % 3
+        u0, u1, u2 = y[t, a, 0] - y[t, k, 0], y[t, a, 1] - y[t, k, 1], y[t, a, 2] - y[t, k, 2]
+        v0, v1, v2 = y[t, b, 0] - y[t, k, 0], y[t, b, 1] - y[t, k, 1], y[t, b, 2] - y[t, k, 2]
+        c0 = u1 * v2 - u2 * v1
+        c1 = u2 * v0 - u0 * v2
+        c2 = u0 * v1 - u1 * v0
+        rise[f] = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
+        run[f] = (u0 * v0 + u2 * v2) + u1 * v1
+
+
 def _angle_parts(triangle, y, nodes, fans, lam, reach, inside, rise, run):
-    """rise and run (c, f): |u x v| and u . v of the angle at each corner of the fan of the
-    vertex the closest point lies at (``pseudonormals``' angles, whose ``arctan2`` numpy
-    takes), 0 where the point is not at a vertex or the fan has no more corners; y (m, 3, 3)
-    the corners, nodes (m, 3), fans (v, f), the points' triangle rows (c,), closest points'
-    coordinates ``lam`` (c, 3) and reach (c, 3)."""
+    """rise and run (c, f) of the points' fans (``fan_parts``): the points' triangle rows
+    (c,), closest points' coordinates ``lam`` (c, 3) and reach (c, 3)."""
     for i in prange(triangle.shape[0]):
-        count, corner, _, _ = _where(lam[i], reach[i], inside)
-        vertex = nodes[triangle[i], corner]
-        for f in range(fans.shape[1]):
-            rise[i, f] = 0.0
-            run[i, f] = 0.0
-            at = fans[vertex, f]
-            if count != 2 or at < 0:
-                continue
-            t, k = at // 3, at % 3
-            a, b = (k + 1) % 3, (k + 2) % 3
-            u0, u1, u2 = y[t, a, 0] - y[t, k, 0], y[t, a, 1] - y[t, k, 1], y[t, a, 2] - y[t, k, 2]
-            v0, v1, v2 = y[t, b, 0] - y[t, k, 0], y[t, b, 1] - y[t, k, 1], y[t, b, 2] - y[t, k, 2]
-            c0 = u1 * v2 - u2 * v1
-            c1 = u2 * v0 - u0 * v2
-            c2 = u0 * v1 - u1 * v0
-            rise[i, f] = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
-            run[i, f] = (u0 * v0 + u2 * v2) + u1 * v1
+        fan_parts(triangle[i], lam[i], reach[i], y, nodes, fans, inside, rise[i], run[i])
 
 
 _angle_parts_compiled = jit_lanes(_angle_parts)
@@ -90,6 +100,82 @@ def _unit_normal(y, t, out):
     c2 = e0 * f1 - e1 * f0
     twice = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
     out[0], out[1], out[2] = c0 / twice, c1 / twice, c2 / twice
+
+
+@lanes
+def signing_at(
+    row,
+    y,
+    nodes,
+    fans,
+    edges,
+    edge_halves,
+    other,
+    outline,
+    has_outline,
+    lam,
+    reach,
+    normal,
+    inside,
+    angles,
+    signing,
+):
+    """signing (3,) as ``ply_projection._feature_normals`` gives it for one closest point of
+    coordinates ``lam`` (3,) on triangle ``row`` with ``reach`` (3,) and normal (3,), from the
+    face's tables (elements/ply_topology.py: nodes, fans, edges, edge_halves, other; its
+    outline (m, 3) bool where ``has_outline``) and its fan's angles (f,) (``fan_parts``'
+    arctan2); whether the point lies on a joined edge's extension, returned."""
+    count, corner, side, grown = _where(lam, reach, inside)
+    s0, s1, s2 = 0.0, 0.0, 0.0
+    unit = np.empty(3)
+    if count == 2:  # the vertex's angle-weighted sum, in its fan's order
+        vertex = nodes[row, corner]
+        for f in range(fans.shape[1]):
+            at = fans[vertex, f]
+            if at < 0:
+                s0, s1, s2 = s0 + 0.0, s1 + 0.0, s2 + 0.0
+                continue
+            _unit_normal(y, at // 3, unit)
+            w = angles[f]
+            s0, s1, s2 = s0 + w * unit[0], s1 + w * unit[1], s2 + w * unit[2]
+    else:  # the edge's sum over its half-edges
+        edge = edges[row, side]
+        for h in range(edge_halves.shape[1]):
+            half = edge_halves[edge, h]
+            if half < 0:
+                s0, s1, s2 = s0 + 0.0, s1 + 0.0, s2 + 0.0
+                continue
+            _unit_normal(y, half // 3, unit)
+            s0, s1, s2 = s0 + unit[0], s1 + unit[1], s2 + unit[2]
+    on_joined = False
+    if has_outline and grown and count == 1:  # ply_projection._joined_growth
+        own = row * 3 + side
+        across = other[own]
+        past = -1
+        least = np.inf
+        for k in range(3):
+            value = np.inf if k == side else lam[k]
+            if past < 0 or value < least:
+                past, least = k, value
+        node = nodes[row, past]
+        neighbour = across // 3
+        at = 0
+        for k in range(3):
+            if nodes[neighbour, k] == node:
+                at = k
+                break
+        on_joined = (
+            across != own and outline[row, past] and outline[neighbour, at] and lam[past] < 0.0
+        )
+    length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
+    keep = (grown and not on_joined) or count == 0 or count == 3 or length < 1e-6
+    joined = on_joined and not keep
+    if keep:
+        signing[0], signing[1], signing[2] = normal[0], normal[1], normal[2]
+    else:
+        divisor = length if length > 0.0 else 1.0
+        signing[0], signing[1], signing[2] = s0 / divisor, s1 / divisor, s2 / divisor
+    return joined
 
 
 def _normals(
@@ -116,60 +202,23 @@ def _normals(
     points' coordinates ``lam`` (c, 3), reach (c, 3), the triangles' normals (c, 3) and the
     fans' angles (c, f) (``_angle_parts``' arctan2)."""
     for i in prange(triangle.shape[0]):
-        row = triangle[i]
-        count, corner, side, grown = _where(lam[i], reach[i], inside)
-        s0, s1, s2 = 0.0, 0.0, 0.0
-        unit = np.empty(3)
-        if count == 2:  # the vertex's angle-weighted sum, in its fan's order
-            vertex = nodes[row, corner]
-            for f in range(fans.shape[1]):
-                at = fans[vertex, f]
-                if at < 0:
-                    s0, s1, s2 = s0 + 0.0, s1 + 0.0, s2 + 0.0
-                    continue
-                _unit_normal(y, at // 3, unit)
-                w = angles[i, f]
-                s0, s1, s2 = s0 + w * unit[0], s1 + w * unit[1], s2 + w * unit[2]
-        else:  # the edge's sum over its half-edges
-            edge = edges[row, side]
-            for h in range(edge_halves.shape[1]):
-                half = edge_halves[edge, h]
-                if half < 0:
-                    s0, s1, s2 = s0 + 0.0, s1 + 0.0, s2 + 0.0
-                    continue
-                _unit_normal(y, half // 3, unit)
-                s0, s1, s2 = s0 + unit[0], s1 + unit[1], s2 + unit[2]
-        on_joined = False
-        if has_outline and grown and count == 1:  # ply_projection._joined_growth
-            own = row * 3 + side
-            across = other[own]
-            past = -1
-            least = np.inf
-            for k in range(3):
-                value = np.inf if k == side else lam[i, k]
-                if past < 0 or value < least:
-                    past, least = k, value
-            node = nodes[row, past]
-            neighbour = across // 3
-            at = 0
-            for k in range(3):
-                if nodes[neighbour, k] == node:
-                    at = k
-                    break
-            on_joined = (
-                across != own
-                and outline[row, past]
-                and outline[neighbour, at]
-                and lam[i, past] < 0.0
-            )
-        length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
-        keep = (grown and not on_joined) or count == 0 or count == 3 or length < 1e-6
-        joined[i] = on_joined and not keep
-        if keep:
-            signing[i, 0], signing[i, 1], signing[i, 2] = normal[i, 0], normal[i, 1], normal[i, 2]
-        else:
-            divisor = length if length > 0.0 else 1.0
-            signing[i, 0], signing[i, 1], signing[i, 2] = s0 / divisor, s1 / divisor, s2 / divisor
+        joined[i] = signing_at(
+            triangle[i],
+            y,
+            nodes,
+            fans,
+            edges,
+            edge_halves,
+            other,
+            outline,
+            has_outline,
+            lam[i],
+            reach[i],
+            normal[i],
+            inside,
+            angles[i],
+            signing[i],
+        )
 
 
 _normals_compiled = jit_lanes(_normals)

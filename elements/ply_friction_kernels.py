@@ -19,6 +19,15 @@ pass's 70 (benchmarks/forming_step_overhead.py); a stuck point's potential's ``l
 ``stored`` as ``ply_friction.stick_potential`` computes them (|s|^2 / 2 as 0.5 times numpy's
 row sum), and the dissipation's sum over the points from ``np.sum`` (numpy's pairwise order).
 Each point is independent: the same bits on any thread count.
+
+A step maps twice at one state: the history committed after the step maps from the history
+before it, the next step's loads from the new one, which differs where points slide, touch
+anew or leave (not the same inputs: tests/test_ply_kernels.py). The history's pass makes the
+second mapping too, point by point after its new anchor (``_map_point``, the one code of
+both), and keeps it on the block; ``friction_state`` returns it where its history, facing and
+penalties are those objects (a step's next loads), and maps afresh otherwise: one compiled
+call a step fewer per block, its Python and numpy glue with it
+(benchmarks/forming_step_overhead.py).
 """
 
 from __future__ import annotations
@@ -28,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_friction
-from elements.jit import jit_lanes, prange
+from elements.jit import jit_lanes, lanes, prange
 from elements.ply_friction import PlyFrictionHistory, Sliding
 
 if TYPE_CHECKING:
@@ -37,6 +46,101 @@ if TYPE_CHECKING:
     from femcore.state import State
 
 __all__ = ["friction_state", "updated_history"]
+
+
+@lanes
+def _map_point(
+    i,
+    touching,
+    gap,
+    stiffness,
+    smoothing,
+    fade,
+    bounded,
+    normal_law,
+    potential,
+    friction,
+    anchor_triangle,
+    anchor_weights,
+    face,
+    normal,
+    y,
+    force,
+    slip,
+    stuck,
+    sliding,
+    pressing,
+    offset,
+    triangle,
+    spring,
+    lift,
+    stored,
+):
+    """``_return_mapping`` at point i (its arrays')."""
+    on = touching[i]
+    normal_force = 0.0
+    k_t = 0.0
+    unfaded = 0.0
+    slope = 0.0
+    if on:
+        k = stiffness[i]
+        g = gap[i] if (gap[i] < 0.0 or gap[i] != gap[i]) else 0.0
+        if smoothing == 0.0:
+            law = k * g
+        elif g <= -smoothing:
+            law = k * (g + 0.5 * smoothing)
+        else:
+            law = -k * (g * g) / (2.0 * smoothing)
+        normal_force = -law * fade[i]
+        # the stick spring before w and its slope, as ``ply_friction.stick_spring`` writes
+        # them (``penalty_law``'s W'' from numpy's min(g, 0); the slope's -k_p / delta)
+        unfaded = k
+        if normal_law:
+            if smoothing == 0.0:
+                unfaded = k if gap[i] <= 0.0 else 0.0
+            else:
+                b = bounded[i]
+                unfaded = k if b <= -smoothing else (-k * b) / smoothing
+                if gap[i] < 0.0 and gap[i] > -smoothing:
+                    slope = -k / smoothing
+        k_t = unfaded * fade[i] if normal_law else unfaded
+    pressing[i] = normal_force
+    spring[i] = k_t
+    anchored = on and anchor_triangle[i] >= 0
+    t = anchor_triangle[i] if anchored else 0
+    triangle[i] = t
+    r0 = r1 = r2 = 0.0
+    if anchored:
+        w0, w1, w2 = anchor_weights[i, 0], anchor_weights[i, 1], anchor_weights[i, 2]
+        a0 = (w0 * y[t, 0, 0] + w1 * y[t, 1, 0]) + w2 * y[t, 2, 0]
+        a1 = (w0 * y[t, 0, 1] + w1 * y[t, 1, 1]) + w2 * y[t, 2, 1]
+        a2 = (w0 * y[t, 0, 2] + w1 * y[t, 1, 2]) + w2 * y[t, 2, 2]
+        r0, r1, r2 = face[i, 0] - a0, face[i, 1] - a1, face[i, 2] - a2
+    n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
+    along = (r0 * n0 + r1 * n1) + r2 * n2
+    s0, s1, s2 = r0 - along * n0, r1 - along * n1, r2 - along * n2
+    length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
+    limit = friction * normal_force
+    held = anchored and k_t * length <= limit
+    slides = anchored and not held
+    if held:
+        scale = k_t
+    elif slides:
+        scale = limit / (length if length > 0 else 1.0)
+    else:
+        scale = 0.0
+    force[i, 0], force[i, 1], force[i, 2] = scale * s0, scale * s1, scale * s2
+    slip[i, 0], slip[i, 1], slip[i, 2] = s0, s1, s2
+    offset[i, 0], offset[i, 1], offset[i, 2] = r0, r1, r2
+    stuck[i] = held
+    sliding[i] = slides
+    if held and potential:
+        half = 0.5 * ((s0 * s0 + s1 * s1) + s2 * s2)
+        lift[i] = fade[i] * (slope * half)
+        stored[i] = unfaded * half
+    else:
+        lift[i] = 0.0
+        stored[i] = 0.0
 
 
 def _return_mapping(
@@ -76,70 +180,33 @@ def _return_mapping(
     points p ``face`` (P, 3), their facing normals (P, 3) and the lower corners y (m, 3, 3);
     ``smoothing`` delta, mm, ``friction`` mu."""
     for i in prange(gap.shape[0]):
-        on = touching[i]
-        normal_force = 0.0
-        k_t = 0.0
-        unfaded = 0.0
-        slope = 0.0
-        if on:
-            k = stiffness[i]
-            g = gap[i] if (gap[i] < 0.0 or gap[i] != gap[i]) else 0.0
-            if smoothing == 0.0:
-                law = k * g
-            elif g <= -smoothing:
-                law = k * (g + 0.5 * smoothing)
-            else:
-                law = -k * (g * g) / (2.0 * smoothing)
-            normal_force = -law * fade[i]
-            # the stick spring before w and its slope, as ``ply_friction.stick_spring`` writes
-            # them (``penalty_law``'s W'' from numpy's min(g, 0); the slope's -k_p / delta)
-            unfaded = k
-            if normal_law:
-                if smoothing == 0.0:
-                    unfaded = k if gap[i] <= 0.0 else 0.0
-                else:
-                    b = bounded[i]
-                    unfaded = k if b <= -smoothing else (-k * b) / smoothing
-                    if gap[i] < 0.0 and gap[i] > -smoothing:
-                        slope = -k / smoothing
-            k_t = unfaded * fade[i] if normal_law else unfaded
-        pressing[i] = normal_force
-        spring[i] = k_t
-        anchored = on and anchor_triangle[i] >= 0
-        t = anchor_triangle[i] if anchored else 0
-        triangle[i] = t
-        r0 = r1 = r2 = 0.0
-        if anchored:
-            w0, w1, w2 = anchor_weights[i, 0], anchor_weights[i, 1], anchor_weights[i, 2]
-            a0 = (w0 * y[t, 0, 0] + w1 * y[t, 1, 0]) + w2 * y[t, 2, 0]
-            a1 = (w0 * y[t, 0, 1] + w1 * y[t, 1, 1]) + w2 * y[t, 2, 1]
-            a2 = (w0 * y[t, 0, 2] + w1 * y[t, 1, 2]) + w2 * y[t, 2, 2]
-            r0, r1, r2 = face[i, 0] - a0, face[i, 1] - a1, face[i, 2] - a2
-        n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
-        along = (r0 * n0 + r1 * n1) + r2 * n2
-        s0, s1, s2 = r0 - along * n0, r1 - along * n1, r2 - along * n2
-        length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
-        limit = friction * normal_force
-        held = anchored and k_t * length <= limit
-        slides = anchored and not held
-        if held:
-            scale = k_t
-        elif slides:
-            scale = limit / (length if length > 0 else 1.0)
-        else:
-            scale = 0.0
-        force[i, 0], force[i, 1], force[i, 2] = scale * s0, scale * s1, scale * s2
-        slip[i, 0], slip[i, 1], slip[i, 2] = s0, s1, s2
-        offset[i, 0], offset[i, 1], offset[i, 2] = r0, r1, r2
-        stuck[i] = held
-        sliding[i] = slides
-        if held and potential:
-            half = 0.5 * ((s0 * s0 + s1 * s1) + s2 * s2)
-            lift[i] = fade[i] * (slope * half)
-            stored[i] = unfaded * half
-        else:
-            lift[i] = 0.0
-            stored[i] = 0.0
+        _map_point(
+            i,
+            touching,
+            gap,
+            stiffness,
+            smoothing,
+            fade,
+            bounded,
+            normal_law,
+            potential,
+            friction,
+            anchor_triangle,
+            anchor_weights,
+            face,
+            normal,
+            y,
+            force,
+            slip,
+            stuck,
+            sliding,
+            pressing,
+            offset,
+            triangle,
+            spring,
+            lift,
+            stored,
+        )
 
 
 _return_mapping_compiled = jit_lanes(_return_mapping)
@@ -156,21 +223,14 @@ def friction_state(
     facing = block.facing(state) if facing is None else facing
     if history is None or block.friction <= 0.0 or block.curved or facing.fade is None:
         return ply_friction.friction_state(block, state, history, facing)
+    kept = getattr(block, "_next_sliding", None)
+    law = _law(block)
+    if kept is not None and kept[0] is history and kept[1] is facing and _same(kept[2], law):
+        return kept[3]  # made with the history itself (``updated_history``): the same bits
     count = len(block.above)
     on = facing.touching
     _, y = block._faces(state)
-    arrays = (
-        np.empty((count, 3)),
-        np.empty((count, 3)),
-        np.empty(count, dtype=np.bool_),
-        np.empty(count, dtype=np.bool_),
-        np.empty(count),
-        np.empty((count, 3)),
-        np.empty(count, dtype=np.int64),
-        np.empty(count),
-        np.empty(count),
-        np.empty(count),
-    )
+    arrays = _sliding_arrays(count)
     _return_mapping_compiled(
         np.ascontiguousarray(on, dtype=np.bool_),
         np.ascontiguousarray(facing.gap, dtype=float),
@@ -189,6 +249,24 @@ def friction_state(
         *arrays,
     )
     return Sliding(*arrays)
+
+
+def _sliding_arrays(count: int) -> tuple[np.ndarray, ...]:
+    """``Sliding``'s arrays for ``count`` points, uninitialised: force, slip (P, 3), stuck,
+    sliding (P,) bool, pressing (P,), offset (P, 3), triangle (P,) int, spring, lift, stored
+    (P,)."""
+    return (
+        np.empty((count, 3)),
+        np.empty((count, 3)),
+        np.empty(count, dtype=np.bool_),
+        np.empty(count, dtype=np.bool_),
+        np.empty(count),
+        np.empty((count, 3)),
+        np.empty(count, dtype=np.int64),
+        np.empty(count),
+        np.empty(count),
+        np.empty(count),
+    )
 
 
 def _moved(
@@ -214,13 +292,33 @@ def _moved(
     anchor,
     slipped,
     dissipation,
+    stiffness,
+    smoothing,
+    fade,
+    bounded,
+    normal_law,
+    potential,
+    face,
+    next_force,
+    next_slip,
+    next_stuck,
+    next_sliding,
+    next_pressing,
+    next_offset,
+    next_triangle,
+    next_spring,
+    next_lift,
+    next_stored,
 ):
     """``ply_friction.updated_history``'s arrays, written into triangle (P,) int, anchor (P, 3),
     slipped (P,) mm and dissipation (P,), N mm (each point's mu N_mid times its slip, which
     numpy sums): from the facing's touching flags, triangles, weights (P, 3), gradients (P, 3,
     3), gaps and normals (P, 3), the lower corners y (m, 3, 3), mu ``friction``, the return
     mapping's slip, offset (P, 3), stuck, sliding, pressing and spring (P,), and the last
-    history's triangle, anchor, slip and pressing."""
+    history's triangle, anchor, slip and pressing; and the return mapping at the same state
+    from the new history (``_return_mapping``'s arrays into the ``next_`` ones, from the
+    penalties, ``smoothing``, the fade, ``bounded``, ``normal_law``, ``potential`` and the
+    points ``face`` as ``friction_state`` gives them), which the next step's loads take."""
     for i in prange(gap.shape[0]):
         s0, s1, s2 = slip[i, 0], slip[i, 1], slip[i, 2]
         length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
@@ -269,6 +367,33 @@ def _moved(
                 anchor[i, k] = np.nan
         slipped[i] = last_slip[i] + slid
         dissipation[i] = friction * 0.5 * (pressing[i] + last_pressing[i]) * slid
+        _map_point(
+            i,
+            touching,
+            gap,
+            stiffness,
+            smoothing,
+            fade,
+            bounded,
+            normal_law,
+            potential,
+            friction,
+            triangle,
+            anchor,
+            face,
+            normal,
+            y,
+            next_force,
+            next_slip,
+            next_stuck,
+            next_sliding,
+            next_pressing,
+            next_offset,
+            next_triangle,
+            next_spring,
+            next_lift,
+            next_stored,
+        )
 
 
 _moved_compiled = jit_lanes(_moved)
@@ -291,6 +416,7 @@ def updated_history(
     anchor = np.empty((count, 3))
     slipped = np.empty(count)
     dissipation = np.empty(count)
+    following = _sliding_arrays(count)
     _moved_compiled(
         np.ascontiguousarray(facing.touching, dtype=np.bool_),
         np.ascontiguousarray(facing.triangle, dtype=np.int64),
@@ -314,6 +440,30 @@ def updated_history(
         anchor,
         slipped,
         dissipation,
+        np.ascontiguousarray(block.stiffness, dtype=float),
+        float(block.smoothing),
+        np.ascontiguousarray(facing.fade, dtype=float),
+        np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
+        block.stick != "penalty",
+        block.stick != "penalty",
+        np.ascontiguousarray(facing.face, dtype=float),
+        *following,
     )
     dissipated = history.dissipated + float(np.sum(dissipation))
-    return PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
+    updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
+    # the next step's loads ask for the return mapping at this state from this history: kept
+    # for it (module docstring), as long as the facing and the penalties are these
+    block._next_sliding = (updated, facing, _law(block), Sliding(*following))
+    return updated
+
+
+def _law(block: PlyContactBlock) -> tuple:
+    """What of the block a return mapping reads besides its history and facing: the
+    penalties (the array itself), the smoothing, mu and the stick spring's law."""
+    return (block.stiffness, block.smoothing, block.friction, block.stick)
+
+
+def _same(kept: tuple, law: tuple) -> bool:
+    """``_law``'s of a kept mapping and of the block now agree (the penalties the same
+    array)."""
+    return kept[0] is law[0] and kept[1:] == law[1:]

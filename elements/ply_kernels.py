@@ -28,7 +28,15 @@ import numpy as np
 from elements.jit import jit_lanes, lanes, prange
 from elements.kernel_inputs import read_only
 
-__all__ = ["candidates_at", "edges_closest", "every_segment", "facets_at", "grown_corners"]
+__all__ = [
+    "candidates_at",
+    "edges_closest",
+    "every_segment",
+    "facets_at",
+    "grown_corners",
+    "nearest_segment",
+    "segment_lines",
+]
 
 
 def _facets_at(
@@ -219,34 +227,40 @@ def edges_closest(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
     return best
 
 
+@lanes
+def nearest_segment(p0, p1, p2, starts, e, squared):
+    """The segment from starts[j] (E, 3) along e[j] (E, 3), |e_j|^2 = squared[j], nearest the
+    point (p0, p1, p2), as ``ply_fade.every_segment`` chooses it: the first of the least
+    distances, or the first NaN one (numpy's argmin)."""
+    best = np.inf
+    found = 0
+    held_nan = False
+    for j in range(starts.shape[0]):
+        r0 = p0 - starts[j, 0]
+        r1 = p1 - starts[j, 1]
+        r2 = p2 - starts[j, 2]
+        # numpy's einsum adds a sum of three products as (first + last) + middle
+        t = (r0 * e[j, 0] + r2 * e[j, 2] + r1 * e[j, 1]) / squared[j]
+        if t < 0.0:
+            t = 0.0
+        elif t > 1.0:
+            t = 1.0
+        r0 -= t * e[j, 0]
+        r1 -= t * e[j, 1]
+        r2 -= t * e[j, 2]
+        value = r0 * r0 + r2 * r2 + r1 * r1
+        if value != value:
+            if not held_nan:
+                held_nan, found = True, j
+        elif not held_nan and value < best:
+            best, found = value, j
+    return found
+
+
 def _every_segment(p, starts, e, squared, chosen):
-    """chosen[i] (c,) the segment from starts[j] (E, 3) along e[j] (E, 3), |e_j|^2 =
-    squared[j], nearest p[i] (c, 3), as ``ply_fade.every_segment`` writes it: the first of
-    the least distances, or the first NaN one (numpy's argmin)."""
+    """chosen[i] (c,) the segment nearest p[i] (c, 3) (``nearest_segment``)."""
     for i in prange(p.shape[0]):
-        best = np.inf
-        found = 0
-        held_nan = False
-        for j in range(starts.shape[0]):
-            r0 = p[i, 0] - starts[j, 0]
-            r1 = p[i, 1] - starts[j, 1]
-            r2 = p[i, 2] - starts[j, 2]
-            # numpy's einsum adds a sum of three products as (first + last) + middle
-            t = (r0 * e[j, 0] + r2 * e[j, 2] + r1 * e[j, 1]) / squared[j]
-            if t < 0.0:
-                t = 0.0
-            elif t > 1.0:
-                t = 1.0
-            r0 -= t * e[j, 0]
-            r1 -= t * e[j, 1]
-            r2 -= t * e[j, 2]
-            value = r0 * r0 + r2 * r2 + r1 * r1
-            if value != value:
-                if not held_nan:
-                    held_nan, found = True, j
-            elif not held_nan and value < best:
-                best, found = value, j
-        chosen[i] = found
+        chosen[i] = nearest_segment(p[i, 0], p[i, 1], p[i, 2], starts, e, squared)
 
 
 _every_segment_compiled = jit_lanes(_every_segment)
@@ -259,17 +273,23 @@ def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.nda
     chosen = np.zeros(len(p), dtype=np.int64)
     if len(p) == 0 or len(starts) == 0:
         return chosen
-    e = ends - starts
-    e0, e1, e2 = e[:, 0], e[:, 1], e[:, 2]
-    squared = np.maximum(e0 * e0 + e2 * e2 + e1 * e1, np.finfo(float).tiny)
+    e, squared = segment_lines(starts, ends)
     _every_segment_compiled(
         np.ascontiguousarray(p, dtype=float),
         np.ascontiguousarray(starts, dtype=float),
-        np.ascontiguousarray(e),
+        e,
         squared,
         chosen,
     )
     return chosen
+
+
+def segment_lines(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The segments' b - a (E, 3) and |b - a|^2 (E,), at least the least positive float,
+    from their ends a ``starts`` and b ``ends`` (E, 3), mm (``nearest_segment``'s)."""
+    e = np.ascontiguousarray(ends - starts)
+    e0, e1, e2 = e[:, 0], e[:, 1], e[:, 2]
+    return e, np.maximum(e0 * e0 + e2 * e2 + e1 * e1, np.finfo(float).tiny)
 
 
 def _grown(corners, reach, out):

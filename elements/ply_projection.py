@@ -210,7 +210,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_chosen, ply_feature_normals, ply_kernels, ply_penalty
+from elements import ply_chosen, ply_edge_kernels, ply_kernels, ply_penalty
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
@@ -242,10 +242,10 @@ MARGIN = 0.5
 #: Barycentric overshoot below which a projection counts as inside a triangle (round-off of
 #: a point right above a vertex or an edge).
 INSIDE = 1e-9
-#: Whether ``closest_facing`` takes its candidates' planes, edges' closest points and the
-#: outline's nearest edges (pair by pair) from the compiled kernels (elements/ply_kernels.py:
-#: the same bits), or from numpy (``facets``, ``closest_on_edges``, ply_fade.py's
-#: ``nearest_segments``: their reference, kept for the tests and the benchmarks); and whether
+#: Whether ``closest_facing`` takes its candidates' planes, choice, edges' signs and flags,
+#: and the fade from the compiled passes (elements/ply_kernels.py, ply_choice.py,
+#: ply_edge_kernels.py, ply_fade_kernels.py: the same bits), or from numpy (``facets``,
+#: ``closest_on_edges``, ply_fade.py: their reference, kept for the tests); and whether
 #: ``PlyContactBlock.internal_force`` sums the flat faces' loads in one compiled pass
 #: (elements/ply_load_kernels.py, the same bits) or by numpy (``_pair_loads``, ``_end_loads``,
 #: ``ply_friction.friction_loads`` and ``np.bincount``), and its friction's return mapping and
@@ -664,9 +664,17 @@ def closest_facing(
         turned,
     ) = pick(best, near, n, gap, weights, gradients, reach, toward)
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
+    # the chosen planes, which the fade's pass reads where the closest point is off them
+    planes = (normal.copy(), chosen_gradients, chosen_gap.copy(), lam.copy()) if COMPILED else ()
     at_rim = np.zeros(len(p), dtype=bool)  # closest at a vertex of the lower ply's outline
     joined = np.zeros(len(p), dtype=bool)  # on an edge's extension that two growths hold
-    if on_edge.any():
+    if COMPILED and topology is not None:  # the same bits, two passes (ply_edge_kernels.py)
+        joined, at_rim, on_growth, beside, near, touching = ply_edge_kernels.edge_sides(
+            p, y, topology, (on_edge, closest_at, cut_at, segment_at, along_at), triangle,
+            chosen_gap, normal, lam, chosen_gradients, chosen_reach, reached, turned,
+            overshoot, (INSIDE, depth, tolerance, MARGIN), hessian,
+        )  # fmt: skip
+    elif on_edge.any():
         edge = np.flatnonzero(on_edge)
         at = best[edge]
         signing = n[edge, at]
@@ -678,14 +686,10 @@ def closest_facing(
             # vertex it lies
             on_q = np.einsum("pki,pi->pk", chosen_gradients[edge], closest - y[facing_at, 0])
             on_q[:, 0] += 1.0
-            if COMPILED:  # the same bits (elements/ply_feature_normals.py)
-                signing, joined[edge] = ply_feature_normals.feature_normals(
-                    y, topology, facing_at, on_q, reach_at, signing, INSIDE
-                )
-            else:
-                signing, joined[edge] = _feature_normals(
-                    y, topology, facing_at, on_q, reach_at, signing
-                )
+            # (numpy's: the compiled facing takes the passes above)
+            signing, joined[edge] = _feature_normals(
+                y, topology, facing_at, on_q, reach_at, signing
+            )
             if outline is not None:
                 # at a vertex of the outline the face has no side either: the facing
                 # triangle's normal signs the gap, and the point is faded as beside a
@@ -722,19 +726,24 @@ def closest_facing(
         outline_segments,
     )
 
-    on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & reached
-    on_growth |= at_rim
-    # a point deeper than the plies is on the lower ply's other side where it faces an edge, a
-    # vertex or a turned layer ("Deeper than the plies"); held by a growth's plane past the
-    # outline, the fade carries its energy to 0 continuously from the face's full W ("Past
-    # the outline, deeper than the plies")
-    deep = chosen_gap < -depth
-    beside = on_edge & deep
-    beside |= turned & deep  # a layer turned away from its ply ("Deeper than the plies")
+    if not (COMPILED and topology is not None):
+        on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & reached
+        on_growth |= at_rim
+        # a point deeper than the plies is on the lower ply's other side where it faces an
+        # edge, a vertex or a turned layer ("Deeper than the plies"); held by a growth's plane
+        # past the outline, the fade carries its energy to 0 continuously from the face's full
+        # W ("Past the outline, deeper than the plies")
+        deep = chosen_gap < -depth
+        beside = on_edge & deep
+        beside |= turned & deep  # a layer turned away from its ply ("Deeper than the plies")
+        near = on_growth | reached
+        # touching within MARGIN of the facing triangle, by the overshoot of the plane's
+        # projection (and where the fade below is above 0)
+        touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside
     # w = 1 off the outline triangles and their growths: computed where it can differ
     fade, fade_gradient = np.ones(len(p)), np.zeros((len(p), 6, 3))
     fade_edge = np.full(len(p), -1)
-    near_outline = np.flatnonzero(on_growth | reached)
+    near_outline = np.flatnonzero(near)
     if near_outline.size and outline is not None:
         if topology is None:
             segment_rows, segment_ends = outline_segments(outline)
@@ -743,33 +752,28 @@ def closest_facing(
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
         length = fade_length(y, outline) if fade_distance is None else fade_distance
-        if COMPILED and near_outline.size * len(starts) <= EVERY_PAIR:  # every pair measured
-            fade_edge[near_outline] = ply_kernels.every_segment(p[near_outline], starts, ends)
-        else:
-            fade_edge[near_outline] = nearest_segments(p[near_outline], starts, ends, outline_tree)
-        chosen = fade_edge[near_outline]
-        from elements import ply_fade_kernels
+        every = COMPILED and near_outline.size * len(starts) <= EVERY_PAIR  # every pair measured
+        chosen = None if every else nearest_segments(p[near_outline], starts, ends, outline_tree)
+        if COMPILED:  # the edges, inputs, growths' closest points, fade: one pass, the same bits
+            from elements.ply_fade_kernels import outline_fade_at
 
-        fading = ply_fade_kernels.outline_fade if COMPILED else outline_fade  # the same bits
-        gather = ply_chosen.fade_inputs if COMPILED else ply_chosen.fade_inputs_numpy
-        at_p, corners, at_reach, at_beside, at_ends, at_joined, lines, cut_ends = gather(
-            near_outline,
-            p,
-            y,
-            triangle,
-            chosen_reach,
-            on_growth,
-            joined,
-            starts,
-            ends,
-            chosen,
-            cuts,
-        )
-        fade[near_outline], fade_gradient[near_outline] = fading(
-            at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
-        )
-    # touching within MARGIN of the facing triangle, by the overshoot of the plane's projection
-    touching = (chosen_gap <= tolerance) & (overshoot <= MARGIN) & ~beside & (fade > 0.0)
+            out = (fade, fade_gradient, fade_edge)
+            outline_fade_at(
+                near_outline, p, y, triangle, planes, chosen_reach, on_growth, joined, chosen,
+                starts, ends, cuts, length, out,
+            )  # fmt: skip
+        else:
+            fade_edge[near_outline] = chosen
+            at_p, corners, at_reach, at_beside, at_ends, at_joined, lines, cut_ends = (
+                ply_chosen.fade_inputs_numpy(
+                    near_outline, p, y, triangle, chosen_reach, on_growth, joined, starts,
+                    ends, chosen, cuts,
+                )
+            )  # fmt: skip
+            fade[near_outline], fade_gradient[near_outline] = outline_fade(
+                at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
+            )
+    touching &= fade > 0.0
     return Facing(
         triangle=triangle,
         gap=chosen_gap,

@@ -16,9 +16,9 @@ from test_ply_wedge import _fan
 from elements import (
     jit,
     ply_choice,
-    ply_chosen,
+    ply_edge_kernels,
     ply_face_points,
-    ply_feature_normals,
+    ply_fade_kernels,
     ply_kernels,
     ply_load_kernels,
     ply_projection,
@@ -31,18 +31,19 @@ pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installe
 
 KERNELS = {
     "choose": ply_choice._choose_compiled,
-    "fade inputs": ply_chosen._fade_inputs_compiled,
+    "fade pass": ply_fade_kernels._outline_compiled,
     "face points": ply_face_points._points,
-    "feature angles": ply_feature_normals._angle_parts_compiled,
-    "feature normals": ply_feature_normals._normals_compiled,
+    "edge parts": ply_edge_kernels._parts_compiled,
+    "edge sides": ply_edge_kernels._sides_compiled,
     "planes": ply_kernels._facets_at_compiled,
     "grown corners": ply_kernels._grown_compiled,
     "loads": ply_load_kernels._loads,
     "moves": ply_search._moves_compiled,
 }
-# (the helpers they call, ply_feature_normals._unit_normal and ply_load_kernels._add and
-# _add_upper, take their callers' arrays: built once with them; a build loaded from numba's
-# cache brings its helpers' machine code along and leaves their dispatchers empty)
+# (the helpers they call, ply_feature_normals' fan_parts, signing_at and _unit_normal and
+# ply_load_kernels._add and _add_upper, take their callers' arrays: built once with them; a
+# build loaded from numba's cache brings its helpers' machine code along and leaves their
+# dispatchers empty)
 
 
 def _signatures(kernel) -> list:

@@ -146,6 +146,43 @@ def test_the_facing_of_points_round_strips_cut_at_both_ends_is_numpy_s_to_the_bi
     assert reference.on_growth.any() and (reference.fade < 1.0).any()
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_facing_after_its_choice_is_numpy_s_on_one_thread_and_on_all(monkeypatch, seed):
+    """What follows the choice in two passes (elements/ply_edge_kernels.py ``edge_sides``: the
+    closest points' signs by the features' pseudonormals, at outline vertices and on cuts,
+    their gaps, normals, coordinates and Hessians, the flags on the growths, deeper than the
+    plies, near the outline and touching) against numpy's expressions of ``closest_facing``
+    (``ply_projection.COMPILED = False``), on tests/test_ply_wedge.py's strips cut at both
+    ends with 400 points round them, every triangle a candidate, a layer turned away for a
+    third of them, on one thread and on all of numba's: every Facing field to the bit; the
+    premises, points at vertices and on edges, at the outline's vertices or on cuts, on
+    joined edges' extensions, deeper than the plies and touching."""
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, cuts = _strip(rng)
+    topology = FaceTopology.of(nodes, outline)
+    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
+    near = np.tile(np.arange(len(nodes)), (len(p), 1))
+    toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
+    toward[::3] *= -1.0
+
+    def facing():
+        return closest_facing(
+            p, y, near, 0.0, outline, True, depth=0.2, toward=toward, topology=topology, cuts=cuts
+        )
+
+    monkeypatch.setattr(ply_projection, "COMPILED", False)
+    reference = facing()
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    for compiled in on_one_thread_and_on_all(facing):
+        assert _facings_equal(compiled, reference) == []
+    edge = reference.on_edge
+    bound = reference.weights <= -reference.reach + 1e-9
+    assert (edge & (bound.sum(axis=1) == 2)).any() and (edge & (bound.sum(axis=1) == 1)).any()
+    assert reference.on_growth.any() and reference.joined.any()
+    assert (edge & (reference.gap < -0.2)).any() and reference.touching.any()
+    assert reference.hessian is not None and np.any(reference.hessian != 0.0)
+
+
 def _bent(compiled, seed: int, depth: float) -> State:
     """The blank pressed ``depth`` mm (times (1 - r / 60 mm)^1.5) into a bowl about its pole,
     jittered 2e-3 mm, its directors tilted about 0.01 rad."""
@@ -356,6 +393,49 @@ def test_the_compiled_loads_with_friction_are_numpy_s_to_the_bit(monkeypatch, st
     assert min(seen.values()) > 0, seen
 
 
+@pytest.mark.parametrize("stick", ["penalty", "normal law"])
+def test_the_next_loads_take_the_return_mapping_their_history_was_committed_with(
+    monkeypatch, stick
+):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells) bent 5 then 5.2 mm, both passes,
+    with friction: the history committed at the second state makes the return mapping from
+    itself at that state in its own pass, and the next loads' ``friction_state`` at that
+    state from that history is that one (no second pass), the same to the bit as the mapping
+    made afresh and as numpy's (``ply_friction.friction_state``), on one thread and on all of
+    numba's; not the committed history's own mapping (from the history before: the two
+    mappings of a step differ where points slide); another history or facing is mapped
+    afresh. The premises, stuck and sliding points."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    blocks = [b for b in compiled_model.interactions if isinstance(b, PlyContactBlock)]
+    first, second = _bent(compiled_model, 3, 5.0), _bent(compiled_model, 3, 5.2)
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    seen = {"stuck": 0, "sliding": 0, "differs": 0}
+
+    def check():
+        for block in blocks:
+            monkeypatch.setattr(block, "stick", stick)
+            history = block.update_history(first, block.initial_history())
+            before = block.friction_state(second, history)  # the committed history's own
+            later = block.update_history(second, history)
+            served = block.friction_state(second, later)
+            assert served is block._next_sliding[3]
+            assert block.friction_state(second, history) is not served
+            block._next_sliding = None
+            fresh = block.friction_state(second, later)
+            assert fresh is not served and _fields_equal(fresh, served) == []
+            want = ply_friction.friction_state(block, second, later, block.facing(second))
+            assert _fields_equal(served, want) == []
+            seen["stuck"] += int(served.stuck.sum())
+            seen["sliding"] += int(before.sliding.sum())
+            seen["differs"] += len(_fields_equal(before, served))
+
+    on_one_thread_and_on_all(check)
+    assert min(seen.values()) > 0, seen
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
     """``ply_fade_kernels.outline_fade`` against ``ply_fade.outline_fade`` (numpy, ``COMPILED``
@@ -390,13 +470,77 @@ def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
         assert (between & beside).any() and (between & ~beside).any()
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_fade_s_one_pass_is_numpy_s_on_one_thread_and_on_all(monkeypatch, seed):
+    """``ply_fade_kernels.outline_fade_at`` (the outline's nearest edges, the fade's inputs,
+    the grown and cut triangles' closest points and the fade in one pass) against numpy's
+    (``ply_fade.every_segment``, ``ply_chosen.fade_inputs_numpy`` and ``ply_fade.outline_fade``
+    with ``COMPILED`` off): tests/test_ply_wedge.py's strip cut at both ends, 600 points round
+    its outline triangles, each against one of them, a third beside the growth (a fifth of
+    those on a joined edge), the pass at every other point, with and without the cuts, the
+    edges measured in the pass and given (the KD-tree's), on one thread and on all of numba's;
+    the premises, w strictly between 0 and 1 both past the outline and beside a growth, and
+    some closest points on the cuts."""
+    from elements import ply_chosen, ply_fade_kernels
+    from elements.ply_fade import every_segment, fade_length, outline_fade, outline_segments
+    from elements.ply_wedge import closest_on_grown
+
+    rng = np.random.default_rng(seed)
+    _, y, outline, cuts = _strip(rng)
+    count = 600
+    triangle = rng.choice(np.flatnonzero(outline.any(axis=1)), count)
+    p = y[triangle].mean(axis=1) + rng.normal(0.0, 0.4, (count, 3))
+    n, _, gradients, gap, lam = (a[:, 0] for a in facets(p, y[triangle][:, None]))
+    planes = tuple(np.ascontiguousarray(a) for a in (n, gradients, gap, lam))
+    reach = np.where(outline, MARGIN, 0.0)[triangle]
+    beside = rng.uniform(size=count) < 1.0 / 3.0
+    joined = beside & (rng.uniform(size=count) < 0.2)
+    at = np.arange(0, count, 2)
+    segment_rows, segment_ends = outline_segments(outline)
+    starts, stops = (y[segment_rows, segment_ends[:, k]] for k in range(2))
+    length = fade_length(y, outline)
+    edge = every_segment(p[at], starts, stops)
+    for wedge in (cuts, None):
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        inputs = ply_chosen.fade_inputs_numpy(
+            at, p, y, triangle, reach, beside, joined, starts, stops, edge, wedge
+        )
+        at_p, corners, at_reach, at_beside, ends, at_joined, lines, cut_ends = inputs
+        want = outline_fade(
+            at_p, corners, at_reach, at_beside, ends, length, at_joined, lines, cut_ends
+        )
+        monkeypatch.setattr(ply_projection, "COMPILED", True)
+
+        def fade(given, wedge=wedge):
+            out = (np.ones(count), np.zeros((count, 6, 3)), np.full(count, -1))
+            ply_fade_kernels.outline_fade_at(
+                at, p, y, triangle, planes, reach, beside, joined, given, starts, stops, wedge,
+                length, out,
+            )  # fmt: skip
+            return out
+
+        for given in (None, edge):
+            for got in on_one_thread_and_on_all(lambda given=given: fade(given)):
+                assert _same(got[0][at], want[0]) and _same(got[1][at], want[1])
+                assert _same(got[2][at], edge)
+                off = np.setdiff1d(np.arange(count), at)
+                assert np.all(got[0][off] == 1.0) and np.all(got[2][off] == -1)
+        between = (want[0] > 0.0) & (want[0] < 1.0)
+        assert (between & at_beside).any() and (between & ~at_beside).any()
+    on_cut = closest_on_grown(
+        at_p[at_beside], corners[at_beside], at_reach[at_beside],
+        cuts.lines[triangle[at]][at_beside], cuts.ends[triangle[at]][at_beside],
+    )[1]  # fmt: skip
+    assert on_cut.any()
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed):
     """``ply_choice.choose_facing`` against ``choose_facing_numpy`` on tests/test_ply_wedge.py's
     strips cut at both ends, 400 points round them, every triangle a candidate (in a shuffled
     order, so that ties go to the lowest row, not the first column): the same columns and
-    closest points, cut flags, segments and parameters; the premises, points facing edges and
-    cuts."""
+    closest points, cut flags, segments and parameters, on one thread and on all of numba's;
+    the premises, points facing edges and cuts."""
     from elements import ply_choice
 
     rng = np.random.default_rng(seed)
@@ -404,10 +548,14 @@ def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed)
     p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
     near = np.argsort(rng.uniform(size=(len(p), len(y))), axis=1)
     planes = ply_kernels.candidates_at(p, y, near, outline, MARGIN, ply_projection.INSIDE)
-    got = ply_choice.choose_facing(p, y, near, *planes, cuts)
     want = ply_choice.choose_facing_numpy(p, y, near, *planes[:6], planes[6].copy(), cuts)
-    for a, b in zip(got, want):
-        assert _same(a, b)
+    # on one thread and on all of numba's: each point's rows of the pass's working arrays
+    # are its own (elements/ply_choice.py ``_scratch``)
+    for got in on_one_thread_and_on_all(
+        lambda: ply_choice.choose_facing(p, y, near, *planes, cuts)
+    ):
+        for a, b in zip(got, want):
+            assert _same(a, b)
     assert want[1].any() and want[3].any()
 
 
