@@ -127,7 +127,7 @@ def _register():
             frames = [f"{Path(f.filename).parent.name}/{Path(f.filename).name}:{f.lineno}"
                       for f in traceback.extract_stack()
                       if "/lib/python" not in f.filename and "jit.py" not in f.filename
-                      and "kernel_cache" not in f.filename and "compile_once" not in f.filename
+                      and "kernel_cache" not in f.filename and "compile_lock" not in f.filename
                       and "sitecustomize" not in f.filename and "<" not in f.filename]
             record = {"module": function.__module__, "name": function.__qualname__,
                       "args": [str(a) for a in ev.data["args"]], "cpu": spent - inner,
