@@ -56,8 +56,8 @@ __all__ = ["LOCKING", "WAIT_S", "holding", "is_locked", "locked", "path"]
 #: misses, as numba alone does; read at each compilation).
 LOCKING = True
 #: Seconds a process waits for another's compilation of a kernel before it compiles the
-#: kernel itself. The longest compilation of one kernel with its helpers, the fibrous force
-#: pass's, took 24 s of CPU: on two cores shared by nine busy processes about two minutes.
+#: kernel itself. The longest compilation of one kernel, the fibrous force pass's, took 25.6 s
+#: of CPU (load 6-11): on two cores shared by nine busy processes about two minutes.
 WAIT_S = 300.0
 # Seconds between two tries of a lock held by another process (doubling from the first).
 _FIRST_TRY_S, _LAST_TRY_S = 0.005, 0.1

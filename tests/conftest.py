@@ -96,8 +96,9 @@ def pytest_sessionfinish(session):
 def coarse_report() -> tuple[Path, dict]:
     """One coarse run of every case (the paper cases included), two cases at a time in two
     worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py,
-    tests/test_hemisphere_forming.py and tests/test_hemisphere_plies.py (and by the xdist
-    workers): the report folder and its results.json."""
+    tests/test_hemisphere_forming.py, tests/test_hemisphere_plies.py and
+    tests/test_static_stall.py (and by the xdist workers): the report folder and its
+    results.json."""
     start_report()
     return _reports[0].result()
 
