@@ -1,7 +1,9 @@
 """numba's compilations of a fresh checkout in two processes asking for the same kernels at
-the same time (pytest-xdist's two workers on the tests of one module): the CPU of the pair
-with each process compiling what it misses (numba alone) and with tests/compile_once.py
-installed (one process compiles a kernel, the other waits and loads its build).
+the same time (pytest-xdist's two workers on the tests of one module, the report's two jobs):
+the CPU of the pair with each process compiling what it misses (numba alone,
+``femcore.compile_lock.LOCKING = False``) and with the kernels' compile locks
+(femcore/compile_lock.py, on by default: one process compiles a kernel, the other waits and
+loads its build).
 
 Each pass: a fresh empty numba cache (NUMBA_CACHE_DIR), two processes started together, each
 building the 10-cell bias specimen of tests/test_bias_extension.py (FibrousShell, Static, one
@@ -11,8 +13,9 @@ the machine's load (os.getloadavg) is printed before and after: other jobs share
 
 Measured (2 cores shared with other jobs, load 9.2-10.7): numba alone, CPU of the pair
 165.9 s (each solve 80.6 and 80.9 s of CPU, nearly all of it compiling; 1.8 s from a warm
-cache), wall 715 s; compile_once, 80.2 s (one solve 75.7 s, the other, waiting, 0.7 s), wall
-619 s: the second process loads the first one's builds instead of compiling them again.
+cache), wall 715 s; with the lock (then tests/compile_once.py), 80.2 s (one solve 75.7 s,
+the other, waiting, 0.7 s), wall 619 s: the second process loads the first one's builds
+instead of compiling them again.
 
 Run: python benchmarks/suite_compile.py
 """
@@ -29,10 +32,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 WORKLOAD = """
 import sys, time
-sys.path.insert(0, {tests!r})
-if {lock}:
-    import compile_once
-    compile_once.install()
+from femcore import compile_lock
+compile_lock.LOCKING = {lock}
 import numpy as np
 from femcore import Model
 from elements import FibrousShell
@@ -60,7 +61,7 @@ def run_pair(lock: bool) -> tuple[float, float, list[str]]:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(ROOT),
                "NUMBA_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
                "OMP_NUM_THREADS": "1"}  # fmt: skip
-        code = WORKLOAD.format(tests=str(ROOT / "tests"), lock=lock)
+        code = WORKLOAD.format(lock=lock)
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         started = time.perf_counter()
         processes = [
@@ -80,7 +81,7 @@ def main() -> None:
     print(f"load before: {os.getloadavg()[0]:.1f}")
     for lock in (False, True):
         cpu, wall, solves = run_pair(lock)
-        label = "compile_once" if lock else "numba alone "
+        label = "compile lock" if lock else "numba alone "
         print(f"{label}: CPU of the pair {cpu:6.1f} s, wall {wall:6.1f} s, "
               f"each solve's CPU {solves} s; load {os.getloadavg()[0]:.1f}")  # fmt: skip
 

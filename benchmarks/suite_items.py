@@ -24,7 +24,7 @@ of CPU on a cold cache, 0.04 s warm (load 7); the fibrous rigid-motion conforman
 152.8 s cold, all of it compiling, 0.01-0.03 s warm. In a run of the tests not marked slow
 (without the report's) on an empty cache, two workers at a load of 4-5, the pin-jointed net's
 pull (load path) took 351.9 s of CPU, 351.6 s of it compiling the fibrous tangent's kernels,
-while the other worker waited 460 s for them on the compile lock (tests/compile_once.py) in
+while the other worker waited 460 s for them on the compile lock (femcore/compile_lock.py) in
 a test of tests/test_compare.py (31.7 s of CPU in 494 s); of the workers' 720 s of CPU,
 470 s were numba's compilations.
 

@@ -59,7 +59,7 @@ time of pytest and its workers), this branch then main 7e3a340, one after the ot
 CPU, 323 s wall (load 4.8-5.7 before, 4.3 after) against 290.9 s of CPU, 410 s wall (load
 4.3-5.7 before, 2.0 after). The slowest item, the first compiled fibrous test of a worker
 (test_the_compiled_pieces_give_the_numpy_forces), 194 s wall against 282 s: it still waits on
-the other worker's compilations (tests/compile_once.py) at that load.
+the other worker's compilations (femcore/compile_lock.py) at that load.
 
 The tests marked ``parallel`` run the parallel builds when numba has more than one thread,
 as in a CI run on 2 cores (``--threads=2``: numba's setting in the probed process; the other

@@ -4,8 +4,7 @@ start, the subprocesses; and numba's compilations, kernel by kernel and process 
 kernel compiled in two processes shows twice). Each ref's tests run from a fresh export of that
 ref (no numba cache, no bytecode, as CI starts), one after the other in the same session.
 
-Every Python process of the run finds this script's ``sitecustomize`` first on its PYTHONPATH
-(the report's processes run it after tests/report_site's, which hands on to the next one): it
+Every Python process of the run finds this script's ``sitecustomize`` first on its PYTHONPATH: it
 times numba's ``Dispatcher.compile`` (each kernel's own CPU, its callees' compilations taken
 out; a build loaded from the disk cache is not a compilation) and writes, at the process's
 exit, its CPU (user + system) and what it compiled. A process killed without its exit
@@ -16,7 +15,8 @@ Measured, main 036d613 (a fresh export, ``python -m pytest``: two xdist workers 
 coarse report, the slow tests included; the 2-core machine shared with other jobs, load 6.6
 -> 13 -> 6.0, 18 min wall: the walls measure the other jobs, the CPU the suite): 715 s of CPU
 in all. The xdist workers 202.3 and 180.9 s (numba's compilations 47.0 and 34.1 s of it, no
-kernel compiled in two processes: tests/compile_once.py holds; 25.7 s of them the parallel
+kernel compiled in two processes: the compile lock holds, then tests/compile_once.py, now
+femcore/compile_lock.py; 25.7 s of them the parallel
 builds of the 30 kernels that the tests marked ``parallel`` run on 2 threads, fibrous
 ``_cells_pass_parallel`` 6.3 s; the largest plain builds: fabric_section_kernels
 ``_response_cells`` 14.1 s, fibrous ``_hessian_cells`` 7.7 s); the coarse report's two job
@@ -59,7 +59,7 @@ Measured, not changed (load 8-15):
   mesh's robustness is to be checked apart is a choice of what the suite guards.
 
 Measured, c0b0822 (a fresh export, ``python -m pytest``; 2 cores shared with other jobs, load
-1.7 -> 9.5, 1163 s wall; this script's timed compile stands in for tests/compile_once.py's in
+1.7 -> 9.5, 1163 s wall; this script's timed compile stands in for the compile lock's in
 the one test that checks the report's processes take the session's locks, which fails here
 alone): 645.1 s of CPU in all. The xdist workers 346.5 s (numba compiling 60.0 s of it), the
 coarse report's processes 251.7 s (compiling 46.7 s), 13 Dask worker processes 39.9 s (the
@@ -155,7 +155,7 @@ def _install():
     dispatcher.Dispatcher.compile = compile
 
 if _log:
-    if "numba.core.dispatcher" in sys.modules:  # (tests/report_site's ran first)
+    if "numba.core.dispatcher" in sys.modules:  # (another sitecustomize imported it)
         _install()
     else:
         import importlib.abc, importlib.util

@@ -65,8 +65,24 @@ cache, one numba thread, load 4.2 -> 3.8): 473 s wall, 426 s of CPU, 116 builds,
 kernel's second; 100.7 s of compiling in its two jobs, 18.5 s of it 18 kernels that both jobs
 compiled for the same signature (each asked for them before the other had saved its build:
 the fibrous Hessian's cells 5.6 + 5.9 s, the Mindlin tangent's 2.4 + 2.4, ply_choice
-``_choose`` 2.0 + 2.2, the fibrous tangent's shares 1.6 + 1.5, ...). The suite shares its
-compilations through tests/compile_once.py; the report has no such lock.
+``_choose`` 2.0 + 2.2, the fibrous tangent's shares 1.6 + 1.5, ...). The suite shared its
+compilations through tests/compile_once.py; the report had no such lock.
+
+The coarse report with the compile lock in the library (femcore/compile_lock.py, on for every
+kernel), beside the code before it (main 05b57d7, a fresh export each, each on its own empty
+NUMBA_CACHE_DIR, ``--run -- python -m validation --resolution coarse --jobs 2``, both at once
+on 2 cores shared with other jobs, load 10.5 -> 15): before, 129 compilations, 124.9 s of CPU
+compiling, 10 kernels compiled in both jobs (32.5 s); after, 119 compilations, 92.1 s, none
+compiled twice. The command's CPU (user + system, its workers included) 291.2 -> 257.6 s,
+wall 2561 -> 2501 s (the load, not the report: 3-4 times its quiet wall); results.json the
+same in every number but the times (160/160 checks both).
+
+The bias extension's arc-length test (tests/test_bias_extension.py, 47.5 s cold and 0.8 s warm
+in CI), alone on a fresh cache (``--run -- python -m pytest -n 0 ... -k arc_length``, load
+6-11): 47 builds, none a kernel's second, 51.5 s of compiling, 25.6 s of it the fibrous force
+pass (``_cells_pass``), 6.1 s the Hessian's cells, 2.5 s the tangent's normal pulls: the
+kernels of every fibrous Static solve, which the first of them in a process compiles (or
+waits for and loads, under the lock); nothing there to compile fewer of.
 
 Run: python benchmarks/suite_signatures.py [FOLDER]
      python benchmarks/suite_signatures.py --log FOLDER
@@ -127,7 +143,7 @@ def _register():
             frames = [f"{Path(f.filename).parent.name}/{Path(f.filename).name}:{f.lineno}"
                       for f in traceback.extract_stack()
                       if "/lib/python" not in f.filename and "jit.py" not in f.filename
-                      and "kernel_cache" not in f.filename and "compile_once" not in f.filename
+                      and "kernel_cache" not in f.filename and "compile_lock" not in f.filename
                       and "sitecustomize" not in f.filename and "<" not in f.filename]
             record = {"module": function.__module__, "name": function.__qualname__,
                       "args": [str(a) for a in ev.data["args"]], "cpu": spent - inner,

@@ -33,6 +33,8 @@ import re
 from pathlib import Path
 from typing import Any
 
+from femcore import compile_lock
+
 __all__ = ["ProjectCache", "dependency_digest", "dependency_files", "njit"]
 
 # The folder that holds the project's packages (femcore, elements, materials, solvers, ...):
@@ -189,7 +191,9 @@ except ImportError:  # pragma: no cover - numba is a dependency
 
 def njit(function, digest: str | None = None, **options: Any):
     """numba's ``njit(**options)`` of ``function`` cached on disk by ``ProjectCache`` (stale
-    when a project module the function's file imports changes), ``digest`` the
+    when a project module the function's file imports changes) and compiled by one process at
+    a time (``compile_lock.locked``: another process asking for it meanwhile waits and loads
+    the build), ``digest`` the
     ``dependency_digest`` of the function's file taken when the function was made (default:
     now); ``function`` itself without numba."""
     if not AVAILABLE:
@@ -198,4 +202,5 @@ def njit(function, digest: str | None = None, **options: Any):
     if not isinstance(dispatcher, Dispatcher):
         return dispatcher  # NUMBA_DISABLE_JIT=1: the plain function, nothing to cache
     dispatcher._cache = ProjectCache(dispatcher.py_func, digest)  # type: ignore[attr-defined]
-    return dispatcher
+    # compiled by one process at a time, the others loading its build (femcore/compile_lock.py)
+    return compile_lock.locked(dispatcher)

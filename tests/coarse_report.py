@@ -2,8 +2,8 @@
 (tests/conftest.py, the ``coarse_report`` fixture): ``python -m validation`` in a process group
 of its own, started once per session in a folder the session's processes share (the pytest
 process, or each of pytest-xdist's workers: the first of them to ask starts it, the others
-read the same run), its processes compiling numba's kernels under the session's locks
-(tests/report_site/sitecustomize.py, tests/compile_once.py)."""
+read the same run), its processes compiling numba's kernels under the same locks as the
+tests' (femcore/compile_lock.py: a kernel that a test compiles beside them is compiled once)."""
 
 import fcntl
 import json
@@ -16,9 +16,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-# First on the report's PYTHONPATH: its sitecustomize installs tests/compile_once.py in each of
-# the report's processes.
-SITE = Path(__file__).resolve().parent / "report_site"
 
 # The report's command wrapped so that its exit status lands in a file, where a process that
 # did not start it (another xdist worker) can read it: os.replace makes the file whole or absent.
@@ -51,22 +48,18 @@ class CoarseReport:
     def start_once(cls, folder: Path, command: list[str] | None = None) -> "CoarseReport":
         """The run in ``folder``: started here if no process has started it yet. ``command``
         replaces the report's (a test's stand-in: it writes ``out``/results.json, whose path
-        it is given as its last argument). The run's processes, and those they start, find
-        ``SITE`` first on their PYTHONPATH: a kernel that a test compiles beside them is
-        compiled once, by whichever process asks first."""
+        it is given as its last argument)."""
         report = cls(folder)
         report.folder.mkdir(parents=True, exist_ok=True)
         with open(report.folder / "lock", "w") as lock:
             fcntl.flock(lock, fcntl.LOCK_EX)
             if not report.pid.exists():
-                path = os.pathsep.join([str(SITE), *filter(None, [os.environ.get("PYTHONPATH")])])
                 with open(report.log, "wb") as log:
                     report.process = subprocess.Popen(
                         [sys.executable, "-c", _RECORD_STATUS, str(report.status),
                          *(command or [sys.executable, "-m", "validation", "--resolution",
                                        "coarse", "--jobs", "2", "--out"]), str(report.out)],
                         cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
-                        env={**os.environ, "PYTHONPATH": path},
                     )  # fmt: skip
                 report.pid.write_text(str(report.process.pid))
         return report

@@ -1,8 +1,9 @@
 """Shared fixtures: small cable models whose answers are known in closed form; numba's kernels
 on one thread, except in the tests marked ``parallel``; OpenBLAS on one thread; the coarse
-validation report, run in the background beside the other tests from the session's start;
-numba's kernels compiled once for all the session's processes, the report's included
-(tests/compile_once.py)."""
+validation report, run in the background beside the other tests from the session's start.
+(numba's kernels are compiled once for all the session's processes, the report's included:
+a process asking for a kernel that another compiles waits and loads its build,
+femcore/compile_lock.py.)"""
 
 import os
 import tempfile
@@ -17,7 +18,6 @@ from pathlib import Path
 # solve.
 os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
-import compile_once  # noqa: E402
 import pytest  # noqa: E402
 from coarse_report import CoarseReport  # noqa: E402
 from run_once import run_once  # noqa: E402
@@ -25,10 +25,6 @@ from run_once import run_once  # noqa: E402
 from elements import jit, kernels  # noqa: E402
 from femcore import Mesh  # noqa: E402
 from validation import specimens  # noqa: E402
-
-# A kernel missing from numba's cache compiled by one of the session's processes at a time
-# (pytest-xdist's workers ask for the same kernels side by side in a fresh checkout).
-compile_once.install()
 
 # The coarse report's folder, shared by the session's processes: chosen by the pytest process
 # that the command started, handed to each pytest-xdist worker (pytest_configure_node).
@@ -77,8 +73,9 @@ def pytest_collection_finish(session):
     """A session that checks the coarse report starts it at once, beside its other tests: its
     cases, minutes of CPU, take the cores those leave idle (a test waiting for a subprocess,
     a Dask cluster or another process's compilation) and its longest case starts first. Its
-    processes compile numba's kernels under the session's locks (tests/compile_once.py), so a
-    fresh checkout compiles each kernel once, in whichever process asks first. Under
+    processes and the tests' compile numba's kernels under the same locks
+    (femcore/compile_lock.py), so a fresh checkout compiles each kernel once, in whichever
+    process asks first. Under
     pytest-xdist each worker collects every test and runs its share: the first to ask starts
     the report, the others read the same run."""
     wanted = any(uses_the_report(item) for item in session.items)
@@ -99,8 +96,9 @@ def pytest_sessionfinish(session):
 def coarse_report() -> tuple[Path, dict]:
     """One coarse run of every case (the paper cases included), two cases at a time in two
     worker processes (--jobs 2), shared by the tests of tests/test_validation_cli.py,
-    tests/test_hemisphere_forming.py and tests/test_hemisphere_plies.py (and by the xdist
-    workers): the report folder and its results.json."""
+    tests/test_hemisphere_forming.py, tests/test_hemisphere_plies.py and
+    tests/test_static_stall.py (and by the xdist workers): the report folder and its
+    results.json."""
     start_report()
     return _reports[0].result()
 

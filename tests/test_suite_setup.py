@@ -1,6 +1,6 @@
 """The test suite's own setup (tests/conftest.py, tests/coarse_report.py): OpenBLAS on one
 thread, and the background report: started once for all the session's processes, compiling
-numba's kernels under the session's locks, its failure reported, stopped with the session."""
+numba's kernels under the tests' locks, its failure reported, stopped with the session."""
 
 import ctypes
 import os
@@ -54,20 +54,20 @@ def stand_in(body: str) -> list[str]:
 WRITES = stand_in("time.sleep(0.5)\n(out / 'results.json').write_text(json.dumps({'runs': 1}))\n")
 
 
-# Whether numba's compilations in a process go through tests/compile_once.py's locks, and the
-# folder of those locks: in the report's process and in a worker it spawns.
+# Whether a kernel of the project compiles under its lock in a process, and that lock's file
+# (femcore/compile_lock.py): in the report's process and in a worker it spawns.
 LOCKED = (
-    "getattr(__import__('numba.core.dispatcher', fromlist=['Dispatcher']).Dispatcher.compile,"
-    " 'compile_once', False), str(__import__('compile_once').lock_folder())"
+    "[__import__('femcore.compile_lock', fromlist=['is_locked']).is_locked("
+    "__import__('elements.kernels', fromlist=['_base_vectors'])._base_vectors),"
+    " str(__import__('femcore.compile_lock', fromlist=['path']).path("
+    "__import__('elements.kernels', fromlist=['_base_vectors'])._base_vectors))]"
 )
 
 
-def test_the_reports_processes_compile_under_the_sessions_locks(tmp_path):
+def test_the_reports_processes_compile_under_the_tests_locks(tmp_path):
     # The report starts with the session, beside the tests compiling the kernels of a fresh
     # checkout: its processes, and the workers they spawn, must take the same per-kernel
-    # locks (the same folder) or each would compile a kernel that a test is compiling.
-    import compile_once
-
+    # locks (the same files) or each would compile a kernel that a test is compiling.
     body = (
         "import multiprocessing\n"
         f"main = eval({LOCKED!r})\n"
@@ -77,32 +77,11 @@ def test_the_reports_processes_compile_under_the_sessions_locks(tmp_path):
     )
     report = CoarseReport.start_once(tmp_path / "locks", stand_in(body))
     try:
-        locked = [True, str(compile_once.lock_folder())]
+        locked = eval(LOCKED)
+        assert locked[0] is True
         assert report.result()[1] == [locked, locked]
     finally:
         report.stop()
-
-
-def test_the_reports_processes_start_without_an_error_and_keep_the_next_sitecustomize(
-    tmp_path,
-):
-    # tests/report_site/sitecustomize.py runs first in each of the report's processes, then
-    # the next sitecustomize on the path as Python would have run it. Without one it used to
-    # leave "Error in sitecustomize ... KeyError" at the start of every process's output (the
-    # report's log: one per worker process).
-    from coarse_report import SITE
-
-    other = tmp_path / "other"
-    other.mkdir()
-    (other / "sitecustomize.py").write_text("import builtins\nbuiltins.NEXT_SITE = True\n")
-    probe = "import builtins, sitecustomize; print(getattr(builtins, 'NEXT_SITE', False))"
-    for path, expected in (([SITE], "False"), ([SITE, other], "True")):
-        env = {**os.environ, "PYTHONPATH": os.pathsep.join(map(str, path))}
-        run = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True,
-                             text=True, timeout=120)  # fmt: skip
-        assert run.returncode == 0, run.stderr
-        assert "Error in sitecustomize" not in run.stderr, run.stderr
-        assert run.stdout.strip() == expected
 
 
 def test_the_shared_cluster_stops_after_the_last_test_that_uses_it(monkeypatch):
@@ -246,44 +225,6 @@ def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
              item("g", slow=True)]  # fmt: skip
     pytest_collection_modifyitems(None, None, items)
     assert [i.name for i in items] == ["e", "g", "b", "d", "f", "a", "c"]
-
-
-KERNEL = "import numba\n\n\n@numba.njit(cache=True)\ndef twice(x):\n    return 2.0 * x\n"
-ASK = (
-    "import sys; sys.path[:0] = sys.argv[1:3]\n"
-    "import compile_once; compile_once.install()\n"
-    "import kernel\n"
-    "print('ready', flush=True); sys.stdin.readline()\n"
-    "assert kernel.twice(1.5) == 3.0\n"
-    "print(sum(kernel.twice._cache_misses.values()), sum(kernel.twice._cache_hits.values()))\n"
-)
-
-
-def test_a_kernel_missing_from_the_cache_is_compiled_by_one_of_the_processes_asking(
-    tmp_path, monkeypatch
-):
-    # Two processes, numba imported, ask for the same uncached kernel at the same moment, while
-    # its lock is held (as while a third compiles it): one compiles it, the other loads that
-    # build from numba's cache. (Without the lock each of them compiles it.)
-    import compile_once
-
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "cache"))
-    (tmp_path / "kernel.py").write_text(KERNEL)
-    command = [sys.executable, "-c", ASK, str(tmp_path), str(Path(__file__).parent)]
-    asking = [
-        subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
-        for _ in range(2)
-    ]
-    with compile_once.compiling("kernel.twice"):
-        for process in asking:
-            assert process.stdout.readline() == "ready\n"
-        for process in asking:
-            process.stdin.write("go\n")
-            process.stdin.flush()
-        time.sleep(0.5)  # both at the lock
-    counts = sorted(tuple(map(int, p.communicate()[0].split())) for p in asking)
-    assert [p.returncode for p in asking] == [0, 0]
-    assert counts == [(0, 1), (1, 0)]  # (compiled, loaded from the cache) in each process
 
 
 def test_two_workers_asking_at_once_compute_the_run_once_and_both_read_it(tmp_path):

@@ -156,6 +156,7 @@ def compute(
         ),
     ]
     summary = runs["plies"].summary["plies"]
+    plies_info = runs["plies"].result.info
     parameters = {
         "case file": f"cases/{file}",
         "cells": cells,
@@ -173,6 +174,10 @@ def compute(
         },
         **{f"{name} wall time (s)": f"{run.wall_time:.1f}" for name, run in runs.items()},
     }
+    if "iterations_cut" in plies_info:  # Static's Newton iterations, those of cut attempts apart
+        parameters["plies: Newton iterations converged / in cut attempts"] = (
+            f"{int(runs['plies'].result.steps)} / {int(plies_info['iterations_cut'])}"
+        )
     return Outcome(
         converged=all(run.result.converged for run in runs.values()),
         wall_time_s=sum(run.wall_time for run in runs.values()),
