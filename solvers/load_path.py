@@ -15,7 +15,11 @@ from solvers.newton import IncrementFailed, StepTooLong, newton
 if TYPE_CHECKING:
     from solvers.static import Static, StaticRun
 
-__all__ = ["load_path", "turn_fraction"]
+__all__ = ["MOST_HALVINGS", "load_path", "turn_fraction"]
+
+#: The smallest share a cut by ``first_turn`` keeps, 1/2^MOST_HALVINGS of the increment: a
+#: step of less is no step at the load factor's rounding.
+MOST_HALVINGS = 30
 
 
 def turn_fraction(turn: float, limit: float) -> float:
@@ -23,7 +27,9 @@ def turn_fraction(turn: float, limit: float) -> float:
     ``turn`` (rad) that turns it by at most ``limit`` (rad): the step is linear in the
     increment, and the halves are those a cut would take, so the sub-increments land where
     the cuts' did."""
-    return 0.5 ** max(1, math.ceil(math.log2(turn / limit)))
+    # log2 of each apart: turn / limit overflows for a limit near the smallest float.
+    halvings = math.ceil(math.log2(turn) - math.log2(limit))
+    return 0.5 ** min(max(1, halvings), MOST_HALVINGS)
 
 
 def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) -> None:
@@ -40,12 +46,18 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
         passes = 0
         cuts_here = 0
         resized = False  # the attempt follows a cut by ``first_turn``: not cut so again
+        # Cuts by ``first_turn`` in this increment. The rule assumes the first step's turn
+        # shrinks with the step; where it does not (a turn with a floor), each attempt is cut
+        # again and the sub-increments would shrink without end: past max_cuts of them the
+        # increment's attempts are iterated unchecked, as without the rule.
+        turn_cuts = 0
         while run.reached < target - 1e-12:
             # Land on the target exactly: sums of step fractions miss it by rounding.
             trial = target if run.reached + step >= target - 1e-12 else run.reached + step
             start = run.predict(trial, follow=solver.follow_tools_after_cut and cuts_here > 0)
             run.damp(trial)
-            limit = None if resized or iterations_allowed is not None else solver.first_turn
+            checked = not resized and iterations_allowed is None and turn_cuts < solver.max_cuts
+            limit = solver.first_turn if checked else None
             resized = False
             try:
                 if iterations_allowed is not None:
@@ -62,6 +74,7 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
                 assert limit is not None
                 fraction = turn_fraction(long.turn, limit)
                 run.info["first_turn_cuts"].append((trial, long.turn, fraction))
+                turn_cuts += 1
                 step = fraction * (trial - run.reached)
                 resized = True
                 continue

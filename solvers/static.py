@@ -100,7 +100,9 @@ class Static:
         largest 1/2^k of it whose first step turns none by more (None, the default: never;
         solvers.load_path, docs/theory.md §6.5 "Increments sized by the first step"). The
         cuts are listed in ``info["first_turn_cuts"]`` as (load factor tried, turn, share
-        kept) and are not counted in ``max_cuts`` or ``info["cuts"]``.
+        kept) and are not counted in ``info["cuts"]``; after max_cuts of them in one
+        increment its attempts are iterated unchecked. The load path's steps after an arc
+        length's jump (``at_limit="jump"``) are checked too, the jump's first step not.
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'

@@ -11,7 +11,6 @@ import pytest
 
 from fibreshell.plies import plies_solver, ply_stack, stack_model
 from solvers import Static
-from solvers.load_path import turn_fraction
 from validation.cases import plies_bai_5_1
 from validation.ground_truth import _case
 
@@ -20,10 +19,51 @@ from test_static_stall import _rollup  # noqa: E402
 
 
 def test_the_share_kept_is_the_largest_half_power_within_the_limit():
+    from solvers.load_path import turn_fraction
+
     assert turn_fraction(1.45, 0.1) == 1.0 / 16.0  # 1.45 / 16 = 0.091
     assert turn_fraction(0.15, 0.1) == 0.5
     assert turn_fraction(0.4, 0.1) == 0.25  # exactly at the limit: kept
     assert turn_fraction(0.1000001, 0.1) == 0.5  # always a cut, never the whole
+
+
+def test_a_limit_near_the_smallest_float_keeps_a_share_of_at_least_two_to_the_minus_30():
+    from solvers.load_path import MOST_HALVINGS, turn_fraction
+
+    # turn / limit overflows to inf here; the share stays a number, the smallest kept
+    assert turn_fraction(0.5, 1e-320) == 0.5**MOST_HALVINGS == 2.0**-30
+    assert turn_fraction(1e300, 1e-300) == 2.0**-30
+
+
+def test_a_first_turn_that_does_not_shrink_with_the_step_is_cut_at_most_max_cuts_times(
+    monkeypatch,
+):
+    """Where the first step's turn has a floor above the limit (here every checked attempt
+    turns 0.3 rad against 0.1), each attempt would be cut again and the sub-increments would
+    shrink without end: after max_cuts such cuts the increment is iterated unchecked and
+    reaches the plain run's equilibrium."""
+    import solvers.load_path as load_path
+    from solvers.newton import StepTooLong
+
+    real = load_path.newton
+    checked = []
+
+    def turning_newton(run, start, trial, turn_limit=None, **options):
+        if turn_limit is not None:
+            checked.append(trial)
+            if len(checked) > 50:  # the old code's endless cuts
+                raise RuntimeError(f"cut without end: {len(checked)} checked attempts")
+            raise StepTooLong(0.3)
+        return real(run, start, trial, turn_limit=turn_limit, **options)
+
+    monkeypatch.setattr(load_path, "newton", turning_newton)
+    solver = Static(increments=1, first_turn=0.1, max_cuts=3, progress=False)
+    sized = solver.solve(_rollup())
+    plain = Static(increments=1, progress=False).solve(_rollup())
+    assert len(sized.info["first_turn_cuts"]) == 3  # max_cuts in its one increment
+    assert sized.info["load_factors"][-1] == 1.0
+    scale = np.abs(plain.positions).max()
+    assert np.abs(sized.positions - plain.positions).max() <= 1e-6 * scale
 
 
 @pytest.mark.parametrize("bad", [0.0, -0.1, float("nan"), "0.1"])
