@@ -175,6 +175,17 @@ def _changes(before, after) -> dict:
     return total
 
 
+def _split(model, state, plies) -> dict:
+    """The internal forces' norms at ``state``, N: the element blocks' and the interactions'
+    (their sum against the dead load is the residual), and the deepest ply gap, mm."""
+    blocks = list(range(len(model.blocks)))
+    others = list(range(len(model.blocks), len(model.parts)))
+    elements = np.linalg.norm(model.internal_force(state, blocks)[0])
+    contacts = np.linalg.norm(model.internal_force(state, others)[0]) if others else 0.0
+    deepest = min((float(p[4].min()) for p in plies if len(p[4])), default=0.0)
+    return {"elements": float(elements), "contacts": float(contacts), "deepest": deepest}
+
+
 def instrument() -> None:
     """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
     RECORD.update(attempts=[], iterations=[])
@@ -206,6 +217,8 @@ def instrument() -> None:
         ramp = sum(int(p[1].sum()) for p in plies)
         faded = sum(int(p[2].sum()) for p in plies)
         row = {"touching": touching, "ramp": ramp, "faded": faded, "scale": None, "trials": 0}
+        if RECORD.get("split"):
+            row.update(_split(self.model, state, plies))
         if RECORD.get("last_ply") is not None:
             row.update(_changes(RECORD["last_ply"], plies))
         RECORD["last_ply"] = plies
@@ -277,6 +290,10 @@ def report(result) -> None:
         print("   trials " + " ".join(str(row["trials"]) for row in its))
         print("   touching/ramp/faded " + " ".join(
             f"{row['touching']}/{row['ramp']}/{row['faded']}" for row in its))  # fmt: skip
+        if its and "elements" in its[0]:
+            print("   |F| elements/contacts N, deepest gap mm " + " ".join(
+                f"{row['elements']:.2g}/{row['contacts']:.2g}/{row['deepest']:.2g}"
+                for row in its))  # fmt: skip
         keys = ("in", "out", "ramp_in", "ramp_out", "triangle", "sign")
         print("   changes (in,out,ramp in,ramp out,triangle,sign) " + " ".join(
             ",".join(str(row.get(k, "-")) for k in keys) for row in its[1:]))  # fmt: skip
@@ -306,6 +323,7 @@ def main() -> None:
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     instrument()
+    RECORD["split"] = args.detail  # two more force passes an iterate, outside the counts
     if args.first_turn is None:
         runs = [(None, None), (args.stall, None)]
     else:

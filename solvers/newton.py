@@ -546,16 +546,16 @@ def mechanism(model: CompiledModel) -> str:
     return "a mechanism (a part or a node that nothing holds) or a bifurcation"
 
 
-def step_cap(model: CompiledModel, delta: np.ndarray) -> float:
-    """The factor (<= 1) that keeps an update delta (n, 5) within MAX_ROTATION of director
-    rotation at every node and within the model's size (its bounding-box diagonal) of
-    translation."""
+def step_cap(model: CompiledModel, delta: np.ndarray, turn: float = MAX_ROTATION) -> float:
+    """The factor (<= 1) that keeps an update delta (n, 5) within ``turn`` (rad; MAX_ROTATION
+    unless ``Static(update_turn=...)``) of director rotation at every node and within the
+    model's size (its bounding-box diagonal) of translation."""
     extent = float(np.linalg.norm(np.ptp(model.reference_positions, axis=0)))
     translation = float(np.linalg.norm(delta[:, :3], axis=1).max(initial=0.0))
     rotation = float(np.linalg.norm(delta[:, 3:], axis=1).max(initial=0.0))
     cap = 1.0
-    if rotation > MAX_ROTATION:
-        cap = MAX_ROTATION / rotation
+    if rotation > turn:
+        cap = turn / rotation
     if extent > 0.0 and translation > extent:
         cap = min(cap, extent / translation)
     return cap
@@ -689,7 +689,7 @@ class Watchdog:
         (scale taken, new state, its internal forces); scale 0 when it went back.
         ``straight``: the Newton step itself when delta is its curved form
         (solvers.newton_curvature); the Armijo slope and the backtracking use it."""
-        cap = step_cap(self.run.model, delta) if self.enabled else 1.0
+        cap = self._cap(delta) if self.enabled else 1.0
         if not self.enabled or whole:
             self.best = None  # the imposed motion starts a new search
             # (the first free iterate after it keeps the deep backtracking: the imposed
@@ -701,7 +701,7 @@ class Watchdog:
             "state": state,
             "frames": frames,
             "delta": line,
-            "cap": cap if straight is None else step_cap(self.run.model, straight),
+            "cap": cap if straight is None else self._cap(straight),
             "residual": float(np.linalg.norm(r.ravel()[self.free])),
             "slope": -float(r.ravel()[self.free] @ line.ravel()[self.free]),  # dPi/ds
             "energy": None,
@@ -717,6 +717,14 @@ class Watchdog:
         if not np.isfinite(self.equilibrium.residual(trial, frames, forces)[1]):
             return self._backtrack()
         return scale, trial, forces
+
+    def _cap(self, delta: np.ndarray) -> float:
+        turn = self.run.solver.update_turn
+        return (
+            step_cap(self.run.model, delta)
+            if turn is None
+            else step_cap(self.run.model, delta, turn)
+        )
 
     def _take(self, state, frames, delta, scale):
         run = self.run
