@@ -105,7 +105,8 @@ class Static:
         (rad; None, the default: solvers.newton.MAX_ROTATION, 0.5). A smaller cap keeps a
         turning ply stack's updates within the second-order errors its contact's ramp holds
         (the 4- and 8-ply heavy stacks of plies-deck-of-cards at 0.03: 345 -> 205 and 409 ->
-        195 tangents; docs/theory.md §6.5, "Updates of a turning stack").
+        195 tangents, plies-heavy-cantilever's 233 -> 177; docs/theory.md §6.5, "Updates of a
+        turning stack").
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'
