@@ -266,7 +266,7 @@ def _iterate(
     translation = index % N_COLUMNS < 3
     factor: Factorisation | None = None
     forces = None  # the internal forces of the accepted trial, reused next iteration
-    watchdog = Watchdog(run, equilibrium, solver.line_search)
+    watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
     allowed = max_iterations or solver.max_iterations
     # The tools' prescribed motions are where the load factor puts them from the first
     # iteration on (a tool is placed by ``state.load_factor``).
@@ -289,7 +289,7 @@ def _iterate(
             state, grown = model.freeze(state, grow=True)
             if grown:
                 forces = None
-                watchdog = Watchdog(run, equilibrium, solver.line_search)
+                watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
         r, ratio, forces = equilibrium.residual(state, frames, forces)
         left = equilibrium.remaining(state)
         history.append(ratio)
@@ -488,7 +488,8 @@ def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, 
     run.info["contact_set_updates"] += 1
     frozen = run.model.freeze(state)[0]
     restart = frozen if near else replace(start, history=frozen.history)
-    return restart, None, Watchdog(run, equilibrium, run.solver.line_search)
+    solver = run.solver
+    return restart, None, Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
 
 
 def settle_contacts(
@@ -667,8 +668,11 @@ class Watchdog:
     the residual does not already show the decrease.
     """
 
-    def __init__(self, run: StaticRun, equilibrium: Residual, enabled: bool):
+    def __init__(
+        self, run: StaticRun, equilibrium: Residual, enabled: bool, turn: float | None = None
+    ):
         self.run, self.equilibrium, self.enabled = run, equilibrium, enabled
+        self.turn = turn  # Static(update_turn=...); None: MAX_ROTATION
         self.free = run.model.dofs.free.ravel()
         self.best: dict | None = None  # the best iterate and its Newton step
         self.work = 0.0  # dead-load work along the updates since the best iterate
@@ -719,12 +723,9 @@ class Watchdog:
         return scale, trial, forces
 
     def _cap(self, delta: np.ndarray) -> float:
-        turn = self.run.solver.update_turn
-        return (
-            step_cap(self.run.model, delta)
-            if turn is None
-            else step_cap(self.run.model, delta, turn)
-        )
+        if self.turn is None:
+            return step_cap(self.run.model, delta)
+        return step_cap(self.run.model, delta, self.turn)
 
     def _take(self, state, frames, delta, scale):
         run = self.run
