@@ -7,11 +7,14 @@ attempts") and §9.3a; the case's plies solved without ``Static(stall_iterations
 reference pass, as before) and with it (``--stall``, 25 by default), side by side in this
 process, the final positions and directors compared; with ``--first-turn theta`` the two
 sides are the case's solver (``--stall``, or none with ``--no-stall``) without and with
-``Static(first_turn=theta)`` (docs/theory.md §6.5, "Increments sized by the first step").
+``Static(first_turn=theta)`` (docs/theory.md §6.5, "Increments sized by the first step"), and
+with ``--update-turn theta`` the case's solver without and with ``Static(update_turn=theta)``
+(docs/theory.md §6.5, "Updates of a turning stack"). ``--detail`` prints, per iterate, the
+element blocks' and the interactions' internal-force norms and the deepest ply gap as well.
 
     python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
-        [--rounds 2] [--detail]
+        [--update-turn 0.03 [--no-stall]] [--rounds 2] [--detail]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -118,6 +121,43 @@ process, so its CPU holds the loading of the compiled kernels: the counts are th
   update cap (solvers.newton.MAX_ROTATION) at 0.1 rad instead of 0.5, with first_turn=0.1:
   bai coarse 271 -> 260 tangents (its first displacement increment 82 -> 71 iterations), at
   0.05 313; sag coarse without first_turn 345 -> 455 (0.1) and 366 (0.05) tangents.
+
+The first increment of the heavy stack (sag, coarse, 4 plies; ``--detail``, load 15-17):
+
+* The plies laid at g = 0 (W'' = 0 there): the first Newton step is each ply's own linear sag,
+  the same shape for every ply, turning the strip 0.57 rad (0.5 after the update cap). Its
+  straight update leaves the offset (h/N) n0 between the plies unturned: after it the gaps
+  are -0.157 mm at the deepest and -0.125 at the median (114 of 120 points past the ramp,
+  delta = 1.5e-3 mm), correlated 0.999 with -(h/N)(1 - cos theta) of each point's turn (ratio
+  0.86-1.0 away from the clamp), and each ply's chord is stretched by theta^2 / 2: element
+  forces 440 N, contact forces 133 N, against the increment's weight 0.013 N. The next
+  iterates: 102 / 1.1, 7.6 / 20, 66 / 115 N (deepest -0.44 mm), then back near the start
+  (0.54 / 0.008 N) and the same again: the plateau of 58 iterations at ratio ~1.
+* Tried and not kept (tangents in all, 345 before): the contact's tangent with W'' floored at
+  0.01 k (361) and at k (the first increment failed in 8 cuts); each update corrected so that
+  every ply's normal offset from its column's centroid (the nodes that started on one normal)
+  keeps its first order along the column's turned director (the pressing removed: gaps
+  -0.002 to +0.017 mm after the first update; the chord's stretch left: 419 tangents); with
+  the curved steps let through as well (363; element forces 69 N after the first update, the
+  contact's 153 N: the two corrections do not compose).
+* Kept, plies-deck-of-cards' heavy stacks, ``Static(update_turn=0.03)`` (``--update-turn 0.03
+  --no-stall``; the side by side in one process, one thread, CPU, load 15-17): 4 plies
+  98-120-32-33-16-15 and 30 cut, 345 tangents, 5.0 s -> 104-33-24-18-15-11, none cut, 205,
+  2.8 s, final positions within 3.7e-12 mm; 8 plies (default) 142-103-33-22-17-15 and 73
+  cut, 409 tangents, 11.1 s -> 98-34-22-17-13-11, none cut, 195, 4.9 s, within 1.8e-9 mm.
+  Other caps, 4 plies: 0.01, 0.02, 0.025, 0.04 rad: 339, 275, 213 (11 cut), 254 (51 cut)
+  tangents (0.05 and 0.1 above: 366, 455). The deck (4 plies, 20 cells) at 0.03: 1514
+  tangents and 904 cut (86-58-58-58-58-58-74-122) against 220: not set there.
+* Kept, plies-heavy-cantilever's plies, the same cap (``--case heavy --update-turn 0.03
+  --no-stall``, load 9-12): default (8 plies, 20 cells) 18-32-21-33-34-14-44-13-13-11, 233
+  tangents, 7.0 s -> 18-36-23-18-20-14-13-12-11-12, 177, 4.6 s, within 1.3e-12 mm; coarse
+  (4 plies, 10 cells) 17-30-36-11-30-11-14-20-9-10, 188, 2.9 s -> 17-30-18-18-18-18-13-12-
+  10-10, 164, 1.7 s, within 1.1e-10 mm.
+* The report's cases (``python -m validation --cases plies-heavy-cantilever,
+  plies-deck-of-cards --jobs 1``, default, the code before from a ``git archive`` of fd53ee8
+  beside it, warm caches, load 5-17): case_cpu_s 7.8 -> 6.2 s and 32.1 -> 25.2 s, steps 280
+  -> 224 and 1977 -> 1731, 8/8 and 12/12 checks, results.json's numbers within 5e-9
+  relative (the 8-ply sag's angles; the 4-ply sag's within 5e-12).
 """
 
 from __future__ import annotations
@@ -175,6 +215,17 @@ def _changes(before, after) -> dict:
     return total
 
 
+def _split(model, state, plies) -> dict:
+    """The internal forces' norms at ``state``, N: the element blocks' and the interactions'
+    (their sum against the dead load is the residual), and the deepest ply gap, mm."""
+    blocks = list(range(len(model.blocks)))
+    others = list(range(len(model.blocks), len(model.parts)))
+    elements = np.linalg.norm(model.internal_force(state, blocks)[0])
+    contacts = np.linalg.norm(model.internal_force(state, others)[0]) if others else 0.0
+    deepest = min((float(p[4].min()) for p in plies if len(p[4])), default=0.0)
+    return {"elements": float(elements), "contacts": float(contacts), "deepest": deepest}
+
+
 def instrument() -> None:
     """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
     RECORD.update(attempts=[], iterations=[])
@@ -206,6 +257,8 @@ def instrument() -> None:
         ramp = sum(int(p[1].sum()) for p in plies)
         faded = sum(int(p[2].sum()) for p in plies)
         row = {"touching": touching, "ramp": ramp, "faded": faded, "scale": None, "trials": 0}
+        if RECORD.get("split"):
+            row.update(_split(self.model, state, plies))
         if RECORD.get("last_ply") is not None:
             row.update(_changes(RECORD["last_ply"], plies))
         RECORD["last_ply"] = plies
@@ -230,9 +283,16 @@ def instrument() -> None:
     newton_module.Watchdog.step = step
 
 
-def solve_case(name: str, resolution: str, stall: int | None, first_turn: float | None = None):
+def solve_case(
+    name: str,
+    resolution: str,
+    stall: int | None,
+    first_turn: float | None = None,
+    update_turn: float | None | str = "case",
+):
     """Solve the Static plies of case ``name`` at ``resolution`` with
-    ``Static(stall_iterations=stall, first_turn=first_turn)``; the result."""
+    ``Static(stall_iterations=stall, first_turn=first_turn, update_turn=update_turn)``
+    (``"case"``: the case's own update_turn; bai and heavy set none); the result."""
     if name in ("bai", "heavy"):
         from fibreshell.plies import plies_solver, ply_stack, stack_model
         from validation.cases import plies_bai_5_1, plies_heavy_cantilever
@@ -242,8 +302,10 @@ def solve_case(name: str, resolution: str, stall: int | None, first_turn: float 
         solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall, "first_turn": first_turn}
         if name == "bai":
             solver["increments"] = case_module.PLIES_INCREMENTS[resolution]
-        for key in ("stall_iterations", "first_turn"):
-            if solver[key] is None:
+        if update_turn != "case":
+            solver["update_turn"] = update_turn
+        for key in ("stall_iterations", "first_turn", "update_turn"):
+            if solver.get(key, 0) is None:
                 del solver[key]
         case = _case(case_module.FILE, case_module.CELLS[resolution], {"solver": solver})
         stack = ply_stack(case, case_module.PLIES[resolution])
@@ -251,9 +313,12 @@ def solve_case(name: str, resolution: str, stall: int | None, first_turn: float 
         return plies_solver(case, progress=False).solve(model)
     from validation.cases import plies_deck_of_cards as deck
 
+    options = {} if update_turn == "case" else {"update_turn": update_turn}
     deck.Static = functools.partial(  # type: ignore[attr-defined]
-        Static, stall_iterations=stall, first_turn=first_turn
+        Static, stall_iterations=stall, first_turn=first_turn, **options
     )
+    if update_turn != "case":
+        deck.SAG_UPDATE_TURN = update_turn  # type: ignore[assignment]
     if name == "deck":
         return deck.bend(deck.COUNTS[resolution][-1], deck.MIDDLE).result
     if name == "sag":
@@ -277,6 +342,10 @@ def report(result) -> None:
         print("   trials " + " ".join(str(row["trials"]) for row in its))
         print("   touching/ramp/faded " + " ".join(
             f"{row['touching']}/{row['ramp']}/{row['faded']}" for row in its))  # fmt: skip
+        if its and "elements" in its[0]:
+            print("   |F| elements/contacts N, deepest gap mm " + " ".join(
+                f"{row['elements']:.2g}/{row['contacts']:.2g}/{row['deepest']:.2g}"
+                for row in its))  # fmt: skip
         keys = ("in", "out", "ramp_in", "ramp_out", "triangle", "sign")
         print("   changes (in,out,ramp in,ramp out,triangle,sign) " + " ".join(
             ",".join(str(row.get(k, "-")) for k in keys) for row in its[1:]))  # fmt: skip
@@ -298,7 +367,15 @@ def main() -> None:
         default=None,
         help="Static(first_turn=...) of the new run, rad; the reference then keeps --stall",
     )
-    parser.add_argument("--no-stall", action="store_true", help="with --first-turn: no stall rule")
+    parser.add_argument(
+        "--update-turn",
+        type=float,
+        default=None,
+        help="Static(update_turn=...) of the new run, rad; the reference then takes none",
+    )
+    parser.add_argument(
+        "--no-stall", action="store_true", help="with --first-turn or --update-turn: no stall rule"
+    )
     parser.add_argument("--detail", action="store_true", help="every attempt, before and after")
     parser.add_argument(
         "--rounds", type=int, default=1, help="solve both sides this many times, alternately"
@@ -306,21 +383,25 @@ def main() -> None:
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     instrument()
-    if args.first_turn is None:
-        runs = [(None, None), (args.stall, None)]
+    RECORD["split"] = args.detail  # two more force passes an iterate, outside the counts
+    stall = None if args.no_stall else args.stall
+    runs: list[tuple[int | None, float | None, float | None | str]]
+    if args.update_turn is not None:
+        runs = [(stall, args.first_turn, None), (stall, args.first_turn, args.update_turn)]
+    elif args.first_turn is None:
+        runs = [(None, None, "case"), (args.stall, None, "case")]
     else:
-        stall = None if args.no_stall else args.stall
-        runs = [(stall, None), (stall, args.first_turn)]
+        runs = [(stall, None, "case"), (stall, args.first_turn, "case")]
     results = []
-    for stall, first_turn in runs * args.rounds:
+    for stall, first_turn, update_turn in runs * args.rounds:
         RECORD.update(attempts=[])
         cpu = time.process_time()
-        result = solve_case(args.case, args.resolution, stall, first_turn)
+        result = solve_case(args.case, args.resolution, stall, first_turn, update_turn)
         cpu = time.process_time() - cpu
         results.append(result)
         print(
             f"--- {args.case} {args.resolution}, stall_iterations={stall}, "
-            f"first_turn={first_turn}: {cpu:.1f} s CPU"
+            f"first_turn={first_turn}, update_turn={update_turn}: {cpu:.1f} s CPU"
         )
         if args.detail:
             report(result)

@@ -266,7 +266,7 @@ def _iterate(
     translation = index % N_COLUMNS < 3
     factor: Factorisation | None = None
     forces = None  # the internal forces of the accepted trial, reused next iteration
-    watchdog = Watchdog(run, equilibrium, solver.line_search)
+    watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
     allowed = max_iterations or solver.max_iterations
     # The tools' prescribed motions are where the load factor puts them from the first
     # iteration on (a tool is placed by ``state.load_factor``).
@@ -289,7 +289,7 @@ def _iterate(
             state, grown = model.freeze(state, grow=True)
             if grown:
                 forces = None
-                watchdog = Watchdog(run, equilibrium, solver.line_search)
+                watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
         r, ratio, forces = equilibrium.residual(state, frames, forces)
         left = equilibrium.remaining(state)
         history.append(ratio)
@@ -488,7 +488,8 @@ def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, 
     run.info["contact_set_updates"] += 1
     frozen = run.model.freeze(state)[0]
     restart = frozen if near else replace(start, history=frozen.history)
-    return restart, None, Watchdog(run, equilibrium, run.solver.line_search)
+    solver = run.solver
+    return restart, None, Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
 
 
 def settle_contacts(
@@ -546,16 +547,16 @@ def mechanism(model: CompiledModel) -> str:
     return "a mechanism (a part or a node that nothing holds) or a bifurcation"
 
 
-def step_cap(model: CompiledModel, delta: np.ndarray) -> float:
-    """The factor (<= 1) that keeps an update delta (n, 5) within MAX_ROTATION of director
-    rotation at every node and within the model's size (its bounding-box diagonal) of
-    translation."""
+def step_cap(model: CompiledModel, delta: np.ndarray, turn: float = MAX_ROTATION) -> float:
+    """The factor (<= 1) that keeps an update delta (n, 5) within ``turn`` (rad; MAX_ROTATION
+    unless ``Static(update_turn=...)``) of director rotation at every node and within the
+    model's size (its bounding-box diagonal) of translation."""
     extent = float(np.linalg.norm(np.ptp(model.reference_positions, axis=0)))
     translation = float(np.linalg.norm(delta[:, :3], axis=1).max(initial=0.0))
     rotation = float(np.linalg.norm(delta[:, 3:], axis=1).max(initial=0.0))
     cap = 1.0
-    if rotation > MAX_ROTATION:
-        cap = MAX_ROTATION / rotation
+    if rotation > turn:
+        cap = turn / rotation
     if extent > 0.0 and translation > extent:
         cap = min(cap, extent / translation)
     return cap
@@ -667,8 +668,11 @@ class Watchdog:
     the residual does not already show the decrease.
     """
 
-    def __init__(self, run: StaticRun, equilibrium: Residual, enabled: bool):
+    def __init__(
+        self, run: StaticRun, equilibrium: Residual, enabled: bool, turn: float | None = None
+    ):
         self.run, self.equilibrium, self.enabled = run, equilibrium, enabled
+        self.turn = turn  # Static(update_turn=...); None: MAX_ROTATION
         self.free = run.model.dofs.free.ravel()
         self.best: dict | None = None  # the best iterate and its Newton step
         self.work = 0.0  # dead-load work along the updates since the best iterate
@@ -689,7 +693,7 @@ class Watchdog:
         (scale taken, new state, its internal forces); scale 0 when it went back.
         ``straight``: the Newton step itself when delta is its curved form
         (solvers.newton_curvature); the Armijo slope and the backtracking use it."""
-        cap = step_cap(self.run.model, delta) if self.enabled else 1.0
+        cap = self._cap(delta) if self.enabled else 1.0
         if not self.enabled or whole:
             self.best = None  # the imposed motion starts a new search
             # (the first free iterate after it keeps the deep backtracking: the imposed
@@ -701,7 +705,7 @@ class Watchdog:
             "state": state,
             "frames": frames,
             "delta": line,
-            "cap": cap if straight is None else step_cap(self.run.model, straight),
+            "cap": cap if straight is None else self._cap(straight),
             "residual": float(np.linalg.norm(r.ravel()[self.free])),
             "slope": -float(r.ravel()[self.free] @ line.ravel()[self.free]),  # dPi/ds
             "energy": None,
@@ -717,6 +721,11 @@ class Watchdog:
         if not np.isfinite(self.equilibrium.residual(trial, frames, forces)[1]):
             return self._backtrack()
         return scale, trial, forces
+
+    def _cap(self, delta: np.ndarray) -> float:
+        if self.turn is None:
+            return step_cap(self.run.model, delta)
+        return step_cap(self.run.model, delta, self.turn)
 
     def _take(self, state, frames, delta, scale):
         run = self.run

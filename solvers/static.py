@@ -103,6 +103,12 @@ class Static:
         kept) and are not counted in ``info["cuts"]``; after max_cuts of them in one
         increment its attempts are iterated unchecked. The load path's steps after an arc
         length's jump (``at_limit="jump"``) are checked too, the jump's first step not.
+    update_turn : the largest director rotation of a Newton update taken by the line search
+        (rad; None, the default: solvers.newton.MAX_ROTATION, 0.5). A smaller cap keeps a
+        turning ply stack's updates within the second-order errors its contact's ramp holds
+        (the 4- and 8-ply heavy stacks of plies-deck-of-cards at 0.03: 345 -> 205 and 409 ->
+        195 tangents, plies-heavy-cantilever's 233 -> 177; docs/theory.md §6.5, "Updates of a
+        turning stack").
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'
@@ -243,6 +249,7 @@ class Static:
         max_cuts: int = 8,
         stall_iterations: int | None = None,
         first_turn: float | None = None,
+        update_turn: float | None = None,
         augmentations: int = 20,
         tangent: str = "element",
         seek_stable: bool = True,
@@ -270,6 +277,7 @@ class Static:
         stall = stall_iterations
         self.stall_iterations = None if stall is None else check_integer(stall, "stall_iterations")
         self.first_turn = check_positive_or_none(first_turn, "first_turn", "rad")
+        self.update_turn = check_positive_or_none(update_turn, "update_turn", "rad")
         self.augmentations = check_integer(augmentations, "augmentations", minimum=0)
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")

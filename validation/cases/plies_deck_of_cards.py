@@ -90,6 +90,16 @@ SAG_CELLS = 20
 # mid-span 0.481 / 0.475 deg). 10 increments are no faster (21.6 s at N = 4). The decks keep
 # their 8: in 12 the 4-ply deck took 136 s (12 cuts) against 13.0 s.
 SAG_INCREMENTS = 6
+# Each Newton update turns a director by at most 0.03 rad (Static(update_turn=...)): the
+# straight update of a turning stack leaves a second-order chord stretch in each ply and
+# presses every ply into the next by (h / N)(1 - cos theta) (0.157 mm, 100 ramps, at the first
+# update's 0.5 rad), which the plies' membrane and penalty answer with forces 1e4 times the
+# increment's weight. Measured (4 and 8 plies, one thread, CPU, load 15-17;
+# benchmarks/static_plies_newton.py): 98-120-32-33-16-15 Newton iterations and 30 cut, 345
+# tangents, 5.0 s -> 104-33-24-18-15-11, none cut, 205, 2.8 s; 142-103-33-22-17-15 and 73 cut,
+# 409, 11.1 s -> 98-34-22-17-13-11, none cut, 195, 4.9 s; the same equilibria to 4e-12 and
+# 1.8e-9 mm. 0.01, 0.02, 0.025, 0.04, 0.05, 0.1 rad: 339, 275, 213, 254, 366, 455 tangents.
+SAG_UPDATE_TURN = 0.03
 
 # Measured (tilt - atan(theta), deg, and |thickness / (h sqrt(1 + theta^2)) - 1|, largest
 # along the side, interior nodes; the free end alike): at N = 2 on 10, 20, 40 cells 0.281,
@@ -214,7 +224,11 @@ class SagRun:
 def sag(count: int, cells: int = SAG_CELLS) -> SagRun:
     """The heavy stack of ``count`` plies, or the fibrous shell when ``count`` is 0."""
     solver = Static(
-        increments=SAG_INCREMENTS, seek_stable=False, max_iterations=DECK_ITERATIONS, progress=False
+        increments=SAG_INCREMENTS,
+        seek_stable=False,
+        max_iterations=DECK_ITERATIONS,
+        update_turn=SAG_UPDATE_TURN if count else None,
+        progress=False,
     )
     if count == 0:
         mesh, model = fibrous_strip(SAG_LENGTH, SAG_WIDTH, SAG, cells)

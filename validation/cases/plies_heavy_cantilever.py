@@ -56,12 +56,18 @@ TOLERANCES = {
 TOLERANCES["fine"] = TOLERANCES["default"]
 TIP_TOLERANCE = {"fibrous": 0.02, "mindlin": 0.02, "plies": 0.015}
 # Newton without seek_stable (its search of negative modes stalls on the plies, whose
-# tangent goes indefinite on the way: docs/theory.md §9.3a), more iterations per increment.
+# tangent goes indefinite on the way: docs/theory.md §9.3a), more iterations per increment;
+# each update turning a director by at most 0.03 rad (docs/theory.md §6.5, "Updates of a
+# turning stack"; benchmarks/static_plies_newton.py --case heavy --update-turn 0.03, one
+# thread, CPU, load 9-12): default 18-32-21-33-34-14-44-13-13-11 Newton iterations, 233
+# tangents, 7.0 s -> 18-36-23-18-20-14-13-12-11-12, 177, 4.6 s; coarse 188 -> 164 tangents,
+# 2.9 -> 1.7 s; the same equilibria to 1.3e-12 and 1.1e-10 mm.
 PLIES_SOLVER: dict[str, Any] | None = {
     "kind": "static",
     "increments": 10,
     "seek_stable": False,
     "max_iterations": 150,
+    "update_turn": 0.03,
 }
 
 
