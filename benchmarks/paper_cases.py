@@ -76,7 +76,7 @@ Tried and not kept:
   bai-6.2.1's fibrous 40-cell runs, at the cost of the BLAS's round-off (machine dependent)
   in every band solve, and of a wasted attempt on each indefinite K_ff. Not taken.
 
-Run: python benchmarks/paper_cases.py [--rounds 5] [--solve bai-6.1.1]
+Run: python benchmarks/paper_cases.py [--rounds 5] [--solve bai-6.1.1 | --assembly]
 """
 
 from __future__ import annotations
@@ -169,6 +169,62 @@ def tangents(rounds: int) -> None:
         print(tangent_line(name, rounds), flush=True)
 
 
+def assembly_line(kinematics: str, rounds: int) -> str:
+    """Part 3 of the docstring: one Newton iteration's tangent on bai-6.1.1's 40-cell corner
+    of ``kinematics``, jittered with tilted directors, best of ``rounds`` (ms, CPU): the
+    element parts, their assembly into K_ff and K_fp with the node blocks by numpy's matmuls
+    and bincount (the reference pass) and by the compiled pass, the upper triangle's split by
+    numpy and compiled, the factorisation (the compiled split and the band LDL^T); and the
+    largest difference of the two K_ff over its largest entry, whether the splits agree to
+    the bit."""
+    from dataclasses import replace
+
+    from femcore import assembly
+    from solvers.linear import LinearSolver
+    from solvers.newton import Tangent
+
+    model = build(spec_of("bai-6.1.1"), kinematics, 40).compile()
+    state = model.initial_state()
+    rng = np.random.default_rng(0)
+    positions = state.positions + rng.normal(scale=0.05, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.05, size=state.positions.shape))
+    state = replace(state, positions=positions, directors=rotate_about(state.directors, turn))
+    tangent = Tangent(model, list(range(len(model.blocks))), [])
+    frames = model.dofs.frames(state.directors)
+    parts = model.tangent_parts(state, tangent.own)
+    compiled = assembly._add_node_blocks_compiled
+
+    def numpy_assembly():
+        assembly._add_node_blocks_compiled = None
+        try:
+            return tangent.assemble(parts, frames)
+        finally:
+            assembly._add_node_blocks_compiled = compiled
+
+    k_ff = tangent.assemble(parts, frames)[0]
+    reference = numpy_assembly()[0]
+    difference = np.abs(k_ff.data - reference.data).max() / np.abs(reference.data).max()
+    linear = LinearSolver()
+    linear.factorise(k_ff)
+    plan = linear._plan_for(k_ff)
+    fast, slow = plan.split(k_ff.data)[1], plan.split_numpy(k_ff.data)[1]
+    same = np.array_equal(fast.data, slow.data) and np.array_equal(fast.indices, slow.indices)
+    figures = [
+        best(lambda: model.tangent_parts(state, tangent.own), rounds),
+        best(numpy_assembly, rounds),
+        best(lambda: tangent.assemble(parts, frames), rounds),
+        best(lambda: plan.split_numpy(k_ff.data), rounds),
+        best(lambda: plan.split(k_ff.data), rounds),
+        best(lambda: linear.factorise(k_ff), rounds),
+    ]
+    ms = [1e3 * f for f in figures]
+    return (
+        f"{kinematics:8s} {k_ff.shape[0]} unknowns: parts {ms[0]:.1f}, assembly {ms[1]:.1f} -> "
+        f"{ms[2]:.1f}, split {ms[3]:.1f} -> {ms[4]:.1f}, factorise {ms[5]:.1f} ms; K_ff within "
+        f"{difference:.1e}, the splits the same bits: {same}"
+    )
+
+
 def runs(name: str) -> None:
     """Part 2 of the docstring for case ``name``."""
     spec = spec_of(name)
@@ -219,9 +275,13 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--solve", default=None, choices=list(MODULES))
+    parser.add_argument("--assembly", action="store_true")
     args = parser.parse_args()
     print(f"load before: {os.getloadavg()}")
-    if args.solve is None:
+    if args.assembly:
+        for kinematics in ("fibrous", "mindlin"):
+            print(assembly_line(kinematics, args.rounds), flush=True)
+    elif args.solve is None:
         tangents(args.rounds)
     else:
         runs(args.solve)
