@@ -348,24 +348,26 @@ def _split_upper(
     indices: np.ndarray,
     indptr: np.ndarray,
 ) -> tuple[float, int]:
-    """``_UpperPlan.split`` in one pass: (max |K - K^T| (nan if any entry is), the count of
-    the kept entries), the kept entries' values (data[e] + data[mirror]) x 0.5 (numpy's
-    operations, the same bits), rows and column pointers written into ``values``,
-    ``indices`` and ``indptr``. Compiled by numba (serial)."""
+    """``_UpperPlan.split`` in one pass over the upper triangle: (max |K - K^T| (nan if any
+    entry is), the count of the kept entries), the kept entries' values (data[e] +
+    data[mirror]) x 0.5 (numpy's operations, the same bits), rows and column pointers
+    written into ``values``, ``indices`` and ``indptr``. An entry below the diagonal and its
+    mirror have the same |difference| (a - b = -(b - a) exactly), so the upper triangle's
+    entries give the whole matrix's largest. Compiled by numba (serial)."""
     asymmetry = 0.0
     undefined = False
-    for e in range(data.size):
-        difference = abs(data[e] - data[transposed[e]])
-        if difference > asymmetry:
-            asymmetry = difference
-        elif difference != difference:
-            undefined = True
     kept = 0
     indptr[0] = 0
     for column in range(upper_indptr.size - 1):
         for u in range(upper_indptr[column], upper_indptr[column + 1]):
             e = upper[u]
-            value = 0.5 * (data[e] + data[transposed[e]])
+            here, mirror = data[e], data[transposed[e]]
+            difference = abs(here - mirror)
+            if difference > asymmetry:
+                asymmetry = difference
+            elif difference != difference:
+                undefined = True
+            value = 0.5 * (here + mirror)
             if value != 0.0 or diagonal[u]:
                 values[kept] = value
                 indices[kept] = upper_rows[u]
