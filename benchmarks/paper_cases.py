@@ -11,6 +11,13 @@ kernels.py ``cell_membrane_loads``), best of ROUNDS; and the largest difference 
 tangents over the largest entry (the differences' noise: loads within 1e-15, divided by 2 x
 1e-6 of an element).
 
+Part 3, ``--assembly``: one Newton iteration's tangent on bai-6.1.1's 40-cell corners
+(``assembly_line``): the element parts, their assembly into K_ff and K_fp with the
+SparseTangent's node blocks by numpy's matmuls and a bincount (the reference pass, the code
+before) and by the compiled pass (femcore/assembly.py ``_add_node_blocks``), the upper
+triangle's split by numpy (``_UpperPlan.split_numpy``, the code before) and compiled
+(solvers/linear.py ``_split_upper``), and the factorisation.
+
 Part 2, ``--solve CASE``: the case's seven Static runs (three kinematics on its default mesh,
 the fibrous and the Mindlin on the two other meshes of its orders) one after the other in
 this process, each run's CPU time, the part of it in the tangents and the factorisations,
@@ -60,6 +67,27 @@ Per tangent and factorisation of the 40-cell fibrous corner of bai-6.1.1 (4025 u
 band 536, 6.4e8 envelope operations; load 12-16): 107 ms, the band LDL^T 52, the tangent 46
 (the membrane Hessians 12, the assembly's node blocks 15, J^T H J 6, the upper triangle's
 split 6).
+
+Part 3 (one thread, best of 20, CPU ms, load 13-15), numpy -> compiled:
+  fibrous  4025 unknowns: parts 27.9 (the membrane Hessians 13.6, the compiled J^T H J 6.4),
+           assembly 8.7 -> 3.7, split 5.4 -> 1.8 (2.4 in a first version's two passes),
+           factorise 49.8 (the split included); K_ff within 1.8e-16 of its largest entry
+           (the node blocks' sums without BLAS's fused multiply-adds: 4 % of the entries
+           differ), the splits the same bits.
+  mindlin  4025 unknowns: parts 11.9, assembly 0.8 -> 0.7 (cell blocks only: the same
+           bits), split 0.4 -> 0.2, factorise 8.8.
+One tangent and factorisation of the 40-cell fibrous corner: about 8.6 ms less of its ~100.
+The whole case, case_cpu_s of ``python -m validation --cases bai-6.1.1 --jobs 1`` (one
+thread, a warm numba cache), main 5781687 from ``git archive`` beside it, alternately in
+fresh processes, load 5-14: 18.57 / 17.99 / 17.14 -> 16.67 / 16.05 / 16.44 s (15.93 with
+NUMBA_NUM_THREADS=2). The same increments and Newton iterations (fibrous 19 / 74, Eq. 15
+19 / 73, Mindlin 20 / 73), every check passing; the Mindlin and the Eq. 15 runs' numbers
+the same bits, the nodal-normal fibrous runs' within 1.1e-13 (mm, deg; the observed
+orders within 1.2e-12); the same bits from one run to the next and on two threads. The
+Static cantilever of benchmarks/kratos_cantilever.py (Mindlin: cell blocks only), best of
+3, alternately: 0.865 / 0.863 / 0.841 / 0.824 -> 0.821 / 0.847 / 0.823 s CPU (load
+12-16): within the noise; the same iterations [4, 5, 5, 5, 4] and tip drop
+(120.65558875188611 mm) to the bit.
 
 Tried and not kept:
 - A modified Newton in the arc-length corrector (the factorisation kept while the residual
