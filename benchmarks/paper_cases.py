@@ -71,7 +71,8 @@ split 6).
 Part 3 (one thread, best of 20, CPU ms, load 13-15), numpy -> compiled:
   fibrous  4025 unknowns: parts 27.9 (the membrane Hessians 13.6, the compiled J^T H J 6.4),
            assembly 8.7 -> 3.7, split 5.4 -> 1.8 (2.4 in a first version's two passes),
-           factorise 49.8 (the split included); K_ff within 1.8e-16 of its largest entry
+           factorise 49.8 (the split included; at load 2: assembly 8.6 -> 3.7, split 5.1
+           -> 1.1); K_ff within 1.8e-16 of its largest entry
            (the node blocks' sums without BLAS's fused multiply-adds: 4 % of the entries
            differ), the splits the same bits.
   mindlin  4025 unknowns: parts 11.9, assembly 0.8 -> 0.7 (cell blocks only: the same
@@ -80,8 +81,9 @@ One tangent and factorisation of the 40-cell fibrous corner: about 8.6 ms less o
 The whole case, case_cpu_s of ``python -m validation --cases bai-6.1.1 --jobs 1`` (one
 thread, a warm numba cache), main 5781687 from ``git archive`` beside it, alternately in
 fresh processes, load 5-14: 18.57 / 17.99 / 17.14 -> 16.67 / 16.05 / 16.44 s (15.93 with
-NUMBA_NUM_THREADS=2). The same increments and Newton iterations (fibrous 19 / 74, Eq. 15
-19 / 73, Mindlin 20 / 73), every check passing; the Mindlin and the Eq. 15 runs' numbers
+NUMBA_NUM_THREADS=2); load 2-3: 17.96 / 17.56 -> 15.92 / 16.33 s. The same increments
+and Newton iterations (fibrous 19 / 74, Eq. 15 19 / 73, Mindlin 20 / 73), every check
+passing; the Mindlin and the Eq. 15 runs' numbers
 the same bits, the nodal-normal fibrous runs' within 1.1e-13 (mm, deg; the observed
 orders within 1.2e-12); the same bits from one run to the next and on two threads. The
 Static cantilever of benchmarks/kratos_cantilever.py (Mindlin: cell blocks only), best of
