@@ -11,6 +11,13 @@ kernels.py ``cell_membrane_loads``), best of ROUNDS; and the largest difference 
 tangents over the largest entry (the differences' noise: loads within 1e-15, divided by 2 x
 1e-6 of an element).
 
+Part 3, ``--assembly``: one Newton iteration's tangent on bai-6.1.1's 40-cell corners
+(``assembly_line``): the element parts, their assembly into K_ff and K_fp with the
+SparseTangent's node blocks by numpy's matmuls and a bincount (the reference pass, the code
+before) and by the compiled pass (femcore/assembly.py ``_add_node_blocks``), the upper
+triangle's split by numpy (``_UpperPlan.split_numpy``, the code before) and compiled
+(solvers/linear.py ``_split_upper``), and the factorisation.
+
 Part 2, ``--solve CASE``: the case's seven Static runs (three kinematics on its default mesh,
 the fibrous and the Mindlin on the two other meshes of its orders) one after the other in
 this process, each run's CPU time, the part of it in the tangents and the factorisations,
@@ -61,6 +68,29 @@ band 536, 6.4e8 envelope operations; load 12-16): 107 ms, the band LDL^T 52, the
 (the membrane Hessians 12, the assembly's node blocks 15, J^T H J 6, the upper triangle's
 split 6).
 
+Part 3 (one thread, best of 20, CPU ms, load 13-15), numpy -> compiled:
+  fibrous  4025 unknowns: parts 27.9 (the membrane Hessians 13.6, the compiled J^T H J 6.4),
+           assembly 8.7 -> 3.7, split 5.4 -> 1.8 (2.4 in a first version's two passes),
+           factorise 49.8 (the split included; at load 2: assembly 8.6 -> 3.7, split 5.1
+           -> 1.1); K_ff within 1.8e-16 of its largest entry
+           (the node blocks' sums without BLAS's fused multiply-adds: 4 % of the entries
+           differ), the splits the same bits.
+  mindlin  4025 unknowns: parts 11.9, assembly 0.8 -> 0.7 (cell blocks only: the same
+           bits), split 0.4 -> 0.2, factorise 8.8.
+One tangent and factorisation of the 40-cell fibrous corner: about 8.6 ms less of its ~100.
+The whole case, case_cpu_s of ``python -m validation --cases bai-6.1.1 --jobs 1`` (one
+thread, a warm numba cache), main 5781687 from ``git archive`` beside it, alternately in
+fresh processes, load 5-14: 18.57 / 17.99 / 17.14 -> 16.67 / 16.05 / 16.44 s (15.93 with
+NUMBA_NUM_THREADS=2); load 2-3: 17.96 / 17.56 -> 15.92 / 16.33 s. The same increments
+and Newton iterations (fibrous 19 / 74, Eq. 15 19 / 73, Mindlin 20 / 73), every check
+passing; the Mindlin and the Eq. 15 runs' numbers
+the same bits, the nodal-normal fibrous runs' within 1.1e-13 (mm, deg; the observed
+orders within 1.2e-12); the same bits from one run to the next and on two threads. The
+Static cantilever of benchmarks/kratos_cantilever.py (Mindlin: cell blocks only), best of
+3, alternately: 0.865 / 0.863 / 0.841 / 0.824 -> 0.821 / 0.847 / 0.823 s CPU (load
+12-16): within the noise; the same iterations [4, 5, 5, 5, 4] and tip drop
+(120.65558875188611 mm) to the bit.
+
 Tried and not kept:
 - A modified Newton in the arc-length corrector (the factorisation kept while the residual
   ratio fell by at least rho an iteration): on bai-6.1.1, fibrous 40 cells, rho 0.1: 19 ->
@@ -76,7 +106,7 @@ Tried and not kept:
   bai-6.2.1's fibrous 40-cell runs, at the cost of the BLAS's round-off (machine dependent)
   in every band solve, and of a wasted attempt on each indefinite K_ff. Not taken.
 
-Run: python benchmarks/paper_cases.py [--rounds 5] [--solve bai-6.1.1]
+Run: python benchmarks/paper_cases.py [--rounds 5] [--solve bai-6.1.1 | --assembly]
 """
 
 from __future__ import annotations
@@ -169,6 +199,62 @@ def tangents(rounds: int) -> None:
         print(tangent_line(name, rounds), flush=True)
 
 
+def assembly_line(kinematics: str, rounds: int) -> str:
+    """Part 3 of the docstring: one Newton iteration's tangent on bai-6.1.1's 40-cell corner
+    of ``kinematics``, jittered with tilted directors, best of ``rounds`` (ms, CPU): the
+    element parts, their assembly into K_ff and K_fp with the node blocks by numpy's matmuls
+    and bincount (the reference pass) and by the compiled pass, the upper triangle's split by
+    numpy and compiled, the factorisation (the compiled split and the band LDL^T); and the
+    largest difference of the two K_ff over its largest entry, whether the splits agree to
+    the bit."""
+    from dataclasses import replace
+
+    from femcore import assembly
+    from solvers.linear import LinearSolver
+    from solvers.newton import Tangent
+
+    model = build(spec_of("bai-6.1.1"), kinematics, 40).compile()
+    state = model.initial_state()
+    rng = np.random.default_rng(0)
+    positions = state.positions + rng.normal(scale=0.05, size=state.positions.shape)
+    turn = np.cross(state.directors, rng.normal(scale=0.05, size=state.positions.shape))
+    state = replace(state, positions=positions, directors=rotate_about(state.directors, turn))
+    tangent = Tangent(model, list(range(len(model.blocks))), [])
+    frames = model.dofs.frames(state.directors)
+    parts = model.tangent_parts(state, tangent.own)
+    compiled = assembly._add_node_blocks_compiled
+
+    def numpy_assembly():
+        assembly._add_node_blocks_compiled = None
+        try:
+            return tangent.assemble(parts, frames)
+        finally:
+            assembly._add_node_blocks_compiled = compiled
+
+    k_ff = tangent.assemble(parts, frames)[0]
+    reference = numpy_assembly()[0]
+    difference = np.abs(k_ff.data - reference.data).max() / np.abs(reference.data).max()
+    linear = LinearSolver()
+    linear.factorise(k_ff)
+    plan = linear._plan_for(k_ff)
+    fast, slow = plan.split(k_ff.data)[1], plan.split_numpy(k_ff.data)[1]
+    same = np.array_equal(fast.data, slow.data) and np.array_equal(fast.indices, slow.indices)
+    figures = [
+        best(lambda: model.tangent_parts(state, tangent.own), rounds),
+        best(numpy_assembly, rounds),
+        best(lambda: tangent.assemble(parts, frames), rounds),
+        best(lambda: plan.split_numpy(k_ff.data), rounds),
+        best(lambda: plan.split(k_ff.data), rounds),
+        best(lambda: linear.factorise(k_ff), rounds),
+    ]
+    ms = [1e3 * f for f in figures]
+    return (
+        f"{kinematics:8s} {k_ff.shape[0]} unknowns: parts {ms[0]:.1f}, assembly {ms[1]:.1f} -> "
+        f"{ms[2]:.1f}, split {ms[3]:.1f} -> {ms[4]:.1f}, factorise {ms[5]:.1f} ms; K_ff within "
+        f"{difference:.1e}, the splits the same bits: {same}"
+    )
+
+
 def runs(name: str) -> None:
     """Part 2 of the docstring for case ``name``."""
     spec = spec_of(name)
@@ -219,9 +305,13 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--solve", default=None, choices=list(MODULES))
+    parser.add_argument("--assembly", action="store_true")
     args = parser.parse_args()
     print(f"load before: {os.getloadavg()}")
-    if args.solve is None:
+    if args.assembly:
+        for kinematics in ("fibrous", "mindlin"):
+            print(assembly_line(kinematics, args.rounds), flush=True)
+    elif args.solve is None:
         tangents(args.rounds)
     else:
         runs(args.solve)
