@@ -39,7 +39,9 @@ __all__ = [
 
 
 # The most stacked cells a call of ``stacked_local_tangent`` takes: its arrays of positions,
-# directors and loads (9 x 8 bytes a cell each) stay within some 50 MB whatever the block.
+# directors, forces, moments and their joined loads (9 x 8 bytes a cell each, the loads twice)
+# hold some 110 MB at this size, some 150 MB at the peak with the force pass's own, whatever
+# the block.
 STACKED_CELLS = 2**18
 
 
@@ -102,7 +104,7 @@ def stacked_local_tangent(
     ``stacked_force`` gives each copy's loads as ``local_tangent``'s ``cell_force`` gives
     them. For a compiled force, whose cost per call (the passes' set-up) is then paid once
     (for a block of up to 2^18 / 72 = 3640 cells) instead of 2 k c times; the calls' arrays
-    stay within ``cells_per_call`` cells (about 50 MB at STACKED_CELLS).
+    stay within ``cells_per_call`` cells (about 150 MB at the peak at STACKED_CELLS).
 
     stacked_force(xs, vs) -> (forces, moments): the unscattered loads (p m, k, 3) each of p
     stacked copies of the m cells (copy after copy, each in the block's cell order) from
@@ -121,6 +123,8 @@ def stacked_local_tangent(
         vs = np.broadcast_to(v, (2, len(group), m, k, 3)).copy()
         for j, (node, comp) in enumerate(group):
             if comp < 3:
+                # local_tangent's x + shift: its zeros turn a -0.0 coordinate into +0.0
+                xs[0, j] = x + 0.0
                 xs[0, j, :, node, comp] = x[:, node, comp] + step
                 xs[1, j, :, node, comp] = x[:, node, comp] - step
             else:

@@ -157,6 +157,22 @@ def test_stacked_central_differences_are_local_tangents_to_the_bit():
         assert np.array_equal(chunked, reference)
 
 
+def test_stacked_central_differences_keep_local_tangents_bits_at_a_signed_zero():
+    # local_tangent's + copy is x + shift, which turns a -0.0 coordinate into +0.0: a force
+    # that sees the sign (arctan2 of a zero) must get the same blocks from the stacked copies.
+    from elements.base import local_tangent, stacked_local_tangent
+
+    x = np.array([[[1.0, -0.0, 0.0], [0.0, 1.0, -0.0], [-1.0, -0.0, 0.5]]])
+    v = np.tile([0.0, 0.0, 1.0], (1, 3, 1))
+
+    def cell_force(xx, vv):
+        angle = np.arctan2(xx[..., 1:2], -np.ones_like(xx[..., :1]))  # pi or -pi at y = +-0
+        return angle * xx, np.cross(vv, xx)
+
+    reference = local_tangent(cell_force, x, v, 1e-6)
+    assert np.array_equal(stacked_local_tangent(cell_force, x, v, 1e-6), reference)
+
+
 def test_the_element_normal_tangent_is_the_numpy_kernels_within_the_differences_noise():
     # The compiled kernel's element-normal membrane stiffness is central differences of the
     # compiled loads, the numpy kernel's of the numpy loads: loads within 1e-15 of each other,
