@@ -40,6 +40,7 @@ has no ``fcntl`` (Windows) or the lock file cannot be opened, numba compiles as 
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -89,11 +90,13 @@ def holding(lock: Path, wait_s: float | None = None) -> Iterator[bool]:
         yield key in _held
         return
     try:
-        handle = open(lock, "a")
+        # Read-only: flock needs no write access, and a lock file another user made in a
+        # shared cache (mode 0644) opens read-only where "a" would be refused.
+        descriptor = os.open(lock, os.O_RDONLY | os.O_CREAT, 0o666)
     except OSError:
         yield False
         return
-    with handle:
+    with os.fdopen(descriptor, "rb") as handle:
         taken = _take(handle, WAIT_S if wait_s is None else wait_s)
         if taken:
             _held.add(key)
