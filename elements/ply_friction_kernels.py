@@ -450,6 +450,10 @@ def updated_history(
         *following,
     )
     dissipated = history.dissipated + float(np.sum(dissipation))
+    # The kept mapping is matched by the history's identity: its arrays, and the kept
+    # mapping's, read-only, so that no edit in place can leave a stale mapping served.
+    for array in (triangle, anchor, slipped, sliding.pressing, *following):
+        array.setflags(write=False)
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
     # the next step's loads ask for the return mapping at this state from this history: kept
     # for it (module docstring), as long as the facing and the penalties are these
@@ -459,11 +463,16 @@ def updated_history(
 
 def _law(block: PlyContactBlock) -> tuple:
     """What of the block a return mapping reads besides its history and facing: the
-    penalties (the array itself), the smoothing, mu and the stick spring's law."""
-    return (block.stiffness, block.smoothing, block.friction, block.stick)
+    penalties (their values, a copy: the array may be edited in place), the smoothing, mu
+    and the stick spring's law."""
+    return (np.array(block.stiffness, dtype=float), block.smoothing, block.friction, block.stick)
 
 
 def _same(kept: tuple, law: tuple) -> bool:
     """``_law``'s of a kept mapping and of the block now agree (the penalties the same
-    array)."""
-    return kept[0] is law[0] and kept[1:] == law[1:]
+    values, bit for bit)."""
+    return (
+        kept[0].shape == law[0].shape
+        and bool(np.all(kept[0].view(np.int64) == law[0].view(np.int64)))
+        and kept[1:] == law[1:]
+    )

@@ -436,6 +436,35 @@ def test_the_next_loads_take_the_return_mapping_their_history_was_committed_with
     assert min(seen.values()) > 0, seen
 
 
+def test_the_kept_return_mapping_is_not_served_after_an_edit_in_place(monkeypatch):
+    """The kept mapping is matched by the committed history's identity: the history's arrays
+    (and the kept mapping's) are read-only, so an edit in place raises instead of leaving a
+    stale mapping served; the penalties are matched by value, so scaling the block's array
+    in place maps afresh (numpy's mapping with the new penalties)."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled_model = model.compile()
+    block = next(b for b in compiled_model.interactions if isinstance(b, PlyContactBlock))
+    first, second = _bent(compiled_model, 3, 5.0), _bent(compiled_model, 3, 5.2)
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    history = block.update_history(first, block.initial_history())
+    later = block.update_history(second, history)
+    for array in (later.anchor, later.slip, later.triangle, later.pressing):
+        with pytest.raises(ValueError, match="read-only"):
+            array[...] = array
+    served = block._next_sliding[3]
+    with pytest.raises(ValueError, match="read-only"):
+        served.force[...] = 0.0
+    block.stiffness = np.array(block.stiffness, dtype=float)  # the block's own, writable
+    block.stiffness *= 2.0
+    fresh = block.friction_state(second, later)
+    assert fresh is not served
+    want = ply_friction.friction_state(block, second, later, block.facing(second))
+    assert _fields_equal(fresh, want) == []
+    assert "force" in _fields_equal(fresh, served)  # the penalties shape the stuck force
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
     """``ply_fade_kernels.outline_fade`` against ``ply_fade.outline_fade`` (numpy, ``COMPILED``
