@@ -65,9 +65,12 @@ DECK = Fabric(
     bending=BendingLaw.linear(1.0),
 )
 DECK_INCREMENTS = 8
-# The last increment lands where the plies need no contact force: contact points near g = 0
-# step in and out of the ramp, and Newton converges linearly there (86 iterations at N = 4,
-# 102 at N = 8 on 20 cells; the default 50 stalled at load factor 0.998).
+# The last increment lands where the plies need no contact force: contact points sit at g = 0,
+# where the smoothed penalty's force k g^2 / (2 delta) and its stiffness both vanish (a double
+# root: each Newton step halves g and quarters the residual, the tangent exact;
+# benchmarks/static_plies_newton.py --case deck --tangent-check), and points just off
+# contact, carried past it in one step, restart the linear run (86 iterations at N = 4, 102
+# at N = 8 on 20 cells; the default 50 stalled at load factor 0.998).
 DECK_ITERATIONS = 150
 # (counts at the middle mesh, the meshes of the study at N = 2); coarse: the smaller set.
 COUNTS = {"coarse": (2, 4), "default": (2, 4, 8), "fine": (2, 4, 8)}
