@@ -124,8 +124,8 @@ def main(cells: int = 10) -> None:
     for name, total in totals.items():
         print(f"{name}: {1e3 * total / REPEATS:.3f} ms per step's searches ({points} points)")
     # the nearest edge by the tree and by every edge, the same searches, on the numpy path
-    # (with ply_projection.COMPILED few pairs go to ply_kernels.every_segment, not through
-    # nearest_segments)
+    # (with ply_projection.COMPILED few pairs are measured in the fade's pass,
+    # ply_fade_kernels.outline_fade_at, not through nearest_segments)
     ply_projection.COMPILED = False
     tree = ply_fade.nearest_segments
     sizes = []

@@ -84,6 +84,15 @@ pass (``_cells_pass``), 6.1 s the Hessian's cells, 2.5 s the tangent's normal pu
 kernels of every fibrous Static solve, which the first of them in a process compiles (or
 waits for and loads, under the lock); nothing there to compile fewer of.
 
+Kernels no run calls: once the ply facing's glue was fused into its passes
+(elements/ply_edge_kernels.py ``edge_sides``, ply_fade_kernels.py ``outline_fade_at``), four
+compiled functions were called by tests alone (ply_feature_normals ``feature_normals`` with
+``_angle_parts`` and ``_normals``, ply_chosen ``fade_inputs``, ply_fade_kernels
+``outline_fade`` with ``_fade``, ply_kernels ``every_segment``); removed with their bit tests,
+the fused passes' tests covering their cases. tests/test_ply_kernels.py (``-n 0``, ``-m "not
+slow"``) from an empty NUMBA_CACHE_DIR, the trees before (92d9ba4) and after at once, twice,
+load 4.7-7.7: 47.5, 46.9 -> 42.9, 43.5 s of CPU (user + system), 41 -> 33 tests.
+
 Run: python benchmarks/suite_signatures.py [FOLDER]
      python benchmarks/suite_signatures.py --log FOLDER
      python benchmarks/suite_signatures.py --run -- python -m pytest tests/test_x.py ...

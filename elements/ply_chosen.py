@@ -5,19 +5,17 @@ projection's barycentric coordinates and their gradients, reach past its edges, 
 projection's overshoot past the triangle, whether the triangle reaches past the outline at
 all and whether its normal points against the point's ply, in one pass over the points
 instead of a dozen numpy gathers and reductions on arrays of a few hundred rows (each a few
-microseconds of call); and at the points near the outline, the fade's inputs gathered from
-those (``fade_inputs``: the points, their facing triangles' corners and cuts, the nearest
-outline edges' ends) in one pass, which ``closest_facing`` no longer calls: its fade's own
-pass reads those rows in place (elements/ply_fade_kernels.py ``outline_fade_at``), against
-``fade_inputs_numpy`` and ``ply_fade.outline_fade``.
+microseconds of call). At the points near the outline, the numpy path gathers the fade's
+inputs from those (``fade_inputs_numpy``: the points, their facing triangles' corners and
+cuts, the nearest outline edges' ends); the compiled fade's pass reads those rows in place
+(elements/ply_fade_kernels.py ``outline_fade_at``).
 
-Their numpy references are ``chosen_numpy`` and ``fade_inputs_numpy``, taken with
-``ply_projection.COMPILED = False``. The passes copy the chosen values and do the same IEEE
-operations in the same order (numpy's ``min`` taking the first NaN and the last of equal
-values, ``np.maximum(0.0, x)`` keeping a NaN and -0.0, ``einsum("pi,pi->p")`` as (first +
-last) + middle; no fused multiply-add: numba builds without fastmath), so they give the
-same bits (tests/test_ply_kernels.py). Each point is independent: the same bits on any
-thread count.
+Its numpy reference is ``chosen_numpy``, taken with ``ply_projection.COMPILED = False``. The
+pass copies the chosen values and does the same IEEE operations in the same order (numpy's
+``min`` taking the first NaN and the last of equal values, ``np.maximum(0.0, x)`` keeping a
+NaN and -0.0, ``einsum("pi,pi->p")`` as (first + last) + middle; no fused multiply-add: numba
+builds without fastmath), so it gives the same bits (tests/test_ply_kernels.py). Each point
+is independent: the same bits on any thread count.
 """
 
 from __future__ import annotations
@@ -25,9 +23,8 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit_lanes, prange
-from elements.kernel_inputs import read_only
 
-__all__ = ["chosen", "chosen_numpy", "fade_inputs", "fade_inputs_numpy"]
+__all__ = ["chosen", "chosen_numpy", "fade_inputs_numpy"]
 
 
 def _chosen(
@@ -183,55 +180,11 @@ def chosen_numpy(
     )
 
 
-def _fade_inputs(
-    at,
-    p,
-    y,
-    triangle,
-    reach,
-    beside,
-    joined,
-    starts,
-    ends,
-    segment,
-    has_cuts,
-    lines,
-    cut_ends,
-    out_p,
-    out_corners,
-    out_reach,
-    out_beside,
-    out_ends,
-    out_joined,
-    out_lines,
-    out_cut_ends,
-):
-    """The rows ``at`` of the points' arrays and their triangles', copied (``fade_inputs``)."""
-    for j in prange(at.shape[0]):
-        i = at[j]
-        t = triangle[i]
-        s = segment[j]
-        out_beside[j] = beside[i]
-        out_joined[j] = joined[i]
-        for c in range(3):
-            out_p[j, c] = p[i, c]
-            out_reach[j, c] = reach[i, c]
-            out_ends[j, 0, c] = starts[s, c]
-            out_ends[j, 1, c] = ends[s, c]
-            for d in range(3):
-                out_corners[j, c, d] = y[t, c, d]
-                if has_cuts:
-                    out_lines[j, c, d] = lines[t, c, d]
-                    out_cut_ends[j, c, d] = cut_ends[t, c, d]
-
-
-_fade_inputs_compiled = jit_lanes(_fade_inputs)
-
-
-def fade_inputs(at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts):
+def fade_inputs_numpy(at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts):
     """The fade's inputs (elements/ply_fade.py ``outline_fade``'s p, corners, reach, beside,
-    ends, joined, lines and ends_cut) at the points ``at`` (c,) int near the outline,
-    compiled: the same arrays as ``fade_inputs_numpy``.
+    ends, joined, lines and ends_cut) at the points ``at`` (c,) int near the outline, for
+    ``closest_facing``'s numpy path (the compiled fade's pass reads those rows in place,
+    elements/ply_fade_kernels.py ``outline_fade_at``).
 
     Parameters
     ----------
@@ -256,40 +209,6 @@ def fade_inputs(at, p, y, triangle, reach, beside, joined, starts, ends, segment
     p (c, 3), corners (c, 3, 3), reach (c, 3), beside (c,), ends (c, 2, 3), joined (c,),
     lines (c, 3, 3) or None, ends_cut (c, 3, 3) or None
     """
-    count = len(at)
-    has_cuts = cuts is not None
-    out = (
-        np.empty((count, 3)),
-        np.empty((count, 3, 3)),
-        np.empty((count, 3)),
-        np.empty(count, dtype=np.bool_),
-        np.empty((count, 2, 3)),
-        np.empty(count, dtype=np.bool_),
-        np.empty((count if has_cuts else 0, 3, 3)),
-        np.empty((count if has_cuts else 0, 3, 3)),
-    )
-    empty = np.zeros((0, 3, 3))
-    _fade_inputs_compiled(
-        np.ascontiguousarray(at, dtype=np.int64),
-        read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
-        read_only(y),
-        np.ascontiguousarray(triangle, dtype=np.int64),
-        np.ascontiguousarray(reach, dtype=float),
-        np.ascontiguousarray(beside, dtype=np.bool_),
-        np.ascontiguousarray(joined, dtype=np.bool_),
-        np.ascontiguousarray(starts, dtype=float),
-        np.ascontiguousarray(ends, dtype=float),
-        np.ascontiguousarray(segment, dtype=np.int64),
-        has_cuts,
-        np.ascontiguousarray(cuts.lines, dtype=float) if has_cuts else empty,
-        np.ascontiguousarray(cuts.ends, dtype=float) if has_cuts else empty,
-        *out,
-    )
-    return (*out[:6], out[6] if has_cuts else None, out[7] if has_cuts else None)
-
-
-def fade_inputs_numpy(at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts):
-    """``fade_inputs``' numpy reference: the same arrays."""
     facing = triangle[at]
     return (
         p[at],

@@ -2,33 +2,34 @@
 elements/ply_projection.py, "Past the outline, faded"; docs/theory.md, the ply contact
 section): w = w_e w_a of each point against its facing triangle and the outline's edge
 nearest it, and its gradient dw/dz over z = (p, y_1, y_2, y_3, a, b), in one pass over the
-points.
+points near the outline (``outline_fade_at``: the nearest edge, the closest point of the
+grown and cut triangle beside a growth, then ``fade_at``).
 
-Its numpy reference is ``ply_fade.outline_fade`` (the same signature), taken with
-``ply_projection.COMPILED = False``. The facing triangles' planes come from
-``ply_kernels.facets_at`` (``ply_projection.facets``' bits) and the closest points of the
-points beside a growth from ``ply_wedge.closest_on_grown`` (compiled where it is); the pass
-does the rest with the same IEEE operations in the same order (numpy's sums of three terms,
-``einsum("ci,ci->c")`` and ``einsum("cki,ci->ck")`` as (first + last) + middle, ``np.linalg
-.norm`` from the first term; no fused multiply-add: numba builds without fastmath) and D^2 as
-Python squares the fade's length, so it gives the same numbers to the last bit
-(tests/test_ply_kernels.py). Each point is independent: the same bits on any thread count.
+Its numpy reference is ``ply_fade.outline_fade`` on ``ply_chosen.fade_inputs_numpy``'s
+arrays with ``ply_fade.every_segment``'s edges, taken with ``ply_projection.COMPILED =
+False``. The facing triangles' planes are ``ply_kernels.candidates_at``'s
+(``ply_projection.facets``' bits) and the closest points of the points beside a growth are
+found as ``ply_wedge.closest_on_grown`` finds them; the pass does the rest with the same IEEE
+operations in the same order (numpy's sums of three terms, ``einsum("ci,ci->c")`` and
+``einsum("cki,ci->ck")`` as (first + last) + middle, ``np.linalg.norm`` from the first term;
+no fused multiply-add: numba builds without fastmath) and D^2 as Python squares the fade's
+length, so it gives the same numbers to the last bit (tests/test_ply_kernels.py). Each point
+is independent: the same bits on any thread count.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements import ply_kernels
 from elements.jit import jit_lanes, lanes, prange
 from elements.kernel_inputs import read_only
 from elements.ply_cut_kernels import closest_cut_at
 from elements.ply_fade import SIDEWAYS
 from elements.ply_kernels import closest_on_sides, nearest_segment, segment_lines
 from elements.ply_projection import INSIDE
-from elements.ply_wedge import KEEP, WedgeCuts, closest_on_grown
+from elements.ply_wedge import KEEP, WedgeCuts
 
-__all__ = ["fade_at", "outline_fade", "outline_fade_at"]
+__all__ = ["fade_at", "outline_fade_at"]
 
 
 @lanes
@@ -122,94 +123,6 @@ def fade_at(
         gradient[4, c] = side * (slope * (start * o)) + factor * 0.0
         gradient[5, c] = side * (slope * (end * o)) + factor * 0.0
     return weight
-
-
-def _fade(
-    p,
-    corners,
-    n,
-    grad,
-    plane,
-    lam,
-    reach,
-    beside,
-    q,
-    ends,
-    length,
-    length_squared,
-    sideways,
-    weight,
-    gradient,
-):
-    """w (c,) into ``weight`` and dw/dz (c, 6, 3) into ``gradient``, as
-    ``ply_fade.outline_fade`` writes them, from the points p (c, 3), their facing triangles'
-    corners (c, 3, 3), unit normals n (c, 3), barycentric gradients ``grad`` (c, 3, 3), gaps
-    to their planes ``plane`` (c,) and projections' coordinates ``lam`` (c, 3), the reach past
-    their edges (c, 3), ``beside`` (c,) bool and there the closest points q (c, 3) of the
-    growths, the ends a, b (c, 2, 3) of the outline's nearest edges, D ``length`` and D^2
-    ``length_squared`` (mm, mm^2), and ``sideways`` (c,) bool, the angle's factor applies
-    (not on a joined edge)."""
-    for i in prange(p.shape[0]):
-        weight[i] = fade_at(
-            p[i], corners[i], n[i], grad[i], plane[i], lam[i], reach[i], beside[i], q[i],
-            ends[i, 0], ends[i, 1], length, length_squared, sideways[i], gradient[i],
-        )  # fmt: skip
-
-
-_fade_compiled = jit_lanes(_fade)
-
-
-def outline_fade(
-    p: np.ndarray,
-    corners: np.ndarray,
-    reach: np.ndarray,
-    beside: np.ndarray,
-    ends: np.ndarray,
-    length: float,
-    joined: np.ndarray | None = None,
-    lines: np.ndarray | None = None,
-    ends_cut: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """``ply_fade.outline_fade`` compiled: the same w (c,) and dw/dz (c, 6, 3), 1/mm, to the
-    bit, from the same arguments (its docstring gives their shapes and units)."""
-    count = len(p)
-    p = np.ascontiguousarray(p, dtype=float)
-    corners = np.ascontiguousarray(corners, dtype=float)
-    n, _, grad, plane, lam = (
-        np.ascontiguousarray(a[:, 0])
-        for a in ply_kernels.facets_at(p, corners, np.arange(count)[:, None])
-    )
-    q = np.zeros((count, 3))
-    at = np.flatnonzero(beside)
-    if at.size:
-        q[at] = closest_on_grown(
-            p[at],
-            corners[at],
-            reach[at],
-            None if lines is None else lines[at],
-            None if ends_cut is None else ends_cut[at],
-        )[0]
-    sideways = np.ones(count, dtype=bool) if joined is None else ~np.asarray(joined, dtype=bool)
-    weight = np.empty(count)
-    gradient = np.empty((count, 6, 3))
-    _fade_compiled(
-        p,
-        corners,
-        n,
-        grad,
-        plane,
-        lam,
-        np.ascontiguousarray(reach, dtype=float),
-        np.ascontiguousarray(beside, dtype=np.bool_),
-        q,
-        np.ascontiguousarray(ends, dtype=float),
-        float(length),
-        float(length**2),
-        sideways,
-        weight,
-        gradient,
-    )
-    return weight, gradient
 
 
 def _outline(
@@ -314,8 +227,8 @@ def outline_fade_at(
     """The fade at the points ``at`` near the outline in one pass (elements/ply_projection.py
     ``closest_facing``), where the outline's nearest edges, the fade's inputs, their
     triangles' planes, the grown triangles' closest points and the fade were five compiled
-    calls chained by numpy's gathers: the same bits as ``outline_fade`` on
-    ``ply_chosen.fade_inputs``' arrays with ``ply_kernels.every_segment``'s edges
+    calls chained by numpy's gathers: the same bits as ``ply_fade.outline_fade`` on
+    ``ply_chosen.fade_inputs_numpy``'s arrays with ``ply_fade.every_segment``'s edges
     (tests/test_ply_kernels.py).
 
     Parameters

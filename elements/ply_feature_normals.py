@@ -1,35 +1,32 @@
-"""The unit pseudonormal of the edge or vertex on which each ply contact point's closest point
-lies, compiled (elements/ply_projection.py ``_feature_normals``, "The sign at an edge" and
-"Growths joined"; docs/theory.md, the ply contact section): which edge or vertex holds the
-closest point, the sum of its triangles' unit normals (weighted at a vertex by their angles
-there, over the face's topology tables, elements/ply_topology.py), whether the point lies on
-an edge's extension that two growths hold, and the facing triangle's normal where the face has
-no side there, in two passes over the points with numpy's ``arctan2`` of the angles between.
-``closest_facing`` calls the helpers of those passes (``fan_parts``, ``signing_at``) from its
-own two passes after the choice (elements/ply_edge_kernels.py); ``feature_normals`` gives the
-normals at any closest points given.
+"""The unit pseudonormal of the edge or vertex on which a ply contact point's closest point
+lies, compiled for one point at a time (elements/ply_projection.py ``_feature_normals``,
+"The sign at an edge" and "Growths joined"; docs/theory.md, the ply contact section): which
+edge or vertex holds the closest point, the sum of its triangles' unit normals (weighted at a
+vertex by their angles there, over the face's topology tables, elements/ply_topology.py),
+whether the point lies on an edge's extension that two growths hold, and the facing
+triangle's normal where the face has no side there. ``closest_facing``'s two passes after the
+choice (elements/ply_edge_kernels.py) call these helpers: ``fan_parts`` gives the parts of the
+fan's angles, whose ``arctan2`` numpy takes between the passes, and ``signing_at`` the normal.
 
-Its numpy reference is ``ply_projection._feature_normals`` (with ``pseudonormals_at`` and
-``_joined_growth``), taken with ``ply_projection.COMPILED = False``. The passes do the same
+Their numpy reference is ``ply_projection._feature_normals`` (with ``pseudonormals_at`` and
+``_joined_growth``), taken with ``ply_projection.COMPILED = False``. The helpers do the same
 IEEE operations in the same order (each sum of the tables' terms from 0.0 in their order, as
 ``np.bincount`` adds them; numpy's sums of three terms: ``np.linalg.norm`` from the first
 term, ``einsum("mki,mki->mk")`` as (first + last) + middle; no fused multiply-add: numba
 builds without fastmath). The angles' ``arctan2`` stays numpy's: numpy evaluates it with its
 own vectorised routine, whose last bit libm's ``atan2`` does not always give, and which gives
 an element the same bits wherever it stands in the array. So the normals are the same to the
-last bit (tests/test_ply_kernels.py). Each point is independent: the same bits on any thread
-count.
+last bit (tests/test_ply_kernels.py, the passes against numpy's ``closest_facing``). Each
+point is independent: the same bits on any thread count.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, lanes, prange
-from elements.kernel_inputs import read_only
-from elements.ply_topology import FaceTopology
+from elements.jit import lanes
 
-__all__ = ["feature_normals"]
+__all__ = ["fan_parts", "signing_at"]
 
 
 @lanes
@@ -78,16 +75,6 @@ def fan_parts(row, lam, reach, y, nodes, fans, inside, rise, run):
         c2 = u0 * v1 - u1 * v0
         rise[f] = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
         run[f] = (u0 * v0 + u2 * v2) + u1 * v1
-
-
-def _angle_parts(triangle, y, nodes, fans, lam, reach, inside, rise, run):
-    """rise and run (c, f) of the points' fans (``fan_parts``): the points' triangle rows
-    (c,), closest points' coordinates ``lam`` (c, 3) and reach (c, 3)."""
-    for i in prange(triangle.shape[0]):
-        fan_parts(triangle[i], lam[i], reach[i], y, nodes, fans, inside, rise[i], run[i])
-
-
-_angle_parts_compiled = jit_lanes(_angle_parts)
 
 
 @lanes
@@ -176,95 +163,3 @@ def signing_at(
         divisor = length if length > 0.0 else 1.0
         signing[0], signing[1], signing[2] = s0 / divisor, s1 / divisor, s2 / divisor
     return joined
-
-
-def _normals(
-    triangle,
-    y,
-    nodes,
-    fans,
-    edges,
-    edge_halves,
-    other,
-    outline,
-    has_outline,
-    lam,
-    reach,
-    normal,
-    inside,
-    angles,
-    signing,
-    joined,
-):
-    """signing (c, 3) and joined (c,) as ``ply_projection._feature_normals`` gives them, from
-    the face's tables (elements/ply_topology.py: nodes, fans, edges, edge_halves, other; its
-    outline (m, 3) bool where ``has_outline``), the points' triangle rows (c,), closest
-    points' coordinates ``lam`` (c, 3), reach (c, 3), the triangles' normals (c, 3) and the
-    fans' angles (c, f) (``_angle_parts``' arctan2)."""
-    for i in prange(triangle.shape[0]):
-        joined[i] = signing_at(
-            triangle[i],
-            y,
-            nodes,
-            fans,
-            edges,
-            edge_halves,
-            other,
-            outline,
-            has_outline,
-            lam[i],
-            reach[i],
-            normal[i],
-            inside,
-            angles[i],
-            signing[i],
-        )
-
-
-_normals_compiled = jit_lanes(_normals)
-
-
-def feature_normals(
-    y: np.ndarray,
-    topology: FaceTopology,
-    triangle: np.ndarray,
-    lam: np.ndarray,
-    reach: np.ndarray,
-    normal: np.ndarray,
-    inside: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """``ply_projection._feature_normals`` compiled: the same (c, 3) unit normals and (c,)
-    joined flags to the bit (its docstring gives the arguments; ``inside`` its INSIDE)."""
-    count = len(triangle)
-    y = read_only(y)  # read-only as the block keeps it: one build (kernel_inputs.py)
-    triangle = np.ascontiguousarray(triangle, dtype=np.int64)
-    lam = np.ascontiguousarray(lam, dtype=float)
-    reach = np.ascontiguousarray(reach, dtype=float)
-    nodes = np.ascontiguousarray(topology.nodes, dtype=np.int64)
-    fans = np.ascontiguousarray(topology.fans, dtype=np.int64)
-    width = fans.shape[1]
-    rise, run = np.empty((count, width)), np.empty((count, width))
-    _angle_parts_compiled(triangle, y, nodes, fans, lam, reach, float(inside), rise, run)
-    angles = np.arctan2(rise, run)  # numpy's, as pseudonormals' (module docstring)
-    outline = topology.outline
-    signing = np.empty((count, 3))
-    joined = np.empty(count, dtype=np.bool_)
-    _normals_compiled(
-        triangle,
-        y,
-        nodes,
-        fans,
-        np.ascontiguousarray(topology.edges, dtype=np.int64),
-        np.ascontiguousarray(topology.edge_halves, dtype=np.int64),
-        np.ascontiguousarray(topology.other, dtype=np.int64),
-        np.zeros((1, 3), dtype=np.bool_) if outline is None else outline,
-        outline is not None,
-        lam,
-        reach,
-        np.ascontiguousarray(normal, dtype=float),
-        float(inside),
-        angles,
-        signing,
-        joined,
-    )
-    return signing, joined

@@ -3,8 +3,9 @@ candidate triangles' planes (``facets_at``: unit normal, twice the area, barycen
 gradients, the point's gap and its projection's barycentric coordinates; ``candidates_at``
 with the reach past the outline, whether the grown triangle holds the projection and its
 distance past the farthest edge line), the grown triangles' corners (``grown_corners``), the
-closest points on their edges (``edges_closest``) and the outline's nearest edge measured pair
-by pair (``every_segment``), for elements/ply_projection.py's ``closest_facing`` and the
+closest points on their edges (``edges_closest``) and the helper measuring the outline's
+nearest edge pair by pair (``nearest_segment``, which the fade's pass calls,
+elements/ply_fade_kernels.py), for elements/ply_projection.py's ``closest_facing`` and the
 facing search's distances (elements/ply_search.py, ply_wedge.py ``closest_on_grown``;
 docs/theory.md, the ply contact section).
 
@@ -31,7 +32,6 @@ from elements.kernel_inputs import read_only
 __all__ = [
     "candidates_at",
     "edges_closest",
-    "every_segment",
     "facets_at",
     "grown_corners",
     "nearest_segment",
@@ -255,33 +255,6 @@ def nearest_segment(p0, p1, p2, starts, e, squared):
         elif not held_nan and value < best:
             best, found = value, j
     return found
-
-
-def _every_segment(p, starts, e, squared, chosen):
-    """chosen[i] (c,) the segment nearest p[i] (c, 3) (``nearest_segment``)."""
-    for i in prange(p.shape[0]):
-        chosen[i] = nearest_segment(p[i, 0], p[i, 1], p[i, 2], starts, e, squared)
-
-
-_every_segment_compiled = jit_lanes(_every_segment)
-
-
-def every_segment(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-    """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3), mm) nearest each
-    point p (c, 3), mm, ties to the lowest index, compiled: the same answer, for every pair
-    measured, as ``ply_fade.every_segment`` (the same distances to the bit)."""
-    chosen = np.zeros(len(p), dtype=np.int64)
-    if len(p) == 0 or len(starts) == 0:
-        return chosen
-    e, squared = segment_lines(starts, ends)
-    _every_segment_compiled(
-        np.ascontiguousarray(p, dtype=float),
-        np.ascontiguousarray(starts, dtype=float),
-        e,
-        squared,
-        chosen,
-    )
-    return chosen
 
 
 def segment_lines(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -155,8 +155,8 @@ def test_the_facing_after_its_choice_is_numpy_s_on_one_thread_and_on_all(monkeyp
     (``ply_projection.COMPILED = False``), on tests/test_ply_wedge.py's strips cut at both
     ends with 400 points round them, every triangle a candidate, a layer turned away for a
     third of them, on one thread and on all of numba's: every Facing field to the bit; the
-    premises, points at vertices and on edges, at the outline's vertices or on cuts, on
-    joined edges' extensions, deeper than the plies and touching."""
+    premises, points at vertices (some of the outline's) and on edges, at the outline's
+    vertices or on cuts, on joined edges' extensions, deeper than the plies and touching."""
     rng = np.random.default_rng(seed)
     nodes, y, outline, cuts = _strip(rng)
     topology = FaceTopology.of(nodes, outline)
@@ -178,6 +178,8 @@ def test_the_facing_after_its_choice_is_numpy_s_on_one_thread_and_on_all(monkeyp
     edge = reference.on_edge
     bound = reference.weights <= -reference.reach + 1e-9
     assert (edge & (bound.sum(axis=1) == 2)).any() and (edge & (bound.sum(axis=1) == 1)).any()
+    vertex = topology.nodes[reference.triangle, np.argmin(bound, axis=1)]
+    assert (edge & (bound.sum(axis=1) == 2) & topology.rim[vertex]).any()  # outline vertices
     assert reference.on_growth.any() and reference.joined.any()
     assert (edge & (reference.gap < -0.2)).any() and reference.touching.any()
     assert reference.hessian is not None and np.any(reference.hessian != 0.0)
@@ -225,24 +227,6 @@ def test_the_bent_two_ply_hemisphere_s_facing_and_forces_are_numpy_s_to_the_bit(
             assert _same(force[0], force_ref[0]) and _same(force[1], force_ref[1])
             touching += int(reference.touching.sum())
     assert touching > 0
-
-
-def test_the_compiled_nearest_outline_edges_are_numpy_s():
-    """``ply_kernels.every_segment`` against ``ply_fade.every_segment``: 300 points among 40
-    random segments, some of them repeated (ties to the lowest index) and one point NaN
-    (numpy's argmin: the first NaN distance)."""
-    from elements.ply_fade import every_segment
-
-    rng = np.random.default_rng(5)
-    starts = rng.normal(0.0, 1.0, (40, 3))
-    ends = starts + rng.normal(0.0, 0.3, (40, 3))
-    starts[20:30], ends[20:30] = starts[0:10], ends[0:10]
-    ends[5] = starts[5]  # a segment of no length
-    p = rng.normal(0.0, 1.2, (300, 3))
-    p[7, 1] = np.nan
-    got = ply_kernels.every_segment(p, starts, ends)
-    assert np.array_equal(got, every_segment(p, starts, ends))
-    assert ply_kernels.every_segment(p[:0], starts, ends).shape == (0,)
 
 
 def test_the_compiled_grown_corners_are_numpy_s_to_the_bit(monkeypatch):
@@ -466,40 +450,6 @@ def test_the_kept_return_mapping_is_not_served_after_an_edit_in_place(monkeypatc
 
 
 @pytest.mark.parametrize("seed", [0, 1])
-def test_the_compiled_outline_fade_is_numpy_s_to_the_bit(monkeypatch, seed):
-    """``ply_fade_kernels.outline_fade`` against ``ply_fade.outline_fade`` (numpy, ``COMPILED``
-    off): tests/test_ply_wedge.py's strip cut at both ends, 600 points round its outline
-    triangles, each against one of them and the outline's edge nearest it, a third beside the
-    growth (a fifth of those on a joined edge), with and without the cuts; the premises, w
-    strictly between 0 and 1 both past the outline and beside a growth."""
-    from elements import ply_fade_kernels
-    from elements.ply_fade import every_segment, fade_length, outline_fade, outline_segments
-
-    rng = np.random.default_rng(seed)
-    _, y, outline, cuts = _strip(rng)
-    rows = rng.choice(np.flatnonzero(outline.any(axis=1)), 600)
-    corners = y[rows]
-    p = corners.mean(axis=1) + rng.normal(0.0, 0.4, (600, 3))
-    reach = np.where(outline, MARGIN, 0.0)[rows]
-    beside = rng.uniform(size=600) < 1.0 / 3.0
-    joined = beside & (rng.uniform(size=600) < 0.2)
-    segment_rows, segment_ends = outline_segments(outline)
-    starts, stops = (y[segment_rows, segment_ends[:, k]] for k in range(2))
-    edge = every_segment(p, starts, stops)
-    ends = np.stack([starts[edge], stops[edge]], axis=1)
-    length = fade_length(y, outline)
-    for lines, cut_ends in ((cuts.lines[rows], cuts.ends[rows]), (None, None)):
-        arguments = (p, corners, reach, beside, ends, length, joined, lines, cut_ends)
-        got = ply_fade_kernels.outline_fade(*arguments)
-        monkeypatch.setattr(ply_projection, "COMPILED", False)
-        want = outline_fade(*arguments)
-        monkeypatch.setattr(ply_projection, "COMPILED", True)
-        assert _same(got[0], want[0]) and _same(got[1], want[1])
-        between = (want[0] > 0.0) & (want[0] < 1.0)
-        assert (between & beside).any() and (between & ~beside).any()
-
-
-@pytest.mark.parametrize("seed", [0, 1])
 def test_the_fade_s_one_pass_is_numpy_s_on_one_thread_and_on_all(monkeypatch, seed):
     """``ply_fade_kernels.outline_fade_at`` (the outline's nearest edges, the fade's inputs,
     the grown and cut triangles' closest points and the fade in one pass) against numpy's
@@ -507,7 +457,8 @@ def test_the_fade_s_one_pass_is_numpy_s_on_one_thread_and_on_all(monkeypatch, se
     with ``COMPILED`` off): tests/test_ply_wedge.py's strip cut at both ends, 600 points round
     its outline triangles, each against one of them, a third beside the growth (a fifth of
     those on a joined edge), the pass at every other point, with and without the cuts, the
-    edges measured in the pass and given (the KD-tree's), on one thread and on all of numba's;
+    edges measured in the pass (each edge listed twice, ties to the lowest index, and an edge
+    of no length among them) and given (the KD-tree's), on one thread and on all of numba's;
     the premises, w strictly between 0 and 1 both past the outline and beside a growth, and
     some closest points on the cuts."""
     from elements import ply_chosen, ply_fade_kernels
@@ -527,8 +478,14 @@ def test_the_fade_s_one_pass_is_numpy_s_on_one_thread_and_on_all(monkeypatch, se
     at = np.arange(0, count, 2)
     segment_rows, segment_ends = outline_segments(outline)
     starts, stops = (y[segment_rows, segment_ends[:, k]] for k in range(2))
+    # the outline's edges once more after themselves (each nearest edge a tie, to the lowest
+    # index as numpy's argmin) and an edge of no length at the first one's start
+    edges = len(starts)
+    starts = np.concatenate([starts, starts, starts[:1]])
+    stops = np.concatenate([stops, stops, starts[:1]])
     length = fade_length(y, outline)
     edge = every_segment(p[at], starts, stops)
+    assert edge.max() < edges
     for wedge in (cuts, None):
         monkeypatch.setattr(ply_projection, "COMPILED", False)
         inputs = ply_chosen.fade_inputs_numpy(
@@ -586,44 +543,6 @@ def test_the_compiled_choice_of_the_facing_candidate_is_numpy_s_to_the_bit(seed)
         for a, b in zip(got, want):
             assert _same(a, b)
     assert want[1].any() and want[3].any()
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_the_compiled_feature_normals_are_numpy_s_to_the_bit(seed):
-    """``ply_feature_normals.feature_normals`` against ``ply_projection._feature_normals`` on
-    tests/test_ply_wedge.py's strips: closest points at the triangles' vertices, on their
-    edges, on the growths past the outline (their far edges and the extensions of the other
-    edges past the outline vertices) and inside, on every triangle: the same unit normals and
-    joined flags; the premises, vertices, edges, growths and joined extensions among them."""
-    from elements import ply_feature_normals
-    from elements.ply_projection import _feature_normals
-
-    rng = np.random.default_rng(seed)
-    nodes, y, outline, _ = _strip(rng)
-    topology = FaceTopology.of(nodes, outline)
-    reach = np.where(outline, MARGIN, 0.0)
-    rows = np.repeat(np.arange(len(y)), 60)
-    lam = rng.dirichlet(np.ones(3), len(rows))
-    kind = rng.integers(0, 4, len(rows))
-    k = rng.integers(0, 3, len(rows))
-    every = np.arange(len(rows))
-    lam[kind == 1, :] = 0.0  # at vertex k
-    lam[kind == 1, k[kind == 1]] = 1.0
-    on_edge = kind == 2  # on the edge opposite k, its own bound (-reach past the outline)
-    lam[every[on_edge], k[on_edge]] = -reach[rows[on_edge], k[on_edge]]
-    beyond = kind == 3  # past an outline vertex along an edge's line
-    lam[every[beyond], k[beyond]] = -reach[rows[beyond], k[beyond]]
-    lam[every[beyond], (k[beyond] + 1) % 3] = -rng.uniform(0.0, MARGIN, beyond.sum())
-    lam[:, 2] = 1.0 - lam[:, 0] - lam[:, 1]
-    normal = ply_projection.triangle_frames(y[rows])[0]
-    got = ply_feature_normals.feature_normals(
-        y, topology, rows, lam, reach[rows], normal, ply_projection.INSIDE
-    )
-    want = _feature_normals(y, topology, rows, lam, reach[rows], normal)
-    assert _same(got[0], want[0]) and _same(got[1], want[1])
-    bound = lam <= -reach[rows] + 1e-9
-    assert (bound.sum(axis=1) == 2).any() and (bound.sum(axis=1) == 1).any()
-    assert want[1].any() and not np.array_equal(want[0], normal)
 
 
 def test_the_compiled_faces_are_numpy_s_to_the_bit(monkeypatch):
@@ -773,51 +692,6 @@ def test_the_compiled_chosen_candidate_s_arrays_are_numpy_s_to_the_bit(with_towa
             assert got.shape == want.shape and got.dtype == want.dtype
             assert np.array_equal(got, want, equal_nan=True)
             # signed zeros too
-            if got.dtype == float:
-                assert np.array_equal(np.signbit(got), np.signbit(want))
-
-    on_one_thread_and_on_all(compare)
-
-
-@pytest.mark.parametrize("with_cuts", [False, True])
-def test_the_compiled_fade_inputs_are_numpy_s_to_the_bit(with_cuts):
-    """``ply_chosen.fade_inputs`` against ``ply_chosen.fade_inputs_numpy``: the points near
-    the outline, their facing triangles' corners, reach, flags, nearest outline edges' ends
-    and cuts, the same arrays to the bit (NaN and -0.0 among them), on one thread and on all
-    of numba's; no cuts: None."""
-    from elements import ply_chosen
-    from elements.ply_wedge import WedgeCuts
-
-    rng = np.random.default_rng(3)
-    count, m, edges = 501, 40, 17
-    p = rng.normal(size=(count, 3))
-    p[::7, 1] = -0.0
-    p[::11, 2] = np.nan
-    y = rng.normal(size=(m, 3, 3))
-    triangle = rng.integers(0, m, count)
-    reach = np.where(rng.random((count, 3)) < 0.4, 0.5, 0.0)
-    beside, joined = rng.random(count) < 0.3, rng.random(count) < 0.2
-    starts, ends = rng.normal(size=(edges, 3)), rng.normal(size=(edges, 3))
-    at = np.flatnonzero(rng.random(count) < 0.6)
-    segment = rng.integers(0, edges, len(at))
-    cuts = None
-    if with_cuts:
-        cut = rng.random(m) < 0.3
-        lines = np.where(cut[:, None, None], rng.normal(size=(m, 3, 3)), 0.0)
-        ends_cut = np.where(cut[:, None, None], rng.normal(size=(m, 3, 3)), 0.0)
-        cuts = WedgeCuts(lines=lines, ends=ends_cut)
-    arguments = (at, p, y, triangle, reach, beside, joined, starts, ends, segment, cuts)
-    reference = ply_chosen.fade_inputs_numpy(*arguments)
-
-    def compare():
-        compiled = ply_chosen.fade_inputs(*arguments)
-        assert len(compiled) == len(reference) == 8
-        for got, want in zip(compiled, reference, strict=True):
-            if want is None:
-                assert got is None and not with_cuts
-                continue
-            assert got.shape == want.shape and got.dtype == want.dtype
-            assert np.array_equal(got, want, equal_nan=True)
             if got.dtype == float:
                 assert np.array_equal(np.signbit(got), np.signbit(want))
 
