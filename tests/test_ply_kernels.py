@@ -458,9 +458,9 @@ def test_the_fade_s_one_pass_is_numpy_s_on_one_thread_and_on_all(monkeypatch, se
     its outline triangles, each against one of them, a third beside the growth (a fifth of
     those on a joined edge), the pass at every other point, with and without the cuts, the
     edges measured in the pass (each edge listed twice, ties to the lowest index, and an edge
-    of no length among them) and given (the KD-tree's), on one thread and on all of numba's;
-    the premises, w strictly between 0 and 1 both past the outline and beside a growth, and
-    some closest points on the cuts."""
+    of no length among them) and given (as the KD-tree's path gives them; here
+    every_segment's), on one thread and on all of numba's; the premises, w strictly between
+    0 and 1 both past the outline and beside a growth, and some closest points on the cuts."""
     from elements import ply_chosen, ply_fade_kernels
     from elements.ply_fade import every_segment, fade_length, outline_fade, outline_segments
     from elements.ply_wedge import closest_on_grown
