@@ -485,14 +485,18 @@ def friction_tangent(
             turning[turns], spring[turns], d_spring[turns], couple[turns],
         )  # fmt: skip
     edges = np.flatnonzero(stuck & facing.on_edge[on]) if facing.on_edge is not None else on[:0]
+    turned = np.zeros((t, 4, 3))
     if edges.size and not block.curved:  # the couple of points facing an edge or a vertex
         at = on[edges]
         _, y = block._faces(state)
+        # the edge's features made once, for the couple's derivative and for the couple
+        # itself (``edge_couples``' rows, its numpy path: the same bits as the compiled one)
+        features = edge_features(facing, y, block.cuts, at)
         points[edges] += edge_couple_tangent(
-            edge_features(facing, y, block.cuts, at), facing.gap[at], n[edges], r[edges],
+            features, facing.gap[at], n[edges], r[edges],
             s[edges], big[edges], ds[edges], spring[edges], d_spring[edges],
         )  # fmt: skip
-    turned = edge_couples(block, state, sliding, facing, on)
+        turned[edges] = edge_couple(features, facing.gap[at], n[edges], r[edges], force[edges])
     ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack(
         [

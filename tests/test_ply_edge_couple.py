@@ -115,6 +115,20 @@ def anchored(block, state, where: str):
     ), keep
 
 
+def edge_and_vertex(block, state):
+    """The history with the touching points facing an edge and those facing the vertex
+    anchored (``anchored``'s two histories in one)."""
+    history, keep = anchored(block, state, "edge")
+    vertex = anchored(block, state, "vertex")[0]
+    return type(history)(
+        np.where(keep, history.triangle, vertex.triangle),
+        np.where(keep[:, None], history.anchor, vertex.anchor),
+        history.slip,
+        history.pressing,
+        history.dissipated,
+    )
+
+
 CASES = {"deeper": None, "on the ramp": 0.2}  # smoothing: |g| = 0.1 past it, or on it
 
 
@@ -205,16 +219,8 @@ def test_the_compiled_loads_with_the_edge_couple_are_numpy_s_to_the_bit(monkeypa
     from tests.thread_runs import on_one_thread_and_on_all
 
     block, state = pit(smoothing=0.2)
-    history, keep = anchored(block, state, "edge")
-    vertex = anchored(block, state, "vertex")[0]
-    both = np.where(keep, history.triangle, vertex.triangle)
-    history = type(history)(
-        both,
-        np.where(keep[:, None], history.anchor, vertex.anchor),
-        history.slip,
-        history.pressing,
-        history.dissipated,
-    )
+    history = edge_and_vertex(block, state)
+    both = history.triangle
 
     def loads():
         answers = []
@@ -315,3 +321,36 @@ def test_the_compiled_edge_couples_are_numpy_s_to_the_bit_round_cut_strips(seed)
     ):
         assert got.dtype == want.dtype and np.array_equal(got, want)
     assert features.slide.any() and (~features.slide).any() and np.any(want != 0.0)
+
+
+def test_the_tangent_makes_the_edge_features_once_and_gives_the_same_bits(monkeypatch):
+    """``friction_tangent`` on the pit's 46 stuck points facing its edges and its vertex
+    makes their edge features once a call (for the couple's derivative and for the couple in
+    its forces), where it made them twice (again in ``edge_couples``, numpy's
+    ``edge_features`` or the compiled pass): the same blocks to the bit with the compiled
+    kernels on and off, and the couple in them the ``edge_couples`` the loads use."""
+    from elements import ply_edge_couple_kernels, ply_friction
+
+    block, state = pit(smoothing=0.2)
+    history = edge_and_vertex(block, state)
+    made = []
+    features, compiled = ply_friction.edge_features, ply_edge_couple_kernels.edge_couples
+    monkeypatch.setattr(
+        ply_friction, "edge_features", lambda *a: made.append("numpy") or features(*a)
+    )
+    monkeypatch.setattr(
+        ply_edge_couple_kernels, "edge_couples", lambda *a: made.append("compiled") or compiled(*a)
+    )
+    blocks = []
+    for on in (True, False):
+        monkeypatch.setattr(ply_projection, "COMPILED", on)
+        made.clear()
+        facing = block.facing(state)
+        blocks.append(ply_friction.friction_tangent(block, state, history, facing).blocks)
+        assert made == ["numpy"]
+    assert np.array_equal(blocks[0], blocks[1])
+    # the couple's rows: the forces' geometric part reads it (a turn of the directors)
+    sliding = ply_friction.friction_state(block, state, history, facing)
+    rows = np.flatnonzero(sliding.stuck | sliding.sliding)
+    assert np.count_nonzero(edge_couples(block, state, sliding, facing, rows)) > 0
+    assert (history.triangle >= 0).sum() == 46
