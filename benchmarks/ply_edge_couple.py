@@ -29,6 +29,27 @@ fibrous [0/90], 8 cells, best of 2, CPU; the runs differ: 6771 -> 6865 steps): w
 in numpy 1.953 -> 2.384 ms a step (load 13-16), compiled 2.124 -> 2.281 ms a step (+7 %, load
 14-16; the reference itself moved by 9 % between the two sessions).
 
+Also timed: ``friction_tangent`` of both passes of the blank (best of 5 x 10 calls) and of the
+pit's 46 stuck points facing its edges and its vertex (best of 5 x 20). The cuts since (the
+same bits: tests/test_ply_edge_couple.py, test_ply_kernels.py, test_ply_stick_potential.py;
+the whole run's final positions and steps): ``friction_tangent`` makes the edge features
+once a call, where the couple in its forces made them again (``edge_couples``); ``ply_loads``
+tests for such points by ``np.count_nonzero`` on the flags it makes for the plane couple's
+rows (``stuck ^ edge``), 0.65 us where ``np.any(stuck & on_edge)`` took 2.7 us and the
+flags another pass. Beside 16c6b29 (load 6.1, three runs in turn), reference | this tree, ms
+a call: loads 0.237 | 0.229, 0.240 | 0.226, 0.231 | 0.220 (-3 to -6 %); the blank's tangent
+(no point facing an edge: the cut saves microseconds there, the 3-5 % is noise) 35.9 |
+34.0, 35.1 | 33.7, 35.2 | 34.2; the pit's tangent 6.53 |
+6.40, 6.40 | 6.29, 6.48 | 6.75 (the features are a few per cent of it: within the noise).
+The whole run (``forming_step_overhead.py --reference``, fibrous [0/90], 6865 steps, best of
+2, the same steps and positions to the bit): 1.935 -> 1.787 ms a step (load 5.7), then
+1.701 -> 1.701 (load 2.1): the loads call is about a tenth of a step, its cut within the noise.
+What is left of the couple's cost where no point faces an edge lies in the compiled pass:
+its kernel alone took 38.1 us a call on the first pass at 05b57d7 and 40.5-42.8 now (one
+process each, load 4-6); the pass's ``turned`` terms are not it: a (P, 4, 3) zero ``turn``
+in place of the empty one cost 41.0 against 40.5 us, and adding -0.0 (which LLVM may drop)
+in place of 0.0 where ``turn`` is empty 40.6 against 40.5 (not kept).
+
 Run: python benchmarks/ply_edge_couple.py --reference /tmp/before
 """
 
@@ -76,6 +97,7 @@ def _best(call, repeats: int = 7, calls: int = 200) -> float:
 
 def measure() -> dict:
     """This process's tree: the loads' CPU a call and the premises' counts."""
+    from elements import ply_friction
     from elements.ply_block import PlyContactBlock
     from validation.studies import hemisphere_plies_setup as setup
 
@@ -93,7 +115,36 @@ def measure() -> dict:
         stuck += int(sliding.stuck.sum())
         edge += int(np.sum(sliding.stuck & facing.on_edge))
     ms = 1e3 * _best(lambda: [b.internal_force(second, h) for b, h in zip(blocks, histories)])
-    return {"ms": ms, "stuck": stuck, "edge": edge}
+    tangent = 1e3 * _best(
+        lambda: [
+            ply_friction.friction_tangent(b, second, h, b.facing(second))
+            for b, h in zip(blocks, histories)
+        ],
+        5,
+        10,
+    )
+    return {"ms": ms, "stuck": stuck, "edge": edge, "tangent": tangent, **_pit()}
+
+
+def _pit() -> dict:
+    """The pit of tests/test_ply_edge_couple.py (on the ramp), its stuck points facing its
+    edges and those facing its vertex anchored: ``friction_tangent``'s CPU a call, ms."""
+    from elements import ply_friction
+    from tests.test_ply_edge_couple import anchored, pit
+
+    block, state = pit(smoothing=0.2)
+    history, keep = anchored(block, state, "edge")
+    vertex = anchored(block, state, "vertex")[0]
+    history = type(history)(
+        np.where(keep, history.triangle, vertex.triangle),
+        np.where(keep[:, None], history.anchor, vertex.anchor),
+        history.slip,
+        history.pressing,
+        history.dissipated,
+    )
+    facing = block.facing(state)
+    ms = 1e3 * _best(lambda: ply_friction.friction_tangent(block, state, history, facing), 5, 20)
+    return {"pit_tangent": ms, "pit_edge": int((history.triangle >= 0).sum())}
 
 
 def run_in(tree: Path) -> dict:
@@ -123,10 +174,15 @@ def main() -> None:
         load = os.getloadavg()[0]
         old = run_in(args.reference) if args.reference else None
         new = run_in(HERE)
-        before = f"{old['ms']:.3f} | " if old else ""
+
+        def pair(key, old=old, new=new):
+            return (f"{old[key]:.3f} | " if old else "") + f"{new[key]:.3f}"
+
         print(
-            f"load {load:.1f}: {before}{new['ms']:.3f} ms a call (reference | this tree), "
-            f"{new['stuck']} stuck points, {new['edge']} facing an edge or a vertex",
+            f"load {load:.1f}, ms a call (reference | this tree): loads {pair('ms')}, "
+            f"tangent {pair('tangent')} ({new['stuck']} stuck points, {new['edge']} facing "
+            f"an edge or a vertex); the pit's tangent {pair('pit_tangent')} "
+            f"({new['pit_edge']} facing)",
             flush=True,
         )
 
