@@ -41,6 +41,9 @@ a call: loads 0.237 | 0.229, 0.240 | 0.226, 0.231 | 0.220 (-3 to -6 %); the blan
 (no point facing an edge: the cut saves microseconds there, the 3-5 % is noise) 35.9 |
 34.0, 35.1 | 33.7, 35.2 | 34.2; the pit's tangent 6.53 |
 6.40, 6.40 | 6.29, 6.48 | 6.75 (the features are a few per cent of it: within the noise).
+Again at load 1.2-1.3: loads 0.219 | 0.210, 0.214 | 0.212, 0.217 | 0.213 (-1 to -4 %); the
+blank's tangent 33.6 | 32.4, 32.1 | 33.9, 34.1 | 33.6; the pit's 5.75 | 5.69, 5.72 | 6.03,
+5.79 | 5.80.
 The whole run (``forming_step_overhead.py --reference``, fibrous [0/90], 6865 steps, best of
 2, the same steps and positions to the bit): 1.935 -> 1.787 ms a step (load 5.7), then
 1.701 -> 1.701 (load 2.1): the loads call is about a tenth of a step, its cut within the noise.
