@@ -225,7 +225,13 @@ def friction_state(
         return ply_friction.friction_state(block, state, history, facing)
     kept = getattr(block, "_next_sliding", None)
     law = _law(block)
-    if kept is not None and kept[0] is history and kept[1] is facing and _same(kept[2], law):
+    if (
+        kept is not None
+        and kept[0] is history
+        and kept[1] is facing
+        and _same(kept[2], law)
+        and kept[4] == _bits(history)  # not edited in place since
+    ):
         return kept[3]  # made with the history itself (``updated_history``): the same bits
     count = len(block.above)
     on = facing.touching
@@ -450,15 +456,19 @@ def updated_history(
         *following,
     )
     dissipated = history.dissipated + float(np.sum(dissipation))
-    # The kept mapping is matched by the history's identity: its arrays, and the kept
-    # mapping's, read-only, so that no edit in place can leave a stale mapping served.
-    for array in (triangle, anchor, slipped, sliding.pressing, *following):
-        array.setflags(write=False)
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
     # the next step's loads ask for the return mapping at this state from this history: kept
     # for it (module docstring), as long as the facing and the penalties are these
-    block._next_sliding = (updated, facing, _law(block), Sliding(*following))
+    block._next_sliding = (updated, facing, _law(block), Sliding(*following), _bits(updated))
     return updated
+
+
+def _bits(history: PlyFrictionHistory) -> bytes:
+    """The bytes of a history's arrays: a kept mapping is served only to the history it was
+    made with, unedited (matched by identity and these; its arrays stay writable, as the
+    kernels' other inputs of their kind, so that each kernel keeps one build)."""
+    arrays = (history.triangle, history.anchor, history.slip, history.pressing)
+    return b"".join(np.ascontiguousarray(array).tobytes() for array in arrays)
 
 
 def _law(block: PlyContactBlock) -> tuple:

@@ -118,3 +118,26 @@ def test_read_only_gives_a_read_only_c_contiguous_view_and_leaves_the_caller_s_a
     assert copied.flags.c_contiguous and not copied.flags.writeable
     assert np.array_equal(copied, strided)
     assert read_only(np.arange(4), np.float64).dtype == np.float64
+
+
+def test_the_loads_are_built_once_with_a_fresh_and_a_kept_return_mapping(monkeypatch):
+    """The two-ply Mindlin [0/90] hemisphere blank (8 cells) bent 5 then 5.2 mm: its loads from
+    a history's fresh return mapping and from the one its history's pass kept for them
+    (ply_friction_kernels) reach ``ply_load_kernels._loads`` as arrays of one type: one
+    build (a kept mapping made read-only was a second)."""
+    from test_ply_kernels import _bent
+
+    from elements.ply_block import PlyContactBlock
+    from validation.studies import hemisphere_plies_setup as setup
+
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    _, model = setup.model(8, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled = model.compile()
+    first, second = _bent(compiled, 3, 5.0), _bent(compiled, 3, 5.2)
+    for block in (b for b in compiled.interactions if isinstance(b, PlyContactBlock)):
+        history = block.update_history(first, block.initial_history())
+        block.internal_force(first, history)  # a fresh mapping
+        later = block.update_history(second, history)
+        block.internal_force(second, later)  # the kept one
+        assert block._next_sliding is not None and block._next_sliding[0] is later
+    assert len(_signatures(ply_load_kernels._loads)) == 1
