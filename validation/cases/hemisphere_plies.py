@@ -100,10 +100,10 @@ trimmed (`python -m validation --cases hemisphere-plies --resolution fine`, one 
 [0/90] 3.36 / 3.41 deg, holder 19.85 N, above KE / W 0.1 over 9.0 % (peak 0.131); fibrous
 [0/45] 3.57 / 4.38 deg, holder 19.92 N; Mindlin [0/45] 3.34 / 4.42 deg, holder 20.34 N.
 The step counts and times above are those of the code they were measured on; at 8 cells the
-runs now take 6865 (fibrous [0/90]) and 6053 (fibrous [0/45]) steps with the couple of stuck
-points facing an edge or a vertex (docs/hemisphere_plies.md; 6771 and 6085 before it, and
-13744 (Mindlin [0/90]) and 11582 (Mindlin [0/45]) measured before it) at 2.4-3.0 ms a step,
-one thread (benchmarks/forming_step_overhead.py).
+runs now take 6865 (fibrous [0/90]), 6053 (fibrous [0/45]), 13939 (Mindlin [0/90]) and 11868
+(Mindlin [0/45]) steps with the couple of stuck points facing an edge or a vertex
+(docs/hemisphere_plies.md; 6771, 6085, 13744 and 11582 before it) at 1.7-3.0 ms a step, one
+thread (benchmarks/forming_step_overhead.py).
 """
 
 from __future__ import annotations
