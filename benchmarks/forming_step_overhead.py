@@ -178,6 +178,16 @@ new passes cost: a fibrous and a Mindlin [0/45] run of 1/200 of the stroke from 
 cache (``git archive`` of each tree, one thread, both at once, load 13-17), 80.1 -> 83.6 s of
 CPU (the fused passes compile their helpers again; the old chain's kernels are left to the
 tests).
+* The friction's two mappings a step as two calls of the return mapping's kernel again (the
+  history's new anchors by ``_moved``, then ``_return_mapping`` on them), where the third
+  round had both kernels call one per-point helper (``_map_point``, two dozen array
+  arguments): numba's call of it, spliced (inline="always") or not, took the kernel from 6.7
+  to 41 us on the same 384 points (the Mindlin [0/90] blank bent 5.2 mm; one thread, load
+  ~1). A fresh ``friction_state`` 66 -> 22 us a call, ``update_history`` at a kept facing 148
+  -> 59 us (05b57d7: 22 and 43, without the kept mapping). The whole run beside the tree
+  before (``--reference``, fibrous [0/90], 6865 steps, load 0.7-1.0): 1.659 -> 1.693 ms a
+  step, the same steps and final positions to the bit: the difference is within the run's
+  noise.
 """
 
 from __future__ import annotations

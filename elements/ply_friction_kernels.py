@@ -22,12 +22,11 @@ Each point is independent: the same bits on any thread count.
 
 A step maps twice at one state: the history committed after the step maps from the history
 before it, the next step's loads from the new one, which differs where points slide, touch
-anew or leave (not the same inputs: tests/test_ply_kernels.py). The history's pass makes the
-second mapping too, point by point after its new anchor (``_map_point``, the one code of
-both), and keeps it on the block; ``friction_state`` returns it where its history, facing and
-penalties are those objects (a step's next loads), and maps afresh otherwise: one compiled
-call a step fewer per block, its Python and numpy glue with it
-(benchmarks/forming_step_overhead.py).
+anew or leave (not the same inputs: tests/test_ply_kernels.py). The history's update makes the
+second mapping right after the new anchors (the return mapping's kernel on the new history),
+and keeps it on the block; ``friction_state`` returns it where its history (unedited), facing
+and penalties are those (a step's next loads), and maps afresh otherwise: the Python and
+numpy glue of one call a step fewer per block (benchmarks/forming_step_overhead.py).
 """
 
 from __future__ import annotations
@@ -37,7 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_friction
-from elements.jit import jit_lanes, lanes, prange
+from elements.jit import jit_lanes, prange
 from elements.ply_friction import PlyFrictionHistory, Sliding
 
 if TYPE_CHECKING:
@@ -46,101 +45,6 @@ if TYPE_CHECKING:
     from femcore.state import State
 
 __all__ = ["friction_state", "updated_history"]
-
-
-@lanes
-def _map_point(
-    i,
-    touching,
-    gap,
-    stiffness,
-    smoothing,
-    fade,
-    bounded,
-    normal_law,
-    potential,
-    friction,
-    anchor_triangle,
-    anchor_weights,
-    face,
-    normal,
-    y,
-    force,
-    slip,
-    stuck,
-    sliding,
-    pressing,
-    offset,
-    triangle,
-    spring,
-    lift,
-    stored,
-):
-    """``_return_mapping`` at point i (its arrays')."""
-    on = touching[i]
-    normal_force = 0.0
-    k_t = 0.0
-    unfaded = 0.0
-    slope = 0.0
-    if on:
-        k = stiffness[i]
-        g = gap[i] if (gap[i] < 0.0 or gap[i] != gap[i]) else 0.0
-        if smoothing == 0.0:
-            law = k * g
-        elif g <= -smoothing:
-            law = k * (g + 0.5 * smoothing)
-        else:
-            law = -k * (g * g) / (2.0 * smoothing)
-        normal_force = -law * fade[i]
-        # the stick spring before w and its slope, as ``ply_friction.stick_spring`` writes
-        # them (``penalty_law``'s W'' from numpy's min(g, 0); the slope's -k_p / delta)
-        unfaded = k
-        if normal_law:
-            if smoothing == 0.0:
-                unfaded = k if gap[i] <= 0.0 else 0.0
-            else:
-                b = bounded[i]
-                unfaded = k if b <= -smoothing else (-k * b) / smoothing
-                if gap[i] < 0.0 and gap[i] > -smoothing:
-                    slope = -k / smoothing
-        k_t = unfaded * fade[i] if normal_law else unfaded
-    pressing[i] = normal_force
-    spring[i] = k_t
-    anchored = on and anchor_triangle[i] >= 0
-    t = anchor_triangle[i] if anchored else 0
-    triangle[i] = t
-    r0 = r1 = r2 = 0.0
-    if anchored:
-        w0, w1, w2 = anchor_weights[i, 0], anchor_weights[i, 1], anchor_weights[i, 2]
-        a0 = (w0 * y[t, 0, 0] + w1 * y[t, 1, 0]) + w2 * y[t, 2, 0]
-        a1 = (w0 * y[t, 0, 1] + w1 * y[t, 1, 1]) + w2 * y[t, 2, 1]
-        a2 = (w0 * y[t, 0, 2] + w1 * y[t, 1, 2]) + w2 * y[t, 2, 2]
-        r0, r1, r2 = face[i, 0] - a0, face[i, 1] - a1, face[i, 2] - a2
-    n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
-    along = (r0 * n0 + r1 * n1) + r2 * n2
-    s0, s1, s2 = r0 - along * n0, r1 - along * n1, r2 - along * n2
-    length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
-    limit = friction * normal_force
-    held = anchored and k_t * length <= limit
-    slides = anchored and not held
-    if held:
-        scale = k_t
-    elif slides:
-        scale = limit / (length if length > 0 else 1.0)
-    else:
-        scale = 0.0
-    force[i, 0], force[i, 1], force[i, 2] = scale * s0, scale * s1, scale * s2
-    slip[i, 0], slip[i, 1], slip[i, 2] = s0, s1, s2
-    offset[i, 0], offset[i, 1], offset[i, 2] = r0, r1, r2
-    stuck[i] = held
-    sliding[i] = slides
-    if held and potential:
-        half = 0.5 * ((s0 * s0 + s1 * s1) + s2 * s2)
-        lift[i] = fade[i] * (slope * half)
-        stored[i] = unfaded * half
-    else:
-        lift[i] = 0.0
-        stored[i] = 0.0
 
 
 def _return_mapping(
@@ -180,33 +84,70 @@ def _return_mapping(
     points p ``face`` (P, 3), their facing normals (P, 3) and the lower corners y (m, 3, 3);
     ``smoothing`` delta, mm, ``friction`` mu."""
     for i in prange(gap.shape[0]):
-        _map_point(
-            i,
-            touching,
-            gap,
-            stiffness,
-            smoothing,
-            fade,
-            bounded,
-            normal_law,
-            potential,
-            friction,
-            anchor_triangle,
-            anchor_weights,
-            face,
-            normal,
-            y,
-            force,
-            slip,
-            stuck,
-            sliding,
-            pressing,
-            offset,
-            triangle,
-            spring,
-            lift,
-            stored,
-        )
+        on = touching[i]
+        normal_force = 0.0
+        k_t = 0.0
+        unfaded = 0.0
+        slope = 0.0
+        if on:
+            k = stiffness[i]
+            g = gap[i] if (gap[i] < 0.0 or gap[i] != gap[i]) else 0.0
+            if smoothing == 0.0:
+                law = k * g
+            elif g <= -smoothing:
+                law = k * (g + 0.5 * smoothing)
+            else:
+                law = -k * (g * g) / (2.0 * smoothing)
+            normal_force = -law * fade[i]
+            # the stick spring before w and its slope, as ``ply_friction.stick_spring`` writes
+            # them (``penalty_law``'s W'' from numpy's min(g, 0); the slope's -k_p / delta)
+            unfaded = k
+            if normal_law:
+                if smoothing == 0.0:
+                    unfaded = k if gap[i] <= 0.0 else 0.0
+                else:
+                    b = bounded[i]
+                    unfaded = k if b <= -smoothing else (-k * b) / smoothing
+                    if gap[i] < 0.0 and gap[i] > -smoothing:
+                        slope = -k / smoothing
+            k_t = unfaded * fade[i] if normal_law else unfaded
+        pressing[i] = normal_force
+        spring[i] = k_t
+        anchored = on and anchor_triangle[i] >= 0
+        t = anchor_triangle[i] if anchored else 0
+        triangle[i] = t
+        r0 = r1 = r2 = 0.0
+        if anchored:
+            w0, w1, w2 = anchor_weights[i, 0], anchor_weights[i, 1], anchor_weights[i, 2]
+            a0 = (w0 * y[t, 0, 0] + w1 * y[t, 1, 0]) + w2 * y[t, 2, 0]
+            a1 = (w0 * y[t, 0, 1] + w1 * y[t, 1, 1]) + w2 * y[t, 2, 1]
+            a2 = (w0 * y[t, 0, 2] + w1 * y[t, 1, 2]) + w2 * y[t, 2, 2]
+            r0, r1, r2 = face[i, 0] - a0, face[i, 1] - a1, face[i, 2] - a2
+        n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
+        along = (r0 * n0 + r1 * n1) + r2 * n2
+        s0, s1, s2 = r0 - along * n0, r1 - along * n1, r2 - along * n2
+        length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
+        limit = friction * normal_force
+        held = anchored and k_t * length <= limit
+        slides = anchored and not held
+        if held:
+            scale = k_t
+        elif slides:
+            scale = limit / (length if length > 0 else 1.0)
+        else:
+            scale = 0.0
+        force[i, 0], force[i, 1], force[i, 2] = scale * s0, scale * s1, scale * s2
+        slip[i, 0], slip[i, 1], slip[i, 2] = s0, s1, s2
+        offset[i, 0], offset[i, 1], offset[i, 2] = r0, r1, r2
+        stuck[i] = held
+        sliding[i] = slides
+        if held and potential:
+            half = 0.5 * ((s0 * s0 + s1 * s1) + s2 * s2)
+            lift[i] = fade[i] * (slope * half)
+            stored[i] = unfaded * half
+        else:
+            lift[i] = 0.0
+            stored[i] = 0.0
 
 
 _return_mapping_compiled = jit_lanes(_return_mapping)
@@ -298,33 +239,13 @@ def _moved(
     anchor,
     slipped,
     dissipation,
-    stiffness,
-    smoothing,
-    fade,
-    bounded,
-    normal_law,
-    potential,
-    face,
-    next_force,
-    next_slip,
-    next_stuck,
-    next_sliding,
-    next_pressing,
-    next_offset,
-    next_triangle,
-    next_spring,
-    next_lift,
-    next_stored,
 ):
     """``ply_friction.updated_history``'s arrays, written into triangle (P,) int, anchor (P, 3),
     slipped (P,) mm and dissipation (P,), N mm (each point's mu N_mid times its slip, which
     numpy sums): from the facing's touching flags, triangles, weights (P, 3), gradients (P, 3,
     3), gaps and normals (P, 3), the lower corners y (m, 3, 3), mu ``friction``, the return
     mapping's slip, offset (P, 3), stuck, sliding, pressing and spring (P,), and the last
-    history's triangle, anchor, slip and pressing; and the return mapping at the same state
-    from the new history (``_return_mapping``'s arrays into the ``next_`` ones, from the
-    penalties, ``smoothing``, the fade, ``bounded``, ``normal_law``, ``potential`` and the
-    points ``face`` as ``friction_state`` gives them), which the next step's loads take."""
+    history's triangle, anchor, slip and pressing."""
     for i in prange(gap.shape[0]):
         s0, s1, s2 = slip[i, 0], slip[i, 1], slip[i, 2]
         length = np.sqrt((s0 * s0 + s1 * s1) + s2 * s2)
@@ -373,33 +294,6 @@ def _moved(
                 anchor[i, k] = np.nan
         slipped[i] = last_slip[i] + slid
         dissipation[i] = friction * 0.5 * (pressing[i] + last_pressing[i]) * slid
-        _map_point(
-            i,
-            touching,
-            gap,
-            stiffness,
-            smoothing,
-            fade,
-            bounded,
-            normal_law,
-            potential,
-            friction,
-            triangle,
-            anchor,
-            face,
-            normal,
-            y,
-            next_force,
-            next_slip,
-            next_stuck,
-            next_sliding,
-            next_pressing,
-            next_offset,
-            next_triangle,
-            next_spring,
-            next_lift,
-            next_stored,
-        )
 
 
 _moved_compiled = jit_lanes(_moved)
@@ -446,13 +340,27 @@ def updated_history(
         anchor,
         slipped,
         dissipation,
+    )
+    # the next step's loads ask for the return mapping at this state from the new history:
+    # made here, as ``friction_state`` makes it (the same kernel and inputs: the same bits);
+    # its own loop, not a helper both kernels call: numba's call of a per-point helper with
+    # two dozen array arguments, even spliced (inline="always"), took the mapping from 6.7 to
+    # 41 us on 384 points
+    _return_mapping_compiled(
+        np.ascontiguousarray(facing.touching, dtype=np.bool_),
+        np.ascontiguousarray(facing.gap, dtype=float),
         np.ascontiguousarray(block.stiffness, dtype=float),
         float(block.smoothing),
         np.ascontiguousarray(facing.fade, dtype=float),
         np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
         block.stick != "penalty",
-        block.stick != "penalty",
+        block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
+        float(block.friction),
+        triangle,
+        anchor,
         np.ascontiguousarray(facing.face, dtype=float),
+        np.ascontiguousarray(facing.normal, dtype=float),
+        np.ascontiguousarray(y, dtype=float),
         *following,
     )
     dissipated = history.dissipated + float(np.sum(dissipation))
