@@ -174,12 +174,17 @@ def friction_state(
         and kept[4] == _bits(history)  # not edited in place since
     ):
         return kept[3]  # made with the history itself (``updated_history``): the same bits
-    count = len(block.above)
-    on = facing.touching
     _, y = block._faces(state)
-    arrays = _sliding_arrays(count)
+    return _mapped(block, facing, y, history.triangle, history.anchor)
+
+
+def _mapped(block: PlyContactBlock, facing: Facing, y, triangle, anchor) -> Sliding:
+    """The return mapping's kernel at a facing (its lower corners y (m, 3, 3)) from anchors on
+    the lower triangles ``triangle`` (P,) int (-1: none) at barycentric ``anchor`` (P, 3):
+    ``friction_state``'s and the one ``updated_history`` keeps, the same inputs either way."""
+    arrays = _sliding_arrays(len(block.above))
     _return_mapping_compiled(
-        np.ascontiguousarray(on, dtype=np.bool_),
+        np.ascontiguousarray(facing.touching, dtype=np.bool_),
         np.ascontiguousarray(facing.gap, dtype=float),
         np.ascontiguousarray(block.stiffness, dtype=float),
         float(block.smoothing),
@@ -188,8 +193,8 @@ def friction_state(
         block.stick != "penalty",
         block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
         float(block.friction),
-        np.ascontiguousarray(history.triangle, dtype=np.int64),
-        np.ascontiguousarray(history.anchor, dtype=float),
+        np.ascontiguousarray(triangle, dtype=np.int64),
+        np.ascontiguousarray(anchor, dtype=float),
         np.ascontiguousarray(facing.face, dtype=float),
         np.ascontiguousarray(facing.normal, dtype=float),
         np.ascontiguousarray(y, dtype=float),
@@ -316,7 +321,6 @@ def updated_history(
     anchor = np.empty((count, 3))
     slipped = np.empty(count)
     dissipation = np.empty(count)
-    following = _sliding_arrays(count)
     _moved_compiled(
         np.ascontiguousarray(facing.touching, dtype=np.bool_),
         np.ascontiguousarray(facing.triangle, dtype=np.int64),
@@ -342,32 +346,16 @@ def updated_history(
         dissipation,
     )
     # the next step's loads ask for the return mapping at this state from the new history:
-    # made here, as ``friction_state`` makes it (the same kernel and inputs: the same bits);
-    # its own loop, not a helper both kernels call: numba's call of a per-point helper with
-    # two dozen array arguments, even spliced (inline="always"), took the mapping from 6.7 to
-    # 41 us on 384 points
-    _return_mapping_compiled(
-        np.ascontiguousarray(facing.touching, dtype=np.bool_),
-        np.ascontiguousarray(facing.gap, dtype=float),
-        np.ascontiguousarray(block.stiffness, dtype=float),
-        float(block.smoothing),
-        np.ascontiguousarray(facing.fade, dtype=float),
-        np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
-        block.stick != "penalty",
-        block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
-        float(block.friction),
-        triangle,
-        anchor,
-        np.ascontiguousarray(facing.face, dtype=float),
-        np.ascontiguousarray(facing.normal, dtype=float),
-        np.ascontiguousarray(y, dtype=float),
-        *following,
-    )
+    # made here, as ``friction_state`` makes it (``_mapped``: the same bits); by the mapping's
+    # own kernel, not a per-point helper both kernels call: numba's call of one with two
+    # dozen array arguments, even spliced (inline="always"), took the mapping from 6.7 to 41
+    # us on 384 points
+    following = _mapped(block, facing, y, triangle, anchor)
     dissipated = history.dissipated + float(np.sum(dissipation))
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
     # the next step's loads ask for the return mapping at this state from this history: kept
     # for it (module docstring), as long as the facing and the penalties are these
-    block._next_sliding = (updated, facing, _law(block), Sliding(*following), _bits(updated))
+    block._next_sliding = (updated, facing, _law(block), following, _bits(updated))
     return updated
 
 
