@@ -182,14 +182,9 @@ def test_the_tangent_of_a_stuck_point_facing_an_edge_or_a_vertex(where, stick):
     assert check_tangent(block, state, history)
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_the_features_turn_n_as_the_search_s_hessian_round_cut_strips(seed):
-    """tests/test_ply_wedge.py's strips (grown past their outline, cut at both ends) and 400
-    points round them: at every point facing an edge, a vertex or a cut (``on_edge``) the
-    features' dn/dz is the row of p of the search's gap Hessian (``edge_hessian``, which sees
-    the cut's segment the facing does not keep) to round-off (measured: 3.6e-16 of its
-    largest entry); the premise, points whose closest point lies inside a cut (no coordinate
-    at its bound)."""
+def _cut_strip_facing(seed: int, hessian: bool):
+    """400 random points faced on tests/test_ply_wedge.py's cut strip (its rng's ``seed``;
+    the gap's Hessian with ``hessian``): (the rng after them, y, cuts, the facing)."""
     from elements.ply_projection import closest_facing
     from elements.ply_topology import FaceTopology
     from tests.test_ply_wedge import cut_strip
@@ -201,8 +196,20 @@ def test_the_features_turn_n_as_the_search_s_hessian_round_cut_strips(seed):
     toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
     topology = FaceTopology.of(nodes, outline)
     facing = closest_facing(
-        p, y, near, 0.0, outline, True, depth=0.2, toward=toward, topology=topology, cuts=cuts
+        p, y, near, 0.0, outline, hessian, depth=0.2, toward=toward, topology=topology, cuts=cuts
     )
+    return rng, y, cuts, facing
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_features_turn_n_as_the_search_s_hessian_round_cut_strips(seed):
+    """tests/test_ply_wedge.py's strips (grown past their outline, cut at both ends) and 400
+    points round them: at every point facing an edge, a vertex or a cut (``on_edge``) the
+    features' dn/dz is the row of p of the search's gap Hessian (``edge_hessian``, which sees
+    the cut's segment the facing does not keep) to round-off (measured: 3.6e-16 of its
+    largest entry); the premise, points whose closest point lies inside a cut (no coordinate
+    at its bound)."""
+    rng, y, cuts, facing = _cut_strip_facing(seed, hessian=True)
     rows = np.flatnonzero(facing.on_edge)
     features = edge_features(facing, y, cuts, rows)
     turn = turning(features, facing.gap[rows], facing.normal[rows])
@@ -298,22 +305,12 @@ def test_the_compiled_edge_couples_are_numpy_s_to_the_bit_round_cut_strips(seed)
     ``edge_couple(edge_features(...))`` to the bit, on one thread and on all of numba's."""
     from elements import ply_edge_couple_kernels
     from elements.ply_edge_couple import edge_couple
-    from elements.ply_projection import closest_facing
-    from elements.ply_topology import FaceTopology
-    from tests.test_ply_wedge import cut_strip
     from tests.thread_runs import on_one_thread_and_on_all
 
-    rng = np.random.default_rng(seed)
-    nodes, y, outline, cuts = cut_strip(rng, 0.3)
-    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
-    near = np.tile(np.arange(len(nodes)), (len(p), 1))
-    toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
-    topology = FaceTopology.of(nodes, outline)
-    facing = closest_facing(
-        p, y, near, 0.0, outline, False, depth=0.2, toward=toward, topology=topology, cuts=cuts
-    )
+    rng, y, cuts, facing = _cut_strip_facing(seed, hessian=False)
     rows = np.flatnonzero(facing.on_edge)
-    offset, force = rng.normal(size=(len(p), 3)), rng.normal(size=(len(p), 3))
+    count = len(facing.gap)
+    offset, force = rng.normal(size=(count, 3)), rng.normal(size=(count, 3))
     features = edge_features(facing, y, cuts, rows)
     want = edge_couple(features, facing.gap[rows], facing.normal[rows], offset[rows], force[rows])
     for got in on_one_thread_and_on_all(
