@@ -63,39 +63,15 @@ import json
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
+# the bent blank and the timer of benchmarks/ply_stick_couple.py (this script's directory:
+# the same file whichever tree's library the process runs)
+from ply_stick_couple import _bent, _best
+
 HERE = Path(__file__).resolve().parents[1]
-
-
-def _bent(compiled, depth: float):
-    """The blank pressed ``depth`` mm (times (1 - r / 60 mm)^1.5) into a bowl about its pole,
-    jittered 2e-3 mm, its directors tilted about 0.01 rad (tests/test_ply_kernels.py)."""
-    from femcore.state import State
-
-    x0 = compiled.mesh.points
-    n = len(x0)
-    rng = np.random.default_rng(3)
-    radius = np.linalg.norm(x0[:, :2], axis=1)
-    x = x0 + rng.normal(0.0, 2e-3, x0.shape)
-    x[:, 2] -= depth * np.maximum(0.0, 1.0 - radius / 60.0) ** 1.5
-    d = np.tile([0.0, 0.0, 1.0], (n, 1)) + rng.normal(0.0, 0.01, (n, 3))
-    d /= np.linalg.norm(d, axis=1)[:, None]
-    return State(x, d, np.zeros((n, 3)), np.zeros((n, 3)))
-
-
-def _best(call, repeats: int = 7, calls: int = 200) -> float:
-    """The least CPU time of one call over ``repeats`` runs of ``calls`` calls, s."""
-    best = np.inf
-    for _ in range(repeats):
-        start = time.process_time()
-        for _ in range(calls):
-            call()
-        best = min(best, (time.process_time() - start) / calls)
-    return best
 
 
 def measure() -> dict:
@@ -117,7 +93,9 @@ def measure() -> dict:
         sliding = block.friction_state(second, history)
         stuck += int(sliding.stuck.sum())
         edge += int(np.sum(sliding.stuck & facing.on_edge))
-    ms = 1e3 * _best(lambda: [b.internal_force(second, h) for b, h in zip(blocks, histories)])
+    ms = 1e3 * _best(
+        lambda: [b.internal_force(second, h) for b, h in zip(blocks, histories)], 7, 200
+    )
     tangent = 1e3 * _best(
         lambda: [
             ply_friction.friction_tangent(b, second, h, b.facing(second))
