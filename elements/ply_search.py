@@ -47,9 +47,9 @@ moves are measured from an epoch's start (the last full search); a point searche
 then adds the move M_i they had at its search (their moves since then, less the change of t,
 are at most M + M_i) and counts its own move less the change of t since its search. When a
 point's delta reaches the bound, every point past ``REBUILD_SHARE`` of it is searched again
-(one tree, one query for the batch); when M itself passes s / 8, all are (a new epoch). An
-explicit step moves the plies by a small part of a cell, so a list serves many steps; a
-Newton iterate that moves further is searched again: the answer is the same.
+(one tree, one query for the batch); when M itself passes s / 4 (``EPOCH_SHARE``), all are
+(a new epoch). An explicit step moves the plies by a small part of a cell, so a list serves
+many steps; a Newton iterate that moves further is searched again: the answer is the same.
 
 The curved faces (elements/ply_curved.py) read the whole list, not only its nearest: their
 lists are made at each call (``FacingSearch.fresh``), so that the answer is the state's alone.
@@ -80,7 +80,12 @@ SKIN = 0.1
 #: their bound are searched with it (a batch, not a few points at every call).
 REBUILD_SHARE = 0.5
 #: A triangle's move M at which every list is made again (a new epoch), a share of the skin.
-EPOCH_SHARE = 0.125
+#: Any share below 1/2 gives the same lists' answer (module docstring); the cost is the
+#: searches': at 1/8 the Mindlin [0/90] hemisphere's lists were all made again every 13
+#: steps, at 1/4 every 27, with hardly a point searched alone (the bound's other half left
+#: to each point's own move); at 5/16 the points' own searches outnumbered the epochs'
+#: (benchmarks/ply_epoch.py).
+EPOCH_SHARE = 0.25
 #: The share of the skin that the bound 2 delta < s keeps for rounding.
 ROUNDING = 1e-3
 #: Points times triangles up to which a search measures every centroid's distance in one
