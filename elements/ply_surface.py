@@ -53,6 +53,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from elements import ply_projection, ply_surface_kernels
+
 __all__ = [
     "ITERATIONS",
     "gap_gradients",
@@ -61,6 +63,7 @@ __all__ = [
     "project",
     "pullback",
     "surface_point",
+    "surface_point_numpy",
 ]
 
 #: Gauss-Newton steps of the projection on the curved surface.
@@ -127,14 +130,31 @@ def normal_pullback(
 def surface_point(y: np.ndarray, n: np.ndarray, lam: np.ndarray):
     """The surface's point (P, 3), its tangents t_1, t_2 (P, 2, 3) and q (P, 3), e (P, 3)
     (module docstring) at barycentric coordinates ``lam`` (P, 3) over corners ``y`` and unit
-    normals ``n`` (P, 3, 3), mm."""
-    q = np.einsum("pk,pki->pi", lam, y)
-    e = np.einsum("pki,pki->pk", q[:, None, :] - y, n)
-    point = q - 0.5 * np.einsum("pk,pk,pki->pi", lam, e, n)
-    dots = np.einsum("pai,pki->pak", y, n)  # y_a . n_k
-    partial = (
-        y - 0.5 * e[:, :, None] * n - 0.5 * np.einsum("pk,pak,pki->pai", lam, dots, n)
-    )  # dy/dlambda_a, the three taken apart
+    normals ``n`` (P, 3, 3), mm: compiled (elements/ply_surface_kernels.py, the same bits as
+    ``surface_point_numpy``) where the ply kernels are."""
+    if ply_projection.COMPILED:
+        return ply_surface_kernels.surface_point(y, n, lam)
+    return surface_point_numpy(y, n, lam)
+
+
+def surface_point_numpy(y: np.ndarray, n: np.ndarray, lam: np.ndarray):
+    """``surface_point`` in numpy: the reference of the compiled pass. Each sum is spelled
+    out, its terms added from the first (einsum's order would depend on numpy's build: its
+    contiguous loops fuse a product and a sum where the CPU can, its others do not)."""
+
+    def summed(terms):
+        total = terms(0)
+        for k in (1, 2):
+            total = total + terms(k)
+        return total
+
+    q = summed(lambda k: lam[:, k, None] * y[:, k])
+    gone = q[:, None, :] - y  # q - y_k
+    e = summed(lambda i: gone[:, :, i] * n[:, :, i])
+    point = q - 0.5 * summed(lambda k: (lam[:, k] * e[:, k])[:, None] * n[:, k])
+    dots = summed(lambda i: y[:, :, None, i] * n[:, None, :, i])  # (P, a, k): y_a . n_k
+    along = summed(lambda k: (lam[:, k, None] * dots[:, :, k])[:, :, None] * n[:, None, k])
+    partial = (y - 0.5 * e[:, :, None] * n) - 0.5 * along  # dy/dlambda_a, taken apart
     tangents = partial[:, :2, :] - partial[:, 2:3, :]
     return point, tangents, q, e
 
