@@ -662,7 +662,8 @@ def test_a_meshed_tool_searches_again_the_points_that_moved_past_its_margin_in_b
         before = tool._cache
         x = x + rng.uniform(-0.03, 0.03, size=x.shape) * tool.reach
         jumpers = rng.choice(len(x), size=20, replace=False)
-        x[jumpers] += rng.normal(scale=1.0, size=(20, 3)) * tool.reach
+        # past the margin (4 margins of noise a coordinate, the test's draws at 0.25)
+        x[jumpers] += rng.normal(scale=4.0 * MARGIN, size=(20, 3)) * tool.reach
         d, n = tool.distance(x)
         exact = brute_force(x)
         near = ~tool._cache.far  # beyond the search distance a point is told less (above)
