@@ -116,6 +116,18 @@ def _choose(
             if held[k]:
                 continue
             t = near[i, k]
+            if k > 0 and t == near[i, 0]:
+                # a kept list's padding (elements/ply_search.py: each row padded with its
+                # first): the first's closest point, which the same operations would give
+                # again (and the ties below keep the first)
+                distance[k] = distance[0]
+                cutting[k] = cutting[0]
+                parameter[k] = parameter[0]
+                for c in range(3):
+                    points[k, c] = points[0, c]
+                    ends_at[k, 0, c] = ends_at[0, 0, c]
+                    ends_at[k, 1, c] = ends_at[0, 1, c]
+                continue
             beyond = past[i, k]
             if has_cuts and cut[t]:  # the farthest cut the projection lies past
                 w0, w1, w2 = weights[i, k, 0], weights[i, k, 1], weights[i, k, 2]

@@ -53,6 +53,21 @@ def _facets_at(
         p0, p1, p2 = p[i, 0], p[i, 1], p[i, 2]
         for k in range(near.shape[1]):
             t = near[i, k]
+            if k > 0 and t == near[i, 0]:
+                # a kept list's padding (elements/ply_search.py: each row padded with its
+                # first, two thirds of the slots on the [0/45] hemisphere's upper pass): the
+                # first's arrays, which the same operations would give again
+                for a in range(3):
+                    n[i, k, a] = n[i, 0, a]
+                    weights[i, k, a] = weights[i, 0, a]
+                    reach[i, k, a] = reach[i, 0, a]
+                    for b in range(3):
+                        gradients[i, k, a, b] = gradients[i, 0, a, b]
+                area2[i, k] = area2[i, 0]
+                gap[i, k] = gap[i, 0]
+                inside[i, k] = inside[i, 0]
+                past[i, k] = past[i, 0]
+                continue
             a0, a1, a2 = y[t, 0, 0], y[t, 0, 1], y[t, 0, 2]
             b0, b1, b2 = y[t, 1, 0], y[t, 1, 1], y[t, 1, 2]
             c0, c1, c2 = y[t, 2, 0], y[t, 2, 1], y[t, 2, 2]

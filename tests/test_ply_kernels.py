@@ -185,6 +185,60 @@ def test_the_facing_after_its_choice_is_numpy_s_on_one_thread_and_on_all(monkeyp
     assert reference.hessian is not None and np.any(reference.hessian != 0.0)
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_padded_lists_face_as_numpy_s_and_as_the_unpadded(monkeypatch, seed):
+    """The kept lists pad each point's row with its first candidate (elements/ply_search.py);
+    the compiled planes and choice copy the first's arrays into those slots rather than
+    compute them again (elements/ply_kernels.py ``_facets_at``, elements/ply_choice.py
+    ``_choose``). On tests/test_ply_wedge.py's cut strips with 400 points round them, each
+    point given 1-5 random candidates (its nearest centroid's among them) padded to 5 with its
+    first: the candidates' arrays (normals, gradients, gaps, weights, reach, inside, past)
+    and every Facing field to the bit against numpy's (``COMPILED = False``) on one thread
+    and on all of numba's, and the Facing as with the rows unpadded (each point alone, its
+    own candidates only). Premise: a third or more of the slots are padding."""
+    rng = np.random.default_rng(seed)
+    nodes, y, outline, cuts = _strip(rng)
+    topology = FaceTopology.of(nodes, outline)
+    p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (400, 3))
+    toward = np.tile([0.0, 0.0, 1.0], (len(p), 1))
+    nearest = np.argmin(np.linalg.norm(p[:, None] - y.mean(axis=1)[None], axis=2), axis=1)
+    width = 5
+    counts = rng.integers(1, width + 1, len(p))
+    near = np.empty((len(p), width), dtype=np.int64)
+    for i, count in enumerate(counts):
+        others = rng.permutation(np.setdiff1d(np.arange(len(y)), [nearest[i]]))[: count - 1]
+        own = np.sort(np.concatenate([[nearest[i]], others]))
+        near[i] = np.concatenate([own, np.repeat(own[:1], width - count)])
+    assert np.sum(width - counts) >= len(p) * width / 3  # the premise: padding
+
+    def facing(rows=near, at=p, facing_toward=toward):
+        return closest_facing(
+            at, y, rows, 0.0, outline, True, depth=0.2, toward=facing_toward,
+            topology=topology, cuts=cuts,
+        )  # fmt: skip
+
+    monkeypatch.setattr(ply_projection, "COMPILED", False)
+    reference = facing()
+    n, _, gradients, gap, weights = facets(p, y[near])
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    planes = ply_kernels.candidates_at(p, y, near, outline, MARGIN, ply_projection.INSIDE)
+    for name, ours, theirs in zip(
+        ("n", "gradients", "gap", "weights"), planes[:4], (n, gradients, gap, weights)
+    ):
+        assert _same(ours, theirs), name
+    reach = np.where(outline[near], MARGIN, 0.0)
+    assert _same(planes[4], reach)
+    assert _same(planes[5], (weights >= -reach - ply_projection.INSIDE).all(axis=-1))
+    past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
+    assert _same(planes[6], past)
+    for compiled in on_one_thread_and_on_all(facing):
+        assert _facings_equal(compiled, reference) == []
+    for i in rng.choice(len(p), 40, replace=False):  # unpadded, one point at a time
+        alone = facing(near[i : i + 1, : counts[i]], p[i : i + 1], toward[i : i + 1])
+        for name in ("triangle", "gap", "normal", "weights", "touching", "fade"):
+            assert _same(getattr(alone, name)[0], getattr(reference, name)[i]), (i, name)
+
+
 def _bent(compiled, seed: int, depth: float) -> State:
     """The blank pressed ``depth`` mm (times (1 - r / 60 mm)^1.5) into a bowl about its pole,
     jittered 2e-3 mm, its directors tilted about 0.01 rad."""
