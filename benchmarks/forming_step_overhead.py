@@ -188,6 +188,19 @@ tests).
   before (``--reference``, fibrous [0/90], 6865 steps, load 0.7-1.0): 1.659 -> 1.693 ms a
   step, the same steps and final positions to the bit: the difference is within the run's
   noise.
+
+Fourth round, each cut giving the same bits: the kept facing lists' epoch at a triangle move
+of s / 4 (elements/ply_search.py ``EPOCH_SHARE``, benchmarks/ply_epoch.py: half the full
+searches), the meshed die's lists at a margin of 0.5 circumradius (elements/rigid_surface.py
+``MARGIN``, benchmarks/die_margin.py: half its searches), the lists' padding copied from each
+row's first slot in the planes' and the choice's passes (two thirds of the slots of the
+fibrous [0/45] upper pass). ``--split`` of fibrous [0/45] before the padding's cut (load 5.4,
+2.029 ms a step with the timers): ``closest_facing`` 283 us a call, its kernels most of it
+(cProfile: the choice 88, the planes 76, the fade 51, the sides 23 us), the search's full
+searches 0.116 ms a step, the tools' forces at the new state 0.230. ``--reference`` beside
+main de923eb (all three cuts): fibrous [0/45] 2.191 -> 1.984 ms a step (best of 2, load
+3.8-7.9), Mindlin [0/90] 1.686 -> 1.581 (one each, load 6.2-7.4); the same steps and final
+positions to the bit.
 """
 
 from __future__ import annotations
