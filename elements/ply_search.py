@@ -82,7 +82,7 @@ REBUILD_SHARE = 0.5
 #: A triangle's move M at which every list is made again (a new epoch), a share of the skin.
 #: Any share below 1/2 gives the same lists' answer (module docstring); the cost is the
 #: searches': at 1/8 the Mindlin [0/90] hemisphere's lists were all made again every 13
-#: steps, at 1/4 every 27, with hardly a point searched alone (the bound's other half left
+#: steps, at 1/4 every 25-29, with hardly a point searched alone (the bound's other half left
 #: to each point's own move); at 5/16 the points' own searches outnumbered the epochs'
 #: (benchmarks/ply_epoch.py).
 EPOCH_SHARE = 0.25
