@@ -179,11 +179,11 @@ Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the 
   tangents, 14.8 s; 4 straight 1711, 26.0 s (4 plies 24-24-26-128 and 184 cut); 8 curved
   956, 15.6 s; 4 curved 634, 8.5 s (4 plies 10-8-8-52, 8 plies 16-15-11-104 and 35 cut);
   within 4.9e-10 mm and 3.1e-11 of the 8 straight increments' positions and directors. The
-  report's case (``python -m validation --cases plies-deck-of-cards --jobs 1``, default, the
-  code before from a ``git archive`` run beside it, load 5-6, both slowed by the other):
-  99.7 -> 64.2 s CPU, steps 1731 -> 1011 (the heavy stacks' unchanged), 12/12 checks both,
-  results.json's numbers within 2.1e-7 relative (the observed orders; the tilts within
-  3.1e-8).
+  report's case (``python -m validation --cases plies-deck-of-cards --jobs 1``, the code
+  before from a ``git archive``, back to back, warm caches, load 5.3-5.9): default 23.0 ->
+  16.4 s CPU (48.4 -> 39.6 s wall), steps 1731 -> 1011 (the heavy stacks' unchanged), 12/12
+  checks both, results.json's numbers within 2.1e-7 relative (the observed orders; the
+  tilts within 3.1e-8); coarse 6.3 -> 5.3 s CPU, 8/8 checks both.
 * Not kept: the curved steps on the other stacks (``--curved``, coarse, no stall rule, load
   6-7): bai 834 -> 1512 tangents (21-5-4-4-4-3-3-3-3-3 and 82-116-26-14-18-8-11-10-8-12 ->
   23-4-4-3-3-3-3-3-3-3 and 193-138-87-38-30-18-17-15-9-28, 470 -> 877 cut), heavy 164 ->
@@ -197,6 +197,23 @@ Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the 
   one and within a cosine of 0.99 of its direction was taken 2 times in the deck's 220
   tangents (233 with it): its steps alternate in direction and size (points carried into
   contact and out again), they do not halve along one line.
+* Not kept either (the five decks in 4 curved increments, 634 tangents; coarse bai 834 and
+  heavy 164 without the curved steps): the curved steps' second derivative taken from the
+  element blocks' forces alone (the contact's ramp, k / delta = 3e6 N/mm^2 per mm, left out
+  of the probe at 1e-2 of the step): bai 1134 tangents, heavy 320, no better than with it;
+  the heavy stack's cap with the curved steps (update_turn None, 0.1, 0.06 rad: 200, 328,
+  328 tangents; 0.1 straight 229); the ply contact's tangent with the ramp's W'' times 0.5
+  (the ramp's secant at a double root: one Newton step to g = 0; the 2-ply deck's last
+  increment failed after 8 cuts at ratio 1e-5, the linear rate (W'' - s) / (K + s) of the
+  points on the ramp that carry force) or 0.75 (82 and 216 tangents for the 4- and 8-ply
+  decks against 78 and 182); a line search to the root of dPi/ds (Illinois regula falsi, 4
+  probes) where a full step overshoots (dPi/ds < 0 at its start, > 0 at its end, the
+  residual risen), to land the points carried into contact on the ramp: 704 and 509
+  tangents for the same two decks (their first increments 111 and 113 iterations); the
+  watchdog going back at once where a full step raised the residual by more than 100 or
+  1000 times the best iterate's (the deck's last increment climbs out of contact 13 ramps
+  deep by them): 100 failed, 1000 4964 tangents for the five decks. The watchdog's full
+  steps through a residual that rises are what carry the plies past their pressing.
 
 The deck's linear tail (``--case deck --tangent-check``; 4 plies, 20 cells, its last
 increment, 92 tangents; one thread):
