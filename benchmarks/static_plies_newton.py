@@ -215,6 +215,21 @@ Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the 
   deep by them): 100 failed, 1000 4964 tangents for the five decks. The watchdog's full
   steps through a residual that rises are what carry the plies past their pressing.
 
+Increments (plies-bai-5.1, the case's solver with stall 25 and first_turn 0.1; one thread,
+CPU, one process each way):
+
+* Kept, the default's plies in 10 increments a phase instead of 20 (validation/cases/
+  plies_bai_5_1.py, ``PLIES_INCREMENTS``; the 20 were chosen before the first-turn rule, when
+  the 10's first displacement increments took 130 and 101 iterations and 4 cuts): 464 ->
+  403 tangents (gravity 22-6-5-4-4-4-4-3 x13 -> 24-7-7-5-4-3-3-3-3-3; displacement 92-30-21-
+  12-19 ... -> 123-33-34-31-19-19-21-19-15-22, 2 -> 5 first-turn cuts, none else), 29.8 ->
+  27.6 s (load 6-7), within 1.8e-11 mm and 2.4e-12 in the directors. The report's case
+  (``python -m validation --cases plies-bai-5.1 --jobs 1``, the code before from a ``git
+  archive``, back to back, load 6.2-6.5): 36.7 -> 32.9 s CPU, steps 991 -> 927, 5/5 checks
+  both, results.json's numbers within 7.1e-13 relative. Not kept: 6 increments (381
+  tangents, 26.9 s: its first displacement increment 152 iterations), coarse in 5 (277
+  tangents against 271).
+
 The deck's linear tail (``--case deck --tangent-check``; 4 plies, 20 cells, its last
 increment, 92 tangents; one thread):
 
