@@ -235,6 +235,9 @@ thread, CPU, one process each way):
   The report's case (default, back to back, three rounds, load 4.8-5.4): 5.3-5.6 -> 4.6-4.8
   s CPU, steps 224 -> 189, 8/8 checks both, results.json within 3.7e-12 relative. Not kept:
   4 increments (224 tangents), 3 (258), first_turn=0.1 with 10 (249) or 5 (232).
+* Not kept: plies-deck-of-cards' heavy stacks in fewer than their 6 increments (update_turn
+  0.03; load 4-5): 4 plies 205 tangents in 6, 219 in 3 (28 cut), 198 in 4 (20 cut, 2.7 ->
+  2.2 s); 8 plies 195 in 6, 335 in 3, 243 in 4.
 
 The deck's linear tail (``--case deck --tangent-check``; 4 plies, 20 cells, its last
 increment, 92 tangents; one thread):
