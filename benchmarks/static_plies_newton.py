@@ -214,6 +214,10 @@ Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the 
   1000 times the best iterate's (the deck's last increment climbs out of contact 13 ramps
   deep by them): 100 failed, 1000 4964 tangents for the five decks. The watchdog's full
   steps through a residual that rises are what carry the plies past their pressing.
+* Not kept: the curved steps on the imposed steps alone (the first of each displacement
+  increment, whose straight form stretches the plies: ratio 0.99, element forces 30 N), coarse
+  bai with the case's solver: 271 -> 628 tangents (82-19-18-18-18-8-11-10-8-12 -> 142-50-21-
+  19-33-18-17-16-9-29, 8 -> 212 cut).
 
 Increments (the cases' solvers, plies-bai-5.1's with stall 25 and first_turn 0.1; one
 thread, CPU, one process each way):
