@@ -411,10 +411,10 @@ def _iterate(
                     k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
                 )
             delta_free = shifted
-        imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
         flat = left.ravel().copy()
         flat[index] = delta_free
         delta = flat.reshape(-1, N_COLUMNS)
+        imposing = bool(np.abs(left).max(initial=0.0) > 0.0)
         # Curved steps and chords only where the residual is smooth: with contact it is smooth
         # only piecewise, and a probe of the path or a chord may cross a stick limit or a touch
         # (with chords the Mindlin hemisphere drape of tests/test_hemisphere_static.py stopped

@@ -47,7 +47,7 @@ def test_curved_steps_bend_the_deck_in_fewer_iterations_to_the_same_equilibrium(
     # The deck of 2 plies on 10 cells bent onto the quarter circle in 4 increments. Straight
     # steps stretch each turning ply by theta^2 / 2 and press the plies into each other (the
     # offsets between them do not turn): 19-21-22-27 Newton iterations; curved, 9-8-6-42
-    # (measured, benchmarks/static_plies_newton.py --case deck --curved). The last increment
+    # (measured, the two solves of this test). The last increment
     # lands where the plies need no contact force (the ramp's double root, the module
     # docstring of validation/cases/plies_deck_of_cards.py) and is not compared. Bound: the
     # three increments before it in at most 2/3 of the straight iterations (measured 23 of
