@@ -92,7 +92,7 @@ def _use(before: bool) -> None:
 
 def _solve(resolution: str):
     """The plies' solve of plies-bai-5.1 at ``resolution``: (result, CPU s, search CPU s)."""
-    solver = {**bai.BEFORE_STALL_RULE, "increments": bai.PLIES_INCREMENTS[resolution]}
+    solver = {**bai.BEFORE_STALL_RULE, "increments": bai.INCREMENTS_BEFORE_FIRST_TURN[resolution]}
     case = ground_truth._case(bai.FILE, bai.CELLS[resolution], {"solver": solver})
     stack = ply_stack(case, bai.PLIES[resolution])
     model = stack_model(case, stack)

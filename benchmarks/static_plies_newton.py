@@ -9,15 +9,18 @@ process, the final positions and directors compared; with ``--first-turn theta``
 sides are the case's solver (``--stall``, or none with ``--no-stall``) without and with
 ``Static(first_turn=theta)`` (docs/theory.md §6.5, "Increments sized by the first step"), and
 with ``--update-turn theta`` the case's solver without and with ``Static(update_turn=theta)``
-(docs/theory.md §6.5, "Updates of a turning stack"). ``--detail`` prints, per iterate, the
-element blocks' and the interactions' internal-force norms and the deepest ply gap as well;
-``--tangent-check`` solves the case once and compares, on the last increment's iterates, each
-part's tangent with central differences of its forces and the whole residual's directional
-derivative with -K v (no timing; "The deck's linear tail" below).
+(docs/theory.md §6.5, "Updates of a turning stack"), and with ``--curved`` the case's solver
+without and with ``Static(curved_with_contact=True)`` (docs/theory.md §6.5, "Curved steps of
+a sliding stack"; ``--increments`` sets the deck's on both sides). ``--detail`` prints, per
+iterate, the element blocks' and the interactions' internal-force norms and the deepest ply
+gap as well; ``--tangent-check`` solves the case once and compares, on the last increment's
+iterates, each part's tangent with central differences of its forces and the whole
+residual's directional derivative with -K v (no timing; "The deck's linear tail" below).
 
     python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
-        [--update-turn 0.03 [--no-stall]] [--rounds 2] [--detail] [--tangent-check]
+        [--update-turn 0.03 [--no-stall]] [--curved [--increments 8]] [--rounds 2] [--detail]
+        [--tangent-check]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -161,6 +164,84 @@ The first increment of the heavy stack (sag, coarse, 4 plies; ``--detail``, load
   beside it, warm caches, load 5-17): case_cpu_s 7.8 -> 6.2 s and 32.1 -> 25.2 s, steps 280
   -> 224 and 1977 -> 1731, 8/8 and 12/12 checks, results.json's numbers within 5e-9
   relative (the 8-ply sag's angles; the 4-ply sag's within 5e-12).
+
+Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the measure):
+
+* The deck's increments (4 plies, 20 cells, 8 increments; ``--detail``): each starts with 7
+  iterations at ratio ~1: the first step turns each ply by the increment's 11 deg on its
+  own (no contact stiffness at g = 0), its straight update stretches every ply (element
+  forces 330 N against end moments of 0.02 N mm) and presses the plies 0.0024 mm (10 ramps)
+  into each other, and the penetrations then halve at each iterate. Curved (solvers.
+  newton_curvature), 12-12-12-12-12-14-36-92 -> 6-5-5-5-5-5-5-67 (and 98 cut in its last
+  increment; 220 -> 202 tangents).
+* Kept, the decks in 4 curved increments (validation/cases/plies_deck_of_cards.py; its five
+  decks, the case's ``bend`` in one process each way, load 4-6): 8 straight increments 1549
+  tangents, 14.8 s; 4 straight 1711, 26.0 s (4 plies 24-24-26-128 and 184 cut); 8 curved
+  956, 15.6 s; 4 curved 634, 8.5 s (4 plies 10-8-8-52, 8 plies 16-15-11-104 and 35 cut);
+  within 4.9e-10 mm and 3.1e-11 of the 8 straight increments' positions and directors. The
+  report's case (``python -m validation --cases plies-deck-of-cards --jobs 1``, the code
+  before from a ``git archive``, back to back, warm caches, load 5.3-5.9): default 23.0 ->
+  16.4 s CPU (48.4 -> 39.6 s wall), steps 1731 -> 1011 (the heavy stacks' unchanged), 12/12
+  checks both, results.json's numbers within 2.1e-7 relative (the observed orders; the
+  tilts within 3.1e-8); coarse 6.3 -> 5.3 s CPU, 8/8 checks both.
+* Not kept: the curved steps on the other stacks (``--curved``, coarse, no stall rule, load
+  6-7): bai 834 -> 1512 tangents (21-5-4-4-4-3-3-3-3-3 and 82-116-26-14-18-8-11-10-8-12 ->
+  23-4-4-3-3-3-3-3-3-3 and 193-138-87-38-30-18-17-15-9-28, 470 -> 877 cut), heavy 164 ->
+  318 (17-30-18-18-18-18-13-12-10-10 -> 18-27-69-97-23-23-16-16-15-14); the chords with the
+  curved steps on the deck (8 increments: 276 tangents and 805 energies against 202 and
+  279); the watchdog's allowance of full steps without a decrease (solvers.newton.WATCHDOG)
+  at 1 or 2 instead of 4, with the curved decks in 4 increments: 2 failed (2 plies, 20
+  cells: 4-th increment after 8 cuts), 2: 960 tangents against 634. Newton at a double
+  root converges linearly by halving (Decker, Keller and Kelley, SIAM J. Numer. Anal. 20
+  (1983) 296): a step twice the Newton step where it was within 0.4-0.6 of the last plain
+  one and within a cosine of 0.99 of its direction was taken 2 times in the deck's 220
+  tangents (233 with it): its steps alternate in direction and size (points carried into
+  contact and out again), they do not halve along one line.
+* Not kept either (the five decks in 4 curved increments, 634 tangents; coarse bai 834 and
+  heavy 164 without the curved steps): the curved steps' second derivative taken from the
+  element blocks' forces alone (the contact's ramp, k / delta = 3e6 N/mm^2 per mm, left out
+  of the probe at 1e-2 of the step): bai 1134 tangents, heavy 320, no better than with it;
+  the heavy stack's cap with the curved steps (update_turn None, 0.1, 0.06 rad: 200, 328,
+  328 tangents; 0.1 straight 229); the ply contact's tangent with the ramp's W'' times 0.5
+  (the ramp's secant at a double root: one Newton step to g = 0; the 2-ply deck's last
+  increment failed after 8 cuts at ratio 1e-5, the linear rate (W'' - s) / (K + s) of the
+  points on the ramp that carry force) or 0.75 (82 and 216 tangents for the 4- and 8-ply
+  decks against 78 and 182); a line search to the root of dPi/ds (Illinois regula falsi, 4
+  probes) where a full step overshoots (dPi/ds < 0 at its start, > 0 at its end, the
+  residual risen), to land the points carried into contact on the ramp: 704 and 509
+  tangents for the same two decks (their first increments 111 and 113 iterations); the
+  watchdog going back at once where a full step raised the residual by more than 100 or
+  1000 times the best iterate's (the deck's last increment climbs out of contact 13 ramps
+  deep by them): 100 failed, 1000 4964 tangents for the five decks. The watchdog's full
+  steps through a residual that rises are what carry the plies past their pressing.
+* Not kept: the curved steps on the imposed steps alone (the first of each displacement
+  increment, whose straight form stretches the plies: ratio 0.99, element forces 30 N), coarse
+  bai with the case's solver: 271 -> 628 tangents (82-19-18-18-18-8-11-10-8-12 -> 142-50-21-
+  19-33-18-17-16-9-29, 8 -> 212 cut).
+
+Increments (the cases' solvers, plies-bai-5.1's with stall 25 and first_turn 0.1; one
+thread, CPU, one process each way):
+
+* Kept, the default's plies in 10 increments a phase instead of 20 (validation/cases/
+  plies_bai_5_1.py, ``PLIES_INCREMENTS``; the 20 were chosen before the first-turn rule, when
+  the 10's first displacement increments took 130 and 101 iterations and 4 cuts): 464 ->
+  403 tangents (gravity 22-6-5-4-4-4-4-3 x13 -> 24-7-7-5-4-3-3-3-3-3; displacement 92-30-21-
+  12-19 ... -> 123-33-34-31-19-19-21-19-15-22, 2 -> 5 first-turn cuts, none else), 29.8 ->
+  27.6 s (load 6-7), within 1.8e-11 mm and 2.4e-12 in the directors. The report's case
+  (``python -m validation --cases plies-bai-5.1 --jobs 1``, the code before from a ``git
+  archive``, back to back, load 6.2-6.5): 36.7 -> 32.9 s CPU, steps 991 -> 927, 5/5 checks
+  both, results.json's numbers within 7.1e-13 relative. Not kept: 6 increments (381
+  tangents, 26.9 s: its first displacement increment 152 iterations), coarse in 5 (277
+  tangents against 271).
+* Kept, plies-heavy-cantilever's plies in 5 increments instead of 10 (its own solver, no
+  stall rule, no first turn; load 6): default 18-36-23-18-20-14-13-12-11-12, 177 tangents,
+  4.3 s -> 33-42-30-20-17, 142, 3.9 s; coarse 164 -> 125, 1.5 -> 0.9 s; within 1.5e-12 mm.
+  The report's case (default, back to back, three rounds, load 4.8-5.4): 5.3-5.6 -> 4.6-4.8
+  s CPU, steps 224 -> 189, 8/8 checks both, results.json within 3.7e-12 relative. Not kept:
+  4 increments (224 tangents), 3 (258), first_turn=0.1 with 10 (249) or 5 (232).
+* Not kept: plies-deck-of-cards' heavy stacks in fewer than their 6 increments (update_turn
+  0.03; load 4-5): 4 plies 205 tangents in 6, 219 in 3 (28 cut), 198 in 4 (20 cut, 2.7 ->
+  2.2 s); 8 plies 195 in 6, 335 in 3, 243 in 4.
 
 The deck's linear tail (``--case deck --tangent-check``; 4 plies, 20 cells, its last
 increment, 92 tangents; one thread):
@@ -319,10 +400,14 @@ def solve_case(
     stall: int | None,
     first_turn: float | None = None,
     update_turn: float | None | str = "case",
+    curved: bool | None = None,
+    increments: int | None = None,
 ):
     """Solve the Static plies of case ``name`` at ``resolution`` with
-    ``Static(stall_iterations=stall, first_turn=first_turn, update_turn=update_turn)``
-    (``"case"``: the case's own update_turn; bai and heavy set none); the result."""
+    ``Static(stall_iterations=stall, first_turn=first_turn, update_turn=update_turn,
+    curved_with_contact=curved)`` (``"case"`` and None: the case's own; bai and heavy set no
+    update_turn, the deck curves its steps) and, for the deck, ``increments`` (None: the
+    case's); the result."""
     if name in ("bai", "heavy"):
         from fibreshell.plies import plies_solver, ply_stack, stack_model
         from validation.cases import plies_bai_5_1, plies_heavy_cantilever
@@ -334,6 +419,8 @@ def solve_case(
             solver["increments"] = case_module.PLIES_INCREMENTS[resolution]
         if update_turn != "case":
             solver["update_turn"] = update_turn
+        if curved is not None:
+            solver["curved_with_contact"] = curved
         for key in ("stall_iterations", "first_turn", "update_turn"):
             if solver.get(key, 0) is None:
                 del solver[key]
@@ -349,6 +436,10 @@ def solve_case(
     )
     if update_turn != "case":
         deck.SAG_UPDATE_TURN = update_turn  # type: ignore[assignment]
+    if curved is not None:
+        deck.DECK_CURVED = curved
+    if increments is not None:
+        deck.DECK_INCREMENTS = increments
     if name == "deck":
         return deck.bend(deck.COUNTS[resolution][-1], deck.MIDDLE).result
     if name == "sag":
@@ -483,6 +574,14 @@ def main() -> None:
     parser.add_argument(
         "--no-stall", action="store_true", help="with --first-turn or --update-turn: no stall rule"
     )
+    parser.add_argument(
+        "--curved",
+        action="store_true",
+        help="the two sides without and with Static(curved_with_contact=True)",
+    )
+    parser.add_argument(
+        "--increments", type=int, default=None, help="the deck's increments (both sides)"
+    )
     parser.add_argument("--detail", action="store_true", help="every attempt, before and after")
     parser.add_argument(
         "--tangent-check",
@@ -501,22 +600,29 @@ def main() -> None:
     RECORD["split"] = args.detail  # two more force passes an iterate, outside the counts
     stall = None if args.no_stall else args.stall
     runs: list[tuple[int | None, float | None, float | None | str]]
-    if args.update_turn is not None:
+    curved: list[bool | None] = [None, None]
+    if args.curved:
+        runs = [(None, None, "case")] * 2
+        curved = [False, True]
+    elif args.update_turn is not None:
         runs = [(stall, args.first_turn, None), (stall, args.first_turn, args.update_turn)]
     elif args.first_turn is None:
         runs = [(None, None, "case"), (args.stall, None, "case")]
     else:
         runs = [(stall, None, "case"), (stall, args.first_turn, "case")]
     results = []
-    for stall, first_turn, update_turn in runs * args.rounds:
+    for (stall, first_turn, update_turn), bent in zip(runs * args.rounds, curved * args.rounds):
         RECORD.update(attempts=[])
         cpu = time.process_time()
-        result = solve_case(args.case, args.resolution, stall, first_turn, update_turn)
+        result = solve_case(
+            args.case, args.resolution, stall, first_turn, update_turn, bent, args.increments
+        )
         cpu = time.process_time() - cpu
         results.append(result)
         print(
             f"--- {args.case} {args.resolution}, stall_iterations={stall}, "
-            f"first_turn={first_turn}, update_turn={update_turn}: {cpu:.1f} s CPU"
+            f"first_turn={first_turn}, update_turn={update_turn}, curved_with_contact={bent}: "
+            f"{cpu:.1f} s CPU"
         )
         if args.detail:
             report(result)

@@ -420,10 +420,14 @@ def _iterate(
         # (with chords the Mindlin hemisphere drape of tests/test_hemisphere_static.py stopped
         # at load factor 0.66). The frozen contact sets exist only with contact.
         smooth = not model.interactions
+        # Static(curved_with_contact=True): curved steps with interactions that keep no contact
+        # set (the plies' contact, decided by the gaps alone; docs/theory.md §6.5, "Curved steps
+        # of a sliding stack").
+        curving = smooth or (solver.curved_with_contact and not keeps_contact_sets(model))
         # The second-order term of a plain step on a definite tangent (solvers.newton_curvature);
         # the line search falls back along the straight step.
         straight = None
-        if solver.curved and smooth and not (push or turn or regularised or factor.negative):
+        if solver.curved and curving and not (push or turn or regularised or factor.negative):
             curved = curved_step(run, equilibrium, state, frames, delta, r, factor)
             if curved is not None:
                 straight, delta = delta, curved

@@ -251,7 +251,7 @@ def test_the_ply_contact_refuses_a_bad_rule_or_smoothing(changes, message):
 def test_a_bent_deck_of_two_plies_tilts_its_material_lines_by_atan_theta():
     """Two frictionless plies clamped at x = 0, each bent by the end moment of its own arc
     concentric with the mid-surface's (validation case plies-deck-of-cards: 100 x 5 mm, h = 1
-    mm, 90 deg, 10 x 1 cells, Static in 8 increments): the material line tilts from the
+    mm, 90 deg, 10 x 1 cells, Static in 4 curved increments): the material line tilts from the
     normal by atan(theta) and measures h sqrt(1 + theta^2) along it (docs/theory.md §1.7).
     Measured at 10 cells: 0.28 deg and 0.51 % at most (first order in the cell size: 0.13 deg
     and 0.26 % at 20 cells); tolerances 0.35 deg and 0.65 %."""
