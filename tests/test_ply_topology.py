@@ -155,9 +155,9 @@ def test_a_kept_tree_s_bound_takes_the_samples_move():
     """Dense short segments, each moved by just under ``TREE_MOVE`` of the kept tree's bound
     in its own direction: the tree serves (one build), and its answers are every pair's
     only with the bound widened by the move (without it, points of this draw went to a
-    farther segment: the test fails)."""
+    farther segment: the test fails, at 5 of its 25 moves; 24 of 100 over 20 draws)."""
     rng = np.random.default_rng(1)
-    for _ in range(20):
+    for _ in range(5):
         starts = rng.uniform(0.0, 10.0, (400, 3)) * [1.0, 1.0, 0.1]
         ends = starts + rng.normal(0.0, 0.7, (400, 3))
         kept = ply_fade.OutlineTree()

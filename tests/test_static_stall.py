@@ -2,14 +2,12 @@
 attempt whose residual ratio stayed above 0.1 over its last N iterations is cut at once
 (docs/theory.md §6.5, "Stalled attempts")."""
 
+import coarse_plies_bai
 import numpy as np
 import pytest
 
-from fibreshell.plies import plies_solver, ply_stack, stack_model
 from solvers import ConvergenceError, Static
 from solvers.newton import STALLED_RATIO, stalled
-from validation.cases import plies_bai_5_1
-from validation.ground_truth import _case
 from validation.specimens import mindlin_strip
 
 
@@ -50,26 +48,18 @@ def test_a_stalled_attempt_is_cut_and_says_why():
 
 
 @pytest.mark.slow
-def test_the_coarse_bai_plies_take_fewer_iterations_for_the_same_equilibrium():
+def test_the_coarse_bai_plies_take_fewer_iterations_for_the_same_equilibrium(once_per_run):
     # The coarse plies-bai-5.1 stack (12 cells, 4 Mindlin plies, 10 increments per phase).
     # Measured (benchmarks/static_plies_newton.py): without the rule 358 Newton iterations
     # converged and 470 in cut attempts (828), the first displacement increment's attempts
     # at ratio ~1 for up to 150 iterations; with stall_iterations=25 261 and 140 (401).
     # Bound: 500, a quarter of margin on 401 and well below the 828 of before.
     # (without the case's first_turn, which takes the first displacement increment's cut
-    # attempts away: tests/test_static_first_turn.py)
-    solver = {**plies_bai_5_1.PLIES_SOLVER, "increments": plies_bai_5_1.PLIES_INCREMENTS["coarse"]}
-    del solver["first_turn"]
-    results = {}
-    for stall in (None, 25):
-        options = {**solver, "stall_iterations": stall}
-        if stall is None:
-            del options["stall_iterations"]
-        case = _case(plies_bai_5_1.FILE, plies_bai_5_1.CELLS["coarse"], {"solver": options})
-        stack = ply_stack(case, plies_bai_5_1.PLIES["coarse"])
-        results[stall] = plies_solver(case, progress=False).solve(stack_model(case, stack))
-    spent = {k: r.steps + r.info["iterations_cut"] for k, r in results.items()}
+    # attempts away: tests/test_static_first_turn.py, which reads the run with the rule)
+    plain = coarse_plies_bai.solve(once_per_run, stall_iterations=False, first_turn=False)
+    ruled = coarse_plies_bai.solve(once_per_run, stall_iterations=True, first_turn=False)
+    spent = {None: plain["spent"], 25: ruled["spent"]}
     assert spent[25] <= 500 < spent[None], spent
     # the same equilibrium: the plies' positions to 1e-6 of the strip's 150 mm
-    difference = np.abs(results[25].positions - results[None].positions).max()
+    difference = np.abs(ruled["positions"] - plain["positions"]).max()
     assert difference <= 1.5e-4, difference
