@@ -24,14 +24,17 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit, prange
+from elements.kernel_inputs import read_only
 
 __all__ = ["surface_point"]
 
 
-def _surface_point(y, n, lam, point, tangents, q, e):
+def _surface_point(y, n, lam, point, tangents, q, e, dots, partial):
     """Into point (P, 3), tangents (P, 2, 3), q (P, 3) and e (P, 3): ``surface_point_numpy``'s
     arrays from corners y (P, 3, 3), unit normals n (P, 3, 3), mm, and barycentric
-    coordinates lam (P, 3); each sum from its first term, as the reference adds them."""
+    coordinates lam (P, 3); each sum from its first term, as the reference adds them. dots
+    and partial (P, 3, 3): scratch, a row's own (an allocation a row cost a third of the
+    pass)."""
     for p in prange(y.shape[0]):
         for i in range(3):
             total = lam[p, 0] * y[p, 0, i]
@@ -48,23 +51,21 @@ def _surface_point(y, n, lam, point, tangents, q, e):
             for k in range(1, 3):
                 total = total + (lam[p, k] * e[p, k]) * n[p, k, i]
             point[p, i] = q[p, i] - 0.5 * total
-        dots = np.empty((3, 3))  # (a, k): y_a . n_k
-        for a in range(3):
+        for a in range(3):  # dots[p, a, k]: y_a . n_k
             for k in range(3):
                 total = y[p, a, 0] * n[p, k, 0]
                 for j in range(1, 3):
                     total = total + y[p, a, j] * n[p, k, j]
-                dots[a, k] = total
-        partial = np.empty((3, 3))
+                dots[p, a, k] = total
         for a in range(3):
             for i in range(3):
-                total = (lam[p, 0] * dots[a, 0]) * n[p, 0, i]
+                total = (lam[p, 0] * dots[p, a, 0]) * n[p, 0, i]
                 for k in range(1, 3):
-                    total = total + (lam[p, k] * dots[a, k]) * n[p, k, i]
-                partial[a, i] = (y[p, a, i] - (0.5 * e[p, a]) * n[p, a, i]) - 0.5 * total
+                    total = total + (lam[p, k] * dots[p, a, k]) * n[p, k, i]
+                partial[p, a, i] = (y[p, a, i] - (0.5 * e[p, a]) * n[p, a, i]) - 0.5 * total
         for a in range(2):
             for i in range(3):
-                tangents[p, a, i] = partial[a, i] - partial[2, i]
+                tangents[p, a, i] = partial[p, a, i] - partial[p, 2, i]
 
 
 _surface_point_compiled = jit(_surface_point)
@@ -73,17 +74,18 @@ _surface_point_compiled = jit(_surface_point)
 def surface_point(y: np.ndarray, n: np.ndarray, lam: np.ndarray):
     """``surface_point_numpy`` (elements/ply_surface.py) compiled: the surface's point (P, 3),
     its tangents (P, 2, 3), q (P, 3) and e (P, 3) at barycentric coordinates ``lam`` (P, 3)
-    over corners ``y`` and unit normals ``n`` (P, 3, 3), mm."""
-    count = len(lam)
+    over corners ``y`` and unit normals ``n`` (P, 3, 3), mm. Raises ValueError for other
+    shapes (the pass would read and write past its arrays)."""
+    count = len(lam) if np.ndim(lam) else -1
+    if np.shape(y) != (count, 3, 3) or np.shape(n) != (count, 3, 3) or np.shape(lam) != (count, 3):
+        raise ValueError(
+            f"corners {np.shape(y)}, normals {np.shape(n)} and barycentric coordinates "
+            f"{np.shape(lam)} given: expected (P, 3, 3), (P, 3, 3) and (P, 3) with one P"
+        )
     point, tangents = np.empty((count, 3)), np.empty((count, 2, 3))
     q, e = np.empty((count, 3)), np.empty((count, 3))
+    dots, partial = np.empty((count, 3, 3)), np.empty((count, 3, 3))
     _surface_point_compiled(
-        np.ascontiguousarray(y, dtype=float),
-        np.ascontiguousarray(n, dtype=float),
-        np.ascontiguousarray(lam, dtype=float),
-        point,
-        tangents,
-        q,
-        e,
+        read_only(y), read_only(n), read_only(lam), point, tangents, q, e, dots, partial
     )
     return point, tangents, q, e

@@ -37,7 +37,9 @@ __all__ = ["RigidSurface"]
 
 
 # How far (in facet circumradii) a point may move before RigidSurface searches it again
-# (any margin gives the same answers; larger, the kept lists hold more facets and serve
+# (any margin gives the same answers within the search distance, a point beyond it being
+# told a lower bound of its distance above it whatever the margin; larger, the kept lists
+# hold more facets and serve
 # longer: on the hemisphere die under the two-ply Mindlin [0/90] blank 0.25 -> 0.5 halved
 # the searches, 1002 -> 489 a run, and took its step 1.467-1.500 -> 1.384-1.438 ms, the same
 # final positions to the bit; hemisphere-forming the same figures, 33.4 -> 32.7 s of CPU;
@@ -77,7 +79,9 @@ def _workers(points: int) -> int:
 class _Candidates:
     """What RigidSurface keeps of its last search: the points (k, 3), in the tool's frame;
     each point's candidate facets facets[start[i]:start[i + 1]] (none for the points beyond
-    the search distance, ``far`` (k,) bool); the distances (k,) and normals (k, 3) found."""
+    the search distance, ``far`` (k,) bool); the distances (k,) and normals (k, 3) found;
+    ``far_room`` (mm), the least of the far points' |distance| less the search distance: no
+    far point can come within the search distance while every point has moved less."""
 
     points: np.ndarray
     start: np.ndarray
@@ -85,6 +89,7 @@ class _Candidates:
     far: np.ndarray
     distance: np.ndarray
     normal: np.ndarray
+    far_room: float = np.inf
 
 
 class RigidSurface(RigidTool):
@@ -363,7 +368,9 @@ class RigidSurface(RigidTool):
         far = cache.far
         if far.any():
             # Points beyond the search distance have no candidates: what they are told is a
-            # distance less than their true one and more than the search distance.
+            # distance less than their true one (the triangle inequality) and more than the
+            # search distance (_prepared searches a far point again before its bound would
+            # fall to it, whatever MARGIN).
             moved_by = np.linalg.norm(local[far] - cache.points[far], axis=1)
             d[far] = cache.distance[far] - np.sign(cache.distance[far]) * moved_by
             n[far] = cache.normal[far]
@@ -399,10 +406,20 @@ class RigidSurface(RigidTool):
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.
             limit = MARGIN / np.sqrt(3.0) * self.reach
-            if largest_drift(local, cache.points) >= limit:  # (compiled: at every call)
+            largest = largest_drift(local, cache.points)  # (compiled: at every call)
+            # A far point is told its distance less its move, a bound that must stay above
+            # the search distance: searched again before its move reaches far_room.
+            far_room = getattr(cache, "far_room", 0.0)  # (a cache pickled before it was kept)
+            crossing = np.zeros(0, dtype=np.int64)
+            if np.sqrt(3.0) * largest >= far_room:
+                far = np.flatnonzero(cache.far)
+                moved = np.linalg.norm(local[far] - cache.points[far], axis=1)
+                crossing = far[np.abs(cache.distance[far]) - moved <= self.search_distance]
+            if largest >= limit or len(crossing):
                 drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
                 # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
                 rows = drift >= REBUILD_SHARE * limit
+                rows[crossing] = True
                 cache = self._searched(local, rows, cache)
                 self._forget_nearest(rows)
         self._cache = cache
@@ -441,7 +458,7 @@ class RigidSurface(RigidTool):
         far = gap > self.search_distance
         start, facets = self._candidates(here, np.where(far, -np.inf, gap))
         if cache is None:
-            return _Candidates(here.copy(), start, facets, far, d, n)
+            return _Candidates(here.copy(), start, facets, far, d, n, self._far_room(far, d))
         counts = np.diff(cache.start)
         kept = np.flatnonzero(~rows)
         counts[at] = np.diff(start)
@@ -453,7 +470,15 @@ class RigidSurface(RigidTool):
         points[at], distance[at], normal[at] = here, d, n
         far_all = cache.far.copy()
         far_all[at] = far
-        return _Candidates(points, merged_start, merged, far_all, distance, normal)
+        return _Candidates(
+            points, merged_start, merged, far_all, distance, normal,
+            self._far_room(far_all, distance),
+        )  # fmt: skip
+
+    def _far_room(self, far: np.ndarray, distance: np.ndarray) -> float:
+        """The least move (mm) that could bring a point beyond the search distance (``far``
+        (k,) bool, its signed ``distance`` (k,)) within it: inf without such points."""
+        return float(np.min(np.abs(distance[far]) - self.search_distance, initial=np.inf))
 
     def _search(self, local: np.ndarray):
         """The closest facet of each point by the k-d tree (class docstring)."""

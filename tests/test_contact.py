@@ -690,6 +690,55 @@ def test_a_meshed_tool_searches_again_the_points_that_moved_past_its_margin_in_b
     assert early > 0
 
 
+def test_every_point_moved_just_inside_the_margin_is_answered_exactly_from_its_kept_facets():
+    """Points near a 600-facet sphere each moved by 0.99 of the margin along every coordinate
+    (the farthest a kept list must serve): none is searched again, and every distance within
+    the search distance is the brute force's over every facet to rounding (1e-12 mm). Kept
+    lists narrower than the proof's (the facets within the distance plus twice the margin)
+    miss closer facets here."""
+    from elements import RigidSurface
+    from elements.facet_search import closest_on_triangles
+    from elements.rigid_surface import MARGIN
+
+    mesh = fibonacci_sphere(10.0, 302)
+    corners = mesh.points[mesh.triangles]
+    tool = RigidSurface(mesh)
+    rng = np.random.default_rng(0)
+    direction = rng.normal(size=(2000, 3))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    x = direction * rng.uniform(8.5, 11.5, size=(2000, 1))
+    tool.distance(x)
+    searched_at = tool._cache.points
+    step = 0.99 * MARGIN / np.sqrt(3.0) * tool.reach
+    y = x + step * rng.choice([-1.0, 1.0], size=(2000, 3))
+    d, _ = tool.distance(y)
+    assert tool._cache.points is searched_at  # answered from the kept lists alone
+    a, b, c = (corners[None, :, i] for i in range(3))
+    nearest = closest_on_triangles(y[:, None, :], a, b, c)
+    exact = np.linalg.norm(nearest - y[:, None, :], axis=2).min(axis=1)
+    near = ~tool._cache.far
+    assert near.sum() > 1500
+    np.testing.assert_allclose(np.abs(d[near]), exact[near], atol=1e-12)
+
+
+def test_a_point_beyond_a_given_search_distance_is_never_told_within_it():
+    """A point 0.35 mm above a meshed plate, beyond a search distance of 0.3 mm, slides
+    parallel to the plate by up to 0.45 facet circumradii: what it is told stays a lower
+    bound of its distance (0.35 mm, a plane's) and above the search distance, never a
+    penetration; where it comes within the search distance it is told its distance exactly."""
+    from elements import RigidSurface
+
+    tool = RigidSurface(Mesh.rectangle(20.0, 20.0, nx=10, ny=10), search_distance=0.3)
+    start = np.array([[10.0, 10.0, 0.35]])
+    for share in (0.1, 0.28, 0.45):
+        tool.distance(start)
+        d, _ = tool.distance(start + [[share * tool.reach, 0.0, 0.0]])
+        assert 0.3 < d[0] <= 0.35 + 1e-12
+    tool.distance(start)
+    d, _ = tool.distance(start + [[0.2 * tool.reach, 0.0, -0.1]])  # 0.25 mm: within it
+    np.testing.assert_allclose(d, 0.25, atol=1e-12)
+
+
 def test_a_plate_resting_on_a_meshed_floor_is_the_plate_on_an_analytic_plane():
     """The resting plate of the first test on a floor meshed with 2 x 8 x 8 triangles instead
     of RigidPlane: the same nodal contact forces, to rounding (1e-9 relative)."""

@@ -243,3 +243,25 @@ def test_a_small_search_lists_as_the_trees_did(seed, cut):
         assert np.array_equal(count, count_before), call
         assert np.array_equal(near, near_before), call
     assert not cut or sum(now) < sum(before)
+
+
+@pytest.mark.parametrize("epoch_share", [ply_search.EPOCH_SHARE, 10.0])
+def test_a_triangle_that_comes_near_while_the_mean_move_stays_small_joins_the_list(
+    epoch_share, monkeypatch
+):
+    """Three 2-mm triangles in planes z = 0, 3.2 and, 100 mm away, 0, a point at z = 1 and a
+    skin of 1 mm: the list holds the triangle 1 mm below, not the one 2.2 mm above. The upper
+    triangle then comes down by 1.5 mm while the far one rises by 1.5 mm (their moves cancel
+    in the mean): the upper one, 0.7 mm from the point, is now its nearest (the planes'
+    distances) and must be in its list, whatever the epoch's share of the skin (any share
+    answers the same, elements/ply_search.py; at 10 skins no new epoch starts and the
+    points' own bound must see the move). A bound that left out the triangles' moves would
+    keep the old list."""
+    monkeypatch.setattr(ply_search, "EPOCH_SHARE", epoch_share)
+    triangle = np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]])
+    y = np.stack([triangle, triangle + [0.0, 0.0, 3.2], triangle + [100.0, 0.0, 0.0]])
+    p = np.array([[0.0, 0.0, 1.0]])
+    search = FacingSearch(np.zeros((3, 3)), 1.0)
+    np.testing.assert_array_equal(search.near(p, y), [[0]])
+    moved = y + np.array([[0.0, 0.0, 0.0], [0.0, 0.0, -1.5], [0.0, 0.0, 1.5]])[:, None, :]
+    assert 1 in search.near(p, moved)[0]

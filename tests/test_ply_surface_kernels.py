@@ -86,3 +86,17 @@ def test_the_reference_is_the_docstring_surface():
         ahead = ply_surface.surface_point_numpy(y, n, lam + step)[0]
         behind = ply_surface.surface_point_numpy(y, n, lam - step)[0]
         assert np.allclose(tangents[:, a], (ahead - behind) / (2.0 * h), rtol=0.0, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    "shapes",
+    [((6, 3, 3), (6, 3, 3), (2, 3)), ((2, 3, 3), (2, 3, 3), (6, 3)), ((2, 3, 3), (2, 3), (2, 3))],
+    ids=["fewer-coordinates", "more-coordinates", "flat-normals"],
+)
+def test_the_compiled_surface_point_refuses_arrays_of_other_rows(shapes):
+    """Corners, normals and coordinates of different rows (the pass runs over the corners'
+    rows and writes the coordinates' count): a ValueError naming the shapes, not a write
+    past the arrays."""
+    y, n, lam = (np.ones(shape) for shape in shapes)
+    with pytest.raises(ValueError, match="expected"):
+        ply_surface_kernels.surface_point(y, n, lam)
