@@ -1,7 +1,14 @@
 """The same Static solve gives the same answer to the bit, whatever was solved before it in the
 process: nothing a solve keeps (the ply facing's kept lists, the friction's kept return
 mapping, the linear solver's plans and factors, the automatic penalty) may carry over into
-the next solve of the same model or of another one."""
+the next solve of the same model or of another one.
+
+Measured on these decks and the case's 4-ply deck and heavy stack (one thread): the ply
+search's kept lists renewed at every call, the facing's kept state cleared before every call,
+or every parallel loop forced onto 2 threads, give the same bits; the linear solver's kept
+measurement of QDLDL's cost (solvers/linear.py, ``_choose_band``) taken anew at every new
+pattern moves the 4-ply deck's positions by 1.5e-12 mm: that choice follows the patterns met
+earlier in the same solve, and a solve's linear solver is its own, so it does not carry over."""
 
 import numpy as np
 
