@@ -172,8 +172,12 @@ Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the 
   own (no contact stiffness at g = 0), its straight update stretches every ply (element
   forces 330 N against end moments of 0.02 N mm) and presses the plies 0.0024 mm (10 ramps)
   into each other, and the penetrations then halve at each iterate. Curved (solvers.
-  newton_curvature), 12-12-12-12-12-14-36-92 -> 6-5-5-5-5-5-5-67 (and 98 cut in its last
-  increment; 220 -> 202 tangents).
+  newton_curvature), 12-12-12-12-12-14-36-92 and 17 cut -> 9-5-5-5-5-5-4-74, none cut
+  (220 -> 112 tangents; the same counts and bits with the curved deck solved first, alone,
+  or after the straight one in this process: tests/test_static_reproducible.py). An earlier
+  figure here, 6-5-5-5-5-5-5-67 and 98 cut (202 tangents), was not what the code that
+  introduced the curved steps gives: neither it nor the code since reproduces it in any
+  order of solves.
 * Kept, the decks in 4 curved increments (validation/cases/plies_deck_of_cards.py; its five
   decks, the case's ``bend`` in one process each way, load 4-6): 8 straight increments 1549
   tangents, 14.8 s; 4 straight 1711, 26.0 s (4 plies 24-24-26-128 and 184 cut); 8 curved
