@@ -158,15 +158,16 @@ def test_a_strip_pattern_takes_the_band_and_a_scattered_one_qdldl():
 
 
 def qdldl_factorisation(k):
-    """``LinearSolver().factorise(k)`` with the band never chosen: QDLDL's factors."""
+    """``LinearSolver().factorise(k)`` with neither the band nor the supernodal LDL^T: QDLDL's
+    factors."""
     from solvers import linear
 
-    advantage = linear.BAND_ADVANTAGE
+    advantage, supernodal = linear.BAND_ADVANTAGE, linear.SUPERNODAL_AVAILABLE
     try:
-        linear.BAND_ADVANTAGE = 0.0
+        linear.BAND_ADVANTAGE, linear.SUPERNODAL_AVAILABLE = 0.0, False
         return LinearSolver().factorise(k)
     finally:
-        linear.BAND_ADVANTAGE = advantage
+        linear.BAND_ADVANTAGE, linear.SUPERNODAL_AVAILABLE = advantage, supernodal
 
 
 def test_the_band_and_qdldl_give_the_same_solution_and_inertia():
@@ -201,9 +202,10 @@ def corner_matrix(cells=20, dof=5, seed=0):
     return (a.tocsc() + sp.diags(np.asarray(abs(a).sum(axis=1)).ravel() + 1.0)).tocsc()
 
 
-def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution():
+def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution(monkeypatch):
     # On the corner's triangle the ordered band holds 3.75 times QDLDL's operations counted
-    # as n b^2 (QDLDL's choice before the envelope was counted), its envelope 1.9 times.
+    # as n b^2 (QDLDL's choice before the envelope was counted), its envelope 1.9 times:
+    # the band's choice against QDLDL, without the supernodal LDL^T.
     import qdldl
 
     from solvers import linear
@@ -218,6 +220,7 @@ def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution()
     qdldl_operations = float(np.sum(counts**2))
     assert n * plan.bandwidth**2 > linear.BAND_ADVANTAGE * qdldl_operations  # the whole band
     assert plan.operations < 2.0 * qdldl_operations  # the envelope
+    monkeypatch.setattr(linear, "SUPERNODAL_AVAILABLE", False)
     solver = LinearSolver()
     band = solver.factorise(k)
     assert solver._band is not None
