@@ -217,19 +217,36 @@ def _solve(
     rows: np.ndarray,
     value_start: np.ndarray,
     rhs: np.ndarray,
+    tallest: int,
 ) -> np.ndarray:
-    """x with L D L^T x = rhs (the ordered unknowns), the factors in the supernodes' values."""
+    """x with L D L^T x = rhs (the ordered unknowns), the factors in the supernodes' values.
+
+    A supernode at a time: its own columns by the dense triangle, its rows below through a
+    contiguous buffer (``below``), so that L's columns are read as contiguous vectors and x
+    is gathered or scattered once a supernode, not once a column."""
     x = rhs.copy()
+    below = np.empty(tallest)
     count = first.size - 1
     for s in range(count):  # L y = rhs
         start, width = first[s], first[s + 1] - first[s]
         base, height = value_start[s], row_start[s + 1] - row_start[s]
-        own = rows[row_start[s] : row_start[s + 1]]
         for k in range(width):
             value = x[start + k]
-            column = values[base + k * height : base + (k + 1) * height]
-            for i in range(k + 1, height):
-                x[own[i]] -= column[i] * value
+            column = values[base + k * height : base + k * height + width]
+            for i in range(k + 1, width):
+                x[start + i] -= column[i] * value
+        length = height - width
+        summed = below[:length]
+        for t in range(length):
+            summed[t] = 0.0
+        for k in range(width):
+            value = x[start + k]
+            column = values[base + k * height + width : base + (k + 1) * height]
+            for t in range(length):
+                summed[t] += column[t] * value
+        targets = rows[row_start[s] + width : row_start[s + 1]]
+        for t in range(length):
+            x[targets[t]] -= summed[t]
     for s in range(count):  # D z = y
         start, width = first[s], first[s + 1] - first[s]
         base, height = value_start[s], row_start[s + 1] - row_start[s]
@@ -238,12 +255,19 @@ def _solve(
     for s in range(count - 1, -1, -1):  # L^T x = z
         start, width = first[s], first[s + 1] - first[s]
         base, height = value_start[s], row_start[s + 1] - row_start[s]
-        own = rows[row_start[s] : row_start[s + 1]]
+        length = height - width
+        gathered = below[:length]
+        sources = rows[row_start[s] + width : row_start[s + 1]]
+        for t in range(length):
+            gathered[t] = x[sources[t]]
         for k in range(width - 1, -1, -1):
-            column = values[base + k * height : base + (k + 1) * height]
             total = x[start + k]
-            for i in range(k + 1, height):
-                total -= column[i] * x[own[i]]
+            column = values[base + k * height : base + (k + 1) * height]
+            for i in range(k + 1, width):
+                total -= column[i] * x[start + i]
+            tail = column[width:]
+            for t in range(length):
+                total -= tail[t] * gathered[t]
             x[start + k] = total
     return x
 
@@ -356,6 +380,7 @@ class SupernodalLDLT:
             plan.rows,
             plan.value_start,
             np.ascontiguousarray(np.ravel(rhs)[plan.perm], dtype=float),
+            plan.tallest,
         )
         x = np.empty_like(y)
         x[plan.perm] = y
