@@ -154,3 +154,18 @@ def test_a_strip_takes_the_band_where_the_supernodal_factor_saves_little():
     solver = LinearSolver()
     solver.factorise(strip_matrix())
     assert solver._band is not None and solver._supernodal is None
+
+
+def test_the_shift_invert_with_the_supernodal_factors_finds_the_same_lowest_modes():
+    # solvers.stability's shift-invert by the kept factors (Factorisation.inverse) against
+    # its own factorisation, as tests/test_linear.py does for the band.
+    from solvers.stability import lowest_modes
+
+    k = grid(nodes=16, shift=3.0)
+    solver = LinearSolver()
+    factor = solver.factorise(k)
+    assert solver._supernodal is not None and factor.kind == "ldlt" and factor.negative
+    values, vectors = lowest_modes(k, factor.negative, factor.inverse())
+    expected, _ = lowest_modes(k, factor.negative)
+    assert np.allclose(values, expected, rtol=1e-8, atol=1e-10)
+    assert np.allclose(np.abs(vectors.T @ (k @ vectors)), np.diag(np.abs(values)), atol=1e-8)
