@@ -39,6 +39,13 @@ __all__ = ["BandLDLT", "BandPlan"]
 # unknowns, band 584) 4, 8, 12, 16, 32 and 64 took 44, 42, 44, 47, 52 and 53 ms, the column by
 # column reference 59 (benchmarks/band_envelope.py).
 PANEL = 8
+# Bandwidth from which the panels are used: on narrower bands the column by column reference is
+# faster (its axpys already in the cache; the panels' bookkeeping costs more than it saves):
+# the Mindlin cantilever of benchmarks/kratos_cantilever.py (band 94) 5.6 against 6.7 ms, the
+# paper cases' 10- and 20-cell Mindlin corners (54, 104) 0.05 / 0.53 against 0.07 / 0.65, the
+# 10-cell fibrous one (123) 0.18 against 0.21; from 200 on the panels are as fast or faster
+# (204: 8.8 against 9.0, 287: 3.2 against 3.7, 584: 40 against 54). The same bits either way.
+PANEL_FROM = 200
 
 
 def _factorise_by_column(band: np.ndarray, reaches: np.ndarray) -> int:
@@ -235,7 +242,8 @@ class BandPlan:
         flat = np.zeros(self.fill)
         flat[self.slots] = upper_data
         band = flat.reshape(self.n, self.bandwidth + 1)
-        negative = _factorise(band, self.reaches)
+        factorise = _factorise if self.bandwidth >= PANEL_FROM else _factorise_by_column
+        negative = factorise(band, self.reaches)
         if negative < 0:
             return None
         return BandLDLT(self, band, negative)
