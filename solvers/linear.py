@@ -208,10 +208,12 @@ class LinearSolver:
         one, else (or where it met a zero pivot) QDLDL."""
         pattern = (upper.indptr, upper.indices)
         if not self._same(pattern):
-            self._ldl, self._band, self._supernodal, self._fresh = None, None, None, False
+            kept = self._supernodal.for_pattern(upper) if self._supernodal is not None else None
+            self._ldl, self._band, self._supernodal, self._fresh = None, None, kept, False
             self._pattern = (upper.indptr.copy(), upper.indices.copy())
-            self.symbolic += 1
-            self._band = self._choose_band(upper)
+            if kept is None:
+                self.symbolic += 1
+                self._band = self._choose_band(upper)
         else:
             self._fresh = False
         self.numeric += 1

@@ -169,3 +169,29 @@ def test_the_shift_invert_with_the_supernodal_factors_finds_the_same_lowest_mode
     expected, _ = lowest_modes(k, factor.negative)
     assert np.allclose(values, expected, rtol=1e-8, atol=1e-10)
     assert np.allclose(np.abs(vectors.T @ (k @ vectors)), np.diag(np.abs(values)), atol=1e-8)
+
+
+def test_a_pattern_within_the_factors_pattern_keeps_the_analysis():
+    # Entries that vanish (exact zeros of a tangent by differences, left out of the pattern)
+    # leave a pattern inside L's: the plan is kept, no new analysis; the solution is the new
+    # matrix's. An entry outside L's pattern asks for a new analysis.
+    k = grid(nodes=16, shift=3.0)
+    solver = LinearSolver()
+    solver.factorise(k)
+    assert solver._supernodal is not None and solver.symbolic == 1
+    fewer = k.tolil()
+    for i, j in ((0, 1), (33, 38), (400, 405)):  # couplings within a node's or a neighbour's
+        fewer[i, j] = fewer[j, i] = 0.0
+    fewer = fewer.tocsc()
+    fewer.eliminate_zeros()
+    assert fewer.nnz == k.nnz - 6
+    rhs = np.linspace(-1.0, 1.0, k.shape[0])
+    factor = solver.factorise(fewer)
+    assert solver.symbolic == 1 and solver._supernodal is not None
+    expected = spsolve(fewer, rhs)
+    assert np.abs(factor.solve(rhs) - expected).max() <= 1e-9 * np.abs(expected).max()
+    assert factor.negative == int(np.sum(np.linalg.eigvalsh(fewer.toarray()) < 0.0))
+    far = k.tolil()
+    far[0, k.shape[0] - 1] = far[k.shape[0] - 1, 0] = 0.05  # opposite corners of the grid
+    solver.factorise(far.tocsc())
+    assert solver.symbolic == 2
