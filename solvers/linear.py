@@ -12,7 +12,7 @@ negative modes: the sign of det K only sees an odd number of them.
 
 The factorisation is an LDL^T without pivoting: the compiled band LDL^T of solvers.band (after
 a reverse Cuthill-McKee ordering) where the pattern's envelope costs at most
-BAND_OVER_SUPERNODAL times the operations of the sparse factor (strips a few nodes wide), else
+BAND_OVER_SUPERNODAL times the operations of the sparse factor (strips and small corners), else
 the compiled supernodal LDL^T of solvers.supernodal on QDLDL's AMD ordering (the fibrous
 shell's tangents, whose envelope holds three times the sparse factor: 1.7 times faster than
 the band on the 40-cell fibrous corner, 3.5 times than QDLDL), QDLDL (the ``qdldl`` package)
@@ -70,12 +70,15 @@ REFINEMENTS = 3
 BAND_ADVANTAGE = 3.5
 # With the supernodal LDL^T (solvers.supernodal, on QDLDL's ordering and so its operations)
 # the band is chosen where its envelope holds at most this many times the supernodal
-# factor's operations: per operation the band runs 1.3-1.9 times faster (the paper cases'
-# corners: fibrous 40 cells 7.0e8 in 40 ms against 2.3e8 in 24 ms, Mindlin 40 cells 8.6e7 in
-# 9.1 ms against 3.0e7 in 4.2, fibrous 20 cells 4.2e7 in 3.2 against 1.5e7 in 2.1, Mindlin 20
-# cells 5.7e6 in 0.73 against 2.7e6 in 0.49; benchmarks/band_envelope.py), and every one of
-# these goes supernodal.
-BAND_OVER_SUPERNODAL = 1.3
+# factor's operations: per operation the band runs 1.4-2.3 times faster, the most on narrow
+# strips (CPU ms, band against supernodal, at the ratio of their operations; the last K_ff
+# of each run): bai-5.1's strips, fibrous 60 cells 0.25 against 0.36 at 1.54, Mindlin 60
+# cells 0.08 against 0.14 at 0.89, fibrous 30 cells 0.12 against 0.20 at 1.52; the corners,
+# Mindlin 10 cells 0.050 against 0.061 at 1.74, fibrous 10 cells 0.18 against 0.23 at 1.78,
+# Mindlin 20 cells 0.53 against 0.49 at 2.1, bai-6.2.2's Mindlin 24 cells 1.2 against 0.75
+# at 2.3, bai-6.1.2's fibrous 24 cells 6.4 against 3.9 at 2.6, the fibrous 40 cells 40
+# against 21 at 3.1 (benchmarks/supernodal.py).
+BAND_OVER_SUPERNODAL = 2.0
 # A new pattern of as many unknowns as the one whose ordering is kept takes that ordering
 # (a contact pair or a bending coupling that appears changes a few entries) unless the
 # supernodal factor then holds more than this many times the operations it held on the
@@ -166,6 +169,10 @@ class LinearSolver:
         self._measured: tuple[int, float] | None = None
         # (QDLDL's ordering of the last pattern measured, the supernodal operations under it)
         self._ordering: tuple[np.ndarray, float] | None = None
+        # the band's operations where the last choice between it and the supernodal LDL^T
+        # took the band: a new pattern of as many unknowns whose band holds at most
+        # REORDER_GROWTH times as many takes it again without a supernodal analysis
+        self._banded: float | None = None
         self.symbolic = 0
         self.numeric = 0
 
@@ -263,6 +270,9 @@ class LinearSolver:
         plan = BandPlan(upper)
         band_operations = plan.operations
         if self._measured is not None and self._measured[0] == n:
+            if self._banded is not None and band_operations <= REORDER_GROWTH * self._banded:
+                self._ldl, self._fresh = None, False  # as the last pattern: the band again
+                return plan
             if SUPERNODAL_AVAILABLE and self._ordering is not None:
                 supernodal = SupernodalPlan(upper, self._ordering[0])
                 if supernodal.operations <= REORDER_GROWTH * self._ordering[1]:
@@ -290,8 +300,9 @@ class LinearSolver:
         """The band where it holds at most BAND_OVER_SUPERNODAL times the supernodal
         factor's operations, else None with ``self._supernodal`` set."""
         if band.operations <= BAND_OVER_SUPERNODAL * supernodal.operations:
+            self._banded = band.operations
             return band
-        self._supernodal = supernodal
+        self._supernodal, self._banded = supernodal, None
         return None
 
     def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:
