@@ -169,10 +169,12 @@ class LinearSolver:
         self._measured: tuple[int, float] | None = None
         # (QDLDL's ordering of the last pattern measured, the supernodal operations under it)
         self._ordering: tuple[np.ndarray, float] | None = None
-        # the band's operations where the last choice between it and the supernodal LDL^T
-        # took the band: a new pattern of as many unknowns whose band holds at most
-        # REORDER_GROWTH times as many takes it again without a supernodal analysis
-        self._banded: float | None = None
+        # (the band's operations, the upper triangle's entries) where the last choice between
+        # it and the supernodal LDL^T took the band: a new pattern of as many unknowns whose
+        # band and entries are at most REORDER_GROWTH times as many takes it again without a
+        # supernodal analysis (a flat sheet's tangent, whose zero couplings are left out,
+        # takes the band; once it curves and its entries grow, the choice is made again)
+        self._banded: tuple[float, int] | None = None
         self.symbolic = 0
         self.numeric = 0
 
@@ -270,7 +272,11 @@ class LinearSolver:
         plan = BandPlan(upper)
         band_operations = plan.operations
         if self._measured is not None and self._measured[0] == n:
-            if self._banded is not None and band_operations <= REORDER_GROWTH * self._banded:
+            if (
+                self._banded is not None
+                and band_operations <= REORDER_GROWTH * self._banded[0]
+                and upper.nnz <= REORDER_GROWTH * self._banded[1]
+            ):
                 self._ldl, self._fresh = None, False  # as the last pattern: the band again
                 return plan
             if SUPERNODAL_AVAILABLE and self._ordering is not None:
@@ -300,7 +306,7 @@ class LinearSolver:
         """The band where it holds at most BAND_OVER_SUPERNODAL times the supernodal
         factor's operations, else None with ``self._supernodal`` set."""
         if band.operations <= BAND_OVER_SUPERNODAL * supernodal.operations:
-            self._banded = band.operations
+            self._banded = (band.operations, supernodal.entries)
             return band
         self._supernodal, self._banded = supernodal, None
         return None
