@@ -167,14 +167,9 @@ class LinearSolver:
         self._plan_pattern: tuple[np.ndarray, np.ndarray] | None = None
         # (n, QDLDL's elimination operations) of the last pattern QDLDL was measured on
         self._measured: tuple[int, float] | None = None
-        # (QDLDL's ordering of the last pattern measured, the supernodal operations under it)
-        self._ordering: tuple[np.ndarray, float] | None = None
-        # (the band's operations, the upper triangle's entries) where the last choice between
-        # it and the supernodal LDL^T took the band: a new pattern of as many unknowns whose
-        # band and entries are at most REORDER_GROWTH times as many takes it again without a
-        # supernodal analysis (a flat sheet's tangent, whose zero couplings are left out,
-        # takes the band; once it curves and its entries grow, the choice is made again)
-        self._banded: tuple[float, int] | None = None
+        # (QDLDL's ordering of the last pattern measured, the supernodal factor's operations
+        # under it (L's column counts with the diagonal, squared), that pattern's entries)
+        self._ordering: tuple[np.ndarray, float, int] | None = None
         self.symbolic = 0
         self.numeric = 0
 
@@ -264,26 +259,26 @@ class LinearSolver:
         pairs that change from one iteration to the next change a few entries of a shell's
         tangent, and QDLDL's fill hardly) takes the band without measuring QDLDL again when
         its band fits that measurement, and the supernodal LDL^T on that measurement's
-        ordering while its operations stay within REORDER_GROWTH of theirs; a wider band or
-        a grown fill is measured anew."""
+        ordering while its entries and operations stay within REORDER_GROWTH of theirs (a
+        flat sheet's tangent, whose zero couplings are left out, is ordered anew once it
+        curves); a wider band or a grown pattern or fill is measured anew."""
         n = upper.shape[0]
         if not BAND_AVAILABLE or n == 0:
             return None
         plan = BandPlan(upper)
         band_operations = plan.operations
         if self._measured is not None and self._measured[0] == n:
-            if (
-                self._banded is not None
-                and band_operations <= REORDER_GROWTH * self._banded[0]
-                and upper.nnz <= REORDER_GROWTH * self._banded[1]
-            ):
-                self._ldl, self._fresh = None, False  # as the last pattern: the band again
-                return plan
             if SUPERNODAL_AVAILABLE and self._ordering is not None:
-                supernodal = SupernodalPlan(upper, self._ordering[0])
-                if supernodal.operations <= REORDER_GROWTH * self._ordering[1]:
-                    self._ldl, self._fresh = None, False
-                    return self._band_or_supernodal(plan, supernodal)
+                ordering, factor_operations, entries = self._ordering
+                grown = upper.nnz > REORDER_GROWTH * entries
+                if not grown and band_operations <= BAND_OVER_SUPERNODAL * factor_operations:
+                    self._ldl, self._fresh = None, False  # the band, as on that measurement
+                    return plan
+                if not grown:
+                    supernodal = SupernodalPlan(upper, ordering)
+                    if supernodal.operations <= REORDER_GROWTH * factor_operations:
+                        self._ldl, self._fresh = None, False
+                        return self._band_or_supernodal(plan, supernodal)
             elif band_operations <= BAND_ADVANTAGE * self._measured[1]:
                 self._ldl, self._fresh = None, False  # QDLDL's factor made only if the band fails
                 return plan
@@ -297,18 +292,20 @@ class LinearSolver:
             return plan if plan.fill <= BAND_FILL_WITHOUT_QDLDL * max(upper.nnz, 1) else None
         self._measured = (n, float(np.sum(counts**2)))
         if SUPERNODAL_AVAILABLE:
-            supernodal = SupernodalPlan(upper, ordering)
-            self._ordering = (supernodal.perm, supernodal.operations)
-            return self._band_or_supernodal(plan, supernodal)
+            factor_operations = float(np.sum((counts + 1.0) ** 2))
+            ordering = np.asarray(ordering, dtype=np.int64)
+            self._ordering = (ordering, factor_operations, upper.nnz)
+            if band_operations <= BAND_OVER_SUPERNODAL * factor_operations:
+                return plan  # no supernodal analysis where the band is taken anyway
+            return self._band_or_supernodal(plan, SupernodalPlan(upper, ordering))
         return plan if band_operations <= BAND_ADVANTAGE * self._measured[1] else None
 
     def _band_or_supernodal(self, band: BandPlan, supernodal: SupernodalPlan) -> BandPlan | None:
         """The band where it holds at most BAND_OVER_SUPERNODAL times the supernodal
         factor's operations, else None with ``self._supernodal`` set."""
         if band.operations <= BAND_OVER_SUPERNODAL * supernodal.operations:
-            self._banded = (band.operations, supernodal.entries)
             return band
-        self._supernodal, self._banded = supernodal, None
+        self._supernodal = supernodal
         return None
 
     def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:

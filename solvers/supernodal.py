@@ -372,7 +372,6 @@ class SupernodalPlan:
         self.widest = int(widths.max(initial=1))
         self.tallest = int(heights.max(initial=1))
         self.position = position
-        self.entries = upper.nnz  # of the pattern analysed
         self.slots = self._slots_of(upper)
 
     def _slots_of(self, upper: sp.csc_matrix) -> np.ndarray:
