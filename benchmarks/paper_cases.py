@@ -93,7 +93,7 @@ Static cantilever of benchmarks/kratos_cantilever.py (Mindlin: cell blocks only)
 
 The linear solver (solvers/band.py by panels, solvers/supernodal.py; solvers/linear.py's
 choice), Part 2 (``--solve``) of main de923eb beside this tree, alternately in fresh
-processes, one thread, load 5-8: seconds of solves 16.73 -> 12.57 (bai-6.1.1), 16.01 -> 12.63
+processes, one thread, load 5.0-5.6: seconds of solves 16.73 -> 12.57 (bai-6.1.1), 16.01 -> 12.63
 (bai-6.2.1), 8.57 -> 7.55 (bai-6.1.2), 8.07 -> 7.14 (bai-6.2.2), 11.17 -> 10.81 (bai-5.1, whose
 strips keep the band: the same bits), 60.55 -> 50.70 for the five; the 40-cell fibrous runs'
 factorisations 4.94 -> 2.16 and 4.66 -> 2.29 s (75-76 each), the 40-cell Mindlin runs' 0.79 ->
