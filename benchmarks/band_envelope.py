@@ -20,10 +20,18 @@ gives all four to the envelope (before, with n b^2 against 3.0, the fibrous corn
 In bai-6.2.1's 40-cell fibrous run (74 Newton iterations, 76 factorisations) the
 factorisations took 5.91 s of CPU by QDLDL, 4.44 s by the envelope (load 5-10).
 
-Tried and taken out: the elimination by panels of 32 columns, each row below a panel taking
-the panel's updates in turn while in the cache (every entry the same updates in the same
-order: the same bits): 54 -> 166 ms on the 40-cell fibrous corner (load 13), the row-outer
-update compiled far worse than the column's axpys.
+The elimination by panels (solvers.band ``_factorise``, the column-by-column one kept as
+``_factorise_by_column``, the "env" column above): each column below a panel of 8 takes the
+panel's updates four at a time in one pass down the column (the same updates in the same
+order). Measured beside the column by column (CPU ms, best of 5, load 6.5-6.9), "panels":
+  fibrous 20 cells  3.7 -> 3.2     Mindlin 20 cells  0.6 -> 0.8
+  fibrous 40 cells  54.1 -> 39.5   Mindlin 40 cells  9.0 -> 8.8
+the factors and the negative pivots the same bits on every matrix (the last column). Narrow
+bands are faster column by column (solvers.band.PANEL_FROM = 200). Panels of 4, 8, 12, 16, 32
+and 64 columns on the 40-cell fibrous corner: 44, 42, 44, 47, 52, 53 ms. Tried and taken out
+before: panels of 32 columns updated row by row below the panel (each row taking the panel's
+updates in turn while in the cache): 54 -> 166 ms on the 40-cell fibrous corner (load 13),
+the row-outer update compiled far worse than the column's axpys.
 
 Run: python benchmarks/band_envelope.py [--rounds 5]
 """
@@ -41,7 +49,7 @@ import numpy as np  # noqa: E402
 import qdldl  # noqa: E402
 
 import solvers.linear as linear  # noqa: E402
-from solvers.band import BandPlan, _factorise, _solve  # noqa: E402
+from solvers.band import BandPlan, _factorise, _factorise_by_column, _solve  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.cases.bai_6_2_1 import SPEC  # noqa: E402
 from validation.paper.case import solve  # noqa: E402
@@ -92,25 +100,28 @@ def measure(upper, rounds: int) -> str:
     plan = BandPlan(upper)
     whole = np.minimum(plan.bandwidth, n - 1 - np.arange(n)).astype(np.int64)
 
-    def factors(reaches):
+    def factors(reaches, factorise=_factorise_by_column):
         flat = np.zeros(plan.fill)
         flat[plan.slots] = upper.data
         band = flat.reshape(n, plan.bandwidth + 1)
-        return _factorise(band, reaches), band
+        return factorise(band, reaches), band
 
     ldl = qdldl.Solver(upper, upper=True)
     counts = np.diff(ldl.factors()[0].indptr).astype(float)
     rhs = np.linspace(-1.0, 1.0, n)
     (a, band_a), (b, band_b) = factors(whole), factors(plan.reaches)
+    c, band_c = factors(plan.reaches, _factorise)
     same = a == b and np.array_equal(_solve(band_a, whole, rhs), _solve(band_b, plan.reaches, rhs))
+    same_panels = c == b and np.array_equal(band_c.view(np.int64), band_b.view(np.int64))
     times = (
         best(lambda: ldl.update(upper, upper=True), rounds),
         best(lambda: factors(whole), rounds),
         best(lambda: factors(plan.reaches), rounds),
+        best(lambda: factors(plan.reaches, _factorise), rounds),
     )
     sizes = f"{n:5d} {plan.bandwidth:5d} {np.sum(counts**2):10.3g} {n * plan.bandwidth**2:9.3g}"
     shown = " ".join(f"{1e3 * t:6.1f}" for t in times)
-    return f"{sizes} {plan.operations:8.3g} {shown}  {same}"
+    return f"{sizes} {plan.operations:8.3g} {shown}  {same} {same_panels}"
 
 
 def main() -> None:
@@ -119,7 +130,8 @@ def main() -> None:
     args = parser.parse_args()
     print(f"load before: {os.getloadavg()}")
     print(f"{'model':18s} {'n':>5s} {'band':>5s} {'QDLDL ops':>10s} {'band ops':>9s} "
-          f"{'env ops':>8s} {'QDLDL':>6s} {'band':>6s} {'env':>6s}  same")  # fmt: skip
+          f"{'env ops':>8s} {'QDLDL':>6s} {'band':>6s} {'env':>6s} {'panels':>6s}  same"
+          " same-panels")  # fmt: skip
     for kinematics, cells in MODELS:
         upper = last_tangent(kinematics, cells)
         print(f"{kinematics + ' ' + str(cells) + ' cells':18s} " + measure(upper, args.rounds),

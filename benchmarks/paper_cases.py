@@ -91,6 +91,18 @@ Static cantilever of benchmarks/kratos_cantilever.py (Mindlin: cell blocks only)
 12-16): within the noise; the same iterations [4, 5, 5, 5, 4] and tip drop
 (120.65558875188611 mm) to the bit.
 
+The linear solver (solvers/band.py by panels, solvers/supernodal.py; solvers/linear.py's
+choice), Part 2 (``--solve``) of main de923eb beside this tree, alternately in fresh
+processes, one thread, load 5.0-5.6: seconds of solves 16.73 -> 12.57 (bai-6.1.1), 16.01 -> 12.63
+(bai-6.2.1), 8.57 -> 7.55 (bai-6.1.2), 8.07 -> 7.14 (bai-6.2.2), 11.17 -> 10.81 (bai-5.1, whose
+strips keep the band: the same bits), 60.55 -> 50.70 for the five; the 40-cell fibrous runs'
+factorisations 4.94 -> 2.16 and 4.66 -> 2.29 s (75-76 each), the 40-cell Mindlin runs' 0.79 ->
+0.44 and 0.70 -> 0.41; the same increments, Newton iterations and cuts in every run. Their
+results.json (``python -m validation`` on the six paper cases, every check passing) within
+2.5e-11 of main's (mm, deg; bai-6.2.2's extrapolated order), 1.7e-11 relative; bai-5.1 the
+same bits. What is left of the 40-cell fibrous run (6.1 s): the tangents 3.0 s, the
+factorisations 2.2, the residuals and the rest 0.9.
+
 Tried and not kept:
 - A modified Newton in the arc-length corrector (the factorisation kept while the residual
   ratio fell by at least rho an iteration): on bai-6.1.1, fibrous 40 cells, rho 0.1: 19 ->

@@ -35,13 +35,26 @@ from femcore import kernel_cache
 
 __all__ = ["BandLDLT", "BandPlan"]
 
+# Columns of a panel of ``_factorise``: on the 40-cell fibrous corner of bai-6.2.1 (4025
+# unknowns, band 584) 4, 8, 12, 16, 32 and 64 took 44, 42, 44, 47, 52 and 53 ms, the column by
+# column reference 59 (benchmarks/band_envelope.py).
+PANEL = 8
+# Bandwidth from which the panels are used: on narrower bands the column by column reference is
+# faster (its axpys already in the cache; the panels' bookkeeping costs more than it saves):
+# the Mindlin cantilever of benchmarks/kratos_cantilever.py (band 94) 5.6 against 6.7 ms, the
+# paper cases' 10- and 20-cell Mindlin corners (54, 104) 0.05 / 0.53 against 0.07 / 0.65, the
+# 10-cell fibrous one (123) 0.18 against 0.21; from 200 on the panels are as fast or faster
+# (204: 8.8 against 9.0, 287: 3.2 against 3.7, 584: 40 against 54). The same bits either way.
+PANEL_FROM = 200
 
-def _factorise(band: np.ndarray, reaches: np.ndarray) -> int:
+
+def _factorise_by_column(band: np.ndarray, reaches: np.ndarray) -> int:
     """In place: band (n, b + 1) of A becomes L (below the diagonal, unit diagonal implied)
     and D (column 0), column j's elimination reaching ``reaches[j]`` rows below the diagonal
     (its envelope, at most b). Returns the number of negative pivots, or -1 at a zero or
     non-finite pivot. Right-looking: each column scales, then updates the triangle of the
-    columns below it (an axpy per column, contiguous)."""
+    columns below it (an axpy per column, contiguous). The reference of ``_factorise``, which
+    makes the same updates in the same order by panels (the same bits)."""
     n, width = band.shape
     negative = 0
     column = np.empty(width)
@@ -63,6 +76,82 @@ def _factorise(band: np.ndarray, reaches: np.ndarray) -> int:
             target = band[j + s]
             for t in range(reach - s + 1):
                 target[t] -= band[j, s + t] * weight
+    return negative
+
+
+def _factorise(band: np.ndarray, reaches: np.ndarray) -> int:
+    """``_factorise_by_column`` by panels of PANEL columns: the same factors to the bit, with
+    a quarter of its loads and stores of the columns being updated.
+
+    Each column of a panel is factorised and updates the panel's later columns as there; then
+    each column c below the panel takes the updates of the panel's columns that reach it (the
+    nonzero weights, in column order), four at a time in one pass down c: every entry gets the
+    same products subtracted in the same order as by the column's axpys, one subtraction
+    after the other (no fused multiply-add: numba compiles without fastmath), while c stays in
+    the cache and is loaded and stored once for four updates. The reaches' ends j + reaches[j]
+    do not decrease with j (``BandPlan``), so the columns reaching c are the panel's last ones
+    and a column's update ends no lower than those before it."""
+    n, width = band.shape
+    negative = 0
+    raw = np.empty((PANEL, width))  # each panel column's entries before its division
+    active = np.empty(PANEL, dtype=np.int64)
+    for start in range(0, n, PANEL):
+        stop = min(start + PANEL, n)
+        for j in range(start, stop):
+            pivot = band[j, 0]
+            if pivot == 0.0 or not np.isfinite(pivot):
+                return -1
+            if pivot < 0.0:
+                negative += 1
+            reach = reaches[j]
+            column = raw[j - start]
+            for r in range(1, reach + 1):
+                column[r] = band[j, r]
+                band[j, r] = band[j, r] / pivot
+            for s in range(1, min(reach, stop - 1 - j) + 1):
+                weight = column[s]
+                if weight == 0.0:
+                    continue
+                target = band[j + s]
+                for t in range(reach - s + 1):
+                    target[t] -= band[j, s + t] * weight
+        first = start
+        for c in range(stop, stop + reaches[stop - 1]):
+            while first + reaches[first] < c:
+                first += 1
+            count = 0
+            for j in range(first, stop):
+                if raw[j - start, c - j] != 0.0:
+                    active[count] = j
+                    count += 1
+            target = band[c]
+            k = 0
+            while k + 4 <= count:
+                ja, jb, jc, jd = active[k], active[k + 1], active[k + 2], active[k + 3]
+                wa, wb = raw[ja - start, c - ja], raw[jb - start, c - jb]
+                wc, wd = raw[jc - start, c - jc], raw[jd - start, c - jd]
+                # each column's entries from row c down, sliced so that the compiler sees
+                # non-negative indices and vectorises the pass
+                la, lb = band[ja, c - ja :], band[jb, c - jb :]
+                lc, ld = band[jc, c - jc :], band[jd, c - jd :]
+                ea, eb = ja + reaches[ja] - c, jb + reaches[jb] - c
+                ec, ed = jc + reaches[jc] - c, jd + reaches[jd] - c
+                for t in range(ea + 1):
+                    target[t] = (((target[t] - la[t] * wa) - lb[t] * wb) - lc[t] * wc) - ld[t] * wd
+                for t in range(ea + 1, eb + 1):
+                    target[t] = ((target[t] - lb[t] * wb) - lc[t] * wc) - ld[t] * wd
+                for t in range(eb + 1, ec + 1):
+                    target[t] = (target[t] - lc[t] * wc) - ld[t] * wd
+                for t in range(ec + 1, ed + 1):
+                    target[t] = target[t] - ld[t] * wd
+                k += 4
+            while k < count:
+                ja = active[k]
+                wa = raw[ja - start, c - ja]
+                la = band[ja, c - ja :]
+                for t in range(ja + reaches[ja] - c + 1):
+                    target[t] -= la[t] * wa
+                k += 1
     return negative
 
 
@@ -89,6 +178,7 @@ def _solve(band: np.ndarray, reaches: np.ndarray, rhs: np.ndarray) -> np.ndarray
 
 # numba is a dependency; without it the band path is not taken (``AVAILABLE``)
 if kernel_cache.AVAILABLE:
+    _factorise_by_column = kernel_cache.njit(_factorise_by_column)
     _factorise = kernel_cache.njit(_factorise)
     # Compiled without fastmath: re-associating the back substitution's sums let the compiler
     # vectorise it (0.9-1.2 against 2.0-3.4 ms per solve alone, 3.0 against 3.4 ms within a
@@ -152,7 +242,8 @@ class BandPlan:
         flat = np.zeros(self.fill)
         flat[self.slots] = upper_data
         band = flat.reshape(self.n, self.bandwidth + 1)
-        negative = _factorise(band, self.reaches)
+        factorise = _factorise if self.bandwidth >= PANEL_FROM else _factorise_by_column
+        negative = factorise(band, self.reaches)
         if negative < 0:
             return None
         return BandLDLT(self, band, negative)

@@ -11,12 +11,15 @@ negative eigenvalues), which tells a stable equilibrium from a saddle whatever t
 negative modes: the sign of det K only sees an odd number of them.
 
 The factorisation is an LDL^T without pivoting: the compiled band LDL^T of solvers.band (after
-a reverse Cuthill-McKee ordering) where the pattern's envelope costs at most BAND_ADVANTAGE times
-the operations of QDLDL's factor (shells, strips, sheets a few hundred unknowns wide: 5 times
-faster), else QDLDL (after an AMD ordering) through the ``qdldl`` package; the choice is made
-once per sparsity pattern (QDLDL's operations measured again only where the unknowns or a
-wider band call for it: ``LinearSolver._choose_band``), the factor of a failed band (a zero
-pivot) is QDLDL's. The pattern's analysis (the ordering, the band layout, QDLDL's elimination
+a reverse Cuthill-McKee ordering) where the pattern's envelope costs at most
+BAND_OVER_SUPERNODAL times the operations of the sparse factor (strips and small corners), else
+the compiled supernodal LDL^T of solvers.supernodal on QDLDL's AMD ordering (the fibrous
+shell's tangents, whose envelope holds three times the sparse factor: 1.7 times faster than
+the band on the 40-cell fibrous corner, 3.5 times than QDLDL), QDLDL (the ``qdldl`` package)
+where neither applies or the compiled one meets a zero pivot; the choice is made once per
+sparsity pattern (QDLDL measured again only where the unknowns, a wider band or a grown fill
+call for it: ``LinearSolver._choose_band``). The pattern's analysis (the orderings, the band
+layout, the supernodes, QDLDL's elimination
 tree) is kept while it holds, and
 so is the map from K_ff's entries to its symmetrised upper triangle (split off by one
 compiled pass). Without pivoting it can
@@ -40,6 +43,8 @@ from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 from femcore import kernel_cache
 from solvers.band import AVAILABLE as BAND_AVAILABLE
 from solvers.band import BandPlan
+from solvers.supernodal import AVAILABLE as SUPERNODAL_AVAILABLE
+from solvers.supernodal import SupernodalPlan
 
 __all__ = ["Factorisation", "LinearSolver"]
 
@@ -61,7 +66,24 @@ REFINEMENTS = 3
 # corner 0.70e9 operations in 53 ms against QDLDL's 0.22e9 in 75 ms; the 40-cell Mindlin one
 # 86 million in 8.4 ms against 29 million in 9.9 ms), 4-5 on the Mindlin cantilever of
 # benchmarks/static_solver.py. It was 3.0 when the band's operations were counted as n b^2.
+# Without the supernodal LDL^T only (``SUPERNODAL_AVAILABLE``): with it, BAND_OVER_SUPERNODAL.
 BAND_ADVANTAGE = 3.5
+# With the supernodal LDL^T (solvers.supernodal, on QDLDL's ordering and so its operations)
+# the band is chosen where its envelope holds at most this many times the supernodal
+# factor's operations: per operation the band runs 1.4-2.3 times faster, the most on narrow
+# strips (CPU ms, band against supernodal, at the ratio of their operations; the last K_ff
+# of each run): bai-5.1's strips, fibrous 60 cells 0.25 against 0.36 at 1.54, Mindlin 60
+# cells 0.08 against 0.14 at 0.89, fibrous 30 cells 0.12 against 0.20 at 1.52; the corners,
+# Mindlin 10 cells 0.050 against 0.061 at 1.74, fibrous 10 cells 0.18 against 0.23 at 1.78,
+# Mindlin 20 cells 0.53 against 0.49 at 2.1, bai-6.2.2's Mindlin 24 cells 1.2 against 0.75
+# at 2.3, bai-6.1.2's fibrous 24 cells 6.4 against 3.9 at 2.6, the fibrous 40 cells 40
+# against 21 at 3.1 (benchmarks/supernodal.py).
+BAND_OVER_SUPERNODAL = 2.0
+# A new pattern of as many unknowns as the one whose ordering is kept takes that ordering
+# (a contact pair or a bending coupling that appears changes a few entries) unless the
+# supernodal factor then holds more than this many times the operations it held on the
+# pattern the ordering was made for: then the pattern is ordered afresh.
+REORDER_GROWTH = 1.2
 # Where QDLDL fails on a new pattern (a zero pivot), the band is tried only if it holds at most
 # this many times the entries of K_ff's upper triangle (the cantilever's: 5.5), so that a wide
 # band never takes the memory of a dense matrix.
@@ -83,6 +105,7 @@ class Factorisation:
     kind: str
     _ldl: Any = None
     _lu: Any = None
+    _norm: float | None = None  # ||K_ff||_inf, made at the first accuracy check
 
     def solve(self, rhs: np.ndarray) -> np.ndarray | None:
         """x with K_ff x = rhs (one or more columns), or None when K_ff is singular."""
@@ -92,10 +115,10 @@ class Factorisation:
             # of iterative refinement with the same factors (x += K^-1 (b - K x)) recover them
             # at the cost of a solve each, far below that of an LU.
             for _ in range(REFINEMENTS):
-                if _accurate(self.matrix, x, rhs):
+                if _accurate(self.matrix, x, rhs, self.norm):
                     return x
                 x = x + _columns(self._ldl.solve, rhs - self.matrix @ x)
-            if _accurate(self.matrix, x, rhs):
+            if _accurate(self.matrix, x, rhs, self.norm):
                 return x
             self._lu = self._lu or _lu(self.matrix)
             self.kind = "lu"
@@ -103,6 +126,16 @@ class Factorisation:
             return None
         x = _columns(self._lu.solve, rhs)
         return x if np.all(np.isfinite(x)) else None
+
+    @property
+    def norm(self) -> float:
+        """||K_ff||_inf (the largest sum of |entries| of a row), computed once: a solve's
+        accuracy check needs it, and an arc-length iteration solves twice with one K_ff (it
+        took a fifth of a solve on the 40-cell fibrous corner of bai-6.1.1)."""
+        if self._norm is None:
+            k = self.matrix
+            self._norm = float(np.abs(k).sum(axis=1).max()) if k.shape[0] else 0.0
+        return self._norm
 
     def inverse(self) -> LinearOperator | None:
         """K^-1 as a LinearOperator from the LDL^T's factors (of K's symmetric part, without
@@ -128,11 +161,15 @@ class LinearSolver:
         self._ldl: qdldl.Solver | None = None
         self._pattern: tuple[np.ndarray, np.ndarray] | None = None
         self._band: BandPlan | None = None
+        self._supernodal: SupernodalPlan | None = None
         self._fresh = False  # whether self._ldl holds the factors of the last matrix given
         self._plan: _UpperPlan | None = None
         self._plan_pattern: tuple[np.ndarray, np.ndarray] | None = None
         # (n, QDLDL's elimination operations) of the last pattern QDLDL was measured on
         self._measured: tuple[int, float] | None = None
+        # (QDLDL's ordering of the last pattern measured, the supernodal factor's operations
+        # under it (L's column counts with the diagonal, squared), that pattern's entries)
+        self._ordering: tuple[np.ndarray, float, int] | None = None
         self.symbolic = 0
         self.numeric = 0
 
@@ -171,20 +208,24 @@ class LinearSolver:
 
     def _ldlt(self, upper: sp.csc_matrix) -> tuple[Any, int | None]:
         """(the LDL^T of the symmetric matrix of this upper triangle, its negative pivots), or
-        (None, None) when it failed: the band LDL^T where the pattern chose it, else QDLDL."""
+        (None, None) when it failed: the band or the supernodal LDL^T where the pattern chose
+        one, else (or where it met a zero pivot) QDLDL."""
         pattern = (upper.indptr, upper.indices)
         if not self._same(pattern):
-            self._ldl, self._band, self._fresh = None, None, False
+            kept = self._supernodal.for_pattern(upper) if self._supernodal is not None else None
+            self._ldl, self._band, self._supernodal, self._fresh = None, None, kept, False
             self._pattern = (upper.indptr.copy(), upper.indices.copy())
-            self.symbolic += 1
-            self._band = self._choose_band(upper)
+            if kept is None:
+                self.symbolic += 1
+                self._band = self._choose_band(upper)
         else:
             self._fresh = False
         self.numeric += 1
-        if self._band is not None:
-            factor = self._band.factorise(upper.data)
-            if factor is not None:
-                return factor, factor.negative
+        for plan in (self._band, self._supernodal):
+            if plan is not None:
+                factor = plan.factorise(upper.data)
+                if factor is not None:
+                    return factor, factor.negative
         return self._qdldl(upper)
 
     def _qdldl(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
@@ -209,33 +250,63 @@ class LinearSolver:
         times QDLDL's in operations (the band's contiguous updates run that much faster per
         operation; solvers.band), from QDLDL's own factor of this matrix (kept for the
         fallback): the sum of the band's column reaches squared (its envelope,
-        ``BandPlan.operations``) against the sum of QDLDL's column counts squared.
+        ``BandPlan.operations``) against the sum of QDLDL's column counts squared. With the
+        supernodal LDL^T (``SUPERNODAL_AVAILABLE``) the pattern takes it on QDLDL's ordering
+        (``self._supernodal``) unless the band holds at most BAND_OVER_SUPERNODAL times its
+        operations.
 
         A new pattern of as many unknowns as the last one QDLDL was measured on (contact
         pairs that change from one iteration to the next change a few entries of a shell's
         tangent, and QDLDL's fill hardly) takes the band without measuring QDLDL again when
-        its band fits that measurement; a wider band is measured anew."""
+        its band fits that measurement, and the supernodal LDL^T on that measurement's
+        ordering while its entries and operations stay within REORDER_GROWTH of theirs (a
+        flat sheet's tangent, whose zero couplings are left out, is ordered anew once it
+        curves); a wider band or a grown pattern or fill is measured anew."""
         n = upper.shape[0]
         if not BAND_AVAILABLE or n == 0:
             return None
         plan = BandPlan(upper)
         band_operations = plan.operations
-        if (
-            self._measured is not None
-            and self._measured[0] == n
-            and band_operations <= BAND_ADVANTAGE * self._measured[1]
-        ):
-            self._ldl, self._fresh = None, False  # QDLDL's factor made only if the band fails
-            return plan
+        if self._measured is not None and self._measured[0] == n:
+            if SUPERNODAL_AVAILABLE and self._ordering is not None:
+                ordering, factor_operations, entries = self._ordering
+                grown = upper.nnz > REORDER_GROWTH * entries
+                if not grown and band_operations <= BAND_OVER_SUPERNODAL * factor_operations:
+                    self._ldl, self._fresh = None, False  # the band, as on that measurement
+                    return plan
+                if not grown:
+                    supernodal = SupernodalPlan(upper, ordering)
+                    if supernodal.operations <= REORDER_GROWTH * factor_operations:
+                        self._ldl, self._fresh = None, False
+                        return self._band_or_supernodal(plan, supernodal)
+            elif band_operations <= BAND_ADVANTAGE * self._measured[1]:
+                self._ldl, self._fresh = None, False  # QDLDL's factor made only if the band fails
+                return plan
         try:
             self._ldl = qdldl.Solver(upper, upper=True)
             self._fresh = True
-            counts = np.diff(self._ldl.factors()[0].indptr).astype(float)
+            lower, _, ordering = self._ldl.factors()
+            counts = np.diff(lower.indptr).astype(float)
         except RuntimeError:  # QDLDL's ordering meets a zero pivot: the band, if it is narrow
             self._ldl, self._fresh = None, False
             return plan if plan.fill <= BAND_FILL_WITHOUT_QDLDL * max(upper.nnz, 1) else None
         self._measured = (n, float(np.sum(counts**2)))
+        if SUPERNODAL_AVAILABLE:
+            factor_operations = float(np.sum((counts + 1.0) ** 2))
+            ordering = np.asarray(ordering, dtype=np.int64)
+            self._ordering = (ordering, factor_operations, upper.nnz)
+            if band_operations <= BAND_OVER_SUPERNODAL * factor_operations:
+                return plan  # no supernodal analysis where the band is taken anyway
+            return self._band_or_supernodal(plan, SupernodalPlan(upper, ordering))
         return plan if band_operations <= BAND_ADVANTAGE * self._measured[1] else None
+
+    def _band_or_supernodal(self, band: BandPlan, supernodal: SupernodalPlan) -> BandPlan | None:
+        """The band where it holds at most BAND_OVER_SUPERNODAL times the supernodal
+        factor's operations, else None with ``self._supernodal`` set."""
+        if band.operations <= BAND_OVER_SUPERNODAL * supernodal.operations:
+            return band
+        self._supernodal = supernodal
+        return None
 
     def _same(self, pattern: tuple[np.ndarray, np.ndarray]) -> bool:
         return (
@@ -416,13 +487,12 @@ def _columns(solve, rhs: np.ndarray) -> np.ndarray:
     return np.column_stack([solve(np.ascontiguousarray(column)) for column in rhs.T])
 
 
-def _accurate(k: sp.csc_matrix, x: np.ndarray, rhs: np.ndarray) -> bool:
+def _accurate(k: sp.csc_matrix, x: np.ndarray, rhs: np.ndarray, norm_k: float) -> bool:
     """Whether x solves K x = rhs to a backward error ||K x - b|| / (||K|| ||x|| + ||b||)
-    (infinity norms) of at most ACCURACY: what a stable factorisation achieves whatever the
-    conditioning of K (the relative residual of an ill-conditioned K_ff is 1e-7 with any
-    solver), and what an LDL^T without pivoting loses when its pivots grow."""
+    (infinity norms, ``norm_k`` = ||K||) of at most ACCURACY: what a stable factorisation
+    achieves whatever the conditioning of K (the relative residual of an ill-conditioned K_ff
+    is 1e-7 with any solver), and what an LDL^T without pivoting loses when its pivots grow."""
     if not np.all(np.isfinite(x)):
         return False
-    norm_k = float(np.abs(k).sum(axis=1).max()) if k.shape[0] else 0.0
     scale = norm_k * float(np.abs(x).max(initial=0.0)) + float(np.abs(rhs).max(initial=0.0))
     return scale == 0.0 or float(np.abs(k @ x - rhs).max(initial=0.0)) <= ACCURACY * scale

@@ -158,15 +158,16 @@ def test_a_strip_pattern_takes_the_band_and_a_scattered_one_qdldl():
 
 
 def qdldl_factorisation(k):
-    """``LinearSolver().factorise(k)`` with the band never chosen: QDLDL's factors."""
+    """``LinearSolver().factorise(k)`` with neither the band nor the supernodal LDL^T: QDLDL's
+    factors."""
     from solvers import linear
 
-    advantage = linear.BAND_ADVANTAGE
+    advantage, supernodal = linear.BAND_ADVANTAGE, linear.SUPERNODAL_AVAILABLE
     try:
-        linear.BAND_ADVANTAGE = 0.0
+        linear.BAND_ADVANTAGE, linear.SUPERNODAL_AVAILABLE = 0.0, False
         return LinearSolver().factorise(k)
     finally:
-        linear.BAND_ADVANTAGE = advantage
+        linear.BAND_ADVANTAGE, linear.SUPERNODAL_AVAILABLE = advantage, supernodal
 
 
 def test_the_band_and_qdldl_give_the_same_solution_and_inertia():
@@ -201,9 +202,10 @@ def corner_matrix(cells=20, dof=5, seed=0):
     return (a.tocsc() + sp.diags(np.asarray(abs(a).sum(axis=1)).ravel() + 1.0)).tocsc()
 
 
-def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution():
+def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution(monkeypatch):
     # On the corner's triangle the ordered band holds 3.75 times QDLDL's operations counted
-    # as n b^2 (QDLDL's choice before the envelope was counted), its envelope 1.9 times.
+    # as n b^2 (QDLDL's choice before the envelope was counted), its envelope 1.9 times:
+    # the band's choice against QDLDL, without the supernodal LDL^T.
     import qdldl
 
     from solvers import linear
@@ -218,6 +220,7 @@ def test_a_corner_whose_envelope_fits_takes_the_band_and_gives_qdldls_solution()
     qdldl_operations = float(np.sum(counts**2))
     assert n * plan.bandwidth**2 > linear.BAND_ADVANTAGE * qdldl_operations  # the whole band
     assert plan.operations < 2.0 * qdldl_operations  # the envelope
+    monkeypatch.setattr(linear, "SUPERNODAL_AVAILABLE", False)
     solver = LinearSolver()
     band = solver.factorise(k)
     assert solver._band is not None
@@ -349,3 +352,52 @@ def test_a_strip_whose_contact_pairs_change_keeps_the_band_without_measuring_qdl
     assert solver._band is not None
     assert len(made) == 1
     assert np.allclose(x, np.linalg.solve(moved.toarray(), rhs), rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("shift", [0.0, 2.5, 3.5])
+@pytest.mark.parametrize("far_pairs", [False, True])
+def test_the_band_by_panels_gives_the_column_by_column_factors_to_the_bit(shift, far_pairs):
+    # The panels make every entry's updates in the column order of the reference; a skipped,
+    # repeated or reordered update changes the last bits of the factors. The strip (103
+    # unknowns: panels that do not divide it) with and without far pairs, definite and not;
+    # the inertia against numpy's eigenvalues.
+    from solvers.band import BandPlan, _factorise, _factorise_by_column
+
+    k = strip_matrix(length=61, shift=shift).tolil()
+    if far_pairs:
+        for i, j in ((0, 37), (12, 90), (40, 61)):
+            k[i, j] = k[j, i] = 0.3
+    k = k.tocsc()
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    plan = BandPlan(upper)
+
+    def factors(factorise):
+        flat = np.zeros(plan.fill)
+        flat[plan.slots] = upper.data
+        band = flat.reshape(plan.n, plan.bandwidth + 1)
+        return factorise(band, plan.reaches), band
+
+    (negative, band), (reference_negative, reference) = (
+        factors(_factorise),
+        factors(_factorise_by_column),
+    )
+    assert negative == reference_negative == int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+    assert np.array_equal(band.view(np.int64), reference.view(np.int64))
+
+
+def test_the_band_by_panels_stops_at_a_zero_pivot_as_the_reference_does():
+    from solvers.band import BandPlan, _factorise, _factorise_by_column
+
+    k = strip_matrix().tolil()
+    k[20, 20] = 0.0
+    k[20, :] = 0.0
+    k[:, 20] = 0.0
+    k = k.tocsc()
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    plan = BandPlan(upper)
+    for factorise in (_factorise, _factorise_by_column):
+        flat = np.zeros(plan.fill)
+        flat[plan.slots] = upper.data
+        assert factorise(flat.reshape(plan.n, plan.bandwidth + 1), plan.reaches) == -1

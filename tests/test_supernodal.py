@@ -1,0 +1,197 @@
+"""solvers.supernodal: the supernodal LDL^T against scipy's sparse LU solve, numpy's dense
+eigenvalues (the inertia, by Sylvester's law) and QDLDL's factors on the same ordering (an
+LDL^T without pivoting of a matrix under one ordering is unique: the same L and D up to
+round-off), and its choice by solvers.linear."""
+
+import numpy as np
+import pytest
+import qdldl
+import scipy.sparse as sp
+from scipy.sparse.linalg import spsolve
+
+from solvers.linear import LinearSolver
+from solvers.supernodal import SupernodalPlan
+
+
+def scattered(n=400, shift=0.0, density=0.01, seed=0):
+    """A symmetric matrix with a random sparse pattern, its diagonal shifted by -shift: the
+    elimination tree has long chains and many small branches."""
+    rng = np.random.default_rng(seed)
+    a = sp.random(n, n, density=density, random_state=seed)
+    return (a + a.T + sp.diags(rng.uniform(1.0, 5.0, n) - shift)).tocsc()
+
+
+def grid(nodes=12, dof=5, shift=0.0, seed=0):
+    """A symmetric matrix on a nodes x nodes grid of ``dof``-unknown nodes joined to their
+    eight neighbours (a shell's tangent pattern: supernodes of a node's unknowns and the
+    separators of the minimum degree ordering), shifted by -shift on the diagonal."""
+    rng = np.random.default_rng(seed)
+    index = np.arange(nodes * nodes).reshape(nodes, nodes)
+    a = sp.lil_matrix((dof * index.size, dof * index.size))
+    for di, dj in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        for i in range(nodes - di):
+            for j in range(max(0, -dj), nodes - max(0, dj)):
+                p, q = index[i, j], index[i + di, j + dj]
+                block = rng.uniform(-0.2, 0.2, (dof, dof))
+                a[dof * p : dof * p + dof, dof * q : dof * q + dof] = block
+                a[dof * q : dof * q + dof, dof * p : dof * p + dof] = block.T
+    own = rng.uniform(-0.2, 0.2, (index.size, dof, dof))
+    a = a.tocsc() + sp.block_diag(list(own + np.swapaxes(own, 1, 2)))
+    diagonal = rng.uniform(3.0, 5.0, dof * index.size) - shift
+    return (a + sp.diags(diagonal)).tocsc()
+
+
+def plan_of(k):
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    ordering = qdldl.Solver(upper, upper=True)
+    return upper, ordering, SupernodalPlan(upper, ordering.factors()[2])
+
+
+@pytest.mark.parametrize(
+    "k",
+    [
+        scattered(),
+        scattered(shift=2.0),
+        scattered(shift=4.0, density=0.03),
+        grid(),
+        grid(shift=3.0),
+        grid(nodes=5, dof=6, shift=4.5),
+    ],
+    ids=["scattered", "scattered-2", "scattered-4", "grid", "grid-3", "small-grid-4.5"],
+)
+def test_the_supernodal_ldlt_solves_and_counts_the_negative_eigenvalues(k):
+    # Tolerance: the backward error of an LDL^T without pivoting on these matrices (condition
+    # numbers up to ~1e4) is ~1e-15; 1e-9 of the solution leaves room for the conditioning.
+    upper, _, plan = plan_of(k)
+    factor = plan.factorise(upper.data)
+    assert factor is not None
+    assert factor.negative == int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+    rhs = np.random.default_rng(1).standard_normal(k.shape[0])
+    x, expected = factor.solve(rhs), spsolve(k, rhs)
+    assert np.abs(x - expected).max() <= 1e-9 * np.abs(expected).max()
+
+
+@pytest.mark.parametrize("k", [scattered(shift=-6.0), grid()], ids=["scattered", "grid"])
+def test_the_supernodal_factors_are_qdldls_on_the_same_ordering(k):
+    # L's pattern: QDLDL's (its operations, the sum of the column counts squared, diagonal
+    # included); L and D: QDLDL's to the round-off of two elimination orders (1e-12; these
+    # definite matrices have condition numbers ~3, and the two agree within 2e-15: on the
+    # indefinite ones the small pivots amplify the round-off to 1e-10, and the solve test
+    # above holds them to scipy's solution instead).
+    upper, ordering, plan = plan_of(k)
+    lower, pivots, _ = ordering.factors()
+    assert plan.operations == float(np.sum((np.diff(lower.indptr) + 1.0) ** 2))
+    factor = plan.factorise(upper.data)
+    assert factor is not None
+    dense = np.zeros(k.shape)  # L below the diagonal, D on it, from the supernodes
+    for s in range(plan.first.size - 1):
+        rows = plan.rows[plan.row_start[s] : plan.row_start[s + 1]]
+        width = plan.first[s + 1] - plan.first[s]
+        block = factor.values[plan.value_start[s] : plan.value_start[s + 1]]
+        for k_column in range(width):
+            column = block[k_column * rows.size : (k_column + 1) * rows.size]
+            dense[rows[k_column:], plan.first[s] + k_column] = column[k_column:]
+    assert np.allclose(np.diag(dense), pivots, rtol=1e-12, atol=0.0)
+    expected = lower.toarray()
+    assert np.abs(np.tril(dense, -1) - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
+def test_a_zero_pivot_gives_no_factors():
+    k = grid(nodes=4).tolil()
+    k[7, :] = 0.0
+    k[:, 7] = 0.0
+    k = k.tocsc()
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    plan = SupernodalPlan(upper, np.arange(k.shape[0]))  # any ordering: row 7 stays empty
+    assert plan.factorise(upper.data) is None
+
+
+def test_the_factors_are_the_same_bits_from_one_factorisation_to_the_next():
+    upper, _, plan = plan_of(grid(shift=3.0))
+    first, second = plan.factorise(upper.data), plan.factorise(upper.data.copy())
+    assert first is not None and second is not None
+    assert np.array_equal(first.values.view(np.int64), second.values.view(np.int64))
+
+
+def test_a_wide_pattern_takes_the_supernodal_ldlt_and_a_changed_one_keeps_its_ordering(
+    monkeypatch,
+):
+    # The grid's envelope holds more than BAND_OVER_SUPERNODAL times the supernodal
+    # operations; a few couplings added (contact pairs) keep QDLDL's ordering of the first
+    # pattern (no second QDLDL) and still solve as scipy does.
+    from solvers import linear
+
+    made = []
+    solver_class = linear.qdldl.Solver
+
+    def counted(*args, **kwargs):
+        made.append(1)
+        return solver_class(*args, **kwargs)
+
+    monkeypatch.setattr(linear.qdldl, "Solver", counted)
+    k = grid(nodes=16, shift=3.0)
+    solver = LinearSolver()
+    factor = solver.factorise(k)
+    assert solver._supernodal is not None and solver._band is None
+    assert factor.negative == int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+    moved = k.tolil()
+    for i, j in ((0, 90), (33, 140), (400, 520)):
+        moved[i, j] = moved[j, i] = 0.05
+    moved = moved.tocsc()
+    rhs = np.linspace(-1.0, 1.0, k.shape[0])
+    x = solver.factorise(moved).solve(rhs)
+    assert solver.symbolic == 2 and len(made) == 1
+    assert solver._supernodal is not None
+    expected = spsolve(moved, rhs)
+    assert np.abs(x - expected).max() <= 1e-9 * np.abs(expected).max()
+
+
+def test_a_strip_takes_the_band_where_the_supernodal_factor_saves_little():
+    from tests.test_linear import strip_matrix
+
+    solver = LinearSolver()
+    solver.factorise(strip_matrix())
+    assert solver._band is not None and solver._supernodal is None
+
+
+def test_the_shift_invert_with_the_supernodal_factors_finds_the_same_lowest_modes():
+    # solvers.stability's shift-invert by the kept factors (Factorisation.inverse) against
+    # its own factorisation, as tests/test_linear.py does for the band.
+    from solvers.stability import lowest_modes
+
+    k = grid(nodes=16, shift=3.0)
+    solver = LinearSolver()
+    factor = solver.factorise(k)
+    assert solver._supernodal is not None and factor.kind == "ldlt" and factor.negative
+    values, vectors = lowest_modes(k, factor.negative, factor.inverse())
+    expected, _ = lowest_modes(k, factor.negative)
+    assert np.allclose(values, expected, rtol=1e-8, atol=1e-10)
+    assert np.allclose(np.abs(vectors.T @ (k @ vectors)), np.diag(np.abs(values)), atol=1e-8)
+
+
+def test_a_pattern_within_the_factors_pattern_keeps_the_analysis():
+    # Entries that vanish (exact zeros of a tangent by differences, left out of the pattern)
+    # leave a pattern inside L's: the plan is kept, no new analysis; the solution is the new
+    # matrix's. An entry outside L's pattern asks for a new analysis.
+    k = grid(nodes=16, shift=3.0)
+    solver = LinearSolver()
+    solver.factorise(k)
+    assert solver._supernodal is not None and solver.symbolic == 1
+    fewer = k.tolil()
+    for i, j in ((0, 1), (33, 38), (400, 405)):  # couplings within a node's or a neighbour's
+        fewer[i, j] = fewer[j, i] = 0.0
+    fewer = fewer.tocsc()
+    fewer.eliminate_zeros()
+    assert fewer.nnz == k.nnz - 6
+    rhs = np.linspace(-1.0, 1.0, k.shape[0])
+    factor = solver.factorise(fewer)
+    assert solver.symbolic == 1 and solver._supernodal is not None
+    expected = spsolve(fewer, rhs)
+    assert np.abs(factor.solve(rhs) - expected).max() <= 1e-9 * np.abs(expected).max()
+    assert factor.negative == int(np.sum(np.linalg.eigvalsh(fewer.toarray()) < 0.0))
+    far = k.tolil()
+    far[0, k.shape[0] - 1] = far[k.shape[0] - 1, 0] = 0.05  # opposite corners of the grid
+    solver.factorise(far.tocsc())
+    assert solver.symbolic == 2
