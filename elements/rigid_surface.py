@@ -37,9 +37,8 @@ __all__ = ["RigidSurface"]
 
 
 # How far (in facet circumradii) a point may move before RigidSurface searches it again
-# (any margin gives the same answers within the search distance, a point beyond it being
-# told a lower bound of its distance above it whatever the margin; larger, the kept lists
-# hold more facets and serve
+# (any margin gives the same answers: exact within the search distance, above it beyond;
+# larger, the kept lists hold more facets and serve
 # longer: on the hemisphere die under the two-ply Mindlin [0/90] blank 0.25 -> 0.5 halved
 # the searches, 1002 -> 489 a run, and took its step 1.467-1.500 -> 1.384-1.438 ms, the same
 # final positions to the bit; hemisphere-forming the same figures, 33.4 -> 32.7 s of CPU;
@@ -78,10 +77,9 @@ def _workers(points: int) -> int:
 @dataclass(frozen=True)
 class _Candidates:
     """What RigidSurface keeps of its last search: the points (k, 3), in the tool's frame;
-    each point's candidate facets facets[start[i]:start[i + 1]] (none for the points beyond
-    the search distance, ``far`` (k,) bool); the distances (k,) and normals (k, 3) found;
-    ``far_room`` (mm), the least of the far points' |distance| less the search distance: no
-    far point can come within the search distance while every point has moved less."""
+    each point's candidate facets facets[start[i]:start[i + 1]] (none for the points ``far``
+    (k,) bool, beyond ``far_from``, the search distance plus the margin, mm, when searched);
+    the distances (k,) and normals (k, 3) found."""
 
     points: np.ndarray
     start: np.ndarray
@@ -89,7 +87,7 @@ class _Candidates:
     far: np.ndarray
     distance: np.ndarray
     normal: np.ndarray
-    far_room: float = np.inf
+    far_from: float
 
 
 class RigidSurface(RigidTool):
@@ -130,7 +128,8 @@ class RigidSurface(RigidTool):
     points it was asked about, every facet that can become their closest while they move
     less than ``MARGIN`` circumradius (those whose centroid lies within the proof's distance
     plus twice that margin plus their own circumradius; none for the points beyond the
-    search distance, which are told their distance less how far they moved), and answers from
+    search distance plus the margin, which are told their distance less how far they moved,
+    more than the search distance), and answers from
     those alone (a compiled loop); when a point has moved further, it is searched again with
     every point that has moved more than ``REBUILD_SHARE`` of that margin (a Verlet list's
     rebuild, in batches a few hundred explicit steps apart rather than a few points at every
@@ -291,11 +290,14 @@ class RigidSurface(RigidTool):
 
     def _candidates(self, local: np.ndarray, gap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every facet that can hold a point's closest point while it moves less than the
-        cache's margin (MARGIN circumradius): within the proof's distance plus twice the
-        margin of the point, so with its centroid within that plus the facet's own
-        circumradius (the k-d tree finds those within the largest one, then each is held to
-        its own), as (start (k + 1,), facets): point i's are facets[start[i]:start[i + 1]]."""
-        near = np.minimum(gap, self.search_distance) + 2.0 * MARGIN * self.reach
+        cache's margin (MARGIN circumradius): within its distance ``gap`` (k,) (-inf: none)
+        plus twice the margin of the point, so with its centroid within that plus the facet's
+        own circumradius (the k-d tree finds those within the largest one, then each is held
+        to its own), as (start (k + 1,), facets): point i's are facets[start[i]:start[i + 1]].
+        A point searched beyond the search distance (the search there is an upper bound of
+        its distance, at least the search distance) still gets every facet that can be its
+        closest: the true closest is nearer than the bound."""
+        near = gap + 2.0 * MARGIN * self.reach
         found = self.tree.query_ball_point(
             local,
             np.maximum(near + self.reach, 0.0),
@@ -367,10 +369,10 @@ class RigidSurface(RigidTool):
         d, n = self._signed(local, point, facet, gap)
         far = cache.far
         if far.any():
-            # Points beyond the search distance have no candidates: what they are told is a
-            # distance less than their true one (the triangle inequality) and more than the
-            # search distance (_prepared searches a far point again before its bound would
-            # fall to it, whatever MARGIN).
+            # Points beyond the search distance plus the margin have no candidates: what they
+            # are told is a distance less than their true one (the triangle inequality) and,
+            # having moved less than the margin since their search, more than the search
+            # distance.
             moved_by = np.linalg.norm(local[far] - cache.points[far], axis=1)
             d[far] = cache.distance[far] - np.sign(cache.distance[far]) * moved_by
             n[far] = cache.normal[far]
@@ -399,34 +401,30 @@ class RigidSurface(RigidTool):
         """The candidate lists for the points ``local`` (k, 3) (the tool's frame), searched
         again where they have moved past the margin (class docstring), kept as the cache."""
         cache = self._cache
-        if cache is None or cache.points.shape != local.shape:
+        # (A cache pickled before far_from was kept is made anew: its far points were
+        # those beyond the search distance alone.)
+        if (
+            cache is None
+            or cache.points.shape != local.shape
+            or getattr(cache, "far_from", None) != self._far_from
+        ):
             cache = self._searched(local, np.ones(len(local), dtype=bool), None)
             self._kept = None
         else:
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.
             limit = MARGIN / np.sqrt(3.0) * self.reach
-            largest = largest_drift(local, cache.points)  # (compiled: at every call)
-            # A far point is told its distance less its move, a bound that must stay above
-            # the search distance: searched again before its move reaches far_room.
-            far_room = getattr(cache, "far_room", 0.0)  # (a cache pickled before it was kept)
-            crossing = np.zeros(0, dtype=np.int64)
-            if np.sqrt(3.0) * largest >= far_room:
-                far = np.flatnonzero(cache.far)
-                moved = np.linalg.norm(local[far] - cache.points[far], axis=1)
-                crossing = far[np.abs(cache.distance[far]) - moved <= self.search_distance]
-            if largest >= limit or len(crossing):
+            if largest_drift(local, cache.points) >= limit:  # (compiled: at every call)
                 drift = np.abs(local - cache.points).max(axis=1, initial=0.0)
                 # Those nearly past it too (REBUILD_SHARE): a search is exact whenever done.
                 rows = drift >= REBUILD_SHARE * limit
-                rows[crossing] = True
                 cache = self._searched(local, rows, cache)
                 self._forget_nearest(rows)
         self._cache = cache
         return cache
 
     def _note_facets(self, facet: np.ndarray) -> None:
-        """Keep each point's closest facet (k,) (-1 beyond the search distance) of this call
+        """Keep each point's closest facet (k,) (-1 for a point without candidates) of this call
         in the record, a column a call; points asked in another number start it anew."""
         record = getattr(self, "_record", None)
         if record is None or len(record) != len(facet):
@@ -438,8 +436,9 @@ class RigidSurface(RigidTool):
     def facet_record(self) -> np.ndarray:
         """(k, m) the closest facet of each of the points of the last calls of ``distance``
         (k of them in every call), oldest first, m = min(calls, FACET_RECORD) columns; -1
-        beyond the search distance. A pressed node that a solver carries back and forth
-        across an edge between two facets shows the two in turn (solvers/stop_diagnosis.py).
+        for a point without candidates (beyond the search distance plus the margin). A
+        pressed node that a solver carries back and forth across an edge between two facets
+        shows the two in turn (solvers/stop_diagnosis.py).
         Kept while ``record_facets`` is on (a contact's ``freeze``, Static's): an explicit
         run does not pay for it."""
         record = getattr(self, "_record", np.zeros((0, FACET_RECORD), dtype=np.int64))
@@ -455,10 +454,10 @@ class RigidSurface(RigidTool):
         here = local[at]
         point, facet, gap = self._search(here)
         d, n = self._signed(here, point, facet, gap)
-        far = gap > self.search_distance
+        far = gap > self._far_from
         start, facets = self._candidates(here, np.where(far, -np.inf, gap))
         if cache is None:
-            return _Candidates(here.copy(), start, facets, far, d, n, self._far_room(far, d))
+            return _Candidates(here.copy(), start, facets, far, d, n, self._far_from)
         counts = np.diff(cache.start)
         kept = np.flatnonzero(~rows)
         counts[at] = np.diff(start)
@@ -471,14 +470,16 @@ class RigidSurface(RigidTool):
         far_all = cache.far.copy()
         far_all[at] = far
         return _Candidates(
-            points, merged_start, merged, far_all, distance, normal,
-            self._far_room(far_all, distance),
+            points, merged_start, merged, far_all, distance, normal, self._far_from
         )  # fmt: skip
 
-    def _far_room(self, far: np.ndarray, distance: np.ndarray) -> float:
-        """The least move (mm) that could bring a point beyond the search distance (``far``
-        (k,) bool, its signed ``distance`` (k,)) within it: inf without such points."""
-        return float(np.min(np.abs(distance[far]) - self.search_distance, initial=np.inf))
+    @property
+    def _far_from(self) -> float:
+        """The distance (mm) beyond which a searched point keeps no facets: the search
+        distance plus the margin, so that a point told its distance less its move (less
+        than the margin while it is not searched again) is told more than the search
+        distance, never within it, whatever the search distance given."""
+        return self.search_distance + MARGIN * self.reach
 
     def _search(self, local: np.ndarray):
         """The closest facet of each point by the k-d tree (class docstring)."""

@@ -227,6 +227,19 @@ def keeps_contact_sets(model: CompiledModel) -> bool:
     return any(type(part).freeze is not InteractionBlock.freeze for part in model.interactions)
 
 
+def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
+    """Whether ``Static(curved_with_contact=True)`` curves the steps of ``model`` at a state
+    of ``history`` (``State.history``): its interactions keep no contact sets (the tools'
+    contact does) and carry no history (the plies' friction does: its stick anchors and
+    return mapping make the forces more than the gaps', and a probe of the path may cross a
+    stick limit; on a frictional two-ply deck, 54 curved steps took 302 iterations cut
+    against none curved 47)."""
+    if keeps_contact_sets(model):
+        return False
+    first = len(model.parts) - len(model.interactions)
+    return all(entry is None for entry in history[first:])
+
+
 def _newton(
     run: StaticRun,
     state: State,
@@ -423,7 +436,9 @@ def _iterate(
         # Static(curved_with_contact=True): curved steps with interactions that keep no contact
         # set (the plies' contact, decided by the gaps alone; docs/theory.md §6.5, "Curved steps
         # of a sliding stack").
-        curving = smooth or (solver.curved_with_contact and not keeps_contact_sets(model))
+        curving = smooth or (
+            solver.curved_with_contact and curves_with_contact(model, state.history)
+        )
         # The second-order term of a plain step on a definite tangent (solvers.newton_curvature);
         # the line search falls back along the straight step.
         straight = None

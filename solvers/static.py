@@ -178,10 +178,11 @@ class Static:
         Newton iterations (9-9-9-8-8 with straight steps and no chord), the elastica and the
         roll-up of validation/cases in at most 6. Counted in ``info["curved_steps"]``; not
         with contact or other interactions, unless ``curved_with_contact``.
-    curved_with_contact : the curved steps also with interactions that keep no contact sets,
-        whose forces the gaps alone decide (the plies' contact, elements/ply_contact.py;
-        default False; docs/theory.md §6.5, "Curved steps of a sliding stack"). The plies of
-        a deck bent by end moments take 5-9 iterations an increment instead of 12 and can be
+    curved_with_contact : the curved steps also with interactions that keep no contact sets
+        and no history, whose forces the gaps alone decide (the plies' frictionless contact,
+        elements/ply_contact.py; not with friction; needs ``curved``; default False;
+        docs/theory.md §6.5, "Curved steps of a sliding stack"). The plies of a deck bent by
+        end moments take 5-9 iterations an increment instead of 12 and can be
         loaded in 4 increments instead of 8 (validation/cases/plies_deck_of_cards.py); the
         fibrous plies of plies-bai-5.1 and the heavy stacks took 1.8-2 x the tangents with it.
     fibre_projection : each Newton step's end moved back onto the fibre lengths its first
@@ -305,6 +306,11 @@ class Static:
         self.chords = check_integer(chords, "chords", minimum=0)
         self.curved = check_flag(curved, "curved")
         self.curved_with_contact = check_flag(curved_with_contact, "curved_with_contact")
+        if self.curved_with_contact and not self.curved:
+            raise ValueError(
+                "curved_with_contact=True given with curved=False: the curved steps it lets "
+                "through with the plies' contact are off; expected curved=True with it"
+            )
         self.fibre_projection = check_flag(fibre_projection, "fibre_projection")
         self.level_projection = check_flag(level_projection, "level_projection")
         self.compression_free = (

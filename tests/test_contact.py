@@ -737,6 +737,32 @@ def test_a_point_beyond_a_given_search_distance_is_never_told_within_it():
     tool.distance(start)
     d, _ = tool.distance(start + [[0.2 * tool.reach, 0.0, -0.1]])  # 0.25 mm: within it
     np.testing.assert_allclose(d, 0.25, atol=1e-12)
+    # Far beyond it (the search distance plus two margins): told a lower bound, above it.
+    from elements.rigid_surface import MARGIN
+
+    high = 0.3 + 2.0 * MARGIN * tool.reach
+    for share in (0.1, 0.28, 0.45):
+        tool.distance(start + [[0.0, 0.0, high - 0.35]])
+        d, _ = tool.distance(start + [[share * tool.reach, 0.0, high - 0.35]])
+        assert 0.3 < d[0] <= high + 1e-12
+
+
+def test_a_point_sliding_just_beyond_the_search_distance_is_not_searched_at_every_call(
+    monkeypatch,
+):
+    """A point 0.301 mm above a meshed plate (search distance 0.3 mm) sliding along it by
+    0.01 mm a call, 400 calls (4 mm, 2.7 facet circumradii): searched again about once per
+    margin travelled (a few dozen times at most), not at every call."""
+    from elements import RigidSurface
+
+    tool = RigidSurface(Mesh.rectangle(20.0, 20.0, nx=10, ny=10), search_distance=0.3)
+    searches = []
+    searched = tool._searched
+    monkeypatch.setattr(tool, "_searched", lambda *a: searches.append(1) or searched(*a))
+    for call in range(400):
+        d, _ = tool.distance(np.array([[8.0 + 0.01 * call, 10.0, 0.301]]))
+        np.testing.assert_allclose(d, 0.301, atol=1e-12)
+    assert len(searches) <= 40
 
 
 def test_a_plate_resting_on_a_meshed_floor_is_the_plate_on_an_analytic_plane():
