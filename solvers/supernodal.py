@@ -308,6 +308,57 @@ def _solve(
     return x
 
 
+def _checked_pattern(upper: sp.spmatrix) -> sp.csc_matrix:
+    """``upper`` when it is an n x n upper triangle in canonical CSC (each column's rows
+    ascending, none repeated, every row at most the column), else a ValueError saying what was
+    wrong: ``_slots`` maps each stored entry to one place of L, so a repeated entry would
+    overwrite where scipy adds, and an entry below the diagonal would land on its mirror's
+    place. numpy's passes over the entries, once a pattern (not once a factorisation)."""
+    if not sp.issparse(upper) or upper.format != "csc":
+        raise ValueError(f"expected the upper triangle as a scipy CSC matrix, got {type(upper)}")
+    rows, columns = upper.shape
+    if rows != columns:
+        raise ValueError(f"expected a square upper triangle (n x n), got {rows} x {columns}")
+    indptr, indices = np.asarray(upper.indptr), np.asarray(upper.indices)
+    if (
+        indptr.shape != (rows + 1,)
+        or indptr[0] != 0
+        or indptr[-1] != indices.size
+        or np.any(np.diff(indptr) < 0)
+    ):
+        raise ValueError("expected CSC column pointers (n + 1,) from 0 to nnz, non-decreasing")
+    if indices.size == 0:
+        return upper
+    column = np.repeat(np.arange(rows), np.diff(indptr))
+    if int(indices.min()) < 0 or np.any(indices > column):
+        raise ValueError(
+            "expected an upper triangle: every stored row between 0 and its column (an entry "
+            "below the diagonal, or out of range, was stored)"
+        )
+    same_column = column[1:] == column[:-1]
+    if np.any(indices[1:][same_column] <= indices[:-1][same_column]):
+        raise ValueError(
+            "expected canonical CSC: each column's rows ascending and none stored twice "
+            "(sum duplicates and sort the indices first)"
+        )
+    return upper
+
+
+def _checked_perm(perm: np.ndarray, n: int) -> np.ndarray:
+    """``perm`` as int64 when it is a permutation of 0..n-1, else a ValueError."""
+    ordering = np.asarray(perm)
+    if ordering.shape != (n,) or (n and not np.issubdtype(ordering.dtype, np.integer)):
+        raise ValueError(f"expected the ordering as (n,) = ({n},) integers, got {ordering.shape}")
+    ordering = ordering.astype(np.int64)
+    if n and (
+        int(ordering.min()) < 0
+        or int(ordering.max()) >= n
+        or np.any(np.bincount(ordering, minlength=n) != 1)
+    ):
+        raise ValueError(f"expected a permutation of 0..{n - 1}: an index repeated or missing")
+    return ordering
+
+
 # numba is a dependency; without it the supernodal path is not taken (``AVAILABLE``)
 if kernel_cache.AVAILABLE:
     _elimination_tree = kernel_cache.njit(_elimination_tree)
@@ -333,9 +384,10 @@ class SupernodalPlan:
     """
 
     def __init__(self, upper: sp.csc_matrix, perm: np.ndarray):
+        upper = _checked_pattern(upper)
         n = upper.shape[0]
         self.n = n
-        self.perm = np.asarray(perm, dtype=np.int64)
+        self.perm = _checked_perm(perm, n)
         position = np.empty(n, dtype=np.int64)
         position[self.perm] = np.arange(n)
         # The ordered matrix's upper triangle, pattern only (stored zeros included).
@@ -392,6 +444,7 @@ class SupernodalPlan:
         where a new analysis costs four times a numeric factorisation on a 1000-unknown
         tangent (the element-normal fibrous tangents by central differences, whose exact
         zeros come and go from one iteration to the next, changed pattern at every one)."""
+        upper = _checked_pattern(upper)
         if upper.shape[0] != self.n:
             return None
         slots = self._slots_of(upper)
@@ -404,6 +457,11 @@ class SupernodalPlan:
     def factorise(self, upper_data: np.ndarray) -> SupernodalLDLT | None:
         """The LDL^T of the matrix whose upper triangle has these values (in the pattern's
         CSC order), or None at a zero or non-finite pivot."""
+        if np.shape(upper_data) != self.slots.shape:
+            raise ValueError(
+                f"expected the values of the pattern's {self.slots.size} stored entries, "
+                f"got shape {np.shape(upper_data)}"
+            )
         values = np.zeros(int(self.value_start[-1]))
         values[self.slots] = upper_data
         negative = _factorise(
@@ -430,6 +488,8 @@ class SupernodalLDLT:
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """x (n,) with K x = rhs, rhs (n,) or (n, 1)."""
         plan = self.plan
+        if np.size(rhs) != plan.n or np.ndim(rhs) > 2:
+            raise ValueError(f"expected rhs of length n = {plan.n}, got shape {np.shape(rhs)}")
         y = _solve(
             self.values,
             plan.first,
