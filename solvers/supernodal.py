@@ -11,12 +11,15 @@ the diagonal (supernodes: a node's unknowns, and the chains of separators AMD ma
 stored as dense panels, so that the elimination is made of contiguous vector updates as in the
 band, on the sparse factor's operations.
 
-The ordering is QDLDL's AMD (the ``qdldl`` package's, computed with its factor when the
-pattern is new); the symbolic analysis (elimination tree, L's pattern, the supernodes, where
-each entry of K_ff lands) is made once a pattern and kept. LDL^T without pivoting, as QDLDL's
-and the band's: D's negative entries count K's negative eigenvalues (Sylvester's law), a zero
-or non-finite pivot says it failed. Every operation is a compiled scalar loop without
-fastmath and without BLAS: the same factors, to the bit, on every machine.
+The ordering is QDLDL's AMD (the ``qdldl`` package's, computed with its factor; solvers.linear
+gives a new pattern of as many unknowns an earlier pattern's ordering while its entries and
+fill stay near that pattern's); the symbolic analysis (elimination tree, L's pattern, the
+supernodes, where each entry of K_ff lands) is made once a pattern and kept, and kept whole
+for a later pattern whose entries all lie in L (``SupernodalPlan.for_pattern``). LDL^T
+without pivoting, as QDLDL's and the band's: D's negative entries count K's negative
+eigenvalues (Sylvester's law), a zero or non-finite pivot says it failed. Every operation is
+a compiled scalar loop without fastmath and without BLAS: the same factors, to the bit, on
+every machine.
 
 Layout: supernode s holds columns ``first[s]`` to ``first[s + 1] - 1`` of the ordered matrix
 and the rows ``rows[row_start[s]:row_start[s + 1]]`` (its columns' diagonal rows, then the rows
