@@ -106,15 +106,21 @@ def _slots(
     row_start: np.ndarray,
     rows: np.ndarray,
     value_start: np.ndarray,
-) -> np.ndarray:
-    """Where each stored entry of the upper triangle (original numbering, CSC) lands in the
+) -> tuple[np.ndarray, bool]:
+    """(where each stored entry of the upper triangle (original numbering, CSC) lands in the
     supernodes' values: its ordered (row, column) taken below the diagonal, its supernode's
     column and the row's place among the supernode's rows (a binary search); -1 for an entry
-    outside L's pattern (another pattern's entry)."""
+    outside L's pattern (another pattern's entry), whether the pattern is a canonical upper
+    triangle): at the first row out of order, repeated or below the diagonal it stops, False
+    (the column pointers checked by the caller)."""
     n = indptr.size - 1
     slots = np.empty(indptr[n], dtype=np.int64)
     for column in range(n):
+        previous = -1
         for p in range(indptr[column], indptr[column + 1]):
+            if indices[p] <= previous or indices[p] > column:
+                return slots, False
+            previous = indices[p]
             a, b = position[indices[p]], position[column]
             row, col = max(a, b), min(a, b)
             s = owner[col]
@@ -130,7 +136,7 @@ def _slots(
                 continue
             height = row_start[s + 1] - row_start[s]
             slots[p] = value_start[s] + (col - first[s]) * height + (low - row_start[s])
-    return slots
+    return slots, True
 
 
 def _factorise(
@@ -311,12 +317,13 @@ def _solve(
     return x
 
 
-def _checked_pattern(upper: sp.spmatrix) -> sp.csc_matrix:
+def _checked_pattern(upper: sp.spmatrix, frame_only: bool = False) -> sp.csc_matrix:
     """``upper`` when it is an n x n upper triangle in canonical CSC (each column's rows
     ascending, none repeated, every row at most the column), else a ValueError saying what was
     wrong: ``_slots`` maps each stored entry to one place of L, so a repeated entry would
     overwrite where scipy adds, and an entry below the diagonal would land on its mirror's
-    place. numpy's passes over the entries, once a pattern (not once a factorisation)."""
+    place. numpy's passes over the entries, once an analysis; ``frame_only``: the format, the
+    shape and the column pointers alone (``_slots`` checks the rows as it maps them)."""
     if not sp.issparse(upper) or upper.format != "csc":
         raise ValueError(f"expected the upper triangle as a scipy CSC matrix, got {type(upper)}")
     rows, columns = upper.shape
@@ -330,7 +337,7 @@ def _checked_pattern(upper: sp.spmatrix) -> sp.csc_matrix:
         or np.any(np.diff(indptr) < 0)
     ):
         raise ValueError("expected CSC column pointers (n + 1,) from 0 to nnz, non-decreasing")
-    if indices.size == 0:
+    if frame_only or indices.size == 0:
         return upper
     column = np.repeat(np.arange(rows), np.diff(indptr))
     if int(indices.min()) < 0 or np.any(indices > column):
@@ -430,7 +437,7 @@ class SupernodalPlan:
         self.slots = self._slots_of(upper)
 
     def _slots_of(self, upper: sp.csc_matrix) -> np.ndarray:
-        return _slots(
+        slots, canonical = _slots(
             upper.indptr.astype(np.int64),
             upper.indices.astype(np.int64),
             self.position,
@@ -440,6 +447,10 @@ class SupernodalPlan:
             self.rows,
             self.value_start,
         )
+        if not canonical:
+            _checked_pattern(upper)  # raises, saying what was wrong
+            raise ValueError("expected an upper triangle in canonical CSC")  # pragma: no cover
+        return slots
 
     def for_pattern(self, upper: sp.csc_matrix) -> SupernodalPlan | None:
         """This plan for another pattern of as many unknowns whose entries all lie in this
@@ -447,7 +458,7 @@ class SupernodalPlan:
         where a new analysis costs four times a numeric factorisation on a 1000-unknown
         tangent (the element-normal fibrous tangents by central differences, whose exact
         zeros come and go from one iteration to the next, changed pattern at every one)."""
-        upper = _checked_pattern(upper)
+        upper = _checked_pattern(upper, frame_only=True)
         if upper.shape[0] != self.n:
             return None
         slots = self._slots_of(upper)
