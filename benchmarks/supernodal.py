@@ -17,6 +17,12 @@ is the column-by-column band's):
   Mindlin 20 cells  1023  2.73e6   5.73e6    1.10    0.61    0.80        0.47      0.10 / 0.06
   fibrous 40 cells  4025  2.26e8   6.98e8   78.44   55.99   39.73       21.26      2.69 / 1.18
   Mindlin 40 cells  4025  2.96e7   8.60e7    9.73    8.69    7.64        3.65      0.90 / 0.33
+A new pattern inside a kept analysis's L (``SupernodalPlan.for_pattern``): 0.35-6.4 ms
+(fibrous 40 cells: 6.41; load 0.7-1.5), its rows checked canonical (ascending, none repeated,
+none below the diagonal) by the mapping kernel as it goes and its frame (format, shape,
+column pointers) by numpy in 0.007 ms; numpy's check of the rows, run where a pattern is
+analysed, 0.07-0.66 ms (fibrous 40 cells: 3.1 % of a factorisation), which for_pattern ran
+at first (7.33 against 6.41 ms then, at load 1.9-2.3).
 Symbolic analysis of a new pattern: 2.5-29 ms (fibrous 40 cells: 28.6), after QDLDL's own
 factorisation for its ordering (78 ms). The negative pivots the same (0) in all three; the
 supernodal solutions within 2e-12 to 1e-10 of QDLDL's (the corners' conditioning), backward
@@ -46,7 +52,7 @@ import scipy.sparse as sp  # noqa: E402
 from band_envelope import MODELS, last_tangent  # noqa: E402
 
 from solvers.band import BandPlan, _factorise, _factorise_by_column  # noqa: E402
-from solvers.supernodal import SupernodalPlan  # noqa: E402
+from solvers.supernodal import SupernodalPlan, _checked_pattern  # noqa: E402
 
 
 def best(function, rounds: int) -> float:
@@ -93,11 +99,18 @@ def measure(upper: sp.csc_matrix, rounds: int) -> str:
         best(lambda: factor.solve(rhs), rounds),
     )
     shown = " ".join(f"{1e3 * t:6.2f}" for t in times)
+    # the pattern's checks: numpy's over the entries (an analysis's), and the frame alone
+    # (format, shape, column pointers: for_pattern's, whose kernel checks the rows)
+    check = best(lambda: _checked_pattern(upper), rounds)
+    frame = best(lambda: _checked_pattern(upper, frame_only=True), rounds)
+    kept = best(lambda: plan.for_pattern(upper), rounds)
     negatives = (int(np.sum(pivots < 0.0)), banded.negative, factor.negative)
     return (
         f"{n:5d} {plan.operations:9.3g} {band.operations:9.3g} {shown}  symbolic "
-        f"{1e3 * symbolic:5.1f} ms, negative {negatives}, x within {difference:.1e} of "
-        f"QDLDL's, backward error {backward:.1e}"
+        f"{1e3 * symbolic:5.1f} ms, for_pattern {1e3 * kept:.2f} ms (its frame check "
+        f"{1e3 * frame:.3f} ms), numpy's check {1e3 * check:.3f} ms ({check / times[3]:.1%} "
+        f"of a factorisation), negative "
+        f"{negatives}, x within {difference:.1e} of QDLDL's, backward error {backward:.1e}"
     )
 
 

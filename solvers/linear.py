@@ -17,14 +17,14 @@ the compiled supernodal LDL^T of solvers.supernodal on QDLDL's AMD ordering (the
 shell's tangents, whose envelope holds three times the sparse factor: 1.7 times faster than
 the band on the 40-cell fibrous corner, 3.5 times than QDLDL), QDLDL (the ``qdldl`` package)
 where neither applies or the compiled one meets a zero pivot; the choice is made once per
-sparsity pattern (QDLDL measured again only where the unknowns, a wider band or a grown fill
-call for it: ``LinearSolver._choose_band``). The pattern's analysis (the orderings, the band
-layout, the supernodes, QDLDL's elimination
-tree) is kept while it holds, and
-so is the map from K_ff's entries to its symmetrised upper triangle (split off by one
-compiled pass). Without pivoting it can
-fail on an indefinite matrix (a zero pivot) or lose
-accuracy; every solution is therefore checked by its backward error and refined with the same
+sparsity pattern, or kept from an earlier one: a pattern inside the kept supernodal factor's
+L keeps its whole analysis (``SupernodalPlan.for_pattern``), and another pattern of as many
+unknowns keeps the last QDLDL measurement's ordering while its entries and fill stay within
+REORDER_GROWTH of the measured ones (``LinearSolver._choose_band``). The pattern's analysis
+(the orderings, the band layout, the supernodes, QDLDL's elimination tree) is kept while it
+holds, and so is the map from K_ff's entries to its symmetrised upper triangle (split off by
+one compiled pass). Without pivoting it can fail on an indefinite matrix (a zero pivot) or
+lose accuracy; every solution is therefore checked by its backward error and refined with the same
 factors (up to REFINEMENTS steps), and a failed or still inaccurate factorisation falls back
 to scipy's pivoting LU (SuperLU), as does a non-symmetric K_ff.
 """
@@ -257,11 +257,16 @@ class LinearSolver:
 
         A new pattern of as many unknowns as the last one QDLDL was measured on (contact
         pairs that change from one iteration to the next change a few entries of a shell's
-        tangent, and QDLDL's fill hardly) takes the band without measuring QDLDL again when
-        its band fits that measurement, and the supernodal LDL^T on that measurement's
-        ordering while its entries and operations stay within REORDER_GROWTH of theirs (a
-        flat sheet's tangent, whose zero couplings are left out, is ordered anew once it
-        curves); a wider band or a grown pattern or fill is measured anew."""
+        tangent, and QDLDL's fill hardly) is not measured again while its entries stay within
+        REORDER_GROWTH of the measured pattern's. With the supernodal LDL^T it then takes the
+        band where its envelope holds at most BAND_OVER_SUPERNODAL times the measured
+        factor's operations, else the supernodal LDL^T on the measured ordering while that
+        factor's operations stay within REORDER_GROWTH of the measured ones (a flat sheet's
+        tangent, whose zero couplings are left out, is ordered anew once it curves); grown
+        entries or fill are measured anew. Without it the band is taken where it holds at
+        most BAND_ADVANTAGE times the measured QDLDL operations, else QDLDL is measured anew.
+        (A pattern inside the kept supernodal factor's L does not come here: ``_ldlt`` keeps
+        that analysis whole, weighing neither its entries nor the band.)"""
         n = upper.shape[0]
         if not BAND_AVAILABLE or n == 0:
             return None

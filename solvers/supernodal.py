@@ -11,12 +11,15 @@ the diagonal (supernodes: a node's unknowns, and the chains of separators AMD ma
 stored as dense panels, so that the elimination is made of contiguous vector updates as in the
 band, on the sparse factor's operations.
 
-The ordering is QDLDL's AMD (the ``qdldl`` package's, computed with its factor when the
-pattern is new); the symbolic analysis (elimination tree, L's pattern, the supernodes, where
-each entry of K_ff lands) is made once a pattern and kept. LDL^T without pivoting, as QDLDL's
-and the band's: D's negative entries count K's negative eigenvalues (Sylvester's law), a zero
-or non-finite pivot says it failed. Every operation is a compiled scalar loop without
-fastmath and without BLAS: the same factors, to the bit, on every machine.
+The ordering is QDLDL's AMD (the ``qdldl`` package's, computed with its factor; solvers.linear
+gives a new pattern of as many unknowns an earlier pattern's ordering while its entries and
+fill stay near that pattern's); the symbolic analysis (elimination tree, L's pattern, the
+supernodes, where each entry of K_ff lands) is made once a pattern and kept, and kept whole
+for a later pattern whose entries all lie in L (``SupernodalPlan.for_pattern``). LDL^T
+without pivoting, as QDLDL's and the band's: D's negative entries count K's negative
+eigenvalues (Sylvester's law), a zero or non-finite pivot says it failed. Every operation is
+a compiled scalar loop without fastmath and without BLAS: the same factors, to the bit, on
+every machine.
 
 Layout: supernode s holds columns ``first[s]`` to ``first[s + 1] - 1`` of the ordered matrix
 and the rows ``rows[row_start[s]:row_start[s + 1]]`` (its columns' diagonal rows, then the rows
@@ -103,15 +106,21 @@ def _slots(
     row_start: np.ndarray,
     rows: np.ndarray,
     value_start: np.ndarray,
-) -> np.ndarray:
-    """Where each stored entry of the upper triangle (original numbering, CSC) lands in the
+) -> tuple[np.ndarray, bool]:
+    """(where each stored entry of the upper triangle (original numbering, CSC) lands in the
     supernodes' values: its ordered (row, column) taken below the diagonal, its supernode's
     column and the row's place among the supernode's rows (a binary search); -1 for an entry
-    outside L's pattern (another pattern's entry)."""
+    outside L's pattern (another pattern's entry), whether the pattern is a canonical upper
+    triangle): at the first row out of order, repeated or below the diagonal it stops, False
+    (the column pointers checked by the caller)."""
     n = indptr.size - 1
     slots = np.empty(indptr[n], dtype=np.int64)
     for column in range(n):
+        previous = -1
         for p in range(indptr[column], indptr[column + 1]):
+            if indices[p] <= previous or indices[p] > column:
+                return slots, False
+            previous = indices[p]
             a, b = position[indices[p]], position[column]
             row, col = max(a, b), min(a, b)
             s = owner[col]
@@ -127,7 +136,7 @@ def _slots(
                 continue
             height = row_start[s + 1] - row_start[s]
             slots[p] = value_start[s] + (col - first[s]) * height + (low - row_start[s])
-    return slots
+    return slots, True
 
 
 def _factorise(
@@ -308,6 +317,58 @@ def _solve(
     return x
 
 
+def _checked_pattern(upper: sp.spmatrix, frame_only: bool = False) -> sp.csc_matrix:
+    """``upper`` when it is an n x n upper triangle in canonical CSC (each column's rows
+    ascending, none repeated, every row at most the column), else a ValueError saying what was
+    wrong: ``_slots`` maps each stored entry to one place of L, so a repeated entry would
+    overwrite where scipy adds, and an entry below the diagonal would land on its mirror's
+    place. numpy's passes over the entries, once an analysis; ``frame_only``: the format, the
+    shape and the column pointers alone (``_slots`` checks the rows as it maps them)."""
+    if not sp.issparse(upper) or upper.format != "csc":
+        raise ValueError(f"expected the upper triangle as a scipy CSC matrix, got {type(upper)}")
+    rows, columns = upper.shape
+    if rows != columns:
+        raise ValueError(f"expected a square upper triangle (n x n), got {rows} x {columns}")
+    indptr, indices = np.asarray(upper.indptr), np.asarray(upper.indices)
+    if (
+        indptr.shape != (rows + 1,)
+        or indptr[0] != 0
+        or indptr[-1] != indices.size
+        or np.any(np.diff(indptr) < 0)
+    ):
+        raise ValueError("expected CSC column pointers (n + 1,) from 0 to nnz, non-decreasing")
+    if frame_only or indices.size == 0:
+        return upper
+    column = np.repeat(np.arange(rows), np.diff(indptr))
+    if int(indices.min()) < 0 or np.any(indices > column):
+        raise ValueError(
+            "expected an upper triangle: every stored row between 0 and its column (an entry "
+            "below the diagonal, or out of range, was stored)"
+        )
+    same_column = column[1:] == column[:-1]
+    if np.any(indices[1:][same_column] <= indices[:-1][same_column]):
+        raise ValueError(
+            "expected canonical CSC: each column's rows ascending and none stored twice "
+            "(sum duplicates and sort the indices first)"
+        )
+    return upper
+
+
+def _checked_perm(perm: np.ndarray, n: int) -> np.ndarray:
+    """``perm`` as int64 when it is a permutation of 0..n-1, else a ValueError."""
+    ordering = np.asarray(perm)
+    if ordering.shape != (n,) or (n and not np.issubdtype(ordering.dtype, np.integer)):
+        raise ValueError(f"expected the ordering as (n,) = ({n},) integers, got {ordering.shape}")
+    ordering = ordering.astype(np.int64)
+    if n and (
+        int(ordering.min()) < 0
+        or int(ordering.max()) >= n
+        or np.any(np.bincount(ordering, minlength=n) != 1)
+    ):
+        raise ValueError(f"expected a permutation of 0..{n - 1}: an index repeated or missing")
+    return ordering
+
+
 # numba is a dependency; without it the supernodal path is not taken (``AVAILABLE``)
 if kernel_cache.AVAILABLE:
     _elimination_tree = kernel_cache.njit(_elimination_tree)
@@ -333,9 +394,10 @@ class SupernodalPlan:
     """
 
     def __init__(self, upper: sp.csc_matrix, perm: np.ndarray):
+        upper = _checked_pattern(upper)
         n = upper.shape[0]
         self.n = n
-        self.perm = np.asarray(perm, dtype=np.int64)
+        self.perm = _checked_perm(perm, n)
         position = np.empty(n, dtype=np.int64)
         position[self.perm] = np.arange(n)
         # The ordered matrix's upper triangle, pattern only (stored zeros included).
@@ -375,7 +437,7 @@ class SupernodalPlan:
         self.slots = self._slots_of(upper)
 
     def _slots_of(self, upper: sp.csc_matrix) -> np.ndarray:
-        return _slots(
+        slots, canonical = _slots(
             upper.indptr.astype(np.int64),
             upper.indices.astype(np.int64),
             self.position,
@@ -385,6 +447,10 @@ class SupernodalPlan:
             self.rows,
             self.value_start,
         )
+        if not canonical:
+            _checked_pattern(upper)  # raises, saying what was wrong
+            raise ValueError("expected an upper triangle in canonical CSC")  # pragma: no cover
+        return slots
 
     def for_pattern(self, upper: sp.csc_matrix) -> SupernodalPlan | None:
         """This plan for another pattern of as many unknowns whose entries all lie in this
@@ -392,6 +458,7 @@ class SupernodalPlan:
         where a new analysis costs four times a numeric factorisation on a 1000-unknown
         tangent (the element-normal fibrous tangents by central differences, whose exact
         zeros come and go from one iteration to the next, changed pattern at every one)."""
+        upper = _checked_pattern(upper, frame_only=True)
         if upper.shape[0] != self.n:
             return None
         slots = self._slots_of(upper)
@@ -404,6 +471,11 @@ class SupernodalPlan:
     def factorise(self, upper_data: np.ndarray) -> SupernodalLDLT | None:
         """The LDL^T of the matrix whose upper triangle has these values (in the pattern's
         CSC order), or None at a zero or non-finite pivot."""
+        if np.shape(upper_data) != self.slots.shape:
+            raise ValueError(
+                f"expected the values of the pattern's {self.slots.size} stored entries, "
+                f"got shape {np.shape(upper_data)}"
+            )
         values = np.zeros(int(self.value_start[-1]))
         values[self.slots] = upper_data
         negative = _factorise(
@@ -430,6 +502,8 @@ class SupernodalLDLT:
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """x (n,) with K x = rhs, rhs (n,) or (n, 1)."""
         plan = self.plan
+        if np.size(rhs) != plan.n or np.ndim(rhs) > 2:
+            raise ValueError(f"expected rhs of length n = {plan.n}, got shape {np.shape(rhs)}")
         y = _solve(
             self.values,
             plan.first,

@@ -3,6 +3,12 @@ eigenvalues (the inertia, by Sylvester's law) and QDLDL's factors on the same or
 LDL^T without pivoting of a matrix under one ordering is unique: the same L and D up to
 round-off), and its choice by solvers.linear."""
 
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 import qdldl
@@ -109,10 +115,43 @@ def test_a_zero_pivot_gives_no_factors():
 
 
 def test_the_factors_are_the_same_bits_from_one_factorisation_to_the_next():
+    """Two factorisations of the same values in one process give the same bits: this catches
+    a read of uninitialised memory (np.empty scratch) alone. It does not check the docstring's
+    "the same factors on every machine", which rests on the kernels' having no fastmath, no
+    BLAS and no fused multiply-add (checked by hand: the same factors compiled for a generic
+    CPU and for haswell; the test below compares a generic build with this machine's)."""
     upper, _, plan = plan_of(grid(shift=3.0))
     first, second = plan.factorise(upper.data), plan.factorise(upper.data.copy())
     assert first is not None and second is not None
     assert np.array_equal(first.values.view(np.int64), second.values.view(np.int64))
+
+
+def factor_digest():
+    """The SHA-256 of a grid's supernodal factors and of one solution (hex)."""
+    upper, _, plan = plan_of(grid(nodes=8, shift=3.0))
+    factor = plan.factorise(upper.data)
+    x = factor.solve(np.linspace(-1.0, 1.0, upper.shape[0]))
+    return hashlib.sha256(factor.values.tobytes() + x.tobytes()).hexdigest()
+
+
+def test_the_factors_compiled_for_a_generic_cpu_are_this_machines_bits(tmp_path):
+    # The kernels are built without fastmath, so LLVM fuses no multiply-add: a build for a
+    # generic x86-64 CPU (no FMA, no AVX) gives the bits of this machine's build (AVX-512 and
+    # FMA where it was written). A fresh build in an empty cache folder: 4 s.
+    root = Path(__file__).resolve().parents[1]
+    environment = dict(os.environ, NUMBA_CPU_NAME="generic", NUMBA_CACHE_DIR=str(tmp_path))
+    environment["PYTHONPATH"] = os.pathsep.join([str(root), environment.get("PYTHONPATH", "")])
+    script = "from tests.test_supernodal import factor_digest; print(factor_digest())"
+    done = subprocess.run(
+        [sys.executable, "-c", script],
+        cwd=root,
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+    )
+    assert done.stdout.split()[-1] == factor_digest()
 
 
 def test_a_wide_pattern_takes_the_supernodal_ldlt_and_a_changed_one_keeps_its_ordering(
@@ -195,3 +234,129 @@ def test_a_pattern_within_the_factors_pattern_keeps_the_analysis():
     far[0, k.shape[0] - 1] = far[k.shape[0] - 1, 0] = 0.05  # opposite corners of the grid
     solver.factorise(far.tocsc())
     assert solver.symbolic == 2
+
+
+def counting_qdldl(monkeypatch):
+    """The list that grows by one at each QDLDL factorisation solvers.linear makes (each one
+    a measurement of a pattern's ordering and fill)."""
+    from solvers import linear
+
+    made = []
+    solver_class = linear.qdldl.Solver
+
+    def counted(*args, **kwargs):
+        made.append(1)
+        return solver_class(*args, **kwargs)
+
+    monkeypatch.setattr(linear.qdldl, "Solver", counted)
+    return made
+
+
+def test_a_pattern_whose_fill_grows_past_the_bound_is_ordered_anew(monkeypatch):
+    # Four couplings across the grid (opposite corners, far nodes) add 0.015 % of the entries
+    # but, under the first pattern's AMD ordering, 2.8 times its factor's operations: past
+    # REORDER_GROWTH (1.2), so QDLDL orders the new pattern anew (a second measurement)
+    # rather than factorising on the old ordering.
+    from solvers.linear import REORDER_GROWTH
+
+    made = counting_qdldl(monkeypatch)
+    k = grid(nodes=16, shift=3.0)
+    n = k.shape[0]
+    solver = LinearSolver()
+    solver.factorise(k)
+    assert solver._supernodal is not None and len(made) == 1
+    kept = solver._supernodal.operations
+    linked = k.tolil()
+    for i, j in ((0, n - 1), (4, n - 80), (n - 5, 75), (640, n - 1)):
+        linked[i, j] = linked[j, i] = 0.05
+    linked = linked.tocsc()
+    upper = sp.triu(linked, format="csc")
+    upper.sort_indices()
+    assert upper.nnz <= REORDER_GROWTH * sp.triu(k).nnz  # the entries hardly grow
+    assert SupernodalPlan(upper, solver._ordering[0]).operations > REORDER_GROWTH * kept
+    rhs = np.linspace(-1.0, 1.0, n)
+    x = solver.factorise(linked).solve(rhs)
+    assert solver.symbolic == 2 and len(made) == 2
+    assert solver._supernodal is not None
+    assert solver._supernodal.operations <= REORDER_GROWTH * kept
+    expected = spsolve(linked, rhs)
+    assert np.abs(x - expected).max() <= 1e-9 * np.abs(expected).max()
+
+
+def test_a_pattern_whose_entries_grow_past_the_bound_is_measured_anew(monkeypatch):
+    # A strip first without its diagonal neighbours' couplings, then with them: 1.38 times
+    # the entries (past REORDER_GROWTH), while the band of the whole strip is 1.05 times the
+    # first factor's operations (within BAND_OVER_SUPERNODAL): the grown pattern is measured
+    # by QDLDL anew all the same, and takes the band on that measurement.
+    from solvers.linear import REORDER_GROWTH
+    from tests.test_linear import strip_matrix
+
+    made = counting_qdldl(monkeypatch)
+    k = strip_matrix(length=60, width=4)
+    nodes = np.arange(60 * 4).reshape(60, 4)
+    thin = k.tolil()
+    for i, j in zip(nodes[:-1, :-1].ravel(), nodes[1:, 1:].ravel()):
+        thin[5 * i : 5 * i + 5, 5 * j : 5 * j + 5] = 0.0
+        thin[5 * j : 5 * j + 5, 5 * i : 5 * i + 5] = 0.0
+    thin = thin.tocsc()
+    thin.eliminate_zeros()
+    assert sp.triu(k).nnz > REORDER_GROWTH * sp.triu(thin).nnz
+    solver = LinearSolver()
+    solver.factorise(thin)
+    assert solver._band is not None and len(made) == 1
+    rhs = np.linspace(-1.0, 1.0, k.shape[0])
+    x = solver.factorise(k).solve(rhs)
+    assert solver.symbolic == 2 and len(made) == 2 and solver._band is not None
+    assert solver._ordering[2] == sp.triu(k).nnz  # the measurement is the grown pattern's
+    assert np.allclose(x, np.linalg.solve(k.toarray(), rhs), rtol=1e-9, atol=1e-9)
+
+
+def test_an_ordering_that_is_no_permutation_is_refused():
+    upper, ordering, _ = plan_of(grid(nodes=6))
+    n = upper.shape[0]
+    perm = np.asarray(ordering.factors()[2]).copy()
+    repeated = perm.copy()
+    repeated[5] = repeated[4]
+    for bad in (repeated, perm[:-1], np.append(perm, n), perm + 1.0, -1 - perm):
+        with pytest.raises(ValueError, match="permutation|ordering"):
+            SupernodalPlan(upper, bad)
+
+
+def test_a_pattern_that_is_no_canonical_upper_triangle_is_refused():
+    k = grid(nodes=6)
+    upper, _, plan = plan_of(k)
+    full = k.tocsc()
+    full.sort_indices()
+    with pytest.raises(ValueError, match="upper triangle"):
+        SupernodalPlan(full, plan.perm)  # (i, j) and (j, i) both stored
+    with pytest.raises(ValueError, match="upper triangle"):
+        plan.for_pattern(full)
+    # a duplicate entry: scipy would add the two, a slot map would keep one
+    indices = np.insert(upper.indices, upper.indptr[3], upper.indices[upper.indptr[3]])
+    indptr = upper.indptr.copy()
+    indptr[4:] += 1
+    duplicated = sp.csc_matrix((np.ones(indices.size), indices, indptr), shape=upper.shape)
+    for bad in (duplicated, upper[:, :-1], upper.tocsr()):
+        with pytest.raises(ValueError, match="canonical|square|CSC"):
+            SupernodalPlan(bad, plan.perm)
+        with pytest.raises(ValueError, match="canonical|square|CSC"):
+            plan.for_pattern(bad)
+    unsorted = upper.copy()
+    column = slice(unsorted.indptr[20], unsorted.indptr[21])
+    unsorted.indices[column] = unsorted.indices[column][::-1].copy()
+    unsorted.has_sorted_indices = False
+    with pytest.raises(ValueError, match="canonical"):
+        plan.for_pattern(unsorted)
+
+
+def test_values_or_a_right_hand_side_of_the_wrong_length_are_refused():
+    upper, _, plan = plan_of(grid(nodes=6))
+    for values in (np.array([1.0]), upper.data[:-1], np.append(upper.data, 1.0)):
+        with pytest.raises(ValueError, match="stored entries"):
+            plan.factorise(values)
+    factor = plan.factorise(upper.data)
+    n = upper.shape[0]
+    for rhs in (np.ones(n + 1), np.ones(n - 1), np.ones((n, 2))):
+        with pytest.raises(ValueError, match="rhs"):
+            factor.solve(rhs)
+    assert factor.solve(np.ones((n, 1))).shape == (n,)
