@@ -7,6 +7,7 @@ zero and positive eigenvalues) and the eigenvalues computed densely by numpy."""
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from qdldl_count import counting_qdldl
 
 from solvers.linear import LinearSolver
 
@@ -329,16 +330,7 @@ def test_a_strip_whose_contact_pairs_change_keeps_the_band_without_measuring_qdl
     # the band on the last QDLDL measurement of as many unknowns, and its solution is the
     # band's as from a fresh solver (backward error 1e-12 in solvers.linear; 1e-9 here as in
     # the band test above).
-    from solvers import linear
-
-    made = []
-    solver_class = linear.qdldl.Solver
-
-    def counted(*args, **kwargs):
-        made.append(1)
-        return solver_class(*args, **kwargs)
-
-    monkeypatch.setattr(linear.qdldl, "Solver", counted)
+    made = counting_qdldl(monkeypatch)
     solver = LinearSolver()
     k = strip_matrix()
     solver.factorise(k)

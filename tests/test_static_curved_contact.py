@@ -3,9 +3,8 @@ solvers/newton.py; docs/theory.md §6.5, "Curved steps of a sliding stack")."""
 
 import numpy as np
 import pytest
+from bent_deck import bent_deck
 
-from elements.plies import PlyStack
-from femcore import Mesh
 from solvers import Static
 from validation.cases import plies_deck_of_cards as deck
 
@@ -21,23 +20,6 @@ def test_curved_with_contact_without_curved_steps_is_refused():
         Static(curved=False, curved_with_contact=True)
 
 
-def _deck(count: int, cells: int, friction: float = 0.0):
-    """plies-deck-of-cards' deck of ``count`` plies on ``cells`` x 1 cells: each ply clamped
-    at x = 0 and bent by the end moment that puts it alone on its arc concentric with the
-    mid-surface's (validation/cases/plies_deck_of_cards.py, ``bend``), Coulomb ``friction``
-    between the plies."""
-    mid = Mesh.rectangle(deck.LENGTH, deck.WIDTH, nx=cells, ny=1)
-    stack = PlyStack(mid, deck.DECK, count, friction=friction)
-    model = stack.model()
-    model.fix(stack.nodes("left"))
-    radius = deck.LENGTH / deck.BEND
-    ends = mid.nodes("right")
-    for k, z in enumerate(stack.offsets):
-        moment = float(stack.ply_fabric.bending.value(np.array(1.0 / (radius - z)))) * deck.WIDTH
-        model.moment(stack.ply_nodes[k, ends], (0.0, -moment / len(ends), 0.0), amplitude="linear")
-    return model
-
-
 def _solve(curved: bool):
     solver = Static(
         increments=4,
@@ -46,7 +28,7 @@ def _solve(curved: bool):
         curved_with_contact=curved,
         progress=False,
     )
-    return solver.solve(_deck(2, 10))
+    return solver.solve(bent_deck(2, 10))
 
 
 def test_curved_steps_bend_the_deck_in_fewer_iterations_to_the_same_equilibrium():
@@ -85,7 +67,7 @@ def test_frictional_plies_keep_straight_steps_with_the_flag():
             curved_with_contact=curved,
             progress=False,
         )
-        return solver.solve(_deck(2, 6, friction=0.2))
+        return solver.solve(bent_deck(2, 6, friction=0.2))
 
     plain, flagged = solve(False), solve(True)
     assert flagged.info["curved_steps"] == 0

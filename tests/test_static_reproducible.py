@@ -11,27 +11,10 @@ pattern moves the 4-ply deck's positions by 1.5e-12 mm: that choice follows the 
 earlier in the same solve, and a solve's linear solver is its own, so it does not carry over."""
 
 import numpy as np
+from bent_deck import bent_deck
 
-from elements.plies import PlyStack
-from femcore import Mesh
 from solvers import Static
 from validation.cases import plies_deck_of_cards as deck
-
-
-def _deck(count: int, cells: int, friction: float = 0.0):
-    """plies-deck-of-cards' deck of ``count`` plies on ``cells`` x 1 cells, each ply clamped at
-    x = 0 and bent by its own end moment (validation/cases/plies_deck_of_cards.py, ``bend``),
-    with Coulomb ``friction`` between the plies."""
-    mid = Mesh.rectangle(deck.LENGTH, deck.WIDTH, nx=cells, ny=1)
-    stack = PlyStack(mid, deck.DECK, count, friction=friction)
-    model = stack.model()
-    model.fix(stack.nodes("left"))
-    radius = deck.LENGTH / deck.BEND
-    ends = mid.nodes("right")
-    for k, z in enumerate(stack.offsets):
-        moment = float(stack.ply_fabric.bending.value(np.array(1.0 / (radius - z)))) * deck.WIDTH
-        model.moment(stack.ply_nodes[k, ends], (0.0, -moment / len(ends), 0.0), amplitude="linear")
-    return model
 
 
 def _bent(model):
@@ -64,13 +47,13 @@ def test_a_deck_solved_again_after_another_model_gives_the_same_bits():
     # 2-ply deck on 6 cells, another pattern and number of unknowns. Each solved again after
     # the other, on a model built anew and on the same compiled model: the same iterations
     # and the same positions and directors to the bit.
-    first = _bent(_deck(2, 10))
+    first = _bent(bent_deck(2, 10))
     assert first.converged
-    frictional = _frictional(_deck(2, 6, friction=0.2))
+    frictional = _frictional(bent_deck(2, 6, friction=0.2))
     assert frictional.converged
-    _assert_same(first, _bent(_deck(2, 10)))
-    _assert_same(frictional, _frictional(_deck(2, 6, friction=0.2)))
-    compiled = _deck(2, 10).compile()
+    _assert_same(first, _bent(bent_deck(2, 10)))
+    _assert_same(frictional, _frictional(bent_deck(2, 6, friction=0.2)))
+    compiled = bent_deck(2, 10).compile()
     _assert_same(first, _bent(compiled))
-    _frictional(_deck(2, 6, friction=0.2))
+    _frictional(bent_deck(2, 6, friction=0.2))
     _assert_same(first, _bent(compiled))  # the same compiled model, solved twice

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import qdldl
 import scipy.sparse as sp
+from qdldl_count import counting_qdldl
 from scipy.sparse.linalg import spsolve
 
 from solvers.linear import LinearSolver
@@ -140,7 +141,10 @@ def test_the_factors_compiled_for_a_generic_cpu_are_this_machines_bits(tmp_path)
     # FMA where it was written). A fresh build in an empty cache folder: 4 s.
     root = Path(__file__).resolve().parents[1]
     environment = dict(os.environ, NUMBA_CPU_NAME="generic", NUMBA_CACHE_DIR=str(tmp_path))
-    environment["PYTHONPATH"] = os.pathsep.join([str(root), environment.get("PYTHONPATH", "")])
+    # (the tests' folder too: this module imports its sibling qdldl_count as pytest lets it)
+    environment["PYTHONPATH"] = os.pathsep.join(
+        [str(root), str(root / "tests"), environment.get("PYTHONPATH", "")]
+    )
     script = "from tests.test_supernodal import factor_digest; print(factor_digest())"
     done = subprocess.run(
         [sys.executable, "-c", script],
@@ -160,16 +164,7 @@ def test_a_wide_pattern_takes_the_supernodal_ldlt_and_a_changed_one_keeps_its_or
     # The grid's envelope holds more than BAND_OVER_SUPERNODAL times the supernodal
     # operations; a few couplings added (contact pairs) keep QDLDL's ordering of the first
     # pattern (no second QDLDL) and still solve as scipy does.
-    from solvers import linear
-
-    made = []
-    solver_class = linear.qdldl.Solver
-
-    def counted(*args, **kwargs):
-        made.append(1)
-        return solver_class(*args, **kwargs)
-
-    monkeypatch.setattr(linear.qdldl, "Solver", counted)
+    made = counting_qdldl(monkeypatch)
     k = grid(nodes=16, shift=3.0)
     solver = LinearSolver()
     factor = solver.factorise(k)
@@ -234,22 +229,6 @@ def test_a_pattern_within_the_factors_pattern_keeps_the_analysis():
     far[0, k.shape[0] - 1] = far[k.shape[0] - 1, 0] = 0.05  # opposite corners of the grid
     solver.factorise(far.tocsc())
     assert solver.symbolic == 2
-
-
-def counting_qdldl(monkeypatch):
-    """The list that grows by one at each QDLDL factorisation solvers.linear makes (each one
-    a measurement of a pattern's ordering and fill)."""
-    from solvers import linear
-
-    made = []
-    solver_class = linear.qdldl.Solver
-
-    def counted(*args, **kwargs):
-        made.append(1)
-        return solver_class(*args, **kwargs)
-
-    monkeypatch.setattr(linear.qdldl, "Solver", counted)
-    return made
 
 
 def test_a_pattern_whose_fill_grows_past_the_bound_is_ordered_anew(monkeypatch):
