@@ -456,10 +456,8 @@ class CentralDifference:
             new, work = outcome.state, outcome.energy
             reactions, reaction_moments = outcome.reactions, outcome.reaction_moments
             energy = run.energy
-            roundoff = (
-                KINETIC_ROUNDOFF * float(np.sum(run.mass)) * (compiled.element_size / dt) ** 2
-            )
-            if energy.blows_up(*work) and not work[3] <= roundoff:
+            # (the round-off's scale asked only of a step whose energy looks like a blow-up)
+            if energy.blows_up(*work) and not work[3] <= _roundoff(compiled, run, dt):
                 raise diverged(
                     f"kinetic energy {work[3]:.3g} against {energy.work_scale:.3g} of external "
                     "work",
