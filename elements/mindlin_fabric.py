@@ -201,16 +201,18 @@ class MindlinFabricBlock(MindlinShellBlock):
         v = state.directors[self.connectivity]
         return [CellTangent(self.connectivity, self._cell_tangent(x, v, slice(None)))]
 
-    def _cell_tangent(self, x: np.ndarray, v: np.ndarray, cells: slice) -> np.ndarray:
-        """d(force, moment)/d(u, psi) (m, 3, 6, 3, 6) of the cells ``cells`` with corners x and
-        unit directors v (m, 3, 3): the compiled loop, or ``numpy_cell_tangent``."""
+    def _cell_tangent(self, x: np.ndarray, v: np.ndarray, cells) -> np.ndarray:
+        """d(force, moment)/d(u, psi) (m, 3, 6, 3, 6) of the cells ``cells`` (a slice or
+        indices: the stable step's calibration asks for some) with corners x and unit
+        directors v (m, 3, 3): the compiled loop, or ``numpy_cell_tangent``."""
         if self.tangent_kernel != "compiled":
             return self.numpy_cell_tangent(x, v, cells)
         if self._product_tables is None:
             self._product_tables = _product_coefficients(self.zeta, self.h)
         y = self.section_measures(self._vectors(x, v), cells)
         # the whole block's section as is (a slice's is packed anew)
-        section = self.section if cells == slice(None) else self._section(cells)
+        whole = isinstance(cells, slice) and cells == slice(None)
+        section = self.section if whole else self._section(cells)
         answer = response(section, y, hessian=True)
         assert answer.hessian is not None
         ref = {key: value[cells] for key, value in self.reference_metric.items()}

@@ -95,3 +95,20 @@ def test_the_fabric_tangent_refuses_derivatives_of_the_wrong_shape():
             x, x, np.array([-1.0, 0.0, 1.0]), 1.0, np.eye(3), metric, np.zeros((2, 10)),
             np.zeros((3, 10, 10)), *tables,
         )  # fmt: skip
+
+
+def test_the_stable_step_calibration_takes_the_compiled_tangent_of_chosen_cells():
+    # element_omega2 asks for the tangent of cells given by indices (the stable step's
+    # calibration): the same largest eigenvalues as by the numpy tangent, to round-off.
+    model, block = _block(CYLINDER, SECTIONS["g986"])
+    state = _bent_state(model, np.random.default_rng(2))
+    cells = np.array([5, 0, 7, 3])
+    nodes = block.connectivity[cells]
+    x, v = state.positions[nodes], state.directors[nodes]
+    fast = block.element_omega2(x, v, cells)
+    block.tangent_kernel = "numpy"
+    try:
+        reference = block.element_omega2(x, v, cells)
+    finally:
+        block.tangent_kernel = "compiled"
+    np.testing.assert_allclose(fast, reference, rtol=1e-12)
