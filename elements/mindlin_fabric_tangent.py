@@ -7,8 +7,9 @@ section measures y (elements/fabric_section.py, itself compiled).
 The section couples the three levels zeta = -1, 0, 1 through y = P e (P the constant
 projection of elements/mindlin_fabric.py): the numpy path forms P^T H P (21 x 21) and
 B^T (P^T H P) B; here B_y = P B (10 x 18) is formed from the level rows of B^psi and
-K = B_y^T H B_y, the same sum with its zero terms left out, in another order (within 1e-12
-of the reference, tests/test_mindlin_fabric_tangent.py). The geometric part
+K = B_y^T H B_y, the same sum with its zero terms left out (the rows of the outer levels P
+does not read, on which sigma is zero, are not formed), in another order (within 1e-12 of
+the reference, tests/test_mindlin_fabric_tangent.py). The geometric part
 sigma . d2e/ds2, with sigma = P^T dW/dy, and the spin term are the elastic kernel's
 (elements/mindlin_tangent.py).
 """
@@ -83,7 +84,10 @@ def _fabric_tangent_cells(
                     turned[z, a, u, 0] = v[cell, a, 1] * vec[z, u, 2] - v[cell, a, 2] * vec[z, u, 1]
                     turned[z, a, u, 1] = v[cell, a, 2] * vec[z, u, 0] - v[cell, a, 0] * vec[z, u, 2]
                     turned[z, a, u, 2] = v[cell, a, 0] * vec[z, u, 1] - v[cell, a, 1] * vec[z, u, 0]
-            for r in range(7):
+            # P reads rows 0-2 of the outer levels and all 7 of the mid-surface: the others
+            # have no part in B_y, and sigma is zero on them
+            rows = 7 if z == 1 else 3
+            for r in range(rows):
                 for a in range(3):
                     for c in range(3):
                         along = 0.0
@@ -94,7 +98,7 @@ def _fabric_tangent_cells(
                         b_psi[z, r, 6 * a + c] = along
                         b_psi[z, r, 6 * a + 3 + c] = turn
             # dW/dV_a and the geometric coefficients G = sum_r sigma_r d2e_r/ds2
-            for r in range(7):
+            for r in range(rows):
                 s = sigma[z, r]
                 for a in range(3):
                     for u in range(5):
