@@ -1,30 +1,33 @@
-"""MindlinShell(fabric)'s analytic tangent: the compiled loop (elements/mindlin_fabric_tangent.py)
-beside its numpy reference (MindlinFabricBlock.numpy_cell_tangent, the code before), on
+"""MindlinShell(fabric)'s analytic tangent and forces: the compiled loops
+(elements/mindlin_fabric_tangent.py, elements/mindlin_fabric_loads.py) beside their numpy
+references (MindlinFabricBlock.numpy_cell_tangent and numpy_cell_loads, the code before), on
 bai-6.1.1's Mindlin corner (validation/cases/bai_6_1_1.py, the paper stack's fabric section).
 
-Part 1: one tangent of the block on the case's default mesh and on its 40-cell one, jittered
-(0.05 mm) with tilted directors (0.05 rad): CPU ms, best of ROUNDS, each pass beside the other,
-and the largest difference over the largest entry.
+Part 1: one tangent and one internal force of the block on the case's default mesh and on
+its 40-cell one, jittered (0.05 mm) with tilted directors (0.05 rad): CPU ms, best of ROUNDS,
+each pass beside the other, and the largest difference over the largest entry.
 
-Part 2: the case's Mindlin Static run on those meshes with the numpy tangent, then with the
-compiled one, in this process: CPU s of the run and of its tangents, increments, Newton
-iterations, cuts, and the largest difference of the final positions (mm).
+Part 2: the case's Mindlin Static run on those meshes with the numpy tangent and forces, with
+the numpy tangent alone, then with both compiled, in this process: CPU s of the run and of
+its tangents, increments, Newton iterations, cuts, and the largest difference of the final
+positions (mm).
 
-Measured (one numba thread, CPU, 2 cores shared, load 3.5-3.8; best of 20):
+Measured (one numba thread, CPU, 2 cores shared, load 2.1; best of 20), one tangent and one
+internal force of the block, ms:
 
   cells triangles  numpy ms  compiled ms   ratio  difference
-     20       400      4.64         1.03     4.5    4.31e-16
-     40      1600     11.07         3.95     2.8    6.04e-16
+     20       400      4.35         0.98     4.5    4.31e-16   forces   1.14 ->   0.48 ms, 1.29e-16
+     40      1600     10.92         3.78     2.9    6.04e-16   forces   4.61 ->   1.73 ms, 1.41e-16
 
-(before the loop formed only the rows the section reads: 1.19 and 4.81 ms at load 6). The
-Static runs, the second pair of each (the first pays for building and compiling): 20 cells
-0.62 -> 0.47 s, tangents 0.27 -> 0.12 s; 40 cells 2.59 -> 1.91 s, tangents 1.06 -> 0.45 s
-(the tangents include their assembly); the same 20 increments, 73 and 74 iterations, no
-cut, final positions within 2.8e-14 mm. Of the compiled 40-cell run (cProfile, 1.94 s):
-the numpy forces 0.66 s (MindlinFabricBlock._cell_loads: _turned_gradients 0.48), the
-factorisations 0.29, the tangent loop 0.19; of one compiled tangent at 1600 triangles (4.2
-ms before the row cut) the numpy section measures 0.8 ms, the section response 0.26 ms, the
-loop 2.7 ms.
+The Static runs, the second set of each (the first pays for building and compiling), CPU s
+of the run / of its tangents (with their assembly): 20 cells numpy tangent and forces 0.60 /
+0.26, numpy tangent 0.49 / 0.25, compiled both 0.35 / 0.11; 40 cells 2.38 / 0.98, 2.04 /
+1.04, 1.39 / 0.44. The same 20 increments, 73 and 74 iterations, no cut; final positions
+within 2.1e-14 mm of the numpy run's. Before the tangent loop formed only the rows the
+section reads it took 1.19 and 4.81 ms (load 6). In a cProfile of the 40-cell run with the
+compiled tangent and numpy forces (1.94 s): the forces 0.66 s (numpy's batched B^psi 0.48),
+the factorisations 0.29, the tangent loop 0.19; of one compiled tangent at 1600 triangles
+(4.2 ms then) the numpy section measures 0.8 ms, the section response 0.26, the loop 2.7.
 
 Run from the project root (one numba thread):
 
@@ -57,16 +60,26 @@ CASE = "bai-6.1.1"
 
 
 @contextmanager
-def numpy_tangent():
+def numpy_tangent(loads: bool = False):
     """MindlinFabricBlock's tangent as before the compiled loop: the elastic block's slices of
-    the numpy path through the fabric's level response."""
-    saved = MindlinFabricBlock.tangent, MindlinFabricBlock._cell_tangent
+    the numpy path through the fabric's level response; with ``loads`` its forces too."""
+    saved = (
+        MindlinFabricBlock.tangent,
+        MindlinFabricBlock._cell_tangent,
+        MindlinFabricBlock._cell_loads,
+    )
     MindlinFabricBlock.tangent = MindlinShellBlock.tangent  # type: ignore[method-assign]
     MindlinFabricBlock._cell_tangent = MindlinFabricBlock.numpy_cell_tangent  # type: ignore[method-assign]
+    if loads:
+        MindlinFabricBlock._cell_loads = MindlinFabricBlock.numpy_cell_loads  # type: ignore[method-assign]
     try:
         yield
     finally:
-        MindlinFabricBlock.tangent, MindlinFabricBlock._cell_tangent = saved  # type: ignore[method-assign]
+        (
+            MindlinFabricBlock.tangent,
+            MindlinFabricBlock._cell_tangent,
+            MindlinFabricBlock._cell_loads,
+        ) = saved  # type: ignore[method-assign]
 
 
 def one_tangent(cells: int, rounds: int) -> str:
@@ -87,12 +100,23 @@ def one_tangent(cells: int, rounds: int) -> str:
     def compiled_pass():
         return block.tangent(moved)[0].blocks
 
+    def numpy_force():
+        with numpy_tangent(loads=True):
+            return block.internal_force(moved)[0]
+
+    def compiled_force():
+        return block.internal_force(moved)[0]
+
     reference, fast = numpy_pass(), compiled_pass()
     difference = np.abs(fast - reference).max() / np.abs(reference).max()
     numpy_s, compiled_s = best(numpy_pass, rounds), best(compiled_pass, rounds)
+    force_reference, force = numpy_force(), compiled_force()
+    force_difference = np.abs(force - force_reference).max() / np.abs(force_reference).max()
+    numpy_f, compiled_f = best(numpy_force, rounds), best(compiled_force, rounds)
     return (
         f"{cells:5d} {len(block.connectivity):9d} {1e3 * numpy_s:9.2f} {1e3 * compiled_s:12.2f}"
-        f" {numpy_s / compiled_s:7.1f} {difference:11.2e}"
+        f" {numpy_s / compiled_s:7.1f} {difference:11.2e}   forces {1e3 * numpy_f:6.2f} ->"
+        f" {1e3 * compiled_f:6.2f} ms, {force_difference:.2e}"
     )
 
 
@@ -140,12 +164,15 @@ def main(argv=None) -> None:
         print(one_tangent(cells, args.rounds), flush=True)
     for cells in meshes:
         for _ in range(args.runs):
-            with numpy_tangent():
+            with numpy_tangent(loads=True):
                 line, reference = run(cells)
-            print(f"{CASE} Mindlin {cells} cells, numpy tangent:    {line}", flush=True)
+            print(f"{CASE} Mindlin {cells} cells, numpy tangent and forces: {line}", flush=True)
+            with numpy_tangent():
+                line, _ = run(cells)
+            print(f"{CASE} Mindlin {cells} cells, numpy tangent:            {line}", flush=True)
             line, positions = run(cells)
             moved = np.abs(positions - reference).max()
-            print(f"{CASE} Mindlin {cells} cells, compiled tangent: {line}; "
+            print(f"{CASE} Mindlin {cells} cells, compiled tangent and forces: {line}; "
                   f"positions within {moved:.2e} mm of the numpy run's", flush=True)  # fmt: skip
     print(f"load average after: {os.getloadavg()}")
 

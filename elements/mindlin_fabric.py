@@ -14,8 +14,10 @@ difference of the outer ones the bending strains (exact: the level measures are 
 zeta). The forces are sigma . B^psi and the tangent B^T H B plus the geometric and spin terms
 of the elastic block (docs/theory.md §5.5), with sigma and H the exact gradient and Hessian of
 the section energy; the section response is one compiled loop over the cells
-(elements/fabric_section_kernels.py), the forces' kinematics numpy, the tangent another
-compiled loop (elements/mindlin_fabric_tangent.py; ``numpy_cell_tangent`` its reference).
+(elements/fabric_section_kernels.py), the section measures numpy, the forces and the
+tangent two more compiled loops (elements/mindlin_fabric_loads.py and
+elements/mindlin_fabric_tangent.py; ``numpy_cell_loads`` and ``numpy_cell_tangent`` their
+references).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 from elements.base import CellTangent
 from elements.fabric_section import FabricSection, fibre_rows, response
 from elements.mindlin import _IN_PLANE, MindlinShellBlock
+from elements.mindlin_fabric_loads import fabric_cell_loads
 from elements.mindlin_fabric_tangent import AVAILABLE, fabric_tangent_blocks
 from elements.mindlin_tables import _TYING_N, _product_coefficients
 from femcore.rotation import cross
@@ -91,6 +94,8 @@ class MindlinFabricBlock(MindlinShellBlock):
         self.kernel = "numpy"
         # The analytic tangent's path: the compiled loop where numba is, else the numpy one.
         self.tangent_kernel = "compiled" if AVAILABLE else "numpy"
+        # The forces' path likewise (elements/mindlin_fabric_loads.py).
+        self.loads_kernel = "compiled" if AVAILABLE else "numpy"
 
     def fibre_edges(self) -> np.ndarray:
         """(k, 2) node pairs of the cells' edges that run along the warp or the weft in the
@@ -229,7 +234,21 @@ class MindlinFabricBlock(MindlinShellBlock):
     # ------------------------------------------------------------------ forces and energy
     def _cell_loads(self, x: np.ndarray, v: np.ndarray):
         """Unscattered nodal forces and director moments (m, 3, 3): dW/du and V x dW/dV of each
-        triangle, sigma . B^psi."""
+        triangle, sigma . B^psi; the compiled loop (``loads_kernel``), or
+        ``numpy_cell_loads``."""
+        if self.loads_kernel != "compiled":
+            return self.numpy_cell_loads(x, v)
+        if self._product_tables is None:
+            self._product_tables = _product_coefficients(self.zeta, self.h)
+        y = self.section_measures(self._vectors(x, v))
+        gradient = response(self.section, y, hessian=False).gradient
+        return fabric_cell_loads(
+            x, v, self.zeta, self.h, _TYING_N, gradient, self._product_tables[0]
+        )
+
+    def numpy_cell_loads(self, x: np.ndarray, v: np.ndarray):
+        """The numpy reference of ``_cell_loads``: the batched B^psi (m, 21, 18) and one
+        matmul."""
         m = len(x)
         vec = self._vectors(x, v)
         y = self.section_measures(vec)

@@ -112,3 +112,29 @@ def test_the_stable_step_calibration_takes_the_compiled_tangent_of_chosen_cells(
     finally:
         block.tangent_kernel = "compiled"
     np.testing.assert_allclose(fast, reference, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", SECTIONS)
+@pytest.mark.parametrize("mesh", [MESH, CYLINDER], ids=["flat", "cylinder"])
+def test_the_compiled_fabric_loads_are_the_numpy_ones_to_1e_12(name, mesh):
+    # elements/mindlin_fabric_loads.py: sigma . B^psi summed in another order than numpy's
+    # matmul; round-off of the largest load.
+    model, block = _block(mesh, SECTIONS[name])
+    assert block.loads_kernel == "compiled"
+    state = _bent_state(model, np.random.default_rng(4))
+    x, v = state.positions[block.connectivity], state.directors[block.connectivity]
+    for fast, reference in zip(block._cell_loads(x, v), block.numpy_cell_loads(x, v)):
+        scale = np.abs(reference).max()
+        assert scale > 0.0
+        assert np.abs(fast - reference).max() <= 1e-12 * scale
+
+
+@pytest.mark.parallel
+def test_the_fabric_loads_are_the_same_bits_on_one_thread_and_on_all():
+    from tests.thread_runs import on_one_thread_and_on_all
+
+    model, block = _block(CYLINDER, SECTIONS["non-linear"])
+    state = _bent_state(model, np.random.default_rng(6))
+    one, every = on_one_thread_and_on_all(lambda: block.internal_force(state))
+    for a, b in zip(one, every):
+        np.testing.assert_array_equal(a, b)
