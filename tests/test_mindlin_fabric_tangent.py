@@ -1,6 +1,7 @@
-"""elements/mindlin_fabric_tangent.py: the compiled tangent of MindlinShell(fabric) gives the
-numbers of its numpy reference (MindlinFabricBlock.numpy_cell_tangent, the elastic block's
-numpy path through the fabric section's level response; both are checked against central
+"""elements/mindlin_fabric_tangent.py and elements/mindlin_fabric_loads.py: the compiled tangent
+and forces of MindlinShell(fabric) give the numbers of their numpy references
+(MindlinFabricBlock.numpy_cell_tangent, the elastic block's numpy path through the fabric
+section's level response, and numpy_cell_loads; the tangent is checked against central
 differences of the forces by the conformance suite, tests/conformance_cases.py, cases
 mindlin-fabric and mindlin-fabric-nonlinear), the same bits on one thread and on all, and in
 pieces as whole."""
