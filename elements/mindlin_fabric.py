@@ -31,6 +31,7 @@ from elements.base import CellTangent
 from elements.fabric_section import FabricSection, fibre_rows, response
 from elements.mindlin import _IN_PLANE, MindlinShellBlock
 from elements.mindlin_fabric_loads import fabric_cell_loads
+from elements.mindlin_fabric_measures import fabric_section_measures
 from elements.mindlin_fabric_tangent import AVAILABLE, fabric_tangent_blocks
 from elements.mindlin_tables import _TYING_N, _product_coefficients
 from femcore.rotation import cross
@@ -182,6 +183,19 @@ class MindlinFabricBlock(MindlinShellBlock):
         e = self._level_measures(vec, cells)
         return e.reshape(len(e), 21) @ _PROJECTION.T
 
+    def _measures(self, x: np.ndarray, v: np.ndarray, cells=slice(None)) -> np.ndarray:
+        """The section measures y (m, 10) of the cells ``cells`` (a slice or indices) with
+        corners x and unit directors v (m, 3, 3): the compiled loop
+        (elements/mindlin_fabric_measures.py) with ``loads_kernel``, else
+        ``section_measures``."""
+        if self.loads_kernel != "compiled":
+            return self.section_measures(self._vectors(x, v), cells)
+        whole = isinstance(cells, slice) and cells == slice(None)
+        metric = self.reference_metric
+        if not whole:
+            metric = {key: value[cells] for key, value in metric.items()}
+        return fabric_section_measures(x, v, self.zeta, self.h, _TYING_N, metric)
+
     def _level_response(
         self, e: np.ndarray, b_psi: np.ndarray, cells: slice
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -214,7 +228,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             return self.numpy_cell_tangent(x, v, cells)
         if self._product_tables is None:
             self._product_tables = _product_coefficients(self.zeta, self.h)
-        y = self.section_measures(self._vectors(x, v), cells)
+        y = self._measures(x, v, cells)
         # the whole block's section as is (a slice's is packed anew)
         whole = isinstance(cells, slice) and cells == slice(None)
         section = self.section if whole else self._section(cells)
@@ -240,7 +254,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             return self.numpy_cell_loads(x, v)
         if self._product_tables is None:
             self._product_tables = _product_coefficients(self.zeta, self.h)
-        y = self.section_measures(self._vectors(x, v))
+        y = self._measures(x, v)
         gradient = response(self.section, y, hessian=False).gradient
         return fabric_cell_loads(
             x, v, self.zeta, self.h, _TYING_N, gradient, self._product_tables[0]
@@ -265,7 +279,8 @@ class MindlinFabricBlock(MindlinShellBlock):
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
     def strain_energy(self, state: State, history=None) -> float:
-        y = self.section_measures(self._state_vectors(state))
+        x = state.positions[self.connectivity]
+        y = self._measures(x, state.directors[self.connectivity])
         return float(response(self.section, y, hessian=False).energy.sum())
 
     # ------------------------------------------------------------------ mass and step

@@ -139,3 +139,26 @@ def test_the_fabric_loads_are_the_same_bits_on_one_thread_and_on_all():
     one, every = on_one_thread_and_on_all(lambda: block.internal_force(state))
     for a, b in zip(one, every):
         np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("mesh", [MESH, CYLINDER], ids=["flat", "cylinder"])
+def test_the_compiled_section_measures_are_the_numpy_ones_to_1e_12(mesh):
+    # elements/mindlin_fabric_measures.py: the dot products summed component by component;
+    # round-off of the largest level product (|g1|^2, mm^2), which the measures are
+    # differences of.
+    model, block = _block(mesh, SECTIONS["g986"])
+    state = _bent_state(model, np.random.default_rng(8))
+    x, v = state.positions[block.connectivity], state.directors[block.connectivity]
+    fast = block._measures(x, v)
+    reference = block.section_measures(block._vectors(x, v))
+    scale = float(block.reference_metric["11"].max())
+    assert np.abs(reference).max() > 1e-3 * scale
+    assert np.abs(fast - reference).max() <= 1e-12 * scale
+    cells = np.array([4, 1])
+    np.testing.assert_array_equal(block._measures(x[cells], v[cells], cells), fast[cells])
+    energy = block.strain_energy(state)
+    block.loads_kernel = "numpy"
+    try:
+        assert energy == pytest.approx(block.strain_energy(state), rel=1e-12)
+    finally:
+        block.loads_kernel = "compiled"
