@@ -12,27 +12,31 @@ the numpy tangent alone, then with both compiled, in this process: CPU s of the 
 its tangents, increments, Newton iterations, cuts, and the largest difference of the final
 positions (mm).
 
-Measured (one numba thread, CPU, 2 cores shared, load 2.1; best of 20), one tangent and one
-internal force of the block, ms:
+Measured (one numba thread, CPU, 2 cores shared, load 1.5-1.7; best of 20), one tangent and
+one internal force of the block, ms, the numpy passes beside the compiled ones (with the
+compiled section measures of elements/mindlin_fabric_measures.py):
 
   cells triangles  numpy ms  compiled ms   ratio  difference
-     20       400      4.35         0.98     4.5    4.31e-16   forces   1.14 ->   0.48 ms, 1.29e-16
-     40      1600     10.92         3.78     2.9    6.04e-16   forces   4.61 ->   1.73 ms, 1.41e-16
+     20       400      4.23         0.73     5.8    4.31e-16   forces   1.13 ->   0.26 ms, 1.29e-16
+     40      1600     10.67         2.81     3.8    6.04e-16   forces   4.34 ->   0.98 ms, 1.41e-16
 
 The Static runs, the second set of each (the first pays for building and compiling), CPU s
-of the run / of its tangents (with their assembly): 20 cells numpy tangent and forces 0.60 /
-0.26, numpy tangent 0.49 / 0.25, compiled both 0.35 / 0.11; 40 cells 2.38 / 0.98, 2.04 /
-1.04, 1.39 / 0.44. The same 20 increments, 73 and 74 iterations, no cut; final positions
-within 2.1e-14 mm of the numpy run's. Before the tangent loop formed only the rows the
-section reads it took 1.19 and 4.81 ms (load 6). In a cProfile of the 40-cell run with the
-compiled tangent and numpy forces (1.94 s): the forces 0.66 s (numpy's batched B^psi 0.48),
-the factorisations 0.29, the tangent loop 0.19; of one compiled tangent at 1600 triangles
-(4.2 ms then) the numpy section measures 0.8 ms, the section response 0.26, the loop 2.7.
+of the run / of its tangents (with their assembly): 20 cells numpy tangent and forces 0.57 /
+0.24, numpy tangent 0.46 / 0.24, compiled 0.29 / 0.09; 40 cells 2.36 / 0.97, 1.86 / 0.99,
+1.18 / 0.37. The same 20 increments, 73 and 74 iterations, no cut; final positions within
+1.4e-14 mm of the numpy run's.
 
 The whole case (``python -m validation --cases bai-6.1.1 --jobs 1``, one thread, warm numba
-caches, load 0.8-1.5), this tree beside a copy of the tree before, alternately: 13.1, 12.9,
-13.3, 13.1 s of CPU before, 11.8, 11.8, 11.9 after (a first run after 13.5: a recompile);
-13/13 checks pass, results.json within 6.4e-11 relative of before's.
+caches, load 1.4-1.7), this tree beside a copy of the tree before, alternately: 13.6, 12.3,
+12.4 s of CPU before, 11.6, 11.2, 11.1 after; 13/13 checks pass, results.json within 5.5e-12
+(deg) and 1.5e-11 relative of before's.
+
+Along the way (load 2-6): the tangent loop before it formed only the rows the section reads,
+1.19 and 4.81 ms; with numpy's section measures, 0.98 and 3.78 ms, forces 0.48 and 1.73 ms.
+A cProfile of the 40-cell run with the compiled tangent and the numpy forces (1.94 s): the
+forces 0.66 s (numpy's batched B^psi 0.48), the factorisations 0.29, the tangent loop 0.19;
+with everything compiled (1.48 s, before the measures were): the factorisations 0.27, the
+tangent loop 0.25, the numpy measures about 0.25, the loads loop 0.08.
 
 Run from the project root (one numba thread):
 
@@ -67,16 +71,19 @@ CASE = "bai-6.1.1"
 @contextmanager
 def numpy_tangent(loads: bool = False):
     """MindlinFabricBlock's tangent as before the compiled loop: the elastic block's slices of
-    the numpy path through the fabric's level response; with ``loads`` its forces too."""
+    the numpy path through the fabric's level response; with ``loads`` its forces and section
+    measures (the strain energy's) too."""
     saved = (
         MindlinFabricBlock.tangent,
         MindlinFabricBlock._cell_tangent,
         MindlinFabricBlock._cell_loads,
+        MindlinFabricBlock._measures,
     )
     MindlinFabricBlock.tangent = MindlinShellBlock.tangent  # type: ignore[method-assign]
     MindlinFabricBlock._cell_tangent = MindlinFabricBlock.numpy_cell_tangent  # type: ignore[method-assign]
     if loads:
         MindlinFabricBlock._cell_loads = MindlinFabricBlock.numpy_cell_loads  # type: ignore[method-assign]
+        MindlinFabricBlock._measures = _numpy_measures  # type: ignore[method-assign]
     try:
         yield
     finally:
@@ -84,7 +91,13 @@ def numpy_tangent(loads: bool = False):
             MindlinFabricBlock.tangent,
             MindlinFabricBlock._cell_tangent,
             MindlinFabricBlock._cell_loads,
+            MindlinFabricBlock._measures,
         ) = saved  # type: ignore[method-assign]
+
+
+def _numpy_measures(block, x, v, cells=slice(None)):
+    """The section measures as before the compiled loop (the strain energy's)."""
+    return block.section_measures(block._vectors(x, v), cells)
 
 
 def one_tangent(cells: int, rounds: int) -> str:
