@@ -14,10 +14,10 @@ difference of the outer ones the bending strains (exact: the level measures are 
 zeta). The forces are sigma . B^psi and the tangent B^T H B plus the geometric and spin terms
 of the elastic block (docs/theory.md §5.5), with sigma and H the exact gradient and Hessian of
 the section energy; the section response is one compiled loop over the cells
-(elements/fabric_section_kernels.py), the section measures numpy, the forces and the
-tangent two more compiled loops (elements/mindlin_fabric_loads.py and
-elements/mindlin_fabric_tangent.py; ``numpy_cell_loads`` and ``numpy_cell_tangent`` their
-references).
+(elements/fabric_section_kernels.py), the section measures, the forces and the tangent three
+more (elements/mindlin_fabric_measures.py, mindlin_fabric_loads.py and
+mindlin_fabric_tangent.py; ``section_measures``, ``numpy_cell_loads`` and
+``numpy_cell_tangent`` their numpy references; the outputs keep ``section_measures``).
 """
 
 from __future__ import annotations
