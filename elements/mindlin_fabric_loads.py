@@ -27,12 +27,12 @@ def _fabric_loads_cells(x, v, zeta, half, tying_n, dw_dy, gradient, force, momen
     elements/mindlin_tables.py."""
     m = x.shape[0]
     nz = zeta.shape[0]
-    # Scratch of this part of the loop (each part of a parallel loop runs these lines).
-    vec = np.empty((nz, 5, 3))
-    turned = np.empty((3, 5, 3))
-    sigma = np.empty((nz, 7))
-    loads = np.empty(18)
     for cell in prange(m):
+        # scratch of this cell (numba's parallel build shares what is allocated before the loop)
+        vec = np.empty((nz, 5, 3))
+        turned = np.empty((3, 5, 3))
+        sigma = np.empty((nz, 7))
+        loads = np.empty(18)
         for z in range(nz):
             for r in range(7):
                 sigma[z, r] = 0.0

@@ -25,12 +25,12 @@ def _measures_cells(x, v, zeta, half, tying_n, ref11, ref22, ref12, ref_tying, y
     directors; zeta (3,) the levels -1, 0, 1; ref* (m, 3) and (m, 3, 4) the reference metric."""
     m = x.shape[0]
     nz = zeta.shape[0]
-    # Scratch of this part of the loop (each part of a parallel loop runs these lines).
-    g3 = np.empty((3, 3))
-    g1 = np.empty(3)
-    g2 = np.empty(3)
-    e = np.empty((nz, 7))
     for cell in prange(m):
+        # scratch of this cell (numba's parallel build shares what is allocated before the loop)
+        g3 = np.empty((3, 3))
+        g1 = np.empty(3)
+        g2 = np.empty(3)
+        e = np.empty((nz, 7))
         for t in range(3):  # g3 at the tying points A, B, C
             for c in range(3):
                 total = 0.0

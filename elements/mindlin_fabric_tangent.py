@@ -36,18 +36,18 @@ def _fabric_tangent_cells(
     (3, 7, 6, 5) and curvature (3, 7, 6, 6) the product coefficients of elements/mindlin.py."""
     m = x.shape[0]
     nz = zeta.shape[0]
-    # Scratch of this part of the loop (each part of a parallel loop runs these lines).
-    vec = np.empty((nz, 5, 3))
-    turned = np.empty((nz, 3, 5, 3))
-    b_psi = np.empty((nz, 7, 18))
-    b_y = np.empty((10, 18))
-    stressed = np.empty((10, 18))
-    sigma = np.empty((nz, 7))
-    k = np.empty((18, 18))
-    director_gradient = np.empty((3, 3))
-    geometric = np.empty((6, 6))
-    arms = np.empty((3, 2, 3, 3))
     for cell in prange(m):
+        # scratch of this cell (numba's parallel build shares what is allocated before the loop)
+        vec = np.empty((nz, 5, 3))
+        turned = np.empty((nz, 3, 5, 3))
+        b_psi = np.empty((nz, 7, 18))
+        b_y = np.empty((10, 18))
+        stressed = np.empty((10, 18))
+        sigma = np.empty((nz, 7))
+        k = np.empty((18, 18))
+        director_gradient = np.empty((3, 3))
+        geometric = np.empty((6, 6))
+        arms = np.empty((3, 2, 3, 3))
         # sigma = P^T dW/dy: membrane and tying at the mid-surface, bending at the outer levels
         for z in range(nz):
             for r in range(7):

@@ -162,3 +162,17 @@ def test_the_compiled_section_measures_are_the_numpy_ones_to_1e_12(mesh):
         assert energy == pytest.approx(block.strain_energy(state), rel=1e-12)
     finally:
         block.loads_kernel = "compiled"
+
+
+def test_the_fabric_loops_are_parted_so_no_thread_shares_a_cells_scratch():
+    # A loop that allocates its scratch before the prange keeps numba's parallel build, whose
+    # threads share that scratch (a race: one run of the same-bits test above failed so);
+    # allocated per cell, the loop runs as parts of the plain build (elements/jit.py).
+    from elements import mindlin_fabric_loads, mindlin_fabric_measures, mindlin_fabric_tangent
+
+    for kernel in (
+        mindlin_fabric_tangent._fabric_tangent_cells,
+        mindlin_fabric_loads._fabric_loads_cells,
+        mindlin_fabric_measures._measures_cells,
+    ):
+        assert kernel.parted, kernel
