@@ -12,18 +12,19 @@ the numpy tangent alone, then with both compiled, in this process: CPU s of the 
 its tangents, increments, Newton iterations, cuts, and the largest difference of the final
 positions (mm).
 
-Measured (one numba thread, CPU, 2 cores shared, load 1.5-1.7; best of 20), one tangent and
-one internal force of the block, ms, the numpy passes beside the compiled ones (with the
-compiled section measures of elements/mindlin_fabric_measures.py):
+Measured (one numba thread, CPU, 2 cores shared, load 2.1-2.5; best of 20), one tangent and
+one internal force of the block, ms, the numpy passes beside the compiled ones (scratch per
+chunk of 64 cells; per cell it took 3.73 and 1.29 ms at 1600 triangles, shared before the
+loop, a race on threads, 2.81 and 0.98):
 
   cells triangles  numpy ms  compiled ms   ratio  difference
-     20       400      4.23         0.73     5.8    4.31e-16   forces   1.13 ->   0.26 ms, 1.29e-16
-     40      1600     10.67         2.81     3.8    6.04e-16   forces   4.34 ->   0.98 ms, 1.41e-16
+     20       400      3.89         0.67     5.8    4.31e-16   forces   1.07 ->   0.25 ms, 1.29e-16
+     40      1600      9.89         2.75     3.6    6.04e-16   forces   4.18 ->   0.94 ms, 1.41e-16
 
 The Static runs, the second set of each (the first pays for building and compiling), CPU s
-of the run / of its tangents (with their assembly): 20 cells numpy tangent and forces 0.57 /
-0.24, numpy tangent 0.46 / 0.24, compiled 0.29 / 0.09; 40 cells 2.36 / 0.97, 1.86 / 0.99,
-1.18 / 0.37. The same 20 increments, 73 and 74 iterations, no cut; final positions within
+of the run / of its tangents (with their assembly): 20 cells numpy tangent and forces 0.56 /
+0.24, numpy tangent 0.45 / 0.24, compiled 0.29 / 0.09; 40 cells 2.57 / 1.05, 1.96 / 1.05,
+1.21 / 0.37. The same 20 increments, 73 and 74 iterations, no cut; final positions within
 1.4e-14 mm of the numpy run's.
 
 The whole case (``python -m validation --cases bai-6.1.1 --jobs 1``, one thread, warm numba

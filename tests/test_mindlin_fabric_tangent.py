@@ -77,9 +77,19 @@ def test_the_fabric_tangent_in_pieces_is_the_whole_one_to_the_bit():
     np.testing.assert_array_equal(np.concatenate([p.blocks for p in pieces]), whole.blocks)
 
 
+def _small_chunks(monkeypatch):
+    """5 cells a chunk, so that the test meshes' loops have several to share out."""
+    from elements import mindlin_fabric_loads, mindlin_fabric_measures, mindlin_fabric_tangent
+
+    for module in (mindlin_fabric_loads, mindlin_fabric_measures, mindlin_fabric_tangent):
+        monkeypatch.setattr(module, "CELLS_PER_CHUNK", 5)
+
+
 @pytest.mark.parallel
-def test_the_fabric_tangent_is_the_same_bits_on_one_thread_and_on_all():
+def test_the_fabric_tangent_is_the_same_bits_on_one_thread_and_on_all(monkeypatch):
     from tests.thread_runs import on_one_thread_and_on_all
+
+    _small_chunks(monkeypatch)
 
     model, block = _block(CYLINDER, SECTIONS["g986"])
     state = _bent_state(model, np.random.default_rng(9))
@@ -131,8 +141,10 @@ def test_the_compiled_fabric_loads_are_the_numpy_ones_to_1e_12(name, mesh):
 
 
 @pytest.mark.parallel
-def test_the_fabric_loads_are_the_same_bits_on_one_thread_and_on_all():
+def test_the_fabric_loads_are_the_same_bits_on_one_thread_and_on_all(monkeypatch):
     from tests.thread_runs import on_one_thread_and_on_all
+
+    _small_chunks(monkeypatch)
 
     model, block = _block(CYLINDER, SECTIONS["non-linear"])
     state = _bent_state(model, np.random.default_rng(6))
@@ -167,7 +179,7 @@ def test_the_compiled_section_measures_are_the_numpy_ones_to_1e_12(mesh):
 def test_the_fabric_loops_are_parted_so_no_thread_shares_a_cells_scratch():
     # A loop that allocates its scratch before the prange keeps numba's parallel build, whose
     # threads share that scratch (a race: one run of the same-bits test above failed so);
-    # allocated per cell, the loop runs as parts of the plain build (elements/jit.py).
+    # allocated per chunk of cells, the loop runs as parts of the plain build (elements/jit.py).
     from elements import mindlin_fabric_loads, mindlin_fabric_measures, mindlin_fabric_tangent
 
     for kernel in (
