@@ -29,8 +29,9 @@ of the run / of its tangents (with their assembly): 20 cells numpy tangent and f
 
 The whole case (``python -m validation --cases bai-6.1.1 --jobs 1``, one thread, warm numba
 caches, load 1.4-1.7), this tree beside a copy of the tree before, alternately: 13.6, 12.3,
-12.4 s of CPU before, 11.6, 11.2, 11.1 after; 13/13 checks pass, results.json within 5.5e-12
-(deg) and 1.5e-11 relative of before's.
+12.4 s of CPU before, 11.6, 11.2, 11.1 after (the loops' scratch shared then); with the scratch
+a chunk's, at load 3.6-5.1 (wall 20-22 s): 14.0, 14.2 before, 12.8, 12.3 after; 13/13 checks
+pass, results.json within 5.5e-12 (deg) and 1.5e-11 relative of before's.
 
 Along the way (load 2-6): the tangent loop before it formed only the rows the section reads,
 1.19 and 4.81 ms; with numpy's section measures, 0.98 and 3.78 ms, forces 0.48 and 1.73 ms.
