@@ -429,7 +429,7 @@ class MindlinShellBlock(ElementBlock):
         x = state.positions[self.connectivity]
         v = state.directors[self.connectivity]
         # The compiled loop for the elastic section, whose level response is linear (a
-        # fabric section answers by its own laws: the numpy path).
+        # fabric section has its own loop: elements/mindlin_fabric_tangent.py).
         if self.kernel == "compiled" and type(self)._level_response is _ELASTIC_RESPONSE:
             if self._product_tables is None:
                 self._product_tables = _product_coefficients(self.zeta, self.h)

@@ -14,7 +14,10 @@ difference of the outer ones the bending strains (exact: the level measures are 
 zeta). The forces are sigma . B^psi and the tangent B^T H B plus the geometric and spin terms
 of the elastic block (docs/theory.md §5.5), with sigma and H the exact gradient and Hessian of
 the section energy; the section response is one compiled loop over the cells
-(elements/fabric_section_kernels.py), the kinematics numpy.
+(elements/fabric_section_kernels.py), the section measures, the forces and the tangent three
+more (elements/mindlin_fabric_measures.py, mindlin_fabric_loads.py and
+mindlin_fabric_tangent.py; ``section_measures``, ``numpy_cell_loads`` and
+``numpy_cell_tangent`` their numpy references; the outputs keep ``section_measures``).
 """
 
 from __future__ import annotations
@@ -24,8 +27,13 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
+from elements.base import CellTangent
 from elements.fabric_section import FabricSection, fibre_rows, response
 from elements.mindlin import _IN_PLANE, MindlinShellBlock
+from elements.mindlin_fabric_loads import fabric_cell_loads
+from elements.mindlin_fabric_measures import fabric_section_measures
+from elements.mindlin_fabric_tangent import AVAILABLE, fabric_tangent_blocks
+from elements.mindlin_tables import _TYING_N, _product_coefficients
 from femcore.rotation import cross
 from femcore.state import State
 from materials.fabric import Fabric
@@ -85,6 +93,10 @@ class MindlinFabricBlock(MindlinShellBlock):
         self.twisting = shell.twisting
         super().__init__(shell, mesh, cell_ids, directors)
         self.kernel = "numpy"
+        # The analytic tangent's path: the compiled loop where numba is, else the numpy one.
+        self.tangent_kernel = "compiled" if AVAILABLE else "numpy"
+        # The forces' path likewise (elements/mindlin_fabric_loads.py).
+        self.loads_kernel = "compiled" if AVAILABLE else "numpy"
 
     def fibre_edges(self) -> np.ndarray:
         """(k, 2) node pairs of the cells' edges that run along the warp or the weft in the
@@ -171,6 +183,19 @@ class MindlinFabricBlock(MindlinShellBlock):
         e = self._level_measures(vec, cells)
         return e.reshape(len(e), 21) @ _PROJECTION.T
 
+    def _measures(self, x: np.ndarray, v: np.ndarray, cells=slice(None)) -> np.ndarray:
+        """The section measures y (m, 10) of the cells ``cells`` (a slice or indices) with
+        corners x and unit directors v (m, 3, 3): the compiled loop
+        (elements/mindlin_fabric_measures.py) with ``loads_kernel``, else
+        ``section_measures``."""
+        if self.loads_kernel != "compiled":
+            return self.section_measures(self._vectors(x, v), cells)
+        whole = isinstance(cells, slice) and cells == slice(None)
+        metric = self.reference_metric
+        if not whole:
+            metric = {key: value[cells] for key, value in metric.items()}
+        return fabric_section_measures(x, v, self.zeta, self.h, _TYING_N, metric)
+
     def _level_response(
         self, e: np.ndarray, b_psi: np.ndarray, cells: slice
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -184,10 +209,60 @@ class MindlinFabricBlock(MindlinShellBlock):
         hessian = _PROJECTION.T @ answer.hessian @ _PROJECTION  # (m, 21, 21)
         return sigma, np.matmul(hessian, b_psi.reshape(m, 21, 18))
 
+    # ------------------------------------------------------------------ tangent
+    def tangent(self, state: State, history=None) -> list[CellTangent]:
+        """Each triangle's consistent 18 x 18 stiffness in (u, psi) of its corners, analytic
+        (docs/theory.md §5.5, §5.7): blocks (m, 3, 6, 3, 6), N/mm, N, N mm; all cells in one
+        compiled loop (``tangent_kernel``), else by slices of the numpy path."""
+        if self.tangent_kernel != "compiled":
+            return super().tangent(state, history)
+        x = state.positions[self.connectivity]
+        v = state.directors[self.connectivity]
+        return [CellTangent(self.connectivity, self._cell_tangent(x, v, slice(None)))]
+
+    def _cell_tangent(self, x: np.ndarray, v: np.ndarray, cells) -> np.ndarray:
+        """d(force, moment)/d(u, psi) (m, 3, 6, 3, 6) of the cells ``cells`` (a slice or
+        indices: the stable step's calibration asks for some) with corners x and unit
+        directors v (m, 3, 3): the compiled loop, or ``numpy_cell_tangent``."""
+        if self.tangent_kernel != "compiled":
+            return self.numpy_cell_tangent(x, v, cells)
+        if self._product_tables is None:
+            self._product_tables = _product_coefficients(self.zeta, self.h)
+        y = self._measures(x, v, cells)
+        # the whole block's section as is (a slice's is packed anew)
+        whole = isinstance(cells, slice) and cells == slice(None)
+        section = self.section if whole else self._section(cells)
+        answer = response(section, y, hessian=True)
+        assert answer.hessian is not None
+        ref = {key: value[cells] for key, value in self.reference_metric.items()}
+        return fabric_tangent_blocks(
+            x, v, self.zeta, self.h, _TYING_N, ref, answer.gradient, answer.hessian,
+            *self._product_tables,
+        )  # fmt: skip
+
+    def numpy_cell_tangent(self, x: np.ndarray, v: np.ndarray, cells: slice) -> np.ndarray:
+        """The numpy reference of ``_cell_tangent`` (MindlinShellBlock's, through the
+        fabric's ``_level_response``)."""
+        return super()._cell_tangent(x, v, cells)
+
     # ------------------------------------------------------------------ forces and energy
     def _cell_loads(self, x: np.ndarray, v: np.ndarray):
         """Unscattered nodal forces and director moments (m, 3, 3): dW/du and V x dW/dV of each
-        triangle, sigma . B^psi."""
+        triangle, sigma . B^psi; the compiled loop (``loads_kernel``), or
+        ``numpy_cell_loads``."""
+        if self.loads_kernel != "compiled":
+            return self.numpy_cell_loads(x, v)
+        if self._product_tables is None:
+            self._product_tables = _product_coefficients(self.zeta, self.h)
+        y = self._measures(x, v)
+        gradient = response(self.section, y, hessian=False).gradient
+        return fabric_cell_loads(
+            x, v, self.zeta, self.h, _TYING_N, gradient, self._product_tables[0]
+        )
+
+    def numpy_cell_loads(self, x: np.ndarray, v: np.ndarray):
+        """The numpy reference of ``_cell_loads``: the batched B^psi (m, 21, 18) and one
+        matmul."""
         m = len(x)
         vec = self._vectors(x, v)
         y = self.section_measures(vec)
@@ -204,7 +279,8 @@ class MindlinFabricBlock(MindlinShellBlock):
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
     def strain_energy(self, state: State, history=None) -> float:
-        y = self.section_measures(self._state_vectors(state))
+        x = state.positions[self.connectivity]
+        y = self._measures(x, state.directors[self.connectivity])
         return float(response(self.section, y, hessian=False).energy.sum())
 
     # ------------------------------------------------------------------ mass and step

@@ -1,13 +1,14 @@
 """elements/mindlin_tangent.py: the compiled tangent of the elastic Mindlin triangle gives the
 numbers of the numpy reference (MindlinShellBlock._cell_tangent, itself checked against
-central differences in tests/test_mindlin.py), and a fabric section keeps the numpy path."""
+central differences in tests/test_mindlin.py); a fabric section's compiled tangent is
+tests/test_mindlin_fabric_tangent.py's."""
 
 import numpy as np
 import pytest
 
 from elements import MindlinShell
-from femcore import Mesh, Model
-from materials import ElasticShell, presets
+from femcore import Model
+from materials import ElasticShell
 from tests.test_mindlin import CYLINDER, MESH, ORTHOTROPIC, _deformed_state
 
 
@@ -35,14 +36,3 @@ def test_the_compiled_tangent_gives_the_numpy_blocks_to_1e_12(thickness_points, 
         assert np.array_equal(fast.nodes, reference.nodes)
         scale = np.abs(reference.blocks).max()
         assert np.abs(fast.blocks - reference.blocks).max() <= 1e-12 * scale
-
-
-def test_a_fabric_section_keeps_the_numpy_tangent():
-    # Its level response follows the fabric's own (non-linear) laws, which the compiled loop
-    # (sigma = D e) does not know.
-    model = Model(Mesh.rectangle(40.0, 30.0, nx=4, ny=3))
-    model.add(MindlinShell(presets.g986_stack()))
-    compiled = model.compile()
-    block = compiled.blocks[0]
-    block.tangent(compiled.initial_state())
-    assert block._product_tables is None
