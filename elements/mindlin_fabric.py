@@ -86,6 +86,11 @@ class MindlinFabricBlock(MindlinShellBlock):
     """MindlinShell over mesh triangles ``cell_ids`` with the fabric section of the shell's
     Fabric (the shell's ``transverse_shear`` S, N/mm, and ``twisting`` D_t, N mm)."""
 
+    # The tangent's and the forces' paths (below) also as the class's: a block pickled before
+    # they were chosen (a checkpoint's model) takes them on load.
+    tangent_kernel = "compiled" if AVAILABLE else "numpy"
+    loads_kernel = "compiled" if AVAILABLE else "numpy"
+
     def __init__(self, shell: MindlinShell, mesh, cell_ids, directors):
         self.fabric = cast(Fabric, shell.material)
         self.warp = shell.warp

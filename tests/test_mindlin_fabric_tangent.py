@@ -188,3 +188,20 @@ def test_the_fabric_loops_are_parted_so_no_thread_shares_a_cells_scratch():
         mindlin_fabric_measures._measures_cells,
     ):
         assert kernel.parted, kernel
+
+
+def test_a_block_pickled_before_the_compiled_paths_were_chosen_loads_and_takes_them():
+    """A model pickled before the block kept ``tangent_kernel`` and ``loads_kernel`` (a
+    checkpoint of an earlier version): unpickled, the block takes the compiled paths and
+    gives the fresh block's tangent and forces to the bit."""
+    import pickle
+
+    model, block = _block(MESH, SECTIONS["g986"])
+    state = _bent_state(model, np.random.default_rng(5))
+    fresh = block.tangent(state)[0], block.internal_force(state, None)
+    del block.__dict__["tangent_kernel"], block.__dict__["loads_kernel"]
+    loaded = pickle.loads(pickle.dumps(model)).blocks[0]
+    assert loaded.tangent_kernel == "compiled" and loaded.loads_kernel == "compiled"
+    np.testing.assert_array_equal(loaded.tangent(state)[0].blocks, fresh[0].blocks)
+    for mine, theirs in zip(loaded.internal_force(state, None), fresh[1]):
+        np.testing.assert_array_equal(mine, theirs)
