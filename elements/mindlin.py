@@ -407,6 +407,14 @@ class MindlinShellBlock(ElementBlock):
         vec["directors"] = v
         return vec
 
+    def _products(self) -> tuple[np.ndarray, np.ndarray]:
+        """The product coefficients (gradient (3, 7, 6, 5), curvature (3, 7, 6, 6)) of the
+        compiled tangents and forces (elements/mindlin_tables.py ``_product_coefficients``),
+        made at the first call and kept."""
+        if self._product_tables is None:
+            self._product_tables = _product_coefficients(self.zeta, self.h)
+        return self._product_tables
+
     def internal_force_and_energy(self, state: State, history=None):
         """Forces, moments (n, 3) and strain energy (N mm) from one pass of the compiled
         kernel (the energy is summed where the stresses are formed); the two numpy passes
@@ -431,11 +439,7 @@ class MindlinShellBlock(ElementBlock):
         # The compiled loop for the elastic section, whose level response is linear (a
         # fabric section has its own loop: elements/mindlin_fabric_tangent.py).
         if self.kernel == "compiled" and type(self)._level_response is _ELASTIC_RESPONSE:
-            if self._product_tables is None:
-                self._product_tables = _product_coefficients(self.zeta, self.h)
-            blocks = mindlin_tangent_blocks(
-                self, x, v, self._level_stiffness(), *self._product_tables
-            )
+            blocks = mindlin_tangent_blocks(self, x, v, self._level_stiffness(), *self._products())
             return [CellTangent(self.connectivity, blocks)]
         blocks = np.empty((len(x), 3, 6, 3, 6))
         # Slices of cells: the temporaries (a few times the output) then stay small and are

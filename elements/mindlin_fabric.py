@@ -33,7 +33,7 @@ from elements.mindlin import _IN_PLANE, MindlinShellBlock
 from elements.mindlin_fabric_loads import fabric_cell_loads
 from elements.mindlin_fabric_measures import fabric_section_measures
 from elements.mindlin_fabric_tangent import AVAILABLE, fabric_tangent_blocks
-from elements.mindlin_tables import _TYING_N, _product_coefficients
+from elements.mindlin_tables import _TYING_N
 from femcore.rotation import cross
 from femcore.state import State
 from materials.fabric import Fabric
@@ -86,8 +86,10 @@ class MindlinFabricBlock(MindlinShellBlock):
     """MindlinShell over mesh triangles ``cell_ids`` with the fabric section of the shell's
     Fabric (the shell's ``transverse_shear`` S, N/mm, and ``twisting`` D_t, N mm)."""
 
-    # The tangent's and the forces' paths (below) also as the class's: a block pickled before
-    # they were chosen (a checkpoint's model) takes them on load.
+    # The analytic tangent's path and the forces' (elements/mindlin_fabric_tangent.py,
+    # mindlin_fabric_loads.py): the compiled loops where numba is, else the numpy ones; a
+    # block's own value overrides them (the tests'). Kept by the class, not the block, so
+    # that a block pickled before they were chosen (a checkpoint's model) takes them on load.
     tangent_kernel = "compiled" if AVAILABLE else "numpy"
     loads_kernel = "compiled" if AVAILABLE else "numpy"
 
@@ -98,10 +100,6 @@ class MindlinFabricBlock(MindlinShellBlock):
         self.twisting = shell.twisting
         super().__init__(shell, mesh, cell_ids, directors)
         self.kernel = "numpy"
-        # The analytic tangent's path: the compiled loop where numba is, else the numpy one.
-        self.tangent_kernel = "compiled" if AVAILABLE else "numpy"
-        # The forces' path likewise (elements/mindlin_fabric_loads.py).
-        self.loads_kernel = "compiled" if AVAILABLE else "numpy"
 
     def fibre_edges(self) -> np.ndarray:
         """(k, 2) node pairs of the cells' edges that run along the warp or the weft in the
@@ -195,11 +193,14 @@ class MindlinFabricBlock(MindlinShellBlock):
         ``section_measures``."""
         if self.loads_kernel != "compiled":
             return self.section_measures(self._vectors(x, v), cells)
-        whole = isinstance(cells, slice) and cells == slice(None)
-        metric = self.reference_metric
-        if not whole:
-            metric = {key: value[cells] for key, value in metric.items()}
-        return fabric_section_measures(x, v, self.zeta, self.h, _TYING_N, metric)
+        return fabric_section_measures(x, v, self.zeta, self.h, _TYING_N, self._cells_metric(cells))
+
+    def _cells_metric(self, cells) -> dict:
+        """The reference products (``reference_metric``) of the cells ``cells`` (a slice or
+        indices): the block's own arrays for them all."""
+        if isinstance(cells, slice) and cells == slice(None):
+            return self.reference_metric
+        return {key: value[cells] for key, value in self.reference_metric.items()}
 
     def _level_response(
         self, e: np.ndarray, b_psi: np.ndarray, cells: slice
@@ -231,18 +232,15 @@ class MindlinFabricBlock(MindlinShellBlock):
         directors v (m, 3, 3): the compiled loop, or ``numpy_cell_tangent``."""
         if self.tangent_kernel != "compiled":
             return self.numpy_cell_tangent(x, v, cells)
-        if self._product_tables is None:
-            self._product_tables = _product_coefficients(self.zeta, self.h)
         y = self._measures(x, v, cells)
         # the whole block's section as is (a slice's is packed anew)
         whole = isinstance(cells, slice) and cells == slice(None)
         section = self.section if whole else self._section(cells)
         answer = response(section, y, hessian=True)
         assert answer.hessian is not None
-        ref = {key: value[cells] for key, value in self.reference_metric.items()}
         return fabric_tangent_blocks(
-            x, v, self.zeta, self.h, _TYING_N, ref, answer.gradient, answer.hessian,
-            *self._product_tables,
+            x, v, self.zeta, self.h, _TYING_N, self._cells_metric(cells), answer.gradient,
+            answer.hessian, *self._products(),
         )  # fmt: skip
 
     def numpy_cell_tangent(self, x: np.ndarray, v: np.ndarray, cells: slice) -> np.ndarray:
@@ -257,13 +255,9 @@ class MindlinFabricBlock(MindlinShellBlock):
         ``numpy_cell_loads``."""
         if self.loads_kernel != "compiled":
             return self.numpy_cell_loads(x, v)
-        if self._product_tables is None:
-            self._product_tables = _product_coefficients(self.zeta, self.h)
         y = self._measures(x, v)
         gradient = response(self.section, y, hessian=False).gradient
-        return fabric_cell_loads(
-            x, v, self.zeta, self.h, _TYING_N, gradient, self._product_tables[0]
-        )
+        return fabric_cell_loads(x, v, self.zeta, self.h, _TYING_N, gradient, self._products()[0])
 
     def numpy_cell_loads(self, x: np.ndarray, v: np.ndarray):
         """The numpy reference of ``_cell_loads``: the batched B^psi (m, 21, 18) and one
