@@ -44,7 +44,7 @@ from femcore import kernel_cache
 from solvers.band import AVAILABLE as BAND_AVAILABLE
 from solvers.band import BandPlan
 from solvers.supernodal import AVAILABLE as SUPERNODAL_AVAILABLE
-from solvers.supernodal import SupernodalPlan
+from solvers.supernodal import SupernodalPlan, factor_operations
 
 __all__ = ["Factorisation", "LinearSolver"]
 
@@ -274,14 +274,14 @@ class LinearSolver:
         band_operations = plan.operations
         if self._measured is not None and self._measured[0] == n:
             if SUPERNODAL_AVAILABLE and self._ordering is not None:
-                ordering, factor_operations, entries = self._ordering
+                ordering, measured_operations, entries = self._ordering
                 grown = upper.nnz > REORDER_GROWTH * entries
-                if not grown and band_operations <= BAND_OVER_SUPERNODAL * factor_operations:
+                if not grown and band_operations <= BAND_OVER_SUPERNODAL * measured_operations:
                     self._ldl, self._fresh = None, False  # the band, as on that measurement
                     return plan
                 if not grown:
                     supernodal = SupernodalPlan(upper, ordering)
-                    if supernodal.operations <= REORDER_GROWTH * factor_operations:
+                    if supernodal.operations <= REORDER_GROWTH * measured_operations:
                         self._ldl, self._fresh = None, False
                         return self._band_or_supernodal(plan, supernodal)
             elif band_operations <= BAND_ADVANTAGE * self._measured[1]:
@@ -297,10 +297,10 @@ class LinearSolver:
             return plan if plan.fill <= BAND_FILL_WITHOUT_QDLDL * max(upper.nnz, 1) else None
         self._measured = (n, float(np.sum(counts**2)))
         if SUPERNODAL_AVAILABLE:
-            factor_operations = float(np.sum((counts + 1.0) ** 2))
+            operations = factor_operations(counts)
             ordering = np.asarray(ordering, dtype=np.int64)
-            self._ordering = (ordering, factor_operations, upper.nnz)
-            if band_operations <= BAND_OVER_SUPERNODAL * factor_operations:
+            self._ordering = (ordering, operations, upper.nnz)
+            if band_operations <= BAND_OVER_SUPERNODAL * operations:
                 return plan  # no supernodal analysis where the band is taken anyway
             return self._band_or_supernodal(plan, SupernodalPlan(upper, ordering))
         return plan if band_operations <= BAND_ADVANTAGE * self._measured[1] else None

@@ -37,7 +37,7 @@ import scipy.sparse as sp
 
 from femcore import kernel_cache
 
-__all__ = ["SupernodalLDLT", "SupernodalPlan"]
+__all__ = ["SupernodalLDLT", "SupernodalPlan", "factor_operations"]
 
 # Columns of a panel of a supernode's own elimination (as solvers.band.PANEL): each column
 # after the panel takes the panel's updates four at a time in one pass.
@@ -381,6 +381,13 @@ else:  # pragma: no cover - numba is a dependency
     AVAILABLE = False
 
 
+def factor_operations(below: np.ndarray) -> float:
+    """The operations of an LDL^T whose L holds ``below`` (n,) entries below the diagonal in
+    each column: the sum of the column counts squared, diagonal included (QDLDL's measure, by
+    which solvers.linear weighs an ordering, the band and the supernodal factor alike)."""
+    return float(np.sum((np.asarray(below, dtype=float) + 1.0) ** 2))
+
+
 class SupernodalPlan:
     """The symbolic analysis of one sparsity pattern (an upper triangle in CSC, every
     diagonal entry stored) under an ordering.
@@ -409,7 +416,7 @@ class SupernodalPlan:
         parent = _elimination_tree(indptr, indices)
         pointers, below = _column_patterns(indptr, indices, parent)
         counts = np.diff(pointers)  # below the diagonal
-        self.operations = float(np.sum((counts + 1.0) ** 2))
+        self.operations = factor_operations(counts)
         # Column j joins j - 1's supernode where its pattern is j - 1's without j - 1's
         # first row below (j itself): parent[j - 1] == j and one entry fewer. (Relaxed
         # supernodes, storing up to 5-40 % more entries as zeros to join more columns, were
