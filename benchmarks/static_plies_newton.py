@@ -273,6 +273,60 @@ increment, 92 tangents; one thread):
   touch at the 4th iterate and 9 at the last, each carrying at most 1e-6 N. Not a tangent that
   differs from the derivative, so nothing local mends it: the law's degenerate root at
   zero-force contact (the smoothed penalty, docs/theory.md §9.3a) sets the rate.
+
+The deck's last increment (4 plies, 20 cells, 4 curved increments, the case's solver; one
+thread; ``--deck-penalty`` for the kept change; the trials below by patches of the code, not
+kept, their counts the measure):
+
+* Where it goes (``--detail``): 10-8-8-63 iterations. In the three increments before it no
+  point touches (the plies 6e-5 to 1.9e-4 mm apart at each equilibrium). The last one's first
+  (curved) step carries 54 points to -4.2e-3 mm (17 ramps, delta = 2.5e-4 mm); then 33
+  iterations at ratio 0.07-1 in which 10-50 points step on or off at each iterate (the 7th
+  0.4 mm deep, 1200 N of contact force), then the halving tail, restarted 5 times by points
+  carried from g > 0 to -5e-6 to -1e-5 mm. Its end: 9 points touching, 3.5e-7 N in all, the
+  deepest -5.3e-7 mm. The same increment with the plies' contact left out converges in 6
+  iterations with the 54 points 3.3e-3 mm through the ply below: the contact is needed, and
+  the plies' gap mode, their bending alone, is about 3.5e-7 N / 3.3e-3 mm ~ 1e-4 N/mm
+  against the automatic penalty's 3000 N/mm a point. The equilibrium gap g* ~ -sqrt(2 delta
+  F / k) is then ~5e-7 mm (as found), and the ramp's tangent is good only within K_s delta
+  / k of it: Newton halves its way there from the 3.3e-3 mm the plies would pass.
+* Kept: the decks' penalty 3 N/mm a node (validation/cases/plies_deck_of_cards.py
+  ``DECK_PENALTY``, 1e-3 of the automatic one). The five decks of the default report
+  (``--deck-penalty``, load 5.3-5.7): automatic 1111 tangents, 16.7 s (2 plies on 10, 20,
+  40 cells 9-8-8-43 and 68 cut, 8-8-6-40, 8-8-8-122; 4 plies 10-8-8-63; 8 plies
+  16-15-10-139 and 492 cut) -> 334, 4.1 s (9-8-8-13, 8-8-6-15, 8-8-8-72, 10-8-8-21,
+  16-15-10-22 and 52 cut); within 2.5e-5 mm (at most 0.12 delta), the tilts within 1.7e-3
+  deg, the thicknesses within 9e-6. The deepest point -7.2e-6 mm (4 plies), -5.2e-6 (8).
+  Other penalties, 4 plies (last increment; positions moved): 100 N/mm 31 and 26 cut
+  (1.3e-6 mm); 10, 32 (5.1e-6); 1, 15 (1.7e-5); 0.3, 12 (3e-5); 0.1, 11 (4.9e-5); 8 plies:
+  10, 21 and 54 cut; 1, 22 and 149 cut; 0.3, 103-15-11-26.
+* Not kept (the 4-ply deck, its last increment 63 iterations, none cut, 89 tangents):
+  a contact predictor, a second factorisation of the same iterate where the Newton step
+  carries points apart (not touching) past -c delta, with those points held by h k in the
+  iteration matrix (the residual unchanged): c = 1, h = 1: 53 and 596 cut (1286 tangents);
+  c = 1, up to three passes: 46 and 596 cut (1273); h = 0.01: 72 and 894 cut; h = 1e-3: 86
+  and 1065 cut; c = 4, h = 0.01: 102 and 447 cut; c = 0, h = 1: failed at load factor 0.947
+  (ratio 2e-5 after 150 iterations, 8 cuts). A held point keeps its gap where the residual
+  needs it moved (the iteration's rate h k / (K_s + h k) ~ 1 in that mode).
+* Not kept: the contact's acting set frozen within the increment (Newton's contact-set
+  protocol, solvers/newton.py: points apart at the increment's start act only after a
+  convergence, checked under the full law): 11-8-8-133 (the contact-free solve converges in
+  6, its 54 points 3.3e-3 mm deep; from the increment's start with them acting, the chatter
+  as before); going on from the converged state instead, with points deeper than 1-20 delta
+  joining at once, 212-227 (its 6.7 N of contact force on a 1e-4 N/mm mode: the next steps
+  carry points up to 2.8 mm through the plies).
+* Not kept: the plain penalty (smoothing 0) with the acting set frozen and held on both sides
+  while Newton iterates, updated at convergence (a primal-dual active set): 33-43-106-46 and
+  17 cut (27 set updates: the plies laid at g = 0 are tied at the start, and the points of
+  almost no force change side at each update), with points joining at a touch 535 cut,
+  one-sided 988 cut; the plain penalty alone fails in the first increment (8 cuts). A linear
+  onset of the ramp (W'' = k0 + (k - k0) min(1, -g / delta) on contact): k0 = 1e-3 k 135 and
+  191 cut, 1e-2 k 53, 0.1 k failed at 0.998. The ramp 10 times wider (2.5e-3 mm): 78.
+* Not kept: the automatic penalty lowered for every stack (``PENALTY_SHARE`` 0.01 and 0.001
+  instead of 0.1; coarse, load 4-5): sag 184 -> 148, 137 tangents, heavy 125 -> 111, 105
+  (their first increments 83 -> 60, 55 and 29 -> 21, 18), but the equilibria moved 2.7e-3,
+  1.2e-2 mm and 8.6e-3, 4.4e-2 mm: those stacks carry their weight through the contact, and
+  a softer penalty lets them sink into each other by more than the ramp (1.5e-3 mm).
 """
 
 from __future__ import annotations
@@ -528,6 +582,46 @@ def tangent_check(name: str, resolution: str, every: int = 15) -> None:
             )
 
 
+def deck_penalties() -> None:
+    """The five decks of the default report (validation/cases/plies_deck_of_cards.py,
+    ``bend``) with the automatic penalty (the reference pass) and with ``DECK_PENALTY``, one
+    deck after the other each way in this process: Newton iterations per increment, cut
+    iterations, tangents, CPU, and how far the second moved from the first (positions, mm;
+    the tilt and thickness errors the case checks)."""
+    from validation.cases import plies_deck_of_cards as deck
+
+    plain = deck.PlyStack
+    decks = [(2, cells) for cells in deck.MESHES["default"]] + [(4, 20), (8, 20)]
+    totals = {}
+    for penalty in (None, deck.DECK_PENALTY):
+        deck.PlyStack = functools.partial(plain, penalty=penalty)  # type: ignore[misc]
+        tangents = cpu = 0.0
+        for count, cells in decks:
+            start = time.process_time()
+            run = deck.bend(count, cells)
+            took = time.process_time() - start
+            info = run.result.info
+            tangents, cpu = tangents + info["evaluations"]["tangent"], cpu + took
+            RECORD[(penalty, count, cells)] = run
+            line = f"penalty {penalty}: {count} plies, {cells} cells: "
+            line += f"{info['iterations_per_increment']}"
+            line += f" and {info['iterations_cut']} cut, {info['evaluations']['tangent']} tangents"
+            line += f", {took:.2f} s"
+            if penalty is not None:
+                ref = RECORD[(None, count, cells)]
+                moved = np.abs(run.result.positions - ref.result.positions).max()
+                errors, before = run.errors(), ref.errors()
+                change = {key: abs(errors[key] - before[key]) for key in errors}
+                line += f"; within {moved:.2g} mm, errors within " + ", ".join(
+                    f"{key} {value:.2g}" for key, value in change.items()
+                )
+            print(line, flush=True)
+        totals[penalty] = (tangents, cpu)
+    deck.PlyStack = plain  # type: ignore[misc]
+    for penalty, (tangents, cpu) in totals.items():
+        print(f"penalty {penalty}: {tangents:.0f} tangents, {cpu:.1f} s CPU")
+
+
 def report(result) -> None:
     """Print the attempts, increment by increment."""
     for entry in RECORD["attempts"]:
@@ -595,8 +689,17 @@ def main() -> None:
     parser.add_argument(
         "--rounds", type=int, default=1, help="solve both sides this many times, alternately"
     )
+    parser.add_argument(
+        "--deck-penalty",
+        action="store_true",
+        help="the default report's five decks with the automatic penalty and DECK_PENALTY",
+    )
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
+    if args.deck_penalty:
+        deck_penalties()
+        print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
+        return
     if args.tangent_check:
         tangent_check(args.case, args.resolution)
         return
