@@ -9,12 +9,12 @@ the plies are its discrete ground truth, THEORY §7b, docs/theory.md §9.3a).
 
 Plies: elements.plies.PlyStack, N copies of the mid-surface mesh, each a
 MindlinShell(fabric.plies(N)) (h / N, 1/N of every law and of the mass), neighbouring plies in
-frictionless penalty contact (elements/ply_contact.py: centroid points, ramped penalty, the
-automatic penalty). Every ply clamped at x = 0 (translations and rotations), so the material
-line starts normal. Solver: Static (Newton) without seek_stable: the plies' tangent goes
-indefinite on the way (contact points near separation), and the downhill search of its
-negative modes (ARPACK) took 78 % of the time of a 4-ply deck and stalled the 2-ply one at
-the last increment.
+frictionless penalty contact (elements/ply_contact.py: centroid points, ramped penalty; the
+decks' penalty DECK_PENALTY, the heavy stacks' the automatic one). Every ply clamped at x = 0
+(translations and rotations), so the material line starts normal. Solver: Static (Newton)
+without seek_stable: the plies' tangent goes indefinite on the way (contact points near
+separation), and the downhill search of its negative modes (ARPACK) took 78 % of the time of
+a 4-ply deck and stalled the 2-ply one at the last increment.
 
 Deck: strip 100 x 5 mm, h = 1 mm, cells x 1 cells; fabric tension 1e4 N/mm, bending 1 N mm
 (linear), shear 1 N/mm (that of fibrous-deck-of-cards). Loading: each ply k its own end
@@ -75,14 +75,27 @@ DECK = Fabric(
 # equilibria within 4.9e-10 mm and 3.1e-11 in the directors.
 DECK_INCREMENTS = 4
 DECK_CURVED = True
-# The last increment lands where the plies need no contact force: contact points sit at g = 0,
-# where the smoothed penalty's force k g^2 / (2 delta) and its stiffness both vanish (a double
-# root: each Newton step halves g and quarters the residual, the tangent exact;
-# benchmarks/static_plies_newton.py --case deck --tangent-check), and points just off
-# contact, carried past it in one step, restart the linear run (86 iterations at N = 4, 102
-# at N = 8 on 20 cells in 8 straight increments, 52 and 104 in 4 curved ones; the default 50
-# stalled at load factor 0.998).
+# The last increment lands where the plies need almost no contact force (the exact deck none;
+# the discrete 4-ply deck 3.5e-7 N in all, at 9 points, which holds apart plies that alone would
+# pass 3.3e-3 mm through each other): its contact points sit near g = 0, where the smoothed
+# penalty's force k g^2 / (2 delta) and its stiffness both vanish, and the plies' gap mode is
+# their bending alone (about 1e-4 N/mm, against a penalty of 3000 N/mm a point). Newton halves
+# the gaps towards g* ~ -sqrt(2 delta F / k) (-5e-7 mm), and points just off contact, carried
+# past it in one step, restart the run (benchmarks/static_plies_newton.py, "The deck's last
+# increment"). The automatic penalty (0.1 m omega_max^2, set for the explicit step by the
+# plies' membrane) is what makes that mode 3e7 times softer than the contact.
 DECK_ITERATIONS = 150
+# The decks' penalty, N/mm a node: 1e-3 of the automatic one (3000 at an inner node). They
+# carry almost no contact force, so the penetrations stay well inside the ramp (the deepest
+# -7.2e-6 mm at N = 4, -5.2e-6 at N = 8, where delta = 2.5e-4 and 1.25e-4 mm), and Newton's
+# last increment shortens with k (g* further from the double root, fewer halvings to it).
+# Measured (the five decks of the default report, one thread, CPU, load 5.3-5.7;
+# benchmarks/static_plies_newton.py): automatic 1111 tangents, 16.7 s (the 8-ply deck
+# 16-15-10-139 and 492 cut); 3 N/mm 334, 4.1 s (16-15-10-22 and 52 cut); 10 N/mm 412, 4.6 s;
+# the positions within 2.5e-5 mm of the automatic penalty's (at most 0.12 delta), the tilts
+# within 1.7e-3 deg, the thickness ratios within 9e-6. Softer, 1 N/mm, the 8-ply deck's cuts
+# return (149 cut iterations).
+DECK_PENALTY = 3.0
 # (counts at the middle mesh, the meshes of the study at N = 2); coarse: the smaller set.
 COUNTS = {"coarse": (2, 4), "default": (2, 4, 8), "fine": (2, 4, 8)}
 MESHES = {"coarse": (10, 20), "default": (10, 20, 40), "fine": (10, 20, 40)}
@@ -190,7 +203,7 @@ class DeckRun:
 def bend(count: int, cells: int) -> DeckRun:
     """Bend the deck of ``count`` plies on ``cells`` x 1 cells (module docstring)."""
     mid = Mesh.rectangle(LENGTH, WIDTH, nx=cells, ny=1)
-    stack = PlyStack(mid, DECK, count)
+    stack = PlyStack(mid, DECK, count, penalty=DECK_PENALTY)
     model = stack.model()
     model.fix(stack.nodes("left"))
     radius = LENGTH / BEND
