@@ -246,6 +246,12 @@ class PlyContactBlock(InteractionBlock):
             self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2
             self.stiffness = self._point_stiffness()
 
+    def set_penalty(self, node_stiffness: np.ndarray) -> None:
+        """The upper nodes' penalties k_j (u,) N/mm from now on, the points' with them (a
+        Static increment's soft start, solvers/penalty_start.py)."""
+        self.node_stiffness = np.asarray(node_stiffness, dtype=float)
+        self.stiffness = self._point_stiffness()
+
     # ------------------------------------------------------------------ search
     def offset_directions(self, state: State) -> np.ndarray:
         """(n, 3) the unit directions along which the faces lie at ``state``: the directors,

@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING
 
 from solvers.arc_length import JUMP_ITERATIONS, descend
 from solvers.augmentation import augment
-from solvers.newton import IncrementFailed, StepTooLong, newton
+from solvers.newton import IncrementFailed, StepTooLong
+from solvers.penalty_start import newton_with_soft_start
 
 if TYPE_CHECKING:
     from solvers.static import Static, StaticRun
@@ -65,7 +66,9 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
                         run, start, trial, iterations_allowed
                     )
                 else:
-                    converged, count, ratio, history = newton(run, start, trial, turn_limit=limit)
+                    converged, count, ratio, history = newton_with_soft_start(
+                        run, start, trial, solver.ply_penalty_start, limit
+                    )
                 converged, count, ratio, history, more = augment(
                     run, converged, trial, count, ratio, history
                 )

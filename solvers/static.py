@@ -109,6 +109,10 @@ class Static:
         (the 4- and 8-ply heavy stacks of plies-deck-of-cards at 0.03: 345 -> 205 and 409 ->
         195 tangents, plies-heavy-cantilever's 233 -> 177; docs/theory.md §6.5, "Updates of a
         turning stack").
+    ply_penalty_start : load path: each increment first converged with the frictionless ply
+        contacts' penalties times this share in (0, 1), then with the full ones from there
+        (None, the default: not; solvers/penalty_start.py, docs/theory.md §6.5, "The deck's
+        last increment"); ``info["soft_start_iterations"]`` counts the first phases.
     augmentations : load path, with an augmented contact (``Contact(augmented=True)``,
         elements/augmented_contact.py): the most Uzawa passes per increment (default 20).
         After an increment converges, each augmented contact's multipliers take its springs'
@@ -276,6 +280,7 @@ class Static:
         progress: bool | None = None,
         output: str | os.PathLike[str] | None = None,
         curved_with_contact: bool = False,
+        ply_penalty_start: float | None = None,
     ):
         self.increments = check_integer(increments, "increments")
         self.tol = check_tolerance(tol)
@@ -286,6 +291,10 @@ class Static:
         self.stall_iterations = None if stall is None else check_integer(stall, "stall_iterations")
         self.first_turn = check_positive_or_none(first_turn, "first_turn", "rad")
         self.update_turn = check_positive_or_none(update_turn, "update_turn", "rad")
+        start = ply_penalty_start
+        self.ply_penalty_start = (
+            None if start is None else check_tolerance(start, "ply_penalty_start")
+        )
         self.augmentations = check_integer(augmentations, "augmentations", minimum=0)
         if tangent not in ("element", "finite_difference"):
             raise ValueError(f"tangent must be 'element' or 'finite_difference', got {tangent!r}")
@@ -471,6 +480,7 @@ class StaticRun:
             "cuts": 0,
             "iterations_cut": 0,
             "first_turn_cuts": [],
+            "soft_start_iterations": 0,
             "tangent_colours": self._tangent.graph.n_colours if self._tangent.graph else 0,
             "residual_ratio_per_increment": [],
             "negative_eigenvalues": [],

@@ -8,15 +8,13 @@ from femcore import Mesh
 from validation.cases import plies_deck_of_cards as deck
 
 
-def bent_deck(
-    count: int, cells: int, friction: float = 0.0, penalty: float | None = deck.DECK_PENALTY
-):
+def bent_deck(count: int, cells: int, friction: float = 0.0):
     """plies-deck-of-cards' deck of ``count`` plies on ``cells`` x 1 cells: each ply clamped
     at x = 0 and bent by the end moment that puts it alone on its arc concentric with the
-    mid-surface's (validation/cases/plies_deck_of_cards.py, ``bend``; its penalty
-    ``DECK_PENALTY``; None: the automatic one), Coulomb ``friction`` between the plies."""
+    mid-surface's (validation/cases/plies_deck_of_cards.py, ``bend``), Coulomb ``friction``
+    between the plies."""
     mid = Mesh.rectangle(deck.LENGTH, deck.WIDTH, nx=cells, ny=1)
-    stack = PlyStack(mid, deck.DECK, count, penalty=penalty, friction=friction)
+    stack = PlyStack(mid, deck.DECK, count, friction=friction)
     model = stack.model()
     model.fix(stack.nodes("left"))
     radius = deck.LENGTH / deck.BEND

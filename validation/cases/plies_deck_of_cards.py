@@ -9,12 +9,12 @@ the plies are its discrete ground truth, THEORY §7b, docs/theory.md §9.3a).
 
 Plies: elements.plies.PlyStack, N copies of the mid-surface mesh, each a
 MindlinShell(fabric.plies(N)) (h / N, 1/N of every law and of the mass), neighbouring plies in
-frictionless penalty contact (elements/ply_contact.py: centroid points, ramped penalty; the
-decks' penalty DECK_PENALTY, the heavy stacks' the automatic one). Every ply clamped at x = 0
-(translations and rotations), so the material line starts normal. Solver: Static (Newton)
-without seek_stable: the plies' tangent goes indefinite on the way (contact points near
-separation), and the downhill search of its negative modes (ARPACK) took 78 % of the time of
-a 4-ply deck and stalled the 2-ply one at the last increment.
+frictionless penalty contact (elements/ply_contact.py: centroid points, ramped penalty, the
+automatic penalty). Every ply clamped at x = 0 (translations and rotations), so the material
+line starts normal. Solver: Static (Newton) without seek_stable: the plies' tangent goes
+indefinite on the way (contact points near separation), and the downhill search of its
+negative modes (ARPACK) took 78 % of the time of a 4-ply deck and stalled the 2-ply one at
+the last increment; the decks' increments each started with a soft penalty (DECK_PENALTY_START).
 
 Deck: strip 100 x 5 mm, h = 1 mm, cells x 1 cells; fabric tension 1e4 N/mm, bending 1 N mm
 (linear), shear 1 N/mm (that of fibrous-deck-of-cards). Loading: each ply k its own end
@@ -85,17 +85,17 @@ DECK_CURVED = True
 # increment"). The automatic penalty (0.1 m omega_max^2, set for the explicit step by the
 # plies' membrane) is what makes that mode 3e7 times softer than the contact.
 DECK_ITERATIONS = 150
-# The decks' penalty, N/mm a node: 1e-3 of the automatic one (3000 at an inner node). They
-# carry almost no contact force, so the penetrations stay well inside the ramp (the deepest
-# -7.2e-6 mm at N = 4, -5.2e-6 at N = 8, where delta = 2.5e-4 and 1.25e-4 mm), and Newton's
-# last increment shortens with k (g* further from the double root, fewer halvings to it).
-# Measured (the five decks of the default report, one thread, CPU, load 5.3-5.7;
-# benchmarks/static_plies_newton.py): automatic 1111 tangents, 16.7 s (the 8-ply deck
-# 16-15-10-139 and 492 cut); 3 N/mm 334, 4.1 s (16-15-10-22 and 52 cut); 10 N/mm 412, 4.6 s;
-# the positions within 2.5e-5 mm of the automatic penalty's (at most 0.12 delta), the tilts
-# within 1.7e-3 deg, the thickness ratios within 9e-6. Softer, 1 N/mm, the 8-ply deck's cuts
-# return (149 cut iterations).
-DECK_PENALTY = 3.0
+# Each deck increment first converged with the ply contact's penalty times 1e-3, then with the
+# full penalty from there (Static(ply_penalty_start=...), solvers/penalty_start.py): the soft
+# equilibrium's gaps lie further from the ramp's double root, and the full penalty's
+# equilibrium is then a few iterations away; the law, and so the result, is the full one.
+# Measured (the five decks of the default report, one thread, CPU, load 5.3-6.5;
+# benchmarks/static_plies_newton.py --deck-start): without 1111 tangents, 17-19 s (the 8-ply
+# deck 16-15-10-139 and 492 cut); with 1e-3 390, 4.3 s (18-16-12-39 and 48 cut), the same
+# equilibria within 3.3e-10 mm; 3e-4 384, 4.9 s (the 8-ply deck's first increment 89). A
+# penalty of 1e-3 of the automatic one for the whole solve took 334 tangents, 4.1 s, but
+# moved the positions by 2.5e-5 mm and the 2-ply tilt by 1.3 %.
+DECK_PENALTY_START = 1e-3
 # (counts at the middle mesh, the meshes of the study at N = 2); coarse: the smaller set.
 COUNTS = {"coarse": (2, 4), "default": (2, 4, 8), "fine": (2, 4, 8)}
 MESHES = {"coarse": (10, 20), "default": (10, 20, 40), "fine": (10, 20, 40)}
@@ -203,7 +203,7 @@ class DeckRun:
 def bend(count: int, cells: int) -> DeckRun:
     """Bend the deck of ``count`` plies on ``cells`` x 1 cells (module docstring)."""
     mid = Mesh.rectangle(LENGTH, WIDTH, nx=cells, ny=1)
-    stack = PlyStack(mid, DECK, count, penalty=DECK_PENALTY)
+    stack = PlyStack(mid, DECK, count)
     model = stack.model()
     model.fix(stack.nodes("left"))
     radius = LENGTH / BEND
@@ -216,6 +216,7 @@ def bend(count: int, cells: int) -> DeckRun:
         seek_stable=False,
         max_iterations=DECK_ITERATIONS,
         curved_with_contact=DECK_CURVED,
+        ply_penalty_start=DECK_PENALTY_START,
         progress=False,
     ).solve(model)
     lines = stack.material_lines(result.positions, result.directors)

@@ -1,0 +1,75 @@
+"""An increment started with soft ply contacts (``Static(ply_penalty_start=share)``;
+docs/theory.md §6.5, "The deck's last increment").
+
+Newton first converges the increment with the penalties of the frictionless ply contacts
+(elements/ply_block.py) times ``share``, then goes on from that equilibrium with the full
+penalties, to the equilibrium of the full law: the result is that of the plain increment
+within Newton's tolerance, and only the path to it changes. Where the plies need almost no
+contact force (plies-deck-of-cards' decks), the full penalty makes the plies' gap mode, their
+bending alone, some 1e7 times softer than the contact, and Newton halves the gaps towards
+the smoothed ramp's double root for tens of iterations; with a soft penalty the equilibrium
+gap lies further from that root, and the full penalty's equilibrium is then a few
+iterations away. Frictional ply contacts keep their penalty (their stick anchors and return
+mapping hold the penalty's history), and so does every other interaction.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import TYPE_CHECKING
+
+from elements.ply_block import PlyContactBlock
+from solvers.newton import IncrementFailed, newton
+
+if TYPE_CHECKING:
+    from femcore.compiled import CompiledModel
+    from femcore.state import State
+    from solvers.static import StaticRun
+
+__all__ = ["newton_with_soft_start", "softened"]
+
+
+@contextmanager
+def softened(model: CompiledModel, share: float) -> Iterator[bool]:
+    """The frictionless ply contacts of ``model`` with their penalties times ``share`` inside
+    the block, restored after it; yields whether there is one."""
+    blocks = [
+        part
+        for part in model.interactions
+        if isinstance(part, PlyContactBlock) and part.friction == 0.0
+    ]
+    kept = [block.node_stiffness for block in blocks]
+    try:
+        for block, stiffness in zip(blocks, kept):
+            block.set_penalty(share * stiffness)
+        yield bool(blocks)
+    finally:
+        for block, stiffness in zip(blocks, kept):
+            block.set_penalty(stiffness)
+
+
+def newton_with_soft_start(
+    run: StaticRun,
+    state: State,
+    load_factor: float,
+    share: float | None,
+    turn_limit: float | None = None,
+):
+    """solvers.newton.newton at ``load_factor`` from ``state``, first with the frictionless
+    ply contacts' penalties times ``share`` (None: not), then with the full ones from the
+    state it converged to (module docstring): (converged state, the iterations of both,
+    final ratio, the ratios of both). IncrementFailed counts both attempts' iterations."""
+    if share is None:
+        return newton(run, state, load_factor, turn_limit=turn_limit)
+    with softened(run.model, share) as soft:
+        if not soft:
+            return newton(run, state, load_factor, turn_limit=turn_limit)
+        start, count, _, history = newton(run, state, load_factor, turn_limit=turn_limit)
+    run.info["soft_start_iterations"] += count
+    try:
+        converged, more, ratio, rest = newton(run, start, load_factor)
+    except IncrementFailed as failure:
+        failure.iterations += count
+        raise
+    return converged, count + more, ratio, history + rest
