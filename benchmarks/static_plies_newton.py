@@ -301,7 +301,10 @@ kept, their counts the measure):
   3e-4: 384 tangents, 4.9 s (the 8-ply deck's first increment 89). On the other stacks
   (coarse, without -> 1e-3, 1e-2): sag 184 -> 193, 189 tangents, heavy 125 -> 193, 141:
   their contacts carry the weight, and the second phase lifts every ply out of the soft
-  penalty's deeper penetration (7-27 iterations an increment). The report's case (``python
+  penalty's deeper penetration (7-27 iterations an increment); bai coarse (the case's
+  solver, load 3.7-4.5) 271 tangents -> failed at load factor 1.072 (1e-3: the stall rule
+  cut the first displacement increment 10 times), 441 (1e-1); heavy default 142 -> 180
+  (1e-3), 164 (1e-1). Not set there. The report's case (``python
   -m validation --cases plies-deck-of-cards --jobs 1``, the code before from a ``git
   archive``, back to back, warm caches, load 4.9-5.6): 20.5 -> 10.5 s CPU, steps 1014 ->
   796, 12/12 checks both, results.json's numbers within 1.3e-7 relative (the observed
