@@ -54,7 +54,8 @@ __all__ = ["GAP_DEG", "LIFT", "POLAR_DEG", "SPACING", "STROKES", "measure", "tab
 POLAR_DEG = (45.0, 60.0, 75.0)
 #: mm: the material grid's spacing, finer than the finest cell (10 mm at 20 cells)
 SPACING = 2.0
-#: the shares of the punch's travel at which its force is read (averaged over +-2 % of it)
+#: the shares of the punch's travel at which its force is read (averaged over +-2 % of it;
+#: at the end over its last 2 %) and its work up to them
 STROKES = (0.25, 0.5, 0.75, 0.9, 1.0)
 #: mm: a node is lifted when it stands this far above its ply's flat level past the die's
 #: opening (one ply thickness); the lying ones stay within 0.3 mm of it
@@ -157,6 +158,13 @@ def measure(record: dict[str, Any]) -> dict[str, Any]:
         window = np.abs(travel - share * TRAVEL) <= 0.02 * TRAVEL
         values[f"punch force at {share:g} of the travel, N"] = float(np.mean(force[window]))
     values["punch force at the end, N"] = float(record["tool_forces"][-1, 1, 2])
+    # the punch's work (its force integrated over its travel, trapezoids over the history
+    # records): the force's ringing averaged out
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * np.diff(travel))])
+    for share in STROKES:
+        values[f"punch work to {share:g} of the travel, N mm"] = float(
+            np.interp(share * TRAVEL, travel, work)
+        )
     return {
         "values": values,
         "fields": fields,
@@ -192,7 +200,8 @@ def table(runs: list[dict[str, Any]]) -> list[str]:
     for label in runs[0]["values"]:
         values = [r["values"][label] for r in runs]
         lines.append(f"{label}: {', '.join(f'{v:.4g}' for v in values)}")
-        if len(runs) < 3 or "share" in label or "lifted" in label or "places" in label:
+        counted = "share" in label or "lifted" in label or "places" in label
+        if len(runs) < 3 or counted or not np.all(np.isfinite(values)):
             continue
         orders = consecutive_orders(sizes, values)
         index = grid_convergence_index(sizes[-3:], values[-3:])
