@@ -24,8 +24,21 @@ __all__ = ["load", "record"]
 
 def record(kinematics: str, name: str, force: float, cells: int, folder: str | Path) -> Path:
     """Run the study's run of ``cells`` and write its record to ``folder``; returns its path
-    (``<kinematics>_<stack>_<force>N_<cells>.npz``)."""
-    from validation.studies.hemisphere_plies_run import run
+    (``<kinematics>_<stack>_<force>N_<cells>.npz``).
+
+    Raises
+    ------
+    ValueError
+        Fibrous runs of cells that have no rms tolerance (``RMS_TOLERANCE_DEG``): their check
+        would fail only after the solve.
+    """
+    from validation.studies.hemisphere_plies_run import RMS_TOLERANCE_DEG, run
+
+    if kinematics == "fibrous" and cells not in RMS_TOLERANCE_DEG:
+        raise ValueError(
+            f"fibrous runs are checked at {sorted(RMS_TOLERANCE_DEG)} cells "
+            f"(RMS_TOLERANCE_DEG), got {cells}"
+        )
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
