@@ -58,6 +58,20 @@ def test_a_fields_order_from_its_changes(p):
         change_orders(SIZES, changes[:-1])
 
 
+@pytest.mark.parametrize("p", [1.3, 2.0])
+def test_a_fields_order_from_its_distances_to_the_finest(p):
+    # the same field: its rms distance from each mesh's to the finest's is rms(C) (h^p -
+    # h_m^p), a power law whose limit -rms(C) h_m^p is the finest field's distance to g
+    points = np.linspace(0.0, 1.0, 50)
+    g, c = np.sin(3.0 * points), 0.01 * (1.0 + points**2)
+    fields = [g + c * h**p for h in SIZES]
+    distances = [np.sqrt(np.mean((f - fields[-1]) ** 2)) for f in fields]
+    fit = power_fit(SIZES, distances)
+    assert fit["order"] == pytest.approx(p, abs=1e-5)
+    finest = np.sqrt(np.mean((fields[-1] - g) ** 2))
+    assert -fit["extrapolated"] == pytest.approx(finest, rel=1e-4)
+
+
 def test_an_oscillating_sequence_has_no_order_nor_index():
     index = grid_convergence_index([25.0, 20.0, 16.0], [24.9, 29.7, 23.3])
     assert math.isnan(index["order"]) and math.isnan(index["gci"])

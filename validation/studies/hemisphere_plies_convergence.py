@@ -173,20 +173,30 @@ def measure(record: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def field_changes(runs: list[dict[str, Any]]) -> dict[str, list[float]]:
-    """{label: (m - 1) values}: each ply's rms over the material points within each
-    ``POLAR_DEG`` of the change of its shear field (deg) from each run to the next finer."""
+def field_changes(runs: list[dict[str, Any]]) -> dict[str, dict[str, list[float]]]:
+    """{label: {"changes": (m - 1), "to finest": (m)}}: each ply's rms over the material
+    points within each ``POLAR_DEG`` of the change of its shear field (deg) from each run to
+    the next finer, and from each run to the finest (0 for the finest: for f = f0 + C(X) h^p
+    it is rms(C) (h^p - h_m^p), a power law in h whose p ``power_fit`` finds from all the
+    runs at once)."""
     grid = material_grid(HALF, SPACING)
-    out: dict[str, list[float]] = {}
+    out: dict[str, dict[str, list[float]]] = {}
+
+    def rms(a: np.ndarray, b: np.ndarray, inside: np.ndarray) -> float:
+        return float(np.degrees(np.sqrt(np.mean((a - b)[inside] ** 2))))
+
     for k, angle in enumerate(runs[0]["angles"]):
         polar = net_on_sphere(_sphere(k), NET_CELL, angle, grid)["polar"]
         for limit in POLAR_DEG:
             inside = polar <= math.radians(limit)
-            label = f"ply {k + 1} rms change of the shear field within {limit:g} deg, deg"
-            out[label] = [
-                float(np.degrees(np.sqrt(np.mean((a["fields"][k] - b["fields"][k])[inside] ** 2))))
-                for a, b in zip(runs[:-1], runs[1:])
-            ]
+            label = f"ply {k + 1} shear field within {limit:g} deg, deg"
+            finest = runs[-1]["fields"][k]
+            out[label] = {
+                "changes": [
+                    rms(a["fields"][k], b["fields"][k], inside) for a, b in zip(runs[:-1], runs[1:])
+                ],
+                "to finest": [rms(r["fields"][k], finest, inside) for r in runs],
+            }
     return out
 
 
@@ -212,11 +222,20 @@ def table(runs: list[dict[str, Any]]) -> list[str]:
             f"f0 {fit['extrapolated']:.4g}, residual {fit['residual']:.3g} of "
             f"{fit['change']:.3g}" + (" (p at its bound)" if fit["bound"] else "")
         )
-    for label, changes in field_changes(runs).items():
-        lines.append(f"{label}: {', '.join(f'{v:.4g}' for v in changes)}")
+    for label, field in field_changes(runs).items():
+        changes, distance = field["changes"], field["to finest"]
+        lines.append(f"{label}: rms changes {', '.join(f'{v:.4g}' for v in changes)}")
+        lines.append(f"    rms to the finest {', '.join(f'{v:.4g}' for v in distance)}")
         if len(changes) >= 2:
             orders = change_orders(sizes, changes)
             lines.append(f"    order of the changes {', '.join(f'{p:.2f}' for p in orders)}")
+        if len(runs) >= 4:
+            fit = power_fit(sizes, distance)
+            lines.append(
+                f"    power law to the finest: p {fit['order']:.2f}, the finest's distance to "
+                f"the limit {-fit['extrapolated']:.3g}, residual {fit['residual']:.3g} of "
+                f"{fit['change']:.3g}" + (" (p at its bound)" if fit["bound"] else "")
+            )
     return lines
 
 
