@@ -56,6 +56,7 @@ def _record(cells: int = 8, lift: float = 0.0) -> dict:
             "tool2_force_z": STIFFNESS * travel,
         },
         "parameters": json.loads(json.dumps(parameters)),
+        "checks": [["the run reaches the end of the stroke (s)", True]],
         "cells": cells,
     }
 
@@ -63,6 +64,7 @@ def _record(cells: int = 8, lift: float = 0.0) -> dict:
 def test_a_shrunk_blank_and_a_linear_punch():
     out = measure(_record())
     values = out["values"]
+    assert out["stopped"] == [] and out["failed"] == []
     shrink = 1.0 - SHRINK
     for ply in ("ply 1 (0 deg)", "ply 2 (90 deg)"):
         assert values[f"{ply} edges' mean draw-in, mm"] == pytest.approx(shrink * HALF)

@@ -9,7 +9,8 @@ validation/studies/hemisphere_plies_fields.py's; what they gave, docs/hemisphere
 "Converged results".
 
 Run it with ``python -m validation.studies.hemisphere_plies_convergence folder`` after
-``hemisphere_plies_record`` has written the runs' records into ``folder``.
+``hemisphere_plies_record`` has written the runs' records into ``folder``; a run that stopped
+before the end of the stroke is named and left out.
 """
 
 from __future__ import annotations
@@ -170,6 +171,8 @@ def measure(record: dict[str, Any]) -> dict[str, Any]:
         "fields": fields,
         "cells": record["cells"],
         "angles": [float(a) for a in record["angles"]],
+        "stopped": [str(v) for n, v in record["parameters"].items() if n.endswith("stopped")],
+        "failed": [name for name, passed in record["checks"] if not passed],
     }
 
 
@@ -246,5 +249,10 @@ if __name__ == "__main__":
 
     folder = Path(sys.argv[1])
     paths = sorted(folder.glob("*.npz"), key=lambda p: int(p.stem.rsplit("_", 1)[1]))
-    runs = [measure(load(p)) for p in paths]
-    print("\n".join(table(runs)))
+    measured = [measure(load(p)) for p in paths]
+    for out in measured:
+        for name in out["failed"]:
+            print(f"{out['cells']} cells: FAIL {name}")
+        for text in out["stopped"]:
+            print(f"{out['cells']} cells stopped, left out of the orders: {text}")
+    print("\n".join(table([out for out in measured if not out["stopped"]])))
