@@ -88,7 +88,7 @@ def grid_convergence_index(
     h, f = _series(sizes, values, 3)
     if h.size != 3:
         raise ValueError(f"give three sizes and values, got {h.size}")
-    p, f0 = observed_order(h, f)
+    p, f0 = observed_order(h.tolist(), f.tolist())
     ratio = float(h[1] / h[2])
     index = safety * abs(f[1] - f[2]) / (ratio**p - 1.0) if math.isfinite(p) else math.nan
     relative = index / abs(f[2]) if f[2] != 0.0 else math.nan
@@ -100,7 +100,9 @@ def consecutive_orders(sizes: Sequence[float], values: Sequence[float]) -> np.nd
     where they agree the meshes are in the asymptotic range. ``sizes`` decreasing, as
     ``observed_order``."""
     h, f = _series(sizes, values, 3)
-    return np.array([observed_order(h[i : i + 3], f[i : i + 3])[0] for i in range(h.size - 2)])
+    return np.array(
+        [observed_order(h[i : i + 3].tolist(), f[i : i + 3].tolist())[0] for i in range(h.size - 2)]
+    )
 
 
 def change_orders(sizes: Sequence[float], changes: Sequence[float]) -> list[float]:
@@ -113,7 +115,8 @@ def change_orders(sizes: Sequence[float], changes: Sequence[float]) -> list[floa
     if h.ndim != 1 or d.shape != (h.size - 1,) or h.size < 3:
         raise ValueError(f"give m >= 3 sizes and m - 1 changes, got {h.shape} and {d.shape}")
     return [
-        observed_order(h[i : i + 3], [d[i] + d[i + 1], d[i + 1], 0.0])[0] for i in range(d.size - 1)
+        observed_order(h[i : i + 3].tolist(), [d[i] + d[i + 1], d[i + 1], 0.0])[0]
+        for i in range(d.size - 1)
     ]
 
 

@@ -230,8 +230,10 @@ def table(runs: list[dict[str, Any]]) -> list[str]:
         lines.append(f"{label}: rms changes {', '.join(f'{v:.4g}' for v in changes)}")
         lines.append(f"    rms to the finest {', '.join(f'{v:.4g}' for v in distance)}")
         if len(changes) >= 2:
-            orders = change_orders(sizes, changes)
-            lines.append(f"    order of the changes {', '.join(f'{p:.2f}' for p in orders)}")
+            lines.append(
+                "    order of the changes "
+                + ", ".join(f"{p:.2f}" for p in change_orders(sizes, changes))
+            )
         if len(runs) >= 4:
             fit = power_fit(sizes, distance)
             lines.append(

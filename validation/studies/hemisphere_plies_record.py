@@ -51,6 +51,7 @@ def record(kinematics: str, name: str, force: float, cells: int, folder: str | P
         )
         cpu = time.process_time() - start
         records = np.genfromtxt(history, delimiter=",", names=True)
+    names = list(records.dtype.names or ())
     n = layup.mesh.n_nodes
     frames = result.frames
     path = folder / f"{stem}.npz"
@@ -67,8 +68,8 @@ def record(kinematics: str, name: str, force: float, cells: int, folder: str | P
         positions=np.stack([f.positions[:n] for f in frames]),
         tool_forces=np.stack([f.tool_forces for f in frames]),
         tool_displacements=np.stack([f.tool_displacements for f in frames]),
-        history_names=np.array(records.dtype.names),
-        history=np.stack([records[k] for k in records.dtype.names], axis=1),
+        history_names=np.array(names),
+        history=np.stack([records[k] for k in names], axis=1),
         parameters=json.dumps(parameters, default=str),
         checks=json.dumps([(c.name, bool(c.passed)) for c in checks]),
         cells=cells,
