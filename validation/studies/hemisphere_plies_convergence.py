@@ -157,7 +157,9 @@ def measure(record: dict[str, Any]) -> dict[str, Any]:
     force = history["tool2_force_z"]
     for share in STROKES:
         window = np.abs(travel - share * TRAVEL) <= 0.02 * TRAVEL
-        values[f"punch force at {share:g} of the travel, N"] = float(np.mean(force[window]))
+        values[f"punch force at {share:g} of the travel, N"] = (
+            float(np.mean(force[window])) if window.any() else math.nan  # not reached
+        )
     values["punch force at the end, N"] = float(record["tool_forces"][-1, 1, 2])
     # the punch's work (its force integrated over its travel, trapezoids over the history
     # records): the force's ringing averaged out
