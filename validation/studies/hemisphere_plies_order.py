@@ -30,9 +30,9 @@ one of two states (24-25 or 27-30 mm) whichever the resolution, no order (docs/h
 The per-cell rms changes its set of cells with the mesh, and the edge middle is one node of a
 fibre that lifts or not into the flange's free annulus: validation/studies/
 hemisphere_plies_convergence.py measures the shear field at fixed material points on the
-punch, the fibres along the symmetry planes' state and the punch's work on 8 to 32 cells, with
-the orders of every three consecutive resolutions (docs/hemisphere_plies.md, "Converged
-results").
+punch, the fibres along the symmetry planes' state and the punch's work on 8 to 20 cells (22
+and 24 stop before the end of the stroke), with the orders of every three consecutive
+resolutions (docs/hemisphere_plies.md, "Converged results").
 """
 
 from __future__ import annotations

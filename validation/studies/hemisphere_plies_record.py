@@ -6,7 +6,8 @@ parameters, in one ``.npz``. The measures are taken from records, so a new measu
 new run.
 
 Run it with ``python -m validation.studies.hemisphere_plies_record fibrous 0/90 20 12
-folder`` (kinematics, stack, holder force N, cells across the blank, where the record goes).
+folder`` (kinematics, stack, holder force N, cells across the blank, where the record goes;
+a sixth argument, the die's entry radius in mm, for a run on another die).
 """
 
 from __future__ import annotations
@@ -22,9 +23,17 @@ import numpy as np
 __all__ = ["load", "record"]
 
 
-def record(kinematics: str, name: str, force: float, cells: int, folder: str | Path) -> Path:
+def record(
+    kinematics: str,
+    name: str,
+    force: float,
+    cells: int,
+    folder: str | Path,
+    rim: float | None = None,
+) -> Path:
     """Run the study's run of ``cells`` and write its record to ``folder``; returns its path
-    (``<kinematics>_<stack>_<force>N_<cells>.npz``).
+    (``<kinematics>_<stack>_<force>N[_rim<rim>]_<cells>.npz``); ``rim`` the die's entry
+    radius, mm (None: the study's, DIE_RIM).
 
     Raises
     ------
@@ -42,12 +51,13 @@ def record(kinematics: str, name: str, force: float, cells: int, folder: str | P
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    stem = f"{kinematics}_{name.replace('/', '-')}_{force:g}N_{cells}"
+    tag = "" if rim is None else f"_rim{rim:g}"
+    stem = f"{kinematics}_{name.replace('/', '-')}_{force:g}N{tag}_{cells}"
     with tempfile.TemporaryDirectory() as scratch:
         history = Path(scratch) / "history.csv"
         start = time.process_time()
         parameters, checks, layup, result, *_ = run(
-            cells, name, kinematics, force, history=str(history)
+            cells, name, kinematics, force, history=str(history), rim=rim
         )
         cpu = time.process_time() - start
         records = np.genfromtxt(history, delimiter=",", names=True)
@@ -99,5 +109,6 @@ if __name__ == "__main__":
     import sys
 
     kinematics, name, force, cells, folder = sys.argv[1:6]
-    written = record(kinematics, name, float(force), int(cells), folder)
+    rim = float(sys.argv[6]) if len(sys.argv) > 6 else None
+    written = record(kinematics, name, float(force), int(cells), folder, rim)
     print(f"{written}: cpu {np.load(written)['cpu_s']:.1f} s", flush=True)

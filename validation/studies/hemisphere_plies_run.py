@@ -185,6 +185,7 @@ def run(
     history: str | None = None,
     mass: float = HOLDER_MASS,
     instrument: Any = None,
+    rim: float | None = None,
 ) -> tuple[dict[str, Any], list, Layup, Any, list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
     """One run of the study: the ``name`` layup of ``kinematics`` plies under the holder's
     ``force`` (N), ``cells`` fibre segments across the blank: (its parameters, its checks,
@@ -192,7 +193,8 @@ def run(
     which cells lie in the die); ``spheres`` the nets (``nets``; made when None),
     ``history`` a .csv path for the run's energy and tool records (``CentralDifference``),
     ``mass`` the holder's, t, ``instrument`` a function called with the compiled model before
-    the run (a measurement's hook: validation/studies/hemisphere_plies_jumps.py)."""
+    the run (a measurement's hook: validation/studies/hemisphere_plies_jumps.py), ``rim`` the
+    die's entry radius, mm (None: DIE_RIM)."""
     spheres = nets() if spheres is None else spheres
     parameters: dict[str, Any] = {}
     checks: list = []
@@ -200,7 +202,7 @@ def run(
     net_shear: dict[str, list[np.ndarray]] = {}
     in_die: dict[str, list[np.ndarray]] = {}
     key = run_key(name, kinematics, force)
-    layup, built = model(cells, LAYUPS[name], kinematics, force, mass=mass)
+    layup, built = model(cells, LAYUPS[name], kinematics, force, mass=mass, rim=rim)
     solved: Any = built.compile()
     if instrument is not None:
         instrument(solved)
