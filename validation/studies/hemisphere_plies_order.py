@@ -26,6 +26,13 @@ the corner's 4.81, 6.06, 5.99 and 4.88, 6.11, 6.04 (no order); the punch's force
 1-9, every check passing): rms 2.347 and 2.115 deg (ply 1), the order of 12-14-16 about 4
 (above any order of the discretisation); the draw-in of the edge middle 23.34 and 24.95 mm,
 one of two states (24-25 or 27-30 mm) whichever the resolution, no order (docs/hemisphere_plies.md).
+
+The per-cell rms changes its set of cells with the mesh, and the edge middle is one node of a
+fibre that lifts or not into the flange's free annulus: validation/studies/
+hemisphere_plies_convergence.py measures the shear field at fixed material points on the
+punch, the fibres along the symmetry planes' state and the punch's work on 8 to 20 cells (22
+and 24 stop before the end of the stroke), with the orders of every three consecutive
+resolutions (docs/hemisphere_plies.md, "Converged results").
 """
 
 from __future__ import annotations
