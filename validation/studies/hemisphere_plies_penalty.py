@@ -37,7 +37,12 @@ __all__ = ["QUANTITIES", "RUN_QUANTITIES", "extrapolated", "measure", "penalty_p
 
 #: The quantities of a ply (the run's parameter after ``<run>_ply<k>_<angle>deg_``) and of the
 #: run (after ``<run>_``) compared across penalties.
-QUANTITIES = ("rms_shear_error_deg", "draw_in_edge_middle_mm", "draw_in_corner_mm")
+QUANTITIES = (
+    "rms_shear_error_deg",
+    "cells_in_die",
+    "draw_in_edge_middle_mm",
+    "draw_in_corner_mm",
+)
 RUN_QUANTITIES = (
     "punch_force_N",
     "holder_force_last_tenth_mean_N",
@@ -74,8 +79,10 @@ def penalty_per_area(compiled: Any) -> list[float]:
     for block in compiled.interactions:
         if not hasattr(block, "node_stiffness"):
             continue
-        # the upper ply's triangles, each once (a rule of several points repeats them)
-        above = np.unique(np.sort(block.above, axis=1), axis=0)
+        # the triangles of the ply that carries the pass's points (the mesh's whose corners
+        # all lie on it)
+        triangles = compiled.mesh.cells("triangle")
+        above = triangles[np.isin(triangles, block.upper).all(axis=1)]
         sides = np.cross(x[above[:, 1]] - x[above[:, 0]], x[above[:, 2]] - x[above[:, 0]])
         area = np.repeat(0.5 * np.linalg.norm(sides, axis=1) / 3.0, 3)
         lumped = np.bincount(above.ravel(), area, len(x))[block.upper]
