@@ -83,6 +83,8 @@ def test_the_extrapolation_in_one_over_k_recovers_the_limit():
     assert order == pytest.approx(1.0, abs=1e-9)
     assert limit == pytest.approx(3.0, abs=1e-12)
     assert penalty.extrapolated(runs[:2] + runs[4:]) == {}
+    runs[3]["values"]["x"] = math.inf  # a ply with no cell in the die
+    assert all(math.isnan(v) for v in penalty.extrapolated(runs)["x"])
 
 
 # The stated tolerances of the default penalty against its limit (docs/hemisphere_plies.md,

@@ -23,6 +23,7 @@ figures); each run prints as it ends, one at a time. Measured: docs/hemisphere_p
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import sys
@@ -91,13 +92,21 @@ def penalty_per_area(compiled: Any) -> list[float]:
 
 
 def measure(
-    kinematics: str, name: str, force: float, cells: int, factor: float, tools: bool = False
+    kinematics: str,
+    name: str,
+    force: float,
+    cells: int,
+    factor: float,
+    tools: bool = False,
+    surface: str | None = None,
 ) -> dict:
-    """One run at ``factor`` times the automatic ply penalty (and the tools' with ``tools``):
-    {"factor", "values": {quantity label: value}, "checks": [(label, passed)], "stopped",
-    "steps", "cpu_s", "penalty_per_area"}."""
+    """One run at ``factor`` times the automatic ply penalty (and the tools' with ``tools``),
+    the plies' faces ``surface`` ("flat" or "curved", elements/ply_contact.py; None: the
+    case's): {"factor", "values": {quantity label: value}, "checks": [(label, passed)],
+    "stopped", "steps", "cpu_s", "penalty_per_area"}."""
+    from validation.studies import hemisphere_plies_run
     from validation.studies.hemisphere_plies_run import run, run_key
-    from validation.studies.hemisphere_plies_setup import LAYUPS
+    from validation.studies.hemisphere_plies_setup import LAYUPS, SURFACE, model
 
     instrument = scaled(factor, tools)
     seen: list[float] = []
@@ -107,7 +116,12 @@ def measure(
         seen.extend(penalty_per_area(compiled))
 
     start = time.process_time()
-    parameters, checks, *_ = run(cells, name, kinematics, force, instrument=hook)
+    try:
+        # the run builds its model by the module's ``model``, the case's faces' unless given
+        hemisphere_plies_run.model = functools.partial(model, surface=surface or SURFACE)
+        parameters, checks, *_ = run(cells, name, kinematics, force, instrument=hook)
+    finally:
+        hemisphere_plies_run.model = model
     cpu = time.process_time() - start
     key = run_key(name, kinematics, force).replace(" ", "_").replace("/", "-")
     values: dict[str, float] = {}
@@ -131,16 +145,20 @@ def measure(
 def extrapolated(runs: list[dict]) -> dict[str, tuple[float, float]]:
     """{quantity: (observed order p, value at k -> infinity)} through the three stiffest
     ``runs`` (by factor) that reached the end of the stroke, h = 1 / factor (NaN where the
-    differences change sign or vanish); {} when fewer than three did."""
+    differences change sign or vanish, or a value is not finite); {} when fewer than three
+    did."""
     ended = [r for r in runs if not r["stopped"]]
     stiffest = sorted(ended, key=lambda r: r["factor"])[-3:]
     if len(stiffest) < 3:
         return {}
     sizes = [1.0 / r["factor"] for r in stiffest]
-    return {
-        label: observed_order(sizes, [r["values"][label] for r in stiffest])
-        for label in stiffest[0]["values"]
-    }
+    out = {}
+    for label in stiffest[0]["values"]:
+        values = [r["values"][label] for r in stiffest]
+        # a ply with no cell left in the die has no rms (inf): no order
+        finite = all(math.isfinite(v) for v in values)
+        out[label] = observed_order(sizes, values) if finite else (math.nan, math.nan)
+    return out
 
 
 def _arguments(argv: list[str] | None = None) -> Any:
@@ -164,6 +182,9 @@ def _arguments(argv: list[str] | None = None) -> Any:
     parser.add_argument(
         "--tools", action="store_true", help="the tools' penalties times the factor too"
     )
+    parser.add_argument(
+        "--surface", choices=("flat", "curved"), help="the plies' faces (default: the case's)"
+    )
     parser.add_argument("--json", help="a path to write the runs' figures to")
     arguments = parser.parse_args(argv)
     for factor in arguments.factors:
@@ -183,6 +204,7 @@ if __name__ == "__main__":
             arguments.cells,
             factor,
             arguments.tools,
+            arguments.surface,
         )
         done.append(outcome)
         per_area = ", ".join(f"{k:.4g}" for k in outcome["penalty_per_area"])
