@@ -101,8 +101,11 @@ def test_the_default_ply_penalty_is_within_tolerance_of_four_times_it(coarse_rep
     the same run at four times the plies' penalty (the study's ``measure``, ~13k steps, 23 s
     of CPU): each ply's rms of shear - net over the same cells in the die, the draw-in of
     the edge middle and of the corner, the punch's force and the holder's reaction within
-    the tolerances above. The penetration, which is the penalty's, is not compared (0.13
-    against 0.06 mm)."""
+    the tolerances above: about four times the differences measured against eight times the
+    penalty (the punch's force, 85.9-89.3 N from c = 1 to 8 and not monotone, twice), below
+    what half the penalty moves (the bottom ply's cells in the die and its rms, 3.46 -> 2.36
+    deg: the test fails there, run on the study's c = 0.5 run in place of the report's). The
+    penetration, which is the penalty's, is not compared (0.13 against 0.06 mm)."""
     _, report = coarse_report
     values = report["cases"][NAME]["parameters"]
     stiff = penalty.measure("fibrous", "0/90", HOLDER_FORCES[0], 8, 4.0)
@@ -110,14 +113,14 @@ def test_the_default_ply_penalty_is_within_tolerance_of_four_times_it(coarse_rep
     key = run_key("0/90", "fibrous", HOLDER_FORCES[0]).replace(" ", "_").replace("/", "-")
     for k, angle in enumerate(LAYUPS["0/90"]):
         ply = f"{key}_ply{k + 1}_{angle:g}deg"
-        mine = {q: v for q, v in stiff["values"].items() if q.startswith(f"ply {k + 1} ")}
-        assert values[f"{ply}_cells_in_die"] == mine[f"ply {k + 1} cells_in_die"], ply
+        stiffer = {q: v for q, v in stiff["values"].items() if q.startswith(f"ply {k + 1} ")}
+        assert values[f"{ply}_cells_in_die"] == stiffer[f"ply {k + 1} cells_in_die"], ply
         assert values[f"{ply}_rms_shear_error_deg"] == pytest.approx(
-            mine[f"ply {k + 1} rms_shear_error_deg"], abs=RMS_DEG
+            stiffer[f"ply {k + 1} rms_shear_error_deg"], abs=RMS_DEG
         ), ply
         for where in ("edge_middle", "corner"):
             assert values[f"{ply}_draw_in_{where}_mm"] == pytest.approx(
-                mine[f"ply {k + 1} draw_in_{where}_mm"], abs=DRAW_IN_MM
+                stiffer[f"ply {k + 1} draw_in_{where}_mm"], abs=DRAW_IN_MM
             ), (ply, where)
     assert values[f"{key}_punch_force_N"] == pytest.approx(
         stiff["values"]["punch_force_N"], rel=PUNCH_SHARE
