@@ -27,7 +27,8 @@ not at c = 0.5 (0.22 mm into each other, the bottom ply's cells in the die chang
 [0/90] scatters more than it trends from c = 0.5 to 4 (its penalty within that scatter) and
 stops at 88 % of the stroke at c = 8; [0/45], whose plies' meshes cross, has no limit at 8
 cells (the flat-faceted faces cannot nest: held apart the stack is 0.4 mm thicker than its
-plies, the punch's force grows with k).
+plies, the punch's force grows with k); on the curved faces, which nest, fibrous [0/45] at c =
+1 and 4 is within 0.07 deg and 0.3 mm.
 """
 
 from __future__ import annotations
