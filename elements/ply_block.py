@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from elements import (
     ply_curved,
+    ply_curved_tangent,
     ply_face_points,
     ply_friction,
     ply_friction_kernels,
@@ -42,7 +43,7 @@ from elements.ply_projection import (
 from elements.ply_search import FacingSearch
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
-from femcore.assembly import CellTangent
+from femcore.assembly import CellTangent, TangentPart
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
 from femcore.rotation import cross, cross_matrix
@@ -515,7 +516,7 @@ class PlyContactBlock(InteractionBlock):
             energy += 0.5 * float(np.sum(np.sum(sliding.force**2, axis=1) / spring))
         return energy
 
-    def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
+    def tangent(self, state: State, history: Any = None) -> list[TangentPart]:
         """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6).
 
         Over z = (p, y_1, y_2, y_3): Hess W = W'' G G^T + W' H with G = (n, -lambda_k n) the
@@ -528,6 +529,12 @@ class PlyContactBlock(InteractionBlock):
         d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
         faces an edge or a vertex, H is the search's (elements/ply_projection.py).
         """
+        if self.curved:  # the exact derivative of the curved loads (ply_curved_tangent.py)
+            facing = self.facing(state)
+            curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
+            if self._frictional(history):
+                curved.append(ply_friction.friction_tangent(self, state, history, facing))
+            return curved
         facing = self.facing(state, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         t = len(on)
@@ -565,7 +572,7 @@ class PlyContactBlock(InteractionBlock):
         )
         for row in range(6):
             blocks[:, row, 3:, row, 3:] += geometric[:, row]
-        parts = [CellTangent(nodes, blocks)]
+        parts: list[TangentPart] = [CellTangent(nodes, blocks)]
         faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
         if faded.size:
             parts.append(self._fade_tangent(state, facing, on[faded], gradient[faded], law, faded))
