@@ -60,6 +60,10 @@ DOFS = ("ux", "uy", "uz", "alpha", "beta")
 #: values: benchmarks/static_plies.py compares the two).
 HESSIAN_WITH_LOADS = True
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
+#: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py);
+#: False: the flat facet's at the curved projection, the tangent before
+#: (benchmarks/ply_curved_static.py compares the two).
+CURVED_TANGENT = True
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
 RULES = {
@@ -529,7 +533,7 @@ class PlyContactBlock(InteractionBlock):
         d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
         faces an edge or a vertex, H is the search's (elements/ply_projection.py).
         """
-        if self.curved:  # the exact derivative of the curved loads (ply_curved_tangent.py)
+        if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
             facing = self.facing(state)
             curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
             if self._frictional(history):
