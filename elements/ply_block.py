@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from elements import (
     ply_curved,
+    ply_curved_friction,
     ply_curved_tangent,
     ply_face_points,
     ply_friction,
@@ -494,6 +495,12 @@ class PlyContactBlock(InteractionBlock):
                 moment[:, axis] += np.bincount(
                     ends[0].ravel(), ends[2][..., axis].ravel(), self.n_nodes
                 )
+        if self._frictional(history) and self.curved:  # elements/ply_curved_friction.py
+            sliding = self.friction_state(state, history, facing)
+            extra_force, extra_moment = ply_curved_friction.curved_friction_loads(
+                self, state, sliding, history, facing
+            )
+            return force + extra_force, moment + extra_moment
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
             extra = ply_friction.friction_loads(self, state, sliding, history, facing)
@@ -537,7 +544,9 @@ class PlyContactBlock(InteractionBlock):
             facing = self.facing(state)
             curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
             if self._frictional(history):
-                curved.append(ply_friction.friction_tangent(self, state, history, facing))
+                curved.append(
+                    ply_curved_friction.curved_friction_tangent(self, state, history, facing)
+                )
             return curved
         facing = self.facing(state, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)

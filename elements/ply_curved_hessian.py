@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SIZE", "gap_derivatives", "phong_hessian", "phong_jacobian"]
+__all__ = ["SIZE", "gap_derivatives", "gap_gradient_and_turning", "phong_hessian", "phong_jacobian"]
 
 #: Local data of a point: 12 vectors (module docstring).
 SIZE = 36
@@ -60,7 +60,7 @@ def phong_jacobian(y: np.ndarray, n: np.ndarray, lam: np.ndarray) -> np.ndarray:
     eye = np.eye(3)
     outer = n[:, :, :, None] * n[:, :, None, :]  # n_i n_i^T
     mixed = np.einsum("ti,tiab->tab", lam, outer)
-    out = np.zeros((t, 3, 18))
+    out = np.zeros((t, 3, 18), dtype=np.result_type(y, n, lam))
     for k in range(3):
         out[:, :, 3 * k : 3 * k + 3] = lam[:, k, None, None] * (
             eye - 0.5 * mixed + 0.5 * outer[:, k]
@@ -111,12 +111,13 @@ def _lambda_terms(y: np.ndarray, n: np.ndarray, lam: np.ndarray, nu: np.ndarray)
     tangents = pi[:, :2] - pi[:, 2:3]
     # nu . D_kl = -1/2 ((y_l . n_k)(nu . n_k) + (y_k . n_l)(nu . n_l))
     nud = -0.5 * (np.swapaxes(yn, 1, 2) * nun[:, :, None] + yn * nun[:, None, :])
-    b = np.zeros((t, 2, 2))
+    kind = np.result_type(y, n, lam, nu)
+    b = np.zeros((t, 2, 2), dtype=kind)
     for a in range(2):
         for col in range(2):
             b[:, a, col] = nud[:, a, col] - nud[:, a, 2] - nud[:, 2, col] + nud[:, 2, 2]
     # nu . dPi_k/dv (t, 3, 18)
-    dpi = np.zeros((t, 3, 18))
+    dpi = np.zeros((t, 3, 18), dtype=kind)
     mixed = np.einsum("ti,ti,tij->tj", lam, nun, n)  # sum_i lambda_i (nu . n_i) n_i
     for k in range(3):
         for m in range(3):
@@ -183,3 +184,33 @@ def gap_derivatives(
     curving = np.einsum("tab,tbc,tcd->tad", m_inv, b, a_inv)
     hessian -= np.einsum("tav,tab,tbw->tvw", alpha, curving, alpha)
     return gradient, hessian
+
+
+def gap_gradient_and_turning(
+    z: np.ndarray,
+    upper_normals: np.ndarray,
+    sigma: np.ndarray,
+    y: np.ndarray,
+    n: np.ndarray,
+    lam: np.ndarray,
+    nu: np.ndarray,
+    gap: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The gap's gradient (t, 36) and the normal's turn dnu/dv (t, 3, 36) over the point's
+    local data (the arguments as ``gap_derivatives``'): dnu = -t^a (nu . dt_a) with
+    dt_a = dt_a/dv + dt_a/dlambda_b dlambda_b and A dlambda = alpha + g h (module
+    docstring), i.e. dnu/dv = -T^T M^-1 (h + B A^-1 (alpha + g h)). Plain arithmetic:
+    complex data give the complex-step derivatives of elements/ply_curved_friction.py."""
+    t = len(lam)
+    u = np.zeros((t, 3, SIZE), dtype=np.result_type(z, y, nu))
+    u[:, :, :18] = phong_jacobian(z, upper_normals, sigma)
+    u[:, :, 18:] = -phong_jacobian(y, n, lam)
+    gradient = np.einsum("ti,tiv->tv", nu, u)
+    tangents, b, h18 = _lambda_terms(y, n, lam, nu)
+    h = np.zeros((t, 2, SIZE), dtype=u.dtype)
+    h[:, :, 18:] = h18
+    alpha = np.einsum("tai,tiv->tav", tangents, u)
+    metric = np.einsum("tai,tbi->tab", tangents, tangents)
+    moved = np.linalg.solve(metric - gap[:, None, None] * b, alpha + gap[:, None, None] * h)
+    dual = np.linalg.solve(metric, h + np.einsum("tab,tbv->tav", b, moved))
+    return gradient, -np.einsum("tai,tav->tiv", tangents, dual)

@@ -27,7 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from elements import ply_surface
-from elements.ply_curved_hessian import SIZE, gap_derivatives
+from elements.ply_curved_hessian import gap_derivatives
 from elements.ply_normal_hessian import normal_jacobian, normal_second
 from elements.ply_projection import Facing, penalty_law
 from femcore.assembly import SparseTangent
@@ -37,7 +37,7 @@ from femcore.state import State
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
 
-__all__ = ["curved_tangent", "local_energy_derivatives"]
+__all__ = ["carried_loads", "carried_tangent", "curved_tangent", "local_energy_derivatives"]
 
 #: The local slots' kinds: an offset corner (True) or a normal (False), module docstring.
 CORNER_SLOTS = np.array([True] * 3 + [False] * 3 + [True] * 3 + [False] * 3)
@@ -85,13 +85,69 @@ def curved_tangent(block: PlyContactBlock, state: State, facing: Facing) -> Spar
     on, nodes, offset, gradient, hessian, x, normals, lengths, d = local_energy_derivatives(
         block, state, facing
     )
-    n, t = block.n_nodes, len(on)
+    corner = np.broadcast_to(CORNER_SLOTS, nodes.shape)
+    return carried_tangent(block, state, nodes, corner, offset, gradient, hessian)
+
+
+def carried_loads(
+    block: PlyContactBlock,
+    state: State,
+    nodes: np.ndarray,
+    corner: np.ndarray,
+    offset: np.ndarray,
+    loads: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Nodal forces (n, 3), N, and moments (n, 3), N mm, of local loads ``loads`` (t, 3 S),
+    the derivative of an energy (or a virtual work) over S local slots: each slot's node
+    ``nodes`` (t, S), whether it is an offset corner (``corner``, (t, S) bool: z = x + c D,
+    c = ``offset`` (t, S), mm) or a nodal normal (module docstring)."""
+    n = block.n_nodes
+    x = state.positions
+    normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, n)
+    d = normals if block.along_normals else state.directors
+    slots = loads.reshape(len(loads), -1, 3)
+    force = np.zeros((n, 3))
+    moment = np.zeros((n, 3))
+    on_normals = np.zeros((n, 3))
+    np.add.at(force, nodes[corner], slots[corner])
+    np.add.at(on_normals, nodes[~corner], slots[~corner])
+    if block.along_normals:  # z = x + c N: dW/dN = c dW/dz
+        np.add.at(on_normals, nodes[corner], offset[corner][:, None] * slots[corner])
+    else:  # z = x + c d: the moment c d x dW/dz
+        np.add.at(
+            moment,
+            nodes[corner],
+            offset[corner][:, None] * np.cross(d[nodes[corner]], slots[corner]),
+        )
+    force += ply_surface.normal_pullback(x, block._own_triangles, normals, lengths, on_normals)
+    return force, moment
+
+
+def carried_tangent(
+    block: PlyContactBlock,
+    state: State,
+    nodes: np.ndarray,
+    corner: np.ndarray,
+    offset: np.ndarray,
+    loads: np.ndarray,
+    jacobian: np.ndarray,
+) -> SparseTangent:
+    """d(force, moment)/d(u, psi) (6 n, 6 n) of ``carried_loads`` with the local loads'
+    derivative ``jacobian`` (t, 3 S, 3 S) (row: the load, column: the datum): E^T J E,
+    the normals' second derivatives times the loads on them and the turned offsets' terms
+    (module docstring)."""
+    n, t = block.n_nodes, len(nodes)
     if t == 0:
         return SparseTangent(sp.csr_matrix((6 * n, 6 * n)))
+    x = state.positions
+    normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, n)
+    d = normals if block.along_normals else state.directors
+    size = 3 * nodes.shape[1]
     comp = np.arange(3)
-    local_rows = (SIZE * np.arange(t)[:, None, None] + 3 * np.arange(12)[None, :, None]) + comp
+    local_rows = (
+        size * np.arange(t)[:, None, None] + 3 * np.arange(nodes.shape[1])[None, :, None]
+    ) + comp
     # the direct part: dz = du (+ c psi x D along the directors); dN and c dN below
-    corner = np.broadcast_to(CORNER_SLOTS, nodes.shape)
     r_u = local_rows[corner]  # (b, 3)
     c_u = 6 * nodes[corner][:, None] + comp
     parts_r, parts_c = [r_u.ravel()], [c_u.ravel()]
@@ -103,7 +159,7 @@ def curved_tangent(block: PlyContactBlock, state: State, facing: Facing) -> Spar
         parts_v.append(turn.ravel())
     direct = sp.csr_matrix(
         (np.concatenate(parts_v), (np.concatenate(parts_r), np.concatenate(parts_c))),
-        shape=(SIZE * t, 6 * n),
+        shape=(size * t, 6 * n),
     )
     # the normals' selection: a normal slot takes N at its node, a corner slot along the
     # normals c N
@@ -114,24 +170,24 @@ def curved_tangent(block: PlyContactBlock, state: State, facing: Facing) -> Spar
             np.repeat(weight[chosen], 3),
             (local_rows[chosen].ravel(), (3 * nodes[chosen][:, None] + comp).ravel()),
         ),
-        shape=(SIZE * t, 3 * n),
+        shape=(size * t, 3 * n),
     )
     # the u columns of a 3 n-wide matrix in the 6 n-wide one
     widen = sp.csr_matrix(
         (np.ones(3 * n), (np.arange(3 * n), (6 * np.arange(n)[:, None] + comp).ravel())),
         shape=(3 * n, 6 * n),
     )
-    jacobian = normal_jacobian(x, block._own_triangles, normals, lengths)
-    carry = (direct + select @ (jacobian @ widen)).tocsr()
+    normal_jac = normal_jacobian(x, block._own_triangles, normals, lengths)
+    carry = (direct + select @ (normal_jac @ widen)).tocsr()
     local = sp.bsr_matrix(
-        (hessian, np.arange(t), np.arange(t + 1)), shape=(SIZE * t, SIZE * t)
+        (jacobian, np.arange(t), np.arange(t + 1)), shape=(size * t, size * t)
     ).tocsr()
     matrix = carry.T @ (local @ carry)
-    on_normals = (select.T @ gradient.ravel()).reshape(n, 3)
+    on_normals = (select.T @ loads.ravel()).reshape(n, 3)
     second = normal_second(x, block._own_triangles, normals, lengths, on_normals)
     matrix = matrix + widen.T @ (second @ widen)
     if not block.along_normals:  # the turned offsets: c (D F^T - (F . D) I) on psi-psi
-        forces = gradient.reshape(t, 12, 3)[corner]
+        forces = loads.reshape(t, -1, 3)[corner]
         summed = np.zeros((n, 3))
         np.add.at(summed, nodes[corner], offset[corner][:, None] * forces)
         blocks = d[:, :, None] * summed[:, None, :] - np.sum(summed * d, axis=1)[
