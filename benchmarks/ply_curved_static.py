@@ -8,6 +8,19 @@ Gauss points) laid on a sphere cap of radius 50 mm (the plies' reference geometr
 touching), the bottom ply clamped, the top ply pressed onto it by a body force and its left
 edge pulled along x (the plies stick and slip).
 
+Measured (one thread, 2 cores shared), Newton iterations [per increment], CPU:
+
+    the normal tangent exact, the friction's still the flat one (load 4.2-5.5):
+      4 cells  flat 90 [30, 20, 20, 20] 2.2 s | exact 28 [10, 7, 6, 5] 1.3 s, 2.1e-3 mm apart
+      6 cells  flat 101 [38, 21, 21, 21] 4.2 s | exact 24 [8, 6, 6, 4] 2.1 s, 3.2e-8 mm apart
+    both exact, the stuck points' couple in the loads (load 9-11):
+      4 cells  flat 91 [31, 20, 20, 20] 2.5 s | exact 24 [8, 7, 5, 4] 4.2-4.5 s, 1.4e-8 mm apart
+      6 cells  flat 101 [38, 21, 21, 21] 4.4 s | exact 21 [7, 6, 5, 3] 6.3 s, 8.4e-9 mm apart
+
+The friction's tangent by the complex step (elements/ply_curved_friction.py) costs 0.34 s of a
+0.44-s tangent at 4 cells (profiled): fewer iterations, more time; a compiled pass of the local
+loads would take it back.
+
 Run: python benchmarks/ply_curved_static.py [cells]
 """
 

@@ -61,9 +61,9 @@ DOFS = ("ux", "uy", "uz", "alpha", "beta")
 #: values: benchmarks/static_plies.py compares the two).
 HESSIAN_WITH_LOADS = True
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
-#: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py);
-#: False: the flat facet's at the curved projection, the tangent before
-#: (benchmarks/ply_curved_static.py compares the two).
+#: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py,
+#: elements/ply_curved_friction.py); False: the flat facet's at the curved projection, normal
+#: and friction, the tangent before (benchmarks/ply_curved_static.py compares the two).
 CURVED_TANGENT = True
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).

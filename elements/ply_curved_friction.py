@@ -189,10 +189,11 @@ def curved_friction_tangent(
         block, state, sliding, history, facing
     )
     loads = _local_loads(block, data, *arguments)
-    size = data.shape[1]
-    jacobian = np.zeros((len(data), size, size))
-    for j in range(size):
-        moved = data.astype(complex)
-        moved[:, j] += 1j * STEP
-        jacobian[:, :, j] = _local_loads(block, moved, *arguments).imag / STEP
+    t, size = data.shape
+    # every column's complex step at once: row (point, column) of the repeated data
+    moved = np.repeat(data, size, axis=0).astype(complex)
+    moved[np.arange(t * size), np.tile(np.arange(size), t)] += 1j * STEP
+    repeated = tuple(np.repeat(argument, size, axis=0) for argument in arguments)
+    stepped = _local_loads(block, moved, *repeated).imag / STEP  # (t size, size)
+    jacobian = np.swapaxes(stepped.reshape(t, size, size), 1, 2)
     return carried_tangent(block, state, nodes, corner, offset, loads, jacobian)

@@ -106,7 +106,7 @@ def _lambda_terms(y: np.ndarray, n: np.ndarray, lam: np.ndarray, nu: np.ndarray)
     yn = np.einsum("tki,tli->tkl", y, n)  # (t, k, l): y_k . n_l
     nun = np.sum(nu[:, None, :] * n, axis=2)  # nu . n_i
     pi = (
-        y - 0.5 * e[:, :, None] * n - 0.5 * np.einsum("tl,tkl,tli->tki", lam, yn, n)
+        y - 0.5 * e[:, :, None] * n - 0.5 * np.einsum("tkl,tli->tki", lam[:, None, :] * yn, n)
     )  # (t, 3, 3): Pi_k
     tangents = pi[:, :2] - pi[:, 2:3]
     # nu . D_kl = -1/2 ((y_l . n_k)(nu . n_k) + (y_k . n_l)(nu . n_l))
@@ -118,7 +118,7 @@ def _lambda_terms(y: np.ndarray, n: np.ndarray, lam: np.ndarray, nu: np.ndarray)
             b[:, a, col] = nud[:, a, col] - nud[:, a, 2] - nud[:, 2, col] + nud[:, 2, 2]
     # nu . dPi_k/dv (t, 3, 18)
     dpi = np.zeros((t, 3, 18), dtype=kind)
-    mixed = np.einsum("ti,ti,tij->tj", lam, nun, n)  # sum_i lambda_i (nu . n_i) n_i
+    mixed = np.einsum("ti,tij->tj", lam * nun, n)  # sum_i lambda_i (nu . n_i) n_i
     for k in range(3):
         for m in range(3):
             c = lam[:, m] - (1.0 if k == m else 0.0)
@@ -178,11 +178,11 @@ def gap_derivatives(
     hessian = np.zeros((t, SIZE, SIZE))
     hessian[:, :18, :18] = phong_hessian(z, upper_normals, sigma, nu)
     hessian[:, 18:, 18:] = -phong_hessian(y, n, lam, nu)
-    cross = np.einsum("tav,tab,tbw->tvw", h, a_inv, alpha)
+    cross = np.einsum("tav,tab,tbw->tvw", h, a_inv, alpha, optimize=True)
     hessian -= cross + np.swapaxes(cross, 1, 2)
-    hessian -= gap[:, None, None] * np.einsum("tav,tab,tbw->tvw", h, a_inv, h)
-    curving = np.einsum("tab,tbc,tcd->tad", m_inv, b, a_inv)
-    hessian -= np.einsum("tav,tab,tbw->tvw", alpha, curving, alpha)
+    hessian -= gap[:, None, None] * np.einsum("tav,tab,tbw->tvw", h, a_inv, h, optimize=True)
+    curving = np.einsum("tab,tbc,tcd->tad", m_inv, b, a_inv, optimize=True)
+    hessian -= np.einsum("tav,tab,tbw->tvw", alpha, curving, alpha, optimize=True)
     return gradient, hessian
 
 
