@@ -39,7 +39,8 @@ reaching ``MARGIN_CURVED`` (0.05) past its edges, and the force is the exact gra
 the energy, the nodal normals' dependence on the positions included; with friction the stick
 anchors lie on the curved surface too (a sliding anchor moved by projecting its new place on
 it), and a stuck point's loads are the gradient of its stick energy there, its couple across
-the curved face's turning normal included (elements/ply_curved_friction.py). The tangent is the loads' exact derivative (elements/ply_curved_tangent.py).
+the curved face's turning normal included (elements/ply_curved_friction.py). The tangent
+is the loads' exact derivative (elements/ply_curved_tangent.py).
 
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
 triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's
