@@ -91,9 +91,21 @@ def _law(gap: np.ndarray, branch_gap: np.ndarray, stiffness: np.ndarray, smoothi
     return pressing, spring, slope
 
 
-def _local_loads(block, v, sigma, anchor, start, stiffness, branch_gap, stuck):
-    """The local loads (t, 54) of the frictional points (module docstring) at their data v
-    (t, 54), real or complex."""
+def _local_loads(
+    block: PlyContactBlock,
+    v: np.ndarray,
+    sigma: np.ndarray,
+    anchor: np.ndarray,
+    start: np.ndarray,
+    stiffness: np.ndarray,
+    branch_gap: np.ndarray,
+    stuck: np.ndarray,
+) -> np.ndarray:
+    """The local loads (t, 54), N or N mm, of the frictional points (module docstring) at
+    their data v (t, 54), real or complex: sigma (t, 3) the points' coordinates on the upper
+    patch, anchor (t, 3) the anchors' Lambda, start (t, 3) the converged projection's
+    coordinates, stiffness (t,) k_p N/mm, branch_gap (t,) the real gap (the law's branch),
+    mm, stuck (t,) bool."""
     z, upper_normals, y, n, ya, na = _split(v)
     p = ply_surface.surface_point_numpy(z, upper_normals, sigma)[0]
     a = ply_surface.surface_point_numpy(ya, na, anchor)[0]
@@ -124,7 +136,13 @@ def _local_loads(block, v, sigma, anchor, start, stiffness, branch_gap, stuck):
     return loads
 
 
-def _frictional_points(block: PlyContactBlock, state: State, sliding: Sliding, history, facing):
+def _frictional_points(
+    block: PlyContactBlock,
+    state: State,
+    sliding: Sliding,
+    history: PlyFrictionHistory,
+    facing: Facing,
+):
     """The stuck or sliding points' rows (t,), slot nodes (t, 18), corner mask and offsets
     (t, 18), local data (t, 54) and what ``_local_loads`` takes beside them."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)

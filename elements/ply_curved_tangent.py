@@ -49,9 +49,8 @@ def local_energy_derivatives(block: PlyContactBlock, state: State, facing: Facin
     Returns
     -------
     on (t,) int the points; nodes (t, 12) int, each slot's node; offset (t, 12) float, c of
-    each corner slot (z = x + c D), mm (0 on the normals' slots); gradient (t, 36) dW/dv and
-    hessian (t, 36, 36) d2W/dv2; x, normals (n, 3), lengths (n,) the nodal normals at the
-    state; d (n, 3) the offsets' directions.
+    each corner slot (z = x + c D), mm (0 on the normals' slots); gradient (t, 36) dW/dv,
+    N or N mm, and hessian (t, 36, 36) d2W/dv2.
     """
     on = np.flatnonzero(facing.touching)
     x = state.positions
@@ -76,15 +75,13 @@ def local_energy_derivatives(block: PlyContactBlock, state: State, facing: Facin
     nodes = np.column_stack([above, above, tri, tri])
     zero = np.zeros((len(on), 3))
     offset = np.column_stack([-block.upper_offset[on], zero, block.corner_offset[rows], zero])
-    return on, nodes, offset, gradient, hessian, x, normals, lengths, d
+    return on, nodes, offset, gradient, hessian
 
 
 def curved_tangent(block: PlyContactBlock, state: State, facing: Facing) -> SparseTangent:
     """d(force, moment)/d(u, psi) (6 n, 6 n) of the curved faces' normal loads (module
     docstring)."""
-    on, nodes, offset, gradient, hessian, x, normals, lengths, d = local_energy_derivatives(
-        block, state, facing
-    )
+    _, nodes, offset, gradient, hessian = local_energy_derivatives(block, state, facing)
     corner = np.broadcast_to(CORNER_SLOTS, nodes.shape)
     return carried_tangent(block, state, nodes, corner, offset, gradient, hessian)
 
