@@ -25,14 +25,16 @@ from tests.test_ply_surface import PLY, _on_sphere
 MU = 0.3
 
 
-def _anchored(faces: str, smoothing=None, stuck_only: bool = True):
+def _anchored(faces: str, smoothing=None, stuck_only: bool = True, mirrored: bool = False):
     """(block, state, history) of the pair with friction (module docstring); with
-    ``stuck_only`` the sliding points' anchors dropped."""
+    ``stuck_only`` the sliding points' anchors dropped; with ``mirrored`` the mirrored pass
+    (the bottom ply's nodes against the top ply's curved face)."""
     layup = Layup(
         PLY, (0.0, 45.0), 40.0, cells=4, rule="gauss", faces=faces, surface="curved",
         penalty=100.0, friction=MU, smoothing=smoothing,
+        lower_rule="vertices" if mirrored else None,
     )  # fmt: skip
-    block = layup.model().compile().interactions[0]
+    block = layup.model().compile().interactions[1 if mirrored else 0]
     state = _on_sphere(layup, 0.1, jitter=0.02)
     facing = block.facing(state)
     count = len(facing.gap)
@@ -84,3 +86,15 @@ def test_the_curved_frictions_tangent_is_the_derivative_of_its_loads(faces, stuc
     sliding = block.friction_state(state, history)
     assert sliding.stuck.sum() >= 40 and (stuck_only or sliding.sliding.sum() >= 40)
     assert check_tangent(block, state, history, step=1e-7)
+
+
+def test_the_mirrored_passs_curved_friction_loads_and_tangent():
+    """The mirrored pass (``points="lower"``), faces along the normals: 48 stuck and 48
+    sliding points; the stuck points' loads the energy's gradient, the tangent the loads'
+    derivative, as above."""
+    block, state, history = _anchored("normal", stuck_only=False, mirrored=True)
+    sliding = block.friction_state(state, history)
+    assert block.mirrored and sliding.stuck.sum() >= 40 and sliding.sliding.sum() >= 40
+    assert check_tangent(block, state, history, step=1e-7)
+    block, state, history = _anchored("normal", mirrored=True)
+    check_force_is_energy_gradient(block, state, history, step=1e-6)
