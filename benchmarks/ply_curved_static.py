@@ -13,13 +13,15 @@ Measured (one thread, 2 cores shared), Newton iterations [per increment], CPU:
     the normal tangent exact, the friction's still the flat one (load 4.2-5.5):
       4 cells  flat 90 [30, 20, 20, 20] 2.2 s | exact 28 [10, 7, 6, 5] 1.3 s, 2.1e-3 mm apart
       6 cells  flat 101 [38, 21, 21, 21] 4.2 s | exact 24 [8, 6, 6, 4] 2.1 s, 3.2e-8 mm apart
-    both exact, the stuck points' couple in the loads (load 9-11):
+    both exact, the stuck points' couple in the loads, the friction's complex steps in numpy
+    (load 9-11):
       4 cells  flat 91 [31, 20, 20, 20] 2.5 s | exact 24 [8, 7, 5, 4] 4.2-4.5 s, 1.4e-8 mm apart
       6 cells  flat 101 [38, 21, 21, 21] 4.4 s | exact 21 [7, 6, 5, 3] 6.3 s, 8.4e-9 mm apart
+    the same, the complex steps compiled (elements/ply_curved_friction_kernels.py; load 6.5-7.4):
+      4 cells  flat 91 2.1 s | exact 24 1.6 s;  6 cells  flat 101 3.9 s | exact 21 2.7 s
 
-The friction's tangent by the complex step (elements/ply_curved_friction.py) costs 0.34 s of a
-0.44-s tangent at 4 cells (profiled): fewer iterations, more time; a compiled pass of the local
-loads would take it back.
+In numpy the friction's complex steps cost 0.34 s of a 0.44-s tangent at 4 cells (profiled):
+fewer iterations, more time, until they were compiled.
 
 Run: python benchmarks/ply_curved_static.py [cells]
 """

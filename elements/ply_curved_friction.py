@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_surface
+from elements import ply_curved_friction_kernels, ply_projection, ply_surface
 from elements.ply_curved_hessian import gap_gradient_and_turning, phong_jacobian
 from elements.ply_curved_tangent import carried_loads, carried_tangent
 from femcore.assembly import SparseTangent
@@ -48,7 +48,7 @@ if TYPE_CHECKING:
     from elements.ply_friction import PlyFrictionHistory, Sliding
     from elements.ply_projection import Facing
 
-__all__ = ["curved_friction_loads", "curved_friction_tangent"]
+__all__ = ["curved_friction_loads", "curved_friction_tangent", "local_loads_numpy"]
 
 #: Gauss-Newton steps of the projection made again from the converged one (module docstring).
 STEPS = 3
@@ -91,7 +91,7 @@ def _law(gap: np.ndarray, branch_gap: np.ndarray, stiffness: np.ndarray, smoothi
     return pressing, spring, slope
 
 
-def _local_loads(
+def local_loads_numpy(
     block: PlyContactBlock,
     v: np.ndarray,
     sigma: np.ndarray,
@@ -134,6 +134,26 @@ def _local_loads(
     )
     loads[:, :36] += np.where(stuck[:, None], potential, 0.0)
     return loads
+
+
+def _local_loads(
+    block: PlyContactBlock,
+    v: np.ndarray,
+    sigma: np.ndarray,
+    anchor: np.ndarray,
+    start: np.ndarray,
+    stiffness: np.ndarray,
+    branch_gap: np.ndarray,
+    stuck: np.ndarray,
+) -> np.ndarray:
+    """``local_loads_numpy``, compiled where the ply kernels are
+    (elements/ply_curved_friction_kernels.py)."""
+    if ply_projection.COMPILED:
+        return ply_curved_friction_kernels.local_loads(
+            v, sigma, anchor, start, stiffness, branch_gap, stuck, block.smoothing,
+            block.friction, block.stick == "penalty", STEPS,
+        )  # fmt: skip
+    return local_loads_numpy(block, v, sigma, anchor, start, stiffness, branch_gap, stuck)
 
 
 def _frictional_points(
