@@ -80,9 +80,9 @@ def _local_loads(
                                 dot = dot + data[2, k, j] * data[3, m, j]
                             total = total + lam[m] * dot * data[3, m, i]
                         partial[k, i] = data[2, k, i] - 0.5 * e[k] * data[3, k, i] - 0.5 * total
-                for b in range(2):
+                for side in range(2):
                     for i in range(3):
-                        tangents[b, i] = partial[b, i] - partial[2, i]
+                        tangents[side, i] = partial[side, i] - partial[2, i]
                 if iteration == steps:
                     break
                 m00 = zero
