@@ -78,8 +78,11 @@ def test_a_stuck_points_loads_on_the_curved_face_are_the_gradient_of_its_energy(
     check_force_is_energy_gradient(block, state, history, step=1e-6)
 
 
-@pytest.mark.parametrize("faces", ["normal", "director"])
-@pytest.mark.parametrize("stuck_only", [True, False], ids=["stuck", "stuck and sliding"])
+@pytest.mark.parametrize(
+    "faces, stuck_only",
+    [("normal", True), ("normal", False), ("director", False)],
+    ids=["stuck", "stuck and sliding", "stuck and sliding, faces along the directors"],
+)
 def test_the_curved_frictions_tangent_is_the_derivative_of_its_loads(faces, stuck_only):
     """Measured within 1e-10 (stuck) and 1e-8 (stuck and sliding) of the largest entry,
     faces along the normals."""
