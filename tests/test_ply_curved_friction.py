@@ -20,7 +20,12 @@ import pytest
 from elements import ply_curved_friction, ply_curved_friction_kernels, ply_projection
 from elements.layup import Layup
 from elements.ply_friction import PlyFrictionHistory
-from femcore.interaction_checks import check_force_is_energy_gradient, check_tangent
+from femcore.interaction_checks import (
+    check_added_force,
+    check_energy,
+    check_force_is_energy_gradient,
+    check_tangent,
+)
 from tests.test_ply_surface import PLY, _on_sphere
 
 MU = 0.3
@@ -179,3 +184,14 @@ def test_the_numpy_path_gives_the_compiled_loads_and_tangent(monkeypatch):
     np.testing.assert_allclose(
         matrix, reference_matrix, atol=1e-12 * np.abs(reference_matrix).max()
     )
+
+
+@pytest.mark.parametrize("faces", ["normal", "director"])
+def test_the_curved_frictions_energies_and_sums_conform(faces):
+    """The conformance kit's energy checks (stored energy and dissipation >= 0, an accepted
+    step dissipating no negative energy, the history given left as it was) and the model's
+    sum of the loads (``add_internal_force`` adds ``internal_force``'s to the bit), stuck and
+    sliding."""
+    block, state, history = _anchored(faces, stuck_only=False)
+    check_energy(block, state, history)
+    check_added_force(block, state, history)
