@@ -538,7 +538,9 @@ class PlyContactBlock(InteractionBlock):
         dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
         psi the director's rotation), with the geometric term of the turned offset,
         d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
-        faces an edge or a vertex, H is the search's (elements/ply_projection.py).
+        faces an edge or a vertex, H is the search's (elements/ply_projection.py). On the
+        curved faces, sparse matrices over all the nodes: elements/ply_curved_tangent.py (the
+        normal loads) and elements/ply_curved_friction.py (the friction's).
         """
         if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
             facing = self.facing(state)
