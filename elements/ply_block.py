@@ -15,6 +15,8 @@ from scipy.spatial import cKDTree
 
 from elements import (
     ply_curved,
+    ply_curved_friction,
+    ply_curved_tangent,
     ply_face_points,
     ply_friction,
     ply_friction_kernels,
@@ -42,7 +44,7 @@ from elements.ply_projection import (
 from elements.ply_search import FacingSearch
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
-from femcore.assembly import CellTangent
+from femcore.assembly import CellTangent, TangentPart
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
 from femcore.rotation import cross, cross_matrix
@@ -59,6 +61,10 @@ DOFS = ("ux", "uy", "uz", "alpha", "beta")
 #: values: benchmarks/static_plies.py compares the two).
 HESSIAN_WITH_LOADS = True
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
+#: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py,
+#: elements/ply_curved_friction.py); False: the flat facet's at the curved projection, normal
+#: and friction, the tangent before (benchmarks/ply_curved_static.py compares the two).
+CURVED_TANGENT = True
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
 RULES = {
@@ -495,6 +501,12 @@ class PlyContactBlock(InteractionBlock):
                 moment[:, axis] += np.bincount(
                     ends[0].ravel(), ends[2][..., axis].ravel(), self.n_nodes
                 )
+        if self._frictional(history) and self.curved:  # elements/ply_curved_friction.py
+            sliding = self.friction_state(state, history, facing)
+            extra_force, extra_moment = ply_curved_friction.curved_friction_loads(
+                self, state, sliding, history, facing
+            )
+            return force + extra_force, moment + extra_moment
         if self._frictional(history):
             sliding = self.friction_state(state, history, facing)
             extra = ply_friction.friction_loads(self, state, sliding, history, facing)
@@ -521,7 +533,7 @@ class PlyContactBlock(InteractionBlock):
             energy += 0.5 * float(np.sum(np.sum(sliding.force**2, axis=1) / spring))
         return energy
 
-    def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
+    def tangent(self, state: State, history: Any = None) -> list[TangentPart]:
         """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6).
 
         Over z = (p, y_1, y_2, y_3): Hess W = W'' G G^T + W' H with G = (n, -lambda_k n) the
@@ -532,8 +544,18 @@ class PlyContactBlock(InteractionBlock):
         dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
         psi the director's rotation), with the geometric term of the turned offset,
         d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
-        faces an edge or a vertex, H is the search's (elements/ply_projection.py).
+        faces an edge or a vertex, H is the search's (elements/ply_projection.py). On the
+        curved faces, sparse matrices over all the nodes: elements/ply_curved_tangent.py (the
+        normal loads) and elements/ply_curved_friction.py (the friction's).
         """
+        if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
+            facing = self.facing(state)
+            curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
+            if self._frictional(history):
+                curved.append(
+                    ply_curved_friction.curved_friction_tangent(self, state, history, facing)
+                )
+            return curved
         facing = self.facing(state, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         t = len(on)
@@ -571,7 +593,7 @@ class PlyContactBlock(InteractionBlock):
         )
         for row in range(6):
             blocks[:, row, 3:, row, 3:] += geometric[:, row]
-        parts = [CellTangent(nodes, blocks)]
+        parts: list[TangentPart] = [CellTangent(nodes, blocks)]
         faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
         if faded.size:
             parts.append(self._fade_tangent(state, facing, on[faded], gradient[faded], law, faded))

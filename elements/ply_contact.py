@@ -38,7 +38,9 @@ point passes from one patch to the next, which the flat facet's choice was not),
 reaching ``MARGIN_CURVED`` (0.05) past its edges, and the force is the exact gradient of
 the energy, the nodal normals' dependence on the positions included; with friction the stick
 anchors lie on the curved surface too (a sliding anchor moved by projecting its new place on
-it). The tangent stays the flat one at the curved projection.
+it), and a stuck point's loads are the gradient of its stick energy there, its couple across
+the curved face's turning normal included (elements/ply_curved_friction.py). The tangent
+is the loads' exact derivative (elements/ply_curved_tangent.py).
 
 Contact points (Gauss point to surface). The contact acts at points inside the upper ply's
 triangles, p = sum_j N_j (x_j - a_j d_j), N_j the triangle's shape functions at the rule's

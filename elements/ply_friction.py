@@ -39,6 +39,9 @@ gradient (friction dissipates); its energy record stays the spring's at the limi
 (mu N)^2 / (2 k_t), the elastic part of its offset (what it gives back when unloaded,
 continuous with E at the switch), with no normal force nor couple added: the normal force
 jumps by the stuck point's lift as the point starts sliding.
+On the curved faces the return mapping is this module's; the loads (the stuck points' whole
+gradient of E, the couple across the curved face's turning normal included) and their tangent
+are elements/ply_curved_friction.py's.
 Used by ``PlyContactBlock``; the functions take the block as their first argument.
 """
 
@@ -123,7 +126,8 @@ class Sliding:
     lift : (P,) float
         dE/dg of each stuck point's stick potential E = w W''(g) |s|^2 / 2 at fixed s (module
         docstring, "The stick potential"): w W'''(g) |s|^2 / 2, N, the normal force it adds
-        along dg/dz (0 elsewhere, and with ``stick="penalty"`` or on curved faces).
+        along dg/dz (0 elsewhere, with ``stick="penalty"`` and on the curved faces, whose
+        stuck points' loads elements/ply_curved_friction.py makes whole).
     stored : (P,) float
         W''(g) |s|^2 / 2 of each stuck point, the potential before the fade's w, N mm: the
         factor of dw/dz in dE/dz past the outline (0 off the stuck points, with
@@ -256,8 +260,8 @@ def stick_potential(
     -------
     lift (P,) N: w (W''' |s|^2 / 2); stored (P,) N mm: W'' |s|^2 / 2; both 0 off the stuck
     points, and everywhere with ``stick="penalty"`` (k_p |s|^2 / 2 holds no g) or on the
-    curved faces (whose contact's tangent is the flat one: the stick spring's force k_t s
-    alone there, as before).
+    curved faces (whose stuck points' loads, the lift among them, are
+    elements/ply_curved_friction.py's).
     """
     potential = stuck & (block.stick != "penalty") & (not block.curved)
     half = 0.5 * np.sum(slip * slip, axis=1)
@@ -343,14 +347,8 @@ def friction_loads(
     ends, ends_offset = block.fade_ends(facing, on)
     nodes = np.column_stack([block.above[on], block.cells[tri], block.cells[facing_tri], ends])
     force = sliding.force[on]
-    if block.curved:  # -F at the anchor on the curved face, carried to its corners
-        _, y = block._faces(state)
-        normals = block.surface_normals(state)[block.cells[tri]]
-        weights = history.anchor[on]
-        _, _, q, e = ply_surface.surface_point(y[tri], normals, weights)
-        lower = ply_surface.pullback(y[tri], normals, weights, q, e, -force)[0]
-    else:
-        lower = -history.anchor[on][:, :, None] * force[:, None, :]
+    # flat faces: the curved faces' loads are elements/ply_curved_friction.py's
+    lower = -history.anchor[on][:, :, None] * force[:, None, :]
     lift, stored = sliding.lift[on], sliding.stored[on]
     n, lam = facing.normal[on], facing.weights[on]
     couple = stick_couple(block, sliding, facing, on)

@@ -43,10 +43,10 @@ The nodal normal n = s / |s|, s = sum over the node's triangles of (x_2 - x_1) x
 carries dW/dn to dW/ds = (I - n n^T) dW/dn / |s| and over each triangle to its corners
 (``normal_pullback``): what the contact's force owes the normals' dependence on the
 neighbours of the lower corners. The force is then the exact gradient of the contact
-energy, checked by finite differences in tests/test_ply_surface.py. The tangent the
-contact gives with this surface is the flat facet's at the curved projection (the
-curvature's terms are of the order of W' / R against W''): enough for the explicit step's
-Gershgorin bound; Static's Newton converges on it linearly at worst.
+energy, checked by finite differences in tests/test_ply_surface.py. Its tangent is the
+exact derivative of that force (elements/ply_curved_tangent.py): the gap's Hessian through
+the projection's own motion (elements/ply_curved_hessian.py) and the normals' second
+derivatives (elements/ply_normal_hessian.py).
 """
 
 from __future__ import annotations

@@ -1,0 +1,237 @@
+"""Coulomb friction on the curved faces (``PlyContact(surface="curved", friction=mu)``,
+docs/theory.md §9.3a "Curved faces"): the tangential loads as the exact gradient of the
+stuck points' reported energy, the couple included, and their exact tangent.
+
+A touching point with an anchor measures s = (I - nu nu^T) r, r = p - a, p its place on the
+upper ply's curved face, a = P(Lambda; y^a, n^a) the anchor on the lower ply's curved face
+(fixed coordinates Lambda on its patch), nu the lower surface's normal at the point's
+projection (elements/ply_friction.py's return mapping gives F: k_t s stuck, mu N s / |s|
+sliding). Over the point's local data v (54,): the facing data of elements/ply_curved_hessian.py
+(the upper patch's z, N, the facing patch's y, n) then the anchor patch's y^a, n^a:
+
+* stuck, the gradient of E = k_t(g) |s|^2 / 2: with d(|s|^2 / 2) = s . dr - (nu . r)(s . dnu),
+  dE/dv = F^T dr/dv - (nu . r) F^T dnu/dv + W'''(g) |s|^2 / 2 dg/dv (k_t = W'', the normal
+  law's; the last term 0 with ``stick="penalty"``): the force, the couple of F and -F a
+  distance nu . r apart across the turning normal (dnu/dv: elements/ply_curved_hessian.py
+  ``gap_gradient_and_turning``, the projection's motion on the patch included), and the lift;
+* sliding, the virtual work F . dr, F = mu N s / |s| (no gradient: friction dissipates;
+  no couple nor lift, as on the flat faces).
+
+dr/dv holds the Phong map's Jacobians (elements/ply_curved_hessian.py ``phong_jacobian``) of
+p over the upper patch's corners and normals and of a over the anchor patch's, so the loads
+act on the normals too, carried to the nodes as the normal loads are
+(elements/ply_curved_tangent.py ``carried_loads``). Their derivative over v is taken by the
+complex step (Squire and Trapp, SIAM Rev. 40 (1998) 110; Martins, Sturdza and Alonso, ACM
+TOMS 29 (2003) 245): the same loads evaluated in complex arithmetic at v + i h e_j give
+d(loads)/dv_j = Im / h with no difference taken, so to rounding for h = 1e-30 (the
+truncation, h^2 times the third derivative, is 1e-60 of it); the projection is made again in
+complex arithmetic from the converged one (``STEPS`` Gauss-Newton steps, each dividing the
+derivative's error by ~ |g| / R: below rounding after two). The stick/slip state and the
+normal law's branch are those of the real point. The tangent then carries the local
+derivative to the nodes (``carried_tangent``).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements import ply_curved_friction_kernels, ply_projection, ply_surface
+from elements.ply_curved_hessian import gap_gradient_and_turning, phong_jacobian
+from elements.ply_curved_tangent import carried_loads, carried_tangent
+from femcore.assembly import SparseTangent
+from femcore.state import State
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+    from elements.ply_friction import PlyFrictionHistory, Sliding
+    from elements.ply_projection import Facing
+
+__all__ = ["curved_friction_loads", "curved_friction_tangent", "local_loads_numpy"]
+
+#: Gauss-Newton steps of the projection made again from the converged one (module docstring).
+STEPS = 3
+#: The complex step, mm (module docstring).
+STEP = 1e-30
+#: The local slots' kinds: an offset corner (True) or a normal (False), module docstring.
+CORNER_SLOTS = np.array(([True] * 3 + [False] * 3) * 3)
+
+
+def _split(v: np.ndarray) -> list[np.ndarray]:
+    return [v[:, 9 * k : 9 * k + 9].reshape(len(v), 3, 3) for k in range(6)]
+
+
+def _project(p: np.ndarray, y: np.ndarray, n: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """``STEPS`` Gauss-Newton steps of the projection of p on the patches (y, n) from
+    ``start``, in plain arithmetic (real or complex; elements/ply_surface.py ``project``)."""
+    lam = start.astype(np.result_type(p, y, n))
+    for _ in range(STEPS):
+        point, tangents, _, _ = ply_surface.surface_point_numpy(y, n, lam)
+        metric = np.einsum("pai,pbi->pab", tangents, tangents)
+        rhs = np.einsum("pai,pi->pa", tangents, p - point)
+        step = np.linalg.solve(metric, rhs[:, :, None])[:, :, 0]
+        lam = np.column_stack([lam[:, 0] + step[:, 0], lam[:, 1] + step[:, 1]])
+        lam = np.column_stack([lam, 1.0 - lam[:, 0] - lam[:, 1]])
+    return lam
+
+
+def _law(gap: np.ndarray, branch_gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
+    """-W'(g), W''(g) and W'''(g) of the penalty law (elements/ply_projection.py
+    ``penalty_law``) on the branch the real gaps ``branch_gap`` lie on, in plain
+    arithmetic."""
+    if smoothing == 0.0:
+        return -stiffness * gap, stiffness + 0.0 * gap, 0.0 * gap
+    deep = branch_gap <= -smoothing
+    pressing = np.where(
+        deep, -stiffness * (gap + 0.5 * smoothing), stiffness * gap**2 / (2 * smoothing)
+    )
+    spring = np.where(deep, stiffness + 0.0 * gap, -stiffness * gap / smoothing)
+    slope = np.where(deep, 0.0 * gap, -stiffness / smoothing + 0.0 * gap)
+    return pressing, spring, slope
+
+
+def local_loads_numpy(
+    block: PlyContactBlock,
+    v: np.ndarray,
+    sigma: np.ndarray,
+    anchor: np.ndarray,
+    start: np.ndarray,
+    stiffness: np.ndarray,
+    branch_gap: np.ndarray,
+    stuck: np.ndarray,
+) -> np.ndarray:
+    """The local loads (t, 54), N or N mm, of the frictional points (module docstring) at
+    their data v (t, 54), real or complex: sigma (t, 3) the points' coordinates on the upper
+    patch, anchor (t, 3) the anchors' Lambda, start (t, 3) the converged projection's
+    coordinates, stiffness (t,) k_p N/mm, branch_gap (t,) the real gap (the law's branch),
+    mm, stuck (t,) bool."""
+    z, upper_normals, y, n, ya, na = _split(v)
+    p = ply_surface.surface_point_numpy(z, upper_normals, sigma)[0]
+    a = ply_surface.surface_point_numpy(ya, na, anchor)[0]
+    lam = _project(p, y, n, start)
+    point, tangents, _, _ = ply_surface.surface_point_numpy(y, n, lam)
+    c = np.cross(tangents[:, 0], tangents[:, 1])
+    nu = c / np.sqrt(np.sum(c * c, axis=1))[:, None]
+    gap = np.sum((p - point) * nu, axis=1)
+    pressing, spring, slope = _law(gap, branch_gap, stiffness, block.smoothing)
+    if block.stick == "penalty":
+        spring, slope = stiffness + 0.0 * gap, 0.0 * gap
+    r = p - a
+    along = np.sum(nu * r, axis=1)
+    s = r - along[:, None] * nu
+    half = 0.5 * np.sum(s * s, axis=1)
+    length = np.sqrt(2.0 * half + (half.real == 0.0))  # |s|, 1 where s = 0 (no direction)
+    scale = np.where(stuck, spring, block.friction * pressing / length)
+    force = scale[:, None] * s
+    gradient, turning = gap_gradient_and_turning(z, upper_normals, sigma, y, n, lam, nu, gap)
+    loads = np.zeros(v.shape, dtype=v.dtype)
+    loads[:, :18] = np.einsum("ti,tiv->tv", force, phong_jacobian(z, upper_normals, sigma))
+    loads[:, 36:] = -np.einsum("ti,tiv->tv", force, phong_jacobian(ya, na, anchor))
+    potential = (
+        -along[:, None] * np.einsum("ti,tiv->tv", force, turning)
+        + (slope * half)[:, None] * gradient
+    )
+    loads[:, :36] += np.where(stuck[:, None], potential, 0.0)
+    return loads
+
+
+def _local_loads(
+    block: PlyContactBlock,
+    v: np.ndarray,
+    sigma: np.ndarray,
+    anchor: np.ndarray,
+    start: np.ndarray,
+    stiffness: np.ndarray,
+    branch_gap: np.ndarray,
+    stuck: np.ndarray,
+) -> np.ndarray:
+    """``local_loads_numpy``, compiled where the ply kernels are
+    (elements/ply_curved_friction_kernels.py)."""
+    if ply_projection.COMPILED:
+        return ply_curved_friction_kernels.local_loads(
+            v, sigma, anchor, start, stiffness, branch_gap, stuck, block.smoothing,
+            block.friction, block.stick == "penalty", STEPS,
+        )  # fmt: skip
+    return local_loads_numpy(block, v, sigma, anchor, start, stiffness, branch_gap, stuck)
+
+
+def _frictional_points(
+    block: PlyContactBlock,
+    state: State,
+    sliding: Sliding,
+    history: PlyFrictionHistory,
+    facing: Facing,
+):
+    """The stuck or sliding points' rows (t,), slot nodes (t, 18), corner mask and offsets
+    (t, 18), local data (t, 54) and what ``_local_loads`` takes beside them."""
+    on = np.flatnonzero(sliding.stuck | sliding.sliding)
+    x = state.positions
+    normals = ply_surface.nodal_normals(x, block._own_triangles, block.n_nodes)[0]
+    d = normals if block.along_normals else state.directors
+    rows, anchor_rows = facing.triangle[on], sliding.triangle[on]
+    above, tri, anchor_tri = block.above[on], block.cells[rows], block.cells[anchor_rows]
+    z = x[above] - block.upper_offset[on][:, :, None] * d[above]
+    y = x[tri] + block.corner_offset[rows][:, :, None] * d[tri]
+    ya = x[anchor_tri] + block.corner_offset[anchor_rows][:, :, None] * d[anchor_tri]
+    data = np.concatenate(
+        [
+            a.reshape(len(on), 9)
+            for a in (z, normals[above], y, normals[tri], ya, normals[anchor_tri])
+        ],
+        axis=1,
+    )
+    nodes = np.column_stack([above, above, tri, tri, anchor_tri, anchor_tri])
+    zero = np.zeros((len(on), 3))
+    offset = np.column_stack(
+        [
+            -block.upper_offset[on],
+            zero,
+            block.corner_offset[rows],
+            zero,
+            block.corner_offset[anchor_rows],
+            zero,
+        ]
+    )
+    corner = np.broadcast_to(CORNER_SLOTS, nodes.shape)
+    arguments = (
+        block.shape[on], history.anchor[on], facing.weights[on], block.stiffness[on],
+        facing.gap[on], sliding.stuck[on],
+    )  # fmt: skip
+    return on, nodes, corner, offset, data, arguments
+
+
+def curved_friction_loads(
+    block: PlyContactBlock,
+    state: State,
+    sliding: Sliding,
+    history: PlyFrictionHistory,
+    facing: Facing,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The frictional points' forces (n, 3), N, and moments (n, 3), N mm (module
+    docstring)."""
+    _, nodes, corner, offset, data, arguments = _frictional_points(
+        block, state, sliding, history, facing
+    )
+    loads = _local_loads(block, data, *arguments)
+    return carried_loads(block, state, nodes, corner, offset, loads)
+
+
+def curved_friction_tangent(
+    block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
+) -> SparseTangent:
+    """d(force, moment)/d(u, psi) (6 n, 6 n) of ``curved_friction_loads`` (module
+    docstring: the local derivative by the complex step)."""
+    sliding = block.friction_state(state, history, facing)
+    _, nodes, corner, offset, data, arguments = _frictional_points(
+        block, state, sliding, history, facing
+    )
+    loads = _local_loads(block, data, *arguments)
+    t, size = data.shape
+    # every column's complex step at once: row (point, column) of the repeated data
+    moved = np.repeat(data, size, axis=0).astype(complex)
+    moved[np.arange(t * size), np.tile(np.arange(size), t)] += 1j * STEP
+    repeated = tuple(np.repeat(argument, size, axis=0) for argument in arguments)
+    stepped = _local_loads(block, moved, *repeated).imag / STEP  # (t size, size)
+    jacobian = np.swapaxes(stepped.reshape(t, size, size), 1, 2)
+    return carried_tangent(block, state, nodes, corner, offset, loads, jacobian)
