@@ -75,24 +75,26 @@ def first_run_length(count: int, workers: int) -> int:
 
 
 def pytest_collection_modifyitems(session, config, items):
-    """The order of a run: the tests that wait for processes they start (``waits``) first,
-    then the other tests marked ``slow``, and the tests that read the coarse report last (in
-    the order collected otherwise, the same in every xdist worker), except the tests that call
-    no compiled kernel (marked ``no_kernels``: mypy), put first of the second worker's run
-    (``first_run_length``; first of all in one process).
+    """The order of a run: the tests marked ``first`` (the compilation of kernels that many tests
+    ask for, the fibrous force and tangent), then those that wait for processes they start
+    (``waits``), then the other tests marked ``slow``, and the tests that read the coarse
+    report last (in the order collected otherwise, the same in every xdist worker), except the
+    tests that call no compiled kernel (marked ``no_kernels``: mypy), put first of the second
+    worker's run (``first_run_length``; first of all in one process).
 
     At the start of a fresh checkout the report's jobs and the workers ask for the same
-    kernels, and the processes waiting for one being compiled left a core idle: the second
-    worker starts on mypy, which needs none, while the first worker's tests and the report's
-    jobs compile the first kernels. A waiting test leaves its core to the report's jobs
-    while they run (the README's Dask fit left one idle after the report had ended,
-    benchmarks/suite_idle.py). A test waiting for the report holds up only the tests after
-    it, and the two workers end together on short tests rather than one of them idle while
-    the other runs a long one collected late (mypy's 29 s, the last test of a whole run,
+    kernels, and the processes waiting for one being compiled left a core idle: the first
+    worker compiles the fibrous kernels at once (not in a Dask worker of a fit, which starts
+    later), the second starts on mypy, which needs none. A waiting test leaves its core to the
+    report's jobs while they run (the README's Dask fit left one idle after the report had
+    ended, benchmarks/suite_idle.py). A test waiting for the report holds up only the tests
+    after it, and the two workers end together on short tests rather than one of them idle
+    while the other runs a long one collected late (mypy's 29 s, the last test of a whole run,
     started when the other worker had 1 s of tests left)."""
     items.sort(
         key=lambda item: (
             uses_the_report(item),
+            item.get_closest_marker("first") is None,
             not waits(item),
             item.get_closest_marker("slow") is None,
         )

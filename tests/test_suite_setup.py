@@ -212,9 +212,10 @@ def test_the_session_stops_a_report_still_running(tmp_path):
 def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
     # A test waiting for the report holds up only the tests after it in its process; a long
     # test collected late would leave the other xdist worker idle at the end. Before the other
-    # slow tests, those that wait for processes they start (beside the report's jobs, which
-    # take the idle core); one that calls no kernel (mypy) first of the second xdist worker's
-    # run (while the first kernels compile), first of all in one process.
+    # slow tests, one that compiles kernels many ask for, then those that wait for processes
+    # they start (beside the report's jobs, which take the idle core); one that calls no kernel
+    # (mypy) first of the second xdist worker's run (while the first kernels compile), first of
+    # all in one process.
     from conftest import first_run_length, pytest_collection_modifyitems
 
     def item(name, *fixtures, marks=()):
@@ -229,14 +230,15 @@ def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
                  item("f", "coarse_report", marks=["slow"]), item("g", marks=["slow"]),
                  item("h", marks=["slow", "waits"]), item("i", "dask_scheduler", marks=["slow"]),
                  item("j", marks=["waits"]), item("k", marks=["slow", "no_kernels"]),
-                 item("l", "coarse_report", marks=["waits"])]  # fmt: skip
+                 item("l", "coarse_report", marks=["waits"]),
+                 item("m", marks=["slow", "first"])]  # fmt: skip
         config = None if workers is None else SimpleNamespace(workerinput={"workercount": workers})
         pytest_collection_modifyitems(None, config, items)
         return "".join(i.name for i in items)
 
-    assert ordered(None) == "khijegbdlfac"
+    assert ordered(None) == "kmhijegbdlfac"
     assert first_run_length(12, 2) == 2  # (12 // 2 // 4 = 1: at least 2)
-    assert ordered(2) == "hikjegbdlfac"
+    assert ordered(2) == "mhkijegbdlfac"
 
 
 @pytest.mark.parametrize("count, workers", [(12, 2), (2345, 2), (1001, 3)])
