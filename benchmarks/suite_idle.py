@@ -24,6 +24,23 @@ rounds, the xdist worker waiting on the fit in a ``futex``) beside the other wor
 10 core-s in the last 30 s, one worker ending before the other. The rest of the run kept both
 cores busy: the suite's wall on a quiet machine is its CPU over the cores, within ~30 s.
 
+Measured again, the same sampling (each xdist worker's tests logged too), a fresh clone of each
+ref, ``python -m pytest``, the 2-core machine shared with other jobs (the walls measure them):
+
+    388ef6d (slow tests first), load 0.1 -> 7.4: 875.6 s of pytest, 64.4 idle core-s: 21.5 in
+        the first 120 s (compile-lock waits), 29 at 300-420 s (the README's Dask sweep and
+        fit and the report's kill test, after the report had ended), 9 at the end.
+    3d026ad (mypy, then the waiting tests, then the other slow ones), load 5.3 -> 10.8:
+        1047.3 s, 38.5 idle core-s: 24 at 180-240 s (the fit calibration's Dask worker
+        compiling the fibrous kernels, the bias extension's test and the report's jobs
+        waiting on its locks), none after the report, the workers ending 0.1 s apart.
+    7b229b6 (mypy first of the second worker's run), load 4-7, the first 360 s only: 44.2
+        idle core-s (30.5 at 90-150 s: the same wait).
+    5fbea7b (the bias extension's arc-length test first: it compiles the fibrous kernels;
+        then the waiting tests; mypy first of the second worker's run), load 7-12, the first
+        300 s only: 13.5 idle core-s, no window above 5.5 (the bias extension's next test
+        6 s of wall, 39-110 s in the runs before).
+
 Run: python benchmarks/suite_idle.py [--ref HEAD] [--cores 2] [-- PYTEST_ARGS]
 """
 
