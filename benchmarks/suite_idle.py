@@ -25,21 +25,24 @@ rounds, the xdist worker waiting on the fit in a ``futex``) beside the other wor
 cores busy: the suite's wall on a quiet machine is its CPU over the cores, within ~30 s.
 
 Measured again, the same sampling (each xdist worker's tests logged too), a fresh clone of each
-ref, ``python -m pytest``, the 2-core machine shared with other jobs (the walls measure them):
+ref, ``python -m pytest``, the 2-core machine shared with other jobs (the walls measure them;
+idle core-seconds weighted by the time between samples, which grows with the load):
 
-    388ef6d (slow tests first), load 0.1 -> 7.4: 875.6 s of pytest, 64.4 idle core-s: 21.5 in
-        the first 120 s (compile-lock waits), 29 at 300-420 s (the README's Dask sweep and
+    388ef6d (slow tests first), load 0.1 -> 7.4: 875.6 s of pytest, 64.4 idle core-s: 21.1 in
+        the first 300 s (compile-lock waits), 30 at 300-420 s (the README's Dask sweep and
         fit and the report's kill test, after the report had ended), 9 at the end.
-    3d026ad (mypy, then the waiting tests, then the other slow ones), load 5.3 -> 10.8:
-        1047.3 s, 38.5 idle core-s: 24 at 180-240 s (the fit calibration's Dask worker
-        compiling the fibrous kernels, the bias extension's test and the report's jobs
-        waiting on its locks), none after the report, the workers ending 0.1 s apart.
-    7b229b6 (mypy first of the second worker's run), load 4-7, the first 360 s only: 44.2
-        idle core-s (30.5 at 90-150 s: the same wait).
-    5fbea7b (the bias extension's arc-length test first: it compiles the fibrous kernels;
-        then the waiting tests; mypy first of the second worker's run), load 7-12, the first
-        300 s only: 13.5 idle core-s, no window above 5.5 (the bias extension's next test
-        6 s of wall, 39-110 s in the runs before).
+    3d026ad (mypy, then the tests that wait for processes they start, then the other slow
+        ones: tests/conftest.py), load 5.3 -> 10.8: 1047.3 s, 38.5 idle core-s: 26.3 in the
+        first 300 s (24 at 180-240 s: the fit calibration's Dask worker compiling the fibrous
+        kernels, the bias extension's test and the report's jobs waiting on its locks), none
+        after the report had ended, the two workers ending 0.1 s apart.
+
+Tried and not kept (the first 300 s of a run only, then stopped): mypy first of the second
+worker's run (xdist's ``load`` hands the first worker a run of consecutive tests, a quarter of
+its share), load 4-7: 36.0 idle core-s; that and the bias extension's arc-length test (the
+compilation of the fibrous kernels) first of the first worker's run, load 7-12: 29.8. The
+start's idle is the compile-lock waits whatever the order; these differences are within what
+the load moves them.
 
 Run: python benchmarks/suite_idle.py [--ref HEAD] [--cores 2] [-- PYTEST_ARGS]
 """

@@ -67,44 +67,29 @@ def waits(item) -> bool:
     return item.get_closest_marker("waits") is not None or uses_the_cluster(item)
 
 
-def first_run_length(count: int, workers: int) -> int:
-    """The tests pytest-xdist's ``load`` scheduling hands the first worker before any other
-    (``LoadScheduling.schedule``: each worker a run of consecutive tests, a quarter of its
-    share, at least 2), of ``count`` tests on ``workers`` workers."""
-    return max(count // workers // 4, 2)
-
-
 def pytest_collection_modifyitems(session, config, items):
-    """The order of a run: the tests marked ``first`` (the compilation of kernels that many tests
-    ask for, the fibrous force and tangent), then those that wait for processes they start
-    (``waits``), then the other tests marked ``slow``, and the tests that read the coarse
-    report last (in the order collected otherwise, the same in every xdist worker), except the
-    tests that call no compiled kernel (marked ``no_kernels``: mypy), put first of the second
-    worker's run (``first_run_length``; first of all in one process).
-
-    At the start of a fresh checkout the report's jobs and the workers ask for the same
-    kernels, and the processes waiting for one being compiled left a core idle: the first
-    worker compiles the fibrous kernels at once (not in a Dask worker of a fit, which starts
-    later), the second starts on mypy, which needs none. A waiting test leaves its core to the
-    report's jobs while they run (the README's Dask fit left one idle after the report had
-    ended, benchmarks/suite_idle.py). A test waiting for the report holds up only the tests
-    after it, and the two workers end together on short tests rather than one of them idle
-    while the other runs a long one collected late (mypy's 29 s, the last test of a whole run,
-    started when the other worker had 1 s of tests left)."""
+    """The order of a run: the tests that call no compiled kernel (marked ``no_kernels``:
+    mypy) first, then those that wait for processes they start (``waits``), then the other
+    tests marked ``slow``, and the tests that read the coarse report last (in the order
+    collected otherwise, the same in every xdist worker; xdist's ``load`` hands each worker a
+    run of consecutive tests first, a quarter of its share: the first worker takes these
+    groups in this order, the other the fast tests after them). At the start of a fresh
+    checkout the report's jobs and the workers ask for the same kernels, and the processes
+    waiting for one being compiled left a core idle; mypy needs none. A waiting test leaves
+    its core to the report's jobs while they run (the README's Dask fit left one idle after
+    the report had ended, benchmarks/suite_idle.py).
+    A test waiting for the report holds up only the tests after it, and the two workers end
+    together on short tests rather than one of them idle while the other runs a long one
+    collected late (mypy's 29 s, the last test of a whole run, started when the other worker
+    had 1 s of tests left)."""
     items.sort(
         key=lambda item: (
             uses_the_report(item),
-            item.get_closest_marker("first") is None,
+            item.get_closest_marker("no_kernels") is None,
             not waits(item),
             item.get_closest_marker("slow") is None,
         )
     )
-    workers = getattr(config, "workerinput", {}).get("workercount", 1)
-    no_kernels = [item for item in items if item.get_closest_marker("no_kernels") is not None]
-    rest = [item for item in items if item.get_closest_marker("no_kernels") is None]
-    at = first_run_length(len(items), workers) if workers > 1 else 0
-    at = min(at, len(rest))
-    items[:] = rest[:at] + no_kernels + rest[at:]
 
 
 def pytest_collection_finish(session):

@@ -140,7 +140,6 @@ def test_the_default_static_shears_the_stacks_central_zone_as_the_pin_jointed_ne
 
 
 @pytest.mark.slow
-@pytest.mark.first  # compiles the fibrous force and tangent kernels that many tests ask for
 def test_the_arc_length_path_keeps_the_flat_stack_too():
     # Along the arc length a growing count of negative eigenvalues is a bifurcation only
     # when a push along the new mode descends; here none does, and the path stays flat with

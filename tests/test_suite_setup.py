@@ -212,11 +212,9 @@ def test_the_session_stops_a_report_still_running(tmp_path):
 def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
     # A test waiting for the report holds up only the tests after it in its process; a long
     # test collected late would leave the other xdist worker idle at the end. Before the other
-    # slow tests, one that compiles kernels many ask for, then those that wait for processes
-    # they start (beside the report's jobs, which take the idle core); one that calls no kernel
-    # (mypy) first of the second xdist worker's run (while the first kernels compile), first of
-    # all in one process.
-    from conftest import first_run_length, pytest_collection_modifyitems
+    # slow tests: one that calls no kernel (mypy, while the first kernels compile), then those
+    # that wait for processes they start (beside the report's jobs, which take the idle core).
+    from conftest import pytest_collection_modifyitems
 
     def item(name, *fixtures, marks=()):
         def marker(mark):
@@ -224,51 +222,14 @@ def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
 
         return SimpleNamespace(name=name, fixturenames=fixtures, get_closest_marker=marker)
 
-    def ordered(workers):
-        items = [item("a", "coarse_report"), item("b"), item("c", "tmp_path", "coarse_report"),
-                 item("d", "tmp_path"), item("e", marks=["slow"]),
-                 item("f", "coarse_report", marks=["slow"]), item("g", marks=["slow"]),
-                 item("h", marks=["slow", "waits"]), item("i", "dask_scheduler", marks=["slow"]),
-                 item("j", marks=["waits"]), item("k", marks=["slow", "no_kernels"]),
-                 item("l", "coarse_report", marks=["waits"]),
-                 item("m", marks=["slow", "first"])]  # fmt: skip
-        config = None if workers is None else SimpleNamespace(workerinput={"workercount": workers})
-        pytest_collection_modifyitems(None, config, items)
-        return "".join(i.name for i in items)
-
-    assert ordered(None) == "kmhijegbdlfac"
-    assert first_run_length(12, 2) == 2  # (12 // 2 // 4 = 1: at least 2)
-    assert ordered(2) == "mhkijegbdlfac"
-
-
-@pytest.mark.parametrize("count, workers", [(12, 2), (2345, 2), (1001, 3)])
-def test_the_first_run_length_is_what_xdist_hands_the_first_worker(count, workers):
-    # xdist's own scheduler (``--dist load``, the default of ``-n``) on a collection of
-    # ``count`` tests: the run of consecutive tests its first worker gets before any other
-    from conftest import first_run_length
-
-    load = pytest.importorskip("xdist.scheduler.load")
-    options = {"tx": [f"{workers}*popen"], "maxschedchunk": None}
-    config = SimpleNamespace(getvalue=options.get, getoption=options.get)
-    scheduler = load.LoadScheduling(config)
-    sent: dict[int, list[int]] = {}
-
-    class Node:  # a worker's controller, as the scheduler uses it
-        shutting_down = False
-
-        def __init__(self, k):
-            self.k, self.gateway = k, SimpleNamespace(id=f"gw{k}")
-
-        def send_runtest_some(self, tests):
-            sent.setdefault(self.k, []).extend(tests)
-
-    nodes = [Node(k) for k in range(workers)]
-    for node in nodes:
-        scheduler.add_node(node)
-    for node in nodes:
-        scheduler.add_node_collection(node, [f"t{i}" for i in range(count)])
-    scheduler.schedule()
-    assert sent[0] == list(range(first_run_length(count, workers)))
+    items = [item("a", "coarse_report"), item("b"), item("c", "tmp_path", "coarse_report"),
+             item("d", "tmp_path"), item("e", marks=["slow"]),
+             item("f", "coarse_report", marks=["slow"]), item("g", marks=["slow"]),
+             item("h", marks=["slow", "waits"]), item("i", "dask_scheduler", marks=["slow"]),
+             item("j", marks=["waits"]), item("k", marks=["slow", "no_kernels"]),
+             item("l", "coarse_report", marks=["waits"])]  # fmt: skip
+    pytest_collection_modifyitems(None, None, items)
+    assert [i.name for i in items] == ["k", "h", "i", "j", "e", "g", "b", "d", "l", "f", "a", "c"]
 
 
 def test_two_workers_asking_at_once_compute_the_run_once_and_both_read_it(tmp_path):
