@@ -24,6 +24,26 @@ rounds, the xdist worker waiting on the fit in a ``futex``) beside the other wor
 10 core-s in the last 30 s, one worker ending before the other. The rest of the run kept both
 cores busy: the suite's wall on a quiet machine is its CPU over the cores, within ~30 s.
 
+Measured again, the same sampling (each xdist worker's tests logged too), a fresh clone of each
+ref, ``python -m pytest``, the 2-core machine shared with other jobs (the walls measure them;
+idle core-seconds weighted by the time between samples, which grows with the load):
+
+    388ef6d (slow tests first), load 0.1 -> 7.4: 875.6 s of pytest, 64.4 idle core-s: 21.1 in
+        the first 300 s (compile-lock waits), 30 at 300-420 s (the README's Dask sweep and
+        fit and the report's kill test, after the report had ended), 9 at the end.
+    3d026ad (mypy, then the tests that wait for processes they start, then the other slow
+        ones: tests/conftest.py), load 5.3 -> 10.8: 1047.3 s, 38.5 idle core-s: 26.3 in the
+        first 300 s (24 at 180-240 s: the fit calibration's Dask worker compiling the fibrous
+        kernels, the bias extension's test and the report's jobs waiting on its locks), none
+        after the report had ended, the two workers ending 0.1 s apart.
+
+Tried and not kept (the first 300 s of a run only, then stopped): mypy first of the second
+worker's run (xdist's ``load`` hands the first worker a run of consecutive tests, a quarter of
+its share), load 4-7: 36.0 idle core-s; that and the bias extension's arc-length test (the
+compilation of the fibrous kernels) first of the first worker's run, load 7-12: 29.8. The
+start's idle is the compile-lock waits whatever the order; these differences are within what
+the load moves them.
+
 Run: python benchmarks/suite_idle.py [--ref HEAD] [--cores 2] [-- PYTEST_ARGS]
 """
 

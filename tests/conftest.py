@@ -60,13 +60,36 @@ def uses_the_report(item) -> bool:
     return "coarse_report" in getattr(item, "fixturenames", ())
 
 
+def waits(item) -> bool:
+    """Whether ``item`` spends most of its time waiting for processes it started (marked
+    ``waits``, or on the session's shared Dask cluster: a fit's rounds, a subprocess's start),
+    leaving a core idle unless another process takes it."""
+    return item.get_closest_marker("waits") is not None or uses_the_cluster(item)
+
+
 def pytest_collection_modifyitems(session, config, items):
-    """The tests marked ``slow`` first and the tests that read the coarse report last (in the
-    order collected otherwise, the same in every xdist worker): a test waiting for the report
-    holds up only the tests after it, and the two workers end together on short tests rather
-    than one of them idle while the other runs a long one collected late (mypy's 29 s, the
-    last test of a whole run, started when the other worker had 1 s of tests left)."""
-    items.sort(key=lambda item: (uses_the_report(item), item.get_closest_marker("slow") is None))
+    """The order of a run: the tests that call no compiled kernel (marked ``no_kernels``:
+    mypy) first, then those that wait for processes they start (``waits``), then the other
+    tests marked ``slow``, and the tests that read the coarse report last (in the order
+    collected otherwise, the same in every xdist worker; xdist's ``load`` hands each worker a
+    run of consecutive tests first, a quarter of its share: the first worker takes these
+    groups in this order, the other the fast tests after them). At the start of a fresh
+    checkout the report's jobs and the workers ask for the same kernels, and the processes
+    waiting for one being compiled left a core idle; mypy needs none. A waiting test leaves
+    its core to the report's jobs while they run (the README's Dask fit left one idle after
+    the report had ended, benchmarks/suite_idle.py).
+    A test waiting for the report holds up only the tests after it, and the two workers end
+    together on short tests rather than one of them idle while the other runs a long one
+    collected late (mypy's 29 s, the last test of a whole run, started when the other worker
+    had 1 s of tests left)."""
+    items.sort(
+        key=lambda item: (
+            uses_the_report(item),
+            item.get_closest_marker("no_kernels") is None,
+            not waits(item),
+            item.get_closest_marker("slow") is None,
+        )
+    )
 
 
 def pytest_collection_finish(session):

@@ -7,8 +7,11 @@ import socket
 import warnings
 
 import dask
+import pytest
 
 from fibreshell.cluster import IDLE_CONFIG, dask_client
+
+pytestmark = pytest.mark.waits  # on LocalClusters of their own, idle by design
 
 
 def _worker_config(keys):

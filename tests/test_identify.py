@@ -149,6 +149,7 @@ def test_comment_lines_of_a_data_file_say_where_the_data_came_from(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.waits  # on a LocalCluster of its own
 def test_the_command_fits_and_prints_the_interval(tmp_path, capsys):
     case = tmp_path / "strip.toml"
     case.write_text(

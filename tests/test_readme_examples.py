@@ -54,6 +54,7 @@ NOT_RUN_AT_MOST = 8
 MARKER = re.compile(r"<!--\s*([a-z-]+):\s*(.*?)\s*-->")
 MARKERS = ("not-run", "case", "fragment-of", "given")
 SLOW_COMMANDS = ("compare", "sweep", "identify", "report")
+CLUSTER_COMMANDS = ("sweep", "identify")  # on a Dask cluster of their own: marked waits
 
 
 @dataclass(frozen=True)
@@ -113,14 +114,16 @@ def of_kind(test) -> list:
         if block.marker == "not-run":
             continue
         if block.language == "python" and test == "python":
+            # a script whose Dask workers import it: waits for them
             slow = 'if __name__ == "__main__"' in block.text
-            marks = [pytest.mark.slow] if slow else []
+            marks = [pytest.mark.slow, pytest.mark.waits] if slow else []
             params.append(pytest.param(block, id=block.id, marks=marks))
         elif block.language == "toml" and test == "toml":
             params.append(pytest.param(block, id=block.id))
         elif test == "command":
             for k, argv in enumerate(block.commands):
                 marks = [pytest.mark.slow] if argv[0] in SLOW_COMMANDS else []
+                marks += [pytest.mark.waits] if argv[0] in CLUSTER_COMMANDS else []
                 params.append(
                     pytest.param(block, argv, id=f"{block.id}-{k}-{argv[0]}", marks=marks)
                 )

@@ -53,6 +53,7 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.slow  # about 8 s of CPU: the report and two workers into their cases
+@pytest.mark.waits  # for the report's workers to start
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
 def test_killing_a_report_with_two_jobs_ends_its_workers(tmp_path):
     # Two cases that take a minute each at the coarse resolution: still running at the kill.

@@ -211,20 +211,25 @@ def test_the_session_stops_a_report_still_running(tmp_path):
 
 def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
     # A test waiting for the report holds up only the tests after it in its process; a long
-    # test collected late would leave the other xdist worker idle at the end.
+    # test collected late would leave the other xdist worker idle at the end. Before the other
+    # slow tests: one that calls no kernel (mypy, while the first kernels compile), then those
+    # that wait for processes they start (beside the report's jobs, which take the idle core).
     from conftest import pytest_collection_modifyitems
 
-    def item(name, *fixtures, slow=False):
+    def item(name, *fixtures, marks=()):
         def marker(mark):
-            return SimpleNamespace(name=mark) if slow and mark == "slow" else None
+            return SimpleNamespace(name=mark) if mark in marks else None
 
         return SimpleNamespace(name=name, fixturenames=fixtures, get_closest_marker=marker)
 
     items = [item("a", "coarse_report"), item("b"), item("c", "tmp_path", "coarse_report"),
-             item("d", "tmp_path"), item("e", slow=True), item("f", "coarse_report", slow=True),
-             item("g", slow=True)]  # fmt: skip
+             item("d", "tmp_path"), item("e", marks=["slow"]),
+             item("f", "coarse_report", marks=["slow"]), item("g", marks=["slow"]),
+             item("h", marks=["slow", "waits"]), item("i", "dask_scheduler", marks=["slow"]),
+             item("j", marks=["waits"]), item("k", marks=["slow", "no_kernels"]),
+             item("l", "coarse_report", marks=["waits"])]  # fmt: skip
     pytest_collection_modifyitems(None, None, items)
-    assert [i.name for i in items] == ["e", "g", "b", "d", "f", "a", "c"]
+    assert [i.name for i in items] == ["k", "h", "i", "j", "e", "g", "b", "d", "l", "f", "a", "c"]
 
 
 def test_two_workers_asking_at_once_compute_the_run_once_and_both_read_it(tmp_path):

@@ -161,6 +161,7 @@ def paired_sweep(once_per_run):
     )
 
 
+@pytest.mark.waits  # on a LocalCluster
 def test_every_variant_matches_euler_bernoulli(paired_sweep):
     # Closed form q L^4 / (8 B) (0.1 mm): 20 cells of the clamped-edge shell converge at
     # second order to 0.15 %; 1 % tolerance.
@@ -173,6 +174,7 @@ def test_every_variant_matches_euler_bernoulli(paired_sweep):
         assert row["reaction_left_z"] == pytest.approx(DENSITY * GRAVITY * LENGTH * 10.0)
 
 
+@pytest.mark.waits  # on a LocalCluster
 def test_a_variant_runs_on_a_worker_as_it_runs_here(paired_sweep):
     out, table = paired_sweep
     tables, _ = apply_overrides(cantilever(), {"part.0.material.bending": 20.0})
@@ -182,6 +184,7 @@ def test_a_variant_runs_on_a_worker_as_it_runs_here(paired_sweep):
     )
 
 
+@pytest.mark.waits  # on a LocalCluster
 def test_a_failed_variant_is_a_row_with_its_error_and_the_others_run(paired_sweep):
     out, table = paired_sweep
     refused, stopped = table.rows[3], table.rows[4]
@@ -194,6 +197,7 @@ def test_a_failed_variant_is_a_row_with_its_error_and_the_others_run(paired_swee
     assert not (out / "variant-003").exists()
 
 
+@pytest.mark.waits  # on a LocalCluster
 def test_sweep_csv_has_a_row_per_variant_with_the_varied_values(paired_sweep):
     out, table = paired_sweep
     with open(out / "sweep.csv") as handle:
@@ -207,6 +211,7 @@ def test_sweep_csv_has_a_row_per_variant_with_the_varied_values(paired_sweep):
     assert np.isnan(table.column("displacement_right_z")[3])
 
 
+@pytest.mark.waits  # on a LocalCluster
 def test_a_dead_worker_is_a_failed_task_not_a_lost_map():
     import dask
 
@@ -250,6 +255,7 @@ def case_file(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.waits  # on a LocalCluster of its own
 def test_the_command_writes_sweep_csv(case_file, tmp_path, capsys):
     out = tmp_path / "out"
     status = main(["sweep", str(case_file), "--vary", "part.0.material.bending=1.0,2.0",
@@ -301,6 +307,7 @@ def test_the_report_s_sensitivity_study_sweeps_the_case_file_of_bai_6_1_1():
     assert base["output"]["paths"]["side_1"] == shipped["output"]["paths"]["side_1"]
 
 
+@pytest.mark.waits  # on a LocalCluster
 def test_a_sweep_runs_against_a_scheduler_address():
     # A scheduler started apart (here in this process; on a cluster by `dask scheduler`):
     # the sweep connects to its address and its workers run the variants.

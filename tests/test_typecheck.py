@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-pytestmark = pytest.mark.slow  # mypy over the packages: seconds to a minute
+# mypy over the packages: seconds to a minute, and no compiled kernel (run first)
+pytestmark = [pytest.mark.slow, pytest.mark.no_kernels]
 
 PACKAGES = ["femcore", "elements", "materials", "solvers", "fibreshell"]
 
