@@ -40,10 +40,11 @@ def test_a_first_turn_that_does_not_shrink_with_the_step_is_cut_at_most_max_cuts
     turns 0.3 rad against 0.1), each attempt would be cut again and the sub-increments would
     shrink without end: after max_cuts such cuts the increment is iterated unchecked and
     reaches the plain run's equilibrium."""
-    import solvers.load_path as load_path
+    import solvers.penalty_start as penalty_start
     from solvers.newton import StepTooLong
 
-    real = load_path.newton
+    # load_path's increments call Newton through penalty_start.newton_with_soft_start
+    real = penalty_start.newton
     checked = []
 
     def turning_newton(run, start, trial, turn_limit=None, **options):
@@ -54,7 +55,7 @@ def test_a_first_turn_that_does_not_shrink_with_the_step_is_cut_at_most_max_cuts
             raise StepTooLong(0.3)
         return real(run, start, trial, turn_limit=turn_limit, **options)
 
-    monkeypatch.setattr(load_path, "newton", turning_newton)
+    monkeypatch.setattr(penalty_start, "newton", turning_newton)
     solver = Static(increments=1, first_turn=0.1, max_cuts=3, progress=False)
     sized = solver.solve(_rollup())
     plain = Static(increments=1, progress=False).solve(_rollup())
