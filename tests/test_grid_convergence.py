@@ -79,6 +79,15 @@ def test_an_oscillating_sequence_has_no_order_nor_index():
     assert np.isnan(orders).all()
 
 
+def test_a_sequence_whose_differences_grow_has_no_index_nor_limit():
+    # f = 4, 2, 1 on meshes 0, 1, 3: the differences 1, 2 grow (order -1 with the ratio 2);
+    # Roache's band Fs |f2 - f3| / (r^p - 1) would come out negative
+    index = grid_convergence_index([4.0, 2.0, 1.0], [0.0, 1.0, 3.0])
+    assert index["order"] == pytest.approx(-1.0)
+    assert math.isnan(index["gci"]) and math.isnan(index["relative"])
+    assert math.isnan(index["extrapolated"])
+
+
 @pytest.mark.parametrize("p", [0.8, 1.0, 2.0, 3.0])
 def test_the_fit_recovers_a_power_law(p):
     fit = power_fit(SIZES, _law(p))

@@ -73,8 +73,9 @@ def grid_convergence_index(
     -------
     dict
         ``order`` p and ``extrapolated`` f0 (``observed_order``; NaN when the differences
-        change sign or vanish, or p lies outside its range), ``gci`` Fs |f2 - f3| /
-        (r^p - 1) in the quantity's unit (NaN with p), ``relative`` that over |f3| (NaN
+        change sign or vanish, or p lies outside its range; p < 0 where they grow, and then
+        f0 is NaN), ``gci`` Fs |f2 - f3| / (r^p - 1) in the quantity's unit (NaN unless p >
+        0: a sequence that does not converge has no band), ``relative`` that over |f3| (NaN
         where f3 is 0), ``ratio`` r = h2 / h3.
 
     Raises
@@ -90,7 +91,13 @@ def grid_convergence_index(
         raise ValueError(f"give three sizes and values, got {h.size}")
     p, f0 = observed_order(h.tolist(), f.tolist())
     ratio = float(h[1] / h[2])
-    index = safety * abs(f[1] - f[2]) / (ratio**p - 1.0) if math.isfinite(p) else math.nan
+    if not p > 0.0:
+        # A growing difference (p <= 0) or none: the sequence does not converge and
+        # Roache's band is undefined (its r^p - 1 would be <= 0), as is the value at h = 0.
+        p_band, f0 = math.nan, math.nan
+    else:
+        p_band = p
+    index = safety * abs(f[1] - f[2]) / (ratio**p_band - 1.0) if math.isfinite(p_band) else math.nan
     relative = index / abs(f[2]) if f[2] != 0.0 else math.nan
     return {"order": p, "extrapolated": f0, "gci": index, "relative": relative, "ratio": ratio}
 
