@@ -49,6 +49,21 @@ def softened(model: CompiledModel, share: float) -> Iterator[bool]:
             block.set_penalty(stiffness)
 
 
+@contextmanager
+def _stability_unsought(run: StaticRun) -> Iterator[None]:
+    """The solver's ``seek_stable`` off inside the block: the soft law's equilibrium is a
+    way-point whose stability says nothing of the full law's (its tangent may be indefinite
+    where the full one is not); mode searches, pushes and kept saddles there would cost
+    solves and mark the run for the full phase."""
+    solver = run.solver
+    kept = solver.seek_stable
+    solver.seek_stable = False
+    try:
+        yield
+    finally:
+        solver.seek_stable = kept
+
+
 def newton_with_soft_start(
     run: StaticRun,
     state: State,
@@ -65,7 +80,8 @@ def newton_with_soft_start(
     with softened(run.model, share) as soft:
         if not soft:
             return newton(run, state, load_factor, turn_limit=turn_limit)
-        start, count, _, history = newton(run, state, load_factor, turn_limit=turn_limit)
+        with _stability_unsought(run):
+            start, count, _, history = newton(run, state, load_factor, turn_limit=turn_limit)
     run.info["soft_start_iterations"] += count
     try:
         converged, more, ratio, rest = newton(run, start, load_factor)

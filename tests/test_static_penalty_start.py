@@ -63,3 +63,36 @@ def test_a_soft_start_bends_the_deck_in_fewer_iterations_to_the_same_equilibrium
     assert 2 * tangents[1] < tangents[0], tangents
     assert np.abs(started.positions - plain.positions).max() <= 1e-6
     assert np.abs(started.directors - plain.directors).max() <= 1e-8
+
+
+def test_frictional_ply_contacts_keep_their_penalty():
+    # their stick anchors and return mapping hold the penalty's history (module docstring)
+    model = bent_deck(2, 4, friction=0.2).compile()
+    blocks = [part for part in model.interactions if isinstance(part, PlyContactBlock)]
+    assert blocks and all(block.friction > 0.0 for block in blocks)
+    before = [block.node_stiffness.copy() for block in blocks]
+    with softened(model, 0.25) as soft:
+        assert not soft
+        for block, nodes in zip(blocks, before):
+            assert np.array_equal(block.node_stiffness, nodes)
+
+
+def test_the_soft_phase_seeks_no_stable_branch_and_the_full_phase_does(monkeypatch):
+    # The soft law's equilibrium is a way-point: its stability (an indefinite tangent where
+    # the full law's is not) must not start mode searches or pushes, nor mark a kept saddle.
+    import solvers.penalty_start as penalty_start
+
+    real, seen = penalty_start.newton, []
+
+    def recording(run, *args, **options):
+        blocks = [part for part in run.model.interactions if isinstance(part, PlyContactBlock)]
+        seen.append((run.solver.seek_stable, float(blocks[0].node_stiffness.max())))
+        return real(run, *args, **options)
+
+    monkeypatch.setattr(penalty_start, "newton", recording)
+    solver = Static(increments=1, seek_stable=True, ply_penalty_start=1e-3, progress=False)
+    solver.solve(bent_deck(2, 4))
+    full = max(stiffness for _, stiffness in seen)
+    assert {stiffness < full for _, stiffness in seen} == {True, False}  # both phases ran
+    assert all(sought == (stiffness == full) for sought, stiffness in seen), seen
+    assert solver.seek_stable is True
