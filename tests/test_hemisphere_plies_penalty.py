@@ -70,6 +70,11 @@ def test_a_factor_that_is_not_a_positive_number_is_refused(factor):
         penalty._arguments(["fibrous", "0/90", "--factors", "1", str(factor)])
 
 
+def test_a_factor_given_twice_is_refused_before_the_runs():
+    with pytest.raises(SystemExit):
+        penalty._arguments(["fibrous", "0/90", "--factors", "1", "2", "2"])
+
+
 def test_the_extrapolation_in_one_over_k_recovers_the_limit():
     """f(c) = f0 + a / c (a penetration p / k and results smooth in it): the three stiffest
     runs that reached the end give p = 1 and f0 to round-off; a stopped run is left out;

@@ -25,7 +25,8 @@ The plies' automatic contact penalty against its limit (validation/studies/
 hemisphere_plies_penalty.py; docs/hemisphere_plies.md, "The plies' penalty"): the fibrous
 [0/90] results within 0.03 deg and 0.13 mm of eight times it, the Mindlin runs' within their
 own scatter, the [0/45] stacks (crossing meshes) without a limit on the flat faces at 8 cells
-(the faceting's error, not the penalty's).
+(in shear and draw-in the faceting's error, not the penalty's; the punch's force not at
+its limit).
 Checked, per run: the run reaches the end of the stroke; each fibrous ply's rms of shear -
 net over its cells in the die (the Mindlin plies' reported, not checked, as in
 hemisphere-forming); the plies' order in the die (the top ply's least gap to the bottom ply

@@ -200,6 +200,9 @@ def _arguments(argv: list[str] | None = None) -> Any:
     for factor in arguments.factors:
         if not (math.isfinite(factor) and factor > 0.0):
             parser.error(f"a factor must be a positive number, got {factor}")
+    if len(set(arguments.factors)) != len(arguments.factors):
+        # refused before the runs: the extrapolation's sizes 1 / c must differ
+        parser.error(f"the factors must differ from each other, got {arguments.factors}")
     return arguments
 
 
