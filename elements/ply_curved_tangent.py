@@ -102,7 +102,7 @@ def carried_loads(
     x = state.positions
     normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, n)
     d = normals if block.along_normals else state.directors
-    slots = loads.reshape(len(loads), -1, 3)
+    slots = loads.reshape(len(loads), nodes.shape[1], 3)  # -1 fails on no points
     force = np.zeros((n, 3))
     moment = np.zeros((n, 3))
     on_normals = np.zeros((n, 3))

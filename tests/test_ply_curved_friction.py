@@ -109,6 +109,19 @@ def test_the_mirrored_passs_curved_friction_loads_and_tangent():
     check_force_is_energy_gradient(block, state, history, step=1e-6)
 
 
+def test_plies_apart_carry_no_curved_friction_loads():
+    # no point touches (the faces 0.5 mm apart): no stuck nor sliding point, zero loads
+    layup = Layup(
+        PLY, (0.0, 45.0), 40.0, cells=4, rule="gauss", faces="normal", surface="curved",
+        penalty=100.0, friction=MU,
+    )  # fmt: skip
+    block = layup.model().compile().interactions[0]
+    state = _on_sphere(layup, -0.5)
+    assert not block.facing(state).touching.any()
+    force, moment = block.internal_force(state, block.initial_history())
+    assert not np.any(force) and not np.any(moment)
+
+
 def _local(stuck_only: bool = False):
     """The frictional points' local data and arguments (stuck and sliding, on the 0.05-mm
     ramp and deeper), real and with a complex step on every column in turn."""
