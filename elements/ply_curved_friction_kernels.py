@@ -304,6 +304,9 @@ def local_loads(
             f"local data {np.shape(v)} and per-point arrays {shapes} given: expected (t, 54), "
             "three (t, 3) and three (t,) with one t"
         )
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+        # fewer than none would leave the pass's tangents unset (read from np.empty)
+        raise ValueError(f"steps must be a whole number >= 0, got {steps!r}")
     v = np.ascontiguousarray(v)
     out = np.empty(v.shape, dtype=v.dtype)
     _compiled(

@@ -181,6 +181,10 @@ def test_the_compiled_local_loads_refuse_arrays_of_other_rows():
         ply_curved_friction_kernels.local_loads(
             data[:-1], *arguments, block.smoothing, block.friction, False, 3
         )
+    with pytest.raises(ValueError, match="steps"):
+        ply_curved_friction_kernels.local_loads(
+            data, *arguments, block.smoothing, block.friction, False, -1
+        )
 
 
 def test_the_numpy_path_gives_the_compiled_loads_and_tangent(monkeypatch):
