@@ -110,22 +110,23 @@ def edge_couples(facing, y, cuts, rows, offset, force) -> np.ndarray:
         cut = np.zeros(len(y), dtype=np.bool_)
     else:
         lines, far, cut = cuts.lines, cuts.ends, cuts.cut
-    order = np.ascontiguousarray(rows, dtype=np.int64)
     out = np.empty((count, 4, 3))
+    # the inputs read-only, as the block keeps its facing and faces (elements/ply_block.py):
+    # one build whoever calls (kernel_inputs.py)
     _couples(
-        order,
-        np.ascontiguousarray(facing.weights, dtype=float),
-        np.ascontiguousarray(reach, dtype=float),
-        np.ascontiguousarray(facing.triangle, dtype=np.int64),
-        np.ascontiguousarray(facing.gap, dtype=float),
-        np.ascontiguousarray(facing.normal, dtype=float),
-        np.ascontiguousarray(facing.face, dtype=float),
-        np.ascontiguousarray(offset, dtype=float),
-        np.ascontiguousarray(force, dtype=float),
+        read_only(rows, np.int64),
+        read_only(facing.weights),
+        read_only(reach),
+        read_only(facing.triangle, np.int64),
+        read_only(facing.gap),
+        read_only(facing.normal),
+        read_only(facing.face),
+        read_only(offset),
+        read_only(force),
         read_only(y),
-        np.ascontiguousarray(lines, dtype=float),
-        np.ascontiguousarray(far, dtype=float),
-        np.ascontiguousarray(cut, dtype=np.bool_),
+        read_only(lines),
+        read_only(far),
+        read_only(cut, np.bool_),
         float(KEEP),
         float(END),
         out,

@@ -140,11 +140,11 @@ def offset_toward(
     ``einsum("pj,pj,pji->pi", shape, upper_offset, d[above])`` (module docstring), without
     the gather of d (n, 3) at the upper corners ``above`` (P, 3); a (P, 3) mm, N (P, 3)."""
     toward = np.empty((len(above), 3))
-    _toward(
-        np.ascontiguousarray(d, dtype=float),
-        np.ascontiguousarray(above, dtype=np.int64),
-        np.ascontiguousarray(upper_offset, dtype=float),
-        np.ascontiguousarray(shape, dtype=float),
+    _toward(  # read-only, as the block keeps its directions: one build (kernel_inputs.py)
+        read_only(d),
+        read_only(above, np.int64),
+        read_only(upper_offset),
+        read_only(shape),
         toward,
     )
     return toward
