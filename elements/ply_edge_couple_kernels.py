@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import lanes
-from elements.kernel_inputs import read_only
+from elements.kernel_inputs import read_only, writable
 
 __all__ = ["edge_couples"]
 
@@ -111,22 +111,23 @@ def edge_couples(facing, y, cuts, rows, offset, force) -> np.ndarray:
     else:
         lines, far, cut = cuts.lines, cuts.ends, cuts.cut
     out = np.empty((count, 4, 3))
-    # the inputs read-only, as the block keeps its facing and faces (elements/ply_block.py):
-    # one build whoever calls (kernel_inputs.py)
+    # each input of the type the block's own call hands it (the facing and faces read-only,
+    # as the block keeps them; the mapping's offsets and forces and the cuts writable): one
+    # build whoever calls, no copy or view on the block's path (kernel_inputs.py)
     _couples(
-        read_only(rows, np.int64),
+        writable(rows, np.int64),
         read_only(facing.weights),
         read_only(reach),
         read_only(facing.triangle, np.int64),
         read_only(facing.gap),
         read_only(facing.normal),
         read_only(facing.face),
-        read_only(offset),
-        read_only(force),
+        writable(offset),
+        writable(force),
         read_only(y),
-        read_only(lines),
-        read_only(far),
-        read_only(cut, np.bool_),
+        writable(lines),
+        writable(far),
+        writable(cut, np.bool_),
         float(KEEP),
         float(END),
         out,

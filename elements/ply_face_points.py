@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import lanes
-from elements.kernel_inputs import read_only
+from elements.kernel_inputs import read_only, writable
 
 __all__ = ["face_points", "offset_normals", "offset_toward"]
 
@@ -140,11 +140,11 @@ def offset_toward(
     ``einsum("pj,pj,pji->pi", shape, upper_offset, d[above])`` (module docstring), without
     the gather of d (n, 3) at the upper corners ``above`` (P, 3); a (P, 3) mm, N (P, 3)."""
     toward = np.empty((len(above), 3))
-    _toward(  # read-only, as the block keeps its directions: one build (kernel_inputs.py)
+    _toward(  # the directions read-only as the block keeps them: one build (kernel_inputs.py)
         read_only(d),
-        read_only(above, np.int64),
-        read_only(upper_offset),
-        read_only(shape),
+        writable(above, np.int64),
+        writable(upper_offset),
+        writable(shape),
         toward,
     )
     return toward

@@ -37,7 +37,7 @@ import numpy as np
 
 from elements import ply_friction
 from elements.jit import jit_lanes, prange
-from elements.kernel_inputs import read_only
+from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import PlyFrictionHistory, Sliding
 
 if TYPE_CHECKING:
@@ -184,20 +184,21 @@ def _mapped(block: PlyContactBlock, facing: Facing, y, triangle, anchor) -> Slid
     the lower triangles ``triangle`` (P,) int (-1: none) at barycentric ``anchor`` (P, 3):
     ``friction_state``'s and the one ``updated_history`` keeps, the same inputs either way."""
     arrays = _sliding_arrays(len(block.above))
-    # the inputs read-only, as the block keeps its facing and faces (elements/ply_block.py):
-    # one build whoever calls (kernel_inputs.py)
+    # each input of the type the block's own call hands it (the facing and faces read-only,
+    # as the block keeps them; the penalties and the history writable): one build whoever
+    # calls, no copy or view on the block's path (kernel_inputs.py)
     _return_mapping_compiled(
         read_only(facing.touching, np.bool_),
         read_only(facing.gap),
-        read_only(block.stiffness),
+        writable(block.stiffness),
         float(block.smoothing),
         read_only(facing.fade),
-        read_only(np.minimum(facing.gap, 0.0)),  # numpy's, for its signed zeros (ply_penalty.py)
+        np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
         block.stick != "penalty",
         block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
         float(block.friction),
-        read_only(triangle, np.int64),
-        read_only(anchor),
+        writable(triangle, np.int64),
+        writable(anchor),
         read_only(facing.face),
         read_only(facing.normal),
         read_only(y),
