@@ -72,31 +72,26 @@ def test_the_gaps_gradient_and_hessian_are_the_projections_differences():
     count = len(data)
     z, upper_normals, y, n = (data[:, 9 * k : 9 * k + 9].reshape(count, 3, 3) for k in range(4))
     gradient, hessian = gap_derivatives(z, upper_normals, sigma, y, n, lam, nu, gap)
+
+    def gaps(moves: np.ndarray) -> np.ndarray:
+        """(k, count) the projected gaps of the data moved by each of ``moves`` (k, 36),
+        projected together (each point's projection its own: the rows are independent)."""
+        moved = (data[None] + moves[:, None, :]).reshape(-1, 36)
+        return _projected_gap(moved, np.tile(sigma, (len(moves), 1)))[0].reshape(len(moves), count)
+
     step = 1e-5
     eye = np.eye(36)
-    differences = np.stack(
-        [
-            (
-                _projected_gap(data + step * eye[i], sigma)[0]
-                - _projected_gap(data - step * eye[i], sigma)[0]
-            )
-            / (2.0 * step)
-            for i in range(36)
-        ],
-        axis=1,
-    )
+    plus, minus = gaps(step * eye), gaps(-step * eye)
+    differences = ((plus - minus) / (2.0 * step)).T
     np.testing.assert_allclose(gradient, differences, atol=1e-7 * np.abs(gradient).max())
     step = 1e-3
+    pairs = [(i, j) for i in range(36) for j in range(i, 36)]
+    signs = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+    moves = np.array([step * (si * eye[i] + sj * eye[j]) for i, j in pairs for si, sj in signs])
+    corners = gaps(moves).reshape(len(pairs), 4, count)
     second = np.zeros_like(hessian)
-    for i in range(36):
-        for j in range(i, 36):
-            corners = [
-                _projected_gap(data + step * (si * eye[i] + sj * eye[j]), sigma)[0]
-                for si, sj in ((1, 1), (1, -1), (-1, 1), (-1, -1))
-            ]
-            second[:, i, j] = second[:, j, i] = (
-                corners[0] - corners[1] - corners[2] + corners[3]
-            ) / (4.0 * step**2)
+    for (i, j), at in zip(pairs, corners):
+        second[:, i, j] = second[:, j, i] = (at[0] - at[1] - at[2] + at[3]) / (4.0 * step**2)
     np.testing.assert_allclose(hessian, second, atol=1e-5 * np.abs(hessian).max())
 
 
