@@ -134,16 +134,17 @@ def test_the_nodal_normals_derivatives_are_their_differences():
 
 @pytest.mark.parametrize("faces", ["normal", "director"])
 def test_the_curved_contacts_tangent_is_the_derivative_of_its_loads(faces):
-    """Plies 0.1 mm into each other on the 50-mm sphere at 10-mm cells, [0/45], jittered by
-    0.02 mm (96 touching Gauss points): the block's tangent against central differences of
-    its forces and moments at every node, translations and director turns
-    (femcore.interaction_checks ``check_tangent``, 1e-6 of the largest entry). Measured
-    within 1e-10 (faces along the normals) and 1e-9 (along the directors) of the largest
-    entry; the flat facet's tangent at the curved projection, the tangent before, was off
+    """Plies 0.1 mm into each other on the 50-mm sphere, 30 mm at 10-mm cells, [0/45],
+    jittered by 0.02 mm (41 touching Gauss points): the block's tangent against central
+    differences of its forces and moments at every node, translations and director turns
+    (femcore.interaction_checks ``check_tangent``, 1e-6 of the largest entry). Passes at an
+    rtol of 1e-9 (faces along the normals) and 1e-8 (along the directors), the rounding
+    allowance included, as did the 40-mm plies of 4 x 4 cells (96 points); the flat facet's
+    tangent at the curved projection, the tangent before, was off
     by 0.21 of it (17.6 N/mm of 85.2)."""
-    layup, contact = _contact(4, 40.0, "curved", faces)
+    layup, contact = _contact(3, 30.0, "curved", faces)
     state = _on_sphere(layup, 0.1, jitter=0.02)
-    assert contact.facing(state).touching.sum() >= 90
+    assert contact.facing(state).touching.sum() >= 40
     assert check_tangent(contact, state)
 
 
@@ -151,7 +152,7 @@ def test_the_mirrored_passs_curved_tangent_is_the_derivative_of_its_loads():
     """The mirrored pass (``points="lower"``: the lower ply's nodes against the upper ply's
     curved face) on the same pair, the same check."""
     layup = Layup(
-        PLY, (0.0, 45.0), 40.0, cells=4, rule="gauss", faces="normal", surface="curved",
+        PLY, (0.0, 45.0), 30.0, cells=3, rule="gauss", faces="normal", surface="curved",
         penalty=100.0, lower_rule="vertices",
     )  # fmt: skip
     contact = layup.model().compile().interactions[1]
