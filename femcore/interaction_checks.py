@@ -292,11 +292,11 @@ def check_tangent(
     # each direction as a row of the (n, 6) loads: its node, its three columns (the force's
     # or the moment's) and its axis, to take every row's component at once
     nodes = np.array([node for node, _, _ in directions])
-    parts = np.array([[0, 1, 2] if kind == "u" else [3, 4, 5] for _, kind, _ in directions])
+    load_columns = np.array([[0, 1, 2] if kind == "u" else [3, 4, 5] for _, kind, _ in directions])
     axes = np.array([axis for _, _, axis in directions])
 
     def along_rows(loads: np.ndarray) -> np.ndarray:
-        return np.sum(loads[nodes[:, None], parts] * axes, axis=1)
+        return np.sum(loads[nodes[:, None], load_columns] * axes, axis=1)
 
     columns = []
     for direction in directions:
