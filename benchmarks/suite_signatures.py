@@ -93,6 +93,21 @@ the fused passes' tests covering their cases. tests/test_ply_kernels.py (``-n 0`
 slow"``) from an empty NUMBA_CACHE_DIR, the trees before (92d9ba4) and after at once, twice,
 load 4.7-7.7: 47.5, 46.9 -> 42.9, 43.5 s of CPU (user + system), 41 -> 33 tests.
 
+Five more kernels with two builds in a run of the ply tests (``--run -- python -m pytest -n
+0 -p no:randomly tests/test_ply_*.py tests/test_node_rows.py tests/test_static_curved_contact.py
+-m "not slow"``, one numba thread, a fresh cache; main 368d61b, load 6.7 -> 3.4): 128 builds,
+6 a kernel's second, 7.0 s of their CPU: ply_friction_kernels ``_return_mapping`` (the facing
+read-only from the block, writable from tests/test_ply_stick_spring_pass.py's own; 0.42 s),
+ply_face_points ``_toward`` (the directions; 0.12 s), ply_edge_couple_kernels ``_couples``
+(the facing; 0.77 s), ply_cut_kernels ``closest_cut_at``, a helper compiled with each of its
+two callers (the cut's pass handed it writable points and corners, the fade's pass read-only
+ones; 0.59 s), node_rows ``_same_rows`` (tests/test_node_rows.py's strided rows; 0.07 s);
+and ply_curved_friction_kernels ``_local_loads``' complex build beside its real one (5.0 s),
+the tangent's complex step, which needs it. The wrappers now hand each input with the flag the
+library's own call gives it (elements/kernel_inputs.py ``read_only``, ``writable``; the
+costs, benchmarks/kernel_input_types.py). The same tests and tests/test_kernel_input_types.py
+after (load 11 -> 5.7): 123 builds, one a kernel's second (the complex local loads).
+
 Run: python benchmarks/suite_signatures.py [FOLDER]
      python benchmarks/suite_signatures.py --log FOLDER
      python benchmarks/suite_signatures.py --run -- python -m pytest tests/test_x.py ...

@@ -37,6 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit, prange, serial, unsigned
+from elements.kernel_inputs import writable
 
 __all__ = ["add_node_forces", "distinct_nodes", "row_sums", "same_rows", "shifted"]
 
@@ -96,7 +97,9 @@ def same_rows(a: np.ndarray, b: np.ndarray) -> bool:
     if a.shape != b.shape:
         return False
     if a.ndim == 2 and a.shape[1] == 3 and a.dtype == b.dtype == np.float64:
-        return bool(_same_rows(a, b))
+        # C-contiguous and writable, as the contacts hand their rows (a copy of another
+        # layout or of a read-only array): one build of the loop (elements/kernel_inputs.py)
+        return bool(_same_rows(writable(a), writable(b)))
     return bool(np.array_equal(a, b))
 
 

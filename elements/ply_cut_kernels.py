@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit, prange, serial
+from elements.kernel_inputs import read_only, writable
 
 __all__ = ["closest_cut_at", "closest_on_cut"]
 
@@ -106,13 +107,16 @@ def closest_on_cut(p, corners, q, lines, ends, gradients, keep: float):
     count = len(p)
     out, cut = np.empty((count, 3)), np.empty(count, dtype=np.bool_)
     segment, along = np.empty((count, 2, 3)), np.empty(count)
+    # the types the fade's pass hands ``closest_cut_at`` (elements/ply_fade_kernels.py): the
+    # points and corners read-only (as the block keeps its faces), the rest writable (rows of
+    # its own arrays); one build of the helper for both (kernel_inputs.py)
     _closest_compiled(
-        np.ascontiguousarray(p, dtype=float),
-        np.ascontiguousarray(corners, dtype=float),
-        np.ascontiguousarray(q, dtype=float),
-        np.ascontiguousarray(lines, dtype=float),
-        np.ascontiguousarray(ends, dtype=float),
-        np.ascontiguousarray(gradients, dtype=float),
+        read_only(p),
+        read_only(corners),
+        writable(q),
+        writable(lines),
+        writable(ends),
+        writable(gradients),
         float(keep),
         out,
         cut,

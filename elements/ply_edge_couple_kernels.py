@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import lanes
-from elements.kernel_inputs import read_only
+from elements.kernel_inputs import read_only, writable
 
 __all__ = ["edge_couples"]
 
@@ -110,22 +110,24 @@ def edge_couples(facing, y, cuts, rows, offset, force) -> np.ndarray:
         cut = np.zeros(len(y), dtype=np.bool_)
     else:
         lines, far, cut = cuts.lines, cuts.ends, cuts.cut
-    order = np.ascontiguousarray(rows, dtype=np.int64)
     out = np.empty((count, 4, 3))
+    # each input of the type the block's own call hands it (the facing and faces read-only,
+    # as the block keeps them; the mapping's offsets and forces and the cuts writable): one
+    # build whoever calls, no copy or view on the block's path (kernel_inputs.py)
     _couples(
-        order,
-        np.ascontiguousarray(facing.weights, dtype=float),
-        np.ascontiguousarray(reach, dtype=float),
-        np.ascontiguousarray(facing.triangle, dtype=np.int64),
-        np.ascontiguousarray(facing.gap, dtype=float),
-        np.ascontiguousarray(facing.normal, dtype=float),
-        np.ascontiguousarray(facing.face, dtype=float),
-        np.ascontiguousarray(offset, dtype=float),
-        np.ascontiguousarray(force, dtype=float),
+        writable(rows, np.int64),
+        read_only(facing.weights),
+        read_only(reach),
+        read_only(facing.triangle, np.int64),
+        read_only(facing.gap),
+        read_only(facing.normal),
+        read_only(facing.face),
+        writable(offset),
+        writable(force),
         read_only(y),
-        np.ascontiguousarray(lines, dtype=float),
-        np.ascontiguousarray(far, dtype=float),
-        np.ascontiguousarray(cut, dtype=np.bool_),
+        writable(lines),
+        writable(far),
+        writable(cut, np.bool_),
         float(KEEP),
         float(END),
         out,

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import lanes
-from elements.kernel_inputs import read_only
+from elements.kernel_inputs import read_only, writable
 
 __all__ = ["face_points", "offset_normals", "offset_toward"]
 
@@ -140,11 +140,11 @@ def offset_toward(
     ``einsum("pj,pj,pji->pi", shape, upper_offset, d[above])`` (module docstring), without
     the gather of d (n, 3) at the upper corners ``above`` (P, 3); a (P, 3) mm, N (P, 3)."""
     toward = np.empty((len(above), 3))
-    _toward(
-        np.ascontiguousarray(d, dtype=float),
-        np.ascontiguousarray(above, dtype=np.int64),
-        np.ascontiguousarray(upper_offset, dtype=float),
-        np.ascontiguousarray(shape, dtype=float),
+    _toward(  # the directions read-only as the block keeps them: one build (kernel_inputs.py)
+        read_only(d),
+        writable(above, np.int64),
+        writable(upper_offset),
+        writable(shape),
         toward,
     )
     return toward

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import jit_lanes, lanes, prange
-from elements.kernel_inputs import read_only
+from elements.kernel_inputs import read_only, writable
 from elements.ply_cut_kernels import closest_cut_at
 from elements.ply_fade import SIDEWAYS
 from elements.ply_kernels import closest_on_sides, nearest_segment, segment_lines
@@ -271,7 +271,7 @@ def outline_fade_at(
         read_only(y),
         np.ascontiguousarray(triangle, dtype=np.int64),
         n,
-        grad,
+        writable(grad),  # as ply_cut_kernels.py hands closest_cut_at its gradients
         plane,
         lam,
         reach,
@@ -284,8 +284,8 @@ def outline_fade_at(
         squared,
         np.ascontiguousarray(ends, dtype=float),
         cuts is not None,
-        empty if cuts is None else np.ascontiguousarray(cuts.lines, dtype=float),
-        empty if cuts is None else np.ascontiguousarray(cuts.ends, dtype=float),
+        empty if cuts is None else writable(cuts.lines),  # as ply_cut_kernels.py hands them
+        empty if cuts is None else writable(cuts.ends),
         INSIDE,
         KEEP,
         float(length),

@@ -37,6 +37,7 @@ import numpy as np
 
 from elements import ply_friction
 from elements.jit import jit_lanes, prange
+from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import PlyFrictionHistory, Sliding
 
 if TYPE_CHECKING:
@@ -183,21 +184,24 @@ def _mapped(block: PlyContactBlock, facing: Facing, y, triangle, anchor) -> Slid
     the lower triangles ``triangle`` (P,) int (-1: none) at barycentric ``anchor`` (P, 3):
     ``friction_state``'s and the one ``updated_history`` keeps, the same inputs either way."""
     arrays = _sliding_arrays(len(block.above))
+    # each input of the type the block's own call hands it (the facing and faces read-only,
+    # as the block keeps them; the penalties and the history writable): one build whoever
+    # calls, no copy or view on the block's path (kernel_inputs.py)
     _return_mapping_compiled(
-        np.ascontiguousarray(facing.touching, dtype=np.bool_),
-        np.ascontiguousarray(facing.gap, dtype=float),
-        np.ascontiguousarray(block.stiffness, dtype=float),
+        read_only(facing.touching, np.bool_),
+        read_only(facing.gap),
+        writable(block.stiffness),
         float(block.smoothing),
-        np.ascontiguousarray(facing.fade, dtype=float),
+        read_only(facing.fade),
         np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
         block.stick != "penalty",
         block.stick != "penalty",  # flat faces here (ply_friction.stick_potential)
         float(block.friction),
-        np.ascontiguousarray(triangle, dtype=np.int64),
-        np.ascontiguousarray(anchor, dtype=float),
-        np.ascontiguousarray(facing.face, dtype=float),
-        np.ascontiguousarray(facing.normal, dtype=float),
-        np.ascontiguousarray(y, dtype=float),
+        writable(triangle, np.int64),
+        writable(anchor),
+        read_only(facing.face),
+        read_only(facing.normal),
+        read_only(y),
         *arrays,
     )
     return Sliding(*arrays)

@@ -3,7 +3,8 @@
 it, k_t |s|^2 / 2 with s measured across the curved face's turning normal (the force, the
 couple and the lift), and the tangent is the derivative of the loads, stuck and sliding.
 
-The model: the [0/45] pair of tests/test_ply_surface.py on the 50-mm sphere, 10-mm cells,
+The model: the [0/45] pair of tests/test_ply_surface.py on the 50-mm sphere, 30-mm plies of
+10-mm cells (3 x 3; 41 touching points, 54 in the mirrored pass),
 faces 0.1 mm into each other, jittered by 0.02 mm, mu = 0.3, every touching point anchored
 on its facing patch at its projection's coordinates moved by 5e-4 (even points, ~5e-3 mm:
 they stick) or 5e-2 (odd, ~0.5 mm: they slide). The reference: central differences of
@@ -36,7 +37,7 @@ def _anchored(faces: str, smoothing=None, stuck_only: bool = True, mirrored: boo
     ``stuck_only`` the sliding points' anchors dropped; with ``mirrored`` the mirrored pass
     (the bottom ply's nodes against the top ply's curved face)."""
     layup = Layup(
-        PLY, (0.0, 45.0), 40.0, cells=4, rule="gauss", faces=faces, surface="curved",
+        PLY, (0.0, 45.0), 30.0, cells=3, rule="gauss", faces=faces, surface="curved",
         penalty=100.0, friction=MU, smoothing=smoothing,
         lower_rule="vertices" if mirrored else None,
     )  # fmt: skip
@@ -70,16 +71,17 @@ def _anchored(faces: str, smoothing=None, stuck_only: bool = True, mirrored: boo
 @pytest.mark.parametrize("faces", ["normal", "director"])
 @pytest.mark.parametrize("smoothing", [None, 0.05], ids=["deeper", "on the ramp"])
 def test_a_stuck_points_loads_on_the_curved_face_are_the_gradient_of_its_energy(faces, smoothing):
-    """Measured within 1e-8 of the largest force or moment (faces along the normals,
-    deeper than the ramp: 1e-10). The loads before (k_t s alone, spread by the flat shape
-    functions on the upper ply, without the couple, the lift or the normals' part) were off
-    by 1.5e-4 to 1.6e-3 of it."""
+    """Passes at an rtol of 1e-7 (faces along the normals) and 1e-6 (along the directors),
+    the rounding allowance included (the 40-mm plies of 4 x 4 cells: 1e-8 and 1e-6). The
+    loads before (k_t s alone, spread by the flat shape functions on the upper ply, without
+    the couple, the lift or the normals' part) were off by 1.5e-4 to 1.6e-3 of it; without the
+    stick spring's slope on the ramp (its part of the lift), by 2.4 times the allowance."""
     block, state, history = _anchored(faces, smoothing)
     sliding = block.friction_state(state, history)
     facing = block.facing(state)
-    assert sliding.stuck.sum() >= 30 and not sliding.sliding.any()
+    assert sliding.stuck.sum() >= 12 and not sliding.sliding.any()
     on_ramp = sliding.stuck & (facing.gap > -block.smoothing)
-    assert on_ramp.sum() >= (4 if smoothing else 0)
+    assert on_ramp.sum() >= (3 if smoothing else 0)
     check_force_is_energy_gradient(block, state, history, step=1e-6)
 
 
@@ -89,21 +91,22 @@ def test_a_stuck_points_loads_on_the_curved_face_are_the_gradient_of_its_energy(
     ids=["stuck", "stuck and sliding", "stuck and sliding, faces along the directors"],
 )
 def test_the_curved_frictions_tangent_is_the_derivative_of_its_loads(faces, stuck_only):
-    """Measured within 1e-10 (stuck) and 1e-8 (stuck and sliding) of the largest entry,
-    faces along the normals."""
+    """Passes at an rtol of 1e-7, the rounding allowance included (so did the 40-mm plies
+    of 4 x 4 cells); without the derivative along the anchor patch's normals, off by about 680
+    times the allowance."""
     block, state, history = _anchored(faces, stuck_only=stuck_only)
     sliding = block.friction_state(state, history)
-    assert sliding.stuck.sum() >= 40 and (stuck_only or sliding.sliding.sum() >= 40)
+    assert sliding.stuck.sum() >= 15 and (stuck_only or sliding.sliding.sum() >= 15)
     assert check_tangent(block, state, history, step=1e-7)
 
 
 def test_the_mirrored_passs_curved_friction_loads_and_tangent():
-    """The mirrored pass (``points="lower"``), faces along the normals: 48 stuck and 48
+    """The mirrored pass (``points="lower"``), faces along the normals: 27 stuck and 27
     sliding points; the stuck points' loads the energy's gradient, the tangent the loads'
     derivative, as above."""
     block, state, history = _anchored("normal", stuck_only=False, mirrored=True)
     sliding = block.friction_state(state, history)
-    assert block.mirrored and sliding.stuck.sum() >= 40 and sliding.sliding.sum() >= 40
+    assert block.mirrored and sliding.stuck.sum() >= 20 and sliding.sliding.sum() >= 20
     assert check_tangent(block, state, history, step=1e-7)
     block, state, history = _anchored("normal", mirrored=True)
     check_force_is_energy_gradient(block, state, history, step=1e-6)

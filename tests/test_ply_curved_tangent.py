@@ -72,31 +72,26 @@ def test_the_gaps_gradient_and_hessian_are_the_projections_differences():
     count = len(data)
     z, upper_normals, y, n = (data[:, 9 * k : 9 * k + 9].reshape(count, 3, 3) for k in range(4))
     gradient, hessian = gap_derivatives(z, upper_normals, sigma, y, n, lam, nu, gap)
+
+    def gaps(moves: np.ndarray) -> np.ndarray:
+        """(k, count) the projected gaps of the data moved by each of ``moves`` (k, 36),
+        projected together (each point's projection its own: the rows are independent)."""
+        moved = (data[None] + moves[:, None, :]).reshape(-1, 36)
+        return _projected_gap(moved, np.tile(sigma, (len(moves), 1)))[0].reshape(len(moves), count)
+
     step = 1e-5
     eye = np.eye(36)
-    differences = np.stack(
-        [
-            (
-                _projected_gap(data + step * eye[i], sigma)[0]
-                - _projected_gap(data - step * eye[i], sigma)[0]
-            )
-            / (2.0 * step)
-            for i in range(36)
-        ],
-        axis=1,
-    )
+    plus, minus = gaps(step * eye), gaps(-step * eye)
+    differences = ((plus - minus) / (2.0 * step)).T
     np.testing.assert_allclose(gradient, differences, atol=1e-7 * np.abs(gradient).max())
     step = 1e-3
+    pairs = [(i, j) for i in range(36) for j in range(i, 36)]
+    signs = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+    moves = np.array([step * (si * eye[i] + sj * eye[j]) for i, j in pairs for si, sj in signs])
+    corners = gaps(moves).reshape(len(pairs), 4, count)
     second = np.zeros_like(hessian)
-    for i in range(36):
-        for j in range(i, 36):
-            corners = [
-                _projected_gap(data + step * (si * eye[i] + sj * eye[j]), sigma)[0]
-                for si, sj in ((1, 1), (1, -1), (-1, 1), (-1, -1))
-            ]
-            second[:, i, j] = second[:, j, i] = (
-                corners[0] - corners[1] - corners[2] + corners[3]
-            ) / (4.0 * step**2)
+    for (i, j), at in zip(pairs, corners):
+        second[:, i, j] = second[:, j, i] = (at[0] - at[1] - at[2] + at[3]) / (4.0 * step**2)
     np.testing.assert_allclose(hessian, second, atol=1e-5 * np.abs(hessian).max())
 
 
@@ -139,16 +134,17 @@ def test_the_nodal_normals_derivatives_are_their_differences():
 
 @pytest.mark.parametrize("faces", ["normal", "director"])
 def test_the_curved_contacts_tangent_is_the_derivative_of_its_loads(faces):
-    """Plies 0.1 mm into each other on the 50-mm sphere at 10-mm cells, [0/45], jittered by
-    0.02 mm (96 touching Gauss points): the block's tangent against central differences of
-    its forces and moments at every node, translations and director turns
-    (femcore.interaction_checks ``check_tangent``, 1e-6 of the largest entry). Measured
-    within 1e-10 (faces along the normals) and 1e-9 (along the directors) of the largest
-    entry; the flat facet's tangent at the curved projection, the tangent before, was off
+    """Plies 0.1 mm into each other on the 50-mm sphere, 30 mm at 10-mm cells, [0/45],
+    jittered by 0.02 mm (41 touching Gauss points): the block's tangent against central
+    differences of its forces and moments at every node, translations and director turns
+    (femcore.interaction_checks ``check_tangent``, 1e-6 of the largest entry). Passes at an
+    rtol of 1e-9 (faces along the normals) and 1e-8 (along the directors), the rounding
+    allowance included, as did the 40-mm plies of 4 x 4 cells (96 points); the flat facet's
+    tangent at the curved projection, the tangent before, was off
     by 0.21 of it (17.6 N/mm of 85.2)."""
-    layup, contact = _contact(4, 40.0, "curved", faces)
+    layup, contact = _contact(3, 30.0, "curved", faces)
     state = _on_sphere(layup, 0.1, jitter=0.02)
-    assert contact.facing(state).touching.sum() >= 90
+    assert contact.facing(state).touching.sum() >= 40
     assert check_tangent(contact, state)
 
 
@@ -156,7 +152,7 @@ def test_the_mirrored_passs_curved_tangent_is_the_derivative_of_its_loads():
     """The mirrored pass (``points="lower"``: the lower ply's nodes against the upper ply's
     curved face) on the same pair, the same check."""
     layup = Layup(
-        PLY, (0.0, 45.0), 40.0, cells=4, rule="gauss", faces="normal", surface="curved",
+        PLY, (0.0, 45.0), 30.0, cells=3, rule="gauss", faces="normal", surface="curved",
         penalty=100.0, lower_rule="vertices",
     )  # fmt: skip
     contact = layup.model().compile().interactions[1]
