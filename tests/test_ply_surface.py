@@ -4,6 +4,8 @@ and the contact force is the exact gradient of the contact energy."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -216,7 +218,8 @@ def test_a_ply_far_off_the_curved_face_touches_nothing_and_keeps_its_energy_fini
     in ``ITERATIONS`` Gauss-Newton steps on any candidate (a point mm off a patch tilted by
     its cell's angle), so those points face no patch. Nothing touches: the contact's energy
     (its stick springs' too) is 0, its forces and moments are 0, and every facing normal is
-    finite, to the bit. Before, such a point kept its failed projection's NaN normal and the
+    finite, to the bit; the accepted friction history anchors none (and meets no inf x 0).
+    Before, such a point kept its failed projection's NaN normal and the
     friction's slip made the energy NaN (Mindlin [0/45] on the curved faces stopped so at 61 %
     of the hemisphere's stroke)."""
     layup = Layup(
@@ -247,4 +250,8 @@ def test_a_ply_far_off_the_curved_face_touches_nothing_and_keeps_its_energy_fini
         assert contact.strain_energy(state, history) == 0.0
         force, moment = contact.internal_force(state, history)
         assert np.abs(force).max() == 0.0 and np.abs(moment).max() == 0.0
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no inf x 0 on the way
+            accepted = contact.update_history(state, history)
+        assert (accepted.triangle == -1).all() and accepted.dissipated == 0.0
     assert unsettled > 0  # the case the test is for: points with no converged patch
