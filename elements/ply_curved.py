@@ -81,10 +81,15 @@ def curved_facing(
     lam[at_point, column], gap[at_point, column] = found, found_gap
     normal[at_point, column] = found_normal
     # a candidate's patch not projected on, or whose projection did not converge (far past
-    # its edges, where the quadratic patch folds), is out of the choice
+    # its edges, where the quadratic patch folds; or a point some mm off a patch tilted by
+    # its cell's angle, where ITERATIONS Gauss-Newton steps do not settle), is out of the
+    # choice, its normal zero: a point with no converged patch touches nothing and must not
+    # carry the failed projection's NaN normal into the friction's slip (its energy was NaN:
+    # Mindlin [0/45] on the hemisphere at 61 % of the stroke, docs/hemisphere_plies.md)
     bad = ~(np.isfinite(gap) & np.isfinite(lam).all(axis=-1))
     gap = np.where(bad, np.inf, gap)
     lam = np.where(bad[..., None], -np.inf, lam)
+    normal = np.where(bad[..., None], 0.0, normal)
     best = choose(gap, lam, area2, deepest=False)
     at = np.arange(count)
     lam, gap = lam[at, best], gap[at, best]

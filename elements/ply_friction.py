@@ -701,7 +701,10 @@ def updated_history(
     # (on a plane n = m and the correction vanishes).
     _, y = block._faces(state)
     plane = triangle_frames(y[facing.triangle])[0]
-    w = target + facing.gap[:, None] * facing.normal
+    # a point facing no patch (curved faces: gap inf, normal 0; elements/ply_curved.py)
+    # touches nothing and keeps no anchor: its w is not used, kept finite
+    gap = np.where(np.isfinite(facing.gap), facing.gap, 0.0)
+    w = target + gap[:, None] * facing.normal
     tilt = np.sum(plane * facing.normal, axis=1)
     along = np.where(tilt > 0.1, np.sum(plane * w, axis=1) / np.where(tilt > 0.1, tilt, 1.0), 0.0)
     w = w - along[:, None] * facing.normal

@@ -102,7 +102,10 @@ class RigidSurface(RigidTool):
     die's flange) ends at its boundary edges (those of one facet only): a point past such an
     edge's line, in its facet's plane, is beside the tool whichever side of the facets it
     lies on, its distance that to the edge, positive (the overhang of a strip on a table
-    sags below the table's plane without being inside it). The closest facet is found
+    sags below the table's plane without being inside it). A point h behind the face that
+    crosses such a line goes from +h to -h at once (docs/theory.md §9.3, "Open edges"): a
+    tool whose edge a body can pass behind (a holder's bore) is meshed closed there. The
+    closest facet is found
     among the nearest facet centroids of a k-d tree (scipy.spatial.cKDTree, built once):
     CANDIDATES of them, more where those cannot be shown to include it (a centroid further
     than the closest point found plus the largest facet's circumradius cannot belong to a

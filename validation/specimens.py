@@ -445,22 +445,61 @@ def hemisphere_die(radius: float, flange: float, rings: int, rim: float = 0.0) -
     return Mesh(np.vstack(points), triangles=np.array(triangles))
 
 
-def holder_ring(inner: float, outer: float, width: float) -> Mesh:
-    """A flat blank holder meshed with triangles: an annulus in the plane z = 0 from radius
+def holder_ring(
+    inner: float,
+    outer: float,
+    width: float,
+    edge: float | None = None,
+    wall: float | None = None,
+) -> Mesh:
+    """A blank holder meshed with triangles: an annulus in the plane z = 0 from radius
     ``inner`` to ``outer`` (mm, about the z axis), facets of about ``width`` mm, for
     ``elements.RigidSurface``. Its facets' normals point down (the side the blank is on, the
     holder pressing it onto a die's flange from above); move it to its height with the tool's
-    own offset or by shifting the points."""
+    own offset or by shifting the points.
+
+    With ``edge`` and ``wall`` (mm) the holder has a bore, as a press's holder has: the face
+    turns up at ``inner`` over a quarter round of radius ``edge`` (the face flat from
+    ``inner + edge`` out) into a cylindrical wall of radius ``inner`` up to ``edge + wall``
+    above the face, its normals towards the axis. Without it the flat ring ends in an open
+    edge at ``inner``, and a point that rises above the face in the bore and then moves out
+    past that edge's line is inside the ring at once, as deep as it rose
+    (``RigidSurface``'s open edges): its contact energy jumps by k h^2 / 2 within a step
+    (docs/hemisphere_plies.md, "The holder's bore"). With the wall the signed distance of
+    such a point goes continuously through zero at the wall.
+    """
     if not 0.0 < inner < outer:
         raise ValueError(f"holder_ring needs 0 < inner < outer, got {inner} and {outer}")
-    if not 0.0 < width < outer - inner:
-        raise ValueError(f"holder_ring width must be in (0, {outer - inner}), got {width}")
-    radii = np.linspace(inner, outer, max(1, round((outer - inner) / width)) + 1)
+    if (edge is None) != (wall is None):
+        raise ValueError(
+            f"holder_ring takes its bore's edge and wall together, got edge={edge!r} and "
+            f"wall={wall!r}"
+        )
+    round_off = 0.0 if edge is None else float(edge)
+    height = 0.0 if wall is None else float(wall)
+    if edge is not None and not (0.0 < round_off < outer - inner and height > 0.0):
+        raise ValueError(
+            f"holder_ring's bore needs 0 < edge < outer - inner and wall > 0 (mm), got "
+            f"edge={edge!r} and wall={wall!r}"
+        )
+    face_from = inner + round_off
+    if not 0.0 < width < outer - face_from:
+        raise ValueError(f"holder_ring width must be in (0, {outer - face_from}), got {width}")
+    radii = np.linspace(face_from, outer, max(1, round((outer - face_from) / width)) + 1)
+    heights = np.zeros(len(radii))
+    if edge is not None:
+        # the profile from the wall's top down the wall and round the edge to the face, in
+        # the order the rings are zipped (inside first: the face's normals stay down)
+        top = np.linspace(round_off + height, round_off, max(1, round(height / width)) + 1)[:-1]
+        turns = max(2, round(0.5 * np.pi * round_off / min(width, 0.25 * round_off)))
+        angle = np.linspace(0.5 * np.pi, 0.0, turns + 1)[:-1]
+        radii = np.r_[np.full(len(top), inner), face_from - round_off * np.sin(angle), radii]
+        heights = np.r_[top, round_off - round_off * np.cos(angle), heights]
     points, angles = [], []
-    for r in radii:
+    for r, z in zip(radii, heights):
         count = max(6, round(2.0 * np.pi * r / width))
         angle = np.linspace(0.0, 2.0 * np.pi, count, endpoint=False)
-        points.append(np.column_stack([r * np.cos(angle), r * np.sin(angle), np.zeros(count)]))
+        points.append(np.column_stack([r * np.cos(angle), r * np.sin(angle), np.full(count, z)]))
         angles.append(angle)
     starts = np.cumsum([0] + [len(a) for a in angles])
     triangles = []

@@ -409,7 +409,8 @@ centred on the punch; ply 1 (bottom) at 0 deg, ply 2 at 90 or 45 deg (``elements
 Punch a rigid sphere of radius 50 mm moving 50.6 mm down (smooth amplitude) into a meshed die:
 a bowl of radius 50.9 mm (the punch, two plies and a clearance of one ply) with a flat flange,
 the two joined by an entry radius of 5 mm (``DIE_RIM``; the flange from 55.7 mm out).
-Blank holder: a flat ring (``validation.specimens.holder_ring``, 60.9 to 150 mm) on the plies
+Blank holder: a ring (``validation.specimens.holder_ring``, 60.9 to 150 mm; its bore a 1-mm
+round and a 20-mm wall, ``HOLDER_BORE``: docs/hemisphere_plies.md, "The holder's bore") on the plies
 (in contact with both plies' nodes: "The holder on every ply"), free along z, pressed down
 by a force F reaching its value over the first tenth of the run (20 N and 40 N,
 ``HOLDER_FORCES``: 0.71 and 1.41 kPa on the blank under it), mass 10 g
