@@ -42,7 +42,7 @@ import numpy as np
 
 from elements import ply_curved_friction_kernels, ply_projection, ply_surface
 from elements.ply_curved_hessian import gap_gradient_and_turning, phong_jacobian
-from elements.ply_curved_tangent import carried_loads, carried_tangent
+from elements.ply_curved_tangent import carried_loads, carried_tangent, surface_normals
 from femcore.assembly import SparseTangent
 from femcore.state import State
 
@@ -165,12 +165,14 @@ def _frictional_points(
     sliding: Sliding,
     history: PlyFrictionHistory,
     facing: Facing,
+    surface: tuple[np.ndarray, np.ndarray],
 ):
     """The stuck or sliding points' rows (t,), slot nodes (t, 18), corner mask and offsets
-    (t, 18), local data (t, 54) and what ``_local_loads`` takes beside them."""
+    (t, 18), local data (t, 54) and what ``_local_loads`` takes beside them; ``surface`` the
+    nodal normals and lengths (elements/ply_curved_tangent.py ``surface_normals``)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     x = state.positions
-    normals = ply_surface.nodal_normals(x, block._own_triangles, block.n_nodes)[0]
+    normals = surface[0]
     d = normals if block.along_normals else state.directors
     rows, anchor_rows = facing.triangle[on], sliding.triangle[on]
     above, tri, anchor_tri = block.above[on], block.cells[rows], block.cells[anchor_rows]
@@ -213,11 +215,12 @@ def curved_friction_loads(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The frictional points' forces (n, 3), N, and moments (n, 3), N mm (module
     docstring)."""
+    surface = surface_normals(block, state)
     _, nodes, corner, offset, data, arguments = _frictional_points(
-        block, state, sliding, history, facing
+        block, state, sliding, history, facing, surface
     )
     loads = _local_loads(block, data, *arguments)
-    return carried_loads(block, state, nodes, corner, offset, loads)
+    return carried_loads(block, state, surface, nodes, corner, offset, loads)
 
 
 def curved_friction_tangent(
@@ -226,8 +229,9 @@ def curved_friction_tangent(
     """d(force, moment)/d(u, psi) (6 n, 6 n) of ``curved_friction_loads`` (module
     docstring: the local derivative by the complex step)."""
     sliding = block.friction_state(state, history, facing)
+    surface = surface_normals(block, state)
     _, nodes, corner, offset, data, arguments = _frictional_points(
-        block, state, sliding, history, facing
+        block, state, sliding, history, facing, surface
     )
     loads = _local_loads(block, data, *arguments)
     t, size = data.shape
@@ -237,4 +241,4 @@ def curved_friction_tangent(
     repeated = tuple(np.repeat(argument, size, axis=0) for argument in arguments)
     stepped = _local_loads(block, moved, *repeated).imag / STEP  # (t size, size)
     jacobian = np.swapaxes(stepped.reshape(t, size, size), 1, 2)
-    return carried_tangent(block, state, nodes, corner, offset, loads, jacobian)
+    return carried_tangent(block, state, surface, nodes, corner, offset, loads, jacobian)

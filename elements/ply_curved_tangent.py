@@ -37,14 +37,33 @@ from femcore.state import State
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
 
-__all__ = ["carried_loads", "carried_tangent", "curved_tangent", "local_energy_derivatives"]
+__all__ = [
+    "carried_loads",
+    "carried_tangent",
+    "curved_tangent",
+    "local_energy_derivatives",
+    "surface_normals",
+]
 
 #: The local slots' kinds: an offset corner (True) or a normal (False), module docstring.
 CORNER_SLOTS = np.array([True] * 3 + [False] * 3 + [True] * 3 + [False] * 3)
 
 
-def local_energy_derivatives(block: PlyContactBlock, state: State, facing: Facing):
-    """The touching points' local data and the derivatives of their energies over it.
+def surface_normals(block: PlyContactBlock, state: State) -> tuple[np.ndarray, np.ndarray]:
+    """The block's own face's unit nodal normals (n, 3) and their sums' lengths (n,) at
+    ``state`` (elements/ply_surface.py ``nodal_normals``): made once a call and handed to the
+    local data's and the carried loads' steps, which both need them."""
+    return ply_surface.nodal_normals(state.positions, block._own_triangles, block.n_nodes)
+
+
+def local_energy_derivatives(
+    block: PlyContactBlock,
+    state: State,
+    facing: Facing,
+    surface: tuple[np.ndarray, np.ndarray],
+):
+    """The touching points' local data and the derivatives of their energies over it;
+    ``surface`` the nodal normals and lengths (``surface_normals``).
 
     Returns
     -------
@@ -54,7 +73,7 @@ def local_energy_derivatives(block: PlyContactBlock, state: State, facing: Facin
     """
     on = np.flatnonzero(facing.touching)
     x = state.positions
-    normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, block.n_nodes)
+    normals = surface[0]
     d = normals if block.along_normals else state.directors
     rows = facing.triangle[on]
     tri = block.cells[rows]
@@ -81,14 +100,16 @@ def local_energy_derivatives(block: PlyContactBlock, state: State, facing: Facin
 def curved_tangent(block: PlyContactBlock, state: State, facing: Facing) -> SparseTangent:
     """d(force, moment)/d(u, psi) (6 n, 6 n) of the curved faces' normal loads (module
     docstring)."""
-    _, nodes, offset, gradient, hessian = local_energy_derivatives(block, state, facing)
+    surface = surface_normals(block, state)
+    _, nodes, offset, gradient, hessian = local_energy_derivatives(block, state, facing, surface)
     corner = np.broadcast_to(CORNER_SLOTS, nodes.shape)
-    return carried_tangent(block, state, nodes, corner, offset, gradient, hessian)
+    return carried_tangent(block, state, surface, nodes, corner, offset, gradient, hessian)
 
 
 def carried_loads(
     block: PlyContactBlock,
     state: State,
+    surface: tuple[np.ndarray, np.ndarray],
     nodes: np.ndarray,
     corner: np.ndarray,
     offset: np.ndarray,
@@ -97,10 +118,11 @@ def carried_loads(
     """Nodal forces (n, 3), N, and moments (n, 3), N mm, of local loads ``loads`` (t, 3 S),
     the derivative of an energy (or a virtual work) over S local slots: each slot's node
     ``nodes`` (t, S), whether it is an offset corner (``corner``, (t, S) bool: z = x + c D,
-    c = ``offset`` (t, S), mm) or a nodal normal (module docstring)."""
+    c = ``offset`` (t, S), mm) or a nodal normal (module docstring); ``surface`` the nodal
+    normals and lengths (``surface_normals``)."""
     n = block.n_nodes
     x = state.positions
-    normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, n)
+    normals, lengths = surface
     d = normals if block.along_normals else state.directors
     slots = loads.reshape(len(loads), nodes.shape[1], 3)  # -1 fails on no points
     force = np.zeros((n, 3))
@@ -123,6 +145,7 @@ def carried_loads(
 def carried_tangent(
     block: PlyContactBlock,
     state: State,
+    surface: tuple[np.ndarray, np.ndarray],
     nodes: np.ndarray,
     corner: np.ndarray,
     offset: np.ndarray,
@@ -137,7 +160,7 @@ def carried_tangent(
     if t == 0:
         return SparseTangent(sp.csr_matrix((6 * n, 6 * n)))
     x = state.positions
-    normals, lengths = ply_surface.nodal_normals(x, block._own_triangles, n)
+    normals, lengths = surface
     d = normals if block.along_normals else state.directors
     size = 3 * nodes.shape[1]
     comp = np.arange(3)

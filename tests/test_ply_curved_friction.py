@@ -18,7 +18,12 @@ default step carries past it (the loads are E's gradient on either side, not acr
 import numpy as np
 import pytest
 
-from elements import ply_curved_friction, ply_curved_friction_kernels, ply_projection
+from elements import (
+    ply_curved_friction,
+    ply_curved_friction_kernels,
+    ply_curved_tangent,
+    ply_projection,
+)
 from elements.layup import Layup
 from elements.ply_friction import PlyFrictionHistory
 from femcore.interaction_checks import (
@@ -131,8 +136,9 @@ def _local(stuck_only: bool = False):
     block, state, history = _anchored("normal", smoothing=0.05, stuck_only=stuck_only)
     sliding = block.friction_state(state, history)
     facing = block.facing(state)
+    surface = ply_curved_tangent.surface_normals(block, state)
     _, _, _, _, data, arguments = ply_curved_friction._frictional_points(
-        block, state, sliding, history, facing
+        block, state, sliding, history, facing, surface
     )
     size = data.shape[1]
     stepped = np.repeat(data, size, axis=0).astype(complex)
