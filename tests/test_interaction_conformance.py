@@ -15,6 +15,7 @@ closed forms and the turned copies to 1e-9 of the largest force (rounding of the
 
 import numpy as np
 import pytest
+from friction_histories import shifted_anchors
 from scipy.spatial.transform import Rotation
 
 from elements import RigidCylinder, RigidPlane, RigidSphere, RigidSurface
@@ -407,8 +408,6 @@ def plies_with_friction(
     points: ~4e-3 mm, they stick) or 0.2 (odd: ~0.4 mm, they slide); barycentric, so the
     history is the same whatever the turn. The mirrored pass's lower ply 3.2 mm square, as
     in ``test_the_mirrored_ply_contact_conforms``: its outline points touch in the fade."""
-    from elements.ply_friction import PlyFrictionHistory
-
     block, state, _ = plies(
         turn,
         rule=rule,
@@ -419,20 +418,7 @@ def plies_with_friction(
         lower_size=3.2 if points == "lower" else 4.0,
         stick=stick,
     )
-    facing = block.facing(state)
-    count = len(facing.gap)
-    shift = np.random.default_rng(7).normal(size=(count, 3))
-    shift -= shift.mean(axis=1)[:, None]  # the coordinates still sum to 1
-    size = np.where(np.arange(count) % 2, 0.2, 0.002) / np.abs(shift).max(axis=1)
-    on = facing.touching
-    history = PlyFrictionHistory(
-        np.where(on, facing.triangle, -1),
-        np.where(on[:, None], facing.weights + size[:, None] * shift, np.nan),
-        np.zeros(count),
-        np.full(count, 0.5),
-        1.0,
-    )
-    return block, state, history
+    return block, state, shifted_anchors(block.facing(state), 0.002, 0.2)
 
 
 @pytest.mark.parametrize(

@@ -17,6 +17,7 @@ default step carries past it (the loads are E's gradient on either side, not acr
 
 import numpy as np
 import pytest
+from friction_histories import kept_anchors, shifted_anchors
 
 from elements import (
     ply_curved_friction,
@@ -25,7 +26,6 @@ from elements import (
     ply_projection,
 )
 from elements.layup import Layup
-from elements.ply_friction import PlyFrictionHistory
 from femcore.interaction_checks import (
     check_added_force,
     check_energy,
@@ -48,28 +48,9 @@ def _anchored(faces: str, smoothing=None, stuck_only: bool = True, mirrored: boo
     )  # fmt: skip
     block = layup.model().compile().interactions[1 if mirrored else 0]
     state = _on_sphere(layup, 0.1, jitter=0.02)
-    facing = block.facing(state)
-    count = len(facing.gap)
-    shift = np.random.default_rng(7).normal(size=(count, 3))
-    shift -= shift.mean(axis=1)[:, None]  # the coordinates still sum to 1
-    size = np.where(np.arange(count) % 2, 0.05, 0.0005) / np.abs(shift).max(axis=1)
-    on = facing.touching
-    history = PlyFrictionHistory(
-        np.where(on, facing.triangle, -1),
-        np.where(on[:, None], facing.weights + size[:, None] * shift, np.nan),
-        np.zeros(count),
-        np.full(count, 0.5),
-        1.0,
-    )
+    history = shifted_anchors(block.facing(state), 0.0005, 0.05)
     if stuck_only:
-        kept = block.friction_state(state, history).stuck
-        history = PlyFrictionHistory(
-            np.where(kept, history.triangle, -1),
-            np.where(kept[:, None], history.anchor, np.nan),
-            history.slip,
-            history.pressing,
-            history.dissipated,
-        )
+        history = kept_anchors(history, block.friction_state(state, history).stuck)
     return block, state, history
 
 

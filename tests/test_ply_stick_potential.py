@@ -24,9 +24,10 @@ compiled loads and the numpy reference.
 
 import numpy as np
 import pytest
+from friction_histories import kept_anchors
 
 from elements import ply_projection
-from elements.ply_friction import PlyFrictionHistory, stick_couple
+from elements.ply_friction import stick_couple
 from femcore.interaction_checks import check_force_is_energy_gradient, check_tangent
 from tests.test_interaction_conformance import plies_with_friction
 
@@ -66,13 +67,7 @@ def _stuck_only(case: str, stick: str = "normal law"):
     block, state, history = plies_with_friction(stick=stick, **settings)
     facing = block.facing(state)
     kept = block.friction_state(state, history).stuck & chosen(facing, block)
-    history = PlyFrictionHistory(
-        np.where(kept, history.triangle, -1),
-        np.where(kept[:, None], history.anchor, np.nan),
-        history.slip,
-        history.pressing,
-        history.dissipated,
-    )
+    history = kept_anchors(history, kept)
     return block, state, history, kept
 
 
