@@ -11,7 +11,8 @@ K = B_y^T H B_y, the same sum with its zero terms left out (the rows of the oute
 does not read, on which sigma is zero, are not formed), in another order (within 1e-12 of
 the reference, tests/test_mindlin_fabric_tangent.py). The geometric part
 sigma . d2e/ds2, with sigma = P^T dW/dy, and the spin term are the elastic kernel's
-(elements/mindlin_tangent.py).
+(elements/mindlin_tangent.py): the per-cell pieces the two share are
+elements/mindlin_cell_terms.py's.
 """
 
 from __future__ import annotations

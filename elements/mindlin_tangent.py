@@ -7,7 +7,8 @@ reads back for every cell.
 Per cell and thickness level z: the vectors (g1, g2, g3^A, g3^B, g3^C) and their turned
 copies V_k x g_u, the seven level measures e_z and sigma_z = D^_z e_z, B^psi_z (7 x 18) from
 the product coefficients; then K = sum_z B_z^T D^_z B_z, the geometric part G (x) P P^T, and
-the spin term (V_a g_a^T - (g_a . V_a) I) on the director blocks.
+the spin term (V_a g_a^T - (g_a . V_a) I) on the director blocks. The pieces the fabric
+section's loops share with this one are elements/mindlin_cell_terms.py's.
 """
 
 from __future__ import annotations

@@ -4,7 +4,11 @@ leave each loop's numbers as they were when it spelled the pieces out: the same 
 loops of revision BEFORE (their files taken from git and imported beside this tree's,
 tests/revision_modules.py), on the tests' meshes, at the reference state and far from it, on
 one thread and on all. The elastic tangent's loop runs in chunks of cells since then: the
-same bits on one thread and on all, and parted like the fabric loops (elements/jit.py)."""
+same bits on one thread and on all, and parted like the fabric loops (elements/jit.py).
+
+The comparisons are marked slow: numba builds the four loops of BEFORE too, 7-8 s of CPU on
+an empty cache (benchmarks/mindlin_kernel_pairs.py --compile), kept from run to run in
+pytest's cache folder."""
 
 from __future__ import annotations
 
@@ -99,6 +103,7 @@ def _fabric_results(modules, block, state) -> list[np.ndarray]:
     return [y, tangent, force, moment]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("levels", [2, 3])
 @pytest.mark.parametrize("material", ELASTIC)
 @pytest.mark.parametrize("mesh", MESHES)
@@ -113,6 +118,7 @@ def test_the_elastic_tangent_is_the_bits_of_the_loop_before(before, levels, mate
         np.testing.assert_array_equal(now, _elastic_tangents(before, block, state))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("section", SECTIONS)
 @pytest.mark.parametrize("mesh", MESHES)
 def test_the_fabric_loops_are_the_bits_of_the_loops_before(before, section, mesh):
@@ -128,6 +134,7 @@ def test_the_fabric_loops_are_the_bits_of_the_loops_before(before, section, mesh
             np.testing.assert_array_equal(a, b)
 
 
+@pytest.mark.slow
 @pytest.mark.parallel
 def test_the_loops_on_all_threads_are_the_bits_of_the_loops_before_on_one(before, monkeypatch):
     from tests.thread_runs import on_one_thread_and_on_all
