@@ -19,14 +19,13 @@ that of its second (numba's build of the loop, one thread).
 
 Measured on the 2-core machine shared with other jobs, one numba thread, ``--ref 14e312d``
 (the loops spelling their pieces out) beside the loops with elements/mindlin_cell_terms.py,
-10,000-triangle sheets, best of 12 rounds, load 10-12 (uptime before and after: 11.53 and
-12.12):
+10,000-triangle sheets, best of 9 rounds (uptime before and after: load 8.65 and 11.51):
 
     kernel            old us/cell  new us/cell  new/old median (quartiles)  bits, 1 and 2 threads
-    elastic tangent      2.445        2.125        0.862 (0.854-0.868)       the same
-    fabric tangent       1.886        1.809        0.974 (0.966-0.981)       the same
-    fabric loads         0.423        0.418        0.974 (0.962-0.981)       the same
-    fabric measures      0.072        0.070        0.967 (0.928-1.006)       the same
+    elastic tangent      2.434        2.133        0.865 (0.858-0.879)       the same
+    fabric tangent       1.973        1.884        0.982 (0.968-0.985)       the same
+    fabric loads         0.443        0.447        0.975 (0.972-0.984)       the same
+    fabric measures      0.089        0.087        0.968 (0.951-0.995)       the same
 
 (the elastic tangent's scratch allocated once a chunk of 64 cells instead of once a cell: the
 most of its 14 %). On the way, at 2,500 triangles (load 5-10): the pieces spliced with loops
@@ -37,10 +36,17 @@ the cell: its counts kept); the loads' rows formed whole by ``measure_row`` and 
 1.051 (not kept).
 
 Builds (``--compile``, fresh process, empty cache, one thread, CPU s of the first call less
-the second's; two runs, load 12-13): elastic tangent 2.89 / 3.05 before, 3.25 / 3.21 after;
-fabric tangent 2.61 / 2.58, 2.98 / 2.77; loads 0.86 / 0.85, 1.25 / 1.17; measures 0.78 / 0.75,
-0.96 / 0.91: the four 7.1-7.3 s before, 7.9-8.4 s after (numba reads each spliced helper's
-bytecode again at each call site and types the larger loop).
+the second's; load 11-13), before / after, four runs (the last two with ``measure_entries``
+and ``clear_stress_terms``):
+
+    elastic tangent   2.89 / 3.25   3.05 / 3.21   3.71 / 3.30   3.46 / 3.86
+    fabric tangent    2.61 / 2.98   2.58 / 2.77   3.18 / 3.41   3.19 / 3.31
+    fabric loads      0.86 / 1.25   0.85 / 1.17   1.30 / 1.36   1.36 / 1.39
+    fabric measures   0.78 / 0.96   0.75 / 0.91   0.70 / 0.82   0.68 / 0.83
+    the four          7.14 / 8.44   7.23 / 8.06   8.89 / 8.89   8.69 / 9.39
+
+0 to 18 % longer (numba reads each spliced helper's bytecode again at each call site and
+types the larger loop), within the spread of one side from run to run at this load.
 
 Run from the project root (the other revision must be a git ref of this repository):
 
@@ -50,7 +56,6 @@ Run from the project root (the other revision must be a git ref of this reposito
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import importlib
 import json
 import os
@@ -86,8 +91,8 @@ def sheet(cells: int, fabric: bool, seed: int = 3):
     2 %, jittered by 0.1 mm, the directors turned by about 0.3 rad."""
     from elements import MindlinShell
     from femcore import Mesh, Model
-    from femcore.rotation import rotate_about
     from materials import ElasticShell, presets
+    from tests.test_mindlin_fabric_tangent import _bent_state
 
     ny = max(1, int(round(np.sqrt(cells / 4.0))))
     mesh = Mesh.rectangle(200.0, 100.0, nx=2 * ny, ny=ny)
@@ -95,13 +100,7 @@ def sheet(cells: int, fabric: bool, seed: int = 3):
     model = Model(mesh)
     model.add(MindlinShell(material, warp=(1.0, 0.3, 0.0)) if fabric else MindlinShell(material))
     compiled = model.compile()
-    state = compiled.initial_state()
-    rng = np.random.default_rng(seed)
-    positions = state.positions * np.array([1.02, 0.99, 1.0])
-    positions += rng.normal(scale=0.1, size=positions.shape)
-    spin = rng.normal(scale=0.3 / np.sqrt(3), size=state.directors.shape)
-    directors = rotate_about(state.directors, spin)
-    state = dataclasses.replace(state, positions=positions, directors=directors)
+    state = _bent_state(compiled, np.random.default_rng(seed))
     block = compiled.blocks[0]
     return block, state.positions[block.connectivity], state.directors[block.connectivity]
 

@@ -28,8 +28,10 @@ from elements.jit import inline
 
 __all__ = [
     "bending_spin_blocks",
+    "clear_stress_terms",
     "level_measures",
     "level_vectors",
+    "measure_entries",
     "measure_row",
     "section_stresses",
     "stress_terms",
@@ -104,6 +106,19 @@ def level_measures(vec, z, cell, ref11, ref22, ref12, ref_tying, e):
 
 
 @inline
+def measure_entries(gradient, vec, turned, z, r, a, c):
+    """The entries of row ``r`` of B^psi_z (``measure_row``) in columns (a, u, c) and
+    (a, psi, c): sum_u f g_u[c] and sum_u f' (V_a x g_u)[c] over the product coefficients
+    ``gradient`` (Z, 7, 6, 5) (elements/mindlin_tables.py), mm."""
+    along = 0.0
+    turn = 0.0
+    for u in range(5):
+        along += gradient[z, r, a, u] * vec[z, u, c]
+        turn += gradient[z, r, 3 + a, u] * turned[a, u, c]
+    return along, turn
+
+
+@inline
 def measure_row(gradient, vec, turned, z, r, b_psi):
     """b_psi[z, r] (18,): row ``r`` of B^psi_z, the derivatives of level ``z``'s measure r in
     (corner a, u | psi, component) columns (eq. 5.5.3), from the product coefficients
@@ -111,11 +126,7 @@ def measure_row(gradient, vec, turned, z, r, b_psi):
     ``turned`` (``turned_vectors`` of level ``z``)."""
     for a in range(3):
         for c in range(3):
-            along = 0.0
-            turn = 0.0
-            for u in range(5):
-                along += gradient[z, r, a, u] * vec[z, u, c]
-                turn += gradient[z, r, 3 + a, u] * turned[a, u, c]
+            along, turn = measure_entries(gradient, vec, turned, z, r, a, c)
             b_psi[z, r, 6 * a + c] = along
             b_psi[z, r, 6 * a + 3 + c] = turn
 
@@ -135,6 +146,17 @@ def section_stresses(dw_dy, cell, sigma):
         sigma[0, r] = -0.5 * dw_dy[cell, 3 + r]
     for r in range(4):
         sigma[1, 3 + r] = dw_dy[cell, 6 + r]
+
+
+@inline
+def clear_stress_terms(director_gradient, geometric):
+    """Zeroes dW/dV_a (3, 3) and G (6, 6), which a cell's ``stress_terms`` add to."""
+    for a in range(3):
+        for c in range(3):
+            director_gradient[a, c] = 0.0
+    for p in range(6):
+        for q in range(6):
+            geometric[p, q] = 0.0
 
 
 @inline

@@ -6,8 +6,9 @@ without the batched B^psi (21 x 18 a cell) the numpy path writes and reads back.
 
 The rows of B^psi are formed as elements/mindlin_fabric_tangent.py forms them (only those P
 reads: rows 0-2 of the outer levels, all 7 of the mid-surface), from the per-cell pieces of
-elements/mindlin_cell_terms.py, each row summed into the loads as it is formed (formed whole
-first, by the tangent's ``measure_row``, the loop took 5 % longer); the sums run in another
+elements/mindlin_cell_terms.py, each entry of a row summed into the loads as it is formed
+(``measure_entries``; the rows formed whole first, by the tangent's ``measure_row``, the loop
+took 5 % longer); the sums run in another
 order than numpy's matmul (within 1e-12 of the reference, tests/test_mindlin_fabric_tangent.py).
 """
 
@@ -19,6 +20,7 @@ from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
 from elements.mindlin_cell_terms import (
     level_vectors,
+    measure_entries,
     section_stresses,
     turned_vectors,
     tying_vectors,
@@ -61,11 +63,7 @@ def _fabric_loads_cells(x, v, zeta, half, tying_n, dw_dy, gradient, force, momen
                     s = sigma[z, r]
                     for a in range(3):
                         for c in range(3):
-                            along = 0.0
-                            turn = 0.0
-                            for u in range(5):
-                                along += gradient[z, r, a, u] * vec[z, u, c]
-                                turn += gradient[z, r, 3 + a, u] * turned[a, u, c]
+                            along, turn = measure_entries(gradient, vec, turned, z, r, a, c)
                             loads[6 * a + c] += s * along
                             loads[6 * a + 3 + c] += s * turn
             for a in range(3):

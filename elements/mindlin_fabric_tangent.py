@@ -23,6 +23,7 @@ from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
 from elements.mindlin_cell_terms import (
     bending_spin_blocks,
+    clear_stress_terms,
     level_vectors,
     measure_row,
     section_stresses,
@@ -68,12 +69,7 @@ def _fabric_tangent_cells(
         for cell in range(chunk * size, min(m, (chunk + 1) * size)):
             section_stresses(dw_dy, cell, sigma)
             tying_vectors(v, cell, half, tying_n, g3)
-            for a in range(3):
-                for c in range(3):
-                    director_gradient[a, c] = 0.0
-            for p in range(6):
-                for q in range(6):
-                    geometric[p, q] = 0.0
+            clear_stress_terms(director_gradient, geometric)
             for z in range(nz):
                 level_vectors(x, v, cell, zeta, z, half, g3, vec)
                 turned_vectors(v, cell, vec, z, turned)

@@ -20,6 +20,7 @@ import numpy as np
 from elements.jit import AVAILABLE, jit, prange
 from elements.mindlin_cell_terms import (
     bending_spin_blocks,
+    clear_stress_terms,
     level_measures,
     level_vectors,
     measure_row,
@@ -70,12 +71,7 @@ def _tangent_cells(
             for row in range(18):
                 for col in range(18):
                     k[row, col] = 0.0
-            for a in range(3):
-                for c in range(3):
-                    director_gradient[a, c] = 0.0
-            for p in range(6):
-                for q in range(6):
-                    geometric[p, q] = 0.0
+            clear_stress_terms(director_gradient, geometric)
             tying_vectors(v, cell, half, tying_n, g3)
             for z in range(nz):
                 level_vectors(x, v, cell, zeta, z, half, g3, vec)

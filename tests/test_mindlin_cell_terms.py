@@ -12,7 +12,6 @@ pytest's cache folder."""
 
 from __future__ import annotations
 
-import dataclasses
 import importlib
 import subprocess
 
@@ -24,11 +23,11 @@ from elements.fabric_section import response
 from elements.jit import AVAILABLE
 from elements.mindlin_tables import _TYING_N
 from femcore import Model
-from femcore.rotation import rotate_about
 from materials import ElasticShell, presets
 from tests.revision_modules import revision_modules
 from tests.test_fabric_section_kernels import FABRICS
 from tests.test_mindlin import CYLINDER, MESH, ORTHOTROPIC, _deformed_state
+from tests.test_mindlin_fabric_tangent import _bent_state
 
 pytestmark = pytest.mark.skipif(not AVAILABLE, reason="numba missing")
 
@@ -66,18 +65,6 @@ def _now():
 def _states(model, seed: int):
     """The reference state and one far from it (tests/test_mindlin.py ``_deformed_state``)."""
     return [model.initial_state(), _deformed_state(model, np.random.default_rng(seed))]
-
-
-def _bent_state(model, seed: int):
-    """Stretched 2 %, jittered by 0.1 mm, directors turned by about 0.3 rad: a fabric
-    section's laws past their knees, short of the shear lock."""
-    state = model.initial_state()
-    rng = np.random.default_rng(seed)
-    positions = state.positions * np.array([1.02, 0.99, 1.0])
-    positions += rng.normal(scale=0.1, size=positions.shape)
-    spin = rng.normal(scale=0.3 / np.sqrt(3), size=state.directors.shape)
-    directors = rotate_about(state.directors, spin)
-    return dataclasses.replace(state, positions=positions, directors=directors)
 
 
 def _elastic_tangents(modules, block, state):
@@ -126,7 +113,7 @@ def test_the_fabric_loops_are_the_bits_of_the_loops_before(before, section, mesh
     model.add(MindlinShell(SECTIONS[section], warp=(1.0, 0.3, 0.0)))
     compiled = model.compile()
     block = compiled.blocks[0]
-    for state in (compiled.initial_state(), _bent_state(compiled, 4)):
+    for state in (compiled.initial_state(), _bent_state(compiled, np.random.default_rng(4))):
         now = _fabric_results(_now(), block, state)
         then = _fabric_results(before, block, state)
         assert np.abs(now[1]).max() > 0.0
@@ -149,7 +136,7 @@ def test_the_loops_on_all_threads_are_the_bits_of_the_loops_before_on_one(before
     model.add(MindlinShell(SECTIONS["non-linear"], warp=(1.0, 0.3, 0.0)))
     fabric = model.compile()
     elastic_state = _deformed_state(elastic, np.random.default_rng(7))
-    fabric_state = _bent_state(fabric, 8)
+    fabric_state = _bent_state(fabric, np.random.default_rng(8))
 
     def run(modules):
         return [
