@@ -167,7 +167,9 @@ def on_threads(run, threads: int):
         jit.FOLLOW_LOAD = follow
 
 
-def pair(name: str, old, new, cells: int, rounds: int, repeats: int, threads: int) -> str:
+def pair(
+    name: str, old, new, cells: int, rounds: int, repeats: int, threads: int, unit: str = "cell"
+) -> str:
     a, b = flat(old()), flat(new())
     bits = same(a, b)
     if threads > 1:
@@ -184,8 +186,8 @@ def pair(name: str, old, new, cells: int, rounds: int, repeats: int, threads: in
         ratios.append(times[new][-1] / times[old][-1])
     q1, median, q3 = np.percentile(ratios, [25, 50, 75])
     return (
-        f"{name:16s} {cells:6d} cells  old {min(times[old]):7.3f}  new {min(times[new]):7.3f} "
-        f"us/cell  new/old {median:.3f} ({q1:.3f}-{q3:.3f})  {bits}"
+        f"{name:16s} {cells:6d} {unit}s  old {min(times[old]):7.3f}  new {min(times[new]):7.3f} "
+        f"us/{unit}  new/old {median:.3f} ({q1:.3f}-{q3:.3f})  {bits}"
     )
 
 
