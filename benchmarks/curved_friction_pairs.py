@@ -71,8 +71,10 @@ def main(argv=None) -> None:
             run_old, run_new = runner(old), runner(new)
             run_old(), run_new()  # built (or loaded) before the clock
             repeats = max(1, 20_000 // len(points))
-            print(pair(name, run_old, run_new, len(points), args.rounds, repeats, args.threads, "point"),
-                  flush=True)  # fmt: skip
+            line = pair(
+                name, run_old, run_new, len(points), args.rounds, repeats, args.threads, "point"
+            )
+            print(line, flush=True)
     print(uptime(), flush=True)
 
 
