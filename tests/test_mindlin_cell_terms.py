@@ -13,7 +13,6 @@ pytest's cache folder."""
 from __future__ import annotations
 
 import importlib
-import subprocess
 
 import numpy as np
 import pytest
@@ -24,7 +23,7 @@ from elements.jit import AVAILABLE
 from elements.mindlin_tables import _TYING_N
 from femcore import Model
 from materials import ElasticShell, presets
-from tests.revision_modules import revision_modules
+from tests.revision_modules import revision_for_tests
 from tests.test_fabric_section_kernels import FABRICS
 from tests.test_mindlin import CYLINDER, MESH, ORTHOTROPIC, _deformed_state
 from tests.test_mindlin_fabric_tangent import _bent_state
@@ -46,15 +45,8 @@ MESHES = {"flat": MESH, "cylinder": CYLINDER}
 
 @pytest.fixture(scope="module")
 def before(request):
-    """The four loops' modules of BEFORE, by their file names (without .py); kept in pytest's
-    cache folder, so that numba's builds of them are kept beside them from run to run."""
-    folder = request.config.cache.mkdir(f"mindlin-loops-{BEFORE}")
-    try:
-        package, _ = revision_modules(BEFORE, folder, MODULES)
-    except (subprocess.CalledProcessError, FileNotFoundError):
-        pytest.skip(f"this checkout has no git history holding {BEFORE}")
-    names = [name.rsplit(".", 1)[1] for name in MODULES.values()]
-    return {name: importlib.import_module(f"{package}.{name}") for name in names}
+    """The four loops' modules of BEFORE, by their file names (without .py)."""
+    return revision_for_tests(request, BEFORE, MODULES)
 
 
 def _now():

@@ -7,15 +7,12 @@ complex, on an empty cache; kept from run to run in pytest's cache folder)."""
 
 from __future__ import annotations
 
-import importlib
-import subprocess
-
 import numpy as np
 import pytest
 
 from elements import ply_curved_friction, ply_curved_friction_kernels
 from elements.jit import AVAILABLE
-from tests.revision_modules import revision_modules
+from tests.revision_modules import revision_for_tests
 from tests.test_ply_curved_friction import _local
 
 pytestmark = [pytest.mark.skipif(not AVAILABLE, reason="numba missing"), pytest.mark.slow]
@@ -26,13 +23,8 @@ FILE = {"elements/ply_curved_friction_kernels.py": "elements.ply_curved_friction
 
 @pytest.fixture(scope="module")
 def before(request):
-    """The pass's module of BEFORE, kept in pytest's cache folder (numba's builds beside it)."""
-    folder = request.config.cache.mkdir(f"curved-friction-pass-{BEFORE}")
-    try:
-        package, _ = revision_modules(BEFORE, folder, FILE)
-    except (subprocess.CalledProcessError, FileNotFoundError):
-        pytest.skip(f"this checkout has no git history holding {BEFORE}")
-    return importlib.import_module(f"{package}.ply_curved_friction_kernels")
+    """The pass's module of BEFORE."""
+    return revision_for_tests(request, BEFORE, FILE)["ply_curved_friction_kernels"]
 
 
 def test_the_local_loads_are_the_bits_of_the_pass_before(before):
