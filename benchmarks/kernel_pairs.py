@@ -39,7 +39,6 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -52,6 +51,8 @@ sys.path.insert(0, str(ROOT))  # run from anywhere, no install
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from fibrous_shell import _sheet  # noqa: E402
+
+from tests.revision_modules import revision_modules  # noqa: E402
 
 # The modules copied from the other revision, and the name each is imported under there.
 MODULES = {
@@ -71,29 +72,8 @@ CALLS = {
 
 def other_kernels(ref: str, folder: Path):
     """The kernels module of revision ``ref``, imported from a package ``other_<hash>`` written
-    into ``folder``."""
-    commit = subprocess.run(
-        ["git", "-C", str(ROOT), "rev-parse", "--short", ref],
-        check=True, capture_output=True, text=True,
-    ).stdout.strip()  # fmt: skip
-    package = f"other_{commit}"
-    (folder / package).mkdir()
-    (folder / package / "__init__.py").write_text("")
-    for path, name in MODULES.items():
-        shown = subprocess.run(
-            ["git", "-C", str(ROOT), "show", f"{ref}:{path}"], capture_output=True, text=True
-        )
-        if shown.returncode != 0:  # a module the revision does not have
-            continue
-        text = shown.stdout
-        for other in MODULES.values():
-            parent, module = other.rsplit(".", 1)
-            text = text.replace(f"from {other} import", f"from {package}.{module} import")
-            text = text.replace(
-                f"from {parent} import {module} as", f"from {package} import {module} as"
-            )
-        (folder / package / f"{name.rsplit('.', 1)[1]}.py").write_text(text)
-    sys.path.insert(0, str(folder))
+    into ``folder`` (tests/revision_modules.py)."""
+    package, commit = revision_modules(ref, folder, MODULES)
     return importlib.import_module(f"{package}.kernels"), commit
 
 

@@ -5,7 +5,10 @@ each cell's corners and the section's gradient dW/dy (elements/fabric_section.py
 without the batched B^psi (21 x 18 a cell) the numpy path writes and reads back.
 
 The rows of B^psi are formed as elements/mindlin_fabric_tangent.py forms them (only those P
-reads: rows 0-2 of the outer levels, all 7 of the mid-surface); the sums run in another
+reads: rows 0-2 of the outer levels, all 7 of the mid-surface), from the per-cell pieces of
+elements/mindlin_cell_terms.py, each entry of a row summed into the loads as it is formed
+(``measure_entries``; the rows formed whole first, by the tangent's ``measure_row``, the loop
+took 5 % longer); the sums run in another
 order than numpy's matmul (within 1e-12 of the reference, tests/test_mindlin_fabric_tangent.py).
 """
 
@@ -15,6 +18,13 @@ import numpy as np
 
 from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
+from elements.mindlin_cell_terms import (
+    level_vectors,
+    measure_entries,
+    section_stresses,
+    turned_vectors,
+    tying_vectors,
+)
 
 # Cells per chunk of the loop (the scratch allocated once a chunk), passed to the kernel as an
 # argument (numba would freeze a global into its cached build).
@@ -35,58 +45,25 @@ def _fabric_loads_cells(x, v, zeta, half, tying_n, dw_dy, gradient, force, momen
     # parallel build would share what is allocated before the loop; once a cell cost 30 %).
     for chunk in prange((m + size - 1) // size):
         # scratch of this chunk
+        g3 = np.empty((3, 3))
         vec = np.empty((nz, 5, 3))
         turned = np.empty((3, 5, 3))
         sigma = np.empty((nz, 7))
         loads = np.empty(18)
         for cell in range(chunk * size, min(m, (chunk + 1) * size)):
-            for z in range(nz):
-                for r in range(7):
-                    sigma[z, r] = 0.0
-            for r in range(3):
-                sigma[1, r] = dw_dy[cell, r]
-                sigma[2, r] = 0.5 * dw_dy[cell, 3 + r]
-                sigma[0, r] = -0.5 * dw_dy[cell, 3 + r]
-            for r in range(4):
-                sigma[1, 3 + r] = dw_dy[cell, 6 + r]
+            section_stresses(dw_dy, cell, sigma)
             for col in range(18):
                 loads[col] = 0.0
-            for t in range(3):  # g3 at the tying points A, B, C
-                for c in range(3):
-                    total = 0.0
-                    for node in range(3):
-                        total += tying_n[t, node] * v[cell, node, c]
-                    for z in range(nz):
-                        vec[z, 2 + t, c] = half * total
+            tying_vectors(v, cell, half, tying_n, g3)
             for z in range(nz):
-                for c in range(3):
-                    vec[z, 0, c] = (x[cell, 1, c] - x[cell, 0, c]) + zeta[z] * half * (
-                        v[cell, 1, c] - v[cell, 0, c]
-                    )
-                    vec[z, 1, c] = (x[cell, 2, c] - x[cell, 0, c]) + zeta[z] * half * (
-                        v[cell, 2, c] - v[cell, 0, c]
-                    )
-                for a in range(3):
-                    for u in range(5):
-                        turned[a, u, 0] = (
-                            v[cell, a, 1] * vec[z, u, 2] - v[cell, a, 2] * vec[z, u, 1]
-                        )
-                        turned[a, u, 1] = (
-                            v[cell, a, 2] * vec[z, u, 0] - v[cell, a, 0] * vec[z, u, 2]
-                        )
-                        turned[a, u, 2] = (
-                            v[cell, a, 0] * vec[z, u, 1] - v[cell, a, 1] * vec[z, u, 0]
-                        )
+                level_vectors(x, v, cell, zeta, z, half, g3, vec)
+                turned_vectors(v, cell, vec, z, turned)
                 rows = 7 if z == 1 else 3  # sigma is zero on the rows P does not read
                 for r in range(rows):
                     s = sigma[z, r]
                     for a in range(3):
                         for c in range(3):
-                            along = 0.0
-                            turn = 0.0
-                            for u in range(5):
-                                along += gradient[z, r, a, u] * vec[z, u, c]
-                                turn += gradient[z, r, 3 + a, u] * turned[a, u, c]
+                            along, turn = measure_entries(gradient, vec, turned, z, r, a, c)
                             loads[6 * a + c] += s * along
                             loads[6 * a + 3 + c] += s * turn
             for a in range(3):

@@ -6,7 +6,8 @@ few thousand cells, where the loop costs a tenth of it).
 
 y = P e: the membrane strains and tying changes of the mid-surface level, and half the
 difference of the outer levels' membrane strains (the bending strains); the dot products are
-summed component by component (within 1e-12 of numpy's, tests/test_mindlin_fabric_tangent.py).
+summed component by component (within 1e-12 of numpy's, tests/test_mindlin_fabric_tangent.py),
+by the elastic tangent's pieces (elements/mindlin_cell_terms.py).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import numpy as np
 
 from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
+from elements.mindlin_cell_terms import level_measures, level_vectors, tying_vectors
 
 # Cells per chunk of the loop (the scratch allocated once a chunk), passed to the kernel as an
 # argument (numba would freeze a global into its cached build).
@@ -34,40 +36,13 @@ def _measures_cells(x, v, zeta, half, tying_n, ref11, ref22, ref12, ref_tying, y
     for chunk in prange((m + size - 1) // size):
         # scratch of this chunk
         g3 = np.empty((3, 3))
-        g1 = np.empty(3)
-        g2 = np.empty(3)
+        vec = np.empty((nz, 5, 3))
         e = np.empty((nz, 7))
         for cell in range(chunk * size, min(m, (chunk + 1) * size)):
-            for t in range(3):  # g3 at the tying points A, B, C
-                for c in range(3):
-                    total = 0.0
-                    for node in range(3):
-                        total += tying_n[t, node] * v[cell, node, c]
-                    g3[t, c] = half * total
+            tying_vectors(v, cell, half, tying_n, g3)
             for z in range(nz):
-                for c in range(3):
-                    g1[c] = (x[cell, 1, c] - x[cell, 0, c]) + zeta[z] * half * (
-                        v[cell, 1, c] - v[cell, 0, c]
-                    )
-                    g2[c] = (x[cell, 2, c] - x[cell, 0, c]) + zeta[z] * half * (
-                        v[cell, 2, c] - v[cell, 0, c]
-                    )
-                d11 = d22 = d12 = t0 = t1 = t2 = t3 = 0.0
-                for c in range(3):
-                    d11 += g1[c] * g1[c]
-                    d22 += g2[c] * g2[c]
-                    d12 += g1[c] * g2[c]
-                    t0 += g1[c] * g3[0, c]
-                    t1 += g1[c] * g3[2, c]
-                    t2 += g2[c] * g3[1, c]
-                    t3 += g2[c] * g3[2, c]
-                e[z, 0] = 0.5 * (d11 - ref11[cell, z])
-                e[z, 1] = 0.5 * (d22 - ref22[cell, z])
-                e[z, 2] = d12 - ref12[cell, z]
-                e[z, 3] = t0 - ref_tying[cell, z, 0]
-                e[z, 4] = t1 - ref_tying[cell, z, 1]
-                e[z, 5] = t2 - ref_tying[cell, z, 2]
-                e[z, 6] = t3 - ref_tying[cell, z, 3]
+                level_vectors(x, v, cell, zeta, z, half, g3, vec)
+                level_measures(vec, z, cell, ref11, ref22, ref12, ref_tying, e)
             for r in range(3):
                 y[cell, r] = e[1, r]
                 y[cell, 3 + r] = 0.5 * e[2, r] - 0.5 * e[0, r]

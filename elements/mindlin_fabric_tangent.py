@@ -11,7 +11,8 @@ K = B_y^T H B_y, the same sum with its zero terms left out (the rows of the oute
 does not read, on which sigma is zero, are not formed), in another order (within 1e-12 of
 the reference, tests/test_mindlin_fabric_tangent.py). The geometric part
 sigma . d2e/ds2, with sigma = P^T dW/dy, and the spin term are the elastic kernel's
-(elements/mindlin_tangent.py).
+(elements/mindlin_tangent.py): the per-cell pieces the two share are
+elements/mindlin_cell_terms.py's.
 """
 
 from __future__ import annotations
@@ -20,6 +21,16 @@ import numpy as np
 
 from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
+from elements.mindlin_cell_terms import (
+    bending_spin_blocks,
+    clear_stress_terms,
+    level_vectors,
+    measure_row,
+    section_stresses,
+    stress_terms,
+    turned_vectors,
+    tying_vectors,
+)
 
 # Cells per chunk of the loop (the scratch allocated once a chunk), passed to the kernel as an
 # argument (numba would freeze a global into its cached build).
@@ -44,8 +55,9 @@ def _fabric_tangent_cells(
     # parallel build would share what is allocated before the loop; once a cell cost 30 %).
     for chunk in prange((m + size - 1) // size):
         # scratch of this chunk
+        g3 = np.empty((3, 3))
         vec = np.empty((nz, 5, 3))
-        turned = np.empty((nz, 3, 5, 3))
+        turned = np.empty((3, 5, 3))
         b_psi = np.empty((nz, 7, 18))
         b_y = np.empty((10, 18))
         stressed = np.empty((10, 18))
@@ -54,73 +66,22 @@ def _fabric_tangent_cells(
         director_gradient = np.empty((3, 3))
         geometric = np.empty((6, 6))
         arms = np.empty((3, 2, 3, 3))
-        # sigma = P^T dW/dy: membrane and tying at the mid-surface, bending at the outer levels
         for cell in range(chunk * size, min(m, (chunk + 1) * size)):
+            section_stresses(dw_dy, cell, sigma)
+            tying_vectors(v, cell, half, tying_n, g3)
+            clear_stress_terms(director_gradient, geometric)
             for z in range(nz):
-                for r in range(7):
-                    sigma[z, r] = 0.0
-            for r in range(3):
-                sigma[1, r] = dw_dy[cell, r]
-                sigma[2, r] = 0.5 * dw_dy[cell, 3 + r]
-                sigma[0, r] = -0.5 * dw_dy[cell, 3 + r]
-            for r in range(4):
-                sigma[1, 3 + r] = dw_dy[cell, 6 + r]
-            for t in range(3):  # g3 at the tying points A, B, C
-                for c in range(3):
-                    total = 0.0
-                    for node in range(3):
-                        total += tying_n[t, node] * v[cell, node, c]
-                    for z in range(nz):
-                        vec[z, 2 + t, c] = half * total
-            for a in range(3):
-                for c in range(3):
-                    director_gradient[a, c] = 0.0
-            for p in range(6):
-                for q in range(6):
-                    geometric[p, q] = 0.0
-            for z in range(nz):
-                for c in range(3):
-                    vec[z, 0, c] = (x[cell, 1, c] - x[cell, 0, c]) + zeta[z] * half * (
-                        v[cell, 1, c] - v[cell, 0, c]
-                    )
-                    vec[z, 1, c] = (x[cell, 2, c] - x[cell, 0, c]) + zeta[z] * half * (
-                        v[cell, 2, c] - v[cell, 0, c]
-                    )
-                for a in range(3):
-                    for u in range(5):
-                        turned[z, a, u, 0] = (
-                            v[cell, a, 1] * vec[z, u, 2] - v[cell, a, 2] * vec[z, u, 1]
-                        )
-                        turned[z, a, u, 1] = (
-                            v[cell, a, 2] * vec[z, u, 0] - v[cell, a, 0] * vec[z, u, 2]
-                        )
-                        turned[z, a, u, 2] = (
-                            v[cell, a, 0] * vec[z, u, 1] - v[cell, a, 1] * vec[z, u, 0]
-                        )
+                level_vectors(x, v, cell, zeta, z, half, g3, vec)
+                turned_vectors(v, cell, vec, z, turned)
                 # P reads rows 0-2 of the outer levels and all 7 of the mid-surface: the others
                 # have no part in B_y, and sigma is zero on them
                 rows = 7 if z == 1 else 3
                 for r in range(rows):
-                    for a in range(3):
-                        for c in range(3):
-                            along = 0.0
-                            turn = 0.0
-                            for u in range(5):
-                                along += gradient[z, r, a, u] * vec[z, u, c]
-                                turn += gradient[z, r, 3 + a, u] * turned[z, a, u, c]
-                            b_psi[z, r, 6 * a + c] = along
-                            b_psi[z, r, 6 * a + 3 + c] = turn
-                # dW/dV_a and the geometric coefficients G = sum_r sigma_r d2e_r/ds2
+                    measure_row(gradient, vec, turned, z, r, b_psi)
                 for r in range(rows):
-                    s = sigma[z, r]
-                    for a in range(3):
-                        for u in range(5):
-                            weight = s * gradient[z, r, 3 + a, u]
-                            for c in range(3):
-                                director_gradient[a, c] += weight * vec[z, u, c]
-                    for p in range(6):
-                        for q in range(6):
-                            geometric[p, q] += s * curvature[z, r, p, q]
+                    stress_terms(
+                        sigma, gradient, curvature, vec, z, r, director_gradient, geometric
+                    )
             # B_y = P B^psi: the rows of the section measures y
             for col in range(18):
                 for r in range(3):
@@ -128,7 +89,7 @@ def _fabric_tangent_cells(
                     b_y[3 + r, col] = 0.5 * b_psi[2, r, col] - 0.5 * b_psi[0, r, col]
                 for r in range(4):
                     b_y[6 + r, col] = b_psi[1, 3 + r, col]
-            # K = B_y^T (H B_y), H symmetric: the upper triangle, mirrored below
+            # K = B_y^T (H B_y), H symmetric: the upper triangle
             for r in range(10):
                 for col in range(18):
                     total = 0.0
@@ -141,43 +102,7 @@ def _fabric_tangent_cells(
                     for r in range(10):
                         total += b_y[r, row] * stressed[r, col]
                     k[row, col] = total
-            for row in range(18):
-                for col in range(row):
-                    k[row, col] = k[col, row]
-            # Geometric part: the block of slots (t, a), (t', b) is G P_at P_bt'^T, P_a0 = I and
-            # P_a1 = [V_a]x.
-            for a in range(3):
-                for i in range(3):
-                    for j in range(3):
-                        arms[a, 0, i, j] = 1.0 if i == j else 0.0
-                    arms[a, 1, i, i] = 0.0
-                arms[a, 1, 0, 1], arms[a, 1, 0, 2] = -v[cell, a, 2], v[cell, a, 1]
-                arms[a, 1, 1, 0], arms[a, 1, 1, 2] = v[cell, a, 2], -v[cell, a, 0]
-                arms[a, 1, 2, 0], arms[a, 1, 2, 1] = -v[cell, a, 1], v[cell, a, 0]
-            for a in range(3):
-                for t in range(2):
-                    for b in range(3):
-                        for t2 in range(2):
-                            coefficient = geometric[3 * t + a, 3 * t2 + b]
-                            if coefficient == 0.0:
-                                continue
-                            for i in range(3):
-                                for j in range(3):
-                                    product = 0.0
-                                    for c in range(3):
-                                        product += arms[a, t, i, c] * arms[b, t2, j, c]
-                                    k[6 * a + 3 * t + i, 6 * b + 3 * t2 + j] += (
-                                        coefficient * product
-                                    )
-            # Spin: turning V_a turns the arm of m_a = V_a x g_a (eq. 5.5.5).
-            for a in range(3):
-                along = 0.0
-                for c in range(3):
-                    along += director_gradient[a, c] * v[cell, a, c]
-                for i in range(3):
-                    for j in range(3):
-                        k[6 * a + 3 + i, 6 * a + 3 + j] += v[cell, a, i] * director_gradient[a, j]
-                    k[6 * a + 3 + i, 6 * a + 3 + i] -= along
+            bending_spin_blocks(v, cell, geometric, director_gradient, arms, k)
             for row in range(18):
                 for col in range(18):
                     out[cell, row, col] = k[row, col]

@@ -13,9 +13,26 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange
+from elements.jit import inline, jit, prange
 
 __all__ = ["local_loads"]
+
+
+@inline
+def _flat_point(data, corners, normals, lam, zero, q, e):
+    """Into q (3,) and e (3,): the flat point q = sum_k lam_k y_k of the barycentric
+    coordinates lam (3,) on a patch's corners y = data[corners] (3, 3) and its offsets
+    e_k = (q - y_k) . n_k along the corners' normals n = data[normals] (3, 3), real or complex
+    (``zero`` the row's zero): the start of the patch's Phong point and of its Jacobian, in
+    the pass's projections and in its maps of the point, the facing point and the anchor."""
+    for i in range(3):
+        q[i] = lam[0] * data[corners, 0, i]
+        for k in range(1, 3):
+            q[i] = q[i] + lam[k] * data[corners, k, i]
+    for k in range(3):
+        e[k] = zero
+        for i in range(3):
+            e[k] = e[k] + (q[i] - data[corners, k, i]) * data[normals, k, i]
 
 
 def _local_loads(
@@ -56,14 +73,7 @@ def _local_loads(
                 for k in range(3):
                     lam[k] = start[row, k] + zero
             for iteration in range(steps + 1 if which == 1 else 1):
-                for i in range(3):
-                    q[i] = lam[0] * data[corners, 0, i]
-                    for k in range(1, 3):
-                        q[i] = q[i] + lam[k] * data[corners, k, i]
-                for k in range(3):
-                    e[k] = zero
-                    for i in range(3):
-                        e[k] = e[k] + (q[i] - data[corners, k, i]) * data[normals, k, i]
+                _flat_point(data, corners, normals, lam, zero, q, e)
                 for i in range(3):
                     total = zero
                     for k in range(3):
@@ -160,14 +170,7 @@ def _local_loads(
                     lam[k] = facing_lam[k]
                 else:
                     lam[k] = anchor[row, k] + zero
-            for i in range(3):
-                q[i] = lam[0] * data[corners, 0, i]
-                for k in range(1, 3):
-                    q[i] = q[i] + lam[k] * data[corners, k, i]
-            for k in range(3):
-                e[k] = zero
-                for i in range(3):
-                    e[k] = e[k] + (q[i] - data[corners, k, i]) * data[normals, k, i]
+            _flat_point(data, corners, normals, lam, zero, q, e)
             sign = -1.0 if which == 1 else 1.0
             for i in range(3):
                 for j in range(3):
