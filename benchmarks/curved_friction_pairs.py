@@ -35,8 +35,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 sys.path.insert(0, str(ROOT / "tests"))  # the tests' own imports of one another
 
 from mindlin_kernel_pairs import pair, uptime  # noqa: E402
-
-from tests.revision_modules import revision_modules  # noqa: E402
+from revision_modules import revision_modules  # noqa: E402
 
 FILE = {"elements/ply_curved_friction_kernels.py": "elements.ply_curved_friction_kernels"}
 

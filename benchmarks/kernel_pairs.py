@@ -51,8 +51,7 @@ sys.path.insert(0, str(ROOT))  # run from anywhere, no install
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from fibrous_shell import _sheet  # noqa: E402
-
-from tests.revision_modules import revision_modules  # noqa: E402
+from revision_modules import revision_modules  # noqa: E402
 
 # The modules copied from the other revision, and the name each is imported under there.
 MODULES = {
@@ -72,7 +71,7 @@ CALLS = {
 
 def other_kernels(ref: str, folder: Path):
     """The kernels module of revision ``ref``, imported from a package ``other_<hash>`` written
-    into ``folder`` (tests/revision_modules.py)."""
+    into ``folder`` (benchmarks/revision_modules.py)."""
     package, commit = revision_modules(ref, folder, MODULES)
     return importlib.import_module(f"{package}.kernels"), commit
 

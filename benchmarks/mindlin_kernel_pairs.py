@@ -4,7 +4,7 @@ section's tangent, loads and section measures (elements/mindlin_fabric_tangent.p
 _measures.py), with the per-cell pieces they share (elements/mindlin_cell_terms.py).
 
 The revision's files (``git show``, those it has) are written into a package of their own in a
-temporary folder (tests/revision_modules.py) and imported beside this
+temporary folder (benchmarks/revision_modules.py) and imported beside this
 tree's; both are called on the same inputs, made once by this tree: the elastic and the
 fabric (presets.g986_stack) block of a sheet, its nodes jittered and its directors turned.
 
@@ -70,8 +70,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # run from anywhere, no install
 
 import numpy as np  # noqa: E402
-
-from tests.revision_modules import revision_modules  # noqa: E402
+from revision_modules import revision_modules  # noqa: E402
 
 # The files taken from the other revision, and the name each is imported under there.
 MODULES = {

@@ -6,7 +6,7 @@ tests/test_mindlin_fabric_tangent.py's."""
 import numpy as np
 import pytest
 
-from elements import MindlinShell
+from elements import MindlinShell, mindlin_tangent
 from femcore import Model
 from materials import ElasticShell
 from tests.test_mindlin import CYLINDER, MESH, ORTHOTROPIC, _deformed_state
@@ -36,3 +36,9 @@ def test_the_compiled_tangent_gives_the_numpy_blocks_to_1e_12(thickness_points, 
         assert np.array_equal(fast.nodes, reference.nodes)
         scale = np.abs(reference.blocks).max()
         assert np.abs(fast.blocks - reference.blocks).max() <= 1e-12 * scale
+
+
+def test_the_elastic_tangent_loop_is_parted_so_no_thread_shares_a_chunks_scratch():
+    # Allocated before the prange, the scratch would keep numba's parallel build, whose
+    # threads would share it; allocated a chunk, the loop runs as parts of the plain build.
+    assert mindlin_tangent._tangent_cells.parted

@@ -1,7 +1,6 @@
-"""Modules of another revision of this repository imported beside this tree's: a test or a
-benchmark that holds a rewritten kernel to the numbers of the code before it
-(tests/test_mindlin_cell_terms.py, benchmarks/kernel_pairs.py,
-benchmarks/mindlin_kernel_pairs.py)."""
+"""Modules of another revision of this repository imported beside this tree's: a benchmark
+that holds a rewritten kernel to the numbers and the time of the code before it
+(benchmarks/kernel_pairs.py, mindlin_kernel_pairs.py, curved_friction_pairs.py)."""
 
 from __future__ import annotations
 
@@ -56,25 +55,3 @@ def _write(path: Path, text: str) -> None:
     partial = path.with_name(f"{path.name}.{os.getpid()}.partial")
     partial.write_text(text)
     os.replace(partial, path)
-
-
-def revision_for_tests(request, ref: str, modules: dict[str, str]) -> dict:
-    """For a test fixture (``request`` pytest's): the modules ``modules`` of revision ``ref`` by
-    their file names (without .py), kept in pytest's cache folder so that numba's builds of
-    them are kept beside them from run to run (the session's temporary folder without the
-    cache); the test skipped where this checkout has no git history holding ``ref``."""
-    import pytest
-
-    cache = getattr(request.config, "cache", None)
-    name = f"revision-{ref}"
-    if cache is not None:
-        folder = cache.mkdir(name)
-    else:  # one folder a session: its package is imported once, whichever test asks first
-        folder = request.getfixturevalue("tmp_path_factory").getbasetemp() / name
-        folder.mkdir(exist_ok=True)
-    try:
-        package, _ = revision_modules(ref, Path(folder), modules)
-    except (subprocess.CalledProcessError, FileNotFoundError):
-        pytest.skip(f"this checkout has no git history holding {ref}")
-    names = [dotted.rsplit(".", 1)[1] for dotted in modules.values()]
-    return {name: importlib.import_module(f"{package}.{name}") for name in names}
