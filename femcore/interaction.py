@@ -192,8 +192,12 @@ class InteractionBlock(ABC):
 
     def springs(self) -> tuple[np.ndarray, np.ndarray] | None:
         """Springs the interaction may put between single nodes and the ground: (nodes (s,),
-        stiffness (s,) N/mm), each acting along any direction. The explicit step takes
-        their frequencies sqrt(k / m) in with the nodes' masses. None: no such spring."""
+        stiffness (s,) N/mm), each acting along any direction: at any contact state the
+        interaction can reach before the step is evaluated again, x^T K x <= sum_s k_s |u_s|^2
+        for its stiffness K and any displacement, u_s the translation of spring s's node (a
+        node listed twice has both springs). The explicit step adds them up per node over
+        every interaction and takes max sum k / m (docs/theory.md §6.2, "The penalty
+        springs"). None: no such spring."""
         return None
 
     def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray] | None:

@@ -1,0 +1,96 @@
+"""The explicit step's bound of the contact springs, per node against the rule before, on the
+forming cases' models (validation/studies/hemisphere_plies_setup.py, validation/cases/
+hemisphere_forming.py) at the start of the stroke.
+
+Printed per model: the elements' omega_e^2 (the smaller step of the cells' and the assembled
+bounds, 1/s^2), the springs' omega^2 as a multiple of it by the library's rule (femcore/
+compiled.py ``penalty_frequency_squared``: max over the nodes of sum k / m over every spring
+of every interaction at the node) and by the reference rule (the sum over the interactions of
+each one's largest k / m, the rule before), the critical steps both give and their ratio, and
+each interaction's own largest k / m. For the ply contacts, the lower nodes' figure the
+springs report (2 max times the ratio of node counts) against the one the points facing them
+at the start give, 2 sum_p lambda_k k_p (c_p = 1 at the start: the plies lie flat, no point in
+the fade's band sits beside an outline; docs/theory.md §6.2, "The penalty springs").
+
+    python benchmarks/penalty_bound.py
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.ply_block import PlyContactBlock
+from validation.cases import hemisphere_forming
+from validation.studies import hemisphere_plies_setup as plies
+
+
+def reference_rule(compiled, mass: np.ndarray, state) -> float:
+    """The rule before: sum over the interactions of max k / m, 1/s^2."""
+    total = 0.0
+    for interaction in compiled.interactions:
+        springs = interaction.springs_at(state)
+        if springs is not None and len(springs[0]):
+            nodes, stiffness = springs
+            total += float(np.max(np.asarray(stiffness) / mass[nodes]))
+    return total
+
+
+def lower_nodes_at(block: PlyContactBlock, state) -> tuple[float, float]:
+    """(the largest lower-node figure ``springs`` reports, the largest 2 sum_p lambda_k k_p
+    over the lower nodes of the points facing them at ``state``), N/mm."""
+    facing = block.facing(state)
+    corners = block.cells[facing.triangle]  # (P, 3) lower node ids
+    weights = np.clip(facing.weights, 0.0, None)
+    load = np.bincount(
+        corners.ravel(), (2.0 * weights * block.stiffness[:, None]).ravel(), block.n_nodes
+    )
+    nodes, springs = block.springs()
+    lower = np.isin(nodes, block.lower_nodes)
+    return float(springs[lower].max()), float(load.max())
+
+
+def figures(name: str, built) -> None:
+    compiled = built.compile()
+    state = compiled.initial_state()
+    mass, inertia = compiled.lumped_mass(state)
+    elements = min(compiled.stable_dt(state), compiled.assembled_stable_dt(state, mass, inertia))
+    omega_e2 = (2.0 / elements) ** 2
+    per_node = compiled.penalty_frequency_squared(mass, state)
+    before = reference_rule(compiled, mass, state)
+    step_now = 2.0 / np.sqrt(omega_e2 + per_node)
+    step_before = 2.0 / np.sqrt(omega_e2 + before)
+    own = []
+    for interaction in compiled.interactions:
+        nodes, stiffness = interaction.springs_at(state)
+        own.append(f"{type(interaction).__name__} {np.max(stiffness / mass[nodes]) / omega_e2:.3f}")
+    print(
+        f"{name}: omega_e^2 {omega_e2:.4e}; springs per node {per_node / omega_e2:.3f}, "
+        f"before {before / omega_e2:.3f} (x omega_e^2); critical step {step_now:.4e} s against "
+        f"{step_before:.4e} s: x{step_now / step_before:.4f}"
+    )
+    print("    each interaction's largest k / m over omega_e^2: " + "; ".join(own))
+    for interaction in compiled.interactions:
+        if isinstance(interaction, PlyContactBlock) and not interaction.curved:
+            reported, facing = lower_nodes_at(interaction, state)
+            print(
+                f"    ply pass {'lower' if interaction.mirrored else 'upper'}: lower nodes "
+                f"reported {reported:.4g} N/mm, the facing points' 2 sum lambda k_p {facing:.4g}"
+            )
+
+
+def main() -> None:
+    for layup in ("0/90", "0/45"):
+        for kinematics in ("fibrous", "mindlin"):
+            _, built = plies.model(
+                plies.CELLS["coarse"], plies.LAYUPS[layup], kinematics, plies.HOLDER_FORCES[0]
+            )
+            figures(f"hemisphere-plies {layup} {kinematics}, 8 cells", built)
+    for resolution in ("coarse", "default"):
+        cells = hemisphere_forming.CELLS[resolution]
+        for kinematics in ("fibrous", "mindlin"):
+            _, built = hemisphere_forming.model(cells, kinematics, rim=hemisphere_forming.DIE_RIM)
+            figures(f"hemisphere-forming {kinematics}, {cells} cells", built)
+
+
+if __name__ == "__main__":
+    main()
