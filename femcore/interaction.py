@@ -44,7 +44,11 @@ from femcore.element import ElementType
 from femcore.mesh import Mesh
 from femcore.state import State
 
-__all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock"]
+__all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock", "SPRINGS_HELD_STEPS"]
+
+#: The explicit step is evaluated every this many steps (solvers/explicit.py), and with it
+#: ``springs_at``, whose springs must bound the stiffness until then.
+SPRINGS_HELD_STEPS = 10
 
 
 @dataclass(frozen=True)
@@ -203,7 +207,8 @@ class InteractionBlock(ABC):
     def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray] | None:
         """``springs`` at ``state``, for a block whose springs stiffen with the configuration
         (the ply contact's fade beside the outline); the explicit step asks this one, every
-        time it evaluates its step. The default: ``springs()``."""
+        time it evaluates its step (every ``SPRINGS_HELD_STEPS`` steps), and the springs must
+        bound the stiffness at every state reachable until then. The default: ``springs()``."""
         return self.springs()
 
     def initial_history(self) -> Any:

@@ -24,6 +24,7 @@ from functools import partial
 import numpy as np
 
 from femcore.fingerprint import Fingerprint, fingerprint
+from femcore.interaction import SPRINGS_HELD_STEPS
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -57,8 +58,9 @@ from solvers.step import LumpedMasses, Step, explicit_step
 
 __all__ = ["CentralDifference"]
 
-# The step is re-evaluated every this many steps: geometry and tension change slowly per step.
-STABLE_DT_EVERY = 10
+# The step is re-evaluated every this many steps: geometry and tension change slowly per step
+# (the interactions' springs_at hold their bound that long: femcore/interaction.py).
+STABLE_DT_EVERY = SPRINGS_HELD_STEPS
 # Energy records kept for the history (more steps are thinned to about this many records).
 ENERGY_RECORDS = 4000
 # The assembled (Gershgorin) stable step may be evaluated again every this many steps (it

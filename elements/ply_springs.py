@@ -1,0 +1,192 @@
+"""The ply contact's springs for the explicit step, per node and held until the step is next
+evaluated (docs/theory.md §6.2, "The penalty springs"; ``PlyContactBlock.springs_at``).
+
+The promise (femcore/interaction.py, ``springs``): at every state the contact can reach
+before the step is evaluated again (``SPRINGS_HELD_STEPS`` steps later), its stiffness K
+satisfies x^T K x <= sum_s k_s |u_s|^2, u_s the translation of spring s's node.
+
+One point. A point p of penalty k_p whose faded energy's stiffness is at most c_p k_p along
+any direction (elements/ply_fade.py, "Stiffness"; the friction's stick spring at most k_p
+across the normal) adds at most c_p k_p |a . u|^2, a . u = sum_j N_j u_j - sum_k lambda_k
+y_k, u the upper corners' and y the lower ones' translations, lambda the barycentric
+coordinates of its projection on its facing triangle. By Cauchy-Schwarz |a . u|^2 <= (sum |a|)
+sum |a_i| |u_i|^2 with sum |a| = s_p = 1 + sum_k |lambda_k| (2 inside the triangle, more past
+its outline edge): upper node j gets c_p k_p s_p N_j, lower node k gets c_p k_p s_p
+|lambda_k|, summed over every point, touching or not (a point not touching now may touch
+before the next evaluation).
+
+Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): twice
+the fastest node's speed (the two plies' relative speed) over the held steps at the step's
+largest value, times ``GROWTH`` for the speed's growth until then. Then:
+
+- lambda: a lower node's hat function phi_k has a gradient of at most 1 / h on the face, h
+  the least height of the lower triangles, so a point's lambda_k moves by at most delta = s /
+  h: the point's own nodes take |lambda_k| + delta, and s_p takes 3 delta more.
+- the points that may face a lower node's triangles (its star) by then: while s < h, the
+  points facing a triangle that shares a vertex with the star (a triangle sharing none lies at
+  least a height away on a planar face) and may enter it, with lambda_k at most delta there.
+  The lower node gets delta c_p k_p s_p from each of them (``ring``: the triangles that share a
+  vertex with the star but are not in it). A facing that jumps across a fold of the lower ply
+  (between its sheets, not a slide on the face) is not covered.
+- c_p: the fade's factor (12 + 3 A x + 3 x^2 beside a growth or an outline vertex, 1 + 3 A x
+  + 3 x^2 past an outline edge, 1 elsewhere) is taken at the largest a point can reach: the
+  beside figure for a point beside now or within s + r + 3 D of an outline vertex (r the
+  deepest it touches, D the fade's length: beside a growth its energy is nonzero within r of
+  its closest point and D of the outline, and a growth's side edge within 70 deg of the outline
+  edge's normal puts that within 3 D of the vertex), the past figure for a point past an
+  outline edge now or within delta of one (lambda_k < delta for an outline edge opposite k),
+  depth x = r / D with r its own depth plus s where it touches deeper than the plies.
+- s >= h: the ring no longer bounds the points' reach; every point takes the beside figure and
+  every lower node the whole load sum_p c_p k_p s_p (safe, and as short a step as it gives).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from elements.ply_fade import outline_segments, stiffness_factor
+from elements.ply_projection import MARGIN, triangle_frames
+from femcore.interaction import SPRINGS_HELD_STEPS
+
+__all__ = ["GROWTH", "STEP_GROWTH", "reachable_springs", "ring_matrix", "slide"]
+
+#: How much the plies' relative speed may grow until the next evaluation.
+GROWTH = 2.0
+#: The step's largest value in times the critical step without contact that the contact was
+#: calibrated with (the cells' bound moves with the geometry; the solver's safety is below 1).
+STEP_GROWTH = 2.0
+#: A growth's side edge lies within 70 deg of its outline edge's normal: a point beside it
+#: and within the fade's length D of the outline lies within D / cos(70 deg) < 3 D of the vertex.
+BESIDE_REACH = 3.0
+
+
+def slide(
+    velocities: np.ndarray, spins: np.ndarray, nodes: np.ndarray, lever: float, step: float
+) -> float:
+    """The largest move of a face point against the other face until the next evaluation, mm:
+    twice the fastest of ``nodes``' face points (``velocities`` (n, 3) mm/s, plus ``lever`` mm
+    times the angular velocities ``spins`` (n, 3) rad/s: the offset along the director turns
+    with it) times ``GROWTH`` over ``SPRINGS_HELD_STEPS`` steps of ``step`` s."""
+    if len(nodes) == 0:
+        return 0.0
+    speed = np.sqrt(np.einsum("ij,ij->i", velocities[nodes], velocities[nodes]))
+    spin = np.sqrt(np.einsum("ij,ij->i", spins[nodes], spins[nodes]))
+    fastest = float(np.max(speed + lever * spin))
+    return 2.0 * GROWTH * fastest * SPRINGS_HELD_STEPS * step
+
+
+def ring_matrix(cells: np.ndarray, lower_nodes: np.ndarray) -> sp.csr_matrix:
+    """(l, m) 0/1: lower node i (a row of ``lower_nodes``) and triangle T of ``cells`` (m, 3)
+    where T shares a vertex with a triangle of i's star but is not in it."""
+    rows = np.searchsorted(lower_nodes, cells.ravel())
+    m = len(cells)
+    star = sp.csr_matrix(
+        (np.ones(3 * m), (rows, np.repeat(np.arange(m), 3))), shape=(len(lower_nodes), m)
+    )
+    near = (star @ (star.T @ star)) > 0  # triangles sharing a vertex with the star, or in it
+    return sp.csr_matrix(near.astype(float) - (star > 0).astype(float))
+
+
+def reachable_springs(block, state, facing, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(nodes, stiffness N/mm) of ``block`` (a PlyContactBlock on flat faces with a fade)
+    held until the next evaluation (module docstring).
+
+    Parameters
+    ----------
+    block : PlyContactBlock
+        Its points' penalties ``stiffness`` (P,), shapes, lower cells, outline, depth, fade
+        length, calibrated step.
+    state : State
+        The state (its velocities and angular velocities).
+    facing : Facing
+        The points' facing at the state (elements/ply_projection.py).
+    y : (m, 3, 3) float
+        The lower face's corners at the state, mm.
+    """
+    nodes = np.concatenate([block.upper, block.lower_nodes])
+    step = STEP_GROWTH * block.calibrated_dt
+    # the offset along the director turns with it (along the normals too, more slowly)
+    s = slide(state.velocities, state.angular_velocities, nodes, block.depth, step)
+    s = s if np.isfinite(s) else np.inf
+    least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+    weights = facing.weights
+    faded = block.fade_length
+    if (
+        not s < least
+    ):  # the ring does not hold (or no calibrated step): every point beside, every lower node all
+        factor = stiffness_factor(
+            np.ones(len(weights), bool), np.ones(len(weights), bool), block.depth + s, faded
+        )
+        load = block.stiffness * factor * (1.0 + np.abs(weights).sum(axis=1) + 3.0)
+        upper = block._lumped(load)[block.upper]
+        lower = np.full(len(block.lower_nodes), float(load.sum()))
+        return nodes, np.concatenate([upper, lower])
+    delta = s / least
+    # the fade's factor at the largest the point can reach until then
+    reached = np.where(facing.touching, np.maximum(block.depth, -facing.gap + s), block.depth)
+    past = np.any((facing.reach > 0.0) & (facing.weights < 0.0), axis=1)
+    beside = facing.on_growth.copy()
+    if facing.joined is not None:
+        past |= facing.joined
+        beside &= ~facing.joined
+    rows, ends = outline_segments(block.outline)
+    if len(rows):
+        # a point may pass the outline until then where its projection lies within s of it:
+        # the point itself within s + |g| (|g| < s for a point that may touch, at most its
+        # depth touching)
+        crossing = s + max(s, float(np.max(reached)))
+        near_edge = _within(facing.face, y[rows[:, None], ends], crossing)
+        past |= near_edge
+        wedges = _wedge_corners(block.cells, rows, ends)
+        if len(wedges):
+            radius = s + float(np.max(reached)) + BESIDE_REACH * faded
+            distance = cKDTree(y[wedges[:, 0], wedges[:, 1]]).query(
+                facing.face, distance_upper_bound=radius
+            )[0]
+            beside |= near_edge & (distance <= radius)
+    factor = stiffness_factor(past, beside, reached, faded)
+    # the points that may touch until then: within s of the face, and not past their facing
+    # triangle's reach by more than the slide (a point beside a growth is held by it)
+    counted = (facing.gap < s) & (beside | ~np.any(weights < -(facing.reach + delta), axis=1))
+    # beside a growth the gap's lower weights are its closest point's, within the reach
+    weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
+    size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
+    load = np.where(counted, block.stiffness * factor * (1.0 + size.sum(axis=1)), 0.0)
+    upper = block._lumped(load)[block.upper]
+    at = np.bincount(
+        block.cells[facing.triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
+    )[block.lower_nodes]
+    ring = getattr(block, "_ring", None)
+    if ring is None:
+        ring = block._ring = ring_matrix(block.cells, block.lower_nodes)
+    on_triangles = np.bincount(facing.triangle, load, len(block.cells))
+    lower = at + delta * (ring @ on_triangles)
+    return nodes, np.concatenate([upper, lower])
+
+
+def _within(points: np.ndarray, segments: np.ndarray, radius: float) -> np.ndarray:
+    """(c,) bool: True for each of ``points`` (c, 3) within ``radius`` mm of a segment of
+    ``segments`` (E, 2, 3), and for some a little farther (each segment sampled every
+    ``radius``: a point within radius of a segment lies within 1.5 radius of a sample)."""
+    along = segments[:, 1] - segments[:, 0]
+    pieces = np.maximum(1, np.ceil(np.linalg.norm(along, axis=1) / radius)).astype(int)
+    owner = np.repeat(np.arange(len(segments)), pieces + 1)
+    first = np.repeat(np.cumsum(pieces + 1) - (pieces + 1), pieces + 1)
+    t = (np.arange(len(owner)) - first) / pieces[owner]
+    samples = segments[owner, 0] + t[:, None] * along[owner]
+    bound = 1.5 * radius
+    return cKDTree(samples).query(points, distance_upper_bound=bound)[0] <= bound
+
+
+def _wedge_corners(cells: np.ndarray, rows: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """(w, 2) int: (triangle row, corner) of each outline vertex beside which a point can lie
+    off every growth (the angle's fade, elements/ply_fade.py): a vertex of one triangle (a
+    corner of the ply) or of three and more (a cut's wedge, elements/ply_wedge.py), not one of
+    two triangles, whose growths are joined along their shared edge's extension
+    (elements/ply_projection.py, "Growths joined")."""
+    count = np.bincount(cells.ravel(), minlength=int(cells.max()) + 1)
+    pairs = np.column_stack([np.repeat(rows, 2), ends.ravel()])
+    node = cells[pairs[:, 0], pairs[:, 1]]
+    return pairs[count[node] != 2]
