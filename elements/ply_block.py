@@ -30,7 +30,6 @@ from elements.ply_fade import (
     OutlineTree,
     fade_length,
     outline_segments,
-    stiffness_factor,
 )
 from elements.ply_fade_hessian import fade_hessian, plane_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
