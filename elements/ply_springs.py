@@ -17,7 +17,8 @@ before the next evaluation).
 
 Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): twice
 the fastest node's speed (the two plies' relative speed) over the held steps at the step's
-largest value, times ``GROWTH`` for the speed's growth until then. Then:
+largest value, times ``GROWTH`` for the speed's growth until then, and at least ``FLOOR`` of
+the lower triangles' least height (plies at rest start to move: a floor, not a bound). Then:
 
 - lambda: a lower node's hat function phi_k has a gradient of at most 1 / h on the face, h
   the least height of the lower triangles, so a point's lambda_k moves by at most delta = s /
@@ -46,17 +47,20 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from elements.ply_fade import outline_segments, stiffness_factor
+from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
 from elements.ply_projection import MARGIN, triangle_frames
 from femcore.interaction import SPRINGS_HELD_STEPS
 
-__all__ = ["GROWTH", "STEP_GROWTH", "reachable_springs", "ring_matrix", "slide"]
+__all__ = ["FLOOR", "GROWTH", "STEP_GROWTH", "reachable_springs", "ring_matrix", "slide"]
 
 #: How much the plies' relative speed may grow until the next evaluation.
 GROWTH = 2.0
 #: The step's largest value in times the critical step without contact that the contact was
 #: calibrated with (the cells' bound moves with the geometry; the solver's safety is below 1).
 STEP_GROWTH = 2.0
+#: The least slide counted, in times the lower triangles' least height: plies at rest (the
+#: start of a stroke) start to move before the next evaluation.
+FLOOR = 0.01
 #: A growth's side edge lies within 70 deg of its outline edge's normal: a point beside it
 #: and within the fade's length D of the outline lies within D / cos(70 deg) < 3 D of the vertex.
 BESIDE_REACH = 3.0
@@ -74,6 +78,8 @@ def slide(
     speed = np.sqrt(np.einsum("ij,ij->i", velocities[nodes], velocities[nodes]))
     spin = np.sqrt(np.einsum("ij,ij->i", spins[nodes], spins[nodes]))
     fastest = float(np.max(speed + lever * spin))
+    if fastest == 0.0:  # at rest (the step need not be known)
+        return 0.0
     return 2.0 * GROWTH * fastest * SPRINGS_HELD_STEPS * step
 
 
@@ -109,8 +115,9 @@ def reachable_springs(block, state, facing, y: np.ndarray) -> tuple[np.ndarray, 
     step = STEP_GROWTH * block.calibrated_dt
     # the offset along the director turns with it (along the normals too, more slowly)
     s = slide(state.velocities, state.angular_velocities, nodes, block.depth, step)
-    s = s if np.isfinite(s) else np.inf
     least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+    # plies at rest start to move before the next evaluation: at least FLOOR of a height
+    s = max(s, FLOOR * least) if np.isfinite(s) else np.inf
     weights = facing.weights
     faded = block.fade_length
     if (
@@ -134,10 +141,13 @@ def reachable_springs(block, state, facing, y: np.ndarray) -> tuple[np.ndarray, 
     rows, ends = outline_segments(block.outline)
     if len(rows):
         # a point may pass the outline until then where its projection lies within s of it:
-        # the point itself within s + |g| (|g| < s for a point that may touch, at most its
-        # depth touching)
-        crossing = s + max(s, float(np.max(reached)))
-        near_edge = _within(facing.face, y[rows[:, None], ends], crossing)
+        # the point itself within s + |g| of it
+        ends_at = y[rows[:, None], ends]  # (E, 2, 3)
+        tree = getattr(block, "_springs_tree", None)
+        if tree is None:
+            tree = block._springs_tree = OutlineTree()
+        nearest = nearest_segments(facing.face, ends_at[:, 0], ends_at[:, 1], tree)
+        near_edge = _distance(facing.face, ends_at[nearest]) <= s + np.abs(facing.gap)
         past |= near_edge
         wedges = _wedge_corners(block.cells, rows, ends)
         if len(wedges):
@@ -166,18 +176,13 @@ def reachable_springs(block, state, facing, y: np.ndarray) -> tuple[np.ndarray, 
     return nodes, np.concatenate([upper, lower])
 
 
-def _within(points: np.ndarray, segments: np.ndarray, radius: float) -> np.ndarray:
-    """(c,) bool: True for each of ``points`` (c, 3) within ``radius`` mm of a segment of
-    ``segments`` (E, 2, 3), and for some a little farther (each segment sampled every
-    ``radius``: a point within radius of a segment lies within 1.5 radius of a sample)."""
+def _distance(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """(c,) the distance of each of ``points`` (c, 3) from its segment (c, 2, 3), mm."""
     along = segments[:, 1] - segments[:, 0]
-    pieces = np.maximum(1, np.ceil(np.linalg.norm(along, axis=1) / radius)).astype(int)
-    owner = np.repeat(np.arange(len(segments)), pieces + 1)
-    first = np.repeat(np.cumsum(pieces + 1) - (pieces + 1), pieces + 1)
-    t = (np.arange(len(owner)) - first) / pieces[owner]
-    samples = segments[owner, 0] + t[:, None] * along[owner]
-    bound = 1.5 * radius
-    return cKDTree(samples).query(points, distance_upper_bound=bound)[0] <= bound
+    relative = points - segments[:, 0]
+    squared = np.maximum(np.einsum("ci,ci->c", along, along), np.finfo(float).tiny)
+    t = np.clip(np.einsum("ci,ci->c", relative, along) / squared, 0.0, 1.0)
+    return np.linalg.norm(relative - t[:, None] * along, axis=1)
 
 
 def _wedge_corners(cells: np.ndarray, rows: np.ndarray, ends: np.ndarray) -> np.ndarray:

@@ -131,13 +131,13 @@ def _reported(block, state):
 def _still(block, state):
     """The springs of the state alone (a deliberately broken bound): the slide set to 0, so
     no move of lambda, no ring of triangles, only the points touching now and the fade's
-    factor where each point is now."""
-    held = ply_springs.slide
-    ply_springs.slide = lambda *args: 0.0
+    factor where each point is now (``FLOOR`` 0 too)."""
+    held, floor = ply_springs.slide, ply_springs.FLOOR
+    ply_springs.slide, ply_springs.FLOOR = (lambda *args: 0.0), 0.0
     try:
         return block.springs_at(state)
     finally:
-        ply_springs.slide = held
+        ply_springs.slide, ply_springs.FLOOR = held, floor
 
 
 #: (angles, sink mm, in-plane shift of the top ply mm): pressed crossing meshes, plies about to
