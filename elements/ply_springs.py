@@ -15,9 +15,10 @@ its outline edge): upper node j gets c_p k_p s_p N_j, lower node k gets c_p k_p 
 |lambda_k|, summed over every point, touching or not (a point not touching now may touch
 before the next evaluation).
 
-Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): twice
-the fastest node's speed (the two plies' relative speed) over the held steps at the step's
-largest value, times ``GROWTH`` for the speed's growth until then, and at least ``FLOOR`` of
+Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): the
+fastest point's speed against the lower face's point it faces, over the held steps at the
+step's largest value (the elements' critical step, which the solver gives), times ``GROWTH``
+for the speed's growth until then, and at least ``FLOOR`` of
 the lower triangles' least height (plies at rest start to move: a floor, not a bound). Then:
 
 - lambda: a lower node's hat function phi_k has a gradient of at most 1 / h on the face, h
@@ -56,7 +57,8 @@ __all__ = ["FLOOR", "GROWTH", "STEP_GROWTH", "reachable_springs", "ring_matrix",
 #: How much the plies' relative speed may grow until the next evaluation.
 GROWTH = 2.0
 #: The step's largest value in times the critical step without contact that the contact was
-#: calibrated with (the cells' bound moves with the geometry; the solver's safety is below 1).
+#: calibrated with, where the caller does not give it (the cells' bound moves with the
+#: geometry; the solver's safety is below 1).
 STEP_GROWTH = 2.0
 #: The least slide counted, in times the lower triangles' least height: plies at rest (the
 #: start of a stroke) start to move before the next evaluation.
@@ -66,21 +68,25 @@ FLOOR = 0.01
 BESIDE_REACH = 3.0
 
 
-def slide(
-    velocities: np.ndarray, spins: np.ndarray, nodes: np.ndarray, lever: float, step: float
-) -> float:
-    """The largest move of a face point against the other face until the next evaluation, mm:
-    twice the fastest of ``nodes``' face points (``velocities`` (n, 3) mm/s, plus ``lever`` mm
-    times the angular velocities ``spins`` (n, 3) rad/s: the offset along the director turns
-    with it) times ``GROWTH`` over ``SPRINGS_HELD_STEPS`` steps of ``step`` s."""
-    if len(nodes) == 0:
+def slide(block, state, facing, step: float) -> float:
+    """The largest move of a point against the lower face until the next evaluation, mm: the
+    fastest point's speed against its facing triangle's point (sum_j N_j v_j - sum_k lambda_k
+    v_k, plus the plies' depth times both sets' largest angular speed: the offsets along the
+    directors turn with them) times ``GROWTH`` over ``SPRINGS_HELD_STEPS`` steps of ``step``
+    s (0 for plies at rest: the step need not be known)."""
+    v, spins = state.velocities, state.angular_velocities
+    if not (np.any(v) or np.any(spins)):
         return 0.0
-    speed = np.sqrt(np.einsum("ij,ij->i", velocities[nodes], velocities[nodes]))
-    spin = np.sqrt(np.einsum("ij,ij->i", spins[nodes], spins[nodes]))
-    fastest = float(np.max(speed + lever * spin))
-    if fastest == 0.0:  # at rest (the step need not be known)
-        return 0.0
-    return 2.0 * GROWTH * fastest * SPRINGS_HELD_STEPS * step
+    own = np.einsum("pj,pji->pi", block.shape, v[block.above])
+    facing_corners = block.cells[facing.triangle]
+    # (far past their triangle's reach the points carry nothing: their weights held there)
+    weights = np.clip(facing.weights, -MARGIN, 1.0 + 2.0 * MARGIN)
+    other = np.einsum("pk,pki->pi", weights, v[facing_corners])
+    speed = np.sqrt(np.einsum("pi,pi->p", own - other, own - other))
+    spin = np.sqrt(np.einsum("ij,ij->i", spins, spins))
+    turning = block.depth * (spin[block.above].max(axis=1) + spin[facing_corners].max(axis=1))
+    fastest = float(np.max(speed + turning)) if len(speed) else 0.0
+    return GROWTH * fastest * SPRINGS_HELD_STEPS * step
 
 
 def ring_matrix(cells: np.ndarray, lower_nodes: np.ndarray) -> sp.csr_matrix:
@@ -95,7 +101,9 @@ def ring_matrix(cells: np.ndarray, lower_nodes: np.ndarray) -> sp.csr_matrix:
     return sp.csr_matrix(near.astype(float) - (star > 0).astype(float))
 
 
-def reachable_springs(block, state, facing, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def reachable_springs(
+    block, state, facing, y: np.ndarray, step: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """(nodes, stiffness N/mm) of ``block`` (a PlyContactBlock on flat faces with a fade)
     held until the next evaluation (module docstring).
 
@@ -110,11 +118,13 @@ def reachable_springs(block, state, facing, y: np.ndarray) -> tuple[np.ndarray, 
         The points' facing at the state (elements/ply_projection.py).
     y : (m, 3, 3) float
         The lower face's corners at the state, mm.
+    step : float, optional
+        The largest step until the next evaluation, s (None: ``STEP_GROWTH`` times the
+        critical step the contact was calibrated with).
     """
     nodes = np.concatenate([block.upper, block.lower_nodes])
-    step = STEP_GROWTH * block.calibrated_dt
-    # the offset along the director turns with it (along the normals too, more slowly)
-    s = slide(state.velocities, state.angular_velocities, nodes, block.depth, step)
+    step = STEP_GROWTH * block.calibrated_dt if step is None else step
+    s = slide(block, state, facing, step)
     least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
     # plies at rest start to move before the next evaluation: at least FLOOR of a height
     s = max(s, FLOOR * least) if np.isfinite(s) else np.inf

@@ -326,7 +326,9 @@ class CompiledModel(CompiledTangent):
         """Per-block arrays of per-cell critical steps (s)."""
         return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]
 
-    def penalty_frequency_squared(self, mass: np.ndarray, state: State | None = None) -> float:
+    def penalty_frequency_squared(
+        self, mass: np.ndarray, state: State | None = None, step: float | None = None
+    ) -> float:
         """The largest omega^2 (1/s^2) the interactions' penalty springs (``springs``, or
         ``springs_at(state)`` with ``state`` given) can add to the elements': max over the
         nodes of sum k / m, the sum over every spring at the node, of every interaction (a
@@ -334,10 +336,14 @@ class CompiledModel(CompiledTangent):
         die). Each interaction's springs bound its stiffness at every contact state (a node
         not touching now may touch before the step is next evaluated), so the sum bounds
         any set of them at once (docs/theory.md §6.2, "The penalty springs"). ``mass`` (n,)
-        the lumped masses the solver uses, t. 0 without springs."""
+        the lumped masses the solver uses, t; ``step`` the largest step the solver may take
+        until the next evaluation, s (the elements' critical step; None: unknown, each
+        interaction's own guess). 0 without springs."""
         total = np.zeros(len(mass))
         for interaction in self.interactions:
-            springs = interaction.springs() if state is None else interaction.springs_at(state)
+            springs = (
+                interaction.springs() if state is None else interaction.springs_at(state, step)
+            )
             if springs is not None and len(springs[0]):
                 nodes, stiffness = springs
                 nodes = np.asarray(nodes)

@@ -204,11 +204,14 @@ class InteractionBlock(ABC):
         springs"). None: no such spring."""
         return None
 
-    def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray] | None:
+    def springs_at(
+        self, state: State, step: float | None = None
+    ) -> tuple[np.ndarray, np.ndarray] | None:
         """``springs`` at ``state``, for a block whose springs stiffen with the configuration
         (the ply contact's fade beside the outline); the explicit step asks this one, every
         time it evaluates its step (every ``SPRINGS_HELD_STEPS`` steps), and the springs must
-        bound the stiffness at every state reachable until then. The default: ``springs()``."""
+        bound the stiffness at every state reachable until then; ``step`` (s) the largest
+        step the solver may take until then (None: unknown). The default: ``springs()``."""
         return self.springs()
 
     def initial_history(self) -> Any:

@@ -246,7 +246,9 @@ class CentralDifference:
             critical = min(critical, assembled * critical / cells_then)
         # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
         # bound: the two add exactly when they act along the same direction of one node).
-        springs = model.penalty_frequency_squared(mass, state)
+        # the springs held until the next evaluation need the largest step until then: the
+        # elements' critical one (the springs and the safety only shorten it)
+        springs = model.penalty_frequency_squared(mass, state, critical)
         if springs > 0.0:
             critical = 2.0 / math.sqrt((2.0 / critical) ** 2 + springs)
         # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)

@@ -110,11 +110,8 @@ def _worst(compiled, state0, top, speed, springs_of):
     for index, block in enumerate(compiled.interactions):
         history = compiled._interaction_histories(state0)[index]
         springs = springs_of(block, state0)
-        nodes = np.concatenate([block.upper, block.lower_nodes])
-        slide = ply_springs.slide(
-            state0.velocities, state0.angular_velocities, nodes, block.depth,
-            ply_springs.STEP_GROWTH * block.calibrated_dt,
-        )  # fmt: skip
+        step = ply_springs.STEP_GROWTH * block.calibrated_dt
+        slide = ply_springs.slide(block, state0, block.facing(state0), step)
         ratios = []
         for reached in _reachable(state0, top, slide):
             ratio, loose = _ratio(block, history, reached, springs)
@@ -157,7 +154,9 @@ def _ratios(model, springs_of):
     angles, sink, shift = model
     compiled, state0, top = _stack(angles, sink)
     state0.positions[top, :2] += shift
-    speed = 0.5 / (4.0 * ply_springs.GROWTH * 10 * compiled.interactions[0].calibrated_dt)
+    speed = 0.5 / (
+        ply_springs.GROWTH * 10 * ply_springs.STEP_GROWTH * compiled.interactions[0].calibrated_dt
+    )
     return _worst(compiled, state0, top, speed, springs_of)
 
 
