@@ -156,8 +156,18 @@ def reachable_springs(
         tree = getattr(block, "_springs_tree", None)
         if tree is None:
             tree = block._springs_tree = OutlineTree()
-        nearest = nearest_segments(facing.face, ends_at[:, 0], ends_at[:, 1], tree)
-        near_edge = _distance(facing.face, ends_at[nearest]) <= s + np.abs(facing.gap)
+        # only a point facing a triangle with a corner on the outline, or past its edge, lies
+        # within s < h of the outline (any other triangle lies a height from it)
+        rim = getattr(block, "_rim_triangles", None)
+        if rim is None:
+            on_outline = np.zeros(block.n_nodes, bool)
+            on_outline[block.cells[rows[:, None], ends]] = True
+            rim = block._rim_triangles = on_outline[block.cells].any(axis=1)
+        asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
+        face = facing.face[asked]
+        nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
+        near_edge = np.zeros(len(weights), bool)
+        near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
         past |= near_edge
         wedges = _wedge_corners(block.cells, rows, ends)
         if len(wedges):
