@@ -17,9 +17,9 @@ Measured (one thread, load 10-11 from other work): two-ply hemisphere at the sta
 with the springs held 3.50 / 3.42 omega_e^2 ([0/90] fibrous / Mindlin), 3.32 / 3.47 ([0/45]),
 against 2.93 / 2.86 and 2.04 / 2.13 by the rule before: the critical step x0.93 and x0.84 (the
 mirrored pass's bottom-ply outline nodes, on the top ply's outline, take the fade's beside
-figure they may reach); the springs 1.4-1.6 ms a call (the upper pass) and 0.4-0.6 ms (the
-mirrored one) where the rule before's took under 0.1 ms (the facing kept); hemisphere-forming
-0.31 both ways.
+figure they may reach); the springs 0.5-0.6 ms a call (the upper pass) and 0.3-0.4 ms (the
+mirrored one) where the rule before's took under 0.1 ms (the facing kept), once in ten steps
+of some 3 ms; hemisphere-forming 0.31 both ways.
 
     python benchmarks/penalty_bound.py
 """
