@@ -23,13 +23,13 @@ from elements import (
     ply_load_kernels,
     ply_projection,
     ply_slip,
+    ply_springs,
     ply_surface,
 )
 from elements.ply_fade import (
     OutlineTree,
     fade_length,
     outline_segments,
-    stiffness_factor,
 )
 from elements.ply_fade_hessian import fade_hessian, plane_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
@@ -196,6 +196,8 @@ class PlyContactBlock(InteractionBlock):
         self.stiffness = self._point_stiffness()
         self.friction = contact.friction
         self.stick = contact.stick
+        # the critical step without contact (``calibrate``): the springs' reach (ply_springs.py)
+        self.calibrated_dt = float("inf")
         reference = State(
             body.mesh.points.copy(),
             body.directors.copy(),
@@ -247,6 +249,8 @@ class PlyContactBlock(InteractionBlock):
         return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
 
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+        # the springs' reach until the step's next evaluation (elements/ply_springs.py)
+        self.calibrated_dt = float(stable_dt)
         # the automatic penalty (elements/ply_contact.py, "Penalty")
         if np.isnan(self.node_stiffness).any():
             self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2
@@ -708,32 +712,18 @@ class PlyContactBlock(InteractionBlock):
         lower nodes when above 1) at the lower ones, N/mm (elements/ply_contact.py, "Penalty")."""
         return self._springs(self.stiffness)
 
-    def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        """``springs`` with each point's penalty k_p times the bound c_p of its faded energy's
-        stiffness (elements/ply_fade.py, "Stiffness"): 12 and more for a point beside a
-        growth's edge or an outline vertex, 1 + O(depth / height) for one past an outline edge
-        or on the extension of an edge whose two growths are joined (no angle fade there:
-        elements/ply_projection.py, "Growths joined"; depth the plies' half thicknesses, or a
-        touching point's own depth where deeper),
-        1 elsewhere, so the step shrinks only while a point is in the fade's band. Evaluated
-        with the step (every ``STABLE_DT_EVERY`` steps, solvers/explicit.py): a point that
-        enters the band in between has k_p in the springs until then."""
+    def springs_at(self, state: State, step: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The springs per node that bound the contact's stiffness at every state it can reach
+        until the step's next evaluation (elements/ply_springs.py): each point counted while
+        it may touch by then, its penalty k_p times the largest bound c_p of its faded
+        energy's stiffness it can reach (elements/ply_fade.py, "Stiffness"), the lower nodes'
+        from the points that face or may face their triangles. The curved faces carry no
+        fade: ``springs`` there. ``step`` (s) the largest step until then (None: twice the
+        critical step the contact was calibrated with)."""
         facing = self.facing(state)
         if facing.fade is None or facing.reach is None or facing.on_growth is None:
-            return self.springs()  # the curved faces carry no fade
-        past = np.any((facing.reach > 0.0) & (facing.weights < 0.0), axis=1)
-        # a touching point held by a growth's plane in the band may lie deeper than the plies
-        # (elements/ply_projection.py, "Past the outline, deeper than the plies"): its own
-        # depth bounds |p - q| there
-        reached = np.where(facing.touching, np.maximum(self.depth, -facing.gap), self.depth)
-        # a joined growth's edge has no angle factor (elements/ply_projection.py, "Growths
-        # joined"): beside with the 12 k bound only off those edges
-        beside = facing.on_growth
-        if facing.joined is not None:
-            past |= facing.joined
-            beside = beside & ~facing.joined
-        factor = stiffness_factor(past, beside, reached, self.fade_length)
-        return self._springs(self.stiffness * factor)
+            return self.springs()
+        return ply_springs.reachable_springs(self, state, facing, self._faces(state)[1], step)
 
     def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         upper = 2.0 * self._lumped(stiffness)[self.upper]

@@ -97,12 +97,12 @@ N_j(p) k_j / A_j (w_p the rule's weight, A_T the reference area of its triangle,
 area of node j, sum A_T / 3 over its triangles), so that the corner rule gives each node its
 k_j back and a uniform penalty on a uniform mesh adds up to the same total whatever the rule.
 ``springs`` reports at each upper node 2 sum_p N_j k_p and at the lower ones 2 max(that)
-(times the ratio of upper to lower nodes when above 1), so the explicit step takes the penalty
-in (the friction's stick spring is at most the point's penalty k_p across the normal, so the
-bound holds); ``springs_at(state)``, which
-the explicit step asks, multiplies the penalty of a point in the fade's band by the bound of
-its faded energy's stiffness (up to 12 and more beside the outline; elements/ply_fade.py,
-"Stiffness").
+(times the ratio of upper to lower nodes when above 1) (the friction's stick spring is at most
+the point's penalty k_p across the normal); ``springs_at(state)``, which the explicit step asks,
+reports per node springs that bound the contact's stiffness at every state it can reach until
+the step's next evaluation: each point's c_p k_p s_p shared by N_j at the upper nodes and by
+|lambda_k| at the lower ones, with the slide until then and the fade's largest reachable factor
+c_p (elements/ply_springs.py; elements/ply_fade.py, "Stiffness").
 
 Friction (``friction`` = mu > 0; Coulomb, penalty-regularised, return mapping as
 elements/contact.py). Each touching point keeps a stick anchor on the lower face: a lower

@@ -326,19 +326,29 @@ class CompiledModel(CompiledTangent):
         """Per-block arrays of per-cell critical steps (s)."""
         return [np.asarray(block.cell_stable_dt(state), dtype=float) for block in self.blocks]
 
-    def penalty_frequency_squared(self, mass: np.ndarray, state: State | None = None) -> float:
-        """The largest omega^2 = k / m (1/s^2) the interactions' penalty springs (``springs``,
-        or ``springs_at(state)`` with ``state`` given) can add to one node, summed over the
-        interactions: a node may be pinched between two tools, and a node not touching now
-        may touch before the step is next evaluated. ``mass`` (n,) the lumped masses the
-        solver uses, t. 0 without springs."""
-        total = 0.0
+    def penalty_frequency_squared(
+        self, mass: np.ndarray, state: State | None = None, step: float | None = None
+    ) -> float:
+        """The largest omega^2 (1/s^2) the interactions' penalty springs (``springs``, or
+        ``springs_at(state)`` with ``state`` given) can add to the elements': max over the
+        nodes of sum k / m, the sum over every spring at the node, of every interaction (a
+        node pinched between two tools, a ply's node pressed by the ply above and by the
+        die). Each interaction's springs bound its stiffness at every contact state (a node
+        not touching now may touch before the step is next evaluated), so the sum bounds
+        any set of them at once (docs/theory.md §6.2, "The penalty springs"). ``mass`` (n,)
+        the lumped masses the solver uses, t; ``step`` the largest step the solver may take
+        until the next evaluation, s (the elements' critical step; None: unknown, each
+        interaction's own guess). 0 without springs."""
+        total = np.zeros(len(mass))
         for interaction in self.interactions:
-            springs = interaction.springs() if state is None else interaction.springs_at(state)
+            springs = (
+                interaction.springs() if state is None else interaction.springs_at(state, step)
+            )
             if springs is not None and len(springs[0]):
                 nodes, stiffness = springs
-                total += float(np.max(np.asarray(stiffness) / mass[nodes]))
-        return total
+                nodes = np.asarray(nodes)
+                total += np.bincount(nodes, np.asarray(stiffness) / mass[nodes], len(mass))
+        return float(total.max()) if len(total) else 0.0
 
     def stable_dt(self, state: State) -> float:
         """Critical time step of the elements (s), the smallest over all cells (the

@@ -44,7 +44,11 @@ from femcore.element import ElementType
 from femcore.mesh import Mesh
 from femcore.state import State
 
-__all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock"]
+__all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock", "SPRINGS_HELD_STEPS"]
+
+#: The explicit step is evaluated every this many steps (solvers/explicit.py), and with it
+#: ``springs_at``, whose springs must bound the stiffness until then.
+SPRINGS_HELD_STEPS = 10
 
 
 @dataclass(frozen=True)
@@ -192,14 +196,22 @@ class InteractionBlock(ABC):
 
     def springs(self) -> tuple[np.ndarray, np.ndarray] | None:
         """Springs the interaction may put between single nodes and the ground: (nodes (s,),
-        stiffness (s,) N/mm), each acting along any direction. The explicit step takes
-        their frequencies sqrt(k / m) in with the nodes' masses. None: no such spring."""
+        stiffness (s,) N/mm), each acting along any direction: at any contact state the
+        interaction can reach before the step is evaluated again, x^T K x <= sum_s k_s |u_s|^2
+        for its stiffness K and any displacement, u_s the translation of spring s's node (a
+        node listed twice has both springs). The explicit step adds them up per node over
+        every interaction and takes max sum k / m (docs/theory.md §6.2, "The penalty
+        springs"). None: no such spring."""
         return None
 
-    def springs_at(self, state: State) -> tuple[np.ndarray, np.ndarray] | None:
+    def springs_at(
+        self, state: State, step: float | None = None
+    ) -> tuple[np.ndarray, np.ndarray] | None:
         """``springs`` at ``state``, for a block whose springs stiffen with the configuration
         (the ply contact's fade beside the outline); the explicit step asks this one, every
-        time it evaluates its step. The default: ``springs()``."""
+        time it evaluates its step (every ``SPRINGS_HELD_STEPS`` steps), and the springs must
+        bound the stiffness at every state reachable until then; ``step`` (s) the largest
+        step the solver may take until then (None: unknown). The default: ``springs()``."""
         return self.springs()
 
     def initial_history(self) -> Any:

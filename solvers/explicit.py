@@ -24,6 +24,7 @@ from functools import partial
 import numpy as np
 
 from femcore.fingerprint import Fingerprint, fingerprint
+from femcore.interaction import SPRINGS_HELD_STEPS
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -57,8 +58,9 @@ from solvers.step import LumpedMasses, Step, explicit_step
 
 __all__ = ["CentralDifference"]
 
-# The step is re-evaluated every this many steps: geometry and tension change slowly per step.
-STABLE_DT_EVERY = 10
+# The step is re-evaluated every this many steps: geometry and tension change slowly per step
+# (the interactions' springs_at hold their bound that long: femcore/interaction.py).
+STABLE_DT_EVERY = SPRINGS_HELD_STEPS
 # Energy records kept for the history (more steps are thinned to about this many records).
 ENERGY_RECORDS = 4000
 # The assembled (Gershgorin) stable step may be evaluated again every this many steps (it
@@ -244,7 +246,9 @@ class CentralDifference:
             critical = min(critical, assembled * critical / cells_then)
         # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
         # bound: the two add exactly when they act along the same direction of one node).
-        springs = model.penalty_frequency_squared(mass, state)
+        # the springs held until the next evaluation need the largest step until then: the
+        # elements' critical one (the springs and the safety only shorten it)
+        springs = model.penalty_frequency_squared(mass, state, critical)
         if springs > 0.0:
             critical = 2.0 / math.sqrt((2.0 / critical) ** 2 + springs)
         # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)

@@ -1,0 +1,217 @@
+"""The ply contact's springs for the explicit step, per node and held until the step is next
+evaluated (docs/theory.md §6.2, "The penalty springs"; ``PlyContactBlock.springs_at``).
+
+The promise (femcore/interaction.py, ``springs``): at every state the contact can reach
+before the step is evaluated again (``SPRINGS_HELD_STEPS`` steps later), its stiffness K
+satisfies x^T K x <= sum_s k_s |u_s|^2, u_s the translation of spring s's node.
+
+One point. A point p of penalty k_p whose faded energy's stiffness is at most c_p k_p along
+any direction (elements/ply_fade.py, "Stiffness"; the friction's stick spring at most k_p
+across the normal) adds at most c_p k_p |a . u|^2, a . u = sum_j N_j u_j - sum_k lambda_k
+y_k, u the upper corners' and y the lower ones' translations, lambda the barycentric
+coordinates of its projection on its facing triangle. By Cauchy-Schwarz |a . u|^2 <= (sum |a|)
+sum |a_i| |u_i|^2 with sum |a| = s_p = 1 + sum_k |lambda_k| (2 inside the triangle, more past
+its outline edge): upper node j gets c_p k_p s_p N_j, lower node k gets c_p k_p s_p
+|lambda_k|, summed over every point, touching or not (a point not touching now may touch
+before the next evaluation).
+
+Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): the
+fastest point's speed against the lower face's point it faces, over the held steps at the
+step's largest value (the elements' critical step, which the solver gives), times ``GROWTH``
+for the speed's growth until then, and at least ``FLOOR`` of
+the lower triangles' least height (plies at rest start to move: a floor, not a bound). Then:
+
+- lambda: a lower node's hat function phi_k has a gradient of at most 1 / h on the face, h
+  the least height of the lower triangles, so a point's lambda_k moves by at most delta = s /
+  h: the point's own nodes take |lambda_k| + delta, and s_p takes 3 delta more.
+- the points that may face a lower node's triangles (its star) by then: while s < h, the
+  points facing a triangle that shares a vertex with the star (a triangle sharing none lies at
+  least a height away on a planar face) and may enter it, with lambda_k at most delta there.
+  The lower node gets delta c_p k_p s_p from each of them (``ring``: the triangles that share a
+  vertex with the star but are not in it). A facing that jumps across a fold of the lower ply
+  (between its sheets, not a slide on the face) is not covered.
+- c_p: the fade's factor (12 + 3 A x + 3 x^2 beside a growth or an outline vertex, 1 + 3 A x
+  + 3 x^2 past an outline edge, 1 elsewhere) is taken at the largest a point can reach: the
+  beside figure for a point beside now or within s + r + 3 D of an outline vertex (r the
+  deepest it touches, D the fade's length: beside a growth its energy is nonzero within r of
+  its closest point and D of the outline, and a growth's side edge within 70 deg of the outline
+  edge's normal puts that within 3 D of the vertex), the past figure for a point past an
+  outline edge now or within delta of one (lambda_k < delta for an outline edge opposite k),
+  depth x = r / D with r its own depth plus s where it touches deeper than the plies.
+- s >= h: the ring no longer bounds the points' reach; every point takes the beside figure and
+  every lower node the whole load sum_p c_p k_p s_p (safe, and as short a step as it gives).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
+from elements.ply_projection import MARGIN, triangle_frames
+from femcore.interaction import SPRINGS_HELD_STEPS
+
+__all__ = ["FLOOR", "GROWTH", "STEP_GROWTH", "reachable_springs", "ring_matrix", "slide"]
+
+#: How much the plies' relative speed may grow until the next evaluation.
+GROWTH = 2.0
+#: The step's largest value in times the critical step without contact that the contact was
+#: calibrated with, where the caller does not give it (the cells' bound moves with the
+#: geometry; the solver's safety is below 1).
+STEP_GROWTH = 2.0
+#: The least slide counted, in times the lower triangles' least height: plies at rest (the
+#: start of a stroke) start to move before the next evaluation.
+FLOOR = 0.01
+#: A growth's side edge lies within 70 deg of its outline edge's normal: a point beside it
+#: and within the fade's length D of the outline lies within D / cos(70 deg) < 3 D of the vertex.
+BESIDE_REACH = 3.0
+
+
+def slide(block, state, facing, step: float) -> float:
+    """The largest move of a point against the lower face until the next evaluation, mm: the
+    fastest point's speed against its facing triangle's point (sum_j N_j v_j - sum_k lambda_k
+    v_k, plus the plies' depth times both sets' largest angular speed: the offsets along the
+    directors turn with them) times ``GROWTH`` over ``SPRINGS_HELD_STEPS`` steps of ``step``
+    s (0 for plies at rest: the step need not be known)."""
+    v, spins = state.velocities, state.angular_velocities
+    if not (np.any(v) or np.any(spins)):
+        return 0.0
+    own = np.einsum("pj,pji->pi", block.shape, v[block.above])
+    facing_corners = block.cells[facing.triangle]
+    # (far past their triangle's reach the points carry nothing: their weights held there)
+    weights = np.clip(facing.weights, -MARGIN, 1.0 + 2.0 * MARGIN)
+    other = np.einsum("pk,pki->pi", weights, v[facing_corners])
+    speed = np.sqrt(np.einsum("pi,pi->p", own - other, own - other))
+    spin = np.sqrt(np.einsum("ij,ij->i", spins, spins))
+    turning = block.depth * (spin[block.above].max(axis=1) + spin[facing_corners].max(axis=1))
+    fastest = float(np.max(speed + turning)) if len(speed) else 0.0
+    return GROWTH * fastest * SPRINGS_HELD_STEPS * step
+
+
+def ring_matrix(cells: np.ndarray, lower_nodes: np.ndarray) -> sp.csr_matrix:
+    """(l, m) 0/1: lower node i (a row of ``lower_nodes``) and triangle T of ``cells`` (m, 3)
+    where T shares a vertex with a triangle of i's star but is not in it."""
+    rows = np.searchsorted(lower_nodes, cells.ravel())
+    m = len(cells)
+    star = sp.csr_matrix(
+        (np.ones(3 * m), (rows, np.repeat(np.arange(m), 3))), shape=(len(lower_nodes), m)
+    )
+    near = (star @ (star.T @ star)) > 0  # triangles sharing a vertex with the star, or in it
+    return sp.csr_matrix(near.astype(float) - (star > 0).astype(float))
+
+
+def reachable_springs(
+    block, state, facing, y: np.ndarray, step: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(nodes, stiffness N/mm) of ``block`` (a PlyContactBlock on flat faces with a fade)
+    held until the next evaluation (module docstring).
+
+    Parameters
+    ----------
+    block : PlyContactBlock
+        Its points' penalties ``stiffness`` (P,), shapes, lower cells, outline, depth, fade
+        length, calibrated step.
+    state : State
+        The state (its velocities and angular velocities).
+    facing : Facing
+        The points' facing at the state (elements/ply_projection.py).
+    y : (m, 3, 3) float
+        The lower face's corners at the state, mm.
+    step : float, optional
+        The largest step until the next evaluation, s (None: ``STEP_GROWTH`` times the
+        critical step the contact was calibrated with).
+    """
+    nodes = np.concatenate([block.upper, block.lower_nodes])
+    step = STEP_GROWTH * block.calibrated_dt if step is None else step
+    s = slide(block, state, facing, step)
+    least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+    # plies at rest start to move before the next evaluation: at least FLOOR of a height
+    s = max(s, FLOOR * least) if np.isfinite(s) else np.inf
+    weights = facing.weights
+    faded = block.fade_length
+    if (
+        not s < least
+    ):  # the ring does not hold (or no calibrated step): every point beside, every lower node all
+        factor = stiffness_factor(
+            np.ones(len(weights), bool), np.ones(len(weights), bool), block.depth + s, faded
+        )
+        load = block.stiffness * factor * (1.0 + np.abs(weights).sum(axis=1) + 3.0)
+        upper = block._lumped(load)[block.upper]
+        lower = np.full(len(block.lower_nodes), float(load.sum()))
+        return nodes, np.concatenate([upper, lower])
+    delta = s / least
+    # the fade's factor at the largest the point can reach until then
+    reached = np.where(facing.touching, np.maximum(block.depth, -facing.gap + s), block.depth)
+    past = np.any((facing.reach > 0.0) & (facing.weights < 0.0), axis=1)
+    beside = facing.on_growth.copy()
+    if facing.joined is not None:
+        past |= facing.joined
+        beside &= ~facing.joined
+    rows, ends = outline_segments(block.outline)
+    if len(rows):
+        # a point may pass the outline until then where its projection lies within s of it:
+        # the point itself within s + |g| of it
+        ends_at = y[rows[:, None], ends]  # (E, 2, 3)
+        tree = getattr(block, "_springs_tree", None)
+        if tree is None:
+            tree = block._springs_tree = OutlineTree()
+        # only a point facing a triangle with a corner on the outline, or past its edge, lies
+        # within s < h of the outline (any other triangle lies a height from it)
+        rim = getattr(block, "_rim_triangles", None)
+        if rim is None:
+            on_outline = np.zeros(block.n_nodes, bool)
+            on_outline[block.cells[rows[:, None], ends]] = True
+            rim = block._rim_triangles = on_outline[block.cells].any(axis=1)
+        asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
+        face = facing.face[asked]
+        nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
+        near_edge = np.zeros(len(weights), bool)
+        near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
+        past |= near_edge
+        wedges = _wedge_corners(block.cells, rows, ends)
+        if len(wedges):
+            radius = s + float(np.max(reached)) + BESIDE_REACH * faded
+            distance = cKDTree(y[wedges[:, 0], wedges[:, 1]]).query(
+                facing.face, distance_upper_bound=radius
+            )[0]
+            beside |= near_edge & (distance <= radius)
+    factor = stiffness_factor(past, beside, reached, faded)
+    # the points that may touch until then: within s of the face, and not past their facing
+    # triangle's reach by more than the slide (a point beside a growth is held by it)
+    counted = (facing.gap < s) & (beside | ~np.any(weights < -(facing.reach + delta), axis=1))
+    # beside a growth the gap's lower weights are its closest point's, within the reach
+    weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
+    size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
+    load = np.where(counted, block.stiffness * factor * (1.0 + size.sum(axis=1)), 0.0)
+    upper = block._lumped(load)[block.upper]
+    at = np.bincount(
+        block.cells[facing.triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
+    )[block.lower_nodes]
+    ring = getattr(block, "_ring", None)
+    if ring is None:
+        ring = block._ring = ring_matrix(block.cells, block.lower_nodes)
+    on_triangles = np.bincount(facing.triangle, load, len(block.cells))
+    lower = at + delta * (ring @ on_triangles)
+    return nodes, np.concatenate([upper, lower])
+
+
+def _distance(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """(c,) the distance of each of ``points`` (c, 3) from its segment (c, 2, 3), mm."""
+    along = segments[:, 1] - segments[:, 0]
+    relative = points - segments[:, 0]
+    squared = np.maximum(np.einsum("ci,ci->c", along, along), np.finfo(float).tiny)
+    t = np.clip(np.einsum("ci,ci->c", relative, along) / squared, 0.0, 1.0)
+    return np.linalg.norm(relative - t[:, None] * along, axis=1)
+
+
+def _wedge_corners(cells: np.ndarray, rows: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """(w, 2) int: (triangle row, corner) of each outline vertex beside which a point can lie
+    off every growth (the angle's fade, elements/ply_fade.py): a vertex of one triangle (a
+    corner of the ply) or of three and more (a cut's wedge, elements/ply_wedge.py), not one of
+    two triangles, whose growths are joined along their shared edge's extension
+    (elements/ply_projection.py, "Growths joined")."""
+    count = np.bincount(cells.ravel(), minlength=int(cells.max()) + 1)
+    pairs = np.column_stack([np.repeat(rows, 2), ends.ravel()])
+    node = cells[pairs[:, 0], pairs[:, 1]]
+    return pairs[count[node] != 2]
