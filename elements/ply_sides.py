@@ -94,8 +94,9 @@ def behind(gap: np.ndarray, depth: float, last: np.ndarray) -> np.ndarray:
 def sides_at(facing: Facing, depth: float, last: np.ndarray) -> np.ndarray:
     """(P,) int8: each point's side at ``facing``'s state, accepted, from its side ``last`` at
     the last accepted state."""
-    off = behind(facing.gap, depth, last)
-    return np.where(off, BEHIND, np.where(facing.touching, TOUCHING, CLEAR)).astype(np.int8)
+    sides = facing.touching.astype(np.int8)  # TOUCHING 1 where touching, else CLEAR 0
+    sides[behind(facing.gap, depth, last)] = BEHIND
+    return sides
 
 
 def held(facing: Facing, depth: float, last: np.ndarray | None) -> Facing:
