@@ -22,6 +22,7 @@ from elements import (
     ply_friction_kernels,
     ply_load_kernels,
     ply_projection,
+    ply_sides,
     ply_slip,
     ply_springs,
     ply_surface,
@@ -239,6 +240,7 @@ class PlyContactBlock(InteractionBlock):
         # the friction's return mapping from the history last committed, at its state, which
         # the next loads take (elements/ply_friction_kernels.py ``updated_history``)
         self._next_sliding: tuple | None = None
+        self._held_at: tuple | None = None  # the last facing held by sides (ply_sides.py)
 
     def _point_stiffness(self) -> np.ndarray:
         return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)
@@ -467,7 +469,11 @@ class PlyContactBlock(InteractionBlock):
         return nodes, forces, moments
 
     def _frictional(self, history: Any) -> bool:
-        return history is not None and self.friction > 0.0
+        return isinstance(history, PlyFrictionHistory) and self.friction > 0.0
+
+    def _held(self, state: State, history: Any, second: bool = False) -> Facing:
+        """``facing`` with the points ``history``'s sides keep off not touching."""
+        return ply_sides.held_facing(self, state, history, second)
 
     def normal_law(self, gap: np.ndarray, stiffness: np.ndarray):
         """``penalty_law`` of the points with gaps ``gap`` and stiffnesses ``stiffness`` at this
@@ -484,7 +490,7 @@ class PlyContactBlock(InteractionBlock):
         return ply_friction.friction_state(self, state, history, facing)
 
     def internal_force(self, state: State, history: Any = None):
-        facing = self.facing(state)
+        facing = self._held(state, history)
         if ply_projection.COMPILED and not self.curved:  # the same bits (ply_load_kernels.py)
             if not self._frictional(history):
                 return ply_load_kernels.ply_loads(self, state, facing)
@@ -527,7 +533,7 @@ class PlyContactBlock(InteractionBlock):
     def strain_energy(self, state: State, history: Any = None) -> float:
         """sum W(g) over the touching points and, with friction, the stick springs' 1/2
         |F_t|^2 / k, N mm."""
-        facing = self.facing(state)
+        facing = self._held(state, history)
         on = np.flatnonzero(facing.touching)
         law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
         energy = float(np.sum(_fade(facing, on)[0] * law[0]))
@@ -553,14 +559,14 @@ class PlyContactBlock(InteractionBlock):
         normal loads) and elements/ply_curved_friction.py (the friction's).
         """
         if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
-            facing = self.facing(state)
+            facing = self._held(state, history)
             curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
             if self._frictional(history):
                 curved.append(
                     ply_curved_friction.curved_friction_tangent(self, state, history, facing)
                 )
             return curved
-        facing = self.facing(state, second=True)
+        facing = self._held(state, history, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         t = len(on)
         g = facing.gap[on]
@@ -686,21 +692,31 @@ class PlyContactBlock(InteractionBlock):
         )
 
     # ------------------------------------------------------------------ history
-    def initial_history(self) -> PlyFrictionHistory | None:
-        """None without friction, else the reference contacts anchored
-        (elements/ply_friction.py)."""
-        return ply_friction.initial_history(self)
+    def initial_history(self) -> PlyFrictionHistory | ply_sides.PlySides:
+        """Each point's side of the lower face in the reference state (elements/ply_sides.py)
+        and, with friction, the reference contacts anchored (elements/ply_friction.py)."""
+        if self.friction > 0.0:
+            return ply_friction.initial_history(self)  # type: ignore[return-value]
+        return ply_sides.PlySides(ply_sides.initial_sides(self.facing(self._reference).touching))
 
     def update_history(self, state: State, history: Any) -> Any:
-        """The return mapping accepted, a new history (elements/ply_friction.py; compiled on
-        flat faces, the same bits: elements/ply_friction_kernels.py)."""
+        """Each point's side at ``state`` (elements/ply_sides.py) and, with friction, the
+        return mapping accepted (elements/ply_friction.py, compiled on flat faces the same
+        bits: ply_friction_kernels.py), a new history; None for None (no side kept)."""
+        if history is None:
+            return None
+        facing = self._held(state, history)
+        last = ply_sides.sides_of(history)
+        sides = None if last is None else ply_sides.sides_at(facing, self.depth, last)
+        if not isinstance(history, PlyFrictionHistory):
+            return history if sides is None else ply_sides.PlySides(sides)
         if ply_projection.COMPILED:
-            return ply_friction_kernels.updated_history(self, state, history)
-        return ply_friction.updated_history(self, state, history)
+            return ply_friction_kernels.updated_history(self, state, history, facing, sides)
+        return ply_friction.updated_history(self, state, history, facing, sides)
 
     def dissipated_energy(self, history: Any = None) -> float:
         """Energy dissipated by friction since the start, N mm."""
-        return 0.0 if history is None else history.dissipated
+        return 0.0 if history is None else float(history.dissipated)
 
     # ------------------------------------------------------------------ protocol extras
     def _lumped(self, values: np.ndarray) -> np.ndarray:
@@ -742,7 +758,7 @@ class PlyContactBlock(InteractionBlock):
         are the upper ply's, given by the pass of its own points."""
         if self.mirrored:
             return {}
-        facing = self.facing(state)
+        facing = self._held(state, history)
         overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
         facing_any = overshoot <= (ply_curved.MARGIN_CURVED if self.curved else MARGIN)
         weight = self._lumped(facing_any.astype(float))

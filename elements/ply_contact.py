@@ -126,8 +126,9 @@ a couple F g, small against the moments F h/2 of the offsets; a stuck point faci
 carries it on the facing triangle's corners, as its stick potential's gradient
 (``elements.ply_friction.stick_couple``). The tangent is exact (stick and
 slip, through the facing triangle's normal, the normal force and the anchor's triangle;
-non-symmetric in slip: ``elements.ply_friction.friction_tangent``). mu = 0: no history
-(``initial_history`` is None) and the frictionless code path alone, the same numbers.
+non-symmetric in slip: ``elements.ply_friction.friction_tangent``). mu = 0: no friction
+history (``initial_history`` keeps the points' sides alone, elements/ply_sides.py) and the
+frictionless code path alone, the same numbers.
 """
 
 from __future__ import annotations
@@ -210,7 +211,8 @@ class PlyContact(Interaction):
         k/2 min(g, 0)^2); None: ``SMOOTHING`` (a + b).
     friction : float
         The Coulomb coefficient mu >= 0 between the plies (module docstring, "Friction"); 0
-        (default): frictionless, no history kept, the frictionless code path alone.
+        (default): frictionless, no anchor kept (the points' sides only), the frictionless
+        code path alone.
     stick : str
         The friction's stick spring k_t, one of ``STICKS``: "normal law" (default), W''(g),
         the normal law's own stiffness (elements/ply_friction.py), under which plies laid on

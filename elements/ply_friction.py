@@ -56,6 +56,7 @@ from elements import ply_edge_couple_kernels, ply_projection, ply_surface
 from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
+from elements.ply_sides import initial_sides
 from femcore.assembly import CellTangent
 from femcore.rotation import cross, cross_matrix
 from femcore.state import State
@@ -94,6 +95,9 @@ class PlyFrictionHistory:
         the next step takes the friction limit at the mean of the two).
     dissipated : float
         Energy dissipated by friction so far, N mm.
+    sides : (P,) int8 or None
+        Each point's side of the lower face at that state (elements/ply_sides.py; None: not
+        kept, every point may touch at any depth).
     """
 
     triangle: np.ndarray
@@ -101,6 +105,7 @@ class PlyFrictionHistory:
     slip: np.ndarray
     pressing: np.ndarray
     dissipated: float
+    sides: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -670,20 +675,27 @@ def initial_history(block: PlyContactBlock) -> PlyFrictionHistory | None:
         np.zeros(count),
         sliding.pressing,
         0.0,
+        initial_sides(on),
     )
 
 
 def updated_history(
-    block: PlyContactBlock, state: State, history: PlyFrictionHistory | None
+    block: PlyContactBlock,
+    state: State,
+    history: PlyFrictionHistory | None,
+    facing: Facing | None = None,
+    sides: np.ndarray | None = None,
 ) -> PlyFrictionHistory | None:
     """The return mapping accepted (a new history; ``history`` is left as it was): stuck
     anchors stay, sliding ones move along s towards their points until the spring holds
     mu N and are re-expressed on the facing triangle, new contacts are anchored at their
     projections, lost ones forget their anchor; the dissipation adds mu N_mid times the
-    slip, N_mid the mean of the last accepted and this normal force."""
+    slip, N_mid the mean of the last accepted and this normal force. ``facing`` the state's
+    (with the points kept off their faces not touching, elements/ply_sides.py; the block's
+    when None), ``sides`` the points' sides there, kept in the new history."""
     if history is None:
         return None
-    facing = block.facing(state)
+    facing = block.facing(state) if facing is None else facing
     sliding = friction_state(block, state, history, facing)
     on = facing.touching
     length = np.linalg.norm(sliding.slip, axis=1)
@@ -720,4 +732,6 @@ def updated_history(
     anchor = np.where(sliding.stuck[:, None], history.anchor, anchor)
     force = block.friction * 0.5 * (sliding.pressing + history.pressing)
     dissipated = history.dissipated + float(np.sum(force * slid))
-    return PlyFrictionHistory(triangle, anchor, history.slip + slid, sliding.pressing, dissipated)
+    return PlyFrictionHistory(
+        triangle, anchor, history.slip + slid, sliding.pressing, dissipated, sides
+    )

@@ -309,15 +309,19 @@ _moved_compiled = jit_lanes(_moved)
 
 
 def updated_history(
-    block: PlyContactBlock, state: State, history: PlyFrictionHistory | None
+    block: PlyContactBlock,
+    state: State,
+    history: PlyFrictionHistory | None,
+    facing: Facing | None = None,
+    sides: np.ndarray | None = None,
 ) -> PlyFrictionHistory | None:
     """``ply_friction.updated_history`` compiled (module docstring) on flat faces with
-    friction; otherwise that numpy reference itself."""
+    friction; otherwise that numpy reference itself (``facing`` and ``sides`` as there)."""
     if history is None or block.friction <= 0.0 or block.curved:
-        return ply_friction.updated_history(block, state, history)
-    facing = block.facing(state)
+        return ply_friction.updated_history(block, state, history, facing, sides)
+    facing = block.facing(state) if facing is None else facing
     if facing.fade is None:
-        return ply_friction.updated_history(block, state, history)
+        return ply_friction.updated_history(block, state, history, facing, sides)
     sliding = friction_state(block, state, history, facing)
     _, y = block._faces(state)
     count = len(block.above)
@@ -356,7 +360,7 @@ def updated_history(
     # us on 384 points
     following = _mapped(block, facing, y, triangle, anchor)
     dissipated = history.dissipated + float(np.sum(dissipation))
-    updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated)
+    updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated, sides)
     # the next step's loads ask for the return mapping at this state from this history: kept
     # for it (module docstring), as long as the facing and the penalties are these
     block._next_sliding = (updated, facing, _law(block), following, _bits(updated))

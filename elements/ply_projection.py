@@ -189,8 +189,9 @@ giving +g and the other -g: measured on the same run at 97.2 % of the stroke, th
 switched between them (+4.97 to -4.98 mm, +546 N mm in one step), where the point faces the
 triangles' planes. No choice among such candidates keeps the gap continuous where it
 switches between opposite signs (keeping the last facing triangle while it holds the
-projection also needs a history the frictionless contact does not keep). But the one whose
-normal points against the point's own ply (``toward``: from the lower ply to the point's,
+projection needs a history; the contact keeps each point's side, elements/ply_sides.py,
+which holds off a point found behind a sheet it did not touch). But the one whose normal
+points against the point's own ply (``toward``: from the lower ply to the point's,
 n . toward < 0) is the layer turned away: its upper face looks away from the point, which
 faces its lower face, carried by no contact. So a point facing such a triangle's plane also
 touches only down to -``depth``; deeper, it lies beyond that layer. The energy then jumps by

@@ -479,9 +479,15 @@ def test_ply_contact_friction_obeys_coulomb():
 
 
 def test_frictionless_ply_contact_keeps_no_history_and_its_numbers():
-    """friction=0 (default): no history, and a history handed in changes nothing."""
+    """friction=0 (default): no friction history, only each point's side of the lower face
+    (elements/ply_sides.py), and a friction history handed in changes nothing."""
+    from elements.ply_sides import PlySides
+
     block, state, _ = plies()
-    assert block.initial_history() is None and block.update_history(state, None) is None
+    kept = block.initial_history()
+    assert isinstance(kept, PlySides) and block.dissipated_energy(kept) == 0.0
+    assert isinstance(block.update_history(state, kept), PlySides)
+    assert block.update_history(state, None) is None
     _, _, history = plies_with_friction(rule="centroid")
     force, moment = block.internal_force(state)
     again = block.internal_force(state, history)

@@ -28,6 +28,14 @@ def _states(count: int):
     return compiled, states
 
 
+def _iterates(count: int, facings: list[bool]):
+    """``_states(count)``, with the facings made until then forgotten (the initial state's
+    history holds each point's side at the reference: elements/ply_sides.py)."""
+    compiled, states = _states(count)
+    facings.clear()
+    return compiled, states
+
+
 @pytest.fixture
 def facings(monkeypatch):
     """The ``second`` of each facing the ply contact makes."""
@@ -43,7 +51,7 @@ def facings(monkeypatch):
 
 
 def test_a_newton_iteration_makes_one_facing(facings):
-    compiled, states = _states(4)
+    compiled, states = _iterates(4, facings)
     block = compiled.interactions[0]
     for state in states:  # each iteration: the trial's loads, then the tangent there
         block.internal_force(state)
@@ -53,7 +61,7 @@ def test_a_newton_iteration_makes_one_facing(facings):
 
 
 def test_loads_without_tangents_drop_the_hessian(facings):
-    compiled, states = _states(4)
+    compiled, states = _iterates(4, facings)
     block = compiled.interactions[0]
     block.internal_force(states[0])
     block.tangent(states[0])

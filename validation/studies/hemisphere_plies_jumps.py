@@ -60,14 +60,17 @@ class Jumps:
 
         def recorded(state, history=None):
             out = original(state, history)
-            self.record(state)
+            self.record(state, history)
             return out
 
         block.internal_force = recorded  # type: ignore[method-assign]
 
-    def record(self, state: Any) -> None:
+    def record(self, state: Any, history: Any = None) -> None:
         block = self.block
-        facing = block.facing(state)
+        # the facing the loads take: the points the history's sides keep off not touching
+        # (elements/ply_sides.py; a code before them has no ``_held``)
+        held = getattr(block, "_held", None)
+        facing = block.facing(state) if held is None else held(state, history)
         p, y = block._faces(state)
         on = facing.touching
         fade = getattr(facing, "fade", None)

@@ -1,0 +1,133 @@
+"""Each ply contact point's side of the lower face, kept from one accepted state to the next: a
+point that comes to lie deep behind a triangle of the lower face without passing through its
+front does not touch it (docs/theory.md §9.3a, "The side kept").
+
+Why. A point faces the nearest triangle of the lower face (elements/ply_projection.py), a rule
+of the state alone. Where the lower ply is folded, two of its sheets can lie on either side of
+a point: the nearest changes from the sheet the point lies in front of (g > 0) to one it lies
+behind (g < 0), and its gap jumps between them. Measured on the fibrous [0/90] two-ply
+hemisphere at 24 cells (docs/hemisphere_plies.md, "The holder's bore"): points between the
+sheets of the lower ply's fold passed from +1.94 to -1.25 mm and from +0.95-1.05 to
+-0.73-0.83 mm within ten steps, their penalty energy (+1.8 to +4.0 N mm each) appearing with
+no work, and the run stopped on its energy balance at 99.5 % of the stroke. The point did not
+pass through the sheet it came to face; the fold's other sheet came to be nearer. So the
+contact keeps, per point, what it was at the last accepted state (``CLEAR``: not touching,
+``TOUCHING``, ``BEHIND``: kept off a face it lies behind), and a point that was clear touches
+now only down to a gap of -depth (the two faces' half thicknesses, elements/ply_block.py): one
+deeper came there from behind the face, not through it, and is ``BEHIND``. It stays off while
+its gap is negative, whichever triangle faces it, and comes back when its gap is >= 0 (it lies
+in front of the face it faces, W(g) = 0 there), so its energy neither appears nor vanishes at a
+gap away from zero. A point that touched at the last accepted state keeps touching at any
+depth (an explicit step moves a point by far less than the plies' thickness; a Newton iterate
+may press one deep into the layer it touches, and is held from the last increment's sides).
+
+The history of the codes that track a contact: the node-to-segment search of Hallquist,
+Goudreau and Benson (CMAME 51 (1985) 107) finds a slave node's segment from the last step's by
+a walk over neighbours (its incremental search), and LS-DYNA releases a node whose
+penetration passes a share of the shell's thickness (its PENMAX) instead of pushing it through;
+here the side, not the segment, is kept, and the release holds until the point is back in
+front of the face, where the release of LS-DYNA would find it again at full depth.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+    from elements.ply_projection import Facing
+    from femcore.state import State
+
+__all__ = [
+    "BEHIND",
+    "CLEAR",
+    "TOUCHING",
+    "PlySides",
+    "behind",
+    "held",
+    "held_facing",
+    "initial_sides",
+    "sides_at",
+    "sides_of",
+]
+
+#: A point's side at an accepted state: not touching, touching, kept off a face it lies behind.
+CLEAR, TOUCHING, BEHIND = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class PlySides:
+    """The history of a frictionless ply contact: each point's side (``CLEAR``, ``TOUCHING``
+    or ``BEHIND``) at the last accepted state.
+
+    sides : (P,) int8
+    """
+
+    sides: np.ndarray
+    #: The loads at any state are the gaps' alone, the sides held until a state is accepted
+    #: (solvers/newton.py ``curves_with_contact``: as no history).
+    gaps_decide = True
+
+    @property
+    def dissipated(self) -> float:
+        """No friction, no dissipation, N mm."""
+        return 0.0
+
+
+def initial_sides(touching: np.ndarray) -> np.ndarray:
+    """(P,) int8: ``TOUCHING`` where a point touches in the reference state, else ``CLEAR``
+    (a point laid deep in a face at the start touches it: the model put it there)."""
+    return np.where(np.asarray(touching, dtype=bool), TOUCHING, CLEAR).astype(np.int8)
+
+
+def behind(gap: np.ndarray, depth: float, last: np.ndarray) -> np.ndarray:
+    """(P,) bool: the points kept off the face at this state, from their gaps (P,) mm, the
+    depth (mm) a clear point may enter in one step and their sides ``last`` (P,) at the last
+    accepted state (module docstring)."""
+    entered = (last == CLEAR) & (gap < -depth)
+    return (gap < 0.0) & ((last == BEHIND) | entered)
+
+
+def sides_at(facing: Facing, depth: float, last: np.ndarray) -> np.ndarray:
+    """(P,) int8: each point's side at ``facing``'s state, accepted, from its side ``last`` at
+    the last accepted state."""
+    sides = facing.touching.astype(np.int8)  # TOUCHING 1 where touching, else CLEAR 0
+    sides[behind(facing.gap, depth, last)] = BEHIND
+    return sides
+
+
+def held(facing: Facing, depth: float, last: np.ndarray | None) -> Facing:
+    """``facing`` with the points kept off (``behind``) not touching; ``facing`` itself where
+    none of its touching points is kept off (or no side is known: ``last`` None)."""
+    if last is None:
+        return facing
+    off = behind(facing.gap, depth, last) & facing.touching
+    if not off.any():
+        return facing
+    touching = facing.touching & ~off
+    touching.setflags(write=False)
+    return replace(facing, touching=touching)
+
+
+def held_facing(block: PlyContactBlock, state: State, history: Any, second: bool = False) -> Facing:
+    """``block.facing(state, second)`` with the points that ``history``'s sides keep off their
+    faces not touching (``held``); the same object where none is. Kept for the last facing
+    and sides, so that a step's calls (loads, energy, friction, history) share one object, as
+    they share the facing (the friction's kept return mapping is matched by identity)."""
+    facing = block.facing(state, second)
+    sides = sides_of(history)
+    kept = block._held_at
+    if kept is not None and kept[0] is facing and kept[1] is sides:
+        return kept[2]
+    found = held(facing, block.depth, sides)
+    block._held_at = (facing, sides, found)
+    return found
+
+
+def sides_of(history: Any) -> np.ndarray | None:
+    """The sides a ply contact's history holds (a ``PlySides`` or a friction history with
+    its ``sides``); None for none (a caller that keeps no history)."""
+    return getattr(history, "sides", None)
