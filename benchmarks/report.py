@@ -213,6 +213,37 @@ Eq. 15 director tilts of 1.4e-14 to 4.3e-14 deg, tolerance 1 deg; a thinnest thi
 (validation/report.py EXPECTED_CPU_S, now the figures after): a case's CPU time on a shared
 core grows with the load.
 
+The default report's cases profiled again for what does not serve the result (one numba
+thread, CPU; 2 cores shared with other jobs at a load of 9-15, so the figures are ratios of
+runs side by side, the code before, main 14e312d, and this tree's at once, one per core):
+- bai-6.1.1 (cProfile, wall shares of a profiled run): the seven Static solves 68 % (the
+  40-cell order runs 43 %: factorisations 20 s of 176 profiled, the fibrous membrane Hessian
+  13.5, the linear solves 11, the assembly 12), figures and files 20 % (constrained layout
+  7 %, the XDMF series 3 %: an HDF5 dataset per field and frame), imports 12 %. The
+  arc-length runs converge in 3.6-3.9 Newton iterations an increment, quadratically: a
+  looser tolerance (1e-6 for 1e-8) saved 3-8 of 98-108 iterations on bai-6.1.2's runs, CPU
+  9.3 -> 8.4 s at load 12 (within its noise), every checked number moved: not kept.
+- bai-6.1.1-sensitivity: its eight 12-cell runs 6.6 s of CPU in one process, the case's
+  process tree (python -m validation --cases bai-6.1.1-sensitivity --jobs 1, user + system)
+  12.86 s with its one Dask worker, 10.10 s with the runs in the report's process (the
+  sweep's ``in_process``, taken when the report worker has one numba thread), side by side,
+  load 11; results.json's 35 numbers the same.
+- hemisphere-plies: outside its four explicit runs (96 s of CPU) 8.6 s: the plies' nets, the
+  model builds (a 48-ring die zipped ring by ring, 0.2 s a run), the least gaps to the
+  bottom ply's face over the run's frames (twice a run, the flat facets' over the frames
+  discarded). With the die's arrays made once and the flat facets measured at the end
+  alone: 8.62 -> 7.38 s, the case 103.7 -> 102.5 s CPU (side by side, load 9-14), the same
+  313 numbers in results.json.
+- the explicit balance check (every 10 steps) asked each frictionless tool for its
+  distances again for its strain energy, which the step's forces give (elements/contact.py
+  ``strain_energy``): a force + energy pass of hemisphere-forming's Mindlin blank
+  mid-stroke 422-558 -> 370-383 us (load 15); hemisphere-forming 54.5 -> 54.3 s CPU side by
+  side (load 11-12: within the noise, 1-3 % expected).
+The report's CPU remains its solves: the explicit forming runs (hemisphere-plies,
+hemisphere-forming: their steps, the step's bound and the ply contact's facing) and the
+Static ply and paper runs (tangents and factorisations); no run solved twice was found
+beyond those listed above, no output written each step.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
 (``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS);
 python benchmarks/report.py --reference PATH [--repeats N] [--cases a,b]: each case's CPU

@@ -422,9 +422,10 @@ def sweep(
         Run the variants one after another in this process, with its numba threads, and no
         Dask cluster (neither ``scheduler`` nor ``workers`` may be given): for a caller with
         one core to give, to which a LocalCluster of one worker adds only its cost (its
-        scheduler, its worker process's imports and numba kernels loaded again: about 4 s of
-        CPU for the eight 12-cell runs of the report's bai-6.1.1-sensitivity, 6.6 s here,
-        benchmarks/report.py). The same rows and summaries as on a cluster; no progress bar.
+        scheduler, its worker process's imports and numba kernels loaded again: 2.8 s of
+        CPU beside the 6.6 s of the eight 12-cell runs of the report's
+        bai-6.1.1-sensitivity, benchmarks/report.py). The same rows and summaries as on a
+        cluster; no progress bar.
 
     Returns
     -------

@@ -13,7 +13,7 @@ the report gives each of its workers its share of the cores, so the cluster take
 not a core each beside the report's other workers); with one thread (a report of two jobs on
 two cores) the runs are the sweep's in this process (``in_process``), which a cluster of one
 worker process would only delay: its start, its imports and numba kernels loaded again cost
-about 4 s of CPU beside the runs' 6.6 s (benchmarks/report.py).
+2.8 s of CPU beside the runs' 6.6 s (benchmarks/report.py).
 What is compared: along side 1, the mid-surface and the director angle. The conclusion the
 paper draws (fibrous directors stay nearly vertical while the Mindlin ones follow the normal)
 must not depend on these choices; the check states it for every variant.
