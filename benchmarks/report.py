@@ -213,8 +213,44 @@ Eq. 15 director tilts of 1.4e-14 to 4.3e-14 deg, tolerance 1 deg; a thinnest thi
 (validation/report.py EXPECTED_CPU_S, now the figures after): a case's CPU time on a shared
 core grows with the load.
 
+The default report's cases profiled again for what does not serve the result (one numba
+thread, CPU; 2 cores shared with other jobs at a load of 9-15, so the figures are ratios of
+runs side by side, the code before, main 14e312d, and this tree's at once, one per core):
+- bai-6.1.1 (cProfile, wall shares of a profiled run): the seven Static solves 68 % (the
+  40-cell order runs 43 %: factorisations 20 s of 176 profiled, the fibrous membrane Hessian
+  13.5, the linear solves 11, the assembly 12), figures and files 20 % (constrained layout
+  7 %, the XDMF series 3 %: an HDF5 dataset per field and frame), imports 12 %. The
+  arc-length runs converge in 3.6-3.9 Newton iterations an increment, quadratically: a
+  looser tolerance (1e-6 for 1e-8) saved 3-8 of 98-108 iterations on bai-6.1.2's runs, CPU
+  9.3 -> 8.4 s at load 12 (within its noise), every checked number moved: not kept.
+- bai-6.1.1-sensitivity: its eight 12-cell runs 6.6 s of CPU in one process, the case's
+  process tree (python -m validation --cases bai-6.1.1-sensitivity --jobs 1, user + system)
+  12.86 s with its one Dask worker, 10.10 s with the runs in the report's process (the
+  sweep's ``in_process``, taken when the report worker has one numba thread), side by side,
+  load 11; results.json's 35 numbers the same.
+- hemisphere-plies: outside its four explicit runs (96 s of CPU) 8.6 s: the plies' nets, the
+  model builds (a 48-ring die zipped ring by ring, 0.2 s a run), the least gaps to the
+  bottom ply's face over the run's frames (twice a run, the flat facets' over the frames
+  discarded). With the die's arrays made once and the flat facets measured at the end
+  alone: 8.62 -> 7.38 s, the case 103.7 -> 102.5 s CPU (side by side, load 9-14), the same
+  313 numbers in results.json.
+- the explicit balance check (every 10 steps) asked each frictionless tool for its
+  distances again for its strain energy, which the step's forces give (elements/contact.py
+  ``strain_energy``): a force + energy pass of hemisphere-forming's Mindlin blank
+  mid-stroke 422-558 -> 370-383 us (load 15); hemisphere-forming 54.5 -> 54.3 s CPU side by
+  side (load 11-12: within the noise, 1-3 % expected).
+The report's CPU remains its solves: the explicit forming runs (hemisphere-plies,
+hemisphere-forming: their steps, the step's bound and the ply contact's facing) and the
+Static ply and paper runs (tangents and factorisations); no run solved twice was found
+beyond those listed above, no output written each step.
+
 Run: python benchmarks/report.py [--resolution default] [--cases a,b] [--report JOBS]
-(``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS)
+(``--report JOBS``: also time ``python -m validation`` on all the cases with --jobs JOBS);
+python benchmarks/report.py --reference PATH [--repeats N] [--cases a,b]: each case's CPU
+with the code of the checkout at PATH (the code before, ``git worktree`` or ``git archive``)
+and with this one's, in fresh processes, alternating, the least of N each and their ratio.
+Each child runs with its tree first on PYTHONPATH (before, a child imported the installed
+copy of the package, which need not be this tree's).
 """
 
 from __future__ import annotations
@@ -264,15 +300,43 @@ def _one(name: str, resolution: str, out: Path) -> dict:
     }
 
 
-def _child(name: str, resolution: str) -> dict:
-    """One case in a fresh process; its times."""
+def _child(name: str, resolution: str, tree: Path = ROOT) -> dict:
+    """One case in a fresh process with the code of the checkout ``tree`` (this one by
+    default: its folder first on the child's path, before an installed copy); its times."""
+    environment = {**os.environ, "PYTHONPATH": str(tree)}
     with tempfile.TemporaryDirectory() as out:
         command = [sys.executable, __file__, "--child", name, "--resolution", resolution,
                    "--out", out]  # fmt: skip
-        done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, check=False)
+        done = subprocess.run(
+            command, cwd=tree, env=environment, capture_output=True, text=True, check=False
+        )
     if done.returncode != 0:
         raise RuntimeError(f"{name}: {done.stderr[-2000:]}")
     return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _side_by_side(names: list[str], resolution: str, reference: Path, repeats: int) -> None:
+    """Each case's CPU (computation + figures, its process's children included: a sweep's
+    Dask workers) with the code of ``reference`` and with this tree's, each in fresh
+    processes, alternating, ``repeats`` times; the least of each, their ratio and the checks
+    passed, with the machine's load."""
+    print(f"resolution {resolution}, NUMBA_NUM_THREADS={os.environ['NUMBA_NUM_THREADS']}, "
+          f"reference {reference}, best of {repeats}; load before: {_load()}")  # fmt: skip
+    print(f"{'case':28s} {'reference CPU':>13s} {'this CPU':>9s} {'ratio':>6s}  checks")
+    totals = [0.0, 0.0]
+    for name in names:
+        best: list[float] = [float("inf"), float("inf")]
+        passed = ["", ""]
+        for _ in range(repeats):
+            for k, tree in enumerate((reference, ROOT)):
+                t = _child(name, resolution, tree)
+                best[k] = min(best[k], t["compute"][1] + t["render"][1])
+                passed[k] = f"{t['passed']}/{t['checks']}"
+        totals = [totals[0] + best[0], totals[1] + best[1]]
+        print(f"{name:28s} {best[0]:13.1f} {best[1]:9.1f} {best[1] / best[0]:6.3f}  "
+              f"{passed[0]} / {passed[1]}  (load {_load()})", flush=True)  # fmt: skip
+    print(f"{'all':28s} {totals[0]:13.1f} {totals[1]:9.1f} {totals[1] / totals[0]:6.3f}")
+    print(f"load after: {_load()}")
 
 
 def _load() -> str:
@@ -286,6 +350,8 @@ def main() -> None:
     parser.add_argument("--report", type=int, default=0)
     parser.add_argument("--child", default=None)
     parser.add_argument("--out", default=None)
+    parser.add_argument("--reference", default=None)
+    parser.add_argument("--repeats", type=int, default=2)
     args = parser.parse_args()
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     os.environ["FIBRESHELL_PROGRESS"] = "0"
@@ -296,6 +362,9 @@ def main() -> None:
     from validation.report import expected_cost
 
     names = args.cases.split(",") if args.cases else list(CASES)
+    if args.reference:
+        _side_by_side(names, args.resolution, Path(args.reference), args.repeats)
+        return
     print(f"resolution {args.resolution}, NUMBA_NUM_THREADS={os.environ['NUMBA_NUM_THREADS']}, "
           f"{os.cpu_count()} cores; load (1, 5, 15 min) before: {_load()}")  # fmt: skip
     header = (f"{'case':28s} {'compute CPU':>11s} {'wall':>7s} {'figures CPU':>11s} {'wall':>6s}"

@@ -388,8 +388,10 @@ def sweep(
     progress: bool | None = None,
     name: str | None = None,
     max_variants: int = MAX_VARIANTS,
+    in_process: bool = False,
 ) -> SweepTable:
-    """Run a case over the values of some of its keys, every variant a Dask task.
+    """Run a case over the values of some of its keys, every variant a Dask task (or, with
+    ``in_process``, one after another in this process).
 
     Parameters
     ----------
@@ -416,6 +418,14 @@ def sweep(
     max_variants : int
         The most variants the sweep may have (default MAX_VARIANTS = 10000); more is refused
         before anything runs, naming the count.
+    in_process : bool
+        Run the variants one after another in this process, with its numba threads, and no
+        Dask cluster (neither ``scheduler`` nor ``workers`` may be given): for a caller with
+        one core to give, to which a LocalCluster of one worker adds only its cost (its
+        scheduler, its worker process's imports and numba kernels loaded again: 2.8 s of
+        CPU beside the 6.6 s of the eight 12-cell runs of the report's
+        bai-6.1.1-sensitivity, benchmarks/report.py). The same rows and summaries as on a
+        cluster; no progress bar.
 
     Returns
     -------
@@ -429,8 +439,13 @@ def sweep(
         A case file that cannot be read, a key that is not in it, no values, paired lists of
         different lengths, a bad ``workers`` or a scheduler that does not answer; or every
         variant failing to build (then the sweep itself is wrong: the first error is given);
-        more than ``max_variants`` variants.
+        more than ``max_variants`` variants; ``in_process`` with ``scheduler`` or ``workers``.
     """
+    if in_process and (scheduler is not None or workers is not None):
+        raise ValueError(
+            "in_process runs the variants here, without a cluster: give neither scheduler "
+            f"nor workers (got scheduler={scheduler!r}, workers={workers!r})"
+        )
     if isinstance(case, dict):
         data, path = case, Path(name or str(case.get("title", "case")))
     else:
@@ -474,15 +489,19 @@ def sweep(
         if folder is not None:
             table.write_csv(folder / "sweep.csv")
 
-    with dask_client(scheduler, workers) as (client, threads):
-        map_tasks(
-            client,
-            run_variant,
-            [(*task, threads) for task in tasks],
-            f"sweep {path.stem}",
-            progress,
-            done,
-        )
+    if in_process:
+        for task, arguments in enumerate(tasks):
+            done(task, run_variant(*arguments))  # a variant's failure is its row's
+    else:
+        with dask_client(scheduler, workers) as (client, threads):
+            map_tasks(
+                client,
+                run_variant,
+                [(*task, threads) for task in tasks],
+                f"sweep {path.stem}",
+                progress,
+                done,
+            )
     if folder is not None:
         table.write_csv(folder / "sweep.csv")
     return table

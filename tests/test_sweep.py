@@ -211,6 +211,36 @@ def test_sweep_csv_has_a_row_per_variant_with_the_varied_values(paired_sweep):
     assert np.isnan(table.column("displacement_right_z")[3])
 
 
+@pytest.mark.waits  # on a LocalCluster (the fixture's)
+def test_a_sweep_in_process_gives_the_cluster_s_rows(paired_sweep, tmp_path):
+    # The same five variants run one after another here, without a cluster: the same
+    # values (each run's own solve: the same bits on one or two numba threads, rel 1e-10 as
+    # the worker against here above), the same failures and the same files.
+    _, table = paired_sweep
+    vary = {
+        "part.0.material.bending": [10.0, 20.0, 10.0, -1.0, 10.0],
+        "kinematics": ["fibrous", "fibrous", "mindlin", "fibrous", "fibrous"],
+        "solver.max_iterations": [25, 25, 25, 25, 1],
+    }
+    here = sweep(cantilever(), vary, paired=True, out=tmp_path, progress=False, in_process=True)
+    assert here.failed == table.failed == [3, 4]
+    for mine, theirs in zip(here.rows, table.rows):
+        assert mine["converged"] == theirs["converged"]
+        for column in ("displacement_right_z", "reaction_left_z", "steps"):
+            if column in theirs:
+                assert mine[column] == pytest.approx(theirs[column], rel=1e-10, nan_ok=True)
+    assert "B must be > 0" in here.rows[3]["error"] and "iteration" in here.rows[4]["error"]
+    assert len((tmp_path / "sweep.csv").read_text().splitlines()) == 6
+    assert (tmp_path / "variant-004" / "summary.json").is_file()
+
+
+def test_a_sweep_in_process_takes_no_cluster_arguments():
+    for arguments in ({"workers": 1}, {"scheduler": "tcp://127.0.0.1:1"}):
+        with pytest.raises(ValueError, match="in_process runs the variants here"):
+            sweep(cantilever(), {"part.0.material.bending": [10.0]}, in_process=True,
+                  progress=False, **arguments)  # fmt: skip
+
+
 @pytest.mark.waits  # on a LocalCluster
 def test_a_dead_worker_is_a_failed_task_not_a_lost_map():
     import dask

@@ -196,3 +196,42 @@ def test_a_tool_offset_follows_a_new_motion_or_amplitude_and_is_the_callers_own(
     restored = pickle.loads(pickle.dumps(tool))
     restored.motion[2] = -10.0
     assert np.array_equal(restored.offset(0.5), [0.0, 0.0, -5.0])
+
+
+@pytest.mark.parametrize("meshed", [False, True])
+def test_the_energy_at_a_state_whose_forces_are_kept_is_the_penalty_s_without_a_search(meshed):
+    """A frictionless contact asked for its strain energy at the state of its last forces (an
+    explicit step's balance check asks for both) gives 1/2 k p^2 from those forces, k p n
+    with a unit normal: the numpy energy from the tool's distances to 1e-14 of it (the
+    round-off of |f|^2 / k against k p^2), without asking the tool for its distances again.
+    At another state it asks the tool, as before."""
+    if meshed:
+        die, mesh = _die_and_blank()
+        states = [_pressed(mesh, call, seed=call) for call in (0, 5)]
+        contact = Contact(die, np.arange(mesh.n_nodes), offset=0.15, penalty=100.0)
+    else:
+        mesh = Mesh.rectangle(4.0, 4.0, nx=6, ny=6)
+        states = [_state(mesh, seed) for seed in (0, 1)]
+        contact = Contact(TOOLS[0], np.arange(mesh.n_nodes), offset=0.5, penalty=100.0)
+    block = contact.bind(Body.bare(mesh))
+    asked = []
+    distance = block.tool.distance
+
+    def counted(*arguments, **options):
+        asked.append(1)
+        return distance(*arguments, **options)
+
+    block.tool.distance = counted
+    for state in states:
+        p, _, _ = block.touch(state)
+        assert (p > 0).sum() >= 3
+        expected = float(0.5 * np.sum(block.stiffness * p**2))
+        block.contact_forces(state)
+        asked.clear()
+        assert block.strain_energy(state) == pytest.approx(expected, rel=1e-14)
+        assert not asked  # from the kept forces
+    other = _pressed(mesh, 9, seed=9) if meshed else _state(mesh, 2)
+    p, _, _ = block.touch(other)
+    asked.clear()
+    assert block.strain_energy(other) == float(0.5 * np.sum(block.stiffness * p**2))
+    assert asked  # not kept: the tool's distances

@@ -10,7 +10,10 @@ eight runs are one parameter sweep of the case file of bai-6.1.1 (fibreshell.swe
 kinematics, part.0.material.bending and part.0.material.shear paired), each a Dask task on a
 local cluster of as many worker processes as this process has numba threads (``sweep_workers``:
 the report gives each of its workers its share of the cores, so the cluster takes that share,
-not a core each beside the report's other workers).
+not a core each beside the report's other workers); with one thread (a report of two jobs on
+two cores) the runs are the sweep's in this process (``in_process``), which a cluster of one
+worker process would only delay: its start, its imports and numba kernels loaded again cost
+2.8 s of CPU beside the runs' 6.6 s (benchmarks/report.py).
 What is compared: along side 1, the mid-surface and the director angle. The conclusion the
 paper draws (fibrous directors stay nearly vertical while the Mindlin ones follow the normal)
 must not depend on these choices; the check states it for every variant.
@@ -117,8 +120,9 @@ def compute(resolution: str) -> Outcome:
             "part.0.material.shear": [k * k_scale for *_, k_scale in VARIANTS],
         },
         paired=True,
-        workers=workers,
+        workers=None if workers == 1 else workers,
         progress=False,
+        in_process=workers == 1,
     )
     elapsed = time.perf_counter() - started
     checks, angles, profiles = [], {}, {}
@@ -182,8 +186,12 @@ def compute(resolution: str) -> Outcome:
             "B assumed (N mm)": b,
             "K assumed (N/mm)": k,
             "variants": "B x 0.5, 2; K x 0.1, 10",
-            "run as": f"a sweep of {len(VARIANTS)} Dask tasks on {workers} worker processes "
-            f"(fibreshell.sweep): {elapsed:.1f} s elapsed",
+            "run as": (
+                f"a sweep of {len(VARIANTS)} runs in the report's process"
+                if workers == 1
+                else f"a sweep of {len(VARIANTS)} Dask tasks on {workers} worker processes"
+            )
+            + f" (fibreshell.sweep): {elapsed:.1f} s elapsed",
         },
         checks=checks,
         data=SensitivityData(s=s, profiles=profiles),

@@ -114,22 +114,25 @@ def node_gaps(
 
 
 def least_gaps(
-    layup: Layup, result: Any, cells: int, surface: str = MEASURED_FACE
+    layup: Layup, result: Any, cells: int, surface: str = MEASURED_FACE, over_run: bool = True
 ) -> dict[str, Any]:
     """The top ply's least node gap, mm: in the die at the end along the radius
     (``radial_gaps``, "in_die"), and to the bottom ply's ``surface`` face (``node_gaps``)
     over its nodes in the die at the end, each facing a bottom triangle in the die (its
-    corners 5 mm below the flange; "in_die_to_the_face"), and over every node and frame of
-    the run, with when and where (the node's blank coordinates)."""
+    corners 5 mm below the flange; "in_die_to_the_face"), and with ``over_run`` over every
+    node and frame of the run, with when and where (the node's blank coordinates; without
+    it "run" is NaN, "at_s" NaN and "where" empty: the probe over the run's hundred frames
+    is most of the measure's cost, about 1 s of CPU a run at 8 cells, for a number a caller
+    that wants the end alone would not read)."""
     top = layup.ply_nodes[-1]
-    least, at, where = math.inf, 0.0, ""
+    least, at, where = (math.inf, 0.0, "") if over_run else (math.nan, math.nan, "")
     probe = (
         Layup(FABRIC, tuple(layup.angles), 2 * HALF, cells=cells, rule="vertices", surface=surface)
         .model()
         .compile()
         .interactions[0]
     )
-    for frame in result.frames:
+    for frame in result.frames if over_run else ():
         gap = node_gaps(probe, layup, frame.positions[: layup.mesh.n_nodes])
         if np.isfinite(gap).any() and np.nanmin(gap) < least:
             i = int(np.nanargmin(gap))

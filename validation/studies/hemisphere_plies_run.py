@@ -256,7 +256,7 @@ def run(
     prefix = key.replace(" ", "_").replace("/", "-")
     crossing = least_gaps(layup, result, cells)
     parameters[f"{prefix}_least_gap_in_die_to_the_flat_facets_mm"] = least_gaps(
-        layup, result, cells, "flat"
+        layup, result, cells, "flat", over_run=False
     )["in_die_to_the_face"]
     parameters[f"{prefix}_least_gap_in_die_to_the_curved_face_mm"] = crossing["in_die_to_the_face"]
     parameters[f"{prefix}_least_gap_in_die_mm"] = crossing["in_die"]
