@@ -137,6 +137,7 @@ def run(ref: str, pytest_args: list[str], cores: int, period: float) -> dict:
         "windows": windows,
         "waits": waits,
         "summary": summary,
+        "output": output,
     }
 
 
@@ -145,10 +146,13 @@ def main() -> None:
     parser.add_argument("--ref", default="HEAD")
     parser.add_argument("--cores", type=int, default=os.cpu_count() or 2)
     parser.add_argument("--period", type=float, default=0.5, help="s between samples")
+    parser.add_argument("--log", type=Path, help="where to write pytest's whole output")
     parser.add_argument("pytest_args", nargs="*", help="after --: pytest's arguments")
     args = parser.parse_args()
     print(f"load before: {os.getloadavg()}")
     figures = run(args.ref, args.pytest_args, args.cores, args.period)
+    if args.log is not None:
+        args.log.write_text(figures["output"])
     print(f"{args.ref}: {figures['summary']}")
     print(
         f"  wall {figures['wall']:.1f} s, CPU {figures['cpu']:.1f} s "

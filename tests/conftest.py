@@ -6,6 +6,7 @@ a process asking for a kernel that another compiles waits and loads its build,
 femcore/compile_lock.py.)"""
 
 import os
+import sys
 import tempfile
 import uuid
 from pathlib import Path
@@ -17,6 +18,16 @@ from pathlib import Path
 # its default threads against 8.5 ms on one, and it runs once per increment of every static
 # solve.
 os.environ["OPENBLAS_NUM_THREADS"] = "1"
+
+# Python's bytecode of the project's modules (and pytest's rewritten test modules) written
+# beside them, in __pycache__ where numba's cache already lives, where the environment says
+# not to (PYTHONDONTWRITEBYTECODE): else each of a run's processes (the xdist workers, the
+# coarse report's jobs, the Dask workers, the tests' subprocesses: dozens) compiles the same
+# sources again, 0.3-0.5 s of CPU each, and a worker's collection 8.7 against 4.0 s
+# (benchmarks/suite_bytecode.py). Before the project's imports below; the subprocesses
+# inherit it.
+if os.environ.pop("PYTHONDONTWRITEBYTECODE", None) is not None:
+    sys.dont_write_bytecode = False
 
 import pytest  # noqa: E402
 from coarse_report import CoarseReport  # noqa: E402

@@ -251,3 +251,16 @@ def test_two_workers_asking_at_once_compute_the_run_once_and_both_read_it(tmp_pa
     assert [process.returncode for process in both] == [0, 0]
     assert outputs == ["{'rows': [1.0, 2.0]}\n"] * 2
     assert (tmp_path / "computes.log").read_text() == "x\n"
+
+
+def test_the_sessions_processes_write_the_bytecode_of_what_they_import(tmp_path):
+    """Python's bytecode written by the processes the session starts, whatever
+    PYTHONDONTWRITEBYTECODE said (tests/conftest.py): a module a subprocess imports leaves
+    its .pyc, which the next process reads instead of compiling the source again. (Fails on
+    the conftest before where the environment sets it, as this machine's does.)"""
+    assert "PYTHONDONTWRITEBYTECODE" not in os.environ
+    (tmp_path / "probe_module.py").write_text("VALUE = 1\n")
+    subprocess.run(
+        [sys.executable, "-c", "import probe_module"], cwd=tmp_path, check=True, timeout=60
+    )  # fmt: skip
+    assert list((tmp_path / "__pycache__").glob("probe_module.*.pyc"))
