@@ -697,7 +697,7 @@ class PlyContactBlock(InteractionBlock):
         and, with friction, the reference contacts anchored (elements/ply_friction.py)."""
         if self.friction > 0.0:
             return ply_friction.initial_history(self)  # type: ignore[return-value]
-        return ply_sides.PlySides(ply_sides.initial_sides(self.facing(self._reference).touching))
+        return ply_sides.initial_sides(self)
 
     def update_history(self, state: State, history: Any) -> Any:
         """Each point's side at ``state`` (elements/ply_sides.py) and, with friction, the
@@ -707,9 +707,9 @@ class PlyContactBlock(InteractionBlock):
             return None
         facing = self._held(state, history)
         last = ply_sides.sides_of(history)
-        sides = None if last is None else ply_sides.sides_at(facing, self.depth, last)
+        sides = None if last is None else ply_sides.sides_at(self, state, facing, last)
         if not isinstance(history, PlyFrictionHistory):
-            return history if sides is None else ply_sides.PlySides(sides)
+            return history if sides is None else sides
         if ply_projection.COMPILED:
             return ply_friction_kernels.updated_history(self, state, history, facing, sides)
         return ply_friction.updated_history(self, state, history, facing, sides)

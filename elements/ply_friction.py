@@ -56,7 +56,7 @@ from elements import ply_edge_couple_kernels, ply_projection, ply_surface
 from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
-from elements.ply_sides import initial_sides
+from elements.ply_sides import PlySides, initial_sides
 from femcore.assembly import CellTangent
 from femcore.rotation import cross, cross_matrix
 from femcore.state import State
@@ -95,9 +95,9 @@ class PlyFrictionHistory:
         the next step takes the friction limit at the mean of the two).
     dissipated : float
         Energy dissipated by friction so far, N mm.
-    sides : (P,) int8 or None
-        Each point's side of the lower face at that state (elements/ply_sides.py; None: not
-        kept, every point may touch at any depth).
+    sides : PlySides or None
+        Each point's side of the lower face at that state and the faces there
+        (elements/ply_sides.py; None: not kept, every point may touch at any depth).
     """
 
     triangle: np.ndarray
@@ -105,7 +105,7 @@ class PlyFrictionHistory:
     slip: np.ndarray
     pressing: np.ndarray
     dissipated: float
-    sides: np.ndarray | None = None
+    sides: PlySides | None = None
 
 
 @dataclass(frozen=True)
@@ -675,7 +675,7 @@ def initial_history(block: PlyContactBlock) -> PlyFrictionHistory | None:
         np.zeros(count),
         sliding.pressing,
         0.0,
-        initial_sides(on),
+        initial_sides(block),
     )
 
 
@@ -684,7 +684,7 @@ def updated_history(
     state: State,
     history: PlyFrictionHistory | None,
     facing: Facing | None = None,
-    sides: np.ndarray | None = None,
+    sides: PlySides | None = None,
 ) -> PlyFrictionHistory | None:
     """The return mapping accepted (a new history; ``history`` is left as it was): stuck
     anchors stay, sliding ones move along s towards their points until the spring holds

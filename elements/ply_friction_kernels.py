@@ -39,6 +39,7 @@ from elements import ply_friction
 from elements.jit import jit_lanes, prange
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import PlyFrictionHistory, Sliding
+from elements.ply_sides import PlySides
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -313,7 +314,7 @@ def updated_history(
     state: State,
     history: PlyFrictionHistory | None,
     facing: Facing | None = None,
-    sides: np.ndarray | None = None,
+    sides: PlySides | None = None,
 ) -> PlyFrictionHistory | None:
     """``ply_friction.updated_history`` compiled (module docstring) on flat faces with
     friction; otherwise that numpy reference itself (``facing`` and ``sides`` as there)."""

@@ -21,6 +21,16 @@ gap away from zero. A point that touched at the last accepted state keeps touchi
 depth (an explicit step moves a point by far less than the plies' thickness; a Newton iterate
 may press one deep into the layer it touches, and is held from the last increment's sides).
 
+Only a point that cannot have come through the face's front is kept off: one whose motion
+against the face it faces since the last accepted state (its contact point's displacement
+less that of the face's point under it, from the faces kept with the sides) is shorter than
+its depth less the plies' half thicknesses. To pass from in front of a face (g >= 0) to a gap
+g < 0 a point moves at least |g| against it. An explicit step moves a point by micrometres
+and the rule keeps the fold's points off; a Newton iterate of a Static increment may push a
+clear point millimetres through the ply below, and it touches there (kept off, an increment
+converged with one ply pushed through the other: a clear point 1 mm above a clamped ply,
+pushed by 30 N in one increment, ended 3.5 mm through it).
+
 The history of the codes that track a contact: the node-to-segment search of Hallquist,
 Goudreau and Benson (CMAME 51 (1985) 107) finds a slave node's segment from the last step's by
 a walk over neighbours (its incremental search), and LS-DYNA releases a node whose
@@ -60,13 +70,20 @@ CLEAR, TOUCHING, BEHIND = 0, 1, 2
 
 @dataclass(frozen=True)
 class PlySides:
-    """The history of a frictionless ply contact: each point's side (``CLEAR``, ``TOUCHING``
-    or ``BEHIND``) at the last accepted state.
+    """Each point's side (``CLEAR``, ``TOUCHING`` or ``BEHIND``) at the last accepted state
+    and the faces there: the history of a frictionless ply contact, and a frictional one's
+    ``sides``.
 
     sides : (P,) int8
+    faces : (P, 3) float
+        The contact points p at that state, mm.
+    corners : (m, 3, 3) float
+        The offset lower corners y at that state, mm.
     """
 
     sides: np.ndarray
+    faces: np.ndarray
+    corners: np.ndarray
     #: The loads at any state are the gaps' alone, the sides held until a state is accepted
     #: (solvers/newton.py ``curves_with_contact``: as no history).
     gaps_decide = True
@@ -77,34 +94,49 @@ class PlySides:
         return 0.0
 
 
-def initial_sides(touching: np.ndarray) -> np.ndarray:
-    """(P,) int8: ``TOUCHING`` where a point touches in the reference state, else ``CLEAR``
-    (a point laid deep in a face at the start touches it: the model put it there)."""
-    return np.where(np.asarray(touching, dtype=bool), TOUCHING, CLEAR).astype(np.int8)
+def initial_sides(block: PlyContactBlock) -> PlySides:
+    """``TOUCHING`` where a point touches in the reference state, else ``CLEAR`` (a point laid
+    deep in a face at the start touches it: the model put it there), with the reference's
+    faces."""
+    reference = block._reference
+    touching = np.asarray(block.facing(reference).touching, dtype=bool)
+    faces, corners = block._faces(reference)
+    return PlySides(np.where(touching, TOUCHING, CLEAR).astype(np.int8), faces, corners)
 
 
-def behind(gap: np.ndarray, depth: float, last: np.ndarray) -> np.ndarray:
-    """(P,) bool: the points kept off the face at this state, from their gaps (P,) mm, the
-    depth (mm) a clear point may enter in one step and their sides ``last`` (P,) at the last
-    accepted state (module docstring)."""
-    entered = (last == CLEAR) & (gap < -depth)
-    return (gap < 0.0) & ((last == BEHIND) | entered)
+def behind(block: PlyContactBlock, state: State, facing: Facing, last: PlySides) -> np.ndarray:
+    """(P,) bool: the points kept off the face at ``state`` (``facing`` there), from their
+    sides and faces ``last`` at the last accepted state (module docstring): clear then, deeper
+    now than the block's depth (the plies' half thicknesses, mm) and moved against the face
+    by less than that depth below the face, or kept off then and still behind a face."""
+    gap = facing.gap
+    depth = block.depth
+    entered = (last.sides == CLEAR) & (gap < -depth)
+    rows = np.flatnonzero(entered)
+    if len(rows):
+        faces, corners = block._faces(state)
+        triangle, weights = facing.triangle[rows], facing.weights[rows]
+        under = np.einsum("rk,rki->ri", weights, corners[triangle] - last.corners[triangle])
+        moved = np.linalg.norm(faces[rows] - last.faces[rows] - under, axis=1)
+        entered[rows] = moved < -gap[rows] - depth
+    return (gap < 0.0) & ((last.sides == BEHIND) | entered)
 
 
-def sides_at(facing: Facing, depth: float, last: np.ndarray) -> np.ndarray:
-    """(P,) int8: each point's side at ``facing``'s state, accepted, from its side ``last`` at
-    the last accepted state."""
+def sides_at(block: PlyContactBlock, state: State, facing: Facing, last: PlySides) -> PlySides:
+    """Each point's side at ``state`` (``facing`` there), accepted, from its sides ``last`` at
+    the last accepted state, with the faces at ``state``."""
     sides = facing.touching.astype(np.int8)  # TOUCHING 1 where touching, else CLEAR 0
-    sides[behind(facing.gap, depth, last)] = BEHIND
-    return sides
+    sides[behind(block, state, facing, last)] = BEHIND
+    faces, corners = block._faces(state)
+    return PlySides(sides, faces, corners)
 
 
-def held(facing: Facing, depth: float, last: np.ndarray | None) -> Facing:
+def held(block: PlyContactBlock, state: State, facing: Facing, last: PlySides | None) -> Facing:
     """``facing`` with the points kept off (``behind``) not touching; ``facing`` itself where
     none of its touching points is kept off (or no side is known: ``last`` None)."""
     if last is None:
         return facing
-    off = behind(facing.gap, depth, last) & facing.touching
+    off = behind(block, state, facing, last) & facing.touching
     if not off.any():
         return facing
     touching = facing.touching & ~off
@@ -122,12 +154,14 @@ def held_facing(block: PlyContactBlock, state: State, history: Any, second: bool
     kept = block._held_at
     if kept is not None and kept[0] is facing and kept[1] is sides:
         return kept[2]
-    found = held(facing, block.depth, sides)
+    found = held(block, state, facing, sides)
     block._held_at = (facing, sides, found)
     return found
 
 
-def sides_of(history: Any) -> np.ndarray | None:
-    """The sides a ply contact's history holds (a ``PlySides`` or a friction history with
-    its ``sides``); None for none (a caller that keeps no history)."""
+def sides_of(history: Any) -> PlySides | None:
+    """The sides a ply contact's history holds (a ``PlySides``, or a friction history's
+    ``sides``); None for none (a caller that keeps no history)."""
+    if isinstance(history, PlySides):
+        return history
     return getattr(history, "sides", None)

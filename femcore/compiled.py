@@ -9,8 +9,9 @@ to ``parts[i]``.
 
 from __future__ import annotations
 
+import inspect
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -339,10 +340,12 @@ class CompiledModel(CompiledTangent):
         the lumped masses the solver uses, t; ``step`` the largest step the solver may take
         until the next evaluation, s (the elements' critical step; None: unknown, each
         interaction's own guess). 0 without springs."""
+        if step is not None and not (np.isfinite(step) and step > 0.0):
+            raise ValueError(f"the step until the next evaluation must be > 0 s, got {step}")
         total = np.zeros(len(mass))
         for interaction in self.interactions:
             springs = (
-                interaction.springs() if state is None else interaction.springs_at(state, step)
+                interaction.springs() if state is None else _springs_at(interaction, state, step)
             )
             if springs is not None and len(springs[0]):
                 nodes, stiffness = springs
@@ -494,3 +497,26 @@ class CompiledModel(CompiledTangent):
                 )
                 full[part.cell_ids] = values
         return out
+
+
+def _springs_at(interaction: Any, state: State, step: float | None):
+    """``interaction.springs_at(state, step)``; ``springs_at(state)`` for an interaction
+    written before the step was handed down (its springs then bound the stiffness at the
+    evaluated state, as that signature promised)."""
+    if _takes_step(type(interaction)):
+        return interaction.springs_at(state, step)
+    return interaction.springs_at(state)
+
+
+_TAKES_STEP: dict[Any, bool] = {}
+
+
+def _takes_step(kind: Any) -> bool:
+    """Whether ``kind.springs_at`` (an interaction block's class) takes the step beside the
+    state (kept by class: asked at every evaluation of the step)."""
+    if kind not in _TAKES_STEP:
+        parameters = inspect.signature(kind.springs_at).parameters.values()
+        named = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+        variable = any(p.kind == p.VAR_POSITIONAL for p in parameters)
+        _TAKES_STEP[kind] = len(named) >= 3 or variable
+    return _TAKES_STEP[kind]

@@ -209,9 +209,11 @@ class InteractionBlock(ABC):
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """``springs`` at ``state``, for a block whose springs stiffen with the configuration
         (the ply contact's fade beside the outline); the explicit step asks this one, every
-        time it evaluates its step (every ``SPRINGS_HELD_STEPS`` steps), and the springs must
-        bound the stiffness at every state reachable until then; ``step`` (s) the largest
-        step the solver may take until then (None: unknown). The default: ``springs()``."""
+        time it evaluates its step (every ``SPRINGS_HELD_STEPS`` steps), and the springs should
+        bound the stiffness at every state reachable until then (the ply contact's estimate
+        of that reach: elements/ply_springs.py); ``step`` (s) the largest step the solver may
+        take until then (None: unknown). The default: ``springs()``. A block whose
+        ``springs_at`` takes the state alone is asked so (femcore/compiled.py)."""
         return self.springs()
 
     def initial_history(self) -> Any:

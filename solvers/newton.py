@@ -229,13 +229,11 @@ def keeps_contact_sets(model: CompiledModel) -> bool:
 
 def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
     """Whether ``Static(curved_with_contact=True)`` curves the steps of ``model`` at a state
-    of ``history`` (``State.history``): its interactions keep no contact sets (the tools'
-    contact does) and carry no history (the plies' friction does: its stick anchors and
-    return mapping make the forces more than the gaps', and a probe of the path may cross a
-    stick limit; on a frictional two-ply deck, 54 curved steps took 302 iterations cut
-    against none curved 47). A history that says its forces are the gaps' alone
-    (``gaps_decide``: the plies' sides, elements/ply_sides.py, held through an increment)
-    counts as none."""
+    of ``history``: no interaction keeps contact sets (the tools' contact does) or a history
+    beyond the gaps' (the plies' friction: its return mapping may cross a stick limit on a
+    probe of the path; on a frictional two-ply deck 54 curved steps took 302 iterations cut
+    against 47 uncurved). The plies' sides (``gaps_decide``, elements/ply_sides.py), held
+    through an increment, count as none."""
     if keeps_contact_sets(model):
         return False
     first = len(model.parts) - len(model.interactions)

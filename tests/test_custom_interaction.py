@@ -334,3 +334,33 @@ def test_an_interaction_block_whose_methods_do_not_take_the_history_is_named():
     model.interact(OldContact("all", K))
     with pytest.raises(ValueError, match=r"OldBlock.strain_energy must take \(state, history"):
         model.compile()
+
+
+class OldProtocolFloorBlock(PlaneContactBlock):
+    """The floor's block answering ``springs_at(state)`` alone, as the protocol asked before
+    the explicit step handed down the step until its next evaluation."""
+
+    def springs_at(self, state):  # type: ignore[override]
+        return self.springs()
+
+
+class OldProtocolFloor(PlaneContact):
+    def bind(self, body: Body) -> "PlaneContactBlock":
+        block = super().bind(body)
+        old = OldProtocolFloorBlock.__new__(OldProtocolFloorBlock)
+        old.__dict__.update(block.__dict__)
+        return old
+
+
+def test_an_interaction_answering_springs_at_the_state_alone_still_runs_explicit():
+    """Its springs are taken as they are (a bound at the evaluated state): the explicit run
+    with the automatic step gives the step and the rest of the run that the protocol's
+    default ``springs_at(state, step)`` gives (before, a TypeError)."""
+    model = cable_on_the_floor()
+    model.interactions[0] = OldProtocolFloor("all", K)
+    old = model.compile()
+    new = cable_on_the_floor().compile()
+    solver = CentralDifference(0.002, damping=500.0, progress=False)
+    ran_old, ran_new = solver.solve(old), solver.solve(new)
+    assert ran_old.converged == ran_new.converged
+    np.testing.assert_array_equal(ran_old.positions, ran_new.positions)

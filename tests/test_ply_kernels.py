@@ -341,11 +341,14 @@ def test_the_search_s_closest_points_of_cut_growths_are_numpy_s_to_the_bit(monke
 
 def _fields_equal(compiled, reference) -> list[str]:
     """The names of the array fields of two records (a Sliding, a friction history) that
-    differ to the bit (NaN equal to NaN), and of their float fields that differ."""
+    differ to the bit (NaN equal to NaN), of their float fields that differ, and of their
+    records that hold such fields (the history's sides: ``name.field``)."""
     differ = []
     for name, value in vars(reference).items():
         other = getattr(compiled, name)
-        if isinstance(value, np.ndarray):
+        if hasattr(value, "__dataclass_fields__"):
+            differ += [f"{name}.{field}" for field in _fields_equal(other, value)]
+        elif isinstance(value, np.ndarray):
             if not (
                 other.shape == value.shape
                 and other.dtype == value.dtype
