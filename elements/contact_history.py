@@ -1,0 +1,54 @@
+"""The friction state a rigid tool's contact keeps from one accepted step to the next
+(elements/contact.py, module docstring "Friction" and "Active set"; the augmented Lagrangian's
+multipliers, elements/augmented_contact.py)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["FrictionHistory"]
+
+
+@dataclass(frozen=True)
+class FrictionHistory:
+    """The friction state of a contact block after an accepted step.
+
+    anchor : (s, 3) float
+        Each node's anchor in the tool's own frame (its position less the tool's translation),
+        mm; NaN for a node without one (not touching).
+    slip : (s,) float
+        Slip length accumulated by each node, mm.
+    penetration : (s,) float
+        Each node's penetration p when the step was accepted, mm (the dissipation of the next
+        step takes the friction limit at the mean of the two).
+    dissipated : float
+        Energy dissipated by friction so far, N mm.
+    active : (s,) bool or None
+        The frozen contact set (module docstring), None: decided by the gap.
+    sliding : (s,) bool or None
+        The frozen slip set, None: decided by the return mapping.
+    direction : (s, 3) float or None
+        The frozen unit slip direction of each sliding node (the friction opposes its
+        projection on the tool's tangent plane).
+    normal : (s, 3) float or None
+        The tool's unit normal at each node where the frozen set took it in (the release,
+        module docstring "Active set").
+    multiplier : (s,) float or None
+        The augmented Lagrangian's normal multiplier of each node, N (None: pure penalty;
+        elements/augmented_contact.py).
+    traction : (s, 3) float or None
+        The augmented Lagrangian's tangential multiplier (the stick traction) of each node, N.
+    """
+
+    anchor: np.ndarray
+    slip: np.ndarray
+    penetration: np.ndarray
+    dissipated: float
+    active: np.ndarray | None = None
+    sliding: np.ndarray | None = None
+    direction: np.ndarray | None = None
+    normal: np.ndarray | None = None
+    multiplier: np.ndarray | None = None
+    traction: np.ndarray | None = None
