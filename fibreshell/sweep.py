@@ -441,6 +441,8 @@ def sweep(
         variant failing to build (then the sweep itself is wrong: the first error is given);
         more than ``max_variants`` variants; ``in_process`` with ``scheduler`` or ``workers``.
     """
+    if not isinstance(in_process, (bool, np.bool_)):
+        raise ValueError(f"in_process must be True or False, got {in_process!r}")
     if in_process and (scheduler is not None or workers is not None):
         raise ValueError(
             "in_process runs the variants here, without a cluster: give neither scheduler "
@@ -491,7 +493,12 @@ def sweep(
 
     if in_process:
         for task, arguments in enumerate(tasks):
-            done(task, run_variant(*arguments))  # a variant's failure is its row's
+            result: Any
+            try:  # as map_tasks on a cluster: an error escaping the variant is its row's
+                result = run_variant(*arguments)
+            except Exception as error:
+                result = Failure(f"{type(error).__name__}: {error}")
+            done(task, result)
     else:
         with dask_client(scheduler, workers) as (client, threads):
             map_tasks(

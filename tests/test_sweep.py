@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from shell_helpers import clamped_strip_tables
 
+from fibreshell import sweep as sweep_module
 from fibreshell.case import case_from_data
 from fibreshell.cli import main
 from fibreshell.cluster import Failure, dask_client, map_tasks
@@ -212,11 +213,16 @@ def test_sweep_csv_has_a_row_per_variant_with_the_varied_values(paired_sweep):
 
 
 @pytest.mark.waits  # on a LocalCluster (the fixture's)
-def test_a_sweep_in_process_gives_the_cluster_s_rows(paired_sweep, tmp_path):
-    # The same five variants run one after another here, without a cluster: the same
-    # values (each run's own solve: the same bits on one or two numba threads, rel 1e-10 as
-    # the worker against here above), the same failures and the same files.
+def test_a_sweep_in_process_gives_the_cluster_s_rows(paired_sweep, tmp_path, monkeypatch):
+    # The same five variants run one after another here, without a cluster (none may be
+    # started): the same values (each run's own solve: the same bits on one or two numba
+    # threads, rel 1e-10 as the worker against here above), the same failures and files.
     _, table = paired_sweep
+
+    def no_cluster(*_):
+        raise AssertionError("a sweep in process started a cluster")
+
+    monkeypatch.setattr(sweep_module, "dask_client", no_cluster)
     vary = {
         "part.0.material.bending": [10.0, 20.0, 10.0, -1.0, 10.0],
         "kinematics": ["fibrous", "fibrous", "mindlin", "fibrous", "fibrous"],
@@ -239,6 +245,23 @@ def test_a_sweep_in_process_takes_no_cluster_arguments():
         with pytest.raises(ValueError, match="in_process runs the variants here"):
             sweep(cantilever(), {"part.0.material.bending": [10.0]}, in_process=True,
                   progress=False, **arguments)  # fmt: skip
+    with pytest.raises(ValueError, match="in_process must be True or False, got 'no'"):
+        sweep(cantilever(), {"part.0.material.bending": [10.0]}, in_process="no", progress=False)
+
+
+def test_an_error_escaping_a_variant_in_process_is_its_row_as_on_a_cluster(monkeypatch):
+    # On a cluster map_tasks makes any error a task raises its row's Failure; in process
+    # the same (before, the second variant's error ended the sweep with no table).
+    def run(data, path, overrides, folder):
+        if overrides["part.0.material.bending"] == 20.0:
+            raise RuntimeError("a variant's own error")
+        return {"converged": True}, None
+
+    monkeypatch.setattr(sweep_module, "run_variant", run)
+    vary = {"part.0.material.bending": [10.0, 20.0, 30.0]}
+    table = sweep(cantilever(), vary, in_process=True, progress=False)
+    assert table.failed == [1] and table.rows[1]["error"] == "RuntimeError: a variant's own error"
+    assert table.rows[0]["converged"] and table.rows[2]["converged"]
 
 
 @pytest.mark.waits  # on a LocalCluster

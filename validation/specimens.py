@@ -419,13 +419,15 @@ def hemisphere_die(radius: float, flange: float, rings: int, rim: float = 0.0) -
     2 radius rim) from the axis and the bowl ends at the polar angle whose sine is that over
     radius + rim; the round has rings as wide as the others (at least two).
 
-    The arrays of a die are made once a process and copied into each Mesh (zipping the rings
-    is a loop over them, 0.2 s of CPU for the report's 48-ring dice, which the hemisphere
-    cases build once a run: four runs in hemisphere-plies)."""
+    The arrays of a die are made once a process (zipping the rings is a loop over them, 0.2 s
+    of CPU for the report's 48-ring dice, which the hemisphere cases build once a run: four
+    runs in hemisphere-plies); each Mesh copies them (femcore/topology.py)."""
     if rim < 0.0:
         raise ValueError(f"hemisphere_die rim must be >= 0, got {rim}")
+    if isinstance(rings, bool) or not isinstance(rings, (int, np.integer)) or rings < 1:
+        raise ValueError(f"hemisphere_die rings must be a whole number >= 1, got {rings!r}")
     points, triangles = _die_arrays(float(radius), float(flange), int(rings), float(rim))
-    return Mesh(points.copy(), triangles=triangles.copy())
+    return Mesh(points, triangles=triangles)
 
 
 @functools.lru_cache(maxsize=8)
