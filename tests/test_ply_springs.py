@@ -42,13 +42,13 @@ STEP = 1e-6  # mm, the central differences' step
 PRESS = 0.2  # mm, the deepest press tried: the penetration stays under the plies' 0.3
 
 
-def _stack(angles, sink=SINK):
-    """Two 20-mm Mindlin plies (3 cells across, faces along the directors) at ``angles``, both
+def _stack(angles, sink=SINK, cells=3):
+    """Two 20-mm Mindlin plies (``cells`` across, faces along the directors) at ``angles``, both
     passes (the top ply's Gauss points; the bottom ply's corners), penalty 1000 N/mm, the top
     ply moved ``sink`` mm into the bottom one (< 0: apart). Returns (compiled, state0, top
     ply's nodes)."""
     layup = Layup(
-        PLY, angles, 20.0, cells=3, kinematics="mindlin", rule="gauss",
+        PLY, angles, 20.0, cells=cells, kinematics="mindlin", rule="gauss",
         lower_rule="vertices", penalty=1000.0,
     )  # fmt: skip
     compiled = layup.model().compile()
@@ -157,11 +157,13 @@ MODELS = [
 ]
 
 
-def _ratios(model, springs_of):
+def _ratios(model, springs_of, slide=0.5, cells=3):
+    """``_worst`` of ``model`` (angles, sink mm, in-plane shift of the top ply mm) at ``cells``
+    across, the top ply's speed such that the points slide ``slide`` mm until then."""
     angles, sink, shift = model
-    compiled, state0, top = _stack(angles, sink)
+    compiled, state0, top = _stack(angles, sink, cells)
     state0.positions[top, :2] += shift
-    speed = 0.5 / (
+    speed = slide / (
         ply_springs.GROWTH * 10 * ply_springs.STEP_GROWTH * compiled.interactions[0].calibrated_dt
     )
     return _worst(compiled, state0, top, speed, springs_of)
@@ -242,3 +244,21 @@ def test_the_ring_holds_the_nodes_a_point_slides_onto():
     assert worst[0] <= 1.0 + 1e-6, worst
     broken, _ = _ratios(RING_MODEL, _without("ring"))
     assert broken[0] > 1.01, broken
+
+
+#: One cell across each ply, the top one at 45 deg: the mirrored pass's points (the bottom
+#: ply's corners) lie on the top ply's edges, lambda_k = 0 for the corner across the edge,
+#: and the points slide 2 mm (delta = 0.14) until then.
+MOVE_MODEL = ((0.0, 45.0), SINK, (0.0, 0.0))
+
+
+def test_the_move_of_lambda_holds_a_node_whose_share_grows():
+    """A point on a lower triangle's edge (lambda_k = 0) slides off it until the next
+    evaluation: the springs hold the corner whose share grows (measured 0.04 of them), and
+    the bound without lambda's move (|lambda_k| alone) leaves that corner a spring of the
+    rounding's size (the test's premise: without the move it fails, by a factor 1e12)."""
+    worst, slide = _ratios(MOVE_MODEL, _reported, slide=2.0, cells=1)
+    assert slide == pytest.approx(2.0, rel=1e-9)
+    assert worst[1] <= 1.0 + 1e-6, worst
+    broken, _ = _ratios(MOVE_MODEL, _without("move"), slide=2.0, cells=1)
+    assert broken[1] > 1.01, broken
