@@ -10,7 +10,7 @@ Reference: K(s1) by central differences of the contact's force over the nodes' p
 exact gradient on flat faces; the directors held, as the springs bound the translations), the
 eigenvalues dense (scipy.linalg.eigh), at states s1 moved from s0 by up to the slide the
 springs allow (``ply_springs.slide``): the top ply shifted along the face by that slide in
-eight directions and pressed into the bottom one by it. The models are the worst cases: [0/45]
+eight directions and pressed into the bottom one by it. The models of ``MODELS``: [0/45]
 crossing meshes (many points over one lower node), both passes (the mirrored one has a point
 at every node of the bottom ply), plies whose outlines coincide (points slide past the
 outline into the fade's band, c_p up to 12.45) and points about to touch (a gap under the
@@ -21,7 +21,7 @@ whole bound holding: the ring (``RING_MODEL``: a point slides onto the star of a
 none faces), lambda's move (``MOVE_MODEL``: points on a lower triangle's corner slide off it,
 its other corners' shares grow from 0) and the outline's reach (``REACH_MODEL``: points within
 the slide of the outline reach the fade's band). On the models of ``MODELS`` none of the three
-alone is needed (the bound without it at most 0.91 of the reachable stiffness): the bound is
+alone is needed (the bound without it at most 0.92 of the reachable stiffness): the bound is
 loose there by the Cauchy-Schwarz step and the fade's factor taken wherever it may be reached.
 
 Tolerance: the bound must hold, ratio <= 1 + 1e-6 (the differences' error, step 1e-6 mm
