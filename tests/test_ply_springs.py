@@ -10,16 +10,25 @@ Reference: K(s1) by central differences of the contact's force over the nodes' p
 exact gradient on flat faces; the directors held, as the springs bound the translations), the
 eigenvalues dense (scipy.linalg.eigh), at states s1 moved from s0 by up to the slide the
 springs allow (``ply_springs.slide``): the top ply shifted along the face by that slide in
-eight directions and pressed into the bottom one by it. The models are the worst cases: [0/45]
+eight directions and pressed into the bottom one by it. The models of ``MODELS``: [0/45]
 crossing meshes (many points over one lower node), both passes (the mirrored one has a point
 at every node of the bottom ply), plies whose outlines coincide (points slide past the
 outline into the fade's band, c_p up to 12.45) and points about to touch (a gap under the
-slide). Each bound left broken in one way (the lower nodes' figure of before, the fade's factor
-at s0 alone, no move of lambda, only the points touching at s0) exceeds 1 on one of them.
+slide). The bound of the state alone (no slide: no move of lambda, no ring, the fade's factor
+at s0, only the points touching at s0, all at once) exceeds 1 on three of them. Each part of
+the bound removed alone exceeds 1 on a small model of its own, where the same test shows the
+whole bound holding: the ring (``RING_MODEL``: a point slides onto the star of a lower node
+none faces), lambda's move (``MOVE_MODEL``: points on a lower triangle's corner slide off it,
+its other corners' shares grow from 0) and the outline's reach (``REACH_MODEL``: points within
+the slide of the outline reach the fade's band). On the models of ``MODELS`` none of the three
+alone is needed (the bound without it at most 0.92 of the reachable stiffness): the bound is
+loose there by the Cauchy-Schwarz step and the fade's factor taken wherever it may be reached.
 
 Tolerance: the bound must hold, ratio <= 1 + 1e-6 (the differences' error, step 1e-6 mm
 against 0.05 mm penetrations, is under 1e-7 of K).
 """
+
+import inspect
 
 import numpy as np
 import pytest
@@ -35,13 +44,13 @@ STEP = 1e-6  # mm, the central differences' step
 PRESS = 0.2  # mm, the deepest press tried: the penetration stays under the plies' 0.3
 
 
-def _stack(angles, sink=SINK):
-    """Two 20-mm Mindlin plies (3 cells across, faces along the directors) at ``angles``, both
-    passes (the top ply's Gauss points; the bottom ply's corners), penalty 1000 N/mm, the top
-    ply moved ``sink`` mm into the bottom one (< 0: apart). Returns (compiled, state0, top
-    ply's nodes)."""
+def _stack(angles, sink=SINK, cells=3, width=20.0):
+    """Two Mindlin plies ``width`` mm across (``cells`` across, faces along the directors) at
+    ``angles``, both passes (the top ply's Gauss points; the bottom ply's corners), penalty
+    1000 N/mm, the top ply moved ``sink`` mm into the bottom one (< 0: apart). Returns
+    (compiled, state0, top ply's nodes)."""
     layup = Layup(
-        PLY, angles, 20.0, cells=3, kinematics="mindlin", rule="gauss",
+        PLY, angles, width, cells=cells, kinematics="mindlin", rule="gauss",
         lower_rule="vertices", penalty=1000.0,
     )  # fmt: skip
     compiled = layup.model().compile()
@@ -150,11 +159,14 @@ MODELS = [
 ]
 
 
-def _ratios(model, springs_of):
+def _ratios(model, springs_of, slide=0.5, cells=3, width=20.0):
+    """``_worst`` of ``model`` (angles, sink mm, in-plane shift of the top ply mm) with
+    ``cells`` across plies ``width`` mm wide, the top ply's speed such that the points slide
+    ``slide`` mm until then."""
     angles, sink, shift = model
-    compiled, state0, top = _stack(angles, sink)
+    compiled, state0, top = _stack(angles, sink, cells, width)
     state0.positions[top, :2] += shift
-    speed = 0.5 / (
+    speed = slide / (
         ply_springs.GROWTH * 10 * ply_springs.STEP_GROWTH * compiled.interactions[0].calibrated_dt
     )
     return _worst(compiled, state0, top, speed, springs_of)
@@ -179,3 +191,97 @@ def test_the_springs_of_the_state_alone_fail(model):
     are about to touch or the points slide onto triangles none faced)."""
     worst, _ = _ratios(model, _still)
     assert max(worst) > 1.01, worst
+
+
+#: The parts of the bound (``ply_springs.reachable_springs``), each as the text that holds it
+#: and what the text reads with the part removed.
+PARTS = {
+    # the lower nodes whose star a point may slide onto: delta c_p k_p s_p from each point
+    # on their ring of triangles
+    "ring": [("lower = at + delta * (ring @ on_triangles)", "lower = at")],
+    # lambda's move until then: |lambda_k| + delta
+    "move": [("size = np.abs(weights) + delta", "size = np.abs(weights)")],
+    # the outline reached within the slide widens the fade's band: the past and beside figures
+    "reach": [
+        ("        past |= near_edge\n", ""),
+        ("            beside |= near_edge & (distance <= radius)\n", "            pass\n"),
+    ],
+}
+
+
+def _without(part):
+    """``springs_of`` (as ``_reported``) with one part of the bound removed: a copy of
+    ``reachable_springs`` whose text is edited (each edited text found once, so the copy
+    follows the function it breaks), swapped in while the springs are asked for."""
+    source = inspect.getsource(ply_springs.reachable_springs)
+    for old, new in PARTS[part]:
+        assert source.count(old) == 1, f"the part {part!r} is no longer held by {old!r}"
+        source = source.replace(old, new)
+    namespace = dict(vars(ply_springs))
+    exec(source, namespace)
+    broken = namespace["reachable_springs"]
+
+    def springs_of(block, state):
+        held = ply_springs.reachable_springs
+        ply_springs.reachable_springs = broken
+        try:
+            return block.springs_at(state)
+        finally:
+            ply_springs.reachable_springs = held
+
+    return springs_of
+
+
+#: The top ply over a 2-mm strip of the bottom ply's corner cell (x 13.3-20, y 18-20 mm, both
+#: meshes at 0 deg): the bottom's nodes at x = 6.7 mm, whose stars no point faces, lie a
+#: slide's reach (0.5 mm) from the points facing their ring of triangles.
+RING_MODEL = ((0.0, 0.0), SINK, (20.0 * 2.0 / 3.0, 18.0))
+
+
+def test_the_ring_holds_the_nodes_a_point_slides_onto():
+    """The top ply's points slide onto the star of a lower node none faces now: the springs
+    hold it (measured 0.18 of them), and the bound without the ring leaves that node with no
+    spring where the contact stiffens it (the test's premise: without the ring it fails)."""
+    worst, slide = _ratios(RING_MODEL, _reported)
+    assert slide == pytest.approx(0.5, rel=1e-9)
+    assert worst[0] <= 1.0 + 1e-6, worst
+    broken, _ = _ratios(RING_MODEL, _without("ring"))
+    assert broken[0] > 1.01, broken
+
+
+#: One cell across each ply, the top one at 45 deg (four triangles about its centre): the
+#: mirrored pass's points (the bottom ply's corners) lie on the top ply's corners, lambda =
+#: (1, 0, 0), and slide 2 mm (delta = 0.14) until then.
+MOVE_MODEL = ((0.0, 45.0), SINK, (0.0, 0.0))
+
+
+def test_the_move_of_lambda_holds_a_node_whose_share_grows():
+    """Points on a lower triangle's corner (the other corners' lambda_k = 0) slide off it
+    until the next evaluation: the springs hold the corners whose share grows (measured 0.04
+    of them), and the bound without lambda's move (|lambda_k| alone) leaves such a corner a
+    spring of the rounding's size (the test's premise: without the move it fails, 1e12 times
+    the springs)."""
+    worst, slide = _ratios(MOVE_MODEL, _reported, slide=2.0, cells=1)
+    assert slide == pytest.approx(2.0, rel=1e-9)
+    assert worst[1] <= 1.0 + 1e-6, worst
+    broken, _ = _ratios(MOVE_MODEL, _without("move"), slide=2.0, cells=1)
+    assert broken[1] > 1.01, broken
+
+
+#: Plies 0.4 mm across, one cell each (the fade's length D 0.06 mm, a fifth of the lower
+#: triangles' least height), the top one 0.08 mm into the bottom one (x = r / D above 1: the
+#: fade stiffens the points several times k_p) and shifted 0.05 mm along x: its points nearest
+#: the bottom ply's outline lie within the slide (0.1 mm) of it, not past it now.
+REACH_MODEL = ((0.0, 0.0), 0.08, (0.05, 0.0))
+
+
+def test_the_outline_reach_holds_a_point_that_slides_into_the_fade():
+    """Points that reach the fade's band (past the lower ply's outline edge, beside its
+    vertex) within the slide: the springs hold them (measured 0.01-0.09 of them, both passes),
+    and the bound without the outline's reach (each point's fade factor where it is now)
+    falls below their stiffness (the test's premise: 1.6 and 1.3 times it)."""
+    worst, slide = _ratios(REACH_MODEL, _reported, slide=0.1, cells=1, width=0.4)
+    assert slide == pytest.approx(0.1, rel=1e-9)
+    assert max(worst) <= 1.0 + 1e-6, worst
+    broken, _ = _ratios(REACH_MODEL, _without("reach"), slide=0.1, cells=1, width=0.4)
+    assert max(broken) > 1.1, broken
