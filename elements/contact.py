@@ -542,9 +542,15 @@ class ContactBlock(InteractionBlock):
         work), and an analytic tool's distance is as costly as the rest of the step's
         contact."""
         x = self._positions(state)
-        kept = self._kept_forces(x, state, history)
-        if kept is not None:
-            return kept.copy()
+        last = getattr(self, "_last_forces", None)  # (absent from a block pickled without it)
+        if (
+            last is not None
+            and last[1] is history
+            and last[2] == state.load_factor
+            and last[3] is self.stiffness
+            and same_rows(last[0], x)
+        ):
+            return last[4].copy()
         compiled = getattr(self, "compiled_forces", None)  # (absent from an older pickle)
         if compiled is not None and history is None:
             forces = compiled(self, x, state.load_factor)
@@ -554,23 +560,6 @@ class ContactBlock(InteractionBlock):
             forces = (self.stiffness * p)[:, None] * n + friction
         self._last_forces = (x, history, state.load_factor, self.stiffness, forces.copy())
         return forces
-
-    def _kept_forces(
-        self, x: np.ndarray, state: State, history: FrictionHistory | None
-    ) -> np.ndarray | None:
-        """The forces (s, 3) of the last ``contact_forces`` call (not a copy) when it was asked
-        about the same nodes ``x`` (``_positions``), load factor, history and stiffness as
-        ``state`` and ``history`` now; None otherwise."""
-        last = getattr(self, "_last_forces", None)  # (absent from a block pickled without it)
-        if (
-            last is not None
-            and last[1] is history
-            and last[2] == state.load_factor
-            and last[3] is self.stiffness
-            and same_rows(last[0], x)
-        ):
-            return last[4]
-        return None
 
     def tool_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(1, 3) the total force the body exerts on the tool, N."""
@@ -597,21 +586,7 @@ class ContactBlock(InteractionBlock):
         return (self.tool.offset(state.load_factor) + self.tool_translation(state))[None, :]
 
     def strain_energy(self, state: State, history: Any = None) -> float:
-        """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm.
-
-        Without a history (no friction) and with this state's forces kept by
-        ``contact_forces`` (an explicit step's balance check asks for both at one state), from
-        those forces, k p n with a unit normal: 1/2 |f|^2 / k, the same energy to round-off
-        (about 1e-16 of it), without asking the tool for its distances again (a meshed die's
-        search: 16 us of the Mindlin hemisphere-forming run's 428 us a step, one step in ten
-        asking for 160, benchmarks/hemisphere_forming_parts.py)."""
-        if history is None:
-            kept = self._kept_forces(self._positions(state), state, None)
-            if kept is not None:
-                k = np.broadcast_to(self.stiffness, (len(kept),))
-                squared = np.einsum("ij,ij->i", kept, kept)
-                stored = np.divide(squared, k, out=np.zeros(len(kept)), where=k > 0.0)
-                return float(0.5 * np.sum(stored))
+        """1/2 k p^2 and the tangential springs' 1/2 |f_t|^2 / k_t, N mm."""
         p, n, touching = self.touch(state, history)
         friction, *_ = self.tangential(state, history, p, n, touching)
         stick = self.stiffness * self.stick_ratio
