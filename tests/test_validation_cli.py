@@ -242,15 +242,17 @@ def test_the_readme_starts_with_the_two_setup_commands_and_ci_runs_the_second():
 
 def test_the_sensitivity_sweep_takes_the_cores_its_report_worker_was_given(monkeypatch):
     # A report worker at --jobs 2 on 2 cores runs on one numba thread; the sweep's Dask
-    # cluster had one process per core beside it (three busy processes on two cores).
+    # cluster had one process per core beside it (three busy processes on two cores). On one
+    # thread the variants run in the worker's own process, no cluster (``in_process``); on
+    # more, a cluster of one worker per thread, at most one per variant.
     import numba
 
     from validation.cases import bai_sensitivity
 
     asked = []
 
-    def sweep(*args, workers, **kwargs):
-        asked.append(workers)
+    def sweep(*args, workers, in_process, **kwargs):
+        asked.append(1 if in_process and workers is None else workers)
         raise RuntimeError("not run")
 
     monkeypatch.setattr(bai_sensitivity, "sweep", sweep)
