@@ -61,6 +61,9 @@ __all__ = ["CentralDifference"]
 # The step is re-evaluated every this many steps: geometry and tension change slowly per step
 # (the interactions' springs_at hold their bound that long: femcore/interaction.py).
 STABLE_DT_EVERY = SPRINGS_HELD_STEPS
+# The step may grow by at most this factor from one evaluation to the next where contact
+# springs are held (the springs are asked for the largest step until then: docs/theory.md §6.2).
+STEP_GROWTH_HELD = 1.25
 # Energy records kept for the history (more steps are thinned to about this many records).
 ENERGY_RECORDS = 4000
 # The assembled (Gershgorin) stable step may be evaluated again every this many steps (it
@@ -222,7 +225,14 @@ class CentralDifference:
         return [np.maximum(1.0, (target / dt) ** 2) for dt in model.cell_stable_dt(state)]
 
     def _step_size(
-        self, model: CompiledModel, state: State, scale, mass: np.ndarray, inertia=None, step=0
+        self,
+        model: CompiledModel,
+        state: State,
+        scale,
+        mass: np.ndarray,
+        inertia=None,
+        step=0,
+        previous: float | None = None,
     ) -> float:
         """safety x the critical step: the smaller of two bounds, the cells' own (cheap,
         every STABLE_DT_EVERY steps) and the assembly's Gershgorin bound (``inertia`` given:
@@ -231,7 +241,10 @@ class CentralDifference:
         last one, carried along with the cells' bound as the geometry changes), lowered for
         the penalty springs of contacts. The smaller:
         the fibrous cells' bound is an estimate, not a bound (docs/theory.md §6.2), and the
-        larger of the two took a forming blank past its exact critical step."""
+        larger of the two took a forming blank past its exact critical step. ``previous``
+        the step taken since the last evaluation (s; None at the start): the springs held
+        until the next one are asked for a step at most STEP_GROWTH_HELD times it, which the
+        step then keeps to."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
@@ -246,15 +259,20 @@ class CentralDifference:
             critical = min(critical, assembled * critical / cells_then)
         # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
         # bound: the two add exactly when they act along the same direction of one node).
-        # the springs held until the next evaluation need the largest step until then: the
-        # elements' critical one (the springs and the safety only shorten it)
-        springs = model.penalty_frequency_squared(mass, state, critical)
+        # The springs held until the next evaluation need the largest step until then (their
+        # points' slide grows with it): the elements' critical one at the start (the springs
+        # and the safety only shorten it), then at most STEP_GROWTH_HELD times the step taken,
+        # which the step keeps to (a step asked at the critical one where the springs keep it
+        # near a third of that counts three times the slide: docs/theory.md §6.2).
+        largest = critical if previous is None else min(critical, STEP_GROWTH_HELD * previous)
+        springs = model.penalty_frequency_squared(mass, state, largest)
         if springs > 0.0:
             critical = 2.0 / math.sqrt((2.0 / critical) ** 2 + springs)
         # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)
         # with xi = c / (2 w) on the highest mode w = 2 / dt_crit (docs/theory.md §6.3).
         xi = self.damping * critical / 4.0
-        return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
+        dt = self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
+        return min(dt, largest) if springs > 0.0 else dt
 
     def _assembled_due(self, cells: float, step: int) -> bool:
         """Whether the assembled bound is evaluated again at ``step``, the cells' bound
@@ -442,7 +460,13 @@ class CentralDifference:
                 if self.dt is None:
                     fresh = step % ASSEMBLED_DT_EVERY == 0
                     run.dt_nominal = self._step_size(
-                        compiled, state, run.scale, run.mass, run.inertia if fresh else None, step
+                        compiled,
+                        state,
+                        run.scale,
+                        run.mass,
+                        run.inertia if fresh else None,
+                        step,
+                        run.dt_nominal,
                     )
             dt = min(run.dt_nominal, duration - state.time)
             last = state.time + dt >= duration * (1.0 - 1e-12)

@@ -364,3 +364,47 @@ def test_an_interaction_answering_springs_at_the_state_alone_still_runs_explicit
     ran_old, ran_new = solver.solve(old), solver.solve(new)
     assert ran_old.converged == ran_new.converged
     np.testing.assert_array_equal(ran_old.positions, ran_new.positions)
+
+
+class SteppedFloorBlock(PlaneContactBlock):
+    """The floor's block noting each step it is asked its springs for, with the time."""
+
+    asked: list
+
+    def springs_at(self, state, step=None):
+        self.asked.append((state.time, step))
+        return self.springs()
+
+
+class SteppedFloor(PlaneContact):
+    def bind(self, body: Body) -> "PlaneContactBlock":
+        block = super().bind(body)
+        noted = SteppedFloorBlock.__new__(SteppedFloorBlock)
+        noted.__dict__.update(block.__dict__)
+        noted.asked = []
+        self.block = noted
+        return noted
+
+
+def test_the_springs_are_asked_for_the_step_taken_and_the_step_keeps_to_what_was_asked():
+    """A held spring bound covers the slide of the steps until the next evaluation (the ply
+    contact's grows with the step: docs/theory.md §6.2). It is asked at the elements'
+    critical step at the start, then at most STEP_GROWTH_HELD times the step taken since the
+    last evaluation (not the critical step again: where the springs keep the step at a
+    fraction of it, that counted the slide several times over), and the step taken until the
+    next evaluation is at most what was asked."""
+    from solvers.explicit import STABLE_DT_EVERY, STEP_GROWTH_HELD
+
+    model = cable_on_the_floor()
+    floor = SteppedFloor("all", 1000.0 * K)  # its springs keep the step at a sixth of the cable's
+    model.interactions[0] = floor
+    compiled = model.compile()
+    critical = float(compiled.stable_dt(compiled.initial_state()))
+    CentralDifference(0.01, damping=500.0, kinetic_bound=None, progress=False).solve(compiled)
+    times, asked = np.array(floor.block.asked).T
+    # (the floor's springs hold the step well under the cable's critical one)
+    taken = np.diff(times) / STABLE_DT_EVERY  # the step between two evaluations, s
+    assert len(taken) > 10 and taken.max() < 0.5 * critical
+    assert asked[0] == pytest.approx(critical, rel=1e-12)
+    np.testing.assert_array_less(asked[1:-1], STEP_GROWTH_HELD * taken[:-1] * (1.0 + 1e-9))
+    np.testing.assert_array_less(taken, asked[:-1] * (1.0 + 1e-9))
