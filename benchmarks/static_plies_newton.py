@@ -403,7 +403,8 @@ Where the first increments go (``--detail``, coarse; the cases' solvers; one thr
   increment), 20 318, against 271.
 * Not kept: the ramp's secant W'/g = W''/2 in the tangent of the points that unload (on the
   ramp, the gap grown since the last iterate), the exact W'' elsewhere: sag 184 -> 225
-  tangents (77-38-32-26-19-24 and 8 cut).
+  tangents (77-38-32-26-19-24 and 8 cut); only where the last residual ratio was below 0.1
+  or 0.01 (the tails): 229 and 226.
 * Not kept (sag, 184 tangents, 83-33-24-18-15-11): a chord K^-1 r with the step's own
   factors after each step the update cap shortened, kept where the residual falls (the
   zig-zag's second step without its tangent): 1201 tangents (235-227-92-100-18-17 and 508
