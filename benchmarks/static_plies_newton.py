@@ -412,6 +412,12 @@ Where the first increments go (``--detail``, coarse; the cases' solvers; one thr
   425 (99 cut), with 0.1 rad 531; ``first_turn`` 0.03, 0.06, 0.1 rad: 502, 402, 317
   (131-66-46-25-23-11); the fibre-length projection (solvers/newton_fibres.py) let through
   with the contact: 1782 tangents and 906 cut (heavy coarse: failed at load factor 0.49).
+* Not tried: an augmented Lagrangian on the ply penalty (elements/augmented_contact.py's way):
+  its use would be a softer penalty in the inner solves, and those are bounded by the
+  stacks solved with the penalty itself lowered 10 and 100 times (above: the sag's and the
+  heavy cantilever's tangents 20-25 % fewer, their first increments 83 -> 55-60 and 29 ->
+  18-21), before the Uzawa passes' own iterations; at zero-force contact (the tails) its
+  multipliers go to 0 and the double root stays.
 * Not kept: the watchdog's allowance (solvers.newton.WATCHDOG) at 1, 2, 8 instead of 4: bai
   coarse 249, 261, 286 tangents against 271 (82 -> 75, 76, 67 in the first displacement
   increment), but sag 397, 201 and heavy 382, 134 against 184 and 125; bai coarse's
