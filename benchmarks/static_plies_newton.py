@@ -13,9 +13,10 @@ with ``--update-turn theta`` the case's solver without and with ``Static(update_
 without and with ``Static(curved_with_contact=True)`` (docs/theory.md §6.5, "Curved steps of
 a sliding stack"; ``--increments`` sets the deck's on both sides). ``--detail`` prints, per
 iterate, the element blocks' and the interactions' internal-force norms and the deepest ply
-gap as well; ``--tangent-check`` solves the case once and compares, on the last increment's
-iterates, each part's tangent with central differences of its forces and the whole
-residual's directional derivative with -K v (no timing; "The deck's linear tail" below).
+gap as well, and between iterates the largest change of a point's gap; ``--tangent-check``
+solves the case once and compares, on the last increment's iterates, each part's tangent
+with central differences of its forces and the whole residual's directional derivative
+with -K v (no timing; "The deck's linear tail" below).
 
     python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
@@ -344,6 +345,84 @@ kept, their counts the measure):
   (their first increments 83 -> 60, 55 and 29 -> 21, 18), but the equilibria moved 2.7e-3,
   1.2e-2 mm and 8.6e-3, 4.4e-2 mm: those stacks carry their weight through the contact, and
   a softer penalty lets them sink into each other by more than the ramp (1.5e-3 mm).
+
+Where the first increments go (``--detail``, coarse; the cases' solvers; one thread, load
+3-13; the trials below by patches of the code, not kept, their counts the measure):
+
+* bai's first displacement increment, 82 iterations: the first-turn rule leaves the sub-
+  increments 1/16, 1/8, 1/4, 1/4, 5/16 of it (29, 21, 16, 8, 8 iterations). Each opens with a
+  plateau at ratio 0.4-1.0 (18, 11, 7, 3, 3 iterations, shorter as the stack leaves its sagged
+  start): the imposed step's straight update stretches the turning plies (element forces 1.8
+  -> 51 N), 75 points enter the ply below, and the steps that relieve the stretch carry
+  points apart (no stiffness between them) through it: 20-75 points step on or off at each
+  iterate, points up to 0.093-0.36 mm deep (60-240 ramps) at the 5th-8th iterates, with up
+  to 150 N of contact force. Then a quadratic tail from about 1e-2, broken where points step on or
+  off. It ends with 50-59 of the 144 points touching, 0.014-0.033 N of contact force against
+  0.3 N of the plies' own. Default (8 plies, 30 cells, 123 = 37 + 23 + 26 + 18 + 19
+  iterations in the same sub-increments): plateaus of 20, 13, 14, 4, 4 iterations, the
+  imposed step taking the touching points from 42 to 536, gap changes up to 0.64 mm; the
+  tails, 17-21 iterations in the first three, run while the touching points fall (499 ->
+  336 in the first) linearly (the ratio 1.5e-3, 5.1e-4, 1.8e-4, 9.6e-5: 2-3 times down an
+  iteration), as the heavy stacks' tails below.
+* sag's first increment (4 plies), 83 iterations: its first 37 alternate a step the update
+  cap (0.03 rad) shortens to 0.05-0.57 and a whole step, the element forces 2 N after the
+  first (each straight update stretches the plies) and 0.01-0.7 N after the second (which
+  undoes the stretch), the ratio ~1 throughout: the increment's sag of 0.57 rad, 0.03 rad a
+  pair. Then 46 iterations in which the touching points fall from 106 to 12 (2-26 leave at an
+  iterate) with the ramp's rate at a double root (the ratio a factor ~4 down an iteration),
+  restarted twice (the ratio back to 1.0 and 0.99) by a point carried from g > 0 into the
+  ply below. At the end 12 of the 120 points touch: equal plies under their own weight sag
+  alike and need almost no contact force, the deck's double root (above). The heavy
+  cantilever's first increment (4 plies, 29 iterations) is the same: 10 iterations at ratio
+  ~1 with the element forces alternating 0.2-2.3 N and 0.002-0.08 N (the cap shortened two
+  of its steps), then 60 -> 3 points touching, restarted by gap changes of 0.072 and 0.037
+  mm.
+* So two causes, neither in the contact's tangent (exact): straight updates of turning plies
+  (the plateaus and the zig-zag; what cures them on one ply, the curved step, fails with the
+  contact, above) and the smoothed ramp's double root at zero-force contact (the tails).
+* Not kept: a trust region on the gap change, each step (the imposed ones too) shortened so
+  that no point ends deeper than max(C delta, its depth before), its gap interpolated
+  linearly along the step, the share at least 1/16: C = 10, bai coarse 271 -> 258 tangents
+  (82 -> 73 in the first displacement increment; 12 of 253 steps shortened, by 0.49 at the
+  median), default 403 -> 392 (123 -> 112; 27.3 -> 24.4 s, load 6-9), sag and heavy coarse
+  unchanged (no step shortened); C = 3, bai coarse 277 (62 in the first displacement
+  increment, 13-26 in later ones); C = 1, bai coarse failed at load factor 1.74 (at 1.29
+  with the share down to 1/100), sag 171 (70 in the first); C = 2, sag 175. The same
+  equilibria within 1.7e-10 mm; 3-7 % where it helps at all.
+* Not kept: pseudo-transient continuation, each increment first converged with the viscous
+  stabilisation (``Static(stabilise=c)``, solvers/stabilisation.py), then without it from
+  there: bai coarse c = 1e5 (the damped phases 2-25 iterations, the plain ones from there
+  fail as from the start: the first displacement increment failed after 10 cuts at load
+  factor 1.028), 1e4 and 1e3 failed at 1.0086 and 1.0074, 1e2 14-27 plain iterations after
+  4-28 damped in each sub-increment, 1: the damped phase is the plain one (21, 21, 15, ...)
+  and 3-6 plain ones follow. No c lies between dashpots that change nothing and dashpots
+  whose equilibrium is as far from the plain one as the increment's start.
+* Not kept: a contact predictor on bai coarse, the step solved again with the penalty k
+  along the gap gradient of the points it carried from above -delta to below -C delta: C = 1
+  887 tangents (447 cut, 676 second solves), 5 402 (196 in the first displacement
+  increment), 20 318, against 271.
+* Not kept: the ramp's secant W'/g = W''/2 in the tangent of the points that unload (on the
+  ramp, the gap grown since the last iterate), the exact W'' elsewhere: sag 184 -> 225
+  tangents (77-38-32-26-19-24 and 8 cut); only where the last residual ratio was below 0.1
+  or 0.01 (the tails): 229 and 226.
+* Not kept (sag, 184 tangents, 83-33-24-18-15-11): a chord K^-1 r with the step's own
+  factors after each step the update cap shortened, kept where the residual falls (the
+  zig-zag's second step without its tangent): 1201 tangents (235-227-92-100-18-17 and 508
+  cut); the curved steps (``curved_with_contact``) with the case's cap 349, without a cap
+  425 (99 cut), with 0.1 rad 531; ``first_turn`` 0.03, 0.06, 0.1 rad: 502, 402, 317
+  (131-66-46-25-23-11); the fibre-length projection (solvers/newton_fibres.py) let through
+  with the contact: 1782 tangents and 906 cut (heavy coarse: failed at load factor 0.49).
+* Not tried: an augmented Lagrangian on the ply penalty (elements/augmented_contact.py's way):
+  its use would be a softer penalty in the inner solves, and those are bounded by the
+  stacks solved with the penalty itself lowered 10 and 100 times (above: the sag's and the
+  heavy cantilever's tangents 20-25 % fewer, their first increments 83 -> 55-60 and 29 ->
+  18-21), before the Uzawa passes' own iterations; at zero-force contact (the tails) its
+  multipliers go to 0 and the double root stays.
+* Not kept: the watchdog's allowance (solvers.newton.WATCHDOG) at 1, 2, 8 instead of 4: bai
+  coarse 249, 261, 286 tangents against 271 (82 -> 75, 76, 67 in the first displacement
+  increment), but sag 397, 201 and heavy 382, 134 against 184 and 125; bai coarse's
+  ``update_turn`` 0.03 and 0.1 rad: 289 (67 in the first displacement increment, 11-28 in
+  later ones) and 260 (71).
 """
 
 from __future__ import annotations
@@ -362,8 +441,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-import solvers.load_path as load_path_module  # noqa: E402
 import solvers.newton as newton_module  # noqa: E402
+import solvers.penalty_start as penalty_start_module  # noqa: E402
 import solvers.static as static_module  # noqa: E402
 from elements.ply_block import PlyContactBlock  # noqa: E402
 from solvers import Static  # noqa: E402
@@ -387,10 +466,14 @@ def _ply_states(run, state):
 
 
 def _changes(before, after) -> dict:
-    """Counts of the points whose contact state changed between two iterates."""
+    """Counts of the points whose contact state changed between two iterates, and the
+    largest change of a point's gap (mm, ``gap_change``)."""
     keys = ("in", "out", "ramp_in", "ramp_out", "fade_changed", "triangle", "sign")
-    total = dict.fromkeys(keys, 0)
+    total: dict = dict.fromkeys(keys, 0)
+    total["gap_change"] = 0.0
     for (t0, r0, f0, tri0, g0), (t1, r1, f1, tri1, g1) in zip(before, after):
+        if g0.shape == g1.shape and g0.size:
+            total["gap_change"] = max(total["gap_change"], float(np.abs(g1 - g0).max()))
         total["in"] += int(np.sum(~t0 & t1))
         total["out"] += int(np.sum(t0 & ~t1))
         total["ramp_in"] += int(np.sum(~r0 & r1))
@@ -415,7 +498,7 @@ def _split(model, state, plies) -> dict:
 def instrument() -> None:
     """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
     RECORD.update(attempts=[], iterations=[])
-    plain_newton = load_path_module.newton
+    plain_newton = penalty_start_module.newton
 
     def newton(run, state, load_factor, max_iterations=None, turn_limit=None):
         entry = {"load": load_factor, "iterations": [], "failed": None, "cpu": time.process_time()}
@@ -433,7 +516,7 @@ def instrument() -> None:
         entry["cpu"] = time.process_time() - entry["cpu"]
         return out
 
-    load_path_module.newton = newton
+    penalty_start_module.newton = newton
 
     plain_tangent = static_module.StaticRun.tangent
 
@@ -663,6 +746,8 @@ def report(result) -> None:
         keys = ("in", "out", "ramp_in", "ramp_out", "triangle", "sign")
         print("   changes (in,out,ramp in,ramp out,triangle,sign) " + " ".join(
             ",".join(str(row.get(k, "-")) for k in keys) for row in its[1:]))  # fmt: skip
+        print("   largest gap change mm " + " ".join(
+            f"{row['gap_change']:.2g}" for row in its[1:] if "gap_change" in row))  # fmt: skip
     print(f"iterations per increment {result.info['iterations_per_increment']}")
     print(
         f"converged iterations {result.steps}, cut {result.info['iterations_cut']}, cuts "
