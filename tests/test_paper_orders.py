@@ -181,3 +181,39 @@ def test_a_gripped_corner_is_lifted_as_one_patch():
     assert np.abs(moved - moved.mean(axis=0)).max() < 1e-3
     assert np.linalg.norm(moved[0, :2]) > 1.0  # it slid towards the clamp
     np.testing.assert_allclose(result.directors[specimen.loaded], [[0.0, 0.0, 1.0]] * 4, atol=1e-9)
+
+
+@pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
+@pytest.mark.parametrize("name", ["bai-6.1.1", "bai-6.2.1"])
+def test_the_refinement_runs_shorter_path_reaches_the_same_equilibrium(name, kinematics):
+    """The corner cases solve the orders' other meshes on ``order_increments`` arc-length
+    increments a phase, fewer than their own runs' ``increments``, as only the last
+    equilibrium is read (validation.paper.refinement_orders): on 10 cells (a mesh of the
+    default and the fine sequences) both paths end converged at the same equilibrium. The
+    nodes within 1e-6 of the 40-mm lift (4e-5 mm): each path's last state is converged to
+    Newton's tolerance, measured at most 7.4e-10 (fibrous) and 3.4e-11 (Mindlin) of the compared
+    quantities apart; a path that left the branch (a missed limit point) would part them by
+    millimetres."""
+    from validation.cases import bai_6_1_1, bai_6_2_1
+
+    spec = {"bai-6.1.1": bai_6_1_1, "bai-6.2.1": bai_6_2_1}[name].SPEC
+    assert spec.order_increments is not None and spec.order_increments < spec.increments
+    specimen = spec.make_specimen(10)
+    ends = []
+    for increments in (spec.increments, spec.order_increments):
+        model = specimens.build(specimen, kinematics, spec.fabric, spec.displacement)
+        result, note, _ = solve(model, increments)
+        assert result.converged, note
+        ends.append(result)
+    np.testing.assert_allclose(ends[1].positions, ends[0].positions, rtol=0, atol=4e-5)
+    assert len(ends[1].frames) < len(ends[0].frames)  # the shorter path
+
+
+@pytest.mark.parametrize("bad", [0, -2, 2.5, True, "5"])
+def test_a_paper_case_refuses_order_increments_that_are_not_a_count(bad):
+    from dataclasses import replace
+
+    from validation.cases import bai_6_2_1
+
+    with pytest.raises(ValueError, match="order_increments must be a whole number >= 1"):
+        replace(bai_6_2_1.SPEC, order_increments=bad)

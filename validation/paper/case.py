@@ -104,8 +104,21 @@ class PaperCase:
     # positive order), chosen by measuring where the order is meaningful; a resolution or a
     # quantity left out: its orders are reported, not checked.
     order_tolerance: dict[str, dict[str, float]] | None = None
+    # The arc-length increments of the two other meshes' runs (None: ``increments``): they
+    # give their last equilibrium alone, which a shorter path whose increments converge
+    # reaches too, within Newton's tolerance (measured per case where it is set).
+    order_increments: int | None = None
 
     def __post_init__(self) -> None:
+        if self.order_increments is not None and not (
+            isinstance(self.order_increments, int)
+            and not isinstance(self.order_increments, bool)
+            and self.order_increments >= 1
+        ):
+            raise ValueError(
+                f"{self.name}: order_increments must be a whole number >= 1 or None, got "
+                f"{self.order_increments!r}"
+            )
         for resolution, sequence in self.order_cells.items():
             if len(sequence) != 3 or self.cells[resolution] not in sequence:
                 raise ValueError(
@@ -170,13 +183,15 @@ def corner_case(
     order_tolerance: dict[str, dict[str, float]] | None = None,
     comparison_note: str = "",
     midsurface_tolerance: float | None = None,
+    order_increments: int | None = None,
 ) -> PaperCase:
     """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
     diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner (the
     corner node; with ``grip`` = (a, b) (mm), the a x b patch at the corner a gripper holds,
     its directors held too) and ``described`` in words for the report; ``slip_sides``,
     ``slip_note``, ``slip_tolerance_deg``, ``order_cells``, ``order_tolerance``,
-    ``comparison_note`` and ``midsurface_tolerance`` as in ``PaperCase``."""
+    ``comparison_note``, ``midsurface_tolerance`` and ``order_increments`` as in
+    ``PaperCase``."""
     length, width = size
     gripped = {} if grip is None else {"gripped patch (assumed)": "{:g} x {:g} mm".format(*grip)}
     return PaperCase(
@@ -195,6 +210,7 @@ def corner_case(
         order_tolerance=order_tolerance,
         comparison_note=comparison_note,
         midsurface_tolerance=midsurface_tolerance,
+        order_increments=order_increments,
         parameters={
             "length_mm": length,
             "width_mm": width,
@@ -337,9 +353,10 @@ def refinement_orders(
 ) -> tuple[list[ObservedOrder] | None, dict[str, Any]]:
     """The observed orders at ``resolution`` on the meshes of ``case.order_cells``: the runs
     of ``elements`` (on ``specimen``) for the resolution's own mesh, the fibrous and the Mindlin
-    models solved here on the two others. Returns the records (None when the case gives no
-    sequence at this resolution) and what the extra runs cost: their names ("fibrous n = 10"),
-    wall time (s) and steps."""
+    models solved here on the two others (``case.order_increments`` arc-length increments
+    a phase, else ``case.increments``: their last equilibrium alone is read). Returns the
+    records (None when the case gives no sequence at this resolution) and what the extra runs
+    cost: their names ("fibrous n = 10"), wall time (s) and steps."""
     cost: dict[str, Any] = {"runs": [], "wall": 0.0, "steps": 0}
     sequence = case.order_cells.get(resolution)
     if sequence is None:
@@ -365,7 +382,8 @@ def refinement_orders(
                 case.calibration,
                 thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
             )
-            result, _, wall = solve(model, case.increments)
+            increments = case.increments if case.order_increments is None else case.order_increments
+            result, _, wall = solve(model, increments)
             sides = side_data(result, other, kinematics, h)
             quantities = order_quantities(sides, kinematics, h)
             measured[kinematics].append(

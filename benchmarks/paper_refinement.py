@@ -1,0 +1,97 @@
+"""The paper cases' refinement runs (validation/paper/case.py ``refinement_orders``: the fibrous
+and the Mindlin models on the two meshes of the orders other than the resolution's own, whose
+last equilibrium alone the orders read) on the case's ``increments`` arc-length increments a
+phase (the reference pass: the path of the case's own runs) and on fewer: each run's CPU time,
+increments, Newton iterations and cuts, and the largest relative difference of the compared
+quantities (validation/paper/orders.py ``order_quantities``: the mid-surface z and the
+fibrous thickness at the middle of each side) from the reference pass's.
+
+    python benchmarks/paper_refinement.py --cases bai-6.1.1,bai-6.2.1 --increments 5,3
+
+Measured (one numba thread, CPU, one run at a time, 2 cores shared with other jobs, load
+9-10; reference 10 increments -> 5):
+  bai-6.1.1 fibrous 10 cells 0.98 -> 0.38 s (18 -> 12 increments), 9.8e-11 apart
+            Mindlin 10 cells 0.23 -> 0.13 s (20 -> 12), 3.4e-11
+            fibrous 40 cells 7.89 -> 5.67 s (19 -> 12, 73 -> 61 Newton iterations), the
+            quantities printed the same to 10 digits; on 3 increments 6.12 s (one cut)
+  bai-6.2.1 fibrous 10 cells 0.98 -> 0.31 s (21 -> 12), 7.4e-10
+            Mindlin 10 cells 0.22 -> 0.12 s (21 -> 11), 3.9e-13
+            fibrous 40 cells 7.36 -> 4.27 s (21 -> 11, 74 -> 46), 2.3e-10
+            Mindlin 40 cells 1.41 -> 0.94 s (21 -> 11), 3.5e-14
+  the coarse sequences' 5- and 20-cell runs alike (at most 2.0e-9 apart, no cut on 5).
+No gain where the path is set by its cuts: bai-5.1 (15 / 60 cells, 52 increments and 6 cuts
+on either count: 1.84 -> 1.51 s and 3.64 -> 3.81 s), bai-6.1.2 (20 -> 10 increments: the
+24-cell fibrous run 4.35 -> 4.97 s, 25 increments either way, 3 -> 5 cuts); so only the two
+corner cases take ``order_increments`` (5). The orders' checks are at 1 %.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import time
+
+from validation import specimens
+from validation.paper import ORDER_KINEMATICS, solve
+from validation.paper.kinematics import ELEMENT, FIBROUS_THICKNESS
+from validation.paper.orders import order_quantities
+from validation.paper.profiles import side_data
+
+
+def _module(name: str):
+    """The case module of ``name`` ("bai-6.1.1" -> validation.cases.bai_6_1_1)."""
+    return importlib.import_module("validation.cases." + name.replace("-", "_").replace(".", "_"))
+
+
+def measure(name: str, resolution: str, counts: list[int]) -> None:
+    """Print each refinement run of case ``name`` at ``resolution`` on the case's increments
+    and on each of ``counts``."""
+    spec = _module(name).SPEC
+    h = spec.fabric.thickness
+    for cells in spec.order_cells[resolution]:
+        if cells == spec.cells[resolution]:
+            continue
+        specimen = spec.make_specimen(cells)
+        for kinematics in ORDER_KINEMATICS:
+            reference = None
+            for increments in [spec.increments, *counts]:
+                model = specimens.build(
+                    specimen,
+                    ELEMENT[kinematics],
+                    spec.fabric,
+                    spec.displacement,
+                    spec.calibration,
+                    thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
+                )
+                started = time.process_time()
+                result, note, _ = solve(model, increments)
+                cpu = time.process_time() - started
+                sides = side_data(result, specimen, kinematics, h)
+                found = order_quantities(sides, kinematics, h)
+                reference = found if reference is None else reference
+                apart = max(abs(found[k] - reference[k]) / abs(reference[k]) for k in found)
+                run = note.split(": ", 1)[1]
+                print(
+                    f"{name} {cells:3d} cells {kinematics:8s} {increments:3d} increments "
+                    f"{cpu:6.2f} s CPU, {run}; {apart:.1e} apart",
+                    flush=True,
+                )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", default="bai-6.1.1,bai-6.2.1")
+    parser.add_argument("--resolution", default="default")
+    parser.add_argument("--increments", default="5")
+    args = parser.parse_args()
+    os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
+    counts = [int(n) for n in args.increments.split(",")]
+    print(f"load before: {os.getloadavg()}")
+    for name in args.cases.split(","):
+        measure(name, args.resolution, counts)
+    print(f"load after: {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
