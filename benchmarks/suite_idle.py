@@ -36,6 +36,13 @@ idle core-seconds weighted by the time between samples, which grows with the loa
         first 300 s (24 at 180-240 s: the fit calibration's Dask worker compiling the fibrous
         kernels, the bias extension's test and the report's jobs waiting on its locks), none
         after the report had ended, the two workers ending 0.1 s apart.
+    35ffee8 (the same order; 2472 passed, 7 skipped), load 1.2 -> 11 (other jobs from the
+        second minute on): tests done at about 1230 s, 57 idle core-s until then: 37 at
+        120-180 s (the compile-lock waits of the start, as before), 13 at 510-600 s, 4 in the
+        last 30 s. CPU of pytest's processes 730 s, the coarse report's cases 191 s of it
+        (``case_cpu_s``; hemisphere-plies 91, bai-6.1.1-sensitivity 30 and its Dask workers,
+        hemisphere-forming 19). The suite's wall on a quiet machine is its CPU over the
+        cores: a shorter run needs less CPU, not better packing.
 
 Tried and not kept (the first 300 s of a run only, then stopped): mypy first of the second
 worker's run (xdist's ``load`` hands the first worker a run of consecutive tests, a quarter of
@@ -99,15 +106,20 @@ def run(ref: str, pytest_args: list[str], cores: int, period: float) -> dict:
         tree.mkdir()
         archive = subprocess.run(["git", "archive", ref], cwd=ROOT, capture_output=True, check=True)
         subprocess.run(["tar", "-x", "-C", str(tree)], input=archive.stdout, check=True)
+        # pytest's output into a file, read once it has ended: a pipe read only then fills at
+        # 64 KiB (a run with --durations=0 prints more) and pytest, blocked writing its last
+        # lines, never ends.
+        printed = Path(scratch) / "pytest.out"
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         started = time.time()
-        process = subprocess.Popen(
-            [sys.executable, "-m", "pytest", *pytest_args],
-            cwd=tree,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            text=True,
-        )
+        with open(printed, "w") as sink:
+            process = subprocess.Popen(
+                [sys.executable, "-m", "pytest", *pytest_args],
+                cwd=tree,
+                stdout=sink,
+                stderr=subprocess.STDOUT,
+                text=True,
+            )
         idle, at_count, windows, waits = 0.0, Counter(), Counter(), Counter()
         last = started
         while process.poll() is None:
@@ -124,7 +136,7 @@ def run(ref: str, pytest_args: list[str], cores: int, period: float) -> dict:
                     if state == "S":
                         waits[channel] += missing / max(1, len(found))
             time.sleep(period)
-        output = process.stdout.read() if process.stdout else ""
+        output = printed.read_text()
         wall = time.time() - started
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
