@@ -17,7 +17,7 @@ before the next evaluation).
 
 Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): the
 fastest point's speed against the lower face's point it faces, over the held steps at the
-step's largest value (the elements' critical step, which the solver gives), times ``GROWTH``
+step's largest value (which the solver gives: solvers/explicit.py ``_step_size``), times ``GROWTH``
 for the speed's growth until then, and at least ``FLOOR`` of
 the lower triangles' least height (plies at rest start to move: a floor, not a bound). Then:
 

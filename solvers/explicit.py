@@ -44,6 +44,7 @@ from solvers.common import (
     resolve_progress,
 )
 from solvers.dynamics import EnergyAccount, FrameSchedule, rotational_kinetic
+from solvers.energy_parts import largest_part_change
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import (
     FrameStream,
@@ -61,8 +62,8 @@ __all__ = ["CentralDifference"]
 # The step is re-evaluated every this many steps: geometry and tension change slowly per step
 # (the interactions' springs_at hold their bound that long: femcore/interaction.py).
 STABLE_DT_EVERY = SPRINGS_HELD_STEPS
-# The step may grow by at most this factor from one evaluation to the next where contact
-# springs are held (the springs are asked for the largest step until then: docs/theory.md §6.2).
+# The held contact springs are asked for this factor times the step taken since the last
+# evaluation (and again for the step if it comes out larger: docs/theory.md §6.2).
 STEP_GROWTH_HELD = 1.25
 # Energy records kept for the history (more steps are thinned to about this many records).
 ENERGY_RECORDS = 4000
@@ -243,8 +244,8 @@ class CentralDifference:
         the fibrous cells' bound is an estimate, not a bound (docs/theory.md §6.2), and the
         larger of the two took a forming blank past its exact critical step. ``previous``
         the step taken since the last evaluation (s; None at the start): the springs held
-        until the next one are asked for a step at most STEP_GROWTH_HELD times it, which the
-        step then keeps to."""
+        until the next one are asked for STEP_GROWTH_HELD times it, and again for the step
+        if that is larger: the step is never above the last step they were asked for."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
@@ -257,22 +258,27 @@ class CentralDifference:
         if self._assembled is not None:
             assembled, cells_then, _ = self._assembled
             critical = min(critical, assembled * critical / cells_then)
-        # A penalty spring on a node adds k / m to the omega^2 of its stiffest mode (an upper
-        # bound: the two add exactly when they act along the same direction of one node).
         # The springs held until the next evaluation need the largest step until then (their
         # points' slide grows with it): the elements' critical one at the start (the springs
-        # and the safety only shorten it), then at most STEP_GROWTH_HELD times the step taken,
-        # which the step keeps to (a step asked at the critical one where the springs keep it
-        # near a third of that counts three times the slide: docs/theory.md §6.2).
+        # and the safety only shorten it), then STEP_GROWTH_HELD times the step taken (asked
+        # at the critical one where the springs keep the step near a third of it, they counted
+        # three times the slide: docs/theory.md §6.2); a step above that is asked for again.
         largest = critical if previous is None else min(critical, STEP_GROWTH_HELD * previous)
-        springs = model.penalty_frequency_squared(mass, state, largest)
+        dt = self._lowered(critical, model.penalty_frequency_squared(mass, state, largest))
+        if dt > largest:  # (springs counting the points the larger step may bring in)
+            dt = min(dt, self._lowered(critical, model.penalty_frequency_squared(mass, state, dt)))
+        return dt
+
+    def _lowered(self, critical: float, springs: float) -> float:
+        """safety x the critical step (s) with the springs' omega^2 (1/s^2) added: a penalty
+        spring on a node adds k / m to the omega^2 of its stiffest mode (an upper bound: the
+        two add exactly when they act along the same direction of one node); mass-proportional
+        damping shortens it, dt <= (2/w)(sqrt(1+xi^2) - xi) with xi = c / (2 w) on the highest
+        mode w = 2 / dt_crit (docs/theory.md §6.3)."""
         if springs > 0.0:
             critical = 2.0 / math.sqrt((2.0 / critical) ** 2 + springs)
-        # Mass-proportional damping shortens the stable step: dt <= (2/w)(sqrt(1+xi^2) - xi)
-        # with xi = c / (2 w) on the highest mode w = 2 / dt_crit (docs/theory.md §6.3).
         xi = self.damping * critical / 4.0
-        dt = self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
-        return min(dt, largest) if springs > 0.0 else dt
+        return self.safety * critical * (math.sqrt(1.0 + xi * xi) - xi)
 
     def _assembled_due(self, cells: float, step: int) -> bool:
         """Whether the assembled bound is evaluated again at ``step``, the cells' bound
@@ -652,7 +658,7 @@ class CentralDifference:
             raise diverged(
                 f"the energy balance |KE + U + D - W_ext| is off by {balance:.3g} of the "
                 f"largest energy of the run (tolerance {BALANCE_TOLERANCE:g}); "
-                + _largest_part_change(compiled, run.good[0], state),
+                + largest_part_change(compiled, run.good[0], state),
                 dt,
             )
         if growth > GROWTH_LIMIT:
@@ -765,38 +771,6 @@ class _Run:
     written: list = field(default_factory=list)  # the frame files of the stream
     history_rows: int = 0
     summaries: list = field(default_factory=list)  # (time, frame_summary(frame)) per frame
-
-
-def _part_energies(compiled: CompiledModel, state: State) -> list[float]:
-    """Each part's stored energy at ``state`` (N mm), with the energy an interaction has
-    dissipated (friction, a dashpot) added: what the work done on it goes into."""
-    histories = (
-        state.history
-        if len(state.history) == len(compiled.parts)
-        else (None,) * len(compiled.parts)
-    )
-    energies = [block.strain_energy(state, h) for block, h in zip(compiled.blocks, histories)]
-    rest = histories[len(compiled.blocks) :]
-    energies += [
-        part.strain_energy(state, h) + part.dissipated_energy(h)
-        for part, h in zip(compiled.interactions, rest)
-    ]
-    return energies
-
-
-def _largest_part_change(compiled: CompiledModel, good: State, now: State) -> str:
-    """Which part's stored and dissipated energy changed most from the last good state
-    ``good`` to ``now``, for the message of a failed energy balance: an energy that jumps
-    within a step (a contact point changing its facing facet under a deep penetration) breaks
-    the balance at any step size, where an unstable step makes the kinetic energy grow."""
-    before, after = _part_energies(compiled, good), _part_energies(compiled, now)
-    change = [b - a for a, b in zip(before, after)]
-    k = int(np.argmax(np.abs(change)))
-    return (
-        f"from the last good state (t = {good.time:.6g} s) the stored and dissipated energy "
-        f"changed most in part {k} of {len(change)} ({type(compiled.parts[k]).__name__}): "
-        f"{change[k]:+.3g} N mm"
-    )
 
 
 def _roundoff(compiled: CompiledModel, run: _Run, dt: float) -> float:
