@@ -705,9 +705,10 @@ class PlyContactBlock(InteractionBlock):
         bits: ply_friction_kernels.py), a new history; None for None (no side kept)."""
         if history is None:
             return None
-        facing = self._held(state, history)
-        last = ply_sides.sides_of(history)
-        sides = None if last is None else ply_sides.sides_at(self, state, facing, last)
+        if ply_sides.sides_of(history) is None:
+            facing, sides = self._held(state, history), None
+        else:
+            facing, sides = ply_sides.accepted_sides(self, state, history)
         if not isinstance(history, PlyFrictionHistory):
             return history if sides is None else sides
         if ply_projection.COMPILED:
