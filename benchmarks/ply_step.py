@@ -28,9 +28,15 @@ Measured (this script, best of 2-3, one thread, nice 5):
 * the sides accepted at a commit from the flags its held facing was made with, the held
   facing kept for the new sides (elements/ply_sides.py ``accepted_sides``), and the
   per-state caches tested by their arrays' bits (elements/kept_bits.py) against main
-  81b7828, load 2.8-5.7: 1.844 against 1.981 ms a step (0.931), the state at step 2500
-  identical to the bit (positions, directors, velocities); the sides alone 2.109 against
-  2.154 (0.979, one round, load 4.5-6.1).
+  81b7828, load 2.8-5.7: 1.844 against 1.981 ms a step (0.931), again at load 4.6-6.4
+  1.913 against 1.996 (0.958), the state at step 2500 identical to the bit (positions,
+  directors, velocities); the sides alone 2.109 against 2.154 (0.979, one round, load
+  4.5-6.1);
+* the whole case (``python -m validation --cases hemisphere-plies --jobs 1`` from each tree,
+  one after the other, both warm, load 6-7): 80.4 s of CPU (main) against 81.3 s, its four
+  runs 11.88 / 21.16 / 14.95 / 25.70 against 11.58 / 21.86 / 15.59 / 25.47 s: the 4-7 %
+  of the step lie within the case's own spread at that load; every number of its
+  results.json but the times identical.
 """
 
 from __future__ import annotations
