@@ -27,6 +27,7 @@ from elements import (
     ply_springs,
     ply_surface,
 )
+from elements.kept_bits import same_bits
 from elements.ply_fade import (
     OutlineTree,
     fade_length,
@@ -273,10 +274,10 @@ class PlyContactBlock(InteractionBlock):
             return state.directors
         x, tri = state.positions, self._own_triangles
         # a step asks for them some ten times at the same positions (the search, the loads,
-        # the friction): kept for the last positions, compared by value (a caller may move
-        # the same array in place), read-only
+        # the friction): kept for the last positions, compared by their bits (a caller may
+        # move the same array in place: elements/kept_bits.py), read-only
         kept = getattr(self, "_directions_at", None)
-        if kept is not None and kept[0].shape == x.shape and np.array_equal(kept[0], x):
+        if kept is not None and same_bits(kept[0], x):
             return kept[1]
         if self.curved:  # the curved surface's own normals (elements/ply_surface.py)
             directions = ply_surface.nodal_normals(x, tri, self.n_nodes)[0]
@@ -302,13 +303,12 @@ class PlyContactBlock(InteractionBlock):
         """Contact points p (P, 3) and offset lower corners y (m, 3, 3), mm (read-only)."""
         # a step asks for them four times at the same state (the search, the friction's
         # return mapping and loads, the committed history): kept for the last positions and
-        # directors, compared by value as the facing is
+        # directors, compared bit for bit as the facing is
         kept = getattr(self, "_faces_at", None)
         if (
             kept is not None
-            and kept[0].shape == state.positions.shape
-            and np.array_equal(kept[0], state.positions)
-            and np.array_equal(kept[1], state.directors)
+            and same_bits(kept[0], state.positions)
+            and same_bits(kept[1], state.directors)
         ):
             return kept[2], kept[3]
         x, d = state.positions, self.offset_directions(state)
@@ -355,16 +355,15 @@ class PlyContactBlock(InteractionBlock):
         (elements/ply_projection.py: the nearest of the candidates), with ``second`` the gap's
         Hessian where a point faces an edge or a vertex (flat faces)."""
         # a step asks twice at the same state (the loads, then the friction's history at the
-        # committed state, the next step's loads): kept for the last state, compared by
-        # value (a caller may move the same arrays in place), read-only. A facing with the
+        # committed state, the next step's loads): kept for the last state, compared by its
+        # bits (a caller may move the same arrays in place), read-only. A facing with the
         # Hessian serves one without: ``second`` adds it and changes nothing else.
         asked = second
         kept = getattr(self, "_facing_at", None)
         same = (
             kept is not None
-            and kept[1].shape == state.positions.shape
-            and np.array_equal(kept[1], state.positions)
-            and np.array_equal(kept[2], state.directors)
+            and same_bits(kept[1], state.positions)
+            and same_bits(kept[2], state.directors)
         )
         if kept is not None and same and (kept[0] or not second):
             self._hessian_used |= second
@@ -705,9 +704,10 @@ class PlyContactBlock(InteractionBlock):
         bits: ply_friction_kernels.py), a new history; None for None (no side kept)."""
         if history is None:
             return None
-        facing = self._held(state, history)
-        last = ply_sides.sides_of(history)
-        sides = None if last is None else ply_sides.sides_at(self, state, facing, last)
+        if ply_sides.sides_of(history) is None:
+            facing, sides = self._held(state, history), None
+        else:
+            facing, sides = ply_sides.accepted_sides(self, state, history)
         if not isinstance(history, PlyFrictionHistory):
             return history if sides is None else sides
         if ply_projection.COMPILED:

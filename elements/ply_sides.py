@@ -59,6 +59,7 @@ __all__ = [
     "behind",
     "held",
     "held_facing",
+    "accepted_sides",
     "initial_sides",
     "sides_at",
     "sides_of",
@@ -134,14 +135,7 @@ def sides_at(block: PlyContactBlock, state: State, facing: Facing, last: PlySide
 def held(block: PlyContactBlock, state: State, facing: Facing, last: PlySides | None) -> Facing:
     """``facing`` with the points kept off (``behind``) not touching; ``facing`` itself where
     none of its touching points is kept off (or no side is known: ``last`` None)."""
-    if last is None:
-        return facing
-    off = behind(block, state, facing, last) & facing.touching
-    if not off.any():
-        return facing
-    touching = facing.touching & ~off
-    touching.setflags(write=False)
-    return replace(facing, touching=touching)
+    return _held_by(facing, None if last is None else behind(block, state, facing, last))
 
 
 def held_facing(block: PlyContactBlock, state: State, history: Any, second: bool = False) -> Facing:
@@ -154,9 +148,46 @@ def held_facing(block: PlyContactBlock, state: State, history: Any, second: bool
     kept = block._held_at
     if kept is not None and kept[0] is facing and kept[1] is sides:
         return kept[2]
-    found = held(block, state, facing, sides)
-    block._held_at = (facing, sides, found)
+    off = None if sides is None else behind(block, state, facing, sides)
+    found = _held_by(facing, off)
+    # the flags ``behind`` gave, which ``accepted_sides`` takes at this facing and sides
+    block._held_at = (facing, sides, found, off)
     return found
+
+
+def _held_by(facing: Facing, off: np.ndarray | None) -> Facing:
+    """``held``'s answer from the flags ``behind`` gave (None: no side known)."""
+    if off is None:
+        return facing
+    off = off & facing.touching
+    if not off.any():
+        return facing
+    touching = facing.touching & ~off
+    touching.setflags(write=False)
+    return replace(facing, touching=touching)
+
+
+def accepted_sides(block: PlyContactBlock, state: State, history: Any) -> tuple[Facing, PlySides]:
+    """(``held_facing(block, state, history)``, each point's side at ``state`` accepted:
+    ``sides_at`` there from ``history``'s sides), the flags ``behind`` gave the held facing
+    taken again. The held facing is kept for the new sides too: from sides accepted at this
+    facing a point is kept off where it was (``BEHIND`` now where ``behind`` held it; a point
+    clear now does not touch at this facing), so the next step's calls at this state find
+    the same object (the friction's mapping made for it at the commit among them)."""
+    facing = held_facing(block, state, history)
+    last = sides_of(history)
+    kept = block._held_at
+    if last is None or kept is None:
+        raise ValueError("accepted_sides: the history holds no sides (a PlySides expected)")
+    # held_facing's flags at this facing and these sides (None where it found the facing
+    # kept from a commit at this state: then made again)
+    off = kept[3] if kept[3] is not None else behind(block, state, kept[0], last)
+    sides = facing.touching.astype(np.int8)  # TOUCHING 1 where touching, else CLEAR 0
+    sides[off] = BEHIND
+    faces, corners = block._faces(state)
+    accepted = PlySides(sides, faces, corners)
+    block._held_at = (kept[0], accepted, facing, None)
+    return facing, accepted
 
 
 def sides_of(history: Any) -> PlySides | None:

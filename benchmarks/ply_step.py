@@ -1,0 +1,226 @@
+"""The two-ply explicit step's own cost: CPU per step over a window of the hemisphere-plies
+case's [0/90] run (fibrous plies, or Mindlin ones with ``--kinematics``; 8 cells, holder 20
+N: validation/studies/hemisphere_plies_run.py's model and solver, its history file written
+as the case writes it), this tree beside a
+reference tree (``--reference PATH``, e.g. a ``git archive`` of main), each round a fresh
+process per tree, alternating, best of ``--repeats``, one thread; the machine's load printed.
+The run goes from the start; the steps ``--start`` to ``--stop`` are timed (the tools move
+with t / duration, so a window of the stroke is taken by its steps, not by a shorter run),
+and the state at ``--stop`` is compared bit for bit between the trees (positions,
+directors, velocities).
+
+    NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --reference /tmp/main
+    NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --parts --kinematics mindlin
+
+Where a step's time goes (``--parts``: each function's CPU summed with a timer round it, so a
+little over the step's own; this tree, one thread, load 3.6-5.9), fibrous [0/90] steps
+1700-2500 (2.04 ms a step so timed) / Mindlin [0/90] steps 3400-5000 (1.75 ms): the commit
+0.84 / 0.84 ms (the new state's facing, both passes, 0.64 / 0.64: ``closest_facing`` 0.45 /
+0.45, of which the choice 0.11, the outline's fade 0.11, the edges' sides 0.07, the
+candidates' planes 0.05, the chosen arrays 0.02-0.03, its numpy glue about 0.09; the kept
+lists and the faces 0.13-0.14; the friction's accepted history with its two return mappings
+0.15); the step 0.64 / 0.52 (the forces 0.45 / 0.36: the ply loads 0.27 / 0.19 with the
+return mapping the commit kept for them, the fibrous plies 0.16, the tools from their
+cache); the tools' forces for the history rows 0.22 / 0.13 (the next step's forces take them
+from a cache); the stable step, every 10 steps, 0.16 a step; the rest the march's own
+bookkeeping. Each state's facing is made once (at the commit) and served from the block's
+cache to the next step's loads, energy and springs: what a step pays for is the facing
+itself, about twenty compiled calls a pass and their numpy glue, none of them dominant.
+
+Measured (this script, best of 2-3, one thread, nice 5):
+
+* the sides accepted at a commit from the flags its held facing was made with, the held
+  facing kept for the new sides (elements/ply_sides.py ``accepted_sides``), and the
+  per-state caches tested by their arrays' bits (elements/kept_bits.py) against main
+  81b7828, load 2.8-5.7: 1.844 against 1.981 ms a step (0.931), again at load 4.6-6.4
+  1.913 against 1.996 (0.958), the state at step 2500 identical to the bit (positions,
+  directors, velocities); the sides alone 2.109 against 2.154 (0.979, one round, load
+  4.5-6.1); Mindlin [0/90], steps 3400-5000, load 3.1-5.7: 2.028 against 2.098 (0.967),
+  the state at step 5000 identical to the bit;
+* the whole case (``python -m validation --cases hemisphere-plies --jobs 1`` from each tree,
+  one after the other, both warm, load 6-7): 80.4 s of CPU (main) against 81.3 s, its four
+  runs 11.88 / 21.16 / 14.95 / 25.70 against 11.58 / 21.86 / 15.59 / 25.47 s: the 4-7 %
+  of the step lie within the case's own spread at that load; every number of its
+  results.json but the times identical.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+#: (module, owner, attribute) of the functions ``--parts`` times, with their labels
+PARTS = (
+    ("femcore.compiled", "CompiledModel", "commit", "commit (the new state's history)"),
+    ("elements.ply_block", "PlyContactBlock", "facing", "  the facing, both passes"),
+    ("elements.ply_block", None, "closest_facing", "    closest_facing"),
+    ("elements.ply_choice", None, "choose_facing", "      the choice"),
+    ("elements.ply_fade_kernels", None, "outline_fade_at", "      the outline's fade"),
+    ("elements.ply_edge_kernels", None, "edge_sides", "      the edges' sides"),
+    ("elements.ply_kernels", None, "candidates_at", "      the candidates' planes"),
+    ("elements.ply_chosen", None, "chosen", "      the chosen arrays"),
+    ("elements.ply_block", "PlyContactBlock", "_candidates", "    the kept lists, faces"),
+    ("elements.ply_friction_kernels", None, "updated_history", "  the friction's history"),
+    ("solvers.explicit", None, "explicit_step", "the step (forces, update)"),
+    ("femcore.compiled", "CompiledModel", "internal_force", "  the forces"),
+    ("elements.ply_block", "PlyContactBlock", "internal_force", "    the ply loads"),
+    ("elements.fibrous.block", "FibrousShellBlock", "internal_force", "    the fibrous plies"),
+    ("femcore.compiled", "CompiledModel", "tool_forces", "the tools' forces (history rows)"),
+    ("solvers.explicit", "CentralDifference", "_step_size", "the stable step"),
+)
+
+
+def _timed_parts() -> dict[str, float]:
+    """Each of ``PARTS`` wrapped with a CPU timer (nested calls counted in each): the CPU (s)
+    summed per label, filled as the run goes."""
+    import functools
+    import importlib
+
+    spent: dict[str, float] = {}
+    for module_name, owner_name, name, label in PARTS:
+        module = importlib.import_module(module_name)
+        owner = module if owner_name is None else getattr(module, owner_name)
+        function = getattr(owner, name)
+
+        def timed(*args, _function=function, _label=label, **kwargs):
+            began = time.process_time()
+            try:
+                return _function(*args, **kwargs)
+            finally:
+                spent[_label] = spent.get(_label, 0.0) + time.process_time() - began
+
+        setattr(owner, name, functools.wraps(function)(timed))
+    return spent
+
+
+def window(start: int, stop: int, out: str, kinematics: str = "fibrous", parts: bool = False):
+    """Run the case's ``kinematics`` [0/90] run to step ``stop``, print the CPU per step (ms)
+    of the steps ``start`` .. ``stop`` and save the state there to ``out`` (.npz); with
+    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower)."""
+    from femcore.state import State
+    from solvers import CentralDifference
+    from solvers.common import SolverError
+    from solvers.interrupts import STOP, interruptible
+    from validation.studies import hemisphere_plies_setup as setup
+
+    spent = _timed_parts() if parts else {}
+    _, model = setup.model(8, setup.LAYUPS["0/90"], kinematics, 20.0)
+    compiled = model.compile()
+    commit = type(compiled).commit
+    marks: dict[str, float] = {}
+    count = [0]
+
+    def counted(state: State) -> State:
+        count[0] += 1
+        if count[0] == start:
+            marks["start"] = time.process_time()
+            spent.clear()
+        accepted = commit(compiled, state)
+        if count[0] == stop:
+            marks["stop"] = time.process_time()
+            np.savez(
+                out,
+                positions=state.positions,
+                directors=state.directors,
+                velocities=state.velocities,
+                time=state.time,
+            )
+            STOP.signal = "SIGINT"  # stops the run at this step's end
+        return accepted
+
+    compiled.commit = counted  # type: ignore[method-assign]
+    with tempfile.TemporaryDirectory() as folder, interruptible():
+        solver = CentralDifference(
+            duration=setup.DURATION,
+            damping=setup.DAMPING,
+            progress=False,
+            output_interval=setup.DURATION / 100,
+            history=Path(folder) / "history.csv",
+        )
+        try:
+            solver.solve(compiled)
+        except SolverError:
+            pass
+    for *_, label in PARTS if parts else ():
+        print(f"{label:40s} {spent.get(label, 0.0) / (stop - start) * 1e3:7.3f} ms a step")
+    print(f"{(marks['stop'] - marks['start']) / (stop - start) * 1e3:.4f}")
+
+
+def timed(tree: Path, start: int, stop: int, out: Path, kinematics: str) -> float:
+    """CPU ms a step of the window in a fresh process run from ``tree``'s root."""
+    # the tree's packages first on the path (before an installed copy), this script's code
+    environment = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONPATH=str(tree))
+    done = subprocess.run(
+        [
+            sys.executable,
+            str(Path(__file__).resolve()),
+            "--window",
+            str(start),
+            str(stop),
+            str(out),
+        ],
+        cwd=tree,
+        env=environment,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return float(done.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--reference", type=Path, help="the tree to compare with")
+    parser.add_argument("--start", type=int, default=1700, help="first step timed")
+    parser.add_argument("--stop", type=int, default=2500, help="last step timed")
+    parser.add_argument("--repeats", type=int, default=3, help="rounds (best CPU)")
+    parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
+    parser.add_argument("--parts", action="store_true", help="this tree's parts of a step")
+    parser.add_argument("--window", nargs=3, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.window:
+        window(int(args.window[0]), int(args.window[1]), args.window[2], args.kinematics)
+        return
+    if args.parts:
+        print(f"load {os.getloadavg()}")
+        with tempfile.TemporaryDirectory() as folder:
+            window(args.start, args.stop, str(Path(folder) / "state.npz"), args.kinematics, True)
+        print(f"load {os.getloadavg()}")
+        return
+    trees = {"this": ROOT} | ({"reference": args.reference.resolve()} if args.reference else {})
+    best = {name: np.inf for name in trees}
+    print(f"load {os.getloadavg()}")
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(args.repeats):
+            for name, tree in trees.items():
+                best[name] = min(
+                    best[name],
+                    timed(
+                        tree, args.start, args.stop, Path(folder) / f"{name}.npz", args.kinematics
+                    ),
+                )
+        states = {name: np.load(Path(folder) / f"{name}.npz") for name in trees}
+    for name in trees:
+        print(f"{name}: {best[name]:.3f} ms a step, steps {args.start}-{args.stop} (best CPU)")
+    if "reference" in trees:
+        same = all(
+            np.array_equal(states["this"][key], states["reference"][key])
+            for key in ("positions", "directors", "velocities", "time")
+        )
+        print(f"ratio this / reference {best['this'] / best['reference']:.3f}; state at step "
+              f"{args.stop} {'identical' if same else 'DIFFERENT'} to the bit")  # fmt: skip
+    print(f"load {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
