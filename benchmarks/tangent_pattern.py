@@ -23,6 +23,10 @@ of plies-bai-5.1 at the default resolution (code before; cProfile, wall 604 s at
 for 136 s of CPU) put 27 % of the solve in the map's rebuilds (755 of them) and 4 % in the
 plan's. That run and the two ply cases before / after: benchmarks/report.py.
 
+The map's build compiled (femcore/tangent_pattern.py ``pattern``: a counting sort of the pairs
+by column node, then one pass over them, the per-entry places by loops) against its numpy
+reference (``pattern_numpy``, the build before it), in the same run: MEASURED_COMPILED.
+
 Run: python benchmarks/tangent_pattern.py [--repeats 5]
 """
 
@@ -30,16 +34,26 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
 
-from femcore.assembly import CellTangent, FreeTangentAssembler, _components, _split, entry_slots
-from fibreshell.plies import ply_stack, stack_model
-from solvers.linear import _UpperPlan
-from validation.cases.plies_bai_5_1 import BEFORE_STALL_RULE, CELLS, FILE, PLIES
-from validation.ground_truth import _case
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+from femcore.assembly import (  # noqa: E402
+    CellTangent,
+    FreeTangentAssembler,
+    _components,
+    _split,
+    entry_slots,
+)
+from fibreshell.plies import ply_stack, stack_model  # noqa: E402
+from solvers.linear import _UpperPlan  # noqa: E402
+from validation.cases.plies_bai_5_1 import BEFORE_STALL_RULE, CELLS, FILE, PLIES  # noqa: E402
+from validation.ground_truth import _case  # noqa: E402
 
 
 def reference_map(assemble: FreeTangentAssembler, parts: list[CellTangent]):
@@ -94,7 +108,19 @@ def main() -> None:
     parts = plies + contact
     assemble = FreeTangentAssembler(model.dofs)
     entries = sum(entry_slots(p.nodes, _components(p))[0].size for p in parts)
-    new = best(lambda: assemble._build(parts, []), args.repeats)
+    assemble._build(parts, [])  # the compiled pass's first call compiles or loads it
+    compiled = best(lambda: assemble._build(parts, [], compiled=True), args.repeats)
+    reference = FreeTangentAssembler(model.dofs)
+    new = best(lambda: reference._build(parts, [], compiled=False), args.repeats)
+    same = all(
+        np.array_equal(getattr(assemble, name), getattr(reference, name))
+        for name in ("ff_indptr", "ff_rows", "fp_indptr", "fp_rows", "fp_cols")
+    ) and all(
+        np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+        for a, b in zip(assemble._destinations, reference._destinations)
+    )
+    print(f"the map's build, numpy per node pair {1e3 * new:.1f} ms, compiled {1e3 * compiled:.1f}")
+    print(f"  ms ({new / compiled:.1f} x); the same arrays and places: {same}")
     old = best(lambda: reference_map(assemble, parts), args.repeats)
     ff_rows, indptr, places = reference_map(assemble, parts)
     same = (
@@ -103,7 +129,7 @@ def main() -> None:
         and np.array_equal(places, assemble.ff_map)
     )
     print(f"map of {entries} entries ({assemble.n_free} unknowns): np.unique {1e3 * old:.1f} ms,")
-    print(f"  per node pair {1e3 * new:.1f} ms; the same K_ff structure and places: {same}")
+    print(f"  numpy per node pair {1e3 * new:.1f} ms; the same K_ff structure and places: {same}")
     k = sp.csc_matrix(
         (rng.standard_normal(assemble.ff_rows.size), assemble.ff_rows, assemble.ff_indptr),
         shape=(assemble.n_free, assemble.n_free),

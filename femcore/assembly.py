@@ -178,14 +178,16 @@ def _add_cell_blocks(
     blocks: np.ndarray,
     nodes: np.ndarray,
     maps: np.ndarray,
-    ff_destination: np.ndarray,
-    fp_destination: np.ndarray,
+    pairs: np.ndarray,
+    ff_table: np.ndarray,
+    fp_table: np.ndarray,
     ff: np.ndarray,
     fp: np.ndarray,
 ) -> None:
     """Adds T_a^T K_ab T_b of every block pair of a CellTangent into the CSC data of K_ff
     (``ff``) and K_fp (``fp``), in the order of the entries (cell, a, i, b, j) of the
-    generalised blocks, at the positions ``*_destination`` (-1: not in that matrix).
+    generalised blocks, at the positions ``*_table[pairs[cell, a, b], i, j]`` (-1: not in
+    that matrix; femcore/tangent_pattern.py: pairs (m, p, p), the tables (pairs, 5, 5)).
 
     blocks (m, p, c, p, c), c = 6 (u, psi) or 3 (translations: no transformation); nodes
     (m, p); maps (n, 6, 5) of ``DofManager.node_maps``, whose T = [[I, 0], [0, R]] with
@@ -225,15 +227,14 @@ def _add_cell_blocks(
                             for r in range(3):
                                 total += maps[node_a, 3 + r, 3 + q] * right[r, t]
                             kq[3 + q, 3 + t] = total
+                pair = pairs[cell, a, b]
                 for i in range(size):
-                    row = ((cell * p + a) * size + i) * p + b
                     for j in range(size):
-                        entry = row * size + j  # (cell, a, i, b, j) of the blocks, raveled
-                        where = ff_destination[entry]
+                        where = ff_table[pair, i, j]
                         if where >= 0:
                             ff[where] += kq[i, j]
                         else:
-                            where = fp_destination[entry]
+                            where = fp_table[pair, i, j]
                             if where >= 0:
                                 fp[where] += kq[i, j]
 
@@ -243,14 +244,16 @@ def _add_node_blocks(
     indices: np.ndarray,
     data: np.ndarray,
     maps: np.ndarray,
-    ff_destination: np.ndarray,
-    fp_destination: np.ndarray,
+    pairs: np.ndarray,
+    ff_table: np.ndarray,
+    fp_table: np.ndarray,
     ff: np.ndarray,
     fp: np.ndarray,
 ) -> None:
     """Adds T_I^T K_IJ T_J of every 6 x 6 node block of a SparseTangent's BSR matrix into the
     CSC data of K_ff (``ff``) and K_fp (``fp``), in the order of the entries (block, a, c) of
-    the generalised blocks, at the positions ``*_destination`` (-1: not in that matrix).
+    the generalised blocks, at the positions ``*_table[pairs[block], a, c]`` (-1: not in that
+    matrix; femcore/tangent_pattern.py).
 
     block_rows (count,) the row node I of each block, indices (count,) its column node J,
     data (count, 6, 6) the blocks; maps (n, 6, 5) of ``DofManager.node_maps`` (T = [[I, 0],
@@ -287,14 +290,14 @@ def _add_node_blocks(
                 for r in range(3):
                     total += maps[node_a, 3 + r, 3 + q] * right[r, t]
                 kq[3 + q, 3 + t] = total
+        pair = pairs[block]
         for i in range(5):
             for j in range(5):
-                entry = (block * 5 + i) * 5 + j  # (block, a, c) of the blocks, raveled
-                where = ff_destination[entry]
+                where = ff_table[pair, i, j]
                 if where >= 0:
                     ff[where] += kq[i, j]
                 else:
-                    where = fp_destination[entry]
+                    where = fp_table[pair, i, j]
                     if where >= 0:
                         fp[where] += kq[i, j]
 
@@ -437,22 +440,43 @@ class FreeTangentAssembler:
         )
         self.ff_indptr, self.ff_rows = found.ff_indptr, found.ff_rows
         self.fp_indptr, self.fp_rows, self.fp_cols = found.fp_indptr, found.fp_rows, found.fp_cols
-        # Per part, each entry's place in K_ff's or K_fp's data (-1: in neither), in the part's
-        # own order (cell, row node, a, column node, c); a node block is a part of one node a
-        # cell and every component.
+        # Per part, the distinct pair of each of its node pairs, (m, p, p) (a node block is a
+        # part of one node a cell and every component): the compiled passes find each entry's
+        # place in K_ff's or K_fp's data through the pairs' tables.
+        self._tables = (found.ff_table, found.fp_table)
         shapes = [(len(part.nodes), part.nodes.shape[1], _components(part)) for part in parts]
         shapes += [(block_rows.size, 1, N_COLUMNS) for block_rows in self._block_rows]
-        self._destinations = []
+        self._shapes, self._pairs = shapes, []
         start = 0
-        for shape in shapes:
-            self._destinations.append(
-                tangent_pattern.part_destinations(found, start, shape, compiled)
-            )
-            start += shape[0] * shape[1] * shape[1]
+        for m, p, _ in shapes:
+            self._pairs.append(found.inverse[start : start + m * p * p].reshape(m, p, p))
+            start += m * p * p
         self._n_cell_parts = len(parts)
+        self.__dict__.pop("_destinations", None)
         self.__dict__.pop("_flat_map", None)
         self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
         self.builds += 1
+
+    @functools.cached_property
+    def _destinations(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per part, each entry's place in K_ff's and K_fp's data (-1: in neither), in the
+        part's order (cell, row node, a, column node, c) of its raveled blocks; made at first
+        use after each build (the numpy assembly's bincounts use them)."""
+        found = tangent_pattern.Pattern(
+            np.concatenate([pairs.ravel() for pairs in self._pairs] + [np.zeros(0, np.int64)]),
+            self.ff_indptr,
+            self.ff_rows,
+            self._tables[0],
+            self.fp_indptr,
+            self.fp_rows,
+            self.fp_cols,
+            self._tables[1],
+        )
+        destinations, start = [], 0
+        for m, p, c in self._shapes:
+            destinations.append(tangent_pattern.part_destinations(found, start, (m, p, c)))
+            start += m * p * p
+        return destinations
 
     @functools.cached_property
     def _flat_map(self) -> tuple[np.ndarray, ...]:
@@ -494,8 +518,8 @@ class FreeTangentAssembler:
         SparseTangent parts', summed by bincount): (ff places, their entries, fp places,
         theirs), the entries counted from the first such part's."""
         compiled = _add_cell_blocks_compiled is not None
-        destinations = self._destinations[: self._n_cell_parts]
-        first = int(sum(d[0].size for d in destinations)) if compiled else 0
+        cells = self._shapes[: self._n_cell_parts]
+        first = int(sum(m * (p * c) ** 2 for m, p, c in cells)) if compiled else 0
         ff_rest, fp_rest = self.ff_select >= first, self.fp_select >= first
         return (
             self.ff_map[ff_rest],
@@ -528,14 +552,14 @@ class FreeTangentAssembler:
         fp = np.zeros(self.fp_rows.size)
         compiled = _add_cell_blocks_compiled is not None
         values = []
-        for part, (to_ff, to_fp) in zip(parts, self._destinations):
+        for part, pairs in zip(parts, self._pairs):
             if compiled:
                 _add_cell_blocks_compiled(
                     np.ascontiguousarray(part.blocks, dtype=float),
                     np.ascontiguousarray(part.nodes, dtype=np.int64),
                     maps,
-                    to_ff,
-                    to_fp,
+                    pairs,
+                    *self._tables,
                     ff,
                     fp,
                 )
@@ -566,18 +590,18 @@ class FreeTangentAssembler:
         the sums as the bincount's: a pattern's node blocks reach each position once, so one
         part is added in place (ff + v, as ff + bincount), several are summed apart first
         (ff + (v1 + v2), as the bincount sums them)."""
-        destinations = self._destinations[len(self._destinations) - len(blocks) :]
+        node_pairs = self._pairs[self._n_cell_parts :]
         into = (ff, fp) if len(blocks) == 1 else (np.zeros(ff.size), np.zeros(fp.size))
-        for b, block_rows, columns, (to_ff, to_fp) in zip(
-            blocks, self._block_rows, self._block_columns, destinations
+        for b, block_rows, columns, pairs in zip(
+            blocks, self._block_rows, self._block_columns, node_pairs
         ):
             _add_node_blocks_compiled(
                 block_rows,
                 columns,
                 np.ascontiguousarray(b.data, dtype=float),
                 maps,
-                to_ff,
-                to_fp,
+                pairs.ravel(),
+                *self._tables,
                 *into,
             )
         if len(blocks) > 1:

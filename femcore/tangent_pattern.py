@@ -12,7 +12,9 @@ every entry.
 Two ways to the same arrays, to the bit: ``pattern`` (numba: a counting sort of the pairs by
 column node, each column's rows sorted alone, then one pass over the pairs) and
 ``pattern_numpy`` (np.unique over the pair keys and (pairs, 5, 5) tables), the reference the
-compiled one is tested against, and the way without numba. The ply contact's parts change
+compiled one is tested against, and the way without numba. The compiled assembly passes read
+an entry's place from its pair's table; ``part_destinations`` lists them per entry for numpy's
+bincounts. The ply contact's parts change
 their pairs whenever a touching point changes its facing triangle, so a Static solve on ply
 stacks builds this pattern at most Newton iterations (benchmarks/tangent_pattern.py).
 """
@@ -262,38 +264,10 @@ def _pattern_arrays(
     )
 
 
-def _destinations(
-    inverse: np.ndarray,
-    start: int,
-    cells: int,
-    nodes: int,
-    components: int,
-    ff_table: np.ndarray,
-    fp_table: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """``part_destinations`` by loops: compiled by numba."""
-    size = cells * nodes * components * nodes * components
-    to_ff = np.empty(size, dtype=np.int64)
-    to_fp = np.empty(size, dtype=np.int64)
-    e = 0
-    for cell in range(cells):
-        for x in range(nodes):
-            for a in range(components):
-                for y in range(nodes):
-                    q = inverse[start + (cell * nodes + x) * nodes + y]
-                    for b in range(components):
-                        to_ff[e] = ff_table[q, a, b]
-                        to_fp[e] = fp_table[q, a, b]
-                        e += 1
-    return to_ff, to_fp
-
-
 _pattern_compiled: Any = None
-_destinations_compiled: Any = None
 # numba is a dependency; without it the pattern is numpy's
 if kernel_cache.AVAILABLE:
     _pattern_compiled = kernel_cache.njit(_pattern_arrays)
-    _destinations_compiled = kernel_cache.njit(_destinations)
 
 
 def pattern(
@@ -321,16 +295,14 @@ def pattern(
 
 
 def part_destinations(
-    found: Pattern, start: int, shape: tuple[int, int, int], compiled: bool = True
+    found: Pattern, start: int, shape: tuple[int, int, int]
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each entry's place in K_ff's and K_fp's data (-1: not in that matrix) of a part whose
     pairs are ``found.inverse[start : start + m p p]`` in (cell, row node, column node) order,
     ``shape`` (m, p, c) its cells, nodes a cell and components; the entries in the order
-    (cell, row node, a, column node, c) of the part's raveled blocks. ``compiled``: numba's
-    loops (else numpy's gathers; the same arrays)."""
+    (cell, row node, a, column node, c) of the part's raveled blocks (the compiled assembly
+    reads the tables through the pairs instead: femcore.assembly)."""
     m, p, c = shape
-    if compiled and _destinations_compiled is not None:
-        return _destinations_compiled(found.inverse, start, m, p, c, found.ff_table, found.fp_table)
     components = np.arange(c)
     at = found.inverse[start : start + m * p * p].reshape(m, p, 1, p, 1)
     a, b = components.reshape(1, 1, c, 1, 1), components.reshape(1, 1, 1, 1, c)

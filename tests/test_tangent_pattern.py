@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from femcore import tangent_pattern
+from femcore import assembly, tangent_pattern
 from femcore.assembly import CellTangent, FreeTangentAssembler, SparseTangent
 from femcore.dofs import DofManager
 
@@ -63,9 +63,10 @@ def model_parts(dofs: DofManager, cells: np.ndarray, rng: np.random.Generator) -
 
 
 def test_the_compiled_pattern_is_numpys_to_the_bit_while_the_contact_pairs_change():
-    """Every array of the pattern (pairs, K_ff's CSC and K_fp's CSR structure, the places of
-    each pair's entries) and every part's destinations, compiled against numpy, over calls
-    whose contact parts change their touching triangles and the triangles they face."""
+    """Every array of the pattern (K_ff's CSC and K_fp's CSR structure, the places of each
+    pair's entries, each part's pairs and so each entry's place), compiled against numpy,
+    over calls whose contact parts change their touching triangles and the triangles they
+    face."""
     dofs, cells = stack_dofs(columns=6, layers=4)
     rng = np.random.default_rng(4)
     compiled, reference = FreeTangentAssembler(dofs), FreeTangentAssembler(dofs)
@@ -78,7 +79,11 @@ def test_the_compiled_pattern_is_numpys_to_the_bit_while_the_contact_pairs_chang
         for name in ("ff_indptr", "ff_rows", "fp_indptr", "fp_rows", "fp_cols"):
             new, old = getattr(compiled, name), getattr(reference, name)
             assert new.dtype == old.dtype and np.array_equal(new, old), name
-        assert len(compiled._destinations) == len(reference._destinations) == len(parts)
+        for new, old in zip(compiled._tables, reference._tables):
+            assert np.array_equal(new, old)
+        assert len(compiled._pairs) == len(reference._pairs) == len(parts)
+        for new, old in zip(compiled._pairs, reference._pairs):
+            assert np.array_equal(new, old)
         for new, old in zip(compiled._destinations, reference._destinations):
             assert np.array_equal(new[0], old[0]) and np.array_equal(new[1], old[1])
         assert compiled.ff_indptr[-1] > 0 and compiled.fp_rows.size > 0  # both matrices hold
@@ -86,7 +91,9 @@ def test_the_compiled_pattern_is_numpys_to_the_bit_while_the_contact_pairs_chang
 
 def test_the_assembled_tangent_is_the_same_with_either_pattern(monkeypatch):
     """K_ff and K_fp assembled through the compiled pattern and through numpy's: the same
-    data, indices and pointers (np.array_equal), over changing contact parts."""
+    data, indices and pointers (np.array_equal), over changing contact parts; and so by the
+    compiled passes reading the pairs' tables and by numpy's bincounts over each entry's
+    place (the sums in another order: equal to rounding)."""
     dofs, cells = stack_dofs(columns=5, layers=3)
     rng = np.random.default_rng(5)
     directors = rng.normal(size=(dofs.n_nodes, 3))
@@ -95,7 +102,6 @@ def test_the_assembled_tangent_is_the_same_with_either_pattern(monkeypatch):
     compiled = FreeTangentAssembler(dofs)
     new = [compiled(parts, frames) for parts in calls]
     monkeypatch.setattr(tangent_pattern, "pattern", tangent_pattern.pattern_numpy)
-    monkeypatch.setattr(tangent_pattern, "_destinations_compiled", None)
     reference = FreeTangentAssembler(dofs)
     old = [reference(parts, frames) for parts in calls]
     assert compiled.builds == reference.builds == 4
@@ -104,6 +110,15 @@ def test_the_assembled_tangent_is_the_same_with_either_pattern(monkeypatch):
             assert np.array_equal(a.data, b.data)
             assert np.array_equal(a.indices, b.indices)
             assert np.array_equal(a.indptr, b.indptr)
+    monkeypatch.setattr(assembly, "_add_cell_blocks_compiled", None)
+    monkeypatch.setattr(assembly, "_add_node_blocks_compiled", None)
+    by_bincount = FreeTangentAssembler(dofs)
+    for parts, (ff, fp) in zip(calls, new):
+        ff_sum, fp_sum = by_bincount(parts, frames)
+        for a, b in ((ff, ff_sum), (fp, fp_sum)):
+            assert np.array_equal(a.indices, b.indices) and np.array_equal(a.indptr, b.indptr)
+            scale = np.abs(a.data).max()
+            assert np.allclose(a.data, b.data, rtol=0, atol=1e-13 * scale)  # rounding alone
 
 
 @pytest.mark.parametrize("moved", [False, True])
