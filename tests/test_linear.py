@@ -416,3 +416,26 @@ def test_the_compiled_plan_is_numpys_to_the_bit():
             a, b = getattr(new, name), getattr(old, name)
             assert a.dtype == b.dtype and np.array_equal(a, b), name
     assert sum(_UpperPlan.of(k) is None for k in patterns) == 3
+
+
+def test_the_compiled_band_plan_is_numpys_to_the_bit():
+    """BandPlan's ordering and layout (perm, bandwidth, slots, reaches) by its compiled passes
+    against scipy's sums and numpy's scatters, on strips, a scattered pattern, a pattern with
+    stored zeros and one of a single unknown."""
+    from solvers.band import BandPlan
+    from solvers.linear import _upper
+
+    matrices = [strip_matrix(), strip_matrix(length=12, width=3, seed=2)]
+    a = sp.random(80, 80, density=0.04, random_state=6, format="csc")
+    matrices.append((a + a.T + sp.identity(80)).tocsc())
+    zeros = strip_matrix(length=10, width=2).tocsc()
+    zeros.data[::3] = 0.0  # stored zeros: the ordering sees them
+    matrices += [zeros, sp.csc_matrix(np.ones((1, 1)))]
+    for k in matrices:
+        upper = _upper(k)
+        assert upper.has_sorted_indices
+        new, old = BandPlan(upper), BandPlan(upper, compiled=False)
+        assert new.bandwidth == old.bandwidth
+        for name in ("perm", "slots", "reaches"):
+            x, y = getattr(new, name), getattr(old, name)
+            assert x.dtype == y.dtype and np.array_equal(x, y), name
