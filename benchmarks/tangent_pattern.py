@@ -23,9 +23,19 @@ of plies-bai-5.1 at the default resolution (code before; cProfile, wall 604 s at
 for 136 s of CPU) put 27 % of the solve in the map's rebuilds (755 of them) and 4 % in the
 plan's. That run and the two ply cases before / after: benchmarks/report.py.
 
-The map's build compiled (femcore/tangent_pattern.py ``pattern``: a counting sort of the pairs
-by column node, then one pass over them, the per-entry places by loops) against its numpy
-reference (``pattern_numpy``, the build before it), in the same run: MEASURED_COMPILED.
+Then each new pattern's passes compiled against their numpy references, in the same run (the
+same arrays, checked): the map's build (femcore/tangent_pattern.py ``pattern``: a counting
+sort of the pairs by column node, then one pass over them; the parts keep each node pair's
+pair and the assembly reads the pairs' tables, where numpy's build, the one before, listed
+each entry's place) against ``pattern_numpy`` with the places and the flat map it made; the
+upper plan (``_UpperPlan.of`` against ``of_numpy``); the band plan of the symmetrised upper
+triangle (solvers.band.BandPlan, compiled against ``compiled=False``; reverse Cuthill-McKee
+is scipy's either way). Measured (one thread, CPU, best of 9, load 1.8-4.2, the machine
+shared): the map 28.4-30.4 ms -> 2.5-3.3 ms (9-11 x), the upper plan 2.4-2.7 -> 1.3 ms, the
+band plan (139 659 entries) 4.5 -> 2.4 ms. The plies-bai-5.1 case's profile before (cProfile,
+its 1167 tangents): 304 builds of the map, 10.7 s of 52 s profiled; after, 1.5 s (the
+table-reading assembly not yet in), the upper and band plans 1.06 and 1.48 s. The case's CPU
+side by side: benchmarks/report.py, or the validation command in each tree.
 
 Run: python benchmarks/tangent_pattern.py [--repeats 5]
 """
