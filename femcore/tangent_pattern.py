@@ -157,7 +157,13 @@ def _pattern_arrays(
                 stamp[i] = j
                 pair_row[count] = i
                 count += 1
-        pair_row[first:count] = np.sort(pair_row[first:count])
+        for q in range(first + 1, count):  # a column's few rows sorted in place
+            row = pair_row[q]
+            t = q - 1
+            while t >= first and pair_row[t] > row:
+                pair_row[t + 1] = pair_row[t]
+                t -= 1
+            pair_row[t + 1] = row
         for q in range(first, count):
             slot[pair_row[q]] = q
             pair_col[q] = j
@@ -209,21 +215,28 @@ def _pattern_arrays(
                     place = base + ranks[q, a]
                     ff_table[q, a, c] = place
                     ff_rows[place] = free[i, a]
-    # K_fp: its keys (free row, prescribed column) sorted, each entry's place its key's rank.
-    scale = max(n_moved, 1)
-    total = 0
+    # K_fp (CSR): each entry (free row 5 I + a, prescribed column 5 J + c) is one pair's, so
+    # the keys are distinct; counted per row, and placed in the pairs' order (by J, then I) and
+    # c's, which is each row's order of columns: no sort.
+    fp_indptr = np.zeros(n_free + 1, dtype=np.int64)
     for q in range(count):
+        i, j = pair_row[q], pair_col[q]
         width = N_COLUMNS if pair_wide[q] else 3
-        rows_here = 0
-        for a in range(width):
-            if free[pair_row[q], a] >= 0:
-                rows_here += 1
+        columns_here = 0
         for c in range(width):
-            if moved[pair_col[q], c] >= 0:
-                total += rows_here
-    keys = np.empty(total, dtype=np.int64)
-    places = np.empty(total, dtype=np.int64)
-    e = 0
+            if moved[j, c] >= 0:
+                columns_here += 1
+        if columns_here == 0:
+            continue
+        for a in range(width):
+            if free[i, a] >= 0:
+                fp_indptr[free[i, a] + 1] += columns_here
+    for row in range(n_free):
+        fp_indptr[row + 1] += fp_indptr[row]
+    fp_rows = np.empty(fp_indptr[n_free], dtype=np.int64)
+    fp_cols = np.empty(fp_indptr[n_free], dtype=np.int64)
+    fp_table = np.full((count, N_COLUMNS, N_COLUMNS), -1, dtype=np.int64)
+    fp_fill = fp_indptr[:n_free].copy()
     for q in range(count):
         i, j = pair_row[q], pair_col[q]
         width = N_COLUMNS if pair_wide[q] else 3
@@ -232,26 +245,11 @@ def _pattern_arrays(
                 continue
             for c in range(width):
                 if moved[j, c] >= 0:
-                    keys[e] = free[i, a] * scale + moved[j, c]
-                    places[e] = (q * N_COLUMNS + a) * N_COLUMNS + c
-                    e += 1
-    sorted_keys = np.argsort(keys, kind="mergesort")
-    fp_table = np.full((count, N_COLUMNS, N_COLUMNS), -1, dtype=np.int64)
-    flat_table = fp_table.reshape(count * N_COLUMNS * N_COLUMNS)
-    unique = np.empty(total, dtype=np.int64)
-    distinct = -1
-    for t in range(total):
-        key = keys[sorted_keys[t]]
-        if distinct < 0 or unique[distinct] != key:
-            distinct += 1
-            unique[distinct] = key
-        flat_table[places[sorted_keys[t]]] = distinct
-    fp_rows = np.empty(distinct + 1, dtype=np.int64)
-    fp_cols = np.empty(distinct + 1, dtype=np.int64)
-    for t in range(distinct + 1):
-        fp_rows[t] = unique[t] // scale
-        fp_cols[t] = unique[t] - fp_rows[t] * scale
-    fp_indptr = np.searchsorted(fp_rows, np.arange(n_free + 1))
+                    place = fp_fill[free[i, a]]
+                    fp_fill[free[i, a]] += 1
+                    fp_table[q, a, c] = place
+                    fp_rows[place] = free[i, a]
+                    fp_cols[place] = moved[j, c]
     return (
         inverse,
         ff_indptr,
