@@ -15,16 +15,23 @@ Printed: whether every K_ff (data, indices, indptr) and the solution of K_ff x =
 to the bit; the best CPU time over ``--rounds`` of each side, per tangent; the load before and
 after.
 
-Measured (one thread, CPU, best of 7 rounds of the first 40 new patterns; load 3.1-3.3, the
-machine shared), ``--ref main`` (fb36bf8; its assembly, linear solver and band the same as
-81b7828's) beside the compiled map, upper plan and band plan: the same K_ff and solutions to
-the bit; a new pattern assembled and factorised 35.4 -> 16.3 ms a tangent (2.18 x; 36.7 ->
-16.6 at load 3.1-3.7); the same tangent assembled on its kept pattern 0.98 -> 0.93 ms (the
-passes reading the pairs' tables where they read each entry's place). The case itself
-(``python -m validation --cases plies-bai-5.1,plies-deck-of-cards,plies-heavy-cantilever
---jobs 1`` in each tree, CPU s, results.json the same but for times): at load 2, 26.7 / 10.7
-/ 3.3 -> 21.7 / 9.3 / 3.2 (the compiled map alone); at load 5.8-8, three pairs in turns,
-29.1-29.9 / 11.3-13.0 / 3.4-3.7 -> 21.4-25.3 / 9.8-10.4 / 3.2-3.4.
+Measured (one thread, CPU, best of 7 rounds of the first 40 new patterns; the machine
+shared), ``--ref main`` (its assembly, linear solver and band those of 81b7828) beside the
+compiled map, upper plan and band plan: the same K_ff and solutions to the bit each time; a
+new pattern assembled and factorised 36.3 -> 15.3 ms a tangent (2.37 x; load 2.4-2.6; 35.4 ->
+16.3 at 3.1-3.3 before K_fp's places were counted without a sort); the same tangent assembled
+on its kept pattern 1.00 -> 0.97 ms (the passes reading the pairs' tables where they read
+each entry's place: no slower).
+
+The cases themselves (``python -m validation --cases plies-bai-5.1,plies-deck-of-cards,
+plies-heavy-cantilever --jobs 1``, one numba thread, nice 5, each tree in turn; case CPU s;
+results.json and the .vtu files the same but for times): at load 2.6-3.0, main 27.2 / 10.1 /
+3.2 and 26.4 / 10.3 / 3.2, this tree 22.3 / 9.0 / 3.1 and 21.5 / 9.3 / 3.0 (plies-bai-5.1
+-19 %); at load 5.8-8, three pairs, 29.1-29.9 / 11.3-13.0 / 3.4-3.7 -> 21.4-25.3 / 9.8-10.4
+/ 3.2-3.4. A profile of plies-bai-5.1 after (cProfile, its 1167 tangents, 304 new maps, 319
+band plans): the maps 0.96 s, the upper plans 0.76 s and the band plans 0.93 s of 24.8 s,
+where before the maps alone took 10.7 of 52 s profiled; the numeric band LDL^T 3.1 s and
+the ply contact's tangent and search (elements/ply_block.py) 4.5 and 3.2 s now lead.
 
 Run from the project root: python benchmarks/assembly_rebuild.py [--ref main]
 """
