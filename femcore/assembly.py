@@ -24,7 +24,7 @@ from typing import Any, NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from femcore import kernel_cache
+from femcore import kernel_cache, tangent_pattern
 from femcore.dofs import N_COLUMNS, DofManager, Frames
 from femcore.state import State
 
@@ -178,14 +178,16 @@ def _add_cell_blocks(
     blocks: np.ndarray,
     nodes: np.ndarray,
     maps: np.ndarray,
-    ff_destination: np.ndarray,
-    fp_destination: np.ndarray,
+    pairs: np.ndarray,
+    ff_table: np.ndarray,
+    fp_table: np.ndarray,
     ff: np.ndarray,
     fp: np.ndarray,
 ) -> None:
     """Adds T_a^T K_ab T_b of every block pair of a CellTangent into the CSC data of K_ff
     (``ff``) and K_fp (``fp``), in the order of the entries (cell, a, i, b, j) of the
-    generalised blocks, at the positions ``*_destination`` (-1: not in that matrix).
+    generalised blocks, at the positions ``*_table[pairs[cell, a, b], i, j]`` (-1: not in
+    that matrix; femcore/tangent_pattern.py: pairs (m, p, p), the tables (pairs, 5, 5)).
 
     blocks (m, p, c, p, c), c = 6 (u, psi) or 3 (translations: no transformation); nodes
     (m, p); maps (n, 6, 5) of ``DofManager.node_maps``, whose T = [[I, 0], [0, R]] with
@@ -225,15 +227,14 @@ def _add_cell_blocks(
                             for r in range(3):
                                 total += maps[node_a, 3 + r, 3 + q] * right[r, t]
                             kq[3 + q, 3 + t] = total
+                pair = pairs[cell, a, b]
                 for i in range(size):
-                    row = ((cell * p + a) * size + i) * p + b
                     for j in range(size):
-                        entry = row * size + j  # (cell, a, i, b, j) of the blocks, raveled
-                        where = ff_destination[entry]
+                        where = ff_table[pair, i, j]
                         if where >= 0:
                             ff[where] += kq[i, j]
                         else:
-                            where = fp_destination[entry]
+                            where = fp_table[pair, i, j]
                             if where >= 0:
                                 fp[where] += kq[i, j]
 
@@ -243,14 +244,16 @@ def _add_node_blocks(
     indices: np.ndarray,
     data: np.ndarray,
     maps: np.ndarray,
-    ff_destination: np.ndarray,
-    fp_destination: np.ndarray,
+    pairs: np.ndarray,
+    ff_table: np.ndarray,
+    fp_table: np.ndarray,
     ff: np.ndarray,
     fp: np.ndarray,
 ) -> None:
     """Adds T_I^T K_IJ T_J of every 6 x 6 node block of a SparseTangent's BSR matrix into the
     CSC data of K_ff (``ff``) and K_fp (``fp``), in the order of the entries (block, a, c) of
-    the generalised blocks, at the positions ``*_destination`` (-1: not in that matrix).
+    the generalised blocks, at the positions ``*_table[pairs[block], a, c]`` (-1: not in that
+    matrix; femcore/tangent_pattern.py).
 
     block_rows (count,) the row node I of each block, indices (count,) its column node J,
     data (count, 6, 6) the blocks; maps (n, 6, 5) of ``DofManager.node_maps`` (T = [[I, 0],
@@ -287,14 +290,14 @@ def _add_node_blocks(
                 for r in range(3):
                     total += maps[node_a, 3 + r, 3 + q] * right[r, t]
                 kq[3 + q, 3 + t] = total
+        pair = pairs[block]
         for i in range(5):
             for j in range(5):
-                entry = (block * 5 + i) * 5 + j  # (block, a, c) of the blocks, raveled
-                where = ff_destination[entry]
+                where = ff_table[pair, i, j]
                 if where >= 0:
                     ff[where] += kq[i, j]
                 else:
-                    where = fp_destination[entry]
+                    where = fp_table[pair, i, j]
                     if where >= 0:
                         fp[where] += kq[i, j]
 
@@ -373,7 +376,12 @@ class FreeTangentAssembler:
     parts) and reused while it stays the same, so that each assembly is one compiled pass per
     part (the T^T K T of each block added at its positions: ``_add_cell_blocks``,
     ``_add_node_blocks``; numpy's matmuls and a bincount without numba); when it changes (a
-    contact adds or drops pairs), the map is rebuilt at the next call. A SparseTangent given
+    contact adds or drops pairs), the map is rebuilt at the next call: the distinct node
+    pairs, K_ff's and K_fp's structure and a table of each pair's places (pairs, 5, 5) by one
+    compiled pass (femcore/tangent_pattern.py, numpy's reference without numba), each part
+    keeping the pair of each of its node pairs (m, p, p), through which the passes find an
+    entry's place (2.5 ms against 28 ms for the build of a ply stack's 972 000 entries,
+    benchmarks/tangent_pattern.py). A SparseTangent given
     as a BSR matrix with 6 x 6 blocks is used as it is; any other sparse format is converted
     to one at every call.
 
@@ -402,113 +410,128 @@ class FreeTangentAssembler:
             (b.indptr, b.indices) for b in blocks
         ]
 
-    def _build(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> None:
+    def _build(
+        self, parts: list[CellTangent], blocks: list[sp.bsr_matrix], compiled: bool = True
+    ) -> None:
         # K_ff's and K_fp's structure from the node pairs the parts couple (a cell part of p
-        # nodes couples p^2 pairs where it holds (5 p)^2 entries): each pair (column node J,
-        # row node I) holds the entries (5 I + a, 5 J + c) with a, c below its widest part's
-        # components; their places in CSC (K_ff) and CSR (K_fp) order are counted per pair,
-        # not sorted out of every entry (np.unique over every entry: a rebuild 2-3 x slower).
-        n = self.dofs.n_nodes
-        pair_keys, wide = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=bool)]
+        # nodes couples p^2 pairs where it holds (5 p)^2 entries), each entry's place counted
+        # per pair (femcore/tangent_pattern.py; ``compiled``: its numba pass, else numpy's).
+        rows, cols, wide = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)], []
+        wide.append(np.zeros(0, dtype=bool))
         for part in parts:
             nodes = np.asarray(part.nodes, dtype=np.int64)
-            keys = nodes[:, None, :] * n + nodes[:, :, None]  # (m, row node, column node)
-            pair_keys.append(keys.ravel())
-            wide.append(np.full(keys.size, _components(part) == N_COLUMNS))
+            m, p = nodes.shape
+            rows.append(np.broadcast_to(nodes[:, :, None], (m, p, p)).ravel())
+            cols.append(np.broadcast_to(nodes[:, None, :], (m, p, p)).ravel())
+            wide.append(np.full(m * p * p, _components(part) == N_COLUMNS))
         self._block_rows = [
             np.repeat(np.arange(len(b.indptr) - 1), np.diff(b.indptr)) for b in blocks
         ]
         self._block_columns = [np.asarray(b.indices, dtype=np.int64) for b in blocks]
-        for b, block_rows in zip(blocks, self._block_rows):
-            pair_keys.append(b.indices.astype(np.int64) * n + block_rows)
+        for block_rows, columns in zip(self._block_rows, self._block_columns):
+            rows.append(block_rows)
+            cols.append(columns)
             wide.append(np.ones(block_rows.size, dtype=bool))
-        pairs, inverse = np.unique(np.concatenate(pair_keys), return_inverse=True)
-        inverse = inverse.ravel()
-        width = np.where(np.bincount(inverse, np.concatenate(wide), pairs.size) > 0, N_COLUMNS, 3)
-        column_node, row_node = np.divmod(pairs, n)
-        components = np.arange(N_COLUMNS)
-        inside = components[None, :] < width[:, None]  # (pairs, 5): a or c below the width
-        free = self._position.reshape(n, N_COLUMNS)
-        moved = self._moved.reshape(n, N_COLUMNS)
-        row_free = free[row_node] >= 0  # (pairs, 5) over a
-        ranks: np.ndarray = np.cumsum(row_free & inside, axis=1) - (row_free & inside)  # rank of a
-        # K_ff (CSC: by column 5 J + c, then row 5 I + a): each pair holds rows_of[P] rows
-        # of every free column c below its width, after the pairs of J before it.
-        rows_of = np.count_nonzero(row_free & inside, axis=1)
-        counts = np.where(inside & (free[column_node] >= 0), rows_of[:, None], 0)  # (P, c)
-        before = np.cumsum(counts, axis=0) - counts
-        group_start = np.searchsorted(column_node, column_node)  # each J's first pair
-        before -= before[group_start]
-        lengths = np.zeros(self.n_free, dtype=np.int64)
-        column_free = free[column_node]
-        np.add.at(lengths, column_free[counts > 0], counts[counts > 0])
-        self.ff_indptr = np.concatenate([[0], np.cumsum(lengths)])
-        entry = row_free[:, :, None] & inside[:, :, None] & (counts > 0)[:, None, :]  # (P, a, c)
-        ff_table = np.where(
-            entry,
-            self.ff_indptr[np.maximum(column_free, 0)][:, None, :]
-            + before[:, None, :]
-            + ranks[:, :, None],
-            -1,
+        n = self.dofs.n_nodes
+        find = tangent_pattern.pattern if compiled else tangent_pattern.pattern_numpy
+        found = find(
+            np.concatenate(rows),
+            np.concatenate(cols),
+            np.concatenate(wide),
+            self._position.reshape(n, N_COLUMNS),
+            self._moved.reshape(n, N_COLUMNS),
+            self.n_free,
+            self.n_moved,
         )
-        self.ff_rows = np.empty(self.ff_indptr[-1], dtype=np.int64)
-        self.ff_cols = np.empty(self.ff_indptr[-1], dtype=np.int64)
-        where = np.nonzero(entry)
-        self.ff_rows[ff_table[where]] = free[row_node[where[0]], where[1]]
-        self.ff_cols[ff_table[where]] = column_free[where[0], where[2]]
-        # K_fp (CSR through its sorted keys: row 5 I + a, then prescribed column 5 J + c).
-        fp_entry = (
-            row_free[:, :, None]
-            & inside[:, :, None]
-            & (inside & (moved[column_node] >= 0))[:, None, :]
-        )
-        where = np.nonzero(fp_entry)
-        fp_keys = (
-            free[row_node[where[0]], where[1]] * max(self.n_moved, 1)
-            + moved[column_node[where[0]], where[2]]
-        )
-        keys, order = np.unique(fp_keys, return_inverse=True)
-        self.fp_rows, self.fp_cols = np.divmod(keys, max(self.n_moved, 1))
-        self.fp_indptr = np.searchsorted(self.fp_rows, np.arange(self.n_free + 1))
-        fp_table = np.full(fp_entry.shape, -1, dtype=np.int64)
-        fp_table[where] = order.ravel()
-        # Per entry of the concatenated parts, its position in K_ff's or K_fp's data (-1: in
-        # neither), split by part: the compiled pass adds each cell part's blocks there.
-        # Each part's entries (cell, row node, a, column node, c) in its own order; a node
-        # block is a part of one node a cell and every component.
+        self.ff_indptr, self.ff_rows = found.ff_indptr, found.ff_rows
+        self.fp_indptr, self.fp_rows, self.fp_cols = found.fp_indptr, found.fp_rows, found.fp_cols
+        # Per part, the distinct pair of each of its node pairs, (m, p, p) (a node block is a
+        # part of one node a cell and every component): the compiled passes find each entry's
+        # place in K_ff's or K_fp's data through the pairs' tables.
+        self._tables = (found.ff_table, found.fp_table)
         shapes = [(len(part.nodes), part.nodes.shape[1], _components(part)) for part in parts]
         shapes += [(block_rows.size, 1, N_COLUMNS) for block_rows in self._block_rows]
-        self._destinations = []
+        self._shapes, self._pairs = shapes, []
         start = 0
-        for m, p, c in shapes:
-            at = inverse[start : start + m * p * p].reshape(m, p, 1, p, 1)
-            a, b = components[:c].reshape(1, 1, c, 1, 1), components[:c].reshape(1, 1, 1, 1, c)
-            flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()  # one index, two gathers
-            self._destinations.append((ff_table.take(flat), fp_table.take(flat)))
+        for m, p, _ in shapes:
+            self._pairs.append(found.inverse[start : start + m * p * p].reshape(m, p, p))
             start += m * p * p
+        self._n_cell_parts = len(parts)
+        self.__dict__.pop("_destinations", None)
+        self.__dict__.pop("_flat_map", None)
+        self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
+        self.builds += 1
+
+    @functools.cached_property
+    def _destinations(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per part, each entry's place in K_ff's and K_fp's data (-1: in neither), in the
+        part's order (cell, row node, a, column node, c) of its raveled blocks; made at first
+        use after each build (the numpy assembly's bincounts use them)."""
+        found = tangent_pattern.Pattern(
+            np.concatenate([pairs.ravel() for pairs in self._pairs] + [np.zeros(0, np.int64)]),
+            self.ff_indptr,
+            self.ff_rows,
+            self._tables[0],
+            self.fp_indptr,
+            self.fp_rows,
+            self.fp_cols,
+            self._tables[1],
+        )
+        destinations, start = [], 0
+        for m, p, c in self._shapes:
+            destinations.append(tangent_pattern.part_destinations(found, start, (m, p, c)))
+            start += m * p * p
+        return destinations
+
+    @functools.cached_property
+    def _flat_map(self) -> tuple[np.ndarray, ...]:
+        """(ff_select, ff_map, fp_select, fp_map): the entries of the concatenated parts in
+        K_ff's (K_fp's) data and their places there; made at first use after each build (the
+        numpy assembly's bincounts use them, the compiled passes do not)."""
         ff_destination = np.concatenate(
             [np.zeros(0, dtype=np.int64)] + [d[0] for d in self._destinations]
         )
         fp_destination = np.concatenate(
             [np.zeros(0, dtype=np.int64)] + [d[1] for d in self._destinations]
         )
-        self.ff_select = np.flatnonzero(ff_destination >= 0)
-        self.ff_map = ff_destination[self.ff_select]
-        self.fp_select = np.flatnonzero(fp_destination >= 0)
-        self.fp_map = fp_destination[self.fp_select]
-        # The entries the compiled pass does not add (all of them without numba): the
-        # SparseTangent parts', summed by bincount.
+        ff_select = np.flatnonzero(ff_destination >= 0)
+        fp_select = np.flatnonzero(fp_destination >= 0)
+        return ff_select, ff_destination[ff_select], fp_select, fp_destination[fp_select]
+
+    @property
+    def ff_select(self) -> np.ndarray:
+        """Which entries of the concatenated parts are in K_ff."""
+        return self._flat_map[0]
+
+    @property
+    def ff_map(self) -> np.ndarray:
+        """Their places in K_ff's data."""
+        return self._flat_map[1]
+
+    @property
+    def fp_select(self) -> np.ndarray:
+        """Which entries of the concatenated parts are in K_fp."""
+        return self._flat_map[2]
+
+    @property
+    def fp_map(self) -> np.ndarray:
+        """Their places in K_fp's data."""
+        return self._flat_map[3]
+
+    def _rest(self) -> tuple[np.ndarray, ...]:
+        """The entries the compiled passes do not add (all of them without numba: the
+        SparseTangent parts', summed by bincount): (ff places, their entries, fp places,
+        theirs), the entries counted from the first such part's."""
         compiled = _add_cell_blocks_compiled is not None
-        first = int(sum(d[0].size for d in self._destinations[: len(parts)])) if compiled else 0
+        cells = self._shapes[: self._n_cell_parts]
+        first = int(sum(m * (p * c) ** 2 for m, p, c in cells)) if compiled else 0
         ff_rest, fp_rest = self.ff_select >= first, self.fp_select >= first
-        self._rest = (
+        return (
             self.ff_map[ff_rest],
             self.ff_select[ff_rest] - first,
             self.fp_map[fp_rest],
             self.fp_select[fp_rest] - first,
         )
-        self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
-        self.builds += 1
 
     def _same_pattern(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> bool:
         structure = self._structure(parts, blocks)
@@ -534,14 +557,14 @@ class FreeTangentAssembler:
         fp = np.zeros(self.fp_rows.size)
         compiled = _add_cell_blocks_compiled is not None
         values = []
-        for part, (to_ff, to_fp) in zip(parts, self._destinations):
+        for part, pairs in zip(parts, self._pairs):
             if compiled:
                 _add_cell_blocks_compiled(
                     np.ascontiguousarray(part.blocks, dtype=float),
                     np.ascontiguousarray(part.nodes, dtype=np.int64),
                     maps,
-                    to_ff,
-                    to_fp,
+                    pairs,
+                    *self._tables,
                     ff,
                     fp,
                 )
@@ -556,7 +579,7 @@ class FreeTangentAssembler:
                 values.append(np.matmul(np.swapaxes(maps[block_rows], 1, 2), right).ravel())
         if values:  # the parts the compiled passes did not add, by one bincount each
             flat = np.concatenate(values)
-            ff_map, ff_select, fp_map, fp_select = self._rest
+            ff_map, ff_select, fp_map, fp_select = self._rest()
             ff += np.bincount(ff_map, flat[ff_select], minlength=ff.size)
             fp += np.bincount(fp_map, flat[fp_select], minlength=fp.size)
         k_ff = sp.csc_matrix((ff, self.ff_rows, self.ff_indptr), shape=(self.n_free, self.n_free))
@@ -572,18 +595,18 @@ class FreeTangentAssembler:
         the sums as the bincount's: a pattern's node blocks reach each position once, so one
         part is added in place (ff + v, as ff + bincount), several are summed apart first
         (ff + (v1 + v2), as the bincount sums them)."""
-        destinations = self._destinations[len(self._destinations) - len(blocks) :]
+        node_pairs = self._pairs[self._n_cell_parts :]
         into = (ff, fp) if len(blocks) == 1 else (np.zeros(ff.size), np.zeros(fp.size))
-        for b, block_rows, columns, (to_ff, to_fp) in zip(
-            blocks, self._block_rows, self._block_columns, destinations
+        for b, block_rows, columns, pairs in zip(
+            blocks, self._block_rows, self._block_columns, node_pairs
         ):
             _add_node_blocks_compiled(
                 block_rows,
                 columns,
                 np.ascontiguousarray(b.data, dtype=float),
                 maps,
-                to_ff,
-                to_fp,
+                pairs.ravel(),
+                *self._tables,
                 *into,
             )
         if len(blocks) > 1:

@@ -27,6 +27,8 @@ the band held 1.37e9 operations (n b^2) where the envelope holds 0.70e9 (QDLDL's
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
@@ -177,7 +179,76 @@ def _solve(band: np.ndarray, reaches: np.ndarray, rhs: np.ndarray) -> np.ndarray
 
 
 # numba is a dependency; without it the band path is not taken (``AVAILABLE``)
+def _closure(indptr: np.ndarray, indices: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The CSR pattern (indptr, indices) of U + U^T for an upper triangle U in CSC with sorted
+    indices (every row's columns come out sorted and once: row r takes column r's rows, then
+    the later columns holding r, in order), the pattern of BandPlan's ``ones + ones.T``.
+    Compiled by numba."""
+    counts = np.zeros(n + 1, dtype=np.int64)
+    for j in range(n):
+        for e in range(indptr[j], indptr[j + 1]):
+            i = indices[e]
+            counts[i + 1] += 1
+            if i != j:
+                counts[j + 1] += 1
+    for r in range(n):
+        counts[r + 1] += counts[r]
+    fill = counts[:n].copy()
+    columns = np.empty(counts[n], dtype=np.int64)
+    for j in range(n):
+        for e in range(indptr[j], indptr[j + 1]):
+            i = indices[e]
+            if i != j:
+                columns[fill[j]] = i
+                fill[j] += 1
+            columns[fill[i]] = j
+            fill[i] += 1
+    return counts, columns
+
+
+def _layout(
+    indptr: np.ndarray, indices: np.ndarray, perm: np.ndarray, n: int
+) -> tuple[int, np.ndarray, np.ndarray]:
+    """BandPlan's (bandwidth, slots, reaches) of an upper triangle's pattern in CSC ordered
+    by ``perm``: the numpy scatters of ``BandPlan.__init__`` as loops (integers only, the
+    same arrays). Compiled by numba."""
+    position = np.empty(n, dtype=np.int64)
+    for q in range(n):
+        position[perm[q]] = q
+    first = np.arange(n)  # each row's first entry (its diagonal at most)
+    bandwidth = 0
+    for j in range(n):
+        b = position[j]
+        for e in range(indptr[j], indptr[j + 1]):
+            a = position[indices[e]]
+            low, high = min(a, b), max(a, b)
+            bandwidth = max(bandwidth, high - low)
+            if low < first[high]:
+                first[high] = low
+    slots = np.empty(indptr[n], dtype=np.int64)
+    for j in range(n):
+        b = position[j]
+        for e in range(indptr[j], indptr[j + 1]):
+            a = position[indices[e]]
+            low, high = min(a, b), max(a, b)
+            slots[e] = low * (bandwidth + 1) + (high - low)
+    last = np.full(n, -1, dtype=np.int64)  # the last row whose first entry is each column
+    for i in range(n):
+        if i > last[first[i]]:
+            last[first[i]] = i
+    reaches = np.empty(n, dtype=np.int64)
+    reach = -1
+    for j in range(n):
+        reach = max(reach, last[j])
+        reaches[j] = max(reach, j) - j
+    return bandwidth, slots, reaches
+
+
+_closure_compiled: Any = None
+_layout_compiled: Any = None
 if kernel_cache.AVAILABLE:
+    _closure_compiled = kernel_cache.njit(_closure)
+    _layout_compiled = kernel_cache.njit(_layout)
     _factorise_by_column = kernel_cache.njit(_factorise_by_column)
     _factorise = kernel_cache.njit(_factorise)
     # Compiled without fastmath: re-associating the back substitution's sums let the compiler
@@ -201,13 +272,28 @@ class BandPlan:
         last row whose first entry is in column j or before (the envelope; at most b).
     """
 
-    def __init__(self, upper: sp.csc_matrix):
+    def __init__(self, upper: sp.csc_matrix, compiled: bool = True):
+        """The plan of ``upper``'s pattern; ``compiled``: the symmetric pattern that the
+        ordering sees and the band layout by compiled passes (``_closure``, ``_layout``,
+        where the pattern's indices are sorted), else by scipy's sums and numpy's scatters
+        (their reference): the same arrays."""
         n = upper.shape[0]
+        self.n = n
+        if compiled and _layout_compiled is not None and upper.has_sorted_indices:
+            indptr = np.asarray(upper.indptr, dtype=np.int64)
+            indices = np.asarray(upper.indices, dtype=np.int64)
+            closure_indptr, closure_indices = _closure_compiled(indptr, indices, n)
+            full = sp.csr_matrix(
+                (np.ones(closure_indices.size), closure_indices, closure_indptr), shape=(n, n)
+            )
+            self.perm = np.asarray(reverse_cuthill_mckee(full, symmetric_mode=True), dtype=np.int64)
+            bandwidth, self.slots, self.reaches = _layout_compiled(indptr, indices, self.perm, n)
+            self.bandwidth = int(bandwidth)
+            return
         # The ordering sees the pattern, stored zeros included (a flat shell's tangent stores
         # its zero membrane-bending couplings, and a sum of the values would drop them).
         ones = sp.csc_matrix((np.ones(upper.nnz), upper.indices, upper.indptr), shape=upper.shape)
         full = (ones + ones.T).tocsr()
-        self.n = n
         self.perm = np.asarray(reverse_cuthill_mckee(full, symmetric_mode=True), dtype=np.int64)
         position = np.empty(n, dtype=np.int64)
         position[self.perm] = np.arange(n)

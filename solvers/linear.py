@@ -341,6 +341,28 @@ class _UpperPlan:
 
     @classmethod
     def of(cls, k: sp.csc_matrix) -> _UpperPlan | None:
+        """The plan of K's pattern (None: indices not sorted, no entries, an entry without its
+        mirror or a diagonal entry not stored), by one compiled pass (``_upper_plan``) or,
+        without numba, numpy's (``of_numpy``): the same arrays."""
+        if _upper_plan_compiled is None:  # pragma: no cover - numba is a dependency
+            return cls.of_numpy(k)
+        n = k.shape[0]
+        if not k.has_sorted_indices or k.nnz == 0:
+            return None
+        found = _upper_plan_compiled(
+            np.asarray(k.indptr, dtype=np.int64), np.asarray(k.indices, dtype=np.int64), n
+        )
+        has_plan, transposed, upper, indptr, kept_rows, kept_columns = found
+        if not has_plan:
+            return None
+        kept_rows = kept_rows.astype(k.indices.dtype)
+        return cls(
+            transposed, upper, indptr, kept_rows, kept_columns, kept_rows == kept_columns, (n, n)
+        )
+
+    @classmethod
+    def of_numpy(cls, k: sp.csc_matrix) -> _UpperPlan | None:
+        """``of`` by numpy and scipy (the reference of the compiled pass)."""
         n = k.shape[0]
         if not k.has_sorted_indices:
             return None
@@ -450,6 +472,62 @@ def _split_upper(
                 kept += 1
         indptr[column + 1] = kept
     return (np.nan if undefined else asymmetry), kept
+
+
+def _upper_plan(indptr: np.ndarray, indices: np.ndarray, n: int):
+    """``_UpperPlan.of``'s arrays (transposed, upper, the upper triangle's indptr, rows and
+    columns) of a CSC pattern with sorted indices and entries, after whether it has a plan
+    (False, and empty arrays, where an entry has no mirror or a diagonal entry is not
+    stored): K's transpose by the counting pass of scipy's
+    ``tocsc`` (each entry's place carried to its mirror's), checked against K's pattern.
+    Compiled by numba."""
+    nnz = indptr[n]
+    empty = np.zeros(0, dtype=np.int64)
+    counts = np.zeros(n + 1, dtype=np.int64)
+    for e in range(nnz):
+        counts[indices[e] + 1] += 1
+    for i in range(n):
+        counts[i + 1] += counts[i]
+        if counts[i + 1] != indptr[i + 1]:
+            return False, empty, empty, empty, empty, empty  # an entry without its mirror
+    fill = counts[:n].copy()
+    transposed = np.empty(nnz, dtype=np.int64)
+    diagonals = 0
+    above = 0
+    for j in range(n):
+        for e in range(indptr[j], indptr[j + 1]):
+            i = indices[e]
+            place = fill[i]
+            fill[i] += 1
+            if indices[place] != j:
+                return False, empty, empty, empty, empty, empty  # an entry without its mirror
+            transposed[place] = e
+            if i == j:
+                diagonals += 1
+            if i <= j:
+                above += 1
+    if diagonals != n:
+        return False, empty, empty, empty, empty, empty  # QDLDL needs every diagonal stored
+    upper = np.empty(above, dtype=np.int64)
+    upper_indptr = np.zeros(n + 1, dtype=np.int64)
+    kept_rows = np.empty(above, dtype=np.int64)
+    kept_columns = np.empty(above, dtype=np.int64)
+    u = 0
+    for j in range(n):
+        for e in range(indptr[j], indptr[j + 1]):
+            if indices[e] <= j:
+                upper[u] = e
+                kept_rows[u] = indices[e]
+                kept_columns[u] = j
+                u += 1
+        upper_indptr[j + 1] = u
+    return True, transposed, upper, upper_indptr, kept_rows, kept_columns
+
+
+_upper_plan_compiled: Any = None
+# numba is a dependency; without it the plan is numpy's (``_UpperPlan.of_numpy``)
+if kernel_cache.AVAILABLE:
+    _upper_plan_compiled = kernel_cache.njit(_upper_plan)
 
 
 _split_upper_compiled: Any = None

@@ -91,9 +91,9 @@ def test_the_compiled_scatter_adds_the_generalised_blocks_where_the_bincount_doe
     part = CellTangent(nodes, rng.normal(size=(2, 6, 6, 6, 6)))
     assemble = FreeTangentAssembler(dofs)
     assemble([part], dofs.frames(np.tile([0.0, 0.0, 1.0], (N, 1))))  # builds the positions
-    to_ff, to_fp = assemble._destinations[0]
     ff, fp = np.zeros(assemble.ff_rows.size), np.zeros(assemble.fp_rows.size)
-    assembly._add_cell_blocks(part.blocks, nodes, maps, to_ff, to_fp, ff, fp)
+    pairs, tables = assemble._pairs[0], assemble._tables
+    assembly._add_cell_blocks(part.blocks, nodes, maps, pairs, *tables, ff, fp)
     flat = assembly.generalised_blocks(part, maps).ravel()
     expected_ff = np.bincount(assemble.ff_map, flat[assemble.ff_select], minlength=ff.size)
     expected_fp = np.bincount(assemble.fp_map, flat[assemble.fp_select], minlength=fp.size)

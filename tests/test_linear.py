@@ -393,3 +393,49 @@ def test_the_band_by_panels_stops_at_a_zero_pivot_as_the_reference_does():
         flat = np.zeros(plan.fill)
         flat[plan.slots] = upper.data
         assert factorise(flat.reshape(plan.n, plan.bandwidth + 1), plan.reaches) == -1
+
+
+def test_the_compiled_plan_is_numpys_to_the_bit():
+    """``_UpperPlan.of`` (one compiled pass) against ``of_numpy`` (scipy's counting transpose
+    and numpy's masks): every array and its dtype, on scattered symmetric patterns and on
+    the patterns that get no plan (a mirror or a diagonal entry missing)."""
+    from solvers.linear import _UpperPlan
+
+    patterns = [sp.csc_matrix(np.tril(np.ones((4, 4)))), sp.csc_matrix(np.ones((4, 4)) - np.eye(4))]
+    patterns.append(sp.csc_matrix(np.eye(3) + np.eye(3, k=-1) + np.eye(3, k=2)))
+    for seed, size in enumerate((1, 7, 60, 200)):
+        a = sp.random(size, size, density=0.05, random_state=seed, format="csc")
+        patterns.append((a + a.T + sp.identity(size)).tocsc())
+    for k in patterns:
+        k.sort_indices()
+        new, old = _UpperPlan.of(k), _UpperPlan.of_numpy(k)
+        assert (new is None) == (old is None)
+        if new is None or old is None:
+            continue
+        for name in ("transposed", "upper", "indptr", "indices", "columns", "diagonal"):
+            a, b = getattr(new, name), getattr(old, name)
+            assert a.dtype == b.dtype and np.array_equal(a, b), name
+    assert sum(_UpperPlan.of(k) is None for k in patterns) == 3
+
+
+def test_the_compiled_band_plan_is_numpys_to_the_bit():
+    """BandPlan's ordering and layout (perm, bandwidth, slots, reaches) by its compiled passes
+    against scipy's sums and numpy's scatters, on strips, a scattered pattern, a pattern with
+    stored zeros and one of a single unknown."""
+    from solvers.band import BandPlan
+    from solvers.linear import _upper
+
+    matrices = [strip_matrix(), strip_matrix(length=12, width=3, seed=2)]
+    a = sp.random(80, 80, density=0.04, random_state=6, format="csc")
+    matrices.append((a + a.T + sp.identity(80)).tocsc())
+    zeros = strip_matrix(length=10, width=2).tocsc()
+    zeros.data[::3] = 0.0  # stored zeros: the ordering sees them
+    matrices += [zeros, sp.csc_matrix(np.ones((1, 1)))]
+    for k in matrices:
+        upper = _upper(k)
+        assert upper.has_sorted_indices
+        new, old = BandPlan(upper), BandPlan(upper, compiled=False)
+        assert new.bandwidth == old.bandwidth
+        for name in ("perm", "slots", "reaches"):
+            x, y = getattr(new, name), getattr(old, name)
+            assert x.dtype == y.dtype and np.array_equal(x, y), name
