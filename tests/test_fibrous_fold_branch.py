@@ -68,3 +68,20 @@ def test_folding_past_flat_takes_more_work(kernel):
     # reads -170 deg there and gives 1 (the energy falling past the flat fold).
     e170, e190 = _folded_energies(kernel, [170.0, 190.0])
     assert e190 / e170 == pytest.approx((190.0 / 170.0) ** 2, rel=1e-9)
+
+
+def test_the_watched_sides_folds_are_the_full_passes():
+    # fold_branch.py takes the watched sides' folds by numpy between the passes over every
+    # side (kernels.py): the same angles (the same formula, another order: 1e-12 rad).
+    from elements.fibrous.fold_branch import side_folds, watched_folds
+
+    model = Model(Mesh.rectangle(40.0, 20.0, nx=6, ny=3))
+    model.add(FibrousShell(presets.g986_stack()))
+    compiled = model.compile()
+    block, start = compiled.blocks[0], compiled.initial_state()
+    rng = np.random.default_rng(2)
+    positions = start.positions + rng.normal(scale=2.0, size=start.positions.shape)
+    sides = np.argwhere(block.interior_side)
+    full = side_folds(block, positions)[sides[:, 0], sides[:, 1]]
+    assert np.abs(full).max() > 0.5  # folds of a size
+    assert np.abs(watched_folds(block, positions, sides) - full).max() <= 1e-12
