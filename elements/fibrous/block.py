@@ -19,6 +19,7 @@ from elements.fibrous import bending, geometry, kernels, level_jacobian, membran
 from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
+from elements.fibrous.fold_branch import branch_view, initial_branch, updated_branch
 from elements.fibrous.packed_laws import pack_laws
 from elements.fibrous.stable_steps import cell_steps
 from elements.fibrous.tangent import CornerPairs
@@ -264,12 +265,23 @@ class FibrousShellBlock(ElementBlock):
             self._sums_pairs = level_jacobian.sums_pairs(self)
         return pieces, self._sums_pairs
 
+    def initial_history(self):
+        """The folds of the reference state and no turns (fold_branch.py): each interior
+        side's fold is followed through a flat fold."""
+        return initial_branch(self)
+
+    def update_history(self, state: State, history):
+        """The folds at ``state`` with the turns of the sides that crossed pi (fold_branch.py
+        ``updated_branch``)."""
+        return None if history is None else updated_branch(self, state.positions, history)
+
     def internal_force(self, state: State, history=None):
+        block = branch_view(self, history)  # the folds past a flat fold (fold_branch.py)
         if self.compiled:  # the passes of elements/fibrous/kernels.py
-            return kernels.internal_force(self, state.positions, state.directors)
+            return kernels.internal_force(block, state.positions, state.directors)
         geo = geometry.geometry(self, state.positions, state.directors)
         force, moment = membrane.forces(self, geo, membrane.strains(self, geo))
-        force = force + bending.forces(self, state.positions, geo)
+        force = force + bending.forces(block, state.positions, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
     def internal_force_and_energy(self, state: State, history=None):
@@ -279,7 +291,7 @@ class FibrousShellBlock(ElementBlock):
         same to the last bit as ``strain_energy``; the numpy path makes the two calls."""
         if self.compiled:
             force, moment, parts = kernels.internal_force_and_energy(
-                self, state.positions, state.directors
+                branch_view(self, history), state.positions, state.directors
             )
             return force, moment, float(sum(parts.values()))
         force, moment = self.internal_force(state, history)
@@ -300,17 +312,19 @@ class FibrousShellBlock(ElementBlock):
         )
         return parts
 
-    def strain_energy_parts(self, state: State) -> dict:
-        """Strain energy (N mm) of each term: {"tension", "shear", "bending"}."""
+    def strain_energy_parts(self, state: State, history=None) -> dict:
+        """Strain energy (N mm) of each term: {"tension", "shear", "bending"}; ``history``
+        the folds' turns (fold_branch.py; None: the principal branch)."""
+        block = branch_view(self, history)
         if self.compiled:
-            return kernels.strain_energy_parts(self, state.positions, state.directors)
+            return kernels.strain_energy_parts(block, state.positions, state.directors)
         geo = geometry.geometry(self, state.positions, state.directors)
         tension, shear = membrane.energies(self, membrane.strains(self, geo))
-        bend = bending.energy(self, state.positions)
+        bend = bending.energy(block, state.positions)
         return {"tension": float(tension), "shear": float(shear), "bending": float(bend)}
 
     def strain_energy(self, state: State, history=None) -> float:
-        return float(sum(self.strain_energy_parts(state).values()))
+        return float(sum(self.strain_energy_parts(state, history).values()))
 
     # The static solver may ask for the compression-free tangent of its iterates far from
     # equilibrium (femcore.compiled_tangent ``tangent_parts``, docs/theory.md §6.5).
@@ -324,13 +338,13 @@ class FibrousShellBlock(ElementBlock):
         each cell's tension + shear by central differences of its loads.
         ``compression_free``: the tension's stress terms with the fibres' strains raised to
         at least zero (tangent.py ``membrane_hessian``)."""
-        return stiffness.tangent(self, state, compression_free)
+        return stiffness.tangent(branch_view(self, history), state, compression_free)
 
     def tangent_pieces(self, state: State, history=None) -> Iterator[TangentPart]:
         """``tangent`` a slice of cells at a time (tangent_pieces.py): with nodal normals the
         whole tangent is 30 kB a triangle at its peak; a slice's pieces are made, given and
         dropped."""
-        return pieces.tangent_pieces(self, state)
+        return pieces.tangent_pieces(branch_view(self, history), state)
 
     def rotary_lever(self, state: State) -> np.ndarray:
         """How far (n,), mm, the outer fibre levels move per radian of director rotation,
@@ -431,7 +445,8 @@ class FibrousShellBlock(ElementBlock):
                 self, geometry.geometry(self, state.positions, state.directors)
             )
         warp, weft = by_family(self.xi_is_warp, strain["eps1"], strain["eps2"])
-        chi, _ = bending.curvatures(self, bending.geometry(self, state.positions))
+        block = branch_view(self, history)
+        chi, _ = bending.curvatures(block, bending.geometry(self, state.positions))
         moments = bending.moments(self, chi)
         chi_warp, chi_weft = by_family(self.xi_is_warp, chi[:, 0], chi[:, 1])
         m_warp, m_weft = by_family(self.xi_is_warp, moments[:, 0], moments[:, 1])
