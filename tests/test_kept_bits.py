@@ -26,3 +26,23 @@ def test_signed_zeros_and_nans_compare_by_their_bits():
     assert np.array_equal(zero, -zero)
     nan = np.full((2, 3), np.nan)
     assert same_bits(nan, nan.copy())
+
+
+def test_large_arrays_compare_by_their_bits_in_place_as_small_ones_do():
+    """Above SMALL entries the numbers are compared as integers of their width (no copy): a
+    copy or another layout hits, one bit of one number, a signed zero or another dtype does
+    not, a NaN holds its own bits."""
+    from elements.kept_bits import SMALL
+
+    kept = np.random.default_rng(1).normal(size=(SMALL, 3))
+    assert same_bits(kept, kept.copy())
+    assert same_bits(kept, np.asfortranarray(kept))
+    assert same_bits(kept[::2], kept[::2].copy())  # a strided view against its copy
+    moved = kept.copy()
+    moved[-1, 2] = np.nextafter(moved[-1, 2], np.inf)
+    assert not same_bits(kept, moved)
+    zero = np.zeros((SMALL, 3))
+    assert not same_bits(zero, -zero)
+    assert not same_bits(kept, kept.astype(np.float32))
+    nan = np.full((SMALL, 3), np.nan)
+    assert same_bits(nan, nan.copy())
