@@ -245,7 +245,7 @@ class CentralDifference:
         larger of the two took a forming blank past its exact critical step. ``previous``
         the step taken since the last evaluation (s; None at the start): the springs held
         until the next one are asked for STEP_GROWTH_HELD times it, and again for the step
-        if that is larger: the step is never above the last step they were asked for."""
+        if that is larger: the step is never above a step whose springs allow it."""
         if self.dt is not None:
             return self.dt
         cell_dt = model.cell_stable_dt(state)
@@ -265,8 +265,11 @@ class CentralDifference:
         # three times the slide: docs/theory.md §6.2); a step above that is asked for again.
         largest = critical if previous is None else min(critical, STEP_GROWTH_HELD * previous)
         dt = self._lowered(critical, model.penalty_frequency_squared(mass, state, largest))
-        if dt > largest:  # (springs counting the points the larger step may bring in)
-            dt = min(dt, self._lowered(critical, model.penalty_frequency_squared(mass, state, dt)))
+        if dt > largest:  # asked again (springs counting the points a longer step may bring
+            # in); where they keep it under the step asked first, that one holds (its springs
+            # bound every step up to it, and are stable at it)
+            again = self._lowered(critical, model.penalty_frequency_squared(mass, state, dt))
+            dt = max(largest, min(dt, again))
         return dt
 
     def _lowered(self, critical: float, springs: float) -> float:
