@@ -11,7 +11,10 @@ Measured (one thread, 20k triangles, 200 steps, best of 3), the end positions th
 the bit: a pass over every side after every step, 9.71 against 11.65 ms of CPU a step (1.20 x,
 load 8); the watched sides alone between passes (fold_branch.py ``WATCHED``, ``REFRESH``),
 9.81 against 10.75 ms (1.095 x, load 6.9), the update on the watched path 0.25 ms of the
-shell's 8.0-ms force at 20k triangles.
+shell's 8.0-ms force at 20k triangles; with the crossings looked for on the watched sides
+alone (not a full-size jump and its tests each step), 9.15 against 9.41 ms (1.029 x, load 3.5;
+the code before, run just before it, 1.082 x; 150 steps), 8.37 against 8.51 (1.017 x, load
+1.7).
 
     python benchmarks/fold_branch.py [--triangles 20000] [--steps 200] [--repeats 3]
 """

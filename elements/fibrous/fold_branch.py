@@ -134,24 +134,28 @@ def updated_branch(
         if branch.positions is None
         else float(np.abs(positions[nodes] - branch.positions).max(initial=0.0))
     )
-    watched: np.ndarray | None
     if moved > REFRESH * height:
         fold = side_folds(block, positions)
         jump = fold - branch.fold
-        watched = np.argwhere(np.abs(fold) > WATCHED)
-        kept = positions[nodes].copy()
-    else:
-        watched, kept = branch.watched, branch.positions
-        assert watched is not None
-        fold = branch.fold
-        jump = np.zeros_like(fold)
-        if len(watched):
-            fold = fold.copy()
-            fold[watched[:, 0], watched[:, 1]] = now = watched_folds(block, positions, watched)
-            jump[watched[:, 0], watched[:, 1]] = now - branch.fold[watched[:, 0], watched[:, 1]]
+        crossed = (jump < -np.pi).astype(float) - (jump > np.pi).astype(float)
+        turns = branch.turns + crossed if crossed.any() else branch.turns
+        return FoldBranch(fold, turns, positions[nodes].copy(), np.argwhere(np.abs(fold) > WATCHED))
+    watched = branch.watched
+    assert watched is not None
+    if not len(watched):
+        return FoldBranch(branch.fold, branch.turns, branch.positions, watched)
+    # the watched sides alone (each once: argwhere's rows), the other folds as they were
+    cell, side = watched[:, 0], watched[:, 1]
+    now = watched_folds(block, positions, watched)
+    jump = now - branch.fold[cell, side]
     crossed = (jump < -np.pi).astype(float) - (jump > np.pi).astype(float)
-    turns = branch.turns + crossed if crossed.any() else branch.turns
-    return FoldBranch(fold, turns, kept, watched)
+    fold = branch.fold.copy()
+    fold[cell, side] = now
+    turns = branch.turns
+    if crossed.any():
+        turns = turns.copy()
+        turns[cell, side] += crossed
+    return FoldBranch(fold, turns, branch.positions, watched)
 
 
 def _longest_sides(block: FibrousShellBlock) -> np.ndarray:
