@@ -467,21 +467,10 @@ class FreeTangentAssembler:
         """Per part, each entry's place in K_ff's and K_fp's data (-1: in neither), in the
         part's order (cell, row node, a, column node, c) of its raveled blocks; made at first
         use after each build (the numpy assembly's bincounts use them)."""
-        found = tangent_pattern.Pattern(
-            np.concatenate([pairs.ravel() for pairs in self._pairs] + [np.zeros(0, np.int64)]),
-            self.ff_indptr,
-            self.ff_rows,
-            self._tables[0],
-            self.fp_indptr,
-            self.fp_rows,
-            self.fp_cols,
-            self._tables[1],
-        )
-        destinations, start = [], 0
-        for m, p, c in self._shapes:
-            destinations.append(tangent_pattern.part_destinations(found, start, (m, p, c)))
-            start += m * p * p
-        return destinations
+        return [
+            tangent_pattern.part_destinations(pairs, *self._tables, c)
+            for pairs, (_, _, c) in zip(self._pairs, self._shapes)
+        ]
 
     @functools.cached_property
     def _flat_map(self) -> tuple[np.ndarray, ...]:

@@ -293,16 +293,16 @@ def pattern(
 
 
 def part_destinations(
-    found: Pattern, start: int, shape: tuple[int, int, int]
+    pairs: np.ndarray, ff_table: np.ndarray, fp_table: np.ndarray, c: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each entry's place in K_ff's and K_fp's data (-1: not in that matrix) of a part whose
-    pairs are ``found.inverse[start : start + m p p]`` in (cell, row node, column node) order,
-    ``shape`` (m, p, c) its cells, nodes a cell and components; the entries in the order
-    (cell, row node, a, column node, c) of the part's raveled blocks (the compiled assembly
-    reads the tables through the pairs instead: femcore.assembly)."""
-    m, p, c = shape
+    node pairs are ``pairs`` (m, p, p) (rows of ``Pattern.inverse``, in (cell, row node,
+    column node) order) and whose blocks have ``c`` components, ``*_table`` the Pattern's;
+    the entries in the order (cell, row node, a, column node, c) of the part's raveled blocks
+    (the compiled assembly reads the tables through the pairs instead: femcore.assembly)."""
+    m, p, _ = pairs.shape
     components = np.arange(c)
-    at = found.inverse[start : start + m * p * p].reshape(m, p, 1, p, 1)
+    at = pairs.reshape(m, p, 1, p, 1)
     a, b = components.reshape(1, 1, c, 1, 1), components.reshape(1, 1, 1, 1, c)
     flat = (at * N_COLUMNS**2 + (a * N_COLUMNS + b)).ravel()  # one index, two gathers
-    return found.ff_table.take(flat), found.fp_table.take(flat)
+    return ff_table.take(flat), fp_table.take(flat)
