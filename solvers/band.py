@@ -178,7 +178,6 @@ def _solve(band: np.ndarray, reaches: np.ndarray, rhs: np.ndarray) -> np.ndarray
     return x
 
 
-# numba is a dependency; without it the band path is not taken (``AVAILABLE``)
 def _closure(indptr: np.ndarray, indices: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """The CSR pattern (indptr, indices) of U + U^T for an upper triangle U in CSC with sorted
     indices (every row's columns come out sorted and once: row r takes column r's rows, then
@@ -246,6 +245,7 @@ def _layout(
 
 _closure_compiled: Any = None
 _layout_compiled: Any = None
+# numba is a dependency; without it the band path is not taken (``AVAILABLE``)
 if kernel_cache.AVAILABLE:
     _closure_compiled = kernel_cache.njit(_closure)
     _layout_compiled = kernel_cache.njit(_layout)
