@@ -123,11 +123,20 @@ def behind(block: PlyContactBlock, state: State, facing: Facing, last: PlySides)
     return (gap < 0.0) & ((last.sides == BEHIND) | entered)
 
 
-def sides_at(block: PlyContactBlock, state: State, facing: Facing, last: PlySides) -> PlySides:
+def sides_at(
+    block: PlyContactBlock,
+    state: State,
+    facing: Facing,
+    last: PlySides,
+    off: np.ndarray | None = None,
+) -> PlySides:
     """Each point's side at ``state`` (``facing`` there), accepted, from its sides ``last`` at
-    the last accepted state, with the faces at ``state``."""
+    the last accepted state, with the faces at ``state``; ``off`` the points ``behind`` keeps
+    off there, where already known."""
+    if off is None:
+        off = behind(block, state, facing, last)
     sides = facing.touching.astype(np.int8)  # TOUCHING 1 where touching, else CLEAR 0
-    sides[behind(block, state, facing, last)] = BEHIND
+    sides[off] = BEHIND
     faces, corners = block._faces(state)
     return PlySides(sides, faces, corners)
 
@@ -182,10 +191,9 @@ def accepted_sides(block: PlyContactBlock, state: State, history: Any) -> tuple[
     # held_facing's flags at this facing and these sides (None where it found the facing
     # kept from a commit at this state: then made again)
     off = kept[3] if kept[3] is not None else behind(block, state, kept[0], last)
-    sides = facing.touching.astype(np.int8)  # TOUCHING 1 where touching, else CLEAR 0
-    sides[off] = BEHIND
-    faces, corners = block._faces(state)
-    accepted = PlySides(sides, faces, corners)
+    # (the held facing's touching points are the raw facing's less those kept off: the sides
+    # are the same from either)
+    accepted = sides_at(block, state, facing, last, off)
     block._held_at = (kept[0], accepted, facing, None)
     return facing, accepted
 
