@@ -340,8 +340,7 @@ class CompiledModel(CompiledTangent):
         the lumped masses the solver uses, t; ``step`` the largest step the solver may take
         until the next evaluation, s (solvers/explicit.py: the elements' critical step at the
         start, then 1.25 times the step taken, or the step if larger, at most the critical
-        one; None: unknown, each
-        interaction's own guess). 0 without springs."""
+        one; None: unknown, each interaction's own guess). 0 without springs."""
         if step is not None and not (np.isfinite(step) and step > 0.0):
             raise ValueError(f"the step until the next evaluation must be > 0 s, got {step}")
         total = np.zeros(len(mass))
