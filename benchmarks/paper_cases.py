@@ -138,9 +138,8 @@ from elements.base import local_tangent, stacked_local_tangent  # noqa: E402
 from elements.fibrous import kernels  # noqa: E402
 from elements.fibrous.tangent import membrane_loads  # noqa: E402
 from femcore.rotation import rotate_about  # noqa: E402
-from validation import specimens  # noqa: E402
 from validation.paper.case import solve  # noqa: E402
-from validation.paper.kinematics import ELEMENT, FIBROUS_THICKNESS, KINEMATICS  # noqa: E402
+from validation.paper.kinematics import KINEMATICS  # noqa: E402
 from validation.paper.orders import ORDER_KINEMATICS  # noqa: E402
 
 MODULES = {
@@ -157,15 +156,7 @@ def spec_of(name: str):
 
 
 def build(spec, kinematics: str, cells: int):
-    specimen = spec.make_specimen(cells)
-    return specimens.build(
-        specimen,
-        ELEMENT[kinematics],
-        spec.fabric,
-        spec.displacement,
-        spec.calibration,
-        thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
-    )
+    return spec.model(spec.make_specimen(cells), kinematics)
 
 
 def best(function, rounds: int) -> float:

@@ -32,9 +32,7 @@ import importlib
 import os
 import time
 
-from validation import specimens
 from validation.paper import ORDER_KINEMATICS, solve
-from validation.paper.kinematics import ELEMENT, FIBROUS_THICKNESS
 from validation.paper.orders import order_quantities
 from validation.paper.profiles import side_data
 
@@ -56,14 +54,7 @@ def measure(name: str, resolution: str, counts: list[int]) -> None:
         for kinematics in ORDER_KINEMATICS:
             reference = None
             for increments in [spec.increments, *counts]:
-                model = specimens.build(
-                    specimen,
-                    ELEMENT[kinematics],
-                    spec.fabric,
-                    spec.displacement,
-                    spec.calibration,
-                    thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
-                )
+                model = spec.model(specimen, kinematics)
                 started = time.process_time()
                 result, note, _ = solve(model, increments)
                 cpu = time.process_time() - started

@@ -126,6 +126,18 @@ class PaperCase:
                     f"resolution's own ({self.cells[resolution]}) among them, got {sequence}"
                 )
 
+    def model(self, specimen, kinematics: str) -> Model:
+        """The model of ``kinematics`` (a key of ELEMENT) on ``specimen`` (``make_specimen``'s)
+        with the case's fabric, displacement and calibration (validation/specimens.py)."""
+        return specimens.build(
+            specimen,
+            ELEMENT[kinematics],
+            self.fabric,
+            self.displacement,
+            self.calibration,
+            thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
+        )
+
     def case(self, *, source: str, description: str, order: int) -> Case:
         """The ``Case`` record of the module (group "paper"): the three kinematics.
 
@@ -285,14 +297,7 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
     elements: dict[str, ElementRun] = {}
     results: dict[str, Any] = {}
     for kinematics in KINEMATICS:
-        model = specimens.build(
-            specimen,
-            ELEMENT[kinematics],
-            case.fabric,
-            case.displacement,
-            case.calibration,
-            thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
-        )
+        model = case.model(specimen, kinematics)
         result, note, wall = solve(model, case.increments)
         results[kinematics] = result
         elements[kinematics] = ElementRun(
@@ -374,14 +379,7 @@ def refinement_orders(
             continue
         other = case.make_specimen(cells)
         for kinematics in ORDER_KINEMATICS:
-            model = specimens.build(
-                other,
-                ELEMENT[kinematics],
-                case.fabric,
-                case.displacement,
-                case.calibration,
-                thickness=FIBROUS_THICKNESS.get(kinematics, "nodal"),
-            )
+            model = case.model(other, kinematics)
             increments = case.increments if case.order_increments is None else case.order_increments
             result, _, wall = solve(model, increments)
             sides = side_data(result, other, kinematics, h)
