@@ -30,25 +30,18 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import numpy as np  # noqa: E402
+from shell_sheet import pinned_sheet  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
 from elements.fibrous.block import FibrousShellBlock  # noqa: E402
-from femcore import Mesh, Model  # noqa: E402
 from materials import presets  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
-
-GRAVITY = (0.0, 0.0, -9810.0)  # mm/s^2
 
 
 def run(triangles: int, steps: int, followed: bool) -> tuple[float, np.ndarray]:
     """(CPU seconds per step, the end positions) of ``steps`` explicit steps on the sheet,
     with the folds followed or not."""
-    n = max(2, round(math.sqrt(triangles / 2)))
-    model = Model(Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n))
-    model.add(FibrousShell(presets.g986_stack()))
-    for edge in ("left", "right", "bottom", "top"):
-        model.fix(edge, ["ux", "uy", "uz"])
-    model.gravity(GRAVITY)
+    model = pinned_sheet(FibrousShell(presets.g986_stack()), triangles)
     kept = FibrousShellBlock.initial_history
     if not followed:
         FibrousShellBlock.initial_history = lambda self: None  # type: ignore[method-assign]
