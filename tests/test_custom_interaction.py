@@ -47,6 +47,7 @@ class PlaneContact(Interaction):
     """
 
     dofs = ("ux", "uy", "uz")
+    block_class: type["PlaneContactBlock"]  # (set below it; the floors below bind their own)
 
     def __init__(self, node_set, stiffness: float, normal=(0.0, 0.0, 1.0)):
         self.node_set, self.stiffness = node_set, stiffness
@@ -54,7 +55,7 @@ class PlaneContact(Interaction):
 
     def bind(self, body: Body) -> "PlaneContactBlock":
         nodes = body.mesh.nodes(self.node_set) if isinstance(self.node_set, str) else self.node_set
-        return PlaneContactBlock(np.asarray(nodes), self.stiffness, self.normal, body.n_nodes)
+        return self.block_class(np.asarray(nodes), self.stiffness, self.normal, body.n_nodes)
 
 
 class PlaneContactBlock(InteractionBlock):
@@ -103,6 +104,9 @@ class PlaneContactBlock(InteractionBlock):
         if history is not None:
             deepest[self.connectivity[:, 0]] = history
         return {"deepest_penetration": deepest}
+
+
+PlaneContact.block_class = PlaneContactBlock
 
 
 class SpringTie(Interaction):
@@ -347,11 +351,7 @@ class OldProtocolFloorBlock(PlaneContactBlock):
 
 
 class OldProtocolFloor(PlaneContact):
-    def bind(self, body: Body) -> "PlaneContactBlock":
-        block = super().bind(body)
-        old = OldProtocolFloorBlock.__new__(OldProtocolFloorBlock)
-        old.__dict__.update(block.__dict__)
-        return old
+    block_class = OldProtocolFloorBlock
 
 
 def test_an_interaction_answering_springs_at_the_state_alone_still_runs_explicit():
@@ -387,13 +387,13 @@ class SteppedFloor(PlaneContact):
         super().__init__(node_set, stiffness)
         self.law = law
 
+    block_class = SteppedFloorBlock
+
     def bind(self, body: Body) -> "PlaneContactBlock":
         block = super().bind(body)
-        noted = SteppedFloorBlock.__new__(SteppedFloorBlock)
-        noted.__dict__.update(block.__dict__)
-        noted.asked, noted.law = [], self.law
-        self.block = noted
-        return noted
+        block.asked, block.law = [], self.law
+        self.block = block
+        return block
 
 
 def _asked_and_taken(law, height=0.0, duration=0.01):
