@@ -217,3 +217,11 @@ def test_a_paper_case_refuses_order_increments_that_are_not_a_count(bad):
 
     with pytest.raises(ValueError, match="order_increments must be a whole number >= 1"):
         replace(bai_6_2_1.SPEC, order_increments=bad)
+
+
+def test_a_paper_case_takes_a_numpy_integer_as_its_order_increments():
+    from dataclasses import replace
+
+    from validation.cases import bai_6_2_1
+
+    assert replace(bai_6_2_1.SPEC, order_increments=np.int64(5)).order_increments == 5

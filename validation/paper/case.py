@@ -111,7 +111,8 @@ class PaperCase:
 
     def __post_init__(self) -> None:
         if self.order_increments is not None and not (
-            isinstance(self.order_increments, int)
+            # numpy's integers are counts too (an arange of a sweep gives them)
+            isinstance(self.order_increments, (int, np.integer))
             and not isinstance(self.order_increments, bool)
             and self.order_increments >= 1
         ):
