@@ -1,0 +1,283 @@
+"""What a large shell model costs to build and hold: peak memory and seconds, stage by stage.
+
+For each shell (the Mindlin shell, aluminium h = 1 mm; the fibrous shell, G986 stack) and each
+size, in a fresh process of its own (one numba thread), on the pinned square sheet of
+``shell_sheet.py`` (5 mm cells, under gravity):
+
+* the baseline: the process's resident memory and peak (``resource.getrusage``'s
+  ``ru_maxrss``) after the imports and a 200-triangle sheet built and stepped (the compiled
+  loops loaded from numba's cache, so that neither the loading nor the compiling is counted
+  as the model's);
+* the mesh's generation, apart (wall and CPU seconds, resident memory it added);
+* ``Model.compile`` split by stage (wall and CPU seconds; the process's peak above the
+  baseline at the end of each stage, kB per triangle): the triangle checks, the DOF numbering
+  (``DofManager``), the reference directors (nodal normals), the median edge, the element
+  block's set-up (``bind``), its checks, its supports, the lumped mass, the rest;
+* the solver's state and a few explicit steps, twice: ``CentralDifference`` with a given step
+  (0.9 x the cells' stable step), then with the solver's own (the cells' bound and the
+  assembled Gershgorin bound, femcore/gershgorin.py), each split into its start (initial
+  state, lumped mass, the stable step, the first frame) and its steps;
+* the peak of the whole process above the baseline, kB per triangle (what issue 30 bounds by
+  2 kB a triangle), and the whole peak with the interpreter's.
+
+The stages are timed by wrapping the functions ``CompiledModel`` and ``CentralDifference``
+call (in the child process only); "rest" is what the wrapped calls leave of the whole.
+
+Run from the project root (one 400k case at a time; about 1 GB at 400k triangles):
+
+    python benchmarks/model_memory.py
+    python benchmarks/model_memory.py --elements mindlin --sizes 400000 --steps 10
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import gc
+import math
+import os
+import resource
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+
+from fresh_process import fresh_output  # noqa: E402
+from shell_sheet import GRAVITY  # noqa: E402
+
+ALUMINIUM = dict(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)  # MPa, mm, t/mm^3
+
+
+def element(name: str):
+    """A fresh element of the benchmark's kind (compiled kernels)."""
+    if name == "mindlin":
+        from elements import MindlinShell
+        from materials import ElasticShell
+
+        return MindlinShell(ElasticShell(**ALUMINIUM))
+    from elements import FibrousShell
+    from materials import presets
+
+    return FibrousShell(presets.g986_stack())
+
+
+def resident_mb() -> float:
+    """The process's resident memory now, MB (Linux /proc)."""
+    with open("/proc/self/statm") as statm:
+        pages = int(statm.read().split()[1])
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def kernel_side() -> tuple[float, float]:
+    """(system CPU seconds, minor page faults) of this process so far: the kernel's share of
+    the CPU time, most of it the first touch of newly allocated memory."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_stime, float(usage.ru_minflt)
+
+
+def peak_mb() -> float:
+    """The process's peak resident memory so far, MB (Linux reports kB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+class Stages:
+    """Seconds and memory of named stages, in the order they ended: each wrapped call adds its
+    wall and CPU seconds to its stage (``prefix`` + name) and records the process's peak and
+    resident memory when it returns."""
+
+    def __init__(self):
+        self.rows: dict[str, list[float]] = {}
+        self.prefix = ""
+        self._depth = 0
+
+    def wrap(self, name: str, function):
+        """``function`` timed as the stage ``name`` (an inner wrapped call inside another is
+        counted in the outer one only)."""
+
+        @functools.wraps(function)
+        def timed(*args, **kwargs):
+            if self._depth:
+                return function(*args, **kwargs)
+            self._depth += 1
+            wall, cpu, system = time.perf_counter(), time.process_time(), kernel_side()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self._depth -= 1
+                self.add(
+                    name,
+                    time.perf_counter() - wall,
+                    time.process_time() - cpu,
+                    *(b - a for a, b in zip(system, kernel_side())),
+                )
+
+        return timed
+
+    def add(
+        self, name: str, wall: float, cpu: float, system: float = 0.0, faults: float = 0.0
+    ) -> None:
+        row = self.rows.setdefault(self.prefix + name, [0.0] * 6)
+        row[0] += wall
+        row[1] += cpu
+        row[2], row[3] = peak_mb(), resident_mb()
+        row[4] += system
+        row[5] += faults
+
+    def whole(self, call):
+        """``call()`` timed as the stage "whole" and what its wrapped stages leave of it as
+        "rest"; returns what it returns."""
+        before = {key: list(row) for key, row in self.rows.items()}
+        wall, cpu, system = time.perf_counter(), time.process_time(), kernel_side()
+        result = call()
+        spent = [
+            time.perf_counter() - wall,
+            time.process_time() - cpu,
+            *(b - a for a, b in zip(system, kernel_side())),
+        ]
+        inner = [0.0] * 4
+        for key, row in self.rows.items():
+            if key.startswith(self.prefix):
+                old = before.get(key, [0.0] * 6)
+                for i, column in enumerate((0, 1, 4, 5)):
+                    inner[i] += row[column] - old[column]
+        self.add("rest", *(a - b for a, b in zip(spent, inner)))
+        self.add("whole", *spent)
+        return result
+
+    def patch(self, owner, attribute: str, name: str) -> None:
+        setattr(owner, attribute, self.wrap(name, getattr(owner, attribute)))
+
+
+def pinned_sheet(name: str, mesh):
+    from femcore import Model
+
+    model = Model(mesh)
+    model.add(element(name))
+    for edge in ("left", "right", "bottom", "top"):
+        model.fix(edge, ["ux", "uy", "uz"])
+    model.gravity(GRAVITY)
+    return model
+
+
+def sheet_mesh(triangles: int):
+    from femcore import Mesh
+
+    n = max(2, round(math.sqrt(triangles / 2)))
+    return Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
+
+
+def _case_child(name: str, triangles: int, steps: int) -> None:
+    """One case in its fresh process: prints a line ``stage|wall|cpu|peak|resident|system|
+    faults`` per stage (seconds, MB, faults), then ``baseline|...`` and ``cells|...``."""
+    import femcore.compiled as compiled_module
+    from femcore.compiled import CompiledModel
+    from solvers import CentralDifference
+
+    def explicit(compiled, given: bool):
+        """``steps`` steps of 0.9 x the cells' stable step, given (or the solver's own)."""
+        cells = 0.9 * compiled.stable_dt(compiled.initial_state())
+        duration = steps * cells
+        solver = CentralDifference(
+            duration=duration, dt=cells if given else None, output_interval=duration,
+            progress=False,
+        )  # fmt: skip
+        return solver.solve(compiled)
+
+    small = pinned_sheet(name, sheet_mesh(200)).compile()  # the loops loaded or compiled
+    explicit(small, True)
+    explicit(small, False)
+    del small
+    gc.collect()
+    baseline = (peak_mb(), resident_mb())
+
+    stages = Stages()
+    for function, label in (
+        ("check_triangles", "triangle checks"),
+        ("DofManager", "DOF numbering"),
+        ("nodal_normals", "directors"),
+        ("median_edge", "median edge"),
+        ("check_block", "block checks"),
+    ):
+        stages.patch(compiled_module, function, label)
+    stages.patch(CompiledModel, "_element_lumped_mass", "lumped mass")
+    stages.patch(CompiledModel, "initial_state", "initial state")
+    stages.patch(CompiledModel, "strain_energy", "strain energy")
+    stages.patch(CompiledModel, "cell_stable_dt", "cells' stable step")
+    stages.patch(CompiledModel, "assembled_stable_dt", "assembled stable step")
+    stages.patch(CentralDifference, "_march", "steps")
+
+    stages.prefix = "mesh: "
+    mesh = stages.wrap("generation", sheet_mesh)(triangles)
+    model = pinned_sheet(name, mesh)
+    shell = model.blocks[0].element
+    bind = shell.bind
+
+    def bound(*args):
+        block = bind(*args)
+        stages.patch(block, "apply_supports", "block supports")
+        return block
+
+    object.__setattr__(shell, "bind", stages.wrap("block set-up (bind)", bound))
+    stages.prefix = "compile: "
+    compiled = stages.whole(model.compile)
+
+    for label, given in (("run, given dt: ", True), ("run, own dt: ", False)):
+        stages.prefix = label
+        stages.whole(lambda given=given: explicit(compiled, given))
+    for key, row in stages.rows.items():
+        print("|".join([key, *map(str, row)]))
+    print(f"baseline|0|0|{baseline[0]}|{baseline[1]}|0|0")
+    print(f"cells|{len(mesh.triangles)}|{mesh.n_nodes}|0|0|0|0")
+
+
+def case(name: str, triangles: int, steps: int) -> None:
+    """Run one case in a fresh process and print its table."""
+    out = fresh_output("model_memory", f"_case_child({name!r}, {triangles}, {steps})")
+    rows = {}
+    for line in out.strip().splitlines():
+        key, *values = line.split("|")
+        rows[key] = [float(v) for v in values]
+    cells, nodes = int(rows["cells"][0]), int(rows["cells"][1])
+    base_peak, base_resident = rows.pop("baseline")[2:4]
+    del rows["cells"]
+    per = 1024.0 / cells  # MB -> kB per triangle
+    print(
+        f"\n{name}, {cells} triangles, {nodes} nodes, {steps} steps a run; baseline after "
+        f"the imports and the loops: peak {base_peak:.0f} MB, resident {base_resident:.0f} MB; "
+        f"load {os.getloadavg()[0]:.2f}"
+    )
+    print(
+        f"  {'stage':<34} {'wall s':>7} {'CPU s':>7} {'of it sys':>9} {'faults':>8} "
+        f"{'peak-base MB':>12} {'kB/tri':>7} {'resident-base MB':>16} {'kB/tri':>7}"
+    )
+    for key, (wall, cpu, peak, resident, system, faults) in rows.items():
+        print(
+            f"  {key:<34} {wall:7.3f} {cpu:7.3f} {system:9.3f} {faults:8.0f} "
+            f"{peak - base_peak:12.0f} {(peak - base_peak) * per:7.3f} "
+            f"{resident - base_resident:16.0f} {(resident - base_resident) * per:7.3f}"
+        )
+    final = max(row[2] for row in rows.values())
+    print(
+        f"  whole process: peak {final - base_peak:.0f} MB above the baseline "
+        f"({(final - base_peak) * per:.3f} kB per triangle), {final:.0f} MB with the "
+        f"interpreter's ({final * per:.3f} kB per triangle)",
+        flush=True,
+    )
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--elements", default="mindlin,fibrous")
+    parser.add_argument("--sizes", default="100000,400000")
+    parser.add_argument("--steps", type=int, default=10)
+    args = parser.parse_args(argv)
+    for name in args.elements.split(","):
+        if name not in ("mindlin", "fibrous"):
+            raise ValueError(f"--elements takes mindlin and fibrous, got {name!r}")
+        for size in [int(s) for s in args.sizes.split(",")]:
+            case(name, size, args.steps)
+
+
+if __name__ == "__main__":
+    main()
