@@ -32,6 +32,7 @@ Run from the project root (one 400k case at a time; about 1 GB at 400k triangles
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import gc
 import math
@@ -167,10 +168,14 @@ def sheet_mesh(triangles: int):
     return Mesh.rectangle(5.0 * n, 5.0 * n, nx=n, ny=n)
 
 
-def _case_child(name: str, triangles: int, steps: int) -> None:
+def _case_child(name: str, triangles: int, steps: int, huge_pages: bool = False) -> None:
     """One case in its fresh process: prints a line ``stage|wall|cpu|peak|resident|system|
-    faults`` per stage (seconds, MB, faults), then ``baseline|...`` and ``cells|...``."""
+    faults`` per stage (seconds, MB, faults), then ``baseline|...`` and ``cells|...``.
+    ``huge_pages``: the build and the assembled bound with numpy's own advice of huge pages
+    (the reference pass: as before femcore.memory.small_pages)."""
     import femcore.compiled as compiled_module
+    import femcore.compiled_tangent
+    import femcore.model
     from femcore.compiled import CompiledModel
     from solvers import CentralDifference
 
@@ -184,6 +189,8 @@ def _case_child(name: str, triangles: int, steps: int) -> None:
         )  # fmt: skip
         return solver.solve(compiled)
 
+    if huge_pages:
+        femcore.model.small_pages = femcore.compiled_tangent.small_pages = contextlib.nullcontext
     small = pinned_sheet(name, sheet_mesh(200)).compile()  # the loops loaded or compiled
     explicit(small, True)
     explicit(small, False)
@@ -231,9 +238,9 @@ def _case_child(name: str, triangles: int, steps: int) -> None:
     print(f"cells|{len(mesh.triangles)}|{mesh.n_nodes}|0|0|0|0")
 
 
-def case(name: str, triangles: int, steps: int) -> None:
+def case(name: str, triangles: int, steps: int, huge_pages: bool = False) -> None:
     """Run one case in a fresh process and print its table."""
-    out = fresh_output("model_memory", f"_case_child({name!r}, {triangles}, {steps})")
+    out = fresh_output("model_memory", f"_case_child({name!r}, {triangles}, {steps}, {huge_pages})")
     rows = {}
     for line in out.strip().splitlines():
         key, *values = line.split("|")
@@ -243,7 +250,8 @@ def case(name: str, triangles: int, steps: int) -> None:
     del rows["cells"]
     per = 1024.0 / cells  # MB -> kB per triangle
     print(
-        f"\n{name}, {cells} triangles, {nodes} nodes, {steps} steps a run; baseline after "
+        f"\n{name}{' (huge pages: the reference pass)' if huge_pages else ''}, {cells} "
+        f"triangles, {nodes} nodes, {steps} steps a run; baseline after "
         f"the imports and the loops: peak {base_peak:.0f} MB, resident {base_resident:.0f} MB; "
         f"load {os.getloadavg()[0]:.2f}"
     )
@@ -271,11 +279,19 @@ def main(argv=None) -> None:
     parser.add_argument("--elements", default="mindlin,fibrous")
     parser.add_argument("--sizes", default="100000,400000")
     parser.add_argument("--steps", type=int, default=10)
+    parser.add_argument(
+        "--reference",
+        action="store_true",
+        help="each case also with numpy's advice of huge pages kept in the build and the "
+        "assembled bound (as before femcore.memory.small_pages), in turns",
+    )
     args = parser.parse_args(argv)
     for name in args.elements.split(","):
         if name not in ("mindlin", "fibrous"):
             raise ValueError(f"--elements takes mindlin and fibrous, got {name!r}")
         for size in [int(s) for s in args.sizes.split(",")]:
+            if args.reference:
+                case(name, size, args.steps, huge_pages=True)
             case(name, size, args.steps)
 
 

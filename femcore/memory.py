@@ -15,11 +15,19 @@ mesh or a model that is refused would certainly not have fitted:
 - a static solve (the model, the sparse tangent and its factorisation; peak resident memory
   of one Static increment on 3200 to 20000 triangles): 39 kB per triangle for MindlinShell,
   128 kB for FibrousShell (its bending couples each node to its neighbours' neighbours).
+
+``small_pages`` holds back numpy's advice of huge pages while a model is built: a build
+touches each of its large arrays (tables and temporaries) once or twice, and the kernel
+first gives each huge page zeroed, compacting memory for it when free memory is fragmented,
+which cost a 400k-triangle Mindlin build 1.4-2.4 s of system time against 0.27-0.29 s with
+ordinary pages (its own work 0.96-1.0 s; benchmarks/model_memory.py).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 __all__ = [
@@ -30,6 +38,7 @@ __all__ = [
     "check_memory",
     "check_mesh_memory",
     "check_model_memory",
+    "small_pages",
 ]
 
 MESH_BYTES_PER_CELL = 150
@@ -183,3 +192,26 @@ def check_model_memory(
         float(n_cells) * per_cell,
         f"{what} of {n_cells} element cells (about {per_cell} bytes each)",
     )
+
+
+@contextlib.contextmanager
+def small_pages() -> Iterator[None]:
+    """Within it, numpy does not advise the kernel to back its new large arrays (4 MB and
+    more) by huge pages; its setting before is restored on leaving, whatever happens.
+
+    Meant for one-off work that touches much fresh memory a few times (a model's build, a
+    stable-step bound): there the first touch of a huge page, zeroed and often compacted for,
+    costs more than the fewer address translations save. The values computed are the same
+    to the bit (only where the memory lies changes). Without numpy's switch (an older or
+    another numpy) it does nothing.
+    """
+    try:
+        from numpy._core.multiarray import _set_madvise_hugepage  # type: ignore[attr-defined]
+    except ImportError:  # numpy without the switch: nothing to hold back
+        yield
+        return
+    previous = _set_madvise_hugepage(False)
+    try:
+        yield
+    finally:
+        _set_madvise_hugepage(previous)
