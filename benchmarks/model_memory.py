@@ -32,7 +32,6 @@ Run from the project root (one 400k case at a time; about 1 GB at 400k triangles
 from __future__ import annotations
 
 import argparse
-import contextlib
 import functools
 import gc
 import math
@@ -174,8 +173,6 @@ def _case_child(name: str, triangles: int, steps: int, huge_pages: bool = False)
     ``huge_pages``: the build and the assembled bound with numpy's own advice of huge pages
     (the reference pass: as before femcore.memory.small_pages)."""
     import femcore.compiled as compiled_module
-    import femcore.compiled_tangent
-    import femcore.model
     from femcore.compiled import CompiledModel
     from solvers import CentralDifference
 
@@ -189,8 +186,10 @@ def _case_child(name: str, triangles: int, steps: int, huge_pages: bool = False)
         )  # fmt: skip
         return solver.solve(compiled)
 
-    if huge_pages:
-        femcore.model.small_pages = femcore.compiled_tangent.small_pages = contextlib.nullcontext
+    if huge_pages:  # every femcore.memory.small_pages leaves numpy's advice as it is
+        import numpy._core.multiarray as numpy_arrays
+
+        numpy_arrays._set_madvise_hugepage = lambda enabled: numpy_arrays._get_madvise_hugepage()
     small = pinned_sheet(name, sheet_mesh(200)).compile()  # the loops loaded or compiled
     explicit(small, True)
     explicit(small, False)
