@@ -32,6 +32,7 @@ Run from the project root (one 400k case at a time; about 1 GB at 400k triangles
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import gc
 import math
@@ -273,6 +274,59 @@ def case(name: str, triangles: int, steps: int, huge_pages: bool = False) -> Non
     )
 
 
+def step_pair(name: str, triangles: int, rounds: int) -> None:
+    """Does a model built on small pages step slower? Two models of the same sheet in this
+    process, one built with numpy's advice of huge pages (the reference) and one without
+    (as ``Model.compile`` builds), ten explicit steps of each in turns (the order swapped
+    each round), CPU time: best of each, the median of the per-round ratios and the
+    positions after ten steps compared bit for bit."""
+    import numba
+    import numpy as np
+
+    import femcore.model
+    from solvers.step import LumpedMasses, explicit_step
+
+    numba.set_num_threads(1)
+    pinned_sheet(name, sheet_mesh(200)).compile()  # the loops loaded or compiled
+    small = pinned_sheet(name, sheet_mesh(triangles)).compile()
+    kept = femcore.model.small_pages
+    femcore.model.small_pages = contextlib.nullcontext  # the advice as numpy gives it
+    try:
+        huge = pinned_sheet(name, sheet_mesh(triangles)).compile()
+    finally:
+        femcore.model.small_pages = kept
+    runs = {}
+    for label, compiled in (("small", small), ("huge", huge)):
+        state = compiled.initial_state()
+        runs[label] = (
+            compiled,
+            state,
+            0.9 * compiled.stable_dt(state),
+            LumpedMasses.of(compiled, state),
+        )
+    times: dict[str, list[float]] = {"small": [], "huge": []}
+    ends = {}
+    for index in range(rounds):
+        for label in ("small", "huge") if index % 2 == 0 else ("huge", "small"):
+            compiled, state, dt, masses = runs[label]
+            started = time.process_time()
+            for _ in range(10):
+                state = explicit_step(compiled, state, dt, masses, duration=1.0).state
+            times[label].append(time.process_time() - started)
+            ends[label] = state.positions
+    cells = len(small.mesh.triangles)
+    ratio = np.array(times["small"]) / np.array(times["huge"])
+    print(
+        f"{name}, {cells} triangles, {rounds} rounds of 10 steps: best "
+        f"{1e6 * min(times['small']) / (10 * cells):.4f} us/element-step built on small pages, "
+        f"{1e6 * min(times['huge']) / (10 * cells):.4f} on huge; median ratio "
+        f"{np.median(ratio):.3f} (quartiles {np.quantile(ratio, 0.25):.3f}-"
+        f"{np.quantile(ratio, 0.75):.3f}); positions the same to the bit: "
+        f"{np.array_equal(ends['small'], ends['huge'])}; load {os.getloadavg()[0]:.2f}",
+        flush=True,
+    )
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--elements", default="mindlin,fibrous")
@@ -284,10 +338,22 @@ def main(argv=None) -> None:
         help="each case also with numpy's advice of huge pages kept in the build and the "
         "assembled bound (as before femcore.memory.small_pages), in turns",
     )
+    parser.add_argument(
+        "--step-pair",
+        type=int,
+        default=0,
+        metavar="ROUNDS",
+        help="instead: the explicit step of a model built on small pages against one built "
+        "on huge pages, in one process, ROUNDS rounds",
+    )
     args = parser.parse_args(argv)
     for name in args.elements.split(","):
         if name not in ("mindlin", "fibrous"):
             raise ValueError(f"--elements takes mindlin and fibrous, got {name!r}")
+        if args.step_pair:
+            for size in [int(s) for s in args.sizes.split(",")]:
+                step_pair(name, size, args.step_pair)
+            continue
         for size in [int(s) for s in args.sizes.split(",")]:
             if args.reference:
                 case(name, size, args.steps, huge_pages=True)
