@@ -21,12 +21,60 @@ size, in a fresh process of its own (one numba thread), on the pinned square she
   2 kB a triangle), and the whole peak with the interpreter's.
 
 The stages are timed by wrapping the functions ``CompiledModel`` and ``CentralDifference``
-call (in the child process only); "rest" is what the wrapped calls leave of the whole.
+call (in the child process only); "rest" is what the wrapped calls leave of the whole. Each
+row's peak and resident memory are those when its stage last returned; the CPU time includes
+the system's share ("of it sys"), most of it the first touch of fresh memory ("faults": minor
+page faults). ``--reference`` runs each case first as before ``femcore.memory.small_pages``
+(numpy's advice of huge pages kept in the build, the Mindlin calibration and the assembled
+bound), then as now.
+
+Measured on main 8a6e6f5 and after, the 2-core AMD EPYC machine shared with other runs (load
+7.8-10.8), ``--reference``, 10 steps a run; the build's CPU seconds (of it system), the peak
+above the baseline (kB a triangle; with the interpreter's in brackets):
+
+    case            build before        build after         peak before      peak after
+    Mindlin 100k    0.278 (0.044)       0.291 (0.066)       1.496 (3.38)     1.496 (3.39)
+    Mindlin 400k    2.845 (1.939)       1.223 (0.301)       1.368 (1.84)     1.368 (1.84)
+    fibrous 100k    0.371 (0.066)       0.407 (0.099)       2.615 (4.61)     2.622 (4.62)
+    fibrous 400k    5.236 (3.964)       1.822 (0.404)       1.501 (2.00)     1.510 (2.01)
+
+Two earlier pairs at 400k (load 8-12): Mindlin 3.42 / 2.34 -> 1.26 / 1.22 s CPU (system 2.43 /
+1.38 -> 0.29 / 0.27, ``Model.compile`` alone after the loops), fibrous 5.97 -> 1.74 (4.62 ->
+0.45). At 100k huge pages cost nothing much (the same within this machine's noise); at 400k
+the build's arrays pass glibc's largest mmap threshold (32 MB), each is mapped afresh, and
+the kernel zeroes, and compacts memory for, every huge page it gives them. The first call of
+the Mindlin cells' stable step (its calibration) 1.49-1.68 s CPU (1.24-1.41 system) -> 0.37
+(0.09-0.13). The values are the same to the bit (pages change where memory lies, not what is
+computed): ``--step-pair`` steps a model built each way in turns in one process and compares
+the positions after ten steps; the step on the small-page model is not slower (100k, 16
+rounds, load 8: Mindlin 0.990 of the other, quartiles 0.980-0.998; fibrous 12 rounds 0.995,
+0.991-0.999; the same bits).
+
+Where the peaks are: the run itself (the model's 0.86-0.91 kB a triangle resident and the
+steps' states and temporaries, 1.27-1.41 kB resident during the steps at 400k), the Mindlin
+calibration's temporaries (0.41 kB a triangle above the built model at 400k, reached once)
+and the fibrous block's bind (its reference geometry held whole, 1.45 kB a triangle peak,
+0.86 kept). The fibrous sheet with the solver's own step at 100k peaks at 2.6 kB a triangle,
+above issue 30's 2: the assembled bound's pieces (elements/fibrous/tangent_pieces.py, 4096
+cells a piece) take 70-84 MB each whatever the sheet's size (the bending blocks 10 MB, the
+halo's pair sums 10 MB, the membrane product 38 MB at its peak), 0.26 kB a triangle at 400k;
+smaller pieces would change the bound's round-off (each pair's blocks summed piece by piece),
+not done. The build: the fibrous bind 0.98 s of the 1.82 at 400k, the triangle checks 0.34.
+
+The explicit step at 400k pays the system much: the fibrous steps 4.1-4.4 s CPU for ten, 1.9-2.1
+of it system (35-39 thousand page faults); ``solvers.step.explicit_step`` alone, 30 steps,
+load 7.4-7.8: 0.403 user + 0.231 system µs an element-step (2243 faults a step, on huge
+pages), 0.405 + 0.126 with numpy's advice off (25596 faults a step) and 0.406 + 0.000 with
+glibc told to keep its memory (``MALLOC_MMAP_THRESHOLD_=1000000000
+MALLOC_TRIM_THRESHOLD_=2000000000`` in the environment, no fault); Mindlin 0.171 + 0.023. The
+step's (m, 3, 3) arrays are allocated and freed at every step and glibc hands them back to the
+kernel; at 100k none is (no fault a step). Not changed here.
 
 Run from the project root (one 400k case at a time; about 1 GB at 400k triangles):
 
     python benchmarks/model_memory.py
-    python benchmarks/model_memory.py --elements mindlin --sizes 400000 --steps 10
+    python benchmarks/model_memory.py --reference --elements mindlin --sizes 400000
+    python benchmarks/model_memory.py --step-pair 12 --sizes 100000
 """
 
 from __future__ import annotations
