@@ -54,13 +54,18 @@ bits each time).
 Where the peaks are: the run itself (the model's 0.86-0.91 kB a triangle resident and the
 steps' states and temporaries, 1.27-1.41 kB resident during the steps at 400k), the Mindlin
 calibration's temporaries (0.41 kB a triangle above the built model at 400k, reached once)
-and the fibrous block's bind (its reference geometry held whole, 1.45 kB a triangle peak,
-0.86 kept). The fibrous sheet with the solver's own step at 100k peaks at 2.6 kB a triangle,
+and, before it was formed in slices of 8192 cells (elements/fibrous/block.py
+``_reference_geometry``), the fibrous block's bind. That slicing, 400k, load 9.0-9.4: the bind
+0.980 -> 0.663 s CPU (157 -> 57 thousand page faults), the build 1.822 -> 1.429 s, the
+build's peak 1.447 -> 0.814 kB a triangle above the baseline (100k: 1.432 -> 0.797, the bind
+0.220 -> 0.168 s); the whole run's peak is now the steps' (1.43 with a given step).
+The fibrous sheet with the solver's own step at 100k peaks at 2.6 kB a triangle,
 above issue 30's 2: the assembled bound's pieces (elements/fibrous/tangent_pieces.py, 4096
 cells a piece) take 70-84 MB each whatever the sheet's size (the bending blocks 10 MB, the
 halo's pair sums 10 MB, the membrane product 38 MB at its peak), 0.26 kB a triangle at 400k;
 smaller pieces would change the bound's round-off (each pair's blocks summed piece by piece),
-not done. The build: the fibrous bind 0.98 s of the 1.82 at 400k, the triangle checks 0.34.
+not done. The build at 400k now: the fibrous bind 0.66 s of 1.43, the triangle checks 0.34;
+the Mindlin bind 0.57 of 1.22 (its compiled tables, 1.4 µs a cell).
 
 The explicit step at 400k pays the system much: the fibrous steps 4.1-4.4 s CPU for ten, 1.9-2.1
 of it system (35-39 thousand page faults); ``solvers.step.explicit_step`` alone, 30 steps,
