@@ -4,14 +4,17 @@ A mesh of 1e9 triangles, or a model of 1e7, ends in a MemoryError after minutes 
 in the machine swapping); comparing a cheap estimate with the memory the machine has left
 turns that into an immediate ValueError that gives the numbers.
 
-The figures are peaks measured with ``tracemalloc`` on fibre-aligned rectangles of 800 to
-7200 triangles (temporaries included) and rounded to the safe side of what was measured, so a
-mesh or a model that is refused would certainly not have fitted:
+The figures are peaks measured on fibre-aligned rectangles (temporaries included) and
+rounded to the safe side of what was measured, so a mesh or a model that is refused would
+certainly not have fitted:
 
 - a mesh: about 200 bytes per triangle at generation (the grid, the split into triangles,
-  the sets, the checks);
-- a model: about 8 kB per cell once compiled and one internal force evaluated
-  (FibrousShell 7.7 kB, MindlinShell 8.5 kB per triangle);
+  the sets, the checks; ``tracemalloc`` at 800 to 7200 triangles);
+- a model: about 1.4-1.6 kB per triangle above the interpreter's own memory, the process's
+  peak through the build and a few explicit steps (resident memory, 100k and 400k
+  triangles, benchmarks/model_memory.py: MindlinShell 1.37-1.50, FibrousShell 1.43-1.54;
+  small models carry more per cell, 7.7-8.5 kB by ``tracemalloc`` at 800-7200 triangles,
+  but are never near the machine's limit);
 - a static solve (the model, the sparse tangent and its factorisation; peak resident memory
   of one Static increment on 3200 to 20000 triangles): 39 kB per triangle for MindlinShell,
   128 kB for FibrousShell (its bending couples each node to its neighbours' neighbours).
@@ -45,9 +48,10 @@ MESH_BYTES_PER_CELL = 150
 """Bytes per cell of a mesh being built (measured about 200 per triangle; the lower figure
 keeps the refusal certain)."""
 
-MODEL_BYTES_PER_CELL = 6_000
-"""Bytes per cell of a compiled model with one force evaluation (measured 7.7-8.5 kB per
-triangle for the shells; the lower figure keeps the refusal certain)."""
+MODEL_BYTES_PER_CELL = 1_200
+"""Bytes per cell of a compiled model and its explicit steps (measured 1.37-1.54 kB per
+triangle at 100k and 400k triangles; the lower figure keeps the refusal certain: the 6 kB
+once used refused a 400k-triangle model on a machine with 2 GB free, which it fits in)."""
 
 STATIC_BYTES_PER_CELL = 30_000
 """Bytes per cell of a static solve (measured 39-128 kB per triangle; the lower figure keeps
