@@ -38,6 +38,10 @@ above the baseline (kB a triangle; with the interpreter's in brackets):
     fibrous 100k    0.371 (0.066)       0.407 (0.099)       2.615 (4.61)     2.622 (4.62)
     fibrous 400k    5.236 (3.964)       1.822 (0.404)       1.501 (2.00)     1.510 (2.01)
 
+With every change of this series (the fibrous bind in slices too), ``--reference`` once more,
+load 4.7-9.4, build CPU s before -> after (peak above the baseline, kB a triangle, after):
+Mindlin 100k 0.796 -> 0.297 (1.496), 400k 2.379 -> 1.245 (1.368); fibrous 100k 0.357 ->
+0.360 (2.585 with the solver's own step, its assembled bound), 400k 2.953 -> 1.631 (1.518).
 Two earlier pairs at 400k (load 8-12): Mindlin 3.42 / 2.34 -> 1.26 / 1.22 s CPU (system 2.43 /
 1.38 -> 0.29 / 0.27, ``Model.compile`` alone after the loops), fibrous 5.97 -> 1.74 (4.62 ->
 0.45). At 100k huge pages cost nothing much (the same within this machine's noise); at 400k
