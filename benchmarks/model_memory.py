@@ -39,7 +39,8 @@ above the baseline (kB a triangle; with the interpreter's in brackets):
     fibrous 400k    5.236 (3.964)       1.822 (0.404)       1.501 (2.00)     1.510 (2.01)
 
 With every change of this series (the fibrous bind in slices too), ``--reference`` once more,
-load 4.7-9.4, build CPU s before -> after (peak above the baseline, kB a triangle, after):
+load 4.7-9.4, build CPU s with numpy's advice kept -> held back (peak above the baseline, kB a
+triangle, held back):
 Mindlin 100k 0.796 -> 0.297 (1.496), 400k 2.379 -> 1.245 (1.368); fibrous 100k 0.357 ->
 0.360 (2.585 with the solver's own step, its assembled bound), 400k 2.953 -> 1.631 (1.518).
 Two earlier pairs at 400k (load 8-12): Mindlin 3.42 / 2.34 -> 1.26 / 1.22 s CPU (system 2.43 /
