@@ -269,7 +269,9 @@ EPYC machine shared with other busy runs (load 8.1-9.4), ``--sizes 100000 --repe
 thread, µs of CPU an element-step: fibrous steady step 0.474 (3.0 x the reference pass, 0.158
 at that load against 0.094-0.098 quiet), force 0.388, force+energy 0.417, energy 0.290, step
 less force 0.034, checked step 0.460, commit (the fold branch) 0.096; Mindlin 0.182 (1.3 x its
-reference pass, 0.140), force 0.137, step less force 0.042. Not measured quiet this time; by
+reference pass, 0.140), force 0.137, step less force 0.042. Two more runs each (load 6.2-9.9):
+fibrous 0.480 / 0.533 (3.4 / 3.5 x the reference pass, 0.141 / 0.152), force 0.370 / 0.442;
+Mindlin 0.197 / 0.169 (1.4 / 1.2 x, 0.139 / 0.139). Not measured quiet this time; by
 the reference pass's own slowdown at that load (1.6-1.7 x and 1.4-1.5 x) about 0.29 and 0.125
 quiet, against the issue's 0.35 and 0.15 (an estimate, not a measurement). The build in this
 script's process (the loops already loaded): fibrous 0.40 s CPU, Mindlin 0.28 s at 100k;
