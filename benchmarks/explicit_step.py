@@ -263,6 +263,20 @@ runs and reference pass in one process, not the model's own, below); ``--element
 400000`` on the same code (load 7.8-8.0, the test suite beside it): fibrous 2.03 s CPU (10.2
 s wall), +338 MB resident; Mindlin 1.56 s CPU (4.7 s wall), +355 MB.
 
+Re-measured on main 8a6e6f5 (the fold branch kept per side, elements/fibrous/fold_branch.py)
+with the model built on small pages (femcore/memory.py; the step itself unchanged), the AMD
+EPYC machine shared with other busy runs (load 8.1-9.4), ``--sizes 100000 --repeats 3``, one
+thread, µs of CPU an element-step: fibrous steady step 0.474 (3.0 x the reference pass, 0.158
+at that load against 0.094-0.098 quiet), force 0.388, force+energy 0.417, energy 0.290, step
+less force 0.034, checked step 0.460, commit (the fold branch) 0.096; Mindlin 0.182 (1.3 x its
+reference pass, 0.140), force 0.137, step less force 0.042. Two more runs each (load 6.2-9.9):
+fibrous 0.480 / 0.533 (3.4 / 3.5 x the reference pass, 0.141 / 0.152), force 0.370 / 0.442;
+Mindlin 0.197 / 0.169 (1.4 / 1.2 x, 0.139 / 0.139). Not measured quiet this time; by
+the reference pass's own slowdown at that load (1.6-1.7 x and 1.4-1.5 x) about 0.29 and 0.125
+quiet, against the issue's 0.35 and 0.15 (an estimate, not a measurement). The build in this
+script's process (the loops already loaded): fibrous 0.40 s CPU, Mindlin 0.28 s at 100k;
+benchmarks/model_memory.py has the build and the peaks stage by stage in fresh processes.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
 (``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``

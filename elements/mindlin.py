@@ -42,6 +42,7 @@ from elements.mindlin_tangent import mindlin_tangent_blocks
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.field_names import name_components
+from femcore.memory import small_pages
 from femcore.mesh import Mesh
 from femcore.rotation import cross
 from femcore.state import State
@@ -669,10 +670,12 @@ class MindlinShellBlock(ElementBlock):
         structured mesh) share one eigenvalue problem.
         """
         if self._step_calibration is None:
-            x0, v0 = self._reference_cells()
-            first, shape_of = _congruent_cells(x0, v0)
-            omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
-            self._step_calibration = omega2 / self._cheap_omega2(x0)
+            # once, on (m, 3, 3) temporaries: ordinary pages (femcore/memory.py)
+            with small_pages():
+                x0, v0 = self._reference_cells()
+                first, shape_of = _congruent_cells(x0, v0)
+                omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
+                self._step_calibration = omega2 / self._cheap_omega2(x0)
         if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
             translational, rotational = self._cheap_terms()
             return kernels.mindlin_cell_steps(

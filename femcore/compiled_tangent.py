@@ -17,6 +17,7 @@ from femcore.compiled_checks import Part
 from femcore.dofs import DofManager, Frames
 from femcore.element import ElementBlock
 from femcore.gershgorin import gershgorin_largest
+from femcore.memory import small_pages
 from femcore.state import State
 
 __all__ = ["CompiledTangent"]
@@ -168,5 +169,7 @@ class CompiledTangent:
         maps = self.dofs.node_maps(self.dofs.frames(state.directors))
         blocks = list(zip(self.blocks, histories))
         again = lambda: itertools.chain(*(b.tangent_pieces(state, h) or () for b, h in blocks))  # noqa: E731
-        largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes, again)
+        # the pieces are made, read once and dropped: ordinary pages (femcore/memory.py)
+        with small_pages():
+            largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes, again)
         return 2.0 / np.sqrt(largest) if largest > 0.0 else None

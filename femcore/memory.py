@@ -4,22 +4,33 @@ A mesh of 1e9 triangles, or a model of 1e7, ends in a MemoryError after minutes 
 in the machine swapping); comparing a cheap estimate with the memory the machine has left
 turns that into an immediate ValueError that gives the numbers.
 
-The figures are peaks measured with ``tracemalloc`` on fibre-aligned rectangles of 800 to
-7200 triangles (temporaries included) and rounded to the safe side of what was measured, so a
-mesh or a model that is refused would certainly not have fitted:
+The figures are peaks measured on fibre-aligned rectangles (temporaries included) and
+rounded to the safe side of what was measured, so a mesh or a model that is refused would
+certainly not have fitted:
 
 - a mesh: about 200 bytes per triangle at generation (the grid, the split into triangles,
-  the sets, the checks);
-- a model: about 8 kB per cell once compiled and one internal force evaluated
-  (FibrousShell 7.7 kB, MindlinShell 8.5 kB per triangle);
+  the sets, the checks; ``tracemalloc`` at 800 to 7200 triangles);
+- a model: about 1.4-1.6 kB per triangle above the interpreter's own memory, the process's
+  peak through the build and a few explicit steps (resident memory, 100k and 400k
+  triangles, benchmarks/model_memory.py: MindlinShell 1.37-1.50, FibrousShell 1.43-1.54;
+  small models carry more per cell, 7.7-8.5 kB by ``tracemalloc`` at 800-7200 triangles,
+  but are never near the machine's limit);
 - a static solve (the model, the sparse tangent and its factorisation; peak resident memory
   of one Static increment on 3200 to 20000 triangles): 39 kB per triangle for MindlinShell,
   128 kB for FibrousShell (its bending couples each node to its neighbours' neighbours).
+
+``small_pages`` holds back numpy's advice of huge pages while a model is built: a build
+touches each of its large arrays (tables and temporaries) once or twice, and the kernel
+first gives each huge page zeroed, compacting memory for it when free memory is fragmented,
+which cost a 400k-triangle Mindlin build 1.4-2.4 s of system time against 0.27-0.29 s with
+ordinary pages (its own work 0.96-1.0 s; benchmarks/model_memory.py).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 __all__ = [
@@ -30,15 +41,17 @@ __all__ = [
     "check_memory",
     "check_mesh_memory",
     "check_model_memory",
+    "small_pages",
 ]
 
 MESH_BYTES_PER_CELL = 150
 """Bytes per cell of a mesh being built (measured about 200 per triangle; the lower figure
 keeps the refusal certain)."""
 
-MODEL_BYTES_PER_CELL = 6_000
-"""Bytes per cell of a compiled model with one force evaluation (measured 7.7-8.5 kB per
-triangle for the shells; the lower figure keeps the refusal certain)."""
+MODEL_BYTES_PER_CELL = 1_200
+"""Bytes per cell of a compiled model and its explicit steps (measured 1.37-1.54 kB per
+triangle at 100k and 400k triangles; the lower figure keeps the refusal certain: the 6 kB
+once used refused a 400k-triangle model on a machine with 2 GB free, which it fits in)."""
 
 STATIC_BYTES_PER_CELL = 30_000
 """Bytes per cell of a static solve (measured 39-128 kB per triangle; the lower figure keeps
@@ -183,3 +196,26 @@ def check_model_memory(
         float(n_cells) * per_cell,
         f"{what} of {n_cells} element cells (about {per_cell} bytes each)",
     )
+
+
+@contextlib.contextmanager
+def small_pages() -> Iterator[None]:
+    """Within it, numpy does not advise the kernel to back its new large arrays (4 MB and
+    more) by huge pages; its setting before is restored on leaving, whatever happens.
+
+    Meant for one-off work that touches much fresh memory a few times (a model's build, a
+    stable-step bound): there the first touch of a huge page, zeroed and often compacted for,
+    costs more than the fewer address translations save. The values computed are the same
+    to the bit (only where the memory lies changes). Without numpy's switch (an older or
+    another numpy) it does nothing.
+    """
+    try:
+        from numpy._core.multiarray import _set_madvise_hugepage  # type: ignore[attr-defined]
+    except ImportError:  # numpy without the switch: nothing to hold back
+        yield
+        return
+    previous = _set_madvise_hugepage(False)
+    try:
+        yield
+    finally:
+        _set_madvise_hugepage(previous)

@@ -30,6 +30,7 @@ from femcore.loads import (
     RigidNode,
     amplitude_of,
 )
+from femcore.memory import small_pages
 from femcore.mesh import CELL_KINDS, Mesh, NodePredicate
 
 __all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
@@ -492,5 +493,7 @@ class Model:
         """Bind blocks and interactions, build DOF, constraint and load arrays (cached until the
         model changes)."""
         if self._compiled is None:
-            self._compiled = CompiledModel(self)
+            # built once, its arrays touched a few times: ordinary pages (femcore/memory.py)
+            with small_pages():
+                self._compiled = CompiledModel(self)
         return self._compiled

@@ -126,7 +126,7 @@ def test_reading_a_file_too_large_for_memory_is_refused_before_building(tmp_path
 def test_a_model_too_large_for_memory_is_refused_at_compile(monkeypatch):
     model = Model(Mesh.rectangle(10.0, 10.0, 2, 2))
     model.add(FibrousShell(presets.g986_ply()))
-    monkeypatch.setattr(memory, "available_memory", lambda: 10_000)
+    monkeypatch.setattr(memory, "available_memory", lambda: 5_000)
     with pytest.raises(ValueError, match=r"a model of 8 element cells .* would need about"):
         model.compile()
 

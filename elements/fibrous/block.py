@@ -46,6 +46,9 @@ for _name in ("warp_strain", "weft_strain", "shear_angle_deg"):
 # worst case (square cells) of the exact eigenvalues of the rotation-free bending stiffness.
 _BENDING_DT_COEFFICIENT = 0.35
 
+#: Cells whose reference geometry is formed at once at bind (a few MB of temporaries).
+REFERENCE_SLICE = 8192
+
 
 class FibrousShellBlock(ElementBlock):
     """FibrousShell over mesh triangles ``cell_ids``.
@@ -146,11 +149,7 @@ class FibrousShellBlock(ElementBlock):
         # array type and compile once, supports.apply_supports)
         x0 = np.array(mesh.points, dtype=float)
         v0 = np.asarray(directors, dtype=float)
-        ref = geometry.geometry(self, x0, v0)
-        self.reference_area = 0.5 * ref["double_area"]
-        self.reference_normal = ref["normal"]
-        self.reference_length1, self.reference_length2 = membrane.fibre_lengths(self, ref)
-        self.reference_shear = self.shear_sign[:, None] * membrane.shear_angle(ref["g1"], ref["g2"])
+        self._reference_geometry(x0, v0)
         self.reference_fold = np.zeros((len(self.cell_ids), 3))
         bend0 = bending.geometry(self, x0)
         self.reference_fold = bend0["fold"]
@@ -169,6 +168,35 @@ class FibrousShellBlock(ElementBlock):
         self.max_bending_stiffness = max(
             fabric.bending.max_slope(), fabric.bending_weft.max_slope()
         )
+
+    def _reference_geometry(self, x0: np.ndarray, v0: np.ndarray) -> None:
+        """``reference_area`` (m,), ``reference_normal`` (m, 3), ``reference_length1`` and
+        ``2`` (m, L) (membrane.py ``fibre_lengths``) and ``reference_shear`` (m, L) from the
+        reference points and directors (n, 3), ``REFERENCE_SLICE`` cells at a time: every
+        quantity is a cell's own (the nodal normal sums made once beforehand), so the slices
+        give the bits of the whole, without its (m, 3, L, 3) level temporaries (0.6 kB a
+        triangle at the bind's peak)."""
+        m, levels = len(self.connectivity), len(self.zeta)
+        self.reference_area = np.empty(m)
+        self.reference_normal = np.empty((m, 3))
+        self.reference_length1 = np.empty((m, levels))
+        self.reference_length2 = np.empty((m, levels))
+        self.reference_shear = np.empty((m, levels))
+        sums = geometry.normal_sums(self, x0) if self.nodal_normals else None
+        for start in range(0, m, REFERENCE_SLICE):
+            cells = slice(start, start + REFERENCE_SLICE)
+            corners = self.connectivity[cells]
+            ref = geometry.cell_geometry(
+                self, x0[corners], v0[corners], True, None if sums is None else sums[corners]
+            )
+            self.reference_area[cells] = 0.5 * ref["double_area"]
+            self.reference_normal[cells] = ref["normal"]
+            self.reference_length1[cells], self.reference_length2[cells] = membrane.fibre_lengths(
+                self, ref
+            )
+            self.reference_shear[cells] = self.shear_sign[cells, None] * membrane.shear_angle(
+                ref["g1"], ref["g2"]
+            )
 
     def apply_supports(self, held: np.ndarray) -> None:
         """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
