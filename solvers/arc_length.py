@@ -52,8 +52,9 @@ __all__ = [
     "tangent_motion",
 ]
 
-# Iterations an arc-length increment should take: the next step length is scaled by
-# sqrt(DESIRED_ITERATIONS / iterations taken) (Crisfield), within [1/2, 2].
+# Iterations an arc-length increment should take by default (``Static(arc_iterations=...)``):
+# the next step length is scaled by sqrt(arc_iterations / iterations taken) (Crisfield),
+# within [1/2, 2].
 DESIRED_ITERATIONS = 5
 # The longest arc-length step, in lengths of the first one (4 jumped the fold of the von Mises
 # truss at 12 increments and saved nothing on bai-5.1: 19.3 s against 17.5 s).
@@ -178,8 +179,9 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         run.accept(state, load_factor)
         run.frame(count, ratio, history)
         previous = motion
-        # Crisfield's step-length rule: aim at DESIRED_ITERATIONS next time.
-        arc = motion.length * float(np.clip(np.sqrt(DESIRED_ITERATIONS / max(count, 1)), 0.5, 2.0))
+        # Crisfield's step-length rule: aim at ``arc_iterations`` next time.
+        aim = solver.arc_iterations
+        arc = motion.length * float(np.clip(np.sqrt(aim / max(count, 1)), 0.5, 2.0))
         if longest is None:
             # The first step's length, stretched to the path length of a load step of
             # 1 / increments where the first step carried less (a path that starts soft:
