@@ -170,7 +170,11 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
                 break
             except IncrementFailed as failure:
                 cuts_here = run.cut(cuts_here, "arc-length increment", failure)
-                arc = 0.5 * arc if arc is not None else None
+                # A phase's first step is the tangent's guess, and each failure shows it further
+                # off: its k-th cut takes 1/2^k of the last length (1/2, 1/8, 1/64 of the guess;
+                # docs/theory.md §6.6). A step after a converged one is halved.
+                shrink = 0.5**cuts_here if previous is None else 0.5
+                arc = shrink * arc if arc is not None else None
                 if prediction is not None and prediction.mode:
                     switches = 3  # the push did not work: stay on the path
         state, load_factor, count, ratio, history = outcome

@@ -249,3 +249,27 @@ def test_a_paper_case_refuses_arc_iterations_that_are_not_a_count(bad):
 
     with pytest.raises(ValueError, match="arc_iterations must be an integer >= 1"):
         replace(bai_5_1.SPEC, arc_iterations=bad)
+
+
+def test_a_phase_s_first_arc_length_step_is_cut_harder_at_each_failure(monkeypatch):
+    """The first step of a phase is the tangent's guess; its k-th failed attempt is retried at
+    1/2^k of the last length (solvers/arc_length.py, docs/theory.md §6.6): bai-5.1's first
+    displacement step on its 15-cell Mindlin model, which halving took to 1/64 of the guess in
+    six cuts, is tried at 1, 1/2, 1/8 and converges at 1/64 of it."""
+    import solvers.arc_length as arc_length
+    from validation.cases import bai_5_1
+
+    tried = []
+    corrector = arc_length.arc_corrector
+
+    def recorded(run, pattern, prediction):
+        if run.phase == 1 and run.reached == 1.0:  # the displacement phase's first increment
+            tried.append(prediction.load)
+        return corrector(run, pattern, prediction)
+
+    monkeypatch.setattr(arc_length, "arc_corrector", recorded)
+    spec = bai_5_1.SPEC
+    result, note, _ = solve(spec.model(spec.make_specimen(15), "mindlin"), spec.increments)
+    assert result.converged, note
+    shares = np.array(tried) / tried[0]
+    np.testing.assert_allclose(shares, [1, 1 / 2, 1 / 8, 1 / 64], rtol=1e-12)
