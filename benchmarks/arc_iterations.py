@@ -13,8 +13,11 @@ Measured (one numba thread, CPU, one process, 2 cores shared with other jobs, lo
     134 iterations, 359 -> 227 tangents; its 7 failed attempts are the rest (one in the
     gravity phase, six halving the first displacement increment to 1/64 of its tangent's,
     12 iterations each before the stall rule cuts them), now 41 % of its tangents (the
-    Mindlin run's 13, 54 %): what is left to cut there. Coarse (load 7.5): 5.3 -> 3.0 s,
-    1450 -> 840 iterations, 1964 -> 1391 tangents, the checks within 8.4e-10 relative.
+    Mindlin run's 13, 54 %). Coarse (load 7.5): 5.3 -> 3.0 s, 1450 -> 840 iterations, 1964
+    -> 1391 tangents, the checks within 8.4e-10 relative. Those figures are from before a
+    phase's first step was cut harder at each failure (1/2, 1/8, 1/64 of the tangent's guess,
+    solvers/arc_length.py): that cut, measured beside the halving at aim 10 (default, load
+    9-10), 1696 -> 1462 tangents, 8.6 -> 6.5 s, the checks within 9.3e-13.
   The other paper cases at 10 (load 7-11): bai-6.1.2 693 -> 578 iterations but 8.6 -> 8.9 s,
     bai-6.2.2 700 -> 620 and 8.4 -> 8.0 s, bai-6.1.1 448 -> 467 and 12.3 -> 11.4 s, bai-6.2.1
     392 -> 392 and 9.9 -> 9.4 s: within the machine's noise, so they keep the default.
