@@ -243,10 +243,9 @@ def solve(
 ) -> tuple[Any, str, float]:
     """Static along the arc length of the path: gravity over load factors 0-1, then the
     displacement over 1-2, ``increments`` arc-length steps at most each (their lengths aimed
-    at ``arc_iterations`` Newton iterations an increment); at a limit point the
-    run goes on with load steps that land on the stable branch beyond it (the snap a test
-    machine shows). No other solver is tried: a run that stops is reported as such, with its
-    last equilibrium.
+    at ``arc_iterations`` Newton iterations an increment); at a limit point the run goes on
+    with load steps that land on the stable branch beyond it (the snap a test machine shows).
+    No other solver is tried: a run that stops is reported as such, with its last equilibrium.
 
     Returns the result, the solver note for the report (what ran, how many increments and
     Newton iterations, limit points, unstable states) and the wall time (s)."""
