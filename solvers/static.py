@@ -93,7 +93,7 @@ class Static:
     max_iterations : Newton iterations per (sub-)increment before it is cut in half.
     line_search : the Armijo line search of the load path (module docstring); without it
         every Newton step is taken whole (after the step cap below).
-    max_cuts : how many times an increment may be halved before a ConvergenceError.
+    max_cuts : how many times an increment may be cut (halved; arc length: docs/theory.md §6.6).
     stall_iterations : load path: cut an attempt whose ratio stayed above 0.1 that long.
     first_turn : load path: an increment whose first Newton step, from the last converged
         state, turns a director by more than this (rad) is cut before it is iterated, to the
