@@ -52,8 +52,9 @@ __all__ = [
     "tangent_motion",
 ]
 
-# Iterations an arc-length increment should take: the next step length is scaled by
-# sqrt(DESIRED_ITERATIONS / iterations taken) (Crisfield), within [1/2, 2].
+# Iterations an arc-length increment should take by default (``Static(arc_iterations=...)``):
+# the next step length is scaled by sqrt(arc_iterations / iterations taken) (Crisfield),
+# within [1/2, 2].
 DESIRED_ITERATIONS = 5
 # The longest arc-length step, in lengths of the first one (4 jumped the fold of the von Mises
 # truss at 12 increments and saved nothing on bai-5.1: 19.3 s against 17.5 s).
@@ -169,7 +170,11 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
                 break
             except IncrementFailed as failure:
                 cuts_here = run.cut(cuts_here, "arc-length increment", failure)
-                arc = 0.5 * arc if arc is not None else None
+                # A phase's first step is the tangent's guess, and each failure shows it further
+                # off: its k-th cut takes 1/2^k of the last length (1/2, 1/8, 1/64 of the guess;
+                # docs/theory.md §6.6). A step after a converged one is halved.
+                shrink = 0.5**cuts_here if previous is None else 0.5
+                arc = shrink * arc if arc is not None else None
                 if prediction is not None and prediction.mode:
                     switches = 3  # the push did not work: stay on the path
         state, load_factor, count, ratio, history = outcome
@@ -178,8 +183,9 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         run.accept(state, load_factor)
         run.frame(count, ratio, history)
         previous = motion
-        # Crisfield's step-length rule: aim at DESIRED_ITERATIONS next time.
-        arc = motion.length * float(np.clip(np.sqrt(DESIRED_ITERATIONS / max(count, 1)), 0.5, 2.0))
+        # Crisfield's step-length rule: aim at ``arc_iterations`` next time.
+        aim = solver.arc_iterations
+        arc = motion.length * float(np.clip(np.sqrt(aim / max(count, 1)), 0.5, 2.0))
         if longest is None:
             # The first step's length, stretched to the path length of a load step of
             # 1 / increments where the first step carried less (a path that starts soft:

@@ -41,7 +41,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import cross, rotate_about
 from femcore.state import State
-from solvers.arc_length import Motion, arc_length_path
+from solvers.arc_length import DESIRED_ITERATIONS, Motion, arc_length_path
 from solvers.augmentation import augment_contacts
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -93,7 +93,7 @@ class Static:
     max_iterations : Newton iterations per (sub-)increment before it is cut in half.
     line_search : the Armijo line search of the load path (module docstring); without it
         every Newton step is taken whole (after the step cap below).
-    max_cuts : how many times an increment may be halved before a ConvergenceError.
+    max_cuts : how many times an increment may be cut (halved; arc length: docs/theory.md §6.6).
     stall_iterations : load path: cut an attempt whose ratio stayed above 0.1 that long.
     first_turn : load path: an increment whose first Newton step, from the last converged
         state, turns a director by more than this (rad) is cut before it is iterated, to the
@@ -123,8 +123,9 @@ class Static:
         penetration and elastic slip left at each frame in ``info["augmented_penetration"]``
         and ``info["augmented_slip"]`` (mm).
     path : "load" (default) or "arc_length" (module docstring).
-    max_increments : arc-length path: the most increments per phase before a ConvergenceError
-        (default 20 x increments + 20).
+    max_increments : arc-length path: a phase's most increments (default 20 x increments + 20).
+    arc_iterations : arc-length path: the iterations Crisfield's step rule aims an increment
+        at (default 5: the next length l sqrt(5 / iterations); docs/theory.md §6.6).
     at_limit : arc-length path, at a limit point (the load factor would have to fall):
         "follow" (default) the path down and on, as it is; "jump": go on with load steps of
         1 / increments from there to the end of the phase, which land on the stable branch
@@ -230,9 +231,8 @@ class Static:
         the half step, with the touching nodes carried by the tool (docs/theory.md §6.5).
     progress : show a progress bar on stderr, its share the load factor reached (None: unless
         under pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
-    output : a ``.pvd`` path: each frame is written there (a VTU file each, the ParaView index
-        rewritten after each) as its increment converges, so that a killed run leaves the
-        increments it converged. All frames are also kept in memory.
+    output : a ``.pvd`` path: each frame written there (a VTU file each, the ParaView index
+        rewritten after each) as its increment converges (a killed run leaves them); all kept.
 
     Prescribed displacements enter each iteration consistently: the update solves
     K_ff dq_f = r_f - K_fp dq_p for the part dq_p of the prescribed motion not yet applied, so
@@ -267,6 +267,7 @@ class Static:
         step_loads_first: bool = False,
         path: str = "load",
         max_increments: int | None = None,
+        arc_iterations: int = DESIRED_ITERATIONS,
         at_limit: str = "follow",
         predictor: bool = False,
         stabilise: float = 0.0,
@@ -307,6 +308,7 @@ class Static:
             if max_increments is None
             else check_integer(max_increments, "max_increments")
         )
+        self.arc_iterations = check_integer(arc_iterations, "arc_iterations")
         if at_limit not in ("follow", "jump"):
             raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
         self.at_limit = at_limit
@@ -403,9 +405,9 @@ class Static:
 
     # ------------------------------------------------------------------ loads
     def loads(self, model: CompiledModel, load_factor: float):
-        """Dead forces, moments and imposed displacements (n, 3) each at a load factor: all
-        ramped together, or with ``step_loads_first`` the "step" loads over [0, 1] (imposed
-        displacements held at zero) and then the rest over [1, 2]."""
+        """Dead forces, moments and imposed displacements (n, 3) at a load factor: all ramped
+        together, or with ``step_loads_first`` the "step" loads over [0, 1] (displacements 0),
+        then the rest over [1, 2]."""
         force, moment = model.external_load(1.0, quasi_static=True)
         imposed = model.prescribed_displacement(1.0, quasi_static=True)
         if not self.step_loads_first:

@@ -225,3 +225,59 @@ def test_a_paper_case_takes_a_numpy_integer_as_its_order_increments():
     from validation.cases import bai_6_2_1
 
     assert replace(bai_6_2_1.SPEC, order_increments=np.int64(5)).order_increments == 5
+
+
+@pytest.mark.parametrize("kinematics", ["fibrous", "mindlin"])
+def test_bai_5_1_steps_aimed_at_more_iterations_end_at_the_same_equilibrium(kinematics):
+    """bai-5.1 takes its arc-length steps aimed at ``arc_iterations`` (10) Newton iterations
+    an increment instead of the default 5 (validation/cases/bai_5_1.py): on its 15-cell order
+    mesh both paths end at one equilibrium, within what Newton's tolerance (1e-8 of the
+    forces) allows on a 65 mm motion, 1e-6 mm (measured: 2.6e-10 mm fibrous, 2.6e-13 mm
+    Mindlin), with fewer Newton iterations (260 -> 145, 236 -> 120)."""
+    from solvers.arc_length import DESIRED_ITERATIONS
+    from validation.cases import bai_5_1
+
+    spec = bai_5_1.SPEC
+    assert spec.arc_iterations > DESIRED_ITERATIONS
+    specimen = spec.make_specimen(15)
+    ends = []
+    for aim in (DESIRED_ITERATIONS, spec.arc_iterations):
+        result, note, _ = solve(spec.model(specimen, kinematics), spec.increments, aim)
+        assert result.converged, note
+        ends.append(result)
+    np.testing.assert_allclose(ends[1].positions, ends[0].positions, rtol=0, atol=1e-6)
+    assert ends[1].steps < ends[0].steps
+
+
+@pytest.mark.parametrize("bad", [0, 2.5, True, "5"])
+def test_a_paper_case_refuses_arc_iterations_that_are_not_a_count(bad):
+    from dataclasses import replace
+
+    from validation.cases import bai_5_1
+
+    with pytest.raises(ValueError, match="arc_iterations must be an integer >= 1"):
+        replace(bai_5_1.SPEC, arc_iterations=bad)
+
+
+def test_a_phase_s_first_arc_length_step_is_cut_harder_at_each_failure(monkeypatch):
+    """The first step of a phase is the tangent's guess; its k-th failed attempt is retried at
+    1/2^k of the last length (solvers/arc_length.py, docs/theory.md §6.6): bai-5.1's first
+    displacement step on its 15-cell Mindlin model, which halving took to 1/64 of the guess in
+    six cuts, is tried at 1, 1/2, 1/8 and converges at 1/64 of it."""
+    import solvers.arc_length as arc_length
+    from validation.cases import bai_5_1
+
+    tried = []
+    corrector = arc_length.arc_corrector
+
+    def recorded(run, pattern, prediction):
+        if run.phase == 1 and run.reached == 1.0:  # the displacement phase's first increment
+            tried.append(prediction.load)
+        return corrector(run, pattern, prediction)
+
+    monkeypatch.setattr(arc_length, "arc_corrector", recorded)
+    spec = bai_5_1.SPEC
+    result, note, _ = solve(spec.model(spec.make_specimen(15), "mindlin"), spec.increments)
+    assert result.converged, note
+    shares = np.array(tried) / tried[0]
+    np.testing.assert_allclose(shares, [1, 1 / 2, 1 / 8, 1 / 64], rtol=1e-12)

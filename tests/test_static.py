@@ -561,3 +561,35 @@ def test_an_increment_of_plies_that_fails_is_cut_after_one_attempt():
     assert info["contact_set_fallbacks"] == 0
     assert info["evaluations"]["tangent"] == 2
     assert info["iterations_cut"] == 1
+
+
+def test_arc_iterations_aims_the_arc_length_steps_and_keeps_the_closed_form_path():
+    # Crisfield's rule scales the next step length by sqrt(arc_iterations / iterations taken),
+    # within [1/2, 2] and never above the longest step: aimed at 10 iterations the steps grow
+    # where those taken are fewer, and some step is longer than the default's aim of 5 would
+    # allow; every frame still lies on the truss' closed form t(w) = 6 lambda.
+    model, rise, truss_force, travel = _von_mises_truss()
+    default = Static(increments=12, path="arc_length").solve(model)
+    aimed = Static(increments=12, path="arc_length", arc_iterations=10).solve(model)
+    w = np.array([rise - frame.positions[2, 2] for frame in aimed.frames])
+    lam = np.array([frame.load_factor for frame in aimed.frames])
+    assert lam[-1] == 1.0
+    assert np.abs(travel(w) - 6.0 * lam).max() <= 1e-6
+    # The motion lengths of the increments (translations only: cables have no directors).
+    lengths = [
+        float(np.linalg.norm(b.positions - a.positions))
+        for a, b in zip(aimed.frames[:-1], aimed.frames[1:])
+    ]
+    counts = aimed.info["iterations_per_increment"]
+    ratios = [after / before for before, after in zip(lengths[:-1], lengths[1:])]
+    bound = [float(np.clip(np.sqrt(10 / max(n, 1)), 0.5, 2.0)) for n in counts[:-1]]
+    assert all(r <= b * (1 + 1e-9) for r, b in zip(ratios, bound))
+    default_aim = [float(np.clip(np.sqrt(5 / max(n, 1)), 0.5, 2.0)) for n in counts[:-1]]
+    assert any(r > b * (1 + 1e-6) for r, b in zip(ratios, default_aim))
+    assert len(aimed.frames) < len(default.frames)
+
+
+@pytest.mark.parametrize("bad", [0, 2.5, True, "5"])
+def test_arc_iterations_must_be_a_whole_number_of_at_least_one(bad):
+    with pytest.raises(ValueError, match="arc_iterations must be an integer >= 1"):
+        Static(path="arc_length", arc_iterations=bad)

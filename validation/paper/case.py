@@ -29,6 +29,8 @@ from femcore import Model
 from fibreshell.calibration import Calibration
 from materials import Fabric
 from solvers import ConvergenceError, Static
+from solvers.arc_length import DESIRED_ITERATIONS
+from solvers.common import check_integer
 from validation import specimens
 from validation.paper.discussion import discussion
 from validation.paper.figures import laws_figure, side_elevation, side_figure, view_3d
@@ -108,8 +110,12 @@ class PaperCase:
     # give their last equilibrium alone, which a shorter path whose increments converge
     # reaches too, within Newton's tolerance (measured per case where it is set).
     order_increments: int | None = None
+    # The Newton iterations the arc length's step rule aims each increment at (Static's
+    # ``arc_iterations``), in every run of the case (measured per case where it is set).
+    arc_iterations: int = DESIRED_ITERATIONS
 
     def __post_init__(self) -> None:
+        check_integer(self.arc_iterations, f"{self.name}: arc_iterations")
         if self.order_increments is not None and not (
             # numpy's integers are counts too (an arange of a sweep gives them)
             isinstance(self.order_increments, (int, np.integer))
@@ -233,12 +239,14 @@ def corner_case(
     )
 
 
-def solve(model: Model, increments: int) -> tuple[Any, str, float]:
+def solve(
+    model: Model, increments: int, arc_iterations: int = DESIRED_ITERATIONS
+) -> tuple[Any, str, float]:
     """Static along the arc length of the path: gravity over load factors 0-1, then the
-    displacement over 1-2, ``increments`` arc-length steps at most each; at a limit point the
-    run goes on with load steps that land on the stable branch beyond it (the snap a test
-    machine shows). No other solver is tried: a run that stops is reported as such, with its
-    last equilibrium.
+    displacement over 1-2, ``increments`` arc-length steps at most each (their lengths aimed
+    at ``arc_iterations`` Newton iterations an increment); at a limit point the run goes on
+    with load steps that land on the stable branch beyond it (the snap a test machine shows).
+    No other solver is tried: a run that stops is reported as such, with its last equilibrium.
 
     Returns the result, the solver note for the report (what ran, how many increments and
     Newton iterations, limit points, unstable states) and the wall time (s)."""
@@ -246,6 +254,7 @@ def solve(model: Model, increments: int) -> tuple[Any, str, float]:
     solver = Static(
         increments=increments,
         path="arc_length",
+        arc_iterations=arc_iterations,
         at_limit="jump",
         max_iterations=40,
         max_cuts=10,
@@ -299,7 +308,7 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
     results: dict[str, Any] = {}
     for kinematics in KINEMATICS:
         model = case.model(specimen, kinematics)
-        result, note, wall = solve(model, case.increments)
+        result, note, wall = solve(model, case.increments, case.arc_iterations)
         results[kinematics] = result
         elements[kinematics] = ElementRun(
             label=LABELS[kinematics],
@@ -382,7 +391,7 @@ def refinement_orders(
         for kinematics in ORDER_KINEMATICS:
             model = case.model(other, kinematics)
             increments = case.increments if case.order_increments is None else case.order_increments
-            result, _, wall = solve(model, increments)
+            result, _, wall = solve(model, increments, case.arc_iterations)
             sides = side_data(result, other, kinematics, h)
             quantities = order_quantities(sides, kinematics, h)
             measured[kinematics].append(
