@@ -19,7 +19,25 @@ the project root, one run at a time, each as a command:
     python -m validation.studies.hemisphere_forming_order run fibrous 56 --out runs/order
     python -m validation.studies.hemisphere_forming_order orders runs/order
 
-Measured: docs/hemisphere_forming.md, "Observed orders on finer meshes".
+Measured (docs/hemisphere_forming.md, "Observed orders on finer meshes"; fibrous, one thread,
+nice 10, load 7-15): 14 / 20 / 28 / 40 / 56 cells, 19346 / 27677 / 38781 / 55443 / 77703 steps,
+12 / 27 / 64 / 169 / 412 s of CPU, every run to the end, the holder down, KE / W at most
+0.019. The edge middle's draw-in 23.41 / 28.65 / 27.96 / 29.13 / 26.76 mm, its fibre on the
+die's round at 14 cells (0.00 mm over it), cornered under the holder at 20 to 40 (3.0-3.3 mm)
+and part way at 56 (2.2 mm): a change of regime, no order. The edges' mean draw-in 12.15 /
+13.19 / 13.10 / 13.60 / 13.75 mm (p = 3.30 on 28 / 40 / 56, f0 13.82, GCI 0.09 mm; none on
+the other triples; least squares p = 1.88, f0 13.79), the corners' 5.54 / 7.39 / 7.09 / 8.45
+/ 8.75 mm (p = 4.22, f0 8.84; none on the others), the punch force over the last fifth 43.25 /
+48.39 / 53.27 / 54.85 / 54.07 N (no order on the finest three; least squares p = 1.93, f0
+55.8), at the end 74.4 / 55.1 / 83.1 / 76.5 / 91.7 N (none), the per-cell rms of shear - net
+2.439 / 2.162 / 1.527 / 1.854 / 2.888 deg (none). The shear field at fixed material points
+within 60 deg of the pole: 0.74-0.82 deg from the net on every mesh, its change to the next
+mesh 0.88 / 0.54 / 0.57 / 0.68 deg; 15 mm off the symmetry planes 0.72 / 0.53 / 0.33 / 0.44
+deg (orders 0.72 and 1.57, then growing): at 56 cells the rows beside the held centre lines
+shear alternately, row by row (up to +-10 deg off the net), a pattern of the mesh's width.
+So no quantity is in its asymptotic range on these meshes; the orders the finest three give
+(3.3, 4.2) are above any the discretisation has and the overlapping triples do not confirm
+them.
 """
 
 from __future__ import annotations
