@@ -31,16 +31,15 @@ the other triples; least squares p = 1.88, f0 13.79), the corners' 5.54 / 7.39 /
 48.39 / 53.27 / 54.85 / 54.07 N (no order on the finest three; least squares p = 1.93, f0
 55.8), at the end 74.4 / 55.1 / 83.1 / 76.5 / 91.7 N (none), the per-cell rms of shear - net
 2.439 / 2.162 / 1.527 / 1.854 / 2.888 deg (none). The shear field at fixed material points
-within 60 deg of the pole: 0.74-0.82 deg from the net on every mesh, its change to the next
+within 60 deg of the pole: 0.62-0.82 deg from the net on every mesh, its change to the next
 mesh 0.88 / 0.54 / 0.57 / 0.68 deg; 15 mm off the symmetry planes 0.72 / 0.53 / 0.33 / 0.44
 deg (orders 0.72 and 1.57, then growing): at 56 cells the rows beside the held centre lines
 shear alternately, row by row (up to +-10 deg off the net), a pattern of the mesh's width.
 A 48-cell run (240 s of CPU) has the alternating rows too, the late force 54.45 N, the edges'
 mean 13.62 mm. The Mindlin shell on 14 / 20 / 28 / 40 cells shows no order either (its rms
 2.649 / 2.093 / 2.128 / 4.159 deg, its draw-ins' steps growing). So no quantity is in its
-asymptotic range on these meshes; the orders the finest three give
-(3.3, 4.2) are above any the discretisation has and the overlapping triples do not confirm
-them.
+asymptotic range on these meshes; the orders the finest three give (3.3, 4.2) are above any
+the discretisation has and the overlapping triples do not confirm them.
 """
 
 from __future__ import annotations
