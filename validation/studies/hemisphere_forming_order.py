@@ -88,9 +88,10 @@ SPACING = 2.0
 #: case's COMPARED_POLAR, 71.1 deg: its cells' rms region; the die's round starts at 80 deg)
 POLAR_DEG = (45.0, 60.0, 71.1)
 #: mm: the regions again without the material points this near a symmetry plane (x = 0 or
-#: y = 0): the rows of cells beside the held centre lines shear in a band one cell wide on
-#: every mesh (docs/hemisphere_forming.md, "Observed orders on finer meshes"), which no
-#: refinement shrinks in amplitude; 15 mm is one cell of the coarsest mesh run (14 cells)
+#: y = 0): the rows of cells beside the held centre lines shear differently from mesh to
+#: mesh (a band one cell wide at 20 and 40 cells, none at 28, rows alternating in sign at 48
+#: and 56; docs/hemisphere_forming.md, "Observed orders on finer meshes"); 15 mm is one cell
+#: of the coarsest mesh run (14 cells)
 BAND_MM = 15.0
 
 
