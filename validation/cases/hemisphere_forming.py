@@ -187,17 +187,16 @@ RMS_TOLERANCE_DEG = {"coarse": 3.7, "default": 2.8, "fine": 2.3}
 # 1.92, 1.77 deg; module docstring): no triple of them is in an asymptotic range, and a
 # Richardson check on one passes or fails by the triple chosen (12 / 20 / 32 now give order
 # 9.7, past validation.checks.ORDER_RANGE). So it is reported with its order, not checked for
-# one; RMS_TOLERANCE_DEG bounds it per mesh. The draw-in of
-# the edge middle and the punch force at the end show no order on any die: the edge middle
-# takes one of two states (taut over the die's round or cornered under the holder, module
-# docstring), a single node of the centre line held in its symmetry plane. The draw-in
-# averaged along the edges (that node weighs h / (8 HALF) in it), the corners' and the punch
-# force averaged over the last fifth of the travel are reported with their orders, not
-# checked: over six meshes (12 to 36 cells) the edges' mean settles at 13.0-13.4 mm from 20
-# cells on but not monotonically (order 7.4 on 12 / 20 / 32 cells, 1.1 on 16 / 24 / 36), the
-# corners' does not settle, and the late force rises monotonically (40.8 to 54.0 N) at orders
-# 0.6 and 2.8 on the two triples (docs/hemisphere_forming.md): no clear order to check. At
-# 40 cells the edge middle's two states move the edges' mean by 0.45 %, the late force 0.2 %.
+# one; RMS_TOLERANCE_DEG bounds it per mesh. The draw-in of the edge middle and the punch
+# force at the end show no order on any die: the edge middle takes one of two states (taut
+# over the die's round or cornered under the holder, module docstring), a single node of the
+# centre line held in its symmetry plane. The draw-in averaged along the edges (that node
+# weighs h / (8 HALF) in it), the corners' and the punch force averaged over the last fifth
+# of the travel are reported with their orders, not checked: over six meshes (12 to 36
+# cells) the edges' mean settles at 13.0-13.4 mm from 20 cells on but not monotonically
+# (order 7.4 on 12 / 20 / 32 cells, 1.1 on 16 / 24 / 36), the corners' does not settle, the
+# late force rises (40.8 to 54.0 N) at orders 0.6 and 2.8 on the two triples. On 14 to 56
+# cells none has an order either (validation/studies/hemisphere_forming_order.py): none to check.
 ORDER_TOLERANCE: dict[str, float] = {}
 # The fibrous rms error's limit is not checked against a bound: it is the fibrous shell's own
 # departure from the net, which no mesh removes. The bound once checked (1 deg) came from
