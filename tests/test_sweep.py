@@ -362,13 +362,15 @@ def test_the_report_s_sensitivity_study_sweeps_the_case_file_of_bai_6_1_1():
     assert base["output"]["paths"]["side_1"] == shipped["output"]["paths"]["side_1"]
 
 
-def test_a_sweep_runs_against_a_scheduler_address(dask_scheduler):
-    # A scheduler started apart (here the session's LocalCluster, tests/conftest.py, whose
-    # worker has started already; on a cluster by `dask scheduler`): the sweep connects to
-    # its address and its workers run the variants. (A LocalCluster of the test's own cost
-    # the start of a worker process that the session's cluster has made once.)
-    table = sweep(cantilever(), {"part.0.material.bending": [10.0, 20.0]},
-                  scheduler=dask_scheduler, progress=False)  # fmt: skip
+@pytest.mark.waits  # on a LocalCluster
+def test_a_sweep_runs_against_a_scheduler_address():
+    # A scheduler started apart (here in this process; on a cluster by `dask scheduler`):
+    # the sweep connects to its address and its workers run the variants.
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster:
+        table = sweep(cantilever(), {"part.0.material.bending": [10.0, 20.0]},
+                      scheduler=cluster.scheduler_address, progress=False)  # fmt: skip
     for row in table.rows:
         expected = euler_bernoulli_tip(row["part.0.material.bending"])
         assert -row["displacement_right_z"] == pytest.approx(expected, rel=0.01)
