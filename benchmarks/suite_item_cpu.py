@@ -237,9 +237,6 @@ children, old and new in turns, warm cache, one numba thread):
   so by construction 2 x 1.5 s of their CPU; its wall 21.5 and 15.7 -> 9.6 and 6.2 s (load
   6). With the workers' initializer taken out (validation/report.py ``_end_with`` returning
   at once) it still fails: "workers [...] outlived the killed report";
-* the sweep against a scheduler's address (tests/test_sweep.py) on the session's shared
-  cluster, not a LocalCluster of its own: with an identify test on that cluster beside it
-  8.7, 8.7 and 9.0 -> 6.5, 6.6 and 6.8 s (load 5-6);
 * the paired sweep's own LocalCluster (tests/test_sweep.py ``paired_sweep``) of one worker,
   not two: its six tests 12.3 and 9.5 -> 7.2 and 6.8 s (load 5; the README's sweep command
   still runs its variants on two workers);
@@ -251,7 +248,12 @@ children, old and new in turns, warm cache, one numba thread):
 
 Tried and not kept: tests/test_cluster_idle.py's two clusters made one (the port and the
 idle intervals asserted on the same cluster): 3.2 and 3.3 -> 2.7 and 2.9 s, too little for
-two claims reported as one.
+two claims reported as one. The sweep against a scheduler's address (tests/test_sweep.py) on
+the session's shared cluster instead of a LocalCluster of its own: with an identify test on
+that cluster beside it 8.7, 8.7 and 9.0 -> 6.5, 6.6 and 6.8 s (load 5-6), but in a whole
+run it would be the shared cluster's last user (not slow, it sorts after the slow tests that
+wait, tests/conftest.py) and keep that cluster idling through them, at about 4 s of CPU a
+minute for its one worker: about what it saved.
 
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
