@@ -233,10 +233,11 @@ tests' own runs are about 360 s spread thin. Cut from it (CPU of the items with 
 children, old and new in turns, warm cache, one numba thread):
 
 * the report's kill test (tests/test_report_workers_end_with_it.py) kills the report 0.5 s
-  of a worker's CPU past its imports, not 2 s: the killed workers are not reaped by pytest,
-  so by construction 2 x 1.5 s of their CPU; its wall 21.5 and 15.7 -> 9.6 and 6.2 s (load
-  6). With the workers' initializer taken out (validation/report.py ``_end_with`` returning
-  at once) it still fails: "workers [...] outlived the killed report";
+  of a worker's CPU past its imports, not 2 s: 3 s of CPU less (two workers, 1.5 s each),
+  by construction (the killed workers are not reaped by pytest); its wall 21.5 and 15.7 ->
+  9.6 and 6.2 s (load 6). With the workers' initializer taken out (validation/report.py
+  ``_end_with`` returning at once) it still fails: "workers [...] outlived the killed
+  report";
 * the paired sweep's own LocalCluster (tests/test_sweep.py ``paired_sweep``) of one worker,
   not two: its six tests 12.3 and 9.5 -> 7.2 and 6.8 s (load 5; the README's sweep command
   still runs its variants on two workers);
