@@ -196,6 +196,66 @@ Measured and not changed:
   Unified since (the wrappers hand those inputs read-only, elements/kernel_inputs.py):
   benchmarks/suite_signatures.py.
 
+Where a whole run's CPU goes (main 8a6e6f5: in a quiet CI run, 2504 tests, 5:04 of pytest on
+2 cores, user + system 607 s with the install). Each item warm, one process (``-n 0``), on
+the numba cache a whole run of the same checkout had left (a fresh clone, load 8-12; the
+per-item CPU at load 5-11, so a little above a quiet machine's):
+
+* the 2449 fast tests 209.4 s with their reaped children: 2030 items under 0.05 s (13.8 s
+  together), 2327 under 0.5 s (68.4 s), none above 4.7 s (the supernodal factors' build for
+  a generic CPU, a subprocess on an empty cache). By module: test_ply_edge_couple.py 10.2 s,
+  test_sweep.py 9.2, test_ply_springs.py 8.7, test_ply_search.py 7.4, test_contact.py 6.9,
+  test_ply_curved_friction.py 6.9, every other module under 6.9 s: the tests' own runs,
+  spread over a few hundred items of 0.2-2 s;
+* the 52 slow tests that neither read the coarse report nor run mypy 149.9 s: the study's run
+  at four times the ply penalty 22.8, the README's identify command 12.2 (11.3 in its own
+  cluster's two workers), the coarse plies-bai-5.1 solves of test_static_stall.py and
+  test_static_first_turn.py 9.6 and 6.2 (three runs, the rules on and off: the report's run
+  has both rules on and keeps neither the plies' positions nor the first-turn cuts), the
+  coarse forming blank 9.1, the identify tests' shared cluster reaped 6.4, the README's
+  Python sweep 5.8 and sweep command 5.4; every other under 5.6 s;
+* mypy from an empty cache 25.7-26.9 s of user CPU (load 8-12); with ``--cache-dir
+  /dev/null`` (no cache written) 25.7-26.0 against 26.4-26.9, with numba and llvmlite not
+  followed 26.2 (and six unused ``type: ignore`` errors): neither kept. A worker's collection
+  3.1 s;
+* the coarse report beside the tests, in that run: 106.4 s of its cases' CPU
+  (``case_cpu_s``; hemisphere-plies 41.4, hemisphere-forming 17.3, bai-5.1 7.8, bai-6.1.1
+  5.2, plies-bai-5.1 4.9, bai-6.2.1 4.9, bai-6.1.2 4.5, bai-6.1.1-sensitivity 4.5, bai-6.2.2
+  4.2, the other 14 cases 10.9), 306.9 s of its wall at that load;
+* numba's builds: 203 in the run's cache, one a kernel's second (the curved friction's
+  ``_local_loads_part`` for complex128 beside float64: the complex-step test's, on purpose;
+  benchmarks/suite_signatures.py). What is left of the 607 s after the above, about 60-70 s,
+  is the builds' compiling, shared by the report's processes and the tests' under the
+  compile locks.
+
+So no single item or duplicate is left that would take the 90 s a run of 4:30 needs: the
+tests' own runs are about 360 s spread thin. Cut from it (CPU of the items with their reaped
+children, old and new in turns, warm cache, one numba thread):
+
+* the report's kill test (tests/test_report_workers_end_with_it.py) kills the report 0.5 s
+  of a worker's CPU past its imports, not 2 s: 3 s of CPU less (two workers, 1.5 s each),
+  by construction (the killed workers are not reaped by pytest); its wall 21.5 and 15.7 ->
+  9.6 and 6.2 s (load 6). With the workers' initializer taken out (validation/report.py
+  ``_end_with`` returning at once) it still fails: "workers [...] outlived the killed
+  report";
+* the paired sweep's own LocalCluster (tests/test_sweep.py ``paired_sweep``) of one worker,
+  not two: its six tests 12.3 and 9.5 -> 7.2 and 6.8 s (load 5; the README's sweep command
+  still runs its variants on two workers);
+* the curved face's history test (tests/test_ply_search.py, two seeds) searches each of its
+  67 states afresh on a copy of a block never asked (0.1 ms) instead of a model compiled
+  again (12 ms): the same answers to the bit on all 120 states of both seeds, 6.6 -> 4.6 s
+  (pytest's start included; load 10-13); with ``FacingSearch.fresh`` handing out the kept
+  lists it still fails.
+
+Tried and not kept: tests/test_cluster_idle.py's two clusters made one (the port and the
+idle intervals asserted on the same cluster): 3.2 and 3.3 -> 2.7 and 2.9 s, too little for
+two claims reported as one. The sweep against a scheduler's address (tests/test_sweep.py) on
+the session's shared cluster instead of a LocalCluster of its own: with an identify test on
+that cluster beside it 8.7, 8.7 and 9.0 -> 6.5, 6.6 and 6.8 s (load 5-6), but in a whole
+run it would be the shared cluster's last user (not slow, it sorts after the slow tests that
+wait, tests/conftest.py) and keep that cluster idling through them, at about 4 s of CPU a
+minute for its one worker: about what it saved.
+
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
 
