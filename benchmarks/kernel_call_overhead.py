@@ -6,9 +6,9 @@ did before (``_threads(len(args[0]), _setting())``), then calls the same plain b
 
 Measured on ``elements.ply_sides``-sized inputs: a loop over 384 points with 20 array
 arguments that returns at once (the call is all overhead), best of 7 runs of 20000 calls
-each, one thread, load printed. At a load of 8-10 on 2 cores: the wrapper 2.55 against 2.90
-us a call (the plain build called directly 1.98): 0.35 us a call, some 18 us of a step of
-~1.9 ms (~1 %).
+each, one thread, load printed. At a load of 8.0-8.5 on 2 cores (three runs): the wrapper
+1.64-1.68 against 2.00-2.06 us a call (the plain build called directly 1.48-1.49): 0.36-0.38
+us a call, some 19 us of the two-ply step's ~1.9 ms (~1 %).
 
 Run: NUMBA_NUM_THREADS=1 python benchmarks/kernel_call_overhead.py
 """
