@@ -345,10 +345,17 @@ class _Parallel:
         if serial is None:
             serial = self.serial
         parted = self._part is not None
+        items = len(args[0])
+        # (numba's jit disabled: the Python function, the whole loop as part 0 of 1 here; a
+        # loop below SMALL_LOOP runs on one thread whatever numba's setting, which is then
+        # not read: the two-ply step makes some fifty such calls)
+        if items < SMALL_LOOP and PLAIN_ON_ONE_THREAD or not self._native:
+            if parted:
+                return serial(*args, 0, 1)
+            return serial(*args)
         cap = _setting()
-        threads = _threads(len(args[0]), cap)
-        # (numba's jit disabled: the Python function, the whole loop as part 0 of 1 here)
-        if threads == 1 and PLAIN_ON_ONE_THREAD or not self._native:
+        threads = _threads(items, cap)
+        if threads == 1 and PLAIN_ON_ONE_THREAD:
             if parted:
                 return serial(*args, 0, 1)
             return serial(*args)

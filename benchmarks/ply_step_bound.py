@@ -1,0 +1,151 @@
+"""What sets the two-ply hemisphere's explicit step (validation/studies/hemisphere_plies_run.py,
+8 cells, holder 20 N, the [0/90] layup): at states of the case's run, the bound the solver
+steps by (solvers/explicit.py ``_step_size``: the cells' estimate (2 / dt_cells)^2 plus the
+largest sum over a node of the penalty springs' k / m, femcore/compiled.py
+``penalty_frequency_squared``) beside the largest eigenvalue of M^-1 K at that state (K the
+parts' own tangent over the free slots, M the lumped masses and rotary inertias; scipy's
+eigsh), of the elements alone and of every part (the contacts' tangents with them).
+
+The eigenvalue is not a bound the solver could step by as it is: it holds at the state alone
+(the springs are held for SPRINGS_HELD_STEPS steps, for points that may touch by then,
+elements/ply_springs.py), and a power iteration gives it from below. It measures the bound's
+margin: how many more steps the case pays than an exact critical step at each state would
+ask for.
+
+Measured (this script, one thread, load 8-10 on 2 cores; omega^2 in 1/s^2):
+
+* fibrous, steps 1000 / 3000 / 5000 of 5612: the bound 9.71e9 / 9.96e9 / 1.08e10 (cells
+  2.24e9 / 2.46e9 / 2.81e9, springs 7.47e9 / 7.49e9 / 7.99e9), lambda_max of every part
+  2.12e9 / 2.12e9 / 2.23e9 (the elements alone 1.52e9 / 1.52e9 / 1.65e9): the bound 4.6-4.9
+  times the state's omega^2, the step taken 0.41-0.42 of the state's critical one (the
+  safety 0.9 included);
+* Mindlin, steps 1000 / 5000 / 9000 of 11195: the bound 3.40e10 / 3.42e10 / 4.86e10 (cells
+  7.96e9 / 8.48e9 / 1.21e10, springs 2.60e10 / 2.57e10 / 3.65e10), lambda_max 6.19e9 /
+  5.13e9 / 1.36e10 (the elements 5.51e9 / 5.13e9 / 5.13e9): 3.6-6.7 times, the step
+  0.35-0.48 of the state's critical one.
+
+The springs are 3.3-3.6 times the cells' omega^2 and come from the mirrored pass (the bottom
+ply's nodes against the top ply's faces) at the top ply's outline nodes: at the start its
+corner node (lumped mass 2.97e-8 t, a third of an edge node's) takes 190.6 N/mm, the corner
+point's penalty 6.64 N/mm times the fade's factor 12 beside an outline vertex times s_p = 2
+(elements/ply_springs.py), 6.42e9 of the 7.83e9 there; the other pass's largest 5.09e8. The
+cells' estimate is itself 1.45-1.47 times the elements' lambda_max (both kinematics).
+
+What the margin costs, tried and not kept (no bound of the reachable states backs it): the
+springs' omega^2 quartered in ``penalty_frequency_squared`` (the bound then still 1.6-2.3
+times each sampled state's lambda_max), the whole case (``python -m validation --cases
+hemisphere-plies``, load 6-14): 35357 -> 23608 steps (5612 / 11195 / 6636 / 11914 -> 3698 /
+7492 / 4546 / 7872), 24 of 24 checks; the fibrous rms of shear - net moved <= 0.022 deg, the
+draw-in <= 0.29 mm; the Mindlin rms <= 0.45 deg, the corners' draw-in <= 2.4 mm (the spread
+a changed step gives them).
+
+Run: NUMBA_NUM_THREADS=1 python benchmarks/ply_step_bound.py --kinematics fibrous \
+--steps 1000 3000 5000
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import eigsh
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+
+import solvers.explicit as explicit  # noqa: E402
+from femcore.compiled import _springs_at  # noqa: E402
+from solvers import CentralDifference  # noqa: E402
+from solvers.interrupts import STOP, Interrupted, interruptible  # noqa: E402
+from validation.studies import hemisphere_plies_setup as setup  # noqa: E402
+
+
+def largest_eigenvalue(compiled, state, parts) -> float:
+    """lambda_max of M^-1 K (1/s^2) over the free slots with a positive mass or inertia, K
+    the tangent of ``parts`` (indices into ``compiled.parts``; None: all) at ``state``."""
+    mass, inertia = compiled.lumped_mass(state)
+    masses = np.zeros((compiled.n_nodes, 5))
+    masses[:, :3] = mass[:, None]
+    masses[:, 3:] = inertia[:, None]
+    free = compiled.dofs.free_slots
+    stiffness = compiled.stiffness(state, parts=parts)[free][:, free]
+    diagonal = masses.ravel()[free]
+    kept = diagonal > 0.0
+    scale = sp.diags(1.0 / np.sqrt(diagonal[kept]))
+    scaled = scale @ stiffness[kept][:, kept] @ scale
+    return float(eigsh(0.5 * (scaled + scaled.T), k=1, which="LA", return_eigenvectors=False)[0])
+
+
+def springs_by_part(compiled, state, step: float) -> list[tuple[str, float]]:
+    """Each interaction's largest k / m over the nodes (1/s^2) at ``state``, its springs
+    asked for ``step`` s."""
+    mass = compiled.lumped_mass(state)[0]
+    found = []
+    for interaction in compiled.interactions:
+        springs = _springs_at(interaction, state, step)
+        largest = 0.0
+        if springs is not None and len(springs[0]):
+            nodes = np.asarray(springs[0])
+            largest = float(np.max(np.asarray(springs[1]) / mass[nodes]))
+        found.append((type(interaction).__name__, largest))
+    return found
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
+    parser.add_argument("--steps", type=int, nargs="+", default=[1000, 3000, 5000])
+    args = parser.parse_args()
+    _, model = setup.model(8, setup.LAYUPS["0/90"], args.kinematics, 20.0)
+    compiled = model.compile()
+    asked: list[tuple[float, float, float]] = []  # (critical, springs, step) per evaluation
+    lowered = explicit.CentralDifference._lowered
+
+    def logged(solver, critical: float, springs: float) -> float:
+        step = lowered(solver, critical, springs)
+        asked.append((critical, springs, step))
+        return step
+
+    explicit.CentralDifference._lowered = logged  # type: ignore[method-assign]
+    commit = type(compiled).commit
+    states = {}
+    count = [0]
+
+    def counted(state):
+        count[0] += 1
+        accepted = commit(compiled, state)
+        if count[0] in args.steps:
+            states[count[0]] = (accepted, asked[-1])
+        if count[0] == max(args.steps):
+            STOP.signal = "SIGINT"  # stops the run at this step's end
+        return accepted
+
+    compiled.commit = counted  # type: ignore[method-assign]
+    print(f"load {os.getloadavg()}")
+    with interruptible():
+        try:
+            CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False).solve(
+                compiled
+            )
+        except Interrupted:
+            pass
+    compiled.commit = commit.__get__(compiled)  # type: ignore[method-assign]
+    for step, (state, (critical, springs, dt)) in sorted(states.items()):
+        cells = (2.0 / critical) ** 2
+        elements = largest_eigenvalue(compiled, state, list(range(len(compiled.blocks))))
+        every = largest_eigenvalue(compiled, state, None)
+        exact = 2.0 / np.sqrt(every)
+        print(f"step {step}: bound {cells + springs:.3e} (cells {cells:.3e}, springs "
+              f"{springs:.3e}); lambda_max {every:.3e} (elements {elements:.3e}); "
+              f"bound / lambda_max {(cells + springs) / every:.2f}; the step {dt:.3e} s, "
+              f"{dt / exact:.2f} of the state's critical one {exact:.3e} s")  # fmt: skip
+        parts = ", ".join(f"{n} {w:.2e}" for n, w in springs_by_part(compiled, state, dt))
+        print(f"    each interaction's largest k / m: {parts}")
+    print(f"load {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
