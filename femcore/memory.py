@@ -6,7 +6,8 @@ turns that into an immediate ValueError that gives the numbers.
 
 The figures are peaks measured on fibre-aligned rectangles (temporaries included) and
 rounded to the safe side of what was measured, so a mesh or a model that is refused would
-certainly not have fitted:
+certainly not have fitted with the work it is built for (a model: its explicit steps; its
+build alone peaks lower, 0.8-0.95 kB per triangle at 400k):
 
 - a mesh: about 200 bytes per triangle at generation (the grid, the split into triangles,
   the sets, the checks; ``tracemalloc`` at 800 to 7200 triangles);
@@ -29,9 +30,12 @@ ordinary pages (its own work 0.96-1.0 s; benchmarks/model_memory.py).
 from __future__ import annotations
 
 import contextlib
+import importlib
 import os
+import threading
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 __all__ = [
     "MESH_BYTES_PER_CELL",
@@ -198,24 +202,46 @@ def check_model_memory(
     )
 
 
+def _hugepage_switch():
+    """numpy's setter of its huge-page advice (``numpy._core.multiarray`` from numpy 2, and
+    1.26's shim; ``numpy.core.multiarray`` in 1.24-1.25), or None without one."""
+    for module in ("numpy._core.multiarray", "numpy.core.multiarray"):
+        try:
+            return importlib.import_module(module)._set_madvise_hugepage
+        except (ImportError, AttributeError):
+            continue
+    return None
+
+
+# The advice is one setting of the whole process: the threads that build models at once (a
+# Dask worker's) share one hold, and the last to leave gives the advice back.
+_hold_lock = threading.Lock()
+_hold: dict[str, Any] = {"depth": 0, "before": None}
+
+
 @contextlib.contextmanager
 def small_pages() -> Iterator[None]:
     """Within it, numpy does not advise the kernel to back its new large arrays (4 MB and
-    more) by huge pages; its setting before is restored on leaving, whatever happens.
+    more) by huge pages; numpy's setting before the first of the holds open at once (nested
+    or in other threads) is restored when the last of them is left, whatever happens.
 
     Meant for one-off work that touches much fresh memory a few times (a model's build, a
     stable-step bound): there the first touch of a huge page, zeroed and often compacted for,
     costs more than the fewer address translations save. The values computed are the same
-    to the bit (only where the memory lies changes). Without numpy's switch (an older or
-    another numpy) it does nothing.
+    to the bit (only where the memory lies changes). Without numpy's switch it does nothing.
     """
-    try:
-        from numpy._core.multiarray import _set_madvise_hugepage  # type: ignore[attr-defined]
-    except ImportError:  # numpy without the switch: nothing to hold back
+    switch = _hugepage_switch()
+    if switch is None:  # nothing to hold back
         yield
         return
-    previous = _set_madvise_hugepage(False)
+    with _hold_lock:
+        if _hold["depth"] == 0:
+            _hold["before"] = switch(False)
+        _hold["depth"] += 1
     try:
         yield
     finally:
-        _set_madvise_hugepage(previous)
+        with _hold_lock:
+            _hold["depth"] -= 1
+            if _hold["depth"] == 0:
+                switch(_hold["before"])

@@ -76,3 +76,47 @@ def test_the_assembled_stable_step_is_bounded_on_small_pages(advised, monkeypatc
     assert seen == [False]
     assert _get_madvise_hugepage() is True
     assert np.isfinite(bound) and again == bound
+
+
+def test_holds_left_out_of_order_give_the_advice_back_once_the_last_is_left(advised):
+    """Two threads building models at once enter and leave in any order: the advice is one
+    setting of the process, held back while any hold is open and given back after the last
+    (left first-in first-out here, as two threads can)."""
+    first, second = small_pages(), small_pages()
+    first.__enter__()
+    second.__enter__()
+    first.__exit__(None, None, None)
+    assert _get_madvise_hugepage() is False  # the second build still runs
+    second.__exit__(None, None, None)
+    assert _get_madvise_hugepage() is True
+
+
+def test_an_error_inside_a_hold_without_numpys_switch_is_raised_as_itself(monkeypatch):
+    """Without numpy's switch the hold does nothing, and an error of the build comes out
+    alone, not chained to the switch's missing import."""
+    import femcore.memory
+
+    monkeypatch.setattr(femcore.memory, "_hugepage_switch", lambda: None)
+    with pytest.raises(ValueError, match="the build's own") as raised, small_pages():
+        raise ValueError("the build's own")
+    assert raised.value.__context__ is None
+
+
+def test_the_mindlin_step_calibration_runs_on_small_pages(advised, monkeypatch):
+    """The Mindlin cells' first stable step calibrates each reference shape on (m, 3, 3)
+    temporaries (elements/mindlin.py ``cell_stable_dt``): on ordinary pages too."""
+    import elements.mindlin
+
+    compiled = sheet().compile()
+    seen = []
+    congruent = elements.mindlin._congruent_cells
+
+    def spy(*args, **kwargs):
+        seen.append(_get_madvise_hugepage())
+        return congruent(*args, **kwargs)
+
+    monkeypatch.setattr(elements.mindlin, "_congruent_cells", spy)
+    steps = compiled.cell_stable_dt(compiled.initial_state())
+    assert seen == [False]
+    assert _get_madvise_hugepage() is True
+    assert all(np.isfinite(s).all() for s in steps)

@@ -4,6 +4,7 @@ gripper that replaced the lifted node of bai-6.2.1 (elements.Grip, a gripped cor
 """
 
 import math
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -262,8 +263,8 @@ def test_a_paper_case_refuses_arc_iterations_that_are_not_a_count(bad):
 def test_a_phase_s_first_arc_length_step_is_cut_harder_at_each_failure(monkeypatch):
     """The first step of a phase is the tangent's guess; its k-th failed attempt is retried at
     1/2^k of the last length (solvers/arc_length.py, docs/theory.md §6.6): bai-5.1's first
-    displacement step on its 15-cell Mindlin model, which halving took to 1/64 of the guess in
-    six cuts, is tried at 1, 1/2, 1/8 and converges at 1/64 of it."""
+    displacement step on its 15-cell Mindlin model (which halving cut five times, to converge
+    at 1/32 of the guess) is tried at 1, 1/2, 1/8 and converges at 1/64 of it."""
     import solvers.arc_length as arc_length
     from validation.cases import bai_5_1
 
@@ -281,3 +282,38 @@ def test_a_phase_s_first_arc_length_step_is_cut_harder_at_each_failure(monkeypat
     assert result.converged, note
     shares = np.array(tried) / tried[0]
     np.testing.assert_allclose(shares, [1, 1 / 2, 1 / 8, 1 / 64], rtol=1e-12)
+
+
+class _Solved(Exception):
+    """Raised by a stand-in for the paper cases' solve, once it has seen its arguments."""
+
+
+@pytest.mark.parametrize("path", ["runs", "orders"])
+def test_the_report_s_bai_5_1_runs_and_order_runs_aim_at_the_case_s_arc_iterations(
+    path, monkeypatch
+):
+    """The report's bai-5.1 (validation/paper/case.py ``compute_paper_case``, its order runs
+    ``refinement_orders``) solves every model with the case's ``arc_iterations`` (10), not the
+    default aim, and cases/bai-5.1.toml, which runs the case as the report does, says the
+    same."""
+    import validation.paper.case as paper
+    from fibreshell.case import read_case_data
+    from validation.cases import bai_5_1
+
+    aims = []
+
+    def seen(model, increments, arc_iterations=None):
+        aims.append(arc_iterations)
+        raise _Solved
+
+    monkeypatch.setattr(paper, "solve", seen)
+    spec = bai_5_1.SPEC
+    with pytest.raises(_Solved):
+        if path == "runs":
+            paper.compute_paper_case(spec, "coarse")
+        else:  # the coarse sequence starts on a mesh of its own (6 cells)
+            assert spec.order_cells["coarse"][0] != spec.cells["coarse"]
+            paper.refinement_orders(spec, "coarse", None, {})
+    assert aims == [spec.arc_iterations] and spec.arc_iterations == 10
+    case_file = read_case_data(Path(__file__).parents[1] / "cases" / "bai-5.1.toml")
+    assert case_file["solver"]["arc_iterations"] == spec.arc_iterations

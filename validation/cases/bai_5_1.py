@@ -71,7 +71,8 @@ COMPARISON_NOTE = (
 # The arc length's steps aimed at 10 Newton iterations an increment (Static's arc_iterations;
 # the default 5 held the steps at the length of the first displacement increment, which cuts
 # to 1/64 of its tangent's: 48-56 increments of 5 iterations a run), measured at the default
-# resolution (one thread, the same process, load 9-10): the seven runs 1805 -> 965 Newton
+# resolution (one thread, the same process, load 9-10; before a phase's first step was cut
+# harder, docs/theory.md §6.6): the seven runs 1805 -> 965 Newton
 # iterations, the case's computation 12.2 -> 7.4 s of CPU (8: 8.2 s, 14: 8.0 s), every
 # check's value within 1.2e-8 relative (the Eq. 15 tilt's 4e-14 deg round-off aside).
 ARC_ITERATIONS = 10
