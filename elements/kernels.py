@@ -17,6 +17,7 @@ import numpy as np
 
 from elements.jit import AVAILABLE, inline, jit, prange, serial
 from elements.kernel_inputs import read_only
+from femcore.workspace import workspace_of
 
 __all__ = [
     "AVAILABLE",
@@ -243,10 +244,12 @@ def _node_sums6(offsets, corners, per_corner, out):
         out[node, 3], out[node, 4], out[node, 5] = s3, s4, s5
 
 
-def _run_mindlin(block, positions, directors, with_forces: bool):
+def _run_mindlin(block, positions, directors, with_forces: bool, work):
+    """The cell pass: each cell's corner loads (m, 3, 6) (empty without ``with_forces``) and
+    strain energy (m,), in ``work``'s arrays (a lease of femcore/workspace.py)."""
     m = len(block.connectivity)
-    loads = np.empty((m, 3, 6) if with_forces else (0, 3, 6))
-    energy = np.empty(m)
+    loads = work.empty("loads", (m, 3, 6) if with_forces else (0, 3, 6))
+    energy = work.empty("energy", (m,))
     _mindlin_cells(
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
@@ -273,21 +276,24 @@ def _nodal(block, loads):
 def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
     compiled kernel."""
-    loads, _ = _run_mindlin(block, positions, directors, True)
-    return _nodal(block, loads)
+    with workspace_of(block).lease() as work:  # the corner loads kept between calls
+        loads, _ = _run_mindlin(block, positions, directors, True, work)
+        return _nodal(block, loads)
 
 
 def mindlin_loads_and_energy(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) and the strain energy (N mm) of a
     MindlinShellBlock, from one pass of the compiled kernel."""
-    loads, energy = _run_mindlin(block, positions, directors, True)
-    force, moment = _nodal(block, loads)
-    return force, moment, float(energy.sum())
+    with workspace_of(block).lease() as work:
+        loads, energy = _run_mindlin(block, positions, directors, True, work)
+        force, moment = _nodal(block, loads)
+        return force, moment, float(energy.sum())
 
 
 def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float:
     """Strain energy (N mm) of a MindlinShellBlock by the compiled kernel."""
-    return float(_run_mindlin(block, positions, directors, False)[1].sum())
+    with workspace_of(block).lease() as work:
+        return float(_run_mindlin(block, positions, directors, False, work)[1].sum())
 
 
 @jit

@@ -79,6 +79,7 @@ from elements.fibrous.packed_laws import law_energy, law_value
 from elements.jit import jit, jit_lanes, prange
 from elements.lane_maths import lane_arctan2
 from elements.shell_geometry import GUARD
+from femcore.workspace import workspace_of
 
 __all__ = [
     "bending_geometry",
@@ -659,19 +660,20 @@ def _passes(block, positions, directors, with_forces: bool, with_energy: bool):
     N mm; empty without ``with_energy``) and, ``with_forces``, the nodal forces and director
     moments (n, 3)."""
     conn = block.connectivity
-    x, energy, cells = _cell_passes(block, positions, directors, with_forces, with_energy)
-    if not with_forces:
-        return energy, None, None
-    normal, double_area, angles, force, moment, pull, own = cells
-    _pulls_pass(
-        conn, x, normal, double_area, angles, pull, block.nodal_normals, own, block.across_cell,
-        block.across_side, block.interior_side, force,
-    )  # fmt: skip
-    out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
-    _node_loads(
-        block.node_corners.offsets, block.node_corners.corners, force.reshape(-1, 3),
-        moment.reshape(-1, 3), out_force, out_moment,
-    )  # fmt: skip
+    with workspace_of(block).lease() as work:  # the (m, 3, 3) arrays kept (femcore/workspace.py)
+        x, energy, cells = _cell_passes(block, positions, directors, with_forces, with_energy, work)
+        if not with_forces:
+            return energy, None, None
+        normal, double_area, angles, force, moment, pull, own = cells
+        _pulls_pass(
+            conn, x, normal, double_area, angles, pull, block.nodal_normals, own,
+            block.across_cell, block.across_side, block.interior_side, force,
+        )  # fmt: skip
+        out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
+        _node_loads(
+            block.node_corners.offsets, block.node_corners.corners, force.reshape(-1, 3),
+            moment.reshape(-1, 3), out_force, out_moment,
+        )  # fmt: skip
     return energy, out_force, out_moment
 
 
@@ -679,13 +681,15 @@ def normal_pulls(block, positions: np.ndarray, directors: np.ndarray) -> np.ndar
     """T_k = dW/dS_k (n, 3), N mm, the nodal sums of the cells' tension + shear energy
     derivatives in the normal sums (nodal normals; zero at the wall nodes, whose S_k does
     not vary): the pull of ``_passes`` without the forces' other passes."""
-    return _cell_passes(block, positions, directors, True, False)[2][5]
+    with workspace_of(block).lease() as work:
+        return _cell_passes(block, positions, directors, True, False, work)[2][5]
 
 
-def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool):
+def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool, work):
     """Passes 1 and 2 of the module docstring: the positions as given to the loops, the
     energies (m, 3) and, ``with_forces``, (normal, double_area, angles, force, moment, pull,
-    own) for pass 3 (else None)."""
+    own) for pass 3 (else None); force, moment and dW/dS_k in ``work``'s arrays (a lease of
+    femcore/workspace.py)."""
     conn, m = block.connectivity, len(block.connectivity)
     nodal, corners = block.nodal_normals, block.node_corners
     x = loop_array(positions)
@@ -694,8 +698,8 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     side_fold, side_scale = _shared_folds(block, x, normal, double_area)
     frame = _frames(block, x, v, normal, angles)
     shape = (m, 3, 3) if with_forces else (0, 3, 3)
-    force, moment = np.empty(shape), np.empty(shape)
-    d_sums = np.empty(shape if nodal else (0, 3, 3))
+    force, moment = work.empty("force", shape), work.empty("moment", shape)
+    d_sums = work.empty("d_sums", shape if nodal else (0, 3, 3))
     own = np.empty((m, 3) if with_forces else (0, 3))
     energy = np.empty((m, 3) if with_energy else (0, 3))
     _cells_pass(
