@@ -21,13 +21,18 @@ step), the positions after 30 steps the same to the bit in every case:
     Mindlin 100k    0.177 + 0.000 -> 0.174 + 0.000   (36 -> 47)      0.982
     Mindlin 400k    0.175 + 0.026 -> 0.173 + 0.001   (828 -> 86)     0.866
 
+With every per-step array of the fibrous force passes kept as well (the normals, areas,
+angles, side folds, nodal normal sums and frames, side moments and pulls; the forces
+returned and the checking step's energies still made afresh), load 6.5: fibrous 400k 0.401 +
+0.066 -> 0.403 + 0.000 (3265 -> 54 faults a step), CPU 0.862 of before; 100k 0.425 + 0.000
+-> 0.423 + 0.000 (no fault either way in that run), 0.995.
+
 Whether a freed array goes back to the system depends on the heap's layout (glibc's
 thresholds move with the sizes freed before): a bare loop of ``explicit_step`` on a freshly
 built 400k fibrous sheet paid no fault a step with fresh arrays, ``CentralDifference`` on the
 same sheet 2200-3700 (model_memory.py: 0.239 µs of system an element-step beside 0.404 of
-user). The faults left with the kept arrays come from the other per-step arrays (the (m, 3)
-and (n, 10) arrays of the passes, the solver's state), mostly on the steps that check the
-energy balance.
+user). The faults left come from the solver's state and the forces returned, mostly on
+the steps that check the energy balance.
 
 Run from the project root (one 400k case at a time; about 1 GB at 400k triangles):
 

@@ -61,9 +61,10 @@ class NodeCorners:
         self.offsets = np.zeros(n_nodes + 1, dtype=np.int64)
         np.cumsum(np.bincount(flat, minlength=n_nodes), out=self.offsets[1:])
 
-    def sum(self, per_corner: np.ndarray) -> np.ndarray:
-        """sum over the corners of each node of per_corner (m, k, 3) -> (n, 3)."""
-        out = np.empty((len(self.offsets) - 1, 3))
+    def sum(self, per_corner: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """sum over the corners of each node of per_corner (m, k, 3) -> (n, 3), into ``out``
+        when given."""
+        out = np.empty((len(self.offsets) - 1, 3)) if out is None else out
         _node_sums(self.offsets, self.corners, per_corner.reshape(-1, 3), out)
         return out
 

@@ -256,3 +256,18 @@ def test_explicit_steps_of_two_models_in_turns_are_each_models_own_on_one_and_al
     for index in (0, 1):
         np.testing.assert_array_equal(one[index], alone[index])
         np.testing.assert_array_equal(every[index], alone[index])
+
+
+def test_the_fibrous_normal_pulls_are_the_callers_own():
+    """``normal_pulls`` (the static solver's level projection) returns an array of its own,
+    not one the next call writes."""
+    from elements.fibrous.kernels import normal_pulls
+
+    compiled = _model("fibrous", 6)
+    block = compiled.blocks[0]
+    first, second = _jittered(compiled, 10), _jittered(compiled, 11)
+    pulls = normal_pulls(block, first.positions, first.directors)
+    kept = pulls.copy()
+    other = normal_pulls(block, second.positions, second.directors)
+    assert not np.array_equal(other, kept)
+    np.testing.assert_array_equal(pulls, kept)

@@ -79,7 +79,7 @@ from elements.fibrous.packed_laws import law_energy, law_value
 from elements.jit import jit, jit_lanes, prange
 from elements.lane_maths import lane_arctan2
 from elements.shell_geometry import GUARD
-from femcore.workspace import workspace_of
+from femcore.workspace import Fresh, workspace_of
 
 __all__ = [
     "bending_geometry",
@@ -154,11 +154,11 @@ def _normal_sums(offsets, corners, angles, normal, out):
         out[node, 0], out[node, 1], out[node, 2] = sx, sy, sz
 
 
-def _cell_normals(block, positions: np.ndarray, with_angles: bool):
+def _cell_normals(block, positions: np.ndarray, with_angles: bool, work=Fresh):
     """Pass 1 over the cells: (normal (m, 3), double_area (m,), angles (m, 3) or empty)."""
     m = len(block.connectivity)
-    normal, double_area = np.empty((m, 3)), np.empty(m)
-    angles = np.empty((m, 3) if with_angles else (0, 3))
+    normal, double_area = work.empty("normal", (m, 3)), work.empty("double_area", (m,))
+    angles = work.empty("angles", (m, 3) if with_angles else (0, 3))
     _normals_pass(block.connectivity, positions, with_angles, normal, double_area, angles)
     return normal, double_area, angles
 
@@ -206,11 +206,11 @@ def _side_folds(
                 fold[across_cell[c, s], across_side[c, s]] = sign[e] * rows[i]
 
 
-def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area: np.ndarray):
+def _shared_folds(block, positions, normal, double_area, work=Fresh):
     """``_side_folds`` of the block: (fold, scale) (m, 3), set on the sides that couple two
     cells (``interior_side``) and unset elsewhere."""
     m = len(block.connectivity)
-    fold, scale = np.empty((m, 3)), np.empty((m, 3))
+    fold, scale = work.empty("fold", (m, 3)), work.empty("scale", (m, 3))
     _side_folds(
         block.shared_sides, block.shared_sign, block.connectivity, block.across_cell,
         block.across_side, positions, normal, double_area, fold, scale,
@@ -622,17 +622,17 @@ def _strains_pass(
             eps1[c, f], eps2[c, f], gamma[c, f] = level[20], level[21], level[22]
 
 
-def _frames(block, x: np.ndarray, v: np.ndarray, normal: np.ndarray, angles: np.ndarray):
+def _frames(block, x, v, normal, angles, work=Fresh):
     """The nodes' frame table (n, 10) of ``_node_frames`` from the cells' normals and corner
     angles of pass 1 (the nodal normal sums, a wall node's the wall's), as both cell passes
     read it; (0, 10) without nodal normals."""
     if not block.nodal_normals:
         return np.zeros((0, 10))
     corners = block.node_corners
-    sums = np.empty((block.n_nodes, 3))
+    sums = work.empty("sums", (block.n_nodes, 3))
     _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
     sums[block.wall_node_ids] = block.wall_sums
-    frame = np.empty((block.n_nodes, 10))
+    frame = work.empty("frame", (block.n_nodes, 10))
     _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
     return frame
 
@@ -682,7 +682,7 @@ def normal_pulls(block, positions: np.ndarray, directors: np.ndarray) -> np.ndar
     derivatives in the normal sums (nodal normals; zero at the wall nodes, whose S_k does
     not vary): the pull of ``_passes`` without the forces' other passes."""
     with workspace_of(block).lease() as work:
-        return _cell_passes(block, positions, directors, True, False, work)[2][5]
+        return _cell_passes(block, positions, directors, True, False, work)[2][5].copy()
 
 
 def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool, work):
@@ -694,13 +694,13 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     nodal, corners = block.nodal_normals, block.node_corners
     x = loop_array(positions)
     v = loop_array(directors)
-    normal, double_area, angles = _cell_normals(block, x, nodal)
-    side_fold, side_scale = _shared_folds(block, x, normal, double_area)
-    frame = _frames(block, x, v, normal, angles)
+    normal, double_area, angles = _cell_normals(block, x, nodal, work)
+    side_fold, side_scale = _shared_folds(block, x, normal, double_area, work)
+    frame = _frames(block, x, v, normal, angles, work)
     shape = (m, 3, 3) if with_forces else (0, 3, 3)
     force, moment = work.empty("force", shape), work.empty("moment", shape)
     d_sums = work.empty("d_sums", shape if nodal else (0, 3, 3))
-    own = np.empty((m, 3) if with_forces else (0, 3))
+    own = work.empty("own", (m, 3) if with_forces else (0, 3))
     energy = np.empty((m, 3) if with_energy else (0, 3))
     _cells_pass(
         conn, x, v, frame, normal, double_area, nodal, float(block.fabric.thickness), GUARD,
@@ -715,7 +715,7 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
         return x, energy, None
     pull = np.zeros((0, 3))
     if nodal:  # T_k, the sums of dW/dS_k; a wall node's S_k does not vary
-        pull = corners.sum(d_sums)
+        pull = corners.sum(d_sums, work.empty("pull", (block.n_nodes, 3)))
         pull[block.wall_node_ids] = 0.0
     del d_sums
     return x, energy, (normal, double_area, angles, force, moment, pull, own)
