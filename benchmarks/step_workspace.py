@@ -27,6 +27,14 @@ returned and the checking step's energies still made afresh), load 6.5: fibrous 
 0.066 -> 0.403 + 0.000 (3265 -> 54 faults a step), CPU 0.862 of before; 100k 0.425 + 0.000
 -> 0.423 + 0.000 (no fault either way in that run), 0.995.
 
+What the kept arrays cost in memory: about 170 MB at 400k fibrous triangles (0.43 kB a
+triangle: the (m, 3, 3) arrays 86 MB, the rest 87), held from the first force pass on, where
+the step's own arrays used to take the freed ones' place. model_memory.py, fibrous 400k, warm
+cache, one thread (load 3.2-5.5): the steps' peak above the baseline 560 MB (1.434 kB a
+triangle) -> 704-715 (1.80-1.83), the whole run's 585 (1.500; 899 MB with the interpreter's)
+-> 751-760 (1.93-1.95; 947-956), under issue 30's 2 kB a triangle; an energy-only pass that
+kept nothing changed it by nothing measurable (743 MB, tried, not kept).
+
 Whether a freed array goes back to the system depends on the heap's layout (glibc's
 thresholds move with the sizes freed before): a bare loop of ``explicit_step`` on a freshly
 built 400k fibrous sheet paid no fault a step with fresh arrays, ``CentralDifference`` on the
