@@ -27,8 +27,8 @@ returned and the checking step's energies still made afresh), load 6.5: fibrous 
 0.066 -> 0.403 + 0.000 (3265 -> 54 faults a step), CPU 0.862 of before; 100k 0.425 + 0.000
 -> 0.423 + 0.000 (no fault either way in that run), 0.995.
 
-What the kept arrays cost in memory: about 170 MB at 400k fibrous triangles (0.43 kB a
-triangle: the (m, 3, 3) arrays 86 MB, the rest 87), held from the first force pass on, where
+What the kept arrays cost in memory: about 163 MB at 400k fibrous triangles (0.41 kB a
+triangle: the (m, 3, 3) arrays 86 MB, the rest 77), held from the first force pass on, where
 the step's own arrays used to take the freed ones' place. model_memory.py, fibrous 400k, warm
 cache, one thread (load 3.2-5.5): the steps' peak above the baseline 560 MB (1.434 kB a
 triangle) -> 704-715 (1.80-1.83), the whole run's 585 (1.500; 899 MB with the interpreter's)
