@@ -83,7 +83,9 @@ kernel; at 100k none is (no fault a step). Tried outside the tree and not made (
 path of elements/fibrous/kernels.py is not this script's to change, and a block's scratch
 needs care with threads and pickling): the cell pass's three (m, 3, 3) arrays (force,
 moment, dW/dS) kept on the block between calls, 400k, 30 steps, load 8.6-9.1: 0.419 user +
-0.127 system -> 0.399 + 0.000 µs an element-step, no fault, the same positions.
+0.127 system -> 0.399 + 0.000 µs an element-step, no fault, the same positions. Since made
+(femcore/workspace.py, every per-step array of the fibrous passes and the Mindlin corner
+loads), measured beside arrays made afresh by benchmarks/step_workspace.py.
 
 Run from the project root (one 400k case at a time; about 1 GB at 400k triangles):
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from elements.jit import AVAILABLE, inline, jit, prange, serial
 from elements.kernel_inputs import read_only
+from femcore.workspace import workspace_of
 
 __all__ = [
     "AVAILABLE",
@@ -60,9 +61,10 @@ class NodeCorners:
         self.offsets = np.zeros(n_nodes + 1, dtype=np.int64)
         np.cumsum(np.bincount(flat, minlength=n_nodes), out=self.offsets[1:])
 
-    def sum(self, per_corner: np.ndarray) -> np.ndarray:
-        """sum over the corners of each node of per_corner (m, k, 3) -> (n, 3)."""
-        out = np.empty((len(self.offsets) - 1, 3))
+    def sum(self, per_corner: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """sum over the corners of each node of per_corner (m, k, 3) -> (n, 3), into ``out``
+        when given."""
+        out = np.empty((len(self.offsets) - 1, 3)) if out is None else out
         _node_sums(self.offsets, self.corners, per_corner.reshape(-1, 3), out)
         return out
 
@@ -243,10 +245,12 @@ def _node_sums6(offsets, corners, per_corner, out):
         out[node, 3], out[node, 4], out[node, 5] = s3, s4, s5
 
 
-def _run_mindlin(block, positions, directors, with_forces: bool):
+def _run_mindlin(block, positions, directors, with_forces: bool, work):
+    """The cell pass: each cell's corner loads (m, 3, 6) (empty without ``with_forces``) and
+    strain energy (m,), in ``work``'s arrays (a lease of femcore/workspace.py)."""
     m = len(block.connectivity)
-    loads = np.empty((m, 3, 6) if with_forces else (0, 3, 6))
-    energy = np.empty(m)
+    loads = work.empty("loads", (m, 3, 6) if with_forces else (0, 3, 6))
+    energy = work.empty("energy", (m,))
     _mindlin_cells(
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
@@ -273,21 +277,24 @@ def _nodal(block, loads):
 def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
     compiled kernel."""
-    loads, _ = _run_mindlin(block, positions, directors, True)
-    return _nodal(block, loads)
+    with workspace_of(block).lease() as work:  # the corner loads kept between calls
+        loads, _ = _run_mindlin(block, positions, directors, True, work)
+        return _nodal(block, loads)
 
 
 def mindlin_loads_and_energy(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) and the strain energy (N mm) of a
     MindlinShellBlock, from one pass of the compiled kernel."""
-    loads, energy = _run_mindlin(block, positions, directors, True)
-    force, moment = _nodal(block, loads)
-    return force, moment, float(energy.sum())
+    with workspace_of(block).lease() as work:
+        loads, energy = _run_mindlin(block, positions, directors, True, work)
+        force, moment = _nodal(block, loads)
+        return force, moment, float(energy.sum())
 
 
 def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float:
     """Strain energy (N mm) of a MindlinShellBlock by the compiled kernel."""
-    return float(_run_mindlin(block, positions, directors, False)[1].sum())
+    with workspace_of(block).lease() as work:
+        return float(_run_mindlin(block, positions, directors, False, work)[1].sum())
 
 
 @jit

@@ -29,6 +29,7 @@ from femcore.field_names import LEVELS, name_components
 from femcore.mesh import Mesh
 from femcore.state import State
 from femcore.topology import build_topology
+from femcore.workspace import Workspace
 
 if TYPE_CHECKING:
     from elements.fibrous.element import FibrousShell
@@ -127,6 +128,8 @@ class FibrousShellBlock(ElementBlock):
         self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
         self.node_in_block[self.connectivity] = True
         self._pairs: CornerPairs | None = None  # the tangent's sparse pattern
+        # the force passes' (m, 3, 3) arrays, kept between calls (femcore/workspace.py)
+        self._workspace = Workspace()
         self.shear_sign = shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp, compiled=self.compiled
         )

@@ -79,6 +79,7 @@ from elements.fibrous.packed_laws import law_energy, law_value
 from elements.jit import jit, jit_lanes, prange
 from elements.lane_maths import lane_arctan2
 from elements.shell_geometry import GUARD
+from femcore.workspace import Fresh, workspace_of
 
 __all__ = [
     "bending_geometry",
@@ -153,11 +154,11 @@ def _normal_sums(offsets, corners, angles, normal, out):
         out[node, 0], out[node, 1], out[node, 2] = sx, sy, sz
 
 
-def _cell_normals(block, positions: np.ndarray, with_angles: bool):
+def _cell_normals(block, positions: np.ndarray, with_angles: bool, work=Fresh):
     """Pass 1 over the cells: (normal (m, 3), double_area (m,), angles (m, 3) or empty)."""
     m = len(block.connectivity)
-    normal, double_area = np.empty((m, 3)), np.empty(m)
-    angles = np.empty((m, 3) if with_angles else (0, 3))
+    normal, double_area = work.empty("normal", (m, 3)), work.empty("double_area", (m,))
+    angles = work.empty("angles", (m, 3) if with_angles else (0, 3))
     _normals_pass(block.connectivity, positions, with_angles, normal, double_area, angles)
     return normal, double_area, angles
 
@@ -205,11 +206,11 @@ def _side_folds(
                 fold[across_cell[c, s], across_side[c, s]] = sign[e] * rows[i]
 
 
-def _shared_folds(block, positions: np.ndarray, normal: np.ndarray, double_area: np.ndarray):
+def _shared_folds(block, positions, normal, double_area, work=Fresh):
     """``_side_folds`` of the block: (fold, scale) (m, 3), set on the sides that couple two
     cells (``interior_side``) and unset elsewhere."""
     m = len(block.connectivity)
-    fold, scale = np.empty((m, 3)), np.empty((m, 3))
+    fold, scale = work.empty("fold", (m, 3)), work.empty("scale", (m, 3))
     _side_folds(
         block.shared_sides, block.shared_sign, block.connectivity, block.across_cell,
         block.across_side, positions, normal, double_area, fold, scale,
@@ -621,17 +622,17 @@ def _strains_pass(
             eps1[c, f], eps2[c, f], gamma[c, f] = level[20], level[21], level[22]
 
 
-def _frames(block, x: np.ndarray, v: np.ndarray, normal: np.ndarray, angles: np.ndarray):
+def _frames(block, x, v, normal, angles, work=Fresh):
     """The nodes' frame table (n, 10) of ``_node_frames`` from the cells' normals and corner
     angles of pass 1 (the nodal normal sums, a wall node's the wall's), as both cell passes
     read it; (0, 10) without nodal normals."""
     if not block.nodal_normals:
         return np.zeros((0, 10))
     corners = block.node_corners
-    sums = np.empty((block.n_nodes, 3))
+    sums = work.empty("sums", (block.n_nodes, 3))
     _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
     sums[block.wall_node_ids] = block.wall_sums
-    frame = np.empty((block.n_nodes, 10))
+    frame = work.empty("frame", (block.n_nodes, 10))
     _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
     return frame
 
@@ -659,19 +660,20 @@ def _passes(block, positions, directors, with_forces: bool, with_energy: bool):
     N mm; empty without ``with_energy``) and, ``with_forces``, the nodal forces and director
     moments (n, 3)."""
     conn = block.connectivity
-    x, energy, cells = _cell_passes(block, positions, directors, with_forces, with_energy)
-    if not with_forces:
-        return energy, None, None
-    normal, double_area, angles, force, moment, pull, own = cells
-    _pulls_pass(
-        conn, x, normal, double_area, angles, pull, block.nodal_normals, own, block.across_cell,
-        block.across_side, block.interior_side, force,
-    )  # fmt: skip
-    out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
-    _node_loads(
-        block.node_corners.offsets, block.node_corners.corners, force.reshape(-1, 3),
-        moment.reshape(-1, 3), out_force, out_moment,
-    )  # fmt: skip
+    with workspace_of(block).lease() as work:  # the (m, 3, 3) arrays kept (femcore/workspace.py)
+        x, energy, cells = _cell_passes(block, positions, directors, with_forces, with_energy, work)
+        if not with_forces:
+            return energy, None, None
+        normal, double_area, angles, force, moment, pull, own = cells
+        _pulls_pass(
+            conn, x, normal, double_area, angles, pull, block.nodal_normals, own,
+            block.across_cell, block.across_side, block.interior_side, force,
+        )  # fmt: skip
+        out_force, out_moment = np.empty((block.n_nodes, 3)), np.empty((block.n_nodes, 3))
+        _node_loads(
+            block.node_corners.offsets, block.node_corners.corners, force.reshape(-1, 3),
+            moment.reshape(-1, 3), out_force, out_moment,
+        )  # fmt: skip
     return energy, out_force, out_moment
 
 
@@ -679,24 +681,26 @@ def normal_pulls(block, positions: np.ndarray, directors: np.ndarray) -> np.ndar
     """T_k = dW/dS_k (n, 3), N mm, the nodal sums of the cells' tension + shear energy
     derivatives in the normal sums (nodal normals; zero at the wall nodes, whose S_k does
     not vary): the pull of ``_passes`` without the forces' other passes."""
-    return _cell_passes(block, positions, directors, True, False)[2][5]
+    with workspace_of(block).lease() as work:
+        return _cell_passes(block, positions, directors, True, False, work)[2][5].copy()
 
 
-def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool):
+def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool, work):
     """Passes 1 and 2 of the module docstring: the positions as given to the loops, the
     energies (m, 3) and, ``with_forces``, (normal, double_area, angles, force, moment, pull,
-    own) for pass 3 (else None)."""
+    own) for pass 3 (else None); force, moment and dW/dS_k in ``work``'s arrays (a lease of
+    femcore/workspace.py)."""
     conn, m = block.connectivity, len(block.connectivity)
     nodal, corners = block.nodal_normals, block.node_corners
     x = loop_array(positions)
     v = loop_array(directors)
-    normal, double_area, angles = _cell_normals(block, x, nodal)
-    side_fold, side_scale = _shared_folds(block, x, normal, double_area)
-    frame = _frames(block, x, v, normal, angles)
+    normal, double_area, angles = _cell_normals(block, x, nodal, work)
+    side_fold, side_scale = _shared_folds(block, x, normal, double_area, work)
+    frame = _frames(block, x, v, normal, angles, work)
     shape = (m, 3, 3) if with_forces else (0, 3, 3)
-    force, moment = np.empty(shape), np.empty(shape)
-    d_sums = np.empty(shape if nodal else (0, 3, 3))
-    own = np.empty((m, 3) if with_forces else (0, 3))
+    force, moment = work.empty("force", shape), work.empty("moment", shape)
+    d_sums = work.empty("d_sums", shape if nodal else (0, 3, 3))
+    own = work.empty("own", (m, 3) if with_forces else (0, 3))
     energy = np.empty((m, 3) if with_energy else (0, 3))
     _cells_pass(
         conn, x, v, frame, normal, double_area, nodal, float(block.fabric.thickness), GUARD,
@@ -711,7 +715,7 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
         return x, energy, None
     pull = np.zeros((0, 3))
     if nodal:  # T_k, the sums of dW/dS_k; a wall node's S_k does not vary
-        pull = corners.sum(d_sums)
+        pull = corners.sum(d_sums, work.empty("pull", (block.n_nodes, 3)))
         pull[block.wall_node_ids] = 0.0
     del d_sums
     return x, energy, (normal, double_area, angles, force, moment, pull, own)
