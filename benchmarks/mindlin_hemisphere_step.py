@@ -24,7 +24,15 @@ thread, nice 5, load 5-11), the solver's step / the cells' bound / the assembled
   there: 4.70e-6 s (0.83 of the element's own), at 0.7 of the stroke 4.98e-6 against 6.06e-6.
 
 The springs (``penalty_frequency_squared``) stay at their start on both meshes (0.31 of the
-cells' omega^2): not the cause. Results of the runs: ``--cells`` prints them.
+cells' omega^2): not the cause.
+
+With the bound of B5 (the same machine, load 3-4, side by side with the code before in a copy
+of main): 20 cells 46967 steps (47270 before), the step 7.06e-6 / 6.53e-6 / 5.68e-6 s at the
+start / half / end, the cells' bound at its lowest 0.75 of its start (0.70 before); 28 cells
+66484 steps (222591 before), 5.05e-6 / 4.65e-6 / 3.88e-6 s, its lowest 0.71 of its start, 47
+s of CPU (169 before): 1.42 times the 20-cell steps (the cells' ratio 28 / 20 = 1.4). The
+results the runs print moved by at most 0.3 mm of draw-in, 0.2 N of late force and 0.03 deg
+of rms (docs/hemisphere_forming.md, "Observed orders on finer meshes").
 """
 
 from __future__ import annotations
