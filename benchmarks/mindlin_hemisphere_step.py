@@ -30,7 +30,7 @@ With the bound of B5 (the same machine, load 3-4, side by side with the code bef
 of main): 20 cells 46967 steps (47270 before), the step 7.06e-6 / 6.53e-6 / 5.68e-6 s at the
 start / half / end, the cells' bound at its lowest 0.75 of its start (0.70 before); 28 cells
 66484 steps (222591 before), 5.05e-6 / 4.65e-6 / 3.88e-6 s, its lowest 0.71 of its start, 47
-s of CPU (169 before): 1.42 times the 20-cell steps (the cells' ratio 28 / 20 = 1.4). The
+s of CPU (143 before, load 2.3): 1.42 times the 20-cell steps (the cells' ratio 28 / 20 = 1.4). The
 results the runs print moved by at most 0.3 mm of draw-in, 0.2 N of late force and 0.03 deg
 of rms (docs/hemisphere_forming.md, "Observed orders on finer meshes").
 """
