@@ -321,3 +321,18 @@ def test_mindlin_step_follows_a_sheared_blank_as_its_strains_do(angle):
     cells, step, exact = bounds_and_exact(model, state)
     assert cells <= exact
     assert 0.5 * exact <= cells
+
+
+@pytest.mark.parametrize("stretch", [1.05, 1.2])
+def test_mindlin_step_is_safe_on_a_stretched_sheet(stretch):
+    """Stretched in its plane by ``stretch`` both ways, the sheet's Green-Lagrange stiffness
+    grows as the squared stretch: the cells' bound must shorten, where one following the
+    current altitudes lengthened and was 1.13 times the exact step at 1.2 (an unstable step;
+    docs/theory.md §6.2 B5)."""
+    model = Model(Mesh.rectangle(40.0, 40.0, nx=4, ny=4))
+    model.add(MindlinShell(ALUMINIUM))
+    model.fix("left")
+    state = model.compile().initial_state()
+    state.positions[:, :2] *= stretch
+    cells, step, exact = bounds_and_exact(model, state)
+    assert 0.5 * exact <= cells <= exact
