@@ -298,33 +298,33 @@ def mindlin_energy(block, positions: np.ndarray, directors: np.ndarray) -> float
 
 
 @jit
-def _cell_steps(positions, connectivity, translational, rotational, calibration, out):
-    """The Mindlin cells' stable steps 2 / sqrt(omega^2 calibration) into out (m,), omega^2 =
-    translational sum_k 1 / h_k^2 + rotational[c] (h_k the altitudes at the current
-    positions): elements/mindlin.py ``_cheap_omega2`` and ``cell_stable_dt`` in one loop."""
+def _cell_steps(positions, connectivity, reference_steps, inverse_metric, out):
+    """The Mindlin cells' stable steps into out (m,): each cell's reference step over its
+    largest in-plane stretch (at least 1), lambda^2 the larger eigenvalue of G^-1 g, g and G
+    the metrics of the edges x1 - x0, x2 - x0 now and in the reference, inverse_metric (m, 4)
+    = (G22, G12, G11, 1) / det G: elements/mindlin.py ``cell_stable_dt`` in one loop."""
     for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         ax, ay, az = _edge(positions, n0, n1)
         bx, by, bz = _edge(positions, n0, n2)
-        cx, cy, cz = _edge(positions, n1, n2)
-        nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-        area2 = np.sqrt(nx * nx + ny * ny + nz * nz)
-        # (side opposite node k / 2A)^2 = 1 / h_k^2
-        inverse = (cx * cx + cy * cy + cz * cz) + (bx * bx + by * by + bz * bz)
-        inverse += ax * ax + ay * ay + az * az
-        inverse /= area2 * area2
-        out[c] = 2.0 / np.sqrt((translational * inverse + rotational[c]) * calibration[c])
+        g11 = ax * ax + ay * ay + az * az
+        g22 = bx * bx + by * by + bz * bz
+        g12 = ax * bx + ay * by + az * bz
+        w = inverse_metric[c]
+        half = 0.5 * (w[0] * g11 - 2.0 * w[1] * g12 + w[2] * g22)
+        det = w[3] * (g11 * g22 - g12 * g12)
+        stretch2 = half + np.sqrt(max(half * half - det, 0.0))
+        out[c] = reference_steps[c] / np.sqrt(max(stretch2, 1.0))
 
 
-def mindlin_cell_steps(block, positions: np.ndarray, translational: float, rotational, calibration):
+def mindlin_cell_steps(block, positions: np.ndarray, reference_steps, inverse_metric):
     """Stable steps (m,) of a MindlinShellBlock's cells by the compiled loop."""
     out = np.empty(len(block.connectivity))
     _cell_steps(
         np.ascontiguousarray(positions, dtype=np.float64),
         block.connectivity,
-        float(translational),
-        rotational,
-        calibration,
+        reference_steps,
+        inverse_metric,
         out,
     )
     return out

@@ -37,6 +37,8 @@ from elements.mindlin_tables import (
     _packed,
     _product_coefficients,
     _turned_gradient_table,
+    inverse_metric,
+    largest_stretch2,
 )
 from elements.mindlin_tangent import mindlin_tangent_blocks
 from femcore.assembly import Scatter
@@ -220,6 +222,8 @@ class MindlinShellBlock(ElementBlock):
         # The stable step's calibration (omega^2 of each element's eigenvalue problem over
         # the cheap bound), computed at the first call of cell_stable_dt.
         self._step_calibration: np.ndarray | None = None
+        self._reference_steps = np.empty(0)  # s, (m,): 2 / sqrt(omega^2) at the reference
+        self._inverse_metric = np.empty((0, 4))  # (m, 4): ``inverse_metric`` of the cells
 
     def _bind_tables(self) -> None:
         """``reference_area`` (m,), ``reference_measures`` (m, Z, 7) (the products the level
@@ -666,10 +670,11 @@ class MindlinShellBlock(ElementBlock):
         eigenvalue of each element's K_e phi = omega^2 M_e phi (its tangent and its share of
         the lumped masses and rotary inertias), which bounds that of the assembly (Irons:
         the Rayleigh quotient of a sum is at most the largest of the elements'). It is
-        computed once, in the reference configuration, as a factor on the cheap bound
-        ``_cheap_omega2``, which then follows the current geometry at each call. Cells of
-        the same reference shape (edges and directors equal to the bit: the cells of a
-        structured mesh) share one eigenvalue problem.
+        computed once, in the reference configuration (as a factor on the cheap bound
+        ``_cheap_omega2``), and follows the deformation at each call as the element's
+        Green-Lagrange strains do: omega^2 times the largest squared in-plane stretch, at
+        least 1 (B5). Cells of the same reference shape (edges and directors equal to the
+        bit: the cells of a structured mesh) share one eigenvalue problem.
         """
         if self._step_calibration is None:
             # once, on (m, 3, 3) temporaries: ordinary pages (femcore/memory.py)
@@ -677,14 +682,16 @@ class MindlinShellBlock(ElementBlock):
                 x0, v0 = self._reference_cells()
                 first, shape_of = _congruent_cells(x0, v0)
                 omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
-                self._step_calibration = omega2 / self._cheap_omega2(x0)
+                cheap = self._cheap_omega2(x0)
+                self._step_calibration = omega2 / cheap
+                self._reference_steps = 2.0 / np.sqrt(cheap * self._step_calibration)
+                self._inverse_metric = inverse_metric(x0)
         if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
-            translational, rotational = self._cheap_terms()
             return kernels.mindlin_cell_steps(
-                self, state.positions, translational, rotational, self._step_calibration
+                self, state.positions, self._reference_steps, self._inverse_metric
             )
-        x = state.positions[self.connectivity]
-        return 2.0 / np.sqrt(self._cheap_omega2(x) * self._step_calibration)
+        stretch2 = largest_stretch2(state.positions[self.connectivity], self._inverse_metric)
+        return self._reference_steps / np.sqrt(np.maximum(stretch2, 1.0))
 
     def _cheap_terms(self) -> tuple[float, np.ndarray]:
         """(a, b) of ``_cheap_omega2`` = a sum_k 1 / h_k^2 + b: a = 3 / rho (max(Q11, Q22) +

@@ -133,3 +133,27 @@ def _turned_gradient_table(gradient: np.ndarray) -> np.ndarray:
         table[:, :, k, 0, 0] = gradient[:, :, k]
         table[:, :, k, 1, 1 + k] = gradient[:, :, 3 + k]
     return table.reshape(nz, 42, 20)
+
+
+def inverse_metric(x0: np.ndarray) -> np.ndarray:
+    """(m, 4) (G22, G12, G11, 1) / det G of the triangles with corners x0 (m, 3, 3), mm^-2
+    (the last mm^-4): G the metric of the edges x1 - x0, x2 - x0 (G11 = |x1 - x0|^2, G12 their
+    dot product), the reference that ``largest_stretch2`` measures a stretch against."""
+    a, b = x0[:, 1] - x0[:, 0], x0[:, 2] - x0[:, 0]
+    g11, g22, g12 = np.sum(a * a, axis=1), np.sum(b * b, axis=1), np.sum(a * b, axis=1)
+    det = g11 * g22 - g12 * g12
+    return np.column_stack([g22, g12, g11, np.ones_like(det)]) / det[:, None]
+
+
+def largest_stretch2(x: np.ndarray, inverse: np.ndarray) -> np.ndarray:
+    """(m,) the larger squared principal stretch of the triangles' mid-surfaces, the larger
+    eigenvalue of G^-1 g (g the metric of the edges of the corners x (m, 3, 3) now, G^-1 from
+    ``inverse_metric``): docs/theory.md §6.2 B5. The same arithmetic as the compiled loop
+    (elements/kernels.py ``_cell_steps``)."""
+    a, b = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+    g11 = a[:, 0] * a[:, 0] + a[:, 1] * a[:, 1] + a[:, 2] * a[:, 2]
+    g22 = b[:, 0] * b[:, 0] + b[:, 1] * b[:, 1] + b[:, 2] * b[:, 2]
+    g12 = a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1] + a[:, 2] * b[:, 2]
+    half = 0.5 * (inverse[:, 0] * g11 - 2.0 * inverse[:, 1] * g12 + inverse[:, 2] * g22)
+    det = inverse[:, 3] * (g11 * g22 - g12 * g12)
+    return half + np.sqrt(np.maximum(half * half - det, 0.0))

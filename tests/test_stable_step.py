@@ -298,3 +298,41 @@ def test_a_driven_holders_springs_are_bounded_by_max_k_over_m_plus_their_sum_ove
     springs = holder.springs()
     bound = float(np.max(springs[1] / mass[springs[0]]))
     assert exact * (1.0 - 1e-12) <= bound <= exact * (1.0 + 1e-9)
+
+
+@pytest.mark.parametrize("angle", [30.0, 60.0, 80.0])
+def test_mindlin_step_follows_a_sheared_blank_as_its_strains_do(angle):
+    """A fabric's Mindlin calibration (ElasticShell.equivalent) sheared as a net shears,
+    fibre lengths kept (x, y) -> (x + y sin g, y cos g): the elements' strains are Green's, so
+    their stiffness follows the stretch (at most 1 + sin g squared), not the current altitudes,
+    which fall as cos g. Against the exact step of the sheared sheet the cells' bound stays
+    safe and within a factor 2 (the conformance cases' band); one following the altitudes was
+    0.32 of the exact step at 80 deg (the Mindlin hemisphere blank's folded cells took its
+    step down 7-fold, docs/theory.md §6.2 B5)."""
+    model = Model(Mesh.rectangle(40.0, 40.0, nx=4, ny=4))
+    model.add(MindlinShell(ElasticShell.equivalent(fabric())))
+    model.fix("left")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    x, y = state.positions[:, 0].copy(), state.positions[:, 1].copy()
+    g = np.radians(angle)
+    state.positions[:, 0] = x + y * np.sin(g)
+    state.positions[:, 1] = y * np.cos(g)
+    cells, step, exact = bounds_and_exact(model, state)
+    assert cells <= exact
+    assert 0.5 * exact <= cells
+
+
+@pytest.mark.parametrize("stretch", [1.05, 1.2])
+def test_mindlin_step_is_safe_on_a_stretched_sheet(stretch):
+    """Stretched in its plane by ``stretch`` both ways, the sheet's Green-Lagrange stiffness
+    grows as the squared stretch: the cells' bound must shorten, where one following the
+    current altitudes lengthened and was 1.13 times the exact step at 1.2 (an unstable step;
+    docs/theory.md §6.2 B5)."""
+    model = Model(Mesh.rectangle(40.0, 40.0, nx=4, ny=4))
+    model.add(MindlinShell(ALUMINIUM))
+    model.fix("left")
+    state = model.compile().initial_state()
+    state.positions[:, :2] *= stretch
+    cells, step, exact = bounds_and_exact(model, state)
+    assert 0.5 * exact <= cells <= exact
