@@ -34,7 +34,7 @@ cache, one thread (load 3.2-5.5): the steps' peak above the baseline 560 MB (1.4
 triangle) -> 704-715 (1.80-1.83), the whole run's 585 (1.500; 899 MB with the interpreter's)
 -> 751-760 (1.93-1.95; 947-956), under issue 30's 2 kB a triangle; an energy-only pass that
 kept nothing changed it by nothing measurable (743 MB, tried, not kept). Mindlin 400k, the
-same way, main's elements/kernels.py and this one in turns (load 1.6-2.3): the run's peak
+same way, the kernels before the workspace and these in turns (load 1.6-2.3): the run's peak
 534 MB (1.368 kB a triangle) -> 575 (1.474), its corner loads and energies 61 MB kept; the
 ten steps' faults 18267 -> 10753-11265, their system time 0.66-0.80 -> 0.39-1.17 s (noisy).
 

@@ -193,7 +193,7 @@ class MindlinShellBlock(ElementBlock):
         self.cell_ids = np.asarray(cell_ids, dtype=np.int64)
         self.connectivity = mesh.triangles[self.cell_ids]
         self._scatter: Scatter | None = None
-        self._workspace = Workspace()  # the compiled cell pass's corner loads, kept
+        self._workspace = Workspace()  # the compiled cell pass's corner loads and energies
         # the compiled path's sums from cells to nodes (parallel over nodes)
         self.node_corners = kernels.NodeCorners(self.connectivity, mesh.n_nodes)
         self.reference_positions = np.asarray(mesh.points, dtype=float)

@@ -11,9 +11,11 @@ build alone peaks lower, 0.8-0.95 kB per triangle at 400k):
 
 - a mesh: about 200 bytes per triangle at generation (the grid, the split into triangles,
   the sets, the checks; ``tracemalloc`` at 800 to 7200 triangles);
-- a model: about 1.4-1.6 kB per triangle above the interpreter's own memory, the process's
+- a model: about 1.4-2.0 kB per triangle above the interpreter's own memory, the process's
   peak through the build and a few explicit steps (resident memory, 100k and 400k
-  triangles, benchmarks/model_memory.py: MindlinShell 1.37-1.50, FibrousShell 1.43-1.54;
+  triangles, benchmarks/model_memory.py: MindlinShell 1.37-1.50, FibrousShell 1.43-1.54,
+  1.47 and 1.93-1.95 at 400k with the blocks' kept work arrays, benchmarks/
+  step_workspace.py;
   small models carry more per cell, 7.7-8.5 kB by ``tracemalloc`` at 800-7200 triangles,
   but are never near the machine's limit);
 - a static solve (the model, the sparse tangent and its factorisation; peak resident memory
@@ -53,7 +55,7 @@ MESH_BYTES_PER_CELL = 150
 keeps the refusal certain)."""
 
 MODEL_BYTES_PER_CELL = 1_200
-"""Bytes per cell of a compiled model and its explicit steps (measured 1.37-1.54 kB per
+"""Bytes per cell of a compiled model and its explicit steps (measured 1.37-1.95 kB per
 triangle at 100k and 400k triangles; the lower figure keeps the refusal certain: the 6 kB
 once used refused a 400k-triangle model on a machine with 2 GB free, which it fits in)."""
 
@@ -223,7 +225,8 @@ _hold: dict[str, Any] = {"depth": 0, "before": None}
 def small_pages() -> Iterator[None]:
     """Within it, numpy does not advise the kernel to back its new large arrays (4 MB and
     more) by huge pages; numpy's setting before the first of the holds open at once (nested
-    or in other threads) is restored when the last of them is left, whatever happens.
+    or in other threads) is restored when the last of them is left, on an error inside too
+    (numpy's setter itself does not fail on a bool).
 
     Meant for one-off work that touches much fresh memory a few times (a model's build, a
     stable-step bound): there the first touch of a huge page, zeroed and often compacted for,

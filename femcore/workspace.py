@@ -1,14 +1,15 @@
 """Work arrays an element block keeps between the calls of its compiled passes.
 
-A pass over the cells writes per-cell arrays that only the next pass reads (the fibrous
-shell's corner forces, director moments and dW/dS_k, (m, 3, 3) each; the Mindlin shell's
-corner loads, (m, 3, 6)). Made afresh at every call, arrays of tens of MB go back to the
-system when freed (glibc maps an allocation above its mmap threshold, at most 32 MB, on its
-own pages and trims the top of its heap past twice that), and the kernel hands their pages
-over zeroed again at the next step's first touch: at 400k triangles thousands of page
-faults a step, a third of the explicit step's time in the system (docs/theory.md §6.1,
-"Work arrays"). A ``Workspace`` keeps them: ``lease`` gives the arrays of the last call
-when their shape and type are the same, new ones otherwise.
+A pass over the cells writes per-cell and per-node arrays that only the next pass reads (the
+fibrous shell's corner forces, director moments and dW/dS_k, (m, 3, 3) each, its normals, areas,
+angles, side folds and moments, the nodes' normal sums, frames and pulls; the Mindlin shell's
+corner loads, (m, 3, 6), and energies). Made afresh at every call, arrays of tens of MB go back
+to the system when freed (glibc maps an allocation above its mmap threshold, at most 32 MB, on
+its own pages and trims the top of its heap past twice that), and the kernel hands their pages
+over zeroed again at the next step's first touch: at 400k triangles thousands of page faults a
+step, a third of the explicit step's time in the system (docs/theory.md §6.1, "Work arrays"). A
+``Workspace`` keeps them: ``lease`` gives the arrays of the last call when their shape and type
+are the same, new ones otherwise.
 
 The kept arrays hold nothing a caller sees: a pass writes every entry before any is read,
 and what a block returns is made afresh. So that two callers never share them:

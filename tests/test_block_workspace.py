@@ -271,3 +271,21 @@ def test_the_fibrous_normal_pulls_are_the_callers_own():
     other = normal_pulls(block, second.positions, second.directors)
     assert not np.array_equal(other, kept)
     np.testing.assert_array_equal(pulls, kept)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_the_forces_moments_and_energies_a_block_returns_are_the_callers_own(kind):
+    """What ``internal_force`` and ``internal_force_and_energy`` return is made afresh (the
+    workspace's rule, femcore/workspace.py): answers kept from one call, not copied, are
+    unchanged by the next call on the same block at other positions."""
+    compiled = _model(kind, 6)
+    block = compiled.blocks[0]
+    first, second = _jittered(compiled, 12), _jittered(compiled, 13)
+    force, moment, energy = block.internal_force_and_energy(first)
+    alone = block.internal_force(first)
+    kept = [force.copy(), moment.copy(), np.copy(energy)] + [a.copy() for a in alone]
+    other_force, other_moment, _ = block.internal_force_and_energy(second)
+    block.internal_force(second)
+    assert not np.array_equal(other_force, kept[0])
+    for answer, copied in zip([force, moment, energy, *alone], kept, strict=True):
+        np.testing.assert_array_equal(answer, copied)

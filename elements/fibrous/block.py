@@ -128,7 +128,8 @@ class FibrousShellBlock(ElementBlock):
         self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
         self.node_in_block[self.connectivity] = True
         self._pairs: CornerPairs | None = None  # the tangent's sparse pattern
-        # the force passes' (m, 3, 3) arrays, kept between calls (femcore/workspace.py)
+        # the force passes' work arrays (per cell and per node), kept between calls
+        # (femcore/workspace.py)
         self._workspace = Workspace()
         self.shear_sign = shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp, compiled=self.compiled

@@ -688,8 +688,8 @@ def normal_pulls(block, positions: np.ndarray, directors: np.ndarray) -> np.ndar
 def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bool, work):
     """Passes 1 and 2 of the module docstring: the positions as given to the loops, the
     energies (m, 3) and, ``with_forces``, (normal, double_area, angles, force, moment, pull,
-    own) for pass 3 (else None); force, moment and dW/dS_k in ``work``'s arrays (a lease of
-    femcore/workspace.py)."""
+    own) for pass 3 (else None); every per-cell and per-node array of the passes in ``work``'s
+    arrays (a lease of femcore/workspace.py), the energies and the loads returned made afresh."""
     conn, m = block.connectivity, len(block.connectivity)
     nodal, corners = block.nodal_normals, block.node_corners
     x = loop_array(positions)
