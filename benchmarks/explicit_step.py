@@ -276,6 +276,12 @@ the reference pass's own slowdown at that load (1.6-1.7 x and 1.4-1.5 x) about 0
 quiet, against the issue's 0.35 and 0.15 (an estimate, not a measurement). The build in this
 script's process (the loops already loaded): fibrous 0.40 s CPU, Mindlin 0.28 s at 100k;
 benchmarks/model_memory.py has the build and the peaks stage by stage in fresh processes.
+Re-measured on main 9a25df8 (the blocks' work arrays kept, femcore/workspace.py; the Mindlin
+cells' step following their stretch), the machine nearly quiet (load 1.5-1.8), ``--sizes
+100000 --repeats 3``, one thread: fibrous steady step 0.462 µs an element-step (3.5 x the
+reference pass, 0.133 in this run against 0.094-0.098 in the quiet runs above), force 0.373,
+force+energy 0.402, energy 0.288, step less force 0.034, checked step 0.438, commit 0.083;
+Mindlin 0.189 (1.5 x its reference pass, 0.125), force 0.135, step less force 0.039.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
