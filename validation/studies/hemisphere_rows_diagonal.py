@@ -1,0 +1,308 @@
+"""The alternating rows beside the one-ply hemisphere's held centre lines (48 cells and more,
+docs/hemisphere_forming.md "Observed orders on finer meshes"): the same run of the case
+(``hemisphere_forming.run``, unscaled) on blanks whose grid squares are cut along other
+diagonals, and the rows' shear, fibre strain and energies per frame.
+
+Splits (``SPLITS``): "rectangle" the case's own (``Mesh.rectangle``: every square cut from
+(i+1, j) to (i, j+1), so the mesh is not mirror-symmetric about the held planes x = 0, y = 0),
+"flipped" every square cut the other way, "radial" each square cut along the diagonal that
+points away from the blank's centre and "crosswise" along the other one (both mirror-symmetric
+about the two held planes). Run from the project root, one run per command:
+
+    python -m validation.studies.hemisphere_rows_diagonal run radial 48 --out runs/rows
+    python -m validation.studies.hemisphere_rows_diagonal rows runs/rows/radial-48.npz
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from femcore import Mesh
+from femcore.mesh_generators import grid_quads
+
+__all__ = [
+    "OCTANTS",
+    "SPLITS",
+    "alternation",
+    "compressed_patch",
+    "grid_measures",
+    "patch_threshold",
+    "split_mesh",
+]
+
+SPLITS = ("rectangle", "flipped", "radial", "crosswise")
+
+
+def split_mesh(lx: float, ly: float, nx: int, ny: int, origin: Any, split: str) -> Mesh:
+    """``Mesh.rectangle``'s nodes, numbering and node sets with each grid square (a, b, c, d)
+    cut along ``split`` (``SPLITS``): b-d gives (a, b, d), (c, d, b) as ``Mesh.rectangle``;
+    a-c gives (b, c, a), (d, a, c), both counter-clockwise with their legs along the fibres."""
+    if split not in SPLITS:
+        raise ValueError(f"split must be one of {SPLITS}, got {split!r}")
+    base = Mesh.rectangle(lx, ly, nx, ny, origin)
+    quads = grid_quads(nx, ny)
+    centre = base.points[quads].mean(axis=1)
+    middle = base.points.mean(axis=0)
+    same_sign = (centre[:, 0] - middle[0]) * (centre[:, 1] - middle[1]) > 0.0
+    along_ac = {
+        "rectangle": np.zeros(len(quads), bool),
+        "flipped": np.ones(len(quads), bool),
+        "radial": same_sign,  # a-c points along (1, 1), away from the centre where x y > 0
+        "crosswise": ~same_sign,
+    }[split]
+    bd = np.stack((quads[:, [0, 1, 3]], quads[:, [2, 3, 1]]), axis=1)
+    ac = np.stack((quads[:, [1, 2, 0]], quads[:, [3, 0, 2]]), axis=1)
+    triangles = np.where(along_ac[:, None, None], ac, bd).reshape(-1, 3)
+    return Mesh(
+        base.points,
+        triangles,
+        node_sets={name: base.node_sets[name] for name in base.node_sets},
+        element_sets={"all": np.arange(len(triangles))},
+    )
+
+
+def _patched_case(split: str):
+    """The case module with its blank cut along ``split``."""
+    from validation.cases import hemisphere_forming as case
+
+    class Split(Mesh):
+        @classmethod
+        def rectangle(cls, lx, ly, nx, ny, origin=(0.0, 0.0, 0.0)):  # type: ignore[override]
+            return split_mesh(lx, ly, nx, ny, origin, split)
+
+    case.Mesh = Split  # type: ignore[misc]
+    return case
+
+
+def run(split: str, cells: int, out: Path) -> dict[str, Any]:
+    """One unscaled run; its frames' positions and cell fields in ``out`` (.npz) and its
+    record beside it (.json)."""
+    case = _patched_case(split)
+    record = case.run(cells, "fibrous")
+    result, mesh = record["result"], record["mesh"]
+    frames = result.frames
+    tri = [f.fields["triangle"] for f in frames]
+    np.savez_compressed(
+        out,
+        points=mesh.points,
+        triangles=mesh.triangles,
+        times=np.array([f.time for f in frames]),
+        positions=np.array([f.positions for f in frames]),
+        warp_strain=np.array([t["warp_strain"].mean(axis=1) for t in tri]),
+        weft_strain=np.array([t["weft_strain"].mean(axis=1) for t in tri]),
+        shear_deg=np.array([t["shear_angle_deg"].mean(axis=1) for t in tri]),
+        warp_curvature=np.array([t["warp_curvature"] for t in tri]),
+        weft_curvature=np.array([t["weft_curvature"] for t in tri]),
+        tool_forces=np.array([f.tool_forces for f in frames]),
+        net_shear=case.net_shear_at(mesh),
+    )
+    keys = ("rms_deg", "draw_in_mm", "edge_draw_in_mm", "late_punch_force_N")
+    keys += ("largest_kinetic_over_work", "holder_lift_mm", "end_time_s")
+    summary = {k: record[k] for k in keys}
+    summary.update(split=split, cells=cells, steps=int(result.steps), cost=record["cost"])
+    out.with_suffix(".json").write_text(json.dumps(summary, indent=1))
+    return summary
+
+
+def grid_measures(data: Any, frame: int) -> dict[str, np.ndarray]:
+    """The blank's fibre segments at one frame on the grid (j, i) of node (i, j): ``warp``
+    (n+1, n) and ``weft`` (n, n+1) strains (chord over reference length - 1), ``gap`` (n+1,
+    n+1) the nodes' distance from the die's bowl's sphere of the mid-surface (mm; 0 on the
+    die, -0.3 on the punch), and ``off`` (n, n) the squares' shear less the net's (deg, the
+    two triangles' mean; ``hemisphere_forming.blank_shear``)."""
+    from elements.layup import ply_shear
+    from validation.cases import hemisphere_forming as case
+
+    points, triangles = data["points"], data["triangles"]
+    n = int(round(np.sqrt(len(points)))) - 1
+    h = (points[:, 0].max() - points[:, 0].min()) / n
+    x = data["positions"][frame][: len(points)]
+    grid = x.reshape(n + 1, n + 1, 3)
+    shear = ply_shear(points, x, triangles, np.array([1.0, 0.0, 0.0]))
+    off = np.degrees(shear - data["net_shear"])
+    centre = points[triangles].mean(axis=1)
+    i = np.floor((centre[:, 0] - points[:, 0].min()) / h).astype(int)
+    j = np.floor((centre[:, 1] - points[:, 1].min()) / h).astype(int)
+    squares = np.zeros((n, n))
+    np.add.at(squares, (j, i), 0.5 * off)
+    return {
+        "warp": np.linalg.norm(grid[:, 1:] - grid[:, :-1], axis=2) / h - 1.0,
+        "weft": np.linalg.norm(grid[1:] - grid[:-1], axis=2) / h - 1.0,
+        "gap": np.linalg.norm(grid, axis=2) - (case.DIE - 0.5 * case.THICKNESS),
+        "off": squares,
+    }
+
+
+#: The octants beside the held centre lines: (rows beside the x axis (y = 0) or the y axis,
+#: the side of the line, the sign of the coordinate along it)
+OCTANTS = [(line, side, along) for line in "xy" for side in (1, -1) for along in (1, -1)]
+
+
+def alternation(
+    squares: np.ndarray, rows: int = 4, lo: float = 30.0, hi: float = 62.0, half: float = 100.0
+) -> dict[str, float]:
+    """Per octant (``OCTANTS``): the rms (deg) over the squares whose centre lies lo-hi mm
+    along the held line of the alternating part of the first ``rows`` rows' shear off the
+    net, sum_r (-1)^r s_r / rows (a row-by-row pattern gives its amplitude, a smooth field
+    next to none)."""
+    n = len(squares)
+    h = 2.0 * half / n
+    centres = -half + (np.arange(n) + 0.5) * h
+    out = {}
+    for line, side, along in OCTANTS:
+        m = squares if line == "x" else squares.T  # m[across, along]
+        idx = [n // 2 + r if side > 0 else n // 2 - 1 - r for r in range(rows)]
+        alt = sum((-1) ** r * m[idx[r]] for r in range(rows)) / rows
+        chosen = (np.abs(centres) >= lo) & (np.abs(centres) <= hi) & (np.sign(centres) == along)
+        name = (
+            f"{line} axis, {'+-'[side < 0]}{'y' if line == 'x' else 'x'}, {'+-'[along < 0]}{line}"
+        )
+        out[name] = float(np.sqrt(np.mean(alt[chosen] ** 2)))
+    return out
+
+
+def patch_threshold(cells: int, side: float, shear_scale: float = 1.0) -> float:
+    """The weft strain (compression, > 0) past which the flat patch of ``compressed_patch``
+    loses its uniform state to rows shearing alternately: the warp fibres sliding by
+    u = A (-1)^k sin(pi x / 2 side) (k the row, the edge x = 0 held, x = side free) turn the
+    weft segments by 2 A / h, which costs the shear law's tangent G (0.2 shear_scale N/mm at
+    zero shear) and frees the compressed weft's T2 = TENSION eps2, and stretch the warp by
+    A pi / 2 side (TENSION): unstable where -eps2 > G / TENSION + (pi h / 4 side)^2, h =
+    side / cells. The first term is the continuum's (no wavelength of its own: the mesh's
+    shortest, two rows, is the first to go), the second the mesh's."""
+    from validation.cases import hemisphere_forming as case
+
+    h = side / cells
+    return 0.2 * shear_scale / case.TENSION + (np.pi * h / (4.0 * side)) ** 2
+
+
+def compressed_patch(
+    weft_strain: float,
+    cells: int = 20,
+    side: float = 20.0,
+    shear_scale: float = 1.0,
+    split: str = "rectangle",
+) -> dict[str, float]:
+    """A flat square patch of the case's ply (``hemisphere_forming.fabric``, its shear law's
+    slope times ``shear_scale``), ``side`` mm, ``cells`` a side cut along ``split``, held flat
+    (uz = 0 everywhere), its bottom edge at uy = 0 and left edge at ux = 0, its top edge moved
+    by ``weft_strain`` x side along y (compression < 0) over 5 ms (explicit, damping 2000/s),
+    thirty nodes pushed along x by 1e-5 N to break the symmetry: the largest alternation of
+    the rows' shear (deg; half the mean |s_j - s_j+1| of neighbouring rows of squares over
+    the right half), the rms shear (deg) and the weft's mean strain at the end."""
+    from elements import FibrousShell
+    from elements.layup import ply_shear
+    from femcore import Model
+    from materials import Fabric, ShearLaw
+    from solvers import CentralDifference
+    from validation.cases import hemisphere_forming as case
+
+    mesh = split_mesh(side, side, cells, cells, (0.0, 0.0, 0.0), split)
+    ply = case.fabric()
+    ply = Fabric(
+        thickness=ply.thickness,
+        areal_density=ply.areal_density,
+        tension=ply.tension,
+        shear=ShearLaw.polynomial(0.2 * shear_scale, 0.0, case.SHEAR_LOCKING_K5),
+        bending=ply.bending,
+    )
+    built = Model(mesh)
+    built.add(FibrousShell(ply))
+    built.fix(lambda x, y, z: np.ones_like(x, bool), ["uz"])
+    built.fix("bottom", ["uy"])
+    built.fix("left", ["ux"])
+    built.displace("top", uy=weft_strain * side, amplitude="smooth")
+    rng = np.random.default_rng(1)
+    for node in rng.choice(mesh.n_nodes, 30, replace=False):
+        built.force(np.array([node]), (1e-5 * rng.normal(), 0.0, 0.0))
+    result = CentralDifference(duration=5e-3, damping=2000.0, progress=False).solve(built)
+    x = result.positions[: mesh.n_nodes]
+    shear = np.degrees(ply_shear(mesh.points, x, mesh.triangles, np.array([1.0, 0.0, 0.0])))
+    squares = shear.reshape(cells, cells, 2).mean(axis=2)  # [j, i]: split_mesh's order
+    right = squares[:, cells // 2 :]
+    grid = x.reshape(cells + 1, cells + 1, 3)
+    weft = np.linalg.norm(grid[1:] - grid[:-1], axis=2) / (side / cells) - 1.0
+    return {
+        "alternation_deg": float(0.5 * np.abs(right[1:] - right[:-1]).mean(axis=1).max()),
+        "rms_shear_deg": float(np.sqrt(np.mean(shear**2))),
+        "weft_strain": float(weft.mean()),
+    }
+
+
+def _main(argv: list[str]) -> None:
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    verbs = parser.add_subparsers(dest="verb", required=True)
+    one = verbs.add_parser("run")
+    one.add_argument("split", choices=SPLITS)
+    one.add_argument("cells", type=int)
+    one.add_argument("--out", type=Path, required=True)
+    patch = verbs.add_parser("patch", help="the flat patch's rows under weft compression")
+    patch.add_argument("cells", type=int)
+    patch.add_argument("strains", type=float, nargs="+", help="weft strains (< 0)")
+    patch.add_argument("--shear-scale", type=float, default=1.0)
+    patch.add_argument("--split", choices=SPLITS, default="rectangle")
+    rows = verbs.add_parser("rows", help="per frame: the pattern's amplitude and the strains")
+    rows.add_argument("npz", type=Path, nargs="+")
+    arguments = parser.parse_args(argv)
+    if arguments.verb == "run":
+        arguments.out.mkdir(parents=True, exist_ok=True)
+        path = arguments.out / f"{arguments.split}-{arguments.cells}.npz"
+        print(json.dumps(run(arguments.split, arguments.cells, path)), os.getloadavg()[0])
+        return
+    if arguments.verb == "patch":
+        limit = patch_threshold(arguments.cells, 20.0, arguments.shear_scale)
+        print(
+            f"{arguments.cells} cells, shear x {arguments.shear_scale}, {arguments.split}: "
+            f"unstable past a weft strain of {-100 * limit:.3f} %"
+        )
+        for strain in arguments.strains:
+            got = compressed_patch(strain, arguments.cells, 20.0, arguments.shear_scale,
+                                   arguments.split)  # fmt: skip
+            print(
+                f"  weft {100 * strain:+.3f} %: rows alternate {got['alternation_deg']:.2f} "
+                f"deg, rms shear {got['rms_shear_deg']:.3f} deg, mean weft "
+                f"{100 * got['weft_strain']:+.3f} %"
+            )
+        return
+    from femcore.loads import smooth_step
+
+    for npz in arguments.npz:
+        data = np.load(npz)
+        n = int(round(np.sqrt(len(data["points"])))) - 1
+        h = 200.0 / n
+        middle = n // 2
+        # columns (nodes) 40-62 mm from the centre along +x and -x, rows 0-3 beside y = 0
+        xs = -100.0 + h * np.arange(n + 1)
+        near = np.flatnonzero((np.abs(xs) >= 40.0) & (np.abs(xs) <= 62.0))
+        print(
+            f"{npz}: alternation (deg) per octant, rows 0-3, 30-62 mm along the line; "
+            "beside y = 0, 40-62 mm: the weft's mean strain 50-62 mm (%), the warp's of the four "
+            "fibres y = 0, +-h, 2h (%), the nodes on the die / the punch"
+        )
+        for frame, time in enumerate(data["times"]):
+            g = grid_measures(data, frame)
+            alt = alternation(g["off"])
+            rim = near[np.abs(xs[near]) >= 50.0]
+            weft = g["weft"][middle - 4 : middle + 4][:, rim].mean()
+            warp = [g["warp"][middle + k][near[:-1]].mean() for k in (-1, 0, 1, 2)]
+            gap = g["gap"][middle - 4 : middle + 5][:, near]
+            stroke = smooth_step(time / 0.3)
+            print(
+                f"  t {time:.3f} s stroke {stroke:.2f}: alt "
+                + " ".join(f"{v:4.1f}" for v in alt.values())
+                + f" | weft {100 * weft:+.2f} | warp "
+                + " ".join(f"{100 * w:+.2f}" for w in warp)
+                + f" | on die {int((gap > -0.1).sum())} punch {int((gap < -0.2).sum())}"
+            )
+
+
+if __name__ == "__main__":
+    _main(sys.argv[1:])
