@@ -1,7 +1,9 @@
 """The alternating rows beside the one-ply hemisphere's held centre lines (48 cells and more,
 docs/hemisphere_forming.md "Observed orders on finer meshes"): the same run of the case
 (``hemisphere_forming.run``, unscaled) on blanks whose grid squares are cut along other
-diagonals, and the rows' shear, fibre strain and energies per frame.
+diagonals, the rows' alternation per frame, and a flat patch of the same ply whose weft is
+compressed (``compressed_patch``), against the threshold a sliding of the warp fibres has
+(``patch_threshold``).
 
 Splits (``SPLITS``): "rectangle" the case's own (``Mesh.rectangle``: every square cut from
 (i+1, j) to (i, j+1), so the mesh is not mirror-symmetric about the held planes x = 0, y = 0),
@@ -11,6 +13,17 @@ about the two held planes). Run from the project root, one run per command:
 
     python -m validation.studies.hemisphere_rows_diagonal run radial 48 --out runs/rows
     python -m validation.studies.hemisphere_rows_diagonal rows runs/rows/radial-48.npz
+    python -m validation.studies.hemisphere_rows_diagonal patch 20 -0.0045 -0.005
+
+Measured (one thread, nice 5, load 3-5): at 48 cells the rows alternate on all three splits
+run (rectangle, flipped, radial: up to 7.2, 5.6, 4.7 deg in an octant at the end, 0.1-2.5 deg
+at 40 cells), each in other octants, also on the mirror-symmetric radial mesh and not alike
+in octants the mesh maps onto each other: an instability, not the diagonal's bias. They set
+in at 84-90 % of the stroke. The flat patch (20 mm, no contact, flat, the bending idle) loses
+its uniform state to the same rows past the weft compression ``patch_threshold`` gives:
+10 / 20 / 40 cells stable at -0.80 / -0.45 / -0.35 %, rows at -1.10 / -0.50 / -0.40 %
+(threshold -0.95 / -0.49 / -0.37 %), the shear law twice as stiff stable at -0.75 % and rows
+at -0.90 % (threshold -0.82 %), the same on the three splits.
 """
 
 from __future__ import annotations
@@ -67,9 +80,22 @@ def split_mesh(lx: float, ly: float, nx: int, ny: int, origin: Any, split: str) 
     )
 
 
-def _patched_case(split: str):
-    """The case module with its blank cut along ``split``."""
+def _patched_case(split: str, shear_scale: float = 1.0):
+    """The case module with its blank cut along ``split`` and its shear law's slope at zero
+    shear times ``shear_scale``."""
+    from materials import Fabric, ShearLaw
     from validation.cases import hemisphere_forming as case
+
+    if shear_scale != 1.0:
+        own = case.fabric()
+        ply = Fabric(
+            thickness=own.thickness,
+            areal_density=own.areal_density,
+            tension=own.tension,
+            shear=ShearLaw.polynomial(0.2 * shear_scale, 0.0, case.SHEAR_LOCKING_K5),
+            bending=own.bending,
+        )
+        case.fabric = lambda: ply  # type: ignore[assignment]
 
     class Split(Mesh):
         @classmethod
@@ -80,10 +106,10 @@ def _patched_case(split: str):
     return case
 
 
-def run(split: str, cells: int, out: Path) -> dict[str, Any]:
-    """One unscaled run; its frames' positions and cell fields in ``out`` (.npz) and its
-    record beside it (.json)."""
-    case = _patched_case(split)
+def run(split: str, cells: int, out: Path, shear_scale: float = 1.0) -> dict[str, Any]:
+    """One unscaled run (the shear law's slope times ``shear_scale``); its frames' positions
+    and cell fields in ``out`` (.npz) and its record beside it (.json)."""
+    case = _patched_case(split, shear_scale)
     record = case.run(cells, "fibrous")
     result, mesh = record["result"], record["mesh"]
     frames = result.frames
@@ -105,7 +131,13 @@ def run(split: str, cells: int, out: Path) -> dict[str, Any]:
     keys = ("rms_deg", "draw_in_mm", "edge_draw_in_mm", "late_punch_force_N")
     keys += ("largest_kinetic_over_work", "holder_lift_mm", "end_time_s")
     summary = {k: record[k] for k in keys}
-    summary.update(split=split, cells=cells, steps=int(result.steps), cost=record["cost"])
+    summary.update(
+        split=split,
+        cells=cells,
+        shear_scale=shear_scale,
+        steps=int(result.steps),
+        cost=record["cost"],
+    )
     out.with_suffix(".json").write_text(json.dumps(summary, indent=1))
     return summary
 
@@ -114,8 +146,8 @@ def grid_measures(data: Any, frame: int) -> dict[str, np.ndarray]:
     """The blank's fibre segments at one frame on the grid (j, i) of node (i, j): ``warp``
     (n+1, n) and ``weft`` (n, n+1) strains (chord over reference length - 1), ``gap`` (n+1,
     n+1) the nodes' distance from the die's bowl's sphere of the mid-surface (mm; 0 on the
-    die, -0.3 on the punch), and ``off`` (n, n) the squares' shear less the net's (deg, the
-    two triangles' mean; ``hemisphere_forming.blank_shear``)."""
+    die, -0.3 on the punch), and ``off`` (n, n) the squares' shear (deg, the two triangles'
+    mean; ``hemisphere_forming.blank_shear``)."""
     from elements.layup import ply_shear
     from validation.cases import hemisphere_forming as case
 
@@ -125,12 +157,11 @@ def grid_measures(data: Any, frame: int) -> dict[str, np.ndarray]:
     x = data["positions"][frame][: len(points)]
     grid = x.reshape(n + 1, n + 1, 3)
     shear = ply_shear(points, x, triangles, np.array([1.0, 0.0, 0.0]))
-    off = np.degrees(shear - data["net_shear"])
     centre = points[triangles].mean(axis=1)
     i = np.floor((centre[:, 0] - points[:, 0].min()) / h).astype(int)
     j = np.floor((centre[:, 1] - points[:, 1].min()) / h).astype(int)
     squares = np.zeros((n, n))
-    np.add.at(squares, (j, i), 0.5 * off)
+    np.add.at(squares, (j, i), 0.5 * np.degrees(shear))
     return {
         "warp": np.linalg.norm(grid[:, 1:] - grid[:, :-1], axis=2) / h - 1.0,
         "weft": np.linalg.norm(grid[1:] - grid[:-1], axis=2) / h - 1.0,
@@ -145,20 +176,20 @@ OCTANTS = [(line, side, along) for line in "xy" for side in (1, -1) for along in
 
 
 def alternation(
-    squares: np.ndarray, rows: int = 4, lo: float = 30.0, hi: float = 62.0, half: float = 100.0
+    squares: np.ndarray, lo: float = 30.0, hi: float = 62.0, half: float = 100.0
 ) -> dict[str, float]:
     """Per octant (``OCTANTS``): the rms (deg) over the squares whose centre lies lo-hi mm
-    along the held line of the alternating part of the first ``rows`` rows' shear off the
-    net, sum_r (-1)^r s_r / rows (a row-by-row pattern gives its amplitude, a smooth field
-    next to none)."""
+    along the held line of the alternating part of the first four rows' shear,
+    (s_0 - 3 s_1 + 3 s_2 - s_3) / 8 (a row-by-row pattern of amplitude a gives a; a field
+    quadratic across the rows, the net's near the line, none)."""
     n = len(squares)
     h = 2.0 * half / n
     centres = -half + (np.arange(n) + 0.5) * h
     out = {}
     for line, side, along in OCTANTS:
         m = squares if line == "x" else squares.T  # m[across, along]
-        idx = [n // 2 + r if side > 0 else n // 2 - 1 - r for r in range(rows)]
-        alt = sum((-1) ** r * m[idx[r]] for r in range(rows)) / rows
+        idx = [n // 2 + r if side > 0 else n // 2 - 1 - r for r in range(4)]
+        alt = (m[idx[0]] - 3.0 * m[idx[1]] + 3.0 * m[idx[2]] - m[idx[3]]) / 8.0
         chosen = (np.abs(centres) >= lo) & (np.abs(centres) <= hi) & (np.sign(centres) == along)
         name = (
             f"{line} axis, {'+-'[side < 0]}{'y' if line == 'x' else 'x'}, {'+-'[along < 0]}{line}"
@@ -244,6 +275,7 @@ def _main(argv: list[str]) -> None:
     one.add_argument("split", choices=SPLITS)
     one.add_argument("cells", type=int)
     one.add_argument("--out", type=Path, required=True)
+    one.add_argument("--shear-scale", type=float, default=1.0)
     patch = verbs.add_parser("patch", help="the flat patch's rows under weft compression")
     patch.add_argument("cells", type=int)
     patch.add_argument("strains", type=float, nargs="+", help="weft strains (< 0)")
@@ -254,8 +286,10 @@ def _main(argv: list[str]) -> None:
     arguments = parser.parse_args(argv)
     if arguments.verb == "run":
         arguments.out.mkdir(parents=True, exist_ok=True)
-        path = arguments.out / f"{arguments.split}-{arguments.cells}.npz"
-        print(json.dumps(run(arguments.split, arguments.cells, path)), os.getloadavg()[0])
+        scaled = "" if arguments.shear_scale == 1.0 else f"-shear{arguments.shear_scale:g}"
+        path = arguments.out / f"{arguments.split}-{arguments.cells}{scaled}.npz"
+        record = run(arguments.split, arguments.cells, path, arguments.shear_scale)
+        print(json.dumps(record), os.getloadavg()[0])
         return
     if arguments.verb == "patch":
         limit = patch_threshold(arguments.cells, 20.0, arguments.shear_scale)
@@ -284,21 +318,26 @@ def _main(argv: list[str]) -> None:
         near = np.flatnonzero((np.abs(xs) >= 40.0) & (np.abs(xs) <= 62.0))
         print(
             f"{npz}: alternation (deg) per octant, rows 0-3, 30-62 mm along the line; "
-            "beside y = 0, 40-62 mm: the weft's mean strain 50-62 mm (%), the warp's of the four "
-            "fibres y = 0, +-h, 2h (%), the nodes on the die / the punch"
+            "beside y = 0: the weft's mean strain 50-62 mm and its least column mean 20-66 "
+            "mm (%), 40-62 mm: the warp's of the four fibres y = -h, 0, h, 2h (%), the nodes "
+            "on the die / the punch"
         )
         for frame, time in enumerate(data["times"]):
             g = grid_measures(data, frame)
             alt = alternation(g["off"])
             rim = near[np.abs(xs[near]) >= 50.0]
             weft = g["weft"][middle - 4 : middle + 4][:, rim].mean()
+            band = np.flatnonzero((np.abs(xs) >= 20.0) & (np.abs(xs) <= 66.0))
+            columns = g["weft"][middle - 4 : middle + 4][:, band].mean(axis=0)
+            least = int(np.argmin(columns))
             warp = [g["warp"][middle + k][near[:-1]].mean() for k in (-1, 0, 1, 2)]
             gap = g["gap"][middle - 4 : middle + 5][:, near]
             stroke = smooth_step(time / 0.3)
             print(
                 f"  t {time:.3f} s stroke {stroke:.2f}: alt "
                 + " ".join(f"{v:4.1f}" for v in alt.values())
-                + f" | weft {100 * weft:+.2f} | warp "
+                + f" | weft {100 * weft:+.2f}, least {100 * columns[least]:+.2f} at x "
+                + f"{xs[band][least]:+.0f} | warp "
                 + " ".join(f"{100 * w:+.2f}" for w in warp)
                 + f" | on die {int((gap > -0.1).sum())} punch {int((gap < -0.2).sum())}"
             )
