@@ -23,7 +23,10 @@ in at 84-90 % of the stroke. The flat patch (20 mm, no contact, flat, the bendin
 its uniform state to the same rows past the weft compression ``patch_threshold`` gives:
 10 / 20 / 40 cells stable at -0.80 / -0.45 / -0.35 %, rows at -1.10 / -0.50 / -0.40 %
 (threshold -0.95 / -0.49 / -0.37 %), the shear law twice as stiff stable at -0.75 % and rows
-at -0.90 % (threshold -0.82 %), the same on the three splits.
+at -0.90 % (threshold -0.82 %), the same on the three splits. On the hemisphere the shear
+law's slope halved brings the rows to 40 cells (up to 4.7-5.5 deg, the warp fibres -1.0, 0,
+-0.6 % by turns) and doubled takes them from the rows beside the x axis at 48 cells (0.3-1.0
+deg, the shear monotone across the rows; 1.5-3.8 deg beside the y axis), ``run --shear-scale``.
 """
 
 from __future__ import annotations
