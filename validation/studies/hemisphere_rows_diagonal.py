@@ -98,11 +98,11 @@ def _patched_case(split: str, shear_scale: float = 1.0):
             shear=ShearLaw.polynomial(0.2 * shear_scale, 0.0, case.SHEAR_LOCKING_K5),
             bending=own.bending,
         )
-        case.fabric = lambda: ply  # type: ignore[assignment]
+        case.fabric = lambda: ply
 
     class Split(Mesh):
         @classmethod
-        def rectangle(cls, lx, ly, nx, ny, origin=(0.0, 0.0, 0.0)):  # type: ignore[override]
+        def rectangle(cls, lx, ly, nx, ny, origin=(0.0, 0.0, 0.0)):
             return split_mesh(lx, ly, nx, ny, origin, split)
 
     case.Mesh = Split  # type: ignore[misc]
@@ -131,8 +131,8 @@ def run(split: str, cells: int, out: Path, shear_scale: float = 1.0) -> dict[str
         tool_forces=np.array([f.tool_forces for f in frames]),
         net_shear=case.net_shear_at(mesh),
     )
-    keys = ("rms_deg", "draw_in_mm", "edge_draw_in_mm", "late_punch_force_N")
-    keys += ("largest_kinetic_over_work", "holder_lift_mm", "end_time_s")
+    keys = ["rms_deg", "draw_in_mm", "edge_draw_in_mm", "late_punch_force_N"]
+    keys += ["largest_kinetic_over_work", "holder_lift_mm", "end_time_s"]
     summary = {k: record[k] for k in keys}
     summary.update(
         split=split,
