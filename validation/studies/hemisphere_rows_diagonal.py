@@ -83,21 +83,29 @@ def split_mesh(lx: float, ly: float, nx: int, ny: int, origin: Any, split: str) 
     )
 
 
-def _patched_case(split: str, shear_scale: float = 1.0):
-    """The case module with its blank cut along ``split`` and its shear law's slope at zero
-    shear times ``shear_scale``."""
+def scaled_ply(shear_scale: float):
+    """The case's ply (``hemisphere_forming.fabric``) with its shear law's slope at zero shear
+    times ``shear_scale`` (its locking term kept)."""
     from materials import Fabric, ShearLaw
     from validation.cases import hemisphere_forming as case
 
+    own = case.fabric()
+    return Fabric(
+        thickness=own.thickness,
+        areal_density=own.areal_density,
+        tension=own.tension,
+        shear=ShearLaw.polynomial(0.2 * shear_scale, 0.0, case.SHEAR_LOCKING_K5),
+        bending=own.bending,
+    )
+
+
+def _patched_case(split: str, shear_scale: float = 1.0):
+    """The case module with its blank cut along ``split`` and its shear law's slope at zero
+    shear times ``shear_scale``."""
+    from validation.cases import hemisphere_forming as case
+
     if shear_scale != 1.0:
-        own = case.fabric()
-        ply = Fabric(
-            thickness=own.thickness,
-            areal_density=own.areal_density,
-            tension=own.tension,
-            shear=ShearLaw.polynomial(0.2 * shear_scale, 0.0, case.SHEAR_LOCKING_K5),
-            bending=own.bending,
-        )
+        ply = scaled_ply(shear_scale)
         case.fabric = lambda: ply
 
     class Split(Mesh):
@@ -233,19 +241,10 @@ def compressed_patch(
     from elements import FibrousShell
     from elements.layup import ply_shear
     from femcore import Model
-    from materials import Fabric, ShearLaw
     from solvers import CentralDifference
-    from validation.cases import hemisphere_forming as case
 
     mesh = split_mesh(side, side, cells, cells, (0.0, 0.0, 0.0), split)
-    ply = case.fabric()
-    ply = Fabric(
-        thickness=ply.thickness,
-        areal_density=ply.areal_density,
-        tension=ply.tension,
-        shear=ShearLaw.polynomial(0.2 * shear_scale, 0.0, case.SHEAR_LOCKING_K5),
-        bending=ply.bending,
-    )
+    ply = scaled_ply(shear_scale)
     built = Model(mesh)
     built.add(FibrousShell(ply))
     built.fix(lambda x, y, z: np.ones_like(x, bool), ["uz"])
