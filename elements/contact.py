@@ -410,16 +410,19 @@ class ContactBlock(InteractionBlock):
             return np.zeros(3)
         return state.positions[self.tool_node] - self._tool_reference
 
-    def _positions(self, state: State) -> np.ndarray:
+    def _positions(self, state: State, view: bool = False) -> np.ndarray:
         """(s, 3) the contact nodes where the tool sees them: less its free translation (a
-        translated tool's distance is the unmoved tool's at x - c)."""
+        translated tool's distance is the unmoved tool's at x - c). ``view``: the nodes'
+        rows of ``state.positions`` themselves where they are a range and the tool is not
+        driven (read, never written: the kept forces' check compares them, copying only when
+        the forces are computed anew)."""
         span = getattr(self, "_span", None)  # (absent from a block pickled without it)
         if span is not None:
             x = state.positions[span]  # a view: copied, or shifted into a new array
         else:
             x = np.take(state.positions, self.connectivity[:, 0], axis=0)
         if self.tool_node is None:
-            return x.copy() if span is not None else x
+            return x.copy() if span is not None and not view else x
         return shifted(x, self.tool_translation(state))
 
     def touch(self, state: State, history: FrictionHistory | None = None):
@@ -541,7 +544,12 @@ class ContactBlock(InteractionBlock):
         from the last call: an explicit step asks twice (its forces, then its moving tools'
         work), and an analytic tool's distance is as costly as the rest of the step's
         contact."""
-        x = self._positions(state)
+        return self._kept_forces(state, history).copy()
+
+    def _kept_forces(self, state: State, history: FrictionHistory | None) -> np.ndarray:
+        """``contact_forces``'s numbers as kept from the last call, not a copy: read by this
+        block's own passes (the nodes' rows, the tool's total), never written."""
+        x = self._positions(state, view=True)
         last = getattr(self, "_last_forces", None)  # (absent from a block pickled without it)
         if (
             last is not None
@@ -550,7 +558,9 @@ class ContactBlock(InteractionBlock):
             and last[3] is self.stiffness
             and same_rows(last[0], x)
         ):
-            return last[4].copy()
+            return last[4]
+        if self.tool_node is None and getattr(self, "_span", None) is not None:
+            x = x.copy()  # the view: the kept rows must not follow the state's
         compiled = getattr(self, "compiled_forces", None)  # (absent from an older pickle)
         if compiled is not None and history is None:
             forces = compiled(self, x, state.load_factor)
@@ -558,12 +568,30 @@ class ContactBlock(InteractionBlock):
             p, n, touching = self.touch(state, history)
             friction, *_ = self.tangential(state, history, p, n, touching)
             forces = (self.stiffness * p)[:, None] * n + friction
-        self._last_forces = (x, history, state.load_factor, self.stiffness, forces.copy())
+        self._last_forces = (x, history, state.load_factor, self.stiffness, forces)
         return forces
+
+    def _total(self, state: State, history: FrictionHistory | None) -> np.ndarray:
+        """(3,) the sum of the rows of ``contact_forces`` (``row_sums``' numbers), kept with
+        the forces it was summed from: the step's moving tools' work asks for it twice on a
+        checked step, the history's tool forces once more."""
+        forces = self._read_forces(state, history)
+        kept = getattr(self, "_last_total", None)  # (absent from a block pickled without it)
+        if kept is None or kept[0] is not forces:
+            kept = (forces, row_sums(forces))
+            self._last_total = kept
+        return kept[1]
+
+    def _read_forces(self, state: State, history: Any) -> np.ndarray:
+        """``contact_forces`` for reading: the kept array where this class's own forces are
+        the block's (a subclass that adds to them, elements/contact_damping.py, is asked)."""
+        if type(self).contact_forces is ContactBlock.contact_forces:
+            return self._kept_forces(state, history)
+        return self.contact_forces(state, history)
 
     def tool_forces(self, state: State, history: FrictionHistory | None = None) -> np.ndarray:
         """(1, 3) the total force the body exerts on the tool, N."""
-        return -row_sums(self.contact_forces(state, history))[None, :]
+        return -self._total(state, history)[None, :]
 
     # ------------------------------------------------------------------ protocol
     def internal_force(self, state: State, history: Any = None):
@@ -578,7 +606,7 @@ class ContactBlock(InteractionBlock):
         of the arrays)."""
         if not getattr(self, "_distinct", False):  # (absent from a block pickled without it)
             return super().add_internal_force(state, history, force, moment)
-        add_node_forces(self.connectivity, self.contact_forces(state, history), force)
+        add_node_forces(self.connectivity, self._read_forces(state, history), force)
 
     def tool_displacements(self, state: State, history: Any = None) -> np.ndarray:
         """(1, 3) the tool's translation from where it was given, mm: its prescribed motion
@@ -649,7 +677,7 @@ class ContactBlock(InteractionBlock):
         if not self.tool.moves:
             return 0.0
         shift = self.tool.offset(end) - self.tool.offset(start)
-        return float(row_sums(self.contact_forces(state, history)) @ shift)
+        return float(self._total(state, history) @ shift)
 
     def tangent(self, state: State, history: Any = None):
         """d(internal force)/dx per node: normal k n n^T - k p N with N = dn/dx

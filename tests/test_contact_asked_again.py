@@ -2,9 +2,11 @@
 memory (an explicit step asks for its forces, then for its moving tools' work): the same
 numbers, and never a stale answer when anything that sets them has changed."""
 
+import pickle
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
 from elements import RigidSphere
 from elements.contact import Contact, FrictionHistory
@@ -63,3 +65,37 @@ def test_the_forces_follow_the_positions_the_load_factor_the_history_and_the_sti
         block.contact_forces(later, slid), fresh(later, slid, block.stiffness)
     )
     assert not np.array_equal(block.contact_forces(later, slid), before)
+
+
+def _numbers(block, state, history):
+    """(the nodes' rows added into zeros (3, 3), the tool's total force (1, 3), its work)."""
+    force, moment = np.zeros((3, 3)), np.zeros((3, 3))
+    block.add_internal_force(state, history, force, moment)
+    return force, block.tool_forces(state, history), block.tool_work(state, history, 0.1, 0.2)
+
+
+@pytest.mark.parametrize("friction", [0.3, 0.0])
+def test_the_total_the_work_and_the_rows_follow_positions_moved_in_place(friction):
+    """The tool's total force, its work and the nodes' rows are read from the kept forces
+    without a copy, and the kept check compares the state's own rows (no copy either): a
+    state whose positions are moved in place between two calls gets a fresh block's
+    numbers, with friction (the numpy path) and without (the compiled pass)."""
+    block, state, history = pressed_nodes()
+    if friction == 0.0:
+        tool = RigidSphere((0.0, 0.0, 0.0), 10.0, motion=(0.0, 0.0, 1.0))
+        mesh = Mesh(state.positions.copy(), lines=np.array([[0, 1], [1, 2]]))
+        block = Contact(tool, [0, 1, 2], offset=0.5, penalty=100.0).bind(Body.bare(mesh))
+        history = None
+    assert (block.compiled_forces is None) is (friction > 0.0)
+    first = _numbers(block, state, history)
+    assert np.any(first[0] != 0.0) and first[2] != 0.0
+    for found, expected in zip(_numbers(block, state, history), first):  # from memory
+        np.testing.assert_array_equal(found, expected)
+    state.positions[1, 2] -= 0.03  # moved in place
+    moved = _numbers(block, state, history)
+    other = pickle.loads(pickle.dumps(block))
+    other._last_forces = other._last_total = None
+    for found, expected in zip(moved, _numbers(other, state, history)):
+        np.testing.assert_array_equal(found, expected)
+    assert not np.array_equal(moved[0], first[0])
+    np.testing.assert_array_equal(moved[1], moved[0].sum(axis=0)[None, :])  # its reaction
