@@ -213,9 +213,17 @@ class HistoryWriter:
         tools = np.zeros((self.tools, 3)) if tool_forces is None else tool_forces
         moved = np.zeros((self.tools, 3)) if tool_displacements is None else tool_displacements
         paired = np.concatenate([np.reshape(tools, (-1, 3)), np.reshape(moved, (-1, 3))], axis=1)
-        row = [*energies, *reactions.sum(axis=0), *paired.ravel()]
-        row += [*displacements[self.nodes].ravel()]
-        self._pending.append([repr(float(v)) for v in row])
+        # the numbers as one float64 row, made Python floats at once (``tolist``: the same
+        # doubles, so the same text, as a float() of each numpy scalar)
+        numbers = np.concatenate(
+            [
+                np.asarray(energies, dtype=np.float64),
+                reactions.sum(axis=0),
+                paired.ravel(),
+                displacements[self.nodes].ravel(),
+            ]
+        )
+        self._pending.append(list(map(repr, numbers.tolist())))
         if len(self._pending) >= PENDING_ROWS:
             self.flush()
 

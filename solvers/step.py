@@ -208,17 +208,12 @@ def explicit_step(
             checking,
         )
         work = tuple(a + b for a, b in zip(work, turning))
-        moved = replace(state, positions=positions, directors=directors)
     else:
         w_new, reaction_moments = omega, np.zeros_like(reactions)
         moved = advance(model, state, dt, v_new)
-    new = replace(
-        moved,
-        velocities=v_new,
-        angular_velocities=w_new,
-        time=t_next,
-        load_factor=t_next / duration,
-    )
+        positions, directors = moved.positions, moved.directors
+    # made at once (not two dataclass replaces: a step's Python is most of a small model's)
+    new = State(positions, directors, v_new, w_new, t_next, t_next / duration, state.history)
     return Step(new, reactions, reaction_moments, work, strain)
 
 
