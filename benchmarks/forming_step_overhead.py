@@ -212,6 +212,7 @@ from __future__ import annotations
 import argparse
 import collections
 import functools
+import inspect
 import json
 import os
 import subprocess
@@ -226,17 +227,13 @@ sys.path.insert(0, str(HERE))  # run from anywhere, no install
 
 # one run in a process of its own: the CPU of the whole solve, its steps, its end state
 RUN = """
-import json, sys, time
+import json, os, sys, time
 import numpy as np
-from solvers import CentralDifference, SolverError
-from validation.studies import hemisphere_plies_setup as setup
-kinematics, layup, cells, history = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
-_, model = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
+# case_model's source is put above (the tree run is on sys.path, not this one)
+case, kinematics, layup, cells, history = sys.argv[1:6]
+short, solver, model = case_model(case, kinematics, layup, int(cells), history)
 # compiled (or read from numba's cache) before the timing: a short run of the same model
-CentralDifference(duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False,
-                  kinetic_bound=None).solve(model.compile())
-solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False,
-                           output_interval=setup.DURATION / 100, history=history)
+short.solve(model.compile())
 start = time.process_time()
 result = solver.solve(model.compile())
 cpu = time.process_time() - start
@@ -245,19 +242,50 @@ print(json.dumps({"cpu": cpu, "steps": result.steps,
 """
 
 
-def run_in(tree: Path, kinematics: str, layup: str, cells: int) -> dict:
+def case_model(case: str, kinematics: str, layup: str, cells: int, history: str | None):
+    """(a short solver that compiles the kernels, the timed solver, the Model) of ``case``:
+    "hemisphere-plies" (validation/studies/hemisphere_plies_run.py's two plies of ``layup``,
+    the energy and tool history every record, 100 frames) or "hemisphere-forming"
+    (validation/cases/hemisphere_forming.py ``run``: one ply on the die's round, the case's
+    time scaling, no history)."""
+    from solvers import CentralDifference
+
+    if case == "hemisphere-forming":
+        from validation.cases import hemisphere_forming as forming
+        from validation.forming_scaling import TIME_SCALING
+
+        duration = forming.DURATION / TIME_SCALING[kinematics]["default"]
+        _, model = forming.model(cells, kinematics, rim=forming.DIE_RIM)
+        short = CentralDifference(
+            duration=duration / 200, damping=forming.DAMPING, progress=False, kinetic_bound=None
+        )
+        solver = CentralDifference(duration=duration, damping=forming.DAMPING, progress=False)
+        return short, solver, model
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
+    short = CentralDifference(
+        duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False, kinetic_bound=None
+    )
+    solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False,
+                               output_interval=setup.DURATION / 100, history=history)  # fmt: skip
+    return short, solver, model
+
+
+def run_in(tree: Path, case: str, kinematics: str, layup: str, cells: int) -> dict:
     """One whole run in a process of its own on ``tree``'s code, one numba thread."""
     environment = {**os.environ, "PYTHONPATH": str(tree), "NUMBA_NUM_THREADS": "1"}
     history = f"/tmp/forming_step_overhead_{os.getpid()}.csv"
+    script = inspect.getsource(case_model) + RUN
     done = subprocess.run(
-        [sys.executable, "-c", RUN, kinematics, layup, str(cells), history],
+        [sys.executable, "-c", script, case, kinematics, layup, str(cells), history],
         cwd=tree, env=environment, capture_output=True, text=True, check=True,
     )  # fmt: skip
     Path(history).unlink(missing_ok=True)
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def split(kinematics: str, layup: str, cells: int) -> None:
+def split(case: str, kinematics: str, layup: str, cells: int) -> None:
     """One whole run here with a CPU timer round each part of the step (inclusive)."""
     import elements.contact as contact
     import elements.ply_block as ply_block
@@ -275,8 +303,6 @@ def split(kinematics: str, layup: str, cells: int) -> None:
         ply_load_kernels,
         ply_projection,
     )
-    from solvers import CentralDifference
-    from validation.studies import hemisphere_plies_setup as setup
 
     spent: dict[str, float] = collections.defaultdict(float)
     calls: collections.Counter[str] = collections.Counter()
@@ -322,24 +348,17 @@ def split(kinematics: str, layup: str, cells: int) -> None:
     for owner, names in parts:
         for name in names:
             timed(owner, name)
-    _, model = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
-    CentralDifference(
-        duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False, kinetic_bound=None
-    ).solve(model.compile())
+    short, solver, model = case_model(
+        case, kinematics, layup, cells, f"/tmp/forming_step_overhead_{os.getpid()}.csv"
+    )
+    short.solve(model.compile())
     spent.clear()
     calls.clear()
-    solver = CentralDifference(
-        duration=setup.DURATION,
-        damping=setup.DAMPING,
-        progress=False,
-        output_interval=setup.DURATION / 100,
-        history=f"/tmp/forming_step_overhead_{os.getpid()}.csv",
-    )
     start = time.process_time()
     result = solver.solve(model.compile())
     cpu = time.process_time() - start
     steps = result.steps
-    print(f"{kinematics} [{layup}], {cells} cells: {steps} steps, {cpu:.2f} s CPU, "
+    print(f"{case}, {kinematics} [{layup}], {cells} cells: {steps} steps, {cpu:.2f} s CPU, "
           f"{cpu / steps * 1e3:.3f} ms a step (load {os.getloadavg()[0]:.1f})")  # fmt: skip
     for label, seconds in sorted(spent.items(), key=lambda item: -item[1]):
         each = seconds / calls[label] * 1e6
@@ -349,15 +368,22 @@ def split(kinematics: str, layup: str, cells: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--case", default="hemisphere-plies", choices=("hemisphere-plies", "hemisphere-forming")
+    )
     parser.add_argument("--kinematics", default="fibrous", choices=("fibrous", "mindlin"))
     parser.add_argument("--layup", default="0/90", choices=("0/90", "0/45"))
-    parser.add_argument("--cells", type=int, default=8, help="fibre segments across the blank")
+    parser.add_argument(
+        "--cells", type=int, help="cells across the blank (default 8 plies, 20 forming)"
+    )
     parser.add_argument("--split", action="store_true", help="the step's parts, this tree")
     parser.add_argument("--reference", type=Path, help="a tree of the code before")
     parser.add_argument("--repeats", type=int, default=2, help="runs per tree (best CPU)")
     args = parser.parse_args()
+    if args.cells is None:
+        args.cells = 20 if args.case == "hemisphere-forming" else 8
     if args.split:
-        split(args.kinematics, args.layup, args.cells)
+        split(args.case, args.kinematics, args.layup, args.cells)
     if args.reference is None:
         return
     trees = {"reference": args.reference.resolve(), "this": HERE}
@@ -366,13 +392,14 @@ def main() -> None:
     for _ in range(args.repeats):
         for name, tree in trees.items():
             print(f"load {os.getloadavg()[0]:.1f}: {name} ...", flush=True)
-            ran = run_in(tree, args.kinematics, args.layup, args.cells)
+            ran = run_in(tree, args.case, args.kinematics, args.layup, args.cells)
             best[name] = min(best[name], ran["cpu"] / ran["steps"] * 1e3)
             ends[name] = ran
     same = ends["this"]["steps"] == ends["reference"]["steps"] and np.array_equal(
         np.array(ends["this"]["positions"]), np.array(ends["reference"]["positions"])
     )
-    print(f"{args.kinematics} [{args.layup}], {args.cells} cells, {ends['this']['steps']} steps: "
+    print(f"{args.case}, {args.kinematics} [{args.layup}], {args.cells} cells, "
+          f"{ends['this']['steps']} steps: "
           f"ms a step (best of {args.repeats}, CPU) reference {best['reference']:.3f}, this "
           f"{best['this']:.3f} (x {best['reference'] / best['this']:.2f}); the same steps and "
           f"final positions to the bit: {same} (load {os.getloadavg()[0]:.1f})")  # fmt: skip
