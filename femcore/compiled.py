@@ -221,7 +221,11 @@ class CompiledModel(CompiledTangent):
         if not self._has_history:
             return state
         history = tuple(part.update_history(state, h) for part, h in zip(self.parts, state.history))
-        return replace(state, history=history)
+        # made at once, not by a dataclass replace (the explicit solver commits every step)
+        return State(
+            state.positions, state.directors, state.velocities, state.angular_velocities,
+            state.time, state.load_factor, history,
+        )  # fmt: skip
 
     def freeze(self, state: State, grow: bool = False) -> tuple[State, int]:
         """(the state with every interaction's contact set frozen at it, the number of nodes

@@ -297,7 +297,9 @@ class EnergyAccount:
         values = (time, self.kinetic, self.internal, self.external, self.dissipated, self.friction)
         for key, value in zip(self.KEYS, values):
             self.records[key].append(value)
-        kept = self.records.setdefault(self.ROTATIONAL, [0.0] * (len(self.records["time"]) - 1))
+        kept = self.records.get(self.ROTATIONAL)
+        if kept is None:  # (a record made before it was kept: zeros for the earlier ones)
+            kept = self.records[self.ROTATIONAL] = [0.0] * (len(self.records["time"]) - 1)
         kept.append(0.0 if rotational is None else rotational())
         return True
 

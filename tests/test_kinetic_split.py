@@ -46,3 +46,18 @@ def test_the_kinetic_energy_is_the_translations_and_the_rotational_record():
     assert rotation > 0.01 * energies["kinetic"][-1]
     assert len(energies["kinetic_rotational"]) == len(energies["kinetic"])
     assert energies["kinetic_rotational"][0] == 0.0  # at rest
+
+
+def test_an_account_restored_without_the_rotational_record_gets_zeros_before_it():
+    """An energy account from a checkpoint written before the rotational record was kept
+    (its ``records`` without the key) gives zeros for its earlier records, then the values:
+    the record lists stay as long as the others."""
+    from solvers.dynamics import EnergyAccount
+
+    account = EnergyAccount(thin=1)
+    account.record(1, 1e-3)
+    del account.records[EnergyAccount.ROTATIONAL]  # as restored from the older checkpoint
+    account.record(2, 2e-3, lambda: 0.5)
+    account.record(3, 3e-3, lambda: 0.25)
+    assert account.records[EnergyAccount.ROTATIONAL] == [0.0, 0.0, 0.5, 0.25]
+    assert all(len(values) == 4 for values in account.records.values())
