@@ -302,6 +302,8 @@ def split(case: str, kinematics: str, layup: str, cells: int) -> None:
         ply_friction,
         ply_load_kernels,
         ply_projection,
+        rigid_surface,
+        tool_contact,
     )
 
     spent: dict[str, float] = collections.defaultdict(float)
@@ -333,6 +335,8 @@ def split(case: str, kinematics: str, layup: str, cells: int) -> None:
         (ply_block, ["closest_facing"]),
         (ply_search.FacingSearch, ["near", "_renew", "_refresh"]),
         (contact.ContactBlock, ["add_internal_force", "tool_forces", "tool_work"]),
+        (tool_contact, ["surface_forces"]),
+        (rigid_surface.RigidSurface, ["_prepared"]),
         (explicit.CentralDifference, ["_step_size", "_check"]),
         (explicit, ["explicit_step", "make_frame"]),
         (output.HistoryWriter, ["append", "flush"]),
