@@ -205,6 +205,49 @@ positions to the bit. ``--split`` of Mindlin [0/90] at load 6.0 before and after
 searches 0.206 -> 0.099 ms a step, the die's ``tool_forces`` 79.1 -> 63.7 us a call. What is
 left of the facing is its kernels' own work (the choice 60, the fade 56, the sides 38 us a
 call) and the step's Python round some forty compiled calls.
+
+Fifth round: the step's glue outside the ply contact and the elements, on both cases
+(``--case hemisphere-forming``: the one-ply case's fibrous run, 20 cells, time-scaled x2, no
+history). Each cut gives the same bits:
+
+* the contacts' kept forces read in place: the tools' rows added into the step's force, the
+  tools' totals and their work taken from the array kept by ``contact_forces`` (no copy), the
+  kept check comparing the state's own rows (copied only when the forces are made anew), the
+  total kept with the forces it sums (a checked step asks for the moving tools' work twice,
+  the history once more); a subclass that adds to the forces (contact damping) still asked;
+* ``explicit_step``'s and ``CompiledModel.commit``'s new State made at once, not by
+  ``dataclasses.replace`` (twice a step, then once);
+* ``EnergyAccount.record``: the rotational record's list was looked up by ``setdefault``
+  with a default list of zeros as long as the records, made at every record (2.2-2.4 -> 0.58
+  us a record over 5612 records);
+* the history's row made one float64 array and Python floats by ``tolist`` (21.7-22.1 ->
+  20.3-20.9 us a row, the same text: formatting the 36 floats is most of it).
+
+Measured beside main ff71a95 (``git archive``; one numba thread, CPU, the machine shared with
+other jobs, load 10-14 throughout):
+
+* ``--reference``, hemisphere-forming: 0.767 -> 0.689 ms a step (best of 3, 13840 steps);
+  hemisphere-plies fibrous [0/90] (without the record's and commit's cuts): 1.979 -> 1.863
+  (best of 2, 5612 steps); the same steps and final positions to the bit in both;
+* ``python -m validation --cases hemisphere-forming,hemisphere-plies --jobs 1`` (without the
+  record's and commit's cuts; both trees' kernels compiled during the runs): results.json the
+  same in all its 414 numbers but the times and loads (5/5 and 24/24 checks); case_cpu_s
+  hemisphere-forming 38.1 -> 37.6 s, hemisphere-plies 90.1 -> 92.1 s: within the noise of
+  that load.
+
+``--split --case hemisphere-forming`` (the timers' own cost in the figures), main then this
+tree, load 12.4 and 12.0: 0.909 -> 0.876 ms a step; the three tools' rows 0.284 -> 0.273 ms
+a step (94.8 -> 91.1 us a call), of which the meshed die's ``surface_forces`` 0.206 -> 0.202
+(its lists' upkeep ``RigidSurface._prepared`` 0.049; the rest its closest facets' search,
+elements/facet_search.py), the tools' work 0.039 -> 0.036, the fibrous block's history 0.036
+-> 0.033, the rotational update 0.034, the rates 0.029 -> 0.027, the loads 0.026, the step
+size 0.019 (every 10 steps: the rotary inertia's refresh 0.17 ms a call, most of it the
+fibrous block's nodal normal sums), the energy record 0.013 -> 0.012. Outside the element
+block's force (about 0.33 ms) the largest part is the meshed die's contact, not the solver's
+glue: halving the step's cost outside the elements needs the die's search made cheaper
+(its kept lists, its kernel), and then the rest of the glue fused (the rates, the tools'
+work and the rotational update in one pass; the analytic tools' rows and totals in one pass
+per tool set).
 """
 
 from __future__ import annotations
