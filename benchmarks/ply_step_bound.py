@@ -94,6 +94,20 @@ def springs_by_part(compiled, state, step: float) -> list[tuple[str, float]]:
     return found
 
 
+def equal_weights(compiled, mass, state, step: float) -> float:
+    """``penalty_frequency_squared`` with the ply springs' nodes weighed equally (their
+    bound before the masses weighed them, elements/ply_springs.py "Weights"), 1/s^2."""
+    plies = [b for b in compiled.interactions if getattr(b, "calibrated_mass", None) is not None]
+    held = [b.calibrated_mass for b in plies]
+    for block in plies:
+        block.calibrated_mass = None
+    try:
+        return compiled.penalty_frequency_squared(mass, state, step)
+    finally:
+        for block, mass_held in zip(plies, held):
+            block.calibrated_mass = mass_held
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
@@ -144,6 +158,8 @@ def main() -> None:
               f"{dt / exact:.2f} of the state's critical one {exact:.3e} s")  # fmt: skip
         parts = ", ".join(f"{n} {w:.2e}" for n, w in springs_by_part(compiled, state, dt))
         print(f"    each interaction's largest k / m: {parts}")
+        mass = compiled.lumped_mass(state)[0]
+        print(f"    the springs with equal weights: {equal_weights(compiled, mass, state, dt):.3e}")
     print(f"load {os.getloadavg()}")
 
 

@@ -54,7 +54,8 @@ the lower triangles' least height (plies at rest start to move: a floor, not a b
   outline edge now or within delta of one (lambda_k < delta for an outline edge opposite k),
   depth x = r / D with r its own depth plus s where it touches deeper than the plies.
 - s >= h: the ring no longer bounds the points' reach; every point takes the beside figure and
-  every lower node the whole load sum_p c_p k_p s_p (safe, and as short a step as it gives).
+  every lower node the whole load sum_p c_p k_p s_p (safe, and as short a step as it gives;
+  equal weights there).
 """
 
 from __future__ import annotations
