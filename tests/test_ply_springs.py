@@ -236,15 +236,15 @@ def test_the_springs_hold_until_the_next_evaluation(model):
         assert weighted < equal
 
 
-#: The equal weights of before, on the models where the points' reach differs most: crossing
-#: meshes pressed, the top ply's corner past the bottom's, barely touching plies.
-EQUAL_MODELS = [MODELS[0], MODELS[3], MODELS[4]]
+#: The equal weights of before, on crossing meshes pressed and on the top ply's corner past
+#: the bottom's (the points in the fade's band).
+EQUAL_MODELS = [MODELS[0], MODELS[3]]
 
 
 @pytest.mark.parametrize("model", EQUAL_MODELS, ids=str)
 def test_the_equal_weights_hold_too(model):
     """A guard: the springs with equal weights (F_p = s_p), which the explicit step took
-    before the masses weighed them, hold on the same states (measured 0.47-0.76)."""
+    before the masses weighed them, hold on the same states (measured 0.48-0.76)."""
     worst, _ = _ratios(model, _equal)
     assert max(worst) <= 1.0 + 1e-6, worst
 
