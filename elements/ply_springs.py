@@ -225,6 +225,9 @@ def reachable_springs(
 #: Power iterations that set the nodes' weights v (module docstring, "Weights"): any v > 0
 #: gives a bound; each iteration brings v nearer the largest mode of M^-1 |K|.
 WEIGHT_ITERATIONS = 1
+#: The least weight a power iteration gives a node a point reaches, in times the largest (any
+#: weight > 0 gives a bound; a node's rounding-sized share would give it one near 0).
+WEIGHT_FLOOR = 1e-12
 
 
 def _weighted_reach(block, v, size, triangle, delta) -> np.ndarray:
@@ -284,9 +287,10 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
         ahead = loads[nodes] / mass[nodes]
         if not ahead.max() > 0.0:
             break
-        # a node no point reaches keeps its weight (its load is 0 whatever its weight)
+        # a node no point reaches keeps its weight (its load is 0 whatever its weight); a
+        # weight under WEIGHT_FLOOR of the largest, raised to it, keeps k / v finite
         scale = ahead.max()
-        v[nodes] = np.where(ahead > 0.0, ahead / scale, v[nodes])
+        v[nodes] = np.where(ahead > 0.0, np.maximum(ahead / scale, WEIGHT_FLOOR), v[nodes])
     return v
 
 
