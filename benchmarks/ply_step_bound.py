@@ -39,6 +39,24 @@ hemisphere-plies``, load 6-14): 35357 -> 23608 steps (5612 / 11195 / 6636 / 1191
 draw-in <= 0.29 mm; the Mindlin rms <= 0.45 deg, the corners' draw-in <= 2.4 mm (the spread
 a changed step gives them).
 
+With the springs' nodes weighed by their masses (elements/ply_springs.py, "Weights"; load
+12-14): fibrous, steps 1000 / 3000 / 5000 of 5530, the bound 9.56e9 / 9.94e9 / 1.02e10
+(springs 7.32e9 / 7.47e9 / 7.43e9), 4.5-4.7 times lambda_max 2.12e9 / 2.12e9 / 2.24e9; the
+springs asked for the step taken 0.984 / 0.983 / 0.931 of the equal weights' at the same
+state; Mindlin, steps 1000 / 5000 / 9000 of 11032, the bound 3.35e10 / 3.48e10 / 4.80e10,
+5.4 / 6.9 / 2.8 times lambda_max 6.19e9 / 5.03e9 / 1.71e10, the springs 0.984 / 0.988 / 0.961
+of the equal weights'. Small gains: the largest springs join a bottom ply's outline node to
+the top ply's node it lies on, two nodes of equal mass, where Cauchy-Schwarz is exact.
+
+Why a quarter of the springs is not safe (tests/test_ply_springs_case.py): each of those top
+nodes is an outline vertex of three triangles (one at a corner) with a wedge beside it; a
+bottom node moved 0.15 mm into it (under the slide at rest) and lifted 1e-4 mm meets the
+fade's 12 k along the normal (10.4 k there). With every bottom outline node so moved,
+lambda_max of every part is 4.88e9 (Mindlin 1.75e10): 1.16 (1.20) times the cells plus a
+quarter of the springs, 0.50 (0.52) of the bound; the mirrored pass alone 0.78 of its own
+springs. The margin is in the cells' bound and in the sum of the two parts, not in the
+springs.
+
 Run: NUMBA_NUM_THREADS=1 python benchmarks/ply_step_bound.py --kinematics fibrous \
 --steps 1000 3000 5000
 """
@@ -94,6 +112,20 @@ def springs_by_part(compiled, state, step: float) -> list[tuple[str, float]]:
     return found
 
 
+def equal_weights(compiled, mass, state, step: float) -> float:
+    """``penalty_frequency_squared`` with the ply springs' nodes weighed equally (their
+    bound before the masses weighed them, elements/ply_springs.py "Weights"), 1/s^2."""
+    plies = [b for b in compiled.interactions if getattr(b, "calibrated_mass", None) is not None]
+    held = [b.calibrated_mass for b in plies]
+    for block in plies:
+        block.calibrated_mass = None
+    try:
+        return compiled.penalty_frequency_squared(mass, state, step)
+    finally:
+        for block, mass_held in zip(plies, held):
+            block.calibrated_mass = mass_held
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
@@ -144,6 +176,11 @@ def main() -> None:
               f"{dt / exact:.2f} of the state's critical one {exact:.3e} s")  # fmt: skip
         parts = ", ".join(f"{n} {w:.2e}" for n, w in springs_by_part(compiled, state, dt))
         print(f"    each interaction's largest k / m: {parts}")
+        mass = compiled.lumped_mass(state)[0]
+        weighted = compiled.penalty_frequency_squared(mass, state, dt)
+        equal = equal_weights(compiled, mass, state, dt)
+        print(f"    the springs asked for the step taken: {weighted:.3e}, with equal weights "
+              f"{equal:.3e} ({weighted / equal:.3f})")  # fmt: skip
     print(f"load {os.getloadavg()}")
 
 

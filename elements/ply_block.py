@@ -200,6 +200,8 @@ class PlyContactBlock(InteractionBlock):
         self.stick = contact.stick
         # the critical step without contact (``calibrate``): the springs' reach (ply_springs.py)
         self.calibrated_dt = float("inf")
+        # the lumped masses the springs weigh their nodes by (elements/ply_springs.py)
+        self.calibrated_mass: np.ndarray | None = None
         reference = State(
             body.mesh.points.copy(),
             body.directors.copy(),
@@ -254,6 +256,7 @@ class PlyContactBlock(InteractionBlock):
     def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
         # the springs' reach until the step's next evaluation (elements/ply_springs.py)
         self.calibrated_dt = float(stable_dt)
+        self.calibrated_mass = np.asarray(mass, dtype=float).copy()
         # the automatic penalty (elements/ply_contact.py, "Penalty")
         if np.isnan(self.node_stiffness).any():
             self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2

@@ -15,6 +15,21 @@ its outline edge): upper node j gets c_p k_p s_p N_j, lower node k gets c_p k_p 
 |lambda_k|, summed over every point, touching or not (a point not touching now may touch
 before the next evaluation).
 
+Weights. Cauchy-Schwarz with node weights v > 0 holds as well: |a . u|^2 <= (sum_i |a_i|
+v_i) (sum_i |a_i| |u_i|^2 / v_i), so node i may take c_p k_p |a_i| F_p / v_i with F_p =
+sum_j |a_j| v_j (equal weights: F_p = s_p, the springs above). The explicit step divides
+each node's springs by its mass m_i, and the best weights are the largest mode of M^-1 |K|
+(Collatz-Wielandt: max_i (M^-1 |K| v)_i / v_i >= lambda_max(M^-1 |K|) for every v > 0, with
+equality at its Perron vector), |K| = sum_p c_p k_p |a_p| |a_p|^T: the weights start at v =
+1 / m (exact for one spring, k (1 / m_1 + 1 / m_2) for a spring between two nodes, where
+equal weights give 2 k / m_light) and take ``WEIGHT_ITERATIONS`` power iterations v <- M^-1
+L(v), L_i(v) = sum_p c_p k_p |a_p,i| F_p(v). Whatever the iterations give, the springs bound
+the stiffness: they only choose v. The masses are those the contact was calibrated with
+(``PlyContactBlock.calibrate``, the solver's lumped masses); uncalibrated, equal weights.
+F_p is bounded over every state the point reaches until then (below): sum_j N_j v_j plus the
+least of sum over its facing triangle's corners of (|lambda_k| + delta) v_k with delta v_i
+over the ring's nodes that may take it, and (s_p - 1) times the largest v of those nodes.
+
 Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): the
 fastest point's speed against the lower face's point it faces, over the held steps at the
 step's largest value (which the solver gives: solvers/explicit.py ``_step_size``), times ``GROWTH``
@@ -39,7 +54,8 @@ the lower triangles' least height (plies at rest start to move: a floor, not a b
   outline edge now or within delta of one (lambda_k < delta for an outline edge opposite k),
   depth x = r / D with r its own depth plus s where it touches deeper than the plies.
 - s >= h: the ring no longer bounds the points' reach; every point takes the beside figure and
-  every lower node the whole load sum_p c_p k_p s_p (safe, and as short a step as it gives).
+  every lower node the whole load sum_p c_p k_p s_p (safe, and as short a step as it gives;
+  equal weights there).
 """
 
 from __future__ import annotations
@@ -183,17 +199,99 @@ def reachable_springs(
     # beside a growth the gap's lower weights are its closest point's, within the reach
     weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
     size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
-    load = np.where(counted, block.stiffness * factor * (1.0 + size.sum(axis=1)), 0.0)
-    upper = block._lumped(load)[block.upper]
-    at = np.bincount(
-        block.cells[facing.triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
-    )[block.lower_nodes]
+    held = np.where(counted, block.stiffness * factor, 0.0)  # c_p k_p
     ring = getattr(block, "_ring", None)
     if ring is None:
         ring = block._ring = ring_matrix(block.cells, block.lower_nodes)
+    corners = block.cells[facing.triangle]
+    mass = block.calibrated_mass
+    v = None if mass is None else _node_weights(block, mass, held, size, facing.triangle, delta)
+    if v is None:  # equal weights: sum_i |a_i| <= s_p
+        spread = 1.0 + size.sum(axis=1)
+    else:  # sum_i |a_i| v_i over the nodes the point may reach (module docstring, "Weights")
+        spread = _weighted_reach(block, v, size, facing.triangle, delta)
+    load = held * spread
+    upper = block._lumped(load)[block.upper]
+    at = np.bincount(corners.ravel(), (load[:, None] * size).ravel(), block.n_nodes)[
+        block.lower_nodes
+    ]
     on_triangles = np.bincount(facing.triangle, load, len(block.cells))
     lower = at + delta * (ring @ on_triangles)
+    if v is not None:
+        upper, lower = upper / v[block.upper], lower / v[block.lower_nodes]
     return nodes, np.concatenate([upper, lower])
+
+
+#: Power iterations that set the nodes' weights v (module docstring, "Weights"): any v > 0
+#: gives a bound; each iteration brings v nearer the largest mode of M^-1 |K|.
+WEIGHT_ITERATIONS = 1
+#: The least weight a power iteration gives a node a point reaches, in times the largest (any
+#: weight > 0 gives a bound; a node's rounding-sized share would give it one near 0).
+WEIGHT_FLOOR = 1e-12
+
+
+def _weighted_reach(block, v, size, triangle, delta) -> np.ndarray:
+    """(P,) an upper bound of sum_i |a_i| v_i at every state the point reaches until the next
+    evaluation: sum_j N_j v_j over its upper corners plus the least of sum_k (|lambda_k| +
+    delta) v_k over its facing triangle's corners and delta v_i over the lower nodes whose
+    ring holds that triangle, and (sum_k |lambda_k| + 3 delta) times the largest v of them."""
+    own = np.einsum("pj,pj->p", block.shape, v[block.above])
+    reach = getattr(block, "_reach_nodes", None)
+    if reach is None:  # (m, w): the lower nodes a point facing triangle T may reach, padded
+        reach = block._reach_nodes = _padded_rows(block._ring.T.tocsr())
+    lower_v = v[block.lower_nodes]
+    largest = np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))
+    along = np.einsum("pk,pk->p", size, v[block.cells[triangle]])
+    along = along + delta * (block._ring.T @ lower_v)[triangle]
+    return own + np.minimum(along, size.sum(axis=1) * largest[triangle])
+
+
+def _padded_rows(matrix: sp.csr_matrix) -> np.ndarray:
+    """(m, w) int: the columns of each row of ``matrix`` (m, l), each row padded with its own
+    first column (a row without columns with column 0: a larger maximum of what the columns
+    index, never a smaller one)."""
+    counts = np.diff(matrix.indptr)
+    if not len(matrix.indices):
+        return np.zeros((matrix.shape[0], 1), dtype=np.int64)
+    rows = np.repeat(np.arange(matrix.shape[0]), counts)
+    slot = np.arange(len(matrix.indices)) - np.repeat(matrix.indptr[:-1], counts)
+    first = np.where(
+        counts > 0, matrix.indices[np.minimum(matrix.indptr[:-1], len(matrix.indices) - 1)], 0
+    )
+    padded = np.repeat(first[:, None], int(counts.max()), axis=1)
+    padded[rows, slot] = matrix.indices
+    return padded
+
+
+def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None:
+    """(n,) the weights v > 0 of the block's nodes: 1 / m, then ``WEIGHT_ITERATIONS`` power
+    iterations v <- M^-1 L(v), L(v) the nodes' loads sum_p c_p k_p |a_p,i| sum_j |a_p,j| v_j
+    (module docstring, "Weights"); None where a node of the block has no positive mass (equal
+    weights then)."""
+    mass = np.asarray(mass, dtype=float)
+    nodes = np.concatenate([block.upper, block.lower_nodes])
+    if len(mass) != block.n_nodes or not np.all(mass[nodes] > 0.0):
+        return None
+    v = np.ones(block.n_nodes)
+    v[nodes] = 1.0 / mass[nodes]
+    v /= v[nodes].max()
+    for _ in range(WEIGHT_ITERATIONS):
+        load = held * _weighted_reach(block, v, size, triangle, delta)
+        loads = block._lumped(load)
+        loads += np.bincount(
+            block.cells[triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
+        )
+        loads[block.lower_nodes] += delta * (
+            block._ring @ np.bincount(triangle, load, len(block.cells))
+        )
+        ahead = loads[nodes] / mass[nodes]
+        if not ahead.max() > 0.0:
+            break
+        # a node no point reaches keeps its weight (its load is 0 whatever its weight); a
+        # weight under WEIGHT_FLOOR of the largest, raised to it, keeps k / v finite
+        scale = ahead.max()
+        v[nodes] = np.where(ahead > 0.0, np.maximum(ahead / scale, WEIGHT_FLOOR), v[nodes])
+    return v
 
 
 def _distance(points: np.ndarray, segments: np.ndarray) -> np.ndarray:

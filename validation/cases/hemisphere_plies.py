@@ -106,10 +106,12 @@ trimmed (`python -m validation --cases hemisphere-plies --resolution fine`, one 
 [0/90] 3.36 / 3.41 deg, holder 19.85 N, above KE / W 0.1 over 9.0 % (peak 0.131); fibrous
 [0/45] 3.57 / 4.38 deg, holder 19.92 N; Mindlin [0/45] 3.34 / 4.42 deg, holder 20.34 N.
 The step counts and times above are those of the code they were measured on; at 8 cells the
-runs now take 6865 (fibrous [0/90]), 6053 (fibrous [0/45]), 13939 (Mindlin [0/90]) and 11868
-(Mindlin [0/45]) steps with the couple of stuck points facing an edge or a vertex
-(docs/hemisphere_plies.md; 6771, 6085, 13744 and 11582 before it) at 1.7-3.0 ms a step, one
-thread (benchmarks/forming_step_overhead.py).
+runs now take 5530 (fibrous [0/90]), 5949 (fibrous [0/45]), 11032 (Mindlin [0/90]) and 10814
+(Mindlin [0/45]) steps with the ply springs' nodes weighed by their masses (docs/theory.md
+§6.2, "The penalty springs"; 5612, 6636, 11261 and 12573 before it, one thread; 6865, 6053,
+13939 and 11868 with the couple of stuck points facing an edge or a vertex,
+docs/hemisphere_plies.md) at 1.7-3.0 ms a step, one thread
+(benchmarks/forming_step_overhead.py).
 """
 
 from __future__ import annotations
