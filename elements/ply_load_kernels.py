@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements import ply_friction
+from elements import ply_friction, ply_penalty
 from elements.jit import inline, lanes
 from elements.kernel_inputs import read_only
 
@@ -295,9 +295,10 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         N mm, on their directors (dW/dpsi).
     """
     on = np.flatnonzero(facing.touching)
-    # as ply_projection.penalty_law computes them (numpy's vectorised power)
-    cube = np.minimum(facing.gap[on], 0.0) ** 3
     smoothing = block.smoothing
+    # as ply_projection.penalty_law computes them (numpy's vectorised power), at the points
+    # the ramp's energy reads them (ply_penalty.ramp_cubes)
+    cube = ply_penalty.ramp_cubes(np.minimum(facing.gap[on], 0.0), smoothing)
     count = len(block.above)
     if sliding is None or anchor is None:
         rows = np.zeros(0, dtype=np.int64)
