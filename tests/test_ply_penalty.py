@@ -69,3 +69,19 @@ def test_without_smoothing_or_of_other_shapes_numpy_answers(numpy_law):
             penalty_law(gap, stiffness, smoothing), numpy_law(gap, stiffness, smoothing)
         ):
             np.testing.assert_array_equal(got, expected)
+
+
+@pytest.mark.parametrize("delta", [0.015, 2.5e-4])
+def test_the_ramp_cubes_are_numpys_cubes_of_the_whole_array_where_the_ramp_reads_them(delta):
+    """``ramp_cubes`` takes numpy's power on the points of the ramp alone (g > -delta, NaN
+    included): there each cube has the bits numpy gives it within the whole array, whatever
+    the other points; past the ramp 0 (unread)."""
+    g = np.minimum(gaps(delta), 0.0)
+    whole = g**3
+    cube = ply_penalty.ramp_cubes(g, delta)
+    ramp = ~(g <= -delta)
+    assert ramp.sum() > 1000 and (~ramp).sum() > 1000
+    np.testing.assert_array_equal(cube[ramp].view(np.int64), whole[ramp].view(np.int64))
+    assert np.all(cube[~ramp] == 0.0)
+    # without smoothing the law reads no cube
+    assert np.all(ply_penalty.ramp_cubes(g, 0.0) == 0.0)
