@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from elements import kernels
+from elements.fibre_bending_kernels import patch_forces
 from elements.fibre_bending_patches import FibrePatches, fibre_patches
 from elements.fibre_bending_terms import patch_angles, patch_gradients
 from femcore.assembly import CellTangent
@@ -55,6 +57,8 @@ class FibreBending(Interaction):
         curvature of its fibres (the same for both families unless ``families`` names one).
     families : tuple of str
         The fibre families bent: ("warp", "weft") by default.
+    kernel : "compiled" (default when numba is installed: the force and energy by the loop of
+        elements/fibre_bending_kernels.py) or "numpy" (the vectorised reference).
 
     Raises
     ------
@@ -65,7 +69,8 @@ class FibreBending(Interaction):
 
     dofs = ("ux", "uy", "uz")
 
-    def __init__(self, stiffness: float, families=("warp", "weft")):
+    def __init__(self, stiffness: float, families=("warp", "weft"), kernel: str | None = None):
+        self.kernel = kernels.choose(kernel)
         self.stiffness = check_positive(stiffness, "FibreBending stiffness", "N mm")
         if isinstance(families, str):
             families = (families,)
@@ -100,7 +105,7 @@ class FibreBending(Interaction):
             for part in found
         ]
         patches = FibrePatches(*(np.concatenate(column) for column in zip(*pieces, strict=True)))
-        return FibreBendingBlock(patches, body.mesh.points)
+        return FibreBendingBlock(patches, body.mesh.points, self.kernel == "compiled")
 
 
 class FibreBendingBlock(InteractionBlock):
@@ -110,8 +115,9 @@ class FibreBendingBlock(InteractionBlock):
     dofs = FibreBending.dofs
     reach = 1
 
-    def __init__(self, patches: FibrePatches, points: np.ndarray):
+    def __init__(self, patches: FibrePatches, points: np.ndarray, compiled: bool = False):
         self.patches = patches
+        self.compiled = compiled
         self.connectivity = patches.nodes
         self.n_nodes = len(points)
         self.reference = np.array(points, dtype=float)
@@ -122,6 +128,8 @@ class FibreBendingBlock(InteractionBlock):
 
     def strain_energy(self, state: State, history: Any = None) -> float:
         """sum 1/2 k theta^2, N mm."""
+        if self.compiled:
+            return self.internal_force_and_energy(state)[1]
         theta = self.angles(state)
         return float(0.5 * np.sum(self.patches.stiffness * theta * theta))
 
@@ -133,9 +141,19 @@ class FibreBendingBlock(InteractionBlock):
 
     def internal_force(self, state: State, history: Any = None) -> tuple[np.ndarray, None]:
         """dW/dx (n, 3), N."""
+        if self.compiled:
+            return self.internal_force_and_energy(state)[0], None
         force = np.zeros((self.n_nodes, 3))
         np.add.at(force, self.connectivity, self._patch_forces(state))
         return force, None
+
+    def internal_force_and_energy(self, state: State) -> tuple[np.ndarray, float]:
+        """The compiled pass: dW/dx (n, 3), N, and the energy, N mm, at once."""
+        force = np.zeros((self.n_nodes, 3))
+        patches = self.patches
+        positions = np.ascontiguousarray(state.positions, dtype=float)
+        energy = patch_forces(positions, patches.nodes, patches.ends, patches.stiffness, force)
+        return force, float(energy)
 
     def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
         """k (grad theta grad theta^T + theta Hess theta) per patch (P, 5, 3, 5, 3), N/mm; the

@@ -99,11 +99,23 @@ def scaled_ply(shear_scale: float):
     )
 
 
-def _patched_case(split: str, shear_scale: float = 1.0):
-    """The case module with its blank cut along ``split`` and its shear law's slope at zero
-    shear times ``shear_scale``."""
+def _patched_case(split: str, shear_scale: float = 1.0, fibre_bending: float = 0.0):
+    """The case module with its blank cut along ``split``, its shear law's slope at zero
+    shear times ``shear_scale`` and, for ``fibre_bending`` > 0, the fibres' in-plane bending
+    of that stiffness (N mm, ``elements.fibre_bending.FibreBending``) added to its model."""
     from validation.cases import hemisphere_forming as case
 
+    if fibre_bending > 0.0:
+        from elements.fibre_bending import FibreBending
+
+        plain = case.model
+
+        def bent(*args, **kwargs):
+            mesh, built = plain(*args, **kwargs)
+            built.interact(FibreBending(fibre_bending))
+            return mesh, built
+
+        case.model = bent
     if shear_scale != 1.0:
         ply = scaled_ply(shear_scale)
         case.fabric = lambda: ply
@@ -117,10 +129,13 @@ def _patched_case(split: str, shear_scale: float = 1.0):
     return case
 
 
-def run(split: str, cells: int, out: Path, shear_scale: float = 1.0) -> dict[str, Any]:
-    """One unscaled run (the shear law's slope times ``shear_scale``); its frames' positions
-    and cell fields in ``out`` (.npz) and its record beside it (.json)."""
-    case = _patched_case(split, shear_scale)
+def run(
+    split: str, cells: int, out: Path, shear_scale: float = 1.0, fibre_bending: float = 0.0
+) -> dict[str, Any]:
+    """One unscaled run (the shear law's slope times ``shear_scale``, the fibres' in-plane
+    bending ``fibre_bending`` N mm, none at 0); its frames' positions and cell fields in
+    ``out`` (.npz) and its record beside it (.json)."""
+    case = _patched_case(split, shear_scale, fibre_bending)
     record = case.run(cells, "fibrous")
     result, mesh = record["result"], record["mesh"]
     frames = result.frames
@@ -146,6 +161,7 @@ def run(split: str, cells: int, out: Path, shear_scale: float = 1.0) -> dict[str
         split=split,
         cells=cells,
         shear_scale=shear_scale,
+        fibre_bending=fibre_bending,
         steps=int(result.steps),
         cost=record["cost"],
     )
@@ -278,6 +294,7 @@ def _main(argv: list[str]) -> None:
     one.add_argument("cells", type=int)
     one.add_argument("--out", type=Path, required=True)
     one.add_argument("--shear-scale", type=float, default=1.0)
+    one.add_argument("--fibre-bending", type=float, default=0.0, help="B_in, N mm")
     patch = verbs.add_parser("patch", help="the flat patch's rows under weft compression")
     patch.add_argument("cells", type=int)
     patch.add_argument("strains", type=float, nargs="+", help="weft strains (< 0)")
@@ -289,8 +306,12 @@ def _main(argv: list[str]) -> None:
     if arguments.verb == "run":
         arguments.out.mkdir(parents=True, exist_ok=True)
         scaled = "" if arguments.shear_scale == 1.0 else f"-shear{arguments.shear_scale:g}"
+        if arguments.fibre_bending > 0.0:
+            scaled += f"-bent{arguments.fibre_bending:g}"
         path = arguments.out / f"{arguments.split}-{arguments.cells}{scaled}.npz"
-        record = run(arguments.split, arguments.cells, path, arguments.shear_scale)
+        record = run(
+            arguments.split, arguments.cells, path, arguments.shear_scale, arguments.fibre_bending
+        )
         print(json.dumps(record), os.getloadavg()[0])
         return
     if arguments.verb == "patch":
