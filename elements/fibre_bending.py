@@ -75,8 +75,10 @@ class FibreBending(Interaction):
         if isinstance(families, str):
             families = (families,)
         names = tuple(families)
-        if not names or any(name not in FAMILIES for name in names) or len(set(names)) != len(
-            names
+        if (
+            not names
+            or any(name not in FAMILIES for name in names)
+            or len(set(names)) != len(names)
         ):
             raise ValueError(
                 f"FibreBending families must name 'warp' and/or 'weft' once each, got {families!r}"
@@ -87,7 +89,11 @@ class FibreBending(Interaction):
         """The patches of every FibrousShell block of the body (each with its own warp)."""
         from elements.fibrous import FibrousShell
 
-        found = [part for part in body.parts if isinstance(part.element, FibrousShell)]
+        found = [
+            (part.element, part.cells)
+            for part in body.parts
+            if isinstance(part.element, FibrousShell)
+        ]
         if not found:
             raise ValueError(
                 "FibreBending bends the fibres of FibrousShell blocks; the model has none"
@@ -96,13 +102,13 @@ class FibreBending(Interaction):
         pieces = [
             fibre_patches(
                 body.mesh.points,
-                part.cells,
-                part.element.warp,
+                cells,
+                shell.warp,
                 self.stiffness,
                 families,
-                part.element.fibre_angle_tolerance,
+                shell.fibre_angle_tolerance,
             )
-            for part in found
+            for shell, cells in found
         ]
         patches = FibrePatches(*(np.concatenate(column) for column in zip(*pieces, strict=True)))
         return FibreBendingBlock(patches, body.mesh.points, self.kernel == "compiled")
@@ -179,9 +185,7 @@ class FibreBendingBlock(InteractionBlock):
         )
         return [CellTangent(self.connectivity, blocks)]
 
-    def springs_at(
-        self, state: State, step: float | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def springs_at(self, state: State, step: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Springs to the ground that bound the patches' stiffness for the explicit step:
         (k g_a . u_a summed)^2 <= k (sum_b |g_b|) sum_a |g_a| |u_a|^2, so node a of a patch
         takes k |g_a| sum_b |g_b| (g the gradient of theta), times SPRING_MARGIN."""

@@ -77,6 +77,15 @@ def _oriented_edge(
     return cells[rows, start], cells[rows, end], third
 
 
+def _column_of(nodes: np.ndarray, node_ids: np.ndarray, columns: tuple[int, ...]) -> np.ndarray:
+    """Per row of ``nodes`` (P, 5), which of ``columns`` holds ``node_ids`` (P,) (a cell's
+    corners: one does)."""
+    out = np.full(len(node_ids), -1)
+    for column in columns:
+        out = np.where(nodes[:, column] == node_ids, column, out)
+    return out
+
+
 def fibre_patches(
     points: np.ndarray,
     cells: np.ndarray,
@@ -128,24 +137,14 @@ def fibre_patches(
         _, first, second = np.intersect1d(ends_key, starts_key, return_indices=True)
         if first.size == 0:
             continue
-        nodes = np.column_stack(
-            (start[first], end[first], end[second], tip[first], tip[second])
-        )
-        local = {}
-
-        def where(node_ids: np.ndarray, candidates: tuple[int, ...]) -> np.ndarray:
-            out = np.full(len(node_ids), -1)
-            for column in candidates:
-                out = np.where(nodes[:, column] == node_ids, column, out)
-            return out
-
-        local["pc"] = (where(p_from[first], (0, 1, 3)), where(p_to[first], (0, 1, 3)))
-        local["pf"] = (where(p_from[second], (1, 2, 4)), where(p_to[second], (1, 2, 4)))
+        nodes = np.column_stack((start[first], end[first], end[second], tip[first], tip[second]))
         ends = np.empty((len(first), 4, 2), dtype=np.int64)
         ends[:, 0] = (0, 1)
-        ends[:, 1, 0], ends[:, 1, 1] = local["pc"]
+        ends[:, 1, 0] = _column_of(nodes, p_from[first], (0, 1, 3))
+        ends[:, 1, 1] = _column_of(nodes, p_to[first], (0, 1, 3))
         ends[:, 2] = (1, 2)
-        ends[:, 3, 0], ends[:, 3, 1] = local["pf"]
+        ends[:, 3, 0] = _column_of(nodes, p_from[second], (1, 2, 4))
+        ends[:, 3, 1] = _column_of(nodes, p_to[second], (1, 2, 4))
         segment = 0.5 * (
             np.linalg.norm(points[nodes[:, 1]] - points[nodes[:, 0]], axis=1)
             + np.linalg.norm(points[nodes[:, 2]] - points[nodes[:, 1]], axis=1)

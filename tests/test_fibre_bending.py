@@ -284,3 +284,55 @@ def test_a_model_without_fibrous_cells_is_refused():
     built.interact(FibreBending(1.0))
     with pytest.raises(ValueError, match="FibrousShell"):
         built.compile()
+
+
+# ------------------------------------------------------------------ case files
+CASE = """
+[mesh]
+rectangle = { lx = 20.0, ly = 10.0, nx = 4, ny = 2 }
+[[part]]
+element = "fibrous"
+[part.material]
+thickness = 0.3
+areal_density = 2.85e-10
+tension = 60.0
+shear = 0.2
+bending = 0.375
+[[fix]]
+nodes = { x_max = 0.0 }
+[fibre_bending]
+stiffness = 0.5
+[solver]
+kind = "static"
+"""
+
+
+def test_a_case_file_adds_the_fibre_bending_to_its_fibrous_model(tmp_path):
+    """``[fibre_bending]`` adds FibreBending(stiffness, families) to the model it builds
+    (fibrous kinematics), none under the Mindlin kinematics (no fibres)."""
+    from fibreshell import load_case
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace("stiffness = 0.5", 'stiffness = 0.5\nfamilies = ["weft"]'))
+    case = load_case(path)
+    added = [i for i in case.model().interactions if isinstance(i, FibreBending)]
+    assert len(added) == 1
+    assert added[0].stiffness == 0.5 and added[0].families == ("weft",)
+    assert not any(isinstance(i, FibreBending) for i in case.model("mindlin").interactions)
+
+
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        ("stiffness = 0.5", "stiffness = -0.5", r"\[fibre_bending.stiffness\]"),
+        ("stiffness = 0.5", 'stiffness = 0.5\nfamilies = ["bias"]', r"\[fibre_bending.families\]"),
+        ("stiffness = 0.5", "stifness = 0.5", r"\[fibre_bending.stifness\]: unknown key"),
+    ],
+)
+def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where):
+    from fibreshell import CaseError, load_case
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace(old, new))
+    with pytest.raises(CaseError, match=where):
+        load_case(path)

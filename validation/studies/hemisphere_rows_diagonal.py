@@ -225,7 +225,9 @@ def alternation(
     return out
 
 
-def patch_threshold(cells: int, side: float, shear_scale: float = 1.0) -> float:
+def patch_threshold(
+    cells: int, side: float, shear_scale: float = 1.0, fibre_bending: float = 0.0
+) -> float:
     """The weft strain (compression, > 0) past which the flat patch of ``compressed_patch``
     loses its uniform state to rows shearing alternately: the warp fibres sliding by
     u = A (-1)^k sin(pi x / 2 side) (k the row, the edge x = 0 held, x = side free) turn the
@@ -233,11 +235,25 @@ def patch_threshold(cells: int, side: float, shear_scale: float = 1.0) -> float:
     zero shear) and frees the compressed weft's T2 = TENSION eps2, and stretch the warp by
     A pi / 2 side (TENSION): unstable where -eps2 > G / TENSION + (pi h / 4 side)^2, h =
     side / cells. The first term is the continuum's (no wavelength of its own: the mesh's
-    shortest, two rows, is the first to go), the second the mesh's."""
+    shortest, two rows, is the first to go), the second the mesh's.
+
+    With the fibres' in-plane bending B_in = ``fibre_bending`` (N mm, docs/theory.md §4.7)
+    the rows of a wave q across them (u = A cos(q y) sin(pi x / 2 side)) turn the weft by
+    d = 2 sin(q h / 2) / h times A between the rows and bend it by d^2 A: unstable where
+    T2 - G > B_in d^2 + TENSION (pi / 2 side)^2 / d^2 for some d <= 2 / h. Its least is
+    pi sqrt(TENSION B_in) / side at d^2 = sqrt(TENSION / B_in) pi / (2 side), a wave of the
+    fabric's own (2 pi / q), when that d is within the mesh's reach; else the mesh's
+    shortest wave, 4 B_in / h^2 + TENSION (pi h / 4 side)^2."""
     from validation.cases import hemisphere_forming as case
 
     h = side / cells
-    return 0.2 * shear_scale / case.TENSION + (np.pi * h / (4.0 * side)) ** 2
+    shear = 0.2 * shear_scale / case.TENSION
+    if fibre_bending <= 0.0:
+        return shear + (np.pi * h / (4.0 * side)) ** 2
+    best_d2 = np.sqrt(case.TENSION / fibre_bending) * np.pi / (2.0 * side)
+    d2 = min(best_d2, 4.0 / h**2)
+    bend = fibre_bending * d2 + case.TENSION * (np.pi / (2.0 * side)) ** 2 / d2
+    return float(shear + bend / case.TENSION)
 
 
 def compressed_patch(
@@ -246,12 +262,14 @@ def compressed_patch(
     side: float = 20.0,
     shear_scale: float = 1.0,
     split: str = "rectangle",
+    fibre_bending: float = 0.0,
 ) -> dict[str, float]:
     """A flat square patch of the case's ply (``hemisphere_forming.fabric``, its shear law's
     slope times ``shear_scale``), ``side`` mm, ``cells`` a side cut along ``split``, held flat
     (uz = 0 everywhere), its bottom edge at uy = 0 and left edge at ux = 0, its top edge moved
     by ``weft_strain`` x side along y (compression < 0) over 5 ms (explicit, damping 2000/s),
-    thirty nodes pushed along x by 1e-5 N to break the symmetry: the largest alternation of
+    thirty nodes pushed along x by 1e-5 N to break the symmetry, with the fibres' in-plane
+    bending ``fibre_bending`` (N mm; none at 0): the largest alternation of
     the rows' shear (deg; half the mean |s_j - s_j+1| of neighbouring rows of squares over
     the right half), the rms shear (deg) and the weft's mean strain at the end."""
     from elements import FibrousShell
@@ -267,6 +285,10 @@ def compressed_patch(
     built.fix("bottom", ["uy"])
     built.fix("left", ["ux"])
     built.displace("top", uy=weft_strain * side, amplitude="smooth")
+    if fibre_bending > 0.0:
+        from elements.fibre_bending import FibreBending
+
+        built.interact(FibreBending(fibre_bending))
     rng = np.random.default_rng(1)
     for node in rng.choice(mesh.n_nodes, 30, replace=False):
         built.force(np.array([node]), (1e-5 * rng.normal(), 0.0, 0.0))
@@ -300,6 +322,7 @@ def _main(argv: list[str]) -> None:
     patch.add_argument("strains", type=float, nargs="+", help="weft strains (< 0)")
     patch.add_argument("--shear-scale", type=float, default=1.0)
     patch.add_argument("--split", choices=SPLITS, default="rectangle")
+    patch.add_argument("--fibre-bending", type=float, default=0.0, help="B_in, N mm")
     rows = verbs.add_parser("rows", help="per frame: the pattern's amplitude and the strains")
     rows.add_argument("npz", type=Path, nargs="+")
     arguments = parser.parse_args(argv)
@@ -315,14 +338,16 @@ def _main(argv: list[str]) -> None:
         print(json.dumps(record), os.getloadavg()[0])
         return
     if arguments.verb == "patch":
-        limit = patch_threshold(arguments.cells, 20.0, arguments.shear_scale)
+        bending = arguments.fibre_bending
+        limit = patch_threshold(arguments.cells, 20.0, arguments.shear_scale, bending)
         print(
-            f"{arguments.cells} cells, shear x {arguments.shear_scale}, {arguments.split}: "
+            f"{arguments.cells} cells, shear x {arguments.shear_scale}, {arguments.split}, "
+            f"in-plane bending {bending:g} N mm: "
             f"unstable past a weft strain of {-100 * limit:.3f} %"
         )
         for strain in arguments.strains:
             got = compressed_patch(strain, arguments.cells, 20.0, arguments.shear_scale,
-                                   arguments.split)  # fmt: skip
+                                   arguments.split, bending)  # fmt: skip
             print(
                 f"  weft {100 * strain:+.3f} %: rows alternate {got['alternation_deg']:.2f} "
                 f"deg, rms shear {got['rms_shear_deg']:.3f} deg, mean weft "
