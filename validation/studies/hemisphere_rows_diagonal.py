@@ -271,7 +271,11 @@ def compressed_patch(
     thirty nodes pushed along x by 1e-5 N to break the symmetry, with the fibres' in-plane
     bending ``fibre_bending`` (N mm; none at 0): the largest alternation of
     the rows' shear (deg; half the mean |s_j - s_j+1| of neighbouring rows of squares over
-    the right half), the rms shear (deg) and the weft's mean strain at the end."""
+    the right half), the same over the rows a quarter of the side or more from the top and
+    bottom edges (``inner_alternation_deg``), the largest |shear| of the three rows beside
+    either edge (``edge_rows_deg``: with the in-plane bending the weft's free ends there buckle
+    first, a mode of the edge that decays inward over the fabric's own wavelength), the rms
+    shear (deg) and the weft's mean strain at the end."""
     from elements import FibrousShell
     from elements.layup import ply_shear
     from femcore import Model
@@ -299,8 +303,11 @@ def compressed_patch(
     right = squares[:, cells // 2 :]
     grid = x.reshape(cells + 1, cells + 1, 3)
     weft = np.linalg.norm(grid[1:] - grid[:-1], axis=2) / (side / cells) - 1.0
+    inner = right[cells // 4 : cells - cells // 4]  # a quarter of the side from either edge
     return {
         "alternation_deg": float(0.5 * np.abs(right[1:] - right[:-1]).mean(axis=1).max()),
+        "inner_alternation_deg": float(0.5 * np.abs(inner[1:] - inner[:-1]).mean(axis=1).max()),
+        "edge_rows_deg": float(np.abs(np.r_[right[:3], right[-3:]]).max()),
         "rms_shear_deg": float(np.sqrt(np.mean(shear**2))),
         "weft_strain": float(weft.mean()),
     }
@@ -350,8 +357,9 @@ def _main(argv: list[str]) -> None:
                                    arguments.split, bending)  # fmt: skip
             print(
                 f"  weft {100 * strain:+.3f} %: rows alternate {got['alternation_deg']:.2f} "
-                f"deg, rms shear {got['rms_shear_deg']:.3f} deg, mean weft "
-                f"{100 * got['weft_strain']:+.3f} %"
+                f"deg ({got['inner_alternation_deg']:.2f} away from the edges, the edge rows "
+                f"up to {got['edge_rows_deg']:.2f}), rms shear {got['rms_shear_deg']:.3f} "
+                f"deg, mean weft {100 * got['weft_strain']:+.3f} %"
             )
         return
     from femcore.loads import smooth_step
