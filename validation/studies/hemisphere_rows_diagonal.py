@@ -27,6 +27,16 @@ at -0.90 % (threshold -0.82 %), the same on the three splits. On the hemisphere 
 law's slope halved brings the rows to 40 cells (up to 4.7-5.5 deg, the warp fibres -1.0, 0,
 -0.6 % by turns) and doubled takes them from the rows beside the x axis at 48 cells (0.3-1.0
 deg, the shear monotone across the rows; 1.5-3.8 deg beside the y axis), ``run --shear-scale``.
+
+With the fibres' in-plane bending (``run --fibre-bending``, ``patch --fibre-bending``: B_in in
+N mm, elements.FibreBending, docs/theory.md §4.7; docs/hemisphere_forming.md "In-plane fibre
+bending and the rows"), one thread, nice 5, load 5-13: at 48 cells and B_in = 0.5 the rows'
+alternation at the end 1.1 / 0.6 / 0.8 / 1.3 / 0.9 / 0.5 / 0.6 / 1.1 deg per octant (without:
+7.2 / 0.6 / 3.3 / 5.2 / 0.6 / 0.1 / 4.1 / 4.3), per-cell rms 1.575 deg (2.710); at 40 cells 0.7 /
+1.2 / 1.3 / 0.1 / 0.3 / 1.4 / 1.0 / 0.5 (0.2 / 1.3 / 0.3 / 1.6 / 0.2 / 2.5 / 0.6 / 2.0), 1.624
+deg (1.854). The flat patch's rows need more compression (20 cells: uniform at -0.60 % with
+B_in = 0.05, at -0.70 % with 0.5), and its first mode is then at its loaded edges, where the
+weft ends free to turn (``edge_rows_deg``), below the inner rows' threshold.
 """
 
 from __future__ import annotations
