@@ -336,3 +336,21 @@ def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where
     path.write_text(CASE.replace(old, new))
     with pytest.raises(CaseError, match=where):
         load_case(path)
+
+
+# ------------------------------------------------------------------ the rows it cures
+@pytest.mark.slow
+def test_a_flat_patch_that_forms_rows_without_the_term_stays_uniform_with_it():
+    """The flat 20-mm patch of the hemisphere's ply, 10 cells, its weft compressed by 1.10 %
+    (validation/studies/hemisphere_rows_diagonal.py ``compressed_patch``): past the
+    threshold G / E + (pi h / 4 L)^2 = 0.95 % of the fibrous membrane without the term its
+    rows shear by turns (inner rows above 1 deg); below the threshold with B_in = 0.5 N mm,
+    G / E + pi sqrt(B_in / E) / L = 1.77 % (docs/theory.md §4.7), it stays uniform (rms shear
+    below 0.05 deg). Each threshold was derived before the runs."""
+    from validation.studies.hemisphere_rows_diagonal import compressed_patch, patch_threshold
+
+    assert patch_threshold(10, 20.0) < 0.011 < patch_threshold(10, 20.0, fibre_bending=0.5)
+    plain = compressed_patch(-0.011, cells=10)
+    bent = compressed_patch(-0.011, cells=10, fibre_bending=0.5)
+    assert plain["inner_alternation_deg"] > 1.0
+    assert bent["rms_shear_deg"] < 0.05
