@@ -86,7 +86,9 @@ class FibreBending(Interaction):
         self.families = names
 
     def bind(self, body: Body) -> FibreBendingBlock:
-        """The patches of every FibrousShell block of the body (each with its own warp)."""
+        """The patches of every FibrousShell block of the body, each with its own warp. A
+        fibre that runs from one block into another on shared nodes has no patch at the
+        node where it crosses (the patches are found block by block)."""
         from elements.fibrous import FibrousShell
 
         found = [
