@@ -5,8 +5,8 @@ fibre family, kappa_g the geodesic curvature of the fibre.
 Bai's fibrous membrane has no length in its plane: past a weft compression of about G / E it
 loses its uniform state to rows that shear alternately at the mesh's own width
 (docs/hemisphere_forming.md, "Why the rows beside the held centre lines alternate"). The
-second-gradient models of woven fabrics (Ferretti, Madeo, dell'Isola, Boisse, Math. Mech.
-Solids 19 (2014) 555; Barbagallo, Madeo, Morestin, Boisse, Math. Mech. Solids 22 (2017))
+second-gradient models of woven fabrics (Ferretti, Madeo, dell'Isola, Boisse, Z. Angew.
+Math. Phys. 65 (2014) 587; Barbagallo, Madeo, Morestin, Boisse, Math. Mech. Solids 22 (2017))
 give the fibres a bending stiffness in the plane, which sets a length sqrt(B_in / G) and
 makes short waves costly. Off unless added: the paper's model is unchanged.
 
