@@ -137,7 +137,7 @@ class FibreBendingBlock(InteractionBlock):
     def strain_energy(self, state: State, history: Any = None) -> float:
         """sum 1/2 k theta^2, N mm."""
         if self.compiled:
-            return self.internal_force_and_energy(state)[1]
+            return self._force_and_energy(state)[1]
         theta = self.angles(state)
         return float(0.5 * np.sum(self.patches.stiffness * theta * theta))
 
@@ -150,12 +150,12 @@ class FibreBendingBlock(InteractionBlock):
     def internal_force(self, state: State, history: Any = None) -> tuple[np.ndarray, None]:
         """dW/dx (n, 3), N."""
         if self.compiled:
-            return self.internal_force_and_energy(state)[0], None
+            return self._force_and_energy(state)[0], None
         force = np.zeros((self.n_nodes, 3))
         np.add.at(force, self.connectivity, self._patch_forces(state))
         return force, None
 
-    def internal_force_and_energy(self, state: State) -> tuple[np.ndarray, float]:
+    def _force_and_energy(self, state: State) -> tuple[np.ndarray, float]:
         """The compiled pass: dW/dx (n, 3), N, and the energy, N mm, at once."""
         force = np.zeros((self.n_nodes, 3))
         patches = self.patches
