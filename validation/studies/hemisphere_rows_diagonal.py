@@ -34,7 +34,8 @@ bending and the rows"), one thread, nice 5, load 5-13: at 48 cells and B_in = 0.
 alternation at the end 1.1 / 0.6 / 0.8 / 1.3 / 0.9 / 0.5 / 0.6 / 1.1 deg per octant (without:
 7.2 / 0.6 / 3.3 / 5.2 / 0.6 / 0.1 / 4.1 / 4.3), per-cell rms 1.575 deg (2.710); at 40 cells 0.7 /
 1.2 / 1.3 / 0.1 / 0.3 / 1.4 / 1.0 / 0.5 (0.2 / 1.3 / 0.3 / 1.6 / 0.2 / 2.5 / 0.6 / 2.0), 1.624
-deg (1.854). The flat patch's rows need more compression (20 cells: uniform at -0.60 % with
+deg (1.854); at 40 cells and B_in = 2, 1.0 / 1.1 / 1.1 / 0.1 / 0.1 / 0.9 / 1.1 / 0.2, 1.492 deg.
+The flat patch's rows need more compression (20 cells: uniform at -0.60 % with
 B_in = 0.05, at -0.70 % with 0.5), and its first mode is then at its loaded edges, where the
 weft ends free to turn (``edge_rows_deg``), below the inner rows' threshold.
 """
