@@ -37,6 +37,9 @@ friction = 0.2                           # optional: Coulomb coefficient (0)
 # stick_stiffness = 0.01: the friction's stick spring over the penalty (default 1)
 # augmented = true: Static's Uzawa passes (docs/theory.md §9.6), augmented_tolerance = mm
 # damping = 0.2: normal contact damping, a fraction of critical (explicit; default 0)
+[fibre_bending]                          # optional: the fibres' in-plane bending (fibrous
+stiffness = 0.5                          # parts; elements.FibreBending), B_in in N mm,
+# families = ["warp", "weft"]            # docs/theory.md §4.7; none under kinematics "mindlin"
 [[grip]]                                 # nodes that translate together (a gripper's jaws,
 nodes = "grip"                           # elements.Grip): springs of stiffness N/mm from
 stiffness = 23000.0                      # the first node to each other one
@@ -85,6 +88,7 @@ from typing import Any
 import numpy as np
 
 from elements import (
+    FibreBending,
     FibrousShell,
     Grip,
     RigidCylinder,
@@ -105,7 +109,7 @@ SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": Centra
 # Solver options the case file does not take: the outputs are the command's.
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
 _TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
-        "contact", "grip", "solver", "output")  # fmt: skip
+        "contact", "grip", "fibre_bending", "solver", "output")  # fmt: skip
 TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
          "surface": RigidSurface}  # fmt: skip
 # The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
@@ -142,6 +146,9 @@ class Case:
         ``[[contact]]``: the keyword arguments of ``Model.contact``.
     grips : list of dict
         {"nodes": node ids, "stiffness": N/mm} per ``[[grip]]`` (elements.Grip).
+    fibre_bending : dict or None
+        {"stiffness": N mm, "families": tuple of str} of ``[fibre_bending]``
+        (elements.FibreBending), None without it.
     solver : dict
         {"kind": str, "options": dict, "checkpoint": str or None, "checkpoint_interval":
         float}: the checkpoint file (relative to the output folder; None: none) and the
@@ -163,6 +170,7 @@ class Case:
     gravity: dict | None = None
     contacts: list[dict] = field(default_factory=list)
     grips: list[dict] = field(default_factory=list)
+    fibre_bending: dict | None = None
     solver: dict = field(default_factory=dict)
     history: dict = field(default_factory=dict)
     paths: dict = field(default_factory=dict)
@@ -199,6 +207,8 @@ class Case:
             model.contact(**contact)
         for grip in self.grips:
             model.interact(Grip(grip["nodes"], grip["stiffness"]))
+        if self.fibre_bending is not None and kinematics != "mindlin":
+            model.interact(FibreBending(**self.fibre_bending))
         return model
 
     def make_solver(self, **outputs):
@@ -305,6 +315,8 @@ def case_from_data(data: dict, path: str | Path) -> Case:
         case.grips.append(
             {"nodes": _select(where, mesh, item["nodes"], "nodes"), "stiffness": stiffness}
         )
+    if "fibre_bending" in data:
+        case.fibre_bending = _fibre_bending(top, data["fibre_bending"])
     case.solver = _solver(top, data["solver"])
     for i, contact in enumerate(case.contacts):
         tool = contact["tool"]
@@ -316,6 +328,21 @@ def case_from_data(data: dict, path: str | Path) -> Case:
             )
     _output(top, data.get("output", {}), case)
     return case
+
+
+def _fibre_bending(top: _Where, value: Any) -> dict:
+    """``[fibre_bending]``: stiffness (N mm, > 0) and optionally families."""
+    _table(top, value, "fibre_bending", ("stiffness", "families"), ("stiffness",))
+    where = top.child("fibre_bending")
+    options: dict[str, Any] = {"stiffness": _number(where, value["stiffness"], "stiffness")}
+    if "families" in value:
+        options["families"] = value["families"]
+    try:
+        FibreBending(**options)
+    except ValueError as error:
+        raise where.error("stiffness" if "stiffness" in str(error) else "families",
+                          str(error)) from None  # fmt: skip
+    return options
 
 
 def _list(where: _Where, data: dict, key: str) -> list:

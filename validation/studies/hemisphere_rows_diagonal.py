@@ -27,6 +27,17 @@ at -0.90 % (threshold -0.82 %), the same on the three splits. On the hemisphere 
 law's slope halved brings the rows to 40 cells (up to 4.7-5.5 deg, the warp fibres -1.0, 0,
 -0.6 % by turns) and doubled takes them from the rows beside the x axis at 48 cells (0.3-1.0
 deg, the shear monotone across the rows; 1.5-3.8 deg beside the y axis), ``run --shear-scale``.
+
+With the fibres' in-plane bending (``run --fibre-bending``, ``patch --fibre-bending``: B_in in
+N mm, elements.FibreBending, docs/theory.md §4.7; docs/hemisphere_forming.md "In-plane fibre
+bending and the rows"), one thread, nice 5, load 5-13: at 48 cells and B_in = 0.5 the rows'
+alternation at the end 1.1 / 0.6 / 0.8 / 1.3 / 0.9 / 0.5 / 0.6 / 1.1 deg per octant (without:
+7.2 / 0.6 / 3.3 / 5.2 / 0.6 / 0.1 / 4.1 / 4.3), per-cell rms 1.575 deg (2.710); at 40 cells 0.7 /
+1.2 / 1.3 / 0.1 / 0.3 / 1.4 / 1.0 / 0.5 (0.2 / 1.3 / 0.3 / 1.6 / 0.2 / 2.5 / 0.6 / 2.0), 1.624
+deg (1.854); at 40 cells and B_in = 2, 1.0 / 1.1 / 1.1 / 0.1 / 0.1 / 0.9 / 1.1 / 0.2, 1.492 deg.
+The flat patch's rows need more compression (20 cells: uniform at -0.60 % with
+B_in = 0.05, at -0.70 % with 0.5), and its first mode is then at its loaded edges, where the
+weft ends free to turn (``edge_rows_deg``), below the inner rows' threshold.
 """
 
 from __future__ import annotations
@@ -99,11 +110,23 @@ def scaled_ply(shear_scale: float):
     )
 
 
-def _patched_case(split: str, shear_scale: float = 1.0):
-    """The case module with its blank cut along ``split`` and its shear law's slope at zero
-    shear times ``shear_scale``."""
+def _patched_case(split: str, shear_scale: float = 1.0, fibre_bending: float = 0.0):
+    """The case module with its blank cut along ``split``, its shear law's slope at zero
+    shear times ``shear_scale`` and, for ``fibre_bending`` > 0, the fibres' in-plane bending
+    of that stiffness (N mm, ``elements.fibre_bending.FibreBending``) added to its model."""
     from validation.cases import hemisphere_forming as case
 
+    if fibre_bending > 0.0:
+        from elements.fibre_bending import FibreBending
+
+        plain = case.model
+
+        def bent(*args, **kwargs):
+            mesh, built = plain(*args, **kwargs)
+            built.interact(FibreBending(fibre_bending))
+            return mesh, built
+
+        case.model = bent
     if shear_scale != 1.0:
         ply = scaled_ply(shear_scale)
         case.fabric = lambda: ply
@@ -117,10 +140,13 @@ def _patched_case(split: str, shear_scale: float = 1.0):
     return case
 
 
-def run(split: str, cells: int, out: Path, shear_scale: float = 1.0) -> dict[str, Any]:
-    """One unscaled run (the shear law's slope times ``shear_scale``); its frames' positions
-    and cell fields in ``out`` (.npz) and its record beside it (.json)."""
-    case = _patched_case(split, shear_scale)
+def run(
+    split: str, cells: int, out: Path, shear_scale: float = 1.0, fibre_bending: float = 0.0
+) -> dict[str, Any]:
+    """One unscaled run (the shear law's slope times ``shear_scale``, the fibres' in-plane
+    bending ``fibre_bending`` N mm, none at 0); its frames' positions and cell fields in
+    ``out`` (.npz) and its record beside it (.json)."""
+    case = _patched_case(split, shear_scale, fibre_bending)
     record = case.run(cells, "fibrous")
     result, mesh = record["result"], record["mesh"]
     frames = result.frames
@@ -146,6 +172,7 @@ def run(split: str, cells: int, out: Path, shear_scale: float = 1.0) -> dict[str
         split=split,
         cells=cells,
         shear_scale=shear_scale,
+        fibre_bending=fibre_bending,
         steps=int(result.steps),
         cost=record["cost"],
     )
@@ -209,7 +236,9 @@ def alternation(
     return out
 
 
-def patch_threshold(cells: int, side: float, shear_scale: float = 1.0) -> float:
+def patch_threshold(
+    cells: int, side: float, shear_scale: float = 1.0, fibre_bending: float = 0.0
+) -> float:
     """The weft strain (compression, > 0) past which the flat patch of ``compressed_patch``
     loses its uniform state to rows shearing alternately: the warp fibres sliding by
     u = A (-1)^k sin(pi x / 2 side) (k the row, the edge x = 0 held, x = side free) turn the
@@ -217,11 +246,25 @@ def patch_threshold(cells: int, side: float, shear_scale: float = 1.0) -> float:
     zero shear) and frees the compressed weft's T2 = TENSION eps2, and stretch the warp by
     A pi / 2 side (TENSION): unstable where -eps2 > G / TENSION + (pi h / 4 side)^2, h =
     side / cells. The first term is the continuum's (no wavelength of its own: the mesh's
-    shortest, two rows, is the first to go), the second the mesh's."""
+    shortest, two rows, is the first to go), the second the mesh's.
+
+    With the fibres' in-plane bending B_in = ``fibre_bending`` (N mm, docs/theory.md §4.7)
+    the rows of a wave q across them (u = A cos(q y) sin(pi x / 2 side)) turn the weft by
+    d = 2 sin(q h / 2) / h times A between the rows and bend it by d^2 A: unstable where
+    T2 - G > B_in d^2 + TENSION (pi / 2 side)^2 / d^2 for some d <= 2 / h. Its least is
+    pi sqrt(TENSION B_in) / side at d^2 = sqrt(TENSION / B_in) pi / (2 side), a wave of the
+    fabric's own (2 pi / q), when that d is within the mesh's reach; else the mesh's
+    shortest wave, 4 B_in / h^2 + TENSION (pi h / 4 side)^2."""
     from validation.cases import hemisphere_forming as case
 
     h = side / cells
-    return 0.2 * shear_scale / case.TENSION + (np.pi * h / (4.0 * side)) ** 2
+    shear = 0.2 * shear_scale / case.TENSION
+    if fibre_bending <= 0.0:
+        return shear + (np.pi * h / (4.0 * side)) ** 2
+    best_d2 = np.sqrt(case.TENSION / fibre_bending) * np.pi / (2.0 * side)
+    d2 = min(best_d2, 4.0 / h**2)
+    bend = fibre_bending * d2 + case.TENSION * (np.pi / (2.0 * side)) ** 2 / d2
+    return float(shear + bend / case.TENSION)
 
 
 def compressed_patch(
@@ -230,14 +273,20 @@ def compressed_patch(
     side: float = 20.0,
     shear_scale: float = 1.0,
     split: str = "rectangle",
+    fibre_bending: float = 0.0,
 ) -> dict[str, float]:
     """A flat square patch of the case's ply (``hemisphere_forming.fabric``, its shear law's
     slope times ``shear_scale``), ``side`` mm, ``cells`` a side cut along ``split``, held flat
     (uz = 0 everywhere), its bottom edge at uy = 0 and left edge at ux = 0, its top edge moved
     by ``weft_strain`` x side along y (compression < 0) over 5 ms (explicit, damping 2000/s),
-    thirty nodes pushed along x by 1e-5 N to break the symmetry: the largest alternation of
+    thirty nodes pushed along x by 1e-5 N to break the symmetry, with the fibres' in-plane
+    bending ``fibre_bending`` (N mm; none at 0): the largest alternation of
     the rows' shear (deg; half the mean |s_j - s_j+1| of neighbouring rows of squares over
-    the right half), the rms shear (deg) and the weft's mean strain at the end."""
+    the right half), the same over the rows a quarter of the side or more from the top and
+    bottom edges (``inner_alternation_deg``), the largest |shear| of the three rows beside
+    either edge (``edge_rows_deg``: with the in-plane bending the weft's free ends there buckle
+    first, a mode of the edge that decays inward over the fabric's own wavelength), the rms
+    shear (deg) and the weft's mean strain at the end."""
     from elements import FibrousShell
     from elements.layup import ply_shear
     from femcore import Model
@@ -251,6 +300,10 @@ def compressed_patch(
     built.fix("bottom", ["uy"])
     built.fix("left", ["ux"])
     built.displace("top", uy=weft_strain * side, amplitude="smooth")
+    if fibre_bending > 0.0:
+        from elements.fibre_bending import FibreBending
+
+        built.interact(FibreBending(fibre_bending))
     rng = np.random.default_rng(1)
     for node in rng.choice(mesh.n_nodes, 30, replace=False):
         built.force(np.array([node]), (1e-5 * rng.normal(), 0.0, 0.0))
@@ -261,8 +314,11 @@ def compressed_patch(
     right = squares[:, cells // 2 :]
     grid = x.reshape(cells + 1, cells + 1, 3)
     weft = np.linalg.norm(grid[1:] - grid[:-1], axis=2) / (side / cells) - 1.0
+    inner = right[cells // 4 : cells - cells // 4]  # a quarter of the side from either edge
     return {
         "alternation_deg": float(0.5 * np.abs(right[1:] - right[:-1]).mean(axis=1).max()),
+        "inner_alternation_deg": float(0.5 * np.abs(inner[1:] - inner[:-1]).mean(axis=1).max()),
+        "edge_rows_deg": float(np.abs(np.r_[right[:3], right[-3:]]).max()),
         "rms_shear_deg": float(np.sqrt(np.mean(shear**2))),
         "weft_strain": float(weft.mean()),
     }
@@ -278,34 +334,43 @@ def _main(argv: list[str]) -> None:
     one.add_argument("cells", type=int)
     one.add_argument("--out", type=Path, required=True)
     one.add_argument("--shear-scale", type=float, default=1.0)
+    one.add_argument("--fibre-bending", type=float, default=0.0, help="B_in, N mm")
     patch = verbs.add_parser("patch", help="the flat patch's rows under weft compression")
     patch.add_argument("cells", type=int)
     patch.add_argument("strains", type=float, nargs="+", help="weft strains (< 0)")
     patch.add_argument("--shear-scale", type=float, default=1.0)
     patch.add_argument("--split", choices=SPLITS, default="rectangle")
+    patch.add_argument("--fibre-bending", type=float, default=0.0, help="B_in, N mm")
     rows = verbs.add_parser("rows", help="per frame: the pattern's amplitude and the strains")
     rows.add_argument("npz", type=Path, nargs="+")
     arguments = parser.parse_args(argv)
     if arguments.verb == "run":
         arguments.out.mkdir(parents=True, exist_ok=True)
         scaled = "" if arguments.shear_scale == 1.0 else f"-shear{arguments.shear_scale:g}"
+        if arguments.fibre_bending > 0.0:
+            scaled += f"-bent{arguments.fibre_bending:g}"
         path = arguments.out / f"{arguments.split}-{arguments.cells}{scaled}.npz"
-        record = run(arguments.split, arguments.cells, path, arguments.shear_scale)
+        record = run(
+            arguments.split, arguments.cells, path, arguments.shear_scale, arguments.fibre_bending
+        )
         print(json.dumps(record), os.getloadavg()[0])
         return
     if arguments.verb == "patch":
-        limit = patch_threshold(arguments.cells, 20.0, arguments.shear_scale)
+        bending = arguments.fibre_bending
+        limit = patch_threshold(arguments.cells, 20.0, arguments.shear_scale, bending)
         print(
-            f"{arguments.cells} cells, shear x {arguments.shear_scale}, {arguments.split}: "
+            f"{arguments.cells} cells, shear x {arguments.shear_scale}, {arguments.split}, "
+            f"in-plane bending {bending:g} N mm: "
             f"unstable past a weft strain of {-100 * limit:.3f} %"
         )
         for strain in arguments.strains:
             got = compressed_patch(strain, arguments.cells, 20.0, arguments.shear_scale,
-                                   arguments.split)  # fmt: skip
+                                   arguments.split, bending)  # fmt: skip
             print(
                 f"  weft {100 * strain:+.3f} %: rows alternate {got['alternation_deg']:.2f} "
-                f"deg, rms shear {got['rms_shear_deg']:.3f} deg, mean weft "
-                f"{100 * got['weft_strain']:+.3f} %"
+                f"deg ({got['inner_alternation_deg']:.2f} away from the edges, the edge rows "
+                f"up to {got['edge_rows_deg']:.2f}), rms shear {got['rms_shear_deg']:.3f} "
+                f"deg, mean weft {100 * got['weft_strain']:+.3f} %"
             )
         return
     from femcore.loads import smooth_step

@@ -1,0 +1,211 @@
+"""In-plane fibre bending for the fibrous shell, an option (docs/theory.md §4.7): the tows'
+resistance to curving in the fabric's plane, energy 1/2 B_in kappa_g^2 per unit area and per
+fibre family, kappa_g the geodesic curvature of the fibre.
+
+Bai's fibrous membrane has no length in its plane: past a weft compression of about G / E it
+loses its uniform state to rows that shear alternately at the mesh's own width
+(docs/hemisphere_forming.md, "Why the rows beside the held centre lines alternate"). The
+second-gradient models of woven fabrics (Ferretti, Madeo, dell'Isola, Boisse, Z. Angew.
+Math. Phys. 65 (2014) 587; Barbagallo, Madeo, Morestin, Boisse, Math. Mech. Solids 22 (2017))
+give the fibres a bending stiffness in the plane, which sets a length sqrt(B_in / G) and
+makes short waves costly. Off unless added: the paper's model is unchanged.
+
+Rotation-free, as the out-of-plane bending (§4): the curvature is read from neighbouring cells
+along each fibre (elements/fibre_bending_patches.py, elements/fibre_bending_terms.py); it acts
+between the body's own nodes, so it is an interaction of the model
+(``model.interact(FibreBending(b_in))``), beside the fibrous element blocks it reads.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from elements import kernels
+from elements.fibre_bending_kernels import patch_forces
+from elements.fibre_bending_patches import FibrePatches, fibre_patches
+from elements.fibre_bending_terms import patch_angles, patch_gradients
+from femcore.assembly import CellTangent
+from femcore.checks import check_positive
+from femcore.interaction import Body, Interaction, InteractionBlock
+from femcore.state import State
+
+__all__ = ["FibreBending", "FibreBendingBlock"]
+
+FAMILIES = {"warp": 0, "weft": 1}
+
+#: The explicit step's springs: the stiffness k grad(theta) grad(theta)^T of a patch bounded
+#: node by node (Cauchy-Schwarz), times this margin for k theta Hess(theta), which is below
+#: the first term by |theta| (the angle between two segments, well under 1 rad), and for the
+#: gradients' change until the step is evaluated again (femcore.interaction,
+#: SPRINGS_HELD_STEPS).
+SPRING_MARGIN = 2.0
+
+#: The complex step of the tangent (times the patch's segment length): the Hessian of theta
+#: is the imaginary part of its gradient at x + i h e_r, over h, exact to round-off.
+COMPLEX_STEP = 1e-30
+
+
+class FibreBending(Interaction):
+    """In-plane bending of the fibres of the model's FibrousShell blocks.
+
+    Parameters
+    ----------
+    stiffness : float
+        B_in, N mm: the in-plane bending moment per unit width of fabric per unit geodesic
+        curvature of its fibres (the same for both families unless ``families`` names one).
+    families : tuple of str
+        The fibre families bent: ("warp", "weft") by default.
+    kernel : "compiled" (default when numba is installed: the force and energy by the loop of
+        elements/fibre_bending_kernels.py) or "numpy" (the vectorised reference).
+
+    Raises
+    ------
+    ValueError
+        For a stiffness that is not positive and finite or an unknown family; at bind, when
+        the model has no FibrousShell block or a cell has no edge along a fibre family.
+    """
+
+    dofs = ("ux", "uy", "uz")
+
+    def __init__(self, stiffness: float, families=("warp", "weft"), kernel: str | None = None):
+        self.kernel = kernels.choose(kernel)
+        self.stiffness = check_positive(stiffness, "FibreBending stiffness", "N mm")
+        if isinstance(families, str):
+            families = (families,)
+        names = tuple(families)
+        if (
+            not names
+            or any(name not in FAMILIES for name in names)
+            or len(set(names)) != len(names)
+        ):
+            raise ValueError(
+                f"FibreBending families must name 'warp' and/or 'weft' once each, got {families!r}"
+            )
+        self.families = names
+
+    def bind(self, body: Body) -> FibreBendingBlock:
+        """The patches of every FibrousShell block of the body, each with its own warp. A
+        fibre that runs from one block into another on shared nodes has no patch at the
+        node where it crosses (the patches are found block by block)."""
+        from elements.fibrous import FibrousShell
+
+        found = [
+            (part.element, part.cells)
+            for part in body.parts
+            if isinstance(part.element, FibrousShell)
+        ]
+        if not found:
+            raise ValueError(
+                "FibreBending bends the fibres of FibrousShell blocks; the model has none"
+            )
+        families = tuple(FAMILIES[name] for name in self.families)
+        pieces = [
+            fibre_patches(
+                body.mesh.points,
+                cells,
+                shell.warp,
+                self.stiffness,
+                families,
+                shell.fibre_angle_tolerance,
+            )
+            for shell, cells in found
+        ]
+        patches = FibrePatches(*(np.concatenate(column) for column in zip(*pieces, strict=True)))
+        return FibreBendingBlock(patches, body.mesh.points, self.kernel == "compiled")
+
+
+class FibreBendingBlock(InteractionBlock):
+    """A bound ``FibreBending``: ``connectivity`` (P, 5) the patches' nodes
+    (elements/fibre_bending_patches.py), energy sum 1/2 k theta^2."""
+
+    dofs = FibreBending.dofs
+    reach = 1
+
+    def __init__(self, patches: FibrePatches, points: np.ndarray, compiled: bool = False):
+        self.patches = patches
+        self.compiled = compiled
+        self.connectivity = patches.nodes
+        self.n_nodes = len(points)
+        self.reference = np.array(points, dtype=float)
+
+    def angles(self, state: State) -> np.ndarray:
+        """theta (P,), rad: each patch's in-plane turning angle."""
+        return patch_angles(state.positions[self.connectivity], self.patches.ends)
+
+    def strain_energy(self, state: State, history: Any = None) -> float:
+        """sum 1/2 k theta^2, N mm."""
+        if self.compiled:
+            return self._force_and_energy(state)[1]
+        theta = self.angles(state)
+        return float(0.5 * np.sum(self.patches.stiffness * theta * theta))
+
+    def _patch_forces(self, state: State) -> np.ndarray:
+        x = state.positions[self.connectivity]
+        theta = patch_angles(x, self.patches.ends)
+        grad = patch_gradients(x, self.patches.ends)
+        return (self.patches.stiffness * theta)[:, None, None] * grad
+
+    def internal_force(self, state: State, history: Any = None) -> tuple[np.ndarray, None]:
+        """dW/dx (n, 3), N."""
+        if self.compiled:
+            return self._force_and_energy(state)[0], None
+        force = np.zeros((self.n_nodes, 3))
+        np.add.at(force, self.connectivity, self._patch_forces(state))
+        return force, None
+
+    def _force_and_energy(self, state: State) -> tuple[np.ndarray, float]:
+        """The compiled pass: dW/dx (n, 3), N, and the energy, N mm, at once."""
+        force = np.zeros((self.n_nodes, 3))
+        patches = self.patches
+        positions = np.ascontiguousarray(state.positions, dtype=float)
+        energy = patch_forces(positions, patches.nodes, patches.ends, patches.stiffness, force)
+        return force, float(energy)
+
+    def tangent(self, state: State, history: Any = None) -> list[CellTangent]:
+        """k (grad theta grad theta^T + theta Hess theta) per patch (P, 5, 3, 5, 3), N/mm; the
+        Hessian by the complex step of the gradient (exact to round-off)."""
+        x = state.positions[self.connectivity]
+        ends = self.patches.ends
+        theta = patch_angles(x, ends)
+        grad = patch_gradients(x, ends)
+        scale = np.linalg.norm(x[:, 1] - x[:, 0], axis=1)
+        step = COMPLEX_STEP * scale
+        hessian = np.empty(x.shape + x.shape[1:])
+        for node in range(5):
+            for component in range(3):
+                shifted = x.astype(complex)
+                shifted[:, node, component] += 1j * step
+                hessian[:, :, :, node, component] = (
+                    patch_gradients(shifted, ends).imag / step[:, None, None]
+                )
+        k = self.patches.stiffness
+        blocks = k[:, None, None, None, None] * (
+            grad[:, :, :, None, None] * grad[:, None, None, :, :]
+            + theta[:, None, None, None, None] * hessian
+        )
+        return [CellTangent(self.connectivity, blocks)]
+
+    def springs_at(self, state: State, step: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Springs to the ground that bound the patches' stiffness for the explicit step:
+        (k g_a . u_a summed)^2 <= k (sum_b |g_b|) sum_a |g_a| |u_a|^2, so node a of a patch
+        takes k |g_a| sum_b |g_b| (g the gradient of theta), times SPRING_MARGIN."""
+        return self._springs(state.positions)
+
+    def springs(self) -> tuple[np.ndarray, np.ndarray]:
+        """``springs_at`` in the reference configuration."""
+        return self._springs(self.reference)
+
+    def _springs(self, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        x = positions[self.connectivity]
+        size = np.linalg.norm(patch_gradients(x, self.patches.ends), axis=2)  # (P, 5)
+        spring = SPRING_MARGIN * self.patches.stiffness[:, None] * size * size.sum(axis=1)[:, None]
+        return self.connectivity.ravel(), spring.ravel()
+
+    def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
+        """``fibre_inplane_angle``: at each node the largest |theta| (rad) of the patches
+        centred there (the turning of a fibre through it, either family)."""
+        out = np.zeros(self.n_nodes)
+        np.maximum.at(out, self.connectivity[:, 1], np.abs(self.angles(state)))
+        return {"fibre_inplane_angle": out}

@@ -1,0 +1,356 @@
+"""The fibres' in-plane bending (elements/fibre_bending.py, docs/theory.md §4.7) against the
+elastica's closed forms, the invariances a geodesic curvature has, and the interaction kit.
+
+The strips are the term alone (its block bound to a FibrousShell's cells, no membrane): the
+fibrous membrane would carry an in-plane moment by stretching its fibres (E w^3 / 12 against
+B_in w), so the closed forms of the fibres' bending are checked on the term by itself, and the
+shear has no share in them (no shear stiffness in the term; with the membrane a net's shear
+would add its own, which is the shell's, not this term's).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from elements import FibrousShell
+from elements.fibre_bending import FibreBending, FibreBendingBlock
+from femcore import Mesh, Model
+from femcore.interaction import Body, BodyPart
+from femcore.interaction_checks import (
+    check_added_force,
+    check_energy,
+    check_force_is_energy_gradient,
+    check_objectivity,
+    check_tangent,
+)
+from femcore.state import State
+from materials import Fabric, ShearLaw
+
+B_IN = 2.0  # N mm
+
+
+def ply() -> Fabric:
+    return Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0,
+                  shear=ShearLaw.linear(0.2), bending=0.375)  # fmt: skip
+
+
+def block(
+    mesh: Mesh, kernel: str = "compiled", warp=(1.0, 0.0, 0.0), families=("warp", "weft")
+) -> FibreBendingBlock:
+    active = np.zeros((mesh.n_nodes, 6), dtype=bool)
+    active[:, :3] = True
+    body = Body(
+        mesh, (BodyPart(FibrousShell(ply(), warp=warp), mesh.triangles),),
+        np.zeros((mesh.n_nodes, 3)), active,
+    )  # fmt: skip
+    return FibreBending(B_IN, families, kernel=kernel).bind(body)
+
+
+def state(x: np.ndarray) -> State:
+    zero = np.zeros_like(x)
+    return State(np.array(x, dtype=float), zero, zero.copy(), zero.copy())
+
+
+def strip(length: float, width: float, nx: int, ny: int) -> Mesh:
+    """A strip along the warp (x) whose first column of cells, x in [-h, 0], is the clamp."""
+    h = length / nx
+    return Mesh.rectangle(length + h, width, nx=nx + 1, ny=ny, origin=(-h, 0.0, 0.0))
+
+
+def jittered(seed: int = 2) -> tuple[Mesh, np.ndarray]:
+    """A 4 x 3 blank and a state off it by 0.3 of a cell, out of its plane as well."""
+    mesh = Mesh.rectangle(8.0, 6.0, nx=4, ny=3)
+    rng = np.random.default_rng(seed)
+    return mesh, mesh.points + rng.normal(scale=0.6, size=mesh.points.shape)
+
+
+# ------------------------------------------------------------------ closed forms
+def test_an_end_moment_holds_a_clamped_strip_on_a_circular_arc_of_curvature_m_over_b_w():
+    """The strip (length 40, width 6 mm, 20 x 3 cells) placed on concentric regular polygons
+    whose centre row has chords h and turns by theta at every node from the clamp's edge on:
+    the forces vanish at every node but the clamp's two columns and the end's two, the end's
+    make a couple whose moment M = B_in w kappa, kappa the centre row's curvature
+    2 sin(theta / 2) / h (the elastica under an end moment: a circle of curvature M / (B w),
+    to theta^2 / 24 = 1.04e-4 at theta = 0.05, the chord's curvature against the turning
+    angle's), and the energy is M^2 L / (2 B w) = B w kappa^2 L / 2 (every node from the
+    clamp's edge to the last but one turning: L), to theta^2 / 12."""
+    length, width, nx, ny = 40.0, 6.0, 20, 3
+    mesh = strip(length, width, nx, ny)
+    h = length / nx
+    theta = 0.05
+    radius = h / (2.0 * np.sin(theta / 2.0))  # the centre row's circumradius
+    centre_y = 0.5 * width
+    column = np.rint(mesh.points[:, 0] / h).astype(int)  # -1 and 0: the clamp's nodes
+    rho = radius - (mesh.points[:, 1] - centre_y)
+    angle = (column + 0.5) * theta  # the segment from column -1 to 0 along x
+    x = np.column_stack(
+        (rho * np.sin(angle), centre_y + radius - rho * np.cos(angle), np.zeros(mesh.n_nodes))
+    )
+    bent = block(mesh, families=("warp",))
+    force, _ = bent.internal_force(state(x))
+    end = column >= nx - 1
+    clamp = column <= 0
+    inner = ~(end | clamp)
+    moment_scale = B_IN * width * (2.0 * np.sin(theta / 2.0) / h)  # M = B w kappa
+    assert np.abs(force[inner]).max() < 1e-12 * moment_scale / h
+    resultant = force[end].sum(axis=0)
+    assert np.abs(resultant).max() < 1e-12 * moment_scale / h
+    lever = x[end] - x[end].mean(axis=0)
+    moment = np.sum(lever[:, 0] * force[end, 1] - lever[:, 1] * force[end, 0])
+    assert moment == pytest.approx(moment_scale, rel=1.5e-4)  # theta^2 / 24 = 1.04e-4
+    kappa = 2.0 * np.sin(theta / 2.0) / h
+    energy = bent.strain_energy(state(x))
+    assert energy == pytest.approx(0.5 * B_IN * width * kappa**2 * length, rel=3e-4)  # 2.1e-4
+
+
+@pytest.mark.parametrize("nx", [8, 16, 32])
+def test_a_tip_load_bends_a_clamped_strip_by_p_l3_over_3_b_w(nx):
+    """A small transverse in-plane load P at the end of the clamped strip (length 40, width
+    6 mm): the tip deflects by P L^3 / (3 B_in w) with L measured from the middle of the
+    clamped cells (the rotation-free clamp: the first patch turns over the clamped cells'
+    segment's centre), to 1 / (4 nx^2) (the rectangle rule of the nodes' turnings: the
+    discrete chain gives P h^3 nx (nx + 1) (2 nx + 1) / (6 B w), which the continuum's
+    (nx + 1/2)^3 / 3 exceeds by nx / 12 + 1 / 24). Measured from the clamp's edge the error
+    would be 3 / (2 nx), first order: checked too (it halves with h)."""
+    length, width, ny, load = 40.0, 6.0, 3, 1e-4
+    mesh = strip(length, width, nx, ny)
+    h = length / nx
+    bent = block(mesh, families=("warp",))
+    parts = bent.tangent(state(mesh.points))
+    n = mesh.n_nodes
+    stiffness = np.zeros((3 * n, 3 * n))
+    for nodes, blocks in parts:
+        for a in range(nodes.shape[1]):
+            for b in range(nodes.shape[1]):
+                rows = 3 * nodes[:, a, None] + np.arange(3)
+                cols = 3 * nodes[:, b, None] + np.arange(3)
+                np.add.at(stiffness, (rows[:, :, None], cols[:, None, :]), blocks[:, a, :, b, :])
+    free = np.flatnonzero(mesh.points[:, 0] > 0.5 * h)  # y only; x and z held (no membrane)
+    dofs = 3 * free + 1
+    tip = free[np.isclose(mesh.points[free, 0], length)]
+    share = np.where(np.isclose(mesh.points[tip, 1] % width, 0.0), 0.5, 1.0)  # the edge rows
+    rhs = np.zeros(len(free))
+    rhs[np.searchsorted(free, tip)] = load * share / share.sum()
+    v = np.linalg.solve(stiffness[np.ix_(dofs, dofs)], rhs)
+    deflection = v[np.searchsorted(free, tip)]
+    assert np.ptp(deflection) < 1e-9 * deflection.mean()  # the rows go together
+    from_mid_clamp = load * (length + 0.5 * h) ** 3 / (3.0 * B_IN * width)
+    assert deflection.mean() == pytest.approx(from_mid_clamp, rel=0.26 / nx**2)
+    from_edge = load * length**3 / (3.0 * B_IN * width)
+    assert deflection.mean() / from_edge - 1.0 == pytest.approx(1.5 / nx, rel=0.2)
+
+
+# ------------------------------------------------------------------ invariances
+def test_rigid_motions_and_a_shear_of_the_net_store_nothing():
+    """Turned and moved as a rigid body, or sheared as a pin-jointed net by any angle (its
+    fibres stay straight), the blank has no in-plane curvature: energy and forces zero."""
+    mesh = Mesh.rectangle(12.0, 9.0, nx=6, ny=5)
+    bent = block(mesh)
+    turn = Rotation.from_rotvec([0.4, -0.9, 1.3]).as_matrix()
+    for x in (mesh.points @ turn.T + [3.0, -2.0, 7.0],):
+        assert bent.strain_energy(state(x)) < 1e-28
+        assert np.abs(bent.internal_force(state(x))[0]).max() < 1e-13
+    for gamma in (0.2, 0.7, 1.1):  # rad: the weft turned toward the warp
+        x = mesh.points.copy()
+        x[:, 0] += np.sin(gamma) * mesh.points[:, 1]
+        x[:, 1] = np.cos(gamma) * mesh.points[:, 1]
+        x = x @ turn.T
+        assert bent.strain_energy(state(x)) < 1e-26
+        assert np.abs(bent.internal_force(state(x))[0]).max() < 1e-12
+
+
+@pytest.mark.parametrize("axis_deg", [0.0, 90.0])
+def test_a_blank_rolled_on_a_cylinder_along_a_fibre_keeps_its_fibres_geodesic(axis_deg):
+    """A blank wrapped isometrically on a cylinder (radius 8 mm, 10 x 10 cells of 2 mm, one
+    cell turning by 0.25 rad) whose axis runs along the weft or the warp: each fibre is a
+    circle or a straight line on it, geodesics both, so the term (geodesic curvature) stores
+    nothing, where the fibres' normal curvature would store 1/2 B / R^2 per unit area."""
+    mesh = Mesh.rectangle(20.0, 20.0, nx=10, ny=10)
+    radius = 8.0
+    p = mesh.points
+    along, around = (p[:, 0], p[:, 1]) if axis_deg == 0.0 else (p[:, 1], p[:, 0])
+    wrapped = np.column_stack(
+        (along, radius * np.sin(around / radius), radius * (1.0 - np.cos(around / radius)))
+    )
+    x = wrapped if axis_deg == 0.0 else wrapped[:, [1, 0, 2]]
+    energy = block(mesh).strain_energy(state(x))
+    assert energy < 1e-24 * 0.5 * B_IN / radius**2 * 400.0
+
+
+def test_a_blank_rolled_on_an_oblique_cylinder_converges_to_geodesic_fibres():
+    """On a cylinder (radius 8 mm) whose axis is at 30 deg to the warp the fibres are helices
+    (geodesics) and the cells fold along their diagonals: the chords of a helix turn in the
+    facets' planes by an angle of order (h / R)^2, a geodesic curvature of order h / R^2
+    that vanishes with the cells. Measured (not derived) 0.0049, 0.0013, 0.00033 of the
+    1/2 B / R^2 per unit area the normal curvature would store at h = 2, 1, 0.5 mm: checked
+    below 0.006 at h = 2 mm (h / R = 0.25) and falling by at least 3.5 when h halves (4
+    for a remainder of order h)."""
+    ratios = []
+    for cells in (10, 20):
+        mesh = Mesh.rectangle(20.0, 20.0, nx=cells, ny=cells)
+        radius, turn = 8.0, np.radians(30.0)
+        along = mesh.points[:, 0] * np.cos(turn) + mesh.points[:, 1] * np.sin(turn)
+        around = -mesh.points[:, 0] * np.sin(turn) + mesh.points[:, 1] * np.cos(turn)
+        local = np.column_stack(
+            (along, radius * np.sin(around / radius), radius * (1.0 - np.cos(around / radius)))
+        )
+        energy = block(mesh).strain_energy(state(local))
+        ratios.append(energy / (0.5 * B_IN / radius**2 * 400.0))
+    assert ratios[0] < 6e-3
+    assert ratios[1] < ratios[0] / 3.5
+
+
+# ------------------------------------------------------------------ the kit
+def test_forces_are_the_energy_gradient_and_the_tangent_their_derivative():
+    mesh, x = jittered()
+    bent = block(mesh)
+    check_force_is_energy_gradient(bent, state(x), rtol=1e-7)
+    assert check_tangent(bent, state(x), rtol=1e-7)
+    check_energy(bent, state(x))
+    check_added_force(bent, state(x))
+    check_objectivity(lambda turn: (bent, state(x @ turn.T), None),
+                      Rotation.from_rotvec([0.3, 1.1, -0.4]).as_matrix())  # fmt: skip
+
+
+def test_the_compiled_pass_gives_the_numpy_reference():
+    mesh, x = jittered(5)
+    compiled, reference = block(mesh), block(mesh, kernel="numpy")
+    f_c, _ = compiled.internal_force(state(x))
+    f_r, _ = reference.internal_force(state(x))
+    assert np.abs(f_c - f_r).max() <= 1e-13 * np.abs(f_r).max()
+    assert compiled.strain_energy(state(x)) == pytest.approx(
+        reference.strain_energy(state(x)), rel=1e-13
+    )
+
+
+def test_the_springs_bound_the_stiffness_for_the_explicit_step():
+    """x^T K x <= sum_s k_s |u_s|^2 for every u: the largest eigenvalue of K against the
+    springs' diagonal at most 1, on the jittered blank and in its reference."""
+    mesh, x = jittered(7)
+    bent = block(mesh)
+    for positions in (mesh.points, x):
+        nodes, blocks = bent.tangent(state(positions))[0]
+        n = mesh.n_nodes
+        stiffness = np.zeros((3 * n, 3 * n))
+        for a in range(5):
+            for b in range(5):
+                rows = 3 * nodes[:, a, None] + np.arange(3)
+                cols = 3 * nodes[:, b, None] + np.arange(3)
+                np.add.at(stiffness, (rows[:, :, None], cols[:, None, :]), blocks[:, a, :, b, :])
+        spring_nodes, springs = bent.springs_at(state(positions))
+        diagonal = np.repeat(np.bincount(spring_nodes, springs, minlength=n), 3)
+        scaled = stiffness / np.sqrt(np.outer(diagonal, diagonal))
+        assert np.linalg.eigvalsh(scaled).max() <= 1.0
+
+
+def test_the_patches_of_a_grid_are_its_fibres_inner_nodes_one_per_side():
+    """On a 6 x 4 grid: the warp's 5 rows of 7 nodes have 5 inner nodes each, the edge rows
+    one patch a node (one side), the three inner rows two; the weft likewise; every
+    patch's k = B_in A / s^2 = B_in / 2 on square cells (A = h^2 / 2, s = h)."""
+    mesh = Mesh.rectangle(12.0, 8.0, nx=6, ny=4)
+    bent = block(mesh)
+    family = bent.patches.family
+    assert np.sum(family == 0) == 5 * (2 + 2 * 3)
+    assert np.sum(family == 1) == 3 * (2 + 2 * 5)
+    assert np.allclose(bent.patches.stiffness, 0.5 * B_IN)
+
+
+# ------------------------------------------------------------------ input
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        ((0.0,), "stiffness"),
+        ((-1.0,), "stiffness"),
+        ((float("nan"),), "stiffness"),
+        ((1.0, ("warp", "bias")), "families"),
+        ((1.0, ()), "families"),
+        ((1.0, ("weft", "weft")), "families"),
+    ],
+)
+def test_bad_options_are_refused(arguments, message):
+    with pytest.raises(ValueError, match=message):
+        FibreBending(*arguments)
+
+
+def test_a_model_without_fibrous_cells_is_refused():
+    from elements import MindlinShell
+    from materials import ElasticShell
+
+    mesh = Mesh.rectangle(4.0, 4.0, nx=2, ny=2)
+    built = Model(mesh)
+    built.add(MindlinShell(ElasticShell.equivalent(ply())))
+    built.interact(FibreBending(1.0))
+    with pytest.raises(ValueError, match="FibrousShell"):
+        built.compile()
+
+
+# ------------------------------------------------------------------ case files
+CASE = """
+[mesh]
+rectangle = { lx = 20.0, ly = 10.0, nx = 4, ny = 2 }
+[[part]]
+element = "fibrous"
+[part.material]
+thickness = 0.3
+areal_density = 2.85e-10
+tension = 60.0
+shear = 0.2
+bending = 0.375
+[[fix]]
+nodes = { x_max = 0.0 }
+[fibre_bending]
+stiffness = 0.5
+[solver]
+kind = "static"
+"""
+
+
+def test_a_case_file_adds_the_fibre_bending_to_its_fibrous_model(tmp_path):
+    """``[fibre_bending]`` adds FibreBending(stiffness, families) to the model it builds
+    (fibrous kinematics), none under the Mindlin kinematics (no fibres)."""
+    from fibreshell import load_case
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace("stiffness = 0.5", 'stiffness = 0.5\nfamilies = ["weft"]'))
+    case = load_case(path)
+    added = [i for i in case.model().interactions if isinstance(i, FibreBending)]
+    assert len(added) == 1
+    assert added[0].stiffness == 0.5 and added[0].families == ("weft",)
+    assert not any(isinstance(i, FibreBending) for i in case.model("mindlin").interactions)
+
+
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        ("stiffness = 0.5", "stiffness = -0.5", r"\[fibre_bending.stiffness\]"),
+        ("stiffness = 0.5", 'stiffness = 0.5\nfamilies = ["bias"]', r"\[fibre_bending.families\]"),
+        ("stiffness = 0.5", "stifness = 0.5", r"\[fibre_bending.stifness\]: unknown key"),
+    ],
+)
+def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where):
+    from fibreshell import CaseError, load_case
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace(old, new))
+    with pytest.raises(CaseError, match=where):
+        load_case(path)
+
+
+# ------------------------------------------------------------------ the rows it cures
+@pytest.mark.slow
+def test_a_flat_patch_that_forms_rows_without_the_term_stays_uniform_with_it():
+    """The flat 20-mm patch of the hemisphere's ply, 10 cells, its weft compressed by 1.10 %
+    (validation/studies/hemisphere_rows_diagonal.py ``compressed_patch``): past the
+    threshold G / E + (pi h / 4 L)^2 = 0.95 % of the fibrous membrane without the term its
+    rows shear by turns (inner rows above 1 deg); below the threshold with B_in = 0.5 N mm,
+    G / E + pi sqrt(B_in / E) / L = 1.77 % (docs/theory.md §4.7), it stays uniform (rms shear
+    below 0.05 deg). Each threshold was derived before the runs."""
+    from validation.studies.hemisphere_rows_diagonal import compressed_patch, patch_threshold
+
+    assert patch_threshold(10, 20.0) < 0.011 < patch_threshold(10, 20.0, fibre_bending=0.5)
+    plain = compressed_patch(-0.011, cells=10)
+    bent = compressed_patch(-0.011, cells=10, fibre_bending=0.5)
+    assert plain["inner_alternation_deg"] > 1.0
+    assert bent["rms_shear_deg"] < 0.05
