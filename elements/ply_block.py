@@ -731,18 +731,22 @@ class PlyContactBlock(InteractionBlock):
         lower nodes when above 1) at the lower ones, N/mm (elements/ply_contact.py, "Penalty")."""
         return self._springs(self.stiffness)
 
-    def springs_at(self, state: State, step: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def springs_at(
+        self, state: State, step: float | None = None, mass: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The springs per node that bound the contact's stiffness at every state it can reach
         until the step's next evaluation (elements/ply_springs.py): each point counted while
         it may touch by then, its penalty k_p times the largest bound c_p of its faded
         energy's stiffness it can reach (elements/ply_fade.py, "Stiffness"), the lower nodes'
         from the points that face or may face their triangles. The curved faces carry no
         fade: ``springs`` there. ``step`` (s) the largest step until then (None: twice the
-        critical step the contact was calibrated with)."""
+        critical step the contact was calibrated with); ``mass`` (n,) t the masses the step
+        divides the springs by, which weigh the nodes (None: those of ``calibrate``)."""
         facing = self.facing(state)
         if facing.fade is None or facing.reach is None or facing.on_growth is None:
             return self.springs()
-        return ply_springs.reachable_springs(self, state, facing, self._faces(state)[1], step)
+        y = self._faces(state)[1]
+        return ply_springs.reachable_springs(self, state, facing, y, step, mass)
 
     def _springs(self, stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         upper = 2.0 * self._lumped(stiffness)[self.upper]

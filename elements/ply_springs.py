@@ -25,7 +25,9 @@ equality at its Perron vector), |K| = sum_p c_p k_p |a_p| |a_p|^T: the weights s
 equal weights give 2 k / m_light) and take ``WEIGHT_ITERATIONS`` power iterations v <- M^-1
 L(v), L_i(v) = sum_p c_p k_p |a_p,i| F_p(v). Whatever the iterations give, the springs bound
 the stiffness: they only choose v. The masses are those the contact was calibrated with
-(``PlyContactBlock.calibrate``, the solver's lumped masses); uncalibrated, equal weights.
+(the explicit step's, mass scaling included: ``penalty_frequency_squared`` hands them down;
+else those of ``PlyContactBlock.calibrate``); uncalibrated, or a mass not positive and
+finite, equal weights.
 F_p is bounded over every state the point reaches until then (below): sum_j N_j v_j plus the
 least of sum over its facing triangle's corners of (|lambda_k| + delta) v_k with delta v_i
 over the ring's nodes that may take it, and (s_p - 1) times the largest v of those nodes.
@@ -118,7 +120,7 @@ def ring_matrix(cells: np.ndarray, lower_nodes: np.ndarray) -> sp.csr_matrix:
 
 
 def reachable_springs(
-    block, state, facing, y: np.ndarray, step: float | None = None
+    block, state, facing, y: np.ndarray, step: float | None = None, mass=None
 ) -> tuple[np.ndarray, np.ndarray]:
     """(nodes, stiffness N/mm) of ``block`` (a PlyContactBlock on flat faces with a fade)
     held until the next evaluation (module docstring).
@@ -137,6 +139,9 @@ def reachable_springs(
     step : float, optional
         The largest step until the next evaluation, s (None: ``STEP_GROWTH`` times the
         critical step the contact was calibrated with).
+    mass : (n,) float, optional
+        The lumped masses the explicit step divides the springs by, t (mass scaling
+        included): they weigh the nodes (None: those the block was calibrated with).
     """
     nodes = np.concatenate([block.upper, block.lower_nodes])
     step = STEP_GROWTH * block.calibrated_dt if step is None else step
@@ -204,7 +209,7 @@ def reachable_springs(
     if ring is None:
         ring = block._ring = ring_matrix(block.cells, block.lower_nodes)
     corners = block.cells[facing.triangle]
-    mass = block.calibrated_mass
+    mass = block.calibrated_mass if mass is None else mass
     v = None if mass is None else _node_weights(block, mass, held, size, facing.triangle, delta)
     if v is None:  # equal weights: sum_i |a_i| <= s_p
         spread = 1.0 + size.sum(axis=1)
@@ -266,11 +271,11 @@ def _padded_rows(matrix: sp.csr_matrix) -> np.ndarray:
 def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None:
     """(n,) the weights v > 0 of the block's nodes: 1 / m, then ``WEIGHT_ITERATIONS`` power
     iterations v <- M^-1 L(v), L(v) the nodes' loads sum_p c_p k_p |a_p,i| sum_j |a_p,j| v_j
-    (module docstring, "Weights"); None where a node of the block has no positive mass (equal
-    weights then)."""
+    (module docstring, "Weights"); None where a node of the block has no positive finite
+    mass (equal weights then)."""
     mass = np.asarray(mass, dtype=float)
     nodes = np.concatenate([block.upper, block.lower_nodes])
-    if len(mass) != block.n_nodes or not np.all(mass[nodes] > 0.0):
+    if len(mass) != block.n_nodes or not np.all(np.isfinite(mass[nodes]) & (mass[nodes] > 0.0)):
         return None
     v = np.ones(block.n_nodes)
     v[nodes] = 1.0 / mass[nodes]

@@ -350,7 +350,9 @@ class CompiledModel(CompiledTangent):
         total = np.zeros(len(mass))
         for interaction in self.interactions:
             springs = (
-                interaction.springs() if state is None else _springs_at(interaction, state, step)
+                interaction.springs()
+                if state is None
+                else _springs_at(interaction, state, step, mass)
             )
             if springs is not None and len(springs[0]):
                 nodes, stiffness = springs
@@ -504,16 +506,29 @@ class CompiledModel(CompiledTangent):
         return out
 
 
-def _springs_at(interaction: Any, state: State, step: float | None):
-    """``interaction.springs_at(state, step)``; ``springs_at(state)`` for an interaction
-    written before the step was handed down (its springs then bound the stiffness at the
-    evaluated state, as that signature promised)."""
-    if _takes_step(type(interaction)):
+def _springs_at(interaction: Any, state: State, step: float | None, mass: np.ndarray):
+    """``interaction.springs_at(state, step)``, with ``mass=mass`` for an interaction that
+    weighs its nodes by the masses the step divides by (elements/ply_springs.py, "Weights":
+    the solver's, mass scaling included, not those it was calibrated with);
+    ``springs_at(state)`` for an interaction written before the step was handed down (its
+    springs then bound the stiffness at the evaluated state, as that signature promised)."""
+    kind = type(interaction)
+    if _takes_mass(kind):
+        return interaction.springs_at(state, step, mass=mass)
+    if _takes_step(kind):
         return interaction.springs_at(state, step)
     return interaction.springs_at(state)
 
 
 _TAKES_STEP: dict[Any, bool] = {}
+_TAKES_MASS: dict[Any, bool] = {}
+
+
+def _takes_mass(kind: Any) -> bool:
+    """Whether ``kind.springs_at`` takes the masses as ``mass`` (kept by class)."""
+    if kind not in _TAKES_MASS:
+        _TAKES_MASS[kind] = "mass" in inspect.signature(kind.springs_at).parameters
+    return _TAKES_MASS[kind]
 
 
 def _takes_step(kind: Any) -> bool:
