@@ -150,12 +150,16 @@ def test_a_soft_stick_spring_finds_the_stick_and_slip_zones_in_fewer_iterations(
     assert_slid_over_the_whole_wrap(result)
 
 
-@pytest.mark.parametrize("mu", [0.0, 0.2])
-def test_dynamic_relaxation_pulls_a_cable_over_a_cylinder_at_euler_eytelwein(mu):
+@pytest.mark.parametrize("mu, increments", [(0.0, 2), (0.2, 10)])
+def test_dynamic_relaxation_pulls_a_cable_over_a_cylinder_at_euler_eytelwein(mu, increments):
     """The same capstan by dynamic relaxation (the weight from the first increment, the pull
-    in 10): T2 / T1 = exp(mu pi) to 2e-3 and the chain's ratio to 1e-3 (its tolerance 1e-4
-    of the forces; measured 5e-4). 1000-3000 iterations per increment."""
-    result = DynamicRelaxation(increments=10, progress=False).solve(capstan(mu))
+    in ``increments``): T2 / T1 = exp(mu pi) to 2e-3 and the chain's ratio to 1e-3 (its
+    tolerance 1e-4 of the forces; measured 5e-4). 1000-3000 iterations per increment. The
+    frictionless slide's end state does not depend on the path (its contact forces are a
+    potential's), so 2 increments reach it as 10 do (T2 / T1 - 1: -1.7e-4 against -1.2e-4,
+    4247 iterations against 21669); the friction's does: its slip follows the pull, and 5
+    increments leave T2 / T1 9.5e-3 below the chain's (measured)."""
+    result = DynamicRelaxation(increments=increments, progress=False).solve(capstan(mu))
     assert result.converged
     tension = pulled_tension(result)
     assert tension[-1] / T1 == pytest.approx(np.exp(mu * np.pi), rel=2e-3)

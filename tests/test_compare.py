@@ -149,6 +149,10 @@ def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path, d
     # fabric both kinematics sag as q L^4 / (8 B) (tests/test_case_files.py), so from a start
     # of twice the bending, the fit must come back to the fabric's own law: factor 1 within
     # the fibrous shell's discretisation (+0.25 % at 20 cells) and the fit's tolerance, 2 %.
+    # The transverse shear barely moves a small deflection, so the fit wanders along it until
+    # its evaluations run out (12 by default: 28 runs, factor 0.998); 5 evaluations (13 runs)
+    # bring the factor to 0.9958 and the RMS residual to 7e-5 mm, 3 evaluations leave it at
+    # 0.956 and 2.2e-3 mm, which fail both bounds (measured).
     from tests.test_case_files import CANTILEVER
 
     case = _case(tmp_path, CANTILEVER)
@@ -159,7 +163,9 @@ def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path, d
     fibrous = run_case(case, tmp_path / "fibrous", "fibrous", progress=False)
     # On a scheduler of the caller's (a user's cluster; here the session's, tests/conftest.py,
     # whose workers have started already): the fit's runs are its tasks.
-    fitted = fit_calibration(case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler)
+    fitted = fit_calibration(
+        case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler, max_evaluations=5
+    )
     assert fitted.name == "fit"
     assert fitted.bending_scale == pytest.approx(1.0, rel=0.02)
     assert fitted.fitted["residual_rms_mm"] < 1e-3
