@@ -1,0 +1,157 @@
+"""The hemisphere forming case's whole stroke (validation/cases/hemisphere_forming.py ``run``)
+at one resolution and scaling, watched as it runs: a line every ``--every`` steps (the step,
+the fraction of the stroke, CPU and wall so far, the machine's load), the case's compared
+figures at the end (benchmarks/hemisphere_scaling.py ``measure``: rms shear - net, draw-ins,
+punch force, KE / W, penetrations), and the run's states at ``--at`` fractions of the stroke
+saved for benchmarks/hemisphere_step_bounds.py and hemisphere_step_parts.py (their
+``states`` reads them: hemisphere_<cells>_<fraction>.pkl in ``--states``).
+
+    python benchmarks/hemisphere_stroke.py --cells 100 --time-scaling 1 --at 0.25,0.5,0.75
+    python benchmarks/hemisphere_stroke.py --cells 100 --pace 0.25,0.5 --steps 300 --threads 1,2
+
+``--pace``: from each saved state, ``--steps`` steps as the solver takes them (explicit_step,
+the commit, the stable step every STABLE_DT_EVERY steps with the rotary inertia's refresh,
+the energy check every BALANCE_EVERY) on each of ``--threads``, timed phase by phase
+(benchmarks/hemisphere_forming.py ``Phases``: CPU and the main thread's CPU a step, which
+bounds a two-thread step's wall from below on a machine whose second core is free).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import pickle
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
+
+import hemisphere_scaling as scaling  # noqa: E402
+import numba  # noqa: E402
+import numpy as np  # noqa: E402
+from hemisphere_forming import Phases, load  # noqa: E402
+
+import solvers.explicit as explicit  # noqa: E402
+from elements import jit  # noqa: E402
+from solvers import CentralDifference  # noqa: E402
+from solvers.step import LumpedMasses  # noqa: E402
+from validation.cases import hemisphere_forming as case  # noqa: E402
+
+
+def watched(cells: int, speed: float, target: float | None, every: int, at: list[float],
+            folder: Path) -> dict:  # fmt: skip
+    """``scaling.measure`` of one run with its progress printed and its states saved."""
+    step = explicit.explicit_step
+    duration = case.DURATION / speed
+    todo = sorted(at)
+    count = [0]
+    start = time.perf_counter(), time.process_time()
+
+    def kept(model, state, dt, masses, **options):
+        count[0] += 1
+        while todo and state.time >= todo[0] * duration * (1.0 - 1e-9):
+            name = folder / f"hemisphere_{cells}_{todo.pop(0):g}.pkl"
+            with open(name, "wb") as file:
+                pickle.dump(
+                    {"state": state, "mass": masses.mass, "inertia": masses.inertia, "dt": dt},
+                    file,
+                )
+        if count[0] % every == 0:
+            print(f"  step {count[0]}: {state.time / duration:.4f} of the stroke, dt {dt:.4g} s, "
+                  f"{time.process_time() - start[1]:.0f} s CPU, "
+                  f"{time.perf_counter() - start[0]:.0f} s wall, load "
+                  f"{os.getloadavg()[0]:.1f}", flush=True)  # fmt: skip
+        return step(model, state, dt, masses, **options)
+
+    explicit.explicit_step = kept
+    try:
+        return scaling.measure(cells, target, speed)
+    finally:
+        explicit.explicit_step = step
+
+
+def pace(cells: int, fraction: float, steps: int, folder: Path) -> None:
+    """``steps`` steps from the saved state at ``fraction`` of the unscaled stroke, as the
+    solver takes them, timed by phase (module docstring); printed with the load."""
+    saved = pickle.loads((folder / f"hemisphere_{cells}_{fraction:g}.pkl").read_bytes())
+    compiled = case.model(cells, "fibrous", rim=case.DIE_RIM)[1].compile()
+    solver = CentralDifference(duration=case.DURATION, damping=case.DAMPING, progress=False)
+    state, mass, inertia = saved["state"], saved["mass"], saved["inertia"]
+    dt = previous = saved["dt"]
+    # A first pass unmeasured (the kernels' loading, the tools' lists), then the timed one.
+    for timed in (False, True):
+        phases = Phases(compiled) if timed else None
+        before = load()
+        wall, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
+        now, masses = state, LumpedMasses(mass, inertia)
+        for step in range(steps if timed else 20):
+            if step % explicit.STABLE_DT_EVERY == 0:
+                inertia_now = np.maximum(masses.inertia, compiled.lumped_mass(now)[1])
+                masses = LumpedMasses(mass, inertia_now)
+                fresh = step % explicit.ASSEMBLED_DT_EVERY == 0
+                dt = solver._step_size(compiled, now, None, mass, inertia_now if fresh else None,
+                                       step, previous)  # fmt: skip
+            outcome = explicit.explicit_step(
+                compiled, now, dt, masses, dt_prev=previous, damping=case.DAMPING,
+                duration=case.DURATION, checking=step % explicit.BALANCE_EVERY == 0,
+            )  # fmt: skip
+            now, previous = compiled.commit(outcome.state), dt
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        own = time.thread_time() - own
+        if phases is None:
+            continue
+        print(f"{cells} cells from {fraction:g} of the stroke, {steps} steps on "
+              f"{numba.get_num_threads()} threads (load {before} -> {load()}): "
+              f"{wall / steps * 1e3:.2f} ms wall, {cpu / steps * 1e3:.2f} ms CPU, "
+              f"{own / steps * 1e3:.2f} ms on the main thread a step; dt {dt:.4g} s",
+              flush=True)  # fmt: skip
+        print(phases.report(wall, cpu, own, steps), flush=True)
+        phases.undo()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cells", type=int, default=100)
+    parser.add_argument("--time-scaling", type=float, default=1.0)
+    parser.add_argument("--mass-scaling-dt", type=float, default=None)
+    parser.add_argument("--every", type=int, default=2000, help="steps between progress lines")
+    parser.add_argument("--at", default="", help="fractions of the stroke whose states are saved")
+    parser.add_argument("--states", default="/tmp", help="where the states are saved")
+    parser.add_argument("--pace", default="", help="saved fractions to time steps from")
+    parser.add_argument("--steps", type=int, default=300, help="steps timed by --pace")
+    parser.add_argument("--threads", default="1", help="thread counts for --pace, a list")
+    args = parser.parse_args()
+    folder = Path(args.states)
+    if args.pace:
+        jit.FOLLOW_LOAD = False
+        for threads in (int(t) for t in args.threads.split(",")):
+            numba.set_num_threads(threads)
+            for fraction in (float(f) for f in args.pace.split(",")):
+                pace(args.cells, fraction, args.steps, folder)
+        return
+    folder.mkdir(parents=True, exist_ok=True)
+    at = [float(f) for f in args.at.split(",") if f.strip()]
+    start = time.process_time()
+    out = watched(args.cells, args.time_scaling, args.mass_scaling_dt, args.every, at, folder)
+    result, info = out["result"], out["result"].info
+    print(f"{args.cells} cells, time x{args.time_scaling:g}, mass_scaling_dt "
+          f"{args.mass_scaling_dt}: converged {result.converged}, {result.steps} steps, dt "
+          f"{info['dt']:.4g} s at the end, added mass {info['added_mass_ratio']:.3g}; rms "
+          f"{out['rms_deg']:.3f} deg, draw-in {out['draw_in_mm']:.2f} mm (edges' mean "
+          f"{out['edge_draw_in_mm']:.2f}, corners {out['corner_draw_in_mm']:.2f}), punch "
+          f"{out['punch_force_N']:.1f} N (last fifth {out['late_punch_force_N']:.2f}), KE/W "
+          f"largest {out['largest_kinetic_over_work']:.4f} at end "
+          f"{out['kinetic_over_work']:.4f}, share above the bound "
+          f"{out['kinetic_exceeded_share']:.3f}, damping/W {out['damping_over_work']:.3f}, "
+          f"holder lift {out['holder_lift_mm']:.3f} mm; penetration (die, punch, holder) "
+          f"{', '.join(f'{p:.4f}' for p in out['penetration_mm'])} mm; the assembled bound "
+          f"evaluated {out['assembled_evaluations']} times; CPU "
+          f"{time.process_time() - start:.0f} s, wall {out['cost']['wall_s']:.0f} s, load "
+          f"{out['cost']['load'][0]:.1f} -> {out['cost']['load'][1]:.1f}", flush=True)  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
