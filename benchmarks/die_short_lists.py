@@ -67,24 +67,30 @@ def stroke_blank(cells: int, fraction: float, folder: Path, calls: int) -> list[
 
 def ways(tool: RigidSurface, x: np.ndarray) -> np.ndarray:
     """How many of the points x (k, 3) the tool will answer from their kept facet, from
-    their short list, and by a scan, from its kept arrays (before the call)."""
+    their short list, by a scan, and without candidates (beyond the search distance: an
+    empty scan), from its kept arrays (before the call)."""
     kept = getattr(tool, "_kept", None)
     if kept is None or len(kept[0]) != len(x):
-        return np.array([0, 0, len(x)])
+        return np.array([0, 0, len(x), 0])
     facet, anchor, room = kept
     kept_way = (facet >= 0) & (np.linalg.norm(x - anchor, axis=1) < room)
     near = getattr(tool, "_near", None)
     listed = np.zeros(len(x), dtype=bool)
     if near is not None:
         listed = ~kept_way & (np.linalg.norm(x - near[0], axis=1) < near[1])
-    return np.array([kept_way.sum(), listed.sum(), (~kept_way & ~listed).sum()])
+    cache = tool._cache
+    empty = np.zeros(len(x), dtype=bool)
+    if cache is not None and len(cache.start) == len(x) + 1:
+        empty = np.diff(cache.start) == 0
+    scanned = ~kept_way & ~listed & ~empty
+    return np.array([kept_way.sum(), listed.sum(), scanned.sum(), (empty & ~kept_way).sum()])
 
 
 def compare(points: list[np.ndarray], rounds: int, label: str) -> None:
     """The two settings on the same calls, in turns, the answers held to the same bits."""
     reference = best(lambda: np.linalg.norm(points[0], axis=1), 20)
     spent = {False: [], True: []}
-    counted = {False: np.zeros(3, dtype=np.int64), True: np.zeros(3, dtype=np.int64)}
+    counted = {False: np.zeros(4, dtype=np.int64), True: np.zeros(4, dtype=np.int64)}
     before = os.getloadavg()[0]
     for _ in range(rounds):
         answers = {}
@@ -111,8 +117,8 @@ def compare(points: list[np.ndarray], rounds: int, label: str) -> None:
     share = {k: v / v.sum() for k, v in counted.items()}
     print(f"{label}: {len(points[0])} points, {len(points) - 1} calls x {rounds} rounds (load "
           f"{before:.1f} -> {os.getloadavg()[0]:.1f}); CPU a call without the short lists "
-          f"{' / '.join(f'{t * 1e3:.3f}' for t in spent[False])} ms (kept / scanned "
-          f"{share[False][0]:.3f} / {share[False][2]:.3f}), with them "
+          f"{' / '.join(f'{t * 1e3:.3f}' for t in spent[False])} ms (kept / scanned / none "
+          f"{share[False][0]:.3f} / {share[False][2]:.3f} / {share[False][3]:.3f}), with them "
           f"{' / '.join(f'{t * 1e3:.3f}' for t in spent[True])} ms (kept / listed / scanned "
           f"{share[True][0]:.3f} / {share[True][1]:.3f} / {share[True][2]:.3f}); best "
           f"{min(spent[True]) / min(spent[False]):.3f} x; the same answers to the last bit; "

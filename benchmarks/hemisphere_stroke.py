@@ -9,6 +9,15 @@ saved for benchmarks/hemisphere_step_bounds.py and hemisphere_step_parts.py (the
     python benchmarks/hemisphere_stroke.py --cells 100 --time-scaling 1 --at 0.25,0.5,0.75
     python benchmarks/hemisphere_stroke.py --cells 100 --pace 0.25,0.5 --steps 300 --threads 1,2
 
+``--compare``: a scaled run's saved states (its folder) against the unscaled run's (``--states``)
+at the same punch travel (the same fractions of each stroke), each fraction saved by both:
+the shear field's difference (rms and largest, deg, over the cells the case compares with the
+net, validation/cases/hemisphere_forming.py ``compared_cells``), the draw-ins (edge middle,
+edges' mean, corners, mm), the punch's force on the blank (N, its contact's forces summed at
+that state) and the kinetic energy of the blank's translations (N mm) of each.
+
+    python benchmarks/hemisphere_stroke.py --cells 100 --compare /tmp/x4 --states /tmp/x1
+
 ``--pace``: from each saved state, ``--steps`` steps as the solver takes them (explicit_step,
 the commit, the stable step every STABLE_DT_EVERY steps with the rotary inertia's refresh,
 the energy check every BALANCE_EVERY) on each of ``--threads``, timed phase by phase
@@ -112,6 +121,54 @@ def pace(cells: int, fraction: float, steps: int, folder: Path) -> None:
         phases.undo()
 
 
+def compare(cells: int, unscaled: Path, scaled: Path, fractions: list[float]) -> None:
+    """The scaled run's states against the unscaled run's at the same fractions of the stroke
+    (module docstring), printed a line each."""
+    from validation.forming_measures import corner_draw_in, edge_draw_in
+
+    mesh, built = case.model(cells, "fibrous", rim=case.DIE_RIM)
+    compiled = built.compile()
+    punch = compiled.interactions[1]  # the die, the punch, the holder
+    cells_compared = case.compared_cells(mesh)
+    edge = np.flatnonzero(
+        np.isclose(mesh.points[:, 0], case.HALF) & np.isclose(mesh.points[:, 1], 0.0)
+    )
+    n = mesh.n_nodes
+    for fraction in fractions:
+        name = f"hemisphere_{cells}_{fraction:g}.pkl"
+        if not ((unscaled / name).exists() and (scaled / name).exists()):
+            continue
+        figures = []
+        shears = []
+        for folder in (unscaled, scaled):
+            saved = pickle.loads((folder / name).read_bytes())
+            state, mass = saved["state"], saved["mass"]
+            x = state.positions[:n]
+            shears.append(case.blank_shear(mesh, x))
+            force = -float(punch.contact_forces(state).sum(axis=0)[2])  # on the punch, +z
+            kinetic = 0.5 * float(np.sum(mass[:n, None] * state.velocities[:n] ** 2))
+            figures.append(
+                (
+                    float(case.HALF - np.linalg.norm(x[edge, :2], axis=1).mean()),
+                    edge_draw_in(mesh.points, x, case.HALF),
+                    corner_draw_in(mesh.points, x, case.HALF),
+                    force,
+                    kinetic,
+                    state.time,
+                )
+            )
+        difference = np.degrees(shears[1] - shears[0])[cells_compared]
+        (a, b) = figures
+        print(f"{cells} cells at {fraction:g} of the stroke (t {a[5]:.4g} / {b[5]:.4g} s): shear "
+              f"scaled - unscaled rms {np.sqrt(np.mean(difference**2)):.3f} deg, largest "
+              f"{np.abs(difference).max():.2f} deg (rms shear unscaled "
+              f"{np.degrees(np.sqrt(np.mean(shears[0][cells_compared] ** 2))):.2f} deg); "
+              f"draw-in edge middle {a[0]:.2f} / {b[0]:.2f} mm, edges' mean {a[1]:.2f} / "
+              f"{b[1]:.2f}, corners {a[2]:.2f} / {b[2]:.2f}; punch force {a[3]:.2f} / "
+              f"{b[3]:.2f} N; kinetic energy {a[4]:.4g} / {b[4]:.4g} N mm (unscaled / scaled)",
+              flush=True)  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cells", type=int, default=100)
@@ -123,8 +180,13 @@ def main() -> None:
     parser.add_argument("--pace", default="", help="saved fractions to time steps from")
     parser.add_argument("--steps", type=int, default=300, help="steps timed by --pace")
     parser.add_argument("--threads", default="1", help="thread counts for --pace, a list")
+    parser.add_argument("--compare", default="", help="a scaled run's states folder")
     args = parser.parse_args()
     folder = Path(args.states)
+    if args.compare:
+        fractions = [float(f) for f in (args.at or "0.1,0.25,0.5,0.75,0.9").split(",")]
+        compare(args.cells, folder, Path(args.compare), fractions)
+        return
     if args.pace:
         jit.FOLLOW_LOAD = False
         for threads in (int(t) for t in args.threads.split(",")):
