@@ -45,6 +45,7 @@ from hemisphere_forming import Phases, load  # noqa: E402
 
 import solvers.explicit as explicit  # noqa: E402
 from elements import jit  # noqa: E402
+from elements import rigid_surface as surfaces  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
 from solvers.step import LumpedMasses  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
@@ -181,6 +182,11 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=300, help="steps timed by --pace")
     parser.add_argument("--threads", default="1", help="thread counts for --pace, a list")
     parser.add_argument("--compare", default="", help="a scaled run's states folder")
+    parser.add_argument(
+        "--short-lists",
+        default="on",
+        help='the die\'s short lists for --pace, a list of "on" and "off" (SHORT_LISTS)',
+    )
     args = parser.parse_args()
     folder = Path(args.states)
     if args.compare:
@@ -189,10 +195,14 @@ def main() -> None:
         return
     if args.pace:
         jit.FOLLOW_LOAD = False
+        settings = [w.strip() == "on" for w in args.short_lists.split(",")]
         for threads in (int(t) for t in args.threads.split(",")):
             numba.set_num_threads(threads)
             for fraction in (float(f) for f in args.pace.split(",")):
-                pace(args.cells, fraction, args.steps, folder)
+                for short in settings:
+                    surfaces.SHORT_LISTS = short
+                    print(f"the die's short lists {'on' if short else 'off'}:", flush=True)
+                    pace(args.cells, fraction, args.steps, folder)
         return
     folder.mkdir(parents=True, exist_ok=True)
     at = [float(f) for f in args.at.split(",") if f.strip()]
