@@ -22,7 +22,25 @@ that state) and the kinetic energy of the blank's translations (N mm) of each.
 the commit, the stable step every STABLE_DT_EVERY steps with the rotary inertia's refresh,
 the energy check every BALANCE_EVERY) on each of ``--threads``, timed phase by phase
 (benchmarks/hemisphere_forming.py ``Phases``: CPU and the main thread's CPU a step, which
-bounds a two-thread step's wall from below on a machine whose second core is free).
+bounds a two-thread step's wall from below on a machine whose second core is free);
+``--short-lists on,off``: with and without the die's short lists (SHORT_LISTS).
+
+Measured (one thread, nice 5, CPU; the machine shared by five at a load of 7-15; the study and
+its conclusion in docs/hemisphere_forming.md, "The 20k-triangle stroke"):
+
+* ``--pace 0.1,0.25 --threads 1,2`` from the unscaled stroke's states: one thread 10.81 /
+  11.20 ms CPU a step (the element force 6.85 / 6.99, the die 1.84 / 1.82, the punch and
+  holder 0.68 / 0.74, the cells' stable step 0.033 / 0.037, the nodal update 0.55 / 0.65; the
+  reference pass 0.13 ms); two threads 8.14 / 9.43 ms CPU, 5.01 / 5.90 on the main thread
+  (load 11.8-14.5);
+* ``--short-lists off,on,off,on --pace 0.1``: the die 1.93 / 1.85 -> 1.82 / 1.78 ms a step;
+* whole strokes at 100 cells: x4 X4LINE; x6 23234 steps, rms 5.192 deg, edge middle 26.64 mm
+  (edges' mean 13.74, corners 8.50), late punch force 52.50 N, KE / W at most 0.239 (0.145 of
+  the judged stroke above 0.1: the case's rule broken), 302 s CPU; the unscaled stroke
+  stopped at 0.25 (33.5k steps, 6.4 min of CPU, 35 min of wall at that load);
+* ``--compare`` at 0.25 of the stroke against the unscaled: x4 0.145 deg rms of the shear
+  field's difference (largest 0.31), x6 0.295 (0.69), the field's own rms 0.38 deg; the punch
+  force 0.10 -> 0.20 / 0.38 N, the kinetic energy 0.0104 -> 0.213 / 0.384 N mm.
 """
 
 from __future__ import annotations
@@ -41,6 +59,7 @@ os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 import hemisphere_scaling as scaling  # noqa: E402
 import numba  # noqa: E402
 import numpy as np  # noqa: E402
+from contact_search import best  # noqa: E402
 from hemisphere_forming import Phases, load  # noqa: E402
 
 import solvers.explicit as explicit  # noqa: E402
@@ -113,10 +132,12 @@ def pace(cells: int, fraction: float, steps: int, folder: Path) -> None:
         own = time.thread_time() - own
         if phases is None:
             continue
+        reference = best(lambda: np.linalg.norm(state.positions, axis=1), 20)
         print(f"{cells} cells from {fraction:g} of the stroke, {steps} steps on "
               f"{numba.get_num_threads()} threads (load {before} -> {load()}): "
               f"{wall / steps * 1e3:.2f} ms wall, {cpu / steps * 1e3:.2f} ms CPU, "
-              f"{own / steps * 1e3:.2f} ms on the main thread a step; dt {dt:.4g} s",
+              f"{own / steps * 1e3:.2f} ms on the main thread a step; dt {dt:.4g} s; reference "
+              f"pass {reference * 1e3:.3f} ms",
               flush=True)  # fmt: skip
         print(phases.report(wall, cpu, own, steps), flush=True)
         phases.undo()
