@@ -34,9 +34,9 @@ its conclusion in docs/hemisphere_forming.md, "The 20k-triangle stroke"):
   reference pass 0.13 ms); two threads 8.14 / 9.43 ms CPU, 5.01 / 5.90 on the main thread
   (load 11.8-14.5);
 * ``--short-lists off,on,off,on --pace 0.1``: the die 1.93 / 1.85 -> 1.82 / 1.78 ms a step;
-* whole strokes at 100 cells: x4 34923 steps, rms 4.948 deg, edge middle 29.52 mm (edges' mean 13.80,
-  corners 8.54), late punch force 53.21 N, KE / W at most 0.087 (none of the stroke above
-  0.1), 479 s CPU; x6 23234 steps, rms 5.192 deg, edge middle 26.64 mm
+* whole strokes at 100 cells: x4 34923 steps, rms 4.948 deg, edge middle 29.52 mm (edges'
+  mean 13.80, corners 8.54), late punch force 53.21 N, KE / W at most 0.087 (none of the
+  stroke above 0.1), 479 s CPU; x6 23234 steps, rms 5.192 deg, edge middle 26.64 mm
   (edges' mean 13.74, corners 8.50), late punch force 52.50 N, KE / W at most 0.239 (0.145 of
   the judged stroke above 0.1: the case's rule broken), 302 s CPU; the unscaled stroke
   stopped at 0.25 (33.5k steps, 6.4 min of CPU, 35 min of wall at that load);
