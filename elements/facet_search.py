@@ -34,9 +34,11 @@ import numpy as np
 from elements.jit import jit, prange, serial
 
 __all__ = [
+    "SHORT",
     "SLACK",
     "closest_facets",
     "closest_facets_kept",
+    "closest_facets_listed",
     "closest_of_nearest",
     "closest_on_triangles",
     "largest_drift",
@@ -293,6 +295,151 @@ def _closest_facets_kept(
 
 
 closest_facets_kept = jit(_closest_facets_kept)
+
+# How many facets a point keeps in its short list (``closest_facets_listed``).
+SHORT = 4
+
+
+def _closest_facets_listed(
+    x, corners, centroids, radius, slack, start, facets, hint, anchor, room, near_anchor,
+    near_room, near_cut, near, value, at, point, facet, gap,
+):  # fmt: skip
+    """``_closest_facets_kept`` with a short list between the kept facet and the scan: at a
+    scan of point i's candidates (at ``near_anchor[i]``), its SHORT nearest of them are kept
+    in ``near[i]`` (k, SHORT) (in the candidates' order; -1 past the last), with ``near_cut[i]``
+    the next one's distance (or a lower bound of it: the bounding sphere's for a facet
+    skipped), and ``near_room[i]`` half the gap from the nearest to it, less the rounding
+    allowance of ``_closest_facets_kept``'s room. While the point lies less than
+    ``near_room[i]`` from that place, every facet off the list is still further than the
+    nearest on it (each other's distance shrunk by less, the nearest's grown by less), so
+    the list alone is scanned, in the candidates' order (the first of equal distances
+    kept, as the scan keeps it), and anchor and room are set anew from it (the facets off
+    the list then at least ``near_cut[i]`` less the move away). ``value`` and ``at`` (k,
+    SHORT + 1) are scratch: the SHORT + 1 smallest distances of a scan and their places in
+    ``facets``. A near_room of -1 asks for the scan. The same point, facet and gap as
+    ``_closest_facets``, to the last bit (docs/theory.md §9.3)."""
+    for i in prange(x.shape[0]):
+        p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
+        f = hint[i]
+        if f >= 0 and room[i] > 0.0:
+            moved = np.sqrt(
+                (p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2
+            )
+            if moved < room[i]:
+                q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
+                facet[i] = f
+                point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+                gap[i] = np.sqrt(d)
+                continue
+        if near_room[i] > 0.0:
+            moved = np.sqrt(
+                (p0 - near_anchor[i, 0]) ** 2
+                + (p1 - near_anchor[i, 1]) ** 2
+                + (p2 - near_anchor[i, 2]) ** 2
+            )
+            if moved < near_room[i]:
+                best = np.inf
+                second = near_cut[i] - moved  # every facet off the list is further
+                for s in range(near.shape[1]):
+                    g = near[i, s]
+                    if g < 0:
+                        break
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                    if d < best:
+                        second = min(second, np.sqrt(best))
+                        best = d
+                        facet[i] = g
+                        point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+                    else:
+                        second = min(second, np.sqrt(d))
+                nearest = np.sqrt(best)
+                gap[i] = nearest
+                anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
+                if second == np.inf:
+                    room[i] = np.inf
+                else:
+                    room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
+                continue
+        known = np.inf
+        if f >= 0:
+            known = np.sqrt(_squared_gap(p0, p1, p2, corners, f)[3]) * (1.0 + SLACK)
+            known += slack
+        best = np.inf
+        second = np.inf  # the next facet's distance, or a lower bound of it (mm)
+        kept = 0  # how many of value[i] hold the scan's smallest distances so far
+        for sweep in range(2):
+            for j in range(start[i], start[i + 1]):
+                g = facets[j]
+                skipped = False
+                if sweep == 0:
+                    reach = known + radius[g]
+                    apart = (
+                        (centroids[g, 0] - p0) ** 2
+                        + (centroids[g, 1] - p1) ** 2
+                        + (centroids[g, 2] - p2) ** 2
+                    )
+                    if apart > reach * reach:
+                        bound = np.sqrt(apart) - radius[g]
+                        second = min(second, bound)
+                        skipped = True
+                if not skipped:
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                    if d < best:
+                        second = min(second, np.sqrt(best))
+                        best = d
+                        facet[i] = g
+                        point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+                    else:
+                        second = min(second, np.sqrt(d))
+                    bound = np.sqrt(d)
+                # The smallest SHORT + 1 distances (or bounds) so far, in order.
+                if kept < value.shape[1] or bound < value[i, kept - 1]:
+                    slot = min(kept, value.shape[1] - 1)
+                    while slot > 0 and value[i, slot - 1] > bound:
+                        value[i, slot] = value[i, slot - 1]
+                        at[i, slot] = at[i, slot - 1]
+                        slot -= 1
+                    value[i, slot] = bound
+                    at[i, slot] = j
+                    kept = min(kept + 1, value.shape[1])
+            if sweep == 1 or best <= known * known:
+                break
+            best = np.inf  # none kept as near as the hint's: scan them all
+            second = np.inf
+            kept = 0
+        nearest = np.sqrt(best)
+        gap[i] = nearest
+        anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
+        near_anchor[i, 0], near_anchor[i, 1], near_anchor[i, 2] = p0, p1, p2
+        if start[i] == start[i + 1]:
+            room[i] = -1.0  # no candidates: nothing kept
+            near_room[i] = -1.0
+            continue
+        if second == np.inf:
+            room[i] = np.inf  # its only candidate: the nearest wherever it moves
+        else:
+            room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
+        # The short list: the SHORT nearest in the candidates' order (an insertion sort of
+        # their places), and how far the point may go keeping the nearest on it.
+        listed = min(kept, near.shape[1])
+        for s in range(1, listed):
+            place = at[i, s]
+            slot = s
+            while slot > 0 and at[i, slot - 1] > place:
+                at[i, slot] = at[i, slot - 1]
+                slot -= 1
+            at[i, slot] = place
+        for s in range(near.shape[1]):
+            near[i, s] = facets[at[i, s]] if s < listed else -1
+        cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
+        near_cut[i] = cut
+        if cut == np.inf:
+            near_room[i] = np.inf
+        else:
+            near_room[i] = 0.5 * (cut - nearest) - SLACK * (cut + nearest) - slack
+
+
+closest_facets_listed = jit(_closest_facets_listed)
 
 
 def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):

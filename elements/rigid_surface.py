@@ -16,9 +16,11 @@ from numpy.typing import ArrayLike
 
 from elements.facet_normal import turn_round_features
 from elements.facet_search import (
+    SHORT,
     SLACK,
     closest_facets,
     closest_facets_kept,
+    closest_facets_listed,
     closest_of_nearest,
     closest_on_triangles,
     largest_drift,
@@ -53,6 +55,10 @@ REBUILD_SHARE = 0.5
 # facet alone instead of a scan of its candidates (elements/facet_search.closest_facets_kept:
 # the same answer to the last bit).
 KEEP_NEAREST = True
+# Whether a point whose nearest facet may have changed scans its short list (its SHORT nearest
+# candidates at its last scan) while the nearest must be on it, instead of every candidate
+# (elements/facet_search.closest_facets_listed: the same answer to the last bit).
+SHORT_LISTS = True
 # How many calls of RigidSurface.distance each point's closest facet is kept for
 # (``facet_record``).
 FACET_RECORD = 16
@@ -205,6 +211,8 @@ class RigidSurface(RigidTool):
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
         # With those hints: where each point's scan was, and its room to keep its facet.
         self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        # The points' short lists (``_near_lists``).
+        self._near: tuple[np.ndarray, ...] | None = None
         self.pressure: float | None = None
         if pressure is not None:
             self._drive_by_pressure(pressure, 0.5 * length[:, None] * self.normals)
@@ -322,21 +330,54 @@ class RigidSurface(RigidTool):
         point = local.copy()
         facet = np.zeros(len(local), dtype=np.int64)
         gap = np.zeros(len(local))
-        hint, anchor, room = self._kept_lists(len(local))
         if not KEEP_NEAREST:
+            hint, _, _ = self._kept_lists(len(local))
             closest_facets(
                 local, self.corners, self._centroids, self._radius, SLACK * self.reach,
                 candidates[0], candidates[1], hint, point, facet, gap,
             )  # fmt: skip
             self._hint = facet
             return point, facet, gap
-        closest_facets_kept(
+        self._closest_kept(local, candidates[0], candidates[1], point, facet, gap)
+        return point, facet, gap
+
+    def _closest_kept(self, local, start, facets, point, facet, gap) -> None:
+        """Each point's closest point, facet and gap among its candidates facets[start[i]:
+        start[i + 1]] into point (k, 3), facet (k,), gap (k,): its last nearest facet alone
+        while it cannot change, else its short list while the nearest is on it, else a scan
+        (``SHORT_LISTS``; elements/facet_search.py), the hints, rooms and lists kept for the
+        next call."""
+        hint, anchor, room = self._kept_lists(len(local))
+        if not SHORT_LISTS:
+            closest_facets_kept(
+                local, self.corners, self._centroids, self._radius, SLACK * self.reach,
+                start, facets, hint, anchor, room, point, facet, gap,
+            )  # fmt: skip
+            self._hint = facet
+            self._kept = (facet, anchor, room)
+            return
+        near = self._near_lists(len(local))
+        closest_facets_listed(
             local, self.corners, self._centroids, self._radius, SLACK * self.reach,
-            candidates[0], candidates[1], hint, anchor, room, point, facet, gap,
+            start, facets, hint, anchor, room, *near, point, facet, gap,
         )  # fmt: skip
         self._hint = facet
         self._kept = (facet, anchor, room)
-        return point, facet, gap
+        self._near = near
+
+    def _near_lists(self, count: int) -> tuple[np.ndarray, ...]:
+        """(anchor (k, 3), room (k,), cut (k,), facets (k, SHORT), and the scans' scratch
+        (k, SHORT + 1) twice) of the short lists of ``count`` points, kept from the last
+        call where valid (the rooms -1, asking for a scan, otherwise)."""
+        near = getattr(self, "_near", None)  # (absent from a tool pickled before the lists)
+        kept = getattr(self, "_kept", None)
+        if near is None or len(near[1]) != count or kept is None:
+            near = (
+                np.zeros((count, 3)), np.full(count, -1.0), np.zeros(count),
+                np.full((count, SHORT), -1, dtype=np.int64), np.zeros((count, SHORT + 1)),
+                np.zeros((count, SHORT + 1), dtype=np.int64),
+            )  # fmt: skip
+        return near
 
     def _kept_lists(self, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(hint (k,), anchor (k, 3), room (k,)) for ``count`` points: each point's facet of
@@ -353,10 +394,14 @@ class RigidSurface(RigidTool):
         return hint, kept[1], kept[2]
 
     def _forget_nearest(self, rows: np.ndarray) -> None:
-        """The points ``rows`` got new candidate lists: their rooms are asked anew."""
+        """The points ``rows`` got new candidate lists: their rooms and short lists are
+        asked anew."""
         kept = getattr(self, "_kept", None)
         if kept is not None and kept[2].shape == rows.shape:
             kept[2][rows] = -1.0
+        near = getattr(self, "_near", None)
+        if near is not None and near[1].shape == rows.shape:
+            near[1][rows] = -1.0
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         if np.ndim(x) != 2 or np.shape(x)[1] != 3:
@@ -412,7 +457,7 @@ class RigidSurface(RigidTool):
             or getattr(cache, "far_from", None) != self._far_from
         ):
             cache = self._searched(local, np.ones(len(local), dtype=bool), None)
-            self._kept = None
+            self._kept = self._near = None
         else:
             # Each coordinate within MARGIN / sqrt(3): the point within MARGIN of where it
             # was searched, and its kept candidates still hold its closest facet.

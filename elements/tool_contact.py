@@ -39,7 +39,6 @@ import numpy as np
 from elements import rigid_surface
 from elements.annulus import RigidAnnulus
 from elements.contact import ContactBlock
-from elements.facet_search import SLACK, closest_facets_kept
 from elements.jit import jit, prange
 from elements.node_rows import same_rows, shifted
 from elements.rigid_surface import RigidSurface
@@ -231,21 +230,15 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
         d, n = tool.distance(x, load_factor)
         return (block.stiffness * np.maximum(block.offset - d, 0.0))[:, None] * n
     cache = tool._prepared(local)
-    hint, anchor, room = tool._kept_lists(len(local))
     point = local.copy()  # what the nodes without candidates keep (RigidSurface)
     facet = np.zeros(len(local), dtype=np.int64)
     gap = np.zeros(len(local))
-    closest_facets_kept(
-        local, tool.corners, tool._centroids, tool._radius, SLACK * tool.reach, cache.start,
-        cache.facets, hint, anchor, room, point, facet, gap,
-    )  # fmt: skip
+    tool._closest_kept(local, cache.start, cache.facets, point, facet, gap)
     d, n, forces = np.empty(len(local)), np.empty((len(local), 3)), np.empty((len(local), 3))
     surface_pass(
         local, point, facet, gap, tool.normals, tool.edge_start, tool.edge_out,
         tool.beside_tolerance, tool.on_surface_tolerance, cache.far, cache.points,
         cache.distance, cache.normal, block.offset, block.stiffness, d, n, forces,
     )  # fmt: skip
-    tool._hint = facet
-    tool._kept = (facet, anchor, room)
     tool._remember(local, d, n, facet, cache.far)
     return forces

@@ -26,7 +26,8 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_its_shortcuts(monkeyp
     holder (a ring along z) and the meshed die (elements/tool_contact.py) against
     ContactBlock's numpy formulas; the die's candidate lists searched again in batches
     (REBUILD_SHARE) and each node's nearest facet kept while it cannot change (KEEP_NEAREST,
-    elements/facet_search.py) against the lists searched again node by node past the margin
+    elements/facet_search.py), with the short lists between the two (SHORT_LISTS), against
+    the lists searched again node by node past the margin
     and scanned at every step (the nodes beyond the search distance, told a distance that
     depends on when they were searched, touch nothing). Two runs, not one per shortcut (5 s
     of CPU each): a shortcut that changed a bit would show in the pair, which a run with that
@@ -36,7 +37,7 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_its_shortcuts(monkeyp
 
     positions, forces = formed()
     assert np.abs(forces[-1]).max() > 1.0  # the tools pressed the blank
-    assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST
+    assert tools.REBUILD_SHARE < 1.0 and tools.KEEP_NEAREST and tools.SHORT_LISTS
 
     kept = RigidSurface._kept_lists  # what the numpy and the compiled die's pass start from
     asked = ContactBlock.contact_forces
