@@ -656,6 +656,11 @@ class ContactBlock(InteractionBlock):
         anchor = np.where(stuck[:, None], anchors, anchor)
         moved = anchors + slid[:, None] * unit
         anchor = np.where(sliding[:, None], moved, anchor)
+        # A new contact's anchor came from its approach, off the tool: put it level with the
+        # node, where its spring (s stuck, at the limit sliding) ends.
+        spring = np.where(sliding[:, None], limit[:, None] * unit, s)
+        new = (stuck | sliding) & ~np.isfinite(history.anchor[:, 0])
+        anchor = np.where(new[:, None], x - origin - spring, anchor)
         approach = np.where(np.isfinite(anchor), np.nan, x - origin)
         # The slip happened while p went from its last value to this one: the limit force
         # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
