@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from elements.contact import ContactBlock, FrictionHistory
+from elements.contact_history import start_anchors
 from femcore.mesh import Mesh
 from femcore.state import State
 
@@ -134,12 +135,16 @@ class AugmentedContactBlock(ContactBlock):
             force, _, stuck, sliding = self.tangential(state, history, p, n, touching)
             stick = (k * self.stick_ratio)[:, None]
             origin = self.tool.offset(state.load_factor)
-            stuck_at = history.anchor - history.traction / stick  # where the nodes stuck
+            # (a new contact's anchor: where it was when the step was accepted)
+            anchors = start_anchors(history)
+            stuck_at = anchors - history.traction / stick  # where the nodes stuck
             r = x - origin - stuck_at
             creep = r - np.sum(r * n, axis=1)[:, None] * n
             slip = float(np.linalg.norm(np.where(stuck[:, None], creep, 0.0), axis=1).max())
-            traction = np.where((stuck | sliding)[:, None], force, 0.0)
-            anchor = history.anchor + (traction - history.traction) / stick
+            held = stuck | sliding
+            traction = np.where(held[:, None], force, 0.0)
+            moved = anchors + (traction - history.traction) / stick
+            anchor = np.where(held[:, None], moved, history.anchor)
         within = max(penetration, slip) <= self.augmented_tolerance
         report = {
             "penetration": penetration,

@@ -16,11 +16,13 @@ point of the tool it stuck to, carried with the tool. Its tangential offset from
   follows the node to where the spring holds exactly mu k p; the energy that spring lost is the
   friction dissipation mu k p x (slip length), summed in the history.
 
-A node that was not touching when the last step was accepted has no anchor yet (it slides
-freely for that step); it is anchored where it lands. The anchors, each node's accumulated
-slip and the dissipation are the block's history (femcore.element), so a quasi-static
-increment returns to them at every iteration and the tangent is that of the return mapping
-(non-symmetric in slip: the solvers' LU takes it).
+A node that was not touching when the last step was accepted has no anchor: in the step that
+brings it onto the tool it is anchored where it was then (the history's ``approach``), so its
+tangential motion over the step is slip like any other node's (frictionless in that step, a
+node a quasi-static increment brings on would end it without friction: docs/theory.md §9).
+The anchors, each node's accumulated slip and the dissipation are the block's history
+(femcore.element), so a quasi-static increment returns to them at every iteration and the
+tangent is that of the return mapping (non-symmetric in slip: the solvers' LU takes it).
 
 Stick spring. The tangential spring may be softer than the normal one: k_t = r k with r =
 ``stick_stiffness`` in (0, 1] (default 1). A node then sticks until |s| = mu k p / k_t, the
@@ -81,7 +83,7 @@ from typing import Any
 
 import numpy as np
 
-from elements.contact_history import FrictionHistory
+from elements.contact_history import FrictionHistory, start_anchors
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
@@ -509,8 +511,9 @@ class ContactBlock(InteractionBlock):
         none = np.zeros(s_count, dtype=bool)
         if history is None or self.friction == 0.0:
             return zero, zero, none, none
-        anchored = touching & np.isfinite(history.anchor[:, 0])
-        anchor = np.where(anchored[:, None], history.anchor, 0.0)
+        anchors = start_anchors(history)
+        anchored = touching & np.isfinite(anchors[:, 0])
+        anchor = np.where(anchored[:, None], anchors, 0.0)
         r = self._positions(state) - (anchor + self.tool.offset(state.load_factor))
         s = np.where(anchored[:, None], r - np.sum(r * n, axis=1)[:, None] * n, 0.0)
         k = self.stiffness * self.stick_ratio  # k_t, the stick spring
@@ -628,8 +631,11 @@ class ContactBlock(InteractionBlock):
             return None
         d, _ = self.tool.distance(self._reference, 0.0)
         touching = d <= self.offset + self.tolerance
-        anchor = np.where(touching[:, None], self._reference - self.tool.offset(0.0), np.nan)
-        return FrictionHistory(anchor, np.zeros(len(d)), np.maximum(self.offset - d, 0.0), 0.0)
+        where = self._reference - self.tool.offset(0.0)
+        anchor = np.where(touching[:, None], where, np.nan)
+        approach = np.where(touching[:, None], np.nan, where)
+        penetration = np.maximum(self.offset - d, 0.0)
+        return FrictionHistory(anchor, np.zeros(len(d)), penetration, 0.0, approach=approach)
 
     def update_history(self, state: State, history: Any) -> Any:
         """The return mapping accepted: sliding anchors follow their nodes to the friction
@@ -645,15 +651,22 @@ class ContactBlock(InteractionBlock):
         slid = np.where(sliding, length - limit, 0.0)
         unit = s / np.where(length > 0, length, 1.0)[:, None]
         origin = self.tool.offset(state.load_factor)
+        anchors = start_anchors(history)
         anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
-        anchor = np.where(stuck[:, None], history.anchor, anchor)
-        moved = history.anchor + slid[:, None] * unit
+        anchor = np.where(stuck[:, None], anchors, anchor)
+        moved = anchors + slid[:, None] * unit
         anchor = np.where(sliding[:, None], moved, anchor)
+        # A new contact's anchor came from its approach, off the tool: put it level with the
+        # node, where its spring (s stuck, at the limit sliding) ends.
+        spring = np.where(sliding[:, None], limit[:, None] * unit, s)
+        new = (stuck | sliding) & ~np.isfinite(history.anchor[:, 0])
+        anchor = np.where(new[:, None], x - origin - spring, anchor)
+        approach = np.where(np.isfinite(anchor), np.nan, x - origin)
         # The slip happened while p went from its last value to this one: the limit force
         # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
         force = self.friction * self.stiffness * 0.5 * (p + history.penetration)
         dissipated = history.dissipated + float(np.sum(force * slid))
-        return FrictionHistory(anchor, history.slip + slid, p, dissipated)
+        return FrictionHistory(anchor, history.slip + slid, p, dissipated, approach=approach)
 
     def carried_by_tool(self, state: State, history: Any, start: float, end: float):
         """The nodes touching the tool at ``state`` and the tool's prescribed translation
@@ -695,7 +708,8 @@ class ContactBlock(InteractionBlock):
         _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
         if stuck.any() or sliding.any():
             assert history is not None
-            anchor = np.where(np.isfinite(history.anchor), history.anchor, 0.0)
+            anchors = start_anchors(history)
+            anchor = np.where(np.isfinite(anchors), anchors, 0.0)
             r = x - (anchor + self.tool.offset(state.load_factor))
             normal_part = np.sum(n * r, axis=1)[:, None, None]
             curved_r = np.einsum("sij,sj->si", curvature, r)

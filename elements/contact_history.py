@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FrictionHistory"]
+__all__ = ["FrictionHistory", "start_anchors"]
 
 
 @dataclass(frozen=True)
@@ -40,6 +40,12 @@ class FrictionHistory:
         elements/augmented_contact.py).
     traction : (s, 3) float or None
         The augmented Lagrangian's tangential multiplier (the stick traction) of each node, N.
+    approach : (s, 3) float or None
+        Each node without an anchor: where it was, in the tool's own frame, when the step
+        was accepted, mm (NaN for an anchored node). A node that touches in the next step
+        takes it as its anchor for that step, so its tangential motion since then is
+        friction's slip (elements/contact.py, "Friction"); None: not kept (the node is then
+        frictionless for that step).
     """
 
     anchor: np.ndarray
@@ -52,3 +58,14 @@ class FrictionHistory:
     normal: np.ndarray | None = None
     multiplier: np.ndarray | None = None
     traction: np.ndarray | None = None
+    approach: np.ndarray | None = None
+
+
+def start_anchors(history: FrictionHistory) -> np.ndarray:
+    """(s, 3) the anchors a step's return mapping starts from, in the tool's frame, mm: the
+    history's, and for a node without one where it was when the step was accepted (its
+    ``approach``); NaN where there is neither (a history without ``approach``)."""
+    approach = getattr(history, "approach", None)  # (absent from an older pickle)
+    if approach is None:
+        return history.anchor
+    return np.where(np.isfinite(history.anchor), history.anchor, approach)
