@@ -308,8 +308,9 @@ RING_MODEL = ((0.0, 0.0), SINK, (20.0 * 2.0 / 3.0, 18.0))
 
 def test_the_ring_holds_the_nodes_a_point_slides_onto():
     """The top ply's points slide onto the star of a lower node none faces now: the springs
-    hold it (measured 0.002 of them, 0.18 of the equal weights'), and the bound without the ring leaves that node with no
-    spring where the contact stiffens it (the test's premise: without the ring it fails)."""
+    hold it (measured 0.002 of them, 0.18 of the equal weights'), and the bound without the
+    ring leaves that node with no spring where the contact stiffens it (the test's premise:
+    without the ring it fails)."""
     worst, slide = _ratios(RING_MODEL, _reported)
     assert slide == pytest.approx(0.5, rel=1e-9)
     assert worst[0] <= 1.0 + 1e-6, worst
