@@ -342,7 +342,7 @@ class RigidSurface(RigidTool):
         return point, facet, gap
 
     def _closest_kept(self, local, start, facets, point, facet, gap) -> None:
-        """Each point's closest point, facet and gap among its candidates facets[start[i]:
+        """Each point's closest point, facet and gap among its candidate facets[start[i]:
         start[i + 1]] into point (k, 3), facet (k,), gap (k,): its last nearest facet alone
         while it cannot change, else its short list while the nearest is on it, else a scan
         (``SHORT_LISTS``; elements/facet_search.py), the hints, rooms and lists kept for the

@@ -514,7 +514,9 @@ def _springs_at(interaction: Any, state: State, step: float | None, mass: np.nda
     springs then bound the stiffness at the evaluated state, as that signature promised)."""
     kind = type(interaction)
     if _takes_mass(kind):
-        return interaction.springs_at(state, step, mass=mass)
+        if _takes_step(kind):
+            return interaction.springs_at(state, step, mass=mass)
+        return interaction.springs_at(state, mass=mass)
     if _takes_step(kind):
         return interaction.springs_at(state, step)
     return interaction.springs_at(state)
@@ -536,7 +538,11 @@ def _takes_step(kind: Any) -> bool:
     state (kept by class: asked at every evaluation of the step)."""
     if kind not in _TAKES_STEP:
         parameters = inspect.signature(kind.springs_at).parameters.values()
-        named = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+        named = [
+            p
+            for p in parameters
+            if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.name != "mass"
+        ]
         variable = any(p.kind == p.VAR_POSITIONAL for p in parameters)
         _TAKES_STEP[kind] = len(named) >= 3 or variable
     return _TAKES_STEP[kind]

@@ -213,7 +213,10 @@ class InteractionBlock(ABC):
         bound the stiffness at every state reachable until then (the ply contact's estimate
         of that reach: elements/ply_springs.py); ``step`` (s) the largest step the solver may
         take until then (None: unknown). The default: ``springs()``. A block whose
-        ``springs_at`` takes the state alone is asked so (femcore/compiled.py)."""
+        ``springs_at`` takes the state alone is asked so, and one that takes ``mass`` is
+        handed the (n,) lumped masses the step divides by, t, mass scaling included (the ply
+        contact weighs its nodes by them: elements/ply_springs.py, "Weights";
+        femcore/compiled.py)."""
         return self.springs()
 
     def initial_history(self) -> Any:

@@ -459,3 +459,41 @@ def test_springs_that_vanish_at_a_short_step_are_asked_again_at_the_longer_one()
     _, first, last, taken = _asked_and_taken(within_reach, height=0.5, duration=0.03)
     np.testing.assert_array_less(taken, np.maximum(first, last)[:-1] * (1.0 + 1e-9))
     assert np.any(last > first)
+
+
+class MassWeighedFloorBlock(PlaneContactBlock):
+    """The floor's block asking for the masses the step divides by, without the step."""
+
+    masses: list
+
+    def springs_at(self, state, mass=None):  # type: ignore[override]
+        self.masses.append(mass)
+        return self.springs()
+
+
+class MassWeighedFloor(PlaneContact):
+    block_class = MassWeighedFloorBlock
+
+    def bind(self, body: Body) -> "PlaneContactBlock":
+        block = super().bind(body)
+        block.masses = []
+        self.block = block
+        return block
+
+
+def test_an_interaction_whose_springs_at_takes_the_masses_is_handed_them():
+    """``springs_at(state, mass=...)`` without the step (a TypeError before: the step was
+    handed down by position into ``mass``): asked with the solver's lumped masses, and its
+    springs give the step the protocol's default gives."""
+    model = cable_on_the_floor()
+    floor = MassWeighedFloor("all", K)
+    model.interactions[0] = floor
+    weighed = model.compile()
+    plain = cable_on_the_floor().compile()
+    state = plain.initial_state()
+    mass = plain.lumped_mass(state)[0]
+    step = 1e-5
+    assert weighed.penalty_frequency_squared(
+        mass, weighed.initial_state(), step
+    ) == plain.penalty_frequency_squared(mass, state, step)
+    np.testing.assert_array_equal(floor.block.masses[-1], mass)
