@@ -86,13 +86,14 @@ class FibreBending(Interaction):
         self.families = names
 
     def bind(self, body: Body) -> FibreBendingBlock:
-        """The patches of every FibrousShell block of the body, each with its own warp. A
-        fibre that runs from one block into another on shared nodes has no patch at the
-        node where it crosses (the patches are found block by block)."""
+        """The patches over all the FibrousShell blocks' cells together: a fibre that runs
+        from one block into another on shared nodes is bent where it crosses, when the two
+        blocks' warps agree (within the blocks' fibre angle tolerance); blocks whose warps
+        differ meet at a seam of different tows and are not paired across it."""
         from elements.fibrous import FibrousShell
 
         found = [
-            (part.element, part.cells)
+            (part.element, np.asarray(part.cells, dtype=np.int64))
             for part in body.parts
             if isinstance(part.element, FibrousShell)
         ]
@@ -100,19 +101,28 @@ class FibreBending(Interaction):
             raise ValueError(
                 "FibreBending bends the fibres of FibrousShell blocks; the model has none"
             )
-        families = tuple(FAMILIES[name] for name in self.families)
-        pieces = [
-            fibre_patches(
-                body.mesh.points,
-                cells,
-                shell.warp,
-                self.stiffness,
-                families,
-                shell.fibre_angle_tolerance,
-            )
-            for shell, cells in found
-        ]
-        patches = FibrePatches(*(np.concatenate(column) for column in zip(*pieces, strict=True)))
+        warps: list[np.ndarray] = []
+        group_of_block = []
+        for shell, _ in found:
+            same = [
+                g
+                for g, warp in enumerate(warps)
+                if np.dot(warp, shell.warp) >= np.cos(np.radians(shell.fibre_angle_tolerance))
+            ]
+            if not same:
+                warps.append(np.asarray(shell.warp, dtype=float))
+            group_of_block.append(same[0] if same else len(warps) - 1)
+        cells = np.concatenate([cells for _, cells in found])
+        sizes = [len(cells) for _, cells in found]
+        patches = fibre_patches(
+            body.mesh.points,
+            cells,
+            np.repeat([shell.warp for shell, _ in found], sizes, axis=0),
+            self.stiffness,
+            tuple(FAMILIES[name] for name in self.families),
+            np.repeat([shell.fibre_angle_tolerance for shell, _ in found], sizes),
+            np.repeat(group_of_block, sizes),
+        )
         return FibreBendingBlock(patches, body.mesh.points, self.kernel == "compiled")
 
 

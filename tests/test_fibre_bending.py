@@ -257,6 +257,65 @@ def test_the_patches_of_a_grid_are_its_fibres_inner_nodes_one_per_side():
     assert np.allclose(bent.patches.stiffness, 0.5 * B_IN)
 
 
+def blocks(mesh: Mesh, parts, warps=None, families=("warp",)) -> FibreBendingBlock:
+    """The term bound to the FibrousShell blocks of cells ``parts``, with warps ``warps``."""
+    active = np.zeros((mesh.n_nodes, 6), dtype=bool)
+    active[:, :3] = True
+    warps = warps or [(1.0, 0.0, 0.0)] * len(parts)
+    body = Body(
+        mesh,
+        tuple(BodyPart(FibrousShell(ply(), warp=w), c) for w, c in zip(warps, parts, strict=True)),
+        np.zeros((mesh.n_nodes, 3)),
+        active,
+    )
+    return FibreBending(B_IN, families).bind(body)
+
+
+def test_a_fibre_crossing_from_one_block_into_another_is_bent_where_it_crosses():
+    """A strip (20 x 4 mm, 10 x 2 cells of 2 mm) split across its warp into two blocks at
+    x = 10, placed on concentric regular polygons that turn every fibre by th = 0.05 rad at
+    every node: the three warp fibres have 9 inner nodes each, one patch a node on the edge
+    rows and two on the middle one, 36 patches of k = B_in / 2, so W = 36 k th^2 / 2 whether
+    the strip is one block or two (the patches at x = 10 span both blocks)."""
+    mesh = Mesh.rectangle(20.0, 4.0, nx=10, ny=2)
+    centre_x = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    split = [mesh.triangles[centre_x < 10.0], mesh.triangles[centre_x >= 10.0]]
+    h, th = 2.0, 0.05
+    radius = h / (2.0 * np.sin(th / 2.0))
+    rho = radius - (mesh.points[:, 1] - 2.0)
+    angle = np.rint(mesh.points[:, 0] / h) * th
+    x = np.column_stack(
+        (rho * np.sin(angle), 2.0 + radius - rho * np.cos(angle), np.zeros(mesh.n_nodes))
+    )
+    expected = 36 * 0.5 * (0.5 * B_IN) * th**2
+    for parts in ([mesh.triangles], split, split[::-1]):
+        bent = blocks(mesh, parts)
+        assert len(bent.patches.nodes) == 36
+        assert bent.strain_energy(state(x)) == pytest.approx(expected, rel=1e-12)
+
+
+def test_blocks_whose_warps_differ_meet_at_a_seam_without_patches_across_it():
+    """The same split with the second block's warp along y: its fibres along x are its weft,
+    not the first block's warp (different tows meet at the seam), so no patch spans x = 10:
+    each half (5 x 2 cells) has 3 x 4 inner nodes on its x fibres (16 patches, one side on
+    the edge rows) and 6 x 1 on its y fibres (10), 52 in all, where one block has 56 (the
+    x fibres' nodes at x = 10 adding 4)."""
+    mesh = Mesh.rectangle(20.0, 4.0, nx=10, ny=2)
+    centre_x = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    split = [mesh.triangles[centre_x < 10.0], mesh.triangles[centre_x >= 10.0]]
+    warps = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
+    both = blocks(mesh, split, warps, ("warp", "weft"))
+    alone = [blocks(mesh, [c], [w], ("warp", "weft")) for w, c in zip(warps, split, strict=True)]
+    assert len(both.patches.nodes) == sum(len(b.patches.nodes) for b in alone) == 52
+    assert len(blocks(mesh, [mesh.triangles], families=("warp", "weft")).patches.nodes) == 56
+
+
+def test_a_cell_in_two_blocks_is_refused():
+    mesh = Mesh.rectangle(8.0, 4.0, nx=4, ny=2)
+    with pytest.raises(ValueError, match="conforming mesh, each cell in one block"):
+        blocks(mesh, [mesh.triangles, mesh.triangles[:3]])
+
+
 # ------------------------------------------------------------------ input
 @pytest.mark.parametrize(
     "arguments, message",
