@@ -9,12 +9,11 @@ time for the term.
 
     python benchmarks/fibre_bending_force.py --cells 48
 
-Measured (one thread, other runs beside it), 48 cells, 9024 patches: the fibrous force pass
-1.283 / 1.331 ms, the term's compiled pass 1.238 / 1.251 ms (0.96 / 0.94 x), its numpy pass
-11.6 / 11.9 ms, at loads 12.1 / 8.7; the compiled and numpy forces 1.1e-16 N apart (largest
-0.27 N). A compiled pass in the numpy pass's order of operations (its divisions, each patch's
-gradient summed before it is scaled) took 2.39 ms (1.83 x) and still differed by 2.8e-17 N:
-not kept.
+Measured (one thread), 48 cells, 9024 patches, at load 1.9, back to back: the fibrous force
+pass 1.266 / 1.274 ms; the term's compiled pass with the angle in each cell's plane 1.250 ms
+(0.99 x), with the unfolded angle (docs/theory.md §4.7, its numpy functions compiled) 0.740 ms
+(0.58 x); the numpy pass 9.9 / 10.7 ms; the compiled and numpy forces 1.1e-16 N apart
+(largest 0.26 N).
 """
 
 from __future__ import annotations

@@ -106,8 +106,8 @@ def _unique_keys(node: np.ndarray, keys: np.ndarray, what: str) -> None:
         where = int(node[first[counts > 1][0]])
         raise ValueError(
             f"in-plane fibre bending: two cells' fibre segments {what} node {where} on the same "
-            "side of the fibre; the fibrous cells must form a conforming mesh, each cell in "
-            "one block"
+            "side of the fibre; the fibrous cells must form a conforming, consistently oriented "
+            "mesh, each cell in one block"
         )
 
 
