@@ -55,15 +55,17 @@ class FibreBending(Interaction):
     stiffness : float
         B_in, N mm: the in-plane bending moment per unit width of fabric per unit geodesic
         curvature of its fibres (the same for both families unless ``families`` names one).
-    families : tuple of str
-        The fibre families bent: ("warp", "weft") by default.
+    families : tuple of str, or str
+        The fibre families bent, "warp" and/or "weft" each once: ("warp", "weft") by
+        default; one name alone stands for the tuple of it.
     kernel : "compiled" (default when numba is installed: the force and energy by the loop of
         elements/fibre_bending_kernels.py) or "numpy" (the vectorised reference).
 
     Raises
     ------
     ValueError
-        For a stiffness that is not positive and finite or an unknown family; at bind, when
+        For a stiffness that is not positive and finite, or families not a tuple (or list) of
+        "warp" and/or "weft" each once (or one of them alone); at bind, when
         the model has no FibrousShell block or a cell has no edge along a fibre family.
     """
 
@@ -72,18 +74,17 @@ class FibreBending(Interaction):
     def __init__(self, stiffness: float, families=("warp", "weft"), kernel: str | None = None):
         self.kernel = kernels.choose(kernel)
         self.stiffness = check_positive(stiffness, "FibreBending stiffness", "N mm")
-        if isinstance(families, str):
-            families = (families,)
-        names = tuple(families)
+        expected = "a tuple of 'warp' and/or 'weft', each once"
+        names = (families,) if isinstance(families, str) else families
+        if not isinstance(names, (tuple, list)):
+            raise ValueError(f"FibreBending families must be {expected}, got {families!r}")
         if (
             not names
-            or any(name not in FAMILIES for name in names)
+            or any(not isinstance(name, str) or name not in FAMILIES for name in names)
             or len(set(names)) != len(names)
         ):
-            raise ValueError(
-                f"FibreBending families must name 'warp' and/or 'weft' once each, got {families!r}"
-            )
-        self.families = names
+            raise ValueError(f"FibreBending families must be {expected}, got {families!r}")
+        self.families = tuple(names)
 
     def bind(self, body: Body) -> FibreBendingBlock:
         """The patches over all the FibrousShell blocks' cells together: a fibre that runs

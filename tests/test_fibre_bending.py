@@ -364,6 +364,9 @@ def test_a_cell_in_two_blocks_is_refused():
         ((1.0, ("warp", "bias")), "families"),
         ((1.0, ()), "families"),
         ((1.0, ("weft", "weft")), "families"),
+        ((1.0, 5), "families must be a tuple of 'warp' and/or 'weft'"),
+        ((1.0, [["warp"]]), "families must be a tuple of 'warp' and/or 'weft'"),
+        ((1.0, {"warp": 1}), "families must be a tuple of 'warp' and/or 'weft'"),
     ],
 )
 def test_bad_options_are_refused(arguments, message):
@@ -415,7 +418,18 @@ def test_a_case_file_adds_the_fibre_bending_to_its_fibrous_model(tmp_path):
     added = [i for i in case.model().interactions if isinstance(i, FibreBending)]
     assert len(added) == 1
     assert added[0].stiffness == 0.5 and added[0].families == ("weft",)
-    assert not any(isinstance(i, FibreBending) for i in case.model("mindlin").interactions)
+    assert case.fibre_bending["families"] == ("weft",)
+    with pytest.warns(UserWarning, match="has no in-plane fibre bending"):
+        mindlin = case.model("mindlin")
+    assert not any(isinstance(i, FibreBending) for i in mindlin.interactions)
+
+
+def test_a_case_file_keeps_the_families_a_tuple(tmp_path):
+    from fibreshell import load_case
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace("stiffness = 0.5", 'stiffness = 0.5\nfamilies = "warp"'))
+    assert load_case(path).fibre_bending["families"] == ("warp",)
 
 
 @pytest.mark.parametrize(
@@ -424,6 +438,17 @@ def test_a_case_file_adds_the_fibre_bending_to_its_fibrous_model(tmp_path):
         ("stiffness = 0.5", "stiffness = -0.5", r"\[fibre_bending.stiffness\]"),
         ("stiffness = 0.5", 'stiffness = 0.5\nfamilies = ["bias"]', r"\[fibre_bending.families\]"),
         ("stiffness = 0.5", "stifness = 0.5", r"\[fibre_bending.stifness\]: unknown key"),
+        ("stiffness = 0.5", "stiffness = 0.5\nfamilies = 5", r"\[fibre_bending.families\]"),
+        (
+            "stiffness = 0.5",
+            'stiffness = 0.5\nfamilies = [["warp"]]',
+            r"\[fibre_bending.families\]",
+        ),
+        (
+            "stiffness = 0.5",
+            "stiffness = 0.5\nfamilies = {warp = 1}",
+            r"\[fibre_bending.families\]",
+        ),
     ],
 )
 def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where):
