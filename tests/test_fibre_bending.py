@@ -460,6 +460,25 @@ def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where
         load_case(path)
 
 
+def test_the_rows_study_restores_the_case_module_it_patches():
+    """validation/studies/hemisphere_rows_diagonal.py ``patched_case`` adds the term, a
+    scaled shear law and a cut of the blank to the hemisphere case for its ``with`` block
+    only: inside, one FibreBending however often it is entered; after, none, and the case's
+    own ``model``, ``fabric`` and ``Mesh`` back."""
+    from validation.cases import hemisphere_forming as case
+    from validation.studies.hemisphere_rows_diagonal import patched_case
+
+    own = (case.model, case.fabric, case.Mesh)
+    for _ in range(2):
+        with patched_case("flipped", 0.5, 1.0) as patched:
+            built = patched.model(4, "fibrous")[1]
+            assert sum(isinstance(i, FibreBending) for i in built.interactions) == 1
+            assert patched.fabric is not own[1]
+    assert (case.model, case.fabric, case.Mesh) == own
+    built = case.model(4, "fibrous")[1]
+    assert not any(isinstance(i, FibreBending) for i in built.interactions)
+
+
 # ------------------------------------------------------------------ the rows it cures
 @pytest.mark.slow
 def test_a_flat_patch_that_forms_rows_without_the_term_stays_uniform_with_it():
