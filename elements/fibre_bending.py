@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 
 from elements import kernels
-from elements.fibre_bending_kernels import patch_forces
+from elements.fibre_bending_kernels import patch_forces, patch_spring_bounds
 from elements.fibre_bending_patches import FibrePatches, fibre_patches
-from elements.fibre_bending_terms import patch_angles, patch_gradients
+from elements.fibre_bending_terms import patch_angles, patch_gradients, vector_spring_bounds
 from femcore.assembly import CellTangent
 from femcore.checks import check_positive
 from femcore.interaction import Body, Interaction, InteractionBlock
@@ -35,11 +35,11 @@ __all__ = ["FibreBending", "FibreBendingBlock"]
 
 FAMILIES = {"warp": 0, "weft": 1}
 
-#: The explicit step's springs: the stiffness k grad(theta) grad(theta)^T of a patch bounded
-#: node by node (Cauchy-Schwarz), times this margin for k theta Hess(theta), which is below
-#: the first term by |theta| (the angle between two segments, well under 1 rad), and for the
-#: gradients' change until the step is evaluated again (femcore.interaction,
-#: SPRINGS_HELD_STEPS).
+#: The explicit step's springs: each patch's whole stiffness k (g g^T + theta H) bounded node
+#: by node (block Gershgorin in its four vectors, ``FibreBendingBlock.springs_at``), a bound
+#: at the state they are taken, times this margin for its change until the step is evaluated
+#: again
+#: (femcore.interaction, SPRINGS_HELD_STEPS).
 SPRING_MARGIN = 2.0
 
 #: The complex step of the tangent (times the patch's segment length): the Hessian of theta
@@ -199,9 +199,10 @@ class FibreBendingBlock(InteractionBlock):
         return [CellTangent(self.connectivity, blocks)]
 
     def springs_at(self, state: State, step: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Springs to the ground that bound the patches' stiffness for the explicit step:
-        (k g_a . u_a summed)^2 <= k (sum_b |g_b|) sum_a |g_a| |u_a|^2, so node a of a patch
-        takes k |g_a| sum_b |g_b| (g the gradient of theta), times SPRING_MARGIN."""
+        """Springs to the ground that bound the patches' stiffness for the explicit step: a
+        patch's whole K = k (g g^T + theta H) bounded in its four vectors by block Gershgorin
+        and carried to their ends (elements/fibre_bending_terms.py ``vector_spring_bounds``),
+        exact at this state, times SPRING_MARGIN."""
         return self._springs(state.positions)
 
     def springs(self) -> tuple[np.ndarray, np.ndarray]:
@@ -209,10 +210,19 @@ class FibreBendingBlock(InteractionBlock):
         return self._springs(self.reference)
 
     def _springs(self, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        x = positions[self.connectivity]
-        size = np.linalg.norm(patch_gradients(x, self.patches.ends), axis=2)  # (P, 5)
-        spring = SPRING_MARGIN * self.patches.stiffness[:, None] * size * size.sum(axis=1)[:, None]
-        return self.connectivity.ravel(), spring.ravel()
+        patches = self.patches
+        x = np.ascontiguousarray(positions, dtype=float)
+        step = COMPLEX_STEP * np.linalg.norm(
+            x[patches.nodes[:, 1]] - x[patches.nodes[:, 0]], axis=1
+        )
+        if self.compiled:
+            bound = np.zeros(patches.nodes.shape)
+            patch_spring_bounds(x, patches.nodes, patches.ends, patches.stiffness, step, bound)
+        else:
+            bound = vector_spring_bounds(
+                x[self.connectivity], patches.ends, patches.stiffness, step
+            )
+        return self.connectivity.ravel(), (SPRING_MARGIN * bound).ravel()
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """``fibre_inplane_angle``: at each node the largest |theta| (rad) of the patches

@@ -36,7 +36,13 @@ except ImportError:  # pragma: no cover - exercised only where numba is missing
         return function
 
 
-__all__ = ["patch_angles", "patch_gradients", "turning"]
+__all__ = ["patch_angles", "patch_gradients", "turning", "vector_spring_bounds"]
+
+#: Added to 1 + c before dividing by it: a patch whose cells face opposite ways (a fold of
+#: 180 deg, or a cell turned inside out in a flat run, c = -1 and k = 0) has no unique
+#: unfolding; the guard keeps the passes finite there (r = -m_c) and changes nothing else
+#: (1e-150 against 1 + c; its square still a normal number).
+FOLD_GUARD = 1e-150
 
 
 @register_jitable
@@ -76,7 +82,7 @@ def turning(m_c, p_c, m_f, p_f):
     n_f = _combine(1.0 / l_f, u_f, 0.0, u_f)
     c = _dot(n_c, n_f)
     k = _cross(n_c, n_f)
-    w = 1.0 / (1.0 + c)
+    w = 1.0 / (1.0 + c + FOLD_GUARD)
     q = _dot(k, m_c)
     r = _combine(1.0, _combine(c, m_c, q * w, k), 1.0, _cross(k, m_c))
     across = _cross(m_f, n_f)
@@ -136,3 +142,33 @@ def patch_gradients(x: np.ndarray, ends: np.ndarray) -> np.ndarray:
         grad[rows, ends[:, k, 1]] += g  # one entry per row: no repeated index
         grad[rows, ends[:, k, 0]] -= g
     return grad
+
+
+def vector_spring_bounds(x: np.ndarray, ends: np.ndarray, stiffness: np.ndarray, step: np.ndarray):
+    """Springs (P, 5), N/mm, at the corners of each patch that bound its stiffness
+    K = k (g g^T + theta H): x^T K x <= sum_k e_k |v_k|^2 (block Gershgorin in the four
+    vectors v_k: e_k = sum_l |K_kl|, the Frobenius norms of K's 3 x 3 blocks in them, K
+    symmetric), and |v_k|^2 <= 2 (|x_head|^2 + |x_tail|^2), so vector k adds 2 e_k at its
+    head and its tail. x (P, 5, 3) mm the corners; ``ends`` (P, 4, 2); ``stiffness`` k (P,)
+    N mm; H the imaginary part of the gradient at a complex step ``step`` (P,) mm, over it
+    (exact to round-off)."""
+    vectors = np.stack([np.stack(v, axis=-1) for v in _vectors(x, ends)], axis=1)  # (P, 4, 3)
+    s, c, *grads = turning(*_vectors(x, ends))
+    theta = np.arctan2(s, c)
+    g = np.stack([np.stack(v, axis=-1) for v in grads], axis=1).reshape(len(x), 12)
+    hessian = np.empty((len(x), 12, 12))
+    for column in range(12):
+        shifted = vectors.astype(complex)
+        shifted[:, column // 3, column % 3] += 1j * step
+        parts = turning(*[(v[:, 0], v[:, 1], v[:, 2]) for v in np.moveaxis(shifted, 1, 0)])[2:]
+        column_grad = np.stack([np.stack(v, axis=-1) for v in parts], axis=1)
+        hessian[:, :, column] = column_grad.reshape(len(x), 12).imag / step[:, None]
+    k = stiffness[:, None, None] * (g[:, :, None] * g[:, None, :] + theta[:, None, None] * hessian)
+    blocks = k.reshape(len(x), 4, 3, 4, 3)
+    sums = np.sqrt(np.sum(blocks * blocks, axis=(2, 4))).sum(axis=2)  # (P, 4): e_k
+    springs = np.zeros((len(x), 5))
+    rows = np.arange(len(x))
+    for vector in range(4):
+        springs[rows, ends[:, vector, 1]] += 2.0 * sums[:, vector]
+        springs[rows, ends[:, vector, 0]] += 2.0 * sums[:, vector]
+    return springs
