@@ -105,6 +105,35 @@ def test_an_end_moment_holds_a_clamped_strip_on_a_circular_arc_of_curvature_m_ov
     assert energy == pytest.approx(0.5 * B_IN * width * kappa**2 * length, rel=3e-4)  # 2.1e-4
 
 
+def test_a_graded_strip_on_concentric_circles_stores_the_continuum_energy():
+    """A strip (40 x 6 mm, 20 x 3 cells) graded along the warp (x = L u^1.5: segments 0.36
+    to 2.9 mm) and across it (y = w v^1.4), every fibre placed on a circle about one centre
+    (radius R + w / 2 - y, the warp at curvature kappa = 0.02 /mm on the middle line): a
+    circle's chords turn at a node by half the angles the two chords subtend, (X_e - X_s) /
+    (2 R), which is s kappa with s the mean of the two segments' reference lengths, so each
+    patch stores 1/2 (B_in A / s^2) (s kappa)^2 = 1/2 B_in kappa^2 A, and their areas add up to
+    w times the span from the middle of the first segment to the middle of the last: W =
+    1/2 B_in kappa^2 w L_eff, to round-off. A patch taking its first segment's length or its
+    first cell's area for the means would miss it by the grading."""
+    length, width, kappa = 40.0, 6.0, 0.02
+    base = Mesh.rectangle(1.0, 1.0, nx=20, ny=3)
+    big_x = length * base.points[:, 0] ** 1.5
+    big_y = width * base.points[:, 1] ** 1.4
+    mesh = Mesh(np.column_stack((big_x, big_y, np.zeros_like(big_x))), base.triangles)
+    radius = 1.0 / kappa
+    rho = radius - (big_y - width / 2.0)
+    angle = big_x / radius
+    x = np.column_stack(
+        (rho * np.sin(angle), width / 2.0 + radius - rho * np.cos(angle), np.zeros_like(big_x))
+    )
+    columns = np.unique(np.round(big_x, 12))
+    span = (columns[-1] + columns[-2]) / 2.0 - (columns[0] + columns[1]) / 2.0
+    expected = 0.5 * B_IN * kappa**2 * width * span
+    assert block(mesh, families=("warp",)).strain_energy(state(x)) == pytest.approx(
+        expected, rel=1e-12
+    )
+
+
 @pytest.mark.parametrize("nx", [8, 16, 32])
 def test_a_tip_load_bends_a_clamped_strip_by_p_l3_over_3_b_w(nx):
     """A small transverse in-plane load P at the end of the clamped strip (length 40, width
