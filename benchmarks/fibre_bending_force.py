@@ -13,9 +13,11 @@ Measured (one thread), 48 cells, 9024 patches, at load 1.9, back to back: the fi
 pass 1.266 / 1.274 ms; the term's compiled pass with the angle in each cell's plane 1.250 ms
 (0.99 x), with the unfolded angle (docs/theory.md §4.7, its numpy functions compiled) 0.740 ms
 (0.58 x); the numpy pass 9.9 / 10.7 ms; the compiled and numpy forces 1.1e-16 N apart
-(largest 0.26 N). The springs bounding the whole stiffness (a complex-step Hessian per patch,
-docs/theory.md §4.7), taken every 10 steps: 25.4 ms compiled (1.96 x the fibrous pass a
-step), 92 ms numpy, 1.7e-16 N/mm apart (largest 0.50), at load 4.7.
+(largest 0.26 N). The springs bounding the whole stiffness (a Hessian per patch,
+docs/theory.md §4.7), taken every 10 steps: with the Hessian by the complex step 25.4 ms
+compiled (1.96 x the fibrous pass a step), 92 ms numpy, at load 4.7; by a forward
+difference (kept) 10.2 ms (0.79 x), 60 ms numpy, at load 5.6, 1.1e-16 N/mm apart (largest
+0.50).
 """
 
 from __future__ import annotations

@@ -42,6 +42,12 @@ FAMILIES = {"warp": 0, "weft": 1}
 #: (femcore.interaction, SPRINGS_HELD_STEPS).
 SPRING_MARGIN = 2.0
 
+#: The springs' Hessian of theta: a forward difference of the gradient over this step (times
+#: the patch's segment length), off the complex step's exact value by 1.7e-8 of the largest
+#: spring at 48 cells, nothing against the bound's slack and margin, at 0.39 of its cost
+#: (benchmarks/fibre_bending_force.py).
+SPRING_STEP = 1e-7
+
 #: The complex step of the tangent (times the patch's segment length): the Hessian of theta
 #: is the imaginary part of its gradient at x + i h e_r, over h, exact to round-off.
 COMPLEX_STEP = 1e-30
@@ -212,9 +218,7 @@ class FibreBendingBlock(InteractionBlock):
     def _springs(self, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         patches = self.patches
         x = np.ascontiguousarray(positions, dtype=float)
-        step = COMPLEX_STEP * np.linalg.norm(
-            x[patches.nodes[:, 1]] - x[patches.nodes[:, 0]], axis=1
-        )
+        step = SPRING_STEP * np.linalg.norm(x[patches.nodes[:, 1]] - x[patches.nodes[:, 0]], axis=1)
         if self.compiled:
             bound = np.zeros(patches.nodes.shape)
             patch_spring_bounds(x, patches.nodes, patches.ends, patches.stiffness, step, bound)

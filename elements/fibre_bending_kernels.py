@@ -53,10 +53,10 @@ def patch_spring_bounds(positions, nodes, ends, stiffness, step, springs):  # pr
     K = k (g g^T + theta H) in the four vectors (elements/fibre_bending_terms.py
     ``vector_spring_bounds``, the numpy reference): vector k's block Gershgorin sum e_k,
     twice, at its head and its tail. H, the Hessian of theta with respect to the vectors, is
-    the imaginary part of ``turning``'s gradient at a complex step ``step`` (P,) mm, over the
-    step. positions (n, 3) mm; nodes (P, 5), ends (P, 4, 2) int; stiffness (P,) N mm."""
+    the forward difference of ``turning``'s gradient over ``step`` (P,) mm. positions (n, 3)
+    mm; nodes (P, 5), ends (P, 4, 2) int; stiffness (P,) N mm."""
     vectors = np.empty((4, 3))
-    shifted = np.empty((4, 3), dtype=np.complex128)
+    shifted = np.empty((4, 3))
     grad = np.empty(12)
     stiff = np.empty((12, 12))
     for patch in range(nodes.shape[0]):
@@ -80,7 +80,7 @@ def patch_spring_bounds(positions, nodes, ends, stiffness, step, springs):  # pr
             for k in range(4):
                 for j in range(3):
                     shifted[k, j] = vectors[k, j]
-            shifted[column // 3, column % 3] += 1j * h
+            shifted[column // 3, column % 3] += h
             _, _, z0, z1, z2, z3 = turning(
                 (shifted[0, 0], shifted[0, 1], shifted[0, 2]),
                 (shifted[1, 0], shifted[1, 1], shifted[1, 2]),
@@ -91,7 +91,7 @@ def patch_spring_bounds(positions, nodes, ends, stiffness, step, springs):  # pr
                 for j in range(3):
                     row = 3 * k + j
                     stiff[row, column] = stiffness[patch] * (
-                        grad[row] * grad[column] + theta * z[j].imag / h
+                        grad[row] * grad[column] + theta * (z[j] - grad[row]) / h
                     )
         # vector-space block Gershgorin: e_k = sum_l |K_kl| bounds K by diag(e_k) on the
         # vectors, and |v_k|^2 = |x_head - x_tail|^2 <= 2 (|x_head|^2 + |x_tail|^2)

@@ -150,19 +150,19 @@ def vector_spring_bounds(x: np.ndarray, ends: np.ndarray, stiffness: np.ndarray,
     vectors v_k: e_k = sum_l |K_kl|, the Frobenius norms of K's 3 x 3 blocks in them, K
     symmetric), and |v_k|^2 <= 2 (|x_head|^2 + |x_tail|^2), so vector k adds 2 e_k at its
     head and its tail. x (P, 5, 3) mm the corners; ``ends`` (P, 4, 2); ``stiffness`` k (P,)
-    N mm; H the imaginary part of the gradient at a complex step ``step`` (P,) mm, over it
-    (exact to round-off)."""
+    N mm; H the forward difference of the gradient over ``step`` (P,) mm (elements/
+    fibre_bending.py SPRING_STEP)."""
     vectors = np.stack([np.stack(v, axis=-1) for v in _vectors(x, ends)], axis=1)  # (P, 4, 3)
     s, c, *grads = turning(*_vectors(x, ends))
     theta = np.arctan2(s, c)
     g = np.stack([np.stack(v, axis=-1) for v in grads], axis=1).reshape(len(x), 12)
     hessian = np.empty((len(x), 12, 12))
     for column in range(12):
-        shifted = vectors.astype(complex)
-        shifted[:, column // 3, column % 3] += 1j * step
+        shifted = vectors.copy()
+        shifted[:, column // 3, column % 3] += step
         parts = turning(*[(v[:, 0], v[:, 1], v[:, 2]) for v in np.moveaxis(shifted, 1, 0)])[2:]
         column_grad = np.stack([np.stack(v, axis=-1) for v in parts], axis=1)
-        hessian[:, :, column] = column_grad.reshape(len(x), 12).imag / step[:, None]
+        hessian[:, :, column] = (column_grad.reshape(len(x), 12) - g) / step[:, None]
     k = stiffness[:, None, None] * (g[:, :, None] * g[:, None, :] + theta[:, None, None] * hessian)
     blocks = k.reshape(len(x), 4, 3, 4, 3)
     sums = np.sqrt(np.sum(blocks * blocks, axis=(2, 4))).sum(axis=2)  # (P, 4): e_k
