@@ -433,6 +433,17 @@ def test_blocks_whose_warps_differ_meet_at_a_seam_without_patches_across_it():
     assert len(blocks(mesh, [mesh.triangles], families=("warp", "weft")).patches.nodes) == 56
 
 
+def test_cells_of_mixed_orientation_are_refused_not_paired_by_half():
+    """Every third cell of a strip listed clockwise: its normal, so its side of the fibre,
+    flips, and pairing by (node, side) found 18 of the 54 patches silently; now refused."""
+    mesh = Mesh.rectangle(20.0, 6.0, nx=10, ny=3)
+    cells = mesh.triangles.copy()
+    flip = np.arange(len(cells)) % 3 == 0
+    cells[flip] = cells[flip][:, [0, 2, 1]]
+    with pytest.raises(ValueError, match="consistently oriented"):
+        blocks(Mesh(mesh.points, cells), [cells])
+
+
 def test_a_cell_in_two_blocks_is_refused():
     mesh = Mesh.rectangle(8.0, 4.0, nx=4, ny=2)
     with pytest.raises(
