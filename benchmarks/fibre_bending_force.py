@@ -9,12 +9,15 @@ time for the term.
 
     python benchmarks/fibre_bending_force.py --cells 48
 
-Measured (one thread, other runs beside it), 48 cells, 9024 patches: the fibrous force pass
-1.283 / 1.331 ms, the term's compiled pass 1.238 / 1.251 ms (0.96 / 0.94 x), its numpy pass
-11.6 / 11.9 ms, at loads 12.1 / 8.7; the compiled and numpy forces 1.1e-16 N apart (largest
-0.27 N). A compiled pass in the numpy pass's order of operations (its divisions, each patch's
-gradient summed before it is scaled) took 2.39 ms (1.83 x) and still differed by 2.8e-17 N:
-not kept.
+Measured (one thread), 48 cells, 9024 patches, at load 1.9, back to back: the fibrous force
+pass 1.266 / 1.274 ms; the term's compiled pass with the angle in each cell's plane 1.250 ms
+(0.99 x), with the unfolded angle (docs/theory.md §4.7, its numpy functions compiled) 0.740 ms
+(0.58 x); the numpy pass 9.9 / 10.7 ms; the compiled and numpy forces 1.1e-16 N apart
+(largest 0.26 N). The springs bounding the whole stiffness (a Hessian per patch,
+docs/theory.md §4.7), taken every 10 steps: with the Hessian by the complex step 25.4 ms
+compiled (1.96 x the fibrous pass a step), 92 ms numpy, at load 4.7; by a forward
+difference (kept) 10.2 ms (0.79 x), 60 ms numpy, at load 5.6, 1.1e-16 N/mm apart (largest
+0.50).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from elements import FibrousShell  # noqa: E402
 from elements.fibre_bending import FibreBending  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
+from femcore.interaction import SPRINGS_HELD_STEPS  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
 
 
@@ -69,10 +73,19 @@ def main(argv: list[str]) -> None:
     shell_ms = 1e3 * best(lambda: shell.internal_force(state, history), arguments.repeat)
     term_ms = 1e3 * best(lambda: term.internal_force(state), arguments.repeat)
     numpy_ms = 1e3 * best(lambda: reference.internal_force(state), max(3, arguments.repeat // 5))
+    springs_ms = 1e3 * best(lambda: term.springs_at(state), max(3, arguments.repeat // 5))
+    springs_numpy_ms = 1e3 * best(lambda: reference.springs_at(state), 3)
+    s_term, s_reference = term.springs_at(state)[1], reference.springs_at(state)[1]
     print(f"load {os.getloadavg()[0]:.1f}; {cells} cells, {len(term.connectivity)} patches")
     print(f"  fibrous shell force pass (reference): {shell_ms:.3f} ms")
     print(f"  in-plane bending, compiled:           {term_ms:.3f} ms ({term_ms / shell_ms:.2f} x)")
     print(f"  in-plane bending, numpy:              {numpy_ms:.3f} ms")
+    print(
+        f"  springs (every {SPRINGS_HELD_STEPS} steps), compiled: {springs_ms:.3f} ms "
+        f"({springs_ms / shell_ms / SPRINGS_HELD_STEPS:.2f} x the shell's pass a step), "
+        f"numpy {springs_numpy_ms:.3f} ms, apart by {np.abs(s_term - s_reference).max():.3g} "
+        f"N/mm (largest {np.abs(s_reference).max():.3g})"
+    )
     print(f"  compiled - numpy force: {np.abs(f_term - f_reference).max():.3g} N (largest "
           f"{np.abs(f_reference).max():.3g})")  # fmt: skip
 

@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 
 from elements import kernels
-from elements.fibre_bending_kernels import patch_forces
+from elements.fibre_bending_kernels import patch_forces, patch_spring_bounds
 from elements.fibre_bending_patches import FibrePatches, fibre_patches
-from elements.fibre_bending_terms import patch_angles, patch_gradients
+from elements.fibre_bending_terms import patch_angles, patch_gradients, vector_spring_bounds
 from femcore.assembly import CellTangent
 from femcore.checks import check_positive
 from femcore.interaction import Body, Interaction, InteractionBlock
@@ -35,12 +35,18 @@ __all__ = ["FibreBending", "FibreBendingBlock"]
 
 FAMILIES = {"warp": 0, "weft": 1}
 
-#: The explicit step's springs: the stiffness k grad(theta) grad(theta)^T of a patch bounded
-#: node by node (Cauchy-Schwarz), times this margin for k theta Hess(theta), which is below
-#: the first term by |theta| (the angle between two segments, well under 1 rad), and for the
-#: gradients' change until the step is evaluated again (femcore.interaction,
-#: SPRINGS_HELD_STEPS).
+#: The explicit step's springs: each patch's whole stiffness k (g g^T + theta H) bounded node
+#: by node (block Gershgorin in its four vectors, ``FibreBendingBlock.springs_at``), a bound
+#: at the state they are taken, times this margin for its change until the step is evaluated
+#: again
+#: (femcore.interaction, SPRINGS_HELD_STEPS).
 SPRING_MARGIN = 2.0
+
+#: The springs' Hessian of theta: a forward difference of the gradient over this step (times
+#: the patch's segment length), off the complex step's exact value by 1.7e-8 of the largest
+#: spring at 48 cells, nothing against the bound's slack and margin, at 0.39 of its cost
+#: (benchmarks/fibre_bending_force.py).
+SPRING_STEP = 1e-7
 
 #: The complex step of the tangent (times the patch's segment length): the Hessian of theta
 #: is the imaginary part of its gradient at x + i h e_r, over h, exact to round-off.
@@ -55,15 +61,17 @@ class FibreBending(Interaction):
     stiffness : float
         B_in, N mm: the in-plane bending moment per unit width of fabric per unit geodesic
         curvature of its fibres (the same for both families unless ``families`` names one).
-    families : tuple of str
-        The fibre families bent: ("warp", "weft") by default.
+    families : tuple of str, or str
+        The fibre families bent, "warp" and/or "weft" each once: ("warp", "weft") by
+        default; one name alone stands for the tuple of it.
     kernel : "compiled" (default when numba is installed: the force and energy by the loop of
         elements/fibre_bending_kernels.py) or "numpy" (the vectorised reference).
 
     Raises
     ------
     ValueError
-        For a stiffness that is not positive and finite or an unknown family; at bind, when
+        For a stiffness that is not positive and finite, or families not a tuple (or list) of
+        "warp" and/or "weft" each once (or one of them alone); at bind, when
         the model has no FibrousShell block or a cell has no edge along a fibre family.
     """
 
@@ -72,27 +80,27 @@ class FibreBending(Interaction):
     def __init__(self, stiffness: float, families=("warp", "weft"), kernel: str | None = None):
         self.kernel = kernels.choose(kernel)
         self.stiffness = check_positive(stiffness, "FibreBending stiffness", "N mm")
-        if isinstance(families, str):
-            families = (families,)
-        names = tuple(families)
+        expected = "a tuple of 'warp' and/or 'weft', each once"
+        names = (families,) if isinstance(families, str) else families
+        if not isinstance(names, (tuple, list)):
+            raise ValueError(f"FibreBending families must be {expected}, got {families!r}")
         if (
             not names
-            or any(name not in FAMILIES for name in names)
+            or any(not isinstance(name, str) or name not in FAMILIES for name in names)
             or len(set(names)) != len(names)
         ):
-            raise ValueError(
-                f"FibreBending families must name 'warp' and/or 'weft' once each, got {families!r}"
-            )
-        self.families = names
+            raise ValueError(f"FibreBending families must be {expected}, got {families!r}")
+        self.families = tuple(names)
 
     def bind(self, body: Body) -> FibreBendingBlock:
-        """The patches of every FibrousShell block of the body, each with its own warp. A
-        fibre that runs from one block into another on shared nodes has no patch at the
-        node where it crosses (the patches are found block by block)."""
+        """The patches over all the FibrousShell blocks' cells together: a fibre that runs
+        from one block into another on shared nodes is bent where it crosses, when the two
+        blocks' warps agree (within the blocks' fibre angle tolerance); blocks whose warps
+        differ meet at a seam of different tows and are not paired across it."""
         from elements.fibrous import FibrousShell
 
         found = [
-            (part.element, part.cells)
+            (part.element, np.asarray(part.cells, dtype=np.int64))
             for part in body.parts
             if isinstance(part.element, FibrousShell)
         ]
@@ -100,19 +108,28 @@ class FibreBending(Interaction):
             raise ValueError(
                 "FibreBending bends the fibres of FibrousShell blocks; the model has none"
             )
-        families = tuple(FAMILIES[name] for name in self.families)
-        pieces = [
-            fibre_patches(
-                body.mesh.points,
-                cells,
-                shell.warp,
-                self.stiffness,
-                families,
-                shell.fibre_angle_tolerance,
-            )
-            for shell, cells in found
-        ]
-        patches = FibrePatches(*(np.concatenate(column) for column in zip(*pieces, strict=True)))
+        warps: list[np.ndarray] = []
+        group_of_block = []
+        for shell, _ in found:
+            same = [
+                g
+                for g, warp in enumerate(warps)
+                if np.dot(warp, shell.warp) >= np.cos(np.radians(shell.fibre_angle_tolerance))
+            ]
+            if not same:
+                warps.append(np.asarray(shell.warp, dtype=float))
+            group_of_block.append(same[0] if same else len(warps) - 1)
+        cells = np.concatenate([cells for _, cells in found])
+        sizes = [len(cells) for _, cells in found]
+        patches = fibre_patches(
+            body.mesh.points,
+            cells,
+            np.repeat([shell.warp for shell, _ in found], sizes, axis=0),
+            self.stiffness,
+            tuple(FAMILIES[name] for name in self.families),
+            np.repeat([shell.fibre_angle_tolerance for shell, _ in found], sizes),
+            np.repeat(group_of_block, sizes),
+        )
         return FibreBendingBlock(patches, body.mesh.points, self.kernel == "compiled")
 
 
@@ -188,9 +205,10 @@ class FibreBendingBlock(InteractionBlock):
         return [CellTangent(self.connectivity, blocks)]
 
     def springs_at(self, state: State, step: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Springs to the ground that bound the patches' stiffness for the explicit step:
-        (k g_a . u_a summed)^2 <= k (sum_b |g_b|) sum_a |g_a| |u_a|^2, so node a of a patch
-        takes k |g_a| sum_b |g_b| (g the gradient of theta), times SPRING_MARGIN."""
+        """Springs to the ground that bound the patches' stiffness for the explicit step: a
+        patch's whole K = k (g g^T + theta H) bounded in its four vectors by block Gershgorin
+        and carried to their ends (elements/fibre_bending_terms.py ``vector_spring_bounds``),
+        exact at this state, times SPRING_MARGIN."""
         return self._springs(state.positions)
 
     def springs(self) -> tuple[np.ndarray, np.ndarray]:
@@ -198,10 +216,17 @@ class FibreBendingBlock(InteractionBlock):
         return self._springs(self.reference)
 
     def _springs(self, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        x = positions[self.connectivity]
-        size = np.linalg.norm(patch_gradients(x, self.patches.ends), axis=2)  # (P, 5)
-        spring = SPRING_MARGIN * self.patches.stiffness[:, None] * size * size.sum(axis=1)[:, None]
-        return self.connectivity.ravel(), spring.ravel()
+        patches = self.patches
+        x = np.ascontiguousarray(positions, dtype=float)
+        step = SPRING_STEP * np.linalg.norm(x[patches.nodes[:, 1]] - x[patches.nodes[:, 0]], axis=1)
+        if self.compiled:
+            bound = np.zeros(patches.nodes.shape)
+            patch_spring_bounds(x, patches.nodes, patches.ends, patches.stiffness, step, bound)
+        else:
+            bound = vector_spring_bounds(
+                x[self.connectivity], patches.ends, patches.stiffness, step
+            )
+        return self.connectivity.ravel(), (SPRING_MARGIN * bound).ravel()
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """``fibre_inplane_angle``: at each node the largest |theta| (rad) of the patches

@@ -9,6 +9,12 @@ the fibre; the two cells on the same side are a patch, five nodes: the segments'
 (s, i, e) and the two cells' third corners. A fibre inside the blank has two patches at each
 of its inner nodes, one on each side; a fibre on the blank's edge one.
 
+The patches are found over all the fibrous blocks' cells together, so a fibre that runs from
+one block into another on shared nodes is bent where it crosses. Cells pair only within one
+``group`` (elements/fibre_bending.py gives blocks whose warps agree one group): where two
+blocks' warps differ, their fibres are different tows meeting at a seam, not one fibre
+continued, and no patch spans the seam.
+
 Everything here runs once, at bind, vectorised over the cells.
 """
 
@@ -52,11 +58,16 @@ class FibrePatches(NamedTuple):
 
 
 def _oriented_edge(
-    points: np.ndarray, cells: np.ndarray, direction: np.ndarray, tolerance_deg: float, name: str
+    points: np.ndarray,
+    cells: np.ndarray,
+    direction: np.ndarray,
+    tolerance_deg: np.ndarray,
+    name: str,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per cell, its edge along ``direction`` (m, 3) oriented along it: (from node, to node,
     local index of the third corner), all (m,) int. ValueError when a cell has no edge within
-    ``tolerance_deg`` of the direction (the fibrous shell's Eq. 9 meshes always have one)."""
+    ``tolerance_deg`` (m,) of the direction (the fibrous shell's Eq. 9 meshes always have
+    one)."""
     vectors = points[cells[:, EDGE_TO]] - points[cells[:, EDGE_FROM]]  # (m, 3 edges, 3)
     lengths = np.linalg.norm(vectors, axis=2)
     along = np.einsum("mkj,mj->mk", vectors, direction) / lengths
@@ -66,8 +77,8 @@ def _oriented_edge(
     if np.any(best < np.cos(np.radians(tolerance_deg))):
         bad = int(np.flatnonzero(best < np.cos(np.radians(tolerance_deg)))[0])
         raise ValueError(
-            f"in-plane fibre bending: cell {bad} has no edge within {tolerance_deg} deg of the "
-            f"{name} (its edges' cosines {np.abs(along[bad]).round(4).tolist()}); the fibrous "
+            f"in-plane fibre bending: cell {bad} has no edge within {tolerance_deg[bad]} deg of "
+            f"the {name} (its edges' cosines {np.abs(along[bad]).round(4).tolist()}); the fibrous "
             "shell's cells need one edge along each fibre family (Bai Eq. 9)"
         )
     forward = along[rows, edge] > 0.0
@@ -86,13 +97,28 @@ def _column_of(nodes: np.ndarray, node_ids: np.ndarray, columns: tuple[int, ...]
     return out
 
 
+def _unique_keys(node: np.ndarray, keys: np.ndarray, what: str) -> None:
+    """ValueError when two cells share a pairing key (a node, a side, a group): a mesh that
+    does not conform there or a cell listed in two blocks, where pairing by key would pick one
+    of them silently."""
+    _, first, counts = np.unique(keys, return_index=True, return_counts=True)
+    if np.any(counts > 1):
+        where = int(node[first[counts > 1][0]])
+        raise ValueError(
+            f"in-plane fibre bending: two cells' fibre segments {what} node {where} on the same "
+            "side of the fibre; the fibrous cells must form a conforming, consistently oriented "
+            "mesh, each cell in one block"
+        )
+
+
 def fibre_patches(
     points: np.ndarray,
     cells: np.ndarray,
     warp: np.ndarray,
     stiffness: float,
     families: tuple[int, ...] = (0, 1),
-    tolerance_deg: float = 1.0,
+    tolerance_deg: float | np.ndarray = 1.0,
+    group: np.ndarray | None = None,
 ) -> FibrePatches:
     """The patches of the fibre families ``families`` (0 warp, 1 weft) over ``cells``.
 
@@ -102,22 +128,33 @@ def fibre_patches(
         Reference node positions.
     cells : (m, 3) int
         The fibrous triangles.
-    warp : (3,) float
-        The warp direction (projected on each cell's plane; the weft is the in-plane
-        perpendicular n x warp, as in the fibrous shell).
+    warp : (3,) or (m, 3) float
+        The warp direction, one or per cell (projected on each cell's plane; the weft is the
+        in-plane perpendicular n x warp, as in the fibrous shell).
     stiffness : float
         B_in, N mm (a moment per unit width per unit curvature).
     families : tuple of int
         The fibre families bent.
-    tolerance_deg : float
-        How far a cell's fibre edge may deviate from its family's direction.
+    tolerance_deg : float or (m,) float
+        How far a cell's fibre edge may deviate from its family's direction, degrees.
+    group : (m,) int, optional
+        Cells pair only with cells of their own group (all one group by default).
+
+    Raises
+    ------
+    ValueError
+        When a cell has no edge along a family, or two cells share a pairing key.
     """
     cells = np.asarray(cells, dtype=np.int64)
+    tolerance = np.broadcast_to(np.asarray(tolerance_deg, dtype=float), (len(cells),))
+    group = np.zeros(len(cells), np.int64) if group is None else np.asarray(group, np.int64)
+    groups = int(group.max()) + 1 if len(group) else 1
     corners = points[cells]
     normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     double_area = np.linalg.norm(normal, axis=1)
     normal /= double_area[:, None]
-    a = warp - np.outer(normal @ warp, np.ones(3)) * normal
+    warp = np.broadcast_to(np.asarray(warp, dtype=float), (len(cells), 3))
+    a = warp - np.einsum("mj,mj->m", normal, warp)[:, None] * normal
     a /= np.linalg.norm(a, axis=1)[:, None]
     b = np.cross(normal, a)
     directions = (a, b)
@@ -126,14 +163,17 @@ def fibre_patches(
     parts = []
     for family in families:
         own, other = directions[family], directions[1 - family]
-        start, end, third = _oriented_edge(points, cells, own, tolerance_deg, names[family])
-        p_from, p_to, _ = _oriented_edge(points, cells, other, tolerance_deg, names[1 - family])
+        start, end, third = _oriented_edge(points, cells, own, tolerance, names[family])
+        p_from, p_to, _ = _oriented_edge(points, cells, other, tolerance, names[1 - family])
         tip = cells[rows, third]
         side = np.einsum("mj,mj->m", points[tip] - points[start], other) > 0.0
         # The cell whose segment ends at node i meets the one whose segment starts there, on
-        # the same side of the fibre: a key (node, side) each, unique in a conforming mesh.
-        ends_key = 2 * end + side
-        starts_key = 2 * start + side
+        # the same side of the fibre, in the same group: a key (node, group, side) each,
+        # unique in a conforming mesh.
+        ends_key = 2 * (end * groups + group) + side
+        starts_key = 2 * (start * groups + group) + side
+        _unique_keys(ends_key // (2 * groups), ends_key, "end at")
+        _unique_keys(starts_key // (2 * groups), starts_key, "start at")
         _, first, second = np.intersect1d(ends_key, starts_key, return_indices=True)
         if first.size == 0:
             continue

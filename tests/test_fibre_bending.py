@@ -105,6 +105,35 @@ def test_an_end_moment_holds_a_clamped_strip_on_a_circular_arc_of_curvature_m_ov
     assert energy == pytest.approx(0.5 * B_IN * width * kappa**2 * length, rel=3e-4)  # 2.1e-4
 
 
+def test_a_graded_strip_on_concentric_circles_stores_the_continuum_energy():
+    """A strip (40 x 6 mm, 20 x 3 cells) graded along the warp (x = L u^1.5: segments 0.36
+    to 2.9 mm) and across it (y = w v^1.4), every fibre placed on a circle about one centre
+    (radius R + w / 2 - y, the warp at curvature kappa = 0.02 /mm on the middle line): a
+    circle's chords turn at a node by half the angles the two chords subtend, (X_e - X_s) /
+    (2 R), which is s kappa with s the mean of the two segments' reference lengths, so each
+    patch stores 1/2 (B_in A / s^2) (s kappa)^2 = 1/2 B_in kappa^2 A, and their areas add up to
+    w times the span from the middle of the first segment to the middle of the last: W =
+    1/2 B_in kappa^2 w L_eff, to round-off. A patch taking its first segment's length or its
+    first cell's area for the means would miss it by the grading."""
+    length, width, kappa = 40.0, 6.0, 0.02
+    base = Mesh.rectangle(1.0, 1.0, nx=20, ny=3)
+    big_x = length * base.points[:, 0] ** 1.5
+    big_y = width * base.points[:, 1] ** 1.4
+    mesh = Mesh(np.column_stack((big_x, big_y, np.zeros_like(big_x))), base.triangles)
+    radius = 1.0 / kappa
+    rho = radius - (big_y - width / 2.0)
+    angle = big_x / radius
+    x = np.column_stack(
+        (rho * np.sin(angle), width / 2.0 + radius - rho * np.cos(angle), np.zeros_like(big_x))
+    )
+    columns = np.unique(np.round(big_x, 12))
+    span = (columns[-1] + columns[-2]) / 2.0 - (columns[0] + columns[1]) / 2.0
+    expected = 0.5 * B_IN * kappa**2 * width * span
+    assert block(mesh, families=("warp",)).strain_energy(state(x)) == pytest.approx(
+        expected, rel=1e-12
+    )
+
+
 @pytest.mark.parametrize("nx", [8, 16, 32])
 def test_a_tip_load_bends_a_clamped_strip_by_p_l3_over_3_b_w(nx):
     """A small transverse in-plane load P at the end of the clamped strip (length 40, width
@@ -202,6 +231,66 @@ def test_a_blank_rolled_on_an_oblique_cylinder_converges_to_geodesic_fibres():
     assert ratios[1] < ratios[0] / 3.5
 
 
+@pytest.mark.parametrize("fold", [0.1, 0.4])
+def test_a_strip_bent_in_its_plane_and_wrapped_on_a_cylinder_across_it_keeps_its_turning(fold):
+    """A strip (16 x 4 mm, 8 x 2 cells of h = 2 mm) bent in its plane by y += a x^2 (a =
+    0.02 /mm; its weft edges stay along y), then wrapped isometrically on a cylinder whose
+    axis is the weft (radius h / fold: a fold of 0.4 rad between neighbouring cells is the
+    die's entry radius at 48 cells). Flat, each fibre turns at node i by atan(v_f) - atan(v_c),
+    v the chords' slopes; wrapped, the chords across the axis shorten by f = sin(fold / 2) /
+    (fold / 2) and their slopes in the unrolled surface become v / f, so the turning is
+    atan(v_f / f) - atan(v_c / f): the energy sum 1/2 k theta^2 (k = B_in / 2, four patches a
+    node) is that closed form to round-off, within (1 / f^2 - 1) = 1.3 % of the flat one at
+    0.4 rad. Measuring the angle in each cell's plane overestimated it (1.083 times the
+    closed form at 0.4 rad)."""
+    h, a = 2.0, 0.02
+    mesh = Mesh.rectangle(16.0, 4.0, nx=8, ny=2, origin=(-8.0, 0.0, 0.0))
+    bent = block(mesh, families=("warp",))
+    flat = mesh.points.copy()
+    flat[:, 1] += a * flat[:, 0] ** 2
+    radius = h / fold
+    wrapped = np.column_stack(
+        (
+            radius * np.sin(flat[:, 0] / radius),
+            flat[:, 1],
+            radius * (1.0 - np.cos(flat[:, 0] / radius)),
+        )
+    )
+    nodes_x = np.linspace(-8.0, 8.0, 9)
+    slope = np.diff(a * nodes_x**2) / h
+    shortening = np.sin(fold / 2.0) / (fold / 2.0)
+    k = 0.5 * B_IN
+    flat_energy = 4 * 0.5 * k * np.sum(np.diff(np.arctan(slope)) ** 2)
+    wrapped_energy = 4 * 0.5 * k * np.sum(np.diff(np.arctan(slope / shortening)) ** 2)
+    assert bent.strain_energy(state(flat)) == pytest.approx(flat_energy, rel=1e-12)
+    assert bent.strain_energy(state(wrapped)) == pytest.approx(wrapped_energy, rel=1e-12)
+    assert wrapped_energy / flat_energy - 1.0 < 1.0 / shortening**2 - 1.0
+
+
+def test_the_angle_is_the_same_read_along_the_fibre_either_way():
+    """The unfolding is a rotation, so the angle from r = R m_c to m_f about n_f equals the
+    angle from m_c to R^T m_f about n_c: the patch read backwards (m_c' = -m_f, p_c' = p_f,
+    m_f' = -m_c, p_f' = p_c; its normals -n_f, -n_c) has the same angle, on 200 random
+    patches (folds and turnings up to about 1 rad), to 1e-13 rad: the round-off of some
+    hundred operations on numbers of order 1 (a version measuring the angle in one cell's
+    plane only, or unfolding the wrong way, differs at first order in the fold)."""
+    from elements.fibre_bending_terms import turning
+
+    rng = np.random.default_rng(3)
+    m_c = np.array([1.0, 0.0, 0.0]) + rng.normal(scale=0.3, size=(200, 3))
+    m_f = np.array([1.0, 0.0, 0.0]) + rng.normal(scale=0.3, size=(200, 3))
+    p_c = np.array([0.0, 1.0, 0.0]) + rng.normal(scale=0.3, size=(200, 3))
+    p_f = np.array([0.0, 1.0, 0.0]) + rng.normal(scale=0.3, size=(200, 3))
+
+    def angle(*vectors):
+        s, c = turning(*[(v[:, 0], v[:, 1], v[:, 2]) for v in vectors])[:2]
+        return np.arctan2(s, c)
+
+    forward = angle(m_c, p_c, m_f, p_f)
+    assert np.abs(forward).max() > 0.5
+    assert np.abs(angle(-m_f, p_f, -m_c, p_c) - forward).max() < 1e-13
+
+
 # ------------------------------------------------------------------ the kit
 def test_forces_are_the_energy_gradient_and_the_tangent_their_derivative():
     mesh, x = jittered()
@@ -225,24 +314,58 @@ def test_the_compiled_pass_gives_the_numpy_reference():
     )
 
 
-def test_the_springs_bound_the_stiffness_for_the_explicit_step():
-    """x^T K x <= sum_s k_s |u_s|^2 for every u: the largest eigenvalue of K against the
-    springs' diagonal at most 1, on the jittered blank and in its reference."""
-    mesh, x = jittered(7)
-    bent = block(mesh)
-    for positions in (mesh.points, x):
-        nodes, blocks = bent.tangent(state(positions))[0]
-        n = mesh.n_nodes
-        stiffness = np.zeros((3 * n, 3 * n))
-        for a in range(5):
-            for b in range(5):
-                rows = 3 * nodes[:, a, None] + np.arange(3)
-                cols = 3 * nodes[:, b, None] + np.arange(3)
-                np.add.at(stiffness, (rows[:, :, None], cols[:, None, :]), blocks[:, a, :, b, :])
-        spring_nodes, springs = bent.springs_at(state(positions))
-        diagonal = np.repeat(np.bincount(spring_nodes, springs, minlength=n), 3)
-        scaled = stiffness / np.sqrt(np.outer(diagonal, diagonal))
-        assert np.linalg.eigvalsh(scaled).max() <= 1.0
+def _scaled_stiffness(bent: FibreBendingBlock, positions: np.ndarray) -> float:
+    """The largest eigenvalue of D^-1/2 K D^-1/2: K the assembled tangent, D the springs'
+    diagonal (x^T K x <= x^T D x for every x when it is at most 1)."""
+    nodes, blocks = bent.tangent(state(positions))[0]
+    n = bent.n_nodes
+    stiffness = np.zeros((3 * n, 3 * n))
+    for a in range(5):
+        for b in range(5):
+            rows = 3 * nodes[:, a, None] + np.arange(3)
+            cols = 3 * nodes[:, b, None] + np.arange(3)
+            np.add.at(stiffness, (rows[:, :, None], cols[:, None, :]), blocks[:, a, :, b, :])
+    spring_nodes, springs = bent.springs_at(state(positions))
+    diagonal = np.repeat(np.bincount(spring_nodes, springs, minlength=n), 3)
+    return float(np.linalg.eigvalsh(stiffness / np.sqrt(np.outer(diagonal, diagonal))).max())
+
+
+def test_the_springs_bound_the_whole_stiffness_for_the_explicit_step():
+    """x^T K x <= sum_s k_s |u_s|^2 for every u, K = k (g g^T + theta H) whole: the largest
+    eigenvalue of K against the springs' diagonal at most 1 / SPRING_MARGIN (the bound is a
+    theorem, block Gershgorin, before the margin: 1e-12 for round-off), on the 4 x 3 blank
+    jittered in 3-D by 0.1 to 0.7 mm (cells of 2 mm; |theta| up to 2.6 rad) and in its plane
+    by 0.1 to 0.4 mm (no cell turned over), 10 states each. Springs of k |g_a| sum_b |g_b|
+    times 2, which left out the theta H part, reached 1.7 to 6.9 on such jitters."""
+    from elements.fibre_bending import SPRING_MARGIN
+
+    mesh = Mesh.rectangle(8.0, 6.0, nx=4, ny=3)
+    rng = np.random.default_rng(11)
+    worst = 0.0
+    for bent in (block(mesh), block(mesh, kernel="numpy")):
+        assert _scaled_stiffness(bent, mesh.points) <= 1.0 / SPRING_MARGIN + 1e-12
+        for scale, flat in [(s, False) for s in (0.1, 0.3, 0.5, 0.7)] + [
+            (s, True) for s in (0.1, 0.2, 0.3, 0.4)
+        ]:
+            for _ in range(10):
+                jitter = rng.normal(scale=scale, size=mesh.points.shape)
+                if flat:
+                    jitter[:, 2] = 0.0
+                x = mesh.points + jitter
+                corners = x[mesh.triangles]
+                turned = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+                if flat and np.any(turned[:, 2] <= 0.0):
+                    continue
+                worst = max(worst, _scaled_stiffness(bent, x))
+    assert 0.1 < worst <= 1.0 / SPRING_MARGIN + 1e-12
+
+
+def test_the_compiled_springs_give_the_numpy_reference():
+    mesh, x = jittered(5)
+    compiled = block(mesh).springs_at(state(x))
+    reference = block(mesh, kernel="numpy").springs_at(state(x))
+    assert np.array_equal(compiled[0], reference[0])
+    assert np.allclose(compiled[1], reference[1], rtol=1e-7, atol=0.0)
 
 
 def test_the_patches_of_a_grid_are_its_fibres_inner_nodes_one_per_side():
@@ -257,6 +380,78 @@ def test_the_patches_of_a_grid_are_its_fibres_inner_nodes_one_per_side():
     assert np.allclose(bent.patches.stiffness, 0.5 * B_IN)
 
 
+def blocks(mesh: Mesh, parts, warps=None, families=("warp",)) -> FibreBendingBlock:
+    """The term bound to the FibrousShell blocks of cells ``parts``, with warps ``warps``."""
+    active = np.zeros((mesh.n_nodes, 6), dtype=bool)
+    active[:, :3] = True
+    warps = warps or [(1.0, 0.0, 0.0)] * len(parts)
+    body = Body(
+        mesh,
+        tuple(BodyPart(FibrousShell(ply(), warp=w), c) for w, c in zip(warps, parts, strict=True)),
+        np.zeros((mesh.n_nodes, 3)),
+        active,
+    )
+    return FibreBending(B_IN, families).bind(body)
+
+
+def test_a_fibre_crossing_from_one_block_into_another_is_bent_where_it_crosses():
+    """A strip (20 x 4 mm, 10 x 2 cells of 2 mm) split across its warp into two blocks at
+    x = 10, placed on concentric regular polygons that turn every fibre by th = 0.05 rad at
+    every node: the three warp fibres have 9 inner nodes each, one patch a node on the edge
+    rows and two on the middle one, 36 patches of k = B_in / 2, so W = 36 k th^2 / 2 whether
+    the strip is one block or two (the patches at x = 10 span both blocks)."""
+    mesh = Mesh.rectangle(20.0, 4.0, nx=10, ny=2)
+    centre_x = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    split = [mesh.triangles[centre_x < 10.0], mesh.triangles[centre_x >= 10.0]]
+    h, th = 2.0, 0.05
+    radius = h / (2.0 * np.sin(th / 2.0))
+    rho = radius - (mesh.points[:, 1] - 2.0)
+    angle = np.rint(mesh.points[:, 0] / h) * th
+    x = np.column_stack(
+        (rho * np.sin(angle), 2.0 + radius - rho * np.cos(angle), np.zeros(mesh.n_nodes))
+    )
+    expected = 36 * 0.5 * (0.5 * B_IN) * th**2
+    for parts in ([mesh.triangles], split, split[::-1]):
+        bent = blocks(mesh, parts)
+        assert len(bent.patches.nodes) == 36
+        assert bent.strain_energy(state(x)) == pytest.approx(expected, rel=1e-12)
+
+
+def test_blocks_whose_warps_differ_meet_at_a_seam_without_patches_across_it():
+    """The same split with the second block's warp along y: its fibres along x are its weft,
+    not the first block's warp (different tows meet at the seam), so no patch spans x = 10:
+    each half (5 x 2 cells) has 3 x 4 inner nodes on its x fibres (16 patches, one side on
+    the edge rows) and 6 x 1 on its y fibres (10), 52 in all, where one block has 56 (the
+    x fibres' nodes at x = 10 adding 4)."""
+    mesh = Mesh.rectangle(20.0, 4.0, nx=10, ny=2)
+    centre_x = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    split = [mesh.triangles[centre_x < 10.0], mesh.triangles[centre_x >= 10.0]]
+    warps = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
+    both = blocks(mesh, split, warps, ("warp", "weft"))
+    alone = [blocks(mesh, [c], [w], ("warp", "weft")) for w, c in zip(warps, split, strict=True)]
+    assert len(both.patches.nodes) == sum(len(b.patches.nodes) for b in alone) == 52
+    assert len(blocks(mesh, [mesh.triangles], families=("warp", "weft")).patches.nodes) == 56
+
+
+def test_cells_of_mixed_orientation_are_refused_not_paired_by_half():
+    """Every third cell of a strip listed clockwise: its normal, so its side of the fibre,
+    flips, and pairing by (node, side) found 18 of the 54 patches silently; now refused."""
+    mesh = Mesh.rectangle(20.0, 6.0, nx=10, ny=3)
+    cells = mesh.triangles.copy()
+    flip = np.arange(len(cells)) % 3 == 0
+    cells[flip] = cells[flip][:, [0, 2, 1]]
+    with pytest.raises(ValueError, match="consistently oriented"):
+        blocks(Mesh(mesh.points, cells), [cells])
+
+
+def test_a_cell_in_two_blocks_is_refused():
+    mesh = Mesh.rectangle(8.0, 4.0, nx=4, ny=2)
+    with pytest.raises(
+        ValueError, match="conforming, consistently oriented mesh, each cell in one block"
+    ):
+        blocks(mesh, [mesh.triangles, mesh.triangles[:3]])
+
+
 # ------------------------------------------------------------------ input
 @pytest.mark.parametrize(
     "arguments, message",
@@ -267,6 +462,9 @@ def test_the_patches_of_a_grid_are_its_fibres_inner_nodes_one_per_side():
         ((1.0, ("warp", "bias")), "families"),
         ((1.0, ()), "families"),
         ((1.0, ("weft", "weft")), "families"),
+        ((1.0, 5), "families must be a tuple of 'warp' and/or 'weft'"),
+        ((1.0, [["warp"]]), "families must be a tuple of 'warp' and/or 'weft'"),
+        ((1.0, {"warp": 1}), "families must be a tuple of 'warp' and/or 'weft'"),
     ],
 )
 def test_bad_options_are_refused(arguments, message):
@@ -318,7 +516,18 @@ def test_a_case_file_adds_the_fibre_bending_to_its_fibrous_model(tmp_path):
     added = [i for i in case.model().interactions if isinstance(i, FibreBending)]
     assert len(added) == 1
     assert added[0].stiffness == 0.5 and added[0].families == ("weft",)
-    assert not any(isinstance(i, FibreBending) for i in case.model("mindlin").interactions)
+    assert case.fibre_bending["families"] == ("weft",)
+    with pytest.warns(UserWarning, match="has no in-plane fibre bending"):
+        mindlin = case.model("mindlin")
+    assert not any(isinstance(i, FibreBending) for i in mindlin.interactions)
+
+
+def test_a_case_file_keeps_the_families_a_tuple(tmp_path):
+    from fibreshell import load_case
+
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace("stiffness = 0.5", 'stiffness = 0.5\nfamilies = "warp"'))
+    assert load_case(path).fibre_bending["families"] == ("warp",)
 
 
 @pytest.mark.parametrize(
@@ -327,6 +536,17 @@ def test_a_case_file_adds_the_fibre_bending_to_its_fibrous_model(tmp_path):
         ("stiffness = 0.5", "stiffness = -0.5", r"\[fibre_bending.stiffness\]"),
         ("stiffness = 0.5", 'stiffness = 0.5\nfamilies = ["bias"]', r"\[fibre_bending.families\]"),
         ("stiffness = 0.5", "stifness = 0.5", r"\[fibre_bending.stifness\]: unknown key"),
+        ("stiffness = 0.5", "stiffness = 0.5\nfamilies = 5", r"\[fibre_bending.families\]"),
+        (
+            "stiffness = 0.5",
+            'stiffness = 0.5\nfamilies = [["warp"]]',
+            r"\[fibre_bending.families\]",
+        ),
+        (
+            "stiffness = 0.5",
+            "stiffness = 0.5\nfamilies = {warp = 1}",
+            r"\[fibre_bending.families\]",
+        ),
     ],
 )
 def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where):
@@ -336,6 +556,25 @@ def test_a_mistake_in_the_fibre_bending_table_names_it(tmp_path, old, new, where
     path.write_text(CASE.replace(old, new))
     with pytest.raises(CaseError, match=where):
         load_case(path)
+
+
+def test_the_rows_study_restores_the_case_module_it_patches():
+    """validation/studies/hemisphere_rows_diagonal.py ``patched_case`` adds the term, a
+    scaled shear law and a cut of the blank to the hemisphere case for its ``with`` block
+    only: inside, one FibreBending however often it is entered; after, none, and the case's
+    own ``model``, ``fabric`` and ``Mesh`` back."""
+    from validation.cases import hemisphere_forming as case
+    from validation.studies.hemisphere_rows_diagonal import patched_case
+
+    own = (case.model, case.fabric, case.Mesh)
+    for _ in range(2):
+        with patched_case("flipped", 0.5, 1.0) as patched:
+            built = patched.model(4, "fibrous")[1]
+            assert sum(isinstance(i, FibreBending) for i in built.interactions) == 1
+            assert patched.fabric is not own[1]
+    assert (case.model, case.fabric, case.Mesh) == own
+    built = case.model(4, "fibrous")[1]
+    assert not any(isinstance(i, FibreBending) for i in built.interactions)
 
 
 # ------------------------------------------------------------------ the rows it cures

@@ -45,6 +45,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -60,6 +61,7 @@ __all__ = [
     "compressed_patch",
     "grid_measures",
     "patch_threshold",
+    "patched_case",
     "split_mesh",
 ]
 
@@ -110,34 +112,43 @@ def scaled_ply(shear_scale: float):
     )
 
 
-def _patched_case(split: str, shear_scale: float = 1.0, fibre_bending: float = 0.0):
+@contextmanager
+def patched_case(split: str, shear_scale: float = 1.0, fibre_bending: float = 0.0):
     """The case module with its blank cut along ``split``, its shear law's slope at zero
     shear times ``shear_scale`` and, for ``fibre_bending`` > 0, the fibres' in-plane bending
-    of that stiffness (N mm, ``elements.fibre_bending.FibreBending``) added to its model."""
+    of that stiffness (N mm, ``elements.fibre_bending.FibreBending``) added to its model,
+    for the ``with`` block: the module's ``model``, ``fabric`` and ``Mesh`` are restored on
+    leaving it, so that a later run (or another study in the same process) gets the case
+    as it is."""
     from validation.cases import hemisphere_forming as case
 
-    if fibre_bending > 0.0:
-        from elements.fibre_bending import FibreBending
+    saved = {name: getattr(case, name) for name in ("model", "fabric", "Mesh")}
+    try:
+        if fibre_bending > 0.0:
+            from elements.fibre_bending import FibreBending
 
-        plain = case.model
+            plain = case.model
 
-        def bent(*args, **kwargs):
-            mesh, built = plain(*args, **kwargs)
-            built.interact(FibreBending(fibre_bending))
-            return mesh, built
+            def bent(*args, **kwargs):
+                mesh, built = plain(*args, **kwargs)
+                built.interact(FibreBending(fibre_bending))
+                return mesh, built
 
-        case.model = bent
-    if shear_scale != 1.0:
-        ply = scaled_ply(shear_scale)
-        case.fabric = lambda: ply
+            case.model = bent
+        if shear_scale != 1.0:
+            ply = scaled_ply(shear_scale)
+            case.fabric = lambda: ply
 
-    class Split(Mesh):
-        @classmethod
-        def rectangle(cls, lx, ly, nx, ny, origin=(0.0, 0.0, 0.0)):
-            return split_mesh(lx, ly, nx, ny, origin, split)
+        class Split(Mesh):
+            @classmethod
+            def rectangle(cls, lx, ly, nx, ny, origin=(0.0, 0.0, 0.0)):
+                return split_mesh(lx, ly, nx, ny, origin, split)
 
-    case.Mesh = Split  # type: ignore[misc]
-    return case
+        case.Mesh = Split  # type: ignore[misc]
+        yield case
+    finally:
+        for name, value in saved.items():
+            setattr(case, name, value)
 
 
 def run(
@@ -146,8 +157,9 @@ def run(
     """One unscaled run (the shear law's slope times ``shear_scale``, the fibres' in-plane
     bending ``fibre_bending`` N mm, none at 0); its frames' positions and cell fields in
     ``out`` (.npz) and its record beside it (.json)."""
-    case = _patched_case(split, shear_scale, fibre_bending)
-    record = case.run(cells, "fibrous")
+    with patched_case(split, shear_scale, fibre_bending) as case:
+        record = case.run(cells, "fibrous")
+        net_shear = case.net_shear_at(record["mesh"])
     result, mesh = record["result"], record["mesh"]
     frames = result.frames
     tri = [f.fields["triangle"] for f in frames]
@@ -163,7 +175,7 @@ def run(
         warp_curvature=np.array([t["warp_curvature"] for t in tri]),
         weft_curvature=np.array([t["weft_curvature"] for t in tri]),
         tool_forces=np.array([f.tool_forces for f in frames]),
-        net_shear=case.net_shear_at(mesh),
+        net_shear=net_shear,
     )
     keys = ["rms_deg", "draw_in_mm", "edge_draw_in_mm", "late_punch_force_N"]
     keys += ["largest_kinetic_over_work", "holder_lift_mm", "end_time_s"]
