@@ -12,7 +12,8 @@ elements/ply_springs.py), and a power iteration gives it from below. It measures
 margin: how many more steps the case pays than an exact critical step at each state would
 ask for.
 
-Measured (this script, one thread, load 8-10 on 2 cores; omega^2 in 1/s^2):
+Measured (this script, one thread, load 8-10 on 2 cores; omega^2 in 1/s^2), with the fade's
+SIDEWAYS = 0.5 (its factor 12 beside an outline vertex) up to "A wider wedge" below:
 
 * fibrous, steps 1000 / 3000 / 5000 of 5612: the bound 9.71e9 / 9.96e9 / 1.08e10 (cells
   2.24e9 / 2.46e9 / 2.81e9, springs 7.47e9 / 7.49e9 / 7.99e9), lambda_max of every part
@@ -48,42 +49,39 @@ state; Mindlin, steps 1000 / 5000 / 9000 of 11032, the bound 3.35e10 / 3.48e10 /
 of the equal weights'. Small gains: the largest springs join a bottom ply's outline node to
 the top ply's node it lies on, two nodes of equal mass, where Cauchy-Schwarz is exact.
 
-Why a quarter of the springs is not safe (tests/test_ply_springs_case.py): each of those top
-nodes is an outline vertex of three triangles (one at a corner) with a wedge beside it; a
-bottom node moved 0.15 mm into it (under the slide at rest) and lifted 1e-4 mm meets the
-fade's 12 k along the normal (10.4 k there). With every bottom outline node so moved,
-lambda_max of every part is 4.88e9 (Mindlin 1.75e10): 1.16 (1.20) times the cells plus a
+Why a quarter of the springs was not safe at SIDEWAYS 0.5 (tests/test_ply_springs_case.py
+then): each of those top nodes is an outline vertex of three triangles (one at a corner) with a
+wedge beside it; a bottom node moved 0.15 mm into it (under the slide at rest) and lifted 1e-4
+mm meets the fade's 12 k along the normal (10.4 k there). With every bottom outline node so
+moved, lambda_max of every part is 4.88e9 (Mindlin 1.75e10): 1.16 (1.20) times the cells plus a
 quarter of the springs, 0.50 (0.52) of the bound; the mirrored pass alone 0.78 of its own
-springs. The margin is in the cells' bound and in the sum of the two parts, not in the
-springs.
+springs. The margin is in the cells' bound and in the sum of the two parts, not in the springs.
 
-A wider wedge, tried and not kept (elements/ply_fade.py ``SIDEWAYS``, the fade's factor beside
-an outline vertex 3 / SIDEWAYS^2): the whole case (``python -m validation --cases
-hemisphere-plies --jobs 1``, one thread, the three run side by side from cold numba caches, load
-6-12), SIDEWAYS 0.5 / 1 / 0.75 (factor 12 / 3 / 5.3): 33325 / 26376 / 28582 steps (5530 / 4131 /
-4538, 11032 / 8429 / 9123, 5949 / 4825 / 5318, 10814 / 8991 / 9603 per run: 1.26 and 1.17 times
-fewer, not the 1.4 the springs' share estimated), case_cpu_s 151.8 / 131.1 / 144.1 s; 24 of 24
-checks each. The plies' order in the die -0.133 / -0.132 / -0.134 mm (fibrous [0/90]), -0.123 /
--0.129 / -0.155 (Mindlin [0/90]), +0.006 / +0.007 / +0.013 and +0.26 / +0.33 / +0.29 ([0/45]);
-through the holder at most 0.025 mm deeper (Mindlin [0/90] ply 1, 0.068 -> 0.093 mm at SIDEWAYS
-1), the least gap over the run nowhere deeper (Mindlin [0/90] -3.36 / -0.76 / -0.72 mm): nothing
-sinks a tenth of a ply (0.03 mm) further. The fibrous rms of shear - net moved <= 0.018 / 0.019
-deg, the draw-in <= 0.37 / 1.78 mm (the [0/45] bottom ply's corner at 0.75). The Mindlin runs
-moved past the spread a changed step gives them (0.45-0.74 deg, corners 1.4-2.4 mm): at SIDEWAYS
-1 the [0/45] top ply's rms 5.67 -> 4.77 deg and the [0/90] top ply's corner draw-in 14.9 -> 21.5
-mm; at 0.75 the [0/45] bottom ply's edge middle 29.2 -> 24.7 mm. That move is the step's:
-SIDEWAYS 0.5 with the springs' factor 3 (the step of SIDEWAYS 1, the contact of 0.5; warm
-caches, load 1.4-4.7, 60.1 s CPU, 26515 steps, 24 of 24 checks) moved them alike (5.67 -> 4.94
-deg, 14.9 -> 19.8 mm), and the wedge alone (that run beside SIDEWAYS 1, nearly the same step)
-moved the fibrous rms <= 0.007 deg and draw-in <= 0.09 mm, the Mindlin rms <= 0.38 deg and
-corners <= 2.7 mm (the [0/45] top ply's; its edge middle 4.3 mm, where the two steps at 0.5
-differed by 0.3 and 2.4 mm). So SIDEWAYS 1 passes the case's tests of the contact; not adopted
-for want of time to carry it through the fade's docstring, docs/theory.md §9.3a, the case's
-figures and the springs' tests (the one that asserts the factor 12, test_ply_fade_stiffness.py,
-and the wedge state's quarter below). The wedge state of tests/test_ply_springs_case.py at
-SIDEWAYS 1: lambda_max of every part 1.54e9 (Mindlin 6.14e9), within the bound (its cells alone
-2.24e9 and 7.79e9): the springs' check holds, the claim that a quarter of them would not hold is
-the factor 12's.
+A wider wedge, tried and then adopted (elements/ply_fade.py ``SIDEWAYS``, the fade's factor
+beside an outline vertex 3 / SIDEWAYS^2): the whole case (``python -m validation --cases
+hemisphere-plies --jobs 1``, one thread, the three run side by side from cold numba caches,
+load 6-12), SIDEWAYS 0.5 / 1 / 0.75 (factor 12 / 3 / 5.3): 33325 / 26376 / 28582 steps (5530 /
+4131 / 4538, 11032 / 8429 / 9123, 5949 / 4825 / 5318, 10814 / 8991 / 9603 per run: 1.26 and
+1.17 times fewer, not the 1.4 the springs' share estimated), case_cpu_s 151.8 / 131.1 / 144.1
+s; 24 of 24 checks each. The plies' order in the die -0.133 / -0.132 / -0.134 mm (fibrous
+[0/90]), -0.123 / -0.129 / -0.155 (Mindlin [0/90]), +0.006 / +0.007 / +0.013 and +0.26 / +0.33
+/ +0.29 ([0/45]); through the holder at most 0.025 mm deeper (Mindlin [0/90] ply 1, 0.068 ->
+0.093 mm at SIDEWAYS 1), the least gap over the run nowhere deeper (Mindlin [0/90] -3.36 /
+-0.76 / -0.72 mm): nothing sinks a tenth of a ply (0.03 mm) further. The fibrous rms of shear -
+net moved <= 0.018 / 0.019 deg, the draw-in <= 0.37 / 1.78 mm (the [0/45] bottom ply's corner
+at 0.75). The Mindlin runs moved past the spread a changed step gives them (0.45-0.74 deg,
+corners 1.4-2.4 mm): at SIDEWAYS 1 the [0/45] top ply's rms 5.67 -> 4.77 deg and the [0/90] top
+ply's corner draw-in 14.9 -> 21.5 mm; at 0.75 the [0/45] bottom ply's edge middle 29.2 -> 24.7
+mm. That move is the step's: SIDEWAYS 0.5 with the springs' factor 3 (the step of SIDEWAYS 1,
+the contact of 0.5; warm caches, load 1.4-4.7, 60.1 s CPU, 26515 steps, 24 of 24 checks) moved
+them alike (5.67 -> 4.94 deg, 14.9 -> 19.8 mm), and the wedge alone (that run beside SIDEWAYS
+1, nearly the same step) moved the fibrous rms <= 0.007 deg and draw-in <= 0.09 mm, the Mindlin
+rms <= 0.38 deg and corners <= 2.7 mm (the [0/45] top ply's; its edge middle 4.3 mm, where the
+two steps at 0.5 differed by 0.3 and 2.4 mm). So SIDEWAYS 1 passes the case's tests of the
+contact; adopted after this study (elements/ply_fade.py; docs/theory.md §9.3a). The wedge state
+of tests/test_ply_springs_case.py at SIDEWAYS 1: lambda_max of every part 1.54e9 (Mindlin
+6.14e9), within the bound (its cells alone 2.24e9 and 7.79e9): the springs' check holds, the
+claim that a quarter of them would not hold is the factor 12's.
 
 Run: NUMBA_NUM_THREADS=1 python benchmarks/ply_step_bound.py --kinematics fibrous \
 --steps 1000 3000 5000

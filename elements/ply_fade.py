@@ -23,9 +23,10 @@ lower ply's outline edge nearest it, z = (p, y_1, y_2, y_3, a, b):
 - beside the growth, where the point's closest point q lies on a growth's edge off the
   triangle (the wedge next to an outline vertex that no growth's plane holds) or at a vertex
   of the outline (the facing triangle's normal signing the gap there), w_a =
-  S(|h| / (SIDEWAYS |p - q|)), h the gap to the triangle's plane: 1 where p - q lies within
-  60 deg of the normal, 0 where p lies in the plane beside the growth, the one place where the
-  sign of g = +-|p - q| flips at a distance from q. Not on an edge's extension that the
+  S(|h| / (SIDEWAYS |p - q|)), h the gap to the triangle's plane: 1 where p - q lies along
+  the normal (SIDEWAYS = 1: the cosine of its angle to the normal at least 1), 0 where p lies
+  in the plane beside the growth, the one place where the sign of g = +-|p - q| flips at a
+  distance from q. Not on an edge's extension that the
   neighbour's growth holds too (``joined``): there the edge's pseudonormal signs the gap, the
   face has a side and w_a = 1 (elements/ply_projection.py, "Growths joined").
 
@@ -49,13 +50,16 @@ W/r^2) w_a'], [., (W'/r) w_a + (W/r^2) w_a'']] (the azimuth of a vertex adds (W'
 (W/r^2) cot(theta) w_a' <= k, w_a' <= 0). With W'' <= k, W'/r <= k, 0 <= W'/r - W/r^2 <= k/2
 and W/r^2 <= k/2 (W convex from W(0) = W'(0) = 0, W'' <= k) its largest eigenvalue is at
 most k max_theta lambda_max [[w_a, |w_a'| / 2], [|w_a'| / 2, w_a + max(w_a'', 0) / 2]] =
-k S''(0) / (2 SIDEWAYS^2) = 12 k, reached at theta = 90 deg (p in the triangle's plane beside
-q, w_a = w_a' = 0: E ~ 6 k h^2 for a gap h to the plane), whatever r. The past factor w_e =
+k S''(0) / (2 SIDEWAYS^2) = 3 k, reached at theta = 90 deg (p in the triangle's plane beside
+q, w_a = w_a' = 0: E ~ 1.5 k h^2 for a gap h to the plane), whatever r. (SIDEWAYS = 0.5, full
+weight within 60 deg of the normal, made it 12 k; the two-ply hemisphere's explicit step is set
+by these springs at the outline, and the wider fade takes 1.26 times fewer steps there with its
+checks unchanged: benchmarks/ply_step_bound.py.) The past factor w_e =
 S(1 - d / D) with |grad d| = 1 (d the in-plane distance on a flat ply, to an edge or a
 vertex) has |grad w_e| <= 1.5 / D (max S') and ||hess w_e|| <= 6 / D^2 (|S''| <= 6 along
 grad d, S'(s) / (s D^2) = 6 (1 - s) / D^2 across it at a vertex); with |grad (W w_a)| <= k r
 (1 + (0.75 / SIDEWAYS)^2)^(1/2) and W w_a <= k r^2 / 2, the product's Hessian is at most k
-(12 + 3 A x + 3 x^2), x = r / D, A = (1 + (0.75 / SIDEWAYS)^2)^(1/2), r = |p - q| = |g|: at
+(3 + 3 A x + 3 x^2), x = r / D, A = (1 + (0.75 / SIDEWAYS)^2)^(1/2) = 1.25, r = |p - q| = |g|: at
 most the plies' half thicknesses a + b, or the point's own depth where it lies deeper (past
 the outline the fade carries a point at any depth, elements/ply_projection.py "Past the
 outline, deeper than the plies"); checked against central differences of the exact force
@@ -90,7 +94,7 @@ __all__ = [
 FADE = 0.15
 #: |h| / |p - q| (the cosine of p - q's angle with the normal) from which a point beside a
 #: growth's edge has its full weight.
-SIDEWAYS = 0.5
+SIDEWAYS = 1.0
 
 
 #: The largest stiffness of the angle's fade beside a growth, in times the penalty k: S''(0) /
@@ -471,7 +475,8 @@ def stiffness_factor(
     Returns
     -------
     (c,) float
-        (12 beside, else 1) + 3 A x + 3 x^2 in the band (x = depth / D), 1 elsewhere.
+        (``SIDEWAYS_STIFFNESS`` = 3 beside, else 1) + 3 A x + 3 x^2 in the band (x = depth /
+        D, A = 1.25), 1 elsewhere.
     """
     x = np.asarray(depth, dtype=float) / length
     cross = np.sqrt(1.0 + (0.75 / SIDEWAYS) ** 2)

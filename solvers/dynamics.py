@@ -250,17 +250,22 @@ class EnergyAccount:
         self.dissipated += d_damp
 
     def check(
-        self, work: tuple, strain_energy: float, friction: float = 0.0
+        self, work: tuple, strain_energy: float, friction: float = 0.0, onset: float = 0.0
     ) -> tuple[float, float]:
         """The two energy measures at t(i) of the step whose ``work`` terms were just
         accepted, U the strain energy of the configuration at t(i) (change from the start),
-        D_f the energy friction dissipated up to t(i):
+        D_f the energy friction dissipated up to t(i), ``onset`` (N mm, >= 0) the moving
+        tools' work over [t(i-1/2), t(i)] with the contact forces at t(i):
 
         * the balance |KE* + U + D + D_f - W_ext| over the largest of these energies so far in the
           run, KE* = 1/2 v(i-1/2) . M v(i+1/2). For a linear model the central difference
           conserves KE* + U exactly, stable or not; what it measures is the integration error
           of a nonlinear one (a director driven through the surface, a contact, a law's
-          knee);
+          knee). A deficit up to ``onset`` is not counted: a contact that began within the
+          step has had its tool's work counted over the whole half step before t(i), (1 -
+          sigma) of it before the spring engaged (sigma the share of the step it touched),
+          a deficit that stays in the balance and is of the order of the energy itself at a
+          first touch, whatever the step (docs/theory.md §6.1, "First touch");
         * the growth (KE + U) / (the work supplied, the sum of |dW_ext|), KE that of the mean
           velocity at t(i): what shows an instability, whose energy grows without the work
           that would feed it. A stable linear run keeps it below 1 / (1 - (omega dt / 2)^2)
@@ -282,6 +287,8 @@ class EnergyAccount:
             # From rest the first half step starts at v(-1/2) = 0 where the conserved form
             # has -v(1/2): KE*(0) = -1/2 v(1/2) . M v(1/2), the first step's kinetic energy.
             total = product + strain_energy + dissipated - external + (self.start or 0.0)
+            if total < 0.0:  # the first touch's over-counted tool work is a deficit only
+                total = min(total + onset, 0.0)
             balance = abs(total) / self.largest
         growth = 0.0
         if self.work_scale > 0.0:

@@ -647,10 +647,15 @@ class CentralDifference:
         strain = outcome.strain_energy
         if strain is None:  # a step taken without ``checking``
             strain = compiled.strain_energy(state)
+        onset = 0.0
+        if compiled.n_tools:  # the tools' work over [t(i-1/2), t(i)] (EnergyAccount.check)
+            tau = state.time / self.duration
+            onset = abs(compiled.tool_work(state, tau - 0.5 * run.dt_prev / self.duration, tau))
         balance, growth = run.energy.check(
             outcome.energy,
             strain - run.strain_at_start,
             compiled.dissipated_energy(state),
+            onset,
         )
         if run.energy.largest <= _roundoff(compiled, run, dt):
             balance = growth = 0.0  # every energy so far is round-off: nothing to judge yet

@@ -46,11 +46,28 @@ checks passing, load 3.2-4.7; the [0/45] run alone 89.6 s before); the finer mes
 the fine report: its four runs below) and the second holder force (40 N, the holder's
 sensitivity) are the study's (validation/studies/hemisphere_plies.py), with what they gave
 and what led to the settings.
-Measured (8 cells, 20 N, the holder on both plies; one thread, one run at a time, the run's
-CPU, load 2.8-8.2; per ply, ply 1 / ply 2, the rms of shear - net over its cells in the die
-and their number; the holder's reaction over the last tenth and its travel; KE / W at most
-after the first tenth, its rotational part in brackets; each ply's face at most this far
-through the holder's over the run):
+Measured now (8 cells, 20 N, the holder on both plies, the fade's SIDEWAYS = 1; ``python -m
+validation --cases hemisphere-plies --jobs 1``, one thread, load 3.8-5.6, compiling afresh:
+the first run's CPU holds the kernels' compilation; per ply, ply 1 / ply 2, the rms of shear -
+net over its cells in the die and their number; the holder's reaction over the last tenth and
+its travel; KE / W at most after the first tenth, its rotational part in brackets; each ply's
+face at most this far through the holder's over the run), 24 of 24 checks, 26376 steps, 102.1
+s of CPU for the case:
+- fibrous [0/90]: rms 3.46 / 3.51 deg (26 / 26 cells), draw-in of the edge middle 24.9 / 25.1
+  mm, no crests, holder 20.01 N (0.06 mm down), KE / W 0.086, the plies' order -0.13 mm,
+  through the holder -0.25 / 0.04 mm; 4131 steps, 47.9 s.
+- fibrous [0/45]: rms 2.28 / 4.65 deg (14 / 36), draw-in 29.0 / 10.8 mm, crests up to 10.9 /
+  10.7 mm, holder 19.62 N (10.6 mm up), KE / W 0.075, order +0.01 mm, through the holder 0.24
+  / 0.17 mm; 4825 steps, 9.8 s.
+- Mindlin [0/90]: rms 3.14 / 3.18 deg (20 / 13), draw-in 31.3 / 31.4 mm, crests up to 13.9 /
+  13.6 mm, holder 20.45 N (13.5 mm up), KE / W 0.115 (0.057), above 0.1 over 5.2 % of the
+  judged time, order -0.13 mm, through the holder 0.09 / 0.12 mm; 8429 steps, 16.6 s.
+- Mindlin [0/45]: rms 3.02 / 4.77 deg (20 / 32), draw-in 30.1 / 14.4 mm, crests up to 13.0 /
+  12.8 mm, holder 19.79 N (12.7 mm up), KE / W 0.088 (0.044), order +0.33 mm, through the
+  holder 0.04 / 0.17 mm; 8991 steps, 15.7 s.
+Measured before (the code of its time, with the fade's SIDEWAYS = 0.5 where it had the fade;
+8 cells, 20 N, the holder on both plies; one thread, one run at a time, the run's CPU, load
+2.8-8.2; the same figures):
 - fibrous [0/90]: rms 3.46 / 3.51 deg (26 / 26 cells), draw-in of the edge middle 24.9 / 25.1
   mm, no crests, holder 20.00 N (0.1 mm down), KE / W 0.086, the plies' order -0.13 mm,
   through the holder -0.24 / 0.03 mm; 5280 steps, 65 s. Every check passes.
@@ -106,11 +123,13 @@ trimmed (`python -m validation --cases hemisphere-plies --resolution fine`, one 
 [0/90] 3.36 / 3.41 deg, holder 19.85 N, above KE / W 0.1 over 9.0 % (peak 0.131); fibrous
 [0/45] 3.57 / 4.38 deg, holder 19.92 N; Mindlin [0/45] 3.34 / 4.42 deg, holder 20.34 N.
 The step counts and times above are those of the code they were measured on; at 8 cells the
-runs now take 5530 (fibrous [0/90]), 5949 (fibrous [0/45]), 11032 (Mindlin [0/90]) and 10814
-(Mindlin [0/45]) steps with the ply springs' nodes weighed by their masses (docs/theory.md
-§6.2, "The penalty springs"; 5612, 6636, 11261 and 12573 before it, one thread; 6865, 6053,
-13939 and 11868 with the couple of stuck points facing an edge or a vertex,
-docs/hemisphere_plies.md) at 1.7-3.0 ms a step, one thread
+runs now take 4131 (fibrous [0/90]), 4825 (fibrous [0/45]), 8429 (Mindlin [0/90]) and 8991
+(Mindlin [0/45]) steps with the fade's wedge full only along the normal (SIDEWAYS = 1, its
+springs' factor 3 beside an outline vertex: elements/ply_fade.py, benchmarks/ply_step_bound.py;
+5530, 5949, 11032 and 10814 at SIDEWAYS = 0.5, the factor 12) with the ply springs' nodes
+weighed by their masses (docs/theory.md §6.2, "The penalty springs"; 5612, 6636, 11261 and
+12573 before it, one thread; 6865, 6053, 13939 and 11868 with the couple of stuck points
+facing an edge or a vertex, docs/hemisphere_plies.md) at 1.7-3.0 ms a step, one thread
 (benchmarks/forming_step_overhead.py).
 """
 
