@@ -27,7 +27,9 @@ moved by lambda_T / k_t. The history's ``anchor`` holds that moved anchor, so th
 the return mapping, the frozen sets and the exact tangent of elements/contact.py apply as they
 are; the point the node stuck to is ``anchor - traction / k_t``. When a step is accepted a node
 that slid sticks where it is, its traction the friction force it had (the anchor stays where
-the spring holds that force); a new contact starts with no traction, a lost one forgets it.
+the spring holds that force), a new contact too if it slid, the traction of the last pass if
+it stuck (none without a pass); a lost one forgets it. A new contact's anchor, its approach
+off the tool, is put level with the node by each pass and when the step is accepted.
 The explicit solver and dynamic relaxation never update the multipliers: there the contact
 is the penalty's.
 
@@ -46,7 +48,7 @@ from typing import Any
 import numpy as np
 
 from elements.contact import ContactBlock, FrictionHistory
-from elements.contact_history import start_anchors
+from elements.contact_history import landing, start_anchors
 from femcore.mesh import Mesh
 from femcore.state import State
 
@@ -104,7 +106,9 @@ class AugmentedContactBlock(ContactBlock):
         """The penalty contact's update (elements/contact.py), the multipliers carried: a node
         that slid sticks where it is with the friction force it had as its traction (its
         anchor, moved by the update to where the spring holds that force, is that traction
-        over k_t from the node); a new or lost contact has no traction."""
+        over k_t from the node), a new contact that slides too; one that sticks keeps the
+        traction the last ``augment`` gave it (none without a pass), a lost one has none; a
+        new contact's anchor is put level with the node (elements/contact.py)."""
         updated = super().update_history(state, history)
         p, n, touching = self.touch(state, history)
         _, _, stuck, sliding = self.tangential(state, history, p, n, touching)
@@ -132,7 +136,7 @@ class AugmentedContactBlock(ContactBlock):
         anchor, traction, slip = history.anchor, history.traction, 0.0
         if self.friction > 0.0:
             p, n, touching = self._touching(d, n, history)
-            force, _, stuck, sliding = self.tangential(state, history, p, n, touching)
+            force, s, stuck, sliding = self.tangential(state, history, p, n, touching)
             stick = (k * self.stick_ratio)[:, None]
             origin = self.tool.offset(state.load_factor)
             # (a new contact's anchor: where it was when the step was accepted)
@@ -143,6 +147,11 @@ class AugmentedContactBlock(ContactBlock):
             slip = float(np.linalg.norm(np.where(stuck[:, None], creep, 0.0), axis=1).max())
             held = stuck | sliding
             traction = np.where(held[:, None], force, 0.0)
+            # A landing node's anchor, its approach, is off the tool: put level with the node
+            # (the same tangential offset s), as the accepted step's is (docs/theory.md §9.2),
+            # else its spring is (R + that height) / (R + h / 2) too stiff on a round tool.
+            new = held & landing(history)
+            anchors = np.where(new[:, None], x - origin - s, anchors)
             moved = anchors + (traction - history.traction) / stick
             anchor = np.where(held[:, None], moved, history.anchor)
         within = max(penetration, slip) <= self.augmented_tolerance

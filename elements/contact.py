@@ -83,7 +83,7 @@ from typing import Any
 
 import numpy as np
 
-from elements.contact_history import FrictionHistory, start_anchors
+from elements.contact_history import FrictionHistory, landing, start_anchors
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
@@ -656,10 +656,10 @@ class ContactBlock(InteractionBlock):
         anchor = np.where(stuck[:, None], anchors, anchor)
         moved = anchors + slid[:, None] * unit
         anchor = np.where(sliding[:, None], moved, anchor)
-        # A new contact's anchor came from its approach, off the tool: put it level with the
-        # node, where its spring (s stuck, at the limit sliding) ends.
+        # A new contact's anchor came from its approach, off the tool (an augmented pass's
+        # too): put it level with the node, where its spring (s stuck, at the limit) ends.
         spring = np.where(sliding[:, None], limit[:, None] * unit, s)
-        new = (stuck | sliding) & ~np.isfinite(history.anchor[:, 0])
+        new = (stuck | sliding) & landing(history)
         anchor = np.where(new[:, None], x - origin - spring, anchor)
         approach = np.where(np.isfinite(anchor), np.nan, x - origin)
         # The slip happened while p went from its last value to this one: the limit force

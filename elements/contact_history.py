@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FrictionHistory", "start_anchors"]
+__all__ = ["FrictionHistory", "landing", "start_anchors"]
 
 
 @dataclass(frozen=True)
@@ -69,3 +69,14 @@ def start_anchors(history: FrictionHistory) -> np.ndarray:
     if approach is None:
         return history.anchor
     return np.where(np.isfinite(history.anchor), history.anchor, approach)
+
+
+def landing(history: FrictionHistory) -> np.ndarray:
+    """(s,) bool: the nodes that had no anchor when ``history``'s step was accepted, their
+    step's anchor their ``approach``: those whose approach is kept (an augmented Lagrangian's
+    pass, elements/augmented_contact.py, gives them an anchor and keeps it); none for a
+    history without ``approach``."""
+    approach = getattr(history, "approach", None)  # (absent from an older pickle)
+    if approach is None:
+        return np.zeros(len(history.anchor), dtype=bool)
+    return np.isfinite(approach[:, 0])

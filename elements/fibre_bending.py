@@ -24,7 +24,7 @@ import numpy as np
 
 from elements import kernels
 from elements.fibre_bending_kernels import patch_forces, patch_spring_bounds
-from elements.fibre_bending_patches import FibrePatches, fibre_patches
+from elements.fibre_bending_patches import FibrePatches, fibre_patches, warp_groups
 from elements.fibre_bending_terms import patch_angles, patch_gradients, vector_spring_bounds
 from femcore.assembly import CellTangent
 from femcore.checks import check_positive
@@ -95,8 +95,10 @@ class FibreBending(Interaction):
     def bind(self, body: Body) -> FibreBendingBlock:
         """The patches over all the FibrousShell blocks' cells together: a fibre that runs
         from one block into another on shared nodes is bent where it crosses, when the two
-        blocks' warps agree (within the blocks' fibre angle tolerance); blocks whose warps
-        differ meet at a seam of different tows and are not paired across it."""
+        blocks' warps agree either way along their line (within the smaller of the blocks'
+        fibre angle tolerances; elements/fibre_bending_patches.py ``warp_groups``, the same
+        in any order of the blocks); blocks whose warps differ meet at a seam of different
+        tows and are not paired across it."""
         from elements.fibrous import FibrousShell
 
         found = [
@@ -108,23 +110,16 @@ class FibreBending(Interaction):
             raise ValueError(
                 "FibreBending bends the fibres of FibrousShell blocks; the model has none"
             )
-        warps: list[np.ndarray] = []
-        group_of_block = []
-        for shell, _ in found:
-            same = [
-                g
-                for g, warp in enumerate(warps)
-                if np.dot(warp, shell.warp) >= np.cos(np.radians(shell.fibre_angle_tolerance))
-            ]
-            if not same:
-                warps.append(np.asarray(shell.warp, dtype=float))
-            group_of_block.append(same[0] if same else len(warps) - 1)
+        group_of_block, sign = warp_groups(
+            np.array([shell.warp for shell, _ in found], dtype=float),
+            np.array([shell.fibre_angle_tolerance for shell, _ in found], dtype=float),
+        )
         cells = np.concatenate([cells for _, cells in found])
         sizes = [len(cells) for _, cells in found]
         patches = fibre_patches(
             body.mesh.points,
             cells,
-            np.repeat([shell.warp for shell, _ in found], sizes, axis=0),
+            np.repeat([a * np.asarray(shell.warp) for a, (shell, _) in zip(sign, found)], sizes, 0),
             self.stiffness,
             tuple(FAMILIES[name] for name in self.families),
             np.repeat([shell.fibre_angle_tolerance for shell, _ in found], sizes),

@@ -13,7 +13,7 @@ import numpy as np
 from elements.fibre_bending_terms import turning
 from elements.jit import serial
 
-__all__ = ["patch_forces"]
+__all__ = ["patch_forces", "patch_spring_bounds"]
 
 
 @serial

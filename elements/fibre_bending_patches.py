@@ -11,9 +11,9 @@ of its inner nodes, one on each side; a fibre on the blank's edge one.
 
 The patches are found over all the fibrous blocks' cells together, so a fibre that runs from
 one block into another on shared nodes is bent where it crosses. Cells pair only within one
-``group`` (elements/fibre_bending.py gives blocks whose warps agree one group): where two
-blocks' warps differ, their fibres are different tows meeting at a seam, not one fibre
-continued, and no patch spans the seam.
+``group`` (``warp_groups``: blocks whose warps agree, either way along the line, are one group,
+their warps turned one way): where two blocks' warps differ, their fibres are different tows
+meeting at a seam, not one fibre continued, and no patch spans the seam.
 
 Everything here runs once, at bind, vectorised over the cells.
 """
@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["FibrePatches", "fibre_patches"]
+__all__ = ["FibrePatches", "fibre_patches", "warp_groups"]
 
 # Local edge k of a triangle runs from corner EDGE_FROM[k] to EDGE_TO[k].
 EDGE_FROM = np.array([0, 1, 2])
@@ -109,6 +109,45 @@ def _unique_keys(node: np.ndarray, keys: np.ndarray, what: str) -> None:
             "side of the fibre; the fibrous cells must form a conforming, consistently oriented "
             "mesh, each cell in one block"
         )
+
+
+def warp_groups(warps: np.ndarray, tolerances_deg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The blocks whose fibres continue each other's: (group (b,) int, sign (b,) +-1.0).
+
+    Two blocks agree when their warps' lines are within the smaller of their two tolerances,
+    |cos| >= cos(min(tol_a, tol_b)): the membrane reads a fibre's line, not its sense, so a
+    warp given as -x is the +x tows. The groups are the connected sets of agreeing blocks, the
+    same in any order of the blocks (a chain each within tolerance of the next is one group,
+    its neighbours' tows continuing each other's). ``sign`` turns each block's warp to its
+    group's first block's sense along the chain, so that the fibre segments of all a group's
+    cells point one way (``fibre_patches`` orients them by the warp it is given).
+
+    Parameters
+    ----------
+    warps : (b, 3) float
+        Each block's warp direction (any length).
+    tolerances_deg : (b,) float
+        Each block's fibre angle tolerance, degrees.
+    """
+    unit = np.asarray(warps, dtype=float)
+    unit = unit / np.linalg.norm(unit, axis=1)[:, None]
+    cosine = unit @ unit.T
+    tolerance = np.radians(np.asarray(tolerances_deg, dtype=float))
+    agree = np.abs(cosine) >= np.cos(np.minimum.outer(tolerance, tolerance))
+    group = np.full(len(unit), -1)
+    sign = np.ones(len(unit))
+    for first in range(len(unit)):  # a walk over the blocks, once at bind
+        if group[first] >= 0:
+            continue
+        group[first] = group.max() + 1
+        reached = [first]
+        while reached:
+            block = reached.pop()
+            for other in np.flatnonzero(agree[block] & (group < 0)):
+                group[other] = group[first]
+                sign[other] = sign[block] * (1.0 if cosine[block, other] >= 0.0 else -1.0)
+                reached.append(int(other))
+    return group, sign
 
 
 def fibre_patches(

@@ -10,6 +10,8 @@ would add its own, which is the shell's, not this term's).
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -414,6 +416,72 @@ def test_a_fibre_crossing_from_one_block_into_another_is_bent_where_it_crosses()
     for parts in ([mesh.triangles], split, split[::-1]):
         bent = blocks(mesh, parts)
         assert len(bent.patches.nodes) == 36
+        assert bent.strain_energy(state(x)) == pytest.approx(expected, rel=1e-12)
+
+
+def polygon_strip() -> tuple[Mesh, np.ndarray, float]:
+    """The 20 x 4 mm strip (10 x 2 cells) on concentric regular polygons turning every warp
+    fibre by 0.05 rad at every node: (mesh, positions, W = 36 patches of k = B_in / 2 at
+    1/2 k th^2, as one block)."""
+    mesh = Mesh.rectangle(20.0, 4.0, nx=10, ny=2)
+    h, th = 2.0, 0.05
+    radius = h / (2.0 * np.sin(th / 2.0))
+    rho = radius - (mesh.points[:, 1] - 2.0)
+    angle = np.rint(mesh.points[:, 0] / h) * th
+    x = np.column_stack(
+        (rho * np.sin(angle), 2.0 + radius - rho * np.cos(angle), np.zeros(mesh.n_nodes))
+    )
+    return mesh, x, 36 * 0.5 * (0.5 * B_IN) * th**2
+
+
+@pytest.mark.parametrize("families", [("warp",), ("warp", "weft")])
+def test_a_block_given_the_reversed_warp_continues_the_same_fibres(families):
+    """The split strip with the second block's warp -x: the membrane reads the fibre's line,
+    not its sense, so these are the first block's tows and the patches at x = 10 span the
+    seam, as with one block: the same patches (36 warp, 56 with the weft) and the same energy
+    on the polygons (36 k th^2 / 2 from the warp, the weft straight), in either order. Paired
+    by the warps' sense, each cell's segments pointing its own warp's way, the seam's 4 warp
+    patches were lost (32)."""
+    mesh, x, expected = polygon_strip()
+    centre_x = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    split = [mesh.triangles[centre_x < 10.0], mesh.triangles[centre_x >= 10.0]]
+    one = blocks(mesh, [mesh.triangles], families=families)
+    assert len(one.patches.nodes) == (36 if families == ("warp",) else 56)
+    for warps, parts in (
+        ([(1.0, 0, 0), (-1.0, 0, 0)], split),
+        ([(-1.0, 0, 0), (1.0, 0, 0)], split[::-1]),
+    ):
+        bent = blocks(mesh, parts, warps, families)
+        assert len(bent.patches.nodes) == len(one.patches.nodes)
+        assert bent.strain_energy(state(x)) == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_blocks_paired_do_not_depend_on_their_order():
+    """Three blocks across the strip (x < 6, 6..14, > 14 mm) with warps at -1.5, 0 and 1.5 deg
+    and a fibre angle tolerance of 2 deg (the mesh's x edges within it of each): the middle
+    agrees with both, the outer two 3 deg apart do not, and they never meet. Agreement is
+    a chain: all three are one group and every seam is spanned, 36 warp patches and the
+    polygons' 36 k th^2 / 2, in each of the 6 orders of the blocks. Grouped against each
+    group's first block, the order (-1.5, 0, 1.5) left the second seam unpaired."""
+    mesh, x, expected = polygon_strip()
+    centre_x = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    parts = [
+        mesh.triangles[centre_x < 6.0],
+        mesh.triangles[(centre_x >= 6.0) & (centre_x < 14.0)],
+        mesh.triangles[centre_x >= 14.0],
+    ]
+    turns = np.radians([-1.5, 0.0, 1.5])
+    warps = [(np.cos(t), np.sin(t), 0.0) for t in turns]
+    active = np.zeros((mesh.n_nodes, 6), dtype=bool)
+    active[:, :3] = True
+    for order in itertools.permutations(range(3)):
+        shells = tuple(
+            BodyPart(FibrousShell(ply(), warp=warps[b], fibre_angle_tolerance=2.0), parts[b])
+            for b in order
+        )
+        body = Body(mesh, shells, np.zeros((mesh.n_nodes, 3)), active)
+        bent = FibreBending(B_IN, ("warp",)).bind(body)
+        assert len(bent.patches.nodes) == 36, order
         assert bent.strain_energy(state(x)) == pytest.approx(expected, rel=1e-12)
 
 

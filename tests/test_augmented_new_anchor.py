@@ -1,0 +1,87 @@
+"""The augmented Lagrangian's passes (elements/augmented_contact.py) with a node that comes onto
+the tool in the increment: its anchor for the increment is its approach (docs/theory.md §9.2),
+which each pass and the accepted step put level with the node, and the friction force it
+landed with is carried as its traction, as on the penalty path
+(tests/test_contact_new_anchor.py)."""
+
+import numpy as np
+import pytest
+
+from elements import RigidCylinder, RigidPlane
+from elements.contact import Contact
+from femcore import Body, Mesh
+from femcore.state import State
+
+MU, PENALTY, OFFSET, RADIUS = 0.3, 100.0, 0.5, 10.0
+FAR = [50.0, 0.0, 50.0]  # the line's other node, never near the tool
+
+
+def bound(tool, augmented: bool, start):
+    """The contact of node 0 of a line with ``tool``, bound, and its history where node 0 is
+    at ``start`` (clear of the tool)."""
+    mesh = Mesh(np.array([start, FAR], dtype=float), lines=np.array([[0, 1]]))
+    contact = Contact(tool, [0], offset=OFFSET, penalty=PENALTY, friction=MU, augmented=augmented)
+    block = contact.bind(Body.bare(mesh))
+    return block, block.initial_history()
+
+
+def at(position):
+    points = np.array([position, FAR], dtype=float)
+    zero = np.zeros((2, 3))
+    return State(points, zero, zero.copy(), zero.copy())
+
+
+def on_cylinder(angle: float, depth: float):
+    """(position at ``depth`` inside the contact surface, at ``angle`` from +z about y; the
+    outward normal there)."""
+    normal = np.array([np.sin(angle), 0.0, np.cos(angle)])
+    return (RADIUS + OFFSET - depth) * normal, normal
+
+
+@pytest.mark.parametrize("augmented", [False, True])
+def test_a_node_landing_on_a_cylinder_is_anchored_level_with_itself(augmented):
+    """A node 1 mm clear of a cylinder (R = 10 mm) comes straight down 0.05 mm into its contact
+    surface: its anchor, from its approach at radius 11.5 mm, is accepted at the node's radius
+    R + h / 2 - 0.05 = 10.45 mm (after an Uzawa pass too), so that a move by the angle a
+    afterwards loads the stick spring by k_t times the arc (R + h / 2 - 0.05) a, the node's own
+    (to 1e-6: the chord's sin a / a = 1 - 1.7e-7 and the turn of the normal, O(a^2)). The pass
+    left it at the approach's height, and the spring 11.5 / 10.45 too stiff."""
+    cylinder = RigidCylinder((0, 0, 0), (0, 1, 0), RADIUS)
+    block, history = bound(cylinder, augmented, (0.0, 0.0, RADIUS + OFFSET + 1.0))
+    landed, _ = on_cylinder(0.0, 0.05)
+    radius = RADIUS + OFFSET - 0.05
+    if augmented:
+        history, _ = block.augment(at(landed), history)
+        assert np.hypot(history.anchor[0, 0], history.anchor[0, 2]) == pytest.approx(radius)
+    accepted = block.update_history(at(landed), history)
+    anchor = accepted.anchor[0]
+    assert np.hypot(anchor[0], anchor[2]) == pytest.approx(radius, rel=1e-12)
+    angle = 1e-3
+    moved, normal = on_cylinder(angle, 0.05)
+    force = block.contact_forces(at(moved), accepted)[0]
+    tangential = np.linalg.norm(force - (force @ normal) * normal)
+    assert tangential == pytest.approx(PENALTY * radius * angle, rel=1e-6)
+
+
+@pytest.mark.parametrize("slide", [2.0, 0.01])
+def test_a_node_landing_sideways_carries_its_friction_force_as_its_traction(slide):
+    """A node 1 mm above a plane, carried ``slide`` along x while it comes down 0.55 mm onto it
+    (p = 0.05 mm): before any pass its friction is the return mapping's against the slide, mu
+    k p = 1.5 N sliding (2 mm), k_t s = 1 N stuck (0.01 mm), as the penalty's. After an Uzawa
+    pass that force is its traction lambda_T: put back over where it landed from (zero elastic
+    slip), the node is held by it, the same force against its slide (stuck: the pass's normal
+    multiplier doubles the limit to 3 N). The pass measures the stuck node's elastic slip
+    from its approach: the slide (the only stuck node's, the largest)."""
+    plane = RigidPlane((0, 0, 0), (0, 0, 1))
+    block, history = bound(plane, True, (0.0, 0.0, 1.0))
+    landed = (slide, 0.0, OFFSET - 0.05)
+    normal = PENALTY * 0.05
+    friction = min(MU * normal, PENALTY * slide)
+    force = block.contact_forces(at(landed), history)[0]
+    np.testing.assert_allclose(force, [-friction, 0.0, normal], rtol=1e-12, atol=1e-12)
+    history, report = block.augment(at(landed), history)
+    stuck = slide * PENALTY < MU * normal
+    assert report["slip"] == pytest.approx(slide if stuck else 0.0, rel=1e-12)
+    np.testing.assert_allclose(history.traction[0], [-friction, 0.0, 0.0], rtol=1e-12)
+    back = block.contact_forces(at((0.0, 0.0, OFFSET - 0.05)), history)[0]
+    np.testing.assert_allclose(back, [-friction, 0.0, 2.0 * normal], rtol=1e-12, atol=1e-12)
