@@ -226,6 +226,25 @@ def _closest_of_nearest(x, corners, facets, point, facet, gap):
 closest_of_nearest = jit(_closest_of_nearest)
 
 
+def _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+    """Whether point i (at p) is answered by its kept facet ``f``: it lies less than
+    ``room[i]`` from where that facet was found (``_closest_facets_kept``); if so the facet,
+    its closest point and gap are written in row i."""
+    if f < 0 or not room[i] > 0.0:
+        return False
+    moved = np.sqrt((p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2)
+    if not moved < room[i]:
+        return False
+    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
+    facet[i] = f
+    point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
+    gap[i] = np.sqrt(d)
+    return True
+
+
+_kept_answers = serial(_kept_answers)
+
+
 def _closest_facets_kept(
     x, corners, centroids, radius, slack, start, facets, hint, anchor, room, point, facet, gap
 ):
@@ -242,16 +261,8 @@ def _closest_facets_kept(
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if f >= 0 and room[i] > 0.0:
-            moved = np.sqrt(
-                (p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2
-            )
-            if moved < room[i]:
-                q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
-                facet[i] = f
-                point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
-                gap[i] = np.sqrt(d)
-                continue
+        if _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+            continue
         known = np.inf
         if f >= 0:
             known = np.sqrt(_squared_gap(p0, p1, p2, corners, f)[3]) * (1.0 + SLACK)
@@ -321,16 +332,8 @@ def _closest_facets_listed(
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if f >= 0 and room[i] > 0.0:
-            moved = np.sqrt(
-                (p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2
-            )
-            if moved < room[i]:
-                q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
-                facet[i] = f
-                point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
-                gap[i] = np.sqrt(d)
-                continue
+        if _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+            continue
         if near_room[i] > 0.0:
             moved = np.sqrt(
                 (p0 - near_anchor[i, 0]) ** 2
