@@ -22,10 +22,25 @@ Usage::
     python benchmarks/report_outside_cases.py --code /tmp/main --code . \
         --cases hemisphere-plies --jobs 1
 
-Measured (one numba thread, warm caches, 2 cores shared with other jobs; see the report of
-the change that added this script for the figures and the load): hemisphere-plies at the
-default resolution, its four runs 86-87 s of CPU, spent outside them about 4-5 s before
-(a model and a compile per gap measure, eight, and each run's history .csv read twice).
+Measured (one numba thread, warm caches, 2 cores shared; main 2536977 from git archive
+beside this tree, one report each, back to back): hemisphere-plies at the default
+resolution, the case outside its four runs 5.45 -> 5.22 s of CPU (case 59.78 / 58.77 s, runs
+54.33 / 53.55, load 1.1-2.8), and 5.65 -> 5.37 in a second pair (load 4.3-6.1), each run's
+history .csv read once instead of twice (and the gap probe then kept across runs, since
+dropped as below); results.json's numbers the same, the three figures the same pixels. What
+the 5.2 s are, timed apart in one process on the fibrous [0/90] run (load 2.7): the gap
+measure over the run's 101 frames 0.65 s a run (2.6 s for the four: the node-to-surface
+probe's curved facing at each frame, elements/ply_block.py, a measure the report prints),
+the model's build and compile 0.7 s for the first run (numba's cache loads included), the
+figures about 1.1 s (benchmarks/report_overhead.py), a history .csv read 0.04 s, the gap
+probe's model 0.003-0.01 s once its kernels are loaded (not worth keeping across runs).
+
+The whole default report, the code before: --jobs 1 (load 4.5 -> 1.6), the process 157.7 s of
+CPU and 184.4 s of wall, the 23 cases 156.1 s of CPU and 180.2 s of wall: 1.7 s of CPU and
+4.2 s of wall outside the cases (the interpreter, the imports, results.json and index.html);
+--jobs 2 (load 3.4 -> 5.3, other jobs on both cores), the process and its workers 177.6 s of
+CPU, the cases 172.6: 5.0 s of CPU outside them (three processes' imports, about 1.5 s
+each), 338.8 s of wall against 330.3 for half the cases' summed walls.
 """
 
 from __future__ import annotations

@@ -17,7 +17,6 @@ order. The measure is the study's, not the contact's: the contact acts on its ow
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Any
 
@@ -127,7 +126,12 @@ def least_gaps(
     that wants the end alone would not read)."""
     top = layup.ply_nodes[-1]
     least, at, where = (math.inf, 0.0, "") if over_run else (math.nan, math.nan, "")
-    probe = _probe(tuple(float(a) for a in layup.angles), cells, surface)
+    probe = (
+        Layup(FABRIC, tuple(layup.angles), 2 * HALF, cells=cells, rule="vertices", surface=surface)
+        .model()
+        .compile()
+        .interactions[0]
+    )
     for frame in result.frames if over_run else ():
         gap = node_gaps(probe, layup, frame.positions[: layup.mesh.n_nodes])
         if np.isfinite(gap).any() and np.nanmin(gap) < least:
@@ -146,23 +150,6 @@ def least_gaps(
         "at_s": at,
         "where": where,
     }
-
-
-@functools.lru_cache(maxsize=8)
-def _probe(angles: tuple[float, ...], cells: int, surface: str) -> Any:
-    """The node-to-surface ply contact of ``node_gaps`` (the "vertices" rule) on the layup of
-    ``angles`` (deg) and ``cells`` with the bottom ply's ``surface`` face, built once per
-    process: a plan's runs of both kinematics on one layup measure with the same probe (a
-    model built and compiled per measure before: eight for the report's four runs). Its
-    answer depends on the positions it is given alone: the curved faces' candidates are made
-    at each state (``FacingSearch.fresh``), the flat faces' kept lists hold each point's
-    nearest triangle (elements/ply_search.py)."""
-    return (
-        Layup(FABRIC, angles, 2 * HALF, cells=cells, rule="vertices", surface=surface)
-        .model()
-        .compile()
-        .interactions[0]
-    )
 
 
 def through_holder(
