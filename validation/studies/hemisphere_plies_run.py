@@ -65,6 +65,7 @@ __all__ = [
     "holder_force_last_tenth",
     "holder_inertia_last_tenth",
     "nets",
+    "read_history",
     "render",
     "run",
 ]
@@ -129,14 +130,24 @@ def _wrinkles(layup: Layup, positions: np.ndarray, k: int) -> dict[str, Any]:
     return {"count": int(crest.sum()), "height": float(height.max())}
 
 
-def holder_force_last_tenth(history: str | Path, tool: int = 2) -> float:
+def read_history(history: str | Path | np.ndarray) -> np.ndarray:
+    """A run's ``history`` records (solvers.output.HistoryWriter's .csv) as a structured array
+    with a field per column; an array already read is returned as it is, so that a caller
+    reads the file once for several measures."""
+    if isinstance(history, np.ndarray):
+        return history
+    return np.genfromtxt(history, delimiter=",", names=True)
+
+
+def holder_force_last_tenth(history: str | Path | np.ndarray, tool: int = 2) -> float:
     """The holder's reaction (N) averaged over time (trapezoids) over the last tenth of the
     run, from a run's ``history`` records (solvers.output.HistoryWriter: one about every other
-    step), ``tool`` its index among the contacts; the last record's when the run stopped
-    before. The run's frames (a hundred) sample the holder's ringing on its contact springs
-    too sparsely for it: eleven frames of the fibrous [0/45] run averaged 10.87 N where its
-    records average 9.91 (module docstring)."""
-    records = np.genfromtxt(history, delimiter=",", names=True)
+    step; its .csv or the records ``read_history`` made of it), ``tool`` its index among the
+    contacts; the last record's when the run stopped before. The run's frames (a hundred)
+    sample the holder's ringing on its contact springs too sparsely for it: eleven frames of
+    the fibrous [0/45] run averaged 10.87 N where its records average 9.91 (module
+    docstring)."""
+    records = read_history(history)
     times, force = records["time"], records[f"tool{tool + 1}_force_z"]
     last = times >= 0.9 * DURATION
     if last.sum() < 2:
@@ -144,7 +155,9 @@ def holder_force_last_tenth(history: str | Path, tool: int = 2) -> float:
     return float(np.trapezoid(force[last], times[last]) / (times[last][-1] - times[last][0]))
 
 
-def holder_inertia_last_tenth(history: str | Path, mass: float, tool: int = 2) -> float:
+def holder_inertia_last_tenth(
+    history: str | Path | np.ndarray, mass: float, tool: int = 2
+) -> float:
     """The holder's mass times its change of velocity over the last tenth of the run, over
     that tenth's span (N): what its mean reaction differs from its force by, its equation of
     motion averaged (the damping's c m mean velocity aside, ~0.02 N here). From the
@@ -152,8 +165,8 @@ def holder_inertia_last_tenth(history: str | Path, mass: float, tool: int = 2) -
     Measured on Mindlin [0/90] at 10 cells, 20 N: -1.23 N (the holder lifted by the flange's
     wrinkles at 0.81 m/s entering the tenth, sinking at 0.42 m/s at its end), the mean
     reaction 18.780 N against 20 - 1.229 + 0.007 (docs/hemisphere_plies.md, "The holder at
-    10 cells")."""
-    records = np.genfromtxt(history, delimiter=",", names=True)
+    10 cells"). ``history`` as for ``holder_force_last_tenth``."""
+    records = read_history(history)
     times, travel = records["time"], records[f"tool{tool + 1}_displacement_z"]
     last = np.flatnonzero(times >= 0.9 * DURATION)
     if last.size < 2:
@@ -229,8 +242,9 @@ def run(
             result = error.result
             parameters[f"{key} stopped"] = str(error)
         cpu = time.process_time() - start
-        holder = holder_force_last_tenth(records)
-        inertia_of_holder = holder_inertia_last_tenth(records, mass)
+        table = read_history(records)  # read once for both measures
+        holder = holder_force_last_tenth(table)
+        inertia_of_holder = holder_inertia_last_tenth(table, mass)
     checks.append(
         check(
             f"{key}: the run reaches the end of the stroke (s)",
