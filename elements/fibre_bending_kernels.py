@@ -17,6 +17,23 @@ __all__ = ["patch_forces", "patch_spring_bounds"]
 
 
 @serial
+def _patch_turning(positions, nodes, ends, patch, vectors):  # pragma: no cover - compiled
+    """``turning`` of patch ``patch``'s four fibre vectors (head less tail of each segment),
+    written into ``vectors`` (4, 3) mm on the way."""
+    for k in range(4):
+        head = nodes[patch, ends[patch, k, 1]]
+        tail = nodes[patch, ends[patch, k, 0]]
+        for j in range(3):
+            vectors[k, j] = positions[head, j] - positions[tail, j]
+    return turning(
+        (vectors[0, 0], vectors[0, 1], vectors[0, 2]),
+        (vectors[1, 0], vectors[1, 1], vectors[1, 2]),
+        (vectors[2, 0], vectors[2, 1], vectors[2, 2]),
+        (vectors[3, 0], vectors[3, 1], vectors[3, 2]),
+    )
+
+
+@serial
 def patch_forces(positions, nodes, ends, stiffness, force):  # pragma: no cover - compiled
     """Adds each patch's k theta d theta / dx into ``force`` (n, 3), N, and returns the energy
     sum 1/2 k theta^2, N mm. positions (n, 3) mm; nodes (P, 5), ends (P, 4, 2) int;
@@ -24,17 +41,7 @@ def patch_forces(positions, nodes, ends, stiffness, force):  # pragma: no cover 
     vectors = np.empty((4, 3))
     energy = 0.0
     for patch in range(nodes.shape[0]):
-        for k in range(4):
-            head = nodes[patch, ends[patch, k, 1]]
-            tail = nodes[patch, ends[patch, k, 0]]
-            for j in range(3):
-                vectors[k, j] = positions[head, j] - positions[tail, j]
-        s, c, g_mc, g_pc, g_mf, g_pf = turning(
-            (vectors[0, 0], vectors[0, 1], vectors[0, 2]),
-            (vectors[1, 0], vectors[1, 1], vectors[1, 2]),
-            (vectors[2, 0], vectors[2, 1], vectors[2, 2]),
-            (vectors[3, 0], vectors[3, 1], vectors[3, 2]),
-        )
+        s, c, g_mc, g_pc, g_mf, g_pf = _patch_turning(positions, nodes, ends, patch, vectors)
         theta = math.atan2(s, c)
         k_theta = stiffness[patch] * theta
         energy += 0.5 * k_theta * theta
@@ -60,17 +67,7 @@ def patch_spring_bounds(positions, nodes, ends, stiffness, step, springs):  # pr
     grad = np.empty(12)
     stiff = np.empty((12, 12))
     for patch in range(nodes.shape[0]):
-        for k in range(4):
-            head = nodes[patch, ends[patch, k, 1]]
-            tail = nodes[patch, ends[patch, k, 0]]
-            for j in range(3):
-                vectors[k, j] = positions[head, j] - positions[tail, j]
-        s, c, g0, g1, g2, g3 = turning(
-            (vectors[0, 0], vectors[0, 1], vectors[0, 2]),
-            (vectors[1, 0], vectors[1, 1], vectors[1, 2]),
-            (vectors[2, 0], vectors[2, 1], vectors[2, 2]),
-            (vectors[3, 0], vectors[3, 1], vectors[3, 2]),
-        )
+        s, c, g0, g1, g2, g3 = _patch_turning(positions, nodes, ends, patch, vectors)
         theta = math.atan2(s, c)
         for k, g in enumerate((g0, g1, g2, g3)):
             for j in range(3):
