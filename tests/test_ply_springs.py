@@ -23,7 +23,8 @@ slide off it, its other corners' shares grow from 0) and the outline's reach (``
 points within the slide of the outline reach the fade's band). On the models of ``MODELS`` none
 of the three alone is needed (the bound without it at most 0.92 of the reachable stiffness):
 the bound is loose there by the Cauchy-Schwarz step and the fade's factor taken wherever it may
-be reached.
+be reached. The ring's part of the weighted reach F_p (the nodes weighed by their masses) is
+needed on ``RING_MODEL`` with the ring node made light, its weight leading.
 
 The springs weigh their nodes by the lumped masses (the module docstring, "Weights"): the
 same test holds them, and holds the equal weights of before (``_equal``, a guard: the
@@ -402,3 +403,81 @@ def test_a_mass_not_finite_gives_the_equal_weights():
     assert np.all(np.isfinite(k))
     np.testing.assert_array_equal(nodes, equal_nodes)
     np.testing.assert_array_equal(k, equal_k)
+
+
+#: The ring's part of the weighted reach F_p (``ply_springs._weighted_reach``): the ring
+#: nodes' delta v_i beside the facing corners' sum and the ring nodes among those whose
+#: largest v times (s_p - 1) caps it, as the text that holds it and what the text reads
+#: without it.
+WEIGHTED_RING = [
+    ("    along = along + delta * (block._ring.T @ lower_v)[triangle]\n", ""),
+    (
+        "np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))",
+        "v[block.cells].max(axis=1)",
+    ),
+]
+
+#: The lower node of ``RING_MODEL`` none faces whose star the points slide onto within 0.5
+#: mm (the plies' positions, centred on the origin: the bottom ply's node at x, y = 3.33,
+#: 3.33 mm; the faced triangle's corners at 3.33, 10 and 10, 3.33 and 10, 10 mm; the only
+#: lower node off them the contact stiffens at the states reached), and how much lighter
+#: than its lumped mass it is made.
+RING_NODE = (10.0 / 3.0, 10.0 / 3.0)
+RING_NODE_LIGHTER = 1e-6
+
+
+def _light_ring_node(block, state):
+    """The springs weighed by the masses of calibration with ``RING_NODE`` made
+    ``RING_NODE_LIGHTER`` times its mass (a mass not calibrated is a valid input: any
+    positive masses give a bound): its weight v = load / m leads every other node's."""
+    mass = block.calibrated_mass.copy()
+    lower = block.lower_nodes
+    at = np.all(np.abs(state.positions[lower, :2] - RING_NODE) < 0.1, axis=1)
+    mass[lower[at]] *= RING_NODE_LIGHTER
+    return block.springs_at(state, mass=mass)
+
+
+def _without_weighted_ring(springs_of, edits):
+    """``springs_of`` with ``_weighted_reach`` a copy of its text without the ring's part
+    (``edits``, of ``WEIGHTED_RING``; each edited text found once), swapped in while the
+    springs are asked for (``_node_weights`` and ``reachable_springs`` both call it)."""
+    source = inspect.getsource(ply_springs._weighted_reach)
+    for old, new in edits:
+        assert source.count(old) == 1, f"the ring's part is no longer held by {old!r}"
+        source = source.replace(old, new)
+    namespace = dict(vars(ply_springs))
+    exec(source, namespace)
+    broken = namespace["_weighted_reach"]
+
+    def without(block, state):
+        held = ply_springs._weighted_reach
+        ply_springs._weighted_reach = broken
+        try:
+            return springs_of(block, state)
+        finally:
+            ply_springs._weighted_reach = held
+
+    return without
+
+
+@pytest.mark.parametrize(
+    "edits",
+    [WEIGHTED_RING, WEIGHTED_RING[:1], WEIGHTED_RING[1:]],
+    ids=["term and cap", "term", "cap"],
+)
+def test_the_ring_holds_the_weighted_reach_of_a_node_a_point_slides_onto(edits):
+    """The nodes weighed by their masses, the ring node a point slides onto (``RING_NODE``)
+    a million times lighter than its lumped mass, so its weight leads the facing corners':
+    the springs hold the contact's stiffness at every state reached (measured 0.0056 of
+    them), and without the ring's part of F_p (sum_i |a_i| v_i with the ring nodes' delta v_i
+    and their v in the cap left out, or either alone) the springs fall below it (the test's
+    premise: 3.5 times the springs, the term alone 3.5, the cap alone 2.3; both left out
+    0.35 at 1e-5 of the mass, 0.04 at 1e-4, 0.006 at the lumped mass).
+    The part matters only for a heavy weight: the point's share of the ring node at the
+    states reached is a small part of delta (the points slide 0.5 mm onto its star, delta
+    0.11), so its |a_i| v_i must outweigh the facing corners' sum by that much."""
+    worst, slide = _ratios(RING_MODEL, _light_ring_node)
+    assert slide == pytest.approx(0.5, rel=1e-9)
+    assert worst[0] <= 1.0 + 1e-6, worst
+    broken, _ = _ratios(RING_MODEL, _without_weighted_ring(_light_ring_node, edits))
+    assert broken[0] > 1.01, broken
