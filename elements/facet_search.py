@@ -226,6 +226,19 @@ def _closest_of_nearest(x, corners, facets, point, facet, gap):
 closest_of_nearest = jit(_closest_of_nearest)
 
 
+def _room(nearest, second, slack):
+    """How far (mm) a point may move from where its nearest facet lay ``nearest`` away, the
+    next one ``second`` away (or a lower bound of it), keeping that facet the nearest: half
+    the gap between them less a rounding allowance of SLACK of the two and ``slack``; inf
+    where nothing else is near (an only candidate, or a short list's every facet)."""
+    if second == np.inf:
+        return np.inf
+    return 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
+
+
+_room = serial(_room)
+
+
 def _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
     """Whether point i (at p) is answered by its kept facet ``f``: it lies less than
     ``room[i]`` from where that facet was found (``_closest_facets_kept``); if so the facet,
@@ -299,10 +312,8 @@ def _closest_facets_kept(
         anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
         if start[i] == start[i + 1]:
             room[i] = -1.0  # no candidates: nothing kept
-        elif second == np.inf:
-            room[i] = np.inf  # its only candidate: the nearest wherever it moves
         else:
-            room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
+            room[i] = _room(nearest, second, slack)
 
 
 closest_facets_kept = jit(_closest_facets_kept)
@@ -358,10 +369,7 @@ def _closest_facets_listed(
                 nearest = np.sqrt(best)
                 gap[i] = nearest
                 anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
-                if second == np.inf:
-                    room[i] = np.inf
-                else:
-                    room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
+                room[i] = _room(nearest, second, slack)
                 continue
         known = np.inf
         if f >= 0:
@@ -418,10 +426,7 @@ def _closest_facets_listed(
             room[i] = -1.0  # no candidates: nothing kept
             near_room[i] = -1.0
             continue
-        if second == np.inf:
-            room[i] = np.inf  # its only candidate: the nearest wherever it moves
-        else:
-            room[i] = 0.5 * (second - nearest) - SLACK * (second + nearest) - slack
+        room[i] = _room(nearest, second, slack)
         # The short list: the SHORT nearest in the candidates' order (an insertion sort of
         # their places), and how far the point may go keeping the nearest on it.
         listed = min(kept, near.shape[1])
@@ -436,10 +441,7 @@ def _closest_facets_listed(
             near[i, s] = facets[at[i, s]] if s < listed else -1
         cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
         near_cut[i] = cut
-        if cut == np.inf:
-            near_room[i] = np.inf
-        else:
-            near_room[i] = 0.5 * (cut - nearest) - SLACK * (cut + nearest) - slack
+        near_room[i] = _room(nearest, cut, slack)
 
 
 closest_facets_listed = jit(_closest_facets_listed)
