@@ -276,30 +276,36 @@ PARTS = {
 }
 
 
-def _without(part):
-    """``springs_of`` (as ``_equal``) with one part of the bound removed: a copy of
-    ``reachable_springs`` whose text is edited (each edited text found once, so the copy
-    follows the function it breaks), swapped in while the springs are asked for. Equal
-    weights: the parts bound the points' reach whatever the weights, and the masses' weights
-    can cover a part's loss by chance (a corner whose lambda_k is a rounding's 1e-17 gets the
-    weight of its load, hence a spring of the mode's size)."""
-    source = inspect.getsource(ply_springs.reachable_springs)
-    for old, new in PARTS[part]:
-        assert source.count(old) == 1, f"the part {part!r} is no longer held by {old!r}"
+def _edited(name, edits, springs_of):
+    """``springs_of`` with ``ply_springs.<name>`` a copy of its text edited by ``edits``
+    ((old, new) pairs, each old text found once, so the copy follows the function it
+    breaks), swapped in while the springs are asked for."""
+    source = inspect.getsource(getattr(ply_springs, name))
+    for old, new in edits:
+        assert source.count(old) == 1, f"{name} no longer holds {old!r}"
         source = source.replace(old, new)
     namespace = dict(vars(ply_springs))
     exec(source, namespace)
-    broken = namespace["reachable_springs"]
+    broken = namespace[name]
 
-    def springs_of(block, state):
-        held = ply_springs.reachable_springs
-        ply_springs.reachable_springs = broken
+    def edited(block, state):
+        held = getattr(ply_springs, name)
+        setattr(ply_springs, name, broken)
         try:
-            return _equal(block, state)
+            return springs_of(block, state)
         finally:
-            ply_springs.reachable_springs = held
+            setattr(ply_springs, name, held)
 
-    return springs_of
+    return edited
+
+
+def _without(part):
+    """``springs_of`` (as ``_equal``) with one part of the bound removed from
+    ``reachable_springs`` (``_edited``). Equal weights: the parts bound the points' reach
+    whatever the weights, and the masses' weights can cover a part's loss by chance (a
+    corner whose lambda_k is a rounding's 1e-17 gets the weight of its load, hence a spring
+    of the mode's size)."""
+    return _edited("reachable_springs", PARTS[part], _equal)
 
 
 #: The top ply over a 2-mm strip of the bottom ply's corner cell (x 13.3-20, y 18-20 mm, both
@@ -438,26 +444,10 @@ def _light_ring_node(block, state):
 
 
 def _without_weighted_ring(springs_of, edits):
-    """``springs_of`` with ``_weighted_reach`` a copy of its text without the ring's part
-    (``edits``, of ``WEIGHTED_RING``; each edited text found once), swapped in while the
-    springs are asked for (``_node_weights`` and ``reachable_springs`` both call it)."""
-    source = inspect.getsource(ply_springs._weighted_reach)
-    for old, new in edits:
-        assert source.count(old) == 1, f"the ring's part is no longer held by {old!r}"
-        source = source.replace(old, new)
-    namespace = dict(vars(ply_springs))
-    exec(source, namespace)
-    broken = namespace["_weighted_reach"]
-
-    def without(block, state):
-        held = ply_springs._weighted_reach
-        ply_springs._weighted_reach = broken
-        try:
-            return springs_of(block, state)
-        finally:
-            ply_springs._weighted_reach = held
-
-    return without
+    """``springs_of`` with ``_weighted_reach`` without the ring's part (``edits``, of
+    ``WEIGHTED_RING``; ``_edited``: ``_node_weights`` and ``reachable_springs`` both call
+    it)."""
+    return _edited("_weighted_reach", edits, springs_of)
 
 
 @pytest.mark.parametrize(
