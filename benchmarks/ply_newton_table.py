@@ -7,7 +7,7 @@ load printed with them. The table the remedies of docs/theory.md §6.5 and §9.3
 against (benchmarks/static_plies_newton.py holds their figures).
 
     python benchmarks/ply_newton_table.py [--cases bai,heavy,sag] [--resolution coarse]
-        [--heavy-plies]
+        [--heavy-plies [--tied]]
 
 Measured (one thread, CPU, the 2 cores shared, load 2.3-4.2), iterations per increment
 (+ those of the attempts cut), tangents:
@@ -17,13 +17,20 @@ Measured (one thread, CPU, the 2 cores shared, load 2.3-4.2), iterations per inc
   83-33-24-18-15-11, 184, 1.1-2.5 s (the first figure of each: a cold start in its process).
 * default: bai 24-7-7-5-4-3-3-3-3-3 and 123-33-34-31-19-19-21-19-15-22, 398 + 0, 403
   tangents, 15-18 s; heavy 33-42-30-20-17, 142, 2.8 s; sag (its 4-ply stack, as coarse) 184.
-* ``--heavy-plies`` (coarse): 1 ply (no contact) 10-82-60-42-32 with the case's update cap
-  (0.03 rad) and 4-5-5-4-4 without it; 2 plies 32-29-24-18-14 and 33-67-80-33-11; 4 plies
-  29-33-29-19-15 and 30-106-101-20-20. The strip alone meets 3-6 iterations an increment
-  with straight updates; the contact between its turning plies is what takes it away (after
-  the first increment 3-5 of the 60 points touch, and each increment alternates a step the
-  cap shortens, its straight update pressing the plies into each other, with a whole step:
-  ``benchmarks/static_plies_newton.py --case heavy --detail``).
+* ``--heavy-plies --tied`` (coarse; without -> with the case's update cap, 0.03 rad):
+  one ply of the N-ply stack's fabric alone, Static's defaults (curved steps, a chord, the
+  fibre projection): N = 1 4-5-5-4-4, N = 2 4-5-7-6-4, N = 4 4-5-13-11-6; with the straight
+  steps a stack gets (``STRAIGHT``: none of the three with an interaction) 17-11-15-18-11,
+  15-11-14-19-8, 14-20-14-17-8 (+9 cut). The N plies with their contact's law zeroed (they
+  pass through each other) take exactly their lone ply's straight iterations: 2 plies
+  15-11-14-19-8 -> 13-28-24-18-14, 4 plies 14-20-14-17-8 (+9) -> 14-28-24-18-14 (98). With
+  today's contact: 2 plies 33-67-80-33-11 -> 32-29-24-18-14, 4 plies 30-106-101-20-20 ->
+  29-33-29-19-15 (125). Tied (W = k g^2 / 2 both sides, a smooth law without switching; the
+  plies held at their gaps, so another equilibrium): 2 plies 14-35-33-18-18 -> 13-21-20-14-12,
+  4 plies 12-38-24-23-10 (+16) -> 12-130-31-23-20. So on the case's solver 98 of the 4-ply
+  stack's 125 iterations are its plies' straight steps, which a lone ply takes in 39 with
+  Static's curved steps, chord and fibre projection; the contact adds 27, and a smooth law
+  without switching does not take them away.
 
 The remedies tried against this table: benchmarks/ply_simple_root.py (a law with a simple
 root; today's law with a softer penalty, the inner solves of an augmented Lagrangian).
@@ -71,32 +78,75 @@ def table(names: list[str], resolution: str) -> dict:
     return rows
 
 
-def heavy_plies(resolution: str, counts: tuple[int, ...] = (1, 2, 4)) -> None:
-    """plies-heavy-cantilever's stack as 1, 2 and 4 plies (one ply: no contact), each with
-    the case's solver and without its update cap (``update_turn``): per increment, the
-    iterations and the deepest point's z, mm."""
-    from fibreshell.plies import plies_solver, ply_stack, stack_model
+# Static's steps for a lone shell (its defaults) and those a stack's contact leaves it
+# (docs/theory.md §6.5: no curved steps, chords or fibre projection with interactions).
+STRAIGHT = {"curved": False, "chords": 0, "fibre_projection": False}
+
+
+def _heavy_row(resolution: str, count: int, lone: bool, options: dict, law, label: str) -> None:
+    """Solve plies-heavy-cantilever's strip as ``count`` plies (``lone``: one ply of the
+    ``count``-ply stack's fabric alone) with the case's solver updated by ``options`` (an
+    ``update_turn`` of None: no cap) and the ply contact's law ``law`` (None: today's;
+    benchmarks/ply_simple_root.py), and print its iterations per increment."""
+    from benchmarks import ply_simple_root
+    from elements.mindlin import MindlinShell
+    from elements.plies import PlyStack
+    from fibreshell.plies import _fibrous_part, plies_solver, ply_stack, stack_model
     from validation.cases import plies_heavy_cantilever as heavy
     from validation.ground_truth import _case
 
     assert heavy.PLIES_SOLVER is not None
+    solver = {**heavy.PLIES_SOLVER, **options}
+    if solver["update_turn"] is None:
+        del solver["update_turn"]
+    case = _case(heavy.FILE, heavy.CELLS[resolution], {"solver": solver})
+    if lone:
+        part = _fibrous_part(case)
+        stack = PlyStack(
+            case.mesh,
+            part.fabric.plies(count),
+            1,
+            element=lambda ply: MindlinShell(ply, warp=part.warp),
+        )
+    else:
+        stack = ply_stack(case, count)
+    ply_simple_root.use(ply_simple_root.TODAY if law is None else law, None if law is None else 1.0)
+    try:
+        model = stack_model(case, stack).compile()
+        cpu = time.process_time()
+        result = plies_solver(case, progress=False).solve(model)
+        cpu = time.process_time() - cpu
+    finally:
+        ply_simple_root.use(ply_simple_root.TODAY, None)
+    print(
+        f"heavy {resolution}, {label:46s} {options}: {result.info['iterations_per_increment']} "
+        f"(+{result.info['iterations_cut']} cut), lowest z {result.positions[:, 2].min():.5f} "
+        f"mm, {cpu:.1f} s CPU; load {np.round(os.getloadavg(), 2).tolist()}",
+        flush=True,
+    )
+
+
+def heavy_plies(resolution: str, tied: bool = False, counts: tuple[int, ...] = (1, 2, 4)) -> None:
+    """Where plies-heavy-cantilever's iterations go: its strip as one ply of the N-ply stack's
+    fabric alone, with Static's defaults and with the straight steps a stack gets
+    (``STRAIGHT``), and as the N plies with their contact's law zeroed (``free_law``: the
+    plies pass through each other), today's and (``tied``) tied (``tied_law``), each without
+    and with the case's update cap."""
+    from benchmarks import ply_simple_root
+
+    cap = {"update_turn": 0.03}
+    none = {"update_turn": None}
     for count in counts:
-        for cap in (heavy.PLIES_SOLVER["update_turn"], None):
-            solver = {**heavy.PLIES_SOLVER, "update_turn": cap}
-            if cap is None:
-                del solver["update_turn"]
-            case = _case(heavy.FILE, heavy.CELLS[resolution], {"solver": solver})
-            model = stack_model(case, ply_stack(case, count)).compile()
-            cpu = time.process_time()
-            result = plies_solver(case, progress=False).solve(model)
-            cpu = time.process_time() - cpu
-            print(
-                f"heavy {resolution}, {count} plies, update_turn={cap}: per increment "
-                f"{result.info['iterations_per_increment']} (+{result.info['iterations_cut']} "
-                f"cut), lowest z {result.positions[:, 2].min():.6f} mm, {cpu:.1f} s CPU; load "
-                f"{np.round(os.getloadavg(), 2).tolist()}",
-                flush=True,
-            )
+        _heavy_row(resolution, count, True, none, None, f"one ply of {count}, Static's defaults")
+        _heavy_row(resolution, count, True, {**none, **STRAIGHT}, None, f"one ply of {count}")
+        if count == 1:
+            continue
+        laws = [("free", ply_simple_root.free_law), ("today", None)]
+        if tied:
+            laws.append(("tied", ply_simple_root.tied_law))
+        for name, law in laws:
+            for options in (none, cap):
+                _heavy_row(resolution, count, False, options, law, f"{count} plies, contact {name}")
 
 
 def main() -> None:
@@ -106,10 +156,11 @@ def main() -> None:
     parser.add_argument(
         "--heavy-plies", action="store_true", help="the heavy stack as 1, 2, 4 plies instead"
     )
+    parser.add_argument("--tied", action="store_true", help="with --heavy-plies: tied too")
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     if args.heavy_plies:
-        heavy_plies(args.resolution)
+        heavy_plies(args.resolution, args.tied)
         return
     table(args.cases.split(","), args.resolution)
 
