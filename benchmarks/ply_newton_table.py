@@ -37,7 +37,8 @@ Measured (one thread, CPU, the 2 cores shared, load 2.3-4.2), iterations per inc
   that turn, even tied, is what they do not carry.
 
 The remedies tried against this table: benchmarks/ply_simple_root.py (a law with a simple
-root; today's law with a softer penalty, the inner solves of an augmented Lagrangian).
+root; today's law with a softer penalty, the inner solves of an augmented Lagrangian),
+benchmarks/ply_curved_probe.py (the curved steps with the law held in their probes).
 """
 
 from __future__ import annotations
