@@ -2,7 +2,7 @@
 solver: plies-bai-5.1's plies (validation/cases/plies_bai_5_1.py), plies-heavy-cantilever's
 and plies-deck-of-cards' heavy stack of the fewest plies (``sag``), at a resolution; per case
 the iterations of each converged increment, those of the attempts cut, the tangents
-(``info["evaluations"]``) and the CPU time (``time.process_time``, one thread), the machine's
+(``info["evaluations"]["tangent"]``) and the CPU time (``time.process_time``, one thread), the machine's
 load printed with them. The table the remedies of docs/theory.md §6.5 and §9.3a are measured
 against (benchmarks/static_plies_newton.py holds their figures).
 
@@ -14,7 +14,8 @@ Measured (one thread, CPU, the 2 cores shared, load 2.3-4.2), iterations per inc
 
 * coarse: bai 21-5-4-4-4-3-3-3-3-3 (gravity) and 82-19-18-18-18-8-11-10-8-12 (displacement),
   257 + 8, 271 tangents, 2.2-2.5 s; heavy 29-33-29-19-15, 125, 0.6-0.8 s; sag
-  83-33-24-18-15-11, 184, 1.1-2.5 s (the first figure of each: a cold start in its process).
+  83-33-24-18-15-11, 184, 1.1-2.5 s (the CPU spread: the load, and the first solve of a
+  process loading its kernels).
 * default: bai 24-7-7-5-4-3-3-3-3-3 and 123-33-34-31-19-19-21-19-15-22, 398 + 0, 403
   tangents, 15-18 s; heavy 33-42-30-20-17, 142, 2.8 s; sag (its 4-ply stack, as coarse) 184.
 * ``--heavy-plies --tied`` (coarse; without -> with the case's update cap, 0.03 rad):
