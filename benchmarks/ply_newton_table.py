@@ -2,9 +2,9 @@
 solver: plies-bai-5.1's plies (validation/cases/plies_bai_5_1.py), plies-heavy-cantilever's
 and plies-deck-of-cards' heavy stack of the fewest plies (``sag``), at a resolution; per case
 the iterations of each converged increment, those of the attempts cut, the tangents
-(``info["evaluations"]["tangent"]``) and the CPU time (``time.process_time``, one thread), the machine's
-load printed with them. The table the remedies of docs/theory.md §6.5 and §9.3a are measured
-against (benchmarks/static_plies_newton.py holds their figures).
+(``info["evaluations"]["tangent"]``) and the CPU time (``time.process_time``, one thread),
+the machine's load printed with them. The table the remedies of docs/theory.md §6.5 and
+§9.3a are measured against (benchmarks/static_plies_newton.py holds their figures).
 
     python benchmarks/ply_newton_table.py [--cases bai,heavy,sag] [--resolution coarse]
         [--heavy-plies [--tied] [--curved]]
