@@ -63,9 +63,9 @@ from elements.fibrous.cell_terms import (
     angle_pull,
     cell_cross,
     cell_levers,
-    corner_frame,
     corner_levers,
     corner_thickness,
+    element_corner,
     fold_gradient,
     level_strains,
     side_coefficients,
@@ -290,16 +290,24 @@ def _cells_pass(
             nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
             # g_a = r_a + zeta_f l_a, V and h_m at the corners (Eq. 10, 14; cell_terms.py
             # ``cell_levers``, ``level_strains``), the corners' frames kept for the moments
+            # (``corner_frame``'s numbers, read here: a helper given the arrays would incref
+            # and decref them at each corner, cell_terms.py ``element_corner``)
             for k in range(3):
                 frame_row = lane.FRAME0 + 10 * lane.CHUNK * k
+                node = connectivity[c, k]
+                if nodal:  # the frame's ten columns in the order of the rows VX ... OVER
+                    for j in range(10):
+                        rows[frame_row + j * lane.CHUNK + i] = frame[node, j]
+                    continue
                 (
                     rows[frame_row + lane.VX + i], rows[frame_row + lane.VY + i],
                     rows[frame_row + lane.VZ + i], rows[frame_row + lane.COSINE + i],
                     rows[frame_row + lane.HM + i], rows[frame_row + lane.WX + i],
                     rows[frame_row + lane.WY + i], rows[frame_row + lane.WZ + i],
                     rows[frame_row + lane.LENGTH + i], rows[frame_row + lane.OVER + i],
-                ) = corner_frame(
-                    frame, directors, connectivity[c, k], nodal, nx, ny, nz, thickness, guard
+                ) = element_corner(
+                    directors[node, 0], directors[node, 1], directors[node, 2], nx, ny, nz,
+                    thickness, guard,
                 )  # fmt: skip
             r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
             l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(
