@@ -189,14 +189,17 @@ def _longest_sides(block: FibrousShellBlock) -> np.ndarray:
 def branch_view(block: FibrousShellBlock, branch: FoldBranch | None) -> FibrousShellBlock:
     """``block`` itself where no side has turned, else a shallow copy whose reference fold is
     theta_s0 - 2 pi turns_s, which every loop of the block reads (kept while the turns are
-    the same array)."""
-    if branch is None or not branch.turns.any():
+    the same array; so is the answer that no side has turned, which asked of the array at
+    every call cost 0.9 ms a step of the 100k sheet)."""
+    if branch is None:
         return block
     cached = block.__dict__.get("_branch_view")
     if cached is not None and cached[0] is branch.turns:
         return cached[1]
-    view = copy.copy(block)
-    view.reference_fold = block.reference_fold - 2.0 * np.pi * branch.turns
-    view.__dict__.pop("_branch_view", None)
+    view = block
+    if branch.turns.any():
+        view = copy.copy(block)
+        view.reference_fold = block.reference_fold - 2.0 * np.pi * branch.turns
+        view.__dict__.pop("_branch_view", None)
     block.__dict__["_branch_view"] = (branch.turns, view)
     return view
