@@ -310,7 +310,7 @@ step spends outside the compiled loops, about 0.03 µs an element-step (cProfile
 of the 100k sheet): the external load's fresh (n, 3) arrays and sums
 (femcore/compiled.py ``external_load``, about 2 ms a step), the rotational kinetic energy's
 einsum (solvers/dynamics.py, about 1-2 ms), numpy's reductions and allocations, the Python
-around some forty compiled calls; the rotation update (solvers/turning.py) is 0.02 of
+around some forty compiled calls; the rotation update (solvers/turning.py) is 0.02 µs of
 compiled work.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
