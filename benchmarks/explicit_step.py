@@ -13,7 +13,8 @@ Mindlin shell (aluminium, h = 1 mm) or the fibrous shell (G986 stack), for each 
 * per-phase CPU times at the sheet's state after the run (best of ``--repeats``, µs per
   element): the internal force, the force with the strain energy
   (``internal_force_and_energy``: what a step that checks the energy balance asks), the
-  strain energy alone, the rest of a step (``explicit_step`` less its force), a checked step;
+  strain energy alone, the rest of a step (``explicit_step`` less its force), a checked step,
+  the commit of a step (the blocks' history: the fibrous fold branch) after a first one;
 * the numpy reference pass of ``shell_sheet.reference_pass`` (wall, best of 20) and the same
   in CPU time.
 
@@ -304,8 +305,9 @@ cfaff59 (exported to a folder of its own) and this tree in turns, two runs each,
 (3.0 / 3.3 -> 2.6 / 2.7 x the reference pass, 0.108-0.124 at that load), force 0.352 /
 0.342 -> 0.256 / 0.249, force+energy 0.378 / 0.366 -> 0.284 / 0.273, energy 0.257 / 0.261 ->
 0.176 / 0.176, checked step 0.408 / 0.398 -> 0.316 / 0.306, step less force 0.024 / 0.027 ->
-0.026 / 0.027. (The "commit" phase, 0.06-0.07, times a state whose history has no positions
-yet, a full pass over the sides each call: in a run the commit costs about 0.002.) What the
+0.026 / 0.027. (The "commit" phase, 0.06-0.07 in those runs, timed a state whose history
+had no positions yet, a full pass over the sides each call; it now times the commit after
+a first one, as a run's step commits.) What the
 step spends outside the compiled loops, about 0.03 µs an element-step (cProfile, 200 steps
 of the 100k sheet): the external load's fresh (n, 3) arrays and sums
 (femcore/compiled.py ``external_load``, about 2 ms a step), the rotational kinetic energy's
@@ -443,7 +445,9 @@ def phases(compiled, state, repeats: int) -> dict:
     checked = best(
         lambda: explicit_step(compiled, state, dt, masses, duration=1.0, checking=True), repeats
     )
-    commit = best(lambda: compiled.commit(state), repeats)
+    # the commit of a run's step: its history already has the positions of a full pass
+    committed = compiled.commit(state)
+    commit = best(lambda: compiled.commit(committed), repeats)
     return {
         "force": force,
         "force+energy": fused,
