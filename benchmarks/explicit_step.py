@@ -305,7 +305,11 @@ cfaff59 (exported to a folder of its own) and this tree in turns, two runs each,
 (3.0 / 3.3 -> 2.6 / 2.7 x the reference pass, 0.108-0.124 at that load), force 0.352 /
 0.342 -> 0.256 / 0.249, force+energy 0.378 / 0.366 -> 0.284 / 0.273, energy 0.257 / 0.261 ->
 0.176 / 0.176, checked step 0.408 / 0.398 -> 0.316 / 0.306, step less force 0.024 / 0.027 ->
-0.026 / 0.027. (The "commit" phase, 0.06-0.07 in those runs, timed a state whose history
+0.026 / 0.027; two more runs each at a load of 3.7-6.6: steady step 0.376 / 0.413 -> 0.306 /
+0.318 (3.2 / 3.5 -> 2.5 / 2.8 x the reference pass), force 0.321 / 0.329 -> 0.257 / 0.260.
+Both changes paired against cfaff59 in one process (8 rounds, load 7.5): force 0.776
+(quartiles 0.767-0.787; best 0.327 -> 0.253 µs a cell), force+energy 0.805, energy 0.714,
+the same bits. (The "commit" phase, 0.06-0.07 in those runs, timed a state whose history
 had no positions yet, a full pass over the sides each call; it now times the commit after
 a first one, as a run's step commits.) What the
 step spends outside the compiled loops, about 0.03 µs an element-step (cProfile, 200 steps
