@@ -13,7 +13,8 @@ Mindlin shell (aluminium, h = 1 mm) or the fibrous shell (G986 stack), for each 
 * per-phase CPU times at the sheet's state after the run (best of ``--repeats``, µs per
   element): the internal force, the force with the strain energy
   (``internal_force_and_energy``: what a step that checks the energy balance asks), the
-  strain energy alone, the rest of a step (``explicit_step`` less its force), a checked step;
+  strain energy alone, the rest of a step (``explicit_step`` less its force), a checked step,
+  the commit of a step (the blocks' history: the fibrous fold branch) after a first one;
 * the numpy reference pass of ``shell_sheet.reference_pass`` (wall, best of 20) and the same
   in CPU time.
 
@@ -283,6 +284,41 @@ reference pass, 0.133 in this run against 0.094-0.098 in the quiet runs above), 
 force+energy 0.402, energy 0.288, step less force 0.034, checked step 0.438, commit 0.083;
 Mindlin 0.189 (1.5 x its reference pass, 0.125), force 0.135, step less force 0.039.
 
+Reference counting out of the fibrous force's hot loops (the Intel Xeon, AVX-512, one
+thread). perf put 40 % of the cells' pass in numba's NRT_incref / NRT_decref (lock-prefixed
+adds), and gdb's count of their callers, 15 a cell: 12 from ``corner_frame`` (given the frame
+and director arrays, it branches on ``nodal``, so the increfs and decrefs of its arguments
+were not pruned), the rest from the array arguments of the level lanes, 26 a level of a chunk
+of 32 cells. The corners' frames now read in the pass itself (cell_terms.py
+``element_corner`` for the element normal, scalars only) and the lanes compiled without
+reference counting (elements/jit.py ``lane_rows``): 7 a chunk are left. Paired in one process
+(benchmarks/kernel_pairs.py, 100k, 8 rounds, the same bits each time): the frames, force
+0.798 of main cfaff59's (best 0.311 -> 0.247 µs a cell, load 4.0), force+energy 0.821; the
+lanes on top, force 0.962, force+energy 0.972, energy 0.939 (load 5.5). Outside the force,
+the fold branch's commit after each step (elements/fibrous/fold_branch.py) measured the motion
+since its last full pass by numpy's three (k, 3) temporaries (0.57 ms alone, 2.4 ms of self
+time a step in a run under cProfile) and asked the (m, 3) turns ``any()`` at every force
+call (0.9 ms): one compiled pass (0.11 ms) and the answer kept with the turns array. Main
+cfaff59 (exported to a folder of its own) and this tree in turns, two runs each,
+``--element fibrous --sizes 100000``, one thread, load 5.7-6.1 (another engineer's runs),
+µs of CPU an element-step (main -> this tree): steady step 0.375 / 0.410 -> 0.303 / 0.291
+(3.0 / 3.3 -> 2.6 / 2.7 x the reference pass, 0.108-0.124 at that load), force 0.352 /
+0.342 -> 0.256 / 0.249, force+energy 0.378 / 0.366 -> 0.284 / 0.273, energy 0.257 / 0.261 ->
+0.176 / 0.176, checked step 0.408 / 0.398 -> 0.316 / 0.306, step less force 0.024 / 0.027 ->
+0.026 / 0.027; two more runs each at a load of 3.7-6.6: steady step 0.376 / 0.413 -> 0.306 /
+0.318 (3.2 / 3.5 -> 2.5 / 2.8 x the reference pass), force 0.321 / 0.329 -> 0.257 / 0.260.
+Both changes paired against cfaff59 in one process (8 rounds, load 7.5): force 0.776
+(quartiles 0.767-0.787; best 0.327 -> 0.253 µs a cell), force+energy 0.805, energy 0.714,
+the same bits. (The "commit" phase, 0.06-0.07 in those runs, timed a state whose history
+had no positions yet, a full pass over the sides each call; it now times the commit after
+a first one, as a run's step commits.) What the
+step spends outside the compiled loops, about 0.03 µs an element-step (cProfile, 200 steps
+of the 100k sheet): the external load's fresh (n, 3) arrays and sums
+(femcore/compiled.py ``external_load``, about 2 ms a step), the rotational kinetic energy's
+einsum (solvers/dynamics.py, about 1-2 ms), numpy's reductions and allocations, the Python
+around some forty compiled calls; the rotation update (solvers/turning.py) is 0.02 µs of
+compiled work.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
 (``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``
@@ -413,7 +449,9 @@ def phases(compiled, state, repeats: int) -> dict:
     checked = best(
         lambda: explicit_step(compiled, state, dt, masses, duration=1.0, checking=True), repeats
     )
-    commit = best(lambda: compiled.commit(state), repeats)
+    # the commit of a run's step: its history already has the positions of a full pass
+    committed = compiled.commit(state)
+    commit = best(lambda: compiled.commit(committed), repeats)
     return {
         "force": force,
         "force+energy": fused,

@@ -108,6 +108,7 @@ __all__ = [
     "inline",
     "jit",
     "jit_lanes",
+    "lane_rows",
     "lanes",
     "prange",
     "serial",
@@ -664,6 +665,21 @@ def lanes(function):
     if not AVAILABLE:
         return function
     return njit(function, error_model="numpy")
+
+
+def lane_rows(function):
+    """``lanes`` without numba's reference counting (its ``_nrt=False``): for the helpers
+    that run loops across the rows of a chunk's scratch array, called a few times a chunk
+    with arrays they only read and write (elements/fibrous/level_lanes.py). numba increfs
+    and decrefs every array argument of a function at each call, and a helper spliced by
+    ``inline`` takes its arguments as new names, increfed and decrefed the same way: atomic
+    operations that LLVM keeps around loops and branches, 26 a fibre level of a chunk of 32
+    cells, about 4 % of the fibrous force (benchmarks/kernel_pairs.py). Such a helper cannot
+    make an array (numba refuses np.empty there when it compiles it). The same numbers to
+    the last bit."""
+    if not AVAILABLE:
+        return function
+    return njit(function, error_model="numpy", _nrt=False)
 
 
 def inline(function):

@@ -85,3 +85,20 @@ def test_the_watched_sides_folds_are_the_full_passes():
     full = side_folds(block, positions)[sides[:, 0], sides[:, 1]]
     assert np.abs(full).max() > 0.5  # folds of a size
     assert np.abs(watched_folds(block, positions, sides) - full).max() <= 1e-12
+
+
+def test_the_largest_move_is_numpys():
+    # fold_branch.largest_move, the compiled measure of the motion since the last pass over
+    # every side, against the numpy expression it replaced (a subset of the nodes, none, nan)
+    from elements.fibrous.fold_branch import largest_move
+
+    rng = np.random.default_rng(3)
+    positions = rng.standard_normal((50, 3))
+    nodes = np.flatnonzero(rng.random(50) < 0.6)
+    last = positions[nodes] + 1e-3 * rng.standard_normal((len(nodes), 3))
+    last[7, 1] += 0.5  # the largest, on one axis of one node
+    assert largest_move(positions, last, nodes) == np.abs(positions[nodes] - last).max()
+    assert largest_move(positions, last, nodes) == pytest.approx(0.5, abs=1e-2)
+    assert largest_move(positions, last[:0], nodes[:0]) == 0.0
+    last[3, 2] = np.nan
+    assert np.isnan(largest_move(positions, last, nodes))

@@ -419,3 +419,26 @@ def test_a_part_that_raises_raises_on_any_thread_count():
     values[3999] = -1.0  # in the last part
     with pytest.raises(ValueError, match="a negative value"):
         kernel(values, np.empty(4000))
+
+
+def test_the_fibrous_level_lanes_run_without_reference_counting():
+    """The helpers that loop across a chunk's scratch rows (elements/fibrous/level_lanes.py)
+    are built by ``lane_rows``: numba's reference counting off (each array argument's incref
+    and decref at every call, atomic operations: 4 % of the fibrous force when they were
+    spliced by ``inline``) and its numpy error model (no zero test before a division, which
+    would keep their loops from vectorising); such a helper cannot make an array."""
+    from numba.core.errors import TypingError
+
+    from elements.fibrous import level_lanes
+
+    for name in ("level_lanes", "law_lanes", "law_row", "load_lanes", "moment_lanes"):
+        options = getattr(level_lanes, name).targetoptions
+        assert options["_nrt"] is False and options["error_model"] == "numpy", name
+    made = jit.lane_rows(_fresh_array)
+    with pytest.raises(TypingError):
+        made(3)
+
+
+def _fresh_array(n):  # pragma: no cover - numba
+    """An array made inside the helper (what a build without reference counting refuses)."""
+    return np.empty(n)

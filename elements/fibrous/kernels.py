@@ -29,21 +29,20 @@ and the folds; their log, arcsine and arctangent are branch-free arithmetic
 LLVM vectorises those loops (the library's functions are called one value a call), and
 ``_cells_pass`` is built with numba's numpy error model (elements/jit.py ``jit_lanes``: no
 zero test before each division, which would keep a loop scalar; a fibre of no length in
-its plane still raises ZeroDivisionError, a cell of no area in pass 1 too). Measured
-(benchmarks/kernel_pairs.py, one thread, 100k triangles, 12 rounds paired against the
-scalar passes, load 12): the force 0.791 of its time, force and energy 0.769, the energy
-0.686.
+its plane still raises ZeroDivisionError, a cell of no area in pass 1 too).
 
 Outside the chunks' loops a cell pass reads the positions and directors at its nodes itself and
 keeps every vector in scalars (x, y, z), with the corner and side loops written out: one
-scratch array a chunk (one allocation per 32 cells), none per cell, no modulo indexing, no
-array passed to a helper inside the hot loop (each such call costs reference counting). Between
-two passes only what the next one reads is kept (about 300 bytes per cell: normals, areas,
-angles, the corner forces, moments and dW/dS_k, the side moments); the fold-angle gradient
-D[s, k] = t_s . t_k / (|t_s| 2A) (t_s the side opposite corner s, the in-plane form of
--grad N_k . n^c_s) is recomputed where it is used. The scalar pieces (corner thickness,
-director moment, side terms, fold gradient, angle pull) are in cell_terms.py, where
-quotients that share a denominator share one reciprocal.
+scratch array a chunk, none per cell, no modulo indexing, no array passed to a helper with
+branches inside the hot loop (numba increfs and decrefs each array argument, atomic
+operations that LLVM keeps where the helper branches: the corners' frames read by such a
+helper were 40 % of the cells' pass, perf). Between two passes only what the next one reads
+is kept (about 300 bytes per cell: normals, areas, angles, the corner forces, moments and
+dW/dS_k, the side moments); the fold-angle gradient D[s, k] = t_s . t_k / (|t_s| 2A) (t_s
+the side opposite corner s, the in-plane form of -grad N_k . n^c_s) is recomputed where it
+is used. The scalar pieces (corner thickness, director moment, side terms, fold gradient,
+angle pull) are in cell_terms.py, where quotients that share a denominator share one
+reciprocal.
 
 Every sum from cells to nodes is a loop over nodes that adds the corners of the node's cells
 in cell order (elements/kernels.py ``NodeCorners``): parallel without races, the same sums in
@@ -63,9 +62,9 @@ from elements.fibrous.cell_terms import (
     angle_pull,
     cell_cross,
     cell_levers,
-    corner_frame,
     corner_levers,
     corner_thickness,
+    element_corner,
     fold_gradient,
     level_strains,
     side_coefficients,
@@ -289,17 +288,22 @@ def _cells_pass(
             n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
             nx, ny, nz = normal[c, 0], normal[c, 1], normal[c, 2]
             # g_a = r_a + zeta_f l_a, V and h_m at the corners (Eq. 10, 14; cell_terms.py
-            # ``cell_levers``, ``level_strains``), the corners' frames kept for the moments
+            # ``cell_levers``), the corners' frames (``corner_frame``'s) kept for the moments
             for k in range(3):
-                frame_row = lane.FRAME0 + 10 * lane.CHUNK * k
+                frame_row, node = lane.FRAME0 + 10 * lane.CHUNK * k, connectivity[c, k]
+                if nodal:  # the frame's ten columns in the order of the rows VX ... OVER
+                    for j in range(10):
+                        rows[frame_row + j * lane.CHUNK + i] = frame[node, j]
+                    continue
                 (
                     rows[frame_row + lane.VX + i], rows[frame_row + lane.VY + i],
                     rows[frame_row + lane.VZ + i], rows[frame_row + lane.COSINE + i],
                     rows[frame_row + lane.HM + i], rows[frame_row + lane.WX + i],
                     rows[frame_row + lane.WY + i], rows[frame_row + lane.WZ + i],
                     rows[frame_row + lane.LENGTH + i], rows[frame_row + lane.OVER + i],
-                ) = corner_frame(
-                    frame, directors, connectivity[c, k], nodal, nx, ny, nz, thickness, guard
+                ) = element_corner(
+                    directors[node, 0], directors[node, 1], directors[node, 2], nx, ny, nz,
+                    thickness, guard,
                 )  # fmt: skip
             r1x, r1y, r1z, r2x, r2y, r2z, _, _, _ = cell_cross(positions, n0, n1, n2)
             l1x, l1y, l1z, l2x, l2y, l2z = corner_levers(

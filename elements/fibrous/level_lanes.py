@@ -17,7 +17,9 @@ and, once the levels are summed, ``moment_lanes``: the director moments, dW/dS_k
 corner forces from those sums and the corners' frames (gathered with the edges), vectorised
 as 1, the pass copying them cell by cell into its outputs: the force takes 0.85 of the time
 it took with them formed cell by cell after the levels, the frames read again (the same
-numbers to the last bit; benchmarks/explicit_step.py).
+numbers to the last bit; benchmarks/explicit_step.py). Each is compiled without reference
+counting (elements/jit.py ``lane_rows``): the arrays it is given are the pass's own, and
+their increfs and decrefs at every call cost the force 4 %.
 
 Each cell's sums run over the levels in the order of the scalar pass, and every operation is
 the one it did, so that the cells' pass gives the numbers it gave cell by cell (but for the
@@ -30,7 +32,7 @@ import numpy as np
 
 from elements.fibrous.cell_terms import director_moment, level_strains
 from elements.fibrous.packed_laws import _POLYNOMIAL, law_energy, law_value
-from elements.jit import inline
+from elements.jit import lane_rows
 
 __all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes", "moment_lanes"]
 
@@ -77,7 +79,7 @@ F1X, F1Y, F1Z, F2X, F2Y, F2Z = (k * CHUNK for k in range(35, 41))
 ROWS = 105
 
 
-@inline
+@lane_rows
 def level_lanes(
     lanes, count, start, f, z, nodal, reference_length1, reference_length2, reference_shear
 ):  # fmt: skip
@@ -117,7 +119,7 @@ def level_lanes(
     return zero
 
 
-@inline
+@lane_rows
 def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_energy):
     """The packed laws (packed_laws.py; 0, 1, 2: warp tension, weft tension, shear) of the
     level's strains: with ``with_forces`` their values in the rows TENSION1, TENSION2 (along
@@ -149,7 +151,7 @@ def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_e
             lanes[SHEAR + i] = lanes[VALUE2 + i]
 
 
-@inline
+@lane_rows
 def law_row(lanes, count, integers, reals, k, source, value, energy, with_forces, with_energy):
     """Packed law k's value and energy (packed_laws.py ``law_value``, ``law_energy``: the same
     operations in the same order) of the row ``source`` in the rows ``value`` and
@@ -193,7 +195,7 @@ def law_row(lanes, count, integers, reals, k, source, value, energy, with_forces
                 lanes[energy + i] = 0.0 if negative else lanes[energy + i]
 
 
-@inline
+@lane_rows
 def load_lanes(lanes, count, z, weight):
     """The level's loads on each cell of the chunk, added to the sums over the levels: tension
     (Eq. 24-27) dW/dg_a = A0 w_f T_a P g_a / l_a^2 (P g = g without nodal normals) and its
@@ -238,7 +240,7 @@ def load_lanes(lanes, count, z, weight):
         lanes[A2Z + i] += z * p2z
 
 
-@inline
+@lane_rows
 def moment_lanes(lanes, count, nodal, guard, variation):
     """The director moments (Eq. 28) and corner forces (Eq. 24) of the chunk's cells from the
     sums over their levels and their corners' frames (rows from FRAME0), as the cells' pass
