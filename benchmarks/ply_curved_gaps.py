@@ -19,44 +19,55 @@ without the ply contact's share, then the least-energy correction in K with A w 
 the points touching or that the step brings into touch, A = dg/dq their gap gradients
 (translations, and the directors through the faces' offsets), g'' the gaps' second central
 difference along the step: the KKT system [K A^T; A 0], by one solve per held point);
-``kept`` (the same with A w = 0: the gaps of the straight step's end).
+``kept`` (the same with A w = 0: the gaps of the straight step's end). ``--events`` corrects
+every side's steps for the points they would carry through (``event_correction``: those
+points given the deep branch's linear law in the step's system, by K's factors and one
+solve a point, at most ``--rounds`` times); ``--floor r`` floors the contact's W'' at k
+within delta of touching in the tangents of iterates whose residual ratio is above r.
 
     python benchmarks/ply_curved_gaps.py [--cases heavy,bai] [--resolution coarse]
-        [--sides straight,curved,curved s^2,held,kept] [--trace 12]
+        [--sides straight,curved,curved s^2,held,kept] [--update-turn case|none|rad]
+        [--events [--rounds 3]] [--floor 1e-2] [--trace 12]
 
 ``--trace N`` prints the first N updates of each side (scale, curved or not, largest turn,
-crossed, apart, smallest gap, residual ratio after).
+crossed, apart, smallest gap, residual ratio after, the residual's norm and the contact
+forces' norm).
 
-Measured (coarse, one thread, CPU, the 2 cores shared, load 7.3-7.8; tangents; updates that
+Measured (coarse, one thread, CPU, the 2 cores shared, load 8.3-9.8; tangents; updates that
 crossed of all updates, and the points they carried through):
 
 * heavy (4 plies, the case's update cap 0.03 rad): straight 125 (29-33-29-19-15), 2 of 125
   crossed (2 points); curved 316 (45-101-46-32-47, 42 cut), 66 of 313 (603); curved s^2 478
-  (45-132-78-65-57, 96 cut), 144 of 473; held 286 (43-87-48-33-35, 37 cut), 49 of 283; kept
-  364 (41-95-66-58-20, 81 cut), 90 of 361. Without the cap (``--update-turn none``, Static's
-  0.5 rad): straight 277, 89 of 277 crossed (757 points); curved 288, 92 of 286; held 286,
-  101 of 283: the cap's gain on the straight steps (277 -> 125) is the crossings it removes.
-* The first update of the first increment (``--trace 3``; the plies laid at g = 0): straight,
-  none of the 60 points apart after it (the unturned offsets press all of them onto the ramp,
-  -6.7e-4 mm at the deepest); curved, 40 apart, and the next update, a Newton step from a
-  tangent without those points, carries 20 of them through the ply below (to -1.07 mm), the
-  next ones cut back to 0.1-0.3 of their steps; held, the gaps within 3.5e-8 mm of 0, yet 58
-  apart (the step's third order), and the next update carries 56 through (-0.17 mm); kept,
-  as straight (none apart), the crossings come later.
-* bai (plies-bai-5.1's 4 plies): straight 271 (257 + 8 cut), 39 of 265 crossed (420 points);
-  curved 599 (403 + 187), 292 of 590 (5189); curved s^2 the same (its updates are not
-  capped); held 563 (397 + 161), 276 of 558; kept 447 (318 + 125), 191 of 443.
-* The final positions within 1.5e-10 mm of the straight steps' on every side.
+  (96 cut); held 303 (42-77-76-33-35, 37 cut), 51 of 300; kept 364 (81 cut), 89 of 361.
+  Without the cap (``--update-turn none``, Static's 0.5 rad): straight 277, 89 of 277
+  crossed (757 points); curved 288, 92 of 286; held 206 (11 cut), 59 of 205.
+* bai (plies-bai-5.1's 4 plies; its cap 0.5 rad, so curved s^2 = curved): straight 271 (257
+  + 8 cut), 39 of 265 crossed (420 points); curved 599 (403 + 187), 292 of 590 (5189); held
+  448 (370 + 71), 202 of 441; kept 428 (320 + 102), 180 of 422.
+* The first update of the heavy stack's first increment (``--trace 3``; the plies laid at
+  g = 0): straight, none of the 60 points apart after it (the unturned offsets press all of
+  them onto the ramp, -6.7e-4 mm at the deepest); curved, 40 apart, and the next update, a
+  Newton step from a tangent without those points, carries 20 of them through the ply below
+  (to -1.07 mm), the next ones cut back to 0.1-0.3 of their steps; held, the gaps within
+  3.5e-8 mm of 0, yet 58 apart (the step's third order), and the next update carries 56
+  through (-0.17 mm).
+* ``--events``: heavy straight 122, curved 269 (no update crossing, none cut), held 273;
+  without the cap straight 207, curved 211, held 148 (22-45-30-34-17, none cut); bai
+  straight 277, curved 533, held 481. With the crossings gone the curved updates of the heavy
+  stack still leave a residual ratio of 1 (``--trace``): |r| 0.2-1.6 N where the contact
+  forces are 0.01-0.2 N (the plies' own residual), on updates the cap scales to 0.4-0.9.
+* ``--floor 1e-2``: straight fails in the first increment (load factor 0.125 after 8 cuts),
+  held 1510 tangents (801 + 700 cut).
+* The final positions within 2e-10 mm of the straight steps' on every side.
 
-So the curved steps do not fail by their own curvature: they move the plies' contact points
-off the ramp (g > 0, where the tangent has no contact stiffness), and a following Newton
-step, which does not see those points, drives the plies through each other. Holding the gaps
-to second order (what the first measurement pointed to) keeps them, but on the open side of
-the ramp's double root. A contact stiffness floored at k on the points within delta of
-touching, in the tangents of iterates whose residual ratio is above 1e-2 (so the quadratic
-tail keeps the exact tangent; ``--floor 1e-2``), took the straight steps to a failure in the
-first increment (load factor 0.125 after 8 cuts) and the held curved steps to 1275 tangents
-(810 + 456 cut).
+So the curved steps with contact lose first by the contact events they cause: they move the
+plies' points off the ramp (g > 0, where the tangent has no contact stiffness), and a
+following Newton step, which does not see those points, drives the plies through each other
+(the update cap's gain on the straight steps, 277 -> 125, is the crossings it removes too).
+Holding the gaps to second order keeps them, but on the open side of the ramp's double root;
+giving the steps the points they close removes the crossings but not the plies' own residual
+after curved updates that the cap scales. The best pair measured, the held correction with
+the event correction and no cap, takes 148 tangents on heavy against today's 125.
 """
 
 from __future__ import annotations
@@ -75,6 +86,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import solvers.newton as newton_module  # noqa: E402
+import solvers.static as static_module  # noqa: E402
 from benchmarks.ply_newton_table import CASE_RULES  # noqa: E402
 from benchmarks.static_plies_newton import solve_case  # noqa: E402
 from elements import ply_block  # noqa: E402
@@ -85,7 +97,17 @@ PLAIN_CURVED = newton_module.curved_step
 PLAIN_STEP = newton_module.Watchdog.step
 SIDES = ("straight", "curved", "curved s^2", "held", "kept")
 # per side: the updates' records and the held points' count
-TRACE: dict = {"rows": [], "held": 0, "print": 0}
+TRACE: dict = {"rows": [], "held": 0, "print": 0, "events": 0}
+# ``--events``: the Newton steps corrected for the points they carry through (the last
+# factorisation of the run kept here for it)
+EVENTS: dict = {"on": False, "factor": None, "rounds": 3}
+PLAIN_FACTORISE = static_module.StaticRun.factorise
+
+
+def kept_factorise(self, k_ff):
+    """StaticRun.factorise keeping its factors for ``event_correction``."""
+    EVENTS["factor"] = PLAIN_FACTORISE(self, k_ff)
+    return EVENTS["factor"]
 
 
 def ply_blocks(model) -> list:
@@ -157,8 +179,9 @@ def held_curved_step(run, equilibrium, state, frames, delta, r, factor, hold: bo
         first = (up.gap - down.gap) / (2.0 * h)
         curvature = (up.gap - 2.0 * here.gap + down.gap) / h**2
         same = (up.triangle == here.triangle) & (down.triangle == here.triangle)
-        touching = here.touching & up.touching & down.touching & same
-        points = np.flatnonzero(touching & ((here.gap <= 0.0) | (here.gap + first <= 0.0)))
+        # a facing found at the three states (``touching`` is g < 0 alone)
+        faced = same & (here.triangle >= 0) & np.isfinite(up.gap + here.gap + down.gap)
+        points = np.flatnonzero(faced & ((here.gap <= 0.0) | (here.gap + first <= 0.0)))
         if not points.size:
             continue
         nodes, gradient = gap_gradients(block, state, here, points, frames, dofs)
@@ -192,11 +215,89 @@ def held_curved_step(run, equilibrium, state, frames, delta, r, factor, hold: bo
     return delta + correction
 
 
+def event_correction(run, state, frames, delta, factor, rounds: int = 3) -> np.ndarray | None:
+    """The change (n, 5) of the Newton step ``delta`` that holds the points it would carry
+    from apart (g > 0) through the ramp (g < -delta at the step's end): each such point given
+    the deep branch's linear law k (g + A dq + delta / 2) in the step's system, (K + A^T k A)
+    dq = r - A^T k (g + delta / 2), solved with K's factors (Woodbury: one solve a point),
+    repeated while the corrected step carries others through (at most ``rounds``); None when
+    it carries none."""
+    model, dofs = run.model, run.model.dofs
+    index = dofs.free_slots
+    slot = np.full(dofs.n_slots, -1)
+    slot[index] = np.arange(index.size)
+    blocks = ply_blocks(model)
+    facings = [block.facing(state) for block in blocks]
+    chosen = [np.zeros(len(facing.gap), dtype=bool) for facing in facings]
+    start = delta.ravel()[index]
+    change = np.zeros(index.size)
+    for _ in range(rounds):
+        trial = dofs.advance(state, delta + _full(change, dofs), frames)
+        added = False
+        for block, facing, held in zip(blocks, facings, chosen):
+            faced = (facing.triangle >= 0) & np.isfinite(facing.gap)
+            crossing = faced & (facing.gap > 0.0) & (block.facing(trial).gap < -block.smoothing)
+            added |= bool(np.any(crossing & ~held))
+            held |= crossing
+        if not added:
+            break
+        a, offset, stiffness = _gap_rows(blocks, facings, chosen, state, frames, dofs, slot)
+        z = factor.solve(a.T.toarray())
+        if z is None:
+            return None
+        z = z.reshape(index.size, -1)
+        shifted = start - z @ (stiffness * offset)
+        multipliers = np.linalg.solve(np.diag(1.0 / stiffness) + a @ z, a @ shifted)
+        change = shifted - z @ multipliers - start
+    if not np.any(change):
+        return None
+    TRACE["events"] += 1
+    return _full(change, dofs)
+
+
+def _full(values: np.ndarray, dofs) -> np.ndarray:
+    """(n, 5) with the free slots' ``values``, zero elsewhere."""
+    flat = np.zeros(dofs.n_slots)
+    flat[dofs.free_slots] = values
+    return flat.reshape(-1, N_COLUMNS)
+
+
+def _gap_rows(blocks, facings, chosen, state, frames, dofs, slot):
+    """The chosen points' gap gradients A (t, n_free) sparse, g + delta / 2 (t,) and k (t,)."""
+    rows, columns, values, offsets, stiffness = [], [], [], [], []
+    count = 0
+    for block, facing, held in zip(blocks, facings, chosen):
+        points = np.flatnonzero(held)
+        if not points.size:
+            continue
+        nodes, gradient = gap_gradients(block, state, facing, points, frames, dofs)
+        flat = slot[(nodes[..., None] * N_COLUMNS + np.arange(N_COLUMNS)).reshape(len(points), -1)]
+        used = flat.ravel() >= 0
+        rows.append(np.repeat(np.arange(len(points)) + count, flat.shape[1])[used])
+        columns.append(flat.ravel()[used])
+        values.append(gradient.reshape(len(points), -1).ravel()[used])
+        offsets.append(facing.gap[points] + 0.5 * block.smoothing)
+        stiffness.append(block.stiffness[points])
+        count += len(points)
+    a = sp.csr_matrix(
+        (np.concatenate(values), (np.concatenate(rows), np.concatenate(columns))),
+        shape=(count, dofs.free_slots.size),
+    )
+    return a, np.concatenate(offsets), np.concatenate(stiffness)
+
+
 def traced_step(side: str):
     """Watchdog.step recording each update's gaps (and, ``curved s^2``, scaling a capped
     curved step along its path)."""
 
     def step(self, state, frames, delta, r, whole, straight=None):
+        if EVENTS["on"] and not whole and EVENTS.get("factor") is not None:
+            change = event_correction(
+                self.run, state, frames, delta, EVENTS["factor"], EVENTS["rounds"]
+            )
+            if change is not None:
+                straight = (delta if straight is None else straight) + change
+                delta = delta + change
         if side == "curved s^2" and straight is not None and not whole and self.enabled:
             scale = self._cap(straight)
             if scale < 1.0:
@@ -210,12 +311,17 @@ def traced_step(side: str):
         TRACE["rows"].append((crossed, int(np.sum(after > 0.0))))
         if TRACE["print"] > 0:
             TRACE["print"] -= 1
-            ratio = self.equilibrium.residual(out[1], frames)[1]
+            residual, ratio, _ = self.equilibrium.residual(out[1], frames)
+            contacts = list(range(len(model.blocks), len(model.parts)))
+            force, moment = model.internal_force(out[1], parts=contacts)
+            free = model.dofs.free
+            contact = np.where(free, model.dofs.generalised(frames, force, moment), 0.0)
             print(
                 f"    scale {out[0]:.3f}, curved {straight is not None}, turn "
                 f"{np.abs(delta[:, 3:]).max():.3f} rad: crossed {crossed}, apart "
                 f"{TRACE['rows'][-1][1]} of {after.size}, smallest gap {after.min():+.2e} mm, "
-                f"ratio after {ratio:.2e}"
+                f"ratio after {ratio:.2e}, |r| {np.linalg.norm(residual):.2e} N, the contact's "
+                f"forces {np.linalg.norm(contact):.2e} N"
             )
         return out
 
@@ -278,7 +384,14 @@ def main() -> None:
     parser.add_argument(
         "--floor", type=float, default=None, help="the floored tangent above this ratio"
     )
+    parser.add_argument(
+        "--events", action="store_true", help="every side's steps corrected for the crossings"
+    )
+    parser.add_argument("--rounds", type=int, default=3, help="with --events: at most")
     args = parser.parse_args()
+    if args.events:
+        EVENTS.update(on=True, rounds=args.rounds)
+        static_module.StaticRun.factorise = kept_factorise
     if args.floor is not None:
         FLOOR["far"] = args.floor
         ply_block.PlyContactBlock.tangent = floored_tangent
@@ -290,7 +403,7 @@ def main() -> None:
         stall, first_turn = CASE_RULES[name]
         results = {}
         for side in args.sides.split(","):
-            TRACE.update(rows=[], held=0, print=args.trace)
+            TRACE.update(rows=[], held=0, print=args.trace, events=0)
             use(side if side != "straight" else "traced")
             cpu = time.process_time()
             try:
@@ -307,7 +420,8 @@ def main() -> None:
                 f"{name} {args.resolution} {side:10s}: {info['iterations_per_increment']}, "
                 f"{result.steps} + {info['iterations_cut']} cut, "
                 f"{info['evaluations']['tangent']} tangents, {info['curved_steps']} curved, "
-                f"held points {TRACE['held']}; {int((rows[:, 0] > 0).sum())} of {len(rows)} "
+                f"held points {TRACE['held']}, event steps {TRACE['events']}; "
+                f"{int((rows[:, 0] > 0).sum())} of {len(rows)} "
                 f"updates crossed ({int(rows[:, 0].sum())} points); {cpu:.1f} s CPU, load "
                 f"{np.round(os.getloadavg(), 2).tolist()}",
                 flush=True,
