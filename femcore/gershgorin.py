@@ -282,6 +282,7 @@ def _streamed(
     for piece in pieces:
         sums = _Sums()
         keys = _piece_sums(piece, maps, n_nodes, sums)
+        del piece  # read: not held while the next one is made
         first = keys // n_nodes
         if closed[first].any():
             return None
