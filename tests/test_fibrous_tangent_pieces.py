@@ -83,7 +83,7 @@ def test_the_streamed_bound_is_the_whole_tangents(monkeypatch):
     maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
     n = compiled.n_nodes
     held = gershgorin_largest(pieces, maps, scale, n)
-    streamed = gershgorin_module._streamed(pieces, maps, scale, n)
+    streamed = gershgorin_module._summed(pieces, maps, scale, n, stream=True)
     assert streamed is not None  # streamed, not made again with every pair held
     assert streamed == held
     whole = gershgorin_largest(block.tangent(state), maps, scale, n)

@@ -142,12 +142,13 @@ class RowProduct:
         self.k_indptr = k.indptr.astype(np.int64)
         self.k_indices = k.indices.astype(np.int64)
 
-    def h_pairs(self) -> np.ndarray:
+    def h_pairs(self) -> tuple[np.ndarray, np.ndarray]:
         """The node pairs (positions in ``indices``) whose H blocks the rows read: those of
-        the rows ``p_rows``, in order."""
+        the rows ``p_rows``, in order; and the row (node) of each."""
         starts, stops = self.indptr[self.p_rows], self.indptr[self.p_rows + 1]
         counts = stops - starts
-        return np.repeat(starts - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+        positions = np.repeat(starts - np.cumsum(counts) + counts, counts)
+        return positions + np.arange(counts.sum()), np.repeat(self.p_rows, counts)
 
     def __call__(self, hessian: np.ndarray, h_of: np.ndarray, jacobian: np.ndarray) -> np.ndarray:
         """K's blocks (the run's rows, on ``k_indptr``, ``k_indices``; 6, 6) from H's blocks

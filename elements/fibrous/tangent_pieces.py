@@ -46,8 +46,8 @@ __all__ = ["piece_nodes", "tangent_pieces"]
 # Nodes per piece: at most PIECE, and about a PIECE_SHARE of the block's nodes, at least
 # PIECE_MIN (a run shorter than its halo forms mostly the halo's Hessians).
 PIECE = 1024
-PIECE_SHARE = 24
-PIECE_MIN = 128
+PIECE_SHARE = 48
+PIECE_MIN = 64
 # Cells whose Hessians (or bending blocks, Jacobians) are held at once within a piece.
 _HESSIANS = 256
 
@@ -78,9 +78,30 @@ def tangent_pieces(block: FibrousShellBlock, state: State) -> Iterator[TangentPa
     terms = bending.tangent_terms(block, positions)
     around = _NodeCells(block.connectivity, n)
     size = piece_nodes(n)
-    for start in range(0, n, size):
-        run = range(start, min(start + size, n))
-        yield _rows(block, state, sums, pull, terms, around, run)
+    runs = [range(start, min(start + size, n)) for start in range(0, n, size)]
+    # H's rows of a run's ring that the next run's ring shares, kept from one to the next.
+    kept = _HeldRows(np.empty(0, dtype=np.int64), np.empty((0, 9, 9)))
+    rings = (_ring(block.connectivity, around, run) for run in runs)
+    ring = next(rings, None)
+    for run in runs:
+        assert ring is not None  # one ring a run
+        after = next(rings, None)
+        piece, kept = _rows(block, state, sums, pull, terms, around, run, ring, kept, after)
+        yield piece
+        ring = after
+
+
+def _ring(connectivity: np.ndarray, around: _NodeCells, run: range) -> np.ndarray:
+    """The nodes of the cells at a run's nodes (sorted): the rows of H its rows read."""
+    return np.unique(connectivity[around.of(np.arange(run.start, run.stop))])
+
+
+class _HeldRows:
+    """H's blocks (pairs, 9, 9) of whole rows of node pairs, their keys a n + b (pairs,)
+    sorted: a row summed for one run and read by the next."""
+
+    def __init__(self, keys: np.ndarray, blocks: np.ndarray):
+        self.keys, self.blocks = keys, blocks
 
 
 class _NodeCells:
@@ -124,13 +145,17 @@ def _rows(
     terms: dict,
     around: _NodeCells,
     run: range,
-) -> SparseTangent:
+    ring: np.ndarray,
+    held: _HeldRows,
+    after: np.ndarray | None,
+) -> tuple[SparseTangent, _HeldRows]:
     """The rows of the nodes of ``run`` of the whole tangent (docs/theory.md §2.6,
-    ``nodal_membrane_tangent`` plus the bending patches) as a (6 n, 6 n) BSR matrix."""
+    ``nodal_membrane_tangent`` plus the bending patches) as a (6 n, 6 n) BSR matrix; and the
+    rows of H of its ``ring`` (N1, ``_ring``) that the next run's ring ``after`` holds (None:
+    no next run). H's rows ``held`` from the run before are taken as they are (the same
+    sums)."""
     conn = block.connectivity
     n = block.n_nodes
-    at_run = around.of(np.arange(run.start, run.stop))
-    ring = np.unique(conn[at_run])  # N1: H's rows read
     at_ring = around.of(ring)  # H's rows at N1 complete
     reach = around.of(np.unique(conn[at_ring]))  # J's rows at N2 complete
     local_nodes, local = np.unique(conn[reach], return_inverse=True)
@@ -139,17 +164,29 @@ def _rows(
     rows = row_product.RowProduct(pairs.indptr, pairs.indices, pairs.n_nodes, range(first, stop))
     # H's blocks of the pairs read, summed over the cells around N1 (the others' to a spare
     # slot at the end, never read).
-    read = rows.h_pairs()
+    read, read_rows = rows.h_pairs()
+    read_rows = local_nodes[read_rows]
+    read_keys = read_rows * n + local_nodes[pairs.indices[read]]
+    h_blocks = np.zeros((len(read) + 1, 9, 9))
+    at = np.minimum(np.searchsorted(held.keys, read_keys), max(len(held.keys) - 1, 0))
+    taken = held.keys[at] == read_keys if len(held.keys) else np.zeros(len(read), dtype=bool)
+    h_blocks[: len(read)][taken] = held.blocks[at[taken]]
+    # Each pair's slot, to read (h_of) and to sum into (the held rows' to the spare one).
     h_of = np.full(pairs.n_pairs, len(read), dtype=np.int64)
     h_of[read] = np.arange(len(read))
-    h_blocks = np.zeros((len(read) + 1, 9, 9))
-    own = np.searchsorted(reach, at_ring)
-    for part in _parts(at_ring):
-        nodes = conn[at_ring[part]]
+    sum_of = np.full(pairs.n_pairs, len(read), dtype=np.int64)
+    sum_of[read[~taken]] = np.flatnonzero(~taken)
+    # The Hessians of the cells around the rows not held, summed into those rows alone.
+    summed = around.of(np.unique(read_rows[~taken]))
+    own = np.searchsorted(reach, summed)
+    for part in _parts(summed):
+        nodes = conn[summed[part]]
         x, v = state.positions[nodes], state.directors[nodes]
-        hessian, _ = hessian_kernels.membrane_hessians(block, x, v, sums[nodes], at_ring[part])
-        hessian_kernels.pair_sums(h_of[pairs.slot[own[part]]], hessian, len(read) + 1, h_blocks)
+        hessian, _ = hessian_kernels.membrane_hessians(block, x, v, sums[nodes], summed[part])
+        hessian_kernels.pair_sums(sum_of[pairs.slot[own[part]]], hessian, len(read) + 1, h_blocks)
         del hessian
+    keep = np.isin(read_rows, after) if after is not None else np.zeros(len(read), dtype=bool)
+    next_held = _HeldRows(read_keys[keep], h_blocks[: len(read)][keep])
     j_blocks = np.zeros((pairs.n_pairs, 3, 3))
     for part in _parts(reach):
         nodes = conn[reach[part]]
@@ -175,7 +212,8 @@ def _rows(
     indptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(row_of, minlength=n), out=indptr[1:])
     indices = local_nodes[rows.k_indices[kept]]
-    return SparseTangent(sp.bsr_matrix((data[kept], indices, indptr), shape=(6 * n, 6 * n)))
+    matrix = sp.bsr_matrix((data[kept], indices, indptr), shape=(6 * n, 6 * n))
+    return SparseTangent(matrix), next_held
 
 
 def _parts(cells: np.ndarray) -> Iterator[slice]:
