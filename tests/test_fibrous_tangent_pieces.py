@@ -124,6 +124,41 @@ def test_the_bound_does_not_depend_on_the_pieces(monkeypatch):
         np.testing.assert_array_equal(other, rows[-1])
 
 
+def test_runs_follow_the_cells_whatever_the_node_numbering(monkeypatch):
+    """The sheet with its nodes numbered at random: the runs are taken in the order of the
+    cells (the first cell at each node), so a run of 20 nodes reaches the nodes of the cells
+    around it (at most 42 of the 99 here), not those of cells all over the sheet (runs of 20
+    node numbers: 70 to 83), and the bound is the same to the last bit as with one piece."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=10, ny=8)
+    shuffle = np.random.default_rng(4).permutation(mesh.n_nodes)  # new number of each node
+    points = np.empty_like(mesh.points)
+    points[shuffle] = mesh.points
+    shuffled = Mesh(points, shuffle[mesh.triangles])
+    model = Model(shuffled)
+    model.add(FibrousShell(presets.g986_stack()))
+    model.fix(np.flatnonzero(points[:, 0] == 0.0))
+    compiled = model.compile()
+    block = compiled.blocks[0]
+    small_pieces(monkeypatch, 20)
+    conn, n = block.connectivity, compiled.n_nodes
+    around = tangent_pieces._NodeCells(conn, n)
+    order = np.argsort(tangent_pieces._first_cells(conn, n), kind="stable")
+    by_cells = [
+        tangent_pieces._ring(conn, around, np.sort(order[i : i + 20])) for i in range(0, n, 20)
+    ]
+    by_number = [
+        tangent_pieces._ring(conn, around, np.arange(i, min(i + 20, n))) for i in range(0, n, 20)
+    ]
+    assert max(len(ring) for ring in by_cells) <= 60
+    assert max(len(ring) for ring in by_cells) <= 45
+    assert min(len(ring) for ring in by_number) >= 70
+    state = compiled.initial_state()
+    mass, inertia = compiled.lumped_mass(state)
+    step = compiled.assembled_stable_dt(state, mass, inertia)
+    small_pieces(monkeypatch, n)
+    assert compiled.assembled_stable_dt(state, mass, inertia) == step
+
+
 def test_a_piece_is_a_share_of_the_model():
     """A piece's nodes follow the model's size between PIECE_MIN and PIECE (its work arrays a
     small part of the model's memory, benchmarks/model_memory.py)."""

@@ -4,7 +4,7 @@ the arithmetic of the whole product (docs/theory.md §2.6, §6.2).
 ``tangent_kernels.MembraneProduct`` forms every row of K = J^T H J on a pattern of node pairs
 through P = H J. A row i of K needs only the rows k of P around i (the nodes of the cells
 at i) and a row k of P only the rows of H at k and of J at k's neighbours; ``RowProduct``
-forms the rows of K of a run of nodes from those alone, with the loops of
+forms the rows of K of a set of nodes from those alone, with the loops of
 ``tangent_kernels._membrane_product`` (the same terms added in the same order), so that each
 row is the whole product's to the last bit whatever rows are asked for at once.
 ``row_patches`` adds the bending patches' blocks to those rows as
@@ -83,17 +83,16 @@ def _membrane_rows(
 
 
 @serial
-def _row_patch_sums(first, k_indptr, k_indices, nodes, blocks, data):
-    """data (K's blocks of the rows first.., 6, 6) += blocks (c, p, 3, p, 3): the translations
-    of each cell's patch node pair (a, b) whose row node nodes[c, a] is one of the rows
-    (first to first + rows), as tangent_kernels._patch_sums, cells in order. False when a
-    pair is not in the pattern (nothing more added)."""
+def _row_patch_sums(k_of, k_indptr, k_indices, nodes, blocks, data):
+    """data (K's blocks of some rows, 6, 6) += blocks (c, p, 3, p, 3): the translations of each
+    cell's patch node pair (a, b) whose row node nodes[c, a] is one of the rows (its row
+    k_of[node], -1 for the others), as tangent_kernels._patch_sums, cells in order. False
+    when a pair is not in the pattern (nothing more added)."""
     cells, p = nodes.shape
-    rows = k_indptr.size - 1
     for cell in range(cells):
         for a in range(p):
-            row = nodes[cell, a] - first
-            if row < 0 or row >= rows:
+            row = k_of[nodes[cell, a]]
+            if row < 0:
                 continue
             for b in range(p):
                 column = nodes[cell, b]
@@ -113,15 +112,17 @@ def _row_patch_sums(first, k_indptr, k_indices, nodes, blocks, data):
 
 
 class RowProduct:
-    """The rows of J^T H J of the nodes first to first + rows (a run) on a pattern of node
-    pairs (CornerPairs ``indptr``, ``indices``, symmetric, over n nodes): the patterns of the
-    rows of P = H J around them (``p_rows``, the nodes paired with the run) and of the run's
-    rows of K, found once from scipy's products of the patterns."""
+    """The rows of J^T H J of the nodes ``run`` (sorted) on a pattern of node pairs (CornerPairs
+    ``indptr``, ``indices``, symmetric, over n nodes): the patterns of the rows of P = H J
+    around them (``p_rows``, the nodes paired with the run) and of the run's rows of K, found
+    once from scipy's products of the patterns."""
 
-    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n_nodes: int, run: range):
+    def __init__(self, indptr: np.ndarray, indices: np.ndarray, n_nodes: int, run: np.ndarray):
         self.indptr = np.asarray(indptr, dtype=np.int64)
         self.indices = np.asarray(indices, dtype=np.int64)
-        self.run = run
+        self.run = np.asarray(run, dtype=np.int64)
+        self.k_of = np.full(n_nodes, -1, dtype=np.int64)
+        self.k_of[self.run] = np.arange(self.run.size)
         rows = np.repeat(np.arange(n_nodes), np.diff(self.indptr))
         keys = rows * n_nodes + self.indices
         self.transposed = np.searchsorted(keys, self.indices * n_nodes + rows).astype(np.int64)
@@ -129,7 +130,7 @@ class RowProduct:
             (np.ones(self.indices.size, dtype=np.int32), self.indices, self.indptr),
             shape=(n_nodes, n_nodes),
         )
-        own = pattern[run.start : run.stop]
+        own = pattern[self.run]
         self.p_rows = np.unique(own.indices).astype(np.int64)
         p = pattern[self.p_rows] @ pattern
         p.sort_indices()
@@ -166,7 +167,7 @@ class RowProduct:
             self.p_of,
             self.p_indptr,
             self.p_indices,
-            np.arange(self.run.start, self.run.stop, dtype=np.int64),
+            self.run,
             self.k_indptr,
             self.k_indices,
             product,
@@ -182,7 +183,7 @@ def row_patches(
     the rows of ``product``'s run in K's blocks ``data`` (in place, cells in order; the other
     rows' pairs left out); ValueError when a pair is outside the pattern."""
     if not _row_patch_sums(
-        product.run.start,
+        product.k_of,
         product.k_indptr,
         product.k_indices,
         np.ascontiguousarray(nodes, dtype=np.int64),

@@ -46,8 +46,8 @@ __all__ = ["piece_nodes", "tangent_pieces"]
 # Nodes per piece: at most PIECE, and about a PIECE_SHARE of the block's nodes, at least
 # PIECE_MIN (a run shorter than its halo forms mostly the halo's Hessians).
 PIECE = 1024
-PIECE_SHARE = 48
-PIECE_MIN = 64
+PIECE_SHARE = 96
+PIECE_MIN = 32
 # Cells whose Hessians (or bending blocks, Jacobians) are held at once within a piece.
 _HESSIANS = 256
 
@@ -78,7 +78,10 @@ def tangent_pieces(block: FibrousShellBlock, state: State) -> Iterator[TangentPa
     terms = bending.tangent_terms(block, positions)
     around = _NodeCells(block.connectivity, n)
     size = piece_nodes(n)
-    runs = [range(start, min(start + size, n)) for start in range(0, n, size)]
+    # The nodes in the order of the first cell at each (a cell-ordered mesh's runs then share
+    # only their borders, whatever its node numbering), size at a time, each run sorted.
+    order = np.argsort(_first_cells(block.connectivity, n), kind="stable")
+    runs = [np.sort(order[start : start + size]) for start in range(0, n, size)]
     # H's rows of a run's ring that the next run's ring shares, kept from one to the next.
     kept = _HeldRows(np.empty(0, dtype=np.int64), np.empty((0, 9, 9)))
     rings = (_ring(block.connectivity, around, run) for run in runs)
@@ -91,9 +94,16 @@ def tangent_pieces(block: FibrousShellBlock, state: State) -> Iterator[TangentPa
         ring = after
 
 
-def _ring(connectivity: np.ndarray, around: _NodeCells, run: range) -> np.ndarray:
+def _first_cells(connectivity: np.ndarray, n_nodes: int) -> np.ndarray:
+    """The first cell at each node (n,) (len(connectivity) at a node of no cell)."""
+    first = np.full(n_nodes, len(connectivity), dtype=np.int64)
+    np.minimum.at(first, connectivity.ravel(), np.repeat(np.arange(len(connectivity)), 3))
+    return first
+
+
+def _ring(connectivity: np.ndarray, around: _NodeCells, run: np.ndarray) -> np.ndarray:
     """The nodes of the cells at a run's nodes (sorted): the rows of H its rows read."""
-    return np.unique(connectivity[around.of(np.arange(run.start, run.stop))])
+    return np.unique(connectivity[around.of(run)])
 
 
 class _HeldRows:
@@ -144,7 +154,7 @@ def _rows(
     pull: np.ndarray,
     terms: dict,
     around: _NodeCells,
-    run: range,
+    run: np.ndarray,
     ring: np.ndarray,
     held: _HeldRows,
     after: np.ndarray | None,
@@ -160,8 +170,11 @@ def _rows(
     reach = around.of(np.unique(conn[at_ring]))  # J's rows at N2 complete
     local_nodes, local = np.unique(conn[reach], return_inverse=True)
     pairs = _Pairs(local.reshape(-1, 3), len(local_nodes))
-    first, stop = np.searchsorted(local_nodes, (run.start, run.stop))
-    rows = row_product.RowProduct(pairs.indptr, pairs.indices, pairs.n_nodes, range(first, stop))
+    # the run's nodes that are in cells (a node of none has no row: left out)
+    run = run[np.isin(run, local_nodes)]
+    rows = row_product.RowProduct(
+        pairs.indptr, pairs.indices, pairs.n_nodes, np.searchsorted(local_nodes, run)
+    )
     # H's blocks of the pairs read, summed over the cells around N1 (the others' to a spare
     # slot at the end, never read).
     read, read_rows = rows.h_pairs()
@@ -198,7 +211,7 @@ def _rows(
     del h_blocks, j_blocks
     # The bending patches holding a node of the run (all among the cells around N1).
     patch = bending.patch_nodes(block, at_ring)[0]
-    bent = at_ring[np.any((patch >= run.start) & (patch < run.stop), axis=1)]
+    bent = at_ring[np.any(np.isin(patch, run), axis=1)]
     for part in _parts(bent):
         cells = bent[part]
         blocks = bending.tangent_blocks(block, state.positions, terms, cells)
@@ -208,7 +221,7 @@ def _rows(
         row_product.row_patches(rows, data, nodes, blocks)
     # The global numbering; the blocks that are zero left out: they add nothing to any sum.
     kept = np.any(data != 0.0, axis=(1, 2))
-    row_of = np.repeat(local_nodes[first:stop], np.diff(rows.k_indptr))[kept]
+    row_of = np.repeat(run, np.diff(rows.k_indptr))[kept]
     indptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(row_of, minlength=n), out=indptr[1:])
     indices = local_nodes[rows.k_indices[kept]]
