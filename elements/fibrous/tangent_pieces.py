@@ -18,9 +18,13 @@ Each row is summed with the arithmetic of the whole tangent formed at once (its 
 Jacobian pair blocks over every cell around, in the cells' order, the product's loops, then
 the patches in the cells' order): the pieces are the whole tangent's rows to the last bit
 whatever their size, so the bound does not depend on it, and the size is free to follow the
-model (``piece_nodes``: a piece's work arrays a small part of the model's memory). The price
-is the halo: the Hessians of the cells two rings out are formed for each of the runs that
-reach them. Element normals, or the numpy path: the whole tangent in one piece.
+model (``piece_nodes``: a piece's work arrays a small part of the model's memory). The runs
+take the nodes in the order of their first cells, so that on a mesh whose cells come in a
+banded order a run's halo is a few rows of cells whatever the node numbering. The price is
+the halo: its Jacobians and bending patches are formed for each run that reaches them, and
+the Hessians of the cells around the ring's rows not kept from the run before (1.25 x the
+bound's CPU at 100k triangles, benchmarks/model_memory.py). Element normals, or the numpy
+path: the whole tangent in one piece.
 """
 
 from __future__ import annotations
