@@ -64,12 +64,32 @@ and, before it was formed in slices of 8192 cells (elements/fibrous/block.py
 0.980 -> 0.663 s CPU (157 -> 57 thousand page faults), the build 1.822 -> 1.429 s, the
 build's peak 1.447 -> 0.814 kB a triangle above the baseline (100k: 1.432 -> 0.797, the bind
 0.220 -> 0.168 s); the whole run's peak is now the steps' (1.43 with a given step).
-The fibrous sheet with the solver's own step at 100k peaks at 2.6 kB a triangle,
-above issue 30's 2: the assembled bound's pieces (elements/fibrous/tangent_pieces.py, 4096
-cells a piece) take 70-84 MB each whatever the sheet's size (the bending blocks 10 MB, the
-halo's pair sums 10 MB, the membrane product 38 MB at its peak), 0.26 kB a triangle at 400k;
-smaller pieces would change the bound's round-off (each pair's blocks summed piece by piece),
-not done. The build at 400k now: the fibrous bind 0.66 s of 1.43, the triangle checks 0.34;
+The fibrous sheet with the solver's own step at 100k peaked at 2.6-2.95 kB a triangle,
+above issue 30's 2: the assembled bound's pieces of 4096 cells took 70-84 MB each whatever
+the sheet's size (12.7 kB a triangle at 10k), and smaller ones would have changed the bound's
+round-off. The pieces are now the whole tangent's complete rows a run of nodes at a time
+(elements/fibrous/tangent_pieces.py, docs/theory.md §2.6), the same bits whatever their
+length, and a 96th of the nodes (32-1024); the Mindlin pieces a 24th of the cells
+(256-4096), the same bits whatever their size too (femcore/gershgorin.py). Main cfaff59
+(a ``git archive`` in /tmp) and this, each case in its fresh process, 10 steps, one thread,
+load 4.4-9.3, the whole run's peak above the baseline, kB a triangle, own step (the bound's
+CPU s):
+
+    case            main                 now
+    fibrous 10k     12.715 (0.356)       1.835 (0.692)
+    fibrous 100k     2.952 (3.451)       1.877 (4.316)
+    fibrous 400k     1.971 (15.2)        1.840 (17.7)
+    Mindlin 10k      3.992 (0.094)       1.714 (0.091)
+    Mindlin 100k     1.641 (0.715)       1.523 (0.720)
+    Mindlin 400k     1.521 (2.909)       1.521 (2.861)
+
+The step and the positions after 30 steps of the 10k and 100k sheets of both shells the same
+bits as main's. The fibrous bound costs more CPU (1.9, 1.25 and 1.16 x at 10k, 100k and 400k;
+the bound alone at 100k in turns, best of 3, load 8.3-8.8: 3.39-3.43 -> 4.32-4.39 s, its peak
+above the built model 223-226 -> 100-102 MB): each run forms the
+Hessians, Jacobians and bending patches of its halo too (H's rows shared with the next run
+are kept, not formed again); the model build is unchanged (400k: 1.34 and 1.18 s CPU, both
+well under 3). The build at 400k now: the fibrous bind 0.66 s of 1.43, the triangle checks 0.34;
 the Mindlin bind 0.57 of 1.22 (its compiled tables, 1.4 µs a cell).
 
 The explicit step at 400k pays the system much: the fibrous steps 4.1-4.4 s CPU for ten, 1.9-2.1

@@ -62,8 +62,13 @@ name_components("shear_force", ("13", "23"))
 
 # Cells per slice of the analytic tangent (MindlinShellBlock.tangent).
 _TANGENT_SLICE = 256
-# Cells per piece of ``tangent_pieces`` (a piece's blocks: 10 MB).
+# Cells per piece of ``tangent_pieces``: about a _PIECE_SHARE-th of the block's, between
+# _PIECE_MIN and _PIECE (a piece's blocks 2.6 kB a cell: at most 10 MB, and a small part of
+# the model's memory; the bound is the same to the last bit whatever the pieces,
+# femcore/gershgorin.py).
 _PIECE = 4096
+_PIECE_SHARE = 24
+_PIECE_MIN = 256
 
 
 class MindlinShell(ElementType):
@@ -461,8 +466,9 @@ class MindlinShellBlock(ElementBlock):
         """``tangent`` a slice of cells at a time (the blocks of all cells are 2.6 kB a
         triangle; a slice's are made, given and dropped)."""
         m = len(self.connectivity)
-        for start in range(0, m, _PIECE):
-            nodes = self.connectivity[start : start + _PIECE]
+        size = min(_PIECE, max(_PIECE_MIN, m // _PIECE_SHARE))
+        for start in range(0, m, size):
+            nodes = self.connectivity[start : start + size]
             # the piece's corners only (all cells' would be 0.14 kB a triangle)
             x, v = state.positions[nodes], state.directors[nodes]
             blocks = np.empty((len(nodes), 3, 6, 3, 6))

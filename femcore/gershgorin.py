@@ -8,8 +8,10 @@ pair, T the node maps of ``DofManager.node_maps``). K_ij sums the blocks of ever
 holds both nodes before the absolute value is taken, so the blocks are summed per node pair
 first: a compiled loop over the cells in their order into the node pairs they make, a piece
 of the tangent at a time as the blocks give them (``ElementBlock.tangent_pieces``: the
-Mindlin block never holds all its cells' 18 x 18 matrices, 2.6 kB a triangle), then each
-pair's pieces summed in their order (the same sums whatever the threads) and the row sums.
+Mindlin block never holds all its cells' 18 x 18 matrices, 2.6 kB a triangle), each piece's
+blocks added onto the sums its pairs hold so far: a pair's sum is 0 plus its blocks in order,
+the same bits however the blocks are parted into pieces (and whatever the threads); then the
+row sums, each over its pairs in order.
 A SparseTangent given in BSR with 6 x 6 blocks (the fibrous membrane's) is read block by
 block, each block a node pair: T_a^T K_ab T_b formed per block, without scipy's T^T K T, its
 conversions and a sort of the entries (the bound of a 20k-triangle fibrous sheet
@@ -81,26 +83,6 @@ def _bsr_sums(indptr, indices, blocks, maps, out):
             _add_transformed(ta, blocks[entry], tb, right, out[entry])
 
 
-def _row_bound(keys, order, sums, scale, n_nodes):
-    """max over slots i of s_i sum_j |K_ij| s_j: the pieces' node-pair sums (entries, 5, 5)
-    of node pairs keys (entries,), sorted by ``order``, summed per pair in the pieces'
-    order, then taken absolutely into the rows."""
-    rows = np.zeros(scale.shape[0])
-    block = np.empty((5, 5))
-    position = 0
-    while position < order.shape[0]:
-        key = keys[order[position]]
-        block[:, :] = 0.0
-        while position < order.shape[0] and keys[order[position]] == key:
-            entry = order[position]
-            for r in range(5):
-                for c in range(5):
-                    block[r, c] += sums[entry, r, c]
-            position += 1
-        _add_row(block, key // n_nodes, key % n_nodes, scale, rows)
-    return _largest(rows, scale)
-
-
 def _add_row(block, a, b, scale, rows):
     """rows[5 a + r] += sum_c |block[r, c]| s_(5 b + c): a node pair's share of node a's
     row sums."""
@@ -121,29 +103,24 @@ def _largest(rows, scale):
     return largest
 
 
-def _merge(held_keys, held, keys, order, sums, out_keys, out):
-    """The node pairs still open (held_keys (h,) sorted, their sums held (h, 5, 5)) with a
-    piece's (keys (e,), its stable sort ``order``, sums (e, 5, 5)) into out_keys, out: every
-    pair once, sorted, each piece entry added in its order after what was held (0 + s1 + s2
-    ..., the sums of ``_row_bound``). Returns the number of pairs written."""
+def _merge(held_keys, held, taken, keys, sums, out_keys, out):
+    """The pairs held and not ``taken`` (held_keys (h,) sorted, their sums held (h, 5, 5))
+    and a piece's (keys (e,) sorted, each once, sums (e, 5, 5)) into out_keys, out, sorted:
+    two sorted runs merged, nothing added."""
     i = j = k = 0
-    while i < held_keys.shape[0] or j < order.shape[0]:
-        if j >= order.shape[0] or (i < held_keys.shape[0] and held_keys[i] <= keys[order[j]]):
-            key = held_keys[i]
+    while i < held_keys.shape[0] or j < keys.shape[0]:
+        if i < held_keys.shape[0] and taken[i]:
+            i += 1
+            continue
+        if j >= keys.shape[0] or (i < held_keys.shape[0] and held_keys[i] < keys[j]):
+            out_keys[k] = held_keys[i]
             out[k] = held[i]
             i += 1
         else:
-            key = keys[order[j]]
-            out[k] = 0.0
-        while j < order.shape[0] and keys[order[j]] == key:
-            entry = order[j]
-            for r in range(5):
-                for c in range(5):
-                    out[k, r, c] += sums[entry, r, c]
+            out_keys[k] = keys[j]
+            out[k] = sums[j]
             j += 1
-        out_keys[k] = key
         k += 1
-    return k
 
 
 def _close(keys, sums, count, open_nodes, closed, scale, n_nodes, rows):
@@ -174,57 +151,61 @@ if kernel_cache.AVAILABLE:
     _merge = kernel_cache.njit(_merge)
     _close = kernel_cache.njit(_close)
     _pair_sums = kernel_cache.njit(_pair_sums)
-    _row_bound = kernel_cache.njit(_row_bound)
     _bsr_sums = kernel_cache.njit(_bsr_sums)
 
 
-class _Sums:
-    """The pieces' node-pair sums one after the other in one array, grown in place
-    (``ndarray.resize``: the kernel moves the pages, nothing is copied, and only the rows
-    written are ever in memory): a concatenation at the end would hold them twice."""
-
-    def __init__(self) -> None:
-        self.rows = np.empty((0, 5, 5))
-        self.used = 0
-
-    def region(self, count: int) -> np.ndarray:
-        """The next ``count`` rows, zeroed, to sum a piece into."""
-        needed = self.used + count
-        if needed > len(self.rows):
-            self.rows.resize((max(needed, 2 * len(self.rows)), 5, 5), refcheck=False)
-        region = self.rows[self.used : needed]
-        region[:] = 0.0
-        self.used = needed
-        return region
+def _started(
+    keys: np.ndarray, held_keys: np.ndarray, held: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The sums (pairs, 5, 5) a piece of node pairs ``keys`` (sorted, each once) adds its
+    blocks to: the held sums of the pairs held (held_keys sorted, held (h, 5, 5)), 0 for the
+    others; and which held pairs (h,) bool they took."""
+    sums = np.zeros((len(keys), 5, 5))
+    taken = np.zeros(len(held_keys), dtype=bool)
+    if len(held_keys) and len(keys):
+        at = np.minimum(np.searchsorted(held_keys, keys), len(held_keys) - 1)
+        found = held_keys[at] == keys
+        sums[found] = held[at[found]]
+        taken[at[found]] = True
+    return sums, taken
 
 
-def _piece_sums(piece: TangentPart, maps: np.ndarray, n_nodes: int, sums: _Sums) -> np.ndarray:
-    """The node-pair keys a n + b (pairs,) of one tangent piece, its summed generalised
-    5 x 5 blocks added to ``sums`` in their order."""
+def _piece_sums(
+    piece: TangentPart, maps: np.ndarray, n_nodes: int, held_keys: np.ndarray, held: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The node-pair keys a n + b (pairs,) of one tangent piece, sorted, each once; their
+    sums: the held sum of each pair (0 where none) plus the piece's generalised 5 x 5 blocks
+    in their order; which held pairs they took (``_started``)."""
     if isinstance(piece, CellTangent):
         nodes = np.ascontiguousarray(piece.nodes, dtype=np.int64)
         flat = (nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel()
         keys, pair_of = np.unique(flat, return_inverse=True)
         blocks = np.ascontiguousarray(piece.blocks, dtype=np.float64)
         where = pair_of.reshape(nodes.shape + nodes.shape[1:2])
-        _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums.region(len(keys)))
-        return keys
+        sums, taken = _started(keys, held_keys, held)
+        _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums)
+        return keys, sums, taken
     given = piece.matrix
     if sp.issparse(given) and given.format == "bsr" and given.blocksize == (6, 6):
-        if given.shape == (6 * n_nodes, 6 * n_nodes):  # else generalised_sparse's error
-            # Its blocks are the node pairs: T_a^T K_ab T_b of each, no conversion (the
-            # fibrous membrane's J^T H J, tangent_kernels.MembraneProduct, comes as one).
-            indptr = np.asarray(given.indptr, dtype=np.int64)
-            indices = np.asarray(given.indices, dtype=np.int64)
+        # else generalised_sparse's error, or its sums of repeated blocks
+        if given.shape == (6 * n_nodes, 6 * n_nodes) and given.has_canonical_format:
+            # Its blocks are the node pairs, each once and sorted: T_a^T K_ab T_b of each, no
+            # conversion (the fibrous membrane's J^T H J comes as one).
+            matrix = given
+            indptr = np.asarray(matrix.indptr, dtype=np.int64)
+            indices = np.asarray(matrix.indices, dtype=np.int64)
             rows = np.repeat(np.arange(n_nodes, dtype=np.int64), np.diff(indptr))
-            data = np.ascontiguousarray(given.data, dtype=np.float64)
-            _bsr_sums(indptr, indices, data, maps, sums.region(len(indices)))
-            return rows * n_nodes + indices
+            data = np.ascontiguousarray(matrix.data, dtype=np.float64)
+            keys = rows * n_nodes + indices
+            sums, taken = _started(keys, held_keys, held)
+            _bsr_sums(indptr, indices, data, maps, sums)
+            return keys, sums, taken
     matrix = generalised_sparse(piece, maps).tocoo()
     row, col = matrix.row.astype(np.int64), matrix.col.astype(np.int64)
     keys, pair_of = np.unique((row // 5) * n_nodes + col // 5, return_inverse=True)
-    np.add.at(sums.region(len(keys)), (pair_of.ravel(), row % 5, col % 5), matrix.data)
-    return keys
+    sums, taken = _started(keys, held_keys, held)
+    np.add.at(sums, (pair_of.ravel(), row % 5, col % 5), matrix.data)
+    return keys, sums, taken
 
 
 def gershgorin_largest(
@@ -245,55 +226,55 @@ def gershgorin_largest(
     scale : (5 n,) s per slot, 0 off the free slots.
     n_nodes : n.
     again : a function giving the same pieces afresh, or None. Given, a node's row is summed
-        and its pairs dropped as soon as a piece does not hold it (``_streamed``: the pairs of
-        a few pieces are held instead of all of them); should a later piece hold it after
-        all, the bound is made again from ``again()`` with every pair held. None: every pair
-        held. The same number to the last bit either way.
+        and its pairs dropped as soon as a piece does not hold it (the pairs of a few pieces
+        are held instead of all of them); should a later piece hold it after all, the bound
+        is made again from ``again()`` with every pair held. None: every pair held. The same
+        number to the last bit either way.
     """
     if again is not None:
-        streamed = _streamed(pieces, maps, scale, n_nodes)
+        streamed = _summed(pieces, maps, scale, n_nodes, stream=True)
         if streamed is not None:
             return streamed
         pieces = again()
-    sums = _Sums()
-    keys = [_piece_sums(piece, maps, n_nodes, sums) for piece in pieces]
-    if not keys:
-        return 0.0
-    all_keys = np.concatenate(keys)
-    order = np.argsort(all_keys, kind="stable")  # a pair's pieces in their order
-    rows = sums.rows[: sums.used]
-    return float(_row_bound(all_keys, order, rows, np.ascontiguousarray(scale), n_nodes))
+    summed = _summed(pieces, maps, scale, n_nodes, stream=False)
+    assert summed is not None  # nothing is summed before the end
+    return summed
 
 
-def _streamed(
-    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
+def _summed(
+    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int, stream: bool
 ) -> float | None:
-    """``gershgorin_largest`` holding only the node pairs whose row may still grow: after each
-    piece, the pairs (a, b) whose node a the piece does not hold are summed into a's rows and
-    dropped (a cell-ordered mesh's pieces of consecutive cells share only the nodes along
-    their borders). Each pair is summed in the pieces' order and each row over its pairs in
-    the order of b, as ``_row_bound`` does: the same number to the last bit. None when a
-    piece holds a node already summed (a mesh whose cells are not in a banded order)."""
+    """``gershgorin_largest``: each piece's blocks added to the sums of its node pairs as it
+    comes, in its order, so that a pair's sum is 0 + its blocks in the pieces' order and in
+    each piece's own, however the blocks are parted into pieces; each row then summed over its
+    pairs in the order of b. ``stream``: after each piece, the pairs (a, b) whose node a the
+    piece does not hold are summed into a's rows and dropped (a cell-ordered mesh's pieces of
+    consecutive cells share only the nodes along their borders); None when a piece holds a
+    node already summed (a mesh whose cells are not in a banded order). Else every pair is
+    held to the end."""
     scale = np.ascontiguousarray(scale)
     rows = np.zeros(scale.shape[0])
     closed = np.zeros(n_nodes, dtype=bool)
     open_nodes = np.zeros(n_nodes, dtype=bool)
     held_keys, held = np.empty(0, dtype=np.int64), np.empty((0, 5, 5))
     for piece in pieces:
-        sums = _Sums()
-        keys = _piece_sums(piece, maps, n_nodes, sums)
+        keys, sums, taken = _piece_sums(piece, maps, n_nodes, held_keys, held)
+        del piece  # read: not held while the next one is made
         first = keys // n_nodes
-        if closed[first].any():
+        if stream and closed[first].any():
             return None
-        order = np.argsort(keys, kind="stable")
-        out_keys = np.empty(len(held_keys) + len(keys), dtype=np.int64)
+        # The pairs of the piece (their sums go on from the held ones) among the others held.
+        out_keys = np.empty(len(held_keys) - int(taken.sum()) + len(keys), dtype=np.int64)
         out = np.empty((len(out_keys), 5, 5))
-        count = _merge(held_keys, held, keys, order, sums.rows[: sums.used], out_keys, out)
-        del sums
-        open_nodes[:] = False
-        open_nodes[first] = True
-        kept = _close(out_keys, out, count, open_nodes, closed, scale, n_nodes, rows)
-        held_keys, held = out_keys[:kept].copy(), out[:kept].copy()
+        _merge(held_keys, held, taken, keys, sums, out_keys, out)
+        del sums, held
+        if stream:
+            open_nodes[:] = False
+            open_nodes[first] = True
+            kept = _close(out_keys, out, len(out_keys), open_nodes, closed, scale, n_nodes, rows)
+            held_keys, held = out_keys[:kept].copy(), out[:kept].copy()
+        else:
+            held_keys, held = out_keys, out
         del out_keys, out
     open_nodes[:] = False
     _close(held_keys, held, len(held_keys), open_nodes, closed, scale, n_nodes, rows)

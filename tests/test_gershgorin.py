@@ -152,19 +152,63 @@ def _plate_in_pieces(monkeypatch, size=14):
 
 def test_rows_summed_as_the_pieces_leave_their_nodes_give_the_same_bound(monkeypatch):
     """The pieces of consecutive cells: each node's row summed once no later piece holds it
-    (``_streamed``), the pairs of the pieces around it alone held; the same number to the
-    last bit as with every pair held, and the assembled bound to 1e-12."""
+    (``_summed`` with ``stream``), the pairs of the pieces around it alone held; the same
+    number to the last bit as with every pair held, and the assembled bound to 1e-12."""
     from femcore import gershgorin
 
     compiled, state, pieces, maps, scale = _plate_in_pieces(monkeypatch)
     assert len(pieces) == 3
     n = compiled.n_nodes
     held = gershgorin_largest(pieces, maps, scale, n)
-    streamed = gershgorin._streamed(pieces, maps, scale, n)
+    streamed = gershgorin._summed(pieces, maps, scale, n, stream=True)
     assert streamed is not None
     assert streamed == held
     assert gershgorin_largest(pieces, maps, scale, n, again=lambda: pieces) == held
     assert held == pytest.approx(assembled(compiled, state, pieces, scale), rel=1e-12)
+
+
+def test_the_bound_does_not_depend_on_the_pieces():
+    """Each node's row alone (the scale 0 off its slots: the bound is then its diagonal block,
+    the sum of the cells around it) from the Mindlin tangent in pieces of 1, 3, 7 and 40
+    cells: the same to the last bit, a pair's blocks added in the cells' order onto its sum
+    so far whatever the pieces. (Each piece's own sums added to the held ones, as before,
+    moved 6 of the 30 nodes' blocks in their last bits.)"""
+    from elements import mindlin
+
+    compiled, state = bent_plate()
+    block = compiled.blocks[0]
+    maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
+    parted = {}
+    for size in (1, 3, 7, 40):
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(mindlin, "_PIECE", size)
+            parted[size] = list(block.tangent_pieces(state))
+        assert len(parted[size]) == -(-40 // size)
+    for node in range(compiled.n_nodes):
+        scale = np.zeros(compiled.dofs.n_slots)
+        scale[5 * node : 5 * node + 5] = [1.0, 0.7, 1.3, 0.9, 1.1]
+        # every pair held, and streamed (made again with every pair held where it cannot be)
+        bounds = {
+            gershgorin_largest(pieces, maps, scale, compiled.n_nodes, again=again)
+            for pieces in parted.values()
+            for again in (None, lambda pieces=pieces: pieces)
+        }
+        assert len(bounds) == 1 and bounds != {0.0}
+
+
+def test_a_mindlin_piece_is_a_share_of_the_model(monkeypatch):
+    """The Mindlin pieces follow the model's size between _PIECE_MIN and _PIECE cells."""
+    from elements import mindlin
+
+    compiled, state = bent_plate()
+    block = compiled.blocks[0]
+    monkeypatch.setattr(mindlin, "_PIECE_MIN", 4)
+    monkeypatch.setattr(mindlin, "_PIECE_SHARE", 8)
+    assert [len(p.nodes) for p in block.tangent_pieces(state)] == [5] * 8  # 40 // 8
+    monkeypatch.setattr(mindlin, "_PIECE_MIN", 10)
+    assert [len(p.nodes) for p in block.tangent_pieces(state)] == [10] * 4
+    monkeypatch.setattr(mindlin, "_PIECE", 3)
+    assert len(list(block.tangent_pieces(state))) == 14
 
 
 def test_a_piece_holding_a_node_already_summed_makes_the_bound_again(monkeypatch):
@@ -176,7 +220,7 @@ def test_a_piece_holding_a_node_already_summed_makes_the_bound_again(monkeypatch
     compiled, _, pieces, maps, scale = _plate_in_pieces(monkeypatch, 7)
     shuffled = [pieces[k] for k in (0, 3, 1, 5, 2, 4)]
     n = compiled.n_nodes
-    assert gershgorin._streamed(shuffled, maps, scale, n) is None
+    assert gershgorin._summed(shuffled, maps, scale, n, stream=True) is None
     asked = []
 
     def again():

@@ -196,11 +196,12 @@ def tangent_terms(block: FibrousShellBlock, positions: np.ndarray) -> dict:
 
 
 def tangent_blocks(
-    block: FibrousShellBlock, positions: np.ndarray, terms: dict, cells: slice
+    block: FibrousShellBlock, positions: np.ndarray, terms: dict, cells: slice | np.ndarray
 ) -> np.ndarray:
-    """The blocks (c, 6, 3, 6, 3), N/mm, of ``tangent`` for a slice of ``cells`` (c of them)
-    from ``tangent_terms``: each cell's own, so that a slice's are those of the whole to
-    round-off (numpy's batched products may round differently in batches of other sizes)."""
+    """The blocks (c, 6, 3, 6, 3), N/mm, of ``tangent`` for ``cells`` (c of them: a slice or
+    an index array) from ``tangent_terms``: each cell's own, so that a slice's are those of
+    the whole to round-off (numpy's batched products may round differently in batches of
+    other sizes)."""
     coefficients = terms["coefficients"][cells]
     gradient, normal = terms["gradient"], terms["normal"]  # all cells: the neighbours' too
     share = gradient[cells][..., None] * normal[cells][:, None, None, :]  # D[s, k] n
@@ -232,13 +233,13 @@ def tangent_blocks(
 
 
 def patch_nodes(
-    block: FibrousShellBlock, cells: slice = slice(None)
+    block: FibrousShellBlock, cells: slice | np.ndarray = slice(None)
 ) -> tuple[np.ndarray, np.ndarray]:
     """The six nodes of each cell's bending patch (m, 6): its corners, then across each
     side s the neighbour's node opposite it (the cell's corner s where the side couples
     no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
-    neighbour's corner j across side s, at s * 3 + j; of the block's ``cells`` (all by
-    default)."""
+    neighbour's corner j across side s, at s * 3 + j; of the block's ``cells`` (a slice or an
+    index array; all by default)."""
     conn = block.connectivity[cells]
     interior = block.interior_side[cells]
     other = block.connectivity[block.across_cell[cells]]  # (m, s, j)

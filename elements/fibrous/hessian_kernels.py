@@ -474,13 +474,14 @@ def membrane_hessians(
     x: np.ndarray,
     v: np.ndarray,
     sums: np.ndarray,
-    cells: slice = slice(None),
+    cells: slice | np.ndarray = slice(None),
     compression_free: bool = False,
 ):
     """``tangent.membrane_hessian(block, x, v, sums, compression_free)`` by the compiled
     loop: the cells' Hessians (m, 3, 9, 3, 9) in (x, psi, S) per corner (N/mm, N, N mm and per
     unit of S) and dW/dS_k (m, 3, 3), N mm; x, v, sums (m, 3, 3) the corners, directors and
-    normal sums (nodal normals) of the block's ``cells`` (a slice of them, all by default)."""
+    normal sums (nodal normals) of the block's ``cells`` (a slice or an index array of them,
+    all by default)."""
     m = len(x)
     out = np.empty((m, 27, 27))
     d_sums = np.empty((m, 3, 3))
