@@ -35,6 +35,7 @@ __all__ = [
     "facets_at",
     "grown_corners",
     "nearest_segment",
+    "nearest_segments_at",
     "segment_lines",
 ]
 
@@ -278,6 +279,31 @@ def segment_lines(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.
     e = np.ascontiguousarray(ends - starts)
     e0, e1, e2 = e[:, 0], e[:, 1], e[:, 2]
     return e, np.maximum(e0 * e0 + e2 * e2 + e1 * e1, np.finfo(float).tiny)
+
+
+def _nearest_each(p, starts, e, squared, out):
+    """out[i] the segment nearest each point p[i] (c, 3) (``nearest_segment``)."""
+    for i in prange(p.shape[0]):
+        out[i] = nearest_segment(p[i, 0], p[i, 1], p[i, 2], starts, e, squared)
+
+
+_nearest_each_compiled = jit_lanes(_nearest_each)
+
+
+def nearest_segments_at(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3), mm) nearest each
+    point p (c, 3) in one compiled pass, ``nearest_segment`` point by point: the answer of
+    ``ply_fade.every_segment`` and ``ply_fade.nearest_segments`` (ties to the lowest index,
+    the first NaN distance where some are NaN), without numpy's (c, E) arrays."""
+    out = np.zeros(len(p), dtype=np.int64)
+    if len(p) == 0 or len(starts) == 0:
+        return out
+    e, squared = segment_lines(starts, ends)
+    _nearest_each_compiled(
+        np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(starts, dtype=float), e,
+        squared, out,
+    )  # fmt: skip
+    return out
 
 
 def _grown(corners, reach, out):

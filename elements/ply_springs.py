@@ -66,6 +66,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from elements import ply_kernels, ply_projection
 from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
 from elements.ply_projection import MARGIN, triangle_frames
 from femcore.interaction import SPRINGS_HELD_STEPS
@@ -186,17 +187,23 @@ def reachable_springs(
             rim = block._rim_triangles = on_outline[block.cells].any(axis=1)
         asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
         face = facing.face[asked]
-        nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
+        if ply_projection.COMPILED:  # the same answer, one compiled pass (ply_kernels.py)
+            nearest = ply_kernels.nearest_segments_at(face, ends_at[:, 0], ends_at[:, 1])
+        else:
+            nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
         near_edge = np.zeros(len(weights), bool)
         near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
         past |= near_edge
         wedges = _wedge_corners(block.cells, rows, ends)
-        if len(wedges):
+        # only a point near an edge can lie beside a wedge: the others are not asked (a
+        # point's distance is the tree's whichever others are asked with it)
+        edged = np.flatnonzero(near_edge)
+        if len(wedges) and len(edged):
             radius = s + float(np.max(reached)) + BESIDE_REACH * faded
             distance = cKDTree(y[wedges[:, 0], wedges[:, 1]]).query(
-                facing.face, distance_upper_bound=radius
+                facing.face[edged], distance_upper_bound=radius
             )[0]
-            beside |= near_edge & (distance <= radius)
+            beside[edged] |= distance <= radius
     factor = stiffness_factor(past, beside, reached, faded)
     # the points that may touch until then: within s of the face, and not past their facing
     # triangle's reach by more than the slide (a point beside a growth is held by it)
@@ -247,7 +254,10 @@ def _weighted_reach(block, v, size, triangle, delta) -> np.ndarray:
     lower_v = v[block.lower_nodes]
     largest = np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))
     along = np.einsum("pk,pk->p", size, v[block.cells[triangle]])
-    along = along + delta * (block._ring.T @ lower_v)[triangle]
+    transposed = getattr(block, "_ring_transposed", None)
+    if transposed is None:  # the ring's rows by triangle (the same sums in the same order)
+        transposed = block._ring_transposed = block._ring.T.tocsr()
+    along = along + delta * (transposed @ lower_v)[triangle]
     return own + np.minimum(along, size.sum(axis=1) * largest[triangle])
 
 
