@@ -147,7 +147,10 @@ def reachable_springs(
     nodes = np.concatenate([block.upper, block.lower_nodes])
     step = STEP_GROWTH * block.calibrated_dt if step is None else step
     s = slide(block, state, facing, step)
-    least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+    if ply_projection.COMPILED:  # the same bits, one compiled pass (ply_kernels.py)
+        least = 1.0 / ply_kernels.largest_gradient(y)
+    else:
+        least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
     # plies at rest start to move before the next evaluation: at least FLOOR of a height
     s = max(s, FLOOR * least) if np.isfinite(s) else np.inf
     weights = facing.weights
