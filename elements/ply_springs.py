@@ -66,7 +66,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from elements import ply_kernels, ply_projection
+from elements import ply_kernels, ply_projection, ply_springs_kernels
 from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
 from elements.ply_projection import MARGIN, triangle_frames
 from femcore.interaction import SPRINGS_HELD_STEPS
@@ -96,6 +96,12 @@ def slide(block, state, facing, step: float) -> float:
     v, spins = state.velocities, state.angular_velocities
     if not (np.any(v) or np.any(spins)):
         return 0.0
+    if ply_projection.COMPILED:  # the same bits, one compiled pass (ply_springs_kernels.py)
+        fastest = ply_springs_kernels.fastest_point(
+            block.shape, block.above, facing.weights, block.cells, facing.triangle, v, spins,
+            block.depth, MARGIN,
+        )  # fmt: skip
+        return GROWTH * fastest * SPRINGS_HELD_STEPS * step
     own = np.einsum("pj,pji->pi", block.shape, v[block.above])
     facing_corners = block.cells[facing.triangle]
     # (far past their triangle's reach the points carry nothing: their weights held there)

@@ -519,3 +519,33 @@ def test_the_compiled_springs_are_the_numpy_reference_s_to_the_bit(model, thread
             np.testing.assert_array_equal(reference[1], found[1])
     finally:
         numba.set_num_threads(held)
+
+
+@pytest.mark.parametrize("model", [MODELS[0], MODELS[3]], ids=str)
+def test_the_compiled_slide_is_numpy_s_to_the_bit(model, monkeypatch):
+    """``slide`` in one compiled pass (elements/ply_springs_kernels.py) against its numpy
+    path (``ply_projection.COMPILED = False``): random velocities and angular velocities over
+    six decades, a node's velocity NaN (the slide NaN either way)."""
+    from elements import ply_projection
+
+    angles, sink, shift = model
+    compiled, state0, top = _stack(angles, sink)
+    state0.positions[top, :2] += shift
+    rng = np.random.default_rng(5)
+    n = len(state0.positions)
+    for trial in range(4):
+        state = state0.copy()
+        state.velocities[:] = rng.normal(size=(n, 3)) * 10.0 ** rng.uniform(-3, 3, (n, 1))
+        state.angular_velocities[:] = rng.normal(size=(n, 3)) * 10.0 ** rng.uniform(-3, 3, (n, 1))
+        if trial == 3:
+            state.velocities[top[0], 1] = np.nan
+        for block in compiled.interactions:
+            facing = block.facing(state)
+            found = ply_springs.slide(block, state, facing, 1e-5)
+            monkeypatch.setattr(ply_projection, "COMPILED", False)
+            expected = ply_springs.slide(block, state, facing, 1e-5)
+            monkeypatch.setattr(ply_projection, "COMPILED", True)
+            if trial == 3:
+                assert np.isnan(found) and np.isnan(expected)
+            else:
+                assert found > 0.0 and found == expected
