@@ -17,15 +17,22 @@ CPU (``time.process_time``), best of ``--rounds``, the machine's load printed.
 
 Measured (main cfaff59 as the reference, one thread, 2 cores shared with other jobs):
 
-* the springs, fibrous [0/90], 100 calls of the first 0.6 of the run: 1183-1240 -> 513-606
-  us a call (load 2.9-3.7), the same springs to the bit. Where it went before (a timer round
-  each statement, load 3): the wedge corners' KD-tree asked of every point 388 us (now of
-  the points near an outline edge alone), the outline's nearest edges by numpy's every pair
-  202 us (now ``ply_kernels.nearest_segments_at``), the ring's transpose made twice a call
-  as CSC (now kept as CSR: the same sums in the same order). What is left: the slide (~110
-  us), the nodes' weights and F_p (~150 + 65), the least height (~75), numpy's glue.
-* the probe, fibrous [0/90] (101 frames): 0.66 -> 0.25 s of CPU on the curved face, 0.13 ->
-  0.07 on the flat facets (load 3), the same gaps to the bit.
+* the springs, fibrous [0/90], 100 calls of the first 0.6 of the run: 927-940 -> 356-359 us a
+  call (x 2.6, load 4.3); Mindlin [0/45]: 1210-1371 -> 432-453 (x 2.8-3.0, load 7.2); the
+  same springs to the bit. Where it went before (a timer round each statement, load 3): the
+  wedge corners' KD-tree asked of every point 388 us (now of the points near an outline
+  edge alone), the outline's nearest edges by numpy's every pair 202 us (now
+  ``ply_kernels.nearest_segments_at``), the slide 116 us (now elements/
+  ply_springs_kernels.py), the least height from every triangle's frame 77 us (now
+  ``ply_kernels.largest_gradient``), the ring's transpose made twice a call as CSC (now kept
+  as CSR: the same sums in the same order). What is left: the nodes' weights and F_p (numpy,
+  about half), the fade's factor and numpy's glue.
+* the probe over the run's 101 frames: fibrous [0/90] 0.76 -> 0.28 s of CPU on the curved
+  face, 0.16 -> 0.08 on the flat facets (load 4.4); Mindlin [0/45] 0.95 -> 0.35 and 0.23 ->
+  0.11 (load 7.4); the same gaps to the bit.
+
+What they give the report's hemisphere-plies case: benchmarks/forming_step_overhead.py,
+"Sixth round".
 """
 
 from __future__ import annotations
