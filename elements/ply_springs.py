@@ -256,16 +256,21 @@ def _weighted_reach(block, v, size, triangle, delta) -> np.ndarray:
     evaluation: sum_j N_j v_j over its upper corners plus the least of sum_k (|lambda_k| +
     delta) v_k over its facing triangle's corners and delta v_i over the lower nodes whose
     ring holds that triangle, and (sum_k |lambda_k| + 3 delta) times the largest v of them."""
-    own = np.einsum("pj,pj->p", block.shape, v[block.above])
     reach = getattr(block, "_reach_nodes", None)
     if reach is None:  # (m, w): the lower nodes a point facing triangle T may reach, padded
         reach = block._reach_nodes = _padded_rows(block._ring.T.tocsr())
-    lower_v = v[block.lower_nodes]
-    largest = np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))
-    along = np.einsum("pk,pk->p", size, v[block.cells[triangle]])
     transposed = getattr(block, "_ring_transposed", None)
     if transposed is None:  # the ring's rows by triangle (the same sums in the same order)
         transposed = block._ring_transposed = block._ring.T.tocsr()
+    if ply_projection.COMPILED:  # the same bits, one compiled pass (ply_springs_kernels.py)
+        return ply_springs_kernels.weighted_reach(
+            block.shape, block.above, v, size, block.cells, triangle, block.lower_nodes, reach,
+            transposed, delta,
+        )  # fmt: skip
+    own = np.einsum("pj,pj->p", block.shape, v[block.above])
+    lower_v = v[block.lower_nodes]
+    largest = np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))
+    along = np.einsum("pk,pk->p", size, v[block.cells[triangle]])
     along = along + delta * (transposed @ lower_v)[triangle]
     return own + np.minimum(along, size.sum(axis=1) * largest[triangle])
 

@@ -1,13 +1,16 @@
-"""The ply springs' slide compiled (elements/ply_springs.py ``slide``; docs/theory.md §6.2,
-"The penalty springs"): the fastest point's speed against its facing triangle's point plus
-the plies' depth times both sets' largest angular speed, in one serial pass over the points.
+"""The ply springs' slide and weighted reach compiled (elements/ply_springs.py ``slide``,
+``_weighted_reach``; docs/theory.md §6.2, "The penalty springs"): the fastest point's speed
+against its facing triangle's point plus the plies' depth times both sets' largest angular
+speed, and each point's bound F_p of sum_i |a_i| v_i, each in one serial pass over the
+points.
 
-Its numpy reference is ``ply_springs.slide`` with ``ply_projection.COMPILED = False``: the
-pass does the same IEEE operations in the same order (numpy's ``einsum("pj,pji->pi")`` sums
-its three terms from the first, ``einsum("pi,pi->p")`` as (first + last) + middle; ``np.clip``
-and the maxima pass NaN as numpy's do; no fused multiply-add: numba builds without fastmath),
-so it gives the same slide to the last bit (tests/test_ply_springs.py). Serial: a maximum
-over a few hundred points, asked every tenth step.
+Their numpy references are ``ply_springs.slide`` and ``_weighted_reach`` with
+``ply_projection.COMPILED = False``: the passes do the same IEEE operations in the same order
+(numpy's ``einsum("pj,pji->pi")`` sums its three terms from the first, ``einsum("pi,pi->p")``
+as (first + last) + middle, a row's ``sum`` from the first, scipy's CSR product row by row
+from 0.0; ``np.clip``, the maxima and the minimum pass NaN as numpy's do; no fused
+multiply-add: numba builds without fastmath), so they give the same numbers to the last bit
+(tests/test_ply_springs.py). Serial: a maximum, and a few hundred points, every tenth step.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import numpy as np
 from elements.jit import lanes
 from elements.kernel_inputs import read_only
 
-__all__ = ["fastest_point"]
+__all__ = ["fastest_point", "weighted_reach"]
 
 
 @lanes
@@ -125,3 +128,75 @@ def fastest_point(
             1.0 + 2.0 * float(margin),
         )
     )
+
+
+@lanes
+def _reach(
+    shape, above, v, size, cells, triangle, lower_v, reach, indptr, indices, data, delta, out
+):
+    """out[p] the F_p bound of each point p (``weighted_reach``)."""
+    for p in range(shape.shape[0]):
+        t = triangle[p]
+        a0, a1, a2 = above[p, 0], above[p, 1], above[p, 2]
+        own = (shape[p, 0] * v[a0] + shape[p, 2] * v[a2]) + shape[p, 1] * v[a1]
+        c0, c1, c2 = cells[t, 0], cells[t, 1], cells[t, 2]
+        ring = lower_v[reach[t, 0]]
+        for j in range(1, reach.shape[1]):
+            ring = _larger(ring, lower_v[reach[t, j]])
+        largest = _larger(_larger(_larger(v[c0], v[c1]), v[c2]), ring)
+        along = (size[p, 0] * v[c0] + size[p, 2] * v[c2]) + size[p, 1] * v[c1]
+        summed = 0.0
+        for k in range(indptr[t], indptr[t + 1]):
+            summed += data[k] * lower_v[indices[k]]
+        along = along + delta * summed
+        cap = ((size[p, 0] + size[p, 1]) + size[p, 2]) * largest
+        # numpy's minimum: NaN where either is
+        least = cap if (cap != cap or cap < along) else along
+        out[p] = own + least
+
+
+def weighted_reach(
+    shape: np.ndarray,
+    above: np.ndarray,
+    v: np.ndarray,
+    size: np.ndarray,
+    cells: np.ndarray,
+    triangle: np.ndarray,
+    lower_nodes: np.ndarray,
+    reach: np.ndarray,
+    transposed,
+    delta: float,
+) -> np.ndarray:
+    """(P,) ``ply_springs._weighted_reach`` in one pass, to the bit.
+
+    Parameters
+    ----------
+    shape, above : (P, 3) float, (P, 3) int
+        Each point's shape functions and upper triangle's corners.
+    v : (n,) float
+        The nodes' weights.
+    size : (P, 3) float
+        |lambda_k| + delta of each point's facing triangle's corners.
+    cells, triangle : (m, 3) int, (P,) int
+        The lower triangles' corners and each point's facing triangle.
+    lower_nodes : (l,) int
+        The lower nodes.
+    reach : (m, w) int
+        The rows of ``lower_nodes`` whose ring holds each triangle, padded.
+    transposed : scipy.sparse.csr_matrix (m, l)
+        The ring's matrix by triangle.
+    delta : float
+        The slide over the least height.
+    """
+    out = np.empty(len(shape))
+    _reach(
+        np.ascontiguousarray(shape, dtype=float), np.ascontiguousarray(above, dtype=np.int64),
+        np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(size, dtype=float),
+        np.ascontiguousarray(cells, dtype=np.int64), read_only(triangle, np.int64),
+        np.ascontiguousarray(v[lower_nodes], dtype=float),
+        np.ascontiguousarray(reach, dtype=np.int64),
+        np.ascontiguousarray(transposed.indptr, dtype=np.int64),
+        np.ascontiguousarray(transposed.indices, dtype=np.int64),
+        np.ascontiguousarray(transposed.data, dtype=float), float(delta), out,
+    )  # fmt: skip
+    return out

@@ -43,7 +43,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from elements import ply_springs
+from elements import ply_projection, ply_springs
 from elements.layup import Layup
 from materials import Fabric
 
@@ -279,7 +279,9 @@ PARTS = {
 def _edited(name, edits, springs_of):
     """``springs_of`` with ``ply_springs.<name>`` a copy of its text edited by ``edits``
     ((old, new) pairs, each old text found once, so the copy follows the function it
-    breaks), swapped in while the springs are asked for."""
+    breaks), swapped in while the springs are asked for, on the numpy path
+    (``ply_projection.COMPILED = False``: the edits are of its text; the compiled passes give
+    its bits, ``test_the_compiled_springs_are_the_numpy_reference_s_to_the_bit``)."""
     source = inspect.getsource(getattr(ply_springs, name))
     for old, new in edits:
         assert source.count(old) == 1, f"{name} no longer holds {old!r}"
@@ -289,12 +291,14 @@ def _edited(name, edits, springs_of):
     broken = namespace[name]
 
     def edited(block, state):
-        held = getattr(ply_springs, name)
+        held, compiled = getattr(ply_springs, name), ply_projection.COMPILED
         setattr(ply_springs, name, broken)
+        ply_projection.COMPILED = False
         try:
             return springs_of(block, state)
         finally:
             setattr(ply_springs, name, held)
+            ply_projection.COMPILED = compiled
 
     return edited
 
