@@ -17,16 +17,17 @@ CPU (``time.process_time``), best of ``--rounds``, the machine's load printed.
 
 Measured (main cfaff59 as the reference, one thread, 2 cores shared with other jobs):
 
-* the springs, fibrous [0/90], 100 calls of the first 0.6 of the run: 927-940 -> 356-359 us a
-  call (x 2.6, load 4.3); Mindlin [0/45]: 1210-1371 -> 432-453 (x 2.8-3.0, load 7.2); the
-  same springs to the bit. Where it went before (a timer round each statement, load 3): the
-  wedge corners' KD-tree asked of every point 388 us (now of the points near an outline
-  edge alone), the outline's nearest edges by numpy's every pair 202 us (now
-  ``ply_kernels.nearest_segments_at``), the slide 116 us (now elements/
-  ply_springs_kernels.py), the least height from every triangle's frame 77 us (now
-  ``ply_kernels.largest_gradient``), the ring's transpose made twice a call as CSC (now kept
-  as CSR: the same sums in the same order). What is left: the nodes' weights and F_p (numpy,
-  about half), the fade's factor and numpy's glue.
+* the springs, fibrous [0/90], 100 calls of the first 0.6 of the run: 1035-1063 -> 334-338
+  us a call (x 3.1, load 9.4; 927-940 -> 356-359 at load 4.3 before the weighted reach's
+  pass); Mindlin [0/45] before that pass: 1210-1371 -> 432-453 (load 7.2); the same springs
+  to the bit. Where it went before (a timer round each statement, load 3): the wedge
+  corners' KD-tree asked of every point 388 us (now of the points near an outline edge
+  alone), the outline's nearest edges by numpy's every pair 202 us (now
+  ``ply_kernels.nearest_segments_at``), the nodes' weights and F_p 152 + 65 us (F_p now
+  elements/ply_springs_kernels.py), the slide 116 us (now there too), the least height from
+  every triangle's frame 77 us (now ``ply_kernels.largest_gradient``), the ring's transpose
+  made twice a call as CSC (now kept as CSR: the same sums in the same order). What is left:
+  the nodes' weights' numpy, the fade's factor and numpy's glue.
 * the probe over the run's 101 frames: fibrous [0/90] 0.76 -> 0.28 s of CPU on the curved
   face, 0.16 -> 0.08 on the flat facets (load 4.4); Mindlin [0/45] 0.95 -> 0.35 and 0.23 ->
   0.11 (load 7.4); the same gaps to the bit.
