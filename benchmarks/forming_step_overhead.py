@@ -248,6 +248,29 @@ glue: halving the step's cost outside the elements needs the die's search made c
 (its kept lists, its kernel), and then the rest of the glue fused (the rates, the tools'
 work and the rotational update in one pass; the analytic tools' rows and totals in one pass
 per tool set).
+
+Sixth round, each cut giving the same bits (benchmarks/ply_springs_speed.py measures the
+parts): the ply springs' bound, asked every tenth step (``--split`` of fibrous [0/90] on main
+cfaff59, load 3.6: 0.177 of 1.881 ms a step, 881 us a call), with the outline's nearest
+edges, the slide, the least height and the weighted reach F_p in compiled passes, the wedge
+corners asked of the points near an edge alone and the ring's transpose kept (1035-1063 ->
+334-338 us a call on replayed states, load 9.4); the friction's kept mapping checked with no
+copy of the penalties (12.8 -> 3.9 us a check, four a step) and the history's bytes taken
+faster (6.2 -> 3.3 us, six a step); the least-gap measure's probe one point per node
+(0.76-0.95 -> 0.28-0.35 s of CPU a run on the curved face). Beside main cfaff59 (``git
+archive``; one numba thread, CPU, each tree's numba cache warmed by a run before, the trees'
+runs at once with other jobs):
+
+* ``--reference``, Mindlin [0/90], 8429 steps (before the weighted reach's pass): 1.707 ->
+  1.608 ms a step (best of 2, load 6.6-7.1), the same steps and final positions to the bit;
+* hemisphere-plies default (``python -m validation --cases hemisphere-plies --jobs 1``, four
+  rounds as the cuts came, load 5-9): case_cpu_s 58.8 -> 54.7, 59.6 -> 55.2, 60.2 -> 55.3
+  and, all cuts, 59.1 -> 53.3 s (-10 %: the runs 53.4 -> 49.3 s, fibrous [0/90] 8.68 ->
+  8.01, fibrous [0/45] 11.24 -> 10.30, Mindlin [0/90] 16.34 -> 14.89, Mindlin [0/45] 17.09
+  -> 16.12; outside the runs 5.8 -> 4.0 s); results.json the same in all its 313 numbers but
+  the times (24 of 24 checks). The step is still Python round some fifty compiled calls (a
+  third of its CPU in the kernels' own code): the third of the case's CPU asked for needs
+  the ply contact's facing, history and loads fused per block, not more cuts of this kind.
 """
 
 from __future__ import annotations

@@ -37,6 +37,7 @@ import numpy as np
 
 from elements import ply_friction
 from elements.jit import jit_lanes, prange
+from elements.kept_bits import same_bits
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_sides import PlySides
@@ -167,12 +168,11 @@ def friction_state(
     if history is None or block.friction <= 0.0 or block.curved or facing.fade is None:
         return ply_friction.friction_state(block, state, history, facing)
     kept = getattr(block, "_next_sliding", None)
-    law = _law(block)
     if (
         kept is not None
         and kept[0] is history
         and kept[1] is facing
-        and _same(kept[2], law)
+        and _same(kept[2], block)
         and kept[4] == _bits(history)  # not edited in place since
     ):
         return kept[3]  # made with the history itself (``updated_history``): the same bits
@@ -372,8 +372,16 @@ def _bits(history: PlyFrictionHistory) -> bytes:
     """The bytes of a history's arrays: a kept mapping is served only to the history it was
     made with, unedited (matched by identity and these; its arrays stay writable, as the
     kernels' other inputs of their kind, so that each kernel keeps one build)."""
-    arrays = (history.triangle, history.anchor, history.slip, history.pressing)
-    return b"".join(np.ascontiguousarray(array).tobytes() for array in arrays)
+    # (``tobytes`` gives the C order's bytes of any layout; a list, not a generator: 6.2 ->
+    # 3.3 us on 384 points, six a step)
+    return b"".join(
+        [
+            np.asarray(history.triangle).tobytes(),
+            np.asarray(history.anchor).tobytes(),
+            np.asarray(history.slip).tobytes(),
+            np.asarray(history.pressing).tobytes(),
+        ]
+    )
 
 
 def _law(block: PlyContactBlock) -> tuple:
@@ -383,11 +391,14 @@ def _law(block: PlyContactBlock) -> tuple:
     return (np.array(block.stiffness, dtype=float), block.smoothing, block.friction, block.stick)
 
 
-def _same(kept: tuple, law: tuple) -> bool:
-    """``_law``'s of a kept mapping and of the block now agree (the penalties the same
-    values, bit for bit)."""
-    return (
-        kept[0].shape == law[0].shape
-        and bool(np.all(kept[0].view(np.int64) == law[0].view(np.int64)))
-        and kept[1:] == law[1:]
+def _same(kept: tuple, block: PlyContactBlock) -> bool:
+    """``_law``'s of a kept mapping and the block's now agree: the penalties the same bits
+    (``same_bits``, with no copy of them: 1-2 us a check against 11-13 for a copy compared by
+    numpy on the hemisphere's 384 points, four checks a step; penalties held in another
+    dtype than the copy's float64 are not the same, and the mapping is made again, the same
+    numbers), the smoothing, mu and the stick spring's law equal."""
+    return same_bits(kept[0], np.asarray(block.stiffness)) and kept[1:] == (
+        block.smoothing,
+        block.friction,
+        block.stick,
     )

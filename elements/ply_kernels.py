@@ -34,7 +34,9 @@ __all__ = [
     "edges_closest",
     "facets_at",
     "grown_corners",
+    "largest_gradient",
     "nearest_segment",
+    "nearest_segments_at",
     "segment_lines",
 ]
 
@@ -278,6 +280,76 @@ def segment_lines(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.
     e = np.ascontiguousarray(ends - starts)
     e0, e1, e2 = e[:, 0], e[:, 1], e[:, 2]
     return e, np.maximum(e0 * e0 + e2 * e2 + e1 * e1, np.finfo(float).tiny)
+
+
+def _gradient_norms(y, out):
+    """out[t] the largest |grad phi_e| (1/mm) of triangle t of corners y (m, 3, 3), as
+    ``np.linalg.norm(ply_projection.triangle_frames(y)[2], axis=-1).max(axis=1)`` gives it
+    (``_facets_at``'s frames; numpy's max: the first NaN, else the largest)."""
+    for t in prange(y.shape[0]):
+        a0, a1, a2 = y[t, 0, 0], y[t, 0, 1], y[t, 0, 2]
+        b0, b1, b2 = y[t, 1, 0], y[t, 1, 1], y[t, 1, 2]
+        c0, c1, c2 = y[t, 2, 0], y[t, 2, 1], y[t, 2, 2]
+        u0, u1, u2 = b0 - a0, b1 - a1, b2 - a2  # y2 - y1
+        v0, v1, v2 = c0 - a0, c1 - a1, c2 - a2  # y3 - y1
+        s0 = u1 * v2 - u2 * v1
+        s1 = u2 * v0 - u0 * v2
+        s2 = u0 * v1 - u1 * v0
+        twice = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+        m0, m1, m2 = s0 / twice, s1 / twice, s2 / twice
+        largest = 0.0
+        for e in range(3):  # the edges opposite corners 1, 2, 3 (cyclic)
+            if e == 0:
+                e0, e1, e2 = c0 - b0, c1 - b1, c2 - b2
+            elif e == 1:
+                e0, e1, e2 = a0 - c0, a1 - c1, a2 - c2
+            else:
+                e0, e1, e2 = u0, u1, u2
+            g0 = (m1 * e2 - m2 * e1) / twice
+            g1 = (m2 * e0 - m0 * e2) / twice
+            g2 = (m0 * e1 - m1 * e0) / twice
+            length = np.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+            if e == 0 or length != length or (largest == largest and length > largest):
+                largest = length
+        out[t] = largest
+
+
+_gradient_norms_compiled = jit_lanes(_gradient_norms)
+
+
+def largest_gradient(y: np.ndarray) -> float:
+    """The largest |grad phi| (1/mm) over the triangles of corners y (m, 3, 3), one over the
+    least height, in one compiled pass: ``float(np.max(np.linalg.norm(
+    ply_projection.triangle_frames(y)[2], axis=-1)))`` to the bit (NaN where that is)."""
+    out = np.empty(len(y))
+    # the corners read-only, as the block keeps the faces': one build (kernel_inputs.py)
+    _gradient_norms_compiled(read_only(y), out)
+    return float(np.max(out))
+
+
+def _nearest_each(p, starts, e, squared, out):
+    """out[i] the segment nearest each point p[i] (c, 3) (``nearest_segment``)."""
+    for i in prange(p.shape[0]):
+        out[i] = nearest_segment(p[i, 0], p[i, 1], p[i, 2], starts, e, squared)
+
+
+_nearest_each_compiled = jit_lanes(_nearest_each)
+
+
+def nearest_segments_at(p: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """(c,) int: the segment (from ``starts`` (E, 3) to ``ends`` (E, 3), mm) nearest each
+    point p (c, 3) in one compiled pass, ``nearest_segment`` point by point: the answer of
+    ``ply_fade.every_segment`` and ``ply_fade.nearest_segments`` (ties to the lowest index,
+    the first NaN distance where some are NaN), without numpy's (c, E) arrays."""
+    out = np.zeros(len(p), dtype=np.int64)
+    if len(p) == 0 or len(starts) == 0:
+        return out
+    e, squared = segment_lines(starts, ends)
+    _nearest_each_compiled(
+        np.ascontiguousarray(p, dtype=float), np.ascontiguousarray(starts, dtype=float), e,
+        squared, out,
+    )  # fmt: skip
+    return out
 
 
 def _grown(corners, reach, out):

@@ -66,6 +66,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from elements import ply_kernels, ply_projection, ply_springs_kernels
 from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
 from elements.ply_projection import MARGIN, triangle_frames
 from femcore.interaction import SPRINGS_HELD_STEPS
@@ -95,6 +96,12 @@ def slide(block, state, facing, step: float) -> float:
     v, spins = state.velocities, state.angular_velocities
     if not (np.any(v) or np.any(spins)):
         return 0.0
+    if ply_projection.COMPILED:  # the same bits, one compiled pass (ply_springs_kernels.py)
+        fastest = ply_springs_kernels.fastest_point(
+            block.shape, block.above, facing.weights, block.cells, facing.triangle, v, spins,
+            block.depth, MARGIN,
+        )  # fmt: skip
+        return GROWTH * fastest * SPRINGS_HELD_STEPS * step
     own = np.einsum("pj,pji->pi", block.shape, v[block.above])
     facing_corners = block.cells[facing.triangle]
     # (far past their triangle's reach the points carry nothing: their weights held there)
@@ -146,7 +153,10 @@ def reachable_springs(
     nodes = np.concatenate([block.upper, block.lower_nodes])
     step = STEP_GROWTH * block.calibrated_dt if step is None else step
     s = slide(block, state, facing, step)
-    least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+    if ply_projection.COMPILED:  # the same bits, one compiled pass (ply_kernels.py)
+        least = 1.0 / ply_kernels.largest_gradient(y)
+    else:
+        least = 1.0 / float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
     # plies at rest start to move before the next evaluation: at least FLOOR of a height
     s = max(s, FLOOR * least) if np.isfinite(s) else np.inf
     weights = facing.weights
@@ -186,17 +196,23 @@ def reachable_springs(
             rim = block._rim_triangles = on_outline[block.cells].any(axis=1)
         asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
         face = facing.face[asked]
-        nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
+        if ply_projection.COMPILED:  # the same answer, one compiled pass (ply_kernels.py)
+            nearest = ply_kernels.nearest_segments_at(face, ends_at[:, 0], ends_at[:, 1])
+        else:
+            nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
         near_edge = np.zeros(len(weights), bool)
         near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
         past |= near_edge
         wedges = _wedge_corners(block.cells, rows, ends)
-        if len(wedges):
+        # only a point near an edge can lie beside a wedge: the others are not asked (a
+        # point's distance is the tree's whichever others are asked with it)
+        edged = np.flatnonzero(near_edge)
+        if len(wedges) and len(edged):
             radius = s + float(np.max(reached)) + BESIDE_REACH * faded
             distance = cKDTree(y[wedges[:, 0], wedges[:, 1]]).query(
-                facing.face, distance_upper_bound=radius
+                facing.face[edged], distance_upper_bound=radius
             )[0]
-            beside |= near_edge & (distance <= radius)
+            beside[edged] |= distance <= radius
     factor = stiffness_factor(past, beside, reached, faded)
     # the points that may touch until then: within s of the face, and not past their facing
     # triangle's reach by more than the slide (a point beside a growth is held by it)
@@ -240,14 +256,22 @@ def _weighted_reach(block, v, size, triangle, delta) -> np.ndarray:
     evaluation: sum_j N_j v_j over its upper corners plus the least of sum_k (|lambda_k| +
     delta) v_k over its facing triangle's corners and delta v_i over the lower nodes whose
     ring holds that triangle, and (sum_k |lambda_k| + 3 delta) times the largest v of them."""
-    own = np.einsum("pj,pj->p", block.shape, v[block.above])
     reach = getattr(block, "_reach_nodes", None)
     if reach is None:  # (m, w): the lower nodes a point facing triangle T may reach, padded
         reach = block._reach_nodes = _padded_rows(block._ring.T.tocsr())
+    transposed = getattr(block, "_ring_transposed", None)
+    if transposed is None:  # the ring's rows by triangle (the same sums in the same order)
+        transposed = block._ring_transposed = block._ring.T.tocsr()
+    if ply_projection.COMPILED:  # the same bits, one compiled pass (ply_springs_kernels.py)
+        return ply_springs_kernels.weighted_reach(
+            block.shape, block.above, v, size, block.cells, triangle, block.lower_nodes, reach,
+            transposed, delta,
+        )  # fmt: skip
+    own = np.einsum("pj,pj->p", block.shape, v[block.above])
     lower_v = v[block.lower_nodes]
     largest = np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))
     along = np.einsum("pk,pk->p", size, v[block.cells[triangle]])
-    along = along + delta * (block._ring.T @ lower_v)[triangle]
+    along = along + delta * (transposed @ lower_v)[triangle]
     return own + np.minimum(along, size.sum(axis=1) * largest[triangle])
 
 

@@ -77,3 +77,40 @@ def test_a_top_node_pushed_through_the_bottom_ply_reads_its_depth():
     x[node] *= 1.0 + 0.8 / np.linalg.norm(x[node])
     gaps = radial_gaps(layup, x, study.THICKNESS)
     np.testing.assert_allclose(gaps[deep[0]], -0.8, atol=1e-9)
+
+
+def _probe(layup: Layup, rule: str, surface: str):
+    return (
+        Layup(
+            study.FABRIC, tuple(layup.angles), 2 * study.HALF, cells=8, rule=rule, surface=surface
+        )
+        .model()
+        .compile()
+        .interactions[0]
+    )
+
+
+def test_one_point_per_node_reads_the_gaps_of_a_point_in_each_triangle():
+    """``least_gaps``' probe takes one point per node ("nodes"): on plies laid on their
+    spheres, wrinkled by a random jitter of 0.4 mm (a sixth of the top nodes then lie past
+    the bottom ply's face) and with one top node pushed 0.8 mm through, its node gaps are
+    those of a point at the node in each of its triangles ("vertices", the least of them
+    per node) to the bit, on the flat facets and the curved face, in the die and over the
+    whole blank: the points at one node lie at one place and each point's facing is its
+    place's alone."""
+    for angles in ("0/90", "0/45"):
+        layup = Layup(study.FABRIC, study.LAYUPS[angles], 2 * study.HALF, cells=8)
+        x = _laid(layup)
+        x += np.random.default_rng(7).normal(scale=0.4, size=x.shape)
+        top = layup.ply_nodes[-1]
+        x[top[len(top) // 2]] *= 1.0 + 0.8 / np.linalg.norm(x[top[len(top) // 2]])
+        for surface in ("flat", "curved"):
+            each = _probe(layup, "vertices", surface)
+            once = _probe(layup, "nodes", surface)
+            assert len(once.above) < len(each.above) / 4  # 81 points for 384
+            for below in (None, -5.0):
+                expected = node_gaps(each, layup, x, below)
+                found = node_gaps(once, layup, x, below)
+                assert np.isfinite(expected).sum() >= (10 if below else 40)
+                assert np.nanmin(expected) < -0.1  # points past the face: not all zero
+                np.testing.assert_array_equal(found, expected)

@@ -758,3 +758,31 @@ def test_the_compiled_chosen_candidate_s_arrays_are_numpy_s_to_the_bit(with_towa
                 assert np.array_equal(np.signbit(got), np.signbit(want))
 
     on_one_thread_and_on_all(compare)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_the_largest_gradient_is_numpy_s_to_the_bit(threads):
+    """``ply_kernels.largest_gradient`` (the ply springs' least height) gives numpy's
+    ``max |grad phi|`` over ``triangle_frames`` to the bit: random triangles at three scales,
+    a degenerate one (NaN, as numpy's max passes it), and 1 and 2 threads over 5000."""
+    import numba
+
+    from elements import ply_kernels
+    from elements.ply_projection import triangle_frames
+
+    held = numba.get_num_threads()
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        rng = np.random.default_rng(11)
+        for count in (1, 7, 5000):
+            for scale in (1e-6, 1.0, 1e3):
+                y = rng.normal(scale=scale, size=(count, 3, 3))
+                expected = float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+                assert ply_kernels.largest_gradient(y) == expected
+        y = rng.normal(size=(50, 3, 3))
+        y[7, 1] = y[7, 0]  # two corners at one place: no plane, NaN gradients
+        with np.errstate(invalid="ignore", divide="ignore"):
+            expected = float(np.max(np.linalg.norm(triangle_frames(y)[2], axis=-1)))
+        assert np.isnan(expected) and np.isnan(ply_kernels.largest_gradient(y))
+    finally:
+        numba.set_num_threads(held)

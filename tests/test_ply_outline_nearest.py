@@ -15,7 +15,7 @@ segments of very different lengths; and on the two-ply hemisphere's contacts
 import numpy as np
 import pytest
 
-from elements import ply_fade
+from elements import ply_fade, ply_kernels
 
 
 def _every_segment(
@@ -69,13 +69,17 @@ def test_the_nearest_segment_is_that_of_every_segment(seed):
     np.testing.assert_array_equal(ply_fade.nearest_segments(p, starts, ends), every)
     few = slice(0, max(1, ply_fade.EVERY_PAIR // len(starts)))  # measured pair by pair
     np.testing.assert_array_equal(ply_fade.nearest_segments(p[few], starts, ends), every[few])
+    # the compiled pass point by point (the ply springs' nearest edges, ply_kernels.py)
+    np.testing.assert_array_equal(ply_kernels.nearest_segments_at(p, starts, ends), every)
 
 
-@pytest.mark.parametrize("search", ["tree_segments", "every_segment", "nearest_segments"])
+@pytest.mark.parametrize(
+    "search", ["tree_segments", "every_segment", "nearest_segments", "nearest_segments_at"]
+)
 def test_one_segment_and_no_point(search):
     rng = np.random.default_rng(0)
     starts, ends = rng.normal(size=(1, 3)), rng.normal(size=(1, 3))
-    nearest = getattr(ply_fade, search)
+    nearest = getattr(ply_kernels if search == "nearest_segments_at" else ply_fade, search)
     assert nearest(rng.normal(size=(5, 3)), starts, ends).tolist() == [0] * 5
     assert nearest(np.zeros((0, 3)), starts, ends).shape == (0,)
 
@@ -130,3 +134,6 @@ def test_a_blown_up_state_is_measured_as_before_not_refused():
     for points, first in ((p, broken), (far, starts)):
         chosen = ply_fade.nearest_segments(points, first, ends)
         assert np.array_equal(chosen, _every_segment(points, first, ends))
+        # the compiled pass takes the first NaN distance as numpy's argmin does
+        compiled = ply_kernels.nearest_segments_at(points, first, ends)
+        assert np.array_equal(compiled, _every_segment(points, first, ends))

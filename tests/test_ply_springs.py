@@ -43,7 +43,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from elements import ply_springs
+from elements import ply_projection, ply_springs
 from elements.layup import Layup
 from materials import Fabric
 
@@ -271,7 +271,7 @@ PARTS = {
     # the outline reached within the slide widens the fade's band: the past and beside figures
     "reach": [
         ("        past |= near_edge\n", ""),
-        ("            beside |= near_edge & (distance <= radius)\n", "            pass\n"),
+        ("            beside[edged] |= distance <= radius\n", "            pass\n"),
     ],
 }
 
@@ -279,7 +279,9 @@ PARTS = {
 def _edited(name, edits, springs_of):
     """``springs_of`` with ``ply_springs.<name>`` a copy of its text edited by ``edits``
     ((old, new) pairs, each old text found once, so the copy follows the function it
-    breaks), swapped in while the springs are asked for."""
+    breaks), swapped in while the springs are asked for, on the numpy path
+    (``ply_projection.COMPILED = False``: the edits are of its text; the compiled passes give
+    its bits, ``test_the_compiled_springs_are_the_numpy_reference_s_to_the_bit``)."""
     source = inspect.getsource(getattr(ply_springs, name))
     for old, new in edits:
         assert source.count(old) == 1, f"{name} no longer holds {old!r}"
@@ -289,12 +291,14 @@ def _edited(name, edits, springs_of):
     broken = namespace[name]
 
     def edited(block, state):
-        held = getattr(ply_springs, name)
+        held, compiled = getattr(ply_springs, name), ply_projection.COMPILED
         setattr(ply_springs, name, broken)
+        ply_projection.COMPILED = False
         try:
             return springs_of(block, state)
         finally:
             setattr(ply_springs, name, held)
+            ply_projection.COMPILED = compiled
 
     return edited
 
@@ -416,7 +420,7 @@ def test_a_mass_not_finite_gives_the_equal_weights():
 #: largest v times (s_p - 1) caps it, as the text that holds it and what the text reads
 #: without it.
 WEIGHTED_RING = [
-    ("    along = along + delta * (block._ring.T @ lower_v)[triangle]\n", ""),
+    ("    along = along + delta * (transposed @ lower_v)[triangle]\n", ""),
     (
         "np.maximum(v[block.cells].max(axis=1), lower_v[reach].max(axis=1))",
         "v[block.cells].max(axis=1)",
@@ -471,3 +475,81 @@ def test_the_ring_holds_the_weighted_reach_of_a_node_a_point_slides_onto(edits):
     assert worst[0] <= 1.0 + 1e-6, worst
     broken, _ = _ratios(RING_MODEL, _without_weighted_ring(_light_ring_node, edits))
     assert broken[0] > 1.01, broken
+
+
+#: The wedge corners' distances asked of every point, as before only the points near an
+#: outline edge were asked (``reachable_springs``): a point's distance from the tree is its
+#: own whichever others are asked with it.
+EVERY_POINT_ASKED = [
+    ("        if len(wedges) and len(edged):\n", "        if len(wedges):\n"),
+    ("                facing.face[edged], distance_upper_bound=radius\n",
+     "                facing.face, distance_upper_bound=radius\n"),
+    ("            beside[edged] |= distance <= radius\n",
+     "            beside |= near_edge & (distance <= radius)\n"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("model", MODELS, ids=str)
+def test_the_compiled_springs_are_the_numpy_reference_s_to_the_bit(model, threads, monkeypatch):
+    """The springs at the models' states, the top ply sliding 0.5 mm until the next
+    evaluation (points near and past the outline, beside a corner's wedge): the outline's
+    nearest edges in one compiled pass (``ply_kernels.nearest_segments_at``) and the wedge
+    corners asked of the points near an edge alone give the numpy path's springs
+    (``ply_projection.COMPILED = False``: ``ply_fade.nearest_segments``) and those of every
+    point asked, to the bit, on 1 and 2 threads."""
+    import numba
+
+    from elements import ply_projection
+
+    angles, sink, shift = model
+    compiled, state0, top = _stack(angles, sink)
+    state0.positions[top, :2] += shift
+    state0.velocities[top, 0] = 0.5 / (
+        ply_springs.GROWTH * 10 * ply_springs.STEP_GROWTH * compiled.interactions[0].calibrated_dt
+    )
+    every = _edited("reachable_springs", EVERY_POINT_ASKED, _reported)
+    held = numba.get_num_threads()
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        for block in compiled.interactions:
+            found = block.springs_at(state0)
+            np.testing.assert_array_equal(every(block, state0)[1], found[1])
+            monkeypatch.setattr(ply_projection, "COMPILED", False)
+            block._facing_at = block._faces_at = None
+            reference = block.springs_at(state0)
+            monkeypatch.setattr(ply_projection, "COMPILED", True)
+            np.testing.assert_array_equal(reference[0], found[0])
+            np.testing.assert_array_equal(reference[1], found[1])
+    finally:
+        numba.set_num_threads(held)
+
+
+@pytest.mark.parametrize("model", [MODELS[0], MODELS[3]], ids=str)
+def test_the_compiled_slide_is_numpy_s_to_the_bit(model, monkeypatch):
+    """``slide`` in one compiled pass (elements/ply_springs_kernels.py) against its numpy
+    path (``ply_projection.COMPILED = False``): random velocities and angular velocities over
+    six decades, a node's velocity NaN (the slide NaN either way)."""
+    from elements import ply_projection
+
+    angles, sink, shift = model
+    compiled, state0, top = _stack(angles, sink)
+    state0.positions[top, :2] += shift
+    rng = np.random.default_rng(5)
+    n = len(state0.positions)
+    for trial in range(4):
+        state = state0.copy()
+        state.velocities[:] = rng.normal(size=(n, 3)) * 10.0 ** rng.uniform(-3, 3, (n, 1))
+        state.angular_velocities[:] = rng.normal(size=(n, 3)) * 10.0 ** rng.uniform(-3, 3, (n, 1))
+        if trial == 3:
+            state.velocities[top[0], 1] = np.nan
+        for block in compiled.interactions:
+            facing = block.facing(state)
+            found = ply_springs.slide(block, state, facing, 1e-5)
+            monkeypatch.setattr(ply_projection, "COMPILED", False)
+            expected = ply_springs.slide(block, state, facing, 1e-5)
+            monkeypatch.setattr(ply_projection, "COMPILED", True)
+            if trial == 3:
+                assert np.isnan(found) and np.isnan(expected)
+            else:
+                assert found > 0.0 and found == expected

@@ -1,0 +1,202 @@
+"""The ply springs' slide and weighted reach compiled (elements/ply_springs.py ``slide``,
+``_weighted_reach``; docs/theory.md §6.2, "The penalty springs"): the fastest point's speed
+against its facing triangle's point plus the plies' depth times both sets' largest angular
+speed, and each point's bound F_p of sum_i |a_i| v_i, each in one serial pass over the
+points.
+
+Their numpy references are ``ply_springs.slide`` and ``_weighted_reach`` with
+``ply_projection.COMPILED = False``: the passes do the same IEEE operations in the same order
+(numpy's ``einsum("pj,pji->pi")`` sums its three terms from the first, ``einsum("pi,pi->p")``
+as (first + last) + middle, a row's ``sum`` from the first, scipy's CSR product row by row
+from 0.0; ``np.clip``, the maxima and the minimum pass NaN as numpy's do; no fused
+multiply-add: numba builds without fastmath), so they give the same numbers to the last bit
+(tests/test_ply_springs.py). Serial: a maximum, and a few hundred points, every tenth step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements.jit import lanes
+from elements.kernel_inputs import read_only
+
+__all__ = ["fastest_point", "weighted_reach"]
+
+
+@lanes
+def _larger(a, b):
+    """numpy's maximum of two: the first NaN, else the larger."""
+    if a != a:
+        return a
+    if b != b or b > a:
+        return b
+    return a
+
+
+@lanes
+def _clipped(x, low, high):
+    """``np.clip(x, low, high)`` of one number (NaN passes)."""
+    if x < low:
+        x = low
+    if x > high:
+        x = high
+    return x
+
+
+@lanes
+def _spin(spins, node):
+    """|omega| of ``node``, as ``np.sqrt(np.einsum("ij,ij->i", spins, spins))`` gives it."""
+    s0, s1, s2 = spins[node, 0], spins[node, 1], spins[node, 2]
+    return np.sqrt((s0 * s0 + s2 * s2) + s1 * s1)
+
+
+@lanes
+def _fastest(shape, above, weights, cells, triangle, v, spins, depth, low, high):
+    """max over the points of |sum_j N_j v_j - sum_k clip(lambda_k) v_k| + depth (the largest
+    |omega| of the upper corners + of the facing corners); NaN where numpy's max gives it."""
+    fastest = 0.0
+    for p in range(shape.shape[0]):
+        t = triangle[p]
+        a0, a1, a2 = above[p, 0], above[p, 1], above[p, 2]
+        c0, c1, c2 = cells[t, 0], cells[t, 1], cells[t, 2]
+        w0 = _clipped(weights[p, 0], low, high)
+        w1 = _clipped(weights[p, 1], low, high)
+        w2 = _clipped(weights[p, 2], low, high)
+        s0, s1, s2 = shape[p, 0], shape[p, 1], shape[p, 2]
+        d0 = ((s0 * v[a0, 0] + s1 * v[a1, 0]) + s2 * v[a2, 0]) - (
+            (w0 * v[c0, 0] + w1 * v[c1, 0]) + w2 * v[c2, 0]
+        )
+        d1 = ((s0 * v[a0, 1] + s1 * v[a1, 1]) + s2 * v[a2, 1]) - (
+            (w0 * v[c0, 1] + w1 * v[c1, 1]) + w2 * v[c2, 1]
+        )
+        d2 = ((s0 * v[a0, 2] + s1 * v[a1, 2]) + s2 * v[a2, 2]) - (
+            (w0 * v[c0, 2] + w1 * v[c1, 2]) + w2 * v[c2, 2]
+        )
+        speed = np.sqrt((d0 * d0 + d2 * d2) + d1 * d1)
+        upper = _larger(_larger(_spin(spins, a0), _spin(spins, a1)), _spin(spins, a2))
+        lower = _larger(_larger(_spin(spins, c0), _spin(spins, c1)), _spin(spins, c2))
+        total = speed + depth * (upper + lower)
+        fastest = total if p == 0 else _larger(fastest, total)
+    return fastest
+
+
+def fastest_point(
+    shape: np.ndarray,
+    above: np.ndarray,
+    weights: np.ndarray,
+    cells: np.ndarray,
+    triangle: np.ndarray,
+    velocities: np.ndarray,
+    spins: np.ndarray,
+    depth: float,
+    margin: float,
+) -> float:
+    """The fastest point's move rate against the lower face, mm/s: ``ply_springs.slide``'s
+    ``fastest`` (0 for no points).
+
+    Parameters
+    ----------
+    shape, above : (P, 3) float, (P, 3) int
+        Each point's shape functions and upper triangle's corners.
+    weights : (P, 3) float
+        Its facing triangle's barycentric coordinates (clipped to [-margin, 1 + 2 margin]).
+    cells : (m, 3) int
+        The lower triangles' corners.
+    triangle : (P,) int
+        Each point's facing triangle.
+    velocities, spins : (n, 3) float
+        The nodes' velocities (mm/s) and angular velocities (rad/s).
+    depth : float
+        The plies' depth, mm (the offsets along the directors).
+    margin : float
+        ``ply_projection.MARGIN``.
+    """
+    if len(shape) == 0:
+        return 0.0
+    # the facing's arrays read-only, as the block keeps them: one build (kernel_inputs.py)
+    return float(
+        _fastest(
+            np.ascontiguousarray(shape, dtype=float),
+            np.ascontiguousarray(above, dtype=np.int64),
+            read_only(weights),
+            np.ascontiguousarray(cells, dtype=np.int64),
+            read_only(triangle, np.int64),
+            np.ascontiguousarray(velocities, dtype=float),
+            np.ascontiguousarray(spins, dtype=float),
+            float(depth),
+            -float(margin),
+            1.0 + 2.0 * float(margin),
+        )
+    )
+
+
+@lanes
+def _reach(
+    shape, above, v, size, cells, triangle, lower_v, reach, indptr, indices, data, delta, out
+):
+    """out[p] the F_p bound of each point p (``weighted_reach``)."""
+    for p in range(shape.shape[0]):
+        t = triangle[p]
+        a0, a1, a2 = above[p, 0], above[p, 1], above[p, 2]
+        own = (shape[p, 0] * v[a0] + shape[p, 2] * v[a2]) + shape[p, 1] * v[a1]
+        c0, c1, c2 = cells[t, 0], cells[t, 1], cells[t, 2]
+        ring = lower_v[reach[t, 0]]
+        for j in range(1, reach.shape[1]):
+            ring = _larger(ring, lower_v[reach[t, j]])
+        largest = _larger(_larger(_larger(v[c0], v[c1]), v[c2]), ring)
+        along = (size[p, 0] * v[c0] + size[p, 2] * v[c2]) + size[p, 1] * v[c1]
+        summed = 0.0
+        for k in range(indptr[t], indptr[t + 1]):
+            summed += data[k] * lower_v[indices[k]]
+        along = along + delta * summed
+        cap = ((size[p, 0] + size[p, 1]) + size[p, 2]) * largest
+        # numpy's minimum: NaN where either is
+        least = cap if (cap != cap or cap < along) else along
+        out[p] = own + least
+
+
+def weighted_reach(
+    shape: np.ndarray,
+    above: np.ndarray,
+    v: np.ndarray,
+    size: np.ndarray,
+    cells: np.ndarray,
+    triangle: np.ndarray,
+    lower_nodes: np.ndarray,
+    reach: np.ndarray,
+    transposed,
+    delta: float,
+) -> np.ndarray:
+    """(P,) ``ply_springs._weighted_reach`` in one pass, to the bit.
+
+    Parameters
+    ----------
+    shape, above : (P, 3) float, (P, 3) int
+        Each point's shape functions and upper triangle's corners.
+    v : (n,) float
+        The nodes' weights.
+    size : (P, 3) float
+        |lambda_k| + delta of each point's facing triangle's corners.
+    cells, triangle : (m, 3) int, (P,) int
+        The lower triangles' corners and each point's facing triangle.
+    lower_nodes : (l,) int
+        The lower nodes.
+    reach : (m, w) int
+        The rows of ``lower_nodes`` whose ring holds each triangle, padded.
+    transposed : scipy.sparse.csr_matrix (m, l)
+        The ring's matrix by triangle.
+    delta : float
+        The slide over the least height.
+    """
+    out = np.empty(len(shape))
+    _reach(
+        np.ascontiguousarray(shape, dtype=float), np.ascontiguousarray(above, dtype=np.int64),
+        np.ascontiguousarray(v, dtype=float), np.ascontiguousarray(size, dtype=float),
+        np.ascontiguousarray(cells, dtype=np.int64), read_only(triangle, np.int64),
+        np.ascontiguousarray(v[lower_nodes], dtype=float),
+        np.ascontiguousarray(reach, dtype=np.int64),
+        np.ascontiguousarray(transposed.indptr, dtype=np.int64),
+        np.ascontiguousarray(transposed.indices, dtype=np.int64),
+        np.ascontiguousarray(transposed.data, dtype=float), float(delta), out,
+    )  # fmt: skip
+    return out
