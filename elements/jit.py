@@ -675,8 +675,10 @@ def lane_rows(function):
     ``inline`` takes its arguments as new names, increfed and decrefed the same way: atomic
     operations that LLVM keeps around loops and branches, 26 a fibre level of a chunk of 32
     cells, about 4 % of the fibrous force (benchmarks/kernel_pairs.py). Such a helper cannot
-    make an array (numba refuses np.empty there when it compiles it). The same numbers to
-    the last bit."""
+    make an array (numba refuses np.empty there when it compiles it), and must never return
+    one of its array arguments: its caller would take the return as a reference it was
+    given, and free the array while it is still in use (a crash, not an error). The
+    helpers return a number or nothing. The same numbers to the last bit."""
     if not AVAILABLE:
         return function
     return njit(function, error_model="numpy", _nrt=False)

@@ -8,6 +8,7 @@ unpickled, threads calling one block at once, one and all numba threads."""
 from __future__ import annotations
 
 import copy
+import dataclasses
 import pickle
 import sys
 import threading
@@ -167,7 +168,9 @@ def test_the_fibrous_blocks_view_past_a_flat_fold_shares_its_workspace():
     compiled = _model("fibrous", 5)
     block = compiled.blocks[0]
     history = initial_branch(block)
-    history.turns[np.argmax(block.interior_side)] = 1.0  # a side turned once
+    turns = history.turns.copy()
+    turns[np.argmax(block.interior_side)] = 1.0  # a side turned once
+    history = dataclasses.replace(history, turns=turns)
     view = branch_view(block, history)
     assert view is not block and view._workspace is block._workspace
 

@@ -13,11 +13,15 @@ before).
 """
 
 import dataclasses
+import gc
+import pickle
+import weakref
 
 import numpy as np
 import pytest
 
 from elements import FibrousShell
+from elements.fibrous.fold_branch import branch_view, initial_branch
 from femcore import Mesh, Model
 from materials import BendingLaw, presets
 
@@ -102,3 +106,45 @@ def test_the_largest_move_is_numpys():
     assert largest_move(positions, last[:0], nodes[:0]) == 0.0
     last[3, 2] = np.nan
     assert np.isnan(largest_move(positions, last, nodes))
+
+
+def _sheet_block():
+    """A 2 x 2-cell fibrous rectangle's block (numpy kernel: the view is kernel-blind)."""
+    model = Model(Mesh.rectangle(40.0, 20.0, nx=2, ny=2))
+    model.add(FibrousShell(presets.g986_stack(), kernel="numpy"))
+    return model.compile().blocks[0]
+
+
+def test_a_branchs_turns_refuse_an_edit_in_place_new_or_from_a_checkpoint():
+    """``branch_view`` keeps its answer while the turns are the same array: an edit in place
+    would leave a turned side read unturned, so the turns refuse it (a branch is never
+    mutated; a new one takes new turns)."""
+    block = _sheet_block()
+    branch = initial_branch(block)
+    assert branch_view(block, branch) is block
+    side = np.argwhere(block.interior_side)[0]
+    for kept in (branch, pickle.loads(pickle.dumps(branch))):
+        with pytest.raises(ValueError, match="read-only"):
+            kept.turns[tuple(side)] = 1.0
+    turns = branch.turns.copy()
+    turns[tuple(side)] = 1.0
+    view = branch_view(block, dataclasses.replace(branch, turns=turns))
+    assert view is not block
+    assert view.reference_fold[tuple(side)] == block.reference_fold[tuple(side)] - 2.0 * np.pi
+
+
+def test_a_blocks_view_of_an_unturned_branch_does_not_keep_the_block_alive():
+    """The kept answer "no side turned" holds no reference to the block itself: a deleted
+    block is freed at once, not at the cyclic collector's next pass (a process that builds
+    models in turns would hold the dead ones' arrays)."""
+    block = _sheet_block()
+    branch_view(block, initial_branch(block))
+    gone = weakref.ref(block)
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        del block
+        assert gone() is None
+    finally:
+        if enabled:
+            gc.enable()

@@ -78,6 +78,17 @@ class FoldBranch:
     positions: np.ndarray | None = None
     watched: np.ndarray | None = None
 
+    def __post_init__(self) -> None:
+        # ``branch_view`` keeps its answer while the turns are the same array: an edit in
+        # place would leave that answer stale, so the turns refuse one (a new branch is
+        # made with new turns, ``updated_branch``).
+        self.turns.flags.writeable = False
+
+    def __setstate__(self, state: dict) -> None:
+        # A checkpoint's branch refuses an edit as a new one does.
+        self.__dict__.update(state)
+        self.turns.flags.writeable = False
+
 
 def side_folds(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
     """The principal-branch fold angle (m, 3), rad, of each interior side at ``positions``
@@ -195,11 +206,11 @@ def branch_view(block: FibrousShellBlock, branch: FoldBranch | None) -> FibrousS
         return block
     cached = block.__dict__.get("_branch_view")
     if cached is not None and cached[0] is branch.turns:
-        return cached[1]
-    view = block
+        return block if cached[1] is None else cached[1]
+    view = None  # the block itself, not kept in its own dict (a cycle only the collector frees)
     if branch.turns.any():
         view = copy.copy(block)
         view.reference_fold = block.reference_fold - 2.0 * np.pi * branch.turns
         view.__dict__.pop("_branch_view", None)
     block.__dict__["_branch_view"] = (branch.turns, view)
-    return view
+    return block if view is None else view
