@@ -121,3 +121,18 @@ def test_the_run_verb_hands_the_variant_to_measure_and_writes_its_record(monkeyp
     study._main(["run", "fibrous", "28", "--out", str(tmp_path)])
     assert given == [(20, "fibrous", 0.2, 0.5), (28, "fibrous", 0.0, 0.0)]
     assert (tmp_path / "fibrous-20.json").exists()
+
+
+@pytest.mark.parametrize("strain", [-0.004, 0.0, 0.003])
+def test_the_centre_lines_strain_to_the_flange_is_its_stretch_along_the_line(strain):
+    # the flat blank stretched uniformly along x by ``strain`` (every node inside the
+    # flange's start moves out by strain x): its chords over their flat lengths less 1 is
+    # that strain; a node outside the flange's start moved anyhow changes nothing
+    mesh = case.model(20, "fibrous", holder_force=0.0)[0]
+    points = mesh.points
+    positions = points.copy()
+    positions[:, 0] *= 1.0 + strain
+    outside = np.abs(points[:, 0]) > 70.0
+    positions[outside, 2] += 5.0
+    state = study.centre_line_state(points, positions)
+    assert state["strain_to_flange"] == pytest.approx(strain, abs=1e-12)

@@ -162,7 +162,10 @@ def centre_line_state(points: np.ndarray, positions: np.ndarray) -> dict[str, fl
     """Where the edge middle's fibre (the centre line y = 0, x > 0) passes the die's round: its
     largest height above the die's surface over the round (mm; about 0 where it lies on the
     round, taut, some mm where it is cornered under the holder's plane over the die's
-    opening), and the flange's start (mm).
+    opening), the flange's start (mm), and the fibre's mean strain from the pole to the
+    flange's start (``strain_to_flange``: its chords over their flat lengths, less 1, over
+    the segments whose outer node lies inside that radius; > 0 where the fibre is pulled
+    taut, < 0 where it is pushed in and corners).
 
     Parameters
     ----------
@@ -187,9 +190,13 @@ def centre_line_state(points: np.ndarray, positions: np.ndarray) -> dict[str, fl
     on_round = (radius > start * case.DIE / (case.DIE + case.DIE_RIM)) & (radius < start)
     distance = np.hypot(radius - centre_r, x[:, 2] - centre_z)
     height = distance - (case.DIE_RIM + mid)
+    chords = np.linalg.norm(np.diff(x, axis=0), axis=1)
+    inside = radius[1:] <= start
+    flat = np.diff(points[line, 0])[inside].sum()
     return {
         "height_over_round_mm": float(height[on_round].max(initial=0.0)),
         "flange_start_mm": float(start),
+        "strain_to_flange": float(chords[inside].sum() / flat - 1.0) if flat > 0 else math.nan,
     }
 
 
@@ -318,20 +325,21 @@ def _main(argv: list[str]) -> None:
             continue
         cells = [r["cells"] for r in records]
         print(f"{kinematics}, cells {cells}, variant {variant(records[0])}:")
+        fields = []
         for r in records:
-            line = r["centre_line"]
+            kept = np.load(arguments.folder / f"{kinematics}-{r['cells']}.npz")
+            fields.append(shear_field(r["cells"], kept["positions"]))
+            # the line's state again from the kept positions (records before its strain)
+            line = centre_line_state(kept["points"], kept["positions"])
             print(
                 f"  {r['cells']}: {r['steps']} steps, {r['cost']['cpu_s']:.0f} s CPU (load "
                 f"{r['cost']['load'][0]:.1f} -> {r['cost']['load'][1]:.1f}), converged "
                 f"{r['converged']}, reached {r['end_time_s']:.4f} s; centre line "
-                f"{line['height_over_round_mm']:.2f} mm over the round; friction took "
+                f"{line['height_over_round_mm']:.2f} mm over the round, strained "
+                f"{100 * line['strain_to_flange']:+.2f} % to the flange; friction took "
                 f"{100 * r.get('friction_over_work', 0.0):.1f} % of the work, the holder "
                 f"rose {r['holder_lift_mm']:.2f} mm"
             )
-        fields = []
-        for r in records:
-            kept = arguments.folder / f"{kinematics}-{r['cells']}.npz"
-            fields.append(shear_field(r["cells"], np.load(kept)["positions"]))
         for region, row in field_orders(cells, fields).items():
             print(
                 f"  shear field {region} ({row['points']} points): against the net "
