@@ -19,6 +19,12 @@ the project root, one run at a time, each as a command:
     python -m validation.studies.hemisphere_forming_order run fibrous 56 --out runs/order
     python -m validation.studies.hemisphere_forming_order orders runs/order
 
+A variant of the case (``run --friction MU --fibre-bending B_IN``; one folder per variant,
+``orders`` refuses records of different ones): Coulomb friction on the die and the holder,
+the fibres' in-plane bending (elements.FibreBending; docs/hemisphere_forming.md "Friction on
+the die and the holder: an observed order"). The figures below are the case's own
+(frictionless, no in-plane bending).
+
 Measured (docs/hemisphere_forming.md, "Observed orders on finer meshes"; fibrous, one thread,
 nice 10, load 7-15): 14 / 20 / 28 / 40 / 56 cells, 19346 / 27677 / 38781 / 55443 / 77703 steps,
 12 / 27 / 64 / 169 / 412 s of CPU, every run to the end, the holder down, KE / W at most
