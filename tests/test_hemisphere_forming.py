@@ -422,3 +422,44 @@ def test_the_run_gives_the_solver_its_scaling_options_and_refuses_bad_ones(monke
     for bad in (0.0, -1e-6, math.nan):
         with pytest.raises(ValueError, match="mass_scaling_dt"):
             case.run(4, "fibrous", mass_scaling_dt=bad)
+
+
+def test_the_frictional_variant_puts_coulomb_friction_on_the_die_and_the_holder_only():
+    """``model(friction=, fibre_bending=)``: the die and the holder get the Coulomb
+    coefficient, the punch stays frictionless, the tools keep their places as the first
+    interactions and the fibres' in-plane bending comes after them; the case has neither."""
+    from elements.fibre_bending import FibreBending
+
+    _, varied = case.model(4, "fibrous", rim=case.DIE_RIM, friction=0.25, fibre_bending=0.5)
+    die, punch, holder, bending = varied.interactions
+    assert (die.friction, punch.friction, holder.friction) == (0.25, 0.0, 0.25)
+    assert isinstance(bending, FibreBending) and bending.stiffness == 0.5
+    _, own = case.model(4, "fibrous", rim=case.DIE_RIM)
+    assert [i.friction for i in own.interactions] == [0.0, 0.0, 0.0]
+    _, unheld = case.model(4, "fibrous", holder_force=0.0, friction=0.25, fibre_bending=0.5)
+    assert [type(i) for i in unheld.interactions][-1] is FibreBending
+    assert len(unheld.interactions) == 3
+    with pytest.raises(ValueError, match="friction"):
+        case.model(4, "fibrous", friction=-0.1)
+    with pytest.raises(ValueError, match="FibreBending"):
+        case.model(4, "fibrous", fibre_bending=-0.5)
+
+
+def test_the_run_builds_the_variant_it_is_given(monkeypatch):
+    """``run(friction=, fibre_bending=)`` reaches ``model``; without them the case's own."""
+    given = {}
+
+    class Built(Exception):
+        pass
+
+    def model(*args, **options):
+        given.update(options)
+        raise Built
+
+    monkeypatch.setattr(case, "model", model)
+    with pytest.raises(Built):
+        case.run(4, "fibrous", friction=0.3, fibre_bending=0.5)
+    assert (given["friction"], given["fibre_bending"]) == (0.3, 0.5)
+    with pytest.raises(Built):
+        case.run(4, "fibrous")
+    assert (given["friction"], given["fibre_bending"]) == (0.0, 0.0)

@@ -96,3 +96,43 @@ def test_centre_line_on_the_round_is_at_zero_height_and_a_lifted_node_at_its_lif
     positions[rounded[2]] += 3.0 * normal
     state = study.centre_line_state(points, positions)
     assert state["height_over_round_mm"] == pytest.approx(3.0, abs=1e-12)
+
+
+def test_orders_refuse_runs_of_different_variants_and_old_records_are_the_case():
+    records = _records(1.0)
+    assert study.variant(records[0]) == {"friction": 0.0, "fibre_bending_N_mm": 0.0}
+    same = {"friction": 0.2, "fibre_bending_N_mm": 0.5}
+    assert study.orders([{**r, "variant": dict(same)} for r in records])  # one variant: fine
+    records[2]["variant"] = same
+    with pytest.raises(ValueError, match="different variants"):
+        study.orders(records)
+
+
+def test_the_run_verb_hands_the_variant_to_measure_and_writes_its_record(monkeypatch, tmp_path):
+    given = []
+
+    def measure(cells, kinematics, positions, friction, fibre_bending):
+        given.append((cells, kinematics, friction, fibre_bending))
+        return {"cells": cells}
+
+    monkeypatch.setattr(study, "measure", measure)
+    study._main(["run", "fibrous", "20", "--out", str(tmp_path), "--friction", "0.2",
+                 "--fibre-bending", "0.5"])  # fmt: skip
+    study._main(["run", "fibrous", "28", "--out", str(tmp_path)])
+    assert given == [(20, "fibrous", 0.2, 0.5), (28, "fibrous", 0.0, 0.0)]
+    assert (tmp_path / "fibrous-20.json").exists()
+
+
+@pytest.mark.parametrize("strain", [-0.004, 0.0, 0.003])
+def test_the_centre_lines_strain_to_the_flange_is_its_stretch_along_the_line(strain):
+    # the flat blank stretched uniformly along x by ``strain`` (every node inside the
+    # flange's start moves out by strain x): its chords over their flat lengths less 1 is
+    # that strain; a node outside the flange's start moved anyhow changes nothing
+    mesh = case.model(20, "fibrous", holder_force=0.0)[0]
+    points = mesh.points
+    positions = points.copy()
+    positions[:, 0] *= 1.0 + strain
+    outside = np.abs(points[:, 0]) > 70.0
+    positions[outside, 2] += 5.0
+    state = study.centre_line_state(points, positions)
+    assert state["strain_to_flange"] == pytest.approx(strain, abs=1e-12)

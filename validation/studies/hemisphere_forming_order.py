@@ -19,6 +19,12 @@ the project root, one run at a time, each as a command:
     python -m validation.studies.hemisphere_forming_order run fibrous 56 --out runs/order
     python -m validation.studies.hemisphere_forming_order orders runs/order
 
+A variant of the case (``run --friction MU --fibre-bending B_IN``; one folder per variant,
+``orders`` refuses records of different ones): Coulomb friction on the die and the holder,
+the fibres' in-plane bending (elements.FibreBending; docs/hemisphere_forming.md "Friction on
+the die and the holder: an observed order"). The figures below are the case's own
+(frictionless, no in-plane bending).
+
 Measured (docs/hemisphere_forming.md, "Observed orders on finer meshes"; fibrous, one thread,
 nice 10, load 7-15): 14 / 20 / 28 / 40 / 56 cells, 19346 / 27677 / 38781 / 55443 / 77703 steps,
 12 / 27 / 64 / 169 / 412 s of CPU, every run to the end, the holder down, KE / W at most
@@ -70,6 +76,7 @@ __all__ = [
     "orders",
     "read_records",
     "shear_field",
+    "variant",
 ]
 
 #: The quantities whose order is observed: the ``run`` record's key -> its label.
@@ -161,7 +168,10 @@ def centre_line_state(points: np.ndarray, positions: np.ndarray) -> dict[str, fl
     """Where the edge middle's fibre (the centre line y = 0, x > 0) passes the die's round: its
     largest height above the die's surface over the round (mm; about 0 where it lies on the
     round, taut, some mm where it is cornered under the holder's plane over the die's
-    opening), and the flange's start (mm).
+    opening), the flange's start (mm), and the fibre's mean strain from the pole to the
+    flange's start (``strain_to_flange``: its chords over their flat lengths, less 1, over
+    the segments whose outer node lies inside that radius; > 0 where the fibre is pulled
+    taut, < 0 where it is pushed in and corners).
 
     Parameters
     ----------
@@ -186,31 +196,50 @@ def centre_line_state(points: np.ndarray, positions: np.ndarray) -> dict[str, fl
     on_round = (radius > start * case.DIE / (case.DIE + case.DIE_RIM)) & (radius < start)
     distance = np.hypot(radius - centre_r, x[:, 2] - centre_z)
     height = distance - (case.DIE_RIM + mid)
+    chords = np.linalg.norm(np.diff(x, axis=0), axis=1)
+    inside = radius[1:] <= start
+    flat = np.diff(points[line, 0])[inside].sum()
     return {
         "height_over_round_mm": float(height[on_round].max(initial=0.0)),
         "flange_start_mm": float(start),
+        "strain_to_flange": float(chords[inside].sum() / flat - 1.0) if flat > 0 else math.nan,
     }
 
 
-def measure(cells: int, kinematics: str, positions: Path | None = None) -> dict[str, Any]:
+def measure(
+    cells: int,
+    kinematics: str,
+    positions: Path | None = None,
+    friction: float = 0.0,
+    fibre_bending: float = 0.0,
+) -> dict[str, Any]:
     """One unscaled run of the case (``hemisphere_forming.run``) and its record: the
     ``QUANTITIES``, the end force and state, the centre line's state, converged, steps,
     end time (s), the holder's lift (mm), CPU and wall (s) and the load at start and end.
-    ``positions``: a .npz file to keep the blank's points and end positions (mm) in."""
+    ``positions``: a .npz file to keep the blank's points and end positions (mm) in. The
+    case's variant (its ``model``; the case has neither, 0 and 0): Coulomb ``friction`` on
+    the die and the holder, the fibres' in-plane bending ``fibre_bending`` (N mm); the record
+    holds both (``variant``) and the share of the work the contacts dissipated by friction."""
     from validation.cases import hemisphere_forming as case
 
-    record = case.run(cells, kinematics)
+    record = case.run(cells, kinematics, friction=friction, fibre_bending=fibre_bending)
     result = record["result"]
     mesh = record["mesh"]
     if positions is not None:
         np.savez_compressed(positions, points=mesh.points, positions=result.positions)
-    out: dict[str, Any] = {"cells": cells, "kinematics": kinematics}
+    out: dict[str, Any] = {
+        "cells": cells,
+        "kinematics": kinematics,
+        "variant": {"friction": float(friction), "fibre_bending_N_mm": float(fibre_bending)},
+    }
     out.update({key: float(record[key]) for key in QUANTITIES})
     out.update(
         {
             "kinetic_over_work": float(record["kinetic_over_work"]),
             "kinetic_exceeded_share": float(record["kinetic_exceeded_share"]),
             "damping_over_work": float(record["damping_over_work"]),
+            # no contact damping in the case: what the contacts dissipated is friction's
+            "friction_over_work": float(record["contact_damping_over_work"]),
             "holder_lift_mm": record["holder_lift_mm"],
             "converged": bool(result.converged),
             "steps": int(result.steps),
@@ -220,6 +249,13 @@ def measure(cells: int, kinematics: str, positions: Path | None = None) -> dict[
         }
     )
     return out
+
+
+def variant(record: dict[str, Any]) -> dict[str, float]:
+    """The case's variant a ``measure`` record ran: its friction on the die and the holder
+    and the fibres' in-plane bending (N mm); the case's own (0, 0) for records written
+    before the study had variants."""
+    return record.get("variant", {"friction": 0.0, "fibre_bending_N_mm": 0.0})
 
 
 def read_records(folder: Path, kinematics: str) -> list[dict[str, Any]]:
@@ -238,6 +274,12 @@ def orders(records: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     order, value at h = 0, residual and the change it explains; None with three)."""
     if len(records) < 3:
         raise ValueError(f"give three or more runs, got {len(records)}")
+    variants = {json.dumps(variant(r), sort_keys=True) for r in records}
+    if len(variants) > 1:
+        raise ValueError(
+            f"the runs are of different variants of the case ({', '.join(sorted(variants))}): "
+            "an order needs one case on every mesh"
+        )
     sizes = [200.0 / r["cells"] for r in records]
     table = {}
     for key, label in QUANTITIES.items():
@@ -263,6 +305,8 @@ def _main(argv: list[str]) -> None:
     one.add_argument("kinematics", choices=("fibrous", "mindlin"))
     one.add_argument("cells", type=int)
     one.add_argument("--out", type=Path, required=True)
+    one.add_argument("--friction", type=float, default=0.0, help="on the die and the holder")
+    one.add_argument("--fibre-bending", type=float, default=0.0, help="B_in, N mm (0: none)")
     table = verbs.add_parser("orders", help="the observed orders of the recorded runs")
     table.add_argument("folder", type=Path)
     arguments = parser.parse_args(argv)
@@ -271,7 +315,13 @@ def _main(argv: list[str]) -> None:
             parser.error(f"cells must be an integer of at least 2, got {arguments.cells}")
         arguments.out.mkdir(parents=True, exist_ok=True)
         path = arguments.out / f"{arguments.kinematics}-{arguments.cells}.json"
-        record = measure(arguments.cells, arguments.kinematics, path.with_suffix(".npz"))
+        record = measure(
+            arguments.cells,
+            arguments.kinematics,
+            path.with_suffix(".npz"),
+            arguments.friction,
+            arguments.fibre_bending,
+        )
         path.write_text(json.dumps(record, indent=1))
         print(json.dumps(record, indent=1), f"load now {os.getloadavg()[0]:.1f}")
         return
@@ -280,19 +330,22 @@ def _main(argv: list[str]) -> None:
         if not records:
             continue
         cells = [r["cells"] for r in records]
-        print(f"{kinematics}, cells {cells}:")
+        print(f"{kinematics}, cells {cells}, variant {variant(records[0])}:")
+        fields = []
         for r in records:
-            line = r["centre_line"]
+            kept = np.load(arguments.folder / f"{kinematics}-{r['cells']}.npz")
+            fields.append(shear_field(r["cells"], kept["positions"]))
+            # the line's state again from the kept positions (records before its strain)
+            line = centre_line_state(kept["points"], kept["positions"])
             print(
                 f"  {r['cells']}: {r['steps']} steps, {r['cost']['cpu_s']:.0f} s CPU (load "
                 f"{r['cost']['load'][0]:.1f} -> {r['cost']['load'][1]:.1f}), converged "
                 f"{r['converged']}, reached {r['end_time_s']:.4f} s; centre line "
-                f"{line['height_over_round_mm']:.2f} mm over the round"
+                f"{line['height_over_round_mm']:.2f} mm over the round, strained "
+                f"{100 * line['strain_to_flange']:+.2f} % to the flange; friction took "
+                f"{100 * r.get('friction_over_work', 0.0):.1f} % of the work, the holder "
+                f"rose {r['holder_lift_mm']:.2f} mm"
             )
-        fields = []
-        for r in records:
-            kept = arguments.folder / f"{kinematics}-{r['cells']}.npz"
-            fields.append(shear_field(r["cells"], np.load(kept)["positions"]))
         for region, row in field_orders(cells, fields).items():
             print(
                 f"  shear field {region} ({row['points']} points): against the net "
