@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements import ply_friction, ply_penalty
+from elements import ply_edge_couple_kernels, ply_penalty
 from elements.jit import inline, lanes
 from elements.kernel_inputs import read_only
 
@@ -318,8 +318,13 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         # of np.any on these few hundred flags
         turn = NO_TURN
         if edge is not None and np.count_nonzero(edge):
+            # ply_friction.edge_couples' rows among ``rows`` are these stuck points (stuck
+            # points are among ``rows``): their couples written once, in place
             turn = np.zeros((count, 4, 3))
-            turn[rows] = ply_friction.edge_couples(block, state, sliding, facing, rows)
+            at = np.flatnonzero(edge)
+            turn[at] = ply_edge_couple_kernels.edge_couples(
+                facing, block._faces(state)[1], block.cuts, at, sliding.offset, sliding.force
+            )
     force = np.empty((block.n_nodes, 3))
     moment = np.empty((block.n_nodes, 3))
     outline_nodes = block.outline_nodes.reshape(-1, 2)

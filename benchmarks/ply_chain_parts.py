@@ -1,0 +1,208 @@
+"""Where the ply contact's per-step chain spends its CPU, part by part, on a run's states:
+the two-ply hemisphere of the report's hemisphere-plies case (fibrous [0/90] by default, 8
+cells), run to step ``--start``, then ``--steps`` committed states replayed through both ply
+contact blocks as a step asks for them (``update_history``, then ``internal_force``; as
+benchmarks/ply_contact_replay.py, which compares two trees), with a CPU timer
+(``time.process_time``) round each part: the wrappers (inclusive: their compiled calls and
+the numpy between) and, with ``--kernels``, the compiled kernels' own calls (numba's
+dispatch included). A part's wrapper less its kernels is the Python round them. The timers
+cost about 0.3 us each; best of ``--repeats`` rounds, one numba thread.
+
+    python benchmarks/ply_chain_parts.py --kernels
+
+Measured (main d551120's chain, one thread, 2 cores shared, load 12.5), us a block-step, the
+committed history 397 and the loads 108 (without the timers 392 and 104):
+
+* the facing at the new state (``PlyContactBlock.facing``, once a block and step) ~295: the
+  search's candidates 88 (``FacingSearch.near`` 60, the faces 11), ``closest_facing`` 185:
+  ``candidates_at`` 24 (its kernel 18), ``choose_facing`` 31 (21), ``chosen`` 12 (6),
+  ``edge_sides`` 33 (two kernels 10), ``outline_fade_at`` 47 (27), the rest of
+  ``closest_facing`` 38 (the arrays between: copies, gathers, the Facing);
+* the friction's history (``ply_friction_kernels.updated_history``) 76: ``_moved`` 9, the
+  return mapping of the next loads 17 (its kernel 8);
+* the loads (``ply_load_kernels.ply_loads``) 67: the pass 22, the stuck points' edge
+  couples 11 (24 us a call on 46 % of the calls), numpy's ramp cubes 8.
+
+The kernels' own calls are about 140 of the ~445 us a block-step (the search's lists aside);
+the rest is Python between some twenty compiled calls a block and step: each wrapper's
+allocations and conversions cost a few microseconds, the chain's some two hundred numpy
+calls the rest. No single wrapper holds more than ~20 us of it: what is left to win is the
+chain itself in one compiled pass per block and state (the facing's five passes, then the
+mapping and the loads), not cuts of single calls.
+
+The loads' edge couples computed for the stuck points facing an edge alone (not for every
+stuck or sliding row, then gathered and scattered again): 24 -> 13 us a call (load 12.5
+before, 7.8 after); ``python benchmarks/ply_contact_replay.py --steps 300 --reference`` beside
+main d551120 (load 6-7, best of 3): the committed history 353.0 -> 340.3 us, the loads 91.8
+-> 88.7 us a block-step, the same digest e7a6191daa154cf1 (the same histories, forces and
+moments to the bit).
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import functools
+import os
+import pickle
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(HERE))  # run from anywhere, no install
+
+
+def states_of(kinematics: str, layup: str, start: int, steps: int):
+    """(the ply blocks pickled at step ``start``, their rows in the model's parts, the
+    ``steps`` committed states from there)."""
+    import femcore.compiled as compiled_model
+    from elements.ply_block import PlyContactBlock
+    from solvers import CentralDifference
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, model = setup.model(8, setup.LAYUPS[layup], kinematics, 20.0)
+    compiled = model.compile()
+    blocks = [i for i, part in enumerate(compiled.parts) if isinstance(part, PlyContactBlock)]
+    saved: list[bytes] = []
+    states: list = []
+    commit = compiled_model.CompiledModel.commit
+
+    class Done(Exception):
+        pass
+
+    def capture(self, state):
+        if len(saved) == 0 and capture.count == start:
+            saved.append(pickle.dumps([self.parts[b] for b in blocks]))
+        capture.count += 1
+        if saved:
+            states.append(state)
+        if len(states) == steps:
+            raise Done
+        return commit(self, state)
+
+    capture.count = 0
+    compiled_model.CompiledModel.commit = capture
+    solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False)
+    try:
+        solver.solve(compiled)
+    except Done:
+        pass
+    finally:
+        compiled_model.CompiledModel.commit = commit
+    return saved[0], blocks, states
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--kinematics", default="fibrous", choices=("fibrous", "mindlin"))
+    parser.add_argument("--layup", default="0/90", choices=("0/90", "0/45"))
+    parser.add_argument("--start", type=int, default=2000, help="the first replayed step")
+    parser.add_argument("--steps", type=int, default=300, help="consecutive steps replayed")
+    parser.add_argument("--repeats", type=int, default=3, help="rounds (best CPU)")
+    parser.add_argument("--kernels", action="store_true", help="time the kernels' calls too")
+    args = parser.parse_args()
+    from elements import (
+        ply_block,
+        ply_choice,
+        ply_chosen,
+        ply_edge_couple_kernels,
+        ply_edge_kernels,
+        ply_face_points,
+        ply_fade_kernels,
+        ply_friction_kernels,
+        ply_kernels,
+        ply_load_kernels,
+        ply_penalty,
+        ply_search,
+        ply_sides,
+    )
+    from elements.ply_block import PlyContactBlock
+
+    saved, blocks, states = states_of(args.kinematics, args.layup, args.start, args.steps)
+    spent: dict[str, float] = collections.defaultdict(float)
+    calls: collections.Counter[str] = collections.Counter()
+
+    def timed(owner, name: str) -> None:
+        function = getattr(owner, name)
+        label = f"{getattr(owner, '__name__', owner)}.{name}"
+
+        @functools.wraps(function)
+        def wrapper(*arguments, **keywords):
+            began = time.process_time()
+            try:
+                return function(*arguments, **keywords)
+            finally:
+                spent[label] += time.process_time() - began
+                calls[label] += 1
+
+        setattr(owner, name, wrapper)
+
+    parts = [
+        (PlyContactBlock, ["update_history", "internal_force", "facing", "_faces",
+                           "_candidates", "friction_state", "offset_directions"]),
+        (ply_block, ["closest_facing"]),
+        (ply_search.FacingSearch, ["near"]),
+        (ply_kernels, ["candidates_at"]),
+        (ply_choice, ["choose_facing"]),
+        (ply_chosen, ["chosen"]),
+        (ply_edge_kernels, ["edge_sides"]),
+        (ply_fade_kernels, ["outline_fade_at"]),
+        (ply_sides, ["accepted_sides", "behind"]),
+        (ply_friction_kernels, ["updated_history", "_mapped"]),
+        (ply_load_kernels, ["ply_loads"]),
+        (ply_edge_couple_kernels, ["edge_couples"]),
+        (ply_penalty, ["ramp_cubes"]),
+        (ply_face_points, ["face_points", "offset_toward"]),
+    ]  # fmt: skip
+    if args.kernels:
+        parts += [
+            (ply_kernels, ["_facets_at_compiled"]),
+            (ply_choice, ["_choose_compiled"]),
+            (ply_chosen, ["_chosen_compiled"]),
+            (ply_edge_kernels, ["_parts_compiled", "_sides_compiled"]),
+            (ply_fade_kernels, ["_outline_compiled"]),
+            (ply_friction_kernels, ["_return_mapping_compiled", "_moved_compiled"]),
+            (ply_load_kernels, ["_loads"]),
+        ]
+    for owner, names in parts:
+        for name in names:
+            timed(owner, name)
+
+    def replay() -> list[float]:
+        replayed = pickle.loads(saved)
+        total = [0.0, 0.0]
+        for state in states:
+            for part, b in zip(replayed, blocks):
+                history = state.history[b]
+                began = time.process_time()
+                part.update_history(state, history)
+                middle = time.process_time()
+                part.internal_force(state, history)
+                total[0] += middle - began
+                total[1] += time.process_time() - middle
+        return total
+
+    replay()  # compiled or read from numba's cache
+    best = [float("inf")] * 2
+    kept: tuple[dict, collections.Counter] = ({}, collections.Counter())
+    for _ in range(args.repeats):
+        spent.clear()
+        calls.clear()
+        total = replay()
+        if total[0] + total[1] < best[0] + best[1]:
+            best = total
+            kept = (dict(spent), collections.Counter(calls))
+    count = len(states) * len(blocks)
+    print(f"{args.kinematics} [{args.layup}] steps {args.start}-{args.start + len(states)}: "
+          f"committed history {best[0] / count * 1e6:.1f} us, loads {best[1] / count * 1e6:.1f} "
+          f"us a block-step with the timers (best of {args.repeats}; load "
+          f"{os.getloadavg()[0]:.1f})")  # fmt: skip
+    for label, seconds in sorted(kept[0].items(), key=lambda item: -item[1]):
+        each = seconds / kept[1][label] * 1e6
+        print(f"  {label:52s} {seconds / count * 1e6:7.1f} us a block-step, "
+              f"{kept[1][label] / count:5.2f} calls, {each:7.1f} us a call")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
