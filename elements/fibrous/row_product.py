@@ -4,12 +4,12 @@ the arithmetic of the whole product (docs/theory.md §2.6, §6.2).
 ``tangent_kernels.MembraneProduct`` forms every row of K = J^T H J on a pattern of node pairs
 through P = H J. A row i of K needs only the rows k of P around i (the nodes of the cells
 at i) and a row k of P only the rows of H at k and of J at k's neighbours; ``RowProduct``
-forms the rows of K of a set of nodes from those alone, with the loops of
-``tangent_kernels._membrane_product`` (the same terms added in the same order), so that each
-row is the whole product's to the last bit whatever rows are asked for at once.
-``row_patches`` adds the bending patches' blocks to those rows as
-``tangent_kernels.add_patches`` does (cells in order). elements/fibrous/tangent_pieces.py
-gives the rows a run of nodes at a time to the explicit solver's stable-step bound.
+forms the rows of K of a set of nodes from those alone. Both run the loops below
+(``MembraneProduct`` over every row), so each row is the whole product's to the last bit
+whatever rows are asked for at once. ``row_patches`` adds the bending patches' blocks to
+those rows, and ``tangent_kernels.add_patches`` to every row, by one loop (cells in order).
+elements/fibrous/tangent_pieces.py gives the rows a run of nodes at a time to the explicit
+solver's stable-step bound.
 """
 
 from __future__ import annotations
@@ -28,11 +28,11 @@ def _membrane_rows(
     k_rows, k_indptr, k_indices, product, out,
 ):  # fmt: skip
     """out (K's blocks of the rows k_rows, 6, 6) = J^T H J on (k_indptr, k_indices), through
-    product (P's blocks of the rows p_rows, 9, 6) = H J on (p_indptr, p_indices): the loops of
-    tangent_kernels._membrane_product restricted to those rows. H's block of pair hb is
-    hessian[h_of[hb]] (9, 9), J's S rows jacobian[hb] (3, 3) on the node pairs (indptr,
-    indices), transposed[b] the pair (j, i) of pair b = (i, j), p_of[k] the row of P of node
-    k (-1: not formed)."""
+    product (P's blocks of the rows p_rows, 9, 6) = H J on (p_indptr, p_indices), each
+    product's rows in turn, a marker of the row's pattern giving each block's place. H's
+    block of pair hb is hessian[h_of[hb]] (9, 9), J's S rows jacobian[hb] (3, 3) on the node
+    pairs (indptr, indices), transposed[b] the pair (j, i) of pair b = (i, j), p_of[k] the
+    row of P of node k (-1: not formed)."""
     n = indptr.size - 1
     marker = np.full(n, -1)
     for row in range(p_rows.size):  # P_kj = sum_l H_kl J_lj
@@ -86,7 +86,8 @@ def _membrane_rows(
 def _row_patch_sums(k_of, k_indptr, k_indices, nodes, blocks, data):
     """data (K's blocks of some rows, 6, 6) += blocks (c, p, 3, p, 3): the translations of each
     cell's patch node pair (a, b) whose row node nodes[c, a] is one of the rows (its row
-    k_of[node], -1 for the others), as tangent_kernels._patch_sums, cells in order. False
+    k_of[node], -1 for the others), into the top left of the block of the row's column
+    nodes[c, b] (each row's columns sorted), cells in order. False
     when a pair is not in the pattern (nothing more added)."""
     cells, p = nodes.shape
     for cell in range(cells):

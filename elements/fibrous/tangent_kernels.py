@@ -13,7 +13,9 @@ bending forces sum_s mu_s D[s, k] n with the side moments mu_s held, the same wa
 ``MembraneProduct``: J^T H J of ``tangent.nodal_membrane_tangent`` with the shape of J used:
 each of its 9 x 6 node blocks is the identity (u, psi) on the diagonal plus dS_k/dx_j in three
 rows and three columns, so H J and J^T (H J) take a sixth of the products of general 9 x 9 by
-9 x 6 block products (scipy's BSR product multiplies the stored zeros too).
+9 x 6 block products (scipy's BSR product multiplies the stored zeros too). Its loops are
+elements/fibrous/row_product.py's over every row (one kernel for the whole product and for
+the stable-step bound's rows, so that each row is added up alike in both).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
+from elements.fibrous.row_product import _membrane_rows, _row_patch_sums
 from elements.jit import AVAILABLE, jit, prange, serial
 
 __all__ = [
@@ -285,62 +288,6 @@ def share_stiffness(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
     return out
 
 
-@serial
-def _membrane_product(
-    indptr, indices, transposed, hessian, jacobian, p_indptr, p_indices, k_indptr, k_indices,
-    product, out,
-):  # fmt: skip
-    """out (K's blocks, 6, 6) = J^T H J on the pattern (k_indptr, k_indices), through
-    product (P's blocks, 9, 6) = H J on (p_indptr, p_indices). H's blocks hessian (pairs, 9,
-    9) and J's S rows jacobian (pairs, 3, 3) (dS_k/dx_j, rows 6-8 and columns 0-2 of J's
-    block; the identity of J's diagonal blocks implied) on the node pairs (indptr, indices),
-    transposed[b] the pair (j, i) of pair b = (i, j). One pass over the rows of each product,
-    a marker of the row's pattern giving each block's place."""
-    n = indptr.size - 1
-    marker = np.full(n, -1)
-    for k in range(n):  # P_kj = sum_l H_kl J_lj
-        for q in range(p_indptr[k], p_indptr[k + 1]):
-            marker[p_indices[q]] = q
-            product[q] = 0.0
-        for hb in range(indptr[k], indptr[k + 1]):
-            node = indices[hb]
-            q = marker[node]
-            for r in range(9):
-                for c in range(6):
-                    product[q, r, c] += hessian[hb, r, c]
-            for jb in range(indptr[node], indptr[node + 1]):
-                q = marker[indices[jb]]
-                for r in range(9):
-                    for c in range(3):
-                        total = 0.0
-                        for t in range(3):
-                            total += hessian[hb, r, 6 + t] * jacobian[jb, t, c]
-                        product[q, r, c] += total
-        for q in range(p_indptr[k], p_indptr[k + 1]):
-            marker[p_indices[q]] = -1
-    for i in range(n):  # K_ij = sum_k J_ki^T P_kj
-        for t in range(k_indptr[i], k_indptr[i + 1]):
-            marker[k_indices[t]] = t
-            out[t] = 0.0
-        for b in range(indptr[i], indptr[i + 1]):
-            node = indices[b]
-            jb = transposed[b]  # J_(node, i)
-            for q in range(p_indptr[node], p_indptr[node + 1]):
-                t = marker[p_indices[q]]
-                if node == i:
-                    for r in range(6):
-                        for c in range(6):
-                            out[t, r, c] += product[q, r, c]
-                for r in range(3):
-                    for c in range(6):
-                        total = 0.0
-                        for s in range(3):
-                            total += jacobian[jb, s, r] * product[q, 6 + s, c]
-                        out[t, r, c] += total
-        for t in range(k_indptr[i], k_indptr[i + 1]):
-            marker[k_indices[t]] = -1
-
-
 class MembraneProduct:
     """J^T H J of the fibrous membrane tangent on the node pairs of the cells (a CornerPairs
     pattern: ``indptr``, ``indices``, symmetric), the patterns of H J and of the product found
@@ -368,20 +315,27 @@ class MembraneProduct:
         self.p_indices = p.indices.astype(np.int64)
         self.k_indptr = k.indptr.astype(np.int64)
         self.k_indices = k.indices.astype(np.int64)
+        # every row of each product, in node order: row_product's loops over all rows
+        self.nodes = np.arange(n_nodes, dtype=np.int64)
+        self.pairs = np.arange(pairs, dtype=np.int64)
 
     def __call__(self, hessian: np.ndarray, jacobian: np.ndarray) -> sp.bsr_matrix:
         """J^T H J (6 n, 6 n) as BSR with 6 x 6 blocks, from H's blocks (pairs, 9, 9) and the
         S rows of J's blocks (pairs, 3, 3)."""
         product = np.empty((self.p_indices.size, 9, 6))
         out = np.empty((self.k_indices.size, 6, 6))
-        _membrane_product(
+        _membrane_rows(
             self.indptr,
             self.indices,
             self.transposed,
             np.ascontiguousarray(hessian, dtype=float),
+            self.pairs,
             np.ascontiguousarray(jacobian, dtype=float),
+            self.nodes,
+            self.nodes,
             self.p_indptr,
             self.p_indices,
+            self.nodes,
             self.k_indptr,
             self.k_indices,
             product,
@@ -390,38 +344,13 @@ class MembraneProduct:
         return sp.bsr_matrix((out, self.k_indices, self.k_indptr), shape=(6 * self.n, 6 * self.n))
 
 
-@serial
-def _patch_sums(indptr, indices, nodes, blocks, data):
-    """data (K's blocks, 6, 6) += blocks (c, p, 3, p, 3), the translations of each cell's
-    patch node pair (a, b) into the top left of the block of row nodes[c, a] and column
-    nodes[c, b] of a BSR pattern (indptr, indices; each row's columns sorted), cells in
-    order. False when a pair is not in the pattern (nothing more added)."""
-    cells, p = nodes.shape
-    for cell in range(cells):
-        for a in range(p):
-            row = nodes[cell, a]
-            for b in range(p):
-                column = nodes[cell, b]
-                low, high = indptr[row], indptr[row + 1]
-                while low < high:  # the column among the row's, sorted
-                    middle = (low + high) // 2
-                    if indices[middle] < column:
-                        low = middle + 1
-                    else:
-                        high = middle
-                if low == indptr[row + 1] or indices[low] != column:
-                    return False
-                for r in range(3):
-                    for c in range(3):
-                        data[low, r, c] += blocks[cell, a, r, b, c]
-    return True
-
-
 def add_patches(matrix: sp.bsr_matrix, nodes: np.ndarray, blocks: np.ndarray) -> None:
     """Add cell blocks (c, p, 3, p, 3) in translations over the nodes (c, p) of each cell to
     a BSR matrix with 6 x 6 blocks (sorted columns) whose pattern holds every pair of them,
     in place; ValueError when a pair is outside its pattern."""
-    if not _patch_sums(
+    n = matrix.indptr.size - 1
+    if not _row_patch_sums(
+        np.arange(n, dtype=np.int64),  # every row, the row of node i being i
         np.asarray(matrix.indptr, dtype=np.int64),
         np.asarray(matrix.indices, dtype=np.int64),
         np.ascontiguousarray(nodes, dtype=np.int64),
