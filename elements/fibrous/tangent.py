@@ -485,7 +485,23 @@ def corner_normal_pull_tangent(x: np.ndarray, pull: np.ndarray) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- the sparse pattern
-class CornerPairs:
+class NodePairs:
+    """The node pairs (i, j) that share a cell: their pattern, sorted by row then column
+    (``indptr``, ``indices``; ``n_pairs``), and ``slot`` (m, 3, 3) int, the pair of (corner
+    k, corner l) of each cell."""
+
+    def __init__(self, connectivity: np.ndarray, n_nodes: int):
+        m = len(connectivity)
+        rows = np.broadcast_to(connectivity[:, :, None], (m, 3, 3)).ravel()
+        cols = np.broadcast_to(connectivity[:, None, :], (m, 3, 3)).ravel()
+        keys, slot = np.unique(rows * n_nodes + cols, return_inverse=True)
+        self.n_nodes, self.n_pairs = n_nodes, keys.size
+        self.slot = slot.reshape(m, 3, 3)
+        pair_rows, self.indices = np.divmod(keys, n_nodes)
+        self.indptr = np.searchsorted(pair_rows, np.arange(n_nodes + 1))
+
+
+class CornerPairs(NodePairs):
     """The node pairs (i, j) that share a cell, as the block structure of sparse matrices
     over the nodes whose blocks are sums of per-cell blocks (a BSR pattern, built once).
 
@@ -498,14 +514,7 @@ class CornerPairs:
     """
 
     def __init__(self, connectivity: np.ndarray, n_nodes: int):
-        m = len(connectivity)
-        rows = np.broadcast_to(connectivity[:, :, None], (m, 3, 3)).ravel()
-        cols = np.broadcast_to(connectivity[:, None, :], (m, 3, 3)).ravel()
-        keys, slot = np.unique(rows * n_nodes + cols, return_inverse=True)
-        self.n_nodes, self.n_pairs = n_nodes, keys.size
-        self.slot = slot.reshape(m, 3, 3)
-        pair_rows, self.indices = np.divmod(keys, n_nodes)
-        self.indptr = np.searchsorted(pair_rows, np.arange(n_nodes + 1))
+        super().__init__(connectivity, n_nodes)
         _, first = np.unique(connectivity.ravel(), return_index=True)
         self.first_cell, self.first_corner = np.divmod(first, 3)
 

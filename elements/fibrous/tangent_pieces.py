@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from elements.base import SparseTangent
 from elements.fibrous import bending, hessian_kernels, kernels, row_product, tangent_kernels
 from elements.fibrous.geometry import normal_sums
-from elements.fibrous.tangent import tangent
+from elements.fibrous.tangent import NodePairs, tangent
 from femcore.assembly import TangentPart
 from femcore.state import State
 
@@ -136,21 +136,6 @@ class _NodeCells:
         return np.unique(self.cells[runs + np.arange(counts.sum())])
 
 
-class _Pairs:
-    """The node pairs that share a cell (``tangent.CornerPairs``'s pattern and slots, without
-    its index arrays of the whole tangent's entries, 6.4 kB a cell)."""
-
-    def __init__(self, connectivity: np.ndarray, n_nodes: int):
-        m = len(connectivity)
-        rows = np.broadcast_to(connectivity[:, :, None], (m, 3, 3)).ravel()
-        cols = np.broadcast_to(connectivity[:, None, :], (m, 3, 3)).ravel()
-        keys, slot = np.unique(rows * n_nodes + cols, return_inverse=True)
-        self.n_nodes, self.n_pairs = n_nodes, keys.size
-        self.slot = slot.reshape(m, 3, 3)
-        pair_rows, self.indices = np.divmod(keys, n_nodes)
-        self.indptr = np.searchsorted(pair_rows, np.arange(n_nodes + 1))
-
-
 def _rows(
     block: FibrousShellBlock,
     state: State,
@@ -173,7 +158,7 @@ def _rows(
     at_ring = around.of(ring)  # H's rows at N1 complete
     reach = around.of(np.unique(conn[at_ring]))  # J's rows at N2 complete
     local_nodes, local = np.unique(conn[reach], return_inverse=True)
-    pairs = _Pairs(local.reshape(-1, 3), len(local_nodes))
+    pairs = NodePairs(local.reshape(-1, 3), len(local_nodes))
     # the run's nodes that are in cells (a node of none has no row: left out)
     run = run[np.isin(run, local_nodes)]
     rows = row_product.RowProduct(
