@@ -289,9 +289,16 @@ CPU, each tree's cache warmed, the two layups' comparisons at once, load 4.6-6.8
 * ``--reference``, Mindlin [0/90], 8429 steps: 1.690 -> 1.560 ms a step (best of 2); Mindlin
   [0/45], 8991 steps: 1.729 -> 1.572; the same steps and final positions to the bit;
 * hemisphere-plies default (``python -m validation --cases hemisphere-plies --jobs 1``, the
-  trees at once, load 5.5-8.0, both trees compiling their fibrous kernels during the run):
-  case_cpu_s 82.9 -> 78.5 s; Mindlin [0/90] 14.00 -> 13.53 s, Mindlin [0/45] 14.61 -> 14.54;
-  results.json the same in all its 324 numbers but the times (24 of 24 checks).
+  trees at once, load 4.1-5.3, caches warm): case_cpu_s 49.9 -> 48.7 s; Mindlin [0/90]
+  14.32 -> 13.81 s, Mindlin [0/45] 15.28 -> 14.80 (-3 to -4 %; an earlier pair at load
+  5.5-8.0 with both trees compiling their fibrous kernels: 14.00 -> 13.53, 14.61 -> 14.54);
+  results.json the same in all its 324 numbers but the times (24 of 24 checks, twice).
+
+What is left of the Mindlin step is the ply contact's (the committed history 0.86 ms of 1.77,
+its facing of the new state most of it), the die's closest facets (0.19 ms a step), and the
+full searches' 0.11 ms a step (each about 1 ms of numpy glue: the 81-point pass's matrix of
+the centroids' distances, 0.63 ms a search, is most of its own; the 384-point pass's trees
+1.26 ms).
 """
 
 from __future__ import annotations
