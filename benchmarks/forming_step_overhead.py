@@ -271,6 +271,34 @@ runs at once with other jobs):
   the times (24 of 24 checks). The step is still Python round some fifty compiled calls (a
   third of its CPU in the kernels' own code): the third of the case's CPU asked for needs
   the ply contact's facing, history and loads fused per block, not more cuts of this kind.
+
+Seventh round, the Mindlin runs (``--split --kinematics mindlin``, main d551120, load 7.9:
+1.767 ms a step with the timers). The tools' forces are made once a step, not twice: the
+history's row asks for them at the new state (``tool_forces`` 76 us a call, the die's
+``surface_forces`` 96 us, its ``_prepared`` 30) and the next step's loads find them kept (8.9
+us a call); the report's Mindlin runs, past 4000 records, write a row every other step, so
+on the others the loads make them (about 40 us a call on average): the same work, moved. The
+energy check every tenth step: ``internal_force_and_energy`` 476 against 253 us for the plain
+pass, 0.022 ms a step. The facing lists' full searches: 0.14 a step at 1.18 ms, 0.161 ms a
+step (9 %), ended by outline corner triangles whose (1 + 2 sum reach) bound was up to three
+times their grown corners' true move: M now the grown corners' largest move
+(elements/ply_search.py ``grown_moves``; benchmarks/ply_epoch.py: 1147 -> 788 epochs), the
+same answers by the lists' proof. Beside main d551120 (``git archive``; one numba thread,
+CPU, each tree's cache warmed, the two layups' comparisons at once, load 4.6-6.8):
+
+* ``--reference``, Mindlin [0/90], 8429 steps: 1.690 -> 1.560 ms a step (best of 2); Mindlin
+  [0/45], 8991 steps: 1.729 -> 1.572; the same steps and final positions to the bit;
+* hemisphere-plies default (``python -m validation --cases hemisphere-plies --jobs 1``, the
+  trees at once, load 4.1-5.3, caches warm): case_cpu_s 49.9 -> 48.7 s; Mindlin [0/90]
+  14.32 -> 13.81 s, Mindlin [0/45] 15.28 -> 14.80 (-3 to -4 %; an earlier pair at load
+  5.5-8.0 with both trees compiling their fibrous kernels: 14.00 -> 13.53, 14.61 -> 14.54);
+  results.json the same in all its 324 numbers but the times (24 of 24 checks, twice).
+
+What is left of the Mindlin step is the ply contact's (the committed history 0.86 ms of 1.77,
+its facing of the new state most of it), the die's closest facets (0.19 ms a step), and the
+full searches' 0.11 ms a step (each about 1 ms of numpy glue: the 81-point pass's matrix of
+the centroids' distances, 0.63 ms a search, is most of its own; the 384-point pass's trees
+1.26 ms).
 """
 
 from __future__ import annotations

@@ -22,6 +22,15 @@ Measured (one thread, 2 cores shared with other jobs; best of 2 unless said), ms
   1.746 (1008 epochs, 45 refreshes); the same positions.
 * fibrous [0/90], 6865 steps (load 6.4-7.8): share 1/8 1.764-1.914 (411 epochs), 1/4
   1.832 (204): within the load's noise; its plies move apart less (no wrinkles).
+
+With M the grown corners' largest move (elements/ply_search.py ``grown_moves``), not (1 + 2
+sum reach) times the corners' (main d551120): Mindlin [0/90], 8429 steps, share 1/4 1147 ->
+788 epochs (5 -> 21 refreshes), the same final positions (41a89a1e715d29ae in both trees).
+Which triangle ends an epoch there (the first 40 % of the run, 712 epochs): mostly an
+outline triangle (reach on one or two edges, L = 2 or 3) of the flange's corners, its
+centroid 2-4 skins from the nearest point, while the median triangle has moved 0.03-0.13
+skin. The shares again with the tighter M (one round, load 4.7-4.9): 3/16 1.581 ms a step
+(1054 epochs, 1 refresh), 1/4 1.503 (788, 21), 5/16 1.684 (625, 1373 refreshes): 1/4 still.
 """
 
 from __future__ import annotations

@@ -34,13 +34,18 @@ the spheres' bound from one matrix of the centroids' distances rather than from 
 whose set-up costs more there: the same lists (tests/test_ply_search.py).
 
 Kept between calls (a Verlet list of skin s). The distance to a set is 1-Lipschitz in the
-point; a point of the grown triangle at barycentric coordinates lambda moves by
-|sum lambda_k dy_k| <= L_T max_k |dy_k| with L_T = sum |lambda_k| <= 1 + 2 sum reach_T (1 on
-an inner triangle, 2 past one outline edge). Distances do not change when the point and the
-triangles move by one translation, so the moves count less the corners' mean move t (a stack
-carried down by a punch keeps its lists). With the point moved by m_p since its list was
-made and every triangle's distance changed by at most M (max over T of L_T times its corners'
-largest move), every distance moved by at most delta = m_p + M; a triangle left out was
+point, and moves by at most the largest move of a point of the set; a point of the grown
+triangle at barycentric coordinates lambda moves by sum lambda_k dy_k, affine in lambda, so
+its largest move is at one of the grown triangle's corners (``grown_moves``: (1 + sum_j
+reach_j) dy_k - sum_j reach_j dy_j; the corner's own move dy_k on an inner triangle). The
+bound before this, L_T max_k |dy_k| with L_T = 1 + 2 sum reach_T, is up to three times that
+on an outline corner triangle whose far corner swings (the flange's corners of the Mindlin
+hemisphere: a new epoch every 4-7 steps early in the run, 645 -> 459 epochs over its first
+2623 steps, the same answers). Distances do not change when the point and the triangles
+move by one translation, so the moves count less the corners' mean move t (a stack carried
+down by a punch keeps its lists). With the point moved by m_p since its list was made and
+every triangle's distance changed by at most M (max over T of its grown corners' largest
+move), every distance moved by at most delta = m_p + M; a triangle left out was
 further than d* + s then, so further than d*(now) + s - 2 delta now: while 2 delta < s (less a
 thousandth of s for rounding) the list still holds the nearest and its ties. The triangles'
 moves are measured from an epoch's start (the last full search); a point searched again since
@@ -129,13 +134,14 @@ def pair_distances(
     return out
 
 
-def _moves(y, epoch, lipschitz, p, origin, shift_then, moved_then, shift, drift):
-    """The kept lists' moves (``FacingSearch.near``), in numpy's operations and order: the
-    corners' mean move t into ``shift`` (3,) (their sum row by row from 0.0, over their count,
-    as ``mean(axis=0)``), each point's drift |p - origin - (t - t_then)| + M + M_then into
-    ``drift`` (P,), mm; returns M, the largest of L_T times a triangle's largest corner move
-    off t (0 for none, NaN where a move is NaN, as ``np.max(..., initial=0.0)``). y, epoch
-    (m, 3, 3) mm, lipschitz (m,), p, origin (P, 3) mm, shift_then (P, 3), moved_then (P,)."""
+def _moves(y, epoch, reach, p, origin, shift_then, moved_then, shift, drift):
+    """The kept lists' moves (``FacingSearch.near``), in the operations and order of
+    ``grown_moves``: the corners' mean move t into ``shift`` (3,) (their sum row by row from
+    0.0, over their count, as ``mean(axis=0)``), each point's drift |p - origin - (t -
+    t_then)| + M + M_then into ``drift`` (P,), mm; returns M, the largest move off t of a
+    triangle's grown corners (0 for none, NaN where a move is NaN, as ``np.max(...,
+    initial=0.0)``). y, epoch (m, 3, 3) mm, reach (m, 3), p, origin (P, 3) mm, shift_then
+    (P, 3), moved_then (P,)."""
     t0, t1, t2 = 0.0, 0.0, 0.0
     for t in range(y.shape[0]):
         for k in range(3):
@@ -147,15 +153,27 @@ def _moves(y, epoch, lipschitz, p, origin, shift_then, moved_then, shift, drift)
     shift[0], shift[1], shift[2] = t0, t1, t2
     moved = 0.0
     for t in range(y.shape[0]):
+        r0, r1, r2 = reach[t, 0], reach[t, 1], reach[t, 2]
+        scale = 1.0 + ((r0 + r1) + r2)
+        # sum_j reach_j (dy_j - t), each coordinate
+        s0 = (
+            r0 * ((y[t, 0, 0] - epoch[t, 0, 0]) - t0) + r1 * ((y[t, 1, 0] - epoch[t, 1, 0]) - t0)
+        ) + r2 * ((y[t, 2, 0] - epoch[t, 2, 0]) - t0)
+        s1 = (
+            r0 * ((y[t, 0, 1] - epoch[t, 0, 1]) - t1) + r1 * ((y[t, 1, 1] - epoch[t, 1, 1]) - t1)
+        ) + r2 * ((y[t, 2, 1] - epoch[t, 2, 1]) - t1)
+        s2 = (
+            r0 * ((y[t, 0, 2] - epoch[t, 0, 2]) - t2) + r1 * ((y[t, 1, 2] - epoch[t, 1, 2]) - t2)
+        ) + r2 * ((y[t, 2, 2] - epoch[t, 2, 2]) - t2)
         largest = 0.0
         for k in range(3):
-            d0 = (y[t, k, 0] - epoch[t, k, 0]) - t0
-            d1 = (y[t, k, 1] - epoch[t, k, 1]) - t1
-            d2 = (y[t, k, 2] - epoch[t, k, 2]) - t2
+            d0 = scale * ((y[t, k, 0] - epoch[t, k, 0]) - t0) - s0
+            d1 = scale * ((y[t, k, 1] - epoch[t, k, 1]) - t1) - s1
+            d2 = scale * ((y[t, k, 2] - epoch[t, k, 2]) - t2) - s2
             squared = (d0 * d0 + d1 * d1) + d2 * d2
             if k == 0 or squared != squared or (largest == largest and squared > largest):
                 largest = squared
-        value = lipschitz[t] * np.sqrt(largest)
+        value = np.sqrt(largest)
         if moved == moved and (value != value or value > moved):
             moved = value
     for i in range(p.shape[0]):
@@ -167,6 +185,22 @@ def _moves(y, epoch, lipschitz, p, origin, shift_then, moved_then, shift, drift)
 
 
 _moves_compiled = lanes(_moves)
+
+
+def grown_moves(move: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """(m,) each triangle's largest grown-corner move, mm: the grown triangle's corners
+    (``grown_corners``, affine in the corners with weights summing to one) moved by
+    (1 + sum_j reach_j) dy_k - sum_j reach_j dy_j, dy (m, 3, 3) the corners' moves ``move``
+    (less the common move t), reach (m, 3); the largest move of any point of the grown
+    triangle, a vertex's (the move is affine over it). numpy's reference of ``_moves``."""
+    r0, r1, r2 = reach[:, 0, None], reach[:, 1, None], reach[:, 2, None]
+    scale = 1.0 + ((reach[:, 0] + reach[:, 1]) + reach[:, 2])
+    weighted = (r0 * move[:, 0] + r1 * move[:, 1]) + r2 * move[:, 2]  # (m, 3)
+    grown = scale[:, None, None] * move - weighted[:, None, :]
+    squared = (grown[..., 0] * grown[..., 0] + grown[..., 1] * grown[..., 1]) + (
+        grown[..., 2] * grown[..., 2]
+    )
+    return np.sqrt(np.max(squared, axis=1))
 
 
 @dataclass(frozen=True)
@@ -200,13 +234,11 @@ class FacingSearch:
     def __init__(self, reach: np.ndarray, skin: float, cuts: WedgeCuts | None = None):
         if not skin > 0.0:
             raise ValueError(f"skin must be a positive length (mm), got {skin!r}")
-        self.reach = np.asarray(reach, dtype=float)
+        self.reach = np.ascontiguousarray(reach, dtype=float)
         self.skin = float(skin)
         # the growths' cuts (elements/ply_wedge.py): the distances to the cut triangles are
         # to their cut growths, which the facing measures
         self.cuts = cuts if cuts is not None and cuts.any else None
-        # L_T: how far a point of the grown triangle moves per unit of its corners' move
-        self.lipschitz = 1.0 + 2.0 * self.reach.sum(axis=1)
         grown = self.reach.sum(axis=1) > 0.0
         self._groups = (np.flatnonzero(~grown), np.flatnonzero(grown))
         self._lists: _Lists | None = None
@@ -266,7 +298,7 @@ class FacingSearch:
                 _moves_compiled(
                     read_only(y),  # as the block keeps them: one build (kernel_inputs.py)
                     lists.epoch,
-                    self.lipschitz,
+                    self.reach,
                     read_only(p),
                     lists.origin,
                     lists.shift,
@@ -278,8 +310,7 @@ class FacingSearch:
         else:
             move = y - lists.epoch
             shift = move.reshape(-1, 3).mean(axis=0)  # the corners' mean move t
-            corner_move = np.sqrt(np.max(np.sum((move - shift) ** 2, axis=-1), axis=1))
-            moved = float(np.max(self.lipschitz * corner_move, initial=0.0))
+            moved = float(np.max(grown_moves(move - shift, self.reach), initial=0.0))
         if not moved <= EPOCH_SHARE * self.skin:  # NaN too
             return self._renew(p, y)
         if not ply_projection.COMPILED:

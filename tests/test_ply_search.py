@@ -271,3 +271,66 @@ def test_a_triangle_that_comes_near_while_the_mean_move_stays_small_joins_the_li
     np.testing.assert_array_equal(search.near(p, y), [[0]])
     moved = y + np.array([[0.0, 0.0, 0.0], [0.0, 0.0, -1.5], [0.0, 0.0, 1.5]])[:, None, :]
     assert 1 in search.near(p, moved)[0]
+
+
+def test_a_grown_triangles_move_is_its_grown_corners_largest():
+    """``grown_moves`` (the kept lists' M, elements/ply_search.py) on 200 random triangles
+    grown by 0, MARGIN or 2 MARGIN past each edge and moved by random corner moves: equal to
+    the largest move of the corners ``grown_corners`` gives before and after (to 1e-12 mm of
+    moves of order 1 mm: their subtraction's rounding), no point of the grown triangle moves
+    further (2000 barycentric points each, lambda_k >= -reach_k, summing to one), and never
+    more than the bound it replaces, (1 + 2 sum reach) times the corners' largest move."""
+    rng = np.random.default_rng(3)
+    m = 200
+    y0 = rng.normal(0.0, 5.0, (m, 3, 3))
+    move = rng.normal(0.0, 1.0, (m, 3, 3))
+    reach = MARGIN * rng.integers(0, 3, (m, 3)).astype(float)
+    got = ply_search.grown_moves(move, reach)
+    corners_moved = grown_corners(y0 + move, reach) - grown_corners(y0, reach)
+    want = np.linalg.norm(corners_moved, axis=-1).max(axis=1)
+    np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-12)
+    # points of the grown triangle: barycentric lambda = (1 + R) mu - reach . (mu, in the
+    # triangle) maps the triangle onto the grown one (its corners onto grown_corners')
+    mu = rng.dirichlet(np.ones(3), 2000)
+    total = reach.sum(axis=1)
+    weights = (1.0 + total)[:, None, None] * mu[None] - (mu.sum(axis=1)[None, :, None]) * reach[
+        :, None, :
+    ]
+    points_moved = np.einsum("tpk,tkc->tpc", weights, move)
+    assert np.all(np.linalg.norm(points_moved, axis=-1).max(axis=1) <= got * (1.0 + 1e-12))
+    old_bound = (1.0 + 2.0 * total) * np.linalg.norm(move, axis=-1).max(axis=1)
+    assert np.all(got <= old_bound * (1.0 + 1e-12))
+    assert np.any(got < 0.8 * old_bound)  # the premise: tighter on some grown triangles
+
+
+def test_a_swinging_outline_corner_keeps_the_lists_and_their_answer():
+    """Two outline triangles of a 10-mm square (each grown by MARGIN past its two outline
+    edges), a point 0.5 mm above the first, a skin of 0.5 mm; the square's far corner rises
+    by delta = 0.12 skin. Off the corners' mean move (delta / 6), the old bound, (1 + 2 sum
+    reach) = 3 times the far corner's move 5 delta / 6, is 2.5 delta = 0.3 skin, past the
+    epoch's s / 4: a new epoch; the grown corners' largest move, 2 (5 delta / 6) + delta / 6 =
+    11 delta / 6 = 0.22 skin, is not, and the point's drift (delta / 6 + 0.22 skin) is within
+    its bound: the list is kept, and still holds the brute force's nearest triangle."""
+    nodes = np.array([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [10.0, 10.0, 0.0]])
+    triangles = np.array([[0, 1, 2], [1, 3, 2]])
+    outline = open_edges(triangles)
+    reach = np.where(outline, MARGIN, 0.0)
+    search = FacingSearch(reach, 0.5)
+    p = np.array([[2.0, 2.0, 0.5]])
+    y = nodes[triangles]
+    first = search.near(p, y).copy()
+    swung = y.copy()
+    swung[1, 1, 2] += 0.12 * search.skin  # node 3, the far corner of the second triangle
+    # the premise: the old bound is past the epoch's share, the grown corners' is not
+    mean = (swung - y).reshape(-1, 3).mean(axis=0)
+    old = (1.0 + 2.0 * reach.sum(axis=1)) * np.linalg.norm(swung - y - mean, axis=-1).max(axis=1)
+    assert old.max() > ply_search.EPOCH_SHARE * search.skin
+    assert ply_search.grown_moves(swung - y - mean, reach).max() <= (
+        ply_search.EPOCH_SHARE * search.skin
+    )
+    searches = search.searches
+    near = search.near(p, swung)
+    assert search.searches == searches  # kept
+    np.testing.assert_array_equal(near, first)
+    nearest = _brute_nearest(p, swung, reach, None)
+    assert np.all(np.any(near == nearest[:, None], axis=1))
