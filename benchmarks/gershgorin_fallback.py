@@ -15,9 +15,22 @@ Printed per case: the bound's CPU seconds (best of ``--repeat``), whether it str
 tangent formed once), the reference pass (the tangent's pieces formed and dropped, every
 block, CPU best of ``--repeat``), their ratio, and the process's peak (MB, ru_maxrss).
 
-Measured on the 2-core machine shared with other runs, against main 1606060 and cfaff59
-(the review's scripts, the same bits in all 42 of its cases): see the commit that added this
-file and docs/theory.md §2.6.
+Measured on the 2-core machine shared with other runs (load 3.1-3.4), this script on main
+1606060 (every pair held by merging each piece into all the pairs so far; Mindlin pieces of
+256 cells on the strip) -> now, the bound's CPU s (ratio to the tangent alone), peak MB, the
+same step to the bit in each case:
+
+    mindlin-strip      0.157 (2.01)  235 -> 0.114 (1.46)  201   (streamed now)
+    mindlin-shuffled   4.532 (4.42)  707 -> 2.091 (2.07)  665
+    fibrous-one        2.259 (1.07)  271 -> 2.100 (1.08)  272
+    fibrous-two       11.492 (7.88)  553 -> 2.597 (1.71)  461
+
+Before the pieces (main cfaff59: all pieces' sums concatenated, one sort), one process a
+case and a script, load 4.5-6.0, CPU s and peak MB, cfaff59 / 1606060 / now: Mindlin
+shuffled 200k 2.22-2.25 (871-904) / 4.83-4.86 (711) / 2.35-2.43 (668); fibrous two blocks
+2.49 (610) / 12.32-12.33 (548-550) / 3.30-3.34 (458-462); the strip 0.17 (220) / 0.22 (221) /
+0.14 (200). The fibrous two blocks' bound is its tangent formed twice: the streamed pass gives
+up at the second block's first piece (its seam's nodes summed with the first block).
 """
 
 from __future__ import annotations
