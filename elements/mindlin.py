@@ -44,6 +44,7 @@ from elements.mindlin_tangent import mindlin_tangent_blocks
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.field_names import name_components
+from femcore.gershgorin import banded_piece
 from femcore.memory import small_pages
 from femcore.mesh import Mesh
 from femcore.rotation import cross
@@ -466,7 +467,8 @@ class MindlinShellBlock(ElementBlock):
         """``tangent`` a slice of cells at a time (the blocks of all cells are 2.6 kB a
         triangle; a slice's are made, given and dropped)."""
         m = len(self.connectivity)
-        size = min(_PIECE, max(_PIECE_MIN, m // _PIECE_SHARE))
+        # at least the cells' band, so that the bound streams (thin strips)
+        size = banded_piece(self.connectivity, min(_PIECE, max(_PIECE_MIN, m // _PIECE_SHARE)))
         for start in range(0, m, size):
             nodes = self.connectivity[start : start + size]
             # the piece's corners only (all cells' would be 0.14 kB a triangle)

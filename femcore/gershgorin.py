@@ -31,7 +31,11 @@ import scipy.sparse as sp
 from femcore import kernel_cache
 from femcore.assembly import CellTangent, TangentPart, generalised_sparse
 
-__all__ = ["gershgorin_largest"]
+__all__ = ["banded_piece", "gershgorin_largest"]
+
+# 2^64 / golden ratio as an int64 (Fibonacci hashing: the top bits of key x _GOLDEN spread
+# keys that differ in any bits over the table, ``_slots``).
+_GOLDEN = 0x9E3779B97F4A7C15 - 2**64
 
 
 def _add_transformed(ta, k, tb, right, target):
@@ -142,6 +146,54 @@ def _close(keys, sums, count, open_nodes, closed, scale, n_nodes, rows):
     return kept
 
 
+def _band(connectivity, n_nodes):
+    """The most cells from one cell at a node to the next cell at it, in the cells' order
+    (connectivity (m, p)); 0 when no node is in two cells."""
+    last = np.full(n_nodes, -1, dtype=np.int64)
+    band = 0
+    for cell in range(connectivity.shape[0]):
+        for corner in range(connectivity.shape[1]):
+            node = connectivity[cell, corner]
+            if last[node] >= 0 and cell - last[node] > band:
+                band = cell - last[node]
+            last[node] = cell
+    return band
+
+
+def _slots(table, shift, slot_keys, count, keys, slots):
+    """The slot of each of ``keys`` (e,) in slots (e,): the slot holding it, found through
+    ``table`` (open addressing, a power of 2 long, -1 where free; a key's first probe the top
+    bits of key x 2^64 / golden ratio, ``shift`` = 64 - log2(len(table))), or a new one,
+    count, count + 1, ... whose key is written to slot_keys. Returns the count of slots."""
+    mask = table.shape[0] - 1
+    for e in range(keys.shape[0]):
+        key = keys[e]
+        # the product's bits 64 - log2(len) to 63: int64 arithmetic wraps, and Python's int
+        # (no compiler) has the same low 64 bits
+        probe = ((int(key) * _GOLDEN) >> shift) & mask
+        while True:
+            slot = table[probe]
+            if slot < 0:
+                table[probe] = count
+                slot_keys[count] = key
+                slots[e] = count
+                count += 1
+                break
+            if slot_keys[slot] == key:
+                slots[e] = slot
+                break
+            probe = (probe + 1) & mask
+    return count
+
+
+def _rows_in_order(order, keys, sums, scale, n_nodes, rows):
+    """rows += each pair's share (``_add_row``) of keys[order] (pairs, sorted a n + b) with
+    their sums (slots, 5, 5): each row over its pairs in the order of b."""
+    for e in range(order.shape[0]):
+        slot = order[e]
+        _add_row(sums[slot], keys[slot] // n_nodes, keys[slot] % n_nodes, scale, rows)
+
+
 if kernel_cache.AVAILABLE:
     # Spliced into both loops (numba's inlining): a call with array arguments per node pair
     # would cost their reference counting.
@@ -150,41 +202,125 @@ if kernel_cache.AVAILABLE:
     _largest = kernel_cache.njit(_largest)
     _merge = kernel_cache.njit(_merge)
     _close = kernel_cache.njit(_close)
+    _slots = kernel_cache.njit(_slots)
+    _band = kernel_cache.njit(_band)
+    _rows_in_order = kernel_cache.njit(_rows_in_order)
     _pair_sums = kernel_cache.njit(_pair_sums)
     _bsr_sums = kernel_cache.njit(_bsr_sums)
 
 
-def _started(
-    keys: np.ndarray, held_keys: np.ndarray, held: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """The sums (pairs, 5, 5) a piece of node pairs ``keys`` (sorted, each once) adds its
-    blocks to: the held sums of the pairs held (held_keys sorted, held (h, 5, 5)), 0 for the
-    others; and which held pairs (h,) bool they took."""
-    sums = np.zeros((len(keys), 5, 5))
-    taken = np.zeros(len(held_keys), dtype=bool)
-    if len(held_keys) and len(keys):
-        at = np.minimum(np.searchsorted(held_keys, keys), len(held_keys) - 1)
-        found = held_keys[at] == keys
-        sums[found] = held[at[found]]
-        taken[at[found]] = True
-    return sums, taken
+def banded_piece(connectivity: np.ndarray, cells: int) -> int:
+    """The cells of a piece of an element block's ``tangent_pieces`` of consecutive cells:
+    ``cells``, or the cells' band (``_band``) where that is longer and at most a quarter of
+    the block. A piece at least the band long holds a node in a run of consecutive pieces,
+    so the bound streams (``gershgorin_largest`` with ``again``): a node's next cell is at
+    most a piece on, in the same piece or the next. A thin strip of cells in rows
+    (Mesh.rectangle(nx=400, ny=20): a band of 2 nx + 1 cells) is streamed in pieces of its
+    band where ``cells`` were shorter; a band past a quarter of the cells (cells in no banded
+    order) leaves ``cells``: every pair is then held (memory ~ pairs) rather than pieces the
+    size of the block.
+
+    Parameters
+    ----------
+    connectivity : (m, p) int, the cells' nodes in the block's order.
+    cells : the piece's cells otherwise (> 0).
+    """
+    conn = np.ascontiguousarray(connectivity, dtype=np.int64)
+    if conn.size == 0:
+        return cells
+    band = int(_band(conn, int(conn.max()) + 1))
+    return band if cells < band <= len(conn) // 4 else cells
+
+
+class _Held:
+    """The node pairs held while streaming: keys (h,) sorted and their sums (h, 5, 5)."""
+
+    def __init__(self) -> None:
+        self.keys, self.sums = np.empty(0, dtype=np.int64), np.empty((0, 5, 5))
+        self.taken = np.empty(0, dtype=bool)
+
+    def start(self, keys: np.ndarray) -> np.ndarray:
+        """The sums (pairs, 5, 5) a piece of node pairs ``keys`` (sorted, each once) adds its
+        blocks to: the held sums of the pairs held, 0 for the others; ``taken`` (h,) bool
+        the held pairs they took."""
+        sums = np.zeros((len(keys), 5, 5))
+        self.taken = np.zeros(len(self.keys), dtype=bool)
+        if len(self.keys) and len(keys):
+            at = np.minimum(np.searchsorted(self.keys, keys), len(self.keys) - 1)
+            found = self.keys[at] == keys
+            sums[found] = self.sums[at[found]]
+            self.taken[at[found]] = True
+        return sums
+
+
+class _Table:
+    """Every node pair met so far, each in a slot of its own: keys (slots,) and sums
+    (slots, 5, 5) in the order the pairs were first met, found by key through a hash table
+    (``_slots``). A piece's pairs are looked up, their sums taken, added to and put back:
+    work and memory linear in the pieces' pairs (a merge of the sorted pairs so far with
+    each piece's cost pieces x pairs: 12 s against 2.7 for a 44.8k-cell fibrous sheet as
+    two blocks, benchmarks/gershgorin_fallback.py)."""
+
+    def __init__(self) -> None:
+        self.table = np.full(16, -1, dtype=np.int64)
+        self.keys = np.empty(8, dtype=np.int64)
+        self.sums = np.empty((8, 5, 5))
+        self.count = 0
+        self.grown = 0  # times the slots were grown (tests/test_gershgorin.py)
+        self.slots = np.empty(0, dtype=np.int64)
+
+    def start(self, keys: np.ndarray) -> np.ndarray:
+        """The sums (pairs, 5, 5) so far of a piece's node pairs ``keys`` (each once), 0
+        for those met first here; their slots kept for ``put``."""
+        needed = self.count + len(keys)
+        if needed > len(self.keys):
+            size = max(needed, 2 * len(self.keys))
+            # in place (the kernel moves the pages), no second copy held
+            self.keys.resize(size, refcheck=False)
+            self.sums.resize((size, 5, 5), refcheck=False)
+            self.grown += 1
+        if 2 * needed > len(self.table):
+            size = len(self.table)
+            while 2 * needed > size:
+                size *= 2
+            self.table = np.full(size, -1, dtype=np.int64)
+            _slots(
+                self.table,
+                self._shift(),
+                self.keys,
+                0,
+                self.keys[: self.count].copy(),
+                np.empty(self.count, dtype=np.int64),
+            )
+        self.slots = np.empty(len(keys), dtype=np.int64)
+        before = self.count
+        self.count = int(_slots(self.table, self._shift(), self.keys, before, keys, self.slots))
+        self.sums[before : self.count] = 0.0
+        return self.sums[self.slots]
+
+    def put(self, sums: np.ndarray) -> None:
+        """The piece's sums back to its pairs' slots."""
+        self.sums[self.slots] = sums
+
+    def _shift(self) -> int:
+        return 64 - (len(self.table).bit_length() - 1)
 
 
 def _piece_sums(
-    piece: TangentPart, maps: np.ndarray, n_nodes: int, held_keys: np.ndarray, held: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    piece: TangentPart, maps: np.ndarray, n_nodes: int, start: Callable[[np.ndarray], np.ndarray]
+) -> tuple[np.ndarray, np.ndarray]:
     """The node-pair keys a n + b (pairs,) of one tangent piece, sorted, each once; their
-    sums: the held sum of each pair (0 where none) plus the piece's generalised 5 x 5 blocks
-    in their order; which held pairs they took (``_started``)."""
+    sums: ``start(keys)`` (the pairs' sums so far, 0 where none) plus the piece's generalised
+    5 x 5 blocks in their order."""
     if isinstance(piece, CellTangent):
         nodes = np.ascontiguousarray(piece.nodes, dtype=np.int64)
         flat = (nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel()
         keys, pair_of = np.unique(flat, return_inverse=True)
         blocks = np.ascontiguousarray(piece.blocks, dtype=np.float64)
         where = pair_of.reshape(nodes.shape + nodes.shape[1:2])
-        sums, taken = _started(keys, held_keys, held)
+        sums = start(keys)
         _pair_sums(nodes, where, blocks, maps, blocks.shape[2], sums)
-        return keys, sums, taken
+        return keys, sums
     given = piece.matrix
     if sp.issparse(given) and given.format == "bsr" and given.blocksize == (6, 6):
         # else generalised_sparse's error, or its sums of repeated blocks
@@ -197,15 +333,15 @@ def _piece_sums(
             rows = np.repeat(np.arange(n_nodes, dtype=np.int64), np.diff(indptr))
             data = np.ascontiguousarray(matrix.data, dtype=np.float64)
             keys = rows * n_nodes + indices
-            sums, taken = _started(keys, held_keys, held)
+            sums = start(keys)
             _bsr_sums(indptr, indices, data, maps, sums)
-            return keys, sums, taken
+            return keys, sums
     matrix = generalised_sparse(piece, maps).tocoo()
     row, col = matrix.row.astype(np.int64), matrix.col.astype(np.int64)
     keys, pair_of = np.unique((row // 5) * n_nodes + col // 5, return_inverse=True)
-    sums, taken = _started(keys, held_keys, held)
+    sums = start(keys)
     np.add.at(sums, (pair_of.ravel(), row % 5, col % 5), matrix.data)
-    return keys, sums, taken
+    return keys, sums
 
 
 def gershgorin_largest(
@@ -232,50 +368,65 @@ def gershgorin_largest(
         number to the last bit either way.
     """
     if again is not None:
-        streamed = _summed(pieces, maps, scale, n_nodes, stream=True)
+        streamed = _streamed(pieces, maps, scale, n_nodes)
         if streamed is not None:
             return streamed
         pieces = again()
-    summed = _summed(pieces, maps, scale, n_nodes, stream=False)
-    assert summed is not None  # nothing is summed before the end
-    return summed
+    return _held(pieces, maps, scale, n_nodes)
 
 
-def _summed(
-    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int, stream: bool
+def _held(
+    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
+) -> float:
+    """``gershgorin_largest`` holding every node pair to the end (``_Table``): each piece's
+    blocks added to its pairs' sums so far as it comes, so that a pair's sum is 0 + its
+    blocks in the pieces' order and in each piece's own, however the blocks are parted into
+    pieces; then each row summed over its pairs in the order of b (one sort of the pairs)."""
+    scale = np.ascontiguousarray(scale)
+    table = _Table()
+    for piece in pieces:
+        _, sums = _piece_sums(piece, maps, n_nodes, table.start)
+        del piece  # read: not held while the next one is made
+        table.put(sums)
+        del sums
+    keys = table.keys[: table.count]
+    rows = np.zeros(scale.shape[0])
+    _rows_in_order(np.argsort(keys), keys, table.sums, scale, n_nodes, rows)
+    return float(_largest(rows, scale))
+
+
+def _streamed(
+    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
 ) -> float | None:
-    """``gershgorin_largest``: each piece's blocks added to the sums of its node pairs as it
-    comes, in its order, so that a pair's sum is 0 + its blocks in the pieces' order and in
-    each piece's own, however the blocks are parted into pieces; each row then summed over its
-    pairs in the order of b. ``stream``: after each piece, the pairs (a, b) whose node a the
-    piece does not hold are summed into a's rows and dropped (a cell-ordered mesh's pieces of
-    consecutive cells share only the nodes along their borders); None when a piece holds a
-    node already summed (a mesh whose cells are not in a banded order). Else every pair is
-    held to the end."""
+    """``_held``'s number (each pair's blocks summed in the same order, each row over its
+    pairs in the order of b) holding only the node pairs whose row may still grow: after
+    each piece, the pairs (a, b) whose node a the piece does not hold are summed into a's
+    rows and dropped (a cell-ordered mesh's pieces of consecutive cells share only the nodes
+    along their borders, ``banded_piece``). None when a piece holds a node already summed
+    (a mesh whose cells are not in a banded order)."""
     scale = np.ascontiguousarray(scale)
     rows = np.zeros(scale.shape[0])
     closed = np.zeros(n_nodes, dtype=bool)
     open_nodes = np.zeros(n_nodes, dtype=bool)
-    held_keys, held = np.empty(0, dtype=np.int64), np.empty((0, 5, 5))
+    held = _Held()
     for piece in pieces:
-        keys, sums, taken = _piece_sums(piece, maps, n_nodes, held_keys, held)
+        keys, sums = _piece_sums(piece, maps, n_nodes, held.start)
         del piece  # read: not held while the next one is made
         first = keys // n_nodes
-        if stream and closed[first].any():
+        if closed[first].any():
             return None
         # The pairs of the piece (their sums go on from the held ones) among the others held.
-        out_keys = np.empty(len(held_keys) - int(taken.sum()) + len(keys), dtype=np.int64)
-        out = np.empty((len(out_keys), 5, 5))
-        _merge(held_keys, held, taken, keys, sums, out_keys, out)
-        del sums, held
-        if stream:
-            open_nodes[:] = False
-            open_nodes[first] = True
-            kept = _close(out_keys, out, len(out_keys), open_nodes, closed, scale, n_nodes, rows)
-            held_keys, held = out_keys[:kept].copy(), out[:kept].copy()
-        else:
-            held_keys, held = out_keys, out
+        count = len(held.keys) - int(held.taken.sum()) + len(keys)
+        out_keys = np.empty(count, dtype=np.int64)
+        out = np.empty((count, 5, 5))
+        _merge(held.keys, held.sums, held.taken, keys, sums, out_keys, out)
+        del sums
+        held.sums = np.empty((0, 5, 5))
+        open_nodes[:] = False
+        open_nodes[first] = True
+        kept = _close(out_keys, out, count, open_nodes, closed, scale, n_nodes, rows)
+        held.keys, held.sums = out_keys[:kept].copy(), out[:kept].copy()
         del out_keys, out
     open_nodes[:] = False
-    _close(held_keys, held, len(held_keys), open_nodes, closed, scale, n_nodes, rows)
+    _close(held.keys, held.sums, len(held.keys), open_nodes, closed, scale, n_nodes, rows)
     return float(_largest(rows, scale))

@@ -16,7 +16,7 @@ import pytest
 
 from elements import FibrousShell
 from elements.base import SparseTangent
-from elements.fibrous import tangent_pieces
+from elements.fibrous import hessian_kernels, tangent_pieces
 from femcore import Mesh, Model
 from femcore import gershgorin as gershgorin_module
 from femcore.assembly import tangent_matrix
@@ -83,7 +83,7 @@ def test_the_streamed_bound_is_the_whole_tangents(monkeypatch):
     maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
     n = compiled.n_nodes
     held = gershgorin_largest(pieces, maps, scale, n)
-    streamed = gershgorin_module._summed(pieces, maps, scale, n, stream=True)
+    streamed = gershgorin_module._streamed(pieces, maps, scale, n)
     assert streamed is not None  # streamed, not made again with every pair held
     assert streamed == held
     whole = gershgorin_largest(block.tangent(state), maps, scale, n)
@@ -128,7 +128,8 @@ def test_runs_follow_the_cells_whatever_the_node_numbering(monkeypatch):
     """The sheet with its nodes numbered at random: the runs are taken in the order of the
     cells (the first cell at each node), so a run of 20 nodes reaches the nodes of the cells
     around it (at most 42 of the 99 here), not those of cells all over the sheet (runs of 20
-    node numbers: 70 to 83), and the bound is the same to the last bit as with one piece."""
+    node numbers: 70 to 83), its pieces' rows reach the nodes of those cells and form their
+    Hessians alone, and the bound is the same to the last bit as with one piece."""
     mesh = Mesh.rectangle(40.0, 30.0, nx=10, ny=8)
     shuffle = np.random.default_rng(4).permutation(mesh.n_nodes)  # new number of each node
     points = np.empty_like(mesh.points)
@@ -149,10 +150,25 @@ def test_runs_follow_the_cells_whatever_the_node_numbering(monkeypatch):
     by_number = [
         tangent_pieces._ring(conn, around, np.arange(i, min(i + 20, n))) for i in range(0, n, 20)
     ]
-    assert max(len(ring) for ring in by_cells) <= 60
     assert max(len(ring) for ring in by_cells) <= 45
     assert min(len(ring) for ring in by_number) >= 70
+    # tangent_pieces itself: each piece's rows reach at most 64 of the 99 nodes (runs of
+    # node numbers: 92 to 97), and the Hessians of 235 cells are formed for the 160 (each
+    # run's ring's; runs of node numbers: 371).
+    formed = []
+    membrane_hessians = hessian_kernels.membrane_hessians
+
+    def counted(block, x, *args):
+        formed.append(len(x))
+        return membrane_hessians(block, x, *args)
+
+    monkeypatch.setattr(hessian_kernels, "membrane_hessians", counted)
     state = compiled.initial_state()
+    pieces = list(block.tangent_pieces(state))
+    assert len(pieces) == 5
+    assert max(len(np.unique(piece.matrix.indices)) for piece in pieces) <= 66
+    assert sum(formed) <= 1.6 * len(conn)
+    monkeypatch.setattr(hessian_kernels, "membrane_hessians", membrane_hessians)
     mass, inertia = compiled.lumped_mass(state)
     step = compiled.assembled_stable_dt(state, mass, inertia)
     small_pieces(monkeypatch, n)

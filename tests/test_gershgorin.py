@@ -108,12 +108,19 @@ def test_a_block_sparse_tangent_gives_the_bound_of_its_general_sparse_form():
     assert largest == pytest.approx(assembled(compiled, state, parts, scale), rel=1e-12)
 
 
+def mindlin_pieces(patch, size):
+    """Mindlin pieces of ``size`` cells, shorter than the cells' band or not
+    (``banded_piece`` left out)."""
+    from elements import mindlin
+
+    patch.setattr(mindlin, "_PIECE", size)
+    patch.setattr(mindlin, "banded_piece", lambda connectivity, cells: cells)
+
+
 def test_the_mindlin_tangent_in_pieces_is_its_tangent(monkeypatch):
     """tangent_pieces gives the blocks of tangent a slice of cells at a time, and the
     model's assembled step from them is the one of the whole tangent."""
-    from elements import mindlin
-
-    monkeypatch.setattr(mindlin, "_PIECE", 7)  # pieces of 7 cells on the 40-cell plate
+    mindlin_pieces(monkeypatch, 7)  # pieces of 7 cells on the 40-cell plate
     compiled, state = bent_plate()
     block = compiled.blocks[0]
     pieces = list(block.tangent_pieces(state))
@@ -137,9 +144,7 @@ def _plate_in_pieces(monkeypatch, size=14):
     """The bent plate's tangent in pieces of ``size`` cells at its state, node maps and a
     scale per free slot. Its 40 cells come in rows of 10, so that the cells around a node
     span at most 13 consecutive ones: a piece of 14 cells cannot fall between two of them."""
-    from elements import mindlin
-
-    monkeypatch.setattr(mindlin, "_PIECE", size)
+    mindlin_pieces(monkeypatch, size)
     compiled, state = bent_plate()
     block = compiled.blocks[0]
     rng = np.random.default_rng(2)
@@ -160,7 +165,7 @@ def test_rows_summed_as_the_pieces_leave_their_nodes_give_the_same_bound(monkeyp
     assert len(pieces) == 3
     n = compiled.n_nodes
     held = gershgorin_largest(pieces, maps, scale, n)
-    streamed = gershgorin._summed(pieces, maps, scale, n, stream=True)
+    streamed = gershgorin._streamed(pieces, maps, scale, n)
     assert streamed is not None
     assert streamed == held
     assert gershgorin_largest(pieces, maps, scale, n, again=lambda: pieces) == held
@@ -173,15 +178,13 @@ def test_the_bound_does_not_depend_on_the_pieces():
     cells: the same to the last bit, a pair's blocks added in the cells' order onto its sum
     so far whatever the pieces. (Each piece's own sums added to the held ones, as before,
     moved 6 of the 30 nodes' blocks in their last bits.)"""
-    from elements import mindlin
-
     compiled, state = bent_plate()
     block = compiled.blocks[0]
     maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
     parted = {}
     for size in (1, 3, 7, 40):
         with pytest.MonkeyPatch.context() as patch:
-            patch.setattr(mindlin, "_PIECE", size)
+            mindlin_pieces(patch, size)
             parted[size] = list(block.tangent_pieces(state))
         assert len(parted[size]) == -(-40 // size)
     for node in range(compiled.n_nodes):
@@ -202,6 +205,7 @@ def test_a_mindlin_piece_is_a_share_of_the_model(monkeypatch):
 
     compiled, state = bent_plate()
     block = compiled.blocks[0]
+    monkeypatch.setattr(mindlin, "banded_piece", lambda connectivity, cells: cells)
     monkeypatch.setattr(mindlin, "_PIECE_MIN", 4)
     monkeypatch.setattr(mindlin, "_PIECE_SHARE", 8)
     assert [len(p.nodes) for p in block.tangent_pieces(state)] == [5] * 8  # 40 // 8
@@ -220,7 +224,7 @@ def test_a_piece_holding_a_node_already_summed_makes_the_bound_again(monkeypatch
     compiled, _, pieces, maps, scale = _plate_in_pieces(monkeypatch, 7)
     shuffled = [pieces[k] for k in (0, 3, 1, 5, 2, 4)]
     n = compiled.n_nodes
-    assert gershgorin._summed(shuffled, maps, scale, n, stream=True) is None
+    assert gershgorin._streamed(shuffled, maps, scale, n) is None
     asked = []
 
     def again():
@@ -230,3 +234,102 @@ def test_a_piece_holding_a_node_already_summed_makes_the_bound_again(monkeypatch
     held = gershgorin_largest(shuffled, maps, scale, n)
     assert gershgorin_largest(iter(shuffled), maps, scale, n, again=again) == held
     assert asked == [True]
+
+
+def test_every_pair_held_is_work_in_the_pieces_pairs(monkeypatch):
+    """Every pair held (no ``again``, or streaming given up): each piece's pairs found by key
+    in a table of the pairs so far, their sums taken and put back; no merge of each piece
+    into all the pairs so far (work pieces x pairs: 12 s against 2.7 for a 44.8k-cell
+    fibrous sheet as two blocks). The plate in 40 pieces of one cell: 9 pairs taken a piece,
+    the slots grown a few times (doubling), the number of the streamed pieces of 14 cells to
+    the last bit."""
+    from femcore import gershgorin
+
+    merged, taken, put = [], [], []
+    monkeypatch.setattr(gershgorin, "_merge", lambda *args: merged.append(True))
+    start, give_back = gershgorin._Table.start, gershgorin._Table.put
+    monkeypatch.setattr(
+        gershgorin._Table,
+        "start",
+        lambda table, keys: taken.append(len(keys)) or start(table, keys),
+    )
+    tables = []
+
+    def counted_put(table, sums):
+        put.append(len(sums))
+        tables.append(table)
+        give_back(table, sums)
+
+    monkeypatch.setattr(gershgorin._Table, "put", counted_put)
+    compiled, _, pieces, maps, scale = _plate_in_pieces(monkeypatch, 1)
+    assert len(pieces) == 40
+    n = compiled.n_nodes
+    held = gershgorin_largest(pieces, maps, scale, n)
+    assert merged == []
+    assert taken == put == [9] * 40
+    pairs = len({(a, b) for piece in pieces for a in piece.nodes[0] for b in piece.nodes[0]})
+    assert tables[-1].count == pairs
+    assert tables[-1].grown <= int(np.log2(pairs))
+    monkeypatch.undo()
+    compiled, _, streamed_pieces, maps, scale = _plate_in_pieces(monkeypatch, 14)
+    assert gershgorin._streamed(streamed_pieces, maps, scale, n) == held
+
+
+def test_the_cells_band_is_the_longest_step_between_a_nodes_cells():
+    """``_band``: the most cells from one cell at a node to its next, against numpy's sort of
+    each node's cells, on a rectangle in rows (2 nx - 1: a node's cells in the row below and
+    above) and with its cells shuffled."""
+    from femcore import gershgorin
+
+    mesh = Mesh.rectangle(40.0, 30.0, nx=9, ny=5)
+    shuffled = mesh.triangles[np.random.default_rng(3).permutation(len(mesh.triangles))]
+    for conn in (mesh.triangles, shuffled):
+        nodes = conn.ravel()
+        cells = np.repeat(np.arange(len(conn)), 3)
+        order = np.lexsort((cells, nodes))
+        step = np.diff(cells[order])[np.diff(nodes[order]) == 0]
+        band = gershgorin._band(np.ascontiguousarray(conn, dtype=np.int64), mesh.n_nodes)
+        assert band == step.max()
+    assert (
+        gershgorin._band(np.ascontiguousarray(mesh.triangles, dtype=np.int64), mesh.n_nodes) == 17
+    )
+    assert gershgorin.banded_piece(mesh.triangles, 4) == 17  # 90 cells: a quarter is 22
+    assert gershgorin.banded_piece(mesh.triangles, 25) == 25
+    assert gershgorin.banded_piece(shuffled, 4) == 4  # no band: every pair held
+
+
+def test_a_thin_strip_streams(monkeypatch):
+    """A Mindlin strip of 2 x 200 x 6 cells in rows (Mesh.rectangle's order): its cells' band
+    (2 nx - 1 = 399) is longer than its pieces would otherwise be (256 cells), so that a
+    piece could fall between two cells of a node and the bound be made again with every pair
+    held (as it was); the pieces are as long as the band: the tangent is formed once,
+    streamed, the bound the same as with every pair held to the last bit."""
+    from elements import mindlin
+
+    mesh = Mesh.rectangle(400.0, 12.0, nx=200, ny=6)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9)))
+    model.fix("left")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    rng = np.random.default_rng(5)
+    state = dataclasses.replace(
+        state, positions=state.positions + rng.normal(scale=0.05, size=state.positions.shape)
+    )
+    formed = []
+    pieces_of = mindlin.MindlinShellBlock.tangent_pieces
+
+    def counted(block, *args):
+        formed.append(True)
+        return pieces_of(block, *args)
+
+    monkeypatch.setattr(mindlin.MindlinShellBlock, "tangent_pieces", counted)
+    mass, inertia = compiled.lumped_mass(state)
+    step = compiled.assembled_stable_dt(state, mass, inertia)
+    assert formed == [True]  # streamed: not made again
+    block = compiled.blocks[0]
+    assert [len(piece.nodes) for piece in pieces_of(block, state)][:2] == [399, 399]
+    monkeypatch.setattr(mindlin, "banded_piece", lambda connectivity, cells: cells)
+    formed.clear()
+    assert compiled.assembled_stable_dt(state, mass, inertia) == step
+    assert formed == [True, True]  # pieces of 256 cells: made again, every pair held
