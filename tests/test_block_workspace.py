@@ -169,7 +169,7 @@ def test_the_fibrous_blocks_view_past_a_flat_fold_shares_its_workspace():
     block = compiled.blocks[0]
     history = initial_branch(block)
     turns = history.turns.copy()
-    turns[np.argmax(block.interior_side)] = 1.0  # a side turned once
+    turns[tuple(np.argwhere(block.interior_side)[0])] = 1.0  # one side turned once
     history = dataclasses.replace(history, turns=turns)
     view = branch_view(block, history)
     assert view is not block and view._workspace is block._workspace

@@ -443,6 +443,12 @@ def test_the_frictional_variant_puts_coulomb_friction_on_the_die_and_the_holder_
         case.model(4, "fibrous", friction=-0.1)
     with pytest.raises(ValueError, match="FibreBending"):
         case.model(4, "fibrous", fibre_bending=-0.5)
+    # the in-plane bending of fibres the Mindlin shell has not: refused at the call, not at
+    # the model's compile
+    with pytest.raises(ValueError, match="'mindlin' without fibre_bending"):
+        case.model(4, "mindlin", fibre_bending=0.5)
+    with pytest.raises(ValueError, match="kinematics"):
+        case.model(4, "kirchhoff")
 
 
 def test_the_run_builds_the_variant_it_is_given(monkeypatch):

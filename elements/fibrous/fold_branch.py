@@ -60,7 +60,8 @@ REFRESH = 0.1
 
 @dataclass(frozen=True, eq=False)
 class FoldBranch:
-    """The fibrous block's history (never mutated).
+    """The fibrous block's history (never mutated: its ``turns`` array is made read-only, the
+    caller's own array if it gave one; a new branch takes new turns).
 
     fold : (m, 3) float
         Each interior side's fold angle on the principal branch at the last accepted state,

@@ -191,10 +191,9 @@ RMS_TOLERANCE_DEG = {"coarse": 3.7, "default": 2.8, "fine": 2.3}
 # (order 7.4 on 12 / 20 / 32 cells, 1.1 on 16 / 24 / 36), the corners' does not settle, the
 # late force rises (40.8 to 54.0 N) at orders 0.6 and 2.8 on the two triples. On 14 to 56
 # cells none has an order either (validation/studies/hemisphere_forming_order.py): none to check.
-# With friction 0.2 on the die and the holder and the fibres' in-plane bending (``model``'s
-# variant) the edge middle is taut on 4 of 6 meshes (14-56 cells), the late force has an
-# order of about 0.5 on 28 / 40 / 48 / 56, the rest none confirmed (docs/hemisphere_forming.md
-# "Friction on the die and the holder: an observed order").
+# With friction 0.2 and the fibres' in-plane bending (``model``'s variant) the edge middle is
+# taut on 4 of 6 meshes (14-56 cells), the late force suggests an order of 0.5, the rest none
+# (docs/hemisphere_forming.md "Friction on the die and the holder: what converges").
 ORDER_TOLERANCE: dict[str, float] = {}
 # The fibrous rms error's limit is not checked against a bound: it is the fibrous shell's own
 # departure from the net, which no mesh removes. The bound once checked (1 deg) came from
@@ -272,6 +271,9 @@ def model(
     the flange's start (``flange_start``), when ``ring`` (default HOLDER_RING), else a plane
     over the whole blank. Variants (the case has neither): Coulomb ``friction`` on the die and
     the holder, the fibres' in-plane bending ``fibre_bending`` (N mm, FibreBending; 0: none)."""
+    if kinematics not in ("fibrous", "mindlin") or (kinematics != "fibrous" and fibre_bending):
+        raise ValueError(f"kinematics 'fibrous', or 'mindlin' without fibre_bending, expected; "
+                         f"got {kinematics!r} with fibre_bending = {fibre_bending!r}")  # fmt: skip
     blank = Mesh.rectangle(
         2 * HALF, 2 * HALF, nx=cells, ny=cells, origin=(-HALF, -HALF, 0.5 * THICKNESS)
     )
