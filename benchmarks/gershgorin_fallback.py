@@ -9,7 +9,7 @@ Each case in a fresh process of its own (one numba thread), the sheet 40 x 30 mm
 * Mindlin 320 x 313 (200k cells) with its nodes and cells shuffled: no banded order, every
   pair held;
 * fibrous 160 x 140 (44.8k cells) as one block (streamed) and as two blocks split at
-  x = 20 mm (their seam's nodes in both: every pair held).
+  x = 20 mm (their seam's nodes in both: held to the end, the rest streamed).
 
 Printed per case: the bound's CPU seconds (best of ``--repeat``), whether it streamed (the
 tangent formed once), the reference pass (the tangent's pieces formed and dropped, every
@@ -29,8 +29,19 @@ Before the pieces (main cfaff59: all pieces' sums concatenated, one sort), one p
 case and a script, load 4.5-6.0, CPU s and peak MB, cfaff59 / 1606060 / now: Mindlin
 shuffled 200k 2.22-2.25 (871-904) / 4.83-4.86 (711) / 2.35-2.43 (668); fibrous two blocks
 2.49 (610) / 12.32-12.33 (548-550) / 3.30-3.34 (458-462); the strip 0.17 (220) / 0.22 (221) /
-0.14 (200). The fibrous two blocks' bound is its tangent formed twice: the streamed pass gives
+0.14 (200). The fibrous two blocks' bound was its tangent formed twice: the streamed pass gave
 up at the second block's first piece (its seam's nodes summed with the first block).
+
+The seam's nodes (those of more than one block) held to the end in the hash table, the rest
+streamed: main 142080a -> now, side by side (a ``git archive`` of 142080a, PYTHONPATH set to
+each tree), the bound's CPU s (ratio to the tangent alone), peak MB, the same step to the bit:
+
+    run 1, load 9.4-7.7, best of 2:
+    fibrous-two        3.345 (1.81)  459 -> 1.990 (1.16)  267   (streamed now)
+    fibrous-one        2.448 (1.15)  272 -> 2.490 (1.13)  270
+    run 2, load 4.8-5.4, best of 3:
+    fibrous-two        3.089 (1.78)  457 -> 1.972 (1.19)  268   (streamed now)
+    mindlin-strip      0.131 (1.49)  201 -> 0.123 (1.43)  199
 """
 
 from __future__ import annotations

@@ -171,5 +171,20 @@ class CompiledTangent:
         again = lambda: itertools.chain(*(b.tangent_pieces(state, h) or () for b, h in blocks))  # noqa: E731
         # the pieces are made, read once and dropped: ordinary pages (femcore/memory.py)
         with small_pages():
-            largest = gershgorin_largest(itertools.chain(*pieces), maps, scale, self.n_nodes, again)
+            largest = gershgorin_largest(
+                itertools.chain(*pieces), maps, scale, self.n_nodes, again, self._seam_nodes()
+            )
         return 2.0 / np.sqrt(largest) if largest > 0.0 else None
+
+    def _seam_nodes(self) -> np.ndarray | None:
+        """(n,) bool: the nodes of more than one element block (their rows held to the end
+        while the bound streams, ``gershgorin_largest``'s ``shared``), or None for one block.
+        A block's tangent pieces are taken to touch its cells' nodes alone; should one touch
+        another node after all, the bound is made again with every pair held (the same
+        number)."""
+        if len(self.blocks) < 2:
+            return None
+        blocks_at = np.zeros(self.n_nodes, dtype=np.int64)
+        for block in self.blocks:
+            blocks_at[np.unique(block.connectivity)] += 1
+        return blocks_at > 1

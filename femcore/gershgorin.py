@@ -350,6 +350,7 @@ def gershgorin_largest(
     scale: np.ndarray,
     n_nodes: int,
     again: Callable[[], Iterable[TangentPart]] | None = None,
+    shared: np.ndarray | None = None,
 ) -> float:
     """max_i s_i sum_j |K_ij| s_j (1/s^2 when s = M^-1/2) of the generalised tangent whose
     pieces (CellTangent blocks (m, p, c, p, c), c = 6 (u, psi) or 3 (u); SparseTangent
@@ -366,9 +367,13 @@ def gershgorin_largest(
         are held instead of all of them); should a later piece hold it after all, the bound
         is made again from ``again()`` with every pair held. None: every pair held. The same
         number to the last bit either way.
+    shared : (n,) bool or None: the nodes whose rows are held to the end while streaming
+        (their pairs found by key, ``_Table``), the others streamed: the nodes of more than
+        one element block (a seam), which a later block's pieces meet again after the first
+        block has left them. None: none.
     """
     if again is not None:
-        streamed = _streamed(pieces, maps, scale, n_nodes)
+        streamed = _streamed(pieces, maps, scale, n_nodes, shared)
         if streamed is not None:
             return streamed
         pieces = again()
@@ -396,22 +401,45 @@ def _held(
 
 
 def _streamed(
-    pieces: Iterable[TangentPart], maps: np.ndarray, scale: np.ndarray, n_nodes: int
+    pieces: Iterable[TangentPart],
+    maps: np.ndarray,
+    scale: np.ndarray,
+    n_nodes: int,
+    shared: np.ndarray | None = None,
 ) -> float | None:
     """``_held``'s number (each pair's blocks summed in the same order, each row over its
     pairs in the order of b) holding only the node pairs whose row may still grow: after
     each piece, the pairs (a, b) whose node a the piece does not hold are summed into a's
     rows and dropped (a cell-ordered mesh's pieces of consecutive cells share only the nodes
-    along their borders, ``banded_piece``). None when a piece holds a node already summed
-    (a mesh whose cells are not in a banded order)."""
+    along their borders, ``banded_piece``). The pairs (a, b) of the ``shared`` nodes a (n,)
+    bool are held to the end in a ``_Table`` (as ``_held`` holds every pair) and their rows
+    summed last: blocks that share a seam stream each in turn. None when a piece holds a
+    node already summed (a mesh whose cells are not in a banded order)."""
     scale = np.ascontiguousarray(scale)
     rows = np.zeros(scale.shape[0])
     closed = np.zeros(n_nodes, dtype=bool)
     open_nodes = np.zeros(n_nodes, dtype=bool)
     held = _Held()
+    seams = _Table()
+    split: list[np.ndarray] = []  # the piece's pairs of shared nodes, or empty
+
+    def start(keys: np.ndarray) -> np.ndarray:
+        if shared is None or not (at_seam := shared[keys // n_nodes]).any():
+            split[:] = []
+            return held.start(keys)
+        split[:] = [at_seam]
+        sums = np.empty((len(keys), 5, 5))
+        sums[~at_seam] = held.start(keys[~at_seam])
+        sums[at_seam] = seams.start(keys[at_seam])
+        return sums
+
     for piece in pieces:
-        keys, sums = _piece_sums(piece, maps, n_nodes, held.start)
+        keys, sums = _piece_sums(piece, maps, n_nodes, start)
         del piece  # read: not held while the next one is made
+        if split:
+            at_seam = split[0]
+            seams.put(sums[at_seam])
+            keys, sums = keys[~at_seam], sums[~at_seam]
         first = keys // n_nodes
         if closed[first].any():
             return None
@@ -429,4 +457,7 @@ def _streamed(
         del out_keys, out
     open_nodes[:] = False
     _close(held.keys, held.sums, len(held.keys), open_nodes, closed, scale, n_nodes, rows)
+    # the shared nodes' rows: none of their pairs was streamed (rows of 0 until here)
+    keys = seams.keys[: seams.count]
+    _rows_in_order(np.argsort(keys), keys, seams.sums, scale, n_nodes, rows)
     return float(_largest(rows, scale))

@@ -333,3 +333,66 @@ def test_a_thin_strip_streams(monkeypatch):
     formed.clear()
     assert compiled.assembled_stable_dt(state, mass, inertia) == step
     assert formed == [True, True]  # pieces of 256 cells: made again, every pair held
+
+
+def _two_blocks(kind):
+    """A 12 x 5 sheet (120 cells in rows) as two blocks split at x = 20 mm: the seam's 6 nodes
+    in both; positions jittered, the left edge fixed."""
+    mesh = Mesh.rectangle(40.0, 30.0, nx=12, ny=5)
+    model = Model(mesh)
+    middle = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    for cells in (np.flatnonzero(middle < 20.0), np.flatnonzero(middle >= 20.0)):
+        if kind == "mindlin":
+            model.add(MindlinShell(ElasticShell(70e3, 0.3, 1.0, 2.7e-9)), cells)
+        else:
+            model.add(FibrousShell(presets.g986_stack()), cells)
+    model.fix("left")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    rng = np.random.default_rng(8)
+    positions = state.positions + rng.normal(scale=0.3, size=state.positions.shape)
+    return compiled, dataclasses.replace(state, positions=positions)
+
+
+@pytest.mark.parametrize("kind", ["mindlin", "fibrous"])
+def test_blocks_sharing_a_seam_form_their_tangent_once(monkeypatch, kind):
+    """Two blocks sharing the seam's nodes: the second block's first piece meets seam nodes
+    the first block left, so streaming every row gave up and formed every piece again with
+    every pair held (each block's tangent_pieces called twice). The seam's rows are held to
+    the end (``shared``): each block's pieces formed once, the step the same to the last bit
+    as with every pair held, and the assembled bound's to 1e-12."""
+    from elements import mindlin
+    from femcore import gershgorin
+
+    compiled, state = _two_blocks(kind)
+    if kind == "mindlin":
+        # pieces of 24 cells, three a block, longer than each block's band (11 cells):
+        # each block streams on its own
+        monkeypatch.setattr(mindlin, "banded_piece", lambda connectivity, cells: 24)
+    block_type = type(compiled.blocks[0])
+    pieces_of = block_type.tangent_pieces
+    formed = []
+
+    def counted(block, *args):
+        formed.append(compiled.blocks.index(block))
+        return pieces_of(block, *args)
+
+    monkeypatch.setattr(block_type, "tangent_pieces", counted)
+    mass, inertia = compiled.lumped_mass(state)
+    step = compiled.assembled_stable_dt(state, mass, inertia)
+    assert formed == [0, 1]  # once each (twice each, [0, 1, 0, 1], before)
+
+    pieces = [piece for block in compiled.blocks for piece in pieces_of(block, state)]
+    n = compiled.n_nodes
+    seam = compiled._seam_nodes()
+    assert seam.sum() == 6  # the nodes at x = 20 mm
+    free = compiled.dofs.free_slots
+    diagonal = np.column_stack([mass, mass, mass, inertia, inertia]).ravel()[free]
+    scale = np.zeros(compiled.dofs.n_slots)
+    scale[free] = 1.0 / np.sqrt(diagonal)
+    maps = compiled.dofs.node_maps(compiled.dofs.frames(state.directors))
+    held = gershgorin_largest(pieces, maps, scale, n)
+    assert step == 2.0 / np.sqrt(held)
+    assert gershgorin._streamed(pieces, maps, scale, n) is None  # without the seam held
+    assert gershgorin._streamed(pieces, maps, scale, n, seam) == held
+    assert held == pytest.approx(assembled(compiled, state, pieces, scale), rel=1e-12)
