@@ -5,6 +5,7 @@ sums in another order: 1e-12 of the largest entry)."""
 import dataclasses
 
 import numpy as np
+import pytest
 
 from elements import FibrousShell
 from elements.fibrous.tangent import corner_normal_pull_tangent
@@ -59,18 +60,23 @@ def test_the_compiled_share_stiffness_gives_the_numpy_one():
     assert np.abs(compiled - reference).max() <= 1e-12 * np.abs(reference).max()
 
 
-def test_the_structured_membrane_product_is_the_sparse_product():
+@pytest.mark.parametrize("stray", [0, 3])
+def test_the_structured_membrane_product_is_the_sparse_product(stray):
     # J's node blocks are the identity on the diagonal plus dS/dx in rows 6-8, columns 0-2;
     # the compiled product uses that shape and must give scipy's J^T H J of the full blocks.
+    # ``stray`` nodes in no cell (a mesh's unused points, numbered among the others) have
+    # empty rows and columns.
     import scipy.sparse as sp
 
     from elements.fibrous.tangent import CornerPairs
     from elements.fibrous.tangent_kernels import MembraneProduct
 
     mesh = Mesh.rectangle(30.0, 20.0, nx=4, ny=3)
-    pairs = CornerPairs(mesh.triangles, len(mesh.points))
+    n = len(mesh.points) + stray
+    renumbered = np.arange(len(mesh.points)) + (np.arange(len(mesh.points)) >= 7) * stray
+    pairs = CornerPairs(renumbered[mesh.triangles], n)
     rng = np.random.default_rng(2)
-    count, n = pairs.indices.size, len(mesh.points)
+    count = pairs.indices.size
     hessian = rng.normal(size=(count, 9, 9))
     jacobian = np.zeros((count, 9, 6))
     jacobian[:, 6:, :3] = rng.normal(size=(count, 3, 3))

@@ -25,7 +25,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from elements.fibrous.row_product import _membrane_rows, _row_patch_sums
+from elements.fibrous.row_product import RowProduct, _row_patch_sums
 from elements.jit import AVAILABLE, jit, prange, serial
 
 __all__ = [
@@ -288,59 +288,20 @@ def share_stiffness(x: np.ndarray, side_moment: np.ndarray) -> np.ndarray:
     return out
 
 
-class MembraneProduct:
+class MembraneProduct(RowProduct):
     """J^T H J of the fibrous membrane tangent on the node pairs of the cells (a CornerPairs
-    pattern: ``indptr``, ``indices``, symmetric), the patterns of H J and of the product found
-    once (from scipy's product of the patterns)."""
+    pattern: ``indptr``, ``indices``, symmetric): row_product's rows of every node, the
+    patterns of H J and of the product found once (from scipy's product of the patterns)."""
 
     def __init__(self, indptr: np.ndarray, indices: np.ndarray, n_nodes: int):
-        self.indptr = np.asarray(indptr, dtype=np.int64)
-        self.indices = np.asarray(indices, dtype=np.int64)
+        super().__init__(indptr, indices, n_nodes, np.arange(n_nodes))
         self.n = n_nodes
-        pairs = self.indices.size
-        rows = np.repeat(np.arange(n_nodes), np.diff(self.indptr))
-        keys = rows * n_nodes + self.indices
-        self.transposed = np.searchsorted(keys, self.indices * n_nodes + rows).astype(np.int64)
-        # The block patterns of H J and J^T H J are those of the node pairs' patterns
-        # multiplied (the node pairs A: H and J on A, so A A and A A A), found on one
-        # number per node pair rather than 9 x 9 blocks of ones.
-        pattern = sp.csr_matrix(
-            (np.ones(pairs, dtype=np.int32), self.indices, self.indptr), shape=(n_nodes, n_nodes)
-        )
-        p = pattern @ pattern
-        p.sort_indices()
-        k = pattern.T.tocsr() @ p
-        k.sort_indices()
-        self.p_indptr = p.indptr.astype(np.int64)
-        self.p_indices = p.indices.astype(np.int64)
-        self.k_indptr = k.indptr.astype(np.int64)
-        self.k_indices = k.indices.astype(np.int64)
-        # every row of each product, in node order: row_product's loops over all rows
-        self.nodes = np.arange(n_nodes, dtype=np.int64)
-        self.pairs = np.arange(pairs, dtype=np.int64)
+        self.pairs = np.arange(self.indices.size, dtype=np.int64)  # H's block of each pair
 
-    def __call__(self, hessian: np.ndarray, jacobian: np.ndarray) -> sp.bsr_matrix:
+    def __call__(self, hessian: np.ndarray, jacobian: np.ndarray) -> sp.bsr_matrix:  # type: ignore[override]
         """J^T H J (6 n, 6 n) as BSR with 6 x 6 blocks, from H's blocks (pairs, 9, 9) and the
         S rows of J's blocks (pairs, 3, 3)."""
-        product = np.empty((self.p_indices.size, 9, 6))
-        out = np.empty((self.k_indices.size, 6, 6))
-        _membrane_rows(
-            self.indptr,
-            self.indices,
-            self.transposed,
-            np.ascontiguousarray(hessian, dtype=float),
-            self.pairs,
-            np.ascontiguousarray(jacobian, dtype=float),
-            self.nodes,
-            self.nodes,
-            self.p_indptr,
-            self.p_indices,
-            self.nodes,
-            self.k_indptr,
-            self.k_indices,
-            product,
-            out,
-        )
+        out = super().__call__(hessian, self.pairs, jacobian)
         return sp.bsr_matrix((out, self.k_indices, self.k_indptr), shape=(6 * self.n, 6 * self.n))
 
 
