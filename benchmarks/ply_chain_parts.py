@@ -109,6 +109,7 @@ def main() -> None:
         ply_edge_couple_kernels,
         ply_edge_kernels,
         ply_face_points,
+        ply_facing_pass,
         ply_fade_kernels,
         ply_friction_kernels,
         ply_kernels,
@@ -154,6 +155,7 @@ def main() -> None:
         (ply_edge_couple_kernels, ["edge_couples"]),
         (ply_penalty, ["ramp_cubes"]),
         (ply_face_points, ["face_points", "offset_toward"]),
+        (ply_facing_pass, ["facing_choice"]),
     ]  # fmt: skip
     if args.kernels:
         parts += [
@@ -164,6 +166,7 @@ def main() -> None:
             (ply_fade_kernels, ["_outline_compiled"]),
             (ply_friction_kernels, ["_return_mapping_compiled", "_moved_compiled"]),
             (ply_load_kernels, ["_loads"]),
+            (ply_facing_pass, ["_facing_compiled"]),
         ]
     for owner, names in parts:
         for name in names:
