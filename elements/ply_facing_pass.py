@@ -35,12 +35,18 @@ _choose_here = lanes(_choose)
 _chosen_here = lanes(_chosen)
 
 
-def _facing(p, y, near, outline, margin, tolerance, has_cuts, cut, lines, ends, toward, has_toward):
+def _facing(
+    p, y, near, outline, margin, tolerance, has_cuts, cut, lines, ends, toward, has_toward,
+    best, on_edge, closest, on_cut, segment, along, triangle, chosen_gap, normal, lam,
+    chosen_gradients, chosen_reach, overshoot, reached, turned,
+):  # fmt: skip
     """The three stages on (P, 3) points ``p`` and their (P, K) candidates ``near`` of the
-    triangles ``y`` (m, 3, 3) (``facing_choice``'s parameters): its Returns."""
+    triangles ``y`` (m, 3, 3) (``facing_choice``'s parameters) into its Returns' arrays,
+    given (an array returned from compiled code costs its boxing, about a microsecond each:
+    15 of them made the call 47 us a block-step against the three kernels' 45,
+    benchmarks/ply_chain_parts.py). The candidates' arrays are made here: none is returned."""
     count, k = near.shape
     n = np.empty((count, k, 3))
-    area2 = np.empty((count, k))
     gradients = np.empty((count, k, 3, 3))
     gap = np.empty((count, k))
     weights = np.empty((count, k, 3))
@@ -48,15 +54,9 @@ def _facing(p, y, near, outline, margin, tolerance, has_cuts, cut, lines, ends, 
     inside = np.empty((count, k), dtype=np.bool_)
     past = np.empty((count, k))
     _facets_here(
-        p, y, near, outline, margin, tolerance, n, area2, gradients, gap, weights, reach,
-        inside, past,
+        p, y, near, outline, margin, tolerance, n, np.empty((count, k)), gradients, gap,
+        weights, reach, inside, past,
     )  # fmt: skip
-    best = np.empty(count, dtype=np.int64)
-    on_edge = np.empty(count, dtype=np.bool_)
-    closest = np.zeros((count, 3))
-    on_cut = np.zeros(count, dtype=np.bool_)
-    segment = np.zeros((count, 2, 3))
-    along = np.zeros(count)
     _choose_here(
         p, y, near, n, gradients, gap, weights, reach, inside, past, has_cuts, cut, lines,
         ends, best, on_edge, closest, on_cut, segment, along,
@@ -65,22 +65,9 @@ def _facing(p, y, near, outline, margin, tolerance, has_cuts, cut, lines, ends, 
         np.empty((count, k, 2, 3)), np.empty((count, k)), np.empty((count, 3, 3)),
         np.empty((count, 3)),
     )  # fmt: skip
-    triangle = np.empty(count, dtype=np.int64)
-    chosen_gap = np.empty(count)
-    normal = np.empty((count, 3))
-    lam = np.empty((count, 3))
-    chosen_gradients = np.empty((count, 3, 3))
-    chosen_reach = np.empty((count, 3))
-    overshoot = np.empty(count)
-    reached = np.empty(count, dtype=np.bool_)
-    turned = np.empty(count, dtype=np.bool_)
     _chosen_here(
         best, near, n, gap, weights, gradients, reach, toward, has_toward, triangle,
         chosen_gap, normal, lam, chosen_gradients, chosen_reach, overshoot, reached, turned,
-    )  # fmt: skip
-    return (
-        best, on_edge, closest, on_cut, segment, along, triangle, chosen_gap, normal, lam,
-        chosen_gradients, chosen_reach, overshoot, reached, turned,
     )  # fmt: skip
 
 
@@ -124,7 +111,27 @@ def facing_choice(p, y, near, outline, margin, tolerance, cuts, toward):
         outline = np.zeros((m, 3), dtype=bool)
     has_cuts = cuts is not None and cuts.any
     has_toward = toward is not None
-    out = _facing_compiled(
+    count = len(p)
+    choice = (
+        np.empty(count, dtype=np.int64),
+        np.empty(count, dtype=np.bool_),
+        np.zeros((count, 3)),
+        np.zeros(count, dtype=np.bool_),
+        np.zeros((count, 2, 3)),
+        np.zeros(count),
+    )
+    picked = (
+        np.empty(count, dtype=np.int64),
+        np.empty(count),
+        np.empty((count, 3)),
+        np.empty((count, 3)),
+        np.empty((count, 3, 3)),
+        np.empty((count, 3)),
+        np.empty(count),
+        np.empty(count, dtype=np.bool_),
+        np.empty(count, dtype=np.bool_),
+    )
+    _facing_compiled(
         read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
         read_only(y),
         np.ascontiguousarray(near, dtype=np.int64),
@@ -137,5 +144,7 @@ def facing_choice(p, y, near, outline, margin, tolerance, cuts, toward):
         np.ascontiguousarray(cuts.ends if has_cuts else np.zeros((m, 3, 3)), dtype=float),
         np.ascontiguousarray(toward if has_toward else np.zeros((1, 3)), dtype=float),
         has_toward,
+        *choice,
+        *picked,
     )
-    return (*out[:5], out[5] if has_cuts else None), out[6:]
+    return (*choice[:5], choice[5] if has_cuts else None), picked
