@@ -2,18 +2,19 @@
 ``closest_facing``, "Search"; docs/theory.md, the ply contact section): each point's
 candidates' planes (``ply_kernels.candidates_at``), the nearest candidate and its closest
 point (``ply_choice.choose_facing``) and the chosen candidate's arrays
-(``ply_chosen.chosen``), run back to back inside one compiled function that makes its own
-arrays, instead of three calls from Python with their conversions and allocations.
+(``ply_chosen.chosen``), run back to back inside one compiled function that makes the
+candidates' arrays itself, instead of three calls from Python with their conversions and
+allocations.
 
 Each stage is the same loop as its kernel's (the same source, compiled here to run on the
 calling thread), so the arrays are the same to the last bit as the three kernels'
-(tests/test_ply_facing_pass.py compares them on random triangles and the two-ply
+(tests/test_ply_facing_pass.py compares them on cut strips and the two-ply
 hemisphere's states). For a loop of ``SMALL_LOOP`` points or more, which the three kernels
 run on several threads, ``closest_facing`` calls them as before.
 
 On the report's two-ply hemisphere (384 and 81 points of some five candidates), the three
-calls spent about a third of their time in Python round their kernels
-(benchmarks/ply_chain_parts.py: 67 us a block-step, 45 of them the kernels').
+calls took 67-69 us a block-step, 46-47 of them their kernels'; the one call 46-47, 37 of
+them its kernel's (benchmarks/ply_chain_parts.py).
 """
 
 from __future__ import annotations
