@@ -36,6 +36,19 @@ before, 7.8 after); ``python benchmarks/ply_contact_replay.py --steps 300 --refe
 main d551120 (load 6-7, best of 3): the committed history 353.0 -> 340.3 us, the loads 91.8
 -> 88.7 us a block-step, the same digest e7a6191daa154cf1 (the same histories, forces and
 moments to the bit).
+
+The facing's planes, choice and chosen arrays in one compiled call (elements/
+ply_facing_pass.py ``facing_choice``, its outputs made in Python and passed in), beside main
+bb171b8 (``git archive``, its own copy of this script run from its root), two rounds, best of
+5, one thread, load 4.6-4.9, us a block-step: the three wrappers 69.4 / 67.2 (their kernels
+47.3 / 46.1) -> ``facing_choice`` 46.1 / 46.6 (its kernel 36.6 / 36.8); ``closest_facing``
+189.7 / 184.8 -> 160.3 / 162.1; the committed history 398.0 / 392.6 -> 365.8 / 367.4, the
+loads 103.7 / 102.6 -> 102.1 / 102.4 (the chain 501.7 / 495.2 -> 467.9 / 469.8, 5-7 % less).
+The kernel's 15 outputs made inside it and returned cost numba's boxing, about a microsecond
+each: 47.0 us a block-step for the kernel alone, no faster than the three. numpy's arctan2
+in ``edge_sides`` at the rows on an edge alone (with their gathers) took 35.0 / 35.1 us a
+call against 33.1 / 32.3 at every row: not kept. ``python benchmarks/ply_contact_replay.py
+--steps 300 --reference`` beside bb171b8: the same digest e7a6191daa154cf1.
 """
 
 from __future__ import annotations
@@ -109,6 +122,7 @@ def main() -> None:
         ply_edge_couple_kernels,
         ply_edge_kernels,
         ply_face_points,
+        ply_facing_pass,
         ply_fade_kernels,
         ply_friction_kernels,
         ply_kernels,
@@ -154,6 +168,7 @@ def main() -> None:
         (ply_edge_couple_kernels, ["edge_couples"]),
         (ply_penalty, ["ramp_cubes"]),
         (ply_face_points, ["face_points", "offset_toward"]),
+        (ply_facing_pass, ["facing_choice"]),
     ]  # fmt: skip
     if args.kernels:
         parts += [
@@ -164,6 +179,7 @@ def main() -> None:
             (ply_fade_kernels, ["_outline_compiled"]),
             (ply_friction_kernels, ["_return_mapping_compiled", "_moved_compiled"]),
             (ply_load_kernels, ["_loads"]),
+            (ply_facing_pass, ["_facing_compiled"]),
         ]
     for owner, names in parts:
         for name in names:

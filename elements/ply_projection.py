@@ -212,6 +212,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_chosen, ply_edge_kernels, ply_kernels, ply_penalty
+from elements.jit import SMALL_LOOP
 from elements.ply_edge_gap import towards_closest
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
@@ -632,38 +633,39 @@ def closest_facing(
         topology = FaceTopology.of(nodes, outline, edges)
     elif topology is not None and topology.outline is not outline:
         raise ValueError("closest_facing: the topology's outline must be the outline given")
-    if COMPILED:  # the same bits as the numpy reference below (elements/ply_kernels.py)
-        n, gradients, gap, weights, reach, inside, past = ply_kernels.candidates_at(
-            p, y, near, outline, MARGIN, INSIDE
-        )
-    else:
-        n, _, gradients, gap, weights = facets(p, y[near])
-        reach = np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
-        inside = (weights >= -reach - INSIDE).all(axis=-1)
-        # a lower bound of the distance to a triangle that does not hold the projection: its
-        # plane's gap and the projection's distance -(lambda_k + reach_k) / |grad phi_k| to
-        # the farthest edge line it lies past
-        past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
-    # the nearest candidate and its closest point ("Search", "The wedge cut")
-    from elements import ply_choice
+    if COMPILED and topology is not None and len(p) < SMALL_LOOP:
+        # the three passes below in one compiled call, the same bits (ply_facing_pass.py);
+        # the candidates' planes are read only by the numpy path's edges
+        from elements.ply_facing_pass import facing_choice
 
-    choose = ply_choice.choose_facing if COMPILED else ply_choice.choose_facing_numpy
-    best, on_edge, closest_at, cut_at, segment_at, along_at = choose(
-        p, y, near, n, gradients, gap, weights, reach, inside, past, cuts
-    )
-    # its arrays (elements/ply_chosen.py; ``lam`` the projection's, then the closest point's)
-    pick = ply_chosen.chosen if COMPILED else ply_chosen.chosen_numpy  # the same bits
-    (
-        triangle,
-        chosen_gap,
-        normal,
-        lam,
-        chosen_gradients,
-        chosen_reach,
-        overshoot,
-        reached,
-        turned,
-    ) = pick(best, near, n, gap, weights, gradients, reach, toward)
+        choice, picked = facing_choice(p, y, near, outline, MARGIN, INSIDE, cuts, toward)
+    else:
+        if COMPILED:  # the same bits as the numpy reference below (elements/ply_kernels.py)
+            n, gradients, gap, weights, reach, inside, past = ply_kernels.candidates_at(
+                p, y, near, outline, MARGIN, INSIDE
+            )
+        else:
+            n, _, gradients, gap, weights = facets(p, y[near])
+            reach = (
+                np.zeros(weights.shape) if outline is None else np.where(outline[near], MARGIN, 0.0)
+            )
+            inside = (weights >= -reach - INSIDE).all(axis=-1)
+            # a lower bound of the distance to a triangle that does not hold the projection:
+            # its plane's gap and the projection's distance -(lambda_k + reach_k) /
+            # |grad phi_k| to the farthest edge line it lies past
+            past = np.max(-(weights + reach) / np.linalg.norm(gradients, axis=-1), axis=-1)
+        # the nearest candidate and its closest point ("Search", "The wedge cut")
+        from elements import ply_choice
+
+        choose = ply_choice.choose_facing if COMPILED else ply_choice.choose_facing_numpy
+        choice = choose(p, y, near, n, gradients, gap, weights, reach, inside, past, cuts)
+        # its arrays (elements/ply_chosen.py; ``lam`` the projection's, then the closest
+        # point's)
+        pick = ply_chosen.chosen if COMPILED else ply_chosen.chosen_numpy  # the same bits
+        picked = pick(choice[0], near, n, gap, weights, gradients, reach, toward)
+    best, on_edge, closest_at, cut_at, segment_at, along_at = choice
+    triangle, chosen_gap, normal, lam, chosen_gradients, chosen_reach = picked[:6]
+    overshoot, reached, turned = picked[6:]
     hessian = np.zeros((len(p), 4, 3, 4, 3)) if second else None
     # the chosen planes, which the fade's pass reads where the closest point is off them
     planes = (normal.copy(), chosen_gradients, chosen_gap.copy(), lam.copy()) if COMPILED else ()
