@@ -65,8 +65,9 @@ name_components("shear_force", ("13", "23"))
 _TANGENT_SLICE = 256
 # Cells per piece of ``tangent_pieces``: about a _PIECE_SHARE-th of the block's, between
 # _PIECE_MIN and _PIECE (a piece's blocks 2.6 kB a cell: at most 10 MB, and a small part of
-# the model's memory; the bound is the same to the last bit whatever the pieces,
-# femcore/gershgorin.py).
+# the model's memory), grown to the cells' band where that is longer (up to a quarter of the
+# block: femcore/gershgorin.py `banded_piece`; the bound the same to the last bit whatever
+# the pieces).
 _PIECE = 4096
 _PIECE_SHARE = 24
 _PIECE_MIN = 256

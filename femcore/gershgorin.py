@@ -215,7 +215,7 @@ def banded_piece(connectivity: np.ndarray, cells: int) -> int:
     the block. A piece at least the band long holds a node in a run of consecutive pieces,
     so the bound streams (``gershgorin_largest`` with ``again``): a node's next cell is at
     most a piece on, in the same piece or the next. A thin strip of cells in rows
-    (Mesh.rectangle(nx=400, ny=20): a band of 2 nx + 1 cells) is streamed in pieces of its
+    (Mesh.rectangle(nx=400, ny=20): a band of 2 nx - 1 cells) is streamed in pieces of its
     band where ``cells`` were shorter; a band past a quarter of the cells (cells in no banded
     order) leaves ``cells``: every pair is then held (memory ~ pairs) rather than pieces the
     size of the block.

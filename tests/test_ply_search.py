@@ -334,3 +334,33 @@ def test_a_swinging_outline_corner_keeps_the_lists_and_their_answer():
     np.testing.assert_array_equal(near, first)
     nearest = _brute_nearest(p, swung, reach, None)
     assert np.all(np.any(near == nearest[:, None], axis=1))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_compiled_lists_move_is_the_grown_corners_largest(seed):
+    """The compiled kept lists' move (``_moves``, the path the runs take) is numpy's
+    ``grown_moves`` to the bit where outline triangles, grown past their open edges, move
+    most: a move off the corners' mean by the corners alone (the growth dropped) would read
+    them short and keep lists the bound does not cover."""
+    rng = np.random.default_rng(seed)
+    m = 40
+    y = rng.normal(scale=5.0, size=(m, 3, 3))
+    move = rng.normal(scale=0.01, size=(m, 3, 3))
+    reach = np.zeros((m, 3))
+    outline = rng.choice(m, size=8, replace=False)
+    reach[outline] = np.where(rng.random((8, 3)) < 0.6, MARGIN, 0.0)
+    move[outline] *= 20.0  # the outline triangles swing most
+    epoch = y - move
+    move = y - epoch  # as FacingSearch.near forms it (the rounding of y - (y - move))
+    p = rng.normal(size=(5, 3))
+    shift, drift = np.empty(3), np.empty(len(p))
+    moved = ply_search._moves_compiled(
+        y, epoch, reach, p, p.copy(), np.zeros((5, 3)), np.zeros(5), shift, drift
+    )
+    mean = move.reshape(-1, 3).mean(axis=0)
+    grown = ply_search.grown_moves(move - mean, reach)
+    assert moved == np.max(grown)
+    # the premise: the triangle that moves most is grown, where the corners alone read less
+    worst = int(np.argmax(grown))
+    assert reach[worst].sum() > 0
+    assert np.linalg.norm(move[worst] - mean, axis=-1).max() < grown[worst]

@@ -7,7 +7,7 @@ at i) and a row k of P only the rows of H at k and of J at k's neighbours; ``Row
 forms the rows of K of a set of nodes from those alone. Both run the loops below
 (``MembraneProduct`` over every row), so each row is the whole product's to the last bit
 whatever rows are asked for at once. ``row_patches`` adds the bending patches' blocks to
-those rows, and ``tangent_kernels.add_patches`` to every row, by one loop (cells in order).
+those rows (cells in order).
 elements/fibrous/tangent_pieces.py gives the rows a run of nodes at a time to the explicit
 solver's stable-step bound.
 """

@@ -25,7 +25,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from elements.fibrous.row_product import RowProduct, _row_patch_sums
+from elements.fibrous.row_product import RowProduct
 from elements.jit import AVAILABLE, jit, prange, serial
 
 __all__ = [
@@ -303,19 +303,3 @@ class MembraneProduct(RowProduct):
         S rows of J's blocks (pairs, 3, 3)."""
         out = super().__call__(hessian, self.pairs, jacobian)
         return sp.bsr_matrix((out, self.k_indices, self.k_indptr), shape=(6 * self.n, 6 * self.n))
-
-
-def add_patches(matrix: sp.bsr_matrix, nodes: np.ndarray, blocks: np.ndarray) -> None:
-    """Add cell blocks (c, p, 3, p, 3) in translations over the nodes (c, p) of each cell to
-    a BSR matrix with 6 x 6 blocks (sorted columns) whose pattern holds every pair of them,
-    in place; ValueError when a pair is outside its pattern."""
-    n = matrix.indptr.size - 1
-    if not _row_patch_sums(
-        np.arange(n, dtype=np.int64),  # every row, the row of node i being i
-        np.asarray(matrix.indptr, dtype=np.int64),
-        np.asarray(matrix.indices, dtype=np.int64),
-        np.ascontiguousarray(nodes, dtype=np.int64),
-        np.ascontiguousarray(blocks, dtype=float),
-        matrix.data,
-    ):
-        raise ValueError("a cell's node pair is outside the matrix's pattern")
