@@ -300,7 +300,7 @@ since its last full pass by numpy's three (k, 3) temporaries (0.57 ms alone, 2.4
 time a step in a run under cProfile) and asked the (m, 3) turns ``any()`` at every force
 call (0.9 ms): one compiled pass (0.11 ms) and the answer kept with the turns array. Main
 cfaff59 (exported to a folder of its own) and this tree in turns, two runs each,
-``--element fibrous --sizes 100000``, one thread, load 5.7-6.1 (another engineer's runs),
+``--element fibrous --sizes 100000``, one thread, load 5.7-6.1 (other jobs on the machine),
 µs of CPU an element-step (main -> this tree): steady step 0.375 / 0.410 -> 0.303 / 0.291
 (3.0 / 3.3 -> 2.6 / 2.7 x the reference pass, 0.108-0.124 at that load), force 0.352 /
 0.342 -> 0.256 / 0.249, force+energy 0.378 / 0.366 -> 0.284 / 0.273, energy 0.257 / 0.261 ->
