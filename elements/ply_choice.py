@@ -29,7 +29,7 @@ from elements.ply_kernels import closest_on_sides
 from elements.ply_projection import closest_on_edges, grown_corners
 from elements.ply_wedge import KEEP, closest_on_cut_numpy, cut_keeps, cut_overshoot
 
-__all__ = ["choose_facing", "choose_facing_numpy"]
+__all__ = ["choice_arrays", "choice_returned", "choose_facing", "choose_facing_numpy", "cut_arrays"]
 
 
 @lanes
@@ -277,16 +277,7 @@ def choose_facing(p, y, near, n, gradients, gap, weights, reach, inside, past, c
         There its parameter on the cut (0 elsewhere).
     """
     count = len(p)
-    has_cuts = cuts is not None and cuts.any
-    m = len(y)
-    out = (
-        np.empty(count, dtype=np.int64),
-        np.empty(count, dtype=np.bool_),
-        np.zeros((count, 3)),
-        np.zeros(count, dtype=np.bool_),
-        np.zeros((count, 2, 3)),
-        np.zeros(count),
-    )
+    out = choice_arrays(count)
     _choose_compiled(
         read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
         read_only(y),
@@ -298,14 +289,42 @@ def choose_facing(p, y, near, n, gradients, gap, weights, reach, inside, past, c
         reach,
         inside,
         past,
+        *cut_arrays(cuts, len(y)),
+        *out,
+        *_scratch(count, near.shape[1]),
+    )
+    return choice_returned(out, cuts)
+
+
+def choice_arrays(count: int) -> tuple[np.ndarray, ...]:
+    """``_choose``'s outputs for ``count`` points: best, on_edge, closest, on_cut, segment,
+    along (the last four zero where no cut holds the point)."""
+    return (
+        np.empty(count, dtype=np.int64),
+        np.empty(count, dtype=np.bool_),
+        np.zeros((count, 3)),
+        np.zeros(count, dtype=np.bool_),
+        np.zeros((count, 2, 3)),
+        np.zeros(count),
+    )
+
+
+def cut_arrays(cuts, m: int) -> tuple:
+    """``_choose``'s arguments of the growths' cuts ``cuts`` (WedgeCuts or None) over ``m``
+    triangles: whether any, and the cut flags, lines and ends (zeros for none)."""
+    has_cuts = cuts is not None and cuts.any
+    return (
         has_cuts,
         cuts.cut if has_cuts else np.zeros(m, dtype=np.bool_),
         np.ascontiguousarray(cuts.lines if has_cuts else np.zeros((m, 3, 3)), dtype=float),
         np.ascontiguousarray(cuts.ends if has_cuts else np.zeros((m, 3, 3)), dtype=float),
-        *out,
-        *_scratch(count, near.shape[1]),
     )
-    return (*out[:5], out[5] if has_cuts else None)
+
+
+def choice_returned(out: tuple, cuts) -> tuple:
+    """``choose_facing``'s returns from ``_choose``'s outputs ``out``: along None without
+    cuts."""
+    return (*out[:5], out[5] if cuts is not None and cuts.any else None)
 
 
 def _scratch(count: int, k: int) -> tuple[np.ndarray, ...]:

@@ -24,7 +24,7 @@ import numpy as np
 
 from elements.jit import jit_lanes, prange
 
-__all__ = ["chosen", "chosen_numpy", "fade_inputs_numpy"]
+__all__ = ["chosen", "chosen_arrays", "chosen_numpy", "fade_inputs_numpy"]
 
 
 def _chosen(
@@ -119,18 +119,7 @@ def chosen(
     turned : (P,) bool
         Its normal points against ``toward`` (all False without it).
     """
-    count = len(best)
-    out = (
-        np.empty(count, dtype=np.int64),
-        np.empty(count),
-        np.empty((count, 3)),
-        np.empty((count, 3)),
-        np.empty((count, 3, 3)),
-        np.empty((count, 3)),
-        np.empty(count),
-        np.empty(count, dtype=np.bool_),
-        np.empty(count, dtype=np.bool_),
-    )
+    out = chosen_arrays(len(best))
     has_toward = toward is not None
     _chosen_compiled(
         np.ascontiguousarray(best, dtype=np.int64),
@@ -145,6 +134,22 @@ def chosen(
         *out,
     )
     return out
+
+
+def chosen_arrays(count: int) -> tuple[np.ndarray, ...]:
+    """``_chosen``'s outputs for ``count`` points: triangle, gap, normal, weights,
+    gradients, reach, overshoot, reached, turned."""
+    return (
+        np.empty(count, dtype=np.int64),
+        np.empty(count),
+        np.empty((count, 3)),
+        np.empty((count, 3)),
+        np.empty((count, 3, 3)),
+        np.empty((count, 3)),
+        np.empty(count),
+        np.empty(count, dtype=np.bool_),
+        np.empty(count, dtype=np.bool_),
+    )
 
 
 def chosen_numpy(

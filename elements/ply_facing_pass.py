@@ -23,8 +23,8 @@ import numpy as np
 
 from elements.jit import lanes
 from elements.kernel_inputs import read_only
-from elements.ply_choice import _choose
-from elements.ply_chosen import _chosen
+from elements.ply_choice import _choose, choice_arrays, choice_returned, cut_arrays
+from elements.ply_chosen import _chosen, chosen_arrays
 from elements.ply_kernels import _facets_at
 
 __all__ = ["facing_choice"]
@@ -110,28 +110,8 @@ def facing_choice(p, y, near, outline, margin, tolerance, cuts, toward):
     m = len(y)
     if outline is None:
         outline = np.zeros((m, 3), dtype=bool)
-    has_cuts = cuts is not None and cuts.any
     has_toward = toward is not None
-    count = len(p)
-    choice = (
-        np.empty(count, dtype=np.int64),
-        np.empty(count, dtype=np.bool_),
-        np.zeros((count, 3)),
-        np.zeros(count, dtype=np.bool_),
-        np.zeros((count, 2, 3)),
-        np.zeros(count),
-    )
-    picked = (
-        np.empty(count, dtype=np.int64),
-        np.empty(count),
-        np.empty((count, 3)),
-        np.empty((count, 3)),
-        np.empty((count, 3, 3)),
-        np.empty((count, 3)),
-        np.empty(count),
-        np.empty(count, dtype=np.bool_),
-        np.empty(count, dtype=np.bool_),
-    )
+    choice, picked = choice_arrays(len(p)), chosen_arrays(len(p))
     _facing_compiled(
         read_only(p),  # read-only as the block keeps them: one build (kernel_inputs.py)
         read_only(y),
@@ -139,13 +119,10 @@ def facing_choice(p, y, near, outline, margin, tolerance, cuts, toward):
         np.ascontiguousarray(outline, dtype=np.bool_),
         float(margin),
         float(tolerance),
-        has_cuts,
-        cuts.cut if has_cuts else np.zeros(m, dtype=np.bool_),
-        np.ascontiguousarray(cuts.lines if has_cuts else np.zeros((m, 3, 3)), dtype=float),
-        np.ascontiguousarray(cuts.ends if has_cuts else np.zeros((m, 3, 3)), dtype=float),
+        *cut_arrays(cuts, m),
         np.ascontiguousarray(toward if has_toward else np.zeros((1, 3)), dtype=float),
         has_toward,
         *choice,
         *picked,
     )
-    return (*choice[:5], choice[5] if has_cuts else None), picked
+    return choice_returned(choice, cuts), picked
