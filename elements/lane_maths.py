@@ -76,7 +76,12 @@ if AVAILABLE:
 
         return types.float64(types.int64), codegen
 
-    float_bits, bits_float = _float_bits, _bits_float
+    # With numba's JIT switched off (NUMBA_DISABLE_JIT=1, to debug a kernel in Python) an
+    # intrinsic cannot run: the kernels then call the struct-based versions above.
+    from numba.core import config as _numba_config
+
+    if not getattr(_numba_config, "DISABLE_JIT", False):
+        float_bits, bits_float = _float_bits, _bits_float
 
 
 # fdlibm e_log.c: ln 2 in two parts (the high one with 32 trailing zero bits, so that k ln2_hi

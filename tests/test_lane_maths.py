@@ -124,3 +124,31 @@ def test_the_arctangent_of_two_is_numpys_at_zeros_infinities_and_nan():
     number = ~np.isnan(reference)  # the signed zeros and infinities' quadrants (a nan's sign
     # bit is no part of its value)
     assert np.array_equal(np.signbit(value[number]), np.signbit(reference[number]))
+
+
+def test_the_functions_run_with_numbas_jit_switched_off():
+    """NUMBA_DISABLE_JIT=1 (a kernel debugged in Python) must still give the log and the
+    arcsine: the bit casts fall back to ``struct`` (an intrinsic cannot run in Python). Run in
+    a fresh interpreter, since numba reads the switch once, at import; checked against numpy
+    within the module's ulp bounds on a few values."""
+    import os
+    import subprocess
+    import sys
+
+    script = (
+        "import numpy as np\n"
+        "from elements.lane_maths import lane_arcsin, lane_log\n"
+        "xs = [1e-300, 0.3, 1.0, 2.5, 1e300]\n"
+        "ulp = lambda v, r: abs(v - r) / np.spacing(abs(r) or 1.0)\n"
+        "print(max(ulp(lane_log(x), np.log(x)) for x in xs))\n"
+        "ss = [-1.0, -0.6, 0.1, 0.49, 0.97]\n"
+        "print(max(ulp(lane_arcsin(s), np.arcsin(s)) for s in ss))\n"
+    )
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    log_ulps, arcsin_ulps = (float(line) for line in done.stdout.split())
+    assert log_ulps <= 1.0
+    assert arcsin_ulps <= 2.0
