@@ -60,7 +60,7 @@ LABELS: dict[Kinematics, str] = {
 INCREMENTS = 10  # load increments of Static (each for gravity and the displacement), default
 # The residual ratio at or below which an arc-length iteration of the paper cases' Static steps
 # with its increment's last factorisation (Static's arc_chords, docs/theory.md §6.6 "Chord
-# steps"): measured on the cases' runs (benchmarks/paper_cases.py ``--chords``).
+# steps"): measured on the cases' runs (benchmarks/arc_chords.py).
 ARC_CHORDS = 1e-3
 # Names of the kinematics in the checks' names (the default fibrous run keeps the plain name).
 CHECK_NAMES: dict[Kinematics, str] = {
