@@ -21,6 +21,35 @@ Measured (one numba thread, CPU, 2 cores shared with other jobs, ratio 1e-3, bes
   relative (within 1e-10 but on the 6-cell Mindlin bai-6.1.2 run): both equilibria within
   the tolerance (1e-8 of the forces) of one another.
 
+Where the paper cases' CPU went before (main debd499, one thread, load 2.9-3.2, CPU s of
+``compute`` and ``render`` in one process; the seven runs as s (Newton iterations /
+increments): fibrous, fibrous Eq. 15, Mindlin on the default mesh, then fibrous and Mindlin on
+the coarser and the finer order meshes):
+  bai-6.1.1  compute 8.05, render 1.54: 1.49 (74/19), 0.71, 0.31, 0.23, 0.08, 4.43 (61/12), 0.78
+  bai-6.2.1  compute 6.83, render 1.61: 1.08 (73/21), 0.74, 0.26, 0.20, 0.07, 3.80 (46/11), 0.67
+  bai-6.1.2  compute 5.29, render 1.42: 0.66 (108/20), 0.59, 0.22, 0.24, 0.07, 2.89 (120/25), 0.60
+  bai-6.2.2  compute 5.20, render 1.57: 0.68 (109/24), 0.60, 0.24, 0.26, 0.13, 2.62 (105/23), 0.66
+  bai-5.1    compute 4.43, render 1.01: 0.77 (134/18), 0.83, 0.37, 0.53, 0.21, 1.27 (141/19), 0.45
+The finest fibrous run is half of each corner case; the render (four matplotlib figures, 0.17-
+0.45 s each, and three XDMF files, 0.1 s each: gzip per frame and field) a fifth. Nothing
+outside the solves and the render is above 1 %. In the solves (cProfile of bai-6.2.1, 406
+tangents): the tangents 6.7 s (the fibrous membrane Hessians 2.1, J^T H J 1.0, the assembly
+1.4, the bending blocks 1.0), the factorisations 4.0 (the supernodal LDL^T 2.2, the symbolic
+choices 0.8), the solves 1.4, the residuals 0.65, the frames 0.3. Per iteration of the 40-cell
+fibrous run of bai-6.1.1 (4025 unknowns, 63 tangents in 4.9 s): the tangent 38 ms (Hessians
+14, J^T H J 7, node blocks 3, the bending blocks 4 of which 2 numpy), the factorisation 27
+(the supernodal LDL^T 17), the two solves 6.5, the residual 1: compiled kernels, the Python
+round them a few ms. Hence fewer tangents, not cheaper ones, in the time there was.
+
+Tried and not kept: a chord at an increment's first iteration with the last increment's
+factorisation (the predictor's residual is mostly the fibres' stretch): the 40-cell fibrous
+run of bai-6.1.1 49 -> 318 tangents, its default run a spurious limit point at load factor
+0.796; chords after a threefold or twofold gain (CHORD_GAIN 0.3, 0.5 with ratio 1e-2): the
+same tangents to a few (48-49, 118-121, 99-103); fewer increments on bai-6.1.2's order runs
+(20 -> 10 -> 5 a phase): more cuts, the 24-cell fibrous run 148 -> 193 -> 207 tangents; an
+earlier "no progress" cut (the phase's first steps that fail sit near ratio 1 for the 12
+iterations before the cut): bai-5.1's increments that converge sit as near 1 for up to 8.
+
 Run: python benchmarks/arc_chords.py [--cases bai-6.1.1,bai-6.2.1] [--ratio 1e-3] [--rounds 1]
 """
 
