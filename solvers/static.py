@@ -245,7 +245,7 @@ class Static:
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the
-    residual tolerance away, or with ``arc_chords`` one to three chord steps before it; a
+    residual tolerance away, or with ``arc_chords`` a few chord steps before it; a
     fresh one only when the increment converged at its start),
     counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``, one entry per
     frame after the first): an eigenvalue that crosses zero within that last step is counted
