@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     from solvers.static import StaticRun
 
 __all__ = [
+    "CHORD_GAIN",
     "DESIRED_ITERATIONS",
     "JUMP_ITERATIONS",
     "LONGEST_STEP",
@@ -74,6 +75,9 @@ SHIFT_CEILING = 1e3
 # load path has its line search to refuse a step; a straight cable that must sag first
 # gains little for a dozen iterations there and then converges.)
 STALL_WINDOW = 6
+# A chord step (``Static(arc_chords=...)``) follows another only if the other lowered the
+# residual ratio at least this many times over; else the iteration forms its tangent.
+CHORD_GAIN = 0.1
 
 
 class Motion:
@@ -125,6 +129,7 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         cuts_here = 0
         while True:
             prediction: Motion | None = None
+            chords_before = run.info["arc_chords"]
             try:
                 prediction = arc_predictor(run, pattern, arc, previous)
                 arc = prediction.length
@@ -140,6 +145,7 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
                     # Land on the end of the phase with a load step along the secant.
                     fraction = (end - run.reached) / prediction.load
                     start = run.apply(prediction.scaled(fraction), end)
+                    chords_before = run.info["arc_chords"]
                     state, count, ratio, history = newton(run, start, end)
                     outcome = (state, end, count, ratio, history)
                 motion = run.motion_between(run.state, run.reached, *outcome[:2])
@@ -183,9 +189,11 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         run.accept(state, load_factor)
         run.frame(count, ratio, history)
         previous = motion
-        # Crisfield's step-length rule: aim at ``arc_iterations`` next time.
+        # Crisfield's step-length rule: aim at ``arc_iterations`` next time, counting the
+        # iterations that factorised (a chord step costs one solve).
         aim = solver.arc_iterations
-        arc = motion.length * float(np.clip(np.sqrt(aim / max(count, 1)), 0.5, 2.0))
+        spent = count - (run.info["arc_chords"] - chords_before)
+        arc = motion.length * float(np.clip(np.sqrt(aim / max(spent, 1)), 0.5, 2.0))
         if longest is None:
             # The first step's length, stretched to the path length of a load step of
             # 1 / increments where the first step carried less (a path that starts soft:
@@ -247,6 +255,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
     state = run.apply(prediction, load_factor)
     history: list[float] = []
     factor = None
+    chords = 0  # chord steps in a row (``Static(arc_chords=...)``)
     for iteration in range(1, solver.max_iterations + 1):
         frames = dofs.frames(state.directors)
         equilibrium = run.equilibrium(load_factor)
@@ -258,8 +267,20 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
             if factor is None:
                 factor = run.factorise(run.tangent(state, frames)[0])
             return run.settled(state, factor), load_factor, iteration - 1, ratio, history
-        k_ff, k_fp = run.tangent(state, frames)
-        factor = run.factorise(k_ff)
+        if (
+            factor is not None
+            and ratio <= solver.arc_chords
+            and (not chords or ratio <= CHORD_GAIN * history[-2])
+        ):
+            # A chord step: near the path the tangent barely changes, and the factorisation of
+            # an earlier iterate of this increment takes the ratio down for one solve
+            # (docs/theory.md §6.6, "Chord steps"), while it gains CHORD_GAIN a step.
+            chords += 1
+            run.info["arc_chords"] += 1
+        else:
+            chords = 0
+            k_ff, k_fp = run.tangent(state, frames)
+            factor = run.factorise(k_ff)
         load_rhs, u_pattern = run.load_rate(pattern, frames, k_fp)
         solved = factor.solve(np.column_stack([r.ravel()[index], load_rhs]))
         if solved is None:

@@ -32,16 +32,20 @@ energy as Abaqus users judge ALLSD against ALLIE. ``Static`` warns when it excee
 
 from __future__ import annotations
 
-from typing import Any
+import warnings
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from femcore.dofs import N_COLUMNS
 from femcore.rotation import cross
 from femcore.state import State
-from solvers.common import check_non_negative
+from solvers.common import check_non_negative, outside_stacklevel
 
-__all__ = ["STABILISATION_BOUND", "Dashpots"]
+if TYPE_CHECKING:
+    from solvers.static import StaticRun
+
+__all__ = ["STABILISATION_BOUND", "Dashpots", "report_stabilisation"]
 
 # The dissipated energy past which a stabilised run warns: this fraction of the strain energy
 # at the end of the run.
@@ -118,3 +122,27 @@ def check_stabilise(value: Any, path: str) -> float:
             f"of the load factor), got path={path!r}"
         )
     return coefficient
+
+
+def report_stabilisation(run: StaticRun) -> None:
+    """Stabilised runs: the energy the dashpots dissipated against the strain energy at the
+    end, in ``run.info["stabilisation"]``; a UserWarning past STABILISATION_BOUND."""
+    if run.masses is None:
+        return
+    strain = run.strain_energies[-1]
+    ratio = run.dissipated / strain if strain > 0.0 else float("inf")
+    run.info["stabilisation"] = {
+        "coefficient_per_s2": run.solver.stabilise,
+        "dissipated_N_mm": run.dissipated,
+        "strain_energy_N_mm": strain,
+        "dissipated_over_strain_energy": ratio,
+    }
+    if run.dissipated > STABILISATION_BOUND * strain:
+        warnings.warn(
+            f"the viscous stabilisation dissipated {run.dissipated:.4g} N mm, "
+            f"{ratio:.3g} of the strain energy ({strain:.4g} N mm), more than "
+            f"{STABILISATION_BOUND:g}: the dashpots, not the model, shape the result; "
+            f"lower stabilise (now {run.solver.stabilise:g}) or take more increments",
+            UserWarning,
+            stacklevel=outside_stacklevel(),
+        )

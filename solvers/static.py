@@ -68,7 +68,7 @@ from solvers.newton import Residual, Tangent, compression_free_ratio
 from solvers.newton_fibres import FibreEdges
 from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream, output_path
-from solvers.stabilisation import STABILISATION_BOUND, Dashpots, check_stabilise
+from solvers.stabilisation import Dashpots, check_stabilise, report_stabilisation
 from solvers.stop_diagnosis import stop_hint
 
 __all__ = ["PATHS", "Static", "StaticRun"]
@@ -126,6 +126,10 @@ class Static:
     max_increments : arc-length path: a phase's most increments (default 20 x increments + 20).
     arc_iterations : arc-length path: the iterations Crisfield's step rule aims an increment
         at (default 5: the next length l sqrt(5 / iterations); docs/theory.md §6.6).
+    arc_chords : arc-length path: the residual ratio at or below which an iteration steps with
+        the factorisation of an earlier iterate of its increment, while each such step lowers
+        the ratio tenfold (default 0: never; solvers.arc_length, docs/theory.md §6.6, "Chord
+        steps"); Crisfield's rule counts the factorisations. ``info["arc_chords"]`` counts them.
     at_limit : arc-length path, at a limit point (the load factor would have to fall):
         "follow" (default) the path down and on, as it is; "jump": go on with load steps of
         1 / increments from there to the end of the phase, which land on the stable branch
@@ -241,7 +245,8 @@ class Static:
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the
-    residual tolerance away; a fresh one only when the increment converged at its start),
+    residual tolerance away, or with ``arc_chords`` a few chord steps before it; a
+    fresh one only when the increment converged at its start),
     counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``, one entry per
     frame after the first): an eigenvalue that crosses zero within that last step is counted
     at the next increment, where a tangent at the converged state would cost one more
@@ -268,6 +273,7 @@ class Static:
         path: str = "load",
         max_increments: int | None = None,
         arc_iterations: int = DESIRED_ITERATIONS,
+        arc_chords: float = 0.0,
         at_limit: str = "follow",
         predictor: bool = False,
         stabilise: float = 0.0,
@@ -309,6 +315,7 @@ class Static:
             else check_integer(max_increments, "max_increments")
         )
         self.arc_iterations = check_integer(arc_iterations, "arc_iterations")
+        self.arc_chords = check_non_negative(arc_chords, "arc_chords", "a residual ratio")
         if at_limit not in ("follow", "jump"):
             raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
         self.at_limit = at_limit
@@ -399,7 +406,7 @@ class Static:
                     load_path(self, run, phase)
                 elif arc_length_path(run, phase):  # stopped at a limit point to jump
                     load_path(self, run, phase, jump=True)
-            run.report_stabilisation()
+            report_stabilisation(run)
             run.report_augmentation()
             return run.result(True)
 
@@ -492,6 +499,7 @@ class StaticRun:
             "regularised_iterations": 0,
             "shifted": [],
             "chord_corrections": 0,
+            "arc_chords": 0,
             "curved_steps": 0,
             "fibre_projections": 0,
             "fibre_projection_sweeps": 0,
@@ -534,29 +542,6 @@ class StaticRun:
             self.state,
             load_factor - self.reached,
         )
-
-    def report_stabilisation(self) -> None:
-        """Stabilised runs: the energy the dashpots dissipated against the strain energy at
-        the end, in ``info["stabilisation"]``; a UserWarning past STABILISATION_BOUND."""
-        if self.masses is None:
-            return
-        strain = self.strain_energies[-1]
-        ratio = self.dissipated / strain if strain > 0.0 else float("inf")
-        self.info["stabilisation"] = {
-            "coefficient_per_s2": self.solver.stabilise,
-            "dissipated_N_mm": self.dissipated,
-            "strain_energy_N_mm": strain,
-            "dissipated_over_strain_energy": ratio,
-        }
-        if self.dissipated > STABILISATION_BOUND * strain:
-            warnings.warn(
-                f"the viscous stabilisation dissipated {self.dissipated:.4g} N mm, "
-                f"{ratio:.3g} of the strain energy ({strain:.4g} N mm), more than "
-                f"{STABILISATION_BOUND:g}: the dashpots, not the model, shape the result; "
-                f"lower stabilise (now {self.solver.stabilise:g}) or take more increments",
-                UserWarning,
-                stacklevel=outside_stacklevel(),
-            )
 
     def report_augmentation(self) -> None:
         """A UserWarning when increments were accepted with an augmented contact's penetration

@@ -302,7 +302,7 @@ def test_the_report_s_bai_5_1_runs_and_order_runs_aim_at_the_case_s_arc_iteratio
 
     aims = []
 
-    def seen(model, increments, arc_iterations=None):
+    def seen(model, increments, arc_iterations=None, arc_chords=None):
         aims.append(arc_iterations)
         raise _Solved
 
@@ -317,3 +317,34 @@ def test_the_report_s_bai_5_1_runs_and_order_runs_aim_at_the_case_s_arc_iteratio
     assert aims == [spec.arc_iterations] and spec.arc_iterations == 10
     case_file = read_case_data(Path(__file__).parents[1] / "cases" / "bai-5.1.toml")
     assert case_file["solver"]["arc_iterations"] == spec.arc_iterations
+
+
+@pytest.mark.parametrize("name", ["bai_5_1", "bai_6_1_1", "bai_6_1_2", "bai_6_2_1", "bai_6_2_2"])
+@pytest.mark.parametrize("path", ["runs", "orders"])
+def test_the_report_s_paper_runs_take_the_case_s_chord_steps(name, path, monkeypatch):
+    """Every run of a paper case (the three kinematics and the order runs) solves with the
+    case's ``arc_chords`` (validation.paper.ARC_CHORDS, bai-5.1 none), and the case file that
+    runs the case as the report does says the same."""
+    import importlib
+
+    import validation.paper.case as paper
+    from fibreshell.case import read_case_data
+
+    spec = importlib.import_module(f"validation.cases.{name}").SPEC
+    ratios = []
+
+    def seen(model, increments, arc_iterations=None, arc_chords=None):
+        ratios.append(arc_chords)
+        raise _Solved
+
+    monkeypatch.setattr(paper, "solve", seen)
+    with pytest.raises(_Solved):
+        if path == "runs":
+            paper.compute_paper_case(spec, "coarse")
+        else:  # the coarse sequence starts on a mesh of its own
+            assert spec.order_cells["coarse"][0] != spec.cells["coarse"]
+            paper.refinement_orders(spec, "coarse", None, {})
+    expected = 0.0 if name == "bai_5_1" else paper.ARC_CHORDS
+    assert ratios == [expected] and spec.arc_chords == expected
+    case_file = read_case_data(Path(__file__).parents[1] / "cases" / f"{spec.name}.toml")
+    assert case_file["solver"].get("arc_chords", 0.0) == spec.arc_chords

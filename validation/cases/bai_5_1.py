@@ -76,6 +76,12 @@ COMPARISON_NOTE = (
 # iterations, the case's computation 12.2 -> 7.4 s of CPU (8: 8.2 s, 14: 8.0 s), every
 # check's value within 1.2e-8 relative (the Eq. 15 tilt's 4e-14 deg round-off aside).
 ARC_ITERATIONS = 10
+# No chord steps (Static's arc_chords, docs/theory.md §6.6 "Chord steps"): with them (1e-3)
+# the three default-mesh runs took 423 -> 500 Newton iterations and the case 5.31 -> 5.85 s of
+# CPU (main debd499 beside it, one thread, load 2.9-3.2; the fibrous 30-cell run 188 -> 192
+# tangents): its steps, aimed at 10 iterations, are long, and near its knees the chords'
+# slower last iterations cost more than the tangents they save.
+ARC_CHORDS = 0.0
 ORDER_TOLERANCE = {
     "fibrous deflection": 0.01,
     "fibrous thickness": 0.01,
@@ -103,6 +109,7 @@ SPEC = PaperCase(
     order_cells={"coarse": (6, 8, 12), "default": (15, 30, 60), "fine": (15, 30, 60)},
     order_tolerance={"default": ORDER_TOLERANCE, "fine": ORDER_TOLERANCE},
     arc_iterations=ARC_ITERATIONS,
+    arc_chords=ARC_CHORDS,
     parameters={
         "length_mm (assumed)": LENGTH,
         "width_mm (assumed)": WIDTH,

@@ -31,7 +31,7 @@ from fibreshell.sweep import sweep
 from materials.presets import paper_stack
 from validation import specimens
 from validation.checks import check
-from validation.paper import INCREMENTS
+from validation.paper import ARC_CHORDS, INCREMENTS
 from validation.plots import plt, save
 from validation.records import Case, Figure, Outcome
 
@@ -87,6 +87,7 @@ def base_case(cells: int) -> dict:
             "at_limit": "jump",
             "step_loads_first": True,
             "increments": INCREMENTS,
+            "arc_chords": ARC_CHORDS,
             "max_iterations": 40,
             "max_cuts": 10,
         },  # fmt: skip

@@ -41,6 +41,7 @@ from validation.paper.discussion import discussion
 from validation.paper.figures import laws_figure, side_elevation, side_figure, view_3d
 from validation.paper.invariants import EQ15_TOLERANCE_DEG, invariant_checks, slip_checks
 from validation.paper.kinematics import (
+    ARC_CHORDS,
     CHECK_NAMES,
     COLOURS,
     ELEMENT,
@@ -67,6 +68,7 @@ from validation.paper.orders import (
 from validation.paper.profiles import fibre_statistics, key_numbers, side_data, slip_errors
 
 __all__ = [
+    "ARC_CHORDS",
     "CHECK_NAMES",
     "COLOURS",
     "ELEMENT",

@@ -30,12 +30,13 @@ from fibreshell.calibration import Calibration
 from materials import Fabric
 from solvers import ConvergenceError, Static
 from solvers.arc_length import DESIRED_ITERATIONS
-from solvers.common import check_integer
+from solvers.common import check_integer, check_non_negative
 from validation import specimens
 from validation.paper.discussion import discussion
 from validation.paper.figures import laws_figure, side_elevation, side_figure, view_3d
 from validation.paper.invariants import invariant_checks
 from validation.paper.kinematics import (
+    ARC_CHORDS,
     ELEMENT,
     FIBROUS_THICKNESS,
     INCREMENTS,
@@ -113,9 +114,13 @@ class PaperCase:
     # The Newton iterations the arc length's step rule aims each increment at (Static's
     # ``arc_iterations``), in every run of the case (measured per case where it is set).
     arc_iterations: int = DESIRED_ITERATIONS
+    # The residual ratio at or below which an arc-length iteration steps with its increment's
+    # last factorisation (Static's ``arc_chords``), in every run of the case; 0: never.
+    arc_chords: float = ARC_CHORDS
 
     def __post_init__(self) -> None:
         check_integer(self.arc_iterations, f"{self.name}: arc_iterations")
+        check_non_negative(self.arc_chords, f"{self.name}: arc_chords", "a residual ratio")
         if self.order_increments is not None and not (
             # numpy's integers are counts too (an arange of a sweep gives them)
             isinstance(self.order_increments, (int, np.integer))
@@ -240,12 +245,17 @@ def corner_case(
 
 
 def solve(
-    model: Model, increments: int, arc_iterations: int = DESIRED_ITERATIONS
+    model: Model,
+    increments: int,
+    arc_iterations: int = DESIRED_ITERATIONS,
+    arc_chords: float = ARC_CHORDS,
 ) -> tuple[Any, str, float]:
     """Static along the arc length of the path: gravity over load factors 0-1, then the
     displacement over 1-2, ``increments`` arc-length steps at most each (their lengths aimed
-    at ``arc_iterations`` Newton iterations an increment); at a limit point the run goes on
-    with load steps that land on the stable branch beyond it (the snap a test machine shows).
+    at ``arc_iterations`` Newton iterations an increment; an iteration at a residual ratio up
+    to ``arc_chords`` steps with the increment's last factorisation); at a limit point the run
+    goes on with load steps that land on the stable branch beyond it (the snap a test machine
+    shows).
     No other solver is tried: a run that stops is reported as such, with its last equilibrium.
 
     Returns the result, the solver note for the report (what ran, how many increments and
@@ -255,6 +265,7 @@ def solve(
         increments=increments,
         path="arc_length",
         arc_iterations=arc_iterations,
+        arc_chords=arc_chords,
         at_limit="jump",
         max_iterations=40,
         max_cuts=10,
@@ -308,7 +319,7 @@ def compute_paper_case(case: PaperCase, resolution: str) -> Outcome:
     results: dict[str, Any] = {}
     for kinematics in KINEMATICS:
         model = case.model(specimen, kinematics)
-        result, note, wall = solve(model, case.increments, case.arc_iterations)
+        result, note, wall = solve(model, case.increments, case.arc_iterations, case.arc_chords)
         results[kinematics] = result
         elements[kinematics] = ElementRun(
             label=LABELS[kinematics],
@@ -391,7 +402,7 @@ def refinement_orders(
         for kinematics in ORDER_KINEMATICS:
             model = case.model(other, kinematics)
             increments = case.increments if case.order_increments is None else case.order_increments
-            result, _, wall = solve(model, increments, case.arc_iterations)
+            result, _, wall = solve(model, increments, case.arc_iterations, case.arc_chords)
             sides = side_data(result, other, kinematics, h)
             quantities = order_quantities(sides, kinematics, h)
             measured[kinematics].append(

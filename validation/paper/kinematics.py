@@ -58,6 +58,10 @@ LABELS: dict[Kinematics, str] = {
     "mindlin": "MindlinShell (S3-like kinematics)",
 }
 INCREMENTS = 10  # load increments of Static (each for gravity and the displacement), default
+# The residual ratio at or below which an arc-length iteration of the paper cases' Static steps
+# with its increment's last factorisation (Static's arc_chords, docs/theory.md §6.6 "Chord
+# steps"): measured on the cases' runs (benchmarks/arc_chords.py).
+ARC_CHORDS = 1e-3
 # Names of the kinematics in the checks' names (the default fibrous run keeps the plain name).
 CHECK_NAMES: dict[Kinematics, str] = {
     "fibrous": "fibrous",

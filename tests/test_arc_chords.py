@@ -1,0 +1,67 @@
+"""Chord steps of the arc-length path (``Static(arc_chords=...)``, solvers/arc_length.py,
+docs/theory.md §6.6 "Chord steps"): iterations at small residual ratios step with the
+increment's last factorisation; the path and its equilibria stay those of the closed forms."""
+
+import numpy as np
+import pytest
+
+from solvers import Static
+from tests.test_static import _von_mises_truss
+from validation.references.elastica import tip_loaded_cantilever
+from validation.specimens import mindlin_strip
+
+
+def test_chord_steps_keep_the_truss_on_its_closed_form_path_and_its_limit_points():
+    # The von Mises truss of tests/test_static.py, followed over both limit points: with chord
+    # steps every frame still lies on the closed form t(w) = 6 lambda to the 1e-6 of the plain
+    # path (the residual is exact; the tolerance, 1e-8 of the forces, is far below it), the
+    # unstable frames are those with dt/dw < 0 (their inertia read from a factorisation of their
+    # own increment), the two limit loads those of the closed form to the step's resolution;
+    # the chords replace tangents (189 -> 122 when this was written).
+    model, rise, _, travel = _von_mises_truss()
+    plain = Static(increments=12, path="arc_length").solve(model)
+    result = Static(increments=12, path="arc_length", arc_chords=1e-3).solve(model)
+    assert plain.info["arc_chords"] == 0 and result.info["arc_chords"] > 0
+    assert result.info["evaluations"]["tangent"] < 0.8 * plain.info["evaluations"]["tangent"]
+    w = np.array([rise - frame.positions[2, 2] for frame in result.frames])
+    lam = np.array([frame.load_factor for frame in result.frames])
+    assert lam[-1] == 1.0
+    assert np.abs(travel(w) - 6.0 * lam).max() <= 1e-6
+    dense_w = np.linspace(0.0, 2.5, 250_001)
+    dense_t = travel(dense_w)
+    slope = np.gradient(dense_t, dense_w)
+    expected_unstable = np.interp(w[1:], dense_w, slope) < 0.0
+    unstable = np.array(result.info["negative_eigenvalues"]) > 0
+    assert np.array_equal(unstable, expected_unstable)
+    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
+    second_limit = dense_t[dense_w > 0.5].min() / 6.0
+    limits = result.info["limit_points"]
+    assert len(limits) == 2
+    assert limits[0] == pytest.approx(first_limit, abs=1e-3 * 6)
+    assert limits[1] == pytest.approx(second_limit, abs=1e-3 * 6)
+
+
+def test_chord_steps_bend_the_cantilever_to_the_elastica():
+    # A Mindlin strip under a tip load P L^2 / EI = 3 along the arc length: with chord steps
+    # its tip lands where it lands without them to 1e-6 of the length (both within the
+    # tolerance of one equilibrium), and both on the elastica's (Bisshopp and Drucker's closed
+    # form, validation.references.elastica) within the 1 % the 20-cell strip gives.
+    length, width, thickness, young = 100.0, 10.0, 1.0, 1e5
+    mesh, model = mindlin_strip(length, width, thickness, young, cells=20)
+    bending = young * width * thickness**3 / 12
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, -3.0 * bending / length**2 / len(tip)))
+    plain = Static(increments=4, path="arc_length").solve(model)
+    chords = Static(increments=4, path="arc_length", arc_chords=1e-3).solve(model)
+    assert chords.info["arc_chords"] > 0
+    assert chords.positions[tip] == pytest.approx(plain.positions[tip], abs=1e-6 * length)
+    reference = tip_loaded_cantilever(length, 3.0 * bending / length**2, bending)
+    x, _, z = chords.positions[tip].mean(axis=0)
+    assert x == pytest.approx(reference["tip_x"], rel=0.01)
+    assert -z == pytest.approx(reference["tip_deflection"], rel=0.01)
+
+
+@pytest.mark.parametrize("bad", [-1e-3, float("nan"), "1e-3", None])
+def test_arc_chords_must_be_a_non_negative_ratio(bad):
+    with pytest.raises(ValueError, match="arc_chords must be a non-negative number"):
+        Static(path="arc_length", arc_chords=bad)
