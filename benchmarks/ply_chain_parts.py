@@ -123,8 +123,10 @@ def main() -> None:
         ply_edge_kernels,
         ply_face_points,
         ply_facing_pass,
+        ply_facing_whole,
         ply_fade_kernels,
         ply_friction_kernels,
+        ply_friction_pass,
         ply_kernels,
         ply_load_kernels,
         ply_penalty,
@@ -169,6 +171,8 @@ def main() -> None:
         (ply_penalty, ["ramp_cubes"]),
         (ply_face_points, ["face_points", "offset_toward"]),
         (ply_facing_pass, ["facing_choice"]),
+        (ply_facing_whole, ["whole_facing"]),
+        (ply_friction_pass, ["history_pass"]),
     ]  # fmt: skip
     if args.kernels:
         parts += [
@@ -180,6 +184,8 @@ def main() -> None:
             (ply_friction_kernels, ["_return_mapping_compiled", "_moved_compiled"]),
             (ply_load_kernels, ["_loads"]),
             (ply_facing_pass, ["_facing_compiled"]),
+            (ply_facing_whole, ["_choice_compiled", "_sides_fade_compiled"]),
+            (ply_friction_pass, ["_history_compiled"]),
         ]
     for owner, names in parts:
         for name in names:
