@@ -7,9 +7,9 @@ Reference: ``closest_facing`` with ``WHOLE = False``: ``facing_choice``, ``edge_
 tests/test_ply_facing_pass.py and tests/test_ply_kernels.py). The two calls run the same
 loops (IEEE, no fastmath) and numpy's arctan2 between, so the comparison is exact (no
 tolerance): on tests/test_ply_wedge.py's strips cut at both ends (points facing edges, cuts,
-turned layers, the fade near the outline, with and without the KD-tree's edges) and on the
-two-ply hemisphere blank's bent states, both passes, as the block calls it, on 1 and 2
-numba threads.
+turned layers, the fade near the outline, with and without the KD-tree's edges and the
+direction toward the points' ply) and on the two-ply hemisphere blank's bent states, both
+passes, as the block calls it, on 1 and 2 numba threads.
 """
 
 import numba
@@ -47,7 +47,8 @@ def _both(monkeypatch, call):
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 @pytest.mark.parametrize("pairs", [ply_fade.EVERY_PAIR, 16], ids=["every-pair", "kd-tree"])
-def test_the_whole_facing_is_the_chained_passes_on_cut_strips(monkeypatch, seed, pairs):
+@pytest.mark.parametrize("turned", [True, False], ids=["toward", "no-toward"])
+def test_the_whole_facing_is_the_chained_passes_on_cut_strips(monkeypatch, seed, pairs, turned):
     """300 points round a cut strip (outline everywhere), every triangle a candidate in a
     shuffled order, padded rows for a fifth, a layer turned away for a third, the outline's
     nearest edges measured every pair or by the KD-tree (``EVERY_PAIR`` 16): the same Facing
@@ -69,7 +70,7 @@ def test_the_whole_facing_is_the_chained_passes_on_cut_strips(monkeypatch, seed,
 
     def call():
         return closest_facing(
-            p, y, near, 0.0, outline, False, depth=0.4, toward=toward,
+            p, y, near, 0.0, outline, False, depth=0.4, toward=toward if turned else None,
             fade_distance=0.05, topology=topology, cuts=cuts,
         )  # fmt: skip
 
