@@ -49,6 +49,31 @@ each: 47.0 us a block-step for the kernel alone, no faster than the three. numpy
 in ``edge_sides`` at the rows on an edge alone (with their gathers) took 35.0 / 35.1 us a
 call against 33.1 / 32.3 at every row: not kept. ``python benchmarks/ply_contact_replay.py
 --steps 300 --reference`` beside bb171b8: the same digest e7a6191daa154cf1.
+
+The whole facing without the gap's Hessian in two compiled calls (elements/
+ply_facing_whole.py: the planes, choice, chosen arrays, the edges' coordinates and fans and
+the planes' copies; numpy's arctan2; the sides, the outline's edges and the fade), and the
+friction's history in one (elements/ply_friction_pass.py: the mapping from the last history,
+the moved anchors, the next loads' mapping). On the fibrous [0/90] replay's bent state (one
+thread, load 3, best of 300 calls, us a call, 384 / 81 points): the facing 85 / 65, its two
+kernels 25 + 24 / 21 + 11. ``python benchmarks/ply_contact_replay.py --steps 300
+--reference`` beside main debd499 (``git archive``), two rounds, best of 3, one thread, load
+3.3-3.9, us a block-step: the committed history fibrous [0/90] 312.6 / 320.2 -> 264.4 /
+264.8, Mindlin [0/90] 267.5 / 270.0 -> 218.8 / 221.8; the loads unchanged (85.8 / 85.9 ->
+88.1 / 86.3, 77.4 / 79.4 -> 78.4 / 79.7); the same digests (e7a6191daa154cf1,
+37effb0f57aad048). The case (``python -m validation --cases hemisphere-plies --jobs 1``, one
+numba thread, warm caches, debd499 and this tree back to back, three rounds, load 2.6-3.8):
+case_cpu_s 43.89 / 44.96 / 44.47 -> 42.09 / 41.26 / 40.87 s, the four runs' CPU 40.23 /
+41.39 / 40.80 -> 37.97 / 37.63 / 37.33 s (fibrous [0/90] 6.55-6.79 -> 6.04-6.31, [0/45]
+8.20-8.66 -> 7.62-7.99, Mindlin [0/90] 12.14-12.74 -> 11.23-11.38, [0/45] 13.20-13.34 ->
+12.10-12.67); results.json the same in every number but the times (313 of 324), 24 of 24
+checks, 26376 steps. What is left of the facing is still Python round the calls (about 35 us a
+facing: the 86 arguments' dispatch, some 25 arrays made for the outputs, the search's lists,
+the Facing) and the kernels' own loops (the fade's about 17 us a call at 90 points near the
+outline). The nearest outline edge by columns (the starts' and edges' coordinates a row
+each, the distances in a loop LLVM runs several at a time, then numpy's argmin rule): the
+second call at 384 points 23.9-24.0 us against 24.8-25.5 before (best of 300, one thread):
+not worth its code, not kept.
 """
 
 from __future__ import annotations
@@ -123,8 +148,10 @@ def main() -> None:
         ply_edge_kernels,
         ply_face_points,
         ply_facing_pass,
+        ply_facing_whole,
         ply_fade_kernels,
         ply_friction_kernels,
+        ply_friction_pass,
         ply_kernels,
         ply_load_kernels,
         ply_penalty,
@@ -169,6 +196,8 @@ def main() -> None:
         (ply_penalty, ["ramp_cubes"]),
         (ply_face_points, ["face_points", "offset_toward"]),
         (ply_facing_pass, ["facing_choice"]),
+        (ply_facing_whole, ["whole_facing"]),
+        (ply_friction_pass, ["history_pass"]),
     ]  # fmt: skip
     if args.kernels:
         parts += [
@@ -180,6 +209,8 @@ def main() -> None:
             (ply_friction_kernels, ["_return_mapping_compiled", "_moved_compiled"]),
             (ply_load_kernels, ["_loads"]),
             (ply_facing_pass, ["_facing_compiled"]),
+            (ply_facing_whole, ["_choice_compiled", "_sides_fade_compiled"]),
+            (ply_friction_pass, ["_history_compiled"]),
         ]
     for owner, names in parts:
         for name in names:

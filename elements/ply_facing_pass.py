@@ -10,7 +10,9 @@ Each stage is the same loop as its kernel's (the same source, compiled here to r
 calling thread), so the arrays are the same to the last bit as the three kernels'
 (tests/test_ply_facing_pass.py compares them on cut strips and the two-ply
 hemisphere's states). For a loop of ``SMALL_LOOP`` points or more, which the three kernels
-run on several threads, ``closest_facing`` calls them as before.
+run on several threads, ``closest_facing`` calls them as before; without the gap's Hessian
+(the explicit step's facings) it takes elements/ply_facing_whole.py, which runs these stages
+and the sides and the fade in two calls.
 
 On the report's two-ply hemisphere (384 and 81 points of some five candidates), the three
 calls took 67-69 us a block-step, 46-47 of them their kernels'; the one call 46-47, 37 of

@@ -49,6 +49,10 @@ if TYPE_CHECKING:
 
 __all__ = ["friction_state", "updated_history"]
 
+#: ``updated_history``'s mapping, moved anchors and next mapping in one compiled call
+#: (elements/ply_friction_pass.py, the same bits), else three.
+FUSED = True
+
 
 def _return_mapping(
     touching,
@@ -167,6 +171,16 @@ def friction_state(
     facing = block.facing(state) if facing is None else facing
     if history is None or block.friction <= 0.0 or block.curved or facing.fade is None:
         return ply_friction.friction_state(block, state, history, facing)
+    kept = _kept_mapping(block, history, facing)
+    if kept is not None:
+        return kept
+    _, y = block._faces(state)
+    return _mapped(block, facing, y, history.triangle, history.anchor)
+
+
+def _kept_mapping(block: PlyContactBlock, history: PlyFrictionHistory, facing: Facing):
+    """The mapping ``updated_history`` kept for ``history`` (unedited since) at ``facing``
+    and the block's penalties now, made with the history itself: the same bits; else None."""
     kept = getattr(block, "_next_sliding", None)
     if (
         kept is not None
@@ -175,9 +189,8 @@ def friction_state(
         and _same(kept[2], block)
         and kept[4] == _bits(history)  # not edited in place since
     ):
-        return kept[3]  # made with the history itself (``updated_history``): the same bits
-    _, y = block._faces(state)
-    return _mapped(block, facing, y, history.triangle, history.anchor)
+        return kept[3]
+    return None
 
 
 def _mapped(block: PlyContactBlock, facing: Facing, y, triangle, anchor) -> Sliding:
@@ -323,6 +336,14 @@ def updated_history(
     facing = block.facing(state) if facing is None else facing
     if facing.fade is None:
         return ply_friction.updated_history(block, state, history, facing, sides)
+    if FUSED:  # the three passes below in one compiled call (ply_friction_pass.py)
+        from elements.ply_friction_pass import history_pass
+
+        _, y = block._faces(state)
+        last = (history.triangle, history.anchor, history.slip, history.pressing)
+        kept = _kept_mapping(block, history, facing)
+        sliding, moved, following = history_pass(block, facing, y, last, kept)
+        return _kept_history(block, history, facing, sides, sliding, moved, following)
     sliding = friction_state(block, state, history, facing)
     _, y = block._faces(state)
     count = len(block.above)
@@ -360,10 +381,18 @@ def updated_history(
     # dozen array arguments, even spliced (inline="always"), took the mapping from 6.7 to 41
     # us on 384 points
     following = _mapped(block, facing, y, triangle, anchor)
+    moved = (triangle, anchor, slipped, dissipation)
+    return _kept_history(block, history, facing, sides, sliding, moved, following)
+
+
+def _kept_history(block, history, facing, sides, sliding, moved, following):
+    """The new history from ``moved`` (triangle, anchor, slipped, dissipation) and the
+    mapping ``sliding``'s pressing, the dissipation summed by numpy; ``following``, the
+    mapping from it, kept on the block for the next step's loads (module docstring), as long
+    as the facing and the penalties are these."""
+    triangle, anchor, slipped, dissipation = moved
     dissipated = history.dissipated + float(np.sum(dissipation))
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated, sides)
-    # the next step's loads ask for the return mapping at this state from this history: kept
-    # for it (module docstring), as long as the facing and the penalties are these
     block._next_sliding = (updated, facing, _law(block), following, _bits(updated))
     return updated
 

@@ -253,6 +253,7 @@ INSIDE = 1e-9
 #: ``ply_friction.friction_loads`` and ``np.bincount``), and its friction's return mapping and
 #: history (elements/ply_friction_kernels.py) or ``ply_friction``'s numpy.
 COMPILED = True
+WHOLE = True  # closest_facing's small compiled path in two calls (ply_facing_whole.py)
 
 
 def penalty_law(gap: np.ndarray, stiffness: np.ndarray, smoothing: float):
@@ -633,7 +634,13 @@ def closest_facing(
         topology = FaceTopology.of(nodes, outline, edges)
     elif topology is not None and topology.outline is not outline:
         raise ValueError("closest_facing: the topology's outline must be the outline given")
-    if COMPILED and topology is not None and len(p) < SMALL_LOOP:
+    small = COMPILED and topology is not None and len(p) < SMALL_LOOP
+    if WHOLE and small and outline is not None and not second:  # the same bits, two calls
+        from elements.ply_facing_whole import whole_facing
+
+        given = (tolerance, outline, depth, toward, fade_distance, topology, outline_tree, cuts)
+        return whole_facing(p, y, near, *given)
+    if small:
         # the three passes below in one compiled call, the same bits (ply_facing_pass.py);
         # the candidates' planes are read only by the numpy path's edges
         from elements.ply_facing_pass import facing_choice
@@ -721,13 +728,7 @@ def closest_facing(
     # the fade past the outline, and beside a growth's edge or an outline vertex ("Past the
     # outline, faded"): a point whose closest point lies there, off the face's sides, signed
     # by the facing triangle's normal
-    from elements.ply_fade import (
-        EVERY_PAIR,
-        fade_length,
-        nearest_segments,
-        outline_fade,
-        outline_segments,
-    )
+    from elements import ply_fade
 
     if not (COMPILED and topology is not None):
         on_growth = on_edge & (lam.min(axis=-1) < -INSIDE) & reached
@@ -749,14 +750,15 @@ def closest_facing(
     near_outline = np.flatnonzero(near)
     if near_outline.size and outline is not None:
         if topology is None:
-            segment_rows, segment_ends = outline_segments(outline)
+            segment_rows, segment_ends = ply_fade.outline_segments(outline)
         else:
             segment_rows, segment_ends = topology.segment_rows, topology.segment_ends
         starts = y[segment_rows, segment_ends[:, 0]]
         ends = y[segment_rows, segment_ends[:, 1]]
-        length = fade_length(y, outline) if fade_distance is None else fade_distance
-        every = COMPILED and near_outline.size * len(starts) <= EVERY_PAIR  # every pair measured
-        chosen = None if every else nearest_segments(p[near_outline], starts, ends, outline_tree)
+        length = ply_fade.fade_length(y, outline) if fade_distance is None else fade_distance
+        every = COMPILED and near_outline.size * len(starts) <= ply_fade.EVERY_PAIR  # each pair
+        nearest = ply_fade.nearest_segments
+        chosen = None if every else nearest(p[near_outline], starts, ends, outline_tree)
         if COMPILED:  # the edges, inputs, growths' closest points, fade: one pass, the same bits
             from elements.ply_fade_kernels import outline_fade_at
 
@@ -773,7 +775,7 @@ def closest_facing(
                     ends, chosen, cuts,
                 )
             )  # fmt: skip
-            fade[near_outline], fade_gradient[near_outline] = outline_fade(
+            fade[near_outline], fade_gradient[near_outline] = ply_fade.outline_fade(
                 at_p, corners, at_reach, at_beside, at_ends, length, at_joined, lines, cut_ends
             )
     touching &= fade > 0.0

@@ -1,0 +1,128 @@
+"""The flat ply contact's friction history after an accepted step in one compiled call
+(elements/ply_friction_kernels.py ``updated_history``; elements/ply_friction.py, docs/theory.md
+§9.3a): the return mapping at the new state from the history before it (unless a kept one
+serves), the anchors moved and re-expressed (``_moved``) and the next loads' return mapping
+from the new history, back to back on the calling thread, where ``updated_history`` made
+three compiled calls with their arguments' conversions and outputs between them.
+
+Each stage runs its kernel's own loop (the same source, IEEE, no fastmath), so the history and
+both mappings are the same to the last bit as the three calls' (tests/test_ply_friction_pass.py);
+the dissipation's sum stays numpy's (its pairwise order).
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements.jit import lanes
+from elements.kernel_inputs import read_only, writable
+from elements.ply_friction import Sliding
+from elements.ply_friction_kernels import _moved, _return_mapping, _sliding_arrays
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+    from elements.ply_projection import Facing
+
+__all__ = ["history_pass"]
+
+# the stages' loops on the calling thread (their prange a range): the same bits
+_mapping_here = lanes(_return_mapping)
+_moved_here = lanes(_moved)
+
+
+def _history(
+    touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential, friction,
+    last_triangle, last_anchor, face, normal, y, fresh, facing_triangle, facing_weights,
+    gradients, last_slip, last_pressing, force, slip, stuck, sliding, pressing, offset,
+    mapped_triangle, spring, lift, stored, triangle, anchor, slipped, dissipation,
+    next_force, next_slip, next_stuck, next_sliding, next_pressing, next_offset,
+    next_triangle, next_spring, next_lift, next_stored,
+):  # fmt: skip
+    """The mapping from the last history (where ``fresh``; else its arrays given), the new
+    history's triangle, anchor, slipped and dissipation, then the mapping from them (the
+    ``next_`` arrays), each written in place (``history_pass``)."""
+    if fresh:
+        _mapping_here(
+            touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential,
+            friction, last_triangle, last_anchor, face, normal, y, force, slip, stuck,
+            sliding, pressing, offset, mapped_triangle, spring, lift, stored,
+        )  # fmt: skip
+    _moved_here(
+        touching, facing_triangle, facing_weights, gradients, gap, normal, y, friction, slip,
+        stuck, sliding, pressing, offset, spring, last_triangle, last_anchor, last_slip,
+        last_pressing, triangle, anchor, slipped, dissipation,
+    )  # fmt: skip
+    _mapping_here(
+        touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential, friction,
+        triangle, anchor, face, normal, y, next_force, next_slip, next_stuck, next_sliding,
+        next_pressing, next_offset, next_triangle, next_spring, next_lift, next_stored,
+    )  # fmt: skip
+
+
+_history_compiled = lanes(_history)
+
+
+def history_pass(
+    block: PlyContactBlock,
+    facing: Facing,
+    y: np.ndarray,
+    last: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    kept: Sliding | None,
+) -> tuple[Sliding, tuple[np.ndarray, ...], Sliding]:
+    """The friction's history pass of a flat ply contact block at a facing (module
+    docstring).
+
+    Parameters
+    ----------
+    block : PlyContactBlock
+        Its penalties, smoothing, mu and stick law.
+    facing : Facing
+        The facing at the new state (with its fade).
+    y : (m, 3, 3) float
+        The lower corners at the new state, mm.
+    last : (triangle (P,) int, anchor (P, 3), slip (P,) mm, pressing (P,) N)
+        The history before the step.
+    kept : Sliding or None
+        The mapping at this facing from that history where one is kept (None: made here).
+
+    Returns
+    -------
+    sliding : Sliding
+        The mapping from the last history (``kept`` where given).
+    moved : (triangle (P,) int, anchor (P, 3), slipped (P,) mm, dissipation (P,) N mm)
+        The new history's arrays and each point's dissipation.
+    following : Sliding
+        The mapping from the new history (the next step's loads').
+    """
+    count = len(block.above)
+    fresh = kept is None
+    mapped = (
+        _sliding_arrays(count)
+        if kept is None
+        else tuple(getattr(kept, field.name) for field in fields(kept))
+    )
+    following = _sliding_arrays(count)
+    moved = (
+        np.empty(count, dtype=np.int64),
+        np.empty((count, 3)),
+        np.empty(count),
+        np.empty(count),
+    )
+    last_triangle, last_anchor, last_slip, last_pressing = last
+    flag = block.stick != "penalty"  # the normal law's spring and potential (flat faces)
+    # each input of the type ``_mapped`` and ``updated_history`` hand their kernels
+    _history_compiled(
+        read_only(facing.touching, np.bool_), read_only(facing.gap), writable(block.stiffness),
+        float(block.smoothing), read_only(facing.fade),
+        np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
+        flag, flag, float(block.friction), writable(last_triangle, np.int64),
+        writable(last_anchor), read_only(facing.face), read_only(facing.normal), read_only(y),
+        fresh, read_only(facing.triangle, np.int64), read_only(facing.weights),
+        read_only(facing.gradients), writable(last_slip), writable(last_pressing), *mapped,
+        *moved, *following,
+    )  # fmt: skip
+    sliding = Sliding(*mapped) if kept is None else kept
+    return sliding, moved, Sliding(*following)
