@@ -14,6 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import (
+    ply_carry,
     ply_curved,
     ply_curved_friction,
     ply_curved_tangent,
@@ -79,6 +80,14 @@ RULES = {
     # the corners too, but one point per node (PlyContactBlock: the same loads)
     "nodes": (np.eye(3), np.full(3, 1.0 / 3.0)),
 }
+
+
+def _carry(points: np.ndarray, own: np.ndarray, shape: np.ndarray) -> np.ndarray:
+    """The points' Hessians carried to their nodes (elements/ply_carry.py): compiled, the same
+    bits, or numpy's einsums with ``ply_projection.COMPILED`` False (the reference)."""
+    if ply_projection.COMPILED:
+        return ply_carry.carried_blocks(points, own, shape)
+    return ply_carry.carry_reference(points, own, shape)
 
 
 def _fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -591,12 +600,7 @@ class PlyContactBlock(InteractionBlock):
         own = np.zeros((t, 6, 3, 6))
         own[:, :, :, :3] = np.eye(3)
         own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        maps = np.zeros((t, 4, 3, 6, 6))  # (t, z, coordinate, node, dof)
-        for j in range(3):
-            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
-            maps[:, 1 + j, :, 3 + j, :] = own[:, 3 + j]
-        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
-        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        blocks = _carry(points, own, self.shape[on])
         # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
         # c (psi x d) x F = c (d F^T - (F . d) I) psi.
         geometric = offset[:, :, None, None] * (
@@ -649,13 +653,7 @@ class PlyContactBlock(InteractionBlock):
         own = np.zeros((f, 8, 3, 6))
         own[:, :, :, :3] = np.eye(3)
         own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        maps = np.zeros((f, 6, 3, 8, 6))
-        for j in range(3):
-            maps[:, 0, :, j, :] = self.shape[rows][:, j, None, None] * own[:, j]
-        for z in range(1, 6):
-            maps[:, z, :, 2 + z, :] = own[:, 2 + z]
-        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
-        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        blocks = _carry(points, own, self.shape[rows])
         forces = energy[:, None, None] * fading[:, 4:]  # on the ends
         geometric = offset[:, 6:, None, None] * (
             d[:, 6:, :, None] * forces[:, :, None, :]
