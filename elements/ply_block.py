@@ -380,6 +380,23 @@ class PlyContactBlock(InteractionBlock):
         if kept is not None and same and (kept[0] or not second):
             self._hessian_used |= second
             return kept[3]
+        # Newton's watchdog asks for the energy at its best iterate between the passes at its
+        # trial (the block is asked at the trial, the best, then the trial again: a sixth of
+        # the facings of plies-bai-5.1's Static solves): the facing before the last is kept
+        # too, and taken back as the last (none once a caller has set ``_facing_at`` to None,
+        # asking for a facing made afresh).
+        before = getattr(self, "_facing_before", None)
+        if (
+            kept is not None
+            and not same
+            and before is not None
+            and (before[0] or not second)
+            and same_bits(before[1], state.positions)
+            and same_bits(before[2], state.directors)
+        ):
+            self._facing_before, self._facing_at = kept, before
+            self._hessian_used |= second
+            return before[3]
         # Newton's tangent follows its force pass at the same state: there the facing of
         # the loads was made again with the Hessian (half the ply contact's facings of a
         # Static solve). Once a tangent finds the loads' facing at its state, the loads'
@@ -419,6 +436,7 @@ class PlyContactBlock(InteractionBlock):
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)
+        self._facing_before = kept
         self._facing_at = (second, state.positions.copy(), state.directors.copy(), found)
         return found
 
