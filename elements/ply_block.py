@@ -22,6 +22,7 @@ from elements import (
     ply_friction,
     ply_friction_kernels,
     ply_load_kernels,
+    ply_point_tangent,
     ply_projection,
     ply_sides,
     ply_slip,
@@ -34,7 +35,7 @@ from elements.ply_fade import (
     fade_length,
     outline_segments,
 )
-from elements.ply_fade_hessian import fade_hessian, plane_hessian
+from elements.ply_fade_hessian import fade_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -597,36 +598,19 @@ class PlyContactBlock(InteractionBlock):
             return curved
         facing = self._held(state, history, second=True)
         nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
-        t = len(on)
         g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
-        hessian = plane_hessian(g, n, lam, grad)  # (t, 4, 3, 4, 3)
+        fade, fading = _fade(facing, on)
         # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
         # "Search"): g = +-|p - q|, its Hessian over z given by the search.
-        if facing.hessian is not None:
-            bent = np.flatnonzero(np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4)))
-            hessian[bent] = facing.hessian[on][bent]
-        outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
-        fade, fading = _fade(facing, on)
-        points = fade[:, None, None, None, None] * (
-            law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
-        )  # (t, 4, 3, 4, 3)
+        searched = None if facing.hessian is None else facing.hessian[on]
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
-        # corners' maps times N_j, each lower corner its own.
-        own = np.zeros((t, 6, 3, 6))
-        own[:, :, :, :3] = np.eye(3)
-        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        blocks = _carry(points, own, self.shape[on])
-        # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
-        # c (psi x d) x F = c (d F^T - (F . d) I) psi.
-        geometric = offset[:, :, None, None] * (
-            d[:, :, :, None] * forces[:, :, None, :]
-            - np.sum(forces * d, axis=-1)[:, :, None, None] * np.eye(3)
-        )
-        for row in range(6):
-            blocks[:, row, 3:, row, 3:] += geometric[:, row]
+        blocks = (
+            ply_point_tangent.point_blocks
+            if ply_projection.COMPILED
+            else ply_point_tangent.point_blocks_reference
+        )(g, n, lam, grad, searched, fade, law, d, offset, self.shape[on], forces)
         parts: list[TangentPart] = [CellTangent(nodes, blocks)]
         faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
         if faded.size:

@@ -23,7 +23,7 @@ import numpy as np
 
 from elements.jit import serial
 
-__all__ = ["carried_blocks", "carry_reference", "point_maps"]
+__all__ = ["carried_blocks", "carry_point", "carry_reference", "point_maps"]
 
 
 def point_maps(own: np.ndarray, shape: np.ndarray) -> np.ndarray:
@@ -47,38 +47,45 @@ def carry_reference(points: np.ndarray, own: np.ndarray, shape: np.ndarray) -> n
 
 
 @serial
-def _carry(points, own, shape, blocks, carried):  # pragma: no cover - compiled
-    t, nodes = own.shape[0], own.shape[1]
+def carry_point(points, own, shape, blocks, carried):  # pragma: no cover - compiled
+    """M^T P M of one point into ``blocks`` (N, 6, N, 6): points (Z, 3, Z, 3), own
+    (N, 3, 6), shape (3,), ``carried`` (Z, 3, N, 6) scratch (module docstring)."""
+    nodes = own.shape[0]
     zs = nodes - 2
-    for p in range(t):
-        # carried[z, i, c, b] = sum_{s, j} P[z, i, s, j] M[s, j, c, b]
-        for z in range(zs):
-            for i in range(3):
-                for c in range(nodes):
-                    s = 0 if c < 3 else c - 2
-                    for b in range(6):
-                        acc = 0.0
-                        for j in range(3):
-                            m = own[p, c, j, b]
-                            if c < 3:
-                                m = shape[p, c] * m
-                            if m != 0.0:
-                                acc += points[p, z, i, s, j] * m
-                        carried[z, i, c, b] = acc
-        # blocks[r, a, c, b] = sum_{z, i} M[z, i, r, a] carried[z, i, c, b]
-        for r in range(nodes):
-            z = 0 if r < 3 else r - 2
-            for a in range(6):
-                for c in range(nodes):
-                    for b in range(6):
-                        acc = 0.0
-                        for i in range(3):
-                            m = own[p, r, i, a]
-                            if r < 3:
-                                m = shape[p, r] * m
-                            if m != 0.0:
-                                acc += m * carried[z, i, c, b]
-                        blocks[p, r, a, c, b] = acc
+    # carried[z, i, c, b] = sum_{s, j} P[z, i, s, j] M[s, j, c, b]
+    for z in range(zs):
+        for i in range(3):
+            for c in range(nodes):
+                s = 0 if c < 3 else c - 2
+                for b in range(6):
+                    acc = 0.0
+                    for j in range(3):
+                        m = own[c, j, b]
+                        if c < 3:
+                            m = shape[c] * m
+                        if m != 0.0:
+                            acc += points[z, i, s, j] * m
+                    carried[z, i, c, b] = acc
+    # blocks[r, a, c, b] = sum_{z, i} M[z, i, r, a] carried[z, i, c, b]
+    for r in range(nodes):
+        z = 0 if r < 3 else r - 2
+        for a in range(6):
+            for c in range(nodes):
+                for b in range(6):
+                    acc = 0.0
+                    for i in range(3):
+                        m = own[r, i, a]
+                        if r < 3:
+                            m = shape[r] * m
+                        if m != 0.0:
+                            acc += m * carried[z, i, c, b]
+                    blocks[r, a, c, b] = acc
+
+
+@serial
+def _carry(points, own, shape, blocks, carried):  # pragma: no cover - compiled
+    for p in range(own.shape[0]):
+        carry_point(points[p], own[p], shape[p], blocks[p], carried)
 
 
 def carried_blocks(points: np.ndarray, own: np.ndarray, shape: np.ndarray) -> np.ndarray:

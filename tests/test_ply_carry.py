@@ -1,12 +1,13 @@
-"""The flat ply contact's point Hessians carried to its nodes by the compiled pass
-(elements/ply_carry.py ``carried_blocks``) give numpy's einsums' blocks to the last bit."""
+"""The flat ply contact's tangent by its compiled passes (elements/ply_carry.py
+``carried_blocks``, the point Hessians carried to the nodes; elements/ply_point_tangent.py
+``point_blocks``, the touching points' whole part) gives numpy's blocks to the last bit."""
 
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from elements import ply_carry
+from elements import ply_carry, ply_point_tangent
 from femcore.rotation import cross_matrix
 from validation.studies.ply_overhang_setup import two_plies
 
@@ -71,10 +72,24 @@ def test_mismatched_shapes_are_refused():
         ply_carry.carried_blocks(points, own, shape[:2])
 
 
+def _same_tangents(block, state, history, monkeypatch) -> list:
+    """The contact's tangent parts with the compiled passes and with numpy's (asserted the
+    same to the bit); the compiled ones."""
+    kernel = block.tangent(state, history)
+    with monkeypatch.context() as patch:
+        patch.setattr(ply_point_tangent, "point_blocks", ply_point_tangent.point_blocks_reference)
+        patch.setattr(ply_carry, "carried_blocks", ply_carry.carry_reference)
+        reference = block.tangent(state, history)
+    assert len(kernel) == len(reference)
+    for ours, theirs in zip(kernel, reference):
+        assert np.array_equal(ours.nodes, theirs.nodes)
+        assert np.array_equal(ours.blocks, theirs.blocks)
+    return kernel
+
+
 def test_a_ply_contacts_tangent_to_the_bit(monkeypatch):
-    """An overhanging upper ply pressed into the lower one and jittered (points facing the
-    lower ply's edges and fading past its outline: both carries), the contact's tangent with
-    the compiled carry and with numpy's."""
+    """An overhanging upper ply pressed into the lower one and jittered: points fading past
+    the lower ply's outline (both carries)."""
     model, first, _ = two_plies(-4.0)
     compiled = model.compile()
     start = compiled.initial_state()
@@ -84,12 +99,23 @@ def test_a_ply_contacts_tangent_to_the_bit(monkeypatch):
     positions[first:] += rng.normal(scale=0.02, size=positions[first:].shape)
     state = replace(start, positions=positions)
     block = compiled.interactions[0]
-    history = start.history[len(compiled.blocks)]
-    kernel = block.tangent(state, history)
-    monkeypatch.setattr(ply_carry, "carried_blocks", ply_carry.carry_reference)
-    reference = block.tangent(state, history)
-    assert len(kernel) == len(reference) >= 2  # the points' part and the fade's
-    for ours, theirs in zip(kernel, reference):
-        assert len(ours.blocks) > 0
-        assert np.array_equal(ours.nodes, theirs.nodes)
-        assert np.array_equal(ours.blocks, theirs.blocks)
+    parts = _same_tangents(block, state, start.history[len(compiled.blocks)], monkeypatch)
+    assert len(parts) >= 2 and all(len(part.blocks) for part in parts)  # the points', the fade's
+
+
+def test_the_tangent_round_an_outline_vertex_to_the_bit(monkeypatch):
+    """Faces round an outline vertex of a folded fan (tests/test_ply_fade_hessian.py), where
+    touching points face the vertex (the search's Hessian there)."""
+    from test_ply_fade_hessian import _fan, _placed, _round_the_vertex
+
+    from femcore.state import State
+
+    block, x, directors, low = _fan("folded")
+    zero = np.zeros_like(x)
+    faced = 0
+    for face in _round_the_vertex(block, low, 0.05):
+        state = State(_placed(x, face), directors, zero, zero)
+        _same_tangents(block, state, None, monkeypatch)
+        facing = block.facing(state, second=True)
+        faced += int(np.any(facing.hessian[facing.touching] != 0.0))
+    assert faced >= 1
