@@ -64,6 +64,9 @@ DOFS = ("ux", "uy", "uz", "alpha", "beta")
 #: state (``PlyContactBlock.facing``); False: the tangent makes its facing again (the same
 #: values: benchmarks/static_plies.py compares the two).
 HESSIAN_WITH_LOADS = True
+#: The facing before the last kept too (``PlyContactBlock.facing``); False: the last alone, as
+#: before (benchmarks/ply_static_parts.py compares the two).
+KEEP_FACING_BEFORE = True
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
 #: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py,
 #: elements/ply_curved_friction.py); False: the flat facet's at the curved projection, normal
@@ -381,14 +384,13 @@ class PlyContactBlock(InteractionBlock):
         if kept is not None and same and (kept[0] or not second):
             self._hessian_used |= second
             return kept[3]
-        # Newton's watchdog asks for the energy at its best iterate between the passes at its
-        # trial (the block is asked at the trial, the best, then the trial again: a sixth of
-        # the facings of plies-bai-5.1's Static solves): the facing before the last is kept
-        # too, and taken back as the last (none once a caller has set ``_facing_at`` to None,
-        # asking for a facing made afresh).
+        # Newton's watchdog asks at its trial, its best iterate's energy, the trial again (a
+        # sixth of the coarse plies-bai-5.1's facings): the one before the last is kept and
+        # taken back as the last (not once ``_facing_at`` is set to None: asked afresh).
         before = getattr(self, "_facing_before", None)
         if (
-            kept is not None
+            KEEP_FACING_BEFORE
+            and kept is not None
             and not same
             and before is not None
             and (before[0] or not second)

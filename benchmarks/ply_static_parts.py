@@ -1,0 +1,117 @@
+"""The Static ply stacks' Newton iterations at a lower cost each: the ply contact's tangent of
+its touching points in one compiled pass (elements/ply_point_tangent.py, the carry to the
+nodes elements/ply_carry.py) against numpy's (their reference), and the facing before the last
+kept (elements/ply_block.py ``KEEP_FACING_BEFORE``) against the last alone. Each solve of the
+report's Static plies at a resolution (benchmarks/static_plies_newton.py ``solve_case``:
+plies-bai-5.1's plies, plies-heavy-cantilever's, plies-deck-of-cards' 4-ply sag) once with
+the reference (numpy's tangent, the last facing alone: main before these) and once with both,
+in turns in this process, best of ``--repeat``: CPU (``time.process_time``, one thread), the
+tangents, the facings made, and the sha256 of every frame's positions, directors and
+reactions (the same bits asked); the machine's load printed with them.
+
+    python benchmarks/ply_static_parts.py [--cases bai,heavy,sag] [--resolution coarse]
+        [--repeat 3]
+
+Where the time went (cProfile of the default plies-bai-5.1, one thread, main debd499, load
+3-4): of the plies' 18.5 s, the contact's tangent 3.7 s (its two einsums carrying the points'
+Hessians to the nodes 1.6 s, the plane's Hessian 0.4 s, the forces again 0.6 s), the facings
+2.6 s (3941 made for 7791 asked). The carry's map is sparse: each node's columns reach one z
+and, of its three coordinates, one (du) or two (dpsi) are not zero; einsum multiplies the
+zeros. The compiled pass takes the products that are not zero in einsum's order (each entry
+has at most two, so any order of the sum is the same), the same blocks to the bit.
+
+Measured: see the module's figures in docs/theory.md §6.5 ("The plies' Newton iterations'
+cost"), and the report's cases side by side there.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from elements import ply_block, ply_carry, ply_point_tangent  # noqa: E402
+
+COMPILED_BLOCKS = ply_point_tangent.point_blocks
+COMPILED_CARRY = ply_carry.carried_blocks
+
+
+def configure(new: bool) -> None:
+    """The compiled tangent and the facing before the last (``new``), or numpy's tangent and
+    the last facing alone."""
+    ply_point_tangent.point_blocks = (
+        COMPILED_BLOCKS if new else ply_point_tangent.point_blocks_reference
+    )
+    ply_carry.carried_blocks = COMPILED_CARRY if new else ply_carry.carry_reference
+    ply_block.KEEP_FACING_BEFORE = new
+
+
+def digest(result) -> str:
+    """sha256 of every frame's positions, directors and reactions."""
+    h = hashlib.sha256()
+    for frame in result.frames:
+        for array in (frame.positions, frame.directors, frame.reactions):
+            h.update(np.ascontiguousarray(array).tobytes())
+    return h.hexdigest()[:16]
+
+
+def solve(name: str, resolution: str) -> tuple[float, int, int, str]:
+    """(CPU s, tangents, facings made, digest) of one solve."""
+    made = [0]
+    original = ply_block.closest_facing
+
+    def counted(*args, **kwargs):
+        made[0] += 1
+        return original(*args, **kwargs)
+
+    ply_block.closest_facing = counted
+    try:
+        start = time.process_time()
+        result = solve_case(name, resolution, None)
+        cpu = time.process_time() - start
+    finally:
+        ply_block.closest_facing = original
+    return cpu, int(result.info["evaluations"]["tangent"]), made[0], digest(result)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", default="bai,heavy,sag")
+    parser.add_argument("--resolution", default="coarse")
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    print(f"load before: {load}")
+    for name in args.cases.split(","):
+        configure(True)
+        solve(name, args.resolution)  # the kernels loaded
+        rows: dict[bool, list] = {False: [], True: []}
+        for _ in range(args.repeat):
+            for new in (False, True):
+                configure(new)
+                rows[new].append(solve(name, args.resolution))
+        configure(True)
+        old, new = min(rows[False]), min(rows[True])
+        same = {row[3] for row in rows[False] + rows[True]}
+        print(
+            f"{name} ({args.resolution}): CPU {old[0]:.2f} -> {new[0]:.2f} s "
+            f"({new[0] / old[0]:.3f} x), tangents {old[1]} -> {new[1]}, facings made "
+            f"{old[2]} -> {new[2]}, frames {'the same bits' if len(same) == 1 else 'DIFFER'}"
+        )
+    load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    print(f"load after: {load}")
+
+
+if __name__ == "__main__":
+    main()
