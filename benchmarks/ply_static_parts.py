@@ -1,7 +1,8 @@
 """The Static ply stacks' Newton iterations at a lower cost each: the ply contact's tangent of
 its touching points in one compiled pass (elements/ply_point_tangent.py, the carry to the
-nodes elements/ply_carry.py) against numpy's (their reference), and the facing before the last
-kept (elements/ply_block.py ``KEEP_FACING_BEFORE``) against the last alone. Each solve of the
+nodes elements/ply_carry.py) against numpy's (their reference), the facing before the last
+kept (elements/ply_block.py ``KEEP_FACING_BEFORE``) against the last alone, and the facing
+search over every pair compiled (elements/ply_search_pairs.py) against numpy's. Each solve of the
 report's Static plies at a resolution (benchmarks/static_plies_newton.py ``solve_case``:
 plies-bai-5.1's plies, plies-heavy-cantilever's, plies-deck-of-cards' 4-ply sag) once with
 the reference (numpy's tangent, the last facing alone: main before these) and once with both,
@@ -41,20 +42,27 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 from benchmarks.static_plies_newton import solve_case  # noqa: E402
-from elements import ply_block, ply_carry, ply_point_tangent  # noqa: E402
+from elements import ply_block, ply_carry, ply_point_tangent, ply_search  # noqa: E402
 
 COMPILED_BLOCKS = ply_point_tangent.point_blocks
 COMPILED_CARRY = ply_carry.carried_blocks
+EVERY_PAIR = ply_search.FacingSearch._every_pair
+
+
+def numpy_pairs(search, here, y, corners):
+    """The search over every pair left to numpy (``FacingSearch._every_pair``'s None)."""
+    return None
 
 
 def configure(new: bool) -> None:
-    """The compiled tangent and the facing before the last (``new``), or numpy's tangent and
-    the last facing alone."""
+    """The compiled tangent, the facing before the last and the compiled search over every
+    pair (``new``), or numpy's tangent and search and the last facing alone."""
     ply_point_tangent.point_blocks = (
         COMPILED_BLOCKS if new else ply_point_tangent.point_blocks_reference
     )
     ply_carry.carried_blocks = COMPILED_CARRY if new else ply_carry.carry_reference
     ply_block.KEEP_FACING_BEFORE = new
+    ply_search.FacingSearch._every_pair = EVERY_PAIR if new else numpy_pairs  # type: ignore[method-assign]
 
 
 def digest(result) -> str:
