@@ -86,14 +86,6 @@ RULES = {
 }
 
 
-def _carry(points: np.ndarray, own: np.ndarray, shape: np.ndarray) -> np.ndarray:
-    """The points' Hessians carried to their nodes (elements/ply_carry.py): compiled, the same
-    bits, or numpy's einsums with ``ply_projection.COMPILED`` False (the reference)."""
-    if ply_projection.COMPILED:
-        return ply_carry.carried_blocks(points, own, shape)
-    return ply_carry.carry_reference(points, own, shape)
-
-
 def _fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The fade w (t,) past the outline of the points ``on`` (t,) and dw/dz (t, 6, 3), 1/mm,
     over z = (p, y_1, y_2, y_3, a, b), a and b the ends of the outline's edge nearest the
@@ -449,11 +441,8 @@ class PlyContactBlock(InteractionBlock):
         triangle's corners), forces (t, 6, 3) N, moments (t, 6, 3) N mm (dW/dx and dW/dpsi),
         the points' rows (t,), the signed offsets c (t, 6) (z = x + c d) and the law's
         (energy, dW/dg, d2W/dg2), each (t,)."""
-        on = np.flatnonzero(facing.touching)
-        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        on, law, nodes, offset = self._pair_rows(facing)
         n, lam = facing.normal[on], facing.weights[on]
-        tri = facing.triangle[on]
-        nodes = np.column_stack([self.above[on], self.cells[tri]])
         fade, fading = _fade(facing, on)
         # the energy w W(g) past the outline (elements/ply_fade.py): d(w W)/dz = w W' dg/dz +
         # W dw/dz
@@ -467,10 +456,18 @@ class PlyContactBlock(InteractionBlock):
             axis=1,
         )
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        offset = self.lever * np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
         # p = sum N_j (x_j - a_j d_j), y_k = x_k + b_k d_k: dW/dpsi = c d x dW/dx.
         moments = offset[:, :, None] * cross(d, forces)
         return nodes, forces, moments, on, offset, law
+
+    def _pair_rows(self, facing: Facing) -> tuple:
+        """The touching points' rows (t,), the law's (energy, dW/dg, d2W/dg2) (t,) each, their
+        node rows (t, 6) and signed offsets c (t, 6) (``_pair_loads``)."""
+        on = np.flatnonzero(facing.touching)
+        tri = facing.triangle[on]
+        offset = self.lever * np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        return on, law, np.column_stack([self.above[on], self.cells[tri]]), offset
 
     def fade_ends(self, facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The node ids (t, 2) and signed offsets (t, 2) (y = x + c d) of the ends a, b of the
@@ -599,7 +596,10 @@ class PlyContactBlock(InteractionBlock):
                 )
             return curved
         facing = self._held(state, history, second=True)
-        nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
+        if ply_projection.COMPILED:  # the forces made in the pass (ply_point_tangent.py)
+            on, law, nodes, offset = self._pair_rows(facing)
+        else:
+            nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
@@ -608,11 +608,11 @@ class PlyContactBlock(InteractionBlock):
         # "Search"): g = +-|p - q|, its Hessian over z given by the search.
         searched = None if facing.hessian is None else facing.hessian[on]
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        blocks = (
-            ply_point_tangent.point_blocks
-            if ply_projection.COMPILED
-            else ply_point_tangent.point_blocks_reference
-        )(g, n, lam, grad, searched, fade, law, d, offset, self.shape[on], forces)
+        rows = (g, n, lam, grad, searched, fade, law, d, offset, self.shape[on])
+        if ply_projection.COMPILED:
+            blocks = ply_point_tangent.point_blocks(*rows, fading=fading)
+        else:
+            blocks = ply_point_tangent.point_blocks_reference(*rows, forces)
         parts: list[TangentPart] = [CellTangent(nodes, blocks)]
         faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
         if faded.size:
@@ -657,7 +657,7 @@ class PlyContactBlock(InteractionBlock):
         own = np.zeros((f, 8, 3, 6))
         own[:, :, :, :3] = np.eye(3)
         own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        blocks = _carry(points, own, self.shape[rows])
+        blocks = ply_carry.carry(points, own, self.shape[rows])
         forces = energy[:, None, None] * fading[:, 4:]  # on the ends
         geometric = offset[:, 6:, None, None] * (
             d[:, 6:, :, None] * forces[:, :, None, :]

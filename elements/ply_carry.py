@@ -23,7 +23,7 @@ import numpy as np
 
 from elements.jit import serial
 
-__all__ = ["carried_blocks", "carry_point", "carry_reference", "point_maps"]
+__all__ = ["carried_blocks", "carry", "carry_point", "carry_reference", "point_maps"]
 
 
 def point_maps(own: np.ndarray, shape: np.ndarray) -> np.ndarray:
@@ -109,3 +109,13 @@ def carried_blocks(points: np.ndarray, own: np.ndarray, shape: np.ndarray) -> np
         carried,
     )
     return blocks
+
+
+def carry(points: np.ndarray, own: np.ndarray, shape: np.ndarray) -> np.ndarray:
+    """M^T P M: ``carried_blocks`` with ``ply_projection.COMPILED``, else ``carry_reference``
+    (the same bits)."""
+    from elements import ply_projection
+
+    if ply_projection.COMPILED:
+        return carried_blocks(points, own, shape)
+    return carry_reference(points, own, shape)

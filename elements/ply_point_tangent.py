@@ -35,13 +35,16 @@ def _blocks(
     searched,
     bent,
     fade,
+    energy,
     slope,
     curvature,
     d,
     offset,
     shape,
+    fading,
     forces,
     along,
+    made,
     blocks,
 ):  # pragma: no cover - compiled
     t = gap.shape[0]
@@ -95,6 +98,18 @@ def _blocks(
             own[r, 1, 3], own[r, 1, 4], own[r, 1, 5] = c * w, c * 0.0, c * -x
             own[r, 2, 3], own[r, 2, 4], own[r, 2, 5] = c * -y, c * x, c * 0.0
         carry_point(points, own, shape[p], blocks[p], carried)
+        if made:  # the forces w W' dg/dz + W dw/dz on the nodes (PlyContactBlock._pair_loads)
+            pressed = fade[p] * slope[p]
+            for i in range(3):
+                on_face = pressed * n[i] + energy[p] * fading[p, 0, i]
+                for j in range(3):
+                    forces[p, j, i] = shape[p, j] * on_face
+                for k in range(3):
+                    forces[p, 3 + k, i] = -pressed * lam[k] * n[i] + energy[p] * fading[p, 1 + k, i]
+            for r in range(6):
+                f = forces[p, r]
+                e = d[p, r]
+                along[p, r] = f[0] * e[0] + f[1] * e[1] + f[2] * e[2]  # np.sum's order
         # the moment c d x F turned with the director: c (d F^T - (F . d) I)
         for r in range(6):
             f = forces[p, r]
@@ -118,7 +133,8 @@ def point_blocks(
     directions: np.ndarray,
     offset: np.ndarray,
     shape: np.ndarray,
-    forces: np.ndarray,
+    forces: np.ndarray | None = None,
+    fading: np.ndarray | None = None,
 ) -> np.ndarray:
     """The touching points' tangent blocks (t, 6, 6, 6, 6) over their nodes' (u, psi)
     (N/mm, N, N mm; module docstring).
@@ -133,9 +149,18 @@ def point_blocks(
     directions : (t, 6, 3) the offset directions d at the nodes (upper corners, then the
         facing triangle's). offset : (t, 6) mm the signed offsets c (z = x + c d).
     shape : (t, 3) the points' shape functions on their upper corners.
-    forces : (t, 6, 3) N the points' forces on the nodes.
+    forces : (t, 6, 3) N the points' forces on the nodes, or None: made in the pass from
+        ``fading`` (t, 6, 3) 1/mm, the fade's gradient over z = (p, y_1, y_2, y_3, a, b), as
+        ``PlyContactBlock._pair_loads`` makes them (the same bits).
+
+    Raises
+    ------
+    ValueError
+        Neither the forces nor the fade's gradient given.
     """
     t = len(gap)
+    if forces is None and fading is None:
+        raise ValueError("point_blocks: give the points' forces or the fade's gradient")
     if searched is None:
         searched = np.zeros((t, 4, 3, 4, 3))
         bent = np.zeros(t, dtype=np.bool_)
@@ -145,20 +170,27 @@ def point_blocks(
     # the two sums of three products that numpy groups by its own vector lanes (the gradients'
     # dot products by einsum as plane_hessian makes them, F . d by np.sum): taken from numpy
     dots = np.einsum("cki,cmi->ckm", gradients, gradients)
-    along = np.sum(forces * directions, axis=-1)
+    made = forces is None  # then F . d summed in the pass in np.sum's order (left to right)
+    if made:
+        forces, along = np.empty((t, 6, 3)), np.empty((t, 6))
+    else:
+        along = np.sum(forces * directions, axis=-1)
     arrays = [gap, normal, weights, gradients, dots, searched]
     floats = [np.ascontiguousarray(a, dtype=float) for a in arrays]
     _blocks(
         *floats,
         bent,
         np.ascontiguousarray(fade, dtype=float),
+        np.ascontiguousarray(law[0], dtype=float),
         np.ascontiguousarray(law[1], dtype=float),
         np.ascontiguousarray(law[2], dtype=float),
         np.ascontiguousarray(directions, dtype=float),
         np.ascontiguousarray(offset, dtype=float),
         np.ascontiguousarray(shape, dtype=float),
+        np.ascontiguousarray(np.zeros((t, 6, 3)) if fading is None else fading, dtype=float),
         np.ascontiguousarray(forces, dtype=float),
         np.ascontiguousarray(along, dtype=float),
+        made,
         blocks,
     )
     return blocks
@@ -175,11 +207,24 @@ def point_blocks_reference(
     directions: np.ndarray,
     offset: np.ndarray,
     shape: np.ndarray,
-    forces: np.ndarray,
+    forces: np.ndarray | None = None,
+    fading: np.ndarray | None = None,
 ) -> np.ndarray:
     """``point_blocks`` by numpy (its reference; the same arguments and blocks)."""
     t = len(gap)
     n, lam = normal, weights
+    if forces is None:  # PlyContactBlock._pair_loads' forces
+        if fading is None:
+            raise ValueError("point_blocks: give the points' forces or the fade's gradient")
+        on_face = (fade * law[1])[:, None] * n + law[0][:, None] * fading[:, 0]
+        forces = np.concatenate(
+            [
+                shape[:, :, None] * on_face[:, None, :],
+                -(fade * law[1])[:, None, None] * lam[:, :, None] * n[:, None, :]
+                + law[0][:, None, None] * fading[:, 1:4],
+            ],
+            axis=1,
+        )
     gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
     hessian = plane_hessian(gap, n, lam, gradients)  # (t, 4, 3, 4, 3)
     if searched is not None:

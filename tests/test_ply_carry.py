@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from elements import ply_carry, ply_point_tangent
+from elements import ply_carry, ply_point_tangent, ply_projection
 from femcore.rotation import cross_matrix
 from validation.studies.ply_overhang_setup import two_plies
 
@@ -80,10 +80,15 @@ def _same_tangents(block, state, history, monkeypatch) -> list:
         patch.setattr(ply_point_tangent, "point_blocks", ply_point_tangent.point_blocks_reference)
         patch.setattr(ply_carry, "carried_blocks", ply_carry.carry_reference)
         reference = block.tangent(state, history)
-    assert len(kernel) == len(reference)
-    for ours, theirs in zip(kernel, reference):
+    with monkeypatch.context() as patch:  # numpy's whole path: the forces by _pair_loads
+        patch.setattr(ply_projection, "COMPILED", False)
+        numpy_path = block.tangent(state, history)
+    assert len(kernel) == len(reference) == len(numpy_path)
+    for ours, theirs, numpy_part in zip(kernel, reference, numpy_path):
         assert np.array_equal(ours.nodes, theirs.nodes)
         assert np.array_equal(ours.blocks, theirs.blocks)
+        assert np.array_equal(ours.nodes, numpy_part.nodes)
+        assert np.array_equal(ours.blocks, numpy_part.blocks)
     return kernel
 
 
@@ -119,3 +124,16 @@ def test_the_tangent_round_an_outline_vertex_to_the_bit(monkeypatch):
         facing = block.facing(state, second=True)
         faced += int(np.any(facing.hessian[facing.touching] != 0.0))
     assert faced >= 1
+
+
+def test_the_point_blocks_ask_for_forces_or_the_fades_gradient():
+    points, own, shape = _inputs(2, 6)
+    rng = np.random.default_rng(5)
+    args = (
+        rng.standard_normal(2), rng.standard_normal((2, 3)), rng.random((2, 3)),
+        rng.standard_normal((2, 3, 3)), None, np.ones(2), (np.ones(2), np.ones(2), np.ones(2)),
+        rng.standard_normal((2, 6, 3)), rng.standard_normal((2, 6)), shape,
+    )  # fmt: skip
+    for blocks in (ply_point_tangent.point_blocks, ply_point_tangent.point_blocks_reference):
+        with pytest.raises(ValueError, match="forces or the fade"):
+            blocks(*args)
