@@ -21,8 +21,22 @@ and, of its three coordinates, one (du) or two (dpsi) are not zero; einsum multi
 zeros. The compiled pass takes the products that are not zero in einsum's order (each entry
 has at most two, so any order of the sum is the same), the same blocks to the bit.
 
-Measured: see the module's figures in docs/theory.md §6.5 ("The plies' Newton iterations'
-cost"), and the report's cases side by side there.
+Measured (one thread, CPU, 2 cores shared, load 3.1-3.3; each best of 2 in turns):
+
+* coarse: bai 6.54 -> 4.93 s (0.754 x), heavy 0.50 -> 0.35 s (0.688 x), sag 1.09 -> 0.75 s
+  (0.693 x); tangents 975, 125, 184 both ways; facings made 4920 -> 3690, 723 -> 381,
+  963 -> 558; the frames the same bits (and the same as main debd499's, a ``git archive``).
+* the report's three cases at the default resolution, ``python -m validation --cases
+  plies-bai-5.1,plies-deck-of-cards,plies-heavy-cantilever --jobs 1`` beside debd499, back to
+  back in both orders (load 2.8-3.9), case CPU s: 16.5 / 16.9 -> 13.9 / 14.2, 7.1 / 7.5 ->
+  5.5 / 5.8, 2.4 / 2.4 -> 1.8 / 1.9; in all 26.0 / 26.8 -> 21.2 / 21.9 (0.82 x); results.json
+  the same in every number but the times, the .vtu files byte for byte.
+
+Tried and not kept: the loads' facings with the gap's Hessian until two or three in a row went
+unused by a tangent (one today): coarse bai 3690 -> 3558 / 3495 facings, within the run's
+spread in CPU; a cache of the linear solver's plans by pattern: the coarse bai's 975 tangents
+had 834 patterns, 20 of them seen again within the last 16 (docs/theory.md §6.5, "The cost of
+a stack's Newton iteration").
 """
 
 from __future__ import annotations
