@@ -34,9 +34,9 @@ Measured (one thread, CPU, 2 cores shared, load 3.1-3.3; each best of 2 in turns
 
 Tried and not kept: the loads' facings with the gap's Hessian until two or three in a row went
 unused by a tangent (one today): coarse bai 3690 -> 3558 / 3495 facings, within the run's
-spread in CPU; a cache of the linear solver's plans by pattern: the coarse bai's 975 tangents
-had 834 patterns, 20 of them seen again within the last 16 (docs/theory.md §6.5, "The cost of
-a stack's Newton iteration").
+spread in CPU. Measured and not pursued: a cache of the linear solver's plans by pattern (the
+coarse bai's 975 tangents had 834 patterns, 20 of them seen again within the last 16;
+docs/theory.md §6.5, "The cost of a stack's Newton iteration").
 """
 
 from __future__ import annotations

@@ -84,6 +84,7 @@ def carry_point(points, own, shape, blocks, carried):  # pragma: no cover - comp
 
 @serial
 def _carry(points, own, shape, blocks, carried):  # pragma: no cover - compiled
+    """``carry_point`` of every point into ``blocks`` (t, N, 6, N, 6)."""
     for p in range(own.shape[0]):
         carry_point(points[p], own[p], shape[p], blocks[p], carried)
 

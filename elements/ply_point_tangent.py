@@ -47,6 +47,8 @@ def _blocks(
     made,
     blocks,
 ):  # pragma: no cover - compiled
+    """``point_blocks``' pass: each point's blocks into ``blocks`` (t, 6, 6, 6, 6), its forces
+    and F . d into ``forces`` and ``along`` first where ``made``."""
     t = gap.shape[0]
     gradient = np.empty((4, 3))
     hessian = np.empty((4, 3, 4, 3))

@@ -26,6 +26,8 @@ __all__ = ["bounded_pairs", "kept_pairs", "lists_of"]
 
 @serial
 def _spheres(here, y, corners, skin, centroids, radius, apart, loose, slack):  # pragma: no cover
+    """The triangles' centroids and radii, the points' distances to the centroids, their
+    nearest (``loose``) and its slack, in place; the number of pairs within the bound."""
     m = y.shape[0]
     for t in range(m):
         for i in range(3):
@@ -60,6 +62,7 @@ def _spheres(here, y, corners, skin, centroids, radius, apart, loose, slack):  #
 
 @serial
 def _pairs(apart, radius, slack, point, triangle):  # pragma: no cover - compiled
+    """The pairs within the spheres' bound, by point then triangle (np.nonzero's order)."""
     i = 0
     for p in range(apart.shape[0]):
         for t in range(apart.shape[1]):
@@ -136,8 +139,9 @@ def kept_pairs(loose, point, triangle, grown, exact, apart, radius, skin: float)
 
 
 @serial
-def _lists(points, point, distance, skin, count):  # pragma: no cover - compiled
-    least = np.full(points, np.inf)
+def _lists(point, distance, skin, least, count):  # pragma: no cover - compiled
+    """Each point's least distance (``least``, inf-filled) and count of the pairs within it
+    plus ``skin`` (``count``, zero-filled), in place; the widest count (at least 1)."""
     for i in range(point.shape[0]):
         if distance[i] < least[point[i]]:
             least[point[i]] = distance[i]
@@ -145,20 +149,17 @@ def _lists(points, point, distance, skin, count):  # pragma: no cover - compiled
         if distance[i] <= least[point[i]] + skin:
             count[point[i]] += 1
     width = 1
-    for p in range(points):
+    for p in range(count.shape[0]):
         if count[p] > width:
             width = count[p]
     return width
 
 
 @serial
-def _fill(point, triangle, distance, skin, count, near):  # pragma: no cover - compiled
-    points = count.shape[0]
-    least = np.full(points, np.inf)
-    for i in range(point.shape[0]):
-        if distance[i] < least[point[i]]:
-            least[point[i]] = distance[i]
-    filled = np.zeros(points, dtype=np.int64)
+def _fill(point, triangle, distance, skin, least, near):  # pragma: no cover - compiled
+    """The rows of ``near`` (points, K): each point's kept triangles in the pairs' order, the
+    rest of the row its first (np.repeat's padding, then the scatter of the lists)."""
+    filled = np.zeros(near.shape[0], dtype=np.int64)
     for i in range(point.shape[0]):
         p = point[i]
         if distance[i] <= least[p] + skin:
@@ -178,10 +179,10 @@ def lists_of(points: int, point, triangle, distance, skin: float):
     point = np.ascontiguousarray(point, dtype=np.int64)
     triangle = np.ascontiguousarray(triangle, dtype=np.int64)
     distance = np.ascontiguousarray(distance, dtype=float)
-    count = np.zeros(points, dtype=np.int64)
-    width = _lists(points, point, distance, float(skin), count)
+    count, least = np.zeros(points, dtype=np.int64), np.full(points, np.inf)
+    width = _lists(point, distance, float(skin), least, count)
     if not count.all():  # a point without a pair: numpy's padding (the branch's reference)
         return None
     near = np.empty((points, width), dtype=np.int64)
-    _fill(point, triangle, distance, float(skin), count, near)
+    _fill(point, triangle, distance, float(skin), least, near)
     return near, count
