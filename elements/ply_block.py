@@ -14,6 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import (
+    ply_carry,
     ply_curved,
     ply_curved_friction,
     ply_curved_tangent,
@@ -21,6 +22,7 @@ from elements import (
     ply_friction,
     ply_friction_kernels,
     ply_load_kernels,
+    ply_point_tangent,
     ply_projection,
     ply_sides,
     ply_slip,
@@ -33,7 +35,7 @@ from elements.ply_fade import (
     fade_length,
     outline_segments,
 )
-from elements.ply_fade_hessian import fade_hessian, plane_hessian
+from elements.ply_fade_hessian import fade_hessian
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -62,6 +64,9 @@ DOFS = ("ux", "uy", "uz", "alpha", "beta")
 #: state (``PlyContactBlock.facing``); False: the tangent makes its facing again (the same
 #: values: benchmarks/static_plies.py compares the two).
 HESSIAN_WITH_LOADS = True
+#: The facing before the last kept too (``PlyContactBlock.facing``); False: the last alone, as
+#: before (benchmarks/ply_static_parts.py compares the two).
+KEEP_FACING_BEFORE = True
 PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
 #: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py,
 #: elements/ply_curved_friction.py); False: the flat facet's at the curved projection, normal
@@ -371,6 +376,22 @@ class PlyContactBlock(InteractionBlock):
         if kept is not None and same and (kept[0] or not second):
             self._hessian_used |= second
             return kept[3]
+        # Newton's watchdog asks at its trial, its best iterate's energy, the trial again (a
+        # sixth of the coarse plies-bai-5.1's facings): the one before the last is kept and
+        # taken back as the last (not once ``_facing_at`` is set to None: asked afresh).
+        before = getattr(self, "_facing_before", None)
+        if (
+            KEEP_FACING_BEFORE
+            and kept is not None
+            and not same
+            and before is not None
+            and (before[0] or not second)
+            and same_bits(before[1], state.positions)
+            and same_bits(before[2], state.directors)
+        ):
+            self._facing_before, self._facing_at = kept, before
+            self._hessian_used |= second
+            return before[3]
         # Newton's tangent follows its force pass at the same state: there the facing of
         # the loads was made again with the Hessian (half the ply contact's facings of a
         # Static solve). Once a tangent finds the loads' facing at its state, the loads'
@@ -410,6 +431,7 @@ class PlyContactBlock(InteractionBlock):
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)
+        self._facing_before = kept
         self._facing_at = (second, state.positions.copy(), state.directors.copy(), found)
         return found
 
@@ -419,11 +441,8 @@ class PlyContactBlock(InteractionBlock):
         triangle's corners), forces (t, 6, 3) N, moments (t, 6, 3) N mm (dW/dx and dW/dpsi),
         the points' rows (t,), the signed offsets c (t, 6) (z = x + c d) and the law's
         (energy, dW/dg, d2W/dg2), each (t,)."""
-        on = np.flatnonzero(facing.touching)
-        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        on, law, nodes, offset = self._pair_rows(facing)
         n, lam = facing.normal[on], facing.weights[on]
-        tri = facing.triangle[on]
-        nodes = np.column_stack([self.above[on], self.cells[tri]])
         fade, fading = _fade(facing, on)
         # the energy w W(g) past the outline (elements/ply_fade.py): d(w W)/dz = w W' dg/dz +
         # W dw/dz
@@ -437,10 +456,18 @@ class PlyContactBlock(InteractionBlock):
             axis=1,
         )
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        offset = self.lever * np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
         # p = sum N_j (x_j - a_j d_j), y_k = x_k + b_k d_k: dW/dpsi = c d x dW/dx.
         moments = offset[:, :, None] * cross(d, forces)
         return nodes, forces, moments, on, offset, law
+
+    def _pair_rows(self, facing: Facing) -> tuple:
+        """The touching points' rows (t,), the law's (energy, dW/dg, d2W/dg2) (t,) each, their
+        node rows (t, 6) and signed offsets c (t, 6) (``_pair_loads``)."""
+        on = np.flatnonzero(facing.touching)
+        tri = facing.triangle[on]
+        offset = self.lever * np.column_stack([-self.upper_offset[on], self.corner_offset[tri]])
+        law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
+        return on, law, np.column_stack([self.above[on], self.cells[tri]]), offset
 
     def fade_ends(self, facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The node ids (t, 2) and signed offsets (t, 2) (y = x + c d) of the ends a, b of the
@@ -569,42 +596,23 @@ class PlyContactBlock(InteractionBlock):
                 )
             return curved
         facing = self._held(state, history, second=True)
-        nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
-        t = len(on)
+        if ply_projection.COMPILED:  # the forces made in the pass (ply_point_tangent.py)
+            on, law, nodes, offset = self._pair_rows(facing)
+        else:
+            nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
         g = facing.gap[on]
         n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
         gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
-        hessian = plane_hessian(g, n, lam, grad)  # (t, 4, 3, 4, 3)
+        fade, fading = _fade(facing, on)
         # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
         # "Search"): g = +-|p - q|, its Hessian over z given by the search.
-        if facing.hessian is not None:
-            bent = np.flatnonzero(np.any(facing.hessian[on] != 0.0, axis=(1, 2, 3, 4)))
-            hessian[bent] = facing.hessian[on][bent]
-        outer = gradient[:, :, :, None, None] * gradient[:, None, None, :, :]
-        fade, fading = _fade(facing, on)
-        points = fade[:, None, None, None, None] * (
-            law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
-        )  # (t, 4, 3, 4, 3)
+        searched = None if facing.hessian is None else facing.hessian[on]
         d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
-        # corners' maps times N_j, each lower corner its own.
-        own = np.zeros((t, 6, 3, 6))
-        own[:, :, :, :3] = np.eye(3)
-        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        maps = np.zeros((t, 4, 3, 6, 6))  # (t, z, coordinate, node, dof)
-        for j in range(3):
-            maps[:, 0, :, j, :] = self.shape[on][:, j, None, None] * own[:, j]
-            maps[:, 1 + j, :, 3 + j, :] = own[:, 3 + j]
-        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
-        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
-        # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
-        # c (psi x d) x F = c (d F^T - (F . d) I) psi.
-        geometric = offset[:, :, None, None] * (
-            d[:, :, :, None] * forces[:, :, None, :]
-            - np.sum(forces * d, axis=-1)[:, :, None, None] * np.eye(3)
-        )
-        for row in range(6):
-            blocks[:, row, 3:, row, 3:] += geometric[:, row]
+        rows = (g, n, lam, grad, searched, fade, law, d, offset, self.shape[on])
+        if ply_projection.COMPILED:
+            blocks = ply_point_tangent.point_blocks(*rows, fading=fading)
+        else:
+            blocks = ply_point_tangent.point_blocks_reference(*rows, forces)
         parts: list[TangentPart] = [CellTangent(nodes, blocks)]
         faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
         if faded.size:
@@ -649,13 +657,7 @@ class PlyContactBlock(InteractionBlock):
         own = np.zeros((f, 8, 3, 6))
         own[:, :, :, :3] = np.eye(3)
         own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        maps = np.zeros((f, 6, 3, 8, 6))
-        for j in range(3):
-            maps[:, 0, :, j, :] = self.shape[rows][:, j, None, None] * own[:, j]
-        for z in range(1, 6):
-            maps[:, z, :, 2 + z, :] = own[:, 2 + z]
-        carried = np.einsum("tzisj,tsjcb->tzicb", points, maps)
-        blocks = np.einsum("tzira,tzicb->tracb", maps, carried)
+        blocks = ply_carry.carry(points, own, self.shape[rows])
         forces = energy[:, None, None] * fading[:, 4:]  # on the ends
         geometric = offset[:, 6:, None, None] * (
             d[:, 6:, :, None] * forces[:, :, None, :]

@@ -70,7 +70,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from elements import ply_projection
+from elements import ply_projection, ply_search_pairs
 from elements.facet_search import _squared_gap, closest_on_triangles
 from elements.jit import jit, lanes, prange
 from elements.kernel_inputs import read_only
@@ -353,6 +353,21 @@ class FacingSearch:
         shifts[rows] = shift
         return _Lists(kept, counts, origin, at_search, shifts, lists.epoch)
 
+    def _every_pair(self, here: np.ndarray, y: np.ndarray, corners: np.ndarray):
+        """``_search``'s lists over every pair, by the compiled passes of
+        elements/ply_search_pairs.py (the same lists), or None (numpy's then)."""
+        point, triangle, loose, apart, radius = ply_search_pairs.bounded_pairs(
+            here, y, corners, self.skin
+        )
+        grown = pair_distances(here, corners, point, triangle)
+        exact = ~self._cut(triangle)
+        rows, reach = ply_search_pairs.kept_pairs(
+            loose, point, triangle, grown, exact, apart, radius, self.skin
+        )
+        point, triangle = point[rows], triangle[rows]
+        distance = self._distances(here, y, corners, point, triangle, reach, grown[rows])
+        return ply_search_pairs.lists_of(len(here), point, triangle, distance, self.skin)
+
     def _search(self, p: np.ndarray, y: np.ndarray, rows: np.ndarray):
         """The lists of the points ``rows`` at (p, y): (r, K) candidates padded with each
         point's first, and (r,) their counts."""
@@ -360,6 +375,10 @@ class FacingSearch:
         self.searched_points += len(rows)
         here = p[rows]
         corners = grown_corners(y, self.reach)
+        if len(rows) * len(y) <= EVERY_PAIR and ply_projection.COMPILED:
+            found = self._every_pair(here, y, corners)  # the same lists (ply_search_pairs.py)
+            if found is not None:
+                return found
         centroids = y.mean(axis=1)  # on the triangle, inside the grown one
         radius = np.sqrt(np.max(np.sum((corners - centroids[:, None]) ** 2, axis=-1), axis=1))
         if len(rows) * len(y) <= EVERY_PAIR:

@@ -122,3 +122,24 @@ def test_the_loads_facing_gives_the_tangent_where_points_face_a_vertex(facings):
     # learnt it in an earlier test)
     faces = len(_round_the_vertex(block, low, 0.05))
     assert len(facings) in (2 * faces, 2 * faces + 1)
+
+
+def test_the_facing_before_the_last_is_taken_back(facings):
+    """The watchdog's pattern: the loads at a trial, the energy at its best iterate, the trial
+    again: the best's facing was kept, then the trial's, each made once and the same object
+    (the energy the same number); a facing asked afresh (``_facing_at`` None) is made again."""
+    compiled, states = _iterates(3, facings)
+    block = compiled.interactions[0]
+    best, trial, other = states
+    first = block.facing(best)
+    energy = block.strain_energy(best)
+    second = block.facing(trial)
+    assert block.facing(best) is first and block.strain_energy(best) == energy
+    assert block.facing(trial) is second
+    assert len(facings) == 2
+    block.facing(other)  # the third state: the first falls out
+    block.facing(best)
+    assert len(facings) == 4
+    block._facing_at = None
+    block.facing(best)
+    assert len(facings) == 5

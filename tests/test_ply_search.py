@@ -364,3 +364,37 @@ def test_the_compiled_lists_move_is_the_grown_corners_largest(seed):
     worst = int(np.argmax(grown))
     assert reach[worst].sum() > 0
     assert np.linalg.norm(move[worst] - mean, axis=-1).max() < grown[worst]
+
+
+@pytest.mark.parametrize("cut", [False, True], ids=["grown", "cut"])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_every_pair_search_lists_as_numpy(seed, cut):
+    """The search over every pair by its compiled passes (elements/ply_search_pairs.py) and
+    by numpy (its reference): the same lists and counts (the same arrays) over 12 calls of a
+    crumpled sheet moved by a Newton iterate's jumps, and numpy's centroid distances, radii
+    and nearest distances to the bit."""
+    from elements import ply_search_pairs
+
+    rng = np.random.default_rng(seed)
+    nodes, triangles, _, _, _, search, p = _sheet_and_points(rng, 6, 100, cut)
+    assert len(p) * len(triangles) <= ply_search.EVERY_PAIR
+    for call in range(12):
+        nodes = nodes + rng.normal(0.0, 2.0 / 3.0, nodes.shape)
+        p = p + rng.normal(0.0, 2.0 / 3.0, p.shape)
+        y = nodes[triangles]
+        near, count = search._search(p, y, np.arange(len(p)))
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(FacingSearch, "_every_pair", lambda self, here, y, corners: None)
+            near_numpy, count_numpy = search._search(p, y, np.arange(len(p)))
+        assert np.array_equal(count, count_numpy), call
+        assert np.array_equal(near, near_numpy), call
+        assert near.dtype == near_numpy.dtype and count.dtype == count_numpy.dtype
+        corners = ply_search.grown_corners(y, search.reach)
+        _, _, loose, apart, radius = ply_search_pairs.bounded_pairs(p, y, corners, search.skin)
+        centroids = y.mean(axis=1)
+        assert np.array_equal(
+            radius, np.sqrt(np.max(np.sum((corners - centroids[:, None]) ** 2, axis=-1), axis=1))
+        )
+        distances = np.linalg.norm(p[:, None, :] - centroids[None], axis=-1)
+        assert np.array_equal(apart, distances)
+        assert np.array_equal(loose, distances.min(axis=1))
