@@ -39,6 +39,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CHORD_GAIN",
+    "LARGEST_CHORD_RATIO",
     "DESIRED_ITERATIONS",
     "JUMP_ITERATIONS",
     "LONGEST_STEP",
@@ -78,6 +79,12 @@ STALL_WINDOW = 6
 # A chord step (``Static(arc_chords=...)``) follows another only if the other lowered the
 # residual ratio at least this many times over; else the iteration forms its tangent.
 CHORD_GAIN = 0.1
+# The largest ``arc_chords`` Static accepts. Crisfield's rule counts only the iterations that
+# factorised, so an increment of many chord steps looks cheap and the next step is lengthened:
+# at ratios near 1 that carried the von Mises truss from its near branch onto the far one past
+# the unstable part (arc_chords 0.5), and at 0.1 its first limit came 6 % low. At 1e-2 and
+# below every increment count from 3 to 20 found both limits (tests/test_arc_chords.py).
+LARGEST_CHORD_RATIO = 1e-2
 
 
 class Motion:

@@ -41,7 +41,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import cross, rotate_about
 from femcore.state import State
-from solvers.arc_length import DESIRED_ITERATIONS, Motion, arc_length_path
+from solvers.arc_length import DESIRED_ITERATIONS, LARGEST_CHORD_RATIO, Motion, arc_length_path
 from solvers.augmentation import augment_contacts
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -130,6 +130,7 @@ class Static:
         the factorisation of an earlier iterate of its increment, while each such step lowers
         the ratio tenfold (default 0: never; solvers.arc_length, docs/theory.md §6.6, "Chord
         steps"); Crisfield's rule counts the factorisations. ``info["arc_chords"]`` counts them.
+        At most ``LARGEST_CHORD_RATIO`` (1e-2).
     at_limit : arc-length path, at a limit point (the load factor would have to fall):
         "follow" (default) the path down and on, as it is; "jump": go on with load steps of
         1 / increments from there to the end of the phase, which land on the stable branch
@@ -316,6 +317,12 @@ class Static:
         )
         self.arc_iterations = check_integer(arc_iterations, "arc_iterations")
         self.arc_chords = check_non_negative(arc_chords, "arc_chords", "a residual ratio")
+        if self.arc_chords > LARGEST_CHORD_RATIO:
+            raise ValueError(
+                f"arc_chords must be at most {LARGEST_CHORD_RATIO:g} (a residual ratio at which "
+                f"Newton is already near the path; larger ones let steps pass limit points), "
+                f"got {arc_chords!r}"
+            )
         if at_limit not in ("follow", "jump"):
             raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
         self.at_limit = at_limit

@@ -65,3 +65,30 @@ def test_chord_steps_bend_the_cantilever_to_the_elastica():
 def test_arc_chords_must_be_a_non_negative_ratio(bad):
     with pytest.raises(ValueError, match="arc_chords must be a non-negative number"):
         Static(path="arc_length", arc_chords=bad)
+
+
+@pytest.mark.parametrize("increments", range(3, 21))
+def test_the_largest_chord_ratio_keeps_both_limit_points_of_the_truss(increments):
+    # The truss again at the largest ratio Static accepts (LARGEST_CHORD_RATIO): whatever the
+    # increments, the path passes both limit points of the closed form t(w) = 6 lambda, each
+    # recorded within 5 % of its load (a limit is recorded at the frame where the load turns,
+    # so to a step's resolution: the path without chords records them up to 2 % off at these
+    # increments, with chords at 1e-2 up to 3.7 %, the second limit at 20 increments, when
+    # this was written). At arc_chords 0.5, which Static now refuses, a step jumped from the
+    # near branch onto the far one past the unstable part and the path failed beyond both.
+    model, rise, _, travel = _von_mises_truss()
+    result = Static(increments=increments, path="arc_length", arc_chords=1e-2).solve(model)
+    dense_w = np.linspace(0.0, 2.5, 250_001)
+    dense_t = travel(dense_w)
+    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
+    second_limit = dense_t[dense_w > 0.5].min() / 6.0
+    limits = result.info["limit_points"]
+    assert len(limits) == 2
+    assert limits[0] == pytest.approx(first_limit, abs=0.05 * abs(first_limit))
+    assert limits[1] == pytest.approx(second_limit, abs=0.05 * abs(second_limit))
+
+
+@pytest.mark.parametrize("too_large", [0.011, 0.5, 5.0])
+def test_arc_chords_above_the_largest_ratio_is_refused(too_large):
+    with pytest.raises(ValueError, match="arc_chords must be at most 0.01"):
+        Static(path="arc_length", arc_chords=too_large)

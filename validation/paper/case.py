@@ -282,7 +282,8 @@ def solve(
     info = result.info
     note = (
         f"Static, arc length (gravity, then the displacement): {len(result.frames) - 1} "
-        f"increments, {sum(info['iterations_per_increment'])} Newton iterations, "
+        f"increments, {sum(info['iterations_per_increment'])} Newton iterations "
+        f"({info['arc_chords']} of them chord steps, {info['evaluations']['tangent']} tangents), "
         f"{info['cuts']} cuts"
     )
     if info["jumps"]:
