@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange, serial
+from elements.jit import jit, lane_rows, prange, serial
 
 __all__ = [
     "SHORT",
@@ -103,7 +103,12 @@ def _squared_gap(p0, p1, p2, corners, f):
     return q0, q1, q2, (q0 - p0) ** 2 + (q1 - p1) ** 2 + (q2 - p2) ** 2
 
 
-_squared_gap = serial(_squared_gap)
+# Without numba's reference counting (elements/jit.py ``lane_rows``): called once or more a
+# point with the corners array, whose incref and decref (atomic) at every call took half the
+# kept facets' loop (38 -> 19 us a call on the hemisphere die's 441 points when every point
+# keeps its facet, one thread; benchmarks/forming_one_ply_step.py). No division here: the
+# numpy error model changes no number (_closest_on_triangle keeps its own).
+_squared_gap = lane_rows(_squared_gap)
 
 
 def _closest_facets(x, corners, centroids, radius, slack, start, facets, hint, point, facet, gap):
@@ -255,7 +260,7 @@ def _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
     return True
 
 
-_kept_answers = serial(_kept_answers)
+_kept_answers = lane_rows(_kept_answers)  # (as _squared_gap: five arrays, no division)
 
 
 def _closest_facets_kept(
