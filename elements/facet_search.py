@@ -244,16 +244,17 @@ def _room(nearest, second, slack):
 _room = serial(_room)
 
 
-def _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+def _kept_answers(i, p0, p1, p2, table, row, f, anchor, room, point, facet, gap):
     """Whether point i (at p) is answered by its kept facet ``f``: it lies less than
     ``room[i]`` from where that facet was found (``_closest_facets_kept``); if so the facet,
-    its closest point and gap are written in row i."""
+    its closest point and gap are written in row i. The facet's corners are
+    ``table[row]`` (the tool's corners and f, or a copy of them kept per point)."""
     if f < 0 or not room[i] > 0.0:
         return False
     moved = np.sqrt((p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2)
     if not moved < room[i]:
         return False
-    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
+    q0, q1, q2, d = _squared_gap(p0, p1, p2, table, row)
     facet[i] = f
     point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
     gap[i] = np.sqrt(d)
@@ -279,7 +280,7 @@ def _closest_facets_kept(
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+        if _kept_answers(i, p0, p1, p2, corners, f, f, anchor, room, point, facet, gap):
             continue
         known = np.inf
         if f >= 0:
@@ -327,9 +328,19 @@ closest_facets_kept = jit(_closest_facets_kept)
 SHORT = 4
 
 
+def _copy_corners(corners, f, to, row):
+    """to[row] = corners[f]: a facet's corners (3, 3) copied into a table kept per point."""
+    for a in range(3):
+        for b in range(3):
+            to[row, a, b] = corners[f, a, b]
+
+
+_copy_corners = lane_rows(_copy_corners)
+
+
 def _closest_facets_listed(
-    x, corners, centroids, radius, slack, start, facets, hint, anchor, room, near_anchor,
-    near_room, near_cut, near, value, at, point, facet, gap,
+    x, corners, centroids, radius, slack, start, facets, hint, anchor, room, kept_corners,
+    near_anchor, near_room, near_cut, near, value, at, near_corners, point, facet, gap,
 ):  # fmt: skip
     """``_closest_facets_kept`` with a short list between the kept facet and the scan: at a
     scan of point i's candidates (at ``near_anchor[i]``), its SHORT nearest of them are kept
@@ -344,11 +355,20 @@ def _closest_facets_listed(
     the list then at least ``near_cut[i]`` less the move away). ``value`` and ``at`` (k,
     SHORT + 1) are scratch: the SHORT + 1 smallest distances of a scan and their places in
     ``facets``. A near_room of -1 asks for the scan. The same point, facet and gap as
-    ``_closest_facets``, to the last bit (docs/theory.md §9.3)."""
+    ``_closest_facets``, to the last bit (docs/theory.md §9.3).
+
+    The corners the kept facet and the short list are read from are copies kept per point,
+    ``kept_corners[i]`` (k, 3, 3) and ``near_corners[SHORT i + s]`` (k SHORT, 3, 3), written
+    where ``room[i]`` and ``near_room[i]`` are (read only while those are > 0): rows in the
+    points' order instead of the die's facets scattered over megabytes, which a step's other
+    work evicts from the caches between calls (the same numbers: the same floats). Measured
+    on the hemisphere die's 441 points, one thread: 36-53 us a call with the caches flushed
+    against 10-16 with them warm (benchmarks/forming_one_ply_step.py)."""
+    short = near.shape[1]
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+        if _kept_answers(i, p0, p1, p2, kept_corners, i, f, anchor, room, point, facet, gap):
             continue
         if near_room[i] > 0.0:
             moved = np.sqrt(
@@ -359,14 +379,16 @@ def _closest_facets_listed(
             if moved < near_room[i]:
                 best = np.inf
                 second = near_cut[i] - moved  # every facet off the list is further
-                for s in range(near.shape[1]):
+                chosen = short * i  # the nearest's row of near_corners
+                for s in range(short):
                     g = near[i, s]
                     if g < 0:
                         break
-                    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, near_corners, short * i + s)
                     if d < best:
                         second = min(second, np.sqrt(best))
                         best = d
+                        chosen = short * i + s
                         facet[i] = g
                         point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
                     else:
@@ -375,6 +397,7 @@ def _closest_facets_listed(
                 gap[i] = nearest
                 anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
                 room[i] = _room(nearest, second, slack)
+                _copy_corners(near_corners, chosen, kept_corners, i)
                 continue
         known = np.inf
         if f >= 0:
@@ -432,6 +455,7 @@ def _closest_facets_listed(
             near_room[i] = -1.0
             continue
         room[i] = _room(nearest, second, slack)
+        _copy_corners(corners, facet[i], kept_corners, i)
         # The short list: the SHORT nearest in the candidates' order (an insertion sort of
         # their places), and how far the point may go keeping the nearest on it.
         listed = min(kept, near.shape[1])
@@ -442,8 +466,10 @@ def _closest_facets_listed(
                 at[i, slot] = at[i, slot - 1]
                 slot -= 1
             at[i, slot] = place
-        for s in range(near.shape[1]):
+        for s in range(short):
             near[i, s] = facets[at[i, s]] if s < listed else -1
+            if s < listed:
+                _copy_corners(corners, near[i, s], near_corners, short * i + s)
         cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
         near_cut[i] = cut
         near_room[i] = _room(nearest, cut, slack)

@@ -331,7 +331,7 @@ class RigidSurface(RigidTool):
         facet = np.zeros(len(local), dtype=np.int64)
         gap = np.zeros(len(local))
         if not KEEP_NEAREST:
-            hint, _, _ = self._kept_lists(len(local))
+            hint, _, _, _ = self._kept_lists(len(local))
             closest_facets(
                 local, self.corners, self._centroids, self._radius, SLACK * self.reach,
                 candidates[0], candidates[1], hint, point, facet, gap,
@@ -347,7 +347,7 @@ class RigidSurface(RigidTool):
         while it cannot change, else its short list while the nearest is on it, else a scan
         (``SHORT_LISTS``; elements/facet_search.py), the hints, rooms and lists kept for the
         next call."""
-        hint, anchor, room = self._kept_lists(len(local))
+        hint, anchor, room, corners = self._kept_lists(len(local), SHORT_LISTS)
         if not SHORT_LISTS:
             closest_facets_kept(
                 local, self.corners, self._centroids, self._radius, SLACK * self.reach,
@@ -359,39 +359,51 @@ class RigidSurface(RigidTool):
         near = self._near_lists(len(local))
         closest_facets_listed(
             local, self.corners, self._centroids, self._radius, SLACK * self.reach,
-            start, facets, hint, anchor, room, *near, point, facet, gap,
+            start, facets, hint, anchor, room, corners, *near, point, facet, gap,
         )  # fmt: skip
         self._hint = facet
-        self._kept = (facet, anchor, room)
+        self._kept = (facet, anchor, room, corners)
         self._near = near
 
     def _near_lists(self, count: int) -> tuple[np.ndarray, ...]:
-        """(anchor (k, 3), room (k,), cut (k,), facets (k, SHORT), and the scans' scratch
-        (k, SHORT + 1) twice) of the short lists of ``count`` points, kept from the last
-        call where valid (the rooms -1, asking for a scan, otherwise)."""
+        """(anchor (k, 3), room (k,), cut (k,), facets (k, SHORT), the scans' scratch
+        (k, SHORT + 1) twice, and the listed facets' corners (k SHORT, 3, 3)) of the short
+        lists of ``count`` points, kept from the last call where valid (the rooms -1, asking
+        for a scan, otherwise)."""
         near = getattr(self, "_near", None)  # (absent from a tool pickled before the lists)
         kept = getattr(self, "_kept", None)
-        if near is None or len(near[1]) != count or kept is None:
+        if near is None or len(near[1]) != count or kept is None or len(near) < 7:
             near = (
                 np.zeros((count, 3)), np.full(count, -1.0), np.zeros(count),
                 np.full((count, SHORT), -1, dtype=np.int64), np.zeros((count, SHORT + 1)),
-                np.zeros((count, SHORT + 1), dtype=np.int64),
+                np.zeros((count, SHORT + 1), dtype=np.int64), np.zeros((count * SHORT, 3, 3)),
             )  # fmt: skip
         return near
 
-    def _kept_lists(self, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(hint (k,), anchor (k, 3), room (k,)) for ``count`` points: each point's facet of
-        the last call (mostly its nearest again: the candidates further than it are skipped,
-        the answer the same, elements/facet_search.py; -1 for none) and its room to move
-        keeping it, valid with the hints it was found with (anew, -1, where those are not
-        this tool's)."""
+    def _kept_lists(
+        self, count: int, corners: bool = False
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """(hint (k,), anchor (k, 3), room (k,), the hints' corners (k, 3, 3) or None) for
+        ``count`` points: each point's facet of the last call (mostly its nearest again: the
+        candidates further than it are skipped, the answer the same,
+        elements/facet_search.py; -1 for none) and its room to move keeping it, valid with
+        the hints it was found with (anew, -1, where those are not this tool's, or where
+        ``corners`` is asked and the last call kept none: the short lists' kernel reads the
+        kept facet's corners from that copy wherever a room is > 0)."""
         hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
         if hint is None or hint.shape != (count,):
             hint = np.full(count, -1)
         kept = getattr(self, "_kept", None)
-        if kept is None or kept[0] is not getattr(self, "_hint", None):
+        if (
+            kept is None
+            or kept[0] is not getattr(self, "_hint", None)
+            or (corners and len(kept) < 4)
+        ):
             kept = (hint, np.zeros((count, 3)), np.full(count, -1.0))
-        return hint, kept[1], kept[2]
+        copied = None
+        if corners:
+            copied = kept[3] if len(kept) > 3 else np.zeros((count, 3, 3))
+        return hint, kept[1], kept[2], copied
 
     def _forget_nearest(self, rows: np.ndarray) -> None:
         """The points ``rows`` got new candidate lists: their rooms and short lists are
