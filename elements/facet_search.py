@@ -328,19 +328,31 @@ closest_facets_kept = jit(_closest_facets_kept)
 SHORT = 4
 
 
-def _copy_corners(corners, f, to, row):
-    """to[row] = corners[f]: a facet's corners (3, 3) copied into a table kept per point."""
+def _copy_facet(corners, normals, f, to, row):
+    """to[row] = (corners[f], normals[f]): facet f's corners (3, 3) and unit normal (3,)
+    copied into a table (m, 4, 3) kept per point."""
     for a in range(3):
         for b in range(3):
             to[row, a, b] = corners[f, a, b]
+    to[row, 3, 0], to[row, 3, 1], to[row, 3, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
 
 
-_copy_corners = lane_rows(_copy_corners)
+def _copy_row(table, source, to, row):
+    """to[row] = table[source]: a facet's corners and normal (4, 3) from one kept table to
+    another."""
+    for a in range(4):
+        for b in range(3):
+            to[row, a, b] = table[source, a, b]
+
+
+_copy_facet = lane_rows(_copy_facet)
+_copy_row = lane_rows(_copy_row)
 
 
 def _closest_facets_listed(
-    x, corners, centroids, radius, slack, start, facets, hint, anchor, room, kept_corners,
-    near_anchor, near_room, near_cut, near, value, at, near_corners, point, facet, gap,
+    x, corners, normals, centroids, radius, slack, start, facets, hint, anchor, room,
+    kept_facet, near_anchor, near_room, near_cut, near, value, at, near_facets, point, facet,
+    gap,
 ):  # fmt: skip
     """``_closest_facets_kept`` with a short list between the kept facet and the scan: at a
     scan of point i's candidates (at ``near_anchor[i]``), its SHORT nearest of them are kept
@@ -358,17 +370,20 @@ def _closest_facets_listed(
     ``_closest_facets``, to the last bit (docs/theory.md §9.3).
 
     The corners the kept facet and the short list are read from are copies kept per point,
-    ``kept_corners[i]`` (k, 3, 3) and ``near_corners[SHORT i + s]`` (k SHORT, 3, 3), written
-    where ``room[i]`` and ``near_room[i]`` are (read only while those are > 0): rows in the
-    points' order instead of the die's facets scattered over megabytes, which a step's other
-    work evicts from the caches between calls (the same numbers: the same floats). Measured
-    on the hemisphere die's 441 points, one thread: 36-53 us a call with the caches flushed
-    against 10-16 with them warm (benchmarks/forming_one_ply_step.py)."""
+    ``kept_facet[i]`` (k, 4, 3) and ``near_facets[SHORT i + s]`` (k SHORT, 4, 3): the
+    corners (3, 3) and, in the last row, the normal of ``normals`` (f, 3), written where
+    ``room[i]`` and ``near_room[i]`` are (read only while those are > 0), so that
+    ``kept_facet[i]`` is always the corners and normal of ``facet[i]`` for a point with
+    candidates: rows in the points' order instead of the die's facets scattered over
+    megabytes, which a step's other work evicts from the caches between calls (the same
+    numbers: the same floats). Measured on the hemisphere die's 441 points, one thread:
+    36-53 us a call with the caches flushed against 10-16 with them warm
+    (benchmarks/forming_one_ply_step.py)."""
     short = near.shape[1]
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if _kept_answers(i, p0, p1, p2, kept_corners, i, f, anchor, room, point, facet, gap):
+        if _kept_answers(i, p0, p1, p2, kept_facet, i, f, anchor, room, point, facet, gap):
             continue
         if near_room[i] > 0.0:
             moved = np.sqrt(
@@ -379,12 +394,12 @@ def _closest_facets_listed(
             if moved < near_room[i]:
                 best = np.inf
                 second = near_cut[i] - moved  # every facet off the list is further
-                chosen = short * i  # the nearest's row of near_corners
+                chosen = short * i  # the nearest's row of near_facets
                 for s in range(short):
                     g = near[i, s]
                     if g < 0:
                         break
-                    q0, q1, q2, d = _squared_gap(p0, p1, p2, near_corners, short * i + s)
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, near_facets, short * i + s)
                     if d < best:
                         second = min(second, np.sqrt(best))
                         best = d
@@ -397,7 +412,7 @@ def _closest_facets_listed(
                 gap[i] = nearest
                 anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
                 room[i] = _room(nearest, second, slack)
-                _copy_corners(near_corners, chosen, kept_corners, i)
+                _copy_row(near_facets, chosen, kept_facet, i)
                 continue
         known = np.inf
         if f >= 0:
@@ -455,7 +470,7 @@ def _closest_facets_listed(
             near_room[i] = -1.0
             continue
         room[i] = _room(nearest, second, slack)
-        _copy_corners(corners, facet[i], kept_corners, i)
+        _copy_facet(corners, normals, facet[i], kept_facet, i)
         # The short list: the SHORT nearest in the candidates' order (an insertion sort of
         # their places), and how far the point may go keeping the nearest on it.
         listed = min(kept, near.shape[1])
@@ -469,7 +484,7 @@ def _closest_facets_listed(
         for s in range(short):
             near[i, s] = facets[at[i, s]] if s < listed else -1
             if s < listed:
-                _copy_corners(corners, near[i, s], near_corners, short * i + s)
+                _copy_facet(corners, normals, near[i, s], near_facets, short * i + s)
         cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
         near_cut[i] = cut
         near_room[i] = _room(nearest, cut, slack)

@@ -358,8 +358,9 @@ class RigidSurface(RigidTool):
             return
         near = self._near_lists(len(local))
         closest_facets_listed(
-            local, self.corners, self._centroids, self._radius, SLACK * self.reach,
-            start, facets, hint, anchor, room, corners, *near, point, facet, gap,
+            local, self.corners, self.normals, self._centroids, self._radius,
+            SLACK * self.reach, start, facets, hint, anchor, room, corners, *near, point, facet,
+            gap,
         )  # fmt: skip
         self._hint = facet
         self._kept = (facet, anchor, room, corners)
@@ -367,23 +368,24 @@ class RigidSurface(RigidTool):
 
     def _near_lists(self, count: int) -> tuple[np.ndarray, ...]:
         """(anchor (k, 3), room (k,), cut (k,), facets (k, SHORT), the scans' scratch
-        (k, SHORT + 1) twice, and the listed facets' corners (k SHORT, 3, 3)) of the short
-        lists of ``count`` points, kept from the last call where valid (the rooms -1, asking
-        for a scan, otherwise)."""
+        (k, SHORT + 1) twice, and the listed facets' corners and normals (k SHORT, 4, 3)) of
+        the short lists of ``count`` points, kept from the last call where valid (the rooms
+        -1, asking for a scan, otherwise)."""
         near = getattr(self, "_near", None)  # (absent from a tool pickled before the lists)
         kept = getattr(self, "_kept", None)
         if near is None or len(near[1]) != count or kept is None or len(near) < 7:
             near = (
                 np.zeros((count, 3)), np.full(count, -1.0), np.zeros(count),
                 np.full((count, SHORT), -1, dtype=np.int64), np.zeros((count, SHORT + 1)),
-                np.zeros((count, SHORT + 1), dtype=np.int64), np.zeros((count * SHORT, 3, 3)),
+                np.zeros((count, SHORT + 1), dtype=np.int64), np.zeros((count * SHORT, 4, 3)),
             )  # fmt: skip
         return near
 
     def _kept_lists(
         self, count: int, corners: bool = False
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-        """(hint (k,), anchor (k, 3), room (k,), the hints' corners (k, 3, 3) or None) for
+        """(hint (k,), anchor (k, 3), room (k,), the hints' corners and normals (k, 4, 3) or
+        None) for
         ``count`` points: each point's facet of the last call (mostly its nearest again: the
         candidates further than it are skipped, the answer the same,
         elements/facet_search.py; -1 for none) and its room to move keeping it, valid with
@@ -402,7 +404,7 @@ class RigidSurface(RigidTool):
             kept = (hint, np.zeros((count, 3)), np.full(count, -1.0))
         copied = None
         if corners:
-            copied = kept[3] if len(kept) > 3 else np.zeros((count, 3, 3))
+            copied = kept[3] if len(kept) > 3 else np.zeros((count, 4, 3))
         return hint, kept[1], kept[2], copied
 
     def _forget_nearest(self, rows: np.ndarray) -> None:

@@ -222,11 +222,11 @@ def test_a_short_list_gives_the_scans_answer_to_the_last_bit():
         x[:100] = tool._centroids[rng.choice(tool.n_facets, 100)]  # on the sheet
         k = len(x)
         hint = np.full(k, -1)
-        anchor, room, corners = np.zeros((k, 3)), np.full(k, -1.0), np.zeros((k, 3, 3))
+        anchor, room, corners = np.zeros((k, 3)), np.full(k, -1.0), np.zeros((k, 4, 3))
         near = (
             np.zeros((k, 3)), np.full(k, -1.0), np.zeros(k), np.full((k, SHORT), -1),
             np.zeros((k, SHORT + 1)), np.zeros((k, SHORT + 1), dtype=np.int64),
-            np.zeros((k * SHORT, 3, 3)),
+            np.zeros((k * SHORT, 4, 3)),
         )  # fmt: skip
         ways = [0, 0, 0]  # kept, listed, scanned
         answers, expected = [], []
@@ -242,8 +242,9 @@ def test_a_short_list_gives_the_scans_answer_to_the_last_bit():
                 ways[2] += int((~kept & ~listed).sum())
             point, facet, gap = x.copy(), np.zeros(len(x), dtype=np.int64), np.zeros(len(x))
             closest_facets_listed(
-                x, tool.corners, tool._centroids, tool._radius, SLACK * tool.reach,
-                start0, facets0, hint, anchor, room, corners, *near, point, facet, gap,
+                x, tool.corners, tool.normals, tool._centroids, tool._radius,
+                SLACK * tool.reach, start0, facets0, hint, anchor, room, corners, *near, point,
+                facet, gap,
             )  # fmt: skip
             near[1][near[1] > 0] *= stretch
             answers.append((point, facet, gap))
