@@ -36,6 +36,7 @@ from elements.jit import jit, lane_rows, prange, serial
 __all__ = [
     "SHORT",
     "SLACK",
+    "candidate_rows",
     "closest_facets",
     "closest_facets_kept",
     "closest_facets_listed",
@@ -328,31 +329,20 @@ closest_facets_kept = jit(_closest_facets_kept)
 SHORT = 4
 
 
-def _copy_facet(corners, normals, f, to, row):
-    """to[row] = (corners[f], normals[f]): facet f's corners (3, 3) and unit normal (3,)
-    copied into a table (m, 4, 3) kept per point."""
-    for a in range(3):
-        for b in range(3):
-            to[row, a, b] = corners[f, a, b]
-    to[row, 3, 0], to[row, 3, 1], to[row, 3, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
-
-
 def _copy_row(table, source, to, row):
-    """to[row] = table[source]: a facet's corners and normal (4, 3) from one kept table to
-    another."""
+    """to[row] = table[source]: a facet's corners and normal (4, 3) from one table of them
+    (``candidate_rows``) to another."""
     for a in range(4):
         for b in range(3):
             to[row, a, b] = table[source, a, b]
 
 
-_copy_facet = lane_rows(_copy_facet)
 _copy_row = lane_rows(_copy_row)
 
 
 def _closest_facets_listed(
-    x, corners, normals, centroids, radius, slack, start, facets, hint, anchor, room,
-    kept_facet, near_anchor, near_room, near_cut, near, value, at, near_facets, point, facet,
-    gap,
+    x, corners, slack, start, facets, rows, spheres, hint, anchor, room, kept_facet,
+    near_anchor, near_room, near_cut, near, value, at, near_facets, point, facet, gap,
 ):  # fmt: skip
     """``_closest_facets_kept`` with a short list between the kept facet and the scan: at a
     scan of point i's candidates (at ``near_anchor[i]``), its SHORT nearest of them are kept
@@ -369,15 +359,17 @@ def _closest_facets_listed(
     ``facets``. A near_room of -1 asks for the scan. The same point, facet and gap as
     ``_closest_facets``, to the last bit (docs/theory.md §9.3).
 
-    The corners the kept facet and the short list are read from are copies kept per point,
-    ``kept_facet[i]`` (k, 4, 3) and ``near_facets[SHORT i + s]`` (k SHORT, 4, 3): the
-    corners (3, 3) and, in the last row, the normal of ``normals`` (f, 3), written where
-    ``room[i]`` and ``near_room[i]`` are (read only while those are > 0), so that
-    ``kept_facet[i]`` is always the corners and normal of ``facet[i]`` for a point with
-    candidates: rows in the points' order instead of the die's facets scattered over
-    megabytes, which a step's other work evicts from the caches between calls (the same
-    numbers: the same floats). Measured on the hemisphere die's 441 points, one thread:
-    36-53 us a call with the caches flushed against 10-16 with them warm
+    The facets are read from copies in the order they are used, not from the tool's arrays
+    by facet (the die's 71k facets scattered over megabytes, which a step's other work
+    evicts from the caches between calls; the same numbers: the same floats): each
+    candidate's ``rows[j]`` (m, 4, 3), facet facets[j]'s corners (3, 3) and its normal in
+    the last row, and ``spheres[j]`` (m, 4), its bounding sphere's centre and radius
+    (``candidate_rows``), so that a scan reads its point's candidates in a row; and per
+    point, ``kept_facet[i]`` (k, 4, 3) and ``near_facets[SHORT i + s]`` (k SHORT, 4, 3), the
+    kept facet's and the short list's rows, written where ``room[i]`` and ``near_room[i]``
+    are (read only while those are > 0), so that ``kept_facet[i]`` is always the rows of
+    ``facet[i]`` for a point with candidates. Measured on the hemisphere die's 441 points,
+    one thread: 36-53 us a call with the caches flushed against 10-16 with them warm
     (benchmarks/forming_one_ply_step.py)."""
     short = near.shape[1]
     for i in prange(x.shape[0]):
@@ -421,26 +413,28 @@ def _closest_facets_listed(
         best = np.inf
         second = np.inf  # the next facet's distance, or a lower bound of it (mm)
         kept = 0  # how many of value[i] hold the scan's smallest distances so far
+        chosen = start[i]  # the nearest's row of rows
         for sweep in range(2):
             for j in range(start[i], start[i + 1]):
                 g = facets[j]
                 skipped = False
                 if sweep == 0:
-                    reach = known + radius[g]
+                    reach = known + spheres[j, 3]
                     apart = (
-                        (centroids[g, 0] - p0) ** 2
-                        + (centroids[g, 1] - p1) ** 2
-                        + (centroids[g, 2] - p2) ** 2
+                        (spheres[j, 0] - p0) ** 2
+                        + (spheres[j, 1] - p1) ** 2
+                        + (spheres[j, 2] - p2) ** 2
                     )
                     if apart > reach * reach:
-                        bound = np.sqrt(apart) - radius[g]
+                        bound = np.sqrt(apart) - spheres[j, 3]
                         second = min(second, bound)
                         skipped = True
                 if not skipped:
-                    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, rows, j)
                     if d < best:
                         second = min(second, np.sqrt(best))
                         best = d
+                        chosen = j
                         facet[i] = g
                         point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
                     else:
@@ -470,7 +464,7 @@ def _closest_facets_listed(
             near_room[i] = -1.0
             continue
         room[i] = _room(nearest, second, slack)
-        _copy_facet(corners, normals, facet[i], kept_facet, i)
+        _copy_row(rows, chosen, kept_facet, i)
         # The short list: the SHORT nearest in the candidates' order (an insertion sort of
         # their places), and how far the point may go keeping the nearest on it.
         listed = min(kept, near.shape[1])
@@ -484,13 +478,29 @@ def _closest_facets_listed(
         for s in range(short):
             near[i, s] = facets[at[i, s]] if s < listed else -1
             if s < listed:
-                _copy_facet(corners, normals, near[i, s], near_facets, short * i + s)
+                _copy_row(rows, at[i, s], near_facets, short * i + s)
         cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
         near_cut[i] = cut
         near_room[i] = _room(nearest, cut, slack)
 
 
 closest_facets_listed = jit(_closest_facets_listed)
+
+
+def candidate_rows(
+    facets: np.ndarray, corners: np.ndarray, normals: np.ndarray, centroids: np.ndarray,
+    radius: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The candidates' copies ``closest_facets_listed`` reads, in the order of ``facets``
+    (m,): (rows (m, 4, 3), each facet's corners (f, 3, 3) and its normal (f, 3) in the last
+    row; spheres (m, 4), its centroid (f, 3) and the radius (f,) of its bounding sphere)."""
+    rows = np.empty((len(facets), 4, 3))
+    rows[:, :3] = corners[facets]
+    rows[:, 3] = normals[facets]
+    spheres = np.empty((len(facets), 4))
+    spheres[:, :3] = centroids[facets]
+    spheres[:, 3] = radius[facets]
+    return rows, spheres
 
 
 def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):

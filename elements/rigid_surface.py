@@ -18,6 +18,7 @@ from elements.facet_normal import turn_round_features
 from elements.facet_search import (
     SHORT,
     SLACK,
+    candidate_rows,
     closest_facets,
     closest_facets_kept,
     closest_facets_listed,
@@ -357,10 +358,15 @@ class RigidSurface(RigidTool):
             self._kept = (facet, anchor, room)
             return
         near = self._near_lists(len(local))
+        rows = getattr(self, "_rows", None)  # the candidates' copies, made once a list
+        if rows is None or rows[0] is not facets:
+            rows = (facets, *candidate_rows(
+                facets, self.corners, self.normals, self._centroids, self._radius
+            ))  # fmt: skip
+            self._rows = rows
         closest_facets_listed(
-            local, self.corners, self.normals, self._centroids, self._radius,
-            SLACK * self.reach, start, facets, hint, anchor, room, corners, *near, point, facet,
-            gap,
+            local, self.corners, SLACK * self.reach, start, facets, rows[1], rows[2], hint,
+            anchor, room, corners, *near, point, facet, gap,
         )  # fmt: skip
         self._hint = facet
         self._kept = (facet, anchor, room, corners)
