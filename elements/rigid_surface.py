@@ -210,8 +210,9 @@ class RigidSurface(RigidTool):
         self._recorded = 0
         self.record_facets = False  # kept only when asked (ContactBlock.freeze: Static's)
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
-        # With those hints: where each point's scan was, and its room to keep its facet.
-        self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        # With those hints: where each point's scan was, its room to keep its facet, and
+        # (the short lists' kernel) that facet's corners and normal.
+        self._kept: tuple[np.ndarray, ...] | None = None
         # The points' short lists (``_near_lists``).
         self._near: tuple[np.ndarray, ...] | None = None
         self.pressure: float | None = None
@@ -368,6 +369,7 @@ class RigidSurface(RigidTool):
             local, self.corners, SLACK * self.reach, start, facets, rows[1], rows[2], hint,
             anchor, room, corners, *near, point, facet, gap,
         )  # fmt: skip
+        assert corners is not None  # (asked of _kept_lists with the short lists)
         self._hint = facet
         self._kept = (facet, anchor, room, corners)
         self._near = near
@@ -401,7 +403,7 @@ class RigidSurface(RigidTool):
         hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
         if hint is None or hint.shape != (count,):
             hint = np.full(count, -1)
-        kept = getattr(self, "_kept", None)
+        kept: tuple[np.ndarray, ...] | None = getattr(self, "_kept", None)
         if (
             kept is None
             or kept[0] is not getattr(self, "_hint", None)
