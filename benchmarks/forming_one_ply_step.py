@@ -35,7 +35,27 @@ The cuts (each the same bits; the digest and the case's results.json compared):
   the nodes' order (written with the rooms that allow reading them), read by the kernel and
   by the pass of the forces (elements/tool_contact.py) instead of the die's arrays.
 
-Measured side by side with main debd499 (this script; one thread, load in the output).
+* the scans' candidates' corners, normals and bounding spheres copied in the candidate
+  lists' order (elements/facet_search.py ``candidate_rows``, made once a list).
+
+Measured side by side with main debd499 (this script, best of 2, one thread; the digests the
+same in every run):
+
+* with the first two cuts, load 3.2-3.8: fibrous 617.1 -> 572.0 us a step of CPU (x 1.079),
+  Mindlin 366.1 -> 320.8 (x 1.141); Mindlin's die 116.4 -> 79.3 us a step (wall), its
+  kernel 64.5 -> 35.2, the searches 17.6 -> 16.8, the forces' pass 11.1 -> 6.5; the third
+  cut beside them (the case's ``run``, back to back, load 3.2-3.8): Mindlin 346 -> 327-335;
+* all three, load 6.2-11.2 (other jobs rising during the runs): fibrous 651.4 -> 616.9 (x
+  1.056), Mindlin 384.8 -> 380.9 (x 1.010, this tree's runs at load 11 against 6): on a
+  machine this busy the caches are lost between two steps whatever the layout.
+
+``python -m validation --cases hemisphere-forming --jobs 1``, main and this tree back to
+back, one thread: results.json the same in all its 90 numbers but the times; case_cpu_s
+28.44 -> 26.70 s (load 3.7-6.1), 27.65 -> 27.32 s (load 6.1-7.2), 26.52 -> 26.86 s (load
+2.1-3.1; this tree's kernels compiled again in that run after an edit). The cut asked,
+26.5 -> 20 s, is not reached: what is left of the step is the cells' pass, numba's dispatch
+of some thirteen kernels (a few microseconds each with twenty arguments) and the Python
+between them, each part a few percent.
 """
 
 from __future__ import annotations
