@@ -31,11 +31,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange, serial
+from elements.jit import jit, lane_rows, prange, serial
 
 __all__ = [
     "SHORT",
     "SLACK",
+    "candidate_rows",
     "closest_facets",
     "closest_facets_kept",
     "closest_facets_listed",
@@ -103,7 +104,12 @@ def _squared_gap(p0, p1, p2, corners, f):
     return q0, q1, q2, (q0 - p0) ** 2 + (q1 - p1) ** 2 + (q2 - p2) ** 2
 
 
-_squared_gap = serial(_squared_gap)
+# Without numba's reference counting (elements/jit.py ``lane_rows``): called once or more a
+# point with the corners array, whose incref and decref (atomic) at every call took half the
+# kept facets' loop (38 -> 19 us a call on the hemisphere die's 441 points when every point
+# keeps its facet, one thread; benchmarks/forming_one_ply_step.py). No division here: the
+# numpy error model changes no number (_closest_on_triangle keeps its own).
+_squared_gap = lane_rows(_squared_gap)
 
 
 def _closest_facets(x, corners, centroids, radius, slack, start, facets, hint, point, facet, gap):
@@ -239,23 +245,24 @@ def _room(nearest, second, slack):
 _room = serial(_room)
 
 
-def _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+def _kept_answers(i, p0, p1, p2, table, row, f, anchor, room, point, facet, gap):
     """Whether point i (at p) is answered by its kept facet ``f``: it lies less than
     ``room[i]`` from where that facet was found (``_closest_facets_kept``); if so the facet,
-    its closest point and gap are written in row i."""
+    its closest point and gap are written in row i. The facet's corners are
+    ``table[row]`` (the tool's corners and f, or a copy of them kept per point)."""
     if f < 0 or not room[i] > 0.0:
         return False
     moved = np.sqrt((p0 - anchor[i, 0]) ** 2 + (p1 - anchor[i, 1]) ** 2 + (p2 - anchor[i, 2]) ** 2)
     if not moved < room[i]:
         return False
-    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, f)
+    q0, q1, q2, d = _squared_gap(p0, p1, p2, table, row)
     facet[i] = f
     point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
     gap[i] = np.sqrt(d)
     return True
 
 
-_kept_answers = serial(_kept_answers)
+_kept_answers = lane_rows(_kept_answers)  # (as _squared_gap: five arrays, no division)
 
 
 def _closest_facets_kept(
@@ -274,7 +281,7 @@ def _closest_facets_kept(
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+        if _kept_answers(i, p0, p1, p2, corners, f, f, anchor, room, point, facet, gap):
             continue
         known = np.inf
         if f >= 0:
@@ -322,9 +329,20 @@ closest_facets_kept = jit(_closest_facets_kept)
 SHORT = 4
 
 
+def _copy_row(table, source, to, row):
+    """to[row] = table[source]: a facet's corners and normal (4, 3) from one table of them
+    (``candidate_rows``) to another."""
+    for a in range(4):
+        for b in range(3):
+            to[row, a, b] = table[source, a, b]
+
+
+_copy_row = lane_rows(_copy_row)
+
+
 def _closest_facets_listed(
-    x, corners, centroids, radius, slack, start, facets, hint, anchor, room, near_anchor,
-    near_room, near_cut, near, value, at, point, facet, gap,
+    x, corners, slack, start, facets, rows, spheres, hint, anchor, room, kept_facet,
+    near_anchor, near_room, near_cut, near, value, at, near_facets, point, facet, gap,
 ):  # fmt: skip
     """``_closest_facets_kept`` with a short list between the kept facet and the scan: at a
     scan of point i's candidates (at ``near_anchor[i]``), its SHORT nearest of them are kept
@@ -339,11 +357,25 @@ def _closest_facets_listed(
     the list then at least ``near_cut[i]`` less the move away). ``value`` and ``at`` (k,
     SHORT + 1) are scratch: the SHORT + 1 smallest distances of a scan and their places in
     ``facets``. A near_room of -1 asks for the scan. The same point, facet and gap as
-    ``_closest_facets``, to the last bit (docs/theory.md §9.3)."""
+    ``_closest_facets``, to the last bit (docs/theory.md §9.3).
+
+    The facets are read from copies in the order they are used, not from the tool's arrays
+    by facet (the die's 71k facets scattered over megabytes, which a step's other work
+    evicts from the caches between calls; the same numbers: the same floats): each
+    candidate's ``rows[j]`` (m, 4, 3), facet facets[j]'s corners (3, 3) and its normal in
+    the last row, and ``spheres[j]`` (m, 4), its bounding sphere's centre and radius
+    (``candidate_rows``), so that a scan reads its point's candidates in a row; and per
+    point, ``kept_facet[i]`` (k, 4, 3) and ``near_facets[SHORT i + s]`` (k SHORT, 4, 3), the
+    kept facet's and the short list's rows, written where ``room[i]`` and ``near_room[i]``
+    are (read only while those are > 0), so that ``kept_facet[i]`` is always the rows of
+    ``facet[i]`` for a point with candidates. Measured on the hemisphere die's 441 points,
+    one thread: 36-53 us a call with the caches flushed against 10-16 with them warm
+    (benchmarks/forming_one_ply_step.py)."""
+    short = near.shape[1]
     for i in prange(x.shape[0]):
         p0, p1, p2 = x[i, 0], x[i, 1], x[i, 2]
         f = hint[i]
-        if _kept_answers(i, p0, p1, p2, corners, f, anchor, room, point, facet, gap):
+        if _kept_answers(i, p0, p1, p2, kept_facet, i, f, anchor, room, point, facet, gap):
             continue
         if near_room[i] > 0.0:
             moved = np.sqrt(
@@ -354,14 +386,16 @@ def _closest_facets_listed(
             if moved < near_room[i]:
                 best = np.inf
                 second = near_cut[i] - moved  # every facet off the list is further
-                for s in range(near.shape[1]):
+                chosen = short * i  # the nearest's row of near_facets
+                for s in range(short):
                     g = near[i, s]
                     if g < 0:
                         break
-                    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, near_facets, short * i + s)
                     if d < best:
                         second = min(second, np.sqrt(best))
                         best = d
+                        chosen = short * i + s
                         facet[i] = g
                         point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
                     else:
@@ -370,6 +404,7 @@ def _closest_facets_listed(
                 gap[i] = nearest
                 anchor[i, 0], anchor[i, 1], anchor[i, 2] = p0, p1, p2
                 room[i] = _room(nearest, second, slack)
+                _copy_row(near_facets, chosen, kept_facet, i)
                 continue
         known = np.inf
         if f >= 0:
@@ -378,26 +413,28 @@ def _closest_facets_listed(
         best = np.inf
         second = np.inf  # the next facet's distance, or a lower bound of it (mm)
         kept = 0  # how many of value[i] hold the scan's smallest distances so far
+        chosen = start[i]  # the nearest's row of rows
         for sweep in range(2):
             for j in range(start[i], start[i + 1]):
                 g = facets[j]
                 skipped = False
                 if sweep == 0:
-                    reach = known + radius[g]
+                    reach = known + spheres[j, 3]
                     apart = (
-                        (centroids[g, 0] - p0) ** 2
-                        + (centroids[g, 1] - p1) ** 2
-                        + (centroids[g, 2] - p2) ** 2
+                        (spheres[j, 0] - p0) ** 2
+                        + (spheres[j, 1] - p1) ** 2
+                        + (spheres[j, 2] - p2) ** 2
                     )
                     if apart > reach * reach:
-                        bound = np.sqrt(apart) - radius[g]
+                        bound = np.sqrt(apart) - spheres[j, 3]
                         second = min(second, bound)
                         skipped = True
                 if not skipped:
-                    q0, q1, q2, d = _squared_gap(p0, p1, p2, corners, g)
+                    q0, q1, q2, d = _squared_gap(p0, p1, p2, rows, j)
                     if d < best:
                         second = min(second, np.sqrt(best))
                         best = d
+                        chosen = j
                         facet[i] = g
                         point[i, 0], point[i, 1], point[i, 2] = q0, q1, q2
                     else:
@@ -427,6 +464,7 @@ def _closest_facets_listed(
             near_room[i] = -1.0
             continue
         room[i] = _room(nearest, second, slack)
+        _copy_row(rows, chosen, kept_facet, i)
         # The short list: the SHORT nearest in the candidates' order (an insertion sort of
         # their places), and how far the point may go keeping the nearest on it.
         listed = min(kept, near.shape[1])
@@ -437,14 +475,32 @@ def _closest_facets_listed(
                 at[i, slot] = at[i, slot - 1]
                 slot -= 1
             at[i, slot] = place
-        for s in range(near.shape[1]):
+        for s in range(short):
             near[i, s] = facets[at[i, s]] if s < listed else -1
+            if s < listed:
+                _copy_row(rows, at[i, s], near_facets, short * i + s)
         cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
         near_cut[i] = cut
         near_room[i] = _room(nearest, cut, slack)
 
 
 closest_facets_listed = jit(_closest_facets_listed)
+
+
+def candidate_rows(
+    facets: np.ndarray, corners: np.ndarray, normals: np.ndarray, centroids: np.ndarray,
+    radius: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The candidates' copies ``closest_facets_listed`` reads, in the order of ``facets``
+    (m,): (rows (m, 4, 3), each facet's corners (f, 3, 3) and its normal (f, 3) in the last
+    row; spheres (m, 4), its centroid (f, 3) and the radius (f,) of its bounding sphere)."""
+    rows = np.empty((len(facets), 4, 3))
+    rows[:, :3] = corners[facets]
+    rows[:, 3] = normals[facets]
+    spheres = np.empty((len(facets), 4))
+    spheres[:, :3] = centroids[facets]
+    spheres[:, 3] = radius[facets]
+    return rows, spheres
 
 
 def _signed_from_closest(local, point, facet, gap, normals, tiny, d, n):

@@ -18,6 +18,7 @@ from elements.facet_normal import turn_round_features
 from elements.facet_search import (
     SHORT,
     SLACK,
+    candidate_rows,
     closest_facets,
     closest_facets_kept,
     closest_facets_listed,
@@ -209,8 +210,9 @@ class RigidSurface(RigidTool):
         self._recorded = 0
         self.record_facets = False  # kept only when asked (ContactBlock.freeze: Static's)
         self._hint = np.zeros(0, dtype=np.int64)  # each point's facet of the last search
-        # With those hints: where each point's scan was, and its room to keep its facet.
-        self._kept: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        # With those hints: where each point's scan was, its room to keep its facet, and
+        # (the short lists' kernel) that facet's corners and normal.
+        self._kept: tuple[np.ndarray, ...] | None = None
         # The points' short lists (``_near_lists``).
         self._near: tuple[np.ndarray, ...] | None = None
         self.pressure: float | None = None
@@ -331,7 +333,7 @@ class RigidSurface(RigidTool):
         facet = np.zeros(len(local), dtype=np.int64)
         gap = np.zeros(len(local))
         if not KEEP_NEAREST:
-            hint, _, _ = self._kept_lists(len(local))
+            hint, _, _, _ = self._kept_lists(len(local))
             closest_facets(
                 local, self.corners, self._centroids, self._radius, SLACK * self.reach,
                 candidates[0], candidates[1], hint, point, facet, gap,
@@ -347,7 +349,7 @@ class RigidSurface(RigidTool):
         while it cannot change, else its short list while the nearest is on it, else a scan
         (``SHORT_LISTS``; elements/facet_search.py), the hints, rooms and lists kept for the
         next call."""
-        hint, anchor, room = self._kept_lists(len(local))
+        hint, anchor, room, corners = self._kept_lists(len(local), SHORT_LISTS)
         if not SHORT_LISTS:
             closest_facets_kept(
                 local, self.corners, self._centroids, self._radius, SLACK * self.reach,
@@ -357,41 +359,61 @@ class RigidSurface(RigidTool):
             self._kept = (facet, anchor, room)
             return
         near = self._near_lists(len(local))
+        rows = getattr(self, "_rows", None)  # the candidates' copies, made once a list
+        if rows is None or rows[0] is not facets:
+            rows = (facets, *candidate_rows(
+                facets, self.corners, self.normals, self._centroids, self._radius
+            ))  # fmt: skip
+            self._rows = rows
         closest_facets_listed(
-            local, self.corners, self._centroids, self._radius, SLACK * self.reach,
-            start, facets, hint, anchor, room, *near, point, facet, gap,
+            local, self.corners, SLACK * self.reach, start, facets, rows[1], rows[2], hint,
+            anchor, room, corners, *near, point, facet, gap,
         )  # fmt: skip
+        assert corners is not None  # (asked of _kept_lists with the short lists)
         self._hint = facet
-        self._kept = (facet, anchor, room)
+        self._kept = (facet, anchor, room, corners)
         self._near = near
 
     def _near_lists(self, count: int) -> tuple[np.ndarray, ...]:
-        """(anchor (k, 3), room (k,), cut (k,), facets (k, SHORT), and the scans' scratch
-        (k, SHORT + 1) twice) of the short lists of ``count`` points, kept from the last
-        call where valid (the rooms -1, asking for a scan, otherwise)."""
+        """(anchor (k, 3), room (k,), cut (k,), facets (k, SHORT), the scans' scratch
+        (k, SHORT + 1) twice, and the listed facets' corners and normals (k SHORT, 4, 3)) of
+        the short lists of ``count`` points, kept from the last call where valid (the rooms
+        -1, asking for a scan, otherwise)."""
         near = getattr(self, "_near", None)  # (absent from a tool pickled before the lists)
         kept = getattr(self, "_kept", None)
-        if near is None or len(near[1]) != count or kept is None:
+        if near is None or len(near[1]) != count or kept is None or len(near) < 7:
             near = (
                 np.zeros((count, 3)), np.full(count, -1.0), np.zeros(count),
                 np.full((count, SHORT), -1, dtype=np.int64), np.zeros((count, SHORT + 1)),
-                np.zeros((count, SHORT + 1), dtype=np.int64),
+                np.zeros((count, SHORT + 1), dtype=np.int64), np.zeros((count * SHORT, 4, 3)),
             )  # fmt: skip
         return near
 
-    def _kept_lists(self, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(hint (k,), anchor (k, 3), room (k,)) for ``count`` points: each point's facet of
-        the last call (mostly its nearest again: the candidates further than it are skipped,
-        the answer the same, elements/facet_search.py; -1 for none) and its room to move
-        keeping it, valid with the hints it was found with (anew, -1, where those are not
-        this tool's)."""
+    def _kept_lists(
+        self, count: int, corners: bool = False
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """(hint (k,), anchor (k, 3), room (k,), the hints' corners and normals (k, 4, 3) or
+        None) for
+        ``count`` points: each point's facet of the last call (mostly its nearest again: the
+        candidates further than it are skipped, the answer the same,
+        elements/facet_search.py; -1 for none) and its room to move keeping it, valid with
+        the hints it was found with (anew, -1, where those are not this tool's, or where
+        ``corners`` is asked and the last call kept none: the short lists' kernel reads the
+        kept facet's corners from that copy wherever a room is > 0)."""
         hint = getattr(self, "_hint", None)  # (absent from a tool pickled before it was kept)
         if hint is None or hint.shape != (count,):
             hint = np.full(count, -1)
-        kept = getattr(self, "_kept", None)
-        if kept is None or kept[0] is not getattr(self, "_hint", None):
+        kept: tuple[np.ndarray, ...] | None = getattr(self, "_kept", None)
+        if (
+            kept is None
+            or kept[0] is not getattr(self, "_hint", None)
+            or (corners and len(kept) < 4)
+        ):
             kept = (hint, np.zeros((count, 3)), np.full(count, -1.0))
-        return hint, kept[1], kept[2]
+        copied = None
+        if corners:
+            copied = kept[3] if len(kept) > 3 else np.zeros((count, 4, 3))
+        return hint, kept[1], kept[2], copied
 
     def _forget_nearest(self, rows: np.ndarray) -> None:
         """The points ``rows`` got new candidate lists: their rooms and short lists are

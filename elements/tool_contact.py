@@ -118,14 +118,16 @@ def _annulus_forces(x, origin, normal, inner, offset, stiffness, out):
 
 
 def _surface_forces(
-    x, point, facet, gap, normals, edge_start, edge_out, beside, tiny, far, searched, distance,
-    normal, offset, stiffness, d, n, out,
+    x, point, facet, gap, facet_rows, edge_start, edge_out, beside, tiny, far, searched,
+    distance, normal, offset, stiffness, d, n, out,
 ):  # fmt: skip
     """Each node's contact force (s, 3), N, from a meshed tool, its closest points found
     (elements/facet_search.py ``closest_facets_kept``): x (s, 3) the nodes in the tool's
     frame, mm, each one's closest point ``point`` (s, 3) on facet ``facet`` (s,) at distance
-    ``gap`` (s,). RigidSurface.distance's formulas in their order of operations: the side
-    (+1, or -1 behind the facet's normal ``normals`` (f, 3)), d = side x gap and n = side x
+    ``gap`` (s,), and that facet's corners and normal ``facet_rows[i]`` (s, 4, 3), the normal
+    its last row (the closest-facet kernel's copies kept per node, read in the nodes' order).
+    RigidSurface.distance's formulas in their order of operations: the side
+    (+1, or -1 behind the facet's normal), d = side x gap and n = side x
     (x - point) / gap, or the facet's normal where gap <= ``tiny`` (mm); a node behind its
     facet and more than ``beside`` (mm) past one of its open edges (``edge_start``,
     ``edge_out`` (f, 3, 3), ``open_edges``) is beside the tool, its distance the gap and its
@@ -147,14 +149,18 @@ def _surface_forces(
             t0 = x[i, 0] - point[i, 0]
             t1 = x[i, 1] - point[i, 1]
             t2 = x[i, 2] - point[i, 2]
-            towards = t0 * normals[f, 0] + t1 * normals[f, 1] + t2 * normals[f, 2]
+            towards = t0 * facet_rows[i, 3, 0] + t1 * facet_rows[i, 3, 1] + t2 * facet_rows[i, 3, 2]
             side = -1.0 if towards < 0.0 else 1.0
             g = gap[i]
             d[i] = side * g
             if g > tiny:
                 n[i, 0], n[i, 1], n[i, 2] = side * t0 / g, side * t1 / g, side * t2 / g
             else:
-                n[i, 0], n[i, 1], n[i, 2] = normals[f, 0], normals[f, 1], normals[f, 2]
+                n[i, 0], n[i, 1], n[i, 2] = (
+                    facet_rows[i, 3, 0],
+                    facet_rows[i, 3, 1],
+                    facet_rows[i, 3, 2],
+                )
             if math.copysign(1.0, d[i]) < 0.0:  # behind its facet: past an open edge?
                 for e in range(3):
                     past = (
@@ -234,9 +240,16 @@ def surface_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
     facet = np.zeros(len(local), dtype=np.int64)
     gap = np.zeros(len(local))
     tool._closest_kept(local, cache.start, cache.facets, point, facet, gap)
+    kept = tool._kept
+    if kept is not None and len(kept) > 3:  # the short lists' copies, in the nodes' order
+        rows = kept[3]
+    else:
+        rows = np.zeros((len(local), 4, 3))
+        rows[:, :3] = tool.corners[facet]
+        rows[:, 3] = tool.normals[facet]
     d, n, forces = np.empty(len(local)), np.empty((len(local), 3)), np.empty((len(local), 3))
     surface_pass(
-        local, point, facet, gap, tool.normals, tool.edge_start, tool.edge_out,
+        local, point, facet, gap, rows, tool.edge_start, tool.edge_out,
         tool.beside_tolerance, tool.on_surface_tolerance, cache.far, cache.points,
         cache.distance, cache.normal, block.offset, block.stiffness, d, n, forces,
     )  # fmt: skip

@@ -210,11 +210,12 @@ def test_a_short_list_gives_the_scans_answer_to_the_last_bit():
     and gap of the plain scan (closest_facets, no hint) at every call, bit for bit, on one
     thread and on all; each of the three ways was taken many times. A list that leaves out
     the nearest (the lists' rooms made 100 times too long) is caught."""
-    from elements.facet_search import SHORT, closest_facets_listed
+    from elements.facet_search import SHORT, candidate_rows, closest_facets_listed
     from tests.thread_runs import on_one_thread_and_on_all
 
     tool = RigidSurface(bumpy_surface())
     start0, facets0 = every_facet_a_candidate(tool, np.zeros((300, 3)))
+    rows = candidate_rows(facets0, tool.corners, tool.normals, tool._centroids, tool._radius)
 
     def creep(stretch: float = 1.0):
         rng = np.random.default_rng(6)
@@ -222,10 +223,11 @@ def test_a_short_list_gives_the_scans_answer_to_the_last_bit():
         x[:100] = tool._centroids[rng.choice(tool.n_facets, 100)]  # on the sheet
         k = len(x)
         hint = np.full(k, -1)
-        anchor, room = np.zeros((k, 3)), np.full(k, -1.0)
+        anchor, room, corners = np.zeros((k, 3)), np.full(k, -1.0), np.zeros((k, 4, 3))
         near = (
             np.zeros((k, 3)), np.full(k, -1.0), np.zeros(k), np.full((k, SHORT), -1),
             np.zeros((k, SHORT + 1)), np.zeros((k, SHORT + 1), dtype=np.int64),
+            np.zeros((k * SHORT, 4, 3)),
         )  # fmt: skip
         ways = [0, 0, 0]  # kept, listed, scanned
         answers, expected = [], []
@@ -241,8 +243,8 @@ def test_a_short_list_gives_the_scans_answer_to_the_last_bit():
                 ways[2] += int((~kept & ~listed).sum())
             point, facet, gap = x.copy(), np.zeros(len(x), dtype=np.int64), np.zeros(len(x))
             closest_facets_listed(
-                x, tool.corners, tool._centroids, tool._radius, SLACK * tool.reach,
-                start0, facets0, hint, anchor, room, *near, point, facet, gap,
+                x, tool.corners, SLACK * tool.reach, start0, facets0, *rows, hint, anchor,
+                room, corners, *near, point, facet, gap,
             )  # fmt: skip
             near[1][near[1] > 0] *= stretch
             answers.append((point, facet, gap))
