@@ -15,21 +15,21 @@ inflated by the load; the shares are of a profiled run's march):
 * fibrous [0/90] 4131 steps, 6.65 s, 1.610 ms a step; Mindlin [0/90] 8429 steps (2.04 x),
   12.65 s, 1.501 ms a step. **A Mindlin run costs twice a fibrous one because it takes twice
   the steps; its step costs no more.** Its cells' critical step at the start is 2.241e-5 s
-  against the fibrous cells' 4.228e-5 s (0.53 x: the Mindlin cells' bound, docs/theory.md §6.2);
-  the contacts' springs lower both alike (x0.655 / x0.651 at the first evaluation: the penalty is
-  calibrated as a share of m (2 / dt)^2 of each model's own critical step, elements/
-  ply_contact.py "Penalty"). Fewer steps would move the results (not the same bits): not
-  touched here.
+  against the fibrous cells' 4.228e-5 s (0.53 x: the Mindlin cells' bound, docs/theory.md
+  §6.2); the contacts' springs lower both alike (x0.655 / x0.651 at the first evaluation: the
+  penalty is calibrated as a share of m (2 / dt)^2 of each model's own critical step,
+  elements/ply_contact.py "Penalty"). Fewer steps would move the results (not the same bits):
+  not touched here.
 * shares of the march, Mindlin [0/90] / fibrous [0/90]: the two ply blocks' committed history
   0.403 / 0.321, of it the facing (all calls) 0.297 / 0.224: the whole facing's compiled pair
   0.136 / 0.117, the search's candidates 0.117 / 0.068, of which the full re-searches 0.061 /
-  0.021 (807 searches in the Mindlin run, 786 of them new epochs: ~1-3 ms each on the top ply's block, 384 points and 128
-  triangles), the friction's history pass 0.042 / 0.043; the tool contacts' forces 0.156 /
-  0.136; the ply loads 0.106 / 0.114; the stable step 0.064 / 0.071 (the ply springs' bound
-  0.054 / 0.056, every tenth step); the Mindlin shell's force 0.040; the per-state caches'
-  kept-bits tests 0.025 / 0.024 (226k calls in the Mindlin run); the output frames 0.020 /
-  0.023. No single part's Python above a few per cent: the step is spread over some fifty
-  compiled calls.
+  0.021 (807 searches in the Mindlin run, 786 of them new epochs: ~1-3 ms each on the top
+  ply's block, 384 points and 128 triangles), the friction's history pass 0.042 / 0.043; the
+  tool contacts' forces 0.156 / 0.136; the ply loads 0.106 / 0.114; the stable step 0.064 /
+  0.071 (the ply springs' bound 0.054 / 0.056, every tenth step); the Mindlin shell's force
+  0.040; the per-state caches' kept-bits tests 0.025 / 0.024 (226k calls in the Mindlin run);
+  the output frames 0.020 / 0.023. No single part's Python above a few per cent: the step is
+  spread over some fifty compiled calls.
 * Tried, not kept: the full re-search by the matrix of every centroid's distance
   (elements/ply_search.py ``EVERY_PAIR`` raised past the top ply's block; the same lists) took
   4.3-7.0 ms a search against 1.4-4.1 ms by the k-d trees on the four runs' top-ply blocks at
