@@ -5,6 +5,7 @@ the step's parts as shares of the march (cumulative times of the entry points na
 ``PARTS``: the parts nest, so they do not add up to one).
 
     python benchmarks/ply_run_split.py --runs mindlin:0/90,fibrous:0/90 --profile
+    python benchmarks/ply_run_split.py --rotary --runs ""
 
 One numba thread; run it beside a reference tree (``git archive`` of main) on the same load,
 its own copy run from its root, and compare the steps and CPU a step.
@@ -19,7 +20,14 @@ inflated by the load; the shares are of a profiled run's march):
   §6.2); the contacts' springs lower both alike (x0.655 / x0.651 at the first evaluation: the
   penalty is calibrated as a share of m (2 / dt)^2 of each model's own critical step,
   elements/ply_contact.py "Penalty"). Fewer steps would move the results (not the same bits):
-  not touched here.
+  not touched here. The Mindlin cells' step is their rotations' (the transverse shear
+  against the scaled rotary inertia j, 16.3 mm^2 here): ``--rotary`` gives the first cell's
+  critical step 2.266e-5 s at the model's j, 3.008e-5 / 3.823e-5 / 4.595e-5 / 4.869e-5 s at
+  2 / 4 / 8 / 100 j. A larger j (B2's scaling, docs/theory.md §6.2) would take the Mindlin
+  runs' steps to about 0.6 of today's at 4 j (some 9-10 s of the case's CPU), but it moves
+  the results: the rotational kinetic energy the quasi-static check counts, and the
+  contacts' penalties, calibrated on the critical step, softer by its square. A model
+  change, not made here.
 * shares of the march, Mindlin [0/90] / fibrous [0/90]: the two ply blocks' committed history
   0.403 / 0.321, of it the facing (all calls) 0.297 / 0.224: the whole facing's compiled pair
   0.136 / 0.117, the search's candidates 0.117 / 0.068, of which the full re-searches 0.061 /
@@ -48,6 +56,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 HERE = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(HERE))  # run from anywhere, no install
@@ -123,15 +133,41 @@ def run(kinematics: str, layup: str, cells: int, profile: bool) -> dict:
     return out
 
 
+def rotary_steps(cells: int, factors: tuple[float, ...]) -> list[tuple[float, float]]:
+    """(factor, critical step s) of the Mindlin [0/90] plies' first cell (the mesh's cells
+    are congruent) with its rotary inertia j times each of ``factors`` (1: the model's own,
+    docs/theory.md §6.2 B2): which modes set the Mindlin plies' step."""
+    from validation.studies import hemisphere_plies_setup as setup
+
+    _, built = setup.model(cells, setup.LAYUPS["0/90"], "mindlin", 20.0)
+    compiled = built.compile()
+    shell = next(part for part in compiled.parts if hasattr(part, "rotary_factor"))
+    x0, v0 = shell._reference_cells()
+    own = shell.rotary_factor.copy()
+    found = []
+    try:
+        for factor in factors:
+            shell.rotary_factor = own * factor
+            omega2 = float(shell.element_omega2(x0[:1], v0[:1], np.arange(1))[0])
+            found.append((factor, 2.0 / np.sqrt(omega2)))
+    finally:
+        shell.rotary_factor = own
+    return found
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--runs", default="mindlin:0/90,fibrous:0/90")
     parser.add_argument("--cells", type=int, default=8)
     parser.add_argument("--profile", action="store_true")
+    parser.add_argument("--rotary", action="store_true", help="the Mindlin cells' step by j")
     args = parser.parse_args()
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     print(f"load {os.getloadavg()}")
-    for item in args.runs.split(","):
+    if args.rotary:
+        for factor, step in rotary_steps(args.cells, (1.0, 2.0, 4.0, 8.0, 100.0)):
+            print(f"Mindlin cell, rotary inertia x{factor:g}: critical step {step:.3e} s")
+    for item in filter(None, args.runs.split(",")):
         kinematics, layup = item.split(":")
         timed = run(kinematics, layup, args.cells, False)
         line = f"{kinematics} [{layup}]: {timed['steps']} steps, {timed['cpu']:.2f} s CPU, "
