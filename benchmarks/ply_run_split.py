@@ -44,6 +44,11 @@ inflated by the load; the shares are of a profiled run's march):
   the start and two jittered states (load 10-11): slower. The springs' bound's fixed tables
   (``outline_segments``, ``_wedge_corners``), rebuilt each call: 4.7 and 7.3-8.3 us a call on
   the Mindlin [0/90] blocks (32 outline edges), about 0.02 s a run: not worth a cache.
+  The search's skin doubled (elements/ply_search.py ``SKIN`` 0.1 -> 0.2 of the mean edge, any
+  skin giving the same lists' answer): the Mindlin [0/90] run the same to the bit (final
+  positions and the energy and tool history), its searches 371 + 438 -> 177 + 218, but its CPU
+  12.01 / 12.50 -> 12.13 / 12.30 s (two rounds each, back to back, load 8.0-10.1): the
+  searches saved are paid back by more candidates in every facing. Not kept.
 """
 
 from __future__ import annotations
