@@ -144,7 +144,7 @@ def _sides_fade(
             starts[s, c] = y[row, segment_ends[s, 0], c]
             ends[s, c] = y[row, segment_ends[s, 1], c]
             e[s, c] = ends[s, c] - starts[s, c]
-        # ply_kernels.segment_lines: numpy's left-to-right sum, its maximum passing NaN
+        # ply_kernels.segment_lines' sum, in its order (x, z, y), its maximum passing NaN
         value = e[s, 0] * e[s, 0] + e[s, 2] * e[s, 2] + e[s, 1] * e[s, 1]
         squared[s] = value if (value != value or value > _TINY) else _TINY
     _outline_here(

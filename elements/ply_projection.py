@@ -214,7 +214,7 @@ import numpy as np
 from elements import ply_chosen, ply_edge_kernels, ply_kernels, ply_penalty
 from elements.jit import SMALL_LOOP
 from elements.ply_edge_gap import towards_closest
-from elements.ply_topology import FaceTopology
+from elements.ply_topology import FaceTopology, edge_ids, open_edges  # noqa: F401 (re-exported)
 from elements.ply_wedge import WedgeCuts
 from femcore.rotation import cross
 
@@ -407,13 +407,6 @@ def choose(
     )
 
 
-def open_edges(cells: np.ndarray) -> np.ndarray:
-    """(m, 3) bool: the edge of each triangle opposite its corner k lies on the outline of the
-    mesh ``cells`` (m, 3) (no other triangle of ``cells`` shares it)."""
-    ids = edge_ids(np.asarray(cells))
-    return np.bincount(ids.ravel())[ids] == 1
-
-
 def closest_on_edges(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
     """(c, 3) the closest point to p (c, 3) on the edges of the triangle with corners
     (c, 3, 3), mm: the nearest of the three edges' closest points (each a segment clamped to
@@ -441,14 +434,6 @@ def grown_corners(corners: np.ndarray, reach: np.ndarray) -> np.ndarray:
         return ply_kernels.grown_corners(corners, reach)
     grow = np.eye(3) * (1.0 + reach.sum(axis=-1))[..., None, None] - reach[..., None, :]
     return np.einsum("...ij,...jc->...ic", grow, corners)
-
-
-def edge_ids(nodes: np.ndarray) -> np.ndarray:
-    """(m, 3) int: an id for the edge of each triangle opposite its corner k, one per edge of
-    the mesh (shared by the triangles on either side); nodes (m, 3) the triangles' node ids."""
-    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)  # (m, 3, 2)
-    inverse = np.unique(np.sort(ends, axis=-1).reshape(-1, 2), axis=0, return_inverse=True)[1]
-    return inverse.reshape(len(nodes), 3)
 
 
 def pseudonormals(
@@ -634,6 +619,12 @@ def closest_facing(
         topology = FaceTopology.of(nodes, outline, edges)
     elif topology is not None and topology.outline is not outline:
         raise ValueError("closest_facing: the topology's outline must be the outline given")
+    if near.ndim != 2 or len(near) != len(p) or (len(p) and near.shape[1] < 1):
+        # the compiled passes size their loops by ``near``, their outputs by ``p``
+        raise ValueError(
+            f"closest_facing: near must hold K >= 1 candidates for each of the {len(p)} "
+            f"points, shape ({len(p)}, K); got {near.shape}"
+        )
     small = COMPILED and topology is not None and len(p) < SMALL_LOOP
     if WHOLE and small and outline is not None and not second:  # the same bits, two calls
         from elements.ply_facing_whole import whole_facing

@@ -42,7 +42,7 @@ class FaceTopology:
         The triangles' node ids.
     edges : (m, 3) int
         An id for the edge opposite each corner k, shared by neighbours
-        (elements/ply_projection.py ``edge_ids``).
+        (``edge_ids`` below).
     other : (m * 3,) int
         For each half-edge row * 3 + k, the neighbour's across that edge (the first or last
         of the edge's half-edges by flat index that is not its own), its own on an open edge.
@@ -77,7 +77,6 @@ class FaceTopology:
         """The topology of the triangles ``nodes`` (m, 3) int, with the outline ``outline``
         (m, 3) bool or None and the edge ids ``edges`` (m, 3) int (computed when None)."""
         from elements.ply_fade import outline_segments
-        from elements.ply_projection import edge_ids
 
         nodes = np.asarray(nodes)
         edges = edge_ids(nodes) if edges is None else np.asarray(edges)
@@ -106,3 +105,18 @@ class FaceTopology:
             segment_rows=rows,
             segment_ends=ends,
         )
+
+
+def edge_ids(nodes: np.ndarray) -> np.ndarray:
+    """(m, 3) int: an id for the edge of each triangle opposite its corner k, one per edge of
+    the mesh (shared by the triangles on either side); nodes (m, 3) the triangles' node ids."""
+    ends = np.stack([nodes[:, [1, 2]], nodes[:, [2, 0]], nodes[:, [0, 1]]], axis=1)  # (m, 3, 2)
+    inverse = np.unique(np.sort(ends, axis=-1).reshape(-1, 2), axis=0, return_inverse=True)[1]
+    return inverse.reshape(len(nodes), 3)
+
+
+def open_edges(cells: np.ndarray) -> np.ndarray:
+    """(m, 3) bool: the edge of each triangle opposite its corner k lies on the outline of the
+    mesh ``cells`` (m, 3) (no other triangle of ``cells`` shares it)."""
+    ids = edge_ids(np.asarray(cells))
+    return np.bincount(ids.ravel())[ids] == 1

@@ -143,3 +143,32 @@ def test_the_facing_before_the_last_is_taken_back(facings):
     block._facing_at = None
     block.facing(best)
     assert len(facings) == 5
+
+
+def test_the_facing_before_the_last_is_not_taken_back_for_other_directors(facings):
+    """The facing before the last is taken back only at the same positions and directors: a
+    state with the best iterate's positions and other directors (a rotation's update) is faced
+    afresh."""
+    compiled, states = _iterates(2, facings)
+    block = compiled.interactions[0]
+    best, trial = states
+    tilted = best.directors + np.random.default_rng(5).normal(scale=1e-3, size=best.directors.shape)
+    turned = replace(best, directors=tilted / np.linalg.norm(tilted, axis=1, keepdims=True))
+    block.facing(best)
+    block.facing(trial)
+    assert len(facings) == 2
+    block.facing(turned)
+    assert len(facings) == 3
+
+
+def test_closest_facing_refuses_candidates_not_one_row_a_point():
+    """The compiled passes size their loops by the candidates' rows and their outputs by the
+    points: a mismatch is a ValueError at the call, not a write past the arrays."""
+    from elements.ply_projection import closest_facing
+
+    y = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    p = np.array([[0.2, 0.2, 0.1], [0.3, 0.1, 0.1]])
+    for near in (np.zeros((3, 1), dtype=np.intp), np.zeros((1, 1), dtype=np.intp),
+                 np.zeros(2, dtype=np.intp), np.zeros((2, 0), dtype=np.intp)):  # fmt: skip
+        with pytest.raises(ValueError, match="near must hold K >= 1 candidates"):
+            closest_facing(p, y, near, 0.0)
