@@ -137,6 +137,9 @@ def test_the_cuts_closest_point_is_handed_one_set_of_types_by_both_its_callers(m
     from tests.test_ply_edge_couple import _cut_strip_facing
 
     monkeypatch.setattr(ply_projection, "COMPILED", True)
+    # the chained passes (a small facing without the Hessian runs them in two fused calls,
+    # elements/ply_facing_whole.py, which compiles the helper with its own kernels)
+    monkeypatch.setattr(ply_projection, "WHOLE", False)
     cut_calls = _recorded(monkeypatch, ply_cut_kernels, "_closest_compiled")
     fade_calls = _recorded(monkeypatch, ply_fade_kernels, "_outline_compiled")
     _cut_strip_facing(0, hessian=False)
