@@ -476,3 +476,32 @@ def test_the_band_written_in_its_envelope_alone_gives_the_zeroed_bands_factors_t
     factor = plan.factorise(upper.data)
     assert factor is not None
     assert np.allclose(k.tocsc() @ factor.solve(rhs), rhs, atol=1e-10)
+
+
+def test_the_compiled_infinity_norm_is_scipys_to_the_bit():
+    # The accuracy check's ||K||_inf by one compiled pass against scipy's
+    # np.abs(k).sum(axis=1).max(): entries of magnitudes 1e-8..1e8 so that a sum in another
+    # order would differ in its last bits; a stored zero, a row of zeros, a nan, one unknown.
+    from solvers.linear import _infinity_norm
+
+    rng = np.random.default_rng(3)
+    matrices = []
+    for size, density in ((1, 1.0), (7, 0.5), (200, 0.05), (900, 0.01)):
+        a = sp.random(size, size, density=density, random_state=size, format="csc")
+        a.data = rng.choice([-1.0, 1.0], a.nnz) * 10.0 ** rng.uniform(-8, 8, a.nnz)
+        a = (a + sp.identity(size)).tocsc()
+        matrices.append(a)
+    zeros = matrices[2].copy()
+    zeros.data[::5] = 0.0
+    empty_row = matrices[2].tolil()
+    empty_row[4, :] = 0.0
+    undefined = matrices[3].copy()
+    undefined.data[17] = np.nan
+    matrices += [zeros, empty_row.tocsc(), undefined, strip_matrix(length=8).tocsc()]
+    for k in matrices:
+        expected = float(np.abs(k).sum(axis=1).max())
+        found = _infinity_norm(k)
+        assert np.isnan(expected) == np.isnan(found)
+        if not np.isnan(expected):
+            assert np.float64(found).view(np.int64) == np.float64(expected).view(np.int64)
+    assert _infinity_norm(sp.csc_matrix((0, 0))) == 0.0
