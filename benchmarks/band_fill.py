@@ -14,7 +14,8 @@ compared to the bit; the machine's load.
 
 Measured (one thread, CPU, 2 cores shared with other jobs; docs/theory.md §6.5):
 
-* default plies-bai-5.1 stack (load 7-12, best of 2 a call): 1076 band factorisations, 0.95
+* ``--resolution default``, the default plies-bai-5.1 stack (``solve_case`` with no stall
+  rule; load 7-12, best of 2 a call): 1076 band factorisations, 0.95
   million band entries a call, envelope 0.57 of it; making the bands 1.947 -> 1.080 s (0.555
   x), the factors the same bits.
 * coarse (load 8.4-8.5, best of 3): 924 band factorisations, 78664 entries a call, envelope

@@ -344,9 +344,11 @@ class BandPlan:
         """The band (n, b + 1) of the matrix whose upper triangle has these values (nnz,), in
         the pattern's CSC order: its envelope written by one compiled pass
         (``_fill_envelope``) into an uninitialised array, the rest of the band left as it
-        came (the kernels never read it). A whole band zeroed and scattered took 0.9 of 10 s
-        of band factorisations in the default plies-bai-5.1 solve (its band about twice its
-        envelope). Without numba, the whole band zeroed, then scattered (the reference)."""
+        came (the kernels never read it). A whole band zeroed and scattered took 1.95 s where
+        this takes 1.08 s over the 1076 band factorisations of the default plies-bai-5.1
+        stack solved without its stall rule (its band 1.75 times its envelope;
+        benchmarks/band_fill.py). Without numba, the whole band zeroed, then scattered (the
+        reference)."""
         if _fill_envelope_compiled is None:  # pragma: no cover - numba is a dependency
             flat = np.zeros(self.fill)
             flat[self.slots] = upper_data
