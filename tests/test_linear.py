@@ -439,3 +439,69 @@ def test_the_compiled_band_plan_is_numpys_to_the_bit():
         for name in ("perm", "slots", "reaches"):
             x, y = getattr(new, name), getattr(old, name)
             assert x.dtype == y.dtype and np.array_equal(x, y), name
+
+
+@pytest.mark.parametrize("shift", [0.0, 2.5])
+def test_the_band_written_in_its_envelope_alone_gives_the_zeroed_bands_factors_to_the_bit(shift):
+    # BandPlan.band_of writes the envelope only and leaves the rest of an uninitialised band
+    # as it came: here NaN, so that any read outside the envelope by the factorisation (by
+    # panels or column by column) or the solve would show in the factors or the solution.
+    from solvers.band import BandPlan, _factorise, _factorise_by_column, _fill_envelope, _solve
+
+    k = strip_matrix(length=61, shift=shift).tolil()
+    for i, j in ((0, 37), (12, 90), (40, 61)):
+        k[i, j] = k[j, i] = 0.3
+    upper = sp.triu(k.tocsc(), format="csc")
+    upper.sort_indices()
+    plan = BandPlan(upper)
+    assert plan.operations < 0.8 * plan.n * plan.bandwidth**2  # the envelope is not the band
+    zeroed = np.zeros(plan.fill)
+    zeroed[plan.slots] = upper.data
+    zeroed = zeroed.reshape(plan.n, plan.bandwidth + 1)
+    inside = np.arange(plan.bandwidth + 1) <= plan.reaches[:, None]
+    written = plan.band_of(upper.data)
+    assert np.array_equal(written[inside], zeroed[inside])
+    rhs = np.linspace(-1.0, 2.0, plan.n)
+    for factorise in (_factorise, _factorise_by_column):
+        poisoned = np.full_like(zeroed, np.nan)
+        _fill_envelope(poisoned, plan.reaches, plan.slots, upper.data)
+        reference = zeroed.copy()
+        negative = int(np.sum(np.linalg.eigvalsh(k.toarray()) < 0.0))
+        assert factorise(poisoned, plan.reaches) == factorise(reference, plan.reaches) == negative
+        assert np.array_equal(poisoned[inside].view(np.int64), reference[inside].view(np.int64))
+        assert np.array_equal(
+            _solve(poisoned, plan.reaches, rhs).view(np.int64),
+            _solve(reference, plan.reaches, rhs).view(np.int64),
+        )
+    factor = plan.factorise(upper.data)
+    assert factor is not None
+    assert np.allclose(k.tocsc() @ factor.solve(rhs), rhs, atol=1e-10)
+
+
+def test_the_compiled_infinity_norm_is_scipys_to_the_bit():
+    # The accuracy check's ||K||_inf by one compiled pass against scipy's
+    # np.abs(k).sum(axis=1).max(): entries of magnitudes 1e-8..1e8 so that a sum in another
+    # order would differ in its last bits; a stored zero, a row of zeros, a nan, one unknown.
+    from solvers.linear import _infinity_norm
+
+    rng = np.random.default_rng(3)
+    matrices = []
+    for size, density in ((1, 1.0), (7, 0.5), (200, 0.05), (900, 0.01)):
+        a = sp.random(size, size, density=density, random_state=size, format="csc")
+        a.data = rng.choice([-1.0, 1.0], a.nnz) * 10.0 ** rng.uniform(-8, 8, a.nnz)
+        a = (a + sp.identity(size)).tocsc()
+        matrices.append(a)
+    zeros = matrices[2].copy()
+    zeros.data[::5] = 0.0
+    empty_row = matrices[2].tolil()
+    empty_row[4, :] = 0.0
+    undefined = matrices[3].copy()
+    undefined.data[17] = np.nan
+    matrices += [zeros, empty_row.tocsc(), undefined, strip_matrix(length=8).tocsc()]
+    for k in matrices:
+        expected = float(np.abs(k).sum(axis=1).max())
+        found = _infinity_norm(k)
+        assert np.isnan(expected) == np.isnan(found)
+        if not np.isnan(expected):
+            assert np.float64(found).view(np.int64) == np.float64(expected).view(np.int64)
+    assert _infinity_norm(sp.csc_matrix((0, 0))) == 0.0
