@@ -1,5 +1,6 @@
 """A time series as XDMF 3 with its arrays in binary HDF5: ``<stem>.xdmf`` (the light XML
-ParaView opens) and ``<stem>.h5`` beside it (the heavy data, gzip-compressed).
+ParaView opens) and ``<stem>.h5`` beside it (the heavy data; arrays of ``PACKED_FROM_BYTES`` or more
+gzip-compressed).
 
 The mesh is written once (``/mesh/points``, ``/mesh/topology``) and each frame's fields under
 ``/frames/<k>/point`` and ``/frames/<k>/cell``. The XML holds one temporal collection of one
@@ -16,7 +17,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
-__all__ = ["write_xdmf"]
+__all__ = ["PACKED_FROM_BYTES", "write_xdmf"]
 
 # meshio cell type -> (XDMF topology type, XDMF mixed-topology index, nodes per cell)
 _TOPOLOGY = {"triangle": ("Triangle", 4, 3), "line": ("Polyline", 2, 2)}
@@ -71,9 +72,9 @@ def write_xdmf(
     path.unlink(missing_ok=True)
     points = np.asarray(points, dtype=float)
     with h5py.File(heavy, "w", libver=_FORMAT) as h5:
-        h5.create_dataset("mesh/points", data=points, **_PACKED)
+        _dataset(h5, "mesh/points", points)
         topology, count = _topology(cells)
-        h5.create_dataset("mesh/topology", data=topology[1], **_PACKED)
+        _dataset(h5, "mesh/topology", topology[1])
         mesh_xml = (
             f'<Topology {topology[0]} NumberOfElements="{count}">'
             f"{_item(where, 'mesh/topology', topology[1])}</Topology>"
@@ -89,7 +90,7 @@ def write_xdmf(
                 for name, values in data.items():
                     values = np.asarray(values, dtype=float)
                     key = f"frames/{k}/{centre.lower()}/{name}"
-                    h5.create_dataset(key, data=values, **_PACKED)
+                    _dataset(h5, key, values)
                     attributes.append(
                         f'<Attribute Name={quoteattr(name)} AttributeType="{_kind(values)}" '
                         f'Center="{centre}">{_item(where, key, values)}</Attribute>'
@@ -116,6 +117,22 @@ _FORMAT = ("v110", "v110")
 # gzip (in every HDF5 build, so every reader has it) after the byte shuffle, which groups the
 # alike exponent bytes of neighbouring floats.
 _PACKED = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
+
+# The smallest array (bytes) written compressed. Below it the filters' set-up costs more than
+# they save: a dataset of 500 nodes' vectors (12 kB) takes 0.36 ms gzip-compressed and 0.14 ms
+# raw, for 10-20 % of its bytes; a series' frames hold a dataset per field, so a small mesh's
+# series spent most of its time there (benchmarks/case_outside_solves.py). 64 KiB: about
+# 2,700 nodes' vectors.
+PACKED_FROM_BYTES = 65536
+
+
+def _dataset(h5, key: str, values: np.ndarray) -> None:
+    """Write ``values`` as dataset ``key`` of the open HDF5 file ``h5``: compressed when it
+    holds ``PACKED_FROM_BYTES`` or more, else contiguous and raw."""
+    if values.nbytes >= PACKED_FROM_BYTES:
+        h5.create_dataset(key, data=values, **_PACKED)
+    else:
+        h5.create_dataset(key, data=values)
 
 
 def _topology(cells: list[tuple[str, np.ndarray]]) -> tuple[tuple[str, np.ndarray], int]:

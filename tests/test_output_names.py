@@ -13,7 +13,7 @@ import pytest
 
 import elements.ply_contact  # noqa: F401  (declares the components of its fields)
 from femcore.field_names import LEVELS, component_names, level_names, name_components
-from femcore.xdmf import write_xdmf
+from femcore.xdmf import PACKED_FROM_BYTES, write_xdmf
 from fibreshell import load_case, run_case
 
 # The README's strip, coarser and in one increment: a fibrous run whose directors tilt.
@@ -163,6 +163,27 @@ def test_an_xdmf_series_of_triangles_and_lines_reads_back_block_by_block(tmp_pat
     assert [(c.type, c.data.tolist()) for c in back] == [(k, c.tolist()) for k, c in cells]
     assert t == 0.5 and np.allclose(point_data["u"], points)
     assert [f.tolist() for f in cell_data["f"]] == [[7.0], [1.0, 2.0]]
+
+
+def test_small_xdmf_arrays_are_raw_and_large_ones_gzipped_both_read_back_exactly(tmp_path):
+    # A strip of 2 n triangles: its points (24 n bytes) under the packing size, a field of
+    # PACKED_FROM_BYTES / 8 scalars per node over a larger strip at it.
+    small = 50
+    large = PACKED_FROM_BYTES // 8
+    rng = np.random.default_rng(3)
+    for n, name in ((small, "small"), (large, "large")):
+        points = np.c_[np.arange(n, dtype=float), rng.random(n), np.zeros(n)]
+        cells = [("triangle", np.c_[np.arange(n - 2), np.arange(1, n - 1), np.arange(2, n)])]
+        field = rng.standard_normal(n)
+        path = tmp_path / f"{name}.xdmf"
+        write_xdmf(path, points, cells, [(1.0, {"u": field}, {})])
+        with h5py.File(path.with_suffix(".h5")) as h5:
+            packed = h5["frames/0/node/u"].compression
+        assert packed == (None if n == small else "gzip")
+        with meshio.xdmf.TimeSeriesReader(path) as reader:
+            back, _ = reader.read_points_cells()
+            _, point_data, _ = reader.read_data(0)
+        assert np.array_equal(back, points) and np.array_equal(point_data["u"], field)
 
 
 def test_xdmf_refuses_a_cell_type_it_cannot_write(tmp_path):
