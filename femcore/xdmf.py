@@ -1,6 +1,5 @@
 """A time series as XDMF 3 with its arrays in binary HDF5: ``<stem>.xdmf`` (the light XML
-ParaView opens) and ``<stem>.h5`` beside it (the heavy data; arrays of ``PACKED_FROM_BYTES`` or more
-gzip-compressed).
+ParaView opens) and ``<stem>.h5`` beside it (the heavy data, gzip-compressed).
 
 The mesh is written once (``/mesh/points``, ``/mesh/topology``) and each frame's fields under
 ``/frames/<k>/point`` and ``/frames/<k>/cell``. The XML holds one temporal collection of one
@@ -13,11 +12,12 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
-__all__ = ["PACKED_FROM_BYTES", "write_xdmf"]
+__all__ = ["write_xdmf"]
 
 # meshio cell type -> (XDMF topology type, XDMF mixed-topology index, nodes per cell)
 _TOPOLOGY = {"triangle": ("Triangle", 4, 3), "line": ("Polyline", 2, 2)}
@@ -72,9 +72,10 @@ def write_xdmf(
     path.unlink(missing_ok=True)
     points = np.asarray(points, dtype=float)
     with h5py.File(heavy, "w", libver=_FORMAT) as h5:
-        _dataset(h5, "mesh/points", points)
+        dataset = _Datasets(h5)
+        dataset("mesh/points", points)
         topology, count = _topology(cells)
-        _dataset(h5, "mesh/topology", topology[1])
+        dataset("mesh/topology", topology[1])
         mesh_xml = (
             f'<Topology {topology[0]} NumberOfElements="{count}">'
             f"{_item(where, 'mesh/topology', topology[1])}</Topology>"
@@ -90,7 +91,7 @@ def write_xdmf(
                 for name, values in data.items():
                     values = np.asarray(values, dtype=float)
                     key = f"frames/{k}/{centre.lower()}/{name}"
-                    _dataset(h5, key, values)
+                    dataset(key, values)
                     attributes.append(
                         f'<Attribute Name={quoteattr(name)} AttributeType="{_kind(values)}" '
                         f'Center="{centre}">{_item(where, key, values)}</Attribute>'
@@ -118,21 +119,52 @@ _FORMAT = ("v110", "v110")
 # alike exponent bytes of neighbouring floats.
 _PACKED = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 
-# The smallest array (bytes) written compressed. Below it the filters' set-up costs more than
-# they save: a dataset of 500 nodes' vectors (12 kB) takes 0.36 ms gzip-compressed and 0.14 ms
-# raw, for 10-20 % of its bytes; a series' frames hold a dataset per field, so a small mesh's
-# series spent most of its time there (benchmarks/case_outside_solves.py). 64 KiB: about
-# 2,700 nodes' vectors.
-PACKED_FROM_BYTES = 65536
 
+class _Datasets:
+    """Writes arrays as ``_PACKED`` datasets of an open HDF5 file, the creation properties of
+    each shape and type made once.
 
-def _dataset(h5, key: str, values: np.ndarray) -> None:
-    """Write ``values`` as dataset ``key`` of the open HDF5 file ``h5``: compressed when it
-    holds ``PACKED_FROM_BYTES`` or more, else contiguous and raw."""
-    if values.nbytes >= PACKED_FROM_BYTES:
-        h5.create_dataset(key, data=values, **_PACKED)
-    else:
-        h5.create_dataset(key, data=values)
+    h5py's ``create_dataset`` works out a dataset's creation properties (chunk shape, the
+    filters checked and set) and looks its groups up by path for each call, most of the time
+    of a small dataset, and a series writes a dataset per field and frame. Here the first
+    array of a shape and type goes through ``create_dataset``, the others of that shape and
+    type are created at the low level with its properties (``get_create_plist``) in groups
+    kept by path: the same layout, chunks and filters, so the same bytes in the file. The six
+    series of two paper cases (20 frames of 231 nodes): 0.61 -> 0.27 s of CPU
+    (benchmarks/case_outside_solves.py).
+
+    Parameters
+    ----------
+    h5 : h5py.File
+        The file, open for writing.
+    """
+
+    def __init__(self, h5) -> None:
+        import h5py
+
+        self._h5py = h5py
+        self._h5 = h5
+        self._made: dict[tuple[tuple[int, ...], str], tuple] = {}
+        self._groups: dict[str, Any] = {"": h5}
+
+    def __call__(self, key: str, values: np.ndarray) -> None:
+        """Write ``values`` (any shape, a numeric type) as dataset ``key`` ("group/.../name":
+        the groups made as needed)."""
+        values = np.ascontiguousarray(values)
+        kind = (values.shape, values.dtype.str)
+        made = self._made.get(kind)
+        if made is None:
+            first = self._h5.create_dataset(key, data=values, **_PACKED)
+            space = self._h5py.h5s.create_simple(values.shape)
+            self._made[kind] = (first.id.get_create_plist(), first.id.get_type(), space)
+            return
+        plist, datatype, space = made
+        parent, _, name = key.rpartition("/")
+        group = self._groups.get(parent)
+        if group is None:  # h5py's lookup of a path costs more than the dataset's creation
+            group = self._groups[parent] = self._h5.require_group(parent)
+        created = self._h5py.h5d.create(group.id, name.encode(), datatype, space, dcpl=plist)
+        created.write(self._h5py.h5s.ALL, self._h5py.h5s.ALL, values)
 
 
 def _topology(cells: list[tuple[str, np.ndarray]]) -> tuple[tuple[str, np.ndarray], int]:
