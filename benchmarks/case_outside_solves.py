@@ -16,6 +16,16 @@ own root beside it)::
 
     NUMBA_NUM_THREADS=1 python benchmarks/case_outside_solves.py --resolution default \
         [--cases a,b] [--out DIR] [--json FILE]
+
+Measured (main f56c093 from git archive with its numba cache warm, one numba thread, one
+process, 2 cores shared, load 2.6 -> 6.7; CPU s; before the layout and VTU columns were
+added): 151.7 s of case CPU, 133.9 in the solves, 17.8 outside them: 4.7 in the rest of the
+computations, 13.1 in the renders (5.3 in savefig, 1.7 in the XDMF series). Largest outside:
+hemisphere-plies 3.60 (its build and gap measures 2.66, render 0.94), the five paper cases
+1.36-2.12 each (their renders 1.35-2.10: four figures and three XDMF series, 0.28-0.45 s of
+XDMF), hemisphere-forming 1.29 (0.56 + 0.74), heavy-cantilever-nonlinear 1.19 (0.98 of it
+the heavy elastica's references, scipy's solve_bvp, and numba's cache loads), plies-bai-5.1
+0.69, the 17 others 0.06-0.46 each. The worker's imports 0.92 s.
 """
 
 from __future__ import annotations
