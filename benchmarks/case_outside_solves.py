@@ -26,6 +26,17 @@ hemisphere-plies 3.60 (its build and gap measures 2.66, render 0.94), the five p
 XDMF), hemisphere-forming 1.29 (0.56 + 0.74), heavy-cantilever-nonlinear 1.19 (0.98 of it
 the heavy elastica's references, scipy's solve_bvp, and numba's cache loads), plies-bai-5.1
 0.69, the 17 others 0.06-0.46 each. The worker's imports 0.92 s.
+
+With femcore.xdmf's creation properties made once per shape (this tree, load 5.5 -> 7.0):
+151.2 s, 133.3 in the solves, 17.9 outside: 5.0 in the computations, 13.0 in the renders
+(savefig 5.5, the constrained layout before it 4.3, XDMF 1.7, VTU 1.0). The XDMF column did
+not fall here (1.69 -> 1.67) although the same series written again in a case's process take
+0.10 -> 0.045 s each (bai-5.1's three, gc on or off, back to back) and 0.61 -> 0.27 s for
+six series from pickled results; the cause was not found. The whole default report, ``--jobs
+1``, f56c093 then this tree back to back (load 12.3 -> 8.3, then 8.3 -> 7.0): case CPU
+151.62 -> 151.00 s (the paper cases 38.34 -> 35.62, hemisphere-plies 45.23 -> 47.04, the
+rest within +-0.4), results.json's 6,298 numbers identical, every PNG, VTU, XDMF and HDF5
+file byte-identical.
 """
 
 from __future__ import annotations
