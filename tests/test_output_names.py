@@ -165,6 +165,40 @@ def test_an_xdmf_series_of_triangles_and_lines_reads_back_block_by_block(tmp_pat
     assert [f.tolist() for f in cell_data["f"]] == [[7.0], [1.0, 2.0]]
 
 
+def test_the_xdmf_arrays_are_the_bytes_h5py_s_create_dataset_writes(tmp_path, monkeypatch):
+    # femcore.xdmf makes a shape's creation properties once and creates the others at the low
+    # level; the reference: every dataset by h5py's create_dataset. Fields of two shapes and
+    # types over three frames, cells of two kinds (a Mixed topology).
+    import femcore.xdmf as xdmf
+
+    rng = np.random.default_rng(5)
+    points = rng.random((40, 3))
+    triangles = np.c_[np.arange(30), np.arange(1, 31), np.arange(2, 32)]
+    cells = [("triangle", triangles), ("line", np.c_[np.arange(5), np.arange(1, 6)])]
+    frames = [
+        (0.25 * k, {"u": rng.random((40, 3)), "t": rng.random(40)}, {"s": [rng.random((30, 3)),
+         rng.random((5, 3))]})
+        for k in range(3)
+    ]  # fmt: skip
+    xdmf.write_xdmf(tmp_path / "fast.xdmf", points, cells, frames)
+
+    class EveryDataset:
+        def __init__(self, h5):
+            self.h5 = h5
+
+        def __call__(self, key, values):
+            self.h5.create_dataset(key, data=values, **xdmf._PACKED)
+
+    monkeypatch.setattr(xdmf, "_Datasets", EveryDataset)
+    xdmf.write_xdmf(tmp_path / "reference.xdmf", points, cells, frames)
+    fast, reference = (tmp_path / "fast.h5").read_bytes(), (tmp_path / "reference.h5").read_bytes()
+    assert fast == reference
+    light = (tmp_path / "fast.xdmf").read_text().replace("fast.h5", "reference.h5")
+    assert light == (tmp_path / "reference.xdmf").read_text()
+    with h5py.File(tmp_path / "fast.h5") as h5:
+        assert h5["frames/2/node/u"].compression == "gzip"
+
+
 def test_xdmf_refuses_a_cell_type_it_cannot_write(tmp_path):
     with pytest.raises(ValueError, match=r"cell types \['quad'\].*expected"):
         write_xdmf(tmp_path / "q.xdmf", np.zeros((4, 3)), [("quad", np.arange(4)[None])], [])
