@@ -41,6 +41,7 @@ from elements.mindlin_tables import (
     largest_stretch2,
 )
 from elements.mindlin_tangent import mindlin_tangent_blocks
+from elements.rotary_scaling import hold_to_membrane
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.field_names import name_components
@@ -649,7 +650,7 @@ class MindlinShellBlock(ElementBlock):
         j = np.full(len(self.cell_ids), self.h**2 / 12.0)
         if scaling:
             kappa, nu = self.material.shear_factor, self.material.poisson
-            j = np.maximum(j, kappa * (1 - nu) * self._altitude() ** 2 / 16.0)
+            j = hold_to_membrane(self, np.maximum(j, kappa * (1 - nu) * self._altitude() ** 2 / 16))
         return j
 
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:

@@ -34,6 +34,7 @@ from elements.mindlin_fabric_loads import fabric_cell_loads
 from elements.mindlin_fabric_measures import fabric_section_measures
 from elements.mindlin_fabric_tangent import AVAILABLE, fabric_tangent_blocks
 from elements.mindlin_tables import _TYING_N
+from elements.rotary_scaling import hold_to_membrane
 from femcore.rotation import cross
 from femcore.state import State
 from materials.fabric import Fabric
@@ -288,7 +289,7 @@ class MindlinFabricBlock(MindlinShellBlock):
         scaling of docs/theory.md §6.2 at nu = 0, kappa = 5/6)."""
         j = np.full(len(self.cell_ids), self.h**2 / 12.0)
         if scaling:
-            j = np.maximum(j, _SHEAR_FACTOR * self._altitude() ** 2 / 16.0)
+            j = hold_to_membrane(self, np.maximum(j, _SHEAR_FACTOR * self._altitude() ** 2 / 16))
         return j
 
     def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
