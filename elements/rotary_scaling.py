@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["STEP_SHARE", "membrane_held_factors"]
+__all__ = ["STEP_SHARE", "membrane_held_factors", "rotary_mode", "scaled_rotary_inertia"]
 
 #: The element's step with the scaled j at least this share of its step with j without bound
 #: (the translations alone): a lighter j lets the rotations set the step.
@@ -94,3 +94,28 @@ def hold_to_membrane(block, j: np.ndarray, step_share: float = STEP_SHARE) -> np
         k = block._cell_tangent(x0[cells], v0[cells], cells).reshape(-1, 18, 18)
         factors[rows] = membrane_held_factors(k, share[rows], j[cells], step_share)
     return j * factors[shape_of]
+
+
+def rotary_mode(value, fabric: bool) -> str | None:
+    """The MindlinShell's ``rotary_scaling`` as the block reads it: None (the physical h^2 /
+    12), "closed" (B2's closed form) or "element" (the closed form held to the membrane's
+    step, ``hold_to_membrane``). True is the section's default: "element" for a Fabric
+    section, "closed" for an ElasticShell (its results as they were)."""
+    if value is False:
+        return None
+    if value is True:
+        return "element" if fabric else "closed"
+    if value in ("closed", "element"):
+        return str(value)
+    raise ValueError(f"rotary_scaling must be True, False, 'closed' or 'element', got {value!r}")
+
+
+def scaled_rotary_inertia(block, mode: str | None, kappa_one_minus_nu: float) -> np.ndarray:
+    """j (m,), mm^2, of a bound block (I = m j): h^2 / 12, at least kappa (1 - nu) L_e^2 / 16
+    with ``mode`` "closed" (L_e the reference altitude), that held to the membrane's step with
+    "element" (docs/theory.md §6.2 B2)."""
+    j = np.full(len(block.cell_ids), block.h**2 / 12.0)
+    if mode is None:
+        return j
+    j = np.maximum(j, kappa_one_minus_nu * block._altitude() ** 2 / 16.0)
+    return hold_to_membrane(block, j) if mode == "element" else j
