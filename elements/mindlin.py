@@ -41,6 +41,7 @@ from elements.mindlin_tables import (
     largest_stretch2,
 )
 from elements.mindlin_tangent import mindlin_tangent_blocks
+from elements.rotary_scaling import rotary_mode, scaled_rotary_inertia
 from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.field_names import name_components
@@ -83,7 +84,9 @@ class MindlinShell(ElementType):
         with the FibrousShell on the same Fabric changes the kinematics alone.
     thickness_points : Gauss points through the thickness of an elastic section (default 2; 2-5).
     rotary_scaling : scale the rotary inertia to j = max(h^2/12, kappa (1 - nu) L_e^2 / 16)
-        (docs/theory.md §6.2 B2) so that thin elements do not force a tiny step (default True).
+        ("closed") or that held to the membrane's step on the element ("element";
+        docs/theory.md §6.2 B2) so that thin elements do not force a tiny step; True
+        (default): "element" for a Fabric section, "closed" for an ElasticShell; False: h^2/12.
     kernel : "compiled" (default when numba is installed: the internal forces by the fused,
         parallel loop of elements/kernels.py) or "numpy" (the vectorised reference). A fabric
         section runs numpy.
@@ -105,7 +108,7 @@ class MindlinShell(ElementType):
         self,
         material: ElasticShell | Fabric,
         thickness_points: int = 2,
-        rotary_scaling: bool = True,
+        rotary_scaling: bool | str = True,
         kernel: str | None = None,
         warp=None,
         transverse_shear: float | None = None,
@@ -121,7 +124,7 @@ class MindlinShell(ElementType):
         kernel = kernels.choose(kernel)
         self.material = material
         self.thickness_points = int(thickness_points)
-        self.rotary_scaling = bool(rotary_scaling)
+        self.rotary_scaling = rotary_mode(rotary_scaling, isinstance(material, Fabric))
         self.kernel = kernel
         if isinstance(material, ElasticShell):
             given = [
@@ -643,14 +646,11 @@ class MindlinShellBlock(ElementBlock):
         return float(0.5 * np.sum(strain * stress))
 
     # ------------------------------------------------------------------ mass and step
-    def _rotary_factor(self, scaling: bool) -> np.ndarray:
-        """j (m,), mm^2: I = m j; h^2/12, or with ``scaling`` the B2 scaling of docs/theory.md §6.2
-        (from the reference altitudes: computed once at bind)."""
-        j = np.full(len(self.cell_ids), self.h**2 / 12.0)
-        if scaling:
-            kappa, nu = self.material.shear_factor, self.material.poisson
-            j = np.maximum(j, kappa * (1 - nu) * self._altitude() ** 2 / 16.0)
-        return j
+    def _rotary_factor(self, scaling: str | None) -> np.ndarray:
+        """j (m,), mm^2: I = m j, the B2 scaling of docs/theory.md §6.2 (``rotary_mode``),
+        from the reference configuration (computed once at bind)."""
+        kappa, nu = self.material.shear_factor, self.material.poisson
+        return scaled_rotary_inertia(self, scaling, kappa * (1 - nu))
 
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:
         """Smallest altitude 2A / L_max of each triangle (m,), mm."""

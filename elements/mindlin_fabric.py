@@ -34,6 +34,7 @@ from elements.mindlin_fabric_loads import fabric_cell_loads
 from elements.mindlin_fabric_measures import fabric_section_measures
 from elements.mindlin_fabric_tangent import AVAILABLE, fabric_tangent_blocks
 from elements.mindlin_tables import _TYING_N
+from elements.rotary_scaling import scaled_rotary_inertia
 from femcore.rotation import cross
 from femcore.state import State
 from materials.fabric import Fabric
@@ -283,13 +284,10 @@ class MindlinFabricBlock(MindlinShellBlock):
         return float(response(self.section, y, hessian=False).energy.sum())
 
     # ------------------------------------------------------------------ mass and step
-    def _rotary_factor(self, scaling: bool) -> np.ndarray:
-        """j (m,), mm^2: h^2/12, or with ``scaling`` max(h^2/12, kappa L_e^2 / 16) (the B2
-        scaling of docs/theory.md §6.2 at nu = 0, kappa = 5/6)."""
-        j = np.full(len(self.cell_ids), self.h**2 / 12.0)
-        if scaling:
-            j = np.maximum(j, _SHEAR_FACTOR * self._altitude() ** 2 / 16.0)
-        return j
+    def _rotary_factor(self, scaling: str | None) -> np.ndarray:
+        """j (m,), mm^2: the B2 scaling of docs/theory.md §6.2 (``rotary_mode``) with the
+        closed form at nu = 0, kappa = 5/6."""
+        return scaled_rotary_inertia(self, scaling, _SHEAR_FACTOR)
 
     def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
         """The trace bound of the elastic block (docs/theory.md §6.2 B1-B2) with the section's
