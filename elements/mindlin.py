@@ -86,7 +86,7 @@ class MindlinShell(ElementType):
     rotary_scaling : scale the rotary inertia to j = max(h^2/12, kappa (1 - nu) L_e^2 / 16)
         ("closed") or that held to the membrane's step on the element ("element";
         docs/theory.md §6.2 B2) so that thin elements do not force a tiny step; True
-        (default): "element" for a Fabric section, "closed" for an ElasticShell; False: h^2/12.
+        (default): "closed"; False: h^2/12.
     kernel : "compiled" (default when numba is installed: the internal forces by the fused,
         parallel loop of elements/kernels.py) or "numpy" (the vectorised reference). A fabric
         section runs numpy.
@@ -124,7 +124,7 @@ class MindlinShell(ElementType):
         kernel = kernels.choose(kernel)
         self.material = material
         self.thickness_points = int(thickness_points)
-        self.rotary_scaling = rotary_mode(rotary_scaling, isinstance(material, Fabric))
+        self.rotary_scaling = rotary_mode(rotary_scaling)
         self.kernel = kernel
         if isinstance(material, ElasticShell):
             given = [

@@ -96,15 +96,14 @@ def hold_to_membrane(block, j: np.ndarray, step_share: float = STEP_SHARE) -> np
     return j * factors[shape_of]
 
 
-def rotary_mode(value, fabric: bool) -> str | None:
+def rotary_mode(value) -> str | None:
     """The MindlinShell's ``rotary_scaling`` as the block reads it: None (the physical h^2 /
     12), "closed" (B2's closed form) or "element" (the closed form held to the membrane's
-    step, ``hold_to_membrane``). True is the section's default: "element" for a Fabric
-    section, "closed" for an ElasticShell (its results as they were)."""
+    step, ``hold_to_membrane``). True, the default, is "closed": the results as they were."""
     if value is False:
         return None
     if value is True:
-        return "element" if fabric else "closed"
+        return "closed"
     if value in ("closed", "element"):
         return str(value)
     raise ValueError(f"rotary_scaling must be True, False, 'closed' or 'element', got {value!r}")

@@ -69,8 +69,8 @@ def test_the_scaled_rotations_keep_the_membranes_step(section):
     assert np.all(rotations <= translations)  # the rotations' own top below the membrane's
     closed = _block(material, "closed")
     assert np.all(_steps(closed) < 0.6 * held)  # the closed form alone: 0.47 (0.51 fabric)
-    if section == "fabric":  # a Fabric section's default
-        assert np.array_equal(_block(material).rotary_factor, block.rotary_factor)
+    # the default (True) is the closed form, on either section: results as they were
+    assert np.array_equal(_block(material).rotary_factor, closed.rotary_factor)
 
 
 def test_an_elastic_section_keeps_the_closed_form_unless_asked():
