@@ -26,12 +26,12 @@ import numpy as np
 
 from elements.jit import lanes
 from elements.kernel_inputs import read_only, writable
-from elements.ply_choice import _choose, choice_arrays, cut_arrays
-from elements.ply_chosen import _chosen, chosen_arrays
+from elements.ply_choice import choice_arrays, cut_arrays
+from elements.ply_chosen import chosen_arrays
 from elements.ply_edge_kernels import _parts, _sides
+from elements.ply_facing_pass import _facing
 from elements.ply_fade import EVERY_PAIR, fade_length, nearest_segments
 from elements.ply_fade_kernels import _outline, outline_fade_at
-from elements.ply_kernels import _facets_at
 from elements.ply_projection import INSIDE, MARGIN, Facing
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import KEEP, WedgeCuts
@@ -40,9 +40,7 @@ __all__ = ["whole_facing"]
 
 # the stages' loops on the calling thread (their prange a range): the same operations in the
 # same order as their kernels' builds (IEEE, no fastmath), so the same bits
-_facets_here = lanes(_facets_at)
-_choose_here = lanes(_choose)
-_chosen_here = lanes(_chosen)
+_facing_here = lanes(_facing)
 _parts_here = lanes(_parts)
 _sides_here = lanes(_sides)
 _outline_here = lanes(_outline)
@@ -55,40 +53,21 @@ def _choice(
     normal, lam, chosen_gradients, chosen_reach, overshoot, reached, turned, on_q, rise, run,
     plane_normal, plane_gap, plane_lam,
 ):  # fmt: skip
-    """The first call: ``ply_facing_pass._facing``'s three stages into the choice's and the
+    """The first call: ``ply_facing_pass._facing`` (the three stages) into the choice's and the
     chosen arrays, then ``_parts``' coordinates ``on_q`` (P, 3) and fans' ``rise`` and
     ``run`` (P, f) of the points on an edge, and the chosen planes' normal, gap and
     coordinates copied (the fade reads them where the second call rewrites the chosen ones).
     Every output is given: none is returned (numba boxes a returned array)."""
-    count, k = near.shape
-    n = np.empty((count, k, 3))
-    gradients = np.empty((count, k, 3, 3))
-    gap = np.empty((count, k))
-    weights = np.empty((count, k, 3))
-    reach = np.empty((count, k, 3))
-    held = np.empty((count, k), dtype=np.bool_)
-    past = np.empty((count, k))
-    _facets_here(
-        p, y, near, outline, margin, inside, n, np.empty((count, k)), gradients, gap,
-        weights, reach, held, past,
-    )  # fmt: skip
-    _choose_here(
-        p, y, near, n, gradients, gap, weights, reach, held, past, has_cuts, cut, lines,
-        ends, best, on_edge, closest, on_cut, segment, along,
-        np.empty((count, k), dtype=np.bool_), np.empty((count, k), dtype=np.bool_),
-        np.empty((count, k)), np.empty((count, k, 3)), np.empty((count, k), dtype=np.bool_),
-        np.empty((count, k, 2, 3)), np.empty((count, k)), np.empty((count, 3, 3)),
-        np.empty((count, 3)),
-    )  # fmt: skip
-    _chosen_here(
-        best, near, n, gap, weights, gradients, reach, toward, has_toward, triangle,
-        chosen_gap, normal, lam, chosen_gradients, chosen_reach, overshoot, reached, turned,
+    _facing_here(
+        p, y, near, outline, margin, inside, has_cuts, cut, lines, ends, toward, has_toward,
+        best, on_edge, closest, on_cut, segment, along, triangle, chosen_gap, normal, lam,
+        chosen_gradients, chosen_reach, overshoot, reached, turned,
     )  # fmt: skip
     _parts_here(
         on_edge, triangle, y, nodes, fans, chosen_gradients, closest, chosen_reach, inside,
         on_q, rise, run,
     )  # fmt: skip
-    for i in range(count):
+    for i in range(near.shape[0]):
         plane_gap[i] = chosen_gap[i]
         for c in range(3):
             plane_normal[i, c] = normal[i, c]
