@@ -393,9 +393,8 @@ class RigidSurface(RigidTool):
         self, count: int, corners: bool = False
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
         """(hint (k,), anchor (k, 3), room (k,), the hints' corners and normals (k, 4, 3) or
-        None) for
-        ``count`` points: each point's facet of the last call (mostly its nearest again: the
-        candidates further than it are skipped, the answer the same,
+        None) for ``count`` points: each point's facet of the last call (mostly its nearest
+        again: the candidates further than it are skipped, the answer the same,
         elements/facet_search.py; -1 for none) and its room to move keeping it, valid with
         the hints it was found with (anew, -1, where those are not this tool's, or where
         ``corners`` is asked and the last call kept none: the short lists' kernel reads the

@@ -349,6 +349,12 @@ class BandPlan:
         stack solved without its stall rule (its band 1.75 times its envelope;
         benchmarks/band_fill.py). Without numba, the whole band zeroed, then scattered (the
         reference)."""
+        upper_data = np.asarray(upper_data)
+        if upper_data.shape != self.slots.shape:  # the compiled pass does not check bounds
+            raise ValueError(
+                f"BandPlan: the upper triangle's values must be one per entry of the plan's "
+                f"pattern, shape {self.slots.shape}; got {upper_data.shape}"
+            )
         if _fill_envelope_compiled is None:  # pragma: no cover - numba is a dependency
             flat = np.zeros(self.fill)
             flat[self.slots] = upper_data

@@ -58,3 +58,16 @@ def test_a_forming_run_is_the_same_to_the_last_bit_without_its_shortcuts(monkeyp
     plain_positions, plain_forces = formed()
     np.testing.assert_array_equal(positions, plain_positions)
     np.testing.assert_array_equal(forces, plain_forces)
+
+
+def test_the_die_s_compiled_pass_without_the_short_lists_is_the_same_run(monkeypatch):
+    """The die's compiled contact pass reads each node's facet from the short lists' copies;
+    without the short lists (SHORT_LISTS off) it makes those rows from the die's corners and
+    normals by facet: the same run to the last bit."""
+    from elements import rigid_surface as tools
+
+    positions, forces = formed()
+    monkeypatch.setattr(tools, "SHORT_LISTS", False)
+    plain_positions, plain_forces = formed()
+    np.testing.assert_array_equal(positions, plain_positions)
+    np.testing.assert_array_equal(forces, plain_forces)

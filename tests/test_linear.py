@@ -505,3 +505,17 @@ def test_the_compiled_infinity_norm_is_scipys_to_the_bit():
         if not np.isnan(expected):
             assert np.float64(found).view(np.int64) == np.float64(expected).view(np.int64)
     assert _infinity_norm(sp.csc_matrix((0, 0))) == 0.0
+
+
+@pytest.mark.parametrize("change", [-5, 7])
+def test_the_band_refuses_values_not_one_per_entry_of_its_pattern(change):
+    """The band's compiled fill reads the values by the plan's slots without a bounds check:
+    a values array of another length is a ValueError, not a read past its end."""
+    from solvers.band import BandPlan
+
+    k = strip_matrix(shift=0.0)
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    values = np.resize(upper.data, upper.data.size + change)
+    with pytest.raises(ValueError, match="one per entry of the plan's pattern"):
+        BandPlan(upper).factorise(values)
