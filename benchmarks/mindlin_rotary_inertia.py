@@ -1,10 +1,13 @@
 """Are the Mindlin forming runs quasi-static in their rotations? The one-ply
-hemisphere-forming Mindlin run (default 20 cells) and the two-ply hemisphere [0/90] Mindlin
-run (default 10 cells, holder 20 N), each with the rotary inertia j of docs/theory.md §6.2 B2
-as it is (closed form), with j x2 and x4 (every cell's j times the factor, set at bind), and
-with the closed j and the stroke slowed x2 (the duration doubled: half the pace, a quarter of
-the kinetic energy at the same shape). A quasi-static answer depends on neither; the one
-that converges as the pace falls is the reference the default runs are measured against.
+hemisphere-forming Mindlin run (its default 20 cells) and the two-ply hemisphere's Mindlin
+runs (validation/cases/hemisphere_plies.py: 8 cells, holder 20 N; [0/90], and [0/45] as
+"plies 0/45"), each with the rotary inertia j of docs/theory.md §6.2 B2 as it is (the closed
+form), with j x0.5, x2, x4 (every cell's j times the factor, set at bind) and the element
+rule (rotary_scaling="element"), with the closed j and the stroke slowed x2 to x16 (the
+duration multiplied: the same path at a fraction of the pace, the kinetic energy at the same
+shape divided by its square), and with j x4 and the contacts' automatic penalties held at
+the closed j's step. A quasi-static answer depends on neither j nor the pace; the one that
+converges as the pace falls is the reference the default runs are measured against.
 
     python benchmarks/mindlin_rotary_inertia.py [--jobs 2] [--only forming|plies|"plies 0/45"]
         [--variants "closed,slow x4"]
