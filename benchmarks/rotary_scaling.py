@@ -17,8 +17,10 @@ but the Mindlin plies' results move far beyond a scatter: [0/90] ply 1 cells in 
 slip 2.5 -> 23.8 mm, largest KE / W 0.115 -> 0.169 (its rotational part 0.057 -> 0.107);
 [0/45] ply 1 rms 3.02 -> 1.78 deg, punch force 289 -> 123 N; hemisphere-forming's Mindlin
 draw-ins within 1.1 %, its rms shear - net 2.09 -> 1.88 deg, punch force 78.3 -> 56.4 N.
-The plies' snap is shaped by the directors' inertia (docs/theory.md §6.3), so "element" is a
-model change for those runs, not a free speed-up: left to a decision on the cases.
+Mostly not through j itself (benchmarks/mindlin_rotary_inertia.py): the tool contacts'
+penalty follows the model's step (elements/contact.py), softer as j lengthens it, and the
+two-ply [0/90] Mindlin run at its default pace is not quasi-static; with the penalties held and
+the stroke slowed x4, j x4 gives the closed form's slow answer. Left to a decision on the cases.
 
 Measured (one thread): the step over the held step, closed form / element rule, and the
 rule's factor on j: equivalent 0.465 / 0.950 (x8.26, j 16.3 -> 134.4 mm^2), fabric section
