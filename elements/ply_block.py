@@ -51,7 +51,7 @@ from elements.ply_wedge import WedgeCuts
 from femcore.assembly import CellTangent, TangentPart
 from femcore.field_names import name_components
 from femcore.interaction import Body, InteractionBlock
-from femcore.rotation import cross, cross_matrix
+from femcore.rotation import cross
 from femcore.state import State
 
 __all__ = ["DOFS", "PENALTY_SHARE", "RULES", "PlyContactBlock"]
@@ -654,17 +654,9 @@ class PlyContactBlock(InteractionBlock):
             ]
         )
         d = self.offset_directions(state)[nodes]  # (f, 8, 3)
-        own = np.zeros((f, 8, 3, 6))
-        own[:, :, :, :3] = np.eye(3)
-        own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-        blocks = ply_carry.carry(points, own, self.shape[rows])
+        blocks = ply_carry.carry(points, ply_carry.own_maps(offset, d), self.shape[rows])
         forces = energy[:, None, None] * fading[:, 4:]  # on the ends
-        geometric = offset[:, 6:, None, None] * (
-            d[:, 6:, :, None] * forces[:, :, None, :]
-            - np.sum(forces * d[:, 6:], axis=-1)[:, :, None, None] * np.eye(3)
-        )
-        for row in range(2):
-            blocks[:, 6 + row, 3:, 6 + row, 3:] += geometric[:, row]
+        ply_carry.add_turned_offsets(blocks, offset[:, 6:], d[:, 6:], forces, 6)
         return CellTangent(nodes, blocks)
 
     def fade_hessian_at(self, state: State, facing: Facing, rows: np.ndarray) -> np.ndarray:

@@ -22,8 +22,41 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import serial
+from femcore.rotation import cross_matrix
 
-__all__ = ["carried_blocks", "carry", "carry_point", "carry_reference", "point_maps"]
+__all__ = [
+    "add_turned_offsets",
+    "carried_blocks",
+    "carry",
+    "carry_point",
+    "carry_reference",
+    "own_maps",
+    "point_maps",
+]
+
+
+def own_maps(offset: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """Each node's own map onto its z, dz = du - c [d]x psi, (t, N, 3, 6): from the nodes'
+    signed offsets c (t, N), mm, and offset directions d (t, N, 3)."""
+    own = np.zeros(offset.shape + (3, 6))
+    own[:, :, :, :3] = np.eye(3)
+    own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(directions)
+    return own
+
+
+def add_turned_offsets(
+    blocks: np.ndarray, offset: np.ndarray, directions: np.ndarray, forces: np.ndarray, first: int
+) -> None:
+    """Add to ``blocks`` (t, N, 6, N, 6), in place, the turn of the moments c d x F of the
+    nodes ``first``, ``first`` + 1, .. with the forces F (t, k, 3), N: with F held,
+    d(c d x F)/dpsi = c (psi x d) x F = c (d F^T - (F . d) I) psi, on each node's own (psi,
+    psi) block; offset c (t, k), mm, directions d (t, k, 3) those nodes'."""
+    geometric = offset[:, :, None, None] * (
+        directions[:, :, :, None] * forces[:, :, None, :]
+        - np.sum(forces * directions, axis=-1)[:, :, None, None] * np.eye(3)
+    )
+    for row in range(forces.shape[1]):
+        blocks[:, first + row, 3:, first + row, 3:] += geometric[:, row]
 
 
 def point_maps(own: np.ndarray, shape: np.ndarray) -> np.ndarray:

@@ -18,9 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import serial
-from elements.ply_carry import carry_point, carry_reference
+from elements.ply_carry import add_turned_offsets, carry_point, carry_reference, own_maps
 from elements.ply_fade_hessian import plane_hessian
-from femcore.rotation import cross_matrix
 
 __all__ = ["point_blocks", "point_blocks_reference"]
 
@@ -213,7 +212,6 @@ def point_blocks_reference(
     fading: np.ndarray | None = None,
 ) -> np.ndarray:
     """``point_blocks`` by numpy (its reference; the same arguments and blocks)."""
-    t = len(gap)
     n, lam = normal, weights
     if forces is None:  # PlyContactBlock._pair_loads' forces
         if fading is None:
@@ -236,19 +234,9 @@ def point_blocks_reference(
     points = fade[:, None, None, None, None] * (
         law[2][:, None, None, None, None] * outer + law[1][:, None, None, None, None] * hessian
     )  # (t, 4, 3, 4, 3)
-    d = directions
     # Each node's own map dz = du - c [d]x psi, (t, 6, 3, 6); the point p takes its
     # corners' maps times N_j, each lower corner its own.
-    own = np.zeros((t, 6, 3, 6))
-    own[:, :, :, :3] = np.eye(3)
-    own[:, :, :, 3:] = -offset[:, :, None, None] * cross_matrix(d)
-    blocks = carry_reference(points, own, shape)
-    # The moment c d x F turns with the director (F held): d(c d x F)/dpsi =
-    # c (psi x d) x F = c (d F^T - (F . d) I) psi.
-    geometric = offset[:, :, None, None] * (
-        d[:, :, :, None] * forces[:, :, None, :]
-        - np.sum(forces * d, axis=-1)[:, :, None, None] * np.eye(3)
-    )
-    for row in range(6):
-        blocks[:, row, 3:, row, 3:] += geometric[:, row]
+    blocks = carry_reference(points, own_maps(offset, directions), shape)
+    # The moment c d x F turns with the director (F held).
+    add_turned_offsets(blocks, offset, directions, forces, 0)
     return blocks
