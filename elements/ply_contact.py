@@ -140,6 +140,7 @@ import numpy as np
 from elements.ply_block import DOFS, PENALTY_SHARE, RULES, PlyContactBlock
 from elements.ply_projection import MARGIN, Facing, penalty_law
 from femcore.interaction import Body, Interaction
+from femcore.topology import ZERO_AREA_TOL
 
 __all__ = [
     "FACES",
@@ -239,8 +240,9 @@ class PlyContact(Interaction):
         Empty or non-integer selections, a negative or non-finite offset or smoothing, a
         penalty that is not a positive number, fewer than one candidate, an unknown rule,
         faces, surface or points; at
-        bind, unknown set names, ids out of range, nodes of the upper triangles that are
-        corners of the lower triangles, nodes without directors.
+        bind, unknown set names, ids out of range, triangles of no area (coincident or
+        collinear corners, named), nodes of the upper triangles that are corners of the
+        lower triangles, nodes without directors.
     """
 
     dofs = DOFS
@@ -350,6 +352,8 @@ class PlyContact(Interaction):
                     f"PlyContact: {name} triangle {int(ids.max())} out of range (mesh has "
                     f"{len(triangles)} triangles)"
                 )
+        for name, ids in (("upper", upper), ("lower", lower)):
+            _refuse_flat(mesh.points, triangles, ids, name)
         above, cells = triangles[upper], triangles[lower]
         shared = np.intersect1d(above, cells)
         if shared.size:
@@ -374,6 +378,36 @@ class PlyContact(Interaction):
             # normal points towards the lower ply (module docstring, "Both ways")
             return PlyContactBlock(self, cells, above[:, [0, 2, 1]], -b, -a, smoothing, body)
         return PlyContactBlock(self, above, cells, a, b, smoothing, body)
+
+
+def _refuse_flat(points: np.ndarray, triangles: np.ndarray, ids: np.ndarray, name: str) -> None:
+    """ValueError naming the triangles ``ids`` of no area in the reference mesh (coincident
+    or collinear corners): the faces' normals, the points' barycentric coordinates and the
+    penalty's share of area divide by it (elements/ply_projection.py, ply_block.py). The
+    shells' own triangles are refused so when the model is compiled (femcore.topology
+    ``check_triangles``); these are the contact's triangles, which need not be a shell's.
+
+    Parameters
+    ----------
+    points : (n, 3) float, mm
+    triangles : (t, 3) int, the mesh's triangles
+    ids : (m,) int, the contact's triangles among them
+    name : "upper" or "lower", for the message
+    """
+    corners = points[triangles[ids]]  # (m, 3, 3)
+    twice = np.linalg.norm(
+        np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+    )
+    span = corners.reshape(-1, 3)
+    diagonal = float(np.linalg.norm(span.max(axis=0) - span.min(axis=0)))
+    # the mesh's own tolerance (femcore.topology: area <= ZERO_AREA_TOL diagonal^2)
+    flat = ids[twice <= 2.0 * ZERO_AREA_TOL * diagonal**2]
+    if flat.size:
+        shown = ", ".join(str(int(t)) for t in flat[:10]) + (", ..." if flat.size > 10 else "")
+        raise ValueError(
+            f"PlyContact: {flat.size} {name} triangle(s) of no area (coincident or collinear "
+            f"corners): {shown}; the ply contact needs triangles of positive area"
+        )
 
 
 def _ids(given: Any, what: str) -> np.ndarray:

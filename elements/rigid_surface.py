@@ -35,6 +35,7 @@ from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from elements.tools import RigidTool
 from femcore.checks import as_flag, check_positive
 from femcore.loads import AmplitudeFunction
+from femcore.topology import ZERO_AREA_TOL
 
 __all__ = ["RigidSurface"]
 
@@ -179,9 +180,14 @@ class RigidSurface(RigidTool):
         a, b, c = self.corners[:, 0], self.corners[:, 1], self.corners[:, 2]
         normal = np.cross(b - a, c - a)
         length = np.linalg.norm(normal, axis=1)
-        if (length == 0).any():
+        span = float(np.linalg.norm(mesh.points.max(axis=0) - mesh.points.min(axis=0)))
+        # the mesh's own tolerance (femcore.topology: area <= ZERO_AREA_TOL diagonal^2)
+        flat = np.flatnonzero(length <= 2.0 * ZERO_AREA_TOL * span**2)
+        if flat.size:
+            shown = ", ".join(str(int(t)) for t in flat[:10]) + (", ..." if flat.size > 10 else "")
             raise ValueError(
-                f"RigidSurface: facet {int(np.argmin(length))} has no area (collinear nodes)"
+                f"RigidSurface: {flat.size} facet(s) of no area (coincident or collinear "
+                f"nodes): {shown}"
             )
         self.flipped = as_flag(flip, "RigidSurface flip")
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]

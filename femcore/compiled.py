@@ -101,7 +101,7 @@ class CompiledModel(CompiledTangent):
                 if len(triangle_ids) == 1
                 else np.unique(np.concatenate(triangle_ids))
             )
-            check_triangles(mesh.points, mesh.triangles[ids])
+            check_triangles(mesh.points, mesh.triangles[ids], names=ids)
 
         fixed = fixed_mask(model.fixes, active)
         prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active)

@@ -252,11 +252,12 @@ def build_topology(triangles: ArrayLike) -> Topology:
     )
 
 
-def _half_edges(tri: np.ndarray) -> tuple:
+def _half_edges(tri: np.ndarray, names: np.ndarray | None = None) -> tuple:
     """The half-edges h = 3 t + s (side s of triangle t) of valid triangles (m, 3) grouped by
     undirected edge: (the edges' keys lo * base + hi in increasing order, the edge of each
     half-edge (3m,), the half-edges of each edge, its first and second half-edges (-1 where
-    it has one), base). ValueError for an edge of more than two triangles."""
+    it has one), base). ValueError for an edge of more than two triangles (named by
+    ``names`` (m,), their ids in the mesh, when given)."""
     m = len(tri)
     start, end = tri[:, _SIDE_START].reshape(-1), tri[:, _SIDE_END].reshape(-1)  # h = 3 t + s
     # Encode each undirected edge as one integer so that one sort groups them; the key order
@@ -271,7 +272,7 @@ def _half_edges(tri: np.ndarray) -> tuple:
     unique_keys = ordered[starts]
     edge_of_half = np.empty(len(keys), dtype=np.int64)
     edge_of_half[order] = np.repeat(np.arange(len(starts)), counts)
-    _raise_if_non_manifold(unique_keys, counts, edge_of_half, base)
+    _raise_if_non_manifold(unique_keys, counts, edge_of_half, base, names)
     first = order[starts]
     second = np.full(len(starts), -1, dtype=np.int64)
     interior = counts == 2
@@ -286,14 +287,18 @@ def _frozen(array: np.ndarray) -> np.ndarray:
 
 
 def _raise_if_non_manifold(
-    unique_keys: np.ndarray, counts: np.ndarray, edge_of_half: np.ndarray, base: int
+    unique_keys: np.ndarray,
+    counts: np.ndarray,
+    edge_of_half: np.ndarray,
+    base: int,
+    names: np.ndarray | None = None,
 ) -> None:
     crowded = np.flatnonzero(counts > 2)
     if crowded.size == 0:
         return
     edge = int(crowded[0])
     lo, hi = divmod(int(unique_keys[edge]), base)
-    owners = np.unique(np.flatnonzero(edge_of_half == edge) // 3).tolist()
+    owners = _named(np.unique(np.flatnonzero(edge_of_half == edge) // 3), names).tolist()
     raise ValueError(
         f"non-manifold edge ({lo}, {hi}) is shared by {counts[edge]} triangles {owners}; "
         "at most two triangles may share an edge"
@@ -342,9 +347,10 @@ def check_orientation(triangles: ArrayLike) -> None:
     _check_orientation(tri, _half_edges(tri))
 
 
-def _check_orientation(tri: np.ndarray, groups: tuple) -> None:
+def _check_orientation(tri: np.ndarray, groups: tuple, names: np.ndarray | None = None) -> None:
     """check_orientation on the half-edge groups of ``_half_edges``: the two half-edges of
-    an interior edge start at different nodes."""
+    an interior edge start at different nodes (the triangles named by ``names``, their ids
+    in the mesh, when given)."""
     _, _, counts, first, second, _ = groups
     interior = np.flatnonzero(counts == 2)
     h0, h1 = first[interior], second[interior]
@@ -352,7 +358,7 @@ def _check_orientation(tri: np.ndarray, groups: tuple) -> None:
     same = np.flatnonzero(directed[h0, 0] == directed[h1, 0])
     if same.size:
         k = int(same[0])
-        t0, t1 = h0[k] // 3, h1[k] // 3
+        t0, t1 = _named(np.array([h0[k] // 3, h1[k] // 3]), names).tolist()
         start, end = directed[h0[k]].tolist()
         raise ValueError(
             f"triangles {t0} and {t1} have inconsistent orientation: both traverse "
@@ -442,8 +448,9 @@ def check_zero_area(points: ArrayLike, triangles: ArrayLike) -> None:
     _check_zero_area(*_points_and_triangles(points, triangles))
 
 
-def _check_zero_area(pts: np.ndarray, tri: np.ndarray) -> None:
-    """check_zero_area on validated points (n, 3) and triangles (m, 3)."""
+def _check_zero_area(pts: np.ndarray, tri: np.ndarray, names: np.ndarray | None = None) -> None:
+    """check_zero_area on validated points (n, 3) and triangles (m, 3), the triangles named
+    by ``names`` (m,), their ids in the mesh, when given."""
     if len(tri) == 0:
         return
     area = 0.5 * np.linalg.norm(_triangle_cross(pts, tri), axis=1)
@@ -452,12 +459,20 @@ def _check_zero_area(pts: np.ndarray, tri: np.ndarray) -> None:
     if flat.size:
         t = int(flat[0])
         raise ValueError(
-            f"triangle {t} with nodes {tuple(tri[t].tolist())} has zero area "
-            f"({area[t]:.3g} <= tolerance {tol:.3g})"
+            f"triangle {int(_named(flat[:1], names)[0])} with nodes {tuple(tri[t].tolist())} "
+            f"has zero area ({area[t]:.3g} <= tolerance {tol:.3g})"
         )
 
 
-def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
+def _named(rows: np.ndarray, names: np.ndarray | None) -> np.ndarray:
+    """The ids in the mesh of the checked triangles' ``rows``: ``names[rows]``, or the rows
+    themselves when the triangles checked are the mesh's own."""
+    return rows if names is None else np.asarray(names)[rows]
+
+
+def check_triangles(
+    points: ArrayLike, triangles: ArrayLike, names: ArrayLike | None = None
+) -> None:
     """Run all triangle-mesh checks.
 
     Checks, in order: connectivity (shape, range, repeated nodes), non-manifold edges,
@@ -469,6 +484,9 @@ def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
         Node coordinates (length units).
     triangles : array_like of int, shape (m, 3)
         Node ids per triangle.
+    names : array_like of int, shape (m,), optional
+        The triangles' ids in the mesh, which the messages name (a model checks some of its
+        mesh's triangles); None: their rows in ``triangles``.
 
     Raises
     ------
@@ -476,11 +494,14 @@ def check_triangles(points: ArrayLike, triangles: ArrayLike) -> None:
         Describing the first problem found.
     """
     pts, tri = _points_and_triangles(points, triangles)
+    ids = None if names is None else np.asarray(names, dtype=np.int64).reshape(-1)
+    if ids is not None and len(ids) != len(tri):
+        raise ValueError(f"names must give one id per triangle ({len(tri)}), got {len(ids)}")
     # One grouping of the half-edges serves the manifold and the orientation checks.
-    _check_orientation(tri, _half_edges(tri))
+    _check_orientation(tri, _half_edges(tri, ids), ids)
     # The points and triangles validated once for all the checks.
     _check_duplicate_nodes(pts, tri)
-    _check_zero_area(pts, tri)
+    _check_zero_area(pts, tri, ids)
 
 
 # --------------------------------------------------------------------------------------------
