@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from femcore.dofs import N_COLUMNS
 from femcore.state import State
+from solvers.common import check_integer, check_non_negative
 from solvers.newton import (
     ARMIJO,
     IncrementFailed,
@@ -48,6 +49,7 @@ __all__ = [
     "STALL_WINDOW",
     "Motion",
     "arc_length_path",
+    "check_arc_options",
     "constraint_root",
     "descend",
     "stalled",
@@ -85,6 +87,62 @@ CHORD_GAIN = 0.1
 # the unstable part (arc_chords 0.5), and at 0.1 its first limit came 6 % low. At 1e-2 and
 # below every increment count from 3 to 20 found both limits (tests/test_arc_chords.py).
 LARGEST_CHORD_RATIO = 1e-2
+
+
+#: The arc-length path's own options of ``Static`` and their defaults (max_increments None:
+#: 20 x increments + 20).
+ARC_DEFAULTS = {
+    "max_increments": None,
+    "arc_iterations": DESIRED_ITERATIONS,
+    "arc_chords": 0.0,
+    "at_limit": "follow",
+}
+
+
+def check_arc_options(
+    path: str, max_increments: object, arc_iterations: object, arc_chords: object, at_limit: object
+) -> tuple[int, float, str]:
+    """``Static``'s arc-length options checked: (arc_iterations, arc_chords, at_limit).
+
+    Parameters
+    ----------
+    path : "load" or "arc_length", Static's path (already checked).
+    max_increments, arc_iterations, arc_chords, at_limit : as given to Static.
+
+    Raises
+    ------
+    ValueError
+        arc_iterations not an integer >= 1, arc_chords not a ratio in [0,
+        LARGEST_CHORD_RATIO], at_limit not "follow" or "jump"; any of the four other than its
+        default with path="load", which does not use them (it would be ignored).
+    """
+    iterations = check_integer(arc_iterations, "arc_iterations")
+    chords = check_non_negative(arc_chords, "arc_chords", "a residual ratio")
+    if chords > LARGEST_CHORD_RATIO:
+        raise ValueError(
+            f"arc_chords must be at most {LARGEST_CHORD_RATIO:g} (a residual ratio at which "
+            f"Newton is already near the path; larger ones let steps pass limit points), "
+            f"got {arc_chords!r}"
+        )
+    if at_limit not in ("follow", "jump"):
+        raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
+    if path == "load":
+        given = {
+            "max_increments": max_increments,
+            "arc_iterations": iterations,
+            "arc_chords": chords,
+            "at_limit": at_limit,
+        }
+        ignored = [
+            f"{name}={given[name]!r}" for name in ARC_DEFAULTS if given[name] != ARC_DEFAULTS[name]
+        ]
+        if ignored:
+            raise ValueError(
+                f"{', '.join(ignored)} given with path='load': the arc-length path's options, "
+                "which the load path does not use; expected path='arc_length' with them, or "
+                "their defaults"
+            )
+    return iterations, chords, str(at_limit)
 
 
 class Motion:
@@ -136,7 +194,6 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         cuts_here = 0
         while True:
             prediction: Motion | None = None
-            chords_before = run.info["arc_chords"]
             try:
                 prediction = arc_predictor(run, pattern, arc, previous)
                 arc = prediction.length
@@ -152,9 +209,8 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
                     # Land on the end of the phase with a load step along the secant.
                     fraction = (end - run.reached) / prediction.load
                     start = run.apply(prediction.scaled(fraction), end)
-                    chords_before = run.info["arc_chords"]
                     state, count, ratio, history = newton(run, start, end)
-                    outcome = (state, end, count, ratio, history)
+                    outcome = (state, end, count, ratio, history, 0)  # no arc chord steps
                 motion = run.motion_between(run.state, run.reached, *outcome[:2])
                 if (
                     solver.at_limit == "jump"
@@ -190,7 +246,7 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
                 arc = shrink * arc if arc is not None else None
                 if prediction is not None and prediction.mode:
                     switches = 3  # the push did not work: stay on the path
-        state, load_factor, count, ratio, history = outcome
+        state, load_factor, count, ratio, history, chord_steps = outcome
         if previous is not None and previous.load * motion.load < 0.0:
             run.info["limit_points"].append(run.reached)
         run.accept(state, load_factor)
@@ -199,7 +255,7 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         # Crisfield's step-length rule: aim at ``arc_iterations`` next time, counting the
         # iterations that factorised (a chord step costs one solve).
         aim = solver.arc_iterations
-        spent = count - (run.info["arc_chords"] - chords_before)
+        spent = count - chord_steps
         arc = motion.length * float(np.clip(np.sqrt(aim / max(spent, 1)), 0.5, 2.0))
         if longest is None:
             # The first step's length, stretched to the path length of a load step of
@@ -251,7 +307,9 @@ def arc_predictor(run: StaticRun, pattern, arc, previous) -> Motion:
 
 def arc_corrector(run: StaticRun, pattern, prediction: Motion):
     """Newton iterations on (free DOFs, lambda) on the cylinder ||motion|| = length around
-    the last converged state. Returns (state, lambda, iterations, ratio, history)."""
+    the last converged state. Returns (state, lambda, iterations, ratio, history, chord
+    steps), the chord steps (``Static(arc_chords=...)``) among the iterations (each also
+    counted in ``run.info["arc_chords"]``)."""
     solver = run.solver
     model = run.model
     dofs = model.dofs
@@ -263,6 +321,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
     history: list[float] = []
     factor = None
     chords = 0  # chord steps in a row (``Static(arc_chords=...)``)
+    chord_steps = 0  # chord steps in all
     for iteration in range(1, solver.max_iterations + 1):
         frames = dofs.frames(state.directors)
         equilibrium = run.equilibrium(load_factor)
@@ -273,7 +332,14 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
         if ratio <= solver.tol:
             if factor is None:
                 factor = run.factorise(run.tangent(state, frames)[0])
-            return run.settled(state, factor), load_factor, iteration - 1, ratio, history
+            return (
+                run.settled(state, factor),
+                load_factor,
+                iteration - 1,
+                ratio,
+                history,
+                chord_steps,
+            )
         if (
             factor is not None
             and ratio <= solver.arc_chords
@@ -283,6 +349,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
             # an earlier iterate of this increment takes the ratio down for one solve
             # (docs/theory.md §6.6, "Chord steps"), while it gains CHORD_GAIN a step.
             chords += 1
+            chord_steps += 1
             run.info["arc_chords"] += 1
         else:
             chords = 0
@@ -304,12 +371,17 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
         cap = step_cap(model, delta)
         load_factor += cap * d_load
         state = run.place(dofs.advance(state, cap * delta, frames), load_factor)
-        if at_round_off_floor(cap, delta, ratio, model.element_size) and abs(d_load) <= 1e-9 * max(
-            abs(prediction.load), 1e-300
+        if (
+            not chords
+            and at_round_off_floor(cap, delta, ratio, model.element_size)
+            and abs(d_load) <= 1e-9 * max(abs(prediction.load), 1e-300)
         ):
+            # A full Newton update this small: converged at the round-off floor. Not after a
+            # chord step, whose update is the stale tangent's: small is no proof there
+            # (docs/theory.md §6.6, "Chord steps"); the next iteration checks its residual.
             _, ratio, _ = run.equilibrium(load_factor).residual(state, dofs.frames(state.directors))
             history.append(ratio)
-            return run.settled(state, factor), load_factor, iteration, ratio, history
+            return run.settled(state, factor), load_factor, iteration, ratio, history, chord_steps
         run.progress(
             f"arc length: load factor {load_factor:.4g}, iteration {iteration}, residual "
             f"ratio {ratio:.3g} (tol {solver.tol:g})"

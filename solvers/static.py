@@ -41,7 +41,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Result
 from femcore.rotation import cross, rotate_about
 from femcore.state import State
-from solvers.arc_length import DESIRED_ITERATIONS, LARGEST_CHORD_RATIO, Motion, arc_length_path
+from solvers.arc_length import DESIRED_ITERATIONS, Motion, arc_length_path, check_arc_options
 from solvers.augmentation import augment_contacts
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -122,7 +122,9 @@ class Static:
         about at the end. The passes per increment are in ``info["augmentations"]``, the
         penetration and elastic slip left at each frame in ``info["augmented_penetration"]``
         and ``info["augmented_slip"]`` (mm).
-    path : "load" (default) or "arc_length" (module docstring).
+    path : "load" (default) or "arc_length" (module docstring). The arc-length path's own
+        options (max_increments, arc_iterations, arc_chords, at_limit) given other than their
+        defaults with path="load" are refused (they would be ignored).
     max_increments : arc-length path: a phase's most increments (default 20 x increments + 20).
     arc_iterations : arc-length path: the iterations Crisfield's step rule aims an increment
         at (default 5: the next length l sqrt(5 / iterations); docs/theory.md §6.6).
@@ -315,17 +317,9 @@ class Static:
             if max_increments is None
             else check_integer(max_increments, "max_increments")
         )
-        self.arc_iterations = check_integer(arc_iterations, "arc_iterations")
-        self.arc_chords = check_non_negative(arc_chords, "arc_chords", "a residual ratio")
-        if self.arc_chords > LARGEST_CHORD_RATIO:
-            raise ValueError(
-                f"arc_chords must be at most {LARGEST_CHORD_RATIO:g} (a residual ratio at which "
-                f"Newton is already near the path; larger ones let steps pass limit points), "
-                f"got {arc_chords!r}"
-            )
-        if at_limit not in ("follow", "jump"):
-            raise ValueError(f"at_limit must be 'follow' or 'jump', got {at_limit!r}")
-        self.at_limit = at_limit
+        self.arc_iterations, self.arc_chords, self.at_limit = check_arc_options(
+            path, max_increments, arc_iterations, arc_chords, at_limit
+        )
         self.predictor = check_flag(predictor, "predictor")
         self.stabilise = check_stabilise(stabilise, path)
         self.chords = check_integer(chords, "chords", minimum=0)

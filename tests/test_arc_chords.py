@@ -92,3 +92,24 @@ def test_the_largest_chord_ratio_keeps_both_limit_points_of_the_truss(increments
 def test_arc_chords_above_the_largest_ratio_is_refused(too_large):
     with pytest.raises(ValueError, match="arc_chords must be at most 0.01"):
         Static(path="arc_length", arc_chords=too_large)
+
+
+@pytest.mark.parametrize(
+    "option",
+    [
+        {"arc_chords": 1e-3},
+        {"arc_iterations": 8},
+        {"max_increments": 50},
+        {"at_limit": "jump"},
+    ],
+)
+def test_the_arc_length_options_are_refused_on_the_load_path(option):
+    # The load path does not read them: given with it, they were silently ignored.
+    ((name, value),) = option.items()
+    with pytest.raises(ValueError, match=rf"{name}={value!r} given with path='load'.*arc_length"):
+        Static(**option)
+    Static(path="arc_length", **option)
+
+
+def test_the_arc_length_options_at_their_defaults_pass_on_the_load_path():
+    Static(arc_chords=0.0, arc_iterations=5, max_increments=None, at_limit="follow")
