@@ -178,6 +178,14 @@ class EnergyAccount:
     steps) and the blow-up check.
 
     Work over [t(i-1/2), t(i+1/2)] is taken with the forces at t(i) (midpoint rule).
+
+    The records (``KEYS``, N mm; docs/theory.md §6.1, "The energy records"), each at
+    t(i+1/2): "kinetic" 1/2 v.M v; "external_work" the work of the loads, the supports'
+    reactions and the moving tools; "damping" the mass-proportional damping's dissipation;
+    "friction" the interactions' dissipation D_f (Coulomb friction, contact damping: the
+    mean of its values at t(i) and t(i+1)); "internal" the stored part of the internal
+    forces' work, W_int - D_f (the strain energy, the contact and stick springs' energy),
+    so that kinetic + internal + damping + friction = external_work.
     """
 
     KEYS = ("time", "kinetic", "internal", "external_work", "damping", "friction")
@@ -188,8 +196,10 @@ class EnergyAccount:
     def __init__(self, thin: int):
         self.thin = thin
         self.kinetic = self.internal = self.external = self.dissipated = 0.0
-        #: Energy dissipated by friction inside the blocks (contact), set by the solver.
+        #: Energy the interactions dissipated (friction, contact damping) up to t(i+1/2) and
+        #: up to the last committed state t(i+1) (``dissipate``), N mm.
         self.friction = 0.0
+        self.friction_end = 0.0
         #: Sum of |external work increments|: the yardstick for a blow-up.
         self.work_scale = 0.0
         #: The largest energy of the run so far: the yardstick of the energy balance.
@@ -249,6 +259,20 @@ class EnergyAccount:
         self.internal += d_int
         self.dissipated += d_damp
 
+    def dissipate(self, total: float) -> None:
+        """Take the interactions' dissipation ``total`` (N mm) at the state just committed,
+        t(i+1): the records' friction is its value at t(i+1/2), the mean of those at t(i) and
+        t(i+1), the midpoint rule of the works it is set beside (the internal work, which holds
+        it, runs to t(i+1/2))."""
+        self.friction = 0.5 * (self.friction_end + total)
+        self.friction_end = total
+
+    @property
+    def stored(self) -> float:
+        """The internal forces' work less what the interactions dissipated, W_int - D_f, N mm:
+        the energy the model holds (the records' "internal")."""
+        return self.internal - self.friction
+
     def check(
         self, work: tuple, strain_energy: float, friction: float = 0.0, onset: float = 0.0
     ) -> tuple[float, float]:
@@ -301,7 +325,7 @@ class EnergyAccount:
         a kept record; None: 0)."""
         if step % self.thin:
             return False
-        values = (time, self.kinetic, self.internal, self.external, self.dissipated, self.friction)
+        values = (time, self.kinetic, self.stored, self.external, self.dissipated, self.friction)
         for key, value in zip(self.KEYS, values):
             self.records[key].append(value)
         kept = self.records.get(self.ROTATIONAL)

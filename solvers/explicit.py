@@ -133,8 +133,10 @@ class CentralDifference:
         memory.
     history : a ``.csv`` path: a row per energy record (about 4000 in a run), appended as the
         run goes, written at each frame (solvers.output.HistoryWriter): ``time``,
-        ``energy_kinetic``, ``energy_internal``, ``energy_external_work``, ``energy_damping``,
-        ``energy_friction`` (N mm), ``reaction_all_x/y/z`` the sum of the support reactions (N),
+        ``energy_kinetic``, ``energy_internal`` (stored: the internal forces' work less the
+        friction's), ``energy_external_work``, ``energy_damping``, ``energy_friction`` (N mm;
+        kinetic + internal + damping + friction = external work, docs/theory.md §6.1 "The
+        energy records"), ``reaction_all_x/y/z`` the sum of the support reactions (N),
         ``tool<k>_force_x/y/z`` (N), ``tool<k>_displacement_x/y/z`` (mm) and
         ``displacement_node<i>_x/y/z`` (mm) of
         ``history_nodes``.
@@ -504,8 +506,8 @@ class CentralDifference:
             if checking:
                 self._check(compiled, run, outcome, dt, diverged)
             run.state = state = compiled.commit(new)
-            if compiled.n_tools:
-                energy.friction = compiled.dissipated_energy(state)
+            if compiled.interactions:  # (ply contacts dissipate without a tool)
+                energy.dissipate(compiled.dissipated_energy(state))
             run.dt_prev = dt
             run.step = step = step + 1
             rotational = partial(rotational_kinetic, run.inertia, state.angular_velocities)
@@ -528,7 +530,7 @@ class CentralDifference:
                     run.frames.append(frame)
                 self._summarise(run, frame)
             progress(
-                partial(_status, state.time, duration, step, dt, energy.kinetic, energy.internal),
+                partial(_status, state.time, duration, step, dt, energy.kinetic, energy.stored),
                 fraction=state.time / duration,
             )
 

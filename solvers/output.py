@@ -123,7 +123,10 @@ class FrameStream:
 
 
 #: The energies a history records, N mm (the keys of ``Result.energies`` after "time"); the
-#: columns are ``energy_<key>``, as in fibreshell's history.csv.
+#: columns are ``energy_<key>``, as in fibreshell's history.csv. "internal" is the energy
+#: stored (the internal forces' work less "friction", the interactions' dissipation), so that
+#: kinetic + internal + damping + friction = external_work (docs/theory.md §6.1, "The energy
+#: records").
 ENERGY_KEYS = ("kinetic", "internal", "external_work", "damping", "friction")
 
 
