@@ -555,28 +555,35 @@ def instrument() -> None:
 def solve_case(
     name: str,
     resolution: str,
-    stall: int | None,
-    first_turn: float | None = None,
+    stall: int | None | str = "case",
+    first_turn: float | None | str = "case",
     update_turn: float | None | str = "case",
     curved: bool | None = None,
     increments: int | None = None,
 ):
     """Solve the Static plies of case ``name`` at ``resolution`` with
     ``Static(stall_iterations=stall, first_turn=first_turn, update_turn=update_turn,
-    curved_with_contact=curved)`` (``"case"`` and None: the case's own; bai and heavy set no
-    update_turn, the deck curves its steps) and, for the deck, ``increments`` (None: the
-    case's); the result."""
+    curved_with_contact=curved)`` (each ``"case"`` by default, and ``curved`` None: the
+    case's own, the run the report makes; None for stall, first_turn or update_turn: the rule
+    off; bai sets stall 25 and first_turn 0.1, heavy neither, neither sets update_turn, the
+    deck curves its steps) and, for the deck, ``increments`` (None: the case's); the
+    result."""
     if name in ("bai", "heavy"):
         from fibreshell.plies import plies_solver, ply_stack, stack_model
         from validation.cases import plies_bai_5_1, plies_heavy_cantilever
         from validation.ground_truth import _case
 
         case_module: Any = plies_bai_5_1 if name == "bai" else plies_heavy_cantilever
-        solver = {**case_module.PLIES_SOLVER, "stall_iterations": stall, "first_turn": first_turn}
+        solver = dict(case_module.PLIES_SOLVER)
         if name == "bai":
             solver["increments"] = case_module.PLIES_INCREMENTS[resolution]
-        if update_turn != "case":
-            solver["update_turn"] = update_turn
+        for key, value in (
+            ("stall_iterations", stall),
+            ("first_turn", first_turn),
+            ("update_turn", update_turn),
+        ):
+            if value != "case":
+                solver[key] = value
         if curved is not None:
             solver["curved_with_contact"] = curved
         for key in ("stall_iterations", "first_turn", "update_turn"):
@@ -588,10 +595,16 @@ def solve_case(
         return plies_solver(case, progress=False).solve(model)
     from validation.cases import plies_deck_of_cards as deck
 
-    options = {} if update_turn == "case" else {"update_turn": update_turn}
-    deck.Static = functools.partial(  # type: ignore[attr-defined]
-        Static, stall_iterations=stall, first_turn=first_turn, **options
-    )
+    options = {
+        key: value
+        for key, value in (
+            ("stall_iterations", stall),
+            ("first_turn", first_turn),
+            ("update_turn", update_turn),
+        )
+        if value != "case"
+    }
+    deck.Static = functools.partial(Static, **options)  # type: ignore[attr-defined]
     if update_turn != "case":
         deck.SAG_UPDATE_TURN = update_turn  # type: ignore[assignment]
     if curved is not None:
@@ -625,7 +638,7 @@ def tangent_check(name: str, resolution: str, every: int = 15) -> None:
 
     static_module.StaticRun.tangent = keep  # type: ignore[method-assign]
     try:
-        solve_case(name, resolution, None)
+        solve_case(name, resolution)  # the case's own solver
     finally:
         static_module.StaticRun.tangent = plain  # type: ignore[method-assign]
     last = [entry for entry in captured if entry[1].load_factor >= captured[-1][1].load_factor]
@@ -809,10 +822,10 @@ def main() -> None:
     instrument()
     RECORD["split"] = args.detail  # two more force passes an iterate, outside the counts
     stall = None if args.no_stall else args.stall
-    runs: list[tuple[int | None, float | None, float | None | str]]
+    runs: list[tuple[int | None | str, float | None | str, float | None | str]]
     curved: list[bool | None] = [None, None]
     if args.curved:
-        runs = [(None, None, "case")] * 2
+        runs = [("case", "case", "case")] * 2  # the case's solver, straight and curved
         curved = [False, True]
     elif args.update_turn is not None:
         runs = [(stall, args.first_turn, None), (stall, args.first_turn, args.update_turn)]
