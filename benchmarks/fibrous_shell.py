@@ -153,7 +153,7 @@ from fresh_process import fresh_output  # noqa: E402
 from shell_sheet import GRAVITY, kernel_rows, print_explicit_table, reference_pass  # noqa: E402
 
 from elements import FibrousShell  # noqa: E402
-from elements.fibrous import kernels  # noqa: E402
+from elements.fibrous import geometry_kernels, kernels  # noqa: E402
 from elements.shell_geometry import GUARD  # noqa: E402
 from femcore import Mesh, Model  # noqa: E402
 from materials import presets  # noqa: E402
@@ -226,16 +226,16 @@ def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.pr
 
     for _ in range(repeats + 1):  # the first round compiles or loads the loops
         normal, area, angles = timed(
-            "1 cells: normals", kernels._cell_normals, block, positions, True
+            "1 cells: normals", geometry_kernels._cell_normals, block, positions, True
         )
         sums = np.empty((block.n_nodes, 3))
-        timed("1 nodes: normal sums", kernels._normal_sums, corners.offsets, corners.corners,
-              angles, normal, sums)  # fmt: skip
+        timed("1 nodes: normal sums", geometry_kernels._normal_sums, corners.offsets,
+              corners.corners, angles, normal, sums)  # fmt: skip
         frame = np.empty((block.n_nodes, 10))
-        timed("1 nodes: frames", kernels._node_frames, sums, directors, block.node_in_block,
-              float(block.fabric.thickness), GUARD, frame)  # fmt: skip
+        timed("1 nodes: frames", geometry_kernels._node_frames, sums, directors,
+              block.node_in_block, float(block.fabric.thickness), GUARD, frame)  # fmt: skip
         side_fold, side_scale = timed(
-            "1 sides: folds", kernels._shared_folds, block, positions, normal, area
+            "1 sides: folds", geometry_kernels._shared_folds, block, positions, normal, area
         )
         force, moment, d_sums = (np.empty((m, 3, 3)) for _ in range(3))
         own, energy = np.empty((m, 3)), np.empty((0, 3))

@@ -611,12 +611,12 @@ def test_each_side_between_two_cells_is_evaluated_once_for_both():
 
 
 def test_each_compiled_loop_has_one_signature():
-    """The loops of elements/fibrous/kernels.py take every array of floats writable
-    (``loop_array``): the build, which passes the mesh's read-only points, and the steps,
-    which pass the state's, run the same machine code (numba types a read-only array apart
-    and would build the loop twice)."""
+    """The loops of elements/fibrous/kernels.py and geometry_kernels.py take every array of
+    floats writable (``loop_array``): the build, which passes the mesh's read-only points, and
+    the steps, which pass the state's, run the same machine code (numba types a read-only
+    array apart and would build the loop twice)."""
     from elements import jit
-    from elements.fibrous import kernels
+    from elements.fibrous import geometry_kernels
 
     if not jit.AVAILABLE:
         pytest.skip("numba is not installed")
@@ -627,7 +627,11 @@ def test_each_compiled_loop_has_one_signature():
     state = deformed(model, seed=2)
     model.internal_force(state)
     model.fields(state)
-    for loop in (kernels._normals_pass, kernels._side_folds, kernels._bending_sides):
+    for loop in (
+        geometry_kernels._normals_pass,
+        geometry_kernels._side_folds,
+        geometry_kernels._bending_sides,
+    ):
         # the builds that ran (elements/jit.py ``_Parallel``: the plain one on one thread)
         builds = [b for b in (loop.serial, loop._parallel) if b is not None and b.signatures]
         assert builds, loop.__name__

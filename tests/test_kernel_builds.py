@@ -263,7 +263,7 @@ def test_the_fibrous_bind_gives_the_normals_and_bending_loops_the_states_array_t
     of the mesh's points themselves (numpy reference, to the last bit)."""
     from elements import FibrousShell
     from elements.fibrous import bending, geometry
-    from elements.fibrous import kernels as fibrous_kernels
+    from elements.fibrous import geometry_kernels as fibrous_kernels
     from femcore import Mesh, Model
     from materials import Fabric
 
@@ -359,13 +359,17 @@ def test_a_lanes_kernel_is_parted_and_divides_by_zero_without_raising():
 
 
 def test_the_fibrous_loops_across_chunks_of_cells_are_parted():
-    """The fibrous passes whose loop runs over chunks of cells or sides (kernels.py
-    ``_normals_pass``, ``_side_folds``, ``_cells_pass``) keep the parted builds' shape (one
-    ``prange`` over the chunks, the last statement): their parts run on threads of their own
-    (tests/test_threads.py holds their forces the same on one thread and on all)."""
-    from elements.fibrous import kernels
+    """The fibrous passes whose loop runs over chunks of cells or sides (geometry_kernels.py
+    ``_normals_pass``, ``_side_folds``, kernels.py ``_cells_pass``) keep the parted builds'
+    shape (one ``prange`` over the chunks, the last statement): their parts run on threads of
+    their own (tests/test_threads.py holds their forces the same on one thread and on all)."""
+    from elements.fibrous import geometry_kernels, kernels
 
-    for kernel in (kernels._normals_pass, kernels._side_folds, kernels._cells_pass):
+    for kernel in (
+        geometry_kernels._normals_pass,
+        geometry_kernels._side_folds,
+        kernels._cells_pass,
+    ):
         assert kernel.parted, kernel.__name__
 
 

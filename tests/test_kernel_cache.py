@@ -98,7 +98,7 @@ def test_the_files_a_kernel_depends_on_follow_its_module_s_imports():
         return {str(p.relative_to(root)) for p in kernel_cache.dependency_files(root / path)}
 
     fibrous = names("elements/fibrous/kernels.py")
-    for module in ("level_lanes", "packed_laws", "cell_terms", "kernels"):
+    for module in ("level_lanes", "packed_laws", "cell_terms", "geometry_kernels", "kernels"):
         assert f"elements/fibrous/{module}.py" in fibrous
     assert {"elements/lane_maths.py", "elements/jit.py", "femcore/kernel_cache.py"} <= fibrous
     turning = names("solvers/turning.py")

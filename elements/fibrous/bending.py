@@ -1,5 +1,5 @@
 """Rotation-free bending from the neighbouring elements (Bai Eq. 34-37; docs/theory.md §4), the
-numpy reference of the compiled loops of kernels.py, and its stiffness.
+numpy reference of the compiled loops of kernels.py and geometry_kernels.py, and its stiffness.
 
 The warp and weft curvatures of each element come from the fold angles theta_s with its three
 neighbours (Eq. 35): chi_a = -sum_s c_as (theta_s - theta_s0), c_as = 2 (g_a . n^c_s)^2 /
@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements.base import CellTangent
-from elements.fibrous import kernels, tangent_kernels
+from elements.fibrous import geometry_kernels, tangent_kernels
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
 from femcore.rotation import cross
@@ -75,7 +75,7 @@ def geometry(block: FibrousShellBlock, positions: np.ndarray, geo: dict | None =
         d theta_s / dx, Eq. 36: D = -grad N_k . n^c_s).
     """
     if block.compiled:
-        return kernels.bending_geometry(block, positions)
+        return geometry_kernels.bending_geometry(block, positions)
     x = positions[block.connectivity] if geo is None else geo["corners"]
     sides = side_geometry(x)
     n, double_area = sides["normal"], sides["double_area"]

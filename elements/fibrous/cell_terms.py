@@ -74,7 +74,7 @@ def element_corner(vx, vy, vz, nx, ny, nz, thickness, guard):
 @serial
 def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
     """``corner_thickness`` at the corner on ``node``: with nodal normals read from ``frame``
-    (n, 10), the same numbers formed once per node (kernels.py ``_node_frames``: a node is
+    (n, 10), the same numbers formed once per node (geometry_kernels.py ``_node_frames``: a node is
     a corner of six cells on a regular mesh); with the element's normal n formed here."""
     if nodal:
         return (
@@ -234,7 +234,7 @@ def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
     The fold of a side seen from the cell across it is the same angle (the side runs the
     other way there and the two normals swap: -n . ((p - q) x m) = -m . ((q - p) x n)), and
     so is the scale, to the last bit (|p - q| = |q - p| and 2A' + 2A = 2A + 2A'): one
-    evaluation serves both cells (kernels.py ``_side_folds``)."""
+    evaluation serves both cells (geometry_kernels.py ``_side_folds``)."""
     y, x, scale = side_terms(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2)
     return np.arctan2(y, x), scale
 
@@ -242,7 +242,7 @@ def side_angle(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
 @serial
 def side_terms(sx, sy, sz, nx, ny, nz, mx, my, mz, area2, other_area2):
     """``side_angle`` but for its arctangent: (y, x, scale), the fold angle atan2(y, x) (the
-    sides' pass, kernels.py ``_side_folds``, takes the arctangents of a chunk of sides at
+    sides' pass, geometry_kernels.py ``_side_folds``, takes the arctangents of a chunk of sides at
     once)."""
     length = np.sqrt(sx * sx + sy * sy + sz * sz)
     wx = sy * nz - sz * ny

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from elements.fibrous.cell_terms import cell_cross
-from elements.fibrous.kernels import loop_array
+from elements.fibrous.geometry_kernels import loop_array
 from elements.jit import serial
 
 __all__ = ["fibre_corners", "shear_signs"]

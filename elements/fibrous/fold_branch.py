@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements.fibrous import kernels
+from elements.fibrous import geometry_kernels
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
 from elements.jit import AVAILABLE, serial
 
@@ -94,11 +94,11 @@ class FoldBranch:
 def side_folds(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
     """The principal-branch fold angle (m, 3), rad, of each interior side at ``positions``
     (n, 3), 0 on free and clamped sides: one pass over the cells' normals and one over the
-    sides (kernels.py) or bending.py ``geometry`` (the numpy kernel)."""
+    sides (geometry_kernels.py) or bending.py ``geometry`` (the numpy kernel)."""
     if block.compiled:
-        x = kernels.loop_array(positions)
-        normal, double_area, _ = kernels._cell_normals(block, x, False)
-        fold, _ = kernels._shared_folds(block, x, normal, double_area)
+        x = geometry_kernels.loop_array(positions)
+        normal, double_area, _ = geometry_kernels._cell_normals(block, x, False)
+        fold, _ = geometry_kernels._shared_folds(block, x, normal, double_area)
     else:
         from elements.fibrous import bending
 

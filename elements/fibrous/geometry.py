@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements.fibrous import kernels
+from elements.fibrous import geometry_kernels
 from elements.shell_geometry import guarded_thickness, nodal_thickness
 from femcore.rotation import cross
 
@@ -77,7 +77,7 @@ def normal_sums(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
     element normals weighted by the cells' angles at the node; S_k / |S_k| is the nodal
     normal (docs/theory.md §1.4)."""
     if block.compiled:
-        sums = kernels.normal_sums(block, positions)
+        sums = geometry_kernels.normal_sums(block, positions)
     else:
         sums = block.scatter.vectors(corner_normals(positions[block.connectivity])[0])
     if block.wall_nodes.any():

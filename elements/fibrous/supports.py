@@ -103,7 +103,7 @@ def shared_sides(
     neighbour_side: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each side that couples two cells once, for the loop that evaluates its fold angle
-    once for both (kernels.py ``_side_folds``, docs/theory.md §4.1).
+    once for both (geometry_kernels.py ``_side_folds``, docs/theory.md §4.1).
 
     Parameters
     ----------
