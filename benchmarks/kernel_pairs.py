@@ -56,6 +56,7 @@ from revision_modules import revision_modules  # noqa: E402
 # The modules copied from the other revision, and the name each is imported under there.
 MODULES = {
     "elements/fibrous/kernels.py": "elements.fibrous.kernels",
+    "elements/fibrous/geometry_kernels.py": "elements.fibrous.geometry_kernels",
     "elements/fibrous/cell_terms.py": "elements.fibrous.cell_terms",
     "elements/fibrous/packed_laws.py": "elements.fibrous.packed_laws",
     "elements/fibrous/level_lanes.py": "elements.fibrous.level_lanes",

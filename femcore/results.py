@@ -94,7 +94,10 @@ class Result:
     energies : dict[str, numpy.ndarray]
         The explicit solver: ``{"time", "kinetic", "internal", "external_work", "damping",
         "friction"}`` arrays (N mm, time in s), one entry per recorded step (external work
-        includes that of moving tools; friction is the energy contact friction dissipated).
+        includes that of moving tools; friction is what the interactions dissipated: tools'
+        and plies' Coulomb friction, contact damping; internal is the energy the model
+        stores, the internal forces' work less that: kinetic + internal + damping + friction
+        = external work, docs/theory.md §6.1 "The energy records").
         Static: ``{"time", "internal"}``, the strain energy of each frame (time = load
         factor). Dynamic relaxation: empty.
     info : dict[str, Any]

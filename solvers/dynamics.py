@@ -264,8 +264,7 @@ class EnergyAccount:
         t(i+1): the records' friction is its value at t(i+1/2), the mean of those at t(i) and
         t(i+1), the midpoint rule of the works it is set beside (the internal work, which holds
         it, runs to t(i+1/2))."""
-        before = getattr(self, "friction_end", self.friction)  # (absent from older pickles)
-        self.friction = 0.5 * (before + total)
+        self.friction = 0.5 * (self.friction_end + total)
         self.friction_end = total
 
     @property

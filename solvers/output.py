@@ -245,8 +245,12 @@ class HistoryWriter:
 
 
 #: The first bytes of a checkpoint file; then the sha256 of the payload (32 bytes), its length
-#: (8 bytes, little-endian) and the pickled payload.
-CHECKPOINT_MAGIC = b"fibreshell checkpoint 2\n"
+#: (8 bytes, little-endian) and the pickled payload. The number is the format's: 3 since the
+#: energy records' "internal" became the stored energy (docs/theory.md §6.1, "The energy
+#: records"), so that a run resumed from an older checkpoint cannot change its meaning midway.
+CHECKPOINT_PREFIX = b"fibreshell checkpoint "
+CHECKPOINT_FORMAT = 3
+CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 
 def save_checkpoint(path: Path, payload: dict[str, Any]) -> None:
@@ -273,6 +277,13 @@ def load_checkpoint(path: Path) -> dict[str, Any] | None:
     except OSError as error:
         raise ValueError(f"cannot read the checkpoint {str(path)!r}: {error.strerror}") from None
     start = len(CHECKPOINT_MAGIC)
+    if data.startswith(CHECKPOINT_PREFIX) and not data.startswith(CHECKPOINT_MAGIC):
+        written = data[len(CHECKPOINT_PREFIX) : data.find(b"\n", 0, 40)].decode("ascii", "replace")
+        raise ValueError(
+            f"{str(path)!r} is a checkpoint of format {written}, written by another version of "
+            f"this program (this one reads format {CHECKPOINT_FORMAT}): delete it to run "
+            "afresh, or resume it with the version that wrote it"
+        )
     if not data.startswith(CHECKPOINT_MAGIC):
         raise ValueError(
             f"{str(path)!r} is not a checkpoint this program wrote (or its header is damaged): "

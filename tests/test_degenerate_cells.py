@@ -97,3 +97,46 @@ def test_a_rigid_surface_facet_of_no_area_is_refused_naming_it(how):
         ValueError, match=rf"RigidSurface: {flat.size} facet\(s\) of no area .*: {shown}$"
     ):
         RigidSurface(mesh.with_points(points))
+
+
+@pytest.mark.parametrize("height, refused", [(1e-13, True), (1e-6, False)])
+def test_a_rigid_surface_sliver_is_judged_on_the_meshs_tolerance(height, refused):
+    """A facet whose third corner lies ``height`` (a share of the 2-mm plate's side) off its
+    opposite side: refused below the mesh's tolerance (femcore.topology ZERO_AREA_TOL of the
+    diagonal squared: a sliver of 1e-13 is round-off of a collinear corner), taken above it
+    (a thin but real facet: a fine die's sliver must not be refused)."""
+    mesh = Mesh.rectangle(2.0, 2.0, nx=2, ny=2)
+    corners = mesh.triangles[3]
+    points = mesh.points.copy()
+    side = points[corners[1]] - points[corners[0]]
+    normal_in_plane = np.cross([0.0, 0.0, 1.0], side) / np.linalg.norm(side)
+    middle = 0.5 * (points[corners[0]] + points[corners[1]])
+    points[corners[2]] = middle + height * 2.0 * normal_in_plane
+    if refused:
+        with pytest.raises(ValueError, match=r"RigidSurface: 1 facet\(s\) of no area .*: 3$"):
+            RigidSurface(mesh.with_points(points))
+    else:
+        RigidSurface(mesh.with_points(points))
+
+
+@pytest.mark.parametrize("height, refused", [(1e-13, True), (1e-6, False)])
+def test_a_ply_contact_sliver_is_judged_on_the_meshs_tolerance(height, refused):
+    """The lower set's extra triangle on three of ply 1's first-row nodes, the third moved
+    ``height`` (a share of the row's spacing) off the others' line, in the plane (ply 1's
+    own triangles barely change): refused as of no area below the tolerance, bound above it."""
+    layup = _layup()
+    mesh, flat = _with_flat_lower(layup)
+    points = mesh.points.copy()
+    a, b, c = mesh.triangles[flat]
+    spacing = float(np.linalg.norm(points[b] - points[a]))
+    points[c, 1] += height * spacing
+    lifted = mesh.with_points(points)
+    model = Model(lifted)
+    for k in (1, 2):
+        model.add(layup.element(k), cells=f"ply_{k}")
+    model.interact(PlyContact("ply_2", "lower", 0.15, 0.15, faces="normal"))
+    if refused:
+        with pytest.raises(ValueError, match=rf"1 lower triangle\(s\) of no area .*: {flat};"):
+            model.compile()
+    else:
+        assert len(model.compile().interactions) == 1

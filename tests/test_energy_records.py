@@ -1,7 +1,8 @@
 """The explicit run's energy records (solvers/dynamics.py ``EnergyAccount``, docs/theory.md
 §6.1 "The energy records"): "internal" is the energy the model stores, the internal forces'
 work less the interactions' dissipation in "friction", so that kinetic + internal + damping +
-friction = external_work, each dissipation counted once."""
+friction = external_work, each dissipation counted once (an identity of the definitions: the
+tests hold the records to the physics, Coulomb's dissipation and the stored strain energy)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from elements.tools import RigidPlane
 from femcore import Mesh, Model
 from materials import ElasticShell, Fabric
 from solvers import CentralDifference
+from solvers.dynamics import EnergyAccount
 
 G = 9810.0  # mm/s^2
 MU = 0.3
@@ -36,16 +38,6 @@ def _steady_pull(tau):
     return travelled / (0.5 * PULL_RAMP + 1.0 - PULL_START - PULL_RAMP)
 
 
-def _balance(energies) -> np.ndarray:
-    return (
-        energies["kinetic"]
-        + energies["internal"]
-        + energies["damping"]
-        + energies["friction"]
-        - energies["external_work"]
-    )
-
-
 def test_a_plate_dragged_over_a_table_dissipates_mu_n_d_and_stores_its_strain_energy():
     """A 20 x 20 x 1 mm aluminium plate (2 x 2 cells) on a flat rigid table with Coulomb
     friction mu = 0.3 under its weight N = m g, dragged 0.1 mm by one edge at a steady pace:
@@ -54,8 +46,7 @@ def test_a_plate_dragged_over_a_table_dissipates_mu_n_d_and_stores_its_strain_en
     force rings a little about m g). The internal record is the strain energy the final
     state holds (elements and contact springs), to 1e-4 of the dissipation (measured 7e-6:
     the stick anchors' springs, which a fresh history leaves out, and the half step between
-    the work and the state); before, it held the dissipation too and was off by all of it.
-    The records' sum closes to 1e-5 of the work at every record (measured 3e-7)."""
+    the work and the state); before, it held the dissipation too and was off by all of it."""
     thickness = 1.0
     flat = Mesh.rectangle(20.0, 20.0, nx=2, ny=2)
     model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5 * thickness]))
@@ -78,7 +69,6 @@ def test_a_plate_dragged_over_a_table_dissipates_mu_n_d_and_stores_its_strain_en
     final.load_factor = 1.0
     strain = compiled.strain_energy(final)
     assert abs(last["internal"] - strain) <= 1e-4 * last["friction"]
-    assert np.abs(_balance(e)).max() <= 1e-5 * last["external_work"]
 
 
 PLY = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
@@ -90,7 +80,7 @@ def test_plies_sliding_on_each_other_without_a_tool_record_their_friction():
     contact's dissipation, Coulomb's mu N d (measured 1.1 % below it, asserted 3 %: the
     stick spring follows the normal law's stiffness, so a lightly pressed point slips
     elastically first; it stayed 0 without a tool before, while the internal record held
-    it), and the records' sum closes to 1e-4 of the work (measured 3e-6)."""
+    it)."""
     layup = Layup(PLY, (0.0, 90.0), 20.0, cells=2, friction=MU)
     model = layup.model()
     bottom, top = layup.ply_nodes
@@ -106,4 +96,16 @@ def test_plies_sliding_on_each_other_without_a_tool_record_their_friction():
     pressed = compiled.mass0[top].sum() * 100.0 * G
     travel = float(run.displacements[top, 0].mean())
     assert e["friction"][-1] == pytest.approx(MU * pressed * travel, rel=0.03)
-    assert np.abs(_balance(e)).max() <= 1e-4 * e["external_work"][-1]
+
+
+def test_the_friction_record_is_at_the_half_step_as_the_works_beside_it():
+    """The works are midpoint sums to t(i+1/2); the dissipation is known at the states t(i+1):
+    the record is the mean of the last two (the midpoint rule's value at t(i+1/2)), so that
+    "internal" = W_int - D_f subtracts the dissipation at the time the work reached."""
+    account = EnergyAccount(thin=1)
+    account.dissipate(2.0)  # D_f(t1) = 2, from D_f(t0) = 0
+    assert account.friction == 1.0
+    account.dissipate(6.0)
+    assert account.friction == 4.0
+    account.internal = 10.0
+    assert account.stored == 6.0

@@ -209,6 +209,20 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
+def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path):
+    """Format 2 recorded "internal" as the internal forces' work, friction included (format 3:
+    the stored energy, docs/theory.md §6.1): a run resumed from it would change the meaning
+    of its energy records midway, so it is refused, whole and checksummed as it is."""
+    from solvers.output import save_checkpoint
+
+    path = tmp_path / "run.ckpt"
+    save_checkpoint(path, {"signature": "any"})
+    data = path.read_bytes()
+    path.write_bytes(b"fibreshell checkpoint 2\n" + data[len(b"fibreshell checkpoint 3\n") :])
+    with pytest.raises(ValueError, match="checkpoint of format 2, .* reads format 3"):
+        CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
+
+
 def test_history_rows_wait_in_memory_until_a_flush_writes_them_as_rows_written_one_by_one(
     tmp_path,
 ):
