@@ -46,8 +46,9 @@ __all__ = [
 # Cells per chunk of ``pair_hessians`` (their Hessians: 48 MB).
 CHUNK = 8192
 # Cells per chunk of ``_hessian_cells``'s loop: its scratch (some fifty small arrays) is
-# allocated once a chunk, where a cell's own allocations took about a fifth of its time
-# (benchmarks/paper_case_cost.py). Passed to the kernel as an argument (numba would freeze a
+# allocated once a chunk, where a cell's own allocations took about a tenth of the loop's
+# time (7.0 against 6.3 us a cell on bai-6.1.1's, the same bits; the paper cases' CPU in
+# benchmarks/paper_case_cost.py). Passed to the kernel as an argument (numba would freeze a
 # global into its cached build).
 CELLS_PER_CHUNK = 64
 
