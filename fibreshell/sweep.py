@@ -273,8 +273,9 @@ def run_variant(
 ) -> tuple[dict, dict | None]:
     """Build and run one variant (a Dask task): the case tables ``data`` of the case file
     ``path`` with ``overrides`` set, its outputs written into ``folder`` (None: a temporary
-    folder, removed). Returns its row (``summary_row``, or the error that stopped it before
-    the solver ran) and its summary (None when it did not run)."""
+    folder, removed, and no frame series written there: ``run_case(write_frames=False)``).
+    Returns its row (``summary_row``, or the error that stopped it before the solver ran) and
+    its summary (None when it did not run)."""
     from fibreshell.run import run_case
 
     set_threads(threads)
@@ -284,7 +285,7 @@ def run_variant(
         case = case_from_data(tables, path)
         if folder is None:
             with tempfile.TemporaryDirectory() as scratch:
-                run = run_case(case, Path(scratch), progress=False, **options)
+                run = run_case(case, Path(scratch), progress=False, write_frames=False, **options)
         else:
             Path(folder).mkdir(parents=True, exist_ok=True)
             (Path(folder) / "variant.json").write_text(

@@ -149,3 +149,29 @@ def test_the_pattern_counted_per_node_pair_is_the_sorted_union_of_the_entries():
         assert np.allclose(k_ff.toarray(), dense[np.ix_(free, free)], rtol=0, atol=1e-12)
         assert np.allclose(k_fp.toarray(), dense[np.ix_(free, moved)], rtol=0, atol=1e-12)
     assert assemble.builds == 3
+
+
+def test_the_assembler_gives_scipy_its_structure_in_the_index_type_scipy_keeps():
+    # K_ff's and K_fp's structure is kept in the index type scipy stores it in (int32 while
+    # every index fits), so that each assembly hands scipy arrays it takes as they are; given
+    # int64 ones it scanned and copied them to int32 at every call (0.35 ms for 320 000
+    # entries). The matrices are the ones the int64 structure gives.
+    active = np.ones((N, 5), dtype=bool)
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    prescribed = np.zeros_like(active)
+    prescribed[3, 1] = True
+    dofs = DofManager(N, active, fixed, prescribed)
+    rng = np.random.default_rng(4)
+    nodes = np.array([[0, 1, 2, 3, 1, 2], [3, 2, 1, 0, 0, 3]])
+    part = CellTangent(nodes, rng.normal(size=(2, 6, 6, 6, 6)))
+    assemble = FreeTangentAssembler(dofs)
+    k_ff, k_fp = assemble([part], dofs.frames(np.tile([0.0, 0.0, 1.0], (N, 1))))
+    assert k_ff.indices.dtype == assemble.ff_rows.dtype == assemble.ff_indptr.dtype
+    assert k_fp.indices.dtype == assemble.fp_cols.dtype == assemble.fp_indptr.dtype
+    wide = sp.csc_matrix(
+        (k_ff.data, assemble.ff_rows.astype(np.int64), assemble.ff_indptr.astype(np.int64)),
+        shape=k_ff.shape,
+    )
+    assert wide.indices.dtype == k_ff.indices.dtype
+    assert np.array_equal(wide.indices, k_ff.indices) and np.array_equal(wide.indptr, k_ff.indptr)

@@ -192,3 +192,30 @@ def test_the_element_normal_tangent_is_the_numpy_kernels_within_the_differences_
         expected = reference.matrix.toarray() if hasattr(reference, "matrix") else reference.blocks
         got = fast.matrix.toarray() if hasattr(fast, "matrix") else fast.blocks
         assert np.abs(got - expected).max() <= 1e-8 * np.abs(expected).max()
+
+
+def test_the_bending_patch_is_made_once_and_again_for_new_side_tables():
+    # bending.patch_nodes reads the whole block's patch made at its first call: the same
+    # integers as made afresh from the side tables, for a slice or an index array of cells,
+    # read-only; and when apply_supports sets new side tables (a clamped line: sides that no
+    # longer couple two cells), the patch of the new tables, not the one kept.
+    from elements.fibrous import bending
+    from elements.fibrous.supports import apply_supports
+
+    mesh = Mesh.rectangle(40.0, 20.0, nx=6, ny=3)
+    model = Model(mesh)
+    model.add(FibrousShell(presets.g986_stack()))
+    block = model.compile().blocks[0]
+    tables = lambda: (block.connectivity, block.interior_side, block.across_cell)  # noqa: E731
+    nodes, slot = bending.patch_nodes(block)
+    fresh_nodes, fresh_slot = bending._patch_of(*tables())
+    assert np.array_equal(nodes, fresh_nodes) and np.array_equal(slot, fresh_slot)
+    assert not nodes.flags.writeable and bending.patch_nodes(block)[0].base is nodes.base
+    cells = np.array([5, 0, 17])
+    assert np.array_equal(bending.patch_nodes(block, cells)[1], fresh_slot[cells])
+    held = mesh.points[:, 0] <= 20.0 + 1e-9  # a clamped half: its sides couple nothing
+    apply_supports(block, held)
+    changed_nodes, changed_slot = bending._patch_of(*tables())
+    assert not np.array_equal(changed_slot, fresh_slot)
+    nodes, slot = bending.patch_nodes(block)
+    assert np.array_equal(nodes, changed_nodes) and np.array_equal(slot, changed_slot)

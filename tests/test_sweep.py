@@ -17,8 +17,9 @@ from fibreshell.case import case_from_data
 from fibreshell.cli import main
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.run import run_case
-from fibreshell.sweep import apply_overrides, parse_vary, sweep, variants
+from fibreshell.sweep import apply_overrides, parse_vary, run_variant, sweep, variants
 from materials import presets
+from solvers.output import FrameStream
 
 GRAVITY = 9810.0
 LENGTH = 100.0
@@ -240,6 +241,30 @@ def test_a_sweep_in_process_gives_the_cluster_s_rows(paired_sweep, tmp_path, mon
     assert "B must be > 0" in here.rows[3]["error"] and "iteration" in here.rows[4]["error"]
     assert len((tmp_path / "sweep.csv").read_text().splitlines()) == 6
     assert (tmp_path / "variant-004" / "summary.json").is_file()
+
+
+def test_a_variant_without_a_folder_writes_no_frames_and_gives_the_same_row(tmp_path, monkeypatch):
+    # A sweep without an output folder throws each variant's folder away: its static run
+    # writes no frame series there (run_case(write_frames=False)), and its row is the row of
+    # the same run writing them into a folder, to the bit (the frames are only written).
+    written = []
+    real_write = FrameStream.write
+    monkeypatch.setattr(
+        FrameStream, "write", lambda stream, frame: written.append(1) or real_write(stream, frame)
+    )
+    overrides = {"part.0.material.bending": 20.0}
+    row, summary = run_variant(cantilever(), "strip", overrides, None)
+    assert not written and summary is not None and row["converged"]
+    kept, _ = run_variant(cantilever(), "strip", overrides, str(tmp_path / "kept"))
+    assert written and (tmp_path / "kept" / "result.pvd").is_file()
+    for column in set(row) | set(kept):
+        if column != "wall_time_s":
+            assert row[column] == kept[column], column
+    tables, _ = apply_overrides(cantilever(), overrides)
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    run_case(case_from_data(tables, "strip"), bare, progress=False, write_frames=False)
+    assert sorted(path.name for path in bare.iterdir()) == ["history.csv", "summary.json"]
 
 
 def test_a_sweep_in_process_takes_no_cluster_arguments():

@@ -214,8 +214,7 @@ def tangent_blocks(
     # The patch has six nodes, not twelve: each neighbour shares the two nodes of its side,
     # so its share folds onto those and the node opposite (slot 3 + s); the blocks are then
     # a quarter of the size to form and to assemble.
-    _, slot = patch_nodes(block, cells)
-    fold = (slot[..., None] == np.arange(6)).astype(float)  # (m, s * 3 + j, 6)
+    fold = _whole_patch(block)[2][cells]  # (m, s * 3 + j, 6)
     g = np.matmul(fold.transpose(0, 2, 1)[:, None], across.reshape(m, 2, 9, 3))
     g[:, :, :3] += own  # (m, a, 6, 3)
     weight = block.reference_area[cells][:, None] * terms["slopes"][cells]  # (m, a)
@@ -239,10 +238,37 @@ def patch_nodes(
     side s the neighbour's node opposite it (the cell's corner s where the side couples
     no neighbour: its blocks are zero there); and the patch slot (m, 9) of the
     neighbour's corner j across side s, at s * 3 + j; of the block's ``cells`` (a slice or an
-    index array; all by default)."""
-    conn = block.connectivity[cells]
-    interior = block.interior_side[cells]
-    other = block.connectivity[block.across_cell[cells]]  # (m, s, j)
+    index array; all by default). Read-only: those of the whole block, made once."""
+    nodes, slot, _ = _whole_patch(block)
+    return nodes[cells], slot[cells]
+
+
+def _whole_patch(block: FibrousShellBlock) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``patch_nodes`` of all the block's cells and the fold of each neighbour's corner onto
+    the patch, (m, 9, 6) float, 1 at (s * 3 + j, slot): a function of the block's side tables
+    alone, made at the first call and again when ``apply_supports`` has set new tables (the
+    tables kept beside it are compared by identity). A static solve asks for it twice a
+    tangent: 0.49 s of the paper cases' 29 s of solves when it was made at each call
+    (benchmarks/paper_case_cost.py)."""
+    tables = (block.connectivity, block.interior_side, block.across_cell)
+    kept = block.bending_patch
+    if kept is not None and all(a is b for a, b in zip(kept[0], tables)):
+        return kept[1]
+    nodes, slot = _patch_of(*tables)
+    fold = (slot[..., None] == np.arange(6)).astype(float)
+    for array in (nodes, slot, fold):
+        array.setflags(write=False)
+    block.bending_patch = (tables, (nodes, slot, fold))
+    return nodes, slot, fold
+
+
+def _patch_of(
+    connectivity: np.ndarray, interior_side: np.ndarray, across_cell: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """``patch_nodes`` of every cell of these side tables (m, 6) and (m, 9), int."""
+    conn = connectivity
+    interior = interior_side
+    other = connectivity[across_cell]  # (m, s, j)
     slot = np.broadcast_to(3 + np.arange(3)[None, :, None], other.shape).copy()
     for end in (SIDE_FROM, SIDE_TO):
         ends = conn[:, end]  # (m, s): the side's end node

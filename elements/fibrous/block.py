@@ -128,6 +128,9 @@ class FibrousShellBlock(ElementBlock):
         self.node_in_block = np.zeros(mesh.n_nodes, dtype=bool)  # (n,): a corner of a cell here
         self.node_in_block[self.connectivity] = True
         self._pairs: CornerPairs | None = None  # the tangent's sparse pattern
+        # The bending patch's nodes, slots and fold with the side tables they were made of
+        # (bending.py ``_whole_patch``), made at the first tangent.
+        self.bending_patch: tuple | None = None
         # the force passes' work arrays (per cell and per node), kept between calls
         # (femcore/workspace.py)
         self._workspace = Workspace()

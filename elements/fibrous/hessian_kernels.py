@@ -45,6 +45,12 @@ __all__ = [
 
 # Cells per chunk of ``pair_hessians`` (their Hessians: 48 MB).
 CHUNK = 8192
+# Cells per chunk of ``_hessian_cells``'s loop: its scratch (some fifty small arrays) is
+# allocated once a chunk, where a cell's own allocations took about a tenth of the loop's
+# time (7.0 against 6.3 us a cell on bai-6.1.1's, the same bits; the paper cases' CPU in
+# benchmarks/paper_case_cost.py). Passed to the kernel as an argument (numba would freeze a
+# global into its cached build).
+CELLS_PER_CHUNK = 64
 
 # Structure of A = dw/dq (15 rows w = (e_1, e_2, d_1, d_2, n), 27 columns q = (x, psi, S)
 # per corner): the rows of column (corner k, variable j) that can be nonzero.
@@ -85,11 +91,10 @@ def _tension_level(g, n, t, t_slope, fibre, scale, hz, edge):
 
 
 @serial
-def _shear_level(g1, g2, len1, len2, moment, moment_slope, scale, hz):
+def _shear_level(g1, g2, len1, len2, moment, moment_slope, scale, hz, u1, u2, grads):
     """hz += the shear part of one level's Hessian (tangent.py ``_add_shear_hessians``):
-    P_a = A0 w f(c) dc/dg_a, c = u1 . u2, f = M / s, s = sqrt(1 - c^2)."""
-    u1 = np.empty(3)
-    u2 = np.empty(3)
+    P_a = A0 w f(c) dc/dg_a, c = u1 . u2, f = M / s, s = sqrt(1 - c^2); u1, u2 (3,) and
+    grads (2, 3) scratch."""
     for i in range(3):
         u1[i] = g1[i] / len1
         u2[i] = g2[i] / len2
@@ -98,7 +103,6 @@ def _shear_level(g1, g2, len1, len2, moment, moment_slope, scale, hz):
     s = math.sqrt(max(sine2, 1e-24))
     f = scale * moment / s
     f_slope = scale * (moment_slope / s**2 + (moment * c / s**3 if sine2 > 1e-24 else 0.0))
-    grads = np.empty((2, 3))
     for i in range(3):
         grads[0, i] = (u2[i] - c * u1[i]) / len1  # dc/dg1
         grads[1, i] = (u1[i] - c * u2[i]) / len2
@@ -145,15 +149,17 @@ def _add_level(hz, half, h_w):
 def _hessian_cells(
     x, v, sums, thickness, guard, zeta, weights, reference_area, reference_length1,
     reference_length2, shear_sign, reference_shear, xi_is_warp, law_integers, law_reals,
-    variation, compression_free, column_rows, column_count, out, d_sums,
+    variation, compression_free, column_rows, column_count, out, d_sums, size,
 ):  # fmt: skip
     """out (m, 27, 27): each cell's Hessian in (x, psi, S) per corner (tangent.py
     ``membrane_hessian``), d_sums (m, 3, 3): dW/dS_k; x, v, sums (m, 3, 3) the corners,
     directors and nodal normal sums S_k. ``compression_free``: the tensions of the stress
-    terms at the strains raised to at least zero (tangent.py ``membrane_hessian``)."""
+    terms at the strains raised to at least zero (tangent.py ``membrane_hessian``). The cells
+    in chunks of ``size``, the scratch allocated once a chunk (each cell writes every entry
+    it reads, and zeroes those it sums into, as the arrays allocated per cell were)."""
     m = x.shape[0]
     levels = zeta.shape[0]
-    for cell in prange(m):
+    for chunk in prange((m + size - 1) // size):
         n = np.empty(3)
         a = np.empty(3)
         b = np.empty(3)
@@ -166,144 +172,175 @@ def _hessian_cells(
         g2 = np.empty(3)
         p1 = np.empty((levels, 3))
         p2 = np.empty((levels, 3))
-        normal_load = np.zeros(3)
+        normal_load = np.empty(3)
         hz = np.empty((3, 3, 3, 3))
-        h_w = np.zeros((15, 15))
-        area2 = cell_normal(x, cell, a, b, n)
-        for k in range(3):
-            s0, s1, s2 = sums[cell, k, 0], sums[cell, k, 1], sums[cell, k, 2]
-            length[k] = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
-            node_normal[k, 0] = s0 / length[k]
-            node_normal[k, 1] = s1 / length[k]
-            node_normal[k, 2] = s2 / length[k]
-            cosine[k] = (
-                v[cell, k, 0] * node_normal[k, 0]
-                + v[cell, k, 1] * node_normal[k, 1]
-                + v[cell, k, 2] * node_normal[k, 2]
-            )
-            h_m[k] = thickness / max(cosine[k], guard)
-            guarded[k] = cosine[k] < guard
-        # The laws of the fibres along edges 0 -> 1 and 0 -> 2: warp (0) and weft (1).
-        law1 = 0 if xi_is_warp[cell] else 1
-        law2 = 1 - law1
-        for f in range(levels):
-            scale = reference_area[cell] * weights[f]
-            half = 0.5 * zeta[f]
-            for c in range(3):
-                layer0 = x[cell, 0, c] + half * h_m[0] * v[cell, 0, c]
-                g1[c] = x[cell, 1, c] + half * h_m[1] * v[cell, 1, c] - layer0
-                g2[c] = x[cell, 2, c] + half * h_m[2] * v[cell, 2, c] - layer0
-            len1 = math.sqrt(g1[0] ** 2 + g1[1] ** 2 + g1[2] ** 2)
-            len2 = math.sqrt(g2[0] ** 2 + g2[1] ** 2 + g2[2] ** 2)
-            along1 = g1[0] * n[0] + g1[1] * n[1] + g1[2] * n[2]
-            along2 = g2[0] * n[0] + g2[1] * n[1] + g2[2] * n[2]
-            fibre1 = math.sqrt(
-                (g1[0] - along1 * n[0]) ** 2
-                + (g1[1] - along1 * n[1]) ** 2
-                + (g1[2] - along1 * n[2]) ** 2
-            )
-            fibre2 = math.sqrt(
-                (g2[0] - along2 * n[0]) ** 2
-                + (g2[1] - along2 * n[1]) ** 2
-                + (g2[2] - along2 * n[2]) ** 2
-            )
-            eps1 = math.log(fibre1 / reference_length1[cell, f])
-            eps2 = math.log(fibre2 / reference_length2[cell, f])
-            cos12 = (g1[0] * g2[0] + g1[1] * g2[1] + g1[2] * g2[2]) / (len1 * len2)
-            gamma = (
-                shear_sign[cell] * math.asin(min(max(cos12, -1.0), 1.0)) - reference_shear[cell, f]
-            )
-            if compression_free:  # the stress terms of a slack fibre (tangent.py)
-                t1 = law_value(law_integers, law_reals, law1, max(eps1, 0.0))
-                t2 = law_value(law_integers, law_reals, law2, max(eps2, 0.0))
-            else:
-                t1 = law_value(law_integers, law_reals, law1, eps1)
-                t2 = law_value(law_integers, law_reals, law2, eps2)
-            moment = shear_sign[cell] * law_value(law_integers, law_reals, 2, gamma)
-            # The layer loads P_a = dW/dg_a and dW/dn (membrane.py ``layer_loads``).
-            kappa1 = scale * t1 / fibre1**2
-            kappa2 = scale * t2 / fibre2**2
-            u1 = np.empty(3)
-            u2 = np.empty(3)
-            for c in range(3):
-                u1[c] = g1[c] / len1
-                u2[c] = g2[c] / len2
-            cu = u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2]
-            sine = math.sqrt(max(1.0 - cu**2, 1e-24))
-            shear1 = scale * moment / (len1 * sine)
-            shear2 = scale * moment / (len2 * sine)
-            for c in range(3):
-                r1 = g1[c] - along1 * n[c]
-                r2 = g2[c] - along2 * n[c]
-                p1[f, c] = kappa1 * r1 + shear1 * (u2[c] - cu * u1[c])
-                p2[f, c] = kappa2 * r2 + shear2 * (u1[c] - cu * u2[c])
-                normal_load[c] -= kappa1 * along1 * r1 + kappa2 * along2 * r2
-            for i in range(3):  # (explicit loops: see the module's docstring)
-                for j in range(3):
-                    for q in range(3):
-                        for r in range(3):
-                            hz[i, j, q, r] = 0.0
-            # the edges as int64, not constants (numba types a constant argument as a literal
-            # and would build the helper once for each)
-            _tension_level(
-                g1, n, t1, law_slope(law_integers, law_reals, law1, eps1), fibre1, scale, hz,
-                np.int64(0),
-            )  # fmt: skip
-            _tension_level(
-                g2, n, t2, law_slope(law_integers, law_reals, law2, eps2), fibre2, scale, hz,
-                np.int64(1),
-            )  # fmt: skip
-            _shear_level(
-                g1, g2, len1, len2, moment, law_slope(law_integers, law_reals, 2, gamma), scale, hz
-            )
-            _add_level(hz, half, h_w)
-        jac = np.zeros((15, 27))
-        jac_rows = np.zeros((15, 27))
-        _jacobians(
-            v, cell, a, b, n, area2, node_normal, length, cosine, h_m, guarded, thickness,
-            variation, jac, jac_rows,
-        )  # fmt: skip
-        # A_rows^T H_w A over the nonzero rows of A's columns (A_rows has A's structure).
+        h_w = np.empty((15, 15))
+        u1 = np.empty(3)
+        u2 = np.empty(3)
+        shear_u1 = np.empty(3)
+        shear_u2 = np.empty(3)
+        grads = np.empty((2, 3))
+        jac = np.empty((15, 27))
+        jac_rows = np.empty((15, 27))
         product = np.empty((15, 27))
-        for col in range(27):
-            for r in range(15):
-                total = 0.0
-                for t in range(column_count[col]):
-                    s = column_rows[col, t]
-                    total += h_w[r, s] * jac[s, col]
-                product[r, col] = total
-        for row in range(27):
-            for col in range(27):
-                total = 0.0
-                for t in range(column_count[row]):
-                    s = column_rows[row, t]
-                    total += jac_rows[s, row] * product[s, col]
-                out[cell, row, col] = total
-        _normal_second(a, b, n, area2, normal_load, out[cell])
-        lever = np.zeros((3, 3))
-        for f in range(levels):
+        lever = np.empty((3, 3))
+        d_director = np.empty((3, 3, 6))
+        d_rows = np.empty((3, 3, 6))
+        dc = np.empty(3)
+        dn = np.empty(3)
+        omega = np.empty(3)
+        d_omega = np.empty(3)
+        da_vec = np.empty(3)
+        db_vec = np.empty(3)
+        dv = np.empty(3)
+        ds = np.empty(3)
+        d_nn = np.empty(3)
+        for cell in range(chunk * size, min(m, (chunk + 1) * size)):
             for c in range(3):
-                lever[1, c] += zeta[f] * p1[f, c]
-                lever[2, c] += zeta[f] * p2[f, c]
-        for c in range(3):
-            lever[0, c] = -(lever[1, c] + lever[2, c])
-        for k in range(3):
-            _director_second(
-                v, cell, k, lever, node_normal, length, cosine, h_m, guarded, thickness,
-                variation, out[cell], d_sums[cell],
+                normal_load[c] = 0.0
+            for r in range(15):
+                for c in range(15):
+                    h_w[r, c] = 0.0
+            area2 = cell_normal(x, cell, a, b, n)
+            for k in range(3):
+                s0, s1, s2 = sums[cell, k, 0], sums[cell, k, 1], sums[cell, k, 2]
+                length[k] = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+                node_normal[k, 0] = s0 / length[k]
+                node_normal[k, 1] = s1 / length[k]
+                node_normal[k, 2] = s2 / length[k]
+                cosine[k] = (
+                    v[cell, k, 0] * node_normal[k, 0]
+                    + v[cell, k, 1] * node_normal[k, 1]
+                    + v[cell, k, 2] * node_normal[k, 2]
+                )
+                h_m[k] = thickness / max(cosine[k], guard)
+                guarded[k] = cosine[k] < guard
+            # The laws of the fibres along edges 0 -> 1 and 0 -> 2: warp (0) and weft (1).
+            law1 = 0 if xi_is_warp[cell] else 1
+            law2 = 1 - law1
+            for f in range(levels):
+                scale = reference_area[cell] * weights[f]
+                half = 0.5 * zeta[f]
+                for c in range(3):
+                    layer0 = x[cell, 0, c] + half * h_m[0] * v[cell, 0, c]
+                    g1[c] = x[cell, 1, c] + half * h_m[1] * v[cell, 1, c] - layer0
+                    g2[c] = x[cell, 2, c] + half * h_m[2] * v[cell, 2, c] - layer0
+                len1 = math.sqrt(g1[0] ** 2 + g1[1] ** 2 + g1[2] ** 2)
+                len2 = math.sqrt(g2[0] ** 2 + g2[1] ** 2 + g2[2] ** 2)
+                along1 = g1[0] * n[0] + g1[1] * n[1] + g1[2] * n[2]
+                along2 = g2[0] * n[0] + g2[1] * n[1] + g2[2] * n[2]
+                fibre1 = math.sqrt(
+                    (g1[0] - along1 * n[0]) ** 2
+                    + (g1[1] - along1 * n[1]) ** 2
+                    + (g1[2] - along1 * n[2]) ** 2
+                )
+                fibre2 = math.sqrt(
+                    (g2[0] - along2 * n[0]) ** 2
+                    + (g2[1] - along2 * n[1]) ** 2
+                    + (g2[2] - along2 * n[2]) ** 2
+                )
+                eps1 = math.log(fibre1 / reference_length1[cell, f])
+                eps2 = math.log(fibre2 / reference_length2[cell, f])
+                cos12 = (g1[0] * g2[0] + g1[1] * g2[1] + g1[2] * g2[2]) / (len1 * len2)
+                gamma = (
+                    shear_sign[cell] * math.asin(min(max(cos12, -1.0), 1.0))
+                    - reference_shear[cell, f]
+                )
+                if compression_free:  # the stress terms of a slack fibre (tangent.py)
+                    t1 = law_value(law_integers, law_reals, law1, max(eps1, 0.0))
+                    t2 = law_value(law_integers, law_reals, law2, max(eps2, 0.0))
+                else:
+                    t1 = law_value(law_integers, law_reals, law1, eps1)
+                    t2 = law_value(law_integers, law_reals, law2, eps2)
+                moment = shear_sign[cell] * law_value(law_integers, law_reals, 2, gamma)
+                # The layer loads P_a = dW/dg_a and dW/dn (membrane.py ``layer_loads``).
+                kappa1 = scale * t1 / fibre1**2
+                kappa2 = scale * t2 / fibre2**2
+                for c in range(3):
+                    u1[c] = g1[c] / len1
+                    u2[c] = g2[c] / len2
+                cu = u1[0] * u2[0] + u1[1] * u2[1] + u1[2] * u2[2]
+                sine = math.sqrt(max(1.0 - cu**2, 1e-24))
+                shear1 = scale * moment / (len1 * sine)
+                shear2 = scale * moment / (len2 * sine)
+                for c in range(3):
+                    r1 = g1[c] - along1 * n[c]
+                    r2 = g2[c] - along2 * n[c]
+                    p1[f, c] = kappa1 * r1 + shear1 * (u2[c] - cu * u1[c])
+                    p2[f, c] = kappa2 * r2 + shear2 * (u1[c] - cu * u2[c])
+                    normal_load[c] -= kappa1 * along1 * r1 + kappa2 * along2 * r2
+                for i in range(3):  # (explicit loops: see the module's docstring)
+                    for j in range(3):
+                        for q in range(3):
+                            for r in range(3):
+                                hz[i, j, q, r] = 0.0
+                # the edges as int64, not constants (numba types a constant argument as a
+                # literal and would build the helper once for each)
+                _tension_level(
+                    g1, n, t1, law_slope(law_integers, law_reals, law1, eps1), fibre1, scale,
+                    hz, np.int64(0),
+                )  # fmt: skip
+                _tension_level(
+                    g2, n, t2, law_slope(law_integers, law_reals, law2, eps2), fibre2, scale,
+                    hz, np.int64(1),
+                )  # fmt: skip
+                _shear_level(
+                    g1, g2, len1, len2, moment, law_slope(law_integers, law_reals, 2, gamma),
+                    scale, hz, shear_u1, shear_u2, grads,
+                )  # fmt: skip
+                _add_level(hz, half, h_w)
+            for r in range(15):
+                for c in range(27):
+                    jac[r, c] = 0.0
+                    jac_rows[r, c] = 0.0
+            _jacobians(
+                v, cell, a, b, n, area2, node_normal, length, cosine, h_m, guarded, thickness,
+                variation, jac, jac_rows, d_director, d_rows, dc, dn,
             )  # fmt: skip
+            # A_rows^T H_w A over the nonzero rows of A's columns (A_rows has A's structure).
+            for col in range(27):
+                for r in range(15):
+                    total = 0.0
+                    for t in range(column_count[col]):
+                        s = column_rows[col, t]
+                        total += h_w[r, s] * jac[s, col]
+                    product[r, col] = total
+            for row in range(27):
+                for col in range(27):
+                    total = 0.0
+                    for t in range(column_count[row]):
+                        s = column_rows[row, t]
+                        total += jac_rows[s, row] * product[s, col]
+                    out[cell, row, col] = total
+            _normal_second(
+                a, b, n, area2, normal_load, out[cell], omega, dc, dn, d_omega, da_vec, db_vec
+            )
+            for r in range(3):
+                for c in range(3):
+                    lever[r, c] = 0.0
+            for f in range(levels):
+                for c in range(3):
+                    lever[1, c] += zeta[f] * p1[f, c]
+                    lever[2, c] += zeta[f] * p2[f, c]
+            for c in range(3):
+                lever[0, c] = -(lever[1, c] + lever[2, c])
+            for k in range(3):
+                _director_second(
+                    v, cell, k, lever, node_normal, length, cosine, h_m, guarded, thickness,
+                    variation, out[cell], d_sums[cell], dv, ds, d_nn,
+                )  # fmt: skip
 
 
 @serial
 def _jacobians(
     v, cell, a, b, n, area2, node_normal, length, cosine, h_m, guarded, thickness, variation,
-    jac, jac_rows,
+    jac, jac_rows, d_director, d_rows, dc, dn,
 ):  # fmt: skip
     """jac (15, 27) = A = dw/dq and jac_rows the A of the rows (tangent.py
-    ``_variable_jacobians``): +-1 on the edges e_a, dD_k/d(psi_k, S_k) on the director
-    offsets d_a (without ``variation`` the rows' h_m [V]x alone), dn/dx_k on the normal."""
-    d_director = np.empty((3, 3, 6))  # dD_k/d(psi_k, S_k)
-    d_rows = np.zeros((3, 3, 6))
+    ``_variable_jacobians``), both zero on entry: +-1 on the edges e_a, dD_k/d(psi_k, S_k)
+    on the director offsets d_a (without ``variation`` the rows' h_m [V]x alone), dn/dx_k on
+    the normal. Scratch: d_director, d_rows (3, 3, 6) (dD_k/d(psi_k, S_k) and the rows'),
+    dc, dn (3,)."""
     for k in range(3):
         vk = (v[cell, k, 0], v[cell, k, 1], v[cell, k, 2])
         nk = (node_normal[k, 0], node_normal[k, 1], node_normal[k, 2])
@@ -323,6 +360,7 @@ def _jacobians(
                 d_director[k, i, j] = spin + dh_dc * vk[i] * v_cross_n[j]
                 d_director[k, i, 3 + j] = dh_dc * vk[i] * dc_ds
                 d_rows[k, i, j] = spin
+                d_rows[k, i, 3 + j] = 0.0
     if variation:
         for k in range(3):
             for i in range(3):
@@ -339,8 +377,6 @@ def _jacobians(
                 jac[6 + 3 * edge + i, 3 + j] = -d_director[0, i, j]
                 jac_rows[6 + 3 * edge + i, 9 * (edge + 1) + 3 + j] = d_rows[edge + 1, i, j]
                 jac_rows[6 + 3 * edge + i, 3 + j] = -d_rows[0, i, j]
-    dc = np.empty(3)
-    dn = np.empty(3)
     for k in range(3):
         for c in range(3):
             _normal_change(a, b, n, area2, k, c, dc, dn)
@@ -374,18 +410,13 @@ def _normal_change(a, b, n, area2, node, comp, dc, dn):
 
 
 @serial
-def _normal_second(a, b, n, area2, load, out):
+def _normal_second(a, b, n, area2, load, out, omega, dc, dn, d_omega, da_vec, db_vec):
     """out (27, 27) += the second derivatives of n(x) contracted with dW/dn = ``load`` (3,)
-    held, on the translation blocks (tangent.py ``_normal_second_derivatives``)."""
+    held, on the translation blocks (tangent.py ``_normal_second_derivatives``); omega, dc,
+    dn, d_omega, da_vec, db_vec (3,) scratch."""
     n_load = load[0] * n[0] + load[1] * n[1] + load[2] * n[2]
-    omega = np.empty(3)
     for c in range(3):
         omega[c] = (load[c] - n_load * n[c]) / area2
-    dc = np.empty(3)
-    dn = np.empty(3)
-    d_omega = np.empty(3)
-    da_vec = np.empty(3)
-    db_vec = np.empty(3)
     for node in range(3):
         da = (1.0 if node == 1 else 0.0) - (1.0 if node == 0 else 0.0)
         db = (1.0 if node == 2 else 0.0) - (1.0 if node == 0 else 0.0)
@@ -412,11 +443,11 @@ def _normal_second(a, b, n, area2, load, out):
 @serial
 def _director_second(
     v, cell, k, lever, node_normal, length, cosine, h_m, guarded, thickness, variation, out,
-    d_sums,
+    d_sums, dv, ds, d_nn,
 ):  # fmt: skip
     """out (27, 27) += the second derivatives of D_k(psi_k, S_k) with dW/dD_k = lever_k / 2
     held, on corner k's (psi, S) block (tangent.py ``_director_second_derivatives``), and
-    d_sums[k] = dW/dS_k (membrane.py ``layer_forces``)."""
+    d_sums[k] = dW/dS_k (membrane.py ``layer_forces``); dv, ds, d_nn (3,) scratch."""
     vk = (v[cell, k, 0], v[cell, k, 1], v[cell, k, 2])
     nk = (node_normal[k, 0], node_normal[k, 1], node_normal[k, 2])
     lk = (lever[k, 0], lever[k, 1], lever[k, 2])
@@ -426,9 +457,6 @@ def _director_second(
     dw_dc = 0.0 if guarded[k] else -dw_dh * thickness / cos**2
     for c in range(3):
         d_sums[k, c] = (dw_dc / size) * (vk[c] - cos * nk[c]) if variation else 0.0
-    dv = np.empty(3)
-    ds = np.empty(3)
-    d_nn = np.empty(3)
     for unit in range(6):
         for c in range(3):
             dv[c] = 0.0
@@ -508,6 +536,7 @@ def membrane_hessians(
         _COLUMN_COUNT,
         out,
         d_sums,
+        CELLS_PER_CHUNK,
     )
     return out.reshape(m, 3, 9, 3, 9), d_sums
 

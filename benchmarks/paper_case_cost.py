@@ -1,0 +1,159 @@
+"""The paper cases' CPU, this tree beside a reference tree (the code before, from ``git
+archive``), case by case, and whether their results.json numbers moved.
+
+Each case runs as ``python -m validation --cases NAME --jobs 1`` in a fresh process of each
+tree (its imports and numba's cached kernels loaded as a report worker's are; one numba
+thread), the two trees in alternating order from one turn to the next, ``--turns`` turns
+(best of them kept: the machine is shared). The figure is results.json's ``case_cpu_s``
+(``Case.compute`` then ``Case.render``). Every number of the case's results.json but its
+times (keys naming a time, CPU or wall) is compared between the trees: the largest relative
+change is printed, 0 where they are the same bits; the texts are compared with their
+seconds taken out (a note's "12.3 s elapsed").
+
+Usage (from this tree's root; the reference tree's numba cache warmed first, ``--warm``)::
+
+    git archive REF | tar -x -C /tmp/reference
+    NUMBA_NUM_THREADS=1 python benchmarks/paper_case_cost.py --reference /tmp/reference \\
+        [--cases a,b] [--turns 2] [--warm]
+
+Measured (main ad9d75b from git archive beside this tree, one thread, best of 2
+alternating turns, 2 cores shared with other jobs, load 5.2-8.5; case CPU s, reference ->
+this): bai-5.1 5.75 -> 5.31, bai-6.1.1 8.93 -> 8.60, bai-6.1.2 6.82 -> 6.58, bai-6.2.1 7.65
+-> 7.38, bai-6.2.2 6.39 -> 5.96, bai-6.1.1-sensitivity 3.83 -> 3.00: 39.37 -> 36.82 s (0.935);
+every results.json number the same bits (5344 of them; the texts the same but their seconds).
+The changes: the fibrous tangent kernels' scratch once a chunk of cells (hessian_kernels.py,
+tangent_kernels.py), the bending patch made once a block (bending.py ``patch_nodes``), the
+assembler's structure in scipy's index type (femcore/assembly.py), and the sensitivity sweep's
+variants writing no frame series into the folders it throws away (fibreshell/run.py
+``write_frames``). Before the assembler's change (load 9.2-9.8): 43.13 -> 41.00 s (0.951),
+the sensitivity case 4.42 -> 3.44.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+CASES = (
+    "bai-5.1",
+    "bai-6.1.1",
+    "bai-6.1.2",
+    "bai-6.2.1",
+    "bai-6.2.2",
+    "bai-6.1.1-sensitivity",
+)
+# results.json keys that hold times (their values differ from run to run).
+TIMED = re.compile(r"time|cpu|wall|elapsed")
+# A duration in a text ("12.3 s", "0.4 s elapsed").
+SECONDS = re.compile(r"\d+(\.\d+)? s\b")
+
+
+def _load() -> str:
+    """The machine's load averages (1, 5, 15 min)."""
+    return " ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def run_case(tree: Path, name: str, resolution: str) -> dict[str, Any]:
+    """The case's results.json entry from a fresh ``python -m validation`` in ``tree``."""
+    env = dict(os.environ, NUMBA_NUM_THREADS="1", FIBRESHELL_PROGRESS="0", PYTHONPATH=str(tree))
+    with tempfile.TemporaryDirectory() as out:
+        subprocess.run(
+            [sys.executable, "-m", "validation", "--cases", name, "--jobs", "1",
+             "--resolution", resolution, "--out", out],
+            cwd=tree, env=env, check=True, capture_output=True,
+        )  # fmt: skip
+        return json.loads((Path(out) / "results.json").read_text())["cases"][name]
+
+
+def leaves(value: Any, path: str = "") -> dict[str, Any]:
+    """The numbers and texts of a results.json entry by their path, times left out."""
+    if isinstance(value, dict):
+        found: dict[str, Any] = {}
+        for key, item in value.items():
+            if not TIMED.search(str(key)):
+                found.update(leaves(item, f"{path}/{key}"))
+        return found
+    if isinstance(value, list):
+        found = {}
+        for i, item in enumerate(value):
+            found.update(leaves(item, f"{path}/{i}"))
+        return found
+    if isinstance(value, str):
+        return {path: SECONDS.sub("<s>", value)}
+    return {path: value}
+
+
+def compare(before: dict[str, Any], after: dict[str, Any]) -> tuple[float, int, int, int]:
+    """(largest relative change of a number, numbers compared, numbers not the same bits,
+    texts or structure that differ) between two results.json entries."""
+    a, b = leaves(before), leaves(after)
+    largest, numbers, moved, other = 0.0, 0, 0, len(set(a) ^ set(b))
+    for key in set(a) & set(b):
+        x, y = a[key], b[key]
+        if (
+            isinstance(x, bool)
+            or isinstance(y, bool)
+            or not (isinstance(x, int | float) and isinstance(y, int | float))
+        ):
+            other += x != y
+            continue
+        numbers += 1
+        if x == y or (isinstance(x, float) and math.isnan(x) and math.isnan(y)):
+            continue
+        moved += 1
+        largest = max(largest, abs(y - x) / max(abs(x), abs(y)))
+    return largest, numbers, moved, other
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--reference", required=True, help="the reference tree's root")
+    parser.add_argument("--cases", default=",".join(CASES))
+    parser.add_argument("--resolution", default="default")
+    parser.add_argument("--turns", type=int, default=2)
+    parser.add_argument("--warm", action="store_true", help="run each case once first")
+    args = parser.parse_args()
+    trees = {"reference": Path(args.reference).resolve(), "this": Path.cwd().resolve()}
+    names = args.cases.split(",")
+    print(f"reference {trees['reference']}, this {trees['this']}; load {_load()}", flush=True)
+    if args.warm:
+        for name in names:
+            for tree in trees.values():
+                run_case(tree, name, args.resolution)
+    best: dict[tuple[str, str], float] = {}
+    kept: dict[tuple[str, str], dict] = {}
+    for turn in range(args.turns):
+        order = list(trees) if turn % 2 == 0 else list(trees)[::-1]
+        for name in names:
+            for label in order:
+                entry = run_case(trees[label], name, args.resolution)
+                cpu = float(entry["case_cpu_s"])
+                best[label, name] = min(best.get((label, name), math.inf), cpu)
+                kept[label, name] = entry
+                print(f"  turn {turn + 1} {name:24s} {label:9s} {cpu:6.2f} s", flush=True)
+    print(f"load {_load()}")
+    head = f"{'case':24s} {'reference':>9s} {'this':>7s} {'ratio':>6s}  results.json"
+    print(head + "\n" + "-" * (len(head) + 40))
+    totals = [0.0, 0.0]
+    for name in names:
+        before, after = best["reference", name], best["this", name]
+        totals[0] += before
+        totals[1] += after
+        largest, numbers, moved, other = compare(kept["reference", name], kept["this", name])
+        print(
+            f"{name:24s} {before:9.2f} {after:7.2f} {after / before:6.3f}  {numbers} numbers, "
+            f"{moved} moved (largest relative {largest:.1e}), {other} texts differ"
+        )
+    print(f"{'all':24s} {totals[0]:9.2f} {totals[1]:7.2f} {totals[1] / totals[0]:6.3f}")
+
+
+if __name__ == "__main__":
+    main()
