@@ -94,6 +94,16 @@ REORDER_GROWTH = 1.2
 # the next time), unless that plan's envelope holds more than this many times the operations
 # of the plan the union started from (a plan of one pattern alone): then on its own pattern.
 BAND_UNION_GROWTH = 1.25
+# A kept band plan (and its union) serves patterns of at least this share of the union's
+# entries; a pattern of fewer (plies that part, whose contact pairs all go) is planned on its
+# own: on plies-deck-of-cards' deck, whose plies part in its last increments, a fresh plan
+# of the pattern then held down to 1/65 of the union's operations.
+BAND_KEPT_SHARE = 0.6
+# Every this many patterns served by a kept band plan, a fresh plan of the pattern is made
+# and taken (a new union) where the kept one holds more than BAND_UNION_GROWTH times its
+# operations: the bound of the kept plans' cost against a new ordering at every pattern, at
+# one ordering in this many.
+BAND_CHECK_EVERY = 8
 # Where QDLDL fails on a new pattern (a zero pivot), the band is tried only if it holds at most
 # this many times the entries of K_ff's upper triangle (the cantilever's: 5.5), so that a wide
 # band never takes the memory of a dense matrix.
@@ -178,6 +188,8 @@ class LinearSolver:
         # been made on since the last plan of one pattern alone, and that plan's operations
         self._union: tuple[np.ndarray, np.ndarray] | None = None
         self._union_base = 0.0
+        self._kept = 0  # the patterns served by kept band plans
+        self._checked: BandPlan | None = None  # a fresh plan made by that check, to be taken
         self._supernodal: SupernodalPlan | None = None
         self._fresh = False  # whether self._ldl holds the factors of the last matrix given
         self._plan: _UpperPlan | None = None
@@ -248,23 +260,45 @@ class LinearSolver:
 
     def _kept_band(self, upper: sp.csc_matrix) -> BandPlan | None:
         """The kept band plan for the new pattern ``upper`` where its entries all lie within
-        that plan's envelope (``BandPlan.for_pattern``) and have not grown past
-        REORDER_GROWTH times those of the pattern QDLDL last measured (then it is measured
-        anew, ``_choose_band``), else None. Only a plan that the choice took for the last
-        pattern is kept."""
+        that plan's envelope (``BandPlan.for_pattern``), have not grown past REORDER_GROWTH
+        times those of the pattern QDLDL last measured (then it is measured anew,
+        ``_choose_band``) and hold at least BAND_KEPT_SHARE of the entries of the union the
+        plan was made on, else None. Only a plan that the choice took for the last pattern
+        is kept."""
         if self._band is None or not KEEP_BAND_PLANS:
             return None
         if self._ordering is not None and upper.nnz > REORDER_GROWTH * self._ordering[2]:
             return None
-        return self._band.for_pattern(upper)
+        if self._shrunk(upper):
+            return None
+        kept = self._band.for_pattern(upper)
+        if kept is None:
+            return None
+        self._kept += 1
+        if self._kept % BAND_CHECK_EVERY == 0:
+            fresh = BandPlan(upper)
+            if kept.operations > BAND_UNION_GROWTH * fresh.operations:
+                self._union, self._checked = None, fresh  # ``_band_plan`` takes it
+                return None
+        return kept
+
+    def _shrunk(self, upper: sp.csc_matrix) -> bool:
+        """Whether ``upper`` holds fewer than BAND_KEPT_SHARE of the union's entries."""
+        return self._union is None or upper.nnz < BAND_KEPT_SHARE * self._union[1].size
 
     def _band_plan(self, upper: sp.csc_matrix) -> BandPlan:
         """A band plan of the new pattern ``upper`` (n unknowns): made on the union of the
         patterns of the plans since the last plan of one pattern alone and ``upper``, while
-        its envelope holds at most BAND_UNION_GROWTH times that plan's operations, else on
-        ``upper`` alone (which then starts a union)."""
+        its envelope holds at most BAND_UNION_GROWTH times that plan's operations and
+        ``upper`` holds at least BAND_KEPT_SHARE of the union's entries, else on ``upper``
+        alone (which then starts a union)."""
         n = upper.shape[0]
-        if KEEP_BAND_PLANS and self._union is not None and self._union[0].size == n + 1:
+        if (
+            KEEP_BAND_PLANS
+            and self._union is not None
+            and self._union[0].size == n + 1
+            and not self._shrunk(upper)
+        ):
             union = _union_pattern(self._union, upper, n)
             plan = BandPlan(union)
             if plan.operations <= BAND_UNION_GROWTH * self._union_base:
@@ -272,7 +306,8 @@ class LinearSolver:
                 assert fitted is not None  # a pattern lies within its union's envelope
                 self._union = (union.indptr, union.indices)
                 return fitted
-        plan = BandPlan(upper)
+        checked, self._checked = self._checked, None
+        plan = checked if checked is not None and checked.n == n else BandPlan(upper)
         self._union = (upper.indptr.copy(), upper.indices.copy())
         self._union_base = plan.operations
         return plan

@@ -128,3 +128,37 @@ def test_without_kept_plans_every_new_pattern_is_ordered_anew(monkeypatch):
     for k in (strip(), strip(drop=0.2, seed=2)):
         solver.factorise(k)
     assert solver.symbolic == 2
+
+
+def test_a_pattern_of_few_of_the_unions_entries_is_planned_on_its_own():
+    """The strip, then the strip with most couplings gone (fewer than BAND_KEPT_SHARE of the
+    union's entries: plies that part): planned afresh on its own pattern, though it lies
+    within the kept envelope."""
+    solver = LinearSolver()
+    solver.factorise(strip())
+    sparse = strip(drop=0.8, seed=5)
+    upper = upper_of(sparse)
+    assert upper.nnz < linear.BAND_KEPT_SHARE * upper_of(strip()).nnz
+    assert solver._band.for_pattern(upper) is not None
+    solver.factorise(sparse)
+    assert solver.symbolic == 2
+    assert np.array_equal(solver._band.perm, BandPlan(upper).perm)
+
+
+def test_every_few_kept_patterns_a_fresh_plan_bounds_the_kept_ones_operations(monkeypatch):
+    """A plan made on a strip with couplings three rows apart, kept for the plain strip's patterns
+    (within its envelope, of enough of its entries), which a fresh plan orders in far fewer
+    operations: at the BAND_CHECK_EVERY-th kept pattern the fresh plan is taken."""
+    monkeypatch.setattr(linear, "BAND_KEPT_SHARE", 0.0)
+    solver = LinearSolver()
+    solver.factorise(strip(extra=[(30, 39), (60, 69), (90, 99)]))
+    wide = solver._band.operations
+    symbolic = []
+    for seed in range(linear.BAND_CHECK_EVERY):
+        k = strip(drop=0.05, seed=10 + seed)
+        solver.factorise(k)
+        symbolic.append(solver.symbolic)
+    assert symbolic == [1] * (linear.BAND_CHECK_EVERY - 1) + [2]
+    fresh = BandPlan(upper_of(k))
+    assert wide > linear.BAND_UNION_GROWTH * fresh.operations
+    assert np.array_equal(solver._band.perm, fresh.perm)
