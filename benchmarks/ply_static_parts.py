@@ -36,7 +36,8 @@ Tried and not kept: the loads' facings with the gap's Hessian until two or three
 unused by a tangent (one today): coarse bai 3690 -> 3558 / 3495 facings, within the run's
 spread in CPU. Measured and not pursued: a cache of the linear solver's plans by pattern (the
 coarse bai's 975 tangents had 834 patterns, 20 of them seen again within the last 16;
-docs/theory.md §6.5, "The cost of a stack's Newton iteration").
+docs/theory.md §6.5, "The cost of a stack's Newton iteration"); since, the band plans and
+K_ff's structure are kept over the patterns instead (benchmarks/ply_band_plans.py).
 """
 
 from __future__ import annotations

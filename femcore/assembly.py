@@ -10,15 +10,15 @@
   the elements' own tangent parts, ``CellTangent`` (dense blocks
   per cell) or ``SparseTangent`` (a sparse matrix over all nodes, for couplings wider than a
   cell; best as BSR with 6 x 6 node blocks); the assembler caches the sparsity pattern of both
-  and rebuilds it when the parts' structure changes; and
-  ``finite_difference_tangent`` with its ``NodeGraph`` colouring for blocks without a tangent
-  of their own.
+  and rebuilds it when the parts' structure changes (or, with ``superset``, when a node pair
+  falls outside the structure kept); and ``finite_difference_tangent`` with its
+  ``NodeGraph`` colouring for blocks without a tangent of their own
+  (femcore/finite_difference.py, re-exported here).
 """
 
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -26,7 +26,12 @@ import scipy.sparse as sp
 
 from femcore import kernel_cache, tangent_pattern
 from femcore.dofs import N_COLUMNS, DofManager, Frames
-from femcore.state import State
+from femcore.finite_difference import (
+    NodeGraph,
+    finite_difference_tangent,
+    greedy_colours,
+    node_adjacency,
+)
 
 __all__ = [
     "CellTangent",
@@ -367,6 +372,11 @@ def _node_blocks(part: SparseTangent, n_nodes: int) -> sp.bsr_matrix:
     return sp.bsr_matrix(matrix, blocksize=(6, 6))
 
 
+# A kept structure (``FreeTangentAssembler(superset=True)``) serves parts whose node pairs
+# reach at least this share of its pairs; past it, it is built on theirs alone.
+SUPERSET_SLACK = 1.5
+
+
 class FreeTangentAssembler:
     """Sums element tangent parts straight into K_ff (free x free, CSC) and K_fp (free x
     prescribed, CSR).
@@ -385,14 +395,26 @@ class FreeTangentAssembler:
     as a BSR matrix with 6 x 6 blocks is used as it is; any other sparse format is converted
     to one at every call.
 
+    With ``superset`` the structure is kept for parts whose node pairs all lie among its
+    pairs (``tangent_pattern.pairs_within``: a bisection in each column node's pairs, where
+    a build counts and places every entry) while they reach at least 1 / SUPERSET_SLACK of
+    them, and built on the union of its pairs and theirs where one does not (on theirs alone
+    where the union would be past that share): a ply contact's touching points change the
+    pairs at most Newton iterations and come back to pairs met before. The pairs the parts
+    leave out are stored zeros of K_ff and K_fp (the linear solver's split of K_ff's upper
+    triangle leaves them out; docs/theory.md §6.5).
+
     The node blocks' compiled products are sums in a fixed order without fused
     multiply-adds, where numpy's matmuls (BLAS) round as the machine's kernel does: on the
     40-cell fibrous corner of benchmarks/paper_cases.py the two differ by at most 1.8e-16
     of K_ff's largest entry, on 4 % of its entries.
     """
 
-    def __init__(self, dofs: DofManager):
+    def __init__(self, dofs: DofManager, superset: bool = False):
+        """``superset``: K_ff's and K_fp's structure kept for parts whose node pairs all lie
+        among its own, and grown to the union when one does not (class docstring)."""
         self.dofs = dofs
+        self.superset = superset
         self.n_free = dofs.free_slots.size
         self.n_moved = dofs.prescribed_slots.size
         self._position = np.full(dofs.n_slots, -1)
@@ -400,6 +422,10 @@ class FreeTangentAssembler:
         self._moved = np.full(dofs.n_slots, -1)
         self._moved[dofs.prescribed_slots] = np.arange(self.n_moved)
         self._pattern: list[tuple[np.ndarray, ...]] | None = None
+        # the structure's distinct node pairs by column node (the superset's lookup)
+        self._pair_start = np.zeros(0, dtype=np.int64)
+        self._pair_rows = np.zeros(0, dtype=np.int64)
+        self._pair_wide = np.zeros(0, dtype=bool)
         #: How many times the sparsity pattern was (re)built.
         self.builds = 0
 
@@ -410,12 +436,12 @@ class FreeTangentAssembler:
             (b.indptr, b.indices) for b in blocks
         ]
 
-    def _build(
-        self, parts: list[CellTangent], blocks: list[sp.bsr_matrix], compiled: bool = True
-    ) -> None:
-        # K_ff's and K_fp's structure from the node pairs the parts couple (a cell part of p
-        # nodes couples p^2 pairs where it holds (5 p)^2 entries), each entry's place counted
-        # per pair (femcore/tangent_pattern.py; ``compiled``: its numba pass, else numpy's).
+    def _node_pairs(
+        self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The (row node, column node, width 5) of every node pair of the parts, in their
+        order (a cell part of p nodes couples p^2 pairs where it holds (5 p)^2 entries);
+        sets the node blocks' rows and columns."""
         rows, cols, wide = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)], []
         wide.append(np.zeros(0, dtype=bool))
         for part in parts:
@@ -432,12 +458,55 @@ class FreeTangentAssembler:
             rows.append(block_rows)
             cols.append(columns)
             wide.append(np.ones(block_rows.size, dtype=bool))
+        return np.concatenate(rows), np.concatenate(cols), np.concatenate(wide)
+
+    def _restructure(self, parts: list[CellTangent], blocks: list[sp.bsr_matrix]) -> None:
+        """The map for parts of a new structure: with ``superset``, the kept structure where
+        every node pair of the parts is among its pairs and it holds at most SUPERSET_SLACK
+        times the pairs they reach, else one built on the union of its pairs and theirs
+        (within that bound; else on theirs alone); without, one built on theirs."""
+        rows, cols, wide = self._node_pairs(parts, blocks)
+        if not self.superset or self._pattern is None:
+            self._build(parts, blocks, pairs=(rows, cols, wide))
+            return
+        inverse, distinct = tangent_pattern.pairs_within(
+            rows, cols, wide, self._pair_start, self._pair_rows, self._pair_wide
+        )
+        if distinct >= 0 and self._pair_rows.size <= SUPERSET_SLACK * distinct:
+            self._set_parts(parts, blocks, inverse)
+            return
+        if distinct < 0:  # a pair outside: the union, the kept pairs after the parts'
+            kept_columns = np.repeat(np.arange(self.dofs.n_nodes), np.diff(self._pair_start))
+            union = (
+                np.concatenate([rows, self._pair_rows]),
+                np.concatenate([cols, kept_columns]),
+                np.concatenate([wide, self._pair_wide]),
+            )
+            reached = self._build(parts, blocks, pairs=union, given=rows.size)
+            if self._pair_rows.size <= SUPERSET_SLACK * reached:
+                return
+        self._build(parts, blocks, pairs=(rows, cols, wide))
+
+    def _build(
+        self,
+        parts: list[CellTangent],
+        blocks: list[sp.bsr_matrix],
+        compiled: bool = True,
+        pairs: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+        given: int | None = None,
+    ) -> int:
+        """K_ff's and K_fp's structure of the node pairs ``pairs`` (row nodes, column nodes,
+        width 5; None: the parts', ``_node_pairs``): the parts' first, ``given`` of them
+        (None: all), then any others the structure is to hold; each entry's place counted
+        per pair (femcore/tangent_pattern.py; ``compiled``: its numba pass, else numpy's).
+        Returns how many distinct pairs the parts' node pairs reach."""
+        rows, cols, wide = self._node_pairs(parts, blocks) if pairs is None else pairs
         n = self.dofs.n_nodes
         find = tangent_pattern.pattern if compiled else tangent_pattern.pattern_numpy
         found = find(
-            np.concatenate(rows),
-            np.concatenate(cols),
-            np.concatenate(wide),
+            rows,
+            cols,
+            wide,
             self._position.reshape(n, N_COLUMNS),
             self._moved.reshape(n, N_COLUMNS),
             self.n_free,
@@ -453,22 +522,41 @@ class FreeTangentAssembler:
         self.ff_indptr, self.ff_rows = found.ff_indptr.astype(index), found.ff_rows.astype(index)
         self.fp_indptr, self.fp_cols = found.fp_indptr.astype(index), found.fp_cols.astype(index)
         self.fp_rows = found.fp_rows
-        # Per part, the distinct pair of each of its node pairs, (m, p, p) (a node block is a
-        # part of one node a cell and every component): the compiled passes find each entry's
-        # place in K_ff's or K_fp's data through the pairs' tables.
         self._tables = (found.ff_table, found.fp_table)
+        # the distinct pairs by column node, then row node (their order in the tables)
+        count = found.ff_table.shape[0]
+        pair_rows = np.empty(count, dtype=np.int64)
+        pair_rows[found.inverse] = rows
+        pair_columns = np.empty(count, dtype=np.int64)
+        pair_columns[found.inverse] = cols
+        self._pair_rows = pair_rows
+        self._pair_start = np.concatenate(
+            [[0], np.cumsum(np.bincount(pair_columns, minlength=n))]
+        ).astype(np.int64)
+        self._pair_wide = np.bincount(found.inverse, wide, count) > 0
+        given = rows.size if given is None else given
+        self._set_parts(parts, blocks, found.inverse[:given])
+        self.builds += 1
+        return int(np.count_nonzero(np.bincount(found.inverse[:given], minlength=count)))
+
+    def _set_parts(
+        self, parts: list[CellTangent], blocks: list[sp.bsr_matrix], inverse: np.ndarray
+    ) -> None:
+        """Per part, the distinct pair of each of its node pairs, (m, p, p) (a node block is
+        a part of one node a cell and every component), from ``inverse`` (the parts' node
+        pairs in order): the compiled passes find each entry's place in K_ff's or K_fp's
+        data through the pairs' tables."""
         shapes = [(len(part.nodes), part.nodes.shape[1], _components(part)) for part in parts]
         shapes += [(block_rows.size, 1, N_COLUMNS) for block_rows in self._block_rows]
         self._shapes, self._pairs = shapes, []
         start = 0
         for m, p, _ in shapes:
-            self._pairs.append(found.inverse[start : start + m * p * p].reshape(m, p, p))
+            self._pairs.append(inverse[start : start + m * p * p].reshape(m, p, p))
             start += m * p * p
         self._n_cell_parts = len(parts)
         self.__dict__.pop("_destinations", None)
         self.__dict__.pop("_flat_map", None)
         self._pattern = [tuple(a.copy() for a in item) for item in self._structure(parts, blocks)]
-        self.builds += 1
 
     @functools.cached_property
     def _destinations(self) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -548,7 +636,7 @@ class FreeTangentAssembler:
         parts, sparse_parts = _split(all_parts)
         blocks = [_node_blocks(part, self.dofs.n_nodes) for part in sparse_parts]
         if not self._same_pattern(parts, blocks):
-            self._build(parts, blocks)
+            self._restructure(parts, blocks)
         maps = self.dofs.node_maps(frames)
         ff = np.zeros(self.ff_rows.size)
         fp = np.zeros(self.fp_rows.size)
@@ -609,125 +697,3 @@ class FreeTangentAssembler:
         if len(blocks) > 1:
             ff += into[0]
             fp += into[1]
-
-
-def node_adjacency(n: int, connectivities: list[np.ndarray]) -> sp.csr_matrix:
-    """(n, n) float, 1 where two nodes share a cell of any of ``connectivities`` ((m, k) int
-    each), and on the diagonal."""
-    rows, cols = [np.arange(n)], [np.arange(n)]
-    for cells in connectivities:
-        k = cells.shape[1]
-        rows.append(np.repeat(cells, k, axis=1).ravel())
-        cols.append(np.tile(cells, (1, k)).ravel())
-    row, col = np.concatenate(rows), np.concatenate(cols)
-    adjacency = sp.csr_matrix((np.ones(row.size), (row, col)), shape=(n, n))
-    return adjacency.astype(bool).astype(float)
-
-
-def greedy_colours(conflict: sp.csr_matrix) -> np.ndarray:
-    """(n,) int, a colour per node such that no two nodes of a stored entry of ``conflict``
-    ((n, n), its diagonal stored) share one: each node, in order, takes the least colour its
-    coloured neighbours leave (a loop over the nodes, once per model or solve, not per step)."""
-    n = conflict.shape[0]
-    colour = np.full(n, -1)
-    indptr, indices = conflict.indptr, conflict.indices
-    for node in range(n):
-        taken = set(colour[indices[indptr[node] : indptr[node + 1]]].tolist())
-        c = 0
-        while c in taken:
-            c += 1
-        colour[node] = c
-    return colour
-
-
-class NodeGraph:
-    """Node colouring and sparsity pattern for the finite-difference tangent of some blocks.
-
-    The force at a node depends on nodes at most ``reach`` cell-hops away (the largest reach
-    of the blocks: 1 for cell-local elements, 2 for rotation-free bending patches), so the
-    column of node j has entries within ``reach`` hops, and nodes more than 2 x reach hops
-    apart never share a row: they get the same colour and are perturbed together.
-
-    Parameters
-    ----------
-    n_nodes : int
-    connectivities : list of (m, k) int
-        The ``connectivity`` of each block.
-    reach : int
-        The largest ``reach`` of the blocks.
-    """
-
-    def __init__(self, n_nodes: int, connectivities: list[np.ndarray], reach: int):
-        n = n_nodes
-        adjacency = node_adjacency(n, connectivities)
-        pattern = adjacency
-        for _ in range(reach - 1):
-            pattern = (pattern @ adjacency).astype(bool).astype(float)
-        pattern = pattern.tocsr()
-        colour = greedy_colours((pattern @ pattern).tocsr())  # conflicts within 2 x reach hops
-        self.colour = colour
-        self.n_colours = int(colour.max()) + 1 if n else 0
-        coo = pattern.tocoo()
-        #: Per colour: (its nodes, the rows and columns of the pattern entries in its columns).
-        self.groups = []
-        for c in range(self.n_colours):
-            members = colour[coo.col] == c
-            self.groups.append((np.flatnonzero(colour == c), coo.row[members], coo.col[members]))
-
-
-def finite_difference_tangent(
-    dofs: DofManager,
-    internal_force: Callable[[State], tuple[np.ndarray, np.ndarray]],
-    state: State,
-    graph: NodeGraph,
-    step: float,
-    rotation_step: float = 1e-6,
-    frames: Frames = None,
-) -> sp.csr_matrix:
-    """Sparse K = dF_int/dq (n_slots x n_slots) by coloured central differences.
-
-    Parameters
-    ----------
-    dofs : DofManager
-    internal_force : callable
-        state -> (forces (n, 3), moments (n, 3)) of the blocks to differentiate.
-    state : State
-    graph : NodeGraph
-        Of those blocks.
-    step : float
-        Perturbation of the translations (length unit).
-    rotation_step : float
-        Perturbation of alpha and beta (rad).
-    frames : Frames
-        The nodal frames held during the iteration (default: those of ``state.directors``).
-
-    The loads are dead (fixed in global directions) and the frames are held, so the external
-    loads add nothing to K. Each colour costs 2 x (5 or 3) force evaluations, whatever the mesh
-    size.
-    """
-    n = dofs.n_nodes
-    frames = dofs.frames(state.directors) if frames is None else frames
-    components = N_COLUMNS if dofs.any_rotation else 3
-    rows, cols, values = [], [], []
-
-    def generalised(s: State) -> np.ndarray:
-        return dofs.generalised(frames, *internal_force(s))
-
-    for nodes, entry_rows, entry_cols in graph.groups:
-        for component in range(components):
-            h = step if component < 3 else rotation_step
-            delta = np.zeros((n, N_COLUMNS))
-            delta[nodes, component] = h
-            plus = dofs.advance(state, delta, frames)
-            minus = dofs.advance(state, -delta, frames)
-            df = (generalised(plus) - generalised(minus)) / (2 * h)
-            for a in range(components):
-                rows.append(DofManager.slots(entry_rows, a))
-                cols.append(DofManager.slots(entry_cols, component))
-                values.append(df[entry_rows, a])
-    size = dofs.n_slots
-    if not rows:
-        return sp.csr_matrix((size, size))
-    return sp.csr_matrix(
-        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)
-    )

@@ -28,7 +28,7 @@ import numpy as np
 from femcore import kernel_cache
 from femcore.dofs import N_COLUMNS
 
-__all__ = ["Pattern", "part_destinations", "pattern", "pattern_numpy"]
+__all__ = ["Pattern", "pairs_within", "part_destinations", "pattern", "pattern_numpy"]
 
 
 class Pattern(NamedTuple):
@@ -290,6 +290,68 @@ def pattern(
         int(n_moved),
     )
     return Pattern(*arrays)
+
+
+def _pairs_within(
+    rows: np.ndarray,
+    cols: np.ndarray,
+    wide: np.ndarray,
+    pair_start: np.ndarray,
+    pair_rows: np.ndarray,
+    pair_wide: np.ndarray,
+) -> tuple[np.ndarray, int]:
+    """(the distinct pair of each node pair (``Pattern.inverse``), how many distinct pairs
+    they reach) of the node pairs (``rows``, ``cols``, ``wide``: as ``pattern``'s) among a
+    pattern's pairs, given by column node (``pair_start`` (n + 1,): each column node's
+    first pair; ``pair_rows``: the pairs' row nodes, sorted within a column; ``pair_wide``:
+    their parts' width is 5); (empty, -1) where a node pair is not among them, or is wide
+    where its pair is not. A bisection within the column. Compiled by numba."""
+    count = rows.size
+    inverse = np.empty(count, dtype=np.int64)
+    seen = np.zeros(pair_rows.size, dtype=np.bool_)
+    distinct = 0
+    for k in range(count):
+        row = rows[k]
+        low, high = pair_start[cols[k]], pair_start[cols[k] + 1]
+        end = high
+        while low < high:
+            middle = (low + high) // 2
+            if pair_rows[middle] < row:
+                low = middle + 1
+            else:
+                high = middle
+        if low == end or pair_rows[low] != row or (wide[k] and not pair_wide[low]):
+            return np.empty(0, dtype=np.int64), -1
+        inverse[k] = low
+        if not seen[low]:
+            seen[low] = True
+            distinct += 1
+    return inverse, distinct
+
+
+_pairs_within_compiled: Any = None
+if kernel_cache.AVAILABLE:
+    _pairs_within_compiled = kernel_cache.njit(_pairs_within)
+
+
+def pairs_within(
+    rows: np.ndarray,
+    cols: np.ndarray,
+    wide: np.ndarray,
+    pair_start: np.ndarray,
+    pair_rows: np.ndarray,
+    pair_wide: np.ndarray,
+) -> tuple[np.ndarray, int]:
+    """``_pairs_within`` by its compiled pass (by the same loops without numba)."""
+    find = _pairs_within if _pairs_within_compiled is None else _pairs_within_compiled
+    return find(
+        np.ascontiguousarray(rows, dtype=np.int64),
+        np.ascontiguousarray(cols, dtype=np.int64),
+        np.ascontiguousarray(wide, dtype=np.bool_),
+        pair_start,
+        pair_rows,
+        pair_wide,
+    )
 
 
 def part_destinations(

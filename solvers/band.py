@@ -27,6 +27,7 @@ the band held 1.37e9 operations (n b^2) where the envelope holds 0.70e9 (QDLDL's
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import numpy as np
@@ -259,14 +260,41 @@ def _fill_envelope(band: np.ndarray, reaches: np.ndarray, slots: np.ndarray, dat
         flat[slots[e]] = data[e]
 
 
+def _slots_within(
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    position: np.ndarray,
+    reaches: np.ndarray,
+    bandwidth: int,
+) -> np.ndarray:
+    """The slots in a plan's flat band (``BandPlan.slots``) of the entries of an upper
+    triangle's pattern in CSC (indptr, indices), ``position`` (n,) the plan's place of each
+    unknown; or an empty array where an entry falls outside the plan's envelope (its row
+    more than ``reaches`` of its column below the diagonal after the ordering). Compiled by
+    numba."""
+    n = indptr.size - 1
+    slots = np.empty(indptr[n], dtype=np.int64)
+    for j in range(n):
+        b = position[j]
+        for e in range(indptr[j], indptr[j + 1]):
+            a = position[indices[e]]
+            low, high = min(a, b), max(a, b)
+            if high - low > reaches[low]:
+                return np.empty(0, dtype=np.int64)
+            slots[e] = low * (bandwidth + 1) + (high - low)
+    return slots
+
+
 _closure_compiled: Any = None
 _layout_compiled: Any = None
+_slots_within_compiled: Any = None
 _fill_envelope_compiled: Any = None
 # numba is a dependency; without it the band path is not taken (``AVAILABLE``)
 if kernel_cache.AVAILABLE:
     _closure_compiled = kernel_cache.njit(_closure)
     _layout_compiled = kernel_cache.njit(_layout)
     _fill_envelope_compiled = kernel_cache.njit(_fill_envelope)
+    _slots_within_compiled = kernel_cache.njit(_slots_within)
     _factorise_by_column = kernel_cache.njit(_factorise_by_column)
     _factorise = kernel_cache.njit(_factorise)
     # Compiled without fastmath: re-associating the back substitution's sums let the compiler
@@ -328,6 +356,37 @@ class BandPlan:
         last = np.full(n, -1, dtype=np.int64)
         np.maximum.at(last, first, rows)
         self.reaches = np.maximum(np.maximum.accumulate(last), rows) - rows if n else rows
+
+    def for_pattern(self, upper: sp.csc_matrix) -> BandPlan | None:
+        """This plan (its ordering, bandwidth and reaches) for another pattern of as many
+        unknowns (an upper triangle in CSC) whose every entry lies within its envelope, or
+        None where one falls outside. The elimination runs over the reaches' whole profile
+        and the fill of any pattern inside it stays inside it (module docstring), so the
+        factors are this pattern's under this ordering; the entries of the profile that this
+        pattern leaves empty are zeros that stay zeros (an update of x by 0 w leaves x as it
+        is). One pass over the entries (``_slots_within``; numpy's without numba), where a
+        new plan orders the whole pattern anew (docs/theory.md §6.5, "Plans kept over
+        changing contact pairs")."""
+        if upper.shape != (self.n, self.n):
+            return None
+        position = np.empty(self.n, dtype=np.int64)
+        position[self.perm] = np.arange(self.n)
+        indptr = np.asarray(upper.indptr, dtype=np.int64)
+        indices = np.asarray(upper.indices, dtype=np.int64)
+        if _slots_within_compiled is not None:
+            slots = _slots_within_compiled(indptr, indices, position, self.reaches, self.bandwidth)
+            if slots.size != indices.size:
+                return None
+        else:  # pragma: no cover - numba is a dependency
+            columns = np.repeat(np.arange(self.n), np.diff(indptr))
+            a, b = position[indices], position[columns]
+            low, high = np.minimum(a, b), np.maximum(a, b)
+            if np.any(high - low > self.reaches[low]):
+                return None
+            slots = low * (self.bandwidth + 1) + (high - low)
+        plan = copy.copy(self)
+        plan.slots = slots
+        return plan
 
     @property
     def operations(self) -> float:

@@ -20,7 +20,11 @@ where neither applies or the compiled one meets a zero pivot; the choice is made
 sparsity pattern, or kept from an earlier one: a pattern inside the kept supernodal factor's
 L keeps its whole analysis (``SupernodalPlan.for_pattern``), and another pattern of as many
 unknowns keeps the last QDLDL measurement's ordering while its entries and fill stay within
-REORDER_GROWTH of the measured ones (``LinearSolver._choose_band``). The pattern's analysis
+REORDER_GROWTH of the measured ones (``LinearSolver._choose_band``); a band plan is kept for
+a new pattern within its envelope, and a pattern outside it is planned on the union of the
+patterns met while that stays within BAND_UNION_GROWTH of a plan of one pattern alone
+(``LinearSolver._kept_band``, ``_band_plan``: contact pairs that come and go change the
+pattern at most Newton iterations of a ply stack). The pattern's analysis
 (the orderings, the band layout, the supernodes, QDLDL's elimination tree) is kept while it
 holds, and so is the map from K_ff's entries to its symmetrised upper triangle (split off by
 one compiled pass). Without pivoting it can fail on an indefinite matrix (a zero pivot) or
@@ -84,10 +88,29 @@ BAND_OVER_SUPERNODAL = 2.0
 # supernodal factor then holds more than this many times the operations it held on the
 # pattern the ordering was made for: then the pattern is ordered afresh.
 REORDER_GROWTH = 1.2
+# A band plan is kept for a new pattern whose entries all lie within its envelope
+# (``BandPlan.for_pattern``); a pattern with an entry outside is planned on the union of the
+# patterns the kept plan was made for and its own (contact pairs that come and go then fit
+# the next time), unless that plan's envelope holds more than this many times the operations
+# of the plan the union started from (a plan of one pattern alone): then on its own pattern.
+BAND_UNION_GROWTH = 1.25
+# A kept band plan (and its union) serves patterns of at least this share of the union's
+# entries; a pattern of fewer (plies that part, whose contact pairs all go) is planned on its
+# own: on plies-deck-of-cards' deck, whose plies part in its last increments, a fresh plan
+# of the pattern then held down to 1/65 of the union's operations.
+BAND_KEPT_SHARE = 0.6
+# Every this many patterns served by a kept band plan, a fresh plan of the pattern is made
+# and taken (a new union) where the kept one holds more than BAND_UNION_GROWTH times its
+# operations: the bound of the kept plans' cost against a new ordering at every pattern, at
+# one ordering in this many.
+BAND_CHECK_EVERY = 8
 # Where QDLDL fails on a new pattern (a zero pivot), the band is tried only if it holds at most
 # this many times the entries of K_ff's upper triangle (the cantilever's: 5.5), so that a wide
 # band never takes the memory of a dense matrix.
 BAND_FILL_WITHOUT_QDLDL = 20
+# Whether band plans are kept over new patterns and made on their union (above); False: a
+# new plan for every new pattern, the reference.
+KEEP_BAND_PLANS = True
 
 
 @dataclass
@@ -161,6 +184,12 @@ class LinearSolver:
         self._ldl: qdldl.Solver | None = None
         self._pattern: tuple[np.ndarray, np.ndarray] | None = None
         self._band: BandPlan | None = None
+        # the union of the patterns (upper triangles' indptr, indices) the band plans have
+        # been made on since the last plan of one pattern alone, and that plan's operations
+        self._union: tuple[np.ndarray, np.ndarray] | None = None
+        self._union_base = 0.0
+        self._kept = 0  # the patterns served by kept band plans
+        self._checked: BandPlan | None = None  # a fresh plan made by that check, to be taken
         self._supernodal: SupernodalPlan | None = None
         self._fresh = False  # whether self._ldl holds the factors of the last matrix given
         self._plan: _UpperPlan | None = None
@@ -213,9 +242,10 @@ class LinearSolver:
         pattern = (upper.indptr, upper.indices)
         if not self._same(pattern):
             kept = self._supernodal.for_pattern(upper) if self._supernodal is not None else None
-            self._ldl, self._band, self._supernodal, self._fresh = None, None, kept, False
+            band = self._kept_band(upper) if kept is None else None
+            self._ldl, self._band, self._supernodal, self._fresh = None, band, kept, False
             self._pattern = (upper.indptr.copy(), upper.indices.copy())
-            if kept is None:
+            if kept is None and band is None:
                 self.symbolic += 1
                 self._band = self._choose_band(upper)
         else:
@@ -227,6 +257,60 @@ class LinearSolver:
                 if factor is not None:
                     return factor, factor.negative
         return self._qdldl(upper)
+
+    def _kept_band(self, upper: sp.csc_matrix) -> BandPlan | None:
+        """The kept band plan for the new pattern ``upper`` where its entries all lie within
+        that plan's envelope (``BandPlan.for_pattern``), have not grown past REORDER_GROWTH
+        times those of the pattern QDLDL last measured (then it is measured anew,
+        ``_choose_band``) and hold at least BAND_KEPT_SHARE of the entries of the union the
+        plan was made on, else None. Only a plan that the choice took for the last pattern
+        is kept."""
+        if self._band is None or not KEEP_BAND_PLANS:
+            return None
+        if self._ordering is not None and upper.nnz > REORDER_GROWTH * self._ordering[2]:
+            return None
+        if self._shrunk(upper):
+            return None
+        kept = self._band.for_pattern(upper)
+        if kept is None:
+            return None
+        self._kept += 1
+        if self._kept % BAND_CHECK_EVERY == 0:
+            fresh = BandPlan(upper)
+            if kept.operations > BAND_UNION_GROWTH * fresh.operations:
+                self._union, self._checked = None, fresh  # ``_band_plan`` takes it
+                return None
+        return kept
+
+    def _shrunk(self, upper: sp.csc_matrix) -> bool:
+        """Whether ``upper`` holds fewer than BAND_KEPT_SHARE of the union's entries."""
+        return self._union is None or upper.nnz < BAND_KEPT_SHARE * self._union[1].size
+
+    def _band_plan(self, upper: sp.csc_matrix) -> BandPlan:
+        """A band plan of the new pattern ``upper`` (n unknowns): made on the union of the
+        patterns of the plans since the last plan of one pattern alone and ``upper``, while
+        its envelope holds at most BAND_UNION_GROWTH times that plan's operations and
+        ``upper`` holds at least BAND_KEPT_SHARE of the union's entries, else on ``upper``
+        alone (which then starts a union)."""
+        n = upper.shape[0]
+        if (
+            KEEP_BAND_PLANS
+            and self._union is not None
+            and self._union[0].size == n + 1
+            and not self._shrunk(upper)
+        ):
+            union = _union_pattern(self._union, upper, n)
+            plan = BandPlan(union)
+            if plan.operations <= BAND_UNION_GROWTH * self._union_base:
+                fitted = plan.for_pattern(upper)
+                assert fitted is not None  # a pattern lies within its union's envelope
+                self._union = (union.indptr, union.indices)
+                return fitted
+        checked, self._checked = self._checked, None
+        plan = checked if checked is not None and checked.n == n else BandPlan(upper)
+        self._union = (upper.indptr.copy(), upper.indices.copy())
+        self._union_base = plan.operations
+        return plan
 
     def _qdldl(self, upper: sp.csc_matrix) -> tuple[qdldl.Solver | None, int | None]:
         try:
@@ -270,7 +354,7 @@ class LinearSolver:
         n = upper.shape[0]
         if not BAND_AVAILABLE or n == 0:
             return None
-        plan = BandPlan(upper)
+        plan = self._band_plan(upper)
         band_operations = plan.operations
         if self._measured is not None and self._measured[0] == n:
             if SUPERNODAL_AVAILABLE and self._ordering is not None:
@@ -594,6 +678,20 @@ def _upper(k: sp.spmatrix) -> sp.csc_matrix:
     upper.sum_duplicates()
     upper.sort_indices()
     return upper
+
+
+def _union_pattern(
+    pattern: tuple[np.ndarray, np.ndarray], upper: sp.csc_matrix, n: int
+) -> sp.csc_matrix:
+    """The pattern (values 1) of the entries of an upper triangle's pattern (indptr,
+    indices) and of ``upper``'s, n x n, in CSC with sorted indices."""
+    indptr, indices = pattern
+    union = sp.csc_matrix((np.ones(indices.size), indices, indptr), shape=(n, n)) + sp.csc_matrix(
+        (np.ones(upper.indices.size), upper.indices, upper.indptr), shape=(n, n)
+    )
+    union = sp.csc_matrix(union)
+    union.sort_indices()
+    return union
 
 
 def _lu(k: sp.csc_matrix):

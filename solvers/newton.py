@@ -651,7 +651,7 @@ class Tangent:
         """``first``: (state, {block index: parts}) already evaluated, reused at that state."""
         self.model, self.own, self.others = model, own, others
         self.first = first
-        self.assemble = FreeTangentAssembler(model.dofs)
+        self.assemble = FreeTangentAssembler(model.dofs, superset=True)
         self.graph = model.node_graph(others) if others else None
 
     def __call__(self, state: State, frames: Frames, compression_free: bool = False):

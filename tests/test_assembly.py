@@ -175,3 +175,90 @@ def test_the_assembler_gives_scipy_its_structure_in_the_index_type_scipy_keeps()
     )
     assert wide.indices.dtype == k_ff.indices.dtype
     assert np.array_equal(wide.indices, k_ff.indices) and np.array_equal(wide.indptr, k_ff.indptr)
+
+
+def test_a_kept_structure_serves_parts_within_it_and_grows_to_the_union_of_their_pairs():
+    """FreeTangentAssembler(superset=True) on contact-like parts whose pairs come and go: K_ff
+    and K_fp hold the same values as the exact structure's (the entries it adds are stored
+    zeros), the structure is built once per pair outside it (the union then) and kept for
+    parts within it; parts reaching less than 1 / SUPERSET_SLACK of its pairs get their own.
+    Reference: the full matrix (tangent_matrix) and the exact structure (superset=False)."""
+    from femcore import assembly
+
+    n = 7
+    active = np.ones((n, 5), dtype=bool)
+    active[6, 3:] = False
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    prescribed = np.zeros_like(active)
+    prescribed[5, :] = True
+    dofs = DofManager(n, active, fixed, prescribed)
+    rng = np.random.default_rng(4)
+    directors = rng.normal(size=(n, 3))
+    frames = dofs.frames(directors / np.linalg.norm(directors, axis=1)[:, None])
+    free = dofs.free_slots
+    kept, exact = FreeTangentAssembler(dofs, superset=True), FreeTangentAssembler(dofs)
+    shell = CellTangent(np.array([[0, 1, 2], [2, 3, 4]]), rng.normal(size=(2, 3, 6, 3, 6)))
+    contacts = ([[1, 5], [3, 6]], [[1, 5]], [[4, 6], [1, 5]], [[3, 6]], [[1, 5]])
+    builds = []
+    for pairs in contacts:
+        parts = [shell, springs(pairs, rng)[0]]
+        k_ff, k_fp = kept(parts, frames)
+        e_ff, e_fp = exact(parts, frames)
+        assert np.array_equal(k_ff.toarray(), e_ff.toarray())
+        assert np.array_equal(k_fp.toarray(), e_fp.toarray())
+        dense = tangent_matrix(dofs, parts, frames).toarray()
+        assert np.allclose(k_ff.toarray(), dense[np.ix_(free, free)], rtol=0, atol=1e-12)
+        builds.append(kept.builds)
+    # (4, 6) comes outside the first structure: the union; the rest lie within it
+    assert builds == [1, 1, 2, 2, 2]
+    assert exact.builds == 5
+    # the cells' 2 x 9 node pairs, (2, 2) in both; the springs' 3 x 4, less (1, 1), (3, 3),
+    # (4, 4) (the cells') and (6, 6) (twice)
+    assert kept._pair_rows.size == 17 + 8
+    # parts reaching too few of the kept pairs: built on their own
+    small = [CellTangent(np.array([[1, 2]]), rng.normal(size=(1, 2, 6, 2, 6)))]
+    assert kept._pair_rows.size > assembly.SUPERSET_SLACK * 4
+    kept(small, frames)
+    assert kept.builds == 3 and kept._pair_rows.size == 4
+
+
+def test_the_pairs_within_a_structure_are_found_by_bisection():
+    """tangent_pattern.pairs_within against a dictionary of the structure's pairs: the index
+    of each node pair, the count of distinct pairs reached, and -1 where a pair is missing
+    or wider than its structure's."""
+    from femcore import tangent_pattern
+
+    rng = np.random.default_rng(5)
+    n = 30
+    pairs = sorted({(int(c), int(r)) for r, c in rng.integers(0, n, (200, 2))})
+    columns = np.array([c for c, _ in pairs])
+    rows = np.array([r for _, r in pairs])
+    wide = rng.random(rows.size) < 0.5
+    start = np.concatenate([[0], np.cumsum(np.bincount(columns, minlength=n))])
+    index = {(r, c): q for q, (c, r) in enumerate(pairs)}
+    pick = rng.integers(0, rows.size, 500)
+    asked_wide = wide[pick] & (rng.random(500) < 0.5)
+    inverse, distinct = tangent_pattern.pairs_within(
+        rows[pick], columns[pick], asked_wide, start, rows, wide
+    )
+    assert [index[(r, c)] for r, c in zip(rows[pick], columns[pick])] == list(inverse)
+    assert distinct == np.unique(pick).size
+    missing = next((r, c) for r in range(n) for c in range(n) if (r, c) not in index)
+    assert (
+        tangent_pattern.pairs_within(
+            np.array([missing[0]]), np.array([missing[1]]), np.array([False]), start, rows, wide
+        )[1]
+        == -1
+    )
+    narrow = int(np.flatnonzero(~wide)[0])
+    assert (
+        tangent_pattern.pairs_within(
+            rows[[narrow]], columns[[narrow]], np.array([True]), start, rows, wide
+        )[1]
+        == -1
+    )
+    found = tangent_pattern._pairs_within(  # the loops without numba: the same
+        rows[pick], columns[pick], asked_wide, start, rows, wide
+    )
+    assert np.array_equal(found[0], inverse) and found[1] == distinct
