@@ -108,7 +108,7 @@ def main() -> None:
     band.BandPlan.factorise = timed  # type: ignore[method-assign]
     linear.LinearSolver.factorise = normed  # type: ignore[method-assign]
     try:
-        solve_case(args.case, args.resolution, None)
+        solve_case(args.case, args.resolution, None, None)  # no stall, no first-turn rule
     finally:
         band.BandPlan.factorise = original  # type: ignore[method-assign]
         linear.LinearSolver.factorise = original_solver  # type: ignore[method-assign]

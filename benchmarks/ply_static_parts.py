@@ -101,7 +101,7 @@ def solve(name: str, resolution: str) -> tuple[float, int, int, str]:
     ply_block.closest_facing = counted
     try:
         start = time.process_time()
-        result = solve_case(name, resolution, None)
+        result = solve_case(name, resolution, None, None)  # no stall, no first-turn rule
         cpu = time.process_time() - start
     finally:
         ply_block.closest_facing = original

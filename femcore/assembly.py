@@ -522,6 +522,11 @@ class FreeTangentAssembler:
         self.ff_indptr, self.ff_rows = found.ff_indptr.astype(index), found.ff_rows.astype(index)
         self.fp_indptr, self.fp_cols = found.fp_indptr.astype(index), found.fp_cols.astype(index)
         self.fp_rows = found.fp_rows
+        # scipy keeps index arrays of its own type as given, without a copy: every K_ff and
+        # K_fp returned shares them, so a caller's in-place change of a matrix's structure
+        # (eliminate_zeros, prune) would corrupt every later assembly. Read-only, it raises.
+        for shared in (self.ff_indptr, self.ff_rows, self.fp_indptr, self.fp_cols):
+            shared.setflags(write=False)
         self._tables = (found.ff_table, found.fp_table)
         # the distinct pairs by column node, then row node (their order in the tables)
         count = found.ff_table.shape[0]

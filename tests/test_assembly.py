@@ -1,6 +1,7 @@
 """femcore.assembly: the sparse tangent of element parts, and its cached pattern."""
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 
 from femcore.assembly import CellTangent, FreeTangentAssembler, SparseTangent, tangent_matrix
@@ -175,6 +176,13 @@ def test_the_assembler_gives_scipy_its_structure_in_the_index_type_scipy_keeps()
     )
     assert wide.indices.dtype == k_ff.indices.dtype
     assert np.array_equal(wide.indices, k_ff.indices) and np.array_equal(wide.indptr, k_ff.indptr)
+    # The matrices share the assembler's structure (scipy does not copy it), so a change of
+    # one's structure in place is refused rather than carried into the next assembly.
+    before = assemble.ff_rows.copy()
+    k_ff.data[:] = 0.0
+    with pytest.raises(ValueError, match="read-only"):
+        k_ff.eliminate_zeros()
+    assert np.array_equal(assemble.ff_rows, before)
 
 
 def test_a_kept_structure_serves_parts_within_it_and_grows_to_the_union_of_their_pairs():

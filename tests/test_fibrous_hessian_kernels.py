@@ -53,11 +53,11 @@ FABRICS = {
 }
 
 
-def _cells(fabric, variation, seed=3, clamped=None):
-    """A jittered 6 x 4 sheet with tilted directors, one of them nearly in its plane (past
-    the guard of h_m):
+def _cells(fabric, variation, seed=3, clamped=None, nx=6, ny=4):
+    """A jittered nx x ny sheet (6 x 4: 48 cells) with tilted directors, one of them nearly
+    in its plane (past the guard of h_m):
     its block and the corners, directors and normal sums of its cells."""
-    mesh = Mesh.rectangle(40.0, 20.0, nx=6, ny=4)
+    mesh = Mesh.rectangle(40.0, 20.0, nx=nx, ny=ny)
     model = Model(mesh)
     model.add(FibrousShell(fabric, thickness_variation=variation, clamped=clamped))
     if clamped is not None:
@@ -91,6 +91,19 @@ def test_the_compiled_membrane_hessians_give_the_numpy_ones(name, variation):
         assert np.abs(got_sums - expected_sums).max() <= 1e-12 * np.abs(expected_sums).max()
     else:
         assert not got_sums.any() and not expected_sums.any()
+
+
+def test_the_hessians_of_more_cells_than_two_chunks_are_the_numpy_ones_in_every_chunk():
+    """140 cells: two full chunks of CELLS_PER_CHUNK (64) and a part one, so that a cell at
+    a chunk's boundary (63, 64, 127, 128) or in the last part chunk that the loops skipped
+    or wrote twice would show (the 48-cell sheets above fit in one chunk)."""
+    block, x, v, sums = _cells(_table_fabric(), True, nx=14, ny=5)
+    assert len(x) > 2 * hessian_kernels.CELLS_PER_CHUNK
+    expected, expected_sums = tangent.membrane_hessian(block, x, v, sums)
+    got, got_sums = hessian_kernels.membrane_hessians(block, x, v, sums)
+    scale = np.abs(expected).max()
+    assert np.abs(got - expected).max(axis=(1, 2)).max() <= 1e-12 * scale
+    assert np.abs(got_sums - expected_sums).max() <= 1e-12 * np.abs(expected_sums).max()
 
 
 def test_the_compiled_normal_share_jacobians_give_the_numpy_ones():
