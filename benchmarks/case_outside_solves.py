@@ -51,6 +51,9 @@ from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 # The render's parts in the table (figures: savefig's drawing and PNG, and the constrained
 # layout validation.plots.save runs before it; the result files).
 PARTS = ("savefig", "layout", "xdmf", "vtu")

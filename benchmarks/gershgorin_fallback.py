@@ -56,7 +56,12 @@ import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+from pathlib import Path
+
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 
 CASES = {
     "mindlin-strip": ("mindlin", 400, 20, False, False, 1),

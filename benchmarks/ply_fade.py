@@ -39,8 +39,11 @@ from __future__ import annotations
 import os
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from elements import ply_fade, ply_projection
 from elements.ply_block import PlyContactBlock

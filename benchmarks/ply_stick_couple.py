@@ -21,9 +21,14 @@ Run: python benchmarks/ply_stick_couple.py
 from __future__ import annotations
 
 import os
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+if __name__ == "__main__":  # imported (ply_edge_couple.py), the importer's tree
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from elements import ply_friction
 from elements.ply_block import PlyContactBlock
