@@ -1,7 +1,7 @@
 """Every benchmark imports the packages of the tree it lives in: ``python benchmarks/x.py`` puts
 benchmarks/ (not the tree's root) on the import path, and an editable install of the project
 points at one checkout, so a script that does not put its own tree first measures that checkout
-whatever tree it is run from (docs/benchmarks.md). Checked statically for every script, and by
+whatever tree it is run from. Checked statically for every script, and by
 one real run of a script from a ``git archive`` copy whose code is marked."""
 
 from __future__ import annotations
