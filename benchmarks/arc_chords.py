@@ -65,7 +65,12 @@ import time
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 os.environ["FIBRESHELL_PROGRESS"] = "0"
 
+import sys
+from pathlib import Path
+
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from validation.paper.case import solve  # noqa: E402
 from validation.paper.kinematics import ARC_CHORDS, KINEMATICS  # noqa: E402

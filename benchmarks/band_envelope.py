@@ -45,8 +45,13 @@ import time
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 os.environ["FIBRESHELL_PROGRESS"] = "0"
 
+import sys
+from pathlib import Path
+
 import numpy as np  # noqa: E402
 import qdldl  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 import solvers.linear as linear  # noqa: E402
 from solvers.band import BandPlan, _factorise, _factorise_by_column, _solve  # noqa: E402

@@ -27,16 +27,24 @@ XDMF), hemisphere-forming 1.29 (0.56 + 0.74), heavy-cantilever-nonlinear 1.19 (0
 the heavy elastica's references, scipy's solve_bvp, and numba's cache loads), plies-bai-5.1
 0.69, the 17 others 0.06-0.46 each. The worker's imports 0.92 s.
 
-With femcore.xdmf's creation properties made once per shape (this tree, load 5.5 -> 7.0):
-151.2 s, 133.3 in the solves, 17.9 outside: 5.0 in the computations, 13.0 in the renders
-(savefig 5.5, the constrained layout before it 4.3, XDMF 1.7, VTU 1.0). The XDMF column did
-not fall here (1.69 -> 1.67) although the same series written again in a case's process take
-0.10 -> 0.045 s each (bai-5.1's three, gc on or off, back to back) and 0.61 -> 0.27 s for
-six series from pickled results; the cause was not found. The whole default report, ``--jobs
-1``, f56c093 then this tree back to back (load 12.3 -> 8.3, then 8.3 -> 7.0): case CPU
-151.62 -> 151.00 s (the paper cases 38.34 -> 35.62, hemisphere-plies 45.23 -> 47.04, the
-rest within +-0.4), results.json's 6,298 numbers identical, every PNG, VTU, XDMF and HDF5
-file byte-identical.
+With femcore.xdmf's creation properties made once per shape (load 5.5 -> 7.0): 151.2 s,
+133.3 in the solves, 17.9 outside: 5.0 in the computations, 13.0 in the renders (savefig 5.5,
+the constrained layout before it 4.3, XDMF 1.69 -> 1.67, VTU 1.0): this run did not measure the
+change. The script did not put its own tree first then, so run from the tree with the change
+it imported the installed checkout's packages (main's femcore.xdmf, f56c093's until the change
+was merged) as the run before did.
+Measured again, one tree (55729eb) with femcore/xdmf.py of f56c093 or of 55729eb swapped in
+(the only library file the two differ in), this script run from it with its packages first,
+one numba thread, CPU s of the XDMF column: bai-6.1.2 alone, in turns (load 8.0-9.5), 0.28,
+0.29 -> 0.13, 0.15; the five paper cases, one turn each (load 6.9-8.6), 1.56 -> 0.80 (bai-5.1
+0.30 -> 0.13, bai-6.1.1 0.34 -> 0.26, bai-6.1.2 0.27 -> 0.11, bai-6.2.1 0.35 -> 0.17, bai-6.2.2
+0.31 -> 0.13), the same halving as the series written again in one process (0.10 -> 0.045 s
+each, bai-5.1's three, back to back; 0.61 -> 0.27 s for six series from pickled results).
+
+The whole default report, ``--jobs 1``, f56c093 then this tree back to back (load 12.3 ->
+8.3, then 8.3 -> 7.0): case CPU 151.62 -> 151.00 s (the paper cases 38.34 -> 35.62,
+hemisphere-plies 45.23 -> 47.04, the rest within +-0.4), results.json's 6,298 numbers
+identical, every PNG, VTU, XDMF and HDF5 file byte-identical.
 """
 
 from __future__ import annotations
@@ -50,6 +58,9 @@ import time
 from collections import defaultdict
 from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 
 # The render's parts in the table (figures: savefig's drawing and PNG, and the constrained
 # layout validation.plots.save runs before it; the result files).

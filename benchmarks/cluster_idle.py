@@ -21,10 +21,14 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import sys
 import time
+from pathlib import Path
 
 import dask
 import psutil
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from fibreshell.cluster import IDLE_CONFIG
 

@@ -74,6 +74,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 HERE = Path(__file__).resolve().parents[1]
 
 
@@ -177,7 +180,6 @@ def replay(every: int = 5000, repeats: int = 100) -> None:
     import warnings
 
     warnings.simplefilter("ignore")
-    sys.path.insert(0, str(HERE))
     from elements import facet_search, rigid_surface
     from validation.cases import hemisphere_forming as forming
 

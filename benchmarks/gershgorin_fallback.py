@@ -14,6 +14,9 @@ Each case in a fresh process of its own (one numba thread), the sheet 40 x 30 mm
 Printed per case: the bound's CPU seconds (best of ``--repeat``), whether it streamed (the
 tangent formed once), the reference pass (the tangent's pieces formed and dropped, every
 block, CPU best of ``--repeat``), their ratio, and the process's peak (MB, ru_maxrss).
+The script measures the tree it lives in (it puts that tree first on the import path, before
+PYTHONPATH): to compare two trees, run each tree's own copy from its root; a copy from before
+this rule (142080a's) measures the tree named by PYTHONPATH.
 
 Measured on the 2-core machine shared with other runs (load 3.1-3.4), this script on main
 1606060 (every pair held by merging each piece into all the pairs so far; Mindlin pieces of
@@ -56,7 +59,12 @@ import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+from pathlib import Path
+
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 
 CASES = {
     "mindlin-strip": ("mindlin", 400, 20, False, False, 1),

@@ -31,11 +31,15 @@ from __future__ import annotations
 import argparse
 import collections
 import os
+import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 import elements.contact as contact
 import elements.rigid_surface as rigid_surface

@@ -66,6 +66,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 __all__ = ["kratos_solve", "main", "static_solve"]
 
 LENGTH, WIDTH, THICKNESS, YOUNG = 200.0, 20.0, 1.0, 70e3  # mm, MPa
@@ -75,7 +78,6 @@ TOLERANCE = 1e-8
 
 def _strip():
     """(mesh, model, tip nodes, total tip force N, elastica tip drop mm)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from validation import specimens
     from validation.references.elastica import tip_loaded_cantilever
 

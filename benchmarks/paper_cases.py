@@ -131,7 +131,12 @@ import time
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 os.environ["FIBRESHELL_PROGRESS"] = "0"
 
+import sys
+from pathlib import Path
+
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 import solvers.static as static  # noqa: E402
 from elements.base import local_tangent, stacked_local_tangent  # noqa: E402

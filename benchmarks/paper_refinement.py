@@ -30,7 +30,11 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import sys
 import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from validation.paper import ORDER_KINEMATICS, solve
 from validation.paper.orders import order_quantities

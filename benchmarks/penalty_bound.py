@@ -26,9 +26,13 @@ of some 3 ms; hemisphere-forming 0.31 both ways.
 
 from __future__ import annotations
 
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from elements.ply_block import PlyContactBlock
 from elements.ply_fade import stiffness_factor

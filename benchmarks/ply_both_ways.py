@@ -20,7 +20,11 @@ Run: python benchmarks/ply_both_ways.py
 from __future__ import annotations
 
 import os
+import sys
 import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from solvers import CentralDifference
 from validation.studies import hemisphere_plies_setup as setup

@@ -67,9 +67,12 @@ from pathlib import Path
 
 import numpy as np
 
+if "--measure" not in sys.argv:  # a --measure child: the tree its parent named
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 # the bent blank and the timer of benchmarks/ply_stick_couple.py (this script's directory:
 # the same file whichever tree's library the process runs)
-from ply_stick_couple import _bent, _best
+from ply_stick_couple import _bent, _best  # noqa: E402
 
 HERE = Path(__file__).resolve().parents[1]
 

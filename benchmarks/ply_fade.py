@@ -15,6 +15,12 @@ The fade by the distance to the outline (its nearest edge searched over every ou
 at the points facing an outline triangle, in the reference pass too): 3.67 ms with the fade
 against 3.00 ms for the reference pass; the barycentric fade of before, run after it from an
 export of its commit, 3.41 against 2.76 ms (one thread, 200 repeats, load 5.4-5.6).
+Again, each tree's own script run from a ``git archive`` of it with its packages first
+(PYTHONPATH; the scripts of then did not put their tree first, so a script run from an archive
+imported the installed checkout's packages), the two trees alternately three times (one
+thread, 200 repeats, load 5.0-5.7): the distance fade (0b9ea4b) 2.70-2.73 ms against 2.21-2.23
+for the reference pass, the barycentric fade (10ffb2c) 2.41-2.47 against 1.89-1.96: the fade
+about 0.5 ms a step's searches in either, the distance fade's searches 11-14 % dearer.
 
 The outline's nearest edge (``ply_fade.nearest_segments``) by a KD-tree over the edges'
 midpoints (``tree_segments``) against every edge against every point (the reference pass,
@@ -39,8 +45,11 @@ from __future__ import annotations
 import os
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from elements import ply_fade, ply_projection
 from elements.ply_block import PlyContactBlock

@@ -46,8 +46,11 @@ from __future__ import annotations
 import os
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 import elements.ply_block as ply_block
 from elements.ply_fade import central_fade_hessian

@@ -79,6 +79,8 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 from solvers import Static
 
 sys.path.insert(0, str(Path(__file__).parent))

@@ -76,8 +76,11 @@ import os
 import sys
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 import elements.ply_fade as ply_fade
 from elements import RigidSurface

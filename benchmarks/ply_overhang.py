@@ -75,6 +75,8 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 import solvers.newton as newton
 from femcore import Model
 from solvers import Static

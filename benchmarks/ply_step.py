@@ -56,6 +56,10 @@ from pathlib import Path
 
 import numpy as np
 
+if "--window" not in sys.argv:  # a --window child: the tree its parent named
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 ROOT = Path(__file__).resolve().parents[1]
 
 

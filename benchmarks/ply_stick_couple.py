@@ -10,7 +10,9 @@ or without the couple), best of 5 repeats of 20 calls, CPU. The compiled loads c
 couple in their one pass over the stuck points (elements/ply_load_kernels.py), a few dozen
 operations a point: ``internal_force`` of both passes, best of 7 x 200 calls, took 0.219,
 0.241, 0.222 ms before the couple (2ea6490) and 0.227, 0.235, 0.229 ms with it, the two code
-trees run in turn (load 4.8-5.1): not told apart.
+trees run in turn (load 4.8-5.1): not told apart. Again, each tree (git archives of 2ea6490 and
+6f096ef) with its packages first on the import path, in turn three times, the same blank and
+calls (load 7.0-7.4): 0.189, 0.186, 0.190 ms before and 0.193, 0.192, 0.190 with the couple.
 
 Measured (one thread, 2 cores shared), left out | carried, 63 stuck points all facing a plane,
 three runs: tangent 40.5 | 40.9, 40.0 | 40.6, 41.2 | 41.4 ms a call (load 3.1-4.4).
@@ -21,9 +23,14 @@ Run: python benchmarks/ply_stick_couple.py
 from __future__ import annotations
 
 import os
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+if __name__ == "__main__":  # imported (ply_edge_couple.py), the importer's tree
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from elements import ply_friction
 from elements.ply_block import PlyContactBlock

@@ -265,6 +265,10 @@ import tempfile
 import time
 from pathlib import Path
 
+if "--child" not in sys.argv:  # a --child: the tree its parent named (PYTHONPATH)
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 ROOT = Path(__file__).resolve().parents[1]
 
 

@@ -84,6 +84,10 @@ from typing import Any
 
 import numpy as np
 
+if "_child" not in sys.argv:  # a _child: the tree its parent named (PYTHONPATH)
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 # The parts timed inside a render: label -> (module, attribute path of the callable).
 PARTS = {
     "savefig": ("matplotlib.figure", "Figure.savefig"),

@@ -8,9 +8,13 @@ from __future__ import annotations
 
 import math
 import resource
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from femcore import Mesh, Model
 from solvers import CentralDifference

@@ -41,7 +41,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
+from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 os.environ["FIBRESHELL_PROGRESS"] = "0"
@@ -49,6 +51,9 @@ os.environ["FIBRESHELL_PROGRESS"] = "0"
 import numpy as np  # noqa: E402
 import qdldl  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
 from band_envelope import MODELS, last_tangent  # noqa: E402
 
 from solvers.band import BandPlan, _factorise, _factorise_by_column  # noqa: E402

@@ -28,9 +28,13 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 from fibreshell.cluster import dask_client, map_tasks
 from fibreshell.sweep import run_variant, sweep

@@ -131,6 +131,9 @@ import sys
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGURATIONS = {
     "passive": {},
@@ -151,7 +154,6 @@ def child(cells: int, steps: int, repeats: int) -> None:
     import numba
     import numpy as np
 
-    sys.path.insert(0, str(ROOT))
     os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
     from elements import jit
     from solvers.step import LumpedMasses, explicit_step
