@@ -25,6 +25,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
+from elements.mindlin_steps import element_omega2, held_rotation_stable_dt
 from elements.mindlin_tables import (
     _IN_PLANE,
     _PACKED_COLUMNS,
@@ -727,25 +728,14 @@ class MindlinShellBlock(ElementBlock):
     def element_omega2(
         self, x: np.ndarray, v: np.ndarray, cells: np.ndarray | None = None
     ) -> np.ndarray:
-        """Largest eigenvalue (c,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
-        corners x and directors v (c, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
-        part), M_e its lumped share rho h A / 3 per translation and that times j per
-        rotation (the drilling rotation too: a larger space only raises the maximum).
-        ``cells`` (c,): the block's cells x and v belong to (default: all, in order)."""
-        cells = np.arange(len(x)) if cells is None else np.asarray(cells)
-        share = self.material.areal_density * self.reference_area[cells] / 3.0
-        node = np.stack([share] * 3 + [share * self.rotary_factor[cells]] * 3, axis=1)
-        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (c, 18), M_e^-1/2
-        omega2 = np.empty(len(x))
-        for start in range(0, len(x), _TANGENT_SLICE):
-            rows = slice(start, start + _TANGENT_SLICE)
-            # An index array selects the cells' tables as the slices of ``tangent`` do.
-            selected = cast(slice, cells[rows])
-            k = self._cell_tangent(x[rows], v[rows], selected).reshape(-1, 18, 18)
-            k = 0.5 * (k + np.swapaxes(k, 1, 2))
-            k *= scale[rows, :, None] * scale[rows, None, :]
-            omega2[rows] = np.linalg.eigvalsh(k)[:, -1]
-        return omega2
+        """Largest eigenvalue (c,), 1/s^2, of each triangle's K_e phi = omega^2 M_e phi, corners
+        x and directors v (c, 3, 3), ``cells`` (c,) (elements/mindlin_steps.py)."""
+        return element_omega2(self, x, v, cells)
+
+    def held_rotation_stable_dt(self, state: State) -> float:
+        """The critical step with the rotations held (j -> infinity), s: what the interactions'
+        automatic penalty is sized on (elements/mindlin_steps.py)."""
+        return held_rotation_stable_dt(self, state)
 
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:

@@ -16,8 +16,9 @@ directors and the DOF mask. ``Interaction.bind`` returns an ``InteractionBlock``
 vectorised over the nodes (or node pairs, facets) it acts on; no Python loop over them runs in a
 step.
 
-Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt)`` with the
-elements' lumped masses and critical step, then, as a solver goes, ``internal_force``,
+Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt,
+penalty_step)`` with the elements' lumped masses, critical step and critical step with the
+rotations held, then, as a solver goes, ``internal_force``,
 ``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
 bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_work``,
 ``node_fields``).
@@ -188,10 +189,14 @@ class InteractionBlock(ABC):
         then differentiates ``internal_force`` over ``connectivity`` and ``reach``."""
         return None
 
-    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+    def calibrate(
+        self, mass: np.ndarray, stable_dt: float, penalty_step: float | None = None
+    ) -> None:
         """Size the interaction from the elements, once, before any force is asked: the
-        lumped nodal masses (n,), t, and the elements' critical step, s (a penalty that keeps
-        the explicit step stable). The default ignores them."""
+        lumped nodal masses (n,), t, the elements' critical step, s, and their critical step
+        with the rotations held, s (``ElementBlock.held_rotation_stable_dt``; None: the
+        critical step), on which an automatic penalty is sized (one that keeps the explicit
+        step stable, and that no rotary inertia moves). The default ignores them."""
         return None
 
     def springs(self) -> tuple[np.ndarray, np.ndarray] | None:
