@@ -83,7 +83,12 @@ from solvers import CentralDifference, DivergenceError
 from solvers.common import check_positive_or_none
 from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
 from validation.checks import check
-from validation.forming_measures import corner_draw_in, edge_draw_in, late_mean_force
+from validation.forming_measures import (
+    corner_draw_in,
+    edge_draw_in,
+    late_mean_force,
+    outline_wrinkles,
+)
 from validation.forming_scaling import TIME_SCALING, kinetic_margin_check, stroke_words
 from validation.paper.orders import observed_orders
 from validation.plots import figure, save
@@ -581,7 +586,7 @@ def compute(resolution: str) -> Outcome:
         parameters[f"{kinematics}_damping_over_work"] = record["damping_over_work"]
         parameters[f"{kinematics}_contact_damping_over_work"] = record["contact_damping_over_work"]
         parameters[f"{kinematics}_largest_shear_deg"] = record["largest_shear_deg"]
-        wrinkles = _wrinkles(mesh, result.positions)
+        wrinkles = outline_wrinkles(mesh.points, result.positions, HALF, THICKNESS)
         parameters[f"{kinematics}_wrinkles"] = wrinkles["count"]
         parameters[f"{kinematics}_wrinkle_height_mm"] = wrinkles["height"]
         parameters[f"{kinematics}_punch_force_N"] = record["punch_force_N"]
@@ -675,22 +680,6 @@ def _more_runs(resolution, cells, runs, speed) -> dict[tuple[str, int], dict[str
             for kinematics in runs:
                 extra[(kinematics, n)] = run(n, kinematics, time_scaling=speed[kinematics])
     return extra
-
-
-def _wrinkles(mesh: Mesh, positions: np.ndarray) -> dict[str, Any]:
-    """Out of the die: the wrinkles of the blank's outline, as the number of crests more
-    than 0.5 h above the flange along it (by polar angle) and the largest height (mm; the
-    folds stand up along the punch)."""
-    outline = np.flatnonzero(
-        np.isclose(np.abs(mesh.points[:, 0]), HALF) | np.isclose(np.abs(mesh.points[:, 1]), HALF)
-    )
-    x = positions[outline]
-    order = np.argsort(np.arctan2(x[:, 1], x[:, 0]))
-    height = x[order, 2] - 0.5 * THICKNESS
-    crest = (
-        (height > np.roll(height, 1)) & (height >= np.roll(height, -1)) & (height > 0.5 * THICKNESS)
-    )
-    return {"count": int(crest.sum()), "height": float(height.max())}
 
 
 def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
