@@ -119,25 +119,40 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 # name: (factor on j or "element", slowing of the stroke, the contacts' penalties held at the
-# closed j's step). The automatic penalty is PENALTY_SHARE m (2 / dt)^2 (elements/contact.py),
-# dt the model's critical step at the start, which j lengthens: without the hold a change of j
-# is a change of every contact spring as well.
+# closed j's step, factor on the automatic penalties). The automatic penalty is PENALTY_SHARE m
+# (2 / dt)^2 (elements/contact_penalty.py), dt the elements' critical step with the rotations
+# held, which no j moves ("held" is then the default); before, dt was the critical step,
+# which j lengthens, and a change of j was a change of every contact spring as well.
 VARIANTS = {
-    "closed": (1.0, 1.0, False),
-    "slow x2": (1.0, 2.0, False),
-    "slow x4": (1.0, 4.0, False),
-    "slow x8": (1.0, 8.0, False),
-    "slow x16": (1.0, 16.0, False),
-    "j x0.5": (0.5, 1.0, False),
-    "j x2": (2.0, 1.0, False),
-    "j x4": (4.0, 1.0, False),
-    "element": ("element", 1.0, False),
-    "j x4 slow x2": (4.0, 2.0, False),
-    "j x4 slow x4": (4.0, 4.0, False),
-    "j x4 held": (4.0, 1.0, True),
-    "j x4 slow x2 held": (4.0, 2.0, True),
-    "j x4 slow x4 held": (4.0, 4.0, True),
+    "closed": (1.0, 1.0, False, 1.0),
+    "slow x2": (1.0, 2.0, False, 1.0),
+    "slow x4": (1.0, 4.0, False, 1.0),
+    "slow x8": (1.0, 8.0, False, 1.0),
+    "slow x16": (1.0, 16.0, False, 1.0),
+    "j x0.5": (0.5, 1.0, False, 1.0),
+    "j x2": (2.0, 1.0, False, 1.0),
+    "j x4": (4.0, 1.0, False, 1.0),
+    "element": ("element", 1.0, False, 1.0),
+    "element slow x2": ("element", 2.0, False, 1.0),
+    "element slow x4": ("element", 4.0, False, 1.0),
+    "element slow x8": ("element", 8.0, False, 1.0),
+    "element slow x16": ("element", 16.0, False, 1.0),
+    "j x4 slow x2": (4.0, 2.0, False, 1.0),
+    "j x4 slow x4": (4.0, 4.0, False, 1.0),
+    "j x4 held": (4.0, 1.0, True, 1.0),
+    "j x4 slow x2 held": (4.0, 2.0, True, 1.0),
+    "j x4 slow x4 held": (4.0, 4.0, True, 1.0),
+    "penalty x0.5 slow x4": (1.0, 4.0, False, 0.5),
+    "penalty x2 slow x4": (1.0, 4.0, False, 2.0),
 }
+
+
+def _scale_penalties(factor: float) -> None:
+    """Every automatic penalty (tool contacts and ply on ply) times ``factor``."""
+    from elements import contact_penalty, ply_block
+
+    contact_penalty.PENALTY_SHARE *= factor
+    ply_block.PENALTY_SHARE *= factor
 
 
 def _scale_rotary_inertia(factor: float | str) -> None:
@@ -152,7 +167,8 @@ def _scale_rotary_inertia(factor: float | str) -> None:
         def scaled(self, scaling, own=own):
             if factor == "element":
                 return own(self, "element")
-            return own(self, scaling) * factor
+            # the closed form times the factor, whatever rule the case asks for
+            return own(self, None if scaling is None else "closed") * factor
 
         block._rotary_factor = scaled  # type: ignore[method-assign]
 
@@ -168,16 +184,16 @@ def _hold_penalties(compile_closed) -> None:
     blocks = (ContactBlock, DampedContactBlock, PlyContactBlock)
     owns = {block: block.__dict__["calibrate"] for block in blocks}
 
-    def recorded(self, mass, stable_dt, own):
-        seen.append(stable_dt)
-        own(self, mass, stable_dt)
+    def recorded(self, mass, stable_dt, penalty_step, own):
+        seen.append(stable_dt if penalty_step is None else penalty_step)
+        own(self, mass, stable_dt, penalty_step)
 
     for block, own in owns.items():
-        block.calibrate = lambda self, m, dt, own=own: recorded(self, m, dt, own)
+        block.calibrate = lambda self, m, dt, h=None, own=own: recorded(self, m, dt, h, own)
     compile_closed()
     closed = seen[0]
     for block, own in owns.items():
-        block.calibrate = lambda self, m, dt, own=own: own(self, m, closed)
+        block.calibrate = lambda self, m, dt, h=None, own=own: own(self, m, dt, closed)
     print(f"penalties held at the closed step {closed:.4e} s", file=sys.stderr)
 
 
@@ -221,9 +237,10 @@ def plies(factor: float | str, slowing: float, layup: str = "0/90") -> dict:
         )
     _scale_rotary_inertia(factor)
 
-    # the run's duration and its records' windows read the module's DURATION; the punch's
-    # amplitude and the holder's ramp follow the run's progress
-    study.DURATION = study.DURATION * slowing
+    # the run's duration and its records' windows read the module's DURATION times the
+    # run's STROKE_SLOWING, here the variant's (relative to the case's 0.1-s stroke);
+    # the punch's amplitude and the holder's ramp follow the run's progress
+    study.STROKE_SLOWING = {**study.STROKE_SLOWING, (layup, "mindlin"): slowing}
     start = time.process_time()
     parameters, _, _, result, *_ = study.run(
         PLY_CELLS or CELLS["default"], layup, "mindlin", HOLDER_FORCES[0]
@@ -231,7 +248,7 @@ def plies(factor: float | str, slowing: float, layup: str = "0/90") -> dict:
     # the punch's mean force over the frames of the last fifth of its travel (its last value
     # alone rings with the flange's release, as hemisphere-forming's late_mean_force says)
     times = np.array([frame.time for frame in result.frames])
-    late = smooth_step(np.clip(times / study.DURATION, 0.0, 1.0)) >= 0.8
+    late = smooth_step(np.clip(times / (study.DURATION * slowing), 0.0, 1.0)) >= 0.8
     late_force = float(np.mean(result.tool_forces[late, 1, 2])) if late.any() else math.nan
     p = f"{layup.replace('/', '-')}_mindlin_20_N"
     parameters = {k.replace(p, "run", 1): v for k, v in parameters.items()}
@@ -264,7 +281,8 @@ PLY_CELLS = int(os.environ.get("PLY_CELLS", "0"))  # the plies' cells, when not 
 
 def one(case: str, variant: str) -> None:
     global HOLD
-    factor, slowing, HOLD = VARIANTS[variant]
+    factor, slowing, HOLD, penalty = VARIANTS[variant]
+    _scale_penalties(penalty)
     load = os.getloadavg()[0]
     out = CASES[case](factor, slowing)
     out["load"] = (load, os.getloadavg()[0])
