@@ -10,10 +10,20 @@ the closed j's step. A quasi-static answer depends on neither j nor the pace; th
 converges as the pace falls is the reference the default runs are measured against.
 
     python benchmarks/mindlin_rotary_inertia.py [--jobs 2] [--only forming|plies|"plies 0/45"]
-        [--variants "closed,slow x4"]
+        [--variants "closed,slow x4,element slow x8,penalty x2 slow x4"]
 
 Each run is its own process (one thread); the table prints the results, KE / W (the largest
-after the first tenth, solvers/quasi_static.py), the steps, CPU and the load.
+after the first tenth, solvers/quasi_static.py), the steps, CPU and the load. "closed" and the
+numeric factors are the closed j times the factor whatever rule the case asks (the forming
+cases' Mindlin runs now ask for the element rule); "element" the element rule; "penalty x..."
+every automatic penalty times the factor.
+
+The tables below were measured with the penalty sized on the model's critical step (which j
+moved); sized on the step with the rotations held (elements/contact_penalty.py) the same
+variants, and the element rule slowed, gave the figures of docs/hemisphere_forming.md, "The
+penalty apart from j, the element rule, and the two plies' pace" (the one-ply run's late force
+34.45 N slowed x4, 33.54 / 35.83 N with the penalty x0.5 / x2, the element rule 34.07 N; the
+[0/90] plies' element rule slowed x8 and x16 agreeing on a largest slip of 0.43-0.47 mm).
 
 Measured (one thread, nice 5, load 1.0-6.6 over the runs; CPU per run beside it; the
 contacts' penalties automatic unless "held"). hemisphere-forming Mindlin, 20 cells: late
