@@ -61,10 +61,11 @@ sends Newton round a cycle.
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
 ``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the elements' critical step
-with their rotations held, without the contact (elements/contact_penalty.py: no rotary inertia
-moves it). A contact spring then adds at most 10 % to omega^2 of a node, 20 % for a node pinched
-between two tools (a punch and a die), and a node resting under its own weight sinks m g / k =
-g dt^2 / 0.4, far below the thickness. The explicit step takes every penalty in,
+without the contact, a Mindlin shell's at its closed-form rotary inertia whatever j it was
+given (elements/contact_penalty.py: no chosen j moves it). At the closed j a contact spring
+adds 10 % to omega^2 of a node, 20 % for a node pinched between two tools (a punch and a
+die), and a node resting under its own weight sinks m g / k = g dt^2 / 0.4, far below the
+thickness. The explicit step takes every penalty in,
 given or automatic (``springs``; docs/theory.md §9.1).
 
 Force-driven tools (a blank holder: ``RigidTool(free=..., force=...)``). The tool's free

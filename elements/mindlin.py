@@ -25,7 +25,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
-from elements.mindlin_steps import element_omega2, held_rotation_stable_dt
+from elements.mindlin_steps import element_omega2, penalty_stable_dt, reference_steps
 from elements.mindlin_tables import (
     _IN_PLANE,
     _PACKED_COLUMNS,
@@ -33,7 +33,6 @@ from elements.mindlin_tables import (
     _TYING_N,
     _assumed_shear_coefficients,
     _check_volume,
-    _congruent_cells,
     _level_stiffness_of,
     _packed,
     _product_coefficients,
@@ -653,6 +652,12 @@ class MindlinShellBlock(ElementBlock):
         kappa, nu = self.material.shear_factor, self.material.poisson
         return scaled_rotary_inertia(self, scaling, kappa * (1 - nu))
 
+    def _closed_rotary_factor(self) -> np.ndarray:
+        """B2's closed-form j (m,), mm^2, whatever rotary_scaling the shell was given: the one
+        the automatic penalty's step is taken at (``penalty_stable_dt``)."""
+        kappa, nu = self.material.shear_factor, self.material.poisson
+        return scaled_rotary_inertia(self, "closed", kappa * (1 - nu))
+
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:
         """Smallest altitude 2A / L_max of each triangle (m,), mm."""
         points = self.reference_positions if positions is None else positions
@@ -689,13 +694,9 @@ class MindlinShellBlock(ElementBlock):
         if self._step_calibration is None:
             # once, on (m, 3, 3) temporaries: ordinary pages (femcore/memory.py)
             with small_pages():
-                x0, v0 = self._reference_cells()
-                first, shape_of = _congruent_cells(x0, v0)
-                omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
-                cheap = self._cheap_omega2(x0)
-                self._step_calibration = omega2 / cheap
-                self._reference_steps = 2.0 / np.sqrt(cheap * self._step_calibration)
-                self._inverse_metric = inverse_metric(x0)
+                steps, self._step_calibration = reference_steps(self, self.rotary_factor)
+                self._reference_steps = steps
+                self._inverse_metric = inverse_metric(self._reference_cells()[0])
         if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
             return kernels.mindlin_cell_steps(
                 self, state.positions, self._reference_steps, self._inverse_metric
@@ -703,16 +704,18 @@ class MindlinShellBlock(ElementBlock):
         stretch2 = largest_stretch2(state.positions[self.connectivity], self._inverse_metric)
         return self._reference_steps / np.sqrt(np.maximum(stretch2, 1.0))
 
-    def _cheap_terms(self) -> tuple[float, np.ndarray]:
+    def _cheap_terms(self, rotary_factor: np.ndarray | None = None) -> tuple[float, np.ndarray]:
         """(a, b) of ``_cheap_omega2`` = a sum_k 1 / h_k^2 + b: a = 3 / rho (max(Q11, Q22) +
-        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2."""
+        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2, j
+        ``rotary_factor`` (m,), mm^2 (default: the block's)."""
         q = self.material.plane_stress
         shear = float(np.max(self.material.transverse))
         rho = self.material.density
         translational = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear)
-        return translational, shear / (2.0 * rho * self.rotary_factor)
+        j = self.rotary_factor if rotary_factor is None else rotary_factor
+        return translational, shear / (2.0 * rho * j)
 
-    def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
+    def _cheap_omega2(self, x: np.ndarray, rotary_factor: np.ndarray | None = None) -> np.ndarray:
         """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3):
         the trace bound of M^-1 K for the translations of a linear triangle with lumped mass
         rho h A / 3, 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2 (h_k the
@@ -722,7 +725,7 @@ class MindlinShellBlock(ElementBlock):
         sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
         area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
-        translational, rotational = self._cheap_terms()
+        translational, rotational = self._cheap_terms(rotary_factor)
         return translational * inverse_heights2 + rotational
 
     def element_omega2(
@@ -732,10 +735,11 @@ class MindlinShellBlock(ElementBlock):
         x and directors v (c, 3, 3), ``cells`` (c,) (elements/mindlin_steps.py)."""
         return element_omega2(self, x, v, cells)
 
-    def held_rotation_stable_dt(self, state: State) -> float:
-        """The critical step with the rotations held (j -> infinity), s: what the interactions'
-        automatic penalty is sized on (elements/mindlin_steps.py)."""
-        return held_rotation_stable_dt(self, state)
+    def penalty_stable_dt(self, state: State) -> float:
+        """The critical step with B2's closed-form rotary inertia, s, whatever rotary_scaling
+        the shell was given: what the interactions' automatic penalty is sized on
+        (elements/mindlin_steps.py)."""
+        return penalty_stable_dt(self, state)
 
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:

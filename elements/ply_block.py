@@ -262,8 +262,8 @@ class PlyContactBlock(InteractionBlock):
         # the springs' reach until the step's next evaluation (elements/ply_springs.py)
         self.calibrated_dt = float(stable_dt)
         self.calibrated_mass = np.asarray(mass, dtype=float).copy()
-        # the automatic penalty (elements/ply_contact.py, "Penalty"), on the step with the
-        # rotations held where it is given (elements/contact_penalty.py)
+        # the automatic penalty (elements/ply_contact.py, "Penalty"), on the step at the
+        # closed-form rotary inertia where it is given (elements/contact_penalty.py)
         if np.isnan(self.node_stiffness).any():
             step = stable_dt if penalty_step is None else penalty_step
             self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / step) ** 2

@@ -183,7 +183,7 @@ class CompiledModel(CompiledTangent):
         # Interactions have no mass of their own: they size themselves from the elements.
         if self.interactions:
             dt = self.stable_dt(state0)
-            penalty_step = self.held_rotation_stable_dt(state0)
+            penalty_step = self.penalty_stable_dt(state0)
             for interaction in self.interactions:
                 interaction.calibrate(self.mass0, dt, penalty_step)
         self._has_history = any(h is not None for h in state0.history)
@@ -366,11 +366,12 @@ class CompiledModel(CompiledTangent):
         interactions' springs come in through ``penalty_frequency_squared``)."""
         return float(min(dt.min() for dt in self.cell_stable_dt(state)))
 
-    def held_rotation_stable_dt(self, state: State) -> float:
-        """Critical step of the elements with their rotations held (s), the smallest over the
-        blocks (``ElementBlock.held_rotation_stable_dt``): the step the interactions'
-        automatic penalties are sized on, which the rotary inertia does not move."""
-        return float(min(block.held_rotation_stable_dt(state) for block in self.blocks))
+    def penalty_stable_dt(self, state: State) -> float:
+        """The step the interactions' automatic penalties are sized on (s), the smallest over
+        the blocks (``ElementBlock.penalty_stable_dt``): the critical step with the Mindlin
+        shells' rotary inertia at B2's closed form, whatever rotary_scaling they were given
+        (docs/theory.md §6.2, "The penalty's step")."""
+        return float(min(block.penalty_stable_dt(state) for block in self.blocks))
 
     def strain_energy(self, state: State) -> float:
         """Total strain energy (N mm) over all parts (the interactions' penalty springs

@@ -17,8 +17,8 @@ vectorised over the nodes (or node pairs, facets) it acts on; no Python loop ove
 step.
 
 Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt,
-penalty_step)`` with the elements' lumped masses, critical step and critical step with the
-rotations held, then, as a solver goes, ``internal_force``,
+penalty_step)`` with the elements' lumped masses, critical step and the step the automatic
+penalties are sized on, then, as a solver goes, ``internal_force``,
 ``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
 bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_work``,
 ``node_fields``).
@@ -193,10 +193,11 @@ class InteractionBlock(ABC):
         self, mass: np.ndarray, stable_dt: float, penalty_step: float | None = None
     ) -> None:
         """Size the interaction from the elements, once, before any force is asked: the
-        lumped nodal masses (n,), t, the elements' critical step, s, and their critical step
-        with the rotations held, s (``ElementBlock.held_rotation_stable_dt``; None: the
-        critical step), on which an automatic penalty is sized (one that keeps the explicit
-        step stable, and that no rotary inertia moves). The default ignores them."""
+        lumped nodal masses (n,), t, the elements' critical step, s, and the step an
+        automatic penalty is sized on, s (``ElementBlock.penalty_stable_dt``: the critical
+        step at the closed-form rotary inertia; None: the critical step), one that keeps the
+        explicit step stable and that no chosen rotary inertia moves. The default ignores
+        them."""
         return None
 
     def springs(self) -> tuple[np.ndarray, np.ndarray] | None:
