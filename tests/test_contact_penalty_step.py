@@ -44,7 +44,7 @@ def test_the_tools_penalty_does_not_follow_the_rotary_inertia():
     # the membrane's step): the critical step grows 43 and 2.0 times, every contact spring
     # stays to the bit, and is the closed j's on its own critical step (the rule before the
     # rotary inertia could be chosen). Sized on each one's critical step, the closed form's
-    # springs were 4.2 times the element rule's, the physical j's 1900 times.
+    # springs were 4.2 times the element rule's, the physical j's 1900 times the closed form's.
     compiled = {s: _mindlin(s) for s in (False, True, "element")}
     steps = {s: c.stable_dt(c.initial_state()) for s, c in compiled.items()}
     assert steps["element"] > 1.8 * steps[True] > 9.0 * steps[False]
