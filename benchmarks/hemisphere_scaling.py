@@ -197,7 +197,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 
 import solvers.explicit as explicit  # noqa: E402
-from elements import contact  # noqa: E402
+from elements import contact_penalty as contact  # noqa: E402
 from femcore.compiled import CompiledModel  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
 
@@ -247,7 +247,7 @@ def measure(
     record, with ``penetration_mm``: the largest penetration of each tool's contact (die,
     punch, holder) at every PENETRATION_EVERY-th accepted step, and how many times the
     assembled bound was evaluated (``assembled_evaluations``). ``share``: the automatic
-    penalty's share of omega^2 (elements.contact.PENALTY_SHARE) for this run, None: the
+    penalty's share of omega^2 (elements.contact_penalty.PENALTY_SHARE) for this run, None: the
     library's. ``bound``: "smaller" (the library's step) or "assembled"
     (``assembled_alone``). ``kinematics``: "fibrous" or "mindlin"."""
     kept, commit = contact.PENALTY_SHARE, CompiledModel.commit

@@ -10,10 +10,31 @@ the closed j's step. A quasi-static answer depends on neither j nor the pace; th
 converges as the pace falls is the reference the default runs are measured against.
 
     python benchmarks/mindlin_rotary_inertia.py [--jobs 2] [--only forming|plies|"plies 0/45"]
-        [--variants "closed,slow x4"]
+        [--variants "closed,slow x4,element slow x8,penalty x2 slow x4"]
+    python benchmarks/mindlin_rotary_inertia.py --only "forming springs" --variants
+        closed,element,fibrous   (also "plies springs", "plies 0/45 springs")
 
 Each run is its own process (one thread); the table prints the results, KE / W (the largest
-after the first tenth, solvers/quasi_static.py), the steps, CPU and the load.
+after the first tenth, solvers/quasi_static.py), the steps, CPU and the load. "closed" and the
+numeric factors are the closed j times the factor whatever rule the case asks; "element" the
+element rule; "penalty x..." every automatic penalty times the factor. The "springs" cases
+compile the model only and print the penalty's step over the critical step, the springs'
+largest omega^2 over the cells' and the step factor it gives (``springs``).
+
+The automatic penalty is now sized on the step at the closed j whatever j a run is given
+(elements/contact_penalty.py; docs/theory.md §6.2, "The penalty's step"): what the tables
+below call "held", which every variant of another j now is. The tables were measured before,
+with the penalty sized on the model's critical step: their closed-j rows (closed, slow x...)
+are what the code gives now, to the bit (slow x4 on hemisphere-forming and slow x2 on the
+[0/90] plies measured again: the same figures and steps); their rows of another j without
+"held" are not. With the penalty at the closed j's step (one thread, nice 5, load 2.4-7.3):
+hemisphere-forming's "element" 36.21 N / 24.13 / 5.90 mm / 2.055 deg / 0.035 / 29684 steps /
+13.7 s; the [0/90] plies' "element slow x2", "x4", "x8": late force 90.6 / 91.6 / 96.1 N, end
+force 125.6 / 129.1 / 139.9 N, largest slip 11.10 / 9.01 / 0.57 mm (rms 3.08 / 1.87 / 0.27),
+ply 1's edge-middle / corner draw-in 30.2 / 12.0, 33.1 / 15.1, 30.3 / 13.0 mm, cells in die
+20 / 20 / 20 and 10 / 16 / 16, 13624 / 26358 / 51581 steps, 20.1 / 32.0 / 56.5 s
+(docs/hemisphere_forming.md, "The penalty at the closed j's step, the element rule, and the
+two plies' pace").
 
 Measured (one thread, nice 5, load 1.0-6.6 over the runs; CPU per run beside it; the
 contacts' penalties automatic unless "held"). hemisphere-forming Mindlin, 20 cells: late
@@ -119,25 +140,43 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 # name: (factor on j or "element", slowing of the stroke, the contacts' penalties held at the
-# closed j's step). The automatic penalty is PENALTY_SHARE m (2 / dt)^2 (elements/contact.py),
-# dt the model's critical step at the start, which j lengthens: without the hold a change of j
-# is a change of every contact spring as well.
+# closed j's step, factor on the automatic penalties). The automatic penalty is PENALTY_SHARE m
+# (2 / dt)^2 (elements/contact_penalty.py), dt the elements' critical step at the closed j
+# whatever j a run has, which "held" is then the default of; before, dt was the critical
+# step, which j lengthens, and a change of j was a change of every contact spring as well.
 VARIANTS = {
-    "closed": (1.0, 1.0, False),
-    "slow x2": (1.0, 2.0, False),
-    "slow x4": (1.0, 4.0, False),
-    "slow x8": (1.0, 8.0, False),
-    "slow x16": (1.0, 16.0, False),
-    "j x0.5": (0.5, 1.0, False),
-    "j x2": (2.0, 1.0, False),
-    "j x4": (4.0, 1.0, False),
-    "element": ("element", 1.0, False),
-    "j x4 slow x2": (4.0, 2.0, False),
-    "j x4 slow x4": (4.0, 4.0, False),
-    "j x4 held": (4.0, 1.0, True),
-    "j x4 slow x2 held": (4.0, 2.0, True),
-    "j x4 slow x4 held": (4.0, 4.0, True),
+    "closed": (1.0, 1.0, False, 1.0),
+    "slow x2": (1.0, 2.0, False, 1.0),
+    "slow x4": (1.0, 4.0, False, 1.0),
+    "slow x8": (1.0, 8.0, False, 1.0),
+    "slow x16": (1.0, 16.0, False, 1.0),
+    "j x0.5": (0.5, 1.0, False, 1.0),
+    "j x2": (2.0, 1.0, False, 1.0),
+    "j x4": (4.0, 1.0, False, 1.0),
+    "element": ("element", 1.0, False, 1.0),
+    "element slow x2": ("element", 2.0, False, 1.0),
+    "element slow x4": ("element", 4.0, False, 1.0),
+    "element slow x6": ("element", 6.0, False, 1.0),
+    "element slow x8": ("element", 8.0, False, 1.0),
+    "element slow x12": ("element", 12.0, False, 1.0),
+    "element slow x16": ("element", 16.0, False, 1.0),
+    "j x4 slow x2": (4.0, 2.0, False, 1.0),
+    "j x4 slow x4": (4.0, 4.0, False, 1.0),
+    "j x4 held": (4.0, 1.0, True, 1.0),
+    "j x4 slow x2 held": (4.0, 2.0, True, 1.0),
+    "j x4 slow x4 held": (4.0, 4.0, True, 1.0),
+    "penalty x0.5 slow x4": (1.0, 4.0, False, 0.5),
+    "penalty x2 slow x4": (1.0, 4.0, False, 2.0),
+    "fibrous": ("fibrous", 1.0, False, 1.0),  # the springs' cases alone
 }
+
+
+def _scale_penalties(factor: float) -> None:
+    """Every automatic penalty (tool contacts and ply on ply) times ``factor``."""
+    from elements import contact_penalty, ply_block
+
+    contact_penalty.PENALTY_SHARE *= factor
+    ply_block.PENALTY_SHARE *= factor
 
 
 def _scale_rotary_inertia(factor: float | str) -> None:
@@ -152,7 +191,8 @@ def _scale_rotary_inertia(factor: float | str) -> None:
         def scaled(self, scaling, own=own):
             if factor == "element":
                 return own(self, "element")
-            return own(self, scaling) * factor
+            # the closed form times the factor, whatever rule the case asks for
+            return own(self, None if scaling is None else "closed") * factor
 
         block._rotary_factor = scaled  # type: ignore[method-assign]
 
@@ -168,16 +208,16 @@ def _hold_penalties(compile_closed) -> None:
     blocks = (ContactBlock, DampedContactBlock, PlyContactBlock)
     owns = {block: block.__dict__["calibrate"] for block in blocks}
 
-    def recorded(self, mass, stable_dt, own):
-        seen.append(stable_dt)
-        own(self, mass, stable_dt)
+    def recorded(self, mass, stable_dt, penalty_step, own):
+        seen.append(stable_dt if penalty_step is None else penalty_step)
+        own(self, mass, stable_dt, penalty_step)
 
     for block, own in owns.items():
-        block.calibrate = lambda self, m, dt, own=own: recorded(self, m, dt, own)
+        block.calibrate = lambda self, m, dt, h=None, own=own: recorded(self, m, dt, h, own)
     compile_closed()
     closed = seen[0]
     for block, own in owns.items():
-        block.calibrate = lambda self, m, dt, own=own: own(self, m, closed)
+        block.calibrate = lambda self, m, dt, h=None, own=own: own(self, m, dt, closed)
     print(f"penalties held at the closed step {closed:.4e} s", file=sys.stderr)
 
 
@@ -221,9 +261,10 @@ def plies(factor: float | str, slowing: float, layup: str = "0/90") -> dict:
         )
     _scale_rotary_inertia(factor)
 
-    # the run's duration and its records' windows read the module's DURATION; the punch's
-    # amplitude and the holder's ramp follow the run's progress
-    study.DURATION = study.DURATION * slowing
+    # the run's duration and its records' windows read the module's DURATION times the
+    # run's STROKE_SLOWING, here the variant's (relative to the case's 0.1-s stroke);
+    # the punch's amplitude and the holder's ramp follow the run's progress
+    study.STROKE_SLOWING = {**study.STROKE_SLOWING, (layup, "mindlin"): slowing}
     start = time.process_time()
     parameters, _, _, result, *_ = study.run(
         PLY_CELLS or CELLS["default"], layup, "mindlin", HOLDER_FORCES[0]
@@ -231,7 +272,7 @@ def plies(factor: float | str, slowing: float, layup: str = "0/90") -> dict:
     # the punch's mean force over the frames of the last fifth of its travel (its last value
     # alone rings with the flange's release, as hemisphere-forming's late_mean_force says)
     times = np.array([frame.time for frame in result.frames])
-    late = smooth_step(np.clip(times / study.DURATION, 0.0, 1.0)) >= 0.8
+    late = smooth_step(np.clip(times / (study.DURATION * slowing), 0.0, 1.0)) >= 0.8
     late_force = float(np.mean(result.tool_forces[late, 1, 2])) if late.any() else math.nan
     p = f"{layup.replace('/', '-')}_mindlin_20_N"
     parameters = {k.replace(p, "run", 1): v for k, v in parameters.items()}
@@ -257,14 +298,55 @@ def plies(factor: float | str, slowing: float, layup: str = "0/90") -> dict:
     return out
 
 
-CASES = {"forming": forming, "plies": plies, "plies 0/45": partial(plies, layup="0/45")}
+def springs(case: str, factor: float | str, slowing: float) -> dict:
+    """The contacts' automatic springs against the cells' step at the start, compiled only:
+    the penalty's step over the critical step, the springs' largest omega^2 (max over the
+    nodes of sum k / m, every tool and ply spring at the node) as a share of the cells' (2 /
+    dt)^2, and the step factor 1 / sqrt(1 + share) the explicit step takes them in with
+    (solvers/explicit.py ``_lowered``). ``factor`` "fibrous": the fibrous blank."""
+    from validation.cases import hemisphere_forming as forming_case
+    from validation.studies import hemisphere_plies_run as study
+    from validation.studies.hemisphere_plies_setup import HOLDER_FORCES, LAYUPS
+
+    kinematics = "fibrous" if factor == "fibrous" else "mindlin"
+    if kinematics == "mindlin":
+        _scale_rotary_inertia(factor)
+    if case == "forming":
+        cells = forming_case.CELLS["default"]
+        built = forming_case.model(cells, kinematics, rim=forming_case.DIE_RIM)[1]
+    else:
+        from validation.cases.hemisphere_plies import CELLS
+
+        layup = LAYUPS[case.split()[1]]
+        built = study.model(CELLS["default"], layup, kinematics, HOLDER_FORCES[0])[1]
+    compiled = built.compile()
+    state = compiled.initial_state()
+    step, penalty = compiled.stable_dt(state), compiled.penalty_stable_dt(state)
+    share = compiled.penalty_frequency_squared(compiled.mass0) / (2.0 / step) ** 2
+    return {
+        "critical step s": step,
+        "penalty step / critical": penalty / step,
+        "springs' share of omega^2": share,
+        "step factor": 1.0 / math.sqrt(1.0 + share),
+    }
+
+
+CASES = {
+    "forming": forming,
+    "plies": plies,
+    "plies 0/45": partial(plies, layup="0/45"),
+    "forming springs": partial(springs, "forming"),
+    "plies springs": partial(springs, "plies 0/90"),
+    "plies 0/45 springs": partial(springs, "plies 0/45"),
+}
 HOLD = False  # the contacts calibrate at the closed j's step (VARIANTS)
 PLY_CELLS = int(os.environ.get("PLY_CELLS", "0"))  # the plies' cells, when not the case's
 
 
 def one(case: str, variant: str) -> None:
     global HOLD
-    factor, slowing, HOLD = VARIANTS[variant]
+    factor, slowing, HOLD, penalty = VARIANTS[variant]
+    _scale_penalties(penalty)
     load = os.getloadavg()[0]
     out = CASES[case](factor, slowing)
     out["load"] = (load, os.getloadavg()[0])

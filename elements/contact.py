@@ -60,10 +60,12 @@ smooth in x, where the return mapping's s / |s| turns over wherever a node rever
 sends Newton round a cycle.
 
 Penalty: given (N/mm per node), or chosen when the model is compiled (``calibrate``): k_i =
-``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the model's critical step
-without the contact. A contact spring then adds 10 % to omega^2 of a node, 20 % for a node
-pinched between two tools (a punch and a die), and a node resting under its own weight sinks
-m g / k = g dt^2 / 0.4, far below the thickness. The explicit step takes every penalty in,
+``PENALTY_SHARE`` m_i (2 / dt)^2, m_i the node's lumped mass and dt the elements' critical step
+without the contact, a Mindlin shell's at its closed-form rotary inertia whatever j it was
+given (elements/contact_penalty.py: no chosen j moves it). At the closed j a contact spring
+adds 10 % to omega^2 of a node, 20 % for a node pinched between two tools (a punch and a
+die), and a node resting under its own weight sinks m g / k = g dt^2 / 0.4, far below the
+thickness. The explicit step takes every penalty in,
 given or automatic (``springs``; docs/theory.md §9.1).
 
 Force-driven tools (a blank holder: ``RigidTool(free=..., force=...)``). The tool's free
@@ -84,6 +86,7 @@ from typing import Any
 import numpy as np
 
 from elements.contact_history import FrictionHistory, landing, start_anchors
+from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
@@ -93,7 +96,6 @@ from femcore.state import State
 
 __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 
-PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty
 # The default release of a frozen node (``Contact(release=..., release_turn=...)``; module
 # docstring, "Active set"): off the tool by more than this many body thicknesses (2 x its
 # contact offset) AND its tool normal turned by more than this angle from the one it was frozen
@@ -216,7 +218,7 @@ class Contact(Interaction):
             if not self.augmented:
                 raise ValueError("augmented_tolerance is given without augmented=True")
         self.augmented_tolerance = augmented_tolerance
-        self.damping = _damping_ratio(damping)
+        self.damping = damping_ratio(damping)
         band = as_number(release, "release", "a number of body thicknesses > 0 (math.inf: off)")
         if not band > 0.0:  # (NaN refused too)
             raise ValueError(
@@ -284,17 +286,6 @@ class Contact(Interaction):
         if tool_contact.compiled_pass_applies(self.tool, self.friction, self.damping, False):
             bound.compiled_forces = tool_contact.contact_forces  # the same forces, compiled
         return bound
-
-
-def _damping_ratio(damping) -> float:
-    """The contact damping's fraction of critical, checked: a number in [0, 1]."""
-    zeta = as_number(damping, "damping", "a fraction of the critical damping in [0, 1]")
-    if not (np.isfinite(zeta) and 0.0 <= zeta <= 1.0):
-        raise ValueError(
-            "damping must be a fraction of the contact spring's critical damping in [0, 1], "
-            f"got {damping!r}"
-        )
-    return float(zeta)
 
 
 class ContactBlock(InteractionBlock):
@@ -398,9 +389,10 @@ class ContactBlock(InteractionBlock):
         kept = length > 1e-12
         return nodes[kept], directions[kept] / length[kept, None]
 
-    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
-        if np.isnan(self.stiffness).any():  # the automatic penalty (module docstring)
-            self.stiffness = PENALTY_SHARE * mass[self.connectivity[:, 0]] * (2.0 / stable_dt) ** 2
+    def calibrate(self, mass: np.ndarray, stable_dt: float, penalty_step=None) -> None:
+        if np.isnan(self.stiffness).any():  # the automatic penalty (elements/contact_penalty.py)
+            node_mass = mass[self.connectivity[:, 0]]
+            self.stiffness = automatic_penalty(node_mass, stable_dt, penalty_step)
         if self.tool_node is not None:
             self._mass_ratio = mass[self.connectivity[:, 0]] / mass[self.tool_node]
 

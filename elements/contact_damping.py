@@ -105,8 +105,8 @@ class DampedContactBlock(ContactBlock):
         self._omega_elements = 0.0  # rad/s, 2 / (the elements' critical step)
         self._last_damping: tuple | None = None
 
-    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
-        super().calibrate(mass, stable_dt)
+    def calibrate(self, mass: np.ndarray, stable_dt: float, penalty_step=None) -> None:
+        super().calibrate(mass, stable_dt, penalty_step)
         node_mass = mass[self.connectivity[:, 0]]
         self._mass = node_mass
         if self.tool_node is not None:  # the relative motion's reduced mass

@@ -25,6 +25,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
+from elements.mindlin_steps import element_omega2, penalty_stable_dt, reference_steps
 from elements.mindlin_tables import (
     _IN_PLANE,
     _PACKED_COLUMNS,
@@ -32,7 +33,6 @@ from elements.mindlin_tables import (
     _TYING_N,
     _assumed_shear_coefficients,
     _check_volume,
-    _congruent_cells,
     _level_stiffness_of,
     _packed,
     _product_coefficients,
@@ -652,6 +652,12 @@ class MindlinShellBlock(ElementBlock):
         kappa, nu = self.material.shear_factor, self.material.poisson
         return scaled_rotary_inertia(self, scaling, kappa * (1 - nu))
 
+    def _closed_rotary_factor(self) -> np.ndarray:
+        """B2's closed-form j (m,), mm^2, whatever rotary_scaling the shell was given: the one
+        the automatic penalty's step is taken at (``penalty_stable_dt``)."""
+        kappa, nu = self.material.shear_factor, self.material.poisson
+        return scaled_rotary_inertia(self, "closed", kappa * (1 - nu))
+
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:
         """Smallest altitude 2A / L_max of each triangle (m,), mm."""
         points = self.reference_positions if positions is None else positions
@@ -688,13 +694,9 @@ class MindlinShellBlock(ElementBlock):
         if self._step_calibration is None:
             # once, on (m, 3, 3) temporaries: ordinary pages (femcore/memory.py)
             with small_pages():
-                x0, v0 = self._reference_cells()
-                first, shape_of = _congruent_cells(x0, v0)
-                omega2 = self.element_omega2(x0[first], v0[first], first)[shape_of]
-                cheap = self._cheap_omega2(x0)
-                self._step_calibration = omega2 / cheap
-                self._reference_steps = 2.0 / np.sqrt(cheap * self._step_calibration)
-                self._inverse_metric = inverse_metric(x0)
+                steps, self._step_calibration = reference_steps(self, self.rotary_factor)
+                self._reference_steps = steps
+                self._inverse_metric = inverse_metric(self._reference_cells()[0])
         if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
             return kernels.mindlin_cell_steps(
                 self, state.positions, self._reference_steps, self._inverse_metric
@@ -702,16 +704,18 @@ class MindlinShellBlock(ElementBlock):
         stretch2 = largest_stretch2(state.positions[self.connectivity], self._inverse_metric)
         return self._reference_steps / np.sqrt(np.maximum(stretch2, 1.0))
 
-    def _cheap_terms(self) -> tuple[float, np.ndarray]:
+    def _cheap_terms(self, rotary_factor: np.ndarray | None = None) -> tuple[float, np.ndarray]:
         """(a, b) of ``_cheap_omega2`` = a sum_k 1 / h_k^2 + b: a = 3 / rho (max(Q11, Q22) +
-        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2."""
+        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2, j
+        ``rotary_factor`` (m,), mm^2 (default: the block's)."""
         q = self.material.plane_stress
         shear = float(np.max(self.material.transverse))
         rho = self.material.density
         translational = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear)
-        return translational, shear / (2.0 * rho * self.rotary_factor)
+        j = self.rotary_factor if rotary_factor is None else rotary_factor
+        return translational, shear / (2.0 * rho * j)
 
-    def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
+    def _cheap_omega2(self, x: np.ndarray, rotary_factor: np.ndarray | None = None) -> np.ndarray:
         """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3):
         the trace bound of M^-1 K for the translations of a linear triangle with lumped mass
         rho h A / 3, 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2 (h_k the
@@ -721,31 +725,21 @@ class MindlinShellBlock(ElementBlock):
         sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
         area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
-        translational, rotational = self._cheap_terms()
+        translational, rotational = self._cheap_terms(rotary_factor)
         return translational * inverse_heights2 + rotational
 
     def element_omega2(
         self, x: np.ndarray, v: np.ndarray, cells: np.ndarray | None = None
     ) -> np.ndarray:
-        """Largest eigenvalue (c,), 1/s^2, of K_e phi = omega^2 M_e phi for each triangle with
-        corners x and directors v (c, 3, 3): K_e its 18 x 18 tangent in (u, psi) (symmetric
-        part), M_e its lumped share rho h A / 3 per translation and that times j per
-        rotation (the drilling rotation too: a larger space only raises the maximum).
-        ``cells`` (c,): the block's cells x and v belong to (default: all, in order)."""
-        cells = np.arange(len(x)) if cells is None else np.asarray(cells)
-        share = self.material.areal_density * self.reference_area[cells] / 3.0
-        node = np.stack([share] * 3 + [share * self.rotary_factor[cells]] * 3, axis=1)
-        scale = 1.0 / np.sqrt(np.tile(node, 3))  # (c, 18), M_e^-1/2
-        omega2 = np.empty(len(x))
-        for start in range(0, len(x), _TANGENT_SLICE):
-            rows = slice(start, start + _TANGENT_SLICE)
-            # An index array selects the cells' tables as the slices of ``tangent`` do.
-            selected = cast(slice, cells[rows])
-            k = self._cell_tangent(x[rows], v[rows], selected).reshape(-1, 18, 18)
-            k = 0.5 * (k + np.swapaxes(k, 1, 2))
-            k *= scale[rows, :, None] * scale[rows, None, :]
-            omega2[rows] = np.linalg.eigvalsh(k)[:, -1]
-        return omega2
+        """Largest eigenvalue (c,), 1/s^2, of each triangle's K_e phi = omega^2 M_e phi, corners
+        x and directors v (c, 3, 3), ``cells`` (c,) (elements/mindlin_steps.py)."""
+        return element_omega2(self, x, v, cells)
+
+    def penalty_stable_dt(self, state: State) -> float:
+        """The critical step with B2's closed-form rotary inertia, s, whatever rotary_scaling
+        the shell was given: what the interactions' automatic penalty is sized on
+        (elements/mindlin_steps.py)."""
+        return penalty_stable_dt(self, state)
 
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:

@@ -289,10 +289,16 @@ class MindlinFabricBlock(MindlinShellBlock):
         closed form at nu = 0, kappa = 5/6."""
         return scaled_rotary_inertia(self, scaling, _SHEAR_FACTOR)
 
-    def _cheap_omega2(self, x: np.ndarray) -> np.ndarray:
+    def _closed_rotary_factor(self) -> np.ndarray:
+        """B2's closed-form j (m,), mm^2, at nu = 0, kappa = 5/6, whatever rotary_scaling the
+        shell was given (``penalty_stable_dt``)."""
+        return scaled_rotary_inertia(self, "closed", _SHEAR_FACTOR)
+
+    def _cheap_omega2(self, x: np.ndarray, rotary_factor: np.ndarray | None = None) -> np.ndarray:
         """The trace bound of the elastic block (docs/theory.md §6.2 B1-B2) with the section's
         largest stiffnesses per unit width: 3 / rho_A (C + K + S) sum_k 1 / h_k^2 + S / (2
-        rho_A j), C the stiffest tension slope, K the shear law's, S the transverse shear."""
+        rho_A j), C the stiffest tension slope, K the shear law's, S the transverse shear; j
+        ``rotary_factor`` (m,), mm^2 (default: the block's)."""
         sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)
         area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
@@ -301,7 +307,8 @@ class MindlinFabricBlock(MindlinShellBlock):
         rho_a = f.areal_density
         stiff = tension + f.shear.max_slope() + self.transverse_shear
         omega2 = 3.0 / rho_a * stiff * inverse_heights2
-        return omega2 + self.transverse_shear / (2.0 * rho_a * self.rotary_factor)
+        j = self.rotary_factor if rotary_factor is None else rotary_factor
+        return omega2 + self.transverse_shear / (2.0 * rho_a * j)
 
     # ------------------------------------------------------------------ outputs
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:

@@ -258,13 +258,15 @@ class PlyContactBlock(InteractionBlock):
         the whole stack moves as one (what holds the stack are its supports and tools)."""
         return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
 
-    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+    def calibrate(self, mass: np.ndarray, stable_dt: float, penalty_step=None) -> None:
         # the springs' reach until the step's next evaluation (elements/ply_springs.py)
         self.calibrated_dt = float(stable_dt)
         self.calibrated_mass = np.asarray(mass, dtype=float).copy()
-        # the automatic penalty (elements/ply_contact.py, "Penalty")
+        # the automatic penalty (elements/ply_contact.py, "Penalty"), on the step at the
+        # closed-form rotary inertia where it is given (elements/contact_penalty.py)
         if np.isnan(self.node_stiffness).any():
-            self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / stable_dt) ** 2
+            step = stable_dt if penalty_step is None else penalty_step
+            self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / step) ** 2
             self.stiffness = self._point_stiffness()
 
     def set_penalty(self, node_stiffness: np.ndarray) -> None:

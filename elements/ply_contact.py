@@ -89,12 +89,13 @@ is (p - q) / g and lambda those of q); through the offsets the moments
 -a_j d_j x (N_j W' n) at the upper corners and b_k d_k x (dW/dy_k) at the lower ones.
 
 Penalty: given (N/mm per upper node), or chosen when the model is compiled (``calibrate``):
-k_j = ``PENALTY_SHARE`` m_j (2 / dt)^2, m_j the upper node's lumped mass and dt the model's
-critical step without the contact, as elements/contact.py (against its k -> infinity limit
-on the two-ply hemisphere: docs/theory.md §9.3b, "The plies' penalty against its limit"). A
-point gets the nodes' penalties in proportion to the area it stands for: k_p = w_p A_T sum_j
-N_j(p) k_j / A_j (w_p the rule's weight, A_T the reference area of its triangle, A_j the lumped
-area of node j, sum A_T / 3 over its triangles), so that the corner rule gives each node its
+k_j = ``PENALTY_SHARE`` m_j (2 / dt)^2, m_j the upper node's lumped mass and dt the elements'
+critical step without the contact (a Mindlin ply's at its closed-form rotary inertia, whatever
+j it was given), as elements/contact.py (against its k -> infinity limit on the two-ply
+hemisphere: docs/theory.md §9.3b, "The plies' penalty against its limit"). A point gets the
+nodes' penalties in proportion to the area it stands for: k_p = w_p A_T sum_j N_j(p) k_j /
+A_j (w_p the rule's weight, A_T the reference area of its triangle, A_j the lumped area of
+node j, sum A_T / 3 over its triangles), so that the corner rule gives each node its
 k_j back and a uniform penalty on a uniform mesh adds up to the same total whatever the rule.
 ``springs`` reports at each upper node 2 sum_p N_j k_p and at the lower ones 2 max(that)
 (times the ratio of upper to lower nodes when above 1) (the friction's stick spring is at most

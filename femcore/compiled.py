@@ -183,8 +183,9 @@ class CompiledModel(CompiledTangent):
         # Interactions have no mass of their own: they size themselves from the elements.
         if self.interactions:
             dt = self.stable_dt(state0)
+            penalty_step = self.penalty_stable_dt(state0)
             for interaction in self.interactions:
-                interaction.calibrate(self.mass0, dt)
+                interaction.calibrate(self.mass0, dt, penalty_step)
         self._has_history = any(h is not None for h in state0.history)
         self._no_history = (None,) * len(self.parts)
         self._load_terms = load_terms(model.loads, active)
@@ -364,6 +365,13 @@ class CompiledModel(CompiledTangent):
         """Critical time step of the elements (s), the smallest over all cells (the
         interactions' springs come in through ``penalty_frequency_squared``)."""
         return float(min(dt.min() for dt in self.cell_stable_dt(state)))
+
+    def penalty_stable_dt(self, state: State) -> float:
+        """The step the interactions' automatic penalties are sized on (s), the smallest over
+        the blocks (``ElementBlock.penalty_stable_dt``): the critical step with the Mindlin
+        shells' rotary inertia at B2's closed form, whatever rotary_scaling they were given
+        (docs/theory.md §6.2, "The penalty's step")."""
+        return float(min(block.penalty_stable_dt(state) for block in self.blocks))
 
     def strain_energy(self, state: State) -> float:
         """Total strain energy (N mm) over all parts (the interactions' penalty springs

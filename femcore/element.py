@@ -216,6 +216,14 @@ class ElementBlock(ABC):
         """Critical time step of the block, s."""
         return float(np.min(self.cell_stable_dt(state)))
 
+    def penalty_stable_dt(self, state: State) -> float:
+        """The step the interactions' automatic penalty is sized on, s: the block's critical
+        step at a rotary inertia fixed by the model, so that a chosen mass scaling of the
+        rotations alone leaves the contacts' stiffness as it is (docs/theory.md §6.2, "The
+        penalty's step"). The default is ``stable_dt``: blocks without a rotary inertia to
+        choose; the Mindlin shell overrides it (its step at B2's closed-form j)."""
+        return self.stable_dt(state)
+
     def cell_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """Per-cell outputs {name: (m, ...)} for results and VTU files."""
         return {}

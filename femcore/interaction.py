@@ -16,8 +16,9 @@ directors and the DOF mask. ``Interaction.bind`` returns an ``InteractionBlock``
 vectorised over the nodes (or node pairs, facets) it acts on; no Python loop over them runs in a
 step.
 
-Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt)`` with the
-elements' lumped masses and critical step, then, as a solver goes, ``internal_force``,
+Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stable_dt,
+penalty_step)`` with the elements' lumped masses, critical step and the step the automatic
+penalties are sized on, then, as a solver goes, ``internal_force``,
 ``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
 bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_work``,
 ``node_fields``).
@@ -188,10 +189,15 @@ class InteractionBlock(ABC):
         then differentiates ``internal_force`` over ``connectivity`` and ``reach``."""
         return None
 
-    def calibrate(self, mass: np.ndarray, stable_dt: float) -> None:
+    def calibrate(
+        self, mass: np.ndarray, stable_dt: float, penalty_step: float | None = None
+    ) -> None:
         """Size the interaction from the elements, once, before any force is asked: the
-        lumped nodal masses (n,), t, and the elements' critical step, s (a penalty that keeps
-        the explicit step stable). The default ignores them."""
+        lumped nodal masses (n,), t, the elements' critical step, s, and the step an
+        automatic penalty is sized on, s (``ElementBlock.penalty_stable_dt``: the critical
+        step at the closed-form rotary inertia; None: the critical step), one that keeps the
+        explicit step stable and that no chosen rotary inertia moves. The default ignores
+        them."""
         return None
 
     def springs(self) -> tuple[np.ndarray, np.ndarray] | None:

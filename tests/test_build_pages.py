@@ -104,18 +104,19 @@ def test_an_error_inside_a_hold_without_numpys_switch_is_raised_as_itself(monkey
 
 def test_the_mindlin_step_calibration_runs_on_small_pages(advised, monkeypatch):
     """The Mindlin cells' first stable step calibrates each reference shape on (m, 3, 3)
-    temporaries (elements/mindlin.py ``cell_stable_dt``): on ordinary pages too."""
-    import elements.mindlin
+    temporaries (elements/mindlin.py ``cell_stable_dt``, elements/mindlin_steps.py
+    ``reference_steps``): on ordinary pages too."""
+    import elements.mindlin_steps
 
     compiled = sheet().compile()
     seen = []
-    congruent = elements.mindlin._congruent_cells
+    congruent = elements.mindlin_steps._congruent_cells
 
     def spy(*args, **kwargs):
         seen.append(_get_madvise_hugepage())
         return congruent(*args, **kwargs)
 
-    monkeypatch.setattr(elements.mindlin, "_congruent_cells", spy)
+    monkeypatch.setattr(elements.mindlin_steps, "_congruent_cells", spy)
     steps = compiled.cell_stable_dt(compiled.initial_state())
     assert seen == [False]
     assert _get_madvise_hugepage() is True

@@ -1,5 +1,6 @@
 """What a forming run of a square blank measures beyond its shear: the draw-in of its edges
-and corners, and the punch's mean force over the end of its stroke.
+and corners, the punch's mean force over the end of its stroke, and the wrinkles of its
+outline.
 
 The blank is a ``Mesh.rectangle`` of side 2 ``half`` (mm) centred on the punch's axis (the z
 axis), its fibres along x and y. A single node's draw-in (the edge middle's) can take one of
@@ -14,7 +15,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["corner_draw_in", "edge_draw_in", "late_mean_force"]
+__all__ = ["corner_draw_in", "edge_draw_in", "late_mean_force", "outline_wrinkles"]
 
 
 def _edges(points: np.ndarray, half: float) -> list[tuple[np.ndarray, int, float]]:
@@ -98,3 +99,23 @@ def late_mean_force(
     fraction = (start - moved[before]) / gap if gap > 0.0 else 0.0
     at_start = work[before] + fraction * (work[min(first, len(work) - 1)] - work[before])
     return float((work[-1] - at_start) / (full - start))
+
+
+def outline_wrinkles(
+    points: np.ndarray, positions: np.ndarray, half: float, thickness: float
+) -> dict[str, int | float]:
+    """Out of the die: the wrinkles of the blank's outline, as the number of crests more
+    than half the ``thickness`` (mm) above the flange along it (by polar angle) and the
+    largest height (mm; the folds stand up along the punch). ``points`` (n, 3) the flat
+    blank's nodes (side 2 ``half``, mm, its mid-surface at thickness / 2), ``positions``
+    (n, 3) where they are, mm."""
+    outline = np.flatnonzero(
+        np.isclose(np.abs(points[:, 0]), half) | np.isclose(np.abs(points[:, 1]), half)
+    )
+    x = positions[outline]
+    order = np.argsort(np.arctan2(x[:, 1], x[:, 0]))
+    height = x[order, 2] - 0.5 * thickness
+    crest = (
+        (height > np.roll(height, 1)) & (height >= np.roll(height, -1)) & (height > 0.5 * thickness)
+    )
+    return {"count": int(crest.sum()), "height": float(height.max())}

@@ -49,6 +49,7 @@ from validation.studies.hemisphere_plies_setup import (
     NET_CELL,
     PLIES,
     PUNCH,
+    STROKE_SLOWING,
     THICKNESS,
     TRAVEL,
     model,
@@ -79,6 +80,12 @@ SOURCE = "Mack and Taylor (1956) pin-jointed net on the sphere, per ply orientat
 # validation/studies/hemisphere_plies_convergence.py) take the 10 cells' tolerance. The
 # Mindlin plies are reported, not checked (as in hemisphere-forming).
 RMS_TOLERANCE_DEG = {8: 8.8, 10: 5.1} | {cells: 5.1 for cells in range(12, 33, 2)}
+
+
+def _duration(name: str, kinematics: str) -> float:
+    """The stroke of the ``name`` layup's ``kinematics`` run, s: DURATION (as this module
+    holds it) times its STROKE_SLOWING (validation/studies/hemisphere_plies_setup.py)."""
+    return DURATION * STROKE_SLOWING.get((name, kinematics), 1.0)
 
 
 def run_key(name: str, kinematics: str, force: float) -> str:
@@ -139,24 +146,26 @@ def read_history(history: str | Path | np.ndarray) -> np.ndarray:
     return np.genfromtxt(history, delimiter=",", names=True)
 
 
-def holder_force_last_tenth(history: str | Path | np.ndarray, tool: int = 2) -> float:
+def holder_force_last_tenth(
+    history: str | Path | np.ndarray, tool: int = 2, duration: float | None = None
+) -> float:
     """The holder's reaction (N) averaged over time (trapezoids) over the last tenth of the
     run, from a run's ``history`` records (solvers.output.HistoryWriter: one about every other
     step; its .csv or the records ``read_history`` made of it), ``tool`` its index among the
     contacts; the last record's when the run stopped before. The run's frames (a hundred)
     sample the holder's ringing on its contact springs too sparsely for it: eleven frames of
     the fibrous [0/45] run averaged 10.87 N where its records average 9.91 (module
-    docstring)."""
+    docstring). ``duration`` the run's stroke, s (default DURATION)."""
     records = read_history(history)
     times, force = records["time"], records[f"tool{tool + 1}_force_z"]
-    last = times >= 0.9 * DURATION
+    last = times >= 0.9 * (DURATION if duration is None else duration)
     if last.sum() < 2:
         return float(force[-1])
     return float(np.trapezoid(force[last], times[last]) / (times[last][-1] - times[last][0]))
 
 
 def holder_inertia_last_tenth(
-    history: str | Path | np.ndarray, mass: float, tool: int = 2
+    history: str | Path | np.ndarray, mass: float, tool: int = 2, duration: float | None = None
 ) -> float:
     """The holder's mass times its change of velocity over the last tenth of the run, over
     that tenth's span (N): what its mean reaction differs from its force by, its equation of
@@ -165,10 +174,10 @@ def holder_inertia_last_tenth(
     Measured on Mindlin [0/90] at 10 cells, 20 N: -1.23 N (the holder lifted by the flange's
     wrinkles at 0.81 m/s entering the tenth, sinking at 0.42 m/s at its end), the mean
     reaction 18.780 N against 20 - 1.229 + 0.007 (docs/hemisphere_plies.md, "The holder at
-    10 cells"). ``history`` as for ``holder_force_last_tenth``."""
+    10 cells"). ``history`` and ``duration`` as for ``holder_force_last_tenth``."""
     records = read_history(history)
     times, travel = records["time"], records[f"tool{tool + 1}_displacement_z"]
-    last = np.flatnonzero(times >= 0.9 * DURATION)
+    last = np.flatnonzero(times >= 0.9 * (DURATION if duration is None else duration))
     if last.size < 2:
         return math.nan
     velocity = np.gradient(travel, times)
@@ -215,6 +224,7 @@ def run(
     net_shear: dict[str, list[np.ndarray]] = {}
     in_die: dict[str, list[np.ndarray]] = {}
     key = run_key(name, kinematics, force)
+    duration = _duration(name, kinematics)
     layup, built = model(cells, LAYUPS[name], kinematics, force, mass=mass, rim=rim)
     solved: Any = built.compile()
     if instrument is not None:
@@ -227,10 +237,10 @@ def run(
     with tempfile.TemporaryDirectory() as folder:
         records = Path(folder) / "history.csv" if history is None else Path(history)
         solver = CentralDifference(
-            duration=DURATION,
+            duration=duration,
             damping=DAMPING,
             progress=False,
-            output_interval=DURATION / 100,
+            output_interval=duration / 100,
             history=records,
         )
         start = time.process_time()
@@ -243,12 +253,12 @@ def run(
             parameters[f"{key} stopped"] = str(error)
         cpu = time.process_time() - start
         table = read_history(records)  # read once for both measures
-        holder = holder_force_last_tenth(table)
-        inertia_of_holder = holder_inertia_last_tenth(table, mass)
+        holder = holder_force_last_tenth(table, duration=duration)
+        inertia_of_holder = holder_inertia_last_tenth(table, mass, duration=duration)
     checks.append(
         check(
             f"{key}: the run reaches the end of the stroke (s)",
-            DURATION,
+            duration,
             float(result.frames[-1].time),
             1e-6,
             source="the stroke",
@@ -280,7 +290,7 @@ def run(
     parameters[f"{prefix}_steps"] = result.steps
     parameters[f"{prefix}_wall_time_s"] = result.wall_time
     parameters[f"{prefix}_cpu_time_s"] = cpu
-    inertia = quasi_static_report(result.energies, KINETIC_BOUND, DURATION, 0.0, warn=False)
+    inertia = quasi_static_report(result.energies, KINETIC_BOUND, duration, 0.0, warn=False)
     parameters[f"{prefix}_largest_kinetic_over_work"] = inertia["kinetic_over_work_largest"]
     parameters[f"{prefix}_largest_kinetic_over_work_at_s"] = inertia["largest_at_s"]
     parameters[f"{prefix}_kinetic_over_work_above_bound_share"] = inertia["exceeded_share"]
@@ -292,7 +302,7 @@ def run(
         ("translational", result.energies["kinetic"] - rotational),
     ):
         alone = quasi_static_report(
-            {**result.energies, "kinetic": kinetic}, None, DURATION, 0.0, warn=False
+            {**result.energies, "kinetic": kinetic}, None, duration, 0.0, warn=False
         )
         parameters[f"{prefix}_largest_{part}_kinetic_over_work"] = alone[
             "kinetic_over_work_largest"
@@ -308,7 +318,7 @@ def run(
     # cells, 20 N) read 0.31 of W early in the stroke, the work below a hundredth of its
     # end, where the run's KE / W judged from the floor on is 0.086 at most
     final = abs(float(result.energies["external_work"][-1]))
-    judged = judged_records(shares["time"], work, DURATION, final)
+    judged = judged_records(shares["time"], work, duration, final)
     parameters[f"{prefix}_largest_ply_kinetic_over_work"] = float(
         (shares["plies"].sum(axis=1)[judged] / work[judged]).max(initial=0.0)
     )
@@ -436,6 +446,7 @@ def compute_plan(plan: list[tuple[int, str, str, float]]) -> Outcome:
         "ply_friction_mu": MU,
         "tool_friction_mu": 0.0,
         "duration_s": DURATION,
+        "slowed_strokes": {" ".join(k): v for k, v in STROKE_SLOWING.items()},
         "damping_per_s": DAMPING,
     }
     checks = []
@@ -459,7 +470,9 @@ def compute_plan(plan: list[tuple[int, str, str, float]]) -> Outcome:
         converged=all(r.converged for r in runs.values()) and all(converged),
         wall_time_s=sum(wall),
         steps=sum(steps),
-        solver=f"CentralDifference, {DURATION} s, no mass scaling, the default safety",
+        solver=f"CentralDifference, {DURATION} s ("
+        + ", ".join(f"[{n}] {k} {DURATION * v:g} s" for (n, k), v in STROKE_SLOWING.items())
+        + "), no mass scaling, the default safety",
         parameters=parameters,
         checks=checks,
         data=PliesData(layups, runs, shear, net_shear, in_die, drawn),
@@ -533,7 +546,9 @@ def _kinetic_figure(data: PliesData, out_dir: Path) -> Figure:
     for key, result in data.runs.items():
         energies = result.energies
         time, work = energies["time"], energies["external_work"]
-        judged = judged_records(time, work, DURATION, abs(float(work[-1])))
+        name, kinematics, *_ = key.split(" ")
+        duration = _duration(name, kinematics)
+        judged = judged_records(time, work, duration, abs(float(work[-1])))
         (line,) = ax.plot(
             time[judged], kinetic_over_work(energies["kinetic"], work)[judged], label=key
         )
