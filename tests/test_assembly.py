@@ -270,3 +270,55 @@ def test_the_pairs_within_a_structure_are_found_by_bisection():
         rows[pick], columns[pick], asked_wide, start, rows, wide
     )
     assert np.array_equal(found[0], inverse) and found[1] == distinct
+
+
+@pytest.mark.parametrize("superset", [False, True])
+def test_a_part_naming_a_node_outside_the_model_is_refused(superset):
+    """A node index past n_nodes (or negative) in a cell part: a ValueError naming the part
+    and the index, in both modes, after a first assembly of valid pairs (the kept
+    structure's lookup would read past its arrays)."""
+    dofs = translation_dofs()
+    assemble = FreeTangentAssembler(dofs, superset=superset)
+    rng = np.random.default_rng(6)
+    assemble(springs([[1, 2]], rng), None)
+    with pytest.raises(ValueError, match=r"part 0: node index 7 outside \[0, 4\)"):
+        assemble(springs([[1, 7]], rng), None)
+    with pytest.raises(ValueError, match=r"node index -1 outside"):
+        assemble(springs([[-1, 2]], rng), None)
+    k_ff, _ = assemble(springs([[1, 2]], rng), None)  # still usable
+    assert k_ff.shape == (dofs.free_slots.size,) * 2
+
+
+def shell_dofs(n=5):
+    """n nodes of 5 unknowns each, node 0's translations fixed, node n - 1's prescribed."""
+    active = np.ones((n, 5), dtype=bool)
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    prescribed = np.zeros_like(active)
+    prescribed[n - 1, :] = True
+    return DofManager(n, active, fixed, prescribed)
+
+
+def test_a_wide_part_on_a_pair_the_kept_structure_holds_narrow_rebuilds_it():
+    """A 3-component part on nodes (0, 1) and (1, 4), then a 6-component one on the same
+    pairs: the kept structure holds those pairs' translations only, so it must be grown to
+    the rotations' entries. K_ff and K_fp equal superset=False's bit for bit and the dense
+    tangent_matrix's (reference) to round-off."""
+    dofs = shell_dofs()
+    rng = np.random.default_rng(7)
+    frames = dofs.frames(np.tile([0.0, 0.0, 1.0], (5, 1)))
+    free, moved = dofs.free_slots, dofs.prescribed_slots
+    kept, exact = FreeTangentAssembler(dofs, superset=True), FreeTangentAssembler(dofs)
+    narrow = springs([[0, 1], [1, 4]], rng)
+    wide = [CellTangent(np.array([[0, 1], [1, 4]]), rng.normal(size=(2, 2, 6, 2, 6)))]
+    for parts in (narrow, wide, narrow):
+        k_ff, k_fp = kept(parts, frames)
+        e_ff, e_fp = exact(parts, frames)
+        for got, expected in ((k_ff, e_ff), (k_fp, e_fp)):
+            assert np.array_equal(got.toarray(), expected.toarray())
+        dense = tangent_matrix(dofs, parts, frames).toarray()
+        assert np.allclose(k_ff.toarray(), dense[np.ix_(free, free)], rtol=0, atol=1e-12)
+        assert np.allclose(k_fp.toarray(), dense[np.ix_(free, moved)], rtol=0, atol=1e-12)
+    # the narrow structure, the wide one (the union), kept for the narrow part again
+    assert kept.builds == 2
+    assert np.abs(k_ff.toarray()).max() > 0.0
