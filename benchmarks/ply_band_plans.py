@@ -14,12 +14,15 @@ stack of the fewest plies) both ways in alternating turns in this process, best 
 plans made, ``LinearSolver.symbolic``; the checks' fresh plans, one at every 8th kept
 pattern, not counted), and how far the kept plans moved the results: the largest change of the
 displacements over every frame, over the largest displacement, and of the directors. Then,
-once more with the kept plans, on every tangent factorised by the band: its negative pivots
-(the inertia the stability checks read) against those of a fresh plan of that very matrix
-(the reference's ordering), the mismatches counted. The machine's load is printed.
+once more with the kept plans, on every tangent factorised by the band on a kept plan (a
+plan made for another pattern; the first factorisation of a new pattern given a kept plan
+counted apart from the refactorisations that follow on it): its negative pivots (the inertia
+the stability checks read) against those of a fresh plan of that very matrix (the
+reference's ordering), the mismatches counted (``--inertia-only``: that count alone). The
+machine's load is printed.
 
     python benchmarks/ply_band_plans.py [--cases bai,heavy,deck,sag]
-        [--resolutions coarse,default] [--repeat 2]
+        [--resolutions coarse,default] [--repeat 2] [--inertia-only]
 
 Measured (one thread, CPU, 2 cores shared, load 8.7-10.3; docs/theory.md §6.5, "Plans kept
 over changing contact pairs", with the controls and the report's cases):
@@ -31,8 +34,15 @@ over changing contact pairs", with the controls and the report's cases):
   of a fresh plan's operations; heavy 1.42 -> 1.37 s, 142, 64 -> 17; deck 2.01 -> 2.60 s,
   tangents 134 -> 174 (round-off: main's code on equally good orderings took 123-187),
   81 -> 80, the kept plans 1.25 of fresh; sag 0.83 -> 0.73 s, 184 -> 167, 87 -> 7.
-* displacements moved at most 6.9e-12 of the largest (sag), directors 1.1e-13; negative
-  pivots mismatched on none of the 1337 band factorisations on a kept plan.
+* displacements moved at most 6.9e-12 of the largest (sag), directors 1.1e-13.
+* ``--inertia-only`` (load 0.7-0.9): negative pivots mismatched on none of the 1210 band
+  factorisations on a kept plan (678 the first of a new pattern given a kept plan, the rest
+  refactorisations on it) of 1462 band factorisations (QDLDL fallbacks not counted); coarse
+  bai 271, 260 on a kept plan, 124 new, heavy 125, 63, 15, deck 51, 26, 15, sag 167, 140,
+  66; default bai 403, 385, 284, heavy 142, 113, 54, deck 136, 83, 54, sag 167, 140, 66.
+  Kept / fresh plans' operations summed over the kept plans' factorisations: coarse 0.55,
+  3.20, 1.01, 1.03; default 0.49, 0.98, 1.06, 1.03 (the ratios above were summed over every
+  band factorisation, the fresh plans' too).
 """
 
 from __future__ import annotations
@@ -54,7 +64,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 from benchmarks.static_plies_newton import solve_case  # noqa: E402
 from femcore.assembly import FreeTangentAssembler  # noqa: E402
 from solvers import linear, newton  # noqa: E402
-from solvers.band import BandPlan  # noqa: E402
+from solvers.band import BandLDLT, BandPlan  # noqa: E402
 from validation.cases import plies_bai_5_1  # noqa: E402
 
 
@@ -94,25 +104,34 @@ def moved(old, new) -> tuple[float, float]:
     return change / largest, turned
 
 
-def inertia_check(name: str, resolution: str) -> tuple[int, int, int, float, float]:
-    """(band factorisations, those on a kept plan, negative-pivot mismatches against a
-    fresh plan of the same matrix, the sums over them of the kept plans' operations and
-    envelope entries over the fresh plans') over one solve with the kept plans."""
-    counts = [0, 0, 0]
+def inertia_check(name: str, resolution: str) -> tuple[int, int, int, int, float, float]:
+    """(band factorisations, those on a kept plan (a plan made for another pattern: the new
+    pattern it was kept for and the refactorisations on that pattern that follow), the new
+    patterns given a kept plan, negative-pivot mismatches on a kept plan against a fresh
+    plan of the same matrix, the sums over the kept plans' factorisations of their
+    operations and envelope entries over the fresh plans') over one solve with the kept
+    plans. A QDLDL fallback (the band met a zero pivot) is not a band factorisation."""
+    counts = [0, 0, 0, 0]
     sums = np.zeros(4)
     original = linear.LinearSolver._ldlt
+    on_kept: dict[int, bool] = {}  # per solver, whether its band plan was kept
 
     def checked(solver, upper):
         symbolic = solver.symbolic
+        new = not solver._same((upper.indptr, upper.indices))
         found = original(solver, upper)
-        if solver._band is not None and found[0] is not None:
+        if new:
+            on_kept[id(solver)] = solver.symbolic == symbolic
+        if isinstance(found[0], BandLDLT):
             counts[0] += 1
-            counts[1] += solver.symbolic == symbolic
-            plan = BandPlan(upper)
-            fresh = plan.factorise(upper.data)
-            counts[2] += fresh is None or fresh.negative != found[1]
-            kept = solver._band
-            sums[:] += (kept.operations, plan.operations, envelope(kept), envelope(plan))
+            if on_kept[id(solver)]:
+                counts[1] += 1
+                counts[2] += new
+                plan = BandPlan(upper)
+                fresh = plan.factorise(upper.data)
+                counts[3] += fresh is None or fresh.negative != found[1]
+                kept = solver._band
+                sums[:] += (kept.operations, plan.operations, envelope(kept), envelope(plan))
         return found
 
     configure(True)
@@ -121,7 +140,18 @@ def inertia_check(name: str, resolution: str) -> tuple[int, int, int, float, flo
         solve(name, resolution)
     finally:
         linear.LinearSolver._ldlt = original  # type: ignore[method-assign]
-    return counts[0], counts[1], counts[2], sums[0] / sums[1], sums[2] / sums[3]
+    ratios = (sums[0] / sums[1], sums[2] / sums[3]) if counts[1] else (np.nan, np.nan)
+    return counts[0], counts[1], counts[2], counts[3], ratios[0], ratios[1]
+
+
+def inertia(name: str, resolution: str) -> str:
+    """``inertia_check``'s counts in words."""
+    band, on_kept, new, mismatched, operations, entries = inertia_check(name, resolution)
+    return (
+        f"band factorisations {band}, {on_kept} on a kept plan ({new} of them of a new "
+        f"pattern), negative pivots mismatched {mismatched}; kept / fresh plans' "
+        f"operations {operations:.2f}, envelope entries {entries:.2f}"
+    )
 
 
 def envelope(plan: BandPlan) -> float:
@@ -134,11 +164,17 @@ def main() -> None:
     parser.add_argument("--cases", default="bai,heavy,deck,sag")
     parser.add_argument("--resolutions", default="coarse,default")
     parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument(
+        "--inertia-only", action="store_true", help="only the kept plans' negative pivots"
+    )
     args = parser.parse_args()
     load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     print(f"load before: {load}", flush=True)
     for resolution in args.resolutions.split(","):
         for name in args.cases.split(","):
+            if args.inertia_only:
+                print(f"{name} ({resolution}): {inertia(name, resolution)}", flush=True)
+                continue
             configure(True)
             solve(name, resolution)  # the kernels loaded
             runs: dict[bool, list] = {False: [], True: []}
@@ -151,15 +187,12 @@ def main() -> None:
             tangents = [i["evaluations"]["tangent"] for i in info]
             symbolic = [i["linear_solver"]["symbolic_factorisations"] for i in info]
             relative, turned = moved(old[1], new[1])
-            band, reused, mismatched, operations, entries = inertia_check(name, resolution)
             print(
                 f"{name} ({resolution}): CPU {old[0]:.2f} -> {new[0]:.2f} s "
                 f"({new[0] / old[0]:.3f} x), tangents {tangents[0]} -> {tangents[1]}, "
                 f"orderings {symbolic[0]} -> {symbolic[1]}; displacements moved "
-                f"{relative:.1e} of the largest, directors {turned:.1e}; band "
-                f"factorisations {band}, {reused} on a kept plan, negative pivots "
-                f"mismatched {mismatched}; kept / fresh plans' operations {operations:.2f}, "
-                f"envelope entries {entries:.2f}",
+                f"{relative:.1e} of the largest, directors {turned:.1e}; "
+                f"{inertia(name, resolution)}",
                 flush=True,
             )
     load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()

@@ -372,8 +372,25 @@ def _node_blocks(part: SparseTangent, n_nodes: int) -> sp.bsr_matrix:
     return sp.bsr_matrix(matrix, blocksize=(6, 6))
 
 
+def _check_nodes(parts: list[CellTangent], n_nodes: int) -> None:
+    """Raises ValueError where a part's node array (m, p) holds an index outside
+    [0, n_nodes): one min and one max per part."""
+    for number, part in enumerate(parts):
+        nodes = np.asarray(part.nodes)
+        if nodes.size == 0:
+            continue
+        low, high = nodes.min(), nodes.max()
+        if low < 0 or high >= n_nodes:
+            bad = low if low < 0 else high
+            raise ValueError(
+                f"CellTangent part {number}: node index {bad} outside [0, {n_nodes}); "
+                f"the parts' nodes must be the model's"
+            )
+
+
 # A kept structure (``FreeTangentAssembler(superset=True)``) serves parts whose node pairs
-# reach at least this share of its pairs; past it, it is built on theirs alone.
+# reach at least 1 / SUPERSET_SLACK of its pairs (it holds at most SUPERSET_SLACK times the
+# pairs they reach); below that share, it is built on theirs alone.
 SUPERSET_SLACK = 1.5
 
 
@@ -637,8 +654,16 @@ class FreeTangentAssembler:
     def __call__(
         self, all_parts: list[TangentPart], frames: Frames
     ) -> tuple[sp.csc_matrix, sp.csr_matrix]:
-        """(K_ff, K_fp) of the parts in the iteration's frames."""
+        """(K_ff, K_fp) of the parts in the iteration's frames.
+
+        Raises
+        ------
+        ValueError
+            Where a CellTangent part names a node outside [0, n_nodes) (the compiled
+            passes index without bounds checks).
+        """
         parts, sparse_parts = _split(all_parts)
+        _check_nodes(parts, self.dofs.n_nodes)
         blocks = [_node_blocks(part, self.dofs.n_nodes) for part in sparse_parts]
         if not self._same_pattern(parts, blocks):
             self._restructure(parts, blocks)

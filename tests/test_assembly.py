@@ -270,3 +270,125 @@ def test_the_pairs_within_a_structure_are_found_by_bisection():
         rows[pick], columns[pick], asked_wide, start, rows, wide
     )
     assert np.array_equal(found[0], inverse) and found[1] == distinct
+
+
+@pytest.mark.parametrize("superset", [False, True])
+def test_a_part_naming_a_node_outside_the_model_is_refused(superset):
+    """A node index past n_nodes (or negative) in a cell part: a ValueError naming the part
+    and the index, in both modes, after a first assembly of valid pairs (the kept
+    structure's lookup would read past its arrays)."""
+    dofs = translation_dofs()
+    assemble = FreeTangentAssembler(dofs, superset=superset)
+    rng = np.random.default_rng(6)
+    assemble(springs([[1, 2]], rng), None)
+    with pytest.raises(ValueError, match=r"part 0: node index 7 outside \[0, 4\)"):
+        assemble(springs([[1, 7]], rng), None)
+    with pytest.raises(ValueError, match=r"node index -1 outside"):
+        assemble(springs([[-1, 2]], rng), None)
+    k_ff, _ = assemble(springs([[1, 2]], rng), None)  # still usable
+    assert k_ff.shape == (dofs.free_slots.size,) * 2
+
+
+def shell_dofs(n=5):
+    """n nodes of 5 unknowns each, node 0's translations fixed, node n - 1's prescribed."""
+    active = np.ones((n, 5), dtype=bool)
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    prescribed = np.zeros_like(active)
+    prescribed[n - 1, :] = True
+    return DofManager(n, active, fixed, prescribed)
+
+
+def test_a_wide_part_on_a_pair_the_kept_structure_holds_narrow_rebuilds_it():
+    """A 3-component part on nodes (0, 1) and (1, 4), then a 6-component one on the same
+    pairs: the kept structure holds those pairs' translations only, so it must be grown to
+    the rotations' entries. K_ff and K_fp equal superset=False's bit for bit and the dense
+    tangent_matrix's (reference) to round-off."""
+    dofs = shell_dofs()
+    rng = np.random.default_rng(7)
+    frames = dofs.frames(np.tile([0.0, 0.0, 1.0], (5, 1)))
+    free, moved = dofs.free_slots, dofs.prescribed_slots
+    kept, exact = FreeTangentAssembler(dofs, superset=True), FreeTangentAssembler(dofs)
+    narrow = springs([[0, 1], [1, 4]], rng)
+    wide = [CellTangent(np.array([[0, 1], [1, 4]]), rng.normal(size=(2, 2, 6, 2, 6)))]
+    for parts in (narrow, wide, narrow):
+        k_ff, k_fp = kept(parts, frames)
+        e_ff, e_fp = exact(parts, frames)
+        for got, expected in ((k_ff, e_ff), (k_fp, e_fp)):
+            assert np.array_equal(got.toarray(), expected.toarray())
+        dense = tangent_matrix(dofs, parts, frames).toarray()
+        assert np.allclose(k_ff.toarray(), dense[np.ix_(free, free)], rtol=0, atol=1e-12)
+        assert np.allclose(k_fp.toarray(), dense[np.ix_(free, moved)], rtol=0, atol=1e-12)
+    # the narrow structure, the wide one (the union), kept for the narrow part again
+    assert kept.builds == 2
+    assert np.abs(k_ff.toarray()).max() > 0.0
+
+
+def spd_springs(pairs, rng, components=3) -> list[CellTangent]:
+    """Symmetric positive definite blocks (A A^T + 2 I) on node pairs."""
+    pairs = np.asarray(pairs)
+    size = 2 * components
+    a = rng.normal(size=(len(pairs), size, size))
+    blocks = a @ a.transpose(0, 2, 1) + 2.0 * np.eye(size)
+    return [CellTangent(pairs, blocks.reshape(len(pairs), 2, components, 2, components))]
+
+
+def test_a_union_reaching_too_few_of_its_pairs_is_built_on_the_parts_alone():
+    """A kept structure of five springs' 16 pairs, then one spring (5, 6) outside it: the
+    union (19 pairs) holds more than SUPERSET_SLACK times the 4 pairs the spring reaches, so
+    the structure is built again on the spring's alone (two builds: the union, then its
+    own). Reference: the exact structure (superset=False), bit for bit."""
+    from femcore import assembly
+
+    dofs = shell_dofs(n=7)
+    rng = np.random.default_rng(8)
+    frames = dofs.frames(np.tile([0.0, 0.0, 1.0], (7, 1)))
+    kept, exact = FreeTangentAssembler(dofs, superset=True), FreeTangentAssembler(dofs)
+    chain = spd_springs([[0, 1], [1, 2], [2, 3], [3, 4], [4, 5]], rng)
+    alone = spd_springs([[5, 6]], rng)
+    for parts in (chain, alone):
+        k_ff, k_fp = kept(parts, frames)
+        e_ff, e_fp = exact(parts, frames)
+        assert np.array_equal(k_ff.toarray(), e_ff.toarray())
+        assert np.array_equal(k_fp.toarray(), e_fp.toarray())
+    assert 19 > assembly.SUPERSET_SLACK * 4
+    assert kept.builds == 3 and kept._pair_rows.size == 4
+    assert np.array_equal(k_ff.indices, e_ff.indices)  # the spring's own structure
+
+
+def test_the_kept_structures_stored_zeros_factorise_as_the_exact_structure():
+    """K_ff of a kept structure (a union holding pairs the parts leave out: stored zeros)
+    and of the exact one: the linear solver's split of the upper triangle leaves the zeros
+    out, so both give the same triangle, the same negative pivots and the same solution,
+    bit for bit (the premise of the kept structure), and numpy's solution to 1e-10
+    relative (condition number below 1e3 on these SPD springs)."""
+    from solvers.linear import LinearSolver
+
+    dofs = shell_dofs(n=7)
+    rng = np.random.default_rng(9)
+    frames = dofs.frames(np.tile([0.0, 0.0, 1.0], (7, 1)))
+    kept, exact = FreeTangentAssembler(dofs, superset=True), FreeTangentAssembler(dofs)
+    base = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 6]]
+    stiff = spd_springs(base, rng, components=6)
+    contacts = ([[1, 4], [2, 5]], [[1, 5]], [[2, 5]])  # the third lies within the union
+    for pairs in contacts:
+        parts = stiff + spd_springs(pairs, rng)
+        k_ff, _ = kept(parts, frames)
+        e_ff, _ = exact(parts, frames)
+        assert np.array_equal(k_ff.toarray(), e_ff.toarray())
+        solutions = []
+        for matrix in (k_ff, e_ff):
+            solver = LinearSolver()
+            _, upper = solver._plan_for(matrix).split(matrix.data)
+            factor = solver.factorise(matrix)
+            rhs = np.linspace(-1.0, 1.0, matrix.shape[0])
+            solutions.append((upper, factor.negative, factor.kind, factor.solve(rhs)))
+        (ku, kn, kk, kx), (eu, en, ek, ex) = solutions
+        assert np.array_equal(ku.indptr, eu.indptr) and np.array_equal(ku.indices, eu.indices)
+        assert np.array_equal(ku.data, eu.data)
+        assert kn == en == 0 and kk == ek == "ldlt"
+        assert np.array_equal(kx, ex)
+        expected = np.linalg.solve(e_ff.toarray(), rhs)
+        assert np.max(np.abs(kx - expected)) <= 1e-10 * np.max(np.abs(expected))
+    assert kept.builds == 2 and exact.builds == 3
+    assert k_ff.nnz > e_ff.nnz  # the last K_ff holds stored zeros
