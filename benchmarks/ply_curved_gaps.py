@@ -89,6 +89,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+import solvers.line_search as line_search  # noqa: E402
 import solvers.newton as newton_module  # noqa: E402
 import solvers.static as static_module  # noqa: E402
 from benchmarks.ply_newton_table import CASE_RULES  # noqa: E402
@@ -98,7 +99,7 @@ from femcore.dofs import N_COLUMNS  # noqa: E402
 from solvers import newton_curvature  # noqa: E402
 
 PLAIN_CURVED = newton_module.curved_step
-PLAIN_STEP = newton_module.Watchdog.step
+PLAIN_STEP = line_search.Watchdog.step
 SIDES = ("straight", "curved", "curved s^2", "held", "kept")
 # per side: the updates' records and the held points' count
 TRACE: dict = {"rows": [], "held": 0, "print": 0, "events": 0}
@@ -366,7 +367,7 @@ def recorded_residual(self, state, frames, forces=None):
 
 def use(side: str) -> None:
     """Patch Static for ``side`` (module docstring); ``straight`` restores it."""
-    newton_module.Watchdog.step = traced_step(side) if side != "straight" else PLAIN_STEP
+    line_search.Watchdog.step = traced_step(side) if side != "straight" else PLAIN_STEP
     if side in ("held", "kept"):
         hold = side == "held"
 

@@ -35,7 +35,7 @@ load 8.4). Another run (load 6.8 before): the same iterations, bai-5.1 30.3 | 25
 first solve of the process pays its imports; 24.0 | 23.7 above, the kernels warmed first).
 
 Since then the line search backs off further from an increment's first iterate
-(solvers/newton.py, ``SMALLEST_FIRST_STEP``): the overhang takes 41 iterations and no cut
+(solvers/line_search.py, ``SMALLEST_FIRST_STEP``): the overhang takes 41 iterations and no cut
 (benchmarks/ply_overhang.py), the other cases above the same.
 
 Run: python benchmarks/ply_fade_hessian.py [--quick] (--quick: leaves out bai-5.1)

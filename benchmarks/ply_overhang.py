@@ -1,6 +1,6 @@
 """Static on a ply laid on a ply held whole: the line search's backtracking from an
 increment's first iterate in a model with interactions down to 1e-9 of the step
-(solvers/newton.py, ``SMALLEST_FIRST_STEP``) against the code before (1/64, as from any
+(solvers/line_search.py, ``SMALLEST_FIRST_STEP``) against the code before (1/64, as from any
 other iterate), side by side in one run.
 
 The model (benchmarks/ply_fade_hessian.py's ``_overhang``, tests/test_ply_overhang.py): an
@@ -77,7 +77,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
-import solvers.newton as newton
+import solvers.line_search as line_search
 from femcore import Model
 from solvers import Static
 from validation.studies import ply_overhang_setup as setup
@@ -85,13 +85,13 @@ from validation.studies import ply_overhang_setup as setup
 sys.path.insert(0, str(Path(__file__).parent))
 import ply_fade_hessian as others  # noqa: E402  (the other Static cases of the plies)
 
-_deepest = newton.SMALLEST_FIRST_STEP
+_deepest = line_search.SMALLEST_FIRST_STEP
 
 
 def use(before: bool) -> None:
     """The code before (``before``: the first iterate's backtracking stops at 1/64 of the
     step too) or now."""
-    newton.SMALLEST_FIRST_STEP = newton.SMALLEST_STEP if before else _deepest
+    line_search.SMALLEST_FIRST_STEP = line_search.SMALLEST_STEP if before else _deepest
 
 
 def two_plies(

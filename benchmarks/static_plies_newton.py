@@ -125,7 +125,7 @@ process, so its CPU holds the loading of the compiled kernels: the counts are th
   the remainder again, 546 converged and 758 cut (1304 tangents); floored at 1/4, 293 and 75
   (368 tangents); the imposed step with the free unknowns held (the prescribed nodes moved
   alone): the first displacement increment failed after 10 cuts at load factor 1.036. The
-  update cap (solvers.newton.MAX_ROTATION) at 0.1 rad instead of 0.5, with first_turn=0.1:
+  update cap (solvers.line_search.MAX_ROTATION) at 0.1 rad instead of 0.5, with first_turn=0.1:
   bai coarse 271 -> 260 tangents (its first displacement increment 82 -> 71 iterations), at
   0.05 313; sag coarse without first_turn 345 -> 455 (0.1) and 366 (0.05) tangents.
 
@@ -194,7 +194,7 @@ Curved steps (``--curved``; one thread, CPU, 2 cores shared; the counts are the 
   23-4-4-3-3-3-3-3-3-3 and 193-138-87-38-30-18-17-15-9-28, 470 -> 877 cut), heavy 164 ->
   318 (17-30-18-18-18-18-13-12-10-10 -> 18-27-69-97-23-23-16-16-15-14); the chords with the
   curved steps on the deck (8 increments: 276 tangents and 805 energies against 202 and
-  279); the watchdog's allowance of full steps without a decrease (solvers.newton.WATCHDOG)
+  279); the watchdog's allowance of full steps without a decrease (solvers.line_search.WATCHDOG)
   at 1 or 2 instead of 4, with the curved decks in 4 increments: 2 failed (2 plies, 20
   cells: 4-th increment after 8 cuts), 2: 960 tangents against 634. Newton at a double
   root converges linearly by halving (Decker, Keller and Kelley, SIAM J. Numer. Anal. 20
@@ -418,7 +418,7 @@ Where the first increments go (``--detail``, coarse; the cases' solvers; one thr
   heavy cantilever's tangents 20-25 % fewer, their first increments 83 -> 55-60 and 29 ->
   18-21), before the Uzawa passes' own iterations; at zero-force contact (the tails) its
   multipliers go to 0 and the double root stays.
-* Not kept: the watchdog's allowance (solvers.newton.WATCHDOG) at 1, 2, 8 instead of 4: bai
+* Not kept: the watchdog's allowance (solvers.line_search.WATCHDOG) at 1, 2, 8 instead of 4: bai
   coarse 249, 261, 286 tangents against 271 (82 -> 75, 76, 67 in the first displacement
   increment), but sag 397, 201 and heavy 382, 134 against 184 and 125; bai coarse's
   ``update_turn`` 0.03 and 0.1 rad: 289 (67 in the first displacement increment, 11-28 in
@@ -441,6 +441,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+import solvers.line_search as line_search  # noqa: E402
 import solvers.newton as newton_module  # noqa: E402
 import solvers.penalty_start as penalty_start_module  # noqa: E402
 import solvers.static as static_module  # noqa: E402
@@ -536,7 +537,7 @@ def instrument() -> None:
 
     static_module.StaticRun.tangent = tangent
 
-    plain_step = newton_module.Watchdog.step
+    plain_step = line_search.Watchdog.step
 
     def step(self, *args, **kwargs):
         before = self.run.counts["residual"]
@@ -549,7 +550,7 @@ def instrument() -> None:
             rows[-1]["energies"] = self.run.counts["energy"] - energies
         return out
 
-    newton_module.Watchdog.step = step
+    line_search.Watchdog.step = step
 
 
 def solve_case(

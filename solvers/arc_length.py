@@ -25,14 +25,8 @@ import scipy.sparse as sp
 from femcore.dofs import N_COLUMNS
 from femcore.state import State
 from solvers.common import check_integer, check_non_negative
-from solvers.newton import (
-    ARMIJO,
-    IncrementFailed,
-    at_round_off_floor,
-    mechanism,
-    newton,
-    step_cap,
-)
+from solvers.line_search import ARMIJO, model_extent, step_cap
+from solvers.newton import IncrementFailed, at_round_off_floor, mechanism, newton
 from solvers.stability import buckling_mode
 
 if TYPE_CHECKING:
@@ -314,6 +308,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
     model = run.model
     dofs = model.dofs
     index = dofs.free_slots
+    extent = model_extent(model)
     start, start_load = run.state, run.reached
     length = prediction.length
     load_factor = start_load + prediction.load
@@ -368,7 +363,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
         b = run.scaled_motion(load_part.reshape(-1, N_COLUMNS), frames)
         d_load = constraint_root(a, b, c, length)
         delta = (residual_part + d_load * load_part).reshape(-1, N_COLUMNS)
-        cap = step_cap(model, delta)
+        cap = step_cap(extent, delta)
         load_factor += cap * d_load
         state = run.place(dofs.advance(state, cap * delta, frames), load_factor)
         if (
@@ -462,6 +457,7 @@ def descend(run: StaticRun, state: State, load_factor: float, allowed: int):
     equilibrium = run.equilibrium(load_factor)
     index, moved_index = dofs.free_slots, dofs.prescribed_slots
     size = model.element_size
+    extent = model_extent(model)
     history: list[float] = []
     shift = 0.0
     potential = None  # strain energy of the current iterate, when known
@@ -497,7 +493,7 @@ def descend(run: StaticRun, state: State, load_factor: float, allowed: int):
             flat = left.ravel().copy()
             flat[index] = delta_free
             delta = flat.reshape(-1, N_COLUMNS)
-            cap = step_cap(model, delta)
+            cap = step_cap(extent, delta)
             trial = dofs.advance(state, cap * delta, frames)
             if imposing:  # the prescribed motion changes the problem: no comparison
                 potential = None

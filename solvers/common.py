@@ -1,4 +1,5 @@
-"""Pieces shared by the solvers: errors that keep the last good result, frames, progress."""
+"""Pieces shared by the solvers: errors that keep the last good result, an increment's
+failure (Static), frames, progress."""
 
 from __future__ import annotations
 
@@ -18,8 +19,10 @@ __all__ = [
     "outside_stacklevel",
     "ConvergenceError",
     "DivergenceError",
+    "IncrementFailed",
     "ProgressLine",
     "SolverError",
+    "StepTooLong",
     "check_flag",
     "check_fraction",
     "check_held",
@@ -55,6 +58,23 @@ class DivergenceError(SolverError):
 
 class ConvergenceError(SolverError):
     """The iterations ran out before equilibrium was reached."""
+
+
+class IncrementFailed(Exception):
+    """An increment that did not converge (caught to cut the increment); ``iterations`` and
+    ``history`` (the residual ratios) of the attempt, when known."""
+
+    iterations = 0
+    history: list[float] = []
+
+
+class StepTooLong(IncrementFailed):
+    """The first Newton step of an increment turns a director by ``turn`` (rad), more than
+    the ``turn_limit`` of solvers.newton.newton: the increment is cut before it is iterated."""
+
+    def __init__(self, turn: float):
+        super().__init__(f"the first Newton step turns a director by {turn:.3g} rad")
+        self.turn = turn
 
 
 def check_held(model: CompiledModel) -> None:

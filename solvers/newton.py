@@ -15,7 +15,7 @@ Each Newton iteration:
   (solvers.linear), its negative pivots counting the negative eigenvalues of K_ff
   (solvers.stability turns the steps on an indefinite tangent downhill);
 - line search (load path), a watchdog (Chamberlain, Powell, Lemarechal and Pedersen, Math.
-  Prog. Study 16 (1982) 1; ``Watchdog``): full Newton steps are taken as long as, within
+  Prog. Study 16 (1982) 1; solvers.line_search): full Newton steps are taken as long as, within
   WATCHDOG iterations, one of them lowers the residual norm below that of the best iterate so
   far or the total potential energy (by the Armijo fraction of the first-order decrease of the
   step that left the best iterate; the energy is evaluated only when the residual does not show
@@ -87,8 +87,10 @@ from femcore.dofs import N_COLUMNS, Frames
 from femcore.interaction import InteractionBlock
 from femcore.model import CompiledModel
 from femcore.state import State
+from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
 from solvers.inertia import convexified_step
+from solvers.line_search import Watchdog
 from solvers.linear import Factorisation
 from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
@@ -100,18 +102,12 @@ if TYPE_CHECKING:
     from solvers.static import StaticRun
 
 __all__ = [
-    "ARMIJO",
     "COMPRESSION_FREE",
-    "MAX_ROTATION",
-    "SMALLEST_FIRST_STEP",
-    "SMALLEST_STEP",
     "STALLED_RATIO",
-    "WATCHDOG",
     "IncrementFailed",
     "StepTooLong",
     "Residual",
     "Tangent",
-    "Watchdog",
     "at_round_off_floor",
     "chord_corrections",
     "compression_free_ratio",
@@ -119,20 +115,8 @@ __all__ = [
     "mechanism",
     "newton",
     "stalled",
-    "step_cap",
 ]
 
-# Armijo's sufficient-decrease fraction, the smallest line-search step, and how many full
-# Newton steps the watchdog lets go by without a decrease before it backtracks.
-ARMIJO = 1e-4
-SMALLEST_STEP = 1.0 / 64.0
-WATCHDOG = 4
-# The smallest line-search step back from an increment's first iterate in a model with
-# interactions (``Watchdog._backtrack``): there the tangent may hold no stiffness of a contact
-# the step runs into (a smoothed penalty has none at g = 0, where plies are laid on each
-# other), and the step is then longer than the contact lets it go by the ratio of the
-# penalty to the structure's stiffness, 1e4-1e6 and more, which no 1/64 reaches.
-SMALLEST_FIRST_STEP = 1e-9
 # How many times an increment may find its contact sets wrong at convergence and solve again
 # with new ones; then it goes on with the unilateral law itself (a semi-smooth Newton), which
 # settles the nodes whose contact force is near zero (the lift-off of a wrapped strip), where
@@ -141,31 +125,9 @@ MAX_CONTACT_UPDATES = 3
 # ``Static(stall_iterations=N)``: an attempt whose residual ratio stayed above this over its
 # last N iterations is cut at once (``stalled``; docs/theory.md §6.5, "Stalled attempts").
 STALLED_RATIO = 0.1
-# Largest director rotation of one Newton update (rad). Far from equilibrium the tangent of a
-# layered shell can ask for director turns of several radians, which lead Newton into states
-# with collapsed cells or fibres stretched by orders of magnitude, where a log-strain
-# tension law still balances (bai-5.1, fibrous: |u| = 1e51 at "equilibrium").
-MAX_ROTATION = 0.5
 # The residual ratio above which the fibrous shell's tangent leaves its fibres' compression out
 # of its stress terms by default (``Static(compression_free=None)``; docs/theory.md §6.5).
 COMPRESSION_FREE = 1e-2
-
-
-class IncrementFailed(Exception):
-    """An increment that did not converge (caught to cut the increment); ``iterations`` and
-    ``history`` (the residual ratios) of the attempt, when known."""
-
-    iterations = 0
-    history: list[float] = []
-
-
-class StepTooLong(IncrementFailed):
-    """The first Newton step of an increment turns a director by ``turn`` (rad), more than
-    the ``turn_limit`` of ``newton``: the increment is cut before it is iterated."""
-
-    def __init__(self, turn: float):
-        super().__init__(f"the first Newton step turns a director by {turn:.3g} rad")
-        self.turn = turn
 
 
 def newton(
@@ -566,21 +528,6 @@ def mechanism(model: CompiledModel) -> str:
     return "a mechanism (a part or a node that nothing holds) or a bifurcation"
 
 
-def step_cap(model: CompiledModel, delta: np.ndarray, turn: float = MAX_ROTATION) -> float:
-    """The factor (<= 1) that keeps an update delta (n, 5) within ``turn`` (rad; MAX_ROTATION
-    unless ``Static(update_turn=...)``) of director rotation at every node and within the
-    model's size (its bounding-box diagonal) of translation."""
-    extent = float(np.linalg.norm(np.ptp(model.reference_positions, axis=0)))
-    translation = float(np.linalg.norm(delta[:, :3], axis=1).max(initial=0.0))
-    rotation = float(np.linalg.norm(delta[:, 3:], axis=1).max(initial=0.0))
-    cap = 1.0
-    if rotation > turn:
-        cap = turn / rotation
-    if extent > 0.0 and translation > extent:
-        cap = min(cap, extent / translation)
-    return cap
-
-
 class Residual:
     """The residual at one load factor: dead loads, the prescribed target and the ratio by
     which convergence is judged (solvers.convergence.Equilibrium: moments over one element,
@@ -675,126 +622,3 @@ class Tangent:
             k_ff = (k_ff + k[free][:, free]).tocsc()
             k_fp = k_fp + k[free][:, moved]
         return k_ff, k_fp
-
-
-class Watchdog:
-    """The watchdog line search of the load path (module docstring).
-
-    The merits of an iterate are its residual norm on the free DOFs and its total potential
-    Pi relative to the best iterate: Pi(x) - Pi(best) = W(x) - W(best) - (the dead loads' work
-    along the straight updates since the best iterate; exact for forces, and for moments on
-    each update, a rotation about a fixed axis). The strain energies W are evaluated only when
-    the residual does not already show the decrease.
-    """
-
-    def __init__(
-        self, run: StaticRun, equilibrium: Residual, enabled: bool, turn: float | None = None
-    ):
-        self.run, self.equilibrium, self.enabled = run, equilibrium, enabled
-        self.turn = turn  # Static(update_turn=...); None: MAX_ROTATION
-        self.free = run.model.dofs.free.ravel()
-        self.best: dict | None = None  # the best iterate and its Newton step
-        self.work = 0.0  # dead-load work along the updates since the best iterate
-        self.misses = 0
-        # the first iterate's step goes back as far as SMALLEST_FIRST_STEP with interactions
-        self.deepest = SMALLEST_FIRST_STEP if run.model.interactions else SMALLEST_STEP
-
-    def step(
-        self,
-        state: State,
-        frames: Frames,
-        delta: np.ndarray,
-        r: np.ndarray,
-        whole: bool,
-        straight: np.ndarray | None = None,
-    ):
-        """The next iterate from ``state`` with Newton step delta (n, 5) and residual r (n, 5):
-        (scale taken, new state, its internal forces); scale 0 when it went back.
-        ``straight``: the Newton step itself when delta is its curved form
-        (solvers.newton_curvature); the Armijo slope and the backtracking use it."""
-        cap = self._cap(delta) if self.enabled else 1.0
-        if not self.enabled or whole:
-            self.best = None  # the imposed motion starts a new search
-            # (the first free iterate after it keeps the deep backtracking: the imposed
-            # step is taken whole and cannot back off)
-            return self._take(state, frames, delta, cap)
-        deepest, self.deepest = self.deepest, SMALLEST_STEP
-        line = delta if straight is None else straight
-        here = {
-            "state": state,
-            "frames": frames,
-            "delta": line,
-            "cap": cap if straight is None else self._cap(straight),
-            "residual": float(np.linalg.norm(r.ravel()[self.free])),
-            "slope": -float(r.ravel()[self.free] @ line.ravel()[self.free]),  # dPi/ds
-            "energy": None,
-            "deepest": deepest,  # the smallest step back to this iterate's backtracking
-        }
-        if self.best is None or self._better(here):
-            self.best, self.misses, self.work = here, 0, 0.0
-        else:
-            self.misses += 1
-            if self.misses >= WATCHDOG:
-                return self._backtrack()
-        scale, trial, forces = self._take(state, frames, delta, cap)
-        if not np.isfinite(self.equilibrium.residual(trial, frames, forces)[1]):
-            return self._backtrack()
-        return scale, trial, forces
-
-    def _cap(self, delta: np.ndarray) -> float:
-        if self.turn is None:
-            return step_cap(self.run.model, delta)
-        return step_cap(self.run.model, delta, self.turn)
-
-    def _take(self, state, frames, delta, scale):
-        run = self.run
-        trial = run.model.dofs.advance(state, scale * delta, frames)
-        forces = run.model.internal_force(trial)
-        run.counts["residual"] += 1
-        self.work += scale * float(self.equilibrium.load(frames).ravel() @ delta.ravel())
-        return scale, trial, forces
-
-    def _energy(self, entry: dict) -> float:
-        if entry["energy"] is None:
-            entry["energy"] = self.run.energy(entry["state"])
-        return entry["energy"]
-
-    def _better(self, here: dict) -> bool:
-        """A real decrease from the best iterate: the residual norm by the Armijo fraction, or
-        the energy by that fraction of the best step's first-order decrease."""
-        best = self.best
-        assert best is not None
-        if here["residual"] <= (1.0 - ARMIJO) * best["residual"]:
-            return True
-        if best["slope"] >= 0.0:
-            return False
-        before, after = self._energy(best), self._energy(here)
-        drop = before - (after - self.work)
-        noise = 1e-10 * (abs(before) + abs(after))
-        return drop >= -ARMIJO * best["slope"] and drop > noise
-
-    def _backtrack(self):
-        """Back to the best iterate, then halve its Newton step until the residual or the
-        energy falls (Armijo); IncrementFailed when none does down to SMALLEST_STEP (to
-        SMALLEST_FIRST_STEP from the first iterate of a model with interactions)."""
-        best = self.best
-        assert best is not None
-        state, frames, delta = best["state"], best["frames"], best["delta"]
-        load_rate = float(self.equilibrium.load(frames).ravel() @ delta.ravel())
-        scale = 0.5 * best["cap"]
-        while scale >= best["deepest"] * best["cap"]:
-            trial = self.run.model.dofs.advance(state, scale * delta, frames)
-            r, ratio, forces = self.equilibrium.residual(trial, frames)
-            if np.isfinite(ratio):
-                residual = float(np.linalg.norm(r.ravel()[self.free]))
-                accepted = residual <= (1.0 - ARMIJO * scale) * best["residual"]
-                if not accepted and best["slope"] < 0.0:
-                    change = self.run.energy(trial) - self._energy(best) - scale * load_rate
-                    accepted = change <= ARMIJO * scale * best["slope"]
-                if accepted:
-                    self.best, self.misses, self.work = None, 0, 0.0
-                    return 0.0, trial, forces
-            scale *= 0.5
-        raise IncrementFailed(
-            "the line search found no step that lowers the energy or the residual"
-        )

@@ -13,7 +13,8 @@ from femcore.state import State
 from solvers.linear import Factorisation
 
 if TYPE_CHECKING:
-    from solvers.newton import Residual, Watchdog
+    from solvers.line_search import Watchdog
+    from solvers.newton import Residual
     from solvers.static import StaticRun
 
 __all__ = ["chord_corrections"]

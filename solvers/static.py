@@ -104,7 +104,7 @@ class Static:
         increment its attempts are iterated unchecked. The load path's steps after an arc
         length's jump (``at_limit="jump"``) are checked too, the jump's first step not.
     update_turn : the largest director rotation of a Newton update taken by the line search
-        (rad; None, the default: solvers.newton.MAX_ROTATION, 0.5). A smaller cap keeps a
+        (rad; None, the default: solvers.line_search.MAX_ROTATION, 0.5). A smaller cap keeps a
         turning ply stack's updates within the second-order errors its contact's ramp holds
         (the 4- and 8-ply heavy stacks of plies-deck-of-cards at 0.03: 345 -> 205 and 409 ->
         195 tangents, plies-heavy-cantilever's 233 -> 177; docs/theory.md §6.5, "Updates of a

@@ -60,7 +60,7 @@ def test_following_passes_over_interactions_that_carry_nothing():
 
 def test_an_increment_that_was_cut_is_retried_with_the_tools_followed():
     """``follow_tools_after_cut``: the plane lifts 40 mm in two increments, 10 times the
-    cable's 4 mm extent, which caps each Newton update (solvers.newton.step_cap), and only 2
+    cable's 4 mm extent, which caps each Newton update (solvers.line_search.step_cap), and only 2
     iterations are allowed. Not followed, each retry still starts with the plane inside the
     cable by its whole (halved) step, and the run stops after one cut. With the retries
     followed, each increment's first attempt fails as before, its two halves start where the

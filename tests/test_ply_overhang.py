@@ -7,7 +7,7 @@ first Newton step sees no contact and drops the upper ply through the lower one 
 sag (2.5 mm at the full load, 5 ply thicknesses, 1e5 times the equilibrium's penetration),
 and the line search's backtracking, which stopped at 1/64 of the step, failed the first
 increment in 8 cuts on both models. From an increment's first iterate in a model with
-interactions it now goes back as far as 1e-9 of the step (solvers/newton.py,
+interactions it now goes back as far as 1e-9 of the step (solvers/line_search.py,
 ``SMALLEST_FIRST_STEP``; benchmarks/ply_overhang.py has the figures)."""
 
 from types import SimpleNamespace
@@ -118,25 +118,26 @@ def test_an_imposed_first_step_leaves_the_deep_backtracking_to_the_first_free_it
 ):
     """An increment whose first iterate imposes prescribed motion takes that step whole (it
     cannot back off); the deep backtracking of a model with interactions
-    (solvers/newton.py SMALLEST_FIRST_STEP) is then the next iterate's, the first that can
+    (solvers/line_search.py SMALLEST_FIRST_STEP) is then the next iterate's, the first that can
     fall through a contact its tangent does not hold."""
-    import solvers.newton as newton
+    import solvers.line_search as line_search
 
     model = SimpleNamespace(
         interactions=[object()],
         dofs=SimpleNamespace(free=np.ones((2, 5), bool)),
         internal_force=lambda state: None,
+        reference_positions=np.zeros((2, 3)),
     )
     run = SimpleNamespace(model=model, counts={"residual": 0}, info={})
     residual = SimpleNamespace(residual=lambda *args: (np.zeros((2, 5)), 0.0, None))
-    watchdog = newton.Watchdog(run, residual, True)
-    monkeypatch.setattr(newton, "step_cap", lambda model, delta: 1.0)
+    watchdog = line_search.Watchdog(run, residual, True)
+    monkeypatch.setattr(line_search, "step_cap", lambda extent, delta, turn: 1.0)
     monkeypatch.setattr(watchdog, "_take", lambda state, frames, delta, cap: (1.0, state, None))
     ones = np.ones((2, 5))
     watchdog.step("imposed", None, ones, ones, True)
     watchdog.step("free", None, ones, ones, False)
-    assert watchdog.best["deepest"] == newton.SMALLEST_FIRST_STEP
-    assert watchdog.deepest == newton.SMALLEST_STEP  # the iterates after it: 1/64
+    assert watchdog.best["deepest"] == line_search.SMALLEST_FIRST_STEP
+    assert watchdog.deepest == line_search.SMALLEST_STEP  # the iterates after it: 1/64
 
 
 def test_a_diverged_state_is_named_by_the_ply_contact():

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-import solvers.newton as newton_module
+import solvers.line_search as line_search
 import solvers.penalty_start as penalty_start_module
 import solvers.static as static_module
 from elements.plies import PlyStack
@@ -38,7 +38,7 @@ def test_detail_records_every_iterate_of_a_ply_stack(monkeypatch):
     monkeypatch.setattr(sys, "path", list(sys.path))
     monkeypatch.setattr(penalty_start_module, "newton", penalty_start_module.newton)
     monkeypatch.setattr(static_module.StaticRun, "tangent", static_module.StaticRun.tangent)
-    monkeypatch.setattr(newton_module.Watchdog, "step", newton_module.Watchdog.step)
+    monkeypatch.setattr(line_search.Watchdog, "step", line_search.Watchdog.step)
     script = _script()
     script.instrument()
     fabric = Fabric(

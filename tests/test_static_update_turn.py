@@ -1,5 +1,5 @@
 """Static's cap on the director turn of one Newton update (``Static(update_turn=...)``,
-solvers.newton.step_cap; docs/theory.md §6.5, "Updates of a turning stack")."""
+solvers.line_search.step_cap; docs/theory.md §6.5, "Updates of a turning stack")."""
 
 import sys
 from pathlib import Path
@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import solvers.newton as newton_module
+import solvers.line_search as line_search
 from solvers import Static
 from validation.cases import plies_deck_of_cards as deck
 
@@ -25,13 +25,13 @@ def _turns(monkeypatch, solver):
     """The solve of the rolled-up strip and the largest director turn of each update the line
     search takes (its scale times the Newton step), rad."""
     turns = []
-    plain = newton_module.Watchdog._take
+    plain = line_search.Watchdog._take
 
     def take(self, state, frames, delta, scale):
         turns.append(scale * float(np.linalg.norm(delta[:, 3:], axis=1).max(initial=0.0)))
         return plain(self, state, frames, delta, scale)
 
-    monkeypatch.setattr(newton_module.Watchdog, "_take", take)
+    monkeypatch.setattr(line_search.Watchdog, "_take", take)
     return solver.solve(_rollup()), turns
 
 
