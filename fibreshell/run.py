@@ -101,8 +101,8 @@ def run_case(
         streams its frames whatever it says: that keeps its memory flat.
 
     The folder is checked first (femcore.writable.check_folder: a folder, writable, room for
-    the first frames). Static runs write each frame as its increment converges, explicit runs
-    as they go: a killed run leaves those frames (and the checkpoint).
+    the first frames when frames are written). Static runs write each frame as its increment
+    converges, explicit runs as they go: a killed run leaves those frames (and the checkpoint).
 
     Raises
     ------
@@ -115,8 +115,11 @@ def run_case(
     from fibreshell.calibration import Calibration
 
     mesh = case.mesh
-    check_folder(out, "output folder", needed=FIRST_FRAMES * frame_bytes(mesh))
     kind = case.solver["kind"]
+    # Room for the first frames only where frames are written (an explicit run always).
+    frames_written = write_frames or kind == "explicit"
+    needed = FIRST_FRAMES * frame_bytes(mesh) if frames_written else 0
+    check_folder(out, "output folder", needed=needed)
     named = case.solver.get("checkpoint")
     checkpoint = None if named is None else out / named
     if resume and (checkpoint is None or not checkpoint.exists()):

@@ -5,13 +5,16 @@ this process), and a failed variant a row with its error, never a lost sweep."""
 
 import copy
 import csv
+import json
 import os
 import re
+import shutil
 
 import numpy as np
 import pytest
 from shell_helpers import clamped_strip_tables
 
+from femcore.writable import OutputError
 from fibreshell import sweep as sweep_module
 from fibreshell.case import case_from_data
 from fibreshell.cli import main
@@ -265,6 +268,46 @@ def test_a_variant_without_a_folder_writes_no_frames_and_gives_the_same_row(tmp_
     bare.mkdir()
     run_case(case_from_data(tables, "strip"), bare, progress=False, write_frames=False)
     assert sorted(path.name for path in bare.iterdir()) == ["history.csv", "summary.json"]
+
+
+def test_a_run_without_frames_asks_no_room_for_them(tmp_path, monkeypatch):
+    # The folder check demands room for the first frames (femcore.writable.check_folder); a
+    # run that writes none (run_case(write_frames=False)) starts on a disk with none free,
+    # one that writes them is refused there before anything runs.
+    import femcore.writable
+
+    full = shutil._ntuple_diskusage(1_000_000_000, 1_000_000_000, 0)  # total, used, free
+    monkeypatch.setattr(femcore.writable.shutil, "disk_usage", lambda _: full)
+    case = case_from_data(cantilever(), "strip")
+    bare = run_case(case, tmp_path / "bare", progress=False, write_frames=False)
+    assert bare.status == "done" and (tmp_path / "bare" / "summary.json").is_file()
+    with pytest.raises(OutputError, match="0 MB free on its disk, the frames need about"):
+        run_case(case, tmp_path / "framed", progress=False)
+    assert not (tmp_path / "framed" / "summary.json").exists()
+
+
+def test_a_relaxation_without_frames_writes_no_series_and_the_same_rows(tmp_path):
+    # The relaxation's frames are written after its run (run_case's relaxation branch): with
+    # write_frames=False no result.pvd, and history.csv and summary.json those of the run that
+    # writes it, to the bit but for the wall time and the checkpoint's path (the frames are
+    # only written, never read back).
+    tables = cantilever()
+    tables["solver"] = {"kind": "relaxation"}
+    case = case_from_data(tables, "strip")
+    runs = {}
+    for name, frames in (("bare", False), ("framed", True)):
+        runs[name] = run_case(case, tmp_path / name, progress=False, write_frames=frames)
+    assert not (tmp_path / "bare" / "result.pvd").exists()
+    assert (tmp_path / "framed" / "result.pvd").is_file()
+    assert runs["bare"].status == runs["framed"].status == "done"
+    bare, framed = (
+        (tmp_path / name / "history.csv").read_text().splitlines() for name in ("bare", "framed")
+    )
+    assert len(bare) > 1 and bare == framed
+    summaries = [json.loads((tmp_path / name / "summary.json").read_text()) for name in runs]
+    for summary in summaries:
+        summary.pop("wall_time_s"), summary.pop("checkpoint")
+    assert summaries[0] == summaries[1]
 
 
 def test_a_sweep_in_process_takes_no_cluster_arguments():
