@@ -16,8 +16,9 @@ Newton iterations, 4 cuts), 4 plies 166.6 s (394 iterations, 7 cuts); two thread
 222.6 s (the same iterations: the load, not the threads, set those times). 20 plies were run
 apart (one thread): no convergence at the first displacement increment after 35 min.
 
-Run: python benchmarks/plies.py [N ...]   (default N = 4 20; the default threads are
-NUMBA_NUM_THREADS or the core count, and each model also runs on one thread)
+Run: python benchmarks/plies.py [N ...] [--curved | --flat]   (default N = 4 20; the default
+threads are NUMBA_NUM_THREADS or the core count, and each model also runs on one thread;
+--help lists the options)
 
 ``--curved``: the curved faces' facing search (elements/ply_curved.py) of a [0/45] pair laid
 on the hemisphere's 50-mm punch sphere, 0.1 mm into each other and jittered by 0.05 mm
@@ -39,6 +40,7 @@ holding triangle, else the nearest's extended plane), the same script run on eac
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import time
@@ -190,9 +192,18 @@ def flat() -> None:
 
 
 if __name__ == "__main__":
-    if "--flat" in sys.argv:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "counts", nargs="*", type=int, default=[4, 20], metavar="N",
+        help="ply counts of the stacks solved beside the fibrous shell (default: 4 20)",
+    )  # fmt: skip
+    study = parser.add_mutually_exclusive_group()
+    study.add_argument("--curved", action="store_true", help="the curved faces' facing search")
+    study.add_argument("--flat", action="store_true", help="the flat faces' contact force")
+    arguments = parser.parse_args()
+    if arguments.flat:
         flat()
-    elif "--curved" in sys.argv:
+    elif arguments.curved:
         curved()
     else:
-        main([int(a) for a in sys.argv[1:]] or [4, 20])
+        main(arguments.counts)

@@ -67,11 +67,13 @@ the mirrored pass at the lower ply's nodes, its outline node on the edge holds t
 there: the support's end lies between the edge and D past it, whatever the upper points'
 places, and its error is D's alone (first order in the lower cell).
 
-Run: python benchmarks/ply_margin.py [quick | refined]
+Run: python benchmarks/ply_margin.py [quick | refined]   (none: the full study; --help lists
+the choices)
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import time
@@ -260,7 +262,14 @@ def main(quick: bool = False) -> None:
 
 
 if __name__ == "__main__":
-    if "refined" in sys.argv[1:]:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "study", nargs="?", choices=("quick", "refined"),
+        help="quick: 6 and 12 upper cells on 4, 8, 16 lower cells; refined: the upper ply at "
+        "12, 22, 32, 42 cells on 32 and 64 lower cells; none: the full study (docstring)",
+    )  # fmt: skip
+    arguments = parser.parse_args()
+    if arguments.study == "refined":
         refined()
     else:
-        main("quick" in sys.argv[1:])
+        main(arguments.study == "quick")
