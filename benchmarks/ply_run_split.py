@@ -26,8 +26,10 @@ inflated by the load; the shares are of a profiled run's march):
   2 / 4 / 8 / 100 j. A larger j (B2's scaling, docs/theory.md §6.2) would take the Mindlin
   runs' steps to about 0.6 of today's at 4 j (some 9-10 s of the case's CPU), but it moves
   the results: the rotational kinetic energy the quasi-static check counts, and the
-  contacts' penalties, calibrated on the critical step, softer by its square. A model
-  change, not made here.
+  contacts' penalties, then calibrated on the critical step, softer by its square (since
+  sized on the step at the closed j whatever j, docs/theory.md §6.2 "The penalty's step";
+  the element rule then did not pay, docs/hemisphere_forming.md). These figures are of the
+  case's [0/90] Mindlin run at its pace before it was slowed x2.
 * shares of the march, Mindlin [0/90] / fibrous [0/90]: the two ply blocks' committed history
   0.403 / 0.321, of it the facing (all calls) 0.297 / 0.224: the whole facing's compiled pair
   0.136 / 0.117, the search's candidates 0.117 / 0.068, of which the full re-searches 0.061 /

@@ -18,9 +18,11 @@ slip 2.5 -> 23.8 mm, largest KE / W 0.115 -> 0.169 (its rotational part 0.057 ->
 [0/45] ply 1 rms 3.02 -> 1.78 deg, punch force 289 -> 123 N; hemisphere-forming's Mindlin
 draw-ins within 1.1 %, its rms shear - net 2.09 -> 1.88 deg, punch force 78.3 -> 56.4 N.
 Mostly not through j itself (benchmarks/mindlin_rotary_inertia.py): the tool contacts'
-penalty follows the model's step (elements/contact.py), softer as j lengthens it, and the
-two-ply [0/90] Mindlin run at its default pace is not quasi-static; with the penalties held and
-the stroke slowed x4, j x4 gives the closed form's slow answer. Left to a decision on the cases.
+penalty then followed the model's step, softer as j lengthened it, and the two-ply [0/90]
+Mindlin run at its pace then was not quasi-static; with the penalties held and the stroke
+slowed x4, j x4 gave the closed form's slow answer. Since, the penalty is sized on the step at
+the closed j whatever j a shell is given (docs/theory.md §6.2, "The penalty's step"), and the
+[0/90] Mindlin stroke is slowed x2; these figures are of the code before.
 
 Measured (one thread): the step over the held step, closed form / element rule, and the
 rule's factor on j: equivalent 0.465 / 0.950 (x8.26, j 16.3 -> 134.4 mm^2), fabric section

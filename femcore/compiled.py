@@ -185,7 +185,10 @@ class CompiledModel(CompiledTangent):
             dt = self.stable_dt(state0)
             penalty_step = self.penalty_stable_dt(state0)
             for interaction in self.interactions:
-                interaction.calibrate(self.mass0, dt, penalty_step)
+                if _calibrate_takes_penalty_step(interaction.calibrate):
+                    interaction.calibrate(self.mass0, dt, penalty_step)
+                else:  # a block written to the protocol's calibrate(mass, stable_dt)
+                    interaction.calibrate(self.mass0, dt)
         self._has_history = any(h is not None for h in state0.history)
         self._no_history = (None,) * len(self.parts)
         self._load_terms = load_terms(model.loads, active)
@@ -539,6 +542,15 @@ def _takes_mass(kind: Any) -> bool:
     if kind not in _TAKES_MASS:
         _TAKES_MASS[kind] = "mass" in inspect.signature(kind.springs_at).parameters
     return _TAKES_MASS[kind]
+
+
+def _calibrate_takes_penalty_step(calibrate: Any) -> bool:
+    """Whether an interaction block's bound ``calibrate`` takes the penalty's step beside
+    (mass, stable_dt): blocks written to the two-argument form the protocol had before still
+    compile, given the critical step alone."""
+    parameters = inspect.signature(calibrate).parameters.values()
+    named = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    return len(named) >= 3 or any(p.kind == p.VAR_POSITIONAL for p in parameters)
 
 
 def _takes_step(kind: Any) -> bool:

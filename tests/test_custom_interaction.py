@@ -497,3 +497,29 @@ def test_an_interaction_whose_springs_at_takes_the_masses_is_handed_them():
         mass, weighed.initial_state(), step
     ) == plain.penalty_frequency_squared(mass, state, step)
     np.testing.assert_array_equal(floor.block.masses[-1], mass)
+
+
+class TwoArgumentCalibrateBlock(PlaneContactBlock):
+    """A floor sized from the elements by ``calibrate(mass, stable_dt)``, the protocol's
+    two-argument form (README), without the penalty's step."""
+
+    def calibrate(self, mass, stable_dt):
+        nodes = self.connectivity[:, 0]
+        self.stiffness = 0.1 * mass[nodes] * (2.0 / stable_dt) ** 2
+
+
+class TwoArgumentCalibrateFloor(PlaneContact):
+    block_class = TwoArgumentCalibrateBlock
+
+
+def test_a_user_interaction_whose_calibrate_takes_mass_and_step_alone_is_sized_by_it():
+    """Its calibrate gets the lumped masses and the elements' critical step (before, a
+    TypeError: the model handed it a third argument, the penalty's step)."""
+    model = cable_on_the_floor()
+    model.interactions[0] = TwoArgumentCalibrateFloor("all", K)
+    compiled = model.compile()
+    block = compiled.interactions[0]
+    nodes = block.connectivity[:, 0]
+    state = compiled.initial_state()
+    expected = 0.1 * compiled.mass0[nodes] * (2.0 / compiled.stable_dt(state)) ** 2
+    np.testing.assert_array_equal(block.stiffness, expected)

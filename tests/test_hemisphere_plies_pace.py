@@ -10,14 +10,17 @@ the run (benchmarks/mindlin_rotary_inertia.py; docs/hemisphere_forming.md "The M
 rotary inertia"). The flange's wrinkles snap through at a pace-dependent instant and the plies
 slip with them; KE / W, a mean over the blank, does not fall with the pace.
 
-Tolerances: above the slowed runs' scatter and far below the departure they guard against.
-On the closed rotary inertia, the stroke slowed x2 (the case's) against x4: the largest slip
-0.593 / 0.591 mm, the rms slip 0.292 / 0.285 mm, the draw-ins within 0.21 mm, the late force
-96.04 / 94.77 N (1.3 %); at the 0.1-s stroke against x2 the largest slip was 2.47 / 0.59 mm
-and the corners' draw-in 17.0 / 12.8 mm and 21.5 / 12.9 mm (the test fails there), and the
-element rule's runs slowed x2 and x4 slipped 11.1 and 9.0 mm against 0.57 slowed x8
-(benchmarks/mindlin_rotary_inertia.py; docs/hemisphere_forming.md, "The penalty at the closed
-j's step, the element rule, and the two plies' pace").
+Tolerances: above the slowed runs' scatter and below the departure they guard against, the
+largest slip and the draw-ins by far, the rms slip and the late force by less (at the 0.1-s
+stroke against x2: the largest slip 1.876 mm apart, draw-ins 1.04-8.59 mm, the rms slip 0.190
+mm, the late force 3.29 %; hence 0.05 mm and 2 % for those two, where x2 against x4 differ by
+0.0063 mm and 1.35 %). On the closed rotary inertia, the stroke slowed x2 (the case's) against
+x4: the largest slip 0.593 / 0.591 mm, the rms slip 0.292 / 0.285 mm, the draw-ins within 0.21
+mm, the late force 96.04 / 94.77 N (1.3 %); at the 0.1-s stroke against x2 the largest slip was
+2.47 / 0.59 mm and the corners' draw-in 17.0 / 12.8 mm and 21.5 / 12.9 mm (the test fails
+there), and the element rule's runs slowed x2 and x4 slipped 11.1 and 9.0 mm against 0.57
+slowed x8 (benchmarks/mindlin_rotary_inertia.py; docs/hemisphere_forming.md, "The penalty at
+the closed j's step, the element rule, and the two plies' pace").
 """
 
 from __future__ import annotations
@@ -31,9 +34,10 @@ from femcore.loads import smooth_step
 from validation.studies import hemisphere_plies_run as study
 from validation.studies.hemisphere_plies_setup import HOLDER_FORCES
 
-SLIP_MM = 0.2  # the largest and the rms inter-ply slip
+SLIP_MM = 0.2  # the largest inter-ply slip
+RMS_SLIP_MM = 0.05  # the rms inter-ply slip
 DRAW_IN_MM = 0.5  # each ply's draw-in of the edge middle and of the corner
-LATE_FORCE = 0.03  # relative: the punch's mean force over the last fifth of its travel
+LATE_FORCE = 0.02  # relative: the punch's mean force over the last fifth of its travel
 
 
 def _measures(slowing: float) -> dict[str, float]:
@@ -74,7 +78,7 @@ def pace_departures(slowing: float) -> dict[str, float]:
 def test_the_mindlin_plies_run_is_at_its_quasi_static_answer():
     departure = pace_departures(study.STROKE_SLOWING[("0/90", "mindlin")])
     assert departure["largest slip"] <= SLIP_MM, departure
-    assert departure["rms slip"] <= SLIP_MM, departure
+    assert departure["rms slip"] <= RMS_SLIP_MM, departure
     for k in (1, 2):
         assert departure[f"ply {k} edge"] <= DRAW_IN_MM, departure
         assert departure[f"ply {k} corner"] <= DRAW_IN_MM, departure
