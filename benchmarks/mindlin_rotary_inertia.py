@@ -173,10 +173,9 @@ VARIANTS = {
 
 def _scale_penalties(factor: float) -> None:
     """Every automatic penalty (tool contacts and ply on ply) times ``factor``."""
-    from elements import contact_penalty, ply_block
+    from elements import contact_penalty
 
-    contact_penalty.PENALTY_SHARE *= factor
-    ply_block.PENALTY_SHARE *= factor
+    contact_penalty.PENALTY_SHARE *= factor  # the one share of tool and ply contacts
 
 
 def _scale_rotary_inertia(factor: float | str) -> None:

@@ -29,6 +29,7 @@ from elements import (
     ply_springs,
     ply_surface,
 )
+from elements.contact_penalty import PENALTY_SHARE, automatic_penalty
 from elements.kept_bits import same_bits
 from elements.ply_fade import (
     OutlineTree,
@@ -67,7 +68,6 @@ HESSIAN_WITH_LOADS = True
 #: The facing before the last kept too (``PlyContactBlock.facing``); False: the last alone, as
 #: before (benchmarks/ply_static_parts.py compares the two).
 KEEP_FACING_BEFORE = True
-PENALTY_SHARE = 0.1  # k m^-1 / omega_max^2 of the automatic penalty (as elements/contact.py)
 #: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py,
 #: elements/ply_curved_friction.py); False: the flat facet's at the curved projection, normal
 #: and friction, the tangent before (benchmarks/ply_curved_static.py compares the two).
@@ -265,8 +265,7 @@ class PlyContactBlock(InteractionBlock):
         # the automatic penalty (elements/ply_contact.py, "Penalty"), on the step at the
         # closed-form rotary inertia where it is given (elements/contact_penalty.py)
         if np.isnan(self.node_stiffness).any():
-            step = stable_dt if penalty_step is None else penalty_step
-            self.node_stiffness = PENALTY_SHARE * mass[self.upper] * (2.0 / step) ** 2
+            self.node_stiffness = automatic_penalty(mass[self.upper], stable_dt, penalty_step)
             self.stiffness = self._point_stiffness()
 
     def set_penalty(self, node_stiffness: np.ndarray) -> None:
