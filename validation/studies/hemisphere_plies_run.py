@@ -82,6 +82,18 @@ SOURCE = "Mack and Taylor (1956) pin-jointed net on the sphere, per ply orientat
 RMS_TOLERANCE_DEG = {8: 8.8, 10: 5.1} | {cells: 5.1 for cells in range(12, 33, 2)}
 
 
+def _slowed_runs(plan) -> str:
+    """The strokes of the runs of ``plan`` (cells, layup, kinematics, holder force) that
+    STROKE_SLOWING slows, as ' ([0/90] mindlin 0.2 s)', or '' where it slows none of them (a
+    coarse plan without Mindlin runs)."""
+    slowed = [
+        f"[{name}] {kinematics} {_duration(name, kinematics):g} s"
+        for (name, kinematics) in STROKE_SLOWING
+        if any((entry[1], entry[2]) == (name, kinematics) for entry in plan)
+    ]
+    return f" ({', '.join(slowed)})" if slowed else ""
+
+
 def _duration(name: str, kinematics: str) -> float:
     """The stroke of the ``name`` layup's ``kinematics`` run, s: DURATION (as this module
     holds it) times its STROKE_SLOWING (validation/studies/hemisphere_plies_setup.py)."""
@@ -470,9 +482,8 @@ def compute_plan(plan: list[tuple[int, str, str, float]]) -> Outcome:
         converged=all(r.converged for r in runs.values()) and all(converged),
         wall_time_s=sum(wall),
         steps=sum(steps),
-        solver=f"CentralDifference, {DURATION} s ("
-        + ", ".join(f"[{n}] {k} {DURATION * v:g} s" for (n, k), v in STROKE_SLOWING.items())
-        + "), no mass scaling, the default safety",
+        solver=f"CentralDifference, {DURATION} s{_slowed_runs(plan)}, no mass scaling, the "
+        "default safety",
         parameters=parameters,
         checks=checks,
         data=PliesData(layups, runs, shear, net_shear, in_die, drawn),
