@@ -544,25 +544,29 @@ def _takes_mass(kind: Any) -> bool:
     return _TAKES_MASS[kind]
 
 
+def _takes_positional(function: Any, count: int, besides: tuple[str, ...] = ()) -> bool:
+    """Whether ``function`` takes ``count`` positional arguments (those named ``besides`` not
+    counted), or any number of them: how a protocol method written to an older, shorter
+    signature is told apart."""
+    parameters = inspect.signature(function).parameters.values()
+    named = [
+        p
+        for p in parameters
+        if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.name not in besides
+    ]
+    return len(named) >= count or any(p.kind == p.VAR_POSITIONAL for p in parameters)
+
+
 def _calibrate_takes_penalty_step(calibrate: Any) -> bool:
     """Whether an interaction block's bound ``calibrate`` takes the penalty's step beside
     (mass, stable_dt): blocks written to the two-argument form the protocol had before still
     compile, given the critical step alone."""
-    parameters = inspect.signature(calibrate).parameters.values()
-    named = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
-    return len(named) >= 3 or any(p.kind == p.VAR_POSITIONAL for p in parameters)
+    return _takes_positional(calibrate, 3)
 
 
 def _takes_step(kind: Any) -> bool:
     """Whether ``kind.springs_at`` (an interaction block's class) takes the step beside the
     state (kept by class: asked at every evaluation of the step)."""
     if kind not in _TAKES_STEP:
-        parameters = inspect.signature(kind.springs_at).parameters.values()
-        named = [
-            p
-            for p in parameters
-            if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.name != "mass"
-        ]
-        variable = any(p.kind == p.VAR_POSITIONAL for p in parameters)
-        _TAKES_STEP[kind] = len(named) >= 3 or variable
+        _TAKES_STEP[kind] = _takes_positional(kind.springs_at, 3, besides=("mass",))
     return _TAKES_STEP[kind]
