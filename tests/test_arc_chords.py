@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from solvers import Static
-from tests.test_static import _von_mises_truss
+from tests.test_static import _von_mises_truss, assert_on_the_truss_closed_form
 from validation.references.elastica import tip_loaded_cantilever
 from validation.specimens import mindlin_strip
 
@@ -23,22 +23,7 @@ def test_chord_steps_keep_the_truss_on_its_closed_form_path_and_its_limit_points
     result = Static(increments=12, path="arc_length", arc_chords=1e-3).solve(model)
     assert plain.info["arc_chords"] == 0 and result.info["arc_chords"] > 0
     assert result.info["evaluations"]["tangent"] < 0.8 * plain.info["evaluations"]["tangent"]
-    w = np.array([rise - frame.positions[2, 2] for frame in result.frames])
-    lam = np.array([frame.load_factor for frame in result.frames])
-    assert lam[-1] == 1.0
-    assert np.abs(travel(w) - 6.0 * lam).max() <= 1e-6
-    dense_w = np.linspace(0.0, 2.5, 250_001)
-    dense_t = travel(dense_w)
-    slope = np.gradient(dense_t, dense_w)
-    expected_unstable = np.interp(w[1:], dense_w, slope) < 0.0
-    unstable = np.array(result.info["negative_eigenvalues"]) > 0
-    assert np.array_equal(unstable, expected_unstable)
-    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
-    second_limit = dense_t[dense_w > 0.5].min() / 6.0
-    limits = result.info["limit_points"]
-    assert len(limits) == 2
-    assert limits[0] == pytest.approx(first_limit, abs=1e-3 * 6)
-    assert limits[1] == pytest.approx(second_limit, abs=1e-3 * 6)
+    assert_on_the_truss_closed_form(result, rise, travel)
 
 
 def test_chord_steps_bend_the_cantilever_to_the_elastica():

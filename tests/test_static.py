@@ -239,6 +239,30 @@ def test_load_control_jumps_the_snap_through_onto_the_far_stable_branch():
     assert jumped.info["jumps"] == [pytest.approx(first_limit, abs=0.02)]
 
 
+def assert_on_the_truss_closed_form(result, rise, travel) -> tuple[np.ndarray, float]:
+    """The arc-length path of ``_von_mises_truss`` on its closed form: every frame on t(w) =
+    6 lambda to 1e-6, ending at lambda = 1; the unstable frames (a negative eigenvalue) those
+    with dt/dw < 0; the two limit loads those of the closed form to the step's resolution
+    (lambda is flat at a limit, 1e-3). Returns the frames' load factors and the first limit."""
+    w = np.array([rise - frame.positions[2, 2] for frame in result.frames])
+    lam = np.array([frame.load_factor for frame in result.frames])
+    assert lam[-1] == 1.0
+    assert np.abs(travel(w) - 6.0 * lam).max() <= 1e-6
+    dense_w = np.linspace(0.0, 2.5, 250_001)
+    dense_t = travel(dense_w)
+    slope = np.gradient(dense_t, dense_w)
+    expected_unstable = np.interp(w[1:], dense_w, slope) < 0.0
+    unstable = np.array(result.info["negative_eigenvalues"]) > 0
+    assert np.array_equal(unstable, expected_unstable)
+    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
+    second_limit = dense_t[dense_w > 0.5].min() / 6.0
+    limits = result.info["limit_points"]
+    assert len(limits) == 2
+    assert limits[0] == pytest.approx(first_limit, abs=1e-3 * 6)
+    assert limits[1] == pytest.approx(second_limit, abs=1e-3 * 6)
+    return lam, first_limit
+
+
 def test_arc_length_follows_the_snap_through_along_its_closed_form_path():
     # Crisfield's arc length follows the whole path: up to the first limit point, down the
     # unstable part (the spring end travels back, lambda falls below zero) and up the far
@@ -247,22 +271,7 @@ def test_arc_length_follows_the_snap_through_along_its_closed_form_path():
     # closed form (to the step resolution: lambda is flat at a limit, 1e-3).
     model, rise, truss_force, travel = _von_mises_truss()
     result = Static(increments=12, path="arc_length").solve(model)
-    w = np.array([rise - frame.positions[2, 2] for frame in result.frames])
-    lam = np.array([frame.load_factor for frame in result.frames])
-    assert lam[-1] == 1.0
-    assert np.abs(travel(w) - 6.0 * lam).max() <= 1e-6
-    slope = np.gradient(travel(np.linspace(0.0, 2.5, 250_001)), 1e-5)
-    dense_w = np.linspace(0.0, 2.5, 250_001)
-    expected_unstable = np.interp(w[1:], dense_w, slope) < 0.0
-    unstable = np.array(result.info["negative_eigenvalues"]) > 0
-    assert np.array_equal(unstable, expected_unstable)
-    dense_t = travel(dense_w)
-    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
-    second_limit = dense_t[dense_w > 0.5].min() / 6.0
-    limits = result.info["limit_points"]
-    assert len(limits) == 2
-    assert limits[0] == pytest.approx(first_limit, abs=1e-3 * 6)
-    assert limits[1] == pytest.approx(second_limit, abs=1e-3 * 6)
+    lam, first_limit = assert_on_the_truss_closed_form(result, rise, travel)
     rising = lam[: np.argmax(np.diff(lam) < 0) + 1]
     assert lam.min() < 0.0 and rising.max() <= first_limit + 1e-9
 
