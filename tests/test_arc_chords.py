@@ -2,11 +2,14 @@
 docs/theory.md §6.6 "Chord steps"): iterations at small residual ratios step with the
 increment's last factorisation; the path and its equilibria stay those of the closed forms."""
 
-import numpy as np
 import pytest
 
 from solvers import Static
-from tests.test_static import _von_mises_truss, assert_on_the_truss_closed_form
+from tests.test_static import (
+    _von_mises_truss,
+    assert_on_the_truss_closed_form,
+    truss_limit_loads,
+)
 from validation.references.elastica import tip_loaded_cantilever
 from validation.specimens import mindlin_strip
 
@@ -63,10 +66,7 @@ def test_the_largest_chord_ratio_keeps_both_limit_points_of_the_truss(increments
     # near branch onto the far one past the unstable part and the path failed beyond both.
     model, rise, _, travel = _von_mises_truss()
     result = Static(increments=increments, path="arc_length", arc_chords=1e-2).solve(model)
-    dense_w = np.linspace(0.0, 2.5, 250_001)
-    dense_t = travel(dense_w)
-    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
-    second_limit = dense_t[dense_w > 0.5].min() / 6.0
+    first_limit, second_limit = truss_limit_loads(travel)
     limits = result.info["limit_points"]
     assert len(limits) == 2
     assert limits[0] == pytest.approx(first_limit, abs=0.05 * abs(first_limit))

@@ -239,6 +239,14 @@ def test_load_control_jumps_the_snap_through_onto_the_far_stable_branch():
     assert jumped.info["jumps"] == [pytest.approx(first_limit, abs=0.02)]
 
 
+def truss_limit_loads(travel) -> tuple[float, float]:
+    """The load factors of the two limit points of ``_von_mises_truss``'s closed form t(w) = 6
+    lambda: where t first turns down, and its least value on the far branch (w > 0.5)."""
+    dense_w = np.linspace(0.0, 2.5, 250_001)
+    dense_t = travel(dense_w)
+    return dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0, dense_t[dense_w > 0.5].min() / 6.0
+
+
 def assert_on_the_truss_closed_form(result, rise, travel) -> tuple[np.ndarray, float]:
     """The arc-length path of ``_von_mises_truss`` on its closed form: every frame on t(w) =
     6 lambda to 1e-6, ending at lambda = 1; the unstable frames (a negative eigenvalue) those
@@ -254,8 +262,7 @@ def assert_on_the_truss_closed_form(result, rise, travel) -> tuple[np.ndarray, f
     expected_unstable = np.interp(w[1:], dense_w, slope) < 0.0
     unstable = np.array(result.info["negative_eigenvalues"]) > 0
     assert np.array_equal(unstable, expected_unstable)
-    first_limit = dense_t[np.argmax(np.diff(dense_t) < 0)] / 6.0
-    second_limit = dense_t[dense_w > 0.5].min() / 6.0
+    first_limit, second_limit = truss_limit_loads(travel)
     limits = result.info["limit_points"]
     assert len(limits) == 2
     assert limits[0] == pytest.approx(first_limit, abs=1e-3 * 6)
