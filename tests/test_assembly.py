@@ -20,6 +20,17 @@ def translation_dofs() -> DofManager:
     return DofManager(N, active, fixed, prescribed)
 
 
+def one_rotation_prescribed() -> DofManager:
+    """Five DOFs a node (translations and two rotations), node 0's translations fixed, one
+    rotation of node 3 prescribed."""
+    active = np.ones((N, 5), dtype=bool)
+    fixed = np.zeros_like(active)
+    fixed[0, :3] = True
+    prescribed = np.zeros_like(active)
+    prescribed[3, 1] = True
+    return DofManager(N, active, fixed, prescribed)
+
+
 def springs(pairs, rng) -> list[CellTangent]:
     """Random symmetric 6 x 6 blocks on node pairs (like a contact that pairs nodes)."""
     pairs = np.asarray(pairs)
@@ -79,12 +90,7 @@ def test_the_compiled_scatter_adds_the_generalised_blocks_where_the_bincount_doe
     tilted directors, with a node twice in a patch and a prescribed unknown."""
     from femcore import assembly
 
-    active = np.ones((N, 5), dtype=bool)
-    fixed = np.zeros_like(active)
-    fixed[0, :3] = True
-    prescribed = np.zeros_like(active)
-    prescribed[3, 1] = True
-    dofs = DofManager(N, active, fixed, prescribed)
+    dofs = one_rotation_prescribed()
     rng = np.random.default_rng(2)
     directors = rng.normal(size=(N, 3))
     maps = dofs.node_maps(dofs.frames(directors / np.linalg.norm(directors, axis=1)[:, None]))
@@ -157,12 +163,7 @@ def test_the_assembler_gives_scipy_its_structure_in_the_index_type_scipy_keeps()
     # every index fits), so that each assembly hands scipy arrays it takes as they are; given
     # int64 ones it scanned and copied them to int32 at every call (0.35 ms for 320 000
     # entries). The matrices are the ones the int64 structure gives.
-    active = np.ones((N, 5), dtype=bool)
-    fixed = np.zeros_like(active)
-    fixed[0, :3] = True
-    prescribed = np.zeros_like(active)
-    prescribed[3, 1] = True
-    dofs = DofManager(N, active, fixed, prescribed)
+    dofs = one_rotation_prescribed()
     rng = np.random.default_rng(4)
     nodes = np.array([[0, 1, 2, 3, 1, 2], [3, 2, 1, 0, 0, 3]])
     part = CellTangent(nodes, rng.normal(size=(2, 6, 6, 6, 6)))
