@@ -85,7 +85,7 @@ from typing import Any
 
 import numpy as np
 
-from elements.contact_history import FrictionHistory, landing, start_anchors
+from elements.contact_history import FrictionHistory, accepted, initial_friction, start_anchors
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
@@ -621,44 +621,13 @@ class ContactBlock(InteractionBlock):
         anchored where they are (a fabric laid on a tool sticks from the first step)."""
         if self.friction == 0.0:
             return None
-        d, _ = self.tool.distance(self._reference, 0.0)
-        touching = d <= self.offset + self.tolerance
-        where = self._reference - self.tool.offset(0.0)
-        anchor = np.where(touching[:, None], where, np.nan)
-        approach = np.where(touching[:, None], np.nan, where)
-        penetration = np.maximum(self.offset - d, 0.0)
-        return FrictionHistory(anchor, np.zeros(len(d)), penetration, 0.0, approach=approach)
+        return initial_friction(self)
 
     def update_history(self, state: State, history: Any) -> Any:
-        """The return mapping accepted: sliding anchors follow their nodes to the friction
-        limit, new contacts are anchored where they are, lost ones forget their anchor."""
-        if history is None:
-            return None
-        p, n, touching = self.touch(state, history)
-        _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
-        p = np.maximum(p, 0.0)  # a frozen node pulled off the tool has no friction limit
-        x = self._positions(state)
-        length = np.linalg.norm(s, axis=1)
-        limit = self.friction * p / self.stick_ratio  # the spring's length at the limit
-        slid = np.where(sliding, length - limit, 0.0)
-        unit = s / np.where(length > 0, length, 1.0)[:, None]
-        origin = self.tool.offset(state.load_factor)
-        anchors = start_anchors(history)
-        anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
-        anchor = np.where(stuck[:, None], anchors, anchor)
-        moved = anchors + slid[:, None] * unit
-        anchor = np.where(sliding[:, None], moved, anchor)
-        # A new contact's anchor came from its approach, off the tool (an augmented pass's
-        # too): put it level with the node, where its spring (s stuck, at the limit) ends.
-        spring = np.where(sliding[:, None], limit[:, None] * unit, s)
-        new = (stuck | sliding) & landing(history)
-        anchor = np.where(new[:, None], x - origin - spring, anchor)
-        approach = np.where(np.isfinite(anchor), np.nan, x - origin)
-        # The slip happened while p went from its last value to this one: the limit force
-        # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
-        force = self.friction * self.stiffness * 0.5 * (p + history.penetration)
-        dissipated = history.dissipated + float(np.sum(force * slid))
-        return FrictionHistory(anchor, history.slip + slid, p, dissipated, approach=approach)
+        """The return mapping accepted (elements/contact_history.py ``accepted``): sliding
+        anchors follow their nodes to the friction limit, new contacts are anchored where
+        they are, lost ones forget their anchor."""
+        return None if history is None else accepted(self, state, history)
 
     def carried_by_tool(self, state: State, history: Any, start: float, end: float):
         """The nodes touching the tool at ``state`` and the tool's prescribed translation

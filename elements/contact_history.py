@@ -5,10 +5,11 @@ multipliers, elements/augmented_contact.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-__all__ = ["FrictionHistory", "landing", "start_anchors"]
+__all__ = ["FrictionHistory", "accepted", "initial_friction", "landing", "start_anchors"]
 
 
 @dataclass(frozen=True)
@@ -80,3 +81,48 @@ def landing(history: FrictionHistory) -> np.ndarray:
     if approach is None:
         return np.zeros(len(history.anchor), dtype=bool)
     return np.isfinite(approach[:, 0])
+
+
+def initial_friction(block: Any) -> FrictionHistory:
+    """The history of a frictional tool contact ``block`` (elements/contact.py) where it
+    starts: the nodes that touch the tool there are anchored where they are (a fabric laid on
+    a tool sticks from the first step), the others keep where they are as their approach."""
+    d, _ = block.tool.distance(block._reference, 0.0)
+    touching = d <= block.offset + block.tolerance
+    where = block._reference - block.tool.offset(0.0)
+    anchor = np.where(touching[:, None], where, np.nan)
+    approach = np.where(touching[:, None], np.nan, where)
+    penetration = np.maximum(block.offset - d, 0.0)
+    return FrictionHistory(anchor, np.zeros(len(d)), penetration, 0.0, approach=approach)
+
+
+def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistory:
+    """The return mapping of a tool contact ``block`` (elements/contact.py, "Friction")
+    accepted at ``state`` from ``history``: sliding anchors follow their nodes to the friction
+    limit, new contacts are anchored where they are, lost ones forget their anchor; the slip
+    and its dissipation added."""
+    p, n, touching = block.touch(state, history)
+    _, s, stuck, sliding = block.tangential(state, history, p, n, touching)
+    p = np.maximum(p, 0.0)  # a frozen node pulled off the tool has no friction limit
+    x = block._positions(state)
+    length = np.linalg.norm(s, axis=1)
+    limit = block.friction * p / block.stick_ratio  # the spring's length at the limit
+    slid = np.where(sliding, length - limit, 0.0)
+    unit = s / np.where(length > 0, length, 1.0)[:, None]
+    origin = block.tool.offset(state.load_factor)
+    anchors = start_anchors(history)
+    anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
+    anchor = np.where(stuck[:, None], anchors, anchor)
+    moved = anchors + slid[:, None] * unit
+    anchor = np.where(sliding[:, None], moved, anchor)
+    # A new contact's anchor came from its approach, off the tool (an augmented pass's
+    # too): put it level with the node, where its spring (s stuck, at the limit) ends.
+    spring = np.where(sliding[:, None], limit[:, None] * unit, s)
+    new = (stuck | sliding) & landing(history)
+    anchor = np.where(new[:, None], x - origin - spring, anchor)
+    approach = np.where(np.isfinite(anchor), np.nan, x - origin)
+    # The slip happened while p went from its last value to this one: the limit force
+    # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
+    force = block.friction * block.stiffness * 0.5 * (p + history.penetration)
+    dissipated = history.dissipated + float(np.sum(force * slid))
+    return FrictionHistory(anchor, history.slip + slid, p, dissipated, approach=approach)
